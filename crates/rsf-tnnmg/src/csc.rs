@@ -1,0 +1,177 @@
+//! A minimal compressed-sparse-column matrix used inside the solvers.
+//!
+//! The public API takes and returns `faer::sparse::SparseColMat<usize, f64>`; internally the
+//! solvers keep plain arrays so that kernels (Gauss–Seidel, Galerkin products) are simple,
+//! allocation-free loops over a fixed pattern.
+
+use crate::error::{Error, Result};
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
+
+/// Compressed sparse column matrix with sorted row indices in every column.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Csc {
+    pub nrows: usize,
+    pub ncols: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+    pub val: Vec<f64>,
+}
+
+impl Csc {
+    /// Copies a faer matrix (any column storage; rows sorted and duplicates summed here).
+    pub fn from_faer(m: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+        let (nrows, ncols) = (m.nrows(), m.ncols());
+        let mut col_ptr = Vec::with_capacity(ncols + 1);
+        let mut row_idx = Vec::new();
+        let mut val = Vec::new();
+        col_ptr.push(0);
+        let mut entries: Vec<(usize, f64)> = Vec::new();
+        for j in 0..ncols {
+            entries.clear();
+            entries.extend(m.row_idx_of_col(j).zip(m.val_of_col(j).iter().copied()));
+            entries.sort_by_key(|e| e.0);
+            for &(i, v) in entries.iter() {
+                if !v.is_finite() {
+                    return Err(Error::NonFinite("matrix entries"));
+                }
+                if row_idx.len() > col_ptr[j] && *row_idx.last().unwrap() == i {
+                    *val.last_mut().unwrap() += v;
+                } else {
+                    row_idx.push(i);
+                    val.push(v);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Ok(Self {
+            nrows,
+            ncols,
+            col_ptr,
+            row_idx,
+            val,
+        })
+    }
+
+    /// Converts to a faer matrix.
+    pub fn to_faer(&self) -> SparseColMat<usize, f64> {
+        let sym = SymbolicSparseColMat::new_checked(
+            self.nrows,
+            self.ncols,
+            self.col_ptr.clone(),
+            None,
+            self.row_idx.clone(),
+        );
+        SparseColMat::new(sym, self.val.clone())
+    }
+
+    /// Dense matrix of the given size with every entry structurally present.
+    pub fn dense_pattern(n: usize) -> Self {
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(n * n);
+        col_ptr.push(0);
+        for _ in 0..n {
+            row_idx.extend(0..n);
+            col_ptr.push(row_idx.len());
+        }
+        Self {
+            nrows: n,
+            ncols: n,
+            col_ptr,
+            row_idx,
+            val: vec![0.0; n * n],
+        }
+    }
+
+    #[inline]
+    pub fn col(&self, j: usize) -> (&[usize], &[f64]) {
+        let r = self.col_ptr[j]..self.col_ptr[j + 1];
+        (&self.row_idx[r.clone()], &self.val[r])
+    }
+
+    /// Position of entry (i, j) in `val`, if structurally present.
+    pub fn position(&self, i: usize, j: usize) -> Option<usize> {
+        let r = self.col_ptr[j]..self.col_ptr[j + 1];
+        self.row_idx[r.clone()]
+            .binary_search(&i)
+            .ok()
+            .map(|k| r.start + k)
+    }
+
+    /// Positions of the diagonal entries; error if one is missing.
+    pub fn diagonal_positions(&self) -> Result<Vec<usize>> {
+        (0..self.ncols)
+            .map(|j| {
+                self.position(j, j).ok_or_else(|| {
+                    Error::InvalidMatrix(format!("diagonal entry ({j}, {j}) missing"))
+                })
+            })
+            .collect()
+    }
+
+    /// `y = A x` for symmetric A (reads columns as rows; valid for any A as `y = Aᵀ x`
+    /// computed row-wise, which equals `A x` when A is symmetric).
+    #[inline]
+    pub fn sym_mul(&self, x: &[f64], y: &mut [f64]) {
+        for (j, yj) in y.iter_mut().enumerate() {
+            let (rows, vals) = self.col(j);
+            let mut s = 0.0;
+            for (&i, &a) in rows.iter().zip(vals) {
+                s += a * x[i];
+            }
+            *yj = s;
+        }
+    }
+
+    /// Row `j` dot `x` for symmetric A.
+    #[inline]
+    pub fn sym_row_dot(&self, j: usize, x: &[f64]) -> f64 {
+        let (rows, vals) = self.col(j);
+        let mut s = 0.0;
+        for (&i, &a) in rows.iter().zip(vals) {
+            s += a * x[i];
+        }
+        s
+    }
+
+    /// `xᵀ A x` for symmetric A.
+    pub fn quadratic_form(&self, x: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for j in 0..self.ncols {
+            if x[j] != 0.0 {
+                s += x[j] * self.sym_row_dot(j, x);
+            }
+        }
+        s
+    }
+
+    /// Checks that the matrix is square and structurally symmetric with a full diagonal.
+    pub fn check_symmetric_pattern(&self) -> Result<()> {
+        if self.nrows != self.ncols {
+            return Err(Error::InvalidMatrix(format!(
+                "matrix is {}x{}, expected square",
+                self.nrows, self.ncols
+            )));
+        }
+        for j in 0..self.ncols {
+            let (rows, vals) = self.col(j);
+            for (&i, &v) in rows.iter().zip(vals) {
+                match self.position(j, i) {
+                    Some(p) => {
+                        let w = self.val[p];
+                        if (v - w).abs() > 1e-10 * (v.abs() + w.abs()) {
+                            return Err(Error::InvalidMatrix(format!(
+                                "not symmetric at ({i}, {j}): {v} vs {w}"
+                            )));
+                        }
+                    }
+                    None => {
+                        return Err(Error::InvalidMatrix(format!(
+                            "pattern not symmetric at ({i}, {j})"
+                        )))
+                    }
+                }
+            }
+        }
+        self.diagonal_positions().map(|_| ())
+    }
+}

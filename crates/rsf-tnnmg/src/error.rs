@@ -1,0 +1,49 @@
+//! Error type of the solvers.
+
+/// Errors returned by the solvers of this crate.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum Error {
+    /// Input arrays do not have matching lengths.
+    #[error("dimension mismatch in {what}: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// Which argument.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Actual length.
+        got: usize,
+    },
+    /// The matrix is not square, not symmetric in pattern, or misses a diagonal entry.
+    #[error("invalid matrix: {0}")]
+    InvalidMatrix(String),
+    /// A non-finite number appeared in the input or in an iterate.
+    #[error("non-finite value in {0}")]
+    NonFinite(&'static str),
+    /// A (sub)matrix that must be positive definite is not (numerically).
+    #[error("matrix is not positive definite ({0})")]
+    NotPositiveDefinite(&'static str),
+    /// The solver used its iteration budget without meeting the tolerance.
+    #[error(
+        "{solver} did not converge in {iterations} iterations \
+         (last correction {correction:.3e} in the energy norm, tolerance {tolerance:.3e})"
+    )]
+    NotConverged {
+        /// Solver name.
+        solver: &'static str,
+        /// Iterations performed.
+        iterations: usize,
+        /// Energy norm of the last correction.
+        correction: f64,
+        /// The tolerance that was asked for.
+        tolerance: f64,
+    },
+    /// Invalid solver option.
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
+    /// Failure inside the sparse factorisation library.
+    #[error("sparse factorisation failed: {0}")]
+    Factorisation(String),
+}
+
+/// Result alias of this crate.
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,71 @@
+//! Nonsmooth convex minimisation for rate-and-state friction problems.
+//!
+//! Every time step of the variational method of Pipping, Sander and Kornhuber needs the
+//! minimiser of
+//!
+//! ```text
+//! J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})
+//! ```
+//!
+//! where `A` is sparse symmetric positive definite (on the free dofs), `v` consists of
+//! node blocks `v_p ∈ R^D` (node-major numbering, dof `D p + c`), some dofs are fixed
+//! (Dirichlet values, bilateral contact) and each `φ_k` is a convex function of one block
+//! (lumped friction). This crate knows nothing of friction laws or meshes: it takes the
+//! matrix, the prolongations of a refinement hierarchy and the block functions through the
+//! [`BlockNonlinearity`] trait.
+//!
+//! Solvers, all behind [`NonsmoothSolver`]:
+//! - [`Tnnmg`]: truncated nonsmooth Newton multigrid (Gräser, Kornhuber, Sander); mesh
+//!   independent iteration counts, the method of the paper (§6.2, tolerance 1e-10).
+//! - [`NonlinearGaussSeidel`]: the block smoother alone (baseline).
+//! - [`DirectSolver`]: exact condensation onto the nonsmooth blocks plus globalised
+//!   Newton on the Schur complement (reference and small-problem fast path).
+//!
+//! No solver returns an unconverged iterate as success: exhausting the budget is
+//! [`Error::NotConverged`] with the iteration count and the last correction.
+//!
+//! ```
+//! use faer::sparse::{SparseColMat, Triplet};
+//! use rsf_tnnmg::{NoNonlinearity, NonsmoothSolver, Tnnmg, TnnmgOptions};
+//!
+//! // 1-D Laplacian (block size 1) with both ends fixed at 0: a linear problem.
+//! let n = 5;
+//! let mut t = Vec::new();
+//! for i in 0..n {
+//!     t.push(Triplet::new(i, i, 2.0));
+//!     if i + 1 < n {
+//!         t.push(Triplet::new(i, i + 1, -1.0));
+//!         t.push(Triplet::new(i + 1, i, -1.0));
+//!     }
+//! }
+//! let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &t).unwrap();
+//! let fixed = [true, false, false, false, true];
+//! let mut solver = Tnnmg::<1>::new(a.as_ref(), &fixed, &[], None, TnnmgOptions::default()).unwrap();
+//! let b = [0.0, 1.0, 1.0, 1.0, 0.0];
+//! let mut v = vec![0.0; n];
+//! let report = solver.solve(&b, &NoNonlinearity, &mut v).unwrap();
+//! assert!((v[2] - 2.0).abs() < 1e-12 && report.iterations <= 2);
+//! ```
+#![warn(missing_docs)]
+
+mod block;
+mod cholesky;
+mod csc;
+mod direct;
+mod error;
+mod galerkin;
+mod gauss_seidel;
+mod line_search;
+mod multigrid;
+mod nonlinearity;
+mod problem;
+mod report;
+mod tnnmg;
+
+pub use cholesky::SparseCholesky;
+pub use direct::{DirectOptions, DirectSolver};
+pub use error::{Error, Result};
+pub use gauss_seidel::NonlinearGaussSeidel;
+pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity};
+pub use report::{NonsmoothSolver, SolveReport, Stopping};
+pub use tnnmg::{Tnnmg, TnnmgOptions};

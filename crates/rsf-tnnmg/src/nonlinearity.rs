@@ -1,0 +1,101 @@
+//! The nonsmooth part of the functional: a sum of convex functions of node blocks.
+
+/// Second-order information of one block nonlinearity at a point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Linearization<const D: usize> {
+    /// φ_p is twice differentiable here: its gradient and Hessian (symmetric, PSD).
+    Smooth {
+        /// ∇φ_p(v_p).
+        gradient: [f64; D],
+        /// ∇²φ_p(v_p).
+        hessian: [[f64; D]; D],
+    },
+    /// φ_p is not twice differentiable here (e.g. Tresca friction in stick, v_p = 0):
+    /// the block is **truncated** — the linear correction leaves it unchanged.
+    Truncate,
+}
+
+/// A block-separable convex function `Φ(v) = Σ_k φ_k(v_{p_k})` over node blocks
+/// `v_p ∈ R^D` (dofs `D p .. D p + D`, node-major).
+///
+/// Only the blocks listed by [`active_blocks`](Self::active_blocks) carry a nonlinearity;
+/// all other blocks contribute zero. Every method takes `k`, the position of the block in
+/// that list, and the block's current value `v` (all `D` components, fixed ones included).
+///
+/// Contract: every φ_k is convex, finite and continuous on `R^D`. Implementations are the
+/// seam between the solvers and the physics (the friction potentials live elsewhere).
+pub trait BlockNonlinearity<const D: usize> {
+    /// Node indices `p_k` of the blocks with a nonlinearity, strictly increasing.
+    fn active_blocks(&self) -> &[usize];
+
+    /// φ_k(v).
+    fn value(&self, k: usize, v: &[f64; D]) -> f64;
+
+    /// Exact block minimisation: overwrite the `free` components of `v` with the minimiser of
+    /// `½ xᵀ A x − rᵀ x + φ_k(x)` over the free components, the others held at their values
+    /// in `v`. `a` is the (symmetric positive definite on the free components) diagonal block
+    /// of the matrix and `r` the block right-hand side including all off-block coupling.
+    fn minimize_block(
+        &self,
+        k: usize,
+        a: &[[f64; D]; D],
+        r: &[f64; D],
+        free: &[bool; D],
+        v: &mut [f64; D],
+    );
+
+    /// Gradient and Hessian of φ_k at `v`, or [`Linearization::Truncate`] where φ_k is not
+    /// twice differentiable.
+    fn linearize(&self, k: usize, v: &[f64; D]) -> Linearization<D>;
+
+    /// One-sided derivatives `(d⁻, d⁺)` at `s = 0` of the convex function
+    /// `s ↦ φ_k(v + s d)`; `d⁻ ≤ d⁺`, equal where φ_k is differentiable.
+    fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64);
+}
+
+/// The zero nonlinearity: the problem is a plain quadratic (linear system).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoNonlinearity;
+
+impl<const D: usize> BlockNonlinearity<D> for NoNonlinearity {
+    fn active_blocks(&self) -> &[usize] {
+        &[]
+    }
+    fn value(&self, _: usize, _: &[f64; D]) -> f64 {
+        0.0
+    }
+    fn minimize_block(&self, _: usize, _: &[[f64; D]; D], _: &[f64; D], _: &[bool; D], _: &mut [f64; D]) {
+        unreachable!("NoNonlinearity has no active blocks")
+    }
+    fn linearize(&self, _: usize, _: &[f64; D]) -> Linearization<D> {
+        unreachable!("NoNonlinearity has no active blocks")
+    }
+    fn directional_derivatives(&self, _: usize, _: &[f64; D], _: &[f64; D]) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+}
+
+/// The same nonlinearity with its active blocks renumbered `0, 1, 2, …` (used by the
+/// direct solver, which works on the condensed problem).
+pub(crate) struct Renumbered<'a, N> {
+    pub inner: &'a N,
+    pub blocks: &'a [usize],
+}
+
+impl<const D: usize, N: BlockNonlinearity<D>> BlockNonlinearity<D> for Renumbered<'_, N> {
+    fn active_blocks(&self) -> &[usize] {
+        self.blocks
+    }
+    fn value(&self, k: usize, v: &[f64; D]) -> f64 {
+        self.inner.value(k, v)
+    }
+    fn minimize_block(&self, k: usize, a: &[[f64; D]; D], r: &[f64; D], free: &[bool; D], v: &mut [f64; D]) {
+        self.inner.minimize_block(k, a, r, free, v)
+    }
+    fn linearize(&self, k: usize, v: &[f64; D]) -> Linearization<D> {
+        self.inner.linearize(k, v)
+    }
+    fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64) {
+        self.inner.directional_derivatives(k, v, d)
+    }
+}

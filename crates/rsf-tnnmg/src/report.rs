@@ -1,0 +1,110 @@
+//! Solver options, reports and the common solver trait.
+
+use crate::error::Result;
+use crate::nonlinearity::BlockNonlinearity;
+
+/// When an iterative solver stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stopping {
+    /// Stop when the energy norm of the last correction `‖v_{k+1} − v_k‖` is at most
+    /// `absolute + relative · ‖v_{k+1}‖` (paper §6.2: absolute 1e-10, relative 0).
+    pub absolute: f64,
+    /// Relative part of the tolerance (see [`absolute`](Self::absolute)).
+    pub relative: f64,
+    /// Iteration budget; exceeding it is [`Error::NotConverged`](crate::Error::NotConverged).
+    pub max_iterations: usize,
+}
+
+impl Default for Stopping {
+    /// The paper's choice: absolute 1e-10 in the energy norm, 200 iterations.
+    fn default() -> Self {
+        Self {
+            absolute: 1e-10,
+            relative: 0.0,
+            max_iterations: 200,
+        }
+    }
+}
+
+impl Stopping {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(self.absolute >= 0.0 && self.relative >= 0.0)
+            || !(self.absolute.is_finite() && self.relative.is_finite())
+            || self.absolute + self.relative == 0.0
+        {
+            return Err(crate::Error::InvalidOption(format!(
+                "tolerances must be finite, non-negative and not both zero (absolute {}, relative {})",
+                self.absolute, self.relative
+            )));
+        }
+        if self.max_iterations == 0 {
+            return Err(crate::Error::InvalidOption("max_iterations must be positive".into()));
+        }
+        Ok(())
+    }
+
+    pub(crate) fn met(&self, correction: f64, norm_v: f64) -> bool {
+        correction <= self.absolute + self.relative * norm_v
+    }
+}
+
+/// What a solve did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SolveReport {
+    /// Iterations performed (outer iterations for TNNMG and the direct solver's Newton
+    /// phase, sweeps for nonlinear Gauss–Seidel).
+    pub iterations: usize,
+    /// Energy norm of the last correction.
+    pub correction: f64,
+    /// `J(v_k)` after every iteration, if requested (first entry: the initial iterate).
+    pub energy: Option<Vec<f64>>,
+    /// Wall time of the solve in seconds (not part of any numerical output).
+    pub seconds: f64,
+}
+
+/// A minimiser of `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` for a matrix and a set of fixed
+/// dofs given at construction.
+pub trait NonsmoothSolver<const D: usize> {
+    /// Short name for reports ("tnnmg", "direct", "nonlinear-gauss-seidel").
+    fn name(&self) -> &'static str;
+
+    /// Number of unknowns.
+    fn dim(&self) -> usize;
+
+    /// Minimises `J` starting from `v` (warm start; fixed dofs keep their values in `v`).
+    ///
+    /// # Errors
+    /// Dimension mismatches, non-finite input, non-convergence within the budget
+    /// ([`Error::NotConverged`](crate::Error::NotConverged)) — never an unconverged success.
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nonlinearity: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport>;
+}
+
+pub(crate) fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
+    use crate::Error;
+    if b.len() != n {
+        return Err(Error::DimensionMismatch {
+            what: "right-hand side",
+            expected: n,
+            got: b.len(),
+        });
+    }
+    if v.len() != n {
+        return Err(Error::DimensionMismatch {
+            what: "iterate",
+            expected: n,
+            got: v.len(),
+        });
+    }
+    if b.iter().any(|x| !x.is_finite()) {
+        return Err(Error::NonFinite("right-hand side"));
+    }
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(Error::NonFinite("initial iterate"));
+    }
+    Ok(())
+}

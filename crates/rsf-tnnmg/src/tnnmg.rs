@@ -1,0 +1,256 @@
+//! Truncated nonsmooth Newton multigrid (Gräser, Kornhuber, Sander).
+
+use std::time::Instant;
+
+use faer::sparse::{SparseColMat, SparseColMatRef};
+
+use crate::block::load;
+use crate::csc::Csc;
+use crate::error::{Error, Result};
+use crate::line_search::exact_line_search;
+use crate::multigrid::LinearMultigrid;
+use crate::nonlinearity::{BlockNonlinearity, Linearization};
+use crate::problem::{active_map, BlockedMatrix};
+use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+
+/// Options of [`Tnnmg`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TnnmgOptions {
+    /// Stopping test on the energy norm of the correction.
+    pub stopping: Stopping,
+    /// Nonlinear Gauss–Seidel sweeps before each linear correction (≥ 1: they carry the
+    /// global convergence guarantee).
+    pub nonlinear_sweeps: usize,
+    /// Linear multigrid V-cycles per iteration.
+    pub v_cycles: usize,
+    /// Gauss–Seidel sweeps before and after the coarse correction in each V-cycle.
+    pub smoothing: (usize, usize),
+    /// Record `J(v_k)` in the report.
+    pub record_energy: bool,
+}
+
+impl Default for TnnmgOptions {
+    fn default() -> Self {
+        Self {
+            stopping: Stopping::default(),
+            nonlinear_sweeps: 1,
+            v_cycles: 1,
+            smoothing: (3, 3),
+            record_energy: false,
+        }
+    }
+}
+
+/// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
+#[derive(Debug, Clone)]
+pub(crate) struct EnergyNorm {
+    e: Option<Csc>,
+}
+
+impl EnergyNorm {
+    pub fn new(e: Option<SparseColMatRef<'_, usize, f64>>, n: usize) -> Result<Self> {
+        let e = e.map(Csc::from_faer).transpose()?;
+        if let Some(e) = &e {
+            if e.nrows != n || e.ncols != n {
+                return Err(Error::DimensionMismatch {
+                    what: "energy-norm matrix",
+                    expected: n,
+                    got: e.nrows,
+                });
+            }
+        }
+        Ok(Self { e })
+    }
+    pub fn norm(&self, a: &Csc, x: &[f64]) -> f64 {
+        self.e.as_ref().unwrap_or(a).quadratic_form(x).max(0.0).sqrt()
+    }
+}
+
+/// TNNMG for `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` (MATH.md §5):
+/// nonlinear block Gauss–Seidel presmoothing, truncated linearisation, linear multigrid
+/// V-cycle(s) on the truncated Newton system over the given hierarchy, exact line search.
+/// `J` never increases. Stops on the energy norm of the correction.
+///
+/// Set-up (once per matrix): pattern analysis, Galerkin product patterns, coarse symbolic
+/// Cholesky. Solves allocate nothing per iteration (except the optional energy history).
+pub struct Tnnmg<const D: usize> {
+    m: BlockedMatrix<D>,
+    mg: LinearMultigrid,
+    norm: EnergyNorm,
+    opts: TnnmgOptions,
+    active_of: Vec<usize>,
+    v_old: Vec<f64>,
+    av: Vec<f64>,
+    res: Vec<f64>,
+    c: Vec<f64>,
+}
+
+impl<const D: usize> Tnnmg<D> {
+    /// Sets up TNNMG for the symmetric positive definite (on the free dofs) matrix `a`
+    /// (`n × n`, `n = D · nodes`, node-major, both triangles stored) with the dofs where
+    /// `fixed` is true held at the values of the iterate. `prolongations[l]` maps level `l` to
+    /// level `l + 1` in the same node-major numbering; the last one has `n` rows. An empty list
+    /// gives a single-level method whose linear correction is an exact sparse solve.
+    /// `energy_norm`: matrix of the stopping norm (paper: `K + M`); `None` uses `a`.
+    ///
+    /// # Errors
+    /// Invalid shapes, non-symmetric pattern, missing diagonal, non-positive free diagonal,
+    /// invalid options.
+    pub fn new(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        prolongations: &[SparseColMat<usize, f64>],
+        energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
+        opts: TnnmgOptions,
+    ) -> Result<Self> {
+        opts.stopping.validate()?;
+        if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
+            return Err(Error::InvalidOption(
+                "nonlinear_sweeps and v_cycles must be at least 1".into(),
+            ));
+        }
+        let m = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
+        let prolongations = prolongations
+            .iter()
+            .map(|p| Csc::from_faer(p.as_ref()))
+            .collect::<Result<Vec<_>>>()?;
+        let mg = LinearMultigrid::new(m.a.clone(), prolongations, opts.smoothing.0, opts.smoothing.1)?;
+        let n = m.n();
+        Ok(Self {
+            norm: EnergyNorm::new(energy_norm, n)?,
+            m,
+            mg,
+            opts,
+            active_of: Vec::new(),
+            v_old: vec![0.0; n],
+            av: vec![0.0; n],
+            res: vec![0.0; n],
+            c: vec![0.0; n],
+        })
+    }
+
+    /// Number of multigrid levels.
+    pub fn num_levels(&self) -> usize {
+        self.mg.num_levels()
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &TnnmgOptions {
+        &self.opts
+    }
+
+    /// One TNNMG iteration from `v`; returns the energy norm of the correction.
+    fn iterate<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64]) -> Result<f64> {
+        let n = self.m.n();
+        self.v_old.copy_from_slice(v);
+        for _ in 0..self.opts.nonlinear_sweeps {
+            self.m.nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
+        }
+        // Truncated linearisation at v.
+        self.m.a.sym_mul(v, &mut self.av);
+        for i in 0..n {
+            self.res[i] = b[i] - self.av[i];
+        }
+        self.mg.fine.val.copy_from_slice(&self.m.a.val);
+        let mask = self.mg.fine_mask_mut();
+        mask.copy_from_slice(&self.m.fixed);
+        for (k, &p) in nl.active_blocks().iter().enumerate() {
+            match nl.linearize(k, &load::<D>(v, p)) {
+                Linearization::Smooth { gradient, hessian } => {
+                    for r in 0..D {
+                        self.res[D * p + r] -= gradient[r];
+                        for c in 0..D {
+                            let pos = self.m.block_pos[p][r][c];
+                            if pos != usize::MAX {
+                                self.mg.fine.val[pos] += hessian[r][c];
+                            } else if hessian[r][c] != 0.0 {
+                                return Err(Error::InvalidMatrix(format!(
+                                    "block ({p}) lacks entry ({r}, {c}) needed by the Hessian"
+                                )));
+                            }
+                        }
+                    }
+                }
+                Linearization::Truncate => {
+                    let mask = self.mg.fine_mask_mut();
+                    mask[D * p..D * p + D].fill(true);
+                }
+            }
+        }
+        {
+            let mask = self.mg.fine_mask_mut();
+            for (r, &m) in self.res.iter_mut().zip(mask.iter()) {
+                if m {
+                    *r = 0.0;
+                }
+            }
+        }
+        self.mg.update()?;
+        self.c.fill(0.0);
+        for _ in 0..self.opts.v_cycles {
+            self.mg.v_cycle(&mut self.c, &self.res);
+        }
+        // Exact line search along c: g0 = cᵀ(Av − b), h = cᵀAc.
+        let g0: f64 = self
+            .c
+            .iter()
+            .zip(self.av.iter().zip(b))
+            .map(|(c, (av, b))| c * (av - b))
+            .sum();
+        let h = self.m.a.quadratic_form(&self.c);
+        if h > 0.0 && h.is_finite() {
+            let s = exact_line_search(nl, v, &self.c, g0, h);
+            for (vi, ci) in v.iter_mut().zip(&self.c) {
+                *vi += s * ci;
+            }
+        }
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite("TNNMG iterate"));
+        }
+        for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
+            *o = x - *o;
+        }
+        Ok(self.norm.norm(&self.m.a, &self.v_old))
+    }
+}
+
+impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
+    fn name(&self) -> &'static str {
+        "tnnmg"
+    }
+
+    fn dim(&self) -> usize {
+        self.m.n()
+    }
+
+    fn solve<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64]) -> Result<SolveReport> {
+        let start = Instant::now();
+        let n = self.m.n();
+        check_inputs(n, b, v)?;
+        active_map(nl, n / D, &mut self.active_of)?;
+        let mut energy = self.opts.record_energy.then(|| vec![self.m.energy(b, nl, v)]);
+        let stop = self.opts.stopping;
+        let mut correction = f64::INFINITY;
+        for it in 1..=stop.max_iterations {
+            correction = self.iterate(b, nl, v)?;
+            if let Some(e) = energy.as_mut() {
+                e.push(self.m.energy(b, nl, v));
+            }
+            let norm_v = if stop.relative > 0.0 { self.norm.norm(&self.m.a, v) } else { 0.0 };
+            if stop.met(correction, norm_v) {
+                return Ok(SolveReport {
+                    iterations: it,
+                    correction,
+                    energy,
+                    seconds: start.elapsed().as_secs_f64(),
+                });
+            }
+        }
+        Err(Error::NotConverged {
+            solver: "tnnmg",
+            iterations: stop.max_iterations,
+            correction,
+            tolerance: stop.absolute,
+        })
+    }
+}

@@ -1,0 +1,1 @@
+//! Shared helpers for the examples and benches of the rsf workspace (not a library for users).
