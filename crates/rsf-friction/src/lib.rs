@@ -1,0 +1,172 @@
+//! Convex friction potentials ϕ(V; α) for rate-and-state friction.
+//!
+//! This crate implements the friction side of the variational formulation of
+//! Pipping, Sander & Kornhuber, *Variational formulation of rate- and state-dependent
+//! friction problems* (equation numbers below are the paper's). On the frictional
+//! boundary the tangential stress satisfies (2.3) `−σ_t ∈ ∂_v φ(v, α)` with
+//! `φ(v, α) = ϕ(|v|, α)` and `ϕ(·, α)` convex and nondecreasing on `[0, ∞)`.
+//!
+//! * [`ConvexPotential`] — a scalar potential `ϕ(V)` at a fixed state: value, slope,
+//!   curvature and the **exact local minimiser** of `½ A s² − r s + w ϕ(s)` (the block solve
+//!   of a nonlinear Gauss–Seidel sweep), plus the `D`-vector version
+//!   [`ConvexPotential::minimize_vector`].
+//! * [`FrictionLaw`] — maps a node's state `α` to its potential.
+//! * Laws: [`Tresca`] (2.8), [`StateDependentTresca`] (μ = μ(α)), [`DieterichRuina`]
+//!   with the `V_m` cutoff (2.12)–(2.13), and the regularised [`AsinhLaw`] used by SEAS
+//!   benchmark codes.
+//!
+//! # Units (SI, per unit area — per unit length × thickness in 2-D)
+//! slip rate `V` in m/s, stresses in Pa, `ϕ` in Pa·m/s, `ϕ''` in Pa·s/m, state
+//! `α = ln θ` with `θ` in s, `L` in m, `V0` in m/s, `a`, `b`, `μ0` dimensionless.
+//!
+//! # Stiffness and log space
+//! The cutoff velocity `V_m(α) = V0·exp(−(μ0 + b(α + ln(V0/L)))/a)` (2.13) is routinely
+//! below `1e-24` m/s and for large `α` below the smallest `f64` (`ln V_m ≈ −1e4`). The
+//! rate-state potentials therefore store `ln V_m` and evaluate everything in log space;
+//! `V_m` itself is never needed. All functions return finite numbers for finite,
+//! admissible inputs (documented per method).
+//!
+//! # Example
+//! ```
+//! use rsf_friction::{ConvexPotential, DieterichRuina, FrictionLaw, RateStateParams};
+//!
+//! // Paper §6.1 parameters (Table 6.1).
+//! let law = DieterichRuina::new(RateStateParams {
+//!     mu0: 0.6, a: 0.010, b: 0.015, v0: 1e-6, l: 1e-5, sigma_n: 49_050.0,
+//! })?;
+//! let alpha = -10.0; // ln θ, θ in s
+//! let phi = law.potential(alpha);
+//! // Friction stress at 1 μm/s equals σ̄_n μ(V, θ):
+//! let v = 1e-6;
+//! assert!((phi.slope(v) - 49_050.0 * law.friction_coefficient(v, alpha)).abs() < 1e-9);
+//! // Exact local solve: argmin_{s ≥ 0} ½ a s² − r s + w ϕ(s).
+//! let s = phi.minimize(1e9, 5e4, 0.1);
+//! let residual = 1e9 * s - 5e4 + 0.1 * phi.slope(s);
+//! assert!(residual.abs() < 1e-10 * 5e4);
+//! # Ok::<(), rsf_friction::Error>(())
+//! ```
+#![warn(missing_docs)]
+// `!(x > 0.0)` is used deliberately: it is also true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod potentials;
+mod solve;
+
+pub use potentials::{
+    AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams,
+    StateDependentTresca, Tresca, TrescaPotential,
+};
+pub use solve::wright_omega_ln;
+
+/// Errors of this crate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A law parameter is outside its admissible range (e.g. `a ≤ 0`, non-finite `L`).
+    #[error("invalid friction parameter {name} = {value}: {requirement}")]
+    InvalidParameter {
+        /// Name of the parameter (`"a"`, `"sigma_n"`, …).
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// What the parameter must satisfy.
+        requirement: &'static str,
+    },
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// A convex, nondecreasing scalar potential `ϕ: [0, ∞) → [0, ∞)` with `ϕ(0) = 0`,
+/// per unit area, at a fixed state (paper (2.3), (2.8), (2.13)).
+///
+/// The vector potential is `φ(v) = ϕ(|v|)` (2.14); its subdifferential at `v = 0` is the
+/// closed ball of radius [`slope(0)`](ConvexPotential::slope) = `ϕ'(0+)`.
+///
+/// All methods expect finite arguments `v ≥ 0`; for `v < 0` they behave as at `v = 0`.
+/// They never panic and return finite values for finite admissible inputs.
+pub trait ConvexPotential: Clone + Send + Sync {
+    /// `ϕ(V)` in Pa·m/s.
+    fn value(&self, v: f64) -> f64;
+
+    /// `ϕ'(V)` in Pa (the friction stress magnitude). At `V = 0` the right derivative
+    /// `ϕ'(0+)`, i.e. the radius of `∂(ϕ∘|·|)(0)` (the stick threshold).
+    fn slope(&self, v: f64) -> f64;
+
+    /// `ϕ''(V)` in Pa·s/m, or `None` where `ϕ` is not twice differentiable
+    /// (Tresca at `V = 0`, Dieterich–Ruina exactly at `V = V_m`). Always `≥ 0`.
+    fn curvature(&self, v: f64) -> Option<f64>;
+
+    /// Exact minimiser `argmin_{s ≥ 0} ½ a s² − r s + w ϕ(s)`, i.e. the unique
+    /// `s ≥ 0` with `0 ∈ a s − r + w ∂ϕ(s)`.
+    ///
+    /// Expects finite `a > 0` (Pa·s/m, a diagonal entry of `A`), `r ≥ 0` (Pa) and
+    /// `w ≥ 0` (the lumped weight, dimensionless or m). For `r ≤ 0` returns 0.
+    /// The optimality residual is below `1e-10` relative to the magnitude of its terms
+    /// (see the crate tests).
+    fn minimize(&self, a: f64, r: f64, w: f64) -> f64;
+
+    /// Radius of the subdifferential of `v ↦ ϕ(|v|)` at `v = 0` (Pa): the stick threshold
+    /// `ϕ'(0+)`. Equals [`slope(0.0)`](ConvexPotential::slope).
+    fn stick_threshold(&self) -> f64 {
+        self.slope(0.0)
+    }
+
+    /// Exact minimiser of `½ a |v|² − r·v + w ϕ(|v|)` over `v ∈ R^D`.
+    ///
+    /// The minimiser is collinear with `r`: `v = s r/|r|` with
+    /// `s = `[`minimize`](ConvexPotential::minimize)`(a, |r|, w)`. Returns `0` for `r = 0`.
+    /// `|r|` is computed overflow-safely.
+    fn minimize_vector<const D: usize>(&self, a: f64, r: [f64; D], w: f64) -> [f64; D] {
+        let norm = norm(&r);
+        if !(norm > 0.0) {
+            return [0.0; D];
+        }
+        let s = self.minimize(a, norm, w);
+        let mut out = [0.0; D];
+        for i in 0..D {
+            out[i] = s * (r[i] / norm);
+        }
+        out
+    }
+
+    /// Slice version of [`minimize_vector`](ConvexPotential::minimize_vector): writes the
+    /// minimiser into `out`.
+    ///
+    /// # Panics
+    /// If `r.len() != out.len()`.
+    fn minimize_block(&self, a: f64, r: &[f64], w: f64, out: &mut [f64]) {
+        assert_eq!(r.len(), out.len(), "minimize_block: length mismatch");
+        let norm = norm(r);
+        if !(norm > 0.0) {
+            out.iter_mut().for_each(|x| *x = 0.0);
+            return;
+        }
+        let s = self.minimize(a, norm, w);
+        for (o, ri) in out.iter_mut().zip(r) {
+            *o = s * (ri / norm);
+        }
+    }
+}
+
+/// Overflow-safe Euclidean norm.
+fn norm(r: &[f64]) -> f64 {
+    r.iter().fold(0.0_f64, |acc, &x| acc.hypot(x))
+}
+
+/// A friction law: evaluated at a node's state `α` it gives the potential of the slip rate.
+///
+/// Heterogeneous faults use one law value per frictional node (`Vec<L>`).
+pub trait FrictionLaw: Clone + Send + Sync {
+    /// The potential at fixed state.
+    type Potential: ConvexPotential;
+
+    /// `ϕ(·, α)`; `alpha = ln θ` (θ in s) for the rate-state laws. For non-finite `alpha`
+    /// the result is the limit potential (documented per law); never panics.
+    fn potential(&self, alpha: f64) -> Self::Potential;
+
+    /// `false` if the potential does not depend on `α` (plain Tresca): no state law needed.
+    fn uses_state(&self) -> bool;
+
+    /// Friction coefficient `μ(V, α) = ϕ'(V, α)/σ̄_n` (dimensionless), e.g. (2.12).
+    fn friction_coefficient(&self, v: f64, alpha: f64) -> f64;
+}

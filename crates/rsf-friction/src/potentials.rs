@@ -1,0 +1,616 @@
+//! The friction laws and their potentials.
+
+use crate::solve::{solve_increasing, wright_omega_ln};
+use crate::{ConvexPotential, Error, FrictionLaw, Result};
+
+const LN_2: f64 = std::f64::consts::LN_2;
+
+fn check(name: &'static str, value: f64, ok: bool, requirement: &'static str) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value,
+            requirement,
+        })
+    }
+}
+
+/// Saturates `+∞` to `f64::MAX` (keeps results finite).
+fn sat(x: f64) -> f64 {
+    x.min(f64::MAX)
+}
+
+/// `r/a` for the unconstrained quadratic, saturated to stay finite.
+fn linear_solution(a: f64, r: f64) -> f64 {
+    sat(r / a)
+}
+
+// ---------------------------------------------------------------------------------------
+// Tresca
+// ---------------------------------------------------------------------------------------
+
+/// Tresca potential `ϕ(V) = μ σ̄_n V` (2.8): a threshold `μ σ̄_n` (Pa).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrescaPotential {
+    threshold: f64,
+}
+
+impl TrescaPotential {
+    /// Potential with stick threshold `μ σ̄_n` in Pa. Negative or NaN thresholds are
+    /// replaced by 0 and `+∞` by `f64::MAX`, so the potential stays finite.
+    pub fn new(threshold: f64) -> Self {
+        let t = if threshold >= 0.0 {
+            sat(threshold)
+        } else {
+            0.0
+        };
+        Self { threshold: t }
+    }
+
+    /// The threshold `μ σ̄_n` (Pa).
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+}
+
+impl ConvexPotential for TrescaPotential {
+    fn value(&self, v: f64) -> f64 {
+        sat(self.threshold * v.max(0.0))
+    }
+    fn slope(&self, _v: f64) -> f64 {
+        self.threshold
+    }
+    fn curvature(&self, v: f64) -> Option<f64> {
+        (v > 0.0).then_some(0.0)
+    }
+    /// Closed form `s = max(0, r − w μ σ̄_n)/a` (shrinkage).
+    fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
+        let excess = r - w * self.threshold;
+        if excess > 0.0 {
+            linear_solution(a, excess)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Tresca friction (2.8) with a constant coefficient: `ϕ(V) = μ σ̄_n V`, independent of `α`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tresca {
+    mu: f64,
+    sigma_n: f64,
+}
+
+impl Tresca {
+    /// `mu ≥ 0` (dimensionless) and `sigma_n > 0` (Pa), both finite.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] otherwise.
+    pub fn new(mu: f64, sigma_n: f64) -> Result<Self> {
+        check("mu", mu, mu.is_finite() && mu >= 0.0, "finite and >= 0")?;
+        check(
+            "sigma_n",
+            sigma_n,
+            sigma_n.is_finite() && sigma_n > 0.0,
+            "finite and > 0",
+        )?;
+        Ok(Self { mu, sigma_n })
+    }
+    /// Friction coefficient μ.
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+    /// Normal stress σ̄_n (Pa).
+    pub fn sigma_n(&self) -> f64 {
+        self.sigma_n
+    }
+}
+
+impl FrictionLaw for Tresca {
+    type Potential = TrescaPotential;
+    fn potential(&self, _alpha: f64) -> TrescaPotential {
+        TrescaPotential::new(self.mu * self.sigma_n)
+    }
+    fn uses_state(&self) -> bool {
+        false
+    }
+    fn friction_coefficient(&self, _v: f64, _alpha: f64) -> f64 {
+        self.mu
+    }
+}
+
+/// Tresca friction with a state-dependent coefficient `μ(α)` (MATH.md §1):
+/// `ϕ(V, α) = μ(α) σ̄_n V`.
+///
+/// `μ(α)` is any user function; values that are negative or NaN are treated as 0 and
+/// `+∞` as `f64::MAX/σ̄_n` (see [`TrescaPotential::new`]).
+///
+/// ```
+/// use rsf_friction::{ConvexPotential, FrictionLaw, StateDependentTresca};
+/// // μ(α) = μ0 + b ln(V0 θ / L) with θ = e^α, clamped at 0.
+/// let (mu0, b, v0, l) = (0.6_f64, 0.015_f64, 1e-6_f64, 1e-5_f64);
+/// let law = StateDependentTresca::new(move |alpha: f64| mu0 + b * (alpha + (v0 / l).ln()), 1e5)?;
+/// assert!(law.uses_state());
+/// let t = law.potential(0.0).stick_threshold();
+/// assert!((t - 1e5 * (0.6 + 0.015 * (0.1f64).ln())).abs() < 1e-9);
+/// # Ok::<(), rsf_friction::Error>(())
+/// ```
+#[derive(Clone)]
+pub struct StateDependentTresca<F> {
+    mu: F,
+    sigma_n: f64,
+}
+
+impl<F: Fn(f64) -> f64 + Clone + Send + Sync> StateDependentTresca<F> {
+    /// `sigma_n > 0` finite (Pa).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for an invalid `sigma_n`.
+    pub fn new(mu: F, sigma_n: f64) -> Result<Self> {
+        check(
+            "sigma_n",
+            sigma_n,
+            sigma_n.is_finite() && sigma_n > 0.0,
+            "finite and > 0",
+        )?;
+        Ok(Self { mu, sigma_n })
+    }
+    fn mu_at(&self, alpha: f64) -> f64 {
+        let m = (self.mu)(alpha);
+        if m >= 0.0 {
+            m
+        } else {
+            0.0
+        }
+    }
+}
+
+impl<F: Fn(f64) -> f64 + Clone + Send + Sync> FrictionLaw for StateDependentTresca<F> {
+    type Potential = TrescaPotential;
+    fn potential(&self, alpha: f64) -> TrescaPotential {
+        TrescaPotential::new(self.mu_at(alpha) * self.sigma_n)
+    }
+    fn uses_state(&self) -> bool {
+        true
+    }
+    fn friction_coefficient(&self, _v: f64, alpha: f64) -> f64 {
+        sat(self.mu_at(alpha))
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Rate-and-state parameters
+// ---------------------------------------------------------------------------------------
+
+/// Parameters of the rate-and-state laws (2.9), (2.12)–(2.13); may differ per node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RateStateParams {
+    /// Reference friction coefficient μ0 (dimensionless, finite).
+    pub mu0: f64,
+    /// Direct-effect parameter `a > 0` (dimensionless).
+    pub a: f64,
+    /// Evolution-effect parameter `b` (dimensionless, any finite value; `b > a` is velocity
+    /// weakening; existence of the coupled fixed point is proved for `b/a < 2`, Thm 5.14).
+    pub b: f64,
+    /// Reference slip rate `V0 > 0` (m/s).
+    pub v0: f64,
+    /// Characteristic slip distance `L > 0` (m).
+    pub l: f64,
+    /// Prescribed normal stress `σ̄_n > 0` (Pa).
+    pub sigma_n: f64,
+}
+
+impl RateStateParams {
+    /// Checks `a, L, V0, σ̄_n > 0` and that all parameters are finite.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first offending parameter.
+    pub fn validate(&self) -> Result<()> {
+        check("mu0", self.mu0, self.mu0.is_finite(), "finite")?;
+        check(
+            "a",
+            self.a,
+            self.a.is_finite() && self.a > 0.0,
+            "finite and > 0",
+        )?;
+        check("b", self.b, self.b.is_finite(), "finite")?;
+        check(
+            "v0",
+            self.v0,
+            self.v0.is_finite() && self.v0 > 0.0,
+            "finite and > 0",
+        )?;
+        check(
+            "l",
+            self.l,
+            self.l.is_finite() && self.l > 0.0,
+            "finite and > 0",
+        )?;
+        check(
+            "sigma_n",
+            self.sigma_n,
+            self.sigma_n.is_finite() && self.sigma_n > 0.0,
+            "finite and > 0",
+        )
+    }
+
+    /// `ln V_m(α) = ln V0 − (μ0 + b(α + ln(V0/L)))/a` (2.13), computed without forming
+    /// `V_m` (which underflows for large `α`). For `|α| → ∞` the result may be `±∞`.
+    pub fn ln_cutoff_velocity(&self, alpha: f64) -> f64 {
+        let lv0 = self.v0.ln();
+        lv0 - (self.mu0 + self.b * (alpha + (lv0 - self.l.ln()))) / self.a
+    }
+
+    /// Steady-state friction coefficient `μ_ss(V) = μ0 + (a − b) ln(V/V0)`, reached at
+    /// `θ = L/V` by the aging and slip laws.
+    pub fn steady_state_friction(&self, v: f64) -> f64 {
+        self.mu0 + (self.a - self.b) * (v.ln() - self.v0.ln())
+    }
+
+    /// `κ = a σ̄_n` (Pa), the scale of the rate-state potentials.
+    fn kappa(&self) -> f64 {
+        self.a * self.sigma_n
+    }
+}
+
+/// Clamps `ln V_m` to a finite range (non-finite `α` would give `±∞`/NaN).
+fn finite_ln_vm(l: f64) -> f64 {
+    if l.is_nan() {
+        // Documented: NaN state means "no cutoff information"; treat as V_m = 1 m/s.
+        0.0
+    } else {
+        l.clamp(-1e300, 1e300)
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Dieterich–Ruina with cutoff
+// ---------------------------------------------------------------------------------------
+
+/// Potential (2.13): `ϕ(V) = κ [V ln(V/V_m) − V + V_m]` for `V ≥ V_m`, else 0,
+/// with `κ = a σ̄_n` (Pa). Stored as `(ln V_m, κ)`; `V_m` may be far below `f64::MIN_POSITIVE`.
+///
+/// `ϕ'(V) = κ ln(V/V_m)` (= σ̄_n μ(V, θ), (2.12)) for `V ≥ V_m`, `ϕ''(V) = κ/V` above
+/// `V_m`, `0` below, undefined at `V_m` (jump from 0 to `κ/V_m`: the stiff part).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DieterichRuinaPotential {
+    ln_vm: f64,
+    vm: f64,
+    kappa: f64,
+}
+
+/// `ln(v/V_m)` accurately: near `V_m` through `ln_1p`, elsewhere in log space.
+fn log_ratio(v: f64, ln_vm: f64, vm: f64) -> f64 {
+    if vm >= f64::MIN_POSITIVE && vm.is_finite() {
+        let q = v / vm;
+        if q > 0.5 && q < 2.0 {
+            return ((v - vm) / vm).ln_1p();
+        }
+    }
+    v.ln() - ln_vm
+}
+
+/// `d − 1 + e^{−d}` for `d ≥ 0` without cancellation.
+fn dr_shape(d: f64) -> f64 {
+    if d < 0.1 {
+        // Taylor series: Σ_{k≥2} (−d)^k / k!, truncation < 1e-16 relative.
+        let mut term = d * d / 2.0;
+        let mut sum = term;
+        for k in 3..=12 {
+            term *= -d / k as f64;
+            sum += term;
+        }
+        sum
+    } else {
+        d + (-d).exp_m1()
+    }
+}
+
+impl DieterichRuinaPotential {
+    /// From `ln V_m` (V_m in m/s) and `κ = a σ̄_n > 0` (Pa). A NaN `ln_vm` is treated as 0,
+    /// infinite values are clamped to `±1e300`; `κ` is clamped to `[0, f64::MAX]`.
+    pub fn new(ln_vm: f64, kappa: f64) -> Self {
+        let ln_vm = finite_ln_vm(ln_vm);
+        let kappa = if kappa >= 0.0 { sat(kappa) } else { 0.0 };
+        Self {
+            ln_vm,
+            vm: ln_vm.exp(),
+            kappa,
+        }
+    }
+    /// `ln V_m` (V_m in m/s).
+    pub fn ln_cutoff_velocity(&self) -> f64 {
+        self.ln_vm
+    }
+    /// `κ = a σ̄_n` (Pa).
+    pub fn kappa(&self) -> f64 {
+        self.kappa
+    }
+}
+
+impl ConvexPotential for DieterichRuinaPotential {
+    fn value(&self, v: f64) -> f64 {
+        if !(v > 0.0) || v.ln() <= self.ln_vm {
+            return 0.0;
+        }
+        let d = log_ratio(v, self.ln_vm, self.vm);
+        if d <= 0.0 {
+            return 0.0;
+        }
+        sat(self.kappa * v * dr_shape(d))
+    }
+    fn slope(&self, v: f64) -> f64 {
+        if !(v > 0.0) || v.ln() <= self.ln_vm {
+            return 0.0;
+        }
+        sat(self.kappa * log_ratio(v, self.ln_vm, self.vm).max(0.0))
+    }
+    fn curvature(&self, v: f64) -> Option<f64> {
+        if !(v > 0.0) {
+            return Some(0.0);
+        }
+        let x = v.ln();
+        if x < self.ln_vm {
+            Some(0.0)
+        } else if x > self.ln_vm {
+            Some(sat(self.kappa / v))
+        } else {
+            None
+        }
+    }
+    /// For `r ≤ a V_m`: `s = r/a`. Otherwise `s > V_m` solves `a s + wκ ln(s/V_m) = r`;
+    /// closed form `s = (wκ/a) ω(r/(wκ) + ln(a V_m/(wκ)))` (Wright omega, evaluated in
+    /// log space), polished by safeguarded Newton in `x = ln s` on the bracket
+    /// `[ln V_m, ln(r/a)]`.
+    fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
+        if !(r > 0.0) {
+            return 0.0;
+        }
+        let c = sat(w.max(0.0) * self.kappa);
+        let hi = r.ln() - a.ln();
+        if c == 0.0 || hi <= self.ln_vm {
+            return linear_solution(a, r);
+        }
+        let l = self.ln_vm;
+        let lo = l;
+        let lc = c.ln();
+        let la = a.ln();
+        let z = r / c + l + la - lc;
+        let x0 = if z.is_finite() {
+            lc - la + wright_omega_ln(z)
+        } else {
+            hi
+        };
+        let g = |x: f64| {
+            let e = a * x.exp();
+            ((e - r) + c * (x - l), e + c)
+        };
+        let x = solve_increasing(g, lo, hi, x0);
+        sat(x.exp())
+    }
+}
+
+/// Dieterich–Ruina friction with the `V_m` cutoff, (2.9), (2.12)–(2.13):
+/// `μ = μ0 + a ln(V/V0) + b ln(V0 θ/L)` for `V ≥ V_m(θ)`, 0 below; `α = ln θ`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DieterichRuina {
+    params: RateStateParams,
+}
+
+impl DieterichRuina {
+    /// Validated law.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
+    pub fn new(params: RateStateParams) -> Result<Self> {
+        params.validate()?;
+        Ok(Self { params })
+    }
+    /// The parameters.
+    pub fn params(&self) -> &RateStateParams {
+        &self.params
+    }
+}
+
+impl FrictionLaw for DieterichRuina {
+    type Potential = DieterichRuinaPotential;
+    /// `ϕ(·, α)` with `ln V_m(α)` from (2.13).
+    fn potential(&self, alpha: f64) -> DieterichRuinaPotential {
+        DieterichRuinaPotential::new(self.params.ln_cutoff_velocity(alpha), self.params.kappa())
+    }
+    fn uses_state(&self) -> bool {
+        true
+    }
+    /// (2.12): `μ0 + a ln(V/V0) + b(α + ln(V0/L))` for `V ≥ V_m(α)`, else 0.
+    fn friction_coefficient(&self, v: f64, alpha: f64) -> f64 {
+        let p = &self.params;
+        if !(v > 0.0) || v.ln() <= p.ln_cutoff_velocity(alpha) {
+            return 0.0;
+        }
+        let lv0 = p.v0.ln();
+        sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - p.l.ln())))
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Regularised (asinh) law
+// ---------------------------------------------------------------------------------------
+
+/// `asinh(e^q)` without overflow.
+fn asinh_exp(q: f64) -> f64 {
+    if q <= 0.0 {
+        q.exp().asinh()
+    } else {
+        q + (1.0 + (1.0 + (-2.0 * q).exp()).sqrt()).ln()
+    }
+}
+
+/// `y/(√(1+y²)+1)` with `y = e^q`, without overflow.
+fn half_ratio(q: f64) -> f64 {
+    if q <= 0.0 {
+        let y = q.exp();
+        y / ((1.0 + y * y).sqrt() + 1.0)
+    } else {
+        1.0 / ((1.0 + (-2.0 * q).exp()).sqrt() + (-q).exp())
+    }
+}
+
+/// `1/√(1 + e^{−2q})` without overflow.
+fn inv_sqrt_one_plus_exp_m2q(q: f64) -> f64 {
+    if q >= 0.0 {
+        1.0 / (1.0 + (-2.0 * q).exp()).sqrt()
+    } else {
+        let y = q.exp();
+        y / (1.0 + y * y).sqrt()
+    }
+}
+
+/// Regularised rate-state potential (SEAS benchmarks):
+/// `ϕ(V) = κ [V asinh(V/(2V_m)) − √(V² + 4V_m²) + 2V_m]`, `κ = a σ̄_n`,
+/// `ϕ'(V) = κ asinh(V/(2V_m))`, `ϕ''(V) = κ/√(V² + 4V_m²)`. Smooth and strictly convex;
+/// evaluated in log space (`ln V_m` stored).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AsinhPotential {
+    ln_vm: f64,
+    kappa: f64,
+}
+
+impl AsinhPotential {
+    /// From `ln V_m` and `κ = a σ̄_n` (Pa); sanitised as in [`DieterichRuinaPotential::new`].
+    pub fn new(ln_vm: f64, kappa: f64) -> Self {
+        Self {
+            ln_vm: finite_ln_vm(ln_vm),
+            kappa: if kappa >= 0.0 { sat(kappa) } else { 0.0 },
+        }
+    }
+    /// `ln V_m` (V_m in m/s).
+    pub fn ln_cutoff_velocity(&self) -> f64 {
+        self.ln_vm
+    }
+    /// `κ = a σ̄_n` (Pa).
+    pub fn kappa(&self) -> f64 {
+        self.kappa
+    }
+    /// `q = ln(V/(2V_m))`.
+    fn q(&self, v: f64) -> f64 {
+        v.ln() - LN_2 - self.ln_vm
+    }
+}
+
+impl ConvexPotential for AsinhPotential {
+    /// Evaluated as `κ V [asinh(y) − y/(√(1+y²)+1)]`, `y = V/(2V_m)`, which equals the
+    /// formula above and never forms `V_m`.
+    fn value(&self, v: f64) -> f64 {
+        if !(v > 0.0) {
+            return 0.0;
+        }
+        let q = self.q(v);
+        sat(self.kappa * v * (asinh_exp(q) - half_ratio(q)))
+    }
+    fn slope(&self, v: f64) -> f64 {
+        if !(v > 0.0) {
+            return 0.0;
+        }
+        sat(self.kappa * asinh_exp(self.q(v)))
+    }
+    /// Saturated at `f64::MAX` where `κ/(2V_m)` overflows (`V_m` below ~1e-308).
+    fn curvature(&self, v: f64) -> Option<f64> {
+        // κ/√(V² + 4V_m²) = κ/(2V_m) · 1/√(1+y²)
+        let q = if v > 0.0 {
+            self.q(v)
+        } else {
+            f64::NEG_INFINITY
+        };
+        let c = if q > 0.0 {
+            self.kappa / v * inv_sqrt_one_plus_exp_m2q(q)
+        } else {
+            let y = q.exp();
+            // ln(κ/(2 V_m)) − ln √(1+y²)
+            (self.kappa.ln() - LN_2 - self.ln_vm - 0.5 * (y * y).ln_1p()).exp()
+        };
+        Some(sat(c))
+    }
+    /// Solves `a s + wκ asinh(s/(2V_m)) = r` in `x = ln s` by safeguarded Newton on the
+    /// bracket `[ln(r/(a + wκ/(2V_m))), min(ln(r/a), x_DR)]`, where `x_DR` is the
+    /// Wright-omega solution of the Dieterich–Ruina equation (an upper bound because
+    /// `asinh(y) ≥ ln(2y)`).
+    fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
+        if !(r > 0.0) {
+            return 0.0;
+        }
+        let c = sat(w.max(0.0) * self.kappa);
+        if c == 0.0 {
+            return linear_solution(a, r);
+        }
+        let l = self.ln_vm;
+        let (la, lc, lr) = (a.ln(), c.ln(), r.ln());
+        let mut hi = lr - la;
+        // ln(a + c/(2 V_m)) = logaddexp(ln a, ln c − ln 2 − l)
+        let lb = lc - LN_2 - l;
+        let (m, n) = if la > lb { (la, lb) } else { (lb, la) };
+        let lo = lr - (m + (n - m).exp().ln_1p());
+        let z = r / c + l + la - lc;
+        if z.is_finite() {
+            let x_dr = lc - la + wright_omega_ln(z);
+            if x_dr < hi {
+                hi = x_dr;
+            }
+        }
+        let g = |x: f64| {
+            let e = a * x.exp();
+            let q = x - LN_2 - l;
+            (
+                (e - r) + c * asinh_exp(q),
+                e + c * inv_sqrt_one_plus_exp_m2q(q),
+            )
+        };
+        if !(lo < hi) {
+            return sat(lo.min(hi).exp());
+        }
+        let (glo, ghi) = (g(lo).0, g(hi).0);
+        let x0 = if glo.abs() < ghi.abs() { lo } else { hi };
+        sat(solve_increasing(g, lo, hi, x0).exp())
+    }
+}
+
+/// Regularised rate-and-state law (SEAS benchmark form):
+/// `μ(V, θ) = a asinh(V/(2V_m(θ)))` with `V_m` from (2.13), i.e.
+/// `μ = a asinh(V/(2V0) exp((μ0 + b ln(V0 θ/L))/a))`; `α = ln θ`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AsinhLaw {
+    params: RateStateParams,
+}
+
+impl AsinhLaw {
+    /// Validated law.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
+    pub fn new(params: RateStateParams) -> Result<Self> {
+        params.validate()?;
+        Ok(Self { params })
+    }
+    /// The parameters.
+    pub fn params(&self) -> &RateStateParams {
+        &self.params
+    }
+}
+
+impl FrictionLaw for AsinhLaw {
+    type Potential = AsinhPotential;
+    fn potential(&self, alpha: f64) -> AsinhPotential {
+        AsinhPotential::new(self.params.ln_cutoff_velocity(alpha), self.params.kappa())
+    }
+    fn uses_state(&self) -> bool {
+        true
+    }
+    fn friction_coefficient(&self, v: f64, alpha: f64) -> f64 {
+        if !(v > 0.0) {
+            return 0.0;
+        }
+        let l = finite_ln_vm(self.params.ln_cutoff_velocity(alpha));
+        sat(self.params.a * asinh_exp(v.ln() - LN_2 - l))
+    }
+}
