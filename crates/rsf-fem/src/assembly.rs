@@ -1,0 +1,390 @@
+//! Global assembly into `faer` CSC matrices with one shared symbolic pattern, and loads.
+
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
+
+use crate::boundary::BoundarySegment;
+use crate::element::{
+    p1_mass, p1_stiffness, segment_quadrature, triangle_quadrature, LinearElasticity,
+};
+use crate::geometry::p1_gradients;
+use crate::mesh::{SimplexMesh, TriangleMesh};
+use crate::{Error, Result};
+
+/// Sparse matrix type used throughout rsf.
+pub type SparseMatrix = SparseColMat<usize, f64>;
+
+/// Assembler for node-major P1 vector fields (`D` components per vertex) on one mesh.
+///
+/// [`Assembler::new`] computes the symbolic pattern once (both triangles, full `D × D`
+/// node blocks, sorted rows) together with a scatter map from every cell's local node
+/// pair to its position in the CSC value array. Numeric assembly then only evaluates
+/// element matrices on the stack and adds them into the value array: no allocation
+/// per element, no sorting. All matrices produced by one assembler share the pattern,
+/// so `A = c_M M + c_K K` can be formed value-by-value ([`combine`]) and a
+/// [`Cholesky`](crate::Cholesky) analysis can be reused.
+#[derive(Debug, Clone)]
+pub struct Assembler<const D: usize> {
+    num_vertices: usize,
+    num_cells: usize,
+    symbolic: SymbolicSparseColMat<usize>,
+    /// Per cell, per local pair (a, b): offset of scalar row `v_a` within scalar column `v_b`.
+    local_offset: Vec<u32>,
+}
+
+impl<const D: usize> Assembler<D> {
+    /// Builds the pattern of `mesh` (cost `O(cells · (D+1)²)`, done once per mesh).
+    ///
+    /// # Errors
+    /// [`Error::Faer`] if the pattern cannot be allocated.
+    pub fn new(mesh: &SimplexMesh<D>) -> Result<Self> {
+        let nv = mesh.num_vertices();
+        let nc = mesh.num_cells();
+        let k = D + 1;
+        // Scalar adjacency by bucketing (with duplicates), then sort + dedup per column.
+        let mut count = vec![0usize; nv + 1];
+        for c in 0..nc {
+            for &v in mesh.cell(c) {
+                count[v + 1] += k;
+            }
+        }
+        for i in 0..nv {
+            count[i + 1] += count[i];
+        }
+        let mut fill = count.clone();
+        let mut rows = vec![0usize; count[nv]];
+        for c in 0..nc {
+            let cell = mesh.cell(c);
+            for &vb in cell {
+                for &va in cell {
+                    rows[fill[vb]] = va;
+                    fill[vb] += 1;
+                }
+            }
+        }
+        let mut scol = vec![0usize; nv + 1];
+        let mut w = 0;
+        for q in 0..nv {
+            let (s, e) = (count[q], count[q + 1]);
+            rows[s..e].sort_unstable();
+            let start = w;
+            let mut last = usize::MAX;
+            for i in s..e {
+                if rows[i] != last {
+                    last = rows[i];
+                    rows[w] = last;
+                    w += 1;
+                }
+            }
+            scol[q] = start;
+            scol[q + 1] = w;
+        }
+        rows.truncate(w);
+        let mut local_offset = Vec::with_capacity(nc * k * k);
+        for c in 0..nc {
+            let cell = mesh.cell(c);
+            for &va in cell {
+                for &vb in cell {
+                    let col = &rows[scol[vb]..scol[vb + 1]];
+                    let o = col.binary_search(&va).expect("pair is in the pattern");
+                    local_offset.push(o as u32);
+                }
+            }
+        }
+        // Vector pattern: column (q, s) holds rows (p, r) for p adjacent to q, r = 0..D.
+        let n = D * nv;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(D * D * rows.len());
+        col_ptr.push(0);
+        for q in 0..nv {
+            for _s in 0..D {
+                for &p in &rows[scol[q]..scol[q + 1]] {
+                    for r in 0..D {
+                        row_idx.push(D * p + r);
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        Ok(Self {
+            num_vertices: nv,
+            num_cells: nc,
+            symbolic,
+            local_offset,
+        })
+    }
+
+    /// Number of dofs `D · num_vertices`.
+    pub fn num_dofs(&self) -> usize {
+        D * self.num_vertices
+    }
+    /// The shared symbolic pattern.
+    pub fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.symbolic.as_ref()
+    }
+    /// A matrix with the shared pattern and all values zero.
+    pub fn zeros(&self) -> SparseMatrix {
+        let nnz = self.symbolic.row_idx().len();
+        SparseColMat::new(self.symbolic.clone(), vec![0.0; nnz])
+    }
+
+    fn check_mesh(&self, mesh: &SimplexMesh<D>) -> Result<()> {
+        if mesh.num_vertices() != self.num_vertices {
+            return Err(Error::DimensionMismatch {
+                what: "assembler vertices",
+                expected: self.num_vertices,
+                got: mesh.num_vertices(),
+            });
+        }
+        if mesh.num_cells() != self.num_cells {
+            return Err(Error::DimensionMismatch {
+                what: "assembler cells",
+                expected: self.num_cells,
+                got: mesh.num_cells(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Generic numeric assembly: zeroes `out` (which must have this assembler's pattern,
+    /// e.g. from [`Assembler::zeros`]) and adds `element(grads, measure, local)` for
+    /// every cell, where `local` is the row-major `(D(D+1))²` element matrix to fill
+    /// (see [`crate::element`]).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `mesh` or `out` do not match the assembler.
+    pub fn assemble_into(
+        &self,
+        mesh: &SimplexMesh<D>,
+        out: &mut SparseMatrix,
+        mut element: impl FnMut(&[[f64; D]; 4], f64, &mut [f64]),
+    ) -> Result<()> {
+        self.check_mesh(mesh)?;
+        if out.symbolic().row_idx().len() != self.symbolic.row_idx().len()
+            || out.nrows() != self.num_dofs()
+        {
+            return Err(Error::PatternMismatch);
+        }
+        let k = D + 1;
+        let n = D * k;
+        let col_ptr = self.symbolic.col_ptr();
+        let vals = out.val_mut();
+        vals.fill(0.0);
+        let mut local = [0.0f64; 144];
+        let local = &mut local[..n * n];
+        for c in 0..self.num_cells {
+            let x = mesh.cell_coords(c);
+            let (g, m) = p1_gradients::<D>(&x[..k]).expect("mesh cells are non-degenerate");
+            element(&g, m, local);
+            let cell = mesh.cell(c);
+            let offs = &self.local_offset[c * k * k..(c + 1) * k * k];
+            for a in 0..k {
+                for b in 0..k {
+                    let o = offs[a * k + b] as usize;
+                    for s in 0..D {
+                        let base = col_ptr[D * cell[b] + s] + D * o;
+                        for r in 0..D {
+                            vals[base + r] += local[(D * a + r) * n + D * b + s];
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Consistent mass matrix `M_{ij} = ∫ ρ φ_i·φ_j dx` (`ρ` in kg/m² in 2D).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDensity`] unless `rho > 0` and finite; mesh mismatch.
+    pub fn mass(&self, mesh: &SimplexMesh<D>, rho: f64) -> Result<SparseMatrix> {
+        check_density(rho)?;
+        let mut out = self.zeros();
+        self.assemble_into(mesh, &mut out, |_, m, loc| p1_mass::<D>(m, rho, loc))?;
+        Ok(out)
+    }
+
+    /// Stiffness matrix `K_{ij} = ∫ Cε(φ_j):ε(φ_i) dx` of linear elasticity.
+    ///
+    /// # Errors
+    /// Mesh mismatch.
+    pub fn stiffness(&self, mesh: &SimplexMesh<D>, mat: &LinearElasticity) -> Result<SparseMatrix> {
+        let mut out = self.zeros();
+        self.assemble_into(mesh, &mut out, |g, m, loc| {
+            p1_stiffness::<D>(g, m, mat, loc)
+        })?;
+        Ok(out)
+    }
+
+    /// Energy-norm matrix `K + M` (MATH.md §3: ‖v‖² = vᵀ(K + M)v).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDensity`]; mesh mismatch.
+    pub fn energy(
+        &self,
+        mesh: &SimplexMesh<D>,
+        rho: f64,
+        mat: &LinearElasticity,
+    ) -> Result<SparseMatrix> {
+        check_density(rho)?;
+        let mut out = self.zeros();
+        let mut tmp = [0.0f64; 144];
+        self.assemble_into(mesh, &mut out, |g, m, loc| {
+            let tmp = &mut tmp[..loc.len()];
+            p1_mass::<D>(m, rho, tmp);
+            p1_stiffness::<D>(g, m, mat, loc);
+            for (l, t) in loc.iter_mut().zip(tmp.iter()) {
+                *l += t;
+            }
+        })?;
+        Ok(out)
+    }
+}
+
+fn check_density(rho: f64) -> Result<()> {
+    if rho > 0.0 && rho.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::InvalidDensity(rho))
+    }
+}
+
+/// `c_a A + c_b B` for two matrices with the **same pattern** (e.g. `A = c_M M + c_K K`
+/// of MATH.md §2, both from one [`Assembler`]).
+///
+/// # Errors
+/// [`Error::PatternMismatch`] if the patterns differ.
+pub fn combine(ca: f64, a: &SparseMatrix, cb: f64, b: &SparseMatrix) -> Result<SparseMatrix> {
+    if a.nrows() != b.nrows()
+        || a.ncols() != b.ncols()
+        || a.symbolic().col_ptr() != b.symbolic().col_ptr()
+        || a.symbolic().row_idx() != b.symbolic().row_idx()
+    {
+        return Err(Error::PatternMismatch);
+    }
+    let vals = a
+        .val()
+        .iter()
+        .zip(b.val())
+        .map(|(x, y)| ca * x + cb * y)
+        .collect();
+    Ok(SparseColMat::new(
+        a.symbolic()
+            .to_owned()
+            .map_err(|e| Error::Faer(format!("{e:?}")))?,
+        vals,
+    ))
+}
+
+/// Body-force load `F_i = ∫ f·φ_i dx` for a force density `f(x)` (N/m³, i.e. N/m² per
+/// unit thickness in 2D; gravity is `[0, −ρ g]`), node-major, length `2 · num_vertices`.
+/// Integrated with the degree-5 rule [`triangle_quadrature`].
+///
+/// # Errors
+/// [`Error::NonFiniteValue`] if `f` returns a non-finite value.
+pub fn body_force_load(mesh: &TriangleMesh, f: impl Fn(&[f64; 2]) -> [f64; 2]) -> Result<Vec<f64>> {
+    let mut out = vec![0.0; 2 * mesh.num_vertices()];
+    let q = triangle_quadrature();
+    for c in 0..mesh.num_cells() {
+        let x = mesh.cell_coords(c);
+        let area = mesh.cell_measure(c);
+        let cell = mesh.cell(c);
+        for (l, w) in &q {
+            let p = [
+                l[0] * x[0][0] + l[1] * x[1][0] + l[2] * x[2][0],
+                l[0] * x[0][1] + l[1] * x[1][1] + l[2] * x[2][1],
+            ];
+            let fv = f(&p);
+            if !(fv[0].is_finite() && fv[1].is_finite()) {
+                return Err(Error::NonFiniteValue("body force"));
+            }
+            for a in 0..3 {
+                for r in 0..2 {
+                    out[2 * cell[a] + r] += w * area * l[a] * fv[r];
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Neumann load `F_i = ∫_Γ g·φ_i ds` for a traction `g(x)` (N/m² = Pa; N/m per unit
+/// thickness in 2D) on a segment; node-major, length `2 · num_vertices`.
+///
+/// # Errors
+/// [`Error::NonFiniteValue`] if `g` returns a non-finite value.
+pub fn traction_load(
+    mesh: &TriangleMesh,
+    segment: &BoundarySegment<2>,
+    g: impl Fn(&[f64; 2]) -> [f64; 2],
+) -> Result<Vec<f64>> {
+    let mut out = vec![0.0; 2 * mesh.num_vertices()];
+    let q = segment_quadrature();
+    let x = mesh.vertices();
+    for &f in segment.facets() {
+        let e = mesh.boundary_facet(f);
+        let len = mesh.boundary_facet_measure(f);
+        for (l, w) in &q {
+            let p = [
+                l[0] * x[e[0]][0] + l[1] * x[e[1]][0],
+                l[0] * x[e[0]][1] + l[1] * x[e[1]][1],
+            ];
+            let gv = g(&p);
+            if !(gv[0].is_finite() && gv[1].is_finite()) {
+                return Err(Error::NonFiniteValue("traction"));
+            }
+            for a in 0..2 {
+                for r in 0..2 {
+                    out[2 * e[a] + r] += w * len * l[a] * gv[r];
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Lumped boundary weights `w_p = ∫_Γ λ_p ds` (m in 2D) per segment node, in the order of
+/// [`BoundarySegment::nodes`] (MATH.md §3: Φ_h = Σ_p w_p ϕ(|v_p|, α_p)). They sum to the
+/// segment's measure.
+pub fn lumped_weights<const D: usize>(
+    mesh: &SimplexMesh<D>,
+    segment: &BoundarySegment<D>,
+) -> Vec<f64> {
+    let index: std::collections::HashMap<usize, usize> = segment
+        .nodes()
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| (v, i))
+        .collect();
+    let mut w = vec![0.0; segment.num_nodes()];
+    for &f in segment.facets() {
+        let share = mesh.boundary_facet_measure(f) / D as f64;
+        for v in mesh.boundary_facet(f) {
+            w[index[v]] += share;
+        }
+    }
+    w
+}
+
+/// `y ← y + α A x` for a CSC matrix (no allocation).
+///
+/// # Panics
+/// If the lengths do not match `A`'s shape (internal invariant of callers).
+pub fn spmv_add(
+    a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    alpha: f64,
+    x: &[f64],
+    y: &mut [f64],
+) {
+    assert_eq!(x.len(), a.ncols());
+    assert_eq!(y.len(), a.nrows());
+    for j in 0..a.ncols() {
+        let xj = alpha * x[j];
+        if xj == 0.0 {
+            continue;
+        }
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            y[i] += v * xj;
+        }
+    }
+}

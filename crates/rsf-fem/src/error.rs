@@ -1,0 +1,121 @@
+//! Error type of `rsf-fem`.
+
+/// Everything that can go wrong in `rsf-fem` on user input.
+///
+/// Panics are reserved for broken internal invariants; every problem caused by the
+/// caller's data is reported through one of these variants.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {vertex} has a non-finite coordinate")]
+    NonFiniteCoordinate {
+        /// Index of the offending vertex.
+        vertex: usize,
+    },
+    /// A cell refers to a vertex that does not exist.
+    #[error("cell {cell} refers to vertex {vertex}, but the mesh has {num_vertices} vertices")]
+    VertexOutOfRange {
+        /// Cell index.
+        cell: usize,
+        /// The invalid vertex index.
+        vertex: usize,
+        /// Number of vertices in the mesh.
+        num_vertices: usize,
+    },
+    /// The connectivity array length is not a multiple of `D + 1`.
+    #[error("connectivity has {len} entries, not a multiple of {stride}")]
+    BadConnectivity {
+        /// Length of the array.
+        len: usize,
+        /// Expected stride (`D + 1`).
+        stride: usize,
+    },
+    /// A cell has (numerically) zero measure.
+    #[error("cell {cell} is degenerate (signed measure {measure:e})")]
+    DegenerateCell {
+        /// Cell index.
+        cell: usize,
+        /// Its signed measure.
+        measure: f64,
+    },
+    /// A cell is clockwise (negative orientation).
+    #[error("cell {cell} is inverted / clockwise (signed measure {measure:e})")]
+    InvertedCell {
+        /// Cell index.
+        cell: usize,
+        /// Its signed measure.
+        measure: f64,
+    },
+    /// The mesh has no cells.
+    #[error("mesh has no cells")]
+    EmptyMesh,
+    /// Invalid grid parameters for a structured mesh.
+    #[error("invalid grid: {0}")]
+    InvalidGrid(String),
+    /// Young's modulus must be positive and finite.
+    #[error("Young's modulus E = {0} must be positive and finite (N/m in 2D)")]
+    InvalidYoungsModulus(f64),
+    /// Poisson's ratio must lie in (−1, 0.5).
+    #[error("Poisson's ratio nu = {0} must lie in (-1, 0.5)")]
+    InvalidPoissonRatio(f64),
+    /// Density must be positive and finite.
+    #[error("density rho = {0} must be positive and finite (kg/m^2 in 2D)")]
+    InvalidDensity(f64),
+    /// A boundary segment selected no facets.
+    #[error("boundary segment `{name}` is empty")]
+    EmptySegment {
+        /// Segment name.
+        name: String,
+    },
+    /// A vector has the wrong length or a mesh does not match the assembler.
+    #[error("dimension mismatch in {what}: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// What was being checked.
+        what: &'static str,
+        /// Expected size.
+        expected: usize,
+        /// Actual size.
+        got: usize,
+    },
+    /// A node / component index is out of range.
+    #[error("dof (node {node}, component {component}) out of range")]
+    InvalidDof {
+        /// Node index.
+        node: usize,
+        /// Component index.
+        component: usize,
+    },
+    /// A requested hierarchy level does not exist.
+    #[error("level {level} does not exist (hierarchy has levels 0..={finest})")]
+    InvalidLevel {
+        /// Requested level.
+        level: usize,
+        /// Finest available level.
+        finest: usize,
+    },
+    /// A non-finite value was passed where a finite one is needed.
+    #[error("non-finite value in {0}")]
+    NonFiniteValue(&'static str),
+    /// The matrix is not (numerically) symmetric positive definite.
+    #[error("matrix is not positive definite (Cholesky failed{detail})")]
+    NotPositiveDefinite {
+        /// Extra details from the factorisation.
+        detail: String,
+    },
+    /// The sparsity pattern differs from the analysed one.
+    #[error("sparsity pattern differs from the one used for the symbolic analysis")]
+    PatternMismatch,
+    /// The matrix lacks the node-block structure required by the operation.
+    #[error("matrix lacks the node-block sparsity structure")]
+    NotBlockStructured,
+    /// Memory allocation or other failure inside faer.
+    #[error("faer error: {0}")]
+    Faer(String),
+    /// The operation is not implemented for this dimension.
+    #[error("not supported: {0}")]
+    Unsupported(&'static str),
+}
+
+/// Result alias of `rsf-fem`.
+pub type Result<T> = std::result::Result<T, Error>;
