@@ -71,7 +71,11 @@ impl<const D: usize> DirectSolver<D> {
     ///
     /// # Errors
     /// Invalid shapes or pattern, invalid options.
-    pub fn new(a: SparseColMatRef<'_, usize, f64>, fixed: &[bool], opts: DirectOptions) -> Result<Self> {
+    pub fn new(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        opts: DirectOptions,
+    ) -> Result<Self> {
         opts.stopping.validate()?;
         Ok(Self {
             m: BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?,
@@ -86,7 +90,9 @@ impl<const D: usize> DirectSolver<D> {
         let mut in_x = vec![false; n];
         for &p in blocks {
             if p >= n / D {
-                return Err(Error::InvalidOption(format!("active block {p} out of range")));
+                return Err(Error::InvalidOption(format!(
+                    "active block {p} out of range"
+                )));
             }
             in_x[D * p..D * p + D].fill(true);
         }
@@ -126,7 +132,10 @@ impl<const D: usize> DirectSolver<D> {
         // Dense Schur complement on X (all components of the active blocks; fixed ones get
         // identity rows so that they stay at their values).
         let nx = D * blocks.len();
-        let x_dofs: Vec<usize> = blocks.iter().flat_map(|&p| (0..D).map(move |c| D * p + c)).collect();
+        let x_dofs: Vec<usize> = blocks
+            .iter()
+            .flat_map(|&p| (0..D).map(move |c| D * p + c))
+            .collect();
         let mut s = Csc::dense_pattern(nx);
         let mut y = vec![0.0; nr];
         for (jx, &j) in x_dofs.iter().enumerate() {
@@ -203,11 +212,20 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
         self.m.n()
     }
 
-    fn solve<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64]) -> Result<SolveReport> {
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport> {
         let start = Instant::now();
         let n = self.m.n();
         check_inputs(n, b, v)?;
-        if self.cache.as_ref().is_none_or(|c| c.blocks != nl.active_blocks()) {
+        if self
+            .cache
+            .as_ref()
+            .is_none_or(|c| c.blocks != nl.active_blocks())
+        {
             self.cache = Some(self.condense(nl.active_blocks())?);
         }
         let a = &self.m.a;

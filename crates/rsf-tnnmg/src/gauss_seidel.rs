@@ -58,7 +58,12 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
         self.m.n()
     }
 
-    fn solve<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64]) -> Result<SolveReport> {
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport> {
         let start = Instant::now();
         let n = self.m.n();
         check_inputs(n, b, v)?;
@@ -67,8 +72,10 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
         let mut correction = f64::INFINITY;
         for it in 1..=self.stopping.max_iterations {
             self.v_old.copy_from_slice(v);
-            self.m.nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
-            self.m.nonlinear_gauss_seidel(b, nl, &self.active_of, v, true);
+            self.m
+                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
+            self.m
+                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, true);
             if v.iter().any(|x| !x.is_finite()) {
                 return Err(Error::NonFinite("Gauss–Seidel iterate"));
             }
@@ -79,7 +86,11 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
             if let Some(e) = energy.as_mut() {
                 e.push(self.m.energy(b, nl, v));
             }
-            let norm_v = if self.stopping.relative > 0.0 { self.norm.norm(&self.m.a, v) } else { 0.0 };
+            let norm_v = if self.stopping.relative > 0.0 {
+                self.norm.norm(&self.m.a, v)
+            } else {
+                0.0
+            };
             if self.stopping.met(correction, norm_v) {
                 return Ok(SolveReport {
                     iterations: it,

@@ -60,7 +60,9 @@ impl LinearMultigrid {
                 });
             }
             if p.ncols == 0 {
-                return Err(Error::InvalidMatrix(format!("prolongation {l} has no columns")));
+                return Err(Error::InvalidMatrix(format!(
+                    "prolongation {l} has no columns"
+                )));
             }
             expected = p.ncols;
         }
@@ -77,7 +79,8 @@ impl LinearMultigrid {
         galerkin_rev.reverse();
         levels_rev.reverse();
         let coarse_pat = galerkin_rev.first().map(|g| &g.c).unwrap_or(&fine);
-        let coarse = SparseCholesky::new(coarse_pat.nrows, &coarse_pat.col_ptr, &coarse_pat.row_idx)?;
+        let coarse =
+            SparseCholesky::new(coarse_pat.nrows, &coarse_pat.col_ptr, &coarse_pat.row_idx)?;
         let coarse_values = vec![0.0; coarse_pat.val.len()];
         Ok(Self {
             fine,
@@ -120,7 +123,11 @@ impl LinearMultigrid {
             }
         }
         // Coarsest factorisation with masked rows/columns replaced by identity.
-        let a = if self.levels.len() == 1 { &self.fine } else { &self.galerkin[0].c };
+        let a = if self.levels.len() == 1 {
+            &self.fine
+        } else {
+            &self.galerkin[0].c
+        };
         let mask = &self.levels[0].mask;
         for j in 0..a.ncols {
             for k in a.col_ptr[j]..a.col_ptr[j + 1] {
@@ -167,7 +174,11 @@ impl LinearMultigrid {
         }
         let nl = self.levels.len();
         {
-            let a = if l + 1 == nl { &self.fine } else { &self.galerkin[l].c };
+            let a = if l + 1 == nl {
+                &self.fine
+            } else {
+                &self.galerkin[l].c
+            };
             Self::smooth(a, &mut self.levels[l], self.pre, false);
             let level = &mut self.levels[l];
             for i in 0..a.nrows {
@@ -190,7 +201,11 @@ impl LinearMultigrid {
             let (fine, coarse) = (&mut hi[0], &lo[l - 1]);
             self.galerkin[l - 1].prolong_add(&coarse.x, &fine.mask, &mut fine.x);
         }
-        let a = if l + 1 == nl { &self.fine } else { &self.galerkin[l].c };
+        let a = if l + 1 == nl {
+            &self.fine
+        } else {
+            &self.galerkin[l].c
+        };
         Self::smooth(a, &mut self.levels[l], self.post, true);
     }
 

@@ -64,7 +64,14 @@ impl<const D: usize> BlockNonlinearity<D> for NoNonlinearity {
     fn value(&self, _: usize, _: &[f64; D]) -> f64 {
         0.0
     }
-    fn minimize_block(&self, _: usize, _: &[[f64; D]; D], _: &[f64; D], _: &[bool; D], _: &mut [f64; D]) {
+    fn minimize_block(
+        &self,
+        _: usize,
+        _: &[[f64; D]; D],
+        _: &[f64; D],
+        _: &[bool; D],
+        _: &mut [f64; D],
+    ) {
         unreachable!("NoNonlinearity has no active blocks")
     }
     fn linearize(&self, _: usize, _: &[f64; D]) -> Linearization<D> {
@@ -89,7 +96,14 @@ impl<const D: usize, N: BlockNonlinearity<D>> BlockNonlinearity<D> for Renumbere
     fn value(&self, k: usize, v: &[f64; D]) -> f64 {
         self.inner.value(k, v)
     }
-    fn minimize_block(&self, k: usize, a: &[[f64; D]; D], r: &[f64; D], free: &[bool; D], v: &mut [f64; D]) {
+    fn minimize_block(
+        &self,
+        k: usize,
+        a: &[[f64; D]; D],
+        r: &[f64; D],
+        free: &[bool; D],
+        v: &mut [f64; D],
+    ) {
         self.inner.minimize_block(k, a, r, free, v)
     }
     fn linearize(&self, k: usize, v: &[f64; D]) -> Linearization<D> {

@@ -35,7 +35,9 @@ impl<const D: usize> BlockedMatrix<D> {
         }
         for (i, p) in a.diagonal_positions()?.into_iter().enumerate() {
             if !fixed[i] && a.val[p] <= 0.0 {
-                return Err(Error::NotPositiveDefinite("non-positive diagonal entry on a free dof"));
+                return Err(Error::NotPositiveDefinite(
+                    "non-positive diagonal entry on a free dof",
+                ));
             }
         }
         let block_pos = (0..n / D)

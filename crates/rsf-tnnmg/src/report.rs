@@ -38,7 +38,9 @@ impl Stopping {
             )));
         }
         if self.max_iterations == 0 {
-            return Err(crate::Error::InvalidOption("max_iterations must be positive".into()));
+            return Err(crate::Error::InvalidOption(
+                "max_iterations must be positive".into(),
+            ));
         }
         Ok(())
     }

@@ -62,7 +62,12 @@ impl EnergyNorm {
         Ok(Self { e })
     }
     pub fn norm(&self, a: &Csc, x: &[f64]) -> f64 {
-        self.e.as_ref().unwrap_or(a).quadratic_form(x).max(0.0).sqrt()
+        self.e
+            .as_ref()
+            .unwrap_or(a)
+            .quadratic_form(x)
+            .max(0.0)
+            .sqrt()
     }
 }
 
@@ -114,7 +119,12 @@ impl<const D: usize> Tnnmg<D> {
             .iter()
             .map(|p| Csc::from_faer(p.as_ref()))
             .collect::<Result<Vec<_>>>()?;
-        let mg = LinearMultigrid::new(m.a.clone(), prolongations, opts.smoothing.0, opts.smoothing.1)?;
+        let mg = LinearMultigrid::new(
+            m.a.clone(),
+            prolongations,
+            opts.smoothing.0,
+            opts.smoothing.1,
+        )?;
         let n = m.n();
         Ok(Self {
             norm: EnergyNorm::new(energy_norm, n)?,
@@ -140,11 +150,17 @@ impl<const D: usize> Tnnmg<D> {
     }
 
     /// One TNNMG iteration from `v`; returns the energy norm of the correction.
-    fn iterate<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64]) -> Result<f64> {
+    fn iterate<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<f64> {
         let n = self.m.n();
         self.v_old.copy_from_slice(v);
         for _ in 0..self.opts.nonlinear_sweeps {
-            self.m.nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
+            self.m
+                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
         }
         // Truncated linearisation at v.
         self.m.a.sym_mul(v, &mut self.av);
@@ -223,12 +239,20 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
         self.m.n()
     }
 
-    fn solve<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64]) -> Result<SolveReport> {
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport> {
         let start = Instant::now();
         let n = self.m.n();
         check_inputs(n, b, v)?;
         active_map(nl, n / D, &mut self.active_of)?;
-        let mut energy = self.opts.record_energy.then(|| vec![self.m.energy(b, nl, v)]);
+        let mut energy = self
+            .opts
+            .record_energy
+            .then(|| vec![self.m.energy(b, nl, v)]);
         let stop = self.opts.stopping;
         let mut correction = f64::INFINITY;
         for it in 1..=stop.max_iterations {
@@ -236,7 +260,11 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
             if let Some(e) = energy.as_mut() {
                 e.push(self.m.energy(b, nl, v));
             }
-            let norm_v = if stop.relative > 0.0 { self.norm.norm(&self.m.a, v) } else { 0.0 };
+            let norm_v = if stop.relative > 0.0 {
+                self.norm.norm(&self.m.a, v)
+            } else {
+                0.0
+            };
             if stop.met(correction, norm_v) {
                 return Ok(SolveReport {
                     iterations: it,

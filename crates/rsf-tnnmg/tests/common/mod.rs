@@ -1,0 +1,199 @@
+//! Synthetic test problems: P1 Laplacians on uniform grids with their own hierarchies, and
+//! simple closed-form block nonlinearities (independent of the friction crates).
+#![allow(dead_code)]
+
+use faer::sparse::{SparseColMat, Triplet};
+use rsf_tnnmg::{BlockNonlinearity, Linearization};
+
+pub type Mat = SparseColMat<usize, f64>;
+
+pub fn from_triplets(nr: usize, nc: usize, t: &[Triplet<usize, usize, f64>]) -> Mat {
+    SparseColMat::try_new_from_triplets(nr, nc, t).unwrap()
+}
+
+/// P1 on the unit square, (m+1)² nodes, triangles split along the (i,j)–(i+1,j+1) diagonal:
+/// `A = K + c M_lumped` with K the P1 stiffness (5-point stencil).
+pub fn square(m: usize, c: f64) -> Mat {
+    let n1 = m + 1;
+    let h = 1.0 / m as f64;
+    let id = |i: usize, j: usize| j * n1 + i;
+    let mut t = Vec::new();
+    for j in 0..n1 {
+        for i in 0..n1 {
+            let mut diag = c * h * h;
+            for (di, dj) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
+                let (a, b) = (i as i64 + di, j as i64 + dj);
+                if a >= 0 && b >= 0 && a < n1 as i64 && b < n1 as i64 {
+                    t.push(Triplet::new(id(i, j), id(a as usize, b as usize), -1.0));
+                    diag += 1.0;
+                }
+            }
+            t.push(Triplet::new(id(i, j), id(i, j), diag));
+        }
+    }
+    from_triplets(n1 * n1, n1 * n1, &t)
+}
+
+/// Prolongation from the (m/2)-grid to the m-grid of [`square`] (nodal interpolation).
+pub fn square_prolongation(m: usize) -> Mat {
+    let (nf, nc) = (m + 1, m / 2 + 1);
+    let mut t = Vec::new();
+    for j in 0..nf {
+        for i in 0..nf {
+            let row = j * nf + i;
+            let (ci, cj) = (i / 2, j / 2);
+            match (i % 2, j % 2) {
+                (0, 0) => t.push(Triplet::new(row, cj * nc + ci, 1.0)),
+                (1, 0) => {
+                    t.push(Triplet::new(row, cj * nc + ci, 0.5));
+                    t.push(Triplet::new(row, cj * nc + ci + 1, 0.5));
+                }
+                (0, 1) => {
+                    t.push(Triplet::new(row, cj * nc + ci, 0.5));
+                    t.push(Triplet::new(row, (cj + 1) * nc + ci, 0.5));
+                }
+                _ => {
+                    // midpoint of the diagonal edge (ci, cj)–(ci+1, cj+1)
+                    t.push(Triplet::new(row, cj * nc + ci, 0.5));
+                    t.push(Triplet::new(row, (cj + 1) * nc + ci + 1, 0.5));
+                }
+            }
+        }
+    }
+    from_triplets(nf * nf, nc * nc, &t)
+}
+
+/// Hierarchy for `square(2^level * m0)`: prolongations coarse to fine.
+pub fn square_hierarchy(m0: usize, level: usize) -> Vec<Mat> {
+    (1..=level).map(|l| square_prolongation(m0 << l)).collect()
+}
+
+/// `φ_k(v) = g_k |v|` (Tresca-like, nonsmooth at 0) on the listed nodes, block size 1.
+pub struct Tresca1 {
+    pub nodes: Vec<usize>,
+    pub g: Vec<f64>,
+}
+
+impl BlockNonlinearity<1> for Tresca1 {
+    fn active_blocks(&self) -> &[usize] {
+        &self.nodes
+    }
+    fn value(&self, k: usize, v: &[f64; 1]) -> f64 {
+        self.g[k] * v[0].abs()
+    }
+    fn minimize_block(
+        &self,
+        k: usize,
+        a: &[[f64; 1]; 1],
+        r: &[f64; 1],
+        free: &[bool; 1],
+        v: &mut [f64; 1],
+    ) {
+        if free[0] {
+            let g = self.g[k];
+            v[0] = r[0].signum() * (r[0].abs() - g).max(0.0) / a[0][0];
+        }
+    }
+    fn linearize(&self, k: usize, v: &[f64; 1]) -> Linearization<1> {
+        if v[0] == 0.0 {
+            Linearization::Truncate
+        } else {
+            Linearization::Smooth {
+                gradient: [self.g[k] * v[0].signum()],
+                hessian: [[0.0]],
+            }
+        }
+    }
+    fn directional_derivatives(&self, k: usize, v: &[f64; 1], d: &[f64; 1]) -> (f64, f64) {
+        let g = self.g[k];
+        if v[0] == 0.0 {
+            (-g * d[0].abs(), g * d[0].abs())
+        } else {
+            let s = g * v[0].signum() * d[0];
+            (s, s)
+        }
+    }
+}
+
+/// Smooth, strongly curved nonlinearity `φ(v) = w (cosh(v/ε) − 1) ε²` (curvature w at 0,
+/// growing exponentially), a stand-in for stiff rate-and-state potentials.
+pub struct Cosh1 {
+    pub nodes: Vec<usize>,
+    pub w: f64,
+    pub eps: f64,
+}
+
+impl Cosh1 {
+    fn d1(&self, x: f64) -> f64 {
+        self.w * self.eps * (x / self.eps).sinh()
+    }
+}
+
+impl BlockNonlinearity<1> for Cosh1 {
+    fn active_blocks(&self) -> &[usize] {
+        &self.nodes
+    }
+    fn value(&self, _: usize, v: &[f64; 1]) -> f64 {
+        self.w * self.eps * self.eps * ((v[0] / self.eps).cosh() - 1.0)
+    }
+    fn minimize_block(
+        &self,
+        _: usize,
+        a: &[[f64; 1]; 1],
+        r: &[f64; 1],
+        free: &[bool; 1],
+        v: &mut [f64; 1],
+    ) {
+        if !free[0] {
+            return;
+        }
+        // Monotone scalar equation a x + φ'(x) = r: bisection on a bracket.
+        let f = |x: f64| a[0][0] * x + self.d1(x) - r[0];
+        let mut lo = -r[0].abs() / a[0][0] - 1.0;
+        let mut hi = r[0].abs() / a[0][0] + 1.0;
+        debug_assert!(f(lo) <= 0.0 && f(hi) >= 0.0);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid == lo || mid == hi {
+                break;
+            }
+            if f(mid) > 0.0 {
+                hi = mid
+            } else {
+                lo = mid
+            }
+        }
+        v[0] = 0.5 * (lo + hi);
+    }
+    fn linearize(&self, _: usize, v: &[f64; 1]) -> Linearization<1> {
+        Linearization::Smooth {
+            gradient: [self.d1(v[0])],
+            hessian: [[self.w * (v[0] / self.eps).cosh()]],
+        }
+    }
+    fn directional_derivatives(&self, _: usize, v: &[f64; 1], d: &[f64; 1]) -> (f64, f64) {
+        let s = self.d1(v[0]) * d[0];
+        (s, s)
+    }
+}
+
+/// Boundary mask of the square grid (fixed on x = 0).
+pub fn left_edge_fixed(m: usize) -> Vec<bool> {
+    let n1 = m + 1;
+    (0..n1 * n1).map(|k| k % n1 == 0).collect()
+}
+
+/// Nodes on the bottom edge y = 0, except x = 0.
+pub fn bottom_nodes(m: usize) -> Vec<usize> {
+    (1..=m).collect()
+}
+
+pub fn energy_norm(a: &Mat, x: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for j in 0..a.ncols() {
+        for (i, v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            s += x[i] * v * x[j];
+        }
+    }
+    s.sqrt()
+}
