@@ -74,6 +74,10 @@ pub(crate) fn solve_increasing(
             hi = x;
         }
         let newton = x - f / df;
+        if (newton - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(1.0) {
+            // Converged: the Newton correction is at rounding level.
+            return newton;
+        }
         let use_newton = newton.is_finite()
             && newton > lo
             && newton < hi

@@ -105,6 +105,10 @@ pub fn generic_update<S: StateLaw>(law: &S, alpha_prev: f64, v: f64, tau: f64) -
         }
         let df = derivative(x, fx)?;
         let newton = x - fx / df;
+        if (newton - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(1.0) {
+            // Converged: the Newton correction is at rounding level.
+            return finite(newton);
+        }
         let accept = newton.is_finite()
             && newton > lo
             && newton < hi
