@@ -156,7 +156,8 @@ pub trait StateLaw: Clone + Send + Sync {
     /// `β − α_prev + τ ∂ψ/∂α(β, V) ∋ 0`.
     ///
     /// `alpha_prev` finite, `v ≥ 0` finite (m/s), `tau ≥ 0` finite (s). The default is
-    /// [`generic_update`] (safeguarded Newton/bisection to `max(1e-12, 4ε|β|)` absolute).
+    /// [`generic_update`] (safeguarded Newton/bisection to machine precision `4ε·max(1, |β|)`,
+    /// i.e. below the paper's absolute `1e-12` whenever `|β| < 1000`).
     ///
     /// # Errors
     /// [`Error::InvalidInput`] for inadmissible arguments; the errors of
