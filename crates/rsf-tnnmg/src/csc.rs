@@ -64,21 +64,28 @@ impl Csc {
         SparseColMat::new(sym, self.val.clone())
     }
 
-    /// Dense matrix of the given size with every entry structurally present.
-    pub fn dense_pattern(n: usize) -> Self {
+    /// Square matrix whose pattern is dense on the rows/columns not marked `fixed`; a fixed
+    /// row/column has only its diagonal entry.
+    pub fn dense_pattern_free(fixed: &[bool]) -> Self {
+        let n = fixed.len();
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(n * n);
+        let mut row_idx = Vec::new();
         col_ptr.push(0);
-        for _ in 0..n {
-            row_idx.extend(0..n);
+        for j in 0..n {
+            if fixed[j] {
+                row_idx.push(j);
+            } else {
+                row_idx.extend((0..n).filter(|&i| !fixed[i]));
+            }
             col_ptr.push(row_idx.len());
         }
+        let nnz = row_idx.len();
         Self {
             nrows: n,
             ncols: n,
             col_ptr,
             row_idx,
-            val: vec![0.0; n * n],
+            val: vec![0.0; nnz],
         }
     }
 

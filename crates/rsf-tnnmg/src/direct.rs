@@ -136,11 +136,13 @@ impl<const D: usize> DirectSolver<D> {
             .iter()
             .flat_map(|&p| (0..D).map(move |c| D * p + c))
             .collect();
-        let mut s = Csc::dense_pattern(nx);
+        let x_fixed: Vec<bool> = x_dofs.iter().map(|&i| self.m.fixed[i]).collect();
+        let mut s = Csc::dense_pattern_free(&x_fixed);
         let mut y = vec![0.0; nr];
         for (jx, &j) in x_dofs.iter().enumerate() {
-            if self.m.fixed[j] {
-                s.val[jx * nx + jx] = 1.0;
+            if x_fixed[jx] {
+                let d = s.position(jx, jx).expect("diagonal present");
+                s.val[d] = 1.0;
                 continue;
             }
             y.fill(0.0);
@@ -165,18 +167,21 @@ impl<const D: usize> DirectSolver<D> {
                         sij -= v * y[r_of[r]];
                     }
                 }
-                s.val[jx * nx + ix] = sij;
+                let pos = s.position(ix, jx).expect("free entry present");
+                s.val[pos] = sij;
             }
         }
         // Symmetrise against round-off.
         for j in 0..nx {
             for i in 0..j {
-                let m = 0.5 * (s.val[j * nx + i] + s.val[i * nx + j]);
-                s.val[j * nx + i] = m;
-                s.val[i * nx + j] = m;
+                if let (Some(a), Some(b)) = (s.position(i, j), s.position(j, i)) {
+                    let m = 0.5 * (s.val[a] + s.val[b]);
+                    s.val[a] = m;
+                    s.val[b] = m;
+                }
             }
         }
-        let s_fixed: Vec<bool> = x_dofs.iter().map(|&i| self.m.fixed[i]).collect();
+        let s_fixed = x_fixed;
         let inner = Tnnmg::<D>::new(
             s.to_faer().as_ref(),
             &s_fixed,

@@ -98,43 +98,75 @@ impl Galerkin {
 
     /// Numeric update `C = P_tᵀ H P_t`, with `P_t` = `P` without the rows where `mask` is set.
     pub fn update(&mut self, h: &Csc, mask: &[bool]) {
-        let nc = self.p.ncols;
-        // T = H P_t, column by column.
-        for jc in 0..nc {
-            for k in self.p.col_ptr[jc]..self.p.col_ptr[jc + 1] {
-                let jf = self.p.row_idx[k];
-                if mask[jf] {
-                    continue;
-                }
-                let pv = self.p.val[k];
-                let (rows, vals) = h.col(jf);
-                for (&i, &hv) in rows.iter().zip(vals) {
-                    self.work_f[i] += hv * pv;
-                }
+        for jc in 0..self.p.ncols {
+            self.update_t_column(h, mask, jc);
+        }
+        for jc in 0..self.p.ncols {
+            self.update_c_column(mask, jc);
+        }
+    }
+
+    /// Recomputes only the coarse columns `cols` (they must contain every column whose
+    /// fine support meets a fine dof whose row, column or mask changed; see
+    /// [`affected_columns`](Self::affected_columns)).
+    pub fn update_columns(&mut self, h: &Csc, mask: &[bool], cols: &[usize]) {
+        for &jc in cols {
+            self.update_t_column(h, mask, jc);
+        }
+        for &jc in cols {
+            self.update_c_column(mask, jc);
+        }
+    }
+
+    /// Coarse columns of `C` that change when rows/columns/mask of the fine dofs marked in
+    /// `changed` change: those whose `T = H P` column has a row in `changed` (this includes
+    /// every column whose prolongation support meets `changed`, as `H` has a diagonal).
+    pub fn affected_columns(&self, changed: &[bool]) -> Vec<usize> {
+        (0..self.t.ncols)
+            .filter(|&jc| {
+                self.t.row_idx[self.t.col_ptr[jc]..self.t.col_ptr[jc + 1]]
+                    .iter()
+                    .any(|&i| changed[i])
+            })
+            .collect()
+    }
+
+    /// `T[:, jc] = H P_t[:, jc]`.
+    fn update_t_column(&mut self, h: &Csc, mask: &[bool], jc: usize) {
+        for k in self.p.col_ptr[jc]..self.p.col_ptr[jc + 1] {
+            let jf = self.p.row_idx[k];
+            if mask[jf] {
+                continue;
             }
-            for k in self.t.col_ptr[jc]..self.t.col_ptr[jc + 1] {
-                let i = self.t.row_idx[k];
-                self.t.val[k] = self.work_f[i];
-                self.work_f[i] = 0.0;
+            let pv = self.p.val[k];
+            let (rows, vals) = h.col(jf);
+            for (&i, &hv) in rows.iter().zip(vals) {
+                self.work_f[i] += hv * pv;
             }
         }
-        // C = P_tᵀ T, column by column.
-        for jc in 0..nc {
-            for k in self.t.col_ptr[jc]..self.t.col_ptr[jc + 1] {
-                let i = self.t.row_idx[k];
-                if mask[i] {
-                    continue;
-                }
-                let tv = self.t.val[k];
-                for &(ic, pos) in &self.prow[self.prow_ptr[i]..self.prow_ptr[i + 1]] {
-                    self.work_c[ic] += self.p.val[pos] * tv;
-                }
+        for k in self.t.col_ptr[jc]..self.t.col_ptr[jc + 1] {
+            let i = self.t.row_idx[k];
+            self.t.val[k] = self.work_f[i];
+            self.work_f[i] = 0.0;
+        }
+    }
+
+    /// `C[:, jc] = P_tᵀ T[:, jc]`.
+    fn update_c_column(&mut self, mask: &[bool], jc: usize) {
+        for k in self.t.col_ptr[jc]..self.t.col_ptr[jc + 1] {
+            let i = self.t.row_idx[k];
+            if mask[i] {
+                continue;
             }
-            for k in self.c.col_ptr[jc]..self.c.col_ptr[jc + 1] {
-                let i = self.c.row_idx[k];
-                self.c.val[k] = self.work_c[i];
-                self.work_c[i] = 0.0;
+            let tv = self.t.val[k];
+            for &(ic, pos) in &self.prow[self.prow_ptr[i]..self.prow_ptr[i + 1]] {
+                self.work_c[ic] += self.p.val[pos] * tv;
             }
+        }
+        for k in self.c.col_ptr[jc]..self.c.col_ptr[jc + 1] {
+            let i = self.c.row_idx[k];
+            self.c.val[k] = self.work_c[i];
+            self.work_c[i] = 0.0;
         }
     }
 

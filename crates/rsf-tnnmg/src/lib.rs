@@ -62,6 +62,7 @@ mod problem;
 mod report;
 mod tnnmg;
 
+pub use block::solve_spd_masked;
 pub use cholesky::SparseCholesky;
 pub use direct::{DirectOptions, DirectSolver};
 pub use error::{Error, Result};

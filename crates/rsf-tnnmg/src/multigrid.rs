@@ -44,6 +44,13 @@ pub(crate) struct LinearMultigrid {
     coarse_values: Vec<f64>,
     pre: usize,
     post: usize,
+    /// Per level: the dofs whose rows, columns or masks may change between incremental
+    /// updates (index `l` for level `l`; the fine level's set is given by the caller).
+    variable: Vec<Vec<usize>>,
+    /// Per Galerkin operator `l`: the coarse columns to recompute incrementally.
+    affected: Vec<Vec<usize>>,
+    /// Diagonal per level at the last full update (reference for the zero-diagonal test).
+    ref_diag: Vec<Vec<f64>>,
 }
 
 impl LinearMultigrid {
@@ -90,6 +97,9 @@ impl LinearMultigrid {
             coarse_values,
             pre,
             post,
+            variable: Vec::new(),
+            affected: Vec::new(),
+            ref_diag: Vec::new(),
         })
     }
 
@@ -113,15 +123,64 @@ impl LinearMultigrid {
             g_lo[l].update(finer, &self.levels[l + 1].mask);
             let c = &g_lo[l].c;
             let level = &mut self.levels[l];
-            let scale = level
-                .diag
-                .iter()
-                .map(|&d| c.val[d].abs())
-                .fold(0.0f64, f64::max);
+            // A coarse dof all of whose fine support is truncated has an exactly zero
+            // row (no term is accumulated); it is excluded from smoothing and the coarse
+            // solve. The diagonal is kept as the reference for incremental updates.
+            if self.ref_diag.len() != nl {
+                self.ref_diag = vec![Vec::new(); nl];
+            }
+            let r = &mut self.ref_diag[l];
+            r.clear();
             for (i, &d) in level.diag.iter().enumerate() {
-                level.mask[i] = !(c.val[d] > 1e-14 * scale);
+                let cii = c.val[d];
+                level.mask[i] = !(cii > 0.0);
+                r.push(cii.max(0.0));
             }
         }
+        self.factorize_coarsest()
+    }
+
+    /// Declares the fine dofs whose matrix rows/columns or mask may change between calls of
+    /// [`update_incremental`](Self::update_incremental), and derives the affected sets of
+    /// every coarser level.
+    pub fn set_variable_dofs(&mut self, fine_dofs: &[usize]) {
+        let nl = self.levels.len();
+        self.variable = vec![Vec::new(); nl];
+        self.affected = vec![Vec::new(); nl.saturating_sub(1)];
+        self.variable[nl - 1] = fine_dofs.to_vec();
+        for l in (0..nl - 1).rev() {
+            let mut changed = vec![false; self.levels[l + 1].mask.len()];
+            for &i in &self.variable[l + 1] {
+                changed[i] = true;
+            }
+            let cols = self.galerkin[l].affected_columns(&changed);
+            self.variable[l] = cols.clone();
+            self.affected[l] = cols;
+        }
+    }
+
+    /// Like [`update`](Self::update), recomputing only what the variable dofs (see
+    /// [`set_variable_dofs`](Self::set_variable_dofs)) can change. Requires a full
+    /// [`update`](Self::update) with the same base values before.
+    pub fn update_incremental(&mut self) -> Result<()> {
+        let nl = self.levels.len();
+        for l in (0..nl - 1).rev() {
+            let (g_lo, g_hi) = self.galerkin.split_at_mut(l + 1);
+            let finer: &Csc = if l + 2 == nl { &self.fine } else { &g_hi[0].c };
+            g_lo[l].update_columns(finer, &self.levels[l + 1].mask, &self.affected[l]);
+            let c = &g_lo[l].c;
+            let level = &mut self.levels[l];
+            let r = &self.ref_diag[l];
+            for &i in &self.variable[l] {
+                // Relative to the last full update, so that round-off left by cancelling
+                // contributions of truncated dofs is not mistaken for a coupling.
+                level.mask[i] = !(c.val[level.diag[i]] > 1e-13 * r[i]);
+            }
+        }
+        self.factorize_coarsest()
+    }
+
+    fn factorize_coarsest(&mut self) -> Result<()> {
         // Coarsest factorisation with masked rows/columns replaced by identity.
         let a = if self.levels.len() == 1 {
             &self.fine
@@ -218,5 +277,90 @@ impl LinearMultigrid {
         level.rhs.copy_from_slice(rhs);
         self.cycle(l);
         x.copy_from_slice(&self.levels[l].x);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn laplacian_1d(n: usize) -> Csc {
+        let mut col_ptr = vec![0];
+        let mut row_idx = Vec::new();
+        let mut val = Vec::new();
+        for j in 0..n {
+            for i in j.saturating_sub(1)..(j + 2).min(n) {
+                row_idx.push(i);
+                val.push(if i == j { 2.0 } else { -1.0 });
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Csc {
+            nrows: n,
+            ncols: n,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
+    fn interpolation(nc: usize) -> Csc {
+        let nf = 2 * nc - 1;
+        let mut col_ptr = vec![0];
+        let mut row_idx = Vec::new();
+        let mut val = Vec::new();
+        for j in 0..nc {
+            for (i, v) in [
+                (2 * j as i64 - 1, 0.5),
+                (2 * j as i64, 1.0),
+                (2 * j as i64 + 1, 0.5),
+            ] {
+                if i >= 0 && (i as usize) < nf {
+                    row_idx.push(i as usize);
+                    val.push(v);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Csc {
+            nrows: nf,
+            ncols: nc,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
+    /// The incremental update of the coarse operators equals a full recomputation after
+    /// changes of the fine matrix and mask restricted to the declared variable dofs.
+    #[test]
+    fn incremental_update_matches_full_update() {
+        let n = 33;
+        let ps = vec![interpolation(5), interpolation(9), interpolation(17)];
+        let fine = laplacian_1d(n);
+        let mut inc = LinearMultigrid::new(fine.clone(), ps.clone(), 1, 1).unwrap();
+        let mut full = LinearMultigrid::new(fine, ps, 1, 1).unwrap();
+        inc.update().unwrap();
+        let variable = [0usize, 1, 2, 3];
+        inc.set_variable_dofs(&variable);
+        for round in 0..4 {
+            for m in [&mut inc, &mut full] {
+                for &i in &variable {
+                    let d = m.fine.position(i, i).unwrap();
+                    m.fine.val[d] = 2.0 + 1e3 * (round as f64 + i as f64);
+                }
+                let mask = m.fine_mask_mut();
+                mask[0] = round % 2 == 0;
+                mask[2] = round == 3;
+            }
+            inc.update_incremental().unwrap();
+            full.update().unwrap();
+            for (gi, gf) in inc.galerkin.iter().zip(&full.galerkin) {
+                assert_eq!(gi.c.val, gf.c.val, "round {round}");
+            }
+            for (li, lf) in inc.levels.iter().zip(&full.levels) {
+                assert_eq!(li.mask, lf.mask);
+            }
+        }
     }
 }

@@ -84,6 +84,8 @@ pub struct Tnnmg<const D: usize> {
     norm: EnergyNorm,
     opts: TnnmgOptions,
     active_of: Vec<usize>,
+    /// Active blocks for which the multigrid hierarchy is set up incrementally.
+    cached_active: Option<Vec<usize>>,
     v_old: Vec<f64>,
     av: Vec<f64>,
     res: Vec<f64>,
@@ -132,6 +134,7 @@ impl<const D: usize> Tnnmg<D> {
             mg,
             opts,
             active_of: Vec::new(),
+            cached_active: None,
             v_old: vec![0.0; n],
             av: vec![0.0; n],
             res: vec![0.0; n],
@@ -167,9 +170,27 @@ impl<const D: usize> Tnnmg<D> {
         for i in 0..n {
             self.res[i] = b[i] - self.av[i];
         }
-        self.mg.fine.val.copy_from_slice(&self.m.a.val);
-        let mask = self.mg.fine_mask_mut();
-        mask.copy_from_slice(&self.m.fixed);
+        // Fine matrix H = A + Hessians on the active blocks, mask = fixed ∪ truncated.
+        // Only the active blocks' entries change from one iteration to the next, so after
+        // one full set-up the coarse operators are updated incrementally.
+        let incremental = self.cached_active.as_deref() == Some(nl.active_blocks());
+        if incremental {
+            for &p in nl.active_blocks() {
+                for r in 0..D {
+                    for c in 0..D {
+                        let pos = self.m.block_pos[p][r][c];
+                        if pos != usize::MAX {
+                            self.mg.fine.val[pos] = self.m.a.val[pos];
+                        }
+                    }
+                }
+                let mask = self.mg.fine_mask_mut();
+                mask[D * p..D * p + D].copy_from_slice(&self.m.fixed[D * p..D * p + D]);
+            }
+        } else {
+            self.mg.fine.val.copy_from_slice(&self.m.a.val);
+            self.mg.fine_mask_mut().copy_from_slice(&self.m.fixed);
+        }
         for (k, &p) in nl.active_blocks().iter().enumerate() {
             match nl.linearize(k, &load::<D>(v, p)) {
                 Linearization::Smooth { gradient, hessian } => {
@@ -201,7 +222,18 @@ impl<const D: usize> Tnnmg<D> {
                 }
             }
         }
-        self.mg.update()?;
+        if incremental {
+            self.mg.update_incremental()?;
+        } else {
+            self.mg.update()?;
+            let dofs: Vec<usize> = nl
+                .active_blocks()
+                .iter()
+                .flat_map(|&p| (0..D).map(move |c| D * p + c))
+                .collect();
+            self.mg.set_variable_dofs(&dofs);
+            self.cached_active = Some(nl.active_blocks().to_vec());
+        }
         self.c.fill(0.0);
         for _ in 0..self.opts.v_cycles {
             self.mg.v_cycle(&mut self.c, &self.res);

@@ -1,1 +1,50 @@
-//! placeholder
+//! Rate- and state-dependent friction problems, solved by the variational method of
+//! Pipping, Sander and Kornhuber: the composition of the `rsf-*` crates.
+//!
+//! - [`Model`]: an assembled discrete model (matrices, loads, constraints, hierarchy,
+//!   frictional boundary) — from [`SliderScene::build_model`] or your own assembly.
+//! - [`Simulation`]: a model plus a friction law `L`, a state law `S` and a velocity
+//!   integrator `I` (all generic, one law value per frictional node), stepping by the
+//!   paper's relaxed fixed point iteration (MATH.md §4) with TNNMG or the direct solver.
+//! - [`Observer`]s record what a scene asks for: [`PointSeries`], [`FrictionalProfile`],
+//!   [`Checkpointer`], [`Reports`]. [`Checkpoint`]s resume bit-identically.
+//! - [`SliderScene`]: the paper's model problem (§6.1, Table 6.1), readable from TOML.
+//!
+//! ```no_run
+//! use rsf::SliderScene;
+//! let scene = SliderScene { level: 2, steps: 100, ..SliderScene::default() };
+//! let mut sim = scene.build()?;
+//! let summary = sim.run(100, &mut [])?;
+//! println!("{} steps, mean {:.2} fixed point iterations", summary.steps, summary.fpi_mean);
+//! # Ok::<(), rsf::Error>(())
+//! ```
+#![warn(missing_docs)]
+
+mod checkpoint;
+mod dynamic;
+mod error;
+mod friction_blocks;
+mod model;
+mod observer;
+mod simulation;
+mod slider;
+mod solver;
+
+pub use checkpoint::Checkpoint;
+pub use dynamic::AnySimulation;
+pub use error::{Error, Result};
+pub use friction_blocks::FrictionBlocks;
+pub use model::{DirichletVelocity, FrictionalBoundary, Model};
+pub use observer::{Checkpointer, FrictionalProfile, Observer, PointSeries, Reports, StepState};
+pub use simulation::{FixedPointOptions, NoState, RunSummary, Simulation, StepReport};
+pub use slider::{
+    nearest_vertex, DiagonalKind, IntegratorKind, SliderScene, SolverChoice, StateLawKind,
+    SLIDER_CENTRE,
+};
+pub use solver::{SolverKind, VelocitySolver};
+
+pub use rsf_fem as fem;
+pub use rsf_friction as friction;
+pub use rsf_state as state;
+pub use rsf_time as time;
+pub use rsf_tnnmg as tnnmg;

@@ -1,0 +1,199 @@
+//! What a run records. A scene that records nothing computes nothing extra: every observer
+//! does its own (cheap) extraction from the state it is shown.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use rsf_time::Kinematics;
+
+use crate::checkpoint::Checkpoint;
+use crate::error::Result;
+use crate::model::Model;
+use crate::simulation::{block_norm, StepReport};
+
+/// The state after a step, as shown to observers.
+pub struct StepState<'a, const D: usize> {
+    /// The model.
+    pub model: &'a Model<D>,
+    /// `(u, v, a)` at `t_n`.
+    pub kinematics: &'a Kinematics,
+    /// α per frictional node (`model.frictional.nodes` order).
+    pub alpha: &'a [f64],
+    /// The step's report.
+    pub report: &'a StepReport,
+}
+
+impl<const D: usize> StepState<'_, D> {
+    /// A checkpoint of this state.
+    pub fn checkpoint(&self, tau: f64) -> Checkpoint {
+        Checkpoint {
+            dim: D,
+            step: self.report.step,
+            tau,
+            u: self.kinematics.u.clone(),
+            v: self.kinematics.v.clone(),
+            a: self.kinematics.a.clone(),
+            alpha: self.alpha.to_vec(),
+        }
+    }
+}
+
+/// Something that looks at the simulation after each step.
+pub trait Observer<const D: usize> {
+    /// Called after every successful step.
+    ///
+    /// # Errors
+    /// I/O errors end the run.
+    fn observe(&mut self, state: &StepState<'_, D>) -> Result<()>;
+
+    /// Called once after the last step of a [`run`](crate::Simulation::run).
+    ///
+    /// # Errors
+    /// I/O errors.
+    fn finish(&mut self) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// Time series at one node (2D): CSV `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`,
+/// flushed after every row so that a killed run keeps what it wrote.
+pub struct PointSeries {
+    node: usize,
+    out: BufWriter<File>,
+    flush_every: usize,
+    rows: usize,
+}
+
+impl PointSeries {
+    /// Writes to `path` (created/truncated) the series at `node`.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn create(path: &Path, node: usize) -> Result<Self> {
+        let mut out = BufWriter::new(File::create(path)?);
+        writeln!(out, "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi")?;
+        out.flush()?;
+        Ok(Self {
+            node,
+            out,
+            flush_every: 1,
+            rows: 0,
+        })
+    }
+
+    /// Flush only every `n` rows (default 1).
+    pub fn flush_every(mut self, n: usize) -> Self {
+        self.flush_every = n.max(1);
+        self
+    }
+}
+
+impl<const D: usize> Observer<D> for PointSeries {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+        let (u, v) = (&s.kinematics.u, &s.kinematics.v);
+        writeln!(
+            self.out,
+            "{:.9e},{:.12e},{:.12e},{:.12e},{}",
+            s.report.time,
+            u[D * self.node],
+            v[D * self.node],
+            s.report.max_slip_rate,
+            s.report.fixed_point_iterations
+        )?;
+        self.rows += 1;
+        if self.rows % self.flush_every == 0 {
+            self.out.flush()?;
+        }
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<()> {
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+/// Slip rate and state along Γ_F over a time window: CSV `t_s,x_m,slip_rate_mps,alpha`
+/// (x the first coordinate of the node), one row per node per step inside the window.
+pub struct FrictionalProfile {
+    window: (f64, f64),
+    every: usize,
+    out: BufWriter<File>,
+}
+
+impl FrictionalProfile {
+    /// Records steps with `t ∈ [t0, t1]`, every `every`-th step.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn create(path: &Path, t0: f64, t1: f64, every: usize) -> Result<Self> {
+        let mut out = BufWriter::new(File::create(path)?);
+        writeln!(out, "t_s,x_m,slip_rate_mps,alpha")?;
+        out.flush()?;
+        Ok(Self {
+            window: (t0, t1),
+            every: every.max(1),
+            out,
+        })
+    }
+}
+
+impl<const D: usize> Observer<D> for FrictionalProfile {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+        let t = s.report.time;
+        if t < self.window.0 || t > self.window.1 || s.report.step % self.every != 0 {
+            return Ok(());
+        }
+        let fb = &s.model.frictional;
+        for &k in &fb.along {
+            let p = fb.nodes[k];
+            let x = s.model.vertices[p][0];
+            let rate = block_norm::<D>(&s.kinematics.v, p);
+            writeln!(self.out, "{t:.9e},{x:.6e},{rate:.9e},{:.9e}", s.alpha[k])?;
+        }
+        self.out.flush()?;
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<()> {
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+/// Writes a checkpoint every `every` steps (atomically replacing `path`).
+pub struct Checkpointer {
+    path: PathBuf,
+    every: usize,
+    tau: f64,
+}
+
+impl Checkpointer {
+    /// Checkpoints of a simulation with step τ to `path` every `every` steps.
+    pub fn new(path: impl Into<PathBuf>, every: usize, tau: f64) -> Self {
+        Self {
+            path: path.into(),
+            every: every.max(1),
+            tau,
+        }
+    }
+}
+
+impl<const D: usize> Observer<D> for Checkpointer {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+        if s.report.step % self.every == 0 {
+            s.checkpoint(self.tau).write(&self.path)?;
+        }
+        Ok(())
+    }
+}
+
+/// Keeps every step's report in memory (for summaries and figures).
+#[derive(Debug, Default, Clone)]
+pub struct Reports(pub Vec<StepReport>);
+
+impl<const D: usize> Observer<D> for Reports {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+        self.0.push(*s.report);
+        Ok(())
+    }
+}

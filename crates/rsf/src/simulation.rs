@@ -1,0 +1,535 @@
+//! The coupled time step: relaxed fixed point iteration between the velocity problem and
+//! the state update (MATH.md §4, paper §6.2), and the simulation loop.
+
+use std::time::Instant;
+
+use rsf_fem::{combine, SparseMatrix};
+use rsf_friction::FrictionLaw;
+use rsf_state::StateLaw;
+use rsf_time::{check_time_step, Kinematics, VelocityIntegrator};
+use rsf_tnnmg::NonsmoothSolver;
+
+use crate::checkpoint::Checkpoint;
+use crate::error::{invalid, Error, Result};
+use crate::friction_blocks::FrictionBlocks;
+use crate::model::Model;
+use crate::observer::{Observer, StepState};
+use crate::solver::{SolverKind, VelocitySolver};
+
+/// Options of the fixed point iteration of each time step (MATH.md §4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixedPointOptions {
+    /// Stop when `‖v^{ν+1} − v^ν‖ ≤ tolerance` in the energy norm (paper: 1e-10).
+    pub tolerance: f64,
+    /// Iteration budget per step; exceeding it is [`Error::FixedPointNotConverged`].
+    pub max_iterations: usize,
+    /// The damped relaxation parameter used when the state iterates stop contracting
+    /// (paper: 0.5).
+    pub relaxation: f64,
+}
+
+impl Default for FixedPointOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-10,
+            max_iterations: 100,
+            relaxation: 0.5,
+        }
+    }
+}
+
+/// What one time step did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepReport {
+    /// Step index n (1-based).
+    pub step: usize,
+    /// Time t_n = n τ (s).
+    pub time: f64,
+    /// Fixed point iterations (velocity solves) of this step.
+    pub fixed_point_iterations: usize,
+    /// Velocity-solver iterations summed over the fixed point iterations.
+    pub solver_iterations: usize,
+    /// Fixed point iterations that used the damped relaxation ω < 1.
+    pub relaxed_iterations: usize,
+    /// Last fixed point correction `‖v^{ν+1} − v^ν‖` (energy norm).
+    pub correction: f64,
+    /// Largest slip rate on Γ_F after the step (m/s).
+    pub max_slip_rate: f64,
+    /// Wall time of the step (s; not part of any numerical output).
+    pub seconds: f64,
+}
+
+/// Summary of a run of several steps.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall time (s).
+    pub seconds: f64,
+    /// Mean fixed point iterations per step.
+    pub fpi_mean: f64,
+    /// Maximum fixed point iterations of a step.
+    pub fpi_max: usize,
+    /// Total velocity-solver iterations.
+    pub solver_iterations: usize,
+    /// Steps in which the damped relaxation was used at least once.
+    pub relaxed_steps: usize,
+}
+
+/// `xᵀ M x` for a symmetric CSC matrix.
+pub(crate) fn quadratic_form(m: &SparseMatrix, x: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for j in 0..m.ncols() {
+        if x[j] == 0.0 {
+            continue;
+        }
+        let mut col = 0.0;
+        for (&i, &v) in m.row_idx_of_col_raw(j).iter().zip(m.val_of_col(j)) {
+            col += v * x[i];
+        }
+        s += x[j] * col;
+    }
+    s
+}
+
+/// A placeholder state law for friction laws without state (plain Tresca): α never changes
+/// and no state update is ever computed.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NoState;
+
+impl StateLaw for NoState {
+    fn dpsi_dalpha(&self, _alpha: f64, _v: f64) -> f64 {
+        0.0
+    }
+    fn update(&self, alpha_prev: f64, _v: f64, _tau: f64) -> rsf_state::Result<f64> {
+        Ok(alpha_prev)
+    }
+}
+
+/// A running simulation of a [`Model`] with friction law `L`, state law `S` (one law value
+/// per frictional node each, for heterogeneous faults) and velocity integrator `I`.
+///
+/// Each [`step`](Self::step) solves the coupled problem at `t_n = n τ` by the paper's
+/// relaxed fixed point iteration. Everything is single-threaded and deterministic: the
+/// same model, parameters and build give bit-identical results, also across
+/// [`checkpoint`](Self::checkpoint) / [`restore`](Self::restore).
+pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> {
+    model: Model<D>,
+    friction: FrictionBlocks<L>,
+    state_laws: Vec<S>,
+    integrator: I,
+    solver: VelocitySolver<D>,
+    tau: f64,
+    fixed_point: FixedPointOptions,
+    step: usize,
+    kin: Kinematics,
+    next: Kinematics,
+    alpha: Vec<f64>,
+    rhs: Vec<f64>,
+    v: Vec<f64>,
+    v_old: Vec<f64>,
+    alpha_iter: Vec<f64>,
+    alpha_trial: Vec<f64>,
+    history: Vec<f64>,
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulation<D, L, S, I> {
+    /// Sets up the simulation: assembles `A = c_M M + c_K K` (+ radiation damping), builds
+    /// the solver, and starts from `u_0 = model.initial_displacement`, `v_0 = V_D(0)`,
+    /// `a_0 = 0`, `α = alpha0` (one value per frictional node, in `model.frictional.nodes`
+    /// order).
+    ///
+    /// `state_laws` has one law per frictional node, or may be empty when no friction law
+    /// uses the state (Tresca).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for inconsistent lengths, τ ≤ 0 or non-finite values,
+    /// a missing mass matrix for a dynamic integrator; set-up errors of the solver.
+    pub fn new(
+        model: Model<D>,
+        friction_laws: Vec<L>,
+        state_laws: Vec<S>,
+        alpha0: Vec<f64>,
+        integrator: I,
+        tau: f64,
+        solver: &SolverKind,
+        fixed_point: FixedPointOptions,
+    ) -> Result<Self> {
+        model.validate()?;
+        check_time_step(tau)
+            .map_err(|_| invalid("time_step_s", format!("τ = {tau} must be finite and > 0")))?;
+        let nf = model.frictional.len();
+        if friction_laws.len() != nf {
+            return Err(invalid(
+                "friction",
+                format!("{} laws for {nf} frictional nodes", friction_laws.len()),
+            ));
+        }
+        if alpha0.len() != nf || alpha0.iter().any(|a| !a.is_finite()) {
+            return Err(invalid("alpha0", format!("needs {nf} finite values")));
+        }
+        let uses_state = friction_laws.iter().any(|l| l.uses_state());
+        if uses_state && state_laws.len() != nf {
+            return Err(invalid(
+                "state_law",
+                format!("{} laws for {nf} frictional nodes", state_laws.len()),
+            ));
+        }
+        if !(fixed_point.tolerance > 0.0 && fixed_point.tolerance.is_finite())
+            || fixed_point.max_iterations == 0
+            || !(fixed_point.relaxation > 0.0 && fixed_point.relaxation <= 1.0)
+        {
+            return Err(invalid(
+                "fixed_point",
+                "tolerance must be positive, max_iterations ≥ 1, relaxation in (0, 1]",
+            ));
+        }
+        let (c_m, c_k) = integrator.coefficients(tau);
+        let mut a = if integrator.uses_mass() {
+            let m = model.mass.as_ref().ok_or_else(|| {
+                invalid(
+                    "mass",
+                    format!("{} needs the mass matrix", integrator.name()),
+                )
+            })?;
+            combine(c_m, m, c_k, &model.stiffness)?
+        } else {
+            combine(0.0, &model.stiffness, c_k, &model.stiffness)?
+        };
+        let eta = integrator.radiation_damping();
+        if eta > 0.0 {
+            add_radiation_damping::<D>(&mut a, &model, eta);
+        }
+        let solver = VelocitySolver::new(solver, &a, &model)?;
+        let n = model.num_dofs();
+        let mut kin = Kinematics::zeros(n);
+        kin.u.copy_from_slice(&model.initial_displacement);
+        let friction = FrictionBlocks::new(
+            model.frictional.nodes.clone(),
+            model.frictional.weights.clone(),
+            friction_laws,
+            &alpha0,
+        );
+        let mut sim = Self {
+            friction,
+            state_laws,
+            integrator,
+            solver,
+            tau,
+            fixed_point,
+            step: 0,
+            next: Kinematics::zeros(n),
+            alpha: alpha0,
+            rhs: vec![0.0; n],
+            v: vec![0.0; n],
+            v_old: vec![0.0; n],
+            alpha_iter: vec![0.0; nf],
+            alpha_trial: vec![0.0; nf],
+            history: Vec::new(),
+            kin,
+            model,
+        };
+        let mut v0 = std::mem::take(&mut sim.kin.v);
+        sim.impose_dirichlet(0.0, &mut v0);
+        sim.kin.v = v0;
+        Ok(sim)
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model<D> {
+        &self.model
+    }
+
+    /// Current `(u, v, a)`.
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.kin
+    }
+
+    /// Current state α per frictional node (`model.frictional.nodes` order).
+    pub fn alpha(&self) -> &[f64] {
+        &self.alpha
+    }
+
+    /// Steps taken so far.
+    pub fn step_index(&self) -> usize {
+        self.step
+    }
+
+    /// Current time `t = n τ` (s).
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.tau
+    }
+
+    /// The time step τ (s).
+    pub fn tau(&self) -> f64 {
+        self.tau
+    }
+
+    /// Name of the velocity solver.
+    pub fn solver_name(&self) -> &'static str {
+        self.solver.name()
+    }
+
+    /// Slip rates `|v_p|` on Γ_F (m/s) into `out`, in `model.frictional.nodes` order.
+    pub fn slip_rates(&self, out: &mut [f64]) {
+        slip_rates::<D>(&self.model.frictional.nodes, &self.kin.v, out);
+    }
+
+    fn impose_dirichlet(&self, t: f64, v: &mut [f64]) {
+        for (vi, &f) in v.iter_mut().zip(&self.model.fixed) {
+            if f {
+                *vi = 0.0;
+            }
+        }
+        let speed = self.model.dirichlet.speed(t);
+        for (&d, &f) in self
+            .model
+            .dirichlet
+            .dofs
+            .iter()
+            .zip(&self.model.dirichlet.factors)
+        {
+            v[d] = f * speed;
+        }
+    }
+
+    /// Solves the velocity problem at the current `α^{ν}` iterate (in `alpha_iter`).
+    fn solve_velocity(&mut self, report: &mut StepReport) -> Result<f64> {
+        self.v_old.copy_from_slice(&self.v);
+        self.friction.set_state(&self.alpha_iter);
+        let r = self.solver.solve(&self.rhs, &self.friction, &mut self.v)?;
+        report.solver_iterations += r.iterations;
+        report.fixed_point_iterations += 1;
+        for (o, x) in self.v_old.iter_mut().zip(&self.v) {
+            *o = x - *o;
+        }
+        Ok(quadratic_form(&self.model.energy_norm, &self.v_old)
+            .max(0.0)
+            .sqrt())
+    }
+
+    /// `α̃ = S(α_{n−1}, |v|)`, the backward Euler state update (3.5) from the step's
+    /// initial state, into `alpha_trial`.
+    fn state_update(&mut self, v: &[f64]) -> Result<()> {
+        let nodes = &self.model.frictional.nodes;
+        for (k, &p) in nodes.iter().enumerate() {
+            let s = block_norm::<D>(v, p);
+            self.alpha_trial[k] = self.state_laws[k].update(self.alpha[k], s, self.tau)?;
+        }
+        Ok(())
+    }
+
+    /// Advances one time step.
+    ///
+    /// # Errors
+    /// [`Error::FixedPointNotConverged`] with the correction history; solver and state
+    /// update errors. On error the simulation state is unchanged.
+    pub fn step(&mut self) -> Result<StepReport> {
+        let start = Instant::now();
+        let n = self.step + 1;
+        let t = n as f64 * self.tau;
+        let mut report = StepReport {
+            step: n,
+            time: t,
+            ..Default::default()
+        };
+        self.integrator.right_hand_side(
+            self.tau,
+            self.model.mass.as_ref(),
+            &self.model.stiffness,
+            &self.model.load,
+            &self.kin,
+            &mut self.rhs,
+        )?;
+        // Predictor v^0 = v_{n−1} with the Dirichlet data of t_n.
+        let mut v = std::mem::take(&mut self.v);
+        v.copy_from_slice(&self.kin.v);
+        self.impose_dirichlet(t, &mut v);
+        self.v = v;
+        self.history.clear();
+        self.alpha_iter.copy_from_slice(&self.alpha);
+        if !self.friction.uses_state() {
+            let c = self.solve_velocity(&mut report)?;
+            report.correction = c;
+        } else {
+            // Relaxed fixed point iteration (MATH.md §4).
+            let mut prev_diff = f64::INFINITY;
+            let mut converged = false;
+            for nu in 0..self.fixed_point.max_iterations {
+                let v = std::mem::take(&mut self.v);
+                let upd = self.state_update(&v);
+                self.v = v;
+                upd?;
+                let w = &self.model.frictional;
+                let mut diff = 0.0;
+                for k in 0..w.len() {
+                    let d = self.alpha_trial[k] - self.alpha_iter[k];
+                    diff += w.weights[k] * d * d;
+                }
+                let diff = diff.sqrt();
+                let omega = if nu <= 1 || diff <= 0.5 * prev_diff {
+                    1.0
+                } else {
+                    report.relaxed_iterations += 1;
+                    self.fixed_point.relaxation
+                };
+                for k in 0..w.len() {
+                    self.alpha_iter[k] =
+                        omega * self.alpha_trial[k] + (1.0 - omega) * self.alpha_iter[k];
+                }
+                prev_diff = omega * diff;
+                let c = self.solve_velocity(&mut report)?;
+                self.history.push(c);
+                report.correction = c;
+                if c <= self.fixed_point.tolerance {
+                    converged = true;
+                    break;
+                }
+            }
+            if !converged {
+                return Err(Error::FixedPointNotConverged {
+                    step: n,
+                    time: t,
+                    iterations: self.fixed_point.max_iterations,
+                    history: self.history.clone(),
+                });
+            }
+        }
+        // Commit: α_n = S(α_{n−1}, |v_n|), (u, a) from v_n.
+        if self.friction.uses_state() {
+            let v = std::mem::take(&mut self.v);
+            let upd = self.state_update(&v);
+            self.v = v;
+            upd?;
+            self.alpha.copy_from_slice(&self.alpha_trial);
+        }
+        self.integrator
+            .advance(self.tau, &self.kin, &self.v, &mut self.next);
+        std::mem::swap(&mut self.kin, &mut self.next);
+        self.step = n;
+        report.max_slip_rate = self
+            .model
+            .frictional
+            .nodes
+            .iter()
+            .map(|&p| block_norm::<D>(&self.kin.v, p))
+            .fold(0.0, f64::max);
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    /// Takes `steps` steps, showing each to the observers.
+    ///
+    /// # Errors
+    /// The first step or observer error (the simulation keeps the state of the last
+    /// successful step).
+    pub fn run(
+        &mut self,
+        steps: usize,
+        observers: &mut [&mut dyn Observer<D>],
+    ) -> Result<RunSummary> {
+        let start = Instant::now();
+        let mut summary = RunSummary::default();
+        let mut fpi_total = 0usize;
+        for _ in 0..steps {
+            let report = self.step()?;
+            fpi_total += report.fixed_point_iterations;
+            summary.fpi_max = summary.fpi_max.max(report.fixed_point_iterations);
+            summary.solver_iterations += report.solver_iterations;
+            summary.relaxed_steps += usize::from(report.relaxed_iterations > 0);
+            summary.steps += 1;
+            let state = StepState {
+                model: &self.model,
+                kinematics: &self.kin,
+                alpha: &self.alpha,
+                report: &report,
+            };
+            for o in observers.iter_mut() {
+                o.observe(&state)?;
+            }
+        }
+        for o in observers.iter_mut() {
+            o.finish()?;
+        }
+        summary.fpi_mean = if summary.steps > 0 {
+            fpi_total as f64 / summary.steps as f64
+        } else {
+            0.0
+        };
+        summary.seconds = start.elapsed().as_secs_f64();
+        Ok(summary)
+    }
+
+    /// The complete dynamic state, for [`restore`](Self::restore).
+    pub fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            dim: D,
+            step: self.step,
+            tau: self.tau,
+            u: self.kin.u.clone(),
+            v: self.kin.v.clone(),
+            a: self.kin.a.clone(),
+            alpha: self.alpha.clone(),
+        }
+    }
+
+    /// Continues from a checkpoint of a simulation of the same scene; the continuation is
+    /// bit-identical to an uninterrupted run.
+    ///
+    /// # Errors
+    /// [`Error::Checkpoint`] if dimensions, sizes or τ differ.
+    pub fn restore(&mut self, c: &Checkpoint) -> Result<()> {
+        let n = self.model.num_dofs();
+        if c.dim != D
+            || c.u.len() != n
+            || c.v.len() != n
+            || c.a.len() != n
+            || c.alpha.len() != self.alpha.len()
+        {
+            return Err(Error::Checkpoint(
+                "sizes do not match this simulation".into(),
+            ));
+        }
+        if c.tau.to_bits() != self.tau.to_bits() {
+            return Err(Error::Checkpoint(format!(
+                "τ = {} differs from the simulation's {}",
+                c.tau, self.tau
+            )));
+        }
+        self.step = c.step;
+        self.kin.u.copy_from_slice(&c.u);
+        self.kin.v.copy_from_slice(&c.v);
+        self.kin.a.copy_from_slice(&c.a);
+        self.alpha.copy_from_slice(&c.alpha);
+        Ok(())
+    }
+}
+
+#[inline]
+pub(crate) fn block_norm<const D: usize>(v: &[f64], p: usize) -> f64 {
+    v[D * p..D * p + D]
+        .iter()
+        .fold(0.0f64, |acc, &x| acc.hypot(x))
+}
+
+/// `|v_p|` for the listed nodes.
+pub(crate) fn slip_rates<const D: usize>(nodes: &[usize], v: &[f64], out: &mut [f64]) {
+    for (o, &p) in out.iter_mut().zip(nodes) {
+        *o = block_norm::<D>(v, p);
+    }
+}
+
+/// Adds `η w_p` to the diagonal of every component of each frictional node: the Hessian of
+/// the radiation damping term `Σ_p w_p η/2 |v_p|²`.
+fn add_radiation_damping<const D: usize>(a: &mut SparseMatrix, model: &Model<D>, eta: f64) {
+    let (sym, vals) = a.parts_mut();
+    for (&p, &w) in model.frictional.nodes.iter().zip(&model.frictional.weights) {
+        for c in 0..D {
+            let j = D * p + c;
+            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
+            if let Ok(k) = sym.row_idx()[range.clone()].binary_search(&j) {
+                vals[range.start + k] += eta * w;
+            }
+        }
+    }
+}

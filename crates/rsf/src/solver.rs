@@ -1,0 +1,92 @@
+//! Choice of the velocity solver at the scene level.
+
+use rsf_tnnmg::{
+    BlockNonlinearity, DirectOptions, DirectSolver, NonlinearGaussSeidel, NonsmoothSolver, Result,
+    SolveReport, Stopping, Tnnmg, TnnmgOptions,
+};
+
+use crate::model::Model;
+
+/// Which solver handles the velocity problem of each fixed point iteration.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SolverKind {
+    /// TNNMG over the model's refinement hierarchy (the paper's choice, §6.2).
+    Tnnmg(TnnmgOptions),
+    /// Direct condensation onto Γ_F plus globalised Newton (reference; fast when Γ_F is small).
+    Direct(DirectOptions),
+    /// Nonlinear block Gauss–Seidel alone (baseline; slow on fine meshes).
+    GaussSeidel(Stopping),
+}
+
+impl Default for SolverKind {
+    fn default() -> Self {
+        SolverKind::Tnnmg(TnnmgOptions::default())
+    }
+}
+
+/// A velocity solver of any [`SolverKind`], dispatching statically inside each call.
+pub enum VelocitySolver<const D: usize> {
+    /// See [`SolverKind::Tnnmg`].
+    Tnnmg(Tnnmg<D>),
+    /// See [`SolverKind::Direct`].
+    Direct(DirectSolver<D>),
+    /// See [`SolverKind::GaussSeidel`].
+    GaussSeidel(NonlinearGaussSeidel<D>),
+}
+
+impl<const D: usize> VelocitySolver<D> {
+    /// Builds the solver for the matrix `a` of the velocity problem of `model`.
+    ///
+    /// # Errors
+    /// Set-up errors of the solvers.
+    pub fn new(kind: &SolverKind, a: &rsf_fem::SparseMatrix, model: &Model<D>) -> Result<Self> {
+        Ok(match kind {
+            SolverKind::Tnnmg(o) => VelocitySolver::Tnnmg(Tnnmg::new(
+                a.as_ref(),
+                &model.fixed,
+                &model.prolongations,
+                Some(model.energy_norm.as_ref()),
+                o.clone(),
+            )?),
+            SolverKind::Direct(o) => {
+                VelocitySolver::Direct(DirectSolver::new(a.as_ref(), &model.fixed, o.clone())?)
+            }
+            SolverKind::GaussSeidel(s) => VelocitySolver::GaussSeidel(NonlinearGaussSeidel::new(
+                a.as_ref(),
+                &model.fixed,
+                Some(model.energy_norm.as_ref()),
+                *s,
+                false,
+            )?),
+        })
+    }
+}
+
+impl<const D: usize> NonsmoothSolver<D> for VelocitySolver<D> {
+    fn name(&self) -> &'static str {
+        match self {
+            VelocitySolver::Tnnmg(s) => s.name(),
+            VelocitySolver::Direct(s) => s.name(),
+            VelocitySolver::GaussSeidel(s) => s.name(),
+        }
+    }
+    fn dim(&self) -> usize {
+        match self {
+            VelocitySolver::Tnnmg(s) => s.dim(),
+            VelocitySolver::Direct(s) => s.dim(),
+            VelocitySolver::GaussSeidel(s) => s.dim(),
+        }
+    }
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport> {
+        match self {
+            VelocitySolver::Tnnmg(s) => s.solve(b, nl, v),
+            VelocitySolver::Direct(s) => s.solve(b, nl, v),
+            VelocitySolver::GaussSeidel(s) => s.solve(b, nl, v),
+        }
+    }
+}
