@@ -1,1 +1,273 @@
-//! Shared helpers for the examples and benches of the rsf workspace (not a library for users).
+//! Shared helpers for the examples and benches of the rsf workspace: command-line flags,
+//! progress display, summaries and figures (PNG via `plotters`). Not a library for users —
+//! the libraries are the `rsf*` crates; plotting lives here so that they never depend on it.
+
+use std::collections::HashMap;
+use std::io::IsTerminal;
+use std::path::Path;
+
+use plotters::prelude::*;
+
+mod slider_run;
+pub use slider_run::{
+    machine, run_slider, stats, write_summary, RunOptions, SliderRun, SliderStats,
+};
+
+/// `--key value` and `--flag` command-line arguments.
+#[derive(Debug, Default)]
+pub struct Args {
+    values: HashMap<String, String>,
+}
+
+impl Args {
+    /// Parses `std::env::args()`; `--key value` pairs and bare `--flag`s.
+    ///
+    /// # Panics
+    /// On a positional argument (prints usage first).
+    pub fn parse(usage: &str) -> Self {
+        let mut values = HashMap::new();
+        let mut it = std::env::args().skip(1).peekable();
+        while let Some(a) = it.next() {
+            if a == "--help" || a == "-h" {
+                println!("{usage}");
+                std::process::exit(0);
+            }
+            let Some(key) = a.strip_prefix("--") else {
+                eprintln!("unexpected argument `{a}`\n{usage}");
+                std::process::exit(2);
+            };
+            let value = match it.peek() {
+                Some(v) if !v.starts_with("--") => it.next().unwrap(),
+                _ => "true".to_string(),
+            };
+            values.insert(key.to_string(), value);
+        }
+        Self { values }
+    }
+
+    /// The raw value of `--key`.
+    pub fn get(&self, key: &str) -> Option<&str> {
+        self.values.get(key).map(String::as_str)
+    }
+
+    /// `--key` parsed, or the default; exits with a message on a malformed value.
+    pub fn value<T: std::str::FromStr>(&self, key: &str, default: T) -> T {
+        match self.values.get(key) {
+            None => default,
+            Some(v) => v.parse().unwrap_or_else(|_| {
+                eprintln!("invalid value `{v}` for --{key}");
+                std::process::exit(2)
+            }),
+        }
+    }
+
+    /// Whether `--key` was given.
+    pub fn flag(&self, key: &str) -> bool {
+        self.values.contains_key(key)
+    }
+}
+
+/// A progress bar on stderr when it is a terminal, nothing otherwise.
+pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    Some(bar)
+}
+
+static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+
+/// Registers the bundled DejaVu Sans as plotters' "sans-serif" (no system fonts needed).
+pub fn init_fonts() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT)
+            .map_err(|_| ())
+            .expect("bundled font is valid");
+    });
+}
+
+/// One line of a plot.
+pub struct Series<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// Points `(x, y)`.
+    pub points: &'a [(f64, f64)],
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(0, 0, 0),
+];
+
+type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+fn range(points: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = points
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    if hi > lo {
+        (lo, hi)
+    } else {
+        (
+            lo - 0.5 * lo.abs().max(1e-300),
+            hi + 0.5 * hi.abs().max(1e-300),
+        )
+    }
+}
+
+/// Line plot (PNG, 1000×600). With `log_y`, y is plotted as log10 and labelled so.
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn line_plot(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series<'_>],
+    log_y: bool,
+    log_x: bool,
+) -> PlotResult {
+    init_fonts();
+    let tf = |v: f64, log: bool| if log { v.max(1e-300).log10() } else { v };
+    let (x0, x1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| tf(p.0, log_x))),
+    );
+    let (y0, y1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| tf(p.1, log_y))),
+    );
+    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    let xl = if log_x {
+        format!("log10 {x_label}")
+    } else {
+        x_label.to_string()
+    };
+    let yl = if log_y {
+        format!("log10 {y_label}")
+    } else {
+        y_label.to_string()
+    };
+    chart
+        .configure_mesh()
+        .x_desc(xl)
+        .y_desc(yl)
+        .label_style(("sans-serif", 15))
+        .draw()?;
+    for (i, s) in series.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        chart
+            .draw_series(LineSeries::new(
+                s.points.iter().map(|p| (tf(p.0, log_x), tf(p.1, log_y))),
+                color.stroke_width(2),
+            ))?
+            .label(s.label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+    }
+    if series.len() > 1 || !series[0].label.is_empty() {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// Space–time map of `log10 value` (rows: times, columns: positions), PNG 1000×600,
+/// colour from blue (low) to red (high) over `[lo, hi]` in log10 units.
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn space_time_map(
+    path: &Path,
+    title: &str,
+    times: &[f64],
+    positions: &[f64],
+    values: &[Vec<f64>],
+    (lo, hi): (f64, f64),
+) -> PlotResult {
+    init_fonts();
+    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (t0, t1) = range(times.iter().copied());
+    let (x0, x1) = range(positions.iter().copied());
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("{title} (colour: log10 slip rate, {lo:.0} … {hi:.0})"),
+            ("sans-serif", 20),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, t0..t1)?;
+    chart
+        .configure_mesh()
+        .x_desc("x on the frictional boundary (m)")
+        .y_desc("t (s)")
+        .label_style(("sans-serif", 15))
+        .draw()?;
+    let nt = times.len();
+    let nx = positions.len();
+    let half = |v: &[f64], i: usize| {
+        let a = if i > 0 { 0.5 * (v[i] + v[i - 1]) } else { v[0] };
+        let b = if i + 1 < v.len() {
+            0.5 * (v[i] + v[i + 1])
+        } else {
+            v[i]
+        };
+        (a, b)
+    };
+    chart.draw_series((0..nt).flat_map(|it| {
+        (0..nx).map(move |ix| {
+            let (ta, tb) = half(times, it);
+            let (xa, xb) = half(positions, ix);
+            let v = values[it][ix].max(1e-300).log10();
+            let s = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
+            let color = HSLColor((1.0 - s) * 0.66, 0.9, 0.5);
+            Rectangle::new([(xa, ta), (xb, tb)], color.filled())
+        })
+    }))?;
+    root.present()?;
+    Ok(())
+}
+
+/// Times of upward crossings of `threshold` by `series` (`(t, value)` pairs).
+pub fn upcrossings(series: &[(f64, f64)], threshold: f64) -> Vec<f64> {
+    series
+        .windows(2)
+        .filter(|w| w[0].1 <= threshold && w[1].1 > threshold)
+        .map(|w| w[1].0)
+        .collect()
+}

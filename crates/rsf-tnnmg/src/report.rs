@@ -28,8 +28,9 @@ impl Default for Stopping {
 
 impl Stopping {
     pub(crate) fn validate(&self) -> Result<()> {
-        if !(self.absolute >= 0.0 && self.relative >= 0.0)
-            || !(self.absolute.is_finite() && self.relative.is_finite())
+        let finite_non_negative = |x: f64| x.is_finite() && x >= 0.0;
+        if !finite_non_negative(self.absolute)
+            || !finite_non_negative(self.relative)
             || self.absolute + self.relative == 0.0
         {
             return Err(crate::Error::InvalidOption(format!(

@@ -27,11 +27,11 @@ impl Default for SolverKind {
 /// A velocity solver of any [`SolverKind`], dispatching statically inside each call.
 pub enum VelocitySolver<const D: usize> {
     /// See [`SolverKind::Tnnmg`].
-    Tnnmg(Tnnmg<D>),
+    Tnnmg(Box<Tnnmg<D>>),
     /// See [`SolverKind::Direct`].
-    Direct(DirectSolver<D>),
+    Direct(Box<DirectSolver<D>>),
     /// See [`SolverKind::GaussSeidel`].
-    GaussSeidel(NonlinearGaussSeidel<D>),
+    GaussSeidel(Box<NonlinearGaussSeidel<D>>),
 }
 
 impl<const D: usize> VelocitySolver<D> {
@@ -41,23 +41,27 @@ impl<const D: usize> VelocitySolver<D> {
     /// Set-up errors of the solvers.
     pub fn new(kind: &SolverKind, a: &rsf_fem::SparseMatrix, model: &Model<D>) -> Result<Self> {
         Ok(match kind {
-            SolverKind::Tnnmg(o) => VelocitySolver::Tnnmg(Tnnmg::new(
+            SolverKind::Tnnmg(o) => VelocitySolver::Tnnmg(Box::new(Tnnmg::new(
                 a.as_ref(),
                 &model.fixed,
                 &model.prolongations,
                 Some(model.energy_norm.as_ref()),
                 o.clone(),
-            )?),
-            SolverKind::Direct(o) => {
-                VelocitySolver::Direct(DirectSolver::new(a.as_ref(), &model.fixed, o.clone())?)
-            }
-            SolverKind::GaussSeidel(s) => VelocitySolver::GaussSeidel(NonlinearGaussSeidel::new(
+            )?)),
+            SolverKind::Direct(o) => VelocitySolver::Direct(Box::new(DirectSolver::new(
                 a.as_ref(),
                 &model.fixed,
-                Some(model.energy_norm.as_ref()),
-                *s,
-                false,
-            )?),
+                o.clone(),
+            )?)),
+            SolverKind::GaussSeidel(s) => {
+                VelocitySolver::GaussSeidel(Box::new(NonlinearGaussSeidel::new(
+                    a.as_ref(),
+                    &model.fixed,
+                    Some(model.energy_norm.as_ref()),
+                    *s,
+                    false,
+                )?))
+            }
         })
     }
 }

@@ -1,0 +1,132 @@
+//! The coupled simulation on a shortened paper scene: convergence of every step, the
+//! loading phase, determinism, checkpoint/resume, solver independence, scene validation.
+
+use rsf::{nearest_vertex, Checkpoint, Error, SliderScene, SolverChoice, SLIDER_CENTRE};
+
+/// The paper's scene at level 2 with its time step (τ = T/1e4), first `steps` steps.
+fn short(solver: SolverChoice) -> SliderScene {
+    SliderScene {
+        level: 2,
+        solver,
+        ..SliderScene::default()
+    }
+}
+
+/// Runs `steps` steps; returns (u_x0, v_x0) per step and the final checkpoint.
+fn run(scene: &SliderScene, steps: usize) -> (Vec<(f64, f64)>, Checkpoint) {
+    let mut sim = scene.build().unwrap();
+    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+    let mut out = Vec::new();
+    for _ in 0..steps {
+        let r = sim
+            .step()
+            .expect("every step's fixed point iteration converges");
+        assert!(r.fixed_point_iterations >= 1 && r.correction <= scene.fixed_point_tolerance);
+        out.push((sim.kinematics().u[2 * x0], sim.kinematics().v[2 * x0]));
+    }
+    (out, sim.checkpoint())
+}
+
+#[test]
+fn loading_phase_converges_sticks_and_is_deterministic() {
+    let scene = short(SolverChoice::Tnnmg);
+    let (a, ca) = run(&scene, 2000);
+    // While the block is loaded (t ≤ 3 s ≪ first slip ≈ 2T/3) the centre sticks.
+    let vmax = a.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+    assert!(
+        vmax < 1e-5,
+        "slip rate at x0 reached {vmax:e} during loading"
+    );
+    assert!(a.iter().all(|p| p.0.is_finite() && p.1.is_finite()));
+    // Same scene, same build: bit-identical.
+    let (b, cb) = run(&scene, 2000);
+    assert!(a
+        .iter()
+        .zip(&b)
+        .all(|(x, y)| x.0.to_bits() == y.0.to_bits() && x.1.to_bits() == y.1.to_bits()));
+    assert_eq!(ca, cb);
+}
+
+#[test]
+fn checkpoint_then_resume_is_bit_identical() {
+    let scene = short(SolverChoice::Tnnmg);
+    let (_, straight) = run(&scene, 2000);
+    let dir = std::env::temp_dir().join(format!("rsf-ckpt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("step1000.bin");
+    {
+        let mut sim = scene.build().unwrap();
+        for _ in 0..1000 {
+            sim.step().unwrap();
+        }
+        sim.checkpoint().write(&path).unwrap();
+    }
+    let mut resumed = scene.build().unwrap();
+    resumed.restore(&Checkpoint::read(&path).unwrap()).unwrap();
+    assert_eq!(resumed.step_index(), 1000);
+    for _ in 0..1000 {
+        resumed.step().unwrap();
+    }
+    assert_eq!(
+        resumed.checkpoint(),
+        straight,
+        "resumed run differs from the straight run"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn direct_and_tnnmg_give_the_same_trajectory() {
+    let (t, _) = run(&short(SolverChoice::Tnnmg), 2000);
+    let (d, _) = run(&short(SolverChoice::Direct), 2000);
+    let diff = t
+        .iter()
+        .zip(&d)
+        .map(|(a, b)| (a.0 - b.0).abs())
+        .fold(0.0, f64::max);
+    assert!(diff < 1e-9, "u_x0 differs by {diff:e} m");
+}
+
+#[test]
+fn bad_scenes_name_the_problem() {
+    let named = |e: Error, what: &str| {
+        let msg = e.to_string();
+        assert!(msg.contains(what), "error `{msg}` does not name `{what}`");
+    };
+    let s = SliderScene {
+        end_time_s: -15.0,
+        ..SliderScene::default()
+    };
+    named(s.build().err().unwrap(), "end_time_s");
+    let s = SliderScene {
+        a: 0.0,
+        ..SliderScene::default()
+    };
+    named(s.build().err().unwrap(), "a");
+    let s = SliderScene {
+        poisson_ratio: 0.5,
+        ..SliderScene::default()
+    };
+    named(s.build().err().unwrap(), "poisson_ratio");
+    named(
+        rsf::FrictionalBoundary::new(&[], &[]).unwrap_err(),
+        "frictional_boundary",
+    );
+    named(
+        SliderScene::from_toml("level = 2\nfriction_coeff = 0.6\n").unwrap_err(),
+        "friction_coeff",
+    );
+    named(
+        SliderScene::from_toml("state_law = \"regularized\"\n").unwrap_err(),
+        "state_law",
+    );
+}
+
+#[test]
+fn scene_file_in_the_repository_parses_to_the_defaults() {
+    let text = include_str!("../../../scenes/pipping_slider.toml");
+    assert_eq!(
+        SliderScene::from_toml(text).unwrap(),
+        SliderScene::default()
+    );
+}
