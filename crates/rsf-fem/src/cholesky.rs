@@ -2,7 +2,11 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::perm::PermRef;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -34,6 +38,86 @@ impl std::fmt::Debug for Cholesky {
     }
 }
 
+/// Fill-reducing ordering: AMD on the graph of *supervariables* (runs of consecutive
+/// columns with identical row patterns, i.e. the `D` components of a node), expanded
+/// back to the dofs. For node-major vector fields this is `D²` times smaller than the
+/// dof graph, which makes the analysis several times faster than plain AMD.
+fn grouped_amd(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<(Vec<usize>, Vec<usize>)> {
+    let n = pattern.ncols();
+    let cp = pattern.col_ptr();
+    let ri = pattern.row_idx();
+    let col = |j: usize| -> &[usize] {
+        match pattern.col_nnz() {
+            Some(nnz) => &ri[cp[j]..cp[j] + nnz[j]],
+            None => &ri[cp[j]..cp[j + 1]],
+        }
+    };
+    // group_start[g]..group_start[g+1]: the columns of group g.
+    let mut group_of = vec![0usize; n];
+    let mut group_start = Vec::with_capacity(n + 1);
+    for j in 0..n {
+        if j == 0 || col(j) != col(*group_start.last().expect("nonempty")) {
+            group_start.push(j);
+        }
+        group_of[j] = group_start.len() - 1;
+    }
+    let ng = group_start.len();
+    group_start.push(n);
+    let mut gcp = Vec::with_capacity(ng + 1);
+    let mut gri = Vec::with_capacity(ri.len() / ((n / ng.max(1)).max(1)).pow(2) + ng);
+    gcp.push(0);
+    for g in 0..ng {
+        let mut last = usize::MAX;
+        let mut sorted = true;
+        let start = gri.len();
+        for &i in col(group_start[g]) {
+            let gi = group_of[i];
+            if gi != last {
+                if last != usize::MAX && gi < last {
+                    sorted = false;
+                }
+                gri.push(gi);
+                last = gi;
+            }
+        }
+        if !sorted {
+            gri[start..].sort_unstable();
+            let mut w = start;
+            for r in start..gri.len() {
+                if r == start || gri[r] != gri[w - 1] {
+                    gri[w] = gri[r];
+                    w += 1;
+                }
+            }
+            gri.truncate(w);
+        }
+        gcp.push(gri.len());
+    }
+    let gpat = faer::sparse::SymbolicSparseColMat::new_checked(ng, ng, gcp, None, gri);
+    let mut gperm = vec![0usize; ng];
+    let mut gperm_inv = vec![0usize; ng];
+    let nnz = gpat.row_idx().len();
+    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(ng, nnz))
+        .map_err(faer_err)?;
+    amd::order_maybe_unsorted(
+        &mut gperm,
+        &mut gperm_inv,
+        gpat.as_ref(),
+        Default::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(faer_err)?;
+    let mut fwd = Vec::with_capacity(n);
+    for &g in &gperm {
+        fwd.extend(group_start[g]..group_start[g + 1]);
+    }
+    let mut inv = vec![0usize; n];
+    for (k, &j) in fwd.iter().enumerate() {
+        inv[j] = k;
+    }
+    Ok((fwd, inv))
+}
+
 fn faer_err(e: impl std::fmt::Debug) -> Error {
     Error::Faer(format!("{e:?}"))
 }
@@ -51,10 +135,11 @@ impl Cholesky {
                 got: pattern.ncols(),
             });
         }
+        let (fwd, inv) = grouped_amd(pattern)?;
         let symbolic = factorize_symbolic_cholesky(
             pattern,
             Side::Lower,
-            Default::default(),
+            SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, fwd.len())),
             Default::default(),
         )
         .map_err(faer_err)?;
