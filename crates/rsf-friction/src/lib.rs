@@ -56,7 +56,7 @@ pub use potentials::{
     AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams,
     StateDependentTresca, Tresca, TrescaPotential,
 };
-pub use solve::wright_omega_ln;
+pub use rsf_state::wright_omega_ln;
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -1,7 +1,8 @@
 //! The friction laws and their potentials.
 
-use crate::solve::{solve_increasing, wright_omega_ln};
+use crate::solve::solve_increasing;
 use crate::{ConvexPotential, Error, FrictionLaw, Result};
+use rsf_state::wright_omega_ln;
 
 const LN_2: f64 = std::f64::consts::LN_2;
 

@@ -1,49 +1,5 @@
-//! Scalar root finding helpers: the Wright omega function and a safeguarded Newton
-//! method for increasing functions.
-
-/// `ln ω(x)`, the logarithm of the Wright omega function `ω(x) = W₀(eˣ)`, i.e. the unique
-/// real `y` with `e^y + y = x`.
-///
-/// Defined for all real `x` (`x = ±∞` give the limits `±∞`); never overflows: for large `x` it is `≈ ln x`, for very
-/// negative `x` it is `x − eˣ`. Accurate to a few ulps of `max(1, |y|)` in `y` (so `ω = e^y`
-/// is accurate to a few `ε·max(1, |y|)` relative; Newton on
-/// `e^y + y − x`, which is convex and increasing in `y`, from an asymptotic start).
-/// Returns NaN only for NaN input.
-///
-/// ```
-/// let y = rsf_friction::wright_omega_ln(1.0); // ω(1) = 1
-/// assert!(y.abs() < 1e-15);
-/// ```
-pub fn wright_omega_ln(x: f64) -> f64 {
-    if x.is_nan() {
-        return f64::NAN;
-    }
-    if x < -40.0 {
-        // ω = eˣ(1 − eˣ + …): y = x − ω to full precision.
-        return x - x.exp();
-    }
-    if x == f64::INFINITY {
-        return f64::INFINITY;
-    }
-    let mut y = if x < -1.0 {
-        x - x.exp()
-    } else if x <= 1.0 {
-        (0.567_143_290_409_783_8 + 0.361_896_256 * x).ln()
-    } else {
-        let lx = x.ln();
-        (x - lx + lx / x).ln()
-    };
-    for _ in 0..50 {
-        let e = y.exp();
-        let f = (e - x) + y;
-        let dy = f / (e + 1.0);
-        y -= dy;
-        if dy.abs() <= 2.0 * f64::EPSILON * y.abs().max(1.0) {
-            break;
-        }
-    }
-    y
-}
+//! Scalar root finding: a safeguarded Newton method for increasing functions. (The Wright
+//! omega function comes from `rsf-state`, which owns it and its tests.)
 
 /// Solves `g(x) = 0` for an increasing function `g` given a bracket `g(lo) ≤ 0 ≤ g(hi)`,
 /// by Newton's method safeguarded with bisection (Numerical Recipes `rtsafe` style).
@@ -92,26 +48,4 @@ pub(crate) fn solve_increasing(
         }
     }
     x
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn omega_identity() {
-        for &x in &[
-            -1e300, -745.0, -50.0, -30.0, -5.0, -1.0, -0.3, 0.0, 0.5, 1.0, 2.0, 10.0, 700.0, 1e5,
-            1e20, 1e300,
-        ] {
-            let y = wright_omega_ln(x);
-            assert!(y.is_finite(), "x = {x}");
-            let res = y.exp() + y - x;
-            assert!(
-                res.abs() <= 4.0 * f64::EPSILON * x.abs().max(1.0) * y.abs().max(1.0),
-                "x = {x}, res = {res}"
-            );
-        }
-        assert!((wright_omega_ln(0.0).exp() - 0.567_143_290_409_783_8).abs() < 1e-16);
-    }
 }

@@ -1,14 +1,12 @@
 //! Nonlinear block Gauss–Seidel as a stand-alone solver (the baseline).
 
-use std::time::Instant;
-
 use faer::sparse::SparseColMatRef;
 
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
-use crate::problem::{active_map, BlockedMatrix};
-use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+use crate::problem::BlockedMatrix;
+use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
 use crate::tnnmg::EnergyNorm;
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
@@ -49,6 +47,38 @@ impl<const D: usize> NonlinearGaussSeidel<D> {
     }
 }
 
+impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
+    fn blocked(&self) -> &BlockedMatrix<D> {
+        &self.m
+    }
+    fn energy_norm(&self) -> &EnergyNorm {
+        &self.norm
+    }
+    fn active_of_mut(&mut self) -> &mut Vec<usize> {
+        &mut self.active_of
+    }
+    /// One symmetric sweep (forward, then backward).
+    fn iterate<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<f64> {
+        self.v_old.copy_from_slice(v);
+        self.m
+            .nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
+        self.m
+            .nonlinear_gauss_seidel(b, nl, &self.active_of, v, true);
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite("Gauss–Seidel iterate"));
+        }
+        for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
+            *o = x - *o;
+        }
+        Ok(self.norm.norm(&self.m.a, &self.v_old))
+    }
+}
+
 impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
     fn name(&self) -> &'static str {
         "nonlinear-gauss-seidel"
@@ -64,47 +94,7 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
         nl: &N,
         v: &mut [f64],
     ) -> Result<SolveReport> {
-        let start = Instant::now();
-        let n = self.m.n();
-        check_inputs(n, b, v)?;
-        active_map(nl, n / D, &mut self.active_of)?;
-        let mut energy = self.record_energy.then(|| vec![self.m.energy(b, nl, v)]);
-        let mut correction = f64::INFINITY;
-        for it in 1..=self.stopping.max_iterations {
-            self.v_old.copy_from_slice(v);
-            self.m
-                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
-            self.m
-                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, true);
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(Error::NonFinite("Gauss–Seidel iterate"));
-            }
-            for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
-                *o = x - *o;
-            }
-            correction = self.norm.norm(&self.m.a, &self.v_old);
-            if let Some(e) = energy.as_mut() {
-                e.push(self.m.energy(b, nl, v));
-            }
-            let norm_v = if self.stopping.relative > 0.0 {
-                self.norm.norm(&self.m.a, v)
-            } else {
-                0.0
-            };
-            if self.stopping.met(correction, norm_v) {
-                return Ok(SolveReport {
-                    iterations: it,
-                    correction,
-                    energy,
-                    seconds: start.elapsed().as_secs_f64(),
-                });
-            }
-        }
-        Err(Error::NotConverged {
-            solver: "nonlinear-gauss-seidel",
-            iterations: self.stopping.max_iterations,
-            correction,
-            tolerance: self.stopping.absolute,
-        })
+        let (stop, record) = (self.stopping, self.record_energy);
+        iterate_to_tolerance(self, "nonlinear-gauss-seidel", stop, record, b, nl, v)
     }
 }

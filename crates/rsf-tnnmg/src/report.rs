@@ -111,3 +111,58 @@ pub(crate) fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
     }
     Ok(())
 }
+
+/// One iteration of an iterative solver over a [`BlockedMatrix`](crate::problem::BlockedMatrix),
+/// so that the loop, the stopping test and the report live in one place.
+pub(crate) trait Iteration<const D: usize> {
+    fn blocked(&self) -> &crate::problem::BlockedMatrix<D>;
+    fn energy_norm(&self) -> &crate::tnnmg::EnergyNorm;
+    fn active_of_mut(&mut self) -> &mut Vec<usize>;
+    /// Performs one iteration on `v`; returns the energy norm of the correction.
+    fn iterate<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64])
+        -> Result<f64>;
+}
+
+/// Iterates until [`Stopping::met`] or the budget is exhausted
+/// ([`Error::NotConverged`](crate::Error::NotConverged)).
+pub(crate) fn iterate_to_tolerance<const D: usize, S: Iteration<D>, N: BlockNonlinearity<D>>(
+    solver: &mut S,
+    name: &'static str,
+    stop: Stopping,
+    record_energy: bool,
+    b: &[f64],
+    nl: &N,
+    v: &mut [f64],
+) -> Result<SolveReport> {
+    let start = std::time::Instant::now();
+    let n = solver.blocked().n();
+    check_inputs(n, b, v)?;
+    crate::problem::active_map(nl, n / D, solver.active_of_mut())?;
+    let mut energy = record_energy.then(|| vec![solver.blocked().energy(b, nl, v)]);
+    let mut correction = f64::INFINITY;
+    for it in 1..=stop.max_iterations {
+        correction = solver.iterate(b, nl, v)?;
+        if let Some(e) = energy.as_mut() {
+            e.push(solver.blocked().energy(b, nl, v));
+        }
+        let norm_v = if stop.relative > 0.0 {
+            solver.energy_norm().norm(&solver.blocked().a, v)
+        } else {
+            0.0
+        };
+        if stop.met(correction, norm_v) {
+            return Ok(SolveReport {
+                iterations: it,
+                correction,
+                energy,
+                seconds: start.elapsed().as_secs_f64(),
+            });
+        }
+    }
+    Err(crate::Error::NotConverged {
+        solver: name,
+        iterations: stop.max_iterations,
+        correction,
+        tolerance: stop.absolute,
+    })
+}

@@ -1,7 +1,5 @@
 //! Truncated nonsmooth Newton multigrid (Gräser, Kornhuber, Sander).
 
-use std::time::Instant;
-
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
 use crate::block::load;
@@ -10,8 +8,8 @@ use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
 use crate::multigrid::LinearMultigrid;
 use crate::nonlinearity::{BlockNonlinearity, Linearization};
-use crate::problem::{active_map, BlockedMatrix};
-use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+use crate::problem::BlockedMatrix;
+use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
 
 /// Options of [`Tnnmg`].
 #[derive(Debug, Clone, PartialEq)]
@@ -262,6 +260,26 @@ impl<const D: usize> Tnnmg<D> {
     }
 }
 
+impl<const D: usize> Iteration<D> for Tnnmg<D> {
+    fn blocked(&self) -> &BlockedMatrix<D> {
+        &self.m
+    }
+    fn energy_norm(&self) -> &EnergyNorm {
+        &self.norm
+    }
+    fn active_of_mut(&mut self) -> &mut Vec<usize> {
+        &mut self.active_of
+    }
+    fn iterate<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<f64> {
+        Tnnmg::iterate(self, b, nl, v)
+    }
+}
+
 impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
     fn name(&self) -> &'static str {
         "tnnmg"
@@ -277,40 +295,7 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
         nl: &N,
         v: &mut [f64],
     ) -> Result<SolveReport> {
-        let start = Instant::now();
-        let n = self.m.n();
-        check_inputs(n, b, v)?;
-        active_map(nl, n / D, &mut self.active_of)?;
-        let mut energy = self
-            .opts
-            .record_energy
-            .then(|| vec![self.m.energy(b, nl, v)]);
-        let stop = self.opts.stopping;
-        let mut correction = f64::INFINITY;
-        for it in 1..=stop.max_iterations {
-            correction = self.iterate(b, nl, v)?;
-            if let Some(e) = energy.as_mut() {
-                e.push(self.m.energy(b, nl, v));
-            }
-            let norm_v = if stop.relative > 0.0 {
-                self.norm.norm(&self.m.a, v)
-            } else {
-                0.0
-            };
-            if stop.met(correction, norm_v) {
-                return Ok(SolveReport {
-                    iterations: it,
-                    correction,
-                    energy,
-                    seconds: start.elapsed().as_secs_f64(),
-                });
-            }
-        }
-        Err(Error::NotConverged {
-            solver: "tnnmg",
-            iterations: stop.max_iterations,
-            correction,
-            tolerance: stop.absolute,
-        })
+        let (stop, record) = (self.opts.stopping, self.opts.record_energy);
+        iterate_to_tolerance(self, "tnnmg", stop, record, b, nl, v)
     }
 }
