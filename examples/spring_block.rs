@@ -108,6 +108,7 @@ fn build<I: VelocityIntegrator>(
         prolongations: Vec::new(),
         frictional: FrictionalBoundary::new(&[0], &[1.0])?,
         initial_displacement: vec![0.0, f_ss / k],
+        cells: Vec::new(),
     };
     let alpha_ss = (p.l / blk.v_load).ln();
     let mut sim = Simulation::new(

@@ -202,7 +202,24 @@ impl LinearMultigrid {
                 };
             }
         }
-        self.coarse.factorize(&self.coarse_values)
+        match self.coarse.factorize(&self.coarse_values) {
+            Ok(()) => Ok(()),
+            Err(_) => {
+                // Truncation can make the truncated prolongation P_t rank deficient, and then
+                // P_tᵀ H P_t is only semidefinite. Its kernel is ker P_t: coarse vectors that
+                // prolongate to zero, so any component there is harmless. A relative diagonal
+                // shift makes the factorisation well defined without changing P_t x_c.
+                for j in 0..a.ncols {
+                    for k in a.col_ptr[j]..a.col_ptr[j + 1] {
+                        if a.row_idx[k] == j && !mask[j] {
+                            self.coarse_values[k] *= 1.0 + 1e-10;
+                            self.coarse_values[k] += f64::MIN_POSITIVE;
+                        }
+                    }
+                }
+                self.coarse.factorize(&self.coarse_values)
+            }
+        }
     }
 
     fn smooth(a: &Csc, level: &mut Level, sweeps: usize, reverse: bool) {

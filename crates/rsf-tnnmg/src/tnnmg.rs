@@ -11,6 +11,11 @@ use crate::nonlinearity::{BlockNonlinearity, Linearization};
 use crate::problem::BlockedMatrix;
 use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
 
+/// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
+/// truncated in the linear correction (see `Tnnmg::is_rigid`): at this contrast the
+/// coarse operators still carry ~1e-6 relative accuracy (ratio × machine epsilon).
+const RIGID_BLOCK_RATIO: f64 = 1e10;
+
 /// Options of [`Tnnmg`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct TnnmgOptions {
@@ -150,6 +155,22 @@ impl<const D: usize> Tnnmg<D> {
         &self.opts
     }
 
+    /// Whether the Hessian of block `p`'s nonlinearity is so large against `A`'s own block
+    /// diagonal (ratio above [`RIGID_BLOCK_RATIO`] on a free component) that the block is
+    /// numerically rigid: its Newton correction is negligible, and keeping it would put a
+    /// contrast beyond double precision into the coarse operators (rate-and-state friction
+    /// near the cutoff has `ϕ'' = κ/V` up to `κ/V_m`, e.g. 1e26 Pa·s/m against entries
+    /// ~1e6 of `A`; the coarse Cholesky then fails as "not positive definite"). Such blocks
+    /// are truncated like nonsmooth ones; the nonlinear smoother still updates them.
+    fn is_rigid(&self, p: usize, hessian: &[[f64; D]; D]) -> bool {
+        (0..D).any(|c| {
+            let pos = self.m.block_pos[p][c][c];
+            !self.m.fixed[D * p + c]
+                && pos != usize::MAX
+                && !(hessian[c][c] <= RIGID_BLOCK_RATIO * self.m.a.val[pos])
+        })
+    }
+
     /// One TNNMG iteration from `v`; returns the energy norm of the correction.
     fn iterate<N: BlockNonlinearity<D>>(
         &mut self,
@@ -191,6 +212,10 @@ impl<const D: usize> Tnnmg<D> {
         }
         for (k, &p) in nl.active_blocks().iter().enumerate() {
             match nl.linearize(k, &load::<D>(v, p)) {
+                Linearization::Smooth { hessian, .. } if self.is_rigid(p, &hessian) => {
+                    let mask = self.mg.fine_mask_mut();
+                    mask[D * p..D * p + D].fill(true);
+                }
                 Linearization::Smooth { gradient, hessian } => {
                     for r in 0..D {
                         self.res[D * p + r] -= gradient[r];

@@ -7,7 +7,8 @@
 //!   integrator `I` (all generic, one law value per frictional node), stepping by the
 //!   paper's relaxed fixed point iteration (MATH.md §4) with TNNMG or the direct solver.
 //! - [`Observer`]s record what a scene asks for: [`PointSeries`], [`FrictionalProfile`],
-//!   [`Checkpointer`], [`Reports`]. [`Checkpoint`]s resume bit-identically.
+//!   [`Checkpointer`], [`Reports`], and `VtuFrames` for ParaView (feature `vtk`).
+//!   [`Checkpoint`]s resume bit-identically.
 //! - [`SliderScene`]: the paper's model problem (§6.1, Table 6.1), readable from TOML.
 //!
 //! ```no_run
@@ -29,6 +30,8 @@ mod observer;
 mod simulation;
 mod slider;
 mod solver;
+#[cfg(feature = "vtk")]
+mod vtu;
 
 pub use checkpoint::Checkpoint;
 pub use dynamic::AnySimulation;
@@ -42,6 +45,8 @@ pub use slider::{
     SLIDER_CENTRE,
 };
 pub use solver::{SolverKind, VelocitySolver};
+#[cfg(feature = "vtk")]
+pub use vtu::VtuFrames;
 
 pub use rsf_fem as fem;
 pub use rsf_friction as friction;

@@ -131,6 +131,9 @@ pub struct Model<const D: usize> {
     pub frictional: FrictionalBoundary,
     /// Initial displacement `u_0` (m).
     pub initial_displacement: Vec<f64>,
+    /// Mesh cells as vertex indices with stride `D + 1` (for output such as VTU frames);
+    /// empty for models without a mesh (e.g. a spring–block).
+    pub cells: Vec<usize>,
 }
 
 impl<const D: usize> Model<D> {
@@ -197,6 +200,12 @@ impl<const D: usize> Model<D> {
             .any(|&p| p >= self.vertices.len())
         {
             return Err(invalid("frictional_boundary", "node index out of range"));
+        }
+        if self.cells.len() % (D + 1) != 0 || self.cells.iter().any(|&c| c >= self.vertices.len()) {
+            return Err(invalid(
+                "cells",
+                "need stride D + 1 and vertex indices in range",
+            ));
         }
         if let Some(p) = self.prolongations.last() {
             if p.nrows() != n {

@@ -291,6 +291,7 @@ impl SliderScene {
             prolongations,
             frictional,
             initial_displacement: u0,
+            cells: mesh.cells().to_vec(),
         })
     }
 

@@ -74,6 +74,7 @@ fn build<I: VelocityIntegrator>(
         prolongations: Vec::new(),
         frictional: FrictionalBoundary::new(&[0], &[1.0]).unwrap(),
         initial_displacement: vec![0.0, f_ss / k],
+        cells: Vec::new(),
     };
     let alpha0 = (PARAMS.l / V_LOAD).ln() + DALPHA;
     let mut sim = Simulation::new(

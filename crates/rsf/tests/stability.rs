@@ -1,0 +1,356 @@
+//! Stability on stiff and extreme cases (issue 6): the paper's slider at level 2, a few
+//! hundred steps per case, parameters pushed one at a time far from Table 6.1.
+//!
+//! Every case must end either in `Ok` with all values finite, or in the typed error the
+//! case expects (asserted by variant) — never NaN, ∞, a hang or a panic. The same case
+//! list drives `examples/stability_table.rs`, which prints the table of `docs/stability.md`
+//! (that example includes this file as a module, so the table and the test cannot drift).
+
+use std::time::Instant;
+
+use rsf::friction::{DieterichRuina, RateStateParams};
+use rsf::state::{Aging, Slip};
+use rsf::time::Newmark;
+use rsf::{AnySimulation, Error, FixedPointOptions, Simulation, SliderScene, StateLawKind};
+
+/// What a case is expected to end in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Expect {
+    /// All steps succeed, all values finite.
+    Ok,
+    /// `Error::FixedPointNotConverged` (a limit of the method, not of the code).
+    FixedPointNotConverged,
+}
+
+/// Frictional parameters along Γ_F.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fault {
+    /// The scene's `a`, `b` everywhere.
+    Uniform,
+    /// Velocity-weakening patch `|x − 2.5| ≤ half_width` with the scene's `(a, b)`,
+    /// velocity strengthening outside with `(a, b)` swapped.
+    Patch {
+        /// Half width of the patch (m).
+        half_width: f64,
+    },
+}
+
+/// One stability case.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// Short name (table row).
+    pub name: &'static str,
+    /// What is pushed to the extreme, in words.
+    pub what: &'static str,
+    /// The scene (level, τ = T/N, parameters).
+    pub scene: SliderScene,
+    /// Steps to take.
+    pub steps: usize,
+    /// Heterogeneity of `a, b`.
+    pub fault: Fault,
+    /// Damped relaxation parameter of the fixed point iteration (paper: 0.5).
+    pub relaxation: f64,
+    /// The expected outcome.
+    pub expect: Expect,
+}
+
+/// What running a case produced.
+#[derive(Debug)]
+pub struct Outcome {
+    /// Steps completed successfully.
+    pub steps_done: usize,
+    /// Mean fixed point iterations per completed step.
+    pub fpi_mean: f64,
+    /// Maximum fixed point iterations of a completed step.
+    pub fpi_max: usize,
+    /// Velocity-solver iterations per velocity solve (mean).
+    pub solver_per_solve: f64,
+    /// Maximum velocity-solver iterations of one step.
+    pub solver_max: usize,
+    /// Steps that used the damped relaxation ω < 1 at least once.
+    pub relaxed_steps: usize,
+    /// Largest slip rate on Γ_F over the run (m/s).
+    pub max_slip_rate: f64,
+    /// Smallest slip rate on Γ_F at the end (m/s).
+    pub min_slip_rate_end: f64,
+    /// Range of α on Γ_F at the end.
+    pub alpha_range: (f64, f64),
+    /// Whether every report, u, v, a and α stayed finite.
+    pub finite: bool,
+    /// Wall time (s).
+    pub seconds: f64,
+    /// The error that ended the run early, if any.
+    pub error: Option<Error>,
+}
+
+impl Outcome {
+    /// Whether the outcome is what the case expects.
+    pub fn as_expected(&self, expect: Expect) -> bool {
+        match expect {
+            Expect::Ok => self.error.is_none() && self.finite,
+            Expect::FixedPointNotConverged => {
+                self.finite && matches!(self.error, Some(Error::FixedPointNotConverged { .. }))
+            }
+        }
+    }
+}
+
+/// The base of all cases: the paper's scene (Table 6.1) at level 2 with τ = 1e-3 s, but
+/// loaded without ramp at 2e-2 m/s so that the first slip event happens within the run
+/// (the paper's ramp and 2e-4 m/s reach it only after ~10 s). α₀ = −10 as in the paper:
+/// `V_m ≈ 1e-24 m/s`, the stiff sticking regime from the first step.
+pub fn base() -> SliderScene {
+    SliderScene {
+        level: 2,
+        steps: 300,
+        end_time_s: 0.3,
+        loading_velocity_m_per_s: 2e-2,
+        ramp_fraction: 0.0,
+        ..SliderScene::default()
+    }
+}
+
+fn case(name: &'static str, what: &'static str, scene: SliderScene) -> Case {
+    Case {
+        name,
+        what,
+        steps: scene.steps,
+        scene,
+        fault: Fault::Uniform,
+        relaxation: 0.5,
+        expect: Expect::Ok,
+    }
+}
+
+/// With τ changed to `tau` keeping the number of steps.
+fn with_tau(tau: f64) -> SliderScene {
+    let b = base();
+    SliderScene {
+        end_time_s: tau * b.steps as f64,
+        ..b
+    }
+}
+
+/// The case list (table order).
+pub fn cases() -> Vec<Case> {
+    let b = base;
+    let mut v = vec![
+        case("base", "paper parameters, fast loading", b()),
+        case(
+            "rock",
+            "E = 3e10 Pa, ρ = 2700 kg/m², same τ",
+            SliderScene {
+                youngs_modulus_pa: 3e10,
+                density_kg_per_m2: 2700.0,
+                ..b()
+            },
+        ),
+        case("tau-1e-7", "τ = 1e-7 s", with_tau(1e-7)),
+        case("tau-1e-5", "τ = 1e-5 s", with_tau(1e-5)),
+        case("tau-1e-1", "τ = 0.1 s", with_tau(0.1)),
+        case("L-1e-9", "L = 1e-9 m", SliderScene { l_m: 1e-9, ..b() }),
+        case("L-1e-1", "L = 0.1 m", SliderScene { l_m: 1e-1, ..b() }),
+    ];
+    for (name, ratio) in [
+        ("b/a-0.5", 0.5),
+        ("b/a-1.5", 1.5),
+        ("b/a-2.5", 2.5),
+        ("b/a-5", 5.0),
+    ] {
+        v.push(case(
+            name,
+            "b/a with a = 0.01",
+            SliderScene {
+                b: 0.01 * ratio,
+                ..b()
+            },
+        ));
+    }
+    v.extend([
+        case(
+            "alpha0--50",
+            "α₀ = −50",
+            SliderScene {
+                alpha0: -50.0,
+                ..b()
+            },
+        ),
+        case(
+            "alpha0-+50",
+            "α₀ = +50",
+            SliderScene {
+                alpha0: 50.0,
+                ..b()
+            },
+        ),
+        case(
+            "sigma-1e2",
+            "σ̄_n = 1e2 Pa",
+            SliderScene {
+                sigma_n_pa: 1e2,
+                ..b()
+            },
+        ),
+        case(
+            "sigma-1e8",
+            "σ̄_n = 1e8 Pa",
+            SliderScene {
+                sigma_n_pa: 1e8,
+                ..b()
+            },
+        ),
+        case(
+            "fast-slip",
+            "loading 1 m/s: slip event to V ~ 1 m/s",
+            SliderScene {
+                loading_velocity_m_per_s: 1.0,
+                ..b()
+            },
+        ),
+        case(
+            "ruina-fast-slip",
+            "as fast-slip with Ruina's law",
+            SliderScene {
+                loading_velocity_m_per_s: 1.0,
+                state_law: StateLawKind::Ruina,
+                ..b()
+            },
+        ),
+        Case {
+            fault: Fault::Patch { half_width: 1.0 },
+            ..case("patch", "VW patch |x−2.5| ≤ 1 in VS surround", b())
+        },
+    ]);
+    v
+}
+
+fn build(c: &Case) -> rsf::Result<Box<dyn AnySimulation<2>>> {
+    let s = &c.scene;
+    let model = s.build_model()?;
+    let nf = model.frictional.len();
+    let base = s.rate_state_params();
+    let laws = model
+        .frictional
+        .nodes
+        .iter()
+        .map(|&p| {
+            let x = model.vertices[p][0];
+            let params = match c.fault {
+                Fault::Uniform => base,
+                Fault::Patch { half_width } if (x - 2.5).abs() <= half_width => base,
+                Fault::Patch { .. } => RateStateParams {
+                    a: base.b,
+                    b: base.a,
+                    ..base
+                },
+            };
+            DieterichRuina::new(params)
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let alpha0 = vec![s.alpha0; nf];
+    let fp = FixedPointOptions {
+        tolerance: s.fixed_point_tolerance,
+        max_iterations: s.fixed_point_max_iterations,
+        relaxation: c.relaxation,
+    };
+    let solver = s.solver_kind();
+    Ok(match s.state_law {
+        StateLawKind::Dieterich => Box::new(Simulation::new(
+            model,
+            laws,
+            vec![Aging::new(s.l_m)?; nf],
+            alpha0,
+            Newmark,
+            s.tau(),
+            &solver,
+            fp,
+        )?),
+        StateLawKind::Ruina => Box::new(Simulation::new(
+            model,
+            laws,
+            vec![Slip::new(s.l_m)?; nf],
+            alpha0,
+            Newmark,
+            s.tau(),
+            &solver,
+            fp,
+        )?),
+    })
+}
+
+fn all_finite(x: &[f64]) -> bool {
+    x.iter().all(|v| v.is_finite())
+}
+
+/// Runs a case to its end or its first error.
+pub fn run_case(c: &Case) -> Outcome {
+    let start = Instant::now();
+    let mut out = Outcome {
+        steps_done: 0,
+        fpi_mean: 0.0,
+        fpi_max: 0,
+        solver_per_solve: 0.0,
+        solver_max: 0,
+        relaxed_steps: 0,
+        max_slip_rate: 0.0,
+        min_slip_rate_end: 0.0,
+        alpha_range: (0.0, 0.0),
+        finite: true,
+        seconds: 0.0,
+        error: None,
+    };
+    let mut sim = match build(c) {
+        Ok(s) => s,
+        Err(e) => {
+            out.error = Some(e);
+            return out;
+        }
+    };
+    let (mut fpi, mut solver) = (0usize, 0usize);
+    for _ in 0..c.steps {
+        match sim.step() {
+            Ok(r) => {
+                out.steps_done += 1;
+                fpi += r.fixed_point_iterations;
+                solver += r.solver_iterations;
+                out.fpi_max = out.fpi_max.max(r.fixed_point_iterations);
+                out.solver_max = out.solver_max.max(r.solver_iterations);
+                out.relaxed_steps += usize::from(r.relaxed_iterations > 0);
+                out.max_slip_rate = out.max_slip_rate.max(r.max_slip_rate);
+                out.finite &= r.correction.is_finite() && r.max_slip_rate.is_finite();
+            }
+            Err(e) => {
+                out.error = Some(e);
+                break;
+            }
+        }
+        let k = sim.kinematics();
+        out.finite &= all_finite(&k.u) && all_finite(&k.v) && all_finite(&k.a);
+        out.finite &= all_finite(sim.alpha());
+        if !out.finite {
+            break;
+        }
+    }
+    if let Some(Error::FixedPointNotConverged { history, .. }) = &out.error {
+        out.finite &= all_finite(history);
+    }
+    let alpha = sim.alpha();
+    out.alpha_range = (
+        alpha.iter().copied().fold(f64::INFINITY, f64::min),
+        alpha.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let v = &sim.kinematics().v;
+    out.min_slip_rate_end = sim
+        .model()
+        .frictional
+        .nodes
+        .iter()
+        .map(|&p| v[2 * p].hypot(v[2 * p + 1]))
+        .fold(f64::INFINITY, f64::min);
+    if out.steps_done > 0 {
+        out.fpi_mean = fpi as f64 / out.steps_done as f64;
+        out.solver_per_solve = solver as f64 / fpi.max(1) as f64;
+    }
+    out.seconds = start.elapsed().as_secs_f64();
+    out
+}
