@@ -20,6 +20,8 @@ pub enum Expect {
     Ok,
     /// `Error::FixedPointNotConverged` (a limit of the method, not of the code).
     FixedPointNotConverged,
+    /// A parameter error at set-up (`Error::InvalidParameter` or `Error::Friction`).
+    InvalidParameter,
 }
 
 /// Frictional parameters along Γ_F.
@@ -52,6 +54,8 @@ pub struct Case {
     pub relaxation: f64,
     /// The expected outcome.
     pub expect: Expect,
+    /// Bounds on the largest slip rate of an `Ok` run (m/s).
+    pub peak: (f64, f64),
 }
 
 /// What running a case produced.
@@ -91,6 +95,13 @@ impl Outcome {
             Expect::FixedPointNotConverged => {
                 self.finite && matches!(self.error, Some(Error::FixedPointNotConverged { .. }))
             }
+            Expect::InvalidParameter => {
+                self.steps_done == 0
+                    && matches!(
+                        self.error,
+                        Some(Error::InvalidParameter { .. } | Error::Friction(_))
+                    )
+            }
         }
     }
 }
@@ -119,6 +130,15 @@ fn case(name: &'static str, what: &'static str, scene: SliderScene) -> Case {
         fault: Fault::Uniform,
         relaxation: 0.5,
         expect: Expect::Ok,
+        peak: (1e-3, 1.0),
+    }
+}
+
+/// A case that stays stuck: slip rates far below the loading velocity.
+fn stuck(c: Case) -> Case {
+    Case {
+        peak: (0.0, 1e-15),
+        ..c
     }
 }
 
@@ -128,6 +148,14 @@ fn with_tau(tau: f64) -> SliderScene {
     SliderScene {
         end_time_s: tau * b.steps as f64,
         ..b
+    }
+}
+
+/// `L = 1e-9 m`: slip increments `τV/L` up to ~6e4 per step.
+fn tiny_l() -> SliderScene {
+    SliderScene {
+        l_m: 1e-9,
+        ..base()
     }
 }
 
@@ -145,10 +173,35 @@ pub fn cases() -> Vec<Case> {
                 ..b()
             },
         ),
-        case("tau-1e-7", "τ = 1e-7 s", with_tau(1e-7)),
-        case("tau-1e-5", "τ = 1e-5 s", with_tau(1e-5)),
+        stuck(case("tau-1e-7", "τ = 1e-7 s", with_tau(1e-7))),
+        stuck(case("tau-1e-5", "τ = 1e-5 s", with_tau(1e-5))),
         case("tau-1e-1", "τ = 0.1 s", with_tau(0.1)),
-        case("L-1e-9", "L = 1e-9 m", SliderScene { l_m: 1e-9, ..b() }),
+        Case {
+            expect: Expect::FixedPointNotConverged,
+            ..case("L-1e-9", "L = 1e-9 m (τV/L up to 6e4)", tiny_l())
+        },
+        Case {
+            expect: Expect::FixedPointNotConverged,
+            ..case(
+                "L-1e-9, 1000 FPI",
+                "L = 1e-9 m, budget 1000 iterations, ω = 0.5",
+                SliderScene {
+                    fixed_point_max_iterations: 1000,
+                    ..tiny_l()
+                },
+            )
+        },
+        Case {
+            relaxation: 1.0,
+            ..case(
+                "L-1e-9, ω=1, 1000 FPI",
+                "L = 1e-9 m, budget 1000, no damping",
+                SliderScene {
+                    fixed_point_max_iterations: 1000,
+                    ..tiny_l()
+                },
+            )
+        },
         case("L-1e-1", "L = 0.1 m", SliderScene { l_m: 1e-1, ..b() }),
     ];
     for (name, ratio) in [
@@ -169,7 +222,7 @@ pub fn cases() -> Vec<Case> {
     v.extend([
         case(
             "alpha0--50",
-            "α₀ = −50",
+            "α₀ = −50 (V_m ≈ 0.1 m/s)",
             SliderScene {
                 alpha0: -50.0,
                 ..b()
@@ -177,7 +230,7 @@ pub fn cases() -> Vec<Case> {
         ),
         case(
             "alpha0-+50",
-            "α₀ = +50",
+            "α₀ = +50 (V_m ≈ 1e-63 m/s)",
             SliderScene {
                 alpha0: 50.0,
                 ..b()
@@ -191,34 +244,55 @@ pub fn cases() -> Vec<Case> {
                 ..b()
             },
         ),
-        case(
+        stuck(case(
             "sigma-1e8",
             "σ̄_n = 1e8 Pa",
             SliderScene {
                 sigma_n_pa: 1e8,
                 ..b()
             },
-        ),
-        case(
-            "fast-slip",
-            "loading 1 m/s: slip event to V ~ 1 m/s",
-            SliderScene {
-                loading_velocity_m_per_s: 1.0,
-                ..b()
-            },
-        ),
-        case(
-            "ruina-fast-slip",
-            "as fast-slip with Ruina's law",
-            SliderScene {
-                loading_velocity_m_per_s: 1.0,
-                state_law: StateLawKind::Ruina,
-                ..b()
-            },
-        ),
+        )),
+        Case {
+            expect: Expect::InvalidParameter,
+            ..case(
+                "sigma-0",
+                "σ̄_n = 0 (invalid)",
+                SliderScene {
+                    sigma_n_pa: 0.0,
+                    ..b()
+                },
+            )
+        },
+        Case {
+            peak: (0.5, 10.0),
+            ..case(
+                "fast-slip",
+                "loading 1 m/s: slip event to V ~ 1 m/s",
+                SliderScene {
+                    loading_velocity_m_per_s: 1.0,
+                    ..b()
+                },
+            )
+        },
+        Case {
+            peak: (0.5, 10.0),
+            ..case(
+                "ruina-fast-slip",
+                "as fast-slip, Ruina's law",
+                SliderScene {
+                    loading_velocity_m_per_s: 1.0,
+                    state_law: StateLawKind::Ruina,
+                    ..b()
+                },
+            )
+        },
         Case {
             fault: Fault::Patch { half_width: 1.0 },
-            ..case("patch", "VW patch |x−2.5| ≤ 1 in VS surround", b())
+            ..case(
+                "patch",
+                "VW patch 1.5 ≤ x ≤ 3.5 m, VS surround (a ↔ b)",
+                b(),
+            )
         },
     ]);
     v
@@ -353,4 +427,101 @@ pub fn run_case(c: &Case) -> Outcome {
     }
     out.seconds = start.elapsed().as_secs_f64();
     out
+}
+
+/// Runs the named case and asserts its expected outcome.
+#[cfg(test)]
+fn check(name: &str) {
+    let c = cases()
+        .into_iter()
+        .find(|c| c.name == name)
+        .unwrap_or_else(|| panic!("no case {name}"));
+    let o = run_case(&c);
+    eprintln!("{name}: {o:?}");
+    assert!(o.finite, "{name}: non-finite values");
+    assert!(
+        o.as_expected(c.expect),
+        "{name}: expected {:?}, got {:?} after {} steps",
+        c.expect,
+        o.error,
+        o.steps_done
+    );
+    match c.expect {
+        Expect::Ok => {
+            assert_eq!(o.steps_done, c.steps, "{name}");
+            assert!(
+                o.max_slip_rate >= c.peak.0 && o.max_slip_rate <= c.peak.1,
+                "{name}: peak slip rate {:e} outside {:?}",
+                o.max_slip_rate,
+                c.peak
+            );
+            assert!(o.fpi_max <= c.scene.fixed_point_max_iterations);
+            assert!(o.alpha_range.0.is_finite() && o.alpha_range.1.is_finite());
+        }
+        Expect::FixedPointNotConverged => {
+            let Some(Error::FixedPointNotConverged {
+                history,
+                iterations,
+                ..
+            }) = &o.error
+            else {
+                unreachable!("checked by as_expected")
+            };
+            assert_eq!(*iterations, c.scene.fixed_point_max_iterations);
+            assert_eq!(history.len(), *iterations);
+            assert!(history.iter().all(|h| h.is_finite() && *h >= 0.0));
+            assert!(*history.last().unwrap() > c.scene.fixed_point_tolerance);
+            assert!(o.steps_done > 0, "{name}: fails in the first step");
+        }
+        Expect::InvalidParameter => {}
+    }
+}
+
+macro_rules! stability_tests {
+    ($($test:ident => $name:literal),* $(,)?) => {
+        $(
+            #[test]
+            fn $test() {
+                check($name);
+            }
+        )*
+
+        /// Every case of the list has a test, and names are unique.
+        #[test]
+        fn every_case_is_tested() {
+            let tested = [$($name),*];
+            let names: Vec<_> = cases().iter().map(|c| c.name).collect();
+            for n in &names {
+                assert!(tested.contains(n), "case {n} has no test");
+            }
+            let mut sorted = names.clone();
+            sorted.sort_unstable();
+            sorted.dedup();
+            assert_eq!(sorted.len(), names.len(), "duplicate case names");
+        }
+    };
+}
+
+stability_tests! {
+    base_case => "base",
+    rock_stiffness => "rock",
+    tau_1e_7 => "tau-1e-7",
+    tau_1e_5 => "tau-1e-5",
+    tau_1e_1 => "tau-1e-1",
+    l_1e_9_fixed_point_limit => "L-1e-9",
+    l_1e_9_damped_1000 => "L-1e-9, 1000 FPI",
+    l_1e_9_undamped_1000 => "L-1e-9, ω=1, 1000 FPI",
+    l_1e_1 => "L-1e-1",
+    b_over_a_0_5 => "b/a-0.5",
+    b_over_a_1_5 => "b/a-1.5",
+    b_over_a_2_5 => "b/a-2.5",
+    b_over_a_5 => "b/a-5",
+    alpha0_minus_50 => "alpha0--50",
+    alpha0_plus_50 => "alpha0-+50",
+    sigma_1e2 => "sigma-1e2",
+    sigma_1e8 => "sigma-1e8",
+    sigma_0_invalid => "sigma-0",
+    fast_slip_to_1_m_per_s => "fast-slip",
+    ruina_fast_slip => "ruina-fast-slip",
+    heterogeneous_patch => "patch",
 }
