@@ -109,7 +109,10 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
             .collect();
     }
     let remaining = scene.steps.saturating_sub(sim.step_index());
-    let map_every = scene.steps.checked_div(opts.map_samples).map_or(0, |k| k.max(1));
+    let map_every = scene
+        .steps
+        .checked_div(opts.map_samples)
+        .map_or(0, |k| k.max(1));
     let mut series = None;
     let mut profile = None;
     let mut checkpointer = None;
@@ -183,9 +186,11 @@ pub struct SliderStats {
     pub relaxed_steps: usize,
     /// First time with max slip rate > 1e-3 m/s (s).
     pub first_slip_event_s: Option<f64>,
-    /// Upward crossings of 1e-3 m/s by the max slip rate.
+    /// Slip events: upward crossings of 1e-3 m/s by the max slip rate on Γ_F, counting a
+    /// new event only after the rate has fallen below 1e-4 m/s since the last one (so the
+    /// elastic oscillations of one event are not counted twice).
     pub slip_events: usize,
-    /// Mean time between slip events (s).
+    /// Mean time between the onsets of slip events (s).
     pub recurrence_interval_s: Option<f64>,
     /// Peak of the max slip rate on Γ_F (m/s).
     pub peak_slip_rate_mps: f64,
@@ -195,9 +200,30 @@ pub struct SliderStats {
     pub u_x0_range_last_tenth_m: (f64, f64),
 }
 
-/// Computes [`SliderStats`] (slip-event threshold 1e-3 m/s, as in the issue).
+/// Onset threshold of a slip event (m/s), as in the issue.
+const EVENT_ON: f64 = 1e-3;
+/// The max slip rate must fall below this (m/s) before a new event can start.
+const EVENT_OFF: f64 = 1e-4;
+
+/// Onset times of slip events in `(t, max slip rate)`: upward crossings of [`EVENT_ON`],
+/// re-armed only once the rate has fallen below [`EVENT_OFF`].
+fn event_onsets(series: &[(f64, f64)]) -> Vec<f64> {
+    let mut armed = series.first().is_none_or(|p| p.1 <= EVENT_ON);
+    let mut onsets = Vec::new();
+    for &(t, v) in series {
+        if armed && v > EVENT_ON {
+            onsets.push(t);
+            armed = false;
+        } else if v < EVENT_OFF {
+            armed = true;
+        }
+    }
+    onsets
+}
+
+/// Computes [`SliderStats`] (slip-event onset at 1e-3 m/s with re-arming below 1e-4 m/s).
 pub fn stats(run: &SliderRun, end_time: f64) -> SliderStats {
-    let events = crate::upcrossings(&run.max_slip_rate, 1e-3);
+    let events = event_onsets(&run.max_slip_rate);
     let recurrence = (events.len() >= 2)
         .then(|| (events[events.len() - 1] - events[0]) / (events.len() - 1) as f64);
     let last: Vec<f64> = run
@@ -265,4 +291,279 @@ pub fn machine() -> String {
         .map(|n| n.get())
         .unwrap_or(1);
     format!("{cpu}, {cores} cores")
+}
+
+impl SliderRun {
+    /// Runs `scene` in phases with different time steps: phase `(n, until_s, map_every)`
+    /// continues the previous phase's state (u, v, a, α) with τ = T/n up to the step
+    /// nearest `until_s` (clamped to T), recording a row of the slip-rate map every
+    /// `map_every` steps of that phase (0: none). Successive phases must be commensurate:
+    /// the switching time must be a whole number of steps of the next τ.
+    ///
+    /// This is how the examples afford the paper's τ = T/10⁶ inside a short window: a
+    /// coarse phase up to just before the window, then the fine τ through it. Newmark's
+    /// state (u, v, a) does not depend on τ, so the switch is exact in the sense that the
+    /// fine phase starts from the coarse trajectory at that time.
+    ///
+    /// # Errors
+    /// Scene and solver errors; [`rsf::Error::Checkpoint`] if a switching time is not a
+    /// whole number of the next phase's steps.
+    pub fn run_phases(
+        scene: &SliderScene,
+        phases: &[(usize, f64, usize)],
+        progress: bool,
+    ) -> rsf::Result<SliderRun> {
+        let mut run = SliderRun::default();
+        let mut state: Option<Checkpoint> = None;
+        let mut t_now = 0.0f64;
+        let mut stepping = 0.0;
+        for &(n, until_s, map_every) in phases {
+            let mut sc = scene.clone();
+            sc.steps = n;
+            let t_setup = std::time::Instant::now();
+            let mut sim = sc.build()?;
+            run.setup_seconds += t_setup.elapsed().as_secs_f64();
+            if run.dofs == 0 {
+                run.dofs = sim.model().num_dofs();
+                run.frictional_nodes = sim.model().frictional.len();
+                let fb = &sim.model().frictional;
+                run.map.1 = fb
+                    .along
+                    .iter()
+                    .map(|&k| sim.model().vertices[fb.nodes[k]][0])
+                    .collect();
+            }
+            let tau = sim.tau();
+            if let Some(mut c) = state.take() {
+                let step = (t_now / tau).round() as usize;
+                if (step as f64 * tau - t_now).abs() > 1e-9 * tau.max(t_now) {
+                    return Err(rsf::Error::Checkpoint(format!(
+                        "switching time {t_now} s is not a multiple of τ = {tau} s"
+                    )));
+                }
+                c.step = step;
+                c.tau = tau;
+                sim.restore(&c)?;
+            }
+            let target =
+                ((until_s.min(scene.end_time_s) / tau).round() as usize).max(sim.step_index());
+            let remaining = target - sim.step_index();
+            let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+            let bar = if progress {
+                crate::progress(remaining as u64, &format!("τ = T/{n}"))
+            } else {
+                None
+            };
+            let start = std::time::Instant::now();
+            let chunk = (remaining / 200).max(1);
+            let mut done = 0;
+            while done < remaining {
+                let k = chunk.min(remaining - done);
+                let mut collector = Collector {
+                    run: &mut run,
+                    x0,
+                    map_every,
+                };
+                sim.run(k, &mut [&mut collector])?;
+                done += k;
+                if let Some(b) = &bar {
+                    b.set_position(done as u64);
+                }
+            }
+            if let Some(b) = bar {
+                b.finish_and_clear();
+            }
+            stepping += start.elapsed().as_secs_f64();
+            t_now = sim.time();
+            state = Some(sim.checkpoint());
+        }
+        run.seconds = stepping;
+        Ok(run)
+    }
+}
+
+impl crate::Series<'_> {
+    /// Several plots in one PNG: side by side (`columns`) or stacked, one per
+    /// `(panel title, series)`, sharing the x range `x_range` and (if given) the y range.
+    /// With `log_y` the y values are plotted as log10. Long series are thinned to a
+    /// min/max envelope per pixel column so that peaks survive and the file stays small.
+    ///
+    /// # Errors
+    /// Drawing or file errors.
+    pub fn panels(
+        path: &Path,
+        title: &str,
+        x_label: &str,
+        y_label: &str,
+        panels: &[(&str, &[crate::Series<'_>])],
+        columns: bool,
+        log_y: bool,
+        x_range: (f64, f64),
+        y_range: Option<(f64, f64)>,
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        use plotters::prelude::*;
+        crate::init_fonts();
+        let n = panels.len().max(1);
+        let (w, h) = if columns {
+            ((400 * n as u32 + 100).max(1000), 450)
+        } else {
+            (1000, 220 * n as u32 + 60)
+        };
+        let colors = [
+            RGBColor(31, 119, 180),
+            RGBColor(214, 39, 40),
+            RGBColor(44, 160, 44),
+            RGBColor(255, 127, 14),
+        ];
+        let ty = |v: f64| {
+            if log_y {
+                v.abs().max(1e-300).log10()
+            } else {
+                v
+            }
+        };
+        let thinned: Vec<Vec<Vec<(f64, f64)>>> = panels
+            .iter()
+            .map(|(_, ss)| {
+                ss.iter()
+                    .map(|s| envelope(s.points, x_range, 1200, ty))
+                    .collect()
+            })
+            .collect();
+        let (y0, y1) = y_range.map_or_else(
+            || {
+                let (lo, hi) = thinned
+                    .iter()
+                    .flatten()
+                    .flatten()
+                    .filter(|p| p.1.is_finite())
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                        (l.min(p.1), h.max(p.1))
+                    });
+                if lo < hi {
+                    (lo, hi)
+                } else {
+                    (lo - 1.0, lo + 1.0)
+                }
+            },
+            |(a, b)| (ty(a), ty(b)),
+        );
+        let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let root = root.titled(title, ("sans-serif", 20))?;
+        let areas = if columns {
+            root.split_evenly((1, n))
+        } else {
+            root.split_evenly((n, 1))
+        };
+        for (i, ((name, ss), area)) in panels.iter().zip(&areas).enumerate() {
+            let mut chart = ChartBuilder::on(area)
+                .caption(*name, ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(if columns || i + 1 == n { 40 } else { 25 })
+                .y_label_area_size(70)
+                .build_cartesian_2d(x_range.0..x_range.1, y0..y1)?;
+            let yl = if log_y {
+                format!("log10 {y_label}")
+            } else {
+                y_label.to_string()
+            };
+            chart
+                .configure_mesh()
+                .x_desc(if columns || i + 1 == n { x_label } else { "" })
+                .y_desc(if columns && i > 0 { String::new() } else { yl })
+                .x_labels(6)
+                .y_labels(6)
+                .label_style(("sans-serif", 13))
+                .draw()?;
+            for (k, s) in ss.iter().enumerate() {
+                let color = colors[k % colors.len()];
+                chart
+                    .draw_series(LineSeries::new(
+                        thinned[i][k].iter().copied(),
+                        color.stroke_width(1),
+                    ))?
+                    .label(s.label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+            }
+            if ss.len() > 1 {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 13))
+                    .draw()?;
+            }
+        }
+        root.present()?;
+        Ok(())
+    }
+}
+
+/// Points of `points` inside `x_range`, y mapped by `ty`, thinned to the first, minimum,
+/// maximum and last point of each of `bins` equal x bins (order kept).
+fn envelope(
+    points: &[(f64, f64)],
+    x_range: (f64, f64),
+    bins: usize,
+    ty: impl Fn(f64) -> f64,
+) -> Vec<(f64, f64)> {
+    let inside: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| p.0 >= x_range.0 && p.0 <= x_range.1)
+        .map(|p| (p.0, ty(p.1)))
+        .collect();
+    if inside.len() <= 4 * bins {
+        return inside;
+    }
+    let width = (x_range.1 - x_range.0) / bins as f64;
+    let mut out = Vec::with_capacity(4 * bins);
+    let mut i = 0;
+    while i < inside.len() {
+        let b = ((inside[i].0 - x_range.0) / width).floor();
+        let mut j = i;
+        while j < inside.len() && ((inside[j].0 - x_range.0) / width).floor() == b {
+            j += 1;
+        }
+        let bin = &inside[i..j];
+        let (mut lo, mut hi) = (0, 0);
+        for (k, p) in bin.iter().enumerate() {
+            if p.1 < bin[lo].1 {
+                lo = k;
+            }
+            if p.1 > bin[hi].1 {
+                hi = k;
+            }
+        }
+        let mut picks = [0, lo.min(hi), lo.max(hi), bin.len() - 1];
+        picks.sort_unstable();
+        let mut last = usize::MAX;
+        for k in picks {
+            if k != last {
+                out.push(bin[k]);
+                last = k;
+            }
+        }
+        i = j;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::event_onsets;
+
+    #[test]
+    fn ringing_within_an_event_is_one_event() {
+        let series: Vec<(f64, f64)> = [1e-6, 2e-3, 5e-4, 3e-3, 1e-3, 5e-5, 4e-3, 1e-6]
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| (i as f64, v))
+            .collect();
+        assert_eq!(event_onsets(&series), vec![1.0, 6.0]);
+        // A series that starts above the threshold does not count its start as an onset.
+        assert_eq!(event_onsets(&series[3..]), vec![6.0]);
+    }
 }

@@ -1,0 +1,188 @@
+//! Figure 6.1 of Pipping, Sander & Kornhuber: average and maximum number of fixed point
+//! iterations (FPIs) per time step over 10⁴ steps (the whole of [0, T]) against the
+//! refinement level j, for Dieterich's and Ruina's law (Newmark, paper tolerances: fixed
+//! point 1e-10, inner solve 1e-10).
+//!
+//! ```sh
+//! cargo run --release --example fig6_1_fixed_point_iterations                    # j = 2..5, direct solver
+//! cargo run --release --example fig6_1_fixed_point_iterations -- --max-level 8   # j = 2..8 (long)
+//! cargo run --release --example fig6_1_fixed_point_iterations -- --solver tnnmg --levels 2,3,4
+//! ```
+//!
+//! Prints one row per (law, j) as it finishes and writes to `out/fig6_1/` (or `--out
+//! DIR`): `table.csv` (`law,level,dofs,steps,fpi_mean,fpi_max,relaxed_steps,
+//! solver_iterations,first_slip_event_s,wall_s`, appended row by row) and
+//! `fig6_1_fpi.png` (average solid on the left axis, maximum on the right axis, one
+//! panel per law, as the paper).
+
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use plotters::prelude::*;
+use rsf::{SliderScene, SolverChoice, StateLawKind};
+use rsf_examples::{run_slider, stats, Args, RunOptions};
+
+const USAGE: &str = "fig6_1_fixed_point_iterations [--levels J1,J2,... | --max-level J (2..8)]
+  [--laws dieterich,ruina] [--steps N] [--solver direct|tnnmg] [--out DIR]";
+
+/// One measured point: law, level, mean FPIs, max FPIs.
+type Row = (StateLawKind, usize, f64, usize);
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse(USAGE);
+    let levels: Vec<usize> = match args.get("levels") {
+        Some(s) => s.split(',').map(str::parse).collect::<Result<_, _>>()?,
+        None => (2..=args.value("max-level", 5usize).min(8)).collect(),
+    };
+    let laws: Vec<StateLawKind> = args
+        .get("laws")
+        .unwrap_or("dieterich,ruina")
+        .split(',')
+        .map(|l| match l {
+            "dieterich" => Ok(StateLawKind::Dieterich),
+            "ruina" => Ok(StateLawKind::Ruina),
+            other => Err(format!("unknown law `{other}`")),
+        })
+        .collect::<Result<_, _>>()?;
+    let solver = match args.get("solver").unwrap_or("direct") {
+        "tnnmg" => SolverChoice::Tnnmg,
+        "direct" => SolverChoice::Direct,
+        other => return Err(format!("unknown solver `{other}`").into()),
+    };
+    let steps = args.value::<f64>("steps", 1e4) as usize;
+    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_1"));
+    std::fs::create_dir_all(&out)?;
+    println!(
+        "Figure 6.1: FPIs per step over N = {steps} steps, levels {levels:?}, {solver:?} solver \
+         (tolerance 1e-10), Newmark, on {}",
+        rsf_examples::machine()
+    );
+    println!(
+        "{:>10} {:>3} {:>7} {:>9} {:>8} {:>8} {:>11} {:>10} {:>8}",
+        "law", "j", "dofs", "FPI mean", "FPI max", "relaxed", "solver its", "1st slip", "wall s"
+    );
+    let mut table = std::fs::File::create(out.join("table.csv"))?;
+    writeln!(
+        table,
+        "law,level,dofs,steps,fpi_mean,fpi_max,relaxed_steps,solver_iterations,first_slip_event_s,wall_s"
+    )?;
+    let mut rows: Vec<Row> = Vec::new();
+    for &law in &laws {
+        for &level in &levels {
+            let scene = SliderScene {
+                level,
+                steps,
+                state_law: law,
+                solver,
+                ..SliderScene::default()
+            };
+            scene.validate()?;
+            let run = run_slider(
+                &scene,
+                &RunOptions {
+                    progress: true,
+                    ..RunOptions::default()
+                },
+            )?;
+            let st = stats(&run, scene.end_time_s);
+            let first = st.first_slip_event_s.unwrap_or(f64::NAN);
+            println!(
+                "{:>10} {:>3} {:>7} {:>9.3} {:>8} {:>8} {:>11} {:>10.3} {:>8.1}",
+                format!("{law:?}"),
+                level,
+                run.dofs,
+                st.fpi_mean,
+                st.fpi_max,
+                st.relaxed_steps,
+                st.solver_iterations,
+                first,
+                run.seconds
+            );
+            writeln!(
+                table,
+                "{law:?},{level},{},{steps},{:.4},{},{},{},{first:.4},{:.1}",
+                run.dofs,
+                st.fpi_mean,
+                st.fpi_max,
+                st.relaxed_steps,
+                st.solver_iterations,
+                run.seconds
+            )?;
+            table.flush()?;
+            rows.push((law, level, st.fpi_mean, st.fpi_max));
+        }
+    }
+    draw(&out.join("fig6_1_fpi.png"), &laws, &rows, steps)?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// Two panels (one per law): average FPIs (solid, left axis) and maximum (right axis).
+fn draw(
+    path: &std::path::Path,
+    laws: &[StateLawKind],
+    rows: &[Row],
+    steps: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    rsf_examples::init_fonts();
+    let root = BitMapBackend::new(path, (1000, 420)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let root = root.titled(
+        &format!("Fig. 6.1 (ours): fixed point iterations per step over {steps} steps"),
+        ("sans-serif", 18),
+    )?;
+    let areas = root.split_evenly((1, laws.len().max(1)));
+    let jmin = rows.iter().map(|r| r.1).min().unwrap_or(2) as f64;
+    let jmax = rows.iter().map(|r| r.1).max().unwrap_or(8) as f64;
+    let avg_top = rows.iter().map(|r| r.2).fold(6.0, f64::max).ceil();
+    let max_top = (rows.iter().map(|r| r.3).max().unwrap_or(0) as f64).max(60.0);
+    let blue = RGBColor(31, 119, 180);
+    let red = RGBColor(214, 39, 40);
+    for (law, area) in laws.iter().zip(&areas) {
+        let pts: Vec<&Row> = rows.iter().filter(|r| r.0 == *law).collect();
+        let mut chart = ChartBuilder::on(area)
+            .caption(format!("{law:?}'s law"), ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .right_y_label_area_size(50)
+            .build_cartesian_2d(jmin - 0.2..jmax + 0.2, 0.0..avg_top)?
+            .set_secondary_coord(jmin - 0.2..jmax + 0.2, 0.0..max_top);
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels((jmax - jmin) as usize + 1)
+            .x_label_formatter(&|j| format!("{j:.0}"))
+            .x_desc("grid refinements j")
+            .y_desc("average FPIs (solid)")
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .label_style(("sans-serif", 13))
+            .draw()?;
+        chart
+            .configure_secondary_axes()
+            .y_desc("maximum FPIs (dashed)")
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .label_style(("sans-serif", 13))
+            .draw()?;
+        chart.draw_series(LineSeries::new(
+            pts.iter().map(|r| (r.1 as f64, r.2)),
+            blue.stroke_width(2),
+        ))?;
+        chart.draw_series(
+            pts.iter()
+                .map(|r| Circle::new((r.1 as f64, r.2), 4, blue.filled())),
+        )?;
+        chart.draw_secondary_series(DashedLineSeries::new(
+            pts.iter().map(|r| (r.1 as f64, r.3 as f64)),
+            6,
+            4,
+            red.stroke_width(2),
+        ))?;
+        chart.draw_secondary_series(
+            pts.iter()
+                .map(|r| TriangleMarker::new((r.1 as f64, r.3 as f64), 5, red.filled())),
+        )?;
+    }
+    root.present()?;
+    Ok(())
+}

@@ -1,0 +1,255 @@
+//! Figures 6.2 and 6.3 of Pipping, Sander & Kornhuber: displacement and slip rate at the
+//! centre x0 = (2.5, 0) of the frictional boundary, Dieterich's law, j = 4, Newmark, for
+//! the time steps τ = T/10⁴, T/10⁵ (default) and T/10⁶ (`--with-1e6`, hours).
+//!
+//! ```sh
+//! cargo run --release --example fig6_2_6_3_centre                  # N = 1e4, 1e5 (~6 min, direct solver)
+//! cargo run --release --example fig6_2_6_3_centre -- --with-1e6    # adds N = 1e6
+//! cargo run --release --example fig6_2_6_3_centre -- --steps 10000 --solver tnnmg --law ruina
+//! cargo run --release --example fig6_2_6_3_centre -- --reuse       # table + figures from the CSVs
+//! ```
+//!
+//! Prints a table (per N: wall time, FPIs, first slip event, slip events, recurrence
+//! interval, peak slip rates, displacement range at x0 over [0.9T, T]) and writes to
+//! `out/fig6_2_6_3/` (or `--out DIR`): `centre_N{N}.csv` (`t_s,u_x0_m,v_x0_mps,
+//! max_slip_rate_mps,fpi`), `table.csv`, `fig6_2_displacement.png` (u_x(x0) over
+//! [0.9T, T], one panel per τ, as the paper) and `fig6_3_slip_rate.png` (|v(x0)| over
+//! [0.75T, T], log scale, one row per τ).
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use rsf::{IntegratorKind, SliderScene, SolverChoice, StateLawKind};
+use rsf_examples::{run_slider, stats, Args, RunOptions, Series, SliderRun};
+
+const USAGE: &str = "fig6_2_6_3_centre [--steps N1,N2,...] [--with-1e6] [--level J]
+  [--law dieterich|ruina] [--solver direct|tnnmg] [--out DIR]
+  [--reuse (re-tabulate and re-plot the series of an earlier run in DIR)]";
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse(USAGE);
+    let mut steps: Vec<usize> = match args.get("steps") {
+        Some(s) => s
+            .split(',')
+            .map(|v| v.parse::<f64>().map(|x| x as usize))
+            .collect::<Result<_, _>>()?,
+        None => vec![10_000, 100_000],
+    };
+    if args.flag("with-1e6") && !steps.contains(&1_000_000) {
+        steps.push(1_000_000);
+    }
+    let mut scene = SliderScene {
+        level: args.value("level", 4),
+        integrator: IntegratorKind::Newmark,
+        solver: SolverChoice::Direct,
+        ..SliderScene::default()
+    };
+    if let Some(law) = args.get("law") {
+        scene.state_law = match law {
+            "dieterich" => StateLawKind::Dieterich,
+            "ruina" => StateLawKind::Ruina,
+            other => return Err(format!("unknown law `{other}`").into()),
+        };
+    }
+    if let Some(s) = args.get("solver") {
+        scene.solver = match s {
+            "tnnmg" => SolverChoice::Tnnmg,
+            "direct" => SolverChoice::Direct,
+            other => return Err(format!("unknown solver `{other}`").into()),
+        };
+    }
+    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_2_6_3"));
+    let reuse = args.flag("reuse");
+    std::fs::create_dir_all(&out)?;
+    let t_end = scene.end_time_s;
+    println!(
+        "Figures 6.2/6.3: level {}, {:?} law, Newmark, {:?} solver, N = {:?} on {}",
+        scene.level,
+        scene.state_law,
+        scene.solver,
+        steps,
+        rsf_examples::machine()
+    );
+    let mut runs: Vec<(usize, SliderRun)> = Vec::new();
+    let mut table = String::from(
+        "steps,tau_s,wall_s,fpi_mean,fpi_max,first_slip_event_s,slip_events,recurrence_interval_s,peak_slip_rate_x0_mps,peak_slip_rate_mps,u_x0_min_last_tenth_m,u_x0_max_last_tenth_m\n",
+    );
+    println!(
+        "{:>8} {:>9} {:>8} {:>6} {:>5} {:>10} {:>6} {:>10} {:>10} {:>10} {:>21}",
+        "N",
+        "τ (s)",
+        "wall s",
+        "FPI",
+        "max",
+        "1st slip",
+        "events",
+        "recur. s",
+        "peak v(x0)",
+        "peak V",
+        "u(x0) on [0.9T,T] m"
+    );
+    for &n in &steps {
+        let sc = SliderScene {
+            steps: n,
+            ..scene.clone()
+        };
+        sc.validate()?;
+        let csv = out.join(format!("centre_N{n}.csv"));
+        let run = if reuse {
+            read_series(
+                &csv,
+                old_wall_time(&out.join("table.csv"), &[&n.to_string()], 2),
+            )?
+        } else {
+            run_slider(
+                &sc,
+                &RunOptions {
+                    progress: true,
+                    ..RunOptions::default()
+                },
+            )?
+        };
+        let st = stats(&run, t_end);
+        let first = st.first_slip_event_s.unwrap_or(f64::NAN);
+        let rec = st.recurrence_interval_s.unwrap_or(f64::NAN);
+        let (ulo, uhi) = st.u_x0_range_last_tenth_m;
+        println!(
+            "{:>8} {:>9.2e} {:>8.1} {:>6.2} {:>5} {:>10.3} {:>6} {:>10.3} {:>10.2e} {:>10.2e} {:>10.3e}…{:.3e}",
+            n, sc.tau(), run.seconds, st.fpi_mean, st.fpi_max, first, st.slip_events, rec,
+            st.peak_slip_rate_x0_mps, st.peak_slip_rate_mps, ulo, uhi
+        );
+        writeln!(
+            table,
+            "{n},{:e},{:.2},{:.3},{},{first:.5},{},{rec:.5},{:.4e},{:.4e},{ulo:.5e},{uhi:.5e}",
+            sc.tau(),
+            run.seconds,
+            st.fpi_mean,
+            st.fpi_max,
+            st.slip_events,
+            st.peak_slip_rate_x0_mps,
+            st.peak_slip_rate_mps
+        )?;
+        if !reuse {
+            write_series(&csv, &run)?;
+        }
+        runs.push((n, run));
+    }
+    std::fs::write(out.join("table.csv"), &table)?;
+
+    let labels: Vec<String> = runs
+        .iter()
+        .map(|(n, _)| format!("τ = T/{n:.0e}", n = *n as f64))
+        .collect();
+    let disp: Vec<Vec<(f64, f64)>> = runs.iter().map(|(_, r)| r.u_x0.clone()).collect();
+    let rate: Vec<Vec<(f64, f64)>> = runs
+        .iter()
+        .map(|(_, r)| {
+            r.v_x0
+                .iter()
+                .map(|&(t, v)| (t, v.abs().max(1e-40)))
+                .collect()
+        })
+        .collect();
+    let disp_series: Vec<[Series<'_>; 1]> = disp
+        .iter()
+        .map(|p| {
+            [Series {
+                label: "",
+                points: p,
+            }]
+        })
+        .collect();
+    let rate_series: Vec<[Series<'_>; 1]> = rate
+        .iter()
+        .map(|p| {
+            [Series {
+                label: "",
+                points: p,
+            }]
+        })
+        .collect();
+    let dp: Vec<(&str, &[Series<'_>])> = labels
+        .iter()
+        .zip(&disp_series)
+        .map(|(l, s)| (l.as_str(), &s[..]))
+        .collect();
+    let rp: Vec<(&str, &[Series<'_>])> = labels
+        .iter()
+        .zip(&rate_series)
+        .map(|(l, s)| (l.as_str(), &s[..]))
+        .collect();
+    Series::panels(
+        &out.join("fig6_2_displacement.png"),
+        "Fig. 6.2 (ours): displacement u_x at x0 = (2.5, 0), Dieterich, j = 4, Newmark",
+        "t (s)",
+        "u_x (m)",
+        &dp,
+        true,
+        false,
+        (0.9 * t_end, t_end),
+        None,
+    )?;
+    Series::panels(
+        &out.join("fig6_3_slip_rate.png"),
+        "Fig. 6.3 (ours): slip rate |v| at x0 = (2.5, 0), Dieterich, j = 4, Newmark",
+        "t (s)",
+        "|v| (m/s)",
+        &rp,
+        false,
+        true,
+        (0.75 * t_end, t_end),
+        Some((1e-7, 1e-1)),
+    )?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`, one row per step.
+fn write_series(path: &Path, run: &SliderRun) -> std::io::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(f, "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi")?;
+    for i in 0..run.u_x0.len() {
+        writeln!(
+            f,
+            "{:.9e},{:.12e},{:.12e},{:.12e},{}",
+            run.u_x0[i].0, run.u_x0[i].1, run.v_x0[i].1, run.max_slip_rate[i].1, run.fpi[i]
+        )?;
+    }
+    f.flush()
+}
+
+/// Reads a series written by `write_series` (wall time: `wall_s`).
+fn read_series(path: &Path, wall_s: f64) -> Result<SliderRun, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path)?;
+    let mut run = SliderRun {
+        seconds: wall_s,
+        ..SliderRun::default()
+    };
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 5 {
+            return Err(format!("{}: malformed line `{line}`", path.display()).into());
+        }
+        let t: f64 = f[0].parse()?;
+        run.u_x0.push((t, f[1].parse()?));
+        run.v_x0.push((t, f[2].parse()?));
+        run.max_slip_rate.push((t, f[3].parse()?));
+        run.fpi.push(f[4].parse()?);
+    }
+    Ok(run)
+}
+
+/// Wall time of the row of an earlier `table.csv` whose first `key.len()` fields are
+/// `key` (wall time in column `col`); NaN if there is none.
+fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
+    std::fs::read_to_string(table)
+        .ok()
+        .and_then(|text| {
+            text.lines().find_map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f.len() > col && f[..key.len()] == *key).then(|| f[col].parse().ok())?
+            })
+        })
+        .unwrap_or(f64::NAN)
+}

@@ -1,0 +1,322 @@
+//! Figure 6.4 of Pipping, Sander & Kornhuber: the slip rate at the centre x0 = (2.5, 0) of
+//! Γ_F as in Figure 6.3 (Dieterich's law, j = 4), but with the dissipative backward Euler
+//! method for the velocity, compared with Newmark, for τ = T/10⁴, T/10⁵ (default) and
+//! T/10⁶ (`--with-1e6`, hours).
+//!
+//! ```sh
+//! cargo run --release --example fig6_2_6_3_centre     # first: the Newmark series it compares with
+//! cargo run --release --example fig6_4_backward_euler # N = 1e4, 1e5 (~7 min, direct solver)
+//! cargo run --release --example fig6_4_backward_euler -- --with-1e6
+//! cargo run --release --example fig6_4_backward_euler -- --reuse   # table + figures from the CSVs
+//! ```
+//!
+//! The Newmark series are read from `--newmark-dir` (default `out/fig6_2_6_3`, the files
+//! `centre_N{N}.csv` that `fig6_2_6_3_centre` writes); a missing one is computed here if
+//! N ≤ 10⁴ (or always with `--run-newmark`), otherwise left out of the comparison.
+//! Prints a table per (integrator, N) and writes to `out/fig6_4/` (or `--out DIR`):
+//! `centre_backward_euler_N{N}.csv`, `table.csv`, `fig6_4_slip_rate.png` (|v(x0)| over
+//! [0.75T, T], log scale, one row per τ, both integrators) and `fig6_4_displacement.png`
+//! (u_x(x0) over [0.9T, T]).
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use rsf::{IntegratorKind, SliderScene, SolverChoice, StateLawKind};
+use rsf_examples::{run_slider, stats, Args, RunOptions, Series, SliderRun};
+
+/// `(t, value)` samples.
+type Points = Vec<(f64, f64)>;
+/// Backward Euler and (if available) Newmark samples of one τ.
+type Pair = (Points, Option<Points>);
+/// The labelled series of one panel.
+type Panel = Vec<(&'static str, Points)>;
+
+const USAGE: &str = "fig6_4_backward_euler [--steps N1,N2,...] [--with-1e6] [--level J]
+  [--law dieterich|ruina] [--solver direct|tnnmg] [--newmark-dir DIR] [--run-newmark] [--out DIR]
+  [--reuse (re-tabulate and re-plot the backward Euler series of an earlier run in DIR)]";
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse(USAGE);
+    let mut steps: Vec<usize> = match args.get("steps") {
+        Some(s) => s
+            .split(',')
+            .map(|v| v.parse::<f64>().map(|x| x as usize))
+            .collect::<Result<_, _>>()?,
+        None => vec![10_000, 100_000],
+    };
+    if args.flag("with-1e6") && !steps.contains(&1_000_000) {
+        steps.push(1_000_000);
+    }
+    let mut scene = SliderScene {
+        level: args.value("level", 4),
+        solver: SolverChoice::Direct,
+        ..SliderScene::default()
+    };
+    if let Some(law) = args.get("law") {
+        scene.state_law = match law {
+            "dieterich" => StateLawKind::Dieterich,
+            "ruina" => StateLawKind::Ruina,
+            other => return Err(format!("unknown law `{other}`").into()),
+        };
+    }
+    if let Some(s) = args.get("solver") {
+        scene.solver = match s {
+            "tnnmg" => SolverChoice::Tnnmg,
+            "direct" => SolverChoice::Direct,
+            other => return Err(format!("unknown solver `{other}`").into()),
+        };
+    }
+    let newmark_dir = PathBuf::from(args.get("newmark-dir").unwrap_or("out/fig6_2_6_3"));
+    let run_newmark = args.flag("run-newmark");
+    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_4"));
+    let reuse = args.flag("reuse");
+    std::fs::create_dir_all(&out)?;
+    let t_end = scene.end_time_s;
+    println!(
+        "Figure 6.4: level {}, {:?} law, backward Euler vs Newmark, {:?} solver, N = {:?} on {}",
+        scene.level,
+        scene.state_law,
+        scene.solver,
+        steps,
+        rsf_examples::machine()
+    );
+    let mut table = String::from(
+        "integrator,steps,tau_s,wall_s,fpi_mean,fpi_max,first_slip_event_s,slip_events,recurrence_interval_s,peak_slip_rate_x0_mps,peak_slip_rate_mps,u_x0_min_last_tenth_m,u_x0_max_last_tenth_m\n",
+    );
+    println!(
+        "{:>15} {:>8} {:>8} {:>6} {:>5} {:>10} {:>6} {:>9} {:>10} {:>10} {:>21}",
+        "integrator",
+        "N",
+        "wall s",
+        "FPI",
+        "max",
+        "1st slip",
+        "events",
+        "recur. s",
+        "peak v(x0)",
+        "peak V",
+        "u(x0) on [0.9T,T] m"
+    );
+    // (N, backward Euler run, Newmark run if available)
+    let mut runs: Vec<(usize, SliderRun, Option<SliderRun>)> = Vec::new();
+    for &n in &steps {
+        let be = SliderScene {
+            steps: n,
+            integrator: IntegratorKind::BackwardEuler,
+            ..scene.clone()
+        };
+        be.validate()?;
+        let opts = RunOptions {
+            progress: true,
+            ..RunOptions::default()
+        };
+        let be_csv = out.join(format!("centre_backward_euler_N{n}.csv"));
+        let run = if reuse {
+            let wall = old_wall_time(
+                &out.join("table.csv"),
+                &["backward-euler", &n.to_string()],
+                3,
+            );
+            read_series(&be_csv, wall)?
+        } else {
+            run_slider(&be, &opts)?
+        };
+        report(&mut table, "backward-euler", &be, &run, t_end)?;
+        if !reuse {
+            write_series(&be_csv, &run)?;
+        }
+        let csv = newmark_dir.join(format!("centre_N{n}.csv"));
+        let nm_scene = SliderScene {
+            steps: n,
+            integrator: IntegratorKind::Newmark,
+            ..scene.clone()
+        };
+        let newmark = if csv.exists() && !run_newmark {
+            let r = read_series(&csv, f64::NAN)?;
+            report(&mut table, "newmark (csv)", &nm_scene, &r, t_end)?;
+            Some(r)
+        } else if run_newmark || n <= 10_000 {
+            let r = run_slider(&nm_scene, &opts)?;
+            report(&mut table, "newmark", &nm_scene, &r, t_end)?;
+            Some(r)
+        } else {
+            println!(
+                "{:>15} {n:>8} (no {} — run fig6_2_6_3_centre first)",
+                "newmark",
+                csv.display()
+            );
+            None
+        };
+        runs.push((n, run, newmark));
+    }
+    std::fs::write(out.join("table.csv"), &table)?;
+
+    let labels: Vec<String> = runs
+        .iter()
+        .map(|(n, _, _)| format!("τ = T/{:.0e}", *n as f64))
+        .collect();
+    let abs = |r: &SliderRun| -> Vec<(f64, f64)> {
+        r.v_x0
+            .iter()
+            .map(|&(t, v)| (t, v.abs().max(1e-40)))
+            .collect()
+    };
+    let rates: Vec<Pair> = runs
+        .iter()
+        .map(|(_, b, nm)| (abs(b), nm.as_ref().map(abs)))
+        .collect();
+    let disps: Vec<Pair> = runs
+        .iter()
+        .map(|(_, b, nm)| (b.u_x0.clone(), nm.as_ref().map(|r| r.u_x0.clone())))
+        .collect();
+    let to_series = |pairs: &[Pair]| -> Vec<Panel> {
+        pairs
+            .iter()
+            .map(|(b, nm)| {
+                let mut v = vec![("backward Euler", b.clone())];
+                if let Some(nm) = nm {
+                    v.push(("Newmark", nm.clone()));
+                }
+                v
+            })
+            .collect()
+    };
+    for (name, data, columns, log_y, x_range, y_range, y_label) in [
+        (
+            "fig6_4_slip_rate.png",
+            to_series(&rates),
+            false,
+            true,
+            (0.75 * t_end, t_end),
+            Some((1e-7, 1e-1)),
+            "|v| (m/s)",
+        ),
+        (
+            "fig6_4_displacement.png",
+            to_series(&disps),
+            true,
+            false,
+            (0.9 * t_end, t_end),
+            None,
+            "u_x (m)",
+        ),
+    ] {
+        let series: Vec<Vec<Series<'_>>> = data
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .map(|(l, pts)| Series {
+                        label: l,
+                        points: pts,
+                    })
+                    .collect()
+            })
+            .collect();
+        let panels: Vec<(&str, &[Series<'_>])> = labels
+            .iter()
+            .zip(&series)
+            .map(|(l, s)| (l.as_str(), &s[..]))
+            .collect();
+        let what = if log_y {
+            "slip rate |v|"
+        } else {
+            "displacement u_x"
+        };
+        Series::panels(
+            &out.join(name),
+            &format!(
+                "Fig. 6.4 (ours): {what} at x0, Dieterich, j = {}, backward Euler vs Newmark",
+                scene.level
+            ),
+            "t (s)",
+            y_label,
+            &panels,
+            columns,
+            log_y,
+            x_range,
+            y_range,
+        )?;
+    }
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+fn report(
+    table: &mut String,
+    name: &str,
+    scene: &SliderScene,
+    run: &SliderRun,
+    t_end: f64,
+) -> std::fmt::Result {
+    let st = stats(run, t_end);
+    let first = st.first_slip_event_s.unwrap_or(f64::NAN);
+    let rec = st.recurrence_interval_s.unwrap_or(f64::NAN);
+    let (ulo, uhi) = st.u_x0_range_last_tenth_m;
+    println!(
+        "{:>15} {:>8} {:>8.1} {:>6.2} {:>5} {:>10.3} {:>6} {:>9.3} {:>10.2e} {:>10.2e} {:>10.3e}…{:.3e}",
+        name, scene.steps, run.seconds, st.fpi_mean, st.fpi_max, first, st.slip_events, rec,
+        st.peak_slip_rate_x0_mps, st.peak_slip_rate_mps, ulo, uhi
+    );
+    writeln!(
+        table,
+        "{name},{},{:e},{:.2},{:.3},{},{first:.5},{},{rec:.5},{:.4e},{:.4e},{ulo:.5e},{uhi:.5e}",
+        scene.steps,
+        scene.tau(),
+        run.seconds,
+        st.fpi_mean,
+        st.fpi_max,
+        st.slip_events,
+        st.peak_slip_rate_x0_mps,
+        st.peak_slip_rate_mps
+    )
+}
+
+/// `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`, one row per step.
+fn write_series(path: &Path, run: &SliderRun) -> std::io::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(f, "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi")?;
+    for i in 0..run.u_x0.len() {
+        writeln!(
+            f,
+            "{:.9e},{:.12e},{:.12e},{:.12e},{}",
+            run.u_x0[i].0, run.u_x0[i].1, run.v_x0[i].1, run.max_slip_rate[i].1, run.fpi[i]
+        )?;
+    }
+    f.flush()
+}
+
+/// Reads a series written by `write_series` (wall time: `wall_s`).
+fn read_series(path: &Path, wall_s: f64) -> Result<SliderRun, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path)?;
+    let mut run = SliderRun {
+        seconds: wall_s,
+        ..SliderRun::default()
+    };
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 5 {
+            return Err(format!("{}: malformed line `{line}`", path.display()).into());
+        }
+        let t: f64 = f[0].parse()?;
+        run.u_x0.push((t, f[1].parse()?));
+        run.v_x0.push((t, f[2].parse()?));
+        run.max_slip_rate.push((t, f[3].parse()?));
+        run.fpi.push(f[4].parse()?);
+    }
+    Ok(run)
+}
+
+/// Wall time of the row of an earlier `table.csv` whose first `key.len()` fields are
+/// `key` (wall time in column `col`); NaN if there is none.
+fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
+    std::fs::read_to_string(table)
+        .ok()
+        .and_then(|text| {
+            text.lines().find_map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f.len() > col && f[..key.len()] == *key).then(|| f[col].parse().ok())?
+            })
+        })
+        .unwrap_or(f64::NAN)
+}

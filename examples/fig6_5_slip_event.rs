@@ -1,0 +1,323 @@
+//! Figure 6.5 of Pipping, Sander & Kornhuber: the slip rate along the frictional boundary
+//! Γ_F during the first slip event, t ∈ [0.6725T, 0.6775T], Dieterich's law, j = 4,
+//! Newmark, with the paper's τ = T/10⁶ inside the window.
+//!
+//! ```sh
+//! cargo run --release --example fig6_5_slip_event                     # τ = T/1e4 to 0.66T, then T/1e6 (~2 min)
+//! cargo run --release --example fig6_5_slip_event -- --coarse 100000  # T/1e5 before the switch
+//! cargo run --release --example fig6_5_slip_event -- --straight       # T/1e6 from t = 0, as the paper (~1 h)
+//! cargo run --release --example fig6_5_slip_event -- --fine 100000 --window 0.66,0.70
+//! ```
+//!
+//! By default the run takes the coarse step τ = T/`--coarse` up to `--switch`·T (0.66T,
+//! well before the event) and continues from that state with τ = T/`--fine` (10⁶) through
+//! the window; `--straight` uses τ = T/`--fine` from t = 0 as the paper did. Prints the
+//! event's numbers (onset, nucleation point, extent of the slipping region, peak slip
+//! rate) and writes to `out/fig6_5/` (or `--out DIR`): `slip_rate_map.csv`
+//! (`t_s,x_m,slip_rate_mps`), `table.csv`, `fig6_5_slip_event.png` (linear colour
+//! 0 … 1e-2 m/s as in the paper).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use plotters::prelude::*;
+use rsf::{SliderScene, SolverChoice, StateLawKind};
+use rsf_examples::{Args, SliderRun};
+
+const USAGE: &str = "fig6_5_slip_event [--level J] [--coarse N] [--fine N] [--switch FRACTION]
+  [--window F0,F1 (fractions of T; default 0.6725,0.6775)] [--straight]
+  [--law dieterich|ruina] [--solver direct|tnnmg] [--rows R] [--out DIR]";
+
+/// Slip rate marking the slipping region (m/s), as the issue's slip-event threshold.
+const SLIPPING: f64 = 1e-3;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse(USAGE);
+    let mut scene = SliderScene {
+        level: args.value("level", 4),
+        solver: SolverChoice::Direct,
+        ..SliderScene::default()
+    };
+    if let Some(law) = args.get("law") {
+        scene.state_law = match law {
+            "dieterich" => StateLawKind::Dieterich,
+            "ruina" => StateLawKind::Ruina,
+            other => return Err(format!("unknown law `{other}`").into()),
+        };
+    }
+    if let Some(s) = args.get("solver") {
+        scene.solver = match s {
+            "tnnmg" => SolverChoice::Tnnmg,
+            "direct" => SolverChoice::Direct,
+            other => return Err(format!("unknown solver `{other}`").into()),
+        };
+    }
+    let coarse = args.value::<f64>("coarse", 1e4) as usize;
+    let fine = args.value::<f64>("fine", 1e6) as usize;
+    let switch = args.value("switch", 0.66);
+    let (f0, f1) = match args.get("window") {
+        Some(w) => {
+            let v: Vec<f64> = w.split(',').map(str::parse).collect::<Result<_, _>>()?;
+            if v.len() != 2 || !(v[0] < v[1]) {
+                return Err("--window takes F0,F1 with F0 < F1".into());
+            }
+            (v[0], v[1])
+        }
+        None => (0.6725, 0.6775),
+    };
+    let straight = args.flag("straight");
+    let t_end = scene.end_time_s;
+    let (t0, t1) = (f0 * t_end, f1 * t_end);
+    let window_steps = ((t1 - t0) / (t_end / fine as f64)).round() as usize;
+    let rows = args.value("rows", 500usize);
+    let map_every = (window_steps / rows.max(1)).max(1);
+    let mut phases = Vec::new();
+    if !straight {
+        if fine % coarse != 0 || switch >= f0 {
+            return Err(
+                "--fine must be a multiple of --coarse and --switch before the window".into(),
+            );
+        }
+        // The switching time must be a whole number of coarse steps.
+        let t_switch = (switch * coarse as f64).floor() / coarse as f64 * t_end;
+        phases.push((coarse, t_switch, 0));
+    }
+    phases.push((fine, t0, 0));
+    phases.push((fine, t1, map_every));
+    scene.validate()?;
+    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_5"));
+    std::fs::create_dir_all(&out)?;
+    let how = if straight {
+        format!("τ = T/{fine} from t = 0")
+    } else {
+        format!("τ = T/{coarse} up to {switch}T, then T/{fine}")
+    };
+    println!(
+        "Figure 6.5: level {}, {:?} law, Newmark, {:?} solver, {how}; window [{f0}T, {f1}T] = [{t0:.4}, {t1:.4}] s; on {}",
+        scene.level,
+        scene.state_law,
+        scene.solver,
+        rsf_examples::machine()
+    );
+    let run = SliderRun::run_phases(&scene, &phases, true)?;
+    let (times, xs, values) = &run.map;
+
+    // The event: onset (first row with a node above the threshold), nucleation point,
+    // extent of the slipping region, peak slip rate and where/when it occurs.
+    let mut onset = None;
+    let (mut xmin_all, mut xmax_all) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut peak, mut peak_t, mut peak_x) = (0.0f64, f64::NAN, f64::NAN);
+    for (it, (t, row)) in times.iter().zip(values).enumerate() {
+        for (x, &v) in xs.iter().zip(row) {
+            if v > SLIPPING {
+                xmin_all = xmin_all.min(*x);
+                xmax_all = xmax_all.max(*x);
+                if onset.is_none() {
+                    let k = row
+                        .iter()
+                        .enumerate()
+                        .fold(0, |b, (k, &w)| if w > row[b] { k } else { b });
+                    onset = Some((it, k));
+                }
+            }
+            if v > peak {
+                (peak, peak_t, peak_x) = (v, *t, *x);
+            }
+        }
+    }
+    // The front: the space–time connected set of slipping cells grown from the onset.
+    let front = onset.map(|(it, k)| connected(values, it, k));
+    let x_lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let x_hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let fpi_window: Vec<usize> = run
+        .u_x0
+        .iter()
+        .zip(&run.fpi)
+        .filter(|(p, _)| p.0 > t0)
+        .map(|(_, &f)| f)
+        .collect();
+    let fpi_mean = fpi_window.iter().sum::<usize>() as f64 / fpi_window.len().max(1) as f64;
+    let fpi_max = fpi_window.iter().copied().max().unwrap_or(0);
+    println!(
+        "{} dofs, {} steps in {:.1} s (set-up {:.2} s); window: {} steps, FPI mean {fpi_mean:.2}, max {fpi_max}",
+        run.dofs,
+        run.fpi.len(),
+        run.seconds,
+        run.setup_seconds,
+        fpi_window.len()
+    );
+    let mut table = String::from("quantity,value\n");
+    let mut row = |name: &str, value: String| {
+        println!("  {name:<44} {value}");
+        writeln!(table, "{name},\"{value}\"").expect("string write");
+    };
+    row("run", how.clone());
+    row("window (s)", format!("{t0:.4} … {t1:.4}"));
+    match (onset, front) {
+        (Some((it, k)), Some((kmin, kmax, it_last))) => {
+            let t = times[it];
+            row(
+                "onset: first slip rate > 1e-3 m/s (s)",
+                format!("{t:.5} ({:.5} T)", t / t_end),
+            );
+            row("nucleation point x (m)", format!("{:.3}", xs[k]));
+            row(
+                "front (> 1e-3 m/s; connected) x range (m)",
+                format!("{:.3} … {:.3} (Γ_F: {x_lo} … {x_hi})", xs[kmin], xs[kmax]),
+            );
+            row(
+                "front: last time above 1e-3 m/s (s)",
+                format!("{:.5}", times[it_last]),
+            );
+            row(
+                "front arrested before both ends",
+                format!("{}", kmin > 0 && kmax + 1 < xs.len()),
+            );
+            row(
+                "any node > 1e-3 m/s: x range (m)",
+                format!("{xmin_all:.3} … {xmax_all:.3}"),
+            );
+        }
+        _ => row("onset", "no slip rate above 1e-3 m/s in the window".into()),
+    }
+    row(
+        "peak slip rate (m/s)",
+        format!("{peak:.3e} at t = {peak_t:.5} s, x = {peak_x:.3} m"),
+    );
+    row(
+        "FPI in window (mean / max)",
+        format!("{fpi_mean:.2} / {fpi_max}"),
+    );
+    row("wall time (s)", format!("{:.1}", run.seconds));
+    std::fs::write(out.join("table.csv"), &table)?;
+
+    let mut csv = String::from("t_s,x_m,slip_rate_mps\n");
+    for (t, row) in times.iter().zip(values) {
+        for (x, v) in xs.iter().zip(row) {
+            writeln!(csv, "{t:.7e},{x:.5},{v:.6e}")?;
+        }
+    }
+    std::fs::write(out.join("slip_rate_map.csv"), csv)?;
+    draw_map(
+        &out.join("fig6_5_slip_event.png"),
+        &format!(
+            "Fig. 6.5 (ours): slip rate on Γ_F, j = {}, {how}",
+            scene.level
+        ),
+        times,
+        xs,
+        values,
+        (t0, t1),
+        1e-2,
+    )?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// The cells (row, node) above [`SLIPPING`] connected to `(it, k)` through row or node
+/// neighbours: their node range and last row.
+fn connected(values: &[Vec<f64>], it: usize, k: usize) -> (usize, usize, usize) {
+    let (nt, nx) = (values.len(), values[0].len());
+    let mut seen = vec![false; nt * nx];
+    let mut stack = vec![(it, k)];
+    seen[it * nx + k] = true;
+    let (mut kmin, mut kmax, mut last) = (k, k, it);
+    while let Some((i, j)) = stack.pop() {
+        kmin = kmin.min(j);
+        kmax = kmax.max(j);
+        last = last.max(i);
+        let mut visit = |a: usize, b: usize| {
+            if values[a][b] > SLIPPING && !seen[a * nx + b] {
+                seen[a * nx + b] = true;
+                stack.push((a, b));
+            }
+        };
+        if i > 0 {
+            visit(i - 1, j);
+        }
+        if i + 1 < nt {
+            visit(i + 1, j);
+        }
+        if j > 0 {
+            visit(i, j - 1);
+        }
+        if j + 1 < nx {
+            visit(i, j + 1);
+        }
+    }
+    (kmin, kmax, last)
+}
+
+/// Space–time map of the slip rate, linear colour from 0 (white/blue) to `vmax` (red),
+/// with a colour bar, as the paper's Figure 6.5.
+fn draw_map(
+    path: &std::path::Path,
+    title: &str,
+    times: &[f64],
+    xs: &[f64],
+    values: &[Vec<f64>],
+    (t0, t1): (f64, f64),
+    vmax: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    rsf_examples::init_fonts();
+    let colour = |v: f64| {
+        let s = (v / vmax).clamp(0.0, 1.0);
+        HSLColor((1.0 - s) * 0.66, 0.9, 0.5)
+    };
+    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (main, bar) = root.split_horizontally(780);
+    let mut chart = ChartBuilder::on(&main)
+        .caption(title, ("sans-serif", 16))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.0..5.0, t0..t1)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("horizontal coordinate (m)")
+        .y_desc("time (s)")
+        .y_label_formatter(&|t| format!("{t:.4}"))
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    let half = |v: &[f64], i: usize| {
+        let a = if i > 0 { 0.5 * (v[i] + v[i - 1]) } else { v[0] };
+        let b = if i + 1 < v.len() {
+            0.5 * (v[i] + v[i + 1])
+        } else {
+            v[i]
+        };
+        (a, b)
+    };
+    chart.draw_series((0..times.len()).flat_map(|it| {
+        (0..xs.len()).map(move |ix| {
+            let (ta, tb) = half(times, it);
+            let (xa, xb) = half(xs, ix);
+            Rectangle::new([(xa, ta), (xb, tb)], colour(values[it][ix]).filled())
+        })
+    }))?;
+    let mut cb = ChartBuilder::on(&bar)
+        .margin_top(40)
+        .margin_bottom(57)
+        .margin_right(50)
+        .y_label_area_size(0)
+        .right_y_label_area_size(50)
+        .build_cartesian_2d(0.0..1.0, 0.0..vmax)?;
+    cb.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(6)
+        .y_label_formatter(&|v| format!("{v:.3}"))
+        .y_desc("m/s")
+        .label_style(("sans-serif", 12))
+        .draw()?;
+    let n = 100;
+    cb.draw_series((0..n).map(|k| {
+        let a = vmax * k as f64 / n as f64;
+        let b = vmax * (k + 1) as f64 / n as f64;
+        Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
+    }))?;
+    root.present()?;
+    Ok(())
+}
