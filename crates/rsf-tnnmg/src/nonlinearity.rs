@@ -51,6 +51,14 @@ pub trait BlockNonlinearity<const D: usize> {
     /// One-sided derivatives `(d⁻, d⁺)` at `s = 0` of the convex function
     /// `s ↦ φ_k(v + s d)`; `d⁻ ≤ d⁺`, equal where φ_k is differentiable.
     fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64);
+
+    /// Whether φ_k has a kink at `v = 0` (a subdifferential with interior there, like
+    /// Tresca friction). TNNMG then stops the Newton correction of a block that would pass
+    /// through zero at zero, so that all blocks entering stick do so in one step (instead of
+    /// one per iteration through the line search). Default `false`.
+    fn kink_at_zero(&self, _k: usize) -> bool {
+        false
+    }
 }
 
 /// The zero nonlinearity: the problem is a plain quadratic (linear system).
@@ -111,5 +119,8 @@ impl<const D: usize, N: BlockNonlinearity<D>> BlockNonlinearity<D> for Renumbere
     }
     fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64) {
         self.inner.directional_derivatives(k, v, d)
+    }
+    fn kink_at_zero(&self, k: usize) -> bool {
+        self.inner.kink_at_zero(k)
     }
 }

@@ -261,6 +261,21 @@ impl<const D: usize> Tnnmg<D> {
         for _ in 0..self.opts.v_cycles {
             self.mg.v_cycle(&mut self.c, &self.res);
         }
+        // Blocks with a kink at zero whose correction passes through zero stop there.
+        for (k, &p) in nl.active_blocks().iter().enumerate() {
+            if !nl.kink_at_zero(k) {
+                continue;
+            }
+            let r = D * p..D * p + D;
+            let (vp, cp) = (&v[r.clone()], &self.c[r.clone()]);
+            let crosses = vp.iter().any(|&x| x != 0.0)
+                && vp.iter().zip(cp).map(|(a, c)| a * (a + c)).sum::<f64>() < 0.0;
+            if crosses {
+                for i in r {
+                    self.c[i] = -v[i];
+                }
+            }
+        }
         // Exact line search along c: g0 = cᵀ(Av − b), h = cᵀAc.
         let g0: f64 = self
             .c

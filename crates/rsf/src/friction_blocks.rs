@@ -175,6 +175,10 @@ impl<const D: usize, L: FrictionLaw> BlockNonlinearity<D> for FrictionBlocks<L> 
         Linearization::Smooth { gradient, hessian }
     }
 
+    fn kink_at_zero(&self, k: usize) -> bool {
+        self.potentials[k].slope(0.0) > 0.0
+    }
+
     fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64) {
         let w = self.weights[k];
         let phi = &self.potentials[k];

@@ -104,6 +104,9 @@ impl BlockNonlinearity<1> for Tresca1 {
             }
         }
     }
+    fn kink_at_zero(&self, _k: usize) -> bool {
+        true
+    }
     fn directional_derivatives(&self, k: usize, v: &[f64; 1], d: &[f64; 1]) -> (f64, f64) {
         let g = self.g[k];
         if v[0] == 0.0 {
