@@ -26,6 +26,11 @@ pub struct TnnmgOptions {
     pub nonlinear_sweeps: usize,
     /// Linear multigrid V-cycles per iteration.
     pub v_cycles: usize,
+    /// Inexact Newton: stop the V-cycles of an iteration early once the linearised residual
+    /// (Euclidean norm on the untruncated dofs) is reduced by this factor; `None` always
+    /// runs `v_cycles` cycles. The TNNMG iteration count then no longer inherits the growth
+    /// of the V-cycle rate with refinement (mass- to stiffness-dominated `A`).
+    pub linear_reduction: Option<f64>,
     /// Gauss–Seidel sweeps before and after the coarse correction in each V-cycle.
     pub smoothing: (usize, usize),
     /// Record `J(v_k)` in the report.
@@ -37,7 +42,8 @@ impl Default for TnnmgOptions {
         Self {
             stopping: Stopping::default(),
             nonlinear_sweeps: 1,
-            v_cycles: 1,
+            v_cycles: 3,
+            linear_reduction: Some(0.02),
             smoothing: (3, 3),
             record_energy: false,
         }
@@ -93,6 +99,7 @@ pub struct Tnnmg<const D: usize> {
     av: Vec<f64>,
     res: Vec<f64>,
     c: Vec<f64>,
+    lin: Vec<f64>,
 }
 
 impl<const D: usize> Tnnmg<D> {
@@ -114,6 +121,11 @@ impl<const D: usize> Tnnmg<D> {
         opts: TnnmgOptions,
     ) -> Result<Self> {
         opts.stopping.validate()?;
+        if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
+            return Err(Error::InvalidOption(
+                "linear_reduction must lie in (0, 1)".into(),
+            ));
+        }
         if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
             return Err(Error::InvalidOption(
                 "nonlinear_sweeps and v_cycles must be at least 1".into(),
@@ -142,6 +154,7 @@ impl<const D: usize> Tnnmg<D> {
             av: vec![0.0; n],
             res: vec![0.0; n],
             c: vec![0.0; n],
+            lin: vec![0.0; n],
         })
     }
 
@@ -258,8 +271,30 @@ impl<const D: usize> Tnnmg<D> {
             self.cached_active = Some(nl.active_blocks().to_vec());
         }
         self.c.fill(0.0);
-        for _ in 0..self.opts.v_cycles {
+        let r0 = self.res.iter().map(|r| r * r).sum::<f64>().sqrt();
+        for cycle in 0..self.opts.v_cycles {
             self.mg.v_cycle(&mut self.c, &self.res);
+            let Some(reduction) = self.opts.linear_reduction else {
+                continue;
+            };
+            if cycle + 1 == self.opts.v_cycles {
+                break;
+            }
+            // Linear residual res − H c on the untruncated dofs (H: the fine matrix).
+            self.mg.fine.sym_mul(&self.c, &mut self.lin);
+            let mask = self.mg.fine_mask_mut();
+            let r: f64 = self
+                .res
+                .iter()
+                .zip(&self.lin)
+                .zip(mask.iter())
+                .filter(|(_, &m)| !m)
+                .map(|((a, b), _)| (a - b) * (a - b))
+                .sum::<f64>()
+                .sqrt();
+            if r <= reduction * r0 {
+                break;
+            }
         }
         // Blocks with a kink at zero whose correction passes through zero stop there.
         for (k, &p) in nl.active_blocks().iter().enumerate() {

@@ -210,6 +210,8 @@ fn linear_problem_converges_at_multigrid_rate() {
             },
             nonlinear_sweeps: 1,
             smoothing: (2, 2),
+            v_cycles: 1,
+            linear_reduction: None,
             ..Default::default()
         };
         let mut tn =
