@@ -4,7 +4,7 @@
 //! point 1e-10, inner solve 1e-10).
 //!
 //! ```sh
-//! cargo run --release --example fig6_1_fixed_point_iterations                    # j = 2..5, direct solver
+//! cargo run --release --example fig6_1_fixed_point_iterations                    # j = 2..5, direct (18 min loaded)
 //! cargo run --release --example fig6_1_fixed_point_iterations -- --max-level 8   # j = 2..8 (long)
 //! cargo run --release --example fig6_1_fixed_point_iterations -- --solver tnnmg --levels 2,3,4
 //! ```

@@ -3,7 +3,7 @@
 //! the time steps τ = T/10⁴, T/10⁵ (default) and T/10⁶ (`--with-1e6`, hours).
 //!
 //! ```sh
-//! cargo run --release --example fig6_2_6_3_centre                  # N = 1e4, 1e5 (~6 min, direct solver)
+//! cargo run --release --example fig6_2_6_3_centre                  # N = 1e4, 1e5 (15 min on a loaded 2-core box)
 //! cargo run --release --example fig6_2_6_3_centre -- --with-1e6    # adds N = 1e6
 //! cargo run --release --example fig6_2_6_3_centre -- --steps 10000 --solver tnnmg --law ruina
 //! cargo run --release --example fig6_2_6_3_centre -- --reuse       # table + figures from the CSVs

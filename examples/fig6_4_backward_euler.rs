@@ -5,7 +5,7 @@
 //!
 //! ```sh
 //! cargo run --release --example fig6_2_6_3_centre     # first: the Newmark series it compares with
-//! cargo run --release --example fig6_4_backward_euler # N = 1e4, 1e5 (~7 min, direct solver)
+//! cargo run --release --example fig6_4_backward_euler # N = 1e4, 1e5 (14 min on a loaded 2-core box)
 //! cargo run --release --example fig6_4_backward_euler -- --with-1e6
 //! cargo run --release --example fig6_4_backward_euler -- --reuse   # table + figures from the CSVs
 //! ```

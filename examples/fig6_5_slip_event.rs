@@ -3,7 +3,7 @@
 //! Newmark, with the paper's τ = T/10⁶ inside the window.
 //!
 //! ```sh
-//! cargo run --release --example fig6_5_slip_event                     # τ = T/1e4 to 0.66T, then T/1e6 (~2 min)
+//! cargo run --release --example fig6_5_slip_event                     # τ = T/1e4 to 0.66T, then T/1e6 (2–5 min)
 //! cargo run --release --example fig6_5_slip_event -- --coarse 100000  # T/1e5 before the switch
 //! cargo run --release --example fig6_5_slip_event -- --straight       # T/1e6 from t = 0, as the paper (~1 h)
 //! cargo run --release --example fig6_5_slip_event -- --fine 100000 --window 0.66,0.70
