@@ -6,7 +6,7 @@
 //! cargo run --release --example fig6_5_slip_event                     # τ = T/1e4 to 0.66T, then T/1e6 (2–5 min)
 //! cargo run --release --example fig6_5_slip_event -- --coarse 100000  # T/1e5 before the switch
 //! cargo run --release --example fig6_5_slip_event -- --straight       # T/1e6 from t = 0, as the paper (~1 h)
-//! cargo run --release --example fig6_5_slip_event -- --fine 100000 --window 0.66,0.70
+//! cargo run --release --example fig6_5_slip_event -- --fine 100000 --switch 0.6 --window 0.66,0.70
 //! ```
 //!
 //! By default the run takes the coarse step τ = T/`--coarse` up to `--switch`·T (0.66T,
