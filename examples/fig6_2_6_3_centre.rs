@@ -17,11 +17,13 @@
 //! [0.75T, T], log scale, one row per τ).
 
 use std::fmt::Write as _;
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use rsf::{IntegratorKind, SliderScene, SolverChoice, StateLawKind};
-use rsf_examples::{run_slider, stats, Args, RunOptions, Series, SliderRun};
+use rsf_examples::{
+    old_wall_time, read_series, run_slider, stats, write_series, Args, RunOptions, Series,
+    SliderRun,
+};
 
 const USAGE: &str = "fig6_2_6_3_centre [--steps N1,N2,...] [--with-1e6] [--level J]
   [--law dieterich|ruina] [--solver direct|tnnmg] [--out DIR]
@@ -203,53 +205,4 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     println!("wrote {}", out.display());
     Ok(())
-}
-
-/// `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`, one row per step.
-fn write_series(path: &Path, run: &SliderRun) -> std::io::Result<()> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(f, "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi")?;
-    for i in 0..run.u_x0.len() {
-        writeln!(
-            f,
-            "{:.9e},{:.12e},{:.12e},{:.12e},{}",
-            run.u_x0[i].0, run.u_x0[i].1, run.v_x0[i].1, run.max_slip_rate[i].1, run.fpi[i]
-        )?;
-    }
-    f.flush()
-}
-
-/// Reads a series written by `write_series` (wall time: `wall_s`).
-fn read_series(path: &Path, wall_s: f64) -> Result<SliderRun, Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(path)?;
-    let mut run = SliderRun {
-        seconds: wall_s,
-        ..SliderRun::default()
-    };
-    for line in text.lines().skip(1) {
-        let f: Vec<&str> = line.split(',').collect();
-        if f.len() != 5 {
-            return Err(format!("{}: malformed line `{line}`", path.display()).into());
-        }
-        let t: f64 = f[0].parse()?;
-        run.u_x0.push((t, f[1].parse()?));
-        run.v_x0.push((t, f[2].parse()?));
-        run.max_slip_rate.push((t, f[3].parse()?));
-        run.fpi.push(f[4].parse()?);
-    }
-    Ok(run)
-}
-
-/// Wall time of the row of an earlier `table.csv` whose first `key.len()` fields are
-/// `key` (wall time in column `col`); NaN if there is none.
-fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
-    std::fs::read_to_string(table)
-        .ok()
-        .and_then(|text| {
-            text.lines().find_map(|l| {
-                let f: Vec<&str> = l.split(',').collect();
-                (f.len() > col && f[..key.len()] == *key).then(|| f[col].parse().ok())?
-            })
-        })
-        .unwrap_or(f64::NAN)
 }

@@ -10,7 +10,8 @@ use plotters::prelude::*;
 
 mod slider_run;
 pub use slider_run::{
-    machine, run_slider, stats, write_summary, RunOptions, SliderRun, SliderStats,
+    machine, old_wall_time, read_series, run_slider, stats, write_series, write_summary,
+    RunOptions, SliderRun, SliderStats,
 };
 
 /// `--key value` and `--flag` command-line arguments.
