@@ -21,7 +21,7 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use rsf::{IntegratorKind, SliderScene, SolverChoice, StateLawKind};
+use rsf::{IntegratorKind, SliderScene, SolverChoice};
 use rsf_examples::{
     old_wall_time, read_series, run_slider, stats, write_series, Args, RunOptions, Series,
     SliderRun,
@@ -55,13 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         solver: SolverChoice::Direct,
         ..SliderScene::default()
     };
-    if let Some(law) = args.get("law") {
-        scene.state_law = match law {
-            "dieterich" => StateLawKind::Dieterich,
-            "ruina" => StateLawKind::Ruina,
-            other => return Err(format!("unknown law `{other}`").into()),
-        };
-    }
+    args.apply_scene_choices(&mut scene)?;
     if let Some(s) = args.get("solver") {
         scene.solver = match s {
             "tnnmg" => SolverChoice::Tnnmg,

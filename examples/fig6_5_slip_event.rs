@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use plotters::prelude::*;
-use rsf::{SliderScene, SolverChoice, StateLawKind};
+use rsf::{SliderScene, SolverChoice};
 use rsf_examples::{Args, SliderRun};
 
 const USAGE: &str = "fig6_5_slip_event [--level J] [--coarse N] [--fine N] [--switch FRACTION]
@@ -38,13 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         solver: SolverChoice::Direct,
         ..SliderScene::default()
     };
-    if let Some(law) = args.get("law") {
-        scene.state_law = match law {
-            "dieterich" => StateLawKind::Dieterich,
-            "ruina" => StateLawKind::Ruina,
-            other => return Err(format!("unknown law `{other}`").into()),
-        };
-    }
+    args.apply_scene_choices(&mut scene)?;
     if let Some(s) = args.get("solver") {
         scene.solver = match s {
             "tnnmg" => SolverChoice::Tnnmg,

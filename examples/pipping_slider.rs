@@ -16,7 +16,7 @@
 
 use std::path::PathBuf;
 
-use rsf::{IntegratorKind, SliderScene, SolverChoice, StateLawKind};
+use rsf::{IntegratorKind, SliderScene, SolverChoice};
 use rsf_examples::{
     line_plot, run_slider, space_time_map, stats, write_summary, Args, RunOptions, Series,
 };
@@ -34,13 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     scene.level = args.value("level", scene.level);
     scene.steps = args.value("steps", scene.steps);
     scene.end_time_s = args.value("end-time", scene.end_time_s);
-    if let Some(law) = args.get("law") {
-        scene.state_law = match law {
-            "dieterich" | "aging" => StateLawKind::Dieterich,
-            "ruina" | "slip" => StateLawKind::Ruina,
-            other => return Err(format!("unknown law `{other}` (dieterich|ruina)").into()),
-        };
-    }
+    args.apply_scene_choices(&mut scene)?;
     if let Some(i) = args.get("integrator") {
         scene.integrator = match i {
             "newmark" => IntegratorKind::Newmark,

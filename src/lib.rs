@@ -62,6 +62,46 @@ impl Args {
         }
     }
 
+    /// Applies `--law dieterich|ruina`, `--integrator newmark|backward-euler|quasistatic`
+    /// and `--solver tnnmg|direct` (where given) to `scene`.
+    ///
+    /// # Errors
+    /// A message naming the flag and the unknown value.
+    pub fn apply_scene_choices(&self, scene: &mut rsf::SliderScene) -> Result<(), String> {
+        use rsf::{IntegratorKind, SolverChoice, StateLawKind};
+        let unknown =
+            |flag: &str, v: &str, allowed: &str| format!("unknown --{flag} `{v}` ({allowed})");
+        if let Some(v) = self.get("law") {
+            scene.state_law = match v {
+                "dieterich" | "aging" => StateLawKind::Dieterich,
+                "ruina" | "slip" => StateLawKind::Ruina,
+                _ => return Err(unknown("law", v, "dieterich|ruina")),
+            };
+        }
+        if let Some(v) = self.get("integrator") {
+            scene.integrator = match v {
+                "newmark" => IntegratorKind::Newmark,
+                "backward-euler" => IntegratorKind::BackwardEuler,
+                "quasistatic" => IntegratorKind::Quasistatic,
+                _ => {
+                    return Err(unknown(
+                        "integrator",
+                        v,
+                        "newmark|backward-euler|quasistatic",
+                    ))
+                }
+            };
+        }
+        if let Some(v) = self.get("solver") {
+            scene.solver = match v {
+                "tnnmg" => SolverChoice::Tnnmg,
+                "direct" => SolverChoice::Direct,
+                _ => return Err(unknown("solver", v, "tnnmg|direct")),
+            };
+        }
+        Ok(())
+    }
+
     /// Whether `--key` was given.
     pub fn flag(&self, key: &str) -> bool {
         self.values.contains_key(key)

@@ -136,16 +136,7 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
             ));
         }
     }
-    let bar = if opts.progress {
-        crate::progress(remaining as u64, "slider")
-    } else {
-        None
-    };
-    let start = std::time::Instant::now();
-    let chunk = (remaining / 200).max(1);
-    let mut done = 0;
-    while done < remaining {
-        let n = chunk.min(remaining - done);
+    run.seconds = run_in_chunks(remaining, "slider", opts.progress, |n| {
         let mut collector = Collector {
             run: &mut run,
             x0,
@@ -161,8 +152,31 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
         if let Some(c) = checkpointer.as_mut() {
             observers.push(c);
         }
-        sim.run(n, &mut observers)?;
-        done += n;
+        sim.run(n, &mut observers).map(|_| ())
+    })?;
+    Ok(run)
+}
+
+/// Takes `remaining` steps in about 200 chunks through `run_k(k)`, advancing a progress bar
+/// (when `progress` and stderr is a terminal); returns the wall time (s).
+fn run_in_chunks(
+    remaining: usize,
+    label: &str,
+    progress: bool,
+    mut run_k: impl FnMut(usize) -> rsf::Result<()>,
+) -> rsf::Result<f64> {
+    let bar = if progress {
+        crate::progress(remaining as u64, label)
+    } else {
+        None
+    };
+    let start = std::time::Instant::now();
+    let chunk = (remaining / 200).max(1);
+    let mut done = 0;
+    while done < remaining {
+        let k = chunk.min(remaining - done);
+        run_k(k)?;
+        done += k;
         if let Some(b) = &bar {
             b.set_position(done as u64);
         }
@@ -170,8 +184,7 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    run.seconds = start.elapsed().as_secs_f64();
-    Ok(run)
+    Ok(start.elapsed().as_secs_f64())
 }
 
 /// Statistics of a run in the units of the paper.
@@ -350,31 +363,14 @@ impl SliderRun {
                 ((until_s.min(scene.end_time_s) / tau).round() as usize).max(sim.step_index());
             let remaining = target - sim.step_index();
             let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
-            let bar = if progress {
-                crate::progress(remaining as u64, &format!("τ = T/{n}"))
-            } else {
-                None
-            };
-            let start = std::time::Instant::now();
-            let chunk = (remaining / 200).max(1);
-            let mut done = 0;
-            while done < remaining {
-                let k = chunk.min(remaining - done);
+            stepping += run_in_chunks(remaining, &format!("τ = T/{n}"), progress, |k| {
                 let mut collector = Collector {
                     run: &mut run,
                     x0,
                     map_every,
                 };
-                sim.run(k, &mut [&mut collector])?;
-                done += k;
-                if let Some(b) = &bar {
-                    b.set_position(done as u64);
-                }
-            }
-            if let Some(b) = bar {
-                b.finish_and_clear();
-            }
-            stepping += start.elapsed().as_secs_f64();
+                sim.run(k, &mut [&mut collector]).map(|_| ())
+            })?;
             t_now = sim.time();
             state = Some(sim.checkpoint());
         }
