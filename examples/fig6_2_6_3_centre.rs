@@ -31,16 +31,7 @@ const USAGE: &str = "fig6_2_6_3_centre [--steps N1,N2,...] [--with-1e6] [--level
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse(USAGE);
-    let mut steps: Vec<usize> = match args.get("steps") {
-        Some(s) => s
-            .split(',')
-            .map(|v| v.parse::<f64>().map(|x| x as usize))
-            .collect::<Result<_, _>>()?,
-        None => vec![10_000, 100_000],
-    };
-    if args.flag("with-1e6") && !steps.contains(&1_000_000) {
-        steps.push(1_000_000);
-    }
+    let steps = args.step_counts(&[10_000, 100_000])?;
     let mut scene = SliderScene {
         level: args.value("level", 4),
         integrator: IntegratorKind::Newmark,
@@ -48,13 +39,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..SliderScene::default()
     };
     args.apply_scene_choices(&mut scene)?;
-    if let Some(s) = args.get("solver") {
-        scene.solver = match s {
-            "tnnmg" => SolverChoice::Tnnmg,
-            "direct" => SolverChoice::Direct,
-            other => return Err(format!("unknown solver `{other}`").into()),
-        };
-    }
     let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_2_6_3"));
     let reuse = args.flag("reuse");
     std::fs::create_dir_all(&out)?;

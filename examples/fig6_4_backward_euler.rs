@@ -40,29 +40,13 @@ const USAGE: &str = "fig6_4_backward_euler [--steps N1,N2,...] [--with-1e6] [--l
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse(USAGE);
-    let mut steps: Vec<usize> = match args.get("steps") {
-        Some(s) => s
-            .split(',')
-            .map(|v| v.parse::<f64>().map(|x| x as usize))
-            .collect::<Result<_, _>>()?,
-        None => vec![10_000, 100_000],
-    };
-    if args.flag("with-1e6") && !steps.contains(&1_000_000) {
-        steps.push(1_000_000);
-    }
+    let steps = args.step_counts(&[10_000, 100_000])?;
     let mut scene = SliderScene {
         level: args.value("level", 4),
         solver: SolverChoice::Direct,
         ..SliderScene::default()
     };
     args.apply_scene_choices(&mut scene)?;
-    if let Some(s) = args.get("solver") {
-        scene.solver = match s {
-            "tnnmg" => SolverChoice::Tnnmg,
-            "direct" => SolverChoice::Direct,
-            other => return Err(format!("unknown solver `{other}`").into()),
-        };
-    }
     let newmark_dir = PathBuf::from(args.get("newmark-dir").unwrap_or("out/fig6_2_6_3"));
     let run_newmark = args.flag("run-newmark");
     let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_4"));

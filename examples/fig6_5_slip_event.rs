@@ -39,13 +39,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..SliderScene::default()
     };
     args.apply_scene_choices(&mut scene)?;
-    if let Some(s) = args.get("solver") {
-        scene.solver = match s {
-            "tnnmg" => SolverChoice::Tnnmg,
-            "direct" => SolverChoice::Direct,
-            other => return Err(format!("unknown solver `{other}`").into()),
-        };
-    }
     let coarse = args.value::<f64>("coarse", 1e4) as usize;
     let fine = args.value::<f64>("fine", 1e6) as usize;
     let switch = args.value("switch", 0.66);
@@ -275,19 +268,10 @@ fn draw_map(
         .y_label_formatter(&|t| format!("{t:.4}"))
         .label_style(("sans-serif", 14))
         .draw()?;
-    let half = |v: &[f64], i: usize| {
-        let a = if i > 0 { 0.5 * (v[i] + v[i - 1]) } else { v[0] };
-        let b = if i + 1 < v.len() {
-            0.5 * (v[i] + v[i + 1])
-        } else {
-            v[i]
-        };
-        (a, b)
-    };
     chart.draw_series((0..times.len()).flat_map(|it| {
         (0..xs.len()).map(move |ix| {
-            let (ta, tb) = half(times, it);
-            let (xa, xb) = half(xs, ix);
+            let (ta, tb) = rsf_examples::cell_bounds(times, it);
+            let (xa, xb) = rsf_examples::cell_bounds(xs, ix);
             Rectangle::new([(xa, ta), (xb, tb)], colour(values[it][ix]).filled())
         })
     }))?;

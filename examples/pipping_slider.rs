@@ -16,7 +16,7 @@
 
 use std::path::PathBuf;
 
-use rsf::{IntegratorKind, SliderScene, SolverChoice};
+use rsf::SliderScene;
 use rsf_examples::{
     line_plot, run_slider, space_time_map, stats, write_summary, Args, RunOptions, Series,
 };
@@ -35,21 +35,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     scene.steps = args.value("steps", scene.steps);
     scene.end_time_s = args.value("end-time", scene.end_time_s);
     args.apply_scene_choices(&mut scene)?;
-    if let Some(i) = args.get("integrator") {
-        scene.integrator = match i {
-            "newmark" => IntegratorKind::Newmark,
-            "backward-euler" => IntegratorKind::BackwardEuler,
-            "quasistatic" => IntegratorKind::Quasistatic,
-            other => return Err(format!("unknown integrator `{other}`").into()),
-        };
-    }
-    if let Some(s) = args.get("solver") {
-        scene.solver = match s {
-            "tnnmg" => SolverChoice::Tnnmg,
-            "direct" => SolverChoice::Direct,
-            other => return Err(format!("unknown solver `{other}` (tnnmg|direct)").into()),
-        };
-    }
     scene.validate()?;
     let t_end = scene.end_time_s;
     let window = match args.get("window") {

@@ -102,6 +102,26 @@ impl Args {
         Ok(())
     }
 
+    /// The step counts N of a τ = T/N study: `--steps N1,N2,...` (numbers such as `1e5`
+    /// accepted) or `default`, plus N = 10⁶ with `--with-1e6`.
+    ///
+    /// # Errors
+    /// A malformed list.
+    pub fn step_counts(&self, default: &[usize]) -> Result<Vec<usize>, String> {
+        let mut steps: Vec<usize> = match self.get("steps") {
+            Some(s) => s
+                .split(',')
+                .map(|v| v.parse::<f64>().map(|x| x as usize))
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("--steps `{s}`: {e}"))?,
+            None => default.to_vec(),
+        };
+        if self.flag("with-1e6") && !steps.contains(&1_000_000) {
+            steps.push(1_000_000);
+        }
+        Ok(steps)
+    }
+
     /// Whether `--key` was given.
     pub fn flag(&self, key: &str) -> bool {
         self.values.contains_key(key)
@@ -246,6 +266,18 @@ pub fn line_plot(
     Ok(())
 }
 
+/// Edges `(a, b)` of the cell around sample `i` of the increasing coordinates `v`: the
+/// midpoints to its neighbours (the sample itself at either end).
+pub fn cell_bounds(v: &[f64], i: usize) -> (f64, f64) {
+    let a = if i > 0 { 0.5 * (v[i] + v[i - 1]) } else { v[0] };
+    let b = if i + 1 < v.len() {
+        0.5 * (v[i] + v[i + 1])
+    } else {
+        v[i]
+    };
+    (a, b)
+}
+
 /// Space–time map of `log10 value` (rows: times, columns: positions), PNG 1000×600,
 /// colour from blue (low) to red (high) over `[lo, hi]` in log10 units.
 ///
@@ -281,19 +313,10 @@ pub fn space_time_map(
         .draw()?;
     let nt = times.len();
     let nx = positions.len();
-    let half = |v: &[f64], i: usize| {
-        let a = if i > 0 { 0.5 * (v[i] + v[i - 1]) } else { v[0] };
-        let b = if i + 1 < v.len() {
-            0.5 * (v[i] + v[i + 1])
-        } else {
-            v[i]
-        };
-        (a, b)
-    };
     chart.draw_series((0..nt).flat_map(|it| {
         (0..nx).map(move |ix| {
-            let (ta, tb) = half(times, it);
-            let (xa, xb) = half(positions, ix);
+            let (ta, tb) = cell_bounds(times, it);
+            let (xa, xb) = cell_bounds(positions, ix);
             let v = values[it][ix].max(1e-300).log10();
             let s = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
             let color = HSLColor((1.0 - s) * 0.66, 0.9, 0.5);
