@@ -216,7 +216,7 @@ impl<const D: usize> Assembler<D> {
         Ok(out)
     }
 
-    /// Energy-norm matrix `K + M` (MATH.md §3: ‖v‖² = vᵀ(K + M)v).
+    /// Energy-norm matrix `K + M` (docs/math.md §3: ‖v‖² = vᵀ(K + M)v).
     ///
     /// # Errors
     /// [`Error::InvalidDensity`]; mesh mismatch.
@@ -250,7 +250,7 @@ fn check_density(rho: f64) -> Result<()> {
 }
 
 /// `c_a A + c_b B` for two matrices with the **same pattern** (e.g. `A = c_M M + c_K K`
-/// of MATH.md §2, both from one [`Assembler`]).
+/// of docs/math.md §2, both from one [`Assembler`]).
 ///
 /// # Errors
 /// [`Error::PatternMismatch`] if the patterns differ.
@@ -344,7 +344,7 @@ pub fn traction_load(
 }
 
 /// Lumped boundary weights `w_p = ∫_Γ λ_p ds` (m in 2D) per segment node, in the order of
-/// [`BoundarySegment::nodes`] (MATH.md §3: Φ_h = Σ_p w_p ϕ(|v_p|, α_p)). They sum to the
+/// [`BoundarySegment::nodes`] (docs/math.md §3: Φ_h = Σ_p w_p ϕ(|v_p|, α_p)). They sum to the
 /// segment's measure.
 pub fn lumped_weights<const D: usize>(
     mesh: &SimplexMesh<D>,

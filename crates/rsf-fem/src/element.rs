@@ -15,7 +15,7 @@ pub struct LinearElasticity {
 }
 
 impl LinearElasticity {
-    /// Plane strain from Young's modulus `e` and Poisson's ratio `nu` (MATH.md §1):
+    /// Plane strain from Young's modulus `e` and Poisson's ratio `nu` (docs/math.md §1):
     /// λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)).
     ///
     /// # Errors

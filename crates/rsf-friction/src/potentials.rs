@@ -122,7 +122,7 @@ impl FrictionLaw for Tresca {
     }
 }
 
-/// Tresca friction with a state-dependent coefficient `μ(α)` (MATH.md §1):
+/// Tresca friction with a state-dependent coefficient `μ(α)` (docs/math.md §1):
 /// `ϕ(V, α) = μ(α) σ̄_n V`.
 ///
 /// `μ(α)` is any user function; values that are negative or NaN are treated as 0 and

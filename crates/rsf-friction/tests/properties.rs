@@ -88,7 +88,7 @@ fn check_curvature<P: ConvexPotential>(p: &P, v: f64, ln_vm: f64) -> Result<(), 
 
 /// Optimality `0 ∈ a s − r + w ∂ϕ(s)`: for `s > 0`, `|a s − r + w ϕ'(s)|` below `1e-10`
 /// relative to the magnitude of its terms, plus the floor `8ε·wκ(|ln s| + |ln V_m|)` at which
-/// `ϕ'(s) = κ ln(s/V_m)` can be evaluated at all when `V_m` is not representable (MATH.md
+/// `ϕ'(s) = κ ln(s/V_m)` can be evaluated at all when `V_m` is not representable (docs/math.md
 /// §7) and the rounding of `s` itself (relevant for subnormal `s`); for `s = 0`, `r ≤ w ϕ'(0+)` or the root underflows.
 fn check_minimizer<P: ConvexPotential>(
     p: &P,

@@ -8,7 +8,7 @@ const SEARCH_LIMIT: f64 = 1e300;
 const MAX_ITERATIONS: usize = 2500;
 
 /// Backward Euler step for any [`StateLaw`]: the root `β` of the strictly increasing
-/// `F(β) = β − α_prev + τ ∂ψ/∂α(β, V)` (paper (3.5); MATH.md §2).
+/// `F(β) = β − α_prev + τ ∂ψ/∂α(β, V)` (paper (3.5); docs/math.md §2).
 ///
 /// **Bracketing.** With `g = ∂ψ/∂α(·, V)` nondecreasing and `g₀ = g(α_prev)`, the root
 /// lies between `α_prev` and `α_prev − τ g₀` (one evaluation, no search). If `τ g₀`

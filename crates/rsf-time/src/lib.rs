@@ -1,5 +1,5 @@
 //! Time integrators for the velocity formulation of rate-and-state friction problems
-//! (Pipping, Sander & Kornhuber §3; MATH.md §2).
+//! (Pipping, Sander & Kornhuber §3; docs/math.md §2).
 //!
 //! Every integrator turns the equation of motion `M ü + K u + ∂Φ(u̇) ∋ F` at `t_n` into the
 //! **velocity problem** `minimise ½ vᵀAv − ℓ_nᵀv + Φ(v)` with
@@ -103,7 +103,7 @@ pub fn check_time_step(tau: f64) -> Result<()> {
     }
 }
 
-/// A one-step integrator for the velocity (MATH.md §2). Implementations are stateless
+/// A one-step integrator for the velocity (docs/math.md §2). Implementations are stateless
 /// descriptions; the state lives in [`Kinematics`].
 pub trait VelocityIntegrator: Clone + Send + Sync {
     /// Short name ("newmark", "backward-euler", "quasistatic").

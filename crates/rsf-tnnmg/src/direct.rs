@@ -50,7 +50,7 @@ struct Condensed<const D: usize> {
     x: Vec<f64>,
 }
 
-/// Direct reference solver (MATH.md §5, used to verify TNNMG and as a fast path for small
+/// Direct reference solver (docs/math.md §5, used to verify TNNMG and as a fast path for small
 /// problems): the smooth free dofs `R` are eliminated exactly with a sparse Cholesky
 /// factorisation of `A_RR` (faer, AMD ordering); the remaining problem on the nonsmooth
 /// blocks has the dense Schur complement `S = A_XX − A_XR A_RR⁻¹ A_RX` and is solved by a

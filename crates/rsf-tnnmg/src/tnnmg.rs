@@ -80,7 +80,7 @@ impl EnergyNorm {
     }
 }
 
-/// TNNMG for `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` (MATH.md §5):
+/// TNNMG for `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` (docs/math.md §5):
 /// nonlinear block Gauss–Seidel presmoothing, truncated linearisation, linear multigrid
 /// V-cycle(s) on the truncated Newton system over the given hierarchy, exact line search.
 /// `J` never increases. Stops on the energy norm of the correction.

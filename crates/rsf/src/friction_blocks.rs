@@ -1,4 +1,4 @@
-//! The lumped friction functional `Φ_h(v, α) = Σ_p w_p ϕ(|v_p|, α_p)` (MATH.md §3) as a
+//! The lumped friction functional `Φ_h(v, α) = Σ_p w_p ϕ(|v_p|, α_p)` (docs/math.md §3) as a
 //! block nonlinearity for the velocity solvers.
 
 use rsf_friction::{ConvexPotential, FrictionLaw};

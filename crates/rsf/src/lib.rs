@@ -5,7 +5,7 @@
 //!   frictional boundary) — from [`SliderScene::build_model`] or your own assembly.
 //! - [`Simulation`]: a model plus a friction law `L`, a state law `S` and a velocity
 //!   integrator `I` (all generic, one law value per frictional node), stepping by the
-//!   paper's relaxed fixed point iteration (MATH.md §4) with TNNMG or the direct solver.
+//!   paper's relaxed fixed point iteration (docs/math.md §4) with TNNMG or the direct solver.
 //! - [`Observer`]s record what a scene asks for: [`PointSeries`], [`FrictionalProfile`],
 //!   [`Checkpointer`], [`Reports`], and `VtuFrames` for ParaView (feature `vtk`).
 //!   [`Checkpoint`]s resume bit-identically.

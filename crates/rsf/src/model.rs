@@ -5,7 +5,7 @@ use rsf_fem::SparseMatrix;
 use crate::error::{invalid, Result};
 
 /// Time-dependent Dirichlet velocity `v_i(t) = factor_i · V_D(t)` on the listed dofs, with
-/// the paper's ramp `V_D(t) = v_max · min(t / t_ramp, 1)` (MATH.md §6).
+/// the paper's ramp `V_D(t) = v_max · min(t / t_ramp, 1)` (docs/math.md §6).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DirichletVelocity {
     /// Dofs with a prescribed velocity (a subset of the fixed dofs).
@@ -93,7 +93,7 @@ impl FrictionalBoundary {
         self.nodes.is_empty()
     }
 
-    /// `(Σ_p w_p x_p²)^{1/2}`, the lumped L²(Γ_F) norm (for the relaxation rule, MATH.md §4).
+    /// `(Σ_p w_p x_p²)^{1/2}`, the lumped L²(Γ_F) norm (for the relaxation rule, docs/math.md §4).
     pub fn l2_norm(&self, x: &[f64]) -> f64 {
         self.weights
             .iter()
@@ -116,7 +116,7 @@ pub struct Model<const D: usize> {
     pub mass: Option<SparseMatrix>,
     /// Stiffness matrix `K` (N/m per unit thickness in 2D).
     pub stiffness: SparseMatrix,
-    /// Matrix of the energy norm used in all stopping tests: `K + M` (MATH.md §3), or `K`
+    /// Matrix of the energy norm used in all stopping tests: `K + M` (docs/math.md §3), or `K`
     /// without mass.
     pub energy_norm: SparseMatrix,
     /// Load vector `F` (body force + Neumann tractions), constant in time (N).

@@ -1,5 +1,5 @@
 //! The coupled time step: relaxed fixed point iteration between the velocity problem and
-//! the state update (MATH.md §4, paper §6.2), and the simulation loop.
+//! the state update (docs/math.md §4, paper §6.2), and the simulation loop.
 
 use std::time::Instant;
 
@@ -16,7 +16,7 @@ use crate::model::Model;
 use crate::observer::{Observer, StepState};
 use crate::solver::{SolverKind, VelocitySolver};
 
-/// Options of the fixed point iteration of each time step (MATH.md §4).
+/// Options of the fixed point iteration of each time step (docs/math.md §4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FixedPointOptions {
     /// Stop when `‖v^{ν+1} − v^ν‖ ≤ tolerance` in the energy norm (paper: 1e-10).
@@ -352,7 +352,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             let c = self.solve_velocity(&mut report)?;
             report.correction = c;
         } else {
-            // Relaxed fixed point iteration (MATH.md §4).
+            // Relaxed fixed point iteration (docs/math.md §4).
             let mut prev_diff = f64::INFINITY;
             let mut converged = false;
             for nu in 0..self.fixed_point.max_iterations {

@@ -1,4 +1,4 @@
-//! The paper's model problem (§6.1, Table 6.1; MATH.md §6) as a scene: a 5 m × 1 m
+//! The paper's model problem (§6.1, Table 6.1; docs/math.md §6) as a scene: a 5 m × 1 m
 //! elastic block sheared over a rigid surface, as TOML-readable parameters.
 
 use serde::{Deserialize, Serialize};

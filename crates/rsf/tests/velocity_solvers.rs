@@ -1,4 +1,4 @@
-//! The velocity solvers of rsf-tnnmg on the paper's slider mesh (MATH.md §2, §3, §5, §6;
+//! The velocity solvers of rsf-tnnmg on the paper's slider mesh (docs/math.md §2, §3, §5, §6;
 //! issue 4): agreement of TNNMG, nonlinear Gauss–Seidel and the direct solver, monotone
 //! energy, mesh independence, the linear multigrid rate and extreme states.
 //!
