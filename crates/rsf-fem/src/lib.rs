@@ -1,6 +1,6 @@
 //! P1 finite elements for the rate-and-state friction solver `rsf`
 //! (Pipping, Sander & Kornhuber, *Variational formulation of rate- and state-dependent
-//! friction problems*; see `shared/docs/math.md` §3 for the space discretisation).
+//! friction problems*; see `docs/math.md` §3 for the space discretisation).
 //!
 //! * [`SimplexMesh`] / [`TriangleMesh`]: vertices (m), connectivity, boundary facets
 //!   with tags; [`rectangle`] and the paper's coarse grid [`pipping_slider_coarse`].
