@@ -217,6 +217,19 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
         self.m.n()
     }
 
+    fn stopping(&self) -> Stopping {
+        self.opts.stopping
+    }
+
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        stopping.validate()?;
+        self.opts.stopping = stopping;
+        if let Some(c) = self.cache.as_mut() {
+            c.inner.set_stopping(stopping)?;
+        }
+        Ok(())
+    }
+
     fn solve<N: BlockNonlinearity<D>>(
         &mut self,
         b: &[f64],

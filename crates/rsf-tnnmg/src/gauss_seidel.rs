@@ -88,6 +88,16 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
         self.m.n()
     }
 
+    fn stopping(&self) -> Stopping {
+        self.stopping
+    }
+
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        stopping.validate()?;
+        self.stopping = stopping;
+        Ok(())
+    }
+
     fn solve<N: BlockNonlinearity<D>>(
         &mut self,
         b: &[f64],

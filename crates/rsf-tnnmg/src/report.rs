@@ -74,6 +74,17 @@ pub trait NonsmoothSolver<const D: usize> {
     /// Number of unknowns.
     fn dim(&self) -> usize;
 
+    /// The stopping test of [`solve`](Self::solve).
+    fn stopping(&self) -> Stopping;
+
+    /// Replaces the stopping test of later solves (e.g. a looser one for an inexact inner
+    /// solve of a fixed point iteration).
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`](crate::Error::InvalidOption) for negative, non-finite or
+    /// all-zero tolerances or a zero budget; the old test is kept then.
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()>;
+
     /// Minimises `J` starting from `v` (warm start; fixed dofs keep their values in `v`).
     ///
     /// # Errors

@@ -364,6 +364,16 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
         self.m.n()
     }
 
+    fn stopping(&self) -> Stopping {
+        self.opts.stopping
+    }
+
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        stopping.validate()?;
+        self.opts.stopping = stopping;
+        Ok(())
+    }
+
     fn solve<N: BlockNonlinearity<D>>(
         &mut self,
         b: &[f64],

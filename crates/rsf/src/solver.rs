@@ -81,6 +81,20 @@ impl<const D: usize> NonsmoothSolver<D> for VelocitySolver<D> {
             VelocitySolver::GaussSeidel(s) => s.dim(),
         }
     }
+    fn stopping(&self) -> Stopping {
+        match self {
+            VelocitySolver::Tnnmg(s) => s.stopping(),
+            VelocitySolver::Direct(s) => s.stopping(),
+            VelocitySolver::GaussSeidel(s) => s.stopping(),
+        }
+    }
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        match self {
+            VelocitySolver::Tnnmg(s) => s.set_stopping(stopping),
+            VelocitySolver::Direct(s) => s.set_stopping(stopping),
+            VelocitySolver::GaussSeidel(s) => s.set_stopping(stopping),
+        }
+    }
     fn solve<N: BlockNonlinearity<D>>(
         &mut self,
         b: &[f64],
