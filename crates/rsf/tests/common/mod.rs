@@ -1,0 +1,354 @@
+//! What the physics tests of `rsf` share (issue 13): how a simulation is built, how a run is
+//! recorded, and the small analyses applied to the records.
+//!
+//! Every construction detail lives here, so that a change of the construction API touches
+//! this file only; the tests themselves see scenes as values, [`build`], the public
+//! `Observer`/`AnySimulation` interface and the model's public matrices.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use rsf::fem::{spmv_add, SparseMatrix};
+use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
+use rsf::time::Kinematics;
+use rsf::{
+    nearest_vertex, AnySimulation, Checkpointer, FrictionalProfile, IntegratorKind, Observer,
+    PointSeries, RunSummary, SliderScene, SolverChoice, StateLawKind, StepState, SLIDER_CENTRE,
+};
+
+/// A running simulation, as the tests hold it.
+pub type Sim = Box<dyn AnySimulation<2>>;
+
+/// The paper's scene (Table 6.1, docs/math.md §6) at refinement level `level`, N = 10⁴ steps
+/// over T = 15 s, Dieterich's law, Newmark, solved by `solver`.
+pub fn paper(level: usize, solver: SolverChoice) -> SliderScene {
+    SliderScene {
+        level,
+        solver,
+        ..SliderScene::default()
+    }
+}
+
+/// `scene` with `steps` steps over its end time (τ = T/steps).
+pub fn with_steps(scene: SliderScene, steps: usize) -> SliderScene {
+    SliderScene { steps, ..scene }
+}
+
+/// `scene` with another state law.
+pub fn with_law(scene: SliderScene, law: StateLawKind) -> SliderScene {
+    SliderScene {
+        state_law: law,
+        ..scene
+    }
+}
+
+/// `scene` with another velocity integrator.
+pub fn with_integrator(scene: SliderScene, integrator: IntegratorKind) -> SliderScene {
+    SliderScene {
+        integrator,
+        ..scene
+    }
+}
+
+/// `scene` with a fixed point budget of `max` iterations per step.
+pub fn with_fixed_point_budget(scene: SliderScene, max: usize) -> SliderScene {
+    SliderScene {
+        fixed_point_max_iterations: max,
+        ..scene
+    }
+}
+
+/// The paper's material and friction at level 2, τ = 1e-3 s, Γ_D moving at `v_load` from
+/// t = 0 (no ramp) for `steps` steps: the fast-loading scene of the stability suite, which
+/// reaches a slip event within a few hundred steps.
+pub fn fast_loading(v_load: f64, steps: usize) -> SliderScene {
+    SliderScene {
+        level: 2,
+        steps,
+        end_time_s: 1e-3 * steps as f64,
+        loading_velocity_m_per_s: v_load,
+        ramp_fraction: 0.0,
+        ..SliderScene::default()
+    }
+}
+
+/// `scene` at another refinement level.
+pub fn with_level(scene: SliderScene, level: usize) -> SliderScene {
+    SliderScene { level, ..scene }
+}
+
+/// Velocity-strengthening friction (a, b) = (0.015, 0.010) (the paper's values swapped) at
+/// level 2, Γ_D loaded at `v_load` after a ramp over the first tenth of the run, `steps`
+/// steps of `tau`, with the state law `law` and the velocity integrator `integrator`.
+pub fn velocity_strengthening(
+    v_load: f64,
+    tau: f64,
+    steps: usize,
+    law: StateLawKind,
+    integrator: IntegratorKind,
+) -> SliderScene {
+    SliderScene {
+        level: 2,
+        steps,
+        end_time_s: tau * steps as f64,
+        loading_velocity_m_per_s: v_load,
+        ramp_fraction: 0.1,
+        a: 0.015,
+        b: 0.010,
+        state_law: law,
+        integrator,
+        ..SliderScene::default()
+    }
+}
+
+/// The running simulation of a scene.
+pub fn build(scene: &SliderScene) -> Sim {
+    scene.build().expect("the scene builds")
+}
+
+/// The friction law of Γ_F of a scene (uniform fault).
+pub fn friction_law(scene: &SliderScene) -> DieterichRuina {
+    DieterichRuina::new(scene.rate_state_params()).expect("valid parameters")
+}
+
+/// The rate-and-state parameters of a scene.
+pub fn params(scene: &SliderScene) -> RateStateParams {
+    scene.rate_state_params()
+}
+
+/// The loading velocity of Γ_D after the ramp (m/s).
+pub fn loading_velocity(scene: &SliderScene) -> f64 {
+    scene.loading_velocity_m_per_s
+}
+
+/// The initial state α₀ = ln θ₀ on Γ_F of a scene (θ in s).
+pub fn initial_state(scene: &SliderScene) -> f64 {
+    scene.alpha0
+}
+
+/// The final time T of a scene (s).
+pub fn end_time(scene: &SliderScene) -> f64 {
+    scene.end_time_s
+}
+
+/// The end of the loading ramp of a scene (s).
+pub fn ramp_end(scene: &SliderScene) -> f64 {
+    scene.ramp_fraction * scene.end_time_s
+}
+
+/// Steps from the simulation's current time to `t_end` (rounded to the nearest step).
+pub fn steps_until(sim: &dyn AnySimulation<2>, t_end: f64) -> usize {
+    ((t_end - sim.time()) / sim.tau()).round().max(0.0) as usize
+}
+
+/// Runs to `t_end` showing every step to `observers`.
+pub fn run_until(
+    sim: &mut dyn AnySimulation<2>,
+    t_end: f64,
+    observers: &mut [&mut dyn Observer<2>],
+) -> RunSummary {
+    let steps = steps_until(sim, t_end);
+    sim.run(steps, observers)
+        .expect("every step of the run succeeds")
+}
+
+/// Per-step records on Γ_F (nodes in the order along the boundary) and at x0.
+#[derive(Debug, Clone, Default)]
+pub struct Recorder {
+    /// Γ_F nodes in order along the boundary.
+    pub nodes: Vec<usize>,
+    /// Their positions in the model's frictional-node order (the order of α).
+    pub along: Vec<usize>,
+    /// The vertex nearest to x0 = (2.5, 0).
+    pub x0: usize,
+    /// u_x on Γ_F at t = 0 (m).
+    pub u_start: Vec<f64>,
+    /// t_n (s).
+    pub t: Vec<f64>,
+    /// u_x(x0, t_n) (m).
+    pub u_x0: Vec<f64>,
+    /// Slip u_x(p, t_n) − u_x(p, 0) per Γ_F node (m).
+    pub slip: Vec<Vec<f64>>,
+    /// ln V_p per Γ_F node (V in m/s).
+    pub ln_v: Vec<Vec<f64>>,
+    /// State α_p per Γ_F node.
+    pub alpha: Vec<Vec<f64>>,
+    /// Largest slip rate on Γ_F reported by the step (m/s).
+    pub max_v: Vec<f64>,
+    /// Fixed point iterations of the step.
+    pub fpi: Vec<usize>,
+}
+
+impl Recorder {
+    /// A recorder for `sim`, holding its current displacement as the start of the slip.
+    pub fn new(sim: &dyn AnySimulation<2>) -> Self {
+        let model = sim.model();
+        let fb = &model.frictional;
+        let nodes: Vec<usize> = fb.along.iter().map(|&k| fb.nodes[k]).collect();
+        let u = &sim.kinematics().u;
+        Self {
+            along: fb.along.clone(),
+            u_start: nodes.iter().map(|&p| u[2 * p]).collect(),
+            nodes,
+            x0: nearest_vertex(&model.vertices, &SLIDER_CENTRE),
+            ..Self::default()
+        }
+    }
+
+    /// Number of recorded steps.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Mean and maximum fixed point iterations per step.
+    pub fn fpi_stats(&self) -> (f64, usize) {
+        let total: usize = self.fpi.iter().sum();
+        (
+            total as f64 / self.fpi.len().max(1) as f64,
+            self.fpi.iter().copied().max().unwrap_or(0),
+        )
+    }
+}
+
+impl Observer<2> for Recorder {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<()> {
+        let (u, v) = (&s.kinematics.u, &s.kinematics.v);
+        self.t.push(s.report.time);
+        self.u_x0.push(u[2 * self.x0]);
+        self.slip.push(
+            self.nodes
+                .iter()
+                .zip(&self.u_start)
+                .map(|(&p, u0)| u[2 * p] - u0)
+                .collect(),
+        );
+        self.ln_v.push(
+            self.nodes
+                .iter()
+                .map(|&p| v[2 * p].hypot(v[2 * p + 1]).ln())
+                .collect(),
+        );
+        self.alpha
+            .push(self.along.iter().map(|&k| s.alpha[k]).collect());
+        self.max_v.push(s.report.max_slip_rate);
+        self.fpi.push(s.report.fixed_point_iterations);
+        Ok(())
+    }
+}
+
+/// The first time after `after` at which `x` crosses `level` upwards, interpolated linearly
+/// in `ln x` between the two samples around the crossing (the definition of the first-slip
+/// time in docs/work-precision.md).
+pub fn first_crossing(t: &[f64], x: &[f64], level: f64, after: f64) -> Option<f64> {
+    let ll = level.ln();
+    (1..t.len()).find_map(|i| {
+        if t[i] <= after || !(x[i - 1] < level && x[i] >= level) {
+            return None;
+        }
+        let (a, b) = (x[i - 1].ln(), x[i].ln());
+        Some(t[i - 1] + (t[i] - t[i - 1]) * (ll - a) / (b - a))
+    })
+}
+
+/// Start times of the slip events in `x` (the largest slip rate per step): an event starts
+/// where `x` rises to `on` and ends where it has fallen back below `off < on`.
+pub fn event_starts(t: &[f64], x: &[f64], on: f64, off: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut inside = false;
+    for (&ti, &xi) in t.iter().zip(x) {
+        if !inside && xi >= on {
+            inside = true;
+            out.push(ti);
+        } else if inside && xi < off {
+            inside = false;
+        }
+    }
+    out
+}
+
+/// The observed order `log2((x₁ − x₂)/(x₂ − x₃))` of values at steps τ, τ/2, τ/4.
+pub fn observed_order(x: [f64; 3]) -> f64 {
+    ((x[0] - x[1]) / (x[1] - x[2])).log2()
+}
+
+/// `y += alpha · A x`.
+pub fn apply_add(a: &SparseMatrix, alpha: f64, x: &[f64], y: &mut [f64]) {
+    spmv_add(a.as_ref(), alpha, x, y);
+}
+
+/// `A x`.
+pub fn apply(a: &SparseMatrix, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; x.len()];
+    apply_add(a, 1.0, x, &mut y);
+    y
+}
+
+/// `xᵀ y`.
+pub fn dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+/// `ϕ'(|v_p|)` of the law at state `alpha`: the friction stress (Pa).
+pub fn friction_stress(law: &DieterichRuina, alpha: f64, slip_rate: f64) -> f64 {
+    use rsf::friction::ConvexPotential;
+    law.potential(alpha).slope(slip_rate)
+}
+
+/// A [`PointSeries`] at x0 into `path`: CSV `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`.
+pub fn point_series(sim: &dyn AnySimulation<2>, path: &Path) -> PointSeries {
+    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+    PointSeries::create(path, x0).expect("series file")
+}
+
+/// A [`FrictionalProfile`] into `path` over `[t0, t1]`, every `every`-th step: CSV
+/// `t_s,x_m,slip_rate_mps,alpha`.
+pub fn frictional_profile(path: &Path, t0: f64, t1: f64, every: usize) -> FrictionalProfile {
+    FrictionalProfile::create(path, t0, t1, every).expect("profile file")
+}
+
+/// A [`Checkpointer`] of `sim` writing to `path` every `every` steps.
+pub fn checkpointer(sim: &dyn AnySimulation<2>, path: &Path, every: usize) -> Checkpointer {
+    Checkpointer::new(path, every, sim.tau())
+}
+
+/// A CSV file of numbers: its header and rows (every field parsed as `f64`).
+pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).expect("readable CSV");
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header line")
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().expect("a number")).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The full state `(u, v, a)` and α after every `every`-th step, with its step index.
+#[derive(Debug, Clone, Default)]
+pub struct Snapshots {
+    /// Keep every `every`-th step.
+    pub every: usize,
+    /// `(step, kinematics, alpha)`.
+    pub states: Vec<(usize, Kinematics, Vec<f64>)>,
+}
+
+impl Observer<2> for Snapshots {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<()> {
+        if s.report.step % self.every.max(1) == 0 {
+            self.states
+                .push((s.report.step, s.kinematics.clone(), s.alpha.to_vec()));
+        }
+        Ok(())
+    }
+}
+
+/// A fresh directory under the system's temporary directory for one test's files.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rsf-test-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temporary directory");
+    dir
+}
