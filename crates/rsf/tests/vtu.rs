@@ -1,31 +1,81 @@
-//! VTU frames for ParaView: files are written during the run and read back with vtkio.
+//! VTU frames for ParaView: files are written during the run, read back with vtkio, and
+//! their point data equal the simulation's state at the frame's step (issue 13).
 #![cfg(feature = "vtk")]
 
-use rsf::{Observer, SliderScene, VtuFrames};
+mod common;
+
+use common::*;
+use rsf::VtuFrames;
+
+/// The point data `name` of a frame as 3-vectors per vertex.
+fn point_vectors(piece: &vtkio::model::UnstructuredGridPiece, name: &str) -> Vec<f64> {
+    let attr = piece
+        .data
+        .point
+        .iter()
+        .find(|a| a.name() == name)
+        .unwrap_or_else(|| panic!("no point data `{name}`"));
+    let vtkio::model::Attribute::DataArray(array) = attr else {
+        panic!("`{name}` is not a data array")
+    };
+    array
+        .data
+        .clone()
+        .cast_into::<f64>()
+        .expect("numeric point data")
+}
 
 #[test]
-fn frames_and_index_are_written_and_readable() {
-    let dir = std::env::temp_dir().join(format!("rsf-vtu-{}", std::process::id()));
-    let scene = SliderScene {
-        level: 1,
-        steps: 100,
-        ..SliderScene::default()
+fn frames_hold_the_state_of_their_step() {
+    let dir = temp_dir("vtu");
+    // Fast loading: by step 40 Γ_F slides, so u, v differ from node to node and step to step.
+    let scene = with_level(fast_loading(2e-2, 40), 1);
+    let mut sim = build(&scene);
+    let mut frames = VtuFrames::create(&dir, 20).expect("frame folder");
+    let mut states = Snapshots {
+        every: 20,
+        ..Snapshots::default()
     };
-    let mut sim = scene.build().unwrap();
-    let mut frames = VtuFrames::create(&dir, 2).unwrap();
-    sim.run(4, &mut [&mut frames as &mut dyn Observer<2>])
-        .unwrap();
-    for step in [2, 4] {
+    run_until(&mut *sim, 0.04, &mut [&mut frames, &mut states]);
+    assert_eq!(states.states.len(), 2);
+    let model = sim.model();
+    let n = model.vertices.len();
+    for (step, kin, _alpha) in &states.states {
         let path = dir.join(format!("frame_{step:06}.vtu"));
         let vtk = vtkio::Vtk::import(&path).expect("frame is valid VTK XML");
         let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
             panic!("not an unstructured grid")
         };
-        let piece = pieces[0].load_piece_data(None).unwrap();
-        assert_eq!(piece.num_points(), sim.model().vertices.len());
-        assert_eq!(piece.data.point.len(), 2);
+        let piece = pieces[0].load_piece_data(None).expect("inline piece");
+        assert_eq!(piece.num_points(), n);
+        let points = piece
+            .points
+            .clone()
+            .cast_into::<f64>()
+            .expect("point coordinates");
+        for (p, x) in model.vertices.iter().enumerate() {
+            assert_eq!(&points[3 * p..3 * p + 3], &[x[0], x[1], 0.0], "vertex {p}");
+        }
+        for (name, field) in [("displacement", &kin.u), ("velocity", &kin.v)] {
+            let data = point_vectors(&piece, name);
+            assert_eq!(data.len(), 3 * n, "{name}");
+            for p in 0..n {
+                assert_eq!(
+                    &data[3 * p..3 * p + 3],
+                    &[field[2 * p], field[2 * p + 1], 0.0],
+                    "step {step}: {name} at vertex {p}"
+                );
+            }
+        }
+        // The frames differ from each other: the data are the step's, not a stale copy.
+        let slip_rate = kin.v[2 * model.frictional.nodes[0]];
+        assert!(slip_rate != 0.0, "step {step}: Γ_F at rest");
     }
+    assert_ne!(states.states[0].1.u, states.states[1].1.u);
     let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet ").count(), 2);
+    for (step, ..) in &states.states {
+        assert!(pvd.contains(&format!("file=\"frame_{step:06}.vtu\"")));
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
