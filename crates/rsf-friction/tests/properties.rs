@@ -135,8 +135,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
 
     #[test]
-    fn dr_convex((p, l) in dr(), x in -1.0e3..1.0e3_f64, y in -40.0..40.0_f64, z in -40.0..40.0_f64) {
-        let _ = x;
+    fn dr_convex((p, l) in dr(), y in -40.0..40.0_f64, z in -40.0..40.0_f64) {
         let (a, b) = ((l + y).min(6.9).exp(), (l + z).min(6.9).exp());
         check_convex(&p, a, b)?;
         check_convex(&p, 0.0, b)?;
@@ -173,8 +172,7 @@ proptest! {
     }
 
     #[test]
-    fn asinh_derivatives((p, l) in asinh(), v in (-7.0..7.0_f64).prop_flat_map(|_| slip_rate(-50.0))) {
-        let _ = l;
+    fn asinh_derivatives(((p, _), v) in asinh().prop_flat_map(|(p, l)| (Just((p, l)), slip_rate(l)))) {
         if v > 1e-300 {
             check_slope(&p, v, p.kappa())?;
         }
