@@ -230,6 +230,7 @@ fn integrator_name(i: IntegratorKind) -> &'static str {
 
 fn solver_name(s: SolverChoice) -> &'static str {
     match s {
+        SolverChoice::Auto => "auto",
         SolverChoice::Tnnmg => "tnnmg",
         SolverChoice::Direct => "direct",
     }

@@ -94,9 +94,17 @@ impl Args {
         }
         if let Some(v) = self.get("solver") {
             scene.solver = match v {
+                "auto" => SolverChoice::Auto,
                 "tnnmg" => SolverChoice::Tnnmg,
                 "direct" => SolverChoice::Direct,
-                _ => return Err(unknown("solver", v, "tnnmg|direct")),
+                _ => return Err(unknown("solver", v, "auto|tnnmg|direct")),
+            };
+        }
+        if let Some(v) = self.get("fixed-point") {
+            scene.fixed_point = match v {
+                "anderson" => rsf::FixedPointScheme::Anderson,
+                "paper" => rsf::FixedPointScheme::Paper,
+                _ => return Err(unknown("fixed-point", v, "anderson|paper")),
             };
         }
         Ok(())

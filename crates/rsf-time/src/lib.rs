@@ -142,6 +142,26 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics);
 }
 
+/// `out_j ← out_j + s Σ_i A_ij (x_i + β y_i)` for a **symmetric** CSC matrix `A` (column
+/// `j` read as row `j`): one pass over `A` for a linear combination of two vectors, without
+/// a temporary.
+fn sym_spmv_add_combination(
+    a: &SparseMatrix,
+    s: f64,
+    x: &[f64],
+    beta: f64,
+    y: &[f64],
+    out: &mut [f64],
+) {
+    for (j, oj) in out.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            acc += v * (x[i] + beta * y[i]);
+        }
+        *oj += s * acc;
+    }
+}
+
 fn check_lengths(n: usize, load: &[f64], prev: &Kinematics, out: &[f64]) -> Result<()> {
     for (what, got) in [
         ("load", load.len()),
@@ -191,11 +211,8 @@ impl VelocityIntegrator for Newmark {
         let m = mass.ok_or(Error::MissingMass("Newmark"))?;
         check_lengths(stiffness.nrows(), load, prev, out)?;
         out.copy_from_slice(load);
-        let k = stiffness.as_ref();
-        spmv_add(k, -1.0, &prev.u, out);
-        spmv_add(k, -0.5 * tau, &prev.v, out);
-        spmv_add(m.as_ref(), 2.0 / tau, &prev.v, out);
-        spmv_add(m.as_ref(), 1.0, &prev.a, out);
+        sym_spmv_add_combination(stiffness, -1.0, &prev.u, 0.5 * tau, &prev.v, out);
+        sym_spmv_add_combination(m, 1.0, &prev.a, 2.0 / tau, &prev.v, out);
         Ok(())
     }
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics) {

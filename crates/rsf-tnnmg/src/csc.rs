@@ -5,7 +5,7 @@
 //! allocation-free loops over a fixed pattern.
 
 use crate::error::{Error, Result};
-use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::SparseColMatRef;
 
 /// Compressed sparse column matrix with sorted row indices in every column.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,43 +50,6 @@ impl Csc {
             row_idx,
             val,
         })
-    }
-
-    /// Converts to a faer matrix.
-    pub fn to_faer(&self) -> SparseColMat<usize, f64> {
-        let sym = SymbolicSparseColMat::new_checked(
-            self.nrows,
-            self.ncols,
-            self.col_ptr.clone(),
-            None,
-            self.row_idx.clone(),
-        );
-        SparseColMat::new(sym, self.val.clone())
-    }
-
-    /// Square matrix whose pattern is dense on the rows/columns not marked `fixed`; a fixed
-    /// row/column has only its diagonal entry.
-    pub fn dense_pattern_free(fixed: &[bool]) -> Self {
-        let n = fixed.len();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for j in 0..n {
-            if fixed[j] {
-                row_idx.push(j);
-            } else {
-                row_idx.extend((0..n).filter(|&i| !fixed[i]));
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let nnz = row_idx.len();
-        Self {
-            nrows: n,
-            ncols: n,
-            col_ptr,
-            row_idx,
-            val: vec![0.0; nnz],
-        }
     }
 
     #[inline]

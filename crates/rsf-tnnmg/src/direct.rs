@@ -1,24 +1,32 @@
-//! Direct reference solver: exact condensation onto the nonsmooth blocks.
+//! Direct solver: exact condensation onto the nonsmooth blocks (docs/math.md §8).
 
 use std::time::Instant;
 
 use faer::sparse::SparseColMatRef;
+use faer::{Accum, MatRef, Par};
 
-use crate::cholesky::SparseCholesky;
+use crate::block::load;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
-use crate::nonlinearity::{BlockNonlinearity, Renumbered};
-use crate::problem::BlockedMatrix;
+use crate::fault_newton::DenseFault;
+use crate::nonlinearity::BlockNonlinearity;
+use crate::partial_cholesky::PartialCholesky;
 use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
-use crate::tnnmg::{Tnnmg, TnnmgOptions};
+use crate::step::StepSolver;
 
 /// Options of [`DirectSolver`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct DirectOptions {
-    /// Stopping test of the Newton phase, in the norm of the Schur complement (the energy
-    /// norm of `A` of the discrete harmonic extension). Default: absolute 1e-13, relative
-    /// 1e-13, 200 iterations.
+    /// Stopping test of [`NonsmoothSolver::solve`]: energy norm of the correction of an
+    /// iteration of the condensed problem (the norm of its discrete harmonic extension in
+    /// the energy norm, see [`DirectSolver::with_energy_norm`]). Default: absolute 1e-13,
+    /// relative 1e-13, 200 iterations.
     pub stopping: Stopping,
+    /// A block enters the Newton step of the condensed iteration while its nonlinearity's
+    /// Hessian is at most this multiple of the diagonal of the Schur complement; stiffer
+    /// blocks are left to the Gauss–Seidel sweep, which contracts them by about the inverse
+    /// of this ratio per iteration. Default 1e3.
+    pub soft_ratio: f64,
 }
 
 impl Default for DirectOptions {
@@ -29,182 +37,345 @@ impl Default for DirectOptions {
                 relative: 1e-13,
                 max_iterations: 200,
             },
+            soft_ratio: 1e3,
         }
     }
 }
 
+/// What the condensation computed for one set of nonsmooth blocks.
 struct Condensed<const D: usize> {
     blocks: Vec<usize>,
-    renumbered: Vec<usize>,
-    /// Global dof → position among the interior (smooth, free) dofs R, or MAX.
-    r_of: Vec<usize>,
-    /// Interior dofs R (global indices).
-    r_dofs: Vec<usize>,
-    /// Global dof of each condensed position (`D k + c` → dof of block k, component c).
-    x_dofs: Vec<usize>,
-    arr: Csc,
-    chol: SparseCholesky,
-    inner: Tnnmg<D>,
-    rhs_r: Vec<f64>,
-    c: Vec<f64>,
-    x: Vec<f64>,
+    factor: PartialCholesky,
+    /// Elimination position ↦ dof.
+    order: Vec<usize>,
+    /// Fixed dofs with their column entries on free rows as (elimination position, A_ij).
+    fixed_cols: Vec<(usize, Vec<(usize, f64)>)>,
+    y: Vec<f64>,
+    fault: DenseFault<D>,
 }
 
-/// Direct reference solver (docs/math.md §5, used to verify TNNMG and as a fast path for small
-/// problems): the smooth free dofs `R` are eliminated exactly with a sparse Cholesky
-/// factorisation of `A_RR` (faer, AMD ordering); the remaining problem on the nonsmooth
-/// blocks has the dense Schur complement `S = A_XX − A_XR A_RR⁻¹ A_RX` and is solved by a
-/// globalised (Gauss–Seidel-safeguarded, exactly line-searched) truncated Newton method
-/// with exact dense linear solves; `R` is recovered by back-substitution.
+/// Direct solver by exact condensation onto the nonsmooth blocks (docs/math.md §8), for
+/// single solves ([`NonsmoothSolver`]) and, above all, for the fixed point iterations of a
+/// time step ([`StepSolver`]).
 ///
-/// The factorisation and `S` are computed on the first solve and reused while the set of
-/// nonsmooth blocks stays the same (cost: one Cholesky of `A_RR` plus one solve per
-/// condensed dof). Each solve then costs two sparse triangular solves plus the Newton phase.
+/// Set-up (once per matrix and set of blocks): the free dofs are split into the interior
+/// `R` and the free components `F` of the nonsmooth blocks; faer factorises `A` on them
+/// with `R` first (AMD order) and `F` last, which gives the dense Schur complement
+/// `S = A_FF − A_FR A_RR⁻¹ A_RF` as the last diagonal block. With an energy-norm matrix `E`
+/// the set-up also forms `N = Zᵀ E Z` for the discrete harmonic extension
+/// `Z = [−A_RR⁻¹ A_RF; I]` (one multi-right-hand-side sweep), so that the norm of a change of
+/// the fault unknowns is exactly the energy norm of the change of the full solution.
+///
+/// Per time step: one forward sweep gives the condensed right-hand side, every solve works
+/// on the `|F|` unknowns only (nonlinear Gauss–Seidel + truncated Newton with dense
+/// Cholesky on the soft blocks + exact line search, see [`DirectOptions::soft_ratio`]), and
+/// one backward sweep recovers the interior. No refactorisation while `A` stays.
 pub struct DirectSolver<const D: usize> {
-    m: BlockedMatrix<D>,
+    a: Csc,
+    fixed: Vec<bool>,
+    energy: Option<Csc>,
     opts: DirectOptions,
     cache: Option<Condensed<D>>,
+    in_step: bool,
 }
 
 impl<const D: usize> DirectSolver<D> {
-    /// Set-up for the matrix `a` and fixed dofs `fixed` (as [`Tnnmg::new`]).
+    /// Set-up for the matrix `a` (`n × n`, symmetric, both triangles stored, positive
+    /// definite on the free dofs) and fixed dofs `fixed` (length `n`); the condensation is
+    /// computed on the first solve for the nonlinearity's active blocks.
     ///
     /// # Errors
-    /// Invalid shapes or pattern, invalid options.
+    /// Invalid shapes or pattern, `n` not a multiple of `D`, invalid options.
     pub fn new(
         a: SparseColMatRef<'_, usize, f64>,
         fixed: &[bool],
         opts: DirectOptions,
     ) -> Result<Self> {
         opts.stopping.validate()?;
+        if !(opts.soft_ratio > 0.0) {
+            return Err(Error::InvalidOption("soft_ratio must be positive".into()));
+        }
+        let a = Csc::from_faer(a)?;
+        a.check_symmetric_pattern()?;
+        let n = a.nrows;
+        if n % D != 0 {
+            return Err(Error::InvalidMatrix(format!(
+                "dimension {n} is not a multiple of the block size {D}"
+            )));
+        }
+        if fixed.len() != n {
+            return Err(Error::DimensionMismatch {
+                what: "fixed mask",
+                expected: n,
+                got: fixed.len(),
+            });
+        }
         Ok(Self {
-            m: BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?,
+            a,
+            fixed: fixed.to_vec(),
+            energy: None,
             opts,
             cache: None,
+            in_step: false,
         })
     }
 
+    /// Measures changes in the energy norm `‖x‖² = xᵀEx` (`E`: `n × n`, symmetric positive
+    /// semidefinite; the paper's `K + M`) instead of the norm of `A`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
+    pub fn with_energy_norm(mut self, e: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+        let e = Csc::from_faer(e)?;
+        if e.nrows != self.a.nrows || e.ncols != self.a.ncols {
+            return Err(Error::DimensionMismatch {
+                what: "energy-norm matrix",
+                expected: self.a.nrows,
+                got: e.nrows,
+            });
+        }
+        self.energy = Some(e);
+        self.cache = None;
+        Ok(self)
+    }
+
+    /// Computes the condensation for the given blocks now (it is otherwise done on the
+    /// first solve).
+    ///
+    /// # Errors
+    /// Blocks out of range or not increasing; `A` not positive definite on the free dofs.
+    pub fn prepare(&mut self, blocks: &[usize]) -> Result<()> {
+        if self.cache.as_ref().is_none_or(|c| c.blocks != blocks) {
+            self.cache = Some(self.condense(blocks)?);
+        }
+        Ok(())
+    }
+
+    /// Entries of the sparse factor (0 before the set-up).
+    pub fn factor_nnz(&self) -> usize {
+        self.cache.as_ref().map_or(0, |c| c.factor.nnz())
+    }
+
+    /// Number of condensed unknowns `|F|` (0 before the set-up).
+    pub fn condensed_dim(&self) -> usize {
+        self.cache.as_ref().map_or(0, |c| c.fault.num_free())
+    }
+
     fn condense(&self, blocks: &[usize]) -> Result<Condensed<D>> {
-        let n = self.m.n();
-        let a = &self.m.a;
-        let mut in_x = vec![false; n];
+        let n = self.a.nrows;
+        if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
+            return Err(Error::InvalidOption(format!(
+                "active blocks must be strictly increasing node indices below {}",
+                n / D
+            )));
+        }
+        let mut in_block = vec![false; n];
         for &p in blocks {
-            if p >= n / D {
-                return Err(Error::InvalidOption(format!(
-                    "active block {p} out of range"
-                )));
-            }
-            in_x[D * p..D * p + D].fill(true);
+            in_block[D * p..D * p + D].fill(true);
         }
-        let mut r_of = vec![usize::MAX; n];
-        let mut r_dofs = Vec::new();
-        for i in 0..n {
-            if !in_x[i] && !self.m.fixed[i] {
-                r_of[i] = r_dofs.len();
-                r_dofs.push(i);
-            }
-        }
-        // A_RR as CSC (both triangles).
-        let mut col_ptr = vec![0];
-        let mut row_idx = Vec::new();
-        let mut val = Vec::new();
-        for &j in &r_dofs {
-            let (rows, vals) = a.col(j);
-            for (&i, &v) in rows.iter().zip(vals) {
-                if r_of[i] != usize::MAX {
-                    row_idx.push(r_of[i]);
-                    val.push(v);
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let nr = r_dofs.len();
-        let arr = Csc {
-            nrows: nr,
-            ncols: nr,
-            col_ptr,
-            row_idx,
-            val,
-        };
-        let mut chol = SparseCholesky::new(nr, &arr.col_ptr, &arr.row_idx)?;
-        chol.factorize(&arr.val)
-            .map_err(|_| Error::NotPositiveDefinite("A restricted to the smooth free dofs"))?;
-        // Dense Schur complement on X (all components of the active blocks; fixed ones get
-        // identity rows so that they stay at their values).
-        let nx = D * blocks.len();
-        let x_dofs: Vec<usize> = blocks
+        let interior: Vec<usize> = (0..n).filter(|&i| !in_block[i] && !self.fixed[i]).collect();
+        let interface: Vec<usize> = blocks
             .iter()
             .flat_map(|&p| (0..D).map(move |c| D * p + c))
+            .filter(|&i| !self.fixed[i])
             .collect();
-        let x_fixed: Vec<bool> = x_dofs.iter().map(|&i| self.m.fixed[i]).collect();
-        let mut s = Csc::dense_pattern_free(&x_fixed);
-        let mut y = vec![0.0; nr];
-        for (jx, &j) in x_dofs.iter().enumerate() {
-            if x_fixed[jx] {
-                let d = s.position(jx, jx).expect("diagonal present");
-                s.val[d] = 1.0;
-                continue;
-            }
-            y.fill(0.0);
-            let (rows, vals) = a.col(j);
-            for (&i, &v) in rows.iter().zip(vals) {
-                if r_of[i] != usize::MAX {
-                    y[r_of[i]] = v;
-                }
-            }
-            chol.solve_in_place(&mut y);
-            for (ix, &i) in x_dofs.iter().enumerate() {
-                if self.m.fixed[i] {
-                    continue;
-                }
-                // S_ij = A_ij − Σ_r A_ir y_r (A symmetric: row i = column i).
-                let (rows, vals) = a.col(i);
-                let mut sij = 0.0;
-                for (&r, &v) in rows.iter().zip(vals) {
-                    if r == j {
-                        sij += v;
-                    } else if r_of[r] != usize::MAX {
-                        sij -= v * y[r_of[r]];
-                    }
-                }
-                let pos = s.position(ix, jx).expect("free entry present");
-                s.val[pos] = sij;
-            }
+        let (mut factor, order) = PartialCholesky::new(&self.a, &interior, &interface)?;
+        let mut pos = vec![usize::MAX; n];
+        for (k, &i) in order.iter().enumerate() {
+            pos[i] = k;
         }
-        // Symmetrise against round-off.
-        for j in 0..nx {
-            for i in 0..j {
-                if let (Some(a), Some(b)) = (s.position(i, j), s.position(j, i)) {
-                    let m = 0.5 * (s.val[a] + s.val[b]);
-                    s.val[a] = m;
-                    s.val[b] = m;
+        let fixed_cols = (0..n)
+            .filter(|&j| self.fixed[j])
+            .map(|j| {
+                let (rows, vals) = self.a.col(j);
+                let entries = rows
+                    .iter()
+                    .zip(vals)
+                    .filter(|(&i, _)| pos[i] != usize::MAX)
+                    .map(|(&i, &v)| (pos[i], v))
+                    .collect();
+                (j, entries)
+            })
+            .filter(|(_, e): &(usize, Vec<(usize, f64)>)| !e.is_empty())
+            .collect();
+        let s = factor.schur_complement();
+        let norm = self
+            .energy
+            .as_ref()
+            .map(|e| harmonic_energy(&mut factor, e, &order, &pos));
+        let free = blocks
+            .iter()
+            .map(|&p| {
+                let mut f = [false; D];
+                for (c, fc) in f.iter_mut().enumerate() {
+                    *fc = !self.fixed[D * p + c];
                 }
-            }
-        }
-        let s_fixed = x_fixed;
-        let inner = Tnnmg::<D>::new(
-            s.to_faer().as_ref(),
-            &s_fixed,
-            &[],
-            None,
-            TnnmgOptions {
-                stopping: self.opts.stopping,
-                ..TnnmgOptions::default()
-            },
-        )?;
+                f
+            })
+            .collect();
+        let fault = DenseFault::new(s, norm, free, self.opts.soft_ratio);
         Ok(Condensed {
             blocks: blocks.to_vec(),
-            renumbered: (0..blocks.len()).collect(),
-            r_of,
-            r_dofs,
-            x_dofs,
-            arr,
-            chol,
-            inner,
-            rhs_r: vec![0.0; nr],
-            c: vec![0.0; nx],
-            x: vec![0.0; nx],
+            y: vec![0.0; order.len()],
+            factor,
+            order,
+            fixed_cols,
+            fault,
         })
+    }
+}
+
+/// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), computed
+/// in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives the columns of
+/// `Z`, then `E Z` by sparse products and `Zᵀ (E Z)` by a dense product.
+fn harmonic_energy(
+    factor: &mut PartialCholesky,
+    e: &Csc,
+    order: &[usize],
+    pos: &[usize],
+) -> Vec<f64> {
+    let (n, nr) = (factor.n, factor.nr);
+    let nf = n - nr;
+    let mut z = vec![0.0; n * nf];
+    for f in 0..nf {
+        z[f * n + nr + f] = 1.0;
+    }
+    for f in 0..nf {
+        factor.backward_interior(&mut z[f * n..(f + 1) * n]);
+    }
+    // W = E Z (rows and columns of E restricted to the free dofs, elimination order).
+    let mut w = vec![0.0; n * nf];
+    for f in 0..nf {
+        let zc = &z[f * n..(f + 1) * n];
+        let wc = &mut w[f * n..(f + 1) * n];
+        for (kj, &j) in order.iter().enumerate() {
+            let zj = zc[kj];
+            if zj == 0.0 {
+                continue;
+            }
+            let (rows, vals) = e.col(j);
+            for (&i, &v) in rows.iter().zip(vals) {
+                let ki = pos[i];
+                if ki != usize::MAX {
+                    wc[ki] += v * zj;
+                }
+            }
+        }
+    }
+    let zm = MatRef::from_column_major_slice(&z, n, nf);
+    let wm = MatRef::from_column_major_slice(&w, n, nf);
+    let mut nmat = faer::Mat::<f64>::zeros(nf, nf);
+    faer::linalg::matmul::matmul(
+        nmat.as_mut(),
+        Accum::Replace,
+        zm.transpose(),
+        wm,
+        1.0,
+        Par::Seq,
+    );
+    let mut out = vec![0.0; nf * nf];
+    for j in 0..nf {
+        for i in 0..nf {
+            out[j * nf + i] = 0.5 * (nmat[(i, j)] + nmat[(j, i)]);
+        }
+    }
+    out
+}
+
+impl<const D: usize> StepSolver<D> for DirectSolver<D> {
+    fn name(&self) -> &'static str {
+        "direct"
+    }
+
+    fn dim(&self) -> usize {
+        self.a.nrows
+    }
+
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
+        check_inputs(self.a.nrows, b, v)?;
+        self.prepare(active)?;
+        let cd = self.cache.as_mut().expect("prepared above");
+        for (k, &i) in cd.order.iter().enumerate() {
+            cd.y[k] = b[i];
+        }
+        for (j, entries) in &cd.fixed_cols {
+            let vj = v[*j];
+            if vj != 0.0 {
+                for &(k, aij) in entries {
+                    cd.y[k] -= aij * vj;
+                }
+            }
+        }
+        cd.factor.forward_interior(&mut cd.y);
+        let nr = cd.factor.nr;
+        cd.fault.g.copy_from_slice(&cd.y[nr..]);
+        for (k, &p) in cd.blocks.iter().enumerate() {
+            cd.fault.xb[D * k..D * k + D].copy_from_slice(&v[D * p..D * p + D]);
+        }
+        cd.fault.change = f64::INFINITY;
+        cd.fault.residual_valid = false;
+        self.in_step = true;
+        Ok(())
+    }
+
+    fn solve_step<N: BlockNonlinearity<D>>(
+        &mut self,
+        nl: &N,
+        stopping: Stopping,
+    ) -> Result<SolveReport> {
+        stopping.validate()?;
+        let cd = match self.cache.as_mut() {
+            Some(cd) if self.in_step && cd.blocks == nl.active_blocks() => cd,
+            _ => {
+                return Err(Error::InvalidOption(
+                    "solve_step needs begin_step with the nonlinearity's active blocks".into(),
+                ))
+            }
+        };
+        cd.fault.solve(nl, stopping)
+    }
+
+    fn block(&self, k: usize) -> [f64; D] {
+        let cd = self.cache.as_ref().expect("block() inside a step");
+        load::<D>(&cd.fault.xb, k)
+    }
+
+    fn last_change(&self) -> f64 {
+        self.cache
+            .as_ref()
+            .map_or(f64::INFINITY, |c| c.fault.change)
+    }
+
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
+        let n = self.a.nrows;
+        if v.len() != n {
+            return Err(Error::DimensionMismatch {
+                what: "iterate",
+                expected: n,
+                got: v.len(),
+            });
+        }
+        let cd = match self.cache.as_mut() {
+            Some(cd) if self.in_step => cd,
+            _ => {
+                return Err(Error::InvalidOption(
+                    "finish_step without begin_step".into(),
+                ))
+            }
+        };
+        let nr = cd.factor.nr;
+        for i in 0..cd.fault.num_free() {
+            cd.y[nr + i] = cd.fault.xb[cd.fault.comp(i)];
+        }
+        cd.factor.backward_interior(&mut cd.y);
+        for (k, &i) in cd.order.iter().enumerate() {
+            v[i] = cd.y[k];
+        }
+        self.in_step = false;
+        if cd.y.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite("direct solution"));
+        }
+        Ok(())
     }
 }
 
@@ -214,7 +385,7 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
     }
 
     fn dim(&self) -> usize {
-        self.m.n()
+        self.a.nrows
     }
 
     fn stopping(&self) -> Stopping {
@@ -224,9 +395,6 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
     fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
         stopping.validate()?;
         self.opts.stopping = stopping;
-        if let Some(c) = self.cache.as_mut() {
-            c.inner.set_stopping(stopping)?;
-        }
         Ok(())
     }
 
@@ -237,80 +405,10 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
         v: &mut [f64],
     ) -> Result<SolveReport> {
         let start = Instant::now();
-        let n = self.m.n();
-        check_inputs(n, b, v)?;
-        if self
-            .cache
-            .as_ref()
-            .is_none_or(|c| c.blocks != nl.active_blocks())
-        {
-            self.cache = Some(self.condense(nl.active_blocks())?);
-        }
-        let a = &self.m.a;
-        let fixed = &self.m.fixed;
-        let cd = self.cache.as_mut().expect("condensed above");
-        let _ = &cd.arr;
-        // rhs_R = b_R − A_RG g (G: every dof not in R, with its value in v, X included
-        // temporarily as 0 — the X coupling is handled through S).
-        let in_x = |i: usize, cd: &Condensed<D>| cd.r_of[i] == usize::MAX && !fixed[i];
-        for (k, &i) in cd.r_dofs.iter().enumerate() {
-            let (rows, vals) = a.col(i);
-            let mut s = b[i];
-            for (&j, &aij) in rows.iter().zip(vals) {
-                if fixed[j] {
-                    s -= aij * v[j];
-                }
-            }
-            cd.rhs_r[k] = s;
-        }
-        let _ = in_x;
-        // z = A_RR⁻¹ rhs_R (stored in rhs_r).
-        cd.chol.solve_in_place(&mut cd.rhs_r);
-        // c_X = b_X − A_XG g − A_XR z; fixed X components: c = value (identity row in S).
-        for (ix, &i) in cd.x_dofs.iter().enumerate() {
-            if fixed[i] {
-                cd.c[ix] = v[i];
-                cd.x[ix] = v[i];
-                continue;
-            }
-            let (rows, vals) = a.col(i);
-            let mut s = b[i];
-            for (&j, &aij) in rows.iter().zip(vals) {
-                if fixed[j] {
-                    s -= aij * v[j];
-                } else if cd.r_of[j] != usize::MAX {
-                    s -= aij * cd.rhs_r[cd.r_of[j]];
-                }
-            }
-            cd.c[ix] = s;
-            cd.x[ix] = v[i];
-        }
-        let renumbered = Renumbered {
-            inner: nl,
-            blocks: &cd.renumbered,
-        };
-        let mut report = cd.inner.solve(&cd.c, &renumbered, &mut cd.x)?;
-        // Back-substitution: y = A_RR⁻¹ (b_R − A_RG g − A_RX x).
-        for (ix, &i) in cd.x_dofs.iter().enumerate() {
-            v[i] = cd.x[ix];
-        }
-        for (k, &i) in cd.r_dofs.iter().enumerate() {
-            let (rows, vals) = a.col(i);
-            let mut s = b[i];
-            for (&j, &aij) in rows.iter().zip(vals) {
-                if cd.r_of[j] == usize::MAX {
-                    s -= aij * v[j];
-                }
-            }
-            cd.rhs_r[k] = s;
-        }
-        cd.chol.solve_in_place(&mut cd.rhs_r);
-        for (k, &i) in cd.r_dofs.iter().enumerate() {
-            v[i] = cd.rhs_r[k];
-        }
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite("direct solution"));
-        }
+        self.begin_step(b, v, nl.active_blocks())?;
+        let stopping = self.opts.stopping;
+        let mut report = self.solve_step(nl, stopping)?;
+        self.finish_step(v)?;
         report.seconds = start.elapsed().as_secs_f64();
         Ok(report)
     }

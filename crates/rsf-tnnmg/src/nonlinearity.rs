@@ -89,38 +89,3 @@ impl<const D: usize> BlockNonlinearity<D> for NoNonlinearity {
         (0.0, 0.0)
     }
 }
-
-/// The same nonlinearity with its active blocks renumbered `0, 1, 2, …` (used by the
-/// direct solver, which works on the condensed problem).
-pub(crate) struct Renumbered<'a, N> {
-    pub inner: &'a N,
-    pub blocks: &'a [usize],
-}
-
-impl<const D: usize, N: BlockNonlinearity<D>> BlockNonlinearity<D> for Renumbered<'_, N> {
-    fn active_blocks(&self) -> &[usize] {
-        self.blocks
-    }
-    fn value(&self, k: usize, v: &[f64; D]) -> f64 {
-        self.inner.value(k, v)
-    }
-    fn minimize_block(
-        &self,
-        k: usize,
-        a: &[[f64; D]; D],
-        r: &[f64; D],
-        free: &[bool; D],
-        v: &mut [f64; D],
-    ) {
-        self.inner.minimize_block(k, a, r, free, v)
-    }
-    fn linearize(&self, k: usize, v: &[f64; D]) -> Linearization<D> {
-        self.inner.linearize(k, v)
-    }
-    fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64) {
-        self.inner.directional_derivatives(k, v, d)
-    }
-    fn kink_at_zero(&self, k: usize) -> bool {
-        self.inner.kink_at_zero(k)
-    }
-}

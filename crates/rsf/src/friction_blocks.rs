@@ -81,8 +81,15 @@ impl<L: FrictionLaw> FrictionBlocks<L> {
     }
 }
 
-fn norm<const D: usize>(v: &[f64; D]) -> f64 {
-    v.iter().fold(0.0f64, |acc, &x| acc.hypot(x))
+/// Euclidean norm of a block; squares directly unless that over- or underflows.
+#[inline]
+pub(crate) fn norm<const D: usize>(v: &[f64; D]) -> f64 {
+    let q: f64 = v.iter().map(|x| x * x).sum();
+    if q.is_finite() && q > 1e-280 {
+        q.sqrt()
+    } else {
+        v.iter().fold(0.0f64, |acc, &x| acc.hypot(x))
+    }
 }
 
 impl<const D: usize, L: FrictionLaw> BlockNonlinearity<D> for FrictionBlocks<L> {

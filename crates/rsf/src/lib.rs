@@ -24,6 +24,7 @@
 mod checkpoint;
 mod dynamic;
 mod error;
+mod fixed_point;
 mod friction_blocks;
 mod model;
 mod observer;
@@ -36,15 +37,18 @@ mod vtu;
 pub use checkpoint::Checkpoint;
 pub use dynamic::AnySimulation;
 pub use error::{Error, Result};
+pub use fixed_point::{Acceleration, FixedPointOptions, Predictor};
 pub use friction_blocks::FrictionBlocks;
 pub use model::{DirichletVelocity, FrictionalBoundary, Model};
 pub use observer::{Checkpointer, FrictionalProfile, Observer, PointSeries, Reports, StepState};
-pub use simulation::{FixedPointOptions, NoState, RunSummary, Simulation, StepReport};
+pub use simulation::{NoState, RunSummary, Simulation, StepReport};
 pub use slider::{
-    nearest_vertex, DiagonalKind, IntegratorKind, SliderScene, SolverChoice, StateLawKind,
-    SLIDER_CENTRE,
+    nearest_vertex, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice,
+    StateLawKind, SLIDER_CENTRE,
 };
-pub use solver::{SolverKind, VelocitySolver};
+pub use solver::{
+    SolverKind, VelocitySolver, AUTO_DIRECT_MAX_CONDENSED, AUTO_DIRECT_MAX_EXTENSION,
+};
 #[cfg(feature = "vtk")]
 pub use vtu::VtuFrames;
 

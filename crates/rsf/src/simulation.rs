@@ -7,36 +7,15 @@ use rsf_fem::{combine, SparseMatrix};
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::{check_time_step, Kinematics, VelocityIntegrator};
-use rsf_tnnmg::NonsmoothSolver;
+use rsf_tnnmg::{StepSolver, Stopping};
 
 use crate::checkpoint::Checkpoint;
 use crate::error::{invalid, Error, Result};
-use crate::friction_blocks::FrictionBlocks;
+use crate::fixed_point::{Accelerator, FixedPointOptions, Predictor};
+use crate::friction_blocks::{norm, FrictionBlocks};
 use crate::model::Model;
 use crate::observer::{Observer, StepState};
 use crate::solver::{SolverKind, VelocitySolver};
-
-/// Options of the fixed point iteration of each time step (docs/math.md §4).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FixedPointOptions {
-    /// Stop when `‖v^{ν+1} − v^ν‖ ≤ tolerance` in the energy norm (paper: 1e-10).
-    pub tolerance: f64,
-    /// Iteration budget per step; exceeding it is [`Error::FixedPointNotConverged`].
-    pub max_iterations: usize,
-    /// The damped relaxation parameter used when the state iterates stop contracting
-    /// (paper: 0.5).
-    pub relaxation: f64,
-}
-
-impl Default for FixedPointOptions {
-    fn default() -> Self {
-        Self {
-            tolerance: 1e-10,
-            max_iterations: 100,
-            relaxation: 0.5,
-        }
-    }
-}
 
 /// What one time step did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -49,7 +28,8 @@ pub struct StepReport {
     pub fixed_point_iterations: usize,
     /// Velocity-solver iterations summed over the fixed point iterations.
     pub solver_iterations: usize,
-    /// Fixed point iterations that used the damped relaxation ω < 1.
+    /// Fixed point iterations that took a damped step (the paper's ω < 1, or the fallback
+    /// of Anderson acceleration).
     pub relaxed_iterations: usize,
     /// Last fixed point correction `‖v^{ν+1} − v^ν‖` (energy norm).
     pub correction: f64,
@@ -72,24 +52,8 @@ pub struct RunSummary {
     pub fpi_max: usize,
     /// Total velocity-solver iterations.
     pub solver_iterations: usize,
-    /// Steps in which the damped relaxation was used at least once.
+    /// Steps in which a damped step was taken at least once.
     pub relaxed_steps: usize,
-}
-
-/// `xᵀ M x` for a symmetric CSC matrix.
-pub(crate) fn quadratic_form(m: &SparseMatrix, x: &[f64]) -> f64 {
-    let mut s = 0.0;
-    for j in 0..m.ncols() {
-        if x[j] == 0.0 {
-            continue;
-        }
-        let mut col = 0.0;
-        for (&i, &v) in m.row_idx_of_col_raw(j).iter().zip(m.val_of_col(j)) {
-            col += v * x[i];
-        }
-        s += x[j] * col;
-    }
-    s
 }
 
 /// A placeholder state law for friction laws without state (plain Tresca): α never changes
@@ -119,17 +83,19 @@ pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIn
     state_laws: Vec<S>,
     integrator: I,
     solver: VelocitySolver<D>,
+    inner_stopping: Stopping,
     tau: f64,
     fixed_point: FixedPointOptions,
+    accelerator: Accelerator,
     step: usize,
     kin: Kinematics,
     next: Kinematics,
     alpha: Vec<f64>,
     rhs: Vec<f64>,
     v: Vec<f64>,
-    v_old: Vec<f64>,
     alpha_iter: Vec<f64>,
     alpha_trial: Vec<f64>,
+    slip: Vec<f64>,
     history: Vec<f64>,
 }
 
@@ -175,15 +141,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 format!("{} laws for {nf} frictional nodes", state_laws.len()),
             ));
         }
-        if !(fixed_point.tolerance > 0.0 && fixed_point.tolerance.is_finite())
-            || fixed_point.max_iterations == 0
-            || !(fixed_point.relaxation > 0.0 && fixed_point.relaxation <= 1.0)
-        {
-            return Err(invalid(
-                "fixed_point",
-                "tolerance must be positive, max_iterations ≥ 1, relaxation in (0, 1]",
-            ));
-        }
+        fixed_point.validate()?;
         let (c_m, c_k) = integrator.coefficients(tau);
         let mut a = if integrator.uses_mass() {
             let m = model.mass.as_ref().ok_or_else(|| {
@@ -200,7 +158,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         if eta > 0.0 {
             add_radiation_damping::<D>(&mut a, &model, eta);
         }
+        let inner_stopping = solver.stopping();
         let solver = VelocitySolver::new(solver, &a, &model)?;
+        let accelerator = Accelerator::new(fixed_point.acceleration, &model.frictional.weights);
         let n = model.num_dofs();
         let mut kin = Kinematics::zeros(n);
         kin.u.copy_from_slice(&model.initial_displacement);
@@ -215,17 +175,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             state_laws,
             integrator,
             solver,
+            inner_stopping,
             tau,
             fixed_point,
+            accelerator,
             step: 0,
             next: Kinematics::zeros(n),
             alpha: alpha0,
             rhs: vec![0.0; n],
             v: vec![0.0; n],
-            v_old: vec![0.0; n],
             alpha_iter: vec![0.0; nf],
             alpha_trial: vec![0.0; nf],
-            history: Vec::new(),
+            slip: vec![0.0; nf],
+            history: Vec::with_capacity(fixed_point.max_iterations),
             kin,
             model,
         };
@@ -267,7 +229,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
 
     /// Name of the velocity solver.
     pub fn solver_name(&self) -> &'static str {
-        self.solver.name()
+        StepSolver::name(&self.solver)
+    }
+
+    /// The fixed point options.
+    pub fn fixed_point_options(&self) -> &FixedPointOptions {
+        &self.fixed_point
     }
 
     /// Slip rates `|v_p|` on Γ_F (m/s) into `out`, in `model.frictional.nodes` order.
@@ -293,28 +260,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         }
     }
 
-    /// Solves the velocity problem at the current `α^{ν}` iterate (in `alpha_iter`).
-    fn solve_velocity(&mut self, report: &mut StepReport) -> Result<f64> {
-        self.v_old.copy_from_slice(&self.v);
-        self.friction.set_state(&self.alpha_iter);
-        let r = self.solver.solve(&self.rhs, &self.friction, &mut self.v)?;
-        report.solver_iterations += r.iterations;
-        report.fixed_point_iterations += 1;
-        for (o, x) in self.v_old.iter_mut().zip(&self.v) {
-            *o = x - *o;
+    /// `|v_p|` of the solver's current iterate on Γ_F into `slip`.
+    fn read_slip_rates(&mut self) {
+        for (k, s) in self.slip.iter_mut().enumerate() {
+            *s = norm::<D>(&self.solver.block(k));
         }
-        Ok(quadratic_form(&self.model.energy_norm, &self.v_old)
-            .max(0.0)
-            .sqrt())
     }
 
-    /// `α̃ = S(α_{n−1}, |v|)`, the backward Euler state update (3.5) from the step's
+    /// `α̃ = S(α_{n−1}, slip)`, the backward Euler state update (3.5) from the step's
     /// initial state, into `alpha_trial`.
-    fn state_update(&mut self, v: &[f64]) -> Result<()> {
-        let nodes = &self.model.frictional.nodes;
-        for (k, &p) in nodes.iter().enumerate() {
-            let s = block_norm::<D>(v, p);
-            self.alpha_trial[k] = self.state_laws[k].update(self.alpha[k], s, self.tau)?;
+    fn state_update(&mut self) -> Result<()> {
+        for k in 0..self.slip.len() {
+            self.alpha_trial[k] =
+                self.state_laws[k].update(self.alpha[k], self.slip[k], self.tau)?;
         }
         Ok(())
     }
@@ -341,51 +299,78 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             &self.kin,
             &mut self.rhs,
         )?;
-        // Predictor v^0 = v_{n−1} with the Dirichlet data of t_n.
+        // Predictor v⁰ with the Dirichlet data of t_n.
         let mut v = std::mem::take(&mut self.v);
         v.copy_from_slice(&self.kin.v);
+        if self.fixed_point.predictor == Predictor::Extrapolated {
+            for (vi, ai) in v.iter_mut().zip(&self.kin.a) {
+                *vi += self.tau * ai;
+            }
+        }
         self.impose_dirichlet(t, &mut v);
+        let begun = self
+            .solver
+            .begin_step(&self.rhs, &v, &self.model.frictional.nodes);
         self.v = v;
+        begun?;
         self.history.clear();
-        self.alpha_iter.copy_from_slice(&self.alpha);
+        let full = self.inner_stopping;
         if !self.friction.uses_state() {
-            let c = self.solve_velocity(&mut report)?;
-            report.correction = c;
+            let r = self.solver.solve_step(&self.friction, full)?;
+            report.solver_iterations += r.iterations;
+            report.fixed_point_iterations = 1;
+            report.correction = self.solver.last_change();
         } else {
-            // Relaxed fixed point iteration (docs/math.md §4).
-            let mut prev_diff = f64::INFINITY;
+            // α⁰ = S(α_{n−1}, |v⁰|), then the fixed point iteration (docs/math.md §4, §8).
+            self.read_slip_rates();
+            self.state_update()?;
+            self.alpha_iter.copy_from_slice(&self.alpha_trial);
+            let first: f64 = {
+                let w = &self.model.frictional.weights;
+                (0..w.len())
+                    .map(|k| w[k] * (self.alpha_iter[k] - self.alpha[k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            };
+            self.accelerator.begin(first);
             let mut converged = false;
+            let mut last = f64::INFINITY;
+            let mut previous = f64::INFINITY;
             for nu in 0..self.fixed_point.max_iterations {
-                let v = std::mem::take(&mut self.v);
-                let upd = self.state_update(&v);
-                self.v = v;
-                upd?;
-                let w = &self.model.frictional;
-                let mut diff = 0.0;
-                for k in 0..w.len() {
-                    let d = self.alpha_trial[k] - self.alpha_iter[k];
-                    diff += w.weights[k] * d * d;
-                }
-                let diff = diff.sqrt();
-                let omega = if nu <= 1 || diff <= 0.5 * prev_diff {
-                    1.0
-                } else {
-                    report.relaxed_iterations += 1;
-                    self.fixed_point.relaxation
+                let stopping = match self.fixed_point.inexact_factor {
+                    Some(kappa) if nu > 0 => Stopping {
+                        absolute: full.absolute.max(kappa * last),
+                        ..full
+                    },
+                    _ => full,
                 };
-                for k in 0..w.len() {
-                    self.alpha_iter[k] =
-                        omega * self.alpha_trial[k] + (1.0 - omega) * self.alpha_iter[k];
-                }
-                prev_diff = omega * diff;
-                let c = self.solve_velocity(&mut report)?;
+                self.friction.set_state(&self.alpha_iter);
+                let r = self.solver.solve_step(&self.friction, stopping)?;
+                report.solver_iterations += r.iterations;
+                report.fixed_point_iterations += 1;
+                let c = self.solver.last_change();
                 self.history.push(c);
                 report.correction = c;
-                if c <= self.fixed_point.tolerance {
+                last = c;
+                let exact = stopping.absolute <= full.absolute;
+                let theta = c / previous;
+                let small = c <= self.fixed_point.tolerance
+                    || (self.fixed_point.error_estimate
+                        && nu > 0
+                        && theta <= 0.5
+                        && theta / (1.0 - theta) * c <= self.fixed_point.tolerance);
+                previous = c;
+                if small && exact && !(nu == 0 && self.fixed_point.paper_first_iteration) {
                     converged = true;
                     break;
                 }
+                // Next state iterate from G(α^ν) = S(α_{n−1}, |v^{ν+1}|).
+                self.read_slip_rates();
+                self.state_update()?;
+                self.accelerator
+                    .next(&mut self.alpha_iter, &self.alpha_trial);
             }
+            report.relaxed_iterations = self.accelerator.damped;
             if !converged {
                 return Err(Error::FixedPointNotConverged {
                     step: n,
@@ -395,12 +380,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 });
             }
         }
-        // Commit: α_n = S(α_{n−1}, |v_n|), (u, a) from v_n.
+        // Commit: v_n from the solver (bulk recovery), α_n = S(α_{n−1}, |v_n|), (u, a).
+        let mut v = std::mem::take(&mut self.v);
+        let finished = self.solver.finish_step(&mut v);
+        self.v = v;
+        finished?;
         if self.friction.uses_state() {
-            let v = std::mem::take(&mut self.v);
-            let upd = self.state_update(&v);
-            self.v = v;
-            upd?;
+            self.read_slip_rates();
+            self.state_update()?;
             self.alpha.copy_from_slice(&self.alpha_trial);
         }
         self.integrator
@@ -507,9 +494,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
 
 #[inline]
 pub(crate) fn block_norm<const D: usize>(v: &[f64], p: usize) -> f64 {
-    v[D * p..D * p + D]
-        .iter()
-        .fold(0.0f64, |acc, &x| acc.hypot(x))
+    let mut x = [0.0; D];
+    x.copy_from_slice(&v[D * p..D * p + D]);
+    norm(&x)
 }
 
 /// `|v_p|` for the listed nodes.

@@ -14,8 +14,9 @@ use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
 
 use crate::dynamic::AnySimulation;
 use crate::error::{invalid, Error, Result};
+use crate::fixed_point::FixedPointOptions;
 use crate::model::{DirichletVelocity, FrictionalBoundary, Model};
-use crate::simulation::{FixedPointOptions, Simulation};
+use crate::simulation::Simulation;
 use crate::solver::SolverKind;
 
 /// State law of a scene.
@@ -44,10 +45,23 @@ pub enum IntegratorKind {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SolverChoice {
+    /// Direct while the condensed problem is small, TNNMG beyond ([`SolverKind::resolve`]).
+    Auto,
     /// TNNMG on the refinement hierarchy.
     Tnnmg,
     /// Direct condensation onto Γ_F.
     Direct,
+}
+
+/// Fixed point scheme of a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FixedPointScheme {
+    /// Anderson acceleration from an extrapolated predictor
+    /// ([`FixedPointOptions::default`]).
+    Anderson,
+    /// The paper's relaxed iteration ([`FixedPointOptions::paper`]; Fig. 6.1's counts).
+    Paper,
 }
 
 /// Triangulation diagonal of the coarse grid cells.
@@ -104,6 +118,8 @@ pub struct SliderScene {
     pub integrator: IntegratorKind,
     /// Velocity solver.
     pub solver: SolverChoice,
+    /// Fixed point scheme.
+    pub fixed_point: FixedPointScheme,
     /// Fixed point tolerance (energy norm, paper 1e-10).
     pub fixed_point_tolerance: f64,
     /// Fixed point iteration budget per step.
@@ -135,7 +151,8 @@ impl Default for SliderScene {
             alpha0: -10.0,
             state_law: StateLawKind::Dieterich,
             integrator: IntegratorKind::Newmark,
-            solver: SolverChoice::Tnnmg,
+            solver: SolverChoice::Auto,
+            fixed_point: FixedPointScheme::Anderson,
             fixed_point_tolerance: 1e-10,
             fixed_point_max_iterations: 100,
             solver_tolerance: 1e-10,
@@ -302,18 +319,35 @@ impl SliderScene {
             relative: 0.0,
             max_iterations: 500,
         };
+        let tnnmg = TnnmgOptions {
+            stopping,
+            ..TnnmgOptions::default()
+        };
+        let direct = DirectOptions {
+            stopping: Stopping {
+                absolute: self.solver_tolerance * 1e-2,
+                relative: 1e-14,
+                max_iterations: 500,
+            },
+            ..DirectOptions::default()
+        };
         match self.solver {
-            SolverChoice::Tnnmg => SolverKind::Tnnmg(TnnmgOptions {
-                stopping,
-                ..TnnmgOptions::default()
-            }),
-            SolverChoice::Direct => SolverKind::Direct(DirectOptions {
-                stopping: Stopping {
-                    absolute: self.solver_tolerance * 1e-2,
-                    relative: 1e-14,
-                    max_iterations: 500,
-                },
-            }),
+            SolverChoice::Auto => SolverKind::Auto { tnnmg, direct },
+            SolverChoice::Tnnmg => SolverKind::Tnnmg(tnnmg),
+            SolverChoice::Direct => SolverKind::Direct(direct),
+        }
+    }
+
+    /// The fixed point options of the scene's scheme with its tolerance and budget.
+    pub fn fixed_point_options(&self) -> FixedPointOptions {
+        let base = match self.fixed_point {
+            FixedPointScheme::Anderson => FixedPointOptions::default(),
+            FixedPointScheme::Paper => FixedPointOptions::paper(),
+        };
+        FixedPointOptions {
+            tolerance: self.fixed_point_tolerance,
+            max_iterations: self.fixed_point_max_iterations,
+            ..base
         }
     }
 
@@ -338,11 +372,7 @@ impl SliderScene {
         let alpha0 = vec![self.alpha0; nf];
         let tau = self.tau();
         let solver = self.solver_kind();
-        let fp = FixedPointOptions {
-            tolerance: self.fixed_point_tolerance,
-            max_iterations: self.fixed_point_max_iterations,
-            ..FixedPointOptions::default()
-        };
+        let fp = self.fixed_point_options();
         macro_rules! make {
             ($state:expr, $integ:expr) => {
                 Box::new(Simulation::new(

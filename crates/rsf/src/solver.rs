@@ -1,18 +1,28 @@
-//! Choice of the velocity solver at the scene level.
+//! Choice of the velocity solver.
 
 use rsf_tnnmg::{
-    BlockNonlinearity, DirectOptions, DirectSolver, NonlinearGaussSeidel, NonsmoothSolver, Result,
-    SolveReport, Stopping, Tnnmg, TnnmgOptions,
+    BlockNonlinearity, DirectOptions, DirectSolver, FullStep, NonlinearGaussSeidel,
+    NonsmoothSolver, Result, SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
 };
 
 use crate::model::Model;
 
-/// Which solver handles the velocity problem of each fixed point iteration.
+/// Which solver handles the velocity problems of the fixed point iterations.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SolverKind {
-    /// TNNMG over the model's refinement hierarchy (the paper's choice, §6.2).
+    /// [`Direct`](Self::Direct) while the condensed problem is small, else
+    /// [`Tnnmg`](Self::Tnnmg): see [`SolverKind::resolve`] for the rule.
+    Auto {
+        /// Options if TNNMG is chosen.
+        tnnmg: TnnmgOptions,
+        /// Options if the direct solver is chosen.
+        direct: DirectOptions,
+    },
+    /// TNNMG over the model's refinement hierarchy (the paper's choice, §6.2): every fixed
+    /// point iteration solves the whole problem.
     Tnnmg(TnnmgOptions),
-    /// Direct condensation onto Γ_F plus globalised Newton (reference; fast when Γ_F is small).
+    /// Exact condensation onto Γ_F (docs/math.md §8): the fixed point iterations work on the
+    /// frictional unknowns only; the interior is eliminated once per step.
     Direct(DirectOptions),
     /// Nonlinear block Gauss–Seidel alone (baseline; slow on fine meshes).
     GaussSeidel(Stopping),
@@ -20,91 +30,144 @@ pub enum SolverKind {
 
 impl Default for SolverKind {
     fn default() -> Self {
-        SolverKind::Tnnmg(TnnmgOptions::default())
+        SolverKind::Auto {
+            tnnmg: TnnmgOptions::default(),
+            direct: DirectOptions::default(),
+        }
     }
 }
 
-/// A velocity solver of any [`SolverKind`], dispatching statically inside each call.
+/// Largest number of condensed unknowns (free components on Γ_F) for which
+/// [`SolverKind::Auto`] picks the direct solver. Its set-up stores the discrete harmonic
+/// extension of every frictional unknown (`n × |F|` values) and a dense `|F|²` Schur
+/// complement; the measurements behind the value are in `docs/performance.md`.
+pub const AUTO_DIRECT_MAX_CONDENSED: usize = 1500;
+
+/// Largest `n · |F|` (values of the stored harmonic extension, 8 bytes each) for which
+/// [`SolverKind::Auto`] picks the direct solver: 2.5e8 values = 2 GB.
+pub const AUTO_DIRECT_MAX_EXTENSION: usize = 250_000_000;
+
+impl SolverKind {
+    /// The concrete choice for `model`: [`Auto`](Self::Auto) becomes
+    /// [`Direct`](Self::Direct) when the number of free components on Γ_F is at most
+    /// [`AUTO_DIRECT_MAX_CONDENSED`] and `n · |F|` at most [`AUTO_DIRECT_MAX_EXTENSION`],
+    /// else [`Tnnmg`](Self::Tnnmg) (or Direct if the model has no hierarchy).
+    pub fn resolve<const D: usize>(&self, model: &Model<D>) -> SolverKind {
+        match self {
+            SolverKind::Auto { tnnmg, direct } => {
+                let condensed = model
+                    .frictional
+                    .nodes
+                    .iter()
+                    .flat_map(|&p| (0..D).map(move |c| D * p + c))
+                    .filter(|&i| !model.fixed[i])
+                    .count();
+                let small = condensed <= AUTO_DIRECT_MAX_CONDENSED
+                    && model.num_dofs().saturating_mul(condensed) <= AUTO_DIRECT_MAX_EXTENSION;
+                if small || model.prolongations.is_empty() {
+                    SolverKind::Direct(direct.clone())
+                } else {
+                    SolverKind::Tnnmg(tnnmg.clone())
+                }
+            }
+            other => other.clone(),
+        }
+    }
+
+    /// The inner stopping test of the chosen solver.
+    pub fn stopping(&self) -> Stopping {
+        match self {
+            SolverKind::Auto { tnnmg, .. } => tnnmg.stopping,
+            SolverKind::Tnnmg(o) => o.stopping,
+            SolverKind::Direct(o) => o.stopping,
+            SolverKind::GaussSeidel(s) => *s,
+        }
+    }
+}
+
+/// A velocity solver of any concrete [`SolverKind`], dispatching statically inside each
+/// call.
 pub enum VelocitySolver<const D: usize> {
     /// See [`SolverKind::Tnnmg`].
-    Tnnmg(Box<Tnnmg<D>>),
+    Tnnmg(Box<FullStep<D, Tnnmg<D>>>),
     /// See [`SolverKind::Direct`].
     Direct(Box<DirectSolver<D>>),
     /// See [`SolverKind::GaussSeidel`].
-    GaussSeidel(Box<NonlinearGaussSeidel<D>>),
+    GaussSeidel(Box<FullStep<D, NonlinearGaussSeidel<D>>>),
 }
 
 impl<const D: usize> VelocitySolver<D> {
-    /// Builds the solver for the matrix `a` of the velocity problem of `model`.
+    /// Builds the solver for the matrix `a` of the velocity problem of `model`
+    /// ([`SolverKind::Auto`] is resolved first). Stopping norms are the model's energy norm.
     ///
     /// # Errors
     /// Set-up errors of the solvers.
     pub fn new(kind: &SolverKind, a: &rsf_fem::SparseMatrix, model: &Model<D>) -> Result<Self> {
-        Ok(match kind {
-            SolverKind::Tnnmg(o) => VelocitySolver::Tnnmg(Box::new(Tnnmg::new(
-                a.as_ref(),
-                &model.fixed,
-                &model.prolongations,
-                Some(model.energy_norm.as_ref()),
-                o.clone(),
+        let e = model.energy_norm.as_ref();
+        Ok(match kind.resolve(model) {
+            SolverKind::Tnnmg(o) => VelocitySolver::Tnnmg(Box::new(FullStep::new(
+                Tnnmg::new(a.as_ref(), &model.fixed, &model.prolongations, Some(e), o)?,
+                Some(e),
             )?)),
-            SolverKind::Direct(o) => VelocitySolver::Direct(Box::new(DirectSolver::new(
-                a.as_ref(),
-                &model.fixed,
-                o.clone(),
-            )?)),
-            SolverKind::GaussSeidel(s) => {
-                VelocitySolver::GaussSeidel(Box::new(NonlinearGaussSeidel::new(
-                    a.as_ref(),
-                    &model.fixed,
-                    Some(model.energy_norm.as_ref()),
-                    *s,
-                    false,
-                )?))
+            SolverKind::Direct(o) => {
+                let mut d = DirectSolver::new(a.as_ref(), &model.fixed, o)?.with_energy_norm(e)?;
+                d.prepare(&model.frictional.nodes)?;
+                VelocitySolver::Direct(Box::new(d))
             }
+            SolverKind::GaussSeidel(s) => VelocitySolver::GaussSeidel(Box::new(FullStep::new(
+                NonlinearGaussSeidel::new(a.as_ref(), &model.fixed, Some(e), s, false)?,
+                Some(e),
+            )?)),
+            SolverKind::Auto { .. } => unreachable!("resolved above"),
         })
     }
 }
 
-impl<const D: usize> NonsmoothSolver<D> for VelocitySolver<D> {
-    fn name(&self) -> &'static str {
-        match self {
-            VelocitySolver::Tnnmg(s) => s.name(),
-            VelocitySolver::Direct(s) => s.name(),
-            VelocitySolver::GaussSeidel(s) => s.name(),
+macro_rules! dispatch {
+    ($self:ident, $s:ident => $e:expr) => {
+        match $self {
+            VelocitySolver::Tnnmg($s) => $e,
+            VelocitySolver::Direct($s) => $e,
+            VelocitySolver::GaussSeidel($s) => $e,
         }
+    };
+}
+
+impl<const D: usize> StepSolver<D> for VelocitySolver<D> {
+    fn name(&self) -> &'static str {
+        dispatch!(self, s => StepSolver::name(s.as_ref()))
     }
     fn dim(&self) -> usize {
-        match self {
-            VelocitySolver::Tnnmg(s) => s.dim(),
-            VelocitySolver::Direct(s) => s.dim(),
-            VelocitySolver::GaussSeidel(s) => s.dim(),
-        }
+        dispatch!(self, s => StepSolver::dim(s.as_ref()))
     }
-    fn stopping(&self) -> Stopping {
-        match self {
-            VelocitySolver::Tnnmg(s) => s.stopping(),
-            VelocitySolver::Direct(s) => s.stopping(),
-            VelocitySolver::GaussSeidel(s) => s.stopping(),
-        }
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
+        dispatch!(self, s => s.begin_step(b, v, active))
     }
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        match self {
-            VelocitySolver::Tnnmg(s) => s.set_stopping(stopping),
-            VelocitySolver::Direct(s) => s.set_stopping(stopping),
-            VelocitySolver::GaussSeidel(s) => s.set_stopping(stopping),
-        }
-    }
-    fn solve<N: BlockNonlinearity<D>>(
+    fn solve_step<N: BlockNonlinearity<D>>(
         &mut self,
-        b: &[f64],
         nl: &N,
-        v: &mut [f64],
+        stopping: Stopping,
     ) -> Result<SolveReport> {
+        dispatch!(self, s => s.solve_step(nl, stopping))
+    }
+    fn block(&self, k: usize) -> [f64; D] {
+        dispatch!(self, s => s.block(k))
+    }
+    fn last_change(&self) -> f64 {
+        dispatch!(self, s => s.last_change())
+    }
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
+        dispatch!(self, s => s.finish_step(v))
+    }
+}
+
+impl<const D: usize> VelocitySolver<D> {
+    /// The stopping test of single solves (for [`NonsmoothSolver`] use outside a step).
+    pub fn stopping(&self) -> Stopping {
         match self {
-            VelocitySolver::Tnnmg(s) => s.solve(b, nl, v),
-            VelocitySolver::Direct(s) => s.solve(b, nl, v),
-            VelocitySolver::GaussSeidel(s) => s.solve(b, nl, v),
+            VelocitySolver::Tnnmg(s) => s.inner().stopping(),
+            VelocitySolver::Direct(s) => NonsmoothSolver::stopping(s.as_ref()),
+            VelocitySolver::GaussSeidel(s) => s.inner().stopping(),
         }
     }
 }

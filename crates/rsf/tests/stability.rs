@@ -350,7 +350,10 @@ fn build(c: &Case) -> rsf::Result<Box<dyn AnySimulation<2>>> {
     let fp = FixedPointOptions {
         tolerance: s.fixed_point_tolerance,
         max_iterations: s.fixed_point_max_iterations,
-        relaxation: c.relaxation,
+        acceleration: rsf::Acceleration::Relaxation {
+            relaxation: c.relaxation,
+        },
+        ..FixedPointOptions::paper()
     };
     let solver = s.solver_kind();
     Ok(match s.state_law {

@@ -1,0 +1,192 @@
+//! Solving the velocity problems of one time step: the fixed point iteration of the coupled
+//! step (docs/math.md §4, §8) solves a sequence of problems with the same matrix `A` and
+//! right-hand side `b` and a changing nonlinearity (the friction frozen at the current
+//! state iterate).
+//!
+//! [`StepSolver`] is that sequence as an interface: [`begin_step`](StepSolver::begin_step)
+//! once per time step, [`solve_step`](StepSolver::solve_step) once per fixed point
+//! iteration, [`finish_step`](StepSolver::finish_step) once at the end. A solver that
+//! condenses onto the nonsmooth blocks ([`DirectSolver`](crate::DirectSolver)) does all of
+//! its per-step bulk work in `begin_step`/`finish_step` and the iterations on the
+//! frictional unknowns only; [`FullStep`] turns any [`NonsmoothSolver`] into a
+//! `StepSolver` that solves the whole problem every iteration (TNNMG, Gauss–Seidel).
+
+use faer::sparse::SparseColMatRef;
+
+use crate::block::load;
+use crate::csc::Csc;
+use crate::error::{Error, Result};
+use crate::nonlinearity::BlockNonlinearity;
+use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+
+/// A minimiser of `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` for a sequence of
+/// nonlinearities `φ` with the same `A`, `b`, fixed dofs and active blocks.
+///
+/// Protocol: [`begin_step`](Self::begin_step) (`b` and a predicted `v`), then any number of
+/// [`solve_step`](Self::solve_step) calls (each warm-started from the previous result),
+/// then [`finish_step`](Self::finish_step) to obtain the full solution. Between solves,
+/// [`block`](Self::block) reads the current value of an active block (e.g. to update the
+/// friction state from the slip rate).
+pub trait StepSolver<const D: usize> {
+    /// Short name for reports.
+    fn name(&self) -> &'static str;
+
+    /// Number of unknowns `n` of the full problem.
+    fn dim(&self) -> usize;
+
+    /// Starts a step: `b` (length `n`) is the right-hand side; `v` (length `n`) holds the
+    /// values of the fixed dofs and a prediction of the free ones (the start of the first
+    /// solve). The predicted iterate counts as the 0-th iterate for
+    /// [`last_change`](Self::last_change).
+    ///
+    /// `active` are the node indices of the nonsmooth blocks of every nonlinearity of this
+    /// step (strictly increasing; a solver may have been set up for one set only).
+    ///
+    /// # Errors
+    /// Dimension mismatches, non-finite input, active blocks that differ from the set-up.
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()>;
+
+    /// Minimises `J` for the nonlinearity `nl` (whose active blocks are those given to
+    /// [`begin_step`](Self::begin_step)) from the current iterate, to `stopping`.
+    ///
+    /// # Errors
+    /// Non-convergence within the budget ([`Error::NotConverged`]), non-finite iterates.
+    fn solve_step<N: BlockNonlinearity<D>>(
+        &mut self,
+        nl: &N,
+        stopping: Stopping,
+    ) -> Result<SolveReport>;
+
+    /// Value of active block `k` (all `D` components) of the current iterate.
+    fn block(&self, k: usize) -> [f64; D];
+
+    /// Energy norm of the change of the full iterate made by the last
+    /// [`solve_step`](Self::solve_step) (after the first solve of a step: the change from the
+    /// predicted iterate; for a condensing solver the predicted iterate is the discrete
+    /// harmonic extension of its values on the active blocks).
+    fn last_change(&self) -> f64;
+
+    /// Writes the full current iterate into `v` (length `n`), recovering everything the
+    /// iterations did not compute. Ends the step.
+    ///
+    /// # Errors
+    /// Non-finite results.
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<()>;
+}
+
+/// Any [`NonsmoothSolver`] as a [`StepSolver`]: every [`solve_step`](StepSolver::solve_step)
+/// solves the whole problem (warm-started), and the change between iterates is measured in
+/// the energy norm given at construction (`‖x‖² = xᵀEx`).
+pub struct FullStep<const D: usize, S: NonsmoothSolver<D>> {
+    solver: S,
+    norm: Option<Csc>,
+    b: Vec<f64>,
+    v: Vec<f64>,
+    v_before: Vec<f64>,
+    active: Vec<usize>,
+    change: f64,
+}
+
+impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
+    /// Wraps `solver`; `energy_norm` is the matrix `E` of the norm of
+    /// [`last_change`](StepSolver::last_change) (`n × n`, symmetric positive semidefinite;
+    /// `None`: the Euclidean norm).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
+    pub fn new(solver: S, energy_norm: Option<SparseColMatRef<'_, usize, f64>>) -> Result<Self> {
+        let n = solver.dim();
+        let norm = energy_norm.map(Csc::from_faer).transpose()?;
+        if let Some(e) = &norm {
+            if e.nrows != n || e.ncols != n {
+                return Err(Error::DimensionMismatch {
+                    what: "energy-norm matrix",
+                    expected: n,
+                    got: e.nrows,
+                });
+            }
+        }
+        Ok(Self {
+            solver,
+            norm,
+            b: vec![0.0; n],
+            v: vec![0.0; n],
+            v_before: vec![0.0; n],
+            active: Vec::new(),
+            change: f64::INFINITY,
+        })
+    }
+
+    /// The wrapped solver.
+    pub fn inner(&self) -> &S {
+        &self.solver
+    }
+
+    /// The wrapped solver, mutably.
+    pub fn inner_mut(&mut self) -> &mut S {
+        &mut self.solver
+    }
+}
+
+impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
+    fn name(&self) -> &'static str {
+        self.solver.name()
+    }
+
+    fn dim(&self) -> usize {
+        self.solver.dim()
+    }
+
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
+        check_inputs(self.dim(), b, v)?;
+        self.b.copy_from_slice(b);
+        self.v.copy_from_slice(v);
+        self.active.clear();
+        self.active.extend_from_slice(active);
+        self.change = f64::INFINITY;
+        Ok(())
+    }
+
+    fn solve_step<N: BlockNonlinearity<D>>(
+        &mut self,
+        nl: &N,
+        stopping: Stopping,
+    ) -> Result<SolveReport> {
+        if nl.active_blocks() != self.active.as_slice() {
+            return Err(Error::InvalidOption(
+                "the nonlinearity's active blocks differ from those of begin_step".into(),
+            ));
+        }
+        self.solver.set_stopping(stopping)?;
+        self.v_before.copy_from_slice(&self.v);
+        let report = self.solver.solve(&self.b, nl, &mut self.v)?;
+        for (d, x) in self.v_before.iter_mut().zip(&self.v) {
+            *d = x - *d;
+        }
+        self.change = match &self.norm {
+            Some(e) => e.quadratic_form(&self.v_before).max(0.0).sqrt(),
+            None => self.v_before.iter().map(|x| x * x).sum::<f64>().sqrt(),
+        };
+        Ok(report)
+    }
+
+    fn block(&self, k: usize) -> [f64; D] {
+        load::<D>(&self.v, self.active[k])
+    }
+
+    fn last_change(&self) -> f64 {
+        self.change
+    }
+
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
+        if v.len() != self.v.len() {
+            return Err(Error::DimensionMismatch {
+                what: "iterate",
+                expected: self.v.len(),
+                got: v.len(),
+            });
+        }
+        v.copy_from_slice(&self.v);
+        Ok(())
+    }
+}
