@@ -128,11 +128,13 @@ fn build<I: VelocityIntegrator>(
     sim.restore(&Checkpoint {
         dim: 1,
         step: 0,
+        time: 0.0,
         tau,
         u: vec![0.0, f_ss / k],
         v: vec![blk.v_load; 2],
         a: vec![0.0; 2],
         alpha: vec![alpha_ss + blk.dalpha],
+        controller: Vec::new(),
     })?;
     Ok(sim)
 }

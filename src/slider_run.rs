@@ -132,7 +132,6 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
             checkpointer = Some(Checkpointer::new(
                 dir.join("checkpoint.bin"),
                 opts.checkpoint_every,
-                scene.tau(),
             ));
         }
     }

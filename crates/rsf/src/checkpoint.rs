@@ -1,15 +1,18 @@
 //! Checkpoints: the complete dynamic state of a simulation in a small binary file.
 //!
-//! Format (little endian): magic `RSFCKPT1`, then `u64` dimension, step, and lengths of
-//! `u` and `alpha`, `f64` τ, then `u`, `v`, `a`, `alpha` as raw `f64` bits — exact, so a
-//! resumed run is bit-identical to an uninterrupted one.
+//! Format (little endian): magic `RSFCKPT2`, then `u64` dimension, step, and lengths of
+//! `u`, `alpha` and `controller`, `f64` time and τ, then `u`, `v`, `a`, `alpha`,
+//! `controller` as raw `f64` bits — exact, so a resumed run is bit-identical to an
+//! uninterrupted one. Files of the first format (`RSFCKPT1`: no time, no controller) are
+//! still read (time = step · τ).
 
 use std::io::{Read, Write};
 use std::path::Path;
 
 use crate::error::{Error, Result};
 
-const MAGIC: &[u8; 8] = b"RSFCKPT1";
+const MAGIC: &[u8; 8] = b"RSFCKPT2";
+const MAGIC_V1: &[u8; 8] = b"RSFCKPT1";
 
 /// The dynamic state of a simulation after `step` steps.
 #[derive(Debug, Clone, PartialEq)]
@@ -18,7 +21,9 @@ pub struct Checkpoint {
     pub dim: usize,
     /// Steps taken.
     pub step: usize,
-    /// Time step τ (s).
+    /// Time after `step` steps (s).
+    pub time: f64,
+    /// Time step τ (s) of the next step.
     pub tau: f64,
     /// Displacement (m).
     pub u: Vec<f64>,
@@ -28,6 +33,8 @@ pub struct Checkpoint {
     pub a: Vec<f64>,
     /// State per frictional node.
     pub alpha: Vec<f64>,
+    /// State of a time-step controller (empty for a fixed τ).
+    pub controller: Vec<f64>,
 }
 
 impl Checkpoint {
@@ -40,11 +47,18 @@ impl Checkpoint {
         {
             let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
             f.write_all(MAGIC)?;
-            for x in [self.dim, self.step, self.u.len(), self.alpha.len()] {
+            for x in [
+                self.dim,
+                self.step,
+                self.u.len(),
+                self.alpha.len(),
+                self.controller.len(),
+            ] {
                 f.write_all(&(x as u64).to_le_bytes())?;
             }
+            f.write_all(&self.time.to_le_bytes())?;
             f.write_all(&self.tau.to_le_bytes())?;
-            for vec in [&self.u, &self.v, &self.a, &self.alpha] {
+            for vec in [&self.u, &self.v, &self.a, &self.alpha, &self.controller] {
                 for x in vec.iter() {
                     f.write_all(&x.to_le_bytes())?;
                 }
@@ -63,42 +77,66 @@ impl Checkpoint {
         let mut bytes = Vec::new();
         std::fs::File::open(path)?.read_to_end(&mut bytes)?;
         let bad = |what: &str| Error::Checkpoint(format!("{}: {what}", path.display()));
-        if bytes.len() < 48 || &bytes[..8] != MAGIC {
+        let v1 = bytes.len() >= 8 && &bytes[..8] == MAGIC_V1;
+        let header = if v1 { 48 } else { 64 };
+        if bytes.len() < header || !(v1 || &bytes[..8] == MAGIC) {
             return Err(bad("not an rsf checkpoint"));
         }
-        let word = |i: usize| u64::from_le_bytes(bytes[8 + 8 * i..16 + 8 * i].try_into().unwrap());
+        let word = |i: usize| {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(&bytes[8 + 8 * i..16 + 8 * i]);
+            u64::from_le_bytes(w)
+        };
+        let to_usize = |w: u64| usize::try_from(w).map_err(|_| bad("size overflow"));
         let (dim, step, n, nf) = (
-            word(0) as usize,
-            word(1) as usize,
-            word(2) as usize,
-            word(3) as usize,
+            to_usize(word(0))?,
+            to_usize(word(1))?,
+            to_usize(word(2))?,
+            to_usize(word(3))?,
         );
-        let tau = f64::from_bits(word(4));
-        let expected = 48usize
-            .checked_add(n.checked_mul(24).ok_or_else(|| bad("size overflow"))?)
+        let (nc, time, tau) = if v1 {
+            let tau = f64::from_bits(word(4));
+            (0, step as f64 * tau, tau)
+        } else {
+            (
+                to_usize(word(4))?,
+                f64::from_bits(word(5)),
+                f64::from_bits(word(6)),
+            )
+        };
+        let expected = n
+            .checked_mul(24)
             .and_then(|x| x.checked_add(nf.checked_mul(8)?))
+            .and_then(|x| x.checked_add(nc.checked_mul(8)?))
+            .and_then(|x| x.checked_add(header))
             .ok_or_else(|| bad("size overflow"))?;
         if bytes.len() != expected {
             return Err(bad("truncated or oversized"));
         }
-        let mut off = 48;
+        let mut off = header;
         let mut take = |len: usize| {
             let out: Vec<f64> = bytes[off..off + 8 * len]
                 .chunks_exact(8)
-                .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                .map(|c| {
+                    let mut w = [0u8; 8];
+                    w.copy_from_slice(c);
+                    f64::from_le_bytes(w)
+                })
                 .collect();
             off += 8 * len;
             out
         };
-        let (u, v, a, alpha) = (take(n), take(n), take(n), take(nf));
+        let (u, v, a, alpha, controller) = (take(n), take(n), take(n), take(nf), take(nc));
         Ok(Self {
             dim,
             step,
+            time,
             tau,
             u,
             v,
             a,
             alpha,
+            controller,
         })
     }
 }

@@ -33,6 +33,8 @@ pub trait AnySimulation<const D: usize> {
     fn tau(&self) -> f64;
     /// See [`Simulation::step_index`].
     fn step_index(&self) -> usize;
+    /// See [`Simulation::set_time_step`].
+    fn set_time_step(&mut self, tau: f64) -> Result<()>;
     /// See [`Simulation::solver_name`].
     fn solver_name(&self) -> &'static str;
 }
@@ -69,6 +71,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> AnySimu
     }
     fn step_index(&self) -> usize {
         Simulation::step_index(self)
+    }
+    fn set_time_step(&mut self, tau: f64) -> Result<()> {
+        Simulation::set_time_step(self, tau)
     }
     fn solver_name(&self) -> &'static str {
         Simulation::solver_name(self)

@@ -26,11 +26,13 @@ pub struct StepState<'a, const D: usize> {
 
 impl<const D: usize> StepState<'_, D> {
     /// A checkpoint of this state.
-    pub fn checkpoint(&self, tau: f64) -> Checkpoint {
+    pub fn checkpoint(&self) -> Checkpoint {
         Checkpoint {
             dim: D,
             step: self.report.step,
-            tau,
+            time: self.report.time,
+            tau: self.report.tau,
+            controller: Vec::new(),
             u: self.kinematics.u.clone(),
             v: self.kinematics.v.clone(),
             a: self.kinematics.a.clone(),
@@ -164,16 +166,14 @@ impl<const D: usize> Observer<D> for FrictionalProfile {
 pub struct Checkpointer {
     path: PathBuf,
     every: usize,
-    tau: f64,
 }
 
 impl Checkpointer {
-    /// Checkpoints of a simulation with step τ to `path` every `every` steps.
-    pub fn new(path: impl Into<PathBuf>, every: usize, tau: f64) -> Self {
+    /// Checkpoints to `path` every `every` steps.
+    pub fn new(path: impl Into<PathBuf>, every: usize) -> Self {
         Self {
             path: path.into(),
             every: every.max(1),
-            tau,
         }
     }
 }
@@ -181,7 +181,7 @@ impl Checkpointer {
 impl<const D: usize> Observer<D> for Checkpointer {
     fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
         if s.report.step % self.every == 0 {
-            s.checkpoint(self.tau).write(&self.path)?;
+            s.checkpoint().write(&self.path)?;
         }
         Ok(())
     }

@@ -22,8 +22,10 @@ use crate::solver::{SolverKind, VelocitySolver};
 pub struct StepReport {
     /// Step index n (1-based).
     pub step: usize,
-    /// Time t_n = n τ (s).
+    /// Time t_n (s).
     pub time: f64,
+    /// The time step τ of this step (s).
+    pub tau: f64,
     /// Fixed point iterations (velocity solves) of this step.
     pub fixed_point_iterations: usize,
     /// Velocity-solver iterations summed over the fixed point iterations.
@@ -83,8 +85,15 @@ pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIn
     state_laws: Vec<S>,
     integrator: I,
     solver: VelocitySolver<D>,
+    solver_kind: SolverKind,
+    /// Solvers of earlier time steps, most recently used last (see `set_time_step`).
+    solver_cache: Vec<(f64, VelocitySolver<D>)>,
     inner_stopping: Stopping,
     tau: f64,
+    /// Time t_n (s) after `step` steps.
+    time: f64,
+    /// Step index and time where the current τ began: `t_n = t_s + (n − n_s) τ`.
+    segment: (usize, f64),
     fixed_point: FixedPointOptions,
     accelerator: Accelerator,
     step: usize,
@@ -142,24 +151,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             ));
         }
         fixed_point.validate()?;
-        let (c_m, c_k) = integrator.coefficients(tau);
-        let mut a = if integrator.uses_mass() {
-            let m = model.mass.as_ref().ok_or_else(|| {
-                invalid(
-                    "mass",
-                    format!("{} needs the mass matrix", integrator.name()),
-                )
-            })?;
-            combine(c_m, m, c_k, &model.stiffness)?
-        } else {
-            combine(0.0, &model.stiffness, c_k, &model.stiffness)?
-        };
-        let eta = integrator.radiation_damping();
-        if eta > 0.0 {
-            add_radiation_damping::<D>(&mut a, &model, eta);
+        if integrator.uses_mass() && model.mass.is_none() {
+            return Err(invalid(
+                "mass",
+                format!("{} needs the mass matrix", integrator.name()),
+            ));
         }
         let inner_stopping = solver.stopping();
-        let solver = VelocitySolver::new(solver, &a, &model)?;
+        let solver_kind = solver.resolve(&model);
+        let solver = build_solver(&model, &integrator, &solver_kind, tau)?;
         let accelerator = Accelerator::new(fixed_point.acceleration, &model.frictional.weights);
         let n = model.num_dofs();
         let mut kin = Kinematics::zeros(n);
@@ -175,8 +175,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             state_laws,
             integrator,
             solver,
+            solver_kind,
+            solver_cache: Vec::new(),
             inner_stopping,
             tau,
+            time: 0.0,
+            segment: (0, 0.0),
             fixed_point,
             accelerator,
             step: 0,
@@ -217,9 +221,51 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         self.step
     }
 
-    /// Current time `t = n τ` (s).
+    /// Current time `t_n` (s): `n τ` for a run at constant τ.
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.tau
+        self.time
+    }
+
+    /// Time of step `n` of the current segment of constant τ.
+    fn time_of(&self, n: usize) -> f64 {
+        let (n0, t0) = self.segment;
+        if n0 == 0 && t0 == 0.0 {
+            n as f64 * self.tau
+        } else {
+            t0 + (n - n0) as f64 * self.tau
+        }
+    }
+
+    /// Changes the time step for the following steps (s). The matrix `A` of the velocity
+    /// problem depends on τ, so its solver is rebuilt (or taken from a small cache of the
+    /// last solvers used: returning to an earlier τ costs nothing). The dynamic state
+    /// `(u, v, a, α)` carries over unchanged: the integrators are one-step methods.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] unless `tau` is finite and positive; set-up errors of the
+    /// solver (e.g. a factorisation that fails).
+    pub fn set_time_step(&mut self, tau: f64) -> Result<()> {
+        check_time_step(tau)
+            .map_err(|_| invalid("tau", format!("τ = {tau} s must be finite and > 0")))?;
+        if tau.to_bits() == self.tau.to_bits() {
+            return Ok(());
+        }
+        let solver = match self
+            .solver_cache
+            .iter()
+            .position(|(t, _)| t.to_bits() == tau.to_bits())
+        {
+            Some(i) => self.solver_cache.remove(i).1,
+            None => build_solver(&self.model, &self.integrator, &self.solver_kind, tau)?,
+        };
+        let old = std::mem::replace(&mut self.solver, solver);
+        self.solver_cache.push((self.tau, old));
+        if self.solver_cache.len() > SOLVER_CACHE {
+            self.solver_cache.remove(0);
+        }
+        self.tau = tau;
+        self.segment = (self.step, self.time);
+        Ok(())
     }
 
     /// The time step τ (s).
@@ -285,10 +331,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     pub fn step(&mut self) -> Result<StepReport> {
         let start = Instant::now();
         let n = self.step + 1;
-        let t = n as f64 * self.tau;
+        let t = self.time_of(n);
         let mut report = StepReport {
             step: n,
             time: t,
+            tau: self.tau,
             ..Default::default()
         };
         self.integrator.right_hand_side(
@@ -394,6 +441,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             .advance(self.tau, &self.kin, &self.v, &mut self.next);
         std::mem::swap(&mut self.kin, &mut self.next);
         self.step = n;
+        self.time = t;
         report.max_slip_rate = self
             .model
             .frictional
@@ -452,7 +500,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         Checkpoint {
             dim: D,
             step: self.step,
+            time: self.time,
             tau: self.tau,
+            controller: Vec::new(),
             u: self.kin.u.clone(),
             v: self.kin.v.clone(),
             a: self.kin.a.clone(),
@@ -460,11 +510,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         }
     }
 
-    /// Continues from a checkpoint of a simulation of the same scene; the continuation is
-    /// bit-identical to an uninterrupted run.
+    /// Continues from a checkpoint of a simulation of the same model; the continuation is
+    /// bit-identical to an uninterrupted run. The checkpoint's τ becomes the time step
+    /// (see [`set_time_step`](Self::set_time_step)).
     ///
     /// # Errors
-    /// [`Error::Checkpoint`] if dimensions, sizes or τ differ.
+    /// [`Error::Checkpoint`] if dimensions or sizes differ or values are not finite;
+    /// solver set-up errors for a new τ.
     pub fn restore(&mut self, c: &Checkpoint) -> Result<()> {
         let n = self.model.num_dofs();
         if c.dim != D
@@ -477,19 +529,52 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 "sizes do not match this simulation".into(),
             ));
         }
-        if c.tau.to_bits() != self.tau.to_bits() {
-            return Err(Error::Checkpoint(format!(
-                "τ = {} differs from the simulation's {}",
-                c.tau, self.tau
-            )));
+        if !(c.time.is_finite() && c.time >= 0.0)
+            || [&c.u, &c.v, &c.a, &c.alpha]
+                .iter()
+                .any(|x| x.iter().any(|y| !y.is_finite()))
+        {
+            return Err(Error::Checkpoint(
+                "non-finite time, displacement, velocity, acceleration or state".into(),
+            ));
         }
+        self.set_time_step(c.tau)
+            .map_err(|e| Error::Checkpoint(format!("τ = {}: {e}", c.tau)))?;
         self.step = c.step;
+        self.time = c.time;
+        self.segment = if c.time.to_bits() == (c.step as f64 * c.tau).to_bits() {
+            (0, 0.0)
+        } else {
+            (c.step, c.time)
+        };
         self.kin.u.copy_from_slice(&c.u);
         self.kin.v.copy_from_slice(&c.v);
         self.kin.a.copy_from_slice(&c.a);
         self.alpha.copy_from_slice(&c.alpha);
         Ok(())
     }
+}
+
+/// Solvers of other time steps kept by [`Simulation::set_time_step`].
+const SOLVER_CACHE: usize = 3;
+
+/// `A = c_M M + c_K K` (+ radiation damping on Γ_F) for τ and its solver.
+fn build_solver<const D: usize, I: VelocityIntegrator>(
+    model: &Model<D>,
+    integrator: &I,
+    kind: &SolverKind,
+    tau: f64,
+) -> Result<VelocitySolver<D>> {
+    let (c_m, c_k) = integrator.coefficients(tau);
+    let mut a = match (&model.mass, integrator.uses_mass()) {
+        (Some(m), true) => combine(c_m, m, c_k, &model.stiffness)?,
+        _ => combine(0.0, &model.stiffness, c_k, &model.stiffness)?,
+    };
+    let eta = integrator.radiation_damping();
+    if eta > 0.0 {
+        add_radiation_damping::<D>(&mut a, model, eta);
+    }
+    Ok(VelocitySolver::new(kind, &a, model)?)
 }
 
 #[inline]

@@ -95,11 +95,13 @@ fn build<I: VelocityIntegrator>(
     sim.restore(&Checkpoint {
         dim: 1,
         step: 0,
+        time: 0.0,
         tau: TAU,
         u: vec![0.0, f_ss / k],
         v: vec![V_LOAD; 2],
         a: vec![0.0; 2],
         alpha: vec![alpha0],
+        controller: Vec::new(),
     })
     .unwrap();
     sim
