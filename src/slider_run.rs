@@ -59,7 +59,7 @@ struct Collector<'a> {
 }
 
 impl Observer<2> for Collector<'_> {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<()> {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
         let r = s.report;
         self.run.u_x0.push((r.time, s.kinematics.u[2 * self.x0]));
         self.run.v_x0.push((r.time, s.kinematics.v[2 * self.x0]));
@@ -80,7 +80,7 @@ impl Observer<2> for Collector<'_> {
             self.run.map.0.push(r.time);
             self.run.map.2.push(row);
         }
-        Ok(())
+        Ok(rsf::Flow::Continue(()))
     }
 }
 

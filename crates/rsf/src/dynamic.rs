@@ -9,7 +9,7 @@ use crate::checkpoint::Checkpoint;
 use crate::error::Result;
 use crate::model::Model;
 use crate::observer::Observer;
-use crate::simulation::{RunSummary, Simulation, StepReport};
+use crate::simulation::{RunSummary, Simulation, StepReport, Until};
 
 /// The operations of [`Simulation`] without its type parameters.
 pub trait AnySimulation<const D: usize> {
@@ -17,6 +17,12 @@ pub trait AnySimulation<const D: usize> {
     fn step(&mut self) -> Result<StepReport>;
     /// See [`Simulation::run`].
     fn run(&mut self, steps: usize, observers: &mut [&mut dyn Observer<D>]) -> Result<RunSummary>;
+    /// See [`Simulation::run_until`].
+    fn run_until(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D>],
+    ) -> Result<RunSummary>;
     /// See [`Simulation::checkpoint`].
     fn checkpoint(&self) -> Checkpoint;
     /// See [`Simulation::restore`].
@@ -47,6 +53,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> AnySimu
     }
     fn run(&mut self, steps: usize, observers: &mut [&mut dyn Observer<D>]) -> Result<RunSummary> {
         Simulation::run(self, steps, observers)
+    }
+    fn run_until(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D>],
+    ) -> Result<RunSummary> {
+        Simulation::run_until(self, until, observers)
     }
     fn checkpoint(&self) -> Checkpoint {
         Simulation::checkpoint(self)

@@ -40,8 +40,10 @@ pub use error::{Error, Result};
 pub use fixed_point::{Acceleration, FixedPointOptions, Predictor};
 pub use friction_blocks::FrictionBlocks;
 pub use model::{DirichletVelocity, FrictionalBoundary, Model};
-pub use observer::{Checkpointer, FrictionalProfile, Observer, PointSeries, Reports, StepState};
-pub use simulation::{NoState, RunSummary, Simulation, StepReport};
+pub use observer::{
+    Checkpointer, Flow, FrictionalProfile, Observer, PointSeries, Reports, StepState,
+};
+pub use simulation::{NoState, RunSummary, Simulation, StepReport, Until};
 pub use slider::{
     nearest_vertex, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice,
     StateLawKind, SLIDER_CENTRE,

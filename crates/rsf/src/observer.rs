@@ -41,13 +41,17 @@ impl<const D: usize> StepState<'_, D> {
     }
 }
 
+/// What an observer tells the run after a step: [`Flow::Continue`] or [`Flow::Break`] (end
+/// the run after this step, e.g. at a slip event).
+pub type Flow = std::ops::ControlFlow<()>;
+
 /// Something that looks at the simulation after each step.
 pub trait Observer<const D: usize> {
-    /// Called after every successful step.
+    /// Called after every successful step; [`Flow::Break`] ends the run after this step.
     ///
     /// # Errors
     /// I/O errors end the run.
-    fn observe(&mut self, state: &StepState<'_, D>) -> Result<()>;
+    fn observe(&mut self, state: &StepState<'_, D>) -> Result<Flow>;
 
     /// Called once after the last step of a [`run`](crate::Simulation::run).
     ///
@@ -92,7 +96,7 @@ impl PointSeries {
 }
 
 impl<const D: usize> Observer<D> for PointSeries {
-    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<Flow> {
         let (u, v) = (&s.kinematics.u, &s.kinematics.v);
         writeln!(
             self.out,
@@ -107,7 +111,7 @@ impl<const D: usize> Observer<D> for PointSeries {
         if self.rows % self.flush_every == 0 {
             self.out.flush()?;
         }
-        Ok(())
+        Ok(Flow::Continue(()))
     }
     fn finish(&mut self) -> Result<()> {
         self.out.flush()?;
@@ -141,10 +145,10 @@ impl FrictionalProfile {
 }
 
 impl<const D: usize> Observer<D> for FrictionalProfile {
-    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<Flow> {
         let t = s.report.time;
         if t < self.window.0 || t > self.window.1 || s.report.step % self.every != 0 {
-            return Ok(());
+            return Ok(Flow::Continue(()));
         }
         let fb = &s.model.frictional;
         for &k in &fb.along {
@@ -154,7 +158,7 @@ impl<const D: usize> Observer<D> for FrictionalProfile {
             writeln!(self.out, "{t:.9e},{x:.6e},{rate:.9e},{:.9e}", s.alpha[k])?;
         }
         self.out.flush()?;
-        Ok(())
+        Ok(Flow::Continue(()))
     }
     fn finish(&mut self) -> Result<()> {
         self.out.flush()?;
@@ -179,11 +183,11 @@ impl Checkpointer {
 }
 
 impl<const D: usize> Observer<D> for Checkpointer {
-    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<Flow> {
         if s.report.step % self.every == 0 {
             s.checkpoint().write(&self.path)?;
         }
-        Ok(())
+        Ok(Flow::Continue(()))
     }
 }
 
@@ -192,8 +196,8 @@ impl<const D: usize> Observer<D> for Checkpointer {
 pub struct Reports(pub Vec<StepReport>);
 
 impl<const D: usize> Observer<D> for Reports {
-    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<Flow> {
         self.0.push(*s.report);
-        Ok(())
+        Ok(Flow::Continue(()))
     }
 }

@@ -56,6 +56,23 @@ pub struct RunSummary {
     pub solver_iterations: usize,
     /// Steps in which a damped step was taken at least once.
     pub relaxed_steps: usize,
+    /// Whether an observer ended the run before its end.
+    pub stopped_by_observer: bool,
+}
+
+/// Where [`Simulation::run_until`] ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Until {
+    /// After this many steps.
+    Steps(usize),
+    /// At the first step with `t_n ≥ t` (s), up to round-off of `1e-9 τ` (with a fixed τ
+    /// the last step is not shortened to land on `t`).
+    Time(f64),
+}
+
+/// Whether `time` has reached `t_end` for steps of `tau` (round-off allowance `1e-9 τ`).
+pub(crate) fn time_reached(time: f64, t_end: f64, tau: f64) -> bool {
+    time >= t_end - 1e-9 * tau
 }
 
 /// A placeholder state law for friction laws without state (plain Tresca): α never changes
@@ -453,7 +470,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         Ok(report)
     }
 
-    /// Takes `steps` steps, showing each to the observers.
+    /// Takes `steps` steps, showing each to the observers; an observer may end the run
+    /// early ([`Flow::Break`](crate::Flow)). Same as [`run_until`](Self::run_until) with
+    /// [`Until::Steps`].
     ///
     /// # Errors
     /// The first step or observer error (the simulation keeps the state of the last
@@ -463,10 +482,37 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         steps: usize,
         observers: &mut [&mut dyn Observer<D>],
     ) -> Result<RunSummary> {
+        self.run_until(Until::Steps(steps), observers)
+    }
+
+    /// Steps until `until` is reached or an observer returns [`Flow::Break`](crate::Flow) (after every
+    /// observer has seen that step), then calls every observer's
+    /// [`finish`](Observer::finish).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a non-finite end time; the first step or observer
+    /// error (the simulation keeps the state of the last successful step).
+    pub fn run_until(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D>],
+    ) -> Result<RunSummary> {
+        if let Until::Time(t) = until {
+            if !t.is_finite() {
+                return Err(invalid("until", format!("end time {t} s must be finite")));
+            }
+        }
         let start = Instant::now();
         let mut summary = RunSummary::default();
         let mut fpi_total = 0usize;
-        for _ in 0..steps {
+        loop {
+            let more = match until {
+                Until::Steps(k) => summary.steps < k,
+                Until::Time(t_end) => !time_reached(self.time, t_end, self.tau),
+            };
+            if !more {
+                break;
+            }
             let report = self.step()?;
             fpi_total += report.fixed_point_iterations;
             summary.fpi_max = summary.fpi_max.max(report.fixed_point_iterations);
@@ -479,8 +525,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 alpha: &self.alpha,
                 report: &report,
             };
+            let mut stop = false;
             for o in observers.iter_mut() {
-                o.observe(&state)?;
+                stop |= o.observe(&state)?.is_break();
+            }
+            if stop {
+                summary.stopped_by_observer = true;
+                break;
             }
         }
         for o in observers.iter_mut() {

@@ -10,7 +10,7 @@ use vtkio::model::{
 };
 
 use crate::error::{Error, Result};
-use crate::observer::{Observer, StepState};
+use crate::observer::{Flow, Observer, StepState};
 
 /// Writes `frame_NNNNNN.vtu` every `every` steps into a folder, with point data
 /// `displacement` (m) and `velocity` (m/s) as 3-vectors, and `frames.pvd` (the time index
@@ -48,9 +48,9 @@ fn padded<const D: usize>(x: &[f64], n: usize) -> Vec<f64> {
 }
 
 impl<const D: usize> Observer<D> for VtuFrames {
-    fn observe(&mut self, s: &StepState<'_, D>) -> Result<()> {
+    fn observe(&mut self, s: &StepState<'_, D>) -> Result<Flow> {
         if s.report.step % self.every != 0 {
-            return Ok(());
+            return Ok(Flow::Continue(()));
         }
         let m = s.model;
         let n = m.vertices.len();
@@ -94,7 +94,7 @@ impl<const D: usize> Observer<D> for VtuFrames {
         vtk.export(self.dir.join(&name))
             .map_err(|e| Error::Io(std::io::Error::other(format!("{name}: {e}"))))?;
         self.frames.push((s.report.time, name));
-        Ok(())
+        Ok(Flow::Continue(()))
     }
 
     fn finish(&mut self) -> Result<()> {

@@ -119,3 +119,64 @@ fn scene_file_in_the_repository_parses_to_the_defaults() {
         SliderScene::default()
     );
 }
+
+/// Ends after a number of steps (an observer that stops the run).
+struct StopAfter(usize);
+
+impl rsf::Observer<2> for StopAfter {
+    fn observe(&mut self, s: &rsf::StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
+        Ok(if s.report.step >= self.0 {
+            rsf::Flow::Break(())
+        } else {
+            rsf::Flow::Continue(())
+        })
+    }
+}
+
+#[test]
+fn run_until_a_time_and_until_an_observer_stops() {
+    let scene = SliderScene {
+        level: 1,
+        steps: 1000,
+        ..SliderScene::default()
+    };
+    let tau = scene.tau();
+    let mut sim = scene.build().unwrap();
+    let s = sim
+        .run_until(rsf::Until::Time(10.0 * tau), &mut [])
+        .unwrap();
+    assert_eq!(s.steps, 10);
+    assert!((sim.time() - 10.0 * tau).abs() < 1e-12);
+    assert!(!s.stopped_by_observer);
+    let mut stop = StopAfter(13);
+    let s = sim.run(100, &mut [&mut stop]).unwrap();
+    assert_eq!((s.steps, sim.step_index()), (3, 13));
+    assert!(s.stopped_by_observer);
+    // A non-finite end time is a typed error, not a hang.
+    assert!(sim
+        .run_until(rsf::Until::Time(f64::INFINITY), &mut [])
+        .is_err());
+}
+
+/// Changing τ mid-run through the API continues the trajectory: the times add up, and
+/// returning to the first τ reuses its solver.
+#[test]
+fn time_step_can_change_between_steps() {
+    let scene = SliderScene {
+        level: 1,
+        steps: 1000,
+        ..SliderScene::default()
+    };
+    let tau = scene.tau();
+    let mut sim = scene.build().unwrap();
+    sim.run(4, &mut []).unwrap();
+    sim.set_time_step(tau / 2.0).unwrap();
+    sim.run(4, &mut []).unwrap();
+    assert!((sim.time() - 6.0 * tau).abs() < 1e-12 * tau);
+    sim.set_time_step(tau).unwrap();
+    sim.run(2, &mut []).unwrap();
+    assert!((sim.time() - 8.0 * tau).abs() < 1e-12 * tau);
+    assert_eq!(sim.step_index(), 10);
+    assert!(sim.set_time_step(-1.0).is_err());
+    assert!(sim.set_time_step(f64::NAN).is_err());
+}

@@ -203,12 +203,12 @@ impl EnergyObserver {
 }
 
 impl Observer<2> for EnergyObserver {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<()> {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
         let now = Evaluated::new(s.model, &self.law, s.kinematics, s.alpha);
         let b = self.balance(s.model, &now);
         self.steps.push(b);
         self.prev = now;
-        Ok(())
+        Ok(rsf::Flow::Continue(()))
     }
 }
 

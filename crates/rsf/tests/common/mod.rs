@@ -211,7 +211,7 @@ impl Recorder {
 }
 
 impl Observer<2> for Recorder {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<()> {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
         let (u, v) = (&s.kinematics.u, &s.kinematics.v);
         self.t.push(s.report.time);
         self.u_x0.push(u[2 * self.x0]);
@@ -232,7 +232,7 @@ impl Observer<2> for Recorder {
             .push(self.along.iter().map(|&k| s.alpha[k]).collect());
         self.max_v.push(s.report.max_slip_rate);
         self.fpi.push(s.report.fixed_point_iterations);
-        Ok(())
+        Ok(rsf::Flow::Continue(()))
     }
 }
 
@@ -337,12 +337,12 @@ pub struct Snapshots {
 }
 
 impl Observer<2> for Snapshots {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<()> {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
         if s.report.step % self.every.max(1) == 0 {
             self.states
                 .push((s.report.step, s.kinematics.clone(), s.alpha.to_vec()));
         }
-        Ok(())
+        Ok(rsf::Flow::Continue(()))
     }
 }
 
