@@ -23,7 +23,7 @@
 //! ```
 #![warn(missing_docs)]
 
-use rsf_fem::{spmv_add, SparseMatrix};
+use rsf_fem::SparseMatrix;
 
 /// Errors of the time integrators.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -122,7 +122,23 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
         0.0
     }
 
-    /// `ℓ_n` into `out` from the load `F(t_n)` and the previous state.
+    /// The right-hand side in the form `ℓ_n = F + M w_M − K w_K`: writes `w_M` and `w_K`
+    /// (each of length `n`) from the previous state. `w_M` is ignored when
+    /// [`uses_mass`](Self::uses_mass) is false. This is what an integrator must describe;
+    /// [`LoadOperator`] applies it in one pass over the matrices.
+    ///
+    /// # Errors
+    /// [`Error::InvalidTimeStep`], [`Error::DimensionMismatch`].
+    fn load_combinations(
+        &self,
+        tau: f64,
+        prev: &Kinematics,
+        w_mass: &mut [f64],
+        w_stiffness: &mut [f64],
+    ) -> Result<()>;
+
+    /// `ℓ_n` into `out` from the load `F(t_n)` and the previous state (a convenience that
+    /// allocates two work vectors; time loops use [`LoadOperator`]).
     ///
     /// # Errors
     /// [`Error::InvalidTimeStep`], [`Error::MissingMass`] if `mass` is `None` but
@@ -135,31 +151,133 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
         load: &[f64],
         prev: &Kinematics,
         out: &mut [f64],
-    ) -> Result<()>;
+    ) -> Result<()> {
+        check_time_step(tau)?;
+        check_lengths(stiffness.nrows(), load, prev, out)?;
+        let mass = match (mass, self.uses_mass()) {
+            (Some(m), true) => Some(m),
+            (None, true) => return Err(Error::MissingMass(self.name())),
+            (_, false) => None,
+        };
+        let op = LoadOperator::new(mass, stiffness)?;
+        let n = out.len();
+        let (mut wm, mut wk) = (vec![0.0; n], vec![0.0; n]);
+        self.load_combinations(tau, prev, &mut wm, &mut wk)?;
+        op.apply(load, &wm, &wk, out);
+        Ok(())
+    }
 
     /// The new state from the previous one and the new velocity `v_new`
     /// (`next.v = v_new`; `u`, `a` per the scheme). `next` must have the right lengths.
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics);
 }
 
-/// `out_j ← out_j + s Σ_i A_ij (x_i + β y_i)` for a **symmetric** CSC matrix `A` (column
-/// `j` read as row `j`): one pass over `A` for a linear combination of two vectors, without
-/// a temporary.
-fn sym_spmv_add_combination(
-    a: &SparseMatrix,
-    s: f64,
-    x: &[f64],
-    beta: f64,
-    y: &[f64],
-    out: &mut [f64],
-) {
-    for (j, oj) in out.iter_mut().enumerate() {
-        let mut acc = 0.0;
-        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-            acc += v * (x[i] + beta * y[i]);
+/// `ℓ = F + M w_M − K w_K` for symmetric `M` (optional) and `K`, evaluated row by row in
+/// one pass when `M` and `K` share their pattern (as assembled by rsf-fem): per stored
+/// entry one `u32` row index and the two values, no temporary vector.
+#[derive(Debug, Clone)]
+pub struct LoadOperator {
+    n: usize,
+    col_ptr: Vec<usize>,
+    rows: Vec<u32>,
+    /// `(M_ij, K_ij)` per stored entry (`M_ij = 0` without mass or off M's pattern).
+    values: Vec<[f64; 2]>,
+}
+
+impl LoadOperator {
+    /// From `M` (if the scheme uses it) and `K`, both `n × n`, symmetric (both triangles
+    /// stored). The pattern is the union of both patterns.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for non-square or mismatched shapes or `n ≥ 2³²`.
+    pub fn new(mass: Option<&SparseMatrix>, stiffness: &SparseMatrix) -> Result<Self> {
+        let n = stiffness.nrows();
+        let square = |m: &SparseMatrix| m.nrows() == n && m.ncols() == n;
+        if !square(stiffness) || mass.is_some_and(|m| !square(m)) || n >= u32::MAX as usize {
+            return Err(Error::DimensionMismatch {
+                what: "mass/stiffness matrix",
+                expected: n,
+                got: mass.map_or(stiffness.ncols(), |m| m.ncols()),
+            });
         }
-        *oj += s * acc;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut rows = Vec::with_capacity(stiffness.compute_nnz());
+        let mut values: Vec<[f64; 2]> = Vec::with_capacity(stiffness.compute_nnz());
+        col_ptr.push(0);
+        let mut merged: Vec<(usize, f64, f64)> = Vec::new();
+        for j in 0..n {
+            merged.clear();
+            for (&i, &k) in stiffness
+                .row_idx_of_col_raw(j)
+                .iter()
+                .zip(stiffness.val_of_col(j))
+            {
+                merged.push((i, 0.0, k));
+            }
+            if let Some(m) = mass {
+                for (&i, &mv) in m.row_idx_of_col_raw(j).iter().zip(m.val_of_col(j)) {
+                    merged.push((i, mv, 0.0));
+                }
+            }
+            merged.sort_by_key(|e| e.0);
+            for &(i, mv, k) in &merged {
+                if rows.len() > col_ptr[j] && *rows.last().expect("nonempty") == i as u32 {
+                    let last = values.last_mut().expect("nonempty");
+                    last[0] += mv;
+                    last[1] += k;
+                } else {
+                    rows.push(i as u32);
+                    values.push([mv, k]);
+                }
+            }
+            col_ptr.push(rows.len());
+        }
+        Ok(Self {
+            n,
+            col_ptr,
+            rows,
+            values,
+        })
     }
+
+    /// `out = load + M w_mass − K w_stiffness` (all of length `n`).
+    ///
+    /// # Panics
+    /// If a length differs from `n` (internal invariant of callers).
+    pub fn apply(&self, load: &[f64], w_mass: &[f64], w_stiffness: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        assert!(load.len() == n && w_mass.len() == n && w_stiffness.len() == n && out.len() == n);
+        for (j, oj) in out.iter_mut().enumerate() {
+            let range = self.col_ptr[j]..self.col_ptr[j + 1];
+            // Two partial sums for the two matrices (independent dependency chains).
+            let (mut sm, mut sk) = (0.0, 0.0);
+            for (&i, &[mv, kv]) in self.rows[range.clone()].iter().zip(&self.values[range]) {
+                let i = i as usize;
+                sm += mv * w_mass[i];
+                sk += kv * w_stiffness[i];
+            }
+            *oj = load[j] + sm - sk;
+        }
+    }
+}
+
+fn check_work(prev: &Kinematics, w_mass: &[f64], w_stiffness: &[f64]) -> Result<()> {
+    let n = prev.u.len();
+    for (what, got) in [
+        ("v", prev.v.len()),
+        ("a", prev.a.len()),
+        ("w_mass", w_mass.len()),
+        ("w_stiffness", w_stiffness.len()),
+    ] {
+        if got != n {
+            return Err(Error::DimensionMismatch {
+                what,
+                expected: n,
+                got,
+            });
+        }
+    }
+    Ok(())
 }
 
 fn check_lengths(n: usize, load: &[f64], prev: &Kinematics, out: &[f64]) -> Result<()> {
@@ -198,21 +316,19 @@ impl VelocityIntegrator for Newmark {
         (2.0 / tau, 0.5 * tau)
     }
     /// `ℓ_n = F + M((2/τ) v_{n−1} + a_{n−1}) − K(u_{n−1} + (τ/2) v_{n−1})`.
-    fn right_hand_side(
+    fn load_combinations(
         &self,
         tau: f64,
-        mass: Option<&SparseMatrix>,
-        stiffness: &SparseMatrix,
-        load: &[f64],
         prev: &Kinematics,
-        out: &mut [f64],
+        w_mass: &mut [f64],
+        w_stiffness: &mut [f64],
     ) -> Result<()> {
         check_time_step(tau)?;
-        let m = mass.ok_or(Error::MissingMass("Newmark"))?;
-        check_lengths(stiffness.nrows(), load, prev, out)?;
-        out.copy_from_slice(load);
-        sym_spmv_add_combination(stiffness, -1.0, &prev.u, 0.5 * tau, &prev.v, out);
-        sym_spmv_add_combination(m, 1.0, &prev.a, 2.0 / tau, &prev.v, out);
+        check_work(prev, w_mass, w_stiffness)?;
+        for i in 0..prev.len() {
+            w_mass[i] = (2.0 / tau) * prev.v[i] + prev.a[i];
+            w_stiffness[i] = prev.u[i] + 0.5 * tau * prev.v[i];
+        }
         Ok(())
     }
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics) {
@@ -240,21 +356,19 @@ impl VelocityIntegrator for BackwardEuler {
         (1.0 / tau, tau)
     }
     /// `ℓ_n = F + (1/τ) M v_{n−1} − K u_{n−1}`.
-    fn right_hand_side(
+    fn load_combinations(
         &self,
         tau: f64,
-        mass: Option<&SparseMatrix>,
-        stiffness: &SparseMatrix,
-        load: &[f64],
         prev: &Kinematics,
-        out: &mut [f64],
+        w_mass: &mut [f64],
+        w_stiffness: &mut [f64],
     ) -> Result<()> {
         check_time_step(tau)?;
-        let m = mass.ok_or(Error::MissingMass("backward Euler"))?;
-        check_lengths(stiffness.nrows(), load, prev, out)?;
-        out.copy_from_slice(load);
-        spmv_add(stiffness.as_ref(), -1.0, &prev.u, out);
-        spmv_add(m.as_ref(), 1.0 / tau, &prev.v, out);
+        check_work(prev, w_mass, w_stiffness)?;
+        for i in 0..prev.len() {
+            w_mass[i] = prev.v[i] / tau;
+            w_stiffness[i] = prev.u[i];
+        }
         Ok(())
     }
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics) {
@@ -311,19 +425,17 @@ impl VelocityIntegrator for Quasistatic {
         self.eta
     }
     /// `ℓ_n = F − K u_{n−1}`.
-    fn right_hand_side(
+    fn load_combinations(
         &self,
         tau: f64,
-        _mass: Option<&SparseMatrix>,
-        stiffness: &SparseMatrix,
-        load: &[f64],
         prev: &Kinematics,
-        out: &mut [f64],
+        w_mass: &mut [f64],
+        w_stiffness: &mut [f64],
     ) -> Result<()> {
         check_time_step(tau)?;
-        check_lengths(stiffness.nrows(), load, prev, out)?;
-        out.copy_from_slice(load);
-        spmv_add(stiffness.as_ref(), -1.0, &prev.u, out);
+        check_work(prev, w_mass, w_stiffness)?;
+        w_mass.fill(0.0);
+        w_stiffness.copy_from_slice(&prev.u);
         Ok(())
     }
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics) {

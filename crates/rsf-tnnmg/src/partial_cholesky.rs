@@ -50,6 +50,25 @@ pub(crate) struct PartialCholesky {
     tmp: Vec<f64>,
 }
 
+/// `Σ a_i b_i` with four independent partial sums (a fixed order: deterministic, and not
+/// bound by the latency of one chain of additions).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (a4, ar) = a.split_at(a.len() - a.len() % 4);
+    let (b4, br) = b.split_at(a4.len());
+    for (x, y) in a4.chunks_exact(4).zip(b4.chunks_exact(4)) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for (x, y) in ar.iter().zip(br) {
+        s += x * y;
+    }
+    s
+}
+
 fn faer_err(e: impl std::fmt::Debug) -> Error {
     Error::Factorisation(format!("{e:?}"))
 }
@@ -264,8 +283,7 @@ impl PartialCholesky {
             }
             for jj in 0..wr {
                 let below = &l[jj * ld + w..(jj + 1) * ld];
-                let d: f64 = below.iter().zip(tmp.iter()).map(|(a, b)| a * b).sum();
-                y[c0 + jj] -= d;
+                y[c0 + jj] -= dot(below, tmp);
             }
             for jj in (0..wr).rev() {
                 let col = &l[jj * ld..(jj + 1) * ld];

@@ -6,7 +6,7 @@ use std::time::Instant;
 use rsf_fem::{combine, SparseMatrix};
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{check_time_step, Kinematics, VelocityIntegrator};
+use rsf_time::{check_time_step, Kinematics, LoadOperator, VelocityIntegrator};
 use rsf_tnnmg::{StepSolver, Stopping};
 
 use crate::checkpoint::Checkpoint;
@@ -117,6 +117,9 @@ pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIn
     kin: Kinematics,
     next: Kinematics,
     alpha: Vec<f64>,
+    load_operator: LoadOperator,
+    w_mass: Vec<f64>,
+    w_stiffness: Vec<f64>,
     rhs: Vec<f64>,
     v: Vec<f64>,
     alpha_iter: Vec<f64>,
@@ -174,6 +177,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 format!("{} needs the mass matrix", integrator.name()),
             ));
         }
+        let load_operator = LoadOperator::new(
+            model.mass.as_ref().filter(|_| integrator.uses_mass()),
+            &model.stiffness,
+        )?;
         let inner_stopping = solver.stopping();
         let solver_kind = solver.resolve(&model);
         let solver = build_solver(&model, &integrator, &solver_kind, tau)?;
@@ -203,6 +210,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             step: 0,
             next: Kinematics::zeros(n),
             alpha: alpha0,
+            load_operator,
+            w_mass: vec![0.0; n],
+            w_stiffness: vec![0.0; n],
             rhs: vec![0.0; n],
             v: vec![0.0; n],
             alpha_iter: vec![0.0; nf],
@@ -355,14 +365,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             tau: self.tau,
             ..Default::default()
         };
-        self.integrator.right_hand_side(
+        self.integrator.load_combinations(
             self.tau,
-            self.model.mass.as_ref(),
-            &self.model.stiffness,
-            &self.model.load,
             &self.kin,
-            &mut self.rhs,
+            &mut self.w_mass,
+            &mut self.w_stiffness,
         )?;
+        self.load_operator.apply(
+            &self.model.load,
+            &self.w_mass,
+            &self.w_stiffness,
+            &mut self.rhs,
+        );
         // Predictor v⁰ with the Dirichlet data of t_n.
         let mut v = std::mem::take(&mut self.v);
         v.copy_from_slice(&self.kin.v);
