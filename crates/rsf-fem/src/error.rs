@@ -54,13 +54,13 @@ pub enum Error {
     #[error("invalid grid: {0}")]
     InvalidGrid(String),
     /// Young's modulus must be positive and finite.
-    #[error("Young's modulus E = {0} must be positive and finite (N/m in 2D)")]
+    #[error("Young's modulus E = {0} must be positive and finite (Pa; N/m in 2D)")]
     InvalidYoungsModulus(f64),
     /// Poisson's ratio must lie in (−1, 0.5).
     #[error("Poisson's ratio nu = {0} must lie in (-1, 0.5)")]
     InvalidPoissonRatio(f64),
     /// Density must be positive and finite.
-    #[error("density rho = {0} must be positive and finite (kg/m^2 in 2D)")]
+    #[error("density rho = {0} must be positive and finite (kg/m^3; kg/m^2 in 2D)")]
     InvalidDensity(f64),
     /// A boundary segment selected no facets.
     #[error("boundary segment `{name}` is empty")]
@@ -85,6 +85,14 @@ pub enum Error {
         node: usize,
         /// Component index.
         component: usize,
+    },
+    /// A boundary facet index is out of range.
+    #[error("boundary facet {facet} does not exist (the mesh has {num_facets})")]
+    InvalidFacet {
+        /// The invalid index.
+        facet: usize,
+        /// Number of boundary facets.
+        num_facets: usize,
     },
     /// A requested hierarchy level does not exist.
     #[error("level {level} does not exist (hierarchy has levels 0..={finest})")]
