@@ -62,8 +62,8 @@ pub enum Error {
     /// Density must be positive and finite.
     #[error("density rho = {0} must be positive and finite (kg/m^3; kg/m^2 in 2D)")]
     InvalidDensity(f64),
-    /// A boundary segment selected no facets.
-    #[error("boundary segment `{name}` is empty")]
+    /// A boundary part (or segment) selected no facets.
+    #[error("boundary part `{name}` is empty")]
     EmptySegment {
         /// Segment name.
         name: String,
@@ -93,6 +93,12 @@ pub enum Error {
         facet: usize,
         /// Number of boundary facets.
         num_facets: usize,
+    },
+    /// The averaged outer normal at a boundary node vanishes.
+    #[error("the outer normal at vertex {vertex} is undefined (adjacent facet normals cancel)")]
+    UndefinedNormal {
+        /// The vertex.
+        vertex: usize,
     },
     /// A requested hierarchy level does not exist.
     #[error("level {level} does not exist (hierarchy has levels 0..={finest})")]

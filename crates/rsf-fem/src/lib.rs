@@ -11,11 +11,14 @@
 //!   the paper's coarse grid [`pipping_slider_coarse`].
 //! * [`MeshHierarchy`]: uniform red refinement ([`refine_red`]; Bey's rule for tetrahedra,
 //!   shape regular) with scalar and node-major vector P1 prolongations (for multigrid).
-//! * [`BoundarySegment`]: Γ_D, Γ_N, Γ_F by tag or predicate; ordered nodes, normals,
-//!   [`NodalFrames`] for bilateral contact on slanted boundaries (2D).
-//! * [`Assembler`]: consistent mass `M` (ρ), plane-strain stiffness `K` (E, ν),
-//!   energy matrix `K + M`, all sharing one CSC pattern; loads [`body_force_load`],
-//!   [`traction_load`] (2D); lumped boundary weights [`lumped_weights`].
+//! * [`BoundaryPart`]: a named set of boundary facets (Γ_D, Γ_N, Γ_F) by tag, predicate or
+//!   list, with nodes, lumped weights, outer normals and [`NodalFrames`] (tangents + inward
+//!   normal) for bilateral contact; [`BoundarySegment`]: the 2D part ordered along the
+//!   boundary.
+//! * [`Assembler`]: consistent mass `M` (ρ), stiffness `K` of isotropic elasticity
+//!   ([`LinearElasticity`]: E, ν; plane strain in 2D), energy matrix `K + M`, all sharing
+//!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
+//!   weights [`lumped_weights`].
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
 //!
@@ -29,22 +32,26 @@ mod cholesky;
 mod constraints;
 pub mod element;
 mod error;
+mod frames;
 mod geometry;
 mod hierarchy;
+mod loads;
 mod mesh;
+mod part;
 mod refine;
 mod structured;
 
-pub use assembly::{
-    body_force_load, combine, lumped_weights, spmv_add, traction_load, Assembler, SparseMatrix,
-};
-pub use boundary::{BoundarySegment, NodalFrames};
+pub use assembly::{combine, spmv_add, Assembler, SparseMatrix};
+pub use boundary::BoundarySegment;
 pub use cholesky::Cholesky;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
+pub use frames::NodalFrames;
 pub use hierarchy::{vectorize, MeshHierarchy};
+pub use loads::{body_force_load, lumped_weights, traction_load};
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
+pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use structured::{
     cuboid, pipping_slider_coarse, rectangle, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
