@@ -129,6 +129,37 @@ pub enum Error {
     /// The operation is not implemented for this dimension.
     #[error("not supported: {0}")]
     Unsupported(&'static str),
+    /// A Gmsh file is malformed or uses something the reader does not support.
+    #[error("Gmsh file, {}: {message}", location(.line, .section))]
+    Gmsh {
+        /// 1-based line of the problem, if it is tied to one.
+        line: Option<usize>,
+        /// The section (`Nodes`, `Elements`, …; `file` outside any section).
+        section: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A file could not be read.
+    #[error("cannot read `{path}`: {message}")]
+    Io {
+        /// The path.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
+}
+
+fn location(line: &Option<usize>, section: &str) -> String {
+    let section = if section == "file" {
+        String::new()
+    } else {
+        format!("section ${section}")
+    };
+    match (line, section.is_empty()) {
+        (Some(l), true) => format!("line {l}"),
+        (Some(l), false) => format!("line {l} ({section})"),
+        (None, _) => section,
+    }
 }
 
 /// Result alias of `rsf-fem`.

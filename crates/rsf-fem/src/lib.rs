@@ -8,7 +8,8 @@
 //!
 //! * [`SimplexMesh`] / [`TriangleMesh`] / [`TetrahedronMesh`]: vertices (m), oriented cells,
 //!   boundary facets with tags; structured [`rectangle`], [`cuboid`] (Kuhn tetrahedra) and
-//!   the paper's coarse grid [`pipping_slider_coarse`].
+//!   the paper's coarse grid [`pipping_slider_coarse`]; Gmsh MSH 4.1 import
+//!   ([`read_gmsh`], [`parse_gmsh`]) with physical groups as tags.
 //! * [`MeshHierarchy`]: uniform red refinement ([`refine_red`]; Bey's rule for tetrahedra,
 //!   shape regular) with scalar and node-major vector P1 prolongations (for multigrid).
 //! * [`BoundaryPart`]: a named set of boundary facets (Γ_D, Γ_N, Γ_F) by tag, predicate or
@@ -34,6 +35,7 @@ pub mod element;
 mod error;
 mod frames;
 mod geometry;
+mod gmsh;
 mod hierarchy;
 mod loads;
 mod mesh;
@@ -48,6 +50,7 @@ pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
 pub use frames::NodalFrames;
+pub use gmsh::{parse_gmsh, read_gmsh, GmshMesh, PhysicalGroup};
 pub use hierarchy::{vectorize, MeshHierarchy};
 pub use loads::{body_force_load, lumped_weights, traction_load};
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
