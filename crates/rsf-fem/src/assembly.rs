@@ -2,12 +2,9 @@
 
 use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 
-use crate::boundary::BoundarySegment;
-use crate::element::{
-    p1_mass, p1_stiffness, segment_quadrature, triangle_quadrature, LinearElasticity,
-};
+use crate::element::{p1_mass, p1_stiffness, LinearElasticity};
 use crate::geometry::p1_gradients;
-use crate::mesh::{SimplexMesh, TriangleMesh};
+use crate::mesh::SimplexMesh;
 use crate::{Error, Result};
 
 /// Sparse matrix type used throughout rsf.
@@ -193,7 +190,9 @@ impl<const D: usize> Assembler<D> {
         Ok(())
     }
 
-    /// Consistent mass matrix `M_{ij} = ∫ ρ φ_i·φ_j dx` (`ρ` in kg/m² in 2D).
+    /// Consistent mass matrix `M_{ij} = ∫ ρ φ_i·φ_j dx` (`ρ` in kg/m³ in 3D, kg/m² in 2D;
+    /// element matrix `ρ|T|(1 + δ_ab)/((D+1)(D+2))` per component, i.e. `/12` for
+    /// triangles and `/20` for tetrahedra, docs/math.md §10).
     ///
     /// # Errors
     /// [`Error::InvalidDensity`] unless `rho > 0` and finite; mesh mismatch.
@@ -274,96 +273,6 @@ pub fn combine(ca: f64, a: &SparseMatrix, cb: f64, b: &SparseMatrix) -> Result<S
             .map_err(|e| Error::Faer(format!("{e:?}")))?,
         vals,
     ))
-}
-
-/// Body-force load `F_i = ∫ f·φ_i dx` for a force density `f(x)` (N/m³, i.e. N/m² per
-/// unit thickness in 2D; gravity is `[0, −ρ g]`), node-major, length `2 · num_vertices`.
-/// Integrated with the degree-5 rule [`triangle_quadrature`].
-///
-/// # Errors
-/// [`Error::NonFiniteValue`] if `f` returns a non-finite value.
-pub fn body_force_load(mesh: &TriangleMesh, f: impl Fn(&[f64; 2]) -> [f64; 2]) -> Result<Vec<f64>> {
-    let mut out = vec![0.0; 2 * mesh.num_vertices()];
-    let q = triangle_quadrature();
-    for c in 0..mesh.num_cells() {
-        let x = mesh.cell_coords(c);
-        let area = mesh.cell_measure(c);
-        let cell = mesh.cell(c);
-        for (l, w) in &q {
-            let p = [
-                l[0] * x[0][0] + l[1] * x[1][0] + l[2] * x[2][0],
-                l[0] * x[0][1] + l[1] * x[1][1] + l[2] * x[2][1],
-            ];
-            let fv = f(&p);
-            if !(fv[0].is_finite() && fv[1].is_finite()) {
-                return Err(Error::NonFiniteValue("body force"));
-            }
-            for a in 0..3 {
-                for r in 0..2 {
-                    out[2 * cell[a] + r] += w * area * l[a] * fv[r];
-                }
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// Neumann load `F_i = ∫_Γ g·φ_i ds` for a traction `g(x)` (N/m² = Pa; N/m per unit
-/// thickness in 2D) on a segment; node-major, length `2 · num_vertices`.
-///
-/// # Errors
-/// [`Error::NonFiniteValue`] if `g` returns a non-finite value.
-pub fn traction_load(
-    mesh: &TriangleMesh,
-    segment: &BoundarySegment<2>,
-    g: impl Fn(&[f64; 2]) -> [f64; 2],
-) -> Result<Vec<f64>> {
-    let mut out = vec![0.0; 2 * mesh.num_vertices()];
-    let q = segment_quadrature();
-    let x = mesh.vertices();
-    for &f in segment.facets() {
-        let e = mesh.boundary_facet(f);
-        let len = mesh.boundary_facet_measure(f);
-        for (l, w) in &q {
-            let p = [
-                l[0] * x[e[0]][0] + l[1] * x[e[1]][0],
-                l[0] * x[e[0]][1] + l[1] * x[e[1]][1],
-            ];
-            let gv = g(&p);
-            if !(gv[0].is_finite() && gv[1].is_finite()) {
-                return Err(Error::NonFiniteValue("traction"));
-            }
-            for a in 0..2 {
-                for r in 0..2 {
-                    out[2 * e[a] + r] += w * len * l[a] * gv[r];
-                }
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// Lumped boundary weights `w_p = ∫_Γ λ_p ds` (m in 2D) per segment node, in the order of
-/// [`BoundarySegment::nodes`] (docs/math.md §3: Φ_h = Σ_p w_p ϕ(|v_p|, α_p)). They sum to the
-/// segment's measure.
-pub fn lumped_weights<const D: usize>(
-    mesh: &SimplexMesh<D>,
-    segment: &BoundarySegment<D>,
-) -> Vec<f64> {
-    let index: std::collections::HashMap<usize, usize> = segment
-        .nodes()
-        .iter()
-        .enumerate()
-        .map(|(i, &v)| (v, i))
-        .collect();
-    let mut w = vec![0.0; segment.num_nodes()];
-    for &f in segment.facets() {
-        let share = mesh.boundary_facet_measure(f) / D as f64;
-        for v in mesh.boundary_facet(f) {
-            w[index[v]] += share;
-        }
-    }
-    w
 }
 
 /// `y ← y + α A x` for a CSC matrix (no allocation).

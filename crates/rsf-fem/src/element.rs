@@ -5,7 +5,8 @@
 
 use crate::{Error, Result};
 
-/// Isotropic linear elasticity `σ = λ tr ε(u) I + 2μ ε(u)` (Lamé parameters in N/m in 2D).
+/// Isotropic linear elasticity `σ = λ tr ε(u) I + 2μ ε(u)` (Lamé parameters in Pa in 3D,
+/// N/m per unit thickness in 2D); the same type serves every dimension.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinearElasticity {
     /// First Lamé parameter λ.
@@ -15,13 +16,14 @@ pub struct LinearElasticity {
 }
 
 impl LinearElasticity {
-    /// Plane strain from Young's modulus `e` and Poisson's ratio `nu` (docs/math.md §1):
-    /// λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)).
+    /// Isotropic elasticity from Young's modulus `e` and Poisson's ratio `nu`
+    /// (docs/math.md §1, §10): λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)). These are the 3D
+    /// Lamé parameters; in 2D they give plane strain ([`LinearElasticity::plane_strain`]).
     ///
     /// # Errors
     /// [`Error::InvalidYoungsModulus`] unless `e > 0` and finite;
     /// [`Error::InvalidPoissonRatio`] unless `−1 < nu < 0.5`.
-    pub fn plane_strain(e: f64, nu: f64) -> Result<Self> {
+    pub fn isotropic(e: f64, nu: f64) -> Result<Self> {
         if !(e > 0.0 && e.is_finite()) {
             return Err(Error::InvalidYoungsModulus(e));
         }
@@ -32,6 +34,16 @@ impl LinearElasticity {
             lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
             mu: e / (2.0 * (1.0 + nu)),
         })
+    }
+
+    /// Plane strain (2D) from Young's modulus `e` and Poisson's ratio `nu`
+    /// (docs/math.md §1): the 3D Lamé parameters of [`LinearElasticity::isotropic`] with
+    /// `ε_zz = 0`.
+    ///
+    /// # Errors
+    /// As [`LinearElasticity::isotropic`].
+    pub fn plane_strain(e: f64, nu: f64) -> Result<Self> {
+        Self::isotropic(e, nu)
     }
 
     /// Energy density `½ σ:ε = μ ε:ε + ½ λ (tr ε)²` of a (symmetric) strain `eps`.
@@ -127,4 +139,56 @@ pub fn segment_quadrature() -> [([f64; 2], f64); 3] {
         ([0.5, 0.5], 8.0 / 18.0),
         ([0.5 - d, 0.5 + d], 5.0 / 18.0),
     ]
+}
+
+/// Quadrature on the reference tetrahedron exact for degree 5 (14 points, positive weights;
+/// two 4-point orbits `(a, a, a, 1 − 3a)` and one 6-point orbit `(b, b, ½ − b, ½ − b)`):
+/// `(barycentric coordinates, weight)`, weights summing to 1 (multiply by the volume).
+pub fn tetrahedron_quadrature() -> [([f64; 4], f64); 14] {
+    const A: [(f64, f64); 2] = [
+        (0.310_885_919_263_300_6, 0.112_687_925_718_015_85),
+        (0.092_735_250_310_891_23, 0.073_493_043_116_361_95),
+    ];
+    const B: (f64, f64) = (0.045_503_704_125_649_65, 0.042_546_020_777_081_47);
+    let mut q = [([0.0; 4], 0.0); 14];
+    let mut k = 0;
+    for (a, w) in A {
+        for i in 0..4 {
+            let mut l = [a; 4];
+            l[i] = 1.0 - 3.0 * a;
+            q[k] = (l, w);
+            k += 1;
+        }
+    }
+    let (b, w) = B;
+    for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] {
+        let mut l = [0.5 - b; 4];
+        l[i] = b;
+        l[j] = b;
+        q[k] = (l, w);
+        k += 1;
+    }
+    q
+}
+
+/// The degree-5 rule on the `dim`-simplex (`dim ≤ 3`; a single point for `dim = 0`) with
+/// barycentric coordinates padded to 4 entries.
+pub(crate) fn simplex_quadrature(dim: usize) -> Vec<([f64; 4], f64)> {
+    fn pad<const N: usize>(l: [f64; N]) -> [f64; 4] {
+        let mut p = [0.0; 4];
+        p[..N].copy_from_slice(&l);
+        p
+    }
+    match dim {
+        0 => vec![([1.0, 0.0, 0.0, 0.0], 1.0)],
+        1 => segment_quadrature()
+            .into_iter()
+            .map(|(l, w)| (pad(l), w))
+            .collect(),
+        2 => triangle_quadrature()
+            .into_iter()
+            .map(|(l, w)| (pad(l), w))
+            .collect(),
+        _ => tetrahedron_quadrature().to_vec(),
+    }
 }

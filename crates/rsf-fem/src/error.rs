@@ -54,16 +54,16 @@ pub enum Error {
     #[error("invalid grid: {0}")]
     InvalidGrid(String),
     /// Young's modulus must be positive and finite.
-    #[error("Young's modulus E = {0} must be positive and finite (N/m in 2D)")]
+    #[error("Young's modulus E = {0} must be positive and finite (Pa; N/m in 2D)")]
     InvalidYoungsModulus(f64),
     /// Poisson's ratio must lie in (−1, 0.5).
     #[error("Poisson's ratio nu = {0} must lie in (-1, 0.5)")]
     InvalidPoissonRatio(f64),
     /// Density must be positive and finite.
-    #[error("density rho = {0} must be positive and finite (kg/m^2 in 2D)")]
+    #[error("density rho = {0} must be positive and finite (kg/m^3; kg/m^2 in 2D)")]
     InvalidDensity(f64),
-    /// A boundary segment selected no facets.
-    #[error("boundary segment `{name}` is empty")]
+    /// A boundary part (or segment) selected no facets.
+    #[error("boundary part `{name}` is empty")]
     EmptySegment {
         /// Segment name.
         name: String,
@@ -85,6 +85,20 @@ pub enum Error {
         node: usize,
         /// Component index.
         component: usize,
+    },
+    /// A boundary facet index is out of range.
+    #[error("boundary facet {facet} does not exist (the mesh has {num_facets})")]
+    InvalidFacet {
+        /// The invalid index.
+        facet: usize,
+        /// Number of boundary facets.
+        num_facets: usize,
+    },
+    /// The averaged outer normal at a boundary node vanishes.
+    #[error("the outer normal at vertex {vertex} is undefined (adjacent facet normals cancel)")]
+    UndefinedNormal {
+        /// The vertex.
+        vertex: usize,
     },
     /// A requested hierarchy level does not exist.
     #[error("level {level} does not exist (hierarchy has levels 0..={finest})")]
@@ -115,6 +129,37 @@ pub enum Error {
     /// The operation is not implemented for this dimension.
     #[error("not supported: {0}")]
     Unsupported(&'static str),
+    /// A Gmsh file is malformed or uses something the reader does not support.
+    #[error("Gmsh file, {}: {message}", location(.line, .section))]
+    Gmsh {
+        /// 1-based line of the problem, if it is tied to one.
+        line: Option<usize>,
+        /// The section (`Nodes`, `Elements`, …; `file` outside any section).
+        section: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A file could not be read.
+    #[error("cannot read `{path}`: {message}")]
+    Io {
+        /// The path.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
+}
+
+fn location(line: &Option<usize>, section: &str) -> String {
+    let section = if section == "file" {
+        String::new()
+    } else {
+        format!("section ${section}")
+    };
+    match (line, section.is_empty()) {
+        (Some(l), true) => format!("line {l}"),
+        (Some(l), false) => format!("line {l} ({section})"),
+        (None, _) => section,
+    }
 }
 
 /// Result alias of `rsf-fem`.

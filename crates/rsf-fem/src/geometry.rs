@@ -125,6 +125,69 @@ pub(crate) fn p1_gradients<const D: usize>(x: &[[f64; D]]) -> Option<([[f64; D];
     Some((g, d / factorial(D)))
 }
 
+/// Pads a point of `R^D` (`D ≤ 3`) to `R^3` with zeros.
+#[inline]
+pub(crate) fn pad3<const D: usize>(x: &[f64; D]) -> [f64; 3] {
+    let mut p = [0.0; 3];
+    p[..D].copy_from_slice(x);
+    p
+}
+
+/// Cross product in `R^3`.
+#[inline]
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Euclidean norm.
+#[inline]
+pub(crate) fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|c| c * c).sum::<f64>().sqrt()
+}
+
+/// Normal of an **oriented** facet (`D` points, `D = 2, 3`) scaled by `(D − 1)!` times its
+/// measure: `(b − a)` turned clockwise in 2D (outward when the body lies to the left of
+/// `a → b`), `(b − a) × (c − a)` in 3D (outward when the facet is seen counter-clockwise
+/// from outside).
+pub(crate) fn oriented_facet_normal<const D: usize>(x: &[[f64; D]]) -> [f64; D] {
+    let mut n = [0.0; D];
+    match D {
+        2 => {
+            n[0] = x[1][1] - x[0][1];
+            n[1] = -(x[1][0] - x[0][0]);
+        }
+        3 => {
+            let (a, b, c) = (pad3(&x[0]), pad3(&x[1]), pad3(&x[2]));
+            let m = cross(
+                [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+                [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+            );
+            n.copy_from_slice(&m[..D]);
+        }
+        _ => unreachable!("oriented facet normals exist for D = 2, 3"),
+    }
+    n
+}
+
+/// Smallest dihedral angle (radians) of a simplex with barycentric gradients `g`
+/// (`D + 1` used): the angle between the facets opposite vertices `i` and `j` is
+/// `π − ∠(∇λ_i, ∇λ_j)`. In 2D these are the interior angles of the triangle.
+pub(crate) fn min_dihedral_angle<const D: usize>(g: &[[f64; D]; 4]) -> f64 {
+    let mut best = f64::INFINITY;
+    for i in 0..=D {
+        for j in i + 1..=D {
+            let dot: f64 = (0..D).map(|r| g[i][r] * g[j][r]).sum();
+            let cos = -dot / (norm(&g[i]) * norm(&g[j]));
+            best = best.min(cos.clamp(-1.0, 1.0).acos());
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

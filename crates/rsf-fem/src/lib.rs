@@ -1,16 +1,25 @@
 //! P1 finite elements for the rate-and-state friction solver `rsf`
 //! (Pipping, Sander & Kornhuber, *Variational formulation of rate- and state-dependent
-//! friction problems*; see `docs/math.md` §3 for the space discretisation).
+//! friction problems*; see `docs/math.md` §3 for the space discretisation and §10 for
+//! three dimensions).
 //!
-//! * [`SimplexMesh`] / [`TriangleMesh`]: vertices (m), connectivity, boundary facets
-//!   with tags; [`rectangle`] and the paper's coarse grid [`pipping_slider_coarse`].
-//! * [`MeshHierarchy`]: uniform red refinement with scalar and node-major vector P1
-//!   prolongations (for multigrid).
-//! * [`BoundarySegment`]: Γ_D, Γ_N, Γ_F by tag or predicate; ordered nodes, normals,
-//!   [`NodalFrames`] for bilateral contact on slanted boundaries.
-//! * [`Assembler`]: consistent mass `M` (ρ), plane-strain stiffness `K` (E, ν),
-//!   energy matrix `K + M`, all sharing one CSC pattern; loads [`body_force_load`],
-//!   [`traction_load`]; lumped boundary weights [`lumped_weights`].
+//! Everything is generic over the dimension `D` (triangles for `D = 2`, tetrahedra for
+//! `D = 3`) and chosen by it, not by separate 2D/3D types:
+//!
+//! * [`SimplexMesh`] / [`TriangleMesh`] / [`TetrahedronMesh`]: vertices (m), oriented cells,
+//!   boundary facets with tags; structured [`rectangle`], [`cuboid`] (Kuhn tetrahedra) and
+//!   the paper's coarse grid [`pipping_slider_coarse`]; Gmsh MSH 4.1 import
+//!   ([`read_gmsh`], [`parse_gmsh`]) with physical groups as tags.
+//! * [`MeshHierarchy`]: uniform red refinement ([`refine_red`]; Bey's rule for tetrahedra,
+//!   shape regular) with scalar and node-major vector P1 prolongations (for multigrid).
+//! * [`BoundaryPart`]: a named set of boundary facets (Γ_D, Γ_N, Γ_F) by tag, predicate or
+//!   list, with nodes, lumped weights, outer normals and [`NodalFrames`] (tangents + inward
+//!   normal) for bilateral contact; [`BoundarySegment`]: the 2D part ordered along the
+//!   boundary.
+//! * [`Assembler`]: consistent mass `M` (ρ), stiffness `K` of isotropic elasticity
+//!   ([`LinearElasticity`]: E, ν; plane strain in 2D), energy matrix `K + M`, all sharing
+//!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
+//!   weights [`lumped_weights`].
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
 //!
@@ -24,20 +33,29 @@ mod cholesky;
 mod constraints;
 pub mod element;
 mod error;
+mod frames;
 mod geometry;
+mod gmsh;
 mod hierarchy;
+mod loads;
 mod mesh;
+mod part;
+mod refine;
+mod structured;
 
-pub use assembly::{
-    body_force_load, combine, lumped_weights, spmv_add, traction_load, Assembler, SparseMatrix,
-};
-pub use boundary::{BoundarySegment, NodalFrames};
+pub use assembly::{combine, spmv_add, Assembler, SparseMatrix};
+pub use boundary::BoundarySegment;
 pub use cholesky::Cholesky;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
-pub use hierarchy::{refine_red, vectorize, MeshHierarchy};
-pub use mesh::{
-    pipping_slider_coarse, rectangle, Diagonal, SimplexMesh, TriangleMesh, TAG_DIRICHLET,
-    TAG_FRICTIONAL, TAG_NEUMANN,
+pub use frames::NodalFrames;
+pub use gmsh::{parse_gmsh, read_gmsh, GmshMesh, PhysicalGroup};
+pub use hierarchy::{vectorize, MeshHierarchy};
+pub use loads::{body_force_load, lumped_weights, traction_load};
+pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
+pub use part::BoundaryPart;
+pub use refine::{refine_red, try_refine_red};
+pub use structured::{
+    cuboid, pipping_slider_coarse, rectangle, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

@@ -1,30 +1,37 @@
-//! Simplicial meshes ([`SimplexMesh`]), structured rectangles and boundary tags.
+//! Simplicial meshes ([`SimplexMesh`]): vertices, oriented cells, boundary facets and tags.
 
-use crate::geometry::{facet_measure, signed_measure};
+use crate::geometry::{
+    facet_measure, min_dihedral_angle, norm, oriented_facet_normal, p1_gradients, signed_measure,
+};
 use crate::{Error, Result};
 
-/// Tag name used by [`pipping_slider_coarse`] for the top edge (Dirichlet, Γ_D).
-pub const TAG_DIRICHLET: &str = "dirichlet";
-/// Tag name used by [`pipping_slider_coarse`] for the side edges (Neumann, Γ_N).
-pub const TAG_NEUMANN: &str = "neumann";
-/// Tag name used by [`pipping_slider_coarse`] for the bottom edge (frictional, Γ_F).
-pub const TAG_FRICTIONAL: &str = "frictional";
-
-/// A conforming simplicial mesh in `R^D` (triangles for `D = 2`, tetrahedra for `D = 3`).
+/// A conforming simplicial mesh in `R^D` (segments for `D = 1`, triangles for `D = 2`,
+/// tetrahedra for `D = 3`).
 ///
 /// * vertices: coordinates in metres, `num_vertices()` points of `[f64; D]`;
 /// * cells: connectivity with stride `D + 1`, every cell positively oriented
-///   (counter-clockwise in 2D), checked on construction;
+///   (counter-clockwise in 2D, `det[x1 − x0, x2 − x0, x3 − x0] > 0` in 3D), checked on
+///   construction;
 /// * boundary facets: the facets (stride `D`) that belong to exactly one cell, oriented so
-///   that in 2D the body lies to the **left** of the directed edge (counter-clockwise
-///   traversal of the outer boundary), each with an optional tag (e.g. `"frictional"`).
+///   that their normal ([`SimplexMesh::boundary_facet_normal`]) points out of the body: in
+///   2D the body lies to the **left** of the directed edge (counter-clockwise traversal of
+///   the outer boundary), in 3D the triangle is counter-clockwise seen from outside; each
+///   facet has an optional tag (e.g. `"frictional"`).
 ///
-/// Construction ([`SimplexMesh::new`]) and the geometry kernels are dimension generic;
-/// refinement, segments and loads currently have 2D implementations only.
+/// Every cell also remembers a *refinement order* of its vertices (the order given to
+/// [`SimplexMesh::from_ordered_cells`]; the stored order for [`SimplexMesh::new`]) which
+/// red refinement of tetrahedra uses to pick the inner diagonal (Bey's ordering,
+/// docs/math.md §10).
+///
+/// Everything (construction, refinement, boundary parts, assembly, loads) is dimension
+/// generic; [`crate::rectangle`] and [`crate::cuboid`] build structured meshes.
 #[derive(Debug, Clone)]
 pub struct SimplexMesh<const D: usize> {
     vertices: Vec<[f64; D]>,
     cells: Vec<usize>,
+    /// Per cell: the refinement order is the stored order with the last two vertices
+    /// swapped. Empty when no cell is flipped.
+    flipped: Vec<bool>,
     facets: Vec<usize>,
     facet_cell: Vec<usize>,
     facet_tag: Vec<Option<u32>>,
@@ -33,9 +40,12 @@ pub struct SimplexMesh<const D: usize> {
 
 /// Triangle mesh in the plane.
 pub type TriangleMesh = SimplexMesh<2>;
+/// Tetrahedral mesh in space.
+pub type TetrahedronMesh = SimplexMesh<3>;
 
 impl<const D: usize> SimplexMesh<D> {
-    /// Builds a mesh from vertices and flat connectivity (stride `D + 1`).
+    /// Builds a mesh from vertices and flat connectivity (stride `D + 1`) whose cells are
+    /// all positively oriented; the given vertex order of each cell is its refinement order.
     ///
     /// Boundary facets are found from the connectivity; they carry no tags yet
     /// (see [`SimplexMesh::tag_boundary`]).
@@ -44,8 +54,24 @@ impl<const D: usize> SimplexMesh<D> {
     /// [`Error::NonFiniteCoordinate`], [`Error::BadConnectivity`], [`Error::EmptyMesh`],
     /// [`Error::VertexOutOfRange`], [`Error::DegenerateCell`] (measure below
     /// `1e-12 · h^D`, `h` the longest edge of the cell) or [`Error::InvertedCell`]
-    /// (clockwise cells).
+    /// (negatively oriented, e.g. clockwise, cells).
     pub fn new(vertices: Vec<[f64; D]>, cells: Vec<usize>) -> Result<Self> {
+        Self::build(vertices, cells, false)
+    }
+
+    /// As [`SimplexMesh::new`], but cells may have either orientation: a negatively
+    /// oriented cell is stored with its last two vertices swapped (so that it is positive)
+    /// and the **given** order is kept as its refinement order. Use this for meshes from
+    /// other programs (e.g. Gmsh) and for cells listed in an order that matters for
+    /// refinement (the Kuhn paths of [`crate::cuboid`]).
+    ///
+    /// # Errors
+    /// As [`SimplexMesh::new`] except [`Error::InvertedCell`].
+    pub fn from_ordered_cells(vertices: Vec<[f64; D]>, cells: Vec<usize>) -> Result<Self> {
+        Self::build(vertices, cells, true)
+    }
+
+    fn build(vertices: Vec<[f64; D]>, mut cells: Vec<usize>, reorient: bool) -> Result<Self> {
         assert!((1..=3).contains(&D), "SimplexMesh supports D = 1, 2, 3");
         for (i, v) in vertices.iter().enumerate() {
             if v.iter().any(|c| !c.is_finite()) {
@@ -62,7 +88,8 @@ impl<const D: usize> SimplexMesh<D> {
             return Err(Error::EmptyMesh);
         }
         let nv = vertices.len();
-        for (c, cell) in cells.chunks_exact(D + 1).enumerate() {
+        let mut flipped: Option<Vec<bool>> = None;
+        for (c, cell) in cells.chunks_exact_mut(D + 1).enumerate() {
             let mut x = [[0.0; D]; 4];
             for (k, &v) in cell.iter().enumerate() {
                 if v >= nv {
@@ -90,15 +117,23 @@ impl<const D: usize> SimplexMesh<D> {
                 });
             }
             if m < 0.0 {
-                return Err(Error::InvertedCell {
-                    cell: c,
-                    measure: m,
-                });
+                if !reorient {
+                    return Err(Error::InvertedCell {
+                        cell: c,
+                        measure: m,
+                    });
+                }
+                cell.swap(D - 1, D);
+                flipped.get_or_insert_with(|| vec![false; c]);
+            }
+            if let Some(f) = flipped.as_mut() {
+                f.push(m < 0.0);
             }
         }
         let mut mesh = Self {
             vertices,
             cells,
+            flipped: flipped.unwrap_or_default(),
             facets: Vec::new(),
             facet_cell: Vec::new(),
             facet_tag: Vec::new(),
@@ -106,6 +141,37 @@ impl<const D: usize> SimplexMesh<D> {
         };
         mesh.find_boundary_facets();
         Ok(mesh)
+    }
+
+    /// Builds a refined mesh from cells given in refinement order; `negative[c]` is the
+    /// orientation of that order as predicted by the refinement rule. Panics (internal
+    /// invariant) if a prediction is wrong.
+    pub(crate) fn from_refinement(
+        vertices: Vec<[f64; D]>,
+        ordered_cells: Vec<usize>,
+        negative: &[bool],
+    ) -> Result<Self> {
+        let mesh = Self::build(vertices, ordered_cells, true)?;
+        assert!(
+            (0..mesh.num_cells()).all(|c| mesh.is_flipped(c) == negative[c]),
+            "refinement produced a cell of unexpected orientation"
+        );
+        Ok(mesh)
+    }
+
+    /// Whether cell `i`'s refinement order is its stored order with the last two swapped.
+    pub(crate) fn is_flipped(&self, i: usize) -> bool {
+        self.flipped.get(i).copied().unwrap_or(false)
+    }
+
+    /// Vertices of cell `i` in its refinement order (first `D + 1` entries used).
+    pub(crate) fn refinement_order(&self, i: usize) -> [usize; 4] {
+        let mut v = [0usize; 4];
+        v[..D + 1].copy_from_slice(self.cell(i));
+        if self.is_flipped(i) {
+            v.swap(D - 1, D);
+        }
+        v
     }
 
     /// Finds the facets that belong to exactly one cell.
@@ -276,105 +342,64 @@ impl<const D: usize> SimplexMesh<D> {
         }
         x
     }
+
+    /// Outward unit normal of boundary facet `i` (for `D = 1`: `±1`).
+    pub fn boundary_facet_normal(&self, i: usize) -> [f64; D] {
+        let f = self.boundary_facet(i);
+        let mut n = [0.0; D];
+        if D == 1 {
+            let cell = self.cell(self.facet_cell[i]);
+            let other = if cell[0] == f[0] { cell[1] } else { cell[0] };
+            n[0] = (self.vertices[f[0]][0] - self.vertices[other][0]).signum();
+            return n;
+        }
+        let mut x = [[0.0; D]; 3];
+        for (k, &v) in f.iter().enumerate() {
+            x[k] = self.vertices[v];
+        }
+        n = oriented_facet_normal::<D>(&x[..D]);
+        let l = norm(&n);
+        n.iter_mut().for_each(|c| *c /= l);
+        n
+    }
+
+    /// Smallest dihedral angle (radians) over all cells: the angle between two facets of
+    /// a cell, measured inside it (in 2D the interior angles of the triangles). A measure
+    /// of shape regularity: red refinement keeps it bounded below (docs/math.md §10).
+    pub fn min_dihedral_angle(&self) -> f64 {
+        (0..self.num_cells())
+            .map(|c| {
+                let x = self.cell_coords(c);
+                let (g, _) = p1_gradients::<D>(&x[..D + 1]).expect("mesh cells are non-degenerate");
+                min_dihedral_angle::<D>(&g)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Tags the listed boundary facets (indices as in [`SimplexMesh::boundary_facet`]) with
+    /// `tag`, overwriting earlier tags. Returns the number of facets tagged.
+    ///
+    /// # Errors
+    /// [`Error::InvalidFacet`] if an index is not a boundary facet (nothing is tagged then).
+    pub fn tag_boundary_facets(&mut self, tag: &str, facets: &[usize]) -> Result<usize> {
+        if let Some(&f) = facets.iter().find(|&&f| f >= self.num_boundary_facets()) {
+            return Err(Error::InvalidFacet {
+                facet: f,
+                num_facets: self.num_boundary_facets(),
+            });
+        }
+        let t = self.tag_index(tag);
+        for &f in facets {
+            self.facet_tag[f] = Some(t);
+        }
+        Ok(facets.len())
+    }
 }
 
 impl SimplexMesh<2> {
-    /// Smallest interior angle (radians) over all triangles.
+    /// Smallest interior angle (radians) over all triangles
+    /// (= [`SimplexMesh::min_dihedral_angle`] in 2D).
     pub fn min_angle(&self) -> f64 {
-        let mut best = f64::INFINITY;
-        for c in 0..self.num_cells() {
-            let x = self.cell_coords(c);
-            for k in 0..3 {
-                let (p, q, r) = (x[k], x[(k + 1) % 3], x[(k + 2) % 3]);
-                let a = [q[0] - p[0], q[1] - p[1]];
-                let b = [r[0] - p[0], r[1] - p[1]];
-                let cos = (a[0] * b[0] + a[1] * b[1]) / (a[0].hypot(a[1]) * b[0].hypot(b[1]));
-                best = best.min(cos.clamp(-1.0, 1.0).acos());
-            }
-        }
-        best
+        self.min_dihedral_angle()
     }
-
-    /// Outward unit normal of boundary facet (edge) `i`.
-    pub fn boundary_facet_normal(&self, i: usize) -> [f64; 2] {
-        let f = self.boundary_facet(i);
-        let (a, b) = (self.vertices[f[0]], self.vertices[f[1]]);
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let l = dx.hypot(dy);
-        // The body is on the left of a → b, so the outward normal points right.
-        [dy / l, -dx / l]
-    }
-}
-
-/// Which diagonal splits each cell of a structured rectangle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Diagonal {
-    /// "/" : from the lower-left to the upper-right corner of every cell.
-    #[default]
-    Forward,
-    /// "\" : from the upper-left to the lower-right corner of every cell.
-    Backward,
-}
-
-/// Structured triangulation of the rectangle `[x0, x0 + lx] × [y0, y0 + ly]` with
-/// `nx × ny` vertices (`nx − 1` by `ny − 1` cells, each split in two along `diagonal`).
-///
-/// Vertex `i + nx·j` sits at `(x0 + i·lx/(nx−1), y0 + j·ly/(ny−1))`. No tags are set.
-/// The paper's coarse grid (§6.1) is `rectangle([0.0, 0.0], [5.0, 1.0], 6, 2, d)`:
-/// 12 vertices, 10 triangles.
-///
-/// # Errors
-/// [`Error::InvalidGrid`] if `nx < 2`, `ny < 2`, or a size is not positive and finite;
-/// [`Error::NonFiniteCoordinate`] for a non-finite origin.
-pub fn rectangle(
-    origin: [f64; 2],
-    size: [f64; 2],
-    nx: usize,
-    ny: usize,
-    diagonal: Diagonal,
-) -> Result<TriangleMesh> {
-    if nx < 2 || ny < 2 {
-        return Err(Error::InvalidGrid(format!(
-            "need at least 2 x 2 vertices, got {nx} x {ny}"
-        )));
-    }
-    if !(size[0] > 0.0 && size[1] > 0.0 && size[0].is_finite() && size[1].is_finite()) {
-        return Err(Error::InvalidGrid(format!(
-            "size must be positive and finite, got {size:?}"
-        )));
-    }
-    let mut vertices = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            vertices.push([
-                origin[0] + size[0] * i as f64 / (nx - 1) as f64,
-                origin[1] + size[1] * j as f64 / (ny - 1) as f64,
-            ]);
-        }
-    }
-    let mut cells = Vec::with_capacity(6 * (nx - 1) * (ny - 1));
-    for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            let a = i + nx * j;
-            let (b, c, d) = (a + 1, a + 1 + nx, a + nx);
-            match diagonal {
-                Diagonal::Forward => cells.extend_from_slice(&[a, b, c, a, c, d]),
-                Diagonal::Backward => cells.extend_from_slice(&[a, b, d, b, c, d]),
-            }
-        }
-    }
-    SimplexMesh::new(vertices, cells)
-}
-
-/// The paper's coarse grid (§6.1, Table 6.1): `[0, 5] × [0, 1]` m with 6 × 2 vertices
-/// (10 triangles, [`Diagonal::Forward`]) and boundary tags
-/// [`TAG_DIRICHLET`] (top, y = 1), [`TAG_NEUMANN`] (sides x = 0 and x = 5) and
-/// [`TAG_FRICTIONAL`] (bottom, y = 0).
-pub fn pipping_slider_coarse(diagonal: Diagonal) -> TriangleMesh {
-    let mut m =
-        rectangle([0.0, 0.0], [5.0, 1.0], 6, 2, diagonal).expect("the slider rectangle is valid");
-    m.tag_boundary(TAG_NEUMANN, |x| x[0] < 1e-9 || x[0] > 5.0 - 1e-9);
-    m.tag_boundary(TAG_DIRICHLET, |x| x[1] > 1.0 - 1e-9);
-    m.tag_boundary(TAG_FRICTIONAL, |x| x[1] < 1e-9);
-    m
 }

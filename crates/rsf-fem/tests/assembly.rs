@@ -1,3 +1,5 @@
+mod common;
+use common::{apply, check_frames, component_sums};
 use rsf_fem::*;
 
 fn slider(level: usize) -> (TriangleMesh, Assembler<2>) {
@@ -17,12 +19,6 @@ fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
     d
 }
 
-fn apply(a: &SparseMatrix, x: &[f64]) -> Vec<f64> {
-    let mut y = vec![0.0; a.nrows()];
-    spmv_add(a.as_ref(), 1.0, x, &mut y);
-    y
-}
-
 #[test]
 fn mass_and_weights_sum() {
     let rho = 5e3;
@@ -30,21 +26,7 @@ fn mass_and_weights_sum() {
         let (m, asm) = slider(level);
         let mm = asm.mass(&m, rho).unwrap();
         // Sum over one component's entries = ρ·area.
-        let mut s = [0.0; 2];
-        for j in 0..mm.ncols() {
-            for (&i, &v) in mm
-                .as_ref()
-                .row_idx_of_col_raw(j)
-                .iter()
-                .zip(mm.val_of_col(j))
-            {
-                if i % 2 == j % 2 {
-                    s[j % 2] += v;
-                } else {
-                    assert_eq!(v, 0.0);
-                }
-            }
-        }
+        let s = component_sums::<2>(&mm);
         for c in s {
             assert!((c - rho * 5.0).abs() < 1e-9 * rho * 5.0, "{c}");
         }
@@ -312,22 +294,9 @@ fn nodal_frames_rotate_consistently() {
         assert!((q[0][0] - c).abs() < 1e-12 && (q[1][0] - s).abs() < 1e-12);
         assert!((q[0][1] + s).abs() < 1e-12 && (q[1][1] - c).abs() < 1e-12);
     }
-    let kt = frames.rotate_matrix(k.as_ref()).unwrap();
-    // xᵀ K y is invariant: (Rᵀx)ᵀ (RᵀKR) (Rᵀy).
+    check_frames(&k, &frames);
     let n = 2 * m.num_vertices();
-    let x: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
-    let y: Vec<f64> = (0..n).map(|i| (0.11 * i as f64).cos()).collect();
-    let kxy: f64 = x.iter().zip(apply(&k, &y)).map(|(a, b)| a * b).sum();
-    let (mut xl, mut yl) = (x.clone(), y.clone());
-    frames.to_local(&mut xl).unwrap();
-    frames.to_local(&mut yl).unwrap();
-    let kxy2: f64 = xl.iter().zip(apply(&kt, &yl)).map(|(a, b)| a * b).sum();
-    assert!((kxy - kxy2).abs() < 1e-12 * kxy.abs().max(1.0));
-    let mut back = xl.clone();
-    frames.to_global(&mut back).unwrap();
-    for (a, b) in back.iter().zip(&x) {
-        assert!((a - b).abs() < 1e-14);
-    }
+    let kt = frames.rotate_matrix(k.as_ref()).unwrap();
     // A rigid tangential sliding of the bottom has zero local normal components.
     let mut t: Vec<f64> = (0..m.num_vertices()).flat_map(|_| [c, s]).collect();
     frames.to_local(&mut t).unwrap();

@@ -1,0 +1,209 @@
+//! Nodal frames `Q_p` (tangent(s), inward normal) on boundary nodes and the change of basis
+//! they induce on vectors, matrices and prolongations.
+
+use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
+
+use crate::geometry::{cross, norm, pad3};
+use crate::{Error, Result};
+
+/// The frame at a node with outward unit normal `n`: a rotation (row-major, det = +1) whose
+/// **last column is the inward normal** `−n` and whose first `D − 1` columns are unit
+/// tangents (docs/math.md §10):
+///
+/// * 2D: `t = (−n_y, n_x)` (the counter-clockwise traversal direction of the boundary);
+/// * 3D: `t1` = the normalised projection of `hint` onto the tangent plane, or, if no hint
+///   is given or the hint is (nearly, `< 1e-6` of its length) normal, of the Cartesian axis
+///   `e_k` with the smallest `|n_k|` (the first such `k`); `t2 = −n × t1`.
+///
+/// With `n = (0, 0, −1)` (a bottom face, `z` up) the 3D frame is the identity.
+pub(crate) fn frame_from_normal<const D: usize>(
+    n: &[f64; D],
+    hint: Option<&[f64; D]>,
+) -> [[f64; D]; D] {
+    let mut q = [[0.0; D]; D];
+    for r in 0..D {
+        q[r][D - 1] = -n[r];
+    }
+    match D {
+        1 => {}
+        2 => {
+            q[0][0] = -n[1];
+            q[1][0] = n[0];
+        }
+        _ => {
+            let n3 = pad3(n);
+            let project = |h: [f64; 3]| {
+                let d: f64 = (0..3).map(|r| h[r] * n3[r]).sum();
+                let t = [h[0] - d * n3[0], h[1] - d * n3[1], h[2] - d * n3[2]];
+                let l = norm(&t);
+                (l > 0.0 && l >= 1e-6 * norm(&h)).then(|| [t[0] / l, t[1] / l, t[2] / l])
+            };
+            let k = (0..3)
+                .min_by(|&a, &b| n3[a].abs().total_cmp(&n3[b].abs()))
+                .expect("three axes");
+            let mut axis = [0.0; 3];
+            axis[k] = 1.0;
+            let t1 = hint
+                .and_then(|h| project(pad3(h)))
+                .or_else(|| project(axis))
+                .expect("an axis with |n_k| ≤ 1/√3 is never normal");
+            let t2 = cross([-n3[0], -n3[1], -n3[2]], t1);
+            for r in 0..3 {
+                q[r][0] = t1[r];
+                q[r][1] = t2[r];
+            }
+        }
+    }
+    q
+}
+
+/// Per-node orthonormal frames `Q_p` (row-major `D × D`, columns = local basis vectors)
+/// on a set of nodes; all other nodes keep the Cartesian basis.
+///
+/// With `R = blockdiag(Q_p)` (identity off the frame nodes), local coefficients are
+/// `ṽ = Rᵀ v`, a matrix transforms as `Ã = Rᵀ A R` and a fine-level prolongation as
+/// `P̃ = Rᵀ P` (its coarse side stays Cartesian).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodalFrames<const D: usize> {
+    /// Mesh vertices carrying a frame.
+    pub nodes: Vec<usize>,
+    /// `rotations[k][r][c]`: entry (r, c) of `Q` at `nodes[k]`.
+    pub rotations: Vec<[[f64; D]; D]>,
+}
+
+impl<const D: usize> NodalFrames<D> {
+    /// Frames at `nodes` from their outward unit normals (see the rule on
+    /// [`crate::BoundaryPart::frames`]), optionally aligning the first tangent with `hint`.
+    pub(crate) fn from_normals(
+        nodes: Vec<usize>,
+        normals: &[[f64; D]],
+        hint: Option<&[f64; D]>,
+    ) -> Self {
+        let rotations = normals.iter().map(|n| frame_from_normal(n, hint)).collect();
+        Self { nodes, rotations }
+    }
+
+    fn check(&self, n_dofs: usize) -> Result<Vec<Option<usize>>> {
+        if n_dofs % D != 0 {
+            return Err(Error::DimensionMismatch {
+                what: "node-major vector length",
+                expected: D * (n_dofs / D),
+                got: n_dofs,
+            });
+        }
+        let mut map = vec![None; n_dofs / D];
+        for (k, &v) in self.nodes.iter().enumerate() {
+            if v >= map.len() {
+                return Err(Error::InvalidDof {
+                    node: v,
+                    component: 0,
+                });
+            }
+            map[v] = Some(k);
+        }
+        Ok(map)
+    }
+
+    /// `v ← Rᵀ v` (Cartesian → local coefficients), node-major `v`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDof`] if a frame node is outside `v`.
+    pub fn to_local(&self, v: &mut [f64]) -> Result<()> {
+        self.apply(v, true)
+    }
+    /// `v ← R v` (local → Cartesian coefficients).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDof`] if a frame node is outside `v`.
+    pub fn to_global(&self, v: &mut [f64]) -> Result<()> {
+        self.apply(v, false)
+    }
+    fn apply(&self, v: &mut [f64], transpose: bool) -> Result<()> {
+        self.check(v.len())?;
+        for (&p, q) in self.nodes.iter().zip(&self.rotations) {
+            let mut w = [0.0; D];
+            for r in 0..D {
+                for c in 0..D {
+                    w[r] += if transpose { q[c][r] } else { q[r][c] } * v[D * p + c];
+                }
+            }
+            v[D * p..D * p + D].copy_from_slice(&w);
+        }
+        Ok(())
+    }
+
+    /// `Rᵀ A R` for a node-major square matrix (e.g. `A`, `K`, `M` on the finest level).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] / [`Error::InvalidDof`] on size problems.
+    pub fn rotate_matrix(
+        &self,
+        a: SparseColMatRef<'_, usize, f64>,
+    ) -> Result<SparseColMat<usize, f64>> {
+        self.transform(a, true, true)
+    }
+    /// `Rᵀ P`: rows of a (vector) prolongation into the finest level expressed in the
+    /// local bases (the coarse space stays Cartesian).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] / [`Error::InvalidDof`] on size problems.
+    pub fn rotate_rows(
+        &self,
+        p: SparseColMatRef<'_, usize, f64>,
+    ) -> Result<SparseColMat<usize, f64>> {
+        self.transform(p, true, false)
+    }
+
+    fn transform(
+        &self,
+        a: SparseColMatRef<'_, usize, f64>,
+        left: bool,
+        right: bool,
+    ) -> Result<SparseColMat<usize, f64>> {
+        let rmap = if left {
+            Some(self.check(a.nrows())?)
+        } else {
+            None
+        };
+        let cmap = if right {
+            Some(self.check(a.ncols())?)
+        } else {
+            None
+        };
+        let mut t = Vec::with_capacity(a.compute_nnz() * D);
+        // Left pass: B = Rᵀ A (entry (p,r),j contributes Q_p[r][c] to (p,c), j).
+        let push = |i: usize, j: usize, v: f64, t: &mut Vec<Triplet<usize, usize, f64>>| match cmap
+            .as_ref()
+            .and_then(|m| m[j / D])
+        {
+            Some(k) => {
+                let (q, r) = (j / D, j % D);
+                for c in 0..D {
+                    let f = self.rotations[k][r][c];
+                    if f != 0.0 {
+                        t.push(Triplet::new(i, D * q + c, v * f));
+                    }
+                }
+            }
+            None => t.push(Triplet::new(i, j, v)),
+        };
+        for j in 0..a.ncols() {
+            for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+                match rmap.as_ref().and_then(|m| m[i / D]) {
+                    Some(k) => {
+                        let (p, r) = (i / D, i % D);
+                        for c in 0..D {
+                            let f = self.rotations[k][r][c];
+                            if f != 0.0 {
+                                push(D * p + c, j, v * f, &mut t);
+                            }
+                        }
+                    }
+                    None => push(i, j, v, &mut t),
+                }
+            }
+        }
+        SparseColMat::try_new_from_triplets(a.nrows(), a.ncols(), &t)
+            .map_err(|e| Error::Faer(format!("{e:?}")))
+    }
+}

@@ -1,0 +1,322 @@
+//! Gmsh import: MSH 4.1 ASCII files with first-order triangles (`D = 2`) or tetrahedra
+//! (`D = 3`); physical groups of boundary facets become boundary tags.
+//!
+//! The reader is self-contained (no dependency): it reads the sections `$MeshFormat`,
+//! `$PhysicalNames`, `$Entities`, `$Nodes` and `$Elements` of the format's version 4.1
+//! (Gmsh reference manual, "MSH file format") and skips all others. Every problem in a
+//! file is an [`Error::Gmsh`] naming the line and section; no input panics.
+
+mod lexer;
+mod sections;
+
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
+use std::path::Path;
+
+use lexer::{error, Section};
+
+use crate::mesh::SimplexMesh;
+use crate::{Error, Result};
+
+/// A physical group found in a Gmsh file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PhysicalGroup {
+    /// Dimension of its entities (0 points, 1 curves, 2 surfaces, 3 volumes).
+    pub dim: usize,
+    /// Physical tag.
+    pub tag: i32,
+    /// Name from `$PhysicalNames`, or the tag in decimal if the group is unnamed.
+    pub name: String,
+    /// Number of elements of the file in the group (all element types read).
+    pub num_elements: usize,
+}
+
+/// A mesh imported from Gmsh ([`read_gmsh`], [`parse_gmsh`]).
+#[derive(Debug, Clone)]
+pub struct GmshMesh<const D: usize> {
+    /// The mesh: the file's dimension-`D` simplices as cells (reoriented where needed, the
+    /// file's vertex order kept as refinement order, see
+    /// [`SimplexMesh::from_ordered_cells`]); its boundary facets carry the names of the
+    /// dimension-`(D − 1)` physical groups they belong to as tags.
+    pub mesh: SimplexMesh<D>,
+    /// All physical groups of the file, sorted by `(dim, tag)`.
+    pub physical_groups: Vec<PhysicalGroup>,
+    /// Gmsh node tag of every mesh vertex (vertices are numbered by increasing node tag;
+    /// nodes used by no cell are dropped).
+    pub node_tags: Vec<u64>,
+}
+
+/// Reads a Gmsh MSH 4.1 ASCII file; see [`parse_gmsh`].
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be read; as [`parse_gmsh`].
+pub fn read_gmsh<const D: usize>(path: impl AsRef<Path>) -> Result<GmshMesh<D>> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    parse_gmsh(&bytes)
+}
+
+/// Parses the contents of a Gmsh MSH 4.1 ASCII file into a `D`-dimensional mesh
+/// (`D = 2`: triangles in the plane `z = 0`; `D = 3`: tetrahedra).
+///
+/// * Cells: all elements of dimension `D` (type 2 triangles or type 4 tetrahedra);
+///   elements of lower dimension other than boundary facets are ignored.
+/// * Tags: a boundary facet (a type 1 line in 2D, a type 2 triangle in 3D) that belongs
+///   to a physical group of dimension `D − 1` is tagged with the group's name (groups are
+///   applied in increasing physical tag order, so for a facet in several groups the last
+///   one wins). Use [`crate::BoundaryPart::from_tag`] to get the part.
+///
+/// # Errors
+/// [`Error::Gmsh`] (with line and section) for anything malformed or unsupported: another
+/// MSH version, binary files, element types other than first-order points, lines,
+/// triangles and tetrahedra (e.g. quadrilaterals or second-order elements), elements of
+/// dimension above `D`, no cells, unknown or duplicate node tags, counts that do not match
+/// the headers, non-finite coordinates, `z ≠ 0` in 2D, degenerate cells, and facets in a
+/// physical group that are not boundary facets of the mesh (interior facets cannot be
+/// tagged); [`Error::Unsupported`] for `D = 1`.
+pub fn parse_gmsh<const D: usize>(bytes: &[u8]) -> Result<GmshMesh<D>> {
+    if !(D == 2 || D == 3) {
+        return Err(Error::Unsupported("Gmsh import reads 2D and 3D meshes"));
+    }
+    let text = std::str::from_utf8(bytes).map_err(|e| not_text(bytes, e.valid_up_to()))?;
+    let lines: Vec<&str> = text.lines().collect();
+    let sections = lexer::sections(&lines)?;
+    match sections.first() {
+        Some(s) if s.name == "MeshFormat" => sections::mesh_format(s)?,
+        _ => {
+            return Err(error(
+                Some(1),
+                "file",
+                "the file does not start with a `$MeshFormat` section",
+            ))
+        }
+    }
+    let mut names = BTreeMap::new();
+    let mut physical = HashMap::new();
+    let mut nodes = HashMap::new();
+    let mut elements = None;
+    let mut seen = HashSet::from(["MeshFormat"]);
+    for s in &sections[1..] {
+        let known = [
+            "MeshFormat",
+            "PhysicalNames",
+            "Entities",
+            "Nodes",
+            "Elements",
+        ];
+        if known.contains(&s.name) && !seen.insert(s.name) {
+            return Err(error(
+                Some(s.first_line - 1),
+                s.name,
+                format!("section `${}` appears twice", s.name),
+            ));
+        }
+        match s.name {
+            "PhysicalNames" => sections::physical_names(s, &mut names)?,
+            "Entities" => sections::entities(s, &mut physical)?,
+            "Nodes" => sections::nodes(s, &mut nodes)?,
+            "Elements" => elements = Some(sections::elements(s, D)?),
+            _ => {}
+        }
+    }
+    let elements =
+        elements.ok_or_else(|| error(None, "file", "the file has no `$Elements` section"))?;
+    build(&nodes, elements, &physical, &names)
+}
+
+/// The error for a file that is not UTF-8 text: binary files are reported as such (their
+/// `$MeshFormat` header is text).
+fn not_text(bytes: &[u8], valid: usize) -> Error {
+    let prefix = std::str::from_utf8(&bytes[..valid]).expect("valid UTF-8 prefix");
+    let lines: Vec<&str> = prefix.lines().collect();
+    let start = lines.iter().position(|l| l.trim() == "$MeshFormat");
+    let end = lines.iter().position(|l| l.trim() == "$EndMeshFormat");
+    if let (Some(a), Some(b)) = (start, end) {
+        if a < b {
+            let header = Section {
+                name: "MeshFormat",
+                lines: &lines[a + 1..b],
+                first_line: a + 2,
+            };
+            if let Err(e) = sections::mesh_format(&header) {
+                return e;
+            }
+        }
+    }
+    let line = bytes[..valid].iter().filter(|&&b| b == b'\n').count() + 1;
+    error(Some(line), "file", "the file is not UTF-8 text")
+}
+
+fn group_name(names: &BTreeMap<(usize, i32), String>, dim: usize, tag: i32) -> String {
+    names
+        .get(&(dim, tag))
+        .cloned()
+        .unwrap_or_else(|| tag.to_string())
+}
+
+fn build<const D: usize>(
+    nodes: &HashMap<u64, [f64; 3]>,
+    elements: sections::Elements,
+    physical: &HashMap<(usize, i32), Vec<i32>>,
+    names: &BTreeMap<(usize, i32), String>,
+) -> Result<GmshMesh<D>> {
+    if let Some((line, dim)) = elements.higher {
+        return Err(error(
+            Some(line),
+            "Elements",
+            format!("the file has elements of dimension {dim}: read it as a {dim}-D mesh"),
+        ));
+    }
+    let cells = &elements.cells;
+    if cells.is_empty() {
+        let what = if D == 2 { "triangles" } else { "tetrahedra" };
+        return Err(error(
+            None,
+            "Elements",
+            format!("the file has no {what} (elements of dimension {D})"),
+        ));
+    }
+    for e in cells {
+        if let Some(t) = e.nodes[..=D].iter().find(|t| !nodes.contains_key(t)) {
+            return Err(error(
+                Some(e.line),
+                "Elements",
+                format!(
+                    "element {} refers to node {t}, which is not in `$Nodes`",
+                    e.tag
+                ),
+            ));
+        }
+    }
+    let mut node_tags: Vec<u64> = cells.iter().flat_map(|e| e.nodes[..=D].to_vec()).collect();
+    node_tags.sort_unstable();
+    node_tags.dedup();
+    let index: HashMap<u64, usize> = node_tags.iter().enumerate().map(|(i, &t)| (t, i)).collect();
+    let vertices = vertices::<D>(nodes, &node_tags)?;
+    let connectivity = cells
+        .iter()
+        .flat_map(|e| e.nodes[..=D].iter().map(|t| index[t]))
+        .collect();
+    let mut mesh =
+        SimplexMesh::from_ordered_cells(vertices, connectivity).map_err(|e| match e {
+            Error::DegenerateCell { cell, measure } => error(
+                Some(cells[cell].line),
+                "Elements",
+                format!(
+                    "element {} is degenerate (signed measure {measure:e})",
+                    cells[cell].tag
+                ),
+            ),
+            other => other,
+        })?;
+    tag_facets(&mut mesh, &elements.facets, &index, physical, names)?;
+    Ok(GmshMesh {
+        mesh,
+        physical_groups: groups(physical, names, &elements.per_entity),
+        node_tags,
+    })
+}
+
+/// Coordinates of the used nodes; in 2D they must lie in the plane `z = 0`.
+fn vertices<const D: usize>(nodes: &HashMap<u64, [f64; 3]>, tags: &[u64]) -> Result<Vec<[f64; D]>> {
+    let mut extent: f64 = 0.0;
+    for t in tags {
+        for r in 0..D {
+            extent = extent.max(nodes[t][r].abs());
+        }
+    }
+    tags.iter()
+        .map(|t| {
+            let x = nodes[t];
+            if D == 2 && x[2].abs() > 1e-12 * extent {
+                return Err(error(
+                    None,
+                    "Nodes",
+                    format!(
+                        "node {t} has z = {:e}: a 2-D mesh must lie in the plane z = 0",
+                        x[2]
+                    ),
+                ));
+            }
+            let mut v = [0.0; D];
+            v.copy_from_slice(&x[..D]);
+            Ok(v)
+        })
+        .collect()
+}
+
+/// Tags the boundary facets of the dimension-`(D − 1)` physical groups.
+fn tag_facets<const D: usize>(
+    mesh: &mut SimplexMesh<D>,
+    facets: &[sections::Element],
+    index: &HashMap<u64, usize>,
+    physical: &HashMap<(usize, i32), Vec<i32>>,
+    names: &BTreeMap<(usize, i32), String>,
+) -> Result<()> {
+    let key = |v: &mut dyn Iterator<Item = usize>| {
+        let mut k = [usize::MAX; 3];
+        for (slot, x) in k.iter_mut().zip(v) {
+            *slot = x;
+        }
+        k.sort_unstable();
+        k
+    };
+    let by_key: HashMap<[usize; 3], usize> = (0..mesh.num_boundary_facets())
+        .map(|f| (key(&mut mesh.boundary_facet(f).iter().copied()), f))
+        .collect();
+    let mut groups: BTreeMap<i32, Vec<usize>> = BTreeMap::new();
+    for e in facets {
+        let Some(tags) = physical.get(&(D - 1, e.entity)).filter(|t| !t.is_empty()) else {
+            continue;
+        };
+        let vs: Option<Vec<usize>> = e.nodes[..D].iter().map(|t| index.get(t).copied()).collect();
+        let Some(f) = vs.and_then(|vs| by_key.get(&key(&mut vs.into_iter())).copied()) else {
+            return Err(error(
+                Some(e.line),
+                "Elements",
+                format!(
+                    "element {} of physical group `{}` is not a boundary facet of the mesh \
+                     (only boundary facets can be tagged)",
+                    e.tag,
+                    group_name(names, D - 1, tags[0])
+                ),
+            ));
+        };
+        for &p in tags {
+            groups.entry(p).or_default().push(f);
+        }
+    }
+    for (p, fs) in groups {
+        mesh.tag_boundary_facets(&group_name(names, D - 1, p), &fs)?;
+    }
+    Ok(())
+}
+
+/// Every physical group named in `$PhysicalNames` or used by an entity, with its number
+/// of elements.
+fn groups(
+    physical: &HashMap<(usize, i32), Vec<i32>>,
+    names: &BTreeMap<(usize, i32), String>,
+    per_entity: &HashMap<(usize, i32), usize>,
+) -> Vec<PhysicalGroup> {
+    let mut keys: BTreeSet<(usize, i32)> = names.keys().copied().collect();
+    keys.extend(
+        physical
+            .iter()
+            .flat_map(|(&(dim, _), tags)| tags.iter().map(move |&t| (dim, t))),
+    );
+    keys.into_iter()
+        .map(|(dim, tag)| PhysicalGroup {
+            dim,
+            tag,
+            name: group_name(names, dim, tag),
+            num_elements: physical
+                .iter()
+                .filter(|(&(d, _), tags)| d == dim && tags.contains(&tag))
+                .map(|(entity, _)| per_entity.get(entity).copied().unwrap_or(0))
+                .sum(),
+        })
+        .collect()
+}

@@ -1,0 +1,161 @@
+//! Structured meshes: rectangles (triangles), boxes (Kuhn tetrahedra) and the paper's
+//! coarse slider grid.
+
+use crate::mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
+use crate::{Error, Result};
+
+/// Tag name used by [`pipping_slider_coarse`] for the top edge (Dirichlet, Γ_D).
+pub const TAG_DIRICHLET: &str = "dirichlet";
+/// Tag name used by [`pipping_slider_coarse`] for the side edges (Neumann, Γ_N).
+pub const TAG_NEUMANN: &str = "neumann";
+/// Tag name used by [`pipping_slider_coarse`] for the bottom edge (frictional, Γ_F).
+pub const TAG_FRICTIONAL: &str = "frictional";
+
+/// Which diagonal splits each cell of a structured rectangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Diagonal {
+    /// "/" : from the lower-left to the upper-right corner of every cell.
+    #[default]
+    Forward,
+    /// "\" : from the upper-left to the lower-right corner of every cell.
+    Backward,
+}
+
+/// Structured triangulation of the rectangle `[x0, x0 + lx] × [y0, y0 + ly]` with
+/// `nx × ny` vertices (`nx − 1` by `ny − 1` cells, each split in two along `diagonal`).
+///
+/// Vertex `i + nx·j` sits at `(x0 + i·lx/(nx−1), y0 + j·ly/(ny−1))`. No tags are set.
+/// The paper's coarse grid (§6.1) is `rectangle([0.0, 0.0], [5.0, 1.0], 6, 2, d)`:
+/// 12 vertices, 10 triangles.
+///
+/// # Errors
+/// [`Error::InvalidGrid`] if `nx < 2`, `ny < 2`, or a size is not positive and finite;
+/// [`Error::NonFiniteCoordinate`] for a non-finite origin.
+pub fn rectangle(
+    origin: [f64; 2],
+    size: [f64; 2],
+    nx: usize,
+    ny: usize,
+    diagonal: Diagonal,
+) -> Result<TriangleMesh> {
+    if nx < 2 || ny < 2 {
+        return Err(Error::InvalidGrid(format!(
+            "need at least 2 x 2 vertices, got {nx} x {ny}"
+        )));
+    }
+    if !(size[0] > 0.0 && size[1] > 0.0 && size[0].is_finite() && size[1].is_finite()) {
+        return Err(Error::InvalidGrid(format!(
+            "size must be positive and finite, got {size:?}"
+        )));
+    }
+    let mut vertices = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            vertices.push([
+                origin[0] + size[0] * i as f64 / (nx - 1) as f64,
+                origin[1] + size[1] * j as f64 / (ny - 1) as f64,
+            ]);
+        }
+    }
+    let mut cells = Vec::with_capacity(6 * (nx - 1) * (ny - 1));
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let a = i + nx * j;
+            let (b, c, d) = (a + 1, a + 1 + nx, a + nx);
+            match diagonal {
+                Diagonal::Forward => cells.extend_from_slice(&[a, b, c, a, c, d]),
+                Diagonal::Backward => cells.extend_from_slice(&[a, b, d, b, c, d]),
+            }
+        }
+    }
+    SimplexMesh::new(vertices, cells)
+}
+
+/// The paper's coarse grid (§6.1, Table 6.1): `[0, 5] × [0, 1]` m with 6 × 2 vertices
+/// (10 triangles, [`Diagonal::Forward`]) and boundary tags
+/// [`TAG_DIRICHLET`] (top, y = 1), [`TAG_NEUMANN`] (sides x = 0 and x = 5) and
+/// [`TAG_FRICTIONAL`] (bottom, y = 0).
+pub fn pipping_slider_coarse(diagonal: Diagonal) -> TriangleMesh {
+    let mut m =
+        rectangle([0.0, 0.0], [5.0, 1.0], 6, 2, diagonal).expect("the slider rectangle is valid");
+    m.tag_boundary(TAG_NEUMANN, |x| x[0] < 1e-9 || x[0] > 5.0 - 1e-9);
+    m.tag_boundary(TAG_DIRICHLET, |x| x[1] > 1.0 - 1e-9);
+    m.tag_boundary(TAG_FRICTIONAL, |x| x[1] < 1e-9);
+    m
+}
+
+/// Structured tetrahedral mesh of the box `[x0, x0 + lx] × [y0, y0 + ly] × [z0, z0 + lz]`
+/// with `n = [nx, ny, nz]` vertices per direction; every hexahedral cell is split into 6
+/// tetrahedra around its main diagonal (Kuhn/Freudenthal triangulation).
+///
+/// Vertex `i + nx·(j + ny·k)` sits at `origin + (i·lx/(nx−1), j·ly/(ny−1), k·lz/(nz−1))`.
+/// Cells are numbered cell by cell (`x` fastest), 6 tetrahedra per cell. With `p` the
+/// cell's lowest corner, tetrahedron `t` is the **Kuhn path**
+/// `(p, p + e_a, p + e_a + e_b, p + e_a + e_b + e_c)` for the `t`-th permutation `(a, b, c)`
+/// of the axes in the order `xyz, xzy, yxz, yzx, zxy, zyx` (`e` scaled by the cell size).
+/// The path is the cell's refinement order (Bey's rule then refines every tetrahedron into 8
+/// Kuhn tetrahedra of the half-size cells, docs/math.md §10). Paths of even permutations are
+/// positively oriented and stored as given; those of odd permutations (`xzy, yxz, zyx`) are
+/// stored with their last two vertices swapped, so that every stored cell is positively
+/// oriented (see [`SimplexMesh::from_ordered_cells`]). All 6 tetrahedra of a cube are
+/// congruent. No tags are set.
+///
+/// # Errors
+/// [`Error::InvalidGrid`] if some `n < 2` or a size is not positive and finite;
+/// [`Error::NonFiniteCoordinate`] for a non-finite origin.
+pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<TetrahedronMesh> {
+    if n.iter().any(|&k| k < 2) {
+        return Err(Error::InvalidGrid(format!(
+            "need at least 2 vertices per direction, got {n:?}"
+        )));
+    }
+    if !size.iter().all(|&s| s > 0.0 && s.is_finite()) {
+        return Err(Error::InvalidGrid(format!(
+            "size must be positive and finite, got {size:?}"
+        )));
+    }
+    let [nx, ny, nz] = n;
+    let count = nx
+        .checked_mul(ny)
+        .and_then(|v| v.checked_mul(nz))
+        .filter(|&v| v.checked_mul(6 * 4).is_some())
+        .ok_or_else(|| Error::InvalidGrid(format!("too many vertices: {n:?}")))?;
+    let mut vertices = Vec::with_capacity(count);
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                vertices.push([
+                    origin[0] + size[0] * i as f64 / (nx - 1) as f64,
+                    origin[1] + size[1] * j as f64 / (ny - 1) as f64,
+                    origin[2] + size[2] * k as f64 / (nz - 1) as f64,
+                ]);
+            }
+        }
+    }
+    let stride = [1, nx, nx * ny];
+    const PERMUTATIONS: [[usize; 3]; 6] = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    let mut cells = Vec::with_capacity(24 * (nx - 1) * (ny - 1) * (nz - 1));
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let p = i + nx * (j + ny * k);
+                for perm in PERMUTATIONS {
+                    let mut v = p;
+                    cells.push(v);
+                    for axis in perm {
+                        v += stride[axis];
+                        cells.push(v);
+                    }
+                }
+            }
+        }
+    }
+    SimplexMesh::from_ordered_cells(vertices, cells)
+}

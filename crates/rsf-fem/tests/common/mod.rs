@@ -1,0 +1,51 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+use rsf_fem::{spmv_add, NodalFrames, SparseMatrix};
+
+/// `A x`.
+pub fn apply(a: &SparseMatrix, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; a.nrows()];
+    spmv_add(a.as_ref(), 1.0, x, &mut y);
+    y
+}
+
+/// `aᵀ b`.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Sum of the entries of a node-major matrix per component; asserts that different
+/// components are not coupled (as in a mass matrix).
+pub fn component_sums<const D: usize>(m: &SparseMatrix) -> [f64; D] {
+    let mut s = [0.0; D];
+    for j in 0..m.ncols() {
+        for (&i, &v) in m.as_ref().row_idx_of_col_raw(j).iter().zip(m.val_of_col(j)) {
+            if i % D == j % D {
+                s[j % D] += v;
+            } else {
+                assert_eq!(v, 0.0);
+            }
+        }
+    }
+    s
+}
+
+/// Nodal frames change bases consistently: `xᵀ K y = (Rᵀx)ᵀ (RᵀKR) (Rᵀy)` and
+/// `to_global ∘ to_local` is the identity.
+pub fn check_frames<const D: usize>(k: &SparseMatrix, frames: &NodalFrames<D>) {
+    let kt = frames.rotate_matrix(k.as_ref()).unwrap();
+    let n = k.nrows();
+    let x: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
+    let y: Vec<f64> = (0..n).map(|i| (0.11 * i as f64).cos()).collect();
+    let kxy = dot(&x, &apply(k, &y));
+    let (mut xl, mut yl) = (x.clone(), y.clone());
+    frames.to_local(&mut xl).unwrap();
+    frames.to_local(&mut yl).unwrap();
+    let kxy2 = dot(&xl, &apply(&kt, &yl));
+    assert!((kxy - kxy2).abs() < 1e-12 * kxy.abs().max(1.0));
+    let mut back = xl;
+    frames.to_global(&mut back).unwrap();
+    for (a, b) in back.iter().zip(&x) {
+        assert!((a - b).abs() < 1e-14);
+    }
+}
