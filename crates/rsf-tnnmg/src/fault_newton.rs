@@ -342,7 +342,7 @@ impl<const D: usize> DenseFault<D> {
             return;
         }
         let step = self.line_search(nl, g0, h);
-        self.reuse = (step - 1.0).abs() <= 0.2;
+        self.reuse = step == 1.0;
         if step > 0.0 {
             for &j in &self.soft {
                 self.xb[self.comp[j]] += step * self.c[j];

@@ -35,6 +35,10 @@ pub struct StepReport {
     pub relaxed_iterations: usize,
     /// Last fixed point correction `‖v^{ν+1} − v^ν‖` (energy norm).
     pub correction: f64,
+    /// The quantity the fixed point test compared with the tolerance: the last correction,
+    /// or the estimated error `θ/(1 − θ) · correction` (see
+    /// [`FixedPointOptions::error_estimate`](crate::FixedPointOptions::error_estimate)).
+    pub fixed_point_error: f64,
     /// Largest slip rate on Γ_F after the step (m/s).
     pub max_slip_rate: f64,
     /// Wall time of the step (s; not part of any numerical output).
@@ -398,6 +402,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             report.solver_iterations += r.iterations;
             report.fixed_point_iterations = 1;
             report.correction = self.solver.last_change();
+            report.fixed_point_error = 0.0;
         } else {
             // α⁰ = S(α_{n−1}, |v⁰|), then the fixed point iteration (docs/math.md §4, §8).
             self.read_slip_rates();
@@ -431,12 +436,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 report.correction = c;
                 last = c;
                 let exact = stopping.absolute <= full.absolute;
+                let tol = self.fixed_point.tolerance;
                 let theta = c / previous;
-                let small = c <= self.fixed_point.tolerance
-                    || (self.fixed_point.error_estimate
-                        && nu > 0
-                        && theta <= 0.5
-                        && theta / (1.0 - theta) * c <= self.fixed_point.tolerance);
+                let estimate = if self.fixed_point.error_estimate
+                    && nu > 0
+                    && theta <= 0.5
+                    && c <= ESTIMATE_GUARD * tol
+                {
+                    theta / (1.0 - theta) * c
+                } else {
+                    c
+                };
+                report.fixed_point_error = estimate;
+                let small = estimate <= tol;
                 previous = c;
                 if small && exact && !(nu == 0 && self.fixed_point.paper_first_iteration) {
                     converged = true;
@@ -619,6 +631,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         Ok(())
     }
 }
+
+/// The error estimate of the fixed point test is used only while the last correction is at
+/// most this multiple of the tolerance: a guard against a contraction ratio of two
+/// corrections that does not represent the iteration.
+const ESTIMATE_GUARD: f64 = 100.0;
 
 /// Solvers of other time steps kept by [`Simulation::set_time_step`].
 const SOLVER_CACHE: usize = 3;
