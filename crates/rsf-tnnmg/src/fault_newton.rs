@@ -375,14 +375,24 @@ impl<const D: usize> DenseFault<D> {
             for i in 0..D {
                 x[i] = self.xb[D * k + i] + s * d[i];
             }
-            let (dl, dr) = nl.directional_derivatives(k, &x, &d);
-            lo += dl;
-            hi += dr;
-            if let Linearization::Smooth { hessian, .. } = nl.linearize(k, &x) {
-                for i in 0..D {
-                    for j in 0..D {
-                        curv += d[i] * hessian[i][j] * d[j];
+            // Where φ_k is twice differentiable its linearisation gives both derivatives;
+            // elsewhere the one-sided directional derivatives.
+            match nl.linearize(k, &x) {
+                Linearization::Smooth { gradient, hessian } => {
+                    let mut g = 0.0;
+                    for i in 0..D {
+                        g += gradient[i] * d[i];
+                        for j in 0..D {
+                            curv += d[i] * hessian[i][j] * d[j];
+                        }
                     }
+                    lo += g;
+                    hi += g;
+                }
+                Linearization::Truncate => {
+                    let (dl, dr) = nl.directional_derivatives(k, &x, &d);
+                    lo += dl;
+                    hi += dr;
                 }
             }
         }
