@@ -321,6 +321,9 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
         }
         cd.fault.change = f64::INFINITY;
         cd.fault.residual_valid = false;
+        // A step depends on nothing of earlier steps (so a run resumed from a checkpoint is
+        // bit-identical): no factorisation carried over.
+        cd.fault.forget_factorization();
         self.in_step = true;
         Ok(())
     }

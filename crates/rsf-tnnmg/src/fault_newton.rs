@@ -125,6 +125,12 @@ impl<const D: usize> DenseFault<D> {
         }
     }
 
+    /// Drops the reusable factorisation (the next Newton step factorises afresh).
+    pub fn forget_factorization(&mut self) {
+        self.reuse = false;
+        self.factored.clear();
+    }
+
     /// Number of free components.
     pub fn num_free(&self) -> usize {
         self.m
