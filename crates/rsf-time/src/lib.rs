@@ -262,23 +262,36 @@ impl LoadOperator {
         })
     }
 
-    /// `out = load + M w_mass − K w_stiffness` (all of length `n`).
+    /// `out = load + M w_mass − K w_stiffness` (all of length `n`). The two halves of the
+    /// rows run on two threads when rayon has them; every row's arithmetic is the same
+    /// either way, so the result does not depend on the number of threads.
     ///
     /// # Panics
     /// If a length differs from `n` (internal invariant of callers).
     pub fn apply(&self, load: &[f64], w_mass: &[f64], w_stiffness: &[f64], out: &mut [f64]) {
         let n = self.n;
         assert!(load.len() == n && w_mass.len() == n && w_stiffness.len() == n && out.len() == n);
-        for (j, oj) in out.iter_mut().enumerate() {
-            let range = self.col_ptr[j]..self.col_ptr[j + 1];
-            // Two partial sums for the two matrices (independent dependency chains).
-            let (mut sm, mut sk) = (0.0, 0.0);
-            for (&i, &[mv, kv]) in self.rows[range.clone()].iter().zip(&self.values[range]) {
-                let i = i as usize;
-                sm += mv * w_mass[i];
-                sk += kv * w_stiffness[i];
+        let half = n / 2;
+        let (lo, hi) = out.split_at_mut(half);
+        let rows = |first: usize, out: &mut [f64]| {
+            for (k, oj) in out.iter_mut().enumerate() {
+                let j = first + k;
+                let range = self.col_ptr[j]..self.col_ptr[j + 1];
+                // Two partial sums for the two matrices (independent dependency chains).
+                let (mut sm, mut sk) = (0.0, 0.0);
+                for (&i, &[mv, kv]) in self.rows[range.clone()].iter().zip(&self.values[range]) {
+                    let i = i as usize;
+                    sm += mv * w_mass[i];
+                    sk += kv * w_stiffness[i];
+                }
+                *oj = load[j] + sm - sk;
             }
-            *oj = load[j] + sm - sk;
+        };
+        if n >= 2048 && rayon::current_num_threads() > 1 {
+            rayon::join(|| rows(0, lo), || rows(half, hi));
+        } else {
+            rows(0, lo);
+            rows(half, hi);
         }
     }
 }
