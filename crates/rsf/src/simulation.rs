@@ -819,7 +819,7 @@ fn recoverable(e: &Error) -> bool {
 const ESTIMATE_GUARD: f64 = 100.0;
 
 /// Solvers of other time steps kept by [`Simulation::set_time_step`].
-const SOLVER_CACHE: usize = 3;
+const SOLVER_CACHE: usize = 8;
 
 /// `A = c_M M + c_K K` (+ radiation damping on Γ_F) for τ and its solver.
 fn build_solver<const D: usize, I: VelocityIntegrator>(
