@@ -241,19 +241,137 @@ fn minimize_anisotropic<const D: usize, P: ConvexPotential>(
     }
     let scale: f64 = (0..m).map(|i| b[i][i]).fold(0.0, f64::max).max(1e-300);
     let (mut lo, mut hi) = ((scale * 1e-30).ln(), scale.ln());
-    while h(hi.exp()) < 0.0 && hi < 700.0 {
+    let (mut h_lo, mut h_hi) = (h(lo.exp()), h(hi.exp()));
+    while h_hi < 0.0 && hi < 700.0 {
+        lo = hi;
+        h_lo = h_hi;
         hi += 10.0;
+        h_hi = h(hi.exp());
     }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if h(mid.exp()) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
+    if !(h_lo < 0.0) {
+        // h is increasing and h(0) < 0: the root lies below the scanned range.
+        return solve(lo.exp());
+    }
+    // Illinois regula falsi in ln μ on the monotone h (bisection every fourth step), to a
+    // bracket of relative width 1e-15 or an exact zero.
+    let mut side = 0i8;
+    for it in 0..200 {
         if hi - lo < 1e-15 * hi.abs().max(1.0) {
             break;
         }
+        let mut x = if it % 4 == 3 || !(h_hi - h_lo).is_finite() {
+            0.5 * (lo + hi)
+        } else {
+            lo - h_lo * (hi - lo) / (h_hi - h_lo)
+        };
+        if !(x > lo && x < hi) {
+            x = 0.5 * (lo + hi);
+        }
+        let hx = h(x.exp());
+        if hx == 0.0 {
+            return solve(x.exp());
+        }
+        if hx < 0.0 {
+            lo = x;
+            h_lo = hx;
+            if side == -1 {
+                h_hi *= 0.5;
+            }
+            side = -1;
+        } else {
+            hi = x;
+            h_hi = hx;
+            if side == 1 {
+                h_lo *= 0.5;
+            }
+            side = 1;
+        }
     }
     solve(hi.exp())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rsf_friction::{DieterichRuina, RateStateParams, Tresca};
+    use rsf_tnnmg::BlockNonlinearity;
+
+    fn params() -> RateStateParams {
+        RateStateParams {
+            mu0: 0.6,
+            a: 0.01,
+            b: 0.015,
+            v0: 1e-6,
+            l: 1e-5,
+            sigma_n: 49_050.0,
+        }
+    }
+
+    /// The exact block minimiser of a 3-D block with a fixed normal component (two free
+    /// tangential components, an anisotropic 2×2 block of A): the minimum satisfies
+    /// `B x − r + w ϕ'(|x|) x/|x| = 0` (or `x = 0` with `|r| ≤ w ϕ'(0)`), checked to 1e-10 of
+    /// `|r|` over states, loads from stuck to fast sliding and anisotropies up to 100.
+    #[test]
+    fn anisotropic_tangent_plane_minimiser_is_optimal() {
+        let w = 0.05;
+        for (alpha, r_scale) in [
+            (-10.0, 1e2),
+            (0.0, 1e3),
+            (2.0, 3e3),
+            (-2.0, 1e4),
+            (5.0, 1e5),
+        ] {
+            for aniso in [1.0f64, 3.0, 100.0] {
+                let law = DieterichRuina::new(params()).unwrap();
+                let fb = FrictionBlocks::new(vec![0], vec![w], vec![law], &[alpha]);
+                let phi = law.potential(alpha);
+                // A = diag blocks: x, z free (components 0 and 2), y fixed at 0.
+                let c = 0.3 * aniso.sqrt() * 1e4;
+                let a = [[1e4, 5.0, c], [5.0, 2e4, 7.0], [c, 7.0, 1e4 * aniso]];
+                let r = [r_scale * 0.8, 123.0, -r_scale * 0.6];
+                let free = [true, false, true];
+                let mut v = [0.0; 3];
+                fb.minimize_block(0, &a, &r, &free, &mut v);
+                assert_eq!(v[1], 0.0, "the fixed component stays");
+                let s = v[0].hypot(v[2]);
+                let rn = r[0].hypot(r[2]);
+                if s == 0.0 {
+                    assert!(rn <= w * phi.slope(0.0) * (1.0 + 1e-12));
+                    continue;
+                }
+                let t = w * phi.slope(s) / s;
+                let g0 = a[0][0] * v[0] + a[0][2] * v[2] - r[0] + t * v[0];
+                let g2 = a[2][0] * v[0] + a[2][2] * v[2] - r[2] + t * v[2];
+                assert!(
+                    g0.hypot(g2) <= 1e-10 * rn,
+                    "α {alpha}, |r| {rn}, anisotropy {aniso}: residual {} at |x| = {s:e}",
+                    g0.hypot(g2)
+                );
+            }
+        }
+    }
+
+    /// Tresca in the tangent plane: stick below the threshold, otherwise optimal.
+    #[test]
+    fn tresca_tangent_plane_stick_and_slip() {
+        let law = Tresca::new(0.6, 1e5).unwrap();
+        let w = 0.1;
+        let fb = FrictionBlocks::new(vec![0], vec![w], vec![law], &[0.0]);
+        let a = [[2e4, 0.0, 3e3], [0.0, 1e4, 0.0], [3e3, 0.0, 5e4]];
+        let threshold = w * 0.6 * 1e5;
+        for scale in [0.5, 2.0, 10.0] {
+            let r = [scale * threshold * 0.6, 0.0, scale * threshold * 0.8];
+            let mut v = [0.0; 3];
+            fb.minimize_block(0, &a, &r, &[true, false, true], &mut v);
+            let s = v[0].hypot(v[2]);
+            if scale < 1.0 {
+                assert_eq!(s, 0.0, "sticks below the threshold");
+            } else {
+                let t = threshold / s;
+                let g0 = a[0][0] * v[0] + a[0][2] * v[2] - r[0] + t * v[0];
+                let g2 = a[2][0] * v[0] + a[2][2] * v[2] - r[2] + t * v[2];
+                assert!(g0.hypot(g2) <= 1e-10 * r[0].hypot(r[2]));
+            }
+        }
+    }
 }
