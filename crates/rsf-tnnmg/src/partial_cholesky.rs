@@ -104,11 +104,9 @@ impl Supernodes {
                 let yj = own[c0 + jj - own_off] / col[jj];
                 own[c0 + jj - own_off] = yj;
                 if jj + 1 < d_own {
-                    let o = c0 - own_off;
-                    for (yi, lij) in own[o + jj + 1..o + d_own]
-                        .iter_mut()
-                        .zip(&col[jj + 1..d_own])
-                    {
+                    // Rows c0 + jj + 1 .. c0 + d_own (c0 + jj ≥ own_off: the column is own).
+                    let (r0, r1) = (c0 + jj + 1 - own_off, c0 + d_own - own_off);
+                    for (yi, lij) in own[r0..r1].iter_mut().zip(&col[jj + 1..d_own]) {
                         *yi -= lij * yj;
                     }
                 }
@@ -180,8 +178,8 @@ impl Supernodes {
                 let col = &l[jj * ld..(jj + 1) * ld];
                 let mut acc = own[c0 + jj - own_off];
                 if jj + 1 < d_own {
-                    let o = c0 - own_off;
-                    acc -= dot(&col[jj + 1..d_own], &own[o + jj + 1..o + d_own]);
+                    let (r0, r1) = (c0 + jj + 1 - own_off, c0 + d_own - own_off);
+                    acc -= dot(&col[jj + 1..d_own], &own[r0..r1]);
                 }
                 let lo = (jj + 1).max(d_own);
                 if lo < w {
