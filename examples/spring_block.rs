@@ -33,7 +33,7 @@ use rsf::time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
 use rsf::tnnmg::DirectOptions;
 use rsf::{
     Checkpoint, DirichletVelocity, FixedPointOptions, FrictionalBoundary, Model, Simulation,
-    SolverKind,
+    SolverKind, TimeFunction,
 };
 
 type AnyError = Box<dyn std::error::Error>;
@@ -101,9 +101,8 @@ fn build<I: VelocityIntegrator>(
         fixed: vec![false, true],
         dirichlet: DirichletVelocity {
             dofs: vec![1],
-            factors: vec![1.0],
-            v_max: blk.v_load,
-            t_ramp: 0.0,
+            factors: vec![blk.v_load],
+            history: TimeFunction::Constant(1.0),
         },
         prolongations: Vec::new(),
         frictional: FrictionalBoundary::new(&[0], &[1.0])?,

@@ -39,7 +39,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use rsf::{nearest_vertex, IntegratorKind, SliderScene, SolverChoice, SLIDER_CENTRE};
+use rsf::{IntegratorKind, SliderScene, SolverChoice, SLIDER_CENTRE};
 use rsf_examples::{machine, Args, Series};
 
 const USAGE: &str = "work_precision [--study all|time|mesh|tol|energy|profile] [--steps N] [--solver tnnmg|direct] [--big] [--out DIR] \
@@ -118,7 +118,7 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
         dofs: sim.model().num_dofs(),
         ..Trace::default()
     };
-    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     tr.u_init = sim.kinematics().u[2 * x0];
     let after = scene.ramp_fraction * scene.end_time_s;
     let mut slipped = false;
@@ -604,7 +604,7 @@ fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64
     let mut model = scene.build_model()?;
     model.load.fill(0.0);
     model.initial_displacement.fill(0.0);
-    model.dirichlet.v_max = 0.0;
+    model.dirichlet = rsf::DirichletVelocity::none();
     let (x_lo, x_hi) = (0.0, 5.0);
     for (p, x) in model.vertices.iter().enumerate() {
         if x[1].abs() < 1e-12 {

@@ -4,8 +4,8 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use rsf::{
-    nearest_vertex, Checkpoint, Checkpointer, FrictionalProfile, Observer, PointSeries,
-    SliderScene, StepState, SLIDER_CENTRE,
+    Checkpoint, Checkpointer, FrictionalProfile, Observer, PointSeries, SliderScene, StepState,
+    SLIDER_CENTRE,
 };
 
 /// What to record besides the always-kept series at x0.
@@ -100,7 +100,7 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
     if let Some(path) = &opts.resume {
         sim.restore(&Checkpoint::read(path)?)?;
     }
-    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     {
         let fb = &sim.model().frictional;
         run.map.1 = fb
@@ -119,7 +119,9 @@ pub fn run_slider(scene: &SliderScene, opts: &RunOptions) -> rsf::Result<SliderR
     let mut checkpointer = None;
     if let Some(dir) = &opts.out_dir {
         std::fs::create_dir_all(dir)?;
-        series = Some(PointSeries::create(&dir.join("timeseries.csv"), x0)?.flush_every(100));
+        series = Some(
+            PointSeries::create(&dir.join("timeseries.csv"), sim.model(), x0)?.flush_every(100),
+        );
         if let Some((t0, t1)) = opts.profile_window {
             profile = Some(FrictionalProfile::create(
                 &dir.join("frictional_profile.csv"),
@@ -361,7 +363,7 @@ impl SliderRun {
             let target =
                 ((until_s.min(scene.end_time_s) / tau).round() as usize).max(sim.step_index());
             let remaining = target - sim.step_index();
-            let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+            let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
             stepping += run_in_chunks(remaining, &format!("τ = T/{n}"), progress, |k| {
                 let mut collector = Collector {
                     run: &mut run,

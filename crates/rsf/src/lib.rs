@@ -21,29 +21,39 @@
 //! ```
 #![warn(missing_docs)]
 
+mod builder;
 mod checkpoint;
+mod checks;
 mod dynamic;
 mod error;
+mod events;
 mod fixed_point;
 mod friction_blocks;
 mod model;
 mod observer;
+mod output;
+mod recorder;
 mod simulation;
+mod simulation_builder;
 mod slider;
 mod solver;
 #[cfg(feature = "vtk")]
 mod vtu;
 
+pub use builder::{FacetPredicate, Material, ModelBuilder, Part, MAX_CELLS};
 pub use checkpoint::Checkpoint;
 pub use dynamic::AnySimulation;
 pub use error::{Error, Result};
+pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
 pub use fixed_point::{Acceleration, FixedPointOptions, Predictor};
 pub use friction_blocks::FrictionBlocks;
-pub use model::{DirichletVelocity, FrictionalBoundary, Model};
+pub use model::{DirichletVelocity, FrictionalBoundary, Model, TimeFunction};
 pub use observer::{
-    Checkpointer, Flow, FrictionalProfile, Observer, PointSeries, Reports, StepState,
+    Checkpointer, Flow, FrictionalProfile, Observer, PointSeries, Reports, SeriesRow, StepState,
 };
+pub use recorder::Recorder;
 pub use simulation::{NoState, RunSummary, Simulation, StepReport, Until};
+pub use simulation_builder::{SimulationBuilder, Unset};
 pub use slider::{
     nearest_vertex, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice,
     StateLawKind, SLIDER_CENTRE,
@@ -54,6 +64,7 @@ pub use solver::{
 #[cfg(feature = "vtk")]
 pub use vtu::VtuFrames;
 
+pub use faer;
 pub use rsf_fem as fem;
 pub use rsf_friction as friction;
 pub use rsf_state as state;

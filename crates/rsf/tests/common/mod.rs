@@ -12,8 +12,8 @@ use rsf::fem::{spmv_add, SparseMatrix};
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::time::Kinematics;
 use rsf::{
-    nearest_vertex, AnySimulation, Checkpointer, FrictionalProfile, IntegratorKind, Observer,
-    PointSeries, RunSummary, SliderScene, SolverChoice, StateLawKind, StepState, SLIDER_CENTRE,
+    AnySimulation, Checkpointer, FrictionalProfile, IntegratorKind, Observer, PointSeries,
+    RunSummary, SliderScene, SolverChoice, StateLawKind, StepState, SLIDER_CENTRE,
 };
 
 /// A running simulation, as the tests hold it.
@@ -190,7 +190,7 @@ impl Recorder {
             along: fb.along.clone(),
             u_start: nodes.iter().map(|&p| u[2 * p]).collect(),
             nodes,
-            x0: nearest_vertex(&model.vertices, &SLIDER_CENTRE),
+            x0: model.nearest_node(&SLIDER_CENTRE).expect("x0 is a vertex"),
             ..Self::default()
         }
     }
@@ -295,14 +295,17 @@ pub fn friction_stress(law: &DieterichRuina, alpha: f64, slip_rate: f64) -> f64 
 }
 
 /// A [`PointSeries`] at x0 into `path`: CSV `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`.
-pub fn point_series(sim: &dyn AnySimulation<2>, path: &Path) -> PointSeries {
-    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
-    PointSeries::create(path, x0).expect("series file")
+pub fn point_series(sim: &dyn AnySimulation<2>, path: &Path) -> PointSeries<2> {
+    let x0 = sim
+        .model()
+        .nearest_node(&SLIDER_CENTRE)
+        .expect("x0 is a vertex");
+    PointSeries::create(path, sim.model(), x0).expect("series file")
 }
 
 /// A [`FrictionalProfile`] into `path` over `[t0, t1]`, every `every`-th step: CSV
 /// `t_s,x_m,slip_rate_mps,alpha`.
-pub fn frictional_profile(path: &Path, t0: f64, t1: f64, every: usize) -> FrictionalProfile {
+pub fn frictional_profile(path: &Path, t0: f64, t1: f64, every: usize) -> FrictionalProfile<2> {
     FrictionalProfile::create(path, t0, t1, every).expect("profile file")
 }
 
