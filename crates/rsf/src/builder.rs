@@ -21,6 +21,15 @@ pub struct Material {
 }
 
 impl Material {
+    /// Young's modulus E (Pa), Poisson's ratio ν, density ρ (kg/m³; kg/m² in 2D).
+    pub const fn new(youngs_modulus: f64, poisson_ratio: f64, density: f64) -> Self {
+        Self {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+        }
+    }
+
     /// The elasticity tensor: [`LinearElasticity::isotropic`] (plane strain in 2D).
     ///
     /// # Errors

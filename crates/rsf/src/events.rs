@@ -55,8 +55,12 @@ impl EventThresholds {
 pub struct SlipEvent {
     /// Step of the onset.
     pub onset_step: usize,
-    /// Time of the onset (s).
+    /// Time of the onset step (s).
     pub onset_s: f64,
+    /// Time (s) where the largest slip rate crosses the onset threshold, interpolated
+    /// linearly in `ln V` between the step before the onset and the onset step (the onset
+    /// step's time for an event at the first step).
+    pub crossing_s: f64,
     /// Step and time (s) where the event ended; `None` while it lasts.
     pub end: Option<(usize, f64)>,
     /// Largest slip rate on Γ_F during the event (m/s).
@@ -97,6 +101,8 @@ pub struct EventDetector {
     u_start: Vec<f64>,
     events: Vec<SlipEvent>,
     slipping: bool,
+    /// Time and rate of the previous step.
+    previous: Option<(f64, f64)>,
 }
 
 impl EventDetector {
@@ -112,6 +118,7 @@ impl EventDetector {
             u_start: Vec::new(),
             events: Vec::new(),
             slipping: false,
+            previous: None,
         })
     }
 
@@ -139,9 +146,18 @@ impl EventDetector {
             if track {
                 self.u_start.clone_from(&self.u_prev);
             }
+            let on = self.thresholds.onset;
+            let crossing_s = match self.previous {
+                Some((t0, r0)) if r0 > 0.0 && r0 < on && t0 < t => {
+                    let (a, b) = (r0.ln(), rate.ln());
+                    t0 + (t - t0) * (on.ln() - a) / (b - a)
+                }
+                _ => t,
+            };
             self.events.push(SlipEvent {
                 onset_step: step,
                 onset_s: t,
+                crossing_s,
                 end: None,
                 peak_slip_rate: rate,
                 peak_s: t,
@@ -176,6 +192,7 @@ impl EventDetector {
         if track {
             self.u_prev.copy_from_slice(u);
         }
+        self.previous = Some((t, rate));
         transition
     }
 

@@ -49,7 +49,8 @@ pub use fixed_point::{Acceleration, FixedPointOptions, Predictor};
 pub use friction_blocks::FrictionBlocks;
 pub use model::{DirichletVelocity, FrictionalBoundary, Model, TimeFunction};
 pub use observer::{
-    Checkpointer, Flow, FrictionalProfile, Observer, PointSeries, Reports, SeriesRow, StepState,
+    Checkpointer, Flow, FrictionalProfile, Observer, PointSeries, ProfileRow, Reports, SeriesRow,
+    StepState,
 };
 pub use recorder::Recorder;
 pub use simulation::{NoState, RunSummary, Simulation, StepReport, Until};

@@ -160,23 +160,11 @@ impl<const D: usize> PointSeries<D> {
     /// # Errors
     /// I/O errors; [`Error::Resume`] for another header or a malformed row.
     pub fn read(path: &Path) -> Result<Vec<SeriesRow<D>>> {
-        let text = std::fs::read_to_string(path)?;
-        let fail = |reason: String| Error::Resume {
-            path: path.display().to_string(),
-            reason,
-        };
-        let mut lines = text.lines();
-        if lines.next() != Some(Self::header().as_str()) {
-            return Err(fail("not a point series of this dimension".into()));
-        }
-        lines
-            .map(|line| parse_row::<D>(line).ok_or_else(|| fail(format!("malformed row `{line}`"))))
-            .collect()
+        read_rows(path, &Self::header(), parse_row::<D>)
     }
 }
 
-fn parse_row<const D: usize>(line: &str) -> Option<SeriesRow<D>> {
-    let f: Vec<&str> = line.split(',').collect();
+fn parse_row<const D: usize>(f: &[&str]) -> Option<SeriesRow<D>> {
     if f.len() != 9 + 2 * (D - 1) {
         return None;
     }
@@ -278,6 +266,31 @@ impl<const D: usize> FrictionalProfile<D> {
         Self::open(path, t0, t1, every, Start::Resume { step, every_step })
     }
 
+    /// Reads a file written by a `FrictionalProfile<D>`.
+    ///
+    /// # Errors
+    /// I/O errors; [`Error::Resume`] for another header or a malformed row.
+    pub fn read(path: &Path) -> Result<Vec<ProfileRow<D>>> {
+        read_rows(path, &Self::header(), |f| {
+            if f.len() != 4 + D {
+                return None;
+            }
+            let x = |i: usize| f[i].parse::<f64>().ok();
+            let mut position = [0.0; D];
+            position[0] = x(1)?;
+            for c in 1..D {
+                position[c] = x(4 + c)?;
+            }
+            Some(ProfileRow {
+                time: x(0)?,
+                position,
+                slip_rate: x(2)?,
+                alpha: x(3)?,
+                step: f[4].parse().ok()?,
+            })
+        })
+    }
+
     fn open(path: &Path, t0: f64, t1: f64, every: usize, start: Start) -> Result<Self> {
         if t0.is_nan() || t1.is_nan() || t0 > t1 {
             return Err(invalid(
@@ -294,6 +307,40 @@ impl<const D: usize> FrictionalProfile<D> {
             out: output::open(path, &Self::header(), 4, start)?,
         })
     }
+}
+
+/// One row of a [`FrictionalProfile`] file, as read back by [`FrictionalProfile::read`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProfileRow<const D: usize> {
+    /// Step index n.
+    pub step: usize,
+    /// Time t_n (s; 10 significant digits).
+    pub time: f64,
+    /// Position of the node (m; 7 significant digits).
+    pub position: [f64; D],
+    /// Slip rate |v_p| (m/s).
+    pub slip_rate: f64,
+    /// State α_p.
+    pub alpha: f64,
+}
+
+/// The rows of a CSV file with `header`, each parsed by `parse` from its fields.
+fn read_rows<T>(path: &Path, header: &str, parse: impl Fn(&[&str]) -> Option<T>) -> Result<Vec<T>> {
+    let text = std::fs::read_to_string(path)?;
+    let fail = |reason: String| Error::Resume {
+        path: path.display().to_string(),
+        reason,
+    };
+    let mut lines = text.lines();
+    if lines.next() != Some(header) {
+        return Err(fail(format!("its header is not `{header}`")));
+    }
+    lines
+        .map(|line| {
+            let fields: Vec<&str> = line.split(',').collect();
+            parse(&fields).ok_or_else(|| fail(format!("malformed row `{line}`")))
+        })
+        .collect()
 }
 
 impl<const D: usize> Observer<D> for FrictionalProfile<D> {

@@ -33,6 +33,10 @@ fn hysteresis_counts_ringing_as_one_event() {
     );
     assert_eq!((e[0].peak_slip_rate, e[0].peak_s), (3e-3, 3.0));
     assert_eq!(e[0].duration_s(), Some(4.0));
+    // ln V from ln 1e-6 (t = 0) to ln 2e-3 (t = 1) crosses ln 1e-3 at ln(1e3)/ln(2e3).
+    let expected = 1e3f64.ln() / 2e3f64.ln();
+    assert!((e[0].crossing_s - expected).abs() < 1e-15);
+    assert!((e[1].crossing_s - (5.0 + 20f64.ln() / 80f64.ln())).abs() < 1e-14);
     // From the step before the onset (u = 0²) to the end (u = 5²).
     assert_eq!(e[0].slip, Some(25.0));
     assert_eq!(e[1].slip, Some((49 - 25) as f64));
