@@ -129,6 +129,7 @@ fn build<I: VelocityIntegrator>(
         dim: 1,
         step: 0,
         time: 0.0,
+        time_origin: (0, 0.0),
         tau,
         u: vec![0.0, f_ss / k],
         v: vec![blk.v_load; 2],

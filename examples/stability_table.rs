@@ -58,10 +58,9 @@ fn main() {
         } else {
             format!("**NO** (expected {expected})")
         };
-        let relaxed = if c.relaxation < 1.0 {
-            o.relaxed_steps.to_string()
-        } else {
-            format!("— (ω ≡ 1; rule fired in {})", o.relaxed_steps)
+        let relaxed = match c.paper_relaxation {
+            Some(w) if w >= 1.0 => format!("— (ω ≡ 1; rule fired in {})", o.relaxed_steps),
+            _ => o.relaxed_steps.to_string(),
         };
         println!(
             "| {} | {} | {}/{} | {} | {} | {:.2} / {} | {:.1} ({}) | {} | {:.2e} | {:.2} |",

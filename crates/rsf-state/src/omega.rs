@@ -24,20 +24,29 @@ pub fn wright_omega_ln(x: f64) -> f64 {
     if x == f64::INFINITY {
         return f64::INFINITY;
     }
-    let mut y = if x < -1.0 {
-        x - x.exp()
-    } else if x <= 1.0 {
-        (0.567_143_290_409_783_8 + 0.361_896_256 * x).ln()
+    // Starting values (Corless & Jeffrey's regions): the exponential series below −2, the
+    // Taylor series at x = 1 in between, the asymptotic expansion above.
+    let mut y = if x <= -2.0 {
+        let e = x.exp();
+        x - e + 0.5 * e * e
+    } else if x <= 3.0 {
+        let t = x - 1.0;
+        let w = 1.0 + t * (0.5 + t * (1.0 / 16.0 + t * (-1.0 / 192.0 + t * (-1.0 / 3072.0))));
+        w.max(f64::MIN_POSITIVE).ln()
     } else {
         let lx = x.ln();
         (x - lx + lx / x).ln()
     };
+    // Halley's iteration on f(y) = e^y + y − x (convex, increasing): cubic convergence, so
+    // once a correction is below 1e-5·max(1, |y|) the remaining error is below an ulp.
     for _ in 0..50 {
         let e = y.exp();
         let f = (e - x) + y;
-        let dy = f / (e + 1.0);
+        let d1 = e + 1.0;
+        let dy = 2.0 * f * d1 / (2.0 * d1 * d1 - f * e);
+        let dy = if dy.is_finite() { dy } else { f / d1 };
         y -= dy;
-        if dy.abs() <= 2.0 * f64::EPSILON * y.abs().max(1.0) {
+        if dy.abs() <= 1e-5 * y.abs().max(1.0) {
             break;
         }
     }

@@ -23,6 +23,10 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod adaptive;
+
+pub use adaptive::{StepControl, StepController};
+
 use rsf_fem::SparseMatrix;
 
 /// Errors of the time integrators.
@@ -43,6 +47,14 @@ pub enum Error {
         expected: usize,
         /// Actual length.
         got: usize,
+    },
+    /// An adaptive step failed or was rejected at the smallest allowed time step.
+    #[error("time step τ = {tau:e} s cannot shrink further (tau_min = {tau_min:e} s)")]
+    StepTooSmall {
+        /// The step that failed (s).
+        tau: f64,
+        /// The smallest allowed step (s).
+        tau_min: f64,
     },
     /// Invalid parameter (e.g. negative radiation damping).
     #[error("invalid parameter {name} = {value}: {requirement}")]
@@ -170,6 +182,16 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
     /// The new state from the previous one and the new velocity `v_new`
     /// (`next.v = v_new`; `u`, `a` per the scheme). `next` must have the right lengths.
     fn advance(&self, tau: f64, prev: &Kinematics, v_new: &[f64], next: &mut Kinematics);
+
+    /// An estimate of the local truncation error of the displacement of the step from
+    /// `prev` to `next` (m, per dof, into `out`), for adaptive time steps
+    /// ([`adaptive`]). Default: the first-order estimate `(τ/2)(v_n − v_{n−1})` of
+    /// `u_n = u_{n−1} + τ v_n`; [`Newmark`] overrides it.
+    fn displacement_error(&self, tau: f64, prev: &Kinematics, next: &Kinematics, out: &mut [f64]) {
+        for ((o, vn), vp) in out.iter_mut().zip(&next.v).zip(&prev.v) {
+            *o = 0.5 * tau * (vn - vp);
+        }
+    }
 }
 
 /// `ℓ = F + M w_M − K w_K` for symmetric `M` (optional) and `K`, evaluated row by row in
@@ -240,23 +262,36 @@ impl LoadOperator {
         })
     }
 
-    /// `out = load + M w_mass − K w_stiffness` (all of length `n`).
+    /// `out = load + M w_mass − K w_stiffness` (all of length `n`). The two halves of the
+    /// rows run on two threads when rayon has them; every row's arithmetic is the same
+    /// either way, so the result does not depend on the number of threads.
     ///
     /// # Panics
     /// If a length differs from `n` (internal invariant of callers).
     pub fn apply(&self, load: &[f64], w_mass: &[f64], w_stiffness: &[f64], out: &mut [f64]) {
         let n = self.n;
         assert!(load.len() == n && w_mass.len() == n && w_stiffness.len() == n && out.len() == n);
-        for (j, oj) in out.iter_mut().enumerate() {
-            let range = self.col_ptr[j]..self.col_ptr[j + 1];
-            // Two partial sums for the two matrices (independent dependency chains).
-            let (mut sm, mut sk) = (0.0, 0.0);
-            for (&i, &[mv, kv]) in self.rows[range.clone()].iter().zip(&self.values[range]) {
-                let i = i as usize;
-                sm += mv * w_mass[i];
-                sk += kv * w_stiffness[i];
+        let half = n / 2;
+        let (lo, hi) = out.split_at_mut(half);
+        let rows = |first: usize, out: &mut [f64]| {
+            for (k, oj) in out.iter_mut().enumerate() {
+                let j = first + k;
+                let range = self.col_ptr[j]..self.col_ptr[j + 1];
+                // Two partial sums for the two matrices (independent dependency chains).
+                let (mut sm, mut sk) = (0.0, 0.0);
+                for (&i, &[mv, kv]) in self.rows[range.clone()].iter().zip(&self.values[range]) {
+                    let i = i as usize;
+                    sm += mv * w_mass[i];
+                    sk += kv * w_stiffness[i];
+                }
+                *oj = load[j] + sm - sk;
             }
-            *oj = load[j] + sm - sk;
+        };
+        if n >= 2048 && rayon::current_num_threads() > 1 {
+            rayon::join(|| rows(0, lo), || rows(half, hi));
+        } else {
+            rows(0, lo);
+            rows(half, hi);
         }
     }
 }
@@ -336,6 +371,14 @@ impl VelocityIntegrator for Newmark {
             next.a[i] = (2.0 / tau) * (v_new[i] - prev.v[i]) - prev.a[i];
             next.u[i] = prev.u[i] + 0.5 * tau * (v_new[i] + prev.v[i]);
             next.v[i] = v_new[i];
+        }
+    }
+    /// `(τ²/12)(a_n − a_{n−1})`: the trapezoidal rule's local error `−τ³/12 · ȧ` with
+    /// `ȧ ≈ (a_n − a_{n−1})/τ`.
+    fn displacement_error(&self, tau: f64, prev: &Kinematics, next: &Kinematics, out: &mut [f64]) {
+        let c = tau * tau / 12.0;
+        for ((o, an), ap) in out.iter_mut().zip(&next.a).zip(&prev.a) {
+            *o = c * (an - ap);
         }
     }
 }

@@ -179,7 +179,7 @@ impl<const D: usize> DirectSolver<D> {
             .flat_map(|&p| (0..D).map(move |c| D * p + c))
             .filter(|&i| !self.fixed[i])
             .collect();
-        let (mut factor, order) = PartialCholesky::new(&self.a, &interior, &interface)?;
+        let (factor, order) = PartialCholesky::new(&self.a, &interior, &interface)?;
         let mut pos = vec![usize::MAX; n];
         for (k, &i) in order.iter().enumerate() {
             pos[i] = k;
@@ -202,7 +202,7 @@ impl<const D: usize> DirectSolver<D> {
         let norm = self
             .energy
             .as_ref()
-            .map(|e| harmonic_energy(&mut factor, e, &order, &pos));
+            .map(|e| harmonic_energy(&factor, e, &order, &pos));
         let free = blocks
             .iter()
             .map(|&p| {
@@ -228,40 +228,47 @@ impl<const D: usize> DirectSolver<D> {
 /// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), computed
 /// in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives the columns of
 /// `Z`, then `E Z` by sparse products and `Zᵀ (E Z)` by a dense product.
-fn harmonic_energy(
-    factor: &mut PartialCholesky,
-    e: &Csc,
-    order: &[usize],
-    pos: &[usize],
-) -> Vec<f64> {
+fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[usize]) -> Vec<f64> {
+    use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
+    // Columns of Z: backward sweeps of [0; e_f], independent (in parallel; each column's
+    // arithmetic is fixed, so the result does not depend on the threads).
     let mut z = vec![0.0; n * nf];
-    for f in 0..nf {
-        z[f * n + nr + f] = 1.0;
-    }
-    for f in 0..nf {
-        factor.backward_interior(&mut z[f * n..(f + 1) * n]);
-    }
-    // W = E Z (rows and columns of E restricted to the free dofs, elimination order).
-    let mut w = vec![0.0; n * nf];
-    for f in 0..nf {
-        let zc = &z[f * n..(f + 1) * n];
-        let wc = &mut w[f * n..(f + 1) * n];
-        for (kj, &j) in order.iter().enumerate() {
-            let zj = zc[kj];
-            if zj == 0.0 {
-                continue;
-            }
-            let (rows, vals) = e.col(j);
-            for (&i, &v) in rows.iter().zip(vals) {
-                let ki = pos[i];
-                if ki != usize::MAX {
-                    wc[ki] += v * zj;
-                }
+    z.par_chunks_mut(n.max(1))
+        .enumerate()
+        .for_each_init(Vec::new, |tmp, (f, col)| {
+            col[nr + f] = 1.0;
+            factor.backward_interior_with(col, tmp);
+        });
+    // E restricted to the free dofs in elimination order (rows and columns).
+    let mut e_ptr = Vec::with_capacity(n + 1);
+    let mut e_rows = Vec::new();
+    let mut e_vals = Vec::new();
+    e_ptr.push(0);
+    for &j in order {
+        let (rows, vals) = e.col(j);
+        for (&i, &v) in rows.iter().zip(vals) {
+            if pos[i] != usize::MAX {
+                e_rows.push(pos[i]);
+                e_vals.push(v);
             }
         }
+        e_ptr.push(e_rows.len());
     }
+    // W = E Z.
+    let mut w = vec![0.0; n * nf];
+    w.par_chunks_mut(n.max(1))
+        .zip(z.par_chunks(n.max(1)))
+        .for_each(|(wc, zc)| {
+            for (kj, &zj) in zc.iter().enumerate() {
+                if zj != 0.0 {
+                    for k in e_ptr[kj]..e_ptr[kj + 1] {
+                        wc[e_rows[k]] += e_vals[k] * zj;
+                    }
+                }
+            }
+        });
     let zm = MatRef::from_column_major_slice(&z, n, nf);
     let wm = MatRef::from_column_major_slice(&w, n, nf);
     let mut nmat = faer::Mat::<f64>::zeros(nf, nf);
@@ -314,6 +321,9 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
         }
         cd.fault.change = f64::INFINITY;
         cd.fault.residual_valid = false;
+        // A step depends on nothing of earlier steps (so a run resumed from a checkpoint is
+        // bit-identical): no factorisation carried over.
+        cd.fault.forget_factorization();
         self.in_step = true;
         Ok(())
     }

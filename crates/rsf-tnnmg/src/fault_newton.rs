@@ -125,6 +125,12 @@ impl<const D: usize> DenseFault<D> {
         }
     }
 
+    /// Drops the reusable factorisation (the next Newton step factorises afresh).
+    pub fn forget_factorization(&mut self) {
+        self.reuse = false;
+        self.factored.clear();
+    }
+
     /// Number of free components.
     pub fn num_free(&self) -> usize {
         self.m
@@ -342,7 +348,7 @@ impl<const D: usize> DenseFault<D> {
             return;
         }
         let step = self.line_search(nl, g0, h);
-        self.reuse = (step - 1.0).abs() <= 0.2;
+        self.reuse = step == 1.0;
         if step > 0.0 {
             for &j in &self.soft {
                 self.xb[self.comp[j]] += step * self.c[j];
@@ -375,14 +381,24 @@ impl<const D: usize> DenseFault<D> {
             for i in 0..D {
                 x[i] = self.xb[D * k + i] + s * d[i];
             }
-            let (dl, dr) = nl.directional_derivatives(k, &x, &d);
-            lo += dl;
-            hi += dr;
-            if let Linearization::Smooth { hessian, .. } = nl.linearize(k, &x) {
-                for i in 0..D {
-                    for j in 0..D {
-                        curv += d[i] * hessian[i][j] * d[j];
+            // Where φ_k is twice differentiable its linearisation gives both derivatives;
+            // elsewhere the one-sided directional derivatives.
+            match nl.linearize(k, &x) {
+                Linearization::Smooth { gradient, hessian } => {
+                    let mut g = 0.0;
+                    for i in 0..D {
+                        g += gradient[i] * d[i];
+                        for j in 0..D {
+                            curv += d[i] * hessian[i][j] * d[j];
+                        }
                     }
+                    lo += g;
+                    hi += g;
+                }
+                Linearization::Truncate => {
+                    let (dl, dr) = nl.directional_derivatives(k, &x, &d);
+                    lo += dl;
+                    hi += dr;
                 }
             }
         }

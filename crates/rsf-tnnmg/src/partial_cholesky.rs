@@ -14,9 +14,19 @@
 //! columns gives `x_R = A_RR⁻¹ (b_R − A_RF x_F)`. One forward and one backward sweep per
 //! time step, whatever happens on the interface in between.
 //!
-//! The factorisation is faer's (supernodal or simplicial, sequential); the factor is then
-//! stored as a lower-triangular CSC matrix with `u32` row indices and the diagonal first in
-//! every column, exact zeros of relaxed supernodes dropped, for the sweeps.
+//! **Two halves.** The interior is split by a separator `C` of the graph of `A_RR` (a
+//! level of a breadth-first search from a pseudo-peripheral dof) into two parts `R₁`, `R₂`
+//! without coupling; the order is `[R₁, R₂, C, F]`, each part in AMD order (one level of
+//! nested dissection). Columns of `R₁` and `R₂` touch only their own rows and the rows of
+//! `C ∪ F`, so the two halves of each sweep are independent: they run on two threads
+//! (rayon) when available. Their contributions to the shared rows go through one buffer
+//! per half, added in a fixed order, and the arithmetic does not depend on the number of
+//! threads: results are bit-identical with one thread or two.
+//!
+//! The factorisation is faer's, supernodal and sequential; the sweeps run over its
+//! supernodes (dense blocks), with `u32` row indices.
+
+use std::ops::Range;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -31,23 +41,178 @@ use faer::{Par, Side};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 
-/// `L` of `P A Pᵀ = L Lᵀ` for the ordering `[R (fill-reducing), F (as given)]`, in faer's
-/// supernodal layout: supernode `s` covers columns `start[s]..start[s + 1]` (width `w`),
-/// its rows are the `w` diagonal-block rows followed by `rows[row_ptr[s]..row_ptr[s + 1]]`,
-/// and its values are a dense column-major `(w + p) × w` block at `val_ptr[s]`.
+/// The supernodal layout of `L`: supernode `s` covers columns `start[s]..start[s + 1]`
+/// (width `w`), its rows are the `w` diagonal-block rows followed by
+/// `rows[row_ptr[s]..row_ptr[s + 1]]` (increasing), and its values are a dense
+/// column-major `(w + p) × w` block at `val_ptr[s]`.
 #[derive(Debug, Clone)]
-pub(crate) struct PartialCholesky {
-    /// Number of interior columns `|R|`.
-    pub nr: usize,
-    /// Total dimension `|R| + |F|`.
-    pub n: usize,
+struct Supernodes {
     start: Vec<usize>,
     row_ptr: Vec<usize>,
     rows: Vec<u32>,
     val_ptr: Vec<usize>,
     val: Vec<f64>,
-    /// Scratch of the length of the longest supernode pattern.
-    tmp: Vec<f64>,
+}
+
+impl Supernodes {
+    fn len(&self) -> usize {
+        self.start.len() - 1
+    }
+
+    /// (first column, width, pattern below the diagonal block, values).
+    #[inline]
+    fn get(&self, s: usize) -> (usize, usize, &[u32], &[f64]) {
+        let c0 = self.start[s];
+        (
+            c0,
+            self.start[s + 1] - c0,
+            &self.rows[self.row_ptr[s]..self.row_ptr[s + 1]],
+            &self.val[self.val_ptr[s]..self.val_ptr[s + 1]],
+        )
+    }
+
+    /// The supernodes that contain a column of `cols`.
+    fn covering(&self, cols: &Range<usize>) -> Range<usize> {
+        if cols.is_empty() {
+            return 0..0;
+        }
+        let first = self.start.partition_point(|&c| c <= cols.start) - 1;
+        let last = self.start.partition_point(|&c| c < cols.end);
+        first..last
+    }
+
+    /// Forward sweep over the columns `cols`: `y_j ← y_j / L_jj`, then `y_i −= L_ij y_j` for
+    /// the rows below. Rows below `split` live in `own` (at `row − own_off`), the others in
+    /// `tail` (at `row − split`).
+    fn forward(
+        &self,
+        cols: Range<usize>,
+        own: &mut [f64],
+        own_off: usize,
+        tail: &mut [f64],
+        split: usize,
+        tmp: &mut Vec<f64>,
+    ) {
+        for s in self.covering(&cols) {
+            let (c0, w, pattern, l) = self.get(s);
+            let (j0, j1) = (cols.start.max(c0) - c0, cols.end.min(c0 + w) - c0);
+            let ld = w + pattern.len();
+            // Diagonal block: its rows below `split` are own rows, the rest tail rows.
+            let d_own = split.saturating_sub(c0).min(w);
+            for jj in j0..j1 {
+                let col = &l[jj * ld..(jj + 1) * ld];
+                let yj = own[c0 + jj - own_off] / col[jj];
+                own[c0 + jj - own_off] = yj;
+                if jj + 1 < d_own {
+                    let o = c0 - own_off;
+                    for (yi, lij) in own[o + jj + 1..o + d_own]
+                        .iter_mut()
+                        .zip(&col[jj + 1..d_own])
+                    {
+                        *yi -= lij * yj;
+                    }
+                }
+                let lo = (jj + 1).max(d_own);
+                if lo < w {
+                    let t = c0 + lo - split;
+                    for (yi, lij) in tail[t..t + w - lo].iter_mut().zip(&col[lo..w]) {
+                        *yi -= lij * yj;
+                    }
+                }
+            }
+            let p = pattern.len();
+            if tmp.len() < p {
+                tmp.resize(p, 0.0);
+            }
+            let t = &mut tmp[..p];
+            t.fill(0.0);
+            for jj in j0..j1 {
+                let yj = own[c0 + jj - own_off];
+                if yj != 0.0 {
+                    for (ti, lij) in t.iter_mut().zip(&col_below(l, ld, w, jj)[..p]) {
+                        *ti += lij * yj;
+                    }
+                }
+            }
+            let k_own = pattern.partition_point(|&r| (r as usize) < split);
+            for (&i, ti) in pattern[..k_own].iter().zip(&t[..k_own]) {
+                own[i as usize - own_off] -= ti;
+            }
+            for (&i, ti) in pattern[k_own..].iter().zip(&t[k_own..]) {
+                tail[i as usize - split] -= ti;
+            }
+        }
+    }
+
+    /// Backward sweep over the columns `cols` (in reverse):
+    /// `y_j ← (y_j − Σ_{i>j} L_ij y_i) / L_jj`. Rows below `split` live in `own` (updated),
+    /// the others in `tail` (read only).
+    fn backward(
+        &self,
+        cols: Range<usize>,
+        own: &mut [f64],
+        own_off: usize,
+        tail: &[f64],
+        split: usize,
+        tmp: &mut Vec<f64>,
+    ) {
+        for s in self.covering(&cols).rev() {
+            let (c0, w, pattern, l) = self.get(s);
+            let (j0, j1) = (cols.start.max(c0) - c0, cols.end.min(c0 + w) - c0);
+            let ld = w + pattern.len();
+            let p = pattern.len();
+            if tmp.len() < p {
+                tmp.resize(p, 0.0);
+            }
+            let t = &mut tmp[..p];
+            let k_own = pattern.partition_point(|&r| (r as usize) < split);
+            for (ti, &i) in t[..k_own].iter_mut().zip(&pattern[..k_own]) {
+                *ti = own[i as usize - own_off];
+            }
+            for (ti, &i) in t[k_own..].iter_mut().zip(&pattern[k_own..]) {
+                *ti = tail[i as usize - split];
+            }
+            for jj in j0..j1 {
+                own[c0 + jj - own_off] -= dot(&col_below(l, ld, w, jj)[..p], t);
+            }
+            let d_own = split.saturating_sub(c0).min(w);
+            for jj in (j0..j1).rev() {
+                let col = &l[jj * ld..(jj + 1) * ld];
+                let mut acc = own[c0 + jj - own_off];
+                if jj + 1 < d_own {
+                    let o = c0 - own_off;
+                    acc -= dot(&col[jj + 1..d_own], &own[o + jj + 1..o + d_own]);
+                }
+                let lo = (jj + 1).max(d_own);
+                if lo < w {
+                    let tt = c0 + lo - split;
+                    acc -= dot(&col[lo..w], &tail[tt..tt + w - lo]);
+                }
+                own[c0 + jj - own_off] = acc / col[jj];
+            }
+        }
+    }
+}
+
+#[inline]
+fn col_below(l: &[f64], ld: usize, w: usize, jj: usize) -> &[f64] {
+    &l[jj * ld + w..(jj + 1) * ld]
+}
+
+/// `L` of `P A Pᵀ = L Lᵀ` for the ordering `[R₁, R₂, C, F]` (module docs).
+#[derive(Debug)]
+pub(crate) struct PartialCholesky {
+    /// Number of interior columns `|R|`.
+    pub nr: usize,
+    /// Total dimension `|R| + |F|`.
+    pub n: usize,
+    /// `R₁ = 0..p1`, `R₂ = p1..p2`, `C = p2..nr`.
+    p1: usize,
+    p2: usize,
+    l: Supernodes,
+    /// Shared-row buffers (rows `p2..n`) and scratch of the two halves.
+    bufs: [Vec<f64>; 2],
+    tmps: [Vec<f64>; 2],
 }
 
 /// `Σ a_i b_i` with four independent partial sums (a fixed order: deterministic, and not
@@ -73,18 +238,13 @@ fn faer_err(e: impl std::fmt::Debug) -> Error {
     Error::Factorisation(format!("{e:?}"))
 }
 
-/// Fill-reducing (AMD) order of the rows/columns `idx` of the symmetric matrix `a`:
-/// returns the entries of `idx` reordered.
-fn amd_order(a: &Csc, idx: &[usize]) -> Result<Vec<usize>> {
-    let n = idx.len();
-    if n == 0 {
-        return Ok(Vec::new());
-    }
+/// Local CSC pattern (no values) of the rows/columns `idx` of `a`, and the map back.
+fn local_pattern(a: &Csc, idx: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let mut local = vec![usize::MAX; a.nrows];
     for (k, &i) in idx.iter().enumerate() {
         local[i] = k;
     }
-    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut col_ptr = Vec::with_capacity(idx.len() + 1);
     let mut row_idx = Vec::new();
     col_ptr.push(0);
     for &j in idx {
@@ -92,6 +252,17 @@ fn amd_order(a: &Csc, idx: &[usize]) -> Result<Vec<usize>> {
         row_idx.extend(rows.iter().map(|&i| local[i]).filter(|&i| i != usize::MAX));
         col_ptr.push(row_idx.len());
     }
+    (col_ptr, row_idx)
+}
+
+/// Fill-reducing (AMD) order of the rows/columns `idx` of the symmetric matrix `a`:
+/// returns the entries of `idx` reordered.
+fn amd_order(a: &Csc, idx: &[usize]) -> Result<Vec<usize>> {
+    let n = idx.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let (col_ptr, row_idx) = local_pattern(a, idx);
     let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
     let mut perm = vec![0usize; n];
     let mut perm_inv = vec![0usize; n];
@@ -109,18 +280,95 @@ fn amd_order(a: &Csc, idx: &[usize]) -> Result<Vec<usize>> {
     Ok(perm.iter().map(|&k| idx[k]).collect())
 }
 
+/// Splits `idx` (rows/columns of `a`) into `(R₁, R₂, C)`: `C` is the middle level of a
+/// breadth-first search from a pseudo-peripheral vertex of the graph of `a` restricted to
+/// `idx`, so there is no entry of `a` between `R₁` and `R₂`. Parts that are too small to
+/// pay (or a disconnected graph) give empty `R₂` and `C`.
+fn bisect(a: &Csc, idx: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+    let n = idx.len();
+    let whole = || (idx.to_vec(), Vec::new(), Vec::new());
+    if n < 64 {
+        return whole();
+    }
+    let (col_ptr, row_idx) = local_pattern(a, idx);
+    let bfs = |root: usize, level: &mut Vec<usize>| -> (usize, usize) {
+        level.fill(usize::MAX);
+        level[root] = 0;
+        let mut queue = vec![root];
+        let mut head = 0;
+        while head < queue.len() {
+            let v = queue[head];
+            head += 1;
+            for &u in &row_idx[col_ptr[v]..col_ptr[v + 1]] {
+                if level[u] == usize::MAX {
+                    level[u] = level[v] + 1;
+                    queue.push(u);
+                }
+            }
+        }
+        let last = *queue.last().expect("root");
+        (queue.len(), last)
+    };
+    let mut level = vec![usize::MAX; n];
+    let (mut reached, mut far) = bfs(0, &mut level);
+    for _ in 0..3 {
+        let (r, f) = bfs(far, &mut level);
+        reached = r;
+        if f == far {
+            break;
+        }
+        far = f;
+    }
+    if reached < n {
+        return whole();
+    }
+    let depth = level.iter().copied().max().unwrap_or(0);
+    let mut count = vec![0usize; depth + 1];
+    for &l in &level {
+        count[l] += 1;
+    }
+    // The level where the cumulative count passes half.
+    let mut acc = 0;
+    let mut mid = 0;
+    for (l, &c) in count.iter().enumerate() {
+        if acc + c / 2 >= n / 2 {
+            mid = l;
+            break;
+        }
+        acc += c;
+    }
+    if mid == 0 || mid == depth {
+        return whole();
+    }
+    let (mut r1, mut r2, mut c) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, &l) in level.iter().enumerate() {
+        match l.cmp(&mid) {
+            std::cmp::Ordering::Less => r1.push(idx[k]),
+            std::cmp::Ordering::Greater => r2.push(idx[k]),
+            std::cmp::Ordering::Equal => c.push(idx[k]),
+        }
+    }
+    (r1, r2, c)
+}
+
 impl PartialCholesky {
     /// Factorises the principal submatrix of `a` (symmetric, both triangles stored) on the
-    /// rows/columns `interior ∪ interface`, eliminating `interior` first (in a fill-reducing
-    /// order) and `interface` last (in the given order). Returns the factor and the
-    /// elimination order (`order[k]` = the row of `a` of column `k` of `L`).
+    /// rows/columns `interior ∪ interface`, eliminating `interior` first (two halves and a
+    /// separator, each in a fill-reducing order) and `interface` last (in the given order).
+    /// Returns the factor and the elimination order (`order[k]` = the row of `a` of column
+    /// `k` of `L`).
     ///
     /// # Errors
     /// [`Error::NotPositiveDefinite`] if the submatrix is not numerically SPD;
     /// [`Error::Factorisation`] if faer fails (e.g. out of memory) or the factor has more
     /// than `u32::MAX` rows.
     pub fn new(a: &Csc, interior: &[usize], interface: &[usize]) -> Result<(Self, Vec<usize>)> {
-        let mut order = amd_order(a, interior)?;
+        let (r1, r2, c) = bisect(a, interior);
+        let mut order = amd_order(a, &r1)?;
+        let p1 = order.len();
+        order.extend(amd_order(a, &r2)?);
+        let p2 = order.len();
+        order.extend(amd_order(a, &c)?);
         order.extend_from_slice(interface);
         let n = order.len();
         if n > u32::MAX as usize {
@@ -198,103 +446,74 @@ impl PartialCholesky {
         let factor = Self {
             nr: interior.len(),
             n,
-            start,
-            row_ptr,
-            rows,
-            val_ptr,
-            val: l_values,
-            tmp: vec![0.0; longest],
+            p1,
+            p2,
+            l: Supernodes {
+                start,
+                row_ptr,
+                rows,
+                val_ptr,
+                val: l_values,
+            },
+            bufs: [vec![0.0; n - p2], vec![0.0; n - p2]],
+            tmps: [vec![0.0; longest], vec![0.0; longest]],
         };
         Ok((factor, order))
     }
 
-    /// Supernode `s`: (first column, width, pattern below the diagonal block, values).
-    #[inline]
-    fn supernode(&self, s: usize) -> (usize, usize, &[u32], &[f64]) {
-        let c0 = self.start[s];
-        let w = self.start[s + 1] - c0;
-        (
-            c0,
-            w,
-            &self.rows[self.row_ptr[s]..self.row_ptr[s + 1]],
-            &self.val[self.val_ptr[s]..self.val_ptr[s + 1]],
-        )
-    }
-
-    fn num_supernodes(&self) -> usize {
-        self.start.len() - 1
-    }
-
     /// Stored entries of `L` (including explicit zeros of relaxed supernodes).
     pub fn nnz(&self) -> usize {
-        self.val.len()
+        self.l.val.len()
     }
 
     /// Forward sweep over the interior columns: `y ← [L_R⁻¹ y_R; y_F − B L_R⁻¹ y_R]`
     /// (`y` in elimination order, length `n`).
     pub fn forward_interior(&mut self, y: &mut [f64]) {
-        let mut tmp = std::mem::take(&mut self.tmp);
-        for s in 0..self.num_supernodes() {
-            let (c0, w, pattern, l) = self.supernode(s);
-            if c0 >= self.nr {
-                break;
-            }
-            let wr = w.min(self.nr - c0);
-            let ld = w + pattern.len();
-            for jj in 0..wr {
-                let col = &l[jj * ld..(jj + 1) * ld];
-                let yj = y[c0 + jj] / col[jj];
-                y[c0 + jj] = yj;
-                for (yi, lij) in y[c0 + jj + 1..c0 + w].iter_mut().zip(&col[jj + 1..w]) {
-                    *yi -= lij * yj;
-                }
-            }
-            let tmp = &mut tmp[..pattern.len()];
-            tmp.fill(0.0);
-            for jj in 0..wr {
-                let yj = y[c0 + jj];
-                if yj != 0.0 {
-                    let below = &l[jj * ld + w..(jj + 1) * ld];
-                    for (t, lij) in tmp.iter_mut().zip(below) {
-                        *t += lij * yj;
-                    }
-                }
-            }
-            for (&i, t) in pattern.iter().zip(tmp.iter()) {
-                y[i as usize] -= t;
-            }
+        let (p1, p2, nr) = (self.p1, self.p2, self.nr);
+        let (y1, rest) = y.split_at_mut(p1);
+        let (y2, shared) = rest.split_at_mut(p2 - p1);
+        let l = &self.l;
+        let [b1, b2] = &mut self.bufs;
+        let [t1, t2] = &mut self.tmps;
+        b1.fill(0.0);
+        b2.fill(0.0);
+        join(
+            || l.forward(0..p1, y1, 0, b1, p2, t1),
+            || l.forward(p1..p2, y2, p1, b2, p2, t2),
+        );
+        for ((s, x1), x2) in shared.iter_mut().zip(b1.iter()).zip(b2.iter()) {
+            *s += *x1;
+            *s += *x2;
         }
-        self.tmp = tmp;
+        let n = self.n;
+        l.forward(p2..nr, shared, p2, &mut [], n, t1);
     }
 
     /// Backward sweep over the interior columns: `y_R ← L_R⁻ᵀ (y_R − Bᵀ y_F)`.
     pub fn backward_interior(&mut self, y: &mut [f64]) {
-        let mut tmp = std::mem::take(&mut self.tmp);
-        for s in (0..self.num_supernodes()).rev() {
-            let (c0, w, pattern, l) = self.supernode(s);
-            if c0 >= self.nr {
-                continue;
-            }
-            let wr = w.min(self.nr - c0);
-            let ld = w + pattern.len();
-            let tmp = &mut tmp[..pattern.len()];
-            for (t, &i) in tmp.iter_mut().zip(pattern) {
-                *t = y[i as usize];
-            }
-            for jj in 0..wr {
-                let below = &l[jj * ld + w..(jj + 1) * ld];
-                y[c0 + jj] -= dot(below, tmp);
-            }
-            for jj in (0..wr).rev() {
-                let col = &l[jj * ld..(jj + 1) * ld];
-                let mut acc = y[c0 + jj];
-                for (lij, yi) in col[jj + 1..w].iter().zip(&y[c0 + jj + 1..c0 + w]) {
-                    acc -= lij * yi;
-                }
-                y[c0 + jj] = acc / col[jj];
-            }
-        }
-        self.tmp = tmp;
+        let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
+        let (y1, rest) = y.split_at_mut(p1);
+        let (y2, shared) = rest.split_at_mut(p2 - p1);
+        let l = &self.l;
+        let [t1, t2] = &mut self.tmps;
+        l.backward(p2..nr, shared, p2, &[], n, t1);
+        let shared: &[f64] = shared;
+        join(
+            || l.backward(0..p1, y1, 0, shared, p2, t1),
+            || l.backward(p1..p2, y2, p1, shared, p2, t2),
+        );
+    }
+
+    /// The backward sweep of [`backward_interior`](Self::backward_interior) on one thread
+    /// with caller-provided scratch (same arithmetic, same results), for many right-hand
+    /// sides in parallel.
+    pub fn backward_interior_with(&self, y: &mut [f64], tmp: &mut Vec<f64>) {
+        let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
+        let (y1, rest) = y.split_at_mut(p1);
+        let (y2, shared) = rest.split_at_mut(p2 - p1);
+        self.l.backward(p2..nr, shared, p2, &[], n, tmp);
+        self.l.backward(0..p1, y1, 0, shared, p2, tmp);
+        self.l.backward(p1..p2, y2, p1, shared, p2, tmp);
     }
 
     /// `S = L_F L_Fᵀ`, the Schur complement on the interface, dense column-major
@@ -303,8 +522,8 @@ impl PartialCholesky {
         let (nr, nf) = (self.nr, self.n - self.nr);
         // Dense L_F (lower, column-major).
         let mut lf = vec![0.0; nf * nf];
-        for s in 0..self.num_supernodes() {
-            let (c0, w, pattern, l) = self.supernode(s);
+        for s in 0..self.l.len() {
+            let (c0, w, pattern, l) = self.l.get(s);
             let ld = w + pattern.len();
             for jj in 0..w {
                 let j = c0 + jj;
@@ -341,19 +560,46 @@ impl PartialCholesky {
     }
 }
 
+/// Runs both closures, on two threads when rayon has more than one: the arithmetic of
+/// each is fixed, so the results do not depend on it.
+fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
+    if rayon::current_num_threads() > 1 {
+        rayon::join(a, b);
+    } else {
+        a();
+        b();
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// 1-D Laplacian plus identity, n × n.
-    fn matrix(n: usize) -> Csc {
+    /// 5-point Laplacian plus identity on an `m × m` grid (node `i + m j`).
+    fn grid(m: usize) -> Csc {
+        let n = m * m;
         let mut col_ptr = vec![0];
         let mut row_idx = Vec::new();
         let mut val = Vec::new();
         for j in 0..n {
-            for i in j.saturating_sub(1)..(j + 2).min(n) {
+            let (x, y) = (j % m, j / m);
+            let mut entries = vec![(j, 5.0)];
+            if x > 0 {
+                entries.push((j - 1, -1.0));
+            }
+            if x + 1 < m {
+                entries.push((j + 1, -1.0));
+            }
+            if y > 0 {
+                entries.push((j - m, -1.0));
+            }
+            if y + 1 < m {
+                entries.push((j + m, -1.0));
+            }
+            entries.sort_by_key(|e| e.0);
+            for (i, v) in entries {
                 row_idx.push(i);
-                val.push(if i == j { 3.0 } else { -1.0 });
+                val.push(v);
             }
             col_ptr.push(row_idx.len());
         }
@@ -377,61 +623,69 @@ mod tests {
         d
     }
 
-    /// The sweeps reproduce the condensed right-hand side, the Schur complement and the
-    /// interior recovery computed densely.
-    #[test]
-    fn partial_sweeps_match_dense_condensation() {
-        let n = 12;
-        let a = matrix(n);
-        let ad = dense(&a);
-        let interface = [3usize, 7, 11];
-        let interior: Vec<usize> = (0..n).filter(|i| !interface.contains(i)).collect();
-        let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
-        assert_eq!(&order[interior.len()..], &interface);
-        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-        // Dense reference: S = A_FF − A_FR A_RR⁻¹ A_RF via Gaussian elimination.
-        let nr = interior.len();
-        let solve_rr = |rhs: &[f64]| -> Vec<f64> {
-            // Gauss on the interior block.
-            let mut m: Vec<Vec<f64>> = interior
-                .iter()
-                .map(|&i| interior.iter().map(|&j| ad[i][j]).collect())
-                .collect();
-            let mut x = rhs.to_vec();
-            for p in 0..nr {
-                for r in p + 1..nr {
-                    let f = m[r][p] / m[p][p];
-                    for c in p..nr {
+    /// Dense solve of `M x = b` (Gaussian elimination without pivoting; M is SPD).
+    fn solve_dense(mut m: Vec<Vec<f64>>, mut x: Vec<f64>) -> Vec<f64> {
+        let n = x.len();
+        for p in 0..n {
+            for r in p + 1..n {
+                let f = m[r][p] / m[p][p];
+                if f != 0.0 {
+                    for c in p..n {
                         m[r][c] -= f * m[p][c];
                     }
                     x[r] -= f * x[p];
                 }
             }
-            for p in (0..nr).rev() {
-                let mut s = x[p];
-                for c in p + 1..nr {
-                    s -= m[p][c] * x[c];
-                }
-                x[p] = s / m[p][p];
+        }
+        for p in (0..n).rev() {
+            let mut s = x[p];
+            for c in p + 1..n {
+                s -= m[p][c] * x[c];
             }
-            x
-        };
-        let z = solve_rr(&interior.iter().map(|&i| b[i]).collect::<Vec<_>>());
+            x[p] = s / m[p][p];
+        }
+        x
+    }
+
+    /// The sweeps reproduce the condensed right-hand side, the Schur complement and the
+    /// interior recovery computed densely, on a grid large enough to be split in halves.
+    #[test]
+    fn partial_sweeps_match_dense_condensation() {
+        let m = 14;
+        let a = grid(m);
+        let n = m * m;
+        let ad = dense(&a);
+        // Interface: the bottom row of the grid.
+        let interface: Vec<usize> = (0..m).collect();
+        let interior: Vec<usize> = (m..n).collect();
+        let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
+        assert!(
+            l.p1 > 0 && l.p2 > l.p1 && l.nr > l.p2,
+            "the interior is split"
+        );
+        assert_eq!(&order[interior.len()..], interface.as_slice());
+        let nr = interior.len();
+        let a_rr: Vec<Vec<f64>> = interior
+            .iter()
+            .map(|&i| interior.iter().map(|&j| ad[i][j]).collect())
+            .collect();
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+        let z = solve_dense(a_rr.clone(), interior.iter().map(|&i| b[i]).collect());
         let mut y: Vec<f64> = order.iter().map(|&i| b[i]).collect();
         l.forward_interior(&mut y);
         for (f, &i) in interface.iter().enumerate() {
-            let g: f64 = b[i]
+            let g = b[i]
                 - interior
                     .iter()
                     .zip(&z)
                     .map(|(&r, zr)| ad[i][r] * zr)
                     .sum::<f64>();
-            assert!((y[nr + f] - g).abs() < 1e-13, "condensed rhs {f}");
+            assert!((y[nr + f] - g).abs() < 1e-12, "condensed rhs {f}");
         }
         let s = l.schur_complement();
+        let nf = interface.len();
         for (fj, &j) in interface.iter().enumerate() {
-            let col: Vec<f64> = interior.iter().map(|&r| ad[r][j]).collect();
-            let w = solve_rr(&col);
+            let w = solve_dense(a_rr.clone(), interior.iter().map(|&r| ad[r][j]).collect());
             for (fi, &i) in interface.iter().enumerate() {
                 let sij = ad[i][j]
                     - interior
@@ -439,14 +693,12 @@ mod tests {
                         .zip(&w)
                         .map(|(&r, wr)| ad[i][r] * wr)
                         .sum::<f64>();
-                assert!((s[fj * 3 + fi] - sij).abs() < 1e-13, "S[{fi},{fj}]");
+                assert!((s[fj * nf + fi] - sij).abs() < 1e-12, "S[{fi},{fj}]");
             }
         }
         // Recovery with interface values x_F.
-        let x_f = [0.3, -1.0, 2.0];
-        for (f, &xf) in x_f.iter().enumerate() {
-            y[nr + f] = xf;
-        }
+        let x_f: Vec<f64> = (0..nf).map(|f| (f as f64).cos()).collect();
+        y[nr..].copy_from_slice(&x_f);
         l.backward_interior(&mut y);
         let rhs: Vec<f64> = interior
             .iter()
@@ -458,10 +710,33 @@ mod tests {
                     .sum::<f64>()
             })
             .collect();
-        let x_r = solve_rr(&rhs);
-        for k in 0..nr {
-            let pos = order.iter().position(|&i| i == interior[k]).unwrap();
-            assert!((y[pos] - x_r[k]).abs() < 1e-13);
+        let x_r = solve_dense(a_rr, rhs);
+        for (k, &i) in order[..nr].iter().enumerate() {
+            let pos = interior.iter().position(|&r| r == i).unwrap();
+            assert!((y[k] - x_r[pos]).abs() < 1e-12);
         }
+    }
+
+    /// The two halves give bit-identical results on one thread and on two.
+    #[test]
+    fn sweeps_are_bit_identical_for_one_and_two_threads() {
+        let m = 20;
+        let a = grid(m);
+        let interface: Vec<usize> = (0..m).collect();
+        let interior: Vec<usize> = (m..m * m).collect();
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
+                let mut y: Vec<f64> = order.iter().map(|&i| (i as f64).sqrt().sin()).collect();
+                l.forward_interior(&mut y);
+                l.backward_interior(&mut y);
+                y.iter().map(|x| x.to_bits()).collect::<Vec<u64>>()
+            })
+        };
+        assert_eq!(run(1), run(2));
     }
 }

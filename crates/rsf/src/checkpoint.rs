@@ -1,10 +1,10 @@
 //! Checkpoints: the complete dynamic state of a simulation in a small binary file.
 //!
 //! Format (little endian): magic `RSFCKPT2`, then `u64` dimension, step, and lengths of
-//! `u`, `alpha` and `controller`, `f64` time and τ, then `u`, `v`, `a`, `alpha`,
-//! `controller` as raw `f64` bits — exact, so a resumed run is bit-identical to an
-//! uninterrupted one. Files of the first format (`RSFCKPT1`: no time, no controller) are
-//! still read (time = step · τ).
+//! `u`, `alpha` and `controller`, the `u64` step and `f64` time of the time origin, `f64`
+//! time and τ, then `u`, `v`, `a`, `alpha`, `controller` as raw `f64` bits — exact, so a
+//! resumed run is bit-identical to an uninterrupted one. Files of the first format
+//! (`RSFCKPT1`: no time, no controller) are still read (time = step · τ, origin 0).
 
 use std::io::{Read, Write};
 use std::path::Path;
@@ -26,6 +26,9 @@ pub struct Checkpoint {
     pub time: f64,
     /// Time step τ (s) of the next step.
     pub tau: f64,
+    /// Step index and time (s) where the current τ began: the next steps are at
+    /// `t_n = origin time + (n − origin step) τ` (`(0, 0)` for a run at constant τ).
+    pub time_origin: (usize, f64),
     /// Displacement (m).
     pub u: Vec<f64>,
     /// Velocity (m/s).
@@ -54,9 +57,11 @@ impl Checkpoint {
                 self.u.len(),
                 self.alpha.len(),
                 self.controller.len(),
+                self.time_origin.0,
             ] {
                 f.write_all(&(x as u64).to_le_bytes())?;
             }
+            f.write_all(&self.time_origin.1.to_le_bytes())?;
             f.write_all(&self.time.to_le_bytes())?;
             f.write_all(&self.tau.to_le_bytes())?;
             for vec in [&self.u, &self.v, &self.a, &self.alpha, &self.controller] {
@@ -79,7 +84,7 @@ impl Checkpoint {
         std::fs::File::open(path)?.read_to_end(&mut bytes)?;
         let bad = |what: &str| Error::Checkpoint(format!("{}: {what}", path.display()));
         let v1 = bytes.len() >= 8 && &bytes[..8] == MAGIC_V1;
-        let header = if v1 { 48 } else { 64 };
+        let header = if v1 { 48 } else { 80 };
         if bytes.len() < header || !(v1 || &bytes[..8] == MAGIC) {
             return Err(bad("not an rsf checkpoint"));
         }
@@ -95,16 +100,20 @@ impl Checkpoint {
             to_usize(word(2))?,
             to_usize(word(3))?,
         );
-        let (nc, time, tau) = if v1 {
+        let (nc, time_origin, time, tau) = if v1 {
             let tau = f64::from_bits(word(4));
-            (0, step as f64 * tau, tau)
+            (0, (0, 0.0), step as f64 * tau, tau)
         } else {
             (
                 to_usize(word(4))?,
-                f64::from_bits(word(5)),
-                f64::from_bits(word(6)),
+                (to_usize(word(5))?, f64::from_bits(word(6))),
+                f64::from_bits(word(7)),
+                f64::from_bits(word(8)),
             )
         };
+        if time_origin.0 > step {
+            return Err(bad("time origin after the current step"));
+        }
         let expected = n
             .checked_mul(24)
             .and_then(|x| x.checked_add(nf.checked_mul(8)?))
@@ -133,6 +142,7 @@ impl Checkpoint {
             step,
             time,
             tau,
+            time_origin,
             u,
             v,
             a,

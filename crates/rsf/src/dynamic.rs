@@ -3,7 +3,7 @@
 
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{Kinematics, VelocityIntegrator};
+use rsf_time::{Kinematics, StepControl, StepController, VelocityIntegrator};
 
 use crate::checkpoint::Checkpoint;
 use crate::error::Result;
@@ -41,6 +41,10 @@ pub trait AnySimulation<const D: usize> {
     fn step_index(&self) -> usize;
     /// See [`Simulation::set_time_step`].
     fn set_time_step(&mut self, tau: f64) -> Result<()>;
+    /// See [`Simulation::set_step_control`].
+    fn set_step_control(&mut self, control: Option<StepControl>) -> Result<()>;
+    /// See [`Simulation::step_controller`].
+    fn step_controller(&self) -> Option<&StepController>;
     /// See [`Simulation::solver_name`].
     fn solver_name(&self) -> &'static str;
 }
@@ -87,6 +91,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> AnySimu
     }
     fn set_time_step(&mut self, tau: f64) -> Result<()> {
         Simulation::set_time_step(self, tau)
+    }
+    fn set_step_control(&mut self, control: Option<StepControl>) -> Result<()> {
+        Simulation::set_step_control(self, control)
+    }
+    fn step_controller(&self) -> Option<&StepController> {
+        Simulation::step_controller(self)
     }
     fn solver_name(&self) -> &'static str {
         Simulation::solver_name(self)

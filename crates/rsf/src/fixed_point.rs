@@ -72,7 +72,8 @@ pub struct FixedPointOptions {
     /// tolerance: with the observed contraction `θ = c_ν / c_{ν−1}` of the velocity
     /// corrections `c_ν = ‖v^{ν+1} − v^ν‖`, the distance of `v^{ν+1}` to the fixed point is
     /// about `θ/(1 − θ) c_ν` (the classical test of simplified Newton iterations, Hairer &
-    /// Wanner, *Solving ODEs II*, §IV.8). Used only while `θ ≤ ½`. The paper's test
+    /// Wanner, *Solving ODEs II*, §IV.8). Used only while `θ ≤ ½` and `c_ν ≤ 100 ·
+    /// tolerance` (a guard against an unrepresentative ratio). The paper's test
     /// (`c_ν ≤ tolerance`) leaves an error of about `θ · tolerance`, far below the
     /// tolerance when the iteration contracts fast; this one stops one iteration earlier
     /// with the error still below the tolerance (docs/math.md §8).

@@ -23,6 +23,10 @@ pub struct StepState<'a, const D: usize> {
     pub alpha: &'a [f64],
     /// The step's report.
     pub report: &'a StepReport,
+    /// Step index and time where the current τ began (see [`Checkpoint::time_origin`]).
+    pub time_origin: (usize, f64),
+    /// The step controller of adaptive time steps, if any.
+    pub controller: Option<&'a rsf_time::StepController>,
 }
 
 impl<const D: usize> StepState<'_, D> {
@@ -33,7 +37,10 @@ impl<const D: usize> StepState<'_, D> {
             step: self.report.step,
             time: self.report.time,
             tau: self.report.tau,
-            controller: Vec::new(),
+            time_origin: self.time_origin,
+            controller: self
+                .controller
+                .map_or_else(Vec::new, rsf_time::StepController::to_state),
             u: self.kinematics.u.clone(),
             v: self.kinematics.v.clone(),
             a: self.kinematics.a.clone(),

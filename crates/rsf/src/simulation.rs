@@ -6,7 +6,9 @@ use std::time::Instant;
 use rsf_fem::{combine, SparseMatrix};
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{check_time_step, Kinematics, LoadOperator, VelocityIntegrator};
+use rsf_time::{
+    check_time_step, Kinematics, LoadOperator, StepControl, StepController, VelocityIntegrator,
+};
 use rsf_tnnmg::{StepSolver, Stopping};
 
 use crate::checkpoint::Checkpoint;
@@ -35,8 +37,16 @@ pub struct StepReport {
     pub relaxed_iterations: usize,
     /// Last fixed point correction `‖v^{ν+1} − v^ν‖` (energy norm).
     pub correction: f64,
+    /// The quantity the fixed point test compared with the tolerance: the last correction,
+    /// or the estimated error `θ/(1 − θ) · correction` (see
+    /// [`FixedPointOptions::error_estimate`](crate::FixedPointOptions::error_estimate)).
+    pub fixed_point_error: f64,
     /// Largest slip rate on Γ_F after the step (m/s).
     pub max_slip_rate: f64,
+    /// Adaptive steps: attempts rejected before this step was accepted.
+    pub rejected_attempts: usize,
+    /// Adaptive steps: the scaled local error estimate of the accepted step (≤ 1).
+    pub error_estimate: f64,
     /// Wall time of the step (s; not part of any numerical output).
     pub seconds: f64,
 }
@@ -58,6 +68,8 @@ pub struct RunSummary {
     pub relaxed_steps: usize,
     /// Whether an observer ended the run before its end.
     pub stopped_by_observer: bool,
+    /// Adaptive steps: rejected attempts over the run.
+    pub rejected_attempts: usize,
 }
 
 /// Where [`Simulation::run_until`] ends.
@@ -65,8 +77,9 @@ pub struct RunSummary {
 pub enum Until {
     /// After this many steps.
     Steps(usize),
-    /// At the first step with `t_n ≥ t` (s), up to round-off of `1e-9 τ` (with a fixed τ
-    /// the last step is not shortened to land on `t`).
+    /// At the first step with `t_n ≥ t` (s), up to round-off of `1e-9 τ`. With a fixed τ
+    /// the last step is not shortened to land on `t`; with adaptive steps it is, so the run
+    /// ends at `t`.
     Time(f64),
 }
 
@@ -113,6 +126,9 @@ pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIn
     segment: (usize, f64),
     fixed_point: FixedPointOptions,
     accelerator: Accelerator,
+    /// Adaptive time steps (None: fixed τ).
+    controller: Option<StepController>,
+    u_err: Vec<f64>,
     step: usize,
     kin: Kinematics,
     next: Kinematics,
@@ -212,6 +228,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             segment: (0, 0.0),
             fixed_point,
             accelerator,
+            controller: None,
+            u_err: vec![0.0; n],
             step: 0,
             next: Kinematics::zeros(n),
             alpha: alpha0,
@@ -258,14 +276,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         self.time
     }
 
-    /// Time of step `n` of the current segment of constant τ.
+    /// Time of step `n` of the current segment of constant τ: `t_s + (n − n_s) τ` (exactly
+    /// `n τ` for a run at constant τ from the start).
     fn time_of(&self, n: usize) -> f64 {
         let (n0, t0) = self.segment;
-        if n0 == 0 && t0 == 0.0 {
-            n as f64 * self.tau
-        } else {
-            t0 + (n - n0) as f64 * self.tau
-        }
+        t0 + (n - n0) as f64 * self.tau
     }
 
     /// Changes the time step for the following steps (s). The matrix `A` of the velocity
@@ -362,6 +377,127 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// update errors. On error the simulation state is unchanged.
     pub fn step(&mut self) -> Result<StepReport> {
         let start = Instant::now();
+        let mut report = match self.controller.is_some() {
+            false => {
+                let r = self.attempt()?;
+                self.commit(&r);
+                r
+            }
+            true => self.adaptive_step(None)?,
+        };
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    /// Attempts with the controller's step until one is accepted (docs/math.md §9). With
+    /// `t_end`, a step that would pass it is shortened to end there (off the ladder; the
+    /// controller keeps its step for later).
+    fn adaptive_step(&mut self, t_end: Option<f64>) -> Result<StepReport> {
+        let mut rejected = 0;
+        loop {
+            let mut tau = self.controller.as_ref().expect("adaptive").tau();
+            let mut clipped = false;
+            if let Some(t_end) = t_end {
+                let left = t_end - self.time;
+                if left < tau * (1.0 - 1e-9) {
+                    tau = left;
+                    clipped = true;
+                }
+            }
+            self.set_time_step(tau)?;
+            let attempt = self.attempt();
+            let controller = self.controller.as_mut().expect("adaptive");
+            match attempt {
+                Ok(mut report) => {
+                    let (err, state_change) = self.error_estimate();
+                    let controller = self.controller.as_mut().expect("adaptive");
+                    if err <= 1.0 {
+                        if !clipped {
+                            controller.accept(err, state_change);
+                        }
+                        report.rejected_attempts = rejected;
+                        report.error_estimate = err;
+                        self.commit(&report);
+                        return Ok(report);
+                    }
+                    controller.reject(err)?;
+                }
+                Err(e) if recoverable(&e) => {
+                    if controller.reject(f64::INFINITY).is_err() {
+                        return Err(e);
+                    }
+                }
+                Err(e) => return Err(e),
+            }
+            rejected += 1;
+        }
+    }
+
+    /// The scaled local error of the attempted step (in `next`, `alpha_trial`) and the
+    /// largest change of the state: the larger of `rms(e_u) / (atol + tol · rms(u − u₀))`
+    /// over the free dofs, with the integrator's estimate `e_u`, and the maximum over Γ_F
+    /// of `(τ/2)|α̇_n − α̇_{n−1}| / tol`, the backward Euler state update's local error
+    /// `τ²/2 · α̈` (docs/math.md §9).
+    fn error_estimate(&mut self) -> (f64, f64) {
+        let c = *self.controller.as_ref().expect("adaptive").options();
+        let mut u_err = std::mem::take(&mut self.u_err);
+        self.integrator
+            .displacement_error(self.tau, &self.kin, &self.next, &mut u_err);
+        let u0 = &self.model.initial_displacement;
+        // Root mean square over the free dofs (a discrete L² norm on the uniform meshes of
+        // this crate's scenes): the displacement error is a property of the whole body.
+        let (mut e2, mut d2, mut count) = (0.0, 0.0, 0usize);
+        for i in 0..u_err.len() {
+            if self.model.fixed[i] {
+                continue;
+            }
+            let d = (self.kin.u[i] - u0[i])
+                .abs()
+                .max((self.next.u[i] - u0[i]).abs());
+            e2 += u_err[i] * u_err[i];
+            d2 += d * d;
+            count += 1;
+        }
+        let count = count.max(1) as f64;
+        let scale = c.displacement_atol + c.tolerance * (d2 / count).sqrt();
+        let mut err = (e2 / count).sqrt() / scale;
+        if err.is_nan() {
+            err = f64::INFINITY;
+        }
+        self.u_err = u_err;
+        let mut state_change: f64 = 0.0;
+        if self.friction.uses_state() {
+            for (k, &p) in self.model.frictional.nodes.iter().enumerate() {
+                let (a0, a1) = (self.alpha[k], self.alpha_trial[k]);
+                let v0 = block_norm::<D>(&self.kin.v, p);
+                let v1 = block_norm::<D>(&self.next.v, p);
+                let law = &self.state_laws[k];
+                let rate_change = law.dpsi_dalpha(a1, v1) - law.dpsi_dalpha(a0, v0);
+                let e = if rate_change.is_finite() {
+                    0.5 * self.tau * rate_change.abs()
+                } else {
+                    (a1 - a0).abs()
+                };
+                err = err.max(e / c.tolerance);
+                state_change = state_change.max((a1 - a0).abs());
+            }
+        }
+        (err, state_change)
+    }
+
+    /// Makes the attempted step (in `next`, `alpha_trial`) the current state.
+    fn commit(&mut self, report: &StepReport) {
+        std::mem::swap(&mut self.kin, &mut self.next);
+        if self.friction.uses_state() {
+            self.alpha.copy_from_slice(&self.alpha_trial);
+        }
+        self.step = report.step;
+        self.time = report.time;
+    }
+
+    /// Solves the coupled problem of the next step at the current τ, leaving the new state
+    /// in `next` (kinematics) and `alpha_trial` (state) without committing it.
+    fn attempt(&mut self) -> Result<StepReport> {
         let n = self.step + 1;
         let t = self.time_of(n);
         let mut report = StepReport {
@@ -403,6 +539,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             report.solver_iterations += r.iterations;
             report.fixed_point_iterations = 1;
             report.correction = self.solver.last_change();
+            report.fixed_point_error = 0.0;
         } else {
             // α⁰ = S(α_{n−1}, |v⁰|), then the fixed point iteration (docs/math.md §4, §8).
             self.read_slip_rates();
@@ -436,12 +573,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 report.correction = c;
                 last = c;
                 let exact = stopping.absolute <= full.absolute;
+                let tol = self.fixed_point.tolerance;
                 let theta = c / previous;
-                let small = c <= self.fixed_point.tolerance
-                    || (self.fixed_point.error_estimate
-                        && nu > 0
-                        && theta <= 0.5
-                        && theta / (1.0 - theta) * c <= self.fixed_point.tolerance);
+                let estimate = if self.fixed_point.error_estimate
+                    && nu > 0
+                    && theta <= 0.5
+                    && c <= ESTIMATE_GUARD * tol
+                {
+                    theta / (1.0 - theta) * c
+                } else {
+                    c
+                };
+                report.fixed_point_error = estimate;
+                let small = estimate <= tol;
                 previous = c;
                 if small && exact && !(nu == 0 && self.fixed_point.paper_first_iteration) {
                     converged = true;
@@ -471,21 +615,16 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         if self.friction.uses_state() {
             self.read_slip_rates();
             self.state_update()?;
-            self.alpha.copy_from_slice(&self.alpha_trial);
         }
         self.integrator
             .advance(self.tau, &self.kin, &self.v, &mut self.next);
-        std::mem::swap(&mut self.kin, &mut self.next);
-        self.step = n;
-        self.time = t;
         report.max_slip_rate = self
             .model
             .frictional
             .nodes
             .iter()
-            .map(|&p| block_norm::<D>(&self.kin.v, p))
+            .map(|&p| block_norm::<D>(&self.next.v, p))
             .fold(0.0, f64::max);
-        report.seconds = start.elapsed().as_secs_f64();
         Ok(report)
     }
 
@@ -532,17 +671,28 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             if !more {
                 break;
             }
-            let report = self.step()?;
+            let report = match (until, self.controller.is_some()) {
+                (Until::Time(t_end), true) => {
+                    let start = Instant::now();
+                    let mut r = self.adaptive_step(Some(t_end))?;
+                    r.seconds = start.elapsed().as_secs_f64();
+                    r
+                }
+                _ => self.step()?,
+            };
             fpi_total += report.fixed_point_iterations;
             summary.fpi_max = summary.fpi_max.max(report.fixed_point_iterations);
             summary.solver_iterations += report.solver_iterations;
             summary.relaxed_steps += usize::from(report.relaxed_iterations > 0);
+            summary.rejected_attempts += report.rejected_attempts;
             summary.steps += 1;
             let state = StepState {
                 model: &self.model,
                 kinematics: &self.kin,
                 alpha: &self.alpha,
                 report: &report,
+                time_origin: self.segment,
+                controller: self.controller.as_ref(),
             };
             let mut stop = false;
             for o in observers.iter_mut() {
@@ -572,12 +722,34 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             step: self.step,
             time: self.time,
             tau: self.tau,
-            controller: Vec::new(),
+            time_origin: self.segment,
+            controller: self
+                .controller
+                .as_ref()
+                .map_or_else(Vec::new, StepController::to_state),
             u: self.kin.u.clone(),
             v: self.kin.v.clone(),
             a: self.kin.a.clone(),
             alpha: self.alpha.clone(),
         }
+    }
+
+    /// Switches to adaptive time steps with error control (docs/math.md §9) starting from
+    /// the current τ, or back to a fixed τ (`None`, keeping the current τ).
+    ///
+    /// # Errors
+    /// Invalid options (the crate `rsf_time`'s error).
+    pub fn set_step_control(&mut self, control: Option<StepControl>) -> Result<()> {
+        self.controller = match control {
+            Some(c) => Some(StepController::new(c, self.tau)?),
+            None => None,
+        };
+        Ok(())
+    }
+
+    /// The step controller of adaptive time steps, if any.
+    pub fn step_controller(&self) -> Option<&StepController> {
+        self.controller.as_ref()
     }
 
     /// Continues from a checkpoint of a simulation of the same model; the continuation is
@@ -610,13 +782,23 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         }
         self.set_time_step(c.tau)
             .map_err(|e| Error::Checkpoint(format!("τ = {}: {e}", c.tau)))?;
+        if let Some(ctrl) = self.controller.as_mut() {
+            if !c.controller.is_empty() {
+                ctrl.restore_state(&c.controller)
+                    .map_err(|e| Error::Checkpoint(format!("controller state: {e}")))?;
+            }
+        }
         self.step = c.step;
         self.time = c.time;
-        self.segment = if c.time.to_bits() == (c.step as f64 * c.tau).to_bits() {
-            (0, 0.0)
-        } else {
-            (c.step, c.time)
-        };
+        // A checkpoint written by a simulation satisfies t = t_s + (n − n_s) τ exactly; an
+        // edited one (another τ, another time) starts a new segment of constant τ here.
+        let (n0, t0) = c.time_origin;
+        self.segment =
+            if n0 <= c.step && (t0 + (c.step - n0) as f64 * c.tau).to_bits() == c.time.to_bits() {
+                c.time_origin
+            } else {
+                (c.step, c.time)
+            };
         self.kin.u.copy_from_slice(&c.u);
         self.kin.v.copy_from_slice(&c.v);
         self.kin.a.copy_from_slice(&c.a);
@@ -625,8 +807,24 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     }
 }
 
+/// Errors after which an adaptive step is retried with a smaller τ.
+fn recoverable(e: &Error) -> bool {
+    matches!(
+        e,
+        Error::FixedPointNotConverged { .. }
+            | Error::Solver(rsf_tnnmg::Error::NotConverged { .. })
+            | Error::Solver(rsf_tnnmg::Error::NonFinite(_))
+            | Error::State(_)
+    )
+}
+
+/// The error estimate of the fixed point test is used only while the last correction is at
+/// most this multiple of the tolerance: a guard against a contraction ratio of two
+/// corrections that does not represent the iteration.
+const ESTIMATE_GUARD: f64 = 100.0;
+
 /// Solvers of other time steps kept by [`Simulation::set_time_step`].
-const SOLVER_CACHE: usize = 3;
+const SOLVER_CACHE: usize = 8;
 
 /// `A = c_M M + c_K K` (+ radiation damping on Γ_F) for τ and its solver.
 fn build_solver<const D: usize, I: VelocityIntegrator>(

@@ -95,6 +95,7 @@ fn build<I: VelocityIntegrator>(
         dim: 1,
         step: 0,
         time: 0.0,
+        time_origin: (0, 0.0),
         tau: TAU,
         u: vec![0.0, f_ss / k],
         v: vec![V_LOAD; 2],

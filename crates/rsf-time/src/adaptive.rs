@@ -1,0 +1,361 @@
+//! Adaptive time steps with error control (docs/math.md §9).
+//!
+//! The coupled scheme is first order: Newmark (or backward Euler) for the velocity, and the
+//! backward Euler update of the state, whose local truncation error `−τ²/2 · α̈` dominates.
+//! [`StepController`] turns a per-step error estimate (computed by the caller, see
+//! [`StepControl`]) into accept/reject decisions and the next time step:
+//!
+//! - accept when the scaled error `err ≤ 1`; next `τ = τ · clamp(s · err^{−1/2}, f_min,
+//!   f_max)` (exponent `−1/(p + 1)` for order `p = 1`, safety `s`);
+//! - reject otherwise (or when the step itself failed, e.g. a fixed point that did not
+//!   converge) and retry with the smaller `τ`; below `τ_min` the step is an error;
+//! - a **physical cap**: the state may change by at most `ξ` per step,
+//!   `τ_next ≤ ξ τ / max_p |α_n − α_{n−1}|`. For the aging and slip laws in slip
+//!   (`Vθ/L ≫ 1`) `|Δα| ≈ τV/L`, so this is Lapusta et al.'s `τ ≤ ξ L / V_max`, without
+//!   needing `L` from the state law;
+//! - time steps are restricted to the **ladder** `τ_ref · 2^k` (k integer, `τ_ref` the
+//!   initial step): a proposal is rounded down to it. Everything that depends on τ (the
+//!   matrix `A = c_M M + c_K K`, its factorisation or multigrid set-up) is then built once
+//!   per rung and reused whenever the step returns to it; a handful of rungs cover a whole
+//!   seismic cycle.
+
+use crate::{Error, Result};
+
+/// Options of the step controller. Units: `tau_*` in s; tolerances as described.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepControl {
+    /// Relative tolerance: on the displacement `u − u₀` (per dof, maximum norm) and, as an
+    /// absolute tolerance, on the state `α = ln θ` (an error `δα` is a relative error
+    /// `δθ/θ`).
+    pub tolerance: f64,
+    /// Absolute tolerance on the displacement (m), for dofs whose displacement since the
+    /// start is small.
+    pub displacement_atol: f64,
+    /// Safety factor `s` of the step proposal (0, 1].
+    pub safety: f64,
+    /// Smallest factor by which a step may shrink (0, 1).
+    pub min_factor: f64,
+    /// Largest factor by which a step may grow (> 1).
+    pub max_factor: f64,
+    /// Smallest time step (s): a step that fails or is rejected at `tau_min` is an error.
+    pub tau_min: f64,
+    /// Largest time step (s).
+    pub tau_max: f64,
+    /// `ξ` of the physical cap (state change per step at most `ξ`), or `None`.
+    pub state_change_cap: Option<f64>,
+}
+
+impl StepControl {
+    /// Tolerance `tolerance` (relative), `displacement_atol = tolerance · length` with
+    /// `length` a displacement scale of the problem (e.g. the characteristic slip distance
+    /// `L`), safety 0.9, factors [0.2, 2], `ξ = 0.5`, τ in `[tau_min, tau_max]`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for non-positive or non-finite values or
+    /// `tau_min > tau_max`.
+    pub fn new(tolerance: f64, length: f64, tau_min: f64, tau_max: f64) -> Result<Self> {
+        let c = Self {
+            tolerance,
+            displacement_atol: tolerance * length,
+            safety: 0.9,
+            min_factor: 0.2,
+            max_factor: 2.0,
+            tau_min,
+            tau_max,
+            state_change_cap: Some(0.5),
+        };
+        c.validate()?;
+        Ok(c)
+    }
+
+    /// Checks the options.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first invalid one.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name: &'static str, value: f64, requirement: &'static str| {
+            Err(Error::InvalidParameter {
+                name,
+                value,
+                requirement,
+            })
+        };
+        let pos = |x: f64| x.is_finite() && x > 0.0;
+        if !pos(self.tolerance) {
+            return bad("tolerance", self.tolerance, "finite and > 0");
+        }
+        if !(self.displacement_atol.is_finite() && self.displacement_atol >= 0.0) {
+            return bad(
+                "displacement_atol",
+                self.displacement_atol,
+                "finite and >= 0 (m)",
+            );
+        }
+        if !(self.safety > 0.0 && self.safety <= 1.0) {
+            return bad("safety", self.safety, "in (0, 1]");
+        }
+        if !(self.min_factor > 0.0 && self.min_factor < 1.0) {
+            return bad("min_factor", self.min_factor, "in (0, 1)");
+        }
+        if !(self.max_factor > 1.0 && self.max_factor.is_finite()) {
+            return bad("max_factor", self.max_factor, "finite and > 1");
+        }
+        if !pos(self.tau_min) {
+            return bad("tau_min", self.tau_min, "finite and > 0 (s)");
+        }
+        if !(pos(self.tau_max) && self.tau_max >= self.tau_min) {
+            return bad("tau_max", self.tau_max, "finite and >= tau_min (s)");
+        }
+        if let Some(xi) = self.state_change_cap {
+            if !pos(xi) {
+                return bad("state_change_cap", xi, "finite and > 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The state of the controller: the current step and the ladder it lives on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepController {
+    opts: StepControl,
+    tau_ref: f64,
+    /// Current rung: `τ = τ_ref · 2^k`.
+    k: i32,
+    /// Accepted and rejected steps so far.
+    accepted: u64,
+    rejected: u64,
+    last_error: f64,
+}
+
+/// Number of `f64` values of [`StepController::to_state`].
+const STATE_LEN: usize = 5;
+
+impl StepController {
+    /// Starts at `tau0` (s), which becomes the reference of the ladder; `tau0` is clamped to
+    /// `[tau_min, tau_max]`.
+    ///
+    /// # Errors
+    /// Invalid options or a non-positive `tau0`.
+    pub fn new(opts: StepControl, tau0: f64) -> Result<Self> {
+        opts.validate()?;
+        crate::check_time_step(tau0)?;
+        Ok(Self {
+            opts,
+            tau_ref: tau0.clamp(opts.tau_min, opts.tau_max),
+            k: 0,
+            accepted: 0,
+            rejected: 0,
+            last_error: 0.0,
+        })
+    }
+
+    /// The options.
+    pub fn options(&self) -> &StepControl {
+        &self.opts
+    }
+
+    /// The current time step (s).
+    pub fn tau(&self) -> f64 {
+        rung(self.tau_ref, self.k)
+    }
+
+    /// Accepted steps so far.
+    pub fn accepted(&self) -> u64 {
+        self.accepted
+    }
+
+    /// Rejected step attempts so far.
+    pub fn rejected(&self) -> u64 {
+        self.rejected
+    }
+
+    /// The scaled error of the last attempt.
+    pub fn last_error(&self) -> f64 {
+        self.last_error
+    }
+
+    /// The rung of the ladder at or below `tau` within the bounds.
+    fn rung_below(&self, tau: f64) -> i32 {
+        let tau = tau.clamp(self.opts.tau_min, self.opts.tau_max);
+        let mut k = (tau / self.tau_ref).log2().floor() as i32;
+        // Guard the rounding of log2 and the bounds.
+        while rung(self.tau_ref, k) > tau * (1.0 + 1e-12) {
+            k -= 1;
+        }
+        while rung(self.tau_ref, k + 1) <= tau * (1.0 + 1e-12) {
+            k += 1;
+        }
+        while rung(self.tau_ref, k) < self.opts.tau_min * (1.0 - 1e-12) {
+            k += 1;
+        }
+        k
+    }
+
+    /// The step of error `err` (scaled, accept when `≤ 1`) and largest state change
+    /// `max |Δα|` was accepted: moves to the next step size.
+    pub fn accept(&mut self, err: f64, state_change: f64) {
+        self.accepted += 1;
+        self.last_error = err;
+        let tau = self.tau();
+        let o = &self.opts;
+        let factor = if err > 0.0 {
+            (o.safety * err.powf(-0.5)).clamp(o.min_factor, o.max_factor)
+        } else {
+            o.max_factor
+        };
+        let mut next = tau * factor;
+        if let Some(xi) = o.state_change_cap {
+            if state_change > 0.0 {
+                next = next.min(xi * tau / state_change);
+            }
+        }
+        // Never below the rung under the current step unless the estimate asks for it.
+        self.k = self.rung_below(next);
+    }
+
+    /// The attempt with scaled error `err` was rejected (`err = ∞` for a failed attempt):
+    /// moves to a smaller step.
+    ///
+    /// # Errors
+    /// [`Error::StepTooSmall`] when the step is already at `tau_min`.
+    pub fn reject(&mut self, err: f64) -> Result<()> {
+        self.rejected += 1;
+        self.last_error = err;
+        let tau = self.tau();
+        let o = &self.opts;
+        let factor = if err.is_finite() && err > 0.0 {
+            (o.safety * err.powf(-0.5)).clamp(o.min_factor, 0.5)
+        } else {
+            0.25
+        };
+        let k = self.rung_below(tau * factor).min(self.k - 1);
+        if rung(self.tau_ref, k) < o.tau_min * (1.0 - 1e-12) {
+            return Err(Error::StepTooSmall {
+                tau,
+                tau_min: o.tau_min,
+            });
+        }
+        self.k = k;
+        Ok(())
+    }
+
+    /// The controller's state as numbers (for checkpoints).
+    pub fn to_state(&self) -> Vec<f64> {
+        vec![
+            self.tau_ref,
+            f64::from(self.k),
+            self.accepted as f64,
+            self.rejected as f64,
+            self.last_error,
+        ]
+    }
+
+    /// Restores a state written by [`to_state`](Self::to_state) (the options are kept).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a state of the wrong length or with invalid values.
+    pub fn restore_state(&mut self, state: &[f64]) -> Result<()> {
+        let invalid = |value: f64| Error::InvalidParameter {
+            name: "controller state",
+            value,
+            requirement: "5 finite values written by StepController::to_state",
+        };
+        if state.len() != STATE_LEN {
+            return Err(invalid(state.len() as f64));
+        }
+        if let Some(&bad) = state.iter().find(|x| !x.is_finite()) {
+            return Err(invalid(bad));
+        }
+        if !(state[0] > 0.0) || state[1].fract() != 0.0 || state[2] < 0.0 || state[3] < 0.0 {
+            return Err(invalid(state[0]));
+        }
+        self.tau_ref = state[0];
+        self.k = state[1] as i32;
+        self.accepted = state[2] as u64;
+        self.rejected = state[3] as u64;
+        self.last_error = state[4];
+        Ok(())
+    }
+}
+
+fn rung(tau_ref: f64, k: i32) -> f64 {
+    tau_ref * 2f64.powi(k)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn control() -> StepControl {
+        StepControl::new(1e-3, 1e-5, 1e-6, 1.0).unwrap()
+    }
+
+    #[test]
+    fn steps_stay_on_the_ladder_and_within_bounds() {
+        let mut c = StepController::new(control(), 1e-3).unwrap();
+        for err in [
+            0.0, 1e-6, 0.01, 0.5, 0.9, 1e-9, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+        ] {
+            c.accept(err, 0.0);
+            let r = (c.tau() / 1e-3).log2();
+            assert!((r - r.round()).abs() < 1e-9, "off the ladder: {}", c.tau());
+            assert!(c.tau() <= 1.0 && c.tau() >= 1e-6);
+        }
+        assert!(
+            c.tau() <= 1.0 && c.tau() > 0.4,
+            "grows to tau_max: {}",
+            c.tau()
+        );
+        while c.tau() > 2e-6 {
+            c.reject(f64::INFINITY).unwrap();
+        }
+        assert!(c.reject(f64::INFINITY).is_err() || c.tau() >= 1e-6);
+        let mut errs = 0;
+        for _ in 0..40 {
+            if c.reject(10.0).is_err() {
+                errs += 1;
+            }
+            assert!(c.tau() >= 1e-6 * (1.0 - 1e-12));
+        }
+        assert!(errs > 0, "rejections at tau_min are errors");
+    }
+
+    #[test]
+    fn growth_is_limited_and_the_state_cap_applies() {
+        let mut c = StepController::new(control(), 1e-3).unwrap();
+        c.accept(0.0, 0.0);
+        assert_eq!(c.tau(), 2e-3, "at most max_factor = 2 per step");
+        // A state change of 2 per step with ξ = 0.5 caps the next step at τ/4.
+        c.accept(1e-6, 2.0);
+        assert_eq!(c.tau(), 5e-4);
+        // An error estimate of 4 halves... (0.9 · 4^{-1/2} = 0.45 → rung below is τ/4).
+        let t = c.tau();
+        c.reject(4.0).unwrap();
+        assert_eq!(c.tau(), t / 4.0);
+    }
+
+    #[test]
+    fn state_round_trips_and_rejects_garbage() {
+        let mut c = StepController::new(control(), 1e-3).unwrap();
+        c.accept(0.1, 0.0);
+        c.reject(3.0).unwrap();
+        let s = c.to_state();
+        let mut d = StepController::new(control(), 7e-3).unwrap();
+        d.restore_state(&s).unwrap();
+        assert_eq!(c, d);
+        assert!(d.restore_state(&[1.0]).is_err());
+        assert!(d.restore_state(&[1.0, f64::NAN, 0.0, 0.0, 0.0]).is_err());
+        assert!(d.restore_state(&[1.0, 0.5, 0.0, 0.0, 0.0]).is_err());
+    }
+
+    #[test]
+    fn invalid_options_are_errors() {
+        assert!(StepControl::new(0.0, 1.0, 1e-6, 1.0).is_err());
+        assert!(StepControl::new(1e-3, 1.0, 1.0, 1e-6).is_err());
+        assert!(StepControl::new(1e-3, f64::NAN, 1e-6, 1.0).is_err());
+        let mut c = control();
+        c.safety = 1.5;
+        assert!(c.validate().is_err());
+    }
+}

@@ -1,0 +1,242 @@
+//! Adaptive time steps with error control (issue 10, docs/math.md §9): the controller keeps
+//! a steady state steady, meets its tolerance on a problem with a reference solution,
+//! rejects and retries failing steps without showing them to observers, stays within its
+//! bounds, and checkpoints bit-identically.
+
+use rsf::friction::Tresca;
+use rsf::time::{Newmark, StepControl};
+use rsf::{Checkpoint, Flow, NoState, Observer, SliderScene, SolverKind, StepState, Until};
+
+/// Every accepted step as observed: (t, τ, rejected attempts, max slip rate).
+#[derive(Default)]
+struct Steps(Vec<(f64, f64, usize, f64)>);
+
+impl Observer<2> for Steps {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
+        let r = s.report;
+        self.0
+            .push((r.time, r.tau, r.rejected_attempts, r.max_slip_rate));
+        Ok(Flow::Continue(()))
+    }
+}
+
+fn control(tol: f64, tau_min: f64, tau_max: f64) -> StepControl {
+    StepControl::new(tol, 1e-5, tau_min, tau_max).unwrap()
+}
+
+/// The observed times are contiguous: each step starts where the last accepted one ended.
+fn assert_contiguous(steps: &[(f64, f64, usize, f64)], t0: f64) {
+    let mut t = t0;
+    for &(ti, tau, _, _) in steps {
+        assert!(
+            (ti - (t + tau)).abs() <= 1e-9 * ti.max(1.0),
+            "step at {ti} after {t} with τ = {tau}"
+        );
+        t = ti;
+    }
+}
+
+/// Frictionless-fault slider (Tresca with μ = 0: the fault slides freely, bilateral
+/// contact), no gravity: linear elastodynamics driven by the top boundary.
+fn linear_scene() -> SliderScene {
+    SliderScene {
+        level: 1,
+        steps: 1000,
+        end_time_s: 0.5,
+        gravity_m_per_s2: 0.0,
+        loading_velocity_m_per_s: 1e-3,
+        ramp_fraction: 0.2,
+        ..SliderScene::default()
+    }
+}
+
+fn linear_sim(tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
+    let scene = linear_scene();
+    let model = scene.build_model().unwrap();
+    let nf = model.frictional.len();
+    rsf::Simulation::new(
+        model,
+        vec![Tresca::new(0.0, 1.0).unwrap(); nf],
+        Vec::<NoState>::new(),
+        vec![0.0; nf],
+        Newmark,
+        tau,
+        &SolverKind::Direct(Default::default()),
+        rsf::FixedPointOptions::default(),
+    )
+    .unwrap()
+}
+
+/// The scaled displacement error of the controller: RMS over the free dofs of the error
+/// over `atol + tol · rms(u − u₀)`.
+fn scaled_error(
+    sim: &rsf::Simulation<2, Tresca, NoState, Newmark>,
+    u: &[f64],
+    c: &StepControl,
+) -> f64 {
+    let m = sim.model();
+    let (mut e2, mut d2, mut n) = (0.0, 0.0, 0.0);
+    for i in 0..u.len() {
+        if m.fixed[i] {
+            continue;
+        }
+        let d = sim.kinematics().u[i] - m.initial_displacement[i];
+        e2 += (u[i] - sim.kinematics().u[i]).powi(2);
+        d2 += d * d;
+        n += 1.0;
+    }
+    (e2 / n).sqrt() / (c.displacement_atol + c.tolerance * (d2 / n).sqrt())
+}
+
+/// On linear elastodynamics (a frictionless fault), every accepted step's true local error
+/// — the step against 64 sub-steps of Newmark from the same state, whose own error is
+/// 64⁻² times smaller — stays within twice the tolerance (the estimate is not
+/// optimistic), and the global error shrinks when the tolerance does.
+#[test]
+fn linear_elastodynamics_error_meets_the_tolerance() {
+    let c = control(1e-4, 1e-9, 0.01);
+    let mut sim = linear_sim(0.3 / 150.0);
+    sim.run_until(Until::Time(0.1), &mut []).unwrap();
+    sim.set_step_control(Some(c)).unwrap();
+    let mut worst: f64 = 0.0;
+    for _ in 0..12 {
+        let start = sim.checkpoint();
+        let report = sim.step().unwrap();
+        assert!(report.error_estimate <= 1.0);
+        let stepped = sim.checkpoint();
+        // The same step in 64 sub-steps from the same state.
+        let mut fine = linear_sim(report.tau / 64.0);
+        let mut from = start.clone();
+        from.tau = report.tau / 64.0;
+        from.controller.clear();
+        fine.restore(&from).unwrap();
+        fine.run(64, &mut []).unwrap();
+        worst = worst.max(scaled_error(&fine, &stepped.u, &c));
+        // Continue from the adaptive step.
+        assert_eq!(sim.checkpoint(), stepped);
+    }
+    assert!(worst <= 2.0, "true local error {worst} × tolerance");
+    // Global error at t = 0.3 s against a fine uniform run shrinks with the tolerance.
+    let reference = {
+        let mut s = linear_sim(0.3 / 9600.0);
+        s.run_until(Until::Time(0.3), &mut []).unwrap();
+        s.kinematics().u.clone()
+    };
+    let global = |tol: f64| {
+        let mut s = linear_sim(0.3 / 150.0);
+        s.set_step_control(Some(control(tol, 1e-9, 0.3 / 75.0)))
+            .unwrap();
+        s.run_until(Until::Time(0.3), &mut []).unwrap();
+        assert!((s.time() - 0.3).abs() < 1e-12, "ends at the requested time");
+        let u = &s.kinematics().u;
+        let num: f64 = u
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum();
+        let den: f64 = reference.iter().map(|b| b * b).sum();
+        (num / den).sqrt()
+    };
+    let (e3, e5) = (global(1e-3), global(1e-5));
+    assert!(
+        e5 < 0.2 * e3,
+        "global errors {e3:e} (1e-3) and {e5:e} (1e-5)"
+    );
+}
+
+#[test]
+fn steady_sliding_stays_steady_with_growing_steps() {
+    // Velocity strengthening (a > b) loaded long enough to slide steadily: the controller
+    // must keep it steady (no events) and grow the step to its maximum.
+    let scene = SliderScene {
+        level: 1,
+        steps: 2000,
+        end_time_s: 20.0,
+        a: 0.02,
+        b: 0.01,
+        ..SliderScene::default()
+    };
+    let mut sim = scene.build().unwrap();
+    sim.run_until(Until::Time(15.0), &mut []).unwrap();
+    let v_d = scene.loading_velocity_m_per_s;
+    sim.set_step_control(Some(control(1e-4, 1e-9, 0.5)))
+        .unwrap();
+    let mut steps = Steps::default();
+    let t0 = sim.time();
+    sim.run_until(Until::Time(20.0), &mut [&mut steps]).unwrap();
+    assert_contiguous(&steps.0, t0);
+    for &(t, _, _, v) in &steps.0 {
+        assert!(
+            (v / v_d - 1.0).abs() < 0.05,
+            "t = {t}: slip rate {v} vs the loading rate {v_d}"
+        );
+    }
+    let largest = steps.0.iter().map(|s| s.1).fold(0.0, f64::max);
+    assert!(
+        largest >= 0.25,
+        "steady sliding lets the step grow (largest {largest})"
+    );
+}
+
+#[test]
+fn failing_steps_are_rejected_retried_and_never_observed() {
+    // A fixed point budget of 3 iterations fails on large steps through the first slip
+    // event; the controller must shrink the step and carry on.
+    let scene = SliderScene {
+        level: 1,
+        steps: 2000,
+        fixed_point_max_iterations: 3,
+        ..SliderScene::default()
+    };
+    let mut sim = scene.build().unwrap();
+    let (tau_min, tau_max) = (1e-7, 0.05);
+    sim.set_step_control(Some(control(1e-2, tau_min, tau_max)))
+        .unwrap();
+    let mut steps = Steps::default();
+    let summary = sim.run_until(Until::Time(10.6), &mut [&mut steps]).unwrap();
+    assert!(summary.rejected_attempts > 0, "some attempts failed");
+    assert_eq!(
+        summary.rejected_attempts,
+        steps.0.iter().map(|s| s.2).sum::<usize>()
+    );
+    assert_contiguous(&steps.0, 0.0);
+    for &(t, tau, _, _) in &steps.0 {
+        assert!(
+            tau >= tau_min * (1.0 - 1e-12) && tau <= tau_max * (1.0 + 1e-12),
+            "t = {t}: τ = {tau} outside [{tau_min}, {tau_max}]"
+        );
+    }
+    let peak = steps.0.iter().map(|s| s.3).fold(0.0, f64::max);
+    assert!(peak > 1e-3, "the run went through the first event");
+}
+
+#[test]
+fn adaptive_checkpoint_and_resume_is_bit_identical() {
+    let scene = SliderScene {
+        level: 1,
+        steps: 1000,
+        ..SliderScene::default()
+    };
+    let c = control(1e-3, 1e-9, 0.1);
+    let straight = {
+        let mut sim = scene.build().unwrap();
+        sim.set_step_control(Some(c)).unwrap();
+        sim.run(300, &mut []).unwrap();
+        sim.checkpoint()
+    };
+    let path = std::env::temp_dir().join(format!("rsf-adaptive-{}.bin", std::process::id()));
+    {
+        let mut sim = scene.build().unwrap();
+        sim.set_step_control(Some(c)).unwrap();
+        sim.run(170, &mut []).unwrap();
+        sim.checkpoint().write(&path).unwrap();
+    }
+    let mut resumed = scene.build().unwrap();
+    resumed.set_step_control(Some(c)).unwrap();
+    let cp = Checkpoint::read(&path).unwrap();
+    assert!(!cp.controller.is_empty(), "the controller state is saved");
+    resumed.restore(&cp).unwrap();
+    resumed.run(130, &mut []).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(resumed.checkpoint(), straight);
+}

@@ -1,0 +1,119 @@
+//! The default fixed point scheme (Anderson acceleration, extrapolated predictor, stop on
+//! the estimated error; docs/math.md §8) against the paper's relaxed iteration (§6.2, the
+//! scheme of every earlier result of this workspace), on the paper's scene at level 3 over
+//! the whole T = 15 s (seven slip events), for both state laws (issue 9).
+//!
+//! Both schemes iterate to the same fixed point; they stop at different iterates, each within
+//! the tolerance (1e-10 in the energy norm) of it. That moves the trajectory by the effect of
+//! the tolerance only: measured, the slip at x0 agrees to 1.3e-10 of its range and ln of the
+//! largest slip rate to 3.5e-8 through all events. Asserted, with margins of 10²–10³ over
+//! those values:
+//! - the same number of slip events, their start times to 1e-6 s (τ = 1.5e-3 s);
+//! - the first-slip time (interpolated in ln V) to 1e-7 s;
+//! - u_x(x0) over [0.9 T, T]: its range to 1e-7 relative;
+//! - the peak slip rate to 1e-6 relative;
+//! - the slip at x0 at every step to 1e-7 of its range.
+//!
+//! And the point of the new scheme: it needs fewer iterations (measured 2.83 against 4.26
+//! for Dieterich's law, 3.03 against 5.00 for Ruina's).
+//!
+//! Both runs use the direct solver (TNNMG gives the same trajectory to 1e-11 in ln V,
+//! `slip_event.rs`), so the comparison isolates the fixed point scheme.
+
+mod common;
+
+use common::*;
+use rsf::{FixedPointScheme, SliderScene, SolverChoice, StateLawKind};
+
+const SLIP: f64 = 1e-3;
+const SLIP_OFF: f64 = 1e-4;
+
+fn record(law: StateLawKind, scheme: FixedPointScheme) -> Recorder {
+    let scene = SliderScene {
+        fixed_point: scheme,
+        ..with_law(paper(3, SolverChoice::Direct), law)
+    };
+    let mut sim = build(&scene);
+    let mut rec = Recorder::new(sim.as_ref());
+    run_until(sim.as_mut(), end_time(&scene), &mut [&mut rec]);
+    rec
+}
+
+fn range_last_tenth(r: &Recorder, t_end: f64) -> (f64, f64) {
+    r.t.iter()
+        .zip(&r.u_x0)
+        .filter(|(t, _)| **t >= 0.9 * t_end)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, &u)| {
+            (lo.min(u), hi.max(u))
+        })
+}
+
+fn compare(law: StateLawKind) {
+    let new = record(law, FixedPointScheme::Anderson);
+    let old = record(law, FixedPointScheme::Paper);
+    assert_eq!(new.len(), old.len());
+    let t_end = *old.t.last().unwrap();
+    // Events.
+    let (e_new, e_old) = (
+        event_starts(&new.t, &new.max_v, SLIP, SLIP_OFF),
+        event_starts(&old.t, &old.max_v, SLIP, SLIP_OFF),
+    );
+    assert!(e_old.len() >= 5, "{law:?}: the run has its slip events");
+    assert_eq!(e_new.len(), e_old.len(), "{law:?}: event count");
+    for (a, b) in e_new.iter().zip(&e_old) {
+        assert!((a - b).abs() <= 1e-6, "{law:?}: event start {a} vs {b}");
+    }
+    let (f_new, f_old) = (
+        first_crossing(&new.t, &new.max_v, SLIP, 0.0).unwrap(),
+        first_crossing(&old.t, &old.max_v, SLIP, 0.0).unwrap(),
+    );
+    assert!(
+        (f_new - f_old).abs() <= 1e-7,
+        "{law:?}: first slip {f_new} vs {f_old}"
+    );
+    // Late displacement range and peak slip rate.
+    let (r_new, r_old) = (range_last_tenth(&new, t_end), range_last_tenth(&old, t_end));
+    let width = r_old.1 - r_old.0;
+    assert!(width > 0.0);
+    assert!(
+        (r_new.0 - r_old.0).abs() <= 1e-7 * r_old.1.abs()
+            && (r_new.1 - r_old.1).abs() <= 1e-7 * r_old.1.abs(),
+        "{law:?}: u_x0 range {r_new:?} vs {r_old:?}"
+    );
+    let peak = |r: &Recorder| r.max_v.iter().copied().fold(0.0, f64::max);
+    let (p_new, p_old) = (peak(&new), peak(&old));
+    assert!(
+        (p_new - p_old).abs() <= 1e-6 * p_old,
+        "{law:?}: peak slip rate {p_new} vs {p_old}"
+    );
+    // The slip history at x0.
+    let u0 = old.u_x0[0];
+    let slip_range = old.u_x0.iter().map(|u| (u - u0).abs()).fold(0.0, f64::max);
+    let worst = new
+        .u_x0
+        .iter()
+        .zip(&old.u_x0)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst <= 1e-7 * slip_range,
+        "{law:?}: slip at x0 differs by {worst:e} of {slip_range:e}"
+    );
+    // Fewer iterations with the new scheme.
+    let (m_new, _) = new.fpi_stats();
+    let (m_old, _) = old.fpi_stats();
+    assert!(
+        m_new < 0.8 * m_old,
+        "{law:?}: mean iterations {m_new} (default) vs {m_old} (paper)"
+    );
+}
+
+#[test]
+fn default_scheme_keeps_the_paper_schemes_trajectory_dieterich() {
+    compare(StateLawKind::Dieterich);
+}
+
+#[test]
+fn default_scheme_keeps_the_paper_schemes_trajectory_ruina() {
+    compare(StateLawKind::Ruina);
+}
