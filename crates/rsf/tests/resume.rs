@@ -88,11 +88,9 @@ fn stopped_and_resumed_run_writes_the_same_bytes() {
     stop_and_resume(SolverChoice::Tnnmg, "tnnmg");
 }
 
-/// The direct solver's dense fault Newton keeps state between time steps (a reused
-/// factorisation) that a checkpoint does not hold, so its resumed trajectory differs at
-/// round-off (measured: ~1e-18 m in u after 100 steps). Owned by the solver rewrite.
+/// The direct solver (the default at this size) keeps no state across steps that a
+/// checkpoint would not hold.
 #[test]
-#[ignore = "the direct solver carries state across steps that checkpoints do not hold"]
 fn stopped_and_resumed_run_writes_the_same_bytes_direct() {
     stop_and_resume(SolverChoice::Direct, "direct");
 }
@@ -152,4 +150,47 @@ fn resuming_detects_lost_rows_and_foreign_files() {
     assert!(PointSeries::resume(&d.join("p.csv"), sim.model(), x0, 0).is_err());
     assert!(PointSeries::resume(&d.join("none.csv"), sim.model(), x0, 0).is_err());
     std::fs::remove_dir_all(&d).ok();
+}
+
+/// VTU frames: the index of a stopped-and-resumed run lists the same frames with the same
+/// times as an uninterrupted run's, and the frame files are the same bytes.
+#[cfg(feature = "vtk")]
+#[test]
+fn vtu_frames_resume_without_loss() {
+    use rsf::VtuFrames;
+    let scene = SliderScene {
+        steps: 40,
+        end_time_s: 0.04,
+        ..scene(SolverChoice::Auto)
+    };
+    let (a, b) = (dir("vtu-straight"), dir("vtu-stopped"));
+    let mut straight = scene.build().unwrap();
+    let mut frames = VtuFrames::create(&a, 10).unwrap();
+    straight.run(40, &mut [&mut frames]).unwrap();
+    let mut stopped = scene.build().unwrap();
+    let mut frames = VtuFrames::create(&b, 10).unwrap();
+    let mut ckpt = Checkpointer::new(b.join("c.bin"), 20);
+    stopped
+        .run(40, &mut [&mut frames, &mut ckpt, &mut StopAt(35)])
+        .unwrap();
+    let mut resumed = scene.build().unwrap();
+    let c = Checkpoint::read(&b.join("c.bin")).unwrap();
+    resumed.restore(&c).unwrap();
+    let mut frames = VtuFrames::resume(&b, 10, c.step).unwrap();
+    resumed.run(40 - c.step, &mut [&mut frames]).unwrap();
+    for file in [
+        "frames.pvd",
+        "frame_000010.vtu",
+        "frame_000030.vtu",
+        "frame_000040.vtu",
+    ] {
+        let (x, y) = (
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+        );
+        assert!(x == y, "{file} differs after resuming");
+    }
+    for d in [a, b] {
+        std::fs::remove_dir_all(d).ok();
+    }
 }
