@@ -227,7 +227,31 @@ impl FrictionalBoundary {
 /// An assembled model: matrices, loads, constraints, hierarchy and frictional boundary,
 /// independent of the friction law, state law, time integrator and solver.
 ///
-/// Vectors are node-major with `D` components per node (`n = D · nodes`).
+/// Vectors are node-major with `D` components per node (`n = D · nodes`). Build one with
+/// [`ModelBuilder`](crate::ModelBuilder) from a mesh, a material and boundary parts, or
+/// fill the public fields yourself (e.g. a lumped spring–block system without a mesh);
+/// [`Model::validate`] checks them, and every simulation validates its model.
+///
+/// ```
+/// use rsf::fem::cuboid;
+/// use rsf::{Material, ModelBuilder, Part};
+///
+/// // A 2 m × 1 m × 1 m block (not the paper's problem): its top moves in x at 0.1 mm/s,
+/// // its bottom face slides with friction (bilateral contact: z velocity fixed).
+/// let model = ModelBuilder::refined(cuboid([0.0; 3], [2.0, 1.0, 1.0], [3, 2, 2])?, 1)?
+///     .material(Material::new(1e8, 0.25, 2.7e3))
+///     .gravity([0.0, 0.0, -9.81])
+///     .dirichlet(Part::predicate("top", |x| x[2] > 1.0 - 1e-9), [1e-4, 0.0, 0.0])
+///     .frictional(Part::predicate("bottom", |x| x[2] < 1e-9))
+///     .build()?;
+/// assert_eq!((model.num_nodes(), model.frictional.len()), (45, 15));
+/// assert!(model.frictional.nodes.iter().all(|&p| model.fixed[3 * p + 2]));
+/// // u0 is the gravity equilibrium: the middle layer sags, fixed dofs stay at 0.
+/// let u0 = &model.initial_displacement;
+/// assert!((0..45).all(|p| model.vertices[p][2] != 0.5 || u0[3 * p + 2] < 0.0));
+/// assert!(u0.iter().zip(&model.fixed).all(|(u, &f)| !f || *u == 0.0));
+/// # Ok::<(), rsf::Error>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Model<const D: usize> {
     /// Node coordinates (m) of the finest mesh (or of the lumped points).

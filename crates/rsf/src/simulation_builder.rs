@@ -2,7 +2,7 @@
 
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{Newmark, VelocityIntegrator};
+use rsf_time::{Newmark, StepControl, VelocityIntegrator};
 
 use crate::error::{invalid, Error, Result};
 use crate::fixed_point::FixedPointOptions;
@@ -18,8 +18,9 @@ pub struct Unset;
 
 /// Builds a [`Simulation`] from a [`Model`]: the friction law (required), the state law,
 /// the initial state, the velocity integrator (default [`Newmark`]), the time step τ
-/// (required), the velocity solver (default [`SolverKind::default`], direct or TNNMG by
-/// size) and the fixed point options (default [`FixedPointOptions::default`]).
+/// (required; the initial one with [`step_control`](Self::step_control)), the velocity
+/// solver (default [`SolverKind::default`], direct or TNNMG by size) and the fixed point
+/// options (default [`FixedPointOptions::default`]).
 ///
 /// Laws and initial states are either uniform or functions of the node position `x` (m),
 /// evaluated at the frictional nodes ([`Model::on_frictional_nodes`]): a heterogeneous fault
@@ -55,6 +56,7 @@ pub struct SimulationBuilder<const D: usize, L, S, I> {
     tau: Option<f64>,
     solver: SolverKind,
     fixed_point: FixedPointOptions,
+    step_control: Option<StepControl>,
 }
 
 impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
@@ -69,6 +71,7 @@ impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
             tau: None,
             solver: SolverKind::default(),
             fixed_point: FixedPointOptions::default(),
+            step_control: None,
         }
     }
 }
@@ -102,6 +105,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
             tau,
             solver,
             fixed_point,
+            step_control,
         } = self;
         let (friction, state, integrator) = f((friction, state, integrator));
         SimulationBuilder {
@@ -113,6 +117,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
             tau,
             solver,
             fixed_point,
+            step_control,
         }
     }
 
@@ -190,6 +195,13 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
         self.fixed_point = options;
         self
     }
+
+    /// Adaptive time steps with error control from the initial τ of
+    /// [`time_step`](Self::time_step) ([`Simulation::set_step_control`]; default: fixed τ).
+    pub fn step_control(mut self, control: StepControl) -> Self {
+        self.step_control = Some(control);
+        self
+    }
 }
 
 impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
@@ -215,7 +227,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
     /// # Errors
     /// The first error of a per-node function; [`Error::InvalidParameter`] named
     /// `time_step` or `initial_state` if they are needed and not set; the errors of
-    /// [`Simulation::new`] (consistency checks, solver set-up).
+    /// [`Simulation::new`] (consistency checks, solver set-up) and of
+    /// [`Simulation::set_step_control`].
     pub fn build(self) -> Result<Simulation<D, L, S, I>> {
         let friction = self.friction?;
         let state = self.state?;
@@ -233,7 +246,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
             }
             None => vec![0.0; nf],
         };
-        Simulation::new(
+        let mut sim = Simulation::new(
             self.model,
             friction,
             state,
@@ -242,6 +255,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
             tau,
             &self.solver,
             self.fixed_point,
-        )
+        )?;
+        if self.step_control.is_some() {
+            sim.set_step_control(self.step_control)?;
+        }
+        Ok(sim)
     }
 }
