@@ -251,19 +251,18 @@ pub fn first_crossing(t: &[f64], x: &[f64], level: f64, after: f64) -> Option<f6
 }
 
 /// Start times of the slip events in `x` (the largest slip rate per step): an event starts
-/// where `x` rises to `on` and ends where it has fallen back below `off < on`.
+/// where `x` rises above `on` and ends where it has fallen back below `off < on` (the
+/// library's [`rsf::EventDetector`]).
 pub fn event_starts(t: &[f64], x: &[f64], on: f64, off: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut inside = false;
-    for (&ti, &xi) in t.iter().zip(x) {
-        if !inside && xi >= on {
-            inside = true;
-            out.push(ti);
-        } else if inside && xi < off {
-            inside = false;
-        }
+    let mut d = rsf::EventDetector::new(rsf::EventThresholds {
+        onset: on,
+        end: off,
+    })
+    .expect("0 < off <= on");
+    for (k, (&ti, &xi)) in t.iter().zip(x).enumerate() {
+        d.push(k + 1, ti, xi, &[]);
     }
-    out
+    d.events().iter().map(|e| e.onset_s).collect()
 }
 
 /// The observed order `log2((x₁ − x₂)/(x₂ − x₃))` of values at steps τ, τ/2, τ/4.
