@@ -97,7 +97,7 @@ pub struct SceneArgs {
     #[arg(long, value_name = "J")]
     pub level: Option<usize>,
     /// Final time T (s).
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub end_time: Option<f64>,
     /// State law.
     #[arg(long, value_enum)]
@@ -222,5 +222,45 @@ pub fn main_with(body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>>) 
             }
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::{step_count, window, SceneArgs};
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        scene: SceneArgs,
+    }
+
+    #[test]
+    fn a_misspelt_flag_is_an_error_with_a_suggestion() {
+        let e = Cli::try_parse_from(["x", "--levle", "1"]).err().unwrap();
+        assert_eq!(e.kind(), clap::error::ErrorKind::UnknownArgument);
+        assert!(e.to_string().contains("--level"), "{e}");
+        let e = Cli::try_parse_from(["x", "--law", "regularized"])
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("dieterich"), "{e}");
+        let cli = Cli::try_parse_from(["x", "--level", "2", "--law", "slip"]).unwrap();
+        let scene = cli.scene.scene(rsf::SliderScene::default()).unwrap();
+        assert_eq!(
+            (scene.level, scene.state_law),
+            (2, rsf::StateLawKind::Ruina)
+        );
+        let cli = Cli::try_parse_from(["x", "--end-time", "-1"]).unwrap();
+        assert!(cli.scene.scene(rsf::SliderScene::default()).is_err());
+    }
+
+    #[test]
+    fn numbers_of_steps_and_windows() {
+        assert_eq!(step_count("1e4"), Ok(10_000));
+        assert!(step_count("0").is_err() && step_count("1.5").is_err());
+        assert_eq!(window("0.5,0.75"), Ok((0.5, 0.75)));
+        assert!(window("0.75,0.5").is_err() && window("1").is_err());
     }
 }

@@ -149,3 +149,21 @@ fn last_corrections(history: &[f64]) -> String {
         list.join(", ")
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Error;
+
+    #[test]
+    fn a_fixed_point_failure_shows_the_last_corrections_only() {
+        let e = Error::FixedPointNotConverged {
+            step: 7,
+            time: 0.5,
+            iterations: 100,
+            history: (0..100).map(f64::from).collect(),
+        };
+        let msg = e.to_string();
+        assert!(msg.ends_with("…, 9.700e1, 9.800e1, 9.900e1"), "{msg}");
+        assert!(msg.len() < 200, "{msg}");
+    }
+}
