@@ -38,7 +38,12 @@ impl StateLaw for NoHealing {
     }
 }
 
-fn main() -> Result<(), rsf_state::Error> {
+fn main() -> std::process::ExitCode {
+    <rsf_examples::cli::NoArgs as clap::Parser>::parse();
+    rsf_examples::main_with(|| Ok(run()?))
+}
+
+fn run() -> Result<(), rsf_state::Error> {
     let l = 1e-5; // m
     let aging = Aging::new(l)?; // closed form (Wright omega)
     let healing = AgingWithHealingTime { l, t_h: 100.0 };

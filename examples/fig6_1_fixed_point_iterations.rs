@@ -18,40 +18,58 @@
 
 use std::io::Write as _;
 use std::path::PathBuf;
+use std::process::ExitCode;
 
+use clap::Parser;
 use plotters::prelude::*;
 use rsf::{SliderScene, SolverChoice, StateLawKind};
-use rsf_examples::{run_slider, stats, Args, RunOptions};
+use rsf_examples::cli::{step_count, Law, Solver};
+use rsf_examples::{stats, SliderRun};
 
-const USAGE: &str = "fig6_1_fixed_point_iterations [--levels J1,J2,... | --max-level J (2..8)]
-  [--laws dieterich,ruina] [--steps N] [--solver direct|tnnmg] [--out DIR]";
+/// Figure 6.1: fixed point iterations per time step against the refinement level.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    /// Levels j to run (comma separated) [default: 2..=--max-level].
+    #[arg(long, value_delimiter = ',', value_name = "J1,J2,...")]
+    levels: Option<Vec<usize>>,
+    /// Largest level when --levels is not given (at most 8).
+    #[arg(long, default_value_t = 5, value_name = "J")]
+    max_level: usize,
+    /// State laws (comma separated).
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "dieterich,ruina"
+    )]
+    laws: Vec<Law>,
+    /// Number of time steps N over T = 15 s (`1e4` accepted).
+    #[arg(long, value_parser = step_count, default_value = "10000")]
+    steps: usize,
+    /// Velocity solver.
+    #[arg(long, value_enum, default_value = "direct")]
+    solver: Solver,
+    /// Output folder.
+    #[arg(long, default_value = "out/fig6_1")]
+    out: PathBuf,
+}
 
 /// One measured point: law, level, mean FPIs, max FPIs.
 type Row = (StateLawKind, usize, f64, usize);
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse(USAGE);
-    let levels: Vec<usize> = match args.get("levels") {
-        Some(s) => s.split(',').map(str::parse).collect::<Result<_, _>>()?,
-        None => (2..=args.value("max-level", 5usize).min(8)).collect(),
-    };
-    let laws: Vec<StateLawKind> = args
-        .get("laws")
-        .unwrap_or("dieterich,ruina")
-        .split(',')
-        .map(|l| match l {
-            "dieterich" => Ok(StateLawKind::Dieterich),
-            "ruina" => Ok(StateLawKind::Ruina),
-            other => Err(format!("unknown law `{other}`")),
-        })
-        .collect::<Result<_, _>>()?;
-    let solver = match args.get("solver").unwrap_or("direct") {
-        "tnnmg" => SolverChoice::Tnnmg,
-        "direct" => SolverChoice::Direct,
-        other => return Err(format!("unknown solver `{other}`").into()),
-    };
-    let steps = args.value::<f64>("steps", 1e4) as usize;
-    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_1"));
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let levels = cli
+        .levels
+        .unwrap_or_else(|| (2..=cli.max_level.min(8)).collect());
+    let laws: Vec<StateLawKind> = cli.laws.iter().map(|&l| l.into()).collect();
+    let solver: SolverChoice = cli.solver.into();
+    let steps = cli.steps;
+    let out = cli.out;
     std::fs::create_dir_all(&out)?;
     println!(
         "Figure 6.1: FPIs per step over N = {steps} steps, levels {levels:?}, {solver:?} solver \
@@ -87,13 +105,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 ..SliderScene::default()
             };
             scene.validate()?;
-            let run = run_slider(
-                &scene,
-                &RunOptions {
-                    progress: true,
-                    ..RunOptions::default()
-                },
-            )?;
+            let run = SliderRun::record(&scene, 0, None)?;
             let st = stats(&run, scene.end_time_s);
             let first = st.first_slip_event_s.unwrap_or(f64::NAN);
             // Time of the (first) step with the most fixed point iterations.

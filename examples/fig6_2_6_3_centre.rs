@@ -11,36 +11,50 @@
 //!
 //! Prints a table (per N: wall time, FPIs, first slip event, slip events, recurrence
 //! interval, peak slip rates, displacement range at x0 over [0.9T, T]) and writes to
-//! `out/fig6_2_6_3/` (or `--out DIR`): `centre_N{N}.csv` (`t_s,u_x0_m,v_x0_mps,
-//! max_slip_rate_mps,fpi`), `table.csv`, `fig6_2_displacement.png` (u_x(x0) over
+//! `out/fig6_2_6_3/` (or `--out DIR`): `centre_N{N}.csv` (a `rsf::PointSeries`
+//! at x0), `table.csv`, `fig6_2_displacement.png` (u_x(x0) over
 //! [0.9T, T], one panel per τ, as the paper) and `fig6_3_slip_rate.png` (|v(x0)| over
 //! [0.75T, T], log scale, one row per τ).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::process::ExitCode;
 
-use rsf::{IntegratorKind, SliderScene, SolverChoice};
-use rsf_examples::{
-    old_wall_time, read_series, run_slider, stats, write_series, Args, RunOptions, Series,
-    SliderRun,
-};
+use clap::Parser;
+use rsf::{IntegratorKind, PointSeries, SliderScene, SolverChoice};
+use rsf_examples::cli::StepCounts;
+use rsf_examples::{old_wall_time, stats, SceneArgs, Series, SliderRun};
 
-const USAGE: &str = "fig6_2_6_3_centre [--steps N1,N2,...] [--with-1e6] [--level J]
-  [--law dieterich|ruina] [--solver direct|tnnmg] [--out DIR]
-  [--reuse (re-tabulate and re-plot the series of an earlier run in DIR)]";
+/// Figures 6.2/6.3: displacement and slip rate at x0 for several time steps.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    steps: StepCounts,
+    /// Output folder.
+    #[arg(long, default_value = "out/fig6_2_6_3")]
+    out: PathBuf,
+    /// Re-tabulate and re-plot the series of an earlier run in the output folder.
+    #[arg(long)]
+    reuse: bool,
+}
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse(USAGE);
-    let steps = args.step_counts(&[10_000, 100_000])?;
-    let mut scene = SliderScene {
-        level: args.value("level", 4),
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let steps = cli.steps.counts();
+    let scene = cli.scene.scene(SliderScene {
+        level: 4,
         integrator: IntegratorKind::Newmark,
         solver: SolverChoice::Direct,
         ..SliderScene::default()
-    };
-    args.apply_scene_choices(&mut scene)?;
-    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_2_6_3"));
-    let reuse = args.flag("reuse");
+    })?;
+    let out = cli.out;
+    let reuse = cli.reuse;
     std::fs::create_dir_all(&out)?;
     let t_end = scene.end_time_s;
     println!(
@@ -77,18 +91,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sc.validate()?;
         let csv = out.join(format!("centre_N{n}.csv"));
         let run = if reuse {
-            read_series(
-                &csv,
-                old_wall_time(&out.join("table.csv"), &[&n.to_string()], 2),
-            )?
+            SliderRun {
+                seconds: old_wall_time(&out.join("table.csv"), &[&n.to_string()], 2),
+                ..SliderRun::from_series(&PointSeries::<2>::read(&csv)?)
+            }
         } else {
-            run_slider(
-                &sc,
-                &RunOptions {
-                    progress: true,
-                    ..RunOptions::default()
-                },
-            )?
+            SliderRun::record(&sc, 0, Some(&csv))?
         };
         let st = stats(&run, t_end);
         let first = st.first_slip_event_s.unwrap_or(f64::NAN);
@@ -110,9 +118,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             st.peak_slip_rate_x0_mps,
             st.peak_slip_rate_mps
         )?;
-        if !reuse {
-            write_series(&csv, &run)?;
-        }
         runs.push((n, run));
     }
     std::fs::write(out.join("table.csv"), &table)?;
@@ -131,24 +136,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .collect()
         })
         .collect();
-    let disp_series: Vec<[Series<'_>; 1]> = disp
-        .iter()
-        .map(|p| {
-            [Series {
-                label: "",
-                points: p,
-            }]
-        })
-        .collect();
-    let rate_series: Vec<[Series<'_>; 1]> = rate
-        .iter()
-        .map(|p| {
-            [Series {
-                label: "",
-                points: p,
-            }]
-        })
-        .collect();
+    let disp_series: Vec<[Series<'_>; 1]> = disp.iter().map(|p| Series::alone(p)).collect();
+    let rate_series: Vec<[Series<'_>; 1]> = rate.iter().map(|p| Series::alone(p)).collect();
     let dp: Vec<(&str, &[Series<'_>])> = labels
         .iter()
         .zip(&disp_series)

@@ -20,12 +20,12 @@
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::process::ExitCode;
 
-use rsf::{IntegratorKind, SliderScene, SolverChoice};
-use rsf_examples::{
-    old_wall_time, read_series, run_slider, stats, write_series, Args, RunOptions, Series,
-    SliderRun,
-};
+use clap::Parser;
+use rsf::{IntegratorKind, PointSeries, SliderScene, SolverChoice};
+use rsf_examples::cli::StepCounts;
+use rsf_examples::{old_wall_time, stats, SceneArgs, Series, SliderRun};
 
 /// `(t, value)` samples.
 type Points = Vec<(f64, f64)>;
@@ -34,23 +34,41 @@ type Pair = (Points, Option<Points>);
 /// The labelled series of one panel.
 type Panel = Vec<(&'static str, Points)>;
 
-const USAGE: &str = "fig6_4_backward_euler [--steps N1,N2,...] [--with-1e6] [--level J]
-  [--law dieterich|ruina] [--solver direct|tnnmg] [--newmark-dir DIR] [--run-newmark] [--out DIR]
-  [--reuse (re-tabulate and re-plot the backward Euler series of an earlier run in DIR)]";
+/// Figure 6.4: slip rate at x0 with backward Euler, compared with Newmark.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    steps: StepCounts,
+    /// Folder with the Newmark series `centre_N{N}.csv` of fig6_2_6_3_centre.
+    #[arg(long, default_value = "out/fig6_2_6_3")]
+    newmark_dir: PathBuf,
+    /// Run the Newmark series here even if its CSV exists.
+    #[arg(long)]
+    run_newmark: bool,
+    /// Output folder.
+    #[arg(long, default_value = "out/fig6_4")]
+    out: PathBuf,
+    /// Re-tabulate and re-plot the backward Euler series of an earlier run.
+    #[arg(long)]
+    reuse: bool,
+}
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse(USAGE);
-    let steps = args.step_counts(&[10_000, 100_000])?;
-    let mut scene = SliderScene {
-        level: args.value("level", 4),
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let steps = cli.steps.counts();
+    let scene = cli.scene.scene(SliderScene {
+        level: 4,
         solver: SolverChoice::Direct,
         ..SliderScene::default()
-    };
-    args.apply_scene_choices(&mut scene)?;
-    let newmark_dir = PathBuf::from(args.get("newmark-dir").unwrap_or("out/fig6_2_6_3"));
-    let run_newmark = args.flag("run-newmark");
-    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_4"));
-    let reuse = args.flag("reuse");
+    })?;
+    let (newmark_dir, run_newmark, out, reuse) =
+        (cli.newmark_dir, cli.run_newmark, cli.out, cli.reuse);
     std::fs::create_dir_all(&out)?;
     let t_end = scene.end_time_s;
     println!(
@@ -87,10 +105,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..scene.clone()
         };
         be.validate()?;
-        let opts = RunOptions {
-            progress: true,
-            ..RunOptions::default()
-        };
         let be_csv = out.join(format!("centre_backward_euler_N{n}.csv"));
         let run = if reuse {
             let wall = old_wall_time(
@@ -98,14 +112,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 &["backward-euler", &n.to_string()],
                 3,
             );
-            read_series(&be_csv, wall)?
+            SliderRun {
+                seconds: wall,
+                ..SliderRun::from_series(&PointSeries::<2>::read(&be_csv)?)
+            }
         } else {
-            run_slider(&be, &opts)?
+            SliderRun::record(&be, 0, Some(&be_csv))?
         };
         report(&mut table, "backward-euler", &be, &run, t_end)?;
-        if !reuse {
-            write_series(&be_csv, &run)?;
-        }
         let csv = newmark_dir.join(format!("centre_N{n}.csv"));
         let nm_scene = SliderScene {
             steps: n,
@@ -113,11 +127,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..scene.clone()
         };
         let newmark = if csv.exists() && !run_newmark {
-            let r = read_series(&csv, f64::NAN)?;
+            let r = SliderRun {
+                seconds: f64::NAN,
+                ..SliderRun::from_series(&PointSeries::<2>::read(&csv)?)
+            };
             report(&mut table, "newmark (csv)", &nm_scene, &r, t_end)?;
             Some(r)
         } else if run_newmark || n <= 10_000 {
-            let r = run_slider(&nm_scene, &opts)?;
+            let r = SliderRun::record(&nm_scene, 0, None)?;
             report(&mut table, "newmark", &nm_scene, &r, t_end)?;
             Some(r)
         } else {

@@ -13,68 +13,83 @@
 //! well before the event) and continues from that state with τ = T/`--fine` (10⁶) through
 //! the window; `--straight` uses τ = T/`--fine` from t = 0 as the paper did. Prints the
 //! event's numbers (onset, nucleation point, extent of the slipping region, peak slip
-//! rate) and writes to `out/fig6_5/` (or `--out DIR`): `slip_rate_map.csv`
-//! (`t_s,x_m,slip_rate_mps`), `table.csv`, `fig6_5_slip_event.png` (linear colour
-//! 0 … 1e-2 m/s as in the paper).
+//! rate) and writes to `out/fig6_5/` (or `--out DIR`): `slip_rate_map.csv` (a
+//! `rsf::FrictionalProfile` over the window), `table.csv`, `fig6_5_slip_event.png` (linear
+//! colour 0 … 1e-2 m/s as in the paper). The time step changes between the phases through
+//! `Simulation::set_time_step`.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::process::ExitCode;
 
+use clap::Parser;
 use plotters::prelude::*;
-use rsf::{SliderScene, SolverChoice};
-use rsf_examples::{Args, SliderRun};
+use rsf::{FrictionalProfile, Observer, Recorder, SliderScene, SolverChoice, Until, SLIDER_CENTRE};
+use rsf_examples::cli::{step_count, window};
+use rsf_examples::{Progress, SceneArgs, SliderRun};
 
-const USAGE: &str = "fig6_5_slip_event [--level J] [--coarse N] [--fine N] [--switch FRACTION]
-  [--window F0,F1 (fractions of T; default 0.6725,0.6775)] [--straight]
-  [--law dieterich|ruina] [--solver direct|tnnmg] [--rows R] [--out DIR]";
+/// Figure 6.5: the slip rate along Γ_F during the first slip event.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Steps N of the coarse τ = T/N before the switch (`1e4` accepted).
+    #[arg(long, value_parser = step_count, default_value = "10000")]
+    coarse: usize,
+    /// Steps N of the fine τ = T/N from the switch on.
+    #[arg(long, value_parser = step_count, default_value = "1000000")]
+    fine: usize,
+    /// Switch from the coarse to the fine τ at this fraction of T.
+    #[arg(long, default_value_t = 0.66, value_name = "FRACTION")]
+    switch: f64,
+    /// Window F0,F1 as fractions of T.
+    #[arg(long, value_parser = window, default_value = "0.6725,0.6775", value_name = "F0,F1")]
+    window: (f64, f64),
+    /// The fine τ from t = 0, as the paper (~1 h).
+    #[arg(long)]
+    straight: bool,
+    /// Rows (time samples) of the map.
+    #[arg(long, default_value_t = 500)]
+    rows: usize,
+    /// Output folder.
+    #[arg(long, default_value = "out/fig6_5")]
+    out: PathBuf,
+}
 
 /// Slip rate marking the slipping region (m/s), as the issue's slip-event threshold.
 const SLIPPING: f64 = 1e-3;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse(USAGE);
-    let mut scene = SliderScene {
-        level: args.value("level", 4),
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let (coarse, fine, switch, (f0, f1)) = (cli.coarse, cli.fine, cli.switch, cli.window);
+    let mut scene = cli.scene.scene(SliderScene {
+        level: 4,
         solver: SolverChoice::Direct,
         ..SliderScene::default()
-    };
-    args.apply_scene_choices(&mut scene)?;
-    let coarse = args.value::<f64>("coarse", 1e4) as usize;
-    let fine = args.value::<f64>("fine", 1e6) as usize;
-    let switch = args.value("switch", 0.66);
-    let (f0, f1) = match args.get("window") {
-        Some(w) => {
-            let v: Vec<f64> = w.split(',').map(str::parse).collect::<Result<_, _>>()?;
-            if v.len() != 2 || !(v[0] < v[1]) {
-                return Err("--window takes F0,F1 with F0 < F1".into());
-            }
-            (v[0], v[1])
-        }
-        None => (0.6725, 0.6775),
-    };
-    let straight = args.flag("straight");
+    })?;
     let t_end = scene.end_time_s;
     let (t0, t1) = (f0 * t_end, f1 * t_end);
     let window_steps = ((t1 - t0) / (t_end / fine as f64)).round() as usize;
-    let rows = args.value("rows", 500usize);
-    let map_every = (window_steps / rows.max(1)).max(1);
+    let map_every = (window_steps / cli.rows.max(1)).max(1);
+    // Phases (N of τ = T/N, end time, Γ_F snapshot interval); τ changes between them.
     let mut phases = Vec::new();
-    if !straight {
-        if fine % coarse != 0 || switch >= f0 {
-            return Err(
-                "--fine must be a multiple of --coarse and --switch before the window".into(),
-            );
+    if !cli.straight {
+        if !(switch * t_end < t0) {
+            return Err("--switch must come before the window".into());
         }
-        // The switching time must be a whole number of coarse steps.
-        let t_switch = (switch * coarse as f64).floor() / coarse as f64 * t_end;
-        phases.push((coarse, t_switch, 0));
+        phases.push((coarse, switch * t_end, 0));
     }
     phases.push((fine, t0, 0));
     phases.push((fine, t1, map_every));
+    scene.steps = phases[0].0;
     scene.validate()?;
-    let out = PathBuf::from(args.get("out").unwrap_or("out/fig6_5"));
+    let out = cli.out;
     std::fs::create_dir_all(&out)?;
-    let how = if straight {
+    let how = if cli.straight {
         format!("τ = T/{fine} from t = 0")
     } else {
         format!("τ = T/{coarse} up to {switch}T, then T/{fine}")
@@ -86,7 +101,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         scene.solver,
         rsf_examples::machine()
     );
-    let run = SliderRun::run_phases(&scene, &phases, true)?;
+    let setup = std::time::Instant::now();
+    let mut sim = scene.build()?;
+    let mut run = SliderRun {
+        setup_seconds: setup.elapsed().as_secs_f64(),
+        ..SliderRun::default()
+    };
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
+    let mut profile = FrictionalProfile::create(&out.join("slip_rate_map.csv"), t0, t1, map_every)?;
+    for &(n, until, every) in &phases {
+        sim.set_time_step(t_end / n as f64)?;
+        let mut rec = Recorder::new(sim.model(), &[x0], every)?;
+        let steps = ((until - sim.time()) * n as f64 / t_end).round().max(0.0) as usize;
+        let mut progress = Progress::new(steps, &format!("τ = T/{n}"));
+        let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut rec, &mut progress];
+        if every > 0 {
+            observers.push(&mut profile);
+        }
+        run.seconds += sim.run_until(Until::Time(until), &mut observers)?.seconds;
+        run.extend_from_recorder(&rec, sim.model());
+    }
     let (times, xs, values) = &run.map;
 
     // The event: onset (first row with a node above the threshold), nucleation point,
@@ -178,13 +212,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     row("wall time (s)", format!("{:.1}", run.seconds));
     std::fs::write(out.join("table.csv"), &table)?;
 
-    let mut csv = String::from("t_s,x_m,slip_rate_mps\n");
-    for (t, row) in times.iter().zip(values) {
-        for (x, v) in xs.iter().zip(row) {
-            writeln!(csv, "{t:.7e},{x:.5},{v:.6e}")?;
-        }
-    }
-    std::fs::write(out.join("slip_rate_map.csv"), csv)?;
     draw_map(
         &out.join("fig6_5_slip_event.png"),
         &format!(

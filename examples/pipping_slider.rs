@@ -3,51 +3,70 @@
 //! frictional bottom. The main job of the workspace.
 //!
 //! ```sh
-//! cargo run --release --example pipping_slider                      # j = 4, N = 1e4, Dieterich, Newmark, TNNMG
+//! cargo run --release --example pipping_slider                      # j = 4, N = 1e4, Dieterich, Newmark
 //! cargo run --release --example pipping_slider -- --level 3 --law ruina --solver direct
 //! cargo run --release --example pipping_slider -- --scene scenes/pipping_slider.toml
+//! cargo run --release --example pipping_slider -- --checkpoint-every 1000   # then, after a kill:
+//! cargo run --release --example pipping_slider -- --checkpoint-every 1000 --resume out/pipping_slider/checkpoint.bin
 //! ```
 //!
-//! Writes to `out/pipping_slider/` (or `--out DIR`): `timeseries.csv`
-//! (`t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`), `frictional_profile.csv`
-//! (`t_s,x_m,slip_rate_mps,alpha` over the window, default [0.6725T, 0.6775T]),
-//! `summary.json`, and the figures `displacement_x0.png`, `slip_rate_x0.png`,
-//! `slip_rate_map.png`.
+//! Writes to `out/pipping_slider/` (or `--out DIR`): `timeseries.csv` (a
+//! `rsf::PointSeries` at x0 = (2.5, 0)), `frictional_profile.csv` (a
+//! `rsf::FrictionalProfile` over the window, default [0.6725T, 0.6775T]),
+//! `slip_rate_map.csv` (the profile of the whole run, 600 samples), `summary.json`, and the
+//! figures `displacement_x0.png`, `slip_rate_x0.png`, `slip_rate_map.png`. Summary and
+//! figures are computed from the CSV files, so a resumed run (which continues the files
+//! from the checkpoint's step) reports the whole run.
 
 use std::path::PathBuf;
+use std::process::ExitCode;
 
-use rsf::SliderScene;
+use clap::Parser;
+use rsf::{
+    Checkpoint, Checkpointer, FrictionalProfile, Observer, PointSeries, SliderScene, Until,
+    SLIDER_CENTRE,
+};
+use rsf_examples::cli::{step_count, window};
 use rsf_examples::{
-    line_plot, run_slider, space_time_map, stats, write_summary, Args, RunOptions, Series,
+    line_plot, space_time_map, stats, write_summary, Progress, SceneArgs, Series, SliderRun,
 };
 
-const USAGE: &str = "pipping_slider [--scene FILE.toml] [--level J] [--steps N] [--end-time T]
-  [--law dieterich|ruina] [--integrator newmark|backward-euler|quasistatic] [--solver tnnmg|direct]
-  [--window T0,T1 (s; default 0.6725T,0.6775T)] [--out DIR] [--checkpoint-every N] [--resume FILE]";
+/// The paper's slider (§6.1, Table 6.1): time series at x0, fault profile, summary, figures.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Number of time steps N (τ = T/N; `1e4` accepted).
+    #[arg(long, value_parser = step_count)]
+    steps: Option<usize>,
+    /// Profile window T0,T1 (s) [default: 0.6725T,0.6775T].
+    #[arg(long, value_parser = window, value_name = "T0,T1")]
+    window: Option<(f64, f64)>,
+    /// Output folder.
+    #[arg(long, default_value = "out/pipping_slider")]
+    out: PathBuf,
+    /// Write `checkpoint.bin` every N steps (0: never).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    checkpoint_every: usize,
+    /// Continue from this checkpoint, appending to the files in the output folder.
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
+}
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args = Args::parse(USAGE);
-    let mut scene = match args.get("scene") {
-        Some(path) => SliderScene::from_toml(&std::fs::read_to_string(path)?)?,
-        None => SliderScene::default(),
-    };
-    scene.level = args.value("level", scene.level);
-    scene.steps = args.value("steps", scene.steps);
-    scene.end_time_s = args.value("end-time", scene.end_time_s);
-    args.apply_scene_choices(&mut scene)?;
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let mut scene = cli.scene.scene(SliderScene::default())?;
+    if let Some(n) = cli.steps {
+        scene.steps = n;
+    }
     scene.validate()?;
     let t_end = scene.end_time_s;
-    let window = match args.get("window") {
-        Some(w) => {
-            let v: Vec<f64> = w.split(',').map(str::parse).collect::<Result<_, _>>()?;
-            if v.len() != 2 {
-                return Err("--window takes T0,T1".into());
-            }
-            (v[0], v[1])
-        }
-        None => (0.6725 * t_end, 0.6775 * t_end),
-    };
-    let out = PathBuf::from(args.get("out").unwrap_or("out/pipping_slider"));
+    let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
+    let out = cli.out;
     std::fs::create_dir_all(&out)?;
     println!(
         "pipping_slider: level {}, N = {} (τ = {:.3e} s), {:?} law, {:?}, {:?} solver → {}",
@@ -59,28 +78,61 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         scene.solver,
         out.display()
     );
-    let opts = RunOptions {
-        out_dir: Some(out.clone()),
-        profile_window: Some(window),
-        map_samples: 600,
-        checkpoint_every: args.value("checkpoint-every", 0),
-        resume: args.get("resume").map(PathBuf::from),
-        progress: true,
+
+    let setup = std::time::Instant::now();
+    let mut sim = scene.build()?;
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
+    let resumed_at = match &cli.resume {
+        Some(path) => {
+            let c = Checkpoint::read(path)?;
+            sim.restore(&c)?;
+            Some(c.step)
+        }
+        None => None,
     };
-    let run = run_slider(&scene, &opts)?;
+    let (series_csv, profile_csv, map_csv) = (
+        out.join("timeseries.csv"),
+        out.join("frictional_profile.csv"),
+        out.join("slip_rate_map.csv"),
+    );
+    let map_every = (scene.steps / 600).max(1);
+    let (mut series, mut profile, mut map) = match resumed_at {
+        None => (
+            PointSeries::create(&series_csv, sim.model(), x0)?,
+            FrictionalProfile::create(&profile_csv, w0, w1, 1)?,
+            FrictionalProfile::create(&map_csv, 0.0, t_end, map_every)?,
+        ),
+        Some(n) => (
+            PointSeries::resume(&series_csv, sim.model(), x0, n)?,
+            FrictionalProfile::resume(&profile_csv, w0, w1, 1, n)?,
+            FrictionalProfile::resume(&map_csv, 0.0, t_end, map_every, n)?,
+        ),
+    };
+    let mut checkpointer = Checkpointer::new(out.join("checkpoint.bin"), cli.checkpoint_every);
+    let mut progress = Progress::new(scene.steps - sim.step_index(), "slider");
+    // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
+    if cli.checkpoint_every > 0 {
+        observers.push(&mut checkpointer);
+    }
+    observers.push(&mut progress);
+    let setup_seconds = setup.elapsed().as_secs_f64();
+    let summary = sim.run_until(Until::Time(t_end), &mut observers)?;
+
+    // Everything below comes from the files: the whole run, also after a resume.
+    let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
+    run.set_map_from_profile(&FrictionalProfile::<2>::read(&map_csv)?);
+    (run.dofs, run.frictional_nodes) = (sim.model().num_dofs(), sim.model().frictional.len());
+    (run.seconds, run.setup_seconds) = (summary.seconds, setup_seconds);
     let st = stats(&run, t_end);
     write_summary(&out, &scene, &run, &st)?;
 
-    let disp: Vec<(f64, f64)> = run.u_x0.clone();
     line_plot(
         &out.join("displacement_x0.png"),
         "Displacement u_x at x0 = (2.5, 0)",
         "t (s)",
         "u_x (m)",
-        &[Series {
-            label: "",
-            points: &disp,
-        }],
+        &Series::alone(&run.u_x0),
         false,
         false,
     )?;
@@ -94,10 +146,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "Slip rate |v| at x0 = (2.5, 0)",
         "t (s)",
         "slip rate (m/s)",
-        &[Series {
-            label: "",
-            points: &rate,
-        }],
+        &Series::alone(&rate),
         true,
         false,
     )?;
@@ -110,9 +159,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (-12.0, -2.0),
     )?;
     println!(
-        "{} dofs, {} steps in {:.2} s (set-up {:.2} s) on {}",
+        "{} dofs, {} steps ({} in this run{}) in {:.2} s (set-up {:.2} s) on {}",
         run.dofs,
         run.fpi.len(),
+        summary.steps,
+        resumed_at.map_or(String::new(), |n| format!(", resumed at step {n}")),
         run.seconds,
         run.setup_seconds,
         rsf_examples::machine()

@@ -25,7 +25,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use clap::{Parser, ValueEnum};
+use rsf::faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::state::Aging;
@@ -33,8 +34,9 @@ use rsf::time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
 use rsf::tnnmg::DirectOptions;
 use rsf::{
     Checkpoint, DirichletVelocity, FixedPointOptions, FrictionalBoundary, Model, Simulation,
-    SolverKind,
+    SimulationBuilder, SolverKind, TimeFunction,
 };
+use rsf_examples::cli::Integrator as CliIntegrator;
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -101,9 +103,8 @@ fn build<I: VelocityIntegrator>(
         fixed: vec![false, true],
         dirichlet: DirichletVelocity {
             dofs: vec![1],
-            factors: vec![1.0],
-            v_max: blk.v_load,
-            t_ramp: 0.0,
+            factors: vec![blk.v_load],
+            history: TimeFunction::Constant(1.0),
         },
         prolongations: Vec::new(),
         frictional: FrictionalBoundary::new(&[0], &[1.0])?,
@@ -111,19 +112,18 @@ fn build<I: VelocityIntegrator>(
         cells: Vec::new(),
     };
     let alpha_ss = (p.l / blk.v_load).ln();
-    let mut sim = Simulation::new(
-        model,
-        vec![DieterichRuina::new(p)?],
-        vec![Aging::new(p.l)?],
-        vec![alpha_ss + blk.dalpha],
-        integrator,
-        tau,
-        &SolverKind::Direct(DirectOptions::default()),
-        FixedPointOptions {
+    let mut sim = SimulationBuilder::new(model)
+        .friction(DieterichRuina::new(p)?)
+        .state_law(Aging::new(p.l)?)
+        .initial_state(alpha_ss + blk.dalpha)
+        .integrator(integrator)
+        .time_step(tau)
+        .solver(SolverKind::Direct(DirectOptions::default()))
+        .fixed_point(FixedPointOptions {
             max_iterations: 1000,
             ..FixedPointOptions::default()
-        },
-    )?;
+        })
+        .build()?;
     // Start at v = V_load (Simulation::new starts the free dofs at rest), a = 0.
     sim.restore(&Checkpoint {
         dim: 1,
@@ -298,38 +298,44 @@ fn write_series(path: &PathBuf, blk: &Block, k: f64, s: &[Sample]) -> Result<(),
     Ok(())
 }
 
-fn main() -> Result<(), AnyError> {
-    let mut integ_name = String::from("quasistatic");
-    let mut mass = 1.0;
-    let mut eta = 5e6;
-    let mut steps_per_l = 100.0;
-    let mut periods = 40.0;
-    let mut out_dir = PathBuf::from("out/spring_block");
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let mut val = || args.next().ok_or_else(|| format!("{a} needs a value"));
-        match a.as_str() {
-            "--integrator" => integ_name = val()?,
-            "--mass" => mass = val()?.parse()?,
-            "--eta" => eta = val()?.parse()?,
-            "--steps-per-l" => steps_per_l = val()?.parse()?,
-            "--periods" => periods = val()?.parse()?,
-            "--out" => out_dir = PathBuf::from(val()?),
-            "-h" | "--help" => {
-                println!(
-                    "spring_block [--integrator quasistatic|newmark|backward-euler] [--mass KG] \
-                     [--eta PA_S_PER_M] [--steps-per-l N] [--periods N] [--out DIR]"
-                );
-                return Ok(());
-            }
-            other => return Err(format!("unknown argument {other}").into()),
-        }
-    }
-    let integ = match integ_name.as_str() {
-        "quasistatic" => Integrator::Quasistatic(eta),
-        "newmark" => Integrator::Newmark,
-        "backward-euler" => Integrator::BackwardEuler,
-        other => return Err(format!("unknown integrator {other}").into()),
+/// Spring–block slider: stick–slip below k_c, steady sliding above.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    /// Velocity integrator.
+    #[arg(long, value_enum, default_value = "quasistatic")]
+    integrator: CliIntegrator,
+    /// Block mass (kg; dynamic integrators only).
+    #[arg(long, default_value_t = 1.0, value_name = "KG")]
+    mass: f64,
+    /// Radiation damping η of the quasistatic integrator (Pa·s/m).
+    #[arg(long, default_value_t = 5e6, value_name = "PA_S_PER_M")]
+    eta: f64,
+    /// Steps per L/V_load (τ = (L/V_load)/N).
+    #[arg(long, default_value_t = 100.0, value_name = "N")]
+    steps_per_l: f64,
+    /// Length of each run in oscillation periods.
+    #[arg(long, default_value_t = 40.0, value_name = "N")]
+    periods: f64,
+    /// Output folder.
+    #[arg(long, default_value = "out/spring_block")]
+    out: PathBuf,
+}
+
+fn main() -> std::process::ExitCode {
+    rsf_examples::main_with(|| run_cli(Cli::parse()))
+}
+
+fn run_cli(cli: Cli) -> Result<(), AnyError> {
+    let (mass, steps_per_l, periods, out_dir) = (cli.mass, cli.steps_per_l, cli.periods, cli.out);
+    let integ_name = cli
+        .integrator
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_owned());
+    let integ = match cli.integrator {
+        CliIntegrator::Quasistatic => Integrator::Quasistatic(cli.eta),
+        CliIntegrator::Newmark => Integrator::Newmark,
+        CliIntegrator::BackwardEuler => Integrator::BackwardEuler,
     };
     let blk = Block {
         friction: RateStateParams {

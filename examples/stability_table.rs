@@ -26,8 +26,17 @@ fn outcome(o: &stability::Outcome) -> String {
     }
 }
 
+/// The stability cases of `crates/rsf/tests/stability.rs` as the markdown table of
+/// docs/stability.md.
+#[derive(clap::Parser)]
+#[command(version)]
+struct Cli {
+    /// Run only the cases whose name contains one of these.
+    filter: Vec<String>,
+}
+
 fn main() {
-    let filter: Vec<String> = std::env::args().skip(1).collect();
+    let filter = <Cli as clap::Parser>::parse().filter;
     println!(
         "| case | what | steps | outcome | as expected | FPI mean / max | solver it. per solve (max per step) | steps with ω = 0.5 | max V (m/s) | time (s) |"
     );

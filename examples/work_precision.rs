@@ -39,12 +39,68 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use rsf::{nearest_vertex, IntegratorKind, SliderScene, SolverChoice, SLIDER_CENTRE};
-use rsf_examples::{machine, Args, Series};
+use clap::{Parser, ValueEnum};
+use rsf::{
+    EventDetector, EventThresholds, IntegratorKind, SliderScene, SolverChoice, SLIDER_CENTRE,
+};
+use rsf_examples::cli::{step_count, Integrator, Solver};
+use rsf_examples::{machine, Series};
 
-const USAGE: &str = "work_precision [--study all|time|mesh|tol|energy|profile] [--steps N] [--solver tnnmg|direct] [--big] [--out DIR] \
-[--figures DIR] [--level J] [--ref-n N] [--mesh-steps N] [--energy-steps N] \
-[--integrator newmark|backward-euler] [--solver tnnmg|direct]";
+/// Which study to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Study {
+    /// Time, tolerance and mesh studies.
+    All,
+    /// Error against τ.
+    Time,
+    /// Error against the refinement level.
+    Mesh,
+    /// Error against the solver tolerance.
+    Tol,
+    /// Energy-norm error of an elastic oscillation.
+    Energy,
+    /// One run for `perf record`.
+    Profile,
+}
+
+/// Work–precision studies of the slider (docs/work-precision.md).
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    /// The study.
+    #[arg(long, value_enum, default_value = "all")]
+    study: Study,
+    /// Steps of the profile run (`1e4` accepted).
+    #[arg(long, value_parser = step_count, default_value = "10000")]
+    steps: usize,
+    /// Only this solver (default: both).
+    #[arg(long, value_enum)]
+    solver: Option<Solver>,
+    /// Only this integrator in the time study (default: Newmark and backward Euler).
+    #[arg(long, value_enum)]
+    integrator: Option<Integrator>,
+    /// Include the large cases.
+    #[arg(long)]
+    big: bool,
+    /// Output folder of the tables.
+    #[arg(long, default_value = "docs/work-precision")]
+    out: PathBuf,
+    /// Output folder of the figures.
+    #[arg(long, default_value = "docs/figures")]
+    figures: PathBuf,
+    /// Refinement level of the time and tolerance studies.
+    #[arg(long, default_value_t = 2)]
+    level: usize,
+    /// Steps of the reference run.
+    #[arg(long, value_parser = step_count, default_value = "200000")]
+    ref_n: usize,
+    /// Steps of the mesh study.
+    #[arg(long, value_parser = step_count, default_value = "2000")]
+    mesh_steps: usize,
+    /// Steps of the energy study.
+    #[arg(long, value_parser = step_count, default_value = "400")]
+    energy_steps: usize,
+}
 
 /// Slip-event threshold (m/s).
 const SLIP: f64 = 1e-3;
@@ -95,15 +151,19 @@ impl Trace {
         Some((1.0 - w) * y[k - 1] + w * y[k])
     }
 
-    /// First upcrossing of `SLIP` by the max slip rate after the ramp, interpolated in ln V.
+    /// Onset of the first slip event after the ramp (the library's detection, onset
+    /// `SLIP`), at the crossing of `SLIP` interpolated in ln V.
     fn first_slip(&self, after: f64) -> Option<f64> {
-        (1..self.t.len()).find_map(|k| {
-            let (a, b) = (self.vmax[k - 1], self.vmax[k]);
-            (self.t[k] > after && a <= SLIP && b > SLIP).then(|| {
-                let (la, lb) = (a.max(1e-300).ln(), b.ln());
-                self.t[k - 1] + (self.t[k] - self.t[k - 1]) * (SLIP.ln() - la) / (lb - la)
-            })
-        })
+        let thresholds = EventThresholds {
+            onset: SLIP,
+            ..EventThresholds::default()
+        };
+        let mut events = EventDetector::new(thresholds).expect("valid thresholds");
+        for (k, (&t, &v)) in self.t.iter().zip(&self.vmax).enumerate() {
+            events.push(k + 1, t, v, &[]);
+        }
+        let first = events.events().iter().find(|e| e.onset_s > after);
+        first.map(|e| e.crossing_s)
     }
 }
 
@@ -118,7 +178,7 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
         dofs: sim.model().num_dofs(),
         ..Trace::default()
     };
-    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     tr.u_init = sim.kinematics().u[2 * x0];
     let after = scene.ramp_fraction * scene.end_time_s;
     let mut slipped = false;
@@ -604,7 +664,7 @@ fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64
     let mut model = scene.build_model()?;
     model.load.fill(0.0);
     model.initial_displacement.fill(0.0);
-    model.dirichlet.v_max = 0.0;
+    model.dirichlet = rsf::DirichletVelocity::none();
     let (x_lo, x_hi) = (0.0, 5.0);
     for (p, x) in model.vertices.iter().enumerate() {
         if x[1].abs() < 1e-12 {
@@ -814,37 +874,38 @@ fn energy_study(c: &Ctx) -> Res<Vec<Line>> {
     Ok(lines)
 }
 
-fn main() -> Res<()> {
-    let args = Args::parse(USAGE);
+fn main() -> std::process::ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Res<()> {
     let c = Ctx {
-        out: PathBuf::from(args.value("out", "docs/work-precision".to_string())),
-        figures: PathBuf::from(args.value("figures", "docs/figures".to_string())),
-        level: args.value("level", 2),
-        big: args.flag("big"),
-        ref_n: args.value("ref-n", 200_000),
-        mesh_steps: args.value("mesh-steps", 2_000),
-        energy_steps: args.value("energy-steps", 400),
-        integrators: match args.get("integrator") {
-            Some("newmark") => vec![IntegratorKind::Newmark],
-            Some("backward-euler") => vec![IntegratorKind::BackwardEuler],
-            _ => vec![IntegratorKind::Newmark, IntegratorKind::BackwardEuler],
+        out: cli.out,
+        figures: cli.figures,
+        level: cli.level,
+        big: cli.big,
+        ref_n: cli.ref_n,
+        mesh_steps: cli.mesh_steps,
+        energy_steps: cli.energy_steps,
+        integrators: match cli.integrator {
+            Some(i) => vec![i.into()],
+            None => vec![IntegratorKind::Newmark, IntegratorKind::BackwardEuler],
         },
-        solvers: match args.get("solver") {
-            Some("tnnmg") => vec![SolverChoice::Tnnmg],
-            Some("direct") => vec![SolverChoice::Direct],
-            _ => vec![SolverChoice::Tnnmg, SolverChoice::Direct],
+        solvers: match cli.solver {
+            Some(s) => vec![s.into()],
+            None => vec![SolverChoice::Tnnmg, SolverChoice::Direct],
         },
     };
     std::fs::create_dir_all(&c.out)?;
     std::fs::create_dir_all(&c.figures)?;
-    let study = args.value("study", "all".to_string());
+    let study = cli.study;
     elapsed();
     log(&format!("machine: {}", machine()));
-    if study == "profile" {
+    if study == Study::Profile {
         // One run for `perf record`: phases setup / step / record by Instant.
-        let mut s = base(c.level, args.value("steps", 10_000));
-        if args.get("solver") == Some("direct") {
-            s.solver = SolverChoice::Direct;
+        let mut s = base(c.level, cli.steps);
+        if let Some(solver) = cli.solver {
+            s.solver = solver.into();
         }
         let (tmin, tmax) = window(&s);
         let tr = trace(&s, tmin, tmax, false)?;
@@ -863,15 +924,15 @@ fn main() -> Res<()> {
             tr.cpu_s
         ));
     }
-    if study == "all" || study == "time" {
+    if matches!(study, Study::All | Study::Time) {
         time_study(&c)?;
     }
-    if study == "all" || study == "tol" {
+    if matches!(study, Study::All | Study::Tol) {
         tol_study(&c)?;
     }
-    if study == "all" || study == "mesh" {
+    if matches!(study, Study::All | Study::Mesh) {
         mesh_study(&c)?;
-    } else if study == "energy" {
+    } else if study == Study::Energy {
         let lines = energy_study(&c)?;
         for (l, p) in lines {
             log(&format!("{l}: {p:?}"));

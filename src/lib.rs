@@ -1,140 +1,19 @@
-//! Shared helpers for the examples and benches of the rsf workspace: command-line flags,
-//! progress display, summaries and figures (PNG via `plotters`). Not a library for users —
-//! the libraries are the `rsf*` crates; plotting lives here so that they never depend on it.
+//! Shared helpers for the examples and benches of the rsf workspace: command-line parsing
+//! ([`cli`], clap), progress display, the statistics and figures of slider runs (PNG via
+//! `plotters`). Not a library for users — the libraries are the `rsf*` crates; running,
+//! recording and event detection are theirs; plotting lives here so that they never
+//! depend on it.
 
-use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::Path;
 
 use plotters::prelude::*;
 
-mod slider_run;
-pub use slider_run::{
-    machine, old_wall_time, read_series, run_slider, stats, write_series, write_summary,
-    RunOptions, SliderRun, SliderStats,
-};
-
-/// `--key value` and `--flag` command-line arguments.
-#[derive(Debug, Default)]
-pub struct Args {
-    values: HashMap<String, String>,
-}
-
-impl Args {
-    /// Parses `std::env::args()`; `--key value` pairs and bare `--flag`s.
-    ///
-    /// # Panics
-    /// On a positional argument (prints usage first).
-    pub fn parse(usage: &str) -> Self {
-        let mut values = HashMap::new();
-        let mut it = std::env::args().skip(1).peekable();
-        while let Some(a) = it.next() {
-            if a == "--help" || a == "-h" {
-                println!("{usage}");
-                std::process::exit(0);
-            }
-            let Some(key) = a.strip_prefix("--") else {
-                eprintln!("unexpected argument `{a}`\n{usage}");
-                std::process::exit(2);
-            };
-            let value = match it.peek() {
-                Some(v) if !v.starts_with("--") => it.next().unwrap(),
-                _ => "true".to_string(),
-            };
-            values.insert(key.to_string(), value);
-        }
-        Self { values }
-    }
-
-    /// The raw value of `--key`.
-    pub fn get(&self, key: &str) -> Option<&str> {
-        self.values.get(key).map(String::as_str)
-    }
-
-    /// `--key` parsed, or the default; exits with a message on a malformed value.
-    pub fn value<T: std::str::FromStr>(&self, key: &str, default: T) -> T {
-        match self.values.get(key) {
-            None => default,
-            Some(v) => v.parse().unwrap_or_else(|_| {
-                eprintln!("invalid value `{v}` for --{key}");
-                std::process::exit(2)
-            }),
-        }
-    }
-
-    /// Applies `--law dieterich|ruina`, `--integrator newmark|backward-euler|quasistatic`
-    /// and `--solver tnnmg|direct` (where given) to `scene`.
-    ///
-    /// # Errors
-    /// A message naming the flag and the unknown value.
-    pub fn apply_scene_choices(&self, scene: &mut rsf::SliderScene) -> Result<(), String> {
-        use rsf::{IntegratorKind, SolverChoice, StateLawKind};
-        let unknown =
-            |flag: &str, v: &str, allowed: &str| format!("unknown --{flag} `{v}` ({allowed})");
-        if let Some(v) = self.get("law") {
-            scene.state_law = match v {
-                "dieterich" | "aging" => StateLawKind::Dieterich,
-                "ruina" | "slip" => StateLawKind::Ruina,
-                _ => return Err(unknown("law", v, "dieterich|ruina")),
-            };
-        }
-        if let Some(v) = self.get("integrator") {
-            scene.integrator = match v {
-                "newmark" => IntegratorKind::Newmark,
-                "backward-euler" => IntegratorKind::BackwardEuler,
-                "quasistatic" => IntegratorKind::Quasistatic,
-                _ => {
-                    return Err(unknown(
-                        "integrator",
-                        v,
-                        "newmark|backward-euler|quasistatic",
-                    ))
-                }
-            };
-        }
-        if let Some(v) = self.get("solver") {
-            scene.solver = match v {
-                "auto" => SolverChoice::Auto,
-                "tnnmg" => SolverChoice::Tnnmg,
-                "direct" => SolverChoice::Direct,
-                _ => return Err(unknown("solver", v, "auto|tnnmg|direct")),
-            };
-        }
-        if let Some(v) = self.get("fixed-point") {
-            scene.fixed_point = match v {
-                "anderson" => rsf::FixedPointScheme::Anderson,
-                "paper" => rsf::FixedPointScheme::Paper,
-                _ => return Err(unknown("fixed-point", v, "anderson|paper")),
-            };
-        }
-        Ok(())
-    }
-
-    /// The step counts N of a τ = T/N study: `--steps N1,N2,...` (numbers such as `1e5`
-    /// accepted) or `default`, plus N = 10⁶ with `--with-1e6`.
-    ///
-    /// # Errors
-    /// A malformed list.
-    pub fn step_counts(&self, default: &[usize]) -> Result<Vec<usize>, String> {
-        let mut steps: Vec<usize> = match self.get("steps") {
-            Some(s) => s
-                .split(',')
-                .map(|v| v.parse::<f64>().map(|x| x as usize))
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("--steps `{s}`: {e}"))?,
-            None => default.to_vec(),
-        };
-        if self.flag("with-1e6") && !steps.contains(&1_000_000) {
-            steps.push(1_000_000);
-        }
-        Ok(steps)
-    }
-
-    /// Whether `--key` was given.
-    pub fn flag(&self, key: &str) -> bool {
-        self.values.contains_key(key)
-    }
-}
+pub mod cli;
+mod panels;
+mod run;
+pub use cli::{main_with, SceneArgs};
+pub use run::{machine, old_wall_time, stats, write_summary, Progress, SliderRun, SliderStats};
 
 /// A progress bar on stderr when it is a terminal, nothing otherwise.
 pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
@@ -169,6 +48,13 @@ pub struct Series<'a> {
     pub label: &'a str,
     /// Points `(x, y)`.
     pub points: &'a [(f64, f64)],
+}
+
+impl<'a> Series<'a> {
+    /// A single unlabelled series, as a one-element list for the plot functions.
+    pub fn alone(points: &'a [(f64, f64)]) -> [Series<'a>; 1] {
+        [Series { label: "", points }]
+    }
 }
 
 const COLORS: [RGBColor; 6] = [
@@ -333,13 +219,4 @@ pub fn space_time_map(
     }))?;
     root.present()?;
     Ok(())
-}
-
-/// Times of upward crossings of `threshold` by `series` (`(t, value)` pairs).
-pub fn upcrossings(series: &[(f64, f64)], threshold: f64) -> Vec<f64> {
-    series
-        .windows(2)
-        .filter(|w| w[0].1 <= threshold && w[1].1 > threshold)
-        .map(|w| w[1].0)
-        .collect()
 }

@@ -56,7 +56,7 @@ pub use potentials::{
     AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams,
     StateDependentTresca, Tresca, TrescaPotential,
 };
-pub use rsf_state::wright_omega_ln;
+pub use rsf_state::{wright_omega_ln, StateVariable};
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -169,4 +169,14 @@ pub trait FrictionLaw: Clone + Send + Sync {
 
     /// Friction coefficient `μ(V, α) = ϕ'(V, α)/σ̄_n` (dimensionless), e.g. (2.12).
     fn friction_coefficient(&self, v: f64, alpha: f64) -> f64;
+
+    /// What the state `α` passed to [`potential`](FrictionLaw::potential) means:
+    /// [`StateVariable::LogTheta`] (`α = ln θ`, θ in s) for the rate-and-state laws, the
+    /// default. A simulation refuses a state law whose
+    /// [`StateLaw::state_variable`](rsf_state::StateLaw::state_variable) differs (e.g. the
+    /// discontinuous law, `α = θ`, with Dieterich–Ruina friction would give μ ≈ 150).
+    /// Irrelevant when [`uses_state`](FrictionLaw::uses_state) is `false`.
+    fn state_variable(&self) -> StateVariable {
+        StateVariable::LogTheta
+    }
 }

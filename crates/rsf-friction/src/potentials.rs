@@ -2,7 +2,7 @@
 
 use crate::solve::solve_increasing;
 use crate::{ConvexPotential, Error, FrictionLaw, Result};
-use rsf_state::wright_omega_ln;
+use rsf_state::{wright_omega_ln, StateVariable};
 
 const LN_2: f64 = std::f64::consts::LN_2;
 
@@ -142,6 +142,7 @@ impl FrictionLaw for Tresca {
 pub struct StateDependentTresca<F> {
     mu: F,
     sigma_n: f64,
+    state_variable: StateVariable,
 }
 
 impl<F: Fn(f64) -> f64 + Clone + Send + Sync> StateDependentTresca<F> {
@@ -156,7 +157,17 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> StateDependentTresca<F> {
             sigma_n.is_finite() && sigma_n > 0.0,
             "finite and > 0",
         )?;
-        Ok(Self { mu, sigma_n })
+        Ok(Self {
+            mu,
+            sigma_n,
+            state_variable: StateVariable::LogTheta,
+        })
+    }
+    /// Declares what `α` means for `μ(α)` (default [`StateVariable::LogTheta`]), for the
+    /// consistency check against the state law ([`FrictionLaw::state_variable`]).
+    pub fn with_state_variable(mut self, state_variable: StateVariable) -> Self {
+        self.state_variable = state_variable;
+        self
     }
     fn mu_at(&self, alpha: f64) -> f64 {
         let m = (self.mu)(alpha);
@@ -179,6 +190,9 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> FrictionLaw for StateDependentTres
     fn friction_coefficient(&self, _v: f64, alpha: f64) -> f64 {
         sat(self.mu_at(alpha))
     }
+    fn state_variable(&self) -> StateVariable {
+        self.state_variable
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -187,6 +201,7 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> FrictionLaw for StateDependentTres
 
 /// Parameters of the rate-and-state laws (2.9), (2.12)–(2.13); may differ per node.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RateStateParams {
     /// Reference friction coefficient μ0 (dimensionless, finite).
     pub mu0: f64,

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use rsf_friction::{
     AsinhLaw, AsinhPotential, ConvexPotential, DieterichRuina, DieterichRuinaPotential, Error,
-    FrictionLaw, RateStateParams, Tresca, TrescaPotential,
+    FrictionLaw, RateStateParams, StateDependentTresca, Tresca, TrescaPotential,
 };
 
 const EPS: f64 = f64::EPSILON;
@@ -354,4 +354,25 @@ fn dieterich_ruina_cutoff_and_underflow() {
     let direct = r.kappa() * (v * (v / vm).ln() - v + vm);
     assert!((r.value(v) - direct).abs() <= 1e-12 * direct);
     assert_eq!(r.curvature(vm * (1.0 - 1e-12)), Some(0.0));
+}
+
+/// What each law expects the state to be, for the simulation's consistency check.
+#[test]
+fn laws_declare_their_state_variable() {
+    use rsf_friction::StateVariable;
+    assert_eq!(
+        DieterichRuina::new(paper()).unwrap().state_variable(),
+        StateVariable::LogTheta
+    );
+    assert_eq!(
+        AsinhLaw::new(paper()).unwrap().state_variable(),
+        StateVariable::LogTheta
+    );
+    let mu = StateDependentTresca::new(|a: f64| 0.6 + 0.01 * a, 1e5).unwrap();
+    assert_eq!(mu.state_variable(), StateVariable::LogTheta);
+    assert_eq!(
+        mu.with_state_variable(StateVariable::Theta)
+            .state_variable(),
+        StateVariable::Theta
+    );
 }

@@ -53,6 +53,10 @@ impl Aging {
 }
 
 impl StateLaw for Aging {
+    /// Monotone by construction (docs/math.md §2): no probe.
+    fn check_monotone(&self) -> Result<()> {
+        Ok(())
+    }
     fn dpsi_dalpha(&self, alpha: f64, v: f64) -> f64 {
         v / self.l - (-alpha).exp()
     }
@@ -111,6 +115,10 @@ impl Slip {
 }
 
 impl StateLaw for Slip {
+    /// Monotone by construction (docs/math.md §2): no probe.
+    fn check_monotone(&self) -> Result<()> {
+        Ok(())
+    }
     fn dpsi_dalpha(&self, alpha: f64, v: f64) -> f64 {
         if v > 0.0 {
             v / self.l * (alpha + ln_v_over_l(v, self.l))
@@ -157,6 +165,10 @@ impl StateLaw for Slip {
 pub struct Discontinuous;
 
 impl StateLaw for Discontinuous {
+    /// Monotone by construction (docs/math.md §2): no probe.
+    fn check_monotone(&self) -> Result<()> {
+        Ok(())
+    }
     /// `V sign(αV − 1)`, with the subgradient 0 at the kink `αV = 1`.
     fn dpsi_dalpha(&self, alpha: f64, v: f64) -> f64 {
         let p = alpha * v;

@@ -47,10 +47,14 @@
 mod generic;
 mod laws;
 mod omega;
+mod probe;
 
 pub use generic::generic_update;
 pub use laws::{Aging, Discontinuous, Slip};
 pub use omega::{wright_omega, wright_omega_ln};
+pub use probe::{
+    probe_monotonicity, PROBE_ALPHA_MAX, PROBE_ALPHA_MIN, PROBE_ALPHA_POINTS, PROBE_SLIP_RATES,
+};
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -102,6 +106,25 @@ pub enum Error {
         /// Remaining bracket width.
         width: f64,
     },
+    /// `∂ψ/∂α(·, V)` decreases between two neighbouring states of the probe grid
+    /// ([`probe_monotonicity`]): `ψ(·, V)` is not convex and the backward Euler update may
+    /// have several roots, of which the generic update would return one.
+    #[error(
+        "dpsi_dalpha is not nondecreasing in alpha: dpsi_dalpha({alpha_lo}, {v}) = {dpsi_lo:e} > \
+         dpsi_dalpha({alpha_hi}, {v}) = {dpsi_hi:e} (the state update could have several roots)"
+    )]
+    NotMonotone {
+        /// Slip rate (m/s).
+        v: f64,
+        /// The smaller state.
+        alpha_lo: f64,
+        /// The larger state.
+        alpha_hi: f64,
+        /// `∂ψ/∂α(alpha_lo, v)` (1/s).
+        dpsi_lo: f64,
+        /// `∂ψ/∂α(alpha_hi, v)` (1/s), smaller than `dpsi_lo`.
+        dpsi_hi: f64,
+    },
     /// The update produced a non-finite state (e.g. a closed form overflowed).
     #[error("state update gave a non-finite value {value}")]
     NonFinite {
@@ -115,6 +138,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// What the state variable `α` of a law is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum StateVariable {
     /// `α = ln θ`, `θ` in s (aging, slip laws; what the rate-state friction laws expect).
     LogTheta,
@@ -150,6 +174,17 @@ pub trait StateLaw: Clone + Send + Sync {
     /// The steady state at constant `V` (where `∂ψ/∂α = 0`), if it exists.
     fn steady_state(&self, _v: f64) -> Option<f64> {
         None
+    }
+
+    /// Checks that [`dpsi_dalpha`](StateLaw::dpsi_dalpha) is nondecreasing in `α`, as the
+    /// update needs. A simulation calls it once per frictional node at construction. The
+    /// default probes a documented grid ([`probe_monotonicity`]); the built-in laws, monotone
+    /// by construction, return `Ok(())` at once.
+    ///
+    /// # Errors
+    /// [`Error::NotMonotone`] or [`Error::NanDerivative`] (see [`probe_monotonicity`]).
+    fn check_monotone(&self) -> Result<()> {
+        probe_monotonicity(self)
     }
 
     /// Backward Euler step (3.5): `α_n = prox_{τψ(·, V)}(α_prev)`, the solution `β` of

@@ -307,3 +307,60 @@ fn generic_update_with_finite_difference_derivative() {
         );
     }
 }
+
+/// The built-in laws' `∂ψ/∂α` pass the probe on its grid (they skip it in
+/// `check_monotone`, so run the probe itself), monotone user laws pass, and a law with
+/// `∂ψ/∂α = 100 sin α` (several roots of the update) is caught with the decreasing pair.
+#[test]
+fn monotonicity_probe() {
+    use rsf_state::{probe_monotonicity, PROBE_ALPHA_MAX, PROBE_ALPHA_MIN};
+    probe_monotonicity(&Aging::new(1e-5).unwrap()).unwrap();
+    probe_monotonicity(&Slip::new(1e-5).unwrap()).unwrap();
+    probe_monotonicity(&Discontinuous).unwrap();
+    #[derive(Clone)]
+    struct Wavy;
+    impl StateLaw for Wavy {
+        fn dpsi_dalpha(&self, alpha: f64, _v: f64) -> f64 {
+            100.0 * alpha.sin()
+        }
+    }
+    match Wavy.check_monotone() {
+        Err(Error::NotMonotone {
+            alpha_lo,
+            alpha_hi,
+            dpsi_lo,
+            dpsi_hi,
+            ..
+        }) => {
+            assert!(alpha_lo < alpha_hi && dpsi_lo > dpsi_hi);
+            assert!((PROBE_ALPHA_MIN..=PROBE_ALPHA_MAX).contains(&alpha_lo));
+            assert_eq!(dpsi_lo, 100.0 * alpha_lo.sin());
+        }
+        other => panic!("expected NotMonotone, got {other:?}"),
+    }
+    // NaN on the grid is reported, not compared.
+    #[derive(Clone)]
+    struct NanAbove(f64);
+    impl StateLaw for NanAbove {
+        fn dpsi_dalpha(&self, alpha: f64, _v: f64) -> f64 {
+            if alpha > self.0 {
+                f64::NAN
+            } else {
+                alpha
+            }
+        }
+    }
+    assert!(matches!(
+        NanAbove(3.0).check_monotone(),
+        Err(Error::NanDerivative { .. })
+    ));
+    // Saturating at ±∞ is monotone.
+    #[derive(Clone)]
+    struct Steep;
+    impl StateLaw for Steep {
+        fn dpsi_dalpha(&self, alpha: f64, v: f64) -> f64 {
+            (v + 1.0) * alpha.powi(3).exp().min(f64::INFINITY)
+        }
+    }
+    Steep.check_monotone().unwrap();
+}

@@ -16,6 +16,7 @@ const MAGIC_V1: &[u8; 8] = b"RSFCKPT1";
 
 /// The dynamic state of a simulation after `step` steps.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Checkpoint {
     /// Space dimension `D`.
     pub dim: usize,

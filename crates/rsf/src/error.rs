@@ -1,6 +1,8 @@
 //! Error type of the composition crate.
 
-/// Errors of scenes, simulations and their output.
+use rsf_state::StateVariable;
+
+/// Errors of models, simulations, scenes and their output.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// Finite elements (mesh, assembly, constraints).
@@ -21,7 +23,8 @@ pub enum Error {
     /// The fixed point iteration of a time step did not converge within its budget.
     #[error(
         "fixed point iteration of step {step} (t = {time:.6e} s) did not converge in {iterations} \
-         iterations; velocity corrections (energy norm): {history:?}"
+         iterations; last velocity corrections (energy norm): {}",
+        last_corrections(history)
     )]
     FixedPointNotConverged {
         /// Time step index (1-based).
@@ -33,20 +36,87 @@ pub enum Error {
         /// ‖v^{ν+1} − v^ν‖ for every iteration.
         history: Vec<f64>,
     },
-    /// An invalid scene or simulation parameter, named.
-    #[error("invalid scene parameter `{name}`: {reason}")]
+    /// An invalid parameter, named (a field of a scene or builder, an argument).
+    #[error("invalid parameter `{name}`: {reason}")]
     InvalidParameter {
-        /// The parameter (TOML field) name.
+        /// The parameter name (the TOML field for scenes).
         name: String,
         /// What is wrong.
         reason: String,
     },
+    /// A node index outside the model.
+    #[error("{what}: node {node} is out of range (the model has {nodes} nodes)")]
+    NodeOutOfRange {
+        /// What the node was given for.
+        what: &'static str,
+        /// The node index.
+        node: usize,
+        /// Number of nodes of the model.
+        nodes: usize,
+    },
+    /// A frictional node whose velocity components are all free: with bilateral contact
+    /// the normal component must be fixed, or the fault opens (|v_n| > 0 on Γ_F).
+    #[error(
+        "frictional node {node} has no fixed velocity component: bilateral contact needs the \
+         normal component fixed on the frictional boundary"
+    )]
+    FreeNormal {
+        /// The mesh node.
+        node: usize,
+    },
+    /// The friction law and the state law disagree on what the state α is (e.g. the
+    /// discontinuous law, α = θ, with Dieterich–Ruina friction, α = ln θ).
+    #[error(
+        "frictional node {node}: the friction law expects the state as {}, the state law \
+         evolves {}",
+        describe(*friction),
+        describe(*state)
+    )]
+    StateVariableMismatch {
+        /// Position of the node in `model.frictional.nodes`.
+        node: usize,
+        /// What the friction law expects.
+        friction: StateVariable,
+        /// What the state law evolves.
+        state: StateVariable,
+    },
+    /// The state law of a frictional node failed its monotonicity probe.
+    #[error("state law of frictional node {node}")]
+    StateLaw {
+        /// Position of the node in `model.frictional.nodes`.
+        node: usize,
+        /// What the probe found.
+        #[source]
+        source: rsf_state::Error,
+    },
+    /// A boundary part of a model description cannot be used as asked.
+    #[error("boundary part `{part}`: {reason}")]
+    BoundaryPart {
+        /// The part's name (tag or given name).
+        part: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The initial equilibrium `K u₀ = F` has no unique solution under the constraints.
+    #[error(
+        "the initial equilibrium K u0 = F has no unique solution under the constraints \
+         (do the Dirichlet and frictional-normal constraints remove every rigid motion?)"
+    )]
+    Equilibrium(#[source] rsf_fem::Error),
     /// A scene file could not be parsed (unknown fields are named here).
     #[error("scene file: {0}")]
     SceneFile(String),
     /// Checkpoint does not match the simulation or is corrupt.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
+    /// An output file cannot be continued from a checkpoint.
+    #[error("cannot resume `{path}`: {reason}")]
+    Resume {
+        /// The output file.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// Output could not be written.
     #[error("i/o: {0}")]
     Io(#[from] std::io::Error),
@@ -59,5 +129,41 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> Error {
     Error::InvalidParameter {
         name: name.to_string(),
         reason: reason.into(),
+    }
+}
+
+fn describe(s: StateVariable) -> &'static str {
+    match s {
+        StateVariable::LogTheta => "alpha = ln(theta)",
+        StateVariable::Theta => "alpha = theta",
+    }
+}
+
+/// The last three entries of a correction history, formatted.
+fn last_corrections(history: &[f64]) -> String {
+    let tail = &history[history.len().saturating_sub(3)..];
+    let list: Vec<String> = tail.iter().map(|c| format!("{c:.3e}")).collect();
+    if history.len() > tail.len() {
+        format!("…, {}", list.join(", "))
+    } else {
+        list.join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Error;
+
+    #[test]
+    fn a_fixed_point_failure_shows_the_last_corrections_only() {
+        let e = Error::FixedPointNotConverged {
+            step: 7,
+            time: 0.5,
+            iterations: 100,
+            history: (0..100).map(f64::from).collect(),
+        };
+        let msg = e.to_string();
+        assert!(msg.ends_with("…, 9.700e1, 9.800e1, 9.900e1"), "{msg}");
+        assert!(msg.len() < 200, "{msg}");
     }
 }

@@ -155,7 +155,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for inconsistent lengths, τ ≤ 0 or non-finite values,
-    /// a missing mass matrix for a dynamic integrator; set-up errors of the solver.
+    /// a missing mass matrix for a dynamic integrator; the consistency errors
+    /// [`Error::FreeNormal`] (a frictional node without fixed normal component),
+    /// [`Error::StateVariableMismatch`] (friction and state law disagree on α),
+    /// [`Error::StateLaw`] (a state law fails its monotonicity probe); set-up errors of the
+    /// solver.
     pub fn new(
         model: Model<D>,
         friction_laws: Vec<L>,
@@ -166,6 +170,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         solver: &SolverKind,
         fixed_point: FixedPointOptions,
     ) -> Result<Self> {
+        crate::checks::check_construction(&model, &friction_laws, &state_laws, tau)?;
         model.validate()?;
         check_time_step(tau)
             .map_err(|_| invalid("time_step_s", format!("τ = {tau} must be finite and > 0")))?;

@@ -3,20 +3,19 @@
 
 use serde::{Deserialize, Serialize};
 
-use rsf_fem::{
-    body_force_load, lumped_weights, pipping_slider_coarse, Assembler, BoundarySegment,
-    ConstrainedSystem, Diagonal, LinearElasticity, MeshHierarchy,
-};
+use rsf_fem::{pipping_slider_coarse, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL};
 use rsf_friction::{DieterichRuina, RateStateParams};
-use rsf_state::{Aging, Slip};
-use rsf_time::{BackwardEuler, Newmark, Quasistatic};
+use rsf_state::{Aging, Slip, StateLaw};
+use rsf_time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
 use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
 
+use crate::builder::{Material, ModelBuilder};
 use crate::dynamic::AnySimulation;
 use crate::error::{invalid, Error, Result};
 use crate::fixed_point::FixedPointOptions;
-use crate::model::{DirichletVelocity, FrictionalBoundary, Model};
-use crate::simulation::Simulation;
+use crate::model::{Model, TimeFunction};
+use crate::simulation::NoState;
+use crate::simulation_builder::SimulationBuilder;
 use crate::solver::SolverKind;
 
 /// State law of a scene.
@@ -241,10 +240,38 @@ impl SliderScene {
         }
     }
 
-    /// Assembles the model at `self.level`: consistent mass (unless quasistatic),
-    /// plane-strain stiffness, gravity load, Γ_D (top: both components, velocity
-    /// `(V_D(t), 0)`), Γ_F (bottom: normal component fixed), the hierarchy's prolongations,
-    /// lumped weights and `u_0` solving `K u_0 = F` with the same constraints.
+    /// The material of the block (plane strain).
+    pub fn material(&self) -> Material {
+        Material {
+            youngs_modulus: self.youngs_modulus_pa,
+            poisson_ratio: self.poisson_ratio,
+            density: self.density_kg_per_m2,
+        }
+    }
+
+    /// End of the loading ramp `ramp_fraction · T` (s).
+    pub fn ramp_end_s(&self) -> f64 {
+        self.ramp_fraction * self.end_time_s
+    }
+
+    /// The loading history of Γ_D: the ramp to 1 over [`ramp_end_s`](Self::ramp_end_s).
+    pub fn loading(&self) -> TimeFunction {
+        TimeFunction::ramp(self.ramp_end_s())
+    }
+
+    /// The friction law of Γ_F (uniform Dieterich–Ruina with [`rate_state_params`](Self::rate_state_params)).
+    ///
+    /// # Errors
+    /// The friction crate's parameter error.
+    pub fn friction_law(&self) -> Result<DieterichRuina> {
+        Ok(DieterichRuina::new(self.rate_state_params())?)
+    }
+
+    /// Assembles the model at `self.level` with [`ModelBuilder`]: consistent mass (unless
+    /// quasistatic), plane-strain stiffness, gravity, Γ_D (top: both components, velocity
+    /// `(v_load g(t), 0)` with the ramp `g`), Γ_F (bottom, normal component fixed), the
+    /// hierarchy's prolongations, lumped weights and `u_0` solving `K u_0 = F` with the
+    /// same constraints.
     ///
     /// # Errors
     /// Invalid parameters; assembly errors.
@@ -254,62 +281,17 @@ impl SliderScene {
             DiagonalKind::Forward => Diagonal::Forward,
             DiagonalKind::Backward => Diagonal::Backward,
         };
-        let hierarchy =
-            MeshHierarchy::refine_uniformly(pipping_slider_coarse(diagonal), self.level);
-        let mesh = hierarchy.finest();
-        let assembler = Assembler::new(mesh)?;
-        let material = LinearElasticity::plane_strain(self.youngs_modulus_pa, self.poisson_ratio)?;
-        let with_mass = self.integrator != IntegratorKind::Quasistatic;
-        let stiffness = assembler.stiffness(mesh, &material)?;
-        let (mass, energy_norm) = if with_mass {
-            (
-                Some(assembler.mass(mesh, self.density_kg_per_m2)?),
-                assembler.energy(mesh, self.density_kg_per_m2, &material)?,
-            )
+        let builder = ModelBuilder::refined(pipping_slider_coarse(diagonal), self.level)?
+            .material(self.material())
+            .gravity([0.0, -self.gravity_m_per_s2])
+            .dirichlet(TAG_DIRICHLET, [self.loading_velocity_m_per_s, 0.0])
+            .frictional(TAG_FRICTIONAL)
+            .loading(self.loading());
+        if self.integrator == IntegratorKind::Quasistatic {
+            builder.without_mass().build()
         } else {
-            (None, stiffness.clone())
-        };
-        let rho_g = self.density_kg_per_m2 * self.gravity_m_per_s2;
-        let load = body_force_load(mesh, |_| [0.0, -rho_g])?;
-        let gamma_d = BoundarySegment::from_tag(mesh, rsf_fem::TAG_DIRICHLET)?;
-        let gamma_f = BoundarySegment::from_tag(mesh, rsf_fem::TAG_FRICTIONAL)?;
-        let n = 2 * mesh.num_vertices();
-        let mut fixed = vec![false; n];
-        let mut dofs = Vec::new();
-        for &p in gamma_d.nodes() {
-            fixed[2 * p] = true;
-            fixed[2 * p + 1] = true;
-            dofs.push(2 * p);
+            builder.build()
         }
-        for &p in gamma_f.nodes() {
-            fixed[2 * p + 1] = true;
-        }
-        let weights = lumped_weights(mesh, &gamma_f);
-        let frictional = FrictionalBoundary::new(gamma_f.nodes(), &weights)?;
-        let mut u0 = vec![0.0; n];
-        ConstrainedSystem::new(stiffness.as_ref(), &fixed)?.solve(&load, &mut u0)?;
-        let prolongations = (1..=self.level)
-            .map(|j| hierarchy.vector_prolongation(j).clone())
-            .collect();
-        let factors = vec![1.0; dofs.len()];
-        Ok(Model {
-            vertices: mesh.vertices().to_vec(),
-            mass,
-            stiffness,
-            energy_norm,
-            load,
-            fixed,
-            dirichlet: DirichletVelocity {
-                dofs,
-                factors,
-                v_max: self.loading_velocity_m_per_s,
-                t_ramp: self.ramp_fraction * self.end_time_s,
-            },
-            prolongations,
-            frictional,
-            initial_displacement: u0,
-            cells: mesh.cells().to_vec(),
-        })
     }
 
     /// The velocity solver choice with the scene's tolerance.
@@ -351,6 +333,55 @@ impl SliderScene {
         }
     }
 
+    /// A [`SimulationBuilder`] with everything the scene decides except the types: the
+    /// model, Dieterich–Ruina friction, α₀, τ, the solver and the fixed point options. The
+    /// state law and the integrator are left to the caller (the scene's `state_law` and
+    /// `integrator` choices are applied by [`build`](Self::build)); any of the parts may be
+    /// replaced, e.g. by a user state law or friction varying along Γ_F.
+    ///
+    /// ```no_run
+    /// use rsf::state::StateLaw;
+    /// use rsf::SliderScene;
+    ///
+    /// #[derive(Clone)]
+    /// struct NoHealing { l: f64 }
+    /// impl StateLaw for NoHealing {
+    ///     fn dpsi_dalpha(&self, _alpha: f64, v: f64) -> f64 { v / self.l }
+    /// }
+    ///
+    /// let scene = SliderScene { level: 2, ..SliderScene::default() };
+    /// let mut sim = scene.simulation_builder()?.state_law(NoHealing { l: scene.l_m }).build()?;
+    /// sim.run(10, &mut [])?;
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid parameters; assembly errors.
+    pub fn simulation_builder(
+        &self,
+    ) -> Result<SimulationBuilder<2, DieterichRuina, NoState, Newmark>> {
+        let model = self.build_model()?;
+        self.simulation_builder_with_model(model)
+    }
+
+    /// As [`simulation_builder`](Self::simulation_builder) on a model built (or modified)
+    /// by the caller.
+    ///
+    /// # Errors
+    /// Invalid parameters.
+    pub fn simulation_builder_with_model(
+        &self,
+        model: Model<2>,
+    ) -> Result<SimulationBuilder<2, DieterichRuina, NoState, Newmark>> {
+        self.validate()?;
+        Ok(SimulationBuilder::new(model)
+            .friction(self.friction_law()?)
+            .initial_state(self.alpha0)
+            .time_step(self.tau())
+            .solver(self.solver_kind())
+            .fixed_point(self.fixed_point_options()))
+    }
+
     /// Builds the simulation (monomorphised for the chosen law and integrator behind the
     /// object-safe [`AnySimulation`]).
     ///
@@ -366,50 +397,44 @@ impl SliderScene {
     /// # Errors
     /// As [`build`](Self::build).
     pub fn build_with_model(&self, model: Model<2>) -> Result<Box<dyn AnySimulation<2>>> {
-        self.validate()?;
-        let nf = model.frictional.len();
-        let laws = vec![DieterichRuina::new(self.rate_state_params())?; nf];
-        let alpha0 = vec![self.alpha0; nf];
-        let tau = self.tau();
-        let solver = self.solver_kind();
-        let fp = self.fixed_point_options();
-        macro_rules! make {
-            ($state:expr, $integ:expr) => {
-                Box::new(Simulation::new(
-                    model,
-                    laws,
-                    vec![$state; nf],
-                    alpha0,
-                    $integ,
-                    tau,
-                    &solver,
-                    fp,
-                )?) as Box<dyn AnySimulation<2>>
-            };
+        let b = self.simulation_builder_with_model(model)?;
+        fn boxed<S: StateLaw + 'static, I: VelocityIntegrator + 'static>(
+            b: SimulationBuilder<2, DieterichRuina, NoState, Newmark>,
+            state: S,
+            integrator: I,
+        ) -> Result<Box<dyn AnySimulation<2>>> {
+            Ok(Box::new(b.state_law(state).integrator(integrator).build()?))
         }
-        let aging = || Aging::new(self.l_m);
-        let slip = || Slip::new(self.l_m);
-        Ok(match (self.state_law, self.integrator) {
-            (StateLawKind::Dieterich, IntegratorKind::Newmark) => make!(aging()?, Newmark),
+        let l = self.l_m;
+        match (self.state_law, self.integrator) {
+            (StateLawKind::Dieterich, IntegratorKind::Newmark) => boxed(b, Aging::new(l)?, Newmark),
             (StateLawKind::Dieterich, IntegratorKind::BackwardEuler) => {
-                make!(aging()?, BackwardEuler)
+                boxed(b, Aging::new(l)?, BackwardEuler)
             }
             (StateLawKind::Dieterich, IntegratorKind::Quasistatic) => {
-                make!(aging()?, Quasistatic::new())
+                boxed(b, Aging::new(l)?, Quasistatic::new())
             }
-            (StateLawKind::Ruina, IntegratorKind::Newmark) => make!(slip()?, Newmark),
-            (StateLawKind::Ruina, IntegratorKind::BackwardEuler) => make!(slip()?, BackwardEuler),
+            (StateLawKind::Ruina, IntegratorKind::Newmark) => boxed(b, Slip::new(l)?, Newmark),
+            (StateLawKind::Ruina, IntegratorKind::BackwardEuler) => {
+                boxed(b, Slip::new(l)?, BackwardEuler)
+            }
             (StateLawKind::Ruina, IntegratorKind::Quasistatic) => {
-                make!(slip()?, Quasistatic::new())
+                boxed(b, Slip::new(l)?, Quasistatic::new())
             }
-        })
+        }
     }
 }
 
-/// Index of the vertex nearest to `x`.
-pub fn nearest_vertex<const D: usize>(vertices: &[[f64; D]], x: &[f64; D]) -> usize {
+/// Index of the vertex nearest to `x` (Euclidean distance; the first on ties).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for an empty vertex list or a non-finite `x`.
+pub fn nearest_vertex<const D: usize>(vertices: &[[f64; D]], x: &[f64; D]) -> Result<usize> {
+    if x.iter().any(|c| !c.is_finite()) {
+        return Err(invalid("point", format!("{x:?} must be finite")));
+    }
     let d2 = |v: &[f64; D]| v.iter().zip(x).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
     (0..vertices.len())
         .min_by(|&i, &j| d2(&vertices[i]).total_cmp(&d2(&vertices[j])))
-        .expect("a model has vertices")
+        .ok_or_else(|| invalid("vertices", "no vertex to choose from"))
 }

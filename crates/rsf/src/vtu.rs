@@ -12,9 +12,10 @@ use vtkio::model::{
 use crate::error::{Error, Result};
 use crate::observer::{Flow, Observer, StepState};
 
-/// Writes `frame_NNNNNN.vtu` every `every` steps into a folder, with point data
-/// `displacement` (m) and `velocity` (m/s) as 3-vectors, and `frames.pvd` (the time index
-/// ParaView opens) at the end of the run. Frames are written as the run goes.
+/// Writes `frame_NNNNNN.vtu` (NNNNNN the step) every `every` steps into a folder, with
+/// point data `displacement` (m) and `velocity` (m/s) as 3-vectors, and `frames.pvd` (the
+/// time index ParaView opens), rewritten after every frame so that an interrupted run
+/// leaves a usable index. [`VtuFrames::resume`] continues after a checkpoint.
 pub struct VtuFrames {
     dir: PathBuf,
     every: usize,
@@ -34,6 +35,61 @@ impl VtuFrames {
             every: every.max(1),
             frames: Vec::new(),
         })
+    }
+
+    /// Continues the frames in `dir` after a checkpoint of step `step`: the index keeps
+    /// the frames of steps `≤ step` (later ones are rewritten as the run reaches them).
+    ///
+    /// # Errors
+    /// [`Error::Resume`] if `dir/frames.pvd` is missing or malformed; I/O errors.
+    pub fn resume(dir: impl Into<PathBuf>, every: usize, step: usize) -> Result<Self> {
+        let mut frames = Self::create(dir, every)?;
+        let index = frames.dir.join("frames.pvd");
+        let fail = |reason: &str| Error::Resume {
+            path: index.display().to_string(),
+            reason: reason.to_owned(),
+        };
+        let text = std::fs::read_to_string(&index).map_err(|e| fail(&e.to_string()))?;
+        for line in text.lines().filter(|l| l.contains("<DataSet")) {
+            let attr = |name: &str| {
+                let start = line.find(&format!("{name}=\""))? + name.len() + 2;
+                let len = line[start..].find('"')?;
+                Some(&line[start..start + len])
+            };
+            let (Some(t), Some(file)) = (attr("timestep"), attr("file")) else {
+                return Err(fail("malformed DataSet line"));
+            };
+            let frame_step: usize = file
+                .strip_prefix("frame_")
+                .and_then(|f| f.strip_suffix(".vtu"))
+                .and_then(|n| n.parse().ok())
+                .ok_or_else(|| fail("malformed frame name"))?;
+            let time = t.parse().map_err(|_| fail("malformed time"))?;
+            if frame_step <= step {
+                frames.frames.push((time, file.to_owned()));
+            }
+        }
+        Ok(frames)
+    }
+
+    fn write_index(&self) -> Result<()> {
+        let path = self.dir.join("frames.pvd");
+        let tmp = path.with_extension("pvd.tmp");
+        {
+            let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+            writeln!(f, "<?xml version=\"1.0\"?>")?;
+            writeln!(
+                f,
+                "<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>"
+            )?;
+            for (t, name) in &self.frames {
+                writeln!(f, "    <DataSet timestep=\"{t:.9e}\" file=\"{name}\"/>")?;
+            }
+            writeln!(f, "  </Collection>\n</VTKFile>")?;
+            f.flush()?;
+        }
+        std::fs::rename(&tmp, &path)?;
+        Ok(())
     }
 }
 
@@ -94,21 +150,11 @@ impl<const D: usize> Observer<D> for VtuFrames {
         vtk.export(self.dir.join(&name))
             .map_err(|e| Error::Io(std::io::Error::other(format!("{name}: {e}"))))?;
         self.frames.push((s.report.time, name));
+        self.write_index()?;
         Ok(Flow::Continue(()))
     }
 
     fn finish(&mut self) -> Result<()> {
-        let mut f = std::io::BufWriter::new(std::fs::File::create(self.dir.join("frames.pvd"))?);
-        writeln!(f, "<?xml version=\"1.0\"?>")?;
-        writeln!(
-            f,
-            "<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>"
-        )?;
-        for (t, name) in &self.frames {
-            writeln!(f, "    <DataSet timestep=\"{t:.9e}\" file=\"{name}\"/>")?;
-        }
-        writeln!(f, "  </Collection>\n</VTKFile>")?;
-        f.flush()?;
-        Ok(())
+        self.write_index()
     }
 }

@@ -2,7 +2,7 @@
 //! loading phase, determinism, checkpoint/resume, scene validation. (TNNMG and the direct
 //! solver are compared through the first slip events in `slip_event.rs`.)
 
-use rsf::{nearest_vertex, Checkpoint, Error, SliderScene, SolverChoice, SLIDER_CENTRE};
+use rsf::{Checkpoint, Error, SliderScene, SolverChoice, SLIDER_CENTRE};
 
 /// The paper's scene at level 2 with its time step (τ = T/1e4), first `steps` steps.
 fn short(solver: SolverChoice) -> SliderScene {
@@ -16,7 +16,7 @@ fn short(solver: SolverChoice) -> SliderScene {
 /// Runs `steps` steps; returns (u_x0, v_x0) per step and the final checkpoint.
 fn run(scene: &SliderScene, steps: usize) -> (Vec<(f64, f64)>, Checkpoint) {
     let mut sim = scene.build().unwrap();
-    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
     let mut out = Vec::new();
     for _ in 0..steps {
         let r = sim

@@ -15,7 +15,7 @@ use rsf::state::Aging;
 use rsf::time::{Newmark, Quasistatic, VelocityIntegrator};
 use rsf::{
     Checkpoint, DirichletVelocity, FixedPointOptions, FrictionalBoundary, Model, Simulation,
-    SolverKind,
+    SolverKind, TimeFunction,
 };
 
 const PARAMS: RateStateParams = RateStateParams {
@@ -67,9 +67,8 @@ fn build<I: VelocityIntegrator>(
         fixed: vec![false, true],
         dirichlet: DirichletVelocity {
             dofs: vec![1],
-            factors: vec![1.0],
-            v_max: V_LOAD,
-            t_ramp: 0.0,
+            factors: vec![V_LOAD],
+            history: TimeFunction::Constant(1.0),
         },
         prolongations: Vec::new(),
         frictional: FrictionalBoundary::new(&[0], &[1.0]).unwrap(),

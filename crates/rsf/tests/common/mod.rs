@@ -12,8 +12,8 @@ use rsf::fem::{spmv_add, SparseMatrix};
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::time::Kinematics;
 use rsf::{
-    nearest_vertex, AnySimulation, Checkpointer, FrictionalProfile, IntegratorKind, Observer,
-    PointSeries, RunSummary, SliderScene, SolverChoice, StateLawKind, StepState, SLIDER_CENTRE,
+    AnySimulation, Checkpointer, FrictionalProfile, IntegratorKind, Observer, PointSeries,
+    RunSummary, SliderScene, SolverChoice, StateLawKind, StepState, SLIDER_CENTRE,
 };
 
 /// A running simulation, as the tests hold it.
@@ -190,7 +190,7 @@ impl Recorder {
             along: fb.along.clone(),
             u_start: nodes.iter().map(|&p| u[2 * p]).collect(),
             nodes,
-            x0: nearest_vertex(&model.vertices, &SLIDER_CENTRE),
+            x0: model.nearest_node(&SLIDER_CENTRE).expect("x0 is a vertex"),
             ..Self::default()
         }
     }
@@ -251,19 +251,18 @@ pub fn first_crossing(t: &[f64], x: &[f64], level: f64, after: f64) -> Option<f6
 }
 
 /// Start times of the slip events in `x` (the largest slip rate per step): an event starts
-/// where `x` rises to `on` and ends where it has fallen back below `off < on`.
+/// where `x` rises above `on` and ends where it has fallen back below `off < on` (the
+/// library's [`rsf::EventDetector`]).
 pub fn event_starts(t: &[f64], x: &[f64], on: f64, off: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut inside = false;
-    for (&ti, &xi) in t.iter().zip(x) {
-        if !inside && xi >= on {
-            inside = true;
-            out.push(ti);
-        } else if inside && xi < off {
-            inside = false;
-        }
+    let mut d = rsf::EventDetector::new(rsf::EventThresholds {
+        onset: on,
+        end: off,
+    })
+    .expect("0 < off <= on");
+    for (k, (&ti, &xi)) in t.iter().zip(x).enumerate() {
+        d.push(k + 1, ti, xi, &[]);
     }
-    out
+    d.events().iter().map(|e| e.onset_s).collect()
 }
 
 /// The observed order `log2((x₁ − x₂)/(x₂ − x₃))` of values at steps τ, τ/2, τ/4.
@@ -295,14 +294,17 @@ pub fn friction_stress(law: &DieterichRuina, alpha: f64, slip_rate: f64) -> f64 
 }
 
 /// A [`PointSeries`] at x0 into `path`: CSV `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`.
-pub fn point_series(sim: &dyn AnySimulation<2>, path: &Path) -> PointSeries {
-    let x0 = nearest_vertex(&sim.model().vertices, &SLIDER_CENTRE);
-    PointSeries::create(path, x0).expect("series file")
+pub fn point_series(sim: &dyn AnySimulation<2>, path: &Path) -> PointSeries<2> {
+    let x0 = sim
+        .model()
+        .nearest_node(&SLIDER_CENTRE)
+        .expect("x0 is a vertex");
+    PointSeries::create(path, sim.model(), x0).expect("series file")
 }
 
 /// A [`FrictionalProfile`] into `path` over `[t0, t1]`, every `every`-th step: CSV
 /// `t_s,x_m,slip_rate_mps,alpha`.
-pub fn frictional_profile(path: &Path, t0: f64, t1: f64, every: usize) -> FrictionalProfile {
+pub fn frictional_profile(path: &Path, t0: f64, t1: f64, every: usize) -> FrictionalProfile<2> {
     FrictionalProfile::create(path, t0, t1, every).expect("profile file")
 }
 

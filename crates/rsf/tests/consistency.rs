@@ -1,0 +1,218 @@
+//! What used to run silently with wrong physics, or panic, is a typed error naming the
+//! problem (issue 11): mismatched state variables, a free normal on Γ_F, non-finite
+//! checkpoints, a non-monotone user state law, out-of-range nodes, missing parts.
+
+use rsf::friction::{DieterichRuina, StateDependentTresca, StateVariable};
+use rsf::state::{Aging, Discontinuous, StateLaw};
+use rsf::{
+    Checkpoint, Error, EventThresholds, FrictionalProfile, Model, PointSeries, Recorder,
+    SimulationBuilder, SliderScene, SlipEvents,
+};
+
+fn model() -> Model<2> {
+    SliderScene {
+        level: 1,
+        ..SliderScene::default()
+    }
+    .build_model()
+    .unwrap()
+}
+
+fn paper_friction() -> DieterichRuina {
+    SliderScene::default().friction_law().unwrap()
+}
+
+#[test]
+fn theta_state_law_with_log_theta_friction_is_refused() {
+    let e = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .state_law(Discontinuous)
+        .initial_state(1.0)
+        .time_step(1e-3)
+        .build()
+        .err()
+        .unwrap();
+    assert!(
+        matches!(
+            e,
+            Error::StateVariableMismatch {
+                node: 0,
+                friction: StateVariable::LogTheta,
+                state: StateVariable::Theta
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("alpha = ln(theta)"));
+    // A friction law declared in θ accepts it.
+    let mu = StateDependentTresca::new(|theta: f64| 0.6 + 0.01 * theta, 1e4)
+        .unwrap()
+        .with_state_variable(StateVariable::Theta);
+    assert!(SimulationBuilder::new(model())
+        .friction(mu)
+        .state_law(Discontinuous)
+        .initial_state(1.0)
+        .time_step(1e-3)
+        .build()
+        .is_ok());
+}
+
+#[test]
+fn a_free_normal_on_the_fault_is_refused() {
+    let mut m = model();
+    let p = m.frictional.nodes[3];
+    m.fixed[2 * p + 1] = false;
+    let e = SimulationBuilder::new(m)
+        .friction(paper_friction())
+        .state_law(Aging::new(1e-5).unwrap())
+        .initial_state(-10.0)
+        .time_step(1e-3)
+        .build()
+        .err()
+        .unwrap();
+    assert!(matches!(e, Error::FreeNormal { node } if node == p), "{e}");
+}
+
+/// `∂ψ/∂α = 100 sin α`: not monotone, seven roots of the update for some inputs.
+#[derive(Clone)]
+struct Wavy;
+impl StateLaw for Wavy {
+    fn dpsi_dalpha(&self, alpha: f64, _v: f64) -> f64 {
+        100.0 * alpha.sin()
+    }
+}
+
+/// Aging law written by a user (monotone): passes the probe.
+#[derive(Clone)]
+struct UserAging(f64);
+impl StateLaw for UserAging {
+    fn dpsi_dalpha(&self, alpha: f64, v: f64) -> f64 {
+        v / self.0 - (-alpha).exp()
+    }
+}
+
+#[test]
+fn a_non_monotone_user_state_law_is_refused() {
+    let build = |law| {
+        SimulationBuilder::new(model())
+            .friction(paper_friction())
+            .state_law(law)
+            .initial_state(-10.0)
+            .time_step(1e-3)
+            .build()
+    };
+    let e = build(Wavy).err().unwrap();
+    assert!(
+        matches!(
+            e,
+            Error::StateLaw {
+                node: 0,
+                source: rsf::state::Error::NotMonotone { .. }
+            }
+        ),
+        "{e}"
+    );
+    let cause = std::error::Error::source(&e).unwrap().to_string();
+    assert!(cause.contains("not nondecreasing"), "{cause}");
+    let ok = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .state_law(UserAging(1e-5))
+        .initial_state(-10.0)
+        .time_step(1e-3)
+        .build();
+    assert!(ok.is_ok());
+    // The probe alone, on the documented grid.
+    assert!(Wavy.check_monotone().is_err());
+    assert!(UserAging(1e-5).check_monotone().is_ok());
+}
+
+#[test]
+fn non_finite_checkpoints_are_refused() {
+    let mut sim = SliderScene {
+        level: 1,
+        ..SliderScene::default()
+    }
+    .build()
+    .unwrap();
+    sim.run(2, &mut []).unwrap();
+    let good = sim.checkpoint();
+    for corrupt in [
+        |c: &mut Checkpoint| c.alpha[0] = f64::NAN,
+        |c: &mut Checkpoint| c.u[3] = f64::INFINITY,
+        |c: &mut Checkpoint| c.time = f64::NAN,
+        |c: &mut Checkpoint| c.tau = -1.0,
+    ] {
+        let mut c = good.clone();
+        corrupt(&mut c);
+        assert!(matches!(sim.restore(&c), Err(Error::Checkpoint(_))));
+    }
+    // The failed restores left the simulation as it was.
+    assert_eq!(sim.checkpoint(), good);
+}
+
+#[test]
+fn out_of_range_nodes_and_empty_meshes_are_errors() {
+    let m = model();
+    let n = m.num_nodes();
+    let dir = std::env::temp_dir().join(format!("rsf-consistency-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let e = PointSeries::create(&dir.join("x.csv"), &m, n)
+        .err()
+        .unwrap();
+    assert!(matches!(e, Error::NodeOutOfRange { node, nodes, .. } if node == n && nodes == n));
+    assert!(Recorder::new(&m, &[0, n + 5], 1).is_err());
+    assert!(SlipEvents::new(EventThresholds::default())
+        .unwrap()
+        .slip_at(&m, usize::MAX)
+        .is_err());
+    assert!(SlipEvents::new(EventThresholds {
+        onset: 1e-4,
+        end: 1e-3
+    })
+    .is_err());
+    assert!(FrictionalProfile::<2>::create(&dir.join("p.csv"), 1.0, 0.0, 1).is_err());
+    assert!(FrictionalProfile::<2>::create(&dir.join("p.csv"), 0.0, 1.0, 0).is_err());
+    assert!(rsf::nearest_vertex::<2>(&[], &[0.0, 0.0]).is_err());
+    assert!(m.nearest_node(&[f64::NAN, 0.0]).is_err());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn missing_parts_of_a_simulation_are_named() {
+    let e = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .state_law(Aging::new(1e-5).unwrap())
+        .initial_state(-10.0)
+        .build()
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("time_step"), "{e}");
+    let e = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .state_law(Aging::new(1e-5).unwrap())
+        .time_step(1e-3)
+        .build()
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("initial_state"), "{e}");
+    // Friction with state but no state law.
+    let e = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .initial_state(-10.0)
+        .time_step(1e-3)
+        .build()
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("state_law"), "{e}");
+    // τ is named as the simulation's parameter, not a scene's.
+    let e = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .state_law(Aging::new(1e-5).unwrap())
+        .initial_state(-10.0)
+        .time_step(f64::NAN)
+        .build()
+        .err()
+        .unwrap();
+    let msg = e.to_string();
+    assert!(msg.contains("`tau`") && !msg.contains("scene"), "{msg}");
+}

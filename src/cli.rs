@@ -1,0 +1,266 @@
+//! Command-line parsing shared by the examples (clap derive) and how they end: errors are
+//! printed with `Display` and their causes, the exit code is non-zero.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::ValueEnum;
+use rsf::{FixedPointScheme, IntegratorKind, SliderScene, SolverChoice, StateLawKind};
+
+/// State law (`--law`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Law {
+    /// Dieterich's aging law.
+    #[value(alias = "aging")]
+    Dieterich,
+    /// Ruina's slip law.
+    #[value(alias = "slip")]
+    Ruina,
+}
+
+/// Velocity integrator (`--integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Integrator {
+    /// Newmark, β = ¼, γ = ½.
+    Newmark,
+    /// Backward Euler.
+    BackwardEuler,
+    /// Quasistatic.
+    Quasistatic,
+}
+
+/// Velocity solver (`--solver`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Solver {
+    /// Direct while Γ_F is small, TNNMG beyond.
+    Auto,
+    /// TNNMG.
+    Tnnmg,
+    /// Direct condensation onto Γ_F.
+    Direct,
+}
+
+/// Fixed point scheme (`--fixed-point`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FixedPoint {
+    /// Anderson acceleration (default).
+    Anderson,
+    /// The paper's relaxed iteration.
+    Paper,
+}
+
+impl From<Law> for StateLawKind {
+    fn from(l: Law) -> Self {
+        match l {
+            Law::Dieterich => StateLawKind::Dieterich,
+            Law::Ruina => StateLawKind::Ruina,
+        }
+    }
+}
+
+impl From<Integrator> for IntegratorKind {
+    fn from(i: Integrator) -> Self {
+        match i {
+            Integrator::Newmark => IntegratorKind::Newmark,
+            Integrator::BackwardEuler => IntegratorKind::BackwardEuler,
+            Integrator::Quasistatic => IntegratorKind::Quasistatic,
+        }
+    }
+}
+
+impl From<Solver> for SolverChoice {
+    fn from(s: Solver) -> Self {
+        match s {
+            Solver::Auto => SolverChoice::Auto,
+            Solver::Tnnmg => SolverChoice::Tnnmg,
+            Solver::Direct => SolverChoice::Direct,
+        }
+    }
+}
+
+impl From<FixedPoint> for FixedPointScheme {
+    fn from(f: FixedPoint) -> Self {
+        match f {
+            FixedPoint::Anderson => FixedPointScheme::Anderson,
+            FixedPoint::Paper => FixedPointScheme::Paper,
+        }
+    }
+}
+
+/// The scene flags every slider example accepts; unset flags keep the scene's value.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SceneArgs {
+    /// Scene file (TOML, fields of `rsf::SliderScene`); flags override it.
+    #[arg(long, value_name = "FILE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Refinement level j of the coarse 2 × 6-vertex grid.
+    #[arg(long, value_name = "J")]
+    pub level: Option<usize>,
+    /// Final time T (s).
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    pub end_time: Option<f64>,
+    /// State law.
+    #[arg(long, value_enum)]
+    pub law: Option<Law>,
+    /// Velocity integrator.
+    #[arg(long, value_enum)]
+    pub integrator: Option<Integrator>,
+    /// Velocity solver.
+    #[arg(long, value_enum)]
+    pub solver: Option<Solver>,
+    /// Fixed point scheme.
+    #[arg(long, value_enum)]
+    pub fixed_point: Option<FixedPoint>,
+}
+
+impl SceneArgs {
+    /// `base` (or the `--scene` file) with the given flags applied, validated.
+    ///
+    /// # Errors
+    /// I/O and scene-file errors; invalid parameters.
+    pub fn scene(&self, base: SliderScene) -> Result<SliderScene, Box<dyn std::error::Error>> {
+        let mut scene = match &self.scene {
+            Some(path) => {
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+                SliderScene::from_toml(&text)?
+            }
+            None => base,
+        };
+        if let Some(j) = self.level {
+            scene.level = j;
+        }
+        if let Some(t) = self.end_time {
+            scene.end_time_s = t;
+        }
+        if let Some(l) = self.law {
+            scene.state_law = l.into();
+        }
+        if let Some(i) = self.integrator {
+            scene.integrator = i.into();
+        }
+        if let Some(s) = self.solver {
+            scene.solver = s.into();
+        }
+        if let Some(f) = self.fixed_point {
+            scene.fixed_point = f.into();
+        }
+        scene.validate()?;
+        Ok(scene)
+    }
+}
+
+/// The step counts N (τ = T/N) of a time-step study.
+#[derive(Debug, Clone, clap::Args)]
+pub struct StepCounts {
+    /// Step counts N (τ = T/N; comma separated, `1e5` accepted).
+    #[arg(long, value_delimiter = ',', value_parser = step_count, default_value = "10000,100000")]
+    pub steps: Vec<usize>,
+    /// Add N = 10⁶ (hours).
+    #[arg(long)]
+    pub with_1e6: bool,
+}
+
+impl StepCounts {
+    /// The counts, with 10⁶ appended for `--with-1e6`.
+    pub fn counts(&self) -> Vec<usize> {
+        let mut steps = self.steps.clone();
+        if self.with_1e6 && !steps.contains(&1_000_000) {
+            steps.push(1_000_000);
+        }
+        steps
+    }
+}
+
+/// The command line of an example without options (`--help`, `--version`; anything else
+/// is rejected).
+#[derive(Debug, clap::Parser)]
+#[command(version)]
+pub struct NoArgs {}
+
+/// A step count written as an integer or in scientific notation (`1e5`).
+///
+/// # Errors
+/// A message for anything that is not a positive whole number.
+pub fn step_count(s: &str) -> Result<usize, String> {
+    let x: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if x >= 1.0 && x.fract() == 0.0 && x <= 1e12 {
+        Ok(x as usize)
+    } else {
+        Err(format!("`{s}` is not a positive whole number of steps"))
+    }
+}
+
+/// A window `A,B` of two increasing numbers.
+///
+/// # Errors
+/// A message for anything else.
+pub fn window(s: &str) -> Result<(f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("`{s}`: {e}"))?;
+    match v[..] {
+        [a, b] if a < b => Ok((a, b)),
+        _ => Err(format!("`{s}`: expected A,B with A < B")),
+    }
+}
+
+/// Runs an example's body: on error prints `error: …` and its causes (one line each, at
+/// most five) to stderr and exits with code 1.
+pub fn main_with(body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>>) -> ExitCode {
+    match body() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            let mut cause = e.source();
+            for _ in 0..5 {
+                let Some(c) = cause else { break };
+                eprintln!("  caused by: {c}");
+                cause = c.source();
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::{step_count, window, SceneArgs};
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        scene: SceneArgs,
+    }
+
+    #[test]
+    fn a_misspelt_flag_is_an_error_with_a_suggestion() {
+        let e = Cli::try_parse_from(["x", "--levle", "1"]).err().unwrap();
+        assert_eq!(e.kind(), clap::error::ErrorKind::UnknownArgument);
+        assert!(e.to_string().contains("--level"), "{e}");
+        let e = Cli::try_parse_from(["x", "--law", "regularized"])
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("dieterich"), "{e}");
+        let cli = Cli::try_parse_from(["x", "--level", "2", "--law", "slip"]).unwrap();
+        let scene = cli.scene.scene(rsf::SliderScene::default()).unwrap();
+        assert_eq!(
+            (scene.level, scene.state_law),
+            (2, rsf::StateLawKind::Ruina)
+        );
+        let cli = Cli::try_parse_from(["x", "--end-time", "-1"]).unwrap();
+        assert!(cli.scene.scene(rsf::SliderScene::default()).is_err());
+    }
+
+    #[test]
+    fn numbers_of_steps_and_windows() {
+        assert_eq!(step_count("1e4"), Ok(10_000));
+        assert!(step_count("0").is_err() && step_count("1.5").is_err());
+        assert_eq!(window("0.5,0.75"), Ok((0.5, 0.75)));
+        assert!(window("0.75,0.5").is_err() && window("1").is_err());
+    }
+}

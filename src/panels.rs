@@ -1,0 +1,172 @@
+//! Multi-panel figures with min/max thinning of long series.
+
+use std::path::Path;
+
+impl crate::Series<'_> {
+    /// Several plots in one PNG: side by side (`columns`) or stacked, one per
+    /// `(panel title, series)`, sharing the x range `x_range` and (if given) the y range.
+    /// With `log_y` the y values are plotted as log10. Long series are thinned to a
+    /// min/max envelope per pixel column so that peaks survive and the file stays small.
+    ///
+    /// # Errors
+    /// Drawing or file errors.
+    pub fn panels(
+        path: &Path,
+        title: &str,
+        x_label: &str,
+        y_label: &str,
+        panels: &[(&str, &[crate::Series<'_>])],
+        columns: bool,
+        log_y: bool,
+        x_range: (f64, f64),
+        y_range: Option<(f64, f64)>,
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        use plotters::prelude::*;
+        crate::init_fonts();
+        let n = panels.len().max(1);
+        let (w, h) = if columns {
+            ((400 * n as u32 + 100).max(1000), 450)
+        } else {
+            (1000, 220 * n as u32 + 60)
+        };
+        let colors = [
+            RGBColor(31, 119, 180),
+            RGBColor(214, 39, 40),
+            RGBColor(44, 160, 44),
+            RGBColor(255, 127, 14),
+        ];
+        let ty = |v: f64| {
+            if log_y {
+                v.abs().max(1e-300).log10()
+            } else {
+                v
+            }
+        };
+        let thinned: Vec<Vec<Vec<(f64, f64)>>> = panels
+            .iter()
+            .map(|(_, ss)| {
+                ss.iter()
+                    .map(|s| envelope(s.points, x_range, 1200, ty))
+                    .collect()
+            })
+            .collect();
+        let (y0, y1) = y_range.map_or_else(
+            || {
+                let (lo, hi) = thinned
+                    .iter()
+                    .flatten()
+                    .flatten()
+                    .filter(|p| p.1.is_finite())
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                        (l.min(p.1), h.max(p.1))
+                    });
+                if lo < hi {
+                    (lo, hi)
+                } else {
+                    (lo - 1.0, lo + 1.0)
+                }
+            },
+            |(a, b)| (ty(a), ty(b)),
+        );
+        let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let root = root.titled(title, ("sans-serif", 20))?;
+        let areas = if columns {
+            root.split_evenly((1, n))
+        } else {
+            root.split_evenly((n, 1))
+        };
+        for (i, ((name, ss), area)) in panels.iter().zip(&areas).enumerate() {
+            let mut chart = ChartBuilder::on(area)
+                .caption(*name, ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(if columns || i + 1 == n { 40 } else { 25 })
+                .y_label_area_size(70)
+                .build_cartesian_2d(x_range.0..x_range.1, y0..y1)?;
+            let yl = if log_y {
+                format!("log10 {y_label}")
+            } else {
+                y_label.to_string()
+            };
+            chart
+                .configure_mesh()
+                .x_desc(if columns || i + 1 == n { x_label } else { "" })
+                .y_desc(if columns && i > 0 { String::new() } else { yl })
+                .x_labels(6)
+                .y_labels(6)
+                .label_style(("sans-serif", 13))
+                .draw()?;
+            for (k, s) in ss.iter().enumerate() {
+                let color = colors[k % colors.len()];
+                chart
+                    .draw_series(LineSeries::new(
+                        thinned[i][k].iter().copied(),
+                        color.stroke_width(1),
+                    ))?
+                    .label(s.label)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+            }
+            if ss.len() > 1 {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.8))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 13))
+                    .draw()?;
+            }
+        }
+        root.present()?;
+        Ok(())
+    }
+}
+
+/// Points of `points` inside `x_range`, y mapped by `ty`, thinned to the first, minimum,
+/// maximum and last point of each of `bins` equal x bins (order kept).
+fn envelope(
+    points: &[(f64, f64)],
+    x_range: (f64, f64),
+    bins: usize,
+    ty: impl Fn(f64) -> f64,
+) -> Vec<(f64, f64)> {
+    let inside: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| p.0 >= x_range.0 && p.0 <= x_range.1)
+        .map(|p| (p.0, ty(p.1)))
+        .collect();
+    if inside.len() <= 4 * bins {
+        return inside;
+    }
+    let width = (x_range.1 - x_range.0) / bins as f64;
+    let mut out = Vec::with_capacity(4 * bins);
+    let mut i = 0;
+    while i < inside.len() {
+        let b = ((inside[i].0 - x_range.0) / width).floor();
+        let mut j = i;
+        while j < inside.len() && ((inside[j].0 - x_range.0) / width).floor() == b {
+            j += 1;
+        }
+        let bin = &inside[i..j];
+        let (mut lo, mut hi) = (0, 0);
+        for (k, p) in bin.iter().enumerate() {
+            if p.1 < bin[lo].1 {
+                lo = k;
+            }
+            if p.1 > bin[hi].1 {
+                hi = k;
+            }
+        }
+        let mut picks = [0, lo.min(hi), lo.max(hi), bin.len() - 1];
+        picks.sort_unstable();
+        let mut last = usize::MAX;
+        for k in picks {
+            if k != last {
+                out.push(bin[k]);
+                last = k;
+            }
+        }
+        i = j;
+    }
+    out
+}

@@ -1,0 +1,274 @@
+//! What the figures and tables of a slider run need: plot-ready series built from the
+//! library's records (a [`Recorder`], or [`PointSeries`](rsf::PointSeries) /
+//! [`FrictionalProfile`](rsf::FrictionalProfile) files read back), their statistics (slip
+//! events by the library's [`EventDetector`]), `summary.json`, and a progress bar.
+
+use std::path::Path;
+
+use rsf::{
+    EventDetector, EventThresholds, Flow, Observer, ProfileRow, Recorder, SeriesRow, SliderScene,
+    StepState,
+};
+
+/// Plot-ready series of a slider run at x0 and on Γ_F.
+#[derive(Debug, Clone, Default)]
+pub struct SliderRun {
+    /// Degrees of freedom.
+    pub dofs: usize,
+    /// Frictional nodes.
+    pub frictional_nodes: usize,
+    /// `(t, u_x(x0))`.
+    pub u_x0: Vec<(f64, f64)>,
+    /// `(t, v_x(x0))`.
+    pub v_x0: Vec<(f64, f64)>,
+    /// `(t, max_p |v_p|)` on Γ_F.
+    pub max_slip_rate: Vec<(f64, f64)>,
+    /// Fixed point iterations per step.
+    pub fpi: Vec<usize>,
+    /// Velocity-solver iterations per step.
+    pub solver_iterations: Vec<usize>,
+    /// Steps that used a damped fixed point step.
+    pub relaxed_steps: usize,
+    /// Space–time map: sample times, positions along Γ_F, slip rates (one row per time).
+    pub map: (Vec<f64>, Vec<f64>, Vec<Vec<f64>>),
+    /// Wall time of the stepping (s).
+    pub seconds: f64,
+    /// Wall time of assembly and set-up (s).
+    pub setup_seconds: f64,
+}
+
+impl SliderRun {
+    /// Runs `scene` to its end time with a progress bar, recording x0 every step and Γ_F
+    /// every `map_every` steps (0: never); with `series_csv`, also writes the
+    /// [`PointSeries`](rsf::PointSeries) at x0 there.
+    ///
+    /// # Errors
+    /// Scene, solver and I/O errors.
+    pub fn record(
+        scene: &SliderScene,
+        map_every: usize,
+        series_csv: Option<&Path>,
+    ) -> rsf::Result<Self> {
+        let setup = std::time::Instant::now();
+        let mut sim = scene.build()?;
+        let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE)?;
+        let mut rec = Recorder::new(sim.model(), &[x0], map_every)?;
+        let mut series = match series_csv {
+            Some(path) => Some(rsf::PointSeries::create(path, sim.model(), x0)?),
+            None => None,
+        };
+        let mut progress = Progress::new(scene.steps, &format!("τ = T/{}", scene.steps));
+        let setup_seconds = setup.elapsed().as_secs_f64();
+        let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut rec, &mut progress];
+        if let Some(s) = series.as_mut() {
+            observers.push(s);
+        }
+        let summary = sim.run_until(rsf::Until::Time(scene.end_time_s), &mut observers)?;
+        let mut run = Self {
+            seconds: summary.seconds,
+            setup_seconds,
+            ..Self::default()
+        };
+        run.extend_from_recorder(&rec, sim.model());
+        Ok(run)
+    }
+
+    /// Appends the steps of `rec` (point 0 = x0) and its Γ_F snapshots as map rows.
+    pub fn extend_from_recorder(&mut self, rec: &Recorder<2>, model: &rsf::Model<2>) {
+        self.dofs = model.num_dofs();
+        self.frictional_nodes = model.frictional.len();
+        for ((r, u), v) in rec
+            .reports()
+            .iter()
+            .zip(rec.displacement(0))
+            .zip(rec.velocity(0))
+        {
+            self.u_x0.push((r.time, u[0]));
+            self.v_x0.push((r.time, v[0]));
+            self.max_slip_rate.push((r.time, r.max_slip_rate));
+            self.fpi.push(r.fixed_point_iterations);
+            self.solver_iterations.push(r.solver_iterations);
+            self.relaxed_steps += usize::from(r.relaxed_iterations > 0);
+        }
+        if self.map.1.is_empty() {
+            self.map.1 = rec
+                .fault_nodes()
+                .iter()
+                .map(|&p| model.vertices[p][0])
+                .collect();
+        }
+        for i in 0..rec.snapshots() {
+            let (_, t) = rec.snapshot_time(i).expect("snapshot in range");
+            self.map.0.push(t);
+            self.map.2.push(rec.slip_rates(i).to_vec());
+        }
+    }
+
+    /// The series of a [`PointSeries`](rsf::PointSeries) file at x0, read back.
+    pub fn from_series(rows: &[SeriesRow<2>]) -> Self {
+        let mut run = Self::default();
+        for r in rows {
+            run.u_x0.push((r.time, r.u[0]));
+            run.v_x0.push((r.time, r.v[0]));
+            run.max_slip_rate.push((r.time, r.max_slip_rate));
+            run.fpi.push(r.fixed_point_iterations);
+            run.solver_iterations.push(r.solver_iterations);
+            run.relaxed_steps += usize::from(r.relaxed_iterations > 0);
+        }
+        run
+    }
+
+    /// The map from the rows of a [`FrictionalProfile`](rsf::FrictionalProfile) file (one
+    /// block of rows per recorded step, nodes along Γ_F).
+    pub fn set_map_from_profile(&mut self, rows: &[ProfileRow<2>]) {
+        self.map = Default::default();
+        for r in rows {
+            if self.map.0.last() != Some(&r.time) || self.map.2.is_empty() {
+                self.map.0.push(r.time);
+                self.map.2.push(Vec::new());
+            }
+            let row = self.map.2.last_mut().expect("pushed above");
+            if self.map.0.len() == 1 {
+                self.map.1.push(r.position[0]);
+            }
+            row.push(r.slip_rate);
+        }
+    }
+}
+
+/// Statistics of a run in the units of the paper.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SliderStats {
+    /// Mean fixed point iterations per step.
+    pub fpi_mean: f64,
+    /// Maximum fixed point iterations of a step.
+    pub fpi_max: usize,
+    /// Total velocity-solver iterations.
+    pub solver_iterations: usize,
+    /// Steps that needed a damped fixed point step.
+    pub relaxed_steps: usize,
+    /// Onset of the first slip event (s).
+    pub first_slip_event_s: Option<f64>,
+    /// Slip events: the largest slip rate on Γ_F rises above 1e-3 m/s; an event ends when
+    /// it has fallen below 1e-4 m/s ([`EventThresholds::default`], so the elastic ringing
+    /// of one event is not counted twice).
+    pub slip_events: usize,
+    /// Mean time between the onsets of slip events (s).
+    pub recurrence_interval_s: Option<f64>,
+    /// Peak of the max slip rate on Γ_F (m/s).
+    pub peak_slip_rate_mps: f64,
+    /// Peak slip rate at x0 (m/s).
+    pub peak_slip_rate_x0_mps: f64,
+    /// Range of u_x(x0) over [0.9T, T] (m).
+    pub u_x0_range_last_tenth_m: (f64, f64),
+}
+
+/// Computes [`SliderStats`] of a run over [0, `end_time`].
+pub fn stats(run: &SliderRun, end_time: f64) -> SliderStats {
+    let mut events =
+        EventDetector::new(EventThresholds::default()).expect("the default thresholds are valid");
+    for (k, &(t, v)) in run.max_slip_rate.iter().enumerate() {
+        events.push(k + 1, t, v, &[]);
+    }
+    let range = run
+        .u_x0
+        .iter()
+        .filter(|p| p.0 >= 0.9 * end_time)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+            (l.min(p.1), h.max(p.1))
+        });
+    SliderStats {
+        fpi_mean: run.fpi.iter().sum::<usize>() as f64 / run.fpi.len().max(1) as f64,
+        fpi_max: run.fpi.iter().copied().max().unwrap_or(0),
+        solver_iterations: run.solver_iterations.iter().sum(),
+        relaxed_steps: run.relaxed_steps,
+        first_slip_event_s: events.events().first().map(|e| e.onset_s),
+        slip_events: events.events().len(),
+        recurrence_interval_s: events.recurrence_interval_s(),
+        peak_slip_rate_mps: run.max_slip_rate.iter().map(|p| p.1).fold(0.0, f64::max),
+        peak_slip_rate_x0_mps: run.v_x0.iter().map(|p| p.1.abs()).fold(0.0, f64::max),
+        u_x0_range_last_tenth_m: range,
+    }
+}
+
+/// Writes `summary.json` with the scene, the sizes, timings and statistics.
+///
+/// # Errors
+/// I/O errors.
+pub fn write_summary(
+    dir: &Path,
+    scene: &SliderScene,
+    run: &SliderRun,
+    stats: &SliderStats,
+) -> std::io::Result<()> {
+    let json = serde_json::json!({
+        "scene": scene,
+        "dofs": run.dofs,
+        "frictional_nodes": run.frictional_nodes,
+        "steps": run.fpi.len(),
+        "wall_time_s": run.seconds,
+        "setup_time_s": run.setup_seconds,
+        "machine": machine(),
+        "stats": stats,
+    });
+    std::fs::write(
+        dir.join("summary.json"),
+        serde_json::to_string_pretty(&json)? + "\n",
+    )
+}
+
+/// A one-line description of this machine (CPU model and core count).
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    format!("{cpu}, {cores} cores")
+}
+
+/// Wall time of the row of an earlier `table.csv` whose first `key.len()` fields are
+/// `key` (wall time in column `col`); NaN if there is none.
+pub fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
+    std::fs::read_to_string(table)
+        .ok()
+        .and_then(|text| {
+            text.lines().find_map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f.len() > col && f[..key.len()] == *key).then(|| f[col].parse().ok())?
+            })
+        })
+        .unwrap_or(f64::NAN)
+}
+
+/// An observer showing a progress bar of `steps` steps on stderr (only when it is a
+/// terminal).
+pub struct Progress(Option<indicatif::ProgressBar>);
+
+impl Progress {
+    /// A bar labelled `what` for `steps` steps.
+    pub fn new(steps: usize, what: &str) -> Self {
+        Self(crate::progress(steps as u64, what))
+    }
+}
+
+impl<const D: usize> Observer<D> for Progress {
+    fn observe(&mut self, _: &StepState<'_, D>) -> rsf::Result<Flow> {
+        if let Some(b) = &self.0 {
+            b.inc(1);
+        }
+        Ok(Flow::Continue(()))
+    }
+    fn finish(&mut self) -> rsf::Result<()> {
+        if let Some(b) = &self.0 {
+            b.finish_and_clear();
+        }
+        Ok(())
+    }
+}
