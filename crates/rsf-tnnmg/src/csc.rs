@@ -115,9 +115,9 @@ impl Csc {
             .collect()
     }
 
-    /// `y = A x` for symmetric A (reads columns as rows; valid for any A as `y = Aᵀ x`
+    /// `y = A x` for symmetric A (a reference for the block kernels' tests) (reads columns as rows; valid for any A as `y = Aᵀ x`
     /// computed row-wise, which equals `A x` when A is symmetric).
-    #[inline]
+    #[cfg(test)]
     pub fn sym_mul(&self, x: &[f64], y: &mut [f64]) {
         for (j, yj) in y.iter_mut().enumerate() {
             let (rows, vals) = self.col(j);
@@ -130,7 +130,7 @@ impl Csc {
     }
 
     /// Row `j` dot `x` for symmetric A.
-    #[inline]
+    #[cfg(test)]
     pub fn sym_row_dot(&self, j: usize, x: &[f64]) -> f64 {
         let (rows, vals) = self.col(j);
         let mut s = 0.0;
@@ -141,6 +141,7 @@ impl Csc {
     }
 
     /// `xᵀ A x` for symmetric A.
+    #[cfg(test)]
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
         let mut s = 0.0;
         for j in 0..self.ncols {
