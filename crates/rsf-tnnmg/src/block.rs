@@ -40,23 +40,29 @@ pub fn solve_spd_masked<const D: usize>(
     }
     let mut y = [0.0f64; D];
     for i in 0..m {
-        let mut s = r[idx[i]];
-        for k in 0..i {
-            s -= l[i][k] * y[k];
-        }
-        y[i] = s / l[i][i];
+        y[i] = r[idx[i]];
     }
-    for i in (0..m).rev() {
-        let mut s = y[i];
-        for k in i + 1..m {
-            s -= l[k][i] * y[k];
-        }
-        y[i] = s / l[i][i];
-    }
+    cholesky_solve(&l, m, &mut y);
     for i in 0..m {
         x[idx[i]] = y[i];
     }
     true
+}
+
+/// `y ← (L Lᵀ)⁻¹ y` on the first `m` components, `L` lower triangular (leading `m × m`).
+fn cholesky_solve<const D: usize>(l: &[[f64; D]; D], m: usize, y: &mut [f64; D]) {
+    for i in 0..m {
+        for k in 0..i {
+            y[i] -= l[i][k] * y[k];
+        }
+        y[i] /= l[i][i];
+    }
+    for i in (0..m).rev() {
+        for k in i + 1..m {
+            y[i] -= l[k][i] * y[k];
+        }
+        y[i] /= l[i][i];
+    }
 }
 
 #[inline]
@@ -173,20 +179,8 @@ pub(crate) fn masked_inverse<const D: usize>(a: &Block<D>, free: &[bool; D]) -> 
     // Columns of the inverse: solve L Lᵀ y = e_j.
     for j in 0..m {
         let mut y = [0.0f64; D];
-        for i in 0..m {
-            let mut v = if i == j { 1.0 } else { 0.0 };
-            for k in 0..i {
-                v -= l[i][k] * y[k];
-            }
-            y[i] = v / l[i][i];
-        }
-        for i in (0..m).rev() {
-            let mut v = y[i];
-            for k in i + 1..m {
-                v -= l[k][i] * y[k];
-            }
-            y[i] = v / l[i][i];
-        }
+        y[j] = 1.0;
+        cholesky_solve(&l, m, &mut y);
         for i in 0..m {
             out[idx[i]][idx[j]] = y[i];
         }

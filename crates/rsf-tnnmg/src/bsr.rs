@@ -334,24 +334,7 @@ mod tests {
                 }
             }
         }
-        let mut col_ptr = vec![0];
-        let (mut row_idx, mut val) = (Vec::new(), Vec::new());
-        for j in 0..n {
-            for i in 0..n {
-                if dense[i][j] != 0.0 {
-                    row_idx.push(i);
-                    val.push(dense[i][j]);
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        Csc {
-            nrows: n,
-            ncols: n,
-            col_ptr,
-            row_idx,
-            val,
-        }
+        Csc::from_dense(&dense)
     }
 
     /// Residual, quadratic form, the CSC copy and both sweep directions (replayed with

@@ -64,6 +64,30 @@ impl Csc {
         SparseColMat::new(sym, self.val.clone())
     }
 
+    /// The nonzero entries of a dense matrix (rows of `dense`), for tests.
+    #[cfg(test)]
+    pub fn from_dense(dense: &[Vec<f64>]) -> Self {
+        let (nrows, ncols) = (dense.len(), dense.first().map_or(0, Vec::len));
+        let mut col_ptr = vec![0];
+        let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+        for j in 0..ncols {
+            for (i, row) in dense.iter().enumerate() {
+                if row[j] != 0.0 {
+                    row_idx.push(i);
+                    val.push(row[j]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Self {
+            nrows,
+            ncols,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
     /// Square matrix whose pattern is dense on the rows/columns not marked `fixed`; a fixed
     /// row/column has only its diagonal entry.
     pub fn dense_pattern_free(fixed: &[bool]) -> Self {

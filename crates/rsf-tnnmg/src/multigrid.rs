@@ -363,23 +363,18 @@ mod tests {
     use super::*;
 
     fn laplacian_1d(n: usize) -> Csc {
-        let mut col_ptr = vec![0];
-        let mut row_idx = Vec::new();
-        let mut val = Vec::new();
-        for j in 0..n {
-            for i in j.saturating_sub(1)..(j + 2).min(n) {
-                row_idx.push(i);
-                val.push(if i == j { 2.0 } else { -1.0 });
-            }
-            col_ptr.push(row_idx.len());
-        }
-        Csc {
-            nrows: n,
-            ncols: n,
-            col_ptr,
-            row_idx,
-            val,
-        }
+        let dense: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| match i.abs_diff(j) {
+                        0 => 2.0,
+                        1 => -1.0,
+                        _ => 0.0,
+                    })
+                    .collect()
+            })
+            .collect();
+        Csc::from_dense(&dense)
     }
 
     fn interpolation(nc: usize) -> Csc {

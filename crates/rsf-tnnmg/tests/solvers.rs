@@ -233,13 +233,13 @@ fn tnnmg_iteration_counts_are_mesh_independent() {
         hi - lo <= 4,
         "stiff smooth case: counts vary with the level: {counts:?}"
     );
-    // Snapshot (levels 2..6): [6, 7, 8, 8, 8] when this test was written; [6, 5, 5, 4, 4]
+    // Snapshot (levels 2..6): [6, 7, 8, 8, 8] when this test was written; [4, 5, 5, 5, 5]
     // measured with today's defaults (inexact Newton, CG-accelerated block-GS cycles).
     assert!(*hi <= 10, "stiff smooth case regressed: {counts:?}");
 
     // Nonsmooth Tresca with about half the boundary nodes stuck: identifying the stick set
     // takes a few more iterations on finer meshes (measured: [6, 7, 9, 11, 12] when this
-    // test was written, [6, 5, 6, 8, 9] with today's defaults); the growth is logarithmic
+    // test was written, [5, 5, 6, 8, 9] with today's defaults); the growth is logarithmic
     // in the number of unknowns. Guard against regressions.
     let counts = iteration_counts(tresca);
     assert!(
