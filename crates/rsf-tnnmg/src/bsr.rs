@@ -225,13 +225,22 @@ impl<const D: usize> BlockCsr<D> {
     /// One Gauss–Seidel sweep over the nodes (increasing order, or decreasing when
     /// `reverse`): for each node `p`, `s = rhs_p − Σ_{q≠p} A_pq x_q` (with the already
     /// updated values of the nodes visited before) and `local(p, s, x_p)` updates the block
-    /// `x_p` in place (e.g. `x_p = A_pp⁻¹ s`).
+    /// `x_p` in place (e.g. `x_p = A_pp⁻¹ s`). With `zero_start` the sweep starts from
+    /// `x = 0` whatever `x` holds (the couplings to nodes not yet visited are skipped and
+    /// `local` sees `x_p = 0`), so a first sweep needs no zeroed vector and half the work.
     ///
     /// The forward sweep reads only the upper triangle, the backward one only the lower
     /// one: the couplings to nodes already visited were pushed into `w` when those nodes
     /// were updated. `w` (length `n`) must be 0 on entry and is 0 on return.
-    pub fn sweep<F>(&self, rhs: &[f64], x: &mut [f64], w: &mut [f64], reverse: bool, mut local: F)
-    where
+    pub fn sweep<F>(
+        &self,
+        rhs: &[f64],
+        x: &mut [f64],
+        w: &mut [f64],
+        reverse: bool,
+        zero_start: bool,
+        mut local: F,
+    ) where
         F: FnMut(usize, &[f64; D], &mut [f64; D]),
     {
         let nodes = self.nodes();
@@ -243,8 +252,11 @@ impl<const D: usize> BlockCsr<D> {
             for (sc, r) in s.iter_mut().zip(&rhs[D * p..D * p + D]) {
                 *sc += r;
             }
-            ahead.sub_row(p, x, &mut s);
-            let mut xp = load::<D>(x, p);
+            let mut xp = [0.0; D];
+            if !zero_start {
+                ahead.sub_row(p, x, &mut s);
+                xp = load::<D>(x, p);
+            }
             local(p, &s, &mut xp);
             store(x, p, &xp);
             ahead.push_row(p, &xp, w);
@@ -366,11 +378,17 @@ mod tests {
         for reverse in [false, true] {
             let mut xs = x.clone();
             let mut w = vec![0.0; 8];
-            b.sweep(&rhs, &mut xs, &mut w, reverse, |p, s, xp| {
-                xp[0] = 0.1 * s[0] + p as f64;
+            let local = |p: usize, s: &[f64; 2], xp: &mut [f64; 2]| {
+                xp[0] = 0.1 * s[0] + p as f64 + 0.01 * xp[1];
                 xp[1] = 0.05 * s[1];
-            });
+            };
+            b.sweep(&rhs, &mut xs, &mut w, reverse, false, local);
             assert!(w.iter().all(|&v| v == 0.0));
+            // A zero start on garbage equals a sweep from zero.
+            let (mut from_zero, mut garbage) = (vec![0.0; 8], vec![7.0; 8]);
+            b.sweep(&rhs, &mut from_zero, &mut w, reverse, false, local);
+            b.sweep(&rhs, &mut garbage, &mut w, reverse, true, local);
+            assert_eq!(from_zero, garbage);
             // Replay the sweep with explicit row products.
             let mut xr = x.clone();
             let order: Vec<usize> = if reverse {
@@ -389,7 +407,7 @@ mod tests {
                         }
                     }
                 }
-                xr[2 * p] = 0.1 * s[0] + p as f64;
+                xr[2 * p] = 0.1 * s[0] + p as f64 + 0.01 * xr[2 * p + 1];
                 xr[2 * p + 1] = 0.05 * s[1];
             }
             assert!(close(&xs, &xr), "reverse {reverse}");

@@ -60,7 +60,7 @@ impl LinearSolve {
             LinearCorrection::Cycles => {
                 for k in 0..max_cycles {
                     let check = reduction.filter(|_| k + 1 < max_cycles);
-                    mg.apply(c, res, check.is_some());
+                    mg.apply(c, res, k == 0, check.is_some());
                     if let Some(red) = check {
                         let r = free_norm(mg.fine_residual(), mg.fine_free());
                         if r <= red * r0 {
@@ -87,21 +87,29 @@ impl LinearSolve {
         r.copy_from_slice(res);
         let (mut rz_old, mut alpha_old) = (0.0, 0.0);
         for k in 0..max_cycles {
-            z.fill(0.0);
-            mg.apply(z, r, true);
-            // H z = r − (r − H z): the cycle's fused residual, on the free dofs.
+            // z = B r: one cycle from zero.
+            mg.apply(z, r, true, true);
+            // H z = r − (r − H z): the cycle's own residual, on the free dofs.
             let (q, free) = (mg.fine_residual(), mg.fine_free());
-            let rz = dot(r, z);
+            let (mut rz, mut zhp) = (0.0, 0.0);
+            for i in 0..r.len() {
+                rz += r[i] * z[i];
+                if k > 0 {
+                    zhp += z[i] * hp[i];
+                }
+            }
             // Polak–Ribière: β = zᵀ(r_k − r_{k−1}) / (z_{k−1}ᵀ r_{k−1}), r_k − r_{k−1} = −α H p.
             let beta = if k == 0 {
                 0.0
             } else {
-                -alpha_old * dot(z, hp) / rz_old
+                -alpha_old * zhp / rz_old
             };
             let mut php = 0.0;
             for i in 0..r.len() {
-                p[i] = z[i] + beta * p[i];
-                hp[i] = free[i] * (r[i] - q[i]) + beta * hp[i];
+                // (The first step does not read the previous solve's directions.)
+                let (p_old, hp_old) = if k == 0 { (0.0, 0.0) } else { (p[i], hp[i]) };
+                p[i] = z[i] + beta * p_old;
+                hp[i] = free[i] * (r[i] - q[i]) + beta * hp_old;
                 php += p[i] * hp[i];
             }
             if !(php > 0.0 && rz > 0.0 && php.is_finite()) {

@@ -64,9 +64,10 @@ impl<const D: usize> Level<D> {
     }
 
     /// `sweeps` block Gauss–Seidel sweeps on `a x = rhs` (forward, or backward when
-    /// `reverse`); afterwards `rhs − a x` in `res` when `residual` is set. Masked entries of
-    /// `x` must be 0 (they stay 0).
-    fn smooth(&mut self, sweeps: usize, reverse: bool, residual: bool) {
+    /// `reverse`), starting from `x = 0` when `zero_start` (whatever `x` holds); afterwards
+    /// `rhs − a x` in `res` when `residual` is set. Masked entries of `x` must be 0 unless
+    /// `zero_start` (they are 0 afterwards).
+    fn smooth(&mut self, sweeps: usize, reverse: bool, zero_start: bool, residual: bool) {
         let Self {
             a,
             smoother,
@@ -76,9 +77,12 @@ impl<const D: usize> Level<D> {
             w,
             ..
         } = self;
-        for _ in 0..sweeps {
+        if zero_start && sweeps == 0 {
+            x.fill(0.0);
+        }
+        for k in 0..sweeps {
             // x_p = S_p s: exact on the free components since the masked ones are 0.
-            a.sweep(rhs, x, w, reverse, |p, s, xp| {
+            a.sweep(rhs, x, w, reverse, zero_start && k == 0, |p, s, xp| {
                 *xp = mul_vec(&smoother[p], s)
             });
         }
@@ -300,7 +304,8 @@ impl<const D: usize> LinearMultigrid<D> {
         }
     }
 
-    fn cycle(&mut self, l: usize, fine_residual: bool) {
+    /// One cycle on level `l` from the current `x`, or from `x = 0` when `zero_start`.
+    fn cycle(&mut self, l: usize, fine_residual: bool, zero_start: bool) {
         if l == 0 {
             let level = &mut self.levels[0];
             for ((x, &r), &f) in level.x.iter_mut().zip(&level.rhs).zip(&level.free) {
@@ -310,38 +315,45 @@ impl<const D: usize> LinearMultigrid<D> {
             return;
         }
         let shape = self.shape;
-        self.levels[l].smooth(shape.pre, false, true);
+        self.levels[l].smooth(shape.pre, false, zero_start, true);
         {
             let (lo, hi) = self.levels.split_at_mut(l);
             let (fine, coarse) = (&hi[0], &mut lo[l - 1]);
             self.galerkin[l - 1].restrict(&fine.res, &fine.free, &mut coarse.rhs);
-            coarse.x.fill(0.0);
         }
-        // The coarsest level is solved exactly: one visit suffices.
+        // The coarse correction starts from 0; the coarsest level is solved exactly, so
+        // one visit suffices there.
         let visits = if l == 1 { 1 } else { shape.gamma };
-        for _ in 0..visits {
-            self.cycle(l - 1, false);
+        for visit in 0..visits {
+            self.cycle(l - 1, false, visit == 0);
         }
         {
             let (lo, hi) = self.levels.split_at_mut(l);
             let (fine, coarse) = (&mut hi[0], &lo[l - 1]);
             self.galerkin[l - 1].prolong_add(&coarse.x, &fine.free, &mut fine.x);
         }
-        self.levels[l].smooth(shape.post, true, fine_residual);
+        self.levels[l].smooth(shape.post, true, false, fine_residual);
     }
 
     /// One cycle improving `x` for `H x = rhs` on the unmasked dofs (masked entries of `x`
-    /// must be 0, and stay 0). With `residual`, afterwards
+    /// must be 0, and stay 0), or computing `x` from the initial guess 0 when `zero_start`
+    /// (then `x` need not be initialised). With `residual`, afterwards
     /// [`fine_residual`](Self::fine_residual) holds `rhs − H x` (arbitrary on masked dofs).
-    pub fn apply(&mut self, x: &mut Vec<f64>, rhs: &mut Vec<f64>, residual: bool) {
+    pub fn apply(
+        &mut self,
+        x: &mut Vec<f64>,
+        rhs: &mut Vec<f64>,
+        zero_start: bool,
+        residual: bool,
+    ) {
         let l = self.levels.len() - 1;
         // The caller's vectors become the fine level's for the cycle (no copies).
         std::mem::swap(&mut self.levels[l].x, x);
         std::mem::swap(&mut self.levels[l].rhs, rhs);
-        self.cycle(l, residual);
+        self.cycle(l, residual, zero_start);
         let level = &mut self.levels[l];
         if residual && l == 0 {
-            level.smooth(0, false, true);
+            level.smooth(0, false, false, true);
         }
         std::mem::swap(&mut level.x, x);
         std::mem::swap(&mut level.rhs, rhs);

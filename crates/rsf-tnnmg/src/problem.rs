@@ -119,7 +119,7 @@ impl<const D: usize> NodalProblem<D> {
         reverse: bool,
     ) {
         let a = &self.a;
-        a.sweep(b, v, w, reverse, |p, s, x| {
+        a.sweep(b, v, w, reverse, false, |p, s, x| {
             // s = b_p − Σ_{q≠p} A_pq v_q: the block right-hand side with off-block coupling.
             let k = active_of[p];
             if k != usize::MAX {
