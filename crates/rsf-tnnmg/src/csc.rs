@@ -52,6 +52,30 @@ impl Csc {
         })
     }
 
+    /// The nonzero entries of a dense matrix (rows of `dense`), for tests.
+    #[cfg(test)]
+    pub fn from_dense(dense: &[Vec<f64>]) -> Self {
+        let (nrows, ncols) = (dense.len(), dense.first().map_or(0, Vec::len));
+        let mut col_ptr = vec![0];
+        let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+        for j in 0..ncols {
+            for (i, row) in dense.iter().enumerate() {
+                if row[j] != 0.0 {
+                    row_idx.push(i);
+                    val.push(row[j]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Self {
+            nrows,
+            ncols,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
     #[inline]
     pub fn col(&self, j: usize) -> (&[usize], &[f64]) {
         let r = self.col_ptr[j]..self.col_ptr[j + 1];
@@ -78,9 +102,9 @@ impl Csc {
             .collect()
     }
 
-    /// `y = A x` for symmetric A (reads columns as rows; valid for any A as `y = Aᵀ x`
+    /// `y = A x` for symmetric A (a reference for the block kernels' tests) (reads columns as rows; valid for any A as `y = Aᵀ x`
     /// computed row-wise, which equals `A x` when A is symmetric).
-    #[inline]
+    #[cfg(test)]
     pub fn sym_mul(&self, x: &[f64], y: &mut [f64]) {
         for (j, yj) in y.iter_mut().enumerate() {
             let (rows, vals) = self.col(j);
@@ -93,7 +117,6 @@ impl Csc {
     }
 
     /// Row `j` dot `x` for symmetric A.
-    #[inline]
     pub fn sym_row_dot(&self, j: usize, x: &[f64]) -> f64 {
         let (rows, vals) = self.col(j);
         let mut s = 0.0;
@@ -103,7 +126,7 @@ impl Csc {
         s
     }
 
-    /// `xᵀ A x` for symmetric A.
+    /// `xᵀ A x` for symmetric A (energy norms of [`FullStep`](crate::FullStep)).
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
         let mut s = 0.0;
         for j in 0..self.ncols {

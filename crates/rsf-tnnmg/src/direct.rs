@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::fault_newton::DenseFault;
 use crate::nonlinearity::BlockNonlinearity;
 use crate::partial_cholesky::PartialCholesky;
+use crate::problem::BlockedMatrix;
 use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
 use crate::step::StepSolver;
 
@@ -95,24 +96,10 @@ impl<const D: usize> DirectSolver<D> {
         if !(opts.soft_ratio > 0.0) {
             return Err(Error::InvalidOption("soft_ratio must be positive".into()));
         }
-        let a = Csc::from_faer(a)?;
-        a.check_symmetric_pattern()?;
-        let n = a.nrows;
-        if n % D != 0 {
-            return Err(Error::InvalidMatrix(format!(
-                "dimension {n} is not a multiple of the block size {D}"
-            )));
-        }
-        if fixed.len() != n {
-            return Err(Error::DimensionMismatch {
-                what: "fixed mask",
-                expected: n,
-                got: fixed.len(),
-            });
-        }
+        let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
         Ok(Self {
             a,
-            fixed: fixed.to_vec(),
+            fixed,
             energy: None,
             opts,
             cache: None,

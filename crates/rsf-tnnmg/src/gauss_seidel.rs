@@ -2,10 +2,9 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
-use crate::problem::BlockedMatrix;
+use crate::problem::NodalProblem;
 use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
 use crate::tnnmg::EnergyNorm;
 
@@ -13,12 +12,14 @@ use crate::tnnmg::EnergyNorm;
 /// minimisations. Globally convergent for the convex problems of this crate but slow
 /// (its contraction degrades with mesh refinement); a baseline and a check for TNNMG.
 pub struct NonlinearGaussSeidel<const D: usize> {
-    m: BlockedMatrix<D>,
-    norm: EnergyNorm,
+    m: NodalProblem<D>,
+    norm: EnergyNorm<D>,
     stopping: Stopping,
     record_energy: bool,
     active_of: Vec<usize>,
     v_old: Vec<f64>,
+    /// Sweep scratch.
+    w: Vec<f64>,
 }
 
 impl<const D: usize> NonlinearGaussSeidel<D> {
@@ -34,7 +35,7 @@ impl<const D: usize> NonlinearGaussSeidel<D> {
         record_energy: bool,
     ) -> Result<Self> {
         stopping.validate()?;
-        let m = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
+        let m = NodalProblem::<D>::new(a, fixed)?;
         let n = m.n();
         Ok(Self {
             norm: EnergyNorm::new(energy_norm, n)?,
@@ -43,15 +44,16 @@ impl<const D: usize> NonlinearGaussSeidel<D> {
             record_energy,
             active_of: Vec::new(),
             v_old: vec![0.0; n],
+            w: vec![0.0; n],
         })
     }
 }
 
 impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
-    fn blocked(&self) -> &BlockedMatrix<D> {
+    fn blocked(&self) -> &NodalProblem<D> {
         &self.m
     }
-    fn energy_norm(&self) -> &EnergyNorm {
+    fn energy_norm(&self) -> &EnergyNorm<D> {
         &self.norm
     }
     fn active_of_mut(&mut self) -> &mut Vec<usize> {
@@ -65,10 +67,10 @@ impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
         v: &mut [f64],
     ) -> Result<f64> {
         self.v_old.copy_from_slice(v);
-        self.m
-            .nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
-        self.m
-            .nonlinear_gauss_seidel(b, nl, &self.active_of, v, true);
+        for reverse in [false, true] {
+            self.m
+                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, &mut self.w, reverse);
+        }
         if v.iter().any(|x| !x.is_finite()) {
             return Err(Error::NonFinite("Gauss–Seidel iterate"));
         }

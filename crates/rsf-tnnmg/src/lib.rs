@@ -16,10 +16,17 @@
 //!
 //! Solvers, all behind [`NonsmoothSolver`]:
 //! - [`Tnnmg`]: truncated nonsmooth Newton multigrid (Gräser, Kornhuber, Sander); mesh
-//!   independent iteration counts, the method of the paper (§6.2, tolerance 1e-10).
+//!   independent iteration counts, the method of the paper (§6.2, tolerance 1e-10). Its
+//!   linear correction runs block Gauss–Seidel multigrid cycles, by default as the
+//!   preconditioner of conjugate gradients ([`LinearCorrection`]).
 //! - [`NonlinearGaussSeidel`]: the block smoother alone (baseline).
 //! - [`DirectSolver`]: exact condensation onto the nonsmooth blocks plus globalised
 //!   Newton on the Schur complement (reference and small-problem fast path).
+//!
+//! Internally the iterative solvers keep matrices in node-block storage (`D × D` blocks,
+//! 32-bit node indices, the upper and the lower triangle in separate arrays so that each
+//! Gauss–Seidel sweep streams half the matrix); results are deterministic (single
+//! threaded, fixed summation order).
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.
@@ -49,6 +56,7 @@
 #![warn(missing_docs)]
 
 mod block;
+mod bsr;
 mod cholesky;
 mod csc;
 mod direct;
@@ -57,6 +65,7 @@ mod fault_newton;
 mod galerkin;
 mod gauss_seidel;
 mod line_search;
+mod linear_correction;
 mod multigrid;
 mod nonlinearity;
 mod partial_cholesky;
@@ -70,6 +79,7 @@ pub use cholesky::SparseCholesky;
 pub use direct::{DirectOptions, DirectSolver};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
+pub use linear_correction::LinearCorrection;
 pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity};
 pub use report::{NonsmoothSolver, SolveReport, Stopping};
 pub use step::{FullStep, StepSolver};

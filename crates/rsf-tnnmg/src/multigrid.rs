@@ -1,63 +1,127 @@
-//! Truncated linear multigrid on a hierarchy of Galerkin operators.
+//! Truncated linear multigrid on a hierarchy of Galerkin operators in node-block storage.
 
+use crate::block::{masked_inverse, mul_vec, Block};
+use crate::bsr::BlockCsr;
 use crate::cholesky::SparseCholesky;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
 
+/// Shape of the multigrid cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct CycleShape {
+    /// Block Gauss–Seidel sweeps before the coarse correction (forward).
+    pub pre: usize,
+    /// Block Gauss–Seidel sweeps after the coarse correction (backward).
+    pub post: usize,
+    /// Coarse corrections per level: 1 is the V-cycle, 2 the W-cycle.
+    pub gamma: usize,
+}
+
 #[derive(Debug)]
-struct Level {
-    diag: Vec<usize>,
+struct Level<const D: usize> {
+    a: BlockCsr<D>,
+    /// Masked (truncated or excluded) dofs.
     mask: Vec<bool>,
+    /// 1 on free dofs, 0 on masked ones (the mask as a factor).
+    free: Vec<f64>,
+    /// Per node: the local solve of the block smoother (`masked_inverse` of the diagonal
+    /// block on the free components).
+    smoother: Vec<Block<D>>,
+    /// Diagonal per dof at the last full update (reference for the zero-diagonal test).
+    ref_diag: Vec<f64>,
     x: Vec<f64>,
     rhs: Vec<f64>,
     res: Vec<f64>,
+    /// Scratch of the sweeps and residuals (0 between uses).
+    w: Vec<f64>,
 }
 
-impl Level {
-    fn new(a: &Csc) -> Result<Self> {
-        let n = a.nrows;
-        Ok(Self {
-            diag: a.diagonal_positions()?,
+impl<const D: usize> Level<D> {
+    fn new(a: BlockCsr<D>) -> Self {
+        let (n, nodes) = (a.n(), a.nodes());
+        Self {
+            a,
             mask: vec![false; n],
+            free: vec![1.0; n],
+            smoother: vec![[[0.0; D]; D]; nodes],
+            ref_diag: vec![0.0; n],
             x: vec![0.0; n],
             rhs: vec![0.0; n],
             res: vec![0.0; n],
-        })
+            w: vec![0.0; n],
+        }
+    }
+
+    /// Refreshes the mask factors and the smoother's local solves of node `p`.
+    fn refresh_node(&mut self, p: usize) {
+        let mut f = [false; D];
+        for c in 0..D {
+            f[c] = !self.mask[D * p + c];
+            self.free[D * p + c] = if f[c] { 1.0 } else { 0.0 };
+        }
+        self.smoother[p] = masked_inverse(&self.a.diag[p], &f);
+    }
+
+    /// `sweeps` block Gauss–Seidel sweeps on `a x = rhs` (forward, or backward when
+    /// `reverse`), starting from `x = 0` when `zero_start` (whatever `x` holds); afterwards
+    /// `rhs − a x` in `res` when `residual` is set. Masked entries of `x` must be 0 unless
+    /// `zero_start` (they are 0 afterwards).
+    fn smooth(&mut self, sweeps: usize, reverse: bool, zero_start: bool, residual: bool) {
+        let Self {
+            a,
+            smoother,
+            x,
+            rhs,
+            res,
+            w,
+            ..
+        } = self;
+        if zero_start && sweeps == 0 {
+            x.fill(0.0);
+        }
+        for k in 0..sweeps {
+            // x_p = S_p s: exact on the free components since the masked ones are 0.
+            a.sweep(rhs, x, w, reverse, zero_start && k == 0, |p, s, xp| {
+                *xp = mul_vec(&smoother[p], s)
+            });
+        }
+        if residual {
+            a.residual(rhs, x, res, w);
+        }
     }
 }
 
-/// Multigrid V-cycle for `H x = r` with truncation: masked fine dofs are excluded (rows and
+/// Multigrid cycle for `H x = r` with truncation: masked fine dofs are excluded (rows and
 /// columns), the truncation is carried to the coarse levels through Galerkin products
-/// `P_tᵀ H P_t`, coarse dofs whose diagonal vanishes are excluded as well. Smoother:
-/// pointwise Gauss–Seidel (forward before, backward after the coarse correction); coarsest
-/// level: sparse Cholesky (pattern analysed once).
+/// `P_tᵀ H P_t`, coarse dofs whose diagonal vanishes are excluded as well. Smoother: block
+/// (nodal) Gauss–Seidel with the `D × D` diagonal blocks solved exactly (forward before,
+/// backward after the coarse correction); coarsest level: sparse Cholesky (pattern
+/// analysed once).
 #[derive(Debug)]
-pub(crate) struct LinearMultigrid {
-    /// Fine-level matrix; its values are set by the caller before [`update`](Self::update).
-    pub fine: Csc,
-    /// `galerkin[l]` maps level `l+1` (finer) to level `l`; index 0 is next to the coarsest.
-    galerkin: Vec<Galerkin>,
+pub(crate) struct LinearMultigrid<const D: usize> {
+    /// `galerkin[l]` maps level `l+1` (finer) to level `l`.
+    galerkin: Vec<Galerkin<D>>,
     /// Levels, coarsest first; the last one is the fine level.
-    levels: Vec<Level>,
+    levels: Vec<Level<D>>,
     coarse: SparseCholesky,
-    coarse_values: Vec<f64>,
-    pre: usize,
-    post: usize,
-    /// Per level: the dofs whose rows, columns or masks may change between incremental
+    /// Coarsest matrix as CSC (dense blocks) and where each entry comes from.
+    coarse_csc: Csc,
+    coarse_map: Vec<usize>,
+    shape: CycleShape,
+    /// Per level: the nodes whose rows, columns or masks may change between incremental
     /// updates (index `l` for level `l`; the fine level's set is given by the caller).
     variable: Vec<Vec<usize>>,
-    /// Per Galerkin operator `l`: the coarse columns to recompute incrementally.
-    affected: Vec<Vec<usize>>,
-    /// Diagonal per level at the last full update (reference for the zero-diagonal test).
-    ref_diag: Vec<Vec<f64>>,
+    /// Per Galerkin operator `l`: the fine (`T`) rows to recompute incrementally.
+    t_rows: Vec<Vec<usize>>,
 }
 
-impl LinearMultigrid {
+impl<const D: usize> LinearMultigrid<D> {
     /// `prolongations[l]` maps level `l` to level `l + 1`, the last one into the fine level
-    /// whose pattern `fine` gives. Empty: a single level solved exactly.
-    pub fn new(fine: Csc, prolongations: Vec<Csc>, pre: usize, post: usize) -> Result<Self> {
-        let mut expected = fine.nrows;
+    /// `fine` (its values are set by the caller before [`update`](Self::update)). Empty: a
+    /// single level solved exactly.
+    pub fn new(fine: BlockCsr<D>, prolongations: Vec<Csc>, shape: CycleShape) -> Result<Self> {
+        let mut expected = fine.n();
         for (l, p) in prolongations.iter().enumerate().rev() {
             if p.nrows != expected {
                 return Err(Error::DimensionMismatch {
@@ -74,32 +138,26 @@ impl LinearMultigrid {
             expected = p.ncols;
         }
         let mut galerkin_rev = Vec::new();
-        let mut levels_rev = vec![Level::new(&fine)?];
-        {
-            let mut current = &fine;
-            for p in prolongations.iter().rev() {
-                galerkin_rev.push(Galerkin::new(current, p.clone()));
-                current = &galerkin_rev.last().unwrap().c;
-                levels_rev.push(Level::new(current)?);
-            }
+        let mut levels_rev = vec![Level::new(fine)];
+        for p in prolongations.iter().rev() {
+            let (g, coarse) = Galerkin::new(&levels_rev.last().expect("fine").a, p)?;
+            galerkin_rev.push(g);
+            levels_rev.push(Level::new(coarse));
         }
         galerkin_rev.reverse();
         levels_rev.reverse();
-        let coarse_pat = galerkin_rev.first().map(|g| &g.c).unwrap_or(&fine);
+        let (coarse_csc, coarse_map) = levels_rev[0].a.csc_pattern();
         let coarse =
-            SparseCholesky::new(coarse_pat.nrows, &coarse_pat.col_ptr, &coarse_pat.row_idx)?;
-        let coarse_values = vec![0.0; coarse_pat.val.len()];
+            SparseCholesky::new(coarse_csc.nrows, &coarse_csc.col_ptr, &coarse_csc.row_idx)?;
         Ok(Self {
-            fine,
             galerkin: galerkin_rev,
             levels: levels_rev,
             coarse,
-            coarse_values,
-            pre,
-            post,
+            coarse_csc,
+            coarse_map,
+            shape,
             variable: Vec::new(),
-            affected: Vec::new(),
-            ref_diag: Vec::new(),
+            t_rows: Vec::new(),
         })
     }
 
@@ -108,73 +166,101 @@ impl LinearMultigrid {
         self.levels.len()
     }
 
-    /// Mask of the fine level (truncated dofs); set before [`update`](Self::update).
-    pub fn fine_mask_mut(&mut self) -> &mut [bool] {
-        &mut self.levels.last_mut().unwrap().mask
+    /// Diagonal blocks of the fine-level matrix; set before [`update`](Self::update).
+    pub fn fine_diag_mut(&mut self) -> &mut [Block<D>] {
+        &mut self.levels.last_mut().expect("fine level").a.diag
     }
 
-    /// Recomputes the coarse operators and the coarse factorisation after the fine matrix
-    /// values or the fine mask changed.
+    /// Mask of the fine level (truncated dofs); set before [`update`](Self::update).
+    pub fn fine_mask_mut(&mut self) -> &mut [bool] {
+        &mut self.levels.last_mut().expect("fine level").mask
+    }
+
+    /// Fine-level mask.
+    pub fn fine_mask(&self) -> &[bool] {
+        &self.levels.last().expect("fine level").mask
+    }
+
+    /// Recomputes the coarse operators, the smoothers and the coarse factorisation after
+    /// the fine matrix values or the fine mask changed.
     pub fn update(&mut self) -> Result<()> {
         let nl = self.levels.len();
+        {
+            let fine = &mut self.levels[nl - 1];
+            for p in 0..fine.a.nodes() {
+                fine.refresh_node(p);
+            }
+        }
         for l in (0..nl - 1).rev() {
-            let (g_lo, g_hi) = self.galerkin.split_at_mut(l + 1);
-            let finer: &Csc = if l + 2 == nl { &self.fine } else { &g_hi[0].c };
-            g_lo[l].update(finer, &self.levels[l + 1].mask);
-            let c = &g_lo[l].c;
-            let level = &mut self.levels[l];
+            let (lo, hi) = self.levels.split_at_mut(l + 1);
+            let (coarse, finer) = (&mut lo[l], &hi[0]);
+            self.galerkin[l].update(&finer.a, &finer.free, &mut coarse.a);
             // A coarse dof all of whose fine support is truncated has an exactly zero
             // row (no term is accumulated); it is excluded from smoothing and the coarse
             // solve. The diagonal is kept as the reference for incremental updates.
-            if self.ref_diag.len() != nl {
-                self.ref_diag = vec![Vec::new(); nl];
-            }
-            let r = &mut self.ref_diag[l];
-            r.clear();
-            for (i, &d) in level.diag.iter().enumerate() {
-                let cii = c.val[d];
-                level.mask[i] = !(cii > 0.0);
-                r.push(cii.max(0.0));
+            for p in 0..coarse.a.nodes() {
+                for c in 0..D {
+                    let d = coarse.a.diag[p][c][c];
+                    coarse.mask[D * p + c] = !(d > 0.0);
+                    coarse.ref_diag[D * p + c] = d.max(0.0);
+                }
+                coarse.refresh_node(p);
             }
         }
         self.factorize_coarsest()
     }
 
-    /// Declares the fine dofs whose matrix rows/columns or mask may change between calls of
-    /// [`update_incremental`](Self::update_incremental), and derives the affected sets of
+    /// Declares the fine nodes whose diagonal blocks or mask may change between calls of
+    /// [`update_incremental`](Self::update_incremental), and derives the affected rows of
     /// every coarser level.
-    pub fn set_variable_dofs(&mut self, fine_dofs: &[usize]) {
+    pub fn set_variable_nodes(&mut self, fine_nodes: &[usize]) {
         let nl = self.levels.len();
         self.variable = vec![Vec::new(); nl];
-        self.affected = vec![Vec::new(); nl.saturating_sub(1)];
-        self.variable[nl - 1] = fine_dofs.to_vec();
+        self.t_rows = vec![Vec::new(); nl.saturating_sub(1)];
+        self.variable[nl - 1] = fine_nodes.to_vec();
         for l in (0..nl - 1).rev() {
-            let mut changed = vec![false; self.levels[l + 1].mask.len()];
+            let finer = &self.levels[l + 1];
+            let mut changed = vec![false; finer.a.nodes()];
             for &i in &self.variable[l + 1] {
                 changed[i] = true;
             }
-            let cols = self.galerkin[l].affected_columns(&changed);
-            self.variable[l] = cols.clone();
-            self.affected[l] = cols;
+            let (t_rows, c_rows) = self.galerkin[l].affected(&finer.a, &changed);
+            self.t_rows[l] = t_rows;
+            self.variable[l] = c_rows;
         }
     }
 
-    /// Like [`update`](Self::update), recomputing only what the variable dofs (see
-    /// [`set_variable_dofs`](Self::set_variable_dofs)) can change. Requires a full
+    /// Like [`update`](Self::update), recomputing only what the variable nodes (see
+    /// [`set_variable_nodes`](Self::set_variable_nodes)) can change. Requires a full
     /// [`update`](Self::update) with the same base values before.
     pub fn update_incremental(&mut self) -> Result<()> {
         let nl = self.levels.len();
+        {
+            let fine = &mut self.levels[nl - 1];
+            for &p in &self.variable[nl - 1] {
+                fine.refresh_node(p);
+            }
+        }
         for l in (0..nl - 1).rev() {
-            let (g_lo, g_hi) = self.galerkin.split_at_mut(l + 1);
-            let finer: &Csc = if l + 2 == nl { &self.fine } else { &g_hi[0].c };
-            g_lo[l].update_columns(finer, &self.levels[l + 1].mask, &self.affected[l]);
-            let c = &g_lo[l].c;
-            let level = &mut self.levels[l];
-            let r = &self.ref_diag[l];
-            for &i in &self.variable[l] {
-                // Relative to the last full update, so that round-off left by cancelling
-                // contributions of truncated dofs is not mistaken for a coupling.
-                level.mask[i] = !(c.val[level.diag[i]] > 1e-13 * r[i]);
+            let (lo, hi) = self.levels.split_at_mut(l + 1);
+            let (coarse, finer) = (&mut lo[l], &hi[0]);
+            let rows = &self.variable[l];
+            self.galerkin[l].update_rows(
+                &finer.a,
+                &finer.free,
+                &mut coarse.a,
+                &self.t_rows[l],
+                rows,
+            );
+            for &p in rows {
+                for c in 0..D {
+                    // Relative to the last full update, so that round-off left by
+                    // cancelling contributions of truncated dofs is not mistaken for a
+                    // coupling.
+                    let i = D * p + c;
+                    coarse.mask[i] = !(coarse.a.diag[p][c][c] > 1e-13 * coarse.ref_diag[i]);
+                }
+                coarse.refresh_node(p);
             }
         }
         self.factorize_coarsest()
@@ -182,27 +268,23 @@ impl LinearMultigrid {
 
     fn factorize_coarsest(&mut self) -> Result<()> {
         // Coarsest factorisation with masked rows/columns replaced by identity.
-        let a = if self.levels.len() == 1 {
-            &self.fine
-        } else {
-            &self.galerkin[0].c
-        };
-        let mask = &self.levels[0].mask;
+        let level = &self.levels[0];
+        let a = &mut self.coarse_csc;
         for j in 0..a.ncols {
             for k in a.col_ptr[j]..a.col_ptr[j + 1] {
                 let i = a.row_idx[k];
-                self.coarse_values[k] = if mask[i] || mask[j] {
+                a.val[k] = if level.mask[i] || level.mask[j] {
                     if i == j {
                         1.0
                     } else {
                         0.0
                     }
                 } else {
-                    a.val[k]
+                    level.a.flat_value(self.coarse_map[k])
                 };
             }
         }
-        match self.coarse.factorize(&self.coarse_values) {
+        match self.coarse.factorize(&a.val) {
             Ok(()) => Ok(()),
             Err(_) => {
                 // Truncation can make the truncated prolongation P_t rank deficient, and then
@@ -211,89 +293,80 @@ impl LinearMultigrid {
                 // shift makes the factorisation well defined without changing P_t x_c.
                 for j in 0..a.ncols {
                     for k in a.col_ptr[j]..a.col_ptr[j + 1] {
-                        if a.row_idx[k] == j && !mask[j] {
-                            self.coarse_values[k] *= 1.0 + 1e-10;
-                            self.coarse_values[k] += f64::MIN_POSITIVE;
+                        if a.row_idx[k] == j && !level.mask[j] {
+                            a.val[k] *= 1.0 + 1e-10;
+                            a.val[k] += f64::MIN_POSITIVE;
                         }
                     }
                 }
-                self.coarse.factorize(&self.coarse_values)
+                self.coarse.factorize(&a.val)
             }
         }
     }
 
-    fn smooth(a: &Csc, level: &mut Level, sweeps: usize, reverse: bool) {
-        let n = a.nrows;
-        for _ in 0..sweeps {
-            for q in 0..n {
-                let i = if reverse { n - 1 - q } else { q };
-                if level.mask[i] {
-                    continue;
-                }
-                let r = level.rhs[i] - a.sym_row_dot(i, &level.x);
-                level.x[i] += r / a.val[level.diag[i]];
-            }
-        }
-    }
-
-    fn cycle(&mut self, l: usize) {
+    /// One cycle on level `l` from the current `x`, or from `x = 0` when `zero_start`.
+    fn cycle(&mut self, l: usize, fine_residual: bool, zero_start: bool) {
         if l == 0 {
             let level = &mut self.levels[0];
-            level.x.copy_from_slice(&level.rhs);
-            for (x, &m) in level.x.iter_mut().zip(&level.mask) {
-                if m {
-                    *x = 0.0;
-                }
+            for ((x, &r), &f) in level.x.iter_mut().zip(&level.rhs).zip(&level.free) {
+                *x = r * f;
             }
             self.coarse.solve_in_place(&mut level.x);
             return;
         }
-        let nl = self.levels.len();
-        {
-            let a = if l + 1 == nl {
-                &self.fine
-            } else {
-                &self.galerkin[l].c
-            };
-            Self::smooth(a, &mut self.levels[l], self.pre, false);
-            let level = &mut self.levels[l];
-            for i in 0..a.nrows {
-                level.res[i] = if level.mask[i] {
-                    0.0
-                } else {
-                    level.rhs[i] - a.sym_row_dot(i, &level.x)
-                };
-            }
-        }
+        let shape = self.shape;
+        self.levels[l].smooth(shape.pre, false, zero_start, true);
         {
             let (lo, hi) = self.levels.split_at_mut(l);
             let (fine, coarse) = (&hi[0], &mut lo[l - 1]);
-            self.galerkin[l - 1].restrict(&fine.res, &fine.mask, &mut coarse.rhs);
-            coarse.x.fill(0.0);
+            self.galerkin[l - 1].restrict(&fine.res, &fine.free, &mut coarse.rhs);
         }
-        self.cycle(l - 1);
+        // The coarse correction starts from 0; the coarsest level is solved exactly, so
+        // one visit suffices there.
+        let visits = if l == 1 { 1 } else { shape.gamma };
+        for visit in 0..visits {
+            self.cycle(l - 1, false, visit == 0);
+        }
         {
             let (lo, hi) = self.levels.split_at_mut(l);
             let (fine, coarse) = (&mut hi[0], &lo[l - 1]);
-            self.galerkin[l - 1].prolong_add(&coarse.x, &fine.mask, &mut fine.x);
+            self.galerkin[l - 1].prolong_add(&coarse.x, &fine.free, &mut fine.x);
         }
-        let a = if l + 1 == nl {
-            &self.fine
-        } else {
-            &self.galerkin[l].c
-        };
-        Self::smooth(a, &mut self.levels[l], self.post, true);
+        self.levels[l].smooth(shape.post, true, false, fine_residual);
     }
 
-    /// One V-cycle improving `x` for `H x = rhs` on the unmasked dofs (masked entries of `x`
-    /// are kept, and must be 0 for a correction).
-    pub fn v_cycle(&mut self, x: &mut [f64], rhs: &[f64]) {
+    /// One cycle improving `x` for `H x = rhs` on the unmasked dofs (masked entries of `x`
+    /// must be 0, and stay 0), or computing `x` from the initial guess 0 when `zero_start`
+    /// (then `x` need not be initialised). With `residual`, afterwards
+    /// [`fine_residual`](Self::fine_residual) holds `rhs − H x` (arbitrary on masked dofs).
+    pub fn apply(
+        &mut self,
+        x: &mut Vec<f64>,
+        rhs: &mut Vec<f64>,
+        zero_start: bool,
+        residual: bool,
+    ) {
         let l = self.levels.len() - 1;
+        // The caller's vectors become the fine level's for the cycle (no copies).
+        std::mem::swap(&mut self.levels[l].x, x);
+        std::mem::swap(&mut self.levels[l].rhs, rhs);
+        self.cycle(l, residual, zero_start);
         let level = &mut self.levels[l];
-        level.x.copy_from_slice(x);
-        level.rhs.copy_from_slice(rhs);
-        self.cycle(l);
-        x.copy_from_slice(&self.levels[l].x);
+        if residual && l == 0 {
+            level.smooth(0, false, false, true);
+        }
+        std::mem::swap(&mut level.x, x);
+        std::mem::swap(&mut level.rhs, rhs);
+    }
+
+    /// The fine-level residual left by [`apply`](Self::apply) with `residual`.
+    pub fn fine_residual(&self) -> &[f64] {
+        &self.levels.last().expect("fine level").res
+    }
+
+    /// The fine-level mask as factors: 1 on free dofs, 0 on masked ones.
+    pub fn fine_free(&self) -> &[f64] {
+        &self.levels.last().expect("fine level").free
     }
 }
 
@@ -302,23 +375,18 @@ mod tests {
     use super::*;
 
     fn laplacian_1d(n: usize) -> Csc {
-        let mut col_ptr = vec![0];
-        let mut row_idx = Vec::new();
-        let mut val = Vec::new();
-        for j in 0..n {
-            for i in j.saturating_sub(1)..(j + 2).min(n) {
-                row_idx.push(i);
-                val.push(if i == j { 2.0 } else { -1.0 });
-            }
-            col_ptr.push(row_idx.len());
-        }
-        Csc {
-            nrows: n,
-            ncols: n,
-            col_ptr,
-            row_idx,
-            val,
-        }
+        let dense: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| match i.abs_diff(j) {
+                        0 => 2.0,
+                        1 => -1.0,
+                        _ => 0.0,
+                    })
+                    .collect()
+            })
+            .collect();
+        Csc::from_dense(&dense)
     }
 
     fn interpolation(nc: usize) -> Csc {
@@ -348,36 +416,137 @@ mod tests {
         }
     }
 
-    /// The incremental update of the coarse operators equals a full recomputation after
-    /// changes of the fine matrix and mask restricted to the declared variable dofs.
-    #[test]
-    fn incremental_update_matches_full_update() {
-        let n = 33;
-        let ps = vec![interpolation(5), interpolation(9), interpolation(17)];
-        let fine = laplacian_1d(n);
-        let mut inc = LinearMultigrid::new(fine.clone(), ps.clone(), 1, 1).unwrap();
-        let mut full = LinearMultigrid::new(fine, ps, 1, 1).unwrap();
-        inc.update().unwrap();
-        let variable = [0usize, 1, 2, 3];
-        inc.set_variable_dofs(&variable);
-        for round in 0..4 {
-            for m in [&mut inc, &mut full] {
-                for &i in &variable {
-                    let d = m.fine.position(i, i).unwrap();
-                    m.fine.val[d] = 2.0 + 1e3 * (round as f64 + i as f64);
+    const SHAPE: CycleShape = CycleShape {
+        pre: 1,
+        post: 1,
+        gamma: 1,
+    };
+
+    /// `a ⊗ b` for a 2 × 2 block `b` (node-major).
+    fn kron(a: &Csc, b: [[f64; 2]; 2]) -> Csc {
+        let mut col_ptr = vec![0];
+        let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+        for j in 0..a.ncols {
+            for c in 0..2 {
+                let (rows, vals) = a.col(j);
+                for (&i, &v) in rows.iter().zip(vals) {
+                    for (r, br) in b.iter().enumerate() {
+                        row_idx.push(2 * i + r);
+                        val.push(v * br[c]);
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        Csc {
+            nrows: 2 * a.nrows,
+            ncols: 2 * a.ncols,
+            col_ptr,
+            row_idx,
+            val,
+        }
+    }
+
+    /// Sets the variable nodes' diagonal blocks and masks of round `round` (the same on
+    /// both hierarchies), updates `inc` incrementally and `full` fully, and compares.
+    fn compare_updates<const D: usize>(
+        inc: &mut LinearMultigrid<D>,
+        full: &mut LinearMultigrid<D>,
+        variable: &[usize],
+        rounds: usize,
+    ) {
+        for round in 0..rounds {
+            for m in [&mut *inc, &mut *full] {
+                for &i in variable {
+                    for r in 0..D {
+                        for c in 0..D {
+                            let h =
+                                1e3 * (round as f64 + i as f64) * if r == c { 1.0 } else { 0.3 };
+                            m.fine_diag_mut()[i][r][c] = if r == c { 2.0 } else { 0.0 } + h;
+                        }
+                    }
                 }
                 let mask = m.fine_mask_mut();
                 mask[0] = round % 2 == 0;
                 mask[2] = round == 3;
+                mask[D * variable[1] + D - 1] = round % 3 == 1;
             }
             inc.update_incremental().unwrap();
             full.update().unwrap();
-            for (gi, gf) in inc.galerkin.iter().zip(&full.galerkin) {
-                assert_eq!(gi.c.val, gf.c.val, "round {round}");
-            }
             for (li, lf) in inc.levels.iter().zip(&full.levels) {
+                assert_eq!(li.a.diag, lf.a.diag, "round {round}");
+                assert_eq!(li.a.lower, lf.a.lower, "round {round}");
+                assert_eq!(li.a.upper, lf.a.upper, "round {round}");
                 assert_eq!(li.mask, lf.mask);
+                assert_eq!(li.smoother, lf.smoother);
             }
         }
+    }
+
+    /// The incremental update of the coarse operators equals a full recomputation after
+    /// changes of the fine matrix and mask restricted to the declared variable nodes:
+    /// scalar (D = 1), and with full 2 × 2 blocks in the matrix and the prolongations
+    /// (as with nodal frames) and one component of a node masked.
+    #[test]
+    fn incremental_update_matches_full_update() {
+        let ps = vec![interpolation(5), interpolation(9), interpolation(17)];
+        let variable = [0usize, 1, 2, 3];
+        let fine = BlockCsr::<1>::from_csc(&laplacian_1d(33)).unwrap();
+        let mut inc = LinearMultigrid::new(fine.clone(), ps.clone(), SHAPE).unwrap();
+        let mut full = LinearMultigrid::new(fine, ps.clone(), SHAPE).unwrap();
+        inc.update().unwrap();
+        inc.set_variable_nodes(&variable);
+        compare_updates(&mut inc, &mut full, &variable, 4);
+
+        let fine =
+            BlockCsr::<2>::from_csc(&kron(&laplacian_1d(33), [[2.0, 0.6], [0.6, 1.0]])).unwrap();
+        let ps: Vec<Csc> = ps
+            .iter()
+            .map(|p| kron(p, [[1.0, 0.2], [-0.1, 0.9]]))
+            .collect();
+        let mut inc = LinearMultigrid::new(fine.clone(), ps.clone(), SHAPE).unwrap();
+        let mut full = LinearMultigrid::new(fine, ps, SHAPE).unwrap();
+        inc.update().unwrap();
+        inc.set_variable_nodes(&variable);
+        compare_updates(&mut inc, &mut full, &variable, 6);
+    }
+
+    /// The linear correction reaches the requested residual reduction (checked with an
+    /// independent residual), and conjugate gradients need no more cycles than the
+    /// stationary iteration (measured: 5 against 9 for a reduction of 1e-6, V(1,1) on a
+    /// 1-D Laplacian with 5 levels).
+    #[test]
+    fn linear_corrections_reduce_the_residual() {
+        use crate::linear_correction::{LinearCorrection, LinearSolve};
+        let n = 65;
+        let ps = vec![
+            interpolation(5),
+            interpolation(9),
+            interpolation(17),
+            interpolation(33),
+        ];
+        let a = laplacian_1d(n);
+        let fine = BlockCsr::<1>::from_csc(&a).unwrap();
+        let mut mg = LinearMultigrid::new(fine, ps, SHAPE).unwrap();
+        mg.update().unwrap();
+        let mut res: Vec<f64> = (0..n).map(|i| ((i * 7 % 11) as f64 - 5.0) / 5.0).collect();
+        let r0 = res.iter().map(|r| r * r).sum::<f64>().sqrt();
+        let mut used = Vec::new();
+        for method in [LinearCorrection::Cycles, LinearCorrection::PreconditionedCg] {
+            let mut lin = LinearSolve::new(n);
+            let mut c = vec![0.0; n];
+            let cycles = lin.solve(method, &mut mg, &mut res, &mut c, 50, Some(1e-6));
+            let mut hc = vec![0.0; n];
+            a.sym_mul(&c, &mut hc);
+            let r = res
+                .iter()
+                .zip(&hc)
+                .map(|(r, h)| (r - h) * (r - h))
+                .sum::<f64>()
+                .sqrt();
+            assert!(r <= 1.01e-6 * r0, "{method:?}: reduction {}", r / r0);
+            used.push(cycles);
+        }
+        assert!(used[1] <= used[0], "cycles {used:?}");
     }
 }

@@ -1,23 +1,25 @@
 //! The quadratic part `½ vᵀAv − bᵀv` with its constraints, shared by all solvers.
 
-use crate::block::{load, solve_spd_masked, store};
+use faer::sparse::SparseColMatRef;
+
+use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
+use crate::bsr::BlockCsr;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
 
-/// Sentinel for a structurally absent entry of a node block.
-const ABSENT: usize = usize::MAX;
-
-/// A symmetric positive definite matrix with node-block structure and a fixed-dof mask.
+/// A validated symmetric matrix with node-block structure and a fixed-dof mask, in scalar
+/// CSC storage (the direct solver's format).
 #[derive(Debug, Clone)]
 pub(crate) struct BlockedMatrix<const D: usize> {
     pub a: Csc,
-    /// Positions of the D×D diagonal block entries of each node (ABSENT if not stored).
-    pub block_pos: Vec<[[usize; D]; D]>,
     pub fixed: Vec<bool>,
 }
 
 impl<const D: usize> BlockedMatrix<D> {
+    /// # Errors
+    /// Non-symmetric pattern, missing diagonal, dimension not a multiple of `D`, mask of
+    /// the wrong length, non-positive diagonal entry on a free dof.
     pub fn new(a: Csc, fixed: &[bool]) -> Result<Self> {
         a.check_symmetric_pattern()?;
         let n = a.nrows;
@@ -40,50 +42,50 @@ impl<const D: usize> BlockedMatrix<D> {
                 ));
             }
         }
-        let block_pos = (0..n / D)
-            .map(|p| {
-                let mut pos = [[ABSENT; D]; D];
-                for (r, row) in pos.iter_mut().enumerate() {
-                    for (c, e) in row.iter_mut().enumerate() {
-                        *e = a.position(D * p + r, D * p + c).unwrap_or(ABSENT);
-                    }
-                }
-                pos
-            })
+        Ok(Self {
+            a,
+            fixed: fixed.to_vec(),
+        })
+    }
+}
+
+/// The quadratic part in node-block storage, for the iterative solvers: `A` as
+/// [`BlockCsr`], the fixed mask, and per node the local solve of the linear block
+/// Gauss–Seidel step on the free components (computed once).
+#[derive(Debug, Clone)]
+pub(crate) struct NodalProblem<const D: usize> {
+    pub a: BlockCsr<D>,
+    pub fixed: Vec<bool>,
+    free: Vec<[bool; D]>,
+    /// `masked_inverse` of each diagonal block on the free components.
+    inverse: Vec<Block<D>>,
+}
+
+impl<const D: usize> NodalProblem<D> {
+    /// Validates (as [`BlockedMatrix::new`]) and blocks `a`.
+    ///
+    /// # Errors
+    /// As [`BlockedMatrix::new`]; non-finite entries.
+    pub fn new(a: SparseColMatRef<'_, usize, f64>, fixed: &[bool]) -> Result<Self> {
+        let m = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
+        let a = BlockCsr::<D>::from_csc(&m.a)?;
+        let free: Vec<[bool; D]> = (0..a.nodes())
+            .map(|p| std::array::from_fn(|c| !fixed[D * p + c]))
+            .collect();
+        let inverse = (0..a.nodes())
+            .map(|p| masked_inverse(&a.diag[p], &free[p]))
             .collect();
         Ok(Self {
             a,
-            block_pos,
-            fixed: fixed.to_vec(),
+            fixed: m.fixed,
+            free,
+            inverse,
         })
     }
 
     #[inline]
     pub fn n(&self) -> usize {
-        self.a.nrows
-    }
-
-    #[inline]
-    pub fn block(&self, p: usize) -> [[f64; D]; D] {
-        let mut out = [[0.0; D]; D];
-        for r in 0..D {
-            for c in 0..D {
-                let k = self.block_pos[p][r][c];
-                if k != ABSENT {
-                    out[r][c] = self.a.val[k];
-                }
-            }
-        }
-        out
-    }
-
-    #[inline]
-    pub fn free_mask(&self, p: usize) -> [bool; D] {
-        let mut f = [false; D];
-        for c in 0..D {
-            f[c] = !self.fixed[D * p + c];
-        }
-        f
+        self.a.n()
     }
 
     /// `J(v) = ½ vᵀAv − bᵀv + Σ φ_k(v_{p_k})`.
@@ -100,54 +102,34 @@ impl<const D: usize> BlockedMatrix<D> {
 
     /// One nonlinear block Gauss–Seidel sweep (forward, or backward when `reverse`):
     /// each node block is minimised exactly with the others fixed. `active_of[p]` is the
-    /// position of node `p` in `nl.active_blocks()` or `usize::MAX`.
+    /// position of node `p` in `nl.active_blocks()` or `usize::MAX`; `w` is scratch of
+    /// length `n`, 0 on entry and on return (see [`BlockCsr::sweep`]).
     pub fn nonlinear_gauss_seidel<N: BlockNonlinearity<D>>(
         &self,
         b: &[f64],
         nl: &N,
         active_of: &[usize],
         v: &mut [f64],
+        w: &mut [f64],
         reverse: bool,
     ) {
-        let nodes = self.n() / D;
-        for q in 0..nodes {
-            let p = if reverse { nodes - 1 - q } else { q };
-            let free = self.free_mask(p);
-            if !free.iter().any(|&f| f) {
-                continue;
-            }
-            let a_pp = self.block(p);
-            let mut x = load::<D>(v, p);
-            // r_p = b_p − (A v)_p + A_pp v_p: the right-hand side with off-block coupling.
-            let mut r = [0.0; D];
-            for c in 0..D {
-                let i = D * p + c;
-                let mut s = b[i] - self.a.sym_row_dot(i, v);
-                for c2 in 0..D {
-                    s += a_pp[c][c2] * x[c2];
-                }
-                r[c] = s;
-            }
+        let a = &self.a;
+        a.sweep(b, v, w, reverse, false, |p, s, x| {
+            // s = b_p − Σ_{q≠p} A_pq v_q: the block right-hand side with off-block coupling.
             let k = active_of[p];
             if k != usize::MAX {
-                nl.minimize_block(k, &a_pp, &r, &free, &mut x);
+                nl.minimize_block(k, &a.diag[p], s, &self.free[p], x);
             } else {
-                // Linear block: move the fixed components' coupling to the right-hand side.
-                let mut rf = r;
+                // Linear block: exact solve on the free components (the fixed ones keep
+                // their values; their coupling enters through A_pp x).
+                let mut r = *s;
+                sub_mul_vec(&mut r, &a.diag[p], x);
+                let d = mul_vec(&self.inverse[p], &r);
                 for c in 0..D {
-                    if free[c] {
-                        for c2 in 0..D {
-                            if !free[c2] {
-                                rf[c] -= a_pp[c][c2] * x[c2];
-                            }
-                        }
-                    }
+                    x[c] += d[c];
                 }
-                let ok = solve_spd_masked(&a_pp, &rf, &free, &mut x);
-                debug_assert!(ok, "free diagonal block not SPD");
             }
-            store(v, p, &x);
-        }
+        });
     }
 }
 

@@ -123,11 +123,11 @@ pub(crate) fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
     Ok(())
 }
 
-/// One iteration of an iterative solver over a [`BlockedMatrix`](crate::problem::BlockedMatrix),
+/// One iteration of an iterative solver over a [`NodalProblem`](crate::problem::NodalProblem),
 /// so that the loop, the stopping test and the report live in one place.
 pub(crate) trait Iteration<const D: usize> {
-    fn blocked(&self) -> &crate::problem::BlockedMatrix<D>;
-    fn energy_norm(&self) -> &crate::tnnmg::EnergyNorm;
+    fn blocked(&self) -> &crate::problem::NodalProblem<D>;
+    fn energy_norm(&self) -> &crate::tnnmg::EnergyNorm<D>;
     fn active_of_mut(&mut self) -> &mut Vec<usize>;
     /// Performs one iteration on `v`; returns the energy norm of the correction.
     fn iterate<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64])

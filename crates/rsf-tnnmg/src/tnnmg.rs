@@ -3,12 +3,14 @@
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
 use crate::block::load;
+use crate::bsr::BlockCsr;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
-use crate::multigrid::LinearMultigrid;
+use crate::linear_correction::{LinearCorrection, LinearSolve};
+use crate::multigrid::{CycleShape, LinearMultigrid};
 use crate::nonlinearity::{BlockNonlinearity, Linearization};
-use crate::problem::BlockedMatrix;
+use crate::problem::{dot, NodalProblem};
 use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
@@ -24,27 +26,55 @@ pub struct TnnmgOptions {
     /// Nonlinear Gauss–Seidel sweeps before each linear correction (≥ 1: they carry the
     /// global convergence guarantee).
     pub nonlinear_sweeps: usize,
-    /// Linear multigrid V-cycles per iteration.
+    /// Maximal number of linear multigrid cycles per iteration (V- or W-cycles, see
+    /// [`cycle_index`](Self::cycle_index); preconditioner applications with
+    /// [`LinearCorrection::PreconditionedCg`]).
     pub v_cycles: usize,
-    /// Inexact Newton: stop the V-cycles of an iteration early once the linearised residual
-    /// (Euclidean norm on the untruncated dofs) is reduced by this factor; `None` always
-    /// runs `v_cycles` cycles. The TNNMG iteration count then no longer inherits the growth
-    /// of the V-cycle rate with refinement (mass- to stiffness-dominated `A`).
+    /// How the cycles solve the truncated Newton system.
+    pub linear_correction: LinearCorrection,
+    /// Inexact Newton: stop the linear correction of an iteration early once the
+    /// linearised residual (Euclidean norm on the untruncated dofs) is reduced by this
+    /// factor; `None` always runs `v_cycles` cycles. The TNNMG iteration count then no
+    /// longer inherits the growth of the V-cycle rate with refinement (mass- to
+    /// stiffness-dominated `A`).
     pub linear_reduction: Option<f64>,
-    /// Gauss–Seidel sweeps before and after the coarse correction in each V-cycle.
+    /// Block Gauss–Seidel sweeps before and after the coarse correction in each cycle.
     pub smoothing: (usize, usize),
+    /// Coarse corrections per level and cycle: 1 is the V-cycle, 2 the W-cycle.
+    pub cycle_index: usize,
     /// Record `J(v_k)` in the report.
     pub record_energy: bool,
 }
 
+impl TnnmgOptions {
+    /// The classical TNNMG iteration (docs/math.md §5 with one cycle): one nonlinear
+    /// Gauss–Seidel sweep and exactly one multigrid V(3,3)-cycle as the linear correction
+    /// of every iteration (no inexact-Newton rule, no Krylov acceleration) — this crate's
+    /// defaults before the inexact-Newton rule. Same stopping test as [`Default`].
+    pub fn classical() -> Self {
+        Self {
+            v_cycles: 1,
+            linear_correction: LinearCorrection::Cycles,
+            linear_reduction: None,
+            smoothing: (3, 3),
+            ..Self::default()
+        }
+    }
+}
+
 impl Default for TnnmgOptions {
+    /// One nonlinear sweep, then conjugate gradients preconditioned by block Gauss–Seidel
+    /// V(2,2)-cycles until the linearised residual dropped by 0.01 (at most 4 cycles):
+    /// chosen by time-to-tolerance measurements on the slider at j = 4..8 (docs/tnnmg.md).
     fn default() -> Self {
         Self {
             stopping: Stopping::default(),
             nonlinear_sweeps: 1,
-            v_cycles: 3,
-            linear_reduction: Some(0.02),
-            smoothing: (3, 3),
+            v_cycles: 4,
+            linear_correction: LinearCorrection::default(),
+            linear_reduction: Some(0.01),
+            smoothing: (2, 2),
+            cycle_index: 1,
             record_energy: false,
         }
     }
@@ -52,11 +82,11 @@ impl Default for TnnmgOptions {
 
 /// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
 #[derive(Debug, Clone)]
-pub(crate) struct EnergyNorm {
-    e: Option<Csc>,
+pub(crate) struct EnergyNorm<const D: usize> {
+    e: Option<BlockCsr<D>>,
 }
 
-impl EnergyNorm {
+impl<const D: usize> EnergyNorm<D> {
     pub fn new(e: Option<SparseColMatRef<'_, usize, f64>>, n: usize) -> Result<Self> {
         let e = e.map(Csc::from_faer).transpose()?;
         if let Some(e) = &e {
@@ -68,9 +98,11 @@ impl EnergyNorm {
                 });
             }
         }
-        Ok(Self { e })
+        Ok(Self {
+            e: e.as_ref().map(BlockCsr::from_csc).transpose()?,
+        })
     }
-    pub fn norm(&self, a: &Csc, x: &[f64]) -> f64 {
+    pub fn norm(&self, a: &BlockCsr<D>, x: &[f64]) -> f64 {
         self.e
             .as_ref()
             .unwrap_or(a)
@@ -82,37 +114,50 @@ impl EnergyNorm {
 
 /// TNNMG for `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` (docs/math.md §5):
 /// nonlinear block Gauss–Seidel presmoothing, truncated linearisation, linear multigrid
-/// V-cycle(s) on the truncated Newton system over the given hierarchy, exact line search.
+/// cycle(s) on the truncated Newton system over the given hierarchy, exact line search.
 /// `J` never increases. Stops on the energy norm of the correction.
 ///
+/// Storage: node-block CSR (`D × D` blocks, 32-bit node indices) for `A`, the Newton
+/// matrices and the Galerkin coarse operators; the linear multigrid smoother is block
+/// Gauss–Seidel with the diagonal blocks' local solves precomputed per set-up.
+///
 /// Set-up (once per matrix): pattern analysis, Galerkin product patterns, coarse symbolic
-/// Cholesky. Solves allocate nothing per iteration (except the optional energy history).
+/// Cholesky. Per solve with a new set of nonlinear blocks, one full numeric set-up of the
+/// hierarchy; afterwards only the rows the nonlinear blocks reach are recomputed. Solves
+/// allocate nothing per iteration (except the optional energy history).
 pub struct Tnnmg<const D: usize> {
-    m: BlockedMatrix<D>,
-    mg: LinearMultigrid,
-    norm: EnergyNorm,
+    m: NodalProblem<D>,
+    mg: LinearMultigrid<D>,
+    norm: EnergyNorm<D>,
     opts: TnnmgOptions,
     active_of: Vec<usize>,
     /// Active blocks for which the multigrid hierarchy is set up incrementally.
     cached_active: Option<Vec<usize>>,
     v_old: Vec<f64>,
-    av: Vec<f64>,
+    /// `b − A v` after the nonlinear presmoothing.
+    res_a: Vec<f64>,
+    /// Right-hand side of the truncated Newton system.
     res: Vec<f64>,
     c: Vec<f64>,
-    lin: Vec<f64>,
+    linear: LinearSolve,
+    /// Sweep scratch (0 between uses).
+    w: Vec<f64>,
+    /// Multigrid cycles of the current (or last) solve.
+    cycles: usize,
 }
 
 impl<const D: usize> Tnnmg<D> {
     /// Sets up TNNMG for the symmetric positive definite (on the free dofs) matrix `a`
     /// (`n × n`, `n = D · nodes`, node-major, both triangles stored) with the dofs where
     /// `fixed` is true held at the values of the iterate. `prolongations[l]` maps level `l` to
-    /// level `l + 1` in the same node-major numbering; the last one has `n` rows. An empty list
-    /// gives a single-level method whose linear correction is an exact sparse solve.
-    /// `energy_norm`: matrix of the stopping norm (paper: `K + M`); `None` uses `a`.
+    /// level `l + 1` in the same node-major numbering (`D n_{l+1} × D n_l`); the last one has
+    /// `n` rows. An empty list gives a single-level method whose linear correction is an
+    /// exact sparse solve. `energy_norm`: matrix of the stopping norm (paper: `K + M`);
+    /// `None` uses `a`.
     ///
     /// # Errors
-    /// Invalid shapes, non-symmetric pattern, missing diagonal, non-positive free diagonal,
-    /// invalid options.
+    /// Invalid shapes (including prolongation column counts not divisible by `D`),
+    /// non-symmetric pattern, missing diagonal, non-positive free diagonal, invalid options.
     pub fn new(
         a: SparseColMatRef<'_, usize, f64>,
         fixed: &[bool],
@@ -131,7 +176,12 @@ impl<const D: usize> Tnnmg<D> {
                 "nonlinear_sweeps and v_cycles must be at least 1".into(),
             ));
         }
-        let m = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
+        if !(1..=2).contains(&opts.cycle_index) {
+            return Err(Error::InvalidOption(
+                "cycle_index must be 1 (V-cycle) or 2 (W-cycle)".into(),
+            ));
+        }
+        let m = NodalProblem::<D>::new(a, fixed)?;
         let prolongations = prolongations
             .iter()
             .map(|p| Csc::from_faer(p.as_ref()))
@@ -139,8 +189,11 @@ impl<const D: usize> Tnnmg<D> {
         let mg = LinearMultigrid::new(
             m.a.clone(),
             prolongations,
-            opts.smoothing.0,
-            opts.smoothing.1,
+            CycleShape {
+                pre: opts.smoothing.0,
+                post: opts.smoothing.1,
+                gamma: opts.cycle_index,
+            },
         )?;
         let n = m.n();
         Ok(Self {
@@ -151,10 +204,12 @@ impl<const D: usize> Tnnmg<D> {
             active_of: Vec::new(),
             cached_active: None,
             v_old: vec![0.0; n],
-            av: vec![0.0; n],
+            res_a: vec![0.0; n],
             res: vec![0.0; n],
             c: vec![0.0; n],
-            lin: vec![0.0; n],
+            linear: LinearSolve::new(n),
+            w: vec![0.0; n],
+            cycles: 0,
         })
     }
 
@@ -168,6 +223,13 @@ impl<const D: usize> Tnnmg<D> {
         &self.opts
     }
 
+    /// Number of linear multigrid cycles (preconditioner applications with
+    /// [`LinearCorrection::PreconditionedCg`]) in the last call of
+    /// [`solve`](NonsmoothSolver::solve), over all its iterations.
+    pub fn last_solve_cycles(&self) -> usize {
+        self.cycles
+    }
+
     /// Whether the Hessian of block `p`'s nonlinearity is so large against `A`'s own block
     /// diagonal (ratio above [`RIGID_BLOCK_RATIO`] on a free component) that the block is
     /// numerically rigid: its Newton correction is negligible, and keeping it would put a
@@ -177,11 +239,61 @@ impl<const D: usize> Tnnmg<D> {
     /// are truncated like nonsmooth ones; the nonlinear smoother still updates them.
     fn is_rigid(&self, p: usize, hessian: &[[f64; D]; D]) -> bool {
         (0..D).any(|c| {
-            let pos = self.m.block_pos[p][c][c];
             !self.m.fixed[D * p + c]
-                && pos != usize::MAX
-                && !(hessian[c][c] <= RIGID_BLOCK_RATIO * self.m.a.val[pos])
+                && !(hessian[c][c] <= RIGID_BLOCK_RATIO * self.m.a.diag[p][c][c])
         })
+    }
+
+    /// Sets the fine-level matrix `H = A + ∇²Φ(v)` (on the active blocks), its mask
+    /// (fixed ∪ truncated) and the Newton right-hand side `res = b − Av − ∇Φ(v)` (0 on the
+    /// mask), then updates the hierarchy. Only the active blocks' diagonal blocks and
+    /// masks change from one iteration to the next, so after one full set-up per set of
+    /// active blocks the coarse operators are updated incrementally.
+    fn linearize<N: BlockNonlinearity<D>>(&mut self, nl: &N, v: &[f64]) -> Result<()> {
+        let incremental = self.cached_active.as_deref() == Some(nl.active_blocks());
+        if incremental {
+            for &p in nl.active_blocks() {
+                self.mg.fine_diag_mut()[p] = self.m.a.diag[p];
+                self.mg.fine_mask_mut()[D * p..D * p + D]
+                    .copy_from_slice(&self.m.fixed[D * p..D * p + D]);
+            }
+        } else {
+            self.mg.fine_diag_mut().copy_from_slice(&self.m.a.diag);
+            self.mg.fine_mask_mut().copy_from_slice(&self.m.fixed);
+        }
+        self.res.copy_from_slice(&self.res_a);
+        for (k, &p) in nl.active_blocks().iter().enumerate() {
+            match nl.linearize(k, &load::<D>(v, p)) {
+                Linearization::Smooth { hessian, .. } if self.is_rigid(p, &hessian) => {
+                    self.mg.fine_mask_mut()[D * p..D * p + D].fill(true);
+                }
+                Linearization::Smooth { gradient, hessian } => {
+                    let h = &mut self.mg.fine_diag_mut()[p];
+                    for r in 0..D {
+                        self.res[D * p + r] -= gradient[r];
+                        for c in 0..D {
+                            h[r][c] += hessian[r][c];
+                        }
+                    }
+                }
+                Linearization::Truncate => {
+                    self.mg.fine_mask_mut()[D * p..D * p + D].fill(true);
+                }
+            }
+        }
+        for (r, &m) in self.res.iter_mut().zip(self.mg.fine_mask()) {
+            if m {
+                *r = 0.0;
+            }
+        }
+        if incremental {
+            self.mg.update_incremental()
+        } else {
+            self.mg.update()?;
+            self.mg.set_variable_nodes(nl.active_blocks());
+            self.cached_active = Some(nl.active_blocks().to_vec());
+            Ok(())
+        }
     }
 
     /// One TNNMG iteration from `v`; returns the energy norm of the correction.
@@ -191,111 +303,22 @@ impl<const D: usize> Tnnmg<D> {
         nl: &N,
         v: &mut [f64],
     ) -> Result<f64> {
-        let n = self.m.n();
         self.v_old.copy_from_slice(v);
         for _ in 0..self.opts.nonlinear_sweeps {
             self.m
-                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, false);
+                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, &mut self.w, false);
         }
-        // Truncated linearisation at v.
-        self.m.a.sym_mul(v, &mut self.av);
-        for i in 0..n {
-            self.res[i] = b[i] - self.av[i];
-        }
-        // Fine matrix H = A + Hessians on the active blocks, mask = fixed ∪ truncated.
-        // Only the active blocks' entries change from one iteration to the next, so after
-        // one full set-up the coarse operators are updated incrementally.
-        let incremental = self.cached_active.as_deref() == Some(nl.active_blocks());
-        if incremental {
-            for &p in nl.active_blocks() {
-                for r in 0..D {
-                    for c in 0..D {
-                        let pos = self.m.block_pos[p][r][c];
-                        if pos != usize::MAX {
-                            self.mg.fine.val[pos] = self.m.a.val[pos];
-                        }
-                    }
-                }
-                let mask = self.mg.fine_mask_mut();
-                mask[D * p..D * p + D].copy_from_slice(&self.m.fixed[D * p..D * p + D]);
-            }
-        } else {
-            self.mg.fine.val.copy_from_slice(&self.m.a.val);
-            self.mg.fine_mask_mut().copy_from_slice(&self.m.fixed);
-        }
-        for (k, &p) in nl.active_blocks().iter().enumerate() {
-            match nl.linearize(k, &load::<D>(v, p)) {
-                Linearization::Smooth { hessian, .. } if self.is_rigid(p, &hessian) => {
-                    let mask = self.mg.fine_mask_mut();
-                    mask[D * p..D * p + D].fill(true);
-                }
-                Linearization::Smooth { gradient, hessian } => {
-                    for r in 0..D {
-                        self.res[D * p + r] -= gradient[r];
-                        for c in 0..D {
-                            let pos = self.m.block_pos[p][r][c];
-                            if pos != usize::MAX {
-                                self.mg.fine.val[pos] += hessian[r][c];
-                            } else if hessian[r][c] != 0.0 {
-                                return Err(Error::InvalidMatrix(format!(
-                                    "block ({p}) lacks entry ({r}, {c}) needed by the Hessian"
-                                )));
-                            }
-                        }
-                    }
-                }
-                Linearization::Truncate => {
-                    let mask = self.mg.fine_mask_mut();
-                    mask[D * p..D * p + D].fill(true);
-                }
-            }
-        }
-        {
-            let mask = self.mg.fine_mask_mut();
-            for (r, &m) in self.res.iter_mut().zip(mask.iter()) {
-                if m {
-                    *r = 0.0;
-                }
-            }
-        }
-        if incremental {
-            self.mg.update_incremental()?;
-        } else {
-            self.mg.update()?;
-            let dofs: Vec<usize> = nl
-                .active_blocks()
-                .iter()
-                .flat_map(|&p| (0..D).map(move |c| D * p + c))
-                .collect();
-            self.mg.set_variable_dofs(&dofs);
-            self.cached_active = Some(nl.active_blocks().to_vec());
-        }
-        self.c.fill(0.0);
-        let r0 = self.res.iter().map(|r| r * r).sum::<f64>().sqrt();
-        for cycle in 0..self.opts.v_cycles {
-            self.mg.v_cycle(&mut self.c, &self.res);
-            let Some(reduction) = self.opts.linear_reduction else {
-                continue;
-            };
-            if cycle + 1 == self.opts.v_cycles {
-                break;
-            }
-            // Linear residual res − H c on the untruncated dofs (H: the fine matrix).
-            self.mg.fine.sym_mul(&self.c, &mut self.lin);
-            let mask = self.mg.fine_mask_mut();
-            let r: f64 = self
-                .res
-                .iter()
-                .zip(&self.lin)
-                .zip(mask.iter())
-                .filter(|(_, &m)| !m)
-                .map(|((a, b), _)| (a - b) * (a - b))
-                .sum::<f64>()
-                .sqrt();
-            if r <= reduction * r0 {
-                break;
-            }
-        }
+        self.m.a.residual(b, v, &mut self.res_a, &mut self.w);
+        // Truncated linearisation at v, then the inexact linear correction H c = res.
+        self.linearize(nl, v)?;
+        self.cycles += self.linear.solve(
+            self.opts.linear_correction,
+            &mut self.mg,
+            &mut self.res,
+            &mut self.c,
+            self.opts.v_cycles,
+            self.opts.linear_reduction,
+        );
         // Blocks with a kink at zero whose correction passes through zero stop there.
         for (k, &p) in nl.active_blocks().iter().enumerate() {
             if !nl.kink_at_zero(k) {
@@ -312,12 +335,7 @@ impl<const D: usize> Tnnmg<D> {
             }
         }
         // Exact line search along c: g0 = cᵀ(Av − b), h = cᵀAc.
-        let g0: f64 = self
-            .c
-            .iter()
-            .zip(self.av.iter().zip(b))
-            .map(|(c, (av, b))| c * (av - b))
-            .sum();
+        let g0 = -dot(&self.c, &self.res_a);
         let h = self.m.a.quadratic_form(&self.c);
         if h > 0.0 && h.is_finite() {
             let s = exact_line_search(nl, v, &self.c, g0, h);
@@ -336,10 +354,10 @@ impl<const D: usize> Tnnmg<D> {
 }
 
 impl<const D: usize> Iteration<D> for Tnnmg<D> {
-    fn blocked(&self) -> &BlockedMatrix<D> {
+    fn blocked(&self) -> &NodalProblem<D> {
         &self.m
     }
-    fn energy_norm(&self) -> &EnergyNorm {
+    fn energy_norm(&self) -> &EnergyNorm<D> {
         &self.norm
     }
     fn active_of_mut(&mut self) -> &mut Vec<usize> {
@@ -381,6 +399,7 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
         v: &mut [f64],
     ) -> Result<SolveReport> {
         let (stop, record) = (self.opts.stopping, self.opts.record_energy);
+        self.cycles = 0;
         iterate_to_tolerance(self, "tnnmg", stop, record, b, nl, v)
     }
 }
