@@ -18,7 +18,6 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
-use faer::linalg::cholesky::llt::solve::solve_in_place;
 use faer::{Mat, Par};
 
 use crate::error::{Error, Result};
@@ -62,6 +61,8 @@ pub(crate) struct DenseFault<const D: usize> {
     rhs: Mat<f64>,
     mem: MemBuffer,
     soft_ratio: f64,
+    /// Scratch of the triangular solves.
+    y: Vec<f64>,
     /// Norm of the change of the last solve.
     pub change: f64,
     /// Whether `r = g − S x` is up to date (reset when `g` or `xb` are set from outside).
@@ -120,6 +121,7 @@ impl<const D: usize> DenseFault<D> {
             rhs: Mat::zeros(m, 1),
             mem,
             soft_ratio,
+            y: vec![0.0; m],
             change: f64::INFINITY,
             residual_valid: false,
         }
@@ -298,12 +300,10 @@ impl<const D: usize> DenseFault<D> {
             }
             self.factored.extend_from_slice(&self.soft);
         }
-        let stack = MemStack::new(&mut self.mem);
-        solve_in_place(
+        cholesky_solve(
             self.h.as_ref().submatrix(0, 0, q, q),
-            self.rhs.as_mut().subrows_mut(0, q),
-            Par::Seq,
-            stack,
+            &mut self.y[..q],
+            self.rhs.as_mut().col_mut(0).subrows_mut(0, q),
         );
         self.c.fill(0.0);
         for (a, &i) in self.soft.iter().enumerate() {
@@ -518,5 +518,37 @@ impl<const D: usize> DenseFault<D> {
             correction,
             tolerance: stopping.absolute,
         })
+    }
+}
+
+/// `x ← (L Lᵀ)⁻¹ x` for the Cholesky factor `L` (lower triangle of `l`, as faer's
+/// `cholesky_in_place` leaves it) by forward and backward substitution over contiguous
+/// columns: for the small dense systems here (tens to a few hundred unknowns, one right-hand
+/// side) this is several times cheaper than a general blocked triangular solve.
+fn cholesky_solve(l: faer::MatRef<'_, f64>, y: &mut [f64], mut x: faer::ColMut<'_, f64>) {
+    let q = y.len();
+    for (i, yi) in y.iter_mut().enumerate() {
+        *yi = x[i];
+    }
+    for j in 0..q {
+        let col = l.col(j);
+        let yj = y[j] / col[j];
+        y[j] = yj;
+        if yj != 0.0 {
+            for i in j + 1..q {
+                y[i] -= col[i] * yj;
+            }
+        }
+    }
+    for j in (0..q).rev() {
+        let col = l.col(j);
+        let mut acc = y[j];
+        for i in j + 1..q {
+            acc -= col[i] * y[i];
+        }
+        y[j] = acc / col[j];
+    }
+    for (i, yi) in y.iter().enumerate() {
+        x[i] = *yi;
     }
 }
