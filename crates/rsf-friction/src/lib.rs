@@ -96,6 +96,13 @@ pub trait ConvexPotential: Clone + Send + Sync {
     /// (Tresca at `V = 0`, Dieterich–Ruina exactly at `V = V_m`). Always `≥ 0`.
     fn curvature(&self, v: f64) -> Option<f64>;
 
+    /// `(ϕ'(V), ϕ''(V))` at once (as [`slope`](Self::slope) and
+    /// [`curvature`](Self::curvature)); potentials override it when both share work (one
+    /// logarithm instead of two for Dieterich–Ruina).
+    fn slope_and_curvature(&self, v: f64) -> (f64, Option<f64>) {
+        (self.slope(v), self.curvature(v))
+    }
+
     /// Exact minimiser `argmin_{s ≥ 0} ½ a s² − r s + w ϕ(s)`, i.e. the unique
     /// `s ≥ 0` with `0 ∈ a s − r + w ∂ϕ(s)`.
     ///

@@ -376,6 +376,25 @@ impl ConvexPotential for DieterichRuinaPotential {
             None
         }
     }
+    fn slope_and_curvature(&self, v: f64) -> (f64, Option<f64>) {
+        if !(v > 0.0) {
+            return (0.0, Some(0.0));
+        }
+        let x = v.ln();
+        if x < self.ln_vm {
+            (0.0, Some(0.0))
+        } else if x > self.ln_vm {
+            let q = v / self.vm;
+            let d = if self.vm >= f64::MIN_POSITIVE && self.vm.is_finite() && q > 0.5 && q < 2.0 {
+                ((v - self.vm) / self.vm).ln_1p()
+            } else {
+                x - self.ln_vm
+            };
+            (sat(self.kappa * d.max(0.0)), Some(sat(self.kappa / v)))
+        } else {
+            (0.0, None)
+        }
+    }
     /// For `r ≤ a V_m`: `s = r/a`. Otherwise `s > V_m` solves `a s + wκ ln(s/V_m) = r`;
     /// closed form `s = (wκ/a) ω(r/(wκ) + ln(a V_m/(wκ)))` (Wright omega, evaluated in
     /// log space), polished by safeguarded Newton in `x = ln s` on the bracket

@@ -287,11 +287,16 @@ impl LoadOperator {
                 *oj = load[j] + sm - sk;
             }
         };
+        // Each half compiled for the machine's SIMD level (pulp, chosen at run time); the
+        // order of the floating-point operations is fixed, so are the results.
+        let simd_rows = |first: usize, out: &mut [f64]| {
+            pulp::Arch::new().dispatch(|| rows(first, out));
+        };
         if n >= 2048 && rayon::current_num_threads() > 1 {
-            rayon::join(|| rows(0, lo), || rows(half, hi));
+            rayon::join(|| simd_rows(0, lo), || simd_rows(half, hi));
         } else {
-            rows(0, lo);
-            rows(half, hi);
+            simd_rows(0, lo);
+            simd_rows(half, hi);
         }
     }
 }

@@ -144,6 +144,7 @@ impl<const D: usize> DenseFault<D> {
     }
 
     /// `‖x‖` in the stopping norm for a vector on the free components.
+    #[inline(always)]
     fn norm_of(&self, x: &[f64]) -> f64 {
         let mat = self.norm.as_deref().unwrap_or(&self.s);
         let m = self.m;
@@ -162,6 +163,7 @@ impl<const D: usize> DenseFault<D> {
         q.max(0.0).sqrt()
     }
 
+    #[inline(always)]
     fn gather(&self, out: &mut [f64]) {
         for (o, &p) in out.iter_mut().zip(&self.comp) {
             *o = self.xb[p];
@@ -169,6 +171,7 @@ impl<const D: usize> DenseFault<D> {
     }
 
     /// `r = g − S x`.
+    #[inline(always)]
     fn residual(&mut self) {
         self.r.copy_from_slice(&self.g);
         for j in 0..self.m {
@@ -183,6 +186,7 @@ impl<const D: usize> DenseFault<D> {
     }
 
     /// One forward nonlinear block Gauss–Seidel sweep over the blocks that are not soft.
+    #[inline(always)]
     fn sweep<N: BlockNonlinearity<D>>(&mut self, nl: &N) {
         let m = self.m;
         for k in 0..self.nb {
@@ -223,6 +227,7 @@ impl<const D: usize> DenseFault<D> {
     /// Linearises every block at the current iterate and marks the soft ones (twice
     /// differentiable, Hessian at most `soft_ratio` times the diagonal of `S`), storing their
     /// gradients and Hessians.
+    #[inline(always)]
     fn classify<N: BlockNonlinearity<D>>(&mut self, nl: &N) {
         let m = self.m;
         self.soft_blocks.clear();
@@ -260,6 +265,7 @@ impl<const D: usize> DenseFault<D> {
     /// The factorisation of `S_QQ + H` is reused while the soft set stays and the previous
     /// step was a full one (a simplified Newton step; the line search keeps it a descent
     /// step).
+    #[inline(always)]
     fn newton<N: BlockNonlinearity<D>>(&mut self, nl: &N) {
         let m = self.m;
         let q = self.soft.len();
@@ -361,6 +367,7 @@ impl<const D: usize> DenseFault<D> {
 
     /// `(ψ'⁻(s), ψ'⁺(s), ψ''(s))` of `ψ(s) = J(x + s c)`, `c` supported on the soft blocks;
     /// `ψ''` counts only the blocks that are twice differentiable at `x + s c`.
+    #[inline(always)]
     fn derivatives<N: BlockNonlinearity<D>>(
         &self,
         nl: &N,
@@ -409,8 +416,16 @@ impl<const D: usize> DenseFault<D> {
     /// derivative `ψ'` starting at `s = 1` (bracket kept from the signs of `ψ'`, bisection
     /// when a Newton step leaves it), ended when `|ψ'(s)| ≤ 1e-3 |ψ'(0)|` or the bracket
     /// has collapsed. `ψ` is convex, so the energy does not increase.
+    #[inline(always)]
     fn line_search<N: BlockNonlinearity<D>>(&self, nl: &N, g0: f64, h: f64) -> f64 {
-        let (_, d0, _) = self.derivatives(nl, g0, h, 0.0);
+        // ψ'(0): the soft blocks are twice differentiable at x, with the gradients stored
+        // by `classify` at this very point.
+        let d0 = g0
+            + self
+                .soft
+                .iter()
+                .map(|&i| self.grad[i] * self.c[i])
+                .sum::<f64>();
         if !(d0 < 0.0) {
             return 0.0;
         }
@@ -455,6 +470,17 @@ impl<const D: usize> DenseFault<D> {
     /// (energy norm of the correction of each iteration). Sets [`change`](Self::change) to
     /// the norm of the total change of the solve.
     pub fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        nl: &N,
+        stopping: Stopping,
+    ) -> Result<SolveReport> {
+        // The dense loops compiled for the machine's SIMD level (pulp, chosen at run time);
+        // the order of every floating-point operation is fixed, so the results are too.
+        pulp::Arch::new().dispatch(|| self.solve_kernel(nl, stopping))
+    }
+
+    #[inline(always)]
+    fn solve_kernel<N: BlockNonlinearity<D>>(
         &mut self,
         nl: &N,
         stopping: Stopping,

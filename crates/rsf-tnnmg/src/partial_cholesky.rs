@@ -93,6 +93,22 @@ impl Supernodes {
         split: usize,
         tmp: &mut Vec<f64>,
     ) {
+        // Compiled for the SIMD level of the machine, chosen at run time (pulp); plain loops
+        // whose floating-point operations keep their order, so the results are the same bits
+        // on every machine.
+        pulp::Arch::new().dispatch(|| self.forward_kernel(cols, own, own_off, tail, split, tmp));
+    }
+
+    #[inline(always)]
+    fn forward_kernel(
+        &self,
+        cols: Range<usize>,
+        own: &mut [f64],
+        own_off: usize,
+        tail: &mut [f64],
+        split: usize,
+        tmp: &mut Vec<f64>,
+    ) {
         for s in self.covering(&cols) {
             let (c0, w, pattern, l) = self.get(s);
             let (j0, j1) = (cols.start.max(c0) - c0, cols.end.min(c0 + w) - c0);
@@ -154,6 +170,19 @@ impl Supernodes {
         split: usize,
         tmp: &mut Vec<f64>,
     ) {
+        pulp::Arch::new().dispatch(|| self.backward_kernel(cols, own, own_off, tail, split, tmp));
+    }
+
+    #[inline(always)]
+    fn backward_kernel(
+        &self,
+        cols: Range<usize>,
+        own: &mut [f64],
+        own_off: usize,
+        tail: &[f64],
+        split: usize,
+        tmp: &mut Vec<f64>,
+    ) {
         for s in self.covering(&cols).rev() {
             let (c0, w, pattern, l) = self.get(s);
             let (j0, j1) = (cols.start.max(c0) - c0, cols.end.min(c0 + w) - c0);
@@ -192,7 +221,7 @@ impl Supernodes {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn col_below(l: &[f64], ld: usize, w: usize, jj: usize) -> &[f64] {
     &l[jj * ld + w..(jj + 1) * ld]
 }
@@ -215,7 +244,7 @@ pub(crate) struct PartialCholesky {
 
 /// `Σ a_i b_i` with four independent partial sums (a fixed order: deterministic, and not
 /// bound by the latency of one chain of additions).
-#[inline]
+#[inline(always)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0; 4];
     let (a4, ar) = a.split_at(a.len() - a.len() % 4);

@@ -154,20 +154,20 @@ impl<const D: usize, L: FrictionLaw> BlockNonlinearity<D> for FrictionBlocks<L> 
         let w = self.weights[k];
         let phi = &self.potentials[k];
         let s = norm(v);
-        let Some(curv) = phi.curvature(s) else {
+        let (slope, curv) = phi.slope_and_curvature(s);
+        let Some(curv) = curv else {
             return Linearization::Truncate;
         };
         let mut gradient = [0.0; D];
         let mut hessian = [[0.0; D]; D];
         if s == 0.0 {
-            if phi.slope(0.0) > 0.0 {
+            if slope > 0.0 {
                 return Linearization::Truncate;
             }
             for c in 0..D {
                 hessian[c][c] = w * curv;
             }
         } else {
-            let slope = phi.slope(s);
             let tangential = slope / s;
             for i in 0..D {
                 let ui = v[i] / s;
