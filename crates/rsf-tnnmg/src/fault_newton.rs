@@ -17,7 +17,9 @@
 //! them keeps the dense factorisation small (empty while the whole fault sticks).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::cholesky::llt::factor::{
+    cholesky_in_place, cholesky_in_place_scratch, LltParams,
+};
 use faer::{Mat, Par};
 
 use crate::error::{Error, Result};
@@ -296,7 +298,7 @@ impl<const D: usize> DenseFault<D> {
             self.factored.clear();
             let stack = MemStack::new(&mut self.mem);
             let hq = self.h.as_mut().submatrix_mut(0, 0, q, q);
-            if cholesky_in_place(hq, Default::default(), Par::Seq, stack, Default::default())
+            if cholesky_in_place(hq, Default::default(), Par::Seq, stack, small_llt_params())
                 .is_err()
             {
                 // Not positive definite in floating point (extreme contrast): the sweep
@@ -545,6 +547,20 @@ impl<const D: usize> DenseFault<D> {
             tolerance: stopping.absolute,
         })
     }
+}
+
+/// Largest dense system factorised by faer's unblocked SIMD kernel instead of its blocked
+/// (gemm-based) path. faer's default switches at 64. Within a time step the blocked path
+/// cost far more than a stand-alone benchmark of it suggests (main job, one thread:
+/// condensed solves 5.0 s → 3.0 s at j = 4, 17 s → 8–11 s at j = 5 with 256; j = 6,
+/// where most systems exceed 200 unknowns, unchanged within the noise), while above a few
+/// hundred unknowns the blocked path wins by 3× and more.
+const SMALL_LLT: usize = 256;
+
+fn small_llt_params() -> faer::Spec<LltParams, f64> {
+    let mut params: LltParams = faer::Auto::<f64>::auto();
+    params.recursion_threshold = SMALL_LLT;
+    params.into()
 }
 
 /// `x ← (L Lᵀ)⁻¹ x` for the Cholesky factor `L` (lower triangle of `l`, as faer's
