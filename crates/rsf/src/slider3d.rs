@@ -99,13 +99,18 @@ struct Extrusion {
 /// needs more than 1000 coarse cells in z.
 pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
     if !(width_m.is_finite() && width_m > 0.0 && width_m <= 1000.0) {
-        return Err(invalid("width_m", format!("{width_m} must be in (0, 1000] m")));
+        return Err(invalid(
+            "width_m",
+            format!("{width_m} must be in (0, 1000] m"),
+        ));
     }
     let nz = (width_m.round() as usize).max(1);
     let mut mesh = cuboid([0.0; 3], [5.0, 1.0, width_m], [6, 2, nz + 1])?;
     let eps = 1e-9;
     mesh.tag_boundary(TAG_NEUMANN, |x| x[0] < eps || x[0] > 5.0 - eps);
-    mesh.tag_boundary(TAG_LATERAL, |x| x[2] < eps * width_m || x[2] > width_m * (1.0 - eps));
+    mesh.tag_boundary(TAG_LATERAL, |x| {
+        x[2] < eps * width_m || x[2] > width_m * (1.0 - eps)
+    });
     mesh.tag_boundary(TAG_DIRICHLET, |x| x[1] > 1.0 - eps);
     mesh.tag_boundary(TAG_FRICTIONAL, |x| x[1] < eps);
     Ok(mesh)
@@ -219,7 +224,12 @@ impl Slider3dScene {
     /// As [`build`](Self::build).
     pub fn build_with_model(&self, model: Model<3>) -> Result<Box<dyn AnySimulation<3>>> {
         let b = self.simulation_builder_with_model(model)?;
-        with_laws(b, self.slider.state_law, self.slider.integrator, self.slider.l_m)
+        with_laws(
+            b,
+            self.slider.state_law,
+            self.slider.integrator,
+            self.slider.l_m,
+        )
     }
 }
 
@@ -265,11 +275,18 @@ mod tests {
     #[test]
     fn toml_fields_of_both_parts_and_unknown_names() {
         let s = Slider3dScene::from_toml("a = 0.02\nlateral = \"plane-strain\"").unwrap();
-        assert_eq!((s.slider.a, s.lateral), (0.02, LateralBoundary::PlaneStrain));
+        assert_eq!(
+            (s.slider.a, s.lateral),
+            (0.02, LateralBoundary::PlaneStrain)
+        );
         assert_eq!(s.width_m, 1.0);
-        let e = Slider3dScene::from_toml("widht_m = 2").unwrap_err().to_string();
+        let e = Slider3dScene::from_toml("widht_m = 2")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("widht_m"), "{e}");
-        let e = Slider3dScene::from_toml("lateral = \"open\"").unwrap_err().to_string();
+        let e = Slider3dScene::from_toml("lateral = \"open\"")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("open"), "{e}");
         let back = toml::to_string(&s).unwrap();
         assert_eq!(Slider3dScene::from_toml(&back).unwrap(), s);

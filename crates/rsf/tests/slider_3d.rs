@@ -1,36 +1,326 @@
-use rsf::{EventDetector, EventThresholds, Flow, Observer, Slider3dScene, SliderScene, SolverChoice, StepState, LateralBoundary, SLIDER_CENTRE};
+//! The 3-D slider (issue 12; docs/math.md §10): with `u_z = 0` on its lateral faces it
+//! reproduces the 2-D main job, TNNMG and the direct solver agree on its velocity
+//! problems, and its VTU frames hold tetrahedra.
 
-struct Rec { x0: usize, d: usize, t: Vec<f64>, ux: Vec<f64>, maxv: Vec<f64>, fpi: Vec<usize>, it: Vec<usize> }
-impl<const D: usize> Observer<D> for Rec {
-    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<Flow> {
-        self.t.push(s.report.time); self.ux.push(s.kinematics.u[D*self.x0]); self.maxv.push(s.report.max_slip_rate);
-        self.fpi.push(s.report.fixed_point_iterations); self.it.push(s.report.solver_iterations);
-        let _ = self.d;
-        Ok(if s.report.max_slip_rate > 1e-3 { Flow::Break(()) } else { Flow::Continue(()) })
+mod common;
+
+use common::{apply, dot, first_crossing};
+use rsf::fem::SparseMatrix;
+use rsf::friction::DieterichRuina;
+use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
+use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
+use rsf::{
+    FrictionBlocks, LateralBoundary, Model, Observer, Slider3dScene, SliderScene, SolverChoice,
+    StepState, SLIDER_CENTRE,
+};
+
+/// Time, `u_x` at one node and the largest slip rate of every step, until the largest slip
+/// rate exceeds `stop` (m/s).
+struct Trace {
+    node: usize,
+    stop: f64,
+    t: Vec<f64>,
+    u_x: Vec<f64>,
+    max_slip_rate: Vec<f64>,
+}
+
+impl Trace {
+    fn new(node: usize, stop: f64) -> Self {
+        Self {
+            node,
+            stop,
+            t: Vec::new(),
+            u_x: Vec::new(),
+            max_slip_rate: Vec::new(),
+        }
+    }
+
+    /// `u_x` at time `t` (linear interpolation between steps).
+    fn u_x_at(&self, t: f64) -> f64 {
+        let i = self
+            .t
+            .partition_point(|&s| s < t)
+            .clamp(1, self.t.len() - 1);
+        let w = (t - self.t[i - 1]) / (self.t[i] - self.t[i - 1]);
+        self.u_x[i - 1] + w * (self.u_x[i] - self.u_x[i - 1])
     }
 }
 
+impl<const D: usize> Observer<D> for Trace {
+    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<rsf::Flow> {
+        self.t.push(s.report.time);
+        self.u_x.push(s.kinematics.u[D * self.node]);
+        self.max_slip_rate.push(s.report.max_slip_rate);
+        Ok(if s.report.max_slip_rate > self.stop {
+            rsf::Flow::Break(())
+        } else {
+            rsf::Flow::Continue(())
+        })
+    }
+}
+
+/// Issue 12's plane-strain check. The 3-D slider with `u_z = 0` on both lateral faces
+/// (W = 1 m) against the 2-D main job (Table 6.1, N = 10⁴, Newmark, Dieterich) at the same
+/// level j = 2: the first slip event (the largest slip rate crossing 1e-3 m/s,
+/// interpolated in ln V between steps) within 0.5 %, and u_x(x0) before it within 1 %:
+/// over the whole run up to `t_ev − 0.1 s` (the fault creeps a few µm by then), the
+/// largest difference is at most 1 % of the 2-D `u_x(x0, t_ev − 0.1 s)`.
+///
+/// Level: j = 2 is the cheapest level where both comparisons are meaningful: the static
+/// `u_x(x0)` before the creep (≈ −3e-7 m, an artefact of the meshes' diagonals that
+/// vanishes under refinement) differs by 1.9 % at j = 2 and 0.6 % at j = 3 between the
+/// Kuhn tetrahedra and the triangles, small against the creep; `u_x(x0, t_ev − 0.1 s)`
+/// differs by about 0.15 % at j = 2 and 0.05 % at j = 3; both levels give the same event
+/// time to the step (10.086 s at j = 2, 10.0875 s at j = 3, the issue's value). j = 3 costs
+/// ten times more (≈ 10⁴ dofs).
 #[test]
-fn explore() {
-    let level: usize = std::env::var("LEVEL").map(|s| s.parse().unwrap()).unwrap_or(2);
-    let solver = match std::env::var("SOLVER").as_deref() { Ok("tnnmg") => SolverChoice::Tnnmg, _ => SolverChoice::Direct };
-    let s2 = SliderScene { level, solver, ..SliderScene::default() };
-    let t0 = std::time::Instant::now();
-    let mut sim2 = s2.build().unwrap();
+fn plane_strain_reproduces_the_2d_main_job() {
+    let slider = SliderScene {
+        level: 2,
+        solver: SolverChoice::Direct,
+        ..SliderScene::default()
+    };
+    let stop = 1e-3;
+    let mut sim2 = slider.build().expect("2-D slider");
     let x0 = sim2.model().nearest_node(&SLIDER_CENTRE).unwrap();
-    let mut r2 = Rec { x0, d: 2, t: vec![], ux: vec![], maxv: vec![], fpi: vec![], it: vec![] };
-    sim2.run(8000, &mut [&mut r2]).unwrap();
-    eprintln!("2D: {} dofs, {:.1} s, last t {} ux {:e}", sim2.model().num_dofs(), t0.elapsed().as_secs_f64(), r2.t.last().unwrap(), r2.ux.last().unwrap());
-    let s3 = Slider3dScene { slider: s2.clone(), lateral: LateralBoundary::PlaneStrain, ..Slider3dScene::default() };
-    let t0 = std::time::Instant::now();
-    let mut sim3 = s3.build().unwrap();
-    eprintln!("3D setup {:.1} s, {} dofs, solver {}", t0.elapsed().as_secs_f64(), sim3.model().num_dofs(), sim3.solver_name());
-    let x0 = sim3.model().nearest_node(&s3.centre()).unwrap();
-    let mut r3 = Rec { x0, d: 3, t: vec![], ux: vec![], maxv: vec![], fpi: vec![], it: vec![] };
-    let t0 = std::time::Instant::now();
-    sim3.run(8000, &mut [&mut r3]).unwrap();
-    eprintln!("3D: {:.1} s, last t {} ux {:e}, fpi mean {:.2}, it mean {:.2}", t0.elapsed().as_secs_f64(), r3.t.last().unwrap(), r3.ux.last().unwrap(),
-      r3.fpi.iter().sum::<usize>() as f64 / r3.fpi.len() as f64, r3.it.iter().sum::<usize>() as f64 / r3.it.len() as f64);
-    for k in [1000, 3000, 5000, 6000, 6500] { if k < r3.t.len() && k < r2.t.len() { eprintln!("t {} ux2 {:e} ux3 {:e} rel {:e}", r2.t[k], r2.ux[k], r3.ux[k], (r3.ux[k]-r2.ux[k])/r2.ux[k]); } }
-    let _ = (EventDetector::new(EventThresholds::default()),);
+    let mut trace2 = Trace::new(x0, stop);
+    sim2.run(slider.steps, &mut [&mut trace2]).unwrap();
+
+    let scene = Slider3dScene {
+        slider,
+        width_m: 1.0,
+        lateral: LateralBoundary::PlaneStrain,
+    };
+    let mut sim3 = scene.build().expect("3-D slider");
+    let x0 = sim3.model().nearest_node(&scene.centre()).unwrap();
+    assert_eq!(sim3.model().vertices[x0], scene.centre(), "x0 is a node");
+    let mut trace3 = Trace::new(x0, stop);
+    sim3.run(scene.slider.steps, &mut [&mut trace3]).unwrap();
+
+    let event = |t: &Trace| first_crossing(&t.t, &t.max_slip_rate, stop, 0.0).expect("an event");
+    let (ev2, ev3) = (event(&trace2), event(&trace3));
+    let before = ev2 - 0.1;
+    let u2 = trace2.u_x_at(before);
+    let max_diff = trace2
+        .t
+        .iter()
+        .take_while(|&&t| t <= before)
+        .map(|&t| (trace3.u_x_at(t) - trace2.u_x_at(t)).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "plane strain, j = 2: first event 2-D {ev2:.5} s, 3-D {ev3:.5} s; u_x(x0, {before:.4} s) \
+         2-D {u2:.6e} m, 3-D {:.6e} m; largest difference before it {max_diff:.3e} m",
+        trace3.u_x_at(before)
+    );
+    assert!((ev3 - ev2).abs() <= 5e-3 * ev2, "event {ev3} vs {ev2}");
+    assert!(u2 > 1e-6, "the fault has crept before the event: {u2:e}");
+    assert!(max_diff <= 1e-2 * u2, "u_x(x0): {max_diff:e} vs {u2:e}");
+}
+
+/// Post-ramp loading velocity of Γ_D (m/s).
+const V_TOP: f64 = 2e-4;
+
+/// Direction of the previous sliding velocity in the fault plane (x, z): 30° off x, so
+/// that both tangential components of every friction block are active.
+const SLIDE_DIRECTION: [f64; 3] = [0.866_025_403_784_438_6, 0.0, 0.5];
+
+/// One Newmark velocity problem of the 3-D slider (free lateral faces) at a level.
+struct Problem {
+    scene: Slider3dScene,
+    model: Model<3>,
+    a: SparseMatrix,
+    /// Dofs of Γ_D (the top face), all three components.
+    top: Vec<bool>,
+}
+
+impl Problem {
+    fn new(level: usize) -> Self {
+        let scene = Slider3dScene {
+            slider: SliderScene {
+                level,
+                ..SliderScene::default()
+            },
+            ..Slider3dScene::default()
+        };
+        let tau = scene.slider.tau();
+        let model = scene.build_model().expect("3-D slider model");
+        let a = rsf::fem::combine(
+            2.0 / tau,
+            model.mass.as_ref().expect("Newmark has mass"),
+            tau / 2.0,
+            &model.stiffness,
+        )
+        .expect("A = (2/τ)M + (τ/2)K");
+        let top = (0..model.num_dofs())
+            .map(|i| model.vertices[i / 3][1] > 1.0 - 1e-9)
+            .collect();
+        Self {
+            scene,
+            model,
+            a,
+            top,
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.model.num_dofs()
+    }
+
+    /// `v_prev`: `V · SLIDE_DIRECTION` below the top, the loading velocity on it.
+    fn previous_velocity(&self, v_slide: f64) -> Vec<f64> {
+        (0..self.n())
+            .map(|i| match (self.top[i], i % 3) {
+                (true, 0) => V_TOP,
+                (true, _) => 0.0,
+                (false, c) => v_slide * SLIDE_DIRECTION[c],
+            })
+            .collect()
+    }
+
+    /// Newmark right-hand side ℓ from `(u_0 + prestress, v_prev, 0)`.
+    fn rhs(&self, v_slide: f64) -> Vec<f64> {
+        let s = &self.scene.slider;
+        // Shear prestress u_t += γ y along the sliding direction with G γ = μ_ss(V) σ̄_n:
+        // the elastic traction on Γ_F balances steady-state friction (a slip phase).
+        let mut u = self.model.initial_displacement.clone();
+        if v_slide > 0.0 {
+            let g = s.youngs_modulus_pa / (2.0 * (1.0 + s.poisson_ratio));
+            let gamma = s.rate_state_params().steady_state_friction(v_slide) * s.sigma_n_pa / g;
+            for (i, u) in u.iter_mut().enumerate() {
+                *u += gamma * self.model.vertices[i / 3][1] * SLIDE_DIRECTION[i % 3];
+            }
+        }
+        let kin = Kinematics {
+            u,
+            v: self.previous_velocity(v_slide),
+            a: vec![0.0; self.n()],
+        };
+        let mut b = vec![0.0; self.n()];
+        Newmark
+            .right_hand_side(
+                s.tau(),
+                self.model.mass.as_ref(),
+                &self.model.stiffness,
+                &self.model.load,
+                &kin,
+                &mut b,
+            )
+            .expect("Newmark right-hand side");
+        b
+    }
+
+    /// Warm start: `v_prev` with the Dirichlet values on the fixed dofs.
+    fn start(&self, v_slide: f64) -> Vec<f64> {
+        let mut v = self.previous_velocity(v_slide);
+        for (i, &f) in self.model.fixed.iter().enumerate() {
+            if f {
+                v[i] = if self.top[i] && i % 3 == 0 {
+                    V_TOP
+                } else {
+                    0.0
+                };
+            }
+        }
+        v
+    }
+
+    fn dieterich_ruina(&self, alpha: f64) -> FrictionBlocks<DieterichRuina> {
+        let f = &self.model.frictional;
+        let law = DieterichRuina::new(self.scene.slider.rate_state_params()).unwrap();
+        FrictionBlocks::new(
+            f.nodes.clone(),
+            f.weights.clone(),
+            vec![law; f.nodes.len()],
+            &vec![alpha; f.nodes.len()],
+        )
+    }
+
+    /// `‖x − y‖_E / ‖y‖_E` in the energy norm `K + M`.
+    fn relative_difference(&self, x: &[f64], y: &[f64]) -> f64 {
+        let d: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
+        let norm = |x: &[f64]| dot(x, &apply(&self.model.energy_norm, x)).max(0.0).sqrt();
+        norm(&d) / norm(y)
+    }
+}
+
+/// Issue 12: on the 3-D slider's Newmark velocity problems TNNMG and the direct solver
+/// agree to 1e-9 relative in the energy norm `K + M`, at levels j = 1, 2, 3 (297, 1 575 and
+/// 9 963 dofs), for Dieterich–Ruina at the paper's initial state α = −10 from rest and at
+/// steady state α = ln(L/V) while sliding at V ∈ {1e-6, 1e-3} m/s 30° off the x axis (both
+/// tangential components of every block active). TNNMG (default options) stops at 1e-12
+/// relative in the energy norm, tighter than the paper's 1e-10 absolute, so that the
+/// agreement measures the solvers and not the stopping test. Its iteration counts are
+/// printed (measured: 5 5 5 at j = 1, 7 5 6 at j = 2, 5 5 5 at j = 3); the band asserted:
+/// at most 25 per solve, and at j = 3 at most twice the count at j = 1 plus 2 (multigrid:
+/// no growth with the level beyond that).
+#[test]
+fn tnnmg_and_direct_agree_on_3d_velocity_problems() {
+    let cases: [(&str, f64, Option<f64>); 3] = [
+        ("alpha=-10, from rest", 0.0, Some(-10.0)),
+        ("steady, V=1e-6", 1e-6, None),
+        ("steady, V=1e-3", 1e-3, None),
+    ];
+    let mut counts = Vec::new();
+    for level in 1..=3 {
+        let p = Problem::new(level);
+        let opts = TnnmgOptions {
+            stopping: Stopping {
+                absolute: 0.0,
+                relative: 1e-12,
+                max_iterations: 200,
+            },
+            ..TnnmgOptions::default()
+        };
+        let mut tn = Tnnmg::<3>::new(
+            p.a.as_ref(),
+            &p.model.fixed,
+            &p.model.prolongations,
+            Some(p.model.energy_norm.as_ref()),
+            opts,
+        )
+        .unwrap();
+        let mut direct =
+            DirectSolver::<3>::new(p.a.as_ref(), &p.model.fixed, DirectOptions::default()).unwrap();
+        let mut row = Vec::new();
+        for (name, v_slide, alpha) in cases {
+            let alpha = alpha.unwrap_or_else(|| (p.scene.slider.l_m / v_slide).ln());
+            let b = p.rhs(v_slide);
+            let nl = p.dieterich_ruina(alpha);
+            let mut v_d = p.start(v_slide);
+            direct.solve(&b, &nl, &mut v_d).unwrap();
+            let mut v_tn = p.start(v_slide);
+            let rep = tn.solve(&b, &nl, &mut v_tn).unwrap();
+            let d = p.relative_difference(&v_tn, &v_d);
+            let slip: Vec<f64> = p
+                .model
+                .frictional
+                .nodes
+                .iter()
+                .map(|&q| v_d[3 * q].hypot(v_d[3 * q + 2]))
+                .collect();
+            let (lo, hi) = slip
+                .iter()
+                .fold((f64::INFINITY, 0.0_f64), |(l, h), &s| (l.min(s), h.max(s)));
+            eprintln!(
+                "j={level} ({} dofs) {name:22} tnnmg {:2} its, vs direct {d:.1e}; slip rates {lo:.1e} … {hi:.1e} m/s",
+                p.n(),
+                rep.iterations
+            );
+            assert!(d < 1e-9, "j={level} {name}: tnnmg vs direct {d:.3e}");
+            assert!(
+                rep.iterations <= 25,
+                "j={level} {name}: {} its",
+                rep.iterations
+            );
+            row.push(rep.iterations);
+        }
+        counts.push(row);
+    }
+    for (k, (name, _, _)) in cases.iter().enumerate() {
+        assert!(
+            counts[2][k] <= 2 * counts[0][k] + 2,
+            "{name}: iterations grow with the level: {:?}",
+            counts.iter().map(|r| r[k]).collect::<Vec<_>>()
+        );
+    }
 }
