@@ -324,3 +324,132 @@ fn tnnmg_and_direct_agree_on_3d_velocity_problems() {
         );
     }
 }
+
+/// CPU time of the calling thread (s): the first field of `/proc/thread-self/schedstat`
+/// (Linux); NaN elsewhere.
+fn thread_seconds() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(f64::NAN, |ns| ns * 1e-9)
+}
+
+/// Median thread CPU time (s) of `solve` over `reps` calls, each from `start`.
+fn median_seconds(reps: usize, start: &[f64], mut solve: impl FnMut(&mut Vec<f64>)) -> f64 {
+    let mut times: Vec<f64> = (0..reps)
+        .map(|_| {
+            let mut v = start.to_vec();
+            let t0 = thread_seconds();
+            solve(&mut v);
+            thread_seconds() - t0
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[reps / 2]
+}
+
+/// Measurement for docs/three-d.md, not a check: the cost of one TNNMG solve of the 3-D
+/// slider's velocity problem (DR at steady state, sliding at 1e-6 m/s) against linear
+/// multigrid on the same `A` and `b` (the TNNMG machinery with `NoNonlinearity`), both
+/// with the scene's options (default TNNMG, 1e-10 absolute in the energy norm), from the
+/// same warm start; thread CPU time, median of alternating rounds. Levels from
+/// `RSF_3D_COST_LEVELS` (default `1,2,3`).
+///
+/// `cargo test --release -p rsf --test slider_3d -- --ignored --nocapture solve_cost`
+#[test]
+#[ignore = "measurement; run with --ignored --nocapture"]
+fn solve_cost_tnnmg_against_linear_multigrid() {
+    let levels: Vec<usize> = std::env::var("RSF_3D_COST_LEVELS")
+        .unwrap_or_else(|_| "1,2,3".into())
+        .split(',')
+        .map(|l| l.trim().parse().expect("a level"))
+        .collect();
+    for level in levels {
+        let p = Problem::new(level);
+        let v_slide = 1e-6;
+        let b = p.rhs(v_slide);
+        let nl = p.dieterich_ruina((p.scene.slider.l_m / v_slide).ln());
+        let start = p.start(v_slide);
+        let rsf::SolverKind::Auto { tnnmg: opts, .. } = p.scene.slider.solver_kind() else {
+            unreachable!("the default scene's solver is Auto")
+        };
+        let mut tn = Tnnmg::<3>::new(
+            p.a.as_ref(),
+            &p.model.fixed,
+            &p.model.prolongations,
+            Some(p.model.energy_norm.as_ref()),
+            opts,
+        )
+        .unwrap();
+        let its = |tn: &mut Tnnmg<3>, linear: bool| {
+            let mut v = start.clone();
+            if linear {
+                tn.solve(&b, &rsf::tnnmg::NoNonlinearity, &mut v)
+            } else {
+                tn.solve(&b, &nl, &mut v)
+            }
+            .unwrap()
+            .iterations
+        };
+        let (its_tn, its_lin) = (its(&mut tn, false), its(&mut tn, true));
+        let reps = if p.n() > 50_000 { 3 } else { 11 };
+        let (mut t_tn, mut t_lin) = (Vec::new(), Vec::new());
+        for _round in 0..3 {
+            t_tn.push(median_seconds(reps, &start, |v| {
+                tn.solve(&b, &nl, v).unwrap();
+            }));
+            t_lin.push(median_seconds(reps, &start, |v| {
+                tn.solve(&b, &rsf::tnnmg::NoNonlinearity, v).unwrap();
+            }));
+        }
+        t_tn.sort_by(f64::total_cmp);
+        t_lin.sort_by(f64::total_cmp);
+        let (t_tn, t_lin) = (t_tn[1], t_lin[1]);
+        eprintln!(
+            "j={level} n={} frictional nodes={}: TNNMG {its_tn} its {:.3} ms, linear MG {its_lin} its {:.3} ms, TNNMG / linear MG {:.2}",
+            p.n(),
+            p.model.frictional.nodes.len(),
+            t_tn * 1e3,
+            t_lin * 1e3,
+            t_tn / t_lin
+        );
+    }
+}
+
+/// VTU frames of the 3-D slider hold its tetrahedra: ParaView's cell type 10 (tetra) for
+/// every cell, the model's connectivity and vertices, and the 3 components of the state.
+#[cfg(feature = "vtk")]
+#[test]
+fn vtu_frames_of_the_3d_slider_are_tetrahedra() {
+    use vtkio::model::{CellType, DataSet, VertexNumbers};
+    let dir = common::temp_dir("vtu-3d");
+    let scene = Slider3dScene {
+        slider: SliderScene {
+            level: 0,
+            steps: 100,
+            ..SliderScene::default()
+        },
+        ..Slider3dScene::default()
+    };
+    let mut sim = scene.build().unwrap();
+    let mut frames = rsf::VtuFrames::create(&dir, 2).unwrap();
+    sim.run(2, &mut [&mut frames]).unwrap();
+    let vtk = vtkio::Vtk::import(dir.join("frame_000002.vtu")).expect("valid VTK XML");
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let piece = pieces[0].load_piece_data(None).expect("inline piece");
+    let m = sim.model();
+    assert_eq!(piece.num_points(), m.num_nodes());
+    let points = piece.points.clone().cast_into::<f64>().unwrap();
+    let flat: Vec<f64> = m.vertices.iter().flatten().copied().collect();
+    assert_eq!(points, flat);
+    assert_eq!(piece.cells.types.len(), m.cells.len() / 4);
+    assert!(piece.cells.types.iter().all(|&t| t == CellType::Tetra));
+    let VertexNumbers::XML { connectivity, .. } = &piece.cells.cell_verts else {
+        panic!("XML connectivity")
+    };
+    let cells: Vec<u64> = m.cells.iter().map(|&c| c as u64).collect();
+    assert_eq!(connectivity, &cells);
+    let _ = std::fs::remove_dir_all(&dir);
+}
