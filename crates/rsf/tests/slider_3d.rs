@@ -334,25 +334,25 @@ fn thread_seconds() -> f64 {
         .map_or(f64::NAN, |ns| ns * 1e-9)
 }
 
-/// Median thread CPU time (s) of `solve` over `reps` calls, each from `start`.
-fn median_seconds(reps: usize, start: &[f64], mut solve: impl FnMut(&mut Vec<f64>)) -> f64 {
-    let mut times: Vec<f64> = (0..reps)
-        .map(|_| {
-            let mut v = start.to_vec();
-            let t0 = thread_seconds();
-            solve(&mut v);
-            thread_seconds() - t0
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[reps / 2]
+/// Thread CPU time (s) per call of `solve`, each call from `start`: the mean over repeated
+/// calls for at least 0.2 s (the clock advances in scheduler ticks of a few ms).
+fn seconds_per_solve(start: &[f64], mut solve: impl FnMut(&mut Vec<f64>)) -> f64 {
+    let mut v = start.to_vec();
+    let t0 = thread_seconds();
+    let mut calls = 0;
+    while calls == 0 || thread_seconds() - t0 < 0.2 {
+        v.copy_from_slice(start);
+        solve(&mut v);
+        calls += 1;
+    }
+    (thread_seconds() - t0) / calls as f64
 }
 
 /// Measurement for docs/three-d.md, not a check: the cost of one TNNMG solve of the 3-D
 /// slider's velocity problem (DR at steady state, sliding at 1e-6 m/s) against linear
 /// multigrid on the same `A` and `b` (the TNNMG machinery with `NoNonlinearity`), both
 /// with the scene's options (default TNNMG, 1e-10 absolute in the energy norm), from the
-/// same warm start; thread CPU time, median of alternating rounds. Levels from
+/// same warm start; thread CPU time per solve, median of 5 alternating rounds. Levels from
 /// `RSF_3D_COST_LEVELS` (default `1,2,3`).
 ///
 /// `cargo test --release -p rsf --test slider_3d -- --ignored --nocapture solve_cost`
@@ -392,19 +392,18 @@ fn solve_cost_tnnmg_against_linear_multigrid() {
             .iterations
         };
         let (its_tn, its_lin) = (its(&mut tn, false), its(&mut tn, true));
-        let reps = if p.n() > 50_000 { 3 } else { 11 };
         let (mut t_tn, mut t_lin) = (Vec::new(), Vec::new());
-        for _round in 0..3 {
-            t_tn.push(median_seconds(reps, &start, |v| {
+        for _round in 0..5 {
+            t_tn.push(seconds_per_solve(&start, |v| {
                 tn.solve(&b, &nl, v).unwrap();
             }));
-            t_lin.push(median_seconds(reps, &start, |v| {
+            t_lin.push(seconds_per_solve(&start, |v| {
                 tn.solve(&b, &rsf::tnnmg::NoNonlinearity, v).unwrap();
             }));
         }
         t_tn.sort_by(f64::total_cmp);
         t_lin.sort_by(f64::total_cmp);
-        let (t_tn, t_lin) = (t_tn[1], t_lin[1]);
+        let (t_tn, t_lin) = (t_tn[2], t_lin[2]);
         eprintln!(
             "j={level} n={} frictional nodes={}: TNNMG {its_tn} its {:.3} ms, linear MG {its_lin} its {:.3} ms, TNNMG / linear MG {:.2}",
             p.n(),
