@@ -10,9 +10,11 @@ use std::path::Path;
 use plotters::prelude::*;
 
 pub mod cli;
+mod heat_map;
 mod panels;
 mod run;
 pub use cli::{main_with, SceneArgs};
+pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use run::{machine, old_wall_time, stats, write_summary, Progress, SliderRun, SliderStats};
 
 /// A progress bar on stderr when it is a terminal, nothing otherwise.
@@ -183,40 +185,13 @@ pub fn space_time_map(
     times: &[f64],
     positions: &[f64],
     values: &[Vec<f64>],
-    (lo, hi): (f64, f64),
+    log10_range: (f64, f64),
 ) -> PlotResult {
-    init_fonts();
-    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (t0, t1) = range(times.iter().copied());
-    let (x0, x1) = range(positions.iter().copied());
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("{title} (colour: log10 slip rate, {lo:.0} … {hi:.0})"),
-            ("sans-serif", 20),
-        )
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, t0..t1)?;
-    chart
-        .configure_mesh()
-        .x_desc("x on the frictional boundary (m)")
-        .y_desc("t (s)")
-        .label_style(("sans-serif", 15))
-        .draw()?;
-    let nt = times.len();
-    let nx = positions.len();
-    chart.draw_series((0..nt).flat_map(|it| {
-        (0..nx).map(move |ix| {
-            let (ta, tb) = cell_bounds(times, it);
-            let (xa, xb) = cell_bounds(positions, ix);
-            let v = values[it][ix].max(1e-300).log10();
-            let s = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
-            let color = HSLColor((1.0 - s) * 0.66, 0.9, 0.5);
-            Rectangle::new([(xa, ta), (xb, tb)], color.filled())
-        })
-    }))?;
-    root.present()?;
-    Ok(())
+    let axes = HeatMapAxes {
+        title,
+        x_label: "x on the frictional boundary (m)",
+        y_label: "t (s)",
+        log10_range,
+    };
+    log_heat_map(path, (1000, 600), &axes, positions, times, values)
 }

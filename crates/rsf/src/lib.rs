@@ -18,7 +18,8 @@
 //!   checkpoint without loss), [`Checkpointer`], [`Recorder`] (in memory, any `D`),
 //!   [`SlipEvents`] (catalogue, stop at an event), [`Reports`], and `VtuFrames` for
 //!   ParaView (feature `vtk`). [`Checkpoint`]s resume bit-identically.
-//! - [`SliderScene`]: the paper's model problem (§6.1, Table 6.1), readable from TOML.
+//! - [`SliderScene`]: the paper's model problem (§6.1, Table 6.1), readable from TOML;
+//!   [`Slider3dScene`]: the same block extruded to 5 m × 1 m × W (tetrahedra).
 //!
 //! Feature `serde`: `Serialize`/`Deserialize` on checkpoints, slip events, event
 //! thresholds, materials and the friction and state crates' parameters.
@@ -48,6 +49,7 @@ mod recorder;
 mod simulation;
 mod simulation_builder;
 mod slider;
+mod slider3d;
 mod solver;
 #[cfg(feature = "vtk")]
 mod vtu;
@@ -71,6 +73,7 @@ pub use slider::{
     nearest_vertex, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice,
     StateLawKind, SLIDER_CENTRE,
 };
+pub use slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
 pub use solver::{
     SolverKind, VelocitySolver, AUTO_DIRECT_MAX_CONDENSED, AUTO_DIRECT_MAX_EXTENSION,
 };

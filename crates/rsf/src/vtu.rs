@@ -12,8 +12,9 @@ use vtkio::model::{
 use crate::error::{Error, Result};
 use crate::observer::{Flow, Observer, StepState};
 
-/// Writes `frame_NNNNNN.vtu` (NNNNNN the step) every `every` steps into a folder, with
-/// point data `displacement` (m) and `velocity` (m/s) as 3-vectors, and `frames.pvd` (the
+/// Writes `frame_NNNNNN.vtu` (NNNNNN the step) every `every` steps into a folder — the
+/// mesh's cells as VTK lines, triangles or tetrahedra for D = 1, 2, 3, with point data
+/// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded) — and `frames.pvd` (the
 /// time index ParaView opens), rewritten after every frame so that an interrupted run
 /// leaves a usable index. [`VtuFrames::resume`] continues after a checkpoint.
 pub struct VtuFrames {

@@ -1,0 +1,240 @@
+//! The paper's slider extruded to three dimensions (issue 12; docs/math.md §10): a
+//! 5 m × 1 m × W block of tetrahedra, sheared at its top face with the ramped velocity
+//! `(V_D g(t), 0, 0)`, sliding on its rate-and-state frictional bottom face (bilateral
+//! contact, slip in the x–z plane). The lateral faces z = 0, W are traction-free, or held
+//! at `u_z = 0` with `--plane-strain` (then the run reproduces the 2-D main job).
+//!
+//! ```sh
+//! cargo run --release --example slider_3d                          # j = 2, W = 1 m, free faces
+//! cargo run --release --example slider_3d -- --level 3 --plane-strain --solver tnnmg
+//! cargo run --release --example slider_3d -- --scene my_3d_scene.toml --steps 2e3
+//! ```
+//!
+//! `--scene` reads a TOML file with the fields of `rsf::Slider3dScene` (those of
+//! `rsf::SliderScene` plus `width_m` and `lateral`); the other flags override it.
+//!
+//! Writes to `out/slider_3d/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries` at
+//! x0 = (2.5, 0, W/2): the 2-D main job's columns, then the y and z components),
+//! `frames/frame_NNNNNN.vtu` + `frames/frames.pvd` (tetrahedra, displacement and velocity,
+//! every `--frame-every` steps, for ParaView), `fault_snapshot.csv` (x, z, slip rate on Γ_F
+//! at the step of the largest slip rate, or at `--snapshot-time`) and its figure
+//! `fault_slip_rate.png`.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Parser;
+use rsf::{
+    Flow, LateralBoundary, Model, Observer, PointSeries, Slider3dScene, StepState, Until, VtuFrames,
+};
+use rsf_examples::cli::step_count;
+use rsf_examples::{log_heat_map, HeatMapAxes, Progress, SceneArgs};
+
+/// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Number of time steps N (τ = T/N; `1e4` accepted).
+    #[arg(long, value_parser = step_count)]
+    steps: Option<usize>,
+    /// Width W of the block in z (m).
+    #[arg(long, value_name = "W")]
+    width: Option<f64>,
+    /// `u_z = 0` on both lateral faces (plane strain) instead of traction-free faces.
+    #[arg(long)]
+    plane_strain: bool,
+    /// Write a VTU frame every N steps (0: none).
+    #[arg(long, default_value_t = 100, value_name = "N")]
+    frame_every: usize,
+    /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
+    #[arg(long, value_name = "T")]
+    snapshot_time: Option<f64>,
+    /// Output folder.
+    #[arg(long, default_value = "out/slider_3d")]
+    out: PathBuf,
+}
+
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+/// The scene from `--scene` (or the default) with the flags applied, validated.
+fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
+    let mut scene = match &cli.scene.scene {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            Slider3dScene::from_toml(&text)?
+        }
+        None => Slider3dScene::default(),
+    };
+    let flags = SceneArgs {
+        scene: None,
+        ..cli.scene.clone()
+    };
+    scene.slider = flags.scene(scene.slider)?;
+    if let Some(n) = cli.steps {
+        scene.slider.steps = n;
+    }
+    if let Some(w) = cli.width {
+        scene.width_m = w;
+    }
+    if cli.plane_strain {
+        scene.lateral = LateralBoundary::PlaneStrain;
+    }
+    scene.validate()?;
+    Ok(scene)
+}
+
+/// Slip rates `√(v_x² + v_z²)` on Γ_F (the fault normal is y) at one step.
+struct FaultSnapshot {
+    /// Take the first step at or after this time; `None`: the step of the largest slip rate.
+    at: Option<f64>,
+    time: f64,
+    peak: f64,
+    slip_rates: Vec<f64>,
+}
+
+impl FaultSnapshot {
+    fn new(at: Option<f64>, frictional_nodes: usize) -> Self {
+        Self {
+            at,
+            time: f64::NAN,
+            peak: f64::NEG_INFINITY,
+            slip_rates: vec![0.0; frictional_nodes],
+        }
+    }
+
+    /// Writes `fault_snapshot.csv` and `fault_slip_rate.png` into `out`.
+    fn write(
+        &self,
+        model: &Model<3>,
+        width: f64,
+        out: &Path,
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        let nodes = &model.frictional.nodes;
+        let mut csv =
+            std::io::BufWriter::new(std::fs::File::create(out.join("fault_snapshot.csv"))?);
+        writeln!(csv, "x_m,z_m,slip_rate_mps")?;
+        for (&p, v) in nodes.iter().zip(&self.slip_rates) {
+            let x = model.vertices[p];
+            writeln!(csv, "{},{},{v:e}", x[0], x[2])?;
+        }
+        csv.flush()?;
+        // Γ_F's nodes lie on a tensor grid of the (x, z) plane.
+        let grid = |c: usize| {
+            let mut v: Vec<f64> = nodes.iter().map(|&p| model.vertices[p][c]).collect();
+            v.sort_by(f64::total_cmp);
+            v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+            v
+        };
+        let (xs, zs) = (grid(0), grid(2));
+        let index = |axis: &[f64], v: f64| axis.partition_point(|&a| a < v - 1e-9);
+        let mut values = vec![vec![0.0; xs.len()]; zs.len()];
+        for (&p, &v) in nodes.iter().zip(&self.slip_rates) {
+            let x = model.vertices[p];
+            values[index(&zs, x[2])][index(&xs, x[0])] = v;
+        }
+        let axes = HeatMapAxes {
+            title: &format!("Slip rate on the fault plane y = 0, t = {:.4} s", self.time),
+            x_label: "x (m)",
+            y_label: "z (m)",
+            log10_range: (-12.0, -2.0),
+        };
+        let height = (200.0 + 800.0 * (width / 5.0).min(1.0)) as u32;
+        log_heat_map(
+            &out.join("fault_slip_rate.png"),
+            (1000, height),
+            &axes,
+            &xs,
+            &zs,
+            &values,
+        )
+    }
+}
+
+impl Observer<3> for FaultSnapshot {
+    fn observe(&mut self, s: &StepState<'_, 3>) -> rsf::Result<Flow> {
+        let take = match self.at {
+            Some(t) => self.time.is_nan() && s.report.time >= t,
+            None => s.report.max_slip_rate > self.peak,
+        };
+        if take {
+            self.time = s.report.time;
+            self.peak = s.report.max_slip_rate;
+            let v = &s.kinematics.v;
+            for (r, &p) in self.slip_rates.iter_mut().zip(&s.model.frictional.nodes) {
+                *r = v[3 * p].hypot(v[3 * p + 2]);
+            }
+        }
+        Ok(Flow::Continue(()))
+    }
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let scene = scene(&cli)?;
+    let s = &scene.slider;
+    let out = cli.out.clone();
+    std::fs::create_dir_all(&out)?;
+    println!(
+        "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {:?} law, {:?}, {:?} solver → {}",
+        s.level,
+        scene.width_m,
+        scene.lateral,
+        s.steps,
+        s.tau(),
+        s.state_law,
+        s.integrator,
+        s.solver,
+        out.display()
+    );
+    let setup = std::time::Instant::now();
+    let mut sim = scene.build()?;
+    let model = sim.model();
+    let x0 = model.nearest_node(&scene.centre())?;
+    let series_csv = out.join("timeseries.csv");
+    let mut series = PointSeries::create(&series_csv, model, x0)?;
+    let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional.nodes.len());
+    let mut progress = Progress::new(s.steps, "slider 3-D");
+    let mut frames = match cli.frame_every {
+        0 => None,
+        n => Some(VtuFrames::create(out.join("frames"), n)?),
+    };
+    println!(
+        "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
+        model.num_dofs(),
+        model.frictional.nodes.len(),
+        sim.solver_name(),
+        setup.elapsed().as_secs_f64()
+    );
+    let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot, &mut progress];
+    if let Some(f) = frames.as_mut() {
+        observers.push(f);
+    }
+    let summary = sim.run_until(Until::Time(s.end_time_s), &mut observers)?;
+    drop(observers);
+    snapshot.write(sim.model(), scene.width_m, &out)?;
+
+    let rows = PointSeries::<3>::read(&series_csv)?;
+    let steps = rows.len().max(1) as f64;
+    let fpi = rows.iter().map(|r| r.fixed_point_iterations).sum::<usize>() as f64 / steps;
+    let its = rows.iter().map(|r| r.solver_iterations).sum::<usize>() as f64 / steps;
+    let first_event = rows.iter().find(|r| r.max_slip_rate > 1e-3).map(|r| r.time);
+    println!(
+        "{} steps in {:.2} s ({:.3} s per step) on {}",
+        summary.steps,
+        summary.seconds,
+        summary.seconds / summary.steps.max(1) as f64,
+        rsf_examples::machine()
+    );
+    println!(
+        "per step: fixed point iterations {fpi:.2}, solver iterations {its:.2}; first slip event (max V > 1e-3 m/s): {}; snapshot at t = {:.4} s (max V {:.3e} m/s)",
+        first_event.map_or("none".into(), |t| format!("{t:.4} s")),
+        snapshot.time,
+        snapshot.peak
+    );
+    Ok(())
+}
