@@ -14,7 +14,8 @@ use crate::observer::{Flow, Observer, StepState};
 
 /// Writes `frame_NNNNNN.vtu` (NNNNNN the step) every `every` steps into a folder — the
 /// mesh's cells as VTK lines, triangles or tetrahedra for D = 1, 2, 3, with point data
-/// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded) — and `frames.pvd` (the
+/// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded) and the scalar
+/// `state_alpha` (α = ln θ, dimensionless with θ in s; on Γ_F only, NaN elsewhere) — and `frames.pvd` (the
 /// time index ParaView opens), rewritten after every frame so that an interrupted run
 /// leaves a usable index. [`VtuFrames::resume`] continues after a checkpoint.
 pub struct VtuFrames {
@@ -104,6 +105,16 @@ fn padded<const D: usize>(x: &[f64], n: usize) -> Vec<f64> {
     out
 }
 
+/// α = ln θ at the frictional nodes, NaN elsewhere (no state there; ParaView draws NaN
+/// in its "NaN colour"); all NaN when the friction law has no state.
+fn state_field<const D: usize>(s: &StepState<'_, D>, n: usize) -> Vec<f64> {
+    let mut out = vec![f64::NAN; n];
+    for (&p, &a) in s.model.frictional.nodes.iter().zip(s.alpha) {
+        out[p] = a;
+    }
+    out
+}
+
 impl<const D: usize> Observer<D> for VtuFrames {
     fn observe(&mut self, s: &StepState<'_, D>) -> Result<Flow> {
         if s.report.step % self.every != 0 {
@@ -136,6 +147,7 @@ impl<const D: usize> Observer<D> for VtuFrames {
                 point: vec![
                     Attribute::vectors("displacement").with_data(padded::<D>(&s.kinematics.u, n)),
                     Attribute::vectors("velocity").with_data(padded::<D>(&s.kinematics.v, n)),
+                    Attribute::scalars("state_alpha", 1).with_data(state_field(s, n)),
                 ],
                 cell: Vec::new(),
             },

@@ -1,5 +1,5 @@
 //! VTU frames for ParaView: files are written during the run, read back with vtkio, and
-//! their point data equal the simulation's state at the frame's step (issue 13).
+//! their point data (u, v, α) equal the simulation's state at the frame's step (issue 13).
 #![cfg(feature = "vtk")]
 
 mod common;
@@ -40,7 +40,7 @@ fn frames_hold_the_state_of_their_step() {
     assert_eq!(states.states.len(), 2);
     let model = sim.model();
     let n = model.vertices.len();
-    for (step, kin, _alpha) in &states.states {
+    for (step, kin, alpha) in &states.states {
         let path = dir.join(format!("frame_{step:06}.vtu"));
         let vtk = vtkio::Vtk::import(&path).expect("frame is valid VTK XML");
         let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
@@ -67,11 +67,23 @@ fn frames_hold_the_state_of_their_step() {
                 );
             }
         }
+        // α on Γ_F, NaN (no state) elsewhere.
+        let state = point_vectors(&piece, "state_alpha");
+        assert_eq!(state.len(), n);
+        let mut on_fault = vec![false; n];
+        for (k, &p) in model.frictional.nodes.iter().enumerate() {
+            on_fault[p] = true;
+            assert_eq!(state[p], alpha[k], "step {step}: α at frictional node {p}");
+        }
+        for p in (0..n).filter(|&p| !on_fault[p]) {
+            assert!(state[p].is_nan(), "step {step}: α at interior vertex {p}");
+        }
         // The frames differ from each other: the data are the step's, not a stale copy.
         let slip_rate = kin.v[2 * model.frictional.nodes[0]];
         assert!(slip_rate != 0.0, "step {step}: Γ_F at rest");
     }
     assert_ne!(states.states[0].1.u, states.states[1].1.u);
+    assert_ne!(states.states[0].2, states.states[1].2, "α evolves between the frames");
     let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet ").count(), 2);
     for (step, ..) in &states.states {
