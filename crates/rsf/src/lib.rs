@@ -68,8 +68,8 @@ pub use recorder::Recorder;
 pub use simulation::{NoState, RunSummary, Simulation, StepReport, Until};
 pub use simulation_builder::{SimulationBuilder, Unset};
 pub use slider::{
-    nearest_vertex, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice,
-    StateLawKind, SLIDER_CENTRE,
+    nearest_vertex, AdaptiveTimeStep, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene,
+    SolverChoice, StateLawKind, TimeStep, SLIDER_CENTRE,
 };
 pub use solver::{
     SolverKind, VelocitySolver, AUTO_DIRECT_MAX_CONDENSED, AUTO_DIRECT_MAX_EXTENSION,
