@@ -12,8 +12,10 @@ use plotters::prelude::*;
 pub mod cli;
 mod panels;
 mod run;
-pub use cli::{main_with, SceneArgs};
-pub use run::{machine, old_wall_time, stats, write_summary, Progress, SliderRun, SliderStats};
+pub use cli::{main_with, SceneArgs, TimeStepArgs};
+pub use run::{
+    machine, old_wall_time, stats, write_summary, EveryInterval, Progress, SliderRun, SliderStats,
+};
 
 /// A progress bar on stderr when it is a terminal, nothing otherwise.
 pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
