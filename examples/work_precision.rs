@@ -170,7 +170,7 @@ impl Trace {
 /// Runs `scene` from t = 0 until `t ≥ t_min` and (if `until_slip`) the first slip event has
 /// happened, or `t ≥ t_max`.
 fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<Trace> {
-    let cpu0 = cpu_seconds();
+    let cpu0 = rsf_examples::cpu_seconds();
     let t0 = Instant::now();
     let mut sim = scene.build()?;
     let mut tr = Trace {
@@ -210,25 +210,8 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
             break;
         }
     }
-    tr.cpu_s = cpu_seconds() - cpu0;
+    tr.cpu_s = rsf_examples::cpu_seconds() - cpu0;
     Ok(tr)
-}
-
-/// User + system CPU time of this process (s), from `/proc/self/stat` (10 ms ticks);
-/// 0 where unavailable.
-fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
-    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<f64> = rest
-        .split_whitespace()
-        .skip(11)
-        .take(2)
-        .filter_map(|x| x.parse().ok())
-        .collect();
-    f.iter().sum::<f64>() / 100.0
 }
 
 /// Errors (a), (b), (c) of `run` against `reference` (relative; None if undefined).
@@ -646,7 +629,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
 /// Frictionless shear mode at `level` with `steps` per period, run for 1.25 periods; returns (discrete energy
 /// error, interpolation error, both relative; CPU seconds; dofs).
 fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64, f64, usize)> {
-    let cpu0 = cpu_seconds();
+    let cpu0 = rsf_examples::cpu_seconds();
     let probe = SliderScene::default();
     let mu = probe.youngs_modulus_pa / (2.0 * (1.0 + probe.poisson_ratio));
     let rho = probe.density_kg_per_m2;
@@ -749,7 +732,7 @@ fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64
     Ok((
         (err2.max(0.0) / exact2).sqrt(),
         (interp2 / exact2).sqrt(),
-        cpu_seconds() - cpu0,
+        rsf_examples::cpu_seconds() - cpu0,
         n,
     ))
 }

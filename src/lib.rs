@@ -14,7 +14,8 @@ mod panels;
 mod run;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};
 pub use run::{
-    machine, old_wall_time, stats, write_summary, EveryInterval, Progress, SliderRun, SliderStats,
+    cpu_seconds, machine, old_wall_time, stats, write_summary, EveryInterval, Progress, SliderRun,
+    SliderStats,
 };
 
 /// A progress bar on stderr when it is a terminal, nothing otherwise.

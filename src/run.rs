@@ -222,6 +222,23 @@ pub fn write_summary(
     )
 }
 
+/// User + system CPU time of this process (s), from `/proc/self/stat` (10 ms ticks);
+/// 0 where unavailable.
+pub fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<f64> = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    f.iter().sum::<f64>() / 100.0
+}
+
 /// A one-line description of this machine (CPU model and core count).
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
