@@ -248,7 +248,7 @@ fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Erro
         &dir.join("step_size.png"),
         "Adaptive time steps",
         "t (s)",
-        "log10",
+        "",
         &[
             ("time step τ (s)", &Series::alone(&tau)[..]),
             ("largest slip rate on Γ_F (m/s)", &Series::alone(&rate)[..]),
