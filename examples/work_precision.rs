@@ -241,6 +241,19 @@ struct Errors {
     lnv: Option<f64>,
 }
 
+impl Errors {
+    /// `err a … b … c …` and the run's failure, for the log.
+    fn describe(&self, run: &Trace) -> String {
+        format!(
+            "err a {} b {} c {} {}",
+            opt(self.u),
+            opt(self.ts),
+            opt(self.lnv),
+            run.failure.as_deref().unwrap_or("")
+        )
+    }
+}
+
 fn errors(run: &Trace, reference: &Trace, scene: &SliderScene) -> Errors {
     let t_end = scene.end_time_s;
     let ta = 0.6 * t_end;
@@ -506,14 +519,11 @@ fn time_study(c: &Ctx) -> Res<()> {
                 };
                 let e = errors(&tr, &reference, &s);
                 log(&format!(
-                    "  {} {} N = {n}: {:.2} s, err a {} b {} c {} {}",
+                    "  {} {} N = {n}: {:.2} s, {}",
                     integrator_name(integrator),
                     solver_name(solver),
                     tr.seconds(),
-                    opt(e.u),
-                    opt(e.ts),
-                    opt(e.lnv),
-                    tr.failure.as_deref().unwrap_or("")
+                    e.describe(&tr)
                 ));
                 let _ = writeln!(
                     csv,
@@ -581,13 +591,10 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
         };
         let e = errors(&tr, &reference, s);
         log(&format!(
-            "  {method} {key}: {} steps, cpu {:.2} s, err a {} b {} c {} {}",
+            "  {method} {key}: {} steps, cpu {:.2} s, {}",
             tr.steps(),
             tr.cpu_s,
-            opt(e.u),
-            opt(e.ts),
-            opt(e.lnv),
-            tr.failure.as_deref().unwrap_or("")
+            e.describe(&tr)
         ));
         let _ = writeln!(
             csv,
