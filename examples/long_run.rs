@@ -12,7 +12,7 @@
 //! writes to `out/long_run/` (or `--out DIR`): `events.csv` (the catalogue), `steps.csv`
 //! (t, τ, largest slip rate, fixed point iterations of every accepted step),
 //! `recurrence.png` (time since the previous onset against the onset time),
-//! `step_size.png` (τ and the largest slip rate over time) and `summary.json`. With
+//! `step_size.png` (τ over time), `max_slip_rate.png` and `summary.json`. With
 //! `--reference-steps N` it also runs fixed τ = T_ref/N over the first `--compare-until`
 //! seconds (default 15) and prints both catalogues side by side.
 
@@ -244,20 +244,23 @@ fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Erro
     let tau: Vec<(f64, f64)> = run.steps.0.iter().map(|s| (s.0, s.1)).collect();
     let rate: Vec<(f64, f64)> = run.steps.0.iter().map(|s| (s.0, s.2.max(1e-40))).collect();
     let t_end = run.steps.0.last().map_or(1.0, |s| s.0);
-    Series::panels(
-        &dir.join("step_size.png"),
-        "Adaptive time steps",
-        "t (s)",
-        "",
-        &[
-            ("time step τ (s)", &Series::alone(&tau)[..]),
-            ("largest slip rate on Γ_F (m/s)", &Series::alone(&rate)[..]),
-        ],
-        false,
-        true,
-        (0.0, t_end),
-        None,
-    )?;
+    // One file each: the panels of one figure would share the y range.
+    for (file, title, points) in [
+        ("step_size.png", "time step τ (s)", &tau),
+        ("max_slip_rate.png", "largest slip rate on Γ_F (m/s)", &rate),
+    ] {
+        Series::panels(
+            &dir.join(file),
+            title,
+            "t (s)",
+            "",
+            &[("", &Series::alone(points)[..])],
+            false,
+            true,
+            (0.0, t_end),
+            None,
+        )?;
+    }
     Ok(())
 }
 
