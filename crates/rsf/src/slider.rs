@@ -126,6 +126,13 @@ pub struct AdaptiveTimeStep {
     /// ξ of the physical cap (the state changes by at most ξ per step); `inf` for none.
     #[serde(default = "defaults::state_change_cap")]
     pub state_change_cap: f64,
+    /// Slip-rate floor V_f (m/s) of the slip-increment test (the slip of each step at each
+    /// fault node relative to `|Δu_p| + τ V_f`); `inf` switches the test off.
+    #[serde(default = "defaults::slip_rate_floor")]
+    pub slip_rate_floor_mps: f64,
+    /// Local extrapolation of the state (docs/math.md §9).
+    #[serde(default = "defaults::state_extrapolation")]
+    pub state_extrapolation: bool,
 }
 
 mod defaults {
@@ -147,11 +154,18 @@ mod defaults {
     pub fn state_change_cap() -> f64 {
         0.5
     }
+    pub fn slip_rate_floor() -> f64 {
+        1e-9
+    }
+    pub fn state_extrapolation() -> bool {
+        true
+    }
 }
 
 impl AdaptiveTimeStep {
     /// Tolerance `tolerance`, every other option at its default (τ in [1e-9, 0.1] s,
-    /// safety 0.9, factors [0.2, 2], ξ = 0.5).
+    /// safety 0.9, factors [0.2, 2], ξ = 0.5, slip-rate floor 1e-9 m/s, local extrapolation
+    /// of the state).
     pub fn new(tolerance: f64) -> Self {
         Self {
             tolerance,
@@ -163,6 +177,8 @@ impl AdaptiveTimeStep {
             min_factor: defaults::min_factor(),
             max_factor: defaults::max_factor(),
             state_change_cap: defaults::state_change_cap(),
+            slip_rate_floor_mps: defaults::slip_rate_floor(),
+            state_extrapolation: defaults::state_extrapolation(),
         }
     }
 }
@@ -309,8 +325,13 @@ impl SliderScene {
                 ));
             }
         }
-        if a.state_change_cap.is_nan() {
-            return Err(invalid("time_step.state_change_cap", "must not be NaN"));
+        for (name, x) in [
+            ("state_change_cap", a.state_change_cap),
+            ("slip_rate_floor_mps", a.slip_rate_floor_mps),
+        ] {
+            if x.is_nan() {
+                return Err(invalid(&format!("time_step.{name}"), "must not be NaN"));
+            }
         }
         let control = StepControl {
             tolerance: a.tolerance,
@@ -321,6 +342,11 @@ impl SliderScene {
             tau_min: a.tau_min_s,
             tau_max: a.tau_max_s,
             state_change_cap: a.state_change_cap.is_finite().then_some(a.state_change_cap),
+            slip_rate_floor: a
+                .slip_rate_floor_mps
+                .is_finite()
+                .then_some(a.slip_rate_floor_mps),
+            state_extrapolation: a.state_extrapolation,
         };
         control.validate().map_err(|e| match e {
             rsf_time::Error::InvalidParameter {
@@ -334,6 +360,7 @@ impl SliderScene {
                         "tau_min" => "tau_min_s",
                         "tau_max" => "tau_max_s",
                         "displacement_atol" => "displacement_scale_m",
+                        "slip_rate_floor" => "slip_rate_floor_mps",
                         other => other,
                     }
                 ),

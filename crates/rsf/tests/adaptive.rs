@@ -271,6 +271,10 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
     assert_eq!((c.tolerance, c.tau_max), (1e-4, 0.05));
     assert_eq!(c.displacement_atol, 1e-4 * s.l_m, "default scale L");
     assert_eq!(c.state_change_cap, Some(0.5));
+    assert_eq!(
+        (c.slip_rate_floor, c.state_extrapolation),
+        (Some(1e-9), true)
+    );
     assert_eq!(s.initial_tau(), s.tau());
     // The built simulation steps adaptively from the initial step.
     let s = SliderScene { level: 1, ..s };
@@ -282,12 +286,14 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
     let s = SliderScene::from_toml(
         "[time_step]\nkind = \"adaptive\"\ntolerance = 1e-3\ninitial_step_s = 1e-4\n\
          tau_min_s = 1e-8\ntau_max_s = 0.2\ndisplacement_scale_m = 1e-4\nsafety = 0.8\n\
-         min_factor = 0.25\nmax_factor = 4.0\nstate_change_cap = inf",
+         min_factor = 0.25\nmax_factor = 4.0\nstate_change_cap = inf\n\
+         slip_rate_floor_mps = inf\nstate_extrapolation = false",
     )
     .unwrap();
     let c = s.step_control().unwrap().unwrap();
     assert_eq!(s.initial_tau(), 1e-4);
     assert_eq!(c.state_change_cap, None);
+    assert_eq!((c.slip_rate_floor, c.state_extrapolation), (None, false));
     assert_eq!((c.safety, c.min_factor, c.max_factor), (0.8, 0.25, 4.0));
     assert!((c.displacement_atol - 1e-7).abs() < 1e-20);
     let text = toml::to_string(&s).unwrap();
