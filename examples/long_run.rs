@@ -50,6 +50,10 @@ struct Cli {
 /// The paper's ramp duration (s): ¼ of its 15 s.
 const RAMP_S: f64 = 3.75;
 /// The tolerance when neither the scene nor the command line asks for adaptive steps.
+/// These defaults leave out the slip-increment test: it resolves the slip of the loading
+/// phase (docs/work-precision.md) but multiplies the steps in the ringing after each event
+/// (j = 4, 15 s: 33 k steps instead of 8.7 k) without moving the event times closer to a
+/// fixed-τ reference; with `--adaptive` or a scene file the scene's defaults apply.
 const DEFAULT_TOLERANCE: f64 = 1e-3;
 
 fn main() -> ExitCode {
@@ -102,7 +106,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut scene = cli.time_step.apply(cli.scene.scene(base)?)?;
     if scene.time_step == (TimeStep::Fixed {}) {
-        scene.time_step = TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(DEFAULT_TOLERANCE));
+        scene.time_step = TimeStep::Adaptive(rsf::AdaptiveTimeStep {
+            slip_rate_floor_mps: f64::INFINITY,
+            ..rsf::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
+        });
     }
     scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
     scene.validate()?;
