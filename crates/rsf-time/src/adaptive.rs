@@ -43,11 +43,10 @@ pub struct StepControl {
     pub tau_max: f64,
     /// `ξ` of the physical cap (state change per step at most `ξ`), or `None`.
     pub state_change_cap: Option<f64>,
-    /// Slip-increment test with this slip-rate floor `V_f` (m/s), or `None`: at every
-    /// frictional node the displacement error estimate of the step must be at most
-    /// `tolerance · (|Δu_p| + τ V_f)`, `Δu_p` the node's displacement increment in the step
-    /// (the slip at a fault node where Γ_F is fixed normally). A relative test on the slip
-    /// of each step, local like the state test; `V_f` keeps it finite in stick.
+    /// Slip test with this slip-rate floor `V_f` (m/s), or `None`: at every frictional
+    /// node the relative error of the step's slip, `(Δ ln(V + V_f))² / 12` (the trapezoidal
+    /// slip `(τ/2)(V_{n−1} + V_n)` of a slip rate exponential in time), must be at most
+    /// `tolerance`. Local like the state test; `V_f` keeps it finite in stick.
     pub slip_rate_floor: Option<f64>,
     /// Local extrapolation of the state: after an accepted step, `α_n` is corrected by the
     /// state error estimate, `α_n += (τ/2)(α̇_{n−1} − α̇_n) / (1 + τ ∂²ψ/∂α²(α_n, V_n))`, i.e.
@@ -61,10 +60,10 @@ impl StepControl {
     /// Tolerance `tolerance` (relative), `displacement_atol = tolerance · length` with
     /// `length` a displacement scale of the problem (e.g. the characteristic slip distance
     /// `L`), safety 0.9, factors [0.2, 2], `ξ = 0.5`, τ in `[tau_min, tau_max]`, local
-    /// extrapolation of the state, no slip-increment test. (The slider scene adds the
-    /// slip-increment test with `V_f = 1e-9` m/s, measured in `docs/work-precision.md`; it
-    /// is a relative test on the slip of every fault node, which a fault that does not
-    /// slip yet, e.g. before the first elastic wave arrives, cannot pass.)
+    /// extrapolation of the state, no slip test. (The slider scene adds the slip test with
+    /// `V_f = 1e-9` m/s, measured in `docs/work-precision.md`; it is a relative test on the
+    /// slip rate of every fault node, which suits a fault with rate-and-state friction but
+    /// not, e.g., a frictionless one.)
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for non-positive or non-finite values or

@@ -126,8 +126,8 @@ pub struct AdaptiveTimeStep {
     /// ξ of the physical cap (the state changes by at most ξ per step); `inf` for none.
     #[serde(default = "defaults::state_change_cap")]
     pub state_change_cap: f64,
-    /// Slip-rate floor V_f (m/s) of the slip-increment test (the slip of each step at each
-    /// fault node relative to `|Δu_p| + τ V_f`); `inf` switches the test off.
+    /// Slip-rate floor V_f (m/s) of the slip test (the relative error of each step's slip
+    /// at each fault node, `(Δ ln(V + V_f))²/12 ≤ tolerance`); `inf` switches it off.
     #[serde(default = "defaults::slip_rate_floor")]
     pub slip_rate_floor_mps: f64,
     /// Local extrapolation of the state (docs/math.md §9).
