@@ -6,6 +6,7 @@
 //! cargo run --release --example pipping_slider                      # j = 4, N = 1e4, Dieterich, Newmark
 //! cargo run --release --example pipping_slider -- --level 3 --law ruina --solver direct
 //! cargo run --release --example pipping_slider -- --scene scenes/pipping_slider.toml
+//! cargo run --release --example pipping_slider -- --level 3 --adaptive 1e-3   # adaptive τ
 //! cargo run --release --example pipping_slider -- --checkpoint-every 1000   # then, after a kill:
 //! cargo run --release --example pipping_slider -- --checkpoint-every 1000 --resume out/pipping_slider/checkpoint.bin
 //! ```
@@ -13,7 +14,8 @@
 //! Writes to `out/pipping_slider/` (or `--out DIR`): `timeseries.csv` (a
 //! `rsf::PointSeries` at x0 = (2.5, 0)), `frictional_profile.csv` (a
 //! `rsf::FrictionalProfile` over the window, default [0.6725T, 0.6775T]),
-//! `slip_rate_map.csv` (the profile of the whole run, 600 samples), `summary.json`, and the
+//! `slip_rate_map.csv` (the profile of the whole run, 600 samples), `summary.json` (with
+//! accepted and rejected steps), and the
 //! figures `displacement_x0.png`, `slip_rate_x0.png`, `slip_rate_map.png`. Summary and
 //! figures are computed from the CSV files, so a resumed run (which continues the files
 //! from the checkpoint's step) reports the whole run.
@@ -26,9 +28,10 @@ use rsf::{
     Checkpoint, Checkpointer, FrictionalProfile, Observer, PointSeries, SliderScene, Until,
     SLIDER_CENTRE,
 };
-use rsf_examples::cli::{step_count, window};
+use rsf_examples::cli::window;
 use rsf_examples::{
-    line_plot, space_time_map, stats, write_summary, Progress, SceneArgs, Series, SliderRun,
+    line_plot, space_time_map, stats, write_summary, EveryInterval, Progress, SceneArgs, Series,
+    SliderRun, TimeStepArgs,
 };
 
 /// The paper's slider (§6.1, Table 6.1): time series at x0, fault profile, summary, figures.
@@ -37,9 +40,8 @@ use rsf_examples::{
 struct Cli {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Number of time steps N (τ = T/N; `1e4` accepted).
-    #[arg(long, value_parser = step_count)]
-    steps: Option<usize>,
+    #[command(flatten)]
+    time_step: TimeStepArgs,
     /// Profile window T0,T1 (s) [default: 0.6725T,0.6775T].
     #[arg(long, value_parser = window, value_name = "T0,T1")]
     window: Option<(f64, f64)>,
@@ -59,20 +61,17 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let mut scene = cli.scene.scene(SliderScene::default())?;
-    if let Some(n) = cli.steps {
-        scene.steps = n;
-    }
-    scene.validate()?;
+    let scene = cli
+        .time_step
+        .apply(cli.scene.scene(SliderScene::default())?)?;
     let t_end = scene.end_time_s;
     let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
     let out = cli.out;
     std::fs::create_dir_all(&out)?;
     println!(
-        "pipping_slider: level {}, N = {} (τ = {:.3e} s), {:?} law, {:?}, {:?} solver → {}",
+        "pipping_slider: level {}, {}, {:?} law, {:?}, {:?} solver → {}",
         scene.level,
-        scene.steps,
-        scene.tau(),
+        TimeStepArgs::describe(&scene),
         scene.state_law,
         scene.integrator,
         scene.solver,
@@ -95,8 +94,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         out.join("frictional_profile.csv"),
         out.join("slip_rate_map.csv"),
     );
-    let map_every = (scene.steps / 600).max(1);
-    let (mut series, mut profile, mut map) = match resumed_at {
+    // 600 samples of the map: every N/600 steps, or every T/600 s for adaptive steps.
+    let adaptive = sim.step_controller().is_some();
+    let map_every = if adaptive {
+        1
+    } else {
+        (scene.steps / 600).max(1)
+    };
+    let (mut series, mut profile, map) = match resumed_at {
         None => (
             PointSeries::create(&series_csv, sim.model(), x0)?,
             FrictionalProfile::create(&profile_csv, w0, w1, 1)?,
@@ -108,10 +113,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             FrictionalProfile::resume(&map_csv, 0.0, t_end, map_every, n)?,
         ),
     };
+    let mut map: Box<dyn Observer<2>> = if adaptive {
+        Box::new(EveryInterval::new(map, t_end / 600.0))
+    } else {
+        Box::new(map)
+    };
     let mut checkpointer = Checkpointer::new(out.join("checkpoint.bin"), cli.checkpoint_every);
-    let mut progress = Progress::new(scene.steps - sim.step_index(), "slider");
+    let mut progress = Progress::for_scene(&scene, sim.time(), "slider");
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
-    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, map.as_mut()];
     if cli.checkpoint_every > 0 {
         observers.push(&mut checkpointer);
     }
@@ -124,6 +134,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     run.set_map_from_profile(&FrictionalProfile::<2>::read(&map_csv)?);
     (run.dofs, run.frictional_nodes) = (sim.model().num_dofs(), sim.model().frictional.len());
     (run.seconds, run.setup_seconds) = (summary.seconds, setup_seconds);
+    run.rejected_steps = sim.step_controller().map_or(0, |c| c.rejected());
     let st = stats(&run, t_end);
     write_summary(&out, &scene, &run, &st)?;
 
@@ -159,9 +170,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         (-12.0, -2.0),
     )?;
     println!(
-        "{} dofs, {} steps ({} in this run{}) in {:.2} s (set-up {:.2} s) on {}",
+        "{} dofs, {} steps ({} rejected; {} in this run{}) in {:.2} s (set-up {:.2} s) on {}",
         run.dofs,
         run.fpi.len(),
+        run.rejected_steps,
         summary.steps,
         resumed_at.map_or(String::new(), |n| format!(", resumed at step {n}")),
         run.seconds,

@@ -7,6 +7,7 @@
 //! target/release/examples/work_precision                      # all studies, ≲ 15 min
 //! target/release/examples/work_precision --study time         # one study: time|mesh|tol|energy
 //! target/release/examples/work_precision --study time --big    # adds N = 1e6 (reference 2e6)
+//! target/release/examples/work_precision --study adaptive     # adaptive τ against uniform N
 //! target/release/examples/work_precision --study mesh --big    # adds j = 6 (reference)
 //! perf record -o /tmp/perf.data target/release/examples/work_precision --study profile \
 //!     --level 3 --steps 10000 [--solver direct]                # one run to 0.6 T, phases
@@ -59,6 +60,8 @@ enum Study {
     Tol,
     /// Energy-norm error of an elastic oscillation.
     Energy,
+    /// Adaptive time steps against uniform N (Newmark, direct solver), same reference.
+    Adaptive,
     /// One run for `perf record`.
     Profile,
 }
@@ -100,6 +103,17 @@ struct Cli {
     /// Steps of the energy study.
     #[arg(long, value_parser = step_count, default_value = "400")]
     energy_steps: usize,
+    /// Tolerances of the adaptive study.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1e-2,3e-3,1e-3,3e-4,1e-4,3e-5,1e-5"
+    )]
+    tolerances: Vec<f64>,
+    /// Uniform step counts of the adaptive study.
+    #[arg(long, value_delimiter = ',', value_parser = step_count,
+          default_value = "1000,2000,5000,10000,20000,50000,100000")]
+    uniform: Vec<usize>,
 }
 
 /// Slip-event threshold (m/s).
@@ -126,6 +140,8 @@ struct Trace {
     u_init: f64,
     /// Why the run stopped early (fixed point or solver failure), if it did.
     failure: Option<String>,
+    /// Rejected attempts of adaptive steps.
+    rejected: usize,
 }
 
 impl Trace {
@@ -170,7 +186,7 @@ impl Trace {
 /// Runs `scene` from t = 0 until `t ≥ t_min` and (if `until_slip`) the first slip event has
 /// happened, or `t ≥ t_max`.
 fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<Trace> {
-    let cpu0 = cpu_seconds();
+    let cpu0 = rsf_examples::cpu_seconds();
     let t0 = Instant::now();
     let mut sim = scene.build()?;
     let mut tr = Trace {
@@ -198,6 +214,7 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
         tr.step_s += (t2 - t1).as_secs_f64();
         tr.fpi += r.fixed_point_iterations;
         tr.solver_its += r.solver_iterations;
+        tr.rejected += r.rejected_attempts;
         let k = sim.kinematics();
         tr.t.push(r.time);
         tr.ux.push(k.u[2 * x0]);
@@ -210,25 +227,8 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
             break;
         }
     }
-    tr.cpu_s = cpu_seconds() - cpu0;
+    tr.cpu_s = rsf_examples::cpu_seconds() - cpu0;
     Ok(tr)
-}
-
-/// User + system CPU time of this process (s), from `/proc/self/stat` (10 ms ticks);
-/// 0 where unavailable.
-fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
-    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<f64> = rest
-        .split_whitespace()
-        .skip(11)
-        .take(2)
-        .filter_map(|x| x.parse().ok())
-        .collect();
-    f.iter().sum::<f64>() / 100.0
 }
 
 /// Errors (a), (b), (c) of `run` against `reference` (relative; None if undefined).
@@ -239,6 +239,19 @@ struct Errors {
     ts: Option<f64>,
     ts_value: Option<f64>,
     lnv: Option<f64>,
+}
+
+impl Errors {
+    /// `err a … b … c …` and the run's failure, for the log.
+    fn describe(&self, run: &Trace) -> String {
+        format!(
+            "err a {} b {} c {} {}",
+            opt(self.u),
+            opt(self.ts),
+            opt(self.lnv),
+            run.failure.as_deref().unwrap_or("")
+        )
+    }
 }
 
 fn errors(run: &Trace, reference: &Trace, scene: &SliderScene) -> Errors {
@@ -427,6 +440,10 @@ struct Ctx {
     integrators: Vec<IntegratorKind>,
     /// Solvers of the time-step study.
     solvers: Vec<SolverChoice>,
+    /// Tolerances of the adaptive study.
+    tolerances: Vec<f64>,
+    /// Uniform step counts of the adaptive study.
+    uniform: Vec<usize>,
 }
 
 /// The paper's scene at `level`, τ = T/`steps`, with a fixed point budget of 1000
@@ -502,14 +519,11 @@ fn time_study(c: &Ctx) -> Res<()> {
                 };
                 let e = errors(&tr, &reference, &s);
                 log(&format!(
-                    "  {} {} N = {n}: {:.2} s, err a {} b {} c {} {}",
+                    "  {} {} N = {n}: {:.2} s, {}",
                     integrator_name(integrator),
                     solver_name(solver),
                     tr.seconds(),
-                    opt(e.u),
-                    opt(e.ts),
-                    opt(e.lnv),
-                    tr.failure.as_deref().unwrap_or("")
+                    e.describe(&tr)
                 ));
                 let _ = writeln!(
                     csv,
@@ -541,6 +555,102 @@ fn time_study(c: &Ctx) -> Res<()> {
         None,
     )?;
     Ok(())
+}
+
+/// Adaptive steps (docs/math.md §9) against uniform N, both Newmark with the direct
+/// solver, measured in one process against the time study's reference; prints the cost
+/// ratio at 1 % and 0.1 % error in both (a) and (b).
+fn adaptive_study(c: &Ctx) -> Res<()> {
+    let mut rs = base(c.level, c.ref_n);
+    rs.solver = SolverChoice::Direct;
+    let (tmin, tmax) = window(&rs);
+    log(&format!(
+        "adaptive study: reference Newmark direct N = {}",
+        c.ref_n
+    ));
+    let reference = trace(&rs, tmin, tmax, true)?;
+    let mut csv = format!("method,level,N_or_tol,tau0_s,rejected,{ROW_HEAD}\n");
+    let _ = writeln!(
+        csv,
+        "reference,{},{},{:.6e},0,{}",
+        c.level,
+        c.ref_n,
+        rs.tau(),
+        row(&reference, &Errors::default())
+    );
+    // (method, cpu_s, err_u, err_ts) of every run.
+    let mut results: Vec<(&str, f64, Option<f64>, Option<f64>)> = Vec::new();
+    let mut points = Vec::new();
+    let mut record = |csv: &mut String, method: &'static str, key: String, s: &SliderScene| {
+        let tr = match trace(s, tmin, tmax, true) {
+            Ok(t) => t,
+            Err(e) => {
+                log(&format!("  {method} {key}: {e}"));
+                return;
+            }
+        };
+        let e = errors(&tr, &reference, s);
+        log(&format!(
+            "  {method} {key}: {} steps, cpu {:.2} s, {}",
+            tr.steps(),
+            tr.cpu_s,
+            e.describe(&tr)
+        ));
+        let _ = writeln!(
+            csv,
+            "{method},{},{key},{:.6e},{},{}",
+            c.level,
+            s.initial_tau(),
+            tr.rejected,
+            row(&tr, &e)
+        );
+        if tr.failure.is_none() {
+            results.push((method, tr.cpu_s, e.u, e.ts));
+        }
+        points.push((method.to_string(), tr.cpu_s, [e.u, e.ts, e.lnv]));
+    };
+    for &n in &c.uniform {
+        let mut s = base(c.level, n);
+        s.solver = SolverChoice::Direct;
+        record(&mut csv, "uniform", n.to_string(), &s);
+        std::fs::write(c.out.join("adaptive.csv"), &csv)?;
+    }
+    for &tol in &c.tolerances {
+        let mut s = base(c.level, 10_000);
+        s.solver = SolverChoice::Direct;
+        s.time_step = rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(tol));
+        record(&mut csv, "adaptive", format!("{tol:e}"), &s);
+        std::fs::write(c.out.join("adaptive.csv"), &csv)?;
+    }
+    for target in [1e-2, 1e-3, 1e-4] {
+        let cheapest = |method: &str| {
+            results
+                .iter()
+                .filter(|r| r.0 == method)
+                .filter(|r| r.2.is_some_and(|e| e <= target) && r.3.is_some_and(|e| e <= target))
+                .map(|r| r.1)
+                .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.min(x))))
+        };
+        let (u, a) = (cheapest("uniform"), cheapest("adaptive"));
+        log(&format!(
+            "error ≤ {target:e} in (a) and (b): cheapest uniform {} s CPU, adaptive {} s CPU, \
+             ratio {}",
+            opt(u),
+            opt(a),
+            opt(u.zip(a).map(|(u, a)| u / a))
+        ));
+    }
+    plot_panels(
+        &c.figures.join("work_precision_adaptive.png"),
+        &format!(
+            "Adaptive τ (tolerance {:e}…{:e}) and uniform N, j = {}, Newmark direct",
+            c.tolerances.iter().copied().fold(0.0, f64::max),
+            c.tolerances.iter().copied().fold(f64::INFINITY, f64::min),
+            c.level
+        ),
+        &points,
+        None,
+    )
 }
 
 fn tol_study(c: &Ctx) -> Res<()> {
@@ -646,7 +756,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
 /// Frictionless shear mode at `level` with `steps` per period, run for 1.25 periods; returns (discrete energy
 /// error, interpolation error, both relative; CPU seconds; dofs).
 fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64, f64, usize)> {
-    let cpu0 = cpu_seconds();
+    let cpu0 = rsf_examples::cpu_seconds();
     let probe = SliderScene::default();
     let mu = probe.youngs_modulus_pa / (2.0 * (1.0 + probe.poisson_ratio));
     let rho = probe.density_kg_per_m2;
@@ -749,7 +859,7 @@ fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64
     Ok((
         (err2.max(0.0) / exact2).sqrt(),
         (interp2 / exact2).sqrt(),
-        cpu_seconds() - cpu0,
+        rsf_examples::cpu_seconds() - cpu0,
         n,
     ))
 }
@@ -895,6 +1005,8 @@ fn run(cli: Cli) -> Res<()> {
             Some(s) => vec![s.into()],
             None => vec![SolverChoice::Tnnmg, SolverChoice::Direct],
         },
+        tolerances: cli.tolerances,
+        uniform: cli.uniform,
     };
     std::fs::create_dir_all(&c.out)?;
     std::fs::create_dir_all(&c.figures)?;
@@ -929,6 +1041,9 @@ fn run(cli: Cli) -> Res<()> {
     }
     if matches!(study, Study::All | Study::Tol) {
         tol_study(&c)?;
+    }
+    if study == Study::Adaptive {
+        adaptive_study(&c)?;
     }
     if matches!(study, Study::All | Study::Mesh) {
         mesh_study(&c)?;

@@ -5,7 +5,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::ValueEnum;
-use rsf::{FixedPointScheme, IntegratorKind, SliderScene, SolverChoice, StateLawKind};
+use rsf::{
+    AdaptiveTimeStep, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice, StateLawKind,
+    TimeStep,
+};
 
 /// State law (`--law`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -150,6 +153,57 @@ impl SceneArgs {
     }
 }
 
+/// The time-step flags of a slider run: `--steps N` (fixed τ = T/N, or the initial step of
+/// adaptive steps) and `--adaptive TOL`.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct TimeStepArgs {
+    /// Number of time steps N (τ = T/N; `1e4` accepted); with `--adaptive`, the initial step
+    /// is T/N.
+    #[arg(long, value_parser = step_count)]
+    pub steps: Option<usize>,
+    /// Adaptive time steps with this relative tolerance (docs/math.md §9); other adaptive
+    /// options from the scene file's `time_step` if it is adaptive, else their defaults.
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    pub adaptive: Option<f64>,
+}
+
+impl TimeStepArgs {
+    /// `scene` with the flags applied, validated.
+    ///
+    /// # Errors
+    /// Invalid parameters (e.g. a non-positive tolerance).
+    pub fn apply(&self, mut scene: SliderScene) -> Result<SliderScene, rsf::Error> {
+        if let Some(n) = self.steps {
+            scene.steps = n;
+        }
+        if let Some(tol) = self.adaptive {
+            scene.time_step = TimeStep::Adaptive(match scene.time_step {
+                TimeStep::Adaptive(a) => AdaptiveTimeStep {
+                    tolerance: tol,
+                    ..a
+                },
+                TimeStep::Fixed {} => AdaptiveTimeStep::new(tol),
+            });
+        }
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// A one-line description of the time steps of `scene`.
+    pub fn describe(scene: &SliderScene) -> String {
+        match scene.time_step {
+            TimeStep::Fixed {} => format!("N = {} (τ = {:.3e} s)", scene.steps, scene.tau()),
+            TimeStep::Adaptive(a) => format!(
+                "adaptive τ (tolerance {:e}, τ0 = {:.3e} s, τ in [{:e}, {:e}] s)",
+                a.tolerance,
+                scene.initial_tau(),
+                a.tau_min_s,
+                a.tau_max_s
+            ),
+        }
+    }
+}
+
 /// The step counts N (τ = T/N) of a time-step study.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepCounts {
@@ -229,12 +283,55 @@ pub fn main_with(body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>>) 
 mod tests {
     use clap::Parser;
 
-    use super::{step_count, window, SceneArgs};
+    use super::{step_count, window, SceneArgs, TimeStepArgs};
+    use rsf::{AdaptiveTimeStep, SliderScene, TimeStep};
 
     #[derive(Parser)]
     struct Cli {
         #[command(flatten)]
         scene: SceneArgs,
+        #[command(flatten)]
+        time_step: TimeStepArgs,
+    }
+
+    #[test]
+    fn adaptive_flag_selects_adaptive_steps() {
+        let cli = Cli::try_parse_from(["x", "--level", "3", "--adaptive", "1e-3"]).unwrap();
+        let scene = cli.scene.scene(SliderScene::default()).unwrap();
+        let scene = cli.time_step.apply(scene).unwrap();
+        assert_eq!(
+            scene.time_step,
+            TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3))
+        );
+        assert!(TimeStepArgs::describe(&scene).contains("adaptive"));
+        // Without the flag the steps stay fixed; `--steps` sets N (the initial step).
+        let cli = Cli::try_parse_from(["x", "--steps", "1e5"]).unwrap();
+        let scene = cli.time_step.apply(SliderScene::default()).unwrap();
+        assert_eq!(
+            (scene.steps, scene.time_step),
+            (100_000, TimeStep::Fixed {})
+        );
+        // The flag sets the tolerance of an adaptive scene and keeps its other options.
+        let base = SliderScene {
+            time_step: TimeStep::Adaptive(AdaptiveTimeStep {
+                tau_max_s: 0.01,
+                ..AdaptiveTimeStep::new(1e-2)
+            }),
+            ..SliderScene::default()
+        };
+        let cli = Cli::try_parse_from(["x", "--adaptive", "1e-4"]).unwrap();
+        let scene = cli.time_step.apply(base).unwrap();
+        let TimeStep::Adaptive(a) = scene.time_step else {
+            panic!("adaptive")
+        };
+        assert_eq!((a.tolerance, a.tau_max_s), (1e-4, 0.01));
+        // Invalid tolerances are errors naming the field.
+        for bad in ["0", "-1e-3", "nan"] {
+            let cli = Cli::try_parse_from(["x".into(), format!("--adaptive={bad}")]).unwrap();
+            let e = cli.time_step.apply(SliderScene::default()).unwrap_err();
+            assert!(e.to_string().contains("time_step.tolerance"), "{bad}: {e}");
+        }
+        assert!(Cli::try_parse_from(["x", "--adaptive", "x"]).is_err());
     }
 
     #[test]

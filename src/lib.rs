@@ -13,9 +13,12 @@ pub mod cli;
 mod heat_map;
 mod panels;
 mod run;
-pub use cli::{main_with, SceneArgs};
+pub use cli::{main_with, SceneArgs, TimeStepArgs};
 pub use heat_map::{log_heat_map, HeatMapAxes};
-pub use run::{machine, old_wall_time, stats, write_summary, Progress, SliderRun, SliderStats};
+pub use run::{
+    cpu_seconds, machine, old_wall_time, stats, write_summary, EveryInterval, Progress, SliderRun,
+    SliderStats,
+};
 
 /// A progress bar on stderr when it is a terminal, nothing otherwise.
 pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {

@@ -35,6 +35,8 @@ pub struct SliderRun {
     pub seconds: f64,
     /// Wall time of assembly and set-up (s).
     pub setup_seconds: f64,
+    /// Rejected step attempts of adaptive time steps (0 for fixed steps).
+    pub rejected_steps: u64,
 }
 
 impl SliderRun {
@@ -57,7 +59,7 @@ impl SliderRun {
             Some(path) => Some(rsf::PointSeries::create(path, sim.model(), x0)?),
             None => None,
         };
-        let mut progress = Progress::new(scene.steps, &format!("τ = T/{}", scene.steps));
+        let mut progress = Progress::for_scene(scene, 0.0, &format!("τ = T/{}", scene.steps));
         let setup_seconds = setup.elapsed().as_secs_f64();
         let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut rec, &mut progress];
         if let Some(s) = series.as_mut() {
@@ -67,6 +69,7 @@ impl SliderRun {
         let mut run = Self {
             seconds: summary.seconds,
             setup_seconds,
+            rejected_steps: sim.step_controller().map_or(0, |c| c.rejected()),
             ..Self::default()
         };
         run.extend_from_recorder(&rec, sim.model());
@@ -206,6 +209,8 @@ pub fn write_summary(
         "dofs": run.dofs,
         "frictional_nodes": run.frictional_nodes,
         "steps": run.fpi.len(),
+        "accepted_steps": run.fpi.len(),
+        "rejected_steps": run.rejected_steps,
         "wall_time_s": run.seconds,
         "setup_time_s": run.setup_seconds,
         "machine": machine(),
@@ -215,6 +220,23 @@ pub fn write_summary(
         dir.join("summary.json"),
         serde_json::to_string_pretty(&json)? + "\n",
     )
+}
+
+/// User + system CPU time of this process (s), from `/proc/self/stat` (10 ms ticks);
+/// 0 where unavailable.
+pub fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return 0.0;
+    };
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<f64> = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|x| x.parse().ok())
+        .collect();
+    f.iter().sum::<f64>() / 100.0
 }
 
 /// A one-line description of this machine (CPU model and core count).
@@ -247,28 +269,126 @@ pub fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
-/// An observer showing a progress bar of `steps` steps on stderr (only when it is a
-/// terminal).
-pub struct Progress(Option<indicatif::ProgressBar>);
+/// An observer showing a progress bar on stderr (only when it is a terminal): of steps, or
+/// of simulated time for adaptive steps.
+pub struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    /// Bar units per simulated second (time-based bar), or `None` (one unit per step).
+    per_second: Option<f64>,
+}
 
 impl Progress {
     /// A bar labelled `what` for `steps` steps.
     pub fn new(steps: usize, what: &str) -> Self {
-        Self(crate::progress(steps as u64, what))
+        Self {
+            bar: crate::progress(steps as u64, what),
+            per_second: None,
+        }
+    }
+
+    /// A bar labelled `what` of simulated time from `t0` to `t_end` (s), in milliseconds.
+    pub fn until_time(t0: f64, t_end: f64, what: &str) -> Self {
+        let bar = crate::progress((1e3 * t_end).ceil().max(0.0) as u64, what);
+        if let Some(b) = &bar {
+            b.set_position((1e3 * t0).max(0.0) as u64);
+        }
+        Self {
+            bar,
+            per_second: Some(1e3),
+        }
+    }
+
+    /// The bar of a run of `scene` from time `t0` (s): of its steps for fixed steps (the
+    /// steps left after `t0`), of time for adaptive ones.
+    pub fn for_scene(scene: &SliderScene, t0: f64, what: &str) -> Self {
+        match scene.time_step {
+            rsf::TimeStep::Adaptive(_) => Self::until_time(t0, scene.end_time_s, what),
+            rsf::TimeStep::Fixed {} => {
+                let done = (t0 / scene.tau()).round() as usize;
+                Self::new(scene.steps.saturating_sub(done), what)
+            }
+        }
     }
 }
 
 impl<const D: usize> Observer<D> for Progress {
-    fn observe(&mut self, _: &StepState<'_, D>) -> rsf::Result<Flow> {
-        if let Some(b) = &self.0 {
-            b.inc(1);
+    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<Flow> {
+        if let Some(b) = &self.bar {
+            match self.per_second {
+                Some(k) => b.set_position((k * s.report.time) as u64),
+                None => b.inc(1),
+            }
         }
         Ok(Flow::Continue(()))
     }
     fn finish(&mut self) -> rsf::Result<()> {
-        if let Some(b) = &self.0 {
+        if let Some(b) = &self.bar {
             b.finish_and_clear();
         }
         Ok(())
+    }
+}
+
+/// Shows the steps to an inner observer only at the first step at or after each multiple
+/// of `interval` (s): sampling by time, for runs whose steps vary (adaptive steps). The
+/// decision depends on the step's time and τ only, so a resumed run samples the same
+/// steps.
+pub struct EveryInterval<O> {
+    /// The observer that sees the sampled steps.
+    pub inner: O,
+    interval: f64,
+}
+
+impl<O> EveryInterval<O> {
+    /// Samples every `interval` s (must be > 0).
+    ///
+    /// # Panics
+    /// If `interval` is not finite and positive (a programming error).
+    pub fn new(inner: O, interval: f64) -> Self {
+        assert!(
+            interval.is_finite() && interval > 0.0,
+            "interval {interval}"
+        );
+        Self { inner, interval }
+    }
+
+    /// Whether a step ending at `time` after a step of `tau` is sampled: the step crosses
+    /// (or ends on) a multiple of the interval.
+    pub fn samples(&self, time: f64, tau: f64) -> bool {
+        (time / self.interval).floor() > ((time - tau) / self.interval).floor()
+    }
+}
+
+impl<const D: usize, O: Observer<D>> Observer<D> for EveryInterval<O> {
+    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<Flow> {
+        if self.samples(s.report.time, s.report.tau) {
+            self.inner.observe(s)
+        } else {
+            Ok(Flow::Continue(()))
+        }
+    }
+    fn finish(&mut self) -> rsf::Result<()> {
+        self.inner.finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::EveryInterval;
+
+    #[test]
+    fn sampling_by_time_takes_one_step_per_interval() {
+        let e = EveryInterval::new((), 0.1);
+        // Uneven steps: exactly one step of each interval is sampled.
+        let mut t: f64 = 0.0;
+        let mut sampled = 0;
+        for k in 0..400 {
+            let tau = if k % 3 == 0 { 0.013 } else { 0.0041 };
+            t += tau;
+            sampled += usize::from(e.samples(t, tau));
+        }
+        assert_eq!(sampled, (t / 0.1).floor() as usize);
+        // A step longer than the interval is sampled once.
+        assert!(e.samples(1.05, 0.5));
     }
 }

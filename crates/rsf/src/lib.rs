@@ -70,8 +70,8 @@ pub use recorder::Recorder;
 pub use simulation::{NoState, RunSummary, Simulation, StepReport, Until};
 pub use simulation_builder::{SimulationBuilder, Unset};
 pub use slider::{
-    nearest_vertex, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice,
-    StateLawKind, SLIDER_CENTRE,
+    nearest_vertex, AdaptiveTimeStep, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene,
+    SolverChoice, StateLawKind, TimeStep, SLIDER_CENTRE,
 };
 pub use slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
 pub use solver::{

@@ -417,6 +417,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                         }
                         report.rejected_attempts = rejected;
                         report.error_estimate = err;
+                        if self
+                            .controller
+                            .as_ref()
+                            .expect("adaptive")
+                            .options()
+                            .state_extrapolation
+                        {
+                            self.extrapolate_state();
+                        }
                         self.commit(&report);
                         return Ok(report);
                     }
@@ -434,8 +443,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     }
 
     /// The scaled local error of the attempted step (in `next`, `alpha_trial`) and the
-    /// largest change of the state: the larger of `rms(e_u) / (atol + tol · rms(u − u₀))`
-    /// over the free dofs, with the integrator's estimate `e_u`, and the maximum over Γ_F
+    /// largest change of the state: the largest of `rms(e_u) / (atol + tol · rms(u − u₀))`
+    /// over the free dofs, with the integrator's estimate `e_u`, of the slip test
+    /// `(Δ ln(V_p + V_f))² / (12 tol)` at each frictional node p (if enabled), and the
+    /// maximum over Γ_F
     /// of `(τ/2)|α̇_n − α̇_{n−1}| / tol`, the backward Euler state update's local error
     /// `τ²/2 · α̈` (docs/math.md §9).
     fn error_estimate(&mut self) -> (f64, f64) {
@@ -461,6 +472,17 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         let count = count.max(1) as f64;
         let scale = c.displacement_atol + c.tolerance * (d2 / count).sqrt();
         let mut err = (e2 / count).sqrt() / scale;
+        if let Some(v_floor) = c.slip_rate_floor {
+            // The relative error of the slip of the step at each frictional node: the
+            // trapezoidal slip (τ/2)(V_{n−1} + V_n) of a slip rate exponential in time is
+            // off by (Δ ln V)²/12 (docs/math.md §9).
+            for &p in &self.model.frictional.nodes {
+                let v0 = block_norm::<D>(&self.kin.v, p);
+                let v1 = block_norm::<D>(&self.next.v, p);
+                let d = ((v1 + v_floor) / (v0 + v_floor)).ln();
+                err = err.max(d * d / (12.0 * c.tolerance));
+            }
+        }
         if err.is_nan() {
             err = f64::INFINITY;
         }
@@ -483,6 +505,30 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             }
         }
         (err, state_change)
+    }
+
+    /// Local extrapolation of the attempted state `alpha_trial` (docs/math.md §9): adds the
+    /// estimated local error of the backward Euler update, `(τ/2)(α̇_{n−1} − α̇_n)`, damped
+    /// by `1 / (1 + τ ∂²ψ/∂α²)` where the state equation is stiff; skipped at a node where
+    /// the correction is not finite or the law has no second derivative.
+    fn extrapolate_state(&mut self) {
+        if !self.friction.uses_state() {
+            return;
+        }
+        for (k, &p) in self.model.frictional.nodes.iter().enumerate() {
+            let (a0, a1) = (self.alpha[k], self.alpha_trial[k]);
+            let v0 = block_norm::<D>(&self.kin.v, p);
+            let v1 = block_norm::<D>(&self.next.v, p);
+            let law = &self.state_laws[k];
+            let Some(curvature) = law.d2psi_dalpha2(a1, v1) else {
+                continue;
+            };
+            let rate_change = law.dpsi_dalpha(a1, v1) - law.dpsi_dalpha(a0, v0);
+            let correction = 0.5 * self.tau * rate_change / (1.0 + self.tau * curvature.max(0.0));
+            if correction.is_finite() {
+                self.alpha_trial[k] = a1 + correction;
+            }
+        }
     }
 
     /// Makes the attempted step (in `next`, `alpha_trial`) the current state.

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use rsf_fem::{pipping_slider_coarse, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL};
 use rsf_friction::{DieterichRuina, RateStateParams};
 use rsf_state::{Aging, Slip, StateLaw};
-use rsf_time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
+use rsf_time::{BackwardEuler, Newmark, Quasistatic, StepControl, VelocityIntegrator};
 use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
 
 use crate::builder::{Material, ModelBuilder};
@@ -73,6 +73,116 @@ pub enum DiagonalKind {
     Backward,
 }
 
+/// How a scene steps in time (`time_step` in TOML). The fixed step τ = T/N is the default
+/// (the paper's figures); `{ kind = "adaptive", tolerance = … }` selects adaptive steps
+/// with error control (docs/math.md §9).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum TimeStep {
+    /// Fixed τ = `end_time_s / steps` (a struct variant so that fields given with it are
+    /// rejected).
+    Fixed {},
+    /// Adaptive steps starting from τ = `end_time_s / steps` (or `initial_step_s`).
+    Adaptive(AdaptiveTimeStep),
+}
+
+impl Default for TimeStep {
+    fn default() -> Self {
+        Self::Fixed {}
+    }
+}
+
+/// Options of adaptive time steps in a scene (the fields of [`StepControl`] with defaults
+/// suited to the slider; only `tolerance` is required in TOML).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveTimeStep {
+    /// Relative tolerance ([`StepControl::tolerance`]): on the displacement `u − u₀` and,
+    /// as an absolute one, on the state α = ln θ.
+    pub tolerance: f64,
+    /// Initial (and reference) step τ_ref of the ladder τ_ref·2^k (s); default
+    /// `end_time_s / steps`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_step_s: Option<f64>,
+    /// Smallest step (s).
+    #[serde(default = "defaults::tau_min")]
+    pub tau_min_s: f64,
+    /// Largest step (s).
+    #[serde(default = "defaults::tau_max")]
+    pub tau_max_s: f64,
+    /// Displacement scale (m): the absolute displacement tolerance is `tolerance` times
+    /// this; default the characteristic slip distance `l_m`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement_scale_m: Option<f64>,
+    /// Safety factor of the step proposal, (0, 1].
+    #[serde(default = "defaults::safety")]
+    pub safety: f64,
+    /// Smallest factor by which a step shrinks, (0, 1).
+    #[serde(default = "defaults::min_factor")]
+    pub min_factor: f64,
+    /// Largest factor by which a step grows, > 1.
+    #[serde(default = "defaults::max_factor")]
+    pub max_factor: f64,
+    /// ξ of the physical cap (the state changes by at most ξ per step); `inf` for none.
+    #[serde(default = "defaults::state_change_cap")]
+    pub state_change_cap: f64,
+    /// Slip-rate floor V_f (m/s) of the slip test (the relative error of each step's slip
+    /// at each fault node, `(Δ ln(V + V_f))²/12 ≤ tolerance`); `inf` switches it off.
+    #[serde(default = "defaults::slip_rate_floor")]
+    pub slip_rate_floor_mps: f64,
+    /// Local extrapolation of the state (docs/math.md §9).
+    #[serde(default = "defaults::state_extrapolation")]
+    pub state_extrapolation: bool,
+}
+
+mod defaults {
+    pub fn tau_min() -> f64 {
+        1e-9
+    }
+    pub fn tau_max() -> f64 {
+        0.1
+    }
+    pub fn safety() -> f64 {
+        0.9
+    }
+    pub fn min_factor() -> f64 {
+        0.2
+    }
+    pub fn max_factor() -> f64 {
+        2.0
+    }
+    pub fn state_change_cap() -> f64 {
+        0.5
+    }
+    pub fn slip_rate_floor() -> f64 {
+        1e-9
+    }
+    pub fn state_extrapolation() -> bool {
+        true
+    }
+}
+
+impl AdaptiveTimeStep {
+    /// Tolerance `tolerance`, every other option at its default (τ in [1e-9, 0.1] s,
+    /// safety 0.9, factors [0.2, 2], ξ = 0.5, slip-rate floor 1e-9 m/s, local extrapolation
+    /// of the state).
+    pub fn new(tolerance: f64) -> Self {
+        Self {
+            tolerance,
+            initial_step_s: None,
+            tau_min_s: defaults::tau_min(),
+            tau_max_s: defaults::tau_max(),
+            displacement_scale_m: None,
+            safety: defaults::safety(),
+            min_factor: defaults::min_factor(),
+            max_factor: defaults::max_factor(),
+            state_change_cap: defaults::state_change_cap(),
+            slip_rate_floor_mps: defaults::slip_rate_floor(),
+            state_extrapolation: defaults::state_extrapolation(),
+        }
+    }
+}
+
 /// The paper's slider scene (Table 6.1). Every field has a default (the paper's value);
 /// a TOML scene file may set any subset. Unknown fields are rejected with their name.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -81,8 +191,10 @@ pub struct SliderScene {
     /// Uniform refinement level j of the 2 × 6-vertex coarse grid (paper: 2…8; 4 for the
     /// time series).
     pub level: usize,
-    /// Number of time steps N (τ = T/N).
+    /// Number of time steps N (τ = T/N); with adaptive steps, τ = T/N is the initial step.
     pub steps: usize,
+    /// Fixed (default) or adaptive time steps.
+    pub time_step: TimeStep,
     /// Final time T (s).
     pub end_time_s: f64,
     /// Density ρ (kg/m², per unit thickness).
@@ -134,6 +246,7 @@ impl Default for SliderScene {
         Self {
             level: 4,
             steps: 10_000,
+            time_step: TimeStep::Fixed {},
             end_time_s: 15.0,
             density_kg_per_m2: 5e3,
             youngs_modulus_pa: 5e7,
@@ -175,6 +288,87 @@ impl SliderScene {
     /// The time step τ = T/N (s).
     pub fn tau(&self) -> f64 {
         self.end_time_s / self.steps as f64
+    }
+
+    /// The initial time step (s): `initial_step_s` of adaptive steps if set, else
+    /// [`tau`](Self::tau).
+    pub fn initial_tau(&self) -> f64 {
+        match self.time_step {
+            TimeStep::Adaptive(AdaptiveTimeStep {
+                initial_step_s: Some(t),
+                ..
+            }) => t,
+            _ => self.tau(),
+        }
+    }
+
+    /// The step control of adaptive time steps (`None` for fixed steps).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first invalid option.
+    pub fn step_control(&self) -> Result<Option<StepControl>> {
+        let TimeStep::Adaptive(a) = self.time_step else {
+            return Ok(None);
+        };
+        let scale = a.displacement_scale_m.unwrap_or(self.l_m);
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(invalid(
+                "time_step.displacement_scale_m",
+                format!("{scale} must be finite and >= 0"),
+            ));
+        }
+        if let Some(t) = a.initial_step_s {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(invalid(
+                    "time_step.initial_step_s",
+                    format!("{t} must be finite and > 0"),
+                ));
+            }
+        }
+        for (name, x) in [
+            ("state_change_cap", a.state_change_cap),
+            ("slip_rate_floor_mps", a.slip_rate_floor_mps),
+        ] {
+            if x.is_nan() {
+                return Err(invalid(&format!("time_step.{name}"), "must not be NaN"));
+            }
+        }
+        let control = StepControl {
+            tolerance: a.tolerance,
+            displacement_atol: a.tolerance * scale,
+            safety: a.safety,
+            min_factor: a.min_factor,
+            max_factor: a.max_factor,
+            tau_min: a.tau_min_s,
+            tau_max: a.tau_max_s,
+            state_change_cap: a.state_change_cap.is_finite().then_some(a.state_change_cap),
+            slip_rate_floor: a
+                .slip_rate_floor_mps
+                .is_finite()
+                .then_some(a.slip_rate_floor_mps),
+            state_extrapolation: a.state_extrapolation,
+        };
+        control.validate().map_err(|e| match e {
+            rsf_time::Error::InvalidParameter {
+                name,
+                value,
+                requirement,
+            } => invalid(
+                &format!(
+                    "time_step.{}",
+                    match name {
+                        "tau_min" => "tau_min_s",
+                        "tau_max" => "tau_max_s",
+                        "displacement_atol" => "displacement_scale_m",
+                        "slip_rate_floor" => "slip_rate_floor_mps",
+                        other => other,
+                    }
+                ),
+                format!("{value} must be {requirement}"),
+            ),
+            other => other.into(),
+        })?;
+        Ok(Some(control))
     }
 
     /// Checks every parameter, naming the first invalid one.
@@ -225,6 +419,7 @@ impl SliderScene {
             return Err(invalid("fixed_point_max_iterations", "must be at least 1"));
         }
         self.rate_state_params().validate()?;
+        self.step_control()?;
         Ok(())
     }
 
@@ -374,12 +569,16 @@ impl SliderScene {
         model: Model<2>,
     ) -> Result<SimulationBuilder<2, DieterichRuina, NoState, Newmark>> {
         self.validate()?;
-        Ok(SimulationBuilder::new(model)
+        let b = SimulationBuilder::new(model)
             .friction(self.friction_law()?)
             .initial_state(self.alpha0)
-            .time_step(self.tau())
+            .time_step(self.initial_tau())
             .solver(self.solver_kind())
-            .fixed_point(self.fixed_point_options()))
+            .fixed_point(self.fixed_point_options());
+        Ok(match self.step_control()? {
+            Some(c) => b.step_control(c),
+            None => b,
+        })
     }
 
     /// Builds the simulation (monomorphised for the chosen law and integrator behind the

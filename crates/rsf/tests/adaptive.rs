@@ -240,3 +240,208 @@ fn adaptive_checkpoint_and_resume_is_bit_identical() {
     std::fs::remove_file(&path).ok();
     assert_eq!(resumed.checkpoint(), straight);
 }
+
+#[test]
+fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
+    use rsf::{AdaptiveTimeStep, TimeStep};
+    // Fixed steps stay the default, also for a file that does not name `time_step`.
+    assert_eq!(SliderScene::default().time_step, TimeStep::Fixed {});
+    let s = SliderScene::from_toml("steps = 500").unwrap();
+    assert_eq!((s.steps, s.time_step), (500, TimeStep::Fixed {}));
+    assert!(s.step_control().unwrap().is_none());
+    let s = SliderScene::from_toml("time_step = { kind = \"fixed\" }").unwrap();
+    assert_eq!(s.time_step, TimeStep::Fixed {});
+
+    let s = SliderScene::from_toml(
+        "steps = 300\nend_time_s = 3.0\n\
+         time_step = { kind = \"adaptive\", tolerance = 1e-4, tau_max_s = 0.05 }",
+    )
+    .unwrap();
+    let TimeStep::Adaptive(a) = s.time_step else {
+        panic!("adaptive expected: {:?}", s.time_step)
+    };
+    assert_eq!(
+        a,
+        AdaptiveTimeStep {
+            tau_max_s: 0.05,
+            ..AdaptiveTimeStep::new(1e-4)
+        }
+    );
+    let c = s.step_control().unwrap().unwrap();
+    assert_eq!((c.tolerance, c.tau_max), (1e-4, 0.05));
+    assert_eq!(c.displacement_atol, 1e-4 * s.l_m, "default scale L");
+    assert_eq!(c.state_change_cap, Some(0.5));
+    assert_eq!(
+        (c.slip_rate_floor, c.state_extrapolation),
+        (Some(1e-9), true)
+    );
+    assert_eq!(s.initial_tau(), s.tau());
+    // The built simulation steps adaptively from the initial step.
+    let s = SliderScene { level: 1, ..s };
+    let sim = s.build().unwrap();
+    let ctrl = sim.step_controller().expect("adaptive steps");
+    assert_eq!((ctrl.tau(), sim.tau()), (s.tau(), s.tau()));
+
+    // Every option, ξ = inf for no cap; the scene round-trips through TOML.
+    let s = SliderScene::from_toml(
+        "[time_step]\nkind = \"adaptive\"\ntolerance = 1e-3\ninitial_step_s = 1e-4\n\
+         tau_min_s = 1e-8\ntau_max_s = 0.2\ndisplacement_scale_m = 1e-4\nsafety = 0.8\n\
+         min_factor = 0.25\nmax_factor = 4.0\nstate_change_cap = inf\n\
+         slip_rate_floor_mps = inf\nstate_extrapolation = false",
+    )
+    .unwrap();
+    let c = s.step_control().unwrap().unwrap();
+    assert_eq!(s.initial_tau(), 1e-4);
+    assert_eq!(c.state_change_cap, None);
+    assert_eq!((c.slip_rate_floor, c.state_extrapolation), (None, false));
+    assert_eq!((c.safety, c.min_factor, c.max_factor), (0.8, 0.25, 4.0));
+    assert!((c.displacement_atol - 1e-7).abs() < 1e-20);
+    let text = toml::to_string(&s).unwrap();
+    assert_eq!(SliderScene::from_toml(&text).unwrap(), s);
+
+    // Unknown fields and kinds are named; a tolerance is required; invalid values name
+    // their field.
+    let e = SliderScene::from_toml(
+        "time_step = { kind = \"adaptive\", tolerance = 1e-3, tolerence = 1 }",
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("tolerence"), "{e}");
+    let e = SliderScene::from_toml("time_step = { kind = \"fixed\", steps = 3 }").unwrap_err();
+    assert!(e.to_string().contains("steps"), "{e}");
+    let e = SliderScene::from_toml("time_step = { kind = \"variable\" }").unwrap_err();
+    assert!(e.to_string().contains("variable"), "{e}");
+    let e = SliderScene::from_toml("time_step = { kind = \"adaptive\" }").unwrap_err();
+    assert!(e.to_string().contains("tolerance"), "{e}");
+    for (field, bad) in [
+        ("tolerance", "tolerance = -1.0"),
+        ("tau_max_s", "tolerance = 1e-3, tau_max_s = 1e-12"),
+        ("safety", "tolerance = 1e-3, safety = 2.0"),
+        ("initial_step_s", "tolerance = 1e-3, initial_step_s = 0.0"),
+        (
+            "state_change_cap",
+            "tolerance = 1e-3, state_change_cap = -1.0",
+        ),
+    ] {
+        let s = SliderScene::from_toml(&format!("time_step = {{ kind = \"adaptive\", {bad} }}"))
+            .unwrap();
+        let e = s.validate().unwrap_err();
+        assert!(
+            e.to_string().contains(&format!("time_step.{field}")),
+            "{bad}: {e}"
+        );
+        assert!(s.build().is_err());
+    }
+}
+
+/// A run with adaptive steps from the scene, stopped through the API after a checkpoint
+/// and resumed into the same files, writes the same bytes as an uninterrupted run (the
+/// rows carry the adaptive τ of each step).
+#[test]
+fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
+    use rsf::{AdaptiveTimeStep, Checkpointer, FrictionalProfile, PointSeries, TimeStep};
+    use std::path::Path;
+
+    struct StopAt(usize);
+    impl Observer<2> for StopAt {
+        fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
+            Ok(if s.report.step >= self.0 {
+                Flow::Break(())
+            } else {
+                Flow::Continue(())
+            })
+        }
+    }
+    // Level 1, fast loading from t = 0; the steps grow from 1e-3 s and shrink again
+    // through the slip.
+    let scene = SliderScene {
+        level: 1,
+        steps: 300,
+        end_time_s: 0.6,
+        loading_velocity_m_per_s: 1e-2,
+        ramp_fraction: 0.0,
+        time_step: TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3)),
+        ..SliderScene::default()
+    };
+    let (every, stop) = (40, 130);
+    let run = |dir: &Path, stop: Option<usize>, resume: bool| {
+        let mut sim = scene.build().unwrap();
+        let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE).unwrap();
+        let (series_path, profile_path, ckpt) = (
+            dir.join("x0.csv"),
+            dir.join("profile.csv"),
+            dir.join("checkpoint.bin"),
+        );
+        let (mut series, mut profile) = if resume {
+            let c = Checkpoint::read(&ckpt).unwrap();
+            sim.restore(&c).unwrap();
+            (
+                PointSeries::resume(&series_path, sim.model(), x0, c.step).unwrap(),
+                FrictionalProfile::resume(&profile_path, 0.1, 0.5, 3, c.step).unwrap(),
+            )
+        } else {
+            (
+                PointSeries::create(&series_path, sim.model(), x0).unwrap(),
+                FrictionalProfile::create(&profile_path, 0.1, 0.5, 3).unwrap(),
+            )
+        };
+        let mut checkpointer = Checkpointer::new(&ckpt, every);
+        let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
+        sim.run_until(
+            Until::Time(scene.end_time_s),
+            &mut [&mut series, &mut profile, &mut checkpointer, &mut stopper],
+        )
+        .unwrap();
+        sim
+    };
+    let dir = |name: &str| {
+        let d = std::env::temp_dir().join(format!("rsf-adaptive-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    };
+    let (a, b) = (dir("straight"), dir("stopped"));
+    let straight = run(&a, None, false);
+    let stopped = run(&b, Some(stop), false);
+    assert_eq!(stopped.step_index(), stop);
+    let resumed = run(&b, None, true);
+    assert_eq!(resumed.checkpoint(), straight.checkpoint());
+    assert_eq!(resumed.time(), scene.end_time_s, "the run lands on T");
+    let ctrl = |s: &dyn rsf::AnySimulation<2>| {
+        let c = s.step_controller().unwrap();
+        (c.accepted(), c.rejected())
+    };
+    assert_eq!(ctrl(&*resumed), ctrl(&*straight));
+    for file in ["x0.csv", "profile.csv"] {
+        let (x, y) = (
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+        );
+        assert!(x == y, "{file} differs after resuming");
+    }
+    let series = PointSeries::<2>::read(&b.join("x0.csv")).unwrap();
+    assert!(series.len() > stop, "{} steps", series.len());
+    let taus: Vec<f64> = series.iter().map(|r| r.tau).collect();
+    let (lo, hi) = taus
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &t| (l.min(t), h.max(t)));
+    assert!(hi > 2.0 * lo, "the rows carry varying τ: {lo:e} … {hi:e}");
+    let mut t = 0.0;
+    for r in &series {
+        t += r.tau;
+        assert!((r.time - t).abs() < 1e-9, "rows are contiguous in time");
+    }
+    for d in [a, b] {
+        std::fs::remove_dir_all(d).ok();
+    }
+}
+
+#[test]
+fn adaptive_scene_file_in_the_repository_parses() {
+    let text = include_str!("../../../scenes/pipping_slider_adaptive.toml");
+    assert_eq!(
+        SliderScene::from_toml(text).unwrap(),
+        SliderScene {
+            time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
+            ..SliderScene::default()
+        }
+    );
+}
