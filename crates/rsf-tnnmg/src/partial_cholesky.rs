@@ -240,7 +240,14 @@ pub(crate) struct PartialCholesky {
     /// Shared-row buffers (rows `p2..n`) and scratch of the two halves.
     bufs: [Vec<f64>; 2],
     tmps: [Vec<f64>; 2],
+    /// Whether the two halves of a sweep go to two threads (large interiors only).
+    parallel: bool,
 }
+
+/// Smallest interior swept on two threads. Below it, waking a second thread costs more
+/// than it saves: main job, quiet machine, paired runs, two threads against one: j = 4
+/// (2.7 k interior unknowns) 1.025× the wall time, j = 5 (10.6 k) 0.85×.
+const PARALLEL_MIN_INTERIOR: usize = 5000;
 
 /// `Σ a_i b_i` with four independent partial sums (a fixed order: deterministic, and not
 /// bound by the latency of one chain of additions).
@@ -472,6 +479,7 @@ impl PartialCholesky {
             .unwrap_or(0);
         let factor = Self {
             nr: interior.len(),
+            parallel: interior.len() >= PARALLEL_MIN_INTERIOR,
             n,
             p1,
             p2,
@@ -505,6 +513,7 @@ impl PartialCholesky {
         b1.fill(0.0);
         b2.fill(0.0);
         join(
+            self.parallel,
             || l.forward(0..p1, y1, 0, b1, p2, t1),
             || l.forward(p1..p2, y2, p1, b2, p2, t2),
         );
@@ -526,6 +535,7 @@ impl PartialCholesky {
         l.backward(p2..nr, shared, p2, &[], n, t1);
         let shared: &[f64] = shared;
         join(
+            self.parallel,
             || l.backward(0..p1, y1, 0, shared, p2, t1),
             || l.backward(p1..p2, y2, p1, shared, p2, t2),
         );
@@ -587,10 +597,10 @@ impl PartialCholesky {
     }
 }
 
-/// Runs both closures, on two threads when rayon has more than one: the arithmetic of
-/// each is fixed, so the results do not depend on it.
-fn join<A: FnOnce() + Send, B: FnOnce() + Send>(a: A, b: B) {
-    if rayon::current_num_threads() > 1 {
+/// Runs both closures, on two threads when `parallel` and rayon has more than one: the
+/// arithmetic of each is fixed, so the results do not depend on it.
+fn join<A: FnOnce() + Send, B: FnOnce() + Send>(parallel: bool, a: A, b: B) {
+    if parallel && rayon::current_num_threads() > 1 {
         rayon::join(a, b);
     } else {
         a();
@@ -758,6 +768,7 @@ mod tests {
                 .unwrap();
             pool.install(|| {
                 let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
+                l.parallel = true; // this small grid would otherwise stay on one thread
                 let mut y: Vec<f64> = order.iter().map(|&i| (i as f64).sqrt().sin()).collect();
                 l.forward_interior(&mut y);
                 l.backward_interior(&mut y);

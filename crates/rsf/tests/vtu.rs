@@ -83,7 +83,10 @@ fn frames_hold_the_state_of_their_step() {
         assert!(slip_rate != 0.0, "step {step}: Γ_F at rest");
     }
     assert_ne!(states.states[0].1.u, states.states[1].1.u);
-    assert_ne!(states.states[0].2, states.states[1].2, "α evolves between the frames");
+    assert_ne!(
+        states.states[0].2, states.states[1].2,
+        "α evolves between the frames"
+    );
     let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet ").count(), 2);
     for (step, ..) in &states.states {
