@@ -34,6 +34,9 @@ pub(crate) struct DenseFault<const D: usize> {
     s: Vec<f64>,
     /// Matrix of the stopping norm on the free components, `m × m` (None: `S`).
     norm: Option<Vec<f64>>,
+    /// Its Cholesky factor `L` (lower, column-major `m × m`; None if it could not be
+    /// factorised): `‖x‖² = ‖Lᵀx‖²` costs half the `m²` of `xᵀ N x`.
+    norm_factor: Option<Vec<f64>>,
     /// Free component `i` ↦ position `D k + c` in the block vector.
     comp: Vec<usize>,
     /// Free components of block `k`: `first[k]..first[k + 1]`.
@@ -95,11 +98,13 @@ impl<const D: usize> DenseFault<D> {
             Par::Seq,
             Default::default(),
         ));
+        let norm_factor = lower_cholesky(norm.as_deref().unwrap_or(&s), m);
         Self {
             nb,
             m,
             s,
             norm,
+            norm_factor,
             comp,
             first,
             free,
@@ -148,8 +153,21 @@ impl<const D: usize> DenseFault<D> {
     /// `‖x‖` in the stopping norm for a vector on the free components.
     #[inline(always)]
     fn norm_of(&self, x: &[f64]) -> f64 {
-        let mat = self.norm.as_deref().unwrap_or(&self.s);
         let m = self.m;
+        if let Some(l) = &self.norm_factor {
+            // (Lᵀx)_j = Σ_{i ≥ j} L_ij x_i over the contiguous tail of column j.
+            let mut q = 0.0;
+            for j in 0..m {
+                let col = &l[j * m + j..(j + 1) * m];
+                let mut s = 0.0;
+                for (a, b) in col.iter().zip(&x[j..]) {
+                    s += a * b;
+                }
+                q += s * s;
+            }
+            return q.sqrt();
+        }
+        let mat = self.norm.as_deref().unwrap_or(&self.s);
         let mut q = 0.0;
         for j in 0..m {
             if x[j] == 0.0 {
@@ -547,6 +565,32 @@ impl<const D: usize> DenseFault<D> {
             tolerance: stopping.absolute,
         })
     }
+}
+
+/// The lower Cholesky factor of the SPD `m × m` column-major `a` (column-major, upper
+/// part zero), or None if `a` is not numerically positive definite.
+fn lower_cholesky(a: &[f64], m: usize) -> Option<Vec<f64>> {
+    let mut l = Mat::from_fn(m, m, |i, j| if i >= j { a[j * m + i] } else { 0.0 });
+    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
+        m,
+        Par::Seq,
+        Default::default(),
+    ));
+    cholesky_in_place(
+        l.as_mut(),
+        Default::default(),
+        Par::Seq,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    let mut out = vec![0.0; m * m];
+    for j in 0..m {
+        for i in j..m {
+            out[j * m + i] = l[(i, j)];
+        }
+    }
+    out.iter().all(|x| x.is_finite()).then_some(out)
 }
 
 /// Largest dense system factorised by faer's unblocked SIMD kernel instead of its blocked
