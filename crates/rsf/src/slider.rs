@@ -597,30 +597,42 @@ impl SliderScene {
     /// As [`build`](Self::build).
     pub fn build_with_model(&self, model: Model<2>) -> Result<Box<dyn AnySimulation<2>>> {
         let b = self.simulation_builder_with_model(model)?;
-        fn boxed<S: StateLaw + 'static, I: VelocityIntegrator + 'static>(
-            b: SimulationBuilder<2, DieterichRuina, NoState, Newmark>,
-            state: S,
-            integrator: I,
-        ) -> Result<Box<dyn AnySimulation<2>>> {
-            Ok(Box::new(b.state_law(state).integrator(integrator).build()?))
+        with_laws(b, self.state_law, self.integrator, self.l_m)
+    }
+}
+
+/// Completes `b` with the state law and integrator chosen at run time (monomorphised for
+/// each pair behind [`AnySimulation`]); `l` is the characteristic slip distance (m).
+///
+/// # Errors
+/// Invalid `l`; set-up errors of [`SimulationBuilder::build`].
+pub(crate) fn with_laws<const D: usize>(
+    b: SimulationBuilder<D, DieterichRuina, NoState, Newmark>,
+    law: StateLawKind,
+    integrator: IntegratorKind,
+    l: f64,
+) -> Result<Box<dyn AnySimulation<D>>> {
+    fn boxed<const D: usize, S: StateLaw + 'static, I: VelocityIntegrator + 'static>(
+        b: SimulationBuilder<D, DieterichRuina, NoState, Newmark>,
+        state: S,
+        integrator: I,
+    ) -> Result<Box<dyn AnySimulation<D>>> {
+        Ok(Box::new(b.state_law(state).integrator(integrator).build()?))
+    }
+    fn with_integrator<const D: usize, S: StateLaw + 'static>(
+        b: SimulationBuilder<D, DieterichRuina, NoState, Newmark>,
+        state: S,
+        integrator: IntegratorKind,
+    ) -> Result<Box<dyn AnySimulation<D>>> {
+        match integrator {
+            IntegratorKind::Newmark => boxed(b, state, Newmark),
+            IntegratorKind::BackwardEuler => boxed(b, state, BackwardEuler),
+            IntegratorKind::Quasistatic => boxed(b, state, Quasistatic::new()),
         }
-        let l = self.l_m;
-        match (self.state_law, self.integrator) {
-            (StateLawKind::Dieterich, IntegratorKind::Newmark) => boxed(b, Aging::new(l)?, Newmark),
-            (StateLawKind::Dieterich, IntegratorKind::BackwardEuler) => {
-                boxed(b, Aging::new(l)?, BackwardEuler)
-            }
-            (StateLawKind::Dieterich, IntegratorKind::Quasistatic) => {
-                boxed(b, Aging::new(l)?, Quasistatic::new())
-            }
-            (StateLawKind::Ruina, IntegratorKind::Newmark) => boxed(b, Slip::new(l)?, Newmark),
-            (StateLawKind::Ruina, IntegratorKind::BackwardEuler) => {
-                boxed(b, Slip::new(l)?, BackwardEuler)
-            }
-            (StateLawKind::Ruina, IntegratorKind::Quasistatic) => {
-                boxed(b, Slip::new(l)?, Quasistatic::new())
-            }
-        }
+    }
+    match law {
+        StateLawKind::Dieterich => with_integrator(b, Aging::new(l)?, integrator),
+        StateLawKind::Ruina => with_integrator(b, Slip::new(l)?, integrator),
     }
 }
 

@@ -7,8 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use rsf_fem::{cuboid, TetrahedronMesh, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
 use rsf_friction::DieterichRuina;
-use rsf_state::{Aging, Slip, StateLaw};
-use rsf_time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
+use rsf_time::Newmark;
 
 use crate::builder::ModelBuilder;
 use crate::dynamic::AnySimulation;
@@ -16,7 +15,7 @@ use crate::error::{invalid, Error, Result};
 use crate::model::Model;
 use crate::simulation::NoState;
 use crate::simulation_builder::SimulationBuilder;
-use crate::slider::{DiagonalKind, IntegratorKind, SliderScene, StateLawKind};
+use crate::slider::{with_laws, DiagonalKind, IntegratorKind, SliderScene};
 
 /// Tag of the lateral faces z = 0 and z = W of [`slider_3d_coarse`].
 pub const TAG_LATERAL: &str = "lateral";
@@ -230,41 +229,6 @@ impl Slider3dScene {
             self.slider.integrator,
             self.slider.l_m,
         )
-    }
-}
-
-/// Completes `b` with the state law and integrator chosen at run time (monomorphised for
-/// each pair behind [`AnySimulation`]); `l` is the characteristic slip distance (m).
-///
-/// # Errors
-/// Invalid `l`; set-up errors of [`SimulationBuilder::build`].
-pub(crate) fn with_laws<const D: usize>(
-    b: SimulationBuilder<D, DieterichRuina, NoState, Newmark>,
-    law: StateLawKind,
-    integrator: IntegratorKind,
-    l: f64,
-) -> Result<Box<dyn AnySimulation<D>>> {
-    fn boxed<const D: usize, S: StateLaw + 'static, I: VelocityIntegrator + 'static>(
-        b: SimulationBuilder<D, DieterichRuina, NoState, Newmark>,
-        state: S,
-        integrator: I,
-    ) -> Result<Box<dyn AnySimulation<D>>> {
-        Ok(Box::new(b.state_law(state).integrator(integrator).build()?))
-    }
-    fn with_integrator<const D: usize, S: StateLaw + 'static>(
-        b: SimulationBuilder<D, DieterichRuina, NoState, Newmark>,
-        state: S,
-        integrator: IntegratorKind,
-    ) -> Result<Box<dyn AnySimulation<D>>> {
-        match integrator {
-            IntegratorKind::Newmark => boxed(b, state, Newmark),
-            IntegratorKind::BackwardEuler => boxed(b, state, BackwardEuler),
-            IntegratorKind::Quasistatic => boxed(b, state, Quasistatic::new()),
-        }
-    }
-    match law {
-        StateLawKind::Dieterich => with_integrator(b, Aging::new(l)?, integrator),
-        StateLawKind::Ruina => with_integrator(b, Slip::new(l)?, integrator),
     }
 }
 
