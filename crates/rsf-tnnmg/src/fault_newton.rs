@@ -60,7 +60,8 @@ pub(crate) struct DenseFault<const D: usize> {
     is_soft: Vec<bool>,
     /// Soft components whose `S_QQ + H` is factorised in `h` (for simplified Newton steps).
     factored: Vec<usize>,
-    /// Whether the factorisation in `h` may be reused (the last step was a full one).
+    /// Whether the factorisation in `h` may be reused (the last step was accepted by the
+    /// line search with `s > 0`).
     reuse: bool,
     h: Mat<f64>,
     rhs: Mat<f64>,
@@ -283,8 +284,10 @@ impl<const D: usize> DenseFault<D> {
 
     /// Truncated Newton step on the soft blocks (classified before) with a line search.
     /// The factorisation of `S_QQ + H` is reused while the soft set stays and the previous
-    /// step was a full one (a simplified Newton step; the line search keeps it a descent
-    /// step).
+    /// step was accepted (a simplified Newton step: `S_QQ + H` of a nearby point is SPD, so
+    /// its direction is one of descent, and the line search keeps the step a descent step;
+    /// reusing also after damped steps halves the factorisations of the main job at j = 4,
+    /// 16072 → 8337, for 15 % more iterations).
     #[inline(always)]
     fn newton<N: BlockNonlinearity<D>>(&mut self, nl: &N) {
         let m = self.m;
@@ -374,7 +377,7 @@ impl<const D: usize> DenseFault<D> {
             return;
         }
         let step = self.line_search(nl, g0, h);
-        self.reuse = step == 1.0;
+        self.reuse = step > 0.0;
         if step > 0.0 {
             for &j in &self.soft {
                 self.xb[self.comp[j]] += step * self.c[j];
@@ -434,8 +437,14 @@ impl<const D: usize> DenseFault<D> {
 
     /// Step `s ≥ 0` along the Newton direction: safeguarded Newton on the monotone
     /// derivative `ψ'` starting at `s = 1` (bracket kept from the signs of `ψ'`, bisection
-    /// when a Newton step leaves it), ended when `|ψ'(s)| ≤ 1e-3 |ψ'(0)|` or the bracket
-    /// has collapsed. `ψ` is convex, so the energy does not increase.
+    /// when a Newton step leaves it), ended when `−½|ψ'(0)| ≤ ψ'(s) ≤ 1e-3 |ψ'(0)|` or the
+    /// bracket has collapsed. The window is one-sided on purpose: a step short of the
+    /// minimiser (`ψ'(s) < 0`) decreases the energy whatever the curvature between (`ψ'` is
+    /// monotone), so it is accepted as soon as it has removed half of the slope, while a step
+    /// beyond it must be nearly exact, since there `ψ(s) ≤ ψ(0)` is not implied by a small
+    /// `ψ'(s)`. `ψ` is convex, so the energy does not increase. (Accepting short steps early
+    /// against the former symmetric `|ψ'(s)| ≤ 1e-3 |ψ'(0)|`: long_run, 40 s at j = 4,
+    /// 0.78× CPU with the same events; main job unchanged.)
     #[inline(always)]
     fn line_search<N: BlockNonlinearity<D>>(&self, nl: &N, g0: f64, h: f64) -> f64 {
         // ψ'(0): the soft blocks are twice differentiable at x, with the gradients stored
@@ -450,11 +459,12 @@ impl<const D: usize> DenseFault<D> {
             return 0.0;
         }
         let tol = 1e-3 * d0.abs();
+        let tol_short = 0.5 * d0.abs();
         let (mut s_lo, mut s_hi) = (0.0, f64::INFINITY);
         let mut s = 1.0;
         for _ in 0..100 {
             let (dl, dr, curv) = self.derivatives(nl, g0, h, s);
-            if dl <= tol && dr >= -tol {
+            if dl <= tol && dr >= -tol_short {
                 return s;
             }
             let deriv = if dr < 0.0 {
