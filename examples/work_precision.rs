@@ -107,14 +107,18 @@ struct Cli {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "1e-2,3e-3,1e-3,3e-4,1e-4,3e-5,1e-5"
+        default_value = "1e-2,5e-3,3e-3,2e-3,1e-3,5e-4,3e-4,2e-4,1e-4,3e-5,1e-5"
     )]
     tolerances: Vec<f64>,
     /// Uniform step counts of the adaptive study.
     #[arg(long, value_delimiter = ',', value_parser = step_count,
-          default_value = "1000,2000,5000,10000,20000,50000,100000")]
+          default_value = "1000,1500,2000,3000,5000,7000,10000,15000,20000,30000,50000,100000")]
     uniform: Vec<usize>,
 }
+
+/// CPU seconds the repeats of one configuration of the adaptive study add up to at least
+/// (see [`timed_trace`]).
+const MIN_CPU_S: f64 = 0.5;
 
 /// Slip-event threshold (m/s).
 const SLIP: f64 = 1e-3;
@@ -231,6 +235,35 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
     Ok(tr)
 }
 
+/// [`trace`], repeated until the repeats together used `min_cpu_s` of CPU and at least three
+/// ran (at most 50 runs);
+/// the timings are those of the fastest repeat, and the count of runs is returned with it.
+/// The runs are deterministic, so every repeat has the same trajectory: repeating only
+/// makes the time of a run of a few hundredths of a second measurable (a minimum over
+/// repeats, as benchmark harnesses report, is the least disturbed by other jobs).
+fn timed_trace(
+    scene: &SliderScene,
+    t_min: f64,
+    t_max: f64,
+    until_slip: bool,
+    min_cpu_s: f64,
+) -> Res<(Trace, usize)> {
+    let mut best = trace(scene, t_min, t_max, until_slip)?;
+    let (mut total, mut runs) = (best.cpu_s, 1);
+    while (total < min_cpu_s || runs < 3) && runs < 50 {
+        let tr = trace(scene, t_min, t_max, until_slip)?;
+        total += tr.cpu_s;
+        runs += 1;
+        if tr.cpu_s < best.cpu_s {
+            best.cpu_s = tr.cpu_s;
+            best.setup_s = tr.setup_s;
+            best.step_s = tr.step_s;
+            best.record_s = tr.record_s;
+        }
+    }
+    Ok((best, runs))
+}
+
 /// Errors (a), (b), (c) of `run` against `reference` (relative; None if undefined).
 #[derive(Debug, Clone, Copy, Default)]
 struct Errors {
@@ -314,7 +347,7 @@ du_x0_ta_m,err_u_rel,t_slip_s,err_tslip_rel,err_lnv_rms,failure";
 
 fn row(tr: &Trace, e: &Errors) -> String {
     format!(
-        "{:.2},{:.4},{:.4},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{},{}",
+        "{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{},{}",
         tr.cpu_s,
         tr.seconds(),
         tr.setup_s,
@@ -569,10 +602,10 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
         c.ref_n
     ));
     let reference = trace(&rs, tmin, tmax, true)?;
-    let mut csv = format!("method,level,N_or_tol,tau0_s,rejected,{ROW_HEAD}\n");
+    let mut csv = format!("method,level,N_or_tol,tau0_s,rejected,repeats,{ROW_HEAD}\n");
     let _ = writeln!(
         csv,
-        "reference,{},{},{:.6e},0,{}",
+        "reference,{},{},{:.6e},0,1,{}",
         c.level,
         c.ref_n,
         rs.tau(),
@@ -582,7 +615,7 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
     let mut results: Vec<(&str, f64, Option<f64>, Option<f64>)> = Vec::new();
     let mut points = Vec::new();
     let mut record = |csv: &mut String, method: &'static str, key: String, s: &SliderScene| {
-        let tr = match trace(s, tmin, tmax, true) {
+        let (tr, repeats) = match timed_trace(s, tmin, tmax, true, MIN_CPU_S) {
             Ok(t) => t,
             Err(e) => {
                 log(&format!("  {method} {key}: {e}"));
@@ -591,14 +624,14 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
         };
         let e = errors(&tr, &reference, s);
         log(&format!(
-            "  {method} {key}: {} steps, cpu {:.2} s, {}",
+            "  {method} {key}: {} steps, cpu {:.4} s (fastest of {repeats}), {}",
             tr.steps(),
             tr.cpu_s,
             e.describe(&tr)
         ));
         let _ = writeln!(
             csv,
-            "{method},{},{key},{:.6e},{},{}",
+            "{method},{},{key},{:.6e},{},{repeats},{}",
             c.level,
             s.initial_tau(),
             tr.rejected,

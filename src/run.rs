@@ -222,21 +222,12 @@ pub fn write_summary(
     )
 }
 
-/// User + system CPU time of this process (s), from `/proc/self/stat` (10 ms ticks);
-/// 0 where unavailable.
+/// User + system CPU time of this process so far (s), all threads, from the operating
+/// system's process clock (`cpu-time`: `CLOCK_PROCESS_CPUTIME_ID` on Linux, nanosecond
+/// resolution; the 10 ms ticks of `/proc/self/stat` used before made runs of a few
+/// hundredths of a second unmeasurable); 0 where unavailable.
 pub fn cpu_seconds() -> f64 {
-    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
-        return 0.0;
-    };
-    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
-    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<f64> = rest
-        .split_whitespace()
-        .skip(11)
-        .take(2)
-        .filter_map(|x| x.parse().ok())
-        .collect();
-    f.iter().sum::<f64>() / 100.0
+    cpu_time::ProcessTime::try_now().map_or(0.0, |t| t.as_duration().as_secs_f64())
 }
 
 /// A one-line description of this machine (CPU model and core count).
