@@ -236,8 +236,8 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
 }
 
 /// [`trace`], repeated until the repeats together used `min_cpu_s` of CPU and at least three
-/// ran (at most 50 runs);
-/// the timings are those of the fastest repeat, and the count of runs is returned with it.
+/// ran (at most 50 runs); the timings are those of the fastest repeat, and the count of runs
+/// is returned with it.
 /// The runs are deterministic, so every repeat has the same trajectory: repeating only
 /// makes the time of a run of a few hundredths of a second measurable (a minimum over
 /// repeats, as benchmark harnesses report, is the least disturbed by other jobs).
