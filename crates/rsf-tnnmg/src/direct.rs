@@ -69,7 +69,7 @@ struct Condensed<const D: usize> {
 ///
 /// Per time step: one forward sweep gives the condensed right-hand side, every solve works
 /// on the `|F|` unknowns only (nonlinear Gauss–Seidel + truncated Newton with dense
-/// Cholesky on the soft blocks + exact line search, see [`DirectOptions::soft_ratio`]), and
+/// Cholesky on the soft blocks + line search, see [`DirectOptions::soft_ratio`]), and
 /// one backward sweep recovers the interior. No refactorisation while `A` stays.
 pub struct DirectSolver<const D: usize> {
     a: Csc,

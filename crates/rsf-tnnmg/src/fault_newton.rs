@@ -11,10 +11,11 @@
 //! global convergence guarantee) followed by a truncated Newton step on the **soft**
 //! blocks — those whose nonlinearity is twice differentiable there with a Hessian not
 //! larger than `soft_ratio` times the diagonal of `S` — with a dense Cholesky solve, kink
-//! clipping and an exact line search. Stiff blocks (e.g. rate-and-state friction in deep
-//! stick, where `ϕ'' = aσ̄_n/V` exceeds the elastic stiffness by orders of magnitude) are
-//! nearly decoupled and converge in the sweep at a rate of about `1/soft_ratio`; excluding
-//! them keeps the dense factorisation small (empty while the whole fault sticks).
+//! clipping and a line search (a one-sided window, see `line_search`). Stiff blocks (e.g.
+//! rate-and-state friction in deep stick, where `ϕ'' = aσ̄_n/V` exceeds the elastic
+//! stiffness by orders of magnitude) are nearly decoupled and converge in the sweep at a
+//! rate of about `1/soft_ratio`; excluding them keeps the dense factorisation small
+//! (empty while the whole fault sticks).
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{
