@@ -534,19 +534,20 @@ impl<const D: usize> DenseFault<D> {
                 self.dx[i] = self.xb[self.comp[i]] - x_old[i];
             }
             // A sweep that changed nothing beyond the tolerance ends the iteration: the Newton
-            // step would only confirm convergence.
-            if self.norm_of(&self.dx) > stopping.absolute {
+            // step would only confirm convergence (and the sweep's change is the correction).
+            correction = self.norm_of(&self.dx);
+            if correction > stopping.absolute {
                 self.classify(nl);
                 self.newton(nl);
                 for i in 0..self.m {
                     self.dx[i] = self.xb[self.comp[i]] - x_old[i];
                 }
+                correction = self.norm_of(&self.dx);
             }
             self.x_old = x_old;
             if self.xb.iter().any(|x| !x.is_finite()) {
                 return Err(Error::NonFinite("condensed iterate"));
             }
-            correction = self.norm_of(&self.dx);
             let norm_x = if stopping.relative > 0.0 {
                 let mut x = std::mem::take(&mut self.c);
                 self.gather(&mut x);
