@@ -3,6 +3,9 @@
 //! rejects and retries failing steps without showing them to observers, stays within its
 //! bounds, and checkpoints bit-identically.
 
+mod common;
+
+use common::{temp_dir, StopAt};
 use rsf::friction::Tresca;
 use rsf::time::{Newmark, StepControl};
 use rsf::{Checkpoint, Flow, NoState, Observer, SliderScene, SolverKind, StepState, Until};
@@ -341,16 +344,6 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
     use rsf::{AdaptiveTimeStep, Checkpointer, FrictionalProfile, PointSeries, TimeStep};
     use std::path::Path;
 
-    struct StopAt(usize);
-    impl Observer<2> for StopAt {
-        fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
-            Ok(if s.report.step >= self.0 {
-                Flow::Break(())
-            } else {
-                Flow::Continue(())
-            })
-        }
-    }
     // Level 1, fast loading from t = 0; the steps grow from 1e-3 s and shrink again
     // through the slip.
     let scene = SliderScene {
@@ -393,12 +386,7 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
         .unwrap();
         sim
     };
-    let dir = |name: &str| {
-        let d = std::env::temp_dir().join(format!("rsf-adaptive-{name}-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
-    };
-    let (a, b) = (dir("straight"), dir("stopped"));
+    let (a, b) = (temp_dir("adaptive-straight"), temp_dir("adaptive-stopped"));
     let straight = run(&a, None, false);
     let stopped = run(&b, Some(stop), false);
     assert_eq!(stopped.step_index(), stop);

@@ -2,11 +2,14 @@
 //! and resumed from that checkpoint into the same files leaves CSV files byte-identical to
 //! an uninterrupted run's, and its state equal bit for bit.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use std::path::Path;
+
+use common::{temp_dir, StopAt};
 use rsf::{
-    AnySimulation, Checkpoint, Checkpointer, Flow, FrictionalProfile, Observer, PointSeries,
-    SliderScene, SolverChoice, StepState, SLIDER_CENTRE,
+    AnySimulation, Checkpoint, Checkpointer, FrictionalProfile, PointSeries, SliderScene,
+    SolverChoice, SLIDER_CENTRE,
 };
 
 const STEPS: usize = 300;
@@ -24,23 +27,6 @@ fn scene(solver: SolverChoice) -> SliderScene {
         solver,
         ..SliderScene::default()
     }
-}
-
-struct StopAt(usize);
-impl Observer<2> for StopAt {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
-        Ok(if s.report.step >= self.0 {
-            Flow::Break(())
-        } else {
-            Flow::Continue(())
-        })
-    }
-}
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rsf-resume-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 /// Runs to the end (or to `stop`), writing `x0.csv`, `profile.csv` and checkpoints into
@@ -98,8 +84,8 @@ fn stopped_and_resumed_run_writes_the_same_bytes_direct() {
 fn stop_and_resume(solver: SolverChoice, name: &str) {
     let scene = scene(solver);
     let (a, b) = (
-        dir(&format!("{name}-straight")),
-        dir(&format!("{name}-stopped")),
+        temp_dir(&format!("resume-{name}-straight")),
+        temp_dir(&format!("resume-{name}-stopped")),
     );
     let straight = run(&scene, &a, None, false);
     let stopped = run(&scene, &b, Some(STOP_AT), false);
@@ -131,7 +117,7 @@ fn stop_and_resume(solver: SolverChoice, name: &str) {
 
 #[test]
 fn resuming_detects_lost_rows_and_foreign_files() {
-    let d = dir("lost");
+    let d = temp_dir("resume-lost");
     let mut sim = scene(SolverChoice::Auto).build().unwrap();
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
     let path = d.join("x0.csv");
@@ -163,7 +149,10 @@ fn vtu_frames_resume_without_loss() {
         end_time_s: 0.04,
         ..scene(SolverChoice::Auto)
     };
-    let (a, b) = (dir("vtu-straight"), dir("vtu-stopped"));
+    let (a, b) = (
+        temp_dir("resume-vtu-straight"),
+        temp_dir("resume-vtu-stopped"),
+    );
     let mut straight = scene.build().unwrap();
     let mut frames = VtuFrames::create(&a, 10).unwrap();
     straight.run(40, &mut [&mut frames]).unwrap();

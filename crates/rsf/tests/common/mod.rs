@@ -348,6 +348,20 @@ impl Observer<2> for Snapshots {
     }
 }
 
+/// Ends a run (through [`rsf::Flow::Break`]) once it has shown step `self.0` (the absolute
+/// step number) to the observers: a run stopped through the API, as a user's would be.
+pub struct StopAt(pub usize);
+
+impl Observer<2> for StopAt {
+    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
+        Ok(if s.report.step >= self.0 {
+            rsf::Flow::Break(())
+        } else {
+            rsf::Flow::Continue(())
+        })
+    }
+}
+
 /// A fresh directory under the system's temporary directory for one test's files.
 pub fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rsf-test-{name}-{}", std::process::id()));
