@@ -235,6 +235,18 @@ impl Problem {
         )
     }
 
+    /// TNNMG on this problem's hierarchy, stopping norm `K + M`.
+    fn tnnmg(&self, opts: TnnmgOptions) -> Tnnmg<3> {
+        Tnnmg::<3>::new(
+            self.a.as_ref(),
+            &self.model.fixed,
+            &self.model.prolongations,
+            Some(self.model.energy_norm.as_ref()),
+            opts,
+        )
+        .unwrap()
+    }
+
     /// `‖x − y‖_E / ‖y‖_E` in the energy norm `K + M`.
     fn relative_difference(&self, x: &[f64], y: &[f64]) -> f64 {
         let d: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
@@ -271,14 +283,7 @@ fn tnnmg_and_direct_agree_on_3d_velocity_problems() {
             },
             ..TnnmgOptions::default()
         };
-        let mut tn = Tnnmg::<3>::new(
-            p.a.as_ref(),
-            &p.model.fixed,
-            &p.model.prolongations,
-            Some(p.model.energy_norm.as_ref()),
-            opts,
-        )
-        .unwrap();
+        let mut tn = p.tnnmg(opts);
         let mut direct =
             DirectSolver::<3>::new(p.a.as_ref(), &p.model.fixed, DirectOptions::default()).unwrap();
         let mut row = Vec::new();
@@ -373,14 +378,7 @@ fn solve_cost_tnnmg_against_linear_multigrid() {
         let rsf::SolverKind::Auto { tnnmg: opts, .. } = p.scene.slider.solver_kind() else {
             unreachable!("the default scene's solver is Auto")
         };
-        let mut tn = Tnnmg::<3>::new(
-            p.a.as_ref(),
-            &p.model.fixed,
-            &p.model.prolongations,
-            Some(p.model.energy_norm.as_ref()),
-            opts,
-        )
-        .unwrap();
+        let mut tn = p.tnnmg(opts);
         let its = |tn: &mut Tnnmg<3>, linear: bool| {
             let mut v = start.clone();
             if linear {
