@@ -53,6 +53,19 @@ impl TimeFunction {
         }
     }
 
+    /// The first time strictly after `t` (s) at which `g` is not smooth, if `g` says so:
+    /// the end of a ramp, the points of a piecewise-linear history (none for a constant or
+    /// a custom function). Adaptive time steps end there instead of stepping over it
+    /// (docs/math.md §9): an error estimate sees only smooth behaviour, and a step across a
+    /// kink of the loading makes an error it cannot see.
+    pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        match self {
+            TimeFunction::Ramp { duration } => (*duration > t).then_some(*duration),
+            TimeFunction::PiecewiseLinear(points) => points.iter().map(|p| p.0).find(|&tk| tk > t),
+            TimeFunction::Constant(_) | TimeFunction::Custom(_) => None,
+        }
+    }
+
     /// Checks the parameters (finite constant, finite `duration ≥ 0`, strictly increasing
     /// finite times with finite values) and, for a custom function, that `g(0)` is finite.
     ///
@@ -422,5 +435,25 @@ impl<const D: usize> Model<D> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TimeFunction;
+
+    #[test]
+    fn breakpoints_are_the_kinks_after_the_given_time() {
+        let ramp = TimeFunction::ramp(2.0);
+        assert_eq!(ramp.next_breakpoint(0.0), Some(2.0));
+        assert_eq!(ramp.next_breakpoint(2.0), None);
+        assert_eq!(TimeFunction::ramp(0.0).next_breakpoint(0.0), None);
+        let pl = TimeFunction::PiecewiseLinear(vec![(-1.0, 0.0), (1.0, 1.0), (3.0, 0.5)]);
+        assert_eq!(pl.next_breakpoint(-2.0), Some(-1.0));
+        assert_eq!(pl.next_breakpoint(0.0), Some(1.0));
+        assert_eq!(pl.next_breakpoint(1.0), Some(3.0));
+        assert_eq!(pl.next_breakpoint(3.0), None);
+        assert_eq!(TimeFunction::Constant(1.0).next_breakpoint(0.0), None);
+        assert_eq!(TimeFunction::custom(|t| t).next_breakpoint(0.0), None);
     }
 }

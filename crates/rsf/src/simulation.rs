@@ -389,16 +389,28 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         Ok(report)
     }
 
-    /// Attempts with the controller's step until one is accepted (docs/math.md §9). With
-    /// `t_end`, a step that would pass it is shortened to end there (off the ladder; the
-    /// controller keeps its step for later).
+    /// Attempts with the controller's step until one is accepted (docs/math.md §9). A step
+    /// that would pass `t_end` or a breakpoint of the loading
+    /// ([`TimeFunction::next_breakpoint`](crate::TimeFunction::next_breakpoint)) is
+    /// shortened to end there (off the ladder; the controller keeps its step for later).
     fn adaptive_step(&mut self, t_end: Option<f64>) -> Result<StepReport> {
         let mut rejected = 0;
+        // A breakpoint closer than 1e-9 τ is taken as reached (no sliver of a step).
+        let tau_now = self.controller.as_ref().expect("adaptive").tau();
+        let breakpoint = self
+            .model
+            .dirichlet
+            .history
+            .next_breakpoint(self.time + 1e-9 * tau_now);
+        let stop = match (t_end, breakpoint) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
         loop {
             let mut tau = self.controller.as_ref().expect("adaptive").tau();
             let mut clipped = false;
-            if let Some(t_end) = t_end {
-                let left = t_end - self.time;
+            if let Some(stop) = stop {
+                let left = stop - self.time;
                 if left < tau * (1.0 - 1e-9) {
                     tau = left;
                     clipped = true;

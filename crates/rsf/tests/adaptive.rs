@@ -181,6 +181,63 @@ fn steady_sliding_stays_steady_with_growing_steps() {
     );
 }
 
+/// A step never straddles a kink of the loading: the ramp's end (here off every dyadic
+/// multiple of the initial step, so no rung reaches it by chance) is the end of a step,
+/// and the steps after it continue on the ladder.
+#[test]
+fn steps_end_at_the_end_of_the_loading_ramp() {
+    let ramp_end = 0.2137 * 0.5;
+    let scene = SliderScene {
+        ramp_fraction: 0.2137,
+        ..linear_scene()
+    };
+    let model = scene.build_model().unwrap();
+    assert_eq!(model.dirichlet.history.next_breakpoint(0.0), Some(ramp_end));
+    assert_eq!(model.dirichlet.history.next_breakpoint(ramp_end), None);
+    let nf = model.frictional.len();
+    let tau0 = 5e-4;
+    let mut sim = rsf::Simulation::new(
+        model,
+        vec![Tresca::new(0.0, 1.0).unwrap(); nf],
+        Vec::<NoState>::new(),
+        vec![0.0; nf],
+        Newmark,
+        tau0,
+        &SolverKind::Direct(Default::default()),
+        rsf::FixedPointOptions::default(),
+    )
+    .unwrap();
+    sim.set_step_control(Some(control(1e-3, 1e-9, 0.05)))
+        .unwrap();
+    let mut steps = Steps::default();
+    sim.run_until(Until::Time(0.3), &mut [&mut steps]).unwrap();
+    assert_contiguous(&steps.0, 0.0);
+    assert!(
+        steps.0.iter().any(|s| (s.0 - ramp_end).abs() <= 1e-12),
+        "a step ends at the ramp's end {ramp_end}"
+    );
+    for &(t, tau, _, _) in &steps.0 {
+        assert!(
+            !(t - tau < ramp_end - 1e-12 && t > ramp_end + 1e-12),
+            "the step ({}, {t}] straddles the ramp's end",
+            t - tau
+        );
+    }
+    // After it the steps are rungs τ0·2^k again (only the step onto the kink, and the
+    // last one onto the end time, are off the ladder).
+    let after: Vec<f64> = steps
+        .0
+        .iter()
+        .filter(|s| s.0 > ramp_end + 1e-12)
+        .map(|s| s.1)
+        .collect();
+    assert!(after.len() > 2);
+    for tau in &after[..after.len() - 1] {
+        let k = (tau / tau0).log2();
+        assert!((k - k.round()).abs() < 1e-9, "τ = {tau} is on the ladder");
+    }
+}
+
 #[test]
 fn failing_steps_are_rejected_retried_and_never_observed() {
     // A fixed point budget of 3 iterations fails on large steps through the first slip
