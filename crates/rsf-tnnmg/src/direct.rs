@@ -126,6 +126,30 @@ impl<const D: usize> DirectSolver<D> {
         Ok(self)
     }
 
+    /// The solver for another matrix `a` with the same pattern, fixed dofs, energy norm and
+    /// options (e.g. `c_M M + c_K K` at another time step): the condensation for the same
+    /// blocks reuses this one's ordering and symbolic factorisation, so only the numeric
+    /// factorisation, the Schur complement and the harmonic extension are computed again.
+    /// A matrix with another pattern is set up from scratch.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) and [`prepare`](Self::prepare).
+    pub fn for_matrix(&self, a: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+        let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, &self.fixed)?;
+        let mut solver = Self {
+            a,
+            fixed,
+            energy: self.energy.clone(),
+            opts: self.opts.clone(),
+            cache: None,
+            in_step: false,
+        };
+        if let Some(c) = &self.cache {
+            solver.cache = Some(solver.condense(&c.blocks, Some(&c.factor))?);
+        }
+        Ok(solver)
+    }
+
     /// Computes the condensation for the given blocks now (it is otherwise done on the
     /// first solve).
     ///
@@ -133,7 +157,7 @@ impl<const D: usize> DirectSolver<D> {
     /// Blocks out of range or not increasing; `A` not positive definite on the free dofs.
     pub fn prepare(&mut self, blocks: &[usize]) -> Result<()> {
         if self.cache.as_ref().is_none_or(|c| c.blocks != blocks) {
-            self.cache = Some(self.condense(blocks)?);
+            self.cache = Some(self.condense(blocks, None)?);
         }
         Ok(())
     }
@@ -148,7 +172,13 @@ impl<const D: usize> DirectSolver<D> {
         self.cache.as_ref().map_or(0, |c| c.fault.num_free())
     }
 
-    fn condense(&self, blocks: &[usize]) -> Result<Condensed<D>> {
+    /// The condensation onto `blocks`; with `previous`, a factor of a matrix with the same
+    /// pattern for the same blocks, whose analysis is reused if the pattern matches.
+    fn condense(
+        &self,
+        blocks: &[usize],
+        previous: Option<&PartialCholesky>,
+    ) -> Result<Condensed<D>> {
         let n = self.a.nrows;
         if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
             return Err(Error::InvalidOption(format!(
@@ -166,7 +196,12 @@ impl<const D: usize> DirectSolver<D> {
             .flat_map(|&p| (0..D).map(move |c| D * p + c))
             .filter(|&i| !self.fixed[i])
             .collect();
-        let (factor, order) = PartialCholesky::new(&self.a, &interior, &interface)?;
+        let (factor, order) = match previous {
+            Some(p) if p.analysed_for(&self.a, &interior, &interface) => {
+                (p.refactor(&self.a)?, p.order().to_vec())
+            }
+            _ => PartialCholesky::new(&self.a, &interior, &interface)?,
+        };
         let mut pos = vec![usize::MAX; n];
         for (k, &i) in order.iter().enumerate() {
             pos[i] = k;
@@ -221,13 +256,25 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     let nf = n - nr;
     // Columns of Z: backward sweeps of [0; e_f], independent (in parallel; each column's
     // arithmetic is fixed, so the result does not depend on the threads).
+    // Small interiors stay on this thread: waking the pool costs more than the sweeps
+    // (and a τ change of an adaptive run rebuilds this set-up; j = 2: the set-up was a
+    // third of a run's CPU time with the pool).
+    let parallel = factor.is_parallel();
     let mut z = vec![0.0; n * nf];
-    z.par_chunks_mut(n.max(1))
-        .enumerate()
-        .for_each_init(Vec::new, |tmp, (f, col)| {
-            col[nr + f] = 1.0;
-            factor.backward_interior_with(col, tmp);
-        });
+    let z_column = |tmp: &mut Vec<f64>, (f, col): (usize, &mut [f64])| {
+        col[nr + f] = 1.0;
+        factor.backward_interior_with(col, tmp);
+    };
+    if parallel {
+        z.par_chunks_mut(n.max(1))
+            .enumerate()
+            .for_each_init(Vec::new, z_column);
+    } else {
+        let mut tmp = Vec::new();
+        z.chunks_mut(n.max(1))
+            .enumerate()
+            .for_each(|c| z_column(&mut tmp, c));
+    }
     // E restricted to the free dofs in elimination order (rows and columns).
     let mut e_ptr = Vec::with_capacity(n + 1);
     let mut e_rows = Vec::new();
@@ -245,17 +292,24 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     }
     // W = E Z.
     let mut w = vec![0.0; n * nf];
-    w.par_chunks_mut(n.max(1))
-        .zip(z.par_chunks(n.max(1)))
-        .for_each(|(wc, zc)| {
-            for (kj, &zj) in zc.iter().enumerate() {
-                if zj != 0.0 {
-                    for k in e_ptr[kj]..e_ptr[kj + 1] {
-                        wc[e_rows[k]] += e_vals[k] * zj;
-                    }
+    let w_column = |(wc, zc): (&mut [f64], &[f64])| {
+        for (kj, &zj) in zc.iter().enumerate() {
+            if zj != 0.0 {
+                for k in e_ptr[kj]..e_ptr[kj + 1] {
+                    wc[e_rows[k]] += e_vals[k] * zj;
                 }
             }
-        });
+        }
+    };
+    if parallel {
+        w.par_chunks_mut(n.max(1))
+            .zip(z.par_chunks(n.max(1)))
+            .for_each(w_column);
+    } else {
+        w.chunks_mut(n.max(1))
+            .zip(z.chunks(n.max(1)))
+            .for_each(w_column);
+    }
     let zm = MatRef::from_column_major_slice(&z, n, nf);
     let wm = MatRef::from_column_major_slice(&w, n, nf);
     let mut nmat = faer::Mat::<f64>::zeros(nf, nf);

@@ -27,12 +27,14 @@
 //! supernodes (dense blocks), with `u32` row indices.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::{amd, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
@@ -55,6 +57,17 @@ struct Supernodes {
 }
 
 impl Supernodes {
+    /// The layout without the values.
+    fn clone_layout(&self) -> Self {
+        Self {
+            start: self.start.clone(),
+            row_ptr: self.row_ptr.clone(),
+            rows: self.rows.clone(),
+            val_ptr: self.val_ptr.clone(),
+            val: Vec::new(),
+        }
+    }
+
     fn len(&self) -> usize {
         self.start.len() - 1
     }
@@ -242,6 +255,33 @@ pub(crate) struct PartialCholesky {
     tmps: [Vec<f64>; 2],
     /// Whether the two halves of a sweep go to two threads (large interiors only).
     parallel: bool,
+    /// The ordering and symbolic factorisation, shared with every refactorisation.
+    analysis: Arc<Analysis>,
+}
+
+/// What a factorisation of a matrix with a given pattern reuses for another matrix with
+/// the same pattern ([`PartialCholesky::refactor`]): the ordering, the submatrix pattern
+/// and faer's symbolic (supernodal) factorisation.
+struct Analysis {
+    /// The pattern of `a` that was analysed (to check a refactorisation against).
+    a_col_ptr: Vec<usize>,
+    a_row_idx: Vec<usize>,
+    /// Positions in `a`'s values of the submatrix entries, in the order of `pattern`.
+    gather: Vec<usize>,
+    /// Pattern of the submatrix on `interior ∪ interface` (rows and columns sorted).
+    pattern: SymbolicSparseColMat<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    /// Elimination order (`order[k]` = the row of `a` of column `k` of `L`).
+    order: Vec<usize>,
+}
+
+impl std::fmt::Debug for Analysis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Analysis")
+            .field("n", &self.pattern.ncols())
+            .field("nnz", &self.gather.len())
+            .finish_non_exhaustive()
+    }
 }
 
 /// Smallest interior swept on two threads. Below it, waking a second thread costs more
@@ -418,14 +458,15 @@ impl PartialCholesky {
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::new();
-        let mut values = Vec::new();
+        let mut gather = Vec::new();
         col_ptr.push(0);
         for &j in &sorted {
-            let (rows, vals) = a.col(j);
-            for (&i, &v) in rows.iter().zip(vals) {
+            let base = a.col_ptr[j];
+            let (rows, _) = a.col(j);
+            for (k, &i) in rows.iter().enumerate() {
                 if local[i] != usize::MAX {
                     row_idx.push(local[i]);
-                    values.push(v);
+                    gather.push(base + k);
                 }
             }
             col_ptr.push(row_idx.len());
@@ -446,21 +487,6 @@ impl PartialCholesky {
             },
         )
         .map_err(faer_err)?;
-        let req: StackReq =
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
-        let mut mem = MemBuffer::try_new(req).map_err(faer_err)?;
-        let mut l_values = vec![0.0; symbolic.len_val()];
-        symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut l_values,
-                SparseColMatRef::new(pattern.as_ref(), &values),
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .map_err(|_| Error::NotPositiveDefinite("A on the free dofs"))?;
         let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
             return Err(Error::Factorisation("expected a supernodal factor".into()));
         };
@@ -473,27 +499,118 @@ impl PartialCholesky {
             .map(|&i| i as u32)
             .collect();
         let val_ptr = sn.col_ptr_for_val()[..=ns].to_vec();
+        let layout = Supernodes {
+            start,
+            row_ptr,
+            rows,
+            val_ptr,
+            val: Vec::new(),
+        };
+        let analysis = Arc::new(Analysis {
+            a_col_ptr: a.col_ptr.clone(),
+            a_row_idx: a.row_idx.clone(),
+            gather,
+            pattern,
+            symbolic,
+            order,
+        });
+        let factor = Self::numeric(a, analysis, layout, interior.len(), p1, p2)?;
+        let order = factor.analysis.order.clone();
+        Ok((factor, order))
+    }
+
+    /// Whether this factor was computed for the pattern of `a` with these interior and
+    /// interface dofs, so that [`refactor`](Self::refactor) applies.
+    pub fn analysed_for(&self, a: &Csc, interior: &[usize], interface: &[usize]) -> bool {
+        let an = &self.analysis;
+        a.col_ptr == an.a_col_ptr
+            && a.row_idx == an.a_row_idx
+            && interior.len() == self.nr
+            && an.order[self.nr..] == *interface
+    }
+
+    /// The elimination order (`order[k]` = the row of `a` of column `k` of `L`).
+    pub fn order(&self) -> &[usize] {
+        &self.analysis.order
+    }
+
+    /// The factorisation of `a`, a matrix with the pattern this factor was computed for
+    /// (e.g. `c_M M + c_K K` at another time step): the same ordering and symbolic
+    /// factorisation, only the numeric one is done again.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] if the pattern of `a` differs;
+    /// [`Error::NotPositiveDefinite`] as [`new`](Self::new).
+    pub fn refactor(&self, a: &Csc) -> Result<Self> {
+        let an = &self.analysis;
+        if a.col_ptr != an.a_col_ptr
+            || a.row_idx != an.a_row_idx
+            || a.val.len() != an.a_row_idx.len()
+        {
+            return Err(Error::InvalidMatrix(
+                "refactorisation of a matrix with another pattern".into(),
+            ));
+        }
+        Self::numeric(
+            a,
+            Arc::clone(an),
+            self.l.clone_layout(),
+            self.nr,
+            self.p1,
+            self.p2,
+        )
+    }
+
+    /// The numeric factorisation of `a` for `analysis`, into the supernodal `layout`.
+    fn numeric(
+        a: &Csc,
+        analysis: Arc<Analysis>,
+        mut layout: Supernodes,
+        nr: usize,
+        p1: usize,
+        p2: usize,
+    ) -> Result<Self> {
+        let values: Vec<f64> = analysis.gather.iter().map(|&p| a.val[p]).collect();
+        let symbolic = &analysis.symbolic;
+        let req: StackReq =
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
+        let mut mem = MemBuffer::try_new(req).map_err(faer_err)?;
+        let mut l_values = vec![0.0; symbolic.len_val()];
+        symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut l_values,
+                SparseColMatRef::new(analysis.pattern.as_ref(), &values),
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|_| Error::NotPositiveDefinite("A on the free dofs"))?;
+        layout.val = l_values;
+        let n = analysis.pattern.ncols();
+        let ns = layout.len();
         let longest = (0..ns)
-            .map(|s| row_ptr[s + 1] - row_ptr[s])
+            .map(|s| layout.row_ptr[s + 1] - layout.row_ptr[s])
             .max()
             .unwrap_or(0);
-        let factor = Self {
-            nr: interior.len(),
-            parallel: interior.len() >= PARALLEL_MIN_INTERIOR,
+        Ok(Self {
+            nr,
+            parallel: nr >= PARALLEL_MIN_INTERIOR,
             n,
             p1,
             p2,
-            l: Supernodes {
-                start,
-                row_ptr,
-                rows,
-                val_ptr,
-                val: l_values,
-            },
+            l: layout,
             bufs: [vec![0.0; n - p2], vec![0.0; n - p2]],
             tmps: [vec![0.0; longest], vec![0.0; longest]],
-        };
-        Ok((factor, order))
+            analysis,
+        })
+    }
+
+    /// Whether work over the interior is worth two threads (interiors of at least
+    /// `PARALLEL_MIN_INTERIOR` unknowns).
+    pub fn is_parallel(&self) -> bool {
+        self.parallel
     }
 
     /// Stored entries of `L` (including explicit zeros of relaxed supernodes).
@@ -776,5 +893,43 @@ mod tests {
             })
         };
         assert_eq!(run(1), run(2));
+    }
+
+    #[test]
+    fn refactorisation_equals_a_fresh_factorisation_and_checks_the_pattern() {
+        let m = 20;
+        let a = grid(m);
+        let interface: Vec<usize> = (0..m).collect();
+        let interior: Vec<usize> = (m..m * m).collect();
+        let (l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
+        // Another matrix with the same pattern (as c_M M + c_K K at another τ).
+        let mut b = a.clone();
+        for (k, v) in b.val.iter_mut().enumerate() {
+            *v *= if *v > 0.0 {
+                2.0 + (k % 7) as f64 * 0.1
+            } else {
+                1.3
+            };
+        }
+        assert!(l.analysed_for(&b, &interior, &interface));
+        let re = l.refactor(&b).unwrap();
+        let (fresh, fresh_order) = PartialCholesky::new(&b, &interior, &interface).unwrap();
+        assert_eq!(re.order(), &fresh_order[..]);
+        assert_eq!(order, fresh_order);
+        let bits = |f: &PartialCholesky| f.l.val.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&re), bits(&fresh));
+        assert_eq!(re.schur_complement(), fresh.schur_complement());
+        // Another pattern, or other interface dofs: no reuse.
+        let c = grid(m + 1);
+        assert!(!l.analysed_for(&c, &interior, &interface));
+        assert!(matches!(l.refactor(&c), Err(Error::InvalidMatrix(_))));
+        let other_interface: Vec<usize> = (1..=m).collect();
+        assert!(!l.analysed_for(&b, &interior, &other_interface));
+        // A matrix that is not positive definite is still reported as such.
+        let mut d = a.clone();
+        for v in d.val.iter_mut() {
+            *v = -*v;
+        }
+        assert!(matches!(l.refactor(&d), Err(Error::NotPositiveDefinite(_))));
     }
 }

@@ -303,7 +303,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             .position(|(t, _)| t.to_bits() == tau.to_bits())
         {
             Some(i) => self.solver_cache.remove(i).1,
-            None => build_solver(&self.model, &self.integrator, &self.solver_kind, tau)?,
+            None => self.solver.for_matrix(
+                &self.solver_kind,
+                &time_step_matrix(&self.model, &self.integrator, tau)?,
+                &self.model,
+            )?,
         };
         let old = std::mem::replace(&mut self.solver, solver);
         self.solver_cache.push((self.tau, old));
@@ -891,6 +895,16 @@ fn build_solver<const D: usize, I: VelocityIntegrator>(
     kind: &SolverKind,
     tau: f64,
 ) -> Result<VelocitySolver<D>> {
+    let a = time_step_matrix(model, integrator, tau)?;
+    Ok(VelocitySolver::new(kind, &a, model)?)
+}
+
+/// The matrix `A = c_M M + c_K K` (+ radiation damping) of the velocity problem at `tau`.
+fn time_step_matrix<const D: usize, I: VelocityIntegrator>(
+    model: &Model<D>,
+    integrator: &I,
+    tau: f64,
+) -> Result<SparseMatrix> {
     let (c_m, c_k) = integrator.coefficients(tau);
     let mut a = match (&model.mass, integrator.uses_mass()) {
         (Some(m), true) => combine(c_m, m, c_k, &model.stiffness)?,
@@ -900,7 +914,7 @@ fn build_solver<const D: usize, I: VelocityIntegrator>(
     if eta > 0.0 {
         add_radiation_damping::<D>(&mut a, model, eta);
     }
-    Ok(VelocitySolver::new(kind, &a, model)?)
+    Ok(a)
 }
 
 #[inline]

@@ -123,6 +123,29 @@ impl<const D: usize> VelocitySolver<D> {
     }
 }
 
+impl<const D: usize> VelocitySolver<D> {
+    /// The solver of the same kind for another matrix `a` of `model` with the same pattern
+    /// (the velocity problem at another time step): the direct solver reuses its ordering
+    /// and symbolic factorisation ([`DirectSolver::for_matrix`]); the others are set up
+    /// as by [`new`](Self::new).
+    ///
+    /// # Errors
+    /// Set-up errors of the solvers.
+    pub fn for_matrix(
+        &self,
+        kind: &SolverKind,
+        a: &rsf_fem::SparseMatrix,
+        model: &Model<D>,
+    ) -> Result<Self> {
+        match self {
+            VelocitySolver::Direct(d) => {
+                Ok(VelocitySolver::Direct(Box::new(d.for_matrix(a.as_ref())?)))
+            }
+            _ => Self::new(kind, a, model),
+        }
+    }
+}
+
 macro_rules! dispatch {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
