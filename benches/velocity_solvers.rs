@@ -381,9 +381,59 @@ fn velocity_solvers(c: &mut Criterion<ThreadTime>) {
     group.finish();
 }
 
+/// Set-up of the direct solver for a new time step (a new rung of the adaptive ladder,
+/// issue 10): from scratch, and from the solver of another τ reusing its ordering and
+/// symbolic factorisation (`DirectSolver::for_matrix`), for A at 2τ. Both include the
+/// condensation onto Γ_F and the harmonic extension of the energy norm. Levels j ≤ 5
+/// (`RSF_BENCH_LEVELS` applies). `cargo bench --bench velocity_solvers -- direct_setup`.
+fn direct_setup(c: &mut Criterion<ThreadTime>) {
+    let mut group = c.benchmark_group("direct_setup");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(2));
+    let levels: Vec<usize> = std::env::var("RSF_BENCH_LEVELS")
+        .map(|s| {
+            s.split(',')
+                .map(|l| l.trim().parse().expect("level"))
+                .collect()
+        })
+        .unwrap_or_else(|_| (2..=5).collect());
+    for level in levels.into_iter().filter(|&l| l <= 5) {
+        let p = problem(level);
+        let tau = SliderScene::default().end_time_s / 10_000.0;
+        let a2 = rsf::fem::combine(
+            1.0 / tau,
+            p.model.mass.as_ref().expect("mass"),
+            tau,
+            &p.model.stiffness,
+        )
+        .expect("A at 2τ");
+        let fresh = |a: &SparseMatrix| {
+            let mut d =
+                DirectSolver::<2>::new(a.as_ref(), &p.model.fixed, DirectOptions::default())
+                    .expect("direct")
+                    .with_energy_norm(p.model.energy_norm.as_ref())
+                    .expect("energy norm");
+            d.prepare(&p.model.frictional.nodes).expect("condensation");
+            d
+        };
+        let base = fresh(&p.a);
+        let n = p.model.num_dofs() as u64;
+        group.throughput(Throughput::Elements(n));
+        group.bench_function(BenchmarkId::new("fresh", level), |bch| {
+            bch.iter(|| black_box(fresh(&a2)))
+        });
+        group.bench_function(BenchmarkId::new("reused_analysis", level), |bch| {
+            bch.iter(|| black_box(base.for_matrix(a2.as_ref()).expect("for_matrix")))
+        });
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().with_measurement(ThreadTime);
-    targets = velocity_solvers
+    targets = velocity_solvers, direct_setup
 }
 criterion_main!(benches);

@@ -797,7 +797,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     }
 
     /// Switches to adaptive time steps with error control (docs/math.md §9) starting from
-    /// the current τ, or back to a fixed τ (`None`, keeping the current τ).
+    /// the current τ, or back to a fixed τ (`None`, keeping the current τ). Adaptive steps
+    /// are shortened to end on the breakpoints of the loading history
+    /// ([`TimeFunction::next_breakpoint`](crate::TimeFunction::next_breakpoint)) and on the
+    /// end time of [`run_until`](Self::run_until).
     ///
     /// # Errors
     /// Invalid options (the crate `rsf_time`'s error).
