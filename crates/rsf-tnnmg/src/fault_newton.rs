@@ -288,7 +288,8 @@ impl<const D: usize> DenseFault<D> {
     /// step was accepted (a simplified Newton step: `S_QQ + H` of a nearby point is SPD, so
     /// its direction is one of descent, and the line search keeps the step a descent step;
     /// reusing also after damped steps halves the factorisations of the main job at j = 4,
-    /// 16072 → 8337, for 15 % more iterations).
+    /// 16072 → 8337, for 15 % more iterations) — but a reused factorisation whose step had
+    /// to be damped is dropped (see the end of this function).
     #[inline(always)]
     fn newton<N: BlockNonlinearity<D>>(&mut self, nl: &N) {
         let m = self.m;
@@ -300,7 +301,8 @@ impl<const D: usize> DenseFault<D> {
         for (b, &j) in self.soft.iter().enumerate() {
             self.rhs[(b, 0)] = self.r[j] - self.grad[j];
         }
-        if !(self.reuse && self.factored == self.soft) {
+        let fresh = !(self.reuse && self.factored == self.soft);
+        if fresh {
             for (b, &j) in self.soft.iter().enumerate() {
                 for (a, &i) in self.soft.iter().enumerate() {
                     self.h[(a, b)] = self.s[j * m + i];
@@ -378,7 +380,12 @@ impl<const D: usize> DenseFault<D> {
             return;
         }
         let step = self.line_search(nl, g0, h);
-        self.reuse = step > 0.0;
+        // A fresh factorisation may serve again after any accepted step; a reused one only
+        // while its steps are taken in full. A damped simplified Newton step means the
+        // stale Hessian no longer describes the problem, and reusing it regardless could
+        // leave the iteration contracting at a linear rate close to 1 (slider, τ = 0.75 s,
+        // j = 5 and 6: no convergence in 500 iterations; with this rule, a few per solve).
+        self.reuse = step > 0.0 && (fresh || step >= 1.0);
         if step > 0.0 {
             for &j in &self.soft {
                 self.xb[self.comp[j]] += step * self.c[j];
