@@ -483,7 +483,14 @@ fn check(name: &str) {
         .into_iter()
         .find(|c| c.name == name)
         .unwrap_or_else(|| panic!("no case {name}"));
-    let o = run_case(&c);
+    check_case(&c);
+}
+
+/// Runs a case and asserts its expected outcome.
+#[cfg(test)]
+fn check_case(c: &Case) {
+    let name = c.name;
+    let o = run_case(c);
     eprintln!("{name}: {o:?}");
     assert!(o.finite, "{name}: non-finite values");
     assert!(
@@ -535,6 +542,22 @@ macro_rules! stability_tests {
                 check($name);
             }
         )*
+
+        /// The same cases with TNNMG, the paper's solver (the scene's default, `auto`,
+        /// resolves to the direct solver at level 2): the same outcomes and physics.
+        #[test]
+        fn every_case_with_tnnmg() {
+            for c in cases() {
+                let c = Case {
+                    scene: SliderScene {
+                        solver: rsf::SolverChoice::Tnnmg,
+                        ..c.scene.clone()
+                    },
+                    ..c
+                };
+                check_case(&c);
+            }
+        }
 
         /// Every case of the list has a test, and names are unique.
         #[test]
