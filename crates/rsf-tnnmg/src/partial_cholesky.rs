@@ -523,10 +523,19 @@ impl PartialCholesky {
     /// interface dofs, so that [`refactor`](Self::refactor) applies.
     pub fn analysed_for(&self, a: &Csc, interior: &[usize], interface: &[usize]) -> bool {
         let an = &self.analysis;
-        a.col_ptr == an.a_col_ptr
-            && a.row_idx == an.a_row_idx
-            && interior.len() == self.nr
-            && an.order[self.nr..] == *interface
+        if a.col_ptr != an.a_col_ptr
+            || a.row_idx != an.a_row_idx
+            || interior.len() != self.nr
+            || an.order[self.nr..] != *interface
+        {
+            return false;
+        }
+        // The same interior set (the analysed order holds each dof once).
+        let mut analysed = vec![false; a.nrows];
+        for &i in &an.order[..self.nr] {
+            analysed[i] = true;
+        }
+        interior.iter().all(|&i| i < a.nrows && analysed[i])
     }
 
     /// The elimination order (`order[k]` = the row of `a` of column `k` of `L`).
@@ -925,6 +934,9 @@ mod tests {
         assert!(matches!(l.refactor(&c), Err(Error::InvalidMatrix(_))));
         let other_interface: Vec<usize> = (1..=m).collect();
         assert!(!l.analysed_for(&b, &interior, &other_interface));
+        let mut other_interior = interior.clone();
+        other_interior[0] = 0; // an interface dof in place of an interior one
+        assert!(!l.analysed_for(&b, &other_interior, &interface));
         // A matrix that is not positive definite is still reported as such.
         let mut d = a.clone();
         for v in d.val.iter_mut() {
