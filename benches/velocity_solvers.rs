@@ -270,19 +270,24 @@ fn bench_solver<S: NonsmoothSolver<2>, N: BlockNonlinearity<2>>(
     });
 }
 
+/// The levels of `RSF_BENCH_LEVELS` (comma-separated), or `default`.
+fn bench_levels(default: std::ops::RangeInclusive<usize>) -> Vec<usize> {
+    std::env::var("RSF_BENCH_LEVELS")
+        .map(|s| {
+            s.split(',')
+                .map(|l| l.trim().parse().expect("level"))
+                .collect()
+        })
+        .unwrap_or_else(|_| default.collect())
+}
+
 fn velocity_solvers(c: &mut Criterion<ThreadTime>) {
     let mut group = c.benchmark_group("velocity_solvers");
     group
         .sample_size(10)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
-    let levels: Vec<usize> = std::env::var("RSF_BENCH_LEVELS")
-        .map(|s| {
-            s.split(',')
-                .map(|l| l.trim().parse().expect("level"))
-                .collect()
-        })
-        .unwrap_or_else(|_| (2..=8).collect());
+    let levels = bench_levels(2..=8);
     for level in levels {
         let problem = problem(level);
         let p = &problem;
@@ -392,13 +397,7 @@ fn direct_setup(c: &mut Criterion<ThreadTime>) {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
-    let levels: Vec<usize> = std::env::var("RSF_BENCH_LEVELS")
-        .map(|s| {
-            s.split(',')
-                .map(|l| l.trim().parse().expect("level"))
-                .collect()
-        })
-        .unwrap_or_else(|_| (2..=5).collect());
+    let levels = bench_levels(2..=5);
     for level in levels.into_iter().filter(|&l| l <= 5) {
         let p = problem(level);
         let tau = SliderScene::default().end_time_s / 10_000.0;

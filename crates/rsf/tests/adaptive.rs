@@ -54,7 +54,11 @@ fn linear_scene() -> SliderScene {
 }
 
 fn linear_sim(tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
-    let scene = linear_scene();
+    linear_sim_of(&linear_scene(), tau)
+}
+
+/// [`linear_sim`] for another scene (its mesh and loading).
+fn linear_sim_of(scene: &SliderScene, tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
     let model = scene.build_model().unwrap();
     let nf = model.frictional.len();
     rsf::Simulation::new(
@@ -191,22 +195,11 @@ fn steps_end_at_the_end_of_the_loading_ramp() {
         ramp_fraction: 0.2137,
         ..linear_scene()
     };
-    let model = scene.build_model().unwrap();
-    assert_eq!(model.dirichlet.history.next_breakpoint(0.0), Some(ramp_end));
-    assert_eq!(model.dirichlet.history.next_breakpoint(ramp_end), None);
-    let nf = model.frictional.len();
     let tau0 = 5e-4;
-    let mut sim = rsf::Simulation::new(
-        model,
-        vec![Tresca::new(0.0, 1.0).unwrap(); nf],
-        Vec::<NoState>::new(),
-        vec![0.0; nf],
-        Newmark,
-        tau0,
-        &SolverKind::Direct(Default::default()),
-        rsf::FixedPointOptions::default(),
-    )
-    .unwrap();
+    let mut sim = linear_sim_of(&scene, tau0);
+    let history = &sim.model().dirichlet.history;
+    assert_eq!(history.next_breakpoint(0.0), Some(ramp_end));
+    assert_eq!(history.next_breakpoint(ramp_end), None);
     sim.set_step_control(Some(control(1e-3, 1e-9, 0.05)))
         .unwrap();
     let mut steps = Steps::default();
