@@ -247,6 +247,12 @@ impl<const D: usize> DirectSolver<D> {
     }
 }
 
+/// Right-hand sides per backward sweep of the harmonic extension: the factor is read once
+/// per block. Set-up of the direct solver (`cargo bench --bench velocity_solvers --
+/// direct_setup`, reusing the analysis) with one right-hand side per sweep against blocks
+/// of 32: see docs/performance.md.
+const HARMONIC_BLOCK: usize = 32;
+
 /// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), computed
 /// in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives the columns of
 /// `Z`, then `E Z` by sparse products and `Zᵀ (E Z)` by a dense product.
@@ -254,26 +260,39 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
-    // Columns of Z: backward sweeps of [0; e_f], independent (in parallel; each column's
-    // arithmetic is fixed, so the result does not depend on the threads).
-    // Small interiors stay on this thread: waking the pool costs more than the sweeps
-    // (and a τ change of an adaptive run rebuilds this set-up; j = 2: the set-up was a
-    // third of a run's CPU time with the pool).
+    // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
+    // (one pass over the factor per block; each column's arithmetic is that of a single
+    // sweep, so the result depends neither on the blocking nor on the threads). Blocks go
+    // to two threads for large interiors only: for small ones waking the pool costs more
+    // than the sweeps (and a τ change of an adaptive run rebuilds this set-up).
     let parallel = factor.is_parallel();
     let mut z = vec![0.0; n * nf];
-    let z_column = |tmp: &mut Vec<f64>, (f, col): (usize, &mut [f64])| {
-        col[nr + f] = 1.0;
-        factor.backward_interior_with(col, tmp);
+    let z_block = |(rows, tmp): &mut (Vec<f64>, Vec<f64>), (b, zb): (usize, &mut [f64])| {
+        let f0 = b * HARMONIC_BLOCK;
+        let r = zb.len() / n;
+        rows.clear();
+        rows.resize(n * r, 0.0);
+        for k in 0..r {
+            rows[(nr + f0 + k) * r + k] = 1.0;
+        }
+        factor.backward_interior_rows(rows, r, tmp);
+        for (k, col) in zb.chunks_mut(n).enumerate() {
+            for (i, zi) in col.iter_mut().enumerate() {
+                *zi = rows[i * r + k];
+            }
+        }
     };
-    if parallel {
-        z.par_chunks_mut(n.max(1))
-            .enumerate()
-            .for_each_init(Vec::new, z_column);
-    } else {
-        let mut tmp = Vec::new();
-        z.chunks_mut(n.max(1))
-            .enumerate()
-            .for_each(|c| z_column(&mut tmp, c));
+    if n > 0 && nf > 0 {
+        if parallel {
+            z.par_chunks_mut(n * HARMONIC_BLOCK)
+                .enumerate()
+                .for_each_init(|| (Vec::new(), Vec::new()), z_block);
+        } else {
+            let mut scratch = (Vec::new(), Vec::new());
+            z.chunks_mut(n * HARMONIC_BLOCK)
+                .enumerate()
+                .for_each(|c| z_block(&mut scratch, c));
+        }
     }
     // E restricted to the free dofs in elimination order (rows and columns).
     let mut e_ptr = Vec::with_capacity(n + 1);

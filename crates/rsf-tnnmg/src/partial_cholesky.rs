@@ -234,6 +234,143 @@ impl Supernodes {
     }
 }
 
+impl Supernodes {
+    /// [`backward`](Self::backward) for `r` right-hand sides at once: `own` and `tail` hold
+    /// rows of `r` values (row-major). Every right-hand side goes through exactly the
+    /// operations of a single backward sweep, in the same order ([`dot_rows`]), so each
+    /// column of the result is bit-identical to a single sweep's; the factor is read once
+    /// for all of them instead of once per column.
+    #[allow(clippy::too_many_arguments)]
+    fn backward_rows(
+        &self,
+        cols: Range<usize>,
+        own: &mut [f64],
+        own_off: usize,
+        tail: &[f64],
+        split: usize,
+        r: usize,
+        tmp: &mut Vec<f64>,
+    ) {
+        pulp::Arch::new()
+            .dispatch(|| self.backward_rows_kernel(cols, own, own_off, tail, split, r, tmp));
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn backward_rows_kernel(
+        &self,
+        cols: Range<usize>,
+        own: &mut [f64],
+        own_off: usize,
+        tail: &[f64],
+        split: usize,
+        r: usize,
+        tmp: &mut Vec<f64>,
+    ) {
+        // Scratch: the gathered rows of the pattern (p × r), four partial sums (4 × r), one
+        // dot product (r) and one running sum (r) per right-hand side.
+        for s in self.covering(&cols).rev() {
+            let (c0, w, pattern, l) = self.get(s);
+            let (j0, j1) = (cols.start.max(c0) - c0, cols.end.min(c0 + w) - c0);
+            let ld = w + pattern.len();
+            let p = pattern.len();
+            if tmp.len() < (p + 6) * r {
+                tmp.resize((p + 6) * r, 0.0);
+            }
+            let (t, scratch) = tmp.split_at_mut(p * r);
+            let (acc, scratch) = scratch.split_at_mut(4 * r);
+            let (out, sums) = scratch.split_at_mut(r);
+            let sums = &mut sums[..r];
+            for (q, &i) in pattern.iter().enumerate() {
+                let i = i as usize;
+                let src = if i < split {
+                    &own[(i - own_off) * r..(i - own_off + 1) * r]
+                } else {
+                    &tail[(i - split) * r..(i - split + 1) * r]
+                };
+                t[q * r..(q + 1) * r].copy_from_slice(src);
+            }
+            let t: &[f64] = t;
+            for jj in j0..j1 {
+                dot_rows(
+                    &col_below(l, ld, w, jj)[..p],
+                    |q| &t[q * r..(q + 1) * r],
+                    acc,
+                    out,
+                );
+                let row = c0 + jj - own_off;
+                for (y, o) in own[row * r..(row + 1) * r].iter_mut().zip(out.iter()) {
+                    *y -= o;
+                }
+            }
+            let d_own = split.saturating_sub(c0).min(w);
+            for jj in (j0..j1).rev() {
+                let col = &l[jj * ld..(jj + 1) * ld];
+                let row = c0 + jj - own_off;
+                sums.copy_from_slice(&own[row * r..(row + 1) * r]);
+                if jj + 1 < d_own {
+                    let r0 = c0 + jj + 1 - own_off;
+                    let own_ref: &[f64] = own;
+                    dot_rows(
+                        &col[jj + 1..d_own],
+                        |q| &own_ref[(r0 + q) * r..(r0 + q + 1) * r],
+                        acc,
+                        out,
+                    );
+                    for (a, o) in sums.iter_mut().zip(out.iter()) {
+                        *a -= o;
+                    }
+                }
+                let lo = (jj + 1).max(d_own);
+                if lo < w {
+                    let tt = c0 + lo - split;
+                    dot_rows(
+                        &col[lo..w],
+                        |q| &tail[(tt + q) * r..(tt + q + 1) * r],
+                        acc,
+                        out,
+                    );
+                    for (a, o) in sums.iter_mut().zip(out.iter()) {
+                        *a -= o;
+                    }
+                }
+                let diag = col[jj];
+                for (y, a) in own[row * r..(row + 1) * r].iter_mut().zip(sums.iter()) {
+                    *y = a / diag;
+                }
+            }
+        }
+    }
+}
+
+/// For each `k < r = out.len()`: `out[k] = Σ_i a_i · row(i)[k]`, summed exactly as [`dot`]
+/// sums `Σ a_i b_i` (four partial sums over the blocks of four, then the rest in order), so
+/// that each `out[k]` is bit-identical to `dot(a, b)` with `b_i = row(i)[k]`. `acc`: scratch
+/// of at least `4 r`.
+#[inline(always)]
+fn dot_rows<'a>(a: &[f64], row: impl Fn(usize) -> &'a [f64], acc: &mut [f64], out: &mut [f64]) {
+    let r = out.len();
+    let acc = &mut acc[..4 * r];
+    acc.fill(0.0);
+    let n4 = a.len() - a.len() % 4;
+    for c in (0..n4).step_by(4) {
+        for q in 0..4 {
+            let x = a[c + q];
+            for (s, y) in acc[q * r..(q + 1) * r].iter_mut().zip(row(c + q)) {
+                *s += x * y;
+            }
+        }
+    }
+    for k in 0..r {
+        out[k] = (acc[k] + acc[r + k]) + (acc[2 * r + k] + acc[3 * r + k]);
+    }
+    for (i, &x) in a.iter().enumerate().skip(n4) {
+        for (o, y) in out.iter_mut().zip(row(i)) {
+            *o += x * y;
+        }
+    }
+}
+
 #[inline(always)]
 fn col_below(l: &[f64], ld: usize, w: usize, jj: usize) -> &[f64] {
     &l[jj * ld + w..(jj + 1) * ld]
@@ -668,8 +805,9 @@ impl PartialCholesky {
     }
 
     /// The backward sweep of [`backward_interior`](Self::backward_interior) on one thread
-    /// with caller-provided scratch (same arithmetic, same results), for many right-hand
-    /// sides in parallel.
+    /// with caller-provided scratch (same arithmetic, same results): the reference of
+    /// [`backward_interior_rows`](Self::backward_interior_rows) in the tests.
+    #[cfg(test)]
     pub fn backward_interior_with(&self, y: &mut [f64], tmp: &mut Vec<f64>) {
         let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
         let (y1, rest) = y.split_at_mut(p1);
@@ -677,6 +815,20 @@ impl PartialCholesky {
         self.l.backward(p2..nr, shared, p2, &[], n, tmp);
         self.l.backward(0..p1, y1, 0, shared, p2, tmp);
         self.l.backward(p1..p2, y2, p1, shared, p2, tmp);
+    }
+
+    /// The backward sweep of [`backward_interior`](Self::backward_interior) on one thread
+    /// for `r` right-hand sides at once, stored row-major (`y[i r + k]` = row `i` of
+    /// right-hand side `k`, `n × r`): each column of the result is bit-identical to a
+    /// single sweep's, and the factor is read once instead of `r` times.
+    pub fn backward_interior_rows(&self, y: &mut [f64], r: usize, tmp: &mut Vec<f64>) {
+        let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
+        debug_assert_eq!(y.len(), n * r);
+        let (y1, rest) = y.split_at_mut(p1 * r);
+        let (y2, shared) = rest.split_at_mut((p2 - p1) * r);
+        self.l.backward_rows(p2..nr, shared, p2, &[], n, r, tmp);
+        self.l.backward_rows(0..p1, y1, 0, shared, p2, r, tmp);
+        self.l.backward_rows(p1..p2, y2, p1, shared, p2, r, tmp);
     }
 
     /// `S = L_F L_Fᵀ`, the Schur complement on the interface, dense column-major
@@ -943,5 +1095,51 @@ mod tests {
             *v = -*v;
         }
         assert!(matches!(l.refactor(&d), Err(Error::NotPositiveDefinite(_))));
+    }
+
+    #[test]
+    fn sweeps_of_many_right_hand_sides_equal_single_sweeps_bitwise() {
+        let m = 20;
+        let a = grid(m);
+        let interface: Vec<usize> = (0..m).collect();
+        let interior: Vec<usize> = (m..m * m).collect();
+        let (l, _) = PartialCholesky::new(&a, &interior, &interface).unwrap();
+        assert!(
+            l.p1 > 0 && l.p2 > l.p1 && l.nr > l.p2,
+            "two halves and a separator"
+        );
+        let n = l.n;
+        let rhs = |k: usize| -> Vec<f64> {
+            (0..n)
+                .map(|i| {
+                    ((i * 7 + k * 13) as f64 * 0.37).sin() * if i % 5 == k % 5 { 0.0 } else { 1.0 }
+                })
+                .collect()
+        };
+        for r in [1, 3, 8] {
+            let mut single = Vec::new();
+            let mut tmp = Vec::new();
+            for k in 0..r {
+                let mut y = rhs(k);
+                l.backward_interior_with(&mut y, &mut tmp);
+                single.push(y);
+            }
+            let mut rows = vec![0.0; n * r];
+            for k in 0..r {
+                for (i, v) in rhs(k).into_iter().enumerate() {
+                    rows[i * r + k] = v;
+                }
+            }
+            l.backward_interior_rows(&mut rows, r, &mut tmp);
+            for k in 0..r {
+                for i in 0..n {
+                    assert_eq!(
+                        rows[i * r + k].to_bits(),
+                        single[k][i].to_bits(),
+                        "r = {r}, right-hand side {k}, row {i}"
+                    );
+                }
+            }
+        }
     }
 }
