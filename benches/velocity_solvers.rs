@@ -283,10 +283,6 @@ fn bench_levels(default: std::ops::RangeInclusive<usize>) -> Vec<usize> {
 
 fn velocity_solvers(c: &mut Criterion<ThreadTime>) {
     let mut group = c.benchmark_group("velocity_solvers");
-    group
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(2));
     let levels = bench_levels(2..=8);
     for level in levels {
         let problem = problem(level);
@@ -393,10 +389,6 @@ fn velocity_solvers(c: &mut Criterion<ThreadTime>) {
 /// (`RSF_BENCH_LEVELS` applies). `cargo bench --bench velocity_solvers -- direct_setup`.
 fn direct_setup(c: &mut Criterion<ThreadTime>) {
     let mut group = c.benchmark_group("direct_setup");
-    group
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(2));
     let levels = bench_levels(2..=5);
     for level in levels.into_iter().filter(|&l| l <= 5) {
         let p = problem(level);
@@ -432,7 +424,11 @@ fn direct_setup(c: &mut Criterion<ThreadTime>) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default().with_measurement(ThreadTime);
+    config = Criterion::default()
+        .with_measurement(ThreadTime)
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(2));
     targets = velocity_solvers, direct_setup
 }
 criterion_main!(benches);
