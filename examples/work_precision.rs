@@ -148,6 +148,12 @@ struct Trace {
     rejected: usize,
 }
 
+/// A time's place in a [`Trace`] ([`Trace::locate`]).
+enum Position {
+    Step(usize),
+    Between(usize, f64),
+}
+
 impl Trace {
     fn seconds(&self) -> f64 {
         self.setup_s + self.step_s + self.record_s
@@ -157,18 +163,26 @@ impl Trace {
         self.t.len()
     }
 
-    /// Linear interpolation of `y` at time `t` (None outside the record).
-    fn at(&self, y: &[f64], t: f64) -> Option<f64> {
+    /// Where `t` falls in the record: `Step(k)` at (or before) step `k`, `Between(k, w)` at
+    /// the fraction `w` of the step from `k − 1` to `k`; None after the last step.
+    fn locate(&self, t: f64) -> Option<Position> {
         let k = self.t.partition_point(|&s| s < t);
         if k >= self.t.len() {
             return None;
         }
         if k == 0 || (self.t[k] - t).abs() < 1e-12 {
-            return Some(y[k]);
+            return Some(Position::Step(k));
         }
         let (t0, t1) = (self.t[k - 1], self.t[k]);
-        let w = (t - t0) / (t1 - t0);
-        Some((1.0 - w) * y[k - 1] + w * y[k])
+        Some(Position::Between(k, (t - t0) / (t1 - t0)))
+    }
+
+    /// Linear interpolation of `y` at time `t` (None outside the record).
+    fn at(&self, y: &[f64], t: f64) -> Option<f64> {
+        Some(match self.locate(t)? {
+            Position::Step(k) => y[k],
+            Position::Between(k, w) => (1.0 - w) * y[k - 1] + w * y[k],
+        })
     }
 
     /// `u_x(x0)` at time `t` by cubic Hermite interpolation between the steps around it,
@@ -180,16 +194,11 @@ impl Trace {
     /// `v` to `u_n − u_{n−1} = (τ/2)(v_{n−1} + v_n)`) and errs by `O(τ⁴)`. Runs whose
     /// steps land on `t` (uniform N here) take the step value as before.
     fn ux_at(&self, t: f64) -> Option<f64> {
-        let k = self.t.partition_point(|&s| s < t);
-        if k >= self.t.len() {
-            return None;
-        }
-        if k == 0 || (self.t[k] - t).abs() < 1e-12 {
-            return Some(self.ux[k]);
-        }
-        let (t0, t1) = (self.t[k - 1], self.t[k]);
-        let h = t1 - t0;
-        let w = (t - t0) / h;
+        let (k, w) = match self.locate(t)? {
+            Position::Step(k) => return Some(self.ux[k]),
+            Position::Between(k, w) => (k, w),
+        };
+        let h = self.t[k] - self.t[k - 1];
         let (h00, h10) = (
             (1.0 + 2.0 * w) * (1.0 - w) * (1.0 - w),
             w * (1.0 - w) * (1.0 - w),
