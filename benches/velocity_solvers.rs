@@ -33,7 +33,7 @@ use rsf::friction::DieterichRuina;
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{
     BlockNonlinearity, DirectOptions, DirectSolver, NoNonlinearity, NonlinearGaussSeidel,
-    NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions,
+    NonsmoothSolver, StepSolver, Stopping, Tnnmg, TnnmgOptions,
 };
 use rsf::{FrictionBlocks, Model, SliderScene};
 
@@ -422,6 +422,33 @@ fn direct_setup(c: &mut Criterion<ThreadTime>) {
     group.finish();
 }
 
+/// The per-step work of the direct solver outside the condensed problem: the forward
+/// sweep of `begin_step` (the condensed right-hand side) and the backward sweep of
+/// `finish_step` (the bulk velocity), one pair per iteration. Levels j ≤ 6
+/// (`RSF_BENCH_LEVELS` applies). `cargo bench --bench velocity_solvers -- direct_sweeps`.
+fn direct_sweeps(c: &mut Criterion<ThreadTime>) {
+    let mut group = c.benchmark_group("direct_sweeps");
+    for level in bench_levels(3..=6).into_iter().filter(|&l| l <= 6) {
+        let p = problem(level);
+        let mut d = DirectSolver::<2>::new(p.a.as_ref(), &p.model.fixed, DirectOptions::default())
+            .expect("direct")
+            .with_energy_norm(p.model.energy_norm.as_ref())
+            .expect("energy norm");
+        d.prepare(&p.model.frictional.nodes).expect("condensation");
+        let mut v = p.v0.clone();
+        group.throughput(Throughput::Elements(d.factor_nnz() as u64));
+        group.bench_function(BenchmarkId::new("forward_backward", level), |bch| {
+            bch.iter(|| {
+                d.begin_step(&p.b, &p.v0, &p.model.frictional.nodes)
+                    .expect("begin");
+                d.finish_step(&mut v).expect("finish");
+                black_box(&v);
+            })
+        });
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
@@ -429,6 +456,6 @@ criterion_group! {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
-    targets = velocity_solvers, direct_setup
+    targets = velocity_solvers, direct_setup, direct_sweeps
 }
 criterion_main!(benches);

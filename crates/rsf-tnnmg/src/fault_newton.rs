@@ -156,33 +156,13 @@ impl<const D: usize> DenseFault<D> {
     #[inline(always)]
     fn norm_of(&self, x: &[f64]) -> f64 {
         let m = self.m;
+        let x = &x[..m];
         if let Some(l) = &self.norm_factor {
-            // (Lᵀx)_j = Σ_{i ≥ j} L_ij x_i over the contiguous tail of column j.
-            let mut q = 0.0;
-            for j in 0..m {
-                let col = &l[j * m + j..(j + 1) * m];
-                let mut s = 0.0;
-                for (a, b) in col.iter().zip(&x[j..]) {
-                    s += a * b;
-                }
-                q += s * s;
-            }
-            return q.sqrt();
+            return factor_norm_sq(l, x).sqrt();
         }
-        let mat = self.norm.as_deref().unwrap_or(&self.s);
-        let mut q = 0.0;
-        for j in 0..m {
-            if x[j] == 0.0 {
-                continue;
-            }
-            let col = &mat[j * m..(j + 1) * m];
-            let mut s = 0.0;
-            for (a, b) in col.iter().zip(x) {
-                s += a * b;
-            }
-            q += x[j] * s;
-        }
-        q.max(0.0).sqrt()
+        quadratic_form(self.norm.as_deref().unwrap_or(&self.s), x)
+            .max(0.0)
+            .sqrt()
     }
 
     #[inline(always)]
@@ -626,34 +606,178 @@ fn small_llt_params() -> faer::Spec<LltParams, f64> {
     params.into()
 }
 
+/// `‖Lᵀx‖²` for the dense lower-triangular `L` (`m × m`, column-major, `m = x.len()`):
+/// `(Lᵀx)_j = Σ_{i ≥ j} L_ij x_i`, each sum over increasing `i`, then `Σ_j (Lᵀx)_j²` over
+/// increasing `j`. Four columns run side by side (independent chains of additions instead
+/// of one), each with the operations of the column-by-column loop in the same order, so
+/// the result has the same bits.
+#[inline(always)]
+fn factor_norm_sq(l: &[f64], x: &[f64]) -> f64 {
+    let m = x.len();
+    let mut q = 0.0;
+    let mut j = 0;
+    while j + 4 <= m {
+        let cols: [&[f64]; 4] = [0, 1, 2, 3].map(|c| &l[(j + c) * m..(j + c + 1) * m]);
+        let mut s = [0.0; 4];
+        // Rows j..j + 4: column j + c starts at row j + c.
+        for r in j..j + 4 {
+            for c in 0..=r - j {
+                s[c] += cols[c][r] * x[r];
+            }
+        }
+        for r in j + 4..m {
+            let xr = x[r];
+            for c in 0..4 {
+                s[c] += cols[c][r] * xr;
+            }
+        }
+        for sc in s {
+            q += sc * sc;
+        }
+        j += 4;
+    }
+    for j in j..m {
+        let mut s = 0.0;
+        for (a, b) in l[j * m + j..(j + 1) * m].iter().zip(&x[j..]) {
+            s += a * b;
+        }
+        q += s * s;
+    }
+    q
+}
+
+/// `xᵀAx` for the dense symmetric `A` (`m × m`, column-major, `m = x.len()`): over the
+/// columns `j` with `x_j ≠ 0` in increasing order, `x_j Σ_i A_ij x_i` (each sum over
+/// increasing `i`). Four columns run side by side where all four `x_j` are nonzero, with the
+/// same operations in the same order, so the same bits.
+#[inline(always)]
+fn quadratic_form(a: &[f64], x: &[f64]) -> f64 {
+    let m = x.len();
+    let column = |j: usize| {
+        let mut s = 0.0;
+        for (aij, xi) in a[j * m..(j + 1) * m].iter().zip(x) {
+            s += aij * xi;
+        }
+        s
+    };
+    let mut q = 0.0;
+    let mut j = 0;
+    while j + 4 <= m {
+        if x[j..j + 4].iter().all(|&v| v != 0.0) {
+            let cols: [&[f64]; 4] = [0, 1, 2, 3].map(|c| &a[(j + c) * m..(j + c + 1) * m]);
+            let mut s = [0.0; 4];
+            for (r, &xr) in x.iter().enumerate() {
+                for c in 0..4 {
+                    s[c] += cols[c][r] * xr;
+                }
+            }
+            for (c, sc) in s.into_iter().enumerate() {
+                q += x[j + c] * sc;
+            }
+        } else {
+            for j in j..j + 4 {
+                if x[j] != 0.0 {
+                    q += x[j] * column(j);
+                }
+            }
+        }
+        j += 4;
+    }
+    for j in j..m {
+        if x[j] != 0.0 {
+            q += x[j] * column(j);
+        }
+    }
+    q
+}
+
 /// `x ← (L Lᵀ)⁻¹ x` for the Cholesky factor `L` (lower triangle of `l`, as faer's
 /// `cholesky_in_place` leaves it) by forward and backward substitution over contiguous
 /// columns: for the small dense systems here (tens to a few hundred unknowns, one right-hand
 /// side) this is several times cheaper than a general blocked triangular solve.
 fn cholesky_solve(l: faer::MatRef<'_, f64>, y: &mut [f64], mut x: faer::ColMut<'_, f64>) {
     let q = y.len();
+    // Columns as slices (faer's `Mat` stores columns contiguously): the loops below then run
+    // without bounds checks and the forward update vectorises; same operations, same order.
+    let col = |j: usize| -> &[f64] {
+        l.col(j)
+            .try_as_col_major()
+            .expect("columns of a dense faer matrix are contiguous")
+            .as_slice()
+    };
     for (i, yi) in y.iter_mut().enumerate() {
         *yi = x[i];
     }
     for j in 0..q {
-        let col = l.col(j);
-        let yj = y[j] / col[j];
+        let c = &col(j)[..q];
+        let yj = y[j] / c[j];
         y[j] = yj;
         if yj != 0.0 {
-            for i in j + 1..q {
-                y[i] -= col[i] * yj;
+            for (yi, lij) in y[j + 1..].iter_mut().zip(&c[j + 1..]) {
+                *yi -= lij * yj;
             }
         }
     }
     for j in (0..q).rev() {
-        let col = l.col(j);
+        let c = &col(j)[..q];
         let mut acc = y[j];
-        for i in j + 1..q {
-            acc -= col[i] * y[i];
+        for (lij, yi) in c[j + 1..].iter().zip(&y[j + 1..]) {
+            acc -= lij * yi;
         }
-        y[j] = acc / col[j];
+        y[j] = acc / c[j];
     }
     for (i, yi) in y.iter().enumerate() {
         x[i] = *yi;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{factor_norm_sq, quadratic_form};
+
+    /// Deterministic test data with zeros, signs and magnitudes spread over many decades.
+    fn data(n: usize, seed: u64) -> Vec<f64> {
+        let mut z = seed;
+        (0..n)
+            .map(|_| {
+                z = z
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let u = (z >> 11) as f64 / (1u64 << 53) as f64;
+                if z % 7 == 0 {
+                    0.0
+                } else {
+                    (u - 0.5) * 10f64.powi((z % 9) as i32 - 4)
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn blocked_norms_have_the_bits_of_the_column_by_column_loops() {
+        for m in [0, 1, 3, 4, 5, 8, 11, 81] {
+            let l = data(m * m, 1 + m as u64);
+            let x = data(m, 100 + m as u64);
+            let mut q = 0.0;
+            for j in 0..m {
+                let mut s = 0.0;
+                for i in j..m {
+                    s += l[j * m + i] * x[i];
+                }
+                q += s * s;
+            }
+            assert_eq!(factor_norm_sq(&l, &x).to_bits(), q.to_bits(), "m = {m}");
+            let mut q = 0.0;
+            for j in 0..m {
+                if x[j] != 0.0 {
+                    let mut s = 0.0;
+                    for i in 0..m {
+                        s += l[j * m + i] * x[i];
+                    }
+                    q += x[j] * s;
+                }
+            }
+            assert_eq!(quadratic_form(&l, &x).to_bits(), q.to_bits(), "m = {m}");
+        }
     }
 }
