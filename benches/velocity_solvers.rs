@@ -425,7 +425,9 @@ fn direct_setup(c: &mut Criterion<ThreadTime>) {
 /// The per-step work of the direct solver outside the condensed problem: the forward
 /// sweep of `begin_step` (the condensed right-hand side) and the backward sweep of
 /// `finish_step` (the bulk velocity), one pair per iteration. Levels j ≤ 6
-/// (`RSF_BENCH_LEVELS` applies). `cargo bench --bench velocity_solvers -- direct_sweeps`.
+/// (`RSF_BENCH_LEVELS` applies). From j = 5 the sweeps use two threads, whose second this
+/// measurement does not count: compare kernels with
+/// `RAYON_NUM_THREADS=1 cargo bench --bench velocity_solvers -- direct_sweeps`.
 fn direct_sweeps(c: &mut Criterion<ThreadTime>) {
     let mut group = c.benchmark_group("direct_sweeps");
     for level in bench_levels(3..=6).into_iter().filter(|&l| l <= 6) {
