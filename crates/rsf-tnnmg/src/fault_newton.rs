@@ -35,8 +35,9 @@ pub(crate) struct DenseFault<const D: usize> {
     s: Vec<f64>,
     /// Matrix of the stopping norm on the free components, `m × m` (None: `S`).
     norm: Option<Vec<f64>>,
-    /// Its Cholesky factor `L` (lower, column-major `m × m`; None if it could not be
-    /// factorised): `‖x‖² = ‖Lᵀx‖²` costs half the `m²` of `xᵀ N x`.
+    /// Its Cholesky factor `L`, stored by rows (`m × m` row-major, zero above the
+    /// diagonal; None if it could not be factorised): `‖x‖² = ‖Lᵀx‖²` costs half the `m²`
+    /// of `xᵀ N x`.
     norm_factor: Option<Vec<f64>>,
     /// Free component `i` ↦ position `D k + c` in the block vector.
     comp: Vec<usize>,
@@ -566,8 +567,8 @@ impl<const D: usize> DenseFault<D> {
     }
 }
 
-/// The lower Cholesky factor of the SPD `m × m` column-major `a` (column-major, upper
-/// part zero), or None if `a` is not numerically positive definite.
+/// The lower Cholesky factor of the SPD `m × m` column-major `a`, stored by rows (row-major,
+/// zero above the diagonal), or None if `a` is not numerically positive definite.
 fn lower_cholesky(a: &[f64], m: usize) -> Option<Vec<f64>> {
     let mut l = Mat::from_fn(m, m, |i, j| if i >= j { a[j * m + i] } else { 0.0 });
     let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
@@ -584,9 +585,9 @@ fn lower_cholesky(a: &[f64], m: usize) -> Option<Vec<f64>> {
     )
     .ok()?;
     let mut out = vec![0.0; m * m];
-    for j in 0..m {
-        for i in j..m {
-            out[j * m + i] = l[(i, j)];
+    for i in 0..m {
+        for j in 0..=i {
+            out[i * m + j] = l[(i, j)];
         }
     }
     out.iter().all(|x| x.is_finite()).then_some(out)
@@ -606,40 +607,39 @@ fn small_llt_params() -> faer::Spec<LltParams, f64> {
     params.into()
 }
 
-/// `‖Lᵀx‖²` for the dense lower-triangular `L` (`m × m`, column-major, `m = x.len()`):
-/// `(Lᵀx)_j = Σ_{i ≥ j} L_ij x_i`, each sum over increasing `i`, then `Σ_j (Lᵀx)_j²` over
-/// increasing `j`. Four columns run side by side (independent chains of additions instead
-/// of one), each with the operations of the column-by-column loop in the same order, so
-/// the result has the same bits.
+/// `‖Lᵀx‖²` for the dense lower-triangular `L` stored by rows (`m × m` row-major, zero
+/// above the diagonal, `m = x.len()`): `(Lᵀx)_j = Σ_{i ≥ j} L_ij x_i`, each sum over
+/// increasing `i`, then `Σ_j (Lᵀx)_j²` over increasing `j`.
+///
+/// Sixteen columns at a time, one SIMD lane each: row `i` adds `L_ij x_i` to the sums of
+/// the block's columns, contiguous in the row. A column `j` of the block also receives the
+/// rows `i < j` of its block, whose entries are zero: `+0 + (±0) = +0`, so its sum is still
+/// `+0` when its first real term `L_jj x_j` arrives, exactly as a sum started at row `j`.
+/// Every sum thus has the bits of the column-by-column loop, without its chain of
+/// dependent additions.
 #[inline(always)]
 fn factor_norm_sq(l: &[f64], x: &[f64]) -> f64 {
+    const W: usize = 16;
     let m = x.len();
     let mut q = 0.0;
-    let mut j = 0;
-    while j + 4 <= m {
-        let cols: [&[f64]; 4] = [0, 1, 2, 3].map(|c| &l[(j + c) * m..(j + c + 1) * m]);
-        let mut s = [0.0; 4];
-        // Rows j..j + 4: column j + c starts at row j + c.
-        for r in j..j + 4 {
-            for c in 0..=r - j {
-                s[c] += cols[c][r] * x[r];
-            }
-        }
-        for r in j + 4..m {
-            let xr = x[r];
-            for c in 0..4 {
-                s[c] += cols[c][r] * xr;
+    let mut j0 = 0;
+    while j0 + W <= m {
+        let mut s = [0.0; W];
+        for (i, &xi) in x.iter().enumerate().skip(j0) {
+            let row: &[f64; W] = l[i * m + j0..i * m + j0 + W].try_into().expect("W entries");
+            for c in 0..W {
+                s[c] += row[c] * xi;
             }
         }
         for sc in s {
             q += sc * sc;
         }
-        j += 4;
+        j0 += W;
     }
-    for j in j..m {
+    for j in j0..m {
         let mut s = 0.0;
-        for (a, b) in l[j * m + j..(j + 1) * m].iter().zip(&x[j..]) {
-            s += a * b;
+        for (i, &xi) in x.iter().enumerate().skip(j) {
+            s += l[i * m + j] * xi;
         }
         q += s * s;
     }
@@ -755,14 +755,18 @@ mod tests {
 
     #[test]
     fn blocked_norms_have_the_bits_of_the_column_by_column_loops() {
-        for m in [0, 1, 3, 4, 5, 8, 11, 81] {
-            let l = data(m * m, 1 + m as u64);
+        for m in [0, 1, 3, 4, 5, 8, 11, 16, 17, 40, 81] {
+            let mut l = data(m * m, 1 + m as u64);
             let x = data(m, 100 + m as u64);
+            // By rows, zero above the diagonal.
+            for i in 0..m {
+                l[i * m + i + 1..(i + 1) * m].fill(0.0);
+            }
             let mut q = 0.0;
             for j in 0..m {
                 let mut s = 0.0;
                 for i in j..m {
-                    s += l[j * m + i] * x[i];
+                    s += l[i * m + j] * x[i];
                 }
                 q += s * s;
             }
