@@ -285,8 +285,15 @@ impl<const D: usize> DenseFault<D> {
         let fresh = !(self.reuse && self.factored == self.soft);
         if fresh {
             for (b, &j) in self.soft.iter().enumerate() {
-                for (a, &i) in self.soft.iter().enumerate() {
-                    self.h[(a, b)] = self.s[j * m + i];
+                let s_col = &self.s[j * m..(j + 1) * m];
+                let h_col = self
+                    .h
+                    .col_mut(b)
+                    .try_as_col_major_mut()
+                    .expect("columns of a dense faer matrix are contiguous")
+                    .as_slice_mut();
+                for (h, &i) in h_col.iter_mut().zip(&self.soft) {
+                    *h = s_col[i];
                 }
             }
             let mut pos = 0;
