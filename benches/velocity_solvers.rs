@@ -382,6 +382,17 @@ fn velocity_solvers(c: &mut Criterion<ThreadTime>) {
     group.finish();
 }
 
+/// The direct solver for `a` on the problem's fixed dofs, with the energy norm, condensed
+/// onto Γ_F (set-up complete).
+fn condensed_direct(p: &Problem, a: &SparseMatrix) -> DirectSolver<2> {
+    let mut d = DirectSolver::<2>::new(a.as_ref(), &p.model.fixed, DirectOptions::default())
+        .expect("direct")
+        .with_energy_norm(p.model.energy_norm.as_ref())
+        .expect("energy norm");
+    d.prepare(&p.model.frictional.nodes).expect("condensation");
+    d
+}
+
 /// Set-up of the direct solver for a new time step (a new rung of the adaptive ladder,
 /// issue 10): from scratch, and from the solver of another τ reusing its ordering and
 /// symbolic factorisation (`DirectSolver::for_matrix`), for A at 2τ. Both include the
@@ -400,15 +411,7 @@ fn direct_setup(c: &mut Criterion<ThreadTime>) {
             &p.model.stiffness,
         )
         .expect("A at 2τ");
-        let fresh = |a: &SparseMatrix| {
-            let mut d =
-                DirectSolver::<2>::new(a.as_ref(), &p.model.fixed, DirectOptions::default())
-                    .expect("direct")
-                    .with_energy_norm(p.model.energy_norm.as_ref())
-                    .expect("energy norm");
-            d.prepare(&p.model.frictional.nodes).expect("condensation");
-            d
-        };
+        let fresh = |a: &SparseMatrix| condensed_direct(&p, a);
         let base = fresh(&p.a);
         let n = p.model.num_dofs() as u64;
         group.throughput(Throughput::Elements(n));
@@ -432,11 +435,7 @@ fn direct_sweeps(c: &mut Criterion<ThreadTime>) {
     let mut group = c.benchmark_group("direct_sweeps");
     for level in bench_levels(3..=6).into_iter().filter(|&l| l <= 6) {
         let p = problem(level);
-        let mut d = DirectSolver::<2>::new(p.a.as_ref(), &p.model.fixed, DirectOptions::default())
-            .expect("direct")
-            .with_energy_norm(p.model.energy_norm.as_ref())
-            .expect("energy norm");
-        d.prepare(&p.model.frictional.nodes).expect("condensation");
+        let mut d = condensed_direct(&p, &p.a);
         let mut v = p.v0.clone();
         group.throughput(Throughput::Elements(d.factor_nnz() as u64));
         group.bench_function(BenchmarkId::new("forward_backward", level), |bch| {
