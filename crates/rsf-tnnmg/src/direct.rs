@@ -260,40 +260,6 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
-    // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
-    // (one pass over the factor per block; each column's arithmetic is that of a single
-    // sweep, so the result depends neither on the blocking nor on the threads). Blocks go
-    // to two threads for large interiors only: for small ones waking the pool costs more
-    // than the sweeps (and a τ change of an adaptive run rebuilds this set-up).
-    let parallel = factor.is_parallel();
-    let mut z = vec![0.0; n * nf];
-    let z_block = |(rows, tmp): &mut (Vec<f64>, Vec<f64>), (b, zb): (usize, &mut [f64])| {
-        let f0 = b * HARMONIC_BLOCK;
-        let r = zb.len() / n;
-        rows.clear();
-        rows.resize(n * r, 0.0);
-        for k in 0..r {
-            rows[(nr + f0 + k) * r + k] = 1.0;
-        }
-        factor.backward_interior_rows(rows, r, tmp);
-        for (k, col) in zb.chunks_mut(n).enumerate() {
-            for (i, zi) in col.iter_mut().enumerate() {
-                *zi = rows[i * r + k];
-            }
-        }
-    };
-    if n > 0 && nf > 0 {
-        if parallel {
-            z.par_chunks_mut(n * HARMONIC_BLOCK)
-                .enumerate()
-                .for_each_init(|| (Vec::new(), Vec::new()), z_block);
-        } else {
-            let mut scratch = (Vec::new(), Vec::new());
-            z.chunks_mut(n * HARMONIC_BLOCK)
-                .enumerate()
-                .for_each(|c| z_block(&mut scratch, c));
-        }
-    }
     // E restricted to the free dofs in elimination order (rows and columns).
     let mut e_ptr = Vec::with_capacity(n + 1);
     let mut e_rows = Vec::new();
@@ -309,25 +275,60 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
         }
         e_ptr.push(e_rows.len());
     }
-    // W = E Z.
+    // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
+    // (one pass over the factor per block; each column's arithmetic is that of a single
+    // sweep, so the result depends neither on the blocking nor on the threads). Blocks go
+    // to two threads for large interiors only: for small ones waking the pool costs more
+    // than the sweeps (and a τ change of an adaptive run rebuilds this set-up).
+    //
+    // The block's columns of W = E Z follow from the same rows: the block is stored by
+    // rows (r values of a row side by side), so W's rows are sums of scaled rows of Z,
+    // `W_i += E_ik Z_k` over k in increasing order — contiguous, vectorised updates whose
+    // every entry adds the same terms in the same order as a column-by-column product.
+    let parallel = factor.is_parallel();
+    let mut z = vec![0.0; n * nf];
     let mut w = vec![0.0; n * nf];
-    let w_column = |(wc, zc): (&mut [f64], &[f64])| {
-        for (kj, &zj) in zc.iter().enumerate() {
-            if zj != 0.0 {
-                for k in e_ptr[kj]..e_ptr[kj + 1] {
-                    wc[e_rows[k]] += e_vals[k] * zj;
+    let z_block = |(rows, wrows, tmp): &mut (Vec<f64>, Vec<f64>, Vec<f64>),
+                   (b, (zb, wb)): (usize, (&mut [f64], &mut [f64]))| {
+        let f0 = b * HARMONIC_BLOCK;
+        let r = zb.len() / n;
+        rows.clear();
+        rows.resize(n * r, 0.0);
+        for k in 0..r {
+            rows[(nr + f0 + k) * r + k] = 1.0;
+        }
+        factor.backward_interior_rows(rows, r, tmp);
+        wrows.clear();
+        wrows.resize(n * r, 0.0);
+        for kj in 0..n {
+            let zk = &rows[kj * r..kj * r + r];
+            for k in e_ptr[kj]..e_ptr[kj + 1] {
+                let (i, ev) = (e_rows[k], e_vals[k]);
+                for (wv, &zv) in wrows[i * r..i * r + r].iter_mut().zip(zk) {
+                    *wv += ev * zv;
                 }
             }
         }
+        for (k, (zcol, wcol)) in zb.chunks_mut(n).zip(wb.chunks_mut(n)).enumerate() {
+            for (i, (zi, wi)) in zcol.iter_mut().zip(wcol.iter_mut()).enumerate() {
+                *zi = rows[i * r + k];
+                *wi = wrows[i * r + k];
+            }
+        }
     };
-    if parallel {
-        w.par_chunks_mut(n.max(1))
-            .zip(z.par_chunks(n.max(1)))
-            .for_each(w_column);
-    } else {
-        w.chunks_mut(n.max(1))
-            .zip(z.chunks(n.max(1)))
-            .for_each(w_column);
+    if n > 0 && nf > 0 {
+        if parallel {
+            z.par_chunks_mut(n * HARMONIC_BLOCK)
+                .zip(w.par_chunks_mut(n * HARMONIC_BLOCK))
+                .enumerate()
+                .for_each_init(|| (Vec::new(), Vec::new(), Vec::new()), z_block);
+        } else {
+            let mut scratch = (Vec::new(), Vec::new(), Vec::new());
+            z.chunks_mut(n * HARMONIC_BLOCK)
+                .zip(w.chunks_mut(n * HARMONIC_BLOCK))
+                .enumerate()
+                .for_each(|c| z_block(&mut scratch, c));
+        }
     }
     let zm = MatRef::from_column_major_slice(&z, n, nf);
     let wm = MatRef::from_column_major_slice(&w, n, nf);
