@@ -44,7 +44,7 @@ use clap::{Parser, ValueEnum};
 use rsf::{
     EventDetector, EventThresholds, IntegratorKind, SliderScene, SolverChoice, SLIDER_CENTRE,
 };
-use rsf_examples::cli::{step_count, Integrator, Solver};
+use rsf_examples::cli::{step_count, Integrator, Solver, StateUpdate};
 use rsf_examples::{machine, Series};
 
 /// Which study to run.
@@ -114,6 +114,10 @@ struct Cli {
     #[arg(long, value_delimiter = ',', value_parser = step_count,
           default_value = "1000,1500,2000,3000,5000,7000,10000,15000,20000,30000,50000,100000")]
     uniform: Vec<usize>,
+    /// State update of the time and adaptive studies' runs (the reference keeps backward
+    /// Euler).
+    #[arg(long, value_enum, default_value = "backward-euler")]
+    state_integrator: StateUpdate,
 }
 
 /// CPU seconds the repeats of one configuration of the adaptive study add up to at least
@@ -516,6 +520,8 @@ struct Ctx {
     tolerances: Vec<f64>,
     /// Uniform step counts of the adaptive study.
     uniform: Vec<usize>,
+    /// State update of the time and adaptive studies' runs (not of their reference).
+    state_integrator: rsf::StateIntegrator,
 }
 
 /// The paper's scene at `level`, τ = T/`steps`, with a fixed point budget of 1000
@@ -582,6 +588,7 @@ fn time_study(c: &Ctx) -> Res<()> {
                 let mut s = base(c.level, n);
                 s.integrator = integrator;
                 s.solver = solver;
+                s.state_integrator = c.state_integrator;
                 let tr = match trace(&s, tmin, tmax, true) {
                     Ok(t) => t,
                     Err(e) => {
@@ -684,6 +691,7 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
     for &n in &c.uniform {
         let mut s = base(c.level, n);
         s.solver = SolverChoice::Direct;
+        s.state_integrator = c.state_integrator;
         record(&mut csv, "uniform", n.to_string(), &s);
         std::fs::write(c.out.join("adaptive.csv"), &csv)?;
     }
@@ -691,6 +699,7 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
         let mut s = base(c.level, 10_000);
         s.solver = SolverChoice::Direct;
         s.time_step = rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(tol));
+        s.state_integrator = c.state_integrator;
         record(&mut csv, "adaptive", format!("{tol:e}"), &s);
         std::fs::write(c.out.join("adaptive.csv"), &csv)?;
     }
@@ -1079,6 +1088,7 @@ fn run(cli: Cli) -> Res<()> {
         },
         tolerances: cli.tolerances,
         uniform: cli.uniform,
+        state_integrator: cli.state_integrator.into(),
     };
     std::fs::create_dir_all(&c.out)?;
     std::fs::create_dir_all(&c.figures)?;

@@ -6,8 +6,8 @@ use std::process::ExitCode;
 
 use clap::ValueEnum;
 use rsf::{
-    AdaptiveTimeStep, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice, StateLawKind,
-    TimeStep,
+    AdaptiveTimeStep, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice, StateIntegrator,
+    StateLawKind, TimeStep,
 };
 
 /// State law (`--law`).
@@ -19,6 +19,24 @@ pub enum Law {
     /// Ruina's slip law.
     #[value(alias = "slip")]
     Ruina,
+}
+
+/// State update (`--state-integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum StateUpdate {
+    /// Backward Euler (the paper's).
+    BackwardEuler,
+    /// Exact at constant slip rate over the step (beyond the paper).
+    ConstantSlipRate,
+}
+
+impl From<StateUpdate> for StateIntegrator {
+    fn from(s: StateUpdate) -> Self {
+        match s {
+            StateUpdate::BackwardEuler => StateIntegrator::BackwardEuler,
+            StateUpdate::ConstantSlipRate => StateIntegrator::ConstantSlipRate,
+        }
+    }
 }
 
 /// Velocity integrator (`--integrator`).
@@ -105,6 +123,9 @@ pub struct SceneArgs {
     /// State law.
     #[arg(long, value_enum)]
     pub law: Option<Law>,
+    /// State update (docs/friction-state.md).
+    #[arg(long, value_enum)]
+    pub state_integrator: Option<StateUpdate>,
     /// Velocity integrator.
     #[arg(long, value_enum)]
     pub integrator: Option<Integrator>,
@@ -138,6 +159,9 @@ impl SceneArgs {
         }
         if let Some(l) = self.law {
             scene.state_law = l.into();
+        }
+        if let Some(s) = self.state_integrator {
+            scene.state_integrator = s.into();
         }
         if let Some(i) = self.integrator {
             scene.integrator = i.into();

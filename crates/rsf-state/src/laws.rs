@@ -87,6 +87,34 @@ impl StateLaw for Aging {
         let alpha = if x > 0.0 { lt - y } else { r + y.exp() };
         finite(alpha)
     }
+    /// `θ̇ = 1 − Vθ/L` at constant `V` is linear in `θ = e^α`:
+    /// `θ_n = θ_prev e^{−k} + τ φ₁(k)` with `k = τV/L`, `φ₁(k) = (1 − e^{−k})/k` (`φ₁(0) = 1`),
+    /// evaluated in log space as `α_n = ln(e^{α_prev − k} + e^{ln τ + ln φ₁(k)})`: exact healing
+    /// `ln(θ_prev + τ)` at `V = 0`, `α_n → ln(L/V)` for large `k`, no overflow for any
+    /// `τV/L` (if it overflows `f64`, `α_n = ln(L/V)`).
+    fn constant_rate_update(&self, alpha_prev: f64, v: f64, tau: f64) -> Option<Result<f64>> {
+        Some(check_update_inputs(alpha_prev, v, tau).and_then(|()| {
+            if tau == 0.0 {
+                return Ok(alpha_prev);
+            }
+            let k = tau * (v / self.l);
+            if !k.is_finite() {
+                return finite(-ln_v_over_l(v, self.l));
+            }
+            let ln_phi1 = if k > 0.0 {
+                (-(-k).exp_m1() / k).ln()
+            } else {
+                0.0
+            };
+            finite(log_add_exp(alpha_prev - k, tau.ln() + ln_phi1))
+        }))
+    }
+}
+
+/// `ln(e^a + e^b)` without overflow.
+fn log_add_exp(a: f64, b: f64) -> f64 {
+    let (hi, lo) = if a >= b { (a, b) } else { (b, a) };
+    hi + (lo - hi).exp().ln_1p()
 }
 
 /// Ruina's slip law (2.16) in `α = ln θ`: `α̇ = −(V/L)(α + ln(V/L))`,
@@ -141,6 +169,33 @@ impl StateLaw for Slip {
         (v > 0.0).then(|| -ln_v_over_l(v, self.l))
     }
     fn update(&self, alpha_prev: f64, v: f64, tau: f64) -> Result<f64> {
+        // α_n = α_prev/(1+k) + target·k/(1+k), written as a convex combination.
+        self.relax(alpha_prev, v, tau, |a, target, k| {
+            let lambda = 1.0 / (1.0 + k);
+            a * lambda + target * (k * lambda)
+        })
+    }
+    /// `α̇ = −(V/L)(α − ln(L/V))` at constant `V` is linear in `α`:
+    /// `α_n = α_prev + (ln(L/V) − α_prev)(1 − e^{−k})`, `k = τV/L`; `V = 0` keeps `α`, an
+    /// overflowing `k` gives `ln(L/V)`.
+    fn constant_rate_update(&self, alpha_prev: f64, v: f64, tau: f64) -> Option<Result<f64>> {
+        Some(self.relax(alpha_prev, v, tau, |a, target, k| {
+            a + (target - a) * (-(-k).exp_m1())
+        }))
+    }
+}
+
+impl Slip {
+    /// A step towards the steady state `ln(L/V)`: `combine(α_prev, ln(L/V), τV/L)` after the
+    /// checks and the limits shared by both updates (`τ = 0` or `V = 0` keep `α`, an
+    /// overflowing `τV/L` gives `ln(L/V)`).
+    fn relax(
+        &self,
+        alpha_prev: f64,
+        v: f64,
+        tau: f64,
+        combine: impl FnOnce(f64, f64, f64) -> f64,
+    ) -> Result<f64> {
         check_update_inputs(alpha_prev, v, tau)?;
         if tau == 0.0 || v == 0.0 {
             return Ok(alpha_prev);
@@ -150,9 +205,7 @@ impl StateLaw for Slip {
         if !k.is_finite() {
             return finite(target);
         }
-        // α_n = α_prev/(1+k) + target·k/(1+k), written as a convex combination.
-        let lambda = 1.0 / (1.0 + k);
-        finite(alpha_prev * lambda + target * (k * lambda))
+        finite(combine(alpha_prev, target, k))
     }
 }
 
@@ -209,5 +262,10 @@ impl StateLaw for Discontinuous {
             alpha_prev
         };
         finite(alpha)
+    }
+    /// The backward Euler step: at constant `V`, `α` moves at speed `V` towards `1/V` and
+    /// stays there, which the step reproduces exactly.
+    fn constant_rate_update(&self, alpha_prev: f64, v: f64, tau: f64) -> Option<Result<f64>> {
+        Some(self.update(alpha_prev, v, tau))
     }
 }

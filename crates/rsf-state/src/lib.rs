@@ -14,6 +14,10 @@
 //! * Built-in laws with closed-form updates: [`Aging`] (Dieterich, (2.15), (5.5), via the
 //!   Wright omega function, overflow-safe), [`Slip`] (Ruina, (2.16)) and
 //!   [`Discontinuous`] ((2.10), (2.17); here `α = θ`, not `ln θ`, see [`StateVariable`]).
+//! * Beyond the paper: [`StateLaw::constant_rate_update`], the exact solution of the state
+//!   equation over a step at constant slip rate, where a law has one in closed form (all
+//!   three built-in laws; in stick it integrates healing exactly, which backward Euler in
+//!   `α = ln θ` does not).
 //!
 //! # Units (SI)
 //! Slip rate `V` in m/s, time step `τ` in s, `L` in m. For the aging and slip laws
@@ -200,6 +204,21 @@ pub trait StateLaw: Clone + Send + Sync {
     /// Never panics.
     fn update(&self, alpha_prev: f64, v: f64, tau: f64) -> Result<f64> {
         generic_update(self, alpha_prev, v, tau)
+    }
+
+    /// The exact solution at `t + τ` of `α̇ = −∂ψ/∂α(α, V)` from `alpha_prev` at `t`, the
+    /// slip rate held at `v` over the step, if the law has one in closed form (the `rsf`
+    /// crate's `StateIntegrator::ConstantSlipRate`; docs/friction-state.md). `None` (the
+    /// default) if it does not.
+    ///
+    /// Arguments as for [`update`](StateLaw::update). The built-in laws: [`Aging`]
+    /// (`θ̇ = 1 − Vθ/L` is linear in `θ`), [`Slip`] (linear in `α`) and [`Discontinuous`]
+    /// (its backward Euler step is already exact at constant `V`).
+    ///
+    /// # Errors
+    /// As [`update`](StateLaw::update) (wrapped in `Some`). Never panics.
+    fn constant_rate_update(&self, _alpha_prev: f64, _v: f64, _tau: f64) -> Option<Result<f64>> {
+        None
     }
 }
 

@@ -51,6 +51,7 @@ mod simulation_builder;
 mod slider;
 mod slider3d;
 mod solver;
+mod state_integrator;
 #[cfg(feature = "vtk")]
 mod vtu;
 
@@ -77,6 +78,7 @@ pub use slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL
 pub use solver::{
     SolverKind, VelocitySolver, AUTO_DIRECT_MAX_CONDENSED, AUTO_DIRECT_MAX_EXTENSION,
 };
+pub use state_integrator::StateIntegrator;
 #[cfg(feature = "vtk")]
 pub use vtu::VtuFrames;
 

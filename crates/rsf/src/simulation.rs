@@ -18,6 +18,7 @@ use crate::friction_blocks::{norm, FrictionBlocks};
 use crate::model::Model;
 use crate::observer::{Observer, StepState};
 use crate::solver::{SolverKind, VelocitySolver};
+use crate::state_integrator::StateIntegrator;
 
 /// What one time step did.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -113,6 +114,7 @@ pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIn
     model: Model<D>,
     friction: FrictionBlocks<L>,
     state_laws: Vec<S>,
+    state_integrator: StateIntegrator,
     integrator: I,
     solver: VelocitySolver<D>,
     solver_kind: SolverKind,
@@ -218,6 +220,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         let mut sim = Self {
             friction,
             state_laws,
+            state_integrator: StateIntegrator::BackwardEuler,
             integrator,
             solver,
             solver_kind,
@@ -368,8 +371,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// initial state, into `alpha_trial`.
     fn state_update(&mut self) -> Result<()> {
         for k in 0..self.slip.len() {
-            self.alpha_trial[k] =
-                self.state_laws[k].update(self.alpha[k], self.slip[k], self.tau)?;
+            self.alpha_trial[k] = self.state_integrator.update(
+                &self.state_laws[k],
+                self.alpha[k],
+                self.slip[k],
+                self.tau,
+            )?;
         }
         Ok(())
     }
@@ -509,13 +516,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 let (a0, a1) = (self.alpha[k], self.alpha_trial[k]);
                 let v0 = block_norm::<D>(&self.kin.v, p);
                 let v1 = block_norm::<D>(&self.next.v, p);
-                let law = &self.state_laws[k];
-                let rate_change = law.dpsi_dalpha(a1, v1) - law.dpsi_dalpha(a0, v0);
-                let e = if rate_change.is_finite() {
-                    0.5 * self.tau * rate_change.abs()
-                } else {
-                    (a1 - a0).abs()
-                };
+                let (e, _) = self.state_integrator.local_error(
+                    &self.state_laws[k],
+                    (a0, v0),
+                    (a1, v1),
+                    self.tau,
+                );
                 err = err.max(e / c.tolerance);
                 state_change = state_change.max((a1 - a0).abs());
             }
@@ -535,14 +541,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             let (a0, a1) = (self.alpha[k], self.alpha_trial[k]);
             let v0 = block_norm::<D>(&self.kin.v, p);
             let v1 = block_norm::<D>(&self.next.v, p);
-            let law = &self.state_laws[k];
-            let Some(curvature) = law.d2psi_dalpha2(a1, v1) else {
-                continue;
-            };
-            let rate_change = law.dpsi_dalpha(a1, v1) - law.dpsi_dalpha(a0, v0);
-            let correction = 0.5 * self.tau * rate_change / (1.0 + self.tau * curvature.max(0.0));
-            if correction.is_finite() {
-                self.alpha_trial[k] = a1 + correction;
+            let (_, corrected) = self.state_integrator.local_error(
+                &self.state_laws[k],
+                (a0, v0),
+                (a1, v1),
+                self.tau,
+            );
+            if let Some(a) = corrected {
+                self.alpha_trial[k] = a;
             }
         }
     }
@@ -810,6 +816,27 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             None => None,
         };
         Ok(())
+    }
+
+    /// Chooses how a step advances the state ([`StateIntegrator`]; default backward Euler,
+    /// the paper's). Takes effect from the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `state_integrator` if a frictional node's state law
+    /// does not support it.
+    pub fn set_state_integrator(&mut self, integrator: StateIntegrator) -> Result<()> {
+        if self.friction.uses_state() {
+            for law in &self.state_laws {
+                integrator.check(law)?;
+            }
+        }
+        self.state_integrator = integrator;
+        Ok(())
+    }
+
+    /// How a step advances the state.
+    pub fn state_integrator(&self) -> StateIntegrator {
+        self.state_integrator
     }
 
     /// The step controller of adaptive time steps, if any.

@@ -9,6 +9,7 @@ use crate::fixed_point::FixedPointOptions;
 use crate::model::Model;
 use crate::simulation::{NoState, Simulation};
 use crate::solver::SolverKind;
+use crate::state_integrator::StateIntegrator;
 
 /// The friction-law type of a [`SimulationBuilder`] before a law is chosen: `build` is
 /// only available once [`friction`](SimulationBuilder::friction) or
@@ -19,8 +20,9 @@ pub struct Unset;
 /// Builds a [`Simulation`] from a [`Model`]: the friction law (required), the state law,
 /// the initial state, the velocity integrator (default [`Newmark`]), the time step τ
 /// (required; the initial one with [`step_control`](Self::step_control)), the velocity
-/// solver (default [`SolverKind::default`], direct or TNNMG by size) and the fixed point
-/// options (default [`FixedPointOptions::default`]).
+/// solver (default [`SolverKind::default`], direct or TNNMG by size), the fixed point
+/// options (default [`FixedPointOptions::default`]) and the state update (default backward
+/// Euler, [`StateIntegrator`]).
 ///
 /// Laws and initial states are either uniform or functions of the node position `x` (m),
 /// evaluated at the frictional nodes ([`Model::on_frictional_nodes`]): a heterogeneous fault
@@ -57,6 +59,7 @@ pub struct SimulationBuilder<const D: usize, L, S, I> {
     solver: SolverKind,
     fixed_point: FixedPointOptions,
     step_control: Option<StepControl>,
+    state_integrator: StateIntegrator,
 }
 
 impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
@@ -72,6 +75,7 @@ impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
             solver: SolverKind::default(),
             fixed_point: FixedPointOptions::default(),
             step_control: None,
+            state_integrator: StateIntegrator::default(),
         }
     }
 }
@@ -106,6 +110,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
             solver,
             fixed_point,
             step_control,
+            state_integrator,
         } = self;
         let (friction, state, integrator) = f((friction, state, integrator));
         SimulationBuilder {
@@ -118,6 +123,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
             solver,
             fixed_point,
             step_control,
+            state_integrator,
         }
     }
 
@@ -196,6 +202,13 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
         self
     }
 
+    /// How a step advances the state ([`Simulation::set_state_integrator`]; default
+    /// backward Euler, the paper's).
+    pub fn state_integrator(mut self, integrator: StateIntegrator) -> Self {
+        self.state_integrator = integrator;
+        self
+    }
+
     /// Adaptive time steps with error control from the initial τ of
     /// [`time_step`](Self::time_step) ([`Simulation::set_step_control`]; default: fixed τ).
     pub fn step_control(mut self, control: StepControl) -> Self {
@@ -259,6 +272,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
         if self.step_control.is_some() {
             sim.set_step_control(self.step_control)?;
         }
+        sim.set_state_integrator(self.state_integrator)?;
         Ok(sim)
     }
 }

@@ -17,6 +17,7 @@ use crate::model::{Model, TimeFunction};
 use crate::simulation::NoState;
 use crate::simulation_builder::SimulationBuilder;
 use crate::solver::SolverKind;
+use crate::state_integrator::StateIntegrator;
 
 /// State law of a scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -225,6 +226,9 @@ pub struct SliderScene {
     pub alpha0: f64,
     /// State law.
     pub state_law: StateLawKind,
+    /// How a step advances the state: `"backward-euler"` (default, the paper's) or
+    /// `"constant-slip-rate"` ([`StateIntegrator`]).
+    pub state_integrator: StateIntegrator,
     /// Velocity integrator.
     pub integrator: IntegratorKind,
     /// Velocity solver.
@@ -262,6 +266,7 @@ impl Default for SliderScene {
             ramp_fraction: 0.25,
             alpha0: -10.0,
             state_law: StateLawKind::Dieterich,
+            state_integrator: StateIntegrator::BackwardEuler,
             integrator: IntegratorKind::Newmark,
             solver: SolverChoice::Auto,
             fixed_point: FixedPointScheme::Anderson,
@@ -574,7 +579,8 @@ impl SliderScene {
             .initial_state(self.alpha0)
             .time_step(self.initial_tau())
             .solver(self.solver_kind())
-            .fixed_point(self.fixed_point_options());
+            .fixed_point(self.fixed_point_options())
+            .state_integrator(self.state_integrator);
         Ok(match self.step_control()? {
             Some(c) => b.step_control(c),
             None => b,

@@ -205,7 +205,8 @@ impl Slider3dScene {
             .initial_state(s.alpha0)
             .time_step(s.tau())
             .solver(s.solver_kind())
-            .fixed_point(s.fixed_point_options()))
+            .fixed_point(s.fixed_point_options())
+            .state_integrator(s.state_integrator))
     }
 
     /// Builds the simulation with the scene's state law and integrator.

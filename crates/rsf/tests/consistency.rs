@@ -6,7 +6,7 @@ use rsf::friction::{DieterichRuina, StateDependentTresca, StateVariable};
 use rsf::state::{Aging, Discontinuous, StateLaw};
 use rsf::{
     Checkpoint, Error, EventThresholds, FrictionalProfile, Model, PointSeries, Recorder,
-    SimulationBuilder, SliderScene, SlipEvents,
+    SimulationBuilder, SliderScene, SlipEvents, StateIntegrator,
 };
 
 fn model() -> Model<2> {
@@ -215,4 +215,37 @@ fn missing_parts_of_a_simulation_are_named() {
         .unwrap();
     let msg = e.to_string();
     assert!(msg.contains("`tau`") && !msg.contains("scene"), "{msg}");
+}
+
+#[test]
+fn the_constant_slip_rate_update_needs_a_law_with_its_closed_form() {
+    let build = |state_integrator| {
+        SimulationBuilder::new(model())
+            .friction(paper_friction())
+            .state_law(UserAging(1e-5))
+            .initial_state(-10.0)
+            .time_step(1e-3)
+            .state_integrator(state_integrator)
+            .build()
+    };
+    let e = build(StateIntegrator::ConstantSlipRate).err().unwrap();
+    assert!(
+        matches!(&e, Error::InvalidParameter { name, .. } if name == "state_integrator"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("constant_rate_update"), "{e}");
+    assert!(build(StateIntegrator::BackwardEuler).is_ok());
+    // The built-in law has it, and a scene file names it.
+    let ok = SimulationBuilder::new(model())
+        .friction(paper_friction())
+        .state_law(Aging::new(1e-5).unwrap())
+        .initial_state(-10.0)
+        .time_step(1e-3)
+        .state_integrator(StateIntegrator::ConstantSlipRate)
+        .build()
+        .unwrap();
+    assert_eq!(ok.state_integrator(), StateIntegrator::ConstantSlipRate);
+    let scene = SliderScene::from_toml("state_integrator = \"constant-slip-rate\"").unwrap();
+    assert_eq!(scene.state_integrator, StateIntegrator::ConstantSlipRate);
+    assert!(SliderScene::from_toml("state_integrator = \"exact\"").is_err());
 }
