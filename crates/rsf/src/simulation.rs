@@ -142,6 +142,8 @@ pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIn
     v: Vec<f64>,
     alpha_iter: Vec<f64>,
     alpha_trial: Vec<f64>,
+    /// `alpha_trial` after local extrapolation, computed with the error estimate.
+    alpha_extrapolated: Vec<f64>,
     slip: Vec<f64>,
     history: Vec<f64>,
 }
@@ -243,6 +245,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
             v: vec![0.0; n],
             alpha_iter: vec![0.0; nf],
             alpha_trial: vec![0.0; nf],
+            alpha_extrapolated: vec![0.0; nf],
             slip: vec![0.0; nf],
             history: Vec::with_capacity(fixed_point.max_iterations),
             kin,
@@ -469,9 +472,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// largest change of the state: the largest of `rms(e_u) / (atol + tol · rms(u − u₀))`
     /// over the free dofs, with the integrator's estimate `e_u`, of the slip test
     /// `(Δ ln(V_p + V_f))² / (12 tol)` at each frictional node p (if enabled), and the
-    /// maximum over Γ_F
-    /// of `(τ/2)|α̇_n − α̇_{n−1}| / tol`, the backward Euler state update's local error
-    /// `τ²/2 · α̈` (docs/math.md §9).
+    /// maximum over Γ_F of the state update's estimated local error over `tol`
+    /// ([`StateIntegrator`]; backward Euler: `(τ/2)|α̇_n − α̇_{n−1}|`, i.e. `τ²/2 · α̈`,
+    /// docs/math.md §9). Leaves the locally extrapolated states in `alpha_extrapolated`.
     fn error_estimate(&mut self) -> (f64, f64) {
         let c = *self.controller.as_ref().expect("adaptive").options();
         let mut u_err = std::mem::take(&mut self.u_err);
@@ -516,12 +519,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                 let (a0, a1) = (self.alpha[k], self.alpha_trial[k]);
                 let v0 = block_norm::<D>(&self.kin.v, p);
                 let v1 = block_norm::<D>(&self.next.v, p);
-                let (e, _) = self.state_integrator.local_error(
+                let (e, extrapolated) = self.state_integrator.local_error(
                     &self.state_laws[k],
                     (a0, v0),
                     (a1, v1),
                     self.tau,
                 );
+                self.alpha_extrapolated[k] = extrapolated.unwrap_or(a1);
                 err = err.max(e / c.tolerance);
                 state_change = state_change.max((a1 - a0).abs());
             }
@@ -529,27 +533,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
         (err, state_change)
     }
 
-    /// Local extrapolation of the attempted state `alpha_trial` (docs/math.md §9): adds the
-    /// estimated local error of the backward Euler update, `(τ/2)(α̇_{n−1} − α̇_n)`, damped
-    /// by `1 / (1 + τ ∂²ψ/∂α²)` where the state equation is stiff; skipped at a node where
-    /// the correction is not finite or the law has no second derivative.
+    /// Local extrapolation of the attempted state `alpha_trial` (docs/math.md §9), with the
+    /// values [`error_estimate`](Self::error_estimate) computed for this attempt: backward
+    /// Euler's estimated local error `(τ/2)(α̇_{n−1} − α̇_n)` added, damped by
+    /// `1 / (1 + τ ∂²ψ/∂α²)` where the state equation is stiff (skipped at a node where the
+    /// correction is not finite or the law has no second derivative); for the exact update
+    /// at constant slip rate, the mean of the updates with the step's two slip rates.
     fn extrapolate_state(&mut self) {
-        if !self.friction.uses_state() {
-            return;
-        }
-        for (k, &p) in self.model.frictional.nodes.iter().enumerate() {
-            let (a0, a1) = (self.alpha[k], self.alpha_trial[k]);
-            let v0 = block_norm::<D>(&self.kin.v, p);
-            let v1 = block_norm::<D>(&self.next.v, p);
-            let (_, corrected) = self.state_integrator.local_error(
-                &self.state_laws[k],
-                (a0, v0),
-                (a1, v1),
-                self.tau,
-            );
-            if let Some(a) = corrected {
-                self.alpha_trial[k] = a;
-            }
+        if self.friction.uses_state() {
+            self.alpha_trial.copy_from_slice(&self.alpha_extrapolated);
         }
     }
 
