@@ -209,7 +209,7 @@ pub trait StateLaw: Clone + Send + Sync {
     /// The exact solution at `t + τ` of `α̇ = −∂ψ/∂α(α, V)` from `alpha_prev` at `t`, the
     /// slip rate held at `v` over the step, if the law has one in closed form (the `rsf`
     /// crate's `StateIntegrator::ConstantSlipRate`; docs/friction-state.md). `None` (the
-    /// default) if it does not.
+    /// default) if it does not; a law that has it returns `Some` for every input.
     ///
     /// Arguments as for [`update`](StateLaw::update). The built-in laws: [`Aging`]
     /// (`θ̇ = 1 − Vθ/L` is linear in `θ`), [`Slip`] (linear in `α`) and [`Discontinuous`]

@@ -60,9 +60,15 @@ impl StateIntegrator {
     ) -> rsf_state::Result<f64> {
         match self {
             Self::BackwardEuler => law.update(alpha_prev, v, tau),
-            Self::ConstantSlipRate => law
-                .constant_rate_update(alpha_prev, v, tau)
-                .expect("checked at construction"),
+            // Checked at construction; a law that has the update only for some inputs gets
+            // an error, not a panic.
+            Self::ConstantSlipRate => law.constant_rate_update(alpha_prev, v, tau).unwrap_or(Err(
+                rsf_state::Error::InvalidInput {
+                    name: "v",
+                    value: v,
+                    requirement: "a slip rate for which the law's constant_rate_update is Some",
+                },
+            )),
         }
     }
 
