@@ -373,36 +373,34 @@ fn build(c: &Case) -> rsf::Result<Box<dyn AnySimulation<2>>> {
         ..scheme
     };
     let solver = s.solver_kind();
-    Ok(match s.state_law {
-        StateLawKind::Dieterich => {
-            let mut sim = Simulation::new(
-                model,
-                laws,
-                vec![Aging::new(s.l_m)?; nf],
-                alpha0,
-                Newmark,
-                s.tau(),
-                &solver,
-                fp,
-            )?;
-            sim.set_state_integrator(s.state_integrator)?;
-            Box::new(sim)
-        }
-        StateLawKind::Ruina => {
-            let mut sim = Simulation::new(
-                model,
-                laws,
-                vec![Slip::new(s.l_m)?; nf],
-                alpha0,
-                Newmark,
-                s.tau(),
-                &solver,
-                fp,
-            )?;
-            sim.set_state_integrator(s.state_integrator)?;
-            Box::new(sim)
-        }
-    })
+    // One simulation per state-law type, with the scene's state update.
+    fn boxed<S: rsf::state::StateLaw + 'static>(
+        s: &SliderScene,
+        parts: (rsf::Model<2>, Vec<DieterichRuina>, Vec<f64>),
+        law: S,
+        solver: &rsf::SolverKind,
+        fp: FixedPointOptions,
+    ) -> rsf::Result<Box<dyn AnySimulation<2>>> {
+        let (model, laws, alpha0) = parts;
+        let nf = alpha0.len();
+        let mut sim = Simulation::new(
+            model,
+            laws,
+            vec![law; nf],
+            alpha0,
+            Newmark,
+            s.tau(),
+            solver,
+            fp,
+        )?;
+        sim.set_state_integrator(s.state_integrator)?;
+        Ok(Box::new(sim))
+    }
+    let parts = (model, laws, alpha0);
+    match s.state_law {
+        StateLawKind::Dieterich => boxed(s, parts, Aging::new(s.l_m)?, &solver, fp),
+        StateLawKind::Ruina => boxed(s, parts, Slip::new(s.l_m)?, &solver, fp),
+    }
 }
 
 fn all_finite(x: &[f64]) -> bool {
