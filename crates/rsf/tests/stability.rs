@@ -492,6 +492,37 @@ fn check(name: &str) {
     check_case(&c);
 }
 
+/// The physics of a case that ended in `Ok`: every step done, the peak slip rate in the
+/// case's range, every step's fixed point error within the tolerance.
+#[cfg(test)]
+fn check_ok_physics(c: &Case, o: &Outcome) {
+    let name = c.name;
+    assert_eq!(o.steps_done, c.steps, "{name}");
+    assert!(
+        o.max_slip_rate >= c.peak.0 && o.max_slip_rate <= c.peak.1,
+        "{name}: peak slip rate {:e} outside {:?}",
+        o.max_slip_rate,
+        c.peak
+    );
+    assert!(
+        o.max_correction <= c.scene.fixed_point_tolerance,
+        "{name}: a step ended with the fixed point error {:e} above the tolerance",
+        o.max_correction
+    );
+}
+
+/// The case list with `change` applied to every scene.
+#[cfg(test)]
+fn cases_with(change: impl Fn(&mut SliderScene)) -> Vec<Case> {
+    cases()
+        .into_iter()
+        .map(|mut c| {
+            change(&mut c.scene);
+            c
+        })
+        .collect()
+}
+
 /// Runs a case and asserts its expected outcome.
 #[cfg(test)]
 fn check_case(c: &Case) {
@@ -507,20 +538,7 @@ fn check_case(c: &Case) {
         o.steps_done
     );
     match c.expect {
-        Expect::Ok => {
-            assert_eq!(o.steps_done, c.steps, "{name}");
-            assert!(
-                o.max_slip_rate >= c.peak.0 && o.max_slip_rate <= c.peak.1,
-                "{name}: peak slip rate {:e} outside {:?}",
-                o.max_slip_rate,
-                c.peak
-            );
-            assert!(
-                o.max_correction <= c.scene.fixed_point_tolerance,
-                "{name}: a step ended with the fixed point error {:e} above the tolerance",
-                o.max_correction
-            );
-        }
+        Expect::Ok => check_ok_physics(c, &o),
         Expect::FixedPointNotConverged => {
             let Some(Error::FixedPointNotConverged {
                 history,
@@ -553,14 +571,7 @@ macro_rules! stability_tests {
         /// resolves to the direct solver at level 2): the same outcomes and physics.
         #[test]
         fn every_case_with_tnnmg() {
-            for c in cases() {
-                let c = Case {
-                    scene: SliderScene {
-                        solver: rsf::SolverChoice::Tnnmg,
-                        ..c.scene.clone()
-                    },
-                    ..c
-                };
+            for c in cases_with(|s| s.solver = rsf::SolverChoice::Tnnmg) {
                 check_case(&c);
             }
         }
@@ -572,29 +583,13 @@ macro_rules! stability_tests {
         /// run must still meet the case's physics (peak slip rate, fixed point tolerance).
         #[test]
         fn every_case_with_the_constant_slip_rate_update() {
-            for c in cases() {
-                let c = Case {
-                    scene: SliderScene {
-                        state_integrator: rsf::StateIntegrator::ConstantSlipRate,
-                        ..c.scene.clone()
-                    },
-                    ..c
-                };
+            for c in cases_with(|s| s.state_integrator = rsf::StateIntegrator::ConstantSlipRate) {
                 let o = run_case(&c);
                 let name = c.name;
                 eprintln!("{name} (constant slip rate): {o:?}");
                 assert!(o.finite, "{name}: non-finite values");
                 match &o.error {
-                    None => {
-                        assert_eq!(o.steps_done, c.steps, "{name}");
-                        assert!(
-                            o.max_slip_rate >= c.peak.0 && o.max_slip_rate <= c.peak.1,
-                            "{name}: peak slip rate {:e} outside {:?}",
-                            o.max_slip_rate,
-                            c.peak
-                        );
-                        assert!(o.max_correction <= c.scene.fixed_point_tolerance, "{name}");
-                    }
+                    None => check_ok_physics(&c, &o),
                     Some(Error::FixedPointNotConverged { history, .. }) => {
                         assert!(history.iter().all(|h| h.is_finite()), "{name}");
                     }
