@@ -31,6 +31,14 @@ pub struct StepControl {
     /// Absolute tolerance on the displacement (m), for dofs whose displacement since the
     /// start is small.
     pub displacement_atol: f64,
+    /// Absolute tolerance on the state θ (s): the state test at a frictional node is
+    /// `|δθ| ≤ state_atol + tolerance · θ`, i.e. `|δα| ≤ tolerance + state_atol / θ` with
+    /// `θ = e^α` the larger of the step's two states. `0` (the default of
+    /// [`new`](Self::new)): purely relative in θ. A state far below `state_atol / tolerance`
+    /// occurs in healing (`θ̇ ≈ 1`: an absolute error in θ is carried, not amplified, while
+    /// θ grows) and in fast slip (`θ̇ = 1 − Vθ/L` contracts at the rate `V/L`); its relative
+    /// error need not be resolved there (docs/math.md §9).
+    pub state_atol: f64,
     /// Safety factor `s` of the step proposal (0, 1].
     pub safety: f64,
     /// Smallest factor by which a step may shrink (0, 1).
@@ -60,10 +68,11 @@ impl StepControl {
     /// Tolerance `tolerance` (relative), `displacement_atol = tolerance · length` with
     /// `length` a displacement scale of the problem (e.g. the characteristic slip distance
     /// `L`), safety 0.9, factors [0.2, 2], `ξ = 0.5`, τ in `[tau_min, tau_max]`, local
-    /// extrapolation of the state, no slip test. (The slider scene adds the slip test with
-    /// `V_f = 1e-9` m/s, measured in `docs/work-precision.md`; it is a relative test on the
-    /// slip rate of every fault node, which suits a fault with rate-and-state friction but
-    /// not, e.g., a frictionless one.)
+    /// extrapolation of the state, no slip test, a state test relative in θ
+    /// (`state_atol = 0`). (The slider scene adds the slip test with `V_f = 1e-9` m/s and
+    /// `state_atol = tolerance · L/V_load`, both measured in `docs/work-precision.md`; the
+    /// slip test is a relative test on the slip rate of every fault node, which suits a
+    /// fault with rate-and-state friction but not, e.g., a frictionless one.)
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for non-positive or non-finite values or
@@ -72,6 +81,7 @@ impl StepControl {
         let c = Self {
             tolerance,
             displacement_atol: tolerance * length,
+            state_atol: 0.0,
             safety: 0.9,
             min_factor: 0.2,
             max_factor: 2.0,
@@ -107,6 +117,9 @@ impl StepControl {
                 self.displacement_atol,
                 "finite and >= 0 (m)",
             );
+        }
+        if !(self.state_atol.is_finite() && self.state_atol >= 0.0) {
+            return bad("state_atol", self.state_atol, "finite and >= 0 (s)");
         }
         if !(self.safety > 0.0 && self.safety <= 1.0) {
             return bad("safety", self.safety, "in (0, 1]");
@@ -382,5 +395,13 @@ mod tests {
         let mut c = control();
         c.slip_rate_floor = Some(0.0);
         assert!(c.validate().is_err());
+        for bad in [-1e-3, f64::NAN, f64::INFINITY] {
+            let mut c = control();
+            c.state_atol = bad;
+            assert!(c.validate().is_err(), "state_atol = {bad}");
+        }
+        let mut c = control();
+        c.state_atol = 1e-4;
+        assert!(c.validate().is_ok());
     }
 }

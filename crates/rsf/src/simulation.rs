@@ -472,9 +472,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// largest change of the state: the largest of `rms(e_u) / (atol + tol · rms(u − u₀))`
     /// over the free dofs, with the integrator's estimate `e_u`, of the slip test
     /// `(Δ ln(V_p + V_f))² / (12 tol)` at each frictional node p (if enabled), and the
-    /// maximum over Γ_F of the state update's estimated local error over `tol`
-    /// ([`StateIntegrator`]; backward Euler: `(τ/2)|α̇_n − α̇_{n−1}|`, i.e. `τ²/2 · α̈`,
-    /// docs/math.md §9). Leaves the locally extrapolated states in `alpha_extrapolated`.
+    /// maximum over Γ_F of the state update's estimated local error over
+    /// `tol + state_atol/θ` ([`StateIntegrator`]; backward Euler: `(τ/2)|α̇_n − α̇_{n−1}|`,
+    /// i.e. `τ²/2 · α̈`, docs/math.md §9; a non-finite estimate rejects the step). Leaves the locally extrapolated states in `alpha_extrapolated`.
     fn error_estimate(&mut self) -> (f64, f64) {
         let c = *self.controller.as_ref().expect("adaptive").options();
         let mut u_err = std::mem::take(&mut self.u_err);
@@ -526,7 +526,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
                     self.tau,
                 );
                 self.alpha_extrapolated[k] = extrapolated.unwrap_or(a1);
-                err = err.max(e / c.tolerance);
+                // |δθ| ≤ state_atol + tol·θ, i.e. |δα| ≤ tol + state_atol/θ (θ = e^α the
+                // larger state of the step); an overflowing 1/θ leaves the absolute part.
+                let scale = if c.state_atol > 0.0 {
+                    c.tolerance + c.state_atol * (-a0.max(a1)).exp()
+                } else {
+                    c.tolerance
+                };
+                err = err.max(if e.is_finite() {
+                    e / scale
+                } else {
+                    f64::INFINITY
+                });
                 state_change = state_change.max((a1 - a0).abs());
             }
         }

@@ -115,6 +115,12 @@ pub struct AdaptiveTimeStep {
     /// this; default the characteristic slip distance `l_m`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub displacement_scale_m: Option<f64>,
+    /// State scale θ_s (s): the absolute tolerance on the state θ is `tolerance` times this
+    /// ([`StepControl::state_atol`]), so the state test is `|δθ| ≤ tolerance · (θ + θ_s)`;
+    /// default `l_m / loading_velocity_m_per_s`, the state of steady sliding at the loading
+    /// rate (docs/math.md §9); `0` for a purely relative test.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_scale_s: Option<f64>,
     /// Safety factor of the step proposal, (0, 1].
     #[serde(default = "defaults::safety")]
     pub safety: f64,
@@ -165,8 +171,9 @@ mod defaults {
 
 impl AdaptiveTimeStep {
     /// Tolerance `tolerance`, every other option at its default (τ in [1e-9, 0.1] s,
-    /// safety 0.9, factors [0.2, 2], ξ = 0.5, slip-rate floor 1e-9 m/s, local extrapolation
-    /// of the state).
+    /// displacement scale `l_m`, state scale `l_m / loading_velocity_m_per_s`, safety 0.9,
+    /// factors [0.2, 2], ξ = 0.5, slip-rate floor 1e-9 m/s, local extrapolation of the
+    /// state).
     pub fn new(tolerance: f64) -> Self {
         Self {
             tolerance,
@@ -174,6 +181,7 @@ impl AdaptiveTimeStep {
             tau_min_s: defaults::tau_min(),
             tau_max_s: defaults::tau_max(),
             displacement_scale_m: None,
+            state_scale_s: None,
             safety: defaults::safety(),
             min_factor: defaults::min_factor(),
             max_factor: defaults::max_factor(),
@@ -322,6 +330,19 @@ impl SliderScene {
                 format!("{scale} must be finite and >= 0"),
             ));
         }
+        let state_scale = match a.state_scale_s {
+            Some(s) => s,
+            None if self.loading_velocity_m_per_s != 0.0 => {
+                self.l_m / self.loading_velocity_m_per_s.abs()
+            }
+            None => 0.0,
+        };
+        if !(state_scale.is_finite() && state_scale >= 0.0) {
+            return Err(invalid(
+                "time_step.state_scale_s",
+                format!("{state_scale} must be finite and >= 0"),
+            ));
+        }
         if let Some(t) = a.initial_step_s {
             if !(t.is_finite() && t > 0.0) {
                 return Err(invalid(
@@ -341,6 +362,7 @@ impl SliderScene {
         let control = StepControl {
             tolerance: a.tolerance,
             displacement_atol: a.tolerance * scale,
+            state_atol: a.tolerance * state_scale,
             safety: a.safety,
             min_factor: a.min_factor,
             max_factor: a.max_factor,
@@ -365,6 +387,7 @@ impl SliderScene {
                         "tau_min" => "tau_min_s",
                         "tau_max" => "tau_max_s",
                         "displacement_atol" => "displacement_scale_m",
+                        "state_atol" => "state_scale_s",
                         "slip_rate_floor" => "slip_rate_floor_mps",
                         other => other,
                     }

@@ -8,7 +8,10 @@ mod common;
 use common::{temp_dir, StopAt};
 use rsf::friction::Tresca;
 use rsf::time::{Newmark, StepControl};
-use rsf::{Checkpoint, Flow, NoState, Observer, SliderScene, SolverKind, StepState, Until};
+use rsf::{
+    AdaptiveTimeStep, Checkpoint, Flow, NoState, Observer, SliderScene, SolverKind, StepState,
+    TimeStep, Until,
+};
 
 /// Every accepted step as observed: (t, τ, rejected attempts, max slip rate).
 #[derive(Default)]
@@ -296,7 +299,6 @@ fn adaptive_checkpoint_and_resume_is_bit_identical() {
 
 #[test]
 fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
-    use rsf::{AdaptiveTimeStep, TimeStep};
     // Fixed steps stay the default, also for a file that does not name `time_step`.
     assert_eq!(SliderScene::default().time_step, TimeStep::Fixed {});
     let s = SliderScene::from_toml("steps = 500").unwrap();
@@ -323,6 +325,11 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
     let c = s.step_control().unwrap().unwrap();
     assert_eq!((c.tolerance, c.tau_max), (1e-4, 0.05));
     assert_eq!(c.displacement_atol, 1e-4 * s.l_m, "default scale L");
+    assert_eq!(
+        c.state_atol,
+        1e-4 * (s.l_m / s.loading_velocity_m_per_s),
+        "default state scale L/V_load"
+    );
     assert_eq!(c.state_change_cap, Some(0.5));
     assert_eq!(
         (c.slip_rate_floor, c.state_extrapolation),
@@ -340,10 +347,11 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
         "[time_step]\nkind = \"adaptive\"\ntolerance = 1e-3\ninitial_step_s = 1e-4\n\
          tau_min_s = 1e-8\ntau_max_s = 0.2\ndisplacement_scale_m = 1e-4\nsafety = 0.8\n\
          min_factor = 0.25\nmax_factor = 4.0\nstate_change_cap = inf\n\
-         slip_rate_floor_mps = inf\nstate_extrapolation = false",
+         slip_rate_floor_mps = inf\nstate_extrapolation = false\nstate_scale_s = 0.0",
     )
     .unwrap();
     let c = s.step_control().unwrap().unwrap();
+    assert_eq!(c.state_atol, 0.0, "a purely relative state test");
     assert_eq!(s.initial_tau(), 1e-4);
     assert_eq!(c.state_change_cap, None);
     assert_eq!((c.slip_rate_floor, c.state_extrapolation), (None, false));
@@ -374,6 +382,8 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
             "state_change_cap",
             "tolerance = 1e-3, state_change_cap = -1.0",
         ),
+        ("state_scale_s", "tolerance = 1e-3, state_scale_s = -1.0"),
+        ("state_scale_s", "tolerance = 1e-3, state_scale_s = inf"),
     ] {
         let s = SliderScene::from_toml(&format!("time_step = {{ kind = \"adaptive\", {bad} }}"))
             .unwrap();
@@ -481,5 +491,49 @@ fn adaptive_scene_file_in_the_repository_parses() {
             time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
             ..SliderScene::default()
         }
+    );
+}
+
+/// Healing of the aging law from θ₀ = e^{−10} s while the fault is stuck (V ≈ 1e-25 m/s):
+/// `θ̇ = 1 − Vθ/L`, so `θ(t) = θ₀ + t` to ~1e-20. The state test relative in θ resolves
+/// the start of the healing (τ ≲ √(2 tol) θ); with the absolute tolerance `tol · θ_s` the
+/// early steps may make errors up to `tol · θ_s`, which healing carries without
+/// amplifying: the run takes fewer steps, and θ at the end still has a relative error
+/// below the tolerance.
+#[test]
+fn healing_state_error_with_and_without_the_state_scale() {
+    let tol = 1e-3;
+    let end = 0.5;
+    let run = |state_scale_s: f64| {
+        let scene = SliderScene {
+            level: 1,
+            steps: 50,
+            end_time_s: 5.0,
+            time_step: TimeStep::Adaptive(AdaptiveTimeStep {
+                state_scale_s: Some(state_scale_s),
+                ..AdaptiveTimeStep::new(tol)
+            }),
+            ..SliderScene::default()
+        };
+        let mut sim = scene.build().unwrap();
+        let mut steps = Steps::default();
+        sim.run_until(Until::Time(end), &mut [&mut steps]).unwrap();
+        let v_max = steps.0.iter().map(|s| s.3).fold(0.0_f64, f64::max);
+        assert!(v_max < 1e-15, "stuck: largest slip rate {v_max}");
+        let exact = scene.alpha0.exp() + sim.time();
+        let error = sim
+            .alpha()
+            .iter()
+            .map(|&a| (a.exp() - exact).abs() / exact)
+            .fold(0.0_f64, f64::max);
+        (steps.0.len(), error)
+    };
+    let (n_rel, e_rel) = run(0.0);
+    let (n_abs, e_abs) = run(0.05);
+    println!("relative: {n_rel} steps, θ error {e_rel:e}; θ_s = 0.05 s: {n_abs} steps, {e_abs:e}");
+    assert!(e_rel < tol && e_abs < tol, "{e_rel:e}, {e_abs:e}");
+    assert!(
+        (n_abs as f64) < 0.8 * n_rel as f64,
+        "the state scale saves steps: {n_abs} against {n_rel}"
     );
 }
