@@ -474,7 +474,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// `(Δ ln(V_p + V_f))² / (12 tol)` at each frictional node p (if enabled), and the
     /// maximum over Γ_F of the state update's estimated local error over
     /// `tol + state_atol/θ` ([`StateIntegrator`]; backward Euler: `(τ/2)|α̇_n − α̇_{n−1}|`,
-    /// i.e. `τ²/2 · α̈`, docs/math.md §9; a non-finite estimate rejects the step). Leaves the locally extrapolated states in `alpha_extrapolated`.
+    /// i.e. `τ²/2 · α̈`, docs/math.md §9; a non-finite estimate rejects the step). Leaves
+    /// the locally extrapolated states in `alpha_extrapolated`.
     fn error_estimate(&mut self) -> (f64, f64) {
         let c = *self.controller.as_ref().expect("adaptive").options();
         let mut u_err = std::mem::take(&mut self.u_err);

@@ -117,8 +117,8 @@ pub struct AdaptiveTimeStep {
     pub displacement_scale_m: Option<f64>,
     /// State scale θ_s (s): the absolute tolerance on the state θ is `tolerance` times this
     /// ([`StepControl::state_atol`]), so the state test is `|δθ| ≤ tolerance · (θ + θ_s)`;
-    /// default `l_m / loading_velocity_m_per_s`, the state of steady sliding at the loading
-    /// rate (docs/math.md §9); `0` for a purely relative test.
+    /// default `l_m / |loading_velocity_m_per_s|`, the state of steady sliding at the
+    /// loading rate (0 without loading; docs/math.md §9); `0` for a purely relative test.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub state_scale_s: Option<f64>,
     /// Safety factor of the step proposal, (0, 1].
