@@ -155,6 +155,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     write_files(&cli.out, &main)?;
     let json = serde_json::json!({
         "scene": scene,
+        "step_control": rsf_examples::step_control_json(&scene),
         "events": main.events.len(),
         "accepted_steps": main.steps.0.len(),
         "rejected_steps": main.rejected,

@@ -16,8 +16,8 @@ mod run;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use run::{
-    cpu_seconds, machine, old_wall_time, stats, write_summary, EveryInterval, Progress, SliderRun,
-    SliderStats,
+    cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, EveryInterval,
+    Progress, SliderRun, SliderStats,
 };
 
 /// A progress bar on stderr when it is a terminal, nothing otherwise.

@@ -194,7 +194,30 @@ pub fn stats(run: &SliderRun, end_time: f64) -> SliderStats {
     }
 }
 
-/// Writes `summary.json` with the scene, the sizes, timings and statistics.
+/// The resolved step control of an adaptive scene for `summary.json` (the tolerances the
+/// controller used, defaults such as the displacement and state scales applied), or
+/// `null` for fixed steps or an invalid scene.
+pub fn step_control_json(scene: &SliderScene) -> serde_json::Value {
+    match scene.step_control() {
+        Ok(Some(c)) => serde_json::json!({
+            "tolerance": c.tolerance,
+            "displacement_atol_m": c.displacement_atol,
+            "state_atol_s": c.state_atol,
+            "safety": c.safety,
+            "min_factor": c.min_factor,
+            "max_factor": c.max_factor,
+            "tau_min_s": c.tau_min,
+            "tau_max_s": c.tau_max,
+            "state_change_cap": c.state_change_cap,
+            "slip_rate_floor_mps": c.slip_rate_floor,
+            "state_extrapolation": c.state_extrapolation,
+        }),
+        _ => serde_json::Value::Null,
+    }
+}
+
+/// Writes `summary.json` with the scene, the resolved step control
+/// ([`step_control_json`]), the sizes, timings and statistics.
 ///
 /// # Errors
 /// I/O errors.
@@ -206,6 +229,7 @@ pub fn write_summary(
 ) -> std::io::Result<()> {
     let json = serde_json::json!({
         "scene": scene,
+        "step_control": step_control_json(scene),
         "dofs": run.dofs,
         "frictional_nodes": run.frictional_nodes,
         "steps": run.fpi.len(),
@@ -381,5 +405,24 @@ mod tests {
         assert_eq!(sampled, (t / 0.1).floor() as usize);
         // A step longer than the interval is sampled once.
         assert!(e.samples(1.05, 0.5));
+    }
+
+    /// `summary.json` names the tolerances the controller used: null for fixed steps, the
+    /// defaults resolved (absolute tolerances from the displacement and state scales)
+    /// for adaptive ones.
+    #[test]
+    fn summary_records_the_resolved_step_control() {
+        use rsf::{AdaptiveTimeStep, SliderScene, TimeStep};
+        let fixed = SliderScene::default();
+        assert!(super::step_control_json(&fixed).is_null());
+        let adaptive = SliderScene {
+            time_step: TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3)),
+            ..SliderScene::default()
+        };
+        let j = super::step_control_json(&adaptive);
+        let theta_s = adaptive.l_m / adaptive.loading_velocity_m_per_s;
+        assert_eq!(j["tolerance"], 1e-3);
+        assert_eq!(j["state_atol_s"], 1e-3 * theta_s);
+        assert_eq!(j["displacement_atol_m"], 1e-3 * adaptive.l_m);
     }
 }
