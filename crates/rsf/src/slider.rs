@@ -323,26 +323,32 @@ impl SliderScene {
         let TimeStep::Adaptive(a) = self.time_step else {
             return Ok(None);
         };
-        let scale = a.displacement_scale_m.unwrap_or(self.l_m);
-        if !(scale.is_finite() && scale >= 0.0) {
-            return Err(invalid(
-                "time_step.displacement_scale_m",
-                format!("{scale} must be finite and >= 0"),
-            ));
-        }
-        let state_scale = match a.state_scale_s {
-            Some(s) => s,
-            None if self.loading_velocity_m_per_s != 0.0 => {
-                self.l_m / self.loading_velocity_m_per_s.abs()
+        // The scales of the absolute tolerances (m and s), checked here so that the error
+        // names the scale, not the product with the tolerance.
+        let checked_scale = |name: &str, x: f64| {
+            if x.is_finite() && x >= 0.0 {
+                Ok(x)
+            } else {
+                Err(invalid(
+                    &format!("time_step.{name}"),
+                    format!("{x} must be finite and >= 0"),
+                ))
             }
-            None => 0.0,
         };
-        if !(state_scale.is_finite() && state_scale >= 0.0) {
-            return Err(invalid(
-                "time_step.state_scale_s",
-                format!("{state_scale} must be finite and >= 0"),
-            ));
-        }
+        let scale = checked_scale(
+            "displacement_scale_m",
+            a.displacement_scale_m.unwrap_or(self.l_m),
+        )?;
+        let state_scale = checked_scale(
+            "state_scale_s",
+            match a.state_scale_s {
+                Some(s) => s,
+                None if self.loading_velocity_m_per_s != 0.0 => {
+                    self.l_m / self.loading_velocity_m_per_s.abs()
+                }
+                None => 0.0,
+            },
+        )?;
         if let Some(t) = a.initial_step_s {
             if !(t.is_finite() && t > 0.0) {
                 return Err(invalid(
