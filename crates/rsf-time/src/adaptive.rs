@@ -252,15 +252,22 @@ impl StepController {
     /// The attempt with scaled error `err` was rejected (`err = ∞` for a failed attempt):
     /// moves to a smaller step.
     ///
+    /// The step shrinks by a factor `clamp(s · err^{−1/2}, min(f_min, ½), ½)` (¼ for a
+    /// failed attempt, `err` not finite), rounded down to the ladder, and always by at
+    /// least one rung.
+    ///
     /// # Errors
-    /// [`Error::StepTooSmall`] when the step is already at `tau_min`.
+    /// [`Error::StepTooSmall`] when no rung below the current step is at least `tau_min`
+    /// (the step is then unchanged; the attempt still counts as rejected).
     pub fn reject(&mut self, err: f64) -> Result<()> {
         self.rejected += 1;
         self.last_error = err;
         let tau = self.tau();
         let o = &self.opts;
         let factor = if err.is_finite() && err > 0.0 {
-            (o.safety * err.powf(-0.5)).clamp(o.min_factor, 0.5)
+            // A rejection shrinks by at least ½ even when f_min > ½ (`clamp` needs
+            // lo ≤ hi).
+            (o.safety * err.powf(-0.5)).clamp(o.min_factor.min(0.5), 0.5)
         } else {
             0.25
         };
@@ -294,13 +301,19 @@ impl StepController {
         let invalid = |value: f64| Error::InvalidParameter {
             name: "controller state",
             value,
-            requirement: "5 finite values written by StepController::to_state",
+            requirement: "5 values written by StepController::to_state (finite but the \
+                          last error, which is >= 0 or +inf after a failed attempt)",
         };
         if state.len() != STATE_LEN {
             return Err(invalid(state.len() as f64));
         }
-        if let Some(&bad) = state.iter().find(|x| !x.is_finite()) {
+        // The last error is +∞ after a failed attempt (`reject(f64::INFINITY)`); the other
+        // values are finite.
+        if let Some(&bad) = state[..STATE_LEN - 1].iter().find(|x| !x.is_finite()) {
             return Err(invalid(bad));
+        }
+        if !(state[4] >= 0.0) {
+            return Err(invalid(state[4]));
         }
         if !(state[0] > 0.0) || state[1].fract() != 0.0 || state[2] < 0.0 || state[3] < 0.0 {
             return Err(invalid(state[0]));
