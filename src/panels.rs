@@ -6,7 +6,8 @@ impl crate::Series<'_> {
     /// Several plots in one PNG: side by side (`columns`) or stacked, one per
     /// `(panel title, series)`, sharing the x range `x_range` and (if given) the y range.
     /// With `log_y` the y values are plotted as log10. Long series are thinned to a
-    /// min/max envelope per pixel column so that peaks survive and the file stays small.
+    /// min/max envelope per pixel column so that peaks survive and the file stays small;
+    /// series of at most 100 points (measurements) get a marker at every point.
     ///
     /// # Errors
     /// Drawing or file errors.
@@ -107,6 +108,14 @@ impl crate::Series<'_> {
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                     });
+                // Short series are measurements (one point per run): mark each point.
+                if thinned[i][k].len() <= MARKED_POINTS {
+                    chart.draw_series(
+                        thinned[i][k]
+                            .iter()
+                            .map(|&p| Circle::new(p, 2, color.filled())),
+                    )?;
+                }
             }
             if ss.len() > 1 {
                 chart
@@ -121,6 +130,9 @@ impl crate::Series<'_> {
         Ok(())
     }
 }
+
+/// Series of at most this many points get a marker at every point.
+const MARKED_POINTS: usize = 100;
 
 /// Points of `points` inside `x_range`, y mapped by `ty`, thinned to the first, minimum,
 /// maximum and last point of each of `bins` equal x bins (order kept).
