@@ -195,7 +195,9 @@ impl StepController {
         rung(self.tau_ref, self.k)
     }
 
-    /// Accepted steps so far.
+    /// Steps accepted through [`accept`](Self::accept) so far. A caller that shortens a
+    /// step to end on a breakpoint and does not report it (as `rsf`'s simulation does, to
+    /// keep the rung) has taken more steps than this.
     pub fn accepted(&self) -> u64 {
         self.accepted
     }
