@@ -78,15 +78,23 @@ pub struct RunSummary {
 pub enum Until {
     /// After this many steps.
     Steps(usize),
-    /// At the first step with `t_n ≥ t` (s), up to round-off of `1e-9 τ`. With a fixed τ
-    /// the last step is not shortened to land on `t`; with adaptive steps it is, so the run
-    /// ends at `t`.
+    /// At the first step with `t_n ≥ t` (s), up to round-off of `1e-9 min(τ, |t|)`. With a
+    /// fixed τ the last step is not shortened to land on `t`; with adaptive steps it is, so
+    /// the run ends at `t`.
     Time(f64),
 }
 
-/// Whether `time` has reached `t_end` for steps of `tau` (round-off allowance `1e-9 τ`).
+/// Whether `time` has reached `t_end` for steps of `tau`, up to [`time_slack`].
 pub(crate) fn time_reached(time: f64, t_end: f64, tau: f64) -> bool {
-    time >= t_end - 1e-9 * tau
+    time >= t_end - time_slack(t_end, tau)
+}
+
+/// Round-off allowance of a comparison with the time `t` for steps of `tau` (s):
+/// `1e-9 · min(τ, |t|)`. Relative to τ, so that a time that lands next to `t` by round-off
+/// is not followed by a sliver of a step; at most `1e-9 |t|`, so that a huge step (τ ≫ |t|)
+/// does not swallow `t` itself.
+pub(crate) fn time_slack(t: f64, tau: f64) -> f64 {
+    1e-9 * tau.min(t.abs())
 }
 
 /// A placeholder state law for friction laws without state (plain Tresca): α never changes
@@ -295,8 +303,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// `(u, v, a, α)` carries over unchanged: the integrators are one-step methods.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] unless `tau` is finite and positive; set-up errors of the
-    /// solver (e.g. a factorisation that fails).
+    /// [`Error::InvalidParameter`] named `tau` unless `tau` is finite and positive and the
+    /// matrix `c_M M + c_K K` is finite at it (e.g. `2/τ` overflows for τ < 1e-308); set-up
+    /// errors of the solver (e.g. a factorisation that fails).
     pub fn set_time_step(&mut self, tau: f64) -> Result<()> {
         check_time_step(tau)
             .map_err(|_| invalid("tau", format!("τ = {tau} s must be finite and > 0")))?;
@@ -409,13 +418,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     /// shortened to end there (off the ladder; the controller keeps its step for later).
     fn adaptive_step(&mut self, t_end: Option<f64>) -> Result<StepReport> {
         let mut rejected = 0;
-        // A breakpoint closer than 1e-9 τ is taken as reached (no sliver of a step).
+        // A breakpoint closer than the round-off allowance is taken as reached (no sliver of
+        // a step).
         let tau_now = self.controller.as_ref().expect("adaptive").tau();
         let breakpoint = self
             .model
             .dirichlet
             .history
-            .next_breakpoint(self.time + 1e-9 * tau_now);
+            .next_breakpoint(self.time + time_slack(self.time, tau_now));
         let stop = match (t_end, breakpoint) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
@@ -947,6 +957,15 @@ fn time_step_matrix<const D: usize, I: VelocityIntegrator>(
     let eta = integrator.radiation_damping();
     if eta > 0.0 {
         add_radiation_damping::<D>(&mut a, model, eta);
+    }
+    if let Some(x) = a.val().iter().find(|x| !x.is_finite()) {
+        return Err(invalid(
+            "tau",
+            format!(
+                "τ = {tau:e} s gives a non-finite entry ({x}) of the time-step matrix \
+                 c_M M + c_K K (c_M = {c_m:e}, c_K = {c_k:e})"
+            ),
+        ));
     }
     Ok(a)
 }

@@ -102,7 +102,7 @@ pub struct AdaptiveTimeStep {
     /// as an absolute one, on the state α = ln θ.
     pub tolerance: f64,
     /// Initial (and reference) step τ_ref of the ladder τ_ref·2^k (s); default
-    /// `end_time_s / steps`.
+    /// `end_time_s / steps`; clamped to `[tau_min_s, tau_max_s]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial_step_s: Option<f64>,
     /// Smallest step (s).
@@ -303,15 +303,23 @@ impl SliderScene {
         self.end_time_s / self.steps as f64
     }
 
-    /// The initial time step (s): `initial_step_s` of adaptive steps if set, else
-    /// [`tau`](Self::tau).
+    /// The initial time step (s): for adaptive steps `initial_step_s` if set, else
+    /// [`tau`](Self::tau), clamped to `[tau_min_s, tau_max_s]` (where the controller
+    /// starts); for fixed steps [`tau`](Self::tau).
     pub fn initial_tau(&self) -> f64 {
         match self.time_step {
-            TimeStep::Adaptive(AdaptiveTimeStep {
-                initial_step_s: Some(t),
-                ..
-            }) => t,
-            _ => self.tau(),
+            TimeStep::Adaptive(a) => {
+                let t = a.initial_step_s.unwrap_or_else(|| self.tau());
+                // The controller starts at the initial step clamped to the bounds; valid
+                // bounds only (`clamp` needs lo ≤ hi; invalid ones are errors of
+                // `step_control`).
+                if a.tau_min_s <= a.tau_max_s {
+                    t.clamp(a.tau_min_s, a.tau_max_s)
+                } else {
+                    t
+                }
+            }
+            TimeStep::Fixed {} => self.tau(),
         }
     }
 
@@ -361,8 +369,13 @@ impl SliderScene {
             ("state_change_cap", a.state_change_cap),
             ("slip_rate_floor_mps", a.slip_rate_floor_mps),
         ] {
-            if x.is_nan() {
-                return Err(invalid(&format!("time_step.{name}"), "must not be NaN"));
+            // Finite values are checked with the controller's options below; `+inf` is
+            // "off".
+            if x.is_nan() || x == f64::NEG_INFINITY {
+                return Err(invalid(
+                    &format!("time_step.{name}"),
+                    format!("{x} must be > 0 (inf switches it off)"),
+                ));
             }
         }
         let control = StepControl {
@@ -632,7 +645,17 @@ impl SliderScene {
     /// As [`build`](Self::build).
     pub fn build_with_model(&self, model: Model<2>) -> Result<Box<dyn AnySimulation<2>>> {
         let b = self.simulation_builder_with_model(model)?;
-        with_laws(b, self.state_law, self.integrator, self.l_m)
+        with_laws(b, self.state_law, self.integrator, self.l_m).map_err(|e| match e {
+            // A time step whose matrix is not finite: name the scene's field.
+            Error::InvalidParameter { name, reason } if name == "tau" => invalid(
+                match self.time_step {
+                    TimeStep::Adaptive(_) => "time_step.initial_step_s",
+                    TimeStep::Fixed {} => "steps",
+                },
+                reason,
+            ),
+            e => e,
+        })
     }
 }
 
