@@ -267,10 +267,59 @@ fn run_case(label: &str, scene: &SliderScene, t_end: f64, budget: usize) -> (Out
     (outcome, sim)
 }
 
+/// Valid extremes of the initial step and of the tolerance scales, on the options `b`
+/// (shared by the acceptance and the run tests).
+fn start_and_scale_cases(b: AdaptiveTimeStep) -> Vec<(&'static str, AdaptiveTimeStep)> {
+    vec![
+        (
+            "initial_step_s = 1e-12",
+            AdaptiveTimeStep {
+                initial_step_s: Some(1e-12),
+                ..b
+            },
+        ),
+        (
+            "initial_step_s = 1e3",
+            AdaptiveTimeStep {
+                initial_step_s: Some(1e3),
+                ..b
+            },
+        ),
+        (
+            "displacement_scale_m = 0",
+            AdaptiveTimeStep {
+                displacement_scale_m: Some(0.0),
+                ..b
+            },
+        ),
+        (
+            "displacement_scale_m = 1e30",
+            AdaptiveTimeStep {
+                displacement_scale_m: Some(1e30),
+                ..b
+            },
+        ),
+        (
+            "state_scale_s = 0",
+            AdaptiveTimeStep {
+                state_scale_s: Some(0.0),
+                ..b
+            },
+        ),
+        (
+            "state_scale_s = 1e30",
+            AdaptiveTimeStep {
+                state_scale_s: Some(1e30),
+                ..b
+            },
+        ),
+    ]
+}
+
 /// Valid but extreme options, each with a label naming it.
 fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
     let b = base();
-    vec![
+    let mut cases = vec![
         ("default (tolerance 1e-3)", b),
         ("tolerance = 1e-12", AdaptiveTimeStep::new(1e-12)),
         ("tolerance = 0.5", AdaptiveTimeStep::new(0.5)),
@@ -372,48 +421,6 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
             },
         ),
         (
-            "initial_step_s = 1e-12",
-            AdaptiveTimeStep {
-                initial_step_s: Some(1e-12),
-                ..b
-            },
-        ),
-        (
-            "initial_step_s = 1e3",
-            AdaptiveTimeStep {
-                initial_step_s: Some(1e3),
-                ..b
-            },
-        ),
-        (
-            "displacement_scale_m = 0",
-            AdaptiveTimeStep {
-                displacement_scale_m: Some(0.0),
-                ..b
-            },
-        ),
-        (
-            "displacement_scale_m = 1e30",
-            AdaptiveTimeStep {
-                displacement_scale_m: Some(1e30),
-                ..b
-            },
-        ),
-        (
-            "state_scale_s = 0",
-            AdaptiveTimeStep {
-                state_scale_s: Some(0.0),
-                ..b
-            },
-        ),
-        (
-            "state_scale_s = 1e30",
-            AdaptiveTimeStep {
-                state_scale_s: Some(1e30),
-                ..b
-            },
-        ),
-        (
             "state_change_cap = 1e-6",
             AdaptiveTimeStep {
                 state_change_cap: 1e-6,
@@ -459,7 +466,9 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
                 ..AdaptiveTimeStep::new(1e-300)
             },
         ),
-    ]
+    ];
+    cases.extend(start_and_scale_cases(b));
+    cases
 }
 
 /// Nothing limits the growth of the step but failing attempts.
@@ -654,7 +663,7 @@ fn negative_infinite_cap_and_slip_floor_are_rejected() {
 fn valid_extreme_options_are_accepted_as_documented() {
     let b = base();
     let below_one = 1.0 - f64::EPSILON / 2.0;
-    let cases: Vec<(&str, AdaptiveTimeStep)> = vec![
+    let mut cases: Vec<(&str, AdaptiveTimeStep)> = vec![
         ("tolerance = 5e-324", AdaptiveTimeStep::new(5e-324)),
         ("tolerance = f64::MAX", AdaptiveTimeStep::new(f64::MAX)),
         (
@@ -750,49 +759,8 @@ fn valid_extreme_options_are_accepted_as_documented() {
                 ..b
             },
         ),
-        (
-            "displacement_scale_m = 0",
-            AdaptiveTimeStep {
-                displacement_scale_m: Some(0.0),
-                ..b
-            },
-        ),
-        (
-            "displacement_scale_m = 1e30",
-            AdaptiveTimeStep {
-                displacement_scale_m: Some(1e30),
-                ..b
-            },
-        ),
-        (
-            "state_scale_s = 0",
-            AdaptiveTimeStep {
-                state_scale_s: Some(0.0),
-                ..b
-            },
-        ),
-        (
-            "state_scale_s = 1e30",
-            AdaptiveTimeStep {
-                state_scale_s: Some(1e30),
-                ..b
-            },
-        ),
-        (
-            "initial_step_s = 1e-12",
-            AdaptiveTimeStep {
-                initial_step_s: Some(1e-12),
-                ..b
-            },
-        ),
-        (
-            "initial_step_s = 1e3",
-            AdaptiveTimeStep {
-                initial_step_s: Some(1e3),
-                ..b
-            },
-        ),
     ];
+    cases.extend(start_and_scale_cases(b));
     for (label, a) in &cases {
         let scene = healing(*a);
         let c = scene
