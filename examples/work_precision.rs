@@ -167,6 +167,17 @@ enum Position {
 }
 
 impl Trace {
+    /// Takes the timings of `other`, a repeat of the same (deterministic) run, if it was
+    /// faster in CPU time.
+    fn keep_faster_timing(&mut self, other: &Trace) {
+        if other.cpu_s < self.cpu_s {
+            self.cpu_s = other.cpu_s;
+            self.setup_s = other.setup_s;
+            self.step_s = other.step_s;
+            self.record_s = other.record_s;
+        }
+    }
+
     fn seconds(&self) -> f64 {
         self.setup_s + self.step_s + self.record_s
     }
@@ -307,12 +318,7 @@ fn timed_trace(
         let tr = trace(scene, t_min, t_max, until_slip)?;
         total += tr.cpu_s;
         runs += 1;
-        if tr.cpu_s < best.cpu_s {
-            best.cpu_s = tr.cpu_s;
-            best.setup_s = tr.setup_s;
-            best.step_s = tr.step_s;
-            best.record_s = tr.record_s;
-        }
+        best.keep_faster_timing(&tr);
     }
     Ok((best, runs))
 }
@@ -725,12 +731,7 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
                 runs.push(Some((tr, repeats, e)));
             } else if let Some((best, count, _)) = &mut runs[k] {
                 *count += repeats;
-                if tr.cpu_s < best.cpu_s {
-                    best.cpu_s = tr.cpu_s;
-                    best.setup_s = tr.setup_s;
-                    best.step_s = tr.step_s;
-                    best.record_s = tr.record_s;
-                }
+                best.keep_faster_timing(&tr);
             }
         }
     }
