@@ -162,8 +162,7 @@ fn problem(level: usize) -> Problem {
     Newmark
         .right_hand_side(
             tau,
-            model.mass.as_ref(),
-            &model.stiffness,
+            rsf::time::SystemMatrices::new(model.mass.as_ref(), &model.stiffness),
             &model.load,
             &kin,
             &mut b,
@@ -175,11 +174,11 @@ fn problem(level: usize) -> Problem {
             v0[i] = if top[i] && i % 2 == 0 { V_TOP } else { 0.0 };
         }
     }
-    let nf = model.frictional.nodes.len();
+    let nf = model.frictional_boundary.nodes.len();
     let law = DieterichRuina::new(params).expect("law");
     let friction = FrictionBlocks::new(
-        model.frictional.nodes.clone(),
-        model.frictional.weights.clone(),
+        model.frictional_boundary.nodes.clone(),
+        model.frictional_boundary.weights.clone(),
         vec![law; nf],
         &vec![(scene.l_m / V_SLIDE).ln(); nf],
     );
@@ -389,7 +388,8 @@ fn condensed_direct(p: &Problem, a: &SparseMatrix) -> DirectSolver<2> {
         .expect("direct")
         .with_energy_norm(p.model.energy_norm.as_ref())
         .expect("energy norm");
-    d.prepare(&p.model.frictional.nodes).expect("condensation");
+    d.prepare(&p.model.frictional_boundary.nodes)
+        .expect("condensation");
     d
 }
 
@@ -440,7 +440,7 @@ fn direct_sweeps(c: &mut Criterion<ThreadTime>) {
         group.throughput(Throughput::Elements(d.factor_nnz() as u64));
         group.bench_function(BenchmarkId::new("forward_backward", level), |bch| {
             bch.iter(|| {
-                d.begin_step(&p.b, &p.v0, &p.model.frictional.nodes)
+                d.begin_step(&p.b, &p.v0, &p.model.frictional_boundary.nodes)
                     .expect("begin");
                 d.finish_step(&mut v).expect("finish");
                 black_box(&v);

@@ -23,8 +23,8 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use plotters::prelude::*;
-use rsf::{SliderScene, SolverChoice, StateLawKind};
-use rsf_examples::cli::{step_count, FixedPoint, Law, Solver};
+use rsf::{FixedPointScheme, SliderScene, SolverKind, StateLawKind};
+use rsf_examples::cli::step_count;
 use rsf_examples::{stats, SliderRun};
 
 /// Figure 6.1: fixed point iterations per time step against the refinement level.
@@ -38,23 +38,18 @@ struct Cli {
     #[arg(long, default_value_t = 5, value_name = "J")]
     max_level: usize,
     /// State laws (comma separated).
-    #[arg(
-        long,
-        value_enum,
-        value_delimiter = ',',
-        default_value = "dieterich,ruina"
-    )]
-    laws: Vec<Law>,
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "aging,slip")]
+    laws: Vec<StateLawKind>,
     /// Number of time steps N over T = 15 s (`1e4` accepted).
     #[arg(long, value_parser = step_count, default_value = "10000")]
     steps: usize,
     /// Velocity solver.
     #[arg(long, value_enum, default_value = "auto")]
-    solver: Solver,
+    solver: SolverKind,
     /// Fixed point scheme: the paper's relaxation (what the figure counts) or the
     /// library's default (Anderson acceleration with an extrapolated predictor).
     #[arg(long, value_enum, default_value = "paper")]
-    fixed_point: FixedPoint,
+    fixed_point: FixedPointScheme,
     /// Output folder.
     #[arg(long, default_value = "out/fig6_1")]
     out: PathBuf,
@@ -71,14 +66,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let levels = cli
         .levels
         .unwrap_or_else(|| (2..=cli.max_level.min(8)).collect());
-    let laws: Vec<StateLawKind> = cli.laws.iter().map(|&l| l.into()).collect();
-    let solver: SolverChoice = cli.solver.into();
+    let laws: Vec<StateLawKind> = cli.laws.clone();
+    let solver = cli.solver;
     let steps = cli.steps;
     let out = cli.out;
     std::fs::create_dir_all(&out)?;
     println!(
-        "Figure 6.1: FPIs per step over N = {steps} steps, levels {levels:?}, {solver:?} solver \
-         (tolerance 1e-10), {:?} fixed point, Newmark, on {}",
+        "Figure 6.1: FPIs per step over N = {steps} steps, levels {levels:?}, {solver} solver \
+         (tolerance 1e-10), {} fixed point, Newmark, on {}",
         cli.fixed_point,
         rsf_examples::machine()
     );
@@ -108,7 +103,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 steps,
                 state_law: law,
                 solver,
-                fixed_point: cli.fixed_point.into(),
+                fixed_point: cli.fixed_point,
                 ..SliderScene::default()
             };
             scene.validate()?;
@@ -120,7 +115,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let t_max = run.u_x0.get(k_max).map_or(f64::NAN, |p| p.0);
             println!(
                 "{:>10} {:>3} {:>7} {:>9.3} {:>8} {:>8} {:>11} {:>10.3} {:>10.3} {:>8.1}",
-                format!("{law:?}"),
+                law.name(),
                 level,
                 run.dofs,
                 st.fpi_mean,
@@ -133,7 +128,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             );
             writeln!(
                 table,
-                "{law:?},{level},{},{steps},{:.4},{},{},{},{first:.4},{:.1}",
+                "{law},{level},{},{steps},{:.4},{},{},{},{first:.4},{:.1}",
                 run.dofs,
                 st.fpi_mean,
                 st.fpi_max,
@@ -174,7 +169,7 @@ fn draw(
     for (law, area) in laws.iter().zip(&areas) {
         let pts: Vec<&Row> = rows.iter().filter(|r| r.0 == *law).collect();
         let mut chart = ChartBuilder::on(area)
-            .caption(format!("{law:?}'s law"), ("sans-serif", 16))
+            .caption(paper_name(*law), ("sans-serif", 16))
             .margin(10)
             .x_label_area_size(40)
             .y_label_area_size(50)
@@ -218,4 +213,13 @@ fn draw(
     }
     root.present()?;
     Ok(())
+}
+
+/// The law as the paper names it.
+fn paper_name(law: StateLawKind) -> &'static str {
+    match law {
+        StateLawKind::Aging => "Dieterich's (aging) law",
+        StateLawKind::Slip => "Ruina's (slip) law",
+        StateLawKind::Discontinuous => "the discontinuous law",
+    }
 }

@@ -21,9 +21,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{IntegratorKind, PointSeries, SliderScene, SolverChoice};
+use rsf::{Integrator, PointSeries, SliderScene, SolverKind};
 use rsf_examples::cli::StepCounts;
-use rsf_examples::{old_wall_time, stats, SceneArgs, Series, SliderRun};
+use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
 
 /// Figures 6.2/6.3: displacement and slip rate at x0 for several time steps.
 #[derive(Parser)]
@@ -49,8 +49,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let steps = cli.steps.counts();
     let scene = cli.scene.scene(SliderScene {
         level: 4,
-        integrator: IntegratorKind::Newmark,
-        solver: SolverChoice::Direct,
+        integrator: Integrator::Newmark,
+        solver: SolverKind::Direct,
         ..SliderScene::default()
     })?;
     let out = cli.out;
@@ -58,7 +58,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&out)?;
     let t_end = scene.end_time_s;
     println!(
-        "Figures 6.2/6.3: level {}, {:?} law, Newmark, {:?} solver, N = {:?} on {}",
+        "Figures 6.2/6.3: level {}, {} law, Newmark, {} solver, N = {:?} on {}",
         scene.level,
         scene.state_law,
         scene.solver,
@@ -150,25 +150,33 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     Series::panels(
         &out.join("fig6_2_displacement.png"),
-        "Fig. 6.2 (ours): displacement u_x at x0 = (2.5, 0), Dieterich, j = 4, Newmark",
-        "t (s)",
-        "u_x (m)",
+        &Labels {
+            title: "Fig. 6.2 (ours): displacement u_x at x0 = (2.5, 0), Dieterich, j = 4, Newmark",
+            x: "t (s)",
+            y: "u_x (m)",
+        },
         &dp,
-        true,
-        false,
-        (0.9 * t_end, t_end),
-        None,
+        &PanelLayout {
+            columns: true,
+            log_y: false,
+            x_range: (0.9 * t_end, t_end),
+            y_range: None,
+        },
     )?;
     Series::panels(
         &out.join("fig6_3_slip_rate.png"),
-        "Fig. 6.3 (ours): slip rate |v| at x0 = (2.5, 0), Dieterich, j = 4, Newmark",
-        "t (s)",
-        "|v| (m/s)",
+        &Labels {
+            title: "Fig. 6.3 (ours): slip rate |v| at x0 = (2.5, 0), Dieterich, j = 4, Newmark",
+            x: "t (s)",
+            y: "|v| (m/s)",
+        },
         &rp,
-        false,
-        true,
-        (0.75 * t_end, t_end),
-        Some((1e-7, 1e-1)),
+        &PanelLayout {
+            columns: false,
+            log_y: true,
+            x_range: (0.75 * t_end, t_end),
+            y_range: Some((1e-7, 1e-1)),
+        },
     )?;
     println!("wrote {}", out.display());
     Ok(())

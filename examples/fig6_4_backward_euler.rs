@@ -23,9 +23,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{IntegratorKind, PointSeries, SliderScene, SolverChoice};
+use rsf::{Integrator, PointSeries, SliderScene, SolverKind};
 use rsf_examples::cli::StepCounts;
-use rsf_examples::{old_wall_time, stats, SceneArgs, Series, SliderRun};
+use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
 
 /// `(t, value)` samples.
 type Points = Vec<(f64, f64)>;
@@ -64,7 +64,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let steps = cli.steps.counts();
     let scene = cli.scene.scene(SliderScene {
         level: 4,
-        solver: SolverChoice::Direct,
+        solver: SolverKind::Direct,
         ..SliderScene::default()
     })?;
     let (newmark_dir, run_newmark, out, reuse) =
@@ -72,7 +72,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&out)?;
     let t_end = scene.end_time_s;
     println!(
-        "Figure 6.4: level {}, {:?} law, backward Euler vs Newmark, {:?} solver, N = {:?} on {}",
+        "Figure 6.4: level {}, {} law, backward Euler vs Newmark, {} solver, N = {:?} on {}",
         scene.level,
         scene.state_law,
         scene.solver,
@@ -101,7 +101,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     for &n in &steps {
         let be = SliderScene {
             steps: n,
-            integrator: IntegratorKind::BackwardEuler,
+            integrator: Integrator::BackwardEuler,
             ..scene.clone()
         };
         be.validate()?;
@@ -123,7 +123,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         let csv = newmark_dir.join(format!("centre_N{n}.csv"));
         let nm_scene = SliderScene {
             steps: n,
-            integrator: IntegratorKind::Newmark,
+            integrator: Integrator::Newmark,
             ..scene.clone()
         };
         let newmark = if csv.exists() && !run_newmark {
@@ -222,17 +222,21 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         };
         Series::panels(
             &out.join(name),
-            &format!(
-                "Fig. 6.4 (ours): {what} at x0, Dieterich, j = {}, backward Euler vs Newmark",
-                scene.level
-            ),
-            "t (s)",
-            y_label,
+            &Labels {
+                title: &format!(
+                    "Fig. 6.4 (ours): {what} at x0, Dieterich, j = {}, backward Euler vs Newmark",
+                    scene.level
+                ),
+                x: "t (s)",
+                y: y_label,
+            },
             &panels,
-            columns,
-            log_y,
-            x_range,
-            y_range,
+            &PanelLayout {
+                columns,
+                log_y,
+                x_range,
+                y_range,
+            },
         )?;
     }
     println!("wrote {}", out.display());

@@ -24,9 +24,12 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use plotters::prelude::*;
-use rsf::{FrictionalProfile, Observer, Recorder, SliderScene, SolverChoice, Until, SLIDER_CENTRE};
+use rsf::{
+    Every, FaultRecorder, FileMode, FrictionalProfile, Interval, Observer, Progress, Recorder,
+    SliderScene, SolverKind, Until, SLIDER_CENTRE,
+};
 use rsf_examples::cli::{step_count, window};
-use rsf_examples::{Progress, SceneArgs, SliderRun};
+use rsf_examples::{SceneArgs, SliderRun};
 
 /// Figure 6.5: the slip rate along Γ_F during the first slip event.
 #[derive(Parser)]
@@ -68,7 +71,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let (coarse, fine, switch, (f0, f1)) = (cli.coarse, cli.fine, cli.switch, cli.window);
     let mut scene = cli.scene.scene(SliderScene {
         level: 4,
-        solver: SolverChoice::Direct,
+        solver: SolverKind::Direct,
         ..SliderScene::default()
     })?;
     let t_end = scene.end_time_s;
@@ -95,7 +98,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         format!("τ = T/{coarse} up to {switch}T, then T/{fine}")
     };
     println!(
-        "Figure 6.5: level {}, {:?} law, Newmark, {:?} solver, {how}; window [{f0}T, {f1}T] = [{t0:.4}, {t1:.4}] s; on {}",
+        "Figure 6.5: level {}, {} law, Newmark, {} solver, {how}; window [{f0}T, {f1}T] = [{t0:.4}, {t1:.4}] s; on {}",
         scene.level,
         scene.state_law,
         scene.solver,
@@ -108,18 +111,27 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         ..SliderRun::default()
     };
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
-    let mut profile = FrictionalProfile::create(&out.join("slip_rate_map.csv"), t0, t1, map_every)?;
+    let mut profile = Every::new(
+        Interval::Steps(map_every.max(1)),
+        FrictionalProfile::new(&out.join("slip_rate_map.csv"), (t0, t1), FileMode::Create)?,
+    )?;
     for &(n, until, every) in &phases {
         sim.set_time_step(t_end / n as f64)?;
-        let mut rec = Recorder::new(sim.model(), &[x0], every)?;
+        let mut rec = Recorder::new(sim.model(), &[x0])?;
+        let mut fault = Every::new(
+            Interval::Steps(every.max(1)),
+            FaultRecorder::new(sim.model()),
+        )?;
         let steps = ((until - sim.time()) * n as f64 / t_end).round().max(0.0) as usize;
-        let mut progress = Progress::new(steps, &format!("τ = T/{n}"));
+        let mut progress = Progress::steps(steps, &format!("τ = T/{n}"));
         let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut rec, &mut progress];
         if every > 0 {
+            observers.push(&mut fault);
             observers.push(&mut profile);
         }
         run.seconds += sim.run_until(Until::Time(until), &mut observers)?.seconds;
         run.extend_from_recorder(&rec, sim.model());
+        run.extend_map(&fault.inner, sim.model());
     }
     let (times, xs, values) = &run.map;
 

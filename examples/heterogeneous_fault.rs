@@ -36,7 +36,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         .material(Material::new(5e7, 0.3, 5e3))
         .gravity([0.0, -9.81])
         .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [2e-4, 0.0])
-        .frictional(Part::predicate("fault", |x| x[1] < 1e-9))
+        .frictional_boundary(Part::predicate("fault", |x| x[1] < 1e-9))
         .loading(TimeFunction::ramp(3.75))
         .build()?;
     let centre = model.nearest_node(&[4.0, 0.0])?;

@@ -22,11 +22,11 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::{
-    EventThresholds, Flow, Observer, SliderScene, SlipEvent, SlipEvents, StepState, TimeStep,
-    Until, SLIDER_CENTRE,
+    EventThresholds, Flow, Observer, SliderScene, SlipEvent, SlipEvents, StepView, TimeStep, Until,
+    SLIDER_CENTRE,
 };
 use rsf_examples::cli::step_count;
-use rsf_examples::{line_plot, Progress, SceneArgs, Series, TimeStepArgs};
+use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
 #[derive(Parser)]
@@ -66,7 +66,7 @@ fn main() -> ExitCode {
 struct Steps(Vec<(f64, f64, f64, usize)>);
 
 impl Observer<2> for Steps {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<Flow> {
         let r = s.report;
         self.0
             .push((r.time, r.tau, r.max_slip_rate, r.fixed_point_iterations));
@@ -87,7 +87,7 @@ fn simulate(scene: &SliderScene, what: &str) -> Result<Outcome, Box<dyn std::err
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let mut events = SlipEvents::new(EventThresholds::default())?.slip_at(sim.model(), x0)?;
     let mut steps = Steps::default();
-    let mut progress = Progress::for_scene(scene, 0.0, what);
+    let mut progress = scene.progress(0.0, what);
     let summary = sim.run_until(
         Until::Time(scene.end_time_s),
         &mut [&mut events, &mut steps, &mut progress],
@@ -95,7 +95,7 @@ fn simulate(scene: &SliderScene, what: &str) -> Result<Outcome, Box<dyn std::err
     Ok(Outcome {
         events: events.events().to_vec(),
         steps,
-        rejected: sim.step_controller().map_or(0, |c| c.rejected()),
+        rejected: sim.state().controller.map_or(0, |c| c.rejected()),
         seconds: summary.seconds,
     })
 }
@@ -116,7 +116,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     scene.validate()?;
     std::fs::create_dir_all(&cli.out)?;
     println!(
-        "long_run: level {}, T = {} s, {}, {:?} law → {}",
+        "long_run: level {}, T = {} s, {}, {} law → {}",
         scene.level,
         scene.end_time_s,
         TimeStepArgs::describe(&scene),
@@ -242,9 +242,11 @@ fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Erro
     if !rec.is_empty() {
         line_plot(
             &dir.join("recurrence.png"),
-            "Time since the previous slip event",
-            "onset t (s)",
-            "recurrence (s)",
+            &Labels {
+                title: "Time since the previous slip event",
+                x: "onset t (s)",
+                y: "recurrence (s)",
+            },
             &Series::alone(&rec),
             false,
             false,
@@ -260,14 +262,18 @@ fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Erro
     ] {
         Series::panels(
             &dir.join(file),
-            title,
-            "t (s)",
-            "",
+            &Labels {
+                title,
+                x: "t (s)",
+                y: "",
+            },
             &[("", &Series::alone(points)[..])],
-            false,
-            true,
-            (0.0, t_end),
-            None,
+            &PanelLayout {
+                columns: false,
+                log_y: true,
+                x_range: (0.0, t_end),
+                y_range: None,
+            },
         )?;
     }
     Ok(())

@@ -25,12 +25,12 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::{
-    Checkpoint, Checkpointer, FrictionalProfile, Observer, PointSeries, SliderScene, Until,
-    SLIDER_CENTRE,
+    Checkpoint, Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries,
+    SliderScene, Until, SLIDER_CENTRE,
 };
 use rsf_examples::cli::window;
 use rsf_examples::{
-    line_plot, space_time_map, stats, write_summary, EveryInterval, Progress, SceneArgs, Series,
+    line_plot, space_time_map, stats, write_summary, FieldMap, Labels, SceneArgs, Series,
     SliderRun, TimeStepArgs,
 };
 
@@ -69,7 +69,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let out = cli.out;
     std::fs::create_dir_all(&out)?;
     println!(
-        "pipping_slider: level {}, {}, {:?} law, {:?}, {:?} solver → {}",
+        "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
         scene.level,
         TimeStepArgs::describe(&scene),
         scene.state_law,
@@ -85,9 +85,13 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(path) => {
             let c = Checkpoint::read(path)?;
             sim.restore(&c)?;
-            Some(c.step)
+            Some(c.state.step)
         }
         None => None,
+    };
+    let mode = match resumed_at {
+        None => FileMode::Create,
+        Some(step) => FileMode::Resume { step },
     };
     let (series_csv, profile_csv, map_csv) = (
         out.join("timeseries.csv"),
@@ -95,33 +99,23 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         out.join("slip_rate_map.csv"),
     );
     // 600 samples of the map: every N/600 steps, or every T/600 s for adaptive steps.
-    let adaptive = sim.step_controller().is_some();
-    let map_every = if adaptive {
-        1
-    } else {
-        (scene.steps / 600).max(1)
+    let map_every = match sim.method().step_control() {
+        Some(_) => Interval::Time(t_end / 600.0),
+        None => Interval::Steps((scene.steps / 600).max(1)),
     };
-    let (mut series, mut profile, map) = match resumed_at {
-        None => (
-            PointSeries::create(&series_csv, sim.model(), x0)?,
-            FrictionalProfile::create(&profile_csv, w0, w1, 1)?,
-            FrictionalProfile::create(&map_csv, 0.0, t_end, map_every)?,
-        ),
-        Some(n) => (
-            PointSeries::resume(&series_csv, sim.model(), x0, n)?,
-            FrictionalProfile::resume(&profile_csv, w0, w1, 1, n)?,
-            FrictionalProfile::resume(&map_csv, 0.0, t_end, map_every, n)?,
-        ),
-    };
-    let mut map: Box<dyn Observer<2>> = if adaptive {
-        Box::new(EveryInterval::new(map, t_end / 600.0))
-    } else {
-        Box::new(map)
-    };
-    let mut checkpointer = Checkpointer::new(out.join("checkpoint.bin"), cli.checkpoint_every);
-    let mut progress = Progress::for_scene(&scene, sim.time(), "slider");
+    let mut series = PointSeries::new(&series_csv, sim.model(), x0, mode)?;
+    let mut profile = FrictionalProfile::new(&profile_csv, (w0, w1), mode)?;
+    let mut map = Every::new(
+        map_every,
+        FrictionalProfile::new(&map_csv, (0.0, t_end), mode)?,
+    )?;
+    let mut checkpointer = Every::new(
+        Interval::Steps(cli.checkpoint_every.max(1)),
+        Checkpointer::new(out.join("checkpoint.bin")),
+    )?;
+    let mut progress = scene.progress(sim.time(), "slider");
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
-    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, map.as_mut()];
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
     if cli.checkpoint_every > 0 {
         observers.push(&mut checkpointer);
     }
@@ -132,17 +126,22 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     // Everything below comes from the files: the whole run, also after a resume.
     let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
     run.set_map_from_profile(&FrictionalProfile::<2>::read(&map_csv)?);
-    (run.dofs, run.frictional_nodes) = (sim.model().num_dofs(), sim.model().frictional.len());
+    (run.dofs, run.frictional_nodes) = (
+        sim.model().num_dofs(),
+        sim.model().frictional_boundary.len(),
+    );
     (run.seconds, run.setup_seconds) = (summary.seconds, setup_seconds);
-    run.rejected_steps = sim.step_controller().map_or(0, |c| c.rejected());
+    run.rejected_steps = sim.state().controller.map_or(0, |c| c.rejected());
     let st = stats(&run, t_end);
     write_summary(&out, &scene, &run, &st)?;
 
     line_plot(
         &out.join("displacement_x0.png"),
-        "Displacement u_x at x0 = (2.5, 0)",
-        "t (s)",
-        "u_x (m)",
+        &Labels {
+            title: "Displacement u_x at x0 = (2.5, 0)",
+            x: "t (s)",
+            y: "u_x (m)",
+        },
         &Series::alone(&run.u_x0),
         false,
         false,
@@ -154,9 +153,11 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     line_plot(
         &out.join("slip_rate_x0.png"),
-        "Slip rate |v| at x0 = (2.5, 0)",
-        "t (s)",
-        "slip rate (m/s)",
+        &Labels {
+            title: "Slip rate |v| at x0 = (2.5, 0)",
+            x: "t (s)",
+            y: "slip rate (m/s)",
+        },
         &Series::alone(&rate),
         true,
         false,
@@ -164,9 +165,11 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     space_time_map(
         &out.join("slip_rate_map.png"),
         "Slip rate along the frictional boundary",
-        &run.map.0,
-        &run.map.1,
-        &run.map.2,
+        &FieldMap {
+            xs: &run.map.1,
+            ys: &run.map.0,
+            values: &run.map.2,
+        },
         (-12.0, -2.0),
     )?;
     println!(

@@ -26,10 +26,11 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::{
-    Flow, LateralBoundary, Model, Observer, PointSeries, Slider3dScene, StepState, Until, VtuFrames,
+    Every, FileMode, Flow, Interval, LateralBoundary, Model, Observer, PointSeries, Progress,
+    Slider3dScene, StepView, Until, VtuFrames,
 };
 use rsf_examples::cli::step_count;
-use rsf_examples::{log_heat_map, HeatMapAxes, Progress, SceneArgs};
+use rsf_examples::{log_heat_map, FieldMap, HeatMapAxes, SceneArgs};
 
 /// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
 #[derive(Parser)]
@@ -115,7 +116,7 @@ impl FaultSnapshot {
         width: f64,
         out: &Path,
     ) -> Result<(), Box<dyn std::error::Error>> {
-        let nodes = &model.frictional.nodes;
+        let nodes = &model.frictional_boundary.nodes;
         let mut csv =
             std::io::BufWriter::new(std::fs::File::create(out.join("fault_snapshot.csv"))?);
         writeln!(csv, "x_m,z_m,slip_rate_mps")?;
@@ -149,15 +150,17 @@ impl FaultSnapshot {
             &out.join("fault_slip_rate.png"),
             (1000, height),
             &axes,
-            &xs,
-            &zs,
-            &values,
+            &FieldMap {
+                xs: &xs,
+                ys: &zs,
+                values: &values,
+            },
         )
     }
 }
 
 impl Observer<3> for FaultSnapshot {
-    fn observe(&mut self, s: &StepState<'_, 3>) -> rsf::Result<Flow> {
+    fn observe(&mut self, s: &StepView<'_, 3>) -> rsf::Result<Flow> {
         let take = match self.at {
             Some(t) => self.time.is_nan() && s.report.time >= t,
             None => s.report.max_slip_rate > self.peak,
@@ -165,8 +168,12 @@ impl Observer<3> for FaultSnapshot {
         if take {
             self.time = s.report.time;
             self.peak = s.report.max_slip_rate;
-            let v = &s.kinematics.v;
-            for (r, &p) in self.slip_rates.iter_mut().zip(&s.model.frictional.nodes) {
+            let v = &s.state.kinematics.v;
+            for (r, &p) in self
+                .slip_rates
+                .iter_mut()
+                .zip(&s.model.frictional_boundary.nodes)
+            {
                 *r = v[3 * p].hypot(v[3 * p + 2]);
             }
         }
@@ -180,7 +187,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let out = cli.out.clone();
     std::fs::create_dir_all(&out)?;
     println!(
-        "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {:?} law, {:?}, {:?} solver → {}",
+        "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {} law, {}, {} solver → {}",
         s.level,
         scene.width_m,
         scene.lateral,
@@ -196,18 +203,21 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let model = sim.model();
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");
-    let mut series = PointSeries::create(&series_csv, model, x0)?;
-    let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional.nodes.len());
-    let mut progress = Progress::new(s.steps, "slider 3-D");
+    let mut series = PointSeries::new(&series_csv, model, x0, FileMode::Create)?;
+    let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
+    let mut progress = Progress::steps(s.steps, "slider 3-D");
     let mut frames = match cli.frame_every {
         0 => None,
-        n => Some(VtuFrames::create(out.join("frames"), n)?),
+        n => Some(Every::new(
+            Interval::Steps(n),
+            VtuFrames::new(out.join("frames"), FileMode::Create)?,
+        )?),
     };
     println!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),
-        model.frictional.nodes.len(),
-        sim.solver_name(),
+        model.frictional_boundary.nodes.len(),
+        sim.method().solver_name(),
         setup.elapsed().as_secs_f64()
     );
     let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot, &mut progress];

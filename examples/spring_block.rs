@@ -25,18 +25,16 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use clap::{Parser, ValueEnum};
+use clap::Parser;
 use rsf::faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::state::Aging;
-use rsf::time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
-use rsf::tnnmg::DirectOptions;
+use rsf::time::{Quasistatic, VelocityIntegrator};
 use rsf::{
-    Checkpoint, DirichletVelocity, FixedPointOptions, FrictionalBoundary, Model, Simulation,
+    DirichletVelocity, FixedPointOptions, FrictionalBoundary, Integrator, Model, Simulation,
     SimulationBuilder, SolverKind, TimeFunction,
 };
-use rsf_examples::cli::Integrator as CliIntegrator;
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -107,36 +105,25 @@ fn build<I: VelocityIntegrator>(
             history: TimeFunction::Constant(1.0),
         },
         prolongations: Vec::new(),
-        frictional: FrictionalBoundary::new(&[0], &[1.0])?,
+        frictional_boundary: FrictionalBoundary::new(&[0], &[1.0])?,
         initial_displacement: vec![0.0, f_ss / k],
         cells: Vec::new(),
     };
     let alpha_ss = (p.l / blk.v_load).ln();
-    let mut sim = SimulationBuilder::new(model)
+    let sim = SimulationBuilder::new(model)
         .friction(DieterichRuina::new(p)?)
         .state_law(Aging::new(p.l)?)
         .initial_state(alpha_ss + blk.dalpha)
         .integrator(integrator)
+        // Start at v = V_load (the builder starts free dofs at rest otherwise), a = 0.
+        .initial_velocity_at(|_| [blk.v_load])
         .time_step(tau)
-        .solver(SolverKind::Direct(DirectOptions::default()))
+        .solver(SolverKind::Direct)
         .fixed_point(FixedPointOptions {
             max_iterations: 1000,
             ..FixedPointOptions::default()
         })
         .build()?;
-    // Start at v = V_load (Simulation::new starts the free dofs at rest), a = 0.
-    sim.restore(&Checkpoint {
-        dim: 1,
-        step: 0,
-        time: 0.0,
-        time_origin: (0, 0.0),
-        tau,
-        u: vec![0.0, f_ss / k],
-        v: vec![blk.v_load; 2],
-        a: vec![0.0; 2],
-        alpha: vec![alpha_ss + blk.dalpha],
-        controller: Vec::new(),
-    })?;
     Ok(sim)
 }
 
@@ -247,35 +234,6 @@ fn run<I: VelocityIntegrator>(
     })
 }
 
-#[derive(Debug, Clone)]
-enum Integrator {
-    Quasistatic(f64),
-    Newmark,
-    BackwardEuler,
-}
-
-fn run_any(
-    blk: &Block,
-    integ: &Integrator,
-    k: f64,
-    tau: f64,
-    steps: usize,
-    keep: bool,
-) -> Result<Outcome, AnyError> {
-    match integ {
-        Integrator::Quasistatic(eta) => run(
-            blk,
-            k,
-            Quasistatic::with_radiation_damping(*eta)?,
-            tau,
-            steps,
-            keep,
-        ),
-        Integrator::Newmark => run(blk, k, Newmark, tau, steps, keep),
-        Integrator::BackwardEuler => run(blk, k, BackwardEuler, tau, steps, keep),
-    }
-}
-
 fn write_series(path: &PathBuf, blk: &Block, k: f64, s: &[Sample]) -> Result<(), AnyError> {
     let law = DieterichRuina::new(blk.friction)?;
     let mut out = String::from(
@@ -304,7 +262,7 @@ fn write_series(path: &PathBuf, blk: &Block, k: f64, s: &[Sample]) -> Result<(),
 struct Cli {
     /// Velocity integrator.
     #[arg(long, value_enum, default_value = "quasistatic")]
-    integrator: CliIntegrator,
+    integrator: Integrator,
     /// Block mass (kg; dynamic integrators only).
     #[arg(long, default_value_t = 1.0, value_name = "KG")]
     mass: f64,
@@ -328,14 +286,12 @@ fn main() -> std::process::ExitCode {
 
 fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let (mass, steps_per_l, periods, out_dir) = (cli.mass, cli.steps_per_l, cli.periods, cli.out);
-    let integ_name = cli
-        .integrator
-        .to_possible_value()
-        .map_or_else(String::new, |v| v.get_name().to_owned());
+    let integ_name = cli.integrator.name();
     let integ = match cli.integrator {
-        CliIntegrator::Quasistatic => Integrator::Quasistatic(cli.eta),
-        CliIntegrator::Newmark => Integrator::Newmark,
-        CliIntegrator::BackwardEuler => Integrator::BackwardEuler,
+        Integrator::Quasistatic(_) => {
+            Integrator::Quasistatic(Quasistatic::with_radiation_damping(cli.eta)?)
+        }
+        other => other,
     };
     let blk = Block {
         friction: RateStateParams {
@@ -351,10 +307,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
             Integrator::Quasistatic(_) => None,
             _ => Some(mass),
         },
-        eta: match integ {
-            Integrator::Quasistatic(e) => e,
-            _ => 0.0,
-        },
+        eta: integ.radiation_damping(),
         dalpha: -0.01,
     };
     let p = blk.friction;
@@ -405,7 +358,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     );
     for &r in &ratios {
         let keep = r == 0.8 || r == 1.2;
-        let o = run_any(&blk, &integ, r * kc, tau, steps, keep)?;
+        let o = run(&blk, r * kc, integ, tau, steps, keep)?;
         println!(
             "{:>7.3} {:>14.4e} {:>10.3e} {:>10.4} {:>6} {:>9.2}  {}",
             r,
@@ -443,7 +396,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let mut bis = String::from("k_over_kc,growth_per_period,unstable\n");
     for _ in 0..10 {
         let mid = 0.5 * (lo + hi);
-        let o = run_any(&blk, &integ, mid * kc, tau, steps, false)?;
+        let o = run(&blk, mid * kc, integ, tau, steps, false)?;
         if let Some((t, _)) = &o.aborted {
             println!("bisection k/k_c = {mid:.4}: stopped at t = {t:.1} s in stick–slip");
         }

@@ -44,11 +44,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use rsf::{
-    EventDetector, EventThresholds, IntegratorKind, SliderScene, SolverChoice, SLIDER_CENTRE,
-};
-use rsf_examples::cli::{step_count, Integrator, Solver, StateUpdate};
-use rsf_examples::{machine, Series};
+use rsf::{EventDetector, EventThresholds, Integrator, SliderScene, SolverKind, SLIDER_CENTRE};
+use rsf_examples::cli::step_count;
+use rsf_examples::{machine, Labels, PanelLayout, Series};
 
 /// Which study to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -81,7 +79,7 @@ struct Cli {
     steps: usize,
     /// Only this solver (default: both).
     #[arg(long, value_enum)]
-    solver: Option<Solver>,
+    solver: Option<SolverKind>,
     /// Only this integrator in the time study (default: Newmark and backward Euler).
     #[arg(long, value_enum)]
     integrator: Option<Integrator>,
@@ -123,7 +121,7 @@ struct Cli {
     /// State update of the time and adaptive studies' runs (the reference keeps backward
     /// Euler).
     #[arg(long, value_enum, default_value = "backward-euler")]
-    state_integrator: StateUpdate,
+    state_integrator: rsf::StateIntegrator,
 }
 
 /// CPU seconds the repeats of one configuration of the adaptive study add up to at least,
@@ -383,22 +381,6 @@ fn opt(x: Option<f64>) -> String {
     x.map_or_else(|| "nan".into(), |v| format!("{v:.6e}"))
 }
 
-fn integrator_name(i: IntegratorKind) -> &'static str {
-    match i {
-        IntegratorKind::Newmark => "newmark",
-        IntegratorKind::BackwardEuler => "backward-euler",
-        IntegratorKind::Quasistatic => "quasistatic",
-    }
-}
-
-fn solver_name(s: SolverChoice) -> &'static str {
-    match s {
-        SolverChoice::Auto => "auto",
-        SolverChoice::Tnnmg => "tnnmg",
-        SolverChoice::Direct => "direct",
-    }
-}
-
 const ROW_HEAD: &str = "cpu_s,seconds,setup_s,step_s,record_s,steps,dofs,fpi_mean,solver_its,\
 du_x0_ta_m,err_u_rel,t_slip_s,err_tslip_rel,err_lnv_rms,failure";
 
@@ -507,14 +489,18 @@ fn plot_panels(
         .collect();
     Series::panels(
         path,
-        title,
-        "log10 CPU time (s)",
-        "log10 relative error",
+        &Labels {
+            title,
+            x: "log10 CPU time (s)",
+            y: "log10 relative error",
+        },
         &panels,
-        true,
-        false,
-        (x0 - pad, x1 + pad),
-        None,
+        &PanelLayout {
+            columns: true,
+            log_y: false,
+            x_range: (x0 - pad, x1 + pad),
+            y_range: None,
+        },
     )
 }
 
@@ -548,9 +534,9 @@ struct Ctx {
     mesh_steps: usize,
     energy_steps: usize,
     /// Integrators of the time-step study.
-    integrators: Vec<IntegratorKind>,
+    integrators: Vec<Integrator>,
     /// Solvers of the time-step study.
-    solvers: Vec<SolverChoice>,
+    solvers: Vec<SolverKind>,
     /// Tolerances of the adaptive study.
     tolerances: Vec<f64>,
     /// Uniform step counts of the adaptive study.
@@ -593,7 +579,7 @@ fn time_study(c: &Ctx) -> Res<()> {
         ref_n = ref_n.max(2_000_000);
     }
     let mut rs = base(c.level, ref_n);
-    rs.solver = SolverChoice::Direct;
+    rs.solver = SolverKind::Direct;
     let (tmin, tmax) = window(&rs);
     log(&format!("time study: reference Newmark direct N = {ref_n}"));
     let reference = trace(&rs, tmin, tmax, true)?;
@@ -611,11 +597,11 @@ fn time_study(c: &Ctx) -> Res<()> {
         row(&reference, &Errors::default())
     );
     let mut points = Vec::new();
-    for integrator in [IntegratorKind::Newmark, IntegratorKind::BackwardEuler] {
+    for integrator in [Integrator::Newmark, Integrator::BackwardEuler] {
         if !c.integrators.contains(&integrator) {
             continue;
         }
-        for solver in [SolverChoice::Tnnmg, SolverChoice::Direct] {
+        for solver in [SolverKind::Tnnmg, SolverKind::Direct] {
             if !c.solvers.contains(&solver) {
                 continue;
             }
@@ -634,23 +620,23 @@ fn time_study(c: &Ctx) -> Res<()> {
                 let e = errors(&tr, &reference, &s);
                 log(&format!(
                     "  {} {} N = {n}: {:.2} s, {}",
-                    integrator_name(integrator),
-                    solver_name(solver),
+                    integrator.name(),
+                    solver.name(),
                     tr.seconds(),
                     e.describe(&tr)
                 ));
                 let _ = writeln!(
                     csv,
                     "{},{},{},{n},{:.6e},{}",
-                    integrator_name(integrator),
-                    solver_name(solver),
+                    integrator.name(),
+                    solver.name(),
                     c.level,
                     s.tau(),
                     row(&tr, &e)
                 );
                 std::fs::write(c.out.join("time_step.csv"), &csv)?;
                 points.push((
-                    format!("{} {}", integrator_name(integrator), solver_name(solver)),
+                    format!("{} {}", integrator.name(), solver.name()),
                     tr.cpu_s,
                     [e.u, e.ts, e.lnv],
                 ));
@@ -676,7 +662,7 @@ fn time_study(c: &Ctx) -> Res<()> {
 /// ratio at 1 % and 0.1 % error in both (a) and (b).
 fn adaptive_study(c: &Ctx) -> Res<()> {
     let mut rs = base(c.level, c.ref_n);
-    rs.solver = SolverChoice::Direct;
+    rs.solver = SolverKind::Direct;
     let (tmin, tmax) = window(&rs);
     log(&format!(
         "adaptive study: reference Newmark direct N = {}",
@@ -696,13 +682,13 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
     let mut configs: Vec<(&'static str, String, SliderScene)> = Vec::new();
     for &n in &c.uniform {
         let mut s = base(c.level, n);
-        s.solver = SolverChoice::Direct;
+        s.solver = SolverKind::Direct;
         s.state_integrator = c.state_integrator;
         configs.push(("uniform", n.to_string(), s));
     }
     for &tol in &c.tolerances {
         let mut s = base(c.level, 10_000);
-        s.solver = SolverChoice::Direct;
+        s.solver = SolverKind::Direct;
         s.time_step = rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(tol));
         s.state_integrator = c.state_integrator;
         configs.push(("adaptive", format!("{tol:e}"), s));
@@ -804,7 +790,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
     let mut csv = format!("N,solver,sweep,solver_tol,fp_tol,{ROW_HEAD}\n");
     let mut points = Vec::new();
     for n in [1_000usize, 10_000] {
-        for solver in [SolverChoice::Tnnmg, SolverChoice::Direct] {
+        for solver in [SolverKind::Tnnmg, SolverKind::Direct] {
             let mut rs = base(c.level, n);
             rs.solver = solver;
             rs.solver_tolerance = 1e-14;
@@ -831,13 +817,13 @@ fn tol_study(c: &Ctx) -> Res<()> {
             let _ = writeln!(
                 csv,
                 "{n},{},reference,{:e},{:e},{}",
-                solver_name(solver),
+                solver.name(),
                 rs.solver_tolerance,
                 rs.fixed_point_tolerance,
                 row(&reference, &Errors::default())
             );
             // Both tolerances together; then each alone with the other at the reference's.
-            let sweeps: &[&str] = if n == 10_000 && solver == SolverChoice::Tnnmg {
+            let sweeps: &[&str] = if n == 10_000 && solver == SolverKind::Tnnmg {
                 &["both", "fixed-point", "solver"]
             } else {
                 &["both"]
@@ -861,7 +847,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
                     let e = errors(&tr, &reference, &s);
                     log(&format!(
                         "  tol N = {n} {} {sweep} {tol:e}: {:.2} s, err a {} b {} c {}",
-                        solver_name(solver),
+                        solver.name(),
                         tr.seconds(),
                         opt(e.u),
                         opt(e.ts),
@@ -870,7 +856,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
                     let _ = writeln!(
                         csv,
                         "{n},{},{sweep},{:e},{:e},{}",
-                        solver_name(solver),
+                        solver.name(),
                         s.solver_tolerance,
                         s.fixed_point_tolerance,
                         row(&tr, &e)
@@ -878,7 +864,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
                     std::fs::write(c.out.join("tolerance.csv"), &csv)?;
                     if sweep == "both" {
                         points.push((
-                            format!("N={n} {}", solver_name(solver)),
+                            format!("N={n} {}", solver.name()),
                             tr.cpu_s,
                             [e.u, e.ts, e.lnv],
                         ));
@@ -901,7 +887,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
 
 /// Frictionless shear mode at `level` with `steps` per period, run for 1.25 periods; returns (discrete energy
 /// error, interpolation error, both relative; CPU seconds; dofs).
-fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64, f64, usize)> {
+fn energy_run(level: usize, steps: usize, solver: SolverKind) -> Res<(f64, f64, f64, usize)> {
     let cpu0 = rsf_examples::cpu_seconds();
     let probe = SliderScene::default();
     let mu = probe.youngs_modulus_pa / (2.0 * (1.0 + probe.poisson_ratio));
@@ -935,11 +921,11 @@ fn energy_run(level: usize, steps: usize, solver: SolverChoice) -> Res<(f64, f64
     let mut sim = scene.build_with_model(model)?;
     let mut cp = sim.checkpoint();
     for (p, x) in vertices.iter().enumerate() {
-        cp.v[2 * p] = amp * omega * (std::f64::consts::PI * x[1]).sin();
-        cp.v[2 * p + 1] = 0.0;
+        cp.state.kinematics.v[2 * p] = amp * omega * (std::f64::consts::PI * x[1]).sin();
+        cp.state.kinematics.v[2 * p + 1] = 0.0;
     }
-    cp.u.fill(0.0);
-    cp.a.fill(0.0);
+    cp.state.kinematics.u.fill(0.0);
+    cp.state.kinematics.a.fill(0.0);
     sim.restore(&cp)?;
     for _ in 0..scene.steps {
         sim.step()?;
@@ -1019,7 +1005,7 @@ fn mesh_study(c: &Ctx) -> Res<()> {
     let n = c.mesh_steps;
     let ref_level = *levels.last().expect("levels");
     let mut rs = base(ref_level, n);
-    rs.solver = SolverChoice::Direct;
+    rs.solver = SolverKind::Direct;
     let (tmin, tmax) = window(&rs);
     log(&format!("mesh study: reference j = {ref_level}, N = {n}"));
     let reference = trace(&rs, tmin, tmax, true)?;
@@ -1031,7 +1017,7 @@ fn mesh_study(c: &Ctx) -> Res<()> {
         row(&reference, &Errors::default())
     );
     let mut points = Vec::new();
-    for solver in [SolverChoice::Tnnmg, SolverChoice::Direct] {
+    for solver in [SolverKind::Tnnmg, SolverKind::Direct] {
         for &j in &levels[..levels.len() - 1] {
             let mut s = base(j, n);
             s.solver = solver;
@@ -1039,16 +1025,16 @@ fn mesh_study(c: &Ctx) -> Res<()> {
             let e = errors(&tr, &reference, &s);
             log(&format!(
                 "  j = {j} {}: {:.2} s, err a {} b {} c {}",
-                solver_name(solver),
+                solver.name(),
                 tr.seconds(),
                 opt(e.u),
                 opt(e.ts),
                 opt(e.lnv)
             ));
-            let _ = writeln!(csv, "{j},{},{n},{}", solver_name(solver), row(&tr, &e));
+            let _ = writeln!(csv, "{j},{},{n},{}", solver.name(), row(&tr, &e));
             std::fs::write(c.out.join("mesh.csv"), &csv)?;
             points.push((
-                format!("{} (j = 2…)", solver_name(solver)),
+                format!("{} (j = 2…)", solver.name()),
                 tr.cpu_s,
                 [e.u, e.ts, e.lnv],
             ));
@@ -1056,7 +1042,7 @@ fn mesh_study(c: &Ctx) -> Res<()> {
     }
     // Timing of the reference with TNNMG, for the TNNMG-vs-direct comparison at j_max.
     let mut rt = rs.clone();
-    rt.solver = SolverChoice::Tnnmg;
+    rt.solver = SolverKind::Tnnmg;
     if let Ok(tr) = trace(&rt, tmin, tmax, true) {
         let e = errors(&tr, &reference, &rt);
         log(&format!(
@@ -1094,7 +1080,7 @@ fn energy_study(c: &Ctx) -> Res<Vec<Line>> {
         ("interpolation".to_string(), Vec::new()),
     ];
     for &j in &levels {
-        for (i, solver) in [SolverChoice::Tnnmg, SolverChoice::Direct]
+        for (i, solver) in [SolverKind::Tnnmg, SolverKind::Direct]
             .into_iter()
             .enumerate()
         {
@@ -1107,12 +1093,12 @@ fn energy_study(c: &Ctx) -> Res<Vec<Line>> {
                         log(&format!(
                             "  energy j = {j} {} steps {steps}: {secs:.2} s, err {err:.3e}, \
                              interp {interp:.3e}",
-                            solver_name(solver)
+                            solver.name()
                         ));
                         let _ = writeln!(
                             csv,
                             "{j},{},{steps},{dofs},{secs:.4},{err:.6e},{interp:.6e}",
-                            solver_name(solver)
+                            solver.name()
                         );
                         std::fs::write(c.out.join("energy.csv"), &csv)?;
                         if steps == c.energy_steps {
@@ -1122,7 +1108,7 @@ fn energy_study(c: &Ctx) -> Res<Vec<Line>> {
                             }
                         }
                     }
-                    Err(e) => log(&format!("  energy j = {j} {}: {e}", solver_name(solver))),
+                    Err(e) => log(&format!("  energy j = {j} {}: {e}", solver.name())),
                 }
             }
         }
@@ -1144,12 +1130,12 @@ fn run(cli: Cli) -> Res<()> {
         mesh_steps: cli.mesh_steps,
         energy_steps: cli.energy_steps,
         integrators: match cli.integrator {
-            Some(i) => vec![i.into()],
-            None => vec![IntegratorKind::Newmark, IntegratorKind::BackwardEuler],
+            Some(i) => vec![i],
+            None => vec![Integrator::Newmark, Integrator::BackwardEuler],
         },
         solvers: match cli.solver {
-            Some(s) => vec![s.into()],
-            None => vec![SolverChoice::Tnnmg, SolverChoice::Direct],
+            Some(s) => vec![s],
+            None => vec![SolverKind::Tnnmg, SolverKind::Direct],
         },
         tolerances: cli.tolerances.unwrap_or_else(|| {
             let per_decade = cli.per_decade.parse().expect("checked by clap");
@@ -1164,7 +1150,7 @@ fn run(cli: Cli) -> Res<()> {
                 .map(|n| n.round() as usize)
                 .collect()
         }),
-        state_integrator: cli.state_integrator.into(),
+        state_integrator: cli.state_integrator,
     };
     std::fs::create_dir_all(&c.out)?;
     std::fs::create_dir_all(&c.figures)?;
@@ -1175,7 +1161,7 @@ fn run(cli: Cli) -> Res<()> {
         // One run for `perf record`: phases setup / step / record by Instant.
         let mut s = base(c.level, cli.steps);
         if let Some(solver) = cli.solver {
-            s.solver = solver.into();
+            s.solver = solver;
         }
         let (tmin, tmax) = window(&s);
         let tr = trace(&s, tmin, tmax, false)?;
@@ -1184,7 +1170,7 @@ fn run(cli: Cli) -> Res<()> {
              {} steps, {:.2} FPI/step, {:.2} solver its/FPI, cpu {:.2} s",
             s.level,
             s.steps,
-            solver_name(s.solver),
+            s.solver.name(),
             tr.setup_s,
             tr.step_s,
             tr.record_s,

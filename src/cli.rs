@@ -4,109 +4,11 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::ValueEnum;
+use rsf::fem::Diagonal;
 use rsf::{
-    AdaptiveTimeStep, FixedPointScheme, IntegratorKind, SliderScene, SolverChoice, StateIntegrator,
+    AdaptiveTimeStep, FixedPointScheme, Integrator, SliderScene, SolverKind, StateIntegrator,
     StateLawKind, TimeStep,
 };
-
-/// State law (`--law`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Law {
-    /// Dieterich's aging law.
-    #[value(alias = "aging")]
-    Dieterich,
-    /// Ruina's slip law.
-    #[value(alias = "slip")]
-    Ruina,
-}
-
-/// State update (`--state-integrator`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum StateUpdate {
-    /// Backward Euler (the paper's).
-    BackwardEuler,
-    /// Exact at constant slip rate over the step (beyond the paper).
-    ConstantSlipRate,
-}
-
-impl From<StateUpdate> for StateIntegrator {
-    fn from(s: StateUpdate) -> Self {
-        match s {
-            StateUpdate::BackwardEuler => StateIntegrator::BackwardEuler,
-            StateUpdate::ConstantSlipRate => StateIntegrator::ConstantSlipRate,
-        }
-    }
-}
-
-/// Velocity integrator (`--integrator`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Integrator {
-    /// Newmark, β = ¼, γ = ½.
-    Newmark,
-    /// Backward Euler.
-    BackwardEuler,
-    /// Quasistatic.
-    Quasistatic,
-}
-
-/// Velocity solver (`--solver`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Solver {
-    /// Direct while Γ_F is small, TNNMG beyond.
-    Auto,
-    /// TNNMG.
-    Tnnmg,
-    /// Direct condensation onto Γ_F.
-    Direct,
-}
-
-/// Fixed point scheme (`--fixed-point`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum FixedPoint {
-    /// Anderson acceleration (default).
-    Anderson,
-    /// The paper's relaxed iteration.
-    Paper,
-}
-
-impl From<Law> for StateLawKind {
-    fn from(l: Law) -> Self {
-        match l {
-            Law::Dieterich => StateLawKind::Dieterich,
-            Law::Ruina => StateLawKind::Ruina,
-        }
-    }
-}
-
-impl From<Integrator> for IntegratorKind {
-    fn from(i: Integrator) -> Self {
-        match i {
-            Integrator::Newmark => IntegratorKind::Newmark,
-            Integrator::BackwardEuler => IntegratorKind::BackwardEuler,
-            Integrator::Quasistatic => IntegratorKind::Quasistatic,
-        }
-    }
-}
-
-impl From<Solver> for SolverChoice {
-    fn from(s: Solver) -> Self {
-        match s {
-            Solver::Auto => SolverChoice::Auto,
-            Solver::Tnnmg => SolverChoice::Tnnmg,
-            Solver::Direct => SolverChoice::Direct,
-        }
-    }
-}
-
-impl From<FixedPoint> for FixedPointScheme {
-    fn from(f: FixedPoint) -> Self {
-        match f {
-            FixedPoint::Anderson => FixedPointScheme::Anderson,
-            FixedPoint::Paper => FixedPointScheme::Paper,
-        }
-    }
-}
 
 /// The scene flags every slider example accepts; unset flags keep the scene's value.
 #[derive(Debug, Clone, Default, clap::Args)]
@@ -122,19 +24,22 @@ pub struct SceneArgs {
     pub end_time: Option<f64>,
     /// State law.
     #[arg(long, value_enum)]
-    pub law: Option<Law>,
+    pub law: Option<StateLawKind>,
     /// State update (docs/friction-state.md).
     #[arg(long, value_enum)]
-    pub state_integrator: Option<StateUpdate>,
+    pub state_integrator: Option<StateIntegrator>,
     /// Velocity integrator.
     #[arg(long, value_enum)]
     pub integrator: Option<Integrator>,
     /// Velocity solver.
     #[arg(long, value_enum)]
-    pub solver: Option<Solver>,
+    pub solver: Option<SolverKind>,
     /// Fixed point scheme.
     #[arg(long, value_enum)]
-    pub fixed_point: Option<FixedPoint>,
+    pub fixed_point: Option<FixedPointScheme>,
+    /// Triangulation diagonal of the coarse grid.
+    #[arg(long, value_enum)]
+    pub diagonal: Option<Diagonal>,
 }
 
 impl SceneArgs {
@@ -158,19 +63,22 @@ impl SceneArgs {
             scene.end_time_s = t;
         }
         if let Some(l) = self.law {
-            scene.state_law = l.into();
+            scene.state_law = l;
         }
         if let Some(s) = self.state_integrator {
-            scene.state_integrator = s.into();
+            scene.state_integrator = s;
         }
         if let Some(i) = self.integrator {
-            scene.integrator = i.into();
+            scene.integrator = i;
         }
         if let Some(s) = self.solver {
-            scene.solver = s.into();
+            scene.solver = s;
         }
         if let Some(f) = self.fixed_point {
-            scene.fixed_point = f.into();
+            scene.fixed_point = f;
+        }
+        if let Some(d) = self.diagonal {
+            scene.diagonal = d;
         }
         scene.validate()?;
         Ok(scene)
@@ -366,13 +274,10 @@ mod tests {
         let e = Cli::try_parse_from(["x", "--law", "regularized"])
             .err()
             .unwrap();
-        assert!(e.to_string().contains("dieterich"), "{e}");
+        assert!(e.to_string().contains("aging"), "{e}");
         let cli = Cli::try_parse_from(["x", "--level", "2", "--law", "slip"]).unwrap();
         let scene = cli.scene.scene(rsf::SliderScene::default()).unwrap();
-        assert_eq!(
-            (scene.level, scene.state_law),
-            (2, rsf::StateLawKind::Ruina)
-        );
+        assert_eq!((scene.level, scene.state_law), (2, rsf::StateLawKind::Slip));
         let cli = Cli::try_parse_from(["x", "--end-time", "-1"]).unwrap();
         assert!(cli.scene.scene(rsf::SliderScene::default()).is_err());
     }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::{cell_bounds, init_fonts, range, PlotResult};
+use crate::{cell_bounds, init_fonts, range, FieldMap, PlotResult};
 
 /// Axes and colour range of a [`log_heat_map`].
 pub struct HeatMapAxes<'a> {
@@ -20,8 +20,8 @@ pub struct HeatMapAxes<'a> {
     pub log10_range: (f64, f64),
 }
 
-/// Map of `log10 values[iy][ix]` (PNG, `size` pixels) over the increasing sample
-/// coordinates `xs` (columns) and `ys` (rows); each sample fills the cell up to the
+/// Map of `log10 map.values[iy][ix]` (PNG, `size` pixels) over the increasing sample
+/// coordinates `map.xs` (columns) and `map.ys` (rows); each sample fills the cell up to the
 /// midpoints to its neighbours ([`cell_bounds`]). Non-positive values are drawn at the
 /// bottom of the colour range.
 ///
@@ -34,10 +34,9 @@ pub fn log_heat_map(
     path: &Path,
     size: (u32, u32),
     axes: &HeatMapAxes<'_>,
-    xs: &[f64],
-    ys: &[f64],
-    values: &[Vec<f64>],
+    map: &FieldMap<'_>,
 ) -> PlotResult {
+    let FieldMap { xs, ys, values } = *map;
     init_fonts();
     let (lo, hi) = axes.log10_range;
     let root = BitMapBackend::new(path, size).into_drawing_area();

@@ -1,10 +1,9 @@
 //! Shared helpers for the examples and benches of the rsf workspace: command-line parsing
-//! ([`cli`], clap), progress display, the statistics and figures of slider runs (PNG via
+//! ([`cli`], clap), the statistics and figures of slider runs (PNG via
 //! `plotters`). Not a library for users — the libraries are the `rsf*` crates; running,
 //! recording and event detection are theirs; plotting lives here so that they never
 //! depend on it.
 
-use std::io::IsTerminal;
 use std::path::Path;
 
 use plotters::prelude::*;
@@ -15,25 +14,11 @@ mod panels;
 mod run;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};
 pub use heat_map::{log_heat_map, HeatMapAxes};
+pub use panels::PanelLayout;
 pub use run::{
-    cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, EveryInterval,
-    Progress, SliderRun, SliderStats,
+    cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,
+    SliderStats,
 };
-
-/// A progress bar on stderr when it is a terminal, nothing otherwise.
-pub fn progress(len: u64, what: &str) -> Option<indicatif::ProgressBar> {
-    if !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(len);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(what.to_string());
-    Some(bar)
-}
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
@@ -92,19 +77,46 @@ fn range(points: impl Iterator<Item = f64>) -> (f64, f64) {
     }
 }
 
-/// Line plot (PNG, 1000×600). With `log_y`, y is plotted as log10 and labelled so.
+/// The caption and axis labels of a figure.
+#[derive(Debug, Clone, Copy)]
+pub struct Labels<'a> {
+    /// Caption.
+    pub title: &'a str,
+    /// Label of the horizontal axis.
+    pub x: &'a str,
+    /// Label of the vertical axis.
+    pub y: &'a str,
+}
+
+/// Samples of a field on a rectangular grid: `values[iy][ix]` at the increasing
+/// coordinates `xs` (columns) and `ys` (rows).
+#[derive(Debug, Clone, Copy)]
+pub struct FieldMap<'a> {
+    /// Column coordinates.
+    pub xs: &'a [f64],
+    /// Row coordinates.
+    pub ys: &'a [f64],
+    /// One row of values per `ys` entry, one value per `xs` entry.
+    pub values: &'a [Vec<f64>],
+}
+
+/// Line plot (PNG, 1000×600). With `log_y` (`log_x`), y (x) is plotted as log10 and
+/// labelled so.
 ///
 /// # Errors
 /// Drawing or file errors.
 pub fn line_plot(
     path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
+    labels: &Labels<'_>,
     series: &[Series<'_>],
     log_y: bool,
     log_x: bool,
 ) -> PlotResult {
+    let Labels {
+        title,
+        x: x_label,
+        y: y_label,
+    } = *labels;
     init_fonts();
     let tf = |v: f64, log: bool| if log { v.max(1e-300).log10() } else { v };
     let (x0, x1) = range(
@@ -177,17 +189,16 @@ pub fn cell_bounds(v: &[f64], i: usize) -> (f64, f64) {
     (a, b)
 }
 
-/// Space–time map of `log10 value` (rows: times, columns: positions), PNG 1000×600,
-/// colour from blue (low) to red (high) over `[lo, hi]` in log10 units.
+/// Space–time map of `log10 value` (rows `map.ys`: times, columns `map.xs`: positions
+/// along the frictional boundary), PNG 1000×600, colour from blue (low) to red (high) over
+/// `[lo, hi]` in log10 units.
 ///
 /// # Errors
 /// Drawing or file errors.
 pub fn space_time_map(
     path: &Path,
     title: &str,
-    times: &[f64],
-    positions: &[f64],
-    values: &[Vec<f64>],
+    map: &FieldMap<'_>,
     log10_range: (f64, f64),
 ) -> PlotResult {
     let axes = HeatMapAxes {
@@ -196,5 +207,5 @@ pub fn space_time_map(
         y_label: "t (s)",
         log10_range,
     };
-    log_heat_map(path, (1000, 600), &axes, positions, times, values)
+    log_heat_map(path, (1000, 600), &axes, map)
 }

@@ -2,10 +2,24 @@
 
 use std::path::Path;
 
+/// How [`Series::panels`](crate::Series::panels) lays out its panels.
+#[derive(Debug, Clone, Copy)]
+pub struct PanelLayout {
+    /// Side by side (else stacked).
+    pub columns: bool,
+    /// y plotted as log10.
+    pub log_y: bool,
+    /// The x range shared by all panels.
+    pub x_range: (f64, f64),
+    /// The y range shared by all panels (else each panel's own).
+    pub y_range: Option<(f64, f64)>,
+}
+
 impl crate::Series<'_> {
-    /// Several plots in one PNG: side by side (`columns`) or stacked, one per
-    /// `(panel title, series)`, sharing the x range `x_range` and (if given) the y range.
-    /// With `log_y` the y values are plotted as log10. Long series are thinned to a
+    /// Several plots in one PNG under `labels` (caption and the axis labels of every panel):
+    /// side by side (`layout.columns`) or stacked, one per `(panel title, series)`, sharing
+    /// the x range `layout.x_range` and (if given) the y range. With `layout.log_y` the y
+    /// values are plotted as log10. Long series are thinned to a
     /// min/max envelope per pixel column so that peaks survive and the file stays small;
     /// series of at most 100 points (measurements) get a marker at every point.
     ///
@@ -13,15 +27,21 @@ impl crate::Series<'_> {
     /// Drawing or file errors.
     pub fn panels(
         path: &Path,
-        title: &str,
-        x_label: &str,
-        y_label: &str,
+        labels: &crate::Labels<'_>,
         panels: &[(&str, &[crate::Series<'_>])],
-        columns: bool,
-        log_y: bool,
-        x_range: (f64, f64),
-        y_range: Option<(f64, f64)>,
+        layout: &PanelLayout,
     ) -> Result<(), Box<dyn std::error::Error>> {
+        let crate::Labels {
+            title,
+            x: x_label,
+            y: y_label,
+        } = *labels;
+        let PanelLayout {
+            columns,
+            log_y,
+            x_range,
+            y_range,
+        } = *layout;
         use plotters::prelude::*;
         crate::init_fonts();
         let n = panels.len().max(1);

@@ -1,13 +1,13 @@
 //! What the figures and tables of a slider run need: plot-ready series built from the
 //! library's records (a [`Recorder`], or [`PointSeries`](rsf::PointSeries) /
 //! [`FrictionalProfile`](rsf::FrictionalProfile) files read back), their statistics (slip
-//! events by the library's [`EventDetector`]), `summary.json`, and a progress bar.
+//! events by the library's [`EventDetector`]) and `summary.json`.
 
 use std::path::Path;
 
 use rsf::{
-    EventDetector, EventThresholds, Flow, Observer, ProfileRow, Recorder, SeriesRow, SliderScene,
-    StepState,
+    EventDetector, EventThresholds, Every, FaultRecorder, FileMode, Interval, Observer, ProfileRow,
+    Recorder, SeriesRow, SliderScene,
 };
 
 /// Plot-ready series of a slider run at x0 and on Γ_F.
@@ -54,14 +54,26 @@ impl SliderRun {
         let setup = std::time::Instant::now();
         let mut sim = scene.build()?;
         let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE)?;
-        let mut rec = Recorder::new(sim.model(), &[x0], map_every)?;
+        let mut rec = Recorder::new(sim.model(), &[x0])?;
+        let mut fault = Every::new(
+            Interval::Steps(map_every.max(1)),
+            FaultRecorder::new(sim.model()),
+        )?;
         let mut series = match series_csv {
-            Some(path) => Some(rsf::PointSeries::create(path, sim.model(), x0)?),
+            Some(path) => Some(rsf::PointSeries::new(
+                path,
+                sim.model(),
+                x0,
+                FileMode::Create,
+            )?),
             None => None,
         };
-        let mut progress = Progress::for_scene(scene, 0.0, &format!("τ = T/{}", scene.steps));
+        let mut progress = scene.progress(0.0, &format!("τ = T/{}", scene.steps));
         let setup_seconds = setup.elapsed().as_secs_f64();
         let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut rec, &mut progress];
+        if map_every > 0 {
+            observers.push(&mut fault);
+        }
         if let Some(s) = series.as_mut() {
             observers.push(s);
         }
@@ -69,17 +81,18 @@ impl SliderRun {
         let mut run = Self {
             seconds: summary.seconds,
             setup_seconds,
-            rejected_steps: sim.step_controller().map_or(0, |c| c.rejected()),
+            rejected_steps: sim.state().controller.map_or(0, |c| c.rejected()),
             ..Self::default()
         };
         run.extend_from_recorder(&rec, sim.model());
+        run.extend_map(&fault.inner, sim.model());
         Ok(run)
     }
 
-    /// Appends the steps of `rec` (point 0 = x0) and its Γ_F snapshots as map rows.
+    /// Appends the steps of `rec` (point 0 = x0).
     pub fn extend_from_recorder(&mut self, rec: &Recorder<2>, model: &rsf::Model<2>) {
         self.dofs = model.num_dofs();
-        self.frictional_nodes = model.frictional.len();
+        self.frictional_nodes = model.frictional_boundary.len();
         for ((r, u), v) in rec
             .reports()
             .iter()
@@ -93,6 +106,10 @@ impl SliderRun {
             self.solver_iterations.push(r.solver_iterations);
             self.relaxed_steps += usize::from(r.relaxed_iterations > 0);
         }
+    }
+
+    /// Appends the Γ_F snapshots of `rec` as rows of the space–time map.
+    pub fn extend_map(&mut self, rec: &FaultRecorder<2>, model: &rsf::Model<2>) {
         if self.map.1.is_empty() {
             self.map.1 = rec
                 .fault_nodes()
@@ -284,129 +301,8 @@ pub fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
-/// An observer showing a progress bar on stderr (only when it is a terminal): of steps, or
-/// of simulated time for adaptive steps.
-pub struct Progress {
-    bar: Option<indicatif::ProgressBar>,
-    /// Bar units per simulated second (time-based bar), or `None` (one unit per step).
-    per_second: Option<f64>,
-}
-
-impl Progress {
-    /// A bar labelled `what` for `steps` steps.
-    pub fn new(steps: usize, what: &str) -> Self {
-        Self {
-            bar: crate::progress(steps as u64, what),
-            per_second: None,
-        }
-    }
-
-    /// A bar labelled `what` of simulated time from `t0` to `t_end` (s), in milliseconds.
-    pub fn until_time(t0: f64, t_end: f64, what: &str) -> Self {
-        let bar = crate::progress((1e3 * t_end).ceil().max(0.0) as u64, what);
-        if let Some(b) = &bar {
-            b.set_position((1e3 * t0).max(0.0) as u64);
-        }
-        Self {
-            bar,
-            per_second: Some(1e3),
-        }
-    }
-
-    /// The bar of a run of `scene` from time `t0` (s): of its steps for fixed steps (the
-    /// steps left after `t0`), of time for adaptive ones.
-    pub fn for_scene(scene: &SliderScene, t0: f64, what: &str) -> Self {
-        match scene.time_step {
-            rsf::TimeStep::Adaptive(_) => Self::until_time(t0, scene.end_time_s, what),
-            rsf::TimeStep::Fixed {} => {
-                let done = (t0 / scene.tau()).round() as usize;
-                Self::new(scene.steps.saturating_sub(done), what)
-            }
-        }
-    }
-}
-
-impl<const D: usize> Observer<D> for Progress {
-    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<Flow> {
-        if let Some(b) = &self.bar {
-            match self.per_second {
-                Some(k) => b.set_position((k * s.report.time) as u64),
-                None => b.inc(1),
-            }
-        }
-        Ok(Flow::Continue(()))
-    }
-    fn finish(&mut self) -> rsf::Result<()> {
-        if let Some(b) = &self.bar {
-            b.finish_and_clear();
-        }
-        Ok(())
-    }
-}
-
-/// Shows the steps to an inner observer only at the first step at or after each multiple
-/// of `interval` (s): sampling by time, for runs whose steps vary (adaptive steps). The
-/// decision depends on the step's time and τ only, so a resumed run samples the same
-/// steps.
-pub struct EveryInterval<O> {
-    /// The observer that sees the sampled steps.
-    pub inner: O,
-    interval: f64,
-}
-
-impl<O> EveryInterval<O> {
-    /// Samples every `interval` s (must be > 0).
-    ///
-    /// # Panics
-    /// If `interval` is not finite and positive (a programming error).
-    pub fn new(inner: O, interval: f64) -> Self {
-        assert!(
-            interval.is_finite() && interval > 0.0,
-            "interval {interval}"
-        );
-        Self { inner, interval }
-    }
-
-    /// Whether a step ending at `time` after a step of `tau` is sampled: the step crosses
-    /// (or ends on) a multiple of the interval.
-    pub fn samples(&self, time: f64, tau: f64) -> bool {
-        (time / self.interval).floor() > ((time - tau) / self.interval).floor()
-    }
-}
-
-impl<const D: usize, O: Observer<D>> Observer<D> for EveryInterval<O> {
-    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<Flow> {
-        if self.samples(s.report.time, s.report.tau) {
-            self.inner.observe(s)
-        } else {
-            Ok(Flow::Continue(()))
-        }
-    }
-    fn finish(&mut self) -> rsf::Result<()> {
-        self.inner.finish()
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::EveryInterval;
-
-    #[test]
-    fn sampling_by_time_takes_one_step_per_interval() {
-        let e = EveryInterval::new((), 0.1);
-        // Uneven steps: exactly one step of each interval is sampled.
-        let mut t: f64 = 0.0;
-        let mut sampled = 0;
-        for k in 0..400 {
-            let tau = if k % 3 == 0 { 0.013 } else { 0.0041 };
-            t += tau;
-            sampled += usize::from(e.samples(t, tau));
-        }
-        assert_eq!(sampled, (t / 0.1).floor() as usize);
-        // A step longer than the interval is sampled once.
-        assert!(e.samples(1.05, 0.5));
-    }
-
     /// `summary.json` names the tolerances the controller used: null for fixed steps, the
     /// defaults resolved (absolute tolerances from the displacement and state scales)
     /// for adaptive ones.

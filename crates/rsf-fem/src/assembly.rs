@@ -1,14 +1,12 @@
 //! Global assembly into `faer` CSC matrices with one shared symbolic pattern, and loads.
 
 use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
+use rsf_linalg::SparseMatrix;
 
 use crate::element::{p1_mass, p1_stiffness, LinearElasticity};
 use crate::geometry::p1_gradients;
 use crate::mesh::SimplexMesh;
 use crate::{Error, Result};
-
-/// Sparse matrix type used throughout rsf.
-pub type SparseMatrix = SparseColMat<usize, f64>;
 
 /// Assembler for node-major P1 vector fields (`D` components per vertex) on one mesh.
 ///
@@ -17,7 +15,7 @@ pub type SparseMatrix = SparseColMat<usize, f64>;
 /// pair to its position in the CSC value array. Numeric assembly then only evaluates
 /// element matrices on the stack and adds them into the value array: no allocation
 /// per element, no sorting. All matrices produced by one assembler share the pattern,
-/// so `A = c_M M + c_K K` can be formed value-by-value ([`combine`]) and a
+/// so `A = c_M M + c_K K` can be formed value-by-value ([`combine`](crate::combine)) and a
 /// [`Cholesky`](crate::Cholesky) analysis can be reused.
 #[derive(Debug, Clone)]
 pub struct Assembler<const D: usize> {
@@ -245,55 +243,5 @@ fn check_density(rho: f64) -> Result<()> {
         Ok(())
     } else {
         Err(Error::InvalidDensity(rho))
-    }
-}
-
-/// `c_a A + c_b B` for two matrices with the **same pattern** (e.g. `A = c_M M + c_K K`
-/// of docs/math.md §2, both from one [`Assembler`]).
-///
-/// # Errors
-/// [`Error::PatternMismatch`] if the patterns differ.
-pub fn combine(ca: f64, a: &SparseMatrix, cb: f64, b: &SparseMatrix) -> Result<SparseMatrix> {
-    if a.nrows() != b.nrows()
-        || a.ncols() != b.ncols()
-        || a.symbolic().col_ptr() != b.symbolic().col_ptr()
-        || a.symbolic().row_idx() != b.symbolic().row_idx()
-    {
-        return Err(Error::PatternMismatch);
-    }
-    let vals = a
-        .val()
-        .iter()
-        .zip(b.val())
-        .map(|(x, y)| ca * x + cb * y)
-        .collect();
-    Ok(SparseColMat::new(
-        a.symbolic()
-            .to_owned()
-            .map_err(|e| Error::Faer(format!("{e:?}")))?,
-        vals,
-    ))
-}
-
-/// `y ← y + α A x` for a CSC matrix (no allocation).
-///
-/// # Panics
-/// If the lengths do not match `A`'s shape (internal invariant of callers).
-pub fn spmv_add(
-    a: faer::sparse::SparseColMatRef<'_, usize, f64>,
-    alpha: f64,
-    x: &[f64],
-    y: &mut [f64],
-) {
-    assert_eq!(x.len(), a.ncols());
-    assert_eq!(y.len(), a.nrows());
-    for j in 0..a.ncols() {
-        let xj = alpha * x[j];
-        if xj == 0.0 {
-            continue;
-        }
-        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-            y[i] += v * xj;
-        }
     }
 }

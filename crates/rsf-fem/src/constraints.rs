@@ -2,8 +2,8 @@
 
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat};
 
-use crate::cholesky::Cholesky;
 use crate::{Error, Result};
+use rsf_linalg::Cholesky;
 
 /// Fixed components of nodes (node-major, `D` per node) with their prescribed values.
 ///
@@ -200,7 +200,7 @@ impl ConstrainedSystem {
         for (d, &(_, _, s)) in self.coupling_val.iter_mut().zip(&self.coupling) {
             *d = av[s];
         }
-        self.chol.factorize(self.reduced.as_ref())
+        Ok(self.chol.factorize(self.reduced.as_ref())?)
     }
 
     /// Solves `A x = b` on the free dofs: on entry the fixed entries of `x` hold the

@@ -123,6 +123,10 @@ pub enum Error {
     /// The matrix lacks the node-block structure required by the operation.
     #[error("matrix lacks the node-block sparsity structure")]
     NotBlockStructured,
+    /// Another error of the sparse linear algebra (`rsf-linalg`); its pattern, dimension,
+    /// positive-definiteness and faer errors arrive as the variants above.
+    #[error(transparent)]
+    Linalg(rsf_linalg::Error),
     /// Memory allocation or other failure inside faer.
     #[error("faer error: {0}")]
     Faer(String),
@@ -147,6 +151,16 @@ pub enum Error {
         /// The operating system's message.
         message: String,
     },
+    /// A name that is not one of the expected ones (e.g. of a [`Diagonal`](crate::Diagonal)).
+    #[error("unknown {what} `{name}` (expected {expected})")]
+    UnknownName {
+        /// What was named.
+        what: &'static str,
+        /// The name given (at most about 100 characters of it).
+        name: String,
+        /// The names that are accepted.
+        expected: &'static str,
+    },
 }
 
 fn location(line: &Option<usize>, section: &str) -> String {
@@ -164,3 +178,27 @@ fn location(line: &Option<usize>, section: &str) -> String {
 
 /// Result alias of `rsf-fem`.
 pub type Result<T> = std::result::Result<T, Error>;
+
+impl From<rsf_linalg::Error> for Error {
+    /// Keeps the variants this crate reported before the sparse linear algebra moved to
+    /// `rsf-linalg` (so that `Error::NotPositiveDefinite` still means a failed Cholesky).
+    fn from(e: rsf_linalg::Error) -> Self {
+        match e {
+            rsf_linalg::Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            } => Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            },
+            rsf_linalg::Error::PatternMismatch => Error::PatternMismatch,
+            rsf_linalg::Error::NotPositiveDefinite { detail } => {
+                Error::NotPositiveDefinite { detail }
+            }
+            rsf_linalg::Error::Faer(detail) => Error::Faer(detail),
+            other => Error::Linalg(other),
+        }
+    }
+}

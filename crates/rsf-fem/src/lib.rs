@@ -29,7 +29,6 @@
 
 mod assembly;
 mod boundary;
-mod cholesky;
 mod constraints;
 pub mod element;
 mod error;
@@ -43,9 +42,8 @@ mod part;
 mod refine;
 mod structured;
 
-pub use assembly::{combine, spmv_add, Assembler, SparseMatrix};
+pub use assembly::Assembler;
 pub use boundary::BoundarySegment;
-pub use cholesky::Cholesky;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
@@ -56,6 +54,7 @@ pub use loads::{body_force_load, lumped_weights, traction_load};
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
+pub use rsf_linalg::{combine, spmv_add, Cholesky, SparseMatrix};
 pub use structured::{
     cuboid, pipping_slider_coarse, rectangle, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

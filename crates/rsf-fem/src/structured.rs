@@ -12,13 +12,51 @@ pub const TAG_NEUMANN: &str = "neumann";
 pub const TAG_FRICTIONAL: &str = "frictional";
 
 /// Which diagonal splits each cell of a structured rectangle.
+///
+/// Names (`name`, `FromStr`, serde, clap): `forward`, `backward`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Diagonal {
     /// "/" : from the lower-left to the upper-right corner of every cell.
     #[default]
     Forward,
     /// "\" : from the upper-left to the lower-right corner of every cell.
     Backward,
+}
+
+impl Diagonal {
+    /// The name (`forward`, `backward`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Forward => "forward",
+            Self::Backward => "backward",
+        }
+    }
+}
+
+impl std::fmt::Display for Diagonal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Diagonal {
+    type Err = Error;
+
+    /// `forward` or `backward`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "forward" => Ok(Self::Forward),
+            "backward" => Ok(Self::Backward),
+            _ => Err(Error::UnknownName {
+                what: "diagonal",
+                name: rsf_numeric::excerpt(s),
+                expected: "forward, backward",
+            }),
+        }
+    }
 }
 
 /// Structured triangulation of the rectangle `[x0, x0 + lx] × [y0, y0 + ly]` with

@@ -50,13 +50,12 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod potentials;
-mod solve;
 
 pub use potentials::{
     AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams,
     StateDependentTresca, Tresca, TrescaPotential,
 };
-pub use rsf_state::{wright_omega_ln, StateVariable};
+pub use rsf_numeric::{wright_omega_ln, StateVariable};
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -180,7 +179,7 @@ pub trait FrictionLaw: Clone + Send + Sync {
     /// What the state `α` passed to [`potential`](FrictionLaw::potential) means:
     /// [`StateVariable::LogTheta`] (`α = ln θ`, θ in s) for the rate-and-state laws, the
     /// default. A simulation refuses a state law whose
-    /// [`StateLaw::state_variable`](rsf_state::StateLaw::state_variable) differs (e.g. the
+    /// state law (the `rsf-state` crate's `StateLaw::state_variable`) differs (e.g. the
     /// discontinuous law, `α = θ`, with Dieterich–Ruina friction would give μ ≈ 150).
     /// Irrelevant when [`uses_state`](FrictionLaw::uses_state) is `false`.
     fn state_variable(&self) -> StateVariable {

@@ -1,8 +1,7 @@
 //! The friction laws and their potentials.
 
-use crate::solve::solve_increasing;
 use crate::{ConvexPotential, Error, FrictionLaw, Result};
-use rsf_state::{wright_omega_ln, StateVariable};
+use rsf_numeric::{solve_increasing, wright_omega_ln, StateVariable};
 
 const LN_2: f64 = std::f64::consts::LN_2;
 

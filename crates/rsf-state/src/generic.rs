@@ -1,49 +1,84 @@
-//! The generic backward Euler update for a law given only by `∂ψ/∂α`.
+//! The backward Euler update of a law given only by `∂ψ/∂α` (the algorithm behind
+//! [`generic_update`](crate::generic_update)).
 
-use crate::{check_update_inputs, finite, Error, Result, StateLaw};
+use crate::error::{check_update_inputs, finite, Error, Result};
+use rsf_numeric::{safeguarded_newton, Bracket, IncreasingFunction, RootOutcome, Start, Stopping};
 
 /// Largest `|β|` the bracket search explores.
 const SEARCH_LIMIT: f64 = 1e300;
 /// Iteration cap (bisection from a width of `1e300` to one ulp needs < 2100 halvings).
 const MAX_ITERATIONS: usize = 2500;
 
-/// Backward Euler step for any [`StateLaw`]: the root `β` of the strictly increasing
-/// `F(β) = β − α_prev + τ ∂ψ/∂α(β, V)` (paper (3.5); docs/math.md §2).
-///
-/// **Bracketing.** With `g = ∂ψ/∂α(·, V)` nondecreasing and `g₀ = g(α_prev)`, the root
-/// lies between `α_prev` and `α_prev − τ g₀` (one evaluation, no search). If `τ g₀`
-/// overflows, a doubling search from `α_prev` finds a sign change (up to `|β| ≤ 1e300`).
-///
-/// **Iteration.** Newton steps on `F` (derivative `1 + τ ∂²ψ/∂α²` from
-/// [`StateLaw::d2psi_dalpha2`] or a forward difference), replaced by bisection whenever
-/// a step leaves the bracket or does not halve the previous step. It stops when the step
-/// or the bracket is below `4ε·max(1, |β|)`, i.e. at machine precision, which is below the
-/// paper's absolute `1e-12` for `|β| < 1000`; for larger `|β|` the absolute tolerance
-/// `1e-12` is not representable and the relative one is used. Discontinuous `∂ψ/∂α` (a
-/// subdifferential with a jump) converge by bisection onto the jump.
+/// A law at a fixed slip rate, as the update sees it: `∂ψ/∂α(·, V)` and, if known,
+/// `∂²ψ/∂α²(·, V)`.
+pub(crate) struct LawAtRate<G, H> {
+    /// `β ↦ ∂ψ/∂α(β, V)` (1/s).
+    pub(crate) dpsi: G,
+    /// `β ↦ ∂²ψ/∂α²(β, V)` (1/s), `None` where unknown.
+    pub(crate) d2psi: H,
+    /// The slip rate `V` (m/s), for error reports.
+    pub(crate) v: f64,
+}
+
+/// `F(β) = (β − α_prev) + τ ∂ψ/∂α(β, V)`, increasing; its slope from `∂²ψ/∂α²` or a
+/// forward difference.
+struct Residual<'a, G, H> {
+    law: &'a LawAtRate<G, H>,
+    alpha_prev: f64,
+    tau: f64,
+}
+
+impl<G: Fn(f64) -> f64, H: Fn(f64) -> Option<f64>> IncreasingFunction for Residual<'_, G, H> {
+    type Error = Error;
+    fn value(&mut self, beta: f64) -> Result<f64> {
+        // ±∞ are fine (they only carry the sign).
+        Ok((beta - self.alpha_prev) + self.tau * dpsi(self.law, beta)?)
+    }
+    fn slope(&mut self, beta: f64, f_beta: f64) -> Result<f64> {
+        if let Some(d2) = (self.law.d2psi)(beta) {
+            return Ok(1.0 + self.tau * d2.max(0.0));
+        }
+        let h = 1e-7 * beta.abs().max(1.0);
+        let fh = self.value(beta + h)?;
+        Ok(((fh - f_beta) / h).max(1.0))
+    }
+}
+
+fn dpsi<G: Fn(f64) -> f64, H>(law: &LawAtRate<G, H>, beta: f64) -> Result<f64> {
+    let d = (law.dpsi)(beta);
+    if d.is_nan() {
+        Err(Error::NanDerivative {
+            alpha: beta,
+            v: law.v,
+        })
+    } else {
+        Ok(d)
+    }
+}
+
+/// The backward Euler step of [`generic_update`](crate::generic_update) (documented there):
+/// bracket, then [`safeguarded_newton`] to `4ε·max(1, |β|)`.
 ///
 /// # Errors
-/// [`Error::InvalidInput`] for inadmissible inputs, [`Error::NanDerivative`] if
-/// `dpsi_dalpha` returns NaN, [`Error::NoBracket`] if no sign change exists in
-/// `|β| ≤ 1e300` (non-monotone law), [`Error::NotConverged`] after 2500 iterations,
-/// [`Error::NonFinite`] for a non-finite result. Never panics.
-pub fn generic_update<S: StateLaw>(law: &S, alpha_prev: f64, v: f64, tau: f64) -> Result<f64> {
+/// As [`generic_update`](crate::generic_update).
+pub(crate) fn backward_euler<G: Fn(f64) -> f64, H: Fn(f64) -> Option<f64>>(
+    law: &LawAtRate<G, H>,
+    alpha_prev: f64,
+    tau: f64,
+) -> Result<f64> {
+    let v = law.v;
     check_update_inputs(alpha_prev, v, tau)?;
     if tau == 0.0 {
         return Ok(alpha_prev);
     }
-    let g = |beta: f64| -> Result<f64> {
-        let d = law.dpsi_dalpha(beta, v);
-        if d.is_nan() {
-            Err(Error::NanDerivative { alpha: beta, v })
-        } else {
-            Ok(d)
-        }
+    let mut residual = Residual {
+        law,
+        alpha_prev,
+        tau,
     };
-    // F(β) = (β − α_prev) + τ g(β); ±∞ are fine (they only carry the sign).
-    let f = |beta: f64| -> Result<f64> { Ok((beta - alpha_prev) + tau * g(beta)?) };
+    let mut f = |beta: f64| residual.value(beta);
 
-    let g0 = g(alpha_prev)?;
+    let g0 = dpsi(law, alpha_prev)?;
     if g0 == 0.0 {
         return Ok(alpha_prev);
     }
@@ -70,60 +105,30 @@ pub fn generic_update<S: StateLaw>(law: &S, alpha_prev: f64, v: f64, tau: f64) -
     if f_far == 0.0 {
         return finite(far);
     }
-    let (mut lo, mut hi) = if dir > 0.0 {
+    let (lo, hi) = if dir > 0.0 {
         (alpha_prev, far)
     } else {
         (far, alpha_prev)
     };
 
-    let derivative = |beta: f64, f_beta: f64| -> Result<f64> {
-        if let Some(d2) = law.d2psi_dalpha2(beta, v) {
-            return Ok(1.0 + tau * d2.max(0.0));
-        }
-        let h = 1e-7 * beta.abs().max(1.0);
-        let fh = f(beta + h)?;
-        Ok(((fh - f_beta) / h).max(1.0))
-    };
-
     // Start from the end with the smaller residual (often exact already).
     let f_lo = f(lo)?;
     let f_hi = f(hi)?;
-    let (mut x, mut fx) = if f_lo.abs() <= f_hi.abs() {
+    let (x, fx) = if f_lo.abs() <= f_hi.abs() {
         (lo, f_lo)
     } else {
         (hi, f_hi)
     };
-    let mut dx_old = hi - lo;
-    for _ in 0..MAX_ITERATIONS {
-        if fx == 0.0 {
-            return finite(x);
-        }
-        if fx < 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let df = derivative(x, fx)?;
-        let newton = x - fx / df;
-        if (newton - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(1.0) {
-            // Converged: the Newton correction is at rounding level.
-            return finite(newton);
-        }
-        let accept = newton.is_finite()
-            && newton > lo
-            && newton < hi
-            && (2.0 * fx).abs() <= (dx_old * df).abs();
-        let x_new = if accept { newton } else { 0.5 * (lo + hi) };
-        dx_old = (x_new - x).abs();
-        x = x_new;
-        fx = f(x)?;
-        let tol = 4.0 * f64::EPSILON * x.abs().max(1.0);
-        if dx_old <= tol || hi - lo <= tol {
-            return finite(x);
-        }
+    let bracket = Bracket { lo, hi };
+    let stopping = Stopping {
+        tolerance: 4.0,
+        max_iterations: MAX_ITERATIONS,
+    };
+    match safeguarded_newton(&mut residual, bracket, Start { x, value: fx }, stopping)? {
+        RootOutcome::Converged(beta) => finite(beta),
+        RootOutcome::IterationLimit { width, .. } => Err(Error::NotConverged {
+            iterations: MAX_ITERATIONS,
+            width,
+        }),
     }
-    Err(Error::NotConverged {
-        iterations: MAX_ITERATIONS,
-        width: hi - lo,
-    })
 }

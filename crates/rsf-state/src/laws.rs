@@ -1,7 +1,8 @@
 //! Built-in state laws with closed-form backward Euler updates.
 
-use crate::omega::wright_omega_ln;
-use crate::{check_update_inputs, finite, Error, Result, StateLaw, StateVariable};
+use crate::error::{check_update_inputs, finite, Error, Result};
+use crate::law::StateLaw;
+use rsf_numeric::{wright_omega_ln, StateVariable};
 
 fn check_l(l: f64) -> Result<()> {
     if l.is_finite() && l > 0.0 {

@@ -1,7 +1,7 @@
 //! The monotonicity probe of a user law's `∂ψ/∂α` (docs/math.md §2: the backward Euler
 //! update has exactly one root only if `ψ(·, V)` is convex).
 
-use crate::{Error, Result, StateLaw};
+use crate::error::{Error, Result};
 
 /// Smallest state of the probe grid.
 pub const PROBE_ALPHA_MIN: f64 = -40.0;
@@ -18,28 +18,14 @@ pub const PROBE_SLIP_RATES: [f64; 20] = [
 /// magnitude of two neighbouring values is not reported.
 const ROUND_OFF: f64 = 1e-12;
 
-/// Checks on a grid that `∂ψ/∂α(·, V)` is nondecreasing, i.e. that `ψ(·, V)` is convex
-/// and the backward Euler update `β − α_prev + τ ∂ψ/∂α(β, V) = 0` has a single root.
-///
-/// **Grid.** `α` at the [`PROBE_ALPHA_POINTS`] = 161 equally spaced points of
-/// [[`PROBE_ALPHA_MIN`], [`PROBE_ALPHA_MAX`]] = [−40, 40] (spacing 0.5; for `α = ln θ` this
-/// is θ from 4e-18 s to 2e17 s), for each slip rate of [`PROBE_SLIP_RATES`] (0 and
-/// 1e-15 … 1e3 m/s): 3220 evaluations. Neighbouring values may decrease by round-off
-/// (1e-12 of their magnitude). A probe can only find violations on its grid: a law that
-/// is non-monotone on a finer scale than 0.5 or outside the grid passes (the generic
-/// update then still fails with [`Error::NoBracket`] when it cannot bracket a root, but
-/// may return one of several roots).
-///
-/// # Errors
-/// [`Error::NotMonotone`] with the first decreasing pair found; [`Error::NanDerivative`]
-/// if the law returns NaN on the grid. Never panics.
-pub fn probe_monotonicity<S: StateLaw>(law: &S) -> Result<()> {
+/// The check of [`probe_monotonicity`](crate::probe_monotonicity) for `dpsi(α, V) = ∂ψ/∂α(α, V)`.
+pub(crate) fn first_decrease(dpsi: impl Fn(f64, f64) -> f64) -> Result<()> {
     let h = (PROBE_ALPHA_MAX - PROBE_ALPHA_MIN) / (PROBE_ALPHA_POINTS - 1) as f64;
     for &v in &PROBE_SLIP_RATES {
         let mut prev: Option<(f64, f64)> = None;
         for i in 0..PROBE_ALPHA_POINTS {
             let alpha = PROBE_ALPHA_MIN + h * i as f64;
-            let d = law.dpsi_dalpha(alpha, v);
+            let d = dpsi(alpha, v);
             if d.is_nan() {
                 return Err(Error::NanDerivative { alpha, v });
             }

@@ -2,8 +2,9 @@
 //!
 //! The coupled scheme is first order: Newmark (or backward Euler) for the velocity, and the
 //! backward Euler update of the state, whose local truncation error `−τ²/2 · α̈` dominates.
-//! [`StepController`] turns a per-step error estimate (computed by the caller, see
-//! [`StepControl`]) into accept/reject decisions and the next time step:
+//! [`StepControl`] (the options) turns a per-step error estimate (computed by the caller)
+//! into accept/reject decisions and the next time step, acting on a [`ControllerState`]
+//! (the evolving part, which a checkpoint saves):
 //!
 //! - accept when the scaled error `err ≤ 1`; next `τ = τ · clamp(s · err^{−1/2}, f_min,
 //!   f_max)` (exponent `−1/(p + 1)` for order `p = 1`, safety `s`);
@@ -23,6 +24,7 @@ use crate::{Error, Result};
 
 /// Options of the step controller. Units: `tau_*` in s; tolerances as described.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct StepControl {
     /// Relative tolerance: on the displacement `u − u₀` (per dof, maximum norm) and, as an
     /// absolute tolerance, on the state `α = ln θ` (an error `δα` is a relative error
@@ -150,10 +152,15 @@ impl StepControl {
     }
 }
 
-/// The state of the controller: the current step and the ladder it lives on.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StepController {
-    opts: StepControl,
+/// The evolving state of adaptive time steps: the ladder `τ_ref · 2^k` and the rung `k` of
+/// the current step, counters and the last error. It belongs to a simulation's state (what
+/// a checkpoint saves); the options ([`StepControl`]) belong to its method, and the
+/// controller's decisions are [`StepControl::start`], [`StepControl::accept`] and
+/// [`StepControl::reject`] acting on this state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ControllerState {
+    /// Reference step `τ_ref` of the ladder (s).
     tau_ref: f64,
     /// Current rung: `τ = τ_ref · 2^k`.
     k: i32,
@@ -163,39 +170,16 @@ pub struct StepController {
     last_error: f64,
 }
 
-/// Number of `f64` values of [`StepController::to_state`].
-const STATE_LEN: usize = 5;
+/// Number of `f64` values of [`ControllerState::to_values`].
+pub const CONTROLLER_STATE_LEN: usize = 5;
 
-impl StepController {
-    /// Starts at `tau0` (s), which becomes the reference of the ladder; `tau0` is clamped to
-    /// `[tau_min, tau_max]`.
-    ///
-    /// # Errors
-    /// Invalid options or a non-positive `tau0`.
-    pub fn new(opts: StepControl, tau0: f64) -> Result<Self> {
-        opts.validate()?;
-        crate::check_time_step(tau0)?;
-        Ok(Self {
-            opts,
-            tau_ref: tau0.clamp(opts.tau_min, opts.tau_max),
-            k: 0,
-            accepted: 0,
-            rejected: 0,
-            last_error: 0.0,
-        })
-    }
-
-    /// The options.
-    pub fn options(&self) -> &StepControl {
-        &self.opts
-    }
-
+impl ControllerState {
     /// The current time step (s).
     pub fn tau(&self) -> f64 {
         rung(self.tau_ref, self.k)
     }
 
-    /// Steps accepted through [`accept`](Self::accept) so far. A caller that shortens a
+    /// Steps accepted through [`StepControl::accept`] so far. A caller that shortens a
     /// step to end on a breakpoint and does not report it (as `rsf`'s simulation does, to
     /// keep the rung) has taken more steps than this.
     pub fn accepted(&self) -> u64 {
@@ -212,81 +196,10 @@ impl StepController {
         self.last_error
     }
 
-    /// The rung of the ladder at or below `tau` within the bounds.
-    fn rung_below(&self, tau: f64) -> i32 {
-        let tau = tau.clamp(self.opts.tau_min, self.opts.tau_max);
-        let mut k = (tau / self.tau_ref).log2().floor() as i32;
-        // Guard the rounding of log2 and the bounds.
-        while rung(self.tau_ref, k) > tau * (1.0 + 1e-12) {
-            k -= 1;
-        }
-        while rung(self.tau_ref, k + 1) <= tau * (1.0 + 1e-12) {
-            k += 1;
-        }
-        while rung(self.tau_ref, k) < self.opts.tau_min * (1.0 - 1e-12) {
-            k += 1;
-        }
-        k
-    }
-
-    /// The step of error `err` (scaled, accept when `≤ 1`) and largest state change
-    /// `max |Δα|` was accepted: moves to the next step size.
-    pub fn accept(&mut self, err: f64, state_change: f64) {
-        self.accepted += 1;
-        self.last_error = err;
-        let tau = self.tau();
-        let o = &self.opts;
-        let factor = if err > 0.0 {
-            (o.safety * err.powf(-0.5)).clamp(o.min_factor, o.max_factor)
-        } else {
-            o.max_factor
-        };
-        let mut next = tau * factor;
-        if let Some(xi) = o.state_change_cap {
-            if state_change > 0.0 {
-                next = next.min(xi * tau / state_change);
-            }
-        }
-        // Never below the rung under the current step unless the estimate asks for it.
-        self.k = self.rung_below(next);
-    }
-
-    /// The attempt with scaled error `err` was rejected (`err = ∞` for a failed attempt):
-    /// moves to a smaller step.
-    ///
-    /// The step shrinks by a factor `clamp(s · err^{−1/2}, min(f_min, ½), ½)` (¼ for a
-    /// failed attempt, `err` not finite), rounded down to the ladder, and always by at
-    /// least one rung.
-    ///
-    /// # Errors
-    /// [`Error::StepTooSmall`] when no rung below the current step is at least `tau_min`
-    /// (the step is then unchanged; the attempt still counts as rejected).
-    pub fn reject(&mut self, err: f64) -> Result<()> {
-        self.rejected += 1;
-        self.last_error = err;
-        let tau = self.tau();
-        let o = &self.opts;
-        let factor = if err.is_finite() && err > 0.0 {
-            // A rejection shrinks by at least ½ even when f_min > ½ (`clamp` needs
-            // lo ≤ hi).
-            (o.safety * err.powf(-0.5)).clamp(o.min_factor.min(0.5), 0.5)
-        } else {
-            0.25
-        };
-        let k = self.rung_below(tau * factor).min(self.k - 1);
-        if rung(self.tau_ref, k) < o.tau_min * (1.0 - 1e-12) {
-            return Err(Error::StepTooSmall {
-                tau,
-                tau_min: o.tau_min,
-            });
-        }
-        self.k = k;
-        Ok(())
-    }
-
-    /// The controller's state as numbers (for checkpoints).
-    pub fn to_state(&self) -> Vec<f64> {
-        vec![
+    /// The state as numbers (for checkpoints): `τ_ref`, `k`, accepted, rejected, last
+    /// error.
+    pub fn to_values(&self) -> [f64; CONTROLLER_STATE_LEN] {
+        [
             self.tau_ref,
             f64::from(self.k),
             self.accepted as f64,
@@ -295,36 +208,129 @@ impl StepController {
         ]
     }
 
-    /// Restores a state written by [`to_state`](Self::to_state) (the options are kept).
+    /// The state written by [`to_values`](Self::to_values).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a state of the wrong length or with invalid values.
-    pub fn restore_state(&mut self, state: &[f64]) -> Result<()> {
+    /// [`Error::InvalidParameter`] for the wrong number of values or invalid values.
+    pub fn from_values(values: &[f64]) -> Result<Self> {
         let invalid = |value: f64| Error::InvalidParameter {
             name: "controller state",
             value,
-            requirement: "5 values written by StepController::to_state (finite but the \
+            requirement: "5 values written by ControllerState::to_values (finite but the \
                           last error, which is >= 0 or +inf after a failed attempt)",
         };
-        if state.len() != STATE_LEN {
-            return Err(invalid(state.len() as f64));
+        if values.len() != CONTROLLER_STATE_LEN {
+            return Err(invalid(values.len() as f64));
         }
         // The last error is +∞ after a failed attempt (`reject(f64::INFINITY)`); the other
         // values are finite.
-        if let Some(&bad) = state[..STATE_LEN - 1].iter().find(|x| !x.is_finite()) {
+        if let Some(&bad) = values[..CONTROLLER_STATE_LEN - 1]
+            .iter()
+            .find(|x| !x.is_finite())
+        {
             return Err(invalid(bad));
         }
-        if !(state[4] >= 0.0) {
-            return Err(invalid(state[4]));
+        if !(values[4] >= 0.0) {
+            return Err(invalid(values[4]));
         }
-        if !(state[0] > 0.0) || state[1].fract() != 0.0 || state[2] < 0.0 || state[3] < 0.0 {
-            return Err(invalid(state[0]));
+        if !(values[0] > 0.0) || values[1].fract() != 0.0 || values[2] < 0.0 || values[3] < 0.0 {
+            return Err(invalid(values[0]));
         }
-        self.tau_ref = state[0];
-        self.k = state[1] as i32;
-        self.accepted = state[2] as u64;
-        self.rejected = state[3] as u64;
-        self.last_error = state[4];
+        Ok(Self {
+            tau_ref: values[0],
+            k: values[1] as i32,
+            accepted: values[2] as u64,
+            rejected: values[3] as u64,
+            last_error: values[4],
+        })
+    }
+}
+
+impl StepControl {
+    /// The controller's state at the start of a run with initial step `tau0` (s), which
+    /// becomes the reference of the ladder after clamping to `[tau_min, tau_max]`.
+    ///
+    /// # Errors
+    /// Invalid options or a `tau0` that is not finite and positive.
+    pub fn start(&self, tau0: f64) -> Result<ControllerState> {
+        self.validate()?;
+        crate::check_time_step(tau0)?;
+        Ok(ControllerState {
+            tau_ref: tau0.clamp(self.tau_min, self.tau_max),
+            k: 0,
+            accepted: 0,
+            rejected: 0,
+            last_error: 0.0,
+        })
+    }
+
+    /// The rung of the ladder of `c` at or below `tau` within the bounds.
+    fn rung_below(&self, c: &ControllerState, tau: f64) -> i32 {
+        let tau = tau.clamp(self.tau_min, self.tau_max);
+        let mut k = (tau / c.tau_ref).log2().floor() as i32;
+        // Guard the rounding of log2 and the bounds.
+        while rung(c.tau_ref, k) > tau * (1.0 + 1e-12) {
+            k -= 1;
+        }
+        while rung(c.tau_ref, k + 1) <= tau * (1.0 + 1e-12) {
+            k += 1;
+        }
+        while rung(c.tau_ref, k) < self.tau_min * (1.0 - 1e-12) {
+            k += 1;
+        }
+        k
+    }
+
+    /// The step of error `err` (scaled, accept when `≤ 1`) and largest state change
+    /// `max |Δα|` was accepted: moves `c` to the next step size.
+    pub fn accept(&self, c: &mut ControllerState, err: f64, state_change: f64) {
+        c.accepted += 1;
+        c.last_error = err;
+        let tau = c.tau();
+        let factor = if err > 0.0 {
+            (self.safety * err.powf(-0.5)).clamp(self.min_factor, self.max_factor)
+        } else {
+            self.max_factor
+        };
+        let mut next = tau * factor;
+        if let Some(xi) = self.state_change_cap {
+            if state_change > 0.0 {
+                next = next.min(xi * tau / state_change);
+            }
+        }
+        // Never below the rung under the current step unless the estimate asks for it.
+        c.k = self.rung_below(c, next);
+    }
+
+    /// The attempt with scaled error `err` was rejected (`err = ∞` for a failed attempt):
+    /// moves `c` to a smaller step.
+    ///
+    /// The step shrinks by a factor `clamp(s · err^{−1/2}, min(f_min, ½), ½)` (¼ for a
+    /// failed attempt, `err` not finite), rounded down to the ladder, and always by at
+    /// least one rung.
+    ///
+    /// # Errors
+    /// [`Error::StepTooSmall`] when no rung below the current step is at least `tau_min`
+    /// (the step is then unchanged; the attempt still counts as rejected).
+    pub fn reject(&self, c: &mut ControllerState, err: f64) -> Result<()> {
+        c.rejected += 1;
+        c.last_error = err;
+        let tau = c.tau();
+        let factor = if err.is_finite() && err > 0.0 {
+            // A rejection shrinks by at least ½ even when f_min > ½ (`clamp` needs
+            // lo ≤ hi).
+            (self.safety * err.powf(-0.5)).clamp(self.min_factor.min(0.5), 0.5)
+        } else {
+            0.25
+        };
+        let k = self.rung_below(c, tau * factor).min(c.k - 1);
+        if rung(c.tau_ref, k) < self.tau_min * (1.0 - 1e-12) {
+            return Err(Error::StepTooSmall {
+                tau,
+                tau_min: self.tau_min,
+            });
+        }
+        c.k = k;
         Ok(())
     }
 }
@@ -343,11 +349,12 @@ mod tests {
 
     #[test]
     fn steps_stay_on_the_ladder_and_within_bounds() {
-        let mut c = StepController::new(control(), 1e-3).unwrap();
+        let o = control();
+        let mut c = o.start(1e-3).unwrap();
         for err in [
             0.0, 1e-6, 0.01, 0.5, 0.9, 1e-9, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
         ] {
-            c.accept(err, 0.0);
+            o.accept(&mut c, err, 0.0);
             let r = (c.tau() / 1e-3).log2();
             assert!((r - r.round()).abs() < 1e-9, "off the ladder: {}", c.tau());
             assert!(c.tau() <= 1.0 && c.tau() >= 1e-6);
@@ -358,12 +365,12 @@ mod tests {
             c.tau()
         );
         while c.tau() > 2e-6 {
-            c.reject(f64::INFINITY).unwrap();
+            o.reject(&mut c, f64::INFINITY).unwrap();
         }
-        assert!(c.reject(f64::INFINITY).is_err() || c.tau() >= 1e-6);
+        assert!(o.reject(&mut c, f64::INFINITY).is_err() || c.tau() >= 1e-6);
         let mut errs = 0;
         for _ in 0..40 {
-            if c.reject(10.0).is_err() {
+            if o.reject(&mut c, 10.0).is_err() {
                 errs += 1;
             }
             assert!(c.tau() >= 1e-6 * (1.0 - 1e-12));
@@ -373,30 +380,31 @@ mod tests {
 
     #[test]
     fn growth_is_limited_and_the_state_cap_applies() {
-        let mut c = StepController::new(control(), 1e-3).unwrap();
-        c.accept(0.0, 0.0);
+        let o = control();
+        let mut c = o.start(1e-3).unwrap();
+        o.accept(&mut c, 0.0, 0.0);
         assert_eq!(c.tau(), 2e-3, "at most max_factor = 2 per step");
         // A state change of 2 per step with ξ = 0.5 caps the next step at τ/4.
-        c.accept(1e-6, 2.0);
+        o.accept(&mut c, 1e-6, 2.0);
         assert_eq!(c.tau(), 5e-4);
         // An error estimate of 4 halves... (0.9 · 4^{-1/2} = 0.45 → rung below is τ/4).
         let t = c.tau();
-        c.reject(4.0).unwrap();
+        o.reject(&mut c, 4.0).unwrap();
         assert_eq!(c.tau(), t / 4.0);
     }
 
     #[test]
     fn state_round_trips_and_rejects_garbage() {
-        let mut c = StepController::new(control(), 1e-3).unwrap();
-        c.accept(0.1, 0.0);
-        c.reject(3.0).unwrap();
-        let s = c.to_state();
-        let mut d = StepController::new(control(), 7e-3).unwrap();
-        d.restore_state(&s).unwrap();
+        let o = control();
+        let mut c = o.start(1e-3).unwrap();
+        o.accept(&mut c, 0.1, 0.0);
+        o.reject(&mut c, 3.0).unwrap();
+        let s = c.to_values();
+        let d = ControllerState::from_values(&s).unwrap();
         assert_eq!(c, d);
-        assert!(d.restore_state(&[1.0]).is_err());
-        assert!(d.restore_state(&[1.0, f64::NAN, 0.0, 0.0, 0.0]).is_err());
-        assert!(d.restore_state(&[1.0, 0.5, 0.0, 0.0, 0.0]).is_err());
+        assert!(ControllerState::from_values(&[1.0]).is_err());
+        assert!(ControllerState::from_values(&[1.0, f64::NAN, 0.0, 0.0, 0.0]).is_err());
+        assert!(ControllerState::from_values(&[1.0, 0.5, 0.0, 0.0, 0.0]).is_err());
     }
 
     #[test]

@@ -24,10 +24,12 @@
 #![warn(missing_docs)]
 
 pub mod adaptive;
+mod choice;
 
-pub use adaptive::{StepControl, StepController};
+pub use adaptive::{ControllerState, StepControl};
+pub use choice::Integrator;
 
-use rsf_fem::SparseMatrix;
+use rsf_linalg::SparseMatrix;
 
 /// Errors of the time integrators.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -66,6 +68,16 @@ pub enum Error {
         /// What is required.
         requirement: &'static str,
     },
+    /// A name that is not one of the expected ones (e.g. of an [`Integrator`]).
+    #[error("unknown {what} `{name}` (expected {expected})")]
+    UnknownName {
+        /// What was named.
+        what: &'static str,
+        /// The name given (at most about 100 characters of it).
+        name: String,
+        /// The names that are accepted.
+        expected: &'static str,
+    },
 }
 
 /// Result alias of this crate.
@@ -73,6 +85,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// Displacement, velocity and acceleration at one time level (node-major, equal lengths).
 #[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Kinematics {
     /// Displacement `u` (m).
     pub u: Vec<f64>,
@@ -149,8 +162,8 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
         w_stiffness: &mut [f64],
     ) -> Result<()>;
 
-    /// `ℓ_n` into `out` from the load `F(t_n)` and the previous state (a convenience that
-    /// allocates two work vectors; time loops use [`LoadOperator`]).
+    /// `ℓ_n` into `out` from the matrices, the load `F(t_n)` and the previous state (a
+    /// convenience that allocates two work vectors; time loops use [`LoadOperator`]).
     ///
     /// # Errors
     /// [`Error::InvalidTimeStep`], [`Error::MissingMass`] if `mass` is `None` but
@@ -158,12 +171,12 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
     fn right_hand_side(
         &self,
         tau: f64,
-        mass: Option<&SparseMatrix>,
-        stiffness: &SparseMatrix,
+        matrices: SystemMatrices<'_>,
         load: &[f64],
         prev: &Kinematics,
         out: &mut [f64],
     ) -> Result<()> {
+        let SystemMatrices { mass, stiffness } = matrices;
         check_time_step(tau)?;
         check_lengths(stiffness.nrows(), load, prev, out)?;
         let mass = match (mass, self.uses_mass()) {
@@ -191,6 +204,24 @@ pub trait VelocityIntegrator: Clone + Send + Sync {
         for ((o, vn), vp) in out.iter_mut().zip(&next.v).zip(&prev.v) {
             *o = 0.5 * tau * (vn - vp);
         }
+    }
+}
+
+/// The matrices of a velocity problem: the mass matrix `M` (if assembled; quasistatic
+/// problems have none) and the stiffness matrix `K`, both `n × n`, symmetric, both
+/// triangles stored.
+#[derive(Debug, Clone, Copy)]
+pub struct SystemMatrices<'a> {
+    /// `M` (kg, or kg/m per unit thickness in 2D), if any.
+    pub mass: Option<&'a SparseMatrix>,
+    /// `K` (N/m).
+    pub stiffness: &'a SparseMatrix,
+}
+
+impl<'a> SystemMatrices<'a> {
+    /// `M` (if any) and `K`.
+    pub fn new(mass: Option<&'a SparseMatrix>, stiffness: &'a SparseMatrix) -> Self {
+        Self { mass, stiffness }
     }
 }
 
@@ -485,7 +516,7 @@ pub struct Quasistatic {
 
 impl Quasistatic {
     /// Without radiation damping.
-    pub fn new() -> Self {
+    pub const fn new() -> Self {
         Self { eta: 0.0 }
     }
 

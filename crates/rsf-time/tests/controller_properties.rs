@@ -1,5 +1,5 @@
-//! Property tests of the adaptive step controller ([`StepController`], [`StepControl`];
-//! docs/math.md §9).
+//! Property tests of the adaptive step controller ([`StepControl`] acting on a
+//! [`ControllerState`]; docs/math.md §9).
 //!
 //! For arbitrary valid options (tolerance, length, `tau_min`, `tau_max = tau_min · 1…1e9`,
 //! optionally safety, growth/shrink factors and the state-change cap `ξ`), an arbitrary
@@ -18,15 +18,15 @@
 //! - (e) **counters**: `accepted()` / `rejected()` count the calls — a rejection that
 //!   returns `Err` is counted as well (`reject` increments before checking) — and
 //!   `last_error()` is the error of the last call;
-//! - (f) **checkpoints**: `to_state` then `restore_state` into a fresh controller with the
-//!   same options (and another initial step) reproduces the controller (`==`).
+//! - (f) **checkpoints**: `to_values` then `ControllerState::from_values` reproduces the
+//!   controller's state (`==`), the reference of the ladder included.
 //!
 //! Two bugs these properties found are pinned by regression tests at the end of this file:
 //! `reject` panicked for `min_factor > 0.5` (`f64::clamp` with lo > hi), and a state
 //! written after `reject(∞)` (a failed attempt) could not be restored.
 
 use proptest::prelude::*;
-use rsf_time::{Error, StepControl, StepController};
+use rsf_time::{ControllerState, Error, StepControl};
 
 /// Relative slack of the controller's own comparisons (`rung_below`, `reject`).
 const SLACK: f64 = 1e-12;
@@ -109,8 +109,11 @@ fn lowest_rung(tau_ref: f64, tau_min: f64) -> f64 {
 }
 
 /// (a) and (b).
-fn check_bounds_and_ladder(c: &StepController, tau_ref: f64) -> Result<(), TestCaseError> {
-    let o = c.options();
+fn check_bounds_and_ladder(
+    o: &StepControl,
+    c: &ControllerState,
+    tau_ref: f64,
+) -> Result<(), TestCaseError> {
     let tau = c.tau();
     prop_assert!(
         tau >= o.tau_min * (1.0 - SLACK) && tau <= o.tau_max * (1.0 + SLACK),
@@ -128,13 +131,13 @@ fn check_bounds_and_ladder(c: &StepController, tau_ref: f64) -> Result<(), TestC
 
 /// (c): `c` after `accept(err, state_change)` from the step `tau`.
 fn check_accept(
-    c: &StepController,
+    o: &StepControl,
+    c: &ControllerState,
     tau: f64,
     err: f64,
     state_change: f64,
     bottom: f64,
 ) -> Result<(), TestCaseError> {
-    let o = c.options();
     let new = c.tau();
     // Only err ≤ 1 is generated (a step with err > 1 is rejected, not accepted).
     prop_assert!(
@@ -170,13 +173,13 @@ fn check_accept(
 
 /// (d): `c` after `reject(err)` from the step `tau` returned `result`.
 fn check_reject(
-    c: &StepController,
+    o: &StepControl,
+    c: &ControllerState,
     tau: f64,
     err: f64,
     result: &rsf_time::Result<()>,
     bottom: f64,
 ) -> Result<(), TestCaseError> {
-    let o = c.options();
     let new = c.tau();
     let no_rung_below = tau / 2.0 < o.tau_min * (1.0 - SLACK);
     match result {
@@ -212,22 +215,12 @@ fn check_reject(
     Ok(())
 }
 
-/// (f): a checkpoint restores into a fresh controller with the same options.
-fn check_round_trip(c: &StepController, tau_ref: f64) -> Result<(), TestCaseError> {
-    let o = *c.options();
-    // Another initial step, so that the reference of the ladder must be restored too.
-    let other = if tau_ref == o.tau_max {
-        o.tau_min
-    } else {
-        o.tau_max
-    };
-    let mut d = StepController::new(o, other).unwrap();
-    let state = c.to_state();
-    prop_assert!(
-        d.restore_state(&state).is_ok(),
-        "state {state:?} not restored"
-    );
-    prop_assert_eq!(c, &d);
+/// (f): a checkpoint of the state restores it.
+fn check_round_trip(c: &ControllerState) -> Result<(), TestCaseError> {
+    let state = c.to_values();
+    let d = ControllerState::from_values(&state);
+    prop_assert!(d.is_ok(), "state {state:?} not restored");
+    prop_assert_eq!(c, &d.unwrap());
     Ok(())
 }
 
@@ -240,35 +233,35 @@ proptest! {
         tau0 in log_uniform(-15.0, 3.0),
         ops in prop::collection::vec(op(), 0..=200),
     ) {
-        let mut c = StepController::new(o, tau0).unwrap();
+        let mut c = o.start(tau0).unwrap();
         let tau_ref = c.tau();
         prop_assert_eq!(tau_ref, tau0.clamp(o.tau_min, o.tau_max));
         let bottom = lowest_rung(tau_ref, o.tau_min);
-        check_bounds_and_ladder(&c, tau_ref)?;
-        check_round_trip(&c, tau_ref)?;
+        check_bounds_and_ladder(&o, &c, tau_ref)?;
+        check_round_trip(&c)?;
         let (mut accepted, mut rejected) = (0_u64, 0_u64);
         for op in ops {
             let tau = c.tau();
             let err = match op {
                 Op::Accept { err, state_change } => {
-                    c.accept(err, state_change);
+                    o.accept(&mut c, err, state_change);
                     accepted += 1;
-                    check_accept(&c, tau, err, state_change, bottom)?;
+                    check_accept(&o, &c, tau, err, state_change, bottom)?;
                     err
                 }
                 Op::Reject { err } => {
-                    let result = c.reject(err);
+                    let result = o.reject(&mut c, err);
                     rejected += 1; // also when `result` is an error
-                    check_reject(&c, tau, err, &result, bottom)?;
+                    check_reject(&o, &c, tau, err, &result, bottom)?;
                     err
                 }
             };
             prop_assert_eq!(c.accepted(), accepted);
             prop_assert_eq!(c.rejected(), rejected);
             prop_assert_eq!(c.last_error(), err);
-            prop_assert_eq!(c.options(), &o);
-            check_bounds_and_ladder(&c, tau_ref)?;
-            check_round_trip(&c, tau_ref)?;
+            // (The options cannot change: `accept` and `reject` take them by `&self`.)
+            check_bounds_and_ladder(&o, &c, tau_ref)?;
+            check_round_trip(&c)?;
         }
     }
 }
@@ -285,24 +278,27 @@ fn reject_with_min_factor_above_one_half() {
     let mut o = control();
     o.min_factor = 0.6;
     o.validate().unwrap();
-    let mut c = StepController::new(o, 1e-3).unwrap();
-    c.reject(4.0).unwrap();
+    let mut c = o.start(1e-3).unwrap();
+    o.reject(&mut c, 4.0).unwrap();
     assert!(c.tau() < 1e-3);
 }
 
 /// Regression: `reject(f64::INFINITY)` (the documented call for a failed attempt) stores
-/// `last_error = ∞` and `to_state` writes it; `restore_state` refused non-finite values,
-/// so such a checkpoint could not be restored. NaN and negative errors are still refused.
+/// `last_error = ∞` and `to_values` writes it; restoring refused non-finite values, so
+/// such a checkpoint could not be restored. NaN and negative errors are still refused.
 #[test]
 fn round_trip_after_a_failed_attempt() {
-    let mut c = StepController::new(control(), 1e-3).unwrap();
-    c.reject(f64::INFINITY).unwrap();
-    let mut d = StepController::new(control(), 1.0).unwrap();
-    d.restore_state(&c.to_state()).unwrap();
+    let o = control();
+    let mut c = o.start(1e-3).unwrap();
+    o.reject(&mut c, f64::INFINITY).unwrap();
+    let d = ControllerState::from_values(&c.to_values()).unwrap();
     assert_eq!(c, d);
-    let mut bad = c.to_state();
+    let mut bad = c.to_values();
     for x in [f64::NAN, -1.0] {
         bad[4] = x;
-        assert!(d.restore_state(&bad).is_err(), "last error {x} accepted");
+        assert!(
+            ControllerState::from_values(&bad).is_err(),
+            "last error {x} accepted"
+        );
     }
 }

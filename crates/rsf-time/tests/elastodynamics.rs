@@ -81,7 +81,13 @@ fn run<I: VelocityIntegrator>(
     let mut e = vec![energies(p, &s)];
     for _ in 0..steps {
         integ
-            .right_hand_side(tau, Some(&p.m), &p.k, &load, &s, &mut rhs)
+            .right_hand_side(
+                tau,
+                SystemMatrices::new(Some(&p.m), &p.k),
+                &load,
+                &s,
+                &mut rhs,
+            )
             .unwrap();
         sys.solve(&rhs, &mut v).unwrap(); // fixed entries of v stay 0
         integ.advance(tau, &s, &v, &mut next);
@@ -260,7 +266,7 @@ fn quasistatic_never_needs_mass_and_reaches_equilibrium() {
     let mut s = Kinematics::zeros(n);
     let mut rhs = vec![0.0; n];
     let mut v = vec![0.0; n];
-    q.right_hand_side(0.1, None, &p.k, &g, &s, &mut rhs)
+    q.right_hand_side(0.1, SystemMatrices::new(None, &p.k), &g, &s, &mut rhs)
         .unwrap();
     sys.solve(&rhs, &mut v).unwrap();
     let mut next = Kinematics::zeros(n);
@@ -276,15 +282,27 @@ fn quasistatic_never_needs_mass_and_reaches_equilibrium() {
         }
     }
     assert!(matches!(
-        Newmark.right_hand_side(0.1, None, &p.k, &g, &s, &mut rhs),
+        Newmark.right_hand_side(0.1, SystemMatrices::new(None, &p.k), &g, &s, &mut rhs),
         Err(rsf_time::Error::MissingMass(_))
     ));
     assert!(matches!(
-        Newmark.right_hand_side(-0.1, Some(&p.m), &p.k, &g, &s, &mut rhs),
+        Newmark.right_hand_side(
+            -0.1,
+            SystemMatrices::new(Some(&p.m), &p.k),
+            &g,
+            &s,
+            &mut rhs
+        ),
         Err(rsf_time::Error::InvalidTimeStep(_))
     ));
     assert!(matches!(
-        BackwardEuler.right_hand_side(0.1, Some(&p.m), &p.k, &g[1..], &s, &mut rhs),
+        BackwardEuler.right_hand_side(
+            0.1,
+            SystemMatrices::new(Some(&p.m), &p.k),
+            &g[1..],
+            &s,
+            &mut rhs
+        ),
         Err(rsf_time::Error::DimensionMismatch { .. })
     ));
     assert!(Quasistatic::with_radiation_damping(-1.0).is_err());

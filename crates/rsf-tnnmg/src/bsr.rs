@@ -75,6 +75,26 @@ pub(crate) struct BlockCsr<const D: usize> {
     pub diag: Vec<Block<D>>,
 }
 
+/// The order of a [`BlockCsr::sweep`]: which way it runs over the nodes and whether it
+/// starts from `x = 0`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SweepOrder {
+    /// Decreasing node order (a backward sweep) instead of increasing.
+    pub reverse: bool,
+    /// Start from `x = 0` whatever `x` holds.
+    pub zero_start: bool,
+}
+
+impl SweepOrder {
+    /// A sweep from the current `x`, backward when `reverse`.
+    pub fn from_x(reverse: bool) -> Self {
+        Self {
+            reverse,
+            zero_start: false,
+        }
+    }
+}
+
 impl<const D: usize> BlockCsr<D> {
     /// Zero matrix whose row `p` has off-diagonal blocks in the columns `rows[p]`
     /// (increasing, `p` excluded, symmetric pattern).
@@ -223,9 +243,9 @@ impl<const D: usize> BlockCsr<D> {
     }
 
     /// One Gauss–Seidel sweep over the nodes (increasing order, or decreasing when
-    /// `reverse`): for each node `p`, `s = rhs_p − Σ_{q≠p} A_pq x_q` (with the already
+    /// `order.reverse`): for each node `p`, `s = rhs_p − Σ_{q≠p} A_pq x_q` (with the already
     /// updated values of the nodes visited before) and `local(p, s, x_p)` updates the block
-    /// `x_p` in place (e.g. `x_p = A_pp⁻¹ s`). With `zero_start` the sweep starts from
+    /// `x_p` in place (e.g. `x_p = A_pp⁻¹ s`). With `order.zero_start` the sweep starts from
     /// `x = 0` whatever `x` holds (the couplings to nodes not yet visited are skipped and
     /// `local` sees `x_p = 0`), so a first sweep needs no zeroed vector and half the work.
     ///
@@ -237,12 +257,15 @@ impl<const D: usize> BlockCsr<D> {
         rhs: &[f64],
         x: &mut [f64],
         w: &mut [f64],
-        reverse: bool,
-        zero_start: bool,
+        order: SweepOrder,
         mut local: F,
     ) where
         F: FnMut(usize, &[f64; D], &mut [f64; D]),
     {
+        let SweepOrder {
+            reverse,
+            zero_start,
+        } = order;
         let nodes = self.nodes();
         let ahead = if reverse { &self.lower } else { &self.upper };
         for k in 0..nodes {
@@ -382,12 +405,22 @@ mod tests {
                 xp[0] = 0.1 * s[0] + p as f64 + 0.01 * xp[1];
                 xp[1] = 0.05 * s[1];
             };
-            b.sweep(&rhs, &mut xs, &mut w, reverse, false, local);
+            b.sweep(&rhs, &mut xs, &mut w, SweepOrder::from_x(reverse), local);
             assert!(w.iter().all(|&v| v == 0.0));
             // A zero start on garbage equals a sweep from zero.
             let (mut from_zero, mut garbage) = (vec![0.0; 8], vec![7.0; 8]);
-            b.sweep(&rhs, &mut from_zero, &mut w, reverse, false, local);
-            b.sweep(&rhs, &mut garbage, &mut w, reverse, true, local);
+            b.sweep(
+                &rhs,
+                &mut from_zero,
+                &mut w,
+                SweepOrder::from_x(reverse),
+                local,
+            );
+            let from_zero_order = SweepOrder {
+                reverse,
+                zero_start: true,
+            };
+            b.sweep(&rhs, &mut garbage, &mut w, from_zero_order, local);
             assert_eq!(from_zero, garbage);
             // Replay the sweep with explicit row products.
             let mut xr = x.clone();

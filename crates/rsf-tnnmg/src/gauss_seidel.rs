@@ -4,9 +4,11 @@ use faer::sparse::SparseColMatRef;
 
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
-use crate::problem::NodalProblem;
-use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
-use crate::tnnmg::EnergyNorm;
+use crate::norm::EnergyNorm;
+use crate::problem::{ActiveBlocks, NodalProblem};
+use crate::report::{
+    iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
+};
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
 /// minimisations. Globally convergent for the convex problems of this crate but slow
@@ -67,9 +69,13 @@ impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
         v: &mut [f64],
     ) -> Result<f64> {
         self.v_old.copy_from_slice(v);
+        let blocks = ActiveBlocks {
+            nl,
+            active_of: &self.active_of,
+        };
         for reverse in [false, true] {
             self.m
-                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, &mut self.w, reverse);
+                .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, reverse);
         }
         if v.iter().any(|x| !x.is_finite()) {
             return Err(Error::NonFinite("Gauss–Seidel iterate"));
@@ -106,7 +112,11 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
         nl: &N,
         v: &mut [f64],
     ) -> Result<SolveReport> {
-        let (stop, record) = (self.stopping, self.record_energy);
-        iterate_to_tolerance(self, "nonlinear-gauss-seidel", stop, record, b, nl, v)
+        let run = IterationRun {
+            solver: "nonlinear-gauss-seidel",
+            stop: self.stopping,
+            record_energy: self.record_energy,
+        };
+        iterate_to_tolerance(self, run, b, nl, v)
     }
 }

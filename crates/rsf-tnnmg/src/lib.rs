@@ -57,25 +57,22 @@
 
 mod block;
 mod bsr;
-mod cholesky;
 mod csc;
 mod direct;
 mod error;
-mod fault_newton;
 mod galerkin;
 mod gauss_seidel;
 mod line_search;
 mod linear_correction;
 mod multigrid;
 mod nonlinearity;
-mod partial_cholesky;
+mod norm;
 mod problem;
 mod report;
 mod step;
 mod tnnmg;
 
 pub use block::solve_spd_masked;
-pub use cholesky::SparseCholesky;
 pub use direct::{DirectOptions, DirectSolver};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;

@@ -19,6 +19,17 @@ pub enum LinearCorrection {
     PreconditionedCg,
 }
 
+/// How much work one linear correction may do: at most `max_cycles` multigrid cycles (or
+/// preconditioned CG steps), stopping early once the residual's Euclidean norm on the free
+/// dofs has dropped by the factor `reduction` (if given).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CycleBudget {
+    /// Most cycles (or CG steps).
+    pub max_cycles: usize,
+    /// Relative residual reduction after which to stop, if any.
+    pub reduction: Option<f64>,
+}
+
 /// Work vectors of the linear correction (length `n`, allocated once).
 #[derive(Debug)]
 pub(crate) struct LinearSolve {
@@ -38,8 +49,7 @@ impl LinearSolve {
         }
     }
 
-    /// Computes `c ≈ H⁻¹ res` with at most `max_cycles` cycles, stopping once the residual's
-    /// Euclidean norm has dropped by `reduction` (if given). `res` must vanish on the masked
+    /// Computes `c ≈ H⁻¹ res` within the [`CycleBudget`]. `res` must vanish on the masked
     /// dofs (it is lent to the multigrid and returned unchanged); `c` is overwritten (0 on
     /// masked dofs). Returns the number of cycles.
     pub fn solve<const D: usize>(
@@ -48,9 +58,12 @@ impl LinearSolve {
         mg: &mut LinearMultigrid<D>,
         res: &mut Vec<f64>,
         c: &mut Vec<f64>,
-        max_cycles: usize,
-        reduction: Option<f64>,
+        budget: CycleBudget,
     ) -> usize {
+        let CycleBudget {
+            max_cycles,
+            reduction,
+        } = budget;
         c.fill(0.0);
         let r0 = dot(res, res).sqrt();
         if r0 == 0.0 {
@@ -70,7 +83,7 @@ impl LinearSolve {
                 }
                 max_cycles
             }
-            LinearCorrection::PreconditionedCg => self.cg(mg, res, c, max_cycles, reduction, r0),
+            LinearCorrection::PreconditionedCg => self.cg(mg, res, c, budget, r0),
         }
     }
 
@@ -79,10 +92,13 @@ impl LinearSolve {
         mg: &mut LinearMultigrid<D>,
         res: &[f64],
         c: &mut [f64],
-        max_cycles: usize,
-        reduction: Option<f64>,
+        budget: CycleBudget,
         r0: f64,
     ) -> usize {
+        let CycleBudget {
+            max_cycles,
+            reduction,
+        } = budget;
         let Self { r, z, p, hp } = self;
         r.copy_from_slice(res);
         let (mut rz_old, mut alpha_old) = (0.0, 0.0);

@@ -1,11 +1,12 @@
 //! Truncated linear multigrid on a hierarchy of Galerkin operators in node-block storage.
 
 use crate::block::{masked_inverse, mul_vec, Block};
-use crate::bsr::BlockCsr;
-use crate::cholesky::SparseCholesky;
+use crate::bsr::{BlockCsr, SweepOrder};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
+use faer::sparse::SymbolicSparseColMatRef;
+use rsf_linalg::{Cholesky, FillOrdering};
 
 /// Shape of the multigrid cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,9 +83,11 @@ impl<const D: usize> Level<D> {
         }
         for k in 0..sweeps {
             // x_p = S_p s: exact on the free components since the masked ones are 0.
-            a.sweep(rhs, x, w, reverse, zero_start && k == 0, |p, s, xp| {
-                *xp = mul_vec(&smoother[p], s)
-            });
+            let order = SweepOrder {
+                reverse,
+                zero_start: zero_start && k == 0,
+            };
+            a.sweep(rhs, x, w, order, |p, s, xp| *xp = mul_vec(&smoother[p], s));
         }
         if residual {
             a.residual(rhs, x, res, w);
@@ -104,7 +107,7 @@ pub(crate) struct LinearMultigrid<const D: usize> {
     galerkin: Vec<Galerkin<D>>,
     /// Levels, coarsest first; the last one is the fine level.
     levels: Vec<Level<D>>,
-    coarse: SparseCholesky,
+    coarse: Cholesky,
     /// Coarsest matrix as CSC (dense blocks) and where each entry comes from.
     coarse_csc: Csc,
     coarse_map: Vec<usize>,
@@ -147,8 +150,15 @@ impl<const D: usize> LinearMultigrid<D> {
         galerkin_rev.reverse();
         levels_rev.reverse();
         let (coarse_csc, coarse_map) = levels_rev[0].a.csc_pattern();
-        let coarse =
-            SparseCholesky::new(coarse_csc.nrows, &coarse_csc.col_ptr, &coarse_csc.row_idx)?;
+        let pattern = SymbolicSparseColMatRef::new_checked(
+            coarse_csc.nrows,
+            coarse_csc.nrows,
+            &coarse_csc.col_ptr,
+            None,
+            &coarse_csc.row_idx,
+        );
+        let coarse = Cholesky::analyze_with(pattern, FillOrdering::Amd)
+            .map_err(|e| Error::Factorisation(e.to_string()))?;
         Ok(Self {
             galerkin: galerkin_rev,
             levels: levels_rev,
@@ -284,7 +294,7 @@ impl<const D: usize> LinearMultigrid<D> {
                 };
             }
         }
-        match self.coarse.factorize(&a.val) {
+        match self.coarse.factorize_values(&a.val) {
             Ok(()) => Ok(()),
             Err(_) => {
                 // Truncation can make the truncated prolongation P_t rank deficient, and then
@@ -299,7 +309,9 @@ impl<const D: usize> LinearMultigrid<D> {
                         }
                     }
                 }
-                self.coarse.factorize(&a.val)
+                self.coarse
+                    .factorize_values(&a.val)
+                    .map_err(|_| Error::NotPositiveDefinite("Cholesky factorisation"))
             }
         }
     }
@@ -311,7 +323,9 @@ impl<const D: usize> LinearMultigrid<D> {
             for ((x, &r), &f) in level.x.iter_mut().zip(&level.rhs).zip(&level.free) {
                 *x = r * f;
             }
-            self.coarse.solve_in_place(&mut level.x);
+            self.coarse
+                .solve_in_place(&mut level.x)
+                .expect("the coarse factorisation succeeded before a solve");
             return;
         }
         let shape = self.shape;
@@ -517,7 +531,7 @@ mod tests {
     /// 1-D Laplacian with 5 levels).
     #[test]
     fn linear_corrections_reduce_the_residual() {
-        use crate::linear_correction::{LinearCorrection, LinearSolve};
+        use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
         let n = 65;
         let ps = vec![
             interpolation(5),
@@ -535,7 +549,11 @@ mod tests {
         for method in [LinearCorrection::Cycles, LinearCorrection::PreconditionedCg] {
             let mut lin = LinearSolve::new(n);
             let mut c = vec![0.0; n];
-            let cycles = lin.solve(method, &mut mg, &mut res, &mut c, 50, Some(1e-6));
+            let budget = CycleBudget {
+                max_cycles: 50,
+                reduction: Some(1e-6),
+            };
+            let cycles = lin.solve(method, &mut mg, &mut res, &mut c, budget);
             let mut hc = vec![0.0; n];
             a.sym_mul(&c, &mut hc);
             let r = res

@@ -3,7 +3,7 @@
 use faer::sparse::SparseColMatRef;
 
 use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
-use crate::bsr::BlockCsr;
+use crate::bsr::{BlockCsr, SweepOrder};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
@@ -101,20 +101,20 @@ impl<const D: usize> NodalProblem<D> {
     }
 
     /// One nonlinear block Gauss–Seidel sweep (forward, or backward when `reverse`):
-    /// each node block is minimised exactly with the others fixed. `active_of[p]` is the
-    /// position of node `p` in `nl.active_blocks()` or `usize::MAX`; `w` is scratch of
-    /// length `n`, 0 on entry and on return (see [`BlockCsr::sweep`]).
+    /// each node block is minimised exactly with the others fixed (the nonlinear ones by
+    /// `blocks.nl`); `w` is scratch of length `n`, 0 on entry and on return (see
+    /// [`BlockCsr::sweep`]).
     pub fn nonlinear_gauss_seidel<N: BlockNonlinearity<D>>(
         &self,
         b: &[f64],
-        nl: &N,
-        active_of: &[usize],
+        blocks: ActiveBlocks<'_, N>,
         v: &mut [f64],
         w: &mut [f64],
         reverse: bool,
     ) {
+        let ActiveBlocks { nl, active_of } = blocks;
         let a = &self.a;
-        a.sweep(b, v, w, reverse, false, |p, s, x| {
+        a.sweep(b, v, w, SweepOrder::from_x(reverse), |p, s, x| {
             // s = b_p − Σ_{q≠p} A_pq v_q: the block right-hand side with off-block coupling.
             let k = active_of[p];
             if k != usize::MAX {
@@ -132,6 +132,21 @@ impl<const D: usize> NodalProblem<D> {
         });
     }
 }
+
+/// The nonlinear blocks of a sweep: the nonlinearity and, per node `p`, the position
+/// `active_of[p]` of its block in `nl.active_blocks()` (`usize::MAX` for a linear node).
+#[derive(Debug)]
+pub(crate) struct ActiveBlocks<'a, N> {
+    pub nl: &'a N,
+    pub active_of: &'a [usize],
+}
+
+impl<N> Clone for ActiveBlocks<'_, N> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<N> Copy for ActiveBlocks<'_, N> {}
 
 #[inline]
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {

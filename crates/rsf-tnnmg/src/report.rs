@@ -127,24 +127,37 @@ pub(crate) fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
 /// so that the loop, the stopping test and the report live in one place.
 pub(crate) trait Iteration<const D: usize> {
     fn blocked(&self) -> &crate::problem::NodalProblem<D>;
-    fn energy_norm(&self) -> &crate::tnnmg::EnergyNorm<D>;
+    fn energy_norm(&self) -> &crate::norm::EnergyNorm<D>;
     fn active_of_mut(&mut self) -> &mut Vec<usize>;
     /// Performs one iteration on `v`; returns the energy norm of the correction.
     fn iterate<N: BlockNonlinearity<D>>(&mut self, b: &[f64], nl: &N, v: &mut [f64])
         -> Result<f64>;
 }
 
+/// What [`iterate_to_tolerance`] runs: the solver's name (for
+/// [`Error::NotConverged`](crate::Error::NotConverged)), its stopping rule and whether the
+/// energy history is recorded.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct IterationRun {
+    pub solver: &'static str,
+    pub stop: Stopping,
+    pub record_energy: bool,
+}
+
 /// Iterates until [`Stopping::met`] or the budget is exhausted
 /// ([`Error::NotConverged`](crate::Error::NotConverged)).
 pub(crate) fn iterate_to_tolerance<const D: usize, S: Iteration<D>, N: BlockNonlinearity<D>>(
     solver: &mut S,
-    name: &'static str,
-    stop: Stopping,
-    record_energy: bool,
+    run: IterationRun,
     b: &[f64],
     nl: &N,
     v: &mut [f64],
 ) -> Result<SolveReport> {
+    let IterationRun {
+        solver: name,
+        stop,
+        record_energy,
+    } = run;
     let start = std::time::Instant::now();
     let n = solver.blocked().n();
     check_inputs(n, b, v)?;

@@ -3,15 +3,17 @@
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
 use crate::block::load;
-use crate::bsr::BlockCsr;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
-use crate::linear_correction::{LinearCorrection, LinearSolve};
+use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
 use crate::multigrid::{CycleShape, LinearMultigrid};
 use crate::nonlinearity::{BlockNonlinearity, Linearization};
-use crate::problem::{dot, NodalProblem};
-use crate::report::{iterate_to_tolerance, Iteration, NonsmoothSolver, SolveReport, Stopping};
+use crate::norm::EnergyNorm;
+use crate::problem::{dot, ActiveBlocks, NodalProblem};
+use crate::report::{
+    iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
+};
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
 /// truncated in the linear correction (see `Tnnmg::is_rigid`): at this contrast the
@@ -77,38 +79,6 @@ impl Default for TnnmgOptions {
             cycle_index: 1,
             record_energy: false,
         }
-    }
-}
-
-/// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
-#[derive(Debug, Clone)]
-pub(crate) struct EnergyNorm<const D: usize> {
-    e: Option<BlockCsr<D>>,
-}
-
-impl<const D: usize> EnergyNorm<D> {
-    pub fn new(e: Option<SparseColMatRef<'_, usize, f64>>, n: usize) -> Result<Self> {
-        let e = e.map(Csc::from_faer).transpose()?;
-        if let Some(e) = &e {
-            if e.nrows != n || e.ncols != n {
-                return Err(Error::DimensionMismatch {
-                    what: "energy-norm matrix",
-                    expected: n,
-                    got: e.nrows,
-                });
-            }
-        }
-        Ok(Self {
-            e: e.as_ref().map(BlockCsr::from_csc).transpose()?,
-        })
-    }
-    pub fn norm(&self, a: &BlockCsr<D>, x: &[f64]) -> f64 {
-        self.e
-            .as_ref()
-            .unwrap_or(a)
-            .quadratic_form(x)
-            .max(0.0)
-            .sqrt()
     }
 }
 
@@ -304,9 +274,13 @@ impl<const D: usize> Tnnmg<D> {
         v: &mut [f64],
     ) -> Result<f64> {
         self.v_old.copy_from_slice(v);
+        let blocks = ActiveBlocks {
+            nl,
+            active_of: &self.active_of,
+        };
         for _ in 0..self.opts.nonlinear_sweeps {
             self.m
-                .nonlinear_gauss_seidel(b, nl, &self.active_of, v, &mut self.w, false);
+                .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, false);
         }
         self.m.a.residual(b, v, &mut self.res_a, &mut self.w);
         // Truncated linearisation at v, then the inexact linear correction H c = res.
@@ -316,8 +290,10 @@ impl<const D: usize> Tnnmg<D> {
             &mut self.mg,
             &mut self.res,
             &mut self.c,
-            self.opts.v_cycles,
-            self.opts.linear_reduction,
+            CycleBudget {
+                max_cycles: self.opts.v_cycles,
+                reduction: self.opts.linear_reduction,
+            },
         );
         // Blocks with a kink at zero whose correction passes through zero stop there.
         for (k, &p) in nl.active_blocks().iter().enumerate() {
@@ -398,8 +374,12 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
         nl: &N,
         v: &mut [f64],
     ) -> Result<SolveReport> {
-        let (stop, record) = (self.opts.stopping, self.opts.record_energy);
+        let run = IterationRun {
+            solver: "tnnmg",
+            stop: self.opts.stopping,
+            record_energy: self.opts.record_energy,
+        };
         self.cycles = 0;
-        iterate_to_tolerance(self, "tnnmg", stop, record, b, nl, v)
+        iterate_to_tolerance(self, run, b, nl, v)
     }
 }

@@ -9,36 +9,22 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
+use rsf_time::{ControllerState, Kinematics};
+
 use crate::error::{Error, Result};
+use crate::simulation_state::SimulationState;
 
 const MAGIC: &[u8; 8] = b"RSFCKPT2";
 const MAGIC_V1: &[u8; 8] = b"RSFCKPT1";
 
-/// The dynamic state of a simulation after `step` steps.
+/// A [`SimulationState`] on disk: the state and the space dimension it belongs to.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Checkpoint {
-    /// Space dimension `D`.
+    /// Space dimension `D` of the simulation that wrote it.
     pub dim: usize,
-    /// Steps taken.
-    pub step: usize,
-    /// Time after `step` steps (s).
-    pub time: f64,
-    /// Time step τ (s) of the next step.
-    pub tau: f64,
-    /// Step index and time (s) where the current τ began: the next steps are at
-    /// `t_n = origin time + (n − origin step) τ` (`(0, 0)` for a run at constant τ).
-    pub time_origin: (usize, f64),
-    /// Displacement (m).
-    pub u: Vec<f64>,
-    /// Velocity (m/s).
-    pub v: Vec<f64>,
-    /// Acceleration (m/s²).
-    pub a: Vec<f64>,
-    /// State per frictional node.
-    pub alpha: Vec<f64>,
-    /// State of a time-step controller (empty for a fixed τ).
-    pub controller: Vec<f64>,
+    /// The saved state.
+    pub state: SimulationState,
 }
 
 impl Checkpoint {
@@ -51,20 +37,24 @@ impl Checkpoint {
         {
             let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
             f.write_all(MAGIC)?;
+            let s = &self.state;
+            let controller = s.controller.map(|c| c.to_values());
+            let controller: &[f64] = controller.as_ref().map_or(&[], |c| &c[..]);
             for x in [
                 self.dim,
-                self.step,
-                self.u.len(),
-                self.alpha.len(),
-                self.controller.len(),
-                self.time_origin.0,
+                s.step,
+                s.kinematics.u.len(),
+                s.alpha.len(),
+                controller.len(),
+                s.time_origin.0,
             ] {
                 f.write_all(&(x as u64).to_le_bytes())?;
             }
-            f.write_all(&self.time_origin.1.to_le_bytes())?;
-            f.write_all(&self.time.to_le_bytes())?;
-            f.write_all(&self.tau.to_le_bytes())?;
-            for vec in [&self.u, &self.v, &self.a, &self.alpha, &self.controller] {
+            f.write_all(&s.time_origin.1.to_le_bytes())?;
+            f.write_all(&s.time.to_le_bytes())?;
+            f.write_all(&s.tau.to_le_bytes())?;
+            let k = &s.kinematics;
+            for vec in [&k.u[..], &k.v[..], &k.a[..], &s.alpha[..], controller] {
                 for x in vec.iter() {
                     f.write_all(&x.to_le_bytes())?;
                 }
@@ -137,17 +127,24 @@ impl Checkpoint {
             out
         };
         let (u, v, a, alpha, controller) = (take(n), take(n), take(n), take(nf), take(nc));
+        let controller = match controller.len() {
+            0 => None,
+            _ => Some(
+                ControllerState::from_values(&controller)
+                    .map_err(|e| bad(&format!("controller state: {e}")))?,
+            ),
+        };
         Ok(Self {
             dim,
-            step,
-            time,
-            tau,
-            time_origin,
-            u,
-            v,
-            a,
-            alpha,
-            controller,
+            state: SimulationState {
+                step,
+                time,
+                tau,
+                time_origin,
+                kinematics: Kinematics { u, v, a },
+                alpha,
+                controller,
+            },
         })
     }
 }

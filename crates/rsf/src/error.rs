@@ -73,7 +73,7 @@ pub enum Error {
         describe(*state)
     )]
     StateVariableMismatch {
-        /// Position of the node in `model.frictional.nodes`.
+        /// Position of the node in `model.frictional_boundary.nodes`.
         node: usize,
         /// What the friction law expects.
         friction: StateVariable,
@@ -83,7 +83,7 @@ pub enum Error {
     /// The state law of a frictional node failed its monotonicity probe.
     #[error("state law of frictional node {node}")]
     StateLaw {
-        /// Position of the node in `model.frictional.nodes`.
+        /// Position of the node in `model.frictional_boundary.nodes`.
         node: usize,
         /// What the probe found.
         #[source]
@@ -117,6 +117,16 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// A name that is not one of the expected ones (e.g. of a [`SolverKind`](crate::SolverKind)).
+    #[error("unknown {what} `{name}` (expected {expected})")]
+    UnknownName {
+        /// What was named.
+        what: &'static str,
+        /// The name given (at most about 100 characters of it).
+        name: String,
+        /// The names that are accepted.
+        expected: &'static str,
+    },
     /// Output could not be written.
     #[error("i/o: {0}")]
     Io(#[from] std::io::Error),
@@ -129,6 +139,15 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> Error {
     Error::InvalidParameter {
         name: name.to_string(),
         reason: reason.into(),
+    }
+}
+
+/// [`Error::UnknownName`] for the name `name` of a `what`.
+pub(crate) fn unknown_name(what: &'static str, name: &str, expected: &'static str) -> Error {
+    Error::UnknownName {
+        what,
+        name: rsf_numeric::excerpt(name),
+        expected,
     }
 }
 

@@ -4,7 +4,11 @@
 use rsf_friction::{ConvexPotential, FrictionLaw};
 use rsf_tnnmg::{BlockNonlinearity, Linearization};
 
-/// Friction on the frictional boundary's nodes, frozen at a state `α` (one per node).
+use crate::model::fault::{norm, FrictionalBoundary};
+
+/// Friction on the frictional boundary's nodes, frozen at a state `α` (one per node): the
+/// lumped functional `Φ_h(v) = Σ_k w_k ϕ_k(|v_{p_k}|)` as a block nonlinearity for the
+/// velocity solvers.
 ///
 /// Blocks are the mesh nodes `nodes[k]` (strictly increasing); `weights[k] = w_p` the
 /// lumped boundary weight (m in 2D). The potential of node `k` is `ϕ_k(·) =
@@ -36,11 +40,8 @@ impl<L: FrictionLaw> FrictionBlocks<L> {
             nodes.windows(2).all(|w| w[0] < w[1]),
             "frictional nodes must be increasing"
         );
-        let potentials = laws
-            .iter()
-            .zip(alpha)
-            .map(|(l, &a)| l.potential(a))
-            .collect();
+        let mut potentials = Vec::with_capacity(laws.len());
+        evaluate_potentials(&laws, alpha, &mut potentials);
         Self {
             nodes,
             weights,
@@ -54,10 +55,7 @@ impl<L: FrictionLaw> FrictionBlocks<L> {
     /// # Panics
     /// If `alpha.len()` differs from the number of nodes.
     pub fn set_state(&mut self, alpha: &[f64]) {
-        assert_eq!(alpha.len(), self.laws.len());
-        for ((p, l), &a) in self.potentials.iter_mut().zip(&self.laws).zip(alpha) {
-            *p = l.potential(a);
-        }
+        evaluate_potentials(&self.laws, alpha, &mut self.potentials);
     }
 
     /// The frictional nodes.
@@ -79,22 +77,91 @@ impl<L: FrictionLaw> FrictionBlocks<L> {
     pub fn uses_state(&self) -> bool {
         self.laws.iter().any(|l| l.uses_state())
     }
+
+    fn view(&self) -> FrictionView<'_, L> {
+        FrictionView {
+            nodes: &self.nodes,
+            weights: &self.weights,
+            potentials: &self.potentials,
+        }
+    }
 }
 
-/// Euclidean norm of a block; squares directly unless that over- or underflows.
-#[inline]
-pub(crate) fn norm<const D: usize>(v: &[f64; D]) -> f64 {
-    let q: f64 = v.iter().map(|x| x * x).sum();
-    if q.is_finite() && q > 1e-280 {
-        q.sqrt()
+/// `potentials[k] = laws[k].potential(alpha[k])` (reusing the vector's storage).
+///
+/// # Panics
+/// If `alpha` and `laws` differ in length (internal invariant).
+pub(crate) fn evaluate_potentials<L: FrictionLaw>(
+    laws: &[L],
+    alpha: &[f64],
+    potentials: &mut Vec<L::Potential>,
+) {
+    assert_eq!(alpha.len(), laws.len());
+    if potentials.len() == laws.len() {
+        for ((p, l), &a) in potentials.iter_mut().zip(laws).zip(alpha) {
+            *p = l.potential(a);
+        }
     } else {
-        v.iter().fold(0.0f64, |acc, &x| acc.hypot(x))
+        potentials.clear();
+        potentials.extend(laws.iter().zip(alpha).map(|(l, &a)| l.potential(a)));
+    }
+}
+
+/// The lumped friction functional over borrowed parts: what [`FrictionBlocks`] and a
+/// simulation's step (which keeps the laws in its problem and the potentials in its
+/// workspace) hand to the solvers.
+#[derive(Debug)]
+pub(crate) struct FrictionView<'a, L: FrictionLaw> {
+    /// The frictional nodes, strictly increasing.
+    pub nodes: &'a [usize],
+    /// Their lumped weights.
+    pub weights: &'a [f64],
+    /// Their potentials at the frozen state.
+    pub potentials: &'a [L::Potential],
+}
+
+impl<'a, L: FrictionLaw> FrictionView<'a, L> {
+    /// The functional on `boundary` with `potentials` (one per node, node order).
+    pub fn new(boundary: &'a FrictionalBoundary, potentials: &'a [L::Potential]) -> Self {
+        Self {
+            nodes: &boundary.nodes,
+            weights: &boundary.weights,
+            potentials,
+        }
     }
 }
 
 impl<const D: usize, L: FrictionLaw> BlockNonlinearity<D> for FrictionBlocks<L> {
     fn active_blocks(&self) -> &[usize] {
         &self.nodes
+    }
+    fn value(&self, k: usize, v: &[f64; D]) -> f64 {
+        BlockNonlinearity::<D>::value(&self.view(), k, v)
+    }
+    fn minimize_block(
+        &self,
+        k: usize,
+        a: &[[f64; D]; D],
+        r: &[f64; D],
+        free: &[bool; D],
+        v: &mut [f64; D],
+    ) {
+        self.view().minimize_block(k, a, r, free, v)
+    }
+    fn linearize(&self, k: usize, v: &[f64; D]) -> Linearization<D> {
+        self.view().linearize(k, v)
+    }
+    fn kink_at_zero(&self, k: usize) -> bool {
+        BlockNonlinearity::<D>::kink_at_zero(&self.view(), k)
+    }
+    fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64) {
+        self.view().directional_derivatives(k, v, d)
+    }
+}
+
+impl<const D: usize, L: FrictionLaw> BlockNonlinearity<D> for FrictionView<'_, L> {
+    fn active_blocks(&self) -> &[usize] {
+        self.nodes
     }
 
     fn value(&self, k: usize, v: &[f64; D]) -> f64 {

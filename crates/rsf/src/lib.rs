@@ -6,23 +6,35 @@
 //!   boundary [`Part`]s (Dirichlet with a velocity × [`TimeFunction`], Neumann,
 //!   frictional with bilateral contact) — or by [`SliderScene::build_model`] for the
 //!   paper's problem, or filled in by hand.
-//! - [`Simulation`]: a model plus a friction law `L`, a state law `S` and a velocity
-//!   integrator `I` (all generic, one law value per frictional node), stepping by the
-//!   paper's relaxed fixed point iteration (docs/math.md §4) with TNNMG or the direct
-//!   solver. [`SimulationBuilder`] sets it up with defaults, laws given by position.
-//!   Construction checks consistency (fixed normal on Γ_F, state variable of friction vs
-//!   state law, a monotonicity probe of user state laws) with typed [`Error`]s.
+//! - [`Simulation`] = [`Problem`] (the model and, per frictional node, a friction law `L`
+//!   and a state law `S`) + [`Method`] (velocity integrator `I`, velocity solver, fixed
+//!   point iteration, step control, state update; described by [`MethodOptions`]) +
+//!   [`SimulationState`] (what a checkpoint saves), stepping by the paper's relaxed fixed
+//!   point iteration (docs/math.md §4) with TNNMG or the direct solver.
+//!   [`SimulationBuilder`] is the only way to build one (defaults, laws given by
+//!   position); it checks everything once (fixed normal on Γ_F, state variable of
+//!   friction vs state law, a monotonicity probe of user state laws, …) with typed
+//!   [`Error`]s.
+//! - One enum per choice, each with `name()`, `FromStr`, serde and (feature `clap`)
+//!   `clap::ValueEnum`: [`SolverKind`], [`Integrator`], [`StateLawKind`],
+//!   [`FixedPointScheme`], [`StateIntegrator`], [`Diagonal`](fem::Diagonal).
 //! - Run control: [`Simulation::run_until`] a time or a step count; [`Observer`]s can end
-//!   a run ([`Flow`]); [`Simulation::set_time_step`] between steps.
-//! - [`Observer`]s: [`PointSeries`], [`FrictionalProfile`] (CSV, resumable after a
-//!   checkpoint without loss), [`Checkpointer`], [`Recorder`] (in memory, any `D`),
-//!   [`SlipEvents`] (catalogue, stop at an event), [`Reports`], and `VtuFrames` for
-//!   ParaView (feature `vtk`). [`Checkpoint`]s resume bit-identically.
+//!   a run ([`Flow`]); the [`RunSummary`] says why it ended ([`Termination`]), a failed
+//!   run's [`RunError`] carries the summary so far; [`Simulation::set_time_step`] between
+//!   steps.
+//! - [`Observer`]s see a [`StepView`] (a borrow of the state): [`PointSeries`],
+//!   [`FrictionalProfile`] (CSV, resumable after a checkpoint without loss, [`FileMode`]),
+//!   [`Checkpointer`], [`Recorder`] and [`FaultRecorder`] (in memory, any `D`),
+//!   [`SlipEvents`] (catalogue, stop at an event), [`Reports`], [`Progress`] (feature
+//!   `progress`), `VtuFrames` for ParaView (feature `vtk`); [`Every`] samples any of them
+//!   every `n` steps or every `Δt`. [`Checkpoint`]s resume bit-identically.
 //! - [`SliderScene`]: the paper's model problem (§6.1, Table 6.1), readable from TOML;
 //!   [`Slider3dScene`]: the same block extruded to 5 m × 1 m × W (tetrahedra).
 //!
-//! Feature `serde`: `Serialize`/`Deserialize` on checkpoints, slip events, event
-//! thresholds, materials and the friction and state crates' parameters.
+//! Features: `serde` (`Serialize`/`Deserialize` on states, checkpoints, slip events, event
+//! thresholds, materials and the friction and state crates' parameters), `clap`
+//! (`ValueEnum` on the choice enums), `progress` (the [`Progress`] bar through
+//! `indicatif`), `vtk` (ParaView output), `sprs` (matrices in and out as `sprs` matrices).
 //!
 //! ```no_run
 //! use rsf::SliderScene;
@@ -34,53 +46,56 @@
 //! ```
 #![warn(missing_docs)]
 
-mod builder;
 mod checkpoint;
-mod checks;
-mod dynamic;
 mod error;
-mod events;
-mod fixed_point;
 mod friction_blocks;
+mod method;
 mod model;
-mod observer;
-mod output;
-mod recorder;
+mod observe;
+mod problem;
+mod report;
+mod scenes;
 mod simulation;
-mod simulation_builder;
-mod slider;
-mod slider3d;
-mod solver;
-mod state_integrator;
-#[cfg(feature = "vtk")]
-mod vtu;
+mod simulation_state;
 
-pub use builder::{FacetPredicate, Material, ModelBuilder, Part, MAX_CELLS};
 pub use checkpoint::Checkpoint;
-pub use dynamic::AnySimulation;
 pub use error::{Error, Result};
-pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
-pub use fixed_point::{Acceleration, FixedPointOptions, Predictor};
 pub use friction_blocks::FrictionBlocks;
-pub use model::{DirichletVelocity, FrictionalBoundary, Model, TimeFunction};
-pub use observer::{
-    Checkpointer, Flow, FrictionalProfile, Observer, PointSeries, ProfileRow, Reports, SeriesRow,
-    StepState,
+pub use method::fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, Predictor};
+pub use method::solver::{
+    SolverKind, SolverOptions, AUTO_DIRECT_MAX_CONDENSED, AUTO_DIRECT_MAX_EXTENSION,
 };
-pub use recorder::Recorder;
-pub use simulation::{NoState, RunSummary, Simulation, StepReport, Until};
-pub use simulation_builder::{SimulationBuilder, Unset};
-pub use slider::{
-    nearest_vertex, AdaptiveTimeStep, DiagonalKind, FixedPointScheme, IntegratorKind, SliderScene,
-    SolverChoice, StateLawKind, TimeStep, SLIDER_CENTRE,
+pub use method::state_integrator::StateIntegrator;
+pub use method::{Method, MethodOptions};
+pub use model::builder::{FacetPredicate, Material, ModelBuilder, Part, MAX_CELLS};
+pub use model::fault::FrictionalBoundary;
+pub use model::loading::{DirichletVelocity, TimeFunction};
+pub use model::{nearest_vertex, Model};
+pub use observe::checkpointer::{Checkpointer, Reports};
+pub use observe::events::{
+    EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition,
 };
-pub use slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
-pub use solver::{
-    SolverKind, VelocitySolver, AUTO_DIRECT_MAX_CONDENSED, AUTO_DIRECT_MAX_EXTENSION,
-};
-pub use state_integrator::StateIntegrator;
+pub use observe::every::{Every, Interval};
+pub use observe::files::FileMode;
+pub use observe::profile::{FrictionalProfile, ProfileRow};
+pub use observe::progress::Progress;
+pub use observe::recorder::{FaultRecorder, Recorder};
+pub use observe::series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
-pub use vtu::VtuFrames;
+pub use observe::vtu::VtuFrames;
+pub use observe::{Flow, Observer, StepView};
+pub use problem::{NoState, Problem};
+pub use report::StepReport;
+pub use rsf_state::{BuiltinStateLaw, StateLawKind};
+pub use rsf_time::Integrator;
+pub use scenes::slider::{
+    AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, SLIDER_CENTRE,
+};
+pub use scenes::slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
+pub use simulation::builder::{SimulationBuilder, Unset};
+pub use simulation::run::{RunError, RunSummary, Termination, Until};
+pub use simulation::Simulation;
+pub use simulation_state::SimulationState;
 
 pub use faer;
 pub use rsf_fem as fem;

@@ -9,8 +9,8 @@ use common::{temp_dir, StopAt};
 use rsf::friction::Tresca;
 use rsf::time::{Newmark, StepControl};
 use rsf::{
-    AdaptiveTimeStep, Checkpoint, Flow, NoState, Observer, SliderScene, SolverKind, StepState,
-    TimeStep, Until,
+    AdaptiveTimeStep, Checkpoint, Flow, NoState, Observer, SceneSimulation, SimulationBuilder,
+    SliderScene, SolverKind, StepView, TimeStep, Until,
 };
 
 /// Every accepted step as observed: (t, τ, rejected attempts, max slip rate).
@@ -18,7 +18,7 @@ use rsf::{
 struct Steps(Vec<(f64, f64, usize, f64)>);
 
 impl Observer<2> for Steps {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<Flow> {
         let r = s.report;
         self.0
             .push((r.time, r.tau, r.rejected_attempts, r.max_slip_rate));
@@ -63,18 +63,15 @@ fn linear_sim(tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
 /// [`linear_sim`] for another scene (its mesh and loading).
 fn linear_sim_of(scene: &SliderScene, tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
     let model = scene.build_model().unwrap();
-    let nf = model.frictional.len();
-    rsf::Simulation::new(
-        model,
-        vec![Tresca::new(0.0, 1.0).unwrap(); nf],
-        Vec::<NoState>::new(),
-        vec![0.0; nf],
-        Newmark,
-        tau,
-        &SolverKind::Direct(Default::default()),
-        rsf::FixedPointOptions::default(),
-    )
-    .unwrap()
+    SimulationBuilder::new(model)
+        .friction(Tresca::new(0.0, 1.0).unwrap())
+        .initial_state(0.0)
+        .integrator(Newmark)
+        .time_step(tau)
+        .solver(SolverKind::Direct)
+        .fixed_point(rsf::FixedPointOptions::default())
+        .build()
+        .unwrap()
 }
 
 /// The scaled displacement error of the controller: RMS over the free dofs of the error
@@ -117,11 +114,11 @@ fn linear_elastodynamics_error_meets_the_tolerance() {
         // The same step in 64 sub-steps from the same state.
         let mut fine = linear_sim(report.tau / 64.0);
         let mut from = start.clone();
-        from.tau = report.tau / 64.0;
-        from.controller.clear();
+        from.state.tau = report.tau / 64.0;
+        from.state.controller = None;
         fine.restore(&from).unwrap();
         fine.run(64, &mut []).unwrap();
-        worst = worst.max(scaled_error(&fine, &stepped.u, &c));
+        worst = worst.max(scaled_error(&fine, &stepped.state.kinematics.u, &c));
         // Continue from the adaptive step.
         assert_eq!(sim.checkpoint(), stepped);
     }
@@ -290,7 +287,10 @@ fn adaptive_checkpoint_and_resume_is_bit_identical() {
     let mut resumed = scene.build().unwrap();
     resumed.set_step_control(Some(c)).unwrap();
     let cp = Checkpoint::read(&path).unwrap();
-    assert!(!cp.controller.is_empty(), "the controller state is saved");
+    assert!(
+        cp.state.controller.is_some(),
+        "the controller state is saved"
+    );
     resumed.restore(&cp).unwrap();
     resumed.run(130, &mut []).unwrap();
     std::fs::remove_file(&path).ok();
@@ -339,12 +339,12 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
     // The built simulation steps adaptively from the initial step.
     let s = SliderScene { level: 1, ..s };
     let sim = s.build().unwrap();
-    let ctrl = sim.step_controller().expect("adaptive steps");
+    let ctrl = sim.state().controller.expect("adaptive steps");
     assert_eq!((ctrl.tau(), sim.tau()), (s.tau(), s.tau()));
 
     // Every option, ξ = inf for no cap; the scene round-trips through TOML.
     let s = SliderScene::from_toml(
-        "[time_step]\nkind = \"adaptive\"\ntolerance = 1e-3\ninitial_step_s = 1e-4\n\
+        "[time_step]\nkind = \"adaptive\"\ntolerance = 1e-3\ninitial_tau_s = 1e-4\n\
          tau_min_s = 1e-8\ntau_max_s = 0.2\ndisplacement_scale_m = 1e-4\nsafety = 0.8\n\
          min_factor = 0.25\nmax_factor = 4.0\nstate_change_cap = inf\n\
          slip_rate_floor_mps = inf\nstate_extrapolation = false\nstate_scale_s = 0.0",
@@ -377,7 +377,7 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
         ("tolerance", "tolerance = -1.0"),
         ("tau_max_s", "tolerance = 1e-3, tau_max_s = 1e-12"),
         ("safety", "tolerance = 1e-3, safety = 2.0"),
-        ("initial_step_s", "tolerance = 1e-3, initial_step_s = 0.0"),
+        ("initial_tau_s", "tolerance = 1e-3, initial_tau_s = 0.0"),
         (
             "state_change_cap",
             "tolerance = 1e-3, state_change_cap = -1.0",
@@ -401,7 +401,10 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
 /// rows carry the adaptive τ of each step).
 #[test]
 fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
-    use rsf::{AdaptiveTimeStep, Checkpointer, FrictionalProfile, PointSeries, TimeStep};
+    use rsf::{
+        AdaptiveTimeStep, Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries,
+        TimeStep,
+    };
     use std::path::Path;
 
     // Level 1, fast loading from t = 0; the steps grow from 1e-3 s and shrink again
@@ -424,20 +427,21 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
             dir.join("profile.csv"),
             dir.join("checkpoint.bin"),
         );
-        let (mut series, mut profile) = if resume {
+        let mode = if resume {
             let c = Checkpoint::read(&ckpt).unwrap();
             sim.restore(&c).unwrap();
-            (
-                PointSeries::resume(&series_path, sim.model(), x0, c.step).unwrap(),
-                FrictionalProfile::resume(&profile_path, 0.1, 0.5, 3, c.step).unwrap(),
-            )
+            FileMode::Resume { step: c.state.step }
         } else {
-            (
-                PointSeries::create(&series_path, sim.model(), x0).unwrap(),
-                FrictionalProfile::create(&profile_path, 0.1, 0.5, 3).unwrap(),
-            )
+            FileMode::Create
         };
-        let mut checkpointer = Checkpointer::new(&ckpt, every);
+        let mut series = PointSeries::new(&series_path, sim.model(), x0, mode).unwrap();
+        let mut profile = Every::new(
+            Interval::Steps(3),
+            FrictionalProfile::new(&profile_path, (0.1, 0.5), mode).unwrap(),
+        )
+        .unwrap();
+        let mut checkpointer =
+            Every::new(Interval::Steps(every), Checkpointer::new(&ckpt)).unwrap();
         let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
         sim.run_until(
             Until::Time(scene.end_time_s),
@@ -453,11 +457,11 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
     let resumed = run(&b, None, true);
     assert_eq!(resumed.checkpoint(), straight.checkpoint());
     assert_eq!(resumed.time(), scene.end_time_s, "the run lands on T");
-    let ctrl = |s: &dyn rsf::AnySimulation<2>| {
-        let c = s.step_controller().unwrap();
+    let ctrl = |s: &SceneSimulation<2>| {
+        let c = s.state().controller.unwrap();
         (c.accepted(), c.rejected())
     };
-    assert_eq!(ctrl(&*resumed), ctrl(&*straight));
+    assert_eq!(ctrl(&resumed), ctrl(&straight));
     for file in ["x0.csv", "profile.csv"] {
         let (x, y) = (
             std::fs::read(a.join(file)).unwrap(),

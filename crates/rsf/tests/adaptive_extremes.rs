@@ -14,11 +14,11 @@
 
 use rsf::time::Error as TimeError;
 use rsf::{
-    AdaptiveTimeStep, AnySimulation, Error, Flow, IntegratorKind, Observer, SliderScene,
-    StateLawKind, StepState, TimeStep, Until,
+    AdaptiveTimeStep, Error, Flow, Integrator, Observer, SceneSimulation, SliderScene,
+    StateLawKind, StepView, TimeStep, Until,
 };
 
-type Sim = Box<dyn AnySimulation<2>>;
+type Sim = SceneSimulation<2>;
 
 /// Default options with tolerance 1e-3 (the repository's adaptive scene).
 fn base() -> AdaptiveTimeStep {
@@ -127,10 +127,10 @@ impl Watch {
 }
 
 impl Observer<2> for Watch {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<Flow> {
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<Flow> {
         self.steps += 1;
         let r = s.report;
-        let k = s.kinematics;
+        let k = &s.state.kinematics;
         let mut bad = |what: String| {
             if self.problems.len() < 10 {
                 self.problems
@@ -140,7 +140,7 @@ impl Observer<2> for Watch {
         if !(all_finite(&k.u) && all_finite(&k.v) && all_finite(&k.a)) {
             bad("non-finite kinematics".into());
         }
-        if !all_finite(s.alpha) {
+        if !all_finite(&s.state.alpha) {
             bad("non-finite state".into());
         }
         if !(r.tau.is_finite() && r.tau > 0.0 && r.tau <= self.tau_max * (1.0 + 1e-12)) {
@@ -182,8 +182,8 @@ fn assert_state_finite(label: &str, sim: &Sim, t_end: f64) {
     );
     let tau = sim.tau();
     assert!(tau.is_finite() && tau > 0.0, "{label}: τ = {tau}");
-    let c = sim.step_controller().expect("adaptive steps");
-    let o = c.options();
+    let c = sim.state().controller.expect("adaptive steps");
+    let o = sim.method().step_control().expect("adaptive steps");
     assert!(
         c.tau().is_finite()
             && c.tau() >= o.tau_min * (1.0 - 1e-12)
@@ -225,11 +225,13 @@ fn run_case(label: &str, scene: &SliderScene, t_end: f64, budget: usize) -> (Out
         .build()
         .unwrap_or_else(|e| panic!("{label}: a valid extreme option fails to build: {e}"));
     let mut watch = Watch::new(label, budget, t_end, a.tau_max_s, 0.0);
-    let result = sim.run_until(Until::Time(t_end), &mut [&mut watch]);
+    let result = sim
+        .run_until(Until::Time(t_end), &mut [&mut watch])
+        .map_err(Error::from);
     watch.assert_clean();
     assert_state_finite(label, &sim, t_end);
     let outcome = match result {
-        Ok(summary) if summary.stopped_by_observer => {
+        Ok(summary) if summary.stopped_by_observer() => {
             assert_eq!(summary.steps, budget, "{label}: stopped by the budget only");
             Outcome::Budget
         }
@@ -272,16 +274,16 @@ fn run_case(label: &str, scene: &SliderScene, t_end: f64, budget: usize) -> (Out
 fn start_and_scale_cases(b: AdaptiveTimeStep) -> Vec<(&'static str, AdaptiveTimeStep)> {
     vec![
         (
-            "initial_step_s = 1e-12",
+            "initial_tau_s = 1e-12",
             AdaptiveTimeStep {
-                initial_step_s: Some(1e-12),
+                initial_tau_s: Some(1e-12),
                 ..b
             },
         ),
         (
-            "initial_step_s = 1e3",
+            "initial_tau_s = 1e3",
             AdaptiveTimeStep {
-                initial_step_s: Some(1e3),
+                initial_tau_s: Some(1e3),
                 ..b
             },
         ),
@@ -579,12 +581,12 @@ fn invalid_adaptive_options_are_typed_errors_naming_the_field() {
         }
         for x in [0.0, -0.0, nan, -1e-3, inf, -inf] {
             v.push((
-                format!("initial_step_s = {x}"),
+                format!("initial_tau_s = {x}"),
                 AdaptiveTimeStep {
-                    initial_step_s: Some(x),
+                    initial_tau_s: Some(x),
                     ..b
                 },
-                &["initial_step_s"],
+                &["initial_tau_s"],
             ));
         }
         v
@@ -803,8 +805,8 @@ fn valid_extreme_options_are_accepted_as_documented() {
         let sim = scene
             .build()
             .unwrap_or_else(|e| panic!("{label}: build() fails: {e}"));
-        let ctrl = sim.step_controller().expect("adaptive steps");
-        assert_eq!(ctrl.options(), &c, "{label}");
+        let ctrl = sim.state().controller.expect("adaptive steps");
+        assert_eq!(sim.method().step_control(), Some(&c), "{label}");
         let tau0 = scene.initial_tau().clamp(a.tau_min_s, a.tau_max_s);
         assert_eq!(ctrl.tau(), tau0, "{label}: the initial step, clamped");
     }
@@ -819,32 +821,35 @@ fn valid_extreme_options_are_accepted_as_documented() {
 
 /// Regression: an initial step below ~1e-308 s (finite and > 0, so `step_control` and
 /// `validate` accept it) failed in `build()` with `Solver(NonFinite("matrix entries"))`, an
-/// error naming neither `initial_step_s` nor τ: the simulation was built at the unclamped
+/// error naming neither `initial_tau_s` nor τ: the simulation was built at the unclamped
 /// initial step, where 2/τ of `A = (2/τ) M + (τ/2) K` overflows, while the controller
 /// starts at the step clamped to `[tau_min_s, tau_max_s]`. Now the simulation starts at the
 /// clamped step too, and a time-step matrix that is not finite (e.g. `tau_min_s = 5e-324`
-/// with such an initial step) is an error naming `time_step.initial_step_s`.
+/// with such an initial step) is an error naming `time_step.initial_tau_s`.
 #[test]
 fn tiny_initial_step_builds_or_is_a_named_error() {
     for x in [1e-310, 5e-324] {
         let scene = healing(AdaptiveTimeStep {
-            initial_step_s: Some(x),
+            initial_tau_s: Some(x),
             ..base()
         });
-        assert!(scene.validate().is_ok(), "initial_step_s = {x:e} is valid");
+        assert!(scene.validate().is_ok(), "initial_tau_s = {x:e} is valid");
         match scene.build() {
             Ok(mut sim) => {
-                let outcome = sim.run_until(Until::Time(0.5), &mut []).map(|s| s.steps);
+                let outcome = sim
+                    .run_until(Until::Time(0.5), &mut [])
+                    .map(|s| s.steps)
+                    .map_err(Error::from);
                 assert!(
                     outcome.is_ok() || outcome.as_ref().is_err_and(is_numerical_failure),
-                    "initial_step_s = {x:e}: {outcome:?}"
+                    "initial_tau_s = {x:e}: {outcome:?}"
                 );
-                assert_state_finite(&format!("initial_step_s = {x:e}"), &sim, 0.5);
+                assert_state_finite(&format!("initial_tau_s = {x:e}"), &sim, 0.5);
             }
             Err(e) => assert_eq!(
                 invalid_name(&e),
-                Some("time_step.initial_step_s"),
-                "initial_step_s = {x:e}: {e:?}"
+                Some("time_step.initial_tau_s"),
+                "initial_tau_s = {x:e}: {e:?}"
             ),
         }
     }
@@ -852,37 +857,37 @@ fn tiny_initial_step_builds_or_is_a_named_error() {
 
 /// Regression: `run_until(Until::Time(t))` with adaptive steps returned `Ok` without taking
 /// a step when the simulation's τ exceeded `1e9 · (t − time)` (the round-off allowance of
-/// time comparisons was `1e-9 τ`): with `initial_step_s = 1e9` the run ended at t = 0. The
+/// time comparisons was `1e-9 τ`): with `initial_tau_s = 1e9` the run ended at t = 0. The
 /// same allowance skipped the loading's breakpoint: with `tau_max_s = 1e300`,
-/// `initial_step_s = 1e10` and a tolerance that accepts every step, the first step went from
+/// `initial_tau_s = 1e10` and a tolerance that accepts every step, the first step went from
 /// 0 to 1e10 s across the end of the ramp at 3.75 s. The allowance is now
 /// `1e-9 · min(τ, |t|)`.
 #[test]
-fn huge_initial_step_still_reaches_the_end_time_and_the_breakpoint() {
+fn huge_initial_tau_still_reaches_the_end_time_and_the_breakpoint() {
     let mut failures = Vec::new();
     let scene = healing(AdaptiveTimeStep {
-        initial_step_s: Some(1e9),
+        initial_tau_s: Some(1e9),
         ..base()
     });
     let mut sim = scene.build().unwrap();
     let summary = sim.run_until(Until::Time(0.5), &mut []).unwrap();
     if sim.time() != 0.5 {
         failures.push(format!(
-            "initial_step_s = 1e9: run_until(Time(0.5)) ends at t = {} after {} steps",
+            "initial_tau_s = 1e9: run_until(Time(0.5)) ends at t = {} after {} steps",
             sim.time(),
             summary.steps
         ));
     }
     // The ramp's end is a breakpoint also for huge steps.
     let scene = healing(AdaptiveTimeStep {
-        initial_step_s: Some(1e10),
+        initial_tau_s: Some(1e10),
         ..free_growth()
     });
     let mut sim = scene.build().unwrap();
     let r = sim.step().unwrap();
     if r.time > scene.ramp_end_s() {
         failures.push(format!(
-            "initial_step_s = 1e10, tau_max_s = 1e300: the first step ends at {} s, past the \
+            "initial_tau_s = 1e10, tau_max_s = 1e300: the first step ends at {} s, past the \
              ramp's end {} s",
             r.time,
             scene.ramp_end_s()
@@ -902,7 +907,7 @@ fn valid_extreme_options_run_finite_or_fail_typed() {
             let label = format!("{label} [{scene_name}]");
             let start = std::time::Instant::now();
             let (outcome, sim) = run_case(&label, &scene, t_end, budget);
-            let c = sim.step_controller().expect("adaptive steps");
+            let c = sim.state().controller.expect("adaptive steps");
             println!(
                 "{label}: {} at t = {:e} s, τ = {:e} s, {} accepted, {} rejected \
                  ({:.3} s)",
@@ -940,11 +945,11 @@ fn extreme_options_with_other_laws_and_integrators() {
         ),
     ];
     for (label, a) in cases {
-        for law in [StateLawKind::Dieterich, StateLawKind::Ruina] {
+        for law in [StateLawKind::Aging, StateLawKind::Slip] {
             for integrator in [
-                IntegratorKind::Newmark,
-                IntegratorKind::BackwardEuler,
-                IntegratorKind::Quasistatic,
+                Integrator::Newmark,
+                Integrator::BackwardEuler,
+                Integrator::Quasistatic(rsf::time::Quasistatic::new()),
             ] {
                 let scene = SliderScene {
                     state_law: law,
@@ -983,10 +988,11 @@ fn equal_step_bounds_reproduce_fixed_steps_bit_identically() {
     a.run(n, &mut []).unwrap();
     let mut b = adaptive.build().unwrap();
     b.run(n, &mut []).unwrap();
-    let (ca, cb) = (a.checkpoint(), b.checkpoint());
+    let (ca, cb) = (a.checkpoint().state, b.checkpoint().state);
     assert_eq!((ca.step, ca.time, ca.tau), (cb.step, cb.time, cb.tau));
-    assert!(ca.u == cb.u && ca.v == cb.v && ca.a == cb.a && ca.alpha == cb.alpha);
-    let c = b.step_controller().unwrap();
+    let (ka, kb) = (&ca.kinematics, &cb.kinematics);
+    assert!(ka.u == kb.u && ka.v == kb.v && ka.a == kb.a && ca.alpha == cb.alpha);
+    let c = b.state().controller.unwrap();
     assert_eq!((c.accepted(), c.rejected()), (n as u64, 0));
     // With the default tolerance the first step of the healing fault (θ₀ = e^{-10} s ≪ τ)
     // is rejected, and τ cannot shrink: a typed error, the state unchanged.
@@ -999,14 +1005,15 @@ fn equal_step_bounds_reproduce_fixed_steps_bit_identically() {
         ..fixed.clone()
     };
     let mut s = strict.build().unwrap();
-    let before = s.checkpoint();
-    let e = s.run(1, &mut []).unwrap_err();
+    let before = s.checkpoint().state;
+    let e = s.run(1, &mut []).map_err(Error::from).unwrap_err();
     assert!(
         matches!(e, Error::Time(TimeError::StepTooSmall { tau_min, .. }) if tau_min == tau),
         "{e:?}"
     );
-    let after = s.checkpoint();
-    assert!(after.u == before.u && after.v == before.v && after.alpha == before.alpha);
+    let after = s.checkpoint().state;
+    let (ka, kb) = (&after.kinematics, &before.kinematics);
+    assert!(ka.u == kb.u && ka.v == kb.v && after.alpha == before.alpha);
     assert_eq!((after.step, after.time), (0, 0.0));
 }
 
@@ -1060,8 +1067,8 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
                 "max_factor = 1.0001",
                 "max_factor = 1e6",
                 "safety = 1e-3",
-                "initial_step_s = 1e-12",
-                "initial_step_s = 1e3",
+                "initial_tau_s = 1e-12",
+                "initial_tau_s = 1e3",
                 "displacement_scale_m = 0",
                 "state_scale_s = 1e30",
                 "state_change_cap = 1e-6",
@@ -1080,7 +1087,9 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
             let label = format!("{label} [{scene_name}]");
             let mut straight = scene.build().unwrap();
             let mut watch = Watch::new(&label, 300, t1, a.tau_max_s, 0.0);
-            let first = straight.run_until(Until::Time(t1), &mut [&mut watch]);
+            let first = straight
+                .run_until(Until::Time(t1), &mut [&mut watch])
+                .map_err(Error::from);
             watch.assert_clean();
             if let Err(e) = &first {
                 assert!(is_numerical_failure(e), "{label}: {e:?}");
@@ -1092,10 +1101,11 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
                 .unwrap_or_else(|e| panic!("{label}: restore fails: {e}"));
             assert_eq!(resumed.checkpoint(), cp, "{label}: restored as saved");
             let continue_run = |sim: &mut Sim| {
-                let mut watch = Watch::new(&label, more, f64::INFINITY, a.tau_max_s, cp.time);
+                let mut watch = Watch::new(&label, more, f64::INFINITY, a.tau_max_s, cp.state.time);
                 let r = sim
                     .run(more, &mut [&mut watch])
                     .map(|s| (s.steps, s.rejected_attempts))
+                    .map_err(Error::from)
                     .map_err(|e| {
                         assert!(is_numerical_failure(&e), "{label}: {e:?}");
                         e.to_string()
@@ -1112,7 +1122,7 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
                 "{label}: bit-identical after {more} more steps ({r_straight:?})"
             );
             let counts = |s: &Sim| {
-                let c = s.step_controller().unwrap();
+                let c = s.state().controller.unwrap();
                 (c.accepted(), c.rejected(), c.tau().to_bits())
             };
             assert_eq!(counts(&straight), counts(&resumed), "{label}");

@@ -5,8 +5,8 @@
 use rsf::friction::{DieterichRuina, StateDependentTresca, StateVariable};
 use rsf::state::{Aging, Discontinuous, StateLaw};
 use rsf::{
-    Checkpoint, Error, EventThresholds, FrictionalProfile, Model, PointSeries, Recorder,
-    SimulationBuilder, SliderScene, SlipEvents, StateIntegrator,
+    Checkpoint, Error, EventThresholds, Every, FileMode, FrictionalProfile, Interval, Model,
+    PointSeries, Recorder, SimulationBuilder, SliderScene, SlipEvents, StateIntegrator,
 };
 
 fn model() -> Model<2> {
@@ -60,7 +60,7 @@ fn theta_state_law_with_log_theta_friction_is_refused() {
 #[test]
 fn a_free_normal_on_the_fault_is_refused() {
     let mut m = model();
-    let p = m.frictional.nodes[3];
+    let p = m.frictional_boundary.nodes[3];
     m.fixed[2 * p + 1] = false;
     let e = SimulationBuilder::new(m)
         .friction(paper_friction())
@@ -137,10 +137,10 @@ fn non_finite_checkpoints_are_refused() {
     sim.run(2, &mut []).unwrap();
     let good = sim.checkpoint();
     for corrupt in [
-        |c: &mut Checkpoint| c.alpha[0] = f64::NAN,
-        |c: &mut Checkpoint| c.u[3] = f64::INFINITY,
-        |c: &mut Checkpoint| c.time = f64::NAN,
-        |c: &mut Checkpoint| c.tau = -1.0,
+        |c: &mut Checkpoint| c.state.alpha[0] = f64::NAN,
+        |c: &mut Checkpoint| c.state.kinematics.u[3] = f64::INFINITY,
+        |c: &mut Checkpoint| c.state.time = f64::NAN,
+        |c: &mut Checkpoint| c.state.tau = -1.0,
     ] {
         let mut c = good.clone();
         corrupt(&mut c);
@@ -156,11 +156,11 @@ fn out_of_range_nodes_and_empty_meshes_are_errors() {
     let n = m.num_nodes();
     let dir = std::env::temp_dir().join(format!("rsf-consistency-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let e = PointSeries::create(&dir.join("x.csv"), &m, n)
+    let e = PointSeries::new(&dir.join("x.csv"), &m, n, FileMode::Create)
         .err()
         .unwrap();
     assert!(matches!(e, Error::NodeOutOfRange { node, nodes, .. } if node == n && nodes == n));
-    assert!(Recorder::new(&m, &[0, n + 5], 1).is_err());
+    assert!(Recorder::new(&m, &[0, n + 5]).is_err());
     assert!(SlipEvents::new(EventThresholds::default())
         .unwrap()
         .slip_at(&m, usize::MAX)
@@ -170,8 +170,11 @@ fn out_of_range_nodes_and_empty_meshes_are_errors() {
         end: 1e-3
     })
     .is_err());
-    assert!(FrictionalProfile::<2>::create(&dir.join("p.csv"), 1.0, 0.0, 1).is_err());
-    assert!(FrictionalProfile::<2>::create(&dir.join("p.csv"), 0.0, 1.0, 0).is_err());
+    assert!(FrictionalProfile::<2>::new(&dir.join("p.csv"), (1.0, 0.0), FileMode::Create).is_err());
+    // Sampling every 0 steps (the interval is now `Every`'s, not the profile's).
+    let profile =
+        FrictionalProfile::<2>::new(&dir.join("p.csv"), (0.0, 1.0), FileMode::Create).unwrap();
+    assert!(Every::new(Interval::Steps(0), profile).is_err());
     assert!(rsf::nearest_vertex::<2>(&[], &[0.0, 0.0]).is_err());
     assert!(m.nearest_node(&[f64::NAN, 0.0]).is_err());
     std::fs::remove_dir_all(&dir).ok();
@@ -244,7 +247,10 @@ fn the_constant_slip_rate_update_needs_a_law_with_its_closed_form() {
         .state_integrator(StateIntegrator::ConstantSlipRate)
         .build()
         .unwrap();
-    assert_eq!(ok.state_integrator(), StateIntegrator::ConstantSlipRate);
+    assert_eq!(
+        ok.method().state_integrator(),
+        StateIntegrator::ConstantSlipRate
+    );
     let scene = SliderScene::from_toml("state_integrator = \"constant-slip-rate\"").unwrap();
     assert_eq!(scene.state_integrator, StateIntegrator::ConstantSlipRate);
     assert!(SliderScene::from_toml("state_integrator = \"exact\"").is_err());

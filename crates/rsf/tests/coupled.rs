@@ -2,10 +2,10 @@
 //! loading phase, determinism, checkpoint/resume, scene validation. (TNNMG and the direct
 //! solver are compared through the first slip events in `slip_event.rs`.)
 
-use rsf::{Checkpoint, Error, SliderScene, SolverChoice, SLIDER_CENTRE};
+use rsf::{Checkpoint, Error, SliderScene, SolverKind, SLIDER_CENTRE};
 
 /// The paper's scene at level 2 with its time step (τ = T/1e4), first `steps` steps.
-fn short(solver: SolverChoice) -> SliderScene {
+fn short(solver: SolverKind) -> SliderScene {
     SliderScene {
         level: 2,
         solver,
@@ -30,7 +30,7 @@ fn run(scene: &SliderScene, steps: usize) -> (Vec<(f64, f64)>, Checkpoint) {
 
 #[test]
 fn loading_phase_converges_sticks_and_is_deterministic() {
-    let scene = short(SolverChoice::Tnnmg);
+    let scene = short(SolverKind::Tnnmg);
     let (a, ca) = run(&scene, 2000);
     // While the block is loaded (t ≤ 3 s ≪ first slip ≈ 2T/3) the centre sticks.
     let vmax = a.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
@@ -50,7 +50,7 @@ fn loading_phase_converges_sticks_and_is_deterministic() {
 
 #[test]
 fn checkpoint_then_resume_is_bit_identical() {
-    let scene = short(SolverChoice::Tnnmg);
+    let scene = short(SolverKind::Tnnmg);
     let (_, straight) = run(&scene, 2000);
     let dir = std::env::temp_dir().join(format!("rsf-ckpt-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -124,7 +124,7 @@ fn scene_file_in_the_repository_parses_to_the_defaults() {
 struct StopAfter(usize);
 
 impl rsf::Observer<2> for StopAfter {
-    fn observe(&mut self, s: &rsf::StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
+    fn observe(&mut self, s: &rsf::StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
         Ok(if s.report.step >= self.0 {
             rsf::Flow::Break(())
         } else {
@@ -147,11 +147,11 @@ fn run_until_a_time_and_until_an_observer_stops() {
         .unwrap();
     assert_eq!(s.steps, 10);
     assert!((sim.time() - 10.0 * tau).abs() < 1e-12);
-    assert!(!s.stopped_by_observer);
+    assert!(!s.stopped_by_observer());
     let mut stop = StopAfter(13);
     let s = sim.run(100, &mut [&mut stop]).unwrap();
     assert_eq!((s.steps, sim.step_index()), (3, 13));
-    assert!(s.stopped_by_observer);
+    assert!(s.stopped_by_observer());
     // A non-finite end time is a typed error, not a hang.
     assert!(sim
         .run_until(rsf::Until::Time(f64::INFINITY), &mut [])
@@ -208,8 +208,8 @@ fn coarse_steps_on_a_fine_mesh_converge_with_both_solvers_and_agree() {
             })
             .collect::<Vec<_>>()
     };
-    let direct = run(&scene(SolverChoice::Direct));
-    let tnnmg = run(&scene(SolverChoice::Tnnmg));
+    let direct = run(&scene(SolverKind::Direct));
+    let tnnmg = run(&scene(SolverKind::Tnnmg));
     let u_scale = tnnmg.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
     let v_scale = tnnmg.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
     assert!(u_scale > 0.0 && v_scale > 0.0);

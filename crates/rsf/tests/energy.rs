@@ -53,7 +53,7 @@ mod common;
 use common::*;
 use rsf::friction::DieterichRuina;
 use rsf::time::Kinematics;
-use rsf::{IntegratorKind, Model, Observer, StepState};
+use rsf::{Integrator, Model, Observer, StepView};
 
 /// Relative tolerance of the residual and of the balance (see the module docs).
 const TOL: f64 = 1e-7;
@@ -105,7 +105,7 @@ struct Evaluated {
 impl Evaluated {
     fn new(model: &Model<2>, law: &DieterichRuina, k: &Kinematics, alpha: &[f64]) -> Self {
         let mass = model.mass.as_ref().expect("dynamic integrator");
-        let fb = &model.frictional;
+        let fb = &model.frictional_boundary;
         let n = k.u.len();
         let mut f = vec![0.0; n];
         let mut min_power = f64::INFINITY;
@@ -203,8 +203,8 @@ impl EnergyObserver {
 }
 
 impl Observer<2> for EnergyObserver {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
-        let now = Evaluated::new(s.model, &self.law, s.kinematics, s.alpha);
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
+        let now = Evaluated::new(s.model, &self.law, &s.state.kinematics, &s.state.alpha);
         let b = self.balance(s.model, &now);
         self.steps.push(b);
         self.prev = now;
@@ -214,7 +214,7 @@ impl Observer<2> for EnergyObserver {
 
 /// Runs the fast-loading slider with `integrator`; returns each step's balance and
 /// `E_N − E_0` from the end states.
-fn run_balance(integrator: IntegratorKind) -> (Vec<Balance>, f64) {
+fn run_balance(integrator: Integrator) -> (Vec<Balance>, f64) {
     let scene = with_integrator(fast_loading(2e-2, 300), integrator);
     let law = friction_law(&scene);
     let mut sim = build(&scene);
@@ -222,11 +222,11 @@ fn run_balance(integrator: IntegratorKind) -> (Vec<Balance>, f64) {
     let e0 = start.energy();
     let mut obs = EnergyObserver {
         law,
-        newmark: integrator == IntegratorKind::Newmark,
+        newmark: integrator == Integrator::Newmark,
         prev: start,
         steps: Vec::new(),
     };
-    run_until(&mut *sim, 0.3, &mut [&mut obs]);
+    run_until(&mut sim, 0.3, &mut [&mut obs]);
     assert_eq!(obs.steps.len(), 300);
     (obs.steps, obs.prev.energy() - e0)
 }
@@ -289,7 +289,7 @@ fn check_balance(name: &str, steps: &[Balance], total_de: f64) -> (f64, f64, f64
 /// Newmark conserves: `E_n − E_{n−1} = W_n − D_n` per step and summed.
 #[test]
 fn newmark_energy_balance_with_friction() {
-    let (steps, total) = run_balance(IntegratorKind::Newmark);
+    let (steps, total) = run_balance(Integrator::Newmark);
     let (.., numerical) = check_balance("Newmark", &steps, total);
     assert_eq!(numerical, 0.0);
 }
@@ -298,7 +298,7 @@ fn newmark_energy_balance_with_friction() {
 /// `E_n − E_{n−1} ≤ W_n − D_n`.
 #[test]
 fn backward_euler_energy_inequality_with_friction() {
-    let (steps, total) = run_balance(IntegratorKind::BackwardEuler);
+    let (steps, total) = run_balance(Integrator::BackwardEuler);
     let (work, _, numerical) = check_balance("backward Euler", &steps, total);
     for (n, b) in steps.iter().enumerate() {
         assert!(

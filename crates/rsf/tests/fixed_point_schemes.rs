@@ -23,7 +23,7 @@
 mod common;
 
 use common::*;
-use rsf::{FixedPointScheme, SliderScene, SolverChoice, StateLawKind};
+use rsf::{FixedPointScheme, SliderScene, SolverKind, StateLawKind};
 
 const SLIP: f64 = 1e-3;
 const SLIP_OFF: f64 = 1e-4;
@@ -31,11 +31,11 @@ const SLIP_OFF: f64 = 1e-4;
 fn record(law: StateLawKind, scheme: FixedPointScheme) -> Recorder {
     let scene = SliderScene {
         fixed_point: scheme,
-        ..with_law(paper(3, SolverChoice::Direct), law)
+        ..with_law(paper(3, SolverKind::Direct), law)
     };
     let mut sim = build(&scene);
-    let mut rec = Recorder::new(sim.as_ref());
-    run_until(sim.as_mut(), end_time(&scene), &mut [&mut rec]);
+    let mut rec = Recorder::new(&sim);
+    run_until(&mut sim, end_time(&scene), &mut [&mut rec]);
     rec
 }
 
@@ -110,10 +110,10 @@ fn compare(law: StateLawKind) {
 
 #[test]
 fn default_scheme_keeps_the_paper_schemes_trajectory_dieterich() {
-    compare(StateLawKind::Dieterich);
+    compare(StateLawKind::Aging);
 }
 
 #[test]
 fn default_scheme_keeps_the_paper_schemes_trajectory_ruina() {
-    compare(StateLawKind::Ruina);
+    compare(StateLawKind::Slip);
 }

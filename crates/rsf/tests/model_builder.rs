@@ -49,7 +49,7 @@ struct HandModel {
     fixed: Vec<bool>,
     u0: Vec<f64>,
     prolongations: Vec<SparseMatrix>,
-    frictional: FrictionalBoundary,
+    frictional_boundary: FrictionalBoundary,
     dirichlet_dofs: Vec<usize>,
 }
 
@@ -90,7 +90,7 @@ fn by_hand(s: &SliderScene) -> HandModel {
         prolongations: (1..=s.level)
             .map(|j| h.vector_prolongation(j).clone())
             .collect(),
-        frictional,
+        frictional_boundary: frictional,
         dirichlet_dofs: dofs,
     }
 }
@@ -127,12 +127,18 @@ fn the_paper_slider_is_the_hand_assembled_model_bit_for_bit() {
         for (a, b) in model.prolongations.iter().zip(&hand.prolongations) {
             assert!(same_matrix(a, b), "prolongation");
         }
-        assert_eq!(model.frictional.nodes, hand.frictional.nodes);
         assert_eq!(
-            bits(&model.frictional.weights),
-            bits(&hand.frictional.weights)
+            model.frictional_boundary.nodes,
+            hand.frictional_boundary.nodes
         );
-        assert_eq!(model.frictional.along, hand.frictional.along);
+        assert_eq!(
+            bits(&model.frictional_boundary.weights),
+            bits(&hand.frictional_boundary.weights)
+        );
+        assert_eq!(
+            model.frictional_boundary.along,
+            hand.frictional_boundary.along
+        );
         assert_eq!(model.dirichlet.dofs, hand.dirichlet_dofs);
         for t in [0.0, 1e-3, 1.7, 3.75, 3.7500001, 10.0] {
             let speed = model.dirichlet.speed(t);
@@ -158,17 +164,17 @@ fn a_three_dimensional_block_on_its_bottom_face_runs() {
             Part::predicate("top", |x| x[2] > 1.0 - 1e-9),
             [1e-4, 0.0, 0.0],
         )
-        .frictional(Part::predicate("bottom", |x| x[2] < 1e-9))
+        .frictional_boundary(Part::predicate("bottom", |x| x[2] < 1e-9))
         .build()
         .unwrap();
     // 5 × 3 nodes on the bottom face after one refinement, the z component fixed.
-    assert_eq!(model.frictional.len(), 15);
+    assert_eq!(model.frictional_boundary.len(), 15);
     assert!(model
-        .frictional
+        .frictional_boundary
         .nodes
         .iter()
         .all(|&p| model.fixed[3 * p + 2] && !model.fixed[3 * p]));
-    assert!((model.frictional.weights.iter().sum::<f64>() - 2.0).abs() < 1e-12);
+    assert!((model.frictional_boundary.weights.iter().sum::<f64>() - 2.0).abs() < 1e-12);
     let sigma_n = 5e3 * 9.81;
     let mut sim = SimulationBuilder::new(model)
         .friction(Tresca::new(0.6, sigma_n).unwrap())
@@ -185,11 +191,11 @@ fn a_vertical_fault_fixes_the_x_component_and_orders_by_y() {
     let model = ModelBuilder::new(mesh)
         .material(ROCK)
         .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [0.0, 1e-4])
-        .frictional(Part::predicate("left", |x| x[0] < 1e-9))
+        .frictional_boundary(Part::predicate("left", |x| x[0] < 1e-9))
         .without_mass()
         .build()
         .unwrap();
-    let fb = &model.frictional;
+    let fb = &model.frictional_boundary;
     assert!(model.mass.is_none());
     assert!(fb
         .nodes
@@ -208,7 +214,7 @@ fn block() -> ModelBuilder<2> {
     ModelBuilder::new(mesh)
         .material(ROCK)
         .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
-        .frictional(Part::predicate("bottom", |x| x[1] < 1e-9))
+        .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
 }
 
 fn names(e: &Error, words: &[&str]) {
@@ -223,7 +229,7 @@ fn inadmissible_descriptions_are_named_errors() {
     let mesh = || rectangle([0.0, 0.0], [4.0, 1.0], 5, 2, Diagonal::Forward).unwrap();
     names(
         &ModelBuilder::new(mesh())
-            .frictional("x")
+            .frictional_boundary("x")
             .build()
             .unwrap_err(),
         &["material"],
@@ -236,14 +242,17 @@ fn inadmissible_descriptions_are_named_errors() {
         &["frictional"],
     );
     names(
-        &block().frictional("no-such-tag").build().unwrap_err(),
+        &block()
+            .frictional_boundary("no-such-tag")
+            .build()
+            .unwrap_err(),
         &["no-such-tag", "selects no boundary facet"],
     );
     // No Dirichlet part: the block can slide away, K u0 = F is singular.
     let free = ModelBuilder::new(mesh())
         .material(ROCK)
         .gravity([0.0, -9.81])
-        .frictional(Part::predicate("bottom", |x| x[1] < 1e-9))
+        .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
         .build()
         .unwrap_err();
     assert!(matches!(free, Error::Equilibrium(_)), "{free}");
@@ -288,7 +297,10 @@ fn inadmissible_descriptions_are_named_errors() {
     let other = rectangle([0.0, 0.0], [1.0, 1.0], 3, 3, Diagonal::Forward).unwrap();
     let foreign = rsf::fem::BoundaryPart::from_predicate(&other, "foreign", |x| x[1] < 1e-9);
     names(
-        &block().frictional(foreign.unwrap()).build().unwrap_err(),
+        &block()
+            .frictional_boundary(foreign.unwrap())
+            .build()
+            .unwrap_err(),
         &["foreign", "another mesh"],
     );
     names(
@@ -315,7 +327,7 @@ fn a_slanted_fault_is_rejected_naming_the_part() {
             Part::predicate("top", move |x| (-s * x[0] + c * x[1] - 1.0).abs() < 1e-9),
             [0.0, 0.0],
         )
-        .frictional(Part::predicate("slanted", on_bottom))
+        .frictional_boundary(Part::predicate("slanted", on_bottom))
         .build()
         .unwrap_err();
     assert!(
@@ -348,7 +360,7 @@ fn friction_given_by_position_follows_the_nodes() {
         .time_step(1e-3)
         .build()
         .unwrap();
-    for (k, &node) in model.frictional.nodes.iter().enumerate() {
+    for (k, &node) in model.frictional_boundary.nodes.iter().enumerate() {
         assert_eq!(sim.alpha()[k], -10.0 - model.vertices[node][0]);
     }
     // An invalid parameter at one position is the friction crate's error.
@@ -394,7 +406,7 @@ proptest! {
             .material(Material { youngs_modulus: 1e7 * e, poisson_ratio: nu / 4.0, density: 1e3 * rho })
             .gravity([0.0, 9.81 * g])
             .dirichlet_components(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), &[comp], [vx, 0.0])
-            .frictional(Part::predicate("fault", move |x| (x[1] - y_fault).abs() < 1e-9))
+            .frictional_boundary(Part::predicate("fault", move |x| (x[1] - y_fault).abs() < 1e-9))
             .loading(TimeFunction::ramp(duration));
         if !mass {
             b = b.without_mass();

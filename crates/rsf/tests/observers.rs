@@ -2,8 +2,8 @@
 //! an event) and the in-memory recorder.
 
 use rsf::{
-    EventDetector, EventThresholds, Recorder, SliderScene, SlipEvents, StopAt, Transition, Until,
-    SLIDER_CENTRE,
+    EventDetector, EventThresholds, FaultRecorder, Recorder, SliderScene, SlipEvents, StopAt,
+    Transition, Until, SLIDER_CENTRE,
 };
 
 /// Rates with ringing around the onset threshold inside the first event.
@@ -80,11 +80,15 @@ fn a_run_stops_at_the_end_of_the_first_event() {
         .slip_at(sim.model(), x0)
         .unwrap()
         .stop(StopAt::End(1));
-    let mut rec = Recorder::new(sim.model(), &[x0], 1).unwrap();
+    let mut rec = Recorder::new(sim.model(), &[x0]).unwrap();
+    let mut fault = FaultRecorder::new(sim.model());
     let summary = sim
-        .run_until(Until::Time(scene.end_time_s), &mut [&mut events, &mut rec])
+        .run_until(
+            Until::Time(scene.end_time_s),
+            &mut [&mut events, &mut rec, &mut fault],
+        )
         .unwrap();
-    assert!(summary.stopped_by_observer, "no slip event within 1 s");
+    assert!(summary.stopped_by_observer(), "no slip event within 1 s");
     let e = &events.events()[0];
     let (end_step, end_s) = e.end.unwrap();
     assert_eq!(end_step, sim.step_index());
@@ -106,16 +110,19 @@ fn a_run_stops_at_the_end_of_the_first_event() {
     assert_eq!(e.slip, Some(du[0].hypot(du[1])));
     assert!(e.slip.unwrap() > 0.0, "x0 moves during the event");
     // Γ_F snapshots every step, ordered along the boundary.
-    assert_eq!(rec.snapshots(), rec.len());
-    let last = rec.snapshots() - 1;
-    assert_eq!(rec.slip_rates(last).len(), sim.model().frictional.len());
-    assert_eq!(rec.snapshot_time(last), Some((end_step, end_s)));
-    let xs: Vec<f64> = rec
+    assert_eq!(fault.snapshots(), rec.len());
+    let last = fault.snapshots() - 1;
+    assert_eq!(
+        fault.slip_rates(last).len(),
+        sim.model().frictional_boundary.len()
+    );
+    assert_eq!(fault.snapshot_time(last), Some((end_step, end_s)));
+    let xs: Vec<f64> = fault
         .fault_nodes()
         .iter()
         .map(|&p| sim.model().vertices[p][0])
         .collect();
     assert!(xs.windows(2).all(|w| w[0] < w[1]));
-    let peak_profile = rec.slip_rates(last).iter().copied().fold(0.0, f64::max);
+    let peak_profile = fault.slip_rates(last).iter().copied().fold(0.0, f64::max);
     assert_eq!(peak_profile, rates[rates.len() - 1]);
 }

@@ -8,15 +8,15 @@ use std::path::Path;
 
 use common::{temp_dir, StopAt};
 use rsf::{
-    AnySimulation, Checkpoint, Checkpointer, FrictionalProfile, PointSeries, SliderScene,
-    SolverChoice, SLIDER_CENTRE,
+    Checkpoint, Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries,
+    SceneSimulation, SliderScene, SolverKind, SLIDER_CENTRE,
 };
 
 const STEPS: usize = 300;
 const CHECKPOINT_EVERY: usize = 100;
 const STOP_AT: usize = 250;
 
-fn scene(solver: SolverChoice) -> SliderScene {
+fn scene(solver: SolverKind) -> SliderScene {
     // Level 1, fast loading from t = 0 so that the profile window has motion in it.
     SliderScene {
         level: 1,
@@ -31,12 +31,7 @@ fn scene(solver: SolverChoice) -> SliderScene {
 
 /// Runs to the end (or to `stop`), writing `x0.csv`, `profile.csv` and checkpoints into
 /// `dir`; with `resume`, continues from the checkpoint in `dir`.
-fn run(
-    scene: &SliderScene,
-    dir: &Path,
-    stop: Option<usize>,
-    resume: bool,
-) -> Box<dyn AnySimulation<2>> {
+fn run(scene: &SliderScene, dir: &Path, stop: Option<usize>, resume: bool) -> SceneSimulation<2> {
     let mut sim = scene.build().unwrap();
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
     let (series_path, profile_path, ckpt) = (
@@ -45,20 +40,21 @@ fn run(
         dir.join("checkpoint.bin"),
     );
     let window = (0.1, 0.25);
-    let (mut series, mut profile) = if resume {
+    let mode = if resume {
         let c = Checkpoint::read(&ckpt).unwrap();
         sim.restore(&c).unwrap();
-        (
-            PointSeries::resume(&series_path, sim.model(), x0, c.step).unwrap(),
-            FrictionalProfile::resume(&profile_path, window.0, window.1, 3, c.step).unwrap(),
-        )
+        FileMode::Resume { step: c.state.step }
     } else {
-        (
-            PointSeries::create(&series_path, sim.model(), x0).unwrap(),
-            FrictionalProfile::create(&profile_path, window.0, window.1, 3).unwrap(),
-        )
+        FileMode::Create
     };
-    let mut checkpointer = Checkpointer::new(&ckpt, CHECKPOINT_EVERY);
+    let mut series = PointSeries::new(&series_path, sim.model(), x0, mode).unwrap();
+    let mut profile = Every::new(
+        Interval::Steps(3),
+        FrictionalProfile::new(&profile_path, window, mode).unwrap(),
+    )
+    .unwrap();
+    let mut checkpointer =
+        Every::new(Interval::Steps(CHECKPOINT_EVERY), Checkpointer::new(&ckpt)).unwrap();
     let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
     let remaining = STEPS - sim.step_index();
     sim.run(
@@ -71,17 +67,17 @@ fn run(
 
 #[test]
 fn stopped_and_resumed_run_writes_the_same_bytes() {
-    stop_and_resume(SolverChoice::Tnnmg, "tnnmg");
+    stop_and_resume(SolverKind::Tnnmg, "tnnmg");
 }
 
 /// The direct solver (the default at this size) keeps no state across steps that a
 /// checkpoint would not hold.
 #[test]
 fn stopped_and_resumed_run_writes_the_same_bytes_direct() {
-    stop_and_resume(SolverChoice::Direct, "direct");
+    stop_and_resume(SolverKind::Direct, "direct");
 }
 
-fn stop_and_resume(solver: SolverChoice, name: &str) {
+fn stop_and_resume(solver: SolverKind, name: &str) {
     let scene = scene(solver);
     let (a, b) = (
         temp_dir(&format!("resume-{name}-straight")),
@@ -118,23 +114,24 @@ fn stop_and_resume(solver: SolverChoice, name: &str) {
 #[test]
 fn resuming_detects_lost_rows_and_foreign_files() {
     let d = temp_dir("resume-lost");
-    let mut sim = scene(SolverChoice::Auto).build().unwrap();
+    let mut sim = scene(SolverKind::Auto).build().unwrap();
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
     let path = d.join("x0.csv");
     {
-        let mut series = PointSeries::create(&path, sim.model(), x0).unwrap();
+        let mut series = PointSeries::new(&path, sim.model(), x0, FileMode::Create).unwrap();
         sim.run(5, &mut [&mut series]).unwrap();
     }
     // Rows end at step 5; a checkpoint at step 7 cannot be continued without a gap.
-    let e = PointSeries::resume(&path, sim.model(), x0, 7)
+    let resume = |step| FileMode::Resume { step };
+    let e = PointSeries::new(&path, sim.model(), x0, resume(7))
         .err()
         .unwrap();
     assert!(e.to_string().contains("missing"), "{e}");
-    assert!(PointSeries::resume(&path, sim.model(), x0, 3).is_ok());
+    assert!(PointSeries::new(&path, sim.model(), x0, resume(3)).is_ok());
     // A profile file is not a series file, a missing file is not resumable.
-    FrictionalProfile::<2>::create(&d.join("p.csv"), 0.0, 1.0, 1).unwrap();
-    assert!(PointSeries::resume(&d.join("p.csv"), sim.model(), x0, 0).is_err());
-    assert!(PointSeries::resume(&d.join("none.csv"), sim.model(), x0, 0).is_err());
+    FrictionalProfile::<2>::new(&d.join("p.csv"), (0.0, 1.0), FileMode::Create).unwrap();
+    assert!(PointSeries::new(&d.join("p.csv"), sim.model(), x0, resume(0)).is_err());
+    assert!(PointSeries::new(&d.join("none.csv"), sim.model(), x0, resume(0)).is_err());
     std::fs::remove_dir_all(&d).ok();
 }
 
@@ -147,26 +144,28 @@ fn vtu_frames_resume_without_loss() {
     let scene = SliderScene {
         steps: 40,
         end_time_s: 0.04,
-        ..scene(SolverChoice::Auto)
+        ..scene(SolverKind::Auto)
     };
     let (a, b) = (
         temp_dir("resume-vtu-straight"),
         temp_dir("resume-vtu-stopped"),
     );
     let mut straight = scene.build().unwrap();
-    let mut frames = VtuFrames::create(&a, 10).unwrap();
+    let every_10 = |frames| Every::new(Interval::Steps(10), frames).unwrap();
+    let mut frames = every_10(VtuFrames::new(&a, FileMode::Create).unwrap());
     straight.run(40, &mut [&mut frames]).unwrap();
     let mut stopped = scene.build().unwrap();
-    let mut frames = VtuFrames::create(&b, 10).unwrap();
-    let mut ckpt = Checkpointer::new(b.join("c.bin"), 20);
+    let mut frames = every_10(VtuFrames::new(&b, FileMode::Create).unwrap());
+    let mut ckpt = Every::new(Interval::Steps(20), Checkpointer::new(b.join("c.bin"))).unwrap();
     stopped
         .run(40, &mut [&mut frames, &mut ckpt, &mut StopAt(35)])
         .unwrap();
     let mut resumed = scene.build().unwrap();
     let c = Checkpoint::read(&b.join("c.bin")).unwrap();
     resumed.restore(&c).unwrap();
-    let mut frames = VtuFrames::resume(&b, 10, c.step).unwrap();
-    resumed.run(40 - c.step, &mut [&mut frames]).unwrap();
+    let step = c.state.step;
+    let mut frames = every_10(VtuFrames::new(&b, FileMode::Resume { step }).unwrap());
+    resumed.run(40 - step, &mut [&mut frames]).unwrap();
     for file in [
         "frames.pvd",
         "frame_000010.vtu",

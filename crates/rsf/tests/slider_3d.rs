@@ -10,8 +10,8 @@ use rsf::friction::DieterichRuina;
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
 use rsf::{
-    FrictionBlocks, LateralBoundary, Model, Observer, Slider3dScene, SliderScene, SolverChoice,
-    StepState, SLIDER_CENTRE,
+    FrictionBlocks, LateralBoundary, Model, Observer, Slider3dScene, SliderScene, SolverKind,
+    StepView, SLIDER_CENTRE,
 };
 
 /// Time, `u_x` at one node and the largest slip rate of every step, until the largest slip
@@ -47,9 +47,9 @@ impl Trace {
 }
 
 impl<const D: usize> Observer<D> for Trace {
-    fn observe(&mut self, s: &StepState<'_, D>) -> rsf::Result<rsf::Flow> {
+    fn observe(&mut self, s: &StepView<'_, D>) -> rsf::Result<rsf::Flow> {
         self.t.push(s.report.time);
-        self.u_x.push(s.kinematics.u[D * self.node]);
+        self.u_x.push(s.state.kinematics.u[D * self.node]);
         self.max_slip_rate.push(s.report.max_slip_rate);
         Ok(if s.report.max_slip_rate > self.stop {
             rsf::Flow::Break(())
@@ -77,7 +77,7 @@ impl<const D: usize> Observer<D> for Trace {
 fn plane_strain_reproduces_the_2d_main_job() {
     let slider = SliderScene {
         level: 2,
-        solver: SolverChoice::Direct,
+        solver: SolverKind::Direct,
         ..SliderScene::default()
     };
     let stop = 1e-3;
@@ -199,8 +199,7 @@ impl Problem {
         Newmark
             .right_hand_side(
                 s.tau(),
-                self.model.mass.as_ref(),
-                &self.model.stiffness,
+                rsf::time::SystemMatrices::new(self.model.mass.as_ref(), &self.model.stiffness),
                 &self.model.load,
                 &kin,
                 &mut b,
@@ -225,7 +224,7 @@ impl Problem {
     }
 
     fn dieterich_ruina(&self, alpha: f64) -> FrictionBlocks<DieterichRuina> {
-        let f = &self.model.frictional;
+        let f = &self.model.frictional_boundary;
         let law = DieterichRuina::new(self.scene.slider.rate_state_params()).unwrap();
         FrictionBlocks::new(
             f.nodes.clone(),
@@ -298,7 +297,7 @@ fn tnnmg_and_direct_agree_on_3d_velocity_problems() {
             let d = p.relative_difference(&v_tn, &v_d);
             let slip: Vec<f64> = p
                 .model
-                .frictional
+                .frictional_boundary
                 .nodes
                 .iter()
                 .map(|&q| v_d[3 * q].hypot(v_d[3 * q + 2]))
@@ -375,9 +374,10 @@ fn solve_cost_tnnmg_against_linear_multigrid() {
         let b = p.rhs(v_slide);
         let nl = p.dieterich_ruina((p.scene.slider.l_m / v_slide).ln());
         let start = p.start(v_slide);
-        let rsf::SolverKind::Auto { tnnmg: opts, .. } = p.scene.slider.solver_kind() else {
+        let SolverKind::Auto = p.scene.slider.solver else {
             unreachable!("the default scene's solver is Auto")
         };
+        let opts = p.scene.slider.solver_options().tnnmg;
         let mut tn = p.tnnmg(opts);
         let its = |tn: &mut Tnnmg<3>, linear: bool| {
             let mut v = start.clone();
@@ -405,7 +405,7 @@ fn solve_cost_tnnmg_against_linear_multigrid() {
         eprintln!(
             "j={level} n={} frictional nodes={}: TNNMG {its_tn} its {:.3} ms, linear MG {its_lin} its {:.3} ms, TNNMG / linear MG {:.2}",
             p.n(),
-            p.model.frictional.nodes.len(),
+            p.model.frictional_boundary.nodes.len(),
             t_tn * 1e3,
             t_lin * 1e3,
             t_tn / t_lin
@@ -429,7 +429,11 @@ fn vtu_frames_of_the_3d_slider_are_tetrahedra() {
         ..Slider3dScene::default()
     };
     let mut sim = scene.build().unwrap();
-    let mut frames = rsf::VtuFrames::create(&dir, 2).unwrap();
+    let mut frames = rsf::Every::new(
+        rsf::Interval::Steps(2),
+        rsf::VtuFrames::new(&dir, rsf::FileMode::Create).unwrap(),
+    )
+    .unwrap();
     sim.run(2, &mut [&mut frames]).unwrap();
     let vtk = vtkio::Vtk::import(dir.join("frame_000002.vtu")).expect("valid VTK XML");
     let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {

@@ -33,7 +33,7 @@ mod common;
 use std::sync::OnceLock;
 
 use common::*;
-use rsf::SolverChoice;
+use rsf::SolverKind;
 
 /// Threshold of a slip event on the largest slip rate (m/s), as in docs/work-precision.md.
 const SLIP: f64 = 1e-3;
@@ -43,33 +43,33 @@ const SLIP_END: f64 = 1e-5;
 const AGREE: f64 = 1e-6;
 
 /// The run at `level` with `solver` up to `t_end`, computed once per test binary.
-fn run(level: usize, solver: SolverChoice) -> &'static Recorder {
+fn run(level: usize, solver: SolverKind) -> &'static Recorder {
     static RUNS: [OnceLock<Recorder>; 4] = [const { OnceLock::new() }; 4];
     let (slot, t_end) = match (level, solver) {
-        (2, SolverChoice::Tnnmg) => (0, 11.0),
-        (2, SolverChoice::Direct) => (1, 11.0),
-        (3, SolverChoice::Tnnmg) => (2, 10.3),
-        (3, SolverChoice::Direct) => (3, 10.3),
+        (2, SolverKind::Tnnmg) => (0, 11.0),
+        (2, SolverKind::Direct) => (1, 11.0),
+        (3, SolverKind::Tnnmg) => (2, 10.3),
+        (3, SolverKind::Direct) => (3, 10.3),
         _ => unreachable!("no such run"),
     };
     RUNS[slot].get_or_init(|| {
         let scene = paper(level, solver);
         let mut sim = build(&scene);
-        let mut rec = Recorder::new(&*sim);
-        run_until(&mut *sim, t_end, &mut [&mut rec]);
+        let mut rec = Recorder::new(&sim);
+        run_until(&mut sim, t_end, &mut [&mut rec]);
         rec
     })
 }
 
 /// The first-slip time of a run: the first crossing of `SLIP` after the loading ramp.
 fn first_slip(r: &Recorder) -> f64 {
-    let ramp = ramp_end(&paper(2, SolverChoice::Tnnmg));
+    let ramp = ramp_end(&paper(2, SolverKind::Tnnmg));
     first_crossing(&r.t, &r.max_v, SLIP, ramp).expect("a slip event in the run")
 }
 
 /// The physics of one run (module docs); returns its first-slip time.
 fn check_physics(name: &str, r: &Recorder) -> f64 {
-    let scene = paper(2, SolverChoice::Tnnmg);
+    let scene = paper(2, SolverKind::Tnnmg);
     let t_end = end_time(&scene);
     let v_d = loading_velocity(&scene);
     let loading_peak =
@@ -132,8 +132,8 @@ fn check_physics(name: &str, r: &Recorder) -> f64 {
 /// TNNMG and the direct solver agree through the events (module docs).
 fn check_agreement(level: usize) {
     let (a, b) = (
-        run(level, SolverChoice::Tnnmg),
-        run(level, SolverChoice::Direct),
+        run(level, SolverKind::Tnnmg),
+        run(level, SolverKind::Direct),
     );
     let ta = check_physics(&format!("j = {level}, TNNMG"), a);
     let tb = check_physics(&format!("j = {level}, direct"), b);
@@ -175,8 +175,8 @@ fn check_agreement(level: usize) {
 fn level_2_solvers_agree_through_two_slip_events() {
     check_agreement(2);
     let events = event_starts(
-        &run(2, SolverChoice::Direct).t,
-        &run(2, SolverChoice::Direct).max_v,
+        &run(2, SolverKind::Direct).t,
+        &run(2, SolverKind::Direct).max_v,
         SLIP,
         SLIP_END,
     );
@@ -187,15 +187,15 @@ fn level_2_solvers_agree_through_two_slip_events() {
 #[test]
 fn level_3_solvers_agree_through_the_first_slip_event() {
     check_agreement(3);
-    let r = run(3, SolverChoice::Direct);
+    let r = run(3, SolverKind::Direct);
     assert_eq!(event_starts(&r.t, &r.max_v, SLIP, SLIP_END).len(), 1);
 }
 
 /// The first event hardly depends on the mesh (module docs).
 #[test]
 fn first_slip_time_is_mesh_independent() {
-    let t2 = first_slip(run(2, SolverChoice::Direct));
-    let t3 = first_slip(run(3, SolverChoice::Direct));
+    let t2 = first_slip(run(2, SolverKind::Direct));
+    let t3 = first_slip(run(3, SolverKind::Direct));
     assert!(
         (t2 - t3).abs() <= 1e-3 * t3,
         "first slip at {t2} s (j = 2) and {t3} s (j = 3)"

@@ -12,10 +12,10 @@ use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, RateStateParams};
 use rsf::state::Aging;
-use rsf::time::{Newmark, Quasistatic, VelocityIntegrator};
+use rsf::time::{Kinematics, Newmark, Quasistatic, VelocityIntegrator};
 use rsf::{
     Checkpoint, DirichletVelocity, FixedPointOptions, FrictionalBoundary, Model, Simulation,
-    SolverKind, TimeFunction,
+    SimulationBuilder, SimulationState, SolverKind, TimeFunction,
 };
 
 const PARAMS: RateStateParams = RateStateParams {
@@ -71,37 +71,40 @@ fn build<I: VelocityIntegrator>(
             history: TimeFunction::Constant(1.0),
         },
         prolongations: Vec::new(),
-        frictional: FrictionalBoundary::new(&[0], &[1.0]).unwrap(),
+        frictional_boundary: FrictionalBoundary::new(&[0], &[1.0]).unwrap(),
         initial_displacement: vec![0.0, f_ss / k],
         cells: Vec::new(),
     };
     let alpha0 = (PARAMS.l / V_LOAD).ln() + DALPHA;
-    let mut sim = Simulation::new(
-        model,
-        vec![DieterichRuina::new(PARAMS).unwrap()],
-        vec![Aging::new(PARAMS.l).unwrap()],
-        vec![alpha0],
-        integrator,
-        TAU,
-        &SolverKind::Direct(Default::default()),
-        FixedPointOptions {
+    let mut sim = SimulationBuilder::new(model)
+        .friction(DieterichRuina::new(PARAMS).unwrap())
+        .state_law(Aging::new(PARAMS.l).unwrap())
+        .initial_state(alpha0)
+        .integrator(integrator)
+        .time_step(TAU)
+        .solver(SolverKind::Direct)
+        .fixed_point(FixedPointOptions {
             max_iterations: 1000,
             ..FixedPointOptions::default()
-        },
-    )
-    .unwrap();
-    // Steady sliding: v = V_load on both dofs (Simulation::new starts the block at rest).
+        })
+        .build()
+        .unwrap();
+    // Steady sliding: v = V_load on both dofs (the builder starts the block at rest).
     sim.restore(&Checkpoint {
         dim: 1,
-        step: 0,
-        time: 0.0,
-        time_origin: (0, 0.0),
-        tau: TAU,
-        u: vec![0.0, f_ss / k],
-        v: vec![V_LOAD; 2],
-        a: vec![0.0; 2],
-        alpha: vec![alpha0],
-        controller: Vec::new(),
+        state: SimulationState {
+            step: 0,
+            time: 0.0,
+            time_origin: (0, 0.0),
+            tau: TAU,
+            kinematics: Kinematics {
+                u: vec![0.0, f_ss / k],
+                v: vec![V_LOAD; 2],
+                a: vec![0.0; 2],
+            },
+            alpha: vec![alpha0],
+            controller: None,
+        },
     })
     .unwrap();
     sim

@@ -14,9 +14,7 @@
 use std::time::Instant;
 
 use rsf::friction::{DieterichRuina, RateStateParams};
-use rsf::state::{Aging, Slip};
-use rsf::time::Newmark;
-use rsf::{AnySimulation, Error, FixedPointOptions, Simulation, SliderScene, StateLawKind};
+use rsf::{Error, FixedPointOptions, Integrator, SceneSimulation, SliderScene};
 
 /// What a case is expected to end in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -319,7 +317,7 @@ pub fn cases() -> Vec<Case> {
                 "as fast-slip, Ruina's law",
                 SliderScene {
                     loading_velocity_m_per_s: 1.0,
-                    state_law: StateLawKind::Ruina,
+                    state_law: rsf::StateLawKind::Slip,
                     ..b()
                 },
             )
@@ -336,30 +334,22 @@ pub fn cases() -> Vec<Case> {
     v
 }
 
-fn build(c: &Case) -> rsf::Result<Box<dyn AnySimulation<2>>> {
+fn build(c: &Case) -> rsf::Result<SceneSimulation<2>> {
     let s = &c.scene;
-    let model = s.build_model()?;
-    let nf = model.frictional.len();
     let base = s.rate_state_params();
-    let laws = model
-        .frictional
-        .nodes
-        .iter()
-        .map(|&p| {
-            let x = model.vertices[p][0];
-            let params = match c.fault {
-                Fault::Uniform => base,
-                Fault::Patch { half_width } if (x - 2.5).abs() <= half_width => base,
-                Fault::Patch { .. } => RateStateParams {
-                    a: base.b,
-                    b: base.a,
-                    ..base
-                },
-            };
-            DieterichRuina::new(params)
-        })
-        .collect::<std::result::Result<Vec<_>, _>>()?;
-    let alpha0 = vec![s.alpha0; nf];
+    let law = |x: &[f64; 2]| {
+        let x = x[0];
+        let params = match c.fault {
+            Fault::Uniform => base,
+            Fault::Patch { half_width } if (x - 2.5).abs() <= half_width => base,
+            Fault::Patch { .. } => RateStateParams {
+                a: base.b,
+                b: base.a,
+                ..base
+            },
+        };
+        DieterichRuina::new(params)
+    };
     let scheme = match c.paper_relaxation {
         Some(relaxation) => FixedPointOptions {
             acceleration: rsf::Acceleration::Relaxation { relaxation },
@@ -372,35 +362,13 @@ fn build(c: &Case) -> rsf::Result<Box<dyn AnySimulation<2>>> {
         max_iterations: s.fixed_point_max_iterations,
         ..scheme
     };
-    let solver = s.solver_kind();
-    // One simulation per state-law type, with the scene's state update.
-    fn boxed<S: rsf::state::StateLaw + 'static>(
-        s: &SliderScene,
-        parts: (rsf::Model<2>, Vec<DieterichRuina>, Vec<f64>),
-        law: S,
-        solver: &rsf::SolverKind,
-        fp: FixedPointOptions,
-    ) -> rsf::Result<Box<dyn AnySimulation<2>>> {
-        let (model, laws, alpha0) = parts;
-        let nf = alpha0.len();
-        let mut sim = Simulation::new(
-            model,
-            laws,
-            vec![law; nf],
-            alpha0,
-            Newmark,
-            s.tau(),
-            solver,
-            fp,
-        )?;
-        sim.set_state_integrator(s.state_integrator)?;
-        Ok(Box::new(sim))
-    }
-    let parts = (model, laws, alpha0);
-    match s.state_law {
-        StateLawKind::Dieterich => boxed(s, parts, Aging::new(s.l_m)?, &solver, fp),
-        StateLawKind::Ruina => boxed(s, parts, Slip::new(s.l_m)?, &solver, fp),
-    }
+    // The scene's model, state law, α₀, τ, solver and state update; the case's friction
+    // along Γ_F and fixed point options.
+    s.simulation_builder()?
+        .friction_at(law)
+        .integrator(Integrator::Newmark)
+        .fixed_point(fp)
+        .build()
 }
 
 fn all_finite(x: &[f64]) -> bool {
@@ -469,7 +437,7 @@ pub fn run_case(c: &Case) -> Outcome {
     let v = &sim.kinematics().v;
     out.min_slip_rate_end = sim
         .model()
-        .frictional
+        .frictional_boundary
         .nodes
         .iter()
         .map(|&p| v[2 * p].hypot(v[2 * p + 1]))
@@ -571,7 +539,7 @@ macro_rules! stability_tests {
         /// resolves to the direct solver at level 2): the same outcomes and physics.
         #[test]
         fn every_case_with_tnnmg() {
-            for c in cases_with(|s| s.solver = rsf::SolverChoice::Tnnmg) {
+            for c in cases_with(|s| s.solver = rsf::SolverKind::Tnnmg) {
                 check_case(&c);
             }
         }

@@ -32,7 +32,7 @@ mod common;
 
 use common::*;
 use rsf::friction::FrictionLaw;
-use rsf::{Checkpoint, IntegratorKind, SliderScene, StateLawKind};
+use rsf::{Checkpoint, Integrator, SliderScene, StateLawKind};
 
 const V_D: f64 = 2.5e-3;
 const TAU: f64 = 5e-3;
@@ -42,7 +42,7 @@ const T_STEADY: f64 = 2.5;
 /// Relative tolerance of the closed form.
 const TOL: f64 = 1e-8;
 
-fn scene(law: StateLawKind, integrator: IntegratorKind) -> SliderScene {
+fn scene(law: StateLawKind, integrator: Integrator) -> SliderScene {
     velocity_strengthening(V_D, TAU, STEPS, law, integrator)
 }
 
@@ -50,7 +50,7 @@ fn close(x: f64, y: f64, tol: f64) -> bool {
     (x - y).abs() <= tol * y.abs()
 }
 
-fn check_steady_sliding(name: &str, law: StateLawKind, integrator: IntegratorKind) {
+fn check_steady_sliding(name: &str, law: StateLawKind, integrator: Integrator) {
     let scene = scene(law, integrator);
     let p = params(&scene);
     let friction = friction_law(&scene);
@@ -63,13 +63,13 @@ fn check_steady_sliding(name: &str, law: StateLawKind, integrator: IntegratorKin
         dir.join("state.ckpt"),
     );
     let mut sim = build(&scene);
-    let nf = sim.model().frictional.len();
+    let nf = sim.model().frictional_boundary.len();
     {
-        let mut series = point_series(&*sim, &series_path);
+        let mut series = point_series(&sim, &series_path);
         let mut profile = frictional_profile(&profile_path, T_STEADY, f64::INFINITY, 10);
-        let mut ckpt = checkpointer(&*sim, &ckpt_path, 100);
+        let mut ckpt = checkpointer(&sim, &ckpt_path, 100);
         run_until(
-            &mut *sim,
+            &mut sim,
             TAU * STEPS as f64,
             &mut [&mut series, &mut profile, &mut ckpt],
         );
@@ -146,9 +146,9 @@ fn check_steady_sliding(name: &str, law: StateLawKind, integrator: IntegratorKin
         "{name}: checkpoint file ≠ final state"
     );
     let m = sim.model();
-    let mut r = apply(&m.stiffness, &read.u);
+    let mut r = apply(&m.stiffness, &read.state.kinematics.u);
     if let Some(mass) = &m.mass {
-        apply_add(mass, 1.0, &read.a, &mut r);
+        apply_add(mass, 1.0, &read.state.kinematics.a, &mut r);
     }
     let reaction: f64 = m.dirichlet.dofs.iter().map(|&d| r[d] - m.load[d]).sum();
     let traction = reaction / 5.0;
@@ -176,7 +176,7 @@ fn check_steady_sliding(name: &str, law: StateLawKind, integrator: IntegratorKin
         "{name}: resumed ≠ continued"
     );
     let mut rates = vec![0.0; nf];
-    let fb = &resumed.model().frictional;
+    let fb = &resumed.model().frictional_boundary;
     let v = &resumed.kinematics().v;
     for (o, &p) in rates.iter_mut().zip(&fb.nodes) {
         *o = v[2 * p].hypot(v[2 * p + 1]);
@@ -190,16 +190,12 @@ fn check_steady_sliding(name: &str, law: StateLawKind, integrator: IntegratorKin
 
 #[test]
 fn aging_law_slides_steadily_at_the_closed_form() {
-    check_steady_sliding(
-        "aging",
-        StateLawKind::Dieterich,
-        IntegratorKind::BackwardEuler,
-    );
+    check_steady_sliding("aging", StateLawKind::Aging, Integrator::BackwardEuler);
 }
 
 #[test]
 fn slip_law_slides_steadily_at_the_closed_form() {
-    check_steady_sliding("slip", StateLawKind::Ruina, IntegratorKind::BackwardEuler);
+    check_steady_sliding("slip", StateLawKind::Slip, Integrator::BackwardEuler);
 }
 
 /// The same closed form without inertia (no mass matrix in the model).
@@ -207,7 +203,7 @@ fn slip_law_slides_steadily_at_the_closed_form() {
 fn quasistatic_aging_law_slides_steadily_at_the_closed_form() {
     check_steady_sliding(
         "quasistatic",
-        StateLawKind::Dieterich,
-        IntegratorKind::Quasistatic,
+        StateLawKind::Aging,
+        Integrator::Quasistatic(rsf::time::Quasistatic::new()),
     );
 }

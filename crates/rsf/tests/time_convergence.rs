@@ -29,7 +29,7 @@ mod common;
 use std::sync::OnceLock;
 
 use common::*;
-use rsf::{IntegratorKind, SolverChoice, StateIntegrator};
+use rsf::{Integrator, SolverKind, StateIntegrator};
 
 /// Rate tolerance: |observed order − 1|.
 const ORDER_TOL: f64 = 0.2;
@@ -38,20 +38,17 @@ const ORDER_TOL: f64 = 0.2;
 const NAMES: [&str; 2] = ["Δu", "t_s"];
 
 /// `[Δu, t_s]` of the run with `steps` steps.
-fn quantities(integrator: IntegratorKind, state: StateIntegrator, steps: usize) -> [f64; 2] {
+fn quantities(integrator: Integrator, state: StateIntegrator, steps: usize) -> [f64; 2] {
     let mut scene = with_fixed_point_budget(
-        with_integrator(
-            with_steps(paper(2, SolverChoice::Direct), steps),
-            integrator,
-        ),
+        with_integrator(with_steps(paper(2, SolverKind::Direct), steps), integrator),
         1000,
     );
     scene.state_integrator = state;
     let (t_end, ramp_end) = (end_time(&scene), ramp_end(&scene));
     let mut sim = build(&scene);
-    let mut rec = Recorder::new(&*sim);
+    let mut rec = Recorder::new(&sim);
     let u0 = sim.kinematics().u[2 * rec.x0];
-    run_until(&mut *sim, 0.6 * t_end, &mut [&mut rec]);
+    run_until(&mut sim, 0.6 * t_end, &mut [&mut rec]);
     let du = sim.kinematics().u[2 * rec.x0] - u0;
     // Continue in short chunks until the first event has started.
     loop {
@@ -60,17 +57,17 @@ fn quantities(integrator: IntegratorKind, state: StateIntegrator, steps: usize) 
         }
         assert!(sim.time() < 0.9 * t_end, "no slip event before 0.9 T");
         let t = sim.time() + 0.01 * t_end;
-        run_until(&mut *sim, t, &mut [&mut rec]);
+        run_until(&mut sim, t, &mut [&mut rec]);
     }
 }
 
 /// `[Δu, t_s]` for N = 2000, 4000, 8000, computed once per integrator.
-fn runs(integrator: IntegratorKind) -> &'static [[f64; 2]; 3] {
+fn runs(integrator: Integrator) -> &'static [[f64; 2]; 3] {
     static RUNS: [OnceLock<[[f64; 2]; 3]>; 2] = [const { OnceLock::new() }; 2];
     let slot = match integrator {
-        IntegratorKind::Newmark => 0,
-        IntegratorKind::BackwardEuler => 1,
-        IntegratorKind::Quasistatic => unreachable!("not studied"),
+        Integrator::Newmark => 0,
+        Integrator::BackwardEuler => 1,
+        Integrator::Quasistatic(_) => unreachable!("not studied"),
     };
     RUNS[slot].get_or_init(|| {
         [2000, 4000, 8000].map(|n| quantities(integrator, StateIntegrator::BackwardEuler, n))
@@ -82,17 +79,12 @@ fn runs(integrator: IntegratorKind) -> &'static [[f64; 2]; 3] {
 fn constant_rate_runs() -> &'static [[f64; 2]; 3] {
     static RUNS: OnceLock<[[f64; 2]; 3]> = OnceLock::new();
     RUNS.get_or_init(|| {
-        [2000, 4000, 8000].map(|n| {
-            quantities(
-                IntegratorKind::Newmark,
-                StateIntegrator::ConstantSlipRate,
-                n,
-            )
-        })
+        [2000, 4000, 8000]
+            .map(|n| quantities(Integrator::Newmark, StateIntegrator::ConstantSlipRate, n))
     })
 }
 
-fn check_first_order(integrator: IntegratorKind) {
+fn check_first_order(integrator: Integrator) {
     let runs = runs(integrator);
     eprintln!("{integrator:?}: [Δu (m), t_s (s)] for N = 2000, 4000, 8000: {runs:?}");
     for (k, name) in NAMES.iter().enumerate() {
@@ -107,20 +99,17 @@ fn check_first_order(integrator: IntegratorKind) {
 
 #[test]
 fn newmark_is_first_order_in_tau() {
-    check_first_order(IntegratorKind::Newmark);
+    check_first_order(Integrator::Newmark);
 }
 
 #[test]
 fn backward_euler_is_first_order_in_tau() {
-    check_first_order(IntegratorKind::BackwardEuler);
+    check_first_order(Integrator::BackwardEuler);
 }
 
 #[test]
 fn newmark_and_backward_euler_have_the_same_limit() {
-    let (nm, be) = (
-        runs(IntegratorKind::Newmark),
-        runs(IntegratorKind::BackwardEuler),
-    );
+    let (nm, be) = (runs(Integrator::Newmark), runs(Integrator::BackwardEuler));
     for (k, name) in NAMES.iter().enumerate() {
         let (a, b) = (2.0 * nm[2][k] - nm[1][k], 2.0 * be[2][k] - be[1][k]);
         let finest = (nm[2][k] - be[2][k]).abs();
@@ -140,7 +129,7 @@ fn newmark_and_backward_euler_have_the_same_limit() {
 /// converges to the limit of the backward-Euler runs.
 #[test]
 fn constant_slip_rate_first_slip_time_is_first_order_with_the_same_limit() {
-    let (csr, be) = (constant_rate_runs(), runs(IntegratorKind::Newmark));
+    let (csr, be) = (constant_rate_runs(), runs(Integrator::Newmark));
     eprintln!("constant slip rate: [Δu (m), t_s (s)] for N = 2000, 4000, 8000: {csr:?}");
     let p = observed_order(csr.map(|r| r[1]));
     eprintln!("constant slip rate: observed order of t_s: {p:.3}");
@@ -163,7 +152,7 @@ fn constant_slip_rate_first_slip_time_is_first_order_with_the_same_limit() {
 /// reference).
 #[test]
 fn constant_slip_rate_resolves_the_loading_phase_better() {
-    let (csr, be) = (constant_rate_runs(), runs(IntegratorKind::Newmark));
+    let (csr, be) = (constant_rate_runs(), runs(Integrator::Newmark));
     let limit = 2.0 * be[2][0] - be[1][0];
     let (e_csr, e_be) = ((csr[0][0] - limit).abs(), (be[0][0] - limit).abs());
     eprintln!(

@@ -96,8 +96,7 @@ impl Slider {
         Newmark
             .right_hand_side(
                 self.scene.tau(),
-                self.model.mass.as_ref(),
-                &self.model.stiffness,
+                rsf::time::SystemMatrices::new(self.model.mass.as_ref(), &self.model.stiffness),
                 &self.model.load,
                 &kin,
                 &mut b,
@@ -122,15 +121,15 @@ impl Slider {
     }
 
     fn frictional_count(&self) -> usize {
-        self.model.frictional.nodes.len()
+        self.model.frictional_boundary.nodes.len()
     }
 
     fn dieterich_ruina(&self, alpha: f64) -> FrictionBlocks<DieterichRuina> {
         let nf = self.frictional_count();
         let law = DieterichRuina::new(self.scene.rate_state_params()).unwrap();
         FrictionBlocks::new(
-            self.model.frictional.nodes.clone(),
-            self.model.frictional.weights.clone(),
+            self.model.frictional_boundary.nodes.clone(),
+            self.model.frictional_boundary.weights.clone(),
             vec![law; nf],
             &vec![alpha; nf],
         )
@@ -140,8 +139,8 @@ impl Slider {
         let nf = self.frictional_count();
         let law = Tresca::new(mu, self.scene.sigma_n_pa).unwrap();
         FrictionBlocks::new(
-            self.model.frictional.nodes.clone(),
-            self.model.frictional.weights.clone(),
+            self.model.frictional_boundary.nodes.clone(),
+            self.model.frictional_boundary.weights.clone(),
             vec![law; nf],
             &vec![0.0; nf],
         )
@@ -152,11 +151,11 @@ impl Slider {
     /// solution (Γ_F's tangential dofs fixed at 0).
     fn median_stick_coefficient(&self, b: &[f64]) -> f64 {
         let mut fixed = self.model.fixed.clone();
-        for &p in &self.model.frictional.nodes {
+        for &p in &self.model.frictional_boundary.nodes {
             fixed[2 * p] = true;
         }
         let mut v = self.start(0.0);
-        for &p in &self.model.frictional.nodes {
+        for &p in &self.model.frictional_boundary.nodes {
             v[2 * p] = 0.0;
         }
         DirectSolver::<2>::new(self.a.as_ref(), &fixed, DirectOptions::default())
@@ -166,10 +165,10 @@ impl Slider {
         let av = mat_vec(&self.a, &v);
         let mut mu: Vec<f64> = self
             .model
-            .frictional
+            .frictional_boundary
             .nodes
             .iter()
-            .zip(&self.model.frictional.weights)
+            .zip(&self.model.frictional_boundary.weights)
             .map(|(&p, &w)| (b[2 * p] - av[2 * p]).abs() / (w * self.scene.sigma_n_pa))
             .collect();
         mu.sort_by(f64::total_cmp);
@@ -216,7 +215,7 @@ impl Slider {
     /// Slip rates `|v_p|` on Γ_F.
     fn slip_rates(&self, v: &[f64]) -> Vec<f64> {
         self.model
-            .frictional
+            .frictional_boundary
             .nodes
             .iter()
             .map(|&p| v[2 * p].hypot(v[2 * p + 1]))
@@ -346,6 +345,14 @@ fn energy<N: BlockNonlinearity<2>>(s: &Slider, b: &[f64], nl: &N, v: &[f64]) -> 
     quad + phi
 }
 
+/// One solver of each kind for one level, reused across cases.
+struct Solvers {
+    direct: DirectSolver<2>,
+    tn: Tnnmg<2>,
+    /// Only where Gauss–Seidel converges in a reasonable number of sweeps (j ≤ GS_MAX_LEVEL).
+    gs: Option<NonlinearGaussSeidel<2>>,
+}
+
 /// Solves with direct, TNNMG and (optionally) Gauss–Seidel from the case's warm start and
 /// checks agreement to 1e-9 relative in the energy norm; returns (direct, TNNMG) solutions.
 fn check_agreement<N: BlockNonlinearity<2>>(
@@ -354,10 +361,9 @@ fn check_agreement<N: BlockNonlinearity<2>>(
     case: &Case,
     b: &[f64],
     nl: &N,
-    direct: &mut DirectSolver<2>,
-    tn: &mut Tnnmg<2>,
-    gs: Option<&mut NonlinearGaussSeidel<2>>,
+    solvers: &mut Solvers,
 ) -> (Vec<f64>, Vec<f64>) {
+    let Solvers { direct, tn, gs } = solvers;
     let mut v_d = s.start(case.v_slide);
     direct
         .solve(b, nl, &mut v_d)
@@ -405,28 +411,21 @@ fn check_agreement<N: BlockNonlinearity<2>>(
 fn solvers_agree_on_the_slider() {
     for level in 2..=6 {
         let s = Slider::new(level);
-        let mut direct = s.direct();
-        let mut tn = s.tnnmg(tight_tnnmg());
-        let mut gs = (level <= GS_MAX_LEVEL).then(|| s.gauss_seidel(gs_stopping()));
+        let mut solvers = Solvers {
+            direct: s.direct(),
+            tn: s.tnnmg(tight_tnnmg()),
+            gs: (level <= GS_MAX_LEVEL).then(|| s.gauss_seidel(gs_stopping())),
+        };
         for case in cases(&s.scene) {
             let b = s.rhs(case.v_slide);
             match case.law {
                 Law::DieterichRuina(alpha) => {
                     let nl = s.dieterich_ruina(alpha);
-                    check_agreement(&s, level, &case, &b, &nl, &mut direct, &mut tn, gs.as_mut());
+                    check_agreement(&s, level, &case, &b, &nl, &mut solvers);
                 }
                 Law::Tresca => {
                     let nl = s.tresca(s.median_stick_coefficient(&b));
-                    let (v_d, v_tn) = check_agreement(
-                        &s,
-                        level,
-                        &case,
-                        &b,
-                        &nl,
-                        &mut direct,
-                        &mut tn,
-                        gs.as_mut(),
-                    );
+                    let (v_d, v_tn) = check_agreement(&s, level, &case, &b, &nl, &mut solvers);
                     for v in [&v_d, &v_tn] {
                         let slip = s.slip_rates(v);
                         let stick = slip.iter().filter(|&&x| x == 0.0).count();
@@ -705,7 +704,7 @@ fn at_cutoff(s: &Slider, v: &mut [f64], alpha: f64) -> f64 {
     }
     use rsf::friction::ConvexPotential;
     assert_eq!(law.potential(alpha).curvature(vm), None, "not at the kink");
-    for &p in &s.model.frictional.nodes {
+    for &p in &s.model.frictional_boundary.nodes {
         v[2 * p] = vm;
     }
     vm

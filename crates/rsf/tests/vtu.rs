@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use rsf::VtuFrames;
+use rsf::{Every, FileMode, Interval, VtuFrames};
 
 /// The point data `name` of a frame as 3-vectors per vertex.
 fn point_vectors(piece: &vtkio::model::UnstructuredGridPiece, name: &str) -> Vec<f64> {
@@ -31,12 +31,16 @@ fn frames_hold_the_state_of_their_step() {
     // Fast loading: by step 40 Γ_F slides, so u, v differ from node to node and step to step.
     let scene = with_level(fast_loading(2e-2, 40), 1);
     let mut sim = build(&scene);
-    let mut frames = VtuFrames::create(&dir, 20).expect("frame folder");
+    let mut frames = Every::new(
+        Interval::Steps(20),
+        VtuFrames::new(&dir, FileMode::Create).expect("frame folder"),
+    )
+    .unwrap();
     let mut states = Snapshots {
         every: 20,
         ..Snapshots::default()
     };
-    run_until(&mut *sim, 0.04, &mut [&mut frames, &mut states]);
+    run_until(&mut sim, 0.04, &mut [&mut frames, &mut states]);
     assert_eq!(states.states.len(), 2);
     let model = sim.model();
     let n = model.vertices.len();
@@ -71,7 +75,7 @@ fn frames_hold_the_state_of_their_step() {
         let state = point_vectors(&piece, "state_alpha");
         assert_eq!(state.len(), n);
         let mut on_fault = vec![false; n];
-        for (k, &p) in model.frictional.nodes.iter().enumerate() {
+        for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
             on_fault[p] = true;
             assert_eq!(state[p], alpha[k], "step {step}: α at frictional node {p}");
         }
@@ -79,7 +83,7 @@ fn frames_hold_the_state_of_their_step() {
             assert!(state[p].is_nan(), "step {step}: α at interior vertex {p}");
         }
         // The frames differ from each other: the data are the step's, not a stale copy.
-        let slip_rate = kin.v[2 * model.frictional.nodes[0]];
+        let slip_rate = kin.v[2 * model.frictional_boundary.nodes[0]];
         assert!(slip_rate != 0.0, "step {step}: Γ_F at rest");
     }
     assert_ne!(states.states[0].1.u, states.states[1].1.u);

@@ -3,25 +3,27 @@
 //!
 //! Every construction detail lives here, so that a change of the construction API touches
 //! this file only; the tests themselves see scenes as values, [`build`], the public
-//! `Observer`/`AnySimulation` interface and the model's public matrices.
+//! `Observer`/`Simulation` interface and the model's public matrices.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 
 use rsf::fem::{spmv_add, SparseMatrix};
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
-use rsf::time::Kinematics;
+use rsf::state::StateLaw;
+use rsf::time::{Kinematics, VelocityIntegrator};
 use rsf::{
-    AnySimulation, Checkpointer, FrictionalProfile, IntegratorKind, Observer, PointSeries,
-    RunSummary, SliderScene, SolverChoice, StateLawKind, StepState, SLIDER_CENTRE,
+    Checkpointer, Every, FileMode, FrictionalProfile, Integrator, Interval, Observer, PointSeries,
+    RunSummary, SceneSimulation, Simulation, SliderScene, SolverKind, StateLawKind, StepView,
+    SLIDER_CENTRE,
 };
 
 /// A running simulation, as the tests hold it.
-pub type Sim = Box<dyn AnySimulation<2>>;
+pub type Sim = SceneSimulation<2>;
 
 /// The paper's scene (Table 6.1, docs/math.md §6) at refinement level `level`, N = 10⁴ steps
 /// over T = 15 s, Dieterich's law, Newmark, solved by `solver`.
-pub fn paper(level: usize, solver: SolverChoice) -> SliderScene {
+pub fn paper(level: usize, solver: SolverKind) -> SliderScene {
     SliderScene {
         level,
         solver,
@@ -43,7 +45,7 @@ pub fn with_law(scene: SliderScene, law: StateLawKind) -> SliderScene {
 }
 
 /// `scene` with another velocity integrator.
-pub fn with_integrator(scene: SliderScene, integrator: IntegratorKind) -> SliderScene {
+pub fn with_integrator(scene: SliderScene, integrator: Integrator) -> SliderScene {
     SliderScene {
         integrator,
         ..scene
@@ -85,7 +87,7 @@ pub fn velocity_strengthening(
     tau: f64,
     steps: usize,
     law: StateLawKind,
-    integrator: IntegratorKind,
+    integrator: Integrator,
 ) -> SliderScene {
     SliderScene {
         level: 2,
@@ -137,13 +139,16 @@ pub fn ramp_end(scene: &SliderScene) -> f64 {
 }
 
 /// Steps from the simulation's current time to `t_end` (rounded to the nearest step).
-pub fn steps_until(sim: &dyn AnySimulation<2>, t_end: f64) -> usize {
+pub fn steps_until<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
+    sim: &Simulation<2, L, S, I>,
+    t_end: f64,
+) -> usize {
     ((t_end - sim.time()) / sim.tau()).round().max(0.0) as usize
 }
 
 /// Runs to `t_end` showing every step to `observers`.
-pub fn run_until(
-    sim: &mut dyn AnySimulation<2>,
+pub fn run_until<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
+    sim: &mut Simulation<2, L, S, I>,
     t_end: f64,
     observers: &mut [&mut dyn Observer<2>],
 ) -> RunSummary {
@@ -181,9 +186,11 @@ pub struct Recorder {
 
 impl Recorder {
     /// A recorder for `sim`, holding its current displacement as the start of the slip.
-    pub fn new(sim: &dyn AnySimulation<2>) -> Self {
+    pub fn new<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
+        sim: &Simulation<2, L, S, I>,
+    ) -> Self {
         let model = sim.model();
-        let fb = &model.frictional;
+        let fb = &model.frictional_boundary;
         let nodes: Vec<usize> = fb.along.iter().map(|&k| fb.nodes[k]).collect();
         let u = &sim.kinematics().u;
         Self {
@@ -211,8 +218,8 @@ impl Recorder {
 }
 
 impl Observer<2> for Recorder {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
-        let (u, v) = (&s.kinematics.u, &s.kinematics.v);
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
+        let (u, v) = (&s.state.kinematics.u, &s.state.kinematics.v);
         self.t.push(s.report.time);
         self.u_x0.push(u[2 * self.x0]);
         self.slip.push(
@@ -229,7 +236,7 @@ impl Observer<2> for Recorder {
                 .collect(),
         );
         self.alpha
-            .push(self.along.iter().map(|&k| s.alpha[k]).collect());
+            .push(self.along.iter().map(|&k| s.state.alpha[k]).collect());
         self.max_v.push(s.report.max_slip_rate);
         self.fpi.push(s.report.fixed_point_iterations);
         Ok(rsf::Flow::Continue(()))
@@ -294,23 +301,36 @@ pub fn friction_stress(law: &DieterichRuina, alpha: f64, slip_rate: f64) -> f64 
 }
 
 /// A [`PointSeries`] at x0 into `path`: CSV `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi`.
-pub fn point_series(sim: &dyn AnySimulation<2>, path: &Path) -> PointSeries<2> {
+pub fn point_series<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
+    sim: &Simulation<2, L, S, I>,
+    path: &Path,
+) -> PointSeries<2> {
     let x0 = sim
         .model()
         .nearest_node(&SLIDER_CENTRE)
         .expect("x0 is a vertex");
-    PointSeries::create(path, sim.model(), x0).expect("series file")
+    PointSeries::new(path, sim.model(), x0, FileMode::Create).expect("series file")
 }
 
 /// A [`FrictionalProfile`] into `path` over `[t0, t1]`, every `every`-th step: CSV
 /// `t_s,x_m,slip_rate_mps,alpha`.
-pub fn frictional_profile(path: &Path, t0: f64, t1: f64, every: usize) -> FrictionalProfile<2> {
-    FrictionalProfile::create(path, t0, t1, every).expect("profile file")
+pub fn frictional_profile(
+    path: &Path,
+    t0: f64,
+    t1: f64,
+    every: usize,
+) -> Every<FrictionalProfile<2>> {
+    let profile = FrictionalProfile::new(path, (t0, t1), FileMode::Create).expect("profile file");
+    Every::new(Interval::Steps(every), profile).expect("every >= 1")
 }
 
 /// A [`Checkpointer`] of `sim` writing to `path` every `every` steps.
-pub fn checkpointer(_sim: &dyn AnySimulation<2>, path: &Path, every: usize) -> Checkpointer {
-    Checkpointer::new(path, every)
+pub fn checkpointer<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
+    _sim: &Simulation<2, L, S, I>,
+    path: &Path,
+    every: usize,
+) -> Every<Checkpointer> {
+    Every::new(Interval::Steps(every), Checkpointer::new(path)).expect("every >= 1")
 }
 
 /// A CSV file of numbers: its header and rows (every field parsed as `f64`).
@@ -339,10 +359,13 @@ pub struct Snapshots {
 }
 
 impl Observer<2> for Snapshots {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
         if s.report.step % self.every.max(1) == 0 {
-            self.states
-                .push((s.report.step, s.kinematics.clone(), s.alpha.to_vec()));
+            self.states.push((
+                s.report.step,
+                s.state.kinematics.clone(),
+                s.state.alpha.to_vec(),
+            ));
         }
         Ok(rsf::Flow::Continue(()))
     }
@@ -353,7 +376,7 @@ impl Observer<2> for Snapshots {
 pub struct StopAt(pub usize);
 
 impl Observer<2> for StopAt {
-    fn observe(&mut self, s: &StepState<'_, 2>) -> rsf::Result<rsf::Flow> {
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
         Ok(if s.report.step >= self.0 {
             rsf::Flow::Break(())
         } else {

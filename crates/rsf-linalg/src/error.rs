@@ -1,0 +1,48 @@
+//! The errors of this crate.
+
+/// Errors of this crate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A dimension or length does not match.
+    #[error("dimension mismatch in {what}: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// What was checked.
+        what: &'static str,
+        /// Expected size.
+        expected: usize,
+        /// Actual size.
+        got: usize,
+    },
+    /// The sparsity pattern differs from the analysed one (or between two matrices that
+    /// must share it).
+    #[error("sparsity pattern differs from the one used for the symbolic analysis")]
+    PatternMismatch,
+    /// The matrix is not (numerically) symmetric positive definite, or a solve was asked
+    /// for without a valid factorisation.
+    #[error("matrix is not positive definite (Cholesky failed{detail})")]
+    NotPositiveDefinite {
+        /// Extra details from the factorisation.
+        detail: String,
+    },
+    /// Memory allocation or another failure inside faer.
+    #[error("faer error: {0}")]
+    Faer(String),
+    /// A compressed sparse structure is invalid (a conversion's input).
+    #[error("invalid compressed sparse column structure at column {column}: {reason}")]
+    InvalidStructure {
+        /// The column where the problem was found.
+        column: usize,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A sparse matrix is stored by rows (CSR) where columns (CSC) are expected.
+    #[error("expected compressed sparse column (CSC) storage, got CSR")]
+    RowStorage,
+}
+
+/// `Result` with this crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+pub(crate) fn faer_err(e: impl std::fmt::Debug) -> Error {
+    Error::Faer(format!("{e:?}"))
+}

@@ -1,0 +1,26 @@
+//! Sparse linear algebra shared by the rsf crates (it depends on faer only):
+//!
+//! * [`SparseMatrix`] — the CSC matrix type of the workspace (faer's
+//!   `SparseColMat<usize, f64>`): finite element matrices (`rsf-fem`), the time
+//!   integrators' operators (`rsf-time`), the solvers' inputs (`rsf-tnnmg`).
+//! * [`Cholesky`] — sparse `A = L Lᵀ` with the symbolic analysis done once, numeric
+//!   refactorisation without allocation and solves in place (the initial equilibrium in
+//!   `rsf-fem`, the coarsest multigrid level in `rsf-tnnmg`).
+//! * [`combine`] (`c_a A + c_b B` on one pattern) and [`spmv_add`] (`y ← y + α A x`).
+//! * With the `sprs` feature, [`to_sprs`] and [`from_sprs`]: conversions to and from
+//!   `sprs::CsMat<f64>` in CSC storage.
+//!
+//! Everything is sequential (`Par::Seq`), so results are bit-for-bit reproducible.
+#![warn(missing_docs)]
+
+mod cholesky;
+mod error;
+mod ops;
+#[cfg(feature = "sprs")]
+mod sprs_conversion;
+
+pub use cholesky::{Cholesky, FillOrdering};
+pub use error::{Error, Result};
+pub use ops::{combine, spmv_add, SparseMatrix};
+#[cfg(feature = "sprs")]
+pub use sprs_conversion::{from_sprs, to_sprs};

@@ -1,0 +1,252 @@
+//! Scalar root finding for increasing functions: Newton's method safeguarded by bisection
+//! (the `rtsafe` scheme of Press et al., *Numerical Recipes*, §9.4).
+
+/// An increasing function `g` on a bracket, evaluated by the root finder.
+///
+/// The finder calls [`slope`](Self::slope) only at the point of its last
+/// [`value`](Self::value) call, with that value, so an implementation that computes
+/// `g` and `g'` together may return a slope saved by `value`.
+pub trait IncreasingFunction {
+    /// What an evaluation can fail with ([`std::convert::Infallible`] if it cannot).
+    type Error;
+    /// `g(x)`.
+    ///
+    /// # Errors
+    /// Whatever the function reports; the finder returns it at once.
+    fn value(&mut self, x: f64) -> Result<f64, Self::Error>;
+    /// A slope `g'(x) > 0` at the point of the last [`value`](Self::value) call, whose
+    /// result `value` was.
+    ///
+    /// # Errors
+    /// As [`value`](Self::value).
+    fn slope(&mut self, x: f64, value: f64) -> Result<f64, Self::Error>;
+}
+
+/// A bracket `[lo, hi]` of a root of an increasing `g`: `g(lo) ≤ 0 ≤ g(hi)`, `lo < hi`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bracket {
+    /// Left end (`g(lo) ≤ 0`).
+    pub lo: f64,
+    /// Right end (`g(hi) ≥ 0`).
+    pub hi: f64,
+}
+
+/// Where the iteration starts: a point of the bracket and `g` there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Start {
+    /// The first iterate, in the bracket.
+    pub x: f64,
+    /// `g(x)`.
+    pub value: f64,
+}
+
+/// When [`safeguarded_newton`] stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stopping {
+    /// Converged once a step or the bracket is at most `tolerance · ε · max(1, |x|)`
+    /// (`ε` = [`f64::EPSILON`]; 2 to 4 is machine precision).
+    pub tolerance: f64,
+    /// Number of iterations before giving up.
+    pub max_iterations: usize,
+}
+
+/// The result of [`safeguarded_newton`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RootOutcome {
+    /// The root to the tolerance (or an exact zero of `g`).
+    Converged(f64),
+    /// [`Stopping::max_iterations`] were done without convergence.
+    IterationLimit {
+        /// The last iterate.
+        last: f64,
+        /// The width of the remaining bracket.
+        width: f64,
+    },
+}
+
+/// Solves `g(x) = 0` for an increasing `g` on a [`Bracket`], by Newton's method safeguarded
+/// with bisection: a Newton step is taken when it stays inside the bracket and at least
+/// halves the step before it, a bisection step otherwise; the bracket shrinks to the
+/// iterates' signs. Stops when `g(x) = 0`, when a Newton correction is at rounding level
+/// (`≤ 2ε·max(1, |x|)`, returning the corrected point), or when a step or the bracket is
+/// within [`Stopping::tolerance`]. Never leaves the bracket (for a finite bracket);
+/// deterministic (the same calls in the same order for the same input).
+///
+/// # Errors
+/// The first error of `g`'s [`value`](IncreasingFunction::value) or
+/// [`slope`](IncreasingFunction::slope).
+pub fn safeguarded_newton<G: IncreasingFunction>(
+    g: &mut G,
+    bracket: Bracket,
+    start: Start,
+    stopping: Stopping,
+) -> Result<RootOutcome, G::Error> {
+    let Bracket { mut lo, mut hi } = bracket;
+    let Start {
+        mut x,
+        value: mut fx,
+    } = start;
+    let mut dx_old = hi - lo;
+    for _ in 0..stopping.max_iterations {
+        if fx == 0.0 {
+            return Ok(RootOutcome::Converged(x));
+        }
+        if fx < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let df = g.slope(x, fx)?;
+        let newton = x - fx / df;
+        if (newton - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(1.0) {
+            // Converged: the Newton correction is at rounding level.
+            return Ok(RootOutcome::Converged(newton));
+        }
+        let accept = newton.is_finite()
+            && newton > lo
+            && newton < hi
+            && (2.0 * fx).abs() <= (dx_old * df).abs();
+        let x_new = if accept { newton } else { 0.5 * (lo + hi) };
+        dx_old = (x_new - x).abs();
+        x = x_new;
+        fx = g.value(x)?;
+        let tol = stopping.tolerance * f64::EPSILON * x.abs().max(1.0);
+        if dx_old <= tol || hi - lo <= tol {
+            return Ok(RootOutcome::Converged(x));
+        }
+    }
+    Ok(RootOutcome::IterationLimit {
+        last: x,
+        width: hi - lo,
+    })
+}
+
+/// `g` given as one closure returning `(g(x), g'(x))`; the slope of the last evaluation is
+/// kept for [`IncreasingFunction::slope`].
+struct ValueAndSlope<F> {
+    g: F,
+    slope: f64,
+}
+
+impl<F: Fn(f64) -> (f64, f64)> IncreasingFunction for ValueAndSlope<F> {
+    type Error = std::convert::Infallible;
+    fn value(&mut self, x: f64) -> Result<f64, Self::Error> {
+        let (value, slope) = (self.g)(x);
+        self.slope = slope;
+        Ok(value)
+    }
+    fn slope(&mut self, _x: f64, _value: f64) -> Result<f64, Self::Error> {
+        Ok(self.slope)
+    }
+}
+
+/// Solves `g(x) = 0` for an increasing `g` with `g(lo) ≤ 0 ≤ g(hi)` by
+/// [`safeguarded_newton`] (tolerance `2ε·max(1, |x|)`, at most 300 iterations), starting at
+/// `x0` if it lies in `[lo, hi]` and at the midpoint otherwise. `g` returns
+/// `(g(x), g'(x))`. Returns the final iterate (the last one if 300 iterations did not
+/// converge); never leaves `[lo, hi]`; returns `min(lo, hi)` if `lo < hi` fails (an
+/// empty or NaN bracket).
+///
+/// ```
+/// // √2 as the root of x² − 2 on [0, 2].
+/// let x = rsf_numeric::solve_increasing(|x| (x * x - 2.0, 2.0 * x), 0.0, 2.0, 1.0);
+/// assert!((x - 2f64.sqrt()).abs() <= 2.0 * f64::EPSILON);
+/// ```
+pub fn solve_increasing(g: impl Fn(f64) -> (f64, f64), lo: f64, hi: f64, x0: f64) -> f64 {
+    if !(lo < hi) {
+        return lo.min(hi);
+    }
+    let x = if x0 >= lo && x0 <= hi {
+        x0
+    } else {
+        0.5 * (lo + hi)
+    };
+    let mut g = ValueAndSlope { g, slope: 0.0 };
+    let Ok(value) = g.value(x);
+    let stopping = Stopping {
+        tolerance: 2.0,
+        max_iterations: 300,
+    };
+    match safeguarded_newton(&mut g, Bracket { lo, hi }, Start { x, value }, stopping) {
+        Ok(RootOutcome::Converged(x) | RootOutcome::IterationLimit { last: x, .. }) => x,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_roots_of_smooth_and_kinked_functions() {
+        // Smooth: e^x + x − 3 (root by Newton) against a bisection to one ulp.
+        let g = |x: f64| (x.exp() + x - 3.0, x.exp() + 1.0);
+        let x = solve_increasing(g, -10.0, 10.0, 5.0);
+        let (mut lo, mut hi) = (-10.0_f64, 10.0_f64);
+        while hi - lo > 4.0 * f64::EPSILON {
+            let mid = 0.5 * (lo + hi);
+            if g(mid).0 < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        assert!((x - lo).abs() <= 8.0 * f64::EPSILON, "{x} vs {lo}");
+        // A jump at 1 (a subdifferential): bisection closes onto the jump.
+        let step = |x: f64| (if x < 1.0 { -1.0 } else { 1.0 } + (x - 1.0), 1.0);
+        let x = solve_increasing(step, 0.0, 3.0, 0.0);
+        assert!((x - 1.0).abs() <= 8.0 * f64::EPSILON, "{x}");
+    }
+
+    #[test]
+    fn empty_bracket_and_start_outside() {
+        assert_eq!(solve_increasing(|x| (x, 1.0), 2.0, 1.0, 0.0), 1.0);
+        assert_eq!(
+            solve_increasing(|x| (x, 1.0), f64::NAN, 1.0, 0.0).to_bits(),
+            1f64.to_bits()
+        );
+        let x = solve_increasing(|x| (x - 0.25, 1.0), 0.0, 1.0, 7.0);
+        assert_eq!(x, 0.25);
+    }
+
+    #[test]
+    fn reports_the_iteration_limit_and_errors() {
+        struct Slow;
+        impl IncreasingFunction for Slow {
+            type Error = ();
+            fn value(&mut self, x: f64) -> Result<f64, ()> {
+                Ok(x - 0.3)
+            }
+            // A far too small slope: every Newton step leaves the bracket, so bisection.
+            fn slope(&mut self, _x: f64, _v: f64) -> Result<f64, ()> {
+                Ok(1e-300)
+            }
+        }
+        let bracket = Bracket { lo: 0.0, hi: 1.0 };
+        let start = Start {
+            x: 0.0,
+            value: -0.3,
+        };
+        let few = Stopping {
+            tolerance: 2.0,
+            max_iterations: 3,
+        };
+        match safeguarded_newton(&mut Slow, bracket, start, few) {
+            Ok(RootOutcome::IterationLimit { width, .. }) => assert_eq!(width, 0.25),
+            other => panic!("{other:?}"),
+        }
+        struct Failing;
+        impl IncreasingFunction for Failing {
+            type Error = &'static str;
+            fn value(&mut self, _x: f64) -> Result<f64, &'static str> {
+                Err("no value")
+            }
+            fn slope(&mut self, _x: f64, _v: f64) -> Result<f64, &'static str> {
+                Ok(1.0)
+            }
+        }
+        assert_eq!(
+            safeguarded_newton(&mut Failing, bracket, start, few),
+            Err("no value")
+        );
+    }
+}

@@ -1,0 +1,489 @@
+//! Direct solver: exact condensation onto the nonsmooth blocks (docs/math.md §8).
+
+mod fault_newton;
+mod partial_cholesky;
+
+use std::time::Instant;
+
+use faer::sparse::SparseColMatRef;
+use faer::{Accum, MatRef, Par};
+
+use crate::block::load;
+use crate::csc::Csc;
+use crate::error::{Error, Result};
+use crate::nonlinearity::BlockNonlinearity;
+use crate::problem::BlockedMatrix;
+use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+use crate::step::StepSolver;
+use fault_newton::DenseFault;
+use partial_cholesky::PartialCholesky;
+
+/// Options of [`DirectSolver`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct DirectOptions {
+    /// Stopping test of [`NonsmoothSolver::solve`]: energy norm of the correction of an
+    /// iteration of the condensed problem (the norm of its discrete harmonic extension in
+    /// the energy norm, see [`DirectSolver::with_energy_norm`]). Default: absolute 1e-13,
+    /// relative 1e-13, 200 iterations.
+    pub stopping: Stopping,
+    /// A block enters the Newton step of the condensed iteration while its nonlinearity's
+    /// Hessian is at most this multiple of the diagonal of the Schur complement; stiffer
+    /// blocks are left to the Gauss–Seidel sweep, which contracts them by about the inverse
+    /// of this ratio per iteration. Default 1e3.
+    pub soft_ratio: f64,
+}
+
+impl Default for DirectOptions {
+    fn default() -> Self {
+        Self {
+            stopping: Stopping {
+                absolute: 1e-13,
+                relative: 1e-13,
+                max_iterations: 200,
+            },
+            soft_ratio: 1e3,
+        }
+    }
+}
+
+/// What the condensation computed for one set of nonsmooth blocks.
+struct Condensed<const D: usize> {
+    blocks: Vec<usize>,
+    factor: PartialCholesky,
+    /// Elimination position ↦ dof.
+    order: Vec<usize>,
+    /// Fixed dofs with their column entries on free rows as (elimination position, A_ij).
+    fixed_cols: Vec<(usize, Vec<(usize, f64)>)>,
+    y: Vec<f64>,
+    fault: DenseFault<D>,
+}
+
+/// Direct solver by exact condensation onto the nonsmooth blocks (docs/math.md §8), for
+/// single solves ([`NonsmoothSolver`]) and, above all, for the fixed point iterations of a
+/// time step ([`StepSolver`]).
+///
+/// Set-up (once per matrix and set of blocks): the free dofs are split into the interior
+/// `R` and the free components `F` of the nonsmooth blocks; faer factorises `A` on them
+/// with `R` first (AMD order) and `F` last, which gives the dense Schur complement
+/// `S = A_FF − A_FR A_RR⁻¹ A_RF` as the last diagonal block. With an energy-norm matrix `E`
+/// the set-up also forms `N = Zᵀ E Z` for the discrete harmonic extension
+/// `Z = [−A_RR⁻¹ A_RF; I]` (one multi-right-hand-side sweep), so that the norm of a change of
+/// the fault unknowns is exactly the energy norm of the change of the full solution.
+///
+/// Per time step: one forward sweep gives the condensed right-hand side, every solve works
+/// on the `|F|` unknowns only (nonlinear Gauss–Seidel + truncated Newton with dense
+/// Cholesky on the soft blocks + line search, see [`DirectOptions::soft_ratio`]), and
+/// one backward sweep recovers the interior. No refactorisation while `A` stays.
+pub struct DirectSolver<const D: usize> {
+    a: Csc,
+    fixed: Vec<bool>,
+    energy: Option<Csc>,
+    opts: DirectOptions,
+    cache: Option<Condensed<D>>,
+    in_step: bool,
+}
+
+impl<const D: usize> DirectSolver<D> {
+    /// Set-up for the matrix `a` (`n × n`, symmetric, both triangles stored, positive
+    /// definite on the free dofs) and fixed dofs `fixed` (length `n`); the condensation is
+    /// computed on the first solve for the nonlinearity's active blocks.
+    ///
+    /// # Errors
+    /// Invalid shapes or pattern, `n` not a multiple of `D`, invalid options.
+    pub fn new(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        opts: DirectOptions,
+    ) -> Result<Self> {
+        opts.stopping.validate()?;
+        if !(opts.soft_ratio > 0.0) {
+            return Err(Error::InvalidOption("soft_ratio must be positive".into()));
+        }
+        let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
+        Ok(Self {
+            a,
+            fixed,
+            energy: None,
+            opts,
+            cache: None,
+            in_step: false,
+        })
+    }
+
+    /// Measures changes in the energy norm `‖x‖² = xᵀEx` (`E`: `n × n`, symmetric positive
+    /// semidefinite; the paper's `K + M`) instead of the norm of `A`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
+    pub fn with_energy_norm(mut self, e: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+        let e = Csc::from_faer(e)?;
+        if e.nrows != self.a.nrows || e.ncols != self.a.ncols {
+            return Err(Error::DimensionMismatch {
+                what: "energy-norm matrix",
+                expected: self.a.nrows,
+                got: e.nrows,
+            });
+        }
+        self.energy = Some(e);
+        self.cache = None;
+        Ok(self)
+    }
+
+    /// The solver for another matrix `a` with the same pattern, fixed dofs, energy norm and
+    /// options (e.g. `c_M M + c_K K` at another time step): the condensation for the same
+    /// blocks reuses this one's ordering and symbolic factorisation, so only the numeric
+    /// factorisation, the Schur complement and the harmonic extension are computed again.
+    /// A matrix with another pattern is set up from scratch.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) and [`prepare`](Self::prepare).
+    pub fn for_matrix(&self, a: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+        let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, &self.fixed)?;
+        let mut solver = Self {
+            a,
+            fixed,
+            energy: self.energy.clone(),
+            opts: self.opts.clone(),
+            cache: None,
+            in_step: false,
+        };
+        if let Some(c) = &self.cache {
+            solver.cache = Some(solver.condense(&c.blocks, Some(&c.factor))?);
+        }
+        Ok(solver)
+    }
+
+    /// Computes the condensation for the given blocks now (it is otherwise done on the
+    /// first solve).
+    ///
+    /// # Errors
+    /// Blocks out of range or not increasing; `A` not positive definite on the free dofs.
+    pub fn prepare(&mut self, blocks: &[usize]) -> Result<()> {
+        if self.cache.as_ref().is_none_or(|c| c.blocks != blocks) {
+            self.cache = Some(self.condense(blocks, None)?);
+        }
+        Ok(())
+    }
+
+    /// Entries of the sparse factor (0 before the set-up).
+    pub fn factor_nnz(&self) -> usize {
+        self.cache.as_ref().map_or(0, |c| c.factor.nnz())
+    }
+
+    /// Number of condensed unknowns `|F|` (0 before the set-up).
+    pub fn condensed_dim(&self) -> usize {
+        self.cache.as_ref().map_or(0, |c| c.fault.num_free())
+    }
+
+    /// The condensation onto `blocks`; with `previous`, a factor of a matrix with the same
+    /// pattern for the same blocks, whose analysis is reused if the pattern matches.
+    fn condense(
+        &self,
+        blocks: &[usize],
+        previous: Option<&PartialCholesky>,
+    ) -> Result<Condensed<D>> {
+        let n = self.a.nrows;
+        if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
+            return Err(Error::InvalidOption(format!(
+                "active blocks must be strictly increasing node indices below {}",
+                n / D
+            )));
+        }
+        let mut in_block = vec![false; n];
+        for &p in blocks {
+            in_block[D * p..D * p + D].fill(true);
+        }
+        let interior: Vec<usize> = (0..n).filter(|&i| !in_block[i] && !self.fixed[i]).collect();
+        let interface: Vec<usize> = blocks
+            .iter()
+            .flat_map(|&p| (0..D).map(move |c| D * p + c))
+            .filter(|&i| !self.fixed[i])
+            .collect();
+        let (factor, order) = match previous {
+            Some(p) if p.analysed_for(&self.a, &interior, &interface) => {
+                (p.refactor(&self.a)?, p.order().to_vec())
+            }
+            _ => PartialCholesky::new(&self.a, &interior, &interface)?,
+        };
+        let mut pos = vec![usize::MAX; n];
+        for (k, &i) in order.iter().enumerate() {
+            pos[i] = k;
+        }
+        let fixed_cols = (0..n)
+            .filter(|&j| self.fixed[j])
+            .map(|j| {
+                let (rows, vals) = self.a.col(j);
+                let entries = rows
+                    .iter()
+                    .zip(vals)
+                    .filter(|(&i, _)| pos[i] != usize::MAX)
+                    .map(|(&i, &v)| (pos[i], v))
+                    .collect();
+                (j, entries)
+            })
+            .filter(|(_, e): &(usize, Vec<(usize, f64)>)| !e.is_empty())
+            .collect();
+        let s = factor.schur_complement();
+        let norm = self
+            .energy
+            .as_ref()
+            .map(|e| harmonic_energy(&factor, e, &order, &pos));
+        let free = blocks
+            .iter()
+            .map(|&p| {
+                let mut f = [false; D];
+                for (c, fc) in f.iter_mut().enumerate() {
+                    *fc = !self.fixed[D * p + c];
+                }
+                f
+            })
+            .collect();
+        let fault = DenseFault::new(s, norm, free, self.opts.soft_ratio);
+        Ok(Condensed {
+            blocks: blocks.to_vec(),
+            y: vec![0.0; order.len()],
+            factor,
+            order,
+            fixed_cols,
+            fault,
+        })
+    }
+}
+
+/// Right-hand sides per backward sweep of the harmonic extension: the factor is read once
+/// per block. Set-up of the direct solver (`cargo bench --bench velocity_solvers --
+/// direct_setup`, reusing the analysis) with one right-hand side per sweep against blocks
+/// of 32: see docs/performance.md.
+const HARMONIC_BLOCK: usize = 32;
+
+/// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), computed
+/// in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives the columns of
+/// `Z`, then `E Z` by sparse products and `Zᵀ (E Z)` by a dense product.
+fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[usize]) -> Vec<f64> {
+    use rayon::prelude::*;
+    let (n, nr) = (factor.n, factor.nr);
+    let nf = n - nr;
+    // E restricted to the free dofs in elimination order (rows and columns).
+    let mut e_ptr = Vec::with_capacity(n + 1);
+    let mut e_rows = Vec::new();
+    let mut e_vals = Vec::new();
+    e_ptr.push(0);
+    for &j in order {
+        let (rows, vals) = e.col(j);
+        for (&i, &v) in rows.iter().zip(vals) {
+            if pos[i] != usize::MAX {
+                e_rows.push(pos[i]);
+                e_vals.push(v);
+            }
+        }
+        e_ptr.push(e_rows.len());
+    }
+    // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
+    // (one pass over the factor per block; each column's arithmetic is that of a single
+    // sweep, so the result depends neither on the blocking nor on the threads). Blocks go
+    // to two threads for large interiors only: for small ones waking the pool costs more
+    // than the sweeps (and a τ change of an adaptive run rebuilds this set-up).
+    //
+    // The block's columns of W = E Z follow from the same rows: the block is stored by
+    // rows (r values of a row side by side), so W's rows are sums of scaled rows of Z,
+    // `W_i += E_ik Z_k` over k in increasing order — contiguous, vectorised updates whose
+    // every entry adds the same terms in the same order as a column-by-column product.
+    let parallel = factor.is_parallel();
+    let mut z = vec![0.0; n * nf];
+    let mut w = vec![0.0; n * nf];
+    let z_block = |(rows, wrows, tmp): &mut (Vec<f64>, Vec<f64>, Vec<f64>),
+                   (b, (zb, wb)): (usize, (&mut [f64], &mut [f64]))| {
+        let f0 = b * HARMONIC_BLOCK;
+        let r = zb.len() / n;
+        rows.clear();
+        rows.resize(n * r, 0.0);
+        for k in 0..r {
+            rows[(nr + f0 + k) * r + k] = 1.0;
+        }
+        factor.backward_interior_rows(rows, r, tmp);
+        wrows.clear();
+        wrows.resize(n * r, 0.0);
+        for kj in 0..n {
+            let zk = &rows[kj * r..kj * r + r];
+            for k in e_ptr[kj]..e_ptr[kj + 1] {
+                let (i, ev) = (e_rows[k], e_vals[k]);
+                for (wv, &zv) in wrows[i * r..i * r + r].iter_mut().zip(zk) {
+                    *wv += ev * zv;
+                }
+            }
+        }
+        for (k, (zcol, wcol)) in zb.chunks_mut(n).zip(wb.chunks_mut(n)).enumerate() {
+            for (i, (zi, wi)) in zcol.iter_mut().zip(wcol.iter_mut()).enumerate() {
+                *zi = rows[i * r + k];
+                *wi = wrows[i * r + k];
+            }
+        }
+    };
+    if n > 0 && nf > 0 {
+        if parallel {
+            z.par_chunks_mut(n * HARMONIC_BLOCK)
+                .zip(w.par_chunks_mut(n * HARMONIC_BLOCK))
+                .enumerate()
+                .for_each_init(|| (Vec::new(), Vec::new(), Vec::new()), z_block);
+        } else {
+            let mut scratch = (Vec::new(), Vec::new(), Vec::new());
+            z.chunks_mut(n * HARMONIC_BLOCK)
+                .zip(w.chunks_mut(n * HARMONIC_BLOCK))
+                .enumerate()
+                .for_each(|c| z_block(&mut scratch, c));
+        }
+    }
+    let zm = MatRef::from_column_major_slice(&z, n, nf);
+    let wm = MatRef::from_column_major_slice(&w, n, nf);
+    let mut nmat = faer::Mat::<f64>::zeros(nf, nf);
+    faer::linalg::matmul::matmul(
+        nmat.as_mut(),
+        Accum::Replace,
+        zm.transpose(),
+        wm,
+        1.0,
+        Par::Seq,
+    );
+    let mut out = vec![0.0; nf * nf];
+    for j in 0..nf {
+        for i in 0..nf {
+            out[j * nf + i] = 0.5 * (nmat[(i, j)] + nmat[(j, i)]);
+        }
+    }
+    out
+}
+
+impl<const D: usize> StepSolver<D> for DirectSolver<D> {
+    fn name(&self) -> &'static str {
+        "direct"
+    }
+
+    fn dim(&self) -> usize {
+        self.a.nrows
+    }
+
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
+        check_inputs(self.a.nrows, b, v)?;
+        self.prepare(active)?;
+        let cd = self.cache.as_mut().expect("prepared above");
+        for (k, &i) in cd.order.iter().enumerate() {
+            cd.y[k] = b[i];
+        }
+        for (j, entries) in &cd.fixed_cols {
+            let vj = v[*j];
+            if vj != 0.0 {
+                for &(k, aij) in entries {
+                    cd.y[k] -= aij * vj;
+                }
+            }
+        }
+        cd.factor.forward_interior(&mut cd.y);
+        let nr = cd.factor.nr;
+        cd.fault.g.copy_from_slice(&cd.y[nr..]);
+        for (k, &p) in cd.blocks.iter().enumerate() {
+            cd.fault.xb[D * k..D * k + D].copy_from_slice(&v[D * p..D * p + D]);
+        }
+        cd.fault.change = f64::INFINITY;
+        cd.fault.residual_valid = false;
+        // A step depends on nothing of earlier steps (so a run resumed from a checkpoint is
+        // bit-identical): no factorisation carried over.
+        cd.fault.forget_factorization();
+        self.in_step = true;
+        Ok(())
+    }
+
+    fn solve_step<N: BlockNonlinearity<D>>(
+        &mut self,
+        nl: &N,
+        stopping: Stopping,
+    ) -> Result<SolveReport> {
+        stopping.validate()?;
+        let cd = match self.cache.as_mut() {
+            Some(cd) if self.in_step && cd.blocks == nl.active_blocks() => cd,
+            _ => {
+                return Err(Error::InvalidOption(
+                    "solve_step needs begin_step with the nonlinearity's active blocks".into(),
+                ))
+            }
+        };
+        cd.fault.solve(nl, stopping)
+    }
+
+    fn block(&self, k: usize) -> [f64; D] {
+        let cd = self.cache.as_ref().expect("block() inside a step");
+        load::<D>(&cd.fault.xb, k)
+    }
+
+    fn last_change(&self) -> f64 {
+        self.cache
+            .as_ref()
+            .map_or(f64::INFINITY, |c| c.fault.change)
+    }
+
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
+        let n = self.a.nrows;
+        if v.len() != n {
+            return Err(Error::DimensionMismatch {
+                what: "iterate",
+                expected: n,
+                got: v.len(),
+            });
+        }
+        let cd = match self.cache.as_mut() {
+            Some(cd) if self.in_step => cd,
+            _ => {
+                return Err(Error::InvalidOption(
+                    "finish_step without begin_step".into(),
+                ))
+            }
+        };
+        let nr = cd.factor.nr;
+        for i in 0..cd.fault.num_free() {
+            cd.y[nr + i] = cd.fault.xb[cd.fault.comp(i)];
+        }
+        cd.factor.backward_interior(&mut cd.y);
+        for (k, &i) in cd.order.iter().enumerate() {
+            v[i] = cd.y[k];
+        }
+        self.in_step = false;
+        if cd.y.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite("direct solution"));
+        }
+        Ok(())
+    }
+}
+
+impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
+    fn name(&self) -> &'static str {
+        "direct"
+    }
+
+    fn dim(&self) -> usize {
+        self.a.nrows
+    }
+
+    fn stopping(&self) -> Stopping {
+        self.opts.stopping
+    }
+
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        stopping.validate()?;
+        self.opts.stopping = stopping;
+        Ok(())
+    }
+
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport> {
+        let start = Instant::now();
+        self.begin_step(b, v, nl.active_blocks())?;
+        let stopping = self.opts.stopping;
+        let mut report = self.solve_step(nl, stopping)?;
+        self.finish_step(v)?;
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+}

@@ -1,0 +1,39 @@
+//! The energy norm `‖x‖ = √(xᵀ E x)` in which the iterative solvers measure corrections.
+
+use faer::sparse::SparseColMatRef;
+
+use crate::bsr::BlockCsr;
+use crate::csc::Csc;
+use crate::error::{Error, Result};
+
+/// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
+#[derive(Debug, Clone)]
+pub(crate) struct EnergyNorm<const D: usize> {
+    e: Option<BlockCsr<D>>,
+}
+
+impl<const D: usize> EnergyNorm<D> {
+    pub fn new(e: Option<SparseColMatRef<'_, usize, f64>>, n: usize) -> Result<Self> {
+        let e = e.map(Csc::from_faer).transpose()?;
+        if let Some(e) = &e {
+            if e.nrows != n || e.ncols != n {
+                return Err(Error::DimensionMismatch {
+                    what: "energy-norm matrix",
+                    expected: n,
+                    got: e.nrows,
+                });
+            }
+        }
+        Ok(Self {
+            e: e.as_ref().map(BlockCsr::from_csc).transpose()?,
+        })
+    }
+    pub fn norm(&self, a: &BlockCsr<D>, x: &[f64]) -> f64 {
+        self.e
+            .as_ref()
+            .unwrap_or(a)
+            .quadratic_form(x)
+            .max(0.0)
+            .sqrt()
+    }
+}

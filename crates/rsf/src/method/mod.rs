@@ -1,0 +1,217 @@
+//! How a simulation solves its problem (docs/design.md, "Problem, method, state"): the
+//! velocity integrator, the velocity solver, the fixed point iteration, the step control
+//! and the state update, described by [`MethodOptions`] and built into a [`Method`].
+
+pub(crate) mod fixed_point;
+pub(crate) mod solver;
+pub(crate) mod state_integrator;
+
+use rsf_fem::{combine, SparseMatrix};
+use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
+use rsf_tnnmg::{StepSolver, Stopping};
+
+use crate::error::{invalid, Result};
+use crate::model::Model;
+use fixed_point::FixedPointOptions;
+use solver::{SolverKind, SolverOptions, VelocitySolver};
+use state_integrator::StateIntegrator;
+
+/// The description of a method: every choice, no built solver. What
+/// [`SimulationBuilder`](crate::SimulationBuilder) collects and a [`Method`] is built from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MethodOptions<I> {
+    /// The velocity integrator (`A = c_M M + c_K K`, right-hand side, kinematic update).
+    pub integrator: I,
+    /// Which velocity solver.
+    pub solver: SolverKind,
+    /// The options of the velocity solvers.
+    pub solver_options: SolverOptions,
+    /// The fixed point iteration of each step.
+    pub fixed_point: FixedPointOptions,
+    /// Adaptive time steps (`None`: a fixed τ).
+    pub step_control: Option<StepControl>,
+    /// How a step advances the state.
+    pub state_integrator: StateIntegrator,
+}
+
+/// Solvers of other time steps kept by [`Method::set_time_step`].
+const SOLVER_CACHE: usize = 8;
+
+/// A built method: the [`MethodOptions`] and what they need at run time — the velocity
+/// solver for the current τ (set-ups of earlier τ kept in a small cache, so that returning
+/// to a step size costs nothing) and the operator of the integrator's right-hand side.
+pub struct Method<const D: usize, I> {
+    options: MethodOptions<I>,
+    /// The concrete solver ([`SolverKind::resolve`]).
+    resolved: SolverKind,
+    /// The stopping test of the inner solves.
+    inner_stopping: Stopping,
+    solver: VelocitySolver<D>,
+    /// Solvers of earlier time steps, most recently used last.
+    solver_cache: Vec<(f64, VelocitySolver<D>)>,
+    load_operator: LoadOperator,
+}
+
+impl<const D: usize, I: VelocityIntegrator> Method<D, I> {
+    /// Builds the method for `model` at the time step `tau` (s).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` if the
+    /// time-step matrix is not finite; set-up errors of the solver.
+    pub(crate) fn new(options: MethodOptions<I>, model: &Model<D>, tau: f64) -> Result<Self> {
+        let load_operator = LoadOperator::new(
+            model
+                .mass
+                .as_ref()
+                .filter(|_| options.integrator.uses_mass()),
+            &model.stiffness,
+        )?;
+        let inner_stopping = options.solver_options.stopping(options.solver);
+        let resolved = options.solver.resolve(model);
+        let a = time_step_matrix(model, &options.integrator, tau)?;
+        let solver = VelocitySolver::new(resolved, &options.solver_options, &a, model)?;
+        Ok(Self {
+            options,
+            resolved,
+            inner_stopping,
+            solver,
+            solver_cache: Vec::new(),
+            load_operator,
+        })
+    }
+
+    /// The options the method was built from.
+    pub fn options(&self) -> &MethodOptions<I> {
+        &self.options
+    }
+
+    /// The velocity integrator.
+    pub fn integrator(&self) -> &I {
+        &self.options.integrator
+    }
+
+    /// The velocity solver in use (never [`SolverKind::Auto`]).
+    pub fn solver_kind(&self) -> SolverKind {
+        self.resolved
+    }
+
+    /// Name of the velocity solver in use.
+    pub fn solver_name(&self) -> &'static str {
+        StepSolver::name(&self.solver)
+    }
+
+    /// The fixed point options.
+    pub fn fixed_point(&self) -> &FixedPointOptions {
+        &self.options.fixed_point
+    }
+
+    /// The options of adaptive time steps, if any.
+    pub fn step_control(&self) -> Option<&StepControl> {
+        self.options.step_control.as_ref()
+    }
+
+    /// How a step advances the state.
+    pub fn state_integrator(&self) -> StateIntegrator {
+        self.options.state_integrator
+    }
+
+    pub(crate) fn set_step_control(&mut self, control: Option<StepControl>) {
+        self.options.step_control = control;
+    }
+
+    pub(crate) fn set_state_integrator(&mut self, integrator: StateIntegrator) {
+        self.options.state_integrator = integrator;
+    }
+
+    pub(crate) fn inner_stopping(&self) -> Stopping {
+        self.inner_stopping
+    }
+
+    pub(crate) fn solver_mut(&mut self) -> &mut VelocitySolver<D> {
+        &mut self.solver
+    }
+
+    pub(crate) fn load_operator(&self) -> &LoadOperator {
+        &self.load_operator
+    }
+
+    /// Replaces the solver for `old_tau` by one for `tau` (s): from the cache if `tau` was
+    /// used before, else set up for the new matrix (the direct solver reuses its symbolic
+    /// analysis). The replaced solver goes to the cache.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub(crate) fn set_time_step(&mut self, model: &Model<D>, old_tau: f64, tau: f64) -> Result<()> {
+        let solver = match self
+            .solver_cache
+            .iter()
+            .position(|(t, _)| t.to_bits() == tau.to_bits())
+        {
+            Some(i) => self.solver_cache.remove(i).1,
+            None => self.solver.for_matrix(
+                self.resolved,
+                &self.options.solver_options,
+                &time_step_matrix(model, &self.options.integrator, tau)?,
+                model,
+            )?,
+        };
+        let old = std::mem::replace(&mut self.solver, solver);
+        self.solver_cache.push((old_tau, old));
+        if self.solver_cache.len() > SOLVER_CACHE {
+            self.solver_cache.remove(0);
+        }
+        Ok(())
+    }
+}
+
+/// The matrix `A = c_M M + c_K K` (+ radiation damping) of the velocity problem at `tau`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` for a
+/// non-finite entry.
+pub(crate) fn time_step_matrix<const D: usize, I: VelocityIntegrator>(
+    model: &Model<D>,
+    integrator: &I,
+    tau: f64,
+) -> Result<SparseMatrix> {
+    let (c_m, c_k) = integrator.coefficients(tau);
+    let mut a = match (&model.mass, integrator.uses_mass()) {
+        (Some(m), true) => combine(c_m, m, c_k, &model.stiffness),
+        _ => combine(0.0, &model.stiffness, c_k, &model.stiffness),
+    }
+    .map_err(rsf_fem::Error::from)?;
+    let eta = integrator.radiation_damping();
+    if eta > 0.0 {
+        add_radiation_damping::<D>(&mut a, model, eta);
+    }
+    if let Some(x) = a.val().iter().find(|x| !x.is_finite()) {
+        return Err(invalid(
+            "tau",
+            format!(
+                "τ = {tau:e} s gives a non-finite entry ({x}) of the time-step matrix \
+                 c_M M + c_K K (c_M = {c_m:e}, c_K = {c_k:e})"
+            ),
+        ));
+    }
+    Ok(a)
+}
+
+/// Adds `η w_p` to the diagonal of every component of each frictional node: the Hessian of
+/// the radiation damping term `Σ_p w_p η/2 |v_p|²`.
+fn add_radiation_damping<const D: usize>(a: &mut SparseMatrix, model: &Model<D>, eta: f64) {
+    let (sym, vals) = a.parts_mut();
+    for (&p, &w) in model
+        .frictional_boundary
+        .nodes
+        .iter()
+        .zip(&model.frictional_boundary.weights)
+    {
+        for c in 0..D {
+            let j = D * p + c;
+            let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
+            if let Ok(k) = sym.row_idx()[range.clone()].binary_search(&j) {
+                vals[range.start + k] += eta * w;
+            }
+        }
+    }
+}

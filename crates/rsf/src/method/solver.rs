@@ -1,0 +1,243 @@
+//! The velocity solver: which one ([`SolverKind`]), its options ([`SolverOptions`]), and
+//! the built solvers of a simulation, one per time step size used.
+
+use rsf_fem::SparseMatrix;
+use rsf_tnnmg::{
+    BlockNonlinearity, DirectOptions, DirectSolver, FullStep, NonlinearGaussSeidel, Result,
+    SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
+};
+
+use crate::model::Model;
+
+/// Which solver handles the velocity problems of the fixed point iterations.
+///
+/// Names (`name`, `FromStr`, serde, clap): `auto`, `tnnmg`, `direct`, `gauss-seidel`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[derive(serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SolverKind {
+    /// [`Direct`](Self::Direct) while the condensed problem is small, else
+    /// [`Tnnmg`](Self::Tnnmg): see [`SolverKind::resolve`] for the rule.
+    #[default]
+    Auto,
+    /// TNNMG over the model's refinement hierarchy (the paper's choice, §6.2): every fixed
+    /// point iteration solves the whole problem.
+    Tnnmg,
+    /// Exact condensation onto Γ_F (docs/math.md §8): the fixed point iterations work on the
+    /// frictional unknowns only; the interior is eliminated once per step.
+    Direct,
+    /// Nonlinear block Gauss–Seidel alone (baseline; slow on fine meshes).
+    GaussSeidel,
+}
+
+impl SolverKind {
+    /// Every kind, in declaration order.
+    pub const ALL: [SolverKind; 4] = [Self::Auto, Self::Tnnmg, Self::Direct, Self::GaussSeidel];
+
+    /// The name (`auto`, `tnnmg`, `direct`, `gauss-seidel`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Tnnmg => "tnnmg",
+            Self::Direct => "direct",
+            Self::GaussSeidel => "gauss-seidel",
+        }
+    }
+
+    /// The concrete choice for `model`: [`Auto`](Self::Auto) becomes
+    /// [`Direct`](Self::Direct) when the number of free components on Γ_F is at most
+    /// [`AUTO_DIRECT_MAX_CONDENSED`] and `n · |F|` at most [`AUTO_DIRECT_MAX_EXTENSION`],
+    /// else [`Tnnmg`](Self::Tnnmg) (or Direct if the model has no hierarchy).
+    pub fn resolve<const D: usize>(self, model: &Model<D>) -> SolverKind {
+        match self {
+            SolverKind::Auto => {
+                let condensed = model
+                    .frictional_boundary
+                    .nodes
+                    .iter()
+                    .flat_map(|&p| (0..D).map(move |c| D * p + c))
+                    .filter(|&i| !model.fixed[i])
+                    .count();
+                let small = condensed <= AUTO_DIRECT_MAX_CONDENSED
+                    && model.num_dofs().saturating_mul(condensed) <= AUTO_DIRECT_MAX_EXTENSION;
+                if small || model.prolongations.is_empty() {
+                    SolverKind::Direct
+                } else {
+                    SolverKind::Tnnmg
+                }
+            }
+            other => other,
+        }
+    }
+}
+
+impl std::fmt::Display for SolverKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for SolverKind {
+    type Err = crate::Error;
+
+    /// A [`name`](SolverKind::name).
+    fn from_str(s: &str) -> crate::Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                crate::error::unknown_name("solver", s, "auto, tnnmg, direct, gauss-seidel")
+            })
+    }
+}
+
+/// Largest number of condensed unknowns (free components on Γ_F) for which
+/// [`SolverKind::Auto`] picks the direct solver. Its set-up stores the discrete harmonic
+/// extension of every frictional unknown (`n × |F|` values) and a dense `|F|²` Schur
+/// complement; the measurements behind the value are in `docs/performance.md`.
+pub const AUTO_DIRECT_MAX_CONDENSED: usize = 1500;
+
+/// Largest `n · |F|` (values of the stored harmonic extension, 8 bytes each) for which
+/// [`SolverKind::Auto`] picks the direct solver: 2.5e8 values = 2 GB.
+pub const AUTO_DIRECT_MAX_EXTENSION: usize = 250_000_000;
+
+/// The options of every velocity solver (whichever [`SolverKind`] picks).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SolverOptions {
+    /// Options of TNNMG.
+    pub tnnmg: TnnmgOptions,
+    /// Options of the direct solver.
+    pub direct: DirectOptions,
+    /// Stopping test of nonlinear Gauss–Seidel.
+    pub gauss_seidel: Stopping,
+}
+
+impl SolverOptions {
+    /// The stopping test of the inner solves of the fixed point iteration for the solver
+    /// `kind` as given (not resolved): [`SolverKind::Auto`] uses TNNMG's test whichever
+    /// solver it picks, so that its fixed point iterations do not depend on the choice.
+    pub fn stopping(&self, kind: SolverKind) -> Stopping {
+        match kind {
+            SolverKind::Auto | SolverKind::Tnnmg => self.tnnmg.stopping,
+            SolverKind::Direct => self.direct.stopping,
+            SolverKind::GaussSeidel => self.gauss_seidel,
+        }
+    }
+}
+
+/// A built velocity solver of any concrete [`SolverKind`], dispatching statically inside
+/// each call.
+pub(crate) enum VelocitySolver<const D: usize> {
+    /// See [`SolverKind::Tnnmg`].
+    Tnnmg(Box<FullStep<D, Tnnmg<D>>>),
+    /// See [`SolverKind::Direct`].
+    Direct(Box<DirectSolver<D>>),
+    /// See [`SolverKind::GaussSeidel`].
+    GaussSeidel(Box<FullStep<D, NonlinearGaussSeidel<D>>>),
+}
+
+impl<const D: usize> VelocitySolver<D> {
+    /// Builds the solver `kind` (resolved) for the matrix `a` of the velocity problem of
+    /// `model`. Stopping norms are the model's energy norm.
+    ///
+    /// # Errors
+    /// Set-up errors of the solvers.
+    pub fn new(
+        kind: SolverKind,
+        options: &SolverOptions,
+        a: &SparseMatrix,
+        model: &Model<D>,
+    ) -> Result<Self> {
+        let e = model.energy_norm.as_ref();
+        Ok(match kind.resolve(model) {
+            SolverKind::Tnnmg => VelocitySolver::Tnnmg(Box::new(FullStep::new(
+                Tnnmg::new(
+                    a.as_ref(),
+                    &model.fixed,
+                    &model.prolongations,
+                    Some(e),
+                    options.tnnmg.clone(),
+                )?,
+                Some(e),
+            )?)),
+            SolverKind::Direct => {
+                let mut d = DirectSolver::new(a.as_ref(), &model.fixed, options.direct.clone())?
+                    .with_energy_norm(e)?;
+                d.prepare(&model.frictional_boundary.nodes)?;
+                VelocitySolver::Direct(Box::new(d))
+            }
+            SolverKind::GaussSeidel => VelocitySolver::GaussSeidel(Box::new(FullStep::new(
+                NonlinearGaussSeidel::new(
+                    a.as_ref(),
+                    &model.fixed,
+                    Some(e),
+                    options.gauss_seidel,
+                    false,
+                )?,
+                Some(e),
+            )?)),
+            SolverKind::Auto => unreachable!("resolved above"),
+        })
+    }
+
+    /// The solver of the same kind for another matrix `a` of `model` with the same pattern
+    /// (the velocity problem at another time step): the direct solver reuses its ordering
+    /// and symbolic factorisation ([`DirectSolver::for_matrix`]); the others are set up
+    /// as by [`new`](Self::new).
+    ///
+    /// # Errors
+    /// Set-up errors of the solvers.
+    pub fn for_matrix(
+        &self,
+        kind: SolverKind,
+        options: &SolverOptions,
+        a: &SparseMatrix,
+        model: &Model<D>,
+    ) -> Result<Self> {
+        match self {
+            VelocitySolver::Direct(d) => {
+                Ok(VelocitySolver::Direct(Box::new(d.for_matrix(a.as_ref())?)))
+            }
+            _ => Self::new(kind, options, a, model),
+        }
+    }
+}
+
+macro_rules! dispatch {
+    ($self:ident, $s:ident => $e:expr) => {
+        match $self {
+            VelocitySolver::Tnnmg($s) => $e,
+            VelocitySolver::Direct($s) => $e,
+            VelocitySolver::GaussSeidel($s) => $e,
+        }
+    };
+}
+
+impl<const D: usize> StepSolver<D> for VelocitySolver<D> {
+    fn name(&self) -> &'static str {
+        dispatch!(self, s => StepSolver::name(s.as_ref()))
+    }
+    fn dim(&self) -> usize {
+        dispatch!(self, s => StepSolver::dim(s.as_ref()))
+    }
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
+        dispatch!(self, s => s.begin_step(b, v, active))
+    }
+    fn solve_step<N: BlockNonlinearity<D>>(
+        &mut self,
+        nl: &N,
+        stopping: Stopping,
+    ) -> Result<SolveReport> {
+        dispatch!(self, s => s.solve_step(nl, stopping))
+    }
+    fn block(&self, k: usize) -> [f64; D] {
+        dispatch!(self, s => s.block(k))
+    }
+    fn last_change(&self) -> f64 {
+        dispatch!(self, s => s.last_change())
+    }
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
+        dispatch!(self, s => s.finish_step(v))
+    }
+}

@@ -1,0 +1,98 @@
+//! The frictional boundary Γ_F of a model: its nodes, lumped weights and order along the
+//! boundary, and the slip rate of a node's velocity block.
+
+use crate::error::{invalid, Result};
+
+/// The frictional boundary Γ_F of the discrete model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionalBoundary {
+    /// Mesh nodes of Γ_F in increasing index order (the solver's block order).
+    pub nodes: Vec<usize>,
+    /// Lumped weights `w_p = ∫_Γ_F λ_p ds` (m in 2D), same order as `nodes`.
+    pub weights: Vec<f64>,
+    /// Positions into `nodes` ordered along the boundary (for profiles and plots).
+    pub along: Vec<usize>,
+}
+
+impl FrictionalBoundary {
+    /// From the segment's nodes (ordered along the boundary) and weights in that order.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for an empty boundary,
+    /// mismatched lengths or non-positive weights.
+    pub fn new(nodes_along: &[usize], weights_along: &[f64]) -> Result<Self> {
+        if nodes_along.is_empty() {
+            return Err(invalid("frictional_boundary", "has no nodes"));
+        }
+        if nodes_along.len() != weights_along.len() {
+            return Err(invalid(
+                "frictional_boundary",
+                "nodes and weights differ in length",
+            ));
+        }
+        if weights_along.iter().any(|w| !(w.is_finite() && *w > 0.0)) {
+            return Err(invalid(
+                "frictional_boundary",
+                "weights must be finite and positive",
+            ));
+        }
+        let mut order: Vec<usize> = (0..nodes_along.len()).collect();
+        order.sort_by_key(|&i| nodes_along[i]);
+        if order
+            .windows(2)
+            .any(|w| nodes_along[w[0]] == nodes_along[w[1]])
+        {
+            return Err(invalid("frictional_boundary", "repeated node"));
+        }
+        let nodes = order.iter().map(|&i| nodes_along[i]).collect();
+        let weights = order.iter().map(|&i| weights_along[i]).collect();
+        let mut along = vec![0; order.len()];
+        for (sorted_pos, &i) in order.iter().enumerate() {
+            along[i] = sorted_pos;
+        }
+        Ok(Self {
+            nodes,
+            weights,
+            along,
+        })
+    }
+
+    /// Number of frictional nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether there are none (never true for a validated boundary).
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// `(Σ_p w_p x_p²)^{1/2}`, the lumped L²(Γ_F) norm (for the relaxation rule, docs/math.md §4).
+    pub fn l2_norm(&self, x: &[f64]) -> f64 {
+        self.weights
+            .iter()
+            .zip(x)
+            .map(|(w, v)| w * v * v)
+            .sum::<f64>()
+            .sqrt()
+    }
+}
+
+/// Euclidean norm of a block; squares directly unless that over- or underflows.
+#[inline]
+pub(crate) fn norm<const D: usize>(v: &[f64; D]) -> f64 {
+    let q: f64 = v.iter().map(|x| x * x).sum();
+    if q.is_finite() && q > 1e-280 {
+        q.sqrt()
+    } else {
+        v.iter().fold(0.0f64, |acc, &x| acc.hypot(x))
+    }
+}
+
+/// `|v_p|`, the Euclidean norm of node `p`'s block of the node-major vector `v`.
+#[inline]
+pub(crate) fn block_norm<const D: usize>(v: &[f64], p: usize) -> f64 {
+    let mut x = [0.0; D];
+    x.copy_from_slice(&v[D * p..D * p + D]);
+    norm(&x)
+}

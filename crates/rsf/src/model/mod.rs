@@ -1,0 +1,230 @@
+//! The assembled, discretised mechanical model a simulation runs on: matrices, loads,
+//! constraints, the frictional boundary and the refinement hierarchy.
+
+pub(crate) mod builder;
+pub(crate) mod fault;
+pub(crate) mod loading;
+#[cfg(feature = "sprs")]
+mod sprs_edge;
+
+use rsf_fem::SparseMatrix;
+
+use fault::FrictionalBoundary;
+use loading::DirichletVelocity;
+
+use crate::error::{invalid, Error, Result};
+
+/// An assembled model: matrices, loads, constraints, hierarchy and frictional boundary,
+/// independent of the friction law, state law, time integrator and solver.
+///
+/// Vectors are node-major with `D` components per node (`n = D · nodes`). Build one with
+/// [`ModelBuilder`](crate::ModelBuilder) from a mesh, a material and boundary parts, or
+/// fill the public fields yourself (e.g. a lumped spring–block system without a mesh);
+/// [`Model::validate`] checks them, and every simulation validates its model.
+///
+/// ```
+/// use rsf::fem::cuboid;
+/// use rsf::{Material, ModelBuilder, Part};
+///
+/// // A 2 m × 1 m × 1 m block (not the paper's problem): its top moves in x at 0.1 mm/s,
+/// // its bottom face slides with friction (bilateral contact: z velocity fixed).
+/// let model = ModelBuilder::refined(cuboid([0.0; 3], [2.0, 1.0, 1.0], [3, 2, 2])?, 1)?
+///     .material(Material::new(1e8, 0.25, 2.7e3))
+///     .gravity([0.0, 0.0, -9.81])
+///     .dirichlet(Part::predicate("top", |x| x[2] > 1.0 - 1e-9), [1e-4, 0.0, 0.0])
+///     .frictional_boundary(Part::predicate("bottom", |x| x[2] < 1e-9))
+///     .build()?;
+/// assert_eq!((model.num_nodes(), model.frictional_boundary.len()), (45, 15));
+/// assert!(model.frictional_boundary.nodes.iter().all(|&p| model.fixed[3 * p + 2]));
+/// // u0 is the gravity equilibrium: the middle layer sags, fixed dofs stay at 0.
+/// let u0 = &model.initial_displacement;
+/// assert!((0..45).all(|p| model.vertices[p][2] != 0.5 || u0[3 * p + 2] < 0.0));
+/// assert!(u0.iter().zip(&model.fixed).all(|(u, &f)| !f || *u == 0.0));
+/// # Ok::<(), rsf::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Model<const D: usize> {
+    /// Node coordinates (m) of the finest mesh (or of the lumped points).
+    pub vertices: Vec<[f64; D]>,
+    /// Mass matrix `M` (kg per unit thickness in 2D); `None` for quasistatic scenes.
+    pub mass: Option<SparseMatrix>,
+    /// Stiffness matrix `K` (N/m per unit thickness in 2D).
+    pub stiffness: SparseMatrix,
+    /// Matrix of the energy norm used in all stopping tests: `K + M` (docs/math.md §3), or `K`
+    /// without mass.
+    pub energy_norm: SparseMatrix,
+    /// Load vector `F` (body force + Neumann tractions), constant in time (N).
+    pub load: Vec<f64>,
+    /// Constrained dofs (Dirichlet on Γ_D, normal component on Γ_F).
+    pub fixed: Vec<bool>,
+    /// Prescribed velocities on the Dirichlet dofs; other fixed dofs have velocity 0.
+    pub dirichlet: DirichletVelocity,
+    /// Node-major prolongations of the refinement hierarchy, coarse to fine (may be empty).
+    pub prolongations: Vec<SparseMatrix>,
+    /// The frictional boundary.
+    pub frictional_boundary: FrictionalBoundary,
+    /// Initial displacement `u_0` (m).
+    pub initial_displacement: Vec<f64>,
+    /// Mesh cells as vertex indices with stride `D + 1` (for output such as VTU frames);
+    /// empty for models without a mesh (e.g. a spring–block).
+    pub cells: Vec<usize>,
+}
+
+impl<const D: usize> Model<D> {
+    /// Number of dofs.
+    pub fn num_dofs(&self) -> usize {
+        self.load.len()
+    }
+
+    /// Number of nodes (vertices).
+    pub fn num_nodes(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// `f(x_p)` for every frictional node `p`, in `frictional.nodes` order (the order of
+    /// per-node laws and states): how a heterogeneous fault is described by position.
+    pub fn on_frictional_nodes<T>(&self, mut f: impl FnMut(&[f64; D]) -> T) -> Vec<T> {
+        self.frictional_boundary
+            .nodes
+            .iter()
+            .map(|&p| f(&self.vertices[p]))
+            .collect()
+    }
+
+    /// Checks that `node` is a node of the model.
+    ///
+    /// # Errors
+    /// [`Error::NodeOutOfRange`] naming `what` the node is for.
+    pub fn check_node(&self, what: &'static str, node: usize) -> Result<()> {
+        if node < self.vertices.len() {
+            Ok(())
+        } else {
+            Err(Error::NodeOutOfRange {
+                what,
+                node,
+                nodes: self.vertices.len(),
+            })
+        }
+    }
+
+    /// The node nearest to `x` (m), by Euclidean distance; the first on ties.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a model without nodes or a non-finite `x`.
+    pub fn nearest_node(&self, x: &[f64; D]) -> Result<usize> {
+        nearest_vertex(&self.vertices, x)
+    }
+
+    /// Checks the shapes of all parts against each other, the Dirichlet data, and that
+    /// every frictional node has a fixed component (the normal velocity under bilateral
+    /// contact; `D ≥ 2`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the mismatch; [`Error::NodeOutOfRange`] for a
+    /// frictional node outside the mesh; [`Error::FreeNormal`] for a frictional node
+    /// without a fixed component.
+    pub fn validate(&self) -> Result<()> {
+        let n = D * self.vertices.len();
+        let sq = |name: &str, m: &SparseMatrix| {
+            if m.nrows() != n || m.ncols() != n {
+                Err(invalid(
+                    name,
+                    format!("is {}x{}, expected {n}x{n}", m.nrows(), m.ncols()),
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        sq("stiffness", &self.stiffness)?;
+        sq("energy_norm", &self.energy_norm)?;
+        if let Some(m) = &self.mass {
+            sq("mass", m)?;
+        }
+        for (name, len) in [
+            ("load", self.load.len()),
+            ("fixed", self.fixed.len()),
+            ("initial_displacement", self.initial_displacement.len()),
+        ] {
+            if len != n {
+                return Err(invalid(name, format!("has length {len}, expected {n}")));
+            }
+        }
+        if self.dirichlet.dofs.len() != self.dirichlet.factors.len()
+            || self
+                .dirichlet
+                .dofs
+                .iter()
+                .any(|&d| d >= n || !self.fixed[d])
+        {
+            return Err(invalid(
+                "dirichlet",
+                "dofs must be fixed dofs with one factor each",
+            ));
+        }
+        if self.dirichlet.factors.iter().any(|f| !f.is_finite()) {
+            return Err(invalid("dirichlet", "factors must be finite"));
+        }
+        self.dirichlet.history.validate()?;
+        if let Some(&p) = self
+            .frictional_boundary
+            .nodes
+            .iter()
+            .find(|&&p| p >= self.vertices.len())
+        {
+            return Err(Error::NodeOutOfRange {
+                what: "frictional boundary",
+                node: p,
+                nodes: self.vertices.len(),
+            });
+        }
+        if self.frictional_boundary.weights.len() != self.frictional_boundary.nodes.len()
+            || self.frictional_boundary.along.len() != self.frictional_boundary.nodes.len()
+        {
+            return Err(invalid(
+                "frictional_boundary",
+                "nodes, weights and along differ in length",
+            ));
+        }
+        // Bilateral contact: the friction acts on the whole block v_p, so the normal
+        // component must be fixed (docs/math.md §3); in 1D there is no normal.
+        if D >= 2 {
+            if let Some(&p) = self
+                .frictional_boundary
+                .nodes
+                .iter()
+                .find(|&&p| (0..D).all(|c| !self.fixed[D * p + c]))
+            {
+                return Err(Error::FreeNormal { node: p });
+            }
+        }
+        if self.cells.len() % (D + 1) != 0 || self.cells.iter().any(|&c| c >= self.vertices.len()) {
+            return Err(invalid(
+                "cells",
+                "need stride D + 1 and vertex indices in range",
+            ));
+        }
+        if let Some(p) = self.prolongations.last() {
+            if p.nrows() != n {
+                return Err(invalid(
+                    "prolongations",
+                    "finest prolongation does not match the dofs",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Index of the vertex nearest to `x` (Euclidean distance; the first on ties).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for an empty vertex list or a non-finite `x`.
+pub fn nearest_vertex<const D: usize>(vertices: &[[f64; D]], x: &[f64; D]) -> Result<usize> {
+    if x.iter().any(|c| !c.is_finite()) {
+        return Err(invalid("point", format!("{x:?} must be finite")));
+    }
+    let d2 = |v: &[f64; D]| v.iter().zip(x).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
+    (0..vertices.len())
+        .min_by(|&i, &j| d2(&vertices[i]).total_cmp(&d2(&vertices[j])))
+        .ok_or_else(|| invalid("vertices", "no vertex to choose from"))
+}

@@ -1,0 +1,196 @@
+//! CSV output files that can be continued after a checkpoint without loss: on resume the
+//! rows written after the checkpoint's step are cut off and new rows are appended, so a
+//! stopped-and-resumed run writes the same bytes as an uninterrupted one.
+
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// Coordinate names of CSV columns.
+pub(crate) const AXES: [&str; 3] = ["x", "y", "z"];
+
+impl FileMode {
+    /// The start of a file of this mode; `every_step`: whether the file has a row for
+    /// every step.
+    pub(crate) fn start(self, every_step: bool) -> Start {
+        match self {
+            FileMode::Create => Start::Fresh,
+            FileMode::Resume { step } => Start::Resume { step, every_step },
+        }
+    }
+}
+
+/// How an output file of an observer ([`PointSeries`](crate::PointSeries),
+/// [`FrictionalProfile`](crate::FrictionalProfile), [`VtuFrames`](crate::VtuFrames)) starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileMode {
+    /// A new file (created, or truncated if it exists), starting with its header.
+    Create,
+    /// Continues the file of an interrupted run after a checkpoint of step `step`: rows of
+    /// later steps (written before the interruption) are removed, new rows appended;
+    /// together with [`Simulation::restore`](crate::Simulation::restore) the file ends up
+    /// byte-identical to that of an uninterrupted run.
+    Resume {
+        /// The checkpoint's step.
+        step: usize,
+    },
+}
+
+/// How an output file starts (with what [`FileMode::Resume`] needs to know of the file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Start {
+    /// Create (or truncate) the file and write the header.
+    Fresh,
+    /// Keep the rows of steps `≤ step` of an existing file and append after them.
+    Resume {
+        /// The checkpoint's step.
+        step: usize,
+        /// Whether every step has a row (then the last kept row must be `step`).
+        every_step: bool,
+    },
+}
+
+/// Opens `path` for appending CSV rows with `header`, according to `start`. The step of a
+/// row is its field number `step_field` (0-based).
+///
+/// # Errors
+/// I/O errors; [`Error::Resume`] if the file to resume is missing, has another header, a
+/// malformed row before the checkpoint's step, or (with `every_step`) ends before it.
+pub(crate) fn open(
+    path: &Path,
+    header: &str,
+    step_field: usize,
+    start: Start,
+) -> Result<BufWriter<File>> {
+    let (step, every_step) = match start {
+        Start::Fresh => {
+            let mut out = BufWriter::new(File::create(path)?);
+            writeln!(out, "{header}")?;
+            out.flush()?;
+            return Ok(out);
+        }
+        Start::Resume { step, every_step } => (step, every_step),
+    };
+    let fail = |reason: String| Error::Resume {
+        path: path.display().to_string(),
+        reason,
+    };
+    let mut file = match OpenOptions::new().read(true).write(true).open(path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(fail(
+                "the file is missing: resume into the folder of the interrupted run".into(),
+            ))
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let mut text = Vec::new();
+    file.read_to_end(&mut text)?;
+    let keep = kept_length(&text, header, step_field, step, every_step).map_err(fail)?;
+    file.set_len(keep as u64)?;
+    file.seek(SeekFrom::End(0))?;
+    Ok(BufWriter::new(file))
+}
+
+/// The rows of a CSV file with `header`, each parsed by `parse` from its fields.
+pub(crate) fn read_rows<T>(
+    path: &Path,
+    header: &str,
+    parse: impl Fn(&[&str]) -> Option<T>,
+) -> Result<Vec<T>> {
+    let text = std::fs::read_to_string(path)?;
+    let fail = |reason: String| Error::Resume {
+        path: path.display().to_string(),
+        reason,
+    };
+    let mut lines = text.lines();
+    if lines.next() != Some(header) {
+        return Err(fail(format!("its header is not `{header}`")));
+    }
+    lines
+        .map(|line| {
+            let fields: Vec<&str> = line.split(',').collect();
+            parse(&fields).ok_or_else(|| fail(format!("malformed row `{line}`")))
+        })
+        .collect()
+}
+
+/// Length in bytes of the header and the complete rows of steps `≤ step`.
+fn kept_length(
+    text: &[u8],
+    header: &str,
+    step_field: usize,
+    step: usize,
+    every_step: bool,
+) -> std::result::Result<usize, String> {
+    let first = text
+        .iter()
+        .position(|&b| b == b'\n')
+        .ok_or("no complete header line")?;
+    if &text[..first] != header.as_bytes() {
+        return Err(format!(
+            "its header is `{}`, expected `{header}` (another output or version)",
+            String::from_utf8_lossy(&text[..first])
+        ));
+    }
+    let mut keep = first + 1;
+    let mut last = 0;
+    while keep < text.len() {
+        let Some(len) = text[keep..].iter().position(|&b| b == b'\n') else {
+            break; // a row cut off by the interruption
+        };
+        let line = std::str::from_utf8(&text[keep..keep + len]).map_err(|e| e.to_string())?;
+        let row_step: usize = line
+            .split(',')
+            .nth(step_field)
+            .and_then(|s| s.parse().ok())
+            .ok_or_else(|| format!("malformed row `{line}`"))?;
+        if row_step > step {
+            break;
+        }
+        if row_step < last {
+            return Err(format!("rows out of order at step {row_step}"));
+        }
+        last = row_step;
+        keep += len + 1;
+    }
+    if every_step && last != step {
+        return Err(format!(
+            "its rows end at step {last}, the checkpoint is at step {step}: rows are missing \
+             (was the file flushed before the checkpoint was written?)"
+        ));
+    }
+    Ok(keep)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kept_length;
+
+    const H: &str = "t,step";
+
+    #[test]
+    fn keeps_rows_up_to_the_step_and_drops_a_cut_off_row() {
+        let text = b"t,step\n0.1,1\n0.2,2\n0.3,3\n0.4,4\n0.5";
+        assert_eq!(kept_length(text, H, 1, 2, true), Ok(19));
+        assert_eq!(kept_length(text, H, 1, 4, true), Ok(31));
+        assert_eq!(kept_length(text, H, 1, 0, true), Ok(7));
+        assert!(kept_length(text, H, 1, 5, true)
+            .unwrap_err()
+            .contains("missing"));
+        assert_eq!(kept_length(text, H, 1, 5, false), Ok(31));
+    }
+
+    #[test]
+    fn rejects_another_header_and_malformed_rows() {
+        assert!(kept_length(b"x,y\n1,2\n", H, 1, 1, true)
+            .unwrap_err()
+            .contains("header"));
+        assert!(kept_length(b"t,step\n0.1,one\n", H, 1, 1, true)
+            .unwrap_err()
+            .contains("malformed"));
+        assert!(kept_length(b"", H, 1, 1, true).is_err());
+    }
+}

@@ -1,0 +1,66 @@
+//! What a simulation solves: the model and the laws on its frictional boundary
+//! (docs/design.md, "Problem, method, state").
+
+use rsf_friction::FrictionLaw;
+use rsf_state::StateLaw;
+
+use crate::model::Model;
+
+/// The problem of a simulation: the discrete [`Model`] and, per frictional node (in
+/// `model.frictional_boundary.nodes` order), a friction law `L` and a state law `S` (none if no
+/// friction law uses the state). Immutable once the simulation is built.
+#[derive(Debug, Clone)]
+pub struct Problem<const D: usize, L, S> {
+    model: Model<D>,
+    friction_laws: Vec<L>,
+    state_laws: Vec<S>,
+    uses_state: bool,
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw> Problem<D, L, S> {
+    /// The parts, checked by the simulation builder (`checks.rs`) before this is called.
+    pub(crate) fn new(model: Model<D>, friction_laws: Vec<L>, state_laws: Vec<S>) -> Self {
+        let uses_state = friction_laws.iter().any(FrictionLaw::uses_state);
+        Self {
+            model,
+            friction_laws,
+            state_laws,
+            uses_state,
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model<D> {
+        &self.model
+    }
+
+    /// The friction law of each frictional node.
+    pub fn friction_laws(&self) -> &[L] {
+        &self.friction_laws
+    }
+
+    /// The state law of each frictional node (empty if no friction law uses the state).
+    pub fn state_laws(&self) -> &[S] {
+        &self.state_laws
+    }
+
+    /// Whether any friction law depends on the state (else the state never changes and
+    /// no state update is computed).
+    pub fn uses_state(&self) -> bool {
+        self.uses_state
+    }
+}
+
+/// A placeholder state law for friction laws without state (plain Tresca): α never changes
+/// and no state update is ever computed.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NoState;
+
+impl StateLaw for NoState {
+    fn dpsi_dalpha(&self, _alpha: f64, _v: f64) -> f64 {
+        0.0
+    }
+    fn update(&self, alpha_prev: f64, _v: f64, _tau: f64) -> rsf_state::Result<f64> {
+        Ok(alpha_prev)
+    }
+}

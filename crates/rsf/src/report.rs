@@ -1,0 +1,34 @@
+//! What one time step did ([`StepReport`]): the numbers every observer, summary and figure
+//! uses, as the step produced them.
+
+/// What one time step did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepReport {
+    /// Step index n (1-based).
+    pub step: usize,
+    /// Time t_n (s).
+    pub time: f64,
+    /// The time step τ of this step (s).
+    pub tau: f64,
+    /// Fixed point iterations (velocity solves) of this step.
+    pub fixed_point_iterations: usize,
+    /// Velocity-solver iterations summed over the fixed point iterations.
+    pub solver_iterations: usize,
+    /// Fixed point iterations that took a damped step (the paper's ω < 1, or the fallback
+    /// of Anderson acceleration).
+    pub relaxed_iterations: usize,
+    /// Last fixed point correction `‖v^{ν+1} − v^ν‖` (energy norm).
+    pub correction: f64,
+    /// The quantity the fixed point test compared with the tolerance: the last correction,
+    /// or the estimated error `θ/(1 − θ) · correction` (see
+    /// [`FixedPointOptions::error_estimate`](crate::FixedPointOptions::error_estimate)).
+    pub fixed_point_error: f64,
+    /// Largest slip rate on Γ_F after the step (m/s).
+    pub max_slip_rate: f64,
+    /// Adaptive steps: attempts rejected before this step was accepted.
+    pub rejected_attempts: usize,
+    /// Adaptive steps: the scaled local error estimate of the accepted step (≤ 1).
+    pub error_estimate: f64,
+    /// Wall time of the step (s; not part of any numerical output).
+    pub seconds: f64,
+}

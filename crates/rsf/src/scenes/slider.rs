@@ -1,0 +1,640 @@
+//! The paper's model problem (§6.1, Table 6.1; docs/math.md §6) as a scene: a 5 m × 1 m
+//! elastic block sheared over a rigid surface, as TOML-readable parameters.
+
+use serde::{Deserialize, Serialize};
+
+use rsf_fem::{pipping_slider_coarse, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL};
+use rsf_friction::{DieterichRuina, RateStateParams};
+use rsf_state::{BuiltinStateLaw, StateLawKind};
+use rsf_time::{Integrator, StepControl, VelocityIntegrator};
+use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
+
+use crate::error::{invalid, Error, Result};
+use crate::method::fixed_point::{FixedPointOptions, FixedPointScheme};
+use crate::method::solver::{SolverKind, SolverOptions};
+use crate::method::state_integrator::StateIntegrator;
+use crate::model::builder::{Material, ModelBuilder};
+use crate::model::loading::TimeFunction;
+use crate::model::Model;
+use crate::simulation::builder::SimulationBuilder;
+use crate::simulation::Simulation;
+
+/// The simulation a scene builds: Dieterich–Ruina friction, a built-in state law and a
+/// built-in integrator, both chosen at run time.
+pub type SceneSimulation<const D: usize> =
+    Simulation<D, DieterichRuina, BuiltinStateLaw, Integrator>;
+
+/// The builder of a [`SceneSimulation`].
+pub type SceneSimulationBuilder<const D: usize> =
+    SimulationBuilder<D, DieterichRuina, BuiltinStateLaw, Integrator>;
+
+/// How a scene steps in time (`time_step` in TOML). The fixed step τ = T/N is the default
+/// (the paper's figures); `{ kind = "adaptive", tolerance = … }` selects adaptive steps
+/// with error control (docs/math.md §9).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum TimeStep {
+    /// Fixed τ = `end_time_s / steps` (a struct variant so that fields given with it are
+    /// rejected).
+    Fixed {},
+    /// Adaptive steps starting from τ = `end_time_s / steps` (or `initial_tau_s`).
+    Adaptive(AdaptiveTimeStep),
+}
+
+impl Default for TimeStep {
+    fn default() -> Self {
+        Self::Fixed {}
+    }
+}
+
+/// Options of adaptive time steps in a scene (the fields of [`StepControl`] with defaults
+/// suited to the slider; only `tolerance` is required in TOML).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveTimeStep {
+    /// Relative tolerance ([`StepControl::tolerance`]): on the displacement `u − u₀` and,
+    /// as an absolute one, on the state α = ln θ.
+    pub tolerance: f64,
+    /// Initial (and reference) step τ_ref of the ladder τ_ref·2^k (s); default
+    /// `end_time_s / steps`; clamped to `[tau_min_s, tau_max_s]`.
+    /// (`initial_step_s`, its name before issue 22, is accepted in scene files.)
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        alias = "initial_step_s"
+    )]
+    pub initial_tau_s: Option<f64>,
+    /// Smallest step (s).
+    #[serde(default = "defaults::tau_min")]
+    pub tau_min_s: f64,
+    /// Largest step (s).
+    #[serde(default = "defaults::tau_max")]
+    pub tau_max_s: f64,
+    /// Displacement scale (m): the absolute displacement tolerance is `tolerance` times
+    /// this; default the characteristic slip distance `l_m`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement_scale_m: Option<f64>,
+    /// State scale θ_s (s): the absolute tolerance on the state θ is `tolerance` times this
+    /// ([`StepControl::state_atol`]), so the state test is `|δθ| ≤ tolerance · (θ + θ_s)`;
+    /// default `l_m / |loading_velocity_m_per_s|`, the state of steady sliding at the
+    /// loading rate (0 without loading; docs/math.md §9); `0` for a purely relative test.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_scale_s: Option<f64>,
+    /// Safety factor of the step proposal, (0, 1].
+    #[serde(default = "defaults::safety")]
+    pub safety: f64,
+    /// Smallest factor by which a step shrinks, (0, 1).
+    #[serde(default = "defaults::min_factor")]
+    pub min_factor: f64,
+    /// Largest factor by which a step grows, > 1.
+    #[serde(default = "defaults::max_factor")]
+    pub max_factor: f64,
+    /// ξ of the physical cap (the state changes by at most ξ per step); `inf` for none.
+    #[serde(default = "defaults::state_change_cap")]
+    pub state_change_cap: f64,
+    /// Slip-rate floor V_f (m/s) of the slip test (the relative error of each step's slip
+    /// at each fault node, `(Δ ln(V + V_f))²/12 ≤ tolerance`); `inf` switches it off.
+    #[serde(default = "defaults::slip_rate_floor")]
+    pub slip_rate_floor_mps: f64,
+    /// Local extrapolation of the state (docs/math.md §9).
+    #[serde(default = "defaults::state_extrapolation")]
+    pub state_extrapolation: bool,
+}
+
+mod defaults {
+    pub fn tau_min() -> f64 {
+        1e-9
+    }
+    pub fn tau_max() -> f64 {
+        0.1
+    }
+    pub fn safety() -> f64 {
+        0.9
+    }
+    pub fn min_factor() -> f64 {
+        0.2
+    }
+    pub fn max_factor() -> f64 {
+        2.0
+    }
+    pub fn state_change_cap() -> f64 {
+        0.5
+    }
+    pub fn slip_rate_floor() -> f64 {
+        1e-9
+    }
+    pub fn state_extrapolation() -> bool {
+        true
+    }
+}
+
+impl AdaptiveTimeStep {
+    /// Tolerance `tolerance`, every other option at its default (τ in [1e-9, 0.1] s,
+    /// displacement scale `l_m`, state scale `l_m / loading_velocity_m_per_s`, safety 0.9,
+    /// factors [0.2, 2], ξ = 0.5, slip-rate floor 1e-9 m/s, local extrapolation of the
+    /// state).
+    pub fn new(tolerance: f64) -> Self {
+        Self {
+            tolerance,
+            initial_tau_s: None,
+            tau_min_s: defaults::tau_min(),
+            tau_max_s: defaults::tau_max(),
+            displacement_scale_m: None,
+            state_scale_s: None,
+            safety: defaults::safety(),
+            min_factor: defaults::min_factor(),
+            max_factor: defaults::max_factor(),
+            state_change_cap: defaults::state_change_cap(),
+            slip_rate_floor_mps: defaults::slip_rate_floor(),
+            state_extrapolation: defaults::state_extrapolation(),
+        }
+    }
+}
+
+/// The paper's slider scene (Table 6.1). Every field has a default (the paper's value);
+/// a TOML scene file may set any subset. Unknown fields are rejected with their name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SliderScene {
+    /// Uniform refinement level j of the 2 × 6-vertex coarse grid (paper: 2…8; 4 for the
+    /// time series).
+    pub level: usize,
+    /// Number of time steps N (τ = T/N); with adaptive steps, τ = T/N is the initial step.
+    pub steps: usize,
+    /// Fixed (default) or adaptive time steps.
+    pub time_step: TimeStep,
+    /// Final time T (s).
+    pub end_time_s: f64,
+    /// Density ρ (kg/m², per unit thickness).
+    pub density_kg_per_m2: f64,
+    /// Young's modulus E (Pa = N/m² ; the paper's N/m per unit thickness).
+    pub youngs_modulus_pa: f64,
+    /// Poisson ratio ν (plane strain).
+    pub poisson_ratio: f64,
+    /// Gravitational acceleration g (m/s² = N/kg); body force (0, −ρ g).
+    pub gravity_m_per_s2: f64,
+    /// Prescribed normal stress σ̄_n on Γ_F (Pa).
+    pub sigma_n_pa: f64,
+    /// Reference friction coefficient μ0.
+    pub mu0: f64,
+    /// Direct-effect parameter a.
+    pub a: f64,
+    /// Evolution-effect parameter b.
+    pub b: f64,
+    /// Reference slip rate V0 (m/s).
+    pub v0_m_per_s: f64,
+    /// Characteristic slip distance L (m).
+    pub l_m: f64,
+    /// Loading velocity of Γ_D after the ramp (m/s).
+    pub loading_velocity_m_per_s: f64,
+    /// Ramp duration as a fraction of T (paper: ¼).
+    pub ramp_fraction: f64,
+    /// Initial state α_0 = ln θ_0 (θ in s) on Γ_F.
+    pub alpha0: f64,
+    /// State law (`aging` or `slip`; the aliases `dieterich` and `ruina` are accepted).
+    pub state_law: StateLawKind,
+    /// How a step advances the state: `"backward-euler"` (default, the paper's) or
+    /// `"constant-slip-rate"` ([`StateIntegrator`]).
+    pub state_integrator: StateIntegrator,
+    /// Velocity integrator.
+    pub integrator: Integrator,
+    /// Velocity solver.
+    pub solver: SolverKind,
+    /// Fixed point scheme.
+    pub fixed_point: FixedPointScheme,
+    /// Fixed point tolerance (energy norm, paper 1e-10).
+    pub fixed_point_tolerance: f64,
+    /// Fixed point iteration budget per step.
+    pub fixed_point_max_iterations: usize,
+    /// Velocity solver tolerance (energy norm, absolute; paper 1e-10).
+    pub solver_tolerance: f64,
+    /// Coarse grid diagonal.
+    pub diagonal: Diagonal,
+}
+
+impl Default for SliderScene {
+    fn default() -> Self {
+        Self {
+            level: 4,
+            steps: 10_000,
+            time_step: TimeStep::Fixed {},
+            end_time_s: 15.0,
+            density_kg_per_m2: 5e3,
+            youngs_modulus_pa: 5e7,
+            poisson_ratio: 0.3,
+            gravity_m_per_s2: 9.81,
+            sigma_n_pa: 49_050.0,
+            mu0: 0.6,
+            a: 0.010,
+            b: 0.015,
+            v0_m_per_s: 1e-6,
+            l_m: 1e-5,
+            loading_velocity_m_per_s: 2e-4,
+            ramp_fraction: 0.25,
+            alpha0: -10.0,
+            state_law: StateLawKind::Aging,
+            state_integrator: StateIntegrator::BackwardEuler,
+            integrator: Integrator::Newmark,
+            solver: SolverKind::Auto,
+            fixed_point: FixedPointScheme::Anderson,
+            fixed_point_tolerance: 1e-10,
+            fixed_point_max_iterations: 100,
+            solver_tolerance: 1e-10,
+            diagonal: Diagonal::Forward,
+        }
+    }
+}
+
+/// The centre of Γ_F, `x0 = (2.5, 0)` m, where the paper records its time series.
+pub const SLIDER_CENTRE: [f64; 2] = [2.5, 0.0];
+
+impl SliderScene {
+    /// Parses a TOML scene (fields as in this struct; unknown fields are an error).
+    ///
+    /// # Errors
+    /// [`Error::SceneFile`] with the parser's message (it names unknown fields).
+    pub fn from_toml(text: &str) -> Result<Self> {
+        toml::from_str(text).map_err(|e| Error::SceneFile(e.to_string()))
+    }
+
+    /// The time step τ = T/N (s).
+    pub fn tau(&self) -> f64 {
+        self.end_time_s / self.steps as f64
+    }
+
+    /// The initial time step (s): for adaptive steps `initial_tau_s` if set, else
+    /// [`tau`](Self::tau), clamped to `[tau_min_s, tau_max_s]` (where the controller
+    /// starts); for fixed steps [`tau`](Self::tau).
+    pub fn initial_tau(&self) -> f64 {
+        match self.time_step {
+            TimeStep::Adaptive(a) => {
+                let t = a.initial_tau_s.unwrap_or_else(|| self.tau());
+                // The controller starts at the initial step clamped to the bounds; valid
+                // bounds only (`clamp` needs lo ≤ hi; invalid ones are errors of
+                // `step_control`).
+                if a.tau_min_s <= a.tau_max_s {
+                    t.clamp(a.tau_min_s, a.tau_max_s)
+                } else {
+                    t
+                }
+            }
+            TimeStep::Fixed {} => self.tau(),
+        }
+    }
+
+    /// The step control of adaptive time steps (`None` for fixed steps).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first invalid option.
+    pub fn step_control(&self) -> Result<Option<StepControl>> {
+        let TimeStep::Adaptive(a) = self.time_step else {
+            return Ok(None);
+        };
+        // The scales of the absolute tolerances (m and s), checked here so that the error
+        // names the scale, not the product with the tolerance.
+        let checked_scale = |name: &str, x: f64| {
+            if x.is_finite() && x >= 0.0 {
+                Ok(x)
+            } else {
+                Err(invalid(
+                    &format!("time_step.{name}"),
+                    format!("{x} must be finite and >= 0"),
+                ))
+            }
+        };
+        let scale = checked_scale(
+            "displacement_scale_m",
+            a.displacement_scale_m.unwrap_or(self.l_m),
+        )?;
+        let state_scale = checked_scale(
+            "state_scale_s",
+            match a.state_scale_s {
+                Some(s) => s,
+                None if self.loading_velocity_m_per_s != 0.0 => {
+                    self.l_m / self.loading_velocity_m_per_s.abs()
+                }
+                None => 0.0,
+            },
+        )?;
+        if let Some(t) = a.initial_tau_s {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(invalid(
+                    "time_step.initial_tau_s",
+                    format!("{t} must be finite and > 0"),
+                ));
+            }
+        }
+        for (name, x) in [
+            ("state_change_cap", a.state_change_cap),
+            ("slip_rate_floor_mps", a.slip_rate_floor_mps),
+        ] {
+            // Finite values are checked with the controller's options below; `+inf` is
+            // "off".
+            if x.is_nan() || x == f64::NEG_INFINITY {
+                return Err(invalid(
+                    &format!("time_step.{name}"),
+                    format!("{x} must be > 0 (inf switches it off)"),
+                ));
+            }
+        }
+        let control = StepControl {
+            tolerance: a.tolerance,
+            displacement_atol: a.tolerance * scale,
+            state_atol: a.tolerance * state_scale,
+            safety: a.safety,
+            min_factor: a.min_factor,
+            max_factor: a.max_factor,
+            tau_min: a.tau_min_s,
+            tau_max: a.tau_max_s,
+            state_change_cap: a.state_change_cap.is_finite().then_some(a.state_change_cap),
+            slip_rate_floor: a
+                .slip_rate_floor_mps
+                .is_finite()
+                .then_some(a.slip_rate_floor_mps),
+            state_extrapolation: a.state_extrapolation,
+        };
+        control.validate().map_err(|e| match e {
+            rsf_time::Error::InvalidParameter {
+                name,
+                value,
+                requirement,
+            } => invalid(
+                &format!(
+                    "time_step.{}",
+                    match name {
+                        "tau_min" => "tau_min_s",
+                        "tau_max" => "tau_max_s",
+                        "displacement_atol" => "displacement_scale_m",
+                        "state_atol" => "state_scale_s",
+                        "slip_rate_floor" => "slip_rate_floor_mps",
+                        other => other,
+                    }
+                ),
+                format!("{value} must be {requirement}"),
+            ),
+            other => other.into(),
+        })?;
+        Ok(Some(control))
+    }
+
+    /// Checks every parameter, naming the first invalid one.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] or the friction crate's parameter error.
+    pub fn validate(&self) -> Result<()> {
+        let pos = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(invalid(name, format!("{v} must be finite and > 0")))
+            }
+        };
+        if self.level > 10 {
+            return Err(invalid(
+                "level",
+                format!("{} is beyond what fits in memory (≤ 10)", self.level),
+            ));
+        }
+        if self.steps == 0 {
+            return Err(invalid("steps", "must be at least 1"));
+        }
+        pos("end_time_s", self.end_time_s)?;
+        pos("density_kg_per_m2", self.density_kg_per_m2)?;
+        pos("youngs_modulus_pa", self.youngs_modulus_pa)?;
+        if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
+            return Err(invalid(
+                "poisson_ratio",
+                format!("{} must be in (-1, 0.5)", self.poisson_ratio),
+            ));
+        }
+        if !(self.gravity_m_per_s2.is_finite() && self.gravity_m_per_s2 >= 0.0) {
+            return Err(invalid("gravity_m_per_s2", "must be finite and >= 0"));
+        }
+        if !self.loading_velocity_m_per_s.is_finite() {
+            return Err(invalid("loading_velocity_m_per_s", "must be finite"));
+        }
+        if !(self.ramp_fraction >= 0.0 && self.ramp_fraction <= 1.0) {
+            return Err(invalid("ramp_fraction", "must be in [0, 1]"));
+        }
+        if !self.alpha0.is_finite() {
+            return Err(invalid("alpha0", "must be finite"));
+        }
+        pos("fixed_point_tolerance", self.fixed_point_tolerance)?;
+        pos("solver_tolerance", self.solver_tolerance)?;
+        if self.fixed_point_max_iterations == 0 {
+            return Err(invalid("fixed_point_max_iterations", "must be at least 1"));
+        }
+        self.rate_state_params().validate()?;
+        self.step_control()?;
+        // The initial step as the scene's fields give it: its integrator coefficients
+        // (e.g. 2/τ of Newmark) must be finite.
+        let tau = self.initial_tau();
+        let (c_m, c_k) = self.integrator.coefficients(tau);
+        if !(c_m.is_finite() && c_k.is_finite()) {
+            return Err(invalid(
+                match self.time_step {
+                    TimeStep::Adaptive(_) => "time_step.initial_tau_s",
+                    TimeStep::Fixed {} => "steps",
+                },
+                format!(
+                    "the initial step τ = {tau:e} s gives non-finite coefficients of the \
+                     time-step matrix c_M M + c_K K (c_M = {c_m:e}, c_K = {c_k:e})"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The rate-and-state parameters of Γ_F.
+    pub fn rate_state_params(&self) -> RateStateParams {
+        RateStateParams {
+            mu0: self.mu0,
+            a: self.a,
+            b: self.b,
+            v0: self.v0_m_per_s,
+            l: self.l_m,
+            sigma_n: self.sigma_n_pa,
+        }
+    }
+
+    /// The material of the block (plane strain).
+    pub fn material(&self) -> Material {
+        Material {
+            youngs_modulus: self.youngs_modulus_pa,
+            poisson_ratio: self.poisson_ratio,
+            density: self.density_kg_per_m2,
+        }
+    }
+
+    /// End of the loading ramp `ramp_fraction · T` (s).
+    pub fn ramp_end_s(&self) -> f64 {
+        self.ramp_fraction * self.end_time_s
+    }
+
+    /// The loading history of Γ_D: the ramp to 1 over [`ramp_end_s`](Self::ramp_end_s).
+    pub fn loading(&self) -> TimeFunction {
+        TimeFunction::ramp(self.ramp_end_s())
+    }
+
+    /// The friction law of Γ_F (uniform Dieterich–Ruina with [`rate_state_params`](Self::rate_state_params)).
+    ///
+    /// # Errors
+    /// The friction crate's parameter error.
+    pub fn friction_law(&self) -> Result<DieterichRuina> {
+        Ok(DieterichRuina::new(self.rate_state_params())?)
+    }
+
+    /// Assembles the model at `self.level` with [`ModelBuilder`]: consistent mass (unless
+    /// quasistatic), plane-strain stiffness, gravity, Γ_D (top: both components, velocity
+    /// `(v_load g(t), 0)` with the ramp `g`), Γ_F (bottom, normal component fixed), the
+    /// hierarchy's prolongations, lumped weights and `u_0` solving `K u_0 = F` with the
+    /// same constraints.
+    ///
+    /// # Errors
+    /// Invalid parameters; assembly errors.
+    pub fn build_model(&self) -> Result<Model<2>> {
+        self.validate()?;
+        let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?
+            .material(self.material())
+            .gravity([0.0, -self.gravity_m_per_s2])
+            .dirichlet(TAG_DIRICHLET, [self.loading_velocity_m_per_s, 0.0])
+            .frictional_boundary(TAG_FRICTIONAL)
+            .loading(self.loading());
+        if self.integrator.uses_mass() {
+            builder.build()
+        } else {
+            builder.without_mass().build()
+        }
+    }
+
+    /// The options of the velocity solvers with the scene's tolerance (TNNMG: absolute
+    /// `solver_tolerance`; direct: absolute `solver_tolerance · 1e-2`, relative 1e-14;
+    /// 500 iterations each).
+    pub fn solver_options(&self) -> SolverOptions {
+        let stopping = Stopping {
+            absolute: self.solver_tolerance,
+            relative: 0.0,
+            max_iterations: 500,
+        };
+        SolverOptions {
+            tnnmg: TnnmgOptions {
+                stopping,
+                ..TnnmgOptions::default()
+            },
+            direct: DirectOptions {
+                stopping: Stopping {
+                    absolute: self.solver_tolerance * 1e-2,
+                    relative: 1e-14,
+                    max_iterations: 500,
+                },
+                ..DirectOptions::default()
+            },
+            gauss_seidel: stopping,
+        }
+    }
+
+    /// The fixed point options of the scene's scheme with its tolerance and budget.
+    pub fn fixed_point_options(&self) -> FixedPointOptions {
+        FixedPointOptions {
+            tolerance: self.fixed_point_tolerance,
+            max_iterations: self.fixed_point_max_iterations,
+            ..self.fixed_point.options()
+        }
+    }
+
+    /// A [`SimulationBuilder`] with everything the scene decides: the model,
+    /// Dieterich–Ruina friction, the state law, α₀, the integrator, τ (or the step
+    /// control), the solver and the fixed point options. Any of the parts may be replaced
+    /// before [`build`](SimulationBuilder::build), e.g. by a user state law or friction
+    /// varying along Γ_F.
+    ///
+    /// ```no_run
+    /// use rsf::state::StateLaw;
+    /// use rsf::SliderScene;
+    ///
+    /// #[derive(Clone)]
+    /// struct NoHealing { l: f64 }
+    /// impl StateLaw for NoHealing {
+    ///     fn dpsi_dalpha(&self, _alpha: f64, v: f64) -> f64 { v / self.l }
+    /// }
+    ///
+    /// let scene = SliderScene { level: 2, ..SliderScene::default() };
+    /// let mut sim = scene.simulation_builder()?.state_law(NoHealing { l: scene.l_m }).build()?;
+    /// sim.run(10, &mut [])?;
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid parameters; assembly errors.
+    pub fn simulation_builder(&self) -> Result<SceneSimulationBuilder<2>> {
+        let model = self.build_model()?;
+        scene_builder(self, model)
+    }
+
+    /// As [`simulation_builder`](Self::simulation_builder) on a model built (or modified)
+    /// by the caller.
+    ///
+    /// # Errors
+    /// Invalid parameters.
+    pub fn simulation_builder_with_model(
+        &self,
+        model: Model<2>,
+    ) -> Result<SceneSimulationBuilder<2>> {
+        self.validate()?;
+        scene_builder(self, model)
+    }
+
+    /// Builds the simulation.
+    ///
+    /// # Errors
+    /// Invalid parameters; assembly and set-up errors.
+    pub fn build(&self) -> Result<SceneSimulation<2>> {
+        self.simulation_builder()?.build()
+    }
+
+    /// As [`build`](Self::build) with a model built (or modified) by the caller.
+    ///
+    /// # Errors
+    /// As [`build`](Self::build).
+    pub fn build_with_model(&self, model: Model<2>) -> Result<SceneSimulation<2>> {
+        self.simulation_builder_with_model(model)?.build()
+    }
+
+    /// A progress bar for a run of the scene from time `t0` (s): of its steps for fixed
+    /// steps (the steps left after `t0`), of time for adaptive ones.
+    pub fn progress(&self, t0: f64, label: &str) -> crate::observe::progress::Progress {
+        use crate::observe::progress::Progress;
+        match self.time_step {
+            TimeStep::Adaptive(_) => Progress::time(t0, self.end_time_s, label),
+            TimeStep::Fixed {} => {
+                let done = (t0 / self.tau()).round() as usize;
+                Progress::steps(self.steps.saturating_sub(done), label)
+            }
+        }
+    }
+}
+
+/// The builder of a scene's simulation on `model` (validated scene): everything
+/// [`SliderScene::simulation_builder`] lists. Shared by the 2-D and 3-D sliders.
+///
+/// # Errors
+/// Invalid friction or state-law parameters.
+pub(crate) fn scene_builder<const D: usize>(
+    scene: &SliderScene,
+    model: Model<D>,
+) -> Result<SceneSimulationBuilder<D>> {
+    let b = SimulationBuilder::new(model)
+        .friction(scene.friction_law()?)
+        .state_law(BuiltinStateLaw::new(scene.state_law, scene.l_m)?)
+        .integrator(scene.integrator)
+        .initial_state(scene.alpha0)
+        .time_step(scene.initial_tau())
+        .solver(scene.solver)
+        .solver_options(scene.solver_options())
+        .fixed_point(scene.fixed_point_options())
+        .state_integrator(scene.state_integrator);
+    Ok(match scene.step_control()? {
+        Some(c) => b.step_control(c),
+        None => b,
+    })
+}

@@ -1,0 +1,291 @@
+//! The paper's model problem extruded to three dimensions (docs/math.md §6, §10): the
+//! 5 m × 1 m block of [`SliderScene`] becomes a 5 m × 1 m × W box of Kuhn tetrahedra,
+//! with the same material, loading and friction, and a choice of lateral boundary
+//! conditions on the faces z = 0 and z = W.
+
+use serde::{Deserialize, Serialize};
+
+use rsf_fem::{cuboid, Diagonal, TetrahedronMesh, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
+use rsf_time::VelocityIntegrator;
+
+use crate::error::{invalid, Error, Result};
+use crate::model::builder::ModelBuilder;
+use crate::model::Model;
+
+use super::slider::{scene_builder, SceneSimulation, SceneSimulationBuilder, SliderScene};
+
+/// Tag of the lateral faces z = 0 and z = W of [`slider_3d_coarse`].
+pub const TAG_LATERAL: &str = "lateral";
+
+/// Boundary condition on the lateral faces z = 0 and z = W of the 3-D slider.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LateralBoundary {
+    /// Traction-free (Neumann): the block may bulge sideways (Poisson effect).
+    #[default]
+    Free,
+    /// `u_z = 0` on both faces (rollers). The continuous solution is then the 2-D
+    /// plane-strain solution, constant in z.
+    PlaneStrain,
+}
+
+/// The 3-D slider: the paper's scene ([`SliderScene`], Table 6.1) extruded in z.
+///
+/// All of [`SliderScene`]'s fields keep their meaning, with 3-D units: the density is in
+/// kg/m³ (same value as the 2-D kg/m² per unit thickness), gravity acts in −y, the
+/// loading velocity `(V_D g(t), 0, 0)` is prescribed on the whole top face y = 1 m, and Γ_F
+/// is the bottom face y = 0 with bilateral contact (u_y fixed; x and z tangential, the slip
+/// rate is `√(v_x² + v_z²)`). The faces x = 0 and x = 5 m are traction-free. `level` counts
+/// uniform refinements of the coarse mesh [`slider_3d_coarse`] (each doubles every edge
+/// count; 8 children per tetrahedron). `diagonal` must be `forward`: the Kuhn
+/// tetrahedra project onto the forward-diagonal triangles of the 2-D scene.
+///
+/// In TOML the fields of [`SliderScene`] and those of this struct (`width_m`, `lateral`)
+/// sit side by side at the top level; unknown fields are rejected with their name.
+///
+/// ```
+/// let scene = rsf::Slider3dScene::from_toml(
+///     "level = 1\nwidth_m = 0.5\nlateral = \"plane-strain\"\nsteps = 10",
+/// )?;
+/// assert_eq!((scene.slider.level, scene.width_m), (1, 0.5));
+/// let model = scene.build_model()?;
+/// assert_eq!(model.num_nodes(), 11 * 3 * 3);
+/// # Ok::<(), rsf::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Slider3dScene {
+    /// The 2-D scene's parameters (Table 6.1), shared.
+    #[serde(flatten)]
+    pub slider: SliderScene,
+    /// Width W of the block in z (m).
+    pub width_m: f64,
+    /// Boundary condition on the lateral faces z = 0 and z = W.
+    pub lateral: LateralBoundary,
+}
+
+impl Default for Slider3dScene {
+    /// The paper's parameters at level 2, W = 1 m, free lateral faces.
+    fn default() -> Self {
+        Self {
+            slider: SliderScene {
+                level: 2,
+                ..SliderScene::default()
+            },
+            width_m: 1.0,
+            lateral: LateralBoundary::Free,
+        }
+    }
+}
+
+/// The fields of [`Slider3dScene`] besides the shared [`SliderScene`] ones.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Extrusion {
+    width_m: Option<f64>,
+    lateral: Option<LateralBoundary>,
+}
+
+/// Coarse mesh of the 3-D slider: the box `[0, 5] × [0, 1] × [0, W]` m with 5 × 1 × `nz`
+/// cubes (`nz = max(1, round(W / 1 m))`) of 6 Kuhn tetrahedra each ([`cuboid`]), and
+/// boundary tags [`TAG_DIRICHLET`] (top, y = 1), [`TAG_FRICTIONAL`] (bottom, y = 0),
+/// [`TAG_NEUMANN`] (x = 0 and x = 5) and [`TAG_LATERAL`] (z = 0 and z = W).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `width_m` for a width that is not finite and > 0 or
+/// needs more than 1000 coarse cells in z.
+pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
+    if !(width_m.is_finite() && width_m > 0.0 && width_m <= 1000.0) {
+        return Err(invalid(
+            "width_m",
+            format!("{width_m} must be in (0, 1000] m"),
+        ));
+    }
+    let nz = (width_m.round() as usize).max(1);
+    let mut mesh = cuboid([0.0; 3], [5.0, 1.0, width_m], [6, 2, nz + 1])?;
+    let eps = 1e-9;
+    mesh.tag_boundary(TAG_NEUMANN, |x| x[0] < eps || x[0] > 5.0 - eps);
+    mesh.tag_boundary(TAG_LATERAL, |x| {
+        x[2] < eps * width_m || x[2] > width_m * (1.0 - eps)
+    });
+    mesh.tag_boundary(TAG_DIRICHLET, |x| x[1] > 1.0 - eps);
+    mesh.tag_boundary(TAG_FRICTIONAL, |x| x[1] < eps);
+    Ok(mesh)
+}
+
+impl Slider3dScene {
+    /// Parses a TOML scene: the fields of [`SliderScene`] and `width_m`, `lateral`
+    /// (`"free"` or `"plane-strain"`), all optional.
+    ///
+    /// # Errors
+    /// [`Error::SceneFile`] with the parser's message (it names unknown fields).
+    pub fn from_toml(text: &str) -> Result<Self> {
+        let file = |e: toml::de::Error| Error::SceneFile(e.to_string());
+        let mut table: toml::Table = toml::from_str(text).map_err(file)?;
+        let mut own = toml::Table::new();
+        for key in ["width_m", "lateral"] {
+            if let Some(v) = table.remove(key) {
+                own.insert(key.to_owned(), v);
+            }
+        }
+        let extrusion: Extrusion = own.try_into().map_err(file)?;
+        let slider: SliderScene = table.try_into().map_err(file)?;
+        let default = Self::default();
+        Ok(Self {
+            slider,
+            width_m: extrusion.width_m.unwrap_or(default.width_m),
+            lateral: extrusion.lateral.unwrap_or(default.lateral),
+        })
+    }
+
+    /// The point where the time series is recorded: `x0 = (2.5, 0, W/2)` m, the centre of
+    /// Γ_F.
+    pub fn centre(&self) -> [f64; 3] {
+        [2.5, 0.0, 0.5 * self.width_m]
+    }
+
+    /// Checks every parameter, naming the first invalid one.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] or the friction crate's parameter error.
+    pub fn validate(&self) -> Result<()> {
+        self.slider.validate()?;
+        slider_3d_coarse(self.width_m)?;
+        if self.slider.diagonal != Diagonal::Forward {
+            return Err(invalid(
+                "diagonal",
+                "the 3-D slider's Kuhn tetrahedra project onto the forward diagonal only",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Assembles the model at `slider.level` with [`ModelBuilder`]: consistent mass (unless
+    /// quasistatic), isotropic 3-D stiffness, gravity `(0, −g, 0)`, Γ_D (top: all
+    /// components, velocity `(v_load g(t), 0, 0)` with the ramp `g`), Γ_F (bottom, u_y
+    /// fixed), `u_z = 0` on the lateral faces for [`LateralBoundary::PlaneStrain`], the
+    /// hierarchy's prolongations and `u_0` solving `K u_0 = F`.
+    ///
+    /// # Errors
+    /// Invalid parameters (a level whose mesh exceeds [`MAX_CELLS`](crate::MAX_CELLS) is
+    /// named `levels`); assembly errors.
+    pub fn build_model(&self) -> Result<Model<3>> {
+        self.validate()?;
+        let s = &self.slider;
+        let mut builder = ModelBuilder::refined(slider_3d_coarse(self.width_m)?, s.level)?
+            .material(s.material())
+            .gravity([0.0, -s.gravity_m_per_s2, 0.0])
+            .dirichlet(TAG_DIRICHLET, [s.loading_velocity_m_per_s, 0.0, 0.0])
+            .frictional_boundary(TAG_FRICTIONAL)
+            .loading(s.loading());
+        if self.lateral == LateralBoundary::PlaneStrain {
+            builder = builder.dirichlet_components(TAG_LATERAL, &[2], [0.0; 3]);
+        }
+        if !s.integrator.uses_mass() {
+            builder = builder.without_mass();
+        }
+        builder.build()
+    }
+
+    /// A [`SimulationBuilder`](crate::SimulationBuilder) on `model` with everything the
+    /// scene decides (as [`SliderScene::simulation_builder_with_model`]).
+    ///
+    /// # Errors
+    /// Invalid parameters.
+    pub fn simulation_builder_with_model(
+        &self,
+        model: Model<3>,
+    ) -> Result<SceneSimulationBuilder<3>> {
+        self.validate()?;
+        scene_builder(&self.slider, model)
+    }
+
+    /// Builds the simulation with the scene's state law and integrator.
+    ///
+    /// # Errors
+    /// Invalid parameters; assembly and set-up errors.
+    pub fn build(&self) -> Result<SceneSimulation<3>> {
+        let model = self.build_model()?;
+        scene_builder(&self.slider, model)?.build()
+    }
+
+    /// As [`build`](Self::build) with a model built (or modified) by the caller.
+    ///
+    /// # Errors
+    /// As [`build`](Self::build).
+    pub fn build_with_model(&self, model: Model<3>) -> Result<SceneSimulation<3>> {
+        self.simulation_builder_with_model(model)?.build()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_fields_of_both_parts_and_unknown_names() {
+        let s = Slider3dScene::from_toml("a = 0.02\nlateral = \"plane-strain\"").unwrap();
+        assert_eq!(
+            (s.slider.a, s.lateral),
+            (0.02, LateralBoundary::PlaneStrain)
+        );
+        assert_eq!(s.width_m, 1.0);
+        let e = Slider3dScene::from_toml("widht_m = 2")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("widht_m"), "{e}");
+        let e = Slider3dScene::from_toml("lateral = \"open\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("open"), "{e}");
+        let back = toml::to_string(&s).unwrap();
+        assert_eq!(Slider3dScene::from_toml(&back).unwrap(), s);
+    }
+
+    #[test]
+    fn invalid_width_and_diagonal_are_named() {
+        for w in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e9] {
+            let s = Slider3dScene {
+                width_m: w,
+                ..Slider3dScene::default()
+            };
+            let e = s.build_model().unwrap_err().to_string();
+            assert!(e.contains("width_m"), "{w}: {e}");
+        }
+        let mut s = Slider3dScene::default();
+        s.slider.diagonal = Diagonal::Backward;
+        assert!(s.validate().unwrap_err().to_string().contains("diagonal"));
+    }
+
+    #[test]
+    fn coarse_mesh_tags_and_plane_strain_constraints() {
+        let mesh = slider_3d_coarse(2.0).unwrap();
+        assert_eq!((mesh.num_vertices(), mesh.num_cells()), (6 * 2 * 3, 6 * 10));
+        for tag in [TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN, TAG_LATERAL] {
+            let area: f64 = mesh
+                .facets_with_tag(tag)
+                .iter()
+                .map(|&f| mesh.boundary_facet_measure(f))
+                .sum();
+            let expected = match tag {
+                TAG_DIRICHLET | TAG_FRICTIONAL => 10.0,
+                TAG_NEUMANN => 4.0,
+                _ => 10.0,
+            };
+            assert!((area - expected).abs() < 1e-12, "{tag}: {area}");
+        }
+        let scene = Slider3dScene {
+            slider: SliderScene {
+                level: 1,
+                ..SliderScene::default()
+            },
+            lateral: LateralBoundary::PlaneStrain,
+            ..Slider3dScene::default()
+        };
+        let m = scene.build_model().unwrap();
+        for (p, x) in m.vertices.iter().enumerate() {
+            let lateral = x[2] < 1e-9 || x[2] > 1.0 - 1e-9;
+            let top = x[1] > 1.0 - 1e-9;
+            assert_eq!(m.fixed[3 * p + 2], lateral || top, "node {p} at {x:?}");
+        }
+    }
+}

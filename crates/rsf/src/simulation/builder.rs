@@ -1,0 +1,333 @@
+//! Constructing a [`Simulation`] with defaults, laws given per node or by position: the
+//! only way in.
+
+use rsf_friction::FrictionLaw;
+use rsf_state::StateLaw;
+use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
+
+use crate::error::{Error, Result};
+use crate::method::fixed_point::FixedPointOptions;
+use crate::method::solver::{SolverKind, SolverOptions};
+use crate::method::state_integrator::StateIntegrator;
+use crate::method::{Method, MethodOptions};
+use crate::model::Model;
+use crate::problem::{NoState, Problem};
+use crate::simulation_state::SimulationState;
+
+use super::checks::Parts;
+use super::step::impose_dirichlet;
+use super::workspace::Workspace;
+use super::Simulation;
+
+/// The friction-law type of a [`SimulationBuilder`] before a law is chosen: `build` is
+/// only available once [`friction`](SimulationBuilder::friction) or
+/// [`friction_at`](SimulationBuilder::friction_at) has been called.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Unset;
+
+/// Builds a [`Simulation`] from a [`Model`] — the only way to construct one: the friction
+/// law (required), the state law, the initial state, the velocity integrator (default
+/// [`Newmark`]), the time step τ (required; the initial one with
+/// [`step_control`](Self::step_control)), the velocity solver (default
+/// [`SolverKind::Auto`], direct or TNNMG by size) and its options, the fixed point options
+/// (default [`FixedPointOptions::default`]) and the state update (default backward Euler,
+/// [`StateIntegrator`]). Setters only record; [`build`](Self::build) checks everything
+/// once (naming the part as its setter does), then assembles.
+///
+/// Laws and initial states are either uniform or functions of the node position `x` (m),
+/// evaluated at the frictional nodes ([`Model::on_frictional_nodes`]): a heterogeneous fault
+/// needs no knowledge of the node order. Errors of those functions (e.g. invalid
+/// parameters) are reported by [`build`](Self::build).
+///
+/// ```no_run
+/// use rsf::friction::{DieterichRuina, RateStateParams};
+/// use rsf::state::Aging;
+/// use rsf::{SimulationBuilder, SliderScene};
+///
+/// let model = SliderScene::default().build_model()?;
+/// let p = RateStateParams { mu0: 0.6, a: 0.010, b: 0.015, v0: 1e-6, l: 1e-5, sigma_n: 49_050.0 };
+/// let mut sim = SimulationBuilder::new(model)
+///     // velocity strengthening (a > b) outside 1 m < x < 4 m
+///     .friction_at(|x| {
+///         let b = if (1.0..4.0).contains(&x[0]) { p.b } else { 0.005 };
+///         DieterichRuina::new(RateStateParams { b, ..p })
+///     })
+///     .state_law(Aging::new(p.l)?)
+///     .initial_state(-10.0)
+///     .time_step(1.5e-3)
+///     .build()?;
+/// sim.run(100, &mut [])?;
+/// # Ok::<(), rsf::Error>(())
+/// ```
+pub struct SimulationBuilder<const D: usize, L, S, I> {
+    model: Model<D>,
+    friction: Result<Vec<L>>,
+    state: Result<Vec<S>>,
+    alpha0: Option<Vec<f64>>,
+    v0: Option<Vec<f64>>,
+    tau: Option<f64>,
+    method: MethodOptions<I>,
+}
+
+impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
+    /// A builder for `model` with the defaults above.
+    pub fn new(model: Model<D>) -> Self {
+        Self {
+            model,
+            friction: Ok(Vec::new()),
+            state: Ok(Vec::new()),
+            alpha0: None,
+            v0: None,
+            tau: None,
+            method: MethodOptions {
+                integrator: Newmark,
+                solver: SolverKind::default(),
+                solver_options: SolverOptions::default(),
+                fixed_point: FixedPointOptions::default(),
+                step_control: None,
+                state_integrator: StateIntegrator::default(),
+            },
+        }
+    }
+}
+
+/// `f` at every frictional node, collecting the first error.
+fn per_node<const D: usize, T, E: Into<Error>>(
+    model: &Model<D>,
+    f: impl FnMut(&[f64; D]) -> std::result::Result<T, E>,
+) -> Result<Vec<T>> {
+    model
+        .on_frictional_nodes(f)
+        .into_iter()
+        .map(|r| r.map_err(Into::into))
+        .collect()
+}
+
+/// The parts of a builder whose types change with the laws and the integrator.
+type Laws<L, S, I> = (Result<Vec<L>>, Result<Vec<S>>, I);
+
+impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
+    fn retype<L2, S2, I2>(
+        self,
+        f: impl FnOnce(Laws<L, S, I>) -> Laws<L2, S2, I2>,
+    ) -> SimulationBuilder<D, L2, S2, I2> {
+        let Self {
+            model,
+            friction,
+            state,
+            alpha0,
+            v0,
+            tau,
+            method,
+        } = self;
+        let MethodOptions {
+            integrator,
+            solver,
+            solver_options,
+            fixed_point,
+            step_control,
+            state_integrator,
+        } = method;
+        let (friction, state, integrator) = f((friction, state, integrator));
+        SimulationBuilder {
+            model,
+            friction,
+            state,
+            alpha0,
+            v0,
+            tau,
+            method: MethodOptions {
+                integrator,
+                solver,
+                solver_options,
+                fixed_point,
+                step_control,
+                state_integrator,
+            },
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model<D> {
+        &self.model
+    }
+
+    /// The method's options set so far.
+    pub fn method(&self) -> &MethodOptions<I> {
+        &self.method
+    }
+
+    /// The time step τ set so far (s).
+    pub fn tau(&self) -> Option<f64> {
+        self.tau
+    }
+
+    /// The same friction law at every frictional node.
+    pub fn friction<L2: FrictionLaw>(self, law: L2) -> SimulationBuilder<D, L2, S, I> {
+        let laws = Ok(vec![law; self.model.frictional_boundary.len()]);
+        self.retype(|(_, s, i)| (laws, s, i))
+    }
+
+    /// The friction law at each frictional node from its position `x` (m).
+    pub fn friction_at<L2: FrictionLaw, E: Into<Error>>(
+        self,
+        law: impl FnMut(&[f64; D]) -> std::result::Result<L2, E>,
+    ) -> SimulationBuilder<D, L2, S, I> {
+        let laws = per_node(&self.model, law);
+        self.retype(|(_, s, i)| (laws, s, i))
+    }
+
+    /// The same state law at every frictional node (not needed if the friction law does
+    /// not use the state, e.g. Tresca).
+    pub fn state_law<S2: StateLaw>(self, law: S2) -> SimulationBuilder<D, L, S2, I> {
+        let laws = Ok(vec![law; self.model.frictional_boundary.len()]);
+        self.retype(|(f, _, i)| (f, laws, i))
+    }
+
+    /// The state law at each frictional node from its position `x` (m).
+    pub fn state_law_at<S2: StateLaw, E: Into<Error>>(
+        self,
+        law: impl FnMut(&[f64; D]) -> std::result::Result<S2, E>,
+    ) -> SimulationBuilder<D, L, S2, I> {
+        let laws = per_node(&self.model, law);
+        self.retype(|(f, _, i)| (f, laws, i))
+    }
+
+    /// The velocity integrator.
+    pub fn integrator<I2: VelocityIntegrator>(
+        self,
+        integrator: I2,
+    ) -> SimulationBuilder<D, L, S, I2> {
+        self.retype(|(f, s, _)| (f, s, integrator))
+    }
+
+    /// The same initial state α₀ at every frictional node (`ln θ₀` with θ₀ in s for the
+    /// rate-and-state laws). Required if the friction law uses the state.
+    pub fn initial_state(mut self, alpha0: f64) -> Self {
+        self.alpha0 = Some(vec![alpha0; self.model.frictional_boundary.len()]);
+        self
+    }
+
+    /// The initial state at each frictional node from its position `x` (m).
+    pub fn initial_state_at(mut self, alpha0: impl FnMut(&[f64; D]) -> f64) -> Self {
+        self.alpha0 = Some(self.model.on_frictional_nodes(alpha0));
+        self
+    }
+
+    /// The initial velocity `v_0(x)` (m/s) of every node from its position `x` (m);
+    /// default rest. The constrained components take their Dirichlet values at `t = 0`
+    /// whatever this gives (0, or the prescribed velocity).
+    pub fn initial_velocity_at(mut self, mut v0: impl FnMut(&[f64; D]) -> [f64; D]) -> Self {
+        self.v0 = Some(self.model.vertices.iter().flat_map(&mut v0).collect());
+        self
+    }
+
+    /// The time step τ (s); required (with [`step_control`](Self::step_control), the
+    /// initial step).
+    pub fn time_step(mut self, tau: f64) -> Self {
+        self.tau = Some(tau);
+        self
+    }
+
+    /// The velocity solver.
+    pub fn solver(mut self, solver: SolverKind) -> Self {
+        self.method.solver = solver;
+        self
+    }
+
+    /// The options of the velocity solvers.
+    pub fn solver_options(mut self, options: SolverOptions) -> Self {
+        self.method.solver_options = options;
+        self
+    }
+
+    /// The fixed point options.
+    pub fn fixed_point(mut self, options: FixedPointOptions) -> Self {
+        self.method.fixed_point = options;
+        self
+    }
+
+    /// How a step advances the state (default backward Euler, the paper's).
+    pub fn state_integrator(mut self, integrator: StateIntegrator) -> Self {
+        self.method.state_integrator = integrator;
+        self
+    }
+
+    /// Adaptive time steps with error control from the initial τ of
+    /// [`time_step`](Self::time_step) (default: fixed τ).
+    pub fn step_control(mut self, control: StepControl) -> Self {
+        self.method.step_control = Some(control);
+        self
+    }
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
+    SimulationBuilder<D, L, S, I>
+{
+    /// Checks every part once and builds the simulation: assembles
+    /// `A = c_M M + c_K K` (+ radiation damping), sets up the solver, and starts from
+    /// `u_0 = model.initial_displacement`, `v_0` = the Dirichlet velocities at `t = 0` on
+    /// constrained dofs and [`initial_velocity_at`](Self::initial_velocity_at) (default 0)
+    /// elsewhere, `a_0 = 0`, `α = α₀`, at step 0 and time 0.
+    ///
+    /// # Errors
+    /// The first error of a per-node function; the checks' errors: τ, `initial_state` or a
+    /// state law not set where needed ([`Error::InvalidParameter`] naming `tau`,
+    /// `initial_state`, `state_law`), the model ([`Model::validate`], e.g.
+    /// [`Error::FreeNormal`]), a missing mass matrix (`mass`), [`Error::StateVariableMismatch`],
+    /// [`Error::StateLaw`] (monotonicity probe), the fixed point options
+    /// (`fixed_point.*`), the step control, the state integrator (`state_integrator`);
+    /// then set-up errors of the solver (e.g. `tau` for a non-finite time-step matrix).
+    pub fn build(self) -> Result<Simulation<D, L, S, I>> {
+        let friction = self.friction?;
+        let state_laws = self.state?;
+        let nf = self.model.frictional_boundary.len();
+        let tau = Parts {
+            model: &self.model,
+            friction_laws: &friction,
+            state_laws: &state_laws,
+            alpha0: self.alpha0.as_deref(),
+            v0: self.v0.as_deref(),
+            tau: self.tau,
+            method: &self.method,
+        }
+        .check()?;
+        let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
+        let controller = match &self.method.step_control {
+            Some(c) => Some(c.start(tau)?),
+            None => None,
+        };
+        let method = Method::new(self.method, &self.model, tau)?;
+        let n = self.model.num_dofs();
+        let mut kinematics = Kinematics::zeros(n);
+        kinematics
+            .u
+            .copy_from_slice(&self.model.initial_displacement);
+        if let Some(v0) = &self.v0 {
+            kinematics.v.copy_from_slice(v0);
+        }
+        impose_dirichlet(&self.model, 0.0, &mut kinematics.v);
+        let work = Workspace::new(
+            n,
+            &friction,
+            &alpha0,
+            &self.model.frictional_boundary.weights,
+            method.fixed_point(),
+        );
+        let state = SimulationState {
+            step: 0,
+            time: 0.0,
+            tau,
+            time_origin: (0, 0.0),
+            kinematics,
+            alpha: alpha0,
+            controller,
+        };
+        Ok(Simulation {
+            problem: Problem::new(self.model, friction, state_laws),
+            method,
+            state,
+            work,
+        })
+    }
+}

@@ -1,0 +1,364 @@
+//! A simulation: the problem, the method and the state together, stepping by the coupled
+//! fixed point iteration (docs/math.md §4; paper §6.2), and its run loop.
+
+pub(crate) mod adaptive;
+pub(crate) mod builder;
+pub(crate) mod checks;
+pub(crate) mod run;
+pub(crate) mod step;
+pub(crate) mod workspace;
+
+use std::time::Instant;
+
+use rsf_friction::FrictionLaw;
+use rsf_state::StateLaw;
+use rsf_time::{Kinematics, StepControl, VelocityIntegrator};
+
+use crate::checkpoint::Checkpoint;
+use crate::error::{invalid, Error, Result};
+use crate::method::state_integrator::StateIntegrator;
+use crate::method::Method;
+use crate::model::fault::block_norm;
+use crate::model::Model;
+use crate::observe::{Observer, StepView};
+use crate::problem::Problem;
+use crate::report::StepReport;
+use crate::simulation_state::SimulationState;
+
+use run::{time_reached, RunError, RunSummary, Termination, Until};
+use step::Stepper;
+use workspace::Workspace;
+
+/// A running simulation of a [`Model`] with friction law `L`, state law `S` (one law value
+/// per frictional node each, for heterogeneous faults) and velocity integrator `I`: the
+/// [`Problem`] (model and laws), the [`Method`] (integrator, velocity solver, fixed point,
+/// step control, state update) and the [`SimulationState`] (what a checkpoint saves),
+/// plus the scratch space of a step. Built by [`SimulationBuilder`](crate::SimulationBuilder)
+/// (or a scene built on it).
+///
+/// Each [`step`](Self::step) solves the coupled problem at `t_n` by the paper's relaxed
+/// fixed point iteration. Everything is deterministic: the same model, parameters and build
+/// give bit-identical results, also across [`checkpoint`](Self::checkpoint) /
+/// [`restore`](Self::restore).
+pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> {
+    problem: Problem<D, L, S>,
+    method: Method<D, I>,
+    state: SimulationState,
+    work: Workspace<L>,
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulation<D, L, S, I> {
+    fn stepper(&mut self) -> Stepper<'_, D, L, S, I> {
+        Stepper {
+            problem: &self.problem,
+            method: &mut self.method,
+            state: &mut self.state,
+            work: &mut self.work,
+        }
+    }
+
+    /// The problem: model and laws.
+    pub fn problem(&self) -> &Problem<D, L, S> {
+        &self.problem
+    }
+
+    /// The method: integrator, solver, fixed point, step control, state update.
+    pub fn method(&self) -> &Method<D, I> {
+        &self.method
+    }
+
+    /// The state after the last step.
+    pub fn state(&self) -> &SimulationState {
+        &self.state
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model<D> {
+        self.problem.model()
+    }
+
+    /// Current `(u, v, a)`.
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.state.kinematics
+    }
+
+    /// Current state α per frictional node (`model.frictional_boundary.nodes` order).
+    pub fn alpha(&self) -> &[f64] {
+        &self.state.alpha
+    }
+
+    /// Steps taken so far.
+    pub fn step_index(&self) -> usize {
+        self.state.step
+    }
+
+    /// Current time `t_n` (s): `n τ` for a run at constant τ.
+    pub fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    /// The time step τ of the next step (s).
+    pub fn tau(&self) -> f64 {
+        self.state.tau
+    }
+
+    /// Slip rates `|v_p|` on Γ_F (m/s) into `out`, in `model.frictional_boundary.nodes` order.
+    pub fn slip_rates(&self, out: &mut [f64]) {
+        let nodes = &self.model().frictional_boundary.nodes;
+        for (o, &p) in out.iter_mut().zip(nodes) {
+            *o = block_norm::<D>(&self.state.kinematics.v, p);
+        }
+    }
+
+    /// Changes the time step for the following steps (s). The matrix `A` of the velocity
+    /// problem depends on τ, so its solver is rebuilt (or taken from a small cache of the
+    /// last solvers used: returning to an earlier τ costs nothing). The dynamic state
+    /// `(u, v, a, α)` carries over unchanged: the integrators are one-step methods.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `tau` unless `tau` is finite and positive and the
+    /// matrix `c_M M + c_K K` is finite at it (e.g. `2/τ` overflows for τ < 1e-308); set-up
+    /// errors of the solver (e.g. a factorisation that fails).
+    pub fn set_time_step(&mut self, tau: f64) -> Result<()> {
+        self.stepper().set_time_step(tau)
+    }
+
+    /// Switches to adaptive time steps with error control (docs/math.md §9) starting from
+    /// the current τ, or back to a fixed τ (`None`, keeping the current τ). Adaptive steps
+    /// are shortened to end on the breakpoints of the loading history
+    /// ([`TimeFunction::next_breakpoint`](crate::TimeFunction::next_breakpoint)) and on the
+    /// end time of [`run_until`](Self::run_until).
+    ///
+    /// # Errors
+    /// Invalid options (the crate `rsf_time`'s error).
+    pub fn set_step_control(&mut self, control: Option<StepControl>) -> Result<()> {
+        self.state.controller = match &control {
+            Some(c) => Some(c.start(self.state.tau)?),
+            None => None,
+        };
+        self.method.set_step_control(control);
+        Ok(())
+    }
+
+    /// Chooses how a step advances the state ([`StateIntegrator`]; default backward Euler,
+    /// the paper's). Takes effect from the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `state_integrator` if a frictional node's state law
+    /// does not support it.
+    pub fn set_state_integrator(&mut self, integrator: StateIntegrator) -> Result<()> {
+        if self.problem.uses_state() {
+            for law in self.problem.state_laws() {
+                integrator.check(law)?;
+            }
+        }
+        self.method.set_state_integrator(integrator);
+        Ok(())
+    }
+
+    /// Advances one time step (with adaptive steps: until an attempt is accepted).
+    ///
+    /// # Errors
+    /// [`Error::FixedPointNotConverged`] with the correction history; solver and state
+    /// update errors. On error the simulation state is unchanged.
+    pub fn step(&mut self) -> Result<StepReport> {
+        self.step_until(None)
+    }
+
+    /// One step; with adaptive steps ending at `t_end` at the latest.
+    fn step_until(&mut self, t_end: Option<f64>) -> Result<StepReport> {
+        let start = Instant::now();
+        let adaptive = self.state.controller.is_some() && self.method.step_control().is_some();
+        let mut stepper = self.stepper();
+        let mut report = if adaptive {
+            stepper.adaptive_step(t_end)?
+        } else {
+            let r = stepper.attempt()?;
+            stepper.commit(&r);
+            r
+        };
+        report.seconds = start.elapsed().as_secs_f64();
+        Ok(report)
+    }
+
+    /// Takes `steps` steps, showing each to the observers; an observer may end the run
+    /// early ([`Flow::Break`](crate::Flow)). Same as [`run_until`](Self::run_until) with
+    /// [`Until::Steps`].
+    ///
+    /// # Errors
+    /// As [`run_until`](Self::run_until).
+    pub fn run(
+        &mut self,
+        steps: usize,
+        observers: &mut [&mut dyn Observer<D>],
+    ) -> std::result::Result<RunSummary, RunError> {
+        self.run_until(Until::Steps(steps), observers)
+    }
+
+    /// Steps until `until` is reached or an observer returns [`Flow::Break`](crate::Flow)
+    /// (after every observer has seen that step), then calls every observer's
+    /// [`finish`](Observer::finish) — also when the run fails. The summary says why the
+    /// run ended ([`Termination`]).
+    ///
+    /// # Errors
+    /// A [`RunError`] with the first step or observer error (or, after the steps, the first
+    /// error of a `finish`) and the summary of the steps taken; the simulation keeps the
+    /// state of the last successful step. [`Error::InvalidParameter`] named `until` for a
+    /// non-finite end time.
+    pub fn run_until(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D>],
+    ) -> std::result::Result<RunSummary, RunError> {
+        let start = Instant::now();
+        let mut summary = RunSummary::default();
+        let mut fpi_total = 0;
+        let outcome = self.run_loop(until, observers, &mut summary, &mut fpi_total);
+        let mut finished = Ok(());
+        for o in observers.iter_mut() {
+            let f = o.finish();
+            if finished.is_ok() {
+                finished = f;
+            }
+        }
+        summary.fpi_mean = if summary.steps > 0 {
+            fpi_total as f64 / summary.steps as f64
+        } else {
+            0.0
+        };
+        summary.seconds = start.elapsed().as_secs_f64();
+        match outcome.and(finished) {
+            Ok(()) => Ok(summary),
+            Err(error) => {
+                summary.termination = Termination::Error;
+                Err(RunError {
+                    error,
+                    summary: Box::new(summary),
+                })
+            }
+        }
+    }
+
+    /// The steps of [`run_until`](Self::run_until), accumulating into `summary` and the
+    /// total of fixed point iterations.
+    fn run_loop(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D>],
+        summary: &mut RunSummary,
+        fpi_total: &mut usize,
+    ) -> Result<()> {
+        if let Until::Time(t) = until {
+            if !t.is_finite() {
+                return Err(invalid("until", format!("end time {t} s must be finite")));
+            }
+        }
+        loop {
+            let reached = match until {
+                Until::Steps(k) => (summary.steps >= k).then_some(Termination::StepCount),
+                Until::Time(t_end) => time_reached(self.state.time, t_end, self.state.tau)
+                    .then_some(Termination::EndTime),
+            };
+            if let Some(reason) = reached {
+                summary.termination = reason;
+                return Ok(());
+            }
+            let t_end = match until {
+                Until::Time(t_end) => Some(t_end),
+                Until::Steps(_) => None,
+            };
+            let report = self.step_until(t_end)?;
+            *fpi_total += report.fixed_point_iterations;
+            summary.fpi_max = summary.fpi_max.max(report.fixed_point_iterations);
+            summary.solver_iterations += report.solver_iterations;
+            summary.relaxed_steps += usize::from(report.relaxed_iterations > 0);
+            summary.rejected_attempts += report.rejected_attempts;
+            summary.steps += 1;
+            let view = StepView {
+                model: self.problem.model(),
+                state: &self.state,
+                report: &report,
+            };
+            let mut first_break = None;
+            for (index, o) in observers.iter_mut().enumerate() {
+                match o.observe(&view) {
+                    Ok(flow) if flow.is_break() && first_break.is_none() => {
+                        first_break = Some(Termination::Observer {
+                            index,
+                            name: o.name(),
+                        })
+                    }
+                    Ok(_) => {}
+                    Err(e) => return Err(e),
+                }
+            }
+            if let Some(reason) = first_break {
+                summary.termination = reason;
+                return Ok(());
+            }
+        }
+    }
+
+    /// A checkpoint of the state, for [`restore`](Self::restore).
+    pub fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            dim: D,
+            state: self.state.clone(),
+        }
+    }
+
+    /// Continues from a checkpoint of a simulation of the same model; the continuation is
+    /// bit-identical to an uninterrupted run. The checkpoint's τ becomes the time step
+    /// (see [`set_time_step`](Self::set_time_step)).
+    ///
+    /// # Errors
+    /// [`Error::Checkpoint`] if dimensions or sizes differ or values are not finite;
+    /// solver set-up errors for a new τ.
+    pub fn restore(&mut self, c: &Checkpoint) -> Result<()> {
+        let n = self.model().num_dofs();
+        let s = &c.state;
+        let k = &s.kinematics;
+        if c.dim != D
+            || k.u.len() != n
+            || k.v.len() != n
+            || k.a.len() != n
+            || s.alpha.len() != self.state.alpha.len()
+        {
+            return Err(Error::Checkpoint(
+                "sizes do not match this simulation".into(),
+            ));
+        }
+        if !(s.time.is_finite() && s.time >= 0.0)
+            || [&k.u, &k.v, &k.a, &s.alpha]
+                .iter()
+                .any(|x| x.iter().any(|y| !y.is_finite()))
+        {
+            return Err(Error::Checkpoint(
+                "non-finite time, displacement, velocity, acceleration or state".into(),
+            ));
+        }
+        self.set_time_step(s.tau)
+            .map_err(|e| Error::Checkpoint(format!("τ = {}: {e}", s.tau)))?;
+        if self.state.controller.is_some() {
+            if let Some(c) = s.controller {
+                self.state.controller = Some(c);
+            }
+        }
+        self.state.step = s.step;
+        self.state.time = s.time;
+        // A checkpoint written by a simulation satisfies t = t_s + (n − n_s) τ exactly; an
+        // edited one (another τ, another time) starts a new segment of constant τ here.
+        let (n0, t0) = s.time_origin;
+        self.state.time_origin =
+            if n0 <= s.step && (t0 + (s.step - n0) as f64 * s.tau).to_bits() == s.time.to_bits() {
+                s.time_origin
+            } else {
+                (s.step, s.time)
+            };
+        self.state.kinematics.u.copy_from_slice(&k.u);
+        self.state.kinematics.v.copy_from_slice(&k.v);
+        self.state.kinematics.a.copy_from_slice(&k.a);
+        self.state.alpha.copy_from_slice(&s.alpha);
+        Ok(())
+    }
+}

@@ -1,0 +1,106 @@
+//! Run control: where a run ends ([`Until`]), why it ended ([`Termination`]), and what it
+//! did ([`RunSummary`], also on failure through [`RunError`]).
+
+use crate::error::Error;
+
+/// Where [`Simulation::run_until`](crate::Simulation::run_until) ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Until {
+    /// After this many steps.
+    Steps(usize),
+    /// At the first step with `t_n ≥ t` (s), up to round-off of `1e-9 min(τ, |t|)`. With a
+    /// fixed τ the last step is not shortened to land on `t`; with adaptive steps it is, so
+    /// the run ends at `t`.
+    Time(f64),
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum Termination {
+    /// The end time of [`Until::Time`] was reached.
+    #[default]
+    EndTime,
+    /// The step count of [`Until::Steps`] was reached.
+    StepCount,
+    /// An observer returned [`Flow::Break`](crate::Flow) after a step.
+    Observer {
+        /// Its position in the observer list (the first one that broke).
+        index: usize,
+        /// Its [`name`](crate::Observer::name).
+        name: String,
+    },
+    /// A step or an observer failed: see [`RunError::error`].
+    Error,
+}
+
+/// Summary of a run of several steps.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken.
+    pub steps: usize,
+    /// Wall time (s).
+    pub seconds: f64,
+    /// Mean fixed point iterations per step.
+    pub fpi_mean: f64,
+    /// Maximum fixed point iterations of a step.
+    pub fpi_max: usize,
+    /// Total velocity-solver iterations.
+    pub solver_iterations: usize,
+    /// Steps in which a damped step was taken at least once.
+    pub relaxed_steps: usize,
+    /// Adaptive steps: rejected attempts over the run.
+    pub rejected_attempts: usize,
+    /// Why the run ended.
+    pub termination: Termination,
+}
+
+impl RunSummary {
+    /// Whether an observer ended the run.
+    pub fn stopped_by_observer(&self) -> bool {
+        matches!(self.termination, Termination::Observer { .. })
+    }
+}
+
+/// A run that failed: the error and the summary of the steps taken before it (the
+/// simulation keeps the state of the last successful step; every observer's
+/// [`finish`](crate::Observer::finish) has been called). Converts into the [`Error`] with
+/// `?`. Its `Display` says how far the run got; the error is its
+/// [`source`](std::error::Error::source).
+#[derive(Debug)]
+pub struct RunError {
+    /// What failed.
+    pub error: Error,
+    /// The run up to the failure (`termination` is [`Termination::Error`]).
+    pub summary: Box<RunSummary>,
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the run failed after {} steps", self.summary.steps)
+    }
+}
+
+impl std::error::Error for RunError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(&self.error)
+    }
+}
+
+impl From<RunError> for Error {
+    fn from(e: RunError) -> Error {
+        e.error
+    }
+}
+
+/// Whether `time` has reached `t_end` for steps of `tau`, up to [`time_slack`].
+pub(crate) fn time_reached(time: f64, t_end: f64, tau: f64) -> bool {
+    time >= t_end - time_slack(t_end, tau)
+}
+
+/// Round-off allowance of a comparison with the time `t` for steps of `tau` (s):
+/// `1e-9 · min(τ, |t|)`. Relative to τ, so that a time that lands next to `t` by round-off
+/// is not followed by a sliver of a step; at most `1e-9 |t|`, so that a huge step (τ ≫ |t|)
+/// does not swallow `t` itself.
+pub(crate) fn time_slack(t: f64, tau: f64) -> f64 {
+    1e-9 * tau.min(t.abs())
+}

@@ -1,0 +1,67 @@
+//! Scratch space of a simulation's step: everything a step overwrites before it reads it,
+//! allocated once at construction (no allocation per step or iteration).
+
+use rsf_friction::FrictionLaw;
+use rsf_time::Kinematics;
+
+use crate::friction_blocks::evaluate_potentials;
+use crate::method::fixed_point::{Accelerator, FixedPointOptions};
+
+/// The buffers of a step, sized for `n` dofs and `nf` frictional nodes.
+pub(crate) struct Workspace<L: FrictionLaw> {
+    /// The friction potentials at the state of the current fixed point iterate.
+    pub potentials: Vec<L::Potential>,
+    /// The attempted step's `(u, v, a)`.
+    pub next: Kinematics,
+    /// Coefficient vectors of the right-hand side `ℓ = F + M w_M − K w_K`.
+    pub w_mass: Vec<f64>,
+    pub w_stiffness: Vec<f64>,
+    /// The right-hand side `ℓ_n`.
+    pub rhs: Vec<f64>,
+    /// The velocity iterate (predictor, then `v_n`).
+    pub v: Vec<f64>,
+    /// State iterate `α^ν`, its update `S(α_{n−1}, |v^ν|)`, and the locally extrapolated
+    /// update of adaptive steps.
+    pub alpha_iter: Vec<f64>,
+    pub alpha_trial: Vec<f64>,
+    pub alpha_extrapolated: Vec<f64>,
+    /// Slip rates on Γ_F of the current iterate.
+    pub slip: Vec<f64>,
+    /// Fixed point corrections of the current step.
+    pub history: Vec<f64>,
+    /// Displacement error estimate of an adaptive step.
+    pub u_err: Vec<f64>,
+    /// Acceleration of the fixed point iteration.
+    pub accelerator: Accelerator,
+}
+
+impl<L: FrictionLaw> Workspace<L> {
+    /// Buffers for `n` dofs, the frictional nodes' `laws` at state `alpha` and weights
+    /// `weights` (of the accelerator's norm).
+    pub fn new(
+        n: usize,
+        laws: &[L],
+        alpha: &[f64],
+        weights: &[f64],
+        fixed_point: &FixedPointOptions,
+    ) -> Self {
+        let nf = laws.len();
+        let mut potentials = Vec::with_capacity(nf);
+        evaluate_potentials(laws, alpha, &mut potentials);
+        Self {
+            potentials,
+            next: Kinematics::zeros(n),
+            w_mass: vec![0.0; n],
+            w_stiffness: vec![0.0; n],
+            rhs: vec![0.0; n],
+            v: vec![0.0; n],
+            alpha_iter: vec![0.0; nf],
+            alpha_trial: vec![0.0; nf],
+            alpha_extrapolated: vec![0.0; nf],
+            slip: vec![0.0; nf],
+            history: Vec::with_capacity(fixed_point.max_iterations),
+            u_err: vec![0.0; n],
+            accelerator: Accelerator::new(fixed_point.acceleration, weights),
+        }
+    }
+}

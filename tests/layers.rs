@@ -1,0 +1,471 @@
+//! The workspace's layering, read from the source: no import circles between the files of a
+//! crate, and crates depend on each other only downwards (docs/design.md, "Layers").
+//!
+//! A file `a` imports file `b` when `a` names a path `crate::…`, `super::…` or `self::…`
+//! that resolves to a module defined in `b` (the longest module prefix of the path that is a
+//! file; a name re-exported by `lib.rs` resolves to `lib.rs`). Comments and strings are
+//! skipped. `mod x;` declarations are not imports.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The crates from the bottom up: a crate may depend only on crates before it.
+const LAYERS: &[&[&str]] = &[
+    &["rsf-numeric", "rsf-linalg"],
+    &[
+        "rsf-fem",
+        "rsf-friction",
+        "rsf-state",
+        "rsf-tnnmg",
+        "rsf-time",
+    ],
+    &["rsf"],
+];
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let p = entry.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|e| e == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The module path of a source file relative to `src/` (`lib.rs` → [], `a/mod.rs` → [a],
+/// `a/b.rs` → [a, b]).
+fn module_of(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap();
+    let mut parts: Vec<String> = rel
+        .iter()
+        .map(|c| c.to_string_lossy().into_owned())
+        .collect();
+    let last = parts.pop().unwrap();
+    match last.as_str() {
+        "lib.rs" | "mod.rs" => {}
+        name => parts.push(name.trim_end_matches(".rs").to_owned()),
+    }
+    parts
+}
+
+/// The code of a file without comments, string and char literals.
+fn code_only(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'/' && b.get(i + 1) == Some(&b'/') {
+            while i < b.len() && b[i] != b'\n' {
+                i += 1;
+            }
+        } else if b[i] == b'/' && b.get(i + 1) == Some(&b'*') {
+            i += 2;
+            while i + 1 < b.len() && !(b[i] == b'*' && b[i + 1] == b'/') {
+                i += 1;
+            }
+            i += 2;
+        } else if b[i] == b'"' {
+            i += 1;
+            while i < b.len() && b[i] != b'"' {
+                i += if b[i] == b'\\' { 2 } else { 1 };
+            }
+            i += 1;
+            out.push_str("\"\"");
+        } else if b[i] == b'r' && b.get(i + 1) == Some(&b'#') {
+            // raw strings r#"…"#
+            let mut j = i + 1;
+            let mut hashes = 0;
+            while b.get(j) == Some(&b'#') {
+                hashes += 1;
+                j += 1;
+            }
+            if b.get(j) == Some(&b'"') {
+                let close: Vec<u8> = std::iter::once(b'"')
+                    .chain(std::iter::repeat_n(b'#', hashes))
+                    .collect();
+                j += 1;
+                while j < b.len() && !b[j..].starts_with(&close) {
+                    j += 1;
+                }
+                i = j + close.len();
+                out.push_str("\"\"");
+            } else {
+                out.push(b[i] as char);
+                i += 1;
+            }
+        } else {
+            let ch = text[i..].chars().next().unwrap();
+            out.push(ch);
+            i += ch.len_utf8();
+        }
+    }
+    out
+}
+
+/// The module paths named by `use` trees and inline paths of `code`, in module `here`.
+fn named_paths(
+    code: &str,
+    here: &[String],
+    modules: &BTreeMap<Vec<String>, String>,
+) -> Vec<Vec<String>> {
+    // Expand `use a::{b, c::{d, e}}` into flat paths; inline paths are taken as they are.
+    let mut paths = Vec::new();
+    for (p, inline) in expand_use_trees(code) {
+        // Inside inline modules the paths are relative to them; they resolve to this file
+        // as long as they stay inside it.
+        let scoped: Vec<String> = here.iter().cloned().chain(inline.iter().cloned()).collect();
+        let here = &scoped[..];
+        let segs: Vec<&str> = p.split("::").map(str::trim).collect();
+        let (base, rest): (Vec<String>, &[&str]) = match segs.first().copied() {
+            Some("crate") => (Vec::new(), &segs[1..]),
+            Some("self") => (here.to_vec(), &segs[1..]),
+            Some("super") => {
+                // `here` is the file's module (for `a/mod.rs` and `a/b.rs` alike); each
+                // `super` goes one up.
+                let mut base = here.to_vec();
+                let mut k = 0;
+                while segs.get(k) == Some(&"super") {
+                    base.pop();
+                    k += 1;
+                }
+                (base, &segs[k..])
+            }
+            // A path relative to this module through one of its child modules (`use
+            // a::b;` in the parent of `a`).
+            Some(first) if modules.contains_key(&[here, &[first.to_owned()]].concat()) => {
+                (here.to_vec(), &segs[..])
+            }
+            _ => continue,
+        };
+        let mut full = base;
+        full.extend(
+            rest.iter()
+                .take_while(|s| !s.is_empty() && *s != &"*" && *s != &"self")
+                .map(|s| s.to_string()),
+        );
+        paths.push(full);
+    }
+    paths
+}
+
+/// Flattens `use` trees and collects inline `crate::`/`super::`/`self::` paths, each with
+/// the inline modules (`mod x { … }`) it sits in. Test modules (`#[cfg(test)] mod x { … }`)
+/// are skipped: they are no part of the library's structure.
+fn expand_use_trees(code: &str) -> Vec<(String, Vec<String>)> {
+    let mut out = Vec::new();
+    let bytes = code.as_bytes();
+    let is_ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let mut inline: Vec<(String, usize)> = Vec::new();
+    let mut depth = 0usize;
+    // Depth of the test module being skipped, if any.
+    let mut in_test: Option<usize> = None;
+    let mut i = 0;
+    while i < bytes.len() {
+        let rest = &code[i..];
+        let word_start = i == 0 || !is_ident(bytes[i - 1]);
+        let scope = || inline.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+        if word_start && rest.starts_with("mod ") {
+            let after = rest[4..].trim_start();
+            let name: String = after
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if after[name.len()..].trim_start().starts_with('{') {
+                let test = code[..i].trim_end().ends_with("#[cfg(test)]");
+                if test && in_test.is_none() {
+                    in_test = Some(depth + 1);
+                }
+                inline.push((name, depth + 1));
+            }
+            i += 4;
+            continue;
+        }
+        if in_test.is_some() {
+            match bytes[i] {
+                b'{' => depth += 1,
+                b'}' => {
+                    depth = depth.saturating_sub(1);
+                    while inline.last().is_some_and(|(_, d)| *d > depth) {
+                        inline.pop();
+                    }
+                    if in_test.is_some_and(|d| d > depth) {
+                        in_test = None;
+                    }
+                }
+                _ => {}
+            }
+            i += 1;
+            continue;
+        }
+        if word_start && rest.starts_with("use ") {
+            let end = rest.find(';').unwrap_or(rest.len());
+            let mut flat = Vec::new();
+            flatten("", &rest[4..end], &mut flat);
+            out.extend(flat.into_iter().map(|p| (p, scope())));
+            i += end + 1;
+            continue;
+        }
+        if word_start
+            && (rest.starts_with("crate::")
+                || rest.starts_with("super::")
+                || rest.starts_with("self::"))
+        {
+            let end = rest
+                .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                .unwrap_or(rest.len());
+            out.push((rest[..end].trim_end_matches(':').to_owned(), scope()));
+            i += end;
+            continue;
+        }
+        match bytes[i] {
+            b'{' => depth += 1,
+            b'}' => {
+                depth = depth.saturating_sub(1);
+                while inline.last().is_some_and(|(_, d)| *d > depth) {
+                    inline.pop();
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    out
+}
+
+fn flatten(prefix: &str, tree: &str, out: &mut Vec<String>) {
+    let tree = tree.trim();
+    if let Some(open) = tree.find('{') {
+        let head = tree[..open].trim().trim_end_matches("::");
+        let inner = &tree[open + 1..tree.rfind('}').unwrap()];
+        let prefix = join(prefix, head);
+        let mut depth = 0;
+        let mut start = 0;
+        for (k, c) in inner.char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => depth -= 1,
+                ',' if depth == 0 => {
+                    flatten(&prefix, &inner[start..k], out);
+                    start = k + 1;
+                }
+                _ => {}
+            }
+        }
+        flatten(&prefix, &inner[start..], out);
+    } else if !tree.is_empty() {
+        let path = tree.split(" as ").next().unwrap().trim();
+        out.push(join(prefix, path));
+    }
+}
+
+fn join(a: &str, b: &str) -> String {
+    match (a.is_empty(), b.is_empty()) {
+        (true, _) => b.to_owned(),
+        (_, true) => a.to_owned(),
+        _ => format!("{a}::{b}"),
+    }
+}
+
+/// The names `lib.rs` re-exports from its modules (`pub use a::b::{X, Y}`): name → the
+/// module path it comes from.
+fn reexports(lib: &str, modules: &BTreeMap<Vec<String>, String>) -> BTreeMap<String, Vec<String>> {
+    let mut map = BTreeMap::new();
+    for line in lib.split(';') {
+        let Some(tree) = line.trim().strip_prefix("pub use ") else {
+            continue;
+        };
+        let mut flat = Vec::new();
+        flatten("", tree, &mut flat);
+        for p in flat {
+            let segs: Vec<String> = p.split("::").map(|x| x.trim().to_owned()).collect();
+            if segs.len() >= 2 && modules.contains_key(&segs[..1]) {
+                let alias = p.split(" as ").last().unwrap().rsplit("::").next().unwrap();
+                map.insert(alias.trim().to_owned(), segs[..segs.len() - 1].to_vec());
+            }
+        }
+    }
+    map
+}
+
+/// The file-level import graph of one crate: file → files it imports. The re-exports of
+/// `lib.rs` (the crate's public facade) are no imports; a name taken through them counts as
+/// taken from the module that defines it.
+fn import_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    let modules: BTreeMap<Vec<String>, String> = files
+        .iter()
+        .map(|f| {
+            (
+                module_of(src, f),
+                f.strip_prefix(src).unwrap().display().to_string(),
+            )
+        })
+        .collect();
+    let lib = code_only(&std::fs::read_to_string(src.join("lib.rs")).unwrap_or_default());
+    let facade = reexports(&lib, &modules);
+    let mut graph = BTreeMap::new();
+    for f in &files {
+        let here = module_of(src, f);
+        let name = modules[&here].clone();
+        let mut code = code_only(&std::fs::read_to_string(f).unwrap());
+        if here.is_empty() {
+            // The facade's own `pub use` lines are not imports.
+            code = code
+                .split_inclusive(';')
+                .filter(|stmt| !stmt.trim_start().starts_with("pub use "))
+                .collect();
+        }
+        let mut targets = BTreeSet::new();
+        for mut path in named_paths(&code, &here, &modules) {
+            if let Some(from) = path.first().and_then(|n| facade.get(n)) {
+                path = from.clone();
+            }
+            // The longest prefix that is a module with a file.
+            let target = (0..=path.len())
+                .rev()
+                .find_map(|k| modules.get(&path[..k]))
+                .expect("the crate root is a module");
+            // A file's own inline test module, `self`, or a child declared in it are no
+            // imports of another file's items when they resolve to the file itself.
+            if *target != name {
+                targets.insert(target.clone());
+            }
+        }
+        graph.insert(name, targets);
+    }
+    graph
+}
+
+/// A cycle of the graph, if any.
+fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    #[derive(Clone, Copy, PartialEq)]
+    enum Mark {
+        New,
+        Open,
+        Done,
+    }
+    fn visit(
+        n: &str,
+        graph: &BTreeMap<String, BTreeSet<String>>,
+        mark: &mut BTreeMap<String, Mark>,
+        stack: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        mark.insert(n.to_owned(), Mark::Open);
+        stack.push(n.to_owned());
+        for m in graph.get(n).into_iter().flatten() {
+            match mark.get(m).copied().unwrap_or(Mark::New) {
+                Mark::Open => {
+                    let i = stack.iter().position(|s| s == m).unwrap();
+                    let mut cycle = stack[i..].to_vec();
+                    cycle.push(m.clone());
+                    return Some(cycle);
+                }
+                Mark::New => {
+                    if let Some(c) = visit(m, graph, mark, stack) {
+                        return Some(c);
+                    }
+                }
+                Mark::Done => {}
+            }
+        }
+        stack.pop();
+        mark.insert(n.to_owned(), Mark::Done);
+        None
+    }
+    let mut mark = BTreeMap::new();
+    for n in graph.keys() {
+        if mark.get(n).copied().unwrap_or(Mark::New) == Mark::New {
+            if let Some(c) = visit(n, graph, &mut mark, &mut Vec::new()) {
+                return Some(c);
+            }
+        }
+    }
+    None
+}
+
+fn crates() -> Vec<PathBuf> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(workspace().join("crates"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("Cargo.toml").exists())
+        .collect();
+    dirs.sort();
+    dirs
+}
+
+#[test]
+fn no_import_circles_between_the_files_of_a_crate() {
+    let mut checked = 0;
+    for dir in crates() {
+        let graph = import_graph(&dir.join("src"));
+        checked += graph.len();
+        if let Some(cycle) = find_cycle(&graph) {
+            panic!("{}: import circle {}", dir.display(), cycle.join(" -> "));
+        }
+    }
+    assert!(checked > 50, "only {checked} files found");
+}
+
+/// The detector itself: a circle through a `super::` import and a name taken through the
+/// root's re-export is found; the re-export itself is no import.
+#[test]
+fn the_circle_detector_sees_circles() {
+    let dir = std::env::temp_dir().join(format!("rsf-layers-{}", std::process::id()));
+    let src = dir.join("src");
+    std::fs::create_dir_all(src.join("a")).unwrap();
+    std::fs::write(src.join("lib.rs"), "mod a;\npub use a::b::Thing;\n").unwrap();
+    std::fs::write(
+        src.join("a/mod.rs"),
+        "pub(crate) mod b;\npub(crate) mod c;\n",
+    )
+    .unwrap();
+    std::fs::write(
+        src.join("a/b.rs"),
+        "use super::c::Other; pub struct Thing;\n",
+    )
+    .unwrap();
+    std::fs::write(
+        src.join("a/c.rs"),
+        "// use crate::Thing;\nuse crate::{Thing};\npub struct Other;\n",
+    )
+    .unwrap();
+    let graph = import_graph(&src);
+    let cycle = find_cycle(&graph).expect("a circle");
+    assert!(
+        cycle.contains(&"a/b.rs".to_owned()) && cycle.contains(&"a/c.rs".to_owned()),
+        "{cycle:?}"
+    );
+    std::fs::write(
+        src.join("a/c.rs"),
+        "// use crate::Thing;\npub struct Other;\n",
+    )
+    .unwrap();
+    assert_eq!(find_cycle(&import_graph(&src)), None);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn crates_depend_only_on_lower_layers() {
+    let layer_of = |name: &str| LAYERS.iter().position(|l| l.contains(&name));
+    for dir in crates() {
+        let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+        let table: toml::Table = toml::from_str(&manifest).unwrap();
+        let name = table["package"]["name"].as_str().unwrap().to_owned();
+        let own = layer_of(&name).unwrap_or_else(|| panic!("{name} is in no layer"));
+        let deps = table.get("dependencies").and_then(|d| d.as_table());
+        for dep in deps.into_iter().flat_map(|d| d.keys()) {
+            if let Some(l) = layer_of(dep) {
+                assert!(l < own, "{name} (layer {own}) depends on {dep} (layer {l})");
+            }
+        }
+    }
+    // The rule the layers encode: a friction potential takes α as a number, so the friction
+    // laws and the state laws do not know each other.
+    assert_eq!(layer_of("rsf-friction"), layer_of("rsf-state"));
+}
