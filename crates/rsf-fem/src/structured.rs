@@ -47,15 +47,14 @@ impl std::str::FromStr for Diagonal {
 
     /// `forward` or `backward`.
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "forward" => Ok(Self::Forward),
-            "backward" => Ok(Self::Backward),
-            _ => Err(Error::UnknownName {
-                what: "diagonal",
-                name: rsf_numeric::excerpt(s),
-                expected: "forward, backward",
-            }),
-        }
+        let all = [Self::Forward, Self::Backward];
+        Ok(rsf_numeric::parse_name(
+            "diagonal",
+            s,
+            &all,
+            Self::name,
+            &[],
+        )?)
     }
 }
 

@@ -22,7 +22,7 @@ mod omega;
 mod root;
 
 pub use convention::StateVariable;
-pub use message::{excerpt, EXCERPT_CHARS};
+pub use message::{excerpt, parse_name, UnknownName, EXCERPT_CHARS};
 pub use omega::{wright_omega, wright_omega_ln};
 pub use root::{
     safeguarded_newton, solve_increasing, Bracket, IncreasingFunction, RootOutcome, Start, Stopping,

@@ -16,3 +16,70 @@ pub fn excerpt(s: &str) -> String {
         None => s.to_owned(),
     }
 }
+
+/// A name that is not one of a choice's names (a state law, an integrator, a solver, …),
+/// as given on a command line or in a scene file. Every crate's error enum wraps this one
+/// type, so the message reads the same wherever the name was parsed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownName {
+    /// What was named (`"state law"`).
+    pub what: &'static str,
+    /// The name given (at most [`EXCERPT_CHARS`] characters of it).
+    pub name: String,
+    /// The accepted names, comma-separated, aliases in a parenthesis.
+    pub expected: String,
+}
+
+impl std::fmt::Display for UnknownName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "unknown {} `{}` (expected {})",
+            self.what, self.name, self.expected
+        )
+    }
+}
+
+impl std::error::Error for UnknownName {}
+
+/// The choice named `s`: the element of `all` whose `name` is `s`, else the one an entry of
+/// `aliases` gives for `s` (an older or alternative name).
+///
+/// # Errors
+/// [`UnknownName`] for `what`, quoting an [`excerpt`] of `s` and listing the names.
+///
+/// ```
+/// #[derive(Clone, Copy, Debug, PartialEq)]
+/// enum Law { Aging, Slip }
+/// let name = |l: Law| match l { Law::Aging => "aging", Law::Slip => "slip" };
+/// let all = [Law::Aging, Law::Slip];
+/// let parse = |s| rsf_numeric::parse_name("state law", s, &all, name, &[("ruina", Law::Slip)]);
+/// assert_eq!(parse("slip"), Ok(Law::Slip));
+/// assert_eq!(parse("ruina"), Ok(Law::Slip));
+/// let e = parse("rate").unwrap_err();
+/// assert_eq!(e.to_string(), "unknown state law `rate` (expected aging, slip (also: ruina))");
+/// ```
+pub fn parse_name<T: Copy>(
+    what: &'static str,
+    s: &str,
+    all: &[T],
+    name: impl Fn(T) -> &'static str,
+    aliases: &[(&'static str, T)],
+) -> Result<T, UnknownName> {
+    if let Some(&t) = all.iter().find(|&&t| name(t) == s) {
+        return Ok(t);
+    }
+    if let Some(&(_, t)) = aliases.iter().find(|(a, _)| *a == s) {
+        return Ok(t);
+    }
+    let mut expected = all.iter().map(|&t| name(t)).collect::<Vec<_>>().join(", ");
+    if !aliases.is_empty() {
+        let names: Vec<_> = aliases.iter().map(|(a, _)| *a).collect();
+        expected = format!("{expected} (also: {})", names.join(", "));
+    }
+    Err(UnknownName {
+        what,
+        name: excerpt(s),
+        expected,
+    })
+}

@@ -51,16 +51,14 @@ impl std::str::FromStr for StateLawKind {
 
     /// A [`name`](StateLawKind::name) or the aliases `dieterich`, `ruina`.
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "aging" | "dieterich" => Ok(Self::Aging),
-            "slip" | "ruina" => Ok(Self::Slip),
-            "discontinuous" => Ok(Self::Discontinuous),
-            _ => Err(Error::UnknownName {
-                what: "state law",
-                name: rsf_numeric::excerpt(s),
-                expected: "aging (dieterich), slip (ruina), discontinuous",
-            }),
-        }
+        let aliases = [("dieterich", Self::Aging), ("ruina", Self::Slip)];
+        Ok(rsf_numeric::parse_name(
+            "state law",
+            s,
+            &Self::ALL,
+            Self::name,
+            &aliases,
+        )?)
     }
 }
 

@@ -53,14 +53,13 @@ impl std::str::FromStr for Integrator {
 
     /// `newmark`, `backward-euler` or `quasistatic`.
     fn from_str(s: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|i| i.name() == s)
-            .ok_or_else(|| Error::UnknownName {
-                what: "integrator",
-                name: rsf_numeric::excerpt(s),
-                expected: "newmark, backward-euler, quasistatic",
-            })
+        Ok(rsf_numeric::parse_name(
+            "integrator",
+            s,
+            &Self::ALL,
+            |i| i.name(),
+            &[],
+        )?)
     }
 }
 

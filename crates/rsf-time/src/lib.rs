@@ -68,16 +68,9 @@ pub enum Error {
         /// What is required.
         requirement: &'static str,
     },
-    /// A name that is not one of the expected ones (e.g. of an [`Integrator`]).
-    #[error("unknown {what} `{name}` (expected {expected})")]
-    UnknownName {
-        /// What was named.
-        what: &'static str,
-        /// The name given (at most about 100 characters of it).
-        name: String,
-        /// The names that are accepted.
-        expected: &'static str,
-    },
+    /// A name that is not one of a choice's names.
+    #[error(transparent)]
+    UnknownName(#[from] rsf_numeric::UnknownName),
 }
 
 /// Result alias of this crate.

@@ -117,16 +117,9 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
-    /// A name that is not one of the expected ones (e.g. of a [`SolverKind`](crate::SolverKind)).
-    #[error("unknown {what} `{name}` (expected {expected})")]
-    UnknownName {
-        /// What was named.
-        what: &'static str,
-        /// The name given (at most about 100 characters of it).
-        name: String,
-        /// The names that are accepted.
-        expected: &'static str,
-    },
+    /// A name that is not one of a choice's names.
+    #[error(transparent)]
+    UnknownName(#[from] rsf_numeric::UnknownName),
     /// Output could not be written.
     #[error("i/o: {0}")]
     Io(#[from] std::io::Error),
@@ -139,15 +132,6 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> Error {
     Error::InvalidParameter {
         name: name.to_string(),
         reason: reason.into(),
-    }
-}
-
-/// [`Error::UnknownName`] for the name `name` of a `what`.
-pub(crate) fn unknown_name(what: &'static str, name: &str, expected: &'static str) -> Error {
-    Error::UnknownName {
-        what,
-        name: rsf_numeric::excerpt(name),
-        expected,
     }
 }
 

@@ -7,7 +7,7 @@
 //! it ([`Acceleration::Relaxation`]); [`Acceleration::Anderson`] extrapolates from the last
 //! few residuals `f = G(α) − α` instead, with a fallback to the paper's rule.
 
-use crate::error::{invalid, unknown_name, Result};
+use crate::error::{invalid, Result};
 
 /// A preset of the fixed point iteration (the choice of scenes and command lines).
 ///
@@ -58,10 +58,13 @@ impl std::str::FromStr for FixedPointScheme {
 
     /// A [`name`](FixedPointScheme::name).
     fn from_str(s: &str) -> Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| unknown_name("fixed point scheme", s, "anderson, paper"))
+        Ok(rsf_numeric::parse_name(
+            "fixed point scheme",
+            s,
+            &Self::ALL,
+            Self::name,
+            &[],
+        )?)
     }
 }
 

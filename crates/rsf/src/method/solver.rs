@@ -83,12 +83,13 @@ impl std::str::FromStr for SolverKind {
 
     /// A [`name`](SolverKind::name).
     fn from_str(s: &str) -> crate::Result<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                crate::error::unknown_name("solver", s, "auto, tnnmg, direct, gauss-seidel")
-            })
+        Ok(rsf_numeric::parse_name(
+            "solver",
+            s,
+            &Self::ALL,
+            Self::name,
+            &[],
+        )?)
     }
 }
 

@@ -1,7 +1,7 @@
 //! How a time step advances the state on Γ_F (docs/friction-state.md, "Exact update at
 //! constant slip rate").
 
-use crate::error::{invalid, unknown_name, Result};
+use crate::error::{invalid, Result};
 use rsf_state::StateLaw;
 
 /// The update of the state `α` over one step, given the slip rate `V_n` of the step's
@@ -40,12 +40,14 @@ impl std::str::FromStr for StateIntegrator {
 
     /// A [`name`](StateIntegrator::name).
     fn from_str(s: &str) -> Result<Self> {
-        [Self::BackwardEuler, Self::ConstantSlipRate]
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                unknown_name("state integrator", s, "backward-euler, constant-slip-rate")
-            })
+        let all = [Self::BackwardEuler, Self::ConstantSlipRate];
+        Ok(rsf_numeric::parse_name(
+            "state integrator",
+            s,
+            &all,
+            Self::name,
+            &[],
+        )?)
     }
 }
 

@@ -115,6 +115,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper
         let laws = self.problem.friction_laws();
         let state_laws = self.problem.state_laws();
         let fb = &model.frictional_boundary;
+        // α = S(α_{n−1}, V) of this step, for the iterates and the commit.
+        let update = StateUpdate {
+            integrator: state_integrator,
+            laws: state_laws,
+            alpha_prev: &state.alpha,
+            tau,
+        };
         if !self.problem.uses_state() {
             let r = solver.solve_step(&FrictionView::<L>::new(fb, &work.potentials), full)?;
             report.solver_iterations += r.iterations;
@@ -124,12 +131,6 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper
         } else {
             // α⁰ = S(α_{n−1}, |v⁰|), then the fixed point iteration (docs/math.md §4, §8).
             read_slip_rates(solver, &mut work.slip);
-            let update = StateUpdate {
-                integrator: state_integrator,
-                laws: state_laws,
-                alpha_prev: &state.alpha,
-                tau,
-            };
             update.apply(&work.slip, &mut work.alpha_trial)?;
             work.alpha_iter.copy_from_slice(&work.alpha_trial);
             let first: f64 = {
@@ -202,12 +203,6 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper
         finished?;
         if self.problem.uses_state() {
             read_slip_rates(solver, &mut work.slip);
-            let update = StateUpdate {
-                integrator: state_integrator,
-                laws: state_laws,
-                alpha_prev: &state.alpha,
-                tau,
-            };
             update.apply(&work.slip, &mut work.alpha_trial)?;
         }
         method
