@@ -58,7 +58,7 @@ mod scenes;
 mod simulation;
 mod simulation_state;
 
-pub use checkpoint::Checkpoint;
+pub use checkpoint::{write_atomically, Checkpoint, Fingerprint, CHECKPOINT_FORMAT};
 pub use error::{Error, Result};
 pub use friction_blocks::FrictionBlocks;
 pub use method::fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, Predictor};
