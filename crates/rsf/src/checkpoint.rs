@@ -42,6 +42,42 @@ impl Fingerprint {
         self
     }
 
+    /// The fields of a serialisable value (e.g. a scene) as JSON names and renders them:
+    /// nested fields joined by `.`, array entries by their index, values in JSON (numbers
+    /// exactly, as the shortest text that reads back to the same double).
+    pub fn of_serialized(value: &impl serde::Serialize) -> Self {
+        fn flatten(prefix: &str, v: &serde_json::Value, out: &mut Fingerprint) {
+            let join = |k: &str| {
+                if prefix.is_empty() {
+                    k.to_owned()
+                } else {
+                    format!("{prefix}.{k}")
+                }
+            };
+            match v {
+                serde_json::Value::Object(m) => {
+                    for (k, x) in m {
+                        flatten(&join(k), x, out);
+                    }
+                }
+                serde_json::Value::Array(a) => {
+                    for (i, x) in a.iter().enumerate() {
+                        flatten(&join(&i.to_string()), x, out);
+                    }
+                }
+                x => out
+                    .0
+                    .push((prefix.replace(['\n', '='], " "), x.to_string())),
+            }
+        }
+        let mut out = Self::default();
+        match serde_json::to_value(value) {
+            Ok(v) => flatten("", &v, &mut out),
+            Err(e) => out.0.push(("unserialisable".into(), e.to_string())),
+        }
+        out
+    }
+
     /// The value of `field`, if present.
     pub fn get(&self, field: &str) -> Option<&str> {
         self.0
@@ -91,10 +127,7 @@ impl Fingerprint {
 
     fn from_text(text: &str) -> Option<Self> {
         text.lines()
-            .map(|l| {
-                l.split_once('=')
-                    .map(|(f, v)| (f.to_owned(), v.to_owned()))
-            })
+            .map(|l| l.split_once('=').map(|(f, v)| (f.to_owned(), v.to_owned())))
             .collect::<Option<Vec<_>>>()
             .map(Self)
     }
@@ -210,8 +243,7 @@ impl Checkpoint {
             let stored = u32::from_le_bytes(crc.try_into().expect("4 bytes"));
             if crc32fast::hash(body) != stored {
                 return Err(
-                    "checksum mismatch: the file was changed or cut after it was written"
-                        .into(),
+                    "checksum mismatch: the file was changed or cut after it was written".into(),
                 );
             }
             body
@@ -366,7 +398,9 @@ mod tests {
                 controller: None,
             },
         );
-        c.fingerprint = Fingerprint::default().with("law", "aging").with("steps", 10);
+        c.fingerprint = Fingerprint::default()
+            .with("law", "aging")
+            .with("steps", 10);
         c.wall_time_s = 1.5;
         c
     }
@@ -382,7 +416,10 @@ mod tests {
             assert!(Checkpoint::from_bytes(&b).is_err(), "bit {i}");
         }
         for len in 0..bytes.len() {
-            assert!(Checkpoint::from_bytes(&bytes[..len]).is_err(), "length {len}");
+            assert!(
+                Checkpoint::from_bytes(&bytes[..len]).is_err(),
+                "length {len}"
+            );
         }
     }
 
@@ -390,7 +427,9 @@ mod tests {
     fn fingerprints_name_the_first_differing_field() {
         let c = sample().fingerprint;
         assert!(c.check(&c, &[]).is_ok());
-        let run = Fingerprint::default().with("law", "aging").with("steps", 20);
+        let run = Fingerprint::default()
+            .with("law", "aging")
+            .with("steps", 20);
         let e = c.check(&run, &[]).unwrap_err();
         let Error::CheckpointMismatch {
             field,
@@ -405,6 +444,10 @@ mod tests {
         let e = Fingerprint::default().check(&run, &[]).unwrap_err();
         assert!(e.to_string().contains("`format`"), "{e}");
         let fewer = Fingerprint::default().with("law", "aging");
-        assert!(c.check(&fewer, &[]).unwrap_err().to_string().contains("`steps`"));
+        assert!(c
+            .check(&fewer, &[])
+            .unwrap_err()
+            .to_string()
+            .contains("`steps`"));
     }
 }

@@ -89,7 +89,8 @@ pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
 pub use scenes::slider::{
-    AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, SLIDER_CENTRE,
+    AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
+    SLIDER_CENTRE,
 };
 pub use scenes::slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
 pub use simulation::builder::{SimulationBuilder, Unset};

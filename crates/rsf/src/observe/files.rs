@@ -152,12 +152,8 @@ pub(crate) fn read_rows<T>(
     lines
         .map(|line| {
             let fields: Vec<&str> = line.split(',').collect();
-            parse(&fields).ok_or_else(|| {
-                fail(format!(
-                    "malformed row `{}`",
-                    rsf_numeric::excerpt(line)
-                ))
-            })
+            parse(&fields)
+                .ok_or_else(|| fail(format!("malformed row `{}`", rsf_numeric::excerpt(line))))
         })
         .collect()
 }
