@@ -115,6 +115,36 @@ pub(crate) fn open(
     Ok(BufWriter::new(file))
 }
 
+/// Checks, without changing it, that `path` can be continued after a checkpoint of step
+/// `step` (what [`open`] with [`Start::Resume`] checks before it cuts the file).
+///
+/// # Errors
+/// As [`open`] for [`Start::Resume`].
+pub(crate) fn check_resume(
+    path: &Path,
+    header: &str,
+    step_field: usize,
+    step: usize,
+    every_step: bool,
+) -> Result<()> {
+    let text = match std::fs::read(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(Error::Resume {
+                path: show_path(path),
+                reason: "the file is missing: resume into the folder of the interrupted run".into(),
+            })
+        }
+        Err(e) => return Err(io_at("read", path)(e)),
+    };
+    kept_length(&text, header, step_field, step, every_step)
+        .map(|_| ())
+        .map_err(|reason| Error::Resume {
+            path: show_path(path),
+            reason,
+        })
+}
+
 /// [`Error::FileExists`] if `path` exists and is not an empty file.
 pub(crate) fn refuse_existing(path: &Path) -> Result<()> {
     match std::fs::metadata(path) {
