@@ -223,3 +223,126 @@ pub fn check_window(name: &str, (t0, t1): (f64, f64), end_time: f64) -> rsf::Res
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+    use std::path::{Path, PathBuf};
+
+    use rsf::{Error, FileMode, SliderScene};
+
+    use super::{check_output_size, check_series_row, check_window, read_checkpoint, RunFolder};
+
+    const OUTPUTS: [&str; 3] = ["timeseries.csv", "checkpoint.bin", "summary.json"];
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("rsf-run-folder-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.is_file())
+            .map(|p| (p.clone(), std::fs::read(&p).unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn a_folder_of_another_run_is_refused_unless_overwritten() {
+        let dir = temp_dir("occupied");
+        let folder = RunFolder::new(&dir, &OUTPUTS);
+        assert_eq!(folder.prepare(false, false).unwrap(), FileMode::Create);
+        std::fs::write(dir.join("timeseries.csv"), "rows").unwrap();
+        std::fs::write(dir.join("checkpoint.bin"), "state").unwrap();
+        let before = snapshot(&dir);
+        let e = folder.prepare(false, false).unwrap_err();
+        let msg = e.to_string();
+        assert!(matches!(e, Error::FileExists { .. }), "{msg}");
+        assert!(
+            msg.contains("timeseries.csv") && msg.contains("checkpoint.bin"),
+            "{msg}"
+        );
+        assert_eq!(snapshot(&dir), before);
+        // A resume leaves the files to the checks of the resume.
+        assert_eq!(folder.prepare(true, false).unwrap(), FileMode::Create);
+        assert_eq!(snapshot(&dir), before);
+        // --overwrite: the old checkpoint cannot be mistaken for the new run's.
+        assert_eq!(folder.prepare(false, true).unwrap(), FileMode::Overwrite);
+        assert!(!dir.join("checkpoint.bin").exists());
+    }
+
+    #[test]
+    fn an_output_that_is_a_folder_or_an_out_that_is_a_file_is_refused_first() {
+        let dir = temp_dir("shapes");
+        std::fs::create_dir_all(dir.join("summary.json")).unwrap();
+        let e = RunFolder::new(&dir, &OUTPUTS)
+            .prepare(false, true)
+            .unwrap_err();
+        assert!(e.to_string().contains("summary.json"), "{e}");
+        assert!(dir.join("summary.json").is_dir());
+        let file = dir.join("a-file");
+        std::fs::write(&file, "x").unwrap();
+        let e = RunFolder::new(&file, &OUTPUTS)
+            .prepare(false, false)
+            .unwrap_err();
+        let Error::File { path, action, .. } = &e else {
+            panic!("{e}")
+        };
+        assert!(
+            path.ends_with("a-file") && action.contains("output folder"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read(&file).unwrap(), b"x");
+    }
+
+    #[test]
+    fn a_checkpoint_is_checked_against_the_scene_and_the_rows() {
+        let dir = temp_dir("rows");
+        let scene = SliderScene {
+            level: 1,
+            steps: 10,
+            end_time_s: 0.01,
+            ..SliderScene::default()
+        };
+        let mut sim = scene.build().unwrap();
+        let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE).unwrap();
+        let series = dir.join("timeseries.csv");
+        let mut obs = rsf::PointSeries::new(&series, sim.model(), x0, FileMode::Create).unwrap();
+        sim.run(4, &mut [&mut obs]).unwrap();
+        drop(obs);
+        let mut c = sim.checkpoint();
+        c.fingerprint = scene.fingerprint();
+        let path = dir.join("checkpoint.bin");
+        c.write(&path).unwrap();
+        let before = snapshot(&dir);
+        let c = read_checkpoint(&path, &scene.fingerprint(), &[]).unwrap();
+        check_series_row::<2>(&series, &c, x0).unwrap();
+        // Another node's values (as a checkpoint of another run would have) are refused.
+        let e = check_series_row::<2>(&series, &c, x0 + 1).unwrap_err();
+        assert!(e.to_string().contains("another run"), "{e}");
+        let mut later = c.clone();
+        later.state.step = 9;
+        assert!(check_series_row::<2>(&series, &later, x0).is_err());
+        let other = SliderScene { steps: 20, ..scene };
+        let e = read_checkpoint(&path, &other.fingerprint(), &[]).unwrap_err();
+        assert!(matches!(&e, Error::CheckpointMismatch { field, .. } if field == "steps"));
+        read_checkpoint(&path, &other.fingerprint(), &["steps".into()]).unwrap();
+        assert_eq!(snapshot(&dir), before);
+    }
+
+    #[test]
+    fn windows_and_output_sizes_are_bounded() {
+        check_window("window", (0.5, 1.0), 1.0).unwrap();
+        for w in [(-0.1, 0.5), (0.5, 1.5), (0.5, 0.5), (f64::NAN, 0.5)] {
+            let e = check_window("window", w, 1.0).unwrap_err();
+            assert!(e.to_string().contains("`window`"), "{e}");
+        }
+        check_output_size(9e9, 10.0).unwrap();
+        let e = check_output_size(2e11, 10.0).unwrap_err();
+        assert!(e.to_string().contains("--max-output-gb"), "{e}");
+    }
+}
