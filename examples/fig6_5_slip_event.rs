@@ -58,6 +58,10 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/fig6_5")]
     out: PathBuf,
+    /// Replace the map of an earlier run in the output folder (without it, it is refused
+    /// and left untouched).
+    #[arg(long)]
+    overwrite: bool,
 }
 
 /// Slip rate marking the slipping region (m/s), as the slip-event threshold.
@@ -113,7 +117,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let mut profile = Every::new(
         Interval::Steps(map_every.max(1)),
-        FrictionalProfile::new(&out.join("slip_rate_map.csv"), (t0, t1), FileMode::Create)?,
+        FrictionalProfile::new(
+            &out.join("slip_rate_map.csv"),
+            (t0, t1),
+            if cli.overwrite {
+                FileMode::Overwrite
+            } else {
+                FileMode::Create
+            },
+        )?,
     )?;
     for &(n, until, every) in &phases {
         sim.set_time_step(t_end / n as f64)?;

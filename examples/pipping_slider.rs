@@ -19,16 +19,24 @@
 //! figures `displacement_x0.png`, `slip_rate_x0.png`, `slip_rate_map.png`. Summary and
 //! figures are computed from the CSV files, so a resumed run (which continues the files
 //! from the checkpoint's step) reports the whole run.
+//!
+//! A folder holding another run's files is refused (`--overwrite` replaces them); on
+//! `--resume` the checkpoint's checksum, its fingerprint (the scene; `--allow-change
+//! end_time_s` for a deliberate change) and the folder's rows are checked before any file
+//! is cut (docs/reliability.md).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::{
-    Checkpoint, Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries,
-    SliderScene, Until, SLIDER_CENTRE,
+    Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries, SliderScene,
+    Until, SLIDER_CENTRE,
 };
 use rsf_examples::cli::window;
+use rsf_examples::run_folder::{
+    check_output_size, check_series_row, check_window, read_checkpoint, FolderArgs, RunFolder,
+};
 use rsf_examples::{
     line_plot, space_time_map, stats, write_summary, FieldMap, Labels, SceneArgs, Series,
     SliderRun, TimeStepArgs,
@@ -51,10 +59,25 @@ struct Cli {
     /// Write `checkpoint.bin` every N steps (0: never).
     #[arg(long, default_value_t = 0, value_name = "N")]
     checkpoint_every: usize,
-    /// Continue from this checkpoint, appending to the files in the output folder.
+    /// Continue from this checkpoint, appending to the files in the output folder (the
+    /// checkpoint, the folder's rows and the scene are checked to belong together first).
     #[arg(long, value_name = "FILE")]
     resume: Option<PathBuf>,
+    #[command(flatten)]
+    folder: FolderArgs,
 }
+
+/// The files a run writes into its folder.
+const OUTPUTS: [&str; 8] = [
+    "timeseries.csv",
+    "frictional_profile.csv",
+    "slip_rate_map.csv",
+    "checkpoint.bin",
+    "summary.json",
+    "displacement_x0.png",
+    "slip_rate_x0.png",
+    "slip_rate_map.png",
+];
 
 fn main() -> ExitCode {
     rsf_examples::main_with(|| run(Cli::parse()))
@@ -66,8 +89,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .apply(cli.scene.scene(SliderScene::default())?)?;
     let t_end = scene.end_time_s;
     let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
-    let out = cli.out;
-    std::fs::create_dir_all(&out)?;
+    check_window("window", (w0, w1), t_end)?;
+    let folder = RunFolder::new(&cli.out, &OUTPUTS);
+    let out = folder.dir.clone();
     println!(
         "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
         scene.level,
@@ -81,23 +105,42 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let setup = std::time::Instant::now();
     let mut sim = scene.build()?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
-    let resumed_at = match &cli.resume {
+    let (series_csv, profile_csv, map_csv) = (
+        folder.path("timeseries.csv"),
+        folder.path("frictional_profile.csv"),
+        folder.path("slip_rate_map.csv"),
+    );
+    // The output estimate: a series row per step (≈ 200 bytes), a profile row per node
+    // and step in the window and per node of 600 map samples (≈ 100 bytes each); for
+    // adaptive steps N is the initial step count.
+    let nodes = sim.model().frictional_boundary.len() as f64;
+    let steps = scene.steps as f64;
+    check_output_size(
+        steps * 200.0 + (steps * (w1 - w0) / t_end + 600.0) * nodes * 100.0,
+        cli.folder.max_output_gb,
+    )?;
+    // Everything is checked before any file is touched: folder, checkpoint, rows.
+    let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
+    let fingerprint = scene.fingerprint();
+    let resumed = match &cli.resume {
         Some(path) => {
-            let c = Checkpoint::read(path)?;
+            let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
+            let step = c.state.step;
+            PointSeries::<2>::check_resume(&series_csv, step)?;
+            FrictionalProfile::<2>::check_resume(&profile_csv, step)?;
+            FrictionalProfile::<2>::check_resume(&map_csv, step)?;
+            check_series_row::<2>(&series_csv, &c, x0)?;
             sim.restore(&c)?;
-            Some(c.state.step)
+            Some(c)
         }
         None => None,
     };
+    let resumed_at = resumed.as_ref().map(|c| c.state.step);
+    let wall_time_before = resumed.as_ref().map_or(0.0, |c| c.wall_time_s);
     let mode = match resumed_at {
-        None => FileMode::Create,
+        None => fresh,
         Some(step) => FileMode::Resume { step },
     };
-    let (series_csv, profile_csv, map_csv) = (
-        out.join("timeseries.csv"),
-        out.join("frictional_profile.csv"),
-        out.join("slip_rate_map.csv"),
-    );
     // 600 samples of the map: every N/600 steps, or every T/600 s for adaptive steps.
     let map_every = match sim.method().step_control() {
         Some(_) => Interval::Time(t_end / 600.0),
@@ -111,7 +154,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let mut checkpointer = Every::new(
         Interval::Steps(cli.checkpoint_every.max(1)),
-        Checkpointer::new(out.join("checkpoint.bin")),
+        Checkpointer::new(folder.path("checkpoint.bin"))
+            .fingerprint(fingerprint)
+            .wall_time_before(wall_time_before),
     )?;
     let mut progress = scene.progress(sim.time(), "slider");
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
@@ -130,7 +175,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         sim.model().num_dofs(),
         sim.model().frictional_boundary.len(),
     );
-    (run.seconds, run.setup_seconds) = (summary.seconds, setup_seconds);
+    // Wall time of the whole run: this invocation's steps plus the resumed checkpoint's.
+    (run.seconds, run.setup_seconds) = (wall_time_before + summary.seconds, setup_seconds);
     run.rejected_steps = sim.state().controller.map_or(0, |c| c.rejected());
     let st = stats(&run, t_end);
     write_summary(&out, &scene, &run, &st)?;

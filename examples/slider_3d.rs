@@ -56,6 +56,10 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/slider_3d")]
     out: PathBuf,
+    /// Replace the files of an earlier run in the output folder (without it, they are
+    /// refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
 }
 
 fn main() -> ExitCode {
@@ -185,7 +189,29 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let scene = scene(&cli)?;
     let s = &scene.slider;
     let out = cli.out.clone();
-    std::fs::create_dir_all(&out)?;
+    if let Some(t) = cli.snapshot_time {
+        // A NaN or a time outside the run would give an empty (all-zero) snapshot.
+        if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
+            return Err(rsf::Error::InvalidParameter {
+                name: "snapshot_time".into(),
+                reason: format!(
+                    "{t:e} s must be a finite time inside [0, T] = [0, {:e}] s",
+                    s.end_time_s
+                ),
+            }
+            .into());
+        }
+    }
+    let mode = if cli.overwrite {
+        FileMode::Overwrite
+    } else {
+        FileMode::Create
+    };
+    std::fs::create_dir_all(&out).map_err(|source| rsf::Error::File {
+        path: rsf_numeric::excerpt(&out.display().to_string()),
+        action: "create the output folder",
+        source,
+    })?;
     println!(
         "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {} law, {}, {} solver → {}",
         s.level,
@@ -203,14 +229,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let model = sim.model();
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");
-    let mut series = PointSeries::new(&series_csv, model, x0, FileMode::Create)?;
+    let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
     let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
     let mut progress = Progress::steps(s.steps, "slider 3-D");
     let mut frames = match cli.frame_every {
         0 => None,
         n => Some(Every::new(
             Interval::Steps(n),
-            VtuFrames::new(out.join("frames"), FileMode::Create)?,
+            VtuFrames::new(out.join("frames"), mode)?,
         )?),
     };
     println!(

@@ -109,6 +109,20 @@ impl TimeStepArgs {
             scene.steps = n;
         }
         if let Some(tol) = self.adaptive {
+            // The flag is for runs: a relative tolerance ≥ 1 accepts anything and one at
+            // the machine epsilon can never be met (the library's scene accepts such
+            // extremes for studies of the controller).
+            if !(tol > f64::EPSILON && tol < 1.0) && tol.is_finite() && tol > 0.0 {
+                return Err(rsf::Error::InvalidParameter {
+                    name: "time_step.tolerance".into(),
+                    reason: format!(
+                        "--adaptive {tol:e} is outside the admissible range ({:e}, 1): a \
+                         relative tolerance ≥ 1 accepts any step, one ≤ the machine epsilon \
+                         can never be met",
+                        f64::EPSILON
+                    ),
+                });
+            }
             scene.time_step = TimeStep::Adaptive(match scene.time_step {
                 TimeStep::Adaptive(a) => AdaptiveTimeStep {
                     tolerance: tol,

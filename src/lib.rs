@@ -12,6 +12,7 @@ pub mod cli;
 mod heat_map;
 mod panels;
 mod run;
+pub mod run_folder;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use panels::PanelLayout;
@@ -19,6 +20,7 @@ pub use run::{
     cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,
     SliderStats,
 };
+pub use run_folder::{FolderArgs, RunFolder};
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 

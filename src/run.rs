@@ -236,14 +236,18 @@ pub fn step_control_json(scene: &SliderScene) -> serde_json::Value {
 /// Writes `summary.json` with the scene, the resolved step control
 /// ([`step_control_json`]), the sizes, timings and statistics.
 ///
+/// The file is replaced atomically ([`rsf::write_atomically`]): a failure leaves the
+/// previous `summary.json` intact. `run.seconds` is the wall time of the stepping over
+/// the whole run (across resumes, see [`rsf::Checkpoint::wall_time_s`]).
+///
 /// # Errors
-/// I/O errors.
+/// [`rsf::Error::File`] naming the file.
 pub fn write_summary(
     dir: &Path,
     scene: &SliderScene,
     run: &SliderRun,
     stats: &SliderStats,
-) -> std::io::Result<()> {
+) -> rsf::Result<()> {
     let json = serde_json::json!({
         "scene": scene,
         "step_control": step_control_json(scene),
@@ -257,10 +261,8 @@ pub fn write_summary(
         "machine": machine(),
         "stats": stats,
     });
-    std::fs::write(
-        dir.join("summary.json"),
-        serde_json::to_string_pretty(&json)? + "\n",
-    )
+    let text = serde_json::to_string_pretty(&json).expect("a JSON value serialises") + "\n";
+    rsf::write_atomically(&dir.join("summary.json"), text.as_bytes())
 }
 
 /// User + system CPU time of this process so far (s), all threads, from the operating

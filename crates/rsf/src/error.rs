@@ -120,6 +120,49 @@ pub enum Error {
     /// A name that is not one of a choice's names.
     #[error(transparent)]
     UnknownName(#[from] rsf_numeric::UnknownName),
+    /// A checkpoint file that is damaged (checksum, length or a field out of range): it is
+    /// never resumed.
+    #[error("checkpoint `{path}` is corrupt ({reason}); it is not resumed")]
+    CheckpointCorrupt {
+        /// The checkpoint file (at most about 100 characters of it).
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A checkpoint written by a run of other physics or method than the run it should
+    /// continue ([`Fingerprint::check`](crate::Fingerprint::check)).
+    #[error(
+        "the checkpoint belongs to another run: its `{field}` is {checkpoint}, this run's is \
+         {run} (allow a deliberate change of `{field}` explicitly)"
+    )]
+    CheckpointMismatch {
+        /// The differing field (a scene field, or `format`).
+        field: String,
+        /// Its value in the checkpoint (at most about 100 characters).
+        checkpoint: String,
+        /// Its value in this run (at most about 100 characters).
+        run: String,
+    },
+    /// A file or folder that exists where a new one would be written: refused so that no
+    /// result is lost ([`FileMode::Create`](crate::FileMode::Create)).
+    #[error("`{path}` exists and is not empty: {reason}")]
+    FileExists {
+        /// The file (at most about 100 characters of it).
+        path: String,
+        /// How to go on.
+        reason: String,
+    },
+    /// An I/O operation on a named file or folder failed.
+    #[error("cannot {action} `{path}`: {source}")]
+    File {
+        /// The file or folder (at most about 100 characters of it).
+        path: String,
+        /// What was being done (e.g. `create`, `read`, `rename into`).
+        action: &'static str,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
     /// Output could not be written.
     #[error("i/o: {0}")]
     Io(#[from] std::io::Error),
@@ -132,6 +175,23 @@ pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> Error {
     Error::InvalidParameter {
         name: name.to_string(),
         reason: reason.into(),
+    }
+}
+
+/// A path as error messages quote it (at most about 100 characters).
+pub(crate) fn show_path(path: &std::path::Path) -> String {
+    rsf_numeric::excerpt(&path.display().to_string())
+}
+
+/// A closure turning an I/O error into [`Error::File`] for `action` on `path`.
+pub(crate) fn io_at<'a>(
+    action: &'static str,
+    path: &'a std::path::Path,
+) -> impl Fn(std::io::Error) -> Error + 'a {
+    move |source| Error::File {
+        path: show_path(path),
+        action,
+        source,
     }
 }
 

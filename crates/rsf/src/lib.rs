@@ -58,7 +58,7 @@ mod scenes;
 mod simulation;
 mod simulation_state;
 
-pub use checkpoint::Checkpoint;
+pub use checkpoint::{write_atomically, Checkpoint, Fingerprint, CHECKPOINT_FORMAT};
 pub use error::{Error, Result};
 pub use friction_blocks::FrictionBlocks;
 pub use method::fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, Predictor};
@@ -89,7 +89,8 @@ pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
 pub use scenes::slider::{
-    AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, SLIDER_CENTRE,
+    AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
+    SLIDER_CENTRE,
 };
 pub use scenes::slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
 pub use simulation::builder::{SimulationBuilder, Unset};

@@ -90,9 +90,9 @@ fn build<I: VelocityIntegrator>(
         .build()
         .unwrap();
     // Steady sliding: v = V_load on both dofs (the builder starts the block at rest).
-    sim.restore(&Checkpoint {
-        dim: 1,
-        state: SimulationState {
+    sim.restore(&Checkpoint::new(
+        1,
+        SimulationState {
             step: 0,
             time: 0.0,
             time_origin: (0, 0.0),
@@ -105,7 +105,7 @@ fn build<I: VelocityIntegrator>(
             alpha: vec![alpha0],
             controller: None,
         },
-    })
+    ))
     .unwrap();
     sim
 }

@@ -1,6 +1,9 @@
 //! Checkpoints during a run, and the reports of every step kept in memory.
 
 use std::path::PathBuf;
+use std::time::Instant;
+
+use crate::checkpoint::Fingerprint;
 
 use crate::error::Result;
 use crate::report::StepReport;
@@ -10,21 +13,50 @@ use super::{Flow, Observer, StepView};
 /// Writes a checkpoint of every step it is shown, atomically replacing `path` (wrap it in
 /// [`Every`](crate::Every) to checkpoint every `n` steps). Put it after the observers that
 /// write files, so that a checkpoint never runs ahead of them.
+///
+/// Each checkpoint carries the [`fingerprint`](Self::fingerprint) of the run and its wall
+/// time so far ([`Checkpoint::wall_time_s`](crate::Checkpoint::wall_time_s): the wall
+/// time since this checkpointer was made, plus [`wall_time_before`](Self::wall_time_before)).
 #[derive(Debug, Clone)]
 pub struct Checkpointer {
     path: PathBuf,
+    fingerprint: Fingerprint,
+    started: Instant,
+    before_s: f64,
 }
 
 impl Checkpointer {
-    /// Checkpoints to `path`.
+    /// Checkpoints to `path`, with an empty fingerprint.
     pub fn new(path: impl Into<PathBuf>) -> Self {
-        Self { path: path.into() }
+        Self {
+            path: path.into(),
+            fingerprint: Fingerprint::default(),
+            started: Instant::now(),
+            before_s: 0.0,
+        }
+    }
+
+    /// Writes `fingerprint` (what the run is: physics and method) into every checkpoint.
+    pub fn fingerprint(mut self, fingerprint: Fingerprint) -> Self {
+        self.fingerprint = fingerprint;
+        self
+    }
+
+    /// Adds `seconds` (the wall time of the run before a resume, e.g. the resumed
+    /// checkpoint's [`wall_time_s`](crate::Checkpoint::wall_time_s)) to the wall time the
+    /// checkpoints carry.
+    pub fn wall_time_before(mut self, seconds: f64) -> Self {
+        self.before_s = seconds;
+        self
     }
 }
 
 impl<const D: usize> Observer<D> for Checkpointer {
     fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
-        s.checkpoint().write(&self.path)?;
+        let mut c = s.checkpoint();
+        c.fingerprint = self.fingerprint.clone();
+        c.wall_time_s = self.before_s + self.started.elapsed().as_secs_f64();
+        c.write(&self.path)?;
         Ok(Flow::Continue(()))
     }
 }

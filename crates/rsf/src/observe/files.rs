@@ -1,12 +1,15 @@
 //! CSV output files that can be continued after a checkpoint without loss: on resume the
 //! rows written after the checkpoint's step are cut off and new rows are appended, so a
-//! stopped-and-resumed run writes the same bytes as an uninterrupted one.
+//! stopped-and-resumed run writes the same bytes as an uninterrupted one. A new file never
+//! replaces an existing one unless told to ([`FileMode::Overwrite`]), and a resumed file is
+//! checked completely before it is cut, then cut atomically (docs/reliability.md).
 
 use std::fs::{File, OpenOptions};
-use std::io::{BufWriter, Read, Seek, SeekFrom, Write};
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use crate::error::{Error, Result};
+use crate::checkpoint::write_atomically;
+use crate::error::{io_at, show_path, Error, Result};
 
 /// Coordinate names of CSV columns.
 pub(crate) const AXES: [&str; 3] = ["x", "y", "z"];
@@ -16,7 +19,8 @@ impl FileMode {
     /// every step.
     pub(crate) fn start(self, every_step: bool) -> Start {
         match self {
-            FileMode::Create => Start::Fresh,
+            FileMode::Create => Start::Fresh { overwrite: false },
+            FileMode::Overwrite => Start::Fresh { overwrite: true },
             FileMode::Resume { step } => Start::Resume { step, every_step },
         }
     }
@@ -26,8 +30,12 @@ impl FileMode {
 /// [`FrictionalProfile`](crate::FrictionalProfile), [`VtuFrames`](crate::VtuFrames)) starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FileMode {
-    /// A new file (created, or truncated if it exists), starting with its header.
+    /// A new file, starting with its header. An existing non-empty file is not touched:
+    /// [`Error::FileExists`] (so that a mistaken command never destroys results).
     Create,
+    /// A new file, starting with its header, replacing an existing one (a deliberate
+    /// restart).
+    Overwrite,
     /// Continues the file of an interrupted run after a checkpoint of step `step`: rows of
     /// later steps (written before the interruption) are removed, new rows appended;
     /// together with [`Simulation::restore`](crate::Simulation::restore) the file ends up
@@ -41,8 +49,12 @@ pub enum FileMode {
 /// How an output file starts (with what [`FileMode::Resume`] needs to know of the file).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Start {
-    /// Create (or truncate) the file and write the header.
-    Fresh,
+    /// Create the file and write the header; replace an existing non-empty file only if
+    /// `overwrite`.
+    Fresh {
+        /// Whether an existing non-empty file is replaced.
+        overwrite: bool,
+    },
     /// Keep the rows of steps `≤ step` of an existing file and append after them.
     Resume {
         /// The checkpoint's step.
@@ -56,8 +68,10 @@ pub(crate) enum Start {
 /// row is its field number `step_field` (0-based).
 ///
 /// # Errors
-/// I/O errors; [`Error::Resume`] if the file to resume is missing, has another header, a
-/// malformed row before the checkpoint's step, or (with `every_step`) ends before it.
+/// [`Error::FileExists`] for a new file where a non-empty one exists (unless
+/// `overwrite`); [`Error::Resume`] if the file to resume is missing, has another header, a
+/// malformed row before the checkpoint's step, or (with `every_step`) ends before it — the
+/// file is then untouched; [`Error::File`] for I/O errors.
 pub(crate) fn open(
     path: &Path,
     header: &str,
@@ -65,33 +79,89 @@ pub(crate) fn open(
     start: Start,
 ) -> Result<BufWriter<File>> {
     let (step, every_step) = match start {
-        Start::Fresh => {
-            let mut out = BufWriter::new(File::create(path)?);
-            writeln!(out, "{header}")?;
-            out.flush()?;
+        Start::Fresh { overwrite } => {
+            if !overwrite {
+                refuse_existing(path)?;
+            }
+            let mut out = BufWriter::new(File::create(path).map_err(io_at("create", path))?);
+            writeln!(out, "{header}").map_err(io_at("write", path))?;
+            out.flush().map_err(io_at("write", path))?;
             return Ok(out);
         }
         Start::Resume { step, every_step } => (step, every_step),
     };
     let fail = |reason: String| Error::Resume {
-        path: path.display().to_string(),
+        path: show_path(path),
         reason,
     };
-    let mut file = match OpenOptions::new().read(true).write(true).open(path) {
-        Ok(f) => f,
+    let text = match std::fs::read(path) {
+        Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             return Err(fail(
                 "the file is missing: resume into the folder of the interrupted run".into(),
             ))
         }
-        Err(e) => return Err(e.into()),
+        Err(e) => return Err(io_at("read", path)(e)),
     };
-    let mut text = Vec::new();
-    file.read_to_end(&mut text)?;
     let keep = kept_length(&text, header, step_field, step, every_step).map_err(fail)?;
-    file.set_len(keep as u64)?;
-    file.seek(SeekFrom::End(0))?;
+    if keep < text.len() {
+        // Cut atomically: the kept rows into a new file renamed over the old one.
+        write_atomically(path, &text[..keep])?;
+    }
+    let file = OpenOptions::new()
+        .append(true)
+        .open(path)
+        .map_err(io_at("open for appending", path))?;
     Ok(BufWriter::new(file))
+}
+
+/// Checks, without changing it, that `path` can be continued after a checkpoint of step
+/// `step` (what [`open`] with [`Start::Resume`] checks before it cuts the file).
+///
+/// # Errors
+/// As [`open`] for [`Start::Resume`].
+pub(crate) fn check_resume(
+    path: &Path,
+    header: &str,
+    step_field: usize,
+    step: usize,
+    every_step: bool,
+) -> Result<()> {
+    let text = match std::fs::read(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(Error::Resume {
+                path: show_path(path),
+                reason: "the file is missing: resume into the folder of the interrupted run".into(),
+            })
+        }
+        Err(e) => return Err(io_at("read", path)(e)),
+    };
+    kept_length(&text, header, step_field, step, every_step)
+        .map(|_| ())
+        .map_err(|reason| Error::Resume {
+            path: show_path(path),
+            reason,
+        })
+}
+
+/// [`Error::FileExists`] if `path` exists and is not an empty file.
+pub(crate) fn refuse_existing(path: &Path) -> Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() && m.len() == 0 => Ok(()),
+        Ok(m) => Err(Error::FileExists {
+            path: show_path(path),
+            reason: if m.is_dir() {
+                "it is a folder".into()
+            } else {
+                "FileMode::Create never replaces a file (FileMode::Overwrite does, \
+                 FileMode::Resume continues it)"
+                    .into()
+            },
+        }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(io_at("inspect", path)(e)),
+    }
 }
 
 /// The rows of a CSV file with `header`, each parsed by `parse` from its fields.
@@ -100,9 +170,9 @@ pub(crate) fn read_rows<T>(
     header: &str,
     parse: impl Fn(&[&str]) -> Option<T>,
 ) -> Result<Vec<T>> {
-    let text = std::fs::read_to_string(path)?;
+    let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
     let fail = |reason: String| Error::Resume {
-        path: path.display().to_string(),
+        path: show_path(path),
         reason,
     };
     let mut lines = text.lines();
@@ -112,7 +182,8 @@ pub(crate) fn read_rows<T>(
     lines
         .map(|line| {
             let fields: Vec<&str> = line.split(',').collect();
-            parse(&fields).ok_or_else(|| fail(format!("malformed row `{line}`")))
+            parse(&fields)
+                .ok_or_else(|| fail(format!("malformed row `{}`", rsf_numeric::excerpt(line))))
         })
         .collect()
 }
@@ -132,7 +203,7 @@ fn kept_length(
     if &text[..first] != header.as_bytes() {
         return Err(format!(
             "its header is `{}`, expected `{header}` (another output or version)",
-            String::from_utf8_lossy(&text[..first])
+            rsf_numeric::excerpt(&String::from_utf8_lossy(&text[..first]))
         ));
     }
     let mut keep = first + 1;
@@ -146,7 +217,7 @@ fn kept_length(
             .split(',')
             .nth(step_field)
             .and_then(|s| s.parse().ok())
-            .ok_or_else(|| format!("malformed row `{line}`"))?;
+            .ok_or_else(|| format!("malformed row `{}`", rsf_numeric::excerpt(line)))?;
         if row_step > step {
             break;
         }

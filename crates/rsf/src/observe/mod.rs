@@ -62,10 +62,7 @@ impl<const D: usize> StepView<'_, D> {
 
     /// A checkpoint of this state.
     pub fn checkpoint(&self) -> Checkpoint {
-        Checkpoint {
-            dim: D,
-            state: self.state.clone(),
-        }
+        Checkpoint::new(D, self.state.clone())
     }
 }
 

@@ -49,6 +49,16 @@ impl<const D: usize> FrictionalProfile<D> {
         })
     }
 
+    /// Checks, without changing it, that the file `path` can be continued after a
+    /// checkpoint of step `step` ([`FileMode::Resume`]), so that a run can check all its
+    /// files before it cuts any.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) with [`FileMode::Resume`].
+    pub fn check_resume(path: &Path, step: usize) -> Result<()> {
+        files::check_resume(path, &Self::header(), 4, step, false)
+    }
+
     /// Reads a file written by a `FrictionalProfile<D>`.
     ///
     /// # Errors

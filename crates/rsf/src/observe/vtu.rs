@@ -32,7 +32,8 @@ impl VtuFrames {
     /// rewritten as the run reaches them).
     ///
     /// # Errors
-    /// For [`FileMode::Resume`], [`Error::Resume`] if `dir/frames.pvd` is missing or
+    /// For [`FileMode::Create`], [`Error::FileExists`] if `dir/frames.pvd` exists. For
+    /// [`FileMode::Resume`], [`Error::Resume`] if `dir/frames.pvd` is missing or
     /// malformed; I/O errors.
     pub fn new(dir: impl Into<PathBuf>, mode: FileMode) -> Result<Self> {
         let dir = dir.into();
@@ -41,6 +42,9 @@ impl VtuFrames {
             dir,
             frames: Vec::new(),
         };
+        if mode == FileMode::Create {
+            super::files::refuse_existing(&frames.dir.join("frames.pvd"))?;
+        }
         let FileMode::Resume { step } = mode else {
             return Ok(frames);
         };

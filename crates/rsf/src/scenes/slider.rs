@@ -9,6 +9,7 @@ use rsf_state::{BuiltinStateLaw, StateLawKind};
 use rsf_time::{Integrator, StepControl, VelocityIntegrator};
 use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
 
+use crate::checkpoint::{Fingerprint, CHECKPOINT_FORMAT};
 use crate::error::{invalid, Error, Result};
 use crate::method::fixed_point::{FixedPointOptions, FixedPointScheme};
 use crate::method::solver::{SolverKind, SolverOptions};
@@ -245,6 +246,10 @@ impl Default for SliderScene {
     }
 }
 
+/// The admissible initial states α₀ = ln θ₀ (θ₀ in s): those with θ₀ = exp(α₀) a normal
+/// double, `[ln f64::MIN_POSITIVE, ln f64::MAX]` rounded inwards.
+pub const ALPHA_RANGE: (f64, f64) = (-708.0, 709.0);
+
 /// The centre of Γ_F, `x0 = (2.5, 0)` m, where the paper records its time series.
 pub const SLIDER_CENTRE: [f64; 2] = [2.5, 0.0];
 
@@ -421,6 +426,7 @@ impl SliderScene {
         }
         pos("fixed_point_tolerance", self.fixed_point_tolerance)?;
         pos("solver_tolerance", self.solver_tolerance)?;
+        self.check_plausible()?;
         if self.fixed_point_max_iterations == 0 {
             return Err(invalid("fixed_point_max_iterations", "must be at least 1"));
         }
@@ -443,6 +449,100 @@ impl SliderScene {
             ));
         }
         Ok(())
+    }
+
+    /// The physical plausibility checks of [`validate`](Self::validate) (docs/reliability.md,
+    /// "What is validated"): values that are finite but meaningless, or whose problem
+    /// cannot be solved in double precision, are refused with the admissible range and
+    /// the reason. The bounds are wide (every material from foam to diamond, runs up to
+    /// centuries); a value outside them is a mistake of units or of a digit.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the field.
+    pub fn check_plausible(&self) -> Result<()> {
+        let in_range = |name: &str, v: f64, (lo, hi): (f64, f64), reason: &str| {
+            if v >= lo && v <= hi {
+                Ok(())
+            } else {
+                Err(invalid(
+                    name,
+                    format!("{v:e} is outside the admissible range [{lo:e}, {hi:e}]: {reason}"),
+                ))
+            }
+        };
+        in_range(
+            "mu0",
+            self.mu0,
+            (0.0, f64::MAX),
+            "a negative friction coefficient has no physical meaning (μ₀ ≥ 0)",
+        )?;
+        in_range(
+            "b",
+            self.b,
+            (0.0, f64::MAX),
+            "the state effect b of rate-and-state friction is ≥ 0 (b − a < 0 is velocity \
+             strengthening; a negative b has no physical meaning)",
+        )?;
+        in_range(
+            "alpha0",
+            self.alpha0,
+            ALPHA_RANGE,
+            "the initial state θ₀ = exp(α₀) s must be a normal double (it overflows or \
+             underflows outside)",
+        )?;
+        in_range(
+            "youngs_modulus_pa",
+            self.youngs_modulus_pa,
+            (1e3, 1e13),
+            "from soft foams (kPa) to beyond diamond (TPa); outside, the displacements \
+             (≈ load · length / E) leave the range in which the assembled problem is \
+             well-conditioned in double precision",
+        )?;
+        in_range(
+            "density_kg_per_m2",
+            self.density_kg_per_m2,
+            (1e-3, 1e7),
+            "a density outside it makes the mass matrix and the body force differ from the \
+             stiffness by more than double precision resolves at the scene's time steps",
+        )?;
+        in_range(
+            "end_time_s",
+            self.end_time_s,
+            (0.0, 1e10),
+            "up to ≈ 300 years: beyond, times and loading displacements v_load · T lose the \
+             digits of the steps",
+        )?;
+        in_range(
+            "loading_velocity_m_per_s",
+            self.loading_velocity_m_per_s.abs(),
+            (0.0, 1e3),
+            "the magnitude of the loading velocity: beyond 1 km/s the quasi-static \
+             shear of the scene is meaningless",
+        )?;
+        let eps = f64::EPSILON;
+        for (name, tol) in [
+            ("fixed_point_tolerance", self.fixed_point_tolerance),
+            ("solver_tolerance", self.solver_tolerance),
+        ] {
+            if !(tol > eps && tol < 1.0) {
+                return Err(invalid(
+                    name,
+                    format!(
+                        "{tol:e} is outside the admissible range ({eps:e}, 1): a relative \
+                         tolerance ≥ 1 accepts anything, one ≤ the machine epsilon can never be met"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The fingerprint of this scene for checkpoints ([`Fingerprint`]): every field as
+    /// TOML names it (nested ones as `time_step.tolerance`) with its value, and the
+    /// checkpoint format. A checkpoint continues a run only if they agree
+    /// ([`Fingerprint::check`]).
+    pub fn fingerprint(&self) -> Fingerprint {
+        Fingerprint::of_serialized(self).with("format", CHECKPOINT_FORMAT)
     }
 
     /// The rate-and-state parameters of Γ_F.

@@ -301,10 +301,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
 
     /// A checkpoint of the state, for [`restore`](Self::restore).
     pub fn checkpoint(&self) -> Checkpoint {
-        Checkpoint {
-            dim: D,
-            state: self.state.clone(),
-        }
+        Checkpoint::new(D, self.state.clone())
     }
 
     /// Continues from a checkpoint of a simulation of the same model; the continuation is

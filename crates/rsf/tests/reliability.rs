@@ -1,0 +1,369 @@
+//! Runs you can trust (issue 26, docs/reliability.md): every mistake is a typed error that
+//! leaves every file byte-identical; corrupted checkpoints are refused, untouched ones
+//! resume bit-identically; implausible scenes are refused naming the field.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use common::temp_dir;
+use proptest::prelude::*;
+use rsf::{
+    write_atomically, Checkpoint, Error, FileMode, Fingerprint, FrictionalProfile, PointSeries,
+    SliderScene, StateLawKind, SLIDER_CENTRE,
+};
+
+/// Every file under `dir` with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(snapshot(&p));
+        } else {
+            out.insert(p.clone(), std::fs::read(&p).unwrap());
+        }
+    }
+    out
+}
+
+fn scene() -> SliderScene {
+    SliderScene {
+        level: 1,
+        steps: 40,
+        end_time_s: 0.04,
+        loading_velocity_m_per_s: 1e-2,
+        ramp_fraction: 0.0,
+        ..SliderScene::default()
+    }
+}
+
+/// A run of 40 steps: the bytes of its checkpoint at step 20 (with the scene's
+/// fingerprint) and its final state.
+fn reference() -> &'static (Vec<u8>, rsf::SimulationState) {
+    static R: OnceLock<(Vec<u8>, rsf::SimulationState)> = OnceLock::new();
+    R.get_or_init(|| {
+        let mut sim = scene().build().unwrap();
+        sim.run(20, &mut []).unwrap();
+        let mut c = sim.checkpoint();
+        c.fingerprint = scene().fingerprint();
+        let bytes = c.to_bytes();
+        sim.run(20, &mut []).unwrap();
+        (bytes, sim.state().clone())
+    })
+}
+
+#[test]
+fn an_untouched_checkpoint_resumes_bit_identically() {
+    let (bytes, end) = reference();
+    let dir = temp_dir("reliability-untouched");
+    let path = dir.join("checkpoint.bin");
+    std::fs::write(&path, bytes).unwrap();
+    let c = Checkpoint::read(&path).unwrap();
+    c.fingerprint.check(&scene().fingerprint(), &[]).unwrap();
+    let mut sim = scene().build().unwrap();
+    sim.restore(&c).unwrap();
+    sim.run(20, &mut []).unwrap();
+    assert_eq!(sim.state(), end);
+}
+
+/// The ways a checkpoint file is damaged.
+#[derive(Debug, Clone)]
+enum Damage {
+    /// One bit flipped.
+    Flip(usize),
+    /// Cut to this fraction of its length.
+    Truncate(f64),
+    /// A header word (0..11: sizes, step, times, τ, wall time, fingerprint length)
+    /// replaced.
+    EditHeader(usize, u64),
+    /// Bytes appended.
+    Append(Vec<u8>),
+}
+
+fn damage() -> impl Strategy<Value = Damage> {
+    prop_oneof![
+        any::<usize>().prop_map(Damage::Flip),
+        (0.0..1.0f64).prop_map(Damage::Truncate),
+        (0usize..11, any::<u64>()).prop_map(|(i, w)| Damage::EditHeader(i, w)),
+        proptest::collection::vec(any::<u8>(), 1..16).prop_map(Damage::Append),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// A damaged checkpoint is a typed error naming the file, never a silent different
+    /// run; the file itself is left as it is.
+    #[test]
+    fn a_damaged_checkpoint_is_refused(d in damage()) {
+        let (bytes, _) = reference();
+        let mut b = bytes.clone();
+        match &d {
+            Damage::Flip(i) => {
+                let i = i % (8 * b.len());
+                b[i / 8] ^= 1 << (i % 8);
+            }
+            Damage::Truncate(f) => b.truncate((f * bytes.len() as f64) as usize),
+            Damage::EditHeader(i, w) => {
+                b[8 + 8 * i..16 + 8 * i].copy_from_slice(&w.to_le_bytes());
+            }
+            Damage::Append(extra) => b.extend_from_slice(extra),
+        }
+        prop_assume!(&b != bytes);
+        let dir = temp_dir("reliability-damaged");
+        let path = dir.join(format!("c{}.bin", std::process::id()));
+        std::fs::write(&path, &b).unwrap();
+        let e = Checkpoint::read(&path).unwrap_err();
+        prop_assert!(matches!(&e, Error::CheckpointCorrupt { path: p, .. } if p.contains(".bin")), "{e}");
+        prop_assert_eq!(std::fs::read(&path).unwrap(), b);
+    }
+}
+
+#[test]
+fn a_checkpoint_of_other_physics_or_method_is_refused_naming_the_field() {
+    let (bytes, _) = reference();
+    let c = Checkpoint::from_bytes(bytes).unwrap();
+    let other = |s: SliderScene| c.fingerprint.check(&s.fingerprint(), &[]).unwrap_err();
+    let field = |e: Error| match e {
+        Error::CheckpointMismatch { field, .. } => field,
+        e => panic!("{e}"),
+    };
+    let cases = [
+        (
+            SliderScene {
+                state_law: StateLawKind::Slip,
+                ..scene()
+            },
+            "state_law",
+        ),
+        (
+            SliderScene {
+                steps: 41,
+                ..scene()
+            },
+            "steps",
+        ),
+        (
+            SliderScene {
+                end_time_s: 0.05,
+                ..scene()
+            },
+            "end_time_s",
+        ),
+        (
+            SliderScene {
+                level: 2,
+                ..scene()
+            },
+            "level",
+        ),
+        (
+            SliderScene {
+                time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
+                ..scene()
+            },
+            "time_step.kind",
+        ),
+    ];
+    for (s, name) in cases {
+        assert_eq!(field(other(s)), name);
+    }
+    // A deliberate change is allowed explicitly.
+    let later = SliderScene {
+        end_time_s: 0.05,
+        ..scene()
+    };
+    c.fingerprint
+        .check(&later.fingerprint(), &["end_time_s"])
+        .unwrap();
+    // A checkpoint of the earlier format (no fingerprint, no checksum) is read, and
+    // refused as the field `format`.
+    let mut v2 = b"RSFCKPT2".to_vec();
+    let s = &c.state;
+    for w in [2, s.step, s.kinematics.u.len(), s.alpha.len(), 0, 0] {
+        v2.extend_from_slice(&(w as u64).to_le_bytes());
+    }
+    for x in [0.0, s.time, s.tau] {
+        v2.extend_from_slice(&f64::to_le_bytes(x));
+    }
+    let k = &s.kinematics;
+    for x in k.u.iter().chain(&k.v).chain(&k.a).chain(&s.alpha) {
+        v2.extend_from_slice(&x.to_le_bytes());
+    }
+    let old = Checkpoint::from_bytes(&v2).unwrap();
+    assert_eq!(old.state, c.state);
+    assert_eq!(
+        field(
+            old.fingerprint
+                .check(&scene().fingerprint(), &[])
+                .unwrap_err()
+        ),
+        "format"
+    );
+}
+
+#[test]
+fn a_new_file_never_replaces_results_and_a_failed_resume_cuts_nothing() {
+    let dir = temp_dir("reliability-files");
+    let sim = scene().build().unwrap();
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
+    let series = dir.join("timeseries.csv");
+    let profile = dir.join("profile.csv");
+    std::fs::write(
+        &series,
+        format!(
+            "{}\n1,2,3,4,1,0.001,1,1,0,5,6\n1,2,3,4,1,0.001,2,1,0,5,6\n",
+            PointSeries::<2>::header()
+        ),
+    )
+    .unwrap();
+    std::fs::write(&profile, "another,header\n1,2\n").unwrap();
+    let before = snapshot(&dir);
+    let e = PointSeries::new(&series, sim.model(), x0, FileMode::Create)
+        .err()
+        .unwrap();
+    assert!(matches!(e, Error::FileExists { .. }), "{e}");
+    // The checkpoint's step after the last row: rows are missing.
+    let e = PointSeries::new(&series, sim.model(), x0, FileMode::Resume { step: 5 })
+        .err()
+        .unwrap();
+    assert!(matches!(e, Error::Resume { .. }), "{e}");
+    assert!(PointSeries::<2>::check_resume(&series, 5).is_err());
+    let e = FrictionalProfile::<2>::new(&profile, (0.0, 1.0), FileMode::Resume { step: 1 })
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("header"), "{e}");
+    assert_eq!(snapshot(&dir), before);
+    // What may be continued is cut atomically to the checkpoint's step; Overwrite starts
+    // anew.
+    PointSeries::<2>::check_resume(&series, 1).unwrap();
+    drop(PointSeries::new(&series, sim.model(), x0, FileMode::Resume { step: 1 }).unwrap());
+    let text = std::fs::read_to_string(&series).unwrap();
+    assert_eq!(text.lines().count(), 2, "{text}");
+    assert!(!dir.join("timeseries.csv.tmp").exists());
+    drop(PointSeries::new(&series, sim.model(), x0, FileMode::Overwrite).unwrap());
+    assert_eq!(
+        std::fs::read_to_string(&series).unwrap(),
+        PointSeries::<2>::header() + "\n"
+    );
+}
+
+#[test]
+fn io_errors_name_the_path_and_the_action_and_keep_the_old_file() {
+    let dir = temp_dir("reliability-io");
+    let missing = dir.join("no-such-checkpoint.bin");
+    let e = Checkpoint::read(&missing).unwrap_err();
+    let Error::File { path, action, .. } = &e else {
+        panic!("{e}")
+    };
+    assert!(path.ends_with("no-such-checkpoint.bin") && action.contains("read"));
+    // A folder where the checkpoint should be: refused, the folder untouched.
+    let folder = dir.join("a-folder");
+    std::fs::create_dir_all(folder.join("inside")).unwrap();
+    let e = Checkpoint::read(&folder).unwrap_err();
+    assert!(e.to_string().contains("a-folder"), "{e}");
+    let e = write_atomically(&folder, b"new").unwrap_err();
+    assert!(
+        matches!(&e, Error::File { path, .. } if path.contains("a-folder")),
+        "{e}"
+    );
+    assert!(folder.join("inside").is_dir() && !dir.join("a-folder.tmp").exists());
+    // A very long path is quoted in at most about 100 characters.
+    let long = dir.join("x".repeat(5000));
+    let e = Checkpoint::read(&long).unwrap_err();
+    assert!(e.to_string().len() < 400, "{}", e.to_string().len());
+}
+
+#[test]
+fn implausible_scenes_are_refused_naming_the_field() {
+    let s = scene;
+    let cases: Vec<(SliderScene, &str)> = vec![
+        (SliderScene { mu0: -0.1, ..s() }, "mu0"),
+        (SliderScene { b: -1e-3, ..s() }, "b"),
+        (
+            SliderScene {
+                alpha0: 1e300,
+                ..s()
+            },
+            "alpha0",
+        ),
+        (
+            SliderScene {
+                alpha0: -800.0,
+                ..s()
+            },
+            "alpha0",
+        ),
+        (
+            SliderScene {
+                youngs_modulus_pa: 1e-300,
+                ..s()
+            },
+            "youngs_modulus_pa",
+        ),
+        (
+            SliderScene {
+                density_kg_per_m2: 1e300,
+                ..s()
+            },
+            "density_kg_per_m2",
+        ),
+        (
+            SliderScene {
+                end_time_s: 1e300,
+                ..s()
+            },
+            "end_time_s",
+        ),
+        (
+            SliderScene {
+                loading_velocity_m_per_s: -1e9,
+                ..s()
+            },
+            "loading_velocity_m_per_s",
+        ),
+        (
+            SliderScene {
+                fixed_point_tolerance: 2.0,
+                ..s()
+            },
+            "fixed_point_tolerance",
+        ),
+        (
+            SliderScene {
+                solver_tolerance: 1e-300,
+                ..s()
+            },
+            "solver_tolerance",
+        ),
+    ];
+    for (scene, name) in cases {
+        let e = scene.validate().unwrap_err();
+        match &e {
+            Error::InvalidParameter { name: n, reason } => {
+                assert_eq!(n, name);
+                assert!(reason.contains("admissible range"), "{e}");
+            }
+            e => panic!("{name}: {e}"),
+        }
+    }
+    // The bounds themselves are admissible: μ₀ = 0, b = 0, the α₀ range.
+    for ok in [
+        SliderScene { mu0: 0.0, ..s() },
+        SliderScene { b: 0.0, ..s() },
+        SliderScene {
+            alpha0: rsf::ALPHA_RANGE.1,
+            ..s()
+        },
+        SliderScene {
+            alpha0: rsf::ALPHA_RANGE.0,
+            ..s()
+        },
+    ] {
+        ok.validate().unwrap();
+    }
+    assert!(Fingerprint::default().0.is_empty());
+}
