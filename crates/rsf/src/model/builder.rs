@@ -2,7 +2,7 @@
 
 use rsf_fem::{
     body_force_load, traction_load, Assembler, BoundaryPart, ConstrainedSystem, LinearElasticity,
-    MeshHierarchy, NodalFrames, SimplexMesh,
+    MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
 };
 
 use super::fault::FrictionalBoundary;
@@ -509,10 +509,13 @@ impl<const D: usize> ModelBuilder<D> {
             (mass, stiffness, energy_norm)
         } else {
             frames.to_local(&mut load)?;
+            let rotate = |a: &SparseMatrix| -> Result<SparseMatrix> {
+                symmetrized(&frames.rotate_matrix(a.as_ref())?)
+            };
             (
-                mass.map(|m| frames.rotate_matrix(m.as_ref())).transpose()?,
-                frames.rotate_matrix(stiffness.as_ref())?,
-                frames.rotate_matrix(energy_norm.as_ref())?,
+                mass.as_ref().map(rotate).transpose()?,
+                rotate(&stiffness)?,
+                rotate(&energy_norm)?,
             )
         };
 
@@ -657,6 +660,22 @@ impl<const D: usize> ModelBuilder<D> {
             rotations: slanted.into_iter().map(|(_, q)| q).collect(),
         })
     }
+}
+
+/// `(A + Aᵀ)/2` on the pattern of `A` (structurally symmetric): `Rᵀ A R` of a symmetric `A`
+/// is symmetric up to round-off, the solvers demand it exactly.
+fn symmetrized(a: &SparseMatrix) -> Result<SparseMatrix> {
+    let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let mut t = Vec::with_capacity(2 * val.len());
+    for j in 0..a.ncols() {
+        for k in cp[j]..cp[j + 1] {
+            let h = 0.5 * val[k];
+            t.push(faer::sparse::Triplet::new(ri[k], j, h));
+            t.push(faer::sparse::Triplet::new(j, ri[k], h));
+        }
+    }
+    SparseMatrix::try_new_from_triplets(a.nrows(), a.ncols(), &t)
+        .map_err(|e| Error::Fem(rsf_fem::Error::Faer(format!("{e:?}"))))
 }
 
 /// The coordinate axis `c` with `|n_c| = 1` (within [`AXIS_TOLERANCE`]), if any.
