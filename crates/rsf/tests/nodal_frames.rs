@@ -19,7 +19,9 @@
 //!   sliding down the slope at `V_ss` with `σ̄_n (μ0 + (a − b) ln(V_ss/V0)) = ρ g H sin θ`
 //!   (the lumped weights sum to the fault length and the consistent gravity load to ρ g
 //!   times the area, so the discrete steady state has the same `V_ss`); two angles, both
-//!   state laws.
+//!   state laws. Backward Euler (its numerical damping removes the elastic waves the
+//!   release of the initial equilibrium starts; Newmark keeps them ringing for seconds)
+//!   and steady sliding is an exact solution of the discrete scheme too.
 //! - Bad frames: a fault around a corner of the block, a kink limit out of range, a
 //!   partially fixed Dirichlet node on the slanted fault: typed errors naming the node.
 
@@ -110,7 +112,9 @@ fn track(scene: &SliderScene, model: Model<2>, x0: [f64; 2], t_end: f64) -> Trac
         x0: model.nearest_node(&x0).unwrap(),
         ..Track::default()
     };
-    let mut sim = scene.build_with_model(model).expect("the simulation builds");
+    let mut sim = scene
+        .build_with_model(model)
+        .expect("the simulation builds");
     run_until(&mut sim, t_end, &mut [&mut tr]);
     tr
 }
@@ -161,7 +165,10 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     assert!(p1 > 1e-3, "the window holds a slip event (peak {p1:e} m/s)");
     assert!((t1 - t2).abs() <= 1e-6, "first slip {t1} vs {t2} s");
     assert!((p1 - p2).abs() <= 1e-6 * p1, "peak slip rate {p1} vs {p2}");
-    assert!((s1 - s2).abs() <= 1e-6 * s1.abs(), "slip at x0 {s1} vs {s2}");
+    assert!(
+        (s1 - s2).abs() <= 1e-6 * s1.abs(),
+        "slip at x0 {s1} vs {s2}"
+    );
     // ln V of the largest slip rate at every step, to 1e-6.
     let worst_ln_v = straight
         .max_v
@@ -196,8 +203,10 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     );
 }
 
-/// One Newmark velocity problem of the slider rotated by 25° at level 3 (sliding start
-/// along the fault, some nodes stick), solved by TNNMG (relative 1e-12) and by the direct
+/// One Newmark velocity problem of the slider rotated by 25° at level 3 (the block moving
+/// along the fault at 0.5 m/s the step before, the state at steady state of that rate: the
+/// inertia near the fault exceeds friction, so the fault slides against rate-and-state
+/// friction), solved by TNNMG (relative 1e-12) and by the direct
 /// solver: they agree to 1e-9 in the energy norm.
 #[test]
 fn tnnmg_and_direct_agree_on_a_slanted_fault() {
@@ -213,7 +222,7 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
     let n = model.num_dofs();
     // Previous velocity: the block slides at 1e-4 m/s along the fault (model coordinates:
     // the tangential component on the fault, the rotated e_x elsewhere).
-    let v_slide = 1e-4;
+    let v_slide = 0.5;
     let mut v_prev = vec![0.0; n];
     for p in 0..model.num_nodes() {
         let v = model.to_model(p, rot(phi, [v_slide, 0.0]));
@@ -245,7 +254,7 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
         .unwrap();
     let nf = model.frictional_boundary.len();
     let law = DieterichRuina::new(scene.rate_state_params()).unwrap();
-    // A state between sticking and sliding: α at steady state of 1e-4 m/s.
+    // α at steady state of the previous slip rate.
     let alpha = (scene.l_m / v_slide).ln();
     let blocks = FrictionBlocks::new(
         model.frictional_boundary.nodes.clone(),
@@ -287,7 +296,7 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
         .collect();
     let vmax = rates.iter().copied().fold(0.0, f64::max);
     println!("TNNMG vs direct on a 25° fault: {rel:e} (largest slip rate {vmax:e} m/s)");
-    assert!(vmax > 1e-6, "the fault moves");
+    assert!(vmax > 1e-3, "the fault slides");
     // The normal component (model component 1 on the fault) is fixed at 0.
     assert!(model
         .frictional_boundary
@@ -318,7 +327,8 @@ fn incline_model(theta: f64, w: f64, h: f64, level: usize, scene: &SliderScene) 
         .build()
         .expect("the incline builds");
     // Release the pin: only the fault's normal components stay fixed.
-    let on_fault: std::collections::HashSet<usize> = model.frictional_boundary.nodes.iter().copied().collect();
+    let on_fault: std::collections::HashSet<usize> =
+        model.frictional_boundary.nodes.iter().copied().collect();
     for (i, f) in model.fixed.iter_mut().enumerate() {
         if !(on_fault.contains(&(i / 2)) && i % 2 == 1) {
             *f = false;
@@ -331,13 +341,15 @@ fn incline_model(theta: f64, w: f64, h: f64, level: usize, scene: &SliderScene) 
 #[test]
 fn a_block_on_an_incline_slides_steadily_at_the_closed_form_rate() {
     let (w, h) = (2.0, 0.5);
+    let weight = |scene: &SliderScene| scene.density_kg_per_m2 * scene.gravity_m_per_s2 * h;
     for law in [StateLawKind::Aging, StateLawKind::Slip] {
         for theta_deg in [19.0f64, 20.0] {
             let theta = theta_deg.to_radians();
             let scene = SliderScene {
                 level: 1,
-                steps: 2000,
-                end_time_s: 2.0,
+                steps: 1500,
+                end_time_s: 3.0,
+                integrator: rsf::Integrator::BackwardEuler,
                 mu0: 0.3,
                 a: 0.015,
                 b: 0.010,
@@ -345,6 +357,12 @@ fn a_block_on_an_incline_slides_steadily_at_the_closed_form_rate() {
                 state_law: law,
                 solver: SolverKind::Direct,
                 ..SliderScene::default()
+            };
+            // σ̄_n = ρ g H (the weight per unit length, as in the paper): then
+            // μ_ss(V_ss) = sin θ.
+            let scene = SliderScene {
+                sigma_n_pa: weight(&scene),
+                ..scene
             };
             let p = scene.rate_state_params();
             let rho_g_h = scene.density_kg_per_m2 * scene.gravity_m_per_s2 * h;
@@ -366,11 +384,17 @@ fn a_block_on_an_incline_slides_steadily_at_the_closed_form_rate() {
                 let vg = sim.model().to_global(p, [vm[0], vm[1]]);
                 let speed = vg[0].hypot(vg[1]);
                 let along = (vg[0] * down[0] + vg[1] * down[1]) / speed;
-                assert!(along > 1.0 - 1e-9, "node {p} slides down the slope ({vg:?})");
+                assert!(
+                    along > 1.0 - 1e-9,
+                    "node {p} slides down the slope ({vg:?})"
+                );
                 worst = worst.max((speed / v_ss - 1.0).abs());
             }
-            println!("{law:?} θ = {theta_deg}°: V_ss = {v_ss:.6e} m/s, worst |V/V_ss − 1| = {worst:.3e}");
-            assert!(worst < 1e-3, "{law:?} θ = {theta_deg}°: {worst:e}");
+            println!(
+                "{law:?} θ = {theta_deg}°: V_ss = {v_ss:.6e} m/s, worst |V/V_ss − 1| = {worst:.3e}"
+            );
+            // The approach is exponential (measured: |V/V_ss − 1| ≈ 3e-3 at 1 s, ≤ 1e-7 at 3 s).
+            assert!(worst < 1e-6, "{law:?} θ = {theta_deg}°: {worst:e}");
         }
     }
 }

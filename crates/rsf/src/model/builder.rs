@@ -547,7 +547,10 @@ impl<const D: usize> ModelBuilder<D> {
         let mut prolongations: Vec<_> = (1..self.hierarchy.num_levels())
             .map(|j| self.hierarchy.vector_prolongation(j).clone())
             .collect();
-        if let Some(p) = prolongations.last_mut().filter(|_| !frames.nodes.is_empty()) {
+        if let Some(p) = prolongations
+            .last_mut()
+            .filter(|_| !frames.nodes.is_empty())
+        {
             *p = frames.rotate_rows(p.as_ref())?;
         }
         let model = Model {
