@@ -1,9 +1,18 @@
 //! The paper's slider (§6.1, Table 6.1) on a base inclined by `--dip` degrees (issue 24):
 //! the block, its base and the loading turned so that the base descends in the loading
-//! direction, gravity vertical, everything else the paper's. Part of the weight,
-//! `ρ g H sin(dip)` per unit area, now drives the slip with the loading; the prescribed
-//! σ̄_n stays the paper's. The base is a slanted fault: the model carries nodal frames
-//! (docs/math.md §10), and `--dip 0` is the paper's model bit for bit (no frames).
+//! direction, gravity vertical, everything else the paper's (the prescribed σ̄_n too). The
+//! base is a slanted fault: the model carries nodal frames (docs/math.md §10.1), and
+//! `--dip 0` is the paper's model bit for bit (no frames; `timeseries.csv` identical to the
+//! main job's at the same flags).
+//!
+//! What the dip changes, and what it does not: the run starts, as the paper's, from the
+//! equilibrium `K u₀ = F` with Γ_F free tangentially, so the down-slope part of the weight
+//! is carried by the clamped top from the start, and any constant load drops out of the
+//! velocity problems (`F − K u₀` is a reaction on fixed dofs only). With σ̄_n prescribed the
+//! trajectory in slip coordinates is therefore independent of the dip: measured at level 2,
+//! `--dip 10` and `--dip -10` give the `--dip 0` first slip (10.086 s), 7 events and peak
+//! slip rate (2.432e-2 m/s). Making the weight drive the slip needs another initial state
+//! (an equilibrium with the fault stuck), not another geometry.
 //!
 //! ```sh
 //! cargo run --release --example inclined_block -- --dip 10 --level 3
@@ -21,8 +30,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::{PointSeries, SliderScene, Until};
 use rsf_examples::{
-    inclined_centre, inclined_slider_model, line_plot, stats, Labels, SceneArgs, Series,
-    SliderRun, TimeStepArgs,
+    inclined_centre, inclined_slider_model, line_plot, stats, Labels, SceneArgs, Series, SliderRun,
+    TimeStepArgs,
 };
 
 /// The paper's slider on an inclined base: time series at x0, summary, figure.

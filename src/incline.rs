@@ -19,7 +19,8 @@ pub fn inclined_centre(dip: f64) -> [f64; 2] {
 }
 
 /// The model of `scene` on a base dipping by `dip` (rad, positive: the base descends in the
-/// loading direction, so the weight's down-slope part `ρ g sin(dip)` adds to the loading):
+/// loading direction; the weight's down-slope part is carried by the clamped top in the
+/// initial equilibrium `u₀`, see examples/inclined_block.rs):
 /// the coarse mesh turned, tags as the paper's (top Γ_D, sides Γ_N, base Γ_F), gravity
 /// `(0, −g)`, the top moving along the slope at the loading velocity. `dip = 0` is
 /// [`SliderScene::build_model`] itself (no frames, the paper's model bit for bit).
@@ -31,7 +32,10 @@ pub fn inclined_slider_model(scene: &SliderScene, dip: f64) -> rsf::Result<Model
     if !(dip.is_finite() && dip.abs() < std::f64::consts::FRAC_PI_2) {
         return Err(rsf::Error::InvalidParameter {
             name: "dip".into(),
-            reason: format!("{} degrees must be finite and below 90 in size", dip.to_degrees()),
+            reason: format!(
+                "{} degrees must be finite and below 90 in size",
+                dip.to_degrees()
+            ),
         });
     }
     if dip == 0.0 {
