@@ -368,7 +368,10 @@ impl<const D: usize> ModelBuilder<D> {
     /// [`Error::InvalidParameter`] for a missing material or frictional part, non-finite
     /// velocities or gravity, a component ≥ D, two Dirichlet parts prescribing different
     /// velocities to one dof; [`Error::BoundaryPart`] for a part that selects nothing, was
-    /// built on another mesh, or (Γ_F) has a normal not along a coordinate axis;
+    /// or was built on another mesh; [`Error::FaultCorner`] / [`Error::DegenerateFaultFacet`]
+    /// where Γ_F has no well-defined nodal frame; [`Error::InvalidParameter`] named
+    /// `dirichlet` for a slanted fault node with only some Cartesian components fixed,
+    /// `max_fault_kink` or `fault_tangent` out of range;
     /// [`Error::Equilibrium`] if `K u₀ = F` is singular under the constraints; material
     /// and assembly errors ([`Error::Fem`]), e.g. a non-finite force or traction.
     pub fn build(self) -> Result<Model<D>> {
