@@ -367,7 +367,7 @@ impl<const D: usize> ModelBuilder<D> {
     /// # Errors
     /// [`Error::InvalidParameter`] for a missing material or frictional part, non-finite
     /// velocities or gravity, a component ≥ D, two Dirichlet parts prescribing different
-    /// velocities to one dof; [`Error::BoundaryPart`] for a part that selects nothing, was
+    /// velocities to one dof; [`Error::BoundaryPart`] for a part that selects nothing
     /// or was built on another mesh; [`Error::FaultCorner`] / [`Error::DegenerateFaultFacet`]
     /// where Γ_F has no well-defined nodal frame; [`Error::InvalidParameter`] named
     /// `dirichlet` for a slanted fault node with only some Cartesian components fixed,
