@@ -108,6 +108,7 @@ fn build<I: VelocityIntegrator>(
         frictional_boundary: FrictionalBoundary::new(&[0], &[1.0])?,
         initial_displacement: vec![0.0, f_ss / k],
         cells: Vec::new(),
+        frames: Default::default(),
     };
     let alpha_ss = (p.l / blk.v_load).ln();
     let sim = SimulationBuilder::new(model)

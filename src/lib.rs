@@ -10,11 +10,13 @@ use plotters::prelude::*;
 
 pub mod cli;
 mod heat_map;
+mod incline;
 mod panels;
 mod run;
 pub mod run_folder;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};
 pub use heat_map::{log_heat_map, HeatMapAxes};
+pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use panels::PanelLayout;
 pub use run::{
     cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,

@@ -63,7 +63,8 @@ pub(crate) fn frame_from_normal<const D: usize>(
 /// With `R = blockdiag(Q_p)` (identity off the frame nodes), local coefficients are
 /// `ṽ = Rᵀ v`, a matrix transforms as `Ã = Rᵀ A R` and a fine-level prolongation as
 /// `P̃ = Rᵀ P` (its coarse side stays Cartesian).
-#[derive(Debug, Clone, PartialEq)]
+/// The default has no frame nodes (every node Cartesian).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct NodalFrames<const D: usize> {
     /// Mesh vertices carrying a frame.
     pub nodes: Vec<usize>,

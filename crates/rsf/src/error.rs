@@ -97,6 +97,44 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// The frictional boundary has a corner at a node: two of the boundary facets meeting
+    /// there have outer normals further apart than the builder's limit
+    /// ([`ModelBuilder::max_fault_kink`](crate::ModelBuilder::max_fault_kink)), so no
+    /// single normal (and nodal frame, docs/math.md §10) describes the node. Split the
+    /// fault into parts, or smooth the geometry.
+    #[error(
+        "frictional boundary `{part}`: node {node} at {position:?} is a corner: adjacent facet \
+         normals differ by {angle_degrees:.3}° (limit {limit_degrees}°), the normal and the \
+         nodal frame are ill-defined there"
+    )]
+    FaultCorner {
+        /// The part's name.
+        part: String,
+        /// The mesh node.
+        node: usize,
+        /// Its coordinates (m).
+        position: Vec<f64>,
+        /// The largest angle between the outer normals of two facets at the node (degrees).
+        angle_degrees: f64,
+        /// The limit it exceeds (degrees).
+        limit_degrees: f64,
+    },
+    /// A facet of the frictional boundary has (numerically) zero measure, so its normal is
+    /// undefined.
+    #[error(
+        "frictional boundary `{part}`: facet {facet} at node {node} has zero measure \
+         ({measure:e}); its normal, and the nodal frame, are undefined"
+    )]
+    DegenerateFaultFacet {
+        /// The part's name.
+        part: String,
+        /// A node of the facet.
+        node: usize,
+        /// The boundary facet index ([`SimplexMesh::boundary_facet`](rsf_fem::SimplexMesh::boundary_facet)).
+        facet: usize,
+        /// Its measure (m in 2D, m² in 3D).
+        measure: f64,
+    },
     /// The initial equilibrium `K u₀ = F` has no unique solution under the constraints.
     #[error(
         "the initial equilibrium K u0 = F has no unique solution under the constraints \

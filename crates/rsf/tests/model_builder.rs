@@ -310,8 +310,9 @@ fn inadmissible_descriptions_are_named_errors() {
 }
 
 #[test]
-fn a_slanted_fault_is_rejected_naming_the_part() {
-    // The block rotated by 30°: its bottom is not along a coordinate axis.
+fn a_slanted_fault_gets_nodal_frames() {
+    // The block rotated by 30°: its bottom is not along a coordinate axis, so every node
+    // of it gets a nodal frame (issue 24; more in tests/nodal_frames.rs).
     let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
     let m = rectangle([0.0, 0.0], [4.0, 1.0], 5, 2, Diagonal::Forward).unwrap();
     let rotated: Vec<[f64; 2]> = m
@@ -321,7 +322,7 @@ fn a_slanted_fault_is_rejected_naming_the_part() {
         .collect();
     let mesh = SimplexMesh::new(rotated, m.cells().to_vec()).unwrap();
     let on_bottom = move |x: &[f64; 2]| (-s * x[0] + c * x[1]).abs() < 1e-9;
-    let e = ModelBuilder::new(mesh)
+    let model = ModelBuilder::new(mesh)
         .material(ROCK)
         .dirichlet(
             Part::predicate("top", move |x| (-s * x[0] + c * x[1] - 1.0).abs() < 1e-9),
@@ -329,12 +330,18 @@ fn a_slanted_fault_is_rejected_naming_the_part() {
         )
         .frictional_boundary(Part::predicate("slanted", on_bottom))
         .build()
-        .unwrap_err();
-    assert!(
-        matches!(e, Error::BoundaryPart { ref part, .. } if part == "slanted"),
-        "{e}"
-    );
-    names(&e, &["not along a coordinate axis", "nodal frames"]);
+        .unwrap();
+    assert_eq!(model.frames.nodes, model.frictional_boundary.nodes);
+    for &p in &model.frictional_boundary.nodes {
+        // The normal is model component 1, fixed; the tangent is free.
+        assert!(model.fixed[2 * p + 1] && !model.fixed[2 * p]);
+        // Its frame maps the model's tangent to the rotated e_x.
+        let t = model.to_global(p, [1.0, 0.0]);
+        assert!(
+            (t[0] - c).abs() < 1e-12 && (t[1] - s).abs() < 1e-12,
+            "{t:?}"
+        );
+    }
 }
 
 #[test]

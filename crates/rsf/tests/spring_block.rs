@@ -74,6 +74,7 @@ fn build<I: VelocityIntegrator>(
         frictional_boundary: FrictionalBoundary::new(&[0], &[1.0]).unwrap(),
         initial_displacement: vec![0.0, f_ss / k],
         cells: Vec::new(),
+        frames: Default::default(),
     };
     let alpha0 = (PARAMS.l / V_LOAD).ln() + DALPHA;
     let mut sim = SimulationBuilder::new(model)

@@ -2,7 +2,7 @@
 
 use rsf_fem::{
     body_force_load, traction_load, Assembler, BoundaryPart, ConstrainedSystem, LinearElasticity,
-    MeshHierarchy, SimplexMesh,
+    MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
 };
 
 use super::fault::FrictionalBoundary;
@@ -152,6 +152,14 @@ pub const MAX_CELLS: usize = 50_000_000;
 /// Tolerance on `|n_c| = 1` for a frictional normal along a coordinate axis.
 const AXIS_TOLERANCE: f64 = 1e-9;
 
+/// Default of [`ModelBuilder::max_fault_kink`]: the largest angle (degrees) between the
+/// outer normals of two frictional facets meeting at a node.
+pub const DEFAULT_MAX_FAULT_KINK_DEGREES: f64 = 30.0;
+
+/// A facet of Γ_F shorter (smaller) than this fraction of the mean facet measure counts as
+/// degenerate ([`Error::DegenerateFaultFacet`]).
+const DEGENERATE_FACET: f64 = 1e-12;
+
 /// Builds a validated [`Model`] from a mesh (or a refinement hierarchy), a [`Material`],
 /// body forces, and named boundary parts: Dirichlet parts with a prescribed velocity,
 /// Neumann parts with a traction, and the frictional boundary Γ_F with bilateral contact.
@@ -164,10 +172,21 @@ const AXIS_TOLERANCE: f64 = 1e-9;
 /// initial displacement `u₀` solving `K u₀ = F` under these constraints; lumped weights on
 /// Γ_F; the hierarchy's prolongations for multigrid; the cells for output.
 ///
-/// Γ_F must have its outer normal along a coordinate axis at every node (e.g. the bottom
-/// of a block): the normal velocity component is then that coordinate, fixed. Slanted or
-/// curved frictional boundaries need nodal frames, which [`Model`] does not carry yet;
-/// they are rejected with [`Error::BoundaryPart`] naming the part and node.
+/// Γ_F may have any orientation (docs/math.md §10, docs/design.md "Nodal frames"). At a
+/// node whose outer normal `n` (the facets' area-weighted mean) is along a coordinate axis
+/// (e.g. the bottom of a block) the normal velocity is that Cartesian component, fixed, and
+/// nothing is rotated: an axis-aligned fault gives exactly the model it gave before frames
+/// existed. At every other node the builder sets a **nodal frame** `Q_p` (columns: the
+/// tangent(s), then the inward normal `−n`; 2-D: `t = (−n_y, n_x)`; 3-D: `t₁` the
+/// projection of [`fault_tangent`](Self::fault_tangent) onto the tangent plane, by default
+/// of the coordinate axis with the smallest `|n_k|`, `t₂ = −n × t₁`) and rotates the model
+/// block-diagonally, `Ã = Rᵀ A R` with `R = blockdiag(Q_p)` (identity elsewhere): `K`,
+/// `M`, the energy norm, the load, the Dirichlet data of such nodes, `u₀` and the finest
+/// prolongation (`Rᵀ P`; coarser levels stay Cartesian). The solvers then see the fault
+/// velocity in slip coordinates (tangential…, normal) with the normal component (`D − 1`)
+/// fixed; [`Model::frames`] keeps the `Q_p` to present results in global coordinates.
+/// Corners (facet normals further apart than [`max_fault_kink`](Self::max_fault_kink))
+/// and zero-measure facets are typed errors naming the node.
 ///
 /// ```
 /// use rsf::fem::{rectangle, Diagonal};
@@ -198,6 +217,8 @@ pub struct ModelBuilder<const D: usize> {
     frictional_boundary: Option<Part<D>>,
     loading: TimeFunction,
     with_mass: bool,
+    max_kink_degrees: f64,
+    fault_tangent: Option<[f64; D]>,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -218,6 +239,8 @@ impl<const D: usize> ModelBuilder<D> {
             frictional_boundary: None,
             loading: TimeFunction::Constant(1.0),
             with_mass: true,
+            max_kink_degrees: DEFAULT_MAX_FAULT_KINK_DEGREES,
+            fault_tangent: None,
         }
     }
 
@@ -314,6 +337,25 @@ impl<const D: usize> ModelBuilder<D> {
         self
     }
 
+    /// The largest angle (degrees, in `[0, 180]`) between the outer normals of two
+    /// frictional facets meeting at a node (default
+    /// [`DEFAULT_MAX_FAULT_KINK_DEGREES`]); a node beyond it is a corner
+    /// ([`Error::FaultCorner`]), where no nodal frame is well defined.
+    pub fn max_fault_kink(mut self, degrees: f64) -> Self {
+        self.max_kink_degrees = degrees;
+        self
+    }
+
+    /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
+    /// slanted fault nodes: its projection onto each node's tangent plane (as PyLith's
+    /// `ref_dir`; e.g. the loading direction), falling back to the coordinate axis with the
+    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal. No effect in
+    /// 1-D and 2-D (there `t = (−n_y, n_x)`).
+    pub fn fault_tangent(mut self, direction: [f64; D]) -> Self {
+        self.fault_tangent = Some(direction);
+        self
+    }
+
     /// No mass matrix (quasistatic problems); the energy norm is then `K`.
     pub fn without_mass(mut self) -> Self {
         self.with_mass = false;
@@ -325,8 +367,11 @@ impl<const D: usize> ModelBuilder<D> {
     /// # Errors
     /// [`Error::InvalidParameter`] for a missing material or frictional part, non-finite
     /// velocities or gravity, a component ≥ D, two Dirichlet parts prescribing different
-    /// velocities to one dof; [`Error::BoundaryPart`] for a part that selects nothing, was
-    /// built on another mesh, or (Γ_F) has a normal not along a coordinate axis;
+    /// velocities to one dof; [`Error::BoundaryPart`] for a part that selects nothing
+    /// or was built on another mesh; [`Error::FaultCorner`] / [`Error::DegenerateFaultFacet`]
+    /// where Γ_F has no well-defined nodal frame; [`Error::InvalidParameter`] named
+    /// `dirichlet` for a slanted fault node with only some Cartesian components fixed,
+    /// `max_fault_kink` or `fault_tangent` out of range;
     /// [`Error::Equilibrium`] if `K u₀ = F` is singular under the constraints; material
     /// and assembly errors ([`Error::Fem`]), e.g. a non-finite force or traction.
     pub fn build(self) -> Result<Model<D>> {
@@ -391,19 +436,37 @@ impl<const D: usize> ModelBuilder<D> {
             }
         }
         let gamma_f = fpart.resolve(mesh)?;
-        let normals = gamma_f.normals(mesh)?;
-        for (&p, nrm) in gamma_f.nodes().iter().zip(&normals) {
-            let c = normal_axis(nrm).ok_or_else(|| {
-                part_error(
-                    fpart.name(),
-                    format!(
-                        "the outer normal {nrm:?} at node {p} is not along a coordinate axis; \
-                         slanted or curved frictional boundaries need nodal frames, which \
-                         models do not support yet"
-                    ),
-                )
-            })?;
-            fixed[D * p + c] = true;
+        let frames = self.fault_frames(mesh, &gamma_f, fpart.name())?;
+        for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
+            if let Some(c) = normal_axis(nrm) {
+                fixed[D * p + c] = true;
+            }
+        }
+        for (&p, q) in frames.nodes.iter().zip(&frames.rotations) {
+            let dofs = D * p..D * p + D;
+            match fixed[dofs.clone()].iter().filter(|&&f| f).count() {
+                // Bilateral contact: the normal component in the frame.
+                0 => fixed[D * p + D - 1] = true,
+                // A Dirichlet node on the slanted fault: its prescribed velocity in the frame.
+                k if k == D => {
+                    let w: Vec<f64> = dofs.map(|i| velocity[i].unwrap_or(0.0)).collect();
+                    for c in 0..D {
+                        let wc: f64 = (0..D).map(|r| q[r][c] * w[r]).sum();
+                        velocity[D * p + c] = Some(wc);
+                    }
+                }
+                _ => {
+                    return Err(invalid(
+                        "dirichlet",
+                        format!(
+                            "node {p} is on the slanted frictional boundary `{}` (it has a \
+                             nodal frame) and a Dirichlet part fixes only some of its \
+                             Cartesian components; fix all of them or none",
+                            fpart.name()
+                        ),
+                    ))
+                }
+            }
         }
         let (dofs, factors): (Vec<usize>, Vec<f64>) = velocity
             .iter()
@@ -444,6 +507,21 @@ impl<const D: usize> ModelBuilder<D> {
             }
         }
 
+        // Slanted fault nodes: everything in the nodal frames (identity elsewhere).
+        let (mass, stiffness, energy_norm) = if frames.nodes.is_empty() {
+            (mass, stiffness, energy_norm)
+        } else {
+            frames.to_local(&mut load)?;
+            let rotate = |a: &SparseMatrix| -> Result<SparseMatrix> {
+                symmetrized(&frames.rotate_matrix(a.as_ref())?)
+            };
+            (
+                mass.as_ref().map(rotate).transpose()?,
+                rotate(&stiffness)?,
+                rotate(&energy_norm)?,
+            )
+        };
+
         // Γ_F in increasing node order; `along` by coordinates (lexicographic).
         let weights = gamma_f.weights(mesh)?;
         let vertices = mesh.vertices();
@@ -469,9 +547,15 @@ impl<const D: usize> ModelBuilder<D> {
                 e => Error::Fem(e),
             })?;
 
-        let prolongations = (1..self.hierarchy.num_levels())
+        let mut prolongations: Vec<_> = (1..self.hierarchy.num_levels())
             .map(|j| self.hierarchy.vector_prolongation(j).clone())
             .collect();
+        if let Some(p) = prolongations
+            .last_mut()
+            .filter(|_| !frames.nodes.is_empty())
+        {
+            *p = frames.rotate_rows(p.as_ref())?;
+        }
         let model = Model {
             vertices: vertices.to_vec(),
             mass,
@@ -488,11 +572,116 @@ impl<const D: usize> ModelBuilder<D> {
             frictional_boundary,
             initial_displacement: u0,
             cells: mesh.cells().to_vec(),
+            frames,
         };
         // Consistent by construction; a simulation built on it validates it (once).
         debug_assert!(model.validate().is_ok(), "{:?}", model.validate());
         Ok(model)
     }
+}
+
+impl<const D: usize> ModelBuilder<D> {
+    /// The nodal frames of the slanted nodes of Γ_F (normal not along a coordinate axis),
+    /// in increasing node order; checks corners and degenerate facets at every node.
+    fn fault_frames(
+        &self,
+        mesh: &SimplexMesh<D>,
+        gamma_f: &BoundaryPart<D>,
+        name: &str,
+    ) -> Result<NodalFrames<D>> {
+        let limit = self.max_kink_degrees;
+        if !(0.0..=180.0).contains(&limit) {
+            return Err(invalid(
+                "max_fault_kink",
+                format!("{limit} must be in [0, 180] degrees"),
+            ));
+        }
+        if let Some(t) = self.fault_tangent {
+            if t.iter().any(|c| !c.is_finite()) || t.iter().all(|&c| c == 0.0) {
+                return Err(invalid(
+                    "fault_tangent",
+                    format!("{t:?} must be finite and non-zero"),
+                ));
+            }
+        }
+        let facets = gamma_f.facets();
+        let mean = facets
+            .iter()
+            .map(|&f| mesh.boundary_facet_measure(f))
+            .sum::<f64>()
+            / facets.len() as f64;
+        // Per node: the unit normals of its facets.
+        let mut at_node: Vec<Vec<[f64; D]>> = vec![Vec::new(); mesh.num_vertices()];
+        for &f in facets {
+            let a = mesh.boundary_facet_measure(f);
+            let vs = mesh.boundary_facet(f);
+            if !(a.is_finite() && a > DEGENERATE_FACET * mean) {
+                return Err(Error::DegenerateFaultFacet {
+                    part: name.to_owned(),
+                    node: vs[0],
+                    facet: f,
+                    measure: a,
+                });
+            }
+            let nf = mesh.boundary_facet_normal(f);
+            for &v in vs {
+                at_node[v].push(nf);
+            }
+        }
+        for &p in gamma_f.nodes() {
+            let ns = &at_node[p];
+            let mut worst = 0.0f64;
+            for (i, a) in ns.iter().enumerate() {
+                for b in &ns[i + 1..] {
+                    let dot: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+                    worst = worst.max(dot.clamp(-1.0, 1.0).acos().to_degrees());
+                }
+            }
+            if worst > limit {
+                return Err(Error::FaultCorner {
+                    part: name.to_owned(),
+                    node: p,
+                    position: mesh.vertices()[p].to_vec(),
+                    angle_degrees: worst,
+                    limit_degrees: limit,
+                });
+            }
+        }
+        let all = match self.fault_tangent {
+            Some(t) => gamma_f.frames_with_tangent(mesh, t)?,
+            None => gamma_f.frames(mesh)?,
+        };
+        let normals = gamma_f.normals(mesh)?;
+        let mut slanted: Vec<(usize, [[f64; D]; D])> = all
+            .nodes
+            .iter()
+            .zip(all.rotations)
+            .zip(&normals)
+            .filter(|(_, n)| normal_axis(n).is_none())
+            .map(|((&p, q), _)| (p, q))
+            .collect();
+        slanted.sort_by_key(|&(p, _)| p);
+        Ok(NodalFrames {
+            nodes: slanted.iter().map(|&(p, _)| p).collect(),
+            rotations: slanted.into_iter().map(|(_, q)| q).collect(),
+        })
+    }
+}
+
+/// `(A + Aᵀ)/2` on the pattern of `A` (structurally symmetric): `Rᵀ A R` of a symmetric `A`
+/// is symmetric up to round-off, the solvers demand it exactly.
+fn symmetrized(a: &SparseMatrix) -> Result<SparseMatrix> {
+    let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    let mut t = Vec::with_capacity(2 * val.len());
+    for j in 0..a.ncols() {
+        for k in cp[j]..cp[j + 1] {
+            let h = 0.5 * val[k];
+            t.push(faer::sparse::Triplet::new(ri[k], j, h));
+            t.push(faer::sparse::Triplet::new(j, ri[k], h));
+        }
+    }
+    SparseMatrix::try_new_from_triplets(a.nrows(), a.ncols(), &t)
+        .map_err(|e| Error::Fem(rsf_fem::Error::Faer(format!("{e:?}"))))
 }
 
 /// The coordinate axis `c` with `|n_c| = 1` (within [`AXIS_TOLERANCE`]), if any.

@@ -7,7 +7,7 @@ pub(crate) mod loading;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
-use rsf_fem::SparseMatrix;
+use rsf_fem::{NodalFrames, SparseMatrix};
 
 use fault::FrictionalBoundary;
 use loading::DirichletVelocity;
@@ -17,7 +17,11 @@ use crate::error::{invalid, Error, Result};
 /// An assembled model: matrices, loads, constraints, hierarchy and frictional boundary,
 /// independent of the friction law, state law, time integrator and solver.
 ///
-/// Vectors are node-major with `D` components per node (`n = D · nodes`). Build one with
+/// Vectors are node-major with `D` components per node (`n = D · nodes`), in Cartesian
+/// components except at the nodes of [`frames`](Self::frames) (slanted fault nodes), whose
+/// blocks are in their nodal frame (tangential…, normal): "model coordinates", what the
+/// solvers, the simulation state and checkpoints hold. [`Model::to_global`] and
+/// [`Model::to_model`] convert a node's block. Build one with
 /// [`ModelBuilder`](crate::ModelBuilder) from a mesh, a material and boundary parts, or
 /// fill the public fields yourself (e.g. a lumped spring–block system without a mesh);
 /// [`Model::validate`] checks them, and every simulation validates its model.
@@ -68,6 +72,11 @@ pub struct Model<const D: usize> {
     /// Mesh cells as vertex indices with stride `D + 1` (for output such as VTU frames);
     /// empty for models without a mesh (e.g. a spring–block).
     pub cells: Vec<usize>,
+    /// Nodal frames `Q_p` of the slanted frictional nodes (normal not along a coordinate
+    /// axis), nodes in increasing order; empty for axis-aligned faults (docs/math.md §10).
+    /// The model's matrices, load, `u₀`, Dirichlet data and finest prolongation are
+    /// expressed in these frames (`Rᵀ A R`, `Rᵀ F`, `Rᵀ P`).
+    pub frames: NodalFrames<D>,
 }
 
 impl<const D: usize> Model<D> {
@@ -89,6 +98,33 @@ impl<const D: usize> Model<D> {
             .iter()
             .map(|&p| f(&self.vertices[p]))
             .collect()
+    }
+
+    /// The nodal frame `Q_p` of node `p` (row-major; columns = tangents, inward normal), if
+    /// it has one.
+    pub fn frame(&self, p: usize) -> Option<&[[f64; D]; D]> {
+        self.frames
+            .nodes
+            .binary_search(&p)
+            .ok()
+            .map(|k| &self.frames.rotations[k])
+    }
+
+    /// Node `p`'s block `x` in model coordinates → Cartesian: `Q_p x` at a frame node,
+    /// `x` elsewhere.
+    pub fn to_global(&self, p: usize, x: [f64; D]) -> [f64; D] {
+        match self.frame(p) {
+            None => x,
+            Some(q) => std::array::from_fn(|r| (0..D).map(|c| q[r][c] * x[c]).sum()),
+        }
+    }
+
+    /// Node `p`'s Cartesian block `x` → model coordinates: `Q_pᵀ x` at a frame node.
+    pub fn to_model(&self, p: usize, x: [f64; D]) -> [f64; D] {
+        match self.frame(p) {
+            None => x,
+            Some(q) => std::array::from_fn(|c| (0..D).map(|r| q[r][c] * x[r]).sum()),
+        }
     }
 
     /// Checks that `node` is a node of the model.
@@ -197,6 +233,7 @@ impl<const D: usize> Model<D> {
                 return Err(Error::FreeNormal { node: p });
             }
         }
+        self.validate_frames()?;
         if self.cells.len() % (D + 1) != 0 || self.cells.iter().any(|&c| c >= self.vertices.len()) {
             return Err(invalid(
                 "cells",
@@ -208,6 +245,38 @@ impl<const D: usize> Model<D> {
                 return Err(invalid(
                     "prolongations",
                     "finest prolongation does not match the dofs",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<const D: usize> Model<D> {
+    fn validate_frames(&self) -> Result<()> {
+        let f = &self.frames;
+        if f.nodes.len() != f.rotations.len()
+            || f.nodes.windows(2).any(|w| w[0] >= w[1])
+            || f.nodes.last().is_some_and(|&p| p >= self.vertices.len())
+        {
+            return Err(invalid(
+                "frames",
+                "need one rotation per node, nodes increasing and in range",
+            ));
+        }
+        for (&p, q) in f.nodes.iter().zip(&f.rotations) {
+            // Orthonormal columns: QᵀQ = I.
+            let off = (0..D)
+                .flat_map(|a| (0..D).map(move |b| (a, b)))
+                .map(|(a, b)| {
+                    let d: f64 = (0..D).map(|r| q[r][a] * q[r][b]).sum();
+                    (d - if a == b { 1.0 } else { 0.0 }).abs()
+                })
+                .fold(0.0, f64::max);
+            if !(off <= 1e-12) {
+                return Err(invalid(
+                    "frames",
+                    format!("the frame of node {p} is not orthonormal (|QᵀQ − I| = {off:e})"),
                 ));
             }
         }

@@ -32,19 +32,39 @@ pub struct StepView<'a, const D: usize> {
 }
 
 impl<const D: usize> StepView<'_, D> {
-    /// The displacement of node `p` (m).
+    /// The displacement of node `p` (m), Cartesian components (rotated back from the
+    /// nodal frame at a slanted fault node, [`Model::to_global`]).
     ///
     /// # Panics
     /// If `p` is not a node of the model (callers check nodes when they are created).
     pub fn displacement(&self, p: usize) -> [f64; D] {
-        block(&self.state.kinematics.u, p)
+        self.model.to_global(p, block(&self.state.kinematics.u, p))
     }
 
-    /// The velocity of node `p` (m/s).
+    /// The velocity of node `p` (m/s), Cartesian components.
     ///
     /// # Panics
     /// If `p` is not a node of the model.
     pub fn velocity(&self, p: usize) -> [f64; D] {
+        self.model.to_global(p, block(&self.state.kinematics.v, p))
+    }
+
+    /// The displacement of node `p` (m) in model coordinates: at a node with a nodal
+    /// frame (a slanted fault node) its slip coordinates (tangential…, normal), Cartesian
+    /// elsewhere ([`Model`]'s convention).
+    ///
+    /// # Panics
+    /// If `p` is not a node of the model.
+    pub fn displacement_in_frame(&self, p: usize) -> [f64; D] {
+        block(&self.state.kinematics.u, p)
+    }
+
+    /// The velocity of node `p` (m/s) in model coordinates (as
+    /// [`displacement_in_frame`](Self::displacement_in_frame)).
+    ///
+    /// # Panics
+    /// If `p` is not a node of the model.
+    pub fn velocity_in_frame(&self, p: usize) -> [f64; D] {
         block(&self.state.kinematics.v, p)
     }
 

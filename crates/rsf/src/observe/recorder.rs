@@ -8,7 +8,9 @@ use crate::report::StepReport;
 
 use super::{Flow, Observer, StepView};
 
-/// Keeps, for every step, the [`StepReport`] and `(u, v)` at the chosen nodes ("points").
+/// Keeps, for every step, the [`StepReport`] and `(u, v)` at the chosen nodes ("points"),
+/// in model coordinates ([`StepView::displacement_in_frame`]: slip coordinates at a slanted
+/// fault node, Cartesian elsewhere).
 /// Storage is flat (no allocation per step beyond amortised growth).
 ///
 /// ```no_run
@@ -98,8 +100,8 @@ impl<const D: usize> Observer<D> for Recorder<D> {
         }
         self.reports.push(*s.report);
         for &p in &self.points {
-            self.u.push(s.displacement(p));
-            self.v.push(s.velocity(p));
+            self.u.push(s.displacement_in_frame(p));
+            self.v.push(s.velocity_in_frame(p));
         }
         Ok(Flow::Continue(()))
     }
@@ -165,7 +167,8 @@ impl<const D: usize> FaultRecorder<D> {
         self.row(&self.alpha, i)
     }
 
-    /// Displacement (m) along Γ_F in snapshot `i`.
+    /// Displacement (m) along Γ_F in snapshot `i`, in slip coordinates at slanted nodes
+    /// ([`StepView::displacement_in_frame`]).
     pub fn fault_displacements(&self, i: usize) -> &[[f64; D]] {
         self.row(&self.fault_u, i)
     }
@@ -184,7 +187,7 @@ impl<const D: usize> Observer<D> for FaultRecorder<D> {
         for (&p, &k) in self.fault_nodes.iter().zip(&self.fault_along) {
             self.slip_rate.push(s.slip_rate(k));
             self.alpha.push(s.state.alpha[k]);
-            self.fault_u.push(s.displacement(p));
+            self.fault_u.push(s.displacement_in_frame(p));
         }
         Ok(Flow::Continue(()))
     }

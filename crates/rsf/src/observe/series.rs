@@ -15,7 +15,9 @@ use super::{Flow, Observer, StepView};
 /// followed, for `D ≥ 2`, by `u_y0_m,v_y0_mps` (and `u_z0_m,v_z0_mps` in 3D): time,
 /// displacement and velocity components at the node, the largest slip rate on Γ_F, the
 /// step's fixed point iterations, τ, the step index, velocity-solver iterations and damped
-/// fixed point iterations. Rows are flushed every step (by default) so that a killed run
+/// fixed point iterations. Components are in model coordinates ([`Model`]): at a slanted
+/// fault node (one with a nodal frame) `x`, `y`(, `z`) stand for the frame's tangent(s) and
+/// normal, i.e. slip coordinates; Cartesian elsewhere. Rows are flushed every step (by default) so that a killed run
 /// keeps what it wrote; [`PointSeries::resume`] continues a file after a checkpoint.
 pub struct PointSeries<const D: usize> {
     node: usize,

@@ -10,6 +10,7 @@ use vtkio::model::{
 };
 
 use crate::error::{Error, Result};
+use crate::model::Model;
 
 use super::files::FileMode;
 use super::{Flow, Observer, StepView};
@@ -17,8 +18,10 @@ use super::{Flow, Observer, StepView};
 /// Writes `frame_NNNNNN.vtu` (NNNNNN the step) of every step it is shown (wrap it in
 /// [`Every`](crate::Every) to sample) into a folder — the
 /// mesh's cells as VTK lines, triangles or tetrahedra for D = 1, 2, 3, with point data
-/// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded) and the scalar
-/// `state_alpha` (α = ln θ, dimensionless with θ in s; on Γ_F only, NaN elsewhere) — and `frames.pvd` (the
+/// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded; Cartesian components,
+/// rotated back from the nodal frames of a slanted fault) and the scalars `slip_rate`
+/// (m/s) and `state_alpha` (α = ln θ, dimensionless with θ in s), both on Γ_F only, NaN
+/// elsewhere — and `frames.pvd` (the
 /// time index ParaView opens), rewritten after every frame so that an interrupted run
 /// leaves a usable index. [`FileMode::Resume`] continues after a checkpoint.
 pub struct VtuFrames {
@@ -117,6 +120,26 @@ fn state_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
     out
 }
 
+/// A node-major vector of the model in Cartesian components (nodal frames rotated back).
+fn global<const D: usize>(m: &Model<D>, x: &[f64]) -> Vec<f64> {
+    let mut g = x.to_vec();
+    if !m.frames.nodes.is_empty() {
+        m.frames
+            .to_global(&mut g)
+            .expect("the state vectors match the model");
+    }
+    g
+}
+
+/// The slip rate `|v_p|` (m/s) on Γ_F, NaN elsewhere.
+fn slip_rate_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
+    let mut out = vec![f64::NAN; n];
+    for (k, &p) in s.model.frictional_boundary.nodes.iter().enumerate() {
+        out[p] = s.slip_rate(k);
+    }
+    out
+}
+
 impl<const D: usize> Observer<D> for VtuFrames {
     fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
         let m = s.model;
@@ -145,8 +168,10 @@ impl<const D: usize> Observer<D> for VtuFrames {
             data: Attributes {
                 point: vec![
                     Attribute::vectors("displacement")
-                        .with_data(padded::<D>(&s.state.kinematics.u, n)),
-                    Attribute::vectors("velocity").with_data(padded::<D>(&s.state.kinematics.v, n)),
+                        .with_data(padded::<D>(&global(m, &s.state.kinematics.u), n)),
+                    Attribute::vectors("velocity")
+                        .with_data(padded::<D>(&global(m, &s.state.kinematics.v), n)),
+                    Attribute::scalars("slip_rate", 1).with_data(slip_rate_field(s, n)),
                     Attribute::scalars("state_alpha", 1).with_data(state_field(s, n)),
                 ],
                 cell: Vec::new(),

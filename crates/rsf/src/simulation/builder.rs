@@ -217,8 +217,18 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     /// The initial velocity `v_0(x)` (m/s) of every node from its position `x` (m);
     /// default rest. The constrained components take their Dirichlet values at `t = 0`
     /// whatever this gives (0, or the prescribed velocity).
+    /// `v_0` is given in Cartesian components (rotated into the nodal frames of a slanted
+    /// fault, [`Model::to_model`]).
     pub fn initial_velocity_at(mut self, mut v0: impl FnMut(&[f64; D]) -> [f64; D]) -> Self {
-        self.v0 = Some(self.model.vertices.iter().flat_map(&mut v0).collect());
+        let model = &self.model;
+        self.v0 = Some(
+            model
+                .vertices
+                .iter()
+                .enumerate()
+                .flat_map(|(p, x)| model.to_model(p, v0(x)))
+                .collect(),
+        );
         self
     }
 
