@@ -67,8 +67,8 @@ impl Default for SeasBp1 {
 }
 
 impl SeasBp1 {
-    /// Checks that every parameter is finite, that all but `f0` are positive, and
-    /// `a0 ≤ a_max` is not required (any profile is allowed).
+    /// Checks that every parameter is finite and all but `f0` are positive (`a0 > a_max`
+    /// is allowed: any a(z) profile of this shape).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) naming the field.
