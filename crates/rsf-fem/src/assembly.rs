@@ -3,22 +3,26 @@
 use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use rsf_linalg::SparseMatrix;
 
-use crate::element::{p1_mass, p1_stiffness, LinearElasticity};
+use crate::element::{p1_laplace, p1_mass, p1_mass_components, p1_stiffness, LinearElasticity};
 use crate::geometry::p1_gradients;
 use crate::mesh::SimplexMesh;
 use crate::{Error, Result};
 
-/// Assembler for node-major P1 vector fields (`D` components per vertex) on one mesh.
+/// Assembler for node-major P1 fields with `C` components per vertex on one `D`-simplex
+/// mesh: `C = D` (the default) for displacement vectors of elasticity, `C = 1` for a scalar
+/// field such as the antiplane displacement of a 2-D section ([`Assembler::scalar`],
+/// docs/seas-bp1.md).
 ///
 /// [`Assembler::new`] computes the symbolic pattern once (both triangles, full `D × D`
 /// node blocks, sorted rows) together with a scatter map from every cell's local node
 /// pair to its position in the CSC value array. Numeric assembly then only evaluates
 /// element matrices on the stack and adds them into the value array: no allocation
-/// per element, no sorting. All matrices produced by one assembler share the pattern,
+/// per element, no sorting. Dof `C·node + component`. All matrices produced by one
+/// assembler share the pattern,
 /// so `A = c_M M + c_K K` can be formed value-by-value ([`combine`](crate::combine)) and a
 /// [`Cholesky`](crate::Cholesky) analysis can be reused.
 #[derive(Debug, Clone)]
-pub struct Assembler<const D: usize> {
+pub struct Assembler<const D: usize, const C: usize = D> {
     num_vertices: usize,
     num_cells: usize,
     symbolic: SymbolicSparseColMat<usize>,
@@ -27,11 +31,48 @@ pub struct Assembler<const D: usize> {
 }
 
 impl<const D: usize> Assembler<D> {
-    /// Builds the pattern of `mesh` (cost `O(cells · (D+1)²)`, done once per mesh).
+    /// Builds the pattern of `mesh` for `D`-component (vector) fields (cost
+    /// `O(cells · (D+1)²)`, done once per mesh).
     ///
     /// # Errors
     /// [`Error::Faer`] if the pattern cannot be allocated.
     pub fn new(mesh: &SimplexMesh<D>) -> Result<Self> {
+        Self::with_components(mesh)
+    }
+}
+
+impl<const D: usize> Assembler<D, 1> {
+    /// Builds the pattern of `mesh` for scalar fields (one dof per vertex).
+    ///
+    /// # Errors
+    /// [`Error::Faer`] if the pattern cannot be allocated.
+    pub fn scalar(mesh: &SimplexMesh<D>) -> Result<Self> {
+        Self::with_components(mesh)
+    }
+
+    /// Scalar stiffness `K_{ij} = ∫ μ ∇φ_i·∇φ_j dx` (μ in Pa: the antiplane shear
+    /// modulus; the energy is `½ uᵀKu = ½∫ μ|∇u|²`). Its kernel is the constants.
+    ///
+    /// # Errors
+    /// [`Error::InvalidShearModulus`] unless `mu > 0` and finite; mesh mismatch.
+    pub fn laplace(&self, mesh: &SimplexMesh<D>, mu: f64) -> Result<SparseMatrix> {
+        if !(mu > 0.0 && mu.is_finite()) {
+            return Err(Error::InvalidShearModulus(mu));
+        }
+        let mut out = self.zeros();
+        self.assemble_into(mesh, &mut out, |g, m, loc| p1_laplace::<D>(g, m, mu, loc))?;
+        Ok(out)
+    }
+}
+
+impl<const D: usize, const C: usize> Assembler<D, C> {
+    /// Builds the pattern of `mesh` for `C` components per vertex (`1 ≤ C ≤ 3`); see
+    /// [`Assembler::new`] (`C = D`) and [`Assembler::scalar`] (`C = 1`).
+    ///
+    /// # Errors
+    /// [`Error::Faer`] if the pattern cannot be allocated.
+    pub fn with_components(mesh: &SimplexMesh<D>) -> Result<Self> {
+        const { assert!(C >= 1 && C <= 3, "1 to 3 components per vertex") };
         let nv = mesh.num_vertices();
         let nc = mesh.num_cells();
         let k = D + 1;
@@ -85,16 +126,16 @@ impl<const D: usize> Assembler<D> {
                 }
             }
         }
-        // Vector pattern: column (q, s) holds rows (p, r) for p adjacent to q, r = 0..D.
-        let n = D * nv;
+        // Vector pattern: column (q, s) holds rows (p, r) for p adjacent to q, r = 0..C.
+        let n = C * nv;
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(D * D * rows.len());
+        let mut row_idx = Vec::with_capacity(C * C * rows.len());
         col_ptr.push(0);
         for q in 0..nv {
-            for _s in 0..D {
+            for _s in 0..C {
                 for &p in &rows[scol[q]..scol[q + 1]] {
-                    for r in 0..D {
-                        row_idx.push(D * p + r);
+                    for r in 0..C {
+                        row_idx.push(C * p + r);
                     }
                 }
                 col_ptr.push(row_idx.len());
@@ -109,9 +150,9 @@ impl<const D: usize> Assembler<D> {
         })
     }
 
-    /// Number of dofs `D · num_vertices`.
+    /// Number of dofs `C · num_vertices`.
     pub fn num_dofs(&self) -> usize {
-        D * self.num_vertices
+        C * self.num_vertices
     }
     /// The shared symbolic pattern.
     pub fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
@@ -143,7 +184,7 @@ impl<const D: usize> Assembler<D> {
 
     /// Generic numeric assembly: zeroes `out` (which must have this assembler's pattern,
     /// e.g. from [`Assembler::zeros`]) and adds `element(grads, measure, local)` for
-    /// every cell, where `local` is the row-major `(D(D+1))²` element matrix to fill
+    /// every cell, where `local` is the row-major `(C(D+1))²` element matrix to fill
     /// (see [`crate::element`]).
     ///
     /// # Errors
@@ -161,7 +202,7 @@ impl<const D: usize> Assembler<D> {
             return Err(Error::PatternMismatch);
         }
         let k = D + 1;
-        let n = D * k;
+        let n = C * k;
         let col_ptr = self.symbolic.col_ptr();
         let vals = out.val_mut();
         vals.fill(0.0);
@@ -176,10 +217,10 @@ impl<const D: usize> Assembler<D> {
             for a in 0..k {
                 for b in 0..k {
                     let o = offs[a * k + b] as usize;
-                    for s in 0..D {
-                        let base = col_ptr[D * cell[b] + s] + D * o;
-                        for r in 0..D {
-                            vals[base + r] += local[(D * a + r) * n + D * b + s];
+                    for s in 0..C {
+                        let base = col_ptr[C * cell[b] + s] + C * o;
+                        for r in 0..C {
+                            vals[base + r] += local[(C * a + r) * n + C * b + s];
                         }
                     }
                 }
@@ -190,17 +231,26 @@ impl<const D: usize> Assembler<D> {
 
     /// Consistent mass matrix `M_{ij} = ∫ ρ φ_i·φ_j dx` (`ρ` in kg/m³ in 3D, kg/m² in 2D;
     /// element matrix `ρ|T|(1 + δ_ab)/((D+1)(D+2))` per component, i.e. `/12` for
-    /// triangles and `/20` for tetrahedra, docs/math.md §10).
+    /// triangles and `/20` for tetrahedra, docs/math.md §10), for any component count.
     ///
     /// # Errors
     /// [`Error::InvalidDensity`] unless `rho > 0` and finite; mesh mismatch.
     pub fn mass(&self, mesh: &SimplexMesh<D>, rho: f64) -> Result<SparseMatrix> {
         check_density(rho)?;
         let mut out = self.zeros();
-        self.assemble_into(mesh, &mut out, |_, m, loc| p1_mass::<D>(m, rho, loc))?;
+        if C == D {
+            // The vector path, unchanged (bit-identical trajectories).
+            self.assemble_into(mesh, &mut out, |_, m, loc| p1_mass::<D>(m, rho, loc))?;
+        } else {
+            self.assemble_into(mesh, &mut out, |_, m, loc| {
+                p1_mass_components::<D, C>(m, rho, loc)
+            })?;
+        }
         Ok(out)
     }
+}
 
+impl<const D: usize> Assembler<D> {
     /// Stiffness matrix `K_{ij} = ∫ Cε(φ_j):ε(φ_i) dx` of linear elasticity.
     ///
     /// # Errors

@@ -112,6 +112,41 @@ pub fn p1_mass<const D: usize>(measure: f64, rho: f64, out: &mut [f64]) {
     }
 }
 
+/// Local consistent mass matrix with `C` components per vertex (`C = D` is [`p1_mass`];
+/// `C = 1` the scalar mass): `out` has `(C(D+1))²` entries, overwritten.
+#[inline]
+pub fn p1_mass_components<const D: usize, const C: usize>(measure: f64, rho: f64, out: &mut [f64]) {
+    let n = C * (D + 1);
+    debug_assert_eq!(out.len(), n * n);
+    out.fill(0.0);
+    let base = rho * measure / ((D + 1) * (D + 2)) as f64;
+    for a in 0..=D {
+        for b in 0..=D {
+            let m = if a == b { 2.0 * base } else { base };
+            for r in 0..C {
+                out[(C * a + r) * n + C * b + r] = m;
+            }
+        }
+    }
+}
+
+/// Local scalar stiffness of a P1 simplex, `K_ab = μ |T| ∇λ_a·∇λ_b` (the antiplane
+/// operator `−∇·(μ∇u)`); `out` has `(D+1)²` entries, overwritten. Rows sum to zero.
+#[inline]
+pub fn p1_laplace<const D: usize>(grads: &[[f64; D]; 4], measure: f64, mu: f64, out: &mut [f64]) {
+    let k = D + 1;
+    debug_assert_eq!(out.len(), k * k);
+    for a in 0..k {
+        for b in 0..k {
+            let mut dot = 0.0;
+            for r in 0..D {
+                dot += grads[a][r] * grads[b][r];
+            }
+            out[a * k + b] = measure * mu * dot;
+        }
+    }
+}
+
 /// Quadrature on the reference triangle exact for degree 5 (Dunavant, 7 points):
 /// `(barycentric coordinates, weight)`, weights summing to 1 (multiply by the area).
 pub fn triangle_quadrature() -> [([f64; 3], f64); 7] {

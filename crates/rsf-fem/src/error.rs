@@ -62,6 +62,9 @@ pub enum Error {
     /// Density must be positive and finite.
     #[error("density rho = {0} must be positive and finite (kg/m^3; kg/m^2 in 2D)")]
     InvalidDensity(f64),
+    /// Shear modulus `mu` (Pa) not positive and finite.
+    #[error("mu = {0} Pa: the shear modulus must be positive and finite")]
+    InvalidShearModulus(f64),
     /// A boundary part (or segment) selected no facets.
     #[error("boundary part `{name}` is empty")]
     EmptySegment {

@@ -7,7 +7,8 @@
 //! `D = 3`) and chosen by it, not by separate 2D/3D types:
 //!
 //! * [`SimplexMesh`] / [`TriangleMesh`] / [`TetrahedronMesh`]: vertices (m), oriented cells,
-//!   boundary facets with tags; structured [`rectangle`], [`cuboid`] (Kuhn tetrahedra) and
+//!   boundary facets with tags; structured [`rectangle`] (graded:
+//!   [`rectangle_from_coordinates`], [`geometric_grading`]), [`cuboid`] (Kuhn tetrahedra) and
 //!   the paper's coarse grid [`pipping_slider_coarse`]; Gmsh MSH 4.1 import
 //!   ([`read_gmsh`], [`parse_gmsh`]) with physical groups as tags.
 //! * [`MeshHierarchy`]: uniform red refinement ([`refine_red`]; Bey's rule for tetrahedra,
@@ -16,7 +17,9 @@
 //!   list, with nodes, lumped weights, outer normals and [`NodalFrames`] (tangents + inward
 //!   normal) for bilateral contact; [`BoundarySegment`]: the 2D part ordered along the
 //!   boundary.
-//! * [`Assembler`]: consistent mass `M` (ρ), stiffness `K` of isotropic elasticity
+//! * [`Assembler`]: `C` components per vertex (`C = D` by default; [`Assembler::scalar`]
+//!   for scalar fields with the stiffness [`Assembler::laplace`] `μ∇u·∇w`, the antiplane
+//!   problem); consistent mass `M` (ρ), stiffness `K` of isotropic elasticity
 //!   ([`LinearElasticity`]: E, ν; plane strain in 2D), energy matrix `K + M`, all sharing
 //!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
 //!   weights [`lumped_weights`].
@@ -56,5 +59,6 @@ pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, spmv_add, Cholesky, SparseMatrix};
 pub use structured::{
-    cuboid, pipping_slider_coarse, rectangle, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
+    cuboid, geometric_grading, pipping_slider_coarse, rectangle, rectangle_from_coordinates,
+    Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

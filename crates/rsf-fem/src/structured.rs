@@ -108,6 +108,108 @@ pub fn rectangle(
     SimplexMesh::new(vertices, cells)
 }
 
+/// Tensor-product triangulation of a rectangle with the vertex coordinates `xs` along x
+/// and `ys` along y (both strictly increasing, at least 2 each): vertex `i + nx·j` at
+/// `(xs[i], ys[j])`, cells as in [`rectangle`] (which is the equispaced case). With
+/// [`geometric_grading`] this is the graded mesh of the antiplane benchmark
+/// (docs/seas-bp1.md): fine along the fault, coarsening geometrically to hundreds of km.
+/// No tags are set.
+///
+/// # Errors
+/// [`Error::InvalidGrid`] if a list has fewer than 2 entries, is not strictly increasing
+/// or holds a non-finite value.
+pub fn rectangle_from_coordinates(
+    xs: &[f64],
+    ys: &[f64],
+    diagonal: Diagonal,
+) -> Result<TriangleMesh> {
+    for (name, c) in [("xs", xs), ("ys", ys)] {
+        if c.len() < 2 {
+            return Err(Error::InvalidGrid(format!(
+                "{name}: need at least 2 coordinates, got {}",
+                c.len()
+            )));
+        }
+        if c.iter().any(|v| !v.is_finite()) || c.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(Error::InvalidGrid(format!(
+                "{name}: coordinates must be finite and strictly increasing"
+            )));
+        }
+    }
+    let (nx, ny) = (xs.len(), ys.len());
+    let mut vertices = Vec::with_capacity(nx * ny);
+    for &y in ys {
+        for &x in xs {
+            vertices.push([x, y]);
+        }
+    }
+    let mut cells = Vec::with_capacity(6 * (nx - 1) * (ny - 1));
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let a = i + nx * j;
+            let (b, c, d) = (a + 1, a + 1 + nx, a + nx);
+            match diagonal {
+                Diagonal::Forward => cells.extend_from_slice(&[a, b, c, a, c, d]),
+                Diagonal::Backward => cells.extend_from_slice(&[a, b, d, b, c, d]),
+            }
+        }
+    }
+    SimplexMesh::new(vertices, cells)
+}
+
+/// Coordinates `0 = c_0 < c_1 < … < c_n = length` with spacing `h` up to `uniform`
+/// (m), then growing by the factor `ratio` per interval until `length`; the last interval
+/// takes the remainder (between half the previous spacing and `1 + ratio` times it).
+///
+/// Example: `geometric_grading(25.0, 40e3, 1.05, 400e3)` is Δz = 25 m on the 40 km fault
+/// and about 120 more intervals to 400 km.
+///
+/// # Errors
+/// [`Error::InvalidGrid`] unless `0 < h ≤ length`, `0 ≤ uniform ≤ length`,
+/// `1 ≤ ratio ≤ 10` and all finite, or if more than 10⁷ coordinates would result.
+pub fn geometric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Result<Vec<f64>> {
+    let ok = h > 0.0
+        && length.is_finite()
+        && h <= length
+        && uniform >= 0.0
+        && uniform <= length
+        && (1.0..=10.0).contains(&ratio);
+    if !ok {
+        return Err(Error::InvalidGrid(format!(
+            "grading: need 0 < h <= length, 0 <= uniform <= length, 1 <= ratio <= 10; \
+             got h = {h}, uniform = {uniform}, ratio = {ratio}, length = {length}"
+        )));
+    }
+    let n_uniform = (uniform / h + 1e-9).floor() as usize;
+    let mut c = Vec::with_capacity(n_uniform + 64);
+    for i in 0..=n_uniform {
+        c.push(i as f64 * h);
+    }
+    let mut step = h;
+    let mut last = *c.last().expect("non-empty");
+    while length - last > 1e-12 * length {
+        if c.len() > 10_000_000 {
+            return Err(Error::InvalidGrid(format!(
+                "grading: more than 1e7 coordinates (h = {h}, length = {length})"
+            )));
+        }
+        step *= ratio;
+        if last + step * (1.0 + ratio) > length {
+            // Close: a remainder shorter than half the previous spacing joins the
+            // previous interval.
+            if length - last < 0.5 * step / ratio && c.len() > 1 {
+                c.pop();
+            }
+            c.push(length);
+            break;
+        }
+        last += step;
+        c.push(last);
+    }
+    *c.last_mut().expect("non-empty") = length;
+    Ok(c)
+}
+
 /// The paper's coarse grid (§6.1, Table 6.1): `[0, 5] × [0, 1]` m with 6 × 2 vertices
 /// (10 triangles, [`Diagonal::Forward`]) and boundary tags
 /// [`TAG_DIRICHLET`] (top, y = 1), [`TAG_NEUMANN`] (sides x = 0 and x = 5) and

@@ -52,7 +52,7 @@
 mod potentials;
 
 pub use potentials::{
-    AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams,
+    AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams, SlipScaled,
     StateDependentTresca, Tresca, TrescaPotential,
 };
 pub use rsf_numeric::{wright_omega_ln, StateVariable};

@@ -648,3 +648,58 @@ impl FrictionLaw for AsinhLaw {
         sat(self.params.a * asinh_exp(v.ln() - LN_2 - l))
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Slip factor (a fault that is a plane of antisymmetry)
+// ---------------------------------------------------------------------------------------
+
+/// A potential seen through a slip factor `s > 0`: when only one side of a fault is
+/// modelled (antisymmetry plane, docs/seas-bp1.md) the slip rate is `V = s|v|` (`s = 2`)
+/// with `v` the boundary velocity, and the dissipation on the modelled side is
+/// `F(V)·v`, so the potential in `v` is `ψ(v) = ϕ(s v)/s`: `ψ'(v) = ϕ'(s v)` (the friction
+/// traction at slip rate `V`), `ψ''(v) = s ϕ''(s v)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipScaled<P> {
+    inner: P,
+    s: f64,
+}
+
+impl<P: ConvexPotential> SlipScaled<P> {
+    /// `ψ(v) = ϕ(s v)/s`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] (`slip_factor`) unless `s` is finite and `> 0`.
+    pub fn new(inner: P, s: f64) -> Result<Self> {
+        check("slip_factor", s, s.is_finite() && s > 0.0, "finite and > 0")?;
+        Ok(Self { inner, s })
+    }
+    /// The slip factor `s`.
+    pub fn slip_factor(&self) -> f64 {
+        self.s
+    }
+    /// The potential of the slip rate, `ϕ`.
+    pub fn inner(&self) -> &P {
+        &self.inner
+    }
+}
+
+impl<P: ConvexPotential> ConvexPotential for SlipScaled<P> {
+    fn value(&self, v: f64) -> f64 {
+        self.inner.value(self.s * v) / self.s
+    }
+    fn slope(&self, v: f64) -> f64 {
+        self.inner.slope(self.s * v)
+    }
+    fn curvature(&self, v: f64) -> Option<f64> {
+        self.inner.curvature(self.s * v).map(|c| self.s * c)
+    }
+    fn slope_and_curvature(&self, v: f64) -> (f64, Option<f64>) {
+        let (g, c) = self.inner.slope_and_curvature(self.s * v);
+        (g, c.map(|c| self.s * c))
+    }
+    /// `argmin ½ a x² − r x + w ϕ(s x)/s = y/s` with `y = argmin ½ a y² − (s r) y + (s w) ϕ(y)`
+    /// (multiply by `s²`, substitute `y = s x`).
+    fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
+        self.inner.minimize(a, self.s * r, self.s * w) / self.s
+    }
+}
