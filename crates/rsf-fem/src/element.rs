@@ -98,18 +98,7 @@ pub fn p1_stiffness<const D: usize>(
 /// `M_{(a,r),(b,s)} = ρ |T| (1 + δ_ab) / ((D+1)(D+2)) δ_rs`. `out` as in [`p1_stiffness`].
 #[inline]
 pub fn p1_mass<const D: usize>(measure: f64, rho: f64, out: &mut [f64]) {
-    let n = D * (D + 1);
-    debug_assert_eq!(out.len(), n * n);
-    out.fill(0.0);
-    let base = rho * measure / ((D + 1) * (D + 2)) as f64;
-    for a in 0..=D {
-        for b in 0..=D {
-            let m = if a == b { 2.0 * base } else { base };
-            for r in 0..D {
-                out[(D * a + r) * n + D * b + r] = m;
-            }
-        }
-    }
+    p1_mass_components::<D, D>(measure, rho, out);
 }
 
 /// Local consistent mass matrix with `C` components per vertex (`C = D` is [`p1_mass`];

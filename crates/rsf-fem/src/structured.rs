@@ -94,6 +94,12 @@ pub fn rectangle(
             ]);
         }
     }
+    SimplexMesh::new(vertices, tensor_cells(nx, ny, diagonal))
+}
+
+/// The cells of an `nx × ny` tensor grid of vertices (vertex `i + nx·j`), two triangles
+/// per quadrilateral split along `diagonal`.
+fn tensor_cells(nx: usize, ny: usize, diagonal: Diagonal) -> Vec<usize> {
     let mut cells = Vec::with_capacity(6 * (nx - 1) * (ny - 1));
     for j in 0..ny - 1 {
         for i in 0..nx - 1 {
@@ -105,7 +111,7 @@ pub fn rectangle(
             }
         }
     }
-    SimplexMesh::new(vertices, cells)
+    cells
 }
 
 /// Tensor-product triangulation of a rectangle with the vertex coordinates `xs` along x
@@ -143,18 +149,7 @@ pub fn rectangle_from_coordinates(
             vertices.push([x, y]);
         }
     }
-    let mut cells = Vec::with_capacity(6 * (nx - 1) * (ny - 1));
-    for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            let a = i + nx * j;
-            let (b, c, d) = (a + 1, a + 1 + nx, a + nx);
-            match diagonal {
-                Diagonal::Forward => cells.extend_from_slice(&[a, b, c, a, c, d]),
-                Diagonal::Backward => cells.extend_from_slice(&[a, b, d, b, c, d]),
-            }
-        }
-    }
-    SimplexMesh::new(vertices, cells)
+    SimplexMesh::new(vertices, tensor_cells(nx, ny, diagonal))
 }
 
 /// Coordinates `0 = c_0 < c_1 < … < c_n = length` with spacing `h` up to `uniform`
