@@ -53,7 +53,10 @@ pub use error::{Error, Result};
 pub use frames::NodalFrames;
 pub use gmsh::{parse_gmsh, read_gmsh, GmshMesh, PhysicalGroup};
 pub use hierarchy::{vectorize, MeshHierarchy};
-pub use loads::{body_force_load, lumped_weights, traction_load};
+pub use loads::{
+    body_force_load, body_force_load_components, lumped_weights, traction_load,
+    traction_load_components,
+};
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};

@@ -25,20 +25,20 @@ fn point<const D: usize>(x: &[[f64; D]], l: &[f64; 4]) -> [f64; D] {
 /// # Errors
 /// [`Error::NonFiniteValue`] (naming `what`) if `v` is not finite.
 #[inline]
-fn scatter<const D: usize>(
+fn scatter<const C: usize>(
     out: &mut [f64],
     nodes: &[usize],
     scale: f64,
     l: &[f64; 4],
-    v: [f64; D],
+    v: [f64; C],
     what: &'static str,
 ) -> Result<()> {
     if v.iter().any(|c| !c.is_finite()) {
         return Err(Error::NonFiniteValue(what));
     }
     for (a, &p) in nodes.iter().enumerate() {
-        for r in 0..D {
-            out[D * p + r] += scale * l[a] * v[r];
+        for r in 0..C {
+            out[C * p + r] += scale * l[a] * v[r];
         }
     }
     Ok(())
@@ -55,7 +55,19 @@ pub fn body_force_load<const D: usize>(
     mesh: &SimplexMesh<D>,
     f: impl Fn(&[f64; D]) -> [f64; D],
 ) -> Result<Vec<f64>> {
-    let mut out = vec![0.0; D * mesh.num_vertices()];
+    body_force_load_components::<D, D>(mesh, f)
+}
+
+/// [`body_force_load`] for a field of `C` components per vertex (`C = 1`: a scalar field,
+/// e.g. the antiplane body force density in N/m³); node-major, length `C · num_vertices`.
+///
+/// # Errors
+/// [`Error::NonFiniteValue`] if `f` returns a non-finite value.
+pub fn body_force_load_components<const D: usize, const C: usize>(
+    mesh: &SimplexMesh<D>,
+    f: impl Fn(&[f64; D]) -> [f64; C],
+) -> Result<Vec<f64>> {
+    let mut out = vec![0.0; C * mesh.num_vertices()];
     let q = simplex_quadrature(D);
     for c in 0..mesh.num_cells() {
         let x = mesh.cell_coords(c);
@@ -81,9 +93,25 @@ pub fn traction_load<const D: usize, P: AsRef<BoundaryPart<D>> + ?Sized>(
     part: &P,
     g: impl Fn(&[f64; D]) -> [f64; D],
 ) -> Result<Vec<f64>> {
+    traction_load_components::<D, D, P>(mesh, part, g)
+}
+
+/// [`traction_load`] for a field of `C` components per vertex (`C = 1`: a scalar field,
+/// e.g. the antiplane shear traction in Pa); node-major, length `C · num_vertices`.
+///
+/// # Errors
+/// As [`traction_load`].
+pub fn traction_load_components<const D: usize, const C: usize, P>(
+    mesh: &SimplexMesh<D>,
+    part: &P,
+    g: impl Fn(&[f64; D]) -> [f64; C],
+) -> Result<Vec<f64>>
+where
+    P: AsRef<BoundaryPart<D>> + ?Sized,
+{
     let part = part.as_ref();
     part.check_mesh(mesh)?;
-    let mut out = vec![0.0; D * mesh.num_vertices()];
+    let mut out = vec![0.0; C * mesh.num_vertices()];
     let q = simplex_quadrature(D - 1);
     let v = mesh.vertices();
     for &f in part.facets() {

@@ -67,7 +67,10 @@ pub use method::solver::{
 };
 pub use method::state_integrator::StateIntegrator;
 pub use method::{Method, MethodOptions};
-pub use model::builder::{FacetPredicate, Material, ModelBuilder, Part, MAX_CELLS};
+pub use model::builder::{
+    AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
+    MAX_CELLS,
+};
 pub use model::fault::FrictionalBoundary;
 pub use model::loading::{DirichletVelocity, TimeFunction};
 pub use model::{nearest_vertex, Model};
@@ -81,6 +84,7 @@ pub use observe::profile::{FrictionalProfile, ProfileRow};
 pub use observe::progress::Progress;
 pub use observe::recorder::{FaultRecorder, Recorder};
 pub use observe::series::{PointSeries, SeriesRow};
+pub use observe::seas::{SeasEvent, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 #[cfg(feature = "vtk")]
 pub use observe::vtu::VtuFrames;
 pub use observe::{Flow, Observer, StepView};
@@ -88,7 +92,7 @@ pub use problem::{NoState, Problem};
 pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
-pub use scenes::seas_bp1::{SeasBp1, SEAS_BP1_STATION_DEPTHS};
+pub use scenes::seas_bp1::{SeasBp1, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
 pub use scenes::slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,

@@ -10,16 +10,16 @@ use crate::model::Model;
 /// `model.frictional_boundary.nodes` order), a friction law `L` and a state law `S` (none if no
 /// friction law uses the state). Immutable once the simulation is built.
 #[derive(Debug, Clone)]
-pub struct Problem<const D: usize, L, S> {
-    model: Model<D>,
+pub struct Problem<const D: usize, L, S, const C: usize = D> {
+    model: Model<D, C>,
     friction_laws: Vec<L>,
     state_laws: Vec<S>,
     uses_state: bool,
 }
 
-impl<const D: usize, L: FrictionLaw, S: StateLaw> Problem<D, L, S> {
+impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, S, C> {
     /// The parts, checked by the simulation builder (`checks.rs`) before this is called.
-    pub(crate) fn new(model: Model<D>, friction_laws: Vec<L>, state_laws: Vec<S>) -> Self {
+    pub(crate) fn new(model: Model<D, C>, friction_laws: Vec<L>, state_laws: Vec<S>) -> Self {
         let uses_state = friction_laws.iter().any(FrictionLaw::uses_state);
         Self {
             model,
@@ -30,7 +30,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw> Problem<D, L, S> {
     }
 
     /// The model.
-    pub fn model(&self) -> &Model<D> {
+    pub fn model(&self) -> &Model<D, C> {
         &self.model
     }
 

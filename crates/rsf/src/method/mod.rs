@@ -40,25 +40,27 @@ const SOLVER_CACHE: usize = 8;
 /// A built method: the [`MethodOptions`] and what they need at run time — the velocity
 /// solver for the current τ (set-ups of earlier τ kept in a small cache, so that returning
 /// to a step size costs nothing) and the operator of the integrator's right-hand side.
-pub struct Method<const D: usize, I> {
+///
+/// `D` is the spatial dimension, `C` the components per node (see [`Model`]).
+pub struct Method<const D: usize, I, const C: usize = D> {
     options: MethodOptions<I>,
     /// The concrete solver ([`SolverKind::resolve`]).
     resolved: SolverKind,
     /// The stopping test of the inner solves.
     inner_stopping: Stopping,
-    solver: VelocitySolver<D>,
+    solver: VelocitySolver<C>,
     /// Solvers of earlier time steps, most recently used last.
-    solver_cache: Vec<(f64, VelocitySolver<D>)>,
+    solver_cache: Vec<(f64, VelocitySolver<C>)>,
     load_operator: LoadOperator,
 }
 
-impl<const D: usize, I: VelocityIntegrator> Method<D, I> {
+impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
     /// Builds the method for `model` at the time step `tau` (s).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` if the
     /// time-step matrix is not finite; set-up errors of the solver.
-    pub(crate) fn new(options: MethodOptions<I>, model: &Model<D>, tau: f64) -> Result<Self> {
+    pub(crate) fn new(options: MethodOptions<I>, model: &Model<D, C>, tau: f64) -> Result<Self> {
         let load_operator = LoadOperator::new(
             model
                 .mass
@@ -127,7 +129,7 @@ impl<const D: usize, I: VelocityIntegrator> Method<D, I> {
         self.inner_stopping
     }
 
-    pub(crate) fn solver_mut(&mut self) -> &mut VelocitySolver<D> {
+    pub(crate) fn solver_mut(&mut self) -> &mut VelocitySolver<C> {
         &mut self.solver
     }
 
@@ -141,7 +143,12 @@ impl<const D: usize, I: VelocityIntegrator> Method<D, I> {
     ///
     /// # Errors
     /// As [`new`](Self::new).
-    pub(crate) fn set_time_step(&mut self, model: &Model<D>, old_tau: f64, tau: f64) -> Result<()> {
+    pub(crate) fn set_time_step(
+        &mut self,
+        model: &Model<D, C>,
+        old_tau: f64,
+        tau: f64,
+    ) -> Result<()> {
         let solver = match self
             .solver_cache
             .iter()
@@ -169,8 +176,8 @@ impl<const D: usize, I: VelocityIntegrator> Method<D, I> {
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` for a
 /// non-finite entry.
-pub(crate) fn time_step_matrix<const D: usize, I: VelocityIntegrator>(
-    model: &Model<D>,
+pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegrator>(
+    model: &Model<D, C>,
     integrator: &I,
     tau: f64,
 ) -> Result<SparseMatrix> {
@@ -182,7 +189,7 @@ pub(crate) fn time_step_matrix<const D: usize, I: VelocityIntegrator>(
     .map_err(rsf_fem::Error::from)?;
     let eta = integrator.radiation_damping();
     if eta > 0.0 {
-        add_radiation_damping::<D>(&mut a, model, eta);
+        add_radiation_damping(&mut a, model, eta);
     }
     if let Some(x) = a.val().iter().find(|x| !x.is_finite()) {
         return Err(invalid(
@@ -198,7 +205,11 @@ pub(crate) fn time_step_matrix<const D: usize, I: VelocityIntegrator>(
 
 /// Adds `η w_p` to the diagonal of every component of each frictional node: the Hessian of
 /// the radiation damping term `Σ_p w_p η/2 |v_p|²`.
-fn add_radiation_damping<const D: usize>(a: &mut SparseMatrix, model: &Model<D>, eta: f64) {
+fn add_radiation_damping<const D: usize, const C: usize>(
+    a: &mut SparseMatrix,
+    model: &Model<D, C>,
+    eta: f64,
+) {
     let (sym, vals) = a.parts_mut();
     for (&p, &w) in model
         .frictional_boundary
@@ -206,8 +217,8 @@ fn add_radiation_damping<const D: usize>(a: &mut SparseMatrix, model: &Model<D>,
         .iter()
         .zip(&model.frictional_boundary.weights)
     {
-        for c in 0..D {
-            let j = D * p + c;
+        for c in 0..C {
+            let j = C * p + c;
             let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
             if let Ok(k) = sym.row_idx()[range.clone()].binary_search(&j) {
                 vals[range.start + k] += eta * w;

@@ -49,14 +49,14 @@ impl SolverKind {
     /// [`Direct`](Self::Direct) when the number of free components on Γ_F is at most
     /// [`AUTO_DIRECT_MAX_CONDENSED`] and `n · |F|` at most [`AUTO_DIRECT_MAX_EXTENSION`],
     /// else [`Tnnmg`](Self::Tnnmg) (or Direct if the model has no hierarchy).
-    pub fn resolve<const D: usize>(self, model: &Model<D>) -> SolverKind {
+    pub fn resolve<const D: usize, const C: usize>(self, model: &Model<D, C>) -> SolverKind {
         match self {
             SolverKind::Auto => {
                 let condensed = model
                     .frictional_boundary
                     .nodes
                     .iter()
-                    .flat_map(|&p| (0..D).map(move |c| D * p + c))
+                    .flat_map(|&p| (0..C).map(move |c| C * p + c))
                     .filter(|&i| !model.fixed[i])
                     .count();
                 let small = condensed <= AUTO_DIRECT_MAX_CONDENSED
@@ -129,26 +129,27 @@ impl SolverOptions {
 
 /// A built velocity solver of any concrete [`SolverKind`], dispatching statically inside
 /// each call.
-pub(crate) enum VelocitySolver<const D: usize> {
+/// `C` is the block size (components per node).
+pub(crate) enum VelocitySolver<const C: usize> {
     /// See [`SolverKind::Tnnmg`].
-    Tnnmg(Box<FullStep<D, Tnnmg<D>>>),
+    Tnnmg(Box<FullStep<C, Tnnmg<C>>>),
     /// See [`SolverKind::Direct`].
-    Direct(Box<DirectSolver<D>>),
+    Direct(Box<DirectSolver<C>>),
     /// See [`SolverKind::GaussSeidel`].
-    GaussSeidel(Box<FullStep<D, NonlinearGaussSeidel<D>>>),
+    GaussSeidel(Box<FullStep<C, NonlinearGaussSeidel<C>>>),
 }
 
-impl<const D: usize> VelocitySolver<D> {
+impl<const C: usize> VelocitySolver<C> {
     /// Builds the solver `kind` (resolved) for the matrix `a` of the velocity problem of
     /// `model`. Stopping norms are the model's energy norm.
     ///
     /// # Errors
     /// Set-up errors of the solvers.
-    pub fn new(
+    pub fn new<const D: usize>(
         kind: SolverKind,
         options: &SolverOptions,
         a: &SparseMatrix,
-        model: &Model<D>,
+        model: &Model<D, C>,
     ) -> Result<Self> {
         let e = model.energy_norm.as_ref();
         Ok(match kind.resolve(model) {
@@ -189,12 +190,12 @@ impl<const D: usize> VelocitySolver<D> {
     ///
     /// # Errors
     /// Set-up errors of the solvers.
-    pub fn for_matrix(
+    pub fn for_matrix<const D: usize>(
         &self,
         kind: SolverKind,
         options: &SolverOptions,
         a: &SparseMatrix,
-        model: &Model<D>,
+        model: &Model<D, C>,
     ) -> Result<Self> {
         match self {
             VelocitySolver::Direct(d) => {
@@ -215,7 +216,7 @@ macro_rules! dispatch {
     };
 }
 
-impl<const D: usize> StepSolver<D> for VelocitySolver<D> {
+impl<const C: usize> StepSolver<C> for VelocitySolver<C> {
     fn name(&self) -> &'static str {
         dispatch!(self, s => StepSolver::name(s.as_ref()))
     }
@@ -225,14 +226,14 @@ impl<const D: usize> StepSolver<D> for VelocitySolver<D> {
     fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
         dispatch!(self, s => s.begin_step(b, v, active))
     }
-    fn solve_step<N: BlockNonlinearity<D>>(
+    fn solve_step<N: BlockNonlinearity<C>>(
         &mut self,
         nl: &N,
         stopping: Stopping,
     ) -> Result<SolveReport> {
         dispatch!(self, s => s.solve_step(nl, stopping))
     }
-    fn block(&self, k: usize) -> [f64; D] {
+    fn block(&self, k: usize) -> [f64; C] {
         dispatch!(self, s => s.block(k))
     }
     fn last_change(&self) -> f64 {

@@ -1,8 +1,9 @@
 //! Building a [`Model`] from a mesh, a material and named boundary parts.
 
 use rsf_fem::{
-    body_force_load, traction_load, Assembler, BoundaryPart, ConstrainedSystem, LinearElasticity,
-    MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
+    body_force_load_components, combine, traction_load_components, vectorize, Assembler,
+    BoundaryPart, ConstrainedSystem, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh,
+    SparseMatrix,
 };
 
 use super::fault::FrictionalBoundary;
@@ -44,8 +45,112 @@ impl Material {
     }
 }
 
-/// A force density or traction as a function of position.
-type VectorField<const D: usize> = Box<dyn Fn(&[f64; D]) -> [f64; D]>;
+/// The matrices a [`Medium`] assembles on a mesh.
+#[derive(Debug, Clone)]
+pub struct MediumMatrices {
+    /// Stiffness `K` (`n × n`, `n = C · vertices`, node-major).
+    pub stiffness: SparseMatrix,
+    /// Mass `M` on the pattern of `K`, if asked for.
+    pub mass: Option<SparseMatrix>,
+    /// The energy-norm matrix: `K + M` with mass, `K` without.
+    pub energy_norm: SparseMatrix,
+}
+
+/// What the body is made of, for a field of `C` components per vertex on a `D`-dimensional
+/// mesh: the seam between [`ModelBuilder`] and the constitutive law. [`Material`]
+/// (isotropic elasticity, `C = D`) and [`AntiplaneMaterial`] (`C = 1`) implement it; a user's
+/// own medium (anisotropic, graded) implements [`assemble`](Self::assemble) with
+/// [`rsf_fem::Assembler`].
+pub trait Medium<const D: usize, const C: usize> {
+    /// Density ρ (kg/m³; kg/m² per unit thickness in 2D) for gravity's body force `ρ g`.
+    fn density(&self) -> f64;
+
+    /// Stiffness, mass (if `with_mass`) and energy norm on `mesh`, all on one pattern.
+    ///
+    /// # Errors
+    /// Invalid material constants; assembly errors.
+    fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices>;
+}
+
+impl<const D: usize> Medium<D, D> for Material {
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
+        let elasticity = self.elasticity()?;
+        let assembler = Assembler::new(mesh)?;
+        let stiffness = assembler.stiffness(mesh, &elasticity)?;
+        let (mass, energy_norm) = if with_mass {
+            (
+                Some(assembler.mass(mesh, self.density)?),
+                assembler.energy(mesh, self.density, &elasticity)?,
+            )
+        } else {
+            (None, stiffness.clone())
+        };
+        Ok(MediumMatrices {
+            stiffness,
+            mass,
+            energy_norm,
+        })
+    }
+}
+
+/// A medium for a scalar field `u` (one component per vertex) with energy `½∫μ|∇u|²`: the
+/// antiplane (mode III) displacement of an isotropic elastic body in the plane of a 2-D
+/// mesh, `u` the displacement out of that plane (SI units; per unit length out of the
+/// plane). Stiffness `K_ij = ∫μ∇φ_i·∇φ_j`, mass `∫ρφ_iφ_j`
+/// ([`rsf_fem::Assembler::laplace`]). Used by the SCEC SEAS benchmark BP1 (docs/seas-bp1.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AntiplaneMaterial {
+    /// Shear modulus μ (Pa), finite and > 0.
+    pub shear_modulus: f64,
+    /// Density ρ (kg/m³), finite and > 0.
+    pub density: f64,
+}
+
+impl AntiplaneMaterial {
+    /// Shear modulus μ (Pa) and density ρ (kg/m³).
+    pub const fn new(shear_modulus: f64, density: f64) -> Self {
+        Self {
+            shear_modulus,
+            density,
+        }
+    }
+
+    /// The shear wave speed `c_s = √(μ/ρ)` (m/s).
+    pub fn shear_wave_speed(&self) -> f64 {
+        (self.shear_modulus / self.density).sqrt()
+    }
+}
+
+impl<const D: usize> Medium<D, 1> for AntiplaneMaterial {
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
+        let assembler = Assembler::scalar(mesh)?;
+        let stiffness = assembler.laplace(mesh, self.shear_modulus)?;
+        let (mass, energy_norm) = if with_mass {
+            let m = assembler.mass(mesh, self.density)?;
+            let e = combine(1.0, &m, 1.0, &stiffness).map_err(rsf_fem::Error::from)?;
+            (Some(m), e)
+        } else {
+            (None, stiffness.clone())
+        };
+        Ok(MediumMatrices {
+            stiffness,
+            mass,
+            energy_norm,
+        })
+    }
+}
+
+/// A force density or traction (`C` components) as a function of position.
+type VectorField<const D: usize, const C: usize> = Box<dyn Fn(&[f64; D]) -> [f64; C]>;
 
 /// A selection of boundary facets by their midpoint.
 pub type FacetPredicate<const D: usize> = Box<dyn Fn(&[f64; D]) -> bool>;
@@ -139,10 +244,10 @@ fn part_error(part: &str, reason: impl Into<String>) -> Error {
 }
 
 /// A Dirichlet part: the listed components of its nodes move with `velocity · g(t)`.
-struct Dirichlet<const D: usize> {
+struct Dirichlet<const D: usize, const C: usize> {
     part: Part<D>,
     components: Vec<usize>,
-    velocity: [f64; D],
+    velocity: [f64; C],
 }
 
 /// Largest number of cells [`ModelBuilder::refined`] creates (the paper's slider at level 10
@@ -207,18 +312,24 @@ const DEGENERATE_FACET: f64 = 1e-12;
 /// assert_eq!(model.prolongations.len(), 2);
 /// # Ok::<(), rsf::Error>(())
 /// ```
-pub struct ModelBuilder<const D: usize> {
+///
+/// `ModelBuilder<D>` builds vector (elasticity) models, `C = D`; `ModelBuilder<D, 1>`
+/// ([`scalar`](ModelBuilder::scalar), [`scalar_refined`](ModelBuilder::scalar_refined))
+/// builds scalar ones, e.g. antiplane shear with an [`AntiplaneMaterial`], where the one
+/// component is tangential to every in-plane fault (no normal to fix, no frames).
+pub struct ModelBuilder<const D: usize, const C: usize = D> {
     hierarchy: MeshHierarchy<D>,
-    material: Option<Material>,
+    material: Option<Box<dyn Medium<D, C>>>,
     gravity: Option<[f64; D]>,
-    body_force: Option<VectorField<D>>,
-    dirichlet: Vec<Dirichlet<D>>,
-    neumann: Vec<(Part<D>, VectorField<D>)>,
+    body_force: Option<VectorField<D, C>>,
+    dirichlet: Vec<Dirichlet<D, C>>,
+    neumann: Vec<(Part<D>, VectorField<D, C>)>,
     frictional_boundary: Option<Part<D>>,
     loading: TimeFunction,
     with_mass: bool,
     max_kink_degrees: f64,
     fault_tangent: Option<[f64; D]>,
+    slip_factor: f64,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -229,6 +340,81 @@ impl<const D: usize> ModelBuilder<D> {
 
     /// A model on the finest level of `hierarchy`, with its prolongations for TNNMG.
     pub fn from_hierarchy(hierarchy: MeshHierarchy<D>) -> Self {
+        Self::with_components(hierarchy)
+    }
+
+    /// A model on `coarse` refined `levels` times uniformly (red refinement: `2^D`
+    /// children per cell and level).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `levels` if the finest mesh would have more than
+    /// [`MAX_CELLS`] cells; refinement errors of [`MeshHierarchy::try_refine_uniformly`].
+    pub fn refined(coarse: SimplexMesh<D>, levels: usize) -> Result<Self> {
+        Ok(Self::from_hierarchy(refined_hierarchy(coarse, levels)?))
+    }
+
+    /// Gravitational acceleration `g` (m/s²): body force density `ρ g`.
+    pub fn gravity(mut self, g: [f64; D]) -> Self {
+        self.gravity = Some(g);
+        self
+    }
+
+    /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
+    /// slanted fault nodes: its projection onto each node's tangent plane (as PyLith's
+    /// `ref_dir`; e.g. the loading direction), falling back to the coordinate axis with the
+    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal. No effect in
+    /// 1-D and 2-D (there `t = (−n_y, n_x)`).
+    pub fn fault_tangent(mut self, direction: [f64; D]) -> Self {
+        self.fault_tangent = Some(direction);
+        self
+    }
+}
+
+impl<const D: usize> ModelBuilder<D, 1> {
+    /// A scalar-field model (one component per vertex, e.g. antiplane shear with an
+    /// [`AntiplaneMaterial`]) on one mesh (the direct solver).
+    pub fn scalar(mesh: SimplexMesh<D>) -> Self {
+        Self::scalar_from_hierarchy(MeshHierarchy::refine_uniformly(mesh, 0))
+    }
+
+    /// A scalar-field model on the finest level of `hierarchy`, with its prolongations.
+    pub fn scalar_from_hierarchy(hierarchy: MeshHierarchy<D>) -> Self {
+        Self::with_components(hierarchy)
+    }
+
+    /// A scalar-field model on `coarse` refined `levels` times uniformly.
+    ///
+    /// # Errors
+    /// As [`ModelBuilder::refined`].
+    pub fn scalar_refined(coarse: SimplexMesh<D>, levels: usize) -> Result<Self> {
+        Ok(Self::scalar_from_hierarchy(refined_hierarchy(
+            coarse, levels,
+        )?))
+    }
+}
+
+/// `coarse` refined `levels` times, refusing more than [`MAX_CELLS`] cells.
+fn refined_hierarchy<const D: usize>(
+    coarse: SimplexMesh<D>,
+    levels: usize,
+) -> Result<MeshHierarchy<D>> {
+    let cells = (0..levels).try_fold(coarse.num_cells(), |c, _| {
+        c.checked_mul(1 << D).filter(|&c| c <= MAX_CELLS)
+    });
+    if cells.is_none() {
+        return Err(invalid(
+            "levels",
+            format!(
+                "{levels} refinements of {} cells exceed {MAX_CELLS} cells",
+                coarse.num_cells()
+            ),
+        ));
+    }
+    Ok(MeshHierarchy::try_refine_uniformly(coarse, levels)?)
+}
+
+impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    fn with_components(hierarchy: MeshHierarchy<D>) -> Self {
         Self {
             hierarchy,
             material: None,
@@ -241,31 +427,8 @@ impl<const D: usize> ModelBuilder<D> {
             with_mass: true,
             max_kink_degrees: DEFAULT_MAX_FAULT_KINK_DEGREES,
             fault_tangent: None,
+            slip_factor: 1.0,
         }
-    }
-
-    /// A model on `coarse` refined `levels` times uniformly (red refinement: `2^D`
-    /// children per cell and level).
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] named `levels` if the finest mesh would have more than
-    /// [`MAX_CELLS`] cells; refinement errors of [`MeshHierarchy::try_refine_uniformly`].
-    pub fn refined(coarse: SimplexMesh<D>, levels: usize) -> Result<Self> {
-        let cells = (0..levels).try_fold(coarse.num_cells(), |c, _| {
-            c.checked_mul(1 << D).filter(|&c| c <= MAX_CELLS)
-        });
-        if cells.is_none() {
-            return Err(invalid(
-                "levels",
-                format!(
-                    "{levels} refinements of {} cells exceed {MAX_CELLS} cells",
-                    coarse.num_cells()
-                ),
-            ));
-        }
-        Ok(Self::from_hierarchy(MeshHierarchy::try_refine_uniformly(
-            coarse, levels,
-        )?))
     }
 
     /// The finest mesh (where parts are selected).
@@ -273,28 +436,23 @@ impl<const D: usize> ModelBuilder<D> {
         self.hierarchy.finest()
     }
 
-    /// The material (required).
-    pub fn material(mut self, material: Material) -> Self {
-        self.material = Some(material);
-        self
-    }
-
-    /// Gravitational acceleration `g` (m/s²): body force density `ρ g`.
-    pub fn gravity(mut self, g: [f64; D]) -> Self {
-        self.gravity = Some(g);
+    /// The material (required): a [`Material`] for elasticity (`C = D`), an
+    /// [`AntiplaneMaterial`] for a scalar field (`C = 1`), or a user's [`Medium`].
+    pub fn material(mut self, material: impl Medium<D, C> + 'static) -> Self {
+        self.material = Some(Box::new(material));
         self
     }
 
     /// A body force density `f(x)` (N/m³; N/m² per unit thickness in 2D), added to gravity.
-    pub fn body_force(mut self, f: impl Fn(&[f64; D]) -> [f64; D] + 'static) -> Self {
+    pub fn body_force(mut self, f: impl Fn(&[f64; D]) -> [f64; C] + 'static) -> Self {
         self.body_force = Some(Box::new(f));
         self
     }
 
     /// A Dirichlet part whose nodes move with velocity `velocity · g(t)` (m/s; `g` the
-    /// [`loading`](Self::loading) history), all components fixed. `[0.0; D]` clamps.
-    pub fn dirichlet(self, part: impl Into<Part<D>>, velocity: [f64; D]) -> Self {
-        self.dirichlet_components(part, &(0..D).collect::<Vec<_>>(), velocity)
+    /// [`loading`](Self::loading) history), all components fixed. `[0.0; C]` clamps.
+    pub fn dirichlet(self, part: impl Into<Part<D>>, velocity: [f64; C]) -> Self {
+        self.dirichlet_components(part, &(0..C).collect::<Vec<_>>(), velocity)
     }
 
     /// A Dirichlet part fixing only the listed components (e.g. a roller: the normal
@@ -303,7 +461,7 @@ impl<const D: usize> ModelBuilder<D> {
         mut self,
         part: impl Into<Part<D>>,
         components: &[usize],
-        velocity: [f64; D],
+        velocity: [f64; C],
     ) -> Self {
         self.dirichlet.push(Dirichlet {
             part: part.into(),
@@ -318,16 +476,31 @@ impl<const D: usize> ModelBuilder<D> {
     pub fn neumann(
         mut self,
         part: impl Into<Part<D>>,
-        traction: impl Fn(&[f64; D]) -> [f64; D] + 'static,
+        traction: impl Fn(&[f64; D]) -> [f64; C] + 'static,
     ) -> Self {
         self.neumann.push((part.into(), Box::new(traction)));
         self
     }
 
     /// The frictional boundary Γ_F (required), with bilateral contact: the normal
-    /// velocity component of its nodes is fixed.
+    /// velocity component of its nodes is fixed (vector fields; a scalar field's one
+    /// component is tangential).
     pub fn frictional_boundary(mut self, part: impl Into<Part<D>>) -> Self {
         self.frictional_boundary = Some(part.into());
+        self
+    }
+
+    /// Γ_F is a plane of antisymmetry with slip `δ = s·u` (`s = 2`: a fault between two
+    /// halves moving oppositely, of which the model is one; default `s = 1`, a body on a
+    /// rigid surface). The model's unknown becomes `ũ = s·u` everywhere, so that every
+    /// block on Γ_F is the slip (and its norm the slip rate) for friction, state, observers
+    /// and outputs: `K̃ = K/s²`, `M̃ = M/s²`, `F̃ = F/s`, weights `w̃ = w/s`, prescribed
+    /// velocities `s·v` (they are given for `u`, as usual). With these, the energy, the
+    /// friction functional `Σ w̃ ϕ(|ṽ|)` and the radiation damping `Σ w̃ η/2 |ṽ|²` are
+    /// those of the half model in `u` (docs/seas-bp1.md);
+    /// [`FrictionalBoundary::slip_factor`](crate::FrictionalBoundary::slip_factor) keeps `s`.
+    pub fn antisymmetric_fault(mut self, slip_factor: f64) -> Self {
+        self.slip_factor = slip_factor;
         self
     }
 
@@ -343,16 +516,6 @@ impl<const D: usize> ModelBuilder<D> {
     /// ([`Error::FaultCorner`]), where no nodal frame is well defined.
     pub fn max_fault_kink(mut self, degrees: f64) -> Self {
         self.max_kink_degrees = degrees;
-        self
-    }
-
-    /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
-    /// slanted fault nodes: its projection onto each node's tangent plane (as PyLith's
-    /// `ref_dir`; e.g. the loading direction), falling back to the coordinate axis with the
-    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal. No effect in
-    /// 1-D and 2-D (there `t = (−n_y, n_x)`).
-    pub fn fault_tangent(mut self, direction: [f64; D]) -> Self {
-        self.fault_tangent = Some(direction);
         self
     }
 
@@ -374,13 +537,21 @@ impl<const D: usize> ModelBuilder<D> {
     /// `max_fault_kink` or `fault_tangent` out of range;
     /// [`Error::Equilibrium`] if `K u₀ = F` is singular under the constraints; material
     /// and assembly errors ([`Error::Fem`]), e.g. a non-finite force or traction.
-    pub fn build(self) -> Result<Model<D>> {
+    pub fn build(self) -> Result<Model<D, C>> {
+        const { assert!(C == D || C == 1, "vector (C = D) or scalar (C = 1) fields") };
         let mesh = self.hierarchy.finest();
-        let n = D * mesh.num_vertices();
+        let n = C * mesh.num_vertices();
         let material = self
             .material
+            .as_ref()
             .ok_or_else(|| invalid("material", "not set"))?;
-        let elasticity = material.elasticity()?;
+        let s = self.slip_factor;
+        if !(s.is_finite() && s > 0.0) {
+            return Err(invalid(
+                "slip_factor",
+                format!("{s} must be finite and positive"),
+            ));
+        }
         let fpart = self.frictional_boundary.as_ref().ok_or_else(|| {
             invalid(
                 "frictional_boundary",
@@ -399,11 +570,11 @@ impl<const D: usize> ModelBuilder<D> {
         let mut velocity: Vec<Option<f64>> = vec![None; n];
         for d in &self.dirichlet {
             let name = d.part.name();
-            if d.components.is_empty() || d.components.iter().any(|&c| c >= D) {
+            if d.components.is_empty() || d.components.iter().any(|&c| c >= C) {
                 return Err(invalid(
                     "dirichlet",
                     format!(
-                        "part `{name}`: components {:?} must be in 0..{D}",
+                        "part `{name}`: components {:?} must be in 0..{C}",
                         d.components
                     ),
                 ));
@@ -417,7 +588,7 @@ impl<const D: usize> ModelBuilder<D> {
             let part = d.part.resolve(mesh)?;
             for &p in part.nodes() {
                 for &c in &d.components {
-                    let i = D * p + c;
+                    let i = C * p + c;
                     let w = d.velocity[c];
                     match velocity[i] {
                         Some(old) if old != w => {
@@ -436,23 +607,31 @@ impl<const D: usize> ModelBuilder<D> {
             }
         }
         let gamma_f = fpart.resolve(mesh)?;
-        let frames = self.fault_frames(mesh, &gamma_f, fpart.name())?;
-        for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
-            if let Some(c) = normal_axis(nrm) {
-                fixed[D * p + c] = true;
+        // A vector field slides tangentially (normal component fixed, nodal frames on
+        // slanted nodes); a scalar field's one component is tangential to any in-plane Γ_F.
+        let frames: NodalFrames<C> = if C == D {
+            same_block_size(self.fault_frames(mesh, &gamma_f, fpart.name())?)
+        } else {
+            NodalFrames::default()
+        };
+        if C == D {
+            for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
+                if let Some(c) = normal_axis(nrm) {
+                    fixed[C * p + c] = true;
+                }
             }
         }
         for (&p, q) in frames.nodes.iter().zip(&frames.rotations) {
-            let dofs = D * p..D * p + D;
+            let dofs = C * p..C * p + C;
             match fixed[dofs.clone()].iter().filter(|&&f| f).count() {
                 // Bilateral contact: the normal component in the frame.
-                0 => fixed[D * p + D - 1] = true,
+                0 => fixed[C * p + C - 1] = true,
                 // A Dirichlet node on the slanted fault: its prescribed velocity in the frame.
-                k if k == D => {
+                k if k == C => {
                     let w: Vec<f64> = dofs.map(|i| velocity[i].unwrap_or(0.0)).collect();
-                    for c in 0..D {
-                        let wc: f64 = (0..D).map(|r| q[r][c] * w[r]).sum();
-                        velocity[D * p + c] = Some(wc);
+                    for c in 0..C {
+                        let wc: f64 = (0..C).map(|r| q[r][c] * w[r]).sum();
+                        velocity[C * p + c] = Some(wc);
                     }
                 }
                 _ => {
@@ -471,41 +650,52 @@ impl<const D: usize> ModelBuilder<D> {
         let (dofs, factors): (Vec<usize>, Vec<f64>) = velocity
             .iter()
             .enumerate()
-            .filter_map(|(i, w)| w.filter(|w| *w != 0.0).map(|w| (i, w)))
+            .filter_map(|(i, w)| w.filter(|w| *w != 0.0).map(|w| (i, s * w)))
             .unzip();
 
         // Matrices.
-        let assembler = Assembler::new(mesh)?;
-        let stiffness = assembler.stiffness(mesh, &elasticity)?;
-        let (mass, energy_norm) = if self.with_mass {
-            (
-                Some(assembler.mass(mesh, material.density)?),
-                assembler.energy(mesh, material.density, &elasticity)?,
-            )
-        } else {
-            (None, stiffness.clone())
-        };
+        let MediumMatrices {
+            stiffness,
+            mass,
+            energy_norm,
+        } = material.assemble(mesh, self.with_mass)?;
 
-        // Loads.
-        let rho = material.density;
+        // Loads (gravity only for vector fields: its setter needs C = D).
+        let rho = material.density();
+        let gravity = |g: [f64; D]| -> [f64; C] { std::array::from_fn(|c| rho * g[c]) };
         let mut load = match (self.gravity, &self.body_force) {
             (None, None) => vec![0.0; n],
-            (Some(g), None) => body_force_load(mesh, |_| g.map(|gc| rho * gc))?,
-            (None, Some(f)) => body_force_load(mesh, f)?,
-            (Some(g), Some(f)) => body_force_load(mesh, |x| {
+            (Some(g), None) => body_force_load_components(mesh, |_| gravity(g))?,
+            (None, Some(f)) => body_force_load_components(mesh, f)?,
+            (Some(g), Some(f)) => body_force_load_components(mesh, |x| {
                 let mut v = f(x);
-                for (vc, gc) in v.iter_mut().zip(g) {
-                    *vc += rho * gc;
+                for (vc, gc) in v.iter_mut().zip(gravity(g)) {
+                    *vc += gc;
                 }
                 v
             })?,
         };
         for (part, traction) in &self.neumann {
-            let t = traction_load(mesh, &part.resolve(mesh)?, traction)?;
+            let t = traction_load_components(mesh, &part.resolve(mesh)?, traction)?;
             for (l, ti) in load.iter_mut().zip(t) {
                 *l += ti;
             }
         }
+        // An antisymmetric fault: the unknown is s·u (K/s², M/s², F/s, w/s).
+        let (mass, stiffness, energy_norm) = if s == 1.0 {
+            (mass, stiffness, energy_norm)
+        } else {
+            let k = 1.0 / (s * s);
+            let scaled = |a: &SparseMatrix| combine(0.0, a, k, a).map_err(rsf_fem::Error::from);
+            for l in &mut load {
+                *l /= s;
+            }
+            (
+                mass.as_ref().map(scaled).transpose()?,
+                scaled(&stiffness)?,
+                scaled(&energy_norm)?,
+            )
+        };
 
         // Slanted fault nodes: everything in the nodal frames (identity elsewhere).
         let (mass, stiffness, energy_norm) = if frames.nodes.is_empty() {
@@ -523,7 +713,12 @@ impl<const D: usize> ModelBuilder<D> {
         };
 
         // Γ_F in increasing node order; `along` by coordinates (lexicographic).
-        let weights = gamma_f.weights(mesh)?;
+        let mut weights = gamma_f.weights(mesh)?;
+        if s != 1.0 {
+            for w in &mut weights {
+                *w /= s;
+            }
+        }
         let vertices = mesh.vertices();
         let mut order: Vec<usize> = (0..gamma_f.num_nodes()).collect();
         order.sort_by(|&a, &b| {
@@ -536,7 +731,8 @@ impl<const D: usize> ModelBuilder<D> {
         });
         let nodes_along: Vec<usize> = order.iter().map(|&k| gamma_f.nodes()[k]).collect();
         let weights_along: Vec<f64> = order.iter().map(|&k| weights[k]).collect();
-        let frictional_boundary = FrictionalBoundary::new(&nodes_along, &weights_along)?;
+        let frictional_boundary =
+            FrictionalBoundary::new(&nodes_along, &weights_along)?.with_slip_factor(s)?;
 
         // Initial equilibrium.
         let mut u0 = vec![0.0; n];
@@ -548,7 +744,11 @@ impl<const D: usize> ModelBuilder<D> {
             })?;
 
         let mut prolongations: Vec<_> = (1..self.hierarchy.num_levels())
-            .map(|j| self.hierarchy.vector_prolongation(j).clone())
+            .map(|j| match C {
+                1 => self.hierarchy.prolongation(j).clone(),
+                _ if C == D => self.hierarchy.vector_prolongation(j).clone(),
+                _ => vectorize::<C>(self.hierarchy.prolongation(j)),
+            })
             .collect();
         if let Some(p) = prolongations
             .last_mut()
@@ -580,7 +780,23 @@ impl<const D: usize> ModelBuilder<D> {
     }
 }
 
-impl<const D: usize> ModelBuilder<D> {
+/// `frames` as frames of `C`-component blocks, for `C = D` (where they are the same type).
+///
+/// # Panics
+/// If `C ≠ D` and there are frames (internal invariant: only vector fields have frames).
+fn same_block_size<const D: usize, const C: usize>(frames: NodalFrames<D>) -> NodalFrames<C> {
+    assert!(C == D || frames.nodes.is_empty(), "frames need C = D");
+    NodalFrames {
+        nodes: frames.nodes,
+        rotations: frames
+            .rotations
+            .into_iter()
+            .map(|q| std::array::from_fn(|r| std::array::from_fn(|c| q[r][c])))
+            .collect(),
+    }
+}
+
+impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// The nodal frames of the slanted nodes of Γ_F (normal not along a coordinate axis),
     /// in increasing node order; checks corners and degenerate facets at every node.
     fn fault_frames(

@@ -12,6 +12,14 @@ pub struct FrictionalBoundary {
     pub weights: Vec<f64>,
     /// Positions into `nodes` ordered along the boundary (for profiles and plots).
     pub along: Vec<usize>,
+    /// Slip per unit of the model's field on Γ_F, `s` (default 1: a body sliding on a
+    /// rigid surface). `2` when Γ_F is a plane of antisymmetry (a fault between two halves
+    /// moving oppositely, slip `δ = 2u`): the builder's
+    /// [`antisymmetric_fault`](crate::ModelBuilder::antisymmetric_fault) then scales the
+    /// model's unknown to `s·u`, so that every block on Γ_F *is* the slip and its norm the
+    /// slip rate (docs/seas-bp1.md); divide the model's field by `s` for the displacement
+    /// of the half that is modelled.
+    pub slip_factor: f64,
 }
 
 impl FrictionalBoundary {
@@ -54,7 +62,24 @@ impl FrictionalBoundary {
             nodes,
             weights,
             along,
+            slip_factor: 1.0,
         })
+    }
+
+    /// The same boundary with slip factor `s` (see [`slip_factor`](Self::slip_factor)).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `slip_factor`
+    /// unless `s` is finite and positive.
+    pub fn with_slip_factor(mut self, s: f64) -> Result<Self> {
+        if !(s.is_finite() && s > 0.0) {
+            return Err(invalid(
+                "slip_factor",
+                format!("{s} must be finite and positive"),
+            ));
+        }
+        self.slip_factor = s;
+        Ok(self)
     }
 
     /// Number of frictional nodes.

@@ -17,7 +17,12 @@ use crate::error::{invalid, Error, Result};
 /// An assembled model: matrices, loads, constraints, hierarchy and frictional boundary,
 /// independent of the friction law, state law, time integrator and solver.
 ///
-/// Vectors are node-major with `D` components per node (`n = D · nodes`), in Cartesian
+/// `D` is the spatial dimension (vertex coordinates), `C` the number of components of the
+/// unknown field per node (default `C = D`: displacement and velocity vectors; `C = 1`: a
+/// scalar field such as the antiplane displacement, see
+/// [`AntiplaneMaterial`](crate::AntiplaneMaterial)).
+///
+/// Vectors are node-major with `C` components per node (`n = C · nodes`), in Cartesian
 /// components except at the nodes of [`frames`](Self::frames) (slanted fault nodes), whose
 /// blocks are in their nodal frame (tangential…, normal): "model coordinates", what the
 /// solvers, the simulation state and checkpoints hold. [`Model::to_global`] and
@@ -47,7 +52,7 @@ use crate::error::{invalid, Error, Result};
 /// # Ok::<(), rsf::Error>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct Model<const D: usize> {
+pub struct Model<const D: usize, const C: usize = D> {
     /// Node coordinates (m) of the finest mesh (or of the lumped points).
     pub vertices: Vec<[f64; D]>,
     /// Mass matrix `M` (kg per unit thickness in 2D); `None` for quasistatic scenes.
@@ -76,10 +81,10 @@ pub struct Model<const D: usize> {
     /// axis), nodes in increasing order; empty for axis-aligned faults (docs/math.md §10).
     /// The model's matrices, load, `u₀`, Dirichlet data and finest prolongation are
     /// expressed in these frames (`Rᵀ A R`, `Rᵀ F`, `Rᵀ P`).
-    pub frames: NodalFrames<D>,
+    pub frames: NodalFrames<C>,
 }
 
-impl<const D: usize> Model<D> {
+impl<const D: usize, const C: usize> Model<D, C> {
     /// Number of dofs.
     pub fn num_dofs(&self) -> usize {
         self.load.len()
@@ -102,7 +107,7 @@ impl<const D: usize> Model<D> {
 
     /// The nodal frame `Q_p` of node `p` (row-major; columns = tangents, inward normal), if
     /// it has one.
-    pub fn frame(&self, p: usize) -> Option<&[[f64; D]; D]> {
+    pub fn frame(&self, p: usize) -> Option<&[[f64; C]; C]> {
         self.frames
             .nodes
             .binary_search(&p)
@@ -112,18 +117,18 @@ impl<const D: usize> Model<D> {
 
     /// Node `p`'s block `x` in model coordinates → Cartesian: `Q_p x` at a frame node,
     /// `x` elsewhere.
-    pub fn to_global(&self, p: usize, x: [f64; D]) -> [f64; D] {
+    pub fn to_global(&self, p: usize, x: [f64; C]) -> [f64; C] {
         match self.frame(p) {
             None => x,
-            Some(q) => std::array::from_fn(|r| (0..D).map(|c| q[r][c] * x[c]).sum()),
+            Some(q) => std::array::from_fn(|r| (0..C).map(|c| q[r][c] * x[c]).sum()),
         }
     }
 
     /// Node `p`'s Cartesian block `x` → model coordinates: `Q_pᵀ x` at a frame node.
-    pub fn to_model(&self, p: usize, x: [f64; D]) -> [f64; D] {
+    pub fn to_model(&self, p: usize, x: [f64; C]) -> [f64; C] {
         match self.frame(p) {
             None => x,
-            Some(q) => std::array::from_fn(|c| (0..D).map(|r| q[r][c] * x[r]).sum()),
+            Some(q) => std::array::from_fn(|c| (0..C).map(|r| q[r][c] * x[r]).sum()),
         }
     }
 
@@ -153,14 +158,14 @@ impl<const D: usize> Model<D> {
 
     /// Checks the shapes of all parts against each other, the Dirichlet data, and that
     /// every frictional node has a fixed component (the normal velocity under bilateral
-    /// contact; `D ≥ 2`).
+    /// contact; vector fields, `C = D ≥ 2`).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the mismatch; [`Error::NodeOutOfRange`] for a
     /// frictional node outside the mesh; [`Error::FreeNormal`] for a frictional node
     /// without a fixed component.
     pub fn validate(&self) -> Result<()> {
-        let n = D * self.vertices.len();
+        let n = C * self.vertices.len();
         let sq = |name: &str, m: &SparseMatrix| {
             if m.nrows() != n || m.ncols() != n {
                 Err(invalid(
@@ -222,13 +227,14 @@ impl<const D: usize> Model<D> {
             ));
         }
         // Bilateral contact: the friction acts on the whole block v_p, so the normal
-        // component must be fixed (docs/math.md §3); in 1D there is no normal.
-        if D >= 2 {
+        // component must be fixed (docs/math.md §3); in 1D there is no normal, and a scalar
+        // (antiplane) field has only its tangential component.
+        if C == D && D >= 2 {
             if let Some(&p) = self
                 .frictional_boundary
                 .nodes
                 .iter()
-                .find(|&&p| (0..D).all(|c| !self.fixed[D * p + c]))
+                .find(|&&p| (0..C).all(|c| !self.fixed[C * p + c]))
             {
                 return Err(Error::FreeNormal { node: p });
             }
@@ -252,7 +258,7 @@ impl<const D: usize> Model<D> {
     }
 }
 
-impl<const D: usize> Model<D> {
+impl<const D: usize, const C: usize> Model<D, C> {
     fn validate_frames(&self) -> Result<()> {
         let f = &self.frames;
         if f.nodes.len() != f.rotations.len()
@@ -266,10 +272,10 @@ impl<const D: usize> Model<D> {
         }
         for (&p, q) in f.nodes.iter().zip(&f.rotations) {
             // Orthonormal columns: QᵀQ = I.
-            let off = (0..D)
-                .flat_map(|a| (0..D).map(move |b| (a, b)))
+            let off = (0..C)
+                .flat_map(|a| (0..C).map(move |b| (a, b)))
                 .map(|(a, b)| {
-                    let d: f64 = (0..D).map(|r| q[r][a] * q[r][b]).sum();
+                    let d: f64 = (0..C).map(|r| q[r][a] * q[r][b]).sum();
                     (d - if a == b { 1.0 } else { 0.0 }).abs()
                 })
                 .fold(0.0, f64::max);

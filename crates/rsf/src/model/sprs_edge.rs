@@ -18,8 +18,8 @@ fn from_sprs(name: &str, a: CsMatView<'_, f64>, n: usize) -> Result<rsf_fem::Spa
     rsf_linalg::from_sprs(&a).map_err(|e| Error::Fem(e.into()))
 }
 
-impl<const D: usize> Model<D> {
-    /// The stiffness matrix `K` as a `sprs` CSC matrix (`n × n`, `n = D · nodes`, node-major
+impl<const D: usize, const C: usize> Model<D, C> {
+    /// The stiffness matrix `K` as a `sprs` CSC matrix (`n × n`, `n = C · nodes`, node-major
     /// dofs; N/m, per unit thickness in 2D), entries in the model's order.
     ///
     /// # Errors
@@ -39,7 +39,7 @@ impl<const D: usize> Model<D> {
     }
 
     /// Replaces the stiffness matrix and the mass matrix (`None`: no mass, quasistatic) by
-    /// `sprs` CSC matrices (`n × n`, `n = D · nodes`, node-major dofs, SI units as the
+    /// `sprs` CSC matrices (`n × n`, `n = C · nodes`, node-major dofs, SI units as the
     /// fields), and the energy norm by `K + M` (`K` without mass), as
     /// [`ModelBuilder`](crate::ModelBuilder) sets it (docs/math.md §3). Convert a CSR matrix
     /// with `to_csc()` first. Nothing else of the model changes; [`Model::validate`] (which
@@ -54,7 +54,7 @@ impl<const D: usize> Model<D> {
         stiffness: CsMatView<'_, f64>,
         mass: Option<CsMatView<'_, f64>>,
     ) -> Result<()> {
-        let n = D * self.vertices.len();
+        let n = C * self.vertices.len();
         let k = from_sprs("stiffness", stiffness, n)?;
         let (m, energy) = match mass {
             Some(mass) => {

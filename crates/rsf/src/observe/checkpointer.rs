@@ -51,8 +51,8 @@ impl Checkpointer {
     }
 }
 
-impl<const D: usize> Observer<D> for Checkpointer {
-    fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
+impl<const D: usize, const C: usize> Observer<D, C> for Checkpointer {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
         let mut c = s.checkpoint();
         c.fingerprint = self.fingerprint.clone();
         c.wall_time_s = self.before_s + self.started.elapsed().as_secs_f64();
@@ -65,8 +65,8 @@ impl<const D: usize> Observer<D> for Checkpointer {
 #[derive(Debug, Default, Clone)]
 pub struct Reports(pub Vec<StepReport>);
 
-impl<const D: usize> Observer<D> for Reports {
-    fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
+impl<const D: usize, const C: usize> Observer<D, C> for Reports {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
         self.0.push(*s.report);
         Ok(Flow::Continue(()))
     }

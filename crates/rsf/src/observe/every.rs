@@ -73,8 +73,8 @@ impl<O> Every<O> {
     }
 }
 
-impl<const D: usize, O: Observer<D>> Observer<D> for Every<O> {
-    fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
+impl<const D: usize, const C: usize, O: Observer<D, C>> Observer<D, C> for Every<O> {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
         let r = s.report;
         if self.interval.samples(r.step, r.time, r.tau) {
             self.inner.observe(s)

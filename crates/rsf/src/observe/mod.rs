@@ -8,6 +8,7 @@ pub(crate) mod files;
 pub(crate) mod profile;
 pub(crate) mod progress;
 pub(crate) mod recorder;
+pub(crate) mod seas;
 pub(crate) mod series;
 #[cfg(feature = "vtk")]
 pub(crate) mod vtu;
@@ -22,22 +23,22 @@ use crate::simulation_state::SimulationState;
 /// A step as observers see it: the model, the state after the step (borrowed: observers
 /// never copy what they do not keep) and the step's report.
 #[derive(Debug, Clone, Copy)]
-pub struct StepView<'a, const D: usize> {
+pub struct StepView<'a, const D: usize, const C: usize = D> {
     /// The model.
-    pub model: &'a Model<D>,
+    pub model: &'a Model<D, C>,
     /// The state after the step.
     pub state: &'a SimulationState,
     /// The step's report.
     pub report: &'a StepReport,
 }
 
-impl<const D: usize> StepView<'_, D> {
+impl<const D: usize, const C: usize> StepView<'_, D, C> {
     /// The displacement of node `p` (m), Cartesian components (rotated back from the
     /// nodal frame at a slanted fault node, [`Model::to_global`]).
     ///
     /// # Panics
     /// If `p` is not a node of the model (callers check nodes when they are created).
-    pub fn displacement(&self, p: usize) -> [f64; D] {
+    pub fn displacement(&self, p: usize) -> [f64; C] {
         self.model.to_global(p, block(&self.state.kinematics.u, p))
     }
 
@@ -45,7 +46,7 @@ impl<const D: usize> StepView<'_, D> {
     ///
     /// # Panics
     /// If `p` is not a node of the model.
-    pub fn velocity(&self, p: usize) -> [f64; D] {
+    pub fn velocity(&self, p: usize) -> [f64; C] {
         self.model.to_global(p, block(&self.state.kinematics.v, p))
     }
 
@@ -55,7 +56,7 @@ impl<const D: usize> StepView<'_, D> {
     ///
     /// # Panics
     /// If `p` is not a node of the model.
-    pub fn displacement_in_frame(&self, p: usize) -> [f64; D] {
+    pub fn displacement_in_frame(&self, p: usize) -> [f64; C] {
         block(&self.state.kinematics.u, p)
     }
 
@@ -64,7 +65,7 @@ impl<const D: usize> StepView<'_, D> {
     ///
     /// # Panics
     /// If `p` is not a node of the model.
-    pub fn velocity_in_frame(&self, p: usize) -> [f64; D] {
+    pub fn velocity_in_frame(&self, p: usize) -> [f64; C] {
         block(&self.state.kinematics.v, p)
     }
 
@@ -74,7 +75,7 @@ impl<const D: usize> StepView<'_, D> {
     /// # Panics
     /// If `k` is not the position of a frictional node.
     pub fn slip_rate(&self, k: usize) -> f64 {
-        block_norm::<D>(
+        block_norm::<C>(
             &self.state.kinematics.v,
             self.model.frictional_boundary.nodes[k],
         )
@@ -98,13 +99,13 @@ pub(crate) fn block<const D: usize>(x: &[f64], p: usize) -> [f64; D] {
 pub type Flow = std::ops::ControlFlow<()>;
 
 /// Something that looks at the simulation after each step.
-pub trait Observer<const D: usize> {
+pub trait Observer<const D: usize, const C: usize = D> {
     /// Called after every successful step; [`Flow::Break`] ends the run after this step
     /// (after every observer has seen it).
     ///
     /// # Errors
     /// I/O errors end the run.
-    fn observe(&mut self, step: &StepView<'_, D>) -> Result<Flow>;
+    fn observe(&mut self, step: &StepView<'_, D, C>) -> Result<Flow>;
 
     /// Called once when a run ends, however it ends (end reached, an observer's break, or
     /// an error of a step or of another observer).

@@ -62,8 +62,8 @@ fn bar(len: u64, label: &str) -> Option<indicatif::ProgressBar> {
     Some(bar)
 }
 
-impl<const D: usize> Observer<D> for Progress {
-    fn observe(&mut self, _s: &StepView<'_, D>) -> Result<Flow> {
+impl<const D: usize, const C: usize> Observer<D, C> for Progress {
+    fn observe(&mut self, _s: &StepView<'_, D, C>) -> Result<Flow> {
         #[cfg(feature = "progress")]
         if let Some(b) = &self.bar {
             match self.per_second {

@@ -3,7 +3,45 @@
 //! depth-dependent friction and the spec's closed-form initial conditions
 //! (docs/seas-bp1.md). Antiplane, fault on x = 0, z ≥ 0 the depth (m).
 
-use rsf_friction::RateStateParams;
+use rsf_fem::{geometric_grading, rectangle_from_coordinates, Diagonal, TriangleMesh};
+use rsf_friction::{AsinhLaw, RateStateParams};
+use rsf_state::Aging;
+use rsf_time::{Integrator, Quasistatic, StepControl};
+
+use crate::error::{invalid, Result};
+use crate::model::builder::{AntiplaneMaterial, ModelBuilder, Part};
+use crate::model::Model;
+use crate::simulation::builder::SimulationBuilder;
+use crate::simulation::Simulation;
+
+/// A simulation of BP1: 2-D mesh, one (antiplane) component, regularised rate-and-state
+/// friction, aging law, quasi-dynamic ([`Quasistatic`] with radiation damping) or fully
+/// dynamic ([`Integrator::Newmark`]).
+pub type SeasBp1Simulation = Simulation<2, AsinhLaw, Aging, Integrator, 1>;
+
+/// The BP1 discretisation: a tensor-product mesh of `x ∈ [0, domain]` (distance from the
+/// fault) × `z ∈ [0, domain]` (depth), spacing `dz` on `0 ≤ z ≤ W_f` along the fault and
+/// from the fault in x, growing by `ratio` per cell beyond ([`geometric_grading`];
+/// docs/seas-bp1.md "Why a structured graded mesh").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeasBp1Grid {
+    /// Element size Δz on the fault (m); the spec's is 25 m.
+    pub dz: f64,
+    /// Side of the square domain (m); 400 km by default.
+    pub domain: f64,
+    /// Growth ratio of the spacing away from the fault (≥ 1); 1.05 by default.
+    pub ratio: f64,
+}
+
+impl Default for SeasBp1Grid {
+    fn default() -> Self {
+        Self {
+            dz: 25.0,
+            domain: 400e3,
+            ratio: 1.05,
+        }
+    }
+}
 
 /// The 12 on-fault stations of the benchmark output, depth in m (file `fltst_dpXXX` with
 /// XXX the depth in hundreds of metres).
@@ -155,6 +193,126 @@ impl SeasBp1 {
         let ln_sinh = x + (-(-2.0 * x).exp_m1()).ln() - std::f64::consts::LN_2;
         (self.d_c / self.v0).ln() + (a / self.b0) * ((2.0 * self.v0 / self.v_init).ln() + ln_sinh)
             - self.f0 / self.b0
+    }
+
+    /// The graded mesh of `grid`: vertex `(x, z)`, x the distance from the fault, z the
+    /// depth (m).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dz`, `domain` or
+    /// `ratio` for a grid that does not fit BP1 (`dz` must divide `W_f` into whole cells,
+    /// the domain must be larger than `W_f`); grading errors.
+    pub fn mesh(&self, grid: &SeasBp1Grid) -> Result<TriangleMesh> {
+        self.validate()?;
+        let cells = self.w_f / grid.dz;
+        if !(grid.dz > 0.0 && grid.dz.is_finite()) || (cells - cells.round()).abs() > 1e-9 {
+            return Err(invalid(
+                "dz",
+                format!("{} m must divide W_f = {} m into whole cells", grid.dz, self.w_f),
+            ));
+        }
+        if !(grid.domain > self.w_f && grid.domain.is_finite()) {
+            return Err(invalid(
+                "domain",
+                format!("{} m must exceed W_f = {} m", grid.domain, self.w_f),
+            ));
+        }
+        if !(1.0..=2.0).contains(&grid.ratio) {
+            return Err(invalid(
+                "ratio",
+                format!("{} must be in [1, 2]", grid.ratio),
+            ));
+        }
+        let xs = geometric_grading(grid.dz, 0.0, grid.ratio, grid.domain)?;
+        let zs = geometric_grading(grid.dz, self.w_f, grid.ratio, grid.domain)?;
+        Ok(rectangle_from_coordinates(&xs, &zs, Diagonal::Forward)?)
+    }
+
+    /// The model of BP1 on `grid` (the half `x ≥ 0`; docs/seas-bp1.md): antiplane shear
+    /// ([`AntiplaneMaterial`], μ = ρc_s²), the fault `x = 0, 0 ≤ z ≤ W_f` frictional and a
+    /// plane of antisymmetry (slip `δ = 2u`, [`ModelBuilder::antisymmetric_fault`]), loaded
+    /// by the prestress τ₀ (a traction on the fault), creeping at `V_p` below `W_f`
+    /// (`u = V_p t/2` on `x = 0, z > W_f`) and on the far side `x = domain`; free surface
+    /// `z = 0` and bottom traction-free. Without mass (quasi-dynamic) unless `inertia`.
+    /// The initial displacement is 0 (the spec's δ(z, 0) = 0, the elastic stress change
+    /// measured from it), not the builder's equilibrium.
+    ///
+    /// The node at `z = W_f` is both frictional and creeping: its velocity is prescribed.
+    ///
+    /// # Errors
+    /// As [`mesh`](Self::mesh); model assembly errors.
+    pub fn model(&self, grid: &SeasBp1Grid, inertia: bool) -> Result<Model<2, 1>> {
+        let mesh = self.mesh(grid)?;
+        let (w_f, l, eps) = (self.w_f, grid.domain, 1e-6 * grid.dz);
+        let tau0 = self.tau0();
+        let on_fault = move |x: &[f64; 2]| x[0] < eps && x[1] < w_f;
+        let mut builder = ModelBuilder::scalar(mesh)
+            .material(AntiplaneMaterial::new(self.shear_modulus(), self.rho))
+            .frictional_boundary(Part::predicate("fault", on_fault))
+            .neumann(Part::predicate("fault", on_fault), move |_| [tau0])
+            .dirichlet(
+                Part::predicate("creep", move |x| x[0] < eps && x[1] > w_f),
+                [0.5 * self.v_p],
+            )
+            .dirichlet(
+                Part::predicate("far side", move |x| x[0] > l - eps),
+                [0.5 * self.v_p],
+            )
+            .antisymmetric_fault(2.0);
+        if !inertia {
+            builder = builder.without_mass();
+        }
+        let mut model = builder.build()?;
+        model.initial_displacement.fill(0.0);
+        Ok(model)
+    }
+
+    /// A simulation builder of BP1 on `model` (from [`model`](Self::model)): the regularised
+    /// law [`AsinhLaw`] with a(z), the aging law, θ₀(z) from the spec
+    /// ([`alpha0`](Self::alpha0)), slip rate V_init everywhere (the half moves at
+    /// V_init/2), quasi-dynamic with radiation damping η = μ/(2c_s) — or, with `inertia`,
+    /// Newmark without damping (BP1-FD) — the direct solver, and adaptive steps from
+    /// `tau0` (s) with `control`.
+    ///
+    /// # Errors
+    /// Invalid parameters (laws, damping).
+    pub fn simulation_builder(
+        &self,
+        model: Model<2, 1>,
+        inertia: bool,
+        tau0: f64,
+        control: StepControl,
+    ) -> Result<SimulationBuilder<2, AsinhLaw, Aging, Integrator, 1>> {
+        self.validate()?;
+        let integrator = if inertia {
+            Integrator::Newmark
+        } else {
+            Integrator::Quasistatic(Quasistatic::with_radiation_damping(
+                self.radiation_damping(),
+            )?)
+        };
+        let v_half = 0.5 * self.v_init;
+        Ok(SimulationBuilder::new(model)
+            .friction_at(|x| AsinhLaw::new(self.params(x[1])))
+            .state_law(Aging::new(self.d_c)?)
+            .initial_state_at(|x| self.alpha0(x[1]))
+            .initial_velocity_at(|_| [v_half])
+            .integrator(integrator)
+            .solver(crate::SolverKind::Direct)
+            .time_step(tau0)
+            .step_control(control))
+    }
+
+    /// The adaptive step control used for BP1 by default: relative tolerance `tolerance`
+    /// on the state and the slip (slip-rate floor V_p, docs/seas-bp1.md), state
+    /// change per step at most ½ (τ ≤ D_c/(2V_max) in slip), τ in [1e-4 s, 1 yr].
+    ///
+    /// # Errors
+    /// An invalid tolerance.
+    pub fn step_control(&self, tolerance: f64) -> Result<StepControl> {
+        let mut c = StepControl::new(tolerance, self.d_c, 1e-4, 3.15576e7)?;
+        c.slip_rate_floor = Some(self.v_p);
+        Ok(c)
     }
 
     /// Name of the station file at `depth` (m): `fltst_dp` and the depth in hundreds of

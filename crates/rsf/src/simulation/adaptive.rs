@@ -23,7 +23,9 @@ fn recoverable(e: &Error) -> bool {
     )
 }
 
-impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper<'_, D, L, S, I> {
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    Stepper<'_, D, L, S, I, C>
+{
     /// Attempts with the controller's step until one is accepted (docs/math.md §9). A step
     /// that would pass `t_end` or a breakpoint of the loading
     /// ([`TimeFunction::next_breakpoint`](crate::TimeFunction::next_breakpoint)) is
@@ -142,8 +144,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper
             // trapezoidal slip (τ/2)(V_{n−1} + V_n) of a slip rate exponential in time is
             // off by (Δ ln V)²/12 (docs/math.md §9).
             for &p in &model.frictional_boundary.nodes {
-                let v0 = block_norm::<D>(&kin.v, p);
-                let v1 = block_norm::<D>(&work.next.v, p);
+                let v0 = block_norm::<C>(&kin.v, p);
+                let v1 = block_norm::<C>(&work.next.v, p);
                 let d = ((v1 + v_floor) / (v0 + v_floor)).ln();
                 err = err.max(d * d / (12.0 * c.tolerance));
             }
@@ -157,8 +159,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper
             let integrator = self.method.state_integrator();
             for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
                 let (a0, a1) = (state.alpha[k], work.alpha_trial[k]);
-                let v0 = block_norm::<D>(&kin.v, p);
-                let v1 = block_norm::<D>(&work.next.v, p);
+                let v0 = block_norm::<C>(&kin.v, p);
+                let v1 = block_norm::<C>(&work.next.v, p);
                 let (e, extrapolated) = integrator.local_error(&laws[k], (a0, v0), (a1, v1), tau);
                 work.alpha_extrapolated[k] = extrapolated.unwrap_or(a1);
                 // |δθ| ≤ state_atol + tol·θ, i.e. |δα| ≤ tol + state_atol/θ (θ = e^α the

@@ -59,8 +59,10 @@ pub struct Unset;
 /// sim.run(100, &mut [])?;
 /// # Ok::<(), rsf::Error>(())
 /// ```
-pub struct SimulationBuilder<const D: usize, L, S, I> {
-    model: Model<D>,
+///
+/// `D` is the spatial dimension, `C` the components per node (default `D`; see [`Model`]).
+pub struct SimulationBuilder<const D: usize, L, S, I, const C: usize = D> {
+    model: Model<D, C>,
     friction: Result<Vec<L>>,
     state: Result<Vec<S>>,
     alpha0: Option<Vec<f64>>,
@@ -69,9 +71,9 @@ pub struct SimulationBuilder<const D: usize, L, S, I> {
     method: MethodOptions<I>,
 }
 
-impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
+impl<const D: usize, const C: usize> SimulationBuilder<D, Unset, NoState, Newmark, C> {
     /// A builder for `model` with the defaults above.
-    pub fn new(model: Model<D>) -> Self {
+    pub fn new(model: Model<D, C>) -> Self {
         Self {
             model,
             friction: Ok(Vec::new()),
@@ -92,8 +94,8 @@ impl<const D: usize> SimulationBuilder<D, Unset, NoState, Newmark> {
 }
 
 /// `f` at every frictional node, collecting the first error.
-fn per_node<const D: usize, T, E: Into<Error>>(
-    model: &Model<D>,
+fn per_node<const D: usize, const C: usize, T, E: Into<Error>>(
+    model: &Model<D, C>,
     f: impl FnMut(&[f64; D]) -> std::result::Result<T, E>,
 ) -> Result<Vec<T>> {
     model
@@ -106,11 +108,11 @@ fn per_node<const D: usize, T, E: Into<Error>>(
 /// The parts of a builder whose types change with the laws and the integrator.
 type Laws<L, S, I> = (Result<Vec<L>>, Result<Vec<S>>, I);
 
-impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
+impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     fn retype<L2, S2, I2>(
         self,
         f: impl FnOnce(Laws<L, S, I>) -> Laws<L2, S2, I2>,
-    ) -> SimulationBuilder<D, L2, S2, I2> {
+    ) -> SimulationBuilder<D, L2, S2, I2, C> {
         let Self {
             model,
             friction,
@@ -148,7 +150,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     }
 
     /// The model.
-    pub fn model(&self) -> &Model<D> {
+    pub fn model(&self) -> &Model<D, C> {
         &self.model
     }
 
@@ -163,7 +165,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     }
 
     /// The same friction law at every frictional node.
-    pub fn friction<L2: FrictionLaw>(self, law: L2) -> SimulationBuilder<D, L2, S, I> {
+    pub fn friction<L2: FrictionLaw>(self, law: L2) -> SimulationBuilder<D, L2, S, I, C> {
         let laws = Ok(vec![law; self.model.frictional_boundary.len()]);
         self.retype(|(_, s, i)| (laws, s, i))
     }
@@ -172,14 +174,14 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     pub fn friction_at<L2: FrictionLaw, E: Into<Error>>(
         self,
         law: impl FnMut(&[f64; D]) -> std::result::Result<L2, E>,
-    ) -> SimulationBuilder<D, L2, S, I> {
+    ) -> SimulationBuilder<D, L2, S, I, C> {
         let laws = per_node(&self.model, law);
         self.retype(|(_, s, i)| (laws, s, i))
     }
 
     /// The same state law at every frictional node (not needed if the friction law does
     /// not use the state, e.g. Tresca).
-    pub fn state_law<S2: StateLaw>(self, law: S2) -> SimulationBuilder<D, L, S2, I> {
+    pub fn state_law<S2: StateLaw>(self, law: S2) -> SimulationBuilder<D, L, S2, I, C> {
         let laws = Ok(vec![law; self.model.frictional_boundary.len()]);
         self.retype(|(f, _, i)| (f, laws, i))
     }
@@ -188,7 +190,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     pub fn state_law_at<S2: StateLaw, E: Into<Error>>(
         self,
         law: impl FnMut(&[f64; D]) -> std::result::Result<S2, E>,
-    ) -> SimulationBuilder<D, L, S2, I> {
+    ) -> SimulationBuilder<D, L, S2, I, C> {
         let laws = per_node(&self.model, law);
         self.retype(|(f, _, i)| (f, laws, i))
     }
@@ -197,7 +199,7 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     pub fn integrator<I2: VelocityIntegrator>(
         self,
         integrator: I2,
-    ) -> SimulationBuilder<D, L, S, I2> {
+    ) -> SimulationBuilder<D, L, S, I2, C> {
         self.retype(|(f, s, _)| (f, s, integrator))
     }
 
@@ -218,15 +220,18 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     /// default rest. The constrained components take their Dirichlet values at `t = 0`
     /// whatever this gives (0, or the prescribed velocity).
     /// `v_0` is given in Cartesian components (rotated into the nodal frames of a slanted
-    /// fault, [`Model::to_model`]).
-    pub fn initial_velocity_at(mut self, mut v0: impl FnMut(&[f64; D]) -> [f64; D]) -> Self {
+    /// fault, [`Model::to_model`]) for the displacement `u` (multiplied by
+    /// the frictional boundary's `slip_factor` on a model of an antisymmetric fault, whose
+    /// unknown is `s·u`).
+    pub fn initial_velocity_at(mut self, mut v0: impl FnMut(&[f64; D]) -> [f64; C]) -> Self {
         let model = &self.model;
+        let s = model.frictional_boundary.slip_factor;
         self.v0 = Some(
             model
                 .vertices
                 .iter()
                 .enumerate()
-                .flat_map(|(p, x)| model.to_model(p, v0(x)))
+                .flat_map(|(p, x)| model.to_model(p, v0(x).map(|v| s * v)))
                 .collect(),
         );
         self
@@ -271,8 +276,8 @@ impl<const D: usize, L, S, I> SimulationBuilder<D, L, S, I> {
     }
 }
 
-impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
-    SimulationBuilder<D, L, S, I>
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    SimulationBuilder<D, L, S, I, C>
 {
     /// Checks every part once and builds the simulation: assembles
     /// `A = c_M M + c_K K` (+ radiation damping), sets up the solver, and starts from
@@ -288,7 +293,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>
     /// [`Error::StateLaw`] (monotonicity probe), the fixed point options
     /// (`fixed_point.*`), the step control, the state integrator (`state_integrator`);
     /// then set-up errors of the solver (e.g. `tau` for a non-finite time-step matrix).
-    pub fn build(self) -> Result<Simulation<D, L, S, I>> {
+    pub fn build(self) -> Result<Simulation<D, L, S, I, C>> {
         let friction = self.friction?;
         let state_laws = self.state?;
         let nf = self.model.frictional_boundary.len();

@@ -28,8 +28,8 @@ pub(crate) fn time_step(tau: f64) -> Result<()> {
 }
 
 /// The parts of a simulation as the builder collected them.
-pub(crate) struct Parts<'a, const D: usize, L, S, I> {
-    pub model: &'a Model<D>,
+pub(crate) struct Parts<'a, const D: usize, L, S, I, const C: usize> {
+    pub model: &'a Model<D, C>,
     pub friction_laws: &'a [L],
     pub state_laws: &'a [S],
     pub alpha0: Option<&'a [f64]>,
@@ -38,7 +38,9 @@ pub(crate) struct Parts<'a, const D: usize, L, S, I> {
     pub method: &'a MethodOptions<I>,
 }
 
-impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Parts<'_, D, L, S, I> {
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    Parts<'_, D, L, S, I, C>
+{
     /// Checks every part and returns τ: τ set and valid (named `tau`), the model
     /// ([`Model::validate`], including the fixed normal on Γ_F), a mass matrix for an
     /// integrator with inertia, a finite initial velocity, the initial state (set and finite where the friction uses

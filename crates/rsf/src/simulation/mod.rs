@@ -40,15 +40,26 @@ use workspace::Workspace;
 /// fixed point iteration. Everything is deterministic: the same model, parameters and build
 /// give bit-identical results, also across [`checkpoint`](Self::checkpoint) /
 /// [`restore`](Self::restore).
-pub struct Simulation<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> {
-    problem: Problem<D, L, S>,
-    method: Method<D, I>,
+///
+/// `D` is the spatial dimension, `C` the components per node (default `D`; `C = 1` for a
+/// scalar field such as antiplane shear, see [`Model`]).
+pub struct Simulation<
+    const D: usize,
+    L: FrictionLaw,
+    S: StateLaw,
+    I: VelocityIntegrator,
+    const C: usize = D,
+> {
+    problem: Problem<D, L, S, C>,
+    method: Method<D, I, C>,
     state: SimulationState,
     work: Workspace<L>,
 }
 
-impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulation<D, L, S, I> {
-    fn stepper(&mut self) -> Stepper<'_, D, L, S, I> {
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    Simulation<D, L, S, I, C>
+{
+    fn stepper(&mut self) -> Stepper<'_, D, L, S, I, C> {
         Stepper {
             problem: &self.problem,
             method: &mut self.method,
@@ -58,12 +69,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     }
 
     /// The problem: model and laws.
-    pub fn problem(&self) -> &Problem<D, L, S> {
+    pub fn problem(&self) -> &Problem<D, L, S, C> {
         &self.problem
     }
 
     /// The method: integrator, solver, fixed point, step control, state update.
-    pub fn method(&self) -> &Method<D, I> {
+    pub fn method(&self) -> &Method<D, I, C> {
         &self.method
     }
 
@@ -73,7 +84,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     }
 
     /// The model.
-    pub fn model(&self) -> &Model<D> {
+    pub fn model(&self) -> &Model<D, C> {
         self.problem.model()
     }
 
@@ -106,7 +117,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     pub fn slip_rates(&self, out: &mut [f64]) {
         let nodes = &self.model().frictional_boundary.nodes;
         for (o, &p) in out.iter_mut().zip(nodes) {
-            *o = block_norm::<D>(&self.state.kinematics.v, p);
+            *o = block_norm::<C>(&self.state.kinematics.v, p);
         }
     }
 
@@ -190,7 +201,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     pub fn run(
         &mut self,
         steps: usize,
-        observers: &mut [&mut dyn Observer<D>],
+        observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
         self.run_until(Until::Steps(steps), observers)
     }
@@ -208,7 +219,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     pub fn run_until(
         &mut self,
         until: Until,
-        observers: &mut [&mut dyn Observer<D>],
+        observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
         let start = Instant::now();
         let mut summary = RunSummary::default();
@@ -244,7 +255,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Simulat
     fn run_loop(
         &mut self,
         until: Until,
-        observers: &mut [&mut dyn Observer<D>],
+        observers: &mut [&mut dyn Observer<D, C>],
         summary: &mut RunSummary,
         fpi_total: &mut usize,
     ) -> Result<()> {

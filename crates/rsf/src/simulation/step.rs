@@ -27,14 +27,16 @@ use super::workspace::Workspace;
 const ESTIMATE_GUARD: f64 = 100.0;
 
 /// The parts of a simulation, borrowed for one step.
-pub(crate) struct Stepper<'a, const D: usize, L: FrictionLaw, S, I> {
-    pub problem: &'a Problem<D, L, S>,
-    pub method: &'a mut Method<D, I>,
+pub(crate) struct Stepper<'a, const D: usize, L: FrictionLaw, S, I, const C: usize> {
+    pub problem: &'a Problem<D, L, S, C>,
+    pub method: &'a mut Method<D, I, C>,
     pub state: &'a mut SimulationState,
     pub work: &'a mut Workspace<L>,
 }
 
-impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper<'_, D, L, S, I> {
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    Stepper<'_, D, L, S, I, C>
+{
     /// Changes the time step (s) for the following steps: the method's solver is replaced
     /// (see [`Method::set_time_step`]); a new segment of constant τ starts at the current
     /// step.
@@ -212,14 +214,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator> Stepper
             .frictional_boundary
             .nodes
             .iter()
-            .map(|&p| block_norm::<D>(&work.next.v, p))
+            .map(|&p| block_norm::<C>(&work.next.v, p))
             .fold(0.0, f64::max);
         Ok(report)
     }
 }
 
 /// `v` with the Dirichlet data of time `t`: fixed dofs 0, prescribed ones `factor · g(t)`.
-pub(crate) fn impose_dirichlet<const D: usize>(model: &Model<D>, t: f64, v: &mut [f64]) {
+pub(crate) fn impose_dirichlet<const D: usize, const C: usize>(
+    model: &Model<D, C>,
+    t: f64,
+    v: &mut [f64],
+) {
     for (vi, &f) in v.iter_mut().zip(&model.fixed) {
         if f {
             *vi = 0.0;
@@ -232,9 +238,9 @@ pub(crate) fn impose_dirichlet<const D: usize>(model: &Model<D>, t: f64, v: &mut
 }
 
 /// `|v_p|` of the solver's current iterate on Γ_F into `slip`.
-fn read_slip_rates<const D: usize>(solver: &VelocitySolver<D>, slip: &mut [f64]) {
+fn read_slip_rates<const C: usize>(solver: &VelocitySolver<C>, slip: &mut [f64]) {
     for (k, s) in slip.iter_mut().enumerate() {
-        *s = norm::<D>(&solver.block(k));
+        *s = norm::<C>(&solver.block(k));
     }
 }
 

@@ -1,0 +1,465 @@
+//! Output in the format of the SCEC SEAS benchmarks (Erickson et al. 2020, Seismol. Res.
+//! Lett. 91(2); the BP1-QD problem description): on-fault station time series
+//! `fltst_dpXXX`, slip profiles `devol.dat`, and an event catalogue `events.csv`
+//! (docs/seas-bp1.md, "Output").
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use rsf_friction::FrictionLaw;
+
+use super::files::{self, FileMode, Start};
+use super::{Flow, Observer, StepView};
+use crate::checkpoint::write_atomically;
+use crate::error::{invalid, io_at, Result};
+use crate::model::fault::block_norm;
+use crate::model::Model;
+
+/// Seconds per year (365.25 days), the unit of the benchmark's output intervals.
+pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
+
+/// When rows are written: every accepted step, or thinned to the benchmark's suggestion
+/// (a station row at most every `station_quiet` s between events and every
+/// `station_event` s during them; a slip profile every `profile_quiet` / `profile_event`
+/// s). A step belongs to an event when the maximum slip rate on the fault is at least
+/// `event_threshold` (m/s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeasSampling {
+    /// Write a station row at every step (ignores the station intervals).
+    pub every_step: bool,
+    /// Station interval between events (s); 0.1 yr.
+    pub station_quiet: f64,
+    /// Station interval during events (s); 0.1 s.
+    pub station_event: f64,
+    /// Profile interval between events (s); 5 yr.
+    pub profile_quiet: f64,
+    /// Profile interval during events (s); 1 s.
+    pub profile_event: f64,
+    /// Slip rate (m/s) from which a step belongs to an event; 1e-3 m/s.
+    pub event_threshold: f64,
+}
+
+impl Default for SeasSampling {
+    fn default() -> Self {
+        Self {
+            every_step: false,
+            station_quiet: 0.1 * SECONDS_PER_YEAR,
+            station_event: 0.1,
+            profile_quiet: 5.0 * SECONDS_PER_YEAR,
+            profile_event: 1.0,
+            event_threshold: 1e-3,
+        }
+    }
+}
+
+/// What a [`SeasOutput`] writes and where its numbers come from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeasSetup {
+    /// Problem name for the headers, e.g. `SEAS Benchmark BP1-QD`.
+    pub problem: String,
+    /// Element size on the fault (m), for the headers.
+    pub element_size: f64,
+    /// Stations as `(file name, depth in m)`, each at the frictional node nearest that
+    /// depth (e.g. [`SEAS_BP1_STATION_DEPTHS`](crate::SEAS_BP1_STATION_DEPTHS) with
+    /// [`SeasBp1::station_name`](crate::SeasBp1::station_name)).
+    pub stations: Vec<(String, f64)>,
+    /// The coordinate that is depth (`1` for BP1's `(x, z)` mesh) …
+    pub depth_axis: usize,
+    /// … and whether it grows downwards (`true` for BP1: depth = `x[depth_axis]`; else
+    /// depth = `−x[depth_axis]`).
+    pub depth_down: bool,
+    /// Normal stress σ_n (Pa): the shear stress column is `σ_n μ(V, α)`.
+    pub sigma_n: f64,
+    /// Depth spacing of the slip profiles (m): the profile holds the frictional nodes at
+    /// least this far apart in depth, from the surface down.
+    pub profile_spacing: f64,
+    /// When rows are written.
+    pub sampling: SeasSampling,
+}
+
+/// One event of the catalogue: from where the maximum slip rate on the fault rises to the
+/// threshold to where it falls below it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeasEvent {
+    /// Start time (s): the first step with max V ≥ threshold.
+    pub t_start: f64,
+    /// End time (s): the first step after the start with max V < threshold (NaN while the
+    /// event lasts).
+    pub t_end: f64,
+    /// Depth (m) of the node of maximum slip rate at the start.
+    pub hypocentre_depth: f64,
+    /// Largest slip rate on the fault during the event (m/s).
+    pub peak_slip_rate: f64,
+    /// Slip at the surface station during the event (m).
+    pub surface_slip: f64,
+}
+
+/// A station: a frictional node, its file and its law.
+struct Station<L> {
+    k: usize,
+    path: PathBuf,
+    depth: f64,
+    law: L,
+    out: Option<BufWriter<File>>,
+}
+
+/// The SEAS benchmark output of a run on a fault with per-node depths: station files,
+/// slip profiles, event catalogue (see the module docs). The slip of a node is the change
+/// of its field since the start (signed for a scalar field, the Euclidean norm of the
+/// change otherwise; on a model of an antisymmetric fault the field is the slip); the shear
+/// stress is `σ_n μ(V, α)` of the node's law (the friction stress, MPa in the files); the
+/// state column is `log10 θ = α / ln 10`.
+///
+/// Files are written while the run goes; [`finish`](Observer::finish) completes their
+/// headers (minimum and maximum time step, number of steps), rewriting each file
+/// atomically, and writes `events.csv`.
+pub struct SeasOutput<L> {
+    dir: PathBuf,
+    setup: SeasSetup,
+    stations: Vec<Station<L>>,
+    depths: Vec<f64>,
+    u0: Vec<f64>,
+    profile: Vec<usize>,
+    profile_out: Option<BufWriter<File>>,
+    surface: usize,
+    last_station_t: f64,
+    last_profile_t: f64,
+    events: Vec<SeasEvent>,
+    slip_at_start: f64,
+    tau_min: f64,
+    tau_max: f64,
+    steps: usize,
+    slips: Vec<f64>,
+}
+
+/// Formats `x` as C's `%W.PE` (`1.2345E+03`), right-aligned in `width`.
+fn c_exp(x: f64, precision: usize, width: usize) -> String {
+    let s = format!("{x:.precision$E}");
+    let (mantissa, exponent) = s.split_once('E').unwrap_or((&s, "0"));
+    let e: i32 = exponent.parse().unwrap_or(0);
+    let sign = if e < 0 { '-' } else { '+' };
+    format!(
+        "{:>width$}",
+        format!("{mantissa}E{sign}{:02}", e.unsigned_abs())
+    )
+}
+
+impl<L: FrictionLaw> SeasOutput<L> {
+    /// Output of a run of `model` into the folder `dir` (created if missing); `laws` the
+    /// friction laws of every frictional node (as given to the simulation, in
+    /// `model.frictional_boundary.nodes` order).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for laws of another
+    /// length, a depth axis ≥ `D`, no station, non-positive `sigma_n` or
+    /// `profile_spacing`; [`FileMode::Resume`] (not supported for these files yet);
+    /// [`Error::FileExists`](crate::Error::FileExists) with [`FileMode::Create`] where a
+    /// file exists; I/O errors naming the file.
+    pub fn new<const D: usize, const C: usize>(
+        dir: &Path,
+        model: &Model<D, C>,
+        laws: &[L],
+        setup: SeasSetup,
+        mode: FileMode,
+    ) -> Result<Self> {
+        let fb = &model.frictional_boundary;
+        if laws.len() != fb.len() {
+            return Err(invalid(
+                "laws",
+                format!("{} laws for {} frictional nodes", laws.len(), fb.len()),
+            ));
+        }
+        if setup.depth_axis >= D {
+            return Err(invalid(
+                "depth_axis",
+                format!("{} must be below the dimension {D}", setup.depth_axis),
+            ));
+        }
+        if !(setup.sigma_n > 0.0 && setup.sigma_n.is_finite()) {
+            return Err(invalid("sigma_n", "must be positive and finite"));
+        }
+        if !(setup.profile_spacing > 0.0 && setup.profile_spacing.is_finite()) {
+            return Err(invalid("profile_spacing", "must be positive and finite"));
+        }
+        if setup.stations.is_empty() {
+            return Err(invalid("stations", "none given"));
+        }
+        let overwrite = match mode {
+            FileMode::Create => false,
+            FileMode::Overwrite => true,
+            FileMode::Resume { .. } => {
+                return Err(invalid(
+                    "mode",
+                    "resuming SEAS output files is not supported yet",
+                ))
+            }
+        };
+        std::fs::create_dir_all(dir).map_err(io_at("create the folder", dir))?;
+        let sign = if setup.depth_down { 1.0 } else { -1.0 };
+        let depths: Vec<f64> = fb
+            .nodes
+            .iter()
+            .map(|&p| sign * model.vertices[p][setup.depth_axis])
+            .collect();
+        let nearest = |d: f64| {
+            (0..depths.len())
+                .min_by(|&i, &j| (depths[i] - d).abs().total_cmp(&(depths[j] - d).abs()))
+                .unwrap_or(0)
+        };
+        let mut stations = Vec::with_capacity(setup.stations.len());
+        for (name, depth) in &setup.stations {
+            let k = nearest(*depth);
+            let path = dir.join(name);
+            let mut out = files::open(&path, &station_header(&setup, depths[k], None), 0, Start::Fresh { overwrite })?;
+            out.flush().map_err(io_at("write", &path))?;
+            stations.push(Station {
+                k,
+                path,
+                depth: depths[k],
+                law: laws[k].clone(),
+                out: Some(out),
+            });
+        }
+        // Profile nodes: by depth from the surface, at least `profile_spacing` apart.
+        let mut order: Vec<usize> = (0..depths.len()).collect();
+        order.sort_by(|&i, &j| depths[i].total_cmp(&depths[j]));
+        let mut profile = Vec::new();
+        let mut next = f64::NEG_INFINITY;
+        for k in order {
+            if depths[k] >= next - 1e-9 * setup.profile_spacing {
+                profile.push(k);
+                next = depths[k] + setup.profile_spacing;
+            }
+        }
+        let surface = profile[0];
+        let path = dir.join("devol.dat");
+        let first_row = std::iter::once("0 0".to_owned())
+            .chain(profile.iter().map(|&k| c_exp(depths[k], 6, 14)))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let profile_out = files::open(
+            &path,
+            &format!("{}\n{first_row}", common_header(&setup, None)),
+            0,
+            Start::Fresh { overwrite },
+        )?;
+        let u0 = model.initial_displacement.clone();
+        Ok(Self {
+            dir: dir.to_owned(),
+            setup,
+            stations,
+            depths,
+            u0,
+            profile,
+            profile_out: Some(profile_out),
+            surface,
+            last_station_t: f64::NEG_INFINITY,
+            last_profile_t: f64::NEG_INFINITY,
+            events: Vec::new(),
+            slip_at_start: 0.0,
+            tau_min: f64::INFINITY,
+            tau_max: 0.0,
+            steps: 0,
+            slips: Vec::new(),
+        })
+    }
+
+    /// The events so far (the last one may still run: `t_end` NaN).
+    pub fn events(&self) -> &[SeasEvent] {
+        &self.events
+    }
+
+    /// The slip (m) of frictional node `k` in `s`: the change of its field since the
+    /// start (signed for a scalar field, the norm of the change otherwise).
+    fn slip<const D: usize, const C: usize>(&self, s: &StepView<'_, D, C>, k: usize) -> f64 {
+        let p = s.model.frictional_boundary.nodes[k];
+        let u = &s.state.kinematics.u[C * p..C * p + C];
+        let u0 = &self.u0[C * p..C * p + C];
+        if C == 1 {
+            u[0] - u0[0]
+        } else {
+            u.iter()
+                .zip(u0)
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum::<f64>()
+                .sqrt()
+        }
+    }
+}
+
+/// The header lines every file shares (`#` lines), with the run's step statistics once
+/// known (`(τ_min, τ_max, steps)`).
+fn common_header(setup: &SeasSetup, stats: Option<(f64, f64, usize)>) -> String {
+    let mut h = format!(
+        "# problem={}\n# code=rsf\n# code_version={}\n# element_size={} m",
+        setup.problem,
+        env!("CARGO_PKG_VERSION"),
+        setup.element_size
+    );
+    if let Some((lo, hi, n)) = stats {
+        h.push_str(&format!(
+            "\n# minimum_time_step={lo:e}\n# maximum_time_step={hi:e}\n# num_time_steps={n}"
+        ));
+    }
+    h
+}
+
+/// A station file's header: the shared lines, the location, the column line.
+fn station_header(setup: &SeasSetup, depth: f64, stats: Option<(f64, f64, usize)>) -> String {
+    format!(
+        "{}\n# location=on fault, {} km depth\n# Column #1 = Time (s)\n# Column #2 = Slip (m)\n\
+         # Column #3 = Slip rate (log10 m/s)\n# Column #4 = Shear stress (MPa)\n\
+         # Column #5 = State (log10 s)\nt slip slip_rate shear_stress state",
+        common_header(setup, stats),
+        depth / 1e3
+    )
+}
+
+/// Replaces the `#` lines at the top of `path` by `header`'s `#` lines (atomically).
+fn rewrite_header(path: &Path, header: &str) -> Result<()> {
+    let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
+    let body: String = text
+        .split_inclusive('\n')
+        .skip_while(|l| l.starts_with('#'))
+        .collect();
+    let hashes: String = header
+        .split_inclusive('\n')
+        .take_while(|l| l.starts_with('#'))
+        .collect();
+    write_atomically(path, format!("{hashes}{body}").as_bytes())
+}
+
+impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutput<L> {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
+        let t = s.state.time;
+        let fb = &s.model.frictional_boundary;
+        self.steps += 1;
+        // The step just taken had the length of the time advanced, τ of the state is the next.
+        self.tau_min = self.tau_min.min(s.report.tau);
+        self.tau_max = self.tau_max.max(s.report.tau);
+        let v = &s.state.kinematics.v;
+        let (mut vmax, mut kmax) = (0.0f64, 0);
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let vk = block_norm::<C>(v, p);
+            if vk > vmax {
+                (vmax, kmax) = (vk, k);
+            }
+        }
+        let threshold = self.setup.sampling.event_threshold;
+        let in_event = vmax >= threshold;
+        let surface_slip = self.slip(s, self.surface);
+        match self.events.last_mut() {
+            Some(e) if e.t_end.is_nan() => {
+                e.peak_slip_rate = e.peak_slip_rate.max(vmax);
+                if !in_event {
+                    e.t_end = t;
+                    e.surface_slip = surface_slip - self.slip_at_start;
+                }
+            }
+            _ if in_event => {
+                self.slip_at_start = surface_slip;
+                self.events.push(SeasEvent {
+                    t_start: t,
+                    t_end: f64::NAN,
+                    hypocentre_depth: self.depths[kmax],
+                    peak_slip_rate: vmax,
+                    surface_slip: f64::NAN,
+                });
+            }
+            _ => {}
+        }
+        let sm = self.setup.sampling;
+        let station_dt = if in_event { sm.station_event } else { sm.station_quiet };
+        if sm.every_step || t - self.last_station_t >= station_dt * (1.0 - 1e-12) {
+            self.last_station_t = t;
+            for i in 0..self.stations.len() {
+                let k = self.stations[i].k;
+                let p = fb.nodes[k];
+                let vk = block_norm::<C>(v, p);
+                let alpha = s.state.alpha[k];
+                let st = &self.stations[i];
+                let stress = self.setup.sigma_n * st.law.friction_coefficient(vk, alpha) / 1e6;
+                let row = format!(
+                    "{} {} {} {} {}\n",
+                    c_exp(t, 13, 21),
+                    c_exp(self.slip(s, k), 6, 14),
+                    c_exp(vk.log10(), 6, 14),
+                    c_exp(stress, 6, 14),
+                    c_exp(alpha / std::f64::consts::LN_10, 6, 14),
+                );
+                if let Some(out) = self.stations[i].out.as_mut() {
+                    out.write_all(row.as_bytes())
+                        .map_err(io_at("write", &self.stations[i].path))?;
+                }
+            }
+        }
+        let profile_dt = if in_event { sm.profile_event } else { sm.profile_quiet };
+        if t - self.last_profile_t >= profile_dt * (1.0 - 1e-12) {
+            self.last_profile_t = t;
+            self.slips.clear();
+            for i in 0..self.profile.len() {
+                let x = self.slip(s, self.profile[i]);
+                self.slips.push(x);
+            }
+            let mut row = format!("{} {}", c_exp(t, 13, 21), c_exp(vmax.log10(), 6, 14));
+            for x in &self.slips {
+                row.push(' ');
+                row.push_str(&c_exp(*x, 6, 14));
+            }
+            row.push('\n');
+            if let Some(out) = self.profile_out.as_mut() {
+                out.write_all(row.as_bytes())
+                    .map_err(io_at("write", &self.dir.join("devol.dat")))?;
+            }
+        }
+        Ok(Flow::Continue(()))
+    }
+
+    fn finish(&mut self) -> Result<()> {
+        let stats = (self.steps > 0).then_some((self.tau_min, self.tau_max, self.steps));
+        for st in &mut self.stations {
+            if let Some(mut out) = st.out.take() {
+                out.flush().map_err(io_at("write", &st.path))?;
+            }
+            rewrite_header(&st.path, &station_header(&self.setup, st.depth, stats))?;
+        }
+        let devol = self.dir.join("devol.dat");
+        if let Some(mut out) = self.profile_out.take() {
+            out.flush().map_err(io_at("write", &devol))?;
+            rewrite_header(&devol, &common_header(&self.setup, stats))?;
+        }
+        let mut csv = String::from(
+            "event,t_start_s,t_end_s,hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m\n",
+        );
+        for (i, e) in self.events.iter().enumerate() {
+            csv.push_str(&format!(
+                "{},{:e},{:e},{},{:e},{:e}\n",
+                i + 1,
+                e.t_start,
+                e.t_end,
+                e.hypocentre_depth,
+                e.peak_slip_rate,
+                e.surface_slip
+            ));
+        }
+        write_atomically(&self.dir.join("events.csv"), csv.as_bytes())
+    }
+
+    fn name(&self) -> String {
+        "SEAS output".into()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::c_exp;
+
+    #[test]
+    fn c_style_exponents() {
+        assert_eq!(c_exp(1234.5, 3, 10), " 1.234E+03");
+        assert_eq!(c_exp(-0.00012, 2, 9), "-1.20E-04");
+        assert_eq!(c_exp(0.0, 1, 7), "0.0E+00");
+        assert_eq!(c_exp(1e-100, 0, 7), " 1E-100");
+    }
+}
