@@ -23,7 +23,7 @@ use std::time::Instant;
 use clap::Parser;
 use rsf::{
     FileMode, Observer, Progress, SeasBp1, SeasBp1Grid, SeasOutput, SeasSampling, SeasSetup,
-    Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
+    SolverOptions, Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
 };
 use rsf_examples::{cpu_seconds, machine};
 
@@ -59,6 +59,10 @@ struct Args {
     /// A station row at every accepted step (default: thinned as the benchmark suggests).
     #[arg(long)]
     every_step: bool,
+    /// Set up the solver for every step size (default: once, the quasistatic problem
+    /// scaled by 1/τ).
+    #[arg(long)]
+    setup_per_time_step: bool,
 }
 
 fn main() -> Result<(), AnyError> {
@@ -83,6 +87,10 @@ fn main() -> Result<(), AnyError> {
     let control = bp1.step_control(args.tolerance)?;
     let mut sim = bp1
         .simulation_builder(model, args.inertia, 1e-2, control)?
+        .solver_options(SolverOptions {
+            setup_per_time_step: args.setup_per_time_step,
+            ..SolverOptions::default()
+        })
         .build()?;
     let setup_s = t_setup.elapsed().as_secs_f64();
     eprintln!(
@@ -151,6 +159,7 @@ fn main() -> Result<(), AnyError> {
         "domain_km": args.domain_km,
         "ratio": args.ratio,
         "tolerance": args.tolerance,
+        "setup_per_time_step": args.setup_per_time_step,
         "nodes": nodes,
         "fault_nodes": fault_nodes,
         "end_years": args.end_years,

@@ -77,7 +77,7 @@ pub use direct::{DirectOptions, DirectSolver};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;
-pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity};
+pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity, Scaled};
 pub use report::{NonsmoothSolver, SolveReport, Stopping};
 pub use step::{FullStep, StepSolver};
 pub use tnnmg::{Tnnmg, TnnmgOptions};

@@ -89,3 +89,90 @@ impl<const D: usize> BlockNonlinearity<D> for NoNonlinearity {
         (0.0, 0.0)
     }
 }
+
+/// `ψ_k(x) = s (φ_k(x) + ½ q_k |x|²)`: a nonlinearity `φ` scaled by `s > 0`, plus a
+/// quadratic of weight `q_k ≥ 0` on each of its blocks.
+///
+/// What for: a velocity problem `min ½vᵀ(cK + H)v − bᵀv + Φ(v)` with `H = diag(q_k)` on
+/// the blocks (radiation damping `q_k = η w_k`) is, divided by `c > 0`,
+/// `min ½vᵀKv − (b/c)ᵀv + Ψ(v)` with `Ψ = Scaled { s: 1/c, q }` of `Φ`: the same minimiser
+/// with a matrix that does not depend on `c` (the quasistatic integrator's `c = τ`, so one
+/// set-up of a solver serves every time step; docs/math.md §11).
+#[derive(Debug, Clone, Copy)]
+pub struct Scaled<'a, N> {
+    /// The nonlinearity φ.
+    pub inner: &'a N,
+    /// The scale `s` (finite, > 0).
+    pub scale: f64,
+    /// `q_k` per active block (same order), or empty for none.
+    pub quadratic: &'a [f64],
+}
+
+impl<N> Scaled<'_, N> {
+    fn q(&self, k: usize) -> f64 {
+        self.quadratic.get(k).copied().unwrap_or(0.0)
+    }
+}
+
+impl<const D: usize, N: BlockNonlinearity<D>> BlockNonlinearity<D> for Scaled<'_, N> {
+    fn active_blocks(&self) -> &[usize] {
+        self.inner.active_blocks()
+    }
+
+    fn value(&self, k: usize, v: &[f64; D]) -> f64 {
+        let q: f64 = v.iter().map(|x| x * x).sum();
+        self.scale * (self.inner.value(k, v) + 0.5 * self.q(k) * q)
+    }
+
+    /// `min ½xᵀAx − rᵀx + s(φ(x) + ½q|x|²)` is `min ½xᵀ(A/s + qI)x − (r/s)ᵀx + φ(x)`.
+    fn minimize_block(
+        &self,
+        k: usize,
+        a: &[[f64; D]; D],
+        r: &[f64; D],
+        free: &[bool; D],
+        v: &mut [f64; D],
+    ) {
+        let (s, q) = (self.scale, self.q(k));
+        let mut b = *a;
+        for (i, row) in b.iter_mut().enumerate() {
+            for x in row.iter_mut() {
+                *x /= s;
+            }
+            row[i] += q;
+        }
+        let r = r.map(|x| x / s);
+        self.inner.minimize_block(k, &b, &r, free, v);
+    }
+
+    fn linearize(&self, k: usize, v: &[f64; D]) -> Linearization<D> {
+        let (s, q) = (self.scale, self.q(k));
+        match self.inner.linearize(k, v) {
+            Linearization::Smooth { gradient, hessian } => {
+                let mut h = hessian;
+                for (i, row) in h.iter_mut().enumerate() {
+                    row[i] += q;
+                    for x in row.iter_mut() {
+                        *x *= s;
+                    }
+                }
+                Linearization::Smooth {
+                    gradient: std::array::from_fn(|i| s * (gradient[i] + q * v[i])),
+                    hessian: h,
+                }
+            }
+            Linearization::Truncate => Linearization::Truncate,
+        }
+    }
+
+    fn directional_derivatives(&self, k: usize, v: &[f64; D], d: &[f64; D]) -> (f64, f64) {
+        let (s, q) = (self.scale, self.q(k));
+        let vd: f64 = v.iter().zip(d).map(|(a, b)| a * b).sum();
+        let (lo, hi) = self.inner.directional_derivatives(k, v, d);
+        (s * (lo + q * vd), s * (hi + q * vd))
+    }
+
+    fn kink_at_zero(&self, k: usize) -> bool {
+        self.inner.kink_at_zero(k)
+    }
+}

@@ -52,6 +52,11 @@ pub struct Method<const D: usize, I, const C: usize = D> {
     /// Solvers of earlier time steps, most recently used last.
     solver_cache: Vec<(f64, VelocitySolver<C>)>,
     load_operator: LoadOperator,
+    /// With one set-up for every τ (no inertia, see
+    /// [`SolverOptions::setup_per_time_step`](crate::SolverOptions)): the radiation
+    /// damping `q_k = η w_k` of each frictional node, moved from the matrix into the
+    /// nonlinearity.
+    tau_free: Option<Vec<f64>>,
 }
 
 impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
@@ -70,7 +75,21 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         )?;
         let inner_stopping = options.solver_options.stopping(options.solver);
         let resolved = options.solver.resolve(model);
-        let a = time_step_matrix(model, &options.integrator, tau)?;
+        let tau_free = (!options.integrator.uses_mass()
+            && !options.solver_options.setup_per_time_step)
+            .then(|| {
+                let eta = options.integrator.radiation_damping();
+                let w = &model.frictional_boundary.weights;
+                w.iter().map(|w| eta * w).collect::<Vec<f64>>()
+            });
+        let a = match tau_free {
+            // A/c_K without the damping: K, whatever τ.
+            Some(_) => {
+                check_time_step_matrix(model, &options.integrator, tau)?;
+                model.stiffness.clone()
+            }
+            None => time_step_matrix(model, &options.integrator, tau)?,
+        };
         let solver = VelocitySolver::new(resolved, &options.solver_options, &a, model)?;
         Ok(Self {
             options,
@@ -79,6 +98,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             solver,
             solver_cache: Vec::new(),
             load_operator,
+            tau_free,
         })
     }
 
@@ -129,8 +149,18 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         self.inner_stopping
     }
 
-    pub(crate) fn solver_mut(&mut self) -> &mut VelocitySolver<C> {
-        &mut self.solver
+    /// The solver and, when one set-up serves every τ, the scaling of the step's problem
+    /// at `tau`: `(1/c_K(τ), q)` — divide the right-hand side by `c_K` and solve with the
+    /// nonlinearity [`Scaled`](rsf_tnnmg::Scaled) by `1/c_K` with the damping `q`.
+    pub(crate) fn solver_and_scaling(
+        &mut self,
+        tau: f64,
+    ) -> (&mut VelocitySolver<C>, Option<(f64, &[f64])>) {
+        let scaling = self.tau_free.as_deref().map(|q| {
+            let (_, c_k) = self.options.integrator.coefficients(tau);
+            (1.0 / c_k, q)
+        });
+        (&mut self.solver, scaling)
     }
 
     pub(crate) fn load_operator(&self) -> &LoadOperator {
@@ -149,6 +179,9 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         old_tau: f64,
         tau: f64,
     ) -> Result<()> {
+        if self.tau_free.is_some() {
+            return check_time_step_matrix(model, &self.options.integrator, tau);
+        }
         let solver = match self
             .solver_cache
             .iter()
@@ -201,6 +234,26 @@ pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegr
         ));
     }
     Ok(a)
+}
+
+/// Checks that the time-step matrix at `tau` would be finite (what
+/// [`time_step_matrix`] checks), without forming it: `c_K` finite and positive.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau`.
+pub(crate) fn check_time_step_matrix<const D: usize, const C: usize, I: VelocityIntegrator>(
+    _model: &Model<D, C>,
+    integrator: &I,
+    tau: f64,
+) -> Result<()> {
+    let (c_m, c_k) = integrator.coefficients(tau);
+    if !(c_k.is_finite() && c_k > 0.0 && c_m.is_finite()) {
+        return Err(invalid(
+            "tau",
+            format!("τ = {tau:e} s gives the time-step coefficients c_M = {c_m:e}, c_K = {c_k:e}"),
+        ));
+    }
+    Ok(())
 }
 
 /// Adds `η w_p` to the diagonal of every component of each frictional node: the Hessian of

@@ -112,6 +112,13 @@ pub struct SolverOptions {
     pub direct: DirectOptions,
     /// Stopping test of nonlinear Gauss–Seidel.
     pub gauss_seidel: Stopping,
+    /// Set up the solver for every time step's matrix even where one set-up serves all
+    /// step sizes. Without inertia (the quasistatic integrator) `A = τK + H` with `H` the
+    /// radiation damping on Γ_F, so by default the solver is set up once for `K` and each
+    /// step solves the same problem divided by τ (the damping and friction scaled by
+    /// `1/τ` on Γ_F, [`rsf_tnnmg::Scaled`]; docs/math.md §11); `true` restores one set-up
+    /// per step size (the same solution up to round-off). Default `false`.
+    pub setup_per_time_step: bool,
 }
 
 impl SolverOptions {

@@ -630,6 +630,7 @@ impl SliderScene {
                 ..DirectOptions::default()
             },
             gauss_seidel: stopping,
+            setup_per_time_step: false,
         }
     }
 

@@ -4,7 +4,7 @@
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::VelocityIntegrator;
-use rsf_tnnmg::{StepSolver, Stopping};
+use rsf_tnnmg::{BlockNonlinearity, Scaled, SolveReport, StepSolver, Stopping};
 
 use crate::error::{Error, Result};
 use crate::friction_blocks::{evaluate_potentials, FrictionView};
@@ -106,14 +106,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             }
         }
         impose_dirichlet(model, t, &mut v);
-        let solver = method.solver_mut();
+        let (solver, scaling) = method.solver_and_scaling(tau);
+        if let Some((s, _)) = scaling {
+            for r in &mut work.rhs {
+                *r *= s;
+            }
+        }
         let begun = solver.begin_step(&work.rhs, &v, &model.frictional_boundary.nodes);
         work.v = v;
         begun?;
         work.history.clear();
         let full = method.inner_stopping();
         let state_integrator = method.state_integrator();
-        let solver = method.solver_mut();
+        let (solver, scaling) = method.solver_and_scaling(tau);
         let laws = self.problem.friction_laws();
         let state_laws = self.problem.state_laws();
         let fb = &model.frictional_boundary;
@@ -125,7 +130,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             tau,
         };
         if !self.problem.uses_state() {
-            let r = solver.solve_step(&FrictionView::<L>::new(fb, &work.potentials), full)?;
+            let r = solve(solver, &FrictionView::<L>::new(fb, &work.potentials), scaling, full)?;
             report.solver_iterations += r.iterations;
             report.fixed_point_iterations = 1;
             report.correction = solver.last_change();
@@ -155,8 +160,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                     _ => full,
                 };
                 evaluate_potentials(laws, &work.alpha_iter, &mut work.potentials);
-                let r =
-                    solver.solve_step(&FrictionView::<L>::new(fb, &work.potentials), stopping)?;
+                let r = solve(
+                    solver,
+                    &FrictionView::<L>::new(fb, &work.potentials),
+                    scaling,
+                    stopping,
+                )?;
                 report.solver_iterations += r.iterations;
                 report.fixed_point_iterations += 1;
                 let c = solver.last_change();
@@ -221,6 +230,27 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
 }
 
 /// `v` with the Dirichlet data of time `t`: fixed dofs 0, prescribed ones `factor · g(t)`.
+/// One solve of the velocity problem with the friction `nl`, scaled when one set-up of the
+/// solver serves every τ (see `Method::solver_and_scaling`).
+fn solve<const C: usize, N: BlockNonlinearity<C>>(
+    solver: &mut VelocitySolver<C>,
+    nl: &N,
+    scaling: Option<(f64, &[f64])>,
+    stopping: Stopping,
+) -> std::result::Result<SolveReport, rsf_tnnmg::Error> {
+    match scaling {
+        Some((scale, quadratic)) => solver.solve_step(
+            &Scaled {
+                inner: nl,
+                scale,
+                quadratic,
+            },
+            stopping,
+        ),
+        None => solver.solve_step(nl, stopping),
+    }
+}
+
 pub(crate) fn impose_dirichlet<const D: usize, const C: usize>(
     model: &Model<D, C>,
     t: f64,
