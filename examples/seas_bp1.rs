@@ -216,11 +216,13 @@ fn overview(dir: &Path, events: &[&rsf::SeasEvent]) -> Result<(), AnyError> {
         .x_desc("event start (years)")
         .y_desc("peak slip rate (m/s)")
         .draw()?;
-    chart.draw_series(
-        events
-            .iter()
-            .map(|e| Circle::new((e.t_start / SECONDS_PER_YEAR, e.peak_slip_rate), 4, RED.filled())),
-    )?;
+    chart.draw_series(events.iter().map(|e| {
+        Circle::new(
+            (e.t_start / SECONDS_PER_YEAR, e.peak_slip_rate),
+            4,
+            RED.filled(),
+        )
+    }))?;
     root.present()?;
     Ok(())
 }

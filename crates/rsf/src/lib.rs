@@ -83,8 +83,8 @@ pub use observe::files::FileMode;
 pub use observe::profile::{FrictionalProfile, ProfileRow};
 pub use observe::progress::Progress;
 pub use observe::recorder::{FaultRecorder, Recorder};
-pub use observe::series::{PointSeries, SeriesRow};
 pub use observe::seas::{SeasEvent, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+pub use observe::series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
 pub use observe::vtu::VtuFrames;
 pub use observe::{Flow, Observer, StepView};

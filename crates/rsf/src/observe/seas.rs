@@ -111,9 +111,10 @@ struct Station<L> {
 /// stress is `σ_n μ(V, α)` of the node's law (the friction stress, MPa in the files); the
 /// state column is `log10 θ = α / ln 10`.
 ///
-/// Files are written while the run goes; [`finish`](Observer::finish) completes their
-/// headers (minimum and maximum time step, number of steps), rewriting each file
-/// atomically, and writes `events.csv`.
+/// Files are written while the run goes; [`finish`](Observer::finish) (at the end of every
+/// run call) completes their headers (minimum and maximum time step, number of steps),
+/// rewriting each file atomically, and writes `events.csv`; a later run call continues
+/// the files.
 pub struct SeasOutput<L> {
     dir: PathBuf,
     setup: SeasSetup,
@@ -211,7 +212,12 @@ impl<L: FrictionLaw> SeasOutput<L> {
         for (name, depth) in &setup.stations {
             let k = nearest(*depth);
             let path = dir.join(name);
-            let mut out = files::open(&path, &station_header(&setup, depths[k], None), 0, Start::Fresh { overwrite })?;
+            let mut out = files::open(
+                &path,
+                &station_header(&setup, depths[k], None),
+                0,
+                Start::Fresh { overwrite },
+            )?;
             out.flush().map_err(io_at("write", &path))?;
             stations.push(Station {
                 k,
@@ -316,6 +322,22 @@ fn station_header(setup: &SeasSetup, depth: f64, stats: Option<(f64, f64, usize)
     )
 }
 
+/// The open writer of `path`, reopened for appending after a [`finish`](Observer::finish)
+/// (which closes the files to complete their headers; a run may continue afterwards).
+fn writer<'a>(
+    out: &'a mut Option<BufWriter<File>>,
+    path: &Path,
+) -> Result<&'a mut BufWriter<File>> {
+    if out.is_none() {
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map_err(io_at("open for appending", path))?;
+        *out = Some(BufWriter::new(file));
+    }
+    Ok(out.as_mut().expect("just opened"))
+}
+
 /// Replaces the `#` lines at the top of `path` by `header`'s `#` lines (atomically).
 fn rewrite_header(path: &Path, header: &str) -> Result<()> {
     let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
@@ -370,7 +392,11 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             _ => {}
         }
         let sm = self.setup.sampling;
-        let station_dt = if in_event { sm.station_event } else { sm.station_quiet };
+        let station_dt = if in_event {
+            sm.station_event
+        } else {
+            sm.station_quiet
+        };
         if sm.every_step || t - self.last_station_t >= station_dt * (1.0 - 1e-12) {
             self.last_station_t = t;
             for i in 0..self.stations.len() {
@@ -388,13 +414,17 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
                     c_exp(stress, 6, 14),
                     c_exp(alpha / std::f64::consts::LN_10, 6, 14),
                 );
-                if let Some(out) = self.stations[i].out.as_mut() {
-                    out.write_all(row.as_bytes())
-                        .map_err(io_at("write", &self.stations[i].path))?;
-                }
+                let st = &mut self.stations[i];
+                writer(&mut st.out, &st.path)?
+                    .write_all(row.as_bytes())
+                    .map_err(io_at("write", &st.path))?;
             }
         }
-        let profile_dt = if in_event { sm.profile_event } else { sm.profile_quiet };
+        let profile_dt = if in_event {
+            sm.profile_event
+        } else {
+            sm.profile_quiet
+        };
         if t - self.last_profile_t >= profile_dt * (1.0 - 1e-12) {
             self.last_profile_t = t;
             self.slips.clear();
@@ -408,10 +438,10 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
                 row.push_str(&c_exp(*x, 6, 14));
             }
             row.push('\n');
-            if let Some(out) = self.profile_out.as_mut() {
-                out.write_all(row.as_bytes())
-                    .map_err(io_at("write", &self.dir.join("devol.dat")))?;
-            }
+            let path = self.dir.join("devol.dat");
+            writer(&mut self.profile_out, &path)?
+                .write_all(row.as_bytes())
+                .map_err(io_at("write", &path))?;
         }
         Ok(Flow::Continue(()))
     }
@@ -427,8 +457,8 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
         let devol = self.dir.join("devol.dat");
         if let Some(mut out) = self.profile_out.take() {
             out.flush().map_err(io_at("write", &devol))?;
-            rewrite_header(&devol, &common_header(&self.setup, stats))?;
         }
+        rewrite_header(&devol, &common_header(&self.setup, stats))?;
         let mut csv = String::from(
             "event,t_start_s,t_end_s,hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m\n",
         );

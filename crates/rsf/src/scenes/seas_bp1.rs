@@ -208,7 +208,10 @@ impl SeasBp1 {
         if !(grid.dz > 0.0 && grid.dz.is_finite()) || (cells - cells.round()).abs() > 1e-9 {
             return Err(invalid(
                 "dz",
-                format!("{} m must divide W_f = {} m into whole cells", grid.dz, self.w_f),
+                format!(
+                    "{} m must divide W_f = {} m into whole cells",
+                    grid.dz, self.w_f
+                ),
             ));
         }
         if !(grid.domain > self.w_f && grid.domain.is_finite()) {

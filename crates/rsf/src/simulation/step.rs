@@ -130,7 +130,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             tau,
         };
         if !self.problem.uses_state() {
-            let r = solve(solver, &FrictionView::<L>::new(fb, &work.potentials), scaling, full)?;
+            let r = solve(
+                solver,
+                &FrictionView::<L>::new(fb, &work.potentials),
+                scaling,
+                full,
+            )?;
             report.solver_iterations += r.iterations;
             report.fixed_point_iterations = 1;
             report.correction = solver.last_change();
