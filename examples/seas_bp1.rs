@@ -153,6 +153,7 @@ fn main() -> Result<(), AnyError> {
         later.iter().sum::<f64>() / later.len() as f64
     };
     let controller = sim.state().controller.as_ref();
+    let (tau_min, tau_max, _) = output.time_steps();
     let json = serde_json::json!({
         "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
         "dz_m": args.dz,
@@ -166,6 +167,8 @@ fn main() -> Result<(), AnyError> {
         "accepted_steps": summary.steps,
         "rejected_attempts": summary.rejected_attempts,
         "accepted_by_controller": controller.map(|c| c.accepted()),
+        "tau_min_s": tau_min,
+        "tau_max_s": tau_max,
         "fixed_point_iterations_mean": summary.fpi_mean,
         "setup_s": setup_s,
         "wall_time_s": wall,
@@ -193,36 +196,77 @@ fn main() -> Result<(), AnyError> {
     Ok(())
 }
 
-/// `overview.png`: event times and peak slip rates (a placeholder for the richer figure).
+/// `overview.png`: slip profiles (every 5 years between events in blue, every second
+/// during events in red, as in the benchmark description's figure) and the maximum slip
+/// rate on the fault against time, both from `devol.dat`.
 fn overview(dir: &Path, events: &[&rsf::SeasEvent]) -> Result<(), AnyError> {
     use plotters::prelude::*;
     rsf_examples::init_fonts();
-    let path = dir.join("overview.png");
-    let root = BitMapBackend::new(&path, (900, 500)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let t_max = events
+    let text = std::fs::read_to_string(dir.join("devol.dat"))?;
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let depths: Vec<f64> = lines
+        .next()
+        .ok_or("devol.dat has no depth row")?
+        .split_whitespace()
+        .skip(2)
+        .map(|x| x.parse::<f64>().map(|z| z / 1e3))
+        .collect::<Result<_, _>>()?;
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split_whitespace().map(|x| x.parse::<f64>()).collect())
+        .collect::<Result<_, _>>()?;
+    let slip_max = rows
         .iter()
-        .map(|e| e.t_start / SECONDS_PER_YEAR)
-        .fold(1.0, f64::max);
-    let v_max = events.iter().map(|e| e.peak_slip_rate).fold(1.0, f64::max);
-    let mut chart = ChartBuilder::on(&root)
-        .caption("BP1: peak slip rate of each event", ("sans-serif", 20))
+        .flat_map(|r| r[2..].iter().copied())
+        .fold(1e-3, f64::max);
+    let path = dir.join("overview.png");
+    let root = BitMapBackend::new(&path, (1200, 600)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (left, right) = root.split_horizontally(600);
+    let mut chart = ChartBuilder::on(&left)
+        .caption(
+            "slip (blue: every 5 yr, red: every 1 s in events)",
+            ("sans-serif", 16),
+        )
         .margin(10)
         .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..t_max * 1.05, (1e-3..v_max * 2.0).log_scale())?;
+        .y_label_area_size(50)
+        .build_cartesian_2d(
+            0.0..slip_max * 1.02,
+            -depths.last().copied().unwrap_or(40.0)..0.0,
+        )?;
     chart
         .configure_mesh()
-        .x_desc("event start (years)")
-        .y_desc("peak slip rate (m/s)")
+        .x_desc("slip (m)")
+        .y_desc("depth (km)")
+        .y_label_formatter(&|y| format!("{:.0}", -y))
         .draw()?;
-    chart.draw_series(events.iter().map(|e| {
-        Circle::new(
-            (e.t_start / SECONDS_PER_YEAR, e.peak_slip_rate),
-            4,
-            RED.filled(),
+    for r in &rows {
+        let colour = if r[1] >= (1e-3f64).log10() { RED } else { BLUE };
+        chart.draw_series(LineSeries::new(
+            r[2..].iter().zip(&depths).map(|(&s, &z)| (s, -z)),
+            colour.stroke_width(1),
+        ))?;
+    }
+    let t_max = rows.last().map_or(1.0, |r| r[0] / SECONDS_PER_YEAR);
+    let mut chart = ChartBuilder::on(&right)
+        .caption(
+            format!("max slip rate; {} events", events.len()),
+            ("sans-serif", 16),
         )
-    }))?;
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..t_max.max(1e-9), -13.0..1.0)?;
+    chart
+        .configure_mesh()
+        .x_desc("time (years)")
+        .y_desc("log10 max slip rate (m/s)")
+        .draw()?;
+    chart.draw_series(LineSeries::new(
+        rows.iter()
+            .map(|r| (r[0] / SECONDS_PER_YEAR, r[1].max(-13.0))),
+        BLACK.stroke_width(1),
+    ))?;
     root.present()?;
     Ok(())
 }

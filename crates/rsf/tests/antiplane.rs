@@ -210,6 +210,13 @@ fn coarse_bp1_reaches_its_first_event_and_resumes_bit_identically() {
         .skip(1)
         .collect();
     assert!(rows.len() > 10 && rows.iter().all(|r| r.split_whitespace().count() == 5));
+    let devol = std::fs::read_to_string(dir.join("a/devol.dat")).unwrap();
+    let mut body = devol.lines().skip_while(|l| l.starts_with('#'));
+    let depths = body.next().unwrap();
+    assert!(depths.starts_with("0 0 "), "{depths}");
+    let columns = depths.split_whitespace().count();
+    assert_eq!(columns, 2 + 81, "surface to W_f = 40 km every 500 m");
+    assert!(body.all(|l| l.split_whitespace().count() == columns));
 
     // Resume from a checkpoint halfway through the interseismic period.
     let (_, mut sim_b) = coarse_bp1();

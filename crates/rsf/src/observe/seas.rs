@@ -276,6 +276,11 @@ impl<L: FrictionLaw> SeasOutput<L> {
         &self.events
     }
 
+    /// The smallest and largest time step (s) of the steps seen, and their number.
+    pub fn time_steps(&self) -> (f64, f64, usize) {
+        (self.tau_min, self.tau_max, self.steps)
+    }
+
     /// The slip (m) of frictional node `k` in `s`: the change of its field since the
     /// start (signed for a scalar field, the norm of the change otherwise).
     fn slip<const D: usize, const C: usize>(&self, s: &StepView<'_, D, C>, k: usize) -> f64 {
@@ -346,8 +351,9 @@ fn rewrite_header(path: &Path, header: &str) -> Result<()> {
         .skip_while(|l| l.starts_with('#'))
         .collect();
     let hashes: String = header
-        .split_inclusive('\n')
+        .lines()
         .take_while(|l| l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
         .collect();
     write_atomically(path, format!("{hashes}{body}").as_bytes())
 }
