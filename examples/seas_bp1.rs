@@ -22,8 +22,8 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::{
-    FileMode, FixedPointOptions, Observer, Progress, SeasBp1, SeasBp1Grid, SeasOutput, SeasSampling, SeasSetup,
-    SolverOptions, Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
+    FileMode, FixedPointOptions, Observer, Progress, SeasBp1, SeasBp1Grid, SeasOutput,
+    SeasSampling, SeasSetup, SolverOptions, Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
 };
 use rsf_examples::{cpu_seconds, machine};
 

@@ -69,7 +69,7 @@ pub use method::state_integrator::StateIntegrator;
 pub use method::{Method, MethodOptions};
 pub use model::builder::{
     AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
-    MAX_CELLS,
+    DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
 };
 pub use model::fault::FrictionalBoundary;
 pub use model::loading::{DirichletVelocity, TimeFunction};
