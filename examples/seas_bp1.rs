@@ -10,9 +10,11 @@
 //! Flags: `--out DIR` (required; refuses a folder with files of another run unless
 //! `--overwrite`), `--end-years Y` (default 3000), `--dz M` (element size on the fault,
 //! default 25), `--domain-km L` (default 400), `--ratio R` (mesh growth away from the
-//! fault, default 1.05), `--tolerance E` (adaptive steps, default 1e-3), `--inertia`
+//! fault, default 1.05), `--tolerance E` (adaptive steps, default 1e-3), `--state-change-cap`
+//! (ξ, default 0.5; 0 for none), `--fixed-point-tolerance` (default 1e-10), `--inertia`
 //! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--every-step` (a station row
-//! at every step instead of the benchmark's thinning).
+//! at every step instead of the benchmark's thinning), `--setup-per-time-step` (one solver
+//! set-up per step size, for comparison).
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
@@ -59,6 +61,9 @@ struct Args {
     /// A station row at every accepted step (default: thinned as the benchmark suggests).
     #[arg(long)]
     every_step: bool,
+    /// Largest state change per step ξ (τ ≲ ξ D_c / V in slip); 0 for none.
+    #[arg(long, default_value_t = 0.5)]
+    state_change_cap: f64,
     /// Tolerance of the fixed point iteration of each step (energy norm of the velocity
     /// correction; the paper's 1e-10 by default).
     #[arg(long, default_value_t = 1e-10)]
@@ -88,7 +93,8 @@ fn main() -> Result<(), AnyError> {
     let t_setup = Instant::now();
     let model = bp1.model(&grid, args.inertia)?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
-    let control = bp1.step_control(args.tolerance)?;
+    let mut control = bp1.step_control(args.tolerance)?;
+    control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
     let mut sim = bp1
         .simulation_builder(model, args.inertia, 1e-2, control)?
         .fixed_point(FixedPointOptions {
@@ -170,6 +176,7 @@ fn main() -> Result<(), AnyError> {
         "tolerance": args.tolerance,
         "setup_per_time_step": args.setup_per_time_step,
         "fixed_point_tolerance": args.fixed_point_tolerance,
+        "state_change_cap": args.state_change_cap,
         "nodes": nodes,
         "fault_nodes": fault_nodes,
         "end_years": args.end_years,
