@@ -290,7 +290,10 @@ impl SliderScene {
     /// The step control of adaptive time steps (`None` for fixed steps).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the first invalid option.
+    /// [`Error::InvalidParameter`] naming the first invalid option
+    /// (`time_step.<field>`): the controller's checks ([`StepControl::validate`]: the
+    /// tolerance in (ε, 1), `tau_min_s` a normal double, …), and `tau_min_s ≥ ε ·
+    /// end_time_s`, below which a step at the end of the run does not advance time.
     pub fn step_control(&self) -> Result<Option<StepControl>> {
         let TimeStep::Adaptive(a) = self.time_step else {
             return Ok(None);
@@ -375,10 +378,24 @@ impl SliderScene {
                         other => other,
                     }
                 ),
-                format!("{value} must be {requirement}"),
+                // `{:e}` for huge or tiny values (f64::MAX has 309 digits in `{}`).
+                format!("{} must be {requirement}", short_number(value)),
             ),
             other => other.into(),
         })?;
+        // A step of τ_min at t ≈ T must advance time: ulp(t) ≤ ε·t ≤ ε·T (docs/reliability.md).
+        let resolvable = f64::EPSILON * self.end_time_s;
+        if a.tau_min_s < resolvable {
+            return Err(invalid(
+                "time_step.tau_min_s",
+                format!(
+                    "{:e} s is below ε · end_time_s = {resolvable:e} s: a step that short \
+                     does not advance the time t ≈ T in double precision (the run would \
+                     never end)",
+                    a.tau_min_s
+                ),
+            ));
+        }
         Ok(Some(control))
     }
 
@@ -711,6 +728,17 @@ impl SliderScene {
                 Progress::steps(self.steps.saturating_sub(done), label)
             }
         }
+    }
+}
+
+/// `x` as `{}` prints it if that is short, else as `{:e}` (error messages quote at most
+/// about 100 characters of a value).
+fn short_number(x: f64) -> String {
+    let plain = x.to_string();
+    if plain.len() <= 24 {
+        plain
+    } else {
+        format!("{x:e}")
     }
 }
 
