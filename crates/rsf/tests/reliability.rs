@@ -367,3 +367,55 @@ fn implausible_scenes_are_refused_naming_the_field() {
     }
     assert!(Fingerprint::default().0.is_empty());
 }
+
+/// `b < 0` only by explicit opt-in: refused with the reason and the name of the opt-in by
+/// default; with `allow_negative_b = true` (TOML) accepted, run finite, and part of the
+/// fingerprint, so that a checkpoint of such a run does not continue a default run and
+/// vice versa. Without the opt-in the fingerprint has no such field (earlier checkpoints
+/// keep theirs).
+#[test]
+fn negative_b_only_by_explicit_opt_in() {
+    let s = || SliderScene {
+        b: -1e-3,
+        ..scene()
+    };
+    let e = s().validate().unwrap_err();
+    match &e {
+        Error::InvalidParameter { name, reason } => {
+            assert_eq!(name, "b");
+            assert!(reason.contains("allow_negative_b = true"), "{e}");
+            assert!(reason.contains("admissible range"), "{e}");
+        }
+        e => panic!("{e}"),
+    }
+    // The opt-in from TOML.
+    let opted = SliderScene::from_toml("b = -1e-3\nallow_negative_b = true\nlevel = 1").unwrap();
+    assert!(opted.allow_negative_b);
+    opted.validate().unwrap();
+    let explicit = SliderScene {
+        allow_negative_b: true,
+        ..s()
+    };
+    explicit.validate().unwrap();
+    // It runs (velocity strengthening: b − a < 0), finite.
+    let mut sim = explicit.build().unwrap();
+    sim.run(10, &mut []).unwrap();
+    assert!(sim.kinematics().v.iter().all(|v| v.is_finite()));
+    // Fingerprints: the field is present only when true, and differs from a default run.
+    assert_eq!(scene().fingerprint().get("allow_negative_b"), None);
+    let with_b = SliderScene {
+        allow_negative_b: true,
+        ..scene()
+    };
+    assert_eq!(with_b.fingerprint().get("allow_negative_b"), Some("true"));
+    match with_b.fingerprint().check(&scene().fingerprint(), &[]) {
+        Err(Error::CheckpointMismatch { field, .. }) => assert_eq!(field, "allow_negative_b"),
+        other => panic!("{other:?}"),
+    }
+    match scene().fingerprint().check(&with_b.fingerprint(), &[]) {
+        Err(Error::CheckpointMismatch { field, .. }) => assert_eq!(field, "allow_negative_b"),
+        other => panic!("{other:?}"),
+    }
+    // An unknown spelling is refused, not ignored.
+    assert!(SliderScene::from_toml("allow_negative_B = true").is_err());
+}

@@ -180,8 +180,16 @@ pub struct SliderScene {
     pub mu0: f64,
     /// Direct-effect parameter a.
     pub a: f64,
-    /// Evolution-effect parameter b.
+    /// Evolution-effect parameter b (≥ 0 unless `allow_negative_b`).
     pub b: f64,
+    /// Accept a negative `b` (`allow_negative_b = true` in TOML; default `false`). A
+    /// negative evolution effect has no physical meaning in rate-and-state friction, and
+    /// `b < 0` is much more often a sign error than a deliberate study, so it is refused
+    /// unless asked for. Written (and so part of the checkpoint fingerprint,
+    /// [`fingerprint`](Self::fingerprint)) only when `true`: scenes and checkpoints of
+    /// earlier versions, without the field, keep their fingerprint.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_negative_b: bool,
     /// Reference slip rate V0 (m/s).
     pub v0_m_per_s: f64,
     /// Characteristic slip distance L (m).
@@ -228,6 +236,7 @@ impl Default for SliderScene {
             mu0: 0.6,
             a: 0.010,
             b: 0.015,
+            allow_negative_b: false,
             v0_m_per_s: 1e-6,
             l_m: 1e-5,
             loading_velocity_m_per_s: 2e-4,
@@ -493,13 +502,16 @@ impl SliderScene {
             (0.0, f64::MAX),
             "a negative friction coefficient has no physical meaning (μ₀ ≥ 0)",
         )?;
-        in_range(
-            "b",
-            self.b,
-            (0.0, f64::MAX),
-            "the state effect b of rate-and-state friction is ≥ 0 (b − a < 0 is velocity \
-             strengthening; a negative b has no physical meaning)",
-        )?;
+        if !self.allow_negative_b {
+            in_range(
+                "b",
+                self.b,
+                (0.0, f64::MAX),
+                "the state effect b of rate-and-state friction is ≥ 0 (b − a < 0 is \
+                 velocity strengthening; a negative b has no physical meaning; set \
+                 `allow_negative_b = true` to run it deliberately)",
+            )?;
+        }
         in_range(
             "alpha0",
             self.alpha0,
