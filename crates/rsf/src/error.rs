@@ -44,6 +44,19 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// The scales of an assembled problem (stiffness, mass, load, displacements, slip
+    /// distance) cannot be computed or resolved in double precision
+    /// ([`ProblemScales::check`](crate::ProblemScales::check), docs/reliability.md).
+    #[error(
+        "the problem cannot be resolved in double precision: {reason}; change {}",
+        fields.join(", ")
+    )]
+    IllConditioned {
+        /// The fields (scene fields as TOML names them) that set the failed quantity.
+        fields: Vec<String>,
+        /// The quantity, its value and the admissible range.
+        reason: String,
+    },
     /// A node index outside the model.
     #[error("{what}: node {node} is out of range (the model has {nodes} nodes)")]
     NodeOutOfRange {

@@ -419,3 +419,114 @@ fn negative_b_only_by_explicit_opt_in() {
     // An unknown spelling is refused, not ignored.
     assert!(SliderScene::from_toml("allow_negative_B = true").is_err());
 }
+
+/// The conditioning estimate (docs/reliability.md, "Conditioning"): the scene defaults and
+/// the bounds of the per-field checks pass; a scene whose values are each admissible but
+/// whose problem is not representable (gravity 1e200 m/s²: |u₀| ≈ 1e195 m) or whose slip
+/// distance is lost in the displacements (L = 1e-20 m against |u₀| ≈ 1e-3 m; a loading
+/// displacement of 1e13 m) is refused naming the fields; the resolution threshold is tested
+/// on both sides at the measured displacement scale.
+#[test]
+fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
+    let ill_fields = |scene: &SliderScene| match scene.build_model() {
+        Err(Error::IllConditioned { fields, reason }) => {
+            assert!(reason.len() < 400, "{reason}");
+            fields
+        }
+        Ok(_) => panic!("accepted: {scene:?}"),
+        Err(e) => panic!("{e}"),
+    };
+    // Defaults (level 1 and the paper's level 4), and each per-field bound, pass.
+    for ok in [
+        scene(),
+        SliderScene::default(),
+        SliderScene {
+            youngs_modulus_pa: 1e3,
+            ..scene()
+        },
+        SliderScene {
+            youngs_modulus_pa: 1e13,
+            ..scene()
+        },
+        SliderScene {
+            density_kg_per_m2: 1e7,
+            ..scene()
+        },
+        SliderScene {
+            density_kg_per_m2: 1e-3,
+            ..scene()
+        },
+    ] {
+        let model = ok.build_model().unwrap_or_else(|e| panic!("{e}: {ok:?}"));
+        let s = rsf::ProblemScales::new(
+            &model.stiffness,
+            model.mass.as_ref(),
+            &model.load,
+            &model.initial_displacement,
+            &model.fixed,
+        );
+        println!("level {}: {s:?}", ok.level);
+    }
+    // Not representable: the gravity sag overflows the squares.
+    let f = ill_fields(&SliderScene {
+        gravity_m_per_s2: 1e200,
+        ..scene()
+    });
+    assert!(f.contains(&"gravity_m_per_s2".to_string()), "{f:?}");
+    // Not resolvable: slip distance against the gravity sag, and against the loading.
+    let f = ill_fields(&SliderScene {
+        l_m: 1e-20,
+        ..scene()
+    });
+    assert!(f.contains(&"l_m".to_string()), "{f:?}");
+    let f = ill_fields(&SliderScene {
+        loading_velocity_m_per_s: 1e3,
+        end_time_s: 1e10,
+        steps: 1_000_000,
+        ..scene()
+    });
+    assert_eq!(
+        f,
+        ["l_m", "loading_velocity_m_per_s", "end_time_s"],
+        "the loading displacement 1e13 m is the largest"
+    );
+    // The threshold on both sides, at the measured displacement scale D of this scene.
+    let model = scene().build_model().unwrap();
+    let d = [
+        model
+            .initial_displacement
+            .iter()
+            .fold(0.0_f64, |m, x| m.max(x.abs())),
+        scene().loading_velocity_m_per_s * scene().end_time_s,
+    ]
+    .into_iter()
+    .fold(0.0_f64, f64::max);
+    let estimate = rsf::ProblemScales::new(
+        &model.stiffness,
+        model.mass.as_ref(),
+        &model.load,
+        &model.initial_displacement,
+        &model.fixed,
+    )
+    .displacement_estimate;
+    let d = d.max(estimate);
+    SliderScene {
+        l_m: 2.0 * rsf::SLIP_RESOLUTION * d,
+        ..scene()
+    }
+    .build_model()
+    .unwrap();
+    ill_fields(&SliderScene {
+        l_m: 0.5 * rsf::SLIP_RESOLUTION * d,
+        ..scene()
+    });
+    // The time-step matrix: a step so small that c_M M overflows the squares (fixed steps
+    // of 1e-150 s at ρ = 1e7) names the steps.
+    let f = ill_fields(&SliderScene {
+        end_time_s: 1e-144,
+        steps: 1_000_000,
+        density_kg_per_m2: 1e7,
+        ..scene()
+    });
+    assert!(f.contains(&"steps".to_string()), "{f:?}");
+}

@@ -17,6 +17,7 @@ use crate::method::state_integrator::StateIntegrator;
 use crate::model::builder::{Material, ModelBuilder};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
+use crate::scenes::conditioning::{ProblemScales, ScaleFields};
 use crate::simulation::builder::SimulationBuilder;
 use crate::simulation::Simulation;
 
@@ -617,10 +618,10 @@ impl SliderScene {
     /// quasistatic), plane-strain stiffness, gravity, Γ_D (top: both components, velocity
     /// `(v_load g(t), 0)` with the ramp `g`), Γ_F (bottom, normal component fixed), the
     /// hierarchy's prolongations, lumped weights and `u_0` solving `K u_0 = F` with the
-    /// same constraints.
+    /// same constraints; then [`check_conditioning`](Self::check_conditioning).
     ///
     /// # Errors
-    /// Invalid parameters; assembly errors.
+    /// Invalid parameters; assembly errors; [`Error::IllConditioned`].
     pub fn build_model(&self) -> Result<Model<2>> {
         self.validate()?;
         let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?
@@ -629,11 +630,63 @@ impl SliderScene {
             .dirichlet(TAG_DIRICHLET, [self.loading_velocity_m_per_s, 0.0])
             .frictional_boundary(TAG_FRICTIONAL)
             .loading(self.loading());
-        if self.integrator.uses_mass() {
+        let model = if self.integrator.uses_mass() {
             builder.build()
         } else {
             builder.without_mass().build()
-        }
+        }?;
+        self.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// Whether the scene's assembled `model` can be computed in double precision
+    /// ([`ProblemScales::check`], docs/reliability.md "Conditioning"): the diagonals of `K`,
+    /// `M` and of the time-step matrix `A = c_M M + c_K K` at the smallest and largest
+    /// step of the run, `|F|∞`, `|u₀|∞`, `|F|∞ / min K_ii` and `|v_load| T` within
+    /// [`representable_range`](crate::representable_range), and `l_m` at least
+    /// [`SLIP_RESOLUTION`](crate::SLIP_RESOLUTION) times the largest displacement scale.
+    /// `O(nnz)`; run by [`build_model`](Self::build_model) and on models given to
+    /// [`simulation_builder_with_model`](Self::simulation_builder_with_model).
+    ///
+    /// # Errors
+    /// [`Error::IllConditioned`] naming the scene fields behind the failed quantity.
+    pub fn check_conditioning<const D: usize>(&self, model: &Model<D>) -> Result<()> {
+        let scales = ProblemScales::new(
+            &model.stiffness,
+            model.mass.as_ref(),
+            &model.load,
+            &model.initial_displacement,
+            &model.fixed,
+        );
+        let t = self.end_time_s;
+        // The steps of the run: τ = T/N, or the controller's range clipped to T (a step
+        // never passes the end time).
+        let steps: Vec<(f64, &'static [&'static str])> = match self.time_step {
+            TimeStep::Fixed {} => vec![(self.tau(), &["steps", "end_time_s"])],
+            TimeStep::Adaptive(a) => vec![
+                (a.tau_min_s.min(t), &["time_step.tau_min_s"]),
+                (a.tau_max_s.min(t), &["time_step.tau_max_s", "end_time_s"]),
+            ],
+        };
+        let coefficients: Vec<((f64, f64), &[&'static str])> = steps
+            .into_iter()
+            .map(|(tau, f)| (self.integrator.coefficients(tau), f))
+            .collect();
+        scales.check(
+            &coefficients,
+            (
+                self.loading_velocity_m_per_s.abs() * t,
+                &["loading_velocity_m_per_s", "end_time_s"],
+            ),
+            self.l_m,
+            &ScaleFields {
+                stiffness: &["youngs_modulus_pa", "poisson_ratio"],
+                mass: &["density_kg_per_m2"],
+                load: &["density_kg_per_m2", "gravity_m_per_s2"],
+                displacement: &["gravity_m_per_s2", "density_kg_per_m2", "youngs_modulus_pa"],
+                slip: &["l_m"],
+            },
+        )
     }
 
     /// The options of the velocity solvers with the scene's tolerance (TNNMG: absolute
@@ -704,12 +757,14 @@ impl SliderScene {
     /// by the caller.
     ///
     /// # Errors
-    /// Invalid parameters.
+    /// Invalid parameters; [`Error::IllConditioned`]
+    /// ([`check_conditioning`](Self::check_conditioning)).
     pub fn simulation_builder_with_model(
         &self,
         model: Model<2>,
     ) -> Result<SceneSimulationBuilder<2>> {
         self.validate()?;
+        self.check_conditioning(&model)?;
         scene_builder(self, model)
     }
 
