@@ -35,7 +35,7 @@ use rsf::{
 };
 use rsf_examples::cli::window;
 use rsf_examples::run_folder::{
-    check_output_size, check_series_row, check_window, read_checkpoint, FolderArgs, RunFolder,
+    check_series_row, check_window, plan_output, read_checkpoint, FolderArgs, RunFolder, StepCap,
 };
 use rsf_examples::{
     line_plot, space_time_map, stats, write_summary, FieldMap, Labels, SceneArgs, Series,
@@ -110,15 +110,24 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         folder.path("frictional_profile.csv"),
         folder.path("slip_rate_map.csv"),
     );
-    // The output estimate: a series row per step (≈ 200 bytes), a profile row per node
-    // and step in the window and per node of 600 map samples (≈ 100 bytes each); for
-    // adaptive steps N is the initial step count.
-    let nodes = sim.model().frictional_boundary.len() as f64;
-    let steps = scene.steps as f64;
-    check_output_size(
-        steps * 200.0 + (steps * (w1 - w0) / t_end + 600.0) * nodes * 100.0,
+    // The output bound: a series row per step, a profile row per node and step in the
+    // window and per node of 600 map samples; the steps bounded by N (fixed), or by
+    // T / tau_min_s and --max-steps (adaptive; without --max-steps, a cap that fits in
+    // --max-output-gb).
+    let plan = plan_output(
+        &scene,
+        (w0, w1),
+        sim.model().frictional_boundary.len(),
+        600,
+        cli.folder.max_steps,
         cli.folder.max_output_gb,
     )?;
+    if let Some(cap) = plan.step_cap {
+        println!(
+            "at most {cap} steps (output at most {:.3} GB)",
+            plan.bytes / 1e9
+        );
+    }
     // Everything is checked before any file is touched: folder, checkpoint, rows.
     let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
     let fingerprint = scene.fingerprint();
@@ -152,21 +161,30 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         map_every,
         FrictionalProfile::new(&map_csv, (0.0, t_end), mode)?,
     )?;
-    let mut checkpointer = Every::new(
-        Interval::Steps(cli.checkpoint_every.max(1)),
-        Checkpointer::new(folder.path("checkpoint.bin"))
-            .fingerprint(fingerprint)
-            .wall_time_before(wall_time_before),
-    )?;
+    let checkpoint = Checkpointer::new(folder.path("checkpoint.bin"))
+        .fingerprint(fingerprint)
+        .wall_time_before(wall_time_before);
+    let mut step_cap = plan.step_cap.map(|n| StepCap::new(n, checkpoint.clone()));
+    let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
     let mut progress = scene.progress(sim.time(), "slider");
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
     if cli.checkpoint_every > 0 {
         observers.push(&mut checkpointer);
     }
+    if let Some(cap) = step_cap.as_mut() {
+        observers.push(cap);
+    }
     observers.push(&mut progress);
     let setup_seconds = setup.elapsed().as_secs_f64();
     let summary = sim.run_until(Until::Time(t_end), &mut observers)?;
+    drop(observers);
+    if let Some(e) = step_cap
+        .as_ref()
+        .and_then(|c| c.error(t_end, &folder.path("checkpoint.bin")))
+    {
+        return Err(e.into());
+    }
 
     // Everything below comes from the files: the whole run, also after a resume.
     let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
