@@ -530,3 +530,100 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
     });
     assert!(f.contains(&"steps".to_string()), "{f:?}");
 }
+
+/// A checkpoint of another model is refused with a typed error naming what differs (node
+/// count, lengths, dimension), and the simulation is left as it was.
+#[test]
+fn restore_names_what_differs() {
+    let mut coarse = scene().build().unwrap();
+    coarse.run(2, &mut []).unwrap();
+    let c = coarse.checkpoint();
+    let mut fine = SliderScene {
+        level: 2,
+        ..scene()
+    }
+    .build()
+    .unwrap();
+    let before = fine.checkpoint();
+    let nodes = |s: &rsf::SceneSimulation<2>| s.model().num_nodes();
+    match fine.restore(&c) {
+        Err(Error::CheckpointSize {
+            what,
+            checkpoint,
+            simulation,
+        }) => {
+            assert_eq!(what, "number of nodes");
+            assert_eq!((checkpoint, simulation), (nodes(&coarse), nodes(&fine)));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(fine.checkpoint(), before, "unchanged");
+    let edits: [(fn(&mut Checkpoint), &str); 5] = [
+        (|c| c.dim = 3, "space dimension"),
+        (|c| c.state.kinematics.u.truncate(1), "length of u"),
+        (|c| c.state.kinematics.v.truncate(1), "length of v"),
+        (|c| c.state.kinematics.a.push(0.0), "length of a"),
+        (
+            |c| c.state.alpha.truncate(1),
+            "number of frictional nodes (length of alpha)",
+        ),
+    ];
+    for (edit, name) in edits {
+        let mut e = c.clone();
+        edit(&mut e);
+        match coarse.restore(&e) {
+            Err(err @ Error::CheckpointSize { what, .. }) => {
+                assert_eq!(what, name, "{err}");
+                assert!(err.to_string().contains(name), "{err}");
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+    coarse.restore(&c).unwrap();
+}
+
+/// A row that cannot be written mid-run (the reader of a FIFO went away: EPIPE) is an
+/// `Error::File` naming the file and the action, for the time series and the profile.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_row_that_cannot_be_written_names_the_file() {
+    use std::os::unix::fs::OpenOptionsExt;
+    let dir = temp_dir("fifo-rows");
+    for name in ["series.csv", "profile.csv"] {
+        let fifo = dir.join(name);
+        let _ = std::fs::remove_file(&fifo);
+        let ok = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false);
+        if !ok {
+            eprintln!("mkfifo unavailable: skipped");
+            return;
+        }
+        // A non-blocking reader (O_NONBLOCK), so that opening the writer does not block.
+        let reader = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(0o4000)
+            .open(&fifo)
+            .unwrap();
+        let mut sim = scene().build().unwrap();
+        let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
+        let result = if name == "series.csv" {
+            let mut obs = PointSeries::new(&fifo, sim.model(), x0, FileMode::Overwrite).unwrap();
+            drop(reader);
+            sim.run(1, &mut [&mut obs]).map(|_| ())
+        } else {
+            let mut obs = FrictionalProfile::new(&fifo, (0.0, 1.0), FileMode::Overwrite).unwrap();
+            drop(reader);
+            sim.run(1, &mut [&mut obs]).map(|_| ())
+        };
+        match result.map_err(Error::from) {
+            Err(Error::File { path, action, .. }) => {
+                assert!(path.ends_with(name), "{path}");
+                assert!(action == "flush" || action.starts_with("write"), "{action}");
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+}
