@@ -238,7 +238,7 @@ fn run<I: VelocityIntegrator>(
     })
 }
 
-fn write_series(path: &PathBuf, blk: &Block, k: f64, s: &[Sample]) -> Result<(), AnyError> {
+fn write_series(path: &std::path::Path, blk: &Block, k: f64, s: &[Sample]) -> Result<(), AnyError> {
     let law = DieterichRuina::new(blk.friction)?;
     let mut out = String::from(
         "t_s,block_u_m,load_point_u_m,slip_rate_mps,alpha,spring_force_n,friction_coefficient\n",

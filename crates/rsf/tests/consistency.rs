@@ -136,7 +136,8 @@ fn non_finite_checkpoints_are_refused() {
     .unwrap();
     sim.run(2, &mut []).unwrap();
     let good = sim.checkpoint();
-    let cases: [(fn(&mut Checkpoint), &str, usize); 4] = [
+    type Edit = fn(&mut Checkpoint);
+    let cases: [(Edit, &str, usize); 4] = [
         (|c| c.state.alpha[0] = f64::NAN, "alpha", 0),
         (|c| c.state.kinematics.u[3] = f64::INFINITY, "u", 3),
         (|c| c.state.time = f64::NAN, "time", 0),

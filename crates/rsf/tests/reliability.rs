@@ -558,7 +558,8 @@ fn restore_names_what_differs() {
         other => panic!("{other:?}"),
     }
     assert_eq!(fine.checkpoint(), before, "unchanged");
-    let edits: [(fn(&mut Checkpoint), &str); 5] = [
+    type Edit = fn(&mut Checkpoint);
+    let edits: [(Edit, &str); 5] = [
         (|c| c.dim = 3, "space dimension"),
         (|c| c.state.kinematics.u.truncate(1), "length of u"),
         (|c| c.state.kinematics.v.truncate(1), "length of v"),
