@@ -15,8 +15,12 @@
 //! `step_size.png` (τ over time), `max_slip_rate.png` and `summary.json`. With
 //! `--reference-steps N` it also runs fixed τ = T_ref/N over the first `--compare-until`
 //! seconds (default 15) and prints both catalogues side by side.
+//!
+//! A folder holding another run's files is refused before anything is computed
+//! (`--overwrite` replaces them; docs/reliability.md); files are written atomically. The
+//! catalogue is built in memory during the run, so there is no `--resume`.
 
-use std::io::Write;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -26,7 +30,7 @@ use rsf::{
     SLIDER_CENTRE,
 };
 use rsf_examples::cli::step_count;
-use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
+use rsf_examples::{line_plot, Labels, PanelLayout, RunFolder, SceneArgs, Series, TimeStepArgs};
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
 #[derive(Parser)]
@@ -45,7 +49,20 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/long_run")]
     out: PathBuf,
+    /// Replace the files of an earlier run in the output folder.
+    #[arg(long)]
+    overwrite: bool,
 }
+
+/// The files a run writes into its folder.
+const OUTPUTS: [&str; 6] = [
+    "events.csv",
+    "steps.csv",
+    "recurrence.png",
+    "step_size.png",
+    "max_slip_rate.png",
+    "summary.json",
+];
 
 /// The paper's ramp duration (s): ¼ of its 15 s.
 const RAMP_S: f64 = 3.75;
@@ -114,7 +131,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     }
     scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
     scene.validate()?;
-    std::fs::create_dir_all(&cli.out)?;
+    // Refused before anything is computed: a folder of another run (unless --overwrite),
+    // one that cannot be written.
+    RunFolder::new(&cli.out, &OUTPUTS).prepare(false, cli.overwrite)?;
     println!(
         "long_run: level {}, T = {} s, {}, {} law → {}",
         scene.level,
@@ -163,9 +182,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         "cpu_time_s": cpu,
         "machine": rsf_examples::machine(),
     });
-    std::fs::write(
-        cli.out.join("summary.json"),
-        serde_json::to_string_pretty(&json)? + "\n",
+    rsf::write_atomically(
+        &cli.out.join("summary.json"),
+        (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),
     )?;
 
     if let Some(n) = cli.reference_steps {
@@ -213,7 +232,7 @@ fn recurrence(events: &[SlipEvent]) -> Vec<(f64, f64)> {
 }
 
 fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Error>> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(dir.join("events.csv"))?);
+    let mut f = String::new();
     writeln!(
         f,
         "onset_step,onset_s,crossing_s,duration_s,peak_slip_rate_mps,peak_s,slip_x0_m"
@@ -231,13 +250,13 @@ fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Erro
             e.slip.unwrap_or(f64::NAN)
         )?;
     }
-    f.flush()?;
-    let mut f = std::io::BufWriter::new(std::fs::File::create(dir.join("steps.csv"))?);
+    rsf::write_atomically(&dir.join("events.csv"), f.as_bytes())?;
+    let mut f = String::new();
     writeln!(f, "t_s,tau_s,max_slip_rate_mps,fpi")?;
     for &(t, tau, v, fpi) in &run.steps.0 {
         writeln!(f, "{t:.10e},{tau:.6e},{v:.6e},{fpi}")?;
     }
-    f.flush()?;
+    rsf::write_atomically(&dir.join("steps.csv"), f.as_bytes())?;
     let rec = recurrence(&run.events);
     if !rec.is_empty() {
         line_plot(

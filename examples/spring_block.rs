@@ -19,7 +19,9 @@
 //! `--mass KG` (default 1, dynamic integrators only), `--eta PA_S_PER_M` (radiation damping
 //! of the quasistatic integrator, default 5e6), `--steps-per-l N` (τ = (L/V_load)/N,
 //! default 100), `--periods N` (length of each run in oscillation periods, default 40),
-//! `--out DIR` (default `out/spring_block`).
+//! `--out DIR` (default `out/spring_block`), `--overwrite` (a folder holding another run's
+//! files is refused, and left untouched, otherwise; docs/reliability.md). The sweep takes
+//! seconds and keeps its runs in memory, so it has no `--resume`.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -35,6 +37,7 @@ use rsf::{
     DirichletVelocity, FixedPointOptions, FrictionalBoundary, Integrator, Model, Simulation,
     SimulationBuilder, SolverKind, TimeFunction,
 };
+use rsf_examples::RunFolder;
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -235,7 +238,7 @@ fn run<I: VelocityIntegrator>(
     })
 }
 
-fn write_series(path: &PathBuf, blk: &Block, k: f64, s: &[Sample]) -> Result<(), AnyError> {
+fn write_series(path: &std::path::Path, blk: &Block, k: f64, s: &[Sample]) -> Result<(), AnyError> {
     let law = DieterichRuina::new(blk.friction)?;
     let mut out = String::from(
         "t_s,block_u_m,load_point_u_m,slip_rate_mps,alpha,spring_force_n,friction_coefficient\n",
@@ -253,7 +256,7 @@ fn write_series(path: &PathBuf, blk: &Block, k: f64, s: &[Sample]) -> Result<(),
             law.friction_coefficient(x.v.abs(), x.alpha)
         )?;
     }
-    std::fs::write(path, out)?;
+    rsf::write_atomically(path, out.as_bytes())?;
     Ok(())
 }
 
@@ -279,7 +282,18 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/spring_block")]
     out: PathBuf,
+    /// Replace the files of an earlier run in the output folder.
+    #[arg(long)]
+    overwrite: bool,
 }
+
+/// The files a run writes into its folder.
+const OUTPUTS: [&str; 4] = [
+    "sweep.csv",
+    "bisection.csv",
+    "timeseries_k0.80.csv",
+    "timeseries_k1.20.csv",
+];
 
 fn main() -> std::process::ExitCode {
     rsf_examples::main_with(|| run_cli(Cli::parse()))
@@ -287,6 +301,9 @@ fn main() -> std::process::ExitCode {
 
 fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let (mass, steps_per_l, periods, out_dir) = (cli.mass, cli.steps_per_l, cli.periods, cli.out);
+    // Refused before anything is computed: a folder of another run (unless --overwrite),
+    // one that cannot be written.
+    RunFolder::new(&out_dir, &OUTPUTS).prepare(false, cli.overwrite)?;
     let integ_name = cli.integrator.name();
     let integ = match cli.integrator {
         Integrator::Quasistatic(_) => {
@@ -317,7 +334,6 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let tau = t_l / steps_per_l;
     let period = blk.period_at_kc();
     let steps = (periods * period / tau).ceil() as usize;
-    std::fs::create_dir_all(&out_dir)?;
 
     // Expected shifts of the discrete threshold (docs/spring-block.md):
     // backward Euler ~ τ V_load / L, radiation damping η V_load / (σ̄_n (b − a)),
@@ -390,7 +406,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
             write_series(&path, &blk, r * kc, &o.series)?;
         }
     }
-    std::fs::write(out_dir.join("sweep.csv"), sweep)?;
+    rsf::write_atomically(&out_dir.join("sweep.csv"), sweep.as_bytes())?;
 
     // Bisection on k/k_c for the change of sign of the growth of the oscillation.
     let (mut lo, mut hi) = (0.5, 1.5);
@@ -408,7 +424,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
             hi = mid;
         }
     }
-    std::fs::write(out_dir.join("bisection.csv"), bis)?;
+    rsf::write_atomically(&out_dir.join("bisection.csv"), bis.as_bytes())?;
     let k_star = 0.5 * (lo + hi);
     println!(
         "\ntransition (bisection, 10 halvings of [0.5, 1.5]): k*/k_c = {k_star:.4} ± {:.4} \

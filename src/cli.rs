@@ -109,9 +109,9 @@ impl TimeStepArgs {
             scene.steps = n;
         }
         if let Some(tol) = self.adaptive {
-            // The flag is for runs: a relative tolerance ≥ 1 accepts anything and one at
-            // the machine epsilon can never be met (the library's scene accepts such
-            // extremes for studies of the controller).
+            // A relative tolerance ≥ 1 accepts anything and one at the machine epsilon can
+            // never be met (the library refuses them too, `StepControl::validate`; here
+            // the message names the flag).
             if !(tol > f64::EPSILON && tol < 1.0) && tol.is_finite() && tol > 0.0 {
                 return Err(rsf::Error::InvalidParameter {
                     name: "time_step.tolerance".into(),

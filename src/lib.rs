@@ -12,6 +12,7 @@ pub mod cli;
 mod heat_map;
 mod incline;
 mod panels;
+pub mod pipping_slider;
 mod run;
 pub mod run_folder;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};

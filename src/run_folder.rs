@@ -5,7 +5,10 @@
 
 use std::path::{Path, PathBuf};
 
-use rsf::{Checkpoint, Error, FileMode, Fingerprint};
+use rsf::{
+    Checkpoint, Checkpointer, Error, FileMode, Fingerprint, Flow, Observer, SliderScene, StepView,
+    TimeStep,
+};
 
 /// The flags of a run folder: how to treat existing files, deliberate changes on resume
 /// and the bound on the output size.
@@ -19,9 +22,15 @@ pub struct FolderArgs {
     /// (comma separated, e.g. `end_time_s`): a deliberate change of the run.
     #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
     pub allow_change: Vec<String>,
-    /// Refuse to start a run whose output is estimated above this many gigabytes.
+    /// Refuse to start a run whose output is estimated above this many gigabytes (for
+    /// adaptive steps without `--max-steps`: stop the run at the step count whose output
+    /// fits, with a checkpoint to resume from).
     #[arg(long, default_value_t = 10.0, value_name = "GB")]
     pub max_output_gb: f64,
+    /// Stop the run after this many steps in total (across resumes), writing a checkpoint
+    /// to continue from with a larger value; bounds the output of adaptive runs.
+    #[arg(long, value_name = "N")]
+    pub max_steps: Option<u64>,
 }
 
 /// The output folder of a run and the names of the files a run writes there.
@@ -190,19 +199,151 @@ pub fn check_series_row<const D: usize>(
 /// Refuses a run whose output is estimated above `max_gb` gigabytes.
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] named `steps` with the estimate and how to override it.
-pub fn check_output_size(estimate_bytes: f64, max_gb: f64) -> rsf::Result<()> {
+/// [`Error::InvalidParameter`] named `name` (e.g. `steps`) with the estimate and how to
+/// override it.
+pub fn check_output_size(estimate_bytes: f64, max_gb: f64, name: &str) -> rsf::Result<()> {
     if estimate_bytes <= max_gb * 1e9 {
         Ok(())
     } else {
         Err(Error::InvalidParameter {
-            name: "steps".into(),
+            name: name.into(),
             reason: format!(
                 "the output of this run is estimated at {:.3} GB, above the limit of {max_gb} \
                  GB: use fewer steps, or raise --max-output-gb if the disk holds it",
                 estimate_bytes / 1e9
             ),
         })
+    }
+}
+
+/// Bytes of one row of a [`PointSeries`](rsf::PointSeries) file (2-D: 15 columns, ≈ 190
+/// bytes; rounded up).
+pub const SERIES_ROW_BYTES: f64 = 200.0;
+
+/// Bytes of one node's row of a [`FrictionalProfile`](rsf::FrictionalProfile) file (≈ 90
+/// bytes; rounded up).
+pub const PROFILE_ROW_BYTES: f64 = 100.0;
+
+/// An upper bound on the number of steps of a run of `scene` that end in `(t0, t1]` (s):
+/// fixed steps `⌈N (t1 − t0) / T⌉ + 1`; adaptive steps `⌈(t1 − t0) / tau_min_s⌉ + 2` — every
+/// step the controller chooses is at least `tau_min_s`, and only a step shortened to land
+/// on the end of the loading ramp or on `T` is shorter (one each).
+pub fn steps_bound(scene: &SliderScene, (t0, t1): (f64, f64)) -> f64 {
+    let span = (t1 - t0).max(0.0);
+    match scene.time_step {
+        TimeStep::Fixed {} => (span / scene.tau()).ceil() + 1.0,
+        TimeStep::Adaptive(a) => (span / (a.tau_min_s * (1.0 - 1e-12))).ceil() + 2.0,
+    }
+}
+
+/// The output plan of a slider run: the bound on its output and the step cap to enforce.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputPlan {
+    /// Upper bound on the bytes the run writes (time series, profile window, map).
+    pub bytes: f64,
+    /// Stop after this many steps in total ([`StepCap`]), if any.
+    pub step_cap: Option<u64>,
+}
+
+/// Plans the output of a slider run with `nodes` frictional nodes, the profile `window`,
+/// a map of `map_samples` samples, at most `max_steps` steps (if given) and `max_gb`
+/// gigabytes. The bound: [`steps_bound`] rows of the time series (at most `max_steps`),
+/// [`steps_bound`] of the window plus the map's samples, each times `nodes` profile rows.
+/// A run with a bound above `max_gb` is refused — except an adaptive run without
+/// `max_steps`, whose honest bound (`T / tau_min_s` rows) is usually far above any disk:
+/// it gets the step cap whose output fits in `max_gb` (the run stops there, resumable).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `steps` (fixed steps) or `max_steps` with the
+/// estimate and how to override it.
+pub fn plan_output(
+    scene: &SliderScene,
+    window: (f64, f64),
+    nodes: usize,
+    map_samples: usize,
+    max_steps: Option<u64>,
+    max_gb: f64,
+) -> rsf::Result<OutputPlan> {
+    let cap = |rows: f64| max_steps.map_or(rows, |m| rows.min(m as f64));
+    let nodes = nodes as f64;
+    let map_rows = (map_samples + 1) as f64 * nodes;
+    let bytes = cap(steps_bound(scene, (0.0, scene.end_time_s))) * SERIES_ROW_BYTES
+        + (cap(steps_bound(scene, window)) * nodes + map_rows) * PROFILE_ROW_BYTES;
+    let budget = max_gb * 1e9;
+    let adaptive = matches!(scene.time_step, TimeStep::Adaptive(_));
+    if bytes > budget && adaptive && max_steps.is_none() {
+        // Every step in the window (the worst case): the largest count that fits.
+        let per_step = SERIES_ROW_BYTES + nodes * PROFILE_ROW_BYTES;
+        let fit = ((budget - map_rows * PROFILE_ROW_BYTES) / per_step).floor();
+        if fit >= 1.0 {
+            return Ok(OutputPlan {
+                bytes: fit * per_step + map_rows * PROFILE_ROW_BYTES,
+                step_cap: Some(fit as u64),
+            });
+        }
+    }
+    let name = if max_steps.is_some() {
+        "max_steps"
+    } else {
+        "steps"
+    };
+    check_output_size(bytes, max_gb, name)?;
+    Ok(OutputPlan {
+        bytes,
+        step_cap: max_steps,
+    })
+}
+
+/// Stops a run after `cap` steps in total (the step index of the state, so across
+/// resumes), writing a checkpoint of that step with its [`Checkpointer`] first. Put it
+/// after the observers that write files. [`reached`](Self::reached) tells whether it
+/// stopped the run.
+#[derive(Debug, Clone)]
+pub struct StepCap {
+    cap: u64,
+    checkpointer: Checkpointer,
+    reached: Option<(usize, f64)>,
+}
+
+impl StepCap {
+    /// Stops after step `cap`, checkpointing with `checkpointer`.
+    pub fn new(cap: u64, checkpointer: Checkpointer) -> Self {
+        Self {
+            cap,
+            checkpointer,
+            reached: None,
+        }
+    }
+
+    /// The step and time (s) at which the cap stopped the run, if it did.
+    pub fn reached(&self) -> Option<(usize, f64)> {
+        self.reached
+    }
+
+    /// The error of a run stopped by the cap: names `--max-steps`, the step, time and how
+    /// to continue.
+    pub fn error(&self, t_end: f64, checkpoint: &Path) -> Option<Error> {
+        self.reached.map(|(step, t)| Error::InvalidParameter {
+            name: "max_steps".into(),
+            reason: format!(
+                "the run reached its step cap of {} steps at t = {t:.6e} s (of T = {t_end:e} s): \
+                 its files and `{}` are complete up to step {step}; continue with --resume \
+                 and a larger --max-steps or --max-output-gb",
+                self.cap,
+                rsf_numeric::excerpt(&checkpoint.display().to_string())
+            ),
+        })
+    }
+}
+
+impl<const D: usize> Observer<D> for StepCap {
+    fn observe(&mut self, s: &StepView<'_, D>) -> rsf::Result<Flow> {
+        if (s.report.step as u64) < self.cap {
+            return Ok(Flow::Continue(()));
+        }
+        let _: Flow = self.checkpointer.observe(s)?;
+        self.reached = Some((s.report.step, s.report.time));
+        Ok(Flow::Break(()))
     }
 }
 
@@ -341,8 +482,71 @@ mod tests {
             let e = check_window("window", w, 1.0).unwrap_err();
             assert!(e.to_string().contains("`window`"), "{e}");
         }
-        check_output_size(9e9, 10.0).unwrap();
-        let e = check_output_size(2e11, 10.0).unwrap_err();
+        check_output_size(9e9, 10.0, "steps").unwrap();
+        let e = check_output_size(2e11, 10.0, "steps").unwrap_err();
         assert!(e.to_string().contains("--max-output-gb"), "{e}");
+    }
+
+    /// The bound on the steps of adaptive runs is `T / tau_min_s` (not the initial step
+    /// count), checked against a run: the steps taken never exceed it, even with a
+    /// tolerance that drives τ to `tau_min_s`.
+    #[test]
+    fn adaptive_output_bounds_are_honest() {
+        use rsf::{AdaptiveTimeStep, TimeStep};
+        let adaptive = |tol: f64, tau_min_s: f64| SliderScene {
+            level: 1,
+            steps: 10,
+            end_time_s: 0.05,
+            loading_velocity_m_per_s: 1e-2,
+            ramp_fraction: 0.5,
+            time_step: TimeStep::Adaptive(AdaptiveTimeStep {
+                tau_min_s,
+                ..AdaptiveTimeStep::new(tol)
+            }),
+            ..SliderScene::default()
+        };
+        for (tol, tau_min) in [(1e-3, 1e-4), (1e-12, 2e-4), (0.5, 1e-3)] {
+            let scene = adaptive(tol, tau_min);
+            let bound = super::steps_bound(&scene, (0.0, scene.end_time_s));
+            let mut sim = scene.build().unwrap();
+            let run = sim.run_until(rsf::Until::Time(scene.end_time_s), &mut []);
+            let steps = sim.state().step as f64;
+            assert!(
+                steps <= bound,
+                "tol {tol:e}, tau_min {tau_min:e}: {steps} steps > bound {bound} ({run:?})"
+            );
+            assert!(
+                bound >= scene.end_time_s / tau_min,
+                "the bound is T / tau_min, not the initial N"
+            );
+        }
+        // Fixed steps: the bound is N + 1 (and the window's share).
+        let fixed = SliderScene {
+            steps: 1000,
+            ..SliderScene::default()
+        };
+        assert_eq!(super::steps_bound(&fixed, (0.0, fixed.end_time_s)), 1001.0);
+        // The paper's default adaptive run: T / tau_min = 1.5e10 rows would be refused;
+        // instead it gets a cap that fits in the budget, and explicit caps are checked.
+        let scene = SliderScene {
+            time_step: TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3)),
+            ..SliderScene::default()
+        };
+        let window = (0.6725 * 15.0, 0.6775 * 15.0);
+        let plan = super::plan_output(&scene, window, 81, 600, None, 10.0).unwrap();
+        let cap = plan.step_cap.expect("a cap");
+        assert!(plan.bytes <= 10e9, "{plan:?}");
+        assert!(cap > 1_000_000, "{cap}");
+        let e = super::plan_output(&scene, window, 81, 600, Some(1e9 as u64), 10.0).unwrap_err();
+        assert!(e.to_string().contains("`max_steps`"), "{e}");
+        let ok = super::plan_output(&scene, window, 81, 600, Some(100_000), 10.0).unwrap();
+        assert_eq!(ok.step_cap, Some(100_000));
+        // Fixed steps above the budget are refused naming `steps`.
+        let huge = SliderScene {
+            steps: 1_000_000_000,
+            ..SliderScene::default()
+        };
+        let e = super::plan_output(&huge, window, 81, 600, None, 10.0).unwrap_err();
+        assert!(e.to_string().contains("`steps`"), "{e}");
     }
 }

@@ -22,6 +22,17 @@
 
 use crate::{Error, Result};
 
+/// The admissible relative tolerances, the open interval `(f64::EPSILON, 1)`: a relative
+/// tolerance `≥ 1` accepts any step (the error control is off), one `≤ ε` can never be met
+/// in double precision (the step shrinks until `tau_min`, or until time stops advancing).
+pub const TOLERANCE_RANGE: (f64, f64) = (f64::EPSILON, 1.0);
+
+/// The smallest admissible `tau_min` (s): `f64::MIN_POSITIVE`, the smallest normal double.
+/// Below it `1/τ` (the mass coefficient `2/τ` of Newmark) overflows. A run driver should
+/// also ask for `tau_min ≥ ε · T` (T the end time), below which a step at `t ≈ T` does not
+/// advance time; the controller does not know `T`.
+pub const TAU_MIN_FLOOR: f64 = f64::MIN_POSITIVE;
+
 /// Options of the step controller. Units: `tau_*` in s; tolerances as described.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -77,7 +88,8 @@ impl StepControl {
     /// fault with rate-and-state friction but not, e.g., a frictionless one.)
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for non-positive or non-finite values or
+    /// [`Error::InvalidParameter`] for non-positive or non-finite values, a tolerance
+    /// outside [`TOLERANCE_RANGE`], `tau_min` below [`TAU_MIN_FLOOR`] or
     /// `tau_min > tau_max`.
     pub fn new(tolerance: f64, length: f64, tau_min: f64, tau_max: f64) -> Result<Self> {
         let c = Self {
@@ -97,10 +109,13 @@ impl StepControl {
         Ok(c)
     }
 
-    /// Checks the options.
+    /// Checks the options: `tolerance` in [`TOLERANCE_RANGE`] (open), the absolute
+    /// tolerances finite and `≥ 0`, `safety` in (0, 1], `min_factor` in (0, 1),
+    /// `max_factor` finite and > 1, `tau_min` finite and `≥` [`TAU_MIN_FLOOR`], `tau_max`
+    /// finite and `≥ tau_min`, the cap and the slip-rate floor (if set) finite and > 0.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the first invalid one.
+    /// [`Error::InvalidParameter`] naming the first invalid one and its range.
     pub fn validate(&self) -> Result<()> {
         let bad = |name: &'static str, value: f64, requirement: &'static str| {
             Err(Error::InvalidParameter {
@@ -110,8 +125,14 @@ impl StepControl {
             })
         };
         let pos = |x: f64| x.is_finite() && x > 0.0;
-        if !pos(self.tolerance) {
-            return bad("tolerance", self.tolerance, "finite and > 0");
+        let (lo, hi) = TOLERANCE_RANGE;
+        if !(self.tolerance > lo && self.tolerance < hi) {
+            return bad(
+                "tolerance",
+                self.tolerance,
+                "in (f64::EPSILON = 2.220446049250313e-16, 1): a relative tolerance >= 1 \
+                 accepts any step, one <= the machine epsilon can never be met",
+            );
         }
         if !(self.displacement_atol.is_finite() && self.displacement_atol >= 0.0) {
             return bad(
@@ -132,8 +153,13 @@ impl StepControl {
         if !(self.max_factor > 1.0 && self.max_factor.is_finite()) {
             return bad("max_factor", self.max_factor, "finite and > 1");
         }
-        if !pos(self.tau_min) {
-            return bad("tau_min", self.tau_min, "finite and > 0 (s)");
+        if !(self.tau_min.is_finite() && self.tau_min >= TAU_MIN_FLOOR) {
+            return bad(
+                "tau_min",
+                self.tau_min,
+                "finite and >= f64::MIN_POSITIVE = 2.2250738585072014e-308 (s): a normal \
+                 double, below it 1/tau overflows",
+            );
         }
         if !(pos(self.tau_max) && self.tau_max >= self.tau_min) {
             return bad("tau_max", self.tau_max, "finite and >= tau_min (s)");
@@ -412,6 +438,37 @@ mod tests {
         assert!(StepControl::new(0.0, 1.0, 1e-6, 1.0).is_err());
         assert!(StepControl::new(1e-3, 1.0, 1.0, 1e-6).is_err());
         assert!(StepControl::new(1e-3, f64::NAN, 1e-6, 1.0).is_err());
+        // Tolerances outside (ε, 1), named with the range; the ends inside are accepted.
+        for tol in [
+            1.0,
+            1e300,
+            f64::MAX,
+            f64::EPSILON,
+            1e-300,
+            5e-324,
+            f64::INFINITY,
+        ] {
+            match StepControl::new(tol, 1.0, 1e-6, 1.0) {
+                Err(Error::InvalidParameter {
+                    name, requirement, ..
+                }) => {
+                    assert_eq!(name, "tolerance", "{tol:e}");
+                    assert!(requirement.contains("(f64::EPSILON"), "{requirement}");
+                }
+                other => panic!("tolerance {tol:e}: {other:?}"),
+            }
+        }
+        for tol in [1.0 - f64::EPSILON, 2.0 * f64::EPSILON] {
+            assert!(StepControl::new(tol, 1.0, 1e-6, 1.0).is_ok(), "{tol:e}");
+        }
+        // tau_min must be a normal double (1/τ finite).
+        for tau_min in [5e-324, 1e-310] {
+            match StepControl::new(1e-3, 1.0, tau_min, 1.0) {
+                Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, "tau_min"),
+                other => panic!("tau_min {tau_min:e}: {other:?}"),
+            }
+        }
+        assert!(StepControl::new(1e-3, 1.0, f64::MIN_POSITIVE, 1.0).is_ok());
         let mut c = control();
         c.safety = 1.5;
         assert!(c.validate().is_err());

@@ -26,7 +26,7 @@
 pub mod adaptive;
 mod choice;
 
-pub use adaptive::{ControllerState, StepControl};
+pub use adaptive::{ControllerState, StepControl, TAU_MIN_FLOOR, TOLERANCE_RANGE};
 pub use choice::Integrator;
 
 use rsf_linalg::SparseMatrix;

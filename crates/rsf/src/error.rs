@@ -44,6 +44,19 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// The scales of an assembled problem (stiffness, mass, load, displacements, slip
+    /// distance) cannot be computed or resolved in double precision
+    /// ([`ProblemScales::check`](crate::ProblemScales::check), docs/reliability.md).
+    #[error(
+        "the problem cannot be resolved in double precision: {reason}; change {}",
+        fields.join(", ")
+    )]
+    IllConditioned {
+        /// The fields (scene fields as TOML names them) that set the failed quantity.
+        fields: Vec<String>,
+        /// The quantity, its value and the admissible range.
+        reason: String,
+    },
     /// A node index outside the model.
     #[error("{what}: node {node} is out of range (the model has {nodes} nodes)")]
     NodeOutOfRange {
@@ -144,9 +157,35 @@ pub enum Error {
     /// A scene file could not be parsed (unknown fields are named here).
     #[error("scene file: {0}")]
     SceneFile(String),
-    /// Checkpoint does not match the simulation or is corrupt.
-    #[error("checkpoint: {0}")]
-    Checkpoint(String),
+    /// A checkpoint whose sizes do not fit the simulation it should continue
+    /// ([`Simulation::restore`](crate::Simulation::restore)).
+    #[error(
+        "the checkpoint does not fit this simulation: its {what} is {checkpoint}, this \
+         simulation's is {simulation}"
+    )]
+    CheckpointSize {
+        /// What differs: `space dimension`, `number of nodes`, `length of u` (when not a
+        /// multiple of the dimension), `length of v`, `length of a`, `number of frictional
+        /// nodes (length of alpha)`.
+        what: &'static str,
+        /// Its value in the checkpoint.
+        checkpoint: usize,
+        /// Its value in the simulation.
+        simulation: usize,
+    },
+    /// A checkpoint with a value a simulation cannot continue from: not finite, a negative
+    /// time, a non-positive time step ([`Simulation::restore`](crate::Simulation::restore)).
+    #[error("the checkpoint's {what} is {value:e} at entry {index}: {requirement}")]
+    CheckpointValue {
+        /// Which value: `time`, `time step tau`, `u`, `v`, `a`, `alpha`.
+        what: &'static str,
+        /// The entry (0 for scalars).
+        index: usize,
+        /// The value.
+        value: f64,
+        /// What is required.
+        requirement: &'static str,
+    },
     /// An output file cannot be continued from a checkpoint.
     #[error("cannot resume `{path}`: {reason}")]
     Resume {

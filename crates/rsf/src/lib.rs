@@ -92,6 +92,7 @@ pub use problem::{NoState, Problem};
 pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
+pub use scenes::conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use scenes::seas_bp1::{SeasBp1, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
 pub use scenes::slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,

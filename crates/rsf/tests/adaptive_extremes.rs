@@ -3,8 +3,13 @@
 //! never a panic, NaN/inf in the outputs, or a hang.
 //!
 //! - invalid options are `Error::InvalidParameter` naming the TOML field
-//!   (`time_step.<field>`), from `step_control`, `validate` and `build` alike;
+//!   (`time_step.<field>`), from `step_control`, `validate` and `build` alike; among them
+//!   (issue 26) a tolerance outside (ε, 1) (≥ 1 accepts any step, ≤ ε is never met),
+//!   a `tau_min_s` that is not a normal double (1/τ overflows) or below ε · `end_time_s`
+//!   (a step at t ≈ T does not advance time), with the range in the message;
 //! - valid extremes are accepted (with `inf` switching off the cap and the slip test);
+//!   "accept every step" is the tolerance 0.5 with displacement and state scales of 1e30
+//!   and no slip test ([`accept_all`]);
 //! - runs with valid extremes either land on their end time, stop at a step budget, or
 //!   fail with a typed numerical error, and every observed and final state is finite;
 //! - checkpoints taken after such runs (also after a failure) resume bit-identically in a
@@ -23,6 +28,18 @@ type Sim = SceneSimulation<2>;
 /// Default options with tolerance 1e-3 (the repository's adaptive scene).
 fn base() -> AdaptiveTimeStep {
     AdaptiveTimeStep::new(1e-3)
+}
+
+/// Options under which every step that the solvers finish is accepted: the error control
+/// is in range but cannot reject (tolerance `tol` < 1 with absolute tolerances of
+/// `tol · 1e30` m and s, no slip test). Before issue 26 the tolerance 1e300 served for this.
+fn accept_all(tol: f64) -> AdaptiveTimeStep {
+    AdaptiveTimeStep {
+        displacement_scale_m: Some(1e30),
+        state_scale_s: Some(1e30),
+        slip_rate_floor_mps: f64::INFINITY,
+        ..AdaptiveTimeStep::new(tol)
+    }
 }
 
 /// The paper's scene at level 1 (τ₀ = 15 s / 1000): stuck and healing during the loading
@@ -325,9 +342,12 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
         ("default (tolerance 1e-3)", b),
         ("tolerance = 1e-12", AdaptiveTimeStep::new(1e-12)),
         ("tolerance = 0.5", AdaptiveTimeStep::new(0.5)),
-        ("tolerance = 1e-300", AdaptiveTimeStep::new(1e-300)),
-        ("tolerance = 1e300", AdaptiveTimeStep::new(1e300)),
-        ("tolerance = f64::MAX", AdaptiveTimeStep::new(f64::MAX)),
+        ("tolerance = 1e-15", AdaptiveTimeStep::new(1e-15)),
+        (
+            "tolerance = 1 - ε",
+            AdaptiveTimeStep::new(1.0 - f64::EPSILON),
+        ),
+        ("accept every step (accept_all(0.5))", accept_all(0.5)),
         (
             "tau_min_s = tau_max_s = 1e-3",
             AdaptiveTimeStep {
@@ -337,11 +357,11 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
             },
         ),
         (
-            "tau_min_s = tau_max_s = 1e-3, tolerance = 1e300 (fixed steps)",
+            "tau_min_s = tau_max_s = 1e-3, accept_all(0.5) (fixed steps)",
             AdaptiveTimeStep {
                 tau_min_s: 1e-3,
                 tau_max_s: 1e-3,
-                ..AdaptiveTimeStep::new(1e300)
+                ..accept_all(0.5)
             },
         ),
         (
@@ -360,16 +380,9 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
             },
         ),
         (
-            "tau_min_s = 1e-300",
+            "tau_min_s = 1e-14 (ε · T is 3.3e-15 s for T = 15 s)",
             AdaptiveTimeStep {
-                tau_min_s: 1e-300,
-                ..b
-            },
-        ),
-        (
-            "tau_min_s = 5e-324",
-            AdaptiveTimeStep {
-                tau_min_s: 5e-324,
+                tau_min_s: 1e-14,
                 ..b
             },
         ),
@@ -415,13 +428,7 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
                 ..b
             },
         ),
-        (
-            "safety = 1e-3",
-            AdaptiveTimeStep {
-                safety: 1e-3,
-                ..b
-            },
-        ),
+        ("safety = 1e-3", AdaptiveTimeStep { safety: 1e-3, ..b }),
         (
             "state_change_cap = 1e-6",
             AdaptiveTimeStep {
@@ -458,14 +465,14 @@ fn extreme_cases() -> Vec<(&'static str, AdaptiveTimeStep)> {
             },
         ),
         (
-            "unbounded growth: tolerance 1e300, tau_max 1e300, max_factor 1e6, no cap, no slip test",
+            "unbounded growth: accept_all(0.5), tau_max 1e300, max_factor 1e6, no cap",
             free_growth(),
         ),
         (
-            "tolerance 1e-300 with tau_min_s = 5e-324 (steps shrink into overflow of 1/τ)",
+            "tolerance 1e-15 with tau_min_s = 1e-14 (steps shrink to the resolution of t)",
             AdaptiveTimeStep {
-                tau_min_s: 5e-324,
-                ..AdaptiveTimeStep::new(1e-300)
+                tau_min_s: 1e-14,
+                ..AdaptiveTimeStep::new(1e-15)
             },
         ),
     ];
@@ -479,8 +486,7 @@ fn free_growth() -> AdaptiveTimeStep {
         tau_max_s: 1e300,
         max_factor: 1e6,
         state_change_cap: f64::INFINITY,
-        slip_rate_floor_mps: f64::INFINITY,
-        ..AdaptiveTimeStep::new(1e300)
+        ..accept_all(0.5)
     }
 }
 
@@ -492,7 +498,21 @@ fn invalid_adaptive_options_are_typed_errors_naming_the_field() {
     // (label, options, accepted field names after `time_step.`)
     let cases: Vec<(String, AdaptiveTimeStep, &[&str])> = {
         let mut v: Vec<(String, AdaptiveTimeStep, &[&str])> = Vec::new();
-        for x in [nan, -1e-3, 0.0, -0.0, inf, -inf] {
+        // Outside (ε, 1) (issue 26): ≥ 1 accepts any step, ≤ ε is never met.
+        for x in [
+            nan,
+            -1e-3,
+            0.0,
+            -0.0,
+            inf,
+            -inf,
+            1.0,
+            1e300,
+            f64::MAX,
+            f64::EPSILON,
+            1e-300,
+            5e-324,
+        ] {
             v.push((
                 format!("tolerance = {x}"),
                 AdaptiveTimeStep::new(x),
@@ -508,7 +528,9 @@ fn invalid_adaptive_options_are_typed_errors_naming_the_field() {
             },
             &["tau_min_s", "tau_max_s"],
         ));
-        for x in [0.0, -1e-9, nan, inf, -inf] {
+        // Not a normal double (1/τ overflows), or below ε · end_time_s = 3.3e-15 s (a
+        // step at t ≈ T does not advance time; issue 26).
+        for x in [0.0, -1e-9, nan, inf, -inf, 5e-324, 1e-310, 1e-300, 3e-15] {
             v.push((
                 format!("tau_min_s = {x}"),
                 AdaptiveTimeStep { tau_min_s: x, ..b },
@@ -605,6 +627,7 @@ fn invalid_adaptive_options_are_typed_errors_naming_the_field() {
                 e.to_string().contains(name),
                 "{label}: the message names the field: {e}"
             );
+            assert!(e.to_string().len() < 400, "{label}: a short message: {e}");
         };
         check(
             "step_control()",
@@ -627,6 +650,45 @@ fn invalid_adaptive_options_are_typed_errors_naming_the_field() {
                 .err()
                 .unwrap_or_else(|| panic!("{label}: build() accepts it")),
         );
+    }
+}
+
+/// Issue 26: a tolerance outside (ε, 1) and a `tau_min_s` the run cannot resolve are
+/// refused with the admissible range in the message, not run (the tolerance 1e-300 with
+/// `tau_min_s = 1e-300` ran forever at τ ≈ 1e-79 s).
+#[test]
+fn out_of_range_tolerance_and_tau_min_name_the_range() {
+    for (a, field, range) in [
+        (
+            AdaptiveTimeStep::new(1.5),
+            "time_step.tolerance",
+            "(f64::EPSILON",
+        ),
+        (
+            AdaptiveTimeStep::new(1e-300),
+            "time_step.tolerance",
+            "(f64::EPSILON",
+        ),
+        (
+            AdaptiveTimeStep {
+                tau_min_s: 1e-300,
+                ..base()
+            },
+            "time_step.tau_min_s",
+            "ε · end_time_s",
+        ),
+        (
+            AdaptiveTimeStep {
+                tau_min_s: 5e-324,
+                ..base()
+            },
+            "time_step.tau_min_s",
+            "f64::MIN_POSITIVE",
+        ),
+    ] {
+        let e = healing(a).validate().unwrap_err();
+        assert_eq!(invalid_name(&e), Some(field), "{e}");
+        assert!(e.to_string().contains(range), "{e}");
     }
 }
 
@@ -666,8 +728,11 @@ fn valid_extreme_options_are_accepted_as_documented() {
     let b = base();
     let below_one = 1.0 - f64::EPSILON / 2.0;
     let mut cases: Vec<(&str, AdaptiveTimeStep)> = vec![
-        ("tolerance = 5e-324", AdaptiveTimeStep::new(5e-324)),
-        ("tolerance = f64::MAX", AdaptiveTimeStep::new(f64::MAX)),
+        (
+            "tolerance = 2ε, the smallest admissible (up to rounding)",
+            AdaptiveTimeStep::new(2.0 * f64::EPSILON),
+        ),
+        ("tolerance just below 1", AdaptiveTimeStep::new(below_one)),
         (
             "tau_min_s = tau_max_s",
             AdaptiveTimeStep {
@@ -677,9 +742,9 @@ fn valid_extreme_options_are_accepted_as_documented() {
             },
         ),
         (
-            "tau_min_s = 5e-324",
+            "tau_min_s = ε · end_time_s, the smallest admissible",
             AdaptiveTimeStep {
-                tau_min_s: 5e-324,
+                tau_min_s: f64::EPSILON * 15.0,
                 ..b
             },
         ),
@@ -824,8 +889,9 @@ fn valid_extreme_options_are_accepted_as_documented() {
 /// error naming neither `initial_tau_s` nor τ: the simulation was built at the unclamped
 /// initial step, where 2/τ of `A = (2/τ) M + (τ/2) K` overflows, while the controller
 /// starts at the step clamped to `[tau_min_s, tau_max_s]`. Now the simulation starts at the
-/// clamped step too, and a time-step matrix that is not finite (e.g. `tau_min_s = 5e-324`
-/// with such an initial step) is an error naming `time_step.initial_tau_s`.
+/// clamped step too, and a time-step matrix that is not finite is an error naming
+/// `time_step.initial_tau_s` (a `tau_min_s` that would let the step stay there, e.g.
+/// 5e-324, is refused since issue 26).
 #[test]
 fn tiny_initial_step_builds_or_is_a_named_error() {
     for x in [1e-310, 5e-324] {
@@ -929,10 +995,10 @@ fn extreme_options_with_other_laws_and_integrators() {
         ("tolerance = 1e-12", AdaptiveTimeStep::new(1e-12)),
         ("unbounded growth", free_growth()),
         (
-            "tolerance 1e-300, tau_min_s = 5e-324",
+            "tolerance 1e-15, tau_min_s = 1e-14",
             AdaptiveTimeStep {
-                tau_min_s: 5e-324,
-                ..AdaptiveTimeStep::new(1e-300)
+                tau_min_s: 1e-14,
+                ..AdaptiveTimeStep::new(1e-15)
             },
         ),
         (
@@ -964,8 +1030,9 @@ fn extreme_options_with_other_laws_and_integrators() {
     }
 }
 
-/// `tau_min_s = tau_max_s` with a tolerance that accepts every step and no extrapolation of
-/// the state is the fixed step through the adaptive path: bit-identical to fixed steps.
+/// `tau_min_s = tau_max_s` with options that accept every step ([`accept_all`]) and no
+/// extrapolation of the state is the fixed step through the adaptive path: bit-identical
+/// to fixed steps.
 #[test]
 fn equal_step_bounds_reproduce_fixed_steps_bit_identically() {
     let fixed = SliderScene {
@@ -979,7 +1046,7 @@ fn equal_step_bounds_reproduce_fixed_steps_bit_identically() {
             tau_min_s: tau,
             tau_max_s: tau,
             state_extrapolation: false,
-            ..AdaptiveTimeStep::new(1e300)
+            ..accept_all(0.5)
         }),
         ..fixed.clone()
     };
@@ -1061,7 +1128,7 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
             [
                 "tolerance = 1e-12",
                 "tolerance = 0.5",
-                "tau_min_s = 5e-324",
+                "tau_min_s = 1e-14",
                 "tau_max_s = f64::MAX",
                 "min_factor = 0.99",
                 "max_factor = 1.0001",
@@ -1074,7 +1141,7 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
                 "state_change_cap = 1e-6",
                 "slip_rate_floor_mps = 1e-300",
                 "unbounded growth",
-                "tolerance 1e-300 with tau_min_s",
+                "tolerance 1e-15 with tau_min_s",
             ]
             .iter()
             .any(|p| label.starts_with(p))

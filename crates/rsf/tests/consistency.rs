@@ -136,15 +136,22 @@ fn non_finite_checkpoints_are_refused() {
     .unwrap();
     sim.run(2, &mut []).unwrap();
     let good = sim.checkpoint();
-    for corrupt in [
-        |c: &mut Checkpoint| c.state.alpha[0] = f64::NAN,
-        |c: &mut Checkpoint| c.state.kinematics.u[3] = f64::INFINITY,
-        |c: &mut Checkpoint| c.state.time = f64::NAN,
-        |c: &mut Checkpoint| c.state.tau = -1.0,
-    ] {
+    type Edit = fn(&mut Checkpoint);
+    let cases: [(Edit, &str, usize); 4] = [
+        (|c| c.state.alpha[0] = f64::NAN, "alpha", 0),
+        (|c| c.state.kinematics.u[3] = f64::INFINITY, "u", 3),
+        (|c| c.state.time = f64::NAN, "time", 0),
+        (|c| c.state.tau = -1.0, "time step tau", 0),
+    ];
+    for (corrupt, name, entry) in cases {
         let mut c = good.clone();
         corrupt(&mut c);
-        assert!(matches!(sim.restore(&c), Err(Error::Checkpoint(_))));
+        match sim.restore(&c) {
+            Err(Error::CheckpointValue { what, index, .. }) => {
+                assert_eq!((what, index), (name, entry))
+            }
+            other => panic!("{name}: {other:?}"),
+        }
     }
     // The failed restores left the simulation as it was.
     assert_eq!(sim.checkpoint(), good);

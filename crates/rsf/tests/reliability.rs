@@ -367,3 +367,264 @@ fn implausible_scenes_are_refused_naming_the_field() {
     }
     assert!(Fingerprint::default().0.is_empty());
 }
+
+/// `b < 0` only by explicit opt-in: refused with the reason and the name of the opt-in by
+/// default; with `allow_negative_b = true` (TOML) accepted, run finite, and part of the
+/// fingerprint, so that a checkpoint of such a run does not continue a default run and
+/// vice versa. Without the opt-in the fingerprint has no such field (earlier checkpoints
+/// keep theirs).
+#[test]
+fn negative_b_only_by_explicit_opt_in() {
+    let s = || SliderScene {
+        b: -1e-3,
+        ..scene()
+    };
+    let e = s().validate().unwrap_err();
+    match &e {
+        Error::InvalidParameter { name, reason } => {
+            assert_eq!(name, "b");
+            assert!(reason.contains("allow_negative_b = true"), "{e}");
+            assert!(reason.contains("admissible range"), "{e}");
+        }
+        e => panic!("{e}"),
+    }
+    // The opt-in from TOML.
+    let opted = SliderScene::from_toml("b = -1e-3\nallow_negative_b = true\nlevel = 1").unwrap();
+    assert!(opted.allow_negative_b);
+    opted.validate().unwrap();
+    let explicit = SliderScene {
+        allow_negative_b: true,
+        ..s()
+    };
+    explicit.validate().unwrap();
+    // It runs (velocity strengthening: b − a < 0), finite.
+    let mut sim = explicit.build().unwrap();
+    sim.run(10, &mut []).unwrap();
+    assert!(sim.kinematics().v.iter().all(|v| v.is_finite()));
+    // Fingerprints: the field is present only when true, and differs from a default run.
+    assert_eq!(scene().fingerprint().get("allow_negative_b"), None);
+    let with_b = SliderScene {
+        allow_negative_b: true,
+        ..scene()
+    };
+    assert_eq!(with_b.fingerprint().get("allow_negative_b"), Some("true"));
+    match with_b.fingerprint().check(&scene().fingerprint(), &[]) {
+        Err(Error::CheckpointMismatch { field, .. }) => assert_eq!(field, "allow_negative_b"),
+        other => panic!("{other:?}"),
+    }
+    match scene().fingerprint().check(&with_b.fingerprint(), &[]) {
+        Err(Error::CheckpointMismatch { field, .. }) => assert_eq!(field, "allow_negative_b"),
+        other => panic!("{other:?}"),
+    }
+    // An unknown spelling is refused, not ignored.
+    assert!(SliderScene::from_toml("allow_negative_B = true").is_err());
+}
+
+/// The conditioning estimate (docs/reliability.md, "Conditioning"): the scene defaults and
+/// the bounds of the per-field checks pass; a scene whose values are each admissible but
+/// whose problem is not representable (gravity 1e200 m/s²: |u₀| ≈ 1e195 m) or whose slip
+/// distance is lost in the displacements (L = 1e-20 m against |u₀| ≈ 1e-3 m; a loading
+/// displacement of 1e13 m) is refused naming the fields; the resolution threshold is tested
+/// on both sides at the measured displacement scale.
+#[test]
+fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
+    let ill_fields = |scene: &SliderScene| match scene.build_model() {
+        Err(Error::IllConditioned { fields, reason }) => {
+            assert!(reason.len() < 400, "{reason}");
+            fields
+        }
+        Ok(_) => panic!("accepted: {scene:?}"),
+        Err(e) => panic!("{e}"),
+    };
+    // Defaults (level 1 and the paper's level 4), and each per-field bound, pass.
+    for ok in [
+        scene(),
+        SliderScene::default(),
+        SliderScene {
+            youngs_modulus_pa: 1e3,
+            ..scene()
+        },
+        SliderScene {
+            youngs_modulus_pa: 1e13,
+            ..scene()
+        },
+        SliderScene {
+            density_kg_per_m2: 1e7,
+            ..scene()
+        },
+        SliderScene {
+            density_kg_per_m2: 1e-3,
+            ..scene()
+        },
+    ] {
+        let model = ok.build_model().unwrap_or_else(|e| panic!("{e}: {ok:?}"));
+        let s = rsf::ProblemScales::new(
+            &model.stiffness,
+            model.mass.as_ref(),
+            &model.load,
+            &model.initial_displacement,
+            &model.fixed,
+        );
+        println!("level {}: {s:?}", ok.level);
+    }
+    // Not representable: the gravity sag overflows the squares.
+    let f = ill_fields(&SliderScene {
+        gravity_m_per_s2: 1e200,
+        ..scene()
+    });
+    assert!(f.contains(&"gravity_m_per_s2".to_string()), "{f:?}");
+    // Not resolvable: slip distance against the gravity sag, and against the loading.
+    let f = ill_fields(&SliderScene {
+        l_m: 1e-20,
+        ..scene()
+    });
+    assert!(f.contains(&"l_m".to_string()), "{f:?}");
+    let f = ill_fields(&SliderScene {
+        loading_velocity_m_per_s: 1e3,
+        end_time_s: 1e10,
+        steps: 1_000_000,
+        ..scene()
+    });
+    assert_eq!(
+        f,
+        ["l_m", "loading_velocity_m_per_s", "end_time_s"],
+        "the loading displacement 1e13 m is the largest"
+    );
+    // The threshold on both sides, at the measured displacement scale D of this scene.
+    let model = scene().build_model().unwrap();
+    let d = [
+        model
+            .initial_displacement
+            .iter()
+            .fold(0.0_f64, |m, x| m.max(x.abs())),
+        scene().loading_velocity_m_per_s * scene().end_time_s,
+    ]
+    .into_iter()
+    .fold(0.0_f64, f64::max);
+    let estimate = rsf::ProblemScales::new(
+        &model.stiffness,
+        model.mass.as_ref(),
+        &model.load,
+        &model.initial_displacement,
+        &model.fixed,
+    )
+    .displacement_estimate;
+    let d = d.max(estimate);
+    SliderScene {
+        l_m: 2.0 * rsf::SLIP_RESOLUTION * d,
+        ..scene()
+    }
+    .build_model()
+    .unwrap();
+    ill_fields(&SliderScene {
+        l_m: 0.5 * rsf::SLIP_RESOLUTION * d,
+        ..scene()
+    });
+    // The time-step matrix: a step so small that c_M M overflows the squares (fixed steps
+    // of 1e-150 s at ρ = 1e7) names the steps.
+    let f = ill_fields(&SliderScene {
+        end_time_s: 1e-144,
+        steps: 1_000_000,
+        density_kg_per_m2: 1e7,
+        ..scene()
+    });
+    assert!(f.contains(&"steps".to_string()), "{f:?}");
+}
+
+/// A checkpoint of another model is refused with a typed error naming what differs (node
+/// count, lengths, dimension), and the simulation is left as it was.
+#[test]
+fn restore_names_what_differs() {
+    let mut coarse = scene().build().unwrap();
+    coarse.run(2, &mut []).unwrap();
+    let c = coarse.checkpoint();
+    let mut fine = SliderScene {
+        level: 2,
+        ..scene()
+    }
+    .build()
+    .unwrap();
+    let before = fine.checkpoint();
+    let nodes = |s: &rsf::SceneSimulation<2>| s.model().num_nodes();
+    match fine.restore(&c) {
+        Err(Error::CheckpointSize {
+            what,
+            checkpoint,
+            simulation,
+        }) => {
+            assert_eq!(what, "number of nodes");
+            assert_eq!((checkpoint, simulation), (nodes(&coarse), nodes(&fine)));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(fine.checkpoint(), before, "unchanged");
+    type Edit = fn(&mut Checkpoint);
+    let edits: [(Edit, &str); 5] = [
+        (|c| c.dim = 3, "space dimension"),
+        (|c| c.state.kinematics.u.truncate(1), "length of u"),
+        (|c| c.state.kinematics.v.truncate(1), "length of v"),
+        (|c| c.state.kinematics.a.push(0.0), "length of a"),
+        (
+            |c| c.state.alpha.truncate(1),
+            "number of frictional nodes (length of alpha)",
+        ),
+    ];
+    for (edit, name) in edits {
+        let mut e = c.clone();
+        edit(&mut e);
+        match coarse.restore(&e) {
+            Err(err @ Error::CheckpointSize { what, .. }) => {
+                assert_eq!(what, name, "{err}");
+                assert!(err.to_string().contains(name), "{err}");
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+    coarse.restore(&c).unwrap();
+}
+
+/// A row that cannot be written mid-run (the reader of a FIFO went away: EPIPE) is an
+/// `Error::File` naming the file and the action, for the time series and the profile.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_row_that_cannot_be_written_names_the_file() {
+    use std::os::unix::fs::OpenOptionsExt;
+    let dir = temp_dir("fifo-rows");
+    for name in ["series.csv", "profile.csv"] {
+        let fifo = dir.join(name);
+        let _ = std::fs::remove_file(&fifo);
+        let ok = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false);
+        if !ok {
+            eprintln!("mkfifo unavailable: skipped");
+            return;
+        }
+        // A non-blocking reader (O_NONBLOCK), so that opening the writer does not block.
+        let reader = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(0o4000)
+            .open(&fifo)
+            .unwrap();
+        let mut sim = scene().build().unwrap();
+        let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
+        let result = if name == "series.csv" {
+            let mut obs = PointSeries::new(&fifo, sim.model(), x0, FileMode::Overwrite).unwrap();
+            drop(reader);
+            sim.run(1, &mut [&mut obs]).map(|_| ())
+        } else {
+            let mut obs = FrictionalProfile::new(&fifo, (0.0, 1.0), FileMode::Overwrite).unwrap();
+            drop(reader);
+            sim.run(1, &mut [&mut obs]).map(|_| ())
+        };
+        match result.map_err(Error::from) {
+            Err(Error::File { path, action, .. }) => {
+                assert!(path.ends_with(name), "{path}");
+                assert!(action == "flush" || action.starts_with("write"), "{action}");
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+}

@@ -2,9 +2,9 @@
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use crate::error::{invalid, Result};
+use crate::error::{invalid, io_at, Result};
 
 use super::files::{self, FileMode, AXES};
 use super::{Flow, Observer, StepView};
@@ -17,6 +17,8 @@ use super::{Flow, Observer, StepView};
 pub struct FrictionalProfile<const D: usize> {
     window: (f64, f64),
     out: BufWriter<File>,
+    /// The file, for errors.
+    path: PathBuf,
 }
 
 impl<const D: usize> FrictionalProfile<D> {
@@ -46,6 +48,7 @@ impl<const D: usize> FrictionalProfile<D> {
         Ok(Self {
             window: (t0, t1),
             out: files::open(path, &Self::header(), 4, mode.start(false))?,
+            path: path.to_path_buf(),
         })
     }
 
@@ -114,17 +117,18 @@ impl<const D: usize> Observer<D> for FrictionalProfile<D> {
                 self.out,
                 "{t:.9e},{:.6e},{rate:.9e},{:.9e},{}",
                 x[0], s.state.alpha[k], s.report.step
-            )?;
+            )
+            .map_err(io_at("write a row of", &self.path))?;
             for xc in x.iter().skip(1) {
-                write!(self.out, ",{xc:.6e}")?;
+                write!(self.out, ",{xc:.6e}").map_err(io_at("write a row of", &self.path))?;
             }
-            writeln!(self.out)?;
+            writeln!(self.out).map_err(io_at("write a row of", &self.path))?;
         }
-        self.out.flush()?;
+        self.out.flush().map_err(io_at("flush", &self.path))?;
         Ok(Flow::Continue(()))
     }
     fn finish(&mut self) -> Result<()> {
-        self.out.flush()?;
+        self.out.flush().map_err(io_at("flush", &self.path))?;
         Ok(())
     }
 }

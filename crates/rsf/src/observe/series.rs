@@ -2,9 +2,9 @@
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use crate::error::Result;
+use crate::error::{io_at, Result};
 use crate::model::Model;
 
 use super::files::{self, FileMode, AXES};
@@ -22,6 +22,8 @@ use super::{Flow, Observer, StepView};
 pub struct PointSeries<const D: usize> {
     node: usize,
     out: BufWriter<File>,
+    /// The file, for errors.
+    path: PathBuf,
     flush_every: usize,
     rows: usize,
 }
@@ -73,6 +75,7 @@ impl<const D: usize> PointSeries<D> {
         Ok(Self {
             node,
             out: files::open(path, &Self::header(), 6, mode.start(true))?,
+            path: path.to_path_buf(),
             flush_every: 1,
             rows: 0,
         })
@@ -149,19 +152,21 @@ impl<const D: usize> Observer<D> for PointSeries<D> {
             r.step,
             r.solver_iterations,
             r.relaxed_iterations
-        )?;
+        )
+        .map_err(io_at("write a row of", &self.path))?;
         for c in 1..D {
-            write!(self.out, ",{:.12e},{:.12e}", u[i + c], v[i + c])?;
+            write!(self.out, ",{:.12e},{:.12e}", u[i + c], v[i + c])
+                .map_err(io_at("write a row of", &self.path))?;
         }
-        writeln!(self.out)?;
+        writeln!(self.out).map_err(io_at("write a row of", &self.path))?;
         self.rows += 1;
         if self.rows % self.flush_every == 0 {
-            self.out.flush()?;
+            self.out.flush().map_err(io_at("flush", &self.path))?;
         }
         Ok(Flow::Continue(()))
     }
     fn finish(&mut self) -> Result<()> {
-        self.out.flush()?;
+        self.out.flush().map_err(io_at("flush", &self.path))?;
         Ok(())
     }
 }

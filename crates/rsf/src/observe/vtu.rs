@@ -1,7 +1,7 @@
 //! ParaView output: one VTU file per recorded step plus a `.pvd` time index
 //! (feature `vtk`, via `vtkio`).
 
-use std::io::Write;
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use vtkio::model::{
@@ -9,7 +9,7 @@ use vtkio::model::{
     VertexNumbers, Vtk,
 };
 
-use crate::error::{Error, Result};
+use crate::error::{io_at, show_path, Error, Result};
 use crate::model::Model;
 
 use super::files::FileMode;
@@ -40,7 +40,7 @@ impl VtuFrames {
     /// malformed; I/O errors.
     pub fn new(dir: impl Into<PathBuf>, mode: FileMode) -> Result<Self> {
         let dir = dir.into();
-        std::fs::create_dir_all(&dir)?;
+        std::fs::create_dir_all(&dir).map_err(io_at("create the frame folder", &dir))?;
         let mut frames = Self {
             dir,
             frames: Vec::new(),
@@ -53,7 +53,7 @@ impl VtuFrames {
         };
         let index = frames.dir.join("frames.pvd");
         let fail = |reason: &str| Error::Resume {
-            path: index.display().to_string(),
+            path: show_path(&index),
             reason: reason.to_owned(),
         };
         let text = std::fs::read_to_string(&index).map_err(|e| fail(&e.to_string()))?;
@@ -79,24 +79,17 @@ impl VtuFrames {
         Ok(frames)
     }
 
+    /// Rewrites `frames.pvd` atomically ([`write_atomically`](crate::write_atomically):
+    /// errors name the file).
     fn write_index(&self) -> Result<()> {
-        let path = self.dir.join("frames.pvd");
-        let tmp = path.with_extension("pvd.tmp");
-        {
-            let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
-            writeln!(f, "<?xml version=\"1.0\"?>")?;
-            writeln!(
-                f,
-                "<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>"
-            )?;
-            for (t, name) in &self.frames {
-                writeln!(f, "    <DataSet timestep=\"{t:.9e}\" file=\"{name}\"/>")?;
-            }
-            writeln!(f, "  </Collection>\n</VTKFile>")?;
-            f.flush()?;
+        let mut f = String::from("<?xml version=\"1.0\"?>\n");
+        f.push_str("<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
+        for (t, name) in &self.frames {
+            // Writing into a String cannot fail.
+            let _ = writeln!(f, "    <DataSet timestep=\"{t:.9e}\" file=\"{name}\"/>");
         }
-        std::fs::rename(&tmp, &path)?;
-        Ok(())
+        f.push_str("  </Collection>\n</VTKFile>\n");
+        crate::checkpoint::write_atomically(&self.dir.join("frames.pvd"), f.as_bytes())
     }
 }
 
@@ -185,8 +178,12 @@ impl<const D: usize> Observer<D> for VtuFrames {
             file_path: None,
         };
         let name = format!("frame_{:06}.vtu", s.report.step);
-        vtk.export(self.dir.join(&name))
-            .map_err(|e| Error::Io(std::io::Error::other(format!("{name}: {e}"))))?;
+        let path = self.dir.join(&name);
+        vtk.export(&path).map_err(|e| Error::File {
+            path: show_path(&path),
+            action: "write the VTU frame",
+            source: std::io::Error::other(e.to_string()),
+        })?;
         self.frames.push((s.report.time, name));
         self.write_index()?;
         Ok(Flow::Continue(()))

@@ -17,6 +17,7 @@ use crate::method::state_integrator::StateIntegrator;
 use crate::model::builder::{Material, ModelBuilder};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
+use crate::scenes::conditioning::{ProblemScales, ScaleFields};
 use crate::simulation::builder::SimulationBuilder;
 use crate::simulation::Simulation;
 
@@ -180,8 +181,16 @@ pub struct SliderScene {
     pub mu0: f64,
     /// Direct-effect parameter a.
     pub a: f64,
-    /// Evolution-effect parameter b.
+    /// Evolution-effect parameter b (≥ 0 unless `allow_negative_b`).
     pub b: f64,
+    /// Accept a negative `b` (`allow_negative_b = true` in TOML; default `false`). A
+    /// negative evolution effect has no physical meaning in rate-and-state friction, and
+    /// `b < 0` is much more often a sign error than a deliberate study, so it is refused
+    /// unless asked for. Written (and so part of the checkpoint fingerprint,
+    /// [`fingerprint`](Self::fingerprint)) only when `true`: scenes and checkpoints of
+    /// earlier versions, without the field, keep their fingerprint.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_negative_b: bool,
     /// Reference slip rate V0 (m/s).
     pub v0_m_per_s: f64,
     /// Characteristic slip distance L (m).
@@ -228,6 +237,7 @@ impl Default for SliderScene {
             mu0: 0.6,
             a: 0.010,
             b: 0.015,
+            allow_negative_b: false,
             v0_m_per_s: 1e-6,
             l_m: 1e-5,
             loading_velocity_m_per_s: 2e-4,
@@ -290,7 +300,10 @@ impl SliderScene {
     /// The step control of adaptive time steps (`None` for fixed steps).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the first invalid option.
+    /// [`Error::InvalidParameter`] naming the first invalid option
+    /// (`time_step.<field>`): the controller's checks ([`StepControl::validate`]: the
+    /// tolerance in (ε, 1), `tau_min_s` a normal double, …), and `tau_min_s ≥ ε ·
+    /// end_time_s`, below which a step at the end of the run does not advance time.
     pub fn step_control(&self) -> Result<Option<StepControl>> {
         let TimeStep::Adaptive(a) = self.time_step else {
             return Ok(None);
@@ -375,10 +388,24 @@ impl SliderScene {
                         other => other,
                     }
                 ),
-                format!("{value} must be {requirement}"),
+                // `{:e}` for huge or tiny values (f64::MAX has 309 digits in `{}`).
+                format!("{} must be {requirement}", short_number(value)),
             ),
             other => other.into(),
         })?;
+        // A step of τ_min at t ≈ T must advance time: ulp(t) ≤ ε·t ≤ ε·T (docs/reliability.md).
+        let resolvable = f64::EPSILON * self.end_time_s;
+        if a.tau_min_s < resolvable {
+            return Err(invalid(
+                "time_step.tau_min_s",
+                format!(
+                    "{:e} s is below ε · end_time_s = {resolvable:e} s: a step that short \
+                     does not advance the time t ≈ T in double precision (the run would \
+                     never end)",
+                    a.tau_min_s
+                ),
+            ));
+        }
         Ok(Some(control))
     }
 
@@ -476,13 +503,16 @@ impl SliderScene {
             (0.0, f64::MAX),
             "a negative friction coefficient has no physical meaning (μ₀ ≥ 0)",
         )?;
-        in_range(
-            "b",
-            self.b,
-            (0.0, f64::MAX),
-            "the state effect b of rate-and-state friction is ≥ 0 (b − a < 0 is velocity \
-             strengthening; a negative b has no physical meaning)",
-        )?;
+        if !self.allow_negative_b {
+            in_range(
+                "b",
+                self.b,
+                (0.0, f64::MAX),
+                "the state effect b of rate-and-state friction is ≥ 0 (b − a < 0 is \
+                 velocity strengthening; a negative b has no physical meaning; set \
+                 `allow_negative_b = true` to run it deliberately)",
+            )?;
+        }
         in_range(
             "alpha0",
             self.alpha0,
@@ -588,10 +618,10 @@ impl SliderScene {
     /// quasistatic), plane-strain stiffness, gravity, Γ_D (top: both components, velocity
     /// `(v_load g(t), 0)` with the ramp `g`), Γ_F (bottom, normal component fixed), the
     /// hierarchy's prolongations, lumped weights and `u_0` solving `K u_0 = F` with the
-    /// same constraints.
+    /// same constraints; then [`check_conditioning`](Self::check_conditioning).
     ///
     /// # Errors
-    /// Invalid parameters; assembly errors.
+    /// Invalid parameters; assembly errors; [`Error::IllConditioned`].
     pub fn build_model(&self) -> Result<Model<2>> {
         self.validate()?;
         let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?
@@ -600,11 +630,63 @@ impl SliderScene {
             .dirichlet(TAG_DIRICHLET, [self.loading_velocity_m_per_s, 0.0])
             .frictional_boundary(TAG_FRICTIONAL)
             .loading(self.loading());
-        if self.integrator.uses_mass() {
+        let model = if self.integrator.uses_mass() {
             builder.build()
         } else {
             builder.without_mass().build()
-        }
+        }?;
+        self.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// Whether the scene's assembled `model` can be computed in double precision
+    /// ([`ProblemScales::check`], docs/reliability.md "Conditioning"): the diagonals of `K`,
+    /// `M` and of the time-step matrix `A = c_M M + c_K K` at the smallest and largest
+    /// step of the run, `|F|∞`, `|u₀|∞`, `|F|∞ / min K_ii` and `|v_load| T` within
+    /// [`representable_range`](crate::representable_range), and `l_m` at least
+    /// [`SLIP_RESOLUTION`](crate::SLIP_RESOLUTION) times the largest displacement scale.
+    /// `O(nnz)`; run by [`build_model`](Self::build_model) and on models given to
+    /// [`simulation_builder_with_model`](Self::simulation_builder_with_model).
+    ///
+    /// # Errors
+    /// [`Error::IllConditioned`] naming the scene fields behind the failed quantity.
+    pub fn check_conditioning<const D: usize>(&self, model: &Model<D>) -> Result<()> {
+        let scales = ProblemScales::new(
+            &model.stiffness,
+            model.mass.as_ref(),
+            &model.load,
+            &model.initial_displacement,
+            &model.fixed,
+        );
+        let t = self.end_time_s;
+        // The steps of the run: τ = T/N, or the controller's range clipped to T (a step
+        // never passes the end time).
+        let steps: Vec<(f64, &'static [&'static str])> = match self.time_step {
+            TimeStep::Fixed {} => vec![(self.tau(), &["steps", "end_time_s"])],
+            TimeStep::Adaptive(a) => vec![
+                (a.tau_min_s.min(t), &["time_step.tau_min_s"]),
+                (a.tau_max_s.min(t), &["time_step.tau_max_s", "end_time_s"]),
+            ],
+        };
+        let coefficients: Vec<((f64, f64), &[&'static str])> = steps
+            .into_iter()
+            .map(|(tau, f)| (self.integrator.coefficients(tau), f))
+            .collect();
+        scales.check(
+            &coefficients,
+            (
+                self.loading_velocity_m_per_s.abs() * t,
+                &["loading_velocity_m_per_s", "end_time_s"],
+            ),
+            self.l_m,
+            &ScaleFields {
+                stiffness: &["youngs_modulus_pa", "poisson_ratio"],
+                mass: &["density_kg_per_m2"],
+                load: &["density_kg_per_m2", "gravity_m_per_s2"],
+                displacement: &["gravity_m_per_s2", "density_kg_per_m2", "youngs_modulus_pa"],
+                slip: &["l_m"],
+            },
+        )
     }
 
     /// The options of the velocity solvers with the scene's tolerance (TNNMG: absolute
@@ -676,12 +758,14 @@ impl SliderScene {
     /// by the caller.
     ///
     /// # Errors
-    /// Invalid parameters.
+    /// Invalid parameters; [`Error::IllConditioned`]
+    /// ([`check_conditioning`](Self::check_conditioning)).
     pub fn simulation_builder_with_model(
         &self,
         model: Model<2>,
     ) -> Result<SceneSimulationBuilder<2>> {
         self.validate()?;
+        self.check_conditioning(&model)?;
         scene_builder(self, model)
     }
 
@@ -712,6 +796,17 @@ impl SliderScene {
                 Progress::steps(self.steps.saturating_sub(done), label)
             }
         }
+    }
+}
+
+/// `x` as `{}` prints it if that is short, else as `{:e}` (error messages quote at most
+/// about 100 characters of a value).
+fn short_number(x: f64) -> String {
+    let plain = x.to_string();
+    if plain.len() <= 24 {
+        plain
+    } else {
+        format!("{x:e}")
     }
 }
 

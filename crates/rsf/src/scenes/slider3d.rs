@@ -163,11 +163,12 @@ impl Slider3dScene {
     /// quasistatic), isotropic 3-D stiffness, gravity `(0, −g, 0)`, Γ_D (top: all
     /// components, velocity `(v_load g(t), 0, 0)` with the ramp `g`), Γ_F (bottom, u_y
     /// fixed), `u_z = 0` on the lateral faces for [`LateralBoundary::PlaneStrain`], the
-    /// hierarchy's prolongations and `u_0` solving `K u_0 = F`.
+    /// hierarchy's prolongations and `u_0` solving `K u_0 = F`; then
+    /// [`SliderScene::check_conditioning`].
     ///
     /// # Errors
     /// Invalid parameters (a level whose mesh exceeds [`MAX_CELLS`](crate::MAX_CELLS) is
-    /// named `levels`); assembly errors.
+    /// named `levels`); assembly errors; [`Error::IllConditioned`](crate::Error::IllConditioned).
     pub fn build_model(&self) -> Result<Model<3>> {
         self.validate()?;
         let s = &self.slider;
@@ -183,7 +184,9 @@ impl Slider3dScene {
         if !s.integrator.uses_mass() {
             builder = builder.without_mass();
         }
-        builder.build()
+        let model = builder.build()?;
+        s.check_conditioning(&model)?;
+        Ok(model)
     }
 
     /// A [`SimulationBuilder`](crate::SimulationBuilder) on `model` with everything the
@@ -196,6 +199,7 @@ impl Slider3dScene {
         model: Model<3>,
     ) -> Result<SceneSimulationBuilder<3>> {
         self.validate()?;
+        self.slider.check_conditioning(&model)?;
         scene_builder(&self.slider, model)
     }
 

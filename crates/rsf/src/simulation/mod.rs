@@ -320,33 +320,58 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// (see [`set_time_step`](Self::set_time_step)).
     ///
     /// # Errors
-    /// [`Error::Checkpoint`] if dimensions or sizes differ or values are not finite;
-    /// solver set-up errors for a new τ.
+    /// [`Error::CheckpointSize`] naming what differs (dimension, number of nodes, lengths
+    /// of `v`, `a`, α); [`Error::CheckpointValue`] naming a non-finite value, a negative
+    /// time or a non-positive τ (and its entry); solver set-up errors for a new τ. The
+    /// simulation is unchanged on error.
     pub fn restore(&mut self, c: &Checkpoint) -> Result<()> {
         let n = self.model().num_dofs();
         let s = &c.state;
         let k = &s.kinematics;
-        if c.dim != D
-            || k.u.len() != n
-            || k.v.len() != n
-            || k.a.len() != n
-            || s.alpha.len() != self.state.alpha.len()
-        {
-            return Err(Error::Checkpoint(
-                "sizes do not match this simulation".into(),
-            ));
+        let size = |what, checkpoint, simulation| {
+            if checkpoint == simulation {
+                Ok(())
+            } else {
+                Err(Error::CheckpointSize {
+                    what,
+                    checkpoint,
+                    simulation,
+                })
+            }
+        };
+        size("space dimension", c.dim, D)?;
+        if k.u.len() % D == 0 {
+            size("number of nodes", k.u.len() / D, n / D)?;
+        } else {
+            size("length of u", k.u.len(), n)?;
         }
-        if !(s.time.is_finite() && s.time >= 0.0)
-            || [&k.u, &k.v, &k.a, &s.alpha]
-                .iter()
-                .any(|x| x.iter().any(|y| !y.is_finite()))
-        {
-            return Err(Error::Checkpoint(
-                "non-finite time, displacement, velocity, acceleration or state".into(),
-            ));
+        size("length of v", k.v.len(), n)?;
+        size("length of a", k.a.len(), n)?;
+        size(
+            "number of frictional nodes (length of alpha)",
+            s.alpha.len(),
+            self.state.alpha.len(),
+        )?;
+        let value = |what, index, value, requirement| {
+            Err(Error::CheckpointValue {
+                what,
+                index,
+                value,
+                requirement,
+            })
+        };
+        if !(s.time.is_finite() && s.time >= 0.0) {
+            return value("time", 0, s.time, "finite and >= 0 (s)");
         }
-        self.set_time_step(s.tau)
-            .map_err(|e| Error::Checkpoint(format!("τ = {}: {e}", s.tau)))?;
+        if !(s.tau.is_finite() && s.tau > 0.0) {
+            return value("time step tau", 0, s.tau, "finite and > 0 (s)");
+        }
+        for (what, x) in [("u", &k.u), ("v", &k.v), ("a", &k.a), ("alpha", &s.alpha)] {
+            if let Some((i, &y)) = x.iter().enumerate().find(|(_, y)| !y.is_finite()) {
+                return value(what, i, y, "finite");
+            }
+        }
+        self.set_time_step(s.tau)?;
         if self.state.controller.is_some() {
             if let Some(c) = s.controller {
                 self.state.controller = Some(c);

@@ -1,0 +1,229 @@
+//! Whether an assembled scene can be computed in double precision: a cheap (`O(nnz)`)
+//! estimate from the diagonals of `K` and `M`, the load, `u₀` and the loading
+//! (docs/reliability.md, "Conditioning").
+//!
+//! The material values themselves cannot make the time-step matrix `A = c_M M + c_K K`
+//! ill-conditioned: for `c_M, c_K ≥ 0` its condition number is at most
+//! `max(cond M, cond K)` (`λ_max(A) ≤ c_M λ_max(M) + c_K λ_max(K)`, `λ_min(A) ≥ c_M λ_min(M)
+//! + c_K λ_min(K)`, and `(a + b)/(c + d) ≤ max(a/c, b/d)`), and those depend on the mesh,
+//! not on E or ρ. What fails for a Young's modulus of 1e-300 Pa or a gravity of 1e200 m/s²
+//! is **magnitude** (displacements of 1e290 m, entries whose squares in the energy norm and
+//! the error estimate overflow) and **resolution** (a slip of `L` added to a displacement
+//! `10¹⁸ L` is lost in round-off). Those are what [`ProblemScales::check`] tests.
+
+use rsf_fem::SparseMatrix;
+
+use crate::error::{Error, Result};
+
+/// The range of magnitudes every scale of a problem must lie in:
+/// `[√f64::MIN_POSITIVE, √f64::MAX] ≈ [1.5e-154, 1.3e154]`. The energy norm
+/// `√(vᵀ(K + M)v)` and the root mean squares of the error estimate square them; outside,
+/// the squares underflow or overflow.
+pub fn representable_range() -> (f64, f64) {
+    (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt())
+}
+
+/// The smallest admissible ratio `L / D` of the characteristic slip distance `L` to the
+/// displacement scale `D` (the largest of `|u₀|∞`, `|F|∞ / min K_ii` and the loading
+/// displacement `|v_load| T`): `1e-12`, so that a slip of `L` added to a displacement of `D`
+/// keeps about 12 of its 53 bits (`L ≥ 4500 ulp(D)`).
+pub const SLIP_RESOLUTION: f64 = 1e-12;
+
+/// Scales of an assembled problem, from its free dofs (`O(nnz)`): what
+/// [`check`](Self::check) compares with the double range and with each other.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProblemScales {
+    /// Smallest and largest diagonal entry of `K` over the free dofs (N/m per unit
+    /// thickness in 2D).
+    pub stiffness: (f64, f64),
+    /// Smallest and largest diagonal entry of `M` over the free dofs (kg), if any.
+    pub mass: Option<(f64, f64)>,
+    /// `|F|∞` over the free dofs (N).
+    pub load: f64,
+    /// `|u₀|∞` (m), the initial equilibrium.
+    pub displacement: f64,
+    /// `|F|∞ / min K_ii` (m): the displacement the largest load gives at the softest dof
+    /// alone, an estimate of the static displacement that needs no solve.
+    pub displacement_estimate: f64,
+}
+
+/// One failed comparison: the quantity, its value, and the fields that set it.
+struct Finding {
+    what: String,
+    fields: Vec<&'static str>,
+}
+
+impl ProblemScales {
+    /// The scales of the problem with stiffness `K`, mass `M`, load `F`, initial
+    /// displacement `u₀` and constrained dofs `fixed` (all of one length `n`).
+    pub fn new(
+        stiffness: &SparseMatrix,
+        mass: Option<&SparseMatrix>,
+        load: &[f64],
+        initial_displacement: &[f64],
+        fixed: &[bool],
+    ) -> Self {
+        let free = |i: &usize| !fixed.get(*i).copied().unwrap_or(false);
+        let range = |m: &SparseMatrix| {
+            let d = diagonal(m);
+            d.iter()
+                .enumerate()
+                .filter(|(i, _)| free(i))
+                .fold((f64::INFINITY, 0.0_f64), |(lo, hi), (_, &x)| {
+                    (lo.min(x.abs()), hi.max(x.abs()))
+                })
+        };
+        let stiffness = range(stiffness);
+        let load = (0..load.len())
+            .filter(free)
+            .fold(0.0_f64, |m, i| m.max(load[i].abs()));
+        Self {
+            stiffness,
+            mass: mass.map(range),
+            load,
+            displacement: initial_displacement
+                .iter()
+                .fold(0.0_f64, |m, x| m.max(x.abs())),
+            displacement_estimate: if load == 0.0 { 0.0 } else { load / stiffness.0 },
+        }
+    }
+
+    /// Checks that every scale is representable ([`representable_range`]) and that a slip
+    /// of `slip_distance` is resolvable against the displacements ([`SLIP_RESOLUTION`]).
+    ///
+    /// - `coefficients`: the integrator's `(c_M, c_K)` at the smallest and the largest time
+    ///   step of the run, with the fields that set those steps; the diagonal of `A = c_M M
+    ///   + c_K K` is checked at each;
+    /// - `loading_displacement`: `|v_load| · T` (m), with its fields;
+    /// - `fields`: the scene fields behind `K` (`stiffness`), `M` (`mass`), `F` (`load`)
+    ///   and `u₀` (`displacement`), and `L` (`slip`).
+    ///
+    /// # Errors
+    /// [`Error::IllConditioned`] naming the first failed quantity and the fields to change.
+    pub fn check(
+        &self,
+        coefficients: &[((f64, f64), &[&'static str])],
+        loading_displacement: (f64, &[&'static str]),
+        slip_distance: f64,
+        fields: &ScaleFields,
+    ) -> Result<()> {
+        let (lo, hi) = representable_range();
+        let mut findings = Vec::new();
+        let mut scale = |what: &str, x: f64, fields: &[&'static str]| {
+            // Zero is exact (no load, no gravity); everything else within the range.
+            if x != 0.0 && !(x >= lo && x <= hi) {
+                findings.push(Finding {
+                    what: format!(
+                        "{what} = {x:e} is outside the representable range [{lo:.1e}, {hi:.1e}] \
+                         (its square must be a normal double)"
+                    ),
+                    fields: fields.to_vec(),
+                });
+            }
+        };
+        scale("min K_ii", self.stiffness.0, fields.stiffness);
+        scale("max K_ii", self.stiffness.1, fields.stiffness);
+        if let Some((m_lo, m_hi)) = self.mass {
+            scale("min M_ii", m_lo, fields.mass);
+            scale("max M_ii", m_hi, fields.mass);
+        }
+        scale("|F|∞", self.load, fields.load);
+        scale("|u₀|∞", self.displacement, fields.displacement);
+        scale(
+            "|F|∞ / min K_ii",
+            self.displacement_estimate,
+            fields.displacement,
+        );
+        scale("|v_load| T", loading_displacement.0, loading_displacement.1);
+        for &((c_m, c_k), time_fields) in coefficients {
+            let mut fs = time_fields.to_vec();
+            fs.extend_from_slice(fields.stiffness);
+            let (m_lo, m_hi) = self.mass.unwrap_or((0.0, 0.0));
+            let a_hi = c_m * m_hi + c_k * self.stiffness.1;
+            let a_lo = c_m * m_lo + c_k * self.stiffness.0;
+            if self.mass.is_some() && c_m != 0.0 {
+                fs.extend_from_slice(fields.mass);
+            }
+            scale(
+                &format!("max A_ii (c_M = {c_m:e}, c_K = {c_k:e})"),
+                a_hi,
+                &fs,
+            );
+            scale(
+                &format!("min A_ii (c_M = {c_m:e}, c_K = {c_k:e})"),
+                a_lo,
+                &fs,
+            );
+        }
+        if let Some(f) = findings.into_iter().next() {
+            return Err(ill(f));
+        }
+        // Resolution: a slip of L against the largest displacement.
+        let candidates = [
+            (self.displacement, "|u₀|∞", fields.displacement),
+            (
+                self.displacement_estimate,
+                "|F|∞ / min K_ii",
+                fields.displacement,
+            ),
+            (loading_displacement.0, "|v_load| T", loading_displacement.1),
+        ];
+        let (d, name, d_fields) =
+            candidates.into_iter().fold(
+                (0.0, "", &[][..]),
+                |best, c| if c.0 > best.0 { c } else { best },
+            );
+        if d > 0.0 && !(slip_distance >= SLIP_RESOLUTION * d) {
+            let mut fs = fields.slip.to_vec();
+            fs.extend_from_slice(d_fields);
+            return Err(ill(Finding {
+                what: format!(
+                    "the slip distance L = {slip_distance:e} m is below {SLIP_RESOLUTION:e} × \
+                     the displacement scale {name} = {d:e} m: slips of L would be lost in the \
+                     round-off of the displacements"
+                ),
+                fields: fs,
+            }));
+        }
+        Ok(())
+    }
+}
+
+/// The scene fields behind each scale, for the errors of [`ProblemScales::check`].
+#[derive(Debug, Clone, Copy)]
+pub struct ScaleFields {
+    /// Behind `K`.
+    pub stiffness: &'static [&'static str],
+    /// Behind `M`.
+    pub mass: &'static [&'static str],
+    /// Behind `F`.
+    pub load: &'static [&'static str],
+    /// Behind `u₀` (and `|F|∞ / min K_ii`).
+    pub displacement: &'static [&'static str],
+    /// Behind `L`.
+    pub slip: &'static [&'static str],
+}
+
+fn ill(f: Finding) -> Error {
+    let mut fields = f.fields;
+    let mut seen = std::collections::HashSet::new();
+    fields.retain(|x| seen.insert(*x));
+    Error::IllConditioned {
+        fields: fields.into_iter().map(str::to_owned).collect(),
+        reason: f.what,
+    }
+}
+
+/// The diagonal of a square CSC matrix (0 where it has no entry).
+fn diagonal(m: &SparseMatrix) -> Vec<f64> {
+    let (cp, ri, val) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
+    (0..m.ncols().min(m.nrows()))
+        .map(|j| {
+            let range = cp[j]..cp[j + 1];
+            ri[range.clone()]
+                .iter()
+                .position(|&i| i == j)
+                .map_or(0.0, |k| val[range.start + k])
+        })
+        .collect()
+}

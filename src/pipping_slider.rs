@@ -1,0 +1,241 @@
+//! The run driver of the `pipping_slider` example (the paper's model problem, Pipping,
+//! Sander & Kornhuber §6.1, Table 6.1), as a library function so that tests run it exactly
+//! as the example does (`tests/resume_end_to_end.rs`). See the example's documentation
+//! for the flags and the files it writes.
+
+use std::path::PathBuf;
+
+use crate::cli::window;
+use crate::run_folder::{
+    check_series_row, check_window, plan_output, read_checkpoint, FolderArgs, RunFolder, StepCap,
+};
+use crate::{
+    line_plot, space_time_map, stats, write_summary, FieldMap, Labels, SceneArgs, Series,
+    SliderRun, TimeStepArgs,
+};
+use clap::Parser;
+use rsf::{
+    Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries, SliderScene,
+    Until, SLIDER_CENTRE,
+};
+
+/// The paper's slider (§6.1, Table 6.1): time series at x0, fault profile, summary, figures.
+#[derive(Parser, Debug, Clone)]
+#[command(name = "pipping_slider", version)]
+pub struct Cli {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub time_step: TimeStepArgs,
+    /// Profile window T0,T1 (s) [default: 0.6725T,0.6775T].
+    #[arg(long, value_parser = window, value_name = "T0,T1")]
+    pub window: Option<(f64, f64)>,
+    /// Output folder.
+    #[arg(long, default_value = "out/pipping_slider")]
+    pub out: PathBuf,
+    /// Write `checkpoint.bin` every N steps (0: never).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub checkpoint_every: usize,
+    /// Continue from this checkpoint, appending to the files in the output folder (the
+    /// checkpoint, the folder's rows and the scene are checked to belong together first).
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
+    #[command(flatten)]
+    pub folder: FolderArgs,
+}
+
+/// The files a run writes into its folder.
+const OUTPUTS: [&str; 8] = [
+    "timeseries.csv",
+    "frictional_profile.csv",
+    "slip_rate_map.csv",
+    "checkpoint.bin",
+    "summary.json",
+    "displacement_x0.png",
+    "slip_rate_x0.png",
+    "slip_rate_map.png",
+];
+
+/// Runs the example with the flags `cli` (what `main` does).
+///
+/// # Errors
+/// Every error of the run, typed: invalid flags or scene, a refused folder or checkpoint,
+/// a run stopped at `--max-steps`, solver and I/O errors.
+pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let scene = cli
+        .time_step
+        .apply(cli.scene.scene(SliderScene::default())?)?;
+    let t_end = scene.end_time_s;
+    let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
+    check_window("window", (w0, w1), t_end)?;
+    let folder = RunFolder::new(&cli.out, &OUTPUTS);
+    let out = folder.dir.clone();
+    println!(
+        "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
+        scene.level,
+        TimeStepArgs::describe(&scene),
+        scene.state_law,
+        scene.integrator,
+        scene.solver,
+        out.display()
+    );
+
+    let setup = std::time::Instant::now();
+    let mut sim = scene.build()?;
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
+    let (series_csv, profile_csv, map_csv) = (
+        folder.path("timeseries.csv"),
+        folder.path("frictional_profile.csv"),
+        folder.path("slip_rate_map.csv"),
+    );
+    // The output bound: a series row per step, a profile row per node and step in the
+    // window and per node of 600 map samples; the steps bounded by N (fixed), or by
+    // T / tau_min_s and --max-steps (adaptive; without --max-steps, a cap that fits in
+    // --max-output-gb).
+    let plan = plan_output(
+        &scene,
+        (w0, w1),
+        sim.model().frictional_boundary.len(),
+        600,
+        cli.folder.max_steps,
+        cli.folder.max_output_gb,
+    )?;
+    if let Some(cap) = plan.step_cap {
+        println!(
+            "at most {cap} steps (output at most {:.3} GB)",
+            plan.bytes / 1e9
+        );
+    }
+    // Everything is checked before any file is touched: folder, checkpoint, rows.
+    let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
+    let fingerprint = scene.fingerprint();
+    let resumed = match &cli.resume {
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
+            let step = c.state.step;
+            PointSeries::<2>::check_resume(&series_csv, step)?;
+            FrictionalProfile::<2>::check_resume(&profile_csv, step)?;
+            FrictionalProfile::<2>::check_resume(&map_csv, step)?;
+            check_series_row::<2>(&series_csv, &c, x0)?;
+            sim.restore(&c)?;
+            Some(c)
+        }
+        None => None,
+    };
+    let resumed_at = resumed.as_ref().map(|c| c.state.step);
+    let wall_time_before = resumed.as_ref().map_or(0.0, |c| c.wall_time_s);
+    let mode = match resumed_at {
+        None => fresh,
+        Some(step) => FileMode::Resume { step },
+    };
+    // 600 samples of the map: every N/600 steps, or every T/600 s for adaptive steps.
+    let map_every = match sim.method().step_control() {
+        Some(_) => Interval::Time(t_end / 600.0),
+        None => Interval::Steps((scene.steps / 600).max(1)),
+    };
+    let mut series = PointSeries::new(&series_csv, sim.model(), x0, mode)?;
+    let mut profile = FrictionalProfile::new(&profile_csv, (w0, w1), mode)?;
+    let mut map = Every::new(
+        map_every,
+        FrictionalProfile::new(&map_csv, (0.0, t_end), mode)?,
+    )?;
+    let checkpoint = Checkpointer::new(folder.path("checkpoint.bin"))
+        .fingerprint(fingerprint)
+        .wall_time_before(wall_time_before);
+    let mut step_cap = plan.step_cap.map(|n| StepCap::new(n, checkpoint.clone()));
+    let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
+    let mut progress = scene.progress(sim.time(), "slider");
+    // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
+    if cli.checkpoint_every > 0 {
+        observers.push(&mut checkpointer);
+    }
+    if let Some(cap) = step_cap.as_mut() {
+        observers.push(cap);
+    }
+    observers.push(&mut progress);
+    let setup_seconds = setup.elapsed().as_secs_f64();
+    let summary = sim.run_until(Until::Time(t_end), &mut observers)?;
+    drop(observers);
+    if let Some(e) = step_cap
+        .as_ref()
+        .and_then(|c| c.error(t_end, &folder.path("checkpoint.bin")))
+    {
+        return Err(e.into());
+    }
+
+    // Everything below comes from the files: the whole run, also after a resume.
+    let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
+    run.set_map_from_profile(&FrictionalProfile::<2>::read(&map_csv)?);
+    (run.dofs, run.frictional_nodes) = (
+        sim.model().num_dofs(),
+        sim.model().frictional_boundary.len(),
+    );
+    // Wall time of the whole run: this invocation's steps plus the resumed checkpoint's.
+    (run.seconds, run.setup_seconds) = (wall_time_before + summary.seconds, setup_seconds);
+    run.rejected_steps = sim.state().controller.map_or(0, |c| c.rejected());
+    let st = stats(&run, t_end);
+    write_summary(&out, &scene, &run, &st)?;
+
+    line_plot(
+        &out.join("displacement_x0.png"),
+        &Labels {
+            title: "Displacement u_x at x0 = (2.5, 0)",
+            x: "t (s)",
+            y: "u_x (m)",
+        },
+        &Series::alone(&run.u_x0),
+        false,
+        false,
+    )?;
+    let rate: Vec<(f64, f64)> = run
+        .v_x0
+        .iter()
+        .map(|&(t, v)| (t, v.abs().max(1e-40)))
+        .collect();
+    line_plot(
+        &out.join("slip_rate_x0.png"),
+        &Labels {
+            title: "Slip rate |v| at x0 = (2.5, 0)",
+            x: "t (s)",
+            y: "slip rate (m/s)",
+        },
+        &Series::alone(&rate),
+        true,
+        false,
+    )?;
+    space_time_map(
+        &out.join("slip_rate_map.png"),
+        "Slip rate along the frictional boundary",
+        &FieldMap {
+            xs: &run.map.1,
+            ys: &run.map.0,
+            values: &run.map.2,
+        },
+        (-12.0, -2.0),
+    )?;
+    println!(
+        "{} dofs, {} steps ({} rejected; {} in this run{}) in {:.2} s (set-up {:.2} s) on {}",
+        run.dofs,
+        run.fpi.len(),
+        run.rejected_steps,
+        summary.steps,
+        resumed_at.map_or(String::new(), |n| format!(", resumed at step {n}")),
+        run.seconds,
+        run.setup_seconds,
+        crate::machine()
+    );
+    println!(
+        "fixed point iterations: mean {:.2}, max {}; solver iterations {}; relaxed steps {}",
+        st.fpi_mean, st.fpi_max, st.solver_iterations, st.relaxed_steps
+    );
+    println!(
+        "first slip event (max V > 1e-3 m/s): {}; slip events: {}; peak slip rate {:.3e} m/s; u_x0 over [0.9T, T]: {:.3e} … {:.3e} m",
+        st.first_slip_event_s.map_or("none".into(), |t| format!("{t:.3} s")),
+        st.slip_events,
+        st.peak_slip_rate_mps,
+        st.u_x0_range_last_tenth_m.0,
+        st.u_x0_range_last_tenth_m.1
+    );
+    Ok(())
+}
