@@ -340,8 +340,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             }
         };
         size("space dimension", c.dim, D)?;
-        if k.u.len() % D == 0 {
-            size("number of nodes", k.u.len() / D, n / D)?;
+        if k.u.len() % C == 0 {
+            size("number of nodes", k.u.len() / C, n / C)?;
         } else {
             size("length of u", k.u.len(), n)?;
         }
