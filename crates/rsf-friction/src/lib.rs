@@ -185,4 +185,11 @@ pub trait FrictionLaw: Clone + Send + Sync {
     fn state_variable(&self) -> StateVariable {
         StateVariable::LogTheta
     }
+
+    /// The normal stress `σ̄_n` (Pa) the law was given, if it has one: what observers
+    /// report as the fault's normal traction (the model prescribes it; bilateral contact
+    /// keeps the normal velocity zero). Default `None` (a user law without one).
+    fn normal_stress(&self) -> Option<f64> {
+        None
+    }
 }

@@ -119,6 +119,9 @@ impl FrictionLaw for Tresca {
     fn friction_coefficient(&self, _v: f64, _alpha: f64) -> f64 {
         self.mu
     }
+    fn normal_stress(&self) -> Option<f64> {
+        Some(self.sigma_n)
+    }
 }
 
 /// Tresca friction with a state-dependent coefficient `μ(α)` (docs/math.md §1):
@@ -191,6 +194,9 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> FrictionLaw for StateDependentTres
     }
     fn state_variable(&self) -> StateVariable {
         self.state_variable
+    }
+    fn normal_stress(&self) -> Option<f64> {
+        Some(self.sigma_n)
     }
 }
 
@@ -466,6 +472,9 @@ impl FrictionLaw for DieterichRuina {
         let lv0 = p.v0.ln();
         sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - p.l.ln())))
     }
+    fn normal_stress(&self) -> Option<f64> {
+        Some(self.params.sigma_n)
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -646,6 +655,9 @@ impl FrictionLaw for AsinhLaw {
         }
         let l = finite_ln_vm(self.params.ln_cutoff_velocity(alpha));
         sat(self.params.a * asinh_exp(v.ln() - LN_2 - l))
+    }
+    fn normal_stress(&self) -> Option<f64> {
+        Some(self.params.sigma_n)
     }
 }
 

@@ -87,7 +87,7 @@ pub use observe::seas::{SeasEvent, SeasOutput, SeasSampling, SeasSetup, SECONDS_
 pub use observe::series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
 pub use observe::vtu::VtuFrames;
-pub use observe::{Flow, Observer, StepView};
+pub use observe::{FaultTractions, Flow, Observer, StepView};
 pub use problem::{NoState, Problem};
 pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};

@@ -39,6 +39,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, 
         &self.friction_laws
     }
 
+    /// The friction laws as the tractions observers see.
+    pub(crate) fn fault_tractions(&self) -> &dyn crate::observe::FaultTractions {
+        &self.friction_laws
+    }
+
     /// The state law of each frictional node (empty if no friction law uses the state).
     pub fn state_laws(&self) -> &[S] {
         &self.state_laws

@@ -1,10 +1,12 @@
 //! VTU frames for ParaView: files are written during the run, read back with vtkio, and
-//! their point data (u, v, α) equal the simulation's state at the frame's step (issue 13).
+//! their point data (u, v, α; on Γ_F slip, shear and normal traction) equal the
+//! simulation's state at the frame's step (issues 13, 24).
 #![cfg(feature = "vtk")]
 
 mod common;
 
 use common::*;
+use rsf::friction::FrictionLaw;
 use rsf::{Every, FileMode, Interval, VtuFrames};
 
 /// The point data `name` of a frame as 3-vectors per vertex.
@@ -81,6 +83,33 @@ fn frames_hold_the_state_of_their_step() {
         }
         for p in (0..n).filter(|&p| !on_fault[p]) {
             assert!(state[p].is_nan(), "step {step}: α at interior vertex {p}");
+        }
+        // In slip coordinates on Γ_F (NaN elsewhere): the slip u − u₀, the shear traction
+        // σ̄_n μ(V, α) by the law's friction coefficient (the frame evaluates the
+        // potential's slope: another code path), the prescribed normal traction σ̄_n.
+        let slip = point_vectors(&piece, "slip");
+        let shear = point_vectors(&piece, "shear_traction");
+        let normal = point_vectors(&piece, "normal_traction");
+        let law = friction_law(&scene);
+        let sigma_n = params(&scene).sigma_n;
+        let mut sliding = 0;
+        for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
+            let u0 = &model.initial_displacement;
+            let expected = [kin.u[2 * p] - u0[2 * p], kin.u[2 * p + 1] - u0[2 * p + 1], 0.0];
+            assert_eq!(&slip[3 * p..3 * p + 3], &expected, "step {step}: slip at {p}");
+            let v = kin.v[2 * p].hypot(kin.v[2 * p + 1]);
+            let tau = sigma_n * law.friction_coefficient(v, alpha[k]);
+            assert!(
+                (shear[p] - tau).abs() <= 1e-12 * tau.abs().max(1.0),
+                "step {step}: shear traction at {p}: {} vs σ̄_n μ = {tau}",
+                shear[p]
+            );
+            sliding += usize::from(tau > 0.0);
+            assert_eq!(normal[p], sigma_n, "step {step}: normal traction at {p}");
+        }
+        assert!(sliding > 0, "step {step}: no node slides");
+        for p in (0..n).filter(|&p| !on_fault[p]) {
+            assert!(shear[p].is_nan() && normal[p].is_nan() && slip[3 * p].is_nan());
         }
         // The frames differ from each other: the data are the step's, not a stale copy.
         let slip_rate = kin.v[2 * model.frictional_boundary.nodes[0]];

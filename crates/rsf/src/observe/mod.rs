@@ -13,6 +13,8 @@ pub(crate) mod series;
 #[cfg(feature = "vtk")]
 pub(crate) mod vtu;
 
+use rsf_friction::{ConvexPotential, FrictionLaw};
+
 use crate::checkpoint::Checkpoint;
 use crate::error::Result;
 use crate::model::fault::block_norm;
@@ -21,8 +23,8 @@ use crate::report::StepReport;
 use crate::simulation_state::SimulationState;
 
 /// A step as observers see it: the model, the state after the step (borrowed: observers
-/// never copy what they do not keep) and the step's report.
-#[derive(Debug, Clone, Copy)]
+/// never copy what they do not keep), the step's report and the friction laws' tractions.
+#[derive(Clone, Copy)]
 pub struct StepView<'a, const D: usize, const C: usize = D> {
     /// The model.
     pub model: &'a Model<D, C>,
@@ -30,6 +32,48 @@ pub struct StepView<'a, const D: usize, const C: usize = D> {
     pub state: &'a SimulationState,
     /// The step's report.
     pub report: &'a StepReport,
+    /// The tractions of the frictional nodes' laws (the problem's friction laws).
+    pub friction: &'a dyn FaultTractions,
+}
+
+impl<const D: usize, const C: usize> std::fmt::Debug for StepView<'_, D, C> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StepView")
+            .field("model", self.model)
+            .field("state", self.state)
+            .field("report", self.report)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The tractions on Γ_F that the friction laws carry, per frictional node `k`
+/// (`model.frictional_boundary.nodes[k]`): what observers report in slip coordinates.
+/// Implemented for a vector of [`FrictionLaw`]s (one law per frictional node).
+pub trait FaultTractions {
+    /// The shear traction `ϕ'(V, α) = σ̄_n μ(V, α)` (Pa) of node `k` at slip rate `V ≥ 0`
+    /// (m/s) and state `α`, opposing the slip rate. At `V = 0` (stick) the traction lies
+    /// anywhere in the potential's subdifferential; the value is the potential's slope at 0
+    /// (0 for the rate-and-state laws, whose potentials vanish below the cutoff `V_m`).
+    ///
+    /// # Panics
+    /// If `k` is not the position of a frictional node.
+    fn shear_traction(&self, k: usize, slip_rate: f64, alpha: f64) -> f64;
+
+    /// The normal traction (Pa, compressive positive) at node `k`: the prescribed `σ̄_n`
+    /// of its law ([`FrictionLaw::normal_stress`]), `None` if the law has none.
+    ///
+    /// # Panics
+    /// If `k` is not the position of a frictional node.
+    fn normal_traction(&self, k: usize) -> Option<f64>;
+}
+
+impl<L: FrictionLaw> FaultTractions for Vec<L> {
+    fn shear_traction(&self, k: usize, slip_rate: f64, alpha: f64) -> f64 {
+        self[k].potential(alpha).slope(slip_rate)
+    }
+    fn normal_traction(&self, k: usize) -> Option<f64> {
+        self[k].normal_stress()
+    }
 }
 
 impl<const D: usize, const C: usize> StepView<'_, D, C> {
@@ -79,6 +123,40 @@ impl<const D: usize, const C: usize> StepView<'_, D, C> {
             &self.state.kinematics.v,
             self.model.frictional_boundary.nodes[k],
         )
+    }
+
+    /// The slip of the `k`-th frictional node (m): the displacement since the initial state,
+    /// `u_p − u₀_p`, in Cartesian components (rotated back from a nodal frame). Bilateral
+    /// contact keeps the normal velocity zero, so the slip is tangential; on a model of an
+    /// antisymmetric fault the field is the slip itself (twice the boundary displacement).
+    ///
+    /// # Panics
+    /// If `k` is not the position of a frictional node.
+    pub fn slip(&self, k: usize) -> [f64; C] {
+        let p = self.model.frictional_boundary.nodes[k];
+        let u = block::<C>(&self.state.kinematics.u, p);
+        let u0 = block::<C>(&self.model.initial_displacement, p);
+        self.model
+            .to_global(p, std::array::from_fn(|c| u[c] - u0[c]))
+    }
+
+    /// The shear traction (Pa) on the `k`-th frictional node: `σ̄_n μ(V, α)` of its law at
+    /// the node's slip rate and state ([`FaultTractions::shear_traction`]).
+    ///
+    /// # Panics
+    /// If `k` is not the position of a frictional node.
+    pub fn shear_traction(&self, k: usize) -> f64 {
+        self.friction
+            .shear_traction(k, self.slip_rate(k), self.state.alpha[k])
+    }
+
+    /// The normal traction (Pa) on the `k`-th frictional node, if its law has a `σ̄_n`
+    /// ([`FaultTractions::normal_traction`]).
+    ///
+    /// # Panics
+    /// If `k` is not the position of a frictional node.
+    pub fn normal_traction(&self, k: usize) -> Option<f64> {
+        self.friction.normal_traction(k)
     }
 
     /// A checkpoint of this state.

@@ -19,9 +19,11 @@ use super::{Flow, Observer, StepView};
 /// [`Every`](crate::Every) to sample) into a folder — the
 /// mesh's cells as VTK lines, triangles or tetrahedra for D = 1, 2, 3, with point data
 /// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded; Cartesian components,
-/// rotated back from the nodal frames of a slanted fault) and the scalars `slip_rate`
-/// (m/s) and `state_alpha` (α = ln θ, dimensionless with θ in s), both on Γ_F only, NaN
-/// elsewhere — and `frames.pvd` (the
+/// rotated back from the nodal frames of a slanted fault); on Γ_F only (NaN elsewhere) the
+/// scalars `slip_rate` (m/s), `state_alpha` (α = ln θ, dimensionless with θ in s),
+/// `shear_traction` and `normal_traction` (Pa, [`StepView::shear_traction`],
+/// [`StepView::normal_traction`]; NaN where the law has no `σ̄_n`) and the vector `slip`
+/// (m, [`StepView::slip`]) — and `frames.pvd` (the
 /// time index ParaView opens), rewritten after every frame so that an interrupted run
 /// leaves a usable index. [`FileMode::Resume`] continues after a checkpoint.
 pub struct VtuFrames {
@@ -124,11 +126,27 @@ fn global<const D: usize>(m: &Model<D>, x: &[f64]) -> Vec<f64> {
     g
 }
 
-/// The slip rate `|v_p|` (m/s) on Γ_F, NaN elsewhere.
-fn slip_rate_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
+/// `f(k)` at the `k`-th frictional node, NaN elsewhere.
+fn fault_scalars<const D: usize>(
+    s: &StepView<'_, D>,
+    n: usize,
+    f: impl Fn(usize) -> f64,
+) -> Vec<f64> {
     let mut out = vec![f64::NAN; n];
     for (k, &p) in s.model.frictional_boundary.nodes.iter().enumerate() {
-        out[p] = s.slip_rate(k);
+        out[p] = f(k);
+    }
+    out
+}
+
+/// The slip (m, Cartesian 3-vectors, zero-padded) on Γ_F, NaN elsewhere.
+fn slip_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
+    let mut out = vec![f64::NAN; 3 * n];
+    for (k, &p) in s.model.frictional_boundary.nodes.iter().enumerate() {
+        let slip = s.slip(k);
+        for c in 0..3 {
+            out[3 * p + c] = if c < D { slip[c] } else { 0.0 };
+        }
     }
     out
 }
@@ -164,8 +182,15 @@ impl<const D: usize> Observer<D> for VtuFrames {
                         .with_data(padded::<D>(&global(m, &s.state.kinematics.u), n)),
                     Attribute::vectors("velocity")
                         .with_data(padded::<D>(&global(m, &s.state.kinematics.v), n)),
-                    Attribute::scalars("slip_rate", 1).with_data(slip_rate_field(s, n)),
+                    Attribute::scalars("slip_rate", 1)
+                        .with_data(fault_scalars(s, n, |k| s.slip_rate(k))),
                     Attribute::scalars("state_alpha", 1).with_data(state_field(s, n)),
+                    Attribute::vectors("slip").with_data(slip_field(s, n)),
+                    Attribute::scalars("shear_traction", 1)
+                        .with_data(fault_scalars(s, n, |k| s.shear_traction(k))),
+                    Attribute::scalars("normal_traction", 1).with_data(fault_scalars(s, n, |k| {
+                        s.normal_traction(k).unwrap_or(f64::NAN)
+                    })),
                 ],
                 cell: Vec::new(),
             },

@@ -289,6 +289,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                 model: self.problem.model(),
                 state: &self.state,
                 report: &report,
+                friction: self.problem.fault_tractions(),
             };
             let mut first_break = None;
             for (index, o) in observers.iter_mut().enumerate() {
