@@ -22,16 +22,18 @@
 //! Writes to `out/inclined_block/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries`
 //! at x0, the paper's (2.5, 0) turned with the block, same columns as the main job's; on the
 //! fault its `u_x`, `v_x` are the slip-coordinate (tangential) components, `u_y`, `v_y` the
-//! normal ones) and the figure `slip_rate_x0.png`.
+//! normal ones), the figure `slip_rate_x0.png` and, with `--frame-every N`, VTU frames with
+//! a `frames/frames.pvd` index for ParaView (slip, slip rate, shear and normal traction on
+//! the base, in slip coordinates).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{PointSeries, SliderScene, Until};
+use rsf::{FileMode, Observer, PointSeries, SliderScene, Until};
 use rsf_examples::{
-    inclined_centre, inclined_slider_model, line_plot, stats, Labels, SceneArgs, Series, SliderRun,
-    TimeStepArgs,
+    inclined_centre, inclined_slider_model, line_plot, stats, FrameArgs, Labels, SceneArgs, Series,
+    SliderRun, TimeStepArgs,
 };
 
 /// The paper's slider on an inclined base: time series at x0, summary, figure.
@@ -48,6 +50,8 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/inclined_block")]
     out: PathBuf,
+    #[command(flatten)]
+    frames: FrameArgs,
 }
 
 fn main() -> ExitCode {
@@ -76,13 +80,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut sim = scene.build_with_model(model)?;
     let x0 = sim.model().nearest_node(&inclined_centre(dip))?;
     let series_csv = out.join("timeseries.csv");
-    let mut series = PointSeries::new(&series_csv, sim.model(), x0, rsf::FileMode::Create)?;
+    let mut frame_files = cli.frames.observer(0, &out, FileMode::Create)?;
+    let mut series = PointSeries::new(&series_csv, sim.model(), x0, FileMode::Create)?;
     let mut progress = scene.progress(0.0, "inclined block");
-    let summary = sim.run_until(
-        Until::Time(scene.end_time_s),
-        &mut [&mut series, &mut progress],
-    )?;
-    drop(series);
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut progress];
+    if let Some(f) = frame_files.as_mut() {
+        observers.push(f);
+    }
+    let summary = sim.run_until(Until::Time(scene.end_time_s), &mut observers)?;
+    drop(observers);
 
     let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
     (run.dofs, run.frictional_nodes) = (

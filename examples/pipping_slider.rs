@@ -7,6 +7,7 @@
 //! cargo run --release --example pipping_slider -- --level 3 --law ruina --solver direct
 //! cargo run --release --example pipping_slider -- --scene scenes/pipping_slider.toml
 //! cargo run --release --example pipping_slider -- --level 3 --adaptive 1e-3   # adaptive τ
+//! cargo run --release --example pipping_slider -- --level 3 --frame-every 50   # ParaView frames
 //! cargo run --release --example pipping_slider -- --checkpoint-every 1000   # then, after a kill:
 //! cargo run --release --example pipping_slider -- --checkpoint-every 1000 --resume out/pipping_slider/checkpoint.bin
 //! ```
@@ -16,7 +17,10 @@
 //! `rsf::FrictionalProfile` over the window, default [0.6725T, 0.6775T]),
 //! `slip_rate_map.csv` (the profile of the whole run, 600 samples), `summary.json` (with
 //! accepted and rejected steps and, for adaptive steps, the resolved tolerances), and the
-//! figures `displacement_x0.png`, `slip_rate_x0.png`, `slip_rate_map.png`. Summary and
+//! figures `displacement_x0.png`, `slip_rate_x0.png`, `slip_rate_map.png`; with
+//! `--frame-every N`, VTU frames of every N-th step and their index `frames/frames.pvd`
+//! for ParaView (displacement, velocity; on Γ_F slip, slip rate, state, shear and normal
+//! traction). Summary and
 //! figures are computed from the CSV files, so a resumed run (which continues the files
 //! from the checkpoint's step) reports the whole run.
 //!

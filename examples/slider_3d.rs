@@ -26,11 +26,11 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::{
-    Every, FileMode, Flow, Interval, LateralBoundary, Model, Observer, PointSeries, Progress,
-    Slider3dScene, StepView, Until, VtuFrames,
+    FileMode, Flow, LateralBoundary, Model, Observer, PointSeries, Progress, Slider3dScene,
+    StepView, Until,
 };
 use rsf_examples::cli::step_count;
-use rsf_examples::{log_heat_map, FieldMap, HeatMapAxes, SceneArgs};
+use rsf_examples::{log_heat_map, FieldMap, FrameArgs, HeatMapAxes, SceneArgs};
 
 /// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
 #[derive(Parser)]
@@ -47,9 +47,9 @@ struct Cli {
     /// `u_z = 0` on both lateral faces (plane strain) instead of traction-free faces.
     #[arg(long)]
     plane_strain: bool,
-    /// Write a VTU frame every N steps (0: none).
-    #[arg(long, default_value_t = 100, value_name = "N")]
-    frame_every: usize,
+    /// VTU frames (this example's default: every 100 steps).
+    #[command(flatten)]
+    frames: FrameArgs,
     /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
     #[arg(long, value_name = "T")]
     snapshot_time: Option<f64>,
@@ -232,13 +232,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
     let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
     let mut progress = Progress::steps(s.steps, "slider 3-D");
-    let mut frames = match cli.frame_every {
-        0 => None,
-        n => Some(Every::new(
-            Interval::Steps(n),
-            VtuFrames::new(out.join("frames"), mode)?,
-        )?),
-    };
+    let mut frames = cli.frames.observer(100, &out, mode)?;
     println!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),

@@ -1,13 +1,13 @@
 //! Command-line parsing shared by the examples (clap derive) and how they end: errors are
 //! printed with `Display` and their causes, the exit code is non-zero.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use rsf::fem::Diagonal;
 use rsf::{
-    AdaptiveTimeStep, FixedPointScheme, Integrator, SliderScene, SolverKind, StateIntegrator,
-    StateLawKind, TimeStep,
+    AdaptiveTimeStep, Every, FileMode, FixedPointScheme, Integrator, Interval, SliderScene,
+    SolverKind, StateIntegrator, StateLawKind, TimeStep, VtuFrames,
 };
 
 /// The scene flags every slider example accepts; unset flags keep the scene's value.
@@ -82,6 +82,43 @@ impl SceneArgs {
         }
         scene.validate()?;
         Ok(scene)
+    }
+}
+
+/// The flag `--frame-every N`: VTU frames of the whole body and a `.pvd` time index for
+/// ParaView in the folder `frames/` of the run (`rsf::VtuFrames`: displacement, velocity
+/// and, on Γ_F, slip, slip rate, state, shear and normal traction).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct FrameArgs {
+    /// Write a VTU frame every N steps into `frames/` (ParaView opens `frames.pvd`;
+    /// 0: none) [default: the example's, 0 unless it says otherwise].
+    #[arg(long, value_name = "N")]
+    pub frame_every: Option<usize>,
+}
+
+impl FrameArgs {
+    /// The frame folder of a run writing into `out`.
+    pub fn dir(out: &Path) -> PathBuf {
+        out.join("frames")
+    }
+
+    /// The frame observer of a run into `out` (`None` for N = 0; `default` when the flag
+    /// is not given): new frames for [`FileMode::Create`]/[`FileMode::Overwrite`],
+    /// continued ones for [`FileMode::Resume`].
+    ///
+    /// # Errors
+    /// Those of [`VtuFrames::new`] (an index of another run without `--overwrite`, a
+    /// missing index on resume, I/O errors naming the path).
+    pub fn observer(
+        &self,
+        default: usize,
+        out: &Path,
+        mode: FileMode,
+    ) -> rsf::Result<Option<Every<VtuFrames>>> {
+        match self.frame_every.unwrap_or(default) {
+            0 => Ok(None),
+            n => Every::new(Interval::Steps(n), VtuFrames::new(Self::dir(out), mode)?).map(Some),
+        }
     }
 }
 

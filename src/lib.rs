@@ -15,7 +15,7 @@ mod panels;
 pub mod pipping_slider;
 mod run;
 pub mod run_folder;
-pub use cli::{main_with, SceneArgs, TimeStepArgs};
+pub use cli::{main_with, FrameArgs, SceneArgs, TimeStepArgs};
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use panels::PanelLayout;

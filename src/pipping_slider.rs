@@ -10,8 +10,8 @@ use crate::run_folder::{
     check_series_row, check_window, plan_output, read_checkpoint, FolderArgs, RunFolder, StepCap,
 };
 use crate::{
-    line_plot, space_time_map, stats, write_summary, FieldMap, Labels, SceneArgs, Series,
-    SliderRun, TimeStepArgs,
+    line_plot, space_time_map, stats, write_summary, FieldMap, FrameArgs, Labels, SceneArgs,
+    Series, SliderRun, TimeStepArgs,
 };
 use clap::Parser;
 use rsf::{
@@ -42,10 +42,12 @@ pub struct Cli {
     pub resume: Option<PathBuf>,
     #[command(flatten)]
     pub folder: FolderArgs,
+    #[command(flatten)]
+    pub frames: FrameArgs,
 }
 
 /// The files a run writes into its folder.
-const OUTPUTS: [&str; 8] = [
+const OUTPUTS: [&str; 9] = [
     "timeseries.csv",
     "frictional_profile.csv",
     "slip_rate_map.csv",
@@ -54,6 +56,7 @@ const OUTPUTS: [&str; 8] = [
     "displacement_x0.png",
     "slip_rate_x0.png",
     "slip_rate_map.png",
+    "frames/frames.pvd",
 ];
 
 /// Runs the example with the flags `cli` (what `main` does).
@@ -133,6 +136,8 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(_) => Interval::Time(t_end / 600.0),
         None => Interval::Steps((scene.steps / 600).max(1)),
     };
+    // Frames first: a missing index on resume is refused before the CSVs are continued.
+    let mut frames = cli.frames.observer(0, &out, mode)?;
     let mut series = PointSeries::new(&series_csv, sim.model(), x0, mode)?;
     let mut profile = FrictionalProfile::new(&profile_csv, (w0, w1), mode)?;
     let mut map = Every::new(
@@ -152,6 +157,9 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(cap) = step_cap.as_mut() {
         observers.push(cap);
+    }
+    if let Some(f) = frames.as_mut() {
+        observers.push(f);
     }
     observers.push(&mut progress);
     let setup_seconds = setup.elapsed().as_secs_f64();

@@ -91,13 +91,36 @@ fn assert_same_outputs(a: &Path, b: &Path) {
         summary_without_times(&sb["summary.json"])
     );
     assert!(!sb.keys().any(|k| k.ends_with(".tmp")), "{:?}", sb.keys());
+    // VTU frames (`--frame-every`) and their index, where the second run wrote them.
+    let (fa, fb) = (a.join("frames"), b.join("frames"));
+    if fb.exists() {
+        let (fa, fb) = (snapshot(&fa), snapshot(&fb));
+        assert!(
+            fa.contains_key("frames.pvd") && fa.len() > 1,
+            "{:?}",
+            fa.keys()
+        );
+        assert_eq!(
+            fa.keys().collect::<Vec<_>>(),
+            fb.keys().collect::<Vec<_>>(),
+            "frame files"
+        );
+        for (name, x) in &fa {
+            assert!(x == &fb[name], "frames/{name} differs");
+        }
+    }
 }
 
 #[test]
 fn stopped_killed_and_resumed_runs_match_and_mistakes_change_nothing() {
     let root = temp_dir("resume");
     let straight = root.join("straight");
-    example(&straight, &["--checkpoint-every", "100"]).unwrap();
+    let frames = ["--frame-every", "100"];
+    example(
+        &straight,
+        &["--checkpoint-every", "100", frames[0], frames[1]],
+    )
+    .unwrap();
     let rows = std::fs::read_to_string(straight.join("timeseries.csv"))
         .unwrap()
         .lines()
@@ -109,7 +132,14 @@ fn stopped_killed_and_resumed_runs_match_and_mistakes_change_nothing() {
     let stopped = root.join("stopped");
     let e = example(
         &stopped,
-        &["--checkpoint-every", "50", "--max-steps", "700"],
+        &[
+            "--checkpoint-every",
+            "50",
+            "--max-steps",
+            "700",
+            frames[0],
+            frames[1],
+        ],
     )
     .unwrap_err();
     assert!(
@@ -150,7 +180,8 @@ fn stopped_killed_and_resumed_runs_match_and_mistakes_change_nothing() {
         "another run's checkpoint changes nothing"
     );
 
-    // The deliberate resume.
+    // The deliberate resume (VTU frames continued from the checkpoint's step too).
+    other.extend(frames);
     example(&stopped, &other).unwrap();
     assert_same_outputs(&straight, &stopped);
 

@@ -95,8 +95,16 @@ fn frames_hold_the_state_of_their_step() {
         let mut sliding = 0;
         for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
             let u0 = &model.initial_displacement;
-            let expected = [kin.u[2 * p] - u0[2 * p], kin.u[2 * p + 1] - u0[2 * p + 1], 0.0];
-            assert_eq!(&slip[3 * p..3 * p + 3], &expected, "step {step}: slip at {p}");
+            let expected = [
+                kin.u[2 * p] - u0[2 * p],
+                kin.u[2 * p + 1] - u0[2 * p + 1],
+                0.0,
+            ];
+            assert_eq!(
+                &slip[3 * p..3 * p + 3],
+                &expected,
+                "step {step}: slip at {p}"
+            );
             let v = kin.v[2 * p].hypot(kin.v[2 * p + 1]);
             let tau = sigma_n * law.friction_coefficient(v, alpha[k]);
             assert!(
