@@ -18,7 +18,10 @@
 //!
 //! A folder holding another run's files is refused before anything is computed
 //! (`--overwrite` replaces them; docs/reliability.md); files are written atomically. The
-//! catalogue is built in memory during the run, so there is no `--resume`.
+//! catalogue is built in memory during the run, so there is no `--resume`. The per-step
+//! record is bounded before the run (`--max-output-gb`, default 10): a run above it is
+//! refused, or — adaptive steps without `--max-steps` — stopped at the step count that
+//! fits, its files written up to there and the run ending with an error that says so.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -30,6 +33,7 @@ use rsf::{
     SLIDER_CENTRE,
 };
 use rsf_examples::cli::step_count;
+use rsf_examples::run_folder::{check_output_size, step_cap};
 use rsf_examples::{line_plot, Labels, PanelLayout, RunFolder, SceneArgs, Series, TimeStepArgs};
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
@@ -52,6 +56,37 @@ struct Cli {
     /// Replace the files of an earlier run in the output folder.
     #[arg(long)]
     overwrite: bool,
+    /// Refuse a run whose per-step record (`steps.csv`, and the rows held in memory until
+    /// it is written) is estimated above this many gigabytes; an adaptive run without
+    /// `--max-steps` instead stops at the step count that fits.
+    #[arg(long, default_value_t = 10.0, value_name = "GB")]
+    max_output_gb: f64,
+    /// Stop after this many accepted steps: the files of the steps so far are written and
+    /// the run ends with an error saying where it stopped.
+    #[arg(long, value_name = "N")]
+    max_steps: Option<u64>,
+}
+
+/// Bytes per accepted step, rounded up: its `steps.csv` row (≈ 50 bytes), the row held in
+/// memory during the run (32 bytes) and in the file's text before the atomic write (≈ 50).
+const STEP_BYTES: f64 = 150.0;
+
+/// Ends a run after `cap` accepted steps and remembers where.
+struct StepLimit {
+    cap: Option<u64>,
+    reached: Option<(usize, f64)>,
+}
+
+impl Observer<2> for StepLimit {
+    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<Flow> {
+        match self.cap {
+            Some(cap) if s.report.step as u64 >= cap => {
+                self.reached = Some((s.report.step, s.report.time));
+                Ok(Flow::Break(()))
+            }
+            _ => Ok(Flow::Continue(())),
+        }
+    }
 }
 
 /// The files a run writes into its folder.
@@ -97,23 +132,31 @@ struct Outcome {
     steps: Steps,
     rejected: u64,
     seconds: f64,
+    /// Step and time (s) where the step cap ended the run, if it did.
+    stopped: Option<(usize, f64)>,
 }
 
-fn simulate(scene: &SliderScene, what: &str) -> Result<Outcome, Box<dyn std::error::Error>> {
+fn simulate(
+    scene: &SliderScene,
+    what: &str,
+    cap: Option<u64>,
+) -> Result<Outcome, Box<dyn std::error::Error>> {
     let mut sim = scene.build()?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let mut events = SlipEvents::new(EventThresholds::default())?.slip_at(sim.model(), x0)?;
     let mut steps = Steps::default();
+    let mut limit = StepLimit { cap, reached: None };
     let mut progress = scene.progress(0.0, what);
     let summary = sim.run_until(
         Until::Time(scene.end_time_s),
-        &mut [&mut events, &mut steps, &mut progress],
+        &mut [&mut events, &mut steps, &mut limit, &mut progress],
     )?;
     Ok(Outcome {
         events: events.events().to_vec(),
         steps,
         rejected: sim.state().controller.map_or(0, |c| c.rejected()),
         seconds: summary.seconds,
+        stopped: limit.reached,
     })
 }
 
@@ -131,9 +174,19 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     }
     scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
     scene.validate()?;
-    // Refused before anything is computed: a folder of another run (unless --overwrite),
-    // one that cannot be written.
+    // Refused before anything is computed: an output above the bound (or the cap where
+    // it fits), a folder of another run (unless --overwrite), one that cannot be written.
+    let cap = step_cap(&scene, STEP_BYTES, cli.max_steps, cli.max_output_gb)?;
+    if let Some(n) = cli.reference_steps {
+        check_output_size(n as f64 * STEP_BYTES, cli.max_output_gb, "reference_steps")?;
+    }
     RunFolder::new(&cli.out, &OUTPUTS).prepare(false, cli.overwrite)?;
+    if let (Some(cap), None) = (cap, cli.max_steps) {
+        println!(
+            "at most {cap} steps (--max-output-gb {})",
+            cli.max_output_gb
+        );
+    }
     println!(
         "long_run: level {}, T = {} s, {}, {} law → {}",
         scene.level,
@@ -143,7 +196,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         cli.out.display()
     );
     let cpu0 = rsf_examples::cpu_seconds();
-    let main = simulate(&scene, "long run")?;
+    let main = simulate(&scene, "long run", cap)?;
     let cpu = rsf_examples::cpu_seconds() - cpu0;
     print_catalogue(&main.events);
     let recurrence = recurrence(&main.events);
@@ -181,11 +234,24 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         "wall_time_s": main.seconds,
         "cpu_time_s": cpu,
         "machine": rsf_examples::machine(),
+        "stopped_at_step_cap": main.stopped.map(|(step, t)| serde_json::json!({"step": step, "t_s": t})),
     });
     rsf::write_atomically(
         &cli.out.join("summary.json"),
         (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),
     )?;
+    if let Some((step, t)) = main.stopped {
+        return Err(rsf::Error::InvalidParameter {
+            name: "max_steps".into(),
+            reason: format!(
+                "the run reached its step cap of {step} steps at t = {t:.6e} s (of T = {:e} s); \
+                 its files describe the run up to there. Raise --max-steps or \
+                 --max-output-gb, or shorten --end-time",
+                scene.end_time_s
+            ),
+        }
+        .into());
+    }
 
     if let Some(n) = cli.reference_steps {
         let t_ref = cli.compare_until.min(scene.end_time_s);
@@ -200,7 +266,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             "reference: fixed τ = {:.3e} s over [0, {t_ref}] s",
             fixed.tau()
         );
-        let reference = simulate(&fixed, "reference")?;
+        let reference = simulate(&fixed, "reference", None)?;
         compare(&main.events, &reference.events, t_ref, reference.seconds);
     }
     Ok(())

@@ -236,6 +236,42 @@ pub fn steps_bound(scene: &SliderScene, (t0, t1): (f64, f64)) -> f64 {
     }
 }
 
+/// The step cap of a run of `scene` writing or holding `bytes_per_step` bytes per accepted
+/// step (docs/reliability.md): `max_steps` if given (refused if even that does not fit in
+/// `max_gb` gigabytes), none if [`steps_bound`] steps fit, else for adaptive steps the
+/// count that fits.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `max_output_gb` (not positive and finite),
+/// `max_steps` (0, or its output above `max_gb`) or `steps` (fixed steps above `max_gb`).
+pub fn step_cap(
+    scene: &SliderScene,
+    bytes_per_step: f64,
+    max_steps: Option<u64>,
+    max_gb: f64,
+) -> rsf::Result<Option<u64>> {
+    if !(max_gb.is_finite() && max_gb > 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "max_output_gb".into(),
+            reason: format!("{max_gb} GB: must be positive and finite"),
+        });
+    }
+    let bound = steps_bound(scene, (0.0, scene.end_time_s));
+    match max_steps {
+        Some(0) => Err(Error::InvalidParameter {
+            name: "max_steps".into(),
+            reason: "0 steps: must be at least 1".into(),
+        }),
+        Some(m) => check_output_size(bound.min(m as f64) * bytes_per_step, max_gb, "max_steps")
+            .map(|()| Some(m)),
+        None if bound * bytes_per_step <= max_gb * 1e9 => Ok(None),
+        None if matches!(scene.time_step, TimeStep::Adaptive(_)) => Ok(Some(
+            ((max_gb * 1e9 / bytes_per_step).floor() as u64).max(1),
+        )),
+        None => check_output_size(bound * bytes_per_step, max_gb, "steps").map(|()| None),
+    }
+}
+
 /// The output plan of a slider run: the bound on its output and the step cap to enforce.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OutputPlan {
@@ -548,5 +584,50 @@ mod tests {
         };
         let e = super::plan_output(&huge, window, 81, 600, None, 10.0).unwrap_err();
         assert!(e.to_string().contains("`steps`"), "{e}");
+    }
+
+    /// The per-step bound of a run that keeps a record of every step (`long_run`): the
+    /// closed forms of the bound (T / tau_min_s + 2 adaptive steps, N + 1 fixed ones).
+    #[test]
+    fn per_step_records_are_bounded_before_the_run() {
+        let adaptive = SliderScene {
+            end_time_s: 200.0,
+            time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
+            ..SliderScene::default()
+        };
+        let rsf::TimeStep::Adaptive(a) = adaptive.time_step else {
+            unreachable!()
+        };
+        // 200 s / tau_min_s steps of 150 bytes do not fit in 10 GB: capped at what fits.
+        assert!(200.0 / a.tau_min_s * 150.0 > 10e9);
+        let cap = super::step_cap(&adaptive, 150.0, None, 10.0).unwrap();
+        assert_eq!(cap, Some((10e9 / 150.0) as u64));
+        // An explicit cap that fits is kept; one that does not names max_steps.
+        assert_eq!(
+            super::step_cap(&adaptive, 150.0, Some(1000), 10.0).unwrap(),
+            Some(1000)
+        );
+        for bad in [Some(0), Some(1_000_000_000_000)] {
+            let e = super::step_cap(&adaptive, 150.0, bad, 10.0).unwrap_err();
+            assert!(e.to_string().contains("max_steps"), "{e}");
+        }
+        // Fixed steps: N + 1 rows; 1e12 steps refused by name, 1e4 steps need no cap.
+        let fixed = |steps| SliderScene {
+            steps,
+            ..SliderScene::default()
+        };
+        assert_eq!(
+            super::step_cap(&fixed(10_000), 150.0, None, 10.0).unwrap(),
+            None
+        );
+        let e = super::step_cap(&fixed(1_000_000_000_000), 150.0, None, 10.0).unwrap_err();
+        assert!(e.to_string().contains("`steps`"), "{e}");
+        // 10 GB hold 66 666 666 steps of 150 bytes: 66 666 665 fixed steps (+1) fit, one more does not.
+        assert!(super::step_cap(&fixed(66_666_665), 150.0, None, 10.0).is_ok());
+        assert!(super::step_cap(&fixed(66_666_667), 150.0, None, 10.0).is_err());
+        for gb in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = super::step_cap(&fixed(10), 150.0, None, gb).unwrap_err();
+            assert!(e.to_string().contains("max_output_gb"), "{e}");
+        }
     }
 }
