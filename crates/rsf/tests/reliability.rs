@@ -533,6 +533,52 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
 
 /// A checkpoint of another model is refused with a typed error naming what differs (node
 /// count, lengths, dimension), and the simulation is left as it was.
+/// A model edited by hand (no scene fields to blame) is checked for magnitudes by
+/// `Model::validate` when a simulation is built: each edit names the model field.
+#[test]
+fn hand_edited_models_with_unrepresentable_magnitudes_name_the_field() {
+    let build = |edit: &dyn Fn(&mut rsf::Model<2>)| {
+        let mut model = scene().build_model().unwrap();
+        edit(&mut model);
+        rsf::SimulationBuilder::new(model)
+            .friction(rsf::friction::Tresca::new(0.5, 1e5).unwrap())
+            .initial_state(0.0)
+            .integrator(rsf::time::Newmark)
+            .time_step(1e-3)
+            .build()
+            .map(|_| ())
+    };
+    let field = |edit: &dyn Fn(&mut rsf::Model<2>)| match build(edit) {
+        Err(Error::IllConditioned { fields, reason }) => (fields, reason),
+        Ok(()) => panic!("accepted"),
+        Err(e) => panic!("{e}"),
+    };
+    build(&|_| {}).expect("the unedited model builds");
+    let (f, r) = field(&|m| m.stiffness.val_mut().iter_mut().for_each(|x| *x *= 1e-300));
+    assert!(
+        f.contains(&"stiffness".to_string()) && r.contains("K_ii"),
+        "{f:?}: {r}"
+    );
+    let (f, r) = field(&|m| {
+        let mass = m.mass.as_mut().unwrap();
+        mass.val_mut().iter_mut().for_each(|x| *x *= 1e200);
+    });
+    assert!(f == ["mass"] && r.contains("M_ii"), "{f:?}: {r}");
+    let (f, r) = field(&|m| m.load.iter_mut().for_each(|x| *x *= 1e200));
+    assert!(
+        f.contains(&"load".to_string()) && r.contains("|F|"),
+        "{f:?}: {r}"
+    );
+    let (f, r) = field(&|m| {
+        let free = m.fixed.iter().position(|&x| !x).unwrap();
+        m.initial_displacement[free] = f64::NAN;
+    });
+    assert!(
+        f.contains(&"initial_displacement".to_string()),
+        "{f:?}: {r}"
+    );
+}
+
 #[test]
 fn restore_names_what_differs() {
     let mut coarse = scene().build().unwrap();

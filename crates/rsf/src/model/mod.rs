@@ -156,15 +156,25 @@ impl<const D: usize, const C: usize> Model<D, C> {
         nearest_vertex(&self.vertices, x)
     }
 
-    /// Checks the shapes of all parts against each other, the Dirichlet data, and that
+    /// Checks the shapes of all parts against each other, the Dirichlet data, that
     /// every frictional node has a fixed component (the normal velocity under bilateral
-    /// contact; vector fields, `C = D ≥ 2`).
+    /// contact; vector fields, `C = D ≥ 2`), and that the magnitudes of `K`, `M`, `F`
+    /// and `u₀` can be squared in double precision (docs/reliability.md).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] naming the mismatch; [`Error::NodeOutOfRange`] for a
     /// frictional node outside the mesh; [`Error::FreeNormal`] for a frictional node
-    /// without a fixed component.
+    /// without a fixed component; [`Error::IllConditioned`] naming `stiffness`, `mass`,
+    /// `load` or `initial_displacement` for a magnitude outside
+    /// [`representable_range`](crate::representable_range) (also a non-finite one).
     pub fn validate(&self) -> Result<()> {
+        self.validate_structure()?;
+        self.check_magnitudes()
+    }
+
+    /// The shape and consistency part of [`validate`](Self::validate) (what a model
+    /// builder guarantees by construction; magnitudes depend on the user's data).
+    pub(crate) fn validate_structure(&self) -> Result<()> {
         let n = C * self.vertices.len();
         let sq = |name: &str, m: &SparseMatrix| {
             if m.nrows() != n || m.ncols() != n {
@@ -255,6 +265,38 @@ impl<const D: usize, const C: usize> Model<D, C> {
             }
         }
         Ok(())
+    }
+
+    /// The magnitudes of the assembled problem (docs/reliability.md, "Conditioning"): the
+    /// diagonals of `K` and `M`, `|F|∞`, `|u₀|∞` and `|F|∞ / min K_ii` over the free dofs
+    /// inside [`representable_range`](crate::representable_range) (zero allowed). The
+    /// scenes check more (the time-step matrix at their τ range, the loading, the
+    /// resolution of `L`); a model built by hand gets this part, `O(nnz)`.
+    ///
+    /// # Errors
+    /// [`Error::IllConditioned`] naming the model field (`stiffness`, `mass`, `load`,
+    /// `initial_displacement`).
+    fn check_magnitudes(&self) -> Result<()> {
+        use crate::scenes::conditioning::{ProblemScales, ScaleFields};
+        ProblemScales::new(
+            &self.stiffness,
+            self.mass.as_ref(),
+            &self.load,
+            &self.initial_displacement,
+            &self.fixed,
+        )
+        .check(
+            &[],
+            (0.0, &[]),
+            f64::INFINITY,
+            &ScaleFields {
+                stiffness: &["stiffness"],
+                mass: &["mass"],
+                load: &["load"],
+                displacement: &["initial_displacement", "load", "stiffness"],
+                slip: &[],
+            },
+        )
     }
 }
 

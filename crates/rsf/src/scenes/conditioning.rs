@@ -70,20 +70,20 @@ impl ProblemScales {
                 .enumerate()
                 .filter(|(i, _)| free(i))
                 .fold((f64::INFINITY, 0.0_f64), |(lo, hi), (_, &x)| {
-                    (lo.min(x.abs()), hi.max(x.abs()))
+                    (nan_min(lo, x.abs()), nan_max(hi, x.abs()))
                 })
         };
         let stiffness = range(stiffness);
         let load = (0..load.len())
             .filter(free)
-            .fold(0.0_f64, |m, i| m.max(load[i].abs()));
+            .fold(0.0_f64, |m, i| nan_max(m, load[i].abs()));
         Self {
             stiffness,
             mass: mass.map(range),
             load,
             displacement: initial_displacement
                 .iter()
-                .fold(0.0_f64, |m, x| m.max(x.abs())),
+                .fold(0.0_f64, |m, x| nan_max(m, x.abs())),
             displacement_estimate: if load == 0.0 { 0.0 } else { load / stiffness.0 },
         }
     }
@@ -211,6 +211,24 @@ fn ill(f: Finding) -> Error {
     Error::IllConditioned {
         fields: fields.into_iter().map(str::to_owned).collect(),
         reason: f.what,
+    }
+}
+
+/// `max(a, b)`, NaN if either is NaN (`f64::max` drops a NaN: a NaN entry would pass).
+fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
+/// `min(a, b)`, NaN if either is NaN.
+fn nan_min(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.min(b)
     }
 }
 
