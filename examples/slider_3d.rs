@@ -15,10 +15,12 @@
 //!
 //! Writes to `out/slider_3d/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries` at
 //! x0 = (2.5, 0, W/2): the 2-D main job's columns, then the y and z components),
-//! `frames/frame_NNNNNN.vtu` + `frames/frames.pvd` (tetrahedra, displacement and velocity,
-//! every `--frame-every` steps, for ParaView), `fault_snapshot.csv` (x, z, slip rate on Γ_F
-//! at the step of the largest slip rate, or at `--snapshot-time`) and its figure
-//! `fault_slip_rate.png`.
+//! `frames/frame_NNNNNN.vtu` + `frames/frames.pvd` (tetrahedra, displacement and velocity;
+//! on Γ_F slip, slip rate, state, shear and normal traction; every `--frame-every` steps,
+//! default 100, for ParaView), `fault_snapshot.csv` (x, z, slip rate on Γ_F at the step of
+//! the largest slip rate, or at `--snapshot-time`) and its figure `fault_slip_rate.png`. A
+//! run whose series and frames are estimated above `--max-output-gb` (default 10) is
+//! refused before any file is written.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -30,7 +32,20 @@ use rsf::{
     StepView, Until,
 };
 use rsf_examples::cli::step_count;
+use rsf_examples::run_folder::{check_output_size, steps_bound};
 use rsf_examples::{log_heat_map, FieldMap, FrameArgs, HeatMapAxes, SceneArgs};
+
+/// VTU frames every this many steps unless `--frame-every` says otherwise.
+const DEFAULT_FRAME_EVERY: usize = 100;
+/// Bytes of a 3-D time series row (13 columns; 160 bytes measured at level 1; rounded up).
+const SERIES_ROW_BYTES_3D: f64 = 250.0;
+/// Bytes per vertex of a VTU frame: 16 doubles of coordinates and point data (171 bytes
+/// in base64; rounded up). A level-1 frame (99 vertices, 240 cells) measured 31 862 bytes
+/// against the bound's 35 160.
+const VTU_VERTEX_BYTES: f64 = 200.0;
+/// Bytes per tetrahedron of a VTU frame: connectivity, offset and type (41 bytes, 55 in
+/// base64; rounded up).
+const VTU_CELL_BYTES: f64 = 64.0;
 
 /// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
 #[derive(Parser)]
@@ -50,6 +65,10 @@ struct Cli {
     /// VTU frames (this example's default: every 100 steps).
     #[command(flatten)]
     frames: FrameArgs,
+    /// Refuse a run whose output (time series rows and VTU frames) is estimated above this
+    /// many gigabytes.
+    #[arg(long, default_value_t = 10.0, value_name = "GB")]
+    max_output_gb: f64,
     /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
     #[arg(long, value_name = "T")]
     snapshot_time: Option<f64>,
@@ -229,10 +248,24 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let model = sim.model();
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");
+    // The output bound, before any file: a series row per step, a frame of every vertex
+    // and cell every --frame-every steps.
+    let steps = steps_bound(s, (0.0, s.end_time_s));
+    let frames_bound = match cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY) {
+        0 => 0.0,
+        n => (steps / n as f64).ceil(),
+    };
+    let frame_bytes = VTU_VERTEX_BYTES * model.num_nodes() as f64
+        + VTU_CELL_BYTES * (model.cells.len() / 4) as f64;
+    check_output_size(
+        steps * SERIES_ROW_BYTES_3D + frames_bound * frame_bytes,
+        cli.max_output_gb,
+        "steps",
+    )?;
     let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
     let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
     let mut progress = Progress::steps(s.steps, "slider 3-D");
-    let mut frames = cli.frames.observer(100, &out, mode)?;
+    let mut frames = cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?;
     println!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),

@@ -20,7 +20,9 @@
 //! of the quasistatic integrator, default 5e6), `--steps-per-l N` (τ = (L/V_load)/N,
 //! default 100), `--periods N` (length of each run in oscillation periods, default 40),
 //! `--out DIR` (default `out/spring_block`), `--overwrite` (a folder holding another run's
-//! files is refused, and left untouched, otherwise; docs/reliability.md). The sweep takes
+//! files is refused, and left untouched, otherwise; docs/reliability.md),
+//! `--max-output-gb GB` (default 10: a sweep whose runs would hold more is refused before
+//! it starts). The sweep takes
 //! seconds and keeps its runs in memory, so it has no `--resume`.
 
 use std::fmt::Write as _;
@@ -285,6 +287,26 @@ struct Cli {
     /// Replace the files of an earlier run in the output folder.
     #[arg(long)]
     overwrite: bool,
+    /// Refuse a sweep whose runs would hold more than this many gigabytes (the slip-rate
+    /// history of a run in memory, the kept runs' time series on disk).
+    #[arg(long, default_value_t = 10.0, value_name = "GB")]
+    max_output_gb: f64,
+}
+
+/// Bytes per step of a run, rounded up: its slip-rate history in memory and, for the
+/// two kept runs, a time series row (≈ 60 bytes) and its text before the atomic write.
+const STEP_BYTES: f64 = 150.0;
+
+/// `x` finite and > 0, else [`rsf::Error::InvalidParameter`] named `name`.
+fn positive(name: &str, x: f64) -> Result<f64, rsf::Error> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(rsf::Error::InvalidParameter {
+            name: name.into(),
+            reason: format!("{x:e} must be positive and finite"),
+        })
+    }
 }
 
 /// The files a run writes into its folder.
@@ -300,7 +322,9 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run_cli(cli: Cli) -> Result<(), AnyError> {
-    let (mass, steps_per_l, periods, out_dir) = (cli.mass, cli.steps_per_l, cli.periods, cli.out);
+    let (mass, out_dir) = (cli.mass, cli.out);
+    let steps_per_l = positive("steps_per_l", cli.steps_per_l)?;
+    let periods = positive("periods", cli.periods)?;
     // Refused before anything is computed: a folder of another run (unless --overwrite),
     // one that cannot be written.
     RunFolder::new(&out_dir, &OUTPUTS).prepare(false, cli.overwrite)?;
@@ -333,7 +357,14 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let t_l = p.l / blk.v_load;
     let tau = t_l / steps_per_l;
     let period = blk.period_at_kc();
-    let steps = (periods * period / tau).ceil() as usize;
+    // Bounded before anything is computed: a run's steps in memory and on disk.
+    let steps = (periods * period / tau).ceil();
+    rsf_examples::run_folder::check_output_size(
+        steps * STEP_BYTES,
+        cli.max_output_gb,
+        "steps_per_l",
+    )?;
+    let steps = steps as usize;
 
     // Expected shifts of the discrete threshold (docs/spring-block.md):
     // backward Euler ~ τ V_load / L, radiation damping η V_load / (σ̄_n (b − a)),

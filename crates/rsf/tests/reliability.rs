@@ -577,6 +577,16 @@ fn hand_edited_models_with_unrepresentable_magnitudes_name_the_field() {
         f.contains(&"initial_displacement".to_string()),
         "{f:?}: {r}"
     );
+    // A negative mass (not positive semi-definite) is refused by name too.
+    let e = build(&|m| {
+        let mass = m.mass.as_mut().unwrap();
+        mass.val_mut().iter_mut().for_each(|x| *x = -*x);
+    })
+    .unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidParameter { name, .. } if name == "mass"),
+        "{e}"
+    );
 }
 
 #[test]

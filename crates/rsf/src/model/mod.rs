@@ -164,8 +164,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the mismatch; [`Error::NodeOutOfRange`] for a
     /// frictional node outside the mesh; [`Error::FreeNormal`] for a frictional node
-    /// without a fixed component; [`Error::IllConditioned`] naming `stiffness`, `mass`,
-    /// `load` or `initial_displacement` for a magnitude outside
+    /// without a fixed component; [`Error::InvalidParameter`] naming `stiffness` or `mass`
+    /// for a negative diagonal entry (not positive semi-definite); [`Error::IllConditioned`]
+    /// naming `stiffness`, `mass`, `load` or `initial_displacement` for a magnitude outside
     /// [`representable_range`](crate::representable_range) (also a non-finite one).
     pub fn validate(&self) -> Result<()> {
         self.validate_structure()?;
@@ -274,10 +275,26 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// resolution of `L`); a model built by hand gets this part, `O(nnz)`.
     ///
     /// # Errors
-    /// [`Error::IllConditioned`] naming the model field (`stiffness`, `mass`, `load`,
-    /// `initial_displacement`).
+    /// [`Error::InvalidParameter`] naming `stiffness` or `mass` for a negative diagonal
+    /// entry on a free dof; [`Error::IllConditioned`] naming the model field
+    /// (`stiffness`, `mass`, `load`, `initial_displacement`).
     fn check_magnitudes(&self) -> Result<()> {
-        use crate::scenes::conditioning::{ProblemScales, ScaleFields};
+        use crate::scenes::conditioning::{diagonal, ProblemScales, ScaleFields};
+        // A stiffness or mass matrix is positive semi-definite: no negative diagonal entry.
+        let mass = self.mass.as_ref().map(|m| ("mass", m));
+        for (name, m) in [("stiffness", &self.stiffness)].into_iter().chain(mass) {
+            let d = diagonal(m);
+            if let Some(i) = (0..d.len()).find(|&i| !self.fixed[i] && d[i] < 0.0) {
+                return Err(invalid(
+                    name,
+                    format!(
+                        "diagonal entry {i} is {:e}: a {name} matrix is positive \
+                         semi-definite (a negative {name})",
+                        d[i]
+                    ),
+                ));
+            }
+        }
         ProblemScales::new(
             &self.stiffness,
             self.mass.as_ref(),

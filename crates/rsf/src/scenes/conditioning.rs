@@ -233,7 +233,7 @@ fn nan_min(a: f64, b: f64) -> f64 {
 }
 
 /// The diagonal of a square CSC matrix (0 where it has no entry).
-fn diagonal(m: &SparseMatrix) -> Vec<f64> {
+pub(crate) fn diagonal(m: &SparseMatrix) -> Vec<f64> {
     let (cp, ri, val) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
     (0..m.ncols().min(m.nrows()))
         .map(|j| {
