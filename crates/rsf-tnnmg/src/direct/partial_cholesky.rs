@@ -789,6 +789,28 @@ impl PartialCholesky {
         l.forward(p2..nr, shared, p2, &mut [], n, t1);
     }
 
+    /// The forward sweep of [`forward_interior`](Self::forward_interior) on one thread with
+    /// caller-provided scratch (`[b1, b2, tmp]`, resized here): the same arithmetic in the
+    /// same order, so the same bits.
+    pub(super) fn forward_interior_with(&self, y: &mut [f64], scratch: &mut [Vec<f64>; 3]) {
+        let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
+        let (y1, rest) = y.split_at_mut(p1);
+        let (y2, shared) = rest.split_at_mut(p2 - p1);
+        let [b1, b2, tmp] = scratch;
+        for b in [&mut *b1, &mut *b2] {
+            b.clear();
+            b.resize(n - p2, 0.0);
+        }
+        tmp.resize(self.tmps[0].len(), 0.0);
+        self.l.forward(0..p1, y1, 0, b1, p2, tmp);
+        self.l.forward(p1..p2, y2, p1, b2, p2, tmp);
+        for ((s, x1), x2) in shared.iter_mut().zip(b1.iter()).zip(b2.iter()) {
+            *s += *x1;
+            *s += *x2;
+        }
+        self.l.forward(p2..nr, shared, p2, &mut [], n, tmp);
+    }
+
     /// Backward sweep over the interior columns: `y_R ← L_R⁻ᵀ (y_R − Bᵀ y_F)`.
     pub(super) fn backward_interior(&mut self, y: &mut [f64]) {
         let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
@@ -918,11 +940,11 @@ fn join<A: FnOnce() + Send, B: FnOnce() + Send>(parallel: bool, a: A, b: B) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// 5-point Laplacian plus identity on an `m × m` grid (node `i + m j`).
-    fn grid(m: usize) -> Csc {
+    pub(in crate::direct) fn grid(m: usize) -> Csc {
         let n = m * m;
         let mut col_ptr = vec![0];
         let mut row_idx = Vec::new();

@@ -47,8 +47,12 @@ impl SolverKind {
 
     /// The concrete choice for `model`: [`Auto`](Self::Auto) becomes
     /// [`Direct`](Self::Direct) when the number of free components on Γ_F is at most
-    /// [`AUTO_DIRECT_MAX_CONDENSED`] and `n · |F|` at most [`AUTO_DIRECT_MAX_EXTENSION`],
-    /// else [`Tnnmg`](Self::Tnnmg) (or Direct if the model has no hierarchy).
+    /// [`AUTO_DIRECT_MAX_CONDENSED`], else [`Tnnmg`](Self::Tnnmg) (or Direct if the model
+    /// has no hierarchy). The count is the measured crossover of the cost per step
+    /// (docs/scaling.md); the direct solver's memory beyond its factor is `O(|F|²)` since
+    /// its harmonic extension is formed block by block when large
+    /// ([`DirectOptions::max_extension_bytes`](rsf_tnnmg::DirectOptions)), so `n · |F|` no
+    /// longer enters the choice.
     pub fn resolve<const D: usize, const C: usize>(self, model: &Model<D, C>) -> SolverKind {
         match self {
             SolverKind::Auto => {
@@ -59,9 +63,7 @@ impl SolverKind {
                     .flat_map(|&p| (0..C).map(move |c| C * p + c))
                     .filter(|&i| !model.fixed[i])
                     .count();
-                let small = condensed <= AUTO_DIRECT_MAX_CONDENSED
-                    && model.num_dofs().saturating_mul(condensed) <= AUTO_DIRECT_MAX_EXTENSION;
-                if small || model.prolongations.is_empty() {
+                if condensed <= AUTO_DIRECT_MAX_CONDENSED || model.prolongations.is_empty() {
                     SolverKind::Direct
                 } else {
                     SolverKind::Tnnmg
@@ -100,7 +102,12 @@ impl std::str::FromStr for SolverKind {
 pub const AUTO_DIRECT_MAX_CONDENSED: usize = 1500;
 
 /// Largest `n · |F|` (values of the stored harmonic extension, 8 bytes each) for which
-/// [`SolverKind::Auto`] picks the direct solver: 2.5e8 values = 2 GB.
+/// [`SolverKind::Auto`] picked the direct solver before the extension could be formed block
+/// by block: 2.5e8 values = 2 GB. No longer part of the choice.
+#[deprecated(
+    note = "the direct solver forms its harmonic extension block by block above \
+            DirectOptions::max_extension_bytes; SolverKind::Auto no longer limits n·|F|"
+)]
 pub const AUTO_DIRECT_MAX_EXTENSION: usize = 250_000_000;
 
 /// The options of every velocity solver (whichever [`SolverKind`] picks).
