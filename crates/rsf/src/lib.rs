@@ -71,6 +71,7 @@ pub use model::builder::{
     AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
     DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
 };
+pub use model::equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
 pub use model::fault::FrictionalBoundary;
 pub use model::loading::{DirichletVelocity, TimeFunction};
 pub use model::{nearest_vertex, Model};

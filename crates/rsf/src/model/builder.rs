@@ -2,8 +2,7 @@
 
 use rsf_fem::{
     body_force_load_components, combine, traction_load_components, vectorize, Assembler,
-    BoundaryPart, ConstrainedSystem, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh,
-    SparseMatrix,
+    BoundaryPart, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
 };
 
 use super::fault::FrictionalBoundary;
@@ -734,15 +733,6 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let frictional_boundary =
             FrictionalBoundary::new(&nodes_along, &weights_along)?.with_slip_factor(s)?;
 
-        // Initial equilibrium.
-        let mut u0 = vec![0.0; n];
-        ConstrainedSystem::new(stiffness.as_ref(), &fixed)
-            .and_then(|mut s| s.solve(&load, &mut u0))
-            .map_err(|e| match e {
-                rsf_fem::Error::NotPositiveDefinite { .. } => Error::Equilibrium(e),
-                e => Error::Fem(e),
-            })?;
-
         let mut prolongations: Vec<_> = (1..self.hierarchy.num_levels())
             .map(|j| match C {
                 1 => self.hierarchy.prolongation(j).clone(),
@@ -756,6 +746,10 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         {
             *p = frames.rotate_rows(p.as_ref())?;
         }
+        // Initial equilibrium (after the prolongations: a large 3-D model solves it by
+        // multigrid on them).
+        let u0 = super::equilibrium::solve::<D, C>(&stiffness, &fixed, &load, &prolongations)?;
+
         let model = Model {
             vertices: vertices.to_vec(),
             mass,

@@ -2,6 +2,7 @@
 //! constraints, the frictional boundary and the refinement hierarchy.
 
 pub(crate) mod builder;
+pub(crate) mod equilibrium;
 pub(crate) mod fault;
 pub(crate) mod loading;
 #[cfg(feature = "sprs")]
