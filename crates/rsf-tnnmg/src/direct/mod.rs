@@ -277,7 +277,7 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
-    let (e_ptr, e_rows, e_vals) = energy_in_order(e, order, pos);
+    let energy = energy_in_order(e, order, pos);
     // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
     // (one pass over the factor per block; each column's arithmetic is that of a single
     // sweep, so the result depends neither on the blocking nor on the threads). Blocks go
@@ -293,25 +293,8 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     let mut w = vec![0.0; n * nf];
     let z_block = |(rows, wrows, tmp): &mut (Vec<f64>, Vec<f64>, Vec<f64>),
                    (b, (zb, wb)): (usize, (&mut [f64], &mut [f64]))| {
-        let f0 = b * HARMONIC_BLOCK;
         let r = zb.len() / n;
-        rows.clear();
-        rows.resize(n * r, 0.0);
-        for k in 0..r {
-            rows[(nr + f0 + k) * r + k] = 1.0;
-        }
-        factor.backward_interior_rows(rows, r, tmp);
-        wrows.clear();
-        wrows.resize(n * r, 0.0);
-        for kj in 0..n {
-            let zk = &rows[kj * r..kj * r + r];
-            for k in e_ptr[kj]..e_ptr[kj + 1] {
-                let (i, ev) = (e_rows[k], e_vals[k]);
-                for (wv, &zv) in wrows[i * r..i * r + r].iter_mut().zip(zk) {
-                    *wv += ev * zv;
-                }
-            }
-        }
+        extension_rows(factor, &energy, b * HARMONIC_BLOCK, r, rows, wrows, tmp);
         for (k, (zcol, wcol)) in zb.chunks_mut(n).zip(wb.chunks_mut(n)).enumerate() {
             for (i, (zi, wi)) in zcol.iter_mut().zip(wcol.iter_mut()).enumerate() {
                 *zi = rows[i * r + k];
@@ -372,6 +355,40 @@ fn energy_in_order(e: &Csc, order: &[usize], pos: &[usize]) -> (Vec<usize>, Vec<
     (e_ptr, e_rows, e_vals)
 }
 
+/// The columns `f0 .. f0 + r` of the harmonic extension `Z` (`rows`) and of `E Z`
+/// (`wrows`), both row-major `n × r` in elimination order: one backward sweep of
+/// `[0; e_f]` for the `r` right-hand sides, then `W_i += E_ik Z_k` over `k` in increasing
+/// order (contiguous, vectorised updates; each entry adds the same terms in the same order
+/// as a column-by-column product).
+fn extension_rows(
+    factor: &PartialCholesky,
+    (e_ptr, e_rows, e_vals): &(Vec<usize>, Vec<usize>, Vec<f64>),
+    f0: usize,
+    r: usize,
+    rows: &mut Vec<f64>,
+    wrows: &mut Vec<f64>,
+    tmp: &mut Vec<f64>,
+) {
+    let (n, nr) = (factor.n, factor.nr);
+    rows.clear();
+    rows.resize(n * r, 0.0);
+    for k in 0..r {
+        rows[(nr + f0 + k) * r + k] = 1.0;
+    }
+    factor.backward_interior_rows(rows, r, tmp);
+    wrows.clear();
+    wrows.resize(n * r, 0.0);
+    for kj in 0..n {
+        let zk = &rows[kj * r..kj * r + r];
+        for k in e_ptr[kj]..e_ptr[kj + 1] {
+            let (i, ev) = (e_rows[k], e_vals[k]);
+            for (wv, &zv) in wrows[i * r..i * r + r].iter_mut().zip(zk) {
+                *wv += ev * zv;
+            }
+        }
+    }
+}
+
 /// Scratch of one thread of [`harmonic_energy_by_blocks`].
 type BlockScratch = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, [Vec<f64>; 3]);
 
@@ -391,28 +408,11 @@ fn harmonic_energy_by_blocks(
     use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
-    let (e_ptr, e_rows, e_vals) = energy_in_order(e, order, pos);
+    let energy = energy_in_order(e, order, pos);
     let mut nmat = vec![0.0; nf * nf];
     let block = |(rows, wrows, tmp, col, fwd): &mut BlockScratch, (b, nb): (usize, &mut [f64])| {
-        let f0 = b * HARMONIC_BLOCK;
         let r = nb.len() / nf;
-        rows.clear();
-        rows.resize(n * r, 0.0);
-        for k in 0..r {
-            rows[(nr + f0 + k) * r + k] = 1.0;
-        }
-        factor.backward_interior_rows(rows, r, tmp);
-        wrows.clear();
-        wrows.resize(n * r, 0.0);
-        for kj in 0..n {
-            let zk = &rows[kj * r..kj * r + r];
-            for k in e_ptr[kj]..e_ptr[kj + 1] {
-                let (i, ev) = (e_rows[k], e_vals[k]);
-                for (wv, &zv) in wrows[i * r..i * r + r].iter_mut().zip(zk) {
-                    *wv += ev * zv;
-                }
-            }
-        }
+        extension_rows(factor, &energy, b * HARMONIC_BLOCK, r, rows, wrows, tmp);
         for (k, ncol) in nb.chunks_mut(nf).enumerate() {
             col.clear();
             col.extend((0..n).map(|i| wrows[i * r + k]));
