@@ -11,11 +11,17 @@
 //! velocity problems (`F − K u₀` is a reaction on fixed dofs only). With σ̄_n prescribed the
 //! trajectory in slip coordinates is therefore independent of the dip: measured at level 2,
 //! `--dip 10` and `--dip -10` give the `--dip 0` first slip (10.086 s), 7 events and peak
-//! slip rate (2.432e-2 m/s). Making the weight drive the slip needs another initial state
-//! (an equilibrium with the fault stuck), not another geometry.
+//! slip rate (2.432e-2 m/s). Making the weight drive the slip needs another initial state,
+//! not another geometry: with `--initial-equilibrium stuck` the run starts from the
+//! equilibrium with the base held, which then carries the weight's down-slope part as a
+//! shear traction, and the weight drives the slip. Measured at level 2 (first slip, events,
+//! peak slip rate): dip 0 10.085 s, 7, 2.488e-2 m/s (the held base changes `u₀` through
+//! the Poisson effect only); dip 10 8.952 s, 9, 2.551e-2; dip 20 7.849 s, 11, 2.560e-2;
+//! dip −10 (the weight pulls up-slope, against the loading) 11.216 s, 6, 2.250e-2.
 //!
 //! ```sh
 //! cargo run --release --example inclined_block -- --dip 10 --level 3
+//! cargo run --release --example inclined_block -- --dip 20 --initial-equilibrium stuck
 //! cargo run --release --example inclined_block -- --dip 0 --level 4   # the main job's slider
 //! ```
 //!
@@ -30,7 +36,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{FileMode, Observer, PointSeries, SliderScene, Until};
+use rsf::fem::ConstrainedSystem;
+use rsf::{FileMode, Model, Observer, PointSeries, SliderScene, Until};
 use rsf_examples::{
     inclined_centre, inclined_slider_model, line_plot, stats, FrameArgs, Labels, SceneArgs, Series,
     SliderRun, TimeStepArgs,
@@ -47,11 +54,44 @@ struct Cli {
     /// Dip of the base (degrees, |dip| < 90; positive: descending in the loading direction).
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     dip: f64,
+    /// The initial state: `free` (the paper's: the equilibrium `K u₀ = F` with the base
+    /// free tangentially, so the clamped top carries the down-slope weight) or `stuck` (the
+    /// equilibrium with the base held, so the base carries the down-slope weight as a
+    /// shear traction at t = 0 and the weight drives its slip).
+    #[arg(long, value_enum, default_value = "free")]
+    initial_equilibrium: InitialEquilibrium,
     /// Output folder.
     #[arg(long, default_value = "out/inclined_block")]
     out: PathBuf,
     #[command(flatten)]
     frames: FrameArgs,
+}
+
+/// Which equilibrium the run starts from (`--initial-equilibrium`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum InitialEquilibrium {
+    /// Base free tangentially (the paper's).
+    Free,
+    /// Base held: it starts carrying the weight's down-slope part.
+    Stuck,
+}
+
+/// `model` starting from the equilibrium with its frictional nodes held: `K u₀ = F` on the
+/// dofs free apart from Γ_F, `u₀ = 0` on Γ_F (the reference the slip is measured from).
+///
+/// # Errors
+/// [`rsf::Error::Fem`] from the factorisation or solve.
+fn stuck_equilibrium(mut model: Model<2>) -> rsf::Result<Model<2>> {
+    let mut fixed = model.fixed.clone();
+    for &p in &model.frictional_boundary.nodes {
+        fixed[2 * p..2 * p + 2].fill(true);
+    }
+    let mut u0 = vec![0.0; model.num_dofs()];
+    ConstrainedSystem::new(model.stiffness.as_ref(), &fixed)
+        .and_then(|mut s| s.solve(&model.load, &mut u0))
+        .map_err(rsf::Error::Fem)?;
+    model.initial_displacement = u0;
+    Ok(model)
 }
 
 fn main() -> ExitCode {
@@ -75,7 +115,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         scene.solver,
         out.display()
     );
-    let model = inclined_slider_model(&scene, dip)?;
+    let model = match cli.initial_equilibrium {
+        InitialEquilibrium::Free => inclined_slider_model(&scene, dip)?,
+        InitialEquilibrium::Stuck => stuck_equilibrium(inclined_slider_model(&scene, dip)?)?,
+    };
     let frames = model.frames.nodes.len();
     let mut sim = scene.build_with_model(model)?;
     let x0 = sim.model().nearest_node(&inclined_centre(dip))?;
