@@ -23,7 +23,9 @@
 //!   release of the initial equilibrium starts; Newmark keeps them ringing for seconds)
 //!   and steady sliding is an exact solution of the discrete scheme too.
 //! - Bad frames: a fault around a corner of the block, a kink limit out of range, a
-//!   partially fixed Dirichlet node on the slanted fault: typed errors naming the node.
+//!   partially fixed Dirichlet node on the slanted fault, a fault folding back at a crack
+//!   tip (coincident facets, opposite normals), a facet of (numerically) zero length: typed
+//!   errors naming the node.
 
 mod common;
 
@@ -87,17 +89,17 @@ fn rotated_slider(scene: &SliderScene, phi: f64) -> Model<2> {
 /// Per step: time, largest slip rate, fixed point iterations, the displacement of node `x0`
 /// in model coordinates (slip coordinates on the fault), and the Cartesian velocity of x0.
 #[derive(Default)]
-struct Track {
+struct Track<const D: usize> {
     x0: usize,
     t: Vec<f64>,
     max_v: Vec<f64>,
     fpi: Vec<usize>,
-    u_x0: Vec<[f64; 2]>,
-    v_x0: Vec<[f64; 2]>,
+    u_x0: Vec<[f64; D]>,
+    v_x0: Vec<[f64; D]>,
 }
 
-impl Observer<2> for Track {
-    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
+impl<const D: usize> Observer<D> for Track<D> {
+    fn observe(&mut self, s: &StepView<'_, D>) -> rsf::Result<rsf::Flow> {
         self.t.push(s.report.time);
         self.max_v.push(s.report.max_slip_rate);
         self.fpi.push(s.report.fixed_point_iterations);
@@ -107,7 +109,40 @@ impl Observer<2> for Track {
     }
 }
 
-fn track(scene: &SliderScene, model: Model<2>, x0: [f64; 2], t_end: f64) -> Track {
+impl<const D: usize> Track<D> {
+    /// The first step where the largest slip rate crosses 1e-3 m/s (interpolated).
+    fn first_slip(&self) -> f64 {
+        first_crossing(&self.t, &self.max_v, 1e-3, 0.0).expect("a slip event")
+    }
+    /// The largest slip rate of the run (m/s).
+    fn peak(&self) -> f64 {
+        self.max_v.iter().copied().fold(0.0, f64::max)
+    }
+    /// The change of the first model component of x0's displacement over the run (on the
+    /// fault: the slip along the first tangent, m).
+    fn slip(&self) -> f64 {
+        self.u_x0.last().unwrap()[0] - self.u_x0[0][0]
+    }
+    /// Steps whose fixed point iteration counts differ, and whether any differs by more
+    /// than one.
+    fn fpi_differences(&self, other: &Self) -> (usize, bool) {
+        let pairs = || self.fpi.iter().zip(&other.fpi);
+        (
+            pairs().filter(|(a, b)| a != b).count(),
+            pairs().any(|(a, b)| a.abs_diff(*b) > 1),
+        )
+    }
+    /// The largest `|Δ ln V|` of the largest slip rate over the steps.
+    fn worst_ln_v(&self, other: &Self) -> f64 {
+        self.max_v
+            .iter()
+            .zip(&other.max_v)
+            .map(|(a, b)| (a.ln() - b.ln()).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+fn track(scene: &SliderScene, model: Model<2>, x0: [f64; 2], t_end: f64) -> Track<2> {
     let mut tr = Track {
         x0: model.nearest_node(&x0).unwrap(),
         ..Track::default()
@@ -150,12 +185,9 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     assert_eq!(straight.t.len(), 300);
     assert_eq!(straight.t, turned.t);
 
-    let first = |r: &Track| first_crossing(&r.t, &r.max_v, 1e-3, 0.0).expect("a slip event");
-    let (t1, t2) = (first(&straight), first(&turned));
-    let peak = |r: &Track| r.max_v.iter().copied().fold(0.0, f64::max);
-    let (p1, p2) = (peak(&straight), peak(&turned));
-    let slip = |r: &Track| r.u_x0.last().unwrap()[0] - r.u_x0[0][0];
-    let (s1, s2) = (slip(&straight), slip(&turned));
+    let (t1, t2) = (straight.first_slip(), turned.first_slip());
+    let (p1, p2) = (straight.peak(), turned.peak());
+    let (s1, s2) = (straight.slip(), turned.slip());
     println!(
         "first slip {t1:.9} / {t2:.9} s, peak V {p1:.9e} / {p2:.9e} m/s, slip at x0 {s1:.9e} / \
          {s2:.9e} m, FPI {} / {}",
@@ -170,12 +202,7 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
         "slip at x0 {s1} vs {s2}"
     );
     // ln V of the largest slip rate at every step, to 1e-6.
-    let worst_ln_v = straight
-        .max_v
-        .iter()
-        .zip(&turned.max_v)
-        .map(|(a, b)| (a.ln() - b.ln()).abs())
-        .fold(0.0, f64::max);
+    let worst_ln_v = straight.worst_ln_v(&turned);
     assert!(worst_ln_v <= 1e-6, "max |Δ ln V| = {worst_ln_v:e}");
     // The Cartesian velocity of x0 is the rotated one (StepView rotates back).
     for (a, b) in straight.v_x0.iter().zip(&turned.v_x0) {
@@ -185,17 +212,7 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     }
     // Fixed point iterations: the same count at (almost) every step; a step whose last
     // correction sits at the tolerance may take one more or less.
-    let differ = straight
-        .fpi
-        .iter()
-        .zip(&turned.fpi)
-        .filter(|(a, b)| a != b)
-        .count();
-    let off_by_more = straight
-        .fpi
-        .iter()
-        .zip(&turned.fpi)
-        .any(|(a, b)| a.abs_diff(*b) > 1);
+    let (differ, off_by_more) = straight.fpi_differences(&turned);
     println!("FPI differ at {differ} of 300 steps");
     assert!(
         differ <= 3 && !off_by_more,
@@ -203,30 +220,25 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     );
 }
 
-/// One Newmark velocity problem of the slider rotated by 25° at level 3 (the block moving
-/// along the fault at 0.5 m/s the step before, the state at steady state of that rate: the
-/// inertia near the fault exceeds friction, so the fault slides against rate-and-state
-/// friction), solved by TNNMG (relative 1e-12) and by the direct
-/// solver: they agree to 1e-9 in the energy norm.
-#[test]
-fn tnnmg_and_direct_agree_on_a_slanted_fault() {
-    let phi = 25f64.to_radians();
-    let scene = SliderScene {
-        level: 3,
-        ..fast_loading(2e-2, 300)
-    };
-    let model = rotated_slider(&scene, phi);
+/// One Newmark velocity problem of `model` (the paper's material, `scene`'s τ and
+/// friction): the body moved at the Cartesian velocity `v_slide` (along the fault) the
+/// step before, the state at steady state of that rate, so that the inertia near the fault
+/// exceeds friction and the fault slides against rate-and-state friction. Solved by TNNMG
+/// (relative 1e-12) and by the direct solver; returns their relative difference in the
+/// energy norm and the largest slip rate (m/s), after checking that the normal
+/// components on the fault stay 0.
+fn tnnmg_against_direct<const D: usize>(
+    scene: &SliderScene,
+    model: &Model<D>,
+    v_slide: [f64; D],
+) -> (f64, f64) {
     let tau = scene.tau();
     let mass = model.mass.as_ref().unwrap();
     let a = rsf::fem::combine(2.0 / tau, mass, tau / 2.0, &model.stiffness).unwrap();
     let n = model.num_dofs();
-    // Previous velocity: the block slides at 1e-4 m/s along the fault (model coordinates:
-    // the tangential component on the fault, the rotated e_x elsewhere).
-    let v_slide = 0.5;
     let mut v_prev = vec![0.0; n];
     for p in 0..model.num_nodes() {
-        let v = model.to_model(p, rot(phi, [v_slide, 0.0]));
-        v_prev[2 * p..2 * p + 2].copy_from_slice(&v);
+        v_prev[D * p..D * p + D].copy_from_slice(&model.to_model(p, v_slide));
     }
     let mut v = v_prev.clone();
     for (i, &f) in model.fixed.iter().enumerate() {
@@ -255,7 +267,8 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
     let nf = model.frictional_boundary.len();
     let law = DieterichRuina::new(scene.rate_state_params()).unwrap();
     // α at steady state of the previous slip rate.
-    let alpha = (scene.l_m / v_slide).ln();
+    let speed = v_slide.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let alpha = (scene.l_m / speed).ln();
     let blocks = FrictionBlocks::new(
         model.frictional_boundary.nodes.clone(),
         model.frictional_boundary.weights.clone(),
@@ -263,12 +276,12 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
         &vec![alpha; nf],
     );
     let mut v_direct = v.clone();
-    DirectSolver::<2>::new(a.as_ref(), &model.fixed, DirectOptions::default())
+    DirectSolver::<D>::new(a.as_ref(), &model.fixed, DirectOptions::default())
         .unwrap()
         .solve(&b, &blocks, &mut v_direct)
         .unwrap();
     let mut v_tnnmg = v;
-    Tnnmg::<2>::new(
+    Tnnmg::<D>::new(
         a.as_ref(),
         &model.fixed,
         &model.prolongations,
@@ -288,21 +301,43 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
     let e = |x: &[f64]| dot(x, &apply(&model.energy_norm, x)).max(0.0).sqrt();
     let d: Vec<f64> = v_tnnmg.iter().zip(&v_direct).map(|(a, b)| a - b).collect();
     let rel = e(&d) / e(&v_direct);
-    let rates: Vec<f64> = model
+    let vmax = model
         .frictional_boundary
         .nodes
         .iter()
-        .map(|&p| v_direct[2 * p].hypot(v_direct[2 * p + 1]))
-        .collect();
-    let vmax = rates.iter().copied().fold(0.0, f64::max);
+        .map(|&p| {
+            let w = &v_direct[D * p..D * p + D];
+            w.iter().map(|c| c * c).sum::<f64>().sqrt()
+        })
+        .fold(0.0, f64::max);
+    // The normal component on the fault is fixed at 0: the last model component at a
+    // frame node, the Cartesian one along the normal elsewhere.
+    for &p in &model.frictional_boundary.nodes {
+        for c in 0..D {
+            if model.fixed[D * p + c] {
+                assert!(v_direct[D * p + c] == 0.0 && v_tnnmg[D * p + c] == 0.0);
+            }
+        }
+        if model.frame(p).is_some() {
+            assert!(model.fixed[D * p + D - 1], "node {p}: normal fixed");
+        }
+    }
+    (rel, vmax)
+}
+
+/// The slider rotated by 25° at level 3, the block sliding along the fault at 0.5 m/s the
+/// step before: TNNMG and the direct solver agree to 1e-9 in the energy norm.
+#[test]
+fn tnnmg_and_direct_agree_on_a_slanted_fault() {
+    let phi = 25f64.to_radians();
+    let scene = SliderScene {
+        level: 3,
+        ..fast_loading(2e-2, 300)
+    };
+    let model = rotated_slider(&scene, phi);
+    let (rel, vmax) = tnnmg_against_direct(&scene, &model, rot(phi, [0.5, 0.0]));
     println!("TNNMG vs direct on a 25° fault: {rel:e} (largest slip rate {vmax:e} m/s)");
     assert!(vmax > 1e-3, "the fault slides");
-    // The normal component (model component 1 on the fault) is fixed at 0.
-    assert!(model
-        .frictional_boundary
-        .nodes
-        .iter()
-        .all(|&p| v_direct[2 * p + 1] == 0.0 && v_tnnmg[2 * p + 1] == 0.0));
     assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
 }
 
@@ -475,4 +510,115 @@ fn a_partly_fixed_node_on_a_slanted_fault_is_a_typed_error() {
     let k = model.dirichlet.dofs.iter().position(|&i| i == 0).unwrap();
     assert!((model.dirichlet.factors[k] - 1e-3 * q[0][0]).abs() < 1e-18);
     assert!(model.fixed[0] && model.fixed[1]);
+}
+
+/// A 2 m × 2 m square with a crack along y = 1 from the left side to its tip at (1, 1)
+/// (node 4): the crack's two faces have their own copies of (0, 1) (node 3 below, node 9
+/// above) and meet at the tip, where the frictional boundary (both faces) folds back:
+/// two coincident facets with opposite outer normals (+y below, −y above).
+fn cracked_square() -> TriangleMesh {
+    let mut vertices: Vec<[f64; 2]> = (0..9).map(|k| [(k % 3) as f64, (k / 3) as f64]).collect();
+    vertices.push([0.0, 1.0]);
+    // Squares (a, b, c, d) counter-clockwise from the lower left, split along a–c.
+    let squares = [[0, 1, 4, 3], [1, 2, 5, 4], [9, 4, 7, 6], [4, 5, 8, 7]];
+    let cells = squares
+        .iter()
+        .flat_map(|&[a, b, c, d]| [a, b, c, a, c, d])
+        .collect();
+    SimplexMesh::new(vertices, cells).unwrap()
+}
+
+#[test]
+fn a_fault_folding_back_at_a_crack_tip_is_a_typed_error_naming_the_node() {
+    let mesh = cracked_square();
+    let crack = || Part::predicate("crack", |x| (x[1] - 1.0).abs() < 1e-9);
+    let builder = |kink: f64| {
+        ModelBuilder::new(mesh.clone())
+            .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+            .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-4, 0.0])
+            .frictional_boundary(crack())
+            .max_fault_kink(kink)
+            .build()
+    };
+    // Under the default kink limit the tip is a corner of 180°.
+    let err = builder(rsf::DEFAULT_MAX_FAULT_KINK_DEGREES).unwrap_err();
+    match &err {
+        Error::FaultCorner {
+            node,
+            angle_degrees,
+            ..
+        } => {
+            assert_eq!(*node, 4);
+            assert!((angle_degrees - 180.0).abs() < 1e-9, "{angle_degrees}");
+        }
+        e => panic!("expected FaultCorner, got {e}"),
+    }
+    // Admitting any kink, the normals still cancel: no frame exists.
+    let err = builder(180.0).unwrap_err();
+    match &err {
+        Error::FaultFoldsBack { node, position, .. } => {
+            assert_eq!(*node, 4);
+            assert_eq!(position, &vec![1.0, 1.0]);
+        }
+        e => panic!("expected FaultFoldsBack, got {e}"),
+    }
+    assert!(err.to_string().contains("node 4"), "{err}");
+    // One face alone (the lower body's: the two faces share their midpoints, so select by
+    // the cell) is a flat fault.
+    let mut mesh = mesh;
+    let lower: Vec<usize> = (0..mesh.num_boundary_facets())
+        .filter(|&f| {
+            let cell = mesh.cell(mesh.boundary_facet_cell(f));
+            (mesh.boundary_facet_midpoint(f)[1] - 1.0).abs() < 1e-9
+                && cell.iter().all(|&v| mesh.vertices()[v][1] <= 1.0)
+        })
+        .collect();
+    assert_eq!(lower.len(), 1);
+    mesh.tag_boundary_facets("lower face", &lower).unwrap();
+    let model = ModelBuilder::new(mesh)
+        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+        .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary("lower face")
+        .build();
+    assert!(model.is_ok(), "{:?}", model.err());
+}
+
+/// A bottom facet of 1e-11 m among ten of 100 m (a valid mesh: the sliver cell under it
+/// has area 5e-12 m², above the mesh's degeneracy test at its 1 m longest edge): the
+/// facet's normal is numerically undefined, a typed error naming the facet and a node.
+#[test]
+fn a_zero_length_fault_facet_is_a_typed_error_naming_the_node() {
+    let mut xs: Vec<f64> = (0..=10).map(|i| 100.0 * i as f64).collect();
+    xs.push(1000.0 + 1e-11);
+    let mesh =
+        rsf::fem::rectangle_from_coordinates(&xs, &[0.0, 1.0], Diagonal::Forward).unwrap();
+    let err = ModelBuilder::new(mesh.clone())
+        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+        .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary(Part::predicate("base", |x| x[1] < 1e-9))
+        .build()
+        .unwrap_err();
+    match &err {
+        Error::DegenerateFaultFacet {
+            node,
+            facet,
+            measure,
+            ..
+        } => {
+            assert!(mesh.boundary_facet(*facet).contains(node));
+            assert!([10, 11].contains(node), "node {node}");
+            assert!((measure - 1e-11).abs() < 1e-13, "{measure}");
+        }
+        e => panic!("expected DegenerateFaultFacet, got {e}"),
+    }
+    assert!(err.to_string().contains("node 1"), "{err}");
+    // Without the sliver the base is fine.
+    let mesh =
+        rsf::fem::rectangle_from_coordinates(&xs[..11], &[0.0, 1.0], Diagonal::Forward).unwrap();
+    assert!(ModelBuilder::new(mesh)
+        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+        .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary(Part::predicate("base", |x| x[1] < 1e-9))
+        .build()
+        .is_ok());
 }
