@@ -9,6 +9,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 pub mod cli;
+mod curved;
 mod heat_map;
 mod incline;
 mod panels;
@@ -16,6 +17,9 @@ pub mod pipping_slider;
 mod run;
 pub mod run_folder;
 pub use cli::{main_with, SceneArgs, TimeStepArgs};
+pub use curved::{
+    arc_block_model, max_slip_rate_figure, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M,
+};
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use panels::PanelLayout;
