@@ -52,13 +52,31 @@ pub fn inclined_slider_model(scene: &SliderScene, dip: f64) -> rsf::Result<Model
     });
     mesh.tag_boundary(TAG_DIRICHLET, |x| back(x)[1] > 1.0 - 1e-9);
     mesh.tag_boundary(TAG_FRICTIONAL, |x| back(x)[1] < 1e-9);
-    let builder = ModelBuilder::refined(mesh, scene.level)?
+    slider_like_model(
+        ModelBuilder::refined(mesh, scene.level)?,
+        scene,
+        [0.0, -scene.gravity_m_per_s2],
+        dip_point(dip, [scene.loading_velocity_m_per_s, 0.0]),
+    )
+}
+
+/// The slider's scene on the mesh (hierarchy) of `builder`, whose boundary carries the
+/// paper's tags: the paper's material, `gravity` (m/s²), the part [`TAG_DIRICHLET`] moving
+/// at `top_velocity` (m/s) times the scene's loading ramp, [`TAG_FRICTIONAL`] the fault;
+/// no mass matrix for an integrator without inertia.
+///
+/// # Errors
+/// As [`ModelBuilder::build`].
+pub(crate) fn slider_like_model(
+    builder: ModelBuilder<2>,
+    scene: &SliderScene,
+    gravity: [f64; 2],
+    top_velocity: [f64; 2],
+) -> rsf::Result<Model<2>> {
+    let builder = builder
         .material(scene.material())
-        .gravity([0.0, -scene.gravity_m_per_s2])
-        .dirichlet(
-            TAG_DIRICHLET,
-            dip_point(dip, [scene.loading_velocity_m_per_s, 0.0]),
-        )
+        .gravity(gravity)
+        .dirichlet(TAG_DIRICHLET, top_velocity)
         .frictional_boundary(TAG_FRICTIONAL)
         .loading(scene.loading());
     if scene.integrator.uses_mass() {

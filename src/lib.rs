@@ -9,13 +9,18 @@ use std::path::Path;
 use plotters::prelude::*;
 
 pub mod cli;
+mod curved;
 mod heat_map;
 mod incline;
 mod panels;
 pub mod pipping_slider;
 mod run;
 pub mod run_folder;
+mod turned;
 pub use cli::{main_with, FrameArgs, SceneArgs, TimeStepArgs};
+pub use curved::{
+    arc_block_model, max_slip_rate_figure, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M,
+};
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use panels::PanelLayout;
@@ -24,6 +29,7 @@ pub use run::{
     SliderStats,
 };
 pub use run_folder::{FolderArgs, RunFolder};
+pub use turned::{skew_rotation, turned_slider_3d_model};
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 

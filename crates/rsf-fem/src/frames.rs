@@ -2,8 +2,8 @@
 //! they induce on vectors, matrices and prolongations.
 
 use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
+use nalgebra::{SMatrix, SVector, Vector3};
 
-use crate::geometry::{cross, norm, pad3};
 use crate::{Error, Result};
 
 /// The frame at a node with outward unit normal `n`: a rotation (row-major, det = +1) whose
@@ -20,41 +20,36 @@ pub(crate) fn frame_from_normal<const D: usize>(
     n: &[f64; D],
     hint: Option<&[f64; D]>,
 ) -> [[f64; D]; D] {
-    let mut q = [[0.0; D]; D];
-    for r in 0..D {
-        q[r][D - 1] = -n[r];
-    }
+    let n = SVector::<f64, D>::from(*n);
+    let mut q = SMatrix::<f64, D, D>::zeros();
+    q.set_column(D - 1, &-n);
     match D {
         1 => {}
+        // The outward normal turned counter-clockwise by 90°.
         2 => {
-            q[0][0] = -n[1];
-            q[1][0] = n[0];
+            q[(0, 0)] = -n[1];
+            q[(1, 0)] = n[0];
         }
         _ => {
-            let n3 = pad3(n);
-            let project = |h: [f64; 3]| {
-                let d: f64 = (0..3).map(|r| h[r] * n3[r]).sum();
-                let t = [h[0] - d * n3[0], h[1] - d * n3[1], h[2] - d * n3[2]];
-                let l = norm(&t);
-                (l > 0.0 && l >= 1e-6 * norm(&h)).then(|| [t[0] / l, t[1] / l, t[2] / l])
+            let n = Vector3::new(n[0], n[1], n[2]);
+            // The unit projection of h onto the tangent plane, unless h is (nearly) normal.
+            let project = |h: Vector3<f64>| {
+                let t = h - n * h.dot(&n);
+                let l = t.norm();
+                (l > 0.0 && l >= 1e-6 * h.norm()).then(|| t / l)
             };
-            let k = (0..3)
-                .min_by(|&a, &b| n3[a].abs().total_cmp(&n3[b].abs()))
-                .expect("three axes");
-            let mut axis = [0.0; 3];
-            axis[k] = 1.0;
+            // The axis with the smallest |n_k| (the first such k): |n_k| ≤ 1/√3.
+            let axis = Vector3::ith(n.iamin(), 1.0);
             let t1 = hint
-                .and_then(|h| project(pad3(h)))
+                .and_then(|h| project(Vector3::from_iterator(h.iter().copied())))
                 .or_else(|| project(axis))
                 .expect("an axis with |n_k| ≤ 1/√3 is never normal");
-            let t2 = cross([-n3[0], -n3[1], -n3[2]], t1);
-            for r in 0..3 {
-                q[r][0] = t1[r];
-                q[r][1] = t2[r];
-            }
+            let t2 = (-n).cross(&t1);
+            q.fixed_view_mut::<3, 1>(0, 0).copy_from(&t1);
+            q.fixed_view_mut::<3, 1>(0, 1).copy_from(&t2);
         }
     }
-    q
+    std::array::from_fn(|r| std::array::from_fn(|c| q[(r, c)]))
 }
 
 /// Per-node orthonormal frames `Q_p` (row-major `D × D`, columns = local basis vectors)
@@ -122,13 +117,11 @@ impl<const D: usize> NodalFrames<D> {
     fn apply(&self, v: &mut [f64], transpose: bool) -> Result<()> {
         self.check(v.len())?;
         for (&p, q) in self.nodes.iter().zip(&self.rotations) {
-            let mut w = [0.0; D];
-            for r in 0..D {
-                for c in 0..D {
-                    w[r] += if transpose { q[c][r] } else { q[r][c] } * v[D * p + c];
-                }
-            }
-            v[D * p..D * p + D].copy_from_slice(&w);
+            let q = SMatrix::<f64, D, D>::from_fn(|r, c| q[r][c]);
+            let block = &mut v[D * p..D * p + D];
+            let x = SVector::<f64, D>::from_column_slice(block);
+            let w = if transpose { q.tr_mul(&x) } else { q * x };
+            block.copy_from_slice(w.as_slice());
         }
         Ok(())
     }

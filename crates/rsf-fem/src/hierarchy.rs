@@ -96,6 +96,50 @@ impl<const D: usize> MeshHierarchy<D> {
         }
         Ok(h)
     }
+
+    /// As [`MeshHierarchy::try_refine_uniformly`] for a domain with a curved boundary part:
+    /// after each refinement, every new vertex on a boundary facet tagged `tag` (the
+    /// midpoint of a chord of the coarser level) is moved to `project(x)`, e.g. its
+    /// projection onto the exact curve or surface the facets approximate, before the next
+    /// refinement. Vertices of the coarser levels stay where they are (the coarse mesh's
+    /// boundary vertices should lie on the exact boundary already), so every level's
+    /// boundary vertices lie on it. The prolongations are those of the refinement (P1
+    /// interpolation at the chord midpoints): the levels are nested except within a
+    /// layer of cells along the curved part, which is what multigrid on curved domains
+    /// usually does; the finest level is the discretisation.
+    ///
+    /// # Errors
+    /// As [`try_refine_red`]; as [`SimplexMesh::with_moved_vertices`] if a projection turns
+    /// a cell over (projections must move a vertex by much less than the cell size).
+    pub fn try_refine_uniformly_onto(
+        coarse: SimplexMesh<D>,
+        levels: usize,
+        tag: &str,
+        project: impl Fn(&[f64; D]) -> [f64; D],
+    ) -> Result<Self> {
+        let mut h = Self {
+            levels: vec![coarse],
+            prolongations: Vec::new(),
+            vector_prolongations: Vec::new(),
+        };
+        for _ in 0..levels {
+            let old = h.finest().num_vertices();
+            let (fine, p) = try_refine_red(h.finest())?;
+            let mut vertices = fine.vertices().to_vec();
+            for f in fine.facets_with_tag(tag) {
+                for &v in fine.boundary_facet(f) {
+                    if v >= old {
+                        vertices[v] = project(&fine.vertices()[v]);
+                    }
+                }
+            }
+            let fine = fine.with_moved_vertices(vertices)?;
+            h.vector_prolongations.push(vectorize::<D>(&p));
+            h.prolongations.push(p);
+            h.levels.push(fine);
+        }
+        Ok(h)
+    }
 }
 
 /// Node-major vector version `P ⊗ I_D` of a scalar prolongation.

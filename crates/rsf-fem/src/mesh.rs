@@ -143,6 +143,31 @@ impl<const D: usize> SimplexMesh<D> {
         Ok(mesh)
     }
 
+    /// The same mesh with its vertices at `vertices` (one per vertex, in the same order):
+    /// cells, refinement orders, boundary facets and tags are kept. For curved boundaries:
+    /// moving the vertices a refinement put on a boundary facet's chord onto the exact
+    /// boundary ([`crate::MeshHierarchy::try_refine_uniformly_onto`]).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for another number of vertices;
+    /// [`Error::NonFiniteCoordinate`]; [`Error::DegenerateCell`] / [`Error::InvertedCell`]
+    /// if a cell degenerates or turns over (as [`SimplexMesh::new`]).
+    pub fn with_moved_vertices(&self, vertices: Vec<[f64; D]>) -> Result<Self> {
+        if vertices.len() != self.vertices.len() {
+            return Err(Error::DimensionMismatch {
+                what: "moved vertices",
+                expected: self.vertices.len(),
+                got: vertices.len(),
+            });
+        }
+        // The stored cells are positively oriented: re-check them without reorienting.
+        let moved = Self::build(vertices, self.cells.clone(), false)?;
+        Ok(Self {
+            vertices: moved.vertices,
+            ..self.clone()
+        })
+    }
+
     /// Builds a refined mesh from cells given in refinement order; `negative[c]` is the
     /// orientation of that order as predicted by the refinement rule. Panics (internal
     /// invariant) if a prediction is wrong.

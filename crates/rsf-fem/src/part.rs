@@ -1,7 +1,8 @@
 //! Named boundary parts for any dimension: Dirichlet, Neumann and frictional boundaries.
 
+use nalgebra::SVector;
+
 use crate::frames::NodalFrames;
-use crate::geometry::norm;
 use crate::mesh::SimplexMesh;
 use crate::{Error, Result};
 
@@ -212,24 +213,26 @@ impl<const D: usize> BoundaryPart<D> {
     /// average vanishes (only at non-manifold points, e.g. two cells touching at a vertex).
     pub fn normals(&self, mesh: &SimplexMesh<D>) -> Result<Vec<[f64; D]>> {
         self.check_mesh(mesh)?;
-        let mut n = vec![[0.0; D]; self.nodes.len()];
+        // Area-weighted sums of the facets' unit outer normals.
+        let mut n = vec![SVector::<f64, D>::zeros(); self.nodes.len()];
         for (k, &f) in self.facets.iter().enumerate() {
-            let nf = mesh.boundary_facet_normal(f);
+            let nf = SVector::from(mesh.boundary_facet_normal(f));
             let a = mesh.boundary_facet_measure(f);
             for &i in self.facet_nodes(k) {
-                for r in 0..D {
-                    n[i][r] += a * nf[r];
+                n[i] += nf * a;
+            }
+        }
+        n.into_iter()
+            .zip(&self.nodes)
+            .map(|(v, &p)| {
+                let l = v.norm();
+                if l > 0.0 && l.is_finite() {
+                    Ok((v / l).into())
+                } else {
+                    Err(Error::UndefinedNormal { vertex: p })
                 }
-            }
-        }
-        for (v, &p) in n.iter_mut().zip(&self.nodes) {
-            let l = norm(v);
-            if !(l > 0.0 && l.is_finite()) {
-                return Err(Error::UndefinedNormal { vertex: p });
-            }
-            v.iter_mut().for_each(|c| *c /= l);
-        }
-        Ok(n)
+            })
+            .collect()
     }
 
     /// Nodal frames for bilateral contact: per node a rotation `Q_p` (det = +1) whose

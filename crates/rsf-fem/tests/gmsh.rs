@@ -145,6 +145,72 @@ fn hierarchy_on_an_imported_mesh() {
 }
 
 /// `text` with line `n` (1-based) replaced.
+/// The curved fixture: a block on a circular arc of radius 10 m about (2.5, 10). Refined
+/// with the new base vertices moved onto the arc (along y), every level's base vertices lie
+/// on the arc, equally spaced in x, the tags and cell count are the refinement's, and the
+/// arc's length converges to the exact 2R asin(2.5/R) at O(h²) (a polygon inscribed in a
+/// circle; without the projection the length would stay the coarse polygon's).
+#[test]
+fn arc_block_fixture_refined_onto_its_arc() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/arc_block.msh");
+    let g = read_gmsh::<2>(path).unwrap();
+    assert_eq!((g.mesh.num_vertices(), g.mesh.num_cells()), (33, 40));
+    assert_eq!(
+        g.physical_groups,
+        vec![
+            group(1, 1, "frictional", 10),
+            group(1, 2, "dirichlet", 10),
+            group(1, 3, "neumann", 4),
+            group(2, 4, "body", 40),
+        ]
+    );
+    let (r, c) = (10.0f64, [2.5, 10.0]);
+    let onto = |x: &[f64; 2]| [x[0], c[1] - (r * r - (x[0] - c[0]).powi(2)).sqrt()];
+    let exact = 2.0 * r * (2.5 / r).asin();
+    let h =
+        MeshHierarchy::try_refine_uniformly_onto(g.mesh.clone(), 3, "frictional", onto).unwrap();
+    let mut gaps = Vec::new();
+    for (j, m) in h.levels().iter().enumerate() {
+        let base = m.facets_with_tag("frictional");
+        assert_eq!(base.len(), 10 << j);
+        assert_eq!(m.num_cells(), 40 << (2 * j));
+        for &f in &base {
+            for &v in m.boundary_facet(f) {
+                let x = m.vertices()[v];
+                let dist = (x[0] - c[0]).hypot(x[1] - c[1]);
+                assert!((dist - r).abs() < 1e-12, "level {j}: vertex {v} at {x:?}");
+                let steps = x[0] / (0.5 / f64::from(1u32 << j));
+                assert!(
+                    (steps - steps.round()).abs() < 1e-9,
+                    "level {j}: x = {}",
+                    x[0]
+                );
+            }
+        }
+        gaps.push(exact - tag_measure(m, "frictional"));
+    }
+    let orders: Vec<f64> = gaps.windows(2).map(|g| (g[0] / g[1]).log2()).collect();
+    assert!(gaps.iter().all(|&g| g > 0.0), "{gaps:?}");
+    assert!(orders.iter().all(|&o| (o - 2.0).abs() < 0.05), "{orders:?}");
+    // Without the projection the refined base is the coarse polygon.
+    let flat = MeshHierarchy::refine_uniformly(g.mesh.clone(), 2);
+    assert!(
+        (tag_measure(flat.finest(), "frictional") - tag_measure(&g.mesh, "frictional")).abs()
+            < 1e-12
+    );
+    // A projection that turns cells over is a typed error.
+    let err =
+        MeshHierarchy::try_refine_uniformly_onto(g.mesh, 1, "frictional", |x| [x[0], x[1] + 2.0])
+            .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            Error::InvertedCell { .. } | Error::DegenerateCell { .. }
+        ),
+        "{err}"
+    );
+}
+
 fn with_line(text: &str, n: usize, new: &str) -> String {
     text.lines()
         .enumerate()

@@ -148,6 +148,25 @@ pub enum Error {
         /// Its measure (m in 2D, m² in 3D).
         measure: f64,
     },
+    /// The outer normals of the frictional facets at a node cancel (their area-weighted
+    /// mean is shorter than 10⁻⁶ of the facets' total measure): the boundary folds back on
+    /// itself there, e.g. at the tip of a crack whose two faces are both in Γ_F (coincident
+    /// facets with opposite normals). No normal, and no nodal frame, is defined; raised when
+    /// [`ModelBuilder::max_fault_kink`](crate::ModelBuilder::max_fault_kink) admits the
+    /// 180° fold (below that limit the node is an [`Error::FaultCorner`]).
+    #[error(
+        "frictional boundary `{part}`: node {node} at {position:?}: the outer normals of its \
+         facets cancel (the boundary folds back on itself), the normal and the nodal frame \
+         are undefined there"
+    )]
+    FaultFoldsBack {
+        /// The part's name.
+        part: String,
+        /// The mesh node.
+        node: usize,
+        /// Its coordinates (m).
+        position: Vec<f64>,
+    },
     /// The initial equilibrium `K u₀ = F` has no unique solution under the constraints.
     #[error(
         "the initial equilibrium K u0 = F has no unique solution under the constraints \

@@ -12,8 +12,11 @@
 //!   energy norm): compared to 1e-6 relative (as TNNMG against direct in slip_event.rs).
 //! - With the angle 0 the builder takes the axis-aligned path: the model equals the scene's
 //!   bit for bit, without frames.
+//! - The same in 3-D: the fast-loading slider extruded (level 1, 300 steps) and rotated by
+//!   30° about (1, 2, 3)/√14 (mesh, gravity, loading, and the fault's reference tangent
+//!   `fault_tangent` = the rotated e_x): the unrotated trajectory.
 //! - TNNMG and the direct solver agree on one velocity problem of the rotated slider to
-//!   1e-9 relative in the energy norm.
+//!   1e-9 relative in the energy norm, in 2-D and on the rotated 3-D slider (level 2).
 //! - Closed form on an incline: a block on a base inclined by θ under vertical gravity, with
 //!   velocity-strengthening friction (a > b) and a prescribed σ̄_n, settles to steady
 //!   sliding down the slope at `V_ss` with `σ̄_n (μ0 + (a − b) ln(V_ss/V0)) = ρ g H sin θ`
@@ -23,7 +26,9 @@
 //!   release of the initial equilibrium starts; Newmark keeps them ringing for seconds)
 //!   and steady sliding is an exact solution of the discrete scheme too.
 //! - Bad frames: a fault around a corner of the block, a kink limit out of range, a
-//!   partially fixed Dirichlet node on the slanted fault: typed errors naming the node.
+//!   partially fixed Dirichlet node on the slanted fault, a fault folding back at a crack
+//!   tip (coincident facets, opposite normals), a facet of (numerically) zero length: typed
+//!   errors naming the node.
 
 mod common;
 
@@ -36,8 +41,8 @@ use rsf::friction::DieterichRuina;
 use rsf::time::{Kinematics, Newmark, SystemMatrices, VelocityIntegrator};
 use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
 use rsf::{
-    Error, FrictionBlocks, Model, ModelBuilder, Observer, Part, SliderScene, SolverKind,
-    StateLawKind, StepView, SLIDER_CENTRE,
+    slider_3d_coarse, Error, FrictionBlocks, Model, ModelBuilder, Observer, Part, Slider3dScene,
+    SliderScene, SolverKind, StateLawKind, StepView, SLIDER_CENTRE, TAG_LATERAL,
 };
 
 /// The rotation by `phi` (rad) about the origin.
@@ -87,17 +92,17 @@ fn rotated_slider(scene: &SliderScene, phi: f64) -> Model<2> {
 /// Per step: time, largest slip rate, fixed point iterations, the displacement of node `x0`
 /// in model coordinates (slip coordinates on the fault), and the Cartesian velocity of x0.
 #[derive(Default)]
-struct Track {
+struct Track<const D: usize> {
     x0: usize,
     t: Vec<f64>,
     max_v: Vec<f64>,
     fpi: Vec<usize>,
-    u_x0: Vec<[f64; 2]>,
-    v_x0: Vec<[f64; 2]>,
+    u_x0: Vec<[f64; D]>,
+    v_x0: Vec<[f64; D]>,
 }
 
-impl Observer<2> for Track {
-    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<rsf::Flow> {
+impl<const D: usize> Observer<D> for Track<D> {
+    fn observe(&mut self, s: &StepView<'_, D>) -> rsf::Result<rsf::Flow> {
         self.t.push(s.report.time);
         self.max_v.push(s.report.max_slip_rate);
         self.fpi.push(s.report.fixed_point_iterations);
@@ -107,7 +112,40 @@ impl Observer<2> for Track {
     }
 }
 
-fn track(scene: &SliderScene, model: Model<2>, x0: [f64; 2], t_end: f64) -> Track {
+impl<const D: usize> Track<D> {
+    /// The first step where the largest slip rate crosses 1e-3 m/s (interpolated).
+    fn first_slip(&self) -> f64 {
+        first_crossing(&self.t, &self.max_v, 1e-3, 0.0).expect("a slip event")
+    }
+    /// The largest slip rate of the run (m/s).
+    fn peak(&self) -> f64 {
+        self.max_v.iter().copied().fold(0.0, f64::max)
+    }
+    /// The change of the first model component of x0's displacement over the run (on the
+    /// fault: the slip along the first tangent, m).
+    fn slip(&self) -> f64 {
+        self.u_x0.last().unwrap()[0] - self.u_x0[0][0]
+    }
+    /// Steps whose fixed point iteration counts differ, and whether any differs by more
+    /// than one.
+    fn fpi_differences(&self, other: &Self) -> (usize, bool) {
+        let pairs = || self.fpi.iter().zip(&other.fpi);
+        (
+            pairs().filter(|(a, b)| a != b).count(),
+            pairs().any(|(a, b)| a.abs_diff(*b) > 1),
+        )
+    }
+    /// The largest `|Δ ln V|` of the largest slip rate over the steps.
+    fn worst_ln_v(&self, other: &Self) -> f64 {
+        self.max_v
+            .iter()
+            .zip(&other.max_v)
+            .map(|(a, b)| (a.ln() - b.ln()).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+fn track(scene: &SliderScene, model: Model<2>, x0: [f64; 2], t_end: f64) -> Track<2> {
     let mut tr = Track {
         x0: model.nearest_node(&x0).unwrap(),
         ..Track::default()
@@ -150,12 +188,9 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     assert_eq!(straight.t.len(), 300);
     assert_eq!(straight.t, turned.t);
 
-    let first = |r: &Track| first_crossing(&r.t, &r.max_v, 1e-3, 0.0).expect("a slip event");
-    let (t1, t2) = (first(&straight), first(&turned));
-    let peak = |r: &Track| r.max_v.iter().copied().fold(0.0, f64::max);
-    let (p1, p2) = (peak(&straight), peak(&turned));
-    let slip = |r: &Track| r.u_x0.last().unwrap()[0] - r.u_x0[0][0];
-    let (s1, s2) = (slip(&straight), slip(&turned));
+    let (t1, t2) = (straight.first_slip(), turned.first_slip());
+    let (p1, p2) = (straight.peak(), turned.peak());
+    let (s1, s2) = (straight.slip(), turned.slip());
     println!(
         "first slip {t1:.9} / {t2:.9} s, peak V {p1:.9e} / {p2:.9e} m/s, slip at x0 {s1:.9e} / \
          {s2:.9e} m, FPI {} / {}",
@@ -170,12 +205,7 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
         "slip at x0 {s1} vs {s2}"
     );
     // ln V of the largest slip rate at every step, to 1e-6.
-    let worst_ln_v = straight
-        .max_v
-        .iter()
-        .zip(&turned.max_v)
-        .map(|(a, b)| (a.ln() - b.ln()).abs())
-        .fold(0.0, f64::max);
+    let worst_ln_v = straight.worst_ln_v(&turned);
     assert!(worst_ln_v <= 1e-6, "max |Δ ln V| = {worst_ln_v:e}");
     // The Cartesian velocity of x0 is the rotated one (StepView rotates back).
     for (a, b) in straight.v_x0.iter().zip(&turned.v_x0) {
@@ -185,17 +215,7 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     }
     // Fixed point iterations: the same count at (almost) every step; a step whose last
     // correction sits at the tolerance may take one more or less.
-    let differ = straight
-        .fpi
-        .iter()
-        .zip(&turned.fpi)
-        .filter(|(a, b)| a != b)
-        .count();
-    let off_by_more = straight
-        .fpi
-        .iter()
-        .zip(&turned.fpi)
-        .any(|(a, b)| a.abs_diff(*b) > 1);
+    let (differ, off_by_more) = straight.fpi_differences(&turned);
     println!("FPI differ at {differ} of 300 steps");
     assert!(
         differ <= 3 && !off_by_more,
@@ -203,30 +223,25 @@ fn the_slider_rotated_by_30_degrees_slips_as_the_unrotated_one() {
     );
 }
 
-/// One Newmark velocity problem of the slider rotated by 25° at level 3 (the block moving
-/// along the fault at 0.5 m/s the step before, the state at steady state of that rate: the
-/// inertia near the fault exceeds friction, so the fault slides against rate-and-state
-/// friction), solved by TNNMG (relative 1e-12) and by the direct
-/// solver: they agree to 1e-9 in the energy norm.
-#[test]
-fn tnnmg_and_direct_agree_on_a_slanted_fault() {
-    let phi = 25f64.to_radians();
-    let scene = SliderScene {
-        level: 3,
-        ..fast_loading(2e-2, 300)
-    };
-    let model = rotated_slider(&scene, phi);
+/// One Newmark velocity problem of `model` (the paper's material, `scene`'s τ and
+/// friction): the body moved at the Cartesian velocity `v_slide` (along the fault) the
+/// step before, the state at steady state of that rate, so that the inertia near the fault
+/// exceeds friction and the fault slides against rate-and-state friction. Solved by TNNMG
+/// (relative 1e-12) and by the direct solver; returns their relative difference in the
+/// energy norm and the largest slip rate (m/s), after checking that the normal
+/// components on the fault stay 0.
+fn tnnmg_against_direct<const D: usize>(
+    scene: &SliderScene,
+    model: &Model<D>,
+    v_slide: [f64; D],
+) -> (f64, f64) {
     let tau = scene.tau();
     let mass = model.mass.as_ref().unwrap();
     let a = rsf::fem::combine(2.0 / tau, mass, tau / 2.0, &model.stiffness).unwrap();
     let n = model.num_dofs();
-    // Previous velocity: the block slides at 1e-4 m/s along the fault (model coordinates:
-    // the tangential component on the fault, the rotated e_x elsewhere).
-    let v_slide = 0.5;
     let mut v_prev = vec![0.0; n];
     for p in 0..model.num_nodes() {
-        let v = model.to_model(p, rot(phi, [v_slide, 0.0]));
-        v_prev[2 * p..2 * p + 2].copy_from_slice(&v);
+        v_prev[D * p..D * p + D].copy_from_slice(&model.to_model(p, v_slide));
     }
     let mut v = v_prev.clone();
     for (i, &f) in model.fixed.iter().enumerate() {
@@ -255,7 +270,8 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
     let nf = model.frictional_boundary.len();
     let law = DieterichRuina::new(scene.rate_state_params()).unwrap();
     // α at steady state of the previous slip rate.
-    let alpha = (scene.l_m / v_slide).ln();
+    let speed = v_slide.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let alpha = (scene.l_m / speed).ln();
     let blocks = FrictionBlocks::new(
         model.frictional_boundary.nodes.clone(),
         model.frictional_boundary.weights.clone(),
@@ -263,12 +279,12 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
         &vec![alpha; nf],
     );
     let mut v_direct = v.clone();
-    DirectSolver::<2>::new(a.as_ref(), &model.fixed, DirectOptions::default())
+    DirectSolver::<D>::new(a.as_ref(), &model.fixed, DirectOptions::default())
         .unwrap()
         .solve(&b, &blocks, &mut v_direct)
         .unwrap();
     let mut v_tnnmg = v;
-    Tnnmg::<2>::new(
+    Tnnmg::<D>::new(
         a.as_ref(),
         &model.fixed,
         &model.prolongations,
@@ -288,21 +304,43 @@ fn tnnmg_and_direct_agree_on_a_slanted_fault() {
     let e = |x: &[f64]| dot(x, &apply(&model.energy_norm, x)).max(0.0).sqrt();
     let d: Vec<f64> = v_tnnmg.iter().zip(&v_direct).map(|(a, b)| a - b).collect();
     let rel = e(&d) / e(&v_direct);
-    let rates: Vec<f64> = model
+    let vmax = model
         .frictional_boundary
         .nodes
         .iter()
-        .map(|&p| v_direct[2 * p].hypot(v_direct[2 * p + 1]))
-        .collect();
-    let vmax = rates.iter().copied().fold(0.0, f64::max);
+        .map(|&p| {
+            let w = &v_direct[D * p..D * p + D];
+            w.iter().map(|c| c * c).sum::<f64>().sqrt()
+        })
+        .fold(0.0, f64::max);
+    // The normal component on the fault is fixed at 0: the last model component at a
+    // frame node, the Cartesian one along the normal elsewhere.
+    for &p in &model.frictional_boundary.nodes {
+        for c in 0..D {
+            if model.fixed[D * p + c] {
+                assert!(v_direct[D * p + c] == 0.0 && v_tnnmg[D * p + c] == 0.0);
+            }
+        }
+        if model.frame(p).is_some() {
+            assert!(model.fixed[D * p + D - 1], "node {p}: normal fixed");
+        }
+    }
+    (rel, vmax)
+}
+
+/// The slider rotated by 25° at level 3, the block sliding along the fault at 0.5 m/s the
+/// step before: TNNMG and the direct solver agree to 1e-9 in the energy norm.
+#[test]
+fn tnnmg_and_direct_agree_on_a_slanted_fault() {
+    let phi = 25f64.to_radians();
+    let scene = SliderScene {
+        level: 3,
+        ..fast_loading(2e-2, 300)
+    };
+    let model = rotated_slider(&scene, phi);
+    let (rel, vmax) = tnnmg_against_direct(&scene, &model, rot(phi, [0.5, 0.0]));
     println!("TNNMG vs direct on a 25° fault: {rel:e} (largest slip rate {vmax:e} m/s)");
     assert!(vmax > 1e-3, "the fault slides");
-    // The normal component (model component 1 on the fault) is fixed at 0.
-    assert!(model
-        .frictional_boundary
-        .nodes
-        .iter()
-        .all(|&p| v_direct[2 * p + 1] == 0.0 && v_tnnmg[2 * p + 1] == 0.0));
     assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
 }
 
@@ -475,4 +513,430 @@ fn a_partly_fixed_node_on_a_slanted_fault_is_a_typed_error() {
     let k = model.dirichlet.dofs.iter().position(|&i| i == 0).unwrap();
     assert!((model.dirichlet.factors[k] - 1e-3 * q[0][0]).abs() < 1e-18);
     assert!(model.fixed[0] && model.fixed[1]);
+}
+
+/// A 2 m × 2 m square with a crack along y = 1 from the left side to its tip at (1, 1)
+/// (node 4): the crack's two faces have their own copies of (0, 1) (node 3 below, node 9
+/// above) and meet at the tip, where the frictional boundary (both faces) folds back:
+/// two coincident facets with opposite outer normals (+y below, −y above).
+fn cracked_square() -> TriangleMesh {
+    let mut vertices: Vec<[f64; 2]> = (0..9).map(|k| [(k % 3) as f64, (k / 3) as f64]).collect();
+    vertices.push([0.0, 1.0]);
+    // Squares (a, b, c, d) counter-clockwise from the lower left, split along a–c.
+    let squares = [[0, 1, 4, 3], [1, 2, 5, 4], [9, 4, 7, 6], [4, 5, 8, 7]];
+    let cells = squares
+        .iter()
+        .flat_map(|&[a, b, c, d]| [a, b, c, a, c, d])
+        .collect();
+    SimplexMesh::new(vertices, cells).unwrap()
+}
+
+#[test]
+fn a_fault_folding_back_at_a_crack_tip_is_a_typed_error_naming_the_node() {
+    let mesh = cracked_square();
+    let crack = || Part::predicate("crack", |x| (x[1] - 1.0).abs() < 1e-9);
+    let builder = |kink: f64| {
+        ModelBuilder::new(mesh.clone())
+            .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+            .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-4, 0.0])
+            .frictional_boundary(crack())
+            .max_fault_kink(kink)
+            .build()
+    };
+    // Under the default kink limit the tip is a corner of 180°.
+    let err = builder(rsf::DEFAULT_MAX_FAULT_KINK_DEGREES).unwrap_err();
+    match &err {
+        Error::FaultCorner {
+            node,
+            angle_degrees,
+            ..
+        } => {
+            assert_eq!(*node, 4);
+            assert!((angle_degrees - 180.0).abs() < 1e-9, "{angle_degrees}");
+        }
+        e => panic!("expected FaultCorner, got {e}"),
+    }
+    // Admitting any kink, the normals still cancel: no frame exists.
+    let err = builder(180.0).unwrap_err();
+    match &err {
+        Error::FaultFoldsBack { node, position, .. } => {
+            assert_eq!(*node, 4);
+            assert_eq!(position, &vec![1.0, 1.0]);
+        }
+        e => panic!("expected FaultFoldsBack, got {e}"),
+    }
+    assert!(err.to_string().contains("node 4"), "{err}");
+    // One face alone (the lower body's: the two faces share their midpoints, so select by
+    // the cell) is a flat fault.
+    let mut mesh = mesh;
+    let lower: Vec<usize> = (0..mesh.num_boundary_facets())
+        .filter(|&f| {
+            let cell = mesh.cell(mesh.boundary_facet_cell(f));
+            (mesh.boundary_facet_midpoint(f)[1] - 1.0).abs() < 1e-9
+                && cell.iter().all(|&v| mesh.vertices()[v][1] <= 1.0)
+        })
+        .collect();
+    assert_eq!(lower.len(), 1);
+    mesh.tag_boundary_facets("lower face", &lower).unwrap();
+    let model = ModelBuilder::new(mesh)
+        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+        .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary("lower face")
+        .build();
+    assert!(model.is_ok(), "{:?}", model.err());
+}
+
+/// A bottom facet of 1e-11 m among ten of 100 m (a valid mesh: the sliver cell under it
+/// has area 5e-12 m², above the mesh's degeneracy test at its 1 m longest edge): the
+/// facet's normal is numerically undefined, a typed error naming the facet and a node.
+#[test]
+fn a_zero_length_fault_facet_is_a_typed_error_naming_the_node() {
+    let mut xs: Vec<f64> = (0..=10).map(|i| 100.0 * i as f64).collect();
+    xs.push(1000.0 + 1e-11);
+    let mesh = rsf::fem::rectangle_from_coordinates(&xs, &[0.0, 1.0], Diagonal::Forward).unwrap();
+    let err = ModelBuilder::new(mesh.clone())
+        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+        .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary(Part::predicate("base", |x| x[1] < 1e-9))
+        .build()
+        .unwrap_err();
+    match &err {
+        Error::DegenerateFaultFacet {
+            node,
+            facet,
+            measure,
+            ..
+        } => {
+            assert!(mesh.boundary_facet(*facet).contains(node));
+            assert!([10, 11].contains(node), "node {node}");
+            assert!((measure - 1e-11).abs() < 1e-13, "{measure}");
+        }
+        e => panic!("expected DegenerateFaultFacet, got {e}"),
+    }
+    assert!(err.to_string().contains("node 1"), "{err}");
+    // Without the sliver the base is fine.
+    let mesh =
+        rsf::fem::rectangle_from_coordinates(&xs[..11], &[0.0, 1.0], Diagonal::Forward).unwrap();
+    assert!(ModelBuilder::new(mesh)
+        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+        .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary(Part::predicate("base", |x| x[1] < 1e-9))
+        .build()
+        .is_ok());
+}
+
+/// The rotation by `phi` (rad) about the unit axis `(1, 2, 3)/√14` (Rodrigues' formula):
+/// aligned with no coordinate axis or plane.
+fn rot3(phi: f64, x: [f64; 3]) -> [f64; 3] {
+    let l = 14f64.sqrt();
+    let k = [1.0 / l, 2.0 / l, 3.0 / l];
+    let (s, c) = phi.sin_cos();
+    let kx = [
+        k[1] * x[2] - k[2] * x[1],
+        k[2] * x[0] - k[0] * x[2],
+        k[0] * x[1] - k[1] * x[0],
+    ];
+    let kdx = k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
+    std::array::from_fn(|r| x[r] * c + kx[r] * s + k[r] * kdx * (1.0 - c))
+}
+
+/// The model of the 3-D slider `scene` with mesh, gravity and loading rotated by `phi`
+/// about [`rot3`]'s axis, the faces tagged as [`slider_3d_coarse`]'s, and the fault's
+/// reference tangent the rotated `e_x` (the loading direction). The coarse cells are
+/// Kuhn paths, whose refinement order is increasing vertex index: passing them sorted to
+/// `from_ordered_cells` refines the rotated mesh exactly as the unrotated one.
+fn rotated_slider_3d(scene: &Slider3dScene, phi: f64) -> Model<3> {
+    let flat = slider_3d_coarse(scene.width_m).unwrap();
+    let vertices = flat.vertices().iter().map(|&x| rot3(phi, x)).collect();
+    let cells = flat
+        .cells()
+        .chunks_exact(4)
+        .flat_map(|c| {
+            let mut c = [c[0], c[1], c[2], c[3]];
+            c.sort_unstable();
+            c
+        })
+        .collect();
+    let mut coarse = SimplexMesh::from_ordered_cells(vertices, cells).unwrap();
+    let w = scene.width_m;
+    let back = |x: &[f64; 3]| rot3(-phi, *x);
+    coarse.tag_boundary(TAG_NEUMANN, |x| {
+        let y = back(x);
+        y[0] < 1e-9 || y[0] > 5.0 - 1e-9
+    });
+    coarse.tag_boundary(TAG_LATERAL, |x| {
+        let y = back(x);
+        y[2] < 1e-9 * w || y[2] > w * (1.0 - 1e-9)
+    });
+    coarse.tag_boundary(TAG_DIRICHLET, |x| back(x)[1] > 1.0 - 1e-9);
+    coarse.tag_boundary(TAG_FRICTIONAL, |x| back(x)[1] < 1e-9);
+    let s = &scene.slider;
+    ModelBuilder::refined(coarse, s.level)
+        .unwrap()
+        .material(s.material())
+        .gravity(rot3(phi, [0.0, -s.gravity_m_per_s2, 0.0]))
+        .dirichlet(
+            TAG_DIRICHLET,
+            rot3(phi, [s.loading_velocity_m_per_s, 0.0, 0.0]),
+        )
+        .frictional_boundary(TAG_FRICTIONAL)
+        .fault_tangent(rot3(phi, [1.0, 0.0, 0.0]))
+        .loading(s.loading())
+        .build()
+        .expect("the rotated 3-D slider builds")
+}
+
+fn track_3d(scene: &Slider3dScene, model: Model<3>, x0: [f64; 3]) -> Track<3> {
+    let mut tr = Track {
+        x0: model.nearest_node(&x0).unwrap(),
+        ..Track::default()
+    };
+    let mut sim = scene.build_with_model(model).unwrap();
+    sim.run(scene.slider.steps, &mut [&mut tr]).unwrap();
+    tr
+}
+
+/// The fast-loading slider extruded to 3-D (level 1, W = 1 m, free lateral faces, τ = 1e-3
+/// s, 300 steps through its first slip event) rotated by 30° about (1, 2, 3)/√14 gives the
+/// unrotated trajectory (as the 2-D test above): the rotated fault's frames are
+/// `(R e_x, −R e_z, R e_y)` with `fault_tangent = R e_x`, the unrotated fault's Cartesian
+/// basis `(e_x, e_y, e_z)`, the same basis up to an orthogonal change per node.
+#[test]
+fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
+    let phi = 30f64.to_radians();
+    let scene = Slider3dScene {
+        slider: SliderScene {
+            level: 1,
+            ..fast_loading(2e-2, 300)
+        },
+        ..Slider3dScene::default()
+    };
+    // The angle 0 rebuilds the scene's model bit for bit (same refinement, no frames).
+    let straight_model = scene.build_model().unwrap();
+    let zero = rotated_slider_3d(&scene, 0.0);
+    assert!(zero.frames.nodes.is_empty());
+    assert_eq!(straight_model.stiffness.val(), zero.stiffness.val());
+    assert_eq!(straight_model.load, zero.load);
+    assert_eq!(straight_model.fixed, zero.fixed);
+
+    let turned_model = rotated_slider_3d(&scene, phi);
+    assert_eq!(
+        turned_model.frames.nodes,
+        turned_model.frictional_boundary.nodes
+    );
+    let (t1, n_in) = (rot3(phi, [1.0, 0.0, 0.0]), rot3(phi, [0.0, 1.0, 0.0]));
+    for q in &turned_model.frames.rotations {
+        for r in 0..3 {
+            assert!((q[r][0] - t1[r]).abs() < 1e-12 && (q[r][2] - n_in[r]).abs() < 1e-12);
+        }
+    }
+    let straight = track_3d(&scene, straight_model, scene.centre());
+    let turned = track_3d(&scene, turned_model, rot3(phi, scene.centre()));
+    assert_eq!(straight.x0, turned.x0, "x0 is the same node");
+    assert_eq!(straight.t, turned.t);
+    let (f1, f2) = (straight.first_slip(), turned.first_slip());
+    let (p1, p2) = (straight.peak(), turned.peak());
+    let (s1, s2) = (straight.slip(), turned.slip());
+    let (differ, off_by_more) = straight.fpi_differences(&turned);
+    let worst_ln_v = straight.worst_ln_v(&turned);
+    println!(
+        "3-D: first slip {f1:.9} / {f2:.9} s, peak V {p1:.9e} / {p2:.9e} m/s, slip at x0 \
+         {s1:.9e} / {s2:.9e} m, FPI {} / {} (differ at {differ} of {} steps), max |Δ ln V| \
+         {worst_ln_v:.2e}",
+        straight.fpi.iter().sum::<usize>(),
+        turned.fpi.iter().sum::<usize>(),
+        straight.t.len()
+    );
+    assert!(p1 > 1e-3, "the window holds a slip event (peak {p1:e} m/s)");
+    assert!((f1 - f2).abs() <= 1e-6, "first slip {f1} vs {f2} s");
+    assert!((p1 - p2).abs() <= 1e-6 * p1, "peak slip rate {p1} vs {p2}");
+    assert!(
+        (s1 - s2).abs() <= 1e-6 * s1.abs(),
+        "slip at x0 {s1} vs {s2}"
+    );
+    assert!(worst_ln_v <= 1e-6, "max |Δ ln V| = {worst_ln_v:e}");
+    // The Cartesian velocity of x0 is the rotated one.
+    for (a, b) in straight.v_x0.iter().zip(&turned.v_x0) {
+        let ra = rot3(phi, *a);
+        let scale = a.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-12);
+        let d = (0..3).map(|r| (ra[r] - b[r]).powi(2)).sum::<f64>().sqrt();
+        assert!(d <= 1e-6 * scale, "{a:?} rotated vs {b:?}");
+    }
+    assert!(
+        differ <= 3 && !off_by_more,
+        "{differ} steps differ in FPI count"
+    );
+}
+
+/// The 3-D slider rotated by 30° about the skew axis at level 2, the block sliding along
+/// the fault at 0.5 m/s (rotated `e_x`) the step before: TNNMG and the direct solver agree
+/// to 1e-9 in the energy norm on the slanted 3-D fault.
+#[test]
+fn tnnmg_and_direct_agree_on_a_slanted_3d_fault() {
+    let phi = 30f64.to_radians();
+    let scene = Slider3dScene {
+        slider: SliderScene {
+            level: 2,
+            ..fast_loading(2e-2, 300)
+        },
+        ..Slider3dScene::default()
+    };
+    let model = rotated_slider_3d(&scene, phi);
+    assert!(!model.frames.nodes.is_empty());
+    let (rel, vmax) = tnnmg_against_direct(&scene.slider, &model, rot3(phi, [0.5, 0.0, 0.0]));
+    println!(
+        "TNNMG vs direct on a slanted 3-D fault ({} dofs): {rel:e} (largest slip rate {vmax:e} \
+         m/s)",
+        model.num_dofs()
+    );
+    assert!(vmax > 1e-3, "the fault slides");
+    assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
+}
+
+/// Radius (m) of the arc of the Gmsh fixture `arc_block.msh` (rsf-fem's test fixtures):
+/// the base of the block x ∈ [0, 5], y ≤ 1 is the lower branch of the circle of this
+/// radius about (2.5, ARC_RADIUS).
+const ARC_RADIUS: f64 = 10.0;
+const ARC_CENTRE: [f64; 2] = [2.5, ARC_RADIUS];
+
+/// The fixture's coarse mesh, read through the Gmsh reader.
+fn arc_block_coarse() -> TriangleMesh {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../rsf-fem/tests/fixtures/arc_block.msh"
+    );
+    rsf::fem::read_gmsh::<2>(path).unwrap().mesh
+}
+
+/// The point of the arc above or below `x` (projection along y): refining with it keeps
+/// the base nodes equally spaced in x, so the spacing along the arc varies smoothly on
+/// every level.
+fn onto_arc(x: &[f64; 2]) -> [f64; 2] {
+    let u = x[0] - ARC_CENTRE[0];
+    [
+        x[0],
+        ARC_CENTRE[1] - (ARC_RADIUS * ARC_RADIUS - u * u).sqrt(),
+    ]
+}
+
+/// The block on the arc at `level`: the fixture refined with new base nodes moved onto the
+/// arc, the paper's material, the top clamped (moving at the loading velocity), the arc
+/// frictional.
+fn arc_block(scene: &SliderScene, level: usize) -> Model<2> {
+    let hierarchy = rsf::fem::MeshHierarchy::try_refine_uniformly_onto(
+        arc_block_coarse(),
+        level,
+        TAG_FRICTIONAL,
+        onto_arc,
+    )
+    .unwrap();
+    ModelBuilder::from_hierarchy(hierarchy)
+        .material(scene.material())
+        .gravity([0.0, -scene.gravity_m_per_s2])
+        .dirichlet(TAG_DIRICHLET, [scene.loading_velocity_m_per_s, 0.0])
+        .frictional_boundary(TAG_FRICTIONAL)
+        .loading(scene.loading())
+        .build()
+        .expect("the block on the arc builds")
+}
+
+/// The frames of the curved fault: their inward normals (last columns) converge to the
+/// exact normals of the arc, `(centre − x)/R`, at O(h²). The area-weighted mean of the two
+/// chord normals at a node is the normal of the central difference `x_{p+1} − x_{p−1}`,
+/// second order where the spacing varies smoothly (here: equally spaced in x on every
+/// level), with the leading term (h²/6) |y'''|/(1 + y'²) checked to 1 % on every level.
+/// (A radial projection of the refined nodes would halve the angles of each coarse
+/// interval, keep the coarse spacing's jumps at the coarse nodes and give O(h) there.)
+/// Measured at the arc's interior nodes (at its two ends Γ_F has one facet, a
+/// one-sided O(h) normal); the fixture's own nodes lie on the arc (checked).
+#[test]
+fn the_frames_of_a_curved_fault_converge_to_the_arc_normals_at_second_order() {
+    let coarse = arc_block_coarse();
+    let on_arc: Vec<usize> = coarse
+        .facets_with_tag(TAG_FRICTIONAL)
+        .iter()
+        .flat_map(|&f| coarse.boundary_facet(f).to_vec())
+        .collect();
+    assert_eq!(coarse.facets_with_tag(TAG_FRICTIONAL).len(), 10);
+    for &p in &on_arc {
+        let x = coarse.vertices()[p];
+        let r = (x[0] - ARC_CENTRE[0]).hypot(x[1] - ARC_CENTRE[1]);
+        assert!(
+            (r - ARC_RADIUS).abs() < 1e-12,
+            "fixture node {p} off the arc: {r}"
+        );
+    }
+    let scene = fast_loading(2e-2, 300);
+    let mut errors = Vec::new();
+    for level in 0..=4 {
+        let model = arc_block(&scene, level);
+        let h = 0.5 / f64::from(1u32 << level);
+        let mut worst = 0.0f64;
+        let mut predicted = 0.0f64;
+        let mut framed = 0;
+        for &p in &model.frictional_boundary.nodes {
+            let x = model.vertices[p];
+            if x[0] < 1e-9 || x[0] > 5.0 - 1e-9 {
+                continue;
+            }
+            let exact = [
+                (ARC_CENTRE[0] - x[0]) / ARC_RADIUS,
+                (ARC_CENTRE[1] - x[1]) / ARC_RADIUS,
+            ];
+            // The inward normal: the frame's last column, or +e_y where the normal is along
+            // the axis (no frame: only the arc's lowest point x = 2.5).
+            let n = match model.frame(p) {
+                Some(q) => {
+                    framed += 1;
+                    [q[0][1], q[1][1]]
+                }
+                None => {
+                    assert!((x[0] - 2.5).abs() < 1e-12, "node {p} at {x:?} has no frame");
+                    [0.0, 1.0]
+                }
+            };
+            // The arc is below the centre: every node's normal points up into the block.
+            assert!(n[1] > 0.9);
+            worst = worst.max((n[0] - exact[0]).hypot(n[1] - exact[1]));
+            // The leading error term: the normal is that of the central difference
+            // (2h, y(x+h) − y(x−h)) = 2h (1, y' + h² y'''/6 + O(h⁴)), off by the angle
+            // (h²/6) y'''/(1 + y'²), with y = c_y − √(R² − u²), u = x − c_x:
+            // y' = u/s, y''' = 3R²u/s⁵, s = √(R² − u²).
+            let u = x[0] - ARC_CENTRE[0];
+            let s = (ARC_RADIUS * ARC_RADIUS - u * u).sqrt();
+            let (d1, d3) = (u / s, 3.0 * ARC_RADIUS * ARC_RADIUS * u / s.powi(5));
+            predicted = predicted.max(h * h / 6.0 * d3.abs() / (1.0 + d1 * d1));
+        }
+        println!(
+            "level {level}: h = {h:.4} m along x, {framed} frames, max |n − n_arc| = \
+             {worst:.3e} (leading term {predicted:.3e})"
+        );
+        errors.push(worst);
+        assert!(
+            (worst / predicted - 1.0).abs() < 0.01,
+            "level {level}: error {worst:e}, leading term {predicted:e}"
+        );
+    }
+    let rates: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
+    println!("observed orders: {rates:.3?}");
+    assert!(
+        rates.iter().all(|&r| r > 1.8),
+        "normals converge at O(h²): orders {rates:?}"
+    );
+}
+
+/// TNNMG and the direct solver agree to 1e-9 relative in the energy norm on the curved
+/// fault (level 3), the block moving along x at 0.5 m/s the step before.
+#[test]
+fn tnnmg_and_direct_agree_on_a_curved_fault() {
+    let scene = SliderScene {
+        level: 3,
+        ..fast_loading(2e-2, 300)
+    };
+    let model = arc_block(&scene, scene.level);
+    assert!(model.frames.nodes.len() + 1 == model.frictional_boundary.len());
+    let (rel, vmax) = tnnmg_against_direct(&scene, &model, [0.5, 0.0]);
+    println!("TNNMG vs direct on the arc: {rel:e} (largest slip rate {vmax:e} m/s)");
+    assert!(vmax > 1e-3, "the fault slides");
+    assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
 }

@@ -264,6 +264,10 @@ pub const DEFAULT_MAX_FAULT_KINK_DEGREES: f64 = 30.0;
 /// degenerate ([`Error::DegenerateFaultFacet`]).
 const DEGENERATE_FACET: f64 = 1e-12;
 
+/// At a node of Γ_F whose facets' area-weighted normal sum is shorter than this fraction of
+/// their total measure the boundary folds back ([`Error::FaultFoldsBack`]).
+const FOLD: f64 = 1e-6;
+
 /// Builds a validated [`Model`] from a mesh (or a refinement hierarchy), a [`Material`],
 /// body forces, and named boundary parts: Dirichlet parts with a prescribed velocity,
 /// Neumann parts with a traction, and the frictional boundary Γ_F with bilateral contact.
@@ -530,8 +534,8 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// [`Error::InvalidParameter`] for a missing material or frictional part, non-finite
     /// velocities or gravity, a component ≥ D, two Dirichlet parts prescribing different
     /// velocities to one dof; [`Error::BoundaryPart`] for a part that selects nothing
-    /// or was built on another mesh; [`Error::FaultCorner`] / [`Error::DegenerateFaultFacet`]
-    /// where Γ_F has no well-defined nodal frame; [`Error::InvalidParameter`] named
+    /// or was built on another mesh; [`Error::FaultCorner`] / [`Error::FaultFoldsBack`] /
+    /// [`Error::DegenerateFaultFacet`] where Γ_F has no well-defined nodal frame; [`Error::InvalidParameter`] named
     /// `dirichlet` for a slanted fault node with only some Cartesian components fixed,
     /// `max_fault_kink` or `fault_tangent` out of range;
     /// [`Error::Equilibrium`] if `K u₀ = F` is singular under the constraints; material
@@ -825,8 +829,10 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             .map(|&f| mesh.boundary_facet_measure(f))
             .sum::<f64>()
             / facets.len() as f64;
-        // Per node: the unit normals of its facets.
+        // Per node: the unit normals of its facets, and their area-weighted sum with the
+        // total area (a fold: the sum cancels).
         let mut at_node: Vec<Vec<[f64; D]>> = vec![Vec::new(); mesh.num_vertices()];
+        let mut resultant = vec![([0.0; D], 0.0); mesh.num_vertices()];
         for &f in facets {
             let a = mesh.boundary_facet_measure(f);
             let vs = mesh.boundary_facet(f);
@@ -841,6 +847,9 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             let nf = mesh.boundary_facet_normal(f);
             for &v in vs {
                 at_node[v].push(nf);
+                let (sum, total) = &mut resultant[v];
+                sum.iter_mut().zip(&nf).for_each(|(s, n)| *s += a * n);
+                *total += a;
             }
         }
         for &p in gamma_f.nodes() {
@@ -859,6 +868,14 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     position: mesh.vertices()[p].to_vec(),
                     angle_degrees: worst,
                     limit_degrees: limit,
+                });
+            }
+            let (sum, total) = &resultant[p];
+            if sum.iter().map(|s| s * s).sum::<f64>().sqrt() <= FOLD * total {
+                return Err(Error::FaultFoldsBack {
+                    part: name.to_owned(),
+                    node: p,
+                    position: mesh.vertices()[p].to_vec(),
                 });
             }
         }

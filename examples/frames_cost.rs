@@ -1,0 +1,117 @@
+//! What nodal frames cost per time step (issue 24; docs/performance.md): the paper's slider
+//! with its axis-aligned fault (`--angle 0`, no frames) against the same slider turned so
+//! that every fault node has a frame. In 2-D the turned slider is the inclined one of
+//! `examples/inclined_block.rs` (`rsf_examples::inclined_slider_model`: mesh and loading
+//! turned by `--angle`, gravity vertical; its velocity problems are the unturned ones in
+//! other coordinates); in 3-D the block of `rsf::Slider3dScene` (W = 1 m, free lateral
+//! faces) turned by `--angle` about (1, 2, 3)/√14 with gravity
+//! (`rsf_examples::turned_slider_3d_model`). Both give the unturned trajectory (same fixed
+//! point iterations), so the stepping times compare the same work.
+//!
+//! ```sh
+//! cargo run --release --example frames_cost -- --dim 2 --level 4 --angle 30
+//! cargo run --release --example frames_cost -- --dim 3 --level 3 --angle 30 --end-time 3 --steps 2000
+//! ```
+//!
+//! Prints the model size, the set-up time (model and simulation), the stepping time and
+//! the time per step, and the run's statistics (fixed point iterations, solver iterations,
+//! first slip event, peak slip rate). Writes no files.
+
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+use rsf::{Observer, SceneSimulation, Slider3dScene, SliderScene, StepView, Until};
+use rsf_examples::{inclined_slider_model, turned_slider_3d_model, SceneArgs, TimeStepArgs};
+
+/// The cost of nodal frames per time step: the slider axis-aligned or turned.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    #[command(flatten)]
+    time_step: TimeStepArgs,
+    /// Spatial dimension: 2 (the paper's slider) or 3 (the 3-D slider).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+    dim: u8,
+    /// Angle the slider is turned by (degrees; 0: the axis-aligned slider, no frames).
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    angle: f64,
+}
+
+/// The first time the largest slip rate exceeds 1e-3 m/s, and the peak slip rate.
+#[derive(Default)]
+struct Events {
+    first: Option<f64>,
+    peak: f64,
+}
+
+impl<const D: usize> Observer<D> for Events {
+    fn observe(&mut self, s: &StepView<'_, D>) -> rsf::Result<rsf::Flow> {
+        let v = s.report.max_slip_rate;
+        self.peak = self.peak.max(v);
+        if v > 1e-3 && self.first.is_none() {
+            self.first = Some(s.report.time);
+        }
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let scene: SliderScene = cli
+        .time_step
+        .apply(cli.scene.scene(SliderScene::default())?)?;
+    let phi = cli.angle.to_radians();
+    let start = Instant::now();
+    if cli.dim == 2 {
+        let model = inclined_slider_model(&scene, phi)?;
+        let frames = model.frames.nodes.len();
+        let sim = scene.build_with_model(model)?;
+        report(cli.angle, frames, start, sim, scene.end_time_s)
+    } else {
+        let scene3 = Slider3dScene {
+            slider: scene,
+            ..Slider3dScene::default()
+        };
+        let model = turned_slider_3d_model(&scene3, phi)?;
+        let frames = model.frames.nodes.len();
+        let sim = scene3.build_with_model(model)?;
+        report(cli.angle, frames, start, sim, scene3.slider.end_time_s)
+    }
+}
+
+fn report<const D: usize>(
+    angle: f64,
+    frames: usize,
+    start: Instant,
+    mut sim: SceneSimulation<D>,
+    end_time: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let setup = start.elapsed().as_secs_f64();
+    let mut events = Events::default();
+    let summary = sim.run_until(Until::Time(end_time), &mut [&mut events])?;
+    println!(
+        "{D}-D, turned by {angle}°: {} dofs, {} frictional nodes ({frames} with frames); \
+         set-up {setup:.3} s; {} steps in {:.3} s = {:.4} ms per step",
+        sim.model().num_dofs(),
+        sim.model().frictional_boundary.len(),
+        summary.steps,
+        summary.seconds,
+        1e3 * summary.seconds / summary.steps.max(1) as f64
+    );
+    println!(
+        "fixed point iterations: mean {:.4}, max {}; solver iterations {}; first slip event \
+         (max V > 1e-3 m/s): {}; peak slip rate {:.6e} m/s",
+        summary.fpi_mean,
+        summary.fpi_max,
+        summary.solver_iterations,
+        events.first.map_or("none".into(), |t| format!("{t:.6} s")),
+        events.peak
+    );
+    Ok(())
+}
