@@ -12,15 +12,17 @@
 //!
 //! Writes to `out/curved_fault/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries`
 //! at x0 = (2.5, 0), the arc's lowest point, where the frame is Cartesian: same columns as
-//! the main job's) and the figure `slip_rate_max.png` (the largest slip rate on the arc).
+//! the main job's), the figure `slip_rate_max.png` (the largest slip rate on the arc) and,
+//! with `--frame-every N`, VTU frames with a `frames/frames.pvd` index for ParaView (slip,
+//! slip rate, shear and normal traction along the arc).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{PointSeries, SliderScene, Until, SLIDER_CENTRE};
+use rsf::{FileMode, Observer, PointSeries, SliderScene, Until, SLIDER_CENTRE};
 use rsf_examples::{
-    arc_block_model, max_slip_rate_figure, stats, SceneArgs, SliderRun, TimeStepArgs,
+    arc_block_model, max_slip_rate_figure, stats, FrameArgs, SceneArgs, SliderRun, TimeStepArgs,
     ARC_BLOCK_MESH,
 };
 
@@ -39,6 +41,8 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/curved_fault")]
     out: PathBuf,
+    #[command(flatten)]
+    frames: FrameArgs,
 }
 
 fn main() -> ExitCode {
@@ -66,13 +70,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut sim = scene.build_with_model(model)?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let series_csv = out.join("timeseries.csv");
-    let mut series = PointSeries::new(&series_csv, sim.model(), x0, rsf::FileMode::Create)?;
+    let mut frame_files = cli.frames.observer(0, &out, FileMode::Create)?;
+    let mut series = PointSeries::new(&series_csv, sim.model(), x0, FileMode::Create)?;
     let mut progress = scene.progress(0.0, "curved fault");
-    let summary = sim.run_until(
-        Until::Time(scene.end_time_s),
-        &mut [&mut series, &mut progress],
-    )?;
-    drop(series);
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut progress];
+    if let Some(f) = frame_files.as_mut() {
+        observers.push(f);
+    }
+    let summary = sim.run_until(Until::Time(scene.end_time_s), &mut observers)?;
+    drop(observers);
 
     let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
     (run.dofs, run.frictional_nodes) = (
