@@ -35,8 +35,8 @@ impl<const D: usize> FrictionalProfile<D> {
     /// file `path`, new or continued after a checkpoint ([`FileMode`]).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for a NaN or empty window; for [`FileMode::Resume`],
-    /// [`Error::Resume`] for a missing file, another header or a malformed row; I/O
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for a NaN or empty window; for [`FileMode::Resume`],
+    /// [`Error::Resume`](crate::Error::Resume) for a missing file, another header or a malformed row; I/O
     /// errors.
     pub fn new(path: &Path, (t0, t1): (f64, f64), mode: FileMode) -> Result<Self> {
         if t0.is_nan() || t1.is_nan() || t0 > t1 {
@@ -65,7 +65,7 @@ impl<const D: usize> FrictionalProfile<D> {
     /// Reads a file written by a `FrictionalProfile<D>`.
     ///
     /// # Errors
-    /// I/O errors; [`Error::Resume`] for another header or a malformed row.
+    /// I/O errors; [`Error::Resume`](crate::Error::Resume) for another header or a malformed row.
     pub fn read(path: &Path) -> Result<Vec<ProfileRow<D>>> {
         files::read_rows(path, &Self::header(), |f| {
             if f.len() != 4 + D {

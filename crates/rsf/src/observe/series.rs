@@ -18,7 +18,7 @@ use super::{Flow, Observer, StepView};
 /// fixed point iterations. Components are in model coordinates ([`Model`]): at a slanted
 /// fault node (one with a nodal frame) `x`, `y`(, `z`) stand for the frame's tangent(s) and
 /// normal, i.e. slip coordinates; Cartesian elsewhere. Rows are flushed every step (by default) so that a killed run
-/// keeps what it wrote; [`PointSeries::resume`] continues a file after a checkpoint.
+/// keeps what it wrote; [`FileMode::Resume`] continues a file after a checkpoint.
 pub struct PointSeries<const D: usize> {
     node: usize,
     out: BufWriter<File>,
@@ -67,7 +67,7 @@ impl<const D: usize> PointSeries<D> {
     /// checkpoint ([`FileMode`]).
     ///
     /// # Errors
-    /// [`Error::NodeOutOfRange`]; for [`FileMode::Resume`], [`Error::Resume`] if the file
+    /// [`Error::NodeOutOfRange`](crate::Error::NodeOutOfRange); for [`FileMode::Resume`], [`Error::Resume`](crate::Error::Resume) if the file
     /// is missing, has another header, or its rows end before the checkpoint's step (e.g.
     /// rows buffered by [`flush_every`](Self::flush_every) and lost); I/O errors.
     pub fn new(path: &Path, model: &Model<D>, node: usize, mode: FileMode) -> Result<Self> {
@@ -102,7 +102,7 @@ impl<const D: usize> PointSeries<D> {
     /// Reads a file written by a `PointSeries<D>`.
     ///
     /// # Errors
-    /// I/O errors; [`Error::Resume`] for another header or a malformed row.
+    /// I/O errors; [`Error::Resume`](crate::Error::Resume) for another header or a malformed row.
     pub fn read(path: &Path) -> Result<Vec<SeriesRow<D>>> {
         files::read_rows(path, &Self::header(), parse_row::<D>)
     }
