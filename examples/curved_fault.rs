@@ -20,10 +20,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{FileMode, Observer, PointSeries, SliderScene, Until, SLIDER_CENTRE};
+use rsf::{SliderScene, SLIDER_CENTRE};
 use rsf_examples::{
-    arc_block_model, max_slip_rate_figure, stats, FrameArgs, SceneArgs, SliderRun, TimeStepArgs,
-    ARC_BLOCK_MESH,
+    arc_block_model, max_slip_rate_figure, print_run, run_with_series, FrameArgs, SceneArgs,
+    TimeStepArgs, ARC_BLOCK_MESH,
 };
 
 /// The paper's slider on a circular-arc base: time series at x0, summary, figure.
@@ -69,45 +69,12 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let frames = model.frames.nodes.len();
     let mut sim = scene.build_with_model(model)?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
-    let series_csv = out.join("timeseries.csv");
-    let mut frame_files = cli.frames.observer(0, &out, FileMode::Create)?;
-    let mut series = PointSeries::new(&series_csv, sim.model(), x0, FileMode::Create)?;
-    let mut progress = scene.progress(0.0, "curved fault");
-    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut progress];
-    if let Some(f) = frame_files.as_mut() {
-        observers.push(f);
-    }
-    let summary = sim.run_until(Until::Time(scene.end_time_s), &mut observers)?;
-    drop(observers);
-
-    let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
-    (run.dofs, run.frictional_nodes) = (
-        sim.model().num_dofs(),
-        sim.model().frictional_boundary.len(),
-    );
-    run.seconds = summary.seconds;
-    let st = stats(&run, scene.end_time_s);
+    let (run, st) = run_with_series(&scene, &mut sim, x0, &out, &cli.frames, "curved fault")?;
     max_slip_rate_figure(
         &out.join("slip_rate_max.png"),
         "Largest slip rate on the arc",
         &run,
     )?;
-    println!(
-        "{} dofs, {} frictional nodes ({frames} with nodal frames), {} steps in {:.2} s",
-        run.dofs,
-        run.frictional_nodes,
-        run.fpi.len(),
-        run.seconds
-    );
-    println!(
-        "fixed point iterations: mean {:.2}, max {}; first slip event (max V > 1e-3 m/s): {}; \
-         slip events: {}; peak slip rate {:.3e} m/s",
-        st.fpi_mean,
-        st.fpi_max,
-        st.first_slip_event_s
-            .map_or("none".into(), |t| format!("{t:.3} s")),
-        st.slip_events,
-        st.peak_slip_rate_mps
-    );
+    print_run(&run, &st, frames);
     Ok(())
 }

@@ -12,6 +12,7 @@ pub mod cli;
 mod curved;
 mod heat_map;
 mod incline;
+mod own_model;
 mod panels;
 pub mod pipping_slider;
 mod run;
@@ -23,6 +24,7 @@ pub use curved::{
 };
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
+pub use own_model::{print_run, run_with_series};
 pub use panels::PanelLayout;
 pub use run::{
     cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,
