@@ -268,7 +268,8 @@ const DEGENERATE_FACET: f64 = 1e-12;
 /// their total measure the boundary folds back ([`Error::FaultFoldsBack`]).
 const FOLD: f64 = 1e-6;
 
-/// Builds a validated [`Model`] from a mesh (or a refinement hierarchy), a [`Material`],
+/// Builds a consistent [`Model`] (its magnitudes are checked when a simulation is built,
+/// [`Model::validate`]) from a mesh (or a refinement hierarchy), a [`Material`],
 /// body forces, and named boundary parts: Dirichlet parts with a prescribed velocity,
 /// Neumann parts with a traction, and the frictional boundary Γ_F with bilateral contact.
 ///
@@ -528,7 +529,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         self
     }
 
-    /// Assembles and validates the model.
+    /// Assembles the model and checks its consistency (shapes, constraints, frames).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a missing material or frictional part, non-finite
