@@ -944,7 +944,7 @@ pub(super) mod tests {
     use super::*;
 
     /// 5-point Laplacian plus identity on an `m × m` grid (node `i + m j`).
-    pub(in crate::direct) fn grid(m: usize) -> Csc {
+    pub(crate) fn grid(m: usize) -> Csc {
         let n = m * m;
         let mut col_ptr = vec![0];
         let mut row_idx = Vec::new();
