@@ -696,6 +696,18 @@ fn track_3d(scene: &Slider3dScene, model: Model<3>, x0: [f64; 3]) -> Track<3> {
     tr
 }
 
+/// The fast-loading slider (v_load 2e-2 m/s, 300 steps) extruded to 3-D at `level`
+/// (W = 1 m, free lateral faces).
+fn fast_slider_3d(level: usize) -> Slider3dScene {
+    Slider3dScene {
+        slider: SliderScene {
+            level,
+            ..fast_loading(2e-2, 300)
+        },
+        ..Slider3dScene::default()
+    }
+}
+
 /// The fast-loading slider extruded to 3-D (level 1, W = 1 m, free lateral faces, τ = 1e-3
 /// s, 300 steps through its first slip event) rotated by 30° about (1, 2, 3)/√14 gives the
 /// unrotated trajectory (as the 2-D test above): the rotated fault's frames are
@@ -704,13 +716,7 @@ fn track_3d(scene: &Slider3dScene, model: Model<3>, x0: [f64; 3]) -> Track<3> {
 #[test]
 fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
     let phi = 30f64.to_radians();
-    let scene = Slider3dScene {
-        slider: SliderScene {
-            level: 1,
-            ..fast_loading(2e-2, 300)
-        },
-        ..Slider3dScene::default()
-    };
+    let scene = fast_slider_3d(1);
     // The angle 0 rebuilds the scene's model bit for bit (same refinement, no frames).
     let straight_model = scene.build_model().unwrap();
     let zero = rotated_slider_3d(&scene, 0.0);
@@ -774,13 +780,7 @@ fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
 #[test]
 fn tnnmg_and_direct_agree_on_a_slanted_3d_fault() {
     let phi = 30f64.to_radians();
-    let scene = Slider3dScene {
-        slider: SliderScene {
-            level: 2,
-            ..fast_loading(2e-2, 300)
-        },
-        ..Slider3dScene::default()
-    };
+    let scene = fast_slider_3d(2);
     let model = rotated_slider_3d(&scene, phi);
     assert!(!model.frames.nodes.is_empty());
     let (rel, vmax) = tnnmg_against_direct(&scene.slider, &model, rot3(phi, [0.5, 0.0, 0.0]));
