@@ -33,7 +33,7 @@ use rsf::{
     SLIDER_CENTRE,
 };
 use rsf_examples::cli::step_count;
-use rsf_examples::run_folder::{check_output_size, step_cap};
+use rsf_examples::run_folder::{check_output_size, step_cap, StepCap};
 use rsf_examples::{line_plot, Labels, PanelLayout, RunFolder, SceneArgs, Series, TimeStepArgs};
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
@@ -70,24 +70,6 @@ struct Cli {
 /// Bytes per accepted step, rounded up: its `steps.csv` row (≈ 50 bytes), the row held in
 /// memory during the run (32 bytes) and in the file's text before the atomic write (≈ 50).
 const STEP_BYTES: f64 = 150.0;
-
-/// Ends a run after `cap` accepted steps and remembers where.
-struct StepLimit {
-    cap: Option<u64>,
-    reached: Option<(usize, f64)>,
-}
-
-impl Observer<2> for StepLimit {
-    fn observe(&mut self, s: &StepView<'_, 2>) -> rsf::Result<Flow> {
-        match self.cap {
-            Some(cap) if s.report.step as u64 >= cap => {
-                self.reached = Some((s.report.step, s.report.time));
-                Ok(Flow::Break(()))
-            }
-            _ => Ok(Flow::Continue(())),
-        }
-    }
-}
 
 /// The files a run writes into its folder.
 const OUTPUTS: [&str; 6] = [
@@ -145,18 +127,21 @@ fn simulate(
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let mut events = SlipEvents::new(EventThresholds::default())?.slip_at(sim.model(), x0)?;
     let mut steps = Steps::default();
-    let mut limit = StepLimit { cap, reached: None };
+    let mut limit = cap.map(StepCap::without_checkpoint);
     let mut progress = scene.progress(0.0, what);
-    let summary = sim.run_until(
-        Until::Time(scene.end_time_s),
-        &mut [&mut events, &mut steps, &mut limit, &mut progress],
-    )?;
+    let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut events, &mut steps];
+    if let Some(l) = limit.as_mut() {
+        observers.push(l);
+    }
+    observers.push(&mut progress);
+    let summary = sim.run_until(Until::Time(scene.end_time_s), &mut observers)?;
+    drop(observers);
     Ok(Outcome {
         events: events.events().to_vec(),
         steps,
         rejected: sim.state().controller.map_or(0, |c| c.rejected()),
         seconds: summary.seconds,
-        stopped: limit.reached,
+        stopped: limit.and_then(|l| l.reached()),
     })
 }
 

@@ -331,13 +331,13 @@ pub fn plan_output(
 }
 
 /// Stops a run after `cap` steps in total (the step index of the state, so across
-/// resumes), writing a checkpoint of that step with its [`Checkpointer`] first. Put it
-/// after the observers that write files. [`reached`](Self::reached) tells whether it
-/// stopped the run.
+/// resumes), writing a checkpoint of that step with its [`Checkpointer`] first (if it has
+/// one). Put it after the observers that write files. [`reached`](Self::reached) tells
+/// whether it stopped the run.
 #[derive(Debug, Clone)]
 pub struct StepCap {
     cap: u64,
-    checkpointer: Checkpointer,
+    checkpointer: Option<Checkpointer>,
     reached: Option<(usize, f64)>,
 }
 
@@ -346,7 +346,17 @@ impl StepCap {
     pub fn new(cap: u64, checkpointer: Checkpointer) -> Self {
         Self {
             cap,
-            checkpointer,
+            checkpointer: Some(checkpointer),
+            reached: None,
+        }
+    }
+
+    /// Stops after step `cap` without a checkpoint (a run that cannot be resumed, whose
+    /// files are written at its end).
+    pub fn without_checkpoint(cap: u64) -> Self {
+        Self {
+            cap,
+            checkpointer: None,
             reached: None,
         }
     }
@@ -377,7 +387,9 @@ impl<const D: usize> Observer<D> for StepCap {
         if (s.report.step as u64) < self.cap {
             return Ok(Flow::Continue(()));
         }
-        let _: Flow = self.checkpointer.observe(s)?;
+        if let Some(c) = self.checkpointer.as_mut() {
+            let _: Flow = c.observe(s)?;
+        }
         self.reached = Some((s.report.step, s.report.time));
         Ok(Flow::Break(()))
     }
