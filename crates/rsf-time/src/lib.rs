@@ -25,9 +25,14 @@
 
 pub mod adaptive;
 mod choice;
+pub mod runge_kutta;
 
 pub use adaptive::{ControllerState, StepControl, TAU_MIN_FLOOR, TOLERANCE_RANGE};
 pub use choice::Integrator;
+pub use runge_kutta::{
+    EmbeddedRungeKutta, OdeSystem, RungeKuttaOptions, RungeKuttaState, RungeKuttaStep, Tableau,
+    BOGACKI_SHAMPINE_32, DORMAND_PRINCE_54,
+};
 
 use rsf_linalg::SparseMatrix;
 

@@ -48,6 +48,7 @@
 
 mod checkpoint;
 mod error;
+mod fault_ode;
 mod friction_blocks;
 mod method;
 mod model;
@@ -57,9 +58,11 @@ mod report;
 mod scenes;
 mod simulation;
 mod simulation_state;
+mod switching;
 
 pub use checkpoint::{write_atomically, Checkpoint, Fingerprint, CHECKPOINT_FORMAT};
 pub use error::{Error, Result};
+pub use fault_ode::{FaultOde, FaultOdeOptions};
 pub use friction_blocks::FrictionBlocks;
 pub use method::fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, Predictor};
 #[allow(deprecated)]
@@ -94,7 +97,9 @@ pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
 pub use scenes::conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
-pub use scenes::seas_bp1::{SeasBp1, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
+pub use scenes::seas_bp1::{
+    SeasBp1, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS,
+};
 pub use scenes::slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,
@@ -104,6 +109,7 @@ pub use simulation::builder::{SimulationBuilder, Unset};
 pub use simulation::run::{RunError, RunSummary, Termination, Until};
 pub use simulation::Simulation;
 pub use simulation_state::SimulationState;
+pub use switching::{SwitchingOptions, SwitchingRun, SwitchingStats};
 
 pub use faer;
 pub use rsf_fem as fem;

@@ -1,5 +1,6 @@
 //! Direct solver: exact condensation onto the nonsmooth blocks (docs/math.md §8).
 
+mod condensation;
 mod fault_newton;
 mod partial_cholesky;
 
@@ -15,6 +16,7 @@ use crate::nonlinearity::BlockNonlinearity;
 use crate::problem::BlockedMatrix;
 use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
 use crate::step::StepSolver;
+pub use condensation::Condensation;
 use fault_newton::DenseFault;
 use partial_cholesky::PartialCholesky;
 
@@ -57,13 +59,7 @@ impl Default for DirectOptions {
 
 /// What the condensation computed for one set of nonsmooth blocks.
 struct Condensed<const D: usize> {
-    blocks: Vec<usize>,
-    factor: PartialCholesky,
-    /// Elimination position ↦ dof.
-    order: Vec<usize>,
-    /// Fixed dofs with their column entries on free rows as (elimination position, A_ij).
-    fixed_cols: Vec<(usize, Vec<(usize, f64)>)>,
-    y: Vec<f64>,
+    cond: Condensation<D>,
     fault: DenseFault<D>,
 }
 
@@ -157,7 +153,7 @@ impl<const D: usize> DirectSolver<D> {
             in_step: false,
         };
         if let Some(c) = &self.cache {
-            solver.cache = Some(solver.condense(&c.blocks, Some(&c.factor))?);
+            solver.cache = Some(solver.condense(c.cond.blocks(), Some(&c.cond.factor))?);
         }
         Ok(solver)
     }
@@ -168,7 +164,11 @@ impl<const D: usize> DirectSolver<D> {
     /// # Errors
     /// Blocks out of range or not increasing; `A` not positive definite on the free dofs.
     pub fn prepare(&mut self, blocks: &[usize]) -> Result<()> {
-        if self.cache.as_ref().is_none_or(|c| c.blocks != blocks) {
+        if self
+            .cache
+            .as_ref()
+            .is_none_or(|c| c.cond.blocks() != blocks)
+        {
             self.cache = Some(self.condense(blocks, None)?);
         }
         Ok(())
@@ -176,7 +176,7 @@ impl<const D: usize> DirectSolver<D> {
 
     /// Entries of the sparse factor (0 before the set-up).
     pub fn factor_nnz(&self) -> usize {
-        self.cache.as_ref().map_or(0, |c| c.factor.nnz())
+        self.cache.as_ref().map_or(0, |c| c.cond.factor_nnz())
     }
 
     /// Number of condensed unknowns `|F|` (0 before the set-up).
@@ -191,76 +191,20 @@ impl<const D: usize> DirectSolver<D> {
         blocks: &[usize],
         previous: Option<&PartialCholesky>,
     ) -> Result<Condensed<D>> {
-        let n = self.a.nrows;
-        if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
-            return Err(Error::InvalidOption(format!(
-                "active blocks must be strictly increasing node indices below {}",
-                n / D
-            )));
-        }
-        let mut in_block = vec![false; n];
-        for &p in blocks {
-            in_block[D * p..D * p + D].fill(true);
-        }
-        let interior: Vec<usize> = (0..n).filter(|&i| !in_block[i] && !self.fixed[i]).collect();
-        let interface: Vec<usize> = blocks
-            .iter()
-            .flat_map(|&p| (0..D).map(move |c| D * p + c))
-            .filter(|&i| !self.fixed[i])
-            .collect();
-        let (factor, order) = match previous {
-            Some(p) if p.analysed_for(&self.a, &interior, &interface) => {
-                (p.refactor(&self.a)?, p.order().to_vec())
-            }
-            _ => PartialCholesky::new(&self.a, &interior, &interface)?,
-        };
-        let mut pos = vec![usize::MAX; n];
-        for (k, &i) in order.iter().enumerate() {
-            pos[i] = k;
-        }
-        let fixed_cols = (0..n)
-            .filter(|&j| self.fixed[j])
-            .map(|j| {
-                let (rows, vals) = self.a.col(j);
-                let entries = rows
-                    .iter()
-                    .zip(vals)
-                    .filter(|(&i, _)| pos[i] != usize::MAX)
-                    .map(|(&i, &v)| (pos[i], v))
-                    .collect();
-                (j, entries)
-            })
-            .filter(|(_, e): &(usize, Vec<(usize, f64)>)| !e.is_empty())
-            .collect();
+        let cond = Condensation::build(&self.a, &self.fixed, blocks, previous)?;
+        let (factor, order, pos) = (&cond.factor, &cond.order, &cond.pos);
         let s = factor.schur_complement();
         let norm = self.energy.as_ref().map(|e| {
             let nf = order.len() - factor.nr;
             let stored = 2.0 * 8.0 * order.len() as f64 * nf as f64;
             if stored <= self.opts.max_extension_bytes as f64 {
-                harmonic_energy(&factor, e, &order, &pos)
+                harmonic_energy(factor, e, order, pos)
             } else {
-                harmonic_energy_by_blocks(&factor, e, &order, &pos)
+                harmonic_energy_by_blocks(factor, e, order, pos)
             }
         });
-        let free = blocks
-            .iter()
-            .map(|&p| {
-                let mut f = [false; D];
-                for (c, fc) in f.iter_mut().enumerate() {
-                    *fc = !self.fixed[D * p + c];
-                }
-                f
-            })
-            .collect();
-        let fault = DenseFault::new(s, norm, free, self.opts.soft_ratio);
-        Ok(Condensed {
-            blocks: blocks.to_vec(),
-            y: vec![0.0; order.len()],
-            factor,
-            order,
-            fixed_cols,
-            fault,
-        })
+        let fault = DenseFault::new(s, norm, cond.free.clone(), self.opts.soft_ratio);
+        Ok(Condensed { cond, fault })
     }
 }
 
@@ -458,21 +402,10 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
         check_inputs(self.a.nrows, b, v)?;
         self.prepare(active)?;
         let cd = self.cache.as_mut().expect("prepared above");
-        for (k, &i) in cd.order.iter().enumerate() {
-            cd.y[k] = b[i];
-        }
-        for (j, entries) in &cd.fixed_cols {
-            let vj = v[*j];
-            if vj != 0.0 {
-                for &(k, aij) in entries {
-                    cd.y[k] -= aij * vj;
-                }
-            }
-        }
-        cd.factor.forward_interior(&mut cd.y);
-        let nr = cd.factor.nr;
-        cd.fault.g.copy_from_slice(&cd.y[nr..]);
-        for (k, &p) in cd.blocks.iter().enumerate() {
+        cd.cond.condense_in_place(b, v);
+        let nr = cd.cond.factor.nr;
+        cd.fault.g.copy_from_slice(&cd.cond.y[nr..]);
+        for (k, &p) in cd.cond.blocks().iter().enumerate() {
             cd.fault.xb[D * k..D * k + D].copy_from_slice(&v[D * p..D * p + D]);
         }
         cd.fault.change = f64::INFINITY;
@@ -491,7 +424,7 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
     ) -> Result<SolveReport> {
         stopping.validate()?;
         let cd = match self.cache.as_mut() {
-            Some(cd) if self.in_step && cd.blocks == nl.active_blocks() => cd,
+            Some(cd) if self.in_step && cd.cond.blocks() == nl.active_blocks() => cd,
             _ => {
                 return Err(Error::InvalidOption(
                     "solve_step needs begin_step with the nonlinearity's active blocks".into(),
@@ -529,16 +462,17 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
                 ))
             }
         };
-        let nr = cd.factor.nr;
+        let c = &mut cd.cond;
+        let nr = c.factor.nr;
         for i in 0..cd.fault.num_free() {
-            cd.y[nr + i] = cd.fault.xb[cd.fault.comp(i)];
+            c.y[nr + i] = cd.fault.xb[cd.fault.comp(i)];
         }
-        cd.factor.backward_interior(&mut cd.y);
-        for (k, &i) in cd.order.iter().enumerate() {
-            v[i] = cd.y[k];
+        c.factor.backward_interior(&mut c.y);
+        for (k, &i) in c.order.iter().enumerate() {
+            v[i] = c.y[k];
         }
         self.in_step = false;
-        if cd.y.iter().any(|x| !x.is_finite()) {
+        if c.y.iter().any(|x| !x.is_finite()) {
             return Err(Error::NonFinite("direct solution"));
         }
         Ok(())

@@ -51,6 +51,22 @@ impl TimeFunction {
         }
     }
 
+    /// `G(t) = ∫₀ᵗ g(s) ds` (s) in closed form, for `t ≥ 0`: the displacement of a dof with
+    /// Dirichlet velocity factor `f` is `u₀ + f G(t)`. `None` for a custom function (no
+    /// closed form).
+    pub fn integral(&self, t: f64) -> Option<f64> {
+        match self {
+            TimeFunction::Constant(c) => Some(c * t),
+            TimeFunction::Ramp { duration } => Some(if *duration > 0.0 && t < *duration {
+                0.5 * t * t / duration
+            } else {
+                t - 0.5 * duration
+            }),
+            TimeFunction::PiecewiseLinear(points) => Some(piecewise_linear_integral(points, t)),
+            TimeFunction::Custom(_) => None,
+        }
+    }
+
     /// The first time strictly after `t` (s) at which `g` is not smooth, if `g` says so:
     /// the end of a ramp, the points of a piecewise-linear history (none for a constant or
     /// a custom function). Adaptive time steps end there instead of stepping over it
@@ -92,6 +108,20 @@ impl TimeFunction {
             ))
         }
     }
+}
+
+/// `∫₀ᵗ` of [`piecewise_linear`] (trapezoids between the points, constant outside).
+fn piecewise_linear_integral(points: &[(f64, f64)], t: f64) -> f64 {
+    let mut total = 0.0;
+    let mut a = 0.0;
+    let mut ga = piecewise_linear(points, 0.0);
+    let breaks = points.iter().map(|p| p.0).filter(|&tk| tk > 0.0 && tk < t);
+    for b in breaks.chain(std::iter::once(t)) {
+        let gb = piecewise_linear(points, b);
+        total += 0.5 * (ga + gb) * (b - a);
+        (a, ga) = (b, gb);
+    }
+    total
 }
 
 fn piecewise_linear(points: &[(f64, f64)], t: f64) -> f64 {
@@ -163,6 +193,32 @@ impl DirichletVelocity {
 #[cfg(test)]
 mod tests {
     use super::TimeFunction;
+
+    #[test]
+    fn integrals_match_a_quadrature_of_the_history() {
+        let histories = [
+            TimeFunction::Constant(2.5),
+            TimeFunction::ramp(3.0),
+            TimeFunction::ramp(0.0),
+            TimeFunction::PiecewiseLinear(vec![(-1.0, 1.0), (1.0, 3.0), (2.5, -1.0), (4.0, 0.5)]),
+        ];
+        for h in &histories {
+            for t in [0.0, 0.7, 1.0, 2.0, 3.0, 5.5] {
+                // Composite midpoint rule on a fine grid (exact for the linear pieces up to
+                // the kinks, which it straddles at most once per kink).
+                let n = 200_000;
+                let q: f64 = (0..n)
+                    .map(|i| h.value((i as f64 + 0.5) * t / n as f64) * t / n as f64)
+                    .sum();
+                let g = h.integral(t).unwrap();
+                assert!(
+                    (g - q).abs() < 1e-9 * (1.0 + q.abs()),
+                    "{h:?} at {t}: {g} vs {q}"
+                );
+            }
+        }
+        assert_eq!(TimeFunction::custom(|_| 1.0).integral(1.0), None);
+    }
 
     #[test]
     fn breakpoints_are_the_kinks_after_the_given_time() {

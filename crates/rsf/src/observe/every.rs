@@ -88,6 +88,9 @@ impl<const D: usize, const C: usize, O: Observer<D, C>> Observer<D, C> for Every
     fn name(&self) -> String {
         self.inner.name()
     }
+    fn reads_volume(&self) -> bool {
+        self.inner.reads_volume()
+    }
 }
 
 #[cfg(test)]

@@ -194,6 +194,14 @@ pub trait Observer<const D: usize, const C: usize = D> {
         Ok(())
     }
 
+    /// Whether the observer reads the state off the frictional boundary (interior and
+    /// Dirichlet nodes' `u`, `v`). Default `true`. A run that condenses its unknowns onto
+    /// Γ_F ([`FaultOde`](crate::FaultOde)) computes the rest of the field only for
+    /// observers that read it, and leaves it NaN otherwise.
+    fn reads_volume(&self) -> bool {
+        true
+    }
+
     /// A name for messages and [`Termination::Observer`](crate::Termination); default the
     /// type's name.
     fn name(&self) -> String {

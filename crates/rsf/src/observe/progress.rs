@@ -80,4 +80,7 @@ impl<const D: usize, const C: usize> Observer<D, C> for Progress {
         }
         Ok(())
     }
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }

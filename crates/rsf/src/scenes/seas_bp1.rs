@@ -9,6 +9,7 @@ use rsf_state::Aging;
 use rsf_time::{Integrator, Quasistatic, StepControl};
 
 use crate::error::{invalid, Result};
+use crate::fault_ode::{FaultOde, FaultOdeOptions};
 use crate::model::builder::{AntiplaneMaterial, ModelBuilder, Part};
 use crate::model::Model;
 use crate::simulation::builder::SimulationBuilder;
@@ -18,6 +19,10 @@ use crate::simulation::Simulation;
 /// friction, aging law, quasi-dynamic ([`Quasistatic`] with radiation damping) or fully
 /// dynamic ([`Integrator::Newmark`]).
 pub type SeasBp1Simulation = Simulation<2, AsinhLaw, Aging, Integrator, 1>;
+
+/// A quasi-dynamic run of BP1 condensed onto the fault and integrated by an explicit
+/// Runge–Kutta pair ([`FaultOde`], docs/math.md §12).
+pub type SeasBp1FaultOde = FaultOde<2, AsinhLaw, Aging, 1>;
 
 /// The BP1 discretisation: a tensor-product mesh of `x ∈ [0, domain]` (distance from the
 /// fault) × `z ∈ [0, domain]` (depth), spacing `dz` on `0 ≤ z ≤ W_f` along the fault and
@@ -318,6 +323,25 @@ impl SeasBp1 {
         let mut c = StepControl::new(tolerance, self.d_c, 1e-6, 3.15576e7)?;
         c.slip_rate_floor = Some(self.v_p);
         Ok(c)
+    }
+
+    /// Options of a run condensed onto the fault ([`FaultOde`]) for BP1: the
+    /// Dormand–Prince 5(4) pair, local errors at most `tolerance · D_c` in slip and
+    /// `tolerance` in ln θ per step, steps in [1e-6 s, 1 yr]. (docs/seas-bp1.md compares
+    /// tolerances.)
+    ///
+    /// # Errors
+    /// An invalid tolerance.
+    pub fn fault_ode_options(&self, tolerance: f64) -> Result<FaultOdeOptions> {
+        let mut o = FaultOdeOptions {
+            tolerance,
+            slip_scale: self.d_c,
+            ..FaultOdeOptions::default()
+        };
+        o.runge_kutta.dt_min = 1e-6;
+        o.runge_kutta.dt_max = 3.15576e7;
+        o.validate()?;
+        Ok(o)
     }
 
     /// Name of the station file at `depth` (m): `fltst_dp` and the depth in hundreds of

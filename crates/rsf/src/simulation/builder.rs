@@ -6,6 +6,7 @@ use rsf_state::StateLaw;
 use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
 
 use crate::error::{Error, Result};
+use crate::fault_ode::{FaultOde, FaultOdeOptions};
 use crate::method::fixed_point::FixedPointOptions;
 use crate::method::solver::{SolverKind, SolverOptions};
 use crate::method::state_integrator::StateIntegrator;
@@ -344,5 +345,52 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             state,
             work,
         })
+    }
+
+    /// Checks every part as [`build`](Self::build) does and builds a quasi-dynamic run
+    /// condensed onto the fault and integrated by an explicit Runge–Kutta pair
+    /// ([`FaultOde`], docs/math.md §12) instead of the implicit simulation. Uses the
+    /// integrator's radiation damping η (no inertia), the friction and state laws, `α₀`,
+    /// and the time step of [`time_step`](Self::time_step) as the first step; the
+    /// velocity solver, fixed point, step control and state integrator options do not
+    /// apply (the slip rates follow from the stress; an initial velocity is ignored).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build); [`Error::InvalidParameter`] named `integrator` for an
+    /// integrator with inertia, `radiation_damping` for η ≤ 0, `loading` for a custom
+    /// loading history, `dirichlet` for a frictional node with some components prescribed
+    /// at a non-zero velocity; the options' errors; [`Error::Solver`] if `K` is not
+    /// positive definite on the free dofs.
+    pub fn build_fault_ode(self, options: FaultOdeOptions) -> Result<FaultOde<D, L, S, C>> {
+        let friction = self.friction?;
+        let state_laws = self.state?;
+        let nf = self.model.frictional_boundary.len();
+        let tau = Parts {
+            model: &self.model,
+            friction_laws: &friction,
+            state_laws: &state_laws,
+            alpha0: self.alpha0.as_deref(),
+            v0: self.v0.as_deref(),
+            tau: self.tau,
+            method: &self.method,
+        }
+        .check()?;
+        let integrator = &self.method.integrator;
+        if integrator.uses_mass() {
+            return Err(crate::error::invalid(
+                "integrator",
+                "a run condensed onto the fault is quasi-dynamic: use Quasistatic with \
+                 radiation damping, not an integrator with inertia",
+            ));
+        }
+        let eta = integrator.radiation_damping();
+        let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
+        FaultOde::new(
+            Problem::new(self.model, friction, state_laws),
+            alpha0,
+            eta,
+            tau,
+            options,
+        )
     }
 }

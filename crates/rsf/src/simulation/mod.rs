@@ -25,7 +25,7 @@ use crate::problem::Problem;
 use crate::report::StepReport;
 use crate::simulation_state::SimulationState;
 
-use run::{time_reached, RunError, RunSummary, Termination, Until};
+use run::{finish_run, notify, time_reached, RunError, RunSummary, Termination, Until};
 use step::Stepper;
 use workspace::Workspace;
 
@@ -225,29 +225,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let mut summary = RunSummary::default();
         let mut fpi_total = 0;
         let outcome = self.run_loop(until, observers, &mut summary, &mut fpi_total);
-        let mut finished = Ok(());
-        for o in observers.iter_mut() {
-            let f = o.finish();
-            if finished.is_ok() {
-                finished = f;
-            }
-        }
         summary.fpi_mean = if summary.steps > 0 {
             fpi_total as f64 / summary.steps as f64
         } else {
             0.0
         };
-        summary.seconds = start.elapsed().as_secs_f64();
-        match outcome.and(finished) {
-            Ok(()) => Ok(summary),
-            Err(error) => {
-                summary.termination = Termination::Error;
-                Err(RunError {
-                    error,
-                    summary: Box::new(summary),
-                })
-            }
-        }
+        finish_run(observers, outcome, summary, start)
     }
 
     /// The steps of [`run_until`](Self::run_until), accumulating into `summary` and the
@@ -291,20 +274,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                 report: &report,
                 friction: self.problem.fault_tractions(),
             };
-            let mut first_break = None;
-            for (index, o) in observers.iter_mut().enumerate() {
-                match o.observe(&view) {
-                    Ok(flow) if flow.is_break() && first_break.is_none() => {
-                        first_break = Some(Termination::Observer {
-                            index,
-                            name: o.name(),
-                        })
-                    }
-                    Ok(_) => {}
-                    Err(e) => return Err(e),
-                }
-            }
-            if let Some(reason) = first_break {
+            if let Some(reason) = notify(observers, &view)? {
                 summary.termination = reason;
                 return Ok(());
             }

@@ -1,7 +1,10 @@
 //! Run control: where a run ends ([`Until`]), why it ended ([`Termination`]), and what it
 //! did ([`RunSummary`], also on failure through [`RunError`]).
 
-use crate::error::Error;
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::observe::{Observer, StepView};
 
 /// Where [`Simulation::run_until`](crate::Simulation::run_until) ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,4 +106,54 @@ pub(crate) fn time_reached(time: f64, t_end: f64, tau: f64) -> bool {
 /// does not swallow `t` itself.
 pub(crate) fn time_slack(t: f64, tau: f64) -> f64 {
     1e-9 * tau.min(t.abs())
+}
+
+/// Shows a step to every observer; the first one that breaks gives the termination (the
+/// others still see the step).
+///
+/// # Errors
+/// The first observer error (the observers after it do not see the step).
+pub(crate) fn notify<const D: usize, const C: usize>(
+    observers: &mut [&mut dyn Observer<D, C>],
+    view: &StepView<'_, D, C>,
+) -> Result<Option<Termination>> {
+    let mut first_break = None;
+    for (index, o) in observers.iter_mut().enumerate() {
+        let flow = o.observe(view)?;
+        if flow.is_break() && first_break.is_none() {
+            first_break = Some(Termination::Observer {
+                index,
+                name: o.name(),
+            });
+        }
+    }
+    Ok(first_break)
+}
+
+/// Ends a run: every observer's `finish` (all of them, the first error kept), the wall
+/// time since `start`, and the summary or the error with the summary.
+pub(crate) fn finish_run<const D: usize, const C: usize>(
+    observers: &mut [&mut dyn Observer<D, C>],
+    outcome: Result<()>,
+    mut summary: RunSummary,
+    start: Instant,
+) -> std::result::Result<RunSummary, RunError> {
+    let mut finished = Ok(());
+    for o in observers.iter_mut() {
+        let f = o.finish();
+        if finished.is_ok() {
+            finished = f;
+        }
+    }
+    summary.seconds = start.elapsed().as_secs_f64();
+    match outcome.and(finished) {
+        Ok(()) => Ok(summary),
+        Err(error) => {
+            summary.termination = Termination::Error;
+            Err(RunError {
+                error,
+                summary: Box::new(summary),
+            })
+        }
+    }
 }

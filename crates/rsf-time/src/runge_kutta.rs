@@ -1,0 +1,505 @@
+//! Explicit embedded Runge–Kutta pairs with adaptive steps for ODE systems `y' = f(t, y)`
+//! (docs/math.md §12): the Dormand–Prince 5(4) pair and the Bogacki–Shampine 3(2) pair,
+//! both "first same as last", with the PI step-size controller of Hairer, Nørsett & Wanner
+//! (Solving Ordinary Differential Equations I, 2nd ed., §II.4 and the code DOPRI5).
+//!
+//! The system decides what an acceptable error is ([`OdeSystem::scaled_error`], ≤ 1 is
+//! accepted), so that mixed absolute/relative tolerances per component stay with the
+//! system that knows their units.
+
+use crate::{Error, Result};
+
+/// A Butcher tableau of an explicit embedded pair with the FSAL property (the last stage
+/// is the first of the next step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tableau {
+    /// Name for messages ("Dormand–Prince 5(4)").
+    pub name: &'static str,
+    /// Stages `s` (including the FSAL stage).
+    pub stages: usize,
+    /// `c_i`, length `s`.
+    pub c: &'static [f64],
+    /// `a_ij` row by row (row `i` has `i` entries), rows 1..s; the last row is `b`.
+    pub a: &'static [&'static [f64]],
+    /// `e_i = b_i − b̂_i`: the error estimate is `h Σ e_i k_i`, length `s`.
+    pub e: &'static [f64],
+    /// Order of the embedded (lower-order) solution `q`: the controller's exponent is
+    /// `1/(q + 1)`.
+    pub error_order: u32,
+}
+
+/// Dormand & Prince (1980), the 5(4) pair of DOPRI5 / `ode45`: 7 stages, 6 evaluations per
+/// step.
+pub const DORMAND_PRINCE_54: Tableau = Tableau {
+    name: "Dormand–Prince 5(4)",
+    stages: 7,
+    c: &[0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0],
+    a: &[
+        &[0.2],
+        &[3.0 / 40.0, 9.0 / 40.0],
+        &[44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0],
+        &[
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+        ],
+        &[
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+        ],
+        &[
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+        ],
+    ],
+    e: &[
+        71.0 / 57600.0,
+        0.0,
+        -71.0 / 16695.0,
+        71.0 / 1920.0,
+        -17253.0 / 339200.0,
+        22.0 / 525.0,
+        -1.0 / 40.0,
+    ],
+    error_order: 4,
+};
+
+/// Bogacki & Shampine (1989), the 3(2) pair of `ode23`: 4 stages, 3 evaluations per step.
+pub const BOGACKI_SHAMPINE_32: Tableau = Tableau {
+    name: "Bogacki–Shampine 3(2)",
+    stages: 4,
+    c: &[0.0, 0.5, 0.75, 1.0],
+    a: &[&[0.5], &[0.0, 0.75], &[2.0 / 9.0, 1.0 / 3.0, 4.0 / 9.0]],
+    e: &[
+        2.0 / 9.0 - 7.0 / 24.0,
+        1.0 / 3.0 - 0.25,
+        4.0 / 9.0 - 1.0 / 3.0,
+        -0.125,
+    ],
+    error_order: 2,
+};
+
+/// An ODE system `y' = f(t, y)` of fixed dimension.
+pub trait OdeSystem {
+    /// The system's error type (a failed evaluation that is not a matter of step size).
+    type Error: From<Error>;
+
+    /// Evaluates `f(t, y)` into `dy` (same length as `y`). Non-finite values in `dy` make
+    /// the integrator reject the step and retry with a smaller one (a step too large for
+    /// a stiff stage), so they need no error.
+    ///
+    /// # Errors
+    /// Failures that a smaller step cannot cure.
+    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> std::result::Result<(), Self::Error>;
+
+    /// The local error estimate `err` of a step from `y` to `y_new` measured against the
+    /// system's tolerances: a step with a value ≤ 1 is accepted. Must return a value ≥ 0
+    /// (non-finite for non-finite input).
+    fn scaled_error(&self, y: &[f64], y_new: &[f64], err: &[f64]) -> f64;
+}
+
+/// Options of [`EmbeddedRungeKutta`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RungeKuttaOptions {
+    /// Smallest step (s): below it the integrator gives up with [`Error::StepTooSmall`].
+    pub dt_min: f64,
+    /// Largest step (s).
+    pub dt_max: f64,
+    /// Safety factor of the controller (DOPRI5's 0.9).
+    pub safety: f64,
+    /// Largest growth of the step per accepted step (DOPRI5's 10).
+    pub max_growth: f64,
+    /// Largest shrinking per rejection (DOPRI5's 0.2; a non-finite stage shrinks by 0.1).
+    pub max_shrink: f64,
+    /// Exponent β of the PI controller's memory (DOPRI5's 0.04; 0 gives the plain
+    /// I-controller).
+    pub beta: f64,
+}
+
+impl Default for RungeKuttaOptions {
+    fn default() -> Self {
+        Self {
+            dt_min: 1e-12,
+            dt_max: f64::INFINITY,
+            safety: 0.9,
+            max_growth: 10.0,
+            max_shrink: 0.2,
+            beta: 0.04,
+        }
+    }
+}
+
+impl RungeKuttaOptions {
+    /// Checks the options.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming the first invalid option.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name: &'static str, value: f64, requirement: &'static str| {
+            Err(Error::InvalidParameter {
+                name,
+                value,
+                requirement,
+            })
+        };
+        if !(self.dt_min > 0.0 && self.dt_min.is_finite()) {
+            return bad("dt_min", self.dt_min, "must be positive and finite");
+        }
+        if !(self.dt_max >= self.dt_min) {
+            return bad("dt_max", self.dt_max, "must be at least dt_min");
+        }
+        if !(self.safety > 0.0 && self.safety <= 1.0) {
+            return bad("safety", self.safety, "must be in (0, 1]");
+        }
+        if !(self.max_growth > 1.0 && self.max_growth.is_finite()) {
+            return bad("max_growth", self.max_growth, "must be finite and > 1");
+        }
+        if !(self.max_shrink > 0.0 && self.max_shrink < 1.0) {
+            return bad("max_shrink", self.max_shrink, "must be in (0, 1)");
+        }
+        if !(self.beta >= 0.0 && self.beta < 0.2) {
+            return bad("beta", self.beta, "must be in [0, 0.2)");
+        }
+        Ok(())
+    }
+}
+
+/// What one accepted step did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RungeKuttaStep {
+    /// The step taken (s).
+    pub dt: f64,
+    /// Attempts rejected before it.
+    pub rejected: usize,
+    /// Its scaled error estimate (≤ 1).
+    pub error: f64,
+    /// Evaluations of `f` it took (rejected attempts included).
+    pub evaluations: usize,
+}
+
+/// The controller's memory: what a checkpoint of an integration must keep to continue it
+/// bit for bit (with the state `y` and the time `t`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct RungeKuttaState {
+    /// The next step to try (s).
+    pub dt: f64,
+    /// The previous accepted step's error (the PI controller's memory).
+    pub previous_error: f64,
+}
+
+/// An explicit embedded Runge–Kutta integrator with adaptive steps: call
+/// [`step`](Self::step) for one accepted step at a time. Allocates its stages once; a step
+/// allocates nothing.
+#[derive(Debug, Clone)]
+pub struct EmbeddedRungeKutta {
+    tableau: Tableau,
+    options: RungeKuttaOptions,
+    k: Vec<Vec<f64>>,
+    stage: Vec<f64>,
+    y_new: Vec<f64>,
+    err: Vec<f64>,
+    /// Whether `k[0]` holds `f(t, y)` of the current point (FSAL).
+    fsal: bool,
+    state: RungeKuttaState,
+}
+
+impl EmbeddedRungeKutta {
+    /// An integrator for systems of dimension `n` with the first step `dt0` (s).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for invalid options or `dt0` outside
+    /// `[dt_min, dt_max]`.
+    pub fn new(tableau: Tableau, options: RungeKuttaOptions, n: usize, dt0: f64) -> Result<Self> {
+        options.validate()?;
+        if !(dt0 >= options.dt_min && dt0 <= options.dt_max) {
+            return Err(Error::InvalidParameter {
+                name: "dt0",
+                value: dt0,
+                requirement: "must be in [dt_min, dt_max]",
+            });
+        }
+        Ok(Self {
+            tableau,
+            options,
+            k: vec![vec![0.0; n]; tableau.stages],
+            stage: vec![0.0; n],
+            y_new: vec![0.0; n],
+            err: vec![0.0; n],
+            fsal: false,
+            state: RungeKuttaState {
+                dt: dt0,
+                previous_error: 1e-4,
+            },
+        })
+    }
+
+    /// The pair in use.
+    pub fn tableau(&self) -> &Tableau {
+        &self.tableau
+    }
+
+    /// The controller's state (for checkpoints).
+    pub fn state(&self) -> RungeKuttaState {
+        self.state
+    }
+
+    /// Continues from a saved controller state; the next step evaluates `f` afresh at its
+    /// start (`f(t, y)` is a function of `t` and `y`, so the result does not change).
+    pub fn set_state(&mut self, state: RungeKuttaState) {
+        self.state = state;
+        self.fsal = false;
+    }
+
+    /// `f(t, y)` of the current point, if known (after a step: the FSAL stage).
+    pub fn current_rate(&self) -> Option<&[f64]> {
+        self.fsal.then_some(self.k[0].as_slice())
+    }
+
+    /// One accepted step from `(t, y)`, updating both; at most up to `t_end` (the step is
+    /// shortened to land on it, and the controller's proposal is kept for the next one).
+    ///
+    /// # Errors
+    /// [`Error::StepTooSmall`] (as `S::Error`) when the step would fall below `dt_min`;
+    /// [`Error::DimensionMismatch`] for a `y` of another length; the system's errors.
+    pub fn step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: &mut f64,
+        y: &mut [f64],
+        t_end: Option<f64>,
+    ) -> std::result::Result<RungeKuttaStep, S::Error> {
+        let n = self.stage.len();
+        if y.len() != n {
+            return Err(Error::DimensionMismatch {
+                what: "ODE state",
+                expected: n,
+                got: y.len(),
+            }
+            .into());
+        }
+        if let Some(te) = t_end {
+            if !(te > *t) {
+                return Err(Error::InvalidParameter {
+                    name: "t_end",
+                    value: te,
+                    requirement: "must be after the current time",
+                }
+                .into());
+            }
+        }
+        let tab = self.tableau;
+        let o = self.options;
+        let mut evaluations = 0;
+        if !self.fsal {
+            sys.rate(*t, y, &mut self.k[0])?;
+            evaluations += 1;
+            self.fsal = true;
+        }
+        let exponent = 1.0 / f64::from(tab.error_order + 1) - 0.75 * o.beta;
+        let mut rejected = 0;
+        loop {
+            let proposal = self.state.dt.min(o.dt_max);
+            let (dt, landing) = match t_end {
+                Some(te) if *t + proposal >= te - 1e-12 * proposal => (te - *t, true),
+                _ => (proposal, false),
+            };
+            if !(dt >= o.dt_min) && !landing {
+                return Err(Error::StepTooSmall {
+                    tau: dt,
+                    tau_min: o.dt_min,
+                }
+                .into());
+            }
+            // Stages 2..s; the last stage's argument is the new solution (FSAL).
+            let mut finite = true;
+            for i in 1..tab.stages {
+                let row = tab.a[i - 1];
+                for j in 0..n {
+                    let mut acc = 0.0;
+                    for (l, &a) in row.iter().enumerate() {
+                        if a != 0.0 {
+                            acc += a * self.k[l][j];
+                        }
+                    }
+                    self.stage[j] = y[j] + dt * acc;
+                }
+                sys.rate(*t + tab.c[i] * dt, &self.stage, &mut self.k[i])?;
+                evaluations += 1;
+                if self.k[i].iter().any(|x| !x.is_finite()) {
+                    finite = false;
+                    break;
+                }
+            }
+            let error = if finite {
+                self.y_new.copy_from_slice(&self.stage);
+                for j in 0..n {
+                    let mut acc = 0.0;
+                    for (l, &e) in tab.e.iter().enumerate() {
+                        if e != 0.0 {
+                            acc += e * self.k[l][j];
+                        }
+                    }
+                    self.err[j] = dt * acc;
+                }
+                sys.scaled_error(y, &self.y_new, &self.err)
+            } else {
+                f64::INFINITY
+            };
+            if error <= 1.0 {
+                // Accepted: PI controller, DOPRI5's form.
+                let fac = error.max(1e-300).powf(exponent) / self.state.previous_error.powf(o.beta);
+                let fac = (fac / o.safety).clamp(1.0 / o.max_growth, 1.0 / o.max_shrink);
+                let next = (dt / fac).min(o.dt_max);
+                self.state.previous_error = error.max(1e-4);
+                if !landing || next < self.state.dt {
+                    self.state.dt = next;
+                }
+                y.copy_from_slice(&self.y_new);
+                *t = if landing {
+                    t_end.unwrap_or(*t + dt)
+                } else {
+                    *t + dt
+                };
+                let last = tab.stages - 1;
+                self.k.swap(0, last);
+                return Ok(RungeKuttaStep {
+                    dt,
+                    rejected,
+                    error,
+                    evaluations,
+                });
+            }
+            rejected += 1;
+            let shrink = if error.is_finite() {
+                (error.powf(1.0 / f64::from(tab.error_order + 1)) / o.safety)
+                    .clamp(1.0, 1.0 / o.max_shrink)
+            } else {
+                10.0
+            };
+            self.state.dt = dt / shrink;
+            if self.state.dt < o.dt_min {
+                return Err(Error::StepTooSmall {
+                    tau: self.state.dt,
+                    tau_min: o.dt_min,
+                }
+                .into());
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `y' = λ y` (or a 2-D rotation), tolerance-scaled error = max |err| / tol.
+    struct Linear {
+        tol: f64,
+    }
+
+    impl OdeSystem for Linear {
+        type Error = Error;
+        fn rate(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+            dy[0] = -y[1];
+            dy[1] = y[0];
+            Ok(())
+        }
+        fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+            err.iter().fold(0.0_f64, |m, e| m.max(e.abs())) / self.tol
+        }
+    }
+
+    fn run(tab: Tableau, tol: f64) -> (f64, usize) {
+        let mut rk = EmbeddedRungeKutta::new(tab, RungeKuttaOptions::default(), 2, 1e-3).unwrap();
+        let (mut t, mut y) = (0.0, [1.0, 0.0]);
+        let mut sys = Linear { tol };
+        let mut steps = 0;
+        while t < 10.0 {
+            rk.step(&mut sys, &mut t, &mut y, Some(10.0)).unwrap();
+            steps += 1;
+        }
+        assert_eq!(t, 10.0);
+        let e = (y[0] - 10f64.cos()).abs().max((y[1] - 10f64.sin()).abs());
+        (e, steps)
+    }
+
+    /// The global error of the rotation over 10 s falls with the tolerance at the rate of
+    /// the pair's order: steps ∝ tol^(−1/(q+1)), error ∝ steps^(−p) — measured through
+    /// error ∝ tol^(p/(q+1)) over two decades.
+    #[test]
+    fn global_error_follows_the_order_of_each_pair() {
+        for (tab, p) in [(DORMAND_PRINCE_54, 5.0), (BOGACKI_SHAMPINE_32, 3.0)] {
+            let (e1, n1) = run(tab, 1e-6);
+            let (e2, n2) = run(tab, 1e-8);
+            let order = (e1 / e2).ln() / (n2 as f64 / n1 as f64).ln();
+            println!(
+                "{}: errors {e1:e} ({n1} steps), {e2:e} ({n2} steps), order {order:.2}",
+                tab.name
+            );
+            assert!(
+                (order - p).abs() < 0.6,
+                "{}: observed order {order}",
+                tab.name
+            );
+        }
+    }
+
+    /// The tableaux are consistent: rows sum to c, b sums to 1, the embedded weights too.
+    #[test]
+    fn tableaux_are_consistent() {
+        for tab in [DORMAND_PRINCE_54, BOGACKI_SHAMPINE_32] {
+            for (i, row) in tab.a.iter().enumerate() {
+                let s: f64 = row.iter().sum();
+                assert!(
+                    (s - tab.c[i + 1]).abs() < 1e-14,
+                    "{} row {}",
+                    tab.name,
+                    i + 1
+                );
+            }
+            let b = tab.a[tab.stages - 2];
+            assert!((b.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+            assert!(tab.e.iter().sum::<f64>().abs() < 1e-14);
+        }
+    }
+
+    /// A non-finite stage is a rejection, not an error; a step that must fall below
+    /// `dt_min` is the typed error.
+    #[test]
+    fn blow_up_is_rejected_and_a_vanishing_step_is_an_error() {
+        struct Blow;
+        impl OdeSystem for Blow {
+            type Error = Error;
+            fn rate(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+                dy[0] = if y[0] > 1.5 { f64::NAN } else { 1.0 };
+                Ok(())
+            }
+            fn scaled_error(&self, _y: &[f64], _n: &[f64], err: &[f64]) -> f64 {
+                err[0].abs() / 1e-9
+            }
+        }
+        let mut rk =
+            EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 1, 1.0)
+                .unwrap();
+        let (mut t, mut y) = (0.0, [1.0]);
+        let s = rk.step(&mut Blow, &mut t, &mut y, None).unwrap();
+        assert!(s.rejected > 0 && s.dt < 0.5 && y[0] <= 1.5, "{s:?}");
+        let mut got = Ok(s);
+        for _ in 0..1000 {
+            got = rk.step(&mut Blow, &mut t, &mut y, None);
+            if got.is_err() {
+                break;
+            }
+        }
+        assert!(matches!(got, Err(Error::StepTooSmall { .. })), "{got:?}");
+    }
+}

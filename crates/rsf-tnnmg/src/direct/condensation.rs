@@ -1,0 +1,367 @@
+//! Exact condensation of a sparse symmetric positive definite matrix onto the free
+//! components of some blocks (docs/math.md §8): the dense Schur complement, condensed
+//! right-hand sides, and the interior of a solution from its interface values.
+
+use faer::sparse::SparseColMatRef;
+
+use super::partial_cholesky::PartialCholesky;
+use crate::csc::Csc;
+use crate::error::{Error, Result};
+use crate::problem::BlockedMatrix;
+
+/// The condensation of `A` (`n × n`, symmetric, positive definite on its free dofs) onto
+/// the free components `F` of a set of blocks (nodes; `D` components each): with `R` the
+/// other free dofs,
+///
+/// ```text
+/// S = A_FF − A_FR A_RR⁻¹ A_RF,      g = b_F − A_FR A_RR⁻¹ b_R
+/// ```
+///
+/// where `b` is a right-hand side from which the fixed dofs' columns times their values are
+/// subtracted. `A x = b` on the free dofs is equivalent to `S x_F = g` and
+/// `x_R = A_RR⁻¹ (b_R − A_RF x_F)`. This is what the [`DirectSolver`](crate::DirectSolver)
+/// solves its nonsmooth problems on; it is public for other uses of the condensed
+/// operator, e.g. integrating the quasi-dynamic equations of a fault in time.
+///
+/// Costs: the set-up factorises `A` on `R ∪ F` once (a sparse Cholesky factor with `F`
+/// eliminated last, nested dissection of `R`); [`condense`](Self::condense) is one forward
+/// sweep and [`extend`](Self::extend) one backward sweep over the factor, `O(nnz(L))`.
+pub struct Condensation<const D: usize> {
+    blocks: Vec<usize>,
+    pub(super) factor: PartialCholesky,
+    /// Elimination position ↦ dof.
+    pub(super) order: Vec<usize>,
+    /// Dof ↦ elimination position (`usize::MAX` for fixed dofs).
+    pub(super) pos: Vec<usize>,
+    /// Fixed dofs with their column entries on free rows as (elimination position, A_ij).
+    fixed_cols: Vec<(usize, Vec<(usize, f64)>)>,
+    /// The dof of each condensed unknown, in order (the free components of the blocks).
+    interface: Vec<usize>,
+    /// The free components of each block.
+    pub(super) free: Vec<[bool; D]>,
+    /// Scratch in elimination order: after [`condense`](Self::condense), `[L_RR⁻¹ b̃_R; g]`.
+    pub(super) y: Vec<f64>,
+}
+
+impl<const D: usize> std::fmt::Debug for Condensation<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Condensation")
+            .field("n", &self.pos.len())
+            .field("blocks", &self.blocks.len())
+            .field("dim", &self.interface.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const D: usize> Condensation<D> {
+    /// The condensation of `a` (`n × n`, symmetric, both triangles stored, positive
+    /// definite on the free dofs; `n` a multiple of `D`) with fixed dofs `fixed` (length
+    /// `n`) onto the free components of `blocks` (node indices, strictly increasing).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] / [`Error::DimensionMismatch`] for invalid shapes or
+    /// pattern; [`Error::InvalidOption`] for blocks out of range or not increasing;
+    /// [`Error::NotPositiveDefinite`] if `a` is not positive definite on the free dofs.
+    pub fn new(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        blocks: &[usize],
+    ) -> Result<Self> {
+        let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
+        Self::build(&a, &fixed, blocks, None)
+    }
+
+    /// The condensation of `a` (checked by the caller) onto `blocks`; with `previous`, a
+    /// factor of a matrix with the same pattern for the same blocks, whose analysis is
+    /// reused if the pattern matches.
+    pub(super) fn build(
+        a: &Csc,
+        fixed: &[bool],
+        blocks: &[usize],
+        previous: Option<&PartialCholesky>,
+    ) -> Result<Self> {
+        let n = a.nrows;
+        if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
+            return Err(Error::InvalidOption(format!(
+                "active blocks must be strictly increasing node indices below {}",
+                n / D
+            )));
+        }
+        let mut in_block = vec![false; n];
+        for &p in blocks {
+            in_block[D * p..D * p + D].fill(true);
+        }
+        let interior: Vec<usize> = (0..n).filter(|&i| !in_block[i] && !fixed[i]).collect();
+        let interface: Vec<usize> = blocks
+            .iter()
+            .flat_map(|&p| (0..D).map(move |c| D * p + c))
+            .filter(|&i| !fixed[i])
+            .collect();
+        let (factor, order) = match previous {
+            Some(p) if p.analysed_for(a, &interior, &interface) => {
+                (p.refactor(a)?, p.order().to_vec())
+            }
+            _ => PartialCholesky::new(a, &interior, &interface)?,
+        };
+        let mut pos = vec![usize::MAX; n];
+        for (k, &i) in order.iter().enumerate() {
+            pos[i] = k;
+        }
+        let fixed_cols = (0..n)
+            .filter(|&j| fixed[j])
+            .map(|j| {
+                let (rows, vals) = a.col(j);
+                let entries = rows
+                    .iter()
+                    .zip(vals)
+                    .filter(|(&i, _)| pos[i] != usize::MAX)
+                    .map(|(&i, &v)| (pos[i], v))
+                    .collect();
+                (j, entries)
+            })
+            .filter(|(_, e): &(usize, Vec<(usize, f64)>)| !e.is_empty())
+            .collect();
+        let free = blocks
+            .iter()
+            .map(|&p| {
+                let mut f = [false; D];
+                for (c, fc) in f.iter_mut().enumerate() {
+                    *fc = !fixed[D * p + c];
+                }
+                f
+            })
+            .collect();
+        Ok(Self {
+            blocks: blocks.to_vec(),
+            y: vec![0.0; order.len()],
+            factor,
+            order,
+            pos,
+            fixed_cols,
+            interface,
+            free,
+        })
+    }
+
+    /// The blocks condensed onto.
+    pub fn blocks(&self) -> &[usize] {
+        &self.blocks
+    }
+
+    /// Number of condensed unknowns `m = |F|` (the free components of the blocks).
+    pub fn dim(&self) -> usize {
+        self.interface.len()
+    }
+
+    /// The dof of each condensed unknown (length [`dim`](Self::dim)), in block order and
+    /// component order within a block.
+    pub fn interface_dofs(&self) -> &[usize] {
+        &self.interface
+    }
+
+    /// Entries of the sparse factor.
+    pub fn factor_nnz(&self) -> usize {
+        self.factor.nnz()
+    }
+
+    /// The Schur complement `S` (`m × m`, symmetric, column-major), rows and columns in the
+    /// order of [`interface_dofs`](Self::interface_dofs).
+    pub fn schur_complement(&self) -> Vec<f64> {
+        self.factor.schur_complement()
+    }
+
+    /// The condensed right-hand side `g` (length `m`) of `b` (length `n`) with the fixed
+    /// dofs at their values in `x` (length `n`; its free entries are not read):
+    /// `g = b̃_F − A_FR A_RR⁻¹ b̃_R`, `b̃ = b − A_{·,fixed} x_fixed`. Keeps what
+    /// [`extend`](Self::extend) needs for the same `b` and `x_fixed`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for lengths other than `n`, `n`, `m`.
+    pub fn condense(&mut self, b: &[f64], x: &[f64], g: &mut [f64]) -> Result<()> {
+        let n = self.pos.len();
+        check_len("right-hand side", n, b.len())?;
+        check_len("fixed values", n, x.len())?;
+        check_len("condensed right-hand side", self.interface.len(), g.len())?;
+        self.condense_in_place(b, x);
+        g.copy_from_slice(&self.y[self.factor.nr..]);
+        Ok(())
+    }
+
+    /// [`condense`](Self::condense) without checks, leaving `g` in `y[nr..]`.
+    pub(super) fn condense_in_place(&mut self, b: &[f64], x: &[f64]) {
+        for (k, &i) in self.order.iter().enumerate() {
+            self.y[k] = b[i];
+        }
+        for (j, entries) in &self.fixed_cols {
+            let xj = x[*j];
+            if xj != 0.0 {
+                for &(k, aij) in entries {
+                    self.y[k] -= aij * xj;
+                }
+            }
+        }
+        self.factor.forward_interior(&mut self.y);
+    }
+
+    /// Completes a solution after [`condense`](Self::condense) of `b` and `x_fixed`: reads
+    /// the interface values from `x` (length `n`), writes `x_R = A_RR⁻¹(b̃_R − A_RF x_F)`
+    /// into it (interface and fixed entries unchanged).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for a length other than `n`; [`Error::NonFinite`] if
+    /// the result is not finite.
+    pub fn extend(&mut self, x: &mut [f64]) -> Result<()> {
+        let n = self.pos.len();
+        check_len("solution", n, x.len())?;
+        let nr = self.factor.nr;
+        for (i, &dof) in self.interface.iter().enumerate() {
+            self.y[nr + i] = x[dof];
+        }
+        self.factor.backward_interior(&mut self.y);
+        for (k, &i) in self.order.iter().enumerate().take(nr) {
+            x[i] = self.y[k];
+        }
+        if self.y[..nr].iter().any(|v| !v.is_finite()) {
+            return Err(Error::NonFinite("condensed solution's interior"));
+        }
+        Ok(())
+    }
+}
+
+fn check_len(what: &'static str, expected: usize, got: usize) -> Result<()> {
+    if expected == got {
+        Ok(())
+    } else {
+        Err(Error::DimensionMismatch {
+            what,
+            expected,
+            got,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::direct::partial_cholesky::tests::grid;
+
+    /// Dense Cholesky solve of an SPD system (the reference, independent of the sparse
+    /// factor).
+    fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+        let n = b.len();
+        for k in 0..n {
+            let d = a[k][k].sqrt();
+            for i in k..n {
+                a[i][k] /= d;
+            }
+            for j in k + 1..n {
+                for i in j..n {
+                    a[i][j] -= a[i][k] * a[j][k];
+                }
+            }
+        }
+        for i in 0..n {
+            for k in 0..i {
+                b[i] -= a[i][k] * b[k];
+            }
+            b[i] /= a[i][i];
+        }
+        for i in (0..n).rev() {
+            for k in i + 1..n {
+                b[i] -= a[k][i] * b[k];
+            }
+            b[i] /= a[i][i];
+        }
+        b
+    }
+
+    /// On a 12 × 12 grid Laplacian with the first column fixed at non-zero values and the
+    /// bottom row's other nodes condensed onto: `S x_F = g` holds for the solution of the
+    /// full system (solved densely), `extend` reproduces its interior, and `S` equals the
+    /// dense Schur complement.
+    #[test]
+    fn condensed_system_and_extension_reproduce_the_full_solve() {
+        let m = 12;
+        let a = grid(m);
+        let n = a.nrows;
+        let fixed: Vec<bool> = (0..n).map(|j| j % m == 0).collect();
+        let blocks: Vec<usize> = (1..m).collect();
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let x_fixed: Vec<f64> = (0..n)
+            .map(|i| if fixed[i] { 0.5 + (i / m) as f64 } else { 0.0 })
+            .collect();
+        let mut cond = Condensation::<1>::build(&a, &fixed, &blocks, None).unwrap();
+        assert_eq!(cond.dim(), m - 1);
+        assert_eq!(cond.interface_dofs(), &blocks[..]);
+        // Dense reference on the free dofs.
+        let free: Vec<usize> = (0..n).filter(|&i| !fixed[i]).collect();
+        let dense = |i: usize, j: usize| a.position(i, j).map_or(0.0, |p| a.val[p]);
+        let af: Vec<Vec<f64>> = free
+            .iter()
+            .map(|&i| free.iter().map(|&j| dense(i, j)).collect())
+            .collect();
+        let bf: Vec<f64> = free
+            .iter()
+            .map(|&i| {
+                b[i] - (0..n)
+                    .filter(|&j| fixed[j])
+                    .map(|j| dense(i, j) * x_fixed[j])
+                    .sum::<f64>()
+            })
+            .collect();
+        let xf = dense_solve(af, bf);
+        let mut x = x_fixed.clone();
+        for (k, &i) in free.iter().enumerate() {
+            x[i] = xf[k];
+        }
+        let mut g = vec![0.0; cond.dim()];
+        cond.condense(&b, &x_fixed, &mut g).unwrap();
+        let s = cond.schur_complement();
+        let mf = cond.dim();
+        for i in 0..mf {
+            let sx: f64 = (0..mf).map(|j| s[j * mf + i] * x[blocks[j]]).sum();
+            assert!(
+                (sx - g[i]).abs() < 1e-12 * g.iter().fold(1.0_f64, |t, v| t.max(v.abs())),
+                "row {i}: {sx} vs {g:?}"
+            );
+        }
+        let mut y = x_fixed.clone();
+        for &p in &blocks {
+            y[p] = x[p];
+        }
+        cond.extend(&mut y).unwrap();
+        let err = x
+            .iter()
+            .zip(&y)
+            .fold(0.0_f64, |t, (p, q)| t.max((p - q).abs()));
+        assert!(
+            err < 1e-12 * x.iter().fold(1.0_f64, |t, v| t.max(v.abs())),
+            "max |Δx| = {err:e}"
+        );
+        // S against the dense Schur complement A_FF − A_FR A_RR⁻¹ A_RF, column by column.
+        let rest: Vec<usize> = free
+            .iter()
+            .copied()
+            .filter(|i| !blocks.contains(i))
+            .collect();
+        let arr: Vec<Vec<f64>> = rest
+            .iter()
+            .map(|&i| rest.iter().map(|&j| dense(i, j)).collect())
+            .collect();
+        for (jj, &j) in blocks.iter().enumerate() {
+            let col = dense_solve(arr.clone(), rest.iter().map(|&i| dense(i, j)).collect());
+            for (ii, &i) in blocks.iter().enumerate() {
+                let sij = dense(i, j)
+                    - rest
+                        .iter()
+                        .zip(&col)
+                        .map(|(&r, c)| dense(i, r) * c)
+                        .sum::<f64>();
+                assert!((sij - s[jj * mf + ii]).abs() < 1e-12 * 5.0, "S[{ii},{jj}]");
+            }
+        }
+        // Lengths are checked.
+        assert!(cond.condense(&b[1..], &x_fixed, &mut g).is_err());
+        assert!(cond.extend(&mut y[1..]).is_err());
+    }
+}

@@ -1,0 +1,645 @@
+//! Quasi-dynamic runs condensed onto the fault: the equations of a model without inertia
+//! and with radiation damping, written as an ODE in the fault's slip and state and
+//! integrated by an explicit embedded Runge–Kutta pair with adaptive steps (docs/math.md
+//! §12) — the formulation of boundary-element earthquake-cycle codes, with the
+//! finite-element model's exact condensation as the elastic operator. Beyond the paper,
+//! whose implicit scheme ([`Simulation`](crate::Simulation)) stays the default.
+
+use std::time::Instant;
+
+use faer::{Accum, Mat, MatMut, MatRef, Par};
+use rsf_friction::{ConvexPotential, FrictionLaw};
+use rsf_state::StateLaw;
+use rsf_time::{
+    EmbeddedRungeKutta, Kinematics, OdeSystem, RungeKuttaOptions, RungeKuttaState, Tableau,
+    DORMAND_PRINCE_54, TOLERANCE_RANGE,
+};
+use rsf_tnnmg::Condensation;
+
+use crate::error::{invalid, Error, Result};
+use crate::model::loading::TimeFunction;
+use crate::model::Model;
+use crate::observe::{Observer, StepView};
+use crate::problem::Problem;
+use crate::report::StepReport;
+use crate::simulation::run::{finish_run, notify, time_reached, RunError, RunSummary, Until};
+use crate::simulation::step::impose_dirichlet;
+use crate::simulation_state::SimulationState;
+
+/// Options of a [`FaultOde`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaultOdeOptions {
+    /// The embedded pair (default [`DORMAND_PRINCE_54`]).
+    pub tableau: Tableau,
+    /// Error tolerance per step: the local error of every slip component is at most
+    /// `tolerance · slip_scale` (m) and of every state `α` at most `tolerance` (absolute:
+    /// a relative error of θ). In [`TOLERANCE_RANGE`]; default 1e-6.
+    pub tolerance: f64,
+    /// The slip that the tolerance is relative to (m), e.g. the characteristic slip
+    /// distance `L` (`D_c`). Positive and finite; default 1e-3 m.
+    pub slip_scale: f64,
+    /// Step limits and controller constants (default: DOPRI5's, steps in [1e-12 s, ∞)).
+    pub runge_kutta: RungeKuttaOptions,
+}
+
+impl Default for FaultOdeOptions {
+    fn default() -> Self {
+        Self {
+            tableau: DORMAND_PRINCE_54,
+            tolerance: 1e-6,
+            slip_scale: 1e-3,
+            runge_kutta: RungeKuttaOptions::default(),
+        }
+    }
+}
+
+impl FaultOdeOptions {
+    /// Checks the options.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `tolerance` or `slip_scale`; the Runge–Kutta
+    /// options' errors.
+    pub fn validate(&self) -> Result<()> {
+        let (lo, hi) = TOLERANCE_RANGE;
+        if !(self.tolerance >= lo && self.tolerance <= hi) {
+            return Err(invalid(
+                "tolerance",
+                format!("{} must be in {TOLERANCE_RANGE:?}", self.tolerance),
+            ));
+        }
+        if !(self.slip_scale > 0.0 && self.slip_scale.is_finite()) {
+            return Err(invalid(
+                "slip_scale",
+                format!("{} m must be positive and finite", self.slip_scale),
+            ));
+        }
+        self.runge_kutta.validate()?;
+        Ok(())
+    }
+}
+
+/// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
+/// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
+///
+/// The model has no inertia and radiation damping `η > 0`. With the stiffness `K`
+/// condensed exactly onto the free components `F` of the frictional nodes (Schur
+/// complement `S`, [`Condensation`]), equilibrium at time `t` is, node by node,
+///
+/// ```text
+/// w_k (η V_k + ∂ϕ_k(|V_k|; α_k)) ∋ g(t) − (S u_F)_k,    g(t) = g₀ + G(t) g₁
+/// ```
+///
+/// (`w_k` the node's lumped weight; `g₀` the condensed load with the fixed dofs at `u₀`,
+/// `g₁` that of the unit Dirichlet velocities, `G(t) = ∫₀ᵗ g` of the loading history), so
+/// the slip rate `V_k` is the exact minimiser of `½η|V|² − τ_k·V + ϕ_k(|V|)` with
+/// `τ_k = (g(t) − S u_F)_k / w_k` ([`ConvexPotential::minimize_block`]), and the ODE is
+///
+/// ```text
+/// u̇_F = V(t, u_F, α),    α̇_k = −∂ψ/∂α(α_k, |V_k|).
+/// ```
+///
+/// Each right-hand side costs one dense product with `S` (`m²` multiply-adds, `m` the
+/// number of free components) and one scalar minimisation per node; the volume is never
+/// touched during the steps. Observers see the same [`StepView`] as in a
+/// [`Simulation`](crate::Simulation): `u`, `v` on Γ_F and the fixed dofs always, the rest
+/// of the field (one sparse forward and backward sweep for each of `u` and `v`) only if
+/// an observer [reads the volume](Observer::reads_volume) — else it is NaN.
+///
+/// Suited to quasi-dynamic earthquake-cycle problems (SEAS BP1): explicit steps are
+/// limited by the stiffness `‖S‖/(w η)` of the damped fault, which the events' own time
+/// scale already resolves, and the steps between events grow to months. A friction law
+/// with a kink at `V = 0` (Tresca, Dieterich–Ruina below `V_m`) makes the right-hand side
+/// non-smooth and the steps small; the implicit [`Simulation`](crate::Simulation) is the
+/// better method there. Frictional nodes may be fully prescribed (their slip rate is the
+/// Dirichlet velocity); a node with only some components fixed must have them at rest (a
+/// bilateral normal).
+///
+/// ```
+/// // A small BP1-like fault (docs/seas-bp1.md): 10 km deep, Δz = 500 m, 20 km domain.
+/// let bp1 = rsf::SeasBp1 { w_f: 10e3, h_top: 2e3, h_transition: 1e3, ..rsf::SeasBp1::default() };
+/// let grid = rsf::SeasBp1Grid { dz: 500.0, domain: 20e3, ratio: 1.1 };
+/// let model = bp1.model(&grid, false)?;
+/// let mut ode = bp1
+///     .simulation_builder(model, false, 1e-2, bp1.step_control(1e-3)?)?
+///     .build_fault_ode(bp1.fault_ode_options(1e-6)?)?;
+/// let summary = ode.run_until(rsf::Until::Time(10.0 * rsf::SECONDS_PER_YEAR), &mut [])?;
+/// assert_eq!(ode.condensed_dim(), 20); // 21 fault nodes, the one at W_f creeps
+/// assert!(summary.steps > 0 && (ode.state().time / rsf::SECONDS_PER_YEAR - 10.0).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
+    problem: Problem<D, L, S, C>,
+    rates: FaultRates<C>,
+    rk: EmbeddedRungeKutta,
+    /// `[u_F (m free components); α (one per frictional node)]`.
+    y: Vec<f64>,
+    state: SimulationState,
+    /// The dofs neither fixed nor condensed onto (NaN in the state unless computed).
+    interior: Vec<usize>,
+    zeros: Vec<f64>,
+    /// The rate `[V_F; α̇]` at the current point.
+    dy: Vec<f64>,
+    options: FaultOdeOptions,
+    evaluations: usize,
+}
+
+/// What the right-hand side needs besides the laws.
+struct FaultRates<const C: usize> {
+    cond: Condensation<C>,
+    s: Mat<f64>,
+    g0: Vec<f64>,
+    g1: Vec<f64>,
+    history: TimeFunction,
+    /// Free components of frictional node `k`: `first[k]..first[k + 1]`.
+    first: Vec<usize>,
+    /// Dirichlet velocity factor of every component of each frictional node (0 where free
+    /// or at rest).
+    fixed_velocity: Vec<[f64; C]>,
+    weights: Vec<f64>,
+    eta: f64,
+    r: Vec<f64>,
+    tolerance: f64,
+    slip_scale: f64,
+}
+
+/// The ODE system of one step: the rates with the laws borrowed.
+struct Rates<'a, L, S, const C: usize> {
+    friction: &'a [L],
+    state_laws: &'a [S],
+    uses_state: bool,
+    data: &'a mut FaultRates<C>,
+}
+
+impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, C> {
+    type Error = Error;
+
+    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        let d = &mut *self.data;
+        let m = d.first[d.first.len() - 1];
+        let big_g = d
+            .history
+            .integral(t)
+            .expect("checked at construction: a loading history with a closed-form integral");
+        for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
+            *r = g0 + big_g * g1;
+        }
+        faer::linalg::matmul::matmul(
+            MatMut::from_column_major_slice_mut(&mut d.r, m, 1),
+            Accum::Add,
+            d.s.as_ref(),
+            MatRef::from_column_major_slice(&y[..m], m, 1),
+            -1.0,
+            Par::Seq,
+        );
+        let speed = d.history.value(t);
+        for (k, law) in self.friction.iter().enumerate() {
+            let (a, b) = (d.first[k], d.first[k + 1]);
+            let alpha = y[m + k];
+            let inv_w = 1.0 / d.weights[k];
+            let mut traction = [0.0; C];
+            for (tr, r) in traction.iter_mut().zip(&d.r[a..b]) {
+                *tr = r * inv_w;
+            }
+            let out = &mut dy[a..b];
+            law.potential(alpha)
+                .minimize_block(d.eta, &traction[..b - a], 1.0, out);
+            let mut v2: f64 = out.iter().map(|v| v * v).sum();
+            for f in &d.fixed_velocity[k] {
+                v2 += (f * speed) * (f * speed);
+            }
+            dy[m + k] = if self.uses_state {
+                -self.state_laws[k].dpsi_dalpha(alpha, v2.sqrt())
+            } else {
+                0.0
+            };
+        }
+        Ok(())
+    }
+
+    fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+        let d = &*self.data;
+        let m = d.first[d.first.len() - 1];
+        let slip = 1.0 / (d.tolerance * d.slip_scale);
+        let state = 1.0 / d.tolerance;
+        let mut worst = 0.0_f64;
+        for (i, e) in err.iter().enumerate() {
+            let x = e.abs() * if i < m { slip } else { state };
+            if x.is_nan() {
+                return f64::INFINITY;
+            }
+            worst = worst.max(x);
+        }
+        worst
+    }
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L, S, C> {
+    /// Sets up the run (called by
+    /// [`SimulationBuilder::build_fault_ode`](crate::SimulationBuilder::build_fault_ode),
+    /// which checks the laws and the model): condenses `K` onto Γ_F, the load and the
+    /// Dirichlet velocities, and evaluates the slip rates at `t = 0`.
+    pub(crate) fn new(
+        problem: Problem<D, L, S, C>,
+        alpha0: Vec<f64>,
+        eta: f64,
+        dt0: f64,
+        options: FaultOdeOptions,
+    ) -> Result<Self> {
+        options.validate()?;
+        let model = problem.model();
+        if !(eta > 0.0 && eta.is_finite()) {
+            return Err(invalid(
+                "radiation_damping",
+                format!(
+                    "η = {eta} Pa·s/m: a run condensed onto the fault needs radiation damping \
+                     η > 0 (quasi-dynamic, Quasistatic::with_radiation_damping)"
+                ),
+            ));
+        }
+        if model.dirichlet.history.integral(0.0).is_none() {
+            return Err(invalid(
+                "loading",
+                "a custom loading history has no closed-form integral; use a constant, ramp \
+                 or piecewise-linear history",
+            ));
+        }
+        let fb = &model.frictional_boundary;
+        let n = model.num_dofs();
+        let mut velocity_factor = vec![0.0; n];
+        for (&dof, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
+            velocity_factor[dof] = f;
+        }
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let comps = C * p..C * p + C;
+            let some_fixed = comps.clone().any(|i| model.fixed[i]);
+            let all_fixed = comps.clone().all(|i| model.fixed[i]);
+            if some_fixed && !all_fixed && comps.clone().any(|i| velocity_factor[i] != 0.0) {
+                return Err(invalid(
+                    "dirichlet",
+                    format!(
+                        "frictional node {k} (vertex {p}) has some components prescribed with a \
+                         non-zero velocity; a run condensed onto the fault needs them at rest \
+                         or the whole node prescribed"
+                    ),
+                ));
+            }
+        }
+        let mut cond = Condensation::<C>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes)?;
+        let m = cond.dim();
+        let s_dense = cond.schur_complement();
+        let s = Mat::from_fn(m, m, |i, j| s_dense[j * m + i]);
+        drop(s_dense);
+        let mut g0 = vec![0.0; m];
+        cond.condense(&model.load, &model.initial_displacement, &mut g0)?;
+        let zeros = vec![0.0; n];
+        let mut g1 = vec![0.0; m];
+        cond.condense(&zeros, &velocity_factor, &mut g1)?;
+        let mut first = Vec::with_capacity(fb.len() + 1);
+        let mut fixed_velocity = Vec::with_capacity(fb.len());
+        let mut count = 0;
+        for &p in &fb.nodes {
+            first.push(count);
+            let mut f = [0.0; C];
+            for (c, fc) in f.iter_mut().enumerate() {
+                if model.fixed[C * p + c] {
+                    *fc = velocity_factor[C * p + c];
+                } else {
+                    count += 1;
+                }
+            }
+            fixed_velocity.push(f);
+        }
+        first.push(count);
+        debug_assert_eq!(count, m);
+        let mut in_interface = vec![false; n];
+        for &dof in cond.interface_dofs() {
+            in_interface[dof] = true;
+        }
+        let interior = (0..n)
+            .filter(|&i| !model.fixed[i] && !in_interface[i])
+            .collect();
+        let mut y = Vec::with_capacity(m + fb.len());
+        y.extend(
+            cond.interface_dofs()
+                .iter()
+                .map(|&dof| model.initial_displacement[dof]),
+        );
+        y.extend_from_slice(&alpha0);
+        let rates = FaultRates {
+            cond,
+            s,
+            g0,
+            g1,
+            history: model.dirichlet.history.clone(),
+            first,
+            fixed_velocity,
+            weights: fb.weights.clone(),
+            eta,
+            r: vec![0.0; m],
+            tolerance: options.tolerance,
+            slip_scale: options.slip_scale,
+        };
+        let mut kinematics = Kinematics::zeros(n);
+        kinematics.u.copy_from_slice(&model.initial_displacement);
+        let rk = EmbeddedRungeKutta::new(options.tableau, options.runge_kutta, y.len(), dt0)?;
+        let state = SimulationState {
+            step: 0,
+            time: 0.0,
+            tau: dt0,
+            time_origin: (0, 0.0),
+            kinematics,
+            alpha: alpha0,
+            controller: None,
+        };
+        let mut ode = Self {
+            problem,
+            rates,
+            rk,
+            y,
+            state,
+            interior,
+            zeros,
+            dy: Vec::new(),
+            options,
+            evaluations: 0,
+        };
+        // The slip rates at t = 0 (a check that the initial state is admissible).
+        let mut dy = vec![0.0; ode.y.len()];
+        let y0 = ode.y.clone();
+        ode.system().rate(0.0, &y0, &mut dy)?;
+        if let Some(i) = dy.iter().position(|x| !x.is_finite()) {
+            return Err(invalid(
+                "initial_state",
+                format!("the rate of unknown {i} at t = 0 is {}", dy[i]),
+            ));
+        }
+        ode.dy = dy;
+        ode.fill_state(false)?;
+        Ok(ode)
+    }
+
+    fn system(&mut self) -> Rates<'_, L, S, C> {
+        Rates {
+            friction: self.problem.friction_laws(),
+            state_laws: self.problem.state_laws(),
+            uses_state: self.problem.uses_state(),
+            data: &mut self.rates,
+        }
+    }
+
+    /// The problem (model and laws).
+    pub fn problem(&self) -> &Problem<D, L, S, C> {
+        &self.problem
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model<D, C> {
+        self.problem.model()
+    }
+
+    /// The state after the last step: `u`, `v` on Γ_F and the fixed dofs, α, time, the next
+    /// step in `tau`; the rest of `u`, `v` as the last step's observers needed it (NaN if
+    /// none read the volume).
+    pub fn state(&self) -> &SimulationState {
+        &self.state
+    }
+
+    /// The options.
+    pub fn options(&self) -> &FaultOdeOptions {
+        &self.options
+    }
+
+    /// Number of condensed unknowns (free components on Γ_F).
+    pub fn condensed_dim(&self) -> usize {
+        self.rates.cond.dim()
+    }
+
+    /// Evaluations of the right-hand side so far (each one product with `S`).
+    pub fn evaluations(&self) -> usize {
+        self.evaluations
+    }
+
+    /// The step controller's state (next step, PI memory).
+    pub fn controller(&self) -> RungeKuttaState {
+        self.rk.state()
+    }
+
+    /// The state with the whole field: computes `u` and `v` off Γ_F now (one forward and
+    /// one backward sweep each), whatever the last step's observers read. E.g. to hand the
+    /// state to a [`Simulation`](crate::Simulation) with inertia at the start of an event
+    /// ([`Simulation::restore`](crate::Simulation::restore) of a
+    /// [`Checkpoint::new`](crate::Checkpoint::new)).
+    ///
+    /// # Errors
+    /// [`Error::Solver`] if the extension is not finite.
+    pub fn state_with_volume(&mut self) -> Result<&SimulationState> {
+        self.fill_state(true)?;
+        Ok(&self.state)
+    }
+
+    /// Continues from `state` (of a model with the same frictional boundary, e.g. a
+    /// [`Simulation`](crate::Simulation) with inertia at the end of an event): its time,
+    /// step count, the displacement on Γ_F's free components and α; the slip rates follow
+    /// from the stress, the next trial step is `dt` (s). The volume's own state (waves) is
+    /// not carried over: a quasi-dynamic run has none.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `state` for lengths other than this model's, a
+    /// negative or non-finite time, non-finite values on Γ_F; named `dt` outside the
+    /// Runge–Kutta options' `[dt_min, dt_max]`.
+    pub fn restart_from(&mut self, state: &SimulationState, dt: f64) -> Result<()> {
+        let n = self.problem.model().num_dofs();
+        let nf = self.state.alpha.len();
+        if state.kinematics.u.len() != n || state.alpha.len() != nf {
+            return Err(invalid(
+                "state",
+                format!(
+                    "{} dofs and {} states for a model of {n} dofs and {nf} frictional nodes",
+                    state.kinematics.u.len(),
+                    state.alpha.len()
+                ),
+            ));
+        }
+        if !(state.time.is_finite() && state.time >= 0.0) {
+            return Err(invalid("state", format!("time {} s", state.time)));
+        }
+        let o = self.options.runge_kutta;
+        if !(dt >= o.dt_min && dt <= o.dt_max) {
+            return Err(invalid(
+                "dt",
+                format!("{dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
+            ));
+        }
+        let m = self.rates.cond.dim();
+        let mut y = self.y.clone();
+        for (yi, &dof) in y.iter_mut().zip(self.rates.cond.interface_dofs()) {
+            *yi = state.kinematics.u[dof];
+        }
+        y[m..].copy_from_slice(&state.alpha);
+        if let Some(i) = y.iter().position(|x| !x.is_finite()) {
+            return Err(invalid("state", format!("unknown {i} on Γ_F is {}", y[i])));
+        }
+        let mut dy = vec![0.0; y.len()];
+        self.system().rate(state.time, &y, &mut dy)?;
+        if let Some(i) = dy.iter().position(|x| !x.is_finite()) {
+            return Err(invalid(
+                "state",
+                format!("the rate of unknown {i} is {}", dy[i]),
+            ));
+        }
+        self.y = y;
+        self.dy = dy;
+        self.rk.set_state(RungeKuttaState {
+            dt,
+            previous_error: 1e-4,
+        });
+        self.state.time = state.time;
+        self.state.step = state.step;
+        self.state.tau = dt;
+        self.state.kinematics.u.copy_from_slice(&state.kinematics.u);
+        self.fill_state(false)
+    }
+
+    /// Writes the state after a step from `y` and its rate `self.dy`.
+    fn fill_state(&mut self, volume: bool) -> Result<()> {
+        let dy = &self.dy;
+        let model = self.problem.model();
+        let r = &mut self.rates;
+        let m = r.cond.dim();
+        let t = self.state.time;
+        let big_g = r.history.integral(t).unwrap_or(0.0);
+        let kin = &mut self.state.kinematics;
+        for (i, &dof) in r.cond.interface_dofs().iter().enumerate() {
+            kin.u[dof] = self.y[i];
+            kin.v[dof] = dy[i];
+        }
+        for (&dof, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
+            kin.u[dof] = model.initial_displacement[dof] + f * big_g;
+        }
+        impose_dirichlet(model, t, &mut kin.v);
+        if volume {
+            r.cond
+                .condense(&model.load, &kin.u, &mut r.r)
+                .and_then(|()| r.cond.extend(&mut kin.u))?;
+            r.cond
+                .condense(&self.zeros, &kin.v, &mut r.r)
+                .and_then(|()| r.cond.extend(&mut kin.v))?;
+        } else {
+            for &i in &self.interior {
+                kin.u[i] = f64::NAN;
+                kin.v[i] = f64::NAN;
+            }
+        }
+        self.state.alpha.copy_from_slice(&self.y[m..]);
+        Ok(())
+    }
+
+    /// Runs until `until`, showing every accepted step to the observers (as
+    /// [`Simulation::run_until`](crate::Simulation::run_until); the report's
+    /// `solver_iterations` counts the step's right-hand side evaluations, its
+    /// `fixed_point_iterations` is 0).
+    ///
+    /// # Errors
+    /// A [`RunError`] with the first step or observer error (e.g. a step below
+    /// `runge_kutta.dt_min`: [`rsf_time::Error::StepTooSmall`]) and the summary of the
+    /// steps before it; [`Error::InvalidParameter`] named `until` for a non-finite end.
+    pub fn run_until(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D, C>],
+    ) -> std::result::Result<RunSummary, RunError> {
+        let start = Instant::now();
+        let mut summary = RunSummary::default();
+        let outcome = self.run_loop(until, observers, &mut summary);
+        finish_run(observers, outcome, summary, start)
+    }
+
+    fn run_loop(
+        &mut self,
+        until: Until,
+        observers: &mut [&mut dyn Observer<D, C>],
+        summary: &mut RunSummary,
+    ) -> Result<()> {
+        if let Until::Time(t) = until {
+            if !t.is_finite() {
+                return Err(invalid("until", format!("end time {t} s must be finite")));
+            }
+        }
+        let volume = observers.iter().any(|o| o.reads_volume());
+        loop {
+            let (reached, t_end) = match until {
+                Until::Steps(k) => (summary.steps >= k, None),
+                Until::Time(t_end) => (
+                    time_reached(self.state.time, t_end, self.rk.state().dt),
+                    Some(t_end),
+                ),
+            };
+            if reached {
+                summary.termination = match until {
+                    Until::Steps(_) => crate::Termination::StepCount,
+                    Until::Time(_) => crate::Termination::EndTime,
+                };
+                return Ok(());
+            }
+            let clock = Instant::now();
+            let mut t = self.state.time;
+            let taken = {
+                let mut sys = Rates {
+                    friction: self.problem.friction_laws(),
+                    state_laws: self.problem.state_laws(),
+                    uses_state: self.problem.uses_state(),
+                    data: &mut self.rates,
+                };
+                self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?
+            };
+            self.dy
+                .copy_from_slice(self.rk.current_rate().expect("set by an accepted step"));
+            self.evaluations += taken.evaluations;
+            self.state.time = t;
+            self.state.step += 1;
+            self.state.tau = self.rk.state().dt;
+            self.fill_state(volume)?;
+            let fb = &self.problem.model().frictional_boundary;
+            let max_slip_rate = fb
+                .nodes
+                .iter()
+                .map(|&p| crate::model::fault::block_norm::<C>(&self.state.kinematics.v, p))
+                .fold(0.0, f64::max);
+            let report = StepReport {
+                step: self.state.step,
+                time: t,
+                tau: taken.dt,
+                solver_iterations: taken.evaluations,
+                max_slip_rate,
+                rejected_attempts: taken.rejected,
+                error_estimate: taken.error,
+                seconds: clock.elapsed().as_secs_f64(),
+                ..StepReport::default()
+            };
+            summary.steps += 1;
+            summary.solver_iterations += taken.evaluations;
+            summary.rejected_attempts += taken.rejected;
+            let view = StepView {
+                model: self.problem.model(),
+                state: &self.state,
+                report: &report,
+                friction: self.problem.fault_tractions(),
+            };
+            if let Some(reason) = notify(observers, &view)? {
+                summary.termination = reason;
+                return Ok(());
+            }
+        }
+    }
+}
+
+impl<const D: usize, L, S, const C: usize> std::fmt::Debug for FaultOde<D, L, S, C> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FaultOde")
+            .field("condensed_dim", &self.rates.cond.dim())
+            .field("time", &self.state.time)
+            .field("step", &self.state.step)
+            .field("options", &self.options)
+            .finish_non_exhaustive()
+    }
+}
