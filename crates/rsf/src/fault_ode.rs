@@ -19,10 +19,12 @@ use rsf_tnnmg::Condensation;
 use crate::error::{invalid, Error, Result};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
-use crate::observe::{Observer, StepView};
+use crate::observe::Observer;
 use crate::problem::Problem;
 use crate::report::StepReport;
-use crate::simulation::run::{finish_run, notify, time_reached, RunError, RunSummary, Until};
+use crate::simulation::run::{
+    check_end_time, notify_step, observed_run, time_reached, RunError, RunSummary, Until,
+};
 use crate::simulation::step::impose_dirichlet;
 use crate::simulation_state::SimulationState;
 
@@ -548,10 +550,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         until: Until,
         observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
-        let start = Instant::now();
-        let mut summary = RunSummary::default();
-        let outcome = self.run_loop(until, observers, &mut summary);
-        finish_run(observers, outcome, summary, start)
+        observed_run(observers, |observers, summary| {
+            self.run_loop(until, observers, summary)
+        })
     }
 
     fn run_loop(
@@ -561,9 +562,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         summary: &mut RunSummary,
     ) -> Result<()> {
         if let Until::Time(t) = until {
-            if !t.is_finite() {
-                return Err(invalid("until", format!("end time {t} s must be finite")));
-            }
+            check_end_time(t)?;
         }
         let volume = observers.iter().any(|o| o.reads_volume());
         loop {
@@ -619,13 +618,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             summary.steps += 1;
             summary.solver_iterations += taken.evaluations;
             summary.rejected_attempts += taken.rejected;
-            let view = StepView {
-                model: self.problem.model(),
-                state: &self.state,
-                report: &report,
-                friction: self.problem.fault_tractions(),
-            };
-            if let Some(reason) = notify(observers, &view)? {
+            if let Some(reason) = notify_step(observers, &self.problem, &self.state, &report)? {
                 summary.termination = reason;
                 return Ok(());
             }

@@ -4,8 +4,6 @@
 //! steps) while it slips fast — the approach of the fully dynamic codes of the SEAS
 //! benchmark BP1-FD (Erickson et al. 2023, BSSA), docs/math.md §12.
 
-use std::time::Instant;
-
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::VelocityIntegrator;
@@ -14,7 +12,9 @@ use crate::checkpoint::Checkpoint;
 use crate::error::{invalid, Result};
 use crate::fault_ode::FaultOde;
 use crate::observe::{Flow, Observer, StepView};
-use crate::simulation::run::{finish_run, time_reached, RunError, RunSummary, Termination};
+use crate::simulation::run::{
+    check_end_time, observed_run, time_reached, RunError, RunSummary, Termination,
+};
 use crate::simulation::Simulation;
 
 /// When and how a [`SwitchingRun`] changes between its two methods.
@@ -167,10 +167,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         t_end: f64,
         observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
-        let start = Instant::now();
-        let mut summary = RunSummary::default();
-        let outcome = self.run_loop(t_end, observers, &mut summary);
-        finish_run(observers, outcome, summary, start)
+        observed_run(observers, |observers, summary| {
+            self.run_loop(t_end, observers, summary)
+        })
     }
 
     fn run_loop(
@@ -179,12 +178,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         observers: &mut [&mut dyn Observer<D, C>],
         summary: &mut RunSummary,
     ) -> Result<()> {
-        if !t_end.is_finite() {
-            return Err(invalid(
-                "until",
-                format!("end time {t_end} s must be finite"),
-            ));
-        }
+        check_end_time(t_end)?;
         let mut fpi_total = 0.0;
         loop {
             if time_reached(self.time(), t_end, self.options.dynamic_tau) {

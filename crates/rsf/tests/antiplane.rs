@@ -11,6 +11,9 @@ use rsf::{
     SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
 };
 
+mod common;
+use common::small_bp1;
+
 /// The antisymmetric fault scales the model's unknown to s·u: K/s², F/s, w/s, velocities
 /// s·v — checked against the same model without it, entry by entry.
 #[test]
@@ -59,30 +62,13 @@ fn antisymmetric_fault_scales_the_model_to_slip() {
     assert!(bad.unwrap_err().to_string().contains("slip_factor"));
 }
 
-/// A small BP1-like fault (W_f = 10 km in a 20 km square) at Δz = 500 m.
-fn small(bp1: &SeasBp1) -> (SeasBp1, SeasBp1Grid) {
-    (
-        SeasBp1 {
-            h_top: 2e3,
-            h_transition: 1e3,
-            w_f: 10e3,
-            ..*bp1
-        },
-        SeasBp1Grid {
-            dz: 500.0,
-            domain: 20e3,
-            ratio: 1.1,
-        },
-    )
-}
-
 /// Velocity strengthening everywhere (a = 0.025 > b = 0.015) and started off steady state
 /// (V_init = V_p/10): after the transient the fault creeps at V_p at every node and its
 /// shear stress is the steady-state friction at V_p, σ_n F(V_p, D_c/V_p) — both from the
 /// law, independent of the model and the solver.
 #[test]
 fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
-    let (bp1, grid) = small(&SeasBp1 {
+    let (bp1, grid) = small_bp1(&SeasBp1 {
         a0: 0.025,
         v_init: 1e-10,
         ..SeasBp1::default()

@@ -9,22 +9,8 @@ use rsf::{
     SECONDS_PER_YEAR,
 };
 
-/// A small BP1-like fault (W_f = 10 km in a 20 km square) at Δz = 500 m.
-fn small(bp1: &SeasBp1) -> (SeasBp1, SeasBp1Grid) {
-    (
-        SeasBp1 {
-            h_top: 2e3,
-            h_transition: 1e3,
-            w_f: 10e3,
-            ..*bp1
-        },
-        SeasBp1Grid {
-            dz: 500.0,
-            domain: 20e3,
-            ratio: 1.1,
-        },
-    )
-}
+mod common;
+use common::small_bp1;
 
 fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf::SeasBp1FaultOde {
     let model = bp1.model(grid, false).unwrap();
@@ -49,7 +35,7 @@ fn slip_rates(model: &rsf::Model<2, 1>, state: &rsf::SimulationState) -> Vec<f64
 /// law — a closed form independent of the model and the integrator.
 #[test]
 fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
-    let (bp1, grid) = small(&SeasBp1 {
+    let (bp1, grid) = small_bp1(&SeasBp1 {
         a0: 0.025,
         v_init: 1e-10,
         ..SeasBp1::default()
@@ -86,7 +72,7 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
 /// and 2.6); asserted > 2.
 #[test]
 fn implicit_scheme_converges_to_the_runge_kutta_trajectory() {
-    let (bp1, grid) = small(&SeasBp1::default());
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
     let t_end = 60.0 * SECONDS_PER_YEAR;
     let mut ode = fault_ode(&bp1, &grid, 1e-8);
     ode.run_until(Until::Time(t_end), &mut []).unwrap();
@@ -164,7 +150,7 @@ impl Observer<2, 1> for Equilibrium {
 
 #[test]
 fn the_volume_is_in_equilibrium_when_an_observer_reads_it() {
-    let (bp1, grid) = small(&SeasBp1::default());
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
     let mut ode = fault_ode(&bp1, &grid, 1e-6);
     let mut eq = Equilibrium {
         worst: 0.0,
@@ -191,7 +177,7 @@ fn the_volume_is_in_equilibrium_when_an_observer_reads_it() {
 /// than between 1e-4 and 1e-6.
 #[test]
 fn first_event_converges_with_the_tolerance() {
-    let (bp1, grid) = small(&SeasBp1::default());
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
     let first_event = |tol: f64| {
         let mut ode = fault_ode(&bp1, &grid, tol);
         let mut onset = None;
@@ -225,7 +211,7 @@ fn first_event_converges_with_the_tolerance() {
 /// out of range.
 #[test]
 fn invalid_set_ups_are_typed_errors() {
-    let (bp1, grid) = small(&SeasBp1::default());
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
     let opts = bp1.fault_ode_options(1e-6).unwrap();
     let name = |r: rsf::Result<rsf::SeasBp1FaultOde>| match r {
         Err(rsf::Error::InvalidParameter { name, .. }) => name,
@@ -275,7 +261,7 @@ impl Observer<2, 1> for Trace {
 /// the run gets back to the quasi-dynamic method and on to the end time.
 #[test]
 fn switching_run_hands_over_continuously_and_reaches_the_end() {
-    let (bp1, grid) = small(&SeasBp1::default());
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
     let t_end = 100.0 * SECONDS_PER_YEAR;
     let model = bp1.model(&grid, true).unwrap();
     let ode = bp1

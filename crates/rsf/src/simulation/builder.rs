@@ -106,6 +106,13 @@ fn per_node<const D: usize, const C: usize, T, E: Into<Error>>(
         .collect()
 }
 
+/// What a checked builder passes on besides the laws.
+struct Checked<const D: usize, I, const C: usize> {
+    model: Model<D, C>,
+    v0: Option<Vec<f64>>,
+    method: MethodOptions<I>,
+}
+
 /// The parts of a builder whose types change with the laws and the integrator.
 type Laws<L, S, I> = (Result<Vec<L>>, Result<Vec<S>>, I);
 
@@ -280,6 +287,32 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
 impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
     SimulationBuilder<D, L, S, I, C>
 {
+    /// The checks of [`build`](Self::build) and [`build_fault_ode`](Self::build_fault_ode):
+    /// the builder (with its model and method), the laws, `α₀` (0 where unset) and τ.
+    #[allow(clippy::type_complexity)]
+    fn checked(self) -> Result<(Checked<D, I, C>, Vec<L>, Vec<S>, Vec<f64>, f64)> {
+        let friction = self.friction?;
+        let state_laws = self.state?;
+        let nf = self.model.frictional_boundary.len();
+        let tau = Parts {
+            model: &self.model,
+            friction_laws: &friction,
+            state_laws: &state_laws,
+            alpha0: self.alpha0.as_deref(),
+            v0: self.v0.as_deref(),
+            tau: self.tau,
+            method: &self.method,
+        }
+        .check()?;
+        let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
+        let this = Checked {
+            model: self.model,
+            v0: self.v0,
+            method: self.method,
+        };
+        Ok((this, friction, state_laws, alpha0, tau))
+    }
+
     /// Checks every part once and builds the simulation: assembles
     /// `A = c_M M + c_K K` (+ radiation damping), sets up the solver, and starts from
     /// `u_0 = model.initial_displacement`, `v_0` = the Dirichlet velocities at `t = 0` on
@@ -295,39 +328,26 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// (`fixed_point.*`), the step control, the state integrator (`state_integrator`);
     /// then set-up errors of the solver (e.g. `tau` for a non-finite time-step matrix).
     pub fn build(self) -> Result<Simulation<D, L, S, I, C>> {
-        let friction = self.friction?;
-        let state_laws = self.state?;
-        let nf = self.model.frictional_boundary.len();
-        let tau = Parts {
-            model: &self.model,
-            friction_laws: &friction,
-            state_laws: &state_laws,
-            alpha0: self.alpha0.as_deref(),
-            v0: self.v0.as_deref(),
-            tau: self.tau,
-            method: &self.method,
-        }
-        .check()?;
-        let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
-        let controller = match &self.method.step_control {
+        let (this, friction, state_laws, alpha0, tau) = self.checked()?;
+        let controller = match &this.method.step_control {
             Some(c) => Some(c.start(tau)?),
             None => None,
         };
-        let method = Method::new(self.method, &self.model, tau)?;
-        let n = self.model.num_dofs();
+        let method = Method::new(this.method, &this.model, tau)?;
+        let n = this.model.num_dofs();
         let mut kinematics = Kinematics::zeros(n);
         kinematics
             .u
-            .copy_from_slice(&self.model.initial_displacement);
-        if let Some(v0) = &self.v0 {
+            .copy_from_slice(&this.model.initial_displacement);
+        if let Some(v0) = &this.v0 {
             kinematics.v.copy_from_slice(v0);
         }
-        impose_dirichlet(&self.model, 0.0, &mut kinematics.v);
+        impose_dirichlet(&this.model, 0.0, &mut kinematics.v);
         let work = Workspace::new(
             n,
             &friction,
             &alpha0,
-            &self.model.frictional_boundary.weights,
+            &this.model.frictional_boundary.weights,
             method.fixed_point(),
         );
         let state = SimulationState {
@@ -340,7 +360,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             controller,
         };
         Ok(Simulation {
-            problem: Problem::new(self.model, friction, state_laws),
+            problem: Problem::new(this.model, friction, state_laws),
             method,
             state,
             work,
@@ -362,20 +382,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// at a non-zero velocity; the options' errors; [`Error::Solver`] if `K` is not
     /// positive definite on the free dofs.
     pub fn build_fault_ode(self, options: FaultOdeOptions) -> Result<FaultOde<D, L, S, C>> {
-        let friction = self.friction?;
-        let state_laws = self.state?;
-        let nf = self.model.frictional_boundary.len();
-        let tau = Parts {
-            model: &self.model,
-            friction_laws: &friction,
-            state_laws: &state_laws,
-            alpha0: self.alpha0.as_deref(),
-            v0: self.v0.as_deref(),
-            tau: self.tau,
-            method: &self.method,
-        }
-        .check()?;
-        let integrator = &self.method.integrator;
+        let (this, friction, state_laws, alpha0, tau) = self.checked()?;
+        let integrator = &this.method.integrator;
         if integrator.uses_mass() {
             return Err(crate::error::invalid(
                 "integrator",
@@ -384,9 +392,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             ));
         }
         let eta = integrator.radiation_damping();
-        let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
         FaultOde::new(
-            Problem::new(self.model, friction, state_laws),
+            Problem::new(this.model, friction, state_laws),
             alpha0,
             eta,
             tau,

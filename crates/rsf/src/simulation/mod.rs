@@ -15,17 +15,20 @@ use rsf_state::StateLaw;
 use rsf_time::{Kinematics, StepControl, VelocityIntegrator};
 
 use crate::checkpoint::Checkpoint;
-use crate::error::{invalid, Error, Result};
+use crate::error::{Error, Result};
 use crate::method::state_integrator::StateIntegrator;
 use crate::method::Method;
 use crate::model::fault::block_norm;
 use crate::model::Model;
-use crate::observe::{Observer, StepView};
+use crate::observe::Observer;
 use crate::problem::Problem;
 use crate::report::StepReport;
 use crate::simulation_state::SimulationState;
 
-use run::{finish_run, notify, time_reached, RunError, RunSummary, Termination, Until};
+use run::{
+    check_end_time, notify_step, observed_run, time_reached, RunError, RunSummary, Termination,
+    Until,
+};
 use step::Stepper;
 use workspace::Workspace;
 
@@ -221,16 +224,16 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         until: Until,
         observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
-        let start = Instant::now();
-        let mut summary = RunSummary::default();
-        let mut fpi_total = 0;
-        let outcome = self.run_loop(until, observers, &mut summary, &mut fpi_total);
-        summary.fpi_mean = if summary.steps > 0 {
-            fpi_total as f64 / summary.steps as f64
-        } else {
-            0.0
-        };
-        finish_run(observers, outcome, summary, start)
+        observed_run(observers, |observers, summary| {
+            let mut fpi_total = 0;
+            let outcome = self.run_loop(until, observers, summary, &mut fpi_total);
+            summary.fpi_mean = if summary.steps > 0 {
+                fpi_total as f64 / summary.steps as f64
+            } else {
+                0.0
+            };
+            outcome
+        })
     }
 
     /// The steps of [`run_until`](Self::run_until), accumulating into `summary` and the
@@ -243,9 +246,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         fpi_total: &mut usize,
     ) -> Result<()> {
         if let Until::Time(t) = until {
-            if !t.is_finite() {
-                return Err(invalid("until", format!("end time {t} s must be finite")));
-            }
+            check_end_time(t)?;
         }
         loop {
             let reached = match until {
@@ -268,13 +269,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             summary.relaxed_steps += usize::from(report.relaxed_iterations > 0);
             summary.rejected_attempts += report.rejected_attempts;
             summary.steps += 1;
-            let view = StepView {
-                model: self.problem.model(),
-                state: &self.state,
-                report: &report,
-                friction: self.problem.fault_tractions(),
-            };
-            if let Some(reason) = notify(observers, &view)? {
+            if let Some(reason) = notify_step(observers, &self.problem, &self.state, &report)? {
                 summary.termination = reason;
                 return Ok(());
             }

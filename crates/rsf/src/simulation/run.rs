@@ -3,8 +3,14 @@
 
 use std::time::Instant;
 
-use crate::error::{Error, Result};
+use rsf_friction::FrictionLaw;
+use rsf_state::StateLaw;
+
+use crate::error::{invalid, Error, Result};
 use crate::observe::{Observer, StepView};
+use crate::problem::Problem;
+use crate::report::StepReport;
+use crate::simulation_state::SimulationState;
 
 /// Where [`Simulation::run_until`](crate::Simulation::run_until) ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,6 +114,41 @@ pub(crate) fn time_slack(t: f64, tau: f64) -> f64 {
     1e-9 * tau.min(t.abs())
 }
 
+/// Shows the step of `report` (state `state` of `problem`) to every observer: [`notify`]
+/// with the view.
+///
+/// # Errors
+/// As [`notify`].
+pub(crate) fn notify_step<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize>(
+    observers: &mut [&mut dyn Observer<D, C>],
+    problem: &Problem<D, L, S, C>,
+    state: &SimulationState,
+    report: &StepReport,
+) -> Result<Option<Termination>> {
+    let view = StepView {
+        model: problem.model(),
+        state,
+        report,
+        friction: problem.fault_tractions(),
+    };
+    notify(observers, &view)
+}
+
+/// Checks the end time of a run.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `until` unless `t_end` is finite.
+pub(crate) fn check_end_time(t_end: f64) -> Result<()> {
+    if t_end.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(
+            "until",
+            format!("end time {t_end} s must be finite"),
+        ))
+    }
+}
+
 /// Shows a step to every observer; the first one that breaks gives the termination (the
 /// others still see the step).
 ///
@@ -128,6 +169,19 @@ pub(crate) fn notify<const D: usize, const C: usize>(
         }
     }
     Ok(first_break)
+}
+
+/// A run of `body` (the steps, accumulating into the summary) with its observers: the
+/// wall time, every observer's `finish` once at the end ([`finish_run`]), the summary or
+/// the error with the summary.
+pub(crate) fn observed_run<const D: usize, const C: usize>(
+    observers: &mut [&mut dyn Observer<D, C>],
+    body: impl FnOnce(&mut [&mut dyn Observer<D, C>], &mut RunSummary) -> Result<()>,
+) -> std::result::Result<RunSummary, RunError> {
+    let start = Instant::now();
+    let mut summary = RunSummary::default();
+    let outcome = body(observers, &mut summary);
+    finish_run(observers, outcome, summary, start)
 }
 
 /// Ends a run: every observer's `finish` (all of them, the first error kept), the wall

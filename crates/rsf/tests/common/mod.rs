@@ -391,3 +391,21 @@ pub fn temp_dir(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).expect("temporary directory");
     dir
 }
+
+/// A small BP1-like fault (W_f = 10 km in a 20 km square) at Δz = 500 m, with the other
+/// parameters of `bp1`.
+pub fn small_bp1(bp1: &rsf::SeasBp1) -> (rsf::SeasBp1, rsf::SeasBp1Grid) {
+    (
+        rsf::SeasBp1 {
+            h_top: 2e3,
+            h_transition: 1e3,
+            w_f: 10e3,
+            ..*bp1
+        },
+        rsf::SeasBp1Grid {
+            dz: 500.0,
+            domain: 20e3,
+            ratio: 1.1,
+        },
+    )
+}
