@@ -79,6 +79,10 @@ struct Cli {
     /// refused and left untouched).
     #[arg(long)]
     overwrite: bool,
+    /// Threads of the direct solver's dense Newton factorisations (systems of at least
+    /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns; docs/scaling.md).
+    #[arg(long, default_value_t = 2)]
+    dense_threads: usize,
 }
 
 fn main() -> ExitCode {
@@ -244,7 +248,12 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         out.display()
     );
     let setup = std::time::Instant::now();
-    let mut sim = scene.build()?;
+    let mut options = scene.slider.solver_options();
+    options.direct.dense_threads = cli.dense_threads;
+    let mut sim = scene
+        .simulation_builder_with_model(scene.build_model()?)?
+        .solver_options(options)
+        .build()?;
     let model = sim.model();
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");

@@ -102,7 +102,7 @@ impl FaultOdeOptions {
 ///
 /// Each right-hand side costs one dense product with `S` (`m²` multiply-adds, `m` the
 /// number of free components) and one scalar minimisation per node; the volume is never
-/// touched during the steps. Observers see the same [`StepView`] as in a
+/// touched during the steps. Observers see the same [`StepView`](crate::StepView) as in a
 /// [`Simulation`](crate::Simulation): `u`, `v` on Γ_F and the fixed dofs always, the rest
 /// of the field (one sparse forward and backward sweep for each of `u` and `v`) only if
 /// an observer [reads the volume](Observer::reads_volume) — else it is NaN.

@@ -18,6 +18,7 @@ use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
 use crate::step::StepSolver;
 pub use condensation::Condensation;
 use fault_newton::DenseFault;
+pub use fault_newton::DENSE_PARALLEL_MIN;
 use partial_cholesky::PartialCholesky;
 
 /// Options of [`DirectSolver`].
@@ -41,6 +42,13 @@ pub struct DirectOptions {
     /// automatic solver choice picked this solver before the block-by-block form existed
     /// keeps its bits).
     pub max_extension_bytes: usize,
+    /// Threads of the dense Cholesky factorisation of the Newton system on the soft blocks
+    /// (faer's `Par::rayon`), used for systems of at least [`DENSE_PARALLEL_MIN`]
+    /// unknowns, where they pay (docs/scaling.md); smaller systems and `1` stay on one
+    /// thread. Deterministic for a given value (faer's parallel factorisation repeats its
+    /// bits; in our checks at 1 400 and 2 754 unknowns they were also those of one thread,
+    /// and a 3-D run with 1 and 2 threads gave identical output). Default 2; at least 1.
+    pub dense_threads: usize,
 }
 
 impl Default for DirectOptions {
@@ -53,6 +61,7 @@ impl Default for DirectOptions {
             },
             soft_ratio: 1e3,
             max_extension_bytes: 4_000_000_000,
+            dense_threads: 2,
         }
     }
 }
@@ -103,6 +112,11 @@ impl<const D: usize> DirectSolver<D> {
         opts.stopping.validate()?;
         if !(opts.soft_ratio > 0.0) {
             return Err(Error::InvalidOption("soft_ratio must be positive".into()));
+        }
+        if opts.dense_threads == 0 {
+            return Err(Error::InvalidOption(
+                "dense_threads must be at least 1".into(),
+            ));
         }
         let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
         Ok(Self {
@@ -203,7 +217,13 @@ impl<const D: usize> DirectSolver<D> {
                 harmonic_energy_by_blocks(factor, e, order, pos)
             }
         });
-        let fault = DenseFault::new(s, norm, cond.free.clone(), self.opts.soft_ratio);
+        let fault = DenseFault::new(
+            s,
+            norm,
+            cond.free.clone(),
+            self.opts.soft_ratio,
+            self.opts.dense_threads,
+        );
         Ok(Condensed { cond, fault })
     }
 }
