@@ -5,7 +5,7 @@
 //! turned by `--angle`, gravity vertical; its velocity problems are the unturned ones in
 //! other coordinates); in 3-D the block of `rsf::Slider3dScene` (W = 1 m, free lateral
 //! faces) turned by `--angle` about (1, 2, 3)/√14 with gravity
-//! (`rsf_examples::turned_slider_3d_model`). Both give the unturned trajectory (same fixed
+//! (`rsf::Slider3dScene::build_turned_model`). Both give the unturned trajectory (same fixed
 //! point iterations), so the stepping times compare the same work.
 //!
 //! ```sh
@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::{Observer, SceneSimulation, Slider3dScene, SliderScene, StepView, Until};
-use rsf_examples::{inclined_slider_model, turned_slider_3d_model, SceneArgs, TimeStepArgs};
+use rsf_examples::{inclined_slider_model, SceneArgs, TimeStepArgs};
 
 /// The cost of nodal frames per time step: the slider axis-aligned or turned.
 #[derive(Parser)]
@@ -78,7 +78,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             slider: scene,
             ..Slider3dScene::default()
         };
-        let model = turned_slider_3d_model(&scene3, phi)?;
+        let model = scene3.build_turned_model(phi)?;
         let frames = model.frames.nodes.len();
         let sim = scene3.build_with_model(model)?;
         report(cli.angle, frames, start, sim, scene3.slider.end_time_s)

@@ -17,7 +17,6 @@ mod panels;
 pub mod pipping_slider;
 mod run;
 pub mod run_folder;
-mod turned;
 pub use cli::{main_with, FrameArgs, SceneArgs, TimeStepArgs};
 pub use curved::{
     arc_block_model, max_slip_rate_figure, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M,
@@ -31,7 +30,6 @@ pub use run::{
     SliderStats,
 };
 pub use run_folder::{FolderArgs, RunFolder};
-pub use turned::{skew_rotation, turned_slider_3d_model};
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 

@@ -104,7 +104,9 @@ pub use scenes::slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,
 };
-pub use scenes::slider3d::{slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
+pub use scenes::slider3d::{
+    skew_rotation, slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL,
+};
 pub use simulation::builder::{SimulationBuilder, Unset};
 pub use simulation::run::{RunError, RunSummary, Termination, Until};
 pub use simulation::Simulation;

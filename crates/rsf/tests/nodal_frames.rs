@@ -41,8 +41,8 @@ use rsf::friction::DieterichRuina;
 use rsf::time::{Kinematics, Newmark, SystemMatrices, VelocityIntegrator};
 use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
 use rsf::{
-    slider_3d_coarse, Error, FrictionBlocks, Model, ModelBuilder, Observer, Part, Slider3dScene,
-    SliderScene, SolverKind, StateLawKind, StepView, SLIDER_CENTRE, TAG_LATERAL,
+    skew_rotation, slider_3d_coarse, Error, FrictionBlocks, Model, ModelBuilder, Observer, Part,
+    Slider3dScene, SliderScene, SolverKind, StateLawKind, StepView, SLIDER_CENTRE,
 };
 
 /// The rotation by `phi` (rad) about the origin.
@@ -625,67 +625,6 @@ fn a_zero_length_fault_facet_is_a_typed_error_naming_the_node() {
         .is_ok());
 }
 
-/// The rotation by `phi` (rad) about the unit axis `(1, 2, 3)/√14` (Rodrigues' formula):
-/// aligned with no coordinate axis or plane.
-fn rot3(phi: f64, x: [f64; 3]) -> [f64; 3] {
-    let l = 14f64.sqrt();
-    let k = [1.0 / l, 2.0 / l, 3.0 / l];
-    let (s, c) = phi.sin_cos();
-    let kx = [
-        k[1] * x[2] - k[2] * x[1],
-        k[2] * x[0] - k[0] * x[2],
-        k[0] * x[1] - k[1] * x[0],
-    ];
-    let kdx = k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
-    std::array::from_fn(|r| x[r] * c + kx[r] * s + k[r] * kdx * (1.0 - c))
-}
-
-/// The model of the 3-D slider `scene` with mesh, gravity and loading rotated by `phi`
-/// about [`rot3`]'s axis, the faces tagged as [`slider_3d_coarse`]'s, and the fault's
-/// reference tangent the rotated `e_x` (the loading direction). The coarse cells are
-/// Kuhn paths, whose refinement order is increasing vertex index: passing them sorted to
-/// `from_ordered_cells` refines the rotated mesh exactly as the unrotated one.
-fn rotated_slider_3d(scene: &Slider3dScene, phi: f64) -> Model<3> {
-    let flat = slider_3d_coarse(scene.width_m).unwrap();
-    let vertices = flat.vertices().iter().map(|&x| rot3(phi, x)).collect();
-    let cells = flat
-        .cells()
-        .chunks_exact(4)
-        .flat_map(|c| {
-            let mut c = [c[0], c[1], c[2], c[3]];
-            c.sort_unstable();
-            c
-        })
-        .collect();
-    let mut coarse = SimplexMesh::from_ordered_cells(vertices, cells).unwrap();
-    let w = scene.width_m;
-    let back = |x: &[f64; 3]| rot3(-phi, *x);
-    coarse.tag_boundary(TAG_NEUMANN, |x| {
-        let y = back(x);
-        y[0] < 1e-9 || y[0] > 5.0 - 1e-9
-    });
-    coarse.tag_boundary(TAG_LATERAL, |x| {
-        let y = back(x);
-        y[2] < 1e-9 * w || y[2] > w * (1.0 - 1e-9)
-    });
-    coarse.tag_boundary(TAG_DIRICHLET, |x| back(x)[1] > 1.0 - 1e-9);
-    coarse.tag_boundary(TAG_FRICTIONAL, |x| back(x)[1] < 1e-9);
-    let s = &scene.slider;
-    ModelBuilder::refined(coarse, s.level)
-        .unwrap()
-        .material(s.material())
-        .gravity(rot3(phi, [0.0, -s.gravity_m_per_s2, 0.0]))
-        .dirichlet(
-            TAG_DIRICHLET,
-            rot3(phi, [s.loading_velocity_m_per_s, 0.0, 0.0]),
-        )
-        .frictional_boundary(TAG_FRICTIONAL)
-        .fault_tangent(rot3(phi, [1.0, 0.0, 0.0]))
-        .loading(s.loading())
-        .build()
-        .expect("the rotated 3-D slider builds")
-}
-
 fn track_3d(scene: &Slider3dScene, model: Model<3>, x0: [f64; 3]) -> Track<3> {
     let mut tr = Track {
         x0: model.nearest_node(&x0).unwrap(),
@@ -717,27 +656,31 @@ fn fast_slider_3d(level: usize) -> Slider3dScene {
 fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
     let phi = 30f64.to_radians();
     let scene = fast_slider_3d(1);
-    // The angle 0 rebuilds the scene's model bit for bit (same refinement, no frames).
+    // The turned construction at angle 0 rebuilds the scene's model bit for bit (same
+    // refinement, no frames).
     let straight_model = scene.build_model().unwrap();
-    let zero = rotated_slider_3d(&scene, 0.0);
+    let zero = scene.build_turned_model(0.0).unwrap();
     assert!(zero.frames.nodes.is_empty());
     assert_eq!(straight_model.stiffness.val(), zero.stiffness.val());
     assert_eq!(straight_model.load, zero.load);
     assert_eq!(straight_model.fixed, zero.fixed);
 
-    let turned_model = rotated_slider_3d(&scene, phi);
+    let turned_model = scene.build_turned_model(phi).unwrap();
     assert_eq!(
         turned_model.frames.nodes,
         turned_model.frictional_boundary.nodes
     );
-    let (t1, n_in) = (rot3(phi, [1.0, 0.0, 0.0]), rot3(phi, [0.0, 1.0, 0.0]));
+    let (t1, n_in) = (
+        skew_rotation(phi, [1.0, 0.0, 0.0]),
+        skew_rotation(phi, [0.0, 1.0, 0.0]),
+    );
     for q in &turned_model.frames.rotations {
         for r in 0..3 {
             assert!((q[r][0] - t1[r]).abs() < 1e-12 && (q[r][2] - n_in[r]).abs() < 1e-12);
         }
     }
     let straight = track_3d(&scene, straight_model, scene.centre());
-    let turned = track_3d(&scene, turned_model, rot3(phi, scene.centre()));
+    let turned = track_3d(&scene, turned_model, skew_rotation(phi, scene.centre()));
     assert_eq!(straight.x0, turned.x0, "x0 is the same node");
     assert_eq!(straight.t, turned.t);
     let (f1, f2) = (straight.first_slip(), turned.first_slip());
@@ -763,7 +706,7 @@ fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
     assert!(worst_ln_v <= 1e-6, "max |Δ ln V| = {worst_ln_v:e}");
     // The Cartesian velocity of x0 is the rotated one.
     for (a, b) in straight.v_x0.iter().zip(&turned.v_x0) {
-        let ra = rot3(phi, *a);
+        let ra = skew_rotation(phi, *a);
         let scale = a.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-12);
         let d = (0..3).map(|r| (ra[r] - b[r]).powi(2)).sum::<f64>().sqrt();
         assert!(d <= 1e-6 * scale, "{a:?} rotated vs {b:?}");
@@ -781,9 +724,10 @@ fn the_3d_slider_rotated_about_a_skew_axis_slips_as_the_unrotated_one() {
 fn tnnmg_and_direct_agree_on_a_slanted_3d_fault() {
     let phi = 30f64.to_radians();
     let scene = fast_slider_3d(2);
-    let model = rotated_slider_3d(&scene, phi);
+    let model = scene.build_turned_model(phi).unwrap();
     assert!(!model.frames.nodes.is_empty());
-    let (rel, vmax) = tnnmg_against_direct(&scene.slider, &model, rot3(phi, [0.5, 0.0, 0.0]));
+    let (rel, vmax) =
+        tnnmg_against_direct(&scene.slider, &model, skew_rotation(phi, [0.5, 0.0, 0.0]));
     println!(
         "TNNMG vs direct on a slanted 3-D fault ({} dofs): {rel:e} (largest slip rate {vmax:e} \
          m/s)",

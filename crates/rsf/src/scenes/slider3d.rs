@@ -85,6 +85,21 @@ struct Extrusion {
     lateral: Option<LateralBoundary>,
 }
 
+/// `x` rotated by `phi` (rad) about the unit axis `(1, 2, 3)/√14` (Rodrigues' formula):
+/// aligned with no coordinate axis or plane ([`Slider3dScene::build_turned_model`]).
+pub fn skew_rotation(phi: f64, x: [f64; 3]) -> [f64; 3] {
+    let l = 14f64.sqrt();
+    let k = [1.0 / l, 2.0 / l, 3.0 / l];
+    let (s, c) = phi.sin_cos();
+    let kx = [
+        k[1] * x[2] - k[2] * x[1],
+        k[2] * x[0] - k[0] * x[2],
+        k[0] * x[1] - k[1] * x[0],
+    ];
+    let kdx = k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
+    std::array::from_fn(|r| x[r] * c + kx[r] * s + k[r] * kdx * (1.0 - c))
+}
+
 /// Coarse mesh of the 3-D slider: the box `[0, 5] × [0, 1] × [0, W]` m with 5 × 1 × `nz`
 /// cubes (`nz = max(1, round(W / 1 m))`) of 6 Kuhn tetrahedra each ([`cuboid`]), and
 /// boundary tags [`TAG_DIRICHLET`] (top, y = 1), [`TAG_FRICTIONAL`] (bottom, y = 0),
@@ -185,6 +200,84 @@ impl Slider3dScene {
             builder = builder.without_mass();
         }
         let model = builder.build()?;
+        s.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// The model of this slider turned by `phi` (rad) about [`skew_rotation`]'s axis: the
+    /// coarse mesh's vertices, gravity and the top's velocity rotated, the faces tagged as
+    /// [`slider_3d_coarse`]'s, and the fault's reference tangent
+    /// ([`ModelBuilder::fault_tangent`]) the rotated `e_x`, so that the slip along the first
+    /// tangent is the unturned slider's slip along x. The coarse cells are Kuhn paths, whose
+    /// refinement order is increasing vertex index: the turned hierarchy is the unturned
+    /// one, rotated, and every fault node has a nodal frame (docs/math.md §10.1). The same
+    /// discrete problem in other coordinates: for rotation-invariance tests and for what
+    /// the frames cost. At `phi = 0` the matrices, load and constraints are those of
+    /// [`build_model`](Self::build_model) (asserted in `tests/nodal_frames.rs`); with
+    /// plane-strain lateral faces `phi = 0` is `build_model` itself.
+    ///
+    /// # Errors
+    /// As [`build_model`](Self::build_model); [`Error::InvalidParameter`] named `lateral`
+    /// for plane-strain lateral faces (a constraint on Cartesian `u_z`, not turned here) and
+    /// named `angle` for a non-finite angle.
+    pub fn build_turned_model(&self, phi: f64) -> Result<Model<3>> {
+        if !phi.is_finite() {
+            return Err(invalid("angle", format!("{phi} rad must be finite")));
+        }
+        if self.lateral != LateralBoundary::Free {
+            if phi == 0.0 {
+                return self.build_model();
+            }
+            return Err(invalid(
+                "lateral",
+                "the turned 3-D slider has free lateral faces only",
+            ));
+        }
+        self.validate()?;
+        let flat = slider_3d_coarse(self.width_m)?;
+        let vertices = flat
+            .vertices()
+            .iter()
+            .map(|&x| skew_rotation(phi, x))
+            .collect();
+        let cells = flat
+            .cells()
+            .chunks_exact(4)
+            .flat_map(|c| {
+                let mut c = [c[0], c[1], c[2], c[3]];
+                c.sort_unstable();
+                c
+            })
+            .collect();
+        let mut coarse = TetrahedronMesh::from_ordered_cells(vertices, cells)?;
+        let w = self.width_m;
+        let back = |x: &[f64; 3]| skew_rotation(-phi, *x);
+        coarse.tag_boundary(TAG_NEUMANN, |x| {
+            let y = back(x);
+            y[0] < 1e-9 || y[0] > 5.0 - 1e-9
+        });
+        coarse.tag_boundary(TAG_LATERAL, |x| {
+            let y = back(x);
+            y[2] < 1e-9 * w || y[2] > w * (1.0 - 1e-9)
+        });
+        coarse.tag_boundary(TAG_DIRICHLET, |x| back(x)[1] > 1.0 - 1e-9);
+        coarse.tag_boundary(TAG_FRICTIONAL, |x| back(x)[1] < 1e-9);
+        let s = &self.slider;
+        let builder = ModelBuilder::refined(coarse, s.level)?
+            .material(s.material())
+            .gravity(skew_rotation(phi, [0.0, -s.gravity_m_per_s2, 0.0]))
+            .dirichlet(
+                TAG_DIRICHLET,
+                skew_rotation(phi, [s.loading_velocity_m_per_s, 0.0, 0.0]),
+            )
+            .frictional_boundary(TAG_FRICTIONAL)
+            .fault_tangent(skew_rotation(phi, [1.0, 0.0, 0.0]))
+            .loading(s.loading());
+        let model = if s.integrator.uses_mass() {
+            builder.build()?
+        } else {
+            builder.without_mass().build()?
+        };
         s.check_conditioning(&model)?;
         Ok(model)
     }
