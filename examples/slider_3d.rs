@@ -83,6 +83,15 @@ struct Cli {
     /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns; docs/scaling.md).
     #[arg(long, default_value_t = 2)]
     dense_threads: usize,
+    /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
+    /// fit, else TNNMG; docs/scaling.md). Default: `rsf::DEFAULT_MEMORY_BUDGET_BYTES`.
+    #[arg(long)]
+    memory_budget_gib: Option<f64>,
+    /// Solve every fixed point iteration's velocity problem to the solver's tolerance (the
+    /// paper's rule) instead of the scene's (3-D default: `by-solver`, inexact solves for
+    /// TNNMG; docs/scaling.md).
+    #[arg(long)]
+    exact_inner_solves: bool,
 }
 
 fn main() -> ExitCode {
@@ -112,6 +121,9 @@ fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     }
     if cli.plane_strain {
         scene.lateral = LateralBoundary::PlaneStrain;
+    }
+    if cli.exact_inner_solves {
+        scene.slider.fixed_point_inner_solves = rsf::InnerSolves::Exact;
     }
     scene.validate()?;
     Ok(scene)
@@ -250,6 +262,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let setup = std::time::Instant::now();
     let mut options = scene.slider.solver_options();
     options.direct.dense_threads = cli.dense_threads;
+    if let Some(gib) = cli.memory_budget_gib {
+        if !(gib.is_finite() && gib > 0.0) {
+            return Err(
+                format!("--memory-budget-gib must be positive and finite, got {gib}").into(),
+            );
+        }
+        options.memory_budget_bytes = (gib * (1u64 << 30) as f64) as usize;
+    }
     let mut sim = scene
         .simulation_builder_with_model(scene.build_model()?)?
         .solver_options(options)

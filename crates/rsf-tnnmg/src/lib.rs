@@ -73,7 +73,7 @@ mod step;
 mod tnnmg;
 
 pub use block::solve_spd_masked;
-pub use direct::{Condensation, DirectOptions, DirectSolver, DENSE_PARALLEL_MIN};
+pub use direct::{Condensation, DirectMemory, DirectOptions, DirectSolver, DENSE_PARALLEL_MIN};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;

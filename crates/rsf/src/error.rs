@@ -36,6 +36,20 @@ pub enum Error {
         /// ‖v^{ν+1} − v^ν‖ for every iteration.
         history: Vec<f64>,
     },
+    /// [`SolverKind::Auto`](crate::SolverKind::Auto) found no solver within the memory
+    /// budget ([`SolverOptions::memory_budget_bytes`](crate::SolverOptions)): the direct
+    /// solver needs more and the model has no refinement hierarchy for TNNMG.
+    #[error(
+        "the direct solver needs about {needed_bytes} bytes (budget {budget_bytes} bytes) and \
+         the model has no refinement hierarchy for TNNMG; raise the budget, refine the mesh \
+         with a hierarchy or choose a solver explicitly"
+    )]
+    MemoryBudget {
+        /// The direct solver's estimate ([`rsf_tnnmg::DirectMemory::total_bytes`]).
+        needed_bytes: usize,
+        /// The budget.
+        budget_bytes: usize,
+    },
     /// An invalid parameter, named (a field of a scene or builder, an argument).
     #[error("invalid parameter `{name}`: {reason}")]
     InvalidParameter {

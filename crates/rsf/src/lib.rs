@@ -64,10 +64,14 @@ pub use checkpoint::{write_atomically, Checkpoint, Fingerprint, CHECKPOINT_FORMA
 pub use error::{Error, Result};
 pub use fault_ode::{FaultOde, FaultOdeOptions};
 pub use friction_blocks::FrictionBlocks;
-pub use method::fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, Predictor};
+pub use method::fixed_point::{
+    Acceleration, FixedPointOptions, FixedPointScheme, InnerSolves, Predictor,
+};
 #[allow(deprecated)]
 pub use method::solver::AUTO_DIRECT_MAX_EXTENSION;
-pub use method::solver::{SolverKind, SolverOptions, AUTO_DIRECT_MAX_CONDENSED};
+pub use method::solver::{
+    SolverKind, SolverOptions, AUTO_DIRECT_MAX_CONDENSED, DEFAULT_MEMORY_BUDGET_BYTES,
+};
 pub use method::state_integrator::StateIntegrator;
 pub use method::{Method, MethodOptions};
 pub use model::builder::{

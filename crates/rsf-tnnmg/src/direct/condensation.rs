@@ -81,22 +81,7 @@ impl<const D: usize> Condensation<D> {
         previous: Option<&PartialCholesky>,
     ) -> Result<Self> {
         let n = a.nrows;
-        if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
-            return Err(Error::InvalidOption(format!(
-                "active blocks must be strictly increasing node indices below {}",
-                n / D
-            )));
-        }
-        let mut in_block = vec![false; n];
-        for &p in blocks {
-            in_block[D * p..D * p + D].fill(true);
-        }
-        let interior: Vec<usize> = (0..n).filter(|&i| !in_block[i] && !fixed[i]).collect();
-        let interface: Vec<usize> = blocks
-            .iter()
-            .flat_map(|&p| (0..D).map(move |c| D * p + c))
-            .filter(|&i| !fixed[i])
-            .collect();
+        let (interior, interface) = split_dofs::<D>(n, fixed, blocks)?;
         let (factor, order) = match previous {
             Some(p) if p.analysed_for(a, &interior, &interface) => {
                 (p.refactor(a)?, p.order().to_vec())
@@ -238,6 +223,35 @@ fn check_len(what: &'static str, expected: usize, got: usize) -> Result<()> {
             got,
         })
     }
+}
+
+/// The interior (free dofs outside the blocks) and the interface (free components of the
+/// blocks, block by block) of a condensation onto `blocks` of a problem with `n` dofs.
+///
+/// # Errors
+/// [`Error::InvalidOption`] for blocks out of range or not strictly increasing.
+pub(super) fn split_dofs<const D: usize>(
+    n: usize,
+    fixed: &[bool],
+    blocks: &[usize],
+) -> Result<(Vec<usize>, Vec<usize>)> {
+    if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
+        return Err(Error::InvalidOption(format!(
+            "active blocks must be strictly increasing node indices below {}",
+            n / D
+        )));
+    }
+    let mut in_block = vec![false; n];
+    for &p in blocks {
+        in_block[D * p..D * p + D].fill(true);
+    }
+    let interior: Vec<usize> = (0..n).filter(|&i| !in_block[i] && !fixed[i]).collect();
+    let interface: Vec<usize> = blocks
+        .iter()
+        .flat_map(|&p| (0..D).map(move |c| D * p + c))
+        .filter(|&i| !fixed[i])
+        .collect();
+    Ok((interior, interface))
 }
 
 #[cfg(test)]

@@ -575,6 +575,31 @@ impl PartialCholesky {
         interior: &[usize],
         interface: &[usize],
     ) -> Result<(Self, Vec<usize>)> {
+        let (analysis, layout, p1, p2) = Self::analyse(a, interior, interface)?;
+        let factor = Self::numeric(a, Arc::new(analysis), layout, interior.len(), p1, p2)?;
+        let order = factor.analysis.order.clone();
+        Ok((factor, order))
+    }
+
+    /// Stored entries of the factor [`new`](Self::new) would compute for these arguments,
+    /// by the ordering and symbolic factorisation alone (no numeric work; the memory of the
+    /// numeric factor is 8 bytes per entry).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) without the numeric failures.
+    pub(super) fn planned_nnz(a: &Csc, interior: &[usize], interface: &[usize]) -> Result<usize> {
+        let (analysis, ..) = Self::analyse(a, interior, interface)?;
+        Ok(analysis.symbolic.len_val())
+    }
+
+    /// The ordering (two halves, a separator, the interface last) and faer's symbolic
+    /// factorisation of the submatrix of `a` on `interior ∪ interface`, with the layout
+    /// of the supernodes and the ends `p1`, `p2` of the two halves in the order.
+    fn analyse(
+        a: &Csc,
+        interior: &[usize],
+        interface: &[usize],
+    ) -> Result<(Analysis, Supernodes, usize, usize)> {
         let (r1, r2, c) = bisect(a, interior);
         let mut order = amd_order(a, &r1)?;
         let p1 = order.len();
@@ -644,17 +669,15 @@ impl PartialCholesky {
             val_ptr,
             val: Vec::new(),
         };
-        let analysis = Arc::new(Analysis {
+        let analysis = Analysis {
             a_col_ptr: a.col_ptr.clone(),
             a_row_idx: a.row_idx.clone(),
             gather,
             pattern,
             symbolic,
             order,
-        });
-        let factor = Self::numeric(a, analysis, layout, interior.len(), p1, p2)?;
-        let order = factor.analysis.order.clone();
-        Ok((factor, order))
+        };
+        Ok((analysis, layout, p1, p2))
     }
 
     /// Whether this factor was computed for the pattern of `a` with these interior and

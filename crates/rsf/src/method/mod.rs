@@ -74,7 +74,6 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             &model.stiffness,
         )?;
         let inner_stopping = options.solver_options.stopping(options.solver);
-        let resolved = options.solver.resolve(model);
         let tau_free = (!options.integrator.uses_mass()
             && !options.solver_options.setup_per_time_step)
             .then(|| {
@@ -90,6 +89,9 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             }
             None => time_step_matrix(model, &options.integrator, tau)?,
         };
+        let resolved = options
+            .solver
+            .resolve_within(model, &a, &options.solver_options)?;
         let solver = VelocitySolver::new(resolved, &options.solver_options, &a, model)?;
         Ok(Self {
             options,

@@ -3,8 +3,8 @@
 
 use rsf_fem::SparseMatrix;
 use rsf_tnnmg::{
-    BlockNonlinearity, DirectOptions, DirectSolver, FullStep, NonlinearGaussSeidel, Result,
-    SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
+    BlockNonlinearity, DirectMemory, DirectOptions, DirectSolver, FullStep, NonlinearGaussSeidel,
+    Result, SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
 };
 
 use crate::model::Model;
@@ -17,8 +17,9 @@ use crate::model::Model;
 #[derive(serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SolverKind {
-    /// [`Direct`](Self::Direct) while the condensed problem is small, else
-    /// [`Tnnmg`](Self::Tnnmg): see [`SolverKind::resolve`] for the rule.
+    /// [`Direct`](Self::Direct) while the condensed problem is small and the direct
+    /// solver fits in the memory budget, else [`Tnnmg`](Self::Tnnmg): see
+    /// [`SolverKind::resolve_within`] for the rule.
     #[default]
     Auto,
     /// TNNMG over the model's refinement hierarchy (the paper's choice, §6.2): every fixed
@@ -52,17 +53,12 @@ impl SolverKind {
     /// (docs/scaling.md); the direct solver's memory beyond its factor is `O(|F|²)` since
     /// its harmonic extension is formed block by block when large
     /// ([`DirectOptions::max_extension_bytes`](rsf_tnnmg::DirectOptions)), so `n · |F|` no
-    /// longer enters the choice.
+    /// longer enters the choice. The memory budget is applied on top by
+    /// [`resolve_within`](Self::resolve_within), which simulations use.
     pub fn resolve<const D: usize, const C: usize>(self, model: &Model<D, C>) -> SolverKind {
         match self {
             SolverKind::Auto => {
-                let condensed = model
-                    .frictional_boundary
-                    .nodes
-                    .iter()
-                    .flat_map(|&p| (0..C).map(move |c| C * p + c))
-                    .filter(|&i| !model.fixed[i])
-                    .count();
+                let condensed = model.condensed_unknowns();
                 if condensed <= AUTO_DIRECT_MAX_CONDENSED || model.prolongations.is_empty() {
                     SolverKind::Direct
                 } else {
@@ -70,6 +66,46 @@ impl SolverKind {
                 }
             }
             other => other,
+        }
+    }
+
+    /// The concrete choice for `model` with the time-step matrix `a` under the memory
+    /// budget of `options`: as [`resolve`](Self::resolve), and where that picks the direct
+    /// solver for [`Auto`](Self::Auto), its memory estimate
+    /// ([`rsf_tnnmg::DirectMemory::estimate`]: ordering and symbolic factorisation, no
+    /// numeric work) must fit in [`SolverOptions::memory_budget_bytes`]; otherwise TNNMG.
+    /// Explicit kinds are returned unchanged.
+    ///
+    /// # Errors
+    /// [`Error::MemoryBudget`](crate::Error::MemoryBudget) if the direct solver does not fit and the model has no
+    /// refinement hierarchy; errors of the estimate (invalid matrix).
+    pub fn resolve_within<const D: usize, const C: usize>(
+        self,
+        model: &Model<D, C>,
+        a: &SparseMatrix,
+        options: &SolverOptions,
+    ) -> crate::Result<SolverKind> {
+        let by_count = self.resolve(model);
+        if self != SolverKind::Auto || by_count != SolverKind::Direct {
+            return Ok(by_count);
+        }
+        let needed = DirectMemory::estimate::<C>(
+            a.as_ref(),
+            &model.fixed,
+            &model.frictional_boundary.nodes,
+            true,
+            &options.direct,
+        )?
+        .total_bytes();
+        if needed <= options.memory_budget_bytes {
+            Ok(SolverKind::Direct)
+        } else if model.prolongations.is_empty() {
+            Err(crate::Error::MemoryBudget {
+                needed_bytes: needed,
+                budget_bytes: options.memory_budget_bytes,
+            })
+        } else {
+            Ok(SolverKind::Tnnmg)
         }
     }
 }
@@ -110,8 +146,14 @@ pub const AUTO_DIRECT_MAX_CONDENSED: usize = 1500;
 )]
 pub const AUTO_DIRECT_MAX_EXTENSION: usize = 250_000_000;
 
+/// Default of [`SolverOptions::memory_budget_bytes`]: 8 GiB, a third of the 24 GiB of the
+/// machines this project is measured and tested on (docs/scaling.md). A stated number,
+/// not a reading of the machine: the solver [`SolverKind::Auto`] picks, and with it the
+/// bits of a run, depend on the scene and the options only.
+pub const DEFAULT_MEMORY_BUDGET_BYTES: usize = 8 << 30;
+
 /// The options of every velocity solver (whichever [`SolverKind`] picks).
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SolverOptions {
     /// Options of TNNMG.
     pub tnnmg: TnnmgOptions,
@@ -126,6 +168,23 @@ pub struct SolverOptions {
     /// `1/τ` on Γ_F, [`rsf_tnnmg::Scaled`]; docs/math.md §11); `true` restores one set-up
     /// per step size (the same solution up to round-off). Default `false`.
     pub setup_per_time_step: bool,
+    /// Memory (bytes) that [`SolverKind::Auto`] may give the direct solver: its estimate
+    /// ([`rsf_tnnmg::DirectMemory`]: sparse factor, dense matrices on Γ_F, the set-up's
+    /// harmonic extension) must fit, else TNNMG is chosen (docs/scaling.md). Not applied
+    /// to an explicitly chosen solver. Default [`DEFAULT_MEMORY_BUDGET_BYTES`].
+    pub memory_budget_bytes: usize,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        Self {
+            tnnmg: TnnmgOptions::default(),
+            direct: DirectOptions::default(),
+            gauss_seidel: Stopping::default(),
+            setup_per_time_step: false,
+            memory_budget_bytes: DEFAULT_MEMORY_BUDGET_BYTES,
+        }
+    }
 }
 
 impl SolverOptions {

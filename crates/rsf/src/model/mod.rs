@@ -96,6 +96,17 @@ impl<const D: usize, const C: usize> Model<D, C> {
         self.vertices.len()
     }
 
+    /// Number of free components on Γ_F: the unknowns the direct solver condenses onto
+    /// (the size of its dense matrices, [`SolverKind::resolve`](crate::SolverKind::resolve)).
+    pub fn condensed_unknowns(&self) -> usize {
+        self.frictional_boundary
+            .nodes
+            .iter()
+            .flat_map(|&p| (0..C).map(move |c| C * p + c))
+            .filter(|&i| !self.fixed[i])
+            .count()
+    }
+
     /// `f(x_p)` for every frictional node `p`, in `frictional.nodes` order (the order of
     /// per-node laws and states): how a heterogeneous fault is described by position.
     pub fn on_frictional_nodes<T>(&self, mut f: impl FnMut(&[f64; D]) -> T) -> Vec<T> {

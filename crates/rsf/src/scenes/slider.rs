@@ -11,7 +11,7 @@ use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
 
 use crate::checkpoint::{Fingerprint, CHECKPOINT_FORMAT};
 use crate::error::{invalid, Error, Result};
-use crate::method::fixed_point::{FixedPointOptions, FixedPointScheme};
+use crate::method::fixed_point::{FixedPointOptions, FixedPointScheme, InnerSolves};
 use crate::method::solver::{SolverKind, SolverOptions};
 use crate::method::state_integrator::StateIntegrator;
 use crate::model::builder::{Material, ModelBuilder};
@@ -216,6 +216,12 @@ pub struct SliderScene {
     pub fixed_point_tolerance: f64,
     /// Fixed point iteration budget per step.
     pub fixed_point_max_iterations: usize,
+    /// How accurately each fixed point iteration's velocity problem is solved
+    /// ([`InnerSolves`]; default `"exact"`, the paper's; the 3-D slider's default is
+    /// `"by-solver"`). Written only when not `"exact"`: scenes and checkpoints without the
+    /// field keep their fingerprint.
+    #[serde(default, skip_serializing_if = "InnerSolves::is_exact")]
+    pub fixed_point_inner_solves: InnerSolves,
     /// Velocity solver tolerance (energy norm, absolute; paper 1e-10).
     pub solver_tolerance: f64,
     /// Coarse grid diagonal.
@@ -250,6 +256,7 @@ impl Default for SliderScene {
             fixed_point: FixedPointScheme::Anderson,
             fixed_point_tolerance: 1e-10,
             fixed_point_max_iterations: 100,
+            fixed_point_inner_solves: InnerSolves::Exact,
             solver_tolerance: 1e-10,
             diagonal: Diagonal::Forward,
         }
@@ -712,7 +719,7 @@ impl SliderScene {
                 ..DirectOptions::default()
             },
             gauss_seidel: stopping,
-            setup_per_time_step: false,
+            ..SolverOptions::default()
         }
     }
 
@@ -721,6 +728,7 @@ impl SliderScene {
         FixedPointOptions {
             tolerance: self.fixed_point_tolerance,
             max_iterations: self.fixed_point_max_iterations,
+            inner_solves: self.fixed_point_inner_solves,
             ..self.fixed_point.options()
         }
     }

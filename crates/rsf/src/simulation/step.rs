@@ -117,6 +117,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         begun?;
         work.history.clear();
         let full = method.inner_stopping();
+        let inexact = fixed_point.inner_solves.rule(method.solver_kind());
         let state_integrator = method.state_integrator();
         let (solver, scaling) = method.solver_and_scaling(tau);
         let laws = self.problem.friction_laws();
@@ -157,9 +158,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             let mut last = f64::INFINITY;
             let mut previous = f64::INFINITY;
             for nu in 0..fixed_point.max_iterations {
-                let stopping = match fixed_point.inexact_factor {
-                    Some(kappa) if nu > 0 => Stopping {
+                let stopping = match inexact {
+                    Some((kappa, _)) if nu > 0 => Stopping {
                         absolute: full.absolute.max(kappa * last),
+                        ..full
+                    },
+                    // One solver iteration: any finite correction passes.
+                    Some((_, true)) => Stopping {
+                        absolute: f64::MAX,
                         ..full
                     },
                     _ => full,

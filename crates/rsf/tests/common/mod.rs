@@ -182,6 +182,8 @@ pub struct Recorder {
     pub max_v: Vec<f64>,
     /// Fixed point iterations of the step.
     pub fpi: Vec<usize>,
+    /// Velocity solver iterations of the step (over its fixed point iterations).
+    pub solver_its: Vec<usize>,
 }
 
 impl Recorder {
@@ -239,6 +241,7 @@ impl Observer<2> for Recorder {
             .push(self.along.iter().map(|&k| s.state.alpha[k]).collect());
         self.max_v.push(s.report.max_slip_rate);
         self.fpi.push(s.report.fixed_point_iterations);
+        self.solver_its.push(s.report.solver_iterations);
         Ok(rsf::Flow::Continue(()))
     }
 }

@@ -1,0 +1,102 @@
+//! What the direct solver would hold for the paper's slider (2-D) or the 3-D slider at a
+//! refinement level, and what the `auto` solver choice makes of it under a memory budget
+//! (issue 25, docs/scaling.md). Runs the fill-reducing ordering and the symbolic
+//! factorisation only: seconds even where the factorisation itself would not fit.
+//!
+//! ```sh
+//! cargo run --release --example solver_memory -- --dim 2 --levels 4,5,6,7,8
+//! cargo run --release --example solver_memory -- --dim 3 --levels 2,3,4,5 --budget-gib 8
+//! ```
+//!
+//! Prints one row per level: dofs, condensed unknowns, the estimate by part
+//! (`rsf::tnnmg::DirectMemory`: sparse factor, dense matrices on Γ_F, the set-up's harmonic
+//! extension; MiB) and the choice of `auto`. Writes no files.
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use rsf::tnnmg::{DirectMemory, DirectOptions};
+use rsf::{Model, Slider3dScene, SliderScene, SolverKind, SolverOptions};
+
+/// The direct solver's memory estimate and the `auto` choice per refinement level.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    /// Spatial dimension: 2 (the paper's slider) or 3 (the 3-D slider, W = 1 m).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+    dim: u8,
+    /// Refinement levels, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 5, 6])]
+    levels: Vec<usize>,
+    /// The budget (GiB) of the `auto` choice. Default: `rsf::DEFAULT_MEMORY_BUDGET_BYTES`.
+    #[arg(long)]
+    budget_gib: Option<f64>,
+}
+
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Cli::parse()))
+}
+
+fn mib(bytes: usize) -> f64 {
+    bytes as f64 / (1u64 << 20) as f64
+}
+
+/// One row of the table for `model`.
+fn row<const D: usize, const C: usize>(
+    level: usize,
+    model: &Model<D, C>,
+    options: &SolverOptions,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let est = DirectMemory::estimate::<C>(
+        model.stiffness.as_ref(),
+        &model.fixed,
+        &model.frictional_boundary.nodes,
+        true,
+        &DirectOptions::default(),
+    )?;
+    let condensed = model.condensed_unknowns();
+    let choice = match SolverKind::Auto.resolve_within(model, &model.stiffness, options) {
+        Ok(kind) => kind.to_string(),
+        Err(e) => format!("error: {e}"),
+    };
+    println!(
+        "| {level} | {} | {condensed} | {:.0} | {:.0} | {:.0} | {:.0} | {choice} |",
+        model.fixed.len(),
+        mib(est.factor_bytes),
+        mib(est.dense_bytes),
+        mib(est.extension_bytes),
+        mib(est.total_bytes()),
+    );
+    Ok(())
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let mut options = SolverOptions::default();
+    if let Some(gib) = cli.budget_gib {
+        if !(gib.is_finite() && gib > 0.0) {
+            return Err(format!("--budget-gib must be positive and finite, got {gib}").into());
+        }
+        options.memory_budget_bytes = (gib * (1u64 << 30) as f64) as usize;
+    }
+    println!(
+        "{}-D slider, budget {:.1} GiB",
+        cli.dim,
+        options.memory_budget_bytes as f64 / (1u64 << 30) as f64
+    );
+    println!("| level | dofs | condensed | factor (MiB) | dense (MiB) | extension (MiB) | total (MiB) | auto |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for &level in &cli.levels {
+        if cli.dim == 2 {
+            let scene = SliderScene {
+                level,
+                ..SliderScene::default()
+            };
+            row(level, &scene.build_model()?, &options)?;
+        } else {
+            let mut scene = Slider3dScene::default();
+            scene.slider.level = level;
+            row(level, &scene.build_model()?, &options)?;
+        }
+    }
+    Ok(())
+}
