@@ -10,7 +10,8 @@
 //!
 //! Prints one row per level: dofs, condensed unknowns, the estimate by part
 //! (`rsf::tnnmg::DirectMemory`: sparse factor, dense matrices on Γ_F, the set-up's harmonic
-//! extension; MiB) and the choice of `auto`. Writes no files.
+//! extension; MiB), the time the estimate took (s) and the choice of `auto`. Writes no
+//! files.
 
 use std::process::ExitCode;
 
@@ -47,6 +48,7 @@ fn row<const D: usize, const C: usize>(
     model: &Model<D, C>,
     options: &SolverOptions,
 ) -> Result<(), Box<dyn std::error::Error>> {
+    let start = std::time::Instant::now();
     let est = DirectMemory::estimate::<C>(
         model.stiffness.as_ref(),
         &model.fixed,
@@ -54,13 +56,14 @@ fn row<const D: usize, const C: usize>(
         true,
         &DirectOptions::default(),
     )?;
+    let seconds = start.elapsed().as_secs_f64();
     let condensed = model.condensed_unknowns();
     let choice = match SolverKind::Auto.resolve_within(model, &model.stiffness, options) {
         Ok(kind) => kind.to_string(),
         Err(e) => format!("error: {e}"),
     };
     println!(
-        "| {level} | {} | {condensed} | {:.0} | {:.0} | {:.0} | {:.0} | {choice} |",
+        "| {level} | {} | {condensed} | {:.0} | {:.0} | {:.0} | {:.0} | {seconds:.2} | {choice} |",
         model.fixed.len(),
         mib(est.factor_bytes),
         mib(est.dense_bytes),
@@ -83,8 +86,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         cli.dim,
         options.memory_budget_bytes as f64 / (1u64 << 30) as f64
     );
-    println!("| level | dofs | condensed | factor (MiB) | dense (MiB) | extension (MiB) | total (MiB) | auto |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!(
+        "| level | dofs | condensed | factor (MiB) | dense (MiB) | extension (MiB) | total (MiB) | estimate (s) | auto |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
     for &level in &cli.levels {
         if cli.dim == 2 {
             let scene = SliderScene {
