@@ -153,8 +153,9 @@ pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
 
 impl Slider3dScene {
     /// Parses a TOML scene: the fields of [`SliderScene`] and `width_m`, `lateral`
-    /// (`"free"` or `"plane-strain"`), all optional; `fixed_point_inner_solves` defaults to
-    /// the 3-D scene's `"by-solver"`, the other fields to [`SliderScene`]'s defaults.
+    /// (`"free"` or `"plane-strain"`), all optional: a missing field takes the value of
+    /// [`Slider3dScene::default`] (level 2, `fixed_point_inner_solves = "by-solver"`, the
+    /// other shared fields as in [`SliderScene::default`]).
     ///
     /// # Errors
     /// [`Error::SceneFile`] with the parser's message (it names unknown fields).
@@ -168,12 +169,13 @@ impl Slider3dScene {
             }
         }
         let extrusion: Extrusion = own.try_into().map_err(file)?;
+        // The file's fields over the 3-D scene's defaults (level 2, `by-solver` inner
+        // solves), not the 2-D scene's.
         let default = Self::default();
-        let inner_solves_given = table.contains_key("fixed_point_inner_solves");
-        let mut slider: SliderScene = table.try_into().map_err(file)?;
-        if !inner_solves_given {
-            slider.fixed_point_inner_solves = default.slider.fixed_point_inner_solves;
-        }
+        let mut merged =
+            toml::Table::try_from(&default.slider).map_err(|e| Error::SceneFile(e.to_string()))?;
+        merged.extend(table);
+        let slider: SliderScene = merged.try_into().map_err(file)?;
         Ok(Self {
             slider,
             width_m: extrusion.width_m.unwrap_or(default.width_m),
@@ -377,6 +379,11 @@ mod tests {
         );
         let s = Slider3dScene::from_toml("level = 1").unwrap();
         assert_eq!(s.slider.fixed_point_inner_solves, InnerSolves::BySolver);
+        // Every missing field from the 3-D default, the level included.
+        assert_eq!(
+            Slider3dScene::from_toml("").unwrap(),
+            Slider3dScene::default()
+        );
         let s = Slider3dScene::from_toml("fixed_point_inner_solves = \"exact\"").unwrap();
         assert_eq!(s.slider.fixed_point_inner_solves, InnerSolves::Exact);
         let back = toml::to_string(&s).unwrap();
