@@ -263,12 +263,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut options = scene.slider.solver_options();
     options.direct.dense_threads = cli.dense_threads;
     if let Some(gib) = cli.memory_budget_gib {
-        if !(gib.is_finite() && gib > 0.0) {
-            return Err(
-                format!("--memory-budget-gib must be positive and finite, got {gib}").into(),
-            );
-        }
-        options.memory_budget_bytes = (gib * (1u64 << 30) as f64) as usize;
+        options.memory_budget_bytes =
+            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
     }
     let mut sim = scene
         .simulation_builder_with_model(scene.build_model()?)?

@@ -5,7 +5,7 @@
 //!
 //! ```sh
 //! cargo run --release --example solver_memory -- --dim 2 --levels 4,5,6,7,8
-//! cargo run --release --example solver_memory -- --dim 3 --levels 2,3,4,5 --budget-gib 8
+//! cargo run --release --example solver_memory -- --dim 3 --levels 2,3,4,5 --memory-budget-gib 8
 //! ```
 //!
 //! Prints one row per level: dofs, condensed unknowns, the estimate by part
@@ -31,7 +31,7 @@ struct Cli {
     levels: Vec<usize>,
     /// The budget (GiB) of the `auto` choice. Default: `rsf::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
-    budget_gib: Option<f64>,
+    memory_budget_gib: Option<f64>,
 }
 
 fn main() -> ExitCode {
@@ -75,11 +75,9 @@ fn row<const D: usize, const C: usize>(
 
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut options = SolverOptions::default();
-    if let Some(gib) = cli.budget_gib {
-        if !(gib.is_finite() && gib > 0.0) {
-            return Err(format!("--budget-gib must be positive and finite, got {gib}").into());
-        }
-        options.memory_budget_bytes = (gib * (1u64 << 30) as f64) as usize;
+    if let Some(gib) = cli.memory_budget_gib {
+        options.memory_budget_bytes =
+            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
     }
     println!(
         "{}-D slider, budget {:.1} GiB",

@@ -220,3 +220,15 @@ pub fn space_time_map(
     };
     log_heat_map(path, (1000, 600), &axes, map)
 }
+
+/// Bytes of a memory budget given in GiB by the command-line flag `flag` (for
+/// `rsf::SolverOptions::memory_budget_bytes`).
+///
+/// # Errors
+/// A message naming the flag if `gib` is not positive and finite.
+pub fn memory_budget_bytes(flag: &str, gib: f64) -> Result<usize, String> {
+    if !(gib.is_finite() && gib > 0.0) {
+        return Err(format!("{flag} must be positive and finite, got {gib}"));
+    }
+    Ok((gib * (1u64 << 30) as f64) as usize)
+}

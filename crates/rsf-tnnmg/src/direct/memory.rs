@@ -60,7 +60,7 @@ impl DirectMemory {
         let dense_bytes = if energy_norm { 4 } else { 2 } * square;
         let extension_bytes = if !energy_norm {
             0
-        } else if 2.0 * 8.0 * n as f64 * nf as f64 <= opts.max_extension_bytes as f64 {
+        } else if opts.stores_extension(n, nf) {
             2 * 8 * n * nf
         } else {
             // Per thread (at most two): the block's rows of Z and E Z; then N twice.

@@ -170,8 +170,7 @@ impl<const D: usize> DirectSolver<D> {
         let s = factor.schur_complement();
         let norm = self.energy.as_ref().map(|e| {
             let nf = order.len() - factor.nr;
-            let stored = 2.0 * 8.0 * order.len() as f64 * nf as f64;
-            if stored <= self.opts.max_extension_bytes as f64 {
+            if self.opts.stores_extension(order.len(), nf) {
                 harmonic_energy(factor, e, order, pos)
             } else {
                 harmonic_energy_by_blocks(factor, e, order, pos)

@@ -47,6 +47,15 @@ impl Default for DirectOptions {
     }
 }
 
+impl DirectOptions {
+    /// Whether the set-up holds the harmonic extension `Z` and `E Z` at once (`2 n |F|`
+    /// values for `n` unknowns in the factor, `nf = |F|` of them on the interface) or
+    /// forms `N` block by block ([`max_extension_bytes`](Self::max_extension_bytes)).
+    pub(super) fn stores_extension(&self, n: usize, nf: usize) -> bool {
+        2.0 * 8.0 * n as f64 * nf as f64 <= self.max_extension_bytes as f64
+    }
+}
+
 /// Right-hand sides per backward sweep of the harmonic extension: the factor is read once
 /// per block. Set-up of the direct solver (`cargo bench --bench velocity_solvers --
 /// direct_setup`, reusing the analysis) with one right-hand side per sweep against blocks
