@@ -151,10 +151,7 @@ impl Run {
         match self {
             Run::Implicit(s) => s.run_until(until, observers),
             Run::FaultOde(s) => s.run_until(until, observers),
-            Run::Switching(s) => match until {
-                Until::Time(t) => s.run_until(t, observers),
-                Until::Steps(_) => unreachable!("runs end at a time"),
-            },
+            Run::Switching(s) => s.run_until(until, observers),
         }
     }
 }

@@ -259,6 +259,29 @@ impl EmbeddedRungeKutta {
         self.fsal = false;
     }
 
+    /// Continues from a saved controller state and the saved rate `f(t, y)` of the current
+    /// point (the first stage of the next step, as [`current_rate`](Self::current_rate)
+    /// gave it): bit-identical to the integration that saved them, also after a step that
+    /// landed on an end time (whose rate was evaluated at `t + (t_end − t)`, which may
+    /// differ from `t_end` in the last bit).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] for a rate of another length than the state.
+    pub fn restore(&mut self, state: RungeKuttaState, rate: &[f64]) -> Result<()> {
+        let n = self.stage.len();
+        if rate.len() != n {
+            return Err(Error::DimensionMismatch {
+                what: "saved rate",
+                expected: n,
+                got: rate.len(),
+            });
+        }
+        self.state = state;
+        self.k[0].copy_from_slice(rate);
+        self.fsal = true;
+        Ok(())
+    }
+
     /// `f(t, y)` of the current point, if known (after a step: the FSAL stage).
     pub fn current_rate(&self) -> Option<&[f64]> {
         self.fsal.then_some(self.k[0].as_slice())

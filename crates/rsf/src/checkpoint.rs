@@ -6,9 +6,14 @@
 //! time, τ and wall time of the run so far, the `u64` length of the fingerprint and its
 //! UTF-8 text (`field=value` lines), then `u`, `v`, `a`, `alpha`, `controller` as raw
 //! `f64` bits — exact, so a resumed run is bit-identical to an uninterrupted one — and
-//! last the CRC-32 (IEEE, `u32`) of every byte before it. Files of the earlier formats
-//! (`RSFCKPT2`: no fingerprint, no checksum; `RSFCKPT1`: also no time, no controller) are
-//! still read, with an empty [`Fingerprint`] (which [`Fingerprint::check`] refuses).
+//! last the CRC-32 (IEEE, `u32`) of every byte before it. A method with a state of its own
+//! ([`MethodState`]: the fault ODE's controller memory and current rate, the switching
+//! run's phase) is written as `RSFCKPT4`: the same layout with two more header words after
+//! the time origin's step (the method's tag and its number of values) and its values
+//! (`f64` bits) after `controller`; the implicit simulation's files stay `RSFCKPT3`, byte
+//! for byte as before. Files of the earlier formats (`RSFCKPT2`: no fingerprint, no
+//! checksum; `RSFCKPT1`: also no time, no controller) are still read, with an empty
+//! [`Fingerprint`] (which [`Fingerprint::check`] refuses).
 
 use std::io::Write;
 use std::path::Path;
@@ -16,12 +21,15 @@ use std::path::Path;
 use rsf_time::{ControllerState, Kinematics};
 
 use crate::error::{io_at, show_path, Error, Result};
+use crate::method_state::MethodState;
 use crate::simulation_state::SimulationState;
 
+const MAGIC_V4: &[u8; 8] = b"RSFCKPT4";
 const MAGIC: &[u8; 8] = b"RSFCKPT3";
 const MAGIC_V2: &[u8; 8] = b"RSFCKPT2";
 const MAGIC_V1: &[u8; 8] = b"RSFCKPT1";
-/// The name of the format this version writes (the `format` of a [`Fingerprint`]).
+/// The name of the format this version writes and continues (the `format` of a
+/// [`Fingerprint`]); `RSFCKPT4`, its extension by a [`MethodState`], belongs to it.
 pub const CHECKPOINT_FORMAT: &str = "RSFCKPT3";
 
 /// What a checkpoint continues: the physics and method of the run that wrote it, as
@@ -148,10 +156,15 @@ pub struct Checkpoint {
     /// Wall time of the run up to this checkpoint, over all its resumes (s; 0 if not
     /// kept).
     pub wall_time_s: f64,
+    /// The method's own state beyond `state` ([`MethodState::Implicit`] for the implicit
+    /// simulation and for files of the earlier formats).
+    pub method: MethodState,
 }
 
 /// Fixed-size part of a format-3 file: magic, 6 words, 4 floats, fingerprint length.
 const HEADER_V3: usize = 8 + 6 * 8 + 4 * 8 + 8;
+/// Fixed-size part of a format-4 file: format 3's and two words (method tag, its length).
+const HEADER_V4: usize = HEADER_V3 + 2 * 8;
 
 impl Checkpoint {
     /// A checkpoint of `state` of a `dim`-dimensional simulation, with an empty
@@ -162,18 +175,23 @@ impl Checkpoint {
             state,
             fingerprint: Fingerprint::default(),
             wall_time_s: 0.0,
+            method: MethodState::Implicit,
         }
     }
 
-    /// The bytes of the file (format `RSFCKPT3`, with its checksum).
+    /// The bytes of the file (format `RSFCKPT3` for [`MethodState::Implicit`], else
+    /// `RSFCKPT4`; with its checksum).
     pub fn to_bytes(&self) -> Vec<u8> {
         let s = &self.state;
         let controller = s.controller.map(|c| c.to_values());
         let controller: &[f64] = controller.as_ref().map_or(&[], |c| &c[..]);
         let text = self.fingerprint.to_text();
         let k = &s.kinematics;
-        let mut b = Vec::with_capacity(HEADER_V3 + text.len() + 8 * (3 * k.u.len() + 8) + 4);
-        b.extend_from_slice(MAGIC);
+        let (tag, method) = self.method.to_values();
+        let v4 = self.method != MethodState::Implicit;
+        let mut b =
+            Vec::with_capacity(HEADER_V4 + text.len() + 8 * (3 * k.u.len() + 8 + method.len()) + 4);
+        b.extend_from_slice(if v4 { MAGIC_V4 } else { MAGIC });
         for x in [
             self.dim,
             s.step,
@@ -184,12 +202,23 @@ impl Checkpoint {
         ] {
             b.extend_from_slice(&(x as u64).to_le_bytes());
         }
+        if v4 {
+            b.extend_from_slice(&tag.to_le_bytes());
+            b.extend_from_slice(&(method.len() as u64).to_le_bytes());
+        }
         for x in [s.time_origin.1, s.time, s.tau, self.wall_time_s] {
             b.extend_from_slice(&x.to_le_bytes());
         }
         b.extend_from_slice(&(text.len() as u64).to_le_bytes());
         b.extend_from_slice(text.as_bytes());
-        for vec in [&k.u[..], &k.v[..], &k.a[..], &s.alpha[..], controller] {
+        for vec in [
+            &k.u[..],
+            &k.v[..],
+            &k.a[..],
+            &s.alpha[..],
+            controller,
+            &method,
+        ] {
             for x in vec {
                 b.extend_from_slice(&x.to_le_bytes());
             }
@@ -223,20 +252,22 @@ impl Checkpoint {
         })
     }
 
-    /// Parses the bytes of a checkpoint file (any of the three formats).
+    /// Parses the bytes of a checkpoint file (any of the four formats).
     ///
     /// # Errors
     /// What is wrong, as text.
     pub fn from_bytes(bytes: &[u8]) -> std::result::Result<Self, String> {
         let magic = bytes.get(..8).ok_or("not an rsf checkpoint")?;
         let version = match magic {
+            m if m == MAGIC_V4 => 4,
             m if m == MAGIC => 3,
             m if m == MAGIC_V2 => 2,
             m if m == MAGIC_V1 => 1,
             _ => return Err("not an rsf checkpoint".into()),
         };
-        let body = if version == 3 {
-            if bytes.len() < HEADER_V3 + 4 {
+        let body = if version >= 3 {
+            let header = if version == 4 { HEADER_V4 } else { HEADER_V3 };
+            if bytes.len() < header + 4 {
                 return Err("truncated".into());
             }
             let (body, crc) = bytes.split_at(bytes.len() - 4);
@@ -253,7 +284,8 @@ impl Checkpoint {
         let header = match version {
             1 => 48,
             2 => 80,
-            _ => HEADER_V3,
+            3 => HEADER_V3,
+            _ => HEADER_V4,
         };
         if body.len() < header {
             return Err("truncated".into());
@@ -270,6 +302,19 @@ impl Checkpoint {
             to_usize(word(2))?,
             to_usize(word(3))?,
         );
+        // Format 4 has the method's tag and length after the sixth word.
+        let w = |i: usize| {
+            if version == 4 && i >= 6 {
+                word(i + 2)
+            } else {
+                word(i)
+            }
+        };
+        let (method_tag, nm) = if version == 4 {
+            (word(6), to_usize(word(7))?)
+        } else {
+            (0, 0)
+        };
         let (nc, time_origin, time, tau, wall_time_s, text_len) = match version {
             1 => {
                 let tau = f64::from_bits(word(4));
@@ -284,12 +329,12 @@ impl Checkpoint {
                 0,
             ),
             _ => (
-                to_usize(word(4))?,
-                (to_usize(word(5))?, f64::from_bits(word(6))),
-                f64::from_bits(word(7)),
-                f64::from_bits(word(8)),
-                f64::from_bits(word(9)),
-                to_usize(word(10))?,
+                to_usize(w(4))?,
+                (to_usize(w(5))?, f64::from_bits(w(6))),
+                f64::from_bits(w(7)),
+                f64::from_bits(w(8)),
+                f64::from_bits(w(9)),
+                to_usize(w(10))?,
             ),
         };
         if time_origin.0 > step {
@@ -302,6 +347,7 @@ impl Checkpoint {
             .checked_mul(24)
             .and_then(|x| x.checked_add(nf.checked_mul(8)?))
             .and_then(|x| x.checked_add(nc.checked_mul(8)?))
+            .and_then(|x| x.checked_add(nm.checked_mul(8)?))
             .and_then(|x| x.checked_add(header))
             .and_then(|x| x.checked_add(text_len))
             .ok_or("size overflow")?;
@@ -322,6 +368,8 @@ impl Checkpoint {
             out
         };
         let (u, v, a, alpha, controller) = (take(n), take(n), take(n), take(nf), take(nc));
+        let method = MethodState::from_values(method_tag, &take(nm))
+            .map_err(|e| format!("method state: {e}"))?;
         let controller = match controller.len() {
             0 => None,
             _ => Some(
@@ -342,6 +390,7 @@ impl Checkpoint {
             },
             fingerprint,
             wall_time_s,
+            method,
         })
     }
 }
@@ -409,6 +458,45 @@ mod tests {
     fn round_trips_and_detects_every_single_bit_flip() {
         let c = sample();
         let bytes = c.to_bytes();
+        assert_eq!(Checkpoint::from_bytes(&bytes), Ok(c));
+        for i in 0..bytes.len() * 8 {
+            let mut b = bytes.clone();
+            b[i / 8] ^= 1 << (i % 8);
+            assert!(Checkpoint::from_bytes(&b).is_err(), "bit {i}");
+        }
+        for len in 0..bytes.len() {
+            assert!(
+                Checkpoint::from_bytes(&bytes[..len]).is_err(),
+                "length {len}"
+            );
+        }
+    }
+
+    #[test]
+    fn method_states_round_trip_as_format_4_and_detect_every_bit_flip() {
+        use crate::method_state::{FaultOdeState, MethodState, Phase, SwitchingStats};
+        let implicit = sample().to_bytes();
+        assert_eq!(&implicit[..8], b"RSFCKPT3");
+        let mut c = sample();
+        c.method = MethodState::Switching {
+            phase: Phase::QuasiDynamic,
+            stats: SwitchingStats {
+                dynamic_phases: 1,
+                dynamic_steps: 10,
+                quasi_dynamic_steps: 20,
+                dynamic_time: 3.5,
+            },
+            fault_ode: Some(FaultOdeState {
+                controller: rsf_time::RungeKuttaState {
+                    dt: 0.5,
+                    previous_error: 0.25,
+                },
+                rate: vec![1.0, 2.0, -3.0],
+                evaluations: 99,
+            }),
+        };
+        let bytes = c.to_bytes();
+        assert_eq!(&bytes[..8], b"RSFCKPT4");
         assert_eq!(Checkpoint::from_bytes(&bytes), Ok(c));
         for i in 0..bytes.len() * 8 {
             let mut b = bytes.clone();

@@ -16,15 +16,15 @@ use rsf_time::{
 };
 use rsf_tnnmg::Condensation;
 
+use crate::checkpoint::Checkpoint;
 use crate::error::{invalid, Error, Result};
+use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
-use crate::observe::Observer;
+use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
-use crate::simulation::run::{
-    check_end_time, notify_step, observed_run, time_reached, RunError, RunSummary, Until,
-};
+use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
 use crate::simulation::step::impose_dirichlet;
 use crate::simulation_state::SimulationState;
 
@@ -421,6 +421,99 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.evaluations
     }
 
+    /// The method's own state: the controller, the rate at the current point and the
+    /// evaluations so far (what a checkpoint saves besides the common state).
+    pub fn fault_ode_state(&self) -> FaultOdeState {
+        FaultOdeState {
+            controller: self.rk.state(),
+            rate: self.dy.clone(),
+            evaluations: self.evaluations as u64,
+        }
+    }
+
+    /// Continues from the common `state` and the method's own `memory` (of a checkpoint of
+    /// this run): bit-identical to the run that wrote them.
+    ///
+    /// # Errors
+    /// [`Error::CheckpointSize`] for lengths other than this model's,
+    /// [`Error::CheckpointValue`] for a negative or non-finite time or a non-finite value on
+    /// Γ_F; [`Error::InvalidParameter`] named `controller` for a step outside the
+    /// Runge–Kutta options' `[dt_min, dt_max]`. Unchanged on error.
+    pub(crate) fn restore_parts(
+        &mut self,
+        state: &SimulationState,
+        memory: &FaultOdeState,
+    ) -> Result<()> {
+        let n = self.problem.model().num_dofs();
+        let size = |what, checkpoint, simulation| {
+            if checkpoint == simulation {
+                Ok(())
+            } else {
+                Err(Error::CheckpointSize {
+                    what,
+                    checkpoint,
+                    simulation,
+                })
+            }
+        };
+        size("length of u", state.kinematics.u.len(), n)?;
+        size("length of v", state.kinematics.v.len(), n)?;
+        size(
+            "number of frictional nodes (length of alpha)",
+            state.alpha.len(),
+            self.state.alpha.len(),
+        )?;
+        size(
+            "length of the fault ODE's rate",
+            memory.rate.len(),
+            self.y.len(),
+        )?;
+        let value = |what, index, value, requirement| {
+            Err(Error::CheckpointValue {
+                what,
+                index,
+                value,
+                requirement,
+            })
+        };
+        if !(state.time.is_finite() && state.time >= 0.0) {
+            return value("time", 0, state.time, "finite and >= 0 (s)");
+        }
+        let o = self.options.runge_kutta;
+        let dt = memory.controller.dt;
+        if !(dt >= o.dt_min && dt <= o.dt_max) {
+            return Err(invalid(
+                "controller",
+                format!("next step {dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
+            ));
+        }
+        let m = self.rates.cond.dim();
+        let mut y = self.y.clone();
+        for (yi, &dof) in y.iter_mut().zip(self.rates.cond.interface_dofs()) {
+            *yi = state.kinematics.u[dof];
+        }
+        y[m..].copy_from_slice(&state.alpha);
+        if let Some(i) = y.iter().position(|x| !x.is_finite()) {
+            return value("u on Γ_F or alpha", i, y[i], "finite");
+        }
+        if let Some(i) = memory.rate.iter().position(|x| !x.is_finite()) {
+            return value("fault ODE rate", i, memory.rate[i], "finite");
+        }
+        self.y = y;
+        self.dy.copy_from_slice(&memory.rate);
+        self.rk.restore(memory.controller, &memory.rate)?;
+        self.evaluations = usize::try_from(memory.evaluations).unwrap_or(usize::MAX);
+        self.state.time = state.time;
+        self.state.step = state.step;
+        self.state.tau = dt;
+        self.state.time_origin = state.time_origin;
+        self.state.controller = None;
+        self.state.kinematics.u.copy_from_slice(&state.kinematics.u);
+        self.state.kinematics.v.copy_from_slice(&state.kinematics.v);
+        self.state.kinematics.a.fill(0.0);
+        self.fill_state(false)
+    }
+
     /// The step controller's state (next step, PI memory).
     pub fn controller(&self) -> RungeKuttaState {
         self.rk.state()
@@ -536,10 +629,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         Ok(())
     }
 
-    /// Runs until `until`, showing every accepted step to the observers (as
-    /// [`Simulation::run_until`](crate::Simulation::run_until); the report's
-    /// `solver_iterations` counts the step's right-hand side evaluations, its
-    /// `fixed_point_iterations` is 0).
+    /// Runs until `until`, showing every accepted step to the observers: the one run loop
+    /// of every method, [`run_until`](crate::run_until). A step's report counts its
+    /// right-hand-side evaluations in `evaluations` (rejected attempts included); it has
+    /// no fixed point and no velocity solver (their counts are 0).
     ///
     /// # Errors
     /// A [`RunError`] with the first step or observer error (e.g. a step below
@@ -550,79 +643,103 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         until: Until,
         observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
-        observed_run(observers, |observers, summary| {
-            self.run_loop(until, observers, summary)
-        })
+        run_until(self, until, observers)
     }
 
-    fn run_loop(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-        summary: &mut RunSummary,
-    ) -> Result<()> {
-        if let Until::Time(t) = until {
-            check_end_time(t)?;
-        }
-        let volume = observers.iter().any(|o| o.reads_volume());
-        loop {
-            let (reached, t_end) = match until {
-                Until::Steps(k) => (summary.steps >= k, None),
-                Until::Time(t_end) => (
-                    time_reached(self.state.time, t_end, self.rk.state().dt),
-                    Some(t_end),
-                ),
-            };
-            if reached {
-                summary.termination = match until {
-                    Until::Steps(_) => crate::Termination::StepCount,
-                    Until::Time(_) => crate::Termination::EndTime,
-                };
-                return Ok(());
+    /// A checkpoint of the whole state (common and the fault ODE's own), for
+    /// [`restore`](Self::restore).
+    pub fn checkpoint(&self) -> Checkpoint {
+        Stepping::checkpoint(self)
+    }
+
+    /// Continues from a checkpoint of this run (or of a fault ODE on the same model);
+    /// the continuation is bit-identical to an uninterrupted run.
+    ///
+    /// # Errors
+    /// [`Error::CheckpointMismatch`] (field `method`) for a checkpoint of another method;
+    /// [`Error::CheckpointSize`], [`Error::CheckpointValue`] naming what differs.
+    /// Unchanged on error.
+    pub fn restore(&mut self, checkpoint: &Checkpoint) -> Result<()> {
+        match &checkpoint.method {
+            MethodState::FaultOde(memory) => {
+                if checkpoint.dim != D {
+                    return Err(Error::CheckpointSize {
+                        what: "space dimension",
+                        checkpoint: checkpoint.dim,
+                        simulation: D,
+                    });
+                }
+                self.restore_parts(&checkpoint.state, memory)
             }
-            let clock = Instant::now();
-            let mut t = self.state.time;
-            let taken = {
-                let mut sys = Rates {
-                    friction: self.problem.friction_laws(),
-                    state_laws: self.problem.state_laws(),
-                    uses_state: self.problem.uses_state(),
-                    data: &mut self.rates,
-                };
-                self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?
-            };
-            self.dy
-                .copy_from_slice(self.rk.current_rate().expect("set by an accepted step"));
-            self.evaluations += taken.evaluations;
-            self.state.time = t;
-            self.state.step += 1;
-            self.state.tau = self.rk.state().dt;
-            self.fill_state(volume)?;
-            let fb = &self.problem.model().frictional_boundary;
-            let max_slip_rate = fb
-                .nodes
-                .iter()
-                .map(|&p| crate::model::fault::block_norm::<C>(&self.state.kinematics.v, p))
-                .fold(0.0, f64::max);
-            let report = StepReport {
-                step: self.state.step,
-                time: t,
-                tau: taken.dt,
-                solver_iterations: taken.evaluations,
-                max_slip_rate,
-                rejected_attempts: taken.rejected,
-                error_estimate: taken.error,
-                seconds: clock.elapsed().as_secs_f64(),
-                ..StepReport::default()
-            };
-            summary.steps += 1;
-            summary.solver_iterations += taken.evaluations;
-            summary.rejected_attempts += taken.rejected;
-            if let Some(reason) = notify_step(observers, &self.problem, &self.state, &report)? {
-                summary.termination = reason;
-                return Ok(());
-            }
+            other => Err(Error::CheckpointMismatch {
+                field: "method".into(),
+                checkpoint: other.name().into(),
+                run: "fault-ode".into(),
+            }),
         }
+    }
+
+    /// One accepted step (at most up to `t_end`); `volume`: whether to compute the field
+    /// off Γ_F after it.
+    fn advance_step(&mut self, t_end: Option<f64>, volume: bool) -> Result<StepReport> {
+        let clock = Instant::now();
+        let mut t = self.state.time;
+        let taken = {
+            let mut sys = Rates {
+                friction: self.problem.friction_laws(),
+                state_laws: self.problem.state_laws(),
+                uses_state: self.problem.uses_state(),
+                data: &mut self.rates,
+            };
+            self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?
+        };
+        self.dy
+            .copy_from_slice(self.rk.current_rate().expect("set by an accepted step"));
+        self.evaluations += taken.evaluations;
+        self.state.time = t;
+        self.state.step += 1;
+        self.state.tau = self.rk.state().dt;
+        self.fill_state(volume)?;
+        let fb = &self.problem.model().frictional_boundary;
+        let max_slip_rate = fb
+            .nodes
+            .iter()
+            .map(|&p| crate::model::fault::block_norm::<C>(&self.state.kinematics.v, p))
+            .fold(0.0, f64::max);
+        Ok(StepReport {
+            step: self.state.step,
+            time: t,
+            tau: taken.dt,
+            evaluations: taken.evaluations,
+            max_slip_rate,
+            rejected_attempts: taken.rejected,
+            error_estimate: taken.error,
+            seconds: clock.elapsed().as_secs_f64(),
+            ..StepReport::default()
+        })
+    }
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
+    for FaultOde<D, L, S, C>
+{
+    fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport> {
+        self.advance_step(t_end, reads_volume)
+    }
+    fn model(&self) -> &Model<D, C> {
+        self.problem.model()
+    }
+    fn state(&self) -> &SimulationState {
+        &self.state
+    }
+    fn fault_tractions(&self) -> &dyn FaultTractions {
+        self.problem.fault_tractions()
+    }
+    fn method_state(&self) -> MethodState {
+        MethodState::FaultOde(self.fault_ode_state())
+    }
+    fn restore(&mut self, checkpoint: &Checkpoint) -> Result<()> {
+        FaultOde::restore(self, checkpoint)
     }
 }
 

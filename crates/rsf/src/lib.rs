@@ -51,10 +51,12 @@ mod error;
 mod fault_ode;
 mod friction_blocks;
 mod method;
+mod method_state;
 mod model;
 mod observe;
 mod problem;
 mod report;
+mod run;
 mod scenes;
 mod simulation;
 mod simulation_state;
@@ -74,6 +76,7 @@ pub use method::solver::{
 };
 pub use method::state_integrator::StateIntegrator;
 pub use method::{Method, MethodOptions};
+pub use method_state::{FaultOdeState, MethodState, Phase, SwitchingStats};
 pub use model::builder::{
     AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
     DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
@@ -100,6 +103,7 @@ pub use problem::{NoState, Problem};
 pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
+pub use run::{run_until, RunError, RunSummary, Stepping, Termination, Until};
 pub use scenes::conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use scenes::seas_bp1::{
     SeasBp1, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS,
@@ -112,10 +116,9 @@ pub use scenes::slider3d::{
     skew_rotation, slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL,
 };
 pub use simulation::builder::{SimulationBuilder, Unset};
-pub use simulation::run::{RunError, RunSummary, Termination, Until};
 pub use simulation::Simulation;
 pub use simulation_state::SimulationState;
-pub use switching::{SwitchingOptions, SwitchingRun, SwitchingStats};
+pub use switching::{SwitchingOptions, SwitchingRun};
 
 pub use faer;
 pub use rsf_fem as fem;

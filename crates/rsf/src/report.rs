@@ -10,10 +10,16 @@ pub struct StepReport {
     pub time: f64,
     /// The time step τ of this step (s).
     pub tau: f64,
-    /// Fixed point iterations (velocity solves) of this step.
+    /// Fixed point iterations (velocity solves) of this step (0 for a method without a
+    /// fixed point: the fault ODE).
     pub fixed_point_iterations: usize,
-    /// Velocity-solver iterations summed over the fixed point iterations.
+    /// Velocity-solver iterations summed over the fixed point iterations (0 for the fault
+    /// ODE, which solves no velocity problem).
     pub solver_iterations: usize,
+    /// Right-hand-side evaluations of an explicit method (the fault ODE: each one product
+    /// with the condensed operator, rejected attempts included; 0 for the implicit
+    /// scheme).
+    pub evaluations: usize,
     /// Fixed point iterations that took a damped step (the paper's ω < 1, or the fallback
     /// of Anderson acceleration).
     pub relaxed_iterations: usize,

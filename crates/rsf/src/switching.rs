@@ -9,13 +9,17 @@ use rsf_state::StateLaw;
 use rsf_time::VelocityIntegrator;
 
 use crate::checkpoint::Checkpoint;
-use crate::error::{invalid, Result};
+use crate::error::{invalid, Error, Result};
 use crate::fault_ode::FaultOde;
-use crate::observe::{Flow, Observer, StepView};
-use crate::simulation::run::{
-    check_end_time, observed_run, time_reached, RunError, RunSummary, Termination,
-};
+use crate::method_state::MethodState;
+pub use crate::method_state::{Phase, SwitchingStats};
+use crate::model::fault::block_norm;
+use crate::model::Model;
+use crate::observe::{FaultTractions, Observer};
+use crate::report::StepReport;
+use crate::run::{run_until, time_reached, RunError, RunSummary, Stepping, Until};
 use crate::simulation::Simulation;
+use crate::simulation_state::SimulationState;
 
 /// When and how a [`SwitchingRun`] changes between its two methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,34 +39,19 @@ pub struct SwitchingOptions {
     pub restart_dt: f64,
 }
 
-/// What a [`SwitchingRun`] did.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct SwitchingStats {
-    /// Dynamic phases started.
-    pub dynamic_phases: usize,
-    /// Steps taken in dynamic phases.
-    pub dynamic_steps: usize,
-    /// Steps taken in quasi-dynamic phases.
-    pub quasi_dynamic_steps: usize,
-    /// Time spent in dynamic phases (s of simulated time).
-    pub dynamic_time: f64,
-}
-
-/// Which method runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Phase {
-    QuasiDynamic,
-    Dynamic,
-}
-
 /// A run that is quasi-dynamic while the fault creeps and fully dynamic while it slips
 /// fast. Both methods must work on the same model (the dynamic one's with a mass matrix):
 /// at a switch to the dynamic phase the whole field `(u, v)` of the quasi-dynamic state
 /// (its equilibrium, [`FaultOde::state_with_volume`]), α and the time become the dynamic
 /// run's state with zero acceleration; at a switch back the displacement on Γ_F and α
 /// become the quasi-dynamic state ([`FaultOde::restart_from`]; the waves of the volume are
-/// dropped, as in any quasi-dynamic model). Observers see every step of both, in order,
-/// and are finished once at the end.
+/// dropped, as in any quasi-dynamic model).
+///
+/// A method like the others ([`Stepping`]): each step is one step of the active method;
+/// the switch is decided before a step, from the largest slip rate of the current state
+/// (so after every observer has seen the step that crossed the threshold), and a
+/// checkpoint holds the phase with the active method's state: a run resumed from it is
+/// bit-identical to an uninterrupted one.
 pub struct SwitchingRun<
     const D: usize,
     L: FrictionLaw,
@@ -84,10 +73,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// `quasi_dynamic`. `dynamic` is switched to fixed steps of `options.dynamic_tau`.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dynamic` if its
-    /// integrator has no inertia or its model's dofs or frictional nodes differ, or
-    /// naming the first invalid option (thresholds positive and ordered, steps positive
-    /// and finite).
+    /// [`Error::InvalidParameter`] named `dynamic` if its integrator has no inertia or its
+    /// model's dofs or frictional nodes differ, or naming the first invalid option
+    /// (thresholds positive and ordered, steps positive and finite).
     pub fn new(
         quasi_dynamic: FaultOde<D, L, S, C>,
         mut dynamic: Simulation<D, L, S, I, C>,
@@ -144,6 +132,16 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         &self.dynamic
     }
 
+    /// The options.
+    pub fn options(&self) -> &SwitchingOptions {
+        &self.options
+    }
+
+    /// The active method.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
     /// What the run did so far.
     pub fn stats(&self) -> SwitchingStats {
         self.stats
@@ -151,86 +149,87 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
 
     /// The time of the current state (s).
     pub fn time(&self) -> f64 {
-        match self.phase {
-            Phase::QuasiDynamic => self.quasi_dynamic.state().time,
-            Phase::Dynamic => self.dynamic.time(),
-        }
+        Stepping::state(self).time
     }
 
-    /// Runs until the time `t_end` (s), switching as the options say.
+    /// Runs until `until`, switching as the options say: the one run loop of every
+    /// method, [`run_until`](crate::run_until).
     ///
     /// # Errors
     /// A [`RunError`] with the first error of a step, an observer or a switch, and the
     /// summary of the steps before it.
     pub fn run_until(
         &mut self,
-        t_end: f64,
+        until: Until,
         observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
-        observed_run(observers, |observers, summary| {
-            self.run_loop(t_end, observers, summary)
-        })
+        run_until(self, until, observers)
     }
 
-    fn run_loop(
-        &mut self,
-        t_end: f64,
-        observers: &mut [&mut dyn Observer<D, C>],
-        summary: &mut RunSummary,
-    ) -> Result<()> {
-        check_end_time(t_end)?;
-        let mut fpi_total = 0.0;
-        loop {
-            if time_reached(self.time(), t_end, self.options.dynamic_tau) {
-                summary.termination = Termination::EndTime;
-                return Ok(());
+    /// A checkpoint of the whole state: the phase, the statistics and the active method's
+    /// state.
+    pub fn checkpoint(&self) -> Checkpoint {
+        Stepping::checkpoint(self)
+    }
+
+    /// Continues from a checkpoint of a switching run on the same models; bit-identical
+    /// to an uninterrupted run.
+    ///
+    /// # Errors
+    /// [`Error::CheckpointMismatch`] (field `method`) for a checkpoint of another method;
+    /// the active method's restore errors. Unchanged on error.
+    pub fn restore(&mut self, checkpoint: &Checkpoint) -> Result<()> {
+        let MethodState::Switching {
+            phase,
+            stats,
+            fault_ode,
+        } = &checkpoint.method
+        else {
+            return Err(Error::CheckpointMismatch {
+                field: "method".into(),
+                checkpoint: checkpoint.method.name().into(),
+                run: "switching".into(),
+            });
+        };
+        match (phase, fault_ode) {
+            (Phase::QuasiDynamic, Some(memory)) => {
+                if checkpoint.dim != D {
+                    return Err(Error::CheckpointSize {
+                        what: "space dimension",
+                        checkpoint: checkpoint.dim,
+                        simulation: D,
+                    });
+                }
+                self.quasi_dynamic
+                    .restore_parts(&checkpoint.state, memory)?;
             }
-            let t0 = self.time();
-            let mut switch = SwitchWhen {
-                threshold: match self.phase {
-                    Phase::QuasiDynamic => self.options.to_dynamic,
-                    Phase::Dynamic => self.options.to_quasi_dynamic,
-                },
-                above: self.phase == Phase::QuasiDynamic,
-            };
-            let switch_index = observers.len();
-            let mut forwards: Vec<Forward<'_, '_, D, C>> =
-                observers.iter_mut().map(|o| Forward(&mut **o)).collect();
-            let mut list: Vec<&mut dyn Observer<D, C>> = forwards
-                .iter_mut()
-                .map(|f| f as &mut dyn Observer<D, C>)
-                .collect();
-            list.push(&mut switch);
-            let until = crate::Until::Time(t_end);
-            let run = match self.phase {
-                Phase::QuasiDynamic => self.quasi_dynamic.run_until(until, &mut list),
-                Phase::Dynamic => self.dynamic.run_until(until, &mut list),
-            };
-            let part = match run {
-                Ok(s) => s,
-                Err(e) => {
-                    add(summary, &e.summary, &mut fpi_total);
-                    return Err(e.error);
-                }
-            };
-            add(summary, &part, &mut fpi_total);
-            match self.phase {
-                Phase::QuasiDynamic => self.stats.quasi_dynamic_steps += part.steps,
-                Phase::Dynamic => {
-                    self.stats.dynamic_steps += part.steps;
-                    self.stats.dynamic_time += self.time() - t0;
-                }
+            (Phase::Dynamic, None) => {
+                let mut c = checkpoint.clone();
+                c.method = MethodState::Implicit;
+                self.dynamic.restore(&c)?;
             }
-            match part.termination {
-                Termination::Observer { index, .. } if index == switch_index => {
-                    self.switch()?;
-                }
-                other => {
-                    summary.termination = other;
-                    return Ok(());
-                }
+            _ => {
+                return Err(Error::CheckpointMismatch {
+                    field: "method".into(),
+                    checkpoint: format!("switching, {} phase without its state", phase.name()),
+                    run: "switching".into(),
+                })
             }
         }
+        self.phase = *phase;
+        self.stats = *stats;
+        Ok(())
+    }
+
+    /// The largest slip rate on Γ_F of the current state (m/s).
+    fn max_slip_rate(&self) -> f64 {
+        let s = Stepping::state(self);
+        Stepping::model(self)
+            .frictional_boundary
+            .nodes
+            .iter()
+            .map(|&p| block_norm::<C>(&s.kinematics.v, p))
+            .fold(0.0, f64::max)
     }
 
     /// Hands the state over to the other method.
@@ -242,11 +241,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                 state.kinematics.a.fill(0.0);
                 state.controller = None;
                 state.time_origin = (state.step, state.time);
-                self.dynamic.restore(&Checkpoint::new(D, state))?;
+                self.dynamic.set_state(state)?;
                 self.phase = Phase::Dynamic;
                 self.stats.dynamic_phases += 1;
             }
             Phase::Dynamic => {
+                // The dynamic phase began at its time origin (set at the switch above).
+                let start = self.dynamic.state().time_origin.1;
+                self.stats.dynamic_time += self.dynamic.time() - start;
                 self.quasi_dynamic
                     .restart_from(self.dynamic.state(), self.options.restart_dt)?;
                 self.phase = Phase::QuasiDynamic;
@@ -256,62 +258,63 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     }
 }
 
-/// Adds a phase's summary to the run's.
-fn add(total: &mut RunSummary, part: &RunSummary, fpi_total: &mut f64) {
-    *fpi_total += part.fpi_mean * part.steps as f64;
-    total.steps += part.steps;
-    total.fpi_max = total.fpi_max.max(part.fpi_max);
-    total.solver_iterations += part.solver_iterations;
-    total.relaxed_steps += part.relaxed_steps;
-    total.rejected_attempts += part.rejected_attempts;
-    total.fpi_mean = if total.steps > 0 {
-        *fpi_total / total.steps as f64
-    } else {
-        0.0
-    };
-}
-
-/// An observer shown every step of a phase but finished only once, at the end of the
-/// whole run.
-struct Forward<'a, 'b, const D: usize, const C: usize>(&'a mut (dyn Observer<D, C> + 'b));
-
-impl<const D: usize, const C: usize> Observer<D, C> for Forward<'_, '_, D, C> {
-    fn observe(&mut self, step: &StepView<'_, D, C>) -> Result<Flow> {
-        self.0.observe(step)
-    }
-    fn name(&self) -> String {
-        self.0.name()
-    }
-    fn reads_volume(&self) -> bool {
-        self.0.reads_volume()
-    }
-}
-
-/// Ends a phase after the first step whose largest slip rate is at least (`above`) or
-/// below the threshold.
-struct SwitchWhen {
-    threshold: f64,
-    above: bool,
-}
-
-impl<const D: usize, const C: usize> Observer<D, C> for SwitchWhen {
-    fn observe(&mut self, step: &StepView<'_, D, C>) -> Result<Flow> {
-        let v = step.report.max_slip_rate;
-        let switch = if self.above {
-            v >= self.threshold
-        } else {
-            v < self.threshold
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    Stepping<D, C> for SwitchingRun<D, L, S, I, C>
+{
+    fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport> {
+        let v = self.max_slip_rate();
+        let switch = match self.phase {
+            Phase::QuasiDynamic => v >= self.options.to_dynamic,
+            Phase::Dynamic => v < self.options.to_quasi_dynamic,
         };
-        Ok(if switch {
-            Flow::Break(())
-        } else {
-            Flow::Continue(())
-        })
+        if switch && self.state().step > 0 {
+            self.switch()?;
+        }
+        let report = match self.phase {
+            Phase::QuasiDynamic => self.quasi_dynamic.advance(t_end, reads_volume)?,
+            Phase::Dynamic => self.dynamic.advance(t_end, reads_volume)?,
+        };
+        match self.phase {
+            Phase::QuasiDynamic => self.stats.quasi_dynamic_steps += 1,
+            Phase::Dynamic => self.stats.dynamic_steps += 1,
+        }
+        Ok(report)
     }
-    fn name(&self) -> String {
-        "switch between quasi-dynamic and dynamic".into()
+    fn reached(&self, t_end: f64) -> bool {
+        // As the nested runs of the phases did: the end is reached for the dynamic step or
+        // for the active method's next step.
+        let s = self.state();
+        time_reached(s.time, t_end, self.options.dynamic_tau) || time_reached(s.time, t_end, s.tau)
     }
-    fn reads_volume(&self) -> bool {
-        false
+    fn model(&self) -> &Model<D, C> {
+        match self.phase {
+            Phase::QuasiDynamic => self.quasi_dynamic.model(),
+            Phase::Dynamic => self.dynamic.model(),
+        }
+    }
+    fn state(&self) -> &SimulationState {
+        match self.phase {
+            Phase::QuasiDynamic => self.quasi_dynamic.state(),
+            Phase::Dynamic => self.dynamic.state(),
+        }
+    }
+    fn fault_tractions(&self) -> &dyn FaultTractions {
+        match self.phase {
+            Phase::QuasiDynamic => Stepping::fault_tractions(&self.quasi_dynamic),
+            Phase::Dynamic => Stepping::fault_tractions(&self.dynamic),
+        }
+    }
+    fn method_state(&self) -> MethodState {
+        MethodState::Switching {
+            phase: self.phase,
+            stats: self.stats,
+            fault_ode: match self.phase {
+                Phase::QuasiDynamic => Some(self.quasi_dynamic.fault_ode_state()),
+                Phase::Dynamic => None,
+            },
+        }
+    }
+    fn restore(&mut self, checkpoint: &Checkpoint) -> Result<()> {
+        SwitchingRun::restore(self, checkpoint)
     }
 }

@@ -291,7 +291,9 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     )
     .unwrap();
     let mut trace = Trace::default();
-    let summary = run.run_until(t_end, &mut [&mut trace]).unwrap();
+    let summary = run
+        .run_until(Until::Time(t_end), &mut [&mut trace])
+        .unwrap();
     let stats = run.stats();
     eprintln!("{summary:?}\n{stats:?}");
     assert!((run.time() - t_end).abs() <= 1e-9 * t_end);
@@ -330,4 +332,152 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     );
     // Time increases through both methods.
     assert!(trace.rows.windows(2).all(|w| w[1].0 > w[0].0));
+}
+
+/// The small BP1 switching run of the test above, built afresh (for kill + resume).
+fn switching_run(
+    bp1: &SeasBp1,
+    grid: &SeasBp1Grid,
+) -> rsf::SwitchingRun<2, AsinhLaw, rsf::state::Aging, Integrator, 1> {
+    let model = bp1.model(grid, true).unwrap();
+    let ode = bp1
+        .simulation_builder(model.clone(), false, 1e-2, bp1.step_control(1e-3).unwrap())
+        .unwrap()
+        .build_fault_ode(bp1.fault_ode_options(1e-6).unwrap())
+        .unwrap();
+    let dynamic = bp1
+        .simulation_builder(model, true, 1.0, bp1.step_control(1e-3).unwrap())
+        .unwrap()
+        .fixed_point(rsf::FixedPointOptions {
+            tolerance: 1e-6,
+            ..rsf::FixedPointOptions::default()
+        })
+        .build()
+        .unwrap();
+    let dynamic_tau = 0.5 * grid.dz / (bp1.shear_modulus() / bp1.rho).sqrt();
+    rsf::SwitchingRun::new(
+        ode,
+        dynamic,
+        rsf::SwitchingOptions {
+            to_dynamic: 1e-3,
+            to_quasi_dynamic: 1e-4,
+            dynamic_tau,
+            restart_dt: dynamic_tau,
+        },
+    )
+    .unwrap()
+}
+
+/// Rows of two traces equal bit for bit (time, largest slip rate, every node's slip).
+fn assert_same_rows(a: &[(f64, f64, Vec<f64>)], b: &[(f64, f64, Vec<f64>)], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}: number of steps");
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        assert_eq!(x.0.to_bits(), y.0.to_bits(), "{what}: time of row {i}");
+        assert_eq!(x.1.to_bits(), y.1.to_bits(), "{what}: slip rate of row {i}");
+        assert!(
+            x.2.iter()
+                .zip(&y.2)
+                .all(|(p, q)| p.to_bits() == q.to_bits()),
+            "{what}: slip of row {i}"
+        );
+    }
+}
+
+/// Kill + resume of a `Stepping` method: the uninterrupted run to `t_end` against, for
+/// each kill step `k`, a run to `k` steps, a checkpoint written to disk and read back, a
+/// fresh method restored from it and run to `t_end` — the rows after the checkpoint are
+/// the same bits. Also a run that ends at an intermediate time (its last step lands on
+/// it, so the saved rate is not the rate re-evaluated at the end time) and resumes.
+fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
+    make: impl Fn() -> M,
+    t_end: f64,
+    kills: impl Fn(&[(f64, f64, Vec<f64>)]) -> Vec<usize>,
+    dir: &std::path::Path,
+) {
+    let mut whole = Trace::default();
+    let mut m = make();
+    rsf::run_until(&mut m, Until::Time(t_end), &mut [&mut whole]).unwrap();
+    let path = dir.join("checkpoint.bin");
+    let ks = kills(&whole.rows);
+    assert!(!ks.is_empty());
+    for k in ks {
+        let mut first = Trace::default();
+        let mut m = make();
+        rsf::run_until(&mut m, Until::Steps(k), &mut [&mut first]).unwrap();
+        m.checkpoint().write(&path).unwrap();
+        drop(m);
+        let c = rsf::Checkpoint::read(&path).unwrap();
+        let mut resumed = make();
+        resumed.restore(&c).unwrap();
+        rsf::run_until(&mut resumed, Until::Time(t_end), &mut [&mut first]).unwrap();
+        assert_same_rows(&first.rows, &whole.rows, &format!("killed at step {k}"));
+    }
+    // Interrupted at an end time (the last step lands on it), then resumed.
+    let t_mid = whole.rows[whole.rows.len() / 2].0 * 0.999_999_7;
+    let mut first = Trace::default();
+    let mut m = make();
+    rsf::run_until(&mut m, Until::Time(t_mid), &mut [&mut first]).unwrap();
+    let c = m.checkpoint();
+    let mut tail_continued = Trace::default();
+    rsf::run_until(&mut m, Until::Time(t_end), &mut [&mut tail_continued]).unwrap();
+    let mut resumed = make();
+    resumed.restore(&c).unwrap();
+    let mut tail_resumed = Trace::default();
+    rsf::run_until(&mut resumed, Until::Time(t_end), &mut [&mut tail_resumed]).unwrap();
+    assert_same_rows(
+        &tail_resumed.rows,
+        &tail_continued.rows,
+        "resumed at an end time",
+    );
+}
+
+/// The fault ODE killed at several steps and resumed from its checkpoint file: bit for
+/// bit the uninterrupted run (the controller's memory and the rate at the current point
+/// are part of the checkpoint). A checkpoint of another method is refused.
+#[test]
+fn fault_ode_resumes_bit_identically_from_a_checkpoint() {
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
+    let dir = std::env::temp_dir().join(format!("rsf-fault-ode-resume-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let t_end = 60.0 * SECONDS_PER_YEAR;
+    check_kill_and_resume(
+        || fault_ode(&bp1, &grid, 1e-6),
+        t_end,
+        |rows| {
+            // In creep, at the first fast step (an event), and just after it.
+            let fast = rows
+                .iter()
+                .position(|r| r.1 >= 1e-3)
+                .unwrap_or(rows.len() / 2);
+            vec![1, rows.len() / 4, fast, fast + 1]
+        },
+        &dir,
+    );
+    let mut ode = fault_ode(&bp1, &grid, 1e-6);
+    let implicit = rsf::Checkpoint::new(2, ode.state().clone());
+    let e = ode.restore(&implicit).unwrap_err();
+    assert!(e.to_string().contains("method"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The switching run killed in its first quasi-dynamic phase, at the step that crosses
+/// into an event, inside the dynamic phase and after it, and resumed: bit for bit the
+/// uninterrupted run.
+#[test]
+fn switching_run_resumes_bit_identically_in_either_phase() {
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
+    let dir = std::env::temp_dir().join(format!("rsf-switching-resume-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let t_end = 100.0 * SECONDS_PER_YEAR;
+    check_kill_and_resume(
+        || switching_run(&bp1, &grid),
+        t_end,
+        |rows| {
+            let fast = rows.iter().position(|r| r.1 >= 1e-3).unwrap();
+            let back = fast + rows[fast..].iter().position(|r| r.1 < 1e-4).unwrap();
+            vec![3, fast, fast + 1, (fast + back) / 2, back, back + 1]
+        },
+        &dir,
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -59,6 +59,12 @@ impl<const D: usize, const C: usize> Observer<D, C> for Checkpointer {
         c.write(&self.path)?;
         Ok(Flow::Continue(()))
     }
+    /// A checkpoint of a method condensed onto Γ_F needs only its state on Γ_F (the
+    /// volume's `u`, `v` follow from it); the implicit simulation always has the whole
+    /// field.
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }
 
 /// Keeps every step's report in memory (for summaries and figures).
@@ -69,5 +75,8 @@ impl<const D: usize, const C: usize> Observer<D, C> for Reports {
     fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
         self.0.push(*s.report);
         Ok(Flow::Continue(()))
+    }
+    fn reads_volume(&self) -> bool {
+        false
     }
 }

@@ -247,6 +247,8 @@ pub enum StopAt {
 pub struct SlipEvents {
     detector: EventDetector,
     node: Option<usize>,
+    /// Whether `node` is off Γ_F (its displacement is part of the volume).
+    node_in_volume: bool,
     stop: StopAt,
 }
 
@@ -259,6 +261,7 @@ impl SlipEvents {
         Ok(Self {
             detector: EventDetector::new(thresholds)?,
             node: None,
+            node_in_volume: false,
             stop: StopAt::Never,
         })
     }
@@ -273,6 +276,7 @@ impl SlipEvents {
         let u0 = &model.initial_displacement[D * node..D * node + D];
         self.detector = self.detector.with_slip_at(u0);
         self.node = Some(node);
+        self.node_in_volume = !model.frictional_boundary.nodes.contains(&node);
         Ok(self)
     }
 
@@ -312,5 +316,8 @@ impl<const D: usize> Observer<D> for SlipEvents {
         } else {
             Flow::Continue(())
         })
+    }
+    fn reads_volume(&self) -> bool {
+        self.node_in_volume
     }
 }

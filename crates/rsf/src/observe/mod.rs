@@ -17,6 +17,7 @@ use rsf_friction::{ConvexPotential, FrictionLaw};
 
 use crate::checkpoint::Checkpoint;
 use crate::error::Result;
+use crate::method_state::MethodState;
 use crate::model::fault::block_norm;
 use crate::model::Model;
 use crate::report::StepReport;
@@ -34,6 +35,9 @@ pub struct StepView<'a, const D: usize, const C: usize = D> {
     pub report: &'a StepReport,
     /// The tractions of the frictional nodes' laws (the problem's friction laws).
     pub friction: &'a dyn FaultTractions,
+    /// The method's own state beyond `state`, computed on demand (what a checkpoint saves
+    /// besides the common state: [`MethodState`]).
+    pub method: &'a dyn Fn() -> MethodState,
 }
 
 impl<const D: usize, const C: usize> std::fmt::Debug for StepView<'_, D, C> {
@@ -159,9 +163,11 @@ impl<const D: usize, const C: usize> StepView<'_, D, C> {
         self.friction.normal_traction(k)
     }
 
-    /// A checkpoint of this state.
+    /// A checkpoint of this state: the common state and the method's own.
     pub fn checkpoint(&self) -> Checkpoint {
-        Checkpoint::new(D, self.state.clone())
+        let mut c = Checkpoint::new(D, self.state.clone());
+        c.method = (self.method)();
+        c
     }
 }
 
@@ -195,9 +201,14 @@ pub trait Observer<const D: usize, const C: usize = D> {
     }
 
     /// Whether the observer reads the state off the frictional boundary (interior and
-    /// Dirichlet nodes' `u`, `v`). Default `true`. A run that condenses its unknowns onto
-    /// Γ_F ([`FaultOde`](crate::FaultOde)) computes the rest of the field only for
-    /// observers that read it, and leaves it NaN otherwise.
+    /// Dirichlet nodes' `u`, `v`). Default `true` (safe for an observer that does not say).
+    /// A run that condenses its unknowns onto Γ_F ([`FaultOde`](crate::FaultOde))
+    /// computes the rest of the field only for observers that read it, and leaves it NaN
+    /// otherwise: the library's observers of the fault ([`SlipEvents`](crate::SlipEvents),
+    /// [`FrictionalProfile`](crate::FrictionalProfile),
+    /// [`FaultRecorder`](crate::FaultRecorder), [`Reports`](crate::Reports),
+    /// [`Checkpointer`](crate::Checkpointer), [`SeasOutput`](crate::SeasOutput),
+    /// [`Progress`](crate::Progress)) return `false`.
     fn reads_volume(&self) -> bool {
         true
     }

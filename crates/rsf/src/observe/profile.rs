@@ -131,4 +131,7 @@ impl<const D: usize> Observer<D> for FrictionalProfile<D> {
         self.out.flush().map_err(io_at("flush", &self.path))?;
         Ok(())
     }
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }

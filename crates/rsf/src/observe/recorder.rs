@@ -191,4 +191,7 @@ impl<const D: usize> Observer<D> for FaultRecorder<D> {
         }
         Ok(Flow::Continue(()))
     }
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }

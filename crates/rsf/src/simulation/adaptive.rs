@@ -9,8 +9,8 @@ use crate::error::{Error, Result};
 use crate::model::fault::block_norm;
 use crate::report::StepReport;
 
-use super::run::time_slack;
 use super::step::Stepper;
+use crate::run::time_slack;
 
 /// Errors after which an adaptive step is retried with a smaller τ.
 fn recoverable(e: &Error) -> bool {

@@ -4,7 +4,6 @@
 pub(crate) mod adaptive;
 pub(crate) mod builder;
 pub(crate) mod checks;
-pub(crate) mod run;
 pub(crate) mod step;
 pub(crate) mod workspace;
 
@@ -18,17 +17,15 @@ use crate::checkpoint::Checkpoint;
 use crate::error::{Error, Result};
 use crate::method::state_integrator::StateIntegrator;
 use crate::method::Method;
+use crate::method_state::MethodState;
 use crate::model::fault::block_norm;
 use crate::model::Model;
-use crate::observe::Observer;
+use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
+use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
 use crate::simulation_state::SimulationState;
 
-use run::{
-    check_end_time, notify_step, observed_run, time_reached, RunError, RunSummary, Termination,
-    Until,
-};
 use step::Stepper;
 use workspace::Workspace;
 
@@ -211,8 +208,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
 
     /// Steps until `until` is reached or an observer returns [`Flow::Break`](crate::Flow)
     /// (after every observer has seen that step), then calls every observer's
-    /// [`finish`](Observer::finish) — also when the run fails. The summary says why the
-    /// run ended ([`Termination`]).
+    /// [`finish`](Observer::finish) — also when the run fails: the one run loop of every
+    /// method, [`run_until`](crate::run_until). The summary says why the run ended
+    /// ([`Termination`](crate::Termination)).
     ///
     /// # Errors
     /// A [`RunError`] with the first step or observer error (or, after the steps, the first
@@ -224,61 +222,22 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         until: Until,
         observers: &mut [&mut dyn Observer<D, C>],
     ) -> std::result::Result<RunSummary, RunError> {
-        observed_run(observers, |observers, summary| {
-            let mut fpi_total = 0;
-            let outcome = self.run_loop(until, observers, summary, &mut fpi_total);
-            summary.fpi_mean = if summary.steps > 0 {
-                fpi_total as f64 / summary.steps as f64
-            } else {
-                0.0
-            };
-            outcome
-        })
-    }
-
-    /// The steps of [`run_until`](Self::run_until), accumulating into `summary` and the
-    /// total of fixed point iterations.
-    fn run_loop(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<D, C>],
-        summary: &mut RunSummary,
-        fpi_total: &mut usize,
-    ) -> Result<()> {
-        if let Until::Time(t) = until {
-            check_end_time(t)?;
-        }
-        loop {
-            let reached = match until {
-                Until::Steps(k) => (summary.steps >= k).then_some(Termination::StepCount),
-                Until::Time(t_end) => time_reached(self.state.time, t_end, self.state.tau)
-                    .then_some(Termination::EndTime),
-            };
-            if let Some(reason) = reached {
-                summary.termination = reason;
-                return Ok(());
-            }
-            let t_end = match until {
-                Until::Time(t_end) => Some(t_end),
-                Until::Steps(_) => None,
-            };
-            let report = self.step_until(t_end)?;
-            *fpi_total += report.fixed_point_iterations;
-            summary.fpi_max = summary.fpi_max.max(report.fixed_point_iterations);
-            summary.solver_iterations += report.solver_iterations;
-            summary.relaxed_steps += usize::from(report.relaxed_iterations > 0);
-            summary.rejected_attempts += report.rejected_attempts;
-            summary.steps += 1;
-            if let Some(reason) = notify_step(observers, &self.problem, &self.state, &report)? {
-                summary.termination = reason;
-                return Ok(());
-            }
-        }
+        run_until(self, until, observers)
     }
 
     /// A checkpoint of the state, for [`restore`](Self::restore).
     pub fn checkpoint(&self) -> Checkpoint {
         Checkpoint::new(D, self.state.clone())
+    }
+
+    /// Sets the state to `state` of a model with the same dofs and frictional nodes
+    /// (e.g. another method's state at a switch): as [`restore`](Self::restore) of a
+    /// checkpoint of it.
+    ///
+    /// # Errors
+    /// As [`restore`](Self::restore).
+    pub(crate) fn set_state(&mut self, state: SimulationState) -> Result<()> {
+        self.restore(&Checkpoint::new(D, state))
     }
 
     /// Continues from a checkpoint of a simulation of the same model; the continuation is
@@ -288,9 +247,17 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// # Errors
     /// [`Error::CheckpointSize`] naming what differs (dimension, number of nodes, lengths
     /// of `v`, `a`, α); [`Error::CheckpointValue`] naming a non-finite value, a negative
-    /// time or a non-positive τ (and its entry); solver set-up errors for a new τ. The
-    /// simulation is unchanged on error.
+    /// time or a non-positive τ (and its entry); [`Error::CheckpointMismatch`] for a
+    /// checkpoint of another method (field `method`); solver set-up errors for a new τ.
+    /// The simulation is unchanged on error.
     pub fn restore(&mut self, c: &Checkpoint) -> Result<()> {
+        if c.method != MethodState::Implicit {
+            return Err(Error::CheckpointMismatch {
+                field: "method".into(),
+                checkpoint: c.method.name().into(),
+                run: MethodState::Implicit.name().into(),
+            });
+        }
         let n = self.model().num_dofs();
         let s = &c.state;
         let k = &s.kinematics;
@@ -359,5 +326,31 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         self.state.kinematics.a.copy_from_slice(&k.a);
         self.state.alpha.copy_from_slice(&s.alpha);
         Ok(())
+    }
+}
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C: usize>
+    Stepping<D, C> for Simulation<D, L, S, I, C>
+{
+    fn advance(&mut self, t_end: Option<f64>, _reads_volume: bool) -> Result<StepReport> {
+        self.step_until(t_end)
+    }
+    fn model(&self) -> &Model<D, C> {
+        self.problem.model()
+    }
+    fn state(&self) -> &SimulationState {
+        &self.state
+    }
+    fn fault_tractions(&self) -> &dyn FaultTractions {
+        self.problem.fault_tractions()
+    }
+    fn method_state(&self) -> MethodState {
+        MethodState::Implicit
+    }
+    fn checkpoint(&self) -> Checkpoint {
+        Simulation::checkpoint(self)
+    }
+    fn restore(&mut self, checkpoint: &Checkpoint) -> Result<()> {
+        Simulation::restore(self, checkpoint)
     }
 }
