@@ -27,7 +27,7 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::{
-    FileMode, FixedPointOptions, Observer, Progress, SeasBp1, SeasBp1Grid, SeasOutput,
+    FileMode, FixedPointOptions, MethodKind, Observer, Progress, SeasBp1, SeasBp1Grid, SeasOutput,
     SeasSampling, SeasSetup, SolverOptions, Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
 };
 use rsf_examples::{cpu_seconds, machine};
@@ -119,42 +119,7 @@ enum Scheme {
 
 /// The run: the paper's implicit simulation, the Runge–Kutta run on the fault, or the
 /// latter with fully dynamic events.
-enum Run {
-    Implicit(Box<rsf::SeasBp1Simulation>),
-    FaultOde(Box<rsf::SeasBp1FaultOde>),
-    Switching(Box<Switching>),
-}
-
-type Switching =
-    rsf::SwitchingRun<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::Integrator, 1>;
-
-impl Run {
-    fn model(&self) -> &rsf::Model<2, 1> {
-        match self {
-            Run::Implicit(s) => s.model(),
-            Run::FaultOde(s) => s.model(),
-            Run::Switching(s) => s.quasi_dynamic().model(),
-        }
-    }
-    fn laws(&self) -> &[rsf::friction::AsinhLaw] {
-        match self {
-            Run::Implicit(s) => s.problem().friction_laws(),
-            Run::FaultOde(s) => s.problem().friction_laws(),
-            Run::Switching(s) => s.quasi_dynamic().problem().friction_laws(),
-        }
-    }
-    fn run_until(
-        &mut self,
-        until: Until,
-        observers: &mut [&mut dyn Observer<2, 1>],
-    ) -> Result<rsf::RunSummary, rsf::RunError> {
-        match self {
-            Run::Implicit(s) => s.run_until(until, observers),
-            Run::FaultOde(s) => s.run_until(until, observers),
-            Run::Switching(s) => s.run_until(until, observers),
-        }
-    }
-}
+type Bp1Run = rsf::Run<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::Integrator, 1>;
 
 fn main() -> Result<(), AnyError> {
     let args = Args::parse();
@@ -178,39 +143,36 @@ fn main() -> Result<(), AnyError> {
     let mut control = bp1.step_control(args.tolerance)?;
     control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
     let scheme = args.scheme;
-    let dynamic = if args.inertia && scheme == Scheme::RungeKutta {
-        let sim = bp1
-            .simulation_builder(model.clone(), true, 1.0, control)?
+    let method = match (scheme, args.inertia) {
+        (Scheme::Implicit, _) => MethodKind::Implicit,
+        (Scheme::RungeKutta, false) => MethodKind::FaultOde,
+        (Scheme::RungeKutta, true) => MethodKind::Switching,
+    };
+    // The implicit scheme on `model`, with or without inertia, from τ₀ (s).
+    let implicit = |model, inertia, tau0, fixed_point_tolerance| {
+        bp1.simulation_builder(model, inertia, tau0, control)?
             .fixed_point(FixedPointOptions {
-                tolerance: args.dynamic_fixed_point_tolerance,
+                tolerance: fixed_point_tolerance,
                 ..FixedPointOptions::default()
             })
-            .build()?;
-        Some(sim)
-    } else {
-        None
+            .solver_options(SolverOptions {
+                setup_per_time_step: args.setup_per_time_step,
+                ..SolverOptions::default()
+            })
+            .build()
     };
-    let builder = bp1
-        .simulation_builder(model, args.inertia && dynamic.is_none(), 1e-2, control)?
-        .fixed_point(FixedPointOptions {
-            tolerance: args.fixed_point_tolerance,
-            ..FixedPointOptions::default()
-        })
-        .solver_options(SolverOptions {
-            setup_per_time_step: args.setup_per_time_step,
-            ..SolverOptions::default()
-        });
-    let mut sim = match (scheme, dynamic) {
-        (Scheme::Implicit, _) => Run::Implicit(Box::new(builder.build()?)),
-        (Scheme::RungeKutta, None) => Run::FaultOde(Box::new(
-            builder.build_fault_ode(bp1.fault_ode_options(args.rk_tolerance)?)?,
-        )),
-        (Scheme::RungeKutta, Some(dynamic)) => {
+    let fault_ode = |model| bp1.fault_ode(model, bp1.fault_ode_options(args.rk_tolerance)?);
+    let mut sim: Bp1Run = match method {
+        MethodKind::Implicit => {
+            implicit(model, args.inertia, 1e-2, args.fixed_point_tolerance)?.into()
+        }
+        MethodKind::FaultOde => fault_ode(model)?.into(),
+        MethodKind::Switching => {
             let c_s = (bp1.shear_modulus() / bp1.rho).sqrt();
             let dynamic_tau = args.dynamic_tau.unwrap_or(0.25 * args.dz / c_s);
-            let ode = builder.build_fault_ode(bp1.fault_ode_options(args.rk_tolerance)?)?;
-            Run::Switching(Box::new(rsf::SwitchingRun::new(
-                ode,
+            let dynamic = implicit(model.clone(), true, 1.0, args.dynamic_fixed_point_tolerance)?;
+            rsf::SwitchingRun::new(
+                fault_ode(model)?,
                 dynamic,
                 rsf::SwitchingOptions {
                     to_dynamic: args.switch_to_dynamic,
@@ -218,7 +180,8 @@ fn main() -> Result<(), AnyError> {
                     dynamic_tau,
                     restart_dt: dynamic_tau,
                 },
-            )?))
+            )?
+            .into()
         }
     };
     let setup_s = t_setup.elapsed().as_secs_f64();
@@ -234,8 +197,8 @@ fn main() -> Result<(), AnyError> {
         .collect();
     let mut output = SeasOutput::new(
         &args.out,
-        sim.model(),
-        sim.laws(),
+        rsf::Stepping::model(&sim),
+        sim.problem().friction_laws(),
         SeasSetup {
             problem: format!(
                 "SEAS Benchmark BP1-{}",
@@ -287,16 +250,16 @@ fn main() -> Result<(), AnyError> {
         later.iter().sum::<f64>() / later.len() as f64
     };
     let accepted_by_controller = match &sim {
-        Run::Implicit(s) => s.state().controller.as_ref().map(|c| c.accepted()),
-        Run::FaultOde(_) | Run::Switching(_) => None,
+        rsf::Run::Implicit(s) => s.state().controller.as_ref().map(|c| c.accepted()),
+        rsf::Run::FaultOde(_) | rsf::Run::Switching(_) => None,
     };
     let evaluations = match &sim {
-        Run::Implicit(_) => None,
-        Run::FaultOde(s) => Some(s.evaluations()),
-        Run::Switching(s) => Some(s.quasi_dynamic().evaluations()),
+        rsf::Run::Implicit(_) => None,
+        rsf::Run::FaultOde(s) => Some(s.evaluations()),
+        rsf::Run::Switching(s) => Some(s.quasi_dynamic().evaluations()),
     };
     let switching = match &sim {
-        Run::Switching(s) => {
+        rsf::Run::Switching(s) => {
             let st = s.stats();
             Some(serde_json::json!({
                 "dynamic_phases": st.dynamic_phases,

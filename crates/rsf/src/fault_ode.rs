@@ -121,9 +121,7 @@ impl FaultOdeOptions {
 /// let bp1 = rsf::SeasBp1 { w_f: 10e3, h_top: 2e3, h_transition: 1e3, ..rsf::SeasBp1::default() };
 /// let grid = rsf::SeasBp1Grid { dz: 500.0, domain: 20e3, ratio: 1.1 };
 /// let model = bp1.model(&grid, false)?;
-/// let mut ode = bp1
-///     .simulation_builder(model, false, 1e-2, bp1.step_control(1e-3)?)?
-///     .build_fault_ode(bp1.fault_ode_options(1e-6)?)?;
+/// let mut ode = bp1.fault_ode(model, bp1.fault_ode_options(1e-6)?)?;
 /// let summary = ode.run_until(rsf::Until::Time(10.0 * rsf::SECONDS_PER_YEAR), &mut [])?;
 /// assert_eq!(ode.condensed_dim(), 20); // 21 fault nodes, the one at W_f creeps
 /// assert!(summary.steps > 0 && (ode.state().time / rsf::SECONDS_PER_YEAR - 10.0).abs() < 1e-9);

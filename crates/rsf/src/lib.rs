@@ -46,6 +46,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod any_run;
 mod checkpoint;
 mod error;
 mod fault_ode;
@@ -62,6 +63,7 @@ mod simulation;
 mod simulation_state;
 mod switching;
 
+pub use any_run::{MethodKind, Run};
 pub use checkpoint::{write_atomically, Checkpoint, Fingerprint, CHECKPOINT_FORMAT};
 pub use error::{Error, Result};
 pub use fault_ode::{FaultOde, FaultOdeOptions};

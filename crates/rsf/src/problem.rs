@@ -6,27 +6,42 @@ use rsf_state::StateLaw;
 
 use crate::model::Model;
 
-/// The problem of a simulation: the discrete [`Model`] and, per frictional node (in
-/// `model.frictional_boundary.nodes` order), a friction law `L` and a state law `S` (none if no
-/// friction law uses the state). Immutable once the simulation is built.
+/// The problem of a simulation: the discrete [`Model`], per frictional node (in
+/// `model.frictional_boundary.nodes` order) a friction law `L` and a state law `S` (none if no
+/// friction law uses the state), and the radiation damping η on Γ_F — physics, whatever
+/// the method. Immutable once the simulation is built.
 #[derive(Debug, Clone)]
 pub struct Problem<const D: usize, L, S, const C: usize = D> {
     model: Model<D, C>,
     friction_laws: Vec<L>,
     state_laws: Vec<S>,
     uses_state: bool,
+    radiation_damping: f64,
 }
 
 impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, S, C> {
     /// The parts, checked by the simulation builder (`checks.rs`) before this is called.
-    pub(crate) fn new(model: Model<D, C>, friction_laws: Vec<L>, state_laws: Vec<S>) -> Self {
+    pub(crate) fn new(
+        model: Model<D, C>,
+        friction_laws: Vec<L>,
+        state_laws: Vec<S>,
+        radiation_damping: f64,
+    ) -> Self {
         let uses_state = friction_laws.iter().any(FrictionLaw::uses_state);
         Self {
             model,
             friction_laws,
             state_laws,
             uses_state,
+            radiation_damping,
         }
+    }
+
+    /// The radiation damping η on Γ_F (Pa·s/m; 0 for none): the shear traction
+    /// `−η V` of waves radiated from the fault in a quasi-dynamic model (Rice 1993;
+    /// docs/math.md §11), per unit fault area.
+    pub fn radiation_damping(&self) -> f64 {
+        self.radiation_damping
     }
 
     /// The model.

@@ -14,9 +14,7 @@ use common::small_bp1;
 
 fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf::SeasBp1FaultOde {
     let model = bp1.model(grid, false).unwrap();
-    bp1.simulation_builder(model, false, 1e-2, bp1.step_control(1e-3).unwrap())
-        .unwrap()
-        .build_fault_ode(bp1.fault_ode_options(tolerance).unwrap())
+    bp1.fault_ode(model, bp1.fault_ode_options(tolerance).unwrap())
         .unwrap()
 }
 
@@ -207,8 +205,9 @@ fn first_event_converges_with_the_tolerance() {
     assert!((t[1] - t[2]).abs() <= (t[0] - t[1]).abs(), "{t:?}");
 }
 
-/// Typed errors: inertia, no radiation damping, a custom loading history, a tolerance
-/// out of range.
+/// Typed errors: inertia, no radiation damping, radiation damping given twice, a setting
+/// of the implicit method (which the fault ODE does not use), a custom loading history, a
+/// tolerance out of range.
 #[test]
 fn invalid_set_ups_are_typed_errors() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
@@ -219,18 +218,22 @@ fn invalid_set_ups_are_typed_errors() {
     };
     let builder = |inertia: bool| {
         let model = bp1.model(&grid, inertia).unwrap();
-        bp1.simulation_builder(model, inertia, 1e-2, bp1.step_control(1e-3).unwrap())
-            .unwrap()
+        bp1.problem_builder(model, inertia).unwrap().time_step(1e-2)
     };
     assert_eq!(name(builder(true).build_fault_ode(opts)), "integrator");
-    let no_damping = builder(false).integrator(Integrator::Quasistatic(Default::default()));
+    let no_damping = builder(false).radiation_damping(0.0);
     assert_eq!(name(no_damping.build_fault_ode(opts)), "radiation_damping");
+    let twice = builder(false).integrator(Integrator::Quasistatic(
+        rsf::time::Quasistatic::with_radiation_damping(1.0).unwrap(),
+    ));
+    assert_eq!(name(twice.build_fault_ode(opts)), "radiation_damping");
+    let implicit = builder(false).step_control(bp1.step_control(1e-3).unwrap());
+    assert_eq!(name(implicit.build_fault_ode(opts)), "step_control");
+    let implicit = builder(false).solver(rsf::SolverKind::Direct);
+    assert_eq!(name(implicit.build_fault_ode(opts)), "solver");
     let mut model = bp1.model(&grid, false).unwrap();
     model.dirichlet.history = TimeFunction::custom(|_| 1.0);
-    let custom = bp1
-        .simulation_builder(model, false, 1e-2, bp1.step_control(1e-3).unwrap())
-        .unwrap();
-    assert_eq!(name(custom.build_fault_ode(opts)), "loading");
+    assert_eq!(name(bp1.fault_ode(model, opts)), "loading");
     assert!(bp1.fault_ode_options(0.0).is_err());
 }
 
@@ -265,9 +268,7 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     let t_end = 100.0 * SECONDS_PER_YEAR;
     let model = bp1.model(&grid, true).unwrap();
     let ode = bp1
-        .simulation_builder(model.clone(), false, 1e-2, bp1.step_control(1e-3).unwrap())
-        .unwrap()
-        .build_fault_ode(bp1.fault_ode_options(1e-6).unwrap())
+        .fault_ode(model.clone(), bp1.fault_ode_options(1e-6).unwrap())
         .unwrap();
     let dynamic = bp1
         .simulation_builder(model, true, 1.0, bp1.step_control(1e-3).unwrap())
@@ -341,9 +342,7 @@ fn switching_run(
 ) -> rsf::SwitchingRun<2, AsinhLaw, rsf::state::Aging, Integrator, 1> {
     let model = bp1.model(grid, true).unwrap();
     let ode = bp1
-        .simulation_builder(model.clone(), false, 1e-2, bp1.step_control(1e-3).unwrap())
-        .unwrap()
-        .build_fault_ode(bp1.fault_ode_options(1e-6).unwrap())
+        .fault_ode(model.clone(), bp1.fault_ode_options(1e-6).unwrap())
         .unwrap();
     let dynamic = bp1
         .simulation_builder(model, true, 1.0, bp1.step_control(1e-3).unwrap())

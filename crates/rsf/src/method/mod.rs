@@ -57,15 +57,23 @@ pub struct Method<const D: usize, I, const C: usize = D> {
     /// damping `q_k = η w_k` of each frictional node, moved from the matrix into the
     /// nonlinearity.
     tau_free: Option<Vec<f64>>,
+    /// The radiation damping η of the problem (Pa·s/m; physics, not method).
+    eta: f64,
 }
 
 impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
-    /// Builds the method for `model` at the time step `tau` (s).
+    /// Builds the method for `model` with radiation damping `eta` (Pa·s/m, the problem's)
+    /// at the time step `tau` (s).
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` if the
     /// time-step matrix is not finite; set-up errors of the solver.
-    pub(crate) fn new(options: MethodOptions<I>, model: &Model<D, C>, tau: f64) -> Result<Self> {
+    pub(crate) fn new(
+        options: MethodOptions<I>,
+        model: &Model<D, C>,
+        tau: f64,
+        eta: f64,
+    ) -> Result<Self> {
         let load_operator = LoadOperator::new(
             model
                 .mass
@@ -77,7 +85,6 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         let tau_free = (!options.integrator.uses_mass()
             && !options.solver_options.setup_per_time_step)
             .then(|| {
-                let eta = options.integrator.radiation_damping();
                 let w = &model.frictional_boundary.weights;
                 w.iter().map(|w| eta * w).collect::<Vec<f64>>()
             });
@@ -87,7 +94,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
                 check_time_step_matrix(model, &options.integrator, tau)?;
                 model.stiffness.clone()
             }
-            None => time_step_matrix(model, &options.integrator, tau)?,
+            None => time_step_matrix(model, &options.integrator, tau, eta)?,
         };
         let resolved = options
             .solver
@@ -101,6 +108,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             solver_cache: Vec::new(),
             load_operator,
             tau_free,
+            eta,
         })
     }
 
@@ -193,7 +201,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             None => self.solver.for_matrix(
                 self.resolved,
                 &self.options.solver_options,
-                &time_step_matrix(model, &self.options.integrator, tau)?,
+                &time_step_matrix(model, &self.options.integrator, tau, self.eta)?,
                 model,
             )?,
         };
@@ -206,7 +214,8 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
     }
 }
 
-/// The matrix `A = c_M M + c_K K` (+ radiation damping) of the velocity problem at `tau`.
+/// The matrix `A = c_M M + c_K K` (+ radiation damping `eta`, Pa·s/m) of the velocity
+/// problem at `tau`.
 ///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` for a
@@ -215,6 +224,7 @@ pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegr
     model: &Model<D, C>,
     integrator: &I,
     tau: f64,
+    eta: f64,
 ) -> Result<SparseMatrix> {
     let (c_m, c_k) = integrator.coefficients(tau);
     let mut a = match (&model.mass, integrator.uses_mass()) {
@@ -222,7 +232,6 @@ pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegr
         _ => combine(0.0, &model.stiffness, c_k, &model.stiffness),
     }
     .map_err(rsf_fem::Error::from)?;
-    let eta = integrator.radiation_damping();
     if eta > 0.0 {
         add_radiation_damping(&mut a, model, eta);
     }

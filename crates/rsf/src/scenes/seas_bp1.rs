@@ -275,12 +275,47 @@ impl SeasBp1 {
         Ok(model)
     }
 
-    /// A simulation builder of BP1 on `model` (from [`model`](Self::model)): the regularised
-    /// law [`AsinhLaw`] with a(z), the aging law, θ₀(z) from the spec
+    /// The problem of BP1 on `model` (from [`model`](Self::model)), without a method: the
+    /// regularised law [`AsinhLaw`] with a(z), the aging law, θ₀(z) from the spec
     /// ([`alpha0`](Self::alpha0)), slip rate V_init everywhere (the half moves at
-    /// V_init/2), quasi-dynamic with radiation damping η = μ/(2c_s) — or, with `inertia`,
-    /// Newmark without damping (BP1-FD) — the direct solver, and adaptive steps from
-    /// `tau0` (s) with `control`.
+    /// V_init/2), and the physics — quasi-dynamic (no inertia, radiation damping
+    /// η = μ/(2c_s)) or, with `inertia`, fully dynamic (BP1-FD: inertia, no damping; the
+    /// model needs its mass matrix). The integrator is the one the physics implies
+    /// (quasistatic, or Newmark with inertia). Choose the method on it:
+    /// [`build_fault_ode`](SimulationBuilder::build_fault_ode) with a
+    /// [`time_step`](SimulationBuilder::time_step) as the first trial step, or the implicit
+    /// scheme's settings and [`build`](SimulationBuilder::build)
+    /// ([`simulation_builder`](Self::simulation_builder)).
+    ///
+    /// # Errors
+    /// Invalid parameters (laws, damping).
+    pub fn problem_builder(
+        &self,
+        model: Model<2, 1>,
+        inertia: bool,
+    ) -> Result<SimulationBuilder<2, AsinhLaw, Aging, Integrator, 1>> {
+        self.validate()?;
+        let (integrator, eta) = if inertia {
+            (Integrator::Newmark, 0.0)
+        } else {
+            (
+                Integrator::Quasistatic(Quasistatic::new()),
+                self.radiation_damping(),
+            )
+        };
+        let v_half = 0.5 * self.v_init;
+        Ok(SimulationBuilder::new(model)
+            .friction_at(|x| AsinhLaw::new(self.params(x[1])))
+            .state_law(Aging::new(self.d_c)?)
+            .initial_state_at(|x| self.alpha0(x[1]))
+            .initial_velocity_at(|_| [v_half])
+            .integrator(integrator)
+            .radiation_damping(eta))
+    }
+
+    /// A simulation builder of BP1 on `model` with the paper's implicit method: the
+    /// problem of [`problem_builder`](Self::problem_builder), the direct solver, and
+    /// adaptive steps from `tau0` (s) with `control`.
     ///
     /// # Errors
     /// Invalid parameters (laws, damping).
@@ -291,24 +326,29 @@ impl SeasBp1 {
         tau0: f64,
         control: StepControl,
     ) -> Result<SimulationBuilder<2, AsinhLaw, Aging, Integrator, 1>> {
-        self.validate()?;
-        let integrator = if inertia {
-            Integrator::Newmark
-        } else {
-            Integrator::Quasistatic(Quasistatic::with_radiation_damping(
-                self.radiation_damping(),
-            )?)
-        };
-        let v_half = 0.5 * self.v_init;
-        Ok(SimulationBuilder::new(model)
-            .friction_at(|x| AsinhLaw::new(self.params(x[1])))
-            .state_law(Aging::new(self.d_c)?)
-            .initial_state_at(|x| self.alpha0(x[1]))
-            .initial_velocity_at(|_| [v_half])
-            .integrator(integrator)
+        Ok(self
+            .problem_builder(model, inertia)?
             .solver(crate::SolverKind::Direct)
             .time_step(tau0)
             .step_control(control))
+    }
+
+    /// The quasi-dynamic BP1 on `model` as a run condensed onto the fault
+    /// ([`FaultOde`]): the problem of [`problem_builder`](Self::problem_builder) without
+    /// inertia, first trial step 0.01 s, with `options` (e.g.
+    /// [`fault_ode_options`](Self::fault_ode_options)).
+    ///
+    /// # Errors
+    /// Invalid parameters; the set-up errors of
+    /// [`build_fault_ode`](SimulationBuilder::build_fault_ode).
+    pub fn fault_ode(
+        &self,
+        model: Model<2, 1>,
+        options: FaultOdeOptions,
+    ) -> Result<SeasBp1FaultOde> {
+        self.problem_builder(model, false)?
+            .time_step(1e-2)
+            .build_fault_ode(options)
     }
 
     /// The adaptive step control used for BP1 by default: relative tolerance `tolerance`

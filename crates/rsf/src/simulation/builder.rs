@@ -5,7 +5,7 @@ use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
 
-use crate::error::{Error, Result};
+use crate::error::{invalid, Error, Result};
 use crate::fault_ode::{FaultOde, FaultOdeOptions};
 use crate::method::fixed_point::FixedPointOptions;
 use crate::method::solver::{SolverKind, SolverOptions};
@@ -69,7 +69,12 @@ pub struct SimulationBuilder<const D: usize, L, S, I, const C: usize = D> {
     alpha0: Option<Vec<f64>>,
     v0: Option<Vec<f64>>,
     tau: Option<f64>,
+    /// The radiation damping η (Pa·s/m) given by [`radiation_damping`](Self::radiation_damping).
+    eta: Option<f64>,
     method: MethodOptions<I>,
+    /// The settings of the implicit method given explicitly (by their setters' names):
+    /// a method that does not use one of them refuses to be built.
+    implicit_settings: Vec<&'static str>,
 }
 
 impl<const D: usize, const C: usize> SimulationBuilder<D, Unset, NoState, Newmark, C> {
@@ -82,6 +87,8 @@ impl<const D: usize, const C: usize> SimulationBuilder<D, Unset, NoState, Newmar
             alpha0: None,
             v0: None,
             tau: None,
+            eta: None,
+            implicit_settings: Vec::new(),
             method: MethodOptions {
                 integrator: Newmark,
                 solver: SolverKind::default(),
@@ -111,6 +118,9 @@ struct Checked<const D: usize, I, const C: usize> {
     model: Model<D, C>,
     v0: Option<Vec<f64>>,
     method: MethodOptions<I>,
+    /// The problem's radiation damping η (Pa·s/m).
+    eta: f64,
+    implicit_settings: Vec<&'static str>,
 }
 
 /// The parts of a builder whose types change with the laws and the integrator.
@@ -128,7 +138,9 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
             alpha0,
             v0,
             tau,
+            eta,
             method,
+            implicit_settings,
         } = self;
         let MethodOptions {
             integrator,
@@ -146,6 +158,7 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
             alpha0,
             v0,
             tau,
+            eta,
             method: MethodOptions {
                 integrator,
                 solver,
@@ -154,7 +167,16 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
                 step_control,
                 state_integrator,
             },
+            implicit_settings,
         }
+    }
+
+    /// Records that the implicit method's setting `name` was given.
+    fn implicit_setting(mut self, name: &'static str) -> Self {
+        if !self.implicit_settings.contains(&name) {
+            self.implicit_settings.push(name);
+        }
+        self
     }
 
     /// The model.
@@ -203,12 +225,25 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
         self.retype(|(f, _, i)| (f, laws, i))
     }
 
-    /// The velocity integrator.
+    /// The velocity integrator (of the implicit method; a quasi-dynamic [`FaultOde`] takes
+    /// only a [`Quasistatic`](rsf_time::Quasistatic) one, for the radiation damping it may
+    /// carry).
     pub fn integrator<I2: VelocityIntegrator>(
         self,
         integrator: I2,
     ) -> SimulationBuilder<D, L, S, I2, C> {
         self.retype(|(f, s, _)| (f, s, integrator))
+    }
+
+    /// The radiation damping η on Γ_F (Pa·s/m, ≥ 0; default 0): physics, used by every
+    /// method — a damping term `η|V|²/2` per unit area in the implicit scheme's velocity
+    /// problem, the `η V` of the fault ODE's stress balance (docs/math.md §11–12). Given
+    /// here or (the older way) by an integrator
+    /// [`Quasistatic::with_radiation_damping`](rsf_time::Quasistatic::with_radiation_damping),
+    /// not both.
+    pub fn radiation_damping(mut self, eta: f64) -> Self {
+        self.eta = Some(eta);
+        self
     }
 
     /// The same initial state α₀ at every frictional node (`ln θ₀` with θ₀ in s for the
@@ -255,32 +290,32 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     /// The velocity solver.
     pub fn solver(mut self, solver: SolverKind) -> Self {
         self.method.solver = solver;
-        self
+        self.implicit_setting("solver")
     }
 
     /// The options of the velocity solvers.
     pub fn solver_options(mut self, options: SolverOptions) -> Self {
         self.method.solver_options = options;
-        self
+        self.implicit_setting("solver_options")
     }
 
     /// The fixed point options.
     pub fn fixed_point(mut self, options: FixedPointOptions) -> Self {
         self.method.fixed_point = options;
-        self
+        self.implicit_setting("fixed_point")
     }
 
     /// How a step advances the state (default backward Euler, the paper's).
     pub fn state_integrator(mut self, integrator: StateIntegrator) -> Self {
         self.method.state_integrator = integrator;
-        self
+        self.implicit_setting("state_integrator")
     }
 
     /// Adaptive time steps with error control from the initial τ of
     /// [`time_step`](Self::time_step) (default: fixed τ).
     pub fn step_control(mut self, control: StepControl) -> Self {
         self.method.step_control = Some(control);
-        self
+        self.implicit_setting("step_control")
     }
 }
 
@@ -305,10 +340,31 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         }
         .check()?;
         let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
+        let eta = match (self.eta, self.method.integrator.radiation_damping()) {
+            (None, eta) => eta,
+            (Some(eta), 0.0) if eta.is_finite() && eta >= 0.0 => eta,
+            (Some(eta), 0.0) => {
+                return Err(invalid(
+                    "radiation_damping",
+                    format!("η = {eta} Pa·s/m must be finite and >= 0"),
+                ))
+            }
+            (Some(eta), by_integrator) => {
+                return Err(invalid(
+                    "radiation_damping",
+                    format!(
+                        "η = {eta} Pa·s/m given twice: also {by_integrator} Pa·s/m by the \
+                         integrator (give it once, with SimulationBuilder::radiation_damping)"
+                    ),
+                ))
+            }
+        };
         let this = Checked {
             model: self.model,
             v0: self.v0,
             method: self.method,
+            eta,
+            implicit_settings: self.implicit_settings,
         };
         Ok((this, friction, state_laws, alpha0, tau))
     }
@@ -333,7 +389,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             Some(c) => Some(c.start(tau)?),
             None => None,
         };
-        let method = Method::new(this.method, &this.model, tau)?;
+        let method = Method::new(this.method, &this.model, tau, this.eta)?;
         let n = this.model.num_dofs();
         let mut kinematics = Kinematics::zeros(n);
         kinematics
@@ -360,7 +416,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             controller,
         };
         Ok(Simulation {
-            problem: Problem::new(this.model, friction, state_laws),
+            problem: Problem::new(this.model, friction, state_laws, this.eta),
             method,
             state,
             work,
@@ -369,33 +425,41 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
 
     /// Checks every part as [`build`](Self::build) does and builds a quasi-dynamic run
     /// condensed onto the fault and integrated by an explicit Runge–Kutta pair
-    /// ([`FaultOde`], docs/math.md §12) instead of the implicit simulation. Uses the
-    /// integrator's radiation damping η (no inertia), the friction and state laws, `α₀`,
-    /// and the time step of [`time_step`](Self::time_step) as the first step; the
-    /// velocity solver, fixed point, step control and state integrator options do not
-    /// apply (the slip rates follow from the stress; an initial velocity is ignored).
+    /// ([`FaultOde`], docs/math.md §12) instead of the implicit simulation: the problem
+    /// (model, laws, `α₀`, the radiation damping η > 0) and the time step of
+    /// [`time_step`](Self::time_step) as the first trial step. The settings of the
+    /// implicit method (velocity solver and its options, fixed point, step control, state
+    /// integrator) do not apply to it: given, they are an error (a method is given only
+    /// the settings it uses); an initial velocity is ignored (the slip rates follow from
+    /// the stress).
     ///
     /// # Errors
-    /// As [`build`](Self::build); [`Error::InvalidParameter`] named `integrator` for an
-    /// integrator with inertia, `radiation_damping` for η ≤ 0, `loading` for a custom
-    /// loading history, `dirichlet` for a frictional node with some components prescribed
-    /// at a non-zero velocity; the options' errors; [`Error::Solver`] if `K` is not
-    /// positive definite on the free dofs.
+    /// As [`build`](Self::build); [`Error::InvalidParameter`] named after the first
+    /// implicit-method setting given (`solver`, `solver_options`, `fixed_point`,
+    /// `step_control`, `state_integrator`), `integrator` for an integrator with inertia,
+    /// `radiation_damping` for η ≤ 0, `loading` for a custom loading history, `dirichlet`
+    /// for a frictional node with some components prescribed at a non-zero velocity; the
+    /// options' errors; [`Error::Solver`] if `K` is not positive definite on the free dofs.
     pub fn build_fault_ode(self, options: FaultOdeOptions) -> Result<FaultOde<D, L, S, C>> {
         let (this, friction, state_laws, alpha0, tau) = self.checked()?;
-        let integrator = &this.method.integrator;
-        if integrator.uses_mass() {
-            return Err(crate::error::invalid(
+        if let Some(name) = this.implicit_settings.first() {
+            return Err(invalid(
+                name,
+                "a setting of the implicit method, which the fault ODE does not use (its \
+                 steps are controlled by FaultOdeOptions)",
+            ));
+        }
+        if this.method.integrator.uses_mass() {
+            return Err(invalid(
                 "integrator",
                 "a run condensed onto the fault is quasi-dynamic: use Quasistatic with \
                  radiation damping, not an integrator with inertia",
             ));
         }
-        let eta = integrator.radiation_damping();
         FaultOde::new(
-            Problem::new(this.model, friction, state_laws),
+            Problem::new(this.model, friction, state_laws, this.eta),
             alpha0,
-            eta,
+            this.eta,
             tau,
             options,
         )
