@@ -152,7 +152,8 @@ impl HMatrix {
     /// [`HOptions::error_samples`] entries (all entries if `n²` is not larger).
     ///
     /// # Errors
-    /// Invalid options; [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity;
+    /// Invalid options; [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity for
+    /// an entry it is asked for (entries ACA never evaluates are not seen);
     /// [`Error::Svd`] if an SVD does not converge.
     pub fn from_entries<F>(mut entry: F, points: &Points, options: &HOptions) -> Result<Self, Error>
     where
@@ -321,8 +322,8 @@ impl HMatrix {
     /// `y ← y + α S_H x` (original numbering). Allocates nothing; the result is bit-identical
     /// from run to run and for every `par`: low-rank blocks first form `t = Vᵀ x` each,
     /// then every leaf cluster of rows sums its blocks in a fixed order (fixed-order
-    /// kernels independent of memory alignment). `Par::Rayon(k)` with `k > 1` runs both
-    /// phases on rayon's current thread pool.
+    /// kernels independent of memory alignment; docs/math.md §13.5). `Par::Rayon(k)` with
+    /// `k > 1` runs both phases on rayon's current thread pool.
     ///
     /// # Errors
     /// [`Error::VectorLength`] unless `x` and `y` have length [`dim`](Self::dim);

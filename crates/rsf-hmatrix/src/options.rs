@@ -77,7 +77,7 @@ impl HOptions {
     }
 }
 
-/// How [`SetupReport::relative_error`] was measured.
+/// How [`SetupReport::relative_error`] was measured (docs/math.md §13.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ErrorMeasure {
     /// Over every entry: `‖S − S_H‖_F / ‖S‖_F` with `S_H` formed block by block.
