@@ -23,11 +23,7 @@ pub(crate) struct LowRank {
 /// The largest rank at which `U Vᵀ` stores fewer numbers than the dense `m × n` block.
 pub(crate) fn max_useful_rank(m: usize, n: usize) -> usize {
     // k (m + n) < m n
-    if m + n == 0 {
-        0
-    } else {
-        (m * n).saturating_sub(1) / (m + n)
-    }
+    (m * n).saturating_sub(1).checked_div(m + n).unwrap_or(0)
 }
 
 /// The smallest `k` with `Σ_{i ≥ k} σ_i² ≤ eps² Σ_i σ_i²` (`σ` non-increasing).
