@@ -17,6 +17,7 @@ const LAYERS: &[&[&str]] = &[
         "rsf-friction",
         "rsf-state",
         "rsf-tnnmg",
+        "rsf-hmatrix",
         "rsf-time",
     ],
     &["rsf"],

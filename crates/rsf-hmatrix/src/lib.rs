@@ -1,0 +1,33 @@
+//! Hierarchical low-rank (ℋ-matrix) representation of dense kernel matrices, made for the
+//! stiffness condensed onto a fault (the Schur complement `S` of the quasi-dynamic runs,
+//! docs/math.md §12) but usable for any square matrix whose rows and columns belong to
+//! points in 1–3 dimensions and whose far-apart blocks have low numerical rank (elastic
+//! and other asymptotically smooth kernels).
+//!
+//! - [`Points`]: one point per unknown (validated coordinates).
+//! - [`HMatrix::from_dense`]: from a dense matrix, admissible blocks by truncated SVD.
+//! - [`HMatrix::from_entries`]: from an entry function, admissible blocks by adaptive
+//!   cross approximation (only `O(k (m + n))` entries of an `m × n` block) and
+//!   recompression; for matrices too large to form.
+//! - [`HMatrix::apply_add`]: `y ← y + α S_H x`, allocation-free, bit-identical run to run
+//!   and between sequential and parallel runs.
+//! - [`SetupReport`]: the measured error `‖S − S_H‖_F / ‖S‖_F`, memory, ranks, blocks.
+//!
+//! The mathematics (cluster tree, admissibility, compression, error measure, cost) is in
+//! docs/math.md §13.
+
+#![warn(missing_docs)]
+
+mod block;
+mod cluster;
+mod error;
+mod hmatrix;
+pub mod kernels;
+mod lowrank;
+mod options;
+mod points;
+
+pub use error::Error;
+pub use hmatrix::HMatrix;
+pub use options::{ErrorMeasure, HOptions, SetupReport};
+pub use points::Points;

@@ -1,0 +1,129 @@
+//! Options of the set-up and the report it leaves.
+
+use crate::error::Error;
+
+/// Options of [`HMatrix::from_dense`](crate::HMatrix::from_dense) and
+/// [`HMatrix::from_entries`](crate::HMatrix::from_entries) (docs/math.md §13).
+///
+/// Start from [`HOptions::default`] and set the fields to change
+/// (`HOptions { eta: 1.0, ..HOptions::default() }`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HOptions {
+    /// Largest number of points in a leaf of the cluster tree (≥ 1; default 48). Leaves
+    /// hold between about half of it and all of it.
+    pub leaf_size: usize,
+    /// Admissibility parameter `η > 0` (default 2): a block of clusters `τ × σ` is
+    /// compressed when `min(diam τ, diam σ) ≤ η dist(τ, σ)` and `dist(τ, σ) > 0`.
+    pub eta: f64,
+    /// Relative accuracy `ε ∈ [0, 1)` in the Frobenius norm, per admissible block
+    /// (default 1e-6), so that `‖S − S_H‖_F ≤ ε ‖S‖_F`.
+    pub epsilon: f64,
+    /// Number of random entries on which [`HMatrix::from_entries`](crate::HMatrix::from_entries)
+    /// estimates its error (default 20 000; all entries when `n²` is not larger).
+    pub error_samples: usize,
+    /// Seed of the random sample of the error estimate (default 1).
+    pub seed: u64,
+}
+
+impl Default for HOptions {
+    fn default() -> Self {
+        Self {
+            leaf_size: 48,
+            eta: 2.0,
+            epsilon: 1e-6,
+            error_samples: 20_000,
+            seed: 1,
+        }
+    }
+}
+
+impl HOptions {
+    /// The default options with relative accuracy `epsilon`.
+    pub fn with_epsilon(epsilon: f64) -> Self {
+        Self {
+            epsilon,
+            ..Self::default()
+        }
+    }
+
+    /// Checks the ranges of the options.
+    ///
+    /// # Errors
+    /// [`Error::Option`] for a leaf size of 0, `η` not finite and positive, or `ε` not in
+    /// `[0, 1)`.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.leaf_size == 0 {
+            return Err(Error::Option {
+                name: "leaf_size",
+                value: 0.0,
+                expected: "≥ 1",
+            });
+        }
+        if !(self.eta.is_finite() && self.eta > 0.0) {
+            return Err(Error::Option {
+                name: "eta",
+                value: self.eta,
+                expected: "finite and > 0",
+            });
+        }
+        if !(self.epsilon >= 0.0 && self.epsilon < 1.0) {
+            return Err(Error::Option {
+                name: "epsilon",
+                value: self.epsilon,
+                expected: "in [0, 1)",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// How [`SetupReport::relative_error`] was measured (docs/math.md §13.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorMeasure {
+    /// Over every entry: `‖S − S_H‖_F / ‖S‖_F` with `S_H` formed block by block.
+    Exact,
+    /// On a random sample of entries (uniform over the positions, fixed seed):
+    /// `(Σ (S_ij − (S_H)_ij)²)^½ / (Σ S_ij²)^½` over the sample, an unbiased-ratio
+    /// estimate, not a bound.
+    Sampled {
+        /// Number of sampled entries.
+        samples: usize,
+    },
+}
+
+/// What the set-up measured, read with [`HMatrix::report`](crate::HMatrix::report).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct SetupReport {
+    /// `‖S − S_H‖_F / ‖S‖_F` (0 for a zero matrix), measured as [`Self::error_measure`] says.
+    pub relative_error: f64,
+    /// Exact or estimated.
+    pub error_measure: ErrorMeasure,
+    /// Number of f64 stored in the blocks (dense entries plus `k (m + n)` per low-rank
+    /// block).
+    pub stored_entries: usize,
+    /// `n²`, the size of the dense matrix.
+    pub dense_entries: usize,
+    /// Number of blocks stored dense (near field, and admissible blocks not worth
+    /// compressing).
+    pub dense_blocks: usize,
+    /// Number of blocks stored low-rank.
+    pub low_rank_blocks: usize,
+    /// Largest rank of a low-rank block (0 if none).
+    pub max_rank: usize,
+    /// Mean rank of the low-rank blocks (0 if none).
+    pub mean_rank: f64,
+    /// Number of leaves of the cluster tree.
+    pub leaf_clusters: usize,
+}
+
+impl SetupReport {
+    /// `stored_entries / n²` (0 for an empty matrix).
+    pub fn memory_ratio(&self) -> f64 {
+        if self.dense_entries == 0 {
+            0.0
+        } else {
+            self.stored_entries as f64 / self.dense_entries as f64
+        }
+    }
+}

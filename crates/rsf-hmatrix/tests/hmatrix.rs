@@ -1,0 +1,352 @@
+//! Accuracy, memory growth, determinism and input errors of the ℋ-matrix.
+
+use faer::{Mat, Par};
+use rsf_hmatrix::kernels::AntiplaneHalfSpace;
+use rsf_hmatrix::{Error, ErrorMeasure, HMatrix, HOptions, Points};
+use std::num::NonZeroUsize;
+
+/// BP1's shear modulus (Pa) and a 40 km fault.
+const MU: f64 = 32.04e9;
+const DEPTH: f64 = 40e3;
+
+fn kernel(n: usize) -> AntiplaneHalfSpace {
+    AntiplaneHalfSpace::new(n, DEPTH / n as f64, MU).unwrap()
+}
+
+fn dense(k: &AntiplaneHalfSpace) -> Mat<f64> {
+    Mat::from_fn(k.len(), k.len(), |i, j| k.entry(i, j))
+}
+
+fn frob(a: &Mat<f64>) -> f64 {
+    a.norm_l2()
+}
+
+fn vec_norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Deterministic pseudo-random vector in [-0.5, 0.5).
+fn test_vector(n: usize, seed: u64) -> Vec<f64> {
+    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    (0..n)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+        .collect()
+}
+
+fn dense_product(s: &Mat<f64>, x: &[f64]) -> Vec<f64> {
+    (0..s.nrows())
+        .map(|i| (0..s.ncols()).map(|j| s[(i, j)] * x[j]).sum())
+        .collect()
+}
+
+#[test]
+fn antiplane_kernel_is_symmetric_and_negative_definite() {
+    let k = kernel(300);
+    let s = dense(&k);
+    for i in 0..300 {
+        assert!(s[(i, i)] < 0.0);
+        for j in 0..300 {
+            assert_eq!(s[(i, j)], s[(j, i)]);
+            if i != j {
+                assert!(s[(i, j)] > 0.0, "({i}, {j}) = {}", s[(i, j)]);
+            }
+        }
+    }
+    let neg = Mat::from_fn(300, 300, |i, j| -s[(i, j)]);
+    assert!(
+        neg.llt(faer::Side::Lower).is_ok(),
+        "−K is not positive definite"
+    );
+}
+
+#[test]
+fn svd_compression_meets_the_tolerance_in_the_matrix_and_the_product() {
+    let n = 700;
+    let k = kernel(n);
+    let s = dense(&k);
+    let norm = frob(&s);
+    let points = k.points();
+    for eps in [1e-4, 1e-6, 1e-8] {
+        let mut h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::with_epsilon(eps)).unwrap();
+        let r = h.report().clone();
+        assert_eq!(r.error_measure, ErrorMeasure::Exact);
+        assert!(
+            r.relative_error <= eps,
+            "eps {eps}: reported {}",
+            r.relative_error
+        );
+        assert!(r.relative_error > 0.0, "eps {eps}: nothing was compressed");
+        let measured = frob(&(&h.to_dense() - &s)) / norm;
+        assert!(measured <= eps, "eps {eps}: measured {measured}");
+        assert!((measured - r.relative_error).abs() <= 1e-3 * eps + 1e-15);
+        assert!(
+            r.stored_entries < n * n / 2,
+            "eps {eps}: {} stored",
+            r.stored_entries
+        );
+        assert!(r.low_rank_blocks > 0 && r.max_rank > 0);
+        for seed in 1..4 {
+            let x = test_vector(n, seed);
+            let exact = dense_product(&s, &x);
+            let y0 = test_vector(n, seed + 10);
+            let mut y = y0.clone();
+            h.apply_add(&x, &mut y, -2.0, Par::Seq).unwrap();
+            let diff: Vec<f64> = (0..n).map(|i| (y[i] - y0[i]) / -2.0 - exact[i]).collect();
+            let rel = vec_norm(&diff) / (norm * vec_norm(&x));
+            assert!(rel <= eps, "eps {eps}: product error {rel}");
+        }
+    }
+}
+
+#[test]
+fn aca_meets_the_tolerance_and_agrees_with_svd() {
+    let n = 700;
+    let k = kernel(n);
+    let s = dense(&k);
+    let norm = frob(&s);
+    let points = k.points();
+    for eps in [1e-4, 1e-6, 1e-8] {
+        let options = HOptions::with_epsilon(eps);
+        let aca = HMatrix::from_entries(|i, j| k.entry(i, j), &points, &options).unwrap();
+        let svd = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
+        let (ha, hs) = (aca.to_dense(), svd.to_dense());
+        let err_aca = frob(&(&ha - &s)) / norm;
+        assert!(err_aca <= eps, "eps {eps}: ACA error {err_aca}");
+        assert!(frob(&(&ha - &hs)) / norm <= 2.0 * eps);
+        let r = aca.report();
+        assert!(matches!(
+            r.error_measure,
+            ErrorMeasure::Sampled { samples: 20_000 }
+        ));
+        assert!(
+            r.relative_error <= eps,
+            "eps {eps}: estimate {}",
+            r.relative_error
+        );
+        // ACA + recompression stores about what the optimal truncation stores.
+        let (a, b) = (r.stored_entries as f64, svd.stored_entries() as f64);
+        assert!(a <= 1.3 * b, "ACA {a} against SVD {b}");
+    }
+}
+
+#[test]
+fn two_dimensional_points_with_a_smooth_kernel() {
+    let n = 900;
+    let xy: Vec<[f64; 2]> = (0..n)
+        .map(|i| [(i % 30) as f64 + 0.1 * (i / 30) as f64, (i / 30) as f64])
+        .collect();
+    let points = Points::from_array(&xy).unwrap();
+    let f = |i: usize, j: usize| {
+        let d = ((xy[i][0] - xy[j][0]).powi(2) + (xy[i][1] - xy[j][1]).powi(2)).sqrt();
+        1.0 / (d + 0.5)
+    };
+    let s = Mat::from_fn(n, n, f);
+    let eps = 1e-6;
+    let options = HOptions::with_epsilon(eps);
+    let h = HMatrix::from_entries(f, &points, &options).unwrap();
+    let hd = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
+    assert!(frob(&(&h.to_dense() - &s)) / frob(&s) <= eps);
+    assert!(frob(&(&hd.to_dense() - &s)) / frob(&s) <= eps);
+    assert!(h.stored_entries() < n * n);
+    // The error estimate on all entries (n² ≤ samples) is exact.
+    let small = HOptions {
+        error_samples: n * n,
+        ..options
+    };
+    let h = HMatrix::from_entries(f, &points, &small).unwrap();
+    assert_eq!(h.report().error_measure, ErrorMeasure::Exact);
+    let exact = frob(&(&h.to_dense() - &s)) / frob(&s);
+    assert!((h.report().relative_error - exact).abs() <= 1e-6 * exact + 1e-16);
+}
+
+#[test]
+fn stored_entries_grow_like_n_log_n() {
+    let sizes = [256usize, 512, 1024, 2048, 4096];
+    let mut logs = Vec::new();
+    for &n in &sizes {
+        let k = kernel(n);
+        let h =
+            HMatrix::from_entries(|i, j| k.entry(i, j), &k.points(), &HOptions::default()).unwrap();
+        assert!(h.report().relative_error <= 1e-6);
+        logs.push(((n as f64).ln(), (h.stored_entries() as f64).ln()));
+    }
+    let m = logs.len() as f64;
+    let (mx, my) = logs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / m, b + y / m));
+    let (num, den) = logs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + (x - mx) * (y - my), b + (x - mx).powi(2))
+    });
+    let slope = num / den;
+    assert!(slope < 1.3 && slope > 0.9, "stored entries ~ N^{slope}");
+}
+
+#[test]
+fn products_are_bit_identical_run_to_run_and_in_parallel() {
+    let n = 1000;
+    let k = kernel(n);
+    let s = dense(&k);
+    let points = k.points();
+    let options = HOptions::with_epsilon(1e-6);
+    let mut a = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
+    let mut b = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
+    let x = test_vector(n, 7);
+    let mut y1 = vec![0.5; n];
+    let mut y2 = vec![0.5; n];
+    let mut y3 = vec![0.5; n];
+    a.apply_add(&x, &mut y1, 1.5, Par::Seq).unwrap();
+    b.apply_add(&x, &mut y2, 1.5, Par::Seq).unwrap();
+    a.apply_add(&x, &mut y3, 1.5, Par::Rayon(NonZeroUsize::new(4).unwrap()))
+        .unwrap();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&y1), bits(&y2));
+    assert_eq!(bits(&y1), bits(&y3));
+}
+
+#[test]
+fn empty_and_one_by_one() {
+    let none = Points::new(&[], 2).unwrap();
+    let mut h = HMatrix::from_dense(
+        Mat::<f64>::zeros(0, 0).as_ref(),
+        &none,
+        &HOptions::default(),
+    )
+    .unwrap();
+    assert_eq!((h.dim(), h.stored_entries()), (0, 0));
+    assert_eq!(h.report().relative_error, 0.0);
+    h.apply_add(&[], &mut [], 1.0, Par::Seq).unwrap();
+    let h = HMatrix::from_entries(|_, _| 1.0, &none, &HOptions::default()).unwrap();
+    assert_eq!(h.dim(), 0);
+
+    let one = Points::new(&[3.0, 4.0], 2).unwrap();
+    let s = Mat::from_fn(1, 1, |_, _| -2.5);
+    let mut h = HMatrix::from_dense(s.as_ref(), &one, &HOptions::default()).unwrap();
+    assert_eq!((h.dim(), h.stored_entries()), (1, 1));
+    let mut y = [1.0];
+    h.apply_add(&[2.0], &mut y, 0.5, Par::Seq).unwrap();
+    assert_eq!(y, [1.0 - 2.5]);
+    let h = HMatrix::from_entries(|_, _| -2.5, &one, &HOptions::default()).unwrap();
+    assert_eq!(h.to_dense()[(0, 0)], -2.5);
+    assert_eq!(h.report().relative_error, 0.0);
+}
+
+#[test]
+fn coincident_points_stay_dense_and_exact() {
+    let n = 100;
+    let points = Points::new(&vec![1.0; n], 1).unwrap();
+    let s = Mat::from_fn(n, n, |i, j| 1.0 / (1.0 + (i as f64 - j as f64).abs()));
+    let h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::with_epsilon(0.5)).unwrap();
+    assert_eq!(h.report().low_rank_blocks, 0);
+    assert_eq!(h.to_dense(), s);
+}
+
+#[test]
+fn non_finite_entries_are_typed_errors() {
+    let n = 200;
+    let k = kernel(n);
+    let points = k.points();
+    let mut s = dense(&k);
+    s[(3, 150)] = f64::NAN;
+    assert_eq!(
+        HMatrix::from_dense(s.as_ref(), &points, &HOptions::default()).unwrap_err(),
+        Error::NonFiniteEntry { row: 3, col: 150 }
+    );
+    // A far-field entry (seen by ACA) and a near-field one.
+    for bad in [(0usize, 199usize), (10, 11)] {
+        let f = |i: usize, j: usize| {
+            if (i, j) == bad {
+                f64::INFINITY
+            } else {
+                k.entry(i, j)
+            }
+        };
+        let err = HMatrix::from_entries(f, &points, &HOptions::default()).unwrap_err();
+        assert_eq!(
+            err,
+            Error::NonFiniteEntry {
+                row: bad.0,
+                col: bad.1
+            }
+        );
+    }
+}
+
+#[test]
+fn invalid_input_is_rejected() {
+    assert_eq!(Points::new(&[1.0], 4).unwrap_err(), Error::Dimension(4));
+    assert_eq!(Points::new(&[1.0], 0).unwrap_err(), Error::Dimension(0));
+    assert!(matches!(
+        Points::new(&[1.0, 2.0, 3.0], 2),
+        Err(Error::CoordinateCount { len: 3, dim: 2 })
+    ));
+    assert_eq!(
+        Points::new(&[1.0, f64::NAN], 2).unwrap_err(),
+        Error::NonFiniteCoordinate {
+            point: 0,
+            component: 1
+        }
+    );
+    let points = Points::new(&[0.0, 1.0, 2.0], 1).unwrap();
+    let s = Mat::<f64>::identity(2, 2);
+    assert!(matches!(
+        HMatrix::from_dense(s.as_ref(), &points, &HOptions::default()),
+        Err(Error::Shape {
+            rows: 2,
+            cols: 2,
+            points: 3
+        })
+    ));
+    for bad in [
+        HOptions {
+            leaf_size: 0,
+            ..HOptions::default()
+        },
+        HOptions {
+            eta: f64::NAN,
+            ..HOptions::default()
+        },
+        HOptions {
+            eta: 0.0,
+            ..HOptions::default()
+        },
+        HOptions::with_epsilon(1.0),
+        HOptions::with_epsilon(-1e-3),
+        HOptions::with_epsilon(f64::NAN),
+    ] {
+        assert!(matches!(
+            HMatrix::from_entries(|_, _| 1.0, &points, &bad),
+            Err(Error::Option { .. })
+        ));
+    }
+    let s = Mat::<f64>::identity(3, 3);
+    let mut h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::default()).unwrap();
+    let mut y = vec![0.0; 3];
+    assert!(matches!(
+        h.apply_add(&[1.0; 2], &mut y, 1.0, Par::Seq),
+        Err(Error::VectorLength {
+            name: "x",
+            len: 2,
+            expected: 3
+        })
+    ));
+    assert!(matches!(
+        h.apply_add(&[1.0; 3], &mut [0.0; 4], 1.0, Par::Seq),
+        Err(Error::VectorLength { name: "y", .. })
+    ));
+    assert_eq!(
+        h.apply_add(&[1.0, f64::INFINITY, 0.0], &mut y, 1.0, Par::Seq),
+        Err(Error::NonFiniteInput(1))
+    );
+    assert!(matches!(
+        h.apply_add(&[1.0; 3], &mut y, f64::NAN, Par::Seq),
+        Err(Error::Option { name: "alpha", .. })
+    ));
+    assert_eq!(y, vec![0.0; 3]);
+    assert!(AntiplaneHalfSpace::new(3, 0.0, MU).is_err());
+    assert!(AntiplaneHalfSpace::new(3, 1.0, f64::INFINITY).is_err());
+}
