@@ -168,7 +168,10 @@ fn adaptive_output_bounds_are_honest() {
         steps: 1000,
         ..SliderScene::default()
     };
-    assert_eq!(rsf::run_folder::steps_bound(&fixed, (0.0, fixed.end_time_s)), 1001.0);
+    assert_eq!(
+        rsf::run_folder::steps_bound(&fixed, (0.0, fixed.end_time_s)),
+        1001.0
+    );
     // The paper's default adaptive run: T / tau_min = 1.5e10 rows would be refused;
     // instead it gets a cap that fits in the budget, and explicit caps are checked.
     let scene = SliderScene {
@@ -180,7 +183,8 @@ fn adaptive_output_bounds_are_honest() {
     let cap = plan.step_cap.expect("a cap");
     assert!(plan.bytes <= 10e9, "{plan:?}");
     assert!(cap > 1_000_000, "{cap}");
-    let e = rsf::run_folder::plan_output(&scene, window, 81, 600, Some(1e9 as u64), 10.0).unwrap_err();
+    let e =
+        rsf::run_folder::plan_output(&scene, window, 81, 600, Some(1e9 as u64), 10.0).unwrap_err();
     assert!(e.to_string().contains("`max_steps`"), "{e}");
     let ok = rsf::run_folder::plan_output(&scene, window, 81, 600, Some(100_000), 10.0).unwrap();
     assert_eq!(ok.step_cap, Some(100_000));
@@ -303,8 +307,12 @@ fn allow_change_with_an_unknown_field_names_the_known_ones() {
         assert!(msg.contains(known), "{known}: {msg}");
     }
     // Known fields pass the check (and then the missing file is the error).
-    let e = read_checkpoint(&missing, &fingerprint, &["end_time_s".into(), "window".into()])
-        .unwrap_err();
+    let e = read_checkpoint(
+        &missing,
+        &fingerprint,
+        &["end_time_s".into(), "window".into()],
+    )
+    .unwrap_err();
     assert!(matches!(e, Error::File { .. }), "{e}");
 }
 
@@ -382,7 +390,12 @@ fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
         );
         assert!(a == b, "{name} differs after the resume");
     }
-    assert_eq!(PointSeries::<3>::read(&parts.join("timeseries.csv")).unwrap().len(), 12);
+    assert_eq!(
+        PointSeries::<3>::read(&parts.join("timeseries.csv"))
+            .unwrap()
+            .len(),
+        12
+    );
 }
 
 /// The SEAS output of the small BP1 (implicit scheme), thinned: written for 40 steps,
@@ -427,18 +440,25 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
             .unwrap()
     };
     let output = |dir: &Path, sim: &SeasBp1Simulation, mode: FileMode| {
-        SeasOutput::<AsinhLaw>::new(dir, sim.model(), sim.problem().friction_laws(), setup(()), mode)
+        SeasOutput::<AsinhLaw>::new(
+            dir,
+            sim.model(),
+            sim.problem().friction_laws(),
+            setup(()),
+            mode,
+        )
     };
     // `steps` steps into `dir`, a checkpoint at `checkpoint_at`.
-    let run = |dir: &Path, sim: &mut SeasBp1Simulation, out: &mut SeasOutput<AsinhLaw>, steps: usize| {
-        let mut c = rsf::Every::new(
-            rsf::Interval::Steps(15),
-            Checkpointer::new(dir.join("checkpoint.bin")).fingerprint(fingerprint.clone()),
-        )
-        .unwrap();
-        let mut observers: [&mut dyn Observer<2, 1>; 2] = [out, &mut c];
-        sim.run(steps, &mut observers).unwrap();
-    };
+    let run =
+        |dir: &Path, sim: &mut SeasBp1Simulation, out: &mut SeasOutput<AsinhLaw>, steps: usize| {
+            let mut c = rsf::Every::new(
+                rsf::Interval::Steps(15),
+                Checkpointer::new(dir.join("checkpoint.bin")).fingerprint(fingerprint.clone()),
+            )
+            .unwrap();
+            let mut observers: [&mut dyn Observer<2, 1>; 2] = [out, &mut c];
+            sim.run(steps, &mut observers).unwrap();
+        };
     let (whole, parts) = (temp_dir("seas-whole"), temp_dir("seas-parts"));
     let mut sim = build();
     let mut out = output(&whole, &sim, FileMode::Overwrite)
@@ -470,15 +490,13 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
     // before anything is cut.
     let damaged = parts.join(SeasBp1::station_name(5e3));
     let intact = std::fs::read(&damaged).unwrap();
-    let header_end = intact
-        .windows(6)
-        .position(|w| w == b"state\n")
-        .unwrap()
-        + 6;
+    let header_end = intact.windows(6).position(|w| w == b"state\n").unwrap() + 6;
     std::fs::write(&damaged, &intact[..header_end + 30]).unwrap();
     let before = snapshot(&parts);
     let sim = build();
-    let e = output(&parts, &sim, FileMode::Resume { step: 15 }).err().unwrap();
+    let e = output(&parts, &sim, FileMode::Resume { step: 15 })
+        .err()
+        .unwrap();
     let msg = e.to_string();
     assert!(matches!(e, Error::Resume { .. }), "{msg}");
     assert!(msg.contains("fltst_dp050"), "{msg}");
