@@ -28,13 +28,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
+use rsf::run_folder::{check_output_size, step_cap};
 use rsf::{
     EventThresholds, Flow, Observer, SliderScene, SlipEvent, SlipEvents, StepView, TimeStep, Until,
     SLIDER_CENTRE,
 };
+use rsf::{RunFolder, StepCap};
 use rsf_examples::cli::step_count;
-use rsf_examples::run_folder::{check_output_size, step_cap, StepCap};
-use rsf_examples::{line_plot, Labels, PanelLayout, RunFolder, SceneArgs, Series, TimeStepArgs};
+use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
 #[derive(Parser)]
@@ -165,7 +166,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(n) = cli.reference_steps {
         check_output_size(n as f64 * STEP_BYTES, cli.max_output_gb, "reference_steps")?;
     }
-    RunFolder::new(&cli.out, &OUTPUTS).prepare(false, cli.overwrite)?;
+    RunFolder::new(&cli.out, "long_run", &OUTPUTS).prepare(false, cli.overwrite)?;
     if let (Some(cap), None) = (cap, cli.max_steps) {
         println!(
             "at most {cap} steps (--max-output-gb {})",

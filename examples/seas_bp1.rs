@@ -27,7 +27,7 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::{
-    FileMode, FixedPointOptions, MethodKind, Observer, Progress, SeasBp1, SeasBp1Grid, SeasOutput,
+    FixedPointOptions, MethodKind, Observer, Progress, RunFolder, SeasBp1, SeasBp1Grid, SeasOutput,
     SeasSampling, SeasSetup, SolverOptions, Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
 };
 use rsf_examples::{cpu_seconds, machine};
@@ -132,11 +132,15 @@ fn main() -> Result<(), AnyError> {
     if !(args.end_years > 0.0 && args.end_years <= 1e5) {
         return Err(format!("--end-years {} must be in (0, 1e5]", args.end_years).into());
     }
-    let mode = if args.overwrite {
-        FileMode::Overwrite
-    } else {
-        FileMode::Create
-    };
+    // Refused before anything is computed: a folder of another run (of this or of any
+    // other rsf program, unless --overwrite), one that cannot be written.
+    let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
+        .iter()
+        .map(|&d| (SeasBp1::station_name(d), d))
+        .collect();
+    let mut outputs: Vec<&str> = stations.iter().map(|(n, _)| n.as_str()).collect();
+    outputs.extend(["devol.dat", "events.csv", "summary.json", "overview.png"]);
+    let mode = RunFolder::new(&args.out, "seas_bp1", &outputs).prepare(false, args.overwrite)?;
     let t_setup = Instant::now();
     let model = bp1.model(&grid, args.inertia)?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
@@ -191,10 +195,6 @@ fn main() -> Result<(), AnyError> {
         args.dz,
         args.domain_km
     );
-    let stations = SEAS_BP1_STATION_DEPTHS
-        .iter()
-        .map(|&d| (SeasBp1::station_name(d), d))
-        .collect();
     let mut output = SeasOutput::new(
         &args.out,
         rsf::Stepping::model(&sim),

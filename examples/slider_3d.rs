@@ -21,19 +21,27 @@
 //! the largest slip rate, or at `--snapshot-time`) and its figure `fault_slip_rate.png`. A
 //! run whose series and frames are estimated above `--max-output-gb` (default 10) is
 //! refused before any file is written.
+//!
+//! Resumable (docs/reliability.md): `--checkpoint-every N` writes `checkpoint.bin` every N
+//! steps, `--resume out/slider_3d/checkpoint.bin` continues the run in its folder (the
+//! checkpoint, the scene's fingerprint and the time series are checked before any file is
+//! cut; `timeseries.csv` and the frames end byte-identical to an uninterrupted run's; the
+//! fault snapshot is of the resumed part only), `--max-steps N` stops after step N with a
+//! checkpoint, `--allow-change FIELD` accepts a deliberate change, `--overwrite` replaces
+//! the files of an earlier run (another program's folder is refused without it).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
+use rsf::run_folder::{check_output_size, read_checkpoint, steps_bound};
 use rsf::{
-    FileMode, Flow, LateralBoundary, Model, Observer, PointSeries, Progress, Slider3dScene,
-    StepView, Until,
+    Checkpointer, Every, FileMode, Flow, Interval, LateralBoundary, Model, Observer, PointSeries,
+    Progress, RunFolder, Slider3dScene, StepCap, StepView, Until,
 };
 use rsf_examples::cli::step_count;
-use rsf_examples::run_folder::{check_output_size, steps_bound};
-use rsf_examples::{log_heat_map, FieldMap, FrameArgs, HeatMapAxes, SceneArgs};
+use rsf_examples::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 
 /// VTU frames every this many steps unless `--frame-every` says otherwise.
 const DEFAULT_FRAME_EVERY: usize = 100;
@@ -43,6 +51,14 @@ const SERIES_ROW_BYTES_3D: f64 = 250.0;
 /// in base64; rounded up). A level-1 frame (99 vertices, 240 cells) measured 31 862 bytes
 /// against the bound's 35 160.
 const VTU_VERTEX_BYTES: f64 = 200.0;
+/// The files a run writes into its folder.
+const OUTPUTS: [&str; 5] = [
+    "timeseries.csv",
+    "checkpoint.bin",
+    "fault_snapshot.csv",
+    "fault_slip_rate.png",
+    "frames/frames.pvd",
+];
 /// Bytes per tetrahedron of a VTU frame: connectivity, offset and type (41 bytes, 55 in
 /// base64; rounded up).
 const VTU_CELL_BYTES: f64 = 64.0;
@@ -65,20 +81,24 @@ struct Cli {
     /// VTU frames (this example's default: every 100 steps).
     #[command(flatten)]
     frames: FrameArgs,
-    /// Refuse a run whose output (time series rows and VTU frames) is estimated above this
-    /// many gigabytes.
-    #[arg(long, default_value_t = 10.0, value_name = "GB")]
-    max_output_gb: f64,
     /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
     #[arg(long, value_name = "T")]
     snapshot_time: Option<f64>,
     /// Output folder.
     #[arg(long, default_value = "out/slider_3d")]
     out: PathBuf,
-    /// Replace the files of an earlier run in the output folder (without it, they are
-    /// refused and left untouched).
-    #[arg(long)]
-    overwrite: bool,
+    /// `--overwrite`, `--allow-change`, `--max-output-gb` (time series rows and VTU
+    /// frames), `--max-steps`.
+    #[command(flatten)]
+    folder: FolderArgs,
+    /// Write `checkpoint.bin` every N steps (0: never).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    checkpoint_every: usize,
+    /// Continue from this checkpoint, appending to the files in the output folder (the
+    /// checkpoint, the folder's time series and the scene are checked to belong together
+    /// first).
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
     /// Threads of the direct solver's dense Newton factorisations (systems of at least
     /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns; docs/scaling.md).
     #[arg(long, default_value_t = 2)]
@@ -237,16 +257,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             .into());
         }
     }
-    let mode = if cli.overwrite {
-        FileMode::Overwrite
-    } else {
-        FileMode::Create
-    };
-    std::fs::create_dir_all(&out).map_err(|source| rsf::Error::File {
-        path: rsf_numeric::excerpt(&out.display().to_string()),
-        action: "create the output folder",
-        source,
-    })?;
+    let folder = RunFolder::new(&out, "slider_3d", &OUTPUTS);
     println!(
         "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {} law, {}, {} solver → {}",
         s.level,
@@ -283,14 +294,65 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let frame_bytes = VTU_VERTEX_BYTES * model.num_nodes() as f64
         + VTU_CELL_BYTES * (model.cells.len() / 4) as f64;
     check_output_size(
-        steps * SERIES_ROW_BYTES_3D + frames_bound * frame_bytes,
-        cli.max_output_gb,
+        steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
+            + frames_bound * frame_bytes,
+        cli.folder.max_output_gb,
         "steps",
     )?;
+    let frame_every = cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY);
+    // What changes the files besides the scene: the frame spacing.
+    let fingerprint = scene.fingerprint().with("frame_every", frame_every);
+    // Everything is checked before any file is touched: folder, checkpoint, rows.
+    let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
+    let resumed = match &cli.resume {
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
+            PointSeries::<3>::check_resume(&series_csv, c.state.step)?;
+            PointSeries::<3>::check_checkpoint_row(&series_csv, &c, x0)?;
+            Some(c)
+        }
+        None => None,
+    };
+    if let Some(c) = &resumed {
+        sim.restore(c)?;
+    }
+    let wall_time_before = resumed.as_ref().map_or(0.0, |c| c.wall_time_s);
+    let mode = match &resumed {
+        None => fresh,
+        Some(c) => FileMode::Resume { step: c.state.step },
+    };
+    let model = sim.model();
+    // Frames first: a missing index on resume is refused before the series is continued.
+    let mut frames = cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?;
     let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
     let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
     let mut progress = Progress::steps(s.steps, "slider 3-D");
-    let mut frames = cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?;
+    let checkpoint_path = folder.path("checkpoint.bin");
+    let checkpoint = Checkpointer::new(&checkpoint_path)
+        .fingerprint(fingerprint.clone())
+        .wall_time_before(wall_time_before);
+    let mut step_cap = cli
+        .folder
+        .max_steps
+        .map(|n| StepCap::new(n, checkpoint.clone()));
+    let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
+    // A cap at or below the state's step (`--max-steps 0`) computes no step.
+    let (step0, time0) = (sim.state().step, sim.time());
+    if step_cap
+        .as_mut()
+        .is_some_and(|c| c.stops_at_start(step0, time0))
+    {
+        let mut c = sim.checkpoint();
+        c.fingerprint = fingerprint;
+        c.wall_time_s = wall_time_before;
+        c.write(&checkpoint_path)?;
+    }
+    if let Some(e) = step_cap
+        .as_ref()
+        .and_then(|c| c.error(s.end_time_s, &checkpoint_path))
+    {
+        return Err(e.into());
+    }
     println!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),
@@ -298,12 +360,26 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         sim.method().solver_name(),
         setup.elapsed().as_secs_f64()
     );
-    let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot, &mut progress];
+    // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
+    let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot];
     if let Some(f) = frames.as_mut() {
         observers.push(f);
     }
+    if cli.checkpoint_every > 0 {
+        observers.push(&mut checkpointer);
+    }
+    if let Some(cap) = step_cap.as_mut() {
+        observers.push(cap);
+    }
+    observers.push(&mut progress);
     let summary = sim.run_until(Until::Time(s.end_time_s), &mut observers)?;
     drop(observers);
+    if let Some(e) = step_cap
+        .as_ref()
+        .and_then(|c| c.error(s.end_time_s, &checkpoint_path))
+    {
+        return Err(e.into());
+    }
     snapshot.write(sim.model(), scene.width_m, &out)?;
 
     let rows = PointSeries::<3>::read(&series_csv)?;

@@ -35,11 +35,11 @@ use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::state::Aging;
 use rsf::time::{Quasistatic, VelocityIntegrator};
+use rsf::RunFolder;
 use rsf::{
     DirichletVelocity, FixedPointOptions, FrictionalBoundary, Integrator, Model, Simulation,
     SimulationBuilder, SolverKind, TimeFunction,
 };
-use rsf_examples::RunFolder;
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -327,7 +327,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let periods = positive("periods", cli.periods)?;
     // Refused before anything is computed: a folder of another run (unless --overwrite),
     // one that cannot be written.
-    RunFolder::new(&out_dir, &OUTPUTS).prepare(false, cli.overwrite)?;
+    RunFolder::new(&out_dir, "spring_block", &OUTPUTS).prepare(false, cli.overwrite)?;
     let integ_name = cli.integrator.name();
     let integ = match cli.integrator {
         Integrator::Quasistatic(_) => {
@@ -359,11 +359,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let period = blk.period_at_kc();
     // Bounded before anything is computed: a run's steps in memory and on disk.
     let steps = (periods * period / tau).ceil();
-    rsf_examples::run_folder::check_output_size(
-        steps * STEP_BYTES,
-        cli.max_output_gb,
-        "steps_per_l",
-    )?;
+    rsf::run_folder::check_output_size(steps * STEP_BYTES, cli.max_output_gb, "steps_per_l")?;
     let steps = steps as usize;
 
     // Expected shifts of the discrete threshold (docs/spring-block.md):

@@ -29,7 +29,7 @@ pub use run::{
     cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,
     SliderStats,
 };
-pub use run_folder::{FolderArgs, RunFolder};
+pub use run_folder::FolderArgs;
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 

@@ -6,17 +6,16 @@
 use std::path::PathBuf;
 
 use crate::cli::window;
-use crate::run_folder::{
-    check_series_row, check_window, plan_output, read_checkpoint, FolderArgs, RunFolder, StepCap,
-};
+use crate::run_folder::FolderArgs;
 use crate::{
     line_plot, space_time_map, stats, write_summary, FieldMap, FrameArgs, Labels, SceneArgs,
     Series, SliderRun, TimeStepArgs,
 };
 use clap::Parser;
+use rsf::run_folder::{check_window, plan_output, read_checkpoint};
 use rsf::{
-    Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries, SliderScene,
-    Until, SLIDER_CENTRE,
+    Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries, RunFolder,
+    SliderScene, StepCap, Until, SLIDER_CENTRE,
 };
 
 /// The paper's slider (§6.1, Table 6.1): time series at x0, fault profile, summary, figures.
@@ -71,7 +70,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let t_end = scene.end_time_s;
     let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
     check_window("window", (w0, w1), t_end)?;
-    let folder = RunFolder::new(&cli.out, &OUTPUTS);
+    let folder = RunFolder::new(&cli.out, "pipping_slider", &OUTPUTS);
     let out = folder.dir.clone();
     println!(
         "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
@@ -111,7 +110,12 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     }
     // Everything is checked before any file is touched: folder, checkpoint, rows.
     let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
-    let fingerprint = scene.fingerprint();
+    // Besides the scene, what changes the files: the profile window and the frame
+    // spacing (a resume with another window would mix two windows in the profile).
+    let fingerprint = scene
+        .fingerprint()
+        .with("window", format!("{w0:e},{w1:e}"))
+        .with("frame_every", cli.frames.frame_every.unwrap_or(0));
     let resumed = match &cli.resume {
         Some(path) => {
             let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
@@ -119,7 +123,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             PointSeries::<2>::check_resume(&series_csv, step)?;
             FrictionalProfile::<2>::check_resume(&profile_csv, step)?;
             FrictionalProfile::<2>::check_resume(&map_csv, step)?;
-            check_series_row::<2>(&series_csv, &c, x0)?;
+            PointSeries::<2>::check_checkpoint_row(&series_csv, &c, x0)?;
             sim.restore(&c)?;
             Some(c)
         }
@@ -144,11 +148,30 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         map_every,
         FrictionalProfile::new(&map_csv, (0.0, t_end), mode)?,
     )?;
+    let fingerprint_run = fingerprint.clone();
     let checkpoint = Checkpointer::new(folder.path("checkpoint.bin"))
         .fingerprint(fingerprint)
         .wall_time_before(wall_time_before);
     let mut step_cap = plan.step_cap.map(|n| StepCap::new(n, checkpoint.clone()));
     let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
+    // A cap at or below the state's step (`--max-steps 0`, a resume at the cap) computes
+    // no step: the state's checkpoint is written, as a run stopped by the cap writes it.
+    let (step0, time0) = (sim.state().step, sim.time());
+    if step_cap
+        .as_mut()
+        .is_some_and(|c| c.stops_at_start(step0, time0))
+    {
+        let mut c = sim.checkpoint();
+        c.fingerprint = fingerprint_run;
+        c.wall_time_s = wall_time_before;
+        c.write(&folder.path("checkpoint.bin"))?;
+    }
+    if let Some(e) = step_cap
+        .as_ref()
+        .and_then(|c| c.error(t_end, &folder.path("checkpoint.bin")))
+    {
+        return Err(e.into());
+    }
     let mut progress = scene.progress(sim.time(), "slider");
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];

@@ -58,6 +58,7 @@ mod observe;
 mod problem;
 mod report;
 mod run;
+pub mod run_folder;
 mod scenes;
 mod simulation;
 mod simulation_state;
@@ -96,7 +97,9 @@ pub use observe::files::FileMode;
 pub use observe::profile::{FrictionalProfile, ProfileRow};
 pub use observe::progress::Progress;
 pub use observe::recorder::{FaultRecorder, Recorder};
-pub use observe::seas::{SeasEvent, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+pub use observe::seas::{
+    SeasEvent, SeasOutput, SeasSampling, SeasSetup, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
+};
 pub use observe::series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
 pub use observe::vtu::VtuFrames;
@@ -106,6 +109,7 @@ pub use report::StepReport;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
 pub use run::{run_until, RunError, RunSummary, Stepping, Termination, Until};
+pub use run_folder::{RunFolder, StepCap};
 pub use scenes::conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use scenes::seas_bp1::{
     SeasBp1, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS,

@@ -12,7 +12,7 @@ use rsf_friction::FrictionLaw;
 use super::files::{self, FileMode, Start};
 use super::{Flow, Observer, StepView};
 use crate::checkpoint::write_atomically;
-use crate::error::{invalid, io_at, Result};
+use crate::error::{invalid, io_at, show_path, Error, Result};
 use crate::model::fault::block_norm;
 use crate::model::Model;
 
@@ -142,6 +142,113 @@ pub struct SeasOutput<L> {
     tau_max: f64,
     steps: usize,
     slips: Vec<f64>,
+    /// The resume log (one line of the output's state per step), if written.
+    log: Option<BufWriter<File>>,
+    /// Station rows (one per station file) and slip profile rows written so far.
+    station_rows: usize,
+    profile_rows: usize,
+}
+
+/// Name of the resume log of a [`SeasOutput`] in its folder
+/// ([`SeasOutput::with_resume_log`]).
+pub const SEAS_RESUME_LOG: &str = "seas_resume.csv";
+
+/// Header of the resume log: the output's state after each step, every `f64` in the
+/// shortest text that reads back to the same double (NaN: none).
+const LOG_HEADER: &str = "step,t_s,steps,tau_min_s,tau_max_s,last_station_t_s,last_profile_t_s,\
+station_rows,profile_rows,slip_at_start_m,pending_t_s,pending_slip_m,events,t_start_s,t_end_s,\
+hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m";
+
+/// Column line of a station file (after its `#` lines).
+const STATION_COLUMNS: &str = "t slip slip_rate shear_stress state";
+
+/// The state of a [`SeasOutput`] after a step, as its resume log holds it.
+#[derive(Debug, Clone, PartialEq)]
+struct LogState {
+    steps: usize,
+    tau_min: f64,
+    tau_max: f64,
+    last_station_t: f64,
+    last_profile_t: f64,
+    station_rows: usize,
+    profile_rows: usize,
+    slip_at_start: f64,
+    pending_end: Option<(f64, f64)>,
+    events: Vec<SeasEvent>,
+}
+
+impl Default for LogState {
+    fn default() -> Self {
+        Self {
+            steps: 0,
+            tau_min: f64::INFINITY,
+            tau_max: 0.0,
+            last_station_t: f64::NEG_INFINITY,
+            last_profile_t: f64::NEG_INFINITY,
+            station_rows: 0,
+            profile_rows: 0,
+            slip_at_start: 0.0,
+            pending_end: None,
+            events: Vec::new(),
+        }
+    }
+}
+
+/// Where the output's nodes are: depths of the frictional nodes, stations, profile.
+struct Layout {
+    depths: Vec<f64>,
+    /// Frictional node of each station.
+    stations: Vec<usize>,
+    profile: Vec<usize>,
+}
+
+impl Layout {
+    fn new<const D: usize, const C: usize>(model: &Model<D, C>, setup: &SeasSetup) -> Self {
+        let fb = &model.frictional_boundary;
+        let sign = if setup.depth_down { 1.0 } else { -1.0 };
+        let depths: Vec<f64> = fb
+            .nodes
+            .iter()
+            .map(|&p| sign * model.vertices[p][setup.depth_axis])
+            .collect();
+        let nearest = |d: f64| {
+            (0..depths.len())
+                .min_by(|&i, &j| (depths[i] - d).abs().total_cmp(&(depths[j] - d).abs()))
+                .unwrap_or(0)
+        };
+        let stations = setup.stations.iter().map(|(_, d)| nearest(*d)).collect();
+        // Profile nodes: by depth from the surface, at least `profile_spacing` apart.
+        let mut order: Vec<usize> = (0..depths.len()).collect();
+        order.sort_by(|&i, &j| depths[i].total_cmp(&depths[j]));
+        let mut profile = Vec::new();
+        let mut next = f64::NEG_INFINITY;
+        for k in order {
+            if depths[k] >= next - 1e-9 * setup.profile_spacing {
+                profile.push(k);
+                next = depths[k] + setup.profile_spacing;
+            }
+        }
+        Self {
+            depths,
+            stations,
+            profile,
+        }
+    }
+
+    /// The line of `devol.dat` after its `#` lines: `0 0` and the profile's depths.
+    fn profile_first_row(&self) -> String {
+        std::iter::once("0 0".to_owned())
+            .chain(self.profile.iter().map(|&k| c_exp(self.depths[k], 6, 14)))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+}
+
+/// What a resume keeps: the state of the checkpoint's step and, per file, the bytes kept.
+struct ResumePlan {
+    state: LogState,
+    /// `(file, bytes kept, bytes now)`, the resume log included.
+    cuts: Vec<(PathBuf, usize, usize)>,
 }
 
 /// Formats `x` as C's `%W.PE` (`1.2345E+03`), right-aligned in `width`.
@@ -164,7 +271,9 @@ impl<L: FrictionLaw> SeasOutput<L> {
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for laws of another
     /// length, a depth axis ≥ `D`, no station, non-positive `sigma_n` or
-    /// `profile_spacing`; [`FileMode::Resume`] (not supported for these files yet);
+    /// `profile_spacing`; for [`FileMode::Resume`], those of
+    /// [`check_resume`](Self::check_resume) (the files are then unchanged: they are cut
+    /// only after all of them are checked);
     /// [`Error::FileExists`](crate::Error::FileExists) with [`FileMode::Create`] where a
     /// file exists; I/O errors naming the file.
     pub fn new<const D: usize, const C: usize>(
@@ -203,90 +312,169 @@ impl<L: FrictionLaw> SeasOutput<L> {
         if setup.stations.is_empty() {
             return Err(invalid("stations", "none given"));
         }
-        let overwrite = match mode {
-            FileMode::Create => false,
-            FileMode::Overwrite => true,
-            FileMode::Resume { .. } => {
-                return Err(invalid(
-                    "mode",
-                    "resuming SEAS output files is not supported yet",
-                ))
+        let layout = Layout::new(model, &setup);
+        let (overwrite, state, log) = match mode {
+            FileMode::Create | FileMode::Overwrite => {
+                std::fs::create_dir_all(dir).map_err(io_at("create the folder", dir))?;
+                (mode == FileMode::Overwrite, LogState::default(), None)
+            }
+            FileMode::Resume { step } => {
+                let plan = plan_resume(dir, &setup, &layout, step)?;
+                // Everything is checked: now cut.
+                for (path, keep, len) in &plan.cuts {
+                    if keep < len {
+                        let bytes = std::fs::read(path).map_err(io_at("read", path))?;
+                        write_atomically(path, &bytes[..*keep])?;
+                    }
+                }
+                let log = dir.join(SEAS_RESUME_LOG);
+                let file = std::fs::OpenOptions::new()
+                    .append(true)
+                    .open(&log)
+                    .map_err(io_at("open for appending", &log))?;
+                (false, plan.state, Some(BufWriter::new(file)))
             }
         };
-        std::fs::create_dir_all(dir).map_err(io_at("create the folder", dir))?;
-        let sign = if setup.depth_down { 1.0 } else { -1.0 };
-        let depths: Vec<f64> = fb
-            .nodes
-            .iter()
-            .map(|&p| sign * model.vertices[p][setup.depth_axis])
-            .collect();
-        let nearest = |d: f64| {
-            (0..depths.len())
-                .min_by(|&i, &j| (depths[i] - d).abs().total_cmp(&(depths[j] - d).abs()))
-                .unwrap_or(0)
-        };
+        let resuming = matches!(mode, FileMode::Resume { .. });
         let mut stations = Vec::with_capacity(setup.stations.len());
-        for (name, depth) in &setup.stations {
-            let k = nearest(*depth);
+        for ((name, _), &k) in setup.stations.iter().zip(&layout.stations) {
             let path = dir.join(name);
-            let mut out = files::open(
-                &path,
-                &station_header(&setup, depths[k], None),
-                0,
-                Start::Fresh { overwrite },
-            )?;
-            out.flush().map_err(io_at("write", &path))?;
+            let out = if resuming {
+                None
+            } else {
+                let mut out = files::open(
+                    &path,
+                    &station_header(&setup, layout.depths[k], None),
+                    0,
+                    Start::Fresh { overwrite },
+                )?;
+                out.flush().map_err(io_at("write", &path))?;
+                Some(out)
+            };
             stations.push(Station {
                 k,
                 path,
-                depth: depths[k],
+                depth: layout.depths[k],
                 law: laws[k].clone(),
-                out: Some(out),
+                out,
             });
         }
-        // Profile nodes: by depth from the surface, at least `profile_spacing` apart.
-        let mut order: Vec<usize> = (0..depths.len()).collect();
-        order.sort_by(|&i, &j| depths[i].total_cmp(&depths[j]));
-        let mut profile = Vec::new();
-        let mut next = f64::NEG_INFINITY;
-        for k in order {
-            if depths[k] >= next - 1e-9 * setup.profile_spacing {
-                profile.push(k);
-                next = depths[k] + setup.profile_spacing;
-            }
-        }
-        let surface = profile[0];
+        let surface = layout.profile[0];
         let path = dir.join("devol.dat");
-        let first_row = std::iter::once("0 0".to_owned())
-            .chain(profile.iter().map(|&k| c_exp(depths[k], 6, 14)))
-            .collect::<Vec<_>>()
-            .join(" ");
-        let profile_out = files::open(
-            &path,
-            &format!("{}\n{first_row}", common_header(&setup, None)),
-            0,
-            Start::Fresh { overwrite },
-        )?;
+        let profile_out = if resuming {
+            None
+        } else {
+            Some(files::open(
+                &path,
+                &format!(
+                    "{}\n{}",
+                    common_header(&setup, None),
+                    layout.profile_first_row()
+                ),
+                0,
+                Start::Fresh { overwrite },
+            )?)
+        };
         let u0 = model.initial_displacement.clone();
         Ok(Self {
             dir: dir.to_owned(),
             setup,
             stations,
-            depths,
+            depths: layout.depths,
             u0,
-            profile,
-            profile_out: Some(profile_out),
+            profile: layout.profile,
+            profile_out,
             surface,
-            last_station_t: f64::NEG_INFINITY,
-            last_profile_t: f64::NEG_INFINITY,
-            events: Vec::new(),
-            slip_at_start: 0.0,
-            pending_end: None,
-            tau_min: f64::INFINITY,
-            tau_max: 0.0,
-            steps: 0,
+            last_station_t: state.last_station_t,
+            last_profile_t: state.last_profile_t,
+            events: state.events,
+            slip_at_start: state.slip_at_start,
+            pending_end: state.pending_end,
+            tau_min: state.tau_min,
+            tau_max: state.tau_max,
+            steps: state.steps,
             slips: Vec::new(),
+            log,
+            station_rows: state.station_rows,
+            profile_rows: state.profile_rows,
         })
+    }
+
+    /// Writes the resume log [`SEAS_RESUME_LOG`] (a line of this output's state after
+    /// every step, about 350 bytes) and flushes every file after each step that writes
+    /// to it, so that a checkpoint of any step can be resumed with
+    /// [`FileMode::Resume`]: the station files, `devol.dat`, `events.csv` and the log
+    /// then end byte-identical to an uninterrupted run's. Put the output before the
+    /// [`Checkpointer`](crate::Checkpointer). (A resumed output keeps writing its log.)
+    ///
+    /// # Errors
+    /// [`Error::FileExists`](crate::Error::FileExists) for a non-empty log of an earlier
+    /// run where this output was made with [`FileMode::Create`]; I/O errors.
+    pub fn with_resume_log(mut self, mode: FileMode) -> Result<Self> {
+        if self.log.is_none() {
+            let path = self.dir.join(SEAS_RESUME_LOG);
+            let start = match mode {
+                FileMode::Overwrite => Start::Fresh { overwrite: true },
+                _ => Start::Fresh { overwrite: false },
+            };
+            self.log = Some(files::open(&path, LOG_HEADER, 0, start)?);
+        }
+        Ok(self)
+    }
+
+    /// Checks, without changing anything, that the files of a [`SeasOutput`] in `dir`
+    /// (of `model` and `setup`, as given to [`new`](Self::new)) can be continued after a
+    /// checkpoint of step `step`: the resume log has the line of that step, every station
+    /// file and `devol.dat` has its column line and at least the rows written up to that
+    /// step, complete, the last of them at the log's time of it.
+    ///
+    /// # Errors
+    /// [`Error::Resume`](crate::Error::Resume) naming the file that cannot be continued
+    /// (missing, another layout, rows missing or damaged); I/O errors.
+    pub fn check_resume<const D: usize, const C: usize>(
+        dir: &Path,
+        model: &Model<D, C>,
+        setup: &SeasSetup,
+        step: usize,
+    ) -> Result<()> {
+        plan_resume(dir, setup, &Layout::new(model, setup), step).map(|_| ())
+    }
+
+    /// Appends the state after step `step` (time `t`) to the resume log, if written.
+    fn write_log_line(&mut self, step: usize, t: f64) -> Result<()> {
+        let Some(log) = self.log.as_mut() else {
+            return Ok(());
+        };
+        let nan = SeasEvent {
+            t_start: f64::NAN,
+            t_end: f64::NAN,
+            hypocentre_depth: f64::NAN,
+            peak_slip_rate: f64::NAN,
+            surface_slip: f64::NAN,
+        };
+        let e = self.events.last().copied().unwrap_or(nan);
+        let (pt, ps) = self.pending_end.unwrap_or((f64::NAN, f64::NAN));
+        let path = self.dir.join(SEAS_RESUME_LOG);
+        writeln!(
+            log,
+            "{step},{t:e},{},{:e},{:e},{:e},{:e},{},{},{:e},{pt:e},{ps:e},{},{:e},{:e},{:e},{:e},{:e}",
+            self.steps,
+            self.tau_min,
+            self.tau_max,
+            self.last_station_t,
+            self.last_profile_t,
+            self.station_rows,
+            self.profile_rows,
+            self.slip_at_start,
+            self.events.len(),
+            e.t_start,
+            e.t_end,
+            e.hypocentre_depth,
+            e.peak_slip_rate,
+            e.surface_slip
+        )
+        .map_err(io_at("write a line of", &path))?;
+        log.flush().map_err(io_at("flush", &path))
     }
 
     /// The events so far (the last one may still run: `t_end` NaN).
@@ -343,6 +531,192 @@ fn station_header(setup: &SeasSetup, depth: f64, stats: Option<(f64, f64, usize)
         common_header(setup, stats),
         depth / 1e3
     )
+}
+
+/// Reads the resume log and the files of a [`SeasOutput`] in `dir` and plans their cut
+/// at step `step`; changes nothing.
+fn plan_resume(dir: &Path, setup: &SeasSetup, layout: &Layout, step: usize) -> Result<ResumePlan> {
+    let log_path = dir.join(SEAS_RESUME_LOG);
+    let (state, log_keep, log_len) = read_log(&log_path, step)?;
+    let mut cuts = vec![(log_path, log_keep, log_len)];
+    for (name, _) in &setup.stations {
+        let path = dir.join(name);
+        let (keep, len) = kept_rows(
+            &path,
+            STATION_COLUMNS,
+            5,
+            state.station_rows,
+            state.last_station_t,
+        )?;
+        cuts.push((path, keep, len));
+    }
+    let devol = dir.join("devol.dat");
+    let (keep, len) = kept_rows(
+        &devol,
+        &layout.profile_first_row(),
+        2 + layout.profile.len(),
+        state.profile_rows,
+        state.last_profile_t,
+    )?;
+    cuts.push((devol, keep, len));
+    Ok(ResumePlan { state, cuts })
+}
+
+/// Reads `path` for a resume (a missing file is an [`Error::Resume`]).
+fn read_for_resume(path: &Path) -> Result<Vec<u8>> {
+    match std::fs::read(path) {
+        Ok(t) => Ok(t),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(Error::Resume {
+            path: show_path(path),
+            reason: "the file is missing: resume into the folder of the interrupted run (with \
+                     a SEAS output written with its resume log)"
+                .into(),
+        }),
+        Err(e) => Err(io_at("read", path)(e)),
+    }
+}
+
+/// The complete lines of `text` with the byte offset after each.
+fn complete_lines(text: &[u8]) -> impl Iterator<Item = (&[u8], usize)> {
+    let mut at = 0;
+    std::iter::from_fn(move || {
+        let len = text[at..].iter().position(|&b| b == b'\n')?;
+        let line = &text[at..at + len];
+        at += len + 1;
+        Some((line, at))
+    })
+}
+
+/// The state of the resume log `path` after step `step` (the default state if the log
+/// has no line up to it), the bytes of the log kept and its length.
+fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usize)> {
+    let text = read_for_resume(path)?;
+    let fail = |reason: String| Error::Resume {
+        path: show_path(path),
+        reason,
+    };
+    let mut lines = complete_lines(&text);
+    let header_end = match lines.next() {
+        Some((h, end)) if h == LOG_HEADER.as_bytes() => end,
+        _ => return Err(fail("its first line is not the resume log's header".into())),
+    };
+    let mut state = LogState::default();
+    let (mut keep, mut last) = (header_end, None);
+    for (line, end) in lines {
+        let line = std::str::from_utf8(line).map_err(|e| fail(e.to_string()))?;
+        let malformed = || fail(format!("malformed line `{}`", rsf_numeric::excerpt(line)));
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 18 {
+            return Err(malformed());
+        }
+        let n = |i: usize| f[i].parse::<usize>().map_err(|_| malformed());
+        let x = |i: usize| f[i].parse::<f64>().map_err(|_| malformed());
+        let row_step = n(0)?;
+        if row_step > step {
+            break;
+        }
+        if last.is_some_and(|l| row_step <= l) {
+            return Err(fail(format!("lines out of order at step {row_step}")));
+        }
+        let events = n(12)?;
+        let event = SeasEvent {
+            t_start: x(13)?,
+            t_end: x(14)?,
+            hypocentre_depth: x(15)?,
+            peak_slip_rate: x(16)?,
+            surface_slip: x(17)?,
+        };
+        if events == state.events.len() + 1 {
+            state.events.push(event);
+        } else if events == state.events.len() && events > 0 {
+            state.events[events - 1] = event;
+        } else if events != state.events.len() {
+            return Err(malformed());
+        }
+        let pending = (x(10)?, x(11)?);
+        state = LogState {
+            steps: n(2)?,
+            tau_min: x(3)?,
+            tau_max: x(4)?,
+            last_station_t: x(5)?,
+            last_profile_t: x(6)?,
+            station_rows: n(7)?,
+            profile_rows: n(8)?,
+            slip_at_start: x(9)?,
+            pending_end: (!pending.0.is_nan()).then_some(pending),
+            events: state.events,
+        };
+        (keep, last) = (end, Some(row_step));
+    }
+    if let Some(l) = last.filter(|&l| l != step) {
+        return Err(fail(format!(
+            "its lines end at step {l}, the checkpoint is at step {step}: lines are missing \
+             (was the output before the checkpointer?)"
+        )));
+    }
+    Ok((state, keep, text.len()))
+}
+
+/// Checks a station file or `devol.dat` at `path` for a resume keeping `rows` rows (each
+/// of `fields` fields, the last at time `last_t`) after its `#` lines and the line
+/// `first`; returns the bytes kept and the file's length.
+fn kept_rows(
+    path: &Path,
+    first: &str,
+    fields: usize,
+    rows: usize,
+    last_t: f64,
+) -> Result<(usize, usize)> {
+    let text = read_for_resume(path)?;
+    let fail = |reason: String| Error::Resume {
+        path: show_path(path),
+        reason,
+    };
+    let mut lines = complete_lines(&text).skip_while(|(l, _)| l.starts_with(b"#"));
+    let mut keep = match lines.next() {
+        Some((l, end)) if l == first.as_bytes() => end,
+        Some((l, _)) => {
+            return Err(fail(format!(
+                "its line after the `#` lines is `{}`, expected `{}` (another layout or output)",
+                rsf_numeric::excerpt(&String::from_utf8_lossy(l)),
+                rsf_numeric::excerpt(first)
+            )))
+        }
+        None => return Err(fail("it has no column line".into())),
+    };
+    let mut last = None;
+    for read in 0..rows {
+        let Some((line, end)) = lines.next() else {
+            return Err(fail(format!(
+                "it has {read} complete rows, the checkpoint's step needs {rows}: rows are \
+                 missing (truncated or damaged file)"
+            )));
+        };
+        let line = String::from_utf8_lossy(line);
+        if line.split_whitespace().count() != fields {
+            return Err(fail(format!(
+                "malformed row `{}` (damaged file?)",
+                rsf_numeric::excerpt(&line)
+            )));
+        }
+        last = line.split_whitespace().next().map(str::to_owned);
+        keep = end;
+    }
+    if let Some(t) = last {
+        let want = c_exp(last_t, 13, 21);
+        match t {
+            t if t == want.trim() => {}
+            t => {
+                return Err(fail(format!(
+                    "its row {rows} is at t = {} s, the resume log says {} s: rows are missing \
+                     (truncated or damaged) or the file is of another run",
+                    rsf_numeric::excerpt(&t),
+                    want.trim()
+                )))
+            }
+        }
+    }
+    Ok((keep, text.len()))
 }
 
 /// The open writer of `path`, reopened for appending after a [`finish`](Observer::finish)
@@ -445,10 +819,14 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
                     c_exp(alpha / std::f64::consts::LN_10, 6, 14),
                 );
                 let st = &mut self.stations[i];
-                writer(&mut st.out, &st.path)?
-                    .write_all(row.as_bytes())
+                let out = writer(&mut st.out, &st.path)?;
+                out.write_all(row.as_bytes())
                     .map_err(io_at("write", &st.path))?;
+                if self.log.is_some() {
+                    out.flush().map_err(io_at("flush", &st.path))?;
+                }
             }
+            self.station_rows += 1;
         }
         let profile_dt = if in_event {
             sm.profile_event
@@ -469,14 +847,23 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             }
             row.push('\n');
             let path = self.dir.join("devol.dat");
-            writer(&mut self.profile_out, &path)?
-                .write_all(row.as_bytes())
+            let out = writer(&mut self.profile_out, &path)?;
+            out.write_all(row.as_bytes())
                 .map_err(io_at("write", &path))?;
+            if self.log.is_some() {
+                out.flush().map_err(io_at("flush", &path))?;
+            }
+            self.profile_rows += 1;
         }
+        self.write_log_line(s.report.step, t)?;
         Ok(Flow::Continue(()))
     }
 
     fn finish(&mut self) -> Result<()> {
+        if let Some(log) = self.log.as_mut() {
+            log.flush()
+                .map_err(io_at("flush", &self.dir.join(SEAS_RESUME_LOG)))?;
+        }
         let stats = (self.steps > 0).then_some((self.tau_min, self.tau_max, self.steps));
         for st in &mut self.stations {
             if let Some(mut out) = st.out.take() {

@@ -4,7 +4,8 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use crate::error::{io_at, Result};
+use crate::checkpoint::Checkpoint;
+use crate::error::{io_at, show_path, Error, Result};
 use crate::model::Model;
 
 use super::files::{self, FileMode, AXES};
@@ -97,6 +98,64 @@ impl<const D: usize> PointSeries<D> {
     /// As [`new`](Self::new) with [`FileMode::Resume`].
     pub fn check_resume(path: &Path, step: usize) -> Result<()> {
         files::check_resume(path, &Self::header(), 6, step, true)
+    }
+
+    /// Checks that the row of the checkpoint `c`'s step in the series file `path` (at the
+    /// node `node`) shows the checkpoint's time, displacement and velocity exactly as the
+    /// series writes them: the folder's rows and the checkpoint are of the same run. A
+    /// checkpoint at step 0 has no row to compare. Changes nothing.
+    ///
+    /// # Errors
+    /// [`Error::Resume`](crate::Error::Resume) naming the file if the row is missing or
+    /// differs; [`Error::File`](crate::Error::File).
+    pub fn check_checkpoint_row(path: &Path, c: &Checkpoint, node: usize) -> Result<()> {
+        let step = c.state.step;
+        if step == 0 {
+            return Ok(());
+        }
+        let fail = |reason: String| Error::Resume {
+            path: show_path(path),
+            reason,
+        };
+        let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
+        let want = step.to_string();
+        let Some(row) = text
+            .split_inclusive('\n')
+            .filter(|l| l.ends_with('\n'))
+            .map(|l| l.trim_end().split(',').collect::<Vec<_>>())
+            .find(|f| f.get(6) == Some(&want.as_str()))
+        else {
+            return Err(fail(format!(
+                "it has no row of the checkpoint's step {step}: the checkpoint is not of this \
+                 run folder"
+            )));
+        };
+        let (u, v) = (&c.state.kinematics.u, &c.state.kinematics.v);
+        let i = D * node;
+        if u.len() < i + D || v.len() < i + D {
+            return Err(fail(
+                "the checkpoint has fewer nodes than the series' node".into(),
+            ));
+        }
+        let mut expected = vec![
+            (0, format!("{:.9e}", c.state.time)),
+            (1, format!("{:.12e}", u[i])),
+            (2, format!("{:.12e}", v[i])),
+        ];
+        for k in 1..D {
+            expected.push((9 + 2 * (k - 1), format!("{:.12e}", u[i + k])));
+            expected.push((10 + 2 * (k - 1), format!("{:.12e}", v[i + k])));
+        }
+        for (col, value) in expected {
+            if row.get(col) != Some(&value.as_str()) {
+                return Err(fail(format!(
+                    "its row of step {step} has `{}` in column {col}, the checkpoint gives \
+                     `{value}`: the checkpoint belongs to another run (nothing was changed)",
+                    rsf_numeric::excerpt(row.get(col).unwrap_or(&"")),
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// Reads a file written by a `PointSeries<D>`.

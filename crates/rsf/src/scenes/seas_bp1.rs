@@ -8,10 +8,12 @@ use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 use rsf_time::{Integrator, Quasistatic, StepControl};
 
+use crate::checkpoint::Fingerprint;
 use crate::error::{invalid, Result};
 use crate::fault_ode::{FaultOde, FaultOdeOptions};
 use crate::model::builder::{AntiplaneMaterial, ModelBuilder, Part};
 use crate::model::Model;
+use crate::observe::seas::SeasSampling;
 use crate::simulation::builder::SimulationBuilder;
 use crate::simulation::Simulation;
 
@@ -384,11 +386,61 @@ impl SeasBp1 {
         Ok(o)
     }
 
+    /// What a checkpoint of a BP1 run continues: every parameter (as serde names it),
+    /// the grid (`grid.dz`, `grid.domain`, `grid.ratio`), `inertia` (BP1-FD) and the output
+    /// sampling (`sampling.*`: it decides which rows the files hold), and the checkpoint
+    /// `format`. A run appends the options of its method that change the trajectory
+    /// (scheme, tolerances, end time, …) with [`Fingerprint::with`], e.g.
+    /// `bp1.fingerprint(&grid, false, &sampling).with("scheme", "implicit")`.
+    pub fn fingerprint(
+        &self,
+        grid: &SeasBp1Grid,
+        inertia: bool,
+        sampling: &SeasSampling,
+    ) -> Fingerprint {
+        Fingerprint::of_serialized(self)
+            .with("grid.dz", json_number(grid.dz))
+            .with("grid.domain", json_number(grid.domain))
+            .with("grid.ratio", json_number(grid.ratio))
+            .with("inertia", inertia)
+            .with("sampling.every_step", sampling.every_step)
+            .with(
+                "sampling.station_quiet",
+                json_number(sampling.station_quiet),
+            )
+            .with(
+                "sampling.station_event",
+                json_number(sampling.station_event),
+            )
+            .with(
+                "sampling.profile_quiet",
+                json_number(sampling.profile_quiet),
+            )
+            .with(
+                "sampling.profile_event",
+                json_number(sampling.profile_event),
+            )
+            .with(
+                "sampling.event_threshold",
+                json_number(sampling.event_threshold),
+            )
+            .with(
+                "sampling.event_quiet_time",
+                json_number(sampling.event_quiet_time),
+            )
+            .with("format", crate::checkpoint::CHECKPOINT_FORMAT)
+    }
+
     /// Name of the station file at `depth` (m): `fltst_dp` and the depth in hundreds of
     /// metres, three digits (`fltst_dp025` for 2.5 km).
     pub fn station_name(depth: f64) -> String {
         format!("fltst_dp{:03}", (depth / 100.0).round() as i64)
     }
+}
+
+/// `x` as a fingerprint writes numbers: the shortest text that reads back to `x`.
+fn json_number(x: f64) -> String {
+    serde_json::Value::from(x).to_string()
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use rsf_fem::{cuboid, Diagonal, TetrahedronMesh, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
 use rsf_time::VelocityIntegrator;
 
+use crate::checkpoint::Fingerprint;
 use crate::error::{invalid, Error, Result};
 use crate::method::fixed_point::InnerSolves;
 use crate::model::builder::ModelBuilder;
@@ -181,6 +182,13 @@ impl Slider3dScene {
             width_m: extrusion.width_m.unwrap_or(default.width_m),
             lateral: extrusion.lateral.unwrap_or(default.lateral),
         })
+    }
+
+    /// What a checkpoint of this scene continues: every field as TOML names it (those of
+    /// [`SliderScene`] and `width_m`, `lateral`) and the checkpoint `format`, like
+    /// [`SliderScene::fingerprint`].
+    pub fn fingerprint(&self) -> Fingerprint {
+        Fingerprint::of_serialized(self).with("format", crate::checkpoint::CHECKPOINT_FORMAT)
     }
 
     /// The point where the time series is recorded: `x0 = (2.5, 0, W/2)` m, the centre of

@@ -1,0 +1,473 @@
+//! The run folder of a program: the procedure that keeps a week of compute safe from a
+//! mistaken command (docs/reliability.md).
+//!
+//! - [`RunFolder::prepare`], before anything is computed: creates the folder, probes that
+//!   it can be written and that no output path is a folder, and refuses a folder holding
+//!   another run's files unless told to overwrite. Every program writes a manifest
+//!   [`MANIFEST`] naming itself and its outputs, so that a folder of *any* rsf program is
+//!   recognised, not only one holding this program's file names.
+//! - On resume, [`read_checkpoint`] checks the checkpoint (checksum, fingerprint; the
+//!   fields a user allows to change must exist in the fingerprint,
+//!   [`check_allowed_changes`]); each writer then checks that its file can be continued
+//!   ([`PointSeries::check_resume`](crate::PointSeries::check_resume),
+//!   [`PointSeries::check_checkpoint_row`](crate::PointSeries::check_checkpoint_row),
+//!   [`FrictionalProfile::check_resume`](crate::FrictionalProfile::check_resume),
+//!   [`SeasOutput::check_resume`](crate::SeasOutput::check_resume)) before any file is cut.
+//! - Output bounds and step caps: [`check_output_size`], [`steps_bound`], [`step_cap`],
+//!   [`plan_output`], and the observer [`StepCap`] that stops a run (with a checkpoint)
+//!   after a number of steps; [`check_window`] for recording windows.
+
+use std::path::{Path, PathBuf};
+
+use crate::checkpoint::{write_atomically, Checkpoint, Fingerprint};
+use crate::error::{io_at, show_path, Error, Result};
+use crate::observe::checkpointer::Checkpointer;
+use crate::observe::files::FileMode;
+use crate::observe::{Flow, Observer, StepView};
+use crate::scenes::slider::{SliderScene, TimeStep};
+
+/// Name of the manifest every run writes into its folder: `program=NAME` and one
+/// `output=FILE` line per file the run writes (paths relative to the folder).
+pub const MANIFEST: &str = "rsf-run.txt";
+
+/// The output folder of a run: the program that writes it and the files it writes there.
+#[derive(Debug, Clone)]
+pub struct RunFolder {
+    /// The folder.
+    pub dir: PathBuf,
+    /// The program (e.g. `pipping_slider`), as the manifest names it.
+    pub program: String,
+    /// The files (paths inside `dir`) the run writes.
+    pub outputs: Vec<String>,
+}
+
+/// A manifest's content: the program and its outputs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+struct Manifest {
+    program: String,
+    outputs: Vec<String>,
+}
+
+impl Manifest {
+    fn text(&self) -> String {
+        let mut t = format!("program={}\n", self.program);
+        for o in &self.outputs {
+            t.push_str(&format!("output={o}\n"));
+        }
+        t
+    }
+
+    /// Reads the manifest of `dir` (`None` if there is none).
+    fn read(dir: &Path) -> Result<Option<Self>> {
+        let path = dir.join(MANIFEST);
+        let text = match std::fs::read_to_string(&path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(io_at("read the run manifest", &path)(e)),
+        };
+        let mut m = Manifest {
+            program: String::new(),
+            outputs: Vec::new(),
+        };
+        for line in text.lines() {
+            match line.split_once('=') {
+                Some(("program", p)) => m.program = p.to_owned(),
+                Some(("output", o)) => m.outputs.push(o.to_owned()),
+                _ => {}
+            }
+        }
+        if m.program.is_empty() {
+            // A manifest that names no program: of an unknown run, never ours.
+            m.program = "an unknown program".into();
+        }
+        Ok(Some(m))
+    }
+}
+
+impl RunFolder {
+    /// The folder `dir` of a run of `program` writing `outputs` (paths inside `dir`; the
+    /// manifest is added by [`prepare`](Self::prepare)).
+    pub fn new(dir: impl Into<PathBuf>, program: &str, outputs: &[&str]) -> Self {
+        Self {
+            dir: dir.into(),
+            program: program.to_owned(),
+            outputs: outputs.iter().map(|s| (*s).to_owned()).collect(),
+        }
+    }
+
+    /// Path of the output `name`.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// Prepares the folder before anything is computed:
+    ///
+    /// 1. creates it and checks that it can be written (a probe file is created and
+    ///    removed) and that no output path is a folder;
+    /// 2. refuses a folder whose manifest names another program (also on `resume`; with
+    ///    `overwrite` a new run replaces it), and — for a new run (`resume` false) — one
+    ///    holding any non-empty file this run writes or the earlier run's manifest lists,
+    ///    unless `overwrite`: then the earlier checkpoint, summary and the files only the
+    ///    earlier run's manifest lists are removed, so that nothing in the folder can be
+    ///    mistaken for this run's;
+    /// 3. writes this run's manifest [`MANIFEST`] (atomically).
+    ///
+    /// Returns the [`FileMode`] of new files ([`FileMode::Create`], or
+    /// [`FileMode::Overwrite`] when an earlier run's files are replaced). A resume gets
+    /// `Create` and must check the files itself (each writer's `check_resume`) before it
+    /// cuts any.
+    ///
+    /// # Errors
+    /// [`Error::File`] naming the folder (cannot create, not writable);
+    /// [`Error::FileExists`] naming the files and the program of another run. Nothing in
+    /// the folder is changed on error.
+    pub fn prepare(&self, resume: bool, overwrite: bool) -> Result<FileMode> {
+        std::fs::create_dir_all(&self.dir).map_err(io_at("create the output folder", &self.dir))?;
+        let probe = self.dir.join(".rsf-write-probe");
+        std::fs::write(&probe, b"").map_err(io_at("write into the output folder", &self.dir))?;
+        std::fs::remove_file(&probe).map_err(io_at("remove the probe file of", &self.dir))?;
+        let manifest = Manifest::read(&self.dir)?;
+        let other = manifest.as_ref().filter(|m| m.program != self.program);
+        let mut names: Vec<&str> = self.outputs.iter().map(String::as_str).collect();
+        if let Some(m) = other {
+            names.extend(m.outputs.iter().map(String::as_str));
+        }
+        names.sort_unstable();
+        names.dedup();
+        let mut present = Vec::new();
+        for name in &names {
+            let path = self.path(name);
+            match std::fs::metadata(&path) {
+                Ok(m) if m.is_dir() && self.outputs.iter().any(|o| o == name) => {
+                    return Err(Error::FileExists {
+                        path: show_path(&path),
+                        reason: "it is a folder where the run writes a file".into(),
+                    })
+                }
+                Ok(m) if m.is_file() && m.len() > 0 => present.push(*name),
+                _ => {}
+            }
+        }
+        if let Some(m) = other {
+            if resume || !overwrite {
+                return Err(Error::FileExists {
+                    path: show_path(&self.dir),
+                    reason: format!(
+                        "it is the folder of a run of `{}` ({}), not of `{}`; {}",
+                        rsf_numeric::excerpt(&m.program),
+                        rsf_numeric::excerpt(&present.join(", ")),
+                        self.program,
+                        if resume {
+                            "resume into the folder of the interrupted run"
+                        } else {
+                            "pass --overwrite to replace it, or another --out"
+                        }
+                    ),
+                });
+            }
+        }
+        let mode = if resume || present.is_empty() {
+            FileMode::Create
+        } else if !overwrite {
+            return Err(Error::FileExists {
+                path: show_path(&self.dir),
+                reason: format!(
+                    "it holds the files of another run{} ({}); pass --overwrite to replace \
+                     them, --resume CHECKPOINT to continue that run, or another --out",
+                    manifest
+                        .as_ref()
+                        .map_or(String::new(), |m| format!(" of `{}`", m.program)),
+                    rsf_numeric::excerpt(&present.join(", "))
+                ),
+            });
+        } else {
+            for name in &present {
+                let ours = self.outputs.iter().any(|o| o == name);
+                if !ours || *name == "checkpoint.bin" || *name == "summary.json" {
+                    let path = self.path(name);
+                    std::fs::remove_file(&path).map_err(io_at("remove", &path))?;
+                }
+            }
+            FileMode::Overwrite
+        };
+        let mine = Manifest {
+            program: self.program.clone(),
+            outputs: self.outputs.clone(),
+        };
+        if manifest.as_ref() != Some(&mine) {
+            write_atomically(&self.path(MANIFEST), mine.text().as_bytes())?;
+        }
+        Ok(mode)
+    }
+}
+
+/// Checks that every field in `allowed` (deliberate changes on resume, e.g.
+/// `--allow-change end_time_s`) is a field of the run's `fingerprint`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `allow_change` naming the unknown field and listing
+/// the fields that exist.
+pub fn check_allowed_changes(fingerprint: &Fingerprint, allowed: &[String]) -> Result<()> {
+    for a in allowed {
+        if a != "format" && fingerprint.get(a).is_none() {
+            let known: Vec<&str> = fingerprint.0.iter().map(|(f, _)| f.as_str()).collect();
+            return Err(Error::InvalidParameter {
+                name: "allow_change".into(),
+                reason: format!(
+                    "`{}` is not a field of this run's fingerprint; the fields are: {}",
+                    rsf_numeric::excerpt(a),
+                    known.join(", ")
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Reads the checkpoint `path` and checks that it continues a run of `fingerprint`
+/// (fields in `allowed` may differ; each must be a field of `fingerprint`).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] for an unknown field in `allowed`
+/// ([`check_allowed_changes`]); [`Error::File`], [`Error::CheckpointCorrupt`] (never
+/// resumed), [`Error::CheckpointMismatch`] naming the differing field.
+pub fn read_checkpoint(
+    path: &Path,
+    fingerprint: &Fingerprint,
+    allowed: &[String],
+) -> Result<Checkpoint> {
+    check_allowed_changes(fingerprint, allowed)?;
+    let c = Checkpoint::read(path)?;
+    let allowed: Vec<&str> = allowed.iter().map(String::as_str).collect();
+    c.fingerprint.check(fingerprint, &allowed)?;
+    Ok(c)
+}
+
+/// Refuses a run whose output is estimated above `max_gb` gigabytes.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `name` (e.g. `steps`) with the estimate and how to
+/// override it.
+pub fn check_output_size(estimate_bytes: f64, max_gb: f64, name: &str) -> Result<()> {
+    if estimate_bytes <= max_gb * 1e9 {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            name: name.into(),
+            reason: format!(
+                "the output of this run is estimated at {:.3} GB, above the limit of {max_gb} \
+                 GB: use fewer steps, or raise --max-output-gb if the disk holds it",
+                estimate_bytes / 1e9
+            ),
+        })
+    }
+}
+
+/// Bytes of one row of a [`PointSeries`](crate::PointSeries) file (2-D: 15 columns, ≈ 190
+/// bytes; rounded up).
+pub const SERIES_ROW_BYTES: f64 = 200.0;
+
+/// Bytes of one node's row of a [`FrictionalProfile`](crate::FrictionalProfile) file (≈ 90
+/// bytes; rounded up).
+pub const PROFILE_ROW_BYTES: f64 = 100.0;
+
+/// An upper bound on the number of steps of a run of `scene` that end in `(t0, t1]` (s):
+/// fixed steps `⌈N (t1 − t0) / T⌉ + 1`; adaptive steps `⌈(t1 − t0) / tau_min_s⌉ + 2` — every
+/// step the controller chooses is at least `tau_min_s`, and only a step shortened to land
+/// on the end of the loading ramp or on `T` is shorter (one each).
+pub fn steps_bound(scene: &SliderScene, (t0, t1): (f64, f64)) -> f64 {
+    let span = (t1 - t0).max(0.0);
+    match scene.time_step {
+        TimeStep::Fixed {} => (span / scene.tau()).ceil() + 1.0,
+        TimeStep::Adaptive(a) => (span / (a.tau_min_s * (1.0 - 1e-12))).ceil() + 2.0,
+    }
+}
+
+/// The step cap of a run of `scene` writing or holding `bytes_per_step` bytes per accepted
+/// step (docs/reliability.md): `max_steps` if given (refused if even that does not fit in
+/// `max_gb` gigabytes), none if [`steps_bound`] steps fit, else for adaptive steps the
+/// count that fits.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `max_output_gb` (not positive and finite),
+/// `max_steps` (0, or its output above `max_gb`) or `steps` (fixed steps above `max_gb`).
+pub fn step_cap(
+    scene: &SliderScene,
+    bytes_per_step: f64,
+    max_steps: Option<u64>,
+    max_gb: f64,
+) -> Result<Option<u64>> {
+    if !(max_gb.is_finite() && max_gb > 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "max_output_gb".into(),
+            reason: format!("{max_gb} GB: must be positive and finite"),
+        });
+    }
+    let bound = steps_bound(scene, (0.0, scene.end_time_s));
+    match max_steps {
+        Some(0) => Err(Error::InvalidParameter {
+            name: "max_steps".into(),
+            reason: "0 steps: must be at least 1".into(),
+        }),
+        Some(m) => check_output_size(bound.min(m as f64) * bytes_per_step, max_gb, "max_steps")
+            .map(|()| Some(m)),
+        None if bound * bytes_per_step <= max_gb * 1e9 => Ok(None),
+        None if matches!(scene.time_step, TimeStep::Adaptive(_)) => Ok(Some(
+            ((max_gb * 1e9 / bytes_per_step).floor() as u64).max(1),
+        )),
+        None => check_output_size(bound * bytes_per_step, max_gb, "steps").map(|()| None),
+    }
+}
+
+/// The output plan of a slider run: the bound on its output and the step cap to enforce.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputPlan {
+    /// Upper bound on the bytes the run writes (time series, profile window, map).
+    pub bytes: f64,
+    /// Stop after this many steps in total ([`StepCap`]), if any.
+    pub step_cap: Option<u64>,
+}
+
+/// Plans the output of a slider run with `nodes` frictional nodes, the profile `window`,
+/// a map of `map_samples` samples, at most `max_steps` steps (if given) and `max_gb`
+/// gigabytes. The bound: [`steps_bound`] rows of the time series (at most `max_steps`),
+/// [`steps_bound`] of the window plus the map's samples, each times `nodes` profile rows.
+/// A run with a bound above `max_gb` is refused — except an adaptive run without
+/// `max_steps`, whose honest bound (`T / tau_min_s` rows) is usually far above any disk:
+/// it gets the step cap whose output fits in `max_gb` (the run stops there, resumable).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `steps` (fixed steps) or `max_steps` with the
+/// estimate and how to override it.
+pub fn plan_output(
+    scene: &SliderScene,
+    window: (f64, f64),
+    nodes: usize,
+    map_samples: usize,
+    max_steps: Option<u64>,
+    max_gb: f64,
+) -> Result<OutputPlan> {
+    let cap = |rows: f64| max_steps.map_or(rows, |m| rows.min(m as f64));
+    let nodes = nodes as f64;
+    let map_rows = (map_samples + 1) as f64 * nodes;
+    let bytes = cap(steps_bound(scene, (0.0, scene.end_time_s))) * SERIES_ROW_BYTES
+        + (cap(steps_bound(scene, window)) * nodes + map_rows) * PROFILE_ROW_BYTES;
+    let budget = max_gb * 1e9;
+    let adaptive = matches!(scene.time_step, TimeStep::Adaptive(_));
+    if bytes > budget && adaptive && max_steps.is_none() {
+        // Every step in the window (the worst case): the largest count that fits.
+        let per_step = SERIES_ROW_BYTES + nodes * PROFILE_ROW_BYTES;
+        let fit = ((budget - map_rows * PROFILE_ROW_BYTES) / per_step).floor();
+        if fit >= 1.0 {
+            return Ok(OutputPlan {
+                bytes: fit * per_step + map_rows * PROFILE_ROW_BYTES,
+                step_cap: Some(fit as u64),
+            });
+        }
+    }
+    let name = if max_steps.is_some() {
+        "max_steps"
+    } else {
+        "steps"
+    };
+    check_output_size(bytes, max_gb, name)?;
+    Ok(OutputPlan {
+        bytes,
+        step_cap: max_steps,
+    })
+}
+
+/// Stops a run after `cap` steps in total (the step index of the state, so across
+/// resumes), writing a checkpoint of that step with its [`Checkpointer`] first (if it has
+/// one). Put it after the observers that write files. [`reached`](Self::reached) tells
+/// whether it stopped the run.
+#[derive(Debug, Clone)]
+pub struct StepCap {
+    cap: u64,
+    checkpointer: Option<Checkpointer>,
+    reached: Option<(usize, f64)>,
+}
+
+impl StepCap {
+    /// Stops after step `cap`, checkpointing with `checkpointer`.
+    pub fn new(cap: u64, checkpointer: Checkpointer) -> Self {
+        Self {
+            cap,
+            checkpointer: Some(checkpointer),
+            reached: None,
+        }
+    }
+
+    /// Stops after step `cap` without a checkpoint (a run that cannot be resumed, whose
+    /// files are written at its end).
+    pub fn without_checkpoint(cap: u64) -> Self {
+        Self {
+            cap,
+            checkpointer: None,
+            reached: None,
+        }
+    }
+
+    /// Whether a run whose state is at step `step` and time `time` (s) is already at its
+    /// cap (e.g. `--max-steps 0`, or a resume at the cap): then it must compute no step —
+    /// the cap is recorded as [`reached`](Self::reached) there, and the caller skips the
+    /// run (writing a checkpoint of the state itself if it wants one).
+    pub fn stops_at_start(&mut self, step: usize, time: f64) -> bool {
+        if (step as u64) < self.cap {
+            return false;
+        }
+        self.reached = Some((step, time));
+        true
+    }
+
+    /// The step and time (s) at which the cap stopped the run, if it did.
+    pub fn reached(&self) -> Option<(usize, f64)> {
+        self.reached
+    }
+
+    /// The error of a run stopped by the cap: names `--max-steps`, the step, time and how
+    /// to continue.
+    pub fn error(&self, t_end: f64, checkpoint: &Path) -> Option<Error> {
+        self.reached.map(|(step, t)| Error::InvalidParameter {
+            name: "max_steps".into(),
+            reason: format!(
+                "the run reached its step cap of {} steps at t = {t:.6e} s (of T = {t_end:e} s): \
+                 its files and `{}` are complete up to step {step}; continue with --resume \
+                 and a larger --max-steps or --max-output-gb",
+                self.cap,
+                show_path(checkpoint)
+            ),
+        })
+    }
+}
+
+impl<const D: usize, const C: usize> Observer<D, C> for StepCap {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
+        if (s.report.step as u64) < self.cap {
+            return Ok(Flow::Continue(()));
+        }
+        if let Some(c) = self.checkpointer.as_mut() {
+            let _: Flow = c.observe(s)?;
+        }
+        self.reached = Some((s.report.step, s.report.time));
+        Ok(Flow::Break(()))
+    }
+}
+
+/// Checks a window `(t0, t1)` (s) named `name` against `[0, end_time]`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `name` unless `0 ≤ t0 < t1 ≤ end_time`.
+pub fn check_window(name: &str, (t0, t1): (f64, f64), end_time: f64) -> Result<()> {
+    if t0 >= 0.0 && t0 < t1 && t1 <= end_time {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            name: name.into(),
+            reason: format!(
+                "[{t0:e}, {t1:e}] s must lie inside [0, T] = [0, {end_time:e}] s with \
+                 t0 < t1 (outside, it records nothing)"
+            ),
+        })
+    }
+}
