@@ -17,7 +17,12 @@
 //! set-up per step size, for comparison), `--scheme runge-kutta|implicit` (default
 //! `runge-kutta`: the quasi-dynamic equations condensed onto the fault and integrated by
 //! the Dormand–Prince 5(4) pair; `implicit`: the paper's scheme), `--rk-tolerance`
-//! (default 1e-6).
+//! (default 1e-6), `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps,
+//! with the benchmark files' resume log `seas_resume.csv`), `--resume FILE` (continues the
+//! files in `--out` from a checkpoint of this run: fingerprint, checkpoint and every file's
+//! rows are checked before anything is cut, and the continued files are byte-identical to
+//! an uninterrupted run's, with either scheme and with `--inertia`; docs/reliability.md),
+//! `--allow-change FIELD,…` (a deliberate change on resume, e.g. `end_years`).
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
@@ -26,9 +31,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
+use rsf::run_folder::read_checkpoint;
 use rsf::{
-    FixedPointOptions, MethodKind, Observer, Progress, RunFolder, SeasBp1, SeasBp1Grid, SeasOutput,
-    SeasSampling, SeasSetup, SolverOptions, Until, SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
+    Checkpointer, Every, FileMode, FixedPointOptions, Interval, MethodKind, Observer, Progress,
+    RunFolder, SeasBp1, SeasBp1Grid, SeasOutput, SeasSampling, SeasSetup, SolverOptions, Until,
+    SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
 };
 use rsf_examples::{cpu_seconds, machine};
 
@@ -109,6 +116,17 @@ struct Args {
     /// absolute in ln θ).
     #[arg(long, default_value_t = 1e-6)]
     rk_tolerance: f64,
+    /// Write `checkpoint.bin` every N steps (0: never), and the resume log of the
+    /// benchmark files.
+    #[arg(long, default_value_t = 0)]
+    checkpoint_every: usize,
+    /// Continue from this checkpoint, appending to the files in `--out`.
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
+    /// On `--resume`, accept a checkpoint whose fingerprint differs in these fields (comma
+    /// separated, e.g. `end_years`).
+    #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
+    allow_change: Vec<String>,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -139,8 +157,16 @@ fn main() -> Result<(), AnyError> {
         .map(|&d| (SeasBp1::station_name(d), d))
         .collect();
     let mut outputs: Vec<&str> = stations.iter().map(|(n, _)| n.as_str()).collect();
-    outputs.extend(["devol.dat", "events.csv", "summary.json", "overview.png"]);
-    let mode = RunFolder::new(&args.out, "seas_bp1", &outputs).prepare(false, args.overwrite)?;
+    outputs.extend([
+        "devol.dat",
+        "events.csv",
+        "summary.json",
+        "overview.png",
+        "checkpoint.bin",
+        rsf::SEAS_RESUME_LOG,
+    ]);
+    let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
+    let fresh = folder.prepare(args.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
     let model = bp1.model(&grid, args.inertia)?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
@@ -195,38 +221,88 @@ fn main() -> Result<(), AnyError> {
         args.dz,
         args.domain_km
     );
+    let sampling = SeasSampling {
+        every_step: args.every_step,
+        event_quiet_time: args
+            .event_quiet_time
+            .unwrap_or(if args.inertia { 60.0 } else { 0.0 }),
+        ..SeasSampling::default()
+    };
+    // What a checkpoint continues: the scene, grid, physics and sampling, and the options
+    // of the method that change the trajectory.
+    let fingerprint = bp1
+        .fingerprint(&grid, args.inertia, &sampling)
+        .with("method", method)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("state_change_cap", args.state_change_cap)
+        .with("fixed_point_tolerance", args.fixed_point_tolerance)
+        .with("setup_per_time_step", args.setup_per_time_step)
+        .with("rk_tolerance", args.rk_tolerance)
+        .with("dynamic_tau", format!("{:?}", args.dynamic_tau))
+        .with("switch_to_dynamic", args.switch_to_dynamic)
+        .with("switch_to_quasi_dynamic", args.switch_to_quasi_dynamic)
+        .with(
+            "dynamic_fixed_point_tolerance",
+            args.dynamic_fixed_point_tolerance,
+        );
+    let setup = SeasSetup {
+        problem: format!(
+            "SEAS Benchmark BP1-{}",
+            if args.inertia { "FD" } else { "QD" }
+        ),
+        element_size: args.dz,
+        stations,
+        depth_axis: 1,
+        depth_down: true,
+        sigma_n: bp1.sigma_n,
+        profile_spacing: 500.0,
+        sampling,
+    };
+    // On resume everything is checked before any file is touched: the checkpoint (its
+    // checksum and fingerprint), then every file's rows up to the checkpoint's step.
+    let resumed = match &args.resume {
+        None => None,
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &args.allow_change)?;
+            SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
+                &args.out,
+                rsf::Stepping::model(&sim),
+                &setup,
+                c.state.step,
+            )?;
+            rsf::Stepping::restore(&mut sim, &c)?;
+            Some(c)
+        }
+    };
+    let mode = match &resumed {
+        Some(c) => FileMode::Resume { step: c.state.step },
+        None => fresh,
+    };
     let mut output = SeasOutput::new(
         &args.out,
         rsf::Stepping::model(&sim),
         sim.problem().friction_laws(),
-        SeasSetup {
-            problem: format!(
-                "SEAS Benchmark BP1-{}",
-                if args.inertia { "FD" } else { "QD" }
-            ),
-            element_size: args.dz,
-            stations,
-            depth_axis: 1,
-            depth_down: true,
-            sigma_n: bp1.sigma_n,
-            profile_spacing: 500.0,
-            sampling: SeasSampling {
-                every_step: args.every_step,
-                event_quiet_time: args.event_quiet_time.unwrap_or(if args.inertia {
-                    60.0
-                } else {
-                    0.0
-                }),
-                ..SeasSampling::default()
-            },
-        },
+        setup,
         mode,
     )?;
+    if args.checkpoint_every > 0 {
+        output = output.with_resume_log(mode)?;
+    }
+    let checkpointer = Checkpointer::new(folder.path("checkpoint.bin"))
+        .fingerprint(fingerprint)
+        .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
+    let mut checkpointer = Every::new(Interval::Steps(args.checkpoint_every.max(1)), checkpointer)?;
     let t_end = args.end_years * SECONDS_PER_YEAR;
-    let mut progress = Progress::time(0.0, t_end, "BP1");
+    let t0 = rsf::Stepping::state(&sim).time;
+    let mut progress = Progress::time(t0, t_end, "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());
     let run = {
-        let mut observers: [&mut dyn Observer<2, 1>; 2] = [&mut output, &mut progress];
+        // The files first, the checkpoint after them: a checkpoint never runs ahead.
+        let mut observers: Vec<&mut dyn Observer<2, 1>> = vec![&mut output, &mut progress];
+        if args.checkpoint_every > 0 {
+            observers.push(&mut checkpointer);
+        }
         sim.run_until(Until::Time(t_end), &mut observers)
     };
     let (wall, cpu) = (wall.elapsed().as_secs_f64(), cpu_seconds() - cpu);
