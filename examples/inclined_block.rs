@@ -26,9 +26,9 @@
 //! ```
 //!
 //! Writes to `out/inclined_block/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries`
-//! at x0, the paper's (2.5, 0) turned with the block, same columns as the main job's; on the
-//! fault its `u_x`, `v_x` are the slip-coordinate (tangential) components, `u_y`, `v_y` the
-//! normal ones), the figure `slip_rate_x0.png` and, with `--frame-every N`, VTU frames with
+//! at x0, the paper's (2.5, 0) turned with the block; with `--dip 0` the main job's columns,
+//! on a slanted base the slip coordinates `u_t_m, v_t_mps` (tangential) and `u_n_m, v_n_mps`
+//! (inward normal), named so in the header), the figure `slip_rate_x0.png` and, with `--frame-every N`, VTU frames with
 //! a `frames/frames.pvd` index for ParaView (slip, slip rate, shear and normal traction on
 //! the base, in slip coordinates).
 

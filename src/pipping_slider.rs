@@ -261,7 +261,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         st.fpi_mean, st.fpi_max, st.solver_iterations, st.relaxed_steps
     );
     println!(
-        "first slip event (max V > 1e-3 m/s): {}; slip events: {}; peak slip rate {:.3e} m/s; u_x0 over [0.9T, T]: {:.3e} … {:.3e} m",
+        "first slip event (time of the first step with max V > 1e-3 m/s): {}; slip events: {}; peak slip rate {:.3e} m/s; u_x0 over [0.9T, T]: {:.3e} … {:.3e} m",
         st.first_slip_event_s.map_or("none".into(), |t| format!("{t:.3} s")),
         st.slip_events,
         st.peak_slip_rate_mps,

@@ -167,7 +167,12 @@ pub struct SliderStats {
     pub solver_iterations: usize,
     /// Steps that needed a damped fixed point step.
     pub relaxed_steps: usize,
-    /// Onset of the first slip event (s).
+    /// "First slip" (s): the time `t_n` of the first **step** whose largest slip rate on
+    /// Γ_F exceeds the onset threshold 1e-3 m/s ([`EventThresholds::default`]), i.e.
+    /// [`SlipEvent::onset_s`](rsf::SlipEvent::onset_s) of the first event of the library's
+    /// [`EventDetector`] — not the interpolated crossing of the threshold
+    /// ([`SlipEvent::crossing_s`](rsf::SlipEvent::crossing_s), up to one step earlier).
+    /// `None` without an event. Written to `summary.json` as `stats.first_slip_event_s`.
     pub first_slip_event_s: Option<f64>,
     /// Slip events: the largest slip rate on Γ_F rises above 1e-3 m/s; an event ends when
     /// it has fallen below 1e-4 m/s ([`EventThresholds::default`], so the elastic ringing
@@ -183,7 +188,9 @@ pub struct SliderStats {
     pub u_x0_range_last_tenth_m: (f64, f64),
 }
 
-/// Computes [`SliderStats`] of a run over [0, `end_time`].
+/// Computes [`SliderStats`] of a run over [0, `end_time`]: the slip events (first slip,
+/// count, recurrence) by the library's [`EventDetector`] with the default thresholds fed
+/// every step's largest slip rate on Γ_F (the definitions are those of [`SliderStats`]).
 pub fn stats(run: &SliderRun, end_time: f64) -> SliderStats {
     let mut events =
         EventDetector::new(EventThresholds::default()).expect("the default thresholds are valid");

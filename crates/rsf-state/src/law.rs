@@ -10,6 +10,25 @@ use rsf_numeric::StateVariable;
 /// Only [`dpsi_dalpha`](StateLaw::dpsi_dalpha) is required; it must be nondecreasing in
 /// `α` (this is the convexity of `ψ`) and may be discontinuous (return any element of the
 /// subdifferential at a kink).
+///
+/// # What a law can see
+/// A law sees only its node's state `α` and slip rate `V` (and the constants it holds):
+/// **not the tractions**, neither the shear traction `τ` nor the normal traction `σ_n`,
+/// nor their rates. Laws whose evolution depends on them cannot be written through this
+/// trait today:
+/// * Nagata et al. (2012) add `−(c/b) θ τ̇/σ_n` to the aging law: the shear-traction
+///   rate is not available (it is not a function of `(α, V)` at one time).
+/// * Linker & Dieterich (1992) add `−(α_LD θ / (b σ_n)) σ̇_n`: in this workspace's models
+///   `σ_n` is prescribed per node and constant in time (bilateral contact, `σ̄_n` of the
+///   friction law), so the term is identically zero and the aging or slip law *is* the
+///   Linker–Dieterich law of such a model.
+///
+/// What a user can do instead: a law that depends on the *level* of the normal stress
+/// (or any other per-node constant) holds it as a field, one instance per frictional node
+/// (e.g. `SimulationBuilder::state_law_at` in the `rsf` crate, built from the node's
+/// position and the `σ̄_n` given to its friction law); the tractions a run produces can be
+/// observed (`StepView::shear_traction` / `normal_traction` in `rsf`) but not fed back
+/// into the state law.
 pub trait StateLaw: Clone + Send + Sync {
     /// `∂ψ/∂α(α, V)` in 1/s, nondecreasing in `α`; `V ≥ 0` in m/s.
     fn dpsi_dalpha(&self, alpha: f64, v: f64) -> f64;

@@ -71,12 +71,12 @@ pub enum Error {
         /// The quantity, its value and the admissible range.
         reason: String,
     },
-    /// A node index outside the model.
-    #[error("{what}: node {node} is out of range (the model has {nodes} nodes)")]
+    /// A mesh vertex id outside the model.
+    #[error("{what}: vertex {node} is out of range (the model has {nodes} vertices)")]
     NodeOutOfRange {
-        /// What the node was given for.
+        /// What the vertex was given for.
         what: &'static str,
-        /// The node index.
+        /// The vertex id (an index into `model.vertices`).
         node: usize,
         /// Number of nodes of the model.
         nodes: usize,
@@ -84,33 +84,39 @@ pub enum Error {
     /// A frictional node whose velocity components are all free: with bilateral contact
     /// the normal component must be fixed, or the fault opens (|v_n| > 0 on Γ_F).
     #[error(
-        "frictional node {node} has no fixed velocity component: bilateral contact needs the \
+        "frictional node at vertex {node} has no fixed velocity component: bilateral contact needs the \
          normal component fixed on the frictional boundary"
     )]
     FreeNormal {
-        /// The mesh node.
+        /// The mesh vertex id.
         node: usize,
     },
     /// The friction law and the state law disagree on what the state α is (e.g. the
     /// discontinuous law, α = θ, with Dieterich–Ruina friction, α = ln θ).
     #[error(
-        "frictional node {node}: the friction law expects the state as {}, the state law \
+        "frictional node k = {node} (position on the frictional boundary): the friction law expects the state as {}, the state law \
          evolves {}",
         describe(*friction),
         describe(*state)
     )]
     StateVariableMismatch {
-        /// Position of the node in `model.frictional_boundary.nodes`.
+        /// Position `k` of the node on Γ_F (an index into
+        /// `model.frictional_boundary.nodes`, not a mesh vertex id).
         node: usize,
         /// What the friction law expects.
         friction: StateVariable,
         /// What the state law evolves.
         state: StateVariable,
     },
-    /// The state law of a frictional node failed its monotonicity probe.
-    #[error("state law of frictional node {node}")]
+    /// The state law of a frictional node failed its monotonicity probe. The message
+    /// includes the cause (it is also [`source`](std::error::Error::source)).
+    #[error(
+        "state law of frictional node k = {node} (position on the frictional boundary, \
+         model.frictional_boundary.nodes[{node}]): {source}"
+    )]
     StateLaw {
-        /// Position of the node in `model.frictional_boundary.nodes`.
+        /// Position `k` of the node on Γ_F (an index into
+        /// `model.frictional_boundary.nodes`, not a mesh vertex id).
         node: usize,
         /// What the probe found.
         #[source]
@@ -137,7 +143,7 @@ pub enum Error {
     FaultCorner {
         /// The part's name.
         part: String,
-        /// The mesh node.
+        /// The mesh vertex id (an index into `model.vertices`, not a fault index).
         node: usize,
         /// Its coordinates (m).
         position: Vec<f64>,
@@ -155,7 +161,7 @@ pub enum Error {
     DegenerateFaultFacet {
         /// The part's name.
         part: String,
-        /// A node of the facet.
+        /// A vertex id of the facet.
         node: usize,
         /// The boundary facet index ([`SimplexMesh::boundary_facet`](rsf_fem::SimplexMesh::boundary_facet)).
         facet: usize,
@@ -176,15 +182,17 @@ pub enum Error {
     FaultFoldsBack {
         /// The part's name.
         part: String,
-        /// The mesh node.
+        /// The mesh vertex id (an index into `model.vertices`, not a fault index).
         node: usize,
         /// Its coordinates (m).
         position: Vec<f64>,
     },
     /// The initial equilibrium `K u₀ = F` has no unique solution under the constraints.
+    /// The message includes the solver's cause (it is also
+    /// [`source`](std::error::Error::source)).
     #[error(
         "the initial equilibrium K u0 = F has no unique solution under the constraints \
-         (do the Dirichlet and frictional-normal constraints remove every rigid motion?)"
+         (do the Dirichlet and frictional-normal constraints remove every rigid motion?): {0}"
     )]
     Equilibrium(#[source] rsf_fem::Error),
     /// A scene file could not be parsed (unknown fields are named here).

@@ -114,6 +114,11 @@ fn a_non_monotone_user_state_law_is_refused() {
     );
     let cause = std::error::Error::source(&e).unwrap().to_string();
     assert!(cause.contains("not nondecreasing"), "{cause}");
+    // The message itself carries the cause and says which index space `node` is in.
+    let msg = e.to_string();
+    assert!(msg.contains(&cause), "{msg}");
+    assert!(msg.contains("not nondecreasing"), "{msg}");
+    assert!(msg.contains("position on the frictional boundary"), "{msg}");
     let ok = SimulationBuilder::new(model())
         .friction(paper_friction())
         .state_law(UserAging(1e-5))

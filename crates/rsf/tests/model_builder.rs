@@ -256,6 +256,9 @@ fn inadmissible_descriptions_are_named_errors() {
         .build()
         .unwrap_err();
     assert!(matches!(free, Error::Equilibrium(_)), "{free}");
+    // The message carries the solver's cause, not only `source()` (issue 34).
+    let cause = std::error::Error::source(&free).unwrap().to_string();
+    assert!(free.to_string().ends_with(&cause), "{free}");
     // Two parts prescribing different velocities to the corner nodes they share.
     let e = block()
         .dirichlet(Part::predicate("left", |x| x[0] < 1e-9), [0.0, 0.0])
@@ -307,6 +310,20 @@ fn inadmissible_descriptions_are_named_errors() {
         &ModelBuilder::refined(mesh(), 40).err().unwrap(),
         &["levels"],
     );
+}
+
+/// `fault_tangent` only orients the 3-D frames: in 2-D (`t = (−n_y, n_x)`) it would be
+/// ignored, so `build` refuses it rather than silently dropping the user's choice.
+#[test]
+fn a_fault_tangent_in_two_dimensions_is_refused() {
+    let e = block().fault_tangent([1.0, 0.0]).build().unwrap_err();
+    assert!(
+        matches!(&e, Error::InvalidParameter { name, .. } if name == "fault_tangent"),
+        "{e}"
+    );
+    names(&e, &["fault_tangent", "3-D", "(-n_y, n_x)"]);
+    // Without it the same block builds.
+    assert!(block().build().is_ok());
 }
 
 #[test]

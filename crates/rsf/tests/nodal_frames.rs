@@ -940,3 +940,56 @@ fn tnnmg_and_direct_agree_on_a_curved_3d_fault() {
     assert!(vmax > 1e-3, "the fault slides");
     assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
 }
+
+/// A [`PointSeries`](rsf::PointSeries) at a vertex with a nodal frame writes its slip
+/// coordinates (tangent, inward normal) and its header names them so; at a vertex without
+/// a frame (and on the axis-aligned slider, the main job's files) the header is the
+/// Cartesian one, byte for byte as before (issue 34).
+#[test]
+fn a_point_series_at_a_framed_vertex_names_slip_coordinates() {
+    use rsf::{FileMode, PointSeries};
+    let cartesian = "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi,tau_s,step,solver_iterations,\
+                     relaxed_iterations,u_y0_m,v_y0_mps";
+    assert_eq!(PointSeries::<2>::header(), cartesian);
+    let scene = fast_loading(2e-2, 300);
+    let straight = scene.build_model().unwrap();
+    let x0 = straight.nearest_node(&SLIDER_CENTRE).unwrap();
+    assert_eq!(PointSeries::header_at(&straight, x0), cartesian);
+
+    let phi = 30f64.to_radians();
+    let model = rotated_slider(&scene, phi);
+    let x0 = model.nearest_node(&rot(phi, SLIDER_CENTRE)).unwrap();
+    assert!(model.frame(x0).is_some());
+    let framed = "t_s,u_t_m,v_t_mps,max_slip_rate_mps,fpi,tau_s,step,solver_iterations,\
+                  relaxed_iterations,u_n_m,v_n_mps";
+    assert_eq!(PointSeries::header_at(&model, x0), framed);
+    let top = model.nearest_node(&rot(phi, [2.5, 1.0])).unwrap();
+    assert!(model.frame(top).is_none());
+    assert_eq!(PointSeries::header_at(&model, top), cartesian);
+
+    let dir = temp_dir("framed-series");
+    let path = dir.join("x0.csv");
+    let mut series = PointSeries::new(&path, &model, x0, FileMode::Overwrite).unwrap();
+    let mut tr = Track {
+        x0,
+        ..Track::default()
+    };
+    let mut sim = scene.build_with_model(model).unwrap();
+    sim.run(3, &mut [&mut series, &mut tr]).unwrap();
+    drop(series);
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(text.lines().next(), Some(framed));
+    // The columns hold the slip coordinates: what `displacement_in_frame` shows, the
+    // normal velocity (fixed by bilateral contact) zero.
+    let rows = PointSeries::<2>::read(&path).unwrap();
+    assert_eq!(rows.len(), 3);
+    for (row, u) in rows.iter().zip(&tr.u_x0) {
+        assert_eq!(
+            row.u.map(|x| format!("{x:.12e}")),
+            u.map(|x| format!("{x:.12e}"))
+        );
+        assert_eq!(row.v[1], 0.0);
+    }
+    PointSeries::<2>::check_resume(&path, 3).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+}

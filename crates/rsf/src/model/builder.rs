@@ -366,8 +366,12 @@ impl<const D: usize> ModelBuilder<D> {
     /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
     /// slanted fault nodes: its projection onto each node's tangent plane (as PyLith's
     /// `ref_dir`; e.g. the loading direction), falling back to the coordinate axis with the
-    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal. No effect in
-    /// 1-D and 2-D (there `t = (−n_y, n_x)`).
+    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal.
+    ///
+    /// 3-D only: in 1-D and 2-D the tangent is fixed by the normal (`t = (−n_y, n_x)`) and
+    /// there is nothing to choose, so [`build`](Self::build) refuses a `fault_tangent`
+    /// there with [`Error::InvalidParameter`] named `fault_tangent` (rather than ignoring
+    /// the caller's choice silently).
     pub fn fault_tangent(mut self, direction: [f64; D]) -> Self {
         self.fault_tangent = Some(direction);
         self
@@ -538,7 +542,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// or was built on another mesh; [`Error::FaultCorner`] / [`Error::FaultFoldsBack`] /
     /// [`Error::DegenerateFaultFacet`] where Γ_F has no well-defined nodal frame; [`Error::InvalidParameter`] named
     /// `dirichlet` for a slanted fault node with only some Cartesian components fixed,
-    /// `max_fault_kink` or `fault_tangent` out of range;
+    /// `max_fault_kink` or `fault_tangent` out of range, `fault_tangent` in 1-D or 2-D;
     /// [`Error::Equilibrium`] if `K u₀ = F` is singular under the constraints; material
     /// and assembly errors ([`Error::Fem`]), e.g. a non-finite force or traction.
     pub fn build(self) -> Result<Model<D, C>> {
@@ -817,6 +821,16 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             ));
         }
         if let Some(t) = self.fault_tangent {
+            if D != 3 {
+                return Err(invalid(
+                    "fault_tangent",
+                    format!(
+                        "{t:?} given in {D}-D: it orients the 3-D nodal frames only; in \
+                         {D}-D the tangent is t = (-n_y, n_x), fixed by the normal (remove \
+                         the call)"
+                    ),
+                ));
+            }
             if t.iter().any(|c| !c.is_finite()) || t.iter().all(|&c| c == 0.0) {
                 return Err(invalid(
                     "fault_tangent",

@@ -3,14 +3,18 @@
 
 use crate::error::{invalid, Result};
 
-/// The frictional boundary Γ_F of the discrete model.
+/// The frictional boundary Γ_F of the discrete model. Its entries are indexed by the
+/// **fault index** `k` (a position on Γ_F); `nodes[k]` is the **vertex id** of that node
+/// in the mesh ([`Model`](crate::Model), "Two index spaces").
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrictionalBoundary {
-    /// Mesh nodes of Γ_F in increasing index order (the solver's block order).
+    /// Vertex ids of the nodes of Γ_F in increasing order (the solver's block order):
+    /// `nodes[k]` is the vertex of fault index `k`.
     pub nodes: Vec<usize>,
-    /// Lumped weights `w_p = ∫_Γ_F λ_p ds` (m in 2D), same order as `nodes`.
+    /// Lumped weights `w_p = ∫_Γ_F λ_p ds` (m in 2D), by fault index (same order as `nodes`).
     pub weights: Vec<f64>,
-    /// Positions into `nodes` ordered along the boundary (for profiles and plots).
+    /// Fault indices (positions into `nodes`) ordered along the boundary (for profiles and
+    /// plots).
     pub along: Vec<usize>,
     /// Slip per unit of the model's field on Γ_F, `s` (default 1: a body sliding on a
     /// rigid surface). `2` when Γ_F is a plane of antisymmetry (a fault between two halves
@@ -82,9 +86,15 @@ impl FrictionalBoundary {
         Ok(self)
     }
 
-    /// Number of frictional nodes.
+    /// Number of frictional nodes (fault indices are `0..len()`).
     pub fn len(&self) -> usize {
         self.nodes.len()
+    }
+
+    /// The fault index `k` (position in [`nodes`](Self::nodes)) of mesh vertex `vertex`,
+    /// `None` if the vertex is not on Γ_F. `O(log n)`.
+    pub fn fault_index(&self, vertex: usize) -> Option<usize> {
+        self.nodes.binary_search(&vertex).ok()
     }
 
     /// Whether there are none (never true for a validated boundary).

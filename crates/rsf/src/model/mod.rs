@@ -32,6 +32,18 @@ use crate::error::{invalid, Error, Result};
 /// fill the public fields yourself (e.g. a lumped spring–block system without a mesh);
 /// [`Model::validate`] checks them, and every simulation validates its model.
 ///
+/// # Two index spaces: vertex ids and fault indices
+/// A **vertex id** `vertex` (also "node", `p` in docs/math.md) indexes `vertices` and the
+/// node-major vectors (block `C·vertex .. C·vertex + C`): what [`nearest_node`](Self::nearest_node)
+/// returns and [`PointSeries`](crate::PointSeries), [`Recorder`](crate::Recorder),
+/// [`SlipEvents::slip_at`](crate::SlipEvents::slip_at), [`frame`](Self::frame) and
+/// [`to_global`](Self::to_global) take. A **fault index** `k` is a position on Γ_F, an
+/// index into `frictional_boundary.nodes` (and `weights`, the per-node friction and state
+/// laws, the state `α`, [`StepView::slip_rate`](crate::StepView::slip_rate) and the
+/// tractions): `frictional_boundary.nodes[k]` is its vertex id,
+/// [`FrictionalBoundary::fault_index`] the way back. Errors say which one they name
+/// ([`Error::NodeOutOfRange`]: a vertex id; [`Error::StateLaw`]: a fault index).
+///
 /// ```
 /// use rsf::fem::cuboid;
 /// use rsf::{Material, ModelBuilder, Part};
@@ -91,7 +103,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
         self.load.len()
     }
 
-    /// Number of nodes (vertices).
+    /// Number of nodes (mesh vertices; vertex ids are `0..num_nodes()`).
     pub fn num_nodes(&self) -> usize {
         self.vertices.len()
     }
@@ -107,8 +119,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
             .count()
     }
 
-    /// `f(x_p)` for every frictional node `p`, in `frictional.nodes` order (the order of
-    /// per-node laws and states): how a heterogeneous fault is described by position.
+    /// `f(x_p)` for every frictional node, in `frictional_boundary.nodes` order: entry `k`
+    /// belongs to fault index `k` (the order of per-node laws and states), at vertex
+    /// `frictional_boundary.nodes[k]`. How a heterogeneous fault is described by position.
     pub fn on_frictional_nodes<T>(&self, mut f: impl FnMut(&[f64; D]) -> T) -> Vec<T> {
         self.frictional_boundary
             .nodes
@@ -117,50 +130,53 @@ impl<const D: usize, const C: usize> Model<D, C> {
             .collect()
     }
 
-    /// The nodal frame `Q_p` of node `p` (row-major; columns = tangents, inward normal), if
-    /// it has one.
-    pub fn frame(&self, p: usize) -> Option<&[[f64; C]; C]> {
+    /// The nodal frame `Q_p` of mesh vertex `vertex` (a vertex id, not a fault index;
+    /// row-major; columns = tangents, inward normal), if it has one.
+    pub fn frame(&self, vertex: usize) -> Option<&[[f64; C]; C]> {
         self.frames
             .nodes
-            .binary_search(&p)
+            .binary_search(&vertex)
             .ok()
             .map(|k| &self.frames.rotations[k])
     }
 
-    /// Node `p`'s block `x` in model coordinates → Cartesian: `Q_p x` at a frame node,
-    /// `x` elsewhere.
-    pub fn to_global(&self, p: usize, x: [f64; C]) -> [f64; C] {
-        match self.frame(p) {
+    /// The block `x` of mesh vertex `vertex` (a vertex id) in model coordinates →
+    /// Cartesian: `Q_p x` at a frame node, `x` elsewhere.
+    pub fn to_global(&self, vertex: usize, x: [f64; C]) -> [f64; C] {
+        match self.frame(vertex) {
             None => x,
             Some(q) => std::array::from_fn(|r| (0..C).map(|c| q[r][c] * x[c]).sum()),
         }
     }
 
-    /// Node `p`'s Cartesian block `x` → model coordinates: `Q_pᵀ x` at a frame node.
-    pub fn to_model(&self, p: usize, x: [f64; C]) -> [f64; C] {
-        match self.frame(p) {
+    /// The Cartesian block `x` of mesh vertex `vertex` (a vertex id) → model coordinates:
+    /// `Q_pᵀ x` at a frame node.
+    pub fn to_model(&self, vertex: usize, x: [f64; C]) -> [f64; C] {
+        match self.frame(vertex) {
             None => x,
             Some(q) => std::array::from_fn(|c| (0..C).map(|r| q[r][c] * x[r]).sum()),
         }
     }
 
-    /// Checks that `node` is a node of the model.
+    /// Checks that `vertex` is a vertex id of the model (`< num_nodes()`).
     ///
     /// # Errors
-    /// [`Error::NodeOutOfRange`] naming `what` the node is for.
-    pub fn check_node(&self, what: &'static str, node: usize) -> Result<()> {
-        if node < self.vertices.len() {
+    /// [`Error::NodeOutOfRange`] naming `what` the vertex is for.
+    pub fn check_node(&self, what: &'static str, vertex: usize) -> Result<()> {
+        if vertex < self.vertices.len() {
             Ok(())
         } else {
             Err(Error::NodeOutOfRange {
                 what,
-                node,
+                node: vertex,
                 nodes: self.vertices.len(),
             })
         }
     }
 
-    /// The node nearest to `x` (m), by Euclidean distance; the first on ties.
+    /// The vertex id of the node nearest to `x` (m), by Euclidean distance; the first on
+    /// ties. A vertex id, not a fault index (see [`Model`]): for the position on Γ_F use
+    /// [`FrictionalBoundary::fault_index`].
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a model without nodes or a non-finite `x`.

@@ -54,9 +54,12 @@ impl EventThresholds {
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SlipEvent {
-    /// Step of the onset.
+    /// Step of the onset: the first step whose largest slip rate exceeds the onset
+    /// threshold.
     pub onset_step: usize,
-    /// Time of the onset step (s).
+    /// Time of the onset step (s), `t_n` of [`onset_step`](Self::onset_step): what the
+    /// examples' statistics call the "first slip" time of the first event (a step's
+    /// time, resolved to τ; [`crossing_s`](Self::crossing_s) is the interpolated crossing).
     pub onset_s: f64,
     /// Time (s) where the largest slip rate crosses the onset threshold, interpolated
     /// linearly in `ln V` between the step before the onset and the onset step (the onset
@@ -266,17 +269,18 @@ impl SlipEvents {
         })
     }
 
-    /// Measures each event's slip at `node` of `model`, starting from the model's initial
+    /// Measures each event's slip at mesh vertex `vertex` of `model` (a vertex id, e.g.
+    /// from [`Model::nearest_node`]; not a fault index), starting from the model's initial
     /// displacement.
     ///
     /// # Errors
     /// [`Error::NodeOutOfRange`](crate::Error::NodeOutOfRange).
-    pub fn slip_at<const D: usize>(mut self, model: &Model<D>, node: usize) -> Result<Self> {
-        model.check_node("slip events", node)?;
-        let u0 = &model.initial_displacement[D * node..D * node + D];
+    pub fn slip_at<const D: usize>(mut self, model: &Model<D>, vertex: usize) -> Result<Self> {
+        model.check_node("slip events", vertex)?;
+        let u0 = &model.initial_displacement[D * vertex..D * vertex + D];
         self.detector = self.detector.with_slip_at(u0);
-        self.node = Some(node);
-        self.node_in_volume = !model.frictional_boundary.nodes.contains(&node);
+        self.node = Some(vertex);
+        self.node_in_volume = !model.frictional_boundary.nodes.contains(&vertex);
         Ok(self)
     }
 

@@ -50,8 +50,8 @@ impl<const D: usize, const C: usize> std::fmt::Debug for StepView<'_, D, C> {
     }
 }
 
-/// The tractions on Γ_F that the friction laws carry, per frictional node `k`
-/// (`model.frictional_boundary.nodes[k]`): what observers report in slip coordinates.
+/// The tractions on Γ_F that the friction laws carry, per fault index `k` (a position on
+/// Γ_F, not a vertex id; the vertex is `model.frictional_boundary.nodes[k]`): what observers report in slip coordinates.
 /// Implemented for a vector of [`FrictionLaw`]s (one law per frictional node).
 pub trait FaultTractions {
     /// The shear traction `ϕ'(V, α) = σ̄_n μ(V, α)` (Pa) of node `k` at slip rate `V ≥ 0`
@@ -81,44 +81,48 @@ impl<L: FrictionLaw> FaultTractions for Vec<L> {
 }
 
 impl<const D: usize, const C: usize> StepView<'_, D, C> {
-    /// The displacement of node `p` (m), Cartesian components (rotated back from the
-    /// nodal frame at a slanted fault node, [`Model::to_global`]).
+    /// The displacement of mesh vertex `vertex` (a vertex id, not a fault index; m),
+    /// Cartesian components (rotated back from the nodal frame at a slanted fault node,
+    /// [`Model::to_global`]).
     ///
     /// # Panics
-    /// If `p` is not a node of the model (callers check nodes when they are created).
-    pub fn displacement(&self, p: usize) -> [f64; C] {
-        self.model.to_global(p, block(&self.state.kinematics.u, p))
+    /// If `vertex` is not a vertex of the model (callers check vertices when they are
+    /// created).
+    pub fn displacement(&self, vertex: usize) -> [f64; C] {
+        self.model
+            .to_global(vertex, block(&self.state.kinematics.u, vertex))
     }
 
-    /// The velocity of node `p` (m/s), Cartesian components.
+    /// The velocity of mesh vertex `vertex` (a vertex id; m/s), Cartesian components.
     ///
     /// # Panics
-    /// If `p` is not a node of the model.
-    pub fn velocity(&self, p: usize) -> [f64; C] {
-        self.model.to_global(p, block(&self.state.kinematics.v, p))
+    /// If `vertex` is not a vertex of the model.
+    pub fn velocity(&self, vertex: usize) -> [f64; C] {
+        self.model
+            .to_global(vertex, block(&self.state.kinematics.v, vertex))
     }
 
-    /// The displacement of node `p` (m) in model coordinates: at a node with a nodal
-    /// frame (a slanted fault node) its slip coordinates (tangential…, normal), Cartesian
-    /// elsewhere ([`Model`]'s convention).
+    /// The displacement of mesh vertex `vertex` (a vertex id; m) in model coordinates: at
+    /// a node with a nodal frame (a slanted fault node) its slip coordinates
+    /// (tangential…, inward normal), Cartesian elsewhere ([`Model`]'s convention).
     ///
     /// # Panics
-    /// If `p` is not a node of the model.
-    pub fn displacement_in_frame(&self, p: usize) -> [f64; C] {
-        block(&self.state.kinematics.u, p)
+    /// If `vertex` is not a vertex of the model.
+    pub fn displacement_in_frame(&self, vertex: usize) -> [f64; C] {
+        block(&self.state.kinematics.u, vertex)
     }
 
-    /// The velocity of node `p` (m/s) in model coordinates (as
+    /// The velocity of mesh vertex `vertex` (a vertex id; m/s) in model coordinates (as
     /// [`displacement_in_frame`](Self::displacement_in_frame)).
     ///
     /// # Panics
-    /// If `p` is not a node of the model.
-    pub fn velocity_in_frame(&self, p: usize) -> [f64; C] {
-        block(&self.state.kinematics.v, p)
+    /// If `vertex` is not a vertex of the model.
+    pub fn velocity_in_frame(&self, vertex: usize) -> [f64; C] {
+        block(&self.state.kinematics.v, vertex)
     }
 
-    /// The slip rate `|v_p|` (m/s) of the `k`-th frictional node
-    /// (`model.frictional_boundary.nodes[k]`).
+    /// The slip rate `|v_p|` (m/s) of the frictional node of fault index `k` (a position
+    /// on Γ_F, not a vertex id; its vertex is `model.frictional_boundary.nodes[k]`).
     ///
     /// # Panics
     /// If `k` is not the position of a frictional node.

@@ -33,7 +33,8 @@ pub struct Recorder<const D: usize> {
 }
 
 impl<const D: usize> Recorder<D> {
-    /// Records at `points` (nodes of `model`).
+    /// Records at `points` (mesh vertex ids of `model`, e.g. from
+    /// [`Model::nearest_node`]; not fault indices).
     ///
     /// # Errors
     /// [`Error::NodeOutOfRange`](crate::Error::NodeOutOfRange) for a point outside the
@@ -70,7 +71,7 @@ impl<const D: usize> Recorder<D> {
         self.reports.iter().map(|r| r.time)
     }
 
-    /// The recorded nodes.
+    /// The recorded vertex ids.
     pub fn points(&self) -> &[usize] {
         &self.points
     }
@@ -147,7 +148,8 @@ impl<const D: usize> FaultRecorder<D> {
         Some((*self.steps.get(i)?, self.times[i]))
     }
 
-    /// Γ_F nodes in the order along the boundary (the order of snapshot rows).
+    /// Vertex ids of the Γ_F nodes in the order along the boundary (the order of snapshot
+    /// rows; `model.frictional_boundary.along` maps them to fault indices).
     pub fn fault_nodes(&self) -> &[usize] {
         &self.fault_nodes
     }

@@ -1,4 +1,4 @@
-//! Time series at one node of the model, as CSV.
+//! Time series at one mesh vertex of the model, as CSV.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -11,17 +11,27 @@ use crate::model::Model;
 use super::files::{self, FileMode, AXES};
 use super::{Flow, Observer, StepView};
 
-/// Time series at one node: one CSV row per step,
+/// Time series at one mesh vertex: one CSV row per step,
 /// `t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi,tau_s,step,solver_iterations,relaxed_iterations`
 /// followed, for `D ≥ 2`, by `u_y0_m,v_y0_mps` (and `u_z0_m,v_z0_mps` in 3D): time,
-/// displacement and velocity components at the node, the largest slip rate on Γ_F, the
-/// step's fixed point iterations, τ, the step index, velocity-solver iterations and damped
-/// fixed point iterations. Components are in model coordinates ([`Model`]): at a slanted
-/// fault node (one with a nodal frame) `x`, `y`(, `z`) stand for the frame's tangent(s) and
-/// normal, i.e. slip coordinates; Cartesian elsewhere. Rows are flushed every step (by default) so that a killed run
-/// keeps what it wrote; [`FileMode::Resume`] continues a file after a checkpoint.
+/// displacement and velocity components at the vertex (the `0` stands for the observed
+/// point `x0`), the largest slip rate on Γ_F, the step's fixed point iterations, τ, the step
+/// index, velocity-solver iterations and damped fixed point iterations.
+///
+/// Components are in model coordinates ([`Model`]): Cartesian at a vertex without a nodal
+/// frame (every vertex of an axis-aligned model, e.g. the paper's slider, whose files keep
+/// the header above). At a slanted fault vertex (one with a nodal frame,
+/// [`Model::frame`]) they are the slip coordinates: the component along the frame's
+/// tangent(s) and along its **inward** normal `−n` ([`Model::to_global`] turns them into
+/// Cartesian ones), and the header says so ([`header_at`](Self::header_at)):
+/// `u_t_m,v_t_mps` in place of `u_x0_m,v_x0_mps` and `u_n_m,v_n_mps` in place of
+/// `u_y0_m,v_y0_mps` in 2-D; `u_t1_m`, `u_t2_m`, `u_n_m` (and `v_…`) in 3-D. With
+/// bilateral contact the normal velocity there is 0.
+///
+/// Rows are flushed every step (by default) so that a killed run keeps what it wrote;
+/// [`FileMode::Resume`] continues a file after a checkpoint.
 pub struct PointSeries<const D: usize> {
-    node: usize,
+    vertex: usize,
     out: BufWriter<File>,
     /// The file, for errors.
     path: PathBuf,
@@ -38,9 +48,10 @@ pub struct SeriesRow<const D: usize> {
     pub time: f64,
     /// Time step τ of the step (s; exact).
     pub tau: f64,
-    /// Displacement at the node (m).
+    /// Displacement at the vertex (m), in the file's components (Cartesian, or tangent(s)
+    /// and inward normal at a vertex with a nodal frame, [`PointSeries`]).
     pub u: [f64; D],
-    /// Velocity at the node (m/s).
+    /// Velocity at the vertex (m/s), components as `u`.
     pub v: [f64; D],
     /// Largest slip rate on Γ_F (m/s).
     pub max_slip_rate: f64,
@@ -53,29 +64,64 @@ pub struct SeriesRow<const D: usize> {
 }
 
 impl<const D: usize> PointSeries<D> {
-    /// The CSV header.
+    /// The CSV header of a series at a vertex without a nodal frame (Cartesian
+    /// components, `u_x0_m, …`): every vertex of an axis-aligned model.
     pub fn header() -> String {
-        let mut h = String::from(
-            "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi,tau_s,step,solver_iterations,relaxed_iterations",
+        Self::header_with(false)
+    }
+
+    /// The CSV header of a series at mesh vertex `vertex` of `model`: [`header`](Self::header)
+    /// without a nodal frame there, the slip-coordinate names (`u_t_m, …, u_n_m, …`) with
+    /// one.
+    pub fn header_at(model: &Model<D>, vertex: usize) -> String {
+        Self::header_with(model.frame(vertex).is_some())
+    }
+
+    /// The header in Cartesian (`framed = false`) or frame (tangent(s), normal) components.
+    fn header_with(framed: bool) -> String {
+        let names = component_names::<D>(framed);
+        // `0`: the observed point x0 (the Cartesian names predate the frame ones).
+        let at = if framed { "" } else { "0" };
+        let mut h = format!(
+            "t_s,u_{c}{at}_m,v_{c}{at}_mps,max_slip_rate_mps,fpi,tau_s,step,solver_iterations,relaxed_iterations",
+            c = names[0]
         );
-        for axis in AXES.iter().take(D).skip(1) {
-            h.push_str(&format!(",u_{axis}0_m,v_{axis}0_mps"));
+        for c in names.iter().skip(1) {
+            h.push_str(&format!(",u_{c}{at}_m,v_{c}{at}_mps"));
         }
         h
     }
 
-    /// The series at `node` of `model` in the file `path`, new or continued after a
-    /// checkpoint ([`FileMode`]).
+    /// The header of the existing file `path` if it is one of the two a `PointSeries<D>`
+    /// writes, else the Cartesian one (whose mismatch the caller then reports).
+    fn header_of_file(path: &Path) -> String {
+        use std::io::BufRead;
+        let framed = Self::header_with(true);
+        let first = File::open(path).ok().and_then(|f| {
+            let mut line = String::new();
+            std::io::BufReader::new(f).read_line(&mut line).ok()?;
+            Some(line)
+        });
+        match first {
+            Some(line) if line.trim_end_matches(['\n', '\r']) == framed => framed,
+            _ => Self::header(),
+        }
+    }
+
+    /// The series at mesh vertex `vertex` (an index into `model.vertices`, e.g. from
+    /// [`Model::nearest_node`]; not a position on Γ_F) of `model` in the file `path`, new
+    /// or continued after a checkpoint ([`FileMode`]); its header is
+    /// [`header_at`](Self::header_at).
     ///
     /// # Errors
     /// [`Error::NodeOutOfRange`](crate::Error::NodeOutOfRange); for [`FileMode::Resume`], [`Error::Resume`](crate::Error::Resume) if the file
     /// is missing, has another header, or its rows end before the checkpoint's step (e.g.
     /// rows buffered by [`flush_every`](Self::flush_every) and lost); I/O errors.
-    pub fn new(path: &Path, model: &Model<D>, node: usize, mode: FileMode) -> Result<Self> {
-        model.check_node("point series", node)?;
+    pub fn new(path: &Path, model: &Model<D>, vertex: usize, mode: FileMode) -> Result<Self> {
+        model.check_node("point series", vertex)?;
         Ok(Self {
-            node,
-            out: files::open(path, &Self::header(), 6, mode.start(true))?,
+            vertex,
+            out: files::open(path, &Self::header_at(model, vertex), 6, mode.start(true))?,
             path: path.to_path_buf(),
             flush_every: 1,
             rows: 0,
@@ -97,7 +143,7 @@ impl<const D: usize> PointSeries<D> {
     /// # Errors
     /// As [`new`](Self::new) with [`FileMode::Resume`].
     pub fn check_resume(path: &Path, step: usize) -> Result<()> {
-        files::check_resume(path, &Self::header(), 6, step, true)
+        files::check_resume(path, &Self::header_of_file(path), 6, step, true)
     }
 
     /// Checks that the row of the checkpoint `c`'s step in the series file `path` (at the
@@ -158,13 +204,28 @@ impl<const D: usize> PointSeries<D> {
         Ok(())
     }
 
-    /// Reads a file written by a `PointSeries<D>`.
+    /// Reads a file written by a `PointSeries<D>` (either header; [`SeriesRow::u`] and
+    /// [`SeriesRow::v`] hold the components the header names).
     ///
     /// # Errors
     /// I/O errors; [`Error::Resume`](crate::Error::Resume) for another header or a malformed row.
     pub fn read(path: &Path) -> Result<Vec<SeriesRow<D>>> {
-        files::read_rows(path, &Self::header(), parse_row::<D>)
+        files::read_rows(path, &Self::header_of_file(path), parse_row::<D>)
     }
+}
+
+/// The names of the `D` components of a series: `x, y, z` (Cartesian) or the frame's
+/// tangent(s) and normal (`t, n` in 2-D; `t1, t2, n` in 3-D).
+fn component_names<const D: usize>(framed: bool) -> Vec<&'static str> {
+    if !framed {
+        return AXES.iter().take(D).copied().collect();
+    }
+    let tangents: &[&str] = match D {
+        1 => &[],
+        2 => &["t"],
+        _ => &["t1", "t2"],
+    };
+    tangents.iter().copied().chain(["n"]).collect()
 }
 
 fn parse_row<const D: usize>(f: &[&str]) -> Option<SeriesRow<D>> {
@@ -198,7 +259,7 @@ impl<const D: usize> Observer<D> for PointSeries<D> {
     fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
         let (u, v) = (&s.state.kinematics.u, &s.state.kinematics.v);
         let r = s.report;
-        let i = D * self.node;
+        let i = D * self.vertex;
         write!(
             self.out,
             "{:.9e},{:.12e},{:.12e},{:.12e},{},{:e},{},{},{}",

@@ -14,7 +14,7 @@ use crate::error::{invalid, Error, Result};
 use crate::method::fixed_point::{FixedPointOptions, FixedPointScheme, InnerSolves};
 use crate::method::solver::{SolverKind, SolverOptions};
 use crate::method::state_integrator::StateIntegrator;
-use crate::model::builder::{Material, ModelBuilder};
+use crate::model::builder::{Material, ModelBuilder, Part};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
 use crate::scenes::conditioning::{ProblemScales, ScaleFields};
@@ -621,27 +621,109 @@ impl SliderScene {
         Ok(DieterichRuina::new(self.rate_state_params())?)
     }
 
-    /// Assembles the model at `self.level` with [`ModelBuilder`]: consistent mass (unless
-    /// quasistatic), plane-strain stiffness, gravity, Γ_D (top: both components, velocity
-    /// `(v_load g(t), 0)` with the ramp `g`), Γ_F (bottom, normal component fixed), the
-    /// hierarchy's prolongations, lumped weights and `u_0` solving `K u_0 = F` with the
-    /// same constraints; then [`check_conditioning`](Self::check_conditioning).
+    /// Assembles the model at `self.level` with [`ModelBuilder`]: the paper's coarse grid
+    /// ([`pipping_slider_coarse`]) refined `level` times, with the scene's physics
+    /// ([`physics`](Self::physics)) on its parts [`TAG_DIRICHLET`] (top) and
+    /// [`TAG_FRICTIONAL`] (bottom): consistent mass (unless quasistatic), plane-strain
+    /// stiffness, gravity, Γ_D (top: both components, velocity `(v_load g(t), 0)` with the
+    /// ramp `g`), Γ_F (bottom, normal component fixed), the hierarchy's prolongations,
+    /// lumped weights and `u_0` solving `K u_0 = F` with the same constraints; then
+    /// [`check_conditioning`](Self::check_conditioning). The same path as
+    /// [`build_model_on`](Self::build_model_on) on a mesh of one's own.
     ///
     /// # Errors
     /// Invalid parameters; assembly errors; [`Error::IllConditioned`].
     pub fn build_model(&self) -> Result<Model<2>> {
         self.validate()?;
-        let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?
+        let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?;
+        self.checked_model(self.physics(builder, TAG_DIRICHLET, TAG_FRICTIONAL))
+    }
+
+    /// The scene's physics on the mesh (or refinement hierarchy) of a user's `builder`:
+    /// the material of Table 6.1 ([`material`](Self::material)), gravity `(0, −g)`, the
+    /// part `dirichlet` moving with velocity `(loading_velocity_m_per_s, 0) · g(t)` (both
+    /// components fixed; `g` the loading ramp, [`loading`](Self::loading)), the part
+    /// `frictional` as Γ_F with bilateral contact, and no mass matrix if the scene's
+    /// integrator has no inertia. Parts are given by tag (e.g. a Gmsh physical group name,
+    /// as a `&str`), by predicate ([`Part::predicate`]) or as a
+    /// [`BoundaryPart`](rsf_fem::BoundaryPart) of the finest mesh; the rest of the
+    /// boundary is traction-free unless the caller adds more (e.g.
+    /// [`neumann`](ModelBuilder::neumann)) to the returned builder. The scene's `level` and
+    /// `diagonal` describe the paper's mesh and are not used here.
+    ///
+    /// This is the seam [`build_model`](Self::build_model) itself uses; with
+    /// [`build_model_on`](Self::build_model_on) or
+    /// [`simulation_builder_on`](Self::simulation_builder_on) the scene's friction, state
+    /// law, α₀, integrator, τ and solver follow.
+    pub fn physics(
+        &self,
+        builder: ModelBuilder<2>,
+        dirichlet: impl Into<Part<2>>,
+        frictional: impl Into<Part<2>>,
+    ) -> ModelBuilder<2> {
+        let builder = builder
             .material(self.material())
             .gravity([0.0, -self.gravity_m_per_s2])
-            .dirichlet(TAG_DIRICHLET, [self.loading_velocity_m_per_s, 0.0])
-            .frictional_boundary(TAG_FRICTIONAL)
+            .dirichlet(dirichlet, [self.loading_velocity_m_per_s, 0.0])
+            .frictional_boundary(frictional)
             .loading(self.loading());
-        let model = if self.integrator.uses_mass() {
-            builder.build()
+        if self.integrator.uses_mass() {
+            builder
         } else {
-            builder.without_mass().build()
-        }?;
+            builder.without_mass()
+        }
+    }
+
+    /// The model of the scene's physics ([`physics`](Self::physics)) on the mesh of a
+    /// user's `builder`, with the parts `dirichlet` (the moving top) and `frictional`
+    /// (Γ_F): validated scene, built, [`check_conditioning`](Self::check_conditioning).
+    ///
+    /// ```no_run
+    /// use rsf::fem::read_gmsh;
+    /// use rsf::{ModelBuilder, SliderScene};
+    ///
+    /// let scene = SliderScene::default();
+    /// let coarse = read_gmsh::<2>("my_block.msh")?.mesh;
+    /// // Three refinements (a hierarchy for TNNMG); physical groups `top` and `base`:
+    /// let model = scene.build_model_on(ModelBuilder::refined(coarse, 3)?, "top", "base")?;
+    /// let mut sim = scene.build_with_model(model)?;
+    /// sim.run(100, &mut [])?;
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid parameters ([`validate`](Self::validate)); the builder's errors (e.g.
+    /// [`Error::BoundaryPart`] for a tag that selects nothing); [`Error::IllConditioned`].
+    pub fn build_model_on(
+        &self,
+        builder: ModelBuilder<2>,
+        dirichlet: impl Into<Part<2>>,
+        frictional: impl Into<Part<2>>,
+    ) -> Result<Model<2>> {
+        self.validate()?;
+        self.checked_model(self.physics(builder, dirichlet, frictional))
+    }
+
+    /// As [`simulation_builder`](Self::simulation_builder) on the model
+    /// [`build_model_on`](Self::build_model_on) builds on a user's mesh: the paper's physics,
+    /// friction, state law, α₀, integrator, τ and solver on one's own geometry.
+    ///
+    /// # Errors
+    /// As [`build_model_on`](Self::build_model_on); invalid friction or state-law parameters.
+    pub fn simulation_builder_on(
+        &self,
+        builder: ModelBuilder<2>,
+        dirichlet: impl Into<Part<2>>,
+        frictional: impl Into<Part<2>>,
+    ) -> Result<SceneSimulationBuilder<2>> {
+        let model = self.build_model_on(builder, dirichlet, frictional)?;
+        scene_builder(self, model)
+    }
+
+    /// `builder` built and checked ([`check_conditioning`](Self::check_conditioning));
+    /// the scene is validated by the caller.
+    fn checked_model(&self, builder: ModelBuilder<2>) -> Result<Model<2>> {
+        let model = builder.build()?;
         self.check_conditioning(&model)?;
         Ok(model)
     }
