@@ -99,10 +99,13 @@ struct Cli {
     /// first).
     #[arg(long, value_name = "FILE")]
     resume: Option<PathBuf>,
-    /// Threads of the direct solver's dense Newton factorisations (systems of at least
-    /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns; docs/scaling.md).
-    #[arg(long, default_value_t = 2)]
-    dense_threads: usize,
+    /// Threads of every parallel part of a step (`rsf::SolverOptions::parallelism`: the
+    /// direct solver's sweeps and its dense Newton factorisations of at least
+    /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns, the right-hand side rows; docs/scaling.md):
+    /// a count, `0` or `pool` for rayon's pool, `seq` for one. The output does not depend on
+    /// it. (`--dense-threads` is an old name of this flag.)
+    #[arg(long, default_value = "2", alias = "dense-threads", value_name = "N")]
+    threads: rsf::Parallelism,
     /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
     /// fit, else TNNMG; docs/scaling.md). Default: `rsf::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
@@ -272,7 +275,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     );
     let setup = std::time::Instant::now();
     let mut options = scene.slider.solver_options();
-    options.direct.dense_threads = cli.dense_threads;
+    options.parallelism = cli.threads;
     if let Some(gib) = cli.memory_budget_gib {
         options.memory_budget_bytes =
             rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;

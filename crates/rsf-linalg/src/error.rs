@@ -38,6 +38,12 @@ pub enum Error {
     /// A sparse matrix is stored by rows (CSR) where columns (CSC) are expected.
     #[error("expected compressed sparse column (CSC) storage, got CSR")]
     RowStorage,
+    /// A [`Parallelism`](crate::Parallelism) name that is neither a thread count nor
+    /// `seq` or `pool`.
+    #[error(
+        "invalid parallelism {0:?}: expected a thread count, 0 or `pool` (rayon's pool), or `seq`"
+    )]
+    InvalidParallelism(String),
 }
 
 /// `Result` with this crate's [`Error`].

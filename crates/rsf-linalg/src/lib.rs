@@ -10,17 +10,22 @@
 //! * With the `sprs` feature, [`to_sprs`] and [`from_sprs`]: conversions to and from
 //!   `sprs::CsMat<f64>` in CSC storage.
 //!
-//! Everything is sequential (`Par::Seq`), so results are bit-for-bit reproducible.
+//! * [`Parallelism`] — the one parallelism parameter of the workspace (faer's `Par` with
+//!   a default, names and a deterministic two-way [`join`](Parallelism::join)).
+//!
+//! Everything here is sequential (`Par::Seq`), so results are bit-for-bit reproducible.
 #![warn(missing_docs)]
 
 mod cholesky;
 mod error;
 mod ops;
+mod parallelism;
 #[cfg(feature = "sprs")]
 mod sprs_conversion;
 
 pub use cholesky::{Cholesky, FillOrdering};
 pub use error::{Error, Result};
 pub use ops::{combine, spmv_add, SparseMatrix};
+pub use parallelism::Parallelism;
 #[cfg(feature = "sprs")]
 pub use sprs_conversion::{from_sprs, to_sprs};

@@ -34,7 +34,14 @@ pub use runge_kutta::{
     BOGACKI_SHAMPINE_32, DORMAND_PRINCE_54,
 };
 
+pub use rsf_linalg::Parallelism;
 use rsf_linalg::SparseMatrix;
+
+/// Fewest rows for which [`LoadOperator::apply`] splits its rows in two halves on two
+/// threads (if its [`Parallelism`] allows): below, waking the second thread costs more
+/// than the half pass it takes over (the main job at j = 4, 2754 rows, ran 2.5 % slower
+/// on two threads than on one).
+pub const LOAD_PARALLEL_MIN_ROWS: usize = 5000;
 
 /// Errors of the time integrators.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -225,7 +232,10 @@ impl<'a> SystemMatrices<'a> {
 
 /// `ℓ = F + M w_M − K w_K` for symmetric `M` (optional) and `K`, evaluated row by row in
 /// one pass when `M` and `K` share their pattern (as assembled by rsf-fem): per stored
-/// entry one `u32` row index and the two values, no temporary vector.
+/// entry one `u32` row index and the two values, no temporary vector. From
+/// [`LOAD_PARALLEL_MIN_ROWS`] rows on, the two halves of the rows run on two threads if
+/// its [`Parallelism`] allows ([`with_parallelism`](Self::with_parallelism); default
+/// [`Parallelism::default`]).
 #[derive(Debug, Clone)]
 pub struct LoadOperator {
     n: usize,
@@ -236,6 +246,8 @@ pub struct LoadOperator {
     /// `paired[j]`: rows `j` and `j + 1` have the same pattern (the two components of a
     /// node in a vector-valued FE matrix) and are evaluated together.
     paired: Vec<bool>,
+    /// Threads of [`apply`](Self::apply).
+    par: Parallelism,
 }
 
 impl LoadOperator {
@@ -303,12 +315,27 @@ impl LoadOperator {
             rows,
             values,
             paired,
+            par: Parallelism::default(),
         })
     }
 
+    /// The same operator with the parallelism `par` for [`apply`](Self::apply) (its two
+    /// halves of the rows on two threads from [`LOAD_PARALLEL_MIN_ROWS`] rows on when
+    /// `par` has more than one; the same bits whatever `par`).
+    pub fn with_parallelism(mut self, par: Parallelism) -> Self {
+        self.par = par;
+        self
+    }
+
+    /// The parallelism of [`apply`](Self::apply).
+    pub fn parallelism(&self) -> Parallelism {
+        self.par
+    }
+
     /// `out = load + M w_mass − K w_stiffness` (all of length `n`). The two halves of the
-    /// rows run on two threads when rayon has them and `n ≥ 5000`; every row's arithmetic is the same
-    /// either way, so the result does not depend on the number of threads.
+    /// rows run on two threads when the operator's [`Parallelism`] has more than one and
+    /// `n ≥` [`LOAD_PARALLEL_MIN_ROWS`]; every row's arithmetic is the same either way, so
+    /// the result does not depend on the number of threads.
     ///
     /// # Panics
     /// If a length differs from `n` (internal invariant of callers).
@@ -365,15 +392,13 @@ impl LoadOperator {
         let simd_rows = |first: usize, out: &mut [f64]| {
             pulp::Arch::new().dispatch(|| rows(first, out));
         };
-        // Two threads from 5000 rows on: below, waking the second thread costs more than
-        // the half pass it takes over (the main job at j = 4, 2754 rows, ran 2.5 % slower
-        // on two threads than on one).
-        if n >= 5000 && rayon::current_num_threads() > 1 {
-            rayon::join(|| simd_rows(0, lo), || simd_rows(half, hi));
+        // Two threads from LOAD_PARALLEL_MIN_ROWS rows on (see there).
+        let par = if n >= LOAD_PARALLEL_MIN_ROWS {
+            self.par
         } else {
-            simd_rows(0, lo);
-            simd_rows(half, hi);
-        }
+            Parallelism::SEQ
+        };
+        par.join(|| simd_rows(0, lo), || simd_rows(half, hi));
     }
 }
 
@@ -573,7 +598,7 @@ impl VelocityIntegrator for Quasistatic {
 
 #[cfg(test)]
 mod tests {
-    use super::LoadOperator;
+    use super::{LoadOperator, Parallelism, LOAD_PARALLEL_MIN_ROWS};
     use rsf_fem::{pipping_slider_coarse, Assembler, Diagonal, LinearElasticity, MeshHierarchy};
 
     /// The rows of a node evaluated as a pair give the bits of the rows evaluated one by one.
@@ -598,5 +623,43 @@ mod tests {
         op.apply(&load, &wm, &wk, &mut a);
         single.apply(&load, &wm, &wk, &mut b);
         assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
+    }
+
+    /// Above the threshold, every parallelism gives the bits of one thread (the two halves
+    /// of the rows split between nodes), with the global pool and with a pool of one thread.
+    #[test]
+    fn rows_are_bit_identical_for_every_thread_count() {
+        let h = MeshHierarchy::refine_uniformly(pipping_slider_coarse(Diagonal::Forward), 5);
+        let mesh = h.finest();
+        let asm = Assembler::new(mesh).unwrap();
+        let mat = LinearElasticity::plane_strain(5e7, 0.3).unwrap();
+        let m = asm.mass(mesh, 5e3).unwrap();
+        let k = asm.stiffness(mesh, &mat).unwrap();
+        let n = k.nrows();
+        assert!(n >= LOAD_PARALLEL_MIN_ROWS, "{n} rows: below the threshold");
+        let wave = |s: f64| -> Vec<f64> { (0..n).map(|i| (s * i as f64).sin() * 1e-3).collect() };
+        let (load, wm, wk) = (wave(0.3), wave(1.7), wave(2.9));
+        let bits = |par: Parallelism| {
+            let op = LoadOperator::new(Some(&m), &k)
+                .unwrap()
+                .with_parallelism(par);
+            assert_eq!(op.parallelism(), par);
+            let mut out = vec![0.0; n];
+            op.apply(&load, &wm, &wk, &mut out);
+            out.iter().map(|x| x.to_bits()).collect::<Vec<u64>>()
+        };
+        let reference = bits(Parallelism::SEQ);
+        for par in [
+            Parallelism::rayon(1),
+            Parallelism::rayon(2),
+            Parallelism::rayon(4),
+        ] {
+            assert_eq!(bits(par), reference, "{par:?}");
+        }
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        assert_eq!(one.install(|| bits(Parallelism::rayon(2))), reference);
     }
 }

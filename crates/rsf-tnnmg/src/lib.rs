@@ -73,11 +73,15 @@ mod step;
 mod tnnmg;
 
 pub use block::solve_spd_masked;
-pub use direct::{Condensation, DirectMemory, DirectOptions, DirectSolver, DENSE_PARALLEL_MIN};
+pub use direct::{
+    Condensation, DirectMemory, DirectOptions, DirectSolver, DENSE_PARALLEL_MIN,
+    INTERIOR_PARALLEL_MIN,
+};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;
 pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity, Scaled};
 pub use report::{NonsmoothSolver, SolveReport, Stopping};
+pub use rsf_linalg::Parallelism;
 pub use step::{FullStep, StepSolver};
 pub use tnnmg::{Tnnmg, TnnmgOptions};

@@ -106,6 +106,7 @@ pub use observe::vtu::VtuFrames;
 pub use observe::{FaultTractions, Flow, Observer, StepView};
 pub use problem::{NoState, Problem};
 pub use report::StepReport;
+pub use rsf_linalg::Parallelism;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
 pub use rsf_time::Integrator;
 pub use run::{run_until, RunError, RunSummary, Stepping, Termination, Until};

@@ -3,6 +3,7 @@
 //! right-hand sides, and the interior of a solution from its interface values.
 
 use faer::sparse::SparseColMatRef;
+use rsf_linalg::Parallelism;
 
 use super::partial_cholesky::PartialCholesky;
 use crate::csc::Csc;
@@ -25,7 +26,10 @@ use crate::problem::BlockedMatrix;
 ///
 /// Costs: the set-up factorises `A` on `R ∪ F` once (a sparse Cholesky factor with `F`
 /// eliminated last, nested dissection of `R`); [`condense`](Self::condense) is one forward
-/// sweep and [`extend`](Self::extend) one backward sweep over the factor, `O(nnz(L))`.
+/// sweep and [`extend`](Self::extend) one backward sweep over the factor, `O(nnz(L))`;
+/// the sweeps of a large interior run on two threads if its [`Parallelism`] allows
+/// ([`with_parallelism`](Self::with_parallelism), default [`Parallelism::default`]; the
+/// same bits whatever it is).
 pub struct Condensation<const D: usize> {
     blocks: Vec<usize>,
     pub(super) factor: PartialCholesky,
@@ -126,6 +130,19 @@ impl<const D: usize> Condensation<D> {
             interface,
             free,
         })
+    }
+
+    /// The same condensation with the parallelism `par` for its sweeps (two halves of the
+    /// interior on two threads from [`INTERIOR_PARALLEL_MIN`](crate::INTERIOR_PARALLEL_MIN)
+    /// interior unknowns on, when `par` has more than one; results do not depend on it).
+    pub fn with_parallelism(mut self, par: Parallelism) -> Self {
+        self.factor.set_parallelism(par);
+        self
+    }
+
+    /// The parallelism of the sweeps.
+    pub fn parallelism(&self) -> Parallelism {
+        self.factor.parallelism()
     }
 
     /// The blocks condensed onto.

@@ -17,11 +17,12 @@
 //! rate of about `1/soft_ratio`; excluding them keeps the dense factorisation small
 //! (empty while the whole fault sticks).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{
     cholesky_in_place, cholesky_in_place_scratch, LltParams,
 };
 use faer::{Mat, Par};
+use rsf_linalg::Parallelism;
 
 use crate::error::{Error, Result};
 use crate::nonlinearity::{BlockNonlinearity, Linearization};
@@ -70,7 +71,7 @@ pub(super) struct DenseFault<const D: usize> {
     mem: MemBuffer,
     soft_ratio: f64,
     /// Threads of the dense factorisation of large Newton systems.
-    dense_threads: usize,
+    par: Parallelism,
     /// Scratch of the triangular solves.
     y: Vec<f64>,
     /// Norm of the change of the last solve.
@@ -88,7 +89,7 @@ impl<const D: usize> DenseFault<D> {
         norm: Option<Vec<f64>>,
         free: Vec<[bool; D]>,
         soft_ratio: f64,
-        dense_threads: usize,
+        par: Parallelism,
     ) -> Self {
         let nb = free.len();
         let mut comp = Vec::new();
@@ -104,15 +105,7 @@ impl<const D: usize> DenseFault<D> {
         first.push(comp.len());
         let m = comp.len();
         debug_assert_eq!(s.len(), m * m);
-        let mem = MemBuffer::new(
-            cholesky_in_place_scratch::<f64>(m, Par::Seq, Default::default()).or(
-                cholesky_in_place_scratch::<f64>(
-                    m,
-                    dense_par(m, dense_threads),
-                    Default::default(),
-                ),
-            ),
-        );
+        let mem = MemBuffer::new(dense_scratch(m, par));
         let norm_factor = lower_cholesky(norm.as_deref().unwrap_or(&s), m);
         Self {
             nb,
@@ -143,17 +136,37 @@ impl<const D: usize> DenseFault<D> {
             rhs: Mat::zeros(m, 1),
             mem,
             soft_ratio,
-            dense_threads,
+            par,
             y: vec![0.0; m],
             change: f64::INFINITY,
             residual_valid: false,
         }
     }
 
+    /// Factorises large Newton systems with `par` from now on (the scratch grows if
+    /// needed; a kept factorisation stays valid: its bits do not depend on `par`).
+    pub(super) fn set_parallelism(&mut self, par: Parallelism) {
+        if par != self.par {
+            self.par = par;
+            self.mem = MemBuffer::new(dense_scratch(self.m, par));
+        }
+    }
+
+    /// The parallelism of the dense factorisations.
+    pub(super) fn parallelism(&self) -> Parallelism {
+        self.par
+    }
+
     /// Drops the reusable factorisation (the next Newton step factorises afresh).
     pub(super) fn forget_factorization(&mut self) {
         self.reuse = false;
         self.factored.clear();
+    }
+
+    /// Number of unknowns of the last factorised Newton system (0 if none is kept).
+    #[cfg(test)]
+    pub(super) fn factored_len(&self) -> usize {
+        self.factored.len()
     }
 
     /// Number of free components.
@@ -323,7 +336,7 @@ impl<const D: usize> DenseFault<D> {
             self.factored.clear();
             let stack = MemStack::new(&mut self.mem);
             let hq = self.h.as_mut().submatrix_mut(0, 0, q, q);
-            let par = dense_par(q, self.dense_threads);
+            let par = dense_par(q, self.par);
             if cholesky_in_place(hq, Default::default(), par, stack, small_llt_params()).is_err() {
                 // Not positive definite in floating point (extreme contrast): the sweep
                 // alone still converges.
@@ -620,20 +633,28 @@ fn lower_cholesky(a: &[f64], m: usize) -> Option<Vec<f64>> {
 /// hundred unknowns the blocked path wins by 3× and more.
 const SMALL_LLT: usize = 256;
 
-/// Smallest dense Newton system factorised on [`DirectOptions::dense_threads`](super::DirectOptions::dense_threads) threads.
-/// Measured (faer 0.24, two cores of this machine's Xeon): 700 unknowns 2.7 ms on one thread
+/// Smallest dense Newton system of the direct solver factorised on the threads of its
+/// [`Parallelism`] ([`DirectSolver::with_parallelism`](super::DirectSolver::with_parallelism));
+/// smaller ones stay on one thread. Measured (faer 0.24, two cores of this machine's Xeon): 700 unknowns 2.7 ms on one thread
 /// against 3.2 ms on two, 1 400 unknowns 16.7 against 14.5 ms, 2 754 (the 3-D slider at
 /// j = 4) 151 against 88 ms.
 pub const DENSE_PARALLEL_MIN: usize = 1000;
 
-/// The parallelism of a dense factorisation of `q` unknowns on at most `threads` threads:
-/// one thread below [`DENSE_PARALLEL_MIN`].
-pub(super) fn dense_par(q: usize, threads: usize) -> Par {
-    if threads > 1 && q >= DENSE_PARALLEL_MIN {
-        Par::rayon(threads)
+/// The parallelism of a dense factorisation of `q` unknowns with `par`: one thread below
+/// [`DENSE_PARALLEL_MIN`].
+pub(super) fn dense_par(q: usize, par: Parallelism) -> Par {
+    if q >= DENSE_PARALLEL_MIN {
+        par.faer()
     } else {
         Par::Seq
     }
+}
+
+/// Scratch of the dense factorisations of up to `m` unknowns with `par`.
+fn dense_scratch(m: usize, par: Parallelism) -> StackReq {
+    cholesky_in_place_scratch::<f64>(m, Par::Seq, Default::default()).or(
+        cholesky_in_place_scratch::<f64>(m, dense_par(m, par), Default::default()),
+    )
 }
 
 fn small_llt_params() -> faer::Spec<LltParams, f64> {

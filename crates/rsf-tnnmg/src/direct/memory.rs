@@ -75,13 +75,13 @@ impl DirectMemory {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::DirectSolver;
     use faer::sparse::{SparseColMat, Triplet};
 
     /// 5-point Laplacian plus identity on an `m × m` grid (node `i + m j`).
-    fn grid(m: usize) -> SparseColMat<usize, f64> {
+    pub(in crate::direct) fn grid(m: usize) -> SparseColMat<usize, f64> {
         let mut t = Vec::new();
         for j in 0..m {
             for i in 0..m {

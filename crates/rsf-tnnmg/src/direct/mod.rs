@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use faer::sparse::SparseColMatRef;
 use faer::{Accum, MatRef, Par};
+use rsf_linalg::Parallelism;
 
 use crate::block::load;
 use crate::csc::Csc;
@@ -25,6 +26,7 @@ pub use memory::DirectMemory;
 pub use options::DirectOptions;
 use options::HARMONIC_BLOCK;
 use partial_cholesky::PartialCholesky;
+pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
 
 /// What the condensation computed for one set of nonsmooth blocks.
 struct Condensed<const D: usize> {
@@ -48,11 +50,18 @@ struct Condensed<const D: usize> {
 /// on the `|F|` unknowns only (nonlinear Gauss–Seidel + truncated Newton with dense
 /// Cholesky on the soft blocks + line search, see [`DirectOptions::soft_ratio`]), and
 /// one backward sweep recovers the interior. No refactorisation while `A` stays.
+///
+/// Threads ([`with_parallelism`](Self::with_parallelism), default
+/// [`Parallelism::default`]): the two halves of the interior in every sweep and the
+/// columns of the harmonic extension from [`INTERIOR_PARALLEL_MIN`] interior unknowns on,
+/// and the dense Newton factorisations from [`DENSE_PARALLEL_MIN`] unknowns on. The
+/// results do not depend on them.
 pub struct DirectSolver<const D: usize> {
     a: Csc,
     fixed: Vec<bool>,
     energy: Option<Csc>,
     opts: DirectOptions,
+    par: Parallelism,
     cache: Option<Condensed<D>>,
     in_step: bool,
 }
@@ -73,20 +82,35 @@ impl<const D: usize> DirectSolver<D> {
         if !(opts.soft_ratio > 0.0) {
             return Err(Error::InvalidOption("soft_ratio must be positive".into()));
         }
-        if opts.dense_threads == 0 {
-            return Err(Error::InvalidOption(
-                "dense_threads must be at least 1".into(),
-            ));
-        }
         let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
         Ok(Self {
             a,
             fixed,
             energy: None,
             opts,
+            par: Parallelism::default(),
             cache: None,
             in_step: false,
         })
+    }
+
+    /// The solver with the parallelism `par` (see the type's documentation); a set-up
+    /// already done keeps its results, later work uses `par`.
+    pub fn with_parallelism(mut self, par: Parallelism) -> Self {
+        self.par = par;
+        if let Some(c) = &mut self.cache {
+            c.cond.factor.set_parallelism(par);
+            c.fault.set_parallelism(par);
+        }
+        self
+    }
+
+    /// The parallelism of the solver (of its set-up, sweeps and dense factorisations).
+    pub fn parallelism(&self) -> Parallelism {
+        debug_assert!(self.cache.as_ref().is_none_or(|c| {
+            c.cond.parallelism() == self.par && c.fault.parallelism() == self.par
+        }));
+        self.par
     }
 
     /// Measures changes in the energy norm `‖x‖² = xᵀEx` (`E`: `n × n`, symmetric positive
@@ -123,6 +147,7 @@ impl<const D: usize> DirectSolver<D> {
             fixed,
             energy: self.energy.clone(),
             opts: self.opts.clone(),
+            par: self.par,
             cache: None,
             in_step: false,
         };
@@ -165,7 +190,8 @@ impl<const D: usize> DirectSolver<D> {
         blocks: &[usize],
         previous: Option<&PartialCholesky>,
     ) -> Result<Condensed<D>> {
-        let cond = Condensation::build(&self.a, &self.fixed, blocks, previous)?;
+        let cond =
+            Condensation::build(&self.a, &self.fixed, blocks, previous)?.with_parallelism(self.par);
         let (factor, order, pos) = (&cond.factor, &cond.order, &cond.pos);
         let s = factor.schur_complement();
         let norm = self.energy.as_ref().map(|e| {
@@ -176,13 +202,7 @@ impl<const D: usize> DirectSolver<D> {
                 harmonic_energy_by_blocks(factor, e, order, pos)
             }
         });
-        let fault = DenseFault::new(
-            s,
-            norm,
-            cond.free.clone(),
-            self.opts.soft_ratio,
-            self.opts.dense_threads,
-        );
+        let fault = DenseFault::new(s, norm, cond.free.clone(), self.opts.soft_ratio, self.par);
         Ok(Condensed { cond, fault })
     }
 }
@@ -197,15 +217,16 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
     let energy = energy_in_order(e, order, pos);
     // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
     // (one pass over the factor per block; each column's arithmetic is that of a single
-    // sweep, so the result depends neither on the blocking nor on the threads). Blocks go
-    // to two threads for large interiors only: for small ones waking the pool costs more
-    // than the sweeps (and a τ change of an adaptive run rebuilds this set-up).
+    // sweep, so the result depends neither on the blocking nor on the threads). The blocks
+    // go in contiguous groups to the factor's threads for large interiors only: for small
+    // ones waking the pool costs more than the sweeps (and a τ change of an adaptive run
+    // rebuilds this set-up).
     //
     // The block's columns of W = E Z follow from the same rows: the block is stored by
     // rows (r values of a row side by side), so W's rows are sums of scaled rows of Z,
     // `W_i += E_ik Z_k` over k in increasing order — contiguous, vectorised updates whose
     // every entry adds the same terms in the same order as a column-by-column product.
-    let parallel = factor.is_parallel();
+    let tasks = factor.interior_par().threads();
     let mut z = vec![0.0; n * nf];
     let mut w = vec![0.0; n * nf];
     let z_block = |(rows, wrows, tmp): &mut (Vec<f64>, Vec<f64>, Vec<f64>),
@@ -220,17 +241,22 @@ fn harmonic_energy(factor: &PartialCholesky, e: &Csc, order: &[usize], pos: &[us
         }
     };
     if n > 0 && nf > 0 {
-        if parallel {
-            z.par_chunks_mut(n * HARMONIC_BLOCK)
-                .zip(w.par_chunks_mut(n * HARMONIC_BLOCK))
-                .enumerate()
-                .for_each_init(|| (Vec::new(), Vec::new(), Vec::new()), z_block);
-        } else {
+        // At most `tasks` groups of `per` blocks each, one task per group.
+        let per = nf.div_ceil(HARMONIC_BLOCK).div_ceil(tasks);
+        let group = |(g, (zg, wg)): (usize, (&mut [f64], &mut [f64]))| {
             let mut scratch = (Vec::new(), Vec::new(), Vec::new());
-            z.chunks_mut(n * HARMONIC_BLOCK)
-                .zip(w.chunks_mut(n * HARMONIC_BLOCK))
+            zg.chunks_mut(n * HARMONIC_BLOCK)
+                .zip(wg.chunks_mut(n * HARMONIC_BLOCK))
                 .enumerate()
-                .for_each(|c| z_block(&mut scratch, c));
+                .for_each(|(b, c)| z_block(&mut scratch, (g * per + b, c)));
+        };
+        if tasks > 1 {
+            z.par_chunks_mut(per * n * HARMONIC_BLOCK)
+                .zip(w.par_chunks_mut(per * n * HARMONIC_BLOCK))
+                .enumerate()
+                .for_each(group);
+        } else {
+            group((0, (&mut z[..], &mut w[..])));
         }
     }
     let zm = MatRef::from_column_major_slice(&z, n, nf);
@@ -313,7 +339,8 @@ type BlockScratch = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, [Vec<f64>; 3]);
 /// backward sweep, `W_b = E Z_b`, and `N_b = Zᵀ W_b = W_{b,F} − L_FR L_RR⁻¹ W_{b,R}` by
 /// a forward sweep of each column (the condensation of a right-hand side, since
 /// `Zᵀ = [−A_FR A_RR⁻¹, I]` and `A_FR A_RR⁻¹ = L_FR L_RR⁻¹`). Memory `O(n)` per block and
-/// thread instead of `2 n |F|`; the same `N` up to the order of the sums (the dense
+/// thread instead of `2 n |F|`, on at most two threads whatever the factor's parallelism
+/// (what [`DirectMemory`] counts); the same `N` up to the order of the sums (the dense
 /// product `Zᵀ W` adds over all rows, the sweep over the factor's columns). Deterministic:
 /// each column's arithmetic is fixed, whatever the blocking and the threads.
 fn harmonic_energy_by_blocks(
@@ -342,15 +369,21 @@ fn harmonic_energy_by_blocks(
         (v(), v(), v(), v(), [v(), v(), v()])
     };
     if n > 0 && nf > 0 {
-        if factor.is_parallel() {
-            nmat.par_chunks_mut(nf * HARMONIC_BLOCK)
-                .enumerate()
-                .for_each_init(init, block);
-        } else {
+        // At most two groups of `per` blocks each (the memory estimate's two threads).
+        let tasks = factor.interior_par().threads().min(2);
+        let per = nf.div_ceil(HARMONIC_BLOCK).div_ceil(tasks);
+        let group = |(g, ng): (usize, &mut [f64])| {
             let mut scratch = init();
-            nmat.chunks_mut(nf * HARMONIC_BLOCK)
+            ng.chunks_mut(nf * HARMONIC_BLOCK)
                 .enumerate()
-                .for_each(|c| block(&mut scratch, c));
+                .for_each(|(b, c)| block(&mut scratch, (g * per + b, c)));
+        };
+        if tasks > 1 {
+            nmat.par_chunks_mut(per * nf * HARMONIC_BLOCK)
+                .enumerate()
+                .for_each(group);
+        } else {
+            group((0, &mut nmat[..]));
         }
     }
     let mut out = vec![0.0; nf * nf];
@@ -528,5 +561,158 @@ mod tests {
             "max |ΔN| = {diff:e}, max |N| = {scale:e}"
         );
         println!("max |ΔN| = {diff:e} of max |N| = {scale:e}");
+    }
+
+    /// `φ(v) = w (√(1 + v²) − 1)`: smooth, convex, Hessian at most `w`, so every block of a
+    /// grid with `w` of the order of the diagonal is soft (the whole fault in the Newton step).
+    struct Soft {
+        nodes: Vec<usize>,
+        w: f64,
+    }
+
+    impl BlockNonlinearity<1> for Soft {
+        fn active_blocks(&self) -> &[usize] {
+            &self.nodes
+        }
+        fn value(&self, _: usize, v: &[f64; 1]) -> f64 {
+            self.w * ((1.0 + v[0] * v[0]).sqrt() - 1.0)
+        }
+        fn minimize_block(
+            &self,
+            _: usize,
+            a: &[[f64; 1]; 1],
+            r: &[f64; 1],
+            free: &[bool; 1],
+            v: &mut [f64; 1],
+        ) {
+            if !free[0] {
+                return;
+            }
+            // a x + φ'(x) = r, increasing in x: bisection on a bracket.
+            let f = |x: f64| a[0][0] * x + self.w * x / (1.0 + x * x).sqrt() - r[0];
+            let (mut lo, mut hi) = (
+                -(r[0].abs() + self.w) / a[0][0],
+                (r[0].abs() + self.w) / a[0][0],
+            );
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if mid == lo || mid == hi {
+                    break;
+                }
+                if f(mid) > 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            v[0] = 0.5 * (lo + hi);
+        }
+        fn linearize(&self, _: usize, v: &[f64; 1]) -> crate::Linearization<1> {
+            let q = 1.0 + v[0] * v[0];
+            crate::Linearization::Smooth {
+                gradient: [self.w * v[0] / q.sqrt()],
+                hessian: [[self.w / (q * q.sqrt())]],
+            }
+        }
+        fn directional_derivatives(&self, _: usize, v: &[f64; 1], d: &[f64; 1]) -> (f64, f64) {
+            let s = self.w * v[0] / (1.0 + v[0] * v[0]).sqrt() * d[0];
+            (s, s)
+        }
+    }
+
+    /// The parallelism survives a set-up, a later change and a set-up for another matrix.
+    #[test]
+    fn parallelism_reaches_every_part_of_the_solver() {
+        let m = 12;
+        let a = memory::tests::grid(m);
+        let fixed = vec![false; m * m];
+        let nodes: Vec<usize> = (0..m).collect();
+        let three = Parallelism::rayon(3);
+        let mut s = DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default())
+            .unwrap()
+            .with_parallelism(three);
+        s.prepare(&nodes).unwrap();
+        let parts = |s: &DirectSolver<1>| {
+            let cd = s.cache.as_ref().unwrap();
+            (
+                s.parallelism(),
+                cd.cond.parallelism(),
+                cd.fault.parallelism(),
+            )
+        };
+        assert_eq!(parts(&s), (three, three, three));
+        assert_eq!(
+            parts(&s.for_matrix(a.as_ref()).unwrap()),
+            (three, three, three)
+        );
+        let s = s.with_parallelism(Parallelism::SEQ);
+        let seq = Parallelism::SEQ;
+        assert_eq!(parts(&s), (seq, seq, seq));
+        assert_eq!(
+            DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default())
+                .unwrap()
+                .parallelism(),
+            Parallelism::default()
+        );
+    }
+
+    /// A problem above every threshold (5 360 interior unknowns ≥ INTERIOR_PARALLEL_MIN,
+    /// a Newton system of 1 040 ≥ DENSE_PARALLEL_MIN unknowns, the harmonic extension
+    /// stored and block by block) gives the same bits with one thread, with rayon's 1, 2
+    /// and 4, and in a pool of one thread.
+    #[test]
+    fn direct_solver_is_bit_identical_for_every_thread_count() {
+        let m = 80;
+        let a = memory::tests::grid(m);
+        let n = m * m;
+        let fixed = vec![false; n];
+        // The fault: 13 grid rows in the middle.
+        let nl = Soft {
+            nodes: (40 * m..53 * m).collect(),
+            w: 1.0,
+        };
+        let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
+        let run = |par: Parallelism, max_extension_bytes: usize| {
+            let opts = DirectOptions {
+                max_extension_bytes,
+                ..DirectOptions::default()
+            };
+            let mut s = DirectSolver::<1>::new(a.as_ref(), &fixed, opts)
+                .unwrap()
+                .with_energy_norm(a.as_ref())
+                .unwrap()
+                .with_parallelism(par);
+            assert_eq!(s.parallelism(), par);
+            let mut v = vec![0.0; n];
+            let report = s.solve(&b, &nl, &mut v).unwrap();
+            let cd = s.cache.as_ref().unwrap();
+            assert_eq!(cd.cond.factor.interior_par(), par);
+            assert!(cd.cond.factor.nr >= INTERIOR_PARALLEL_MIN);
+            assert!(
+                cd.fault.factored_len() >= DENSE_PARALLEL_MIN,
+                "Newton system of {} unknowns",
+                cd.fault.factored_len()
+            );
+            assert_eq!(
+                s.opts.stores_extension(n, nl.nodes.len()),
+                max_extension_bytes > 1
+            );
+            let mut bits: Vec<u64> = v.iter().map(|x| x.to_bits()).collect();
+            bits.push(report.iterations as u64);
+            bits
+        };
+        for max_extension_bytes in [DirectOptions::default().max_extension_bytes, 1] {
+            let reference = run(Parallelism::SEQ, max_extension_bytes);
+            for threads in [1, 2, 4] {
+                let par = Parallelism::rayon(threads);
+                assert!(run(par, max_extension_bytes) == reference, "{par:?}");
+            }
+            let one = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            let pooled = one.install(|| run(Parallelism::rayon(2), max_extension_bytes));
+            assert!(pooled == reference);
+        }
     }
 }

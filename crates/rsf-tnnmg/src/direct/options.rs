@@ -23,13 +23,6 @@ pub struct DirectOptions {
     /// automatic solver choice picked this solver before the block-by-block form existed
     /// keeps its bits).
     pub max_extension_bytes: usize,
-    /// Threads of the dense Cholesky factorisation of the Newton system on the soft blocks
-    /// (faer's `Par::rayon`), used for systems of at least [`DENSE_PARALLEL_MIN`](super::DENSE_PARALLEL_MIN)
-    /// unknowns, where they pay (docs/scaling.md); smaller systems and `1` stay on one
-    /// thread. Deterministic for a given value (faer's parallel factorisation repeats its
-    /// bits; in our checks at 1 400 and 2 754 unknowns they were also those of one thread,
-    /// and a 3-D run with 1 and 2 threads gave identical output). Default 2; at least 1.
-    pub dense_threads: usize,
 }
 
 impl Default for DirectOptions {
@@ -42,7 +35,6 @@ impl Default for DirectOptions {
             },
             soft_ratio: 1e3,
             max_extension_bytes: 4_000_000_000,
-            dense_threads: 2,
         }
     }
 }

@@ -19,7 +19,7 @@
 //! without coupling; the order is `[R₁, R₂, C, F]`, each part in AMD order (one level of
 //! nested dissection). Columns of `R₁` and `R₂` touch only their own rows and the rows of
 //! `C ∪ F`, so the two halves of each sweep are independent: they run on two threads
-//! (rayon) when available. Their contributions to the shared rows go through one buffer
+//! (rayon) when the factor's [`Parallelism`] allows. Their contributions to the shared rows go through one buffer
 //! per half, added in a fixed order, and the arithmetic does not depend on the number of
 //! threads: results are bit-identical with one thread or two.
 //!
@@ -39,6 +39,8 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::{amd, SupernodalThreshold};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Par, Side};
+
+use rsf_linalg::Parallelism;
 
 use crate::csc::Csc;
 use crate::error::{Error, Result};
@@ -387,8 +389,11 @@ pub(super) struct PartialCholesky {
     /// Shared-row buffers (rows `p2..n`) and scratch of the two halves.
     bufs: [Vec<f64>; 2],
     tmps: [Vec<f64>; 2],
-    /// Whether the two halves of a sweep go to two threads (large interiors only).
-    parallel: bool,
+    /// Whether the interior is large enough for two threads
+    /// (`nr ≥` [`INTERIOR_PARALLEL_MIN`]).
+    large: bool,
+    /// The parallelism of the sweeps of a large interior.
+    par: Parallelism,
     /// The ordering and symbolic factorisation, shared with every refactorisation.
     analysis: Arc<Analysis>,
 }
@@ -418,10 +423,10 @@ impl std::fmt::Debug for Analysis {
     }
 }
 
-/// Smallest interior swept on two threads. Below it, waking a second thread costs more
+/// Smallest interior swept on two threads (if the factor's [`Parallelism`] allows). Below it, waking a second thread costs more
 /// than it saves: main job, quiet machine, paired runs, two threads against one: j = 4
 /// (2.7 k interior unknowns) 1.025× the wall time, j = 5 (10.6 k) 0.85×.
-const PARALLEL_MIN_INTERIOR: usize = 5000;
+pub const INTERIOR_PARALLEL_MIN: usize = 5000;
 
 /// `Σ a_i b_i` with four independent partial sums (a fixed order: deterministic, and not
 /// bound by the latency of one chain of additions).
@@ -766,7 +771,8 @@ impl PartialCholesky {
             .unwrap_or(0);
         Ok(Self {
             nr,
-            parallel: nr >= PARALLEL_MIN_INTERIOR,
+            large: nr >= INTERIOR_PARALLEL_MIN,
+            par: Parallelism::default(),
             n,
             p1,
             p2,
@@ -777,10 +783,25 @@ impl PartialCholesky {
         })
     }
 
-    /// Whether work over the interior is worth two threads (interiors of at least
-    /// `PARALLEL_MIN_INTERIOR` unknowns).
-    pub(super) fn is_parallel(&self) -> bool {
-        self.parallel
+    /// Sets the parallelism of the work over the interior (default
+    /// [`Parallelism::default`]); results do not depend on it.
+    pub(super) fn set_parallelism(&mut self, par: Parallelism) {
+        self.par = par;
+    }
+
+    /// The parallelism given by [`set_parallelism`](Self::set_parallelism).
+    pub(super) fn parallelism(&self) -> Parallelism {
+        self.par
+    }
+
+    /// The parallelism of work over the interior: the factor's for interiors of at least
+    /// [`INTERIOR_PARALLEL_MIN`] unknowns, else one thread (a second costs more than it saves).
+    pub(super) fn interior_par(&self) -> Parallelism {
+        if self.large {
+            self.par
+        } else {
+            Parallelism::SEQ
+        }
     }
 
     /// Stored entries of `L` (including explicit zeros of relaxed supernodes).
@@ -791,6 +812,7 @@ impl PartialCholesky {
     /// Forward sweep over the interior columns: `y ← [L_R⁻¹ y_R; y_F − B L_R⁻¹ y_R]`
     /// (`y` in elimination order, length `n`).
     pub(super) fn forward_interior(&mut self, y: &mut [f64]) {
+        let par = self.interior_par();
         let (p1, p2, nr) = (self.p1, self.p2, self.nr);
         let (y1, rest) = y.split_at_mut(p1);
         let (y2, shared) = rest.split_at_mut(p2 - p1);
@@ -799,8 +821,7 @@ impl PartialCholesky {
         let [t1, t2] = &mut self.tmps;
         b1.fill(0.0);
         b2.fill(0.0);
-        join(
-            self.parallel,
+        par.join(
             || l.forward(0..p1, y1, 0, b1, p2, t1),
             || l.forward(p1..p2, y2, p1, b2, p2, t2),
         );
@@ -836,6 +857,7 @@ impl PartialCholesky {
 
     /// Backward sweep over the interior columns: `y_R ← L_R⁻ᵀ (y_R − Bᵀ y_F)`.
     pub(super) fn backward_interior(&mut self, y: &mut [f64]) {
+        let par = self.interior_par();
         let (p1, p2, nr, n) = (self.p1, self.p2, self.nr, self.n);
         let (y1, rest) = y.split_at_mut(p1);
         let (y2, shared) = rest.split_at_mut(p2 - p1);
@@ -843,8 +865,7 @@ impl PartialCholesky {
         let [t1, t2] = &mut self.tmps;
         l.backward(p2..nr, shared, p2, &[], n, t1);
         let shared: &[f64] = shared;
-        join(
-            self.parallel,
+        par.join(
             || l.backward(0..p1, y1, 0, shared, p2, t1),
             || l.backward(p1..p2, y2, p1, shared, p2, t2),
         );
@@ -948,17 +969,6 @@ impl PartialCholesky {
             }
         }
         out
-    }
-}
-
-/// Runs both closures, on two threads when `parallel` and rayon has more than one: the
-/// arithmetic of each is fixed, so the results do not depend on it.
-fn join<A: FnOnce() + Send, B: FnOnce() + Send>(parallel: bool, a: A, b: B) {
-    if parallel && rayon::current_num_threads() > 1 {
-        rayon::join(a, b);
-    } else {
-        a();
-        b();
     }
 }
 
@@ -1108,28 +1118,35 @@ pub(super) mod tests {
         }
     }
 
-    /// The two halves give bit-identical results on one thread and on two.
+    /// The two halves give bit-identical results for every parallelism, in the global
+    /// pool and in pools of one and two threads.
     #[test]
-    fn sweeps_are_bit_identical_for_one_and_two_threads() {
+    fn sweeps_are_bit_identical_for_every_thread_count() {
         let m = 20;
         let a = grid(m);
         let interface: Vec<usize> = (0..m).collect();
         let interior: Vec<usize> = (m..m * m).collect();
-        let run = |threads: usize| {
+        let run = |par: Parallelism| {
+            let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
+            l.large = true; // this small grid would otherwise stay on one thread
+            l.set_parallelism(par);
+            assert_eq!(l.interior_par(), par);
+            let mut y: Vec<f64> = order.iter().map(|&i| (i as f64).sqrt().sin()).collect();
+            l.forward_interior(&mut y);
+            l.backward_interior(&mut y);
+            y.iter().map(|x| x.to_bits()).collect::<Vec<u64>>()
+        };
+        let reference = run(Parallelism::SEQ);
+        for threads in [1, 2, 4] {
+            assert_eq!(run(Parallelism::rayon(threads)), reference, "{threads}");
+        }
+        for pool_threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
+                .num_threads(pool_threads)
                 .build()
                 .unwrap();
-            pool.install(|| {
-                let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
-                l.parallel = true; // this small grid would otherwise stay on one thread
-                let mut y: Vec<f64> = order.iter().map(|&i| (i as f64).sqrt().sin()).collect();
-                l.forward_interior(&mut y);
-                l.backward_interior(&mut y);
-                y.iter().map(|x| x.to_bits()).collect::<Vec<u64>>()
-            })
-        };
-        assert_eq!(run(1), run(2));
+            assert_eq!(pool.install(|| run(Parallelism::rayon(2))), reference);
+        }
     }
 
     #[test]

@@ -7,7 +7,7 @@ pub(crate) mod solver;
 pub(crate) mod state_integrator;
 
 use rsf_fem::{combine, SparseMatrix};
-use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
+use rsf_time::{LoadOperator, Parallelism, StepControl, VelocityIntegrator};
 use rsf_tnnmg::{StepSolver, Stopping};
 
 use crate::error::{invalid, Result};
@@ -80,7 +80,8 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
                 .as_ref()
                 .filter(|_| options.integrator.uses_mass()),
             &model.stiffness,
-        )?;
+        )?
+        .with_parallelism(options.solver_options.parallelism);
         let inner_stopping = options.solver_options.stopping(options.solver);
         let tau_free = (!options.integrator.uses_mass()
             && !options.solver_options.setup_per_time_step)
@@ -125,6 +126,20 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
     /// The velocity solver in use (never [`SolverKind::Auto`]).
     pub fn solver_kind(&self) -> SolverKind {
         self.resolved
+    }
+
+    /// The parallelism the built parts run with, as given by
+    /// [`SolverOptions::parallelism`](crate::SolverOptions::parallelism): the one of the
+    /// integrator's right-hand side operator and, for the direct solver, of the solver.
+    pub fn parallelism(&self) -> Parallelism {
+        let par = self.load_operator.parallelism();
+        debug_assert!(self.solver.parallelism().is_none_or(|p| p == par));
+        par
+    }
+
+    /// The parallelism of the velocity solver in use (`None` for the sequential ones).
+    pub fn solver_parallelism(&self) -> Option<Parallelism> {
+        self.solver.parallelism()
     }
 
     /// Name of the velocity solver in use.

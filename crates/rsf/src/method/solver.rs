@@ -4,7 +4,7 @@
 use rsf_fem::SparseMatrix;
 use rsf_tnnmg::{
     BlockNonlinearity, DirectMemory, DirectOptions, DirectSolver, FullStep, NonlinearGaussSeidel,
-    Result, SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
+    Parallelism, Result, SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
 };
 
 use crate::model::Model;
@@ -173,6 +173,15 @@ pub struct SolverOptions {
     /// harmonic extension) must fit, else TNNMG is chosen (docs/scaling.md). Not applied
     /// to an explicitly chosen solver. Default [`DEFAULT_MEMORY_BUDGET_BYTES`].
     pub memory_budget_bytes: usize,
+    /// The threads of every parallel part of a step, set once here (docs/design.md,
+    /// "Parallelism"): the direct solver's sweeps over two halves of the interior and its
+    /// harmonic extension (from [`rsf_tnnmg::INTERIOR_PARALLEL_MIN`] interior unknowns),
+    /// its dense Newton factorisations (from [`rsf_tnnmg::DENSE_PARALLEL_MIN`] unknowns)
+    /// and the integrator's right-hand side rows (from
+    /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows). TNNMG and Gauss–Seidel are sequential.
+    /// Results are bit-identical for every value. Default [`Parallelism::default`] (two
+    /// threads of rayon's pool, the behaviour before this option).
+    pub parallelism: Parallelism,
 }
 
 impl Default for SolverOptions {
@@ -183,6 +192,7 @@ impl Default for SolverOptions {
             gauss_seidel: Stopping::default(),
             setup_per_time_step: false,
             memory_budget_bytes: DEFAULT_MEMORY_BUDGET_BYTES,
+            parallelism: Parallelism::default(),
         }
     }
 }
@@ -213,6 +223,14 @@ pub(crate) enum VelocitySolver<const C: usize> {
 }
 
 impl<const C: usize> VelocitySolver<C> {
+    /// The parallelism the solver runs with (`None` for the sequential solvers).
+    pub(crate) fn parallelism(&self) -> Option<Parallelism> {
+        match self {
+            VelocitySolver::Direct(d) => Some(d.parallelism()),
+            _ => None,
+        }
+    }
+
     /// Builds the solver `kind` (resolved) for the matrix `a` of the velocity problem of
     /// `model`. Stopping norms are the model's energy norm.
     ///
@@ -238,7 +256,8 @@ impl<const C: usize> VelocitySolver<C> {
             )?)),
             SolverKind::Direct => {
                 let mut d = DirectSolver::new(a.as_ref(), &model.fixed, options.direct.clone())?
-                    .with_energy_norm(e)?;
+                    .with_energy_norm(e)?
+                    .with_parallelism(options.parallelism);
                 d.prepare(&model.frictional_boundary.nodes)?;
                 VelocitySolver::Direct(Box::new(d))
             }
