@@ -30,12 +30,14 @@ use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use rsf::fem::SparseMatrix;
 use rsf::friction::DieterichRuina;
+use rsf::method::FrictionBlocks;
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{
     BlockNonlinearity, DirectOptions, DirectSolver, NoNonlinearity, NonlinearGaussSeidel,
     NonsmoothSolver, StepSolver, Stopping, Tnnmg, TnnmgOptions,
 };
-use rsf::{FrictionBlocks, Model, SliderScene};
+use rsf::Model;
+use rsf_scenes::SliderScene;
 
 /// CPU time of the calling thread, in seconds.
 #[derive(Debug, Clone, Copy)]

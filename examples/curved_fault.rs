@@ -10,7 +10,7 @@
 //! cargo run --release --example curved_fault -- --level 3
 //! ```
 //!
-//! Writes to `out/curved_fault/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries`
+//! Writes to `out/curved_fault/` (or `--out DIR`): `timeseries.csv` (a `rsf::observe::PointSeries`
 //! at x0 = (2.5, 0), the arc's lowest point, where the frame is Cartesian: same columns as
 //! the main job's), the figure `slip_rate_max.png` (the largest slip rate on the arc) and,
 //! with `--frame-every N`, VTU frames with a `frames/frames.pvd` index for ParaView (slip,
@@ -20,11 +20,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{SliderScene, SLIDER_CENTRE};
 use rsf_examples::{
-    arc_block_model, max_slip_rate_figure, print_run, run_with_series, FrameArgs, SceneArgs,
-    TimeStepArgs, ARC_BLOCK_MESH,
+    max_slip_rate_figure, print_run, run_with_series, FrameArgs, SceneArgs, TimeStepArgs,
 };
+use rsf_scenes::{arc_block_model, ARC_BLOCK_MESH};
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's slider on a circular-arc base: time series at x0, summary, figure.
 #[derive(Parser)]

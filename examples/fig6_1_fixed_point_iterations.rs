@@ -23,9 +23,11 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use plotters::prelude::*;
-use rsf::{FixedPointScheme, SliderScene, SolverKind, StateLawKind};
+use rsf::method::FixedPointScheme;
+use rsf::{SolverKind, StateLawKind};
 use rsf_examples::cli::step_count;
 use rsf_examples::{stats, SliderRun};
+use rsf_scenes::SliderScene;
 
 /// Figure 6.1: fixed point iterations per time step against the refinement level.
 #[derive(Parser)]

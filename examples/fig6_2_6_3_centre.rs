@@ -11,7 +11,7 @@
 //!
 //! Prints a table (per N: wall time, FPIs, first slip event, slip events, recurrence
 //! interval, peak slip rates, displacement range at x0 over [0.9T, T]) and writes to
-//! `out/fig6_2_6_3/` (or `--out DIR`): `centre_N{N}.csv` (a `rsf::PointSeries`
+//! `out/fig6_2_6_3/` (or `--out DIR`): `centre_N{N}.csv` (a `rsf::observe::PointSeries`
 //! at x0), `table.csv`, `fig6_2_displacement.png` (u_x(x0) over
 //! [0.9T, T], one panel per τ, as the paper) and `fig6_3_slip_rate.png` (|v(x0)| over
 //! [0.75T, T], log scale, one row per τ).
@@ -21,9 +21,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{Integrator, PointSeries, SliderScene, SolverKind};
+use rsf::observe::PointSeries;
+use rsf::{Integrator, SolverKind};
 use rsf_examples::cli::StepCounts;
 use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
+use rsf_scenes::SliderScene;
 
 /// Figures 6.2/6.3: displacement and slip rate at x0 for several time steps.
 #[derive(Parser)]

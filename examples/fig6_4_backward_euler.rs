@@ -23,9 +23,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::{Integrator, PointSeries, SliderScene, SolverKind};
+use rsf::observe::PointSeries;
+use rsf::{Integrator, SolverKind};
 use rsf_examples::cli::StepCounts;
 use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
+use rsf_scenes::SliderScene;
 
 /// `(t, value)` samples.
 type Points = Vec<(f64, f64)>;

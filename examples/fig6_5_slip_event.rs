@@ -14,7 +14,7 @@
 //! the window; `--straight` uses τ = T/`--fine` from t = 0 as the paper did. Prints the
 //! event's numbers (onset, nucleation point, extent of the slipping region, peak slip
 //! rate) and writes to `out/fig6_5/` (or `--out DIR`): `slip_rate_map.csv` (a
-//! `rsf::FrictionalProfile` over the window), `table.csv`, `fig6_5_slip_event.png` (linear
+//! `rsf::observe::FrictionalProfile` over the window), `table.csv`, `fig6_5_slip_event.png` (linear
 //! colour 0 … 1e-2 m/s as in the paper). The time step changes between the phases through
 //! `Simulation::set_time_step`.
 
@@ -24,12 +24,13 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use plotters::prelude::*;
-use rsf::{
-    Every, FaultRecorder, FileMode, FrictionalProfile, Interval, Observer, Progress, Recorder,
-    SliderScene, SolverKind, Until, SLIDER_CENTRE,
+use rsf::observe::{
+    Every, FaultRecorder, FileMode, FrictionalProfile, Interval, Progress, Recorder,
 };
+use rsf::{Observer, SolverKind, Until};
 use rsf_examples::cli::{step_count, window};
 use rsf_examples::{SceneArgs, SliderRun};
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Figure 6.5: the slip rate along Γ_F during the first slip event.
 #[derive(Parser)]

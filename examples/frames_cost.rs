@@ -3,9 +3,9 @@
 //! that every fault node has a frame. In 2-D the turned slider is the inclined one of
 //! `examples/inclined_block.rs` (`rsf_examples::inclined_slider_model`: mesh and loading
 //! turned by `--angle`, gravity vertical; its velocity problems are the unturned ones in
-//! other coordinates); in 3-D the block of `rsf::Slider3dScene` (W = 1 m, free lateral
+//! other coordinates); in 3-D the block of `rsf_scenes::Slider3dScene` (W = 1 m, free lateral
 //! faces) turned by `--angle` about (1, 2, 3)/√14 with gravity
-//! (`rsf::Slider3dScene::build_turned_model`). Both give the unturned trajectory (same fixed
+//! (`rsf_scenes::Slider3dScene::build_turned_model`). Both give the unturned trajectory (same fixed
 //! point iterations), so the stepping times compare the same work.
 //!
 //! ```sh
@@ -21,8 +21,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use rsf::{Observer, SceneSimulation, Slider3dScene, SliderScene, StepView, Until};
-use rsf_examples::{inclined_slider_model, SceneArgs, TimeStepArgs};
+use rsf::{Observer, StepView, Until};
+use rsf_examples::{SceneArgs, TimeStepArgs};
+use rsf_scenes::inclined_slider_model;
+use rsf_scenes::{SceneSimulation, Slider3dScene, SliderScene};
 
 /// The cost of nodal frames per time step: the slider axis-aligned or turned.
 #[derive(Parser)]

@@ -25,7 +25,7 @@
 //! cargo run --release --example inclined_block -- --dip 0 --level 4   # the main job's slider
 //! ```
 //!
-//! Writes to `out/inclined_block/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries`
+//! Writes to `out/inclined_block/` (or `--out DIR`): `timeseries.csv` (a `rsf::observe::PointSeries`
 //! at x0, the paper's (2.5, 0) turned with the block; with `--dip 0` the main job's columns,
 //! on a slanted base the slip coordinates `u_t_m, v_t_mps` (tangential) and `u_n_m, v_n_mps`
 //! (inward normal), named so in the header), the figure `slip_rate_x0.png` and, with `--frame-every N`, VTU frames with
@@ -37,11 +37,12 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
-use rsf::{Model, SliderScene};
+use rsf::Model;
 use rsf_examples::{
-    inclined_centre, inclined_slider_model, max_slip_rate_figure, print_run, run_with_series,
-    FrameArgs, SceneArgs, TimeStepArgs,
+    max_slip_rate_figure, print_run, run_with_series, FrameArgs, SceneArgs, TimeStepArgs,
 };
+use rsf_scenes::SliderScene;
+use rsf_scenes::{inclined_centre, inclined_slider_model};
 
 /// The paper's slider on an inclined base: time series at x0, summary, figure.
 #[derive(Parser)]

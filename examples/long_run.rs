@@ -28,14 +28,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::run_folder::{check_output_size, step_cap};
-use rsf::{
-    EventThresholds, Flow, Observer, SliderScene, SlipEvent, SlipEvents, StepView, TimeStep, Until,
-    SLIDER_CENTRE,
-};
-use rsf::{RunFolder, StepCap};
+use rsf::observe::{EventThresholds, SlipEvent, SlipEvents};
+use rsf::run_folder::check_output_size;
+use rsf::run_folder::{RunFolder, StepCap};
+use rsf::{Flow, Observer, StepView, Until};
 use rsf_examples::cli::step_count;
 use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
+use rsf_scenes::step_cap;
+use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
 #[derive(Parser)]
@@ -153,9 +153,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut scene = cli.time_step.apply(cli.scene.scene(base)?)?;
     if scene.time_step == (TimeStep::Fixed {}) {
-        scene.time_step = TimeStep::Adaptive(rsf::AdaptiveTimeStep {
+        scene.time_step = TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep {
             slip_rate_floor_mps: f64::INFINITY,
-            ..rsf::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
+            ..rsf_scenes::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
         });
     }
     scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
@@ -222,7 +222,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         "machine": rsf_examples::machine(),
         "stopped_at_step_cap": main.stopped.map(|(step, t)| serde_json::json!({"step": step, "t_s": t})),
     });
-    rsf::write_atomically(
+    rsf::checkpoint::write_atomically(
         &cli.out.join("summary.json"),
         (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),
     )?;
@@ -302,13 +302,13 @@ fn write_files(dir: &Path, run: &Outcome) -> Result<(), Box<dyn std::error::Erro
             e.slip.unwrap_or(f64::NAN)
         )?;
     }
-    rsf::write_atomically(&dir.join("events.csv"), f.as_bytes())?;
+    rsf::checkpoint::write_atomically(&dir.join("events.csv"), f.as_bytes())?;
     let mut f = String::new();
     writeln!(f, "t_s,tau_s,max_slip_rate_mps,fpi")?;
     for &(t, tau, v, fpi) in &run.steps.0 {
         writeln!(f, "{t:.10e},{tau:.6e},{v:.6e},{fpi}")?;
     }
-    rsf::write_atomically(&dir.join("steps.csv"), f.as_bytes())?;
+    rsf::checkpoint::write_atomically(&dir.join("steps.csv"), f.as_bytes())?;
     let rec = recurrence(&run.events);
     if !rec.is_empty() {
         line_plot(

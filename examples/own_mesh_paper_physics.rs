@@ -5,8 +5,10 @@
 //! first slip event starts. `cargo run --release --example own_mesh_paper_physics`
 
 use rsf::fem::read_gmsh;
-use rsf::{EventThresholds, ModelBuilder, SliderScene, SlipEvents, StopAt, Until};
-use rsf_examples::ARC_BLOCK_MESH; // crates/rsf-fem/tests/fixtures/arc_block.msh
+use rsf::observe::{EventThresholds, SlipEvents, StopAt};
+use rsf::{ModelBuilder, Until};
+use rsf_scenes::SliderScene;
+use rsf_scenes::ARC_BLOCK_MESH; // crates/rsf-fem/tests/fixtures/arc_block.msh
 
 fn main() -> std::process::ExitCode {
     <rsf_examples::cli::NoArgs as clap::Parser>::parse(); // --help; rejects unknown flags

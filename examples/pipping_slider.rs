@@ -13,8 +13,8 @@
 //! ```
 //!
 //! Writes to `out/pipping_slider/` (or `--out DIR`): `timeseries.csv` (a
-//! `rsf::PointSeries` at x0 = (2.5, 0)), `frictional_profile.csv` (a
-//! `rsf::FrictionalProfile` over the window, default [0.6725T, 0.6775T]),
+//! `rsf::observe::PointSeries` at x0 = (2.5, 0)), `frictional_profile.csv` (a
+//! `rsf::observe::FrictionalProfile` over the window, default [0.6725T, 0.6775T]),
 //! `slip_rate_map.csv` (the profile of the whole run, 600 samples), `summary.json` (with
 //! accepted and rejected steps and, for adaptive steps, the resolved tolerances), and the
 //! figures `displacement_x0.png`, `slip_rate_x0.png`, `slip_rate_map.png`; with

@@ -31,13 +31,16 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
-use rsf::run_folder::read_checkpoint;
-use rsf::{
-    Checkpointer, Every, FileMode, FixedPointOptions, Interval, MethodKind, Observer, Progress,
-    RunFolder, SeasBp1, SeasBp1Grid, SeasOutput, SeasSampling, SeasSetup, SolverOptions, Until,
-    SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
+use rsf::method::{FixedPointOptions, SolverOptions};
+use rsf::observe::{
+    Checkpointer, Every, FileMode, Interval, Progress, SeasOutput, SeasSampling, SeasSetup,
+    SECONDS_PER_YEAR,
 };
+use rsf::run_folder::read_checkpoint;
+use rsf::run_folder::RunFolder;
+use rsf::{MethodKind, Observer, Until};
 use rsf_examples::{cpu_seconds, machine};
+use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -163,7 +166,7 @@ fn main() -> Result<(), AnyError> {
         "summary.json",
         "overview.png",
         "checkpoint.bin",
-        rsf::SEAS_RESUME_LOG,
+        rsf::observe::SEAS_RESUME_LOG,
     ]);
     let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
     let fresh = folder.prepare(args.resume.is_some(), args.overwrite)?;
@@ -204,7 +207,7 @@ fn main() -> Result<(), AnyError> {
             rsf::SwitchingRun::new(
                 fault_ode(model)?,
                 dynamic,
-                rsf::SwitchingOptions {
+                rsf::switching::SwitchingOptions {
                     to_dynamic: args.switch_to_dynamic,
                     to_quasi_dynamic: args.switch_to_quasi_dynamic,
                     dynamic_tau,
@@ -386,7 +389,7 @@ fn main() -> Result<(), AnyError> {
         "durations_s": done.iter().map(|e| e.t_end - e.t_start).collect::<Vec<_>>(),
     });
     let path = args.out.join("summary.json");
-    rsf::write_atomically(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
+    rsf::checkpoint::write_atomically(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
     eprintln!(
         "{} steps ({} rejected), {} events, mean recurrence (4th interval on) {mean_recurrence:.1} yr, \
          wall {wall:.1} s, cpu {cpu:.1} s",
@@ -401,7 +404,7 @@ fn main() -> Result<(), AnyError> {
 /// `overview.png`: slip profiles (every 5 years between events in blue, every second
 /// during events in red, as in the benchmark description's figure) and the maximum slip
 /// rate on the fault against time, both from `devol.dat`.
-fn overview(dir: &Path, events: &[&rsf::SeasEvent]) -> Result<(), AnyError> {
+fn overview(dir: &Path, events: &[&rsf::observe::SeasEvent]) -> Result<(), AnyError> {
     use plotters::prelude::*;
     rsf_examples::init_fonts();
     let text = std::fs::read_to_string(dir.join("devol.dat"))?;

@@ -10,10 +10,10 @@
 //! cargo run --release --example slider_3d -- --scene my_3d_scene.toml --steps 2e3
 //! ```
 //!
-//! `--scene` reads a TOML file with the fields of `rsf::Slider3dScene` (those of
-//! `rsf::SliderScene` plus `width_m` and `lateral`); the other flags override it.
+//! `--scene` reads a TOML file with the fields of `rsf_scenes::Slider3dScene` (those of
+//! `rsf_scenes::SliderScene` plus `width_m` and `lateral`); the other flags override it.
 //!
-//! Writes to `out/slider_3d/` (or `--out DIR`): `timeseries.csv` (a `rsf::PointSeries` at
+//! Writes to `out/slider_3d/` (or `--out DIR`): `timeseries.csv` (a `rsf::observe::PointSeries` at
 //! x0 = (2.5, 0, W/2): the 2-D main job's columns, then the y and z components),
 //! `frames/frame_NNNNNN.vtu` + `frames/frames.pvd` (tetrahedra, displacement and velocity;
 //! on Γ_F slip, slip rate, state, shear and normal traction; every `--frame-every` steps,
@@ -35,13 +35,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf::run_folder::{check_output_size, read_checkpoint, steps_bound};
-use rsf::{
-    Checkpointer, Every, FileMode, Flow, Interval, LateralBoundary, Model, Observer, PointSeries,
-    Progress, RunFolder, Slider3dScene, StepCap, StepView, Until,
-};
+use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
+use rsf::run_folder::{check_output_size, read_checkpoint};
+use rsf::run_folder::{RunFolder, StepCap};
+use rsf::{Flow, Model, Observer, StepView, Until};
 use rsf_examples::cli::step_count;
 use rsf_examples::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
+use rsf_scenes::steps_bound;
+use rsf_scenes::{LateralBoundary, Slider3dScene};
 
 /// VTU frames every this many steps unless `--frame-every` says otherwise.
 const DEFAULT_FRAME_EVERY: usize = 100;
@@ -99,7 +100,7 @@ struct Cli {
     /// first).
     #[arg(long, value_name = "FILE")]
     resume: Option<PathBuf>,
-    /// Threads of every parallel part of a step (`rsf::SolverOptions::parallelism`: the
+    /// Threads of every parallel part of a step (`rsf::method::SolverOptions::parallelism`: the
     /// direct solver's sweeps and its dense Newton factorisations of at least
     /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns, the right-hand side rows; docs/scaling.md):
     /// a count, `0` or `pool` for rayon's pool, `seq` for one. The output does not depend on
@@ -107,7 +108,7 @@ struct Cli {
     #[arg(long, default_value = "2", alias = "dense-threads", value_name = "N")]
     threads: rsf::Parallelism,
     /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
-    /// fit, else TNNMG; docs/scaling.md). Default: `rsf::DEFAULT_MEMORY_BUDGET_BYTES`.
+    /// fit, else TNNMG; docs/scaling.md). Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
     memory_budget_gib: Option<f64>,
     /// Solve every fixed point iteration's velocity problem to the solver's tolerance (the
@@ -146,7 +147,7 @@ fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
         scene.lateral = LateralBoundary::PlaneStrain;
     }
     if cli.exact_inner_solves {
-        scene.slider.fixed_point_inner_solves = rsf::InnerSolves::Exact;
+        scene.slider.fixed_point_inner_solves = rsf::method::InnerSolves::Exact;
     }
     scene.validate()?;
     Ok(scene)

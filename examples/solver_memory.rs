@@ -16,8 +16,10 @@
 use std::process::ExitCode;
 
 use clap::Parser;
+use rsf::method::SolverOptions;
 use rsf::tnnmg::{DirectMemory, DirectOptions};
-use rsf::{Model, Slider3dScene, SliderScene, SolverKind, SolverOptions};
+use rsf::{Model, SolverKind};
+use rsf_scenes::{Slider3dScene, SliderScene};
 
 /// The direct solver's memory estimate and the `auto` choice per refinement level.
 #[derive(Parser)]
@@ -29,7 +31,7 @@ struct Cli {
     /// Refinement levels, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = [4usize, 5, 6])]
     levels: Vec<usize>,
-    /// The budget (GiB) of the `auto` choice. Default: `rsf::DEFAULT_MEMORY_BUDGET_BYTES`.
+    /// The budget (GiB) of the `auto` choice. Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
     memory_budget_gib: Option<f64>,
 }

@@ -33,13 +33,12 @@ use clap::Parser;
 use rsf::faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
+use rsf::method::FixedPointOptions;
+use rsf::model::{DirichletVelocity, FrictionalBoundary};
+use rsf::run_folder::RunFolder;
 use rsf::state::Aging;
 use rsf::time::{Quasistatic, VelocityIntegrator};
-use rsf::RunFolder;
-use rsf::{
-    DirichletVelocity, FixedPointOptions, FrictionalBoundary, Integrator, Model, Simulation,
-    SimulationBuilder, SolverKind, TimeFunction,
-};
+use rsf::{Integrator, Model, Simulation, SimulationBuilder, SolverKind, TimeFunction};
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -258,7 +257,7 @@ fn write_series(path: &std::path::Path, blk: &Block, k: f64, s: &[Sample]) -> Re
             law.friction_coefficient(x.v.abs(), x.alpha)
         )?;
     }
-    rsf::write_atomically(path, out.as_bytes())?;
+    rsf::checkpoint::write_atomically(path, out.as_bytes())?;
     Ok(())
 }
 
@@ -433,7 +432,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
             write_series(&path, &blk, r * kc, &o.series)?;
         }
     }
-    rsf::write_atomically(&out_dir.join("sweep.csv"), sweep.as_bytes())?;
+    rsf::checkpoint::write_atomically(&out_dir.join("sweep.csv"), sweep.as_bytes())?;
 
     // Bisection on k/k_c for the change of sign of the growth of the oscillation.
     let (mut lo, mut hi) = (0.5, 1.5);
@@ -451,7 +450,7 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
             hi = mid;
         }
     }
-    rsf::write_atomically(&out_dir.join("bisection.csv"), bis.as_bytes())?;
+    rsf::checkpoint::write_atomically(&out_dir.join("bisection.csv"), bis.as_bytes())?;
     let k_star = 0.5 * (lo + hi);
     println!(
         "\ntransition (bisection, 10 halvings of [0.5, 1.5]): k*/k_c = {k_star:.4} ± {:.4} \

@@ -44,9 +44,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use rsf::{EventDetector, EventThresholds, Integrator, SliderScene, SolverKind, SLIDER_CENTRE};
+use rsf::observe::{EventDetector, EventThresholds};
+use rsf::{Integrator, SolverKind};
 use rsf_examples::cli::step_count;
 use rsf_examples::{machine, Labels, PanelLayout, Series};
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Which study to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -121,7 +123,7 @@ struct Cli {
     /// State update of the time and adaptive studies' runs (the reference keeps backward
     /// Euler).
     #[arg(long, value_enum, default_value = "backward-euler")]
-    state_integrator: rsf::StateIntegrator,
+    state_integrator: rsf::method::StateIntegrator,
 }
 
 /// CPU seconds the repeats of one configuration of the adaptive study add up to at least,
@@ -542,7 +544,7 @@ struct Ctx {
     /// Uniform step counts of the adaptive study.
     uniform: Vec<usize>,
     /// State update of the time and adaptive studies' runs (not of their reference).
-    state_integrator: rsf::StateIntegrator,
+    state_integrator: rsf::method::StateIntegrator,
 }
 
 /// The paper's scene at `level`, τ = T/`steps`, with a fixed point budget of 1000
@@ -689,7 +691,7 @@ fn adaptive_study(c: &Ctx) -> Res<()> {
     for &tol in &c.tolerances {
         let mut s = base(c.level, 10_000);
         s.solver = SolverKind::Direct;
-        s.time_step = rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(tol));
+        s.time_step = rsf_scenes::TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep::new(tol));
         s.state_integrator = c.state_integrator;
         configs.push(("adaptive", format!("{tol:e}"), s));
     }
@@ -906,7 +908,7 @@ fn energy_run(level: usize, steps: usize, solver: SolverKind) -> Res<(f64, f64, 
     let mut model = scene.build_model()?;
     model.load.fill(0.0);
     model.initial_displacement.fill(0.0);
-    model.dirichlet = rsf::DirichletVelocity::none();
+    model.dirichlet = rsf::model::DirichletVelocity::none();
     let (x_lo, x_hi) = (0.0, 5.0);
     for (p, x) in model.vertices.iter().enumerate() {
         if x[1].abs() < 1e-12 {

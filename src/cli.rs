@@ -5,15 +5,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use rsf::fem::Diagonal;
-use rsf::{
-    AdaptiveTimeStep, Every, FileMode, FixedPointScheme, Integrator, Interval, SliderScene,
-    SolverKind, StateIntegrator, StateLawKind, TimeStep, VtuFrames,
-};
+use rsf::method::{FixedPointScheme, StateIntegrator};
+use rsf::observe::{Every, FileMode, Interval, VtuFrames};
+use rsf::{Integrator, SolverKind, StateLawKind};
+use rsf_scenes::{AdaptiveTimeStep, SliderScene, TimeStep};
 
 /// The scene flags every slider example accepts; unset flags keep the scene's value.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct SceneArgs {
-    /// Scene file (TOML, fields of `rsf::SliderScene`); flags override it.
+    /// Scene file (TOML, fields of `rsf_scenes::SliderScene`); flags override it.
     #[arg(long, value_name = "FILE.toml")]
     pub scene: Option<PathBuf>,
     /// Refinement level j of the coarse 2 × 6-vertex grid.
@@ -86,7 +86,7 @@ impl SceneArgs {
 }
 
 /// The flag `--frame-every N`: VTU frames of the whole body and a `.pvd` time index for
-/// ParaView in the folder `frames/` of the run (`rsf::VtuFrames`: displacement, velocity
+/// ParaView in the folder `frames/` of the run (`rsf::observe::VtuFrames`: displacement, velocity
 /// and, on Γ_F, slip, slip rate, state, shear and normal traction).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct FrameArgs {
@@ -267,7 +267,7 @@ mod tests {
     use clap::Parser;
 
     use super::{step_count, window, SceneArgs, TimeStepArgs};
-    use rsf::{AdaptiveTimeStep, SliderScene, TimeStep};
+    use rsf_scenes::{AdaptiveTimeStep, SliderScene, TimeStep};
 
     #[derive(Parser)]
     struct Cli {
@@ -327,10 +327,10 @@ mod tests {
             .unwrap();
         assert!(e.to_string().contains("aging"), "{e}");
         let cli = Cli::try_parse_from(["x", "--level", "2", "--law", "slip"]).unwrap();
-        let scene = cli.scene.scene(rsf::SliderScene::default()).unwrap();
+        let scene = cli.scene.scene(rsf_scenes::SliderScene::default()).unwrap();
         assert_eq!((scene.level, scene.state_law), (2, rsf::StateLawKind::Slip));
         let cli = Cli::try_parse_from(["x", "--end-time", "-1"]).unwrap();
-        assert!(cli.scene.scene(rsf::SliderScene::default()).is_err());
+        assert!(cli.scene.scene(rsf_scenes::SliderScene::default()).is_err());
     }
 
     #[test]

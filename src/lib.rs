@@ -11,18 +11,14 @@ use plotters::prelude::*;
 pub mod cli;
 mod curved;
 mod heat_map;
-mod incline;
 mod own_model;
 mod panels;
 pub mod pipping_slider;
 mod run;
 pub mod run_folder;
 pub use cli::{main_with, FrameArgs, SceneArgs, TimeStepArgs};
-pub use curved::{
-    arc_block_model, max_slip_rate_figure, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M,
-};
+pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
-pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use own_model::{print_run, run_with_series};
 pub use panels::PanelLayout;
 pub use run::{
@@ -222,7 +218,7 @@ pub fn space_time_map(
 }
 
 /// Bytes of a memory budget given in GiB by the command-line flag `flag` (for
-/// `rsf::SolverOptions::memory_budget_bytes`).
+/// `rsf::method::SolverOptions::memory_budget_bytes`).
 ///
 /// # Errors
 /// A message naming the flag if `gib` is not positive and finite.

@@ -4,7 +4,9 @@
 
 use std::path::Path;
 
-use rsf::{FileMode, Observer, PointSeries, SceneSimulation, SliderScene, Until};
+use rsf::observe::{FileMode, PointSeries};
+use rsf::{Observer, Until};
+use rsf_scenes::{SceneSimulation, SliderScene};
 
 use crate::{stats, FrameArgs, SliderRun, SliderStats};
 

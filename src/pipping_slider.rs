@@ -12,11 +12,12 @@ use crate::{
     Series, SliderRun, TimeStepArgs,
 };
 use clap::Parser;
-use rsf::run_folder::{check_window, plan_output, read_checkpoint};
-use rsf::{
-    Checkpointer, Every, FileMode, FrictionalProfile, Interval, Observer, PointSeries, RunFolder,
-    SliderScene, StepCap, Until, SLIDER_CENTRE,
-};
+use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
+use rsf::run_folder::{check_window, read_checkpoint};
+use rsf::run_folder::{RunFolder, StepCap};
+use rsf::{Observer, Until};
+use rsf_scenes::plan_output;
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's slider (§6.1, Table 6.1): time series at x0, fault profile, summary, figures.
 #[derive(Parser, Debug, Clone)]
@@ -99,8 +100,10 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         (w0, w1),
         sim.model().frictional_boundary.len(),
         600,
-        cli.folder.max_steps,
-        cli.folder.max_output_gb,
+        rsf_scenes::OutputLimits {
+            max_steps: cli.folder.max_steps,
+            max_gb: cli.folder.max_output_gb,
+        },
     )?;
     if let Some(cap) = plan.step_cap {
         println!(

@@ -1,14 +1,16 @@
 //! What the figures and tables of a slider run need: plot-ready series built from the
-//! library's records (a [`Recorder`], or [`PointSeries`](rsf::PointSeries) /
-//! [`FrictionalProfile`](rsf::FrictionalProfile) files read back), their statistics (slip
+//! library's records (a [`Recorder`], or [`PointSeries`](rsf::observe::PointSeries) /
+//! [`FrictionalProfile`](rsf::observe::FrictionalProfile) files read back), their statistics (slip
 //! events by the library's [`EventDetector`]) and `summary.json`.
 
 use std::path::Path;
 
-use rsf::{
-    EventDetector, EventThresholds, Every, FaultRecorder, FileMode, Interval, Observer, ProfileRow,
-    Recorder, SeriesRow, SliderScene,
+use rsf::observe::{
+    EventDetector, EventThresholds, Every, FaultRecorder, FileMode, Interval, ProfileRow, Recorder,
+    SeriesRow,
 };
+use rsf::Observer;
+use rsf_scenes::SliderScene;
 
 /// Plot-ready series of a slider run at x0 and on Γ_F.
 #[derive(Debug, Clone, Default)]
@@ -42,7 +44,7 @@ pub struct SliderRun {
 impl SliderRun {
     /// Runs `scene` to its end time with a progress bar, recording x0 every step and Γ_F
     /// every `map_every` steps (0: never); with `series_csv`, also writes the
-    /// [`PointSeries`](rsf::PointSeries) at x0 there.
+    /// [`PointSeries`](rsf::observe::PointSeries) at x0 there.
     ///
     /// # Errors
     /// Scene, solver and I/O errors.
@@ -53,14 +55,14 @@ impl SliderRun {
     ) -> rsf::Result<Self> {
         let setup = std::time::Instant::now();
         let mut sim = scene.build()?;
-        let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE)?;
+        let x0 = sim.model().nearest_node(&rsf_scenes::SLIDER_CENTRE)?;
         let mut rec = Recorder::new(sim.model(), &[x0])?;
         let mut fault = Every::new(
             Interval::Steps(map_every.max(1)),
             FaultRecorder::new(sim.model()),
         )?;
         let mut series = match series_csv {
-            Some(path) => Some(rsf::PointSeries::new(
+            Some(path) => Some(rsf::observe::PointSeries::new(
                 path,
                 sim.model(),
                 x0,
@@ -124,7 +126,7 @@ impl SliderRun {
         }
     }
 
-    /// The series of a [`PointSeries`](rsf::PointSeries) file at x0, read back.
+    /// The series of a [`PointSeries`](rsf::observe::PointSeries) file at x0, read back.
     pub fn from_series(rows: &[SeriesRow<2>]) -> Self {
         let mut run = Self::default();
         for r in rows {
@@ -138,7 +140,7 @@ impl SliderRun {
         run
     }
 
-    /// The map from the rows of a [`FrictionalProfile`](rsf::FrictionalProfile) file (one
+    /// The map from the rows of a [`FrictionalProfile`](rsf::observe::FrictionalProfile) file (one
     /// block of rows per recorded step, nodes along Γ_F).
     pub fn set_map_from_profile(&mut self, rows: &[ProfileRow<2>]) {
         self.map = Default::default();
@@ -169,9 +171,9 @@ pub struct SliderStats {
     pub relaxed_steps: usize,
     /// "First slip" (s): the time `t_n` of the first **step** whose largest slip rate on
     /// Γ_F exceeds the onset threshold 1e-3 m/s ([`EventThresholds::default`]), i.e.
-    /// [`SlipEvent::onset_s`](rsf::SlipEvent::onset_s) of the first event of the library's
+    /// [`SlipEvent::onset_s`](rsf::observe::SlipEvent::onset_s) of the first event of the library's
     /// [`EventDetector`] — not the interpolated crossing of the threshold
-    /// ([`SlipEvent::crossing_s`](rsf::SlipEvent::crossing_s), up to one step earlier).
+    /// ([`SlipEvent::crossing_s`](rsf::observe::SlipEvent::crossing_s), up to one step earlier).
     /// `None` without an event. Written to `summary.json` as `stats.first_slip_event_s`.
     pub first_slip_event_s: Option<f64>,
     /// Slip events: the largest slip rate on Γ_F rises above 1e-3 m/s; an event ends when
@@ -243,7 +245,7 @@ pub fn step_control_json(scene: &SliderScene) -> serde_json::Value {
 /// Writes `summary.json` with the scene, the resolved step control
 /// ([`step_control_json`]), the sizes, timings and statistics.
 ///
-/// The file is replaced atomically ([`rsf::write_atomically`]): a failure leaves the
+/// The file is replaced atomically ([`rsf::checkpoint::write_atomically`]): a failure leaves the
 /// previous `summary.json` intact. `run.seconds` is the wall time of the stepping over
 /// the whole run (across resumes, see [`rsf::Checkpoint::wall_time_s`]).
 ///
@@ -269,7 +271,7 @@ pub fn write_summary(
         "stats": stats,
     });
     let text = serde_json::to_string_pretty(&json).expect("a JSON value serialises") + "\n";
-    rsf::write_atomically(&dir.join("summary.json"), text.as_bytes())
+    rsf::checkpoint::write_atomically(&dir.join("summary.json"), text.as_bytes())
 }
 
 /// User + system CPU time of this process so far (s), all threads, from the operating
@@ -317,7 +319,7 @@ mod tests {
     /// for adaptive ones.
     #[test]
     fn summary_records_the_resolved_step_control() {
-        use rsf::{AdaptiveTimeStep, SliderScene, TimeStep};
+        use rsf_scenes::{AdaptiveTimeStep, SliderScene, TimeStep};
         let fixed = SliderScene::default();
         assert!(super::step_control_json(&fixed).is_null());
         let adaptive = SliderScene {

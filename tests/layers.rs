@@ -21,6 +21,7 @@ const LAYERS: &[&[&str]] = &[
         "rsf-time",
     ],
     &["rsf"],
+    &["rsf-scenes"],
 ];
 
 fn workspace() -> PathBuf {

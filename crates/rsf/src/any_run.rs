@@ -1,5 +1,6 @@
-//! The choice of method apart from the problem ([`MethodKind`]) and a built run of any of
-//! the three ([`Run`]), driven by the one run loop ([`run_until`](crate::run_until)).
+//! A built run of any of the three methods ([`Run`]; the choice is a
+//! [`MethodKind`](crate::MethodKind)), driven by the one run loop
+//! ([`run_until`](crate::run_until)).
 
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
@@ -17,66 +18,6 @@ use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
 use crate::simulation::Simulation;
 use crate::simulation_state::SimulationState;
 use crate::switching::SwitchingRun;
-
-/// Which method advances a problem in time.
-///
-/// Names (`name`, `FromStr`, serde, clap): `implicit`, `fault-ode`, `switching`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-#[derive(serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum MethodKind {
-    /// The paper's implicit scheme ([`Simulation`]): a velocity integrator (Newmark,
-    /// backward Euler or quasistatic), each step a fixed point of a convex velocity problem
-    /// (TNNMG or the direct solver) and the state update (docs/math.md §2–4).
-    #[default]
-    Implicit,
-    /// Quasi-dynamic, condensed onto the fault and integrated by an explicit embedded
-    /// Runge–Kutta pair ([`FaultOde`], docs/math.md §12): needs radiation damping and no
-    /// inertia.
-    FaultOde,
-    /// The fault ODE between events and the implicit scheme with inertia during them
-    /// ([`SwitchingRun`]).
-    Switching,
-}
-
-impl MethodKind {
-    /// Every kind, in declaration order.
-    pub const ALL: [MethodKind; 3] = [Self::Implicit, Self::FaultOde, Self::Switching];
-
-    /// The name (`implicit`, `fault-ode`, `switching`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Implicit => "implicit",
-            Self::FaultOde => "fault-ode",
-            Self::Switching => "switching",
-        }
-    }
-}
-
-impl std::fmt::Display for MethodKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for MethodKind {
-    type Err = crate::Error;
-
-    /// A [`name`](MethodKind::name); `runge-kutta` is accepted for `fault-ode`.
-    fn from_str(s: &str) -> crate::Result<Self> {
-        if s == "runge-kutta" {
-            return Ok(Self::FaultOde);
-        }
-        Ok(rsf_numeric::parse_name(
-            "method",
-            s,
-            &Self::ALL,
-            Self::name,
-            &[],
-        )?)
-    }
-}
 
 /// A built run of any of the three methods on one problem: what a program that lets its
 /// user choose the method ([`MethodKind`]) holds. It steps, checkpoints and restores like
@@ -109,11 +50,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     Run<D, L, S, I, C>
 {
     /// Which method this is.
-    pub fn kind(&self) -> MethodKind {
+    pub fn kind(&self) -> crate::MethodKind {
         match self {
-            Run::Implicit(_) => MethodKind::Implicit,
-            Run::FaultOde(_) => MethodKind::FaultOde,
-            Run::Switching(_) => MethodKind::Switching,
+            Run::Implicit(_) => crate::MethodKind::Implicit,
+            Run::FaultOde(_) => crate::MethodKind::FaultOde,
+            Run::Switching(_) => crate::MethodKind::Switching,
         }
     }
 
@@ -189,22 +130,5 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
 {
     fn from(s: SwitchingRun<D, L, S, I, C>) -> Self {
         Run::Switching(Box::new(s))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::MethodKind;
-
-    #[test]
-    fn names_round_trip() {
-        for k in MethodKind::ALL {
-            assert_eq!(k.name().parse::<MethodKind>().unwrap(), k);
-        }
-        assert_eq!(
-            "runge-kutta".parse::<MethodKind>().unwrap(),
-            MethodKind::FaultOde
-        );
-        assert!("rk4".parse::<MethodKind>().is_err());
     }
 }

@@ -20,9 +20,10 @@ use std::path::Path;
 
 use rsf_time::{ControllerState, Kinematics};
 
+pub use crate::method_state::{FaultOdeState, MethodState, Phase, SwitchingStats};
+pub use crate::simulation_state::SimulationState;
+
 use crate::error::{io_at, show_path, Error, Result};
-use crate::method_state::MethodState;
-use crate::simulation_state::SimulationState;
 
 const MAGIC_V4: &[u8; 8] = b"RSFCKPT4";
 const MAGIC: &[u8; 8] = b"RSFCKPT3";
@@ -33,7 +34,7 @@ const MAGIC_V1: &[u8; 8] = b"RSFCKPT1";
 pub const CHECKPOINT_FORMAT: &str = "RSFCKPT3";
 
 /// What a checkpoint continues: the physics and method of the run that wrote it, as
-/// `field = value` pairs in the order given (e.g. [`SliderScene::fingerprint`](crate::SliderScene::fingerprint):
+/// `field = value` pairs in the order given (e.g. `SliderScene::fingerprint`:
 /// every scene field, the format). A run checks a checkpoint's fingerprint against its
 /// own before it resumes ([`check`](Self::check)).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -151,7 +152,7 @@ pub struct Checkpoint {
     /// The saved state.
     pub state: SimulationState,
     /// The physics and method of the run that wrote it (empty unless the
-    /// [`Checkpointer`](crate::Checkpointer) was given one, and for earlier formats).
+    /// [`Checkpointer`](crate::observe::Checkpointer) was given one, and for earlier formats).
     pub fingerprint: Fingerprint,
     /// Wall time of the run up to this checkpoint, over all its resumes (s; 0 if not
     /// kept).

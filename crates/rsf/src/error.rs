@@ -37,7 +37,7 @@ pub enum Error {
         history: Vec<f64>,
     },
     /// [`SolverKind::Auto`](crate::SolverKind::Auto) found no solver within the memory
-    /// budget ([`SolverOptions::memory_budget_bytes`](crate::SolverOptions)): the direct
+    /// budget ([`SolverOptions::memory_budget_bytes`](crate::method::SolverOptions)): the direct
     /// solver needs more and the model has no refinement hierarchy for TNNMG.
     #[error(
         "the direct solver needs about {needed_bytes} bytes (budget {budget_bytes} bytes) and \
@@ -60,7 +60,7 @@ pub enum Error {
     },
     /// The scales of an assembled problem (stiffness, mass, load, displacements, slip
     /// distance) cannot be computed or resolved in double precision
-    /// ([`ProblemScales::check`](crate::ProblemScales::check), docs/reliability.md).
+    /// ([`ProblemScales::check`](crate::model::ProblemScales::check), docs/reliability.md).
     #[error(
         "the problem cannot be resolved in double precision: {reason}; change {}",
         fields.join(", ")
@@ -248,7 +248,7 @@ pub enum Error {
         reason: String,
     },
     /// A checkpoint written by a run of other physics or method than the run it should
-    /// continue ([`Fingerprint::check`](crate::Fingerprint::check)).
+    /// continue ([`Fingerprint::check`](crate::checkpoint::Fingerprint::check)).
     #[error(
         "the checkpoint belongs to another run: its `{field}` is {checkpoint}, this run's is \
          {run} (allow a deliberate change of `{field}` explicitly)"
@@ -262,7 +262,7 @@ pub enum Error {
         run: String,
     },
     /// A file or folder that exists where a new one would be written: refused so that no
-    /// result is lost ([`FileMode::Create`](crate::FileMode::Create)).
+    /// result is lost ([`FileMode::Create`](crate::observe::FileMode::Create)).
     #[error("`{path}` exists and is not empty: {reason}")]
     FileExists {
         /// The file (at most about 100 characters of it).

@@ -118,13 +118,13 @@ impl FaultOdeOptions {
 ///
 /// ```
 /// // A small BP1-like fault (docs/seas-bp1.md): 10 km deep, Δz = 500 m, 20 km domain.
-/// let bp1 = rsf::SeasBp1 { w_f: 10e3, h_top: 2e3, h_transition: 1e3, ..rsf::SeasBp1::default() };
-/// let grid = rsf::SeasBp1Grid { dz: 500.0, domain: 20e3, ratio: 1.1 };
+/// let bp1 = rsf_scenes::SeasBp1 { w_f: 10e3, h_top: 2e3, h_transition: 1e3, ..rsf_scenes::SeasBp1::default() };
+/// let grid = rsf_scenes::SeasBp1Grid { dz: 500.0, domain: 20e3, ratio: 1.1 };
 /// let model = bp1.model(&grid, false)?;
 /// let mut ode = bp1.fault_ode(model, bp1.fault_ode_options(1e-6)?)?;
-/// let summary = ode.run_until(rsf::Until::Time(10.0 * rsf::SECONDS_PER_YEAR), &mut [])?;
+/// let summary = ode.run_until(rsf::Until::Time(10.0 * rsf::observe::SECONDS_PER_YEAR), &mut [])?;
 /// assert_eq!(ode.condensed_dim(), 20); // 21 fault nodes, the one at W_f creeps
-/// assert!(summary.steps > 0 && (ode.state().time / rsf::SECONDS_PER_YEAR - 10.0).abs() < 1e-9);
+/// assert!(summary.steps > 0 && (ode.state().time / rsf::observe::SECONDS_PER_YEAR - 10.0).abs() < 1e-9);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct FaultOde<const D: usize, L, S, const C: usize = D> {

@@ -27,7 +27,7 @@ pub struct StepReport {
     pub correction: f64,
     /// The quantity the fixed point test compared with the tolerance: the last correction,
     /// or the estimated error `θ/(1 − θ) · correction` (see
-    /// [`FixedPointOptions::error_estimate`](crate::FixedPointOptions::error_estimate)).
+    /// [`FixedPointOptions::error_estimate`](crate::method::FixedPointOptions::error_estimate)).
     pub fixed_point_error: f64,
     /// Largest slip rate on Γ_F after the step (m/s).
     pub max_slip_rate: f64,

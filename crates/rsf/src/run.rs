@@ -11,7 +11,7 @@ use crate::error::{invalid, Error, Result};
 use crate::method_state::MethodState;
 use crate::model::Model;
 use crate::observe::{FaultTractions, Observer, StepView};
-use crate::report::StepReport;
+pub use crate::report::StepReport;
 use crate::simulation_state::SimulationState;
 
 /// A method that advances a problem's state one step at a time: what [`run_until`] drives.

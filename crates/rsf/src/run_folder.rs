@@ -9,13 +9,13 @@
 //! - On resume, [`read_checkpoint`] checks the checkpoint (checksum, fingerprint; the
 //!   fields a user allows to change must exist in the fingerprint,
 //!   [`check_allowed_changes`]); each writer then checks that its file can be continued
-//!   ([`PointSeries::check_resume`](crate::PointSeries::check_resume),
-//!   [`PointSeries::check_checkpoint_row`](crate::PointSeries::check_checkpoint_row),
-//!   [`FrictionalProfile::check_resume`](crate::FrictionalProfile::check_resume),
-//!   [`SeasOutput::check_resume`](crate::SeasOutput::check_resume)) before any file is cut.
-//! - Output bounds and step caps: [`check_output_size`], [`steps_bound`], [`step_cap`],
-//!   [`plan_output`], and the observer [`StepCap`] that stops a run (with a checkpoint)
-//!   after a number of steps; [`check_window`] for recording windows.
+//!   ([`PointSeries::check_resume`](crate::observe::PointSeries::check_resume),
+//!   [`PointSeries::check_checkpoint_row`](crate::observe::PointSeries::check_checkpoint_row),
+//!   [`FrictionalProfile::check_resume`](crate::observe::FrictionalProfile::check_resume),
+//!   [`SeasOutput::check_resume`](crate::observe::SeasOutput::check_resume)) before any file is cut.
+//! - Output bounds and step caps: [`check_output_size`] and the observer [`StepCap`] that
+//!   stops a run (with a checkpoint) after a number of steps (the bounds of the slider
+//!   scenes' runs are in `rsf_scenes::output`); [`check_window`] for recording windows.
 
 use std::path::{Path, PathBuf};
 
@@ -24,7 +24,6 @@ use crate::error::{io_at, show_path, Error, Result};
 use crate::observe::checkpointer::Checkpointer;
 use crate::observe::files::FileMode;
 use crate::observe::{Flow, Observer, StepView};
-use crate::scenes::slider::{SliderScene, TimeStep};
 
 /// Name of the manifest every run writes into its folder: `program=NAME` and one
 /// `output=FILE` line per file the run writes (paths relative to the folder).
@@ -263,119 +262,13 @@ pub fn check_output_size(estimate_bytes: f64, max_gb: f64, name: &str) -> Result
     }
 }
 
-/// Bytes of one row of a [`PointSeries`](crate::PointSeries) file (2-D: 15 columns, ≈ 190
+/// Bytes of one row of a [`PointSeries`](crate::observe::PointSeries) file (2-D: 15 columns, ≈ 190
 /// bytes; rounded up).
 pub const SERIES_ROW_BYTES: f64 = 200.0;
 
-/// Bytes of one node's row of a [`FrictionalProfile`](crate::FrictionalProfile) file (≈ 90
+/// Bytes of one node's row of a [`FrictionalProfile`](crate::observe::FrictionalProfile) file (≈ 90
 /// bytes; rounded up).
 pub const PROFILE_ROW_BYTES: f64 = 100.0;
-
-/// An upper bound on the number of steps of a run of `scene` that end in `(t0, t1]` (s):
-/// fixed steps `⌈N (t1 − t0) / T⌉ + 1`; adaptive steps `⌈(t1 − t0) / tau_min_s⌉ + 2` — every
-/// step the controller chooses is at least `tau_min_s`, and only a step shortened to land
-/// on the end of the loading ramp or on `T` is shorter (one each).
-pub fn steps_bound(scene: &SliderScene, (t0, t1): (f64, f64)) -> f64 {
-    let span = (t1 - t0).max(0.0);
-    match scene.time_step {
-        TimeStep::Fixed {} => (span / scene.tau()).ceil() + 1.0,
-        TimeStep::Adaptive(a) => (span / (a.tau_min_s * (1.0 - 1e-12))).ceil() + 2.0,
-    }
-}
-
-/// The step cap of a run of `scene` writing or holding `bytes_per_step` bytes per accepted
-/// step (docs/reliability.md): `max_steps` if given (refused if even that does not fit in
-/// `max_gb` gigabytes), none if [`steps_bound`] steps fit, else for adaptive steps the
-/// count that fits.
-///
-/// # Errors
-/// [`Error::InvalidParameter`] named `max_output_gb` (not positive and finite),
-/// `max_steps` (0, or its output above `max_gb`) or `steps` (fixed steps above `max_gb`).
-pub fn step_cap(
-    scene: &SliderScene,
-    bytes_per_step: f64,
-    max_steps: Option<u64>,
-    max_gb: f64,
-) -> Result<Option<u64>> {
-    if !(max_gb.is_finite() && max_gb > 0.0) {
-        return Err(Error::InvalidParameter {
-            name: "max_output_gb".into(),
-            reason: format!("{max_gb} GB: must be positive and finite"),
-        });
-    }
-    let bound = steps_bound(scene, (0.0, scene.end_time_s));
-    match max_steps {
-        Some(0) => Err(Error::InvalidParameter {
-            name: "max_steps".into(),
-            reason: "0 steps: must be at least 1".into(),
-        }),
-        Some(m) => check_output_size(bound.min(m as f64) * bytes_per_step, max_gb, "max_steps")
-            .map(|()| Some(m)),
-        None if bound * bytes_per_step <= max_gb * 1e9 => Ok(None),
-        None if matches!(scene.time_step, TimeStep::Adaptive(_)) => Ok(Some(
-            ((max_gb * 1e9 / bytes_per_step).floor() as u64).max(1),
-        )),
-        None => check_output_size(bound * bytes_per_step, max_gb, "steps").map(|()| None),
-    }
-}
-
-/// The output plan of a slider run: the bound on its output and the step cap to enforce.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OutputPlan {
-    /// Upper bound on the bytes the run writes (time series, profile window, map).
-    pub bytes: f64,
-    /// Stop after this many steps in total ([`StepCap`]), if any.
-    pub step_cap: Option<u64>,
-}
-
-/// Plans the output of a slider run with `nodes` frictional nodes, the profile `window`,
-/// a map of `map_samples` samples, at most `max_steps` steps (if given) and `max_gb`
-/// gigabytes. The bound: [`steps_bound`] rows of the time series (at most `max_steps`),
-/// [`steps_bound`] of the window plus the map's samples, each times `nodes` profile rows.
-/// A run with a bound above `max_gb` is refused — except an adaptive run without
-/// `max_steps`, whose honest bound (`T / tau_min_s` rows) is usually far above any disk:
-/// it gets the step cap whose output fits in `max_gb` (the run stops there, resumable).
-///
-/// # Errors
-/// [`Error::InvalidParameter`] named `steps` (fixed steps) or `max_steps` with the
-/// estimate and how to override it.
-pub fn plan_output(
-    scene: &SliderScene,
-    window: (f64, f64),
-    nodes: usize,
-    map_samples: usize,
-    max_steps: Option<u64>,
-    max_gb: f64,
-) -> Result<OutputPlan> {
-    let cap = |rows: f64| max_steps.map_or(rows, |m| rows.min(m as f64));
-    let nodes = nodes as f64;
-    let map_rows = (map_samples + 1) as f64 * nodes;
-    let bytes = cap(steps_bound(scene, (0.0, scene.end_time_s))) * SERIES_ROW_BYTES
-        + (cap(steps_bound(scene, window)) * nodes + map_rows) * PROFILE_ROW_BYTES;
-    let budget = max_gb * 1e9;
-    let adaptive = matches!(scene.time_step, TimeStep::Adaptive(_));
-    if bytes > budget && adaptive && max_steps.is_none() {
-        // Every step in the window (the worst case): the largest count that fits.
-        let per_step = SERIES_ROW_BYTES + nodes * PROFILE_ROW_BYTES;
-        let fit = ((budget - map_rows * PROFILE_ROW_BYTES) / per_step).floor();
-        if fit >= 1.0 {
-            return Ok(OutputPlan {
-                bytes: fit * per_step + map_rows * PROFILE_ROW_BYTES,
-                step_cap: Some(fit as u64),
-            });
-        }
-    }
-    let name = if max_steps.is_some() {
-        "max_steps"
-    } else {
-        "steps"
-    };
-    check_output_size(bytes, max_gb, name)?;
-    Ok(OutputPlan {
-        bytes,
-        step_cap: max_steps,
-    })
-}
 
 /// Stops a run after `cap` steps in total (the step index of the state, so across
 /// resumes), writing a checkpoint of that step with its [`Checkpointer`] first (if it has

@@ -7,11 +7,10 @@ mod common;
 
 use common::{temp_dir, StopAt};
 use rsf::friction::Tresca;
+use rsf::simulation::NoState;
 use rsf::time::{Newmark, StepControl};
-use rsf::{
-    AdaptiveTimeStep, Checkpoint, Flow, NoState, Observer, SceneSimulation, SimulationBuilder,
-    SliderScene, SolverKind, StepView, TimeStep, Until,
-};
+use rsf::{Checkpoint, Flow, Observer, SimulationBuilder, SolverKind, StepView, Until};
+use rsf_scenes::{AdaptiveTimeStep, SceneSimulation, SliderScene, TimeStep};
 
 /// Every accepted step as observed: (t, τ, rejected attempts, max slip rate).
 #[derive(Default)]
@@ -69,7 +68,7 @@ fn linear_sim_of(scene: &SliderScene, tau: f64) -> rsf::Simulation<2, Tresca, No
         .integrator(Newmark)
         .time_step(tau)
         .solver(SolverKind::Direct)
-        .fixed_point(rsf::FixedPointOptions::default())
+        .fixed_point(rsf::method::FixedPointOptions::default())
         .build()
         .unwrap()
 }
@@ -401,10 +400,8 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
 /// rows carry the adaptive τ of each step).
 #[test]
 fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
-    use rsf::{
-        AdaptiveTimeStep, Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries,
-        TimeStep,
-    };
+    use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
+    use rsf_scenes::{AdaptiveTimeStep, TimeStep};
     use std::path::Path;
 
     // Level 1, fast loading from t = 0; the steps grow from 1e-3 s and shrink again
@@ -421,7 +418,10 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
     let (every, stop) = (40, 130);
     let run = |dir: &Path, stop: Option<usize>, resume: bool| {
         let mut sim = scene.build().unwrap();
-        let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE).unwrap();
+        let x0 = sim
+            .model()
+            .nearest_node(&rsf_scenes::SLIDER_CENTRE)
+            .unwrap();
         let (series_path, profile_path, ckpt) = (
             dir.join("x0.csv"),
             dir.join("profile.csv"),
@@ -492,7 +492,7 @@ fn adaptive_scene_file_in_the_repository_parses() {
     assert_eq!(
         SliderScene::from_toml(text).unwrap(),
         SliderScene {
-            time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
+            time_step: rsf_scenes::TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep::new(1e-3)),
             ..SliderScene::default()
         }
     );

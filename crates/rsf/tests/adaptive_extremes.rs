@@ -18,10 +18,8 @@
 //! All runs are on level 1 and take at most a couple of thousand steps.
 
 use rsf::time::Error as TimeError;
-use rsf::{
-    AdaptiveTimeStep, Error, Flow, Integrator, Observer, SceneSimulation, SliderScene,
-    StateLawKind, StepView, TimeStep, Until,
-};
+use rsf::{Error, Flow, Integrator, Observer, StateLawKind, StepView, Until};
+use rsf_scenes::{AdaptiveTimeStep, SceneSimulation, SliderScene, TimeStep};
 
 type Sim = SceneSimulation<2>;
 

@@ -5,11 +5,10 @@
 
 use rsf::fem::{rectangle, Diagonal};
 use rsf::friction::{AsinhLaw, FrictionLaw};
-use rsf::{
-    AntiplaneMaterial, Checkpoint, FileMode, Flow, ModelBuilder, Observer, Part, SeasBp1,
-    SeasBp1Grid, SeasBp1Simulation, SeasOutput, SeasSampling, SeasSetup, StepView,
-    SEAS_BP1_STATION_DEPTHS, SECONDS_PER_YEAR,
-};
+use rsf::model::AntiplaneMaterial;
+use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::{Checkpoint, Flow, ModelBuilder, Observer, Part, StepView};
+use rsf_scenes::{SeasBp1, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
 
 mod common;
 use common::small_bp1;

@@ -3,11 +3,14 @@
 //! checkpoints, a non-monotone user state law, out-of-range nodes, missing parts.
 
 use rsf::friction::{DieterichRuina, StateDependentTresca, StateVariable};
-use rsf::state::{Aging, Discontinuous, StateLaw};
-use rsf::{
-    Checkpoint, Error, EventThresholds, Every, FileMode, FrictionalProfile, Interval, Model,
-    PointSeries, Recorder, SimulationBuilder, SliderScene, SlipEvents, StateIntegrator,
+use rsf::method::StateIntegrator;
+use rsf::observe::{
+    EventThresholds, Every, FileMode, FrictionalProfile, Interval, PointSeries, Recorder,
+    SlipEvents,
 };
+use rsf::state::{Aging, Discontinuous, StateLaw};
+use rsf::{Checkpoint, Error, Model, SimulationBuilder};
+use rsf_scenes::SliderScene;
 
 fn model() -> Model<2> {
     SliderScene {
@@ -187,7 +190,7 @@ fn out_of_range_nodes_and_empty_meshes_are_errors() {
     let profile =
         FrictionalProfile::<2>::new(&dir.join("p.csv"), (0.0, 1.0), FileMode::Create).unwrap();
     assert!(Every::new(Interval::Steps(0), profile).is_err());
-    assert!(rsf::nearest_vertex::<2>(&[], &[0.0, 0.0]).is_err());
+    assert!(rsf::model::nearest_vertex::<2>(&[], &[0.0, 0.0]).is_err());
     assert!(m.nearest_node(&[f64::NAN, 0.0]).is_err());
     std::fs::remove_dir_all(&dir).ok();
 }

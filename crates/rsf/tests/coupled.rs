@@ -2,7 +2,8 @@
 //! loading phase, determinism, checkpoint/resume, scene validation. (TNNMG and the direct
 //! solver are compared through the first slip events in `slip_event.rs`.)
 
-use rsf::{Checkpoint, Error, SliderScene, SolverKind, SLIDER_CENTRE};
+use rsf::{Checkpoint, Error, SolverKind};
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's scene at level 2 with its time step (τ = T/1e4), first `steps` steps.
 fn short(solver: SolverKind) -> SliderScene {
@@ -98,7 +99,7 @@ fn bad_scenes_name_the_problem() {
     };
     named(s.build().err().unwrap(), "poisson_ratio");
     named(
-        rsf::FrictionalBoundary::new(&[], &[]).unwrap_err(),
+        rsf::model::FrictionalBoundary::new(&[], &[]).unwrap_err(),
         "frictional_boundary",
     );
     named(

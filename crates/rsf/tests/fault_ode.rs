@@ -4,15 +4,14 @@
 //! shrinks), the volume's equilibrium when an observer reads it, and typed errors.
 
 use rsf::friction::{AsinhLaw, FrictionLaw};
-use rsf::{
-    Flow, Integrator, Observer, SeasBp1, SeasBp1Grid, StepView, TimeFunction, Until,
-    SECONDS_PER_YEAR,
-};
+use rsf::observe::SECONDS_PER_YEAR;
+use rsf::{Flow, Integrator, Observer, StepView, TimeFunction, Until};
+use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 mod common;
 use common::small_bp1;
 
-fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf::SeasBp1FaultOde {
+fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf_scenes::SeasBp1FaultOde {
     let model = bp1.model(grid, false).unwrap();
     bp1.fault_ode(model, bp1.fault_ode_options(tolerance).unwrap())
         .unwrap()
@@ -212,7 +211,7 @@ fn first_event_converges_with_the_tolerance() {
 fn invalid_set_ups_are_typed_errors() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
     let opts = bp1.fault_ode_options(1e-6).unwrap();
-    let name = |r: rsf::Result<rsf::SeasBp1FaultOde>| match r {
+    let name = |r: rsf::Result<rsf_scenes::SeasBp1FaultOde>| match r {
         Err(rsf::Error::InvalidParameter { name, .. }) => name,
         other => panic!("expected InvalidParameter, got {other:?}"),
     };
@@ -273,9 +272,9 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     let dynamic = bp1
         .simulation_builder(model, true, 1.0, bp1.step_control(1e-3).unwrap())
         .unwrap()
-        .fixed_point(rsf::FixedPointOptions {
+        .fixed_point(rsf::method::FixedPointOptions {
             tolerance: 1e-6,
-            ..rsf::FixedPointOptions::default()
+            ..rsf::method::FixedPointOptions::default()
         })
         .build()
         .unwrap();
@@ -283,7 +282,7 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     let mut run = rsf::SwitchingRun::new(
         ode,
         dynamic,
-        rsf::SwitchingOptions {
+        rsf::switching::SwitchingOptions {
             to_dynamic: 1e-3,
             to_quasi_dynamic: 1e-4,
             dynamic_tau,
@@ -347,9 +346,9 @@ fn switching_run(
     let dynamic = bp1
         .simulation_builder(model, true, 1.0, bp1.step_control(1e-3).unwrap())
         .unwrap()
-        .fixed_point(rsf::FixedPointOptions {
+        .fixed_point(rsf::method::FixedPointOptions {
             tolerance: 1e-6,
-            ..rsf::FixedPointOptions::default()
+            ..rsf::method::FixedPointOptions::default()
         })
         .build()
         .unwrap();
@@ -357,7 +356,7 @@ fn switching_run(
     rsf::SwitchingRun::new(
         ode,
         dynamic,
-        rsf::SwitchingOptions {
+        rsf::switching::SwitchingOptions {
             to_dynamic: 1e-3,
             to_quasi_dynamic: 1e-4,
             dynamic_tau,

@@ -23,7 +23,9 @@
 mod common;
 
 use common::*;
-use rsf::{FixedPointScheme, InnerSolves, SliderScene, SolverKind, StateLawKind};
+use rsf::method::{FixedPointScheme, InnerSolves};
+use rsf::{SolverKind, StateLawKind};
+use rsf_scenes::SliderScene;
 
 const SLIP: f64 = 1e-3;
 const SLIP_OFF: f64 = 1e-4;

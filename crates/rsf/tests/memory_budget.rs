@@ -21,7 +21,7 @@ fn chosen(level: usize, solver: SolverKind, budget: usize) -> rsf::Result<Solver
 
 #[test]
 fn auto_gives_the_direct_solver_only_what_fits() {
-    let default = rsf::DEFAULT_MEMORY_BUDGET_BYTES;
+    let default = rsf::method::DEFAULT_MEMORY_BUDGET_BYTES;
     // Level 2: 150 condensed unknowns, a few hundred kB for the direct solver.
     assert_eq!(
         chosen(2, SolverKind::Auto, default).unwrap(),

@@ -9,11 +9,10 @@ use rsf::fem::{
     SparseMatrix,
 };
 use rsf::friction::{DieterichRuina, RateStateParams, Tresca};
+use rsf::model::FrictionalBoundary;
 use rsf::state::Aging;
-use rsf::{
-    Error, FrictionalBoundary, Material, Model, ModelBuilder, Part, SimulationBuilder, SliderScene,
-    TimeFunction,
-};
+use rsf::{Error, Material, Model, ModelBuilder, Part, SimulationBuilder, TimeFunction};
+use rsf_scenes::SliderScene;
 
 const ROCK: Material = Material {
     youngs_modulus: 5e7,

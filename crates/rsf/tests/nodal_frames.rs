@@ -38,12 +38,11 @@ use rsf::fem::{
     TAG_FRICTIONAL, TAG_NEUMANN,
 };
 use rsf::friction::DieterichRuina;
+use rsf::method::FrictionBlocks;
 use rsf::time::{Kinematics, Newmark, SystemMatrices, VelocityIntegrator};
 use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
-use rsf::{
-    skew_rotation, slider_3d_coarse, Error, FrictionBlocks, Model, ModelBuilder, Observer, Part,
-    Slider3dScene, SliderScene, SolverKind, StateLawKind, StepView, SLIDER_CENTRE,
-};
+use rsf::{Error, Model, ModelBuilder, Observer, Part, SolverKind, StateLawKind, StepView};
+use rsf_scenes::{skew_rotation, slider_3d_coarse, Slider3dScene, SliderScene, SLIDER_CENTRE};
 
 /// The rotation by `phi` (rad) about the origin.
 fn rot(phi: f64, x: [f64; 2]) -> [f64; 2] {
@@ -544,7 +543,7 @@ fn a_fault_folding_back_at_a_crack_tip_is_a_typed_error_naming_the_node() {
             .build()
     };
     // Under the default kink limit the tip is a corner of 180°.
-    let err = builder(rsf::DEFAULT_MAX_FAULT_KINK_DEGREES).unwrap_err();
+    let err = builder(rsf::model::DEFAULT_MAX_FAULT_KINK_DEGREES).unwrap_err();
     match &err {
         Error::FaultCorner {
             node,
@@ -941,13 +940,13 @@ fn tnnmg_and_direct_agree_on_a_curved_3d_fault() {
     assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
 }
 
-/// A [`PointSeries`](rsf::PointSeries) at a vertex with a nodal frame writes its slip
+/// A [`PointSeries`](rsf::observe::PointSeries) at a vertex with a nodal frame writes its slip
 /// coordinates (tangent, inward normal) and its header names them so; at a vertex without
 /// a frame (and on the axis-aligned slider, the main job's files) the header is the
 /// Cartesian one, byte for byte as before (issue 34).
 #[test]
 fn a_point_series_at_a_framed_vertex_names_slip_coordinates() {
-    use rsf::{FileMode, PointSeries};
+    use rsf::observe::{FileMode, PointSeries};
     let cartesian = "t_s,u_x0_m,v_x0_mps,max_slip_rate_mps,fpi,tau_s,step,solver_iterations,\
                      relaxed_iterations,u_y0_m,v_y0_mps";
     assert_eq!(PointSeries::<2>::header(), cartesian);

@@ -1,10 +1,11 @@
 //! The library observers: slip-event detection (hysteresis, catalogue, stopping a run at
 //! an event) and the in-memory recorder.
 
-use rsf::{
-    EventDetector, EventThresholds, FaultRecorder, Recorder, SliderScene, SlipEvents, StopAt,
-    Transition, Until, SLIDER_CENTRE,
+use rsf::observe::{
+    EventDetector, EventThresholds, FaultRecorder, Recorder, SlipEvents, StopAt, Transition,
 };
+use rsf::Until;
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Rates with ringing around the onset threshold inside the first event.
 const RATES: [f64; 8] = [1e-6, 2e-3, 5e-4, 3e-3, 1e-3, 5e-5, 4e-3, 1e-6];

@@ -21,7 +21,9 @@
 mod common;
 
 use common::{apply, dot};
-use rsf::{Integrator, SliderScene, StateIntegrator, StateLawKind, TimeStep};
+use rsf::method::StateIntegrator;
+use rsf::{Integrator, StateLawKind};
+use rsf_scenes::{SliderScene, TimeStep};
 
 /// Relative tolerance of every real-valued comparison (module docs).
 const TOL: f64 = 1e-12;

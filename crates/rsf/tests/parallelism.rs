@@ -6,7 +6,8 @@
 mod common;
 
 use common::*;
-use rsf::{Parallelism, SolverKind, SolverOptions};
+use rsf::method::SolverOptions;
+use rsf::{Parallelism, SolverKind};
 
 #[test]
 fn the_parallelism_reaches_the_solver_and_the_integrator() {

@@ -10,10 +10,10 @@ use std::sync::OnceLock;
 
 use common::temp_dir;
 use proptest::prelude::*;
-use rsf::{
-    write_atomically, Checkpoint, Error, FileMode, Fingerprint, FrictionalProfile, PointSeries,
-    SliderScene, StateLawKind, SLIDER_CENTRE,
-};
+use rsf::checkpoint::{write_atomically, Fingerprint};
+use rsf::observe::{FileMode, FrictionalProfile, PointSeries};
+use rsf::{Checkpoint, Error, StateLawKind};
+use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Every file under `dir` with its bytes.
 fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
@@ -162,7 +162,7 @@ fn a_checkpoint_of_other_physics_or_method_is_refused_naming_the_field() {
         ),
         (
             SliderScene {
-                time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
+                time_step: rsf_scenes::TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep::new(1e-3)),
                 ..scene()
             },
             "time_step.kind",
@@ -355,11 +355,11 @@ fn implausible_scenes_are_refused_naming_the_field() {
         SliderScene { mu0: 0.0, ..s() },
         SliderScene { b: 0.0, ..s() },
         SliderScene {
-            alpha0: rsf::ALPHA_RANGE.1,
+            alpha0: rsf_scenes::ALPHA_RANGE.1,
             ..s()
         },
         SliderScene {
-            alpha0: rsf::ALPHA_RANGE.0,
+            alpha0: rsf_scenes::ALPHA_RANGE.0,
             ..s()
         },
     ] {
@@ -458,7 +458,7 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
         },
     ] {
         let model = ok.build_model().unwrap_or_else(|e| panic!("{e}: {ok:?}"));
-        let s = rsf::ProblemScales::new(
+        let s = rsf::model::ProblemScales::new(
             &model.stiffness,
             model.mass.as_ref(),
             &model.load,
@@ -501,7 +501,7 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
     ]
     .into_iter()
     .fold(0.0_f64, f64::max);
-    let estimate = rsf::ProblemScales::new(
+    let estimate = rsf::model::ProblemScales::new(
         &model.stiffness,
         model.mass.as_ref(),
         &model.load,
@@ -511,13 +511,13 @@ fn conditioning_estimate_refuses_unresolvable_scenes_naming_the_fields() {
     .displacement_estimate;
     let d = d.max(estimate);
     SliderScene {
-        l_m: 2.0 * rsf::SLIP_RESOLUTION * d,
+        l_m: 2.0 * rsf::model::SLIP_RESOLUTION * d,
         ..scene()
     }
     .build_model()
     .unwrap();
     ill_fields(&SliderScene {
-        l_m: 0.5 * rsf::SLIP_RESOLUTION * d,
+        l_m: 0.5 * rsf::model::SLIP_RESOLUTION * d,
         ..scene()
     });
     // The time-step matrix: a step so small that c_M M overflows the squares (fixed steps
@@ -601,7 +601,7 @@ fn restore_names_what_differs() {
     .build()
     .unwrap();
     let before = fine.checkpoint();
-    let nodes = |s: &rsf::SceneSimulation<2>| s.model().num_nodes();
+    let nodes = |s: &rsf_scenes::SceneSimulation<2>| s.model().num_nodes();
     match fine.restore(&c) {
         Err(Error::CheckpointSize {
             what,

@@ -7,10 +7,9 @@ mod common;
 use std::path::Path;
 
 use common::{temp_dir, StopAt};
-use rsf::{
-    Checkpoint, Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries,
-    SceneSimulation, SliderScene, SolverKind, SLIDER_CENTRE,
-};
+use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
+use rsf::{Checkpoint, SolverKind};
+use rsf_scenes::{SceneSimulation, SliderScene, SLIDER_CENTRE};
 
 const STEPS: usize = 300;
 const CHECKPOINT_EVERY: usize = 100;
@@ -140,7 +139,7 @@ fn resuming_detects_lost_rows_and_foreign_files() {
 #[cfg(feature = "vtk")]
 #[test]
 fn vtu_frames_resume_without_loss() {
-    use rsf::VtuFrames;
+    use rsf::observe::VtuFrames;
     let scene = SliderScene {
         steps: 40,
         end_time_s: 0.04,

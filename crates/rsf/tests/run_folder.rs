@@ -7,8 +7,11 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use rsf::observe::{FileMode, PointSeries};
+use rsf::run_folder::RunFolder;
 use rsf::run_folder::{check_output_size, check_window, read_checkpoint};
-use rsf::{Error, FileMode, PointSeries, RunFolder, SliderScene};
+use rsf::Error;
+use rsf_scenes::SliderScene;
 
 mod common;
 
@@ -93,7 +96,10 @@ fn a_checkpoint_is_checked_against_the_scene_and_the_rows() {
         ..SliderScene::default()
     };
     let mut sim = scene.build().unwrap();
-    let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE).unwrap();
+    let x0 = sim
+        .model()
+        .nearest_node(&rsf_scenes::SLIDER_CENTRE)
+        .unwrap();
     let series = dir.join("timeseries.csv");
     let mut obs = PointSeries::new(&series, sim.model(), x0, FileMode::Create).unwrap();
     sim.run(4, &mut [&mut obs]).unwrap();
@@ -135,7 +141,7 @@ fn windows_and_output_sizes_are_bounded() {
 /// tolerance that drives τ to `tau_min_s`.
 #[test]
 fn adaptive_output_bounds_are_honest() {
-    use rsf::{AdaptiveTimeStep, TimeStep};
+    use rsf_scenes::{AdaptiveTimeStep, TimeStep};
     let adaptive = |tol: f64, tau_min_s: f64| SliderScene {
         level: 1,
         steps: 10,
@@ -150,7 +156,7 @@ fn adaptive_output_bounds_are_honest() {
     };
     for (tol, tau_min) in [(1e-3, 1e-4), (1e-12, 2e-4), (0.5, 1e-3)] {
         let scene = adaptive(tol, tau_min);
-        let bound = rsf::run_folder::steps_bound(&scene, (0.0, scene.end_time_s));
+        let bound = rsf_scenes::steps_bound(&scene, (0.0, scene.end_time_s));
         let mut sim = scene.build().unwrap();
         let run = sim.run_until(rsf::Until::Time(scene.end_time_s), &mut []);
         let steps = sim.state().step as f64;
@@ -169,7 +175,7 @@ fn adaptive_output_bounds_are_honest() {
         ..SliderScene::default()
     };
     assert_eq!(
-        rsf::run_folder::steps_bound(&fixed, (0.0, fixed.end_time_s)),
+        rsf_scenes::steps_bound(&fixed, (0.0, fixed.end_time_s)),
         1001.0
     );
     // The paper's default adaptive run: T / tau_min = 1.5e10 rows would be refused;
@@ -179,21 +185,60 @@ fn adaptive_output_bounds_are_honest() {
         ..SliderScene::default()
     };
     let window = (0.6725 * 15.0, 0.6775 * 15.0);
-    let plan = rsf::run_folder::plan_output(&scene, window, 81, 600, None, 10.0).unwrap();
+    let plan = rsf_scenes::plan_output(
+        &scene,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: None,
+            max_gb: 10.0,
+        },
+    )
+    .unwrap();
     let cap = plan.step_cap.expect("a cap");
     assert!(plan.bytes <= 10e9, "{plan:?}");
     assert!(cap > 1_000_000, "{cap}");
-    let e =
-        rsf::run_folder::plan_output(&scene, window, 81, 600, Some(1e9 as u64), 10.0).unwrap_err();
+    let e = rsf_scenes::plan_output(
+        &scene,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: Some(1e9 as u64),
+            max_gb: 10.0,
+        },
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("`max_steps`"), "{e}");
-    let ok = rsf::run_folder::plan_output(&scene, window, 81, 600, Some(100_000), 10.0).unwrap();
+    let ok = rsf_scenes::plan_output(
+        &scene,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: Some(100_000),
+            max_gb: 10.0,
+        },
+    )
+    .unwrap();
     assert_eq!(ok.step_cap, Some(100_000));
     // Fixed steps above the budget are refused naming `steps`.
     let huge = SliderScene {
         steps: 1_000_000_000,
         ..SliderScene::default()
     };
-    let e = rsf::run_folder::plan_output(&huge, window, 81, 600, None, 10.0).unwrap_err();
+    let e = rsf_scenes::plan_output(
+        &huge,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: None,
+            max_gb: 10.0,
+        },
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("`steps`"), "{e}");
 }
 
@@ -203,23 +248,23 @@ fn adaptive_output_bounds_are_honest() {
 fn per_step_records_are_bounded_before_the_run() {
     let adaptive = SliderScene {
         end_time_s: 200.0,
-        time_step: rsf::TimeStep::Adaptive(rsf::AdaptiveTimeStep::new(1e-3)),
+        time_step: rsf_scenes::TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep::new(1e-3)),
         ..SliderScene::default()
     };
-    let rsf::TimeStep::Adaptive(a) = adaptive.time_step else {
+    let rsf_scenes::TimeStep::Adaptive(a) = adaptive.time_step else {
         unreachable!()
     };
     // 200 s / tau_min_s steps of 150 bytes do not fit in 10 GB: capped at what fits.
     assert!(200.0 / a.tau_min_s * 150.0 > 10e9);
-    let cap = rsf::run_folder::step_cap(&adaptive, 150.0, None, 10.0).unwrap();
+    let cap = rsf_scenes::step_cap(&adaptive, 150.0, None, 10.0).unwrap();
     assert_eq!(cap, Some((10e9 / 150.0) as u64));
     // An explicit cap that fits is kept; one that does not names max_steps.
     assert_eq!(
-        rsf::run_folder::step_cap(&adaptive, 150.0, Some(1000), 10.0).unwrap(),
+        rsf_scenes::step_cap(&adaptive, 150.0, Some(1000), 10.0).unwrap(),
         Some(1000)
     );
     for bad in [Some(0), Some(1_000_000_000_000)] {
-        let e = rsf::run_folder::step_cap(&adaptive, 150.0, bad, 10.0).unwrap_err();
+        let e = rsf_scenes::step_cap(&adaptive, 150.0, bad, 10.0).unwrap_err();
         assert!(e.to_string().contains("max_steps"), "{e}");
     }
     // Fixed steps: N + 1 rows; 1e12 steps refused by name, 1e4 steps need no cap.
@@ -228,16 +273,16 @@ fn per_step_records_are_bounded_before_the_run() {
         ..SliderScene::default()
     };
     assert_eq!(
-        rsf::run_folder::step_cap(&fixed(10_000), 150.0, None, 10.0).unwrap(),
+        rsf_scenes::step_cap(&fixed(10_000), 150.0, None, 10.0).unwrap(),
         None
     );
-    let e = rsf::run_folder::step_cap(&fixed(1_000_000_000_000), 150.0, None, 10.0).unwrap_err();
+    let e = rsf_scenes::step_cap(&fixed(1_000_000_000_000), 150.0, None, 10.0).unwrap_err();
     assert!(e.to_string().contains("`steps`"), "{e}");
     // 10 GB hold 66 666 666 steps of 150 bytes: 66 666 665 fixed steps (+1) fit, one more does not.
-    assert!(rsf::run_folder::step_cap(&fixed(66_666_665), 150.0, None, 10.0).is_ok());
-    assert!(rsf::run_folder::step_cap(&fixed(66_666_667), 150.0, None, 10.0).is_err());
+    assert!(rsf_scenes::step_cap(&fixed(66_666_665), 150.0, None, 10.0).is_ok());
+    assert!(rsf_scenes::step_cap(&fixed(66_666_667), 150.0, None, 10.0).is_err());
     for gb in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let e = rsf::run_folder::step_cap(&fixed(10), 150.0, None, gb).unwrap_err();
+        let e = rsf_scenes::step_cap(&fixed(10), 150.0, None, gb).unwrap_err();
         assert!(e.to_string().contains("max_output_gb"), "{e}");
     }
 }
@@ -322,7 +367,9 @@ fn allow_change_with_an_unknown_field_names_the_known_ones() {
 /// 3-D scene refuses a checkpoint of another width.
 #[test]
 fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
-    use rsf::{Checkpointer, Every, FrictionalProfile, Interval, Observer, Slider3dScene};
+    use rsf::observe::{Checkpointer, Every, FrictionalProfile, Interval};
+    use rsf::Observer;
+    use rsf_scenes::Slider3dScene;
     let scene = Slider3dScene {
         slider: SliderScene {
             level: 0,
@@ -406,10 +453,9 @@ fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
 #[test]
 fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
     use rsf::friction::AsinhLaw;
-    use rsf::{
-        Checkpointer, Observer, SeasBp1, SeasBp1Simulation, SeasOutput, SeasSampling, SeasSetup,
-        SEAS_BP1_STATION_DEPTHS,
-    };
+    use rsf::observe::{Checkpointer, SeasOutput, SeasSampling, SeasSetup};
+    use rsf::Observer;
+    use rsf_scenes::{SeasBp1, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
     let (bp1, grid) = common::small_bp1(&SeasBp1::default());
     let sampling = SeasSampling {
         station_quiet: 200.0,
@@ -451,8 +497,8 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
     // `steps` steps into `dir`, a checkpoint at `checkpoint_at`.
     let run =
         |dir: &Path, sim: &mut SeasBp1Simulation, out: &mut SeasOutput<AsinhLaw>, steps: usize| {
-            let mut c = rsf::Every::new(
-                rsf::Interval::Steps(15),
+            let mut c = rsf::observe::Every::new(
+                rsf::observe::Interval::Steps(15),
                 Checkpointer::new(dir.join("checkpoint.bin")).fingerprint(fingerprint.clone()),
             )
             .unwrap();

@@ -7,12 +7,11 @@ mod common;
 use common::{apply, dot, first_crossing};
 use rsf::fem::SparseMatrix;
 use rsf::friction::DieterichRuina;
+use rsf::method::FrictionBlocks;
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
-use rsf::{
-    FrictionBlocks, LateralBoundary, Model, Observer, Slider3dScene, SliderScene, SolverKind,
-    StepView, SLIDER_CENTRE,
-};
+use rsf::{Model, Observer, SolverKind, StepView};
+use rsf_scenes::{LateralBoundary, Slider3dScene, SliderScene, SLIDER_CENTRE};
 
 /// Time, `u_x` at one node and the largest slip rate of every step, until the largest slip
 /// rate exceeds `stop` (m/s).
@@ -429,9 +428,9 @@ fn vtu_frames_of_the_3d_slider_are_tetrahedra() {
         ..Slider3dScene::default()
     };
     let mut sim = scene.build().unwrap();
-    let mut frames = rsf::Every::new(
-        rsf::Interval::Steps(2),
-        rsf::VtuFrames::new(&dir, rsf::FileMode::Create).unwrap(),
+    let mut frames = rsf::observe::Every::new(
+        rsf::observe::Interval::Steps(2),
+        rsf::observe::VtuFrames::new(&dir, rsf::observe::FileMode::Create).unwrap(),
     )
     .unwrap();
     sim.run(2, &mut [&mut frames]).unwrap();

@@ -11,11 +11,12 @@
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, RateStateParams};
+use rsf::method::FixedPointOptions;
+use rsf::model::{DirichletVelocity, FrictionalBoundary};
 use rsf::state::Aging;
 use rsf::time::{Kinematics, Newmark, Quasistatic, VelocityIntegrator};
 use rsf::{
-    Checkpoint, DirichletVelocity, FixedPointOptions, FrictionalBoundary, Model, Simulation,
-    SimulationBuilder, SimulationState, SolverKind, TimeFunction,
+    Checkpoint, Model, Simulation, SimulationBuilder, SimulationState, SolverKind, TimeFunction,
 };
 
 const PARAMS: RateStateParams = RateStateParams {

@@ -4,7 +4,8 @@
 //! model unchanged.
 
 use rsf::fem::SparseMatrix;
-use rsf::{Error, Model, SliderScene};
+use rsf::{Error, Model};
+use rsf_scenes::SliderScene;
 use sprs::{CsMat, TriMat};
 
 fn slider() -> Model<2> {

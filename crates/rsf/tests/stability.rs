@@ -14,7 +14,9 @@
 use std::time::Instant;
 
 use rsf::friction::{DieterichRuina, RateStateParams};
-use rsf::{Error, FixedPointOptions, Integrator, SceneSimulation, SliderScene};
+use rsf::method::FixedPointOptions;
+use rsf::{Error, Integrator};
+use rsf_scenes::{SceneSimulation, SliderScene};
 
 /// What a case is expected to end in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -352,7 +354,7 @@ fn build(c: &Case) -> rsf::Result<SceneSimulation<2>> {
     };
     let scheme = match c.paper_relaxation {
         Some(relaxation) => FixedPointOptions {
-            acceleration: rsf::Acceleration::Relaxation { relaxation },
+            acceleration: rsf::method::Acceleration::Relaxation { relaxation },
             ..FixedPointOptions::paper()
         },
         None => FixedPointOptions::default(),
@@ -551,7 +553,7 @@ macro_rules! stability_tests {
         /// run must still meet the case's physics (peak slip rate, fixed point tolerance).
         #[test]
         fn every_case_with_the_constant_slip_rate_update() {
-            for c in cases_with(|s| s.state_integrator = rsf::StateIntegrator::ConstantSlipRate) {
+            for c in cases_with(|s| s.state_integrator = rsf::method::StateIntegrator::ConstantSlipRate) {
                 let o = run_case(&c);
                 let name = c.name;
                 eprintln!("{name} (constant slip rate): {o:?}");

@@ -32,7 +32,8 @@ mod common;
 
 use common::*;
 use rsf::friction::FrictionLaw;
-use rsf::{Checkpoint, Integrator, SliderScene, StateLawKind};
+use rsf::{Checkpoint, Integrator, StateLawKind};
+use rsf_scenes::SliderScene;
 
 const V_D: f64 = 2.5e-3;
 const TAU: f64 = 5e-3;

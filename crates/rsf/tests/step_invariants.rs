@@ -79,12 +79,11 @@ mod common;
 
 use common::apply;
 use rsf::fem::SparseMatrix;
+use rsf::observe::{EventThresholds, SlipEvents, StopAt};
 use rsf::state::{Aging, StateLaw};
 use rsf::time::Kinematics;
-use rsf::{
-    EventThresholds, Flow, Integrator, Model, Observer, SliderScene, SlipEvents, StateLawKind,
-    StepView, StopAt, Until,
-};
+use rsf::{Flow, Integrator, Model, Observer, StateLawKind, StepView, Until};
+use rsf_scenes::SliderScene;
 
 /// Absolute tolerance of the pointwise state solve (paper §6.2: bisection to 1e-12).
 const STATE_TOL: f64 = 1e-12;

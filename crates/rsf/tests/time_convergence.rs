@@ -29,7 +29,8 @@ mod common;
 use std::sync::OnceLock;
 
 use common::*;
-use rsf::{Integrator, SolverKind, StateIntegrator};
+use rsf::method::StateIntegrator;
+use rsf::{Integrator, SolverKind};
 
 /// Rate tolerance: |observed order − 1|.
 const ORDER_TOL: f64 = 0.2;

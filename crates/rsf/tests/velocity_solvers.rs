@@ -11,12 +11,14 @@
 
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, Tresca};
+use rsf::method::FrictionBlocks;
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{
     BlockNonlinearity, DirectOptions, DirectSolver, Error as SolverError, NoNonlinearity,
     NonlinearGaussSeidel, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions,
 };
-use rsf::{FrictionBlocks, Model, SliderScene};
+use rsf::Model;
+use rsf_scenes::SliderScene;
 
 /// Post-ramp loading velocity of Γ_D (m/s).
 const V_TOP: f64 = 2e-4;

@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use rsf::friction::FrictionLaw;
-use rsf::{Every, FileMode, Interval, VtuFrames};
+use rsf::observe::{Every, FileMode, Interval, VtuFrames};
 
 /// The point data `name` of a frame as 3-vectors per vertex.
 fn point_vectors(piece: &vtkio::model::UnstructuredGridPiece, name: &str) -> Vec<f64> {

@@ -3,18 +3,29 @@
 //! and the state update, described by [`MethodOptions`] and built into a [`Method`].
 
 pub(crate) mod fixed_point;
+pub(crate) mod kind;
 pub(crate) mod solver;
 pub(crate) mod state_integrator;
 
+pub use crate::friction_blocks::FrictionBlocks;
+pub use fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, InnerSolves, Predictor};
+pub use kind::MethodKind;
+pub use rsf_state::{BuiltinStateLaw, StateLawKind};
+pub use rsf_time::{Integrator, Parallelism};
+#[allow(deprecated)]
+pub use solver::AUTO_DIRECT_MAX_EXTENSION;
+pub use solver::{
+    SolverKind, SolverOptions, AUTO_DIRECT_MAX_CONDENSED, DEFAULT_MEMORY_BUDGET_BYTES,
+};
+pub use state_integrator::StateIntegrator;
+
 use rsf_fem::{combine, SparseMatrix};
-use rsf_time::{LoadOperator, Parallelism, StepControl, VelocityIntegrator};
+use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
 use rsf_tnnmg::{StepSolver, Stopping};
 
 use crate::error::{invalid, Result};
 use crate::model::Model;
-use fixed_point::FixedPointOptions;
-use solver::{SolverKind, SolverOptions, VelocitySolver};
-use state_integrator::StateIntegrator;
+use solver::VelocitySolver;
 
 /// The description of a method: every choice, no built solver. What
 /// [`SimulationBuilder`](crate::SimulationBuilder) collects and a [`Method`] is built from.
@@ -53,7 +64,7 @@ pub struct Method<const D: usize, I, const C: usize = D> {
     solver_cache: Vec<(f64, VelocitySolver<C>)>,
     load_operator: LoadOperator,
     /// With one set-up for every τ (no inertia, see
-    /// [`SolverOptions::setup_per_time_step`](crate::SolverOptions)): the radiation
+    /// [`SolverOptions::setup_per_time_step`](crate::method::SolverOptions)): the radiation
     /// damping `q_k = η w_k` of each frictional node, moved from the matrix into the
     /// nonlinearity.
     tau_free: Option<Vec<f64>>,
@@ -129,7 +140,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
     }
 
     /// The parallelism the built parts run with, as given by
-    /// [`SolverOptions::parallelism`](crate::SolverOptions::parallelism): the one of the
+    /// [`SolverOptions::parallelism`](crate::method::SolverOptions::parallelism): the one of the
     /// integrator's right-hand side operator and, for the direct solver, of the solver.
     pub fn parallelism(&self) -> Parallelism {
         let par = self.load_operator.parallelism();

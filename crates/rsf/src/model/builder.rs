@@ -506,7 +506,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// velocities `s·v` (they are given for `u`, as usual). With these, the energy, the
     /// friction functional `Σ w̃ ϕ(|ṽ|)` and the radiation damping `Σ w̃ η/2 |ṽ|²` are
     /// those of the half model in `u` (docs/seas-bp1.md);
-    /// [`FrictionalBoundary::slip_factor`](crate::FrictionalBoundary::slip_factor) keeps `s`.
+    /// [`FrictionalBoundary::slip_factor`](crate::model::FrictionalBoundary::slip_factor) keeps `s`.
     pub fn antisymmetric_fault(mut self, slip_factor: f64) -> Self {
         self.slip_factor = slip_factor;
         self

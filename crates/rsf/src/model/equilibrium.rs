@@ -74,7 +74,7 @@ mod tests {
     /// the builder uses Cholesky), to the multigrid tolerance in the energy norm.
     #[test]
     fn multigrid_equals_cholesky_on_the_3d_slider() {
-        let model = crate::Slider3dScene::default().build_model().unwrap();
+        let model = rsf_scenes::Slider3dScene::default().build_model().unwrap();
         assert!(model.num_dofs() <= EQUILIBRIUM_DIRECT_MAX_DOFS_3D);
         let direct = &model.initial_displacement;
         let mg = multigrid::<3>(

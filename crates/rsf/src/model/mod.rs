@@ -2,16 +2,23 @@
 //! constraints, the frictional boundary and the refinement hierarchy.
 
 pub(crate) mod builder;
+pub(crate) mod conditioning;
 pub(crate) mod equilibrium;
 pub(crate) mod fault;
 pub(crate) mod loading;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
-use rsf_fem::{NodalFrames, SparseMatrix};
+pub use builder::{
+    AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
+    DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
+};
+pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
+pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
+pub use fault::FrictionalBoundary;
+pub use loading::{DirichletVelocity, TimeFunction};
 
-use fault::FrictionalBoundary;
-use loading::DirichletVelocity;
+use rsf_fem::{NodalFrames, SparseMatrix};
 
 use crate::error::{invalid, Error, Result};
 
@@ -21,7 +28,7 @@ use crate::error::{invalid, Error, Result};
 /// `D` is the spatial dimension (vertex coordinates), `C` the number of components of the
 /// unknown field per node (default `C = D`: displacement and velocity vectors; `C = 1`: a
 /// scalar field such as the antiplane displacement, see
-/// [`AntiplaneMaterial`](crate::AntiplaneMaterial)).
+/// [`AntiplaneMaterial`](crate::model::AntiplaneMaterial)).
 ///
 /// Vectors are node-major with `C` components per node (`n = C · nodes`), in Cartesian
 /// components except at the nodes of [`frames`](Self::frames) (slanted fault nodes), whose
@@ -35,8 +42,8 @@ use crate::error::{invalid, Error, Result};
 /// # Two index spaces: vertex ids and fault indices
 /// A **vertex id** `vertex` (also "node", `p` in docs/math.md) indexes `vertices` and the
 /// node-major vectors (block `C·vertex .. C·vertex + C`): what [`nearest_node`](Self::nearest_node)
-/// returns and [`PointSeries`](crate::PointSeries), [`Recorder`](crate::Recorder),
-/// [`SlipEvents::slip_at`](crate::SlipEvents::slip_at), [`frame`](Self::frame) and
+/// returns and [`PointSeries`](crate::observe::PointSeries), [`Recorder`](crate::observe::Recorder),
+/// [`SlipEvents::slip_at`](crate::observe::SlipEvents::slip_at), [`frame`](Self::frame) and
 /// [`to_global`](Self::to_global) take. A **fault index** `k` is a position on Γ_F, an
 /// index into `frictional_boundary.nodes` (and `weights`, the per-node friction and state
 /// laws, the state `α`, [`StepView::slip_rate`](crate::StepView::slip_rate) and the
@@ -195,7 +202,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// without a fixed component; [`Error::InvalidParameter`] naming `stiffness` or `mass`
     /// for a negative diagonal entry (not positive semi-definite); [`Error::IllConditioned`]
     /// naming `stiffness`, `mass`, `load` or `initial_displacement` for a magnitude outside
-    /// [`representable_range`](crate::representable_range) (also a non-finite one).
+    /// [`representable_range`](crate::model::representable_range) (also a non-finite one).
     pub fn validate(&self) -> Result<()> {
         self.validate_structure()?;
         self.check_magnitudes()
@@ -298,7 +305,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
 
     /// The magnitudes of the assembled problem (docs/reliability.md, "Conditioning"): the
     /// diagonals of `K` and `M`, `|F|∞`, `|u₀|∞` and `|F|∞ / min K_ii` over the free dofs
-    /// inside [`representable_range`](crate::representable_range) (zero allowed). The
+    /// inside [`representable_range`](crate::model::representable_range) (zero allowed). The
     /// scenes check more (the time-step matrix at their τ range, the loading, the
     /// resolution of `L`); a model built by hand gets this part, `O(nnz)`.
     ///
@@ -307,7 +314,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// entry on a free dof; [`Error::IllConditioned`] naming the model field
     /// (`stiffness`, `mass`, `load`, `initial_displacement`).
     fn check_magnitudes(&self) -> Result<()> {
-        use crate::scenes::conditioning::{diagonal, ProblemScales, ScaleFields};
+        use crate::model::conditioning::{diagonal, ProblemScales, ScaleFields};
         // A stiffness or mass matrix is positive semi-definite: no negative diagonal entry.
         let mass = self.mass.as_ref().map(|m| ("mass", m));
         for (name, m) in [("stiffness", &self.stiffness)].into_iter().chain(mass) {

@@ -11,7 +11,7 @@ use crate::report::StepReport;
 use super::{Flow, Observer, StepView};
 
 /// Writes a checkpoint of every step it is shown, atomically replacing `path` (wrap it in
-/// [`Every`](crate::Every) to checkpoint every `n` steps). Put it after the observers that
+/// [`Every`](crate::observe::Every) to checkpoint every `n` steps). Put it after the observers that
 /// write files, so that a checkpoint never runs ahead of them.
 ///
 /// Each checkpoint carries the [`fingerprint`](Self::fingerprint) of the run and its wall

@@ -96,7 +96,7 @@ pub enum Transition {
 
 /// The detection state machine, fed one step at a time ([`EventDetector::push`]); usable
 /// on a live run ([`SlipEvents`]) or on recorded series (e.g. rows of a
-/// [`PointSeries`](crate::PointSeries) file read back).
+/// [`PointSeries`](crate::observe::PointSeries) file read back).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EventDetector {
     thresholds: EventThresholds,
@@ -237,7 +237,7 @@ pub enum StopAt {
 /// use rsf::{SliderScene, SlipEvents, StopAt, Until, EventThresholds};
 /// let scene = SliderScene { level: 2, ..SliderScene::default() };
 /// let mut sim = scene.build()?;
-/// let x0 = sim.model().nearest_node(&rsf::SLIDER_CENTRE)?;
+/// let x0 = sim.model().nearest_node(&rsf_scenes::SLIDER_CENTRE)?;
 /// let mut events = SlipEvents::new(EventThresholds::default())?
 ///     .slip_at(sim.model(), x0)?
 ///     .stop(StopAt::End(1));

@@ -26,8 +26,8 @@ impl FileMode {
     }
 }
 
-/// How an output file of an observer ([`PointSeries`](crate::PointSeries),
-/// [`FrictionalProfile`](crate::FrictionalProfile), [`VtuFrames`](crate::VtuFrames)) starts.
+/// How an output file of an observer ([`PointSeries`](crate::observe::PointSeries),
+/// [`FrictionalProfile`](crate::observe::FrictionalProfile), [`VtuFrames`](crate::observe::VtuFrames)) starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FileMode {
     /// A new file, starting with its header. An existing non-empty file is not touched:

@@ -13,6 +13,18 @@ pub(crate) mod series;
 #[cfg(feature = "vtk")]
 pub(crate) mod vtu;
 
+pub use checkpointer::{Checkpointer, Reports};
+pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
+pub use every::{Every, Interval};
+pub use files::FileMode;
+pub use profile::{FrictionalProfile, ProfileRow};
+pub use progress::Progress;
+pub use recorder::{FaultRecorder, Recorder};
+pub use seas::{SeasEvent, SeasOutput, SeasSampling, SeasSetup, SEAS_RESUME_LOG, SECONDS_PER_YEAR};
+pub use series::{PointSeries, SeriesRow};
+#[cfg(feature = "vtk")]
+pub use vtu::VtuFrames;
+
 use rsf_friction::{ConvexPotential, FrictionLaw};
 
 use crate::checkpoint::Checkpoint;
@@ -208,11 +220,11 @@ pub trait Observer<const D: usize, const C: usize = D> {
     /// Dirichlet nodes' `u`, `v`). Default `true` (safe for an observer that does not say).
     /// A run that condenses its unknowns onto Γ_F ([`FaultOde`](crate::FaultOde))
     /// computes the rest of the field only for observers that read it, and leaves it NaN
-    /// otherwise: the library's observers of the fault ([`SlipEvents`](crate::SlipEvents),
-    /// [`FrictionalProfile`](crate::FrictionalProfile),
-    /// [`FaultRecorder`](crate::FaultRecorder), [`Reports`](crate::Reports),
-    /// [`Checkpointer`](crate::Checkpointer), [`SeasOutput`](crate::SeasOutput),
-    /// [`Progress`](crate::Progress)) return `false`.
+    /// otherwise: the library's observers of the fault ([`SlipEvents`](crate::observe::SlipEvents),
+    /// [`FrictionalProfile`](crate::observe::FrictionalProfile),
+    /// [`FaultRecorder`](crate::observe::FaultRecorder), [`Reports`](crate::observe::Reports),
+    /// [`Checkpointer`](crate::observe::Checkpointer), [`SeasOutput`](crate::observe::SeasOutput),
+    /// [`Progress`](crate::observe::Progress)) return `false`.
     fn reads_volume(&self) -> bool {
         true
     }

@@ -12,7 +12,7 @@ use super::{Flow, Observer, StepView};
 /// Slip rate and state along Γ_F over a time window: CSV
 /// `t_s,x_m,slip_rate_mps,alpha,step` (+ `y_m`, and `z_m` in 3D), one row per frictional
 /// node (in `model.frictional_boundary.along` order) per step shown with `t ∈ [t0, t1]` (wrap it
-/// in [`Every`](crate::Every) to sample). Flushed after every recorded step;
+/// in [`Every`](crate::observe::Every) to sample). Flushed after every recorded step;
 /// [`FileMode::Resume`] continues a file after a checkpoint.
 pub struct FrictionalProfile<const D: usize> {
     window: (f64, f64),

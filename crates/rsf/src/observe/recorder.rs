@@ -108,7 +108,7 @@ impl<const D: usize> Observer<D> for Recorder<D> {
     }
 }
 
-/// Keeps a snapshot of Γ_F at every step it is shown (wrap it in [`Every`](crate::Every)
+/// Keeps a snapshot of Γ_F at every step it is shown (wrap it in [`Every`](crate::observe::Every)
 /// to sample): slip rate, state α and displacement per frictional node in the order along
 /// the boundary (`model.frictional_boundary.along`). Storage is flat.
 #[derive(Debug, Clone, PartialEq)]

@@ -68,8 +68,8 @@ pub struct SeasSetup {
     /// Element size on the fault (m), for the headers.
     pub element_size: f64,
     /// Stations as `(file name, depth in m)`, each at the frictional node nearest that
-    /// depth (e.g. [`SEAS_BP1_STATION_DEPTHS`](crate::SEAS_BP1_STATION_DEPTHS) with
-    /// [`SeasBp1::station_name`](crate::SeasBp1::station_name)).
+    /// depth (e.g. `SEAS_BP1_STATION_DEPTHS` with
+    /// `SeasBp1::station_name`).
     pub stations: Vec<(String, f64)>,
     /// The coordinate that is depth (`1` for BP1's `(x, z)` mesh) …
     pub depth_axis: usize,
@@ -405,7 +405,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
     /// to it, so that a checkpoint of any step can be resumed with
     /// [`FileMode::Resume`]: the station files, `devol.dat`, `events.csv` and the log
     /// then end byte-identical to an uninterrupted run's. Put the output before the
-    /// [`Checkpointer`](crate::Checkpointer). (A resumed output keeps writing its log.)
+    /// [`Checkpointer`](crate::observe::Checkpointer). (A resumed output keeps writing its log.)
     ///
     /// # Errors
     /// [`Error::FileExists`](crate::Error::FileExists) for a non-empty log of an earlier

@@ -16,7 +16,7 @@ use super::files::FileMode;
 use super::{Flow, Observer, StepView};
 
 /// Writes `frame_NNNNNN.vtu` (NNNNNN the step) of every step it is shown (wrap it in
-/// [`Every`](crate::Every) to sample) into a folder — the
+/// [`Every`](crate::observe::Every) to sample) into a folder — the
 /// mesh's cells as VTK lines, triangles or tetrahedra for D = 1, 2, 3, with point data
 /// `displacement` (m) and `velocity` (m/s) as 3-vectors (zero-padded; Cartesian components,
 /// rotated back from the nodal frames of a slanted fault); on Γ_F only (NaN elsewhere) the
@@ -81,7 +81,7 @@ impl VtuFrames {
         Ok(frames)
     }
 
-    /// Rewrites `frames.pvd` atomically ([`write_atomically`](crate::write_atomically):
+    /// Rewrites `frames.pvd` atomically ([`write_atomically`](crate::checkpoint::write_atomically):
     /// errors name the file).
     fn write_index(&self) -> Result<()> {
         let mut f = String::from("<?xml version=\"1.0\"?>\n");

@@ -107,7 +107,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// `rms(e_u) / (atol + tol · rms(u − u₀))` over the free dofs, with the integrator's
     /// estimate `e_u`, of the slip test `(Δ ln(V_p + V_f))² / (12 tol)` at each frictional
     /// node p (if enabled), and the maximum over Γ_F of the state update's estimated local
-    /// error over `tol + state_atol/θ` ([`StateIntegrator`](crate::StateIntegrator);
+    /// error over `tol + state_atol/θ` ([`StateIntegrator`](crate::method::StateIntegrator);
     /// backward Euler: `(τ/2)|α̇_n − α̇_{n−1}|`, i.e. `τ²/2 · α̈`, docs/math.md §9; a
     /// non-finite estimate rejects the step). Leaves the locally extrapolated states
     /// (local extrapolation, docs/math.md §9: backward Euler's estimated local error

@@ -7,6 +7,10 @@ pub(crate) mod checks;
 pub(crate) mod step;
 pub(crate) mod workspace;
 
+pub use crate::any_run::Run;
+pub use crate::problem::{NoState, Problem};
+pub use builder::{SimulationBuilder, Unset};
+
 use std::time::Instant;
 
 use rsf_friction::FrictionLaw;
@@ -21,7 +25,6 @@ use crate::method_state::MethodState;
 use crate::model::fault::block_norm;
 use crate::model::Model;
 use crate::observe::{FaultTractions, Observer};
-use crate::problem::Problem;
 use crate::report::StepReport;
 use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
 use crate::simulation_state::SimulationState;

@@ -10,13 +10,11 @@ use std::path::{Path, PathBuf};
 
 use rsf::fem::{spmv_add, SparseMatrix};
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
+use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
 use rsf::state::StateLaw;
 use rsf::time::{Kinematics, VelocityIntegrator};
-use rsf::{
-    Checkpointer, Every, FileMode, FrictionalProfile, Integrator, Interval, Observer, PointSeries,
-    RunSummary, SceneSimulation, Simulation, SliderScene, SolverKind, StateLawKind, StepView,
-    SLIDER_CENTRE,
-};
+use rsf::{Integrator, Observer, RunSummary, Simulation, SolverKind, StateLawKind, StepView};
+use rsf_scenes::{SceneSimulation, SliderScene, SLIDER_CENTRE};
 
 /// A running simulation, as the tests hold it.
 pub type Sim = SceneSimulation<2>;
@@ -262,9 +260,9 @@ pub fn first_crossing(t: &[f64], x: &[f64], level: f64, after: f64) -> Option<f6
 
 /// Start times of the slip events in `x` (the largest slip rate per step): an event starts
 /// where `x` rises above `on` and ends where it has fallen back below `off < on` (the
-/// library's [`rsf::EventDetector`]).
+/// library's [`rsf::observe::EventDetector`]).
 pub fn event_starts(t: &[f64], x: &[f64], on: f64, off: f64) -> Vec<f64> {
-    let mut d = rsf::EventDetector::new(rsf::EventThresholds {
+    let mut d = rsf::observe::EventDetector::new(rsf::observe::EventThresholds {
         onset: on,
         end: off,
     })
@@ -397,15 +395,15 @@ pub fn temp_dir(name: &str) -> PathBuf {
 
 /// A small BP1-like fault (W_f = 10 km in a 20 km square) at Δz = 500 m, with the other
 /// parameters of `bp1`.
-pub fn small_bp1(bp1: &rsf::SeasBp1) -> (rsf::SeasBp1, rsf::SeasBp1Grid) {
+pub fn small_bp1(bp1: &rsf_scenes::SeasBp1) -> (rsf_scenes::SeasBp1, rsf_scenes::SeasBp1Grid) {
     (
-        rsf::SeasBp1 {
+        rsf_scenes::SeasBp1 {
             h_top: 2e3,
             h_transition: 1e3,
             w_f: 10e3,
             ..*bp1
         },
-        rsf::SeasBp1Grid {
+        rsf_scenes::SeasBp1Grid {
             dz: 500.0,
             domain: 20e3,
             ratio: 1.1,

@@ -8,14 +8,17 @@ use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 use rsf_time::{Integrator, Quasistatic, StepControl};
 
-use crate::checkpoint::Fingerprint;
-use crate::error::{invalid, Result};
-use crate::fault_ode::{FaultOde, FaultOdeOptions};
-use crate::model::builder::{AntiplaneMaterial, ModelBuilder, Part};
-use crate::model::Model;
-use crate::observe::seas::SeasSampling;
-use crate::simulation::builder::SimulationBuilder;
-use crate::simulation::Simulation;
+use crate::invalid;
+use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::FaultOdeOptions;
+use rsf::model::AntiplaneMaterial;
+use rsf::observe::SeasSampling;
+use rsf::FaultOde;
+use rsf::Model;
+use rsf::Result;
+use rsf::Simulation;
+use rsf::SimulationBuilder;
+use rsf::{ModelBuilder, Part};
 
 /// A simulation of BP1: 2-D mesh, one (antiplane) component, regularised rate-and-state
 /// friction, aging law, quasi-dynamic ([`Quasistatic`] with radiation damping) or fully
@@ -116,8 +119,8 @@ impl SeasBp1 {
     /// is allowed: any a(z) profile of this shape).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) naming the field.
-    pub fn validate(&self) -> crate::Result<()> {
+    /// [`Error::InvalidParameter`](rsf::Error::InvalidParameter) naming the field.
+    pub fn validate(&self) -> rsf::Result<()> {
         let fields = [
             ("rho", self.rho),
             ("c_s", self.c_s),
@@ -135,14 +138,14 @@ impl SeasBp1 {
         ];
         for (name, v) in fields {
             if !(v.is_finite() && v > 0.0) {
-                return Err(crate::error::invalid(
+                return Err(crate::invalid(
                     name,
                     format!("{v} must be positive and finite"),
                 ));
             }
         }
         if !self.f0.is_finite() {
-            return Err(crate::error::invalid("f0", "must be finite"));
+            return Err(crate::invalid("f0", "must be finite"));
         }
         Ok(())
     }
@@ -206,7 +209,7 @@ impl SeasBp1 {
     /// depth (m).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dz`, `domain` or
+    /// [`Error::InvalidParameter`](rsf::Error::InvalidParameter) named `dz`, `domain` or
     /// `ratio` for a grid that does not fit BP1 (`dz` must divide `W_f` into whole cells,
     /// the domain must be larger than `W_f`); grading errors.
     pub fn mesh(&self, grid: &SeasBp1Grid) -> Result<TriangleMesh> {
@@ -330,7 +333,7 @@ impl SeasBp1 {
     ) -> Result<SimulationBuilder<2, AsinhLaw, Aging, Integrator, 1>> {
         Ok(self
             .problem_builder(model, inertia)?
-            .solver(crate::SolverKind::Direct)
+            .solver(rsf::SolverKind::Direct)
             .time_step(tau0)
             .step_control(control))
     }
@@ -428,7 +431,7 @@ impl SeasBp1 {
                 "sampling.event_quiet_time",
                 json_number(sampling.event_quiet_time),
             )
-            .with("format", crate::checkpoint::CHECKPOINT_FORMAT)
+            .with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
     }
 
     /// Name of the station file at `depth` (m): `fltst_dp` and the depth in hundreds of

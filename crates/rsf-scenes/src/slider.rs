@@ -9,17 +9,19 @@ use rsf_state::{BuiltinStateLaw, StateLawKind};
 use rsf_time::{Integrator, StepControl, VelocityIntegrator};
 use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
 
-use crate::checkpoint::{Fingerprint, CHECKPOINT_FORMAT};
-use crate::error::{invalid, Error, Result};
-use crate::method::fixed_point::{FixedPointOptions, FixedPointScheme, InnerSolves};
-use crate::method::solver::{SolverKind, SolverOptions};
-use crate::method::state_integrator::StateIntegrator;
-use crate::model::builder::{Material, ModelBuilder, Part};
-use crate::model::loading::TimeFunction;
-use crate::model::Model;
-use crate::scenes::conditioning::{ProblemScales, ScaleFields};
-use crate::simulation::builder::SimulationBuilder;
-use crate::simulation::Simulation;
+use crate::invalid;
+use rsf::checkpoint::{Fingerprint, CHECKPOINT_FORMAT};
+use rsf::method::SolverOptions;
+use rsf::method::StateIntegrator;
+use rsf::method::{FixedPointOptions, FixedPointScheme, InnerSolves};
+use rsf::model::{ProblemScales, ScaleFields};
+use rsf::Model;
+use rsf::Simulation;
+use rsf::SimulationBuilder;
+use rsf::SolverKind;
+use rsf::TimeFunction;
+use rsf::{Error, Result};
+use rsf::{Material, ModelBuilder, Part};
 
 /// The simulation a scene builds: Dieterich–Ruina friction, a built-in state law and a
 /// built-in integrator, both chosen at run time.
@@ -732,8 +734,8 @@ impl SliderScene {
     /// ([`ProblemScales::check`], docs/reliability.md "Conditioning"): the diagonals of `K`,
     /// `M` and of the time-step matrix `A = c_M M + c_K K` at the smallest and largest
     /// step of the run, `|F|∞`, `|u₀|∞`, `|F|∞ / min K_ii` and `|v_load| T` within
-    /// [`representable_range`](crate::representable_range), and `l_m` at least
-    /// [`SLIP_RESOLUTION`](crate::SLIP_RESOLUTION) times the largest displacement scale.
+    /// [`representable_range`](rsf::model::representable_range), and `l_m` at least
+    /// [`SLIP_RESOLUTION`](rsf::model::SLIP_RESOLUTION) times the largest displacement scale.
     /// `O(nnz)`; run by [`build_model`](Self::build_model) and on models given to
     /// [`simulation_builder_with_model`](Self::simulation_builder_with_model).
     ///
@@ -823,7 +825,7 @@ impl SliderScene {
     ///
     /// ```no_run
     /// use rsf::state::StateLaw;
-    /// use rsf::SliderScene;
+    /// use rsf_scenes::SliderScene;
     ///
     /// #[derive(Clone)]
     /// struct NoHealing { l: f64 }
@@ -877,8 +879,8 @@ impl SliderScene {
 
     /// A progress bar for a run of the scene from time `t0` (s): of its steps for fixed
     /// steps (the steps left after `t0`), of time for adaptive ones.
-    pub fn progress(&self, t0: f64, label: &str) -> crate::observe::progress::Progress {
-        use crate::observe::progress::Progress;
+    pub fn progress(&self, t0: f64, label: &str) -> rsf::observe::Progress {
+        use rsf::observe::Progress;
         match self.time_step {
             TimeStep::Adaptive(_) => Progress::time(t0, self.end_time_s, label),
             TimeStep::Fixed {} => {

@@ -8,11 +8,12 @@ use serde::{Deserialize, Serialize};
 use rsf_fem::{cuboid, Diagonal, TetrahedronMesh, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
 use rsf_time::VelocityIntegrator;
 
-use crate::checkpoint::Fingerprint;
-use crate::error::{invalid, Error, Result};
-use crate::method::fixed_point::InnerSolves;
-use crate::model::builder::ModelBuilder;
-use crate::model::Model;
+use crate::invalid;
+use rsf::checkpoint::Fingerprint;
+use rsf::method::InnerSolves;
+use rsf::Model;
+use rsf::ModelBuilder;
+use rsf::{Error, Result};
 
 use super::slider::{scene_builder, SceneSimulation, SceneSimulationBuilder, SliderScene};
 
@@ -46,7 +47,7 @@ pub enum LateralBoundary {
 /// sit side by side at the top level; unknown fields are rejected with their name.
 ///
 /// ```
-/// let scene = rsf::Slider3dScene::from_toml(
+/// let scene = rsf_scenes::Slider3dScene::from_toml(
 ///     "level = 1\nwidth_m = 0.5\nlateral = \"plane-strain\"\nsteps = 10",
 /// )?;
 /// assert_eq!((scene.slider.level, scene.width_m), (1, 0.5));
@@ -188,7 +189,7 @@ impl Slider3dScene {
     /// [`SliderScene`] and `width_m`, `lateral`) and the checkpoint `format`, like
     /// [`SliderScene::fingerprint`].
     pub fn fingerprint(&self) -> Fingerprint {
-        Fingerprint::of_serialized(self).with("format", crate::checkpoint::CHECKPOINT_FORMAT)
+        Fingerprint::of_serialized(self).with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
     }
 
     /// The point where the time series is recorded: `x0 = (2.5, 0, W/2)` m, the centre of
@@ -221,8 +222,8 @@ impl Slider3dScene {
     /// [`SliderScene::check_conditioning`].
     ///
     /// # Errors
-    /// Invalid parameters (a level whose mesh exceeds [`MAX_CELLS`](crate::MAX_CELLS) is
-    /// named `levels`); assembly errors; [`Error::IllConditioned`](crate::Error::IllConditioned).
+    /// Invalid parameters (a level whose mesh exceeds [`MAX_CELLS`](rsf::model::MAX_CELLS) is
+    /// named `levels`); assembly errors; [`Error::IllConditioned`](rsf::Error::IllConditioned).
     pub fn build_model(&self) -> Result<Model<3>> {
         self.validate()?;
         let s = &self.slider;
@@ -321,7 +322,7 @@ impl Slider3dScene {
         Ok(model)
     }
 
-    /// A [`SimulationBuilder`](crate::SimulationBuilder) on `model` with everything the
+    /// A [`SimulationBuilder`](rsf::SimulationBuilder) on `model` with everything the
     /// scene decides (as [`SliderScene::simulation_builder_with_model`]).
     ///
     /// # Errors

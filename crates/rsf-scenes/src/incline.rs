@@ -2,9 +2,10 @@
 //! frictional base dips by an angle in the loading direction, gravity kept vertical. The
 //! model carries nodal frames on the slanted base (docs/math.md §10).
 
+use crate::{SliderScene, SLIDER_CENTRE};
 use rsf::fem::{pipping_slider_coarse, SimplexMesh, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
 use rsf::time::VelocityIntegrator;
-use rsf::{Model, ModelBuilder, SliderScene, SLIDER_CENTRE};
+use rsf::{Model, ModelBuilder};
 
 /// `x` rotated clockwise by `dip` (rad) about the origin (the slider's bottom-left corner):
 /// the paper's `+x` axis then points down a slope of `dip`.

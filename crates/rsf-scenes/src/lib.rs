@@ -1,0 +1,55 @@
+//! Ready-made problems for [`rsf`], described by plain, TOML-readable parameters and built
+//! on its [`ModelBuilder`](rsf::ModelBuilder) and [`SimulationBuilder`](rsf::SimulationBuilder):
+//!
+//! - [`SliderScene`]: the paper's model problem (Pipping, Sander and Kornhuber, §6.1,
+//!   Table 6.1), a 5 m × 1 m elastic block on a rigid base, from a TOML file or in code;
+//! - [`Slider3dScene`]: the same block extruded to 5 m × 1 m × W (tetrahedra);
+//! - [`SeasBp1`]: the SCEC SEAS benchmark BP1 (antiplane, a vertical strike-slip fault,
+//!   docs/seas-bp1.md);
+//! - the slider on an inclined base ([`inclined_slider_model`]) and on a curved one read from
+//!   a Gmsh file ([`arc_block_model`]), with nodal frames;
+//! - [`output`]: bounds on a scene's output before it runs.
+//!
+//! The scenes live apart from the library so that a program that builds its own problem
+//! pays for none of them (nor for the TOML reader they own). Their errors are
+//! [`rsf::Error`]s: every failure of a scene is a failure of the model or simulation it
+//! builds (an invalid parameter named as its field, a model that does not validate) or of
+//! its scene file ([`rsf::Error::SceneFile`]).
+//!
+//! ```no_run
+//! use rsf_scenes::SliderScene;
+//! let scene = SliderScene { level: 2, steps: 100, ..SliderScene::default() };
+//! let mut sim = scene.build()?;
+//! let summary = sim.run(100, &mut [])?;
+//! println!("{} steps, mean {:.2} fixed point iterations", summary.steps, summary.fpi_mean);
+//! # Ok::<(), rsf::Error>(())
+//! ```
+#![warn(missing_docs)]
+
+mod curved;
+mod incline;
+pub mod output;
+mod seas_bp1;
+mod slider;
+mod slider3d;
+
+pub use curved::{arc_block_model, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M};
+pub use incline::{dip_point, inclined_centre, inclined_slider_model};
+pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
+
+pub use seas_bp1::{
+    SeasBp1, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS,
+};
+pub use slider::{
+    AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
+    SLIDER_CENTRE,
+};
+pub use slider3d::{skew_rotation, slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
+
+/// [`rsf::Error::InvalidParameter`] named `name` with `reason`.
+pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> rsf::Error {
+    rsf::Error::InvalidParameter {
+        name: name.to_string(),
+        reason: reason.into(),
+    }
+}
