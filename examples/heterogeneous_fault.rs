@@ -8,11 +8,9 @@
 
 use rsf::fem::{rectangle, Diagonal};
 use rsf::friction::{DieterichRuina, RateStateParams};
-use rsf::observe::EventThresholds;
-use rsf::observe::{SlipEvents, StopAt};
+use rsf::observe::StopAt;
+use rsf::prelude::*;
 use rsf::state::StateLaw;
-use rsf::{Material, ModelBuilder, Part, SimulationBuilder};
-use rsf::{TimeFunction, Until};
 use rsf_scenes::SliderScene;
 
 /// `θ̇ = 1 − θ/T_h − θV/L`, i.e. `∂ψ/∂α = V/L + 1/T_h − e^{−α}` in `α = ln θ`.

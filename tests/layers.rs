@@ -273,30 +273,11 @@ fn join(a: &str, b: &str) -> String {
     }
 }
 
-/// The names `lib.rs` re-exports from its modules (`pub use a::b::{X, Y}`): name → the
-/// module path it comes from.
-fn reexports(lib: &str, modules: &BTreeMap<Vec<String>, String>) -> BTreeMap<String, Vec<String>> {
-    let mut map = BTreeMap::new();
-    for line in lib.split(';') {
-        let Some(tree) = line.trim().strip_prefix("pub use ") else {
-            continue;
-        };
-        let mut flat = Vec::new();
-        flatten("", tree, &mut flat);
-        for p in flat {
-            let segs: Vec<String> = p.split("::").map(|x| x.trim().to_owned()).collect();
-            if segs.len() >= 2 && modules.contains_key(&segs[..1]) {
-                let alias = p.split(" as ").last().unwrap().rsplit("::").next().unwrap();
-                map.insert(alias.trim().to_owned(), segs[..segs.len() - 1].to_vec());
-            }
-        }
-    }
-    map
-}
-
-/// The file-level import graph of one crate: file → files it imports. The re-exports of
-/// `lib.rs` (the crate's public facade) are no imports; a name taken through them counts as
-/// taken from the module that defines it.
+/// The file-level import graph of one crate: file → files it imports. A module's `pub use`
+/// lines (the facade of `lib.rs`, and of a `mod.rs` that re-exports its children's items
+/// under the module's public path) are no imports: a re-export is a name, not a use of the
+/// item's code. A name taken through a facade counts as taken from the module that defines
+/// it (followed through chains of re-exports).
 fn import_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
     let mut files = Vec::new();
     rust_files(src, &mut files);
@@ -309,24 +290,49 @@ fn import_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
             )
         })
         .collect();
-    let lib = code_only(&std::fs::read_to_string(src.join("lib.rs")).unwrap_or_default());
-    let facade = reexports(&lib, &modules);
+    // Every file's re-exports: the public path of a name → the path of the item.
+    let mut facade: BTreeMap<Vec<String>, Vec<String>> = BTreeMap::new();
+    let mut code_of = BTreeMap::new();
+    for f in &files {
+        let here = module_of(src, f);
+        let code = code_only(&std::fs::read_to_string(f).unwrap());
+        let (reexports, rest): (Vec<&str>, Vec<&str>) = code
+            .split_inclusive(';')
+            .partition(|stmt| without_attributes(stmt).starts_with("pub use "));
+        let reexports: String = reexports
+            .iter()
+            .map(|s| without_attributes(s).trim_start_matches("pub "))
+            .collect();
+        for item in named_paths(&reexports, &here, &modules) {
+            if let Some(name) = item.last() {
+                let key: Vec<String> = here.iter().chain([name]).cloned().collect();
+                if key != item {
+                    facade.insert(key, item);
+                }
+            }
+        }
+        code_of.insert(here, rest.concat());
+    }
     let mut graph = BTreeMap::new();
     for f in &files {
         let here = module_of(src, f);
         let name = modules[&here].clone();
-        let mut code = code_only(&std::fs::read_to_string(f).unwrap());
-        if here.is_empty() {
-            // The facade's own `pub use` lines are not imports.
-            code = code
-                .split_inclusive(';')
-                .filter(|stmt| !stmt.trim_start().starts_with("pub use "))
-                .collect();
-        }
+        let code = &code_of[&here];
         let mut targets = BTreeSet::new();
-        for mut path in named_paths(&code, &here, &modules) {
-            if let Some(from) = path.first().and_then(|n| facade.get(n)) {
-                path = from.clone();
+        for mut path in named_paths(code, &here, &modules) {
+            // Through the facades to the defining module (a chain is at most a few long).
+            for _ in 0..8 {
+                let Some(k) = (1..=path.len())
+                    .rev()
+                    .find(|&k| facade.contains_key(&path[..k]))
+                else {
+                    break;
+                };
+                path = facade[&path[..k]]
+                    .iter()
+                    .chain(&path[k..])
+                    .cloned()
+                    .collect();
             }
             // The longest prefix that is a module with a file.
             let target = (0..=path.len())
@@ -344,7 +350,30 @@ fn import_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
     graph
 }
 
-/// A cycle of the graph, if any.
+/// A statement without its leading attributes (`#[cfg(…)] pub use …;` → `pub use …;`).
+fn without_attributes(stmt: &str) -> &str {
+    let mut s = stmt.trim_start();
+    while s.starts_with("#[") {
+        let mut depth = 0;
+        let end = s
+            .char_indices()
+            .find(|&(_, c)| match c {
+                '[' => {
+                    depth += 1;
+                    false
+                }
+                ']' => {
+                    depth -= 1;
+                    depth == 0
+                }
+                _ => false,
+            })
+            .map_or(s.len(), |(k, _)| k + 1);
+        s = s[end..].trim_start();
+    }
+    s
+}
+
 fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
     #[derive(Clone, Copy, PartialEq)]
     enum Mark {

@@ -42,7 +42,10 @@ use rsf::method::FrictionBlocks;
 use rsf::time::{Kinematics, Newmark, SystemMatrices, VelocityIntegrator};
 use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
 use rsf::{Error, Model, ModelBuilder, Observer, Part, SolverKind, StateLawKind, StepView};
-use rsf_scenes::{skew_rotation, slider_3d_coarse, Slider3dScene, SliderScene, SLIDER_CENTRE};
+use rsf_scenes::{
+    onto_arc, skew_rotation, slider_3d_coarse, Slider3dScene, SliderScene, ARC_BLOCK_MESH,
+    ARC_CENTRE, ARC_RADIUS_M, SLIDER_CENTRE,
+};
 
 /// The rotation by `phi` (rad) about the origin.
 fn rot(phi: f64, x: [f64; 2]) -> [f64; 2] {
@@ -736,30 +739,11 @@ fn tnnmg_and_direct_agree_on_a_slanted_3d_fault() {
     assert!(rel <= 1e-9, "relative energy-norm difference {rel:e}");
 }
 
-/// Radius (m) of the arc of the Gmsh fixture `arc_block.msh` (rsf-fem's test fixtures):
-/// the base of the block x ∈ [0, 5], y ≤ 1 is the lower branch of the circle of this
-/// radius about (2.5, ARC_RADIUS).
-const ARC_RADIUS: f64 = 10.0;
-const ARC_CENTRE: [f64; 2] = [2.5, ARC_RADIUS];
-
-/// The fixture's coarse mesh, read through the Gmsh reader.
+/// The fixture's coarse mesh (`rsf_scenes::ARC_BLOCK_MESH`: the block x ∈ [0, 5], y ≤ 1
+/// on the lower branch of the circle of radius `ARC_RADIUS_M` about `ARC_CENTRE`), read
+/// through the Gmsh reader.
 fn arc_block_coarse() -> TriangleMesh {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../rsf-fem/tests/fixtures/arc_block.msh"
-    );
-    rsf::fem::read_gmsh::<2>(path).unwrap().mesh
-}
-
-/// The point of the arc above or below `x` (projection along y): refining with it keeps
-/// the base nodes equally spaced in x, so the spacing along the arc varies smoothly on
-/// every level.
-fn onto_arc(x: &[f64; 2]) -> [f64; 2] {
-    let u = x[0] - ARC_CENTRE[0];
-    [
-        x[0],
-        ARC_CENTRE[1] - (ARC_RADIUS * ARC_RADIUS - u * u).sqrt(),
-    ]
+    rsf::fem::read_gmsh::<2>(ARC_BLOCK_MESH).unwrap().mesh
 }
 
 /// The block on the arc at `level`: the fixture refined with new base nodes moved onto the
@@ -805,7 +789,7 @@ fn the_frames_of_a_curved_fault_converge_to_the_arc_normals_at_second_order() {
         let x = coarse.vertices()[p];
         let r = (x[0] - ARC_CENTRE[0]).hypot(x[1] - ARC_CENTRE[1]);
         assert!(
-            (r - ARC_RADIUS).abs() < 1e-12,
+            (r - ARC_RADIUS_M).abs() < 1e-12,
             "fixture node {p} off the arc: {r}"
         );
     }
@@ -823,8 +807,8 @@ fn the_frames_of_a_curved_fault_converge_to_the_arc_normals_at_second_order() {
                 continue;
             }
             let exact = [
-                (ARC_CENTRE[0] - x[0]) / ARC_RADIUS,
-                (ARC_CENTRE[1] - x[1]) / ARC_RADIUS,
+                (ARC_CENTRE[0] - x[0]) / ARC_RADIUS_M,
+                (ARC_CENTRE[1] - x[1]) / ARC_RADIUS_M,
             ];
             // The inward normal: the frame's last column, or +e_y where the normal is along
             // the axis (no frame: only the arc's lowest point x = 2.5).
@@ -846,8 +830,8 @@ fn the_frames_of_a_curved_fault_converge_to_the_arc_normals_at_second_order() {
             // (h²/6) y'''/(1 + y'²), with y = c_y − √(R² − u²), u = x − c_x:
             // y' = u/s, y''' = 3R²u/s⁵, s = √(R² − u²).
             let u = x[0] - ARC_CENTRE[0];
-            let s = (ARC_RADIUS * ARC_RADIUS - u * u).sqrt();
-            let (d1, d3) = (u / s, 3.0 * ARC_RADIUS * ARC_RADIUS * u / s.powi(5));
+            let s = (ARC_RADIUS_M * ARC_RADIUS_M - u * u).sqrt();
+            let (d1, d3) = (u / s, 3.0 * ARC_RADIUS_M * ARC_RADIUS_M * u / s.powi(5));
             predicted = predicted.max(h * h / 6.0 * d3.abs() / (1.0 + d1 * d1));
         }
         println!(
