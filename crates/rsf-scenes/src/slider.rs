@@ -682,7 +682,8 @@ impl SliderScene {
     ///
     /// ```no_run
     /// use rsf::fem::read_gmsh;
-    /// use rsf::{ModelBuilder, SliderScene};
+    /// use rsf::ModelBuilder;
+    /// use rsf_scenes::SliderScene;
     ///
     /// let scene = SliderScene::default();
     /// let coarse = read_gmsh::<2>("my_block.msh")?.mesh;

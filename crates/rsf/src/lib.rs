@@ -73,7 +73,8 @@ pub mod prelude {
     };
     pub use crate::run::{run_until, RunSummary, Stepping, Until};
     pub use crate::simulation::{Run, Simulation, SimulationBuilder};
-    pub use crate::{Error, Result};
+    // Not `Result`: a glob import of it would shadow the standard one in the user's code.
+    pub use crate::Error;
 }
 
 pub use checkpoint::{Checkpoint, SimulationState};

@@ -234,7 +234,9 @@ pub enum StopAt {
 /// run at an event ([`StopAt`]).
 ///
 /// ```no_run
-/// use rsf::{SliderScene, SlipEvents, StopAt, Until, EventThresholds};
+/// use rsf::Until;
+/// use rsf::observe::{EventThresholds, SlipEvents, StopAt};
+/// use rsf_scenes::SliderScene;
 /// let scene = SliderScene { level: 2, ..SliderScene::default() };
 /// let mut sim = scene.build()?;
 /// let x0 = sim.model().nearest_node(&rsf_scenes::SLIDER_CENTRE)?;

@@ -45,7 +45,7 @@ impl Interval {
 /// [`finish`](Observer::finish) on.
 ///
 /// ```
-/// use rsf::{Every, Interval, Reports};
+/// use rsf::observe::{Every, Interval, Reports};
 /// let every_tenth = Every::new(Interval::Steps(10), Reports::default())?;
 /// assert!(Every::new(Interval::Time(0.0), Reports::default()).is_err());
 /// # Ok::<(), rsf::Error>(())

@@ -14,7 +14,8 @@ use super::{Flow, Observer, StepView};
 /// Storage is flat (no allocation per step beyond amortised growth).
 ///
 /// ```no_run
-/// use rsf::{Every, FaultRecorder, Interval, Recorder, SliderScene, SLIDER_CENTRE};
+/// use rsf::observe::{Every, FaultRecorder, Interval, Recorder};
+/// use rsf_scenes::{SLIDER_CENTRE, SliderScene};
 /// let mut sim = SliderScene { level: 2, ..SliderScene::default() }.build()?;
 /// let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
 /// let mut rec = Recorder::new(sim.model(), &[x0])?;

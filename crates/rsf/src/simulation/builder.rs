@@ -43,7 +43,8 @@ pub struct Unset;
 /// ```no_run
 /// use rsf::friction::{DieterichRuina, RateStateParams};
 /// use rsf::state::Aging;
-/// use rsf::{SimulationBuilder, SliderScene};
+/// use rsf::SimulationBuilder;
+/// use rsf_scenes::SliderScene;
 ///
 /// let model = SliderScene::default().build_model()?;
 /// let p = RateStateParams { mu0: 0.6, a: 0.010, b: 0.015, v0: 1e-6, l: 1e-5, sigma_n: 49_050.0 };
