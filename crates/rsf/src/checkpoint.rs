@@ -396,6 +396,36 @@ impl Checkpoint {
     }
 }
 
+/// [`Error::CheckpointSize`] naming `what` unless the checkpoint's size equals the
+/// simulation's (the checks every method's `restore` makes).
+pub(crate) fn check_size(what: &'static str, checkpoint: usize, simulation: usize) -> Result<()> {
+    if checkpoint == simulation {
+        Ok(())
+    } else {
+        Err(Error::CheckpointSize {
+            what,
+            checkpoint,
+            simulation,
+        })
+    }
+}
+
+/// [`Error::CheckpointValue`]: entry `index` of `what` in a checkpoint is `value`, which
+/// fails `requirement`.
+pub(crate) fn bad_value(
+    what: &'static str,
+    index: usize,
+    value: f64,
+    requirement: &'static str,
+) -> Error {
+    Error::CheckpointValue {
+        what,
+        index,
+        value,
+        requirement,
+    }
+}
+
 /// Writes `bytes` to `path` atomically: a temporary file next to it (`path` with the
 /// extension `tmp`), synced, then renamed over `path`. An interruption or a failure leaves
 /// the old `path` intact.

@@ -16,7 +16,7 @@ use rsf_time::{
 };
 use rsf_tnnmg::Condensation;
 
-use crate::checkpoint::Checkpoint;
+use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{invalid, Error, Result};
 use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
@@ -443,17 +443,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         memory: &FaultOdeState,
     ) -> Result<()> {
         let n = self.problem.model().num_dofs();
-        let size = |what, checkpoint, simulation| {
-            if checkpoint == simulation {
-                Ok(())
-            } else {
-                Err(Error::CheckpointSize {
-                    what,
-                    checkpoint,
-                    simulation,
-                })
-            }
-        };
+        let size = check_size;
         size("length of u", state.kinematics.u.len(), n)?;
         size("length of v", state.kinematics.v.len(), n)?;
         size(
@@ -466,14 +456,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             memory.rate.len(),
             self.y.len(),
         )?;
-        let value = |what, index, value, requirement| {
-            Err(Error::CheckpointValue {
-                what,
-                index,
-                value,
-                requirement,
-            })
-        };
+        let value =
+            |what, index, value, requirement| Err(bad_value(what, index, value, requirement));
         if !(state.time.is_finite() && state.time >= 0.0) {
             return value("time", 0, state.time, "finite and >= 0 (s)");
         }

@@ -265,31 +265,8 @@ impl Observer<2, 1> for Trace {
 fn switching_run_hands_over_continuously_and_reaches_the_end() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
     let t_end = 100.0 * SECONDS_PER_YEAR;
-    let model = bp1.model(&grid, true).unwrap();
-    let ode = bp1
-        .fault_ode(model.clone(), bp1.fault_ode_options(1e-6).unwrap())
-        .unwrap();
-    let dynamic = bp1
-        .simulation_builder(model, true, 1.0, bp1.step_control(1e-3).unwrap())
-        .unwrap()
-        .fixed_point(rsf::method::FixedPointOptions {
-            tolerance: 1e-6,
-            ..rsf::method::FixedPointOptions::default()
-        })
-        .build()
-        .unwrap();
-    let dynamic_tau = 0.5 * grid.dz / (bp1.shear_modulus() / bp1.rho).sqrt();
-    let mut run = rsf::SwitchingRun::new(
-        ode,
-        dynamic,
-        rsf::switching::SwitchingOptions {
-            to_dynamic: 1e-3,
-            to_quasi_dynamic: 1e-4,
-            dynamic_tau,
-            restart_dt: dynamic_tau,
-        },
-    )
-    .unwrap();
+    let mut run = switching_run(&bp1, &grid);
+    let dynamic_tau = run.options().dynamic_tau;
     let mut trace = Trace::default();
     let summary = run
         .run_until(Until::Time(t_end), &mut [&mut trace])

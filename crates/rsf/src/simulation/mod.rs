@@ -17,7 +17,7 @@ use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::{Kinematics, StepControl, VelocityIntegrator};
 
-use crate::checkpoint::Checkpoint;
+use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{Error, Result};
 use crate::method::state_integrator::StateIntegrator;
 use crate::method::Method;
@@ -264,17 +264,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let n = self.model().num_dofs();
         let s = &c.state;
         let k = &s.kinematics;
-        let size = |what, checkpoint, simulation| {
-            if checkpoint == simulation {
-                Ok(())
-            } else {
-                Err(Error::CheckpointSize {
-                    what,
-                    checkpoint,
-                    simulation,
-                })
-            }
-        };
+        let size = check_size;
         size("space dimension", c.dim, D)?;
         if k.u.len() % C == 0 {
             size("number of nodes", k.u.len() / C, n / C)?;
@@ -288,14 +278,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             s.alpha.len(),
             self.state.alpha.len(),
         )?;
-        let value = |what, index, value, requirement| {
-            Err(Error::CheckpointValue {
-                what,
-                index,
-                value,
-                requirement,
-            })
-        };
+        let value =
+            |what, index, value, requirement| Err(bad_value(what, index, value, requirement));
         if !(s.time.is_finite() && s.time >= 0.0) {
             return value("time", 0, s.time, "finite and >= 0 (s)");
         }
