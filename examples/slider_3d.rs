@@ -333,7 +333,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut progress = Progress::steps(s.steps, "slider 3-D");
     let checkpoint_path = folder.path("checkpoint.bin");
     let checkpoint = Checkpointer::new(&checkpoint_path)
-        .fingerprint(fingerprint.clone())
+        .fingerprint(fingerprint)
         .wall_time_before(wall_time_before);
     let mut step_cap = cli
         .folder
@@ -341,15 +341,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .map(|n| StepCap::new(n, checkpoint.clone()));
     let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
     // A cap at or below the state's step (`--max-steps 0`) computes no step.
-    let (step0, time0) = (sim.state().step, sim.time());
-    if step_cap
-        .as_mut()
-        .is_some_and(|c| c.stops_at_start(step0, time0))
-    {
-        let mut c = sim.checkpoint();
-        c.fingerprint = fingerprint;
-        c.wall_time_s = wall_time_before;
-        c.write(&checkpoint_path)?;
+    if let Some(cap) = step_cap.as_mut() {
+        cap.stops_at_start_of(sim.checkpoint())?;
     }
     if let Some(e) = step_cap
         .as_ref()

@@ -151,7 +151,6 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         map_every,
         FrictionalProfile::new(&map_csv, (0.0, t_end), mode)?,
     )?;
-    let fingerprint_run = fingerprint.clone();
     let checkpoint = Checkpointer::new(folder.path("checkpoint.bin"))
         .fingerprint(fingerprint)
         .wall_time_before(wall_time_before);
@@ -159,15 +158,8 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
     // A cap at or below the state's step (`--max-steps 0`, a resume at the cap) computes
     // no step: the state's checkpoint is written, as a run stopped by the cap writes it.
-    let (step0, time0) = (sim.state().step, sim.time());
-    if step_cap
-        .as_mut()
-        .is_some_and(|c| c.stops_at_start(step0, time0))
-    {
-        let mut c = sim.checkpoint();
-        c.fingerprint = fingerprint_run;
-        c.wall_time_s = wall_time_before;
-        c.write(&folder.path("checkpoint.bin"))?;
+    if let Some(cap) = step_cap.as_mut() {
+        cap.stops_at_start_of(sim.checkpoint())?;
     }
     if let Some(e) = step_cap
         .as_ref()

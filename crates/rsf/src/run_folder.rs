@@ -313,6 +313,23 @@ impl StepCap {
         true
     }
 
+    /// [`stops_at_start`](Self::stops_at_start) for the state of `start` (a checkpoint of
+    /// the state the run starts from): at the cap, `start` is written with the cap's
+    /// [`Checkpointer`] (if it has one), as a run stopped by the cap writes its last state,
+    /// and the caller computes no step.
+    ///
+    /// # Errors
+    /// The checkpoint's write errors.
+    pub fn stops_at_start_of(&mut self, start: Checkpoint) -> Result<bool> {
+        if !self.stops_at_start(start.state.step, start.state.time) {
+            return Ok(false);
+        }
+        if let Some(c) = &self.checkpointer {
+            c.write(start)?;
+        }
+        Ok(true)
+    }
+
     /// The step and time (s) at which the cap stopped the run, if it did.
     pub fn reached(&self) -> Option<(usize, f64)> {
         self.reached

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use crate::checkpoint::Fingerprint;
+use crate::checkpoint::{Checkpoint, Fingerprint};
 
 use crate::error::Result;
 use crate::report::StepReport;
@@ -51,12 +51,22 @@ impl Checkpointer {
     }
 }
 
-impl<const D: usize, const C: usize> Observer<D, C> for Checkpointer {
-    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
-        let mut c = s.checkpoint();
+impl Checkpointer {
+    /// Writes the checkpoint `c` (of any state, e.g. one a run starts from) as this
+    /// checkpointer writes those of its steps: with its fingerprint and wall time.
+    ///
+    /// # Errors
+    /// [`Error::File`](crate::Error::File) naming the file and the operation.
+    pub fn write(&self, mut c: Checkpoint) -> Result<()> {
         c.fingerprint = self.fingerprint.clone();
         c.wall_time_s = self.before_s + self.started.elapsed().as_secs_f64();
-        c.write(&self.path)?;
+        c.write(&self.path)
+    }
+}
+
+impl<const D: usize, const C: usize> Observer<D, C> for Checkpointer {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
+        self.write(s.checkpoint())?;
         Ok(Flow::Continue(()))
     }
     /// A checkpoint of a method condensed onto Γ_F needs only its state on Γ_F (the
