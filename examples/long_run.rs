@@ -30,8 +30,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::observe::{EventThresholds, SlipEvent, SlipEvents};
 use rsf::run_folder::check_output_size;
-use rsf::run_folder::{RunFolder, StepCap};
-use rsf::{Flow, Observer, StepView, Until};
+use rsf::run_folder::{until, RunFolder};
+use rsf::{Flow, Observer, StepView, Termination};
 use rsf_examples::cli::step_count;
 use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
 use rsf_scenes::step_cap;
@@ -128,21 +128,18 @@ fn simulate(
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let mut events = SlipEvents::new(EventThresholds::default())?.slip_at(sim.model(), x0)?;
     let mut steps = Steps::default();
-    let mut limit = cap.map(StepCap::without_checkpoint);
     let mut progress = scene.progress(0.0, what);
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut events, &mut steps];
-    if let Some(l) = limit.as_mut() {
-        observers.push(l);
-    }
     observers.push(&mut progress);
-    let summary = sim.run_until(Until::Time(scene.end_time_s), &mut observers)?;
+    let summary = sim.run_until(until(scene.end_time_s, cap), &mut observers)?;
     drop(observers);
+    let state = sim.state();
     Ok(Outcome {
         events: events.events().to_vec(),
         steps,
         rejected: sim.state().controller.map_or(0, |c| c.rejected()),
         seconds: summary.seconds,
-        stopped: limit.and_then(|l| l.reached()),
+        stopped: (summary.termination == Termination::StepCap).then_some((state.step, state.time)),
     })
 }
 

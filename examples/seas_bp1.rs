@@ -22,7 +22,9 @@
 //! files in `--out` from a checkpoint of this run: fingerprint, checkpoint and every file's
 //! rows are checked before anything is cut, and the continued files are byte-identical to
 //! an uninterrupted run's, with either scheme and with `--inertia`; docs/reliability.md),
-//! `--allow-change FIELD,…` (a deliberate change on resume, e.g. `end_years`).
+//! `--allow-change FIELD,…` (a deliberate change on resume, e.g. `end_years`), `--max-steps
+//! N` (stop after step N in total, across resumes, with a checkpoint and the resume log to
+//! continue from with a larger N).
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
@@ -37,8 +39,8 @@ use rsf::observe::{
     SECONDS_PER_YEAR,
 };
 use rsf::run_folder::read_checkpoint;
-use rsf::run_folder::RunFolder;
-use rsf::{MethodKind, Observer, Until};
+use rsf::run_folder::{step_cap_error, until, RunFolder};
+use rsf::{MethodKind, Observer};
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
@@ -130,6 +132,10 @@ struct Args {
     /// separated, e.g. `end_years`).
     #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
     allow_change: Vec<String>,
+    /// Stop after this many steps in total (across resumes), writing `checkpoint.bin` and
+    /// the resume log to continue from with a larger value. 0 computes no step.
+    #[arg(long, value_name = "N")]
+    max_steps: Option<u64>,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -289,24 +295,29 @@ fn main() -> Result<(), AnyError> {
         setup,
         mode,
     )?;
-    if args.checkpoint_every > 0 {
+    // A run that can stop before its end (checkpoints, a step cap) logs what its
+    // benchmark files hold at each checkpoint.
+    if args.checkpoint_every > 0 || args.max_steps.is_some() {
         output = output.with_resume_log(mode)?;
     }
     let checkpointer = Checkpointer::new(folder.path("checkpoint.bin"))
         .fingerprint(fingerprint)
         .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
-    let mut checkpointer = Every::new(Interval::Steps(args.checkpoint_every.max(1)), checkpointer)?;
+    // Every `--checkpoint-every` steps, and where the step cap stops the run.
+    let mut checkpointer = Every::new(
+        Interval::steps_or_never(args.checkpoint_every),
+        checkpointer,
+    )?;
     let t_end = args.end_years * SECONDS_PER_YEAR;
+    let end = until(t_end, args.max_steps);
     let t0 = rsf::Stepping::state(&sim).time;
     let mut progress = Progress::time(t0, t_end, "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());
     let run = {
         // The files first, the checkpoint after them: a checkpoint never runs ahead.
-        let mut observers: Vec<&mut dyn Observer<2, 1>> = vec![&mut output, &mut progress];
-        if args.checkpoint_every > 0 {
-            observers.push(&mut checkpointer);
-        }
-        sim.run_until(Until::Time(t_end), &mut observers)
+        let mut observers: Vec<&mut dyn Observer<2, 1>> =
+            vec![&mut output, &mut progress, &mut checkpointer];
+        sim.run_until(end, &mut observers)
     };
     let (wall, cpu) = (wall.elapsed().as_secs_f64(), cpu_seconds() - cpu);
     let summary = match run {
@@ -316,6 +327,14 @@ fn main() -> Result<(), AnyError> {
             return Err(e.error.into());
         }
     };
+    if let Some(e) = step_cap_error(
+        &summary,
+        end,
+        rsf::Stepping::state(&sim),
+        &folder.path("checkpoint.bin"),
+    ) {
+        return Err(e.into());
+    }
     let events = output.events();
     let done: Vec<_> = events.iter().filter(|e| e.t_end.is_finite()).collect();
     let intervals: Vec<f64> = done
@@ -365,7 +384,10 @@ fn main() -> Result<(), AnyError> {
         "nodes": nodes,
         "fault_nodes": fault_nodes,
         "end_years": args.end_years,
-        "accepted_steps": summary.steps,
+        // Steps of the whole run (across resumes); the counts and times below are this
+        // invocation's.
+        "accepted_steps": rsf::Stepping::state(&sim).step,
+        "steps_this_invocation": summary.steps,
         "rejected_attempts": summary.rejected_attempts,
         "accepted_by_controller": accepted_by_controller,
         "scheme": format!("{scheme:?}"),

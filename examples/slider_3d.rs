@@ -37,8 +37,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
 use rsf::run_folder::{check_output_size, read_checkpoint};
-use rsf::run_folder::{RunFolder, StepCap};
-use rsf::{Flow, Model, Observer, StepView, Until};
+use rsf::run_folder::{step_cap_error, until, RunFolder};
+use rsf::{Flow, Model, Observer, StepView};
 use rsf_examples::cli::step_count;
 use rsf_examples::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use rsf_scenes::steps_bound;
@@ -335,21 +335,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let checkpoint = Checkpointer::new(&checkpoint_path)
         .fingerprint(fingerprint)
         .wall_time_before(wall_time_before);
-    let mut step_cap = cli
-        .folder
-        .max_steps
-        .map(|n| StepCap::new(n, checkpoint.clone()));
-    let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
-    // A cap at or below the state's step (`--max-steps 0`) computes no step.
-    if let Some(cap) = step_cap.as_mut() {
-        cap.stops_at_start_of(sim.checkpoint())?;
-    }
-    if let Some(e) = step_cap
-        .as_ref()
-        .and_then(|c| c.error(s.end_time_s, &checkpoint_path))
-    {
-        return Err(e.into());
-    }
+    // Every `--checkpoint-every` steps, and where a step cap stops the run (also a cap at
+    // or below the state's step, `--max-steps 0`, which computes no step).
+    let mut checkpointer = Every::new(Interval::steps_or_never(cli.checkpoint_every), checkpoint)?;
     println!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),
@@ -362,19 +350,12 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(f) = frames.as_mut() {
         observers.push(f);
     }
-    if cli.checkpoint_every > 0 {
-        observers.push(&mut checkpointer);
-    }
-    if let Some(cap) = step_cap.as_mut() {
-        observers.push(cap);
-    }
+    observers.push(&mut checkpointer);
     observers.push(&mut progress);
-    let summary = sim.run_until(Until::Time(s.end_time_s), &mut observers)?;
+    let end = until(s.end_time_s, cli.folder.max_steps);
+    let summary = sim.run_until(end, &mut observers)?;
     drop(observers);
-    if let Some(e) = step_cap
-        .as_ref()
-        .and_then(|c| c.error(s.end_time_s, &checkpoint_path))
-    {
+    if let Some(e) = step_cap_error(&summary, end, sim.state(), &checkpoint_path) {
         return Err(e.into());
     }
     snapshot.write(sim.model(), scene.width_m, &out)?;

@@ -14,8 +14,8 @@ use crate::{
 use clap::Parser;
 use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
 use rsf::run_folder::{check_window, read_checkpoint};
-use rsf::run_folder::{RunFolder, StepCap};
-use rsf::{Observer, Until};
+use rsf::run_folder::{step_cap_error, until, RunFolder};
+use rsf::Observer;
 use rsf_scenes::plan_output;
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
@@ -154,39 +154,23 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let checkpoint = Checkpointer::new(folder.path("checkpoint.bin"))
         .fingerprint(fingerprint)
         .wall_time_before(wall_time_before);
-    let mut step_cap = plan.step_cap.map(|n| StepCap::new(n, checkpoint.clone()));
-    let mut checkpointer = Every::new(Interval::Steps(cli.checkpoint_every.max(1)), checkpoint)?;
-    // A cap at or below the state's step (`--max-steps 0`, a resume at the cap) computes
-    // no step: the state's checkpoint is written, as a run stopped by the cap writes it.
-    if let Some(cap) = step_cap.as_mut() {
-        cap.stops_at_start_of(sim.checkpoint())?;
-    }
-    if let Some(e) = step_cap
-        .as_ref()
-        .and_then(|c| c.error(t_end, &folder.path("checkpoint.bin")))
-    {
-        return Err(e.into());
-    }
+    // Every `--checkpoint-every` steps, and where a step cap stops the run (also a cap at
+    // or below the state's step: `--max-steps 0`, a resume at the cap, which computes no
+    // step).
+    let mut checkpointer = Every::new(Interval::steps_or_never(cli.checkpoint_every), checkpoint)?;
     let mut progress = scene.progress(sim.time(), "slider");
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
-    if cli.checkpoint_every > 0 {
-        observers.push(&mut checkpointer);
-    }
-    if let Some(cap) = step_cap.as_mut() {
-        observers.push(cap);
-    }
+    observers.push(&mut checkpointer);
     if let Some(f) = frames.as_mut() {
         observers.push(f);
     }
     observers.push(&mut progress);
     let setup_seconds = setup.elapsed().as_secs_f64();
-    let summary = sim.run_until(Until::Time(t_end), &mut observers)?;
+    let end = until(t_end, plan.step_cap);
+    let summary = sim.run_until(end, &mut observers)?;
     drop(observers);
-    if let Some(e) = step_cap
-        .as_ref()
-        .and_then(|c| c.error(t_end, &folder.path("checkpoint.bin")))
-    {
+    if let Some(e) = step_cap_error(&summary, end, sim.state(), &folder.path("checkpoint.bin")) {
         return Err(e.into());
     }
 

@@ -106,17 +106,28 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
     fpi_total: &mut usize,
 ) -> Result<()> {
     let t_end = match until {
-        Until::Time(t) => {
+        Until::Time(t) | Until::TimeOrStepCap { time: t, .. } => {
             check_end_time(t)?;
             Some(t)
         }
         Until::Steps(_) => None,
     };
     let volume = observers.iter().any(|o| o.reads_volume());
+    let mut last: Option<StepReport> = None;
     loop {
         let reached = match until {
             Until::Steps(k) => (summary.steps >= k).then_some(Termination::StepCount),
             Until::Time(t) => method.reached(t).then_some(Termination::EndTime),
+            Until::TimeOrStepCap { time, step_cap } => {
+                if method.reached(time) {
+                    Some(Termination::EndTime)
+                } else if method.state().step >= step_cap {
+                    stop_at_cap(method, observers, last.as_ref())?;
+                    Some(Termination::StepCap)
+                } else {
+                    None
+                }
+            }
         };
         if let Some(reason) = reached {
             summary.termination = reason;
@@ -141,7 +152,40 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
             summary.termination = reason;
             return Ok(());
         }
+        last = Some(report);
     }
+}
+
+/// Shows every observer that the run stops at its step cap
+/// ([`Observer::at_step_cap`]), with the last step's report — or, for a state that is at
+/// its cap before any step (a resume at the cap, a cap of 0), a report of that state
+/// (its step, time and τ; no iterations).
+///
+/// # Errors
+/// The first observer error (the observers after it are not shown the stop).
+fn stop_at_cap<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
+    method: &M,
+    observers: &mut [&mut dyn Observer<D, C>],
+    last: Option<&StepReport>,
+) -> Result<()> {
+    let state = method.state();
+    let report = last.copied().unwrap_or(StepReport {
+        step: state.step,
+        time: state.time,
+        tau: state.tau,
+        ..StepReport::default()
+    });
+    let view = StepView {
+        model: method.model(),
+        state,
+        report: &report,
+        friction: method.fault_tractions(),
+        method: &|| method.method_state(),
+    };
+    for o in observers.iter_mut() {
+        o.at_step_cap(&view)?;
+    }
+    Ok(())
 }
 
 /// Where a run ([`run_until`]) ends.
@@ -153,6 +197,21 @@ pub enum Until {
     /// fixed τ the last step is not shortened to land on `t`; with adaptive steps it is, so
     /// the run ends at `t`.
     Time(f64),
+    /// At the end time `time` (s, as [`Until::Time`]) or when the state's step index
+    /// reaches `step_cap`, whichever comes first. The step index counts from the start of
+    /// the run across resumes (a restored checkpoint's `step`), so a run stopped at its cap
+    /// and resumed with a larger one continues where it stopped; a state already at or past
+    /// the cap computes no step. Stopping at the cap ends with [`Termination::StepCap`]
+    /// after every observer's [`at_step_cap`](Observer::at_step_cap): a
+    /// [`Checkpointer`](crate::observe::Checkpointer) (also inside
+    /// [`Every`](crate::observe::Every)) writes the state there, so the run can be resumed
+    /// from exactly where it stopped.
+    TimeOrStepCap {
+        /// The end time (s).
+        time: f64,
+        /// The step index to stop at (the state's [`step`](SimulationState::step)).
+        step_cap: usize,
+    },
 }
 
 /// Why a run ended.
@@ -163,6 +222,9 @@ pub enum Termination {
     EndTime,
     /// The step count of [`Until::Steps`] was reached.
     StepCount,
+    /// The step cap of [`Until::TimeOrStepCap`] was reached before its end time (the
+    /// state's step and time say where).
+    StepCap,
     /// An observer returned [`Flow::Break`](crate::Flow) after a step.
     Observer {
         /// Its position in the observer list (the first one that broke).

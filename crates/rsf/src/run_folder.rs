@@ -13,17 +13,19 @@
 //!   [`PointSeries::check_checkpoint_row`](crate::observe::PointSeries::check_checkpoint_row),
 //!   [`FrictionalProfile::check_resume`](crate::observe::FrictionalProfile::check_resume),
 //!   [`SeasOutput::check_resume`](crate::observe::SeasOutput::check_resume)) before any file is cut.
-//! - Output bounds and step caps: [`check_output_size`] and the observer [`StepCap`] that
-//!   stops a run (with a checkpoint) after a number of steps (the bounds of the slider
-//!   scenes' runs are in `rsf_scenes::output`); [`check_window`] for recording windows.
+//! - Output bounds and step caps: [`check_output_size`]; a step cap is where a run ends
+//!   ([`until`]: [`Until::TimeOrStepCap`], whose stop a
+//!   [`Checkpointer`](crate::observe::Checkpointer) checkpoints), [`step_cap_error`] says
+//!   how to continue (the bounds of the slider scenes' runs are in `rsf_scenes::output`);
+//!   [`check_window`] for recording windows.
 
 use std::path::{Path, PathBuf};
 
 use crate::checkpoint::{write_atomically, Checkpoint, Fingerprint};
 use crate::error::{io_at, show_path, Error, Result};
-use crate::observe::checkpointer::Checkpointer;
 use crate::observe::files::FileMode;
-use crate::observe::{Flow, Observer, StepView};
+use crate::run::{RunSummary, Termination, Until};
+use crate::simulation_state::SimulationState;
 
 /// Name of the manifest every run writes into its folder: `program=NAME` and one
 /// `output=FILE` line per file the run writes (paths relative to the folder).
@@ -270,98 +272,42 @@ pub const SERIES_ROW_BYTES: f64 = 200.0;
 /// bytes; rounded up).
 pub const PROFILE_ROW_BYTES: f64 = 100.0;
 
-/// Stops a run after `cap` steps in total (the step index of the state, so across
-/// resumes), writing a checkpoint of that step with its [`Checkpointer`] first (if it has
-/// one). Put it after the observers that write files. [`reached`](Self::reached) tells
-/// whether it stopped the run.
-#[derive(Debug, Clone)]
-pub struct StepCap {
-    cap: u64,
-    checkpointer: Option<Checkpointer>,
-    reached: Option<(usize, f64)>,
-}
-
-impl StepCap {
-    /// Stops after step `cap`, checkpointing with `checkpointer`.
-    pub fn new(cap: u64, checkpointer: Checkpointer) -> Self {
-        Self {
-            cap,
-            checkpointer: Some(checkpointer),
-            reached: None,
-        }
-    }
-
-    /// Stops after step `cap` without a checkpoint (a run that cannot be resumed, whose
-    /// files are written at its end).
-    pub fn without_checkpoint(cap: u64) -> Self {
-        Self {
-            cap,
-            checkpointer: None,
-            reached: None,
-        }
-    }
-
-    /// Whether a run whose state is at step `step` and time `time` (s) is already at its
-    /// cap (e.g. `--max-steps 0`, or a resume at the cap): then it must compute no step —
-    /// the cap is recorded as [`reached`](Self::reached) there, and the caller skips the
-    /// run (writing a checkpoint of the state itself if it wants one).
-    pub fn stops_at_start(&mut self, step: usize, time: f64) -> bool {
-        if (step as u64) < self.cap {
-            return false;
-        }
-        self.reached = Some((step, time));
-        true
-    }
-
-    /// [`stops_at_start`](Self::stops_at_start) for the state of `start` (a checkpoint of
-    /// the state the run starts from): at the cap, `start` is written with the cap's
-    /// [`Checkpointer`] (if it has one), as a run stopped by the cap writes its last state,
-    /// and the caller computes no step.
-    ///
-    /// # Errors
-    /// The checkpoint's write errors.
-    pub fn stops_at_start_of(&mut self, start: Checkpoint) -> Result<bool> {
-        if !self.stops_at_start(start.state.step, start.state.time) {
-            return Ok(false);
-        }
-        if let Some(c) = &self.checkpointer {
-            c.write(start)?;
-        }
-        Ok(true)
-    }
-
-    /// The step and time (s) at which the cap stopped the run, if it did.
-    pub fn reached(&self) -> Option<(usize, f64)> {
-        self.reached
-    }
-
-    /// The error of a run stopped by the cap: names `--max-steps`, the step, time and how
-    /// to continue.
-    pub fn error(&self, t_end: f64, checkpoint: &Path) -> Option<Error> {
-        self.reached.map(|(step, t)| Error::InvalidParameter {
-            name: "max_steps".into(),
-            reason: format!(
-                "the run reached its step cap of {} steps at t = {t:.6e} s (of T = {t_end:e} s): \
-                 its files and `{}` are complete up to step {step}; continue with --resume \
-                 and a larger --max-steps or --max-output-gb",
-                self.cap,
-                show_path(checkpoint)
-            ),
-        })
+/// The end of a run with an optional step cap: [`Until::TimeOrStepCap`] at `t_end` (s) and
+/// the cap (steps in total, across resumes), or [`Until::Time`] without one.
+pub fn until(t_end: f64, step_cap: Option<u64>) -> Until {
+    match step_cap {
+        Some(cap) => Until::TimeOrStepCap {
+            time: t_end,
+            step_cap: usize::try_from(cap).unwrap_or(usize::MAX),
+        },
+        None => Until::Time(t_end),
     }
 }
 
-impl<const D: usize, const C: usize> Observer<D, C> for StepCap {
-    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
-        if (s.report.step as u64) < self.cap {
-            return Ok(Flow::Continue(()));
-        }
-        if let Some(c) = self.checkpointer.as_mut() {
-            let _: Flow = c.observe(s)?;
-        }
-        self.reached = Some((s.report.step, s.report.time));
-        Ok(Flow::Break(()))
-    }
+/// The error of a run that ended at the step cap of `until` ([`Termination::StepCap`] of
+/// an [`Until::TimeOrStepCap`]) before its end time, at the state `state`: names
+/// `--max-steps`, the cap, the step and time, and how to continue (the checkpoint
+/// `checkpoint` written there). `None` for a run that ended otherwise.
+pub fn step_cap_error(
+    summary: &RunSummary,
+    until: Until,
+    state: &SimulationState,
+    checkpoint: &Path,
+) -> Option<Error> {
+    let Until::TimeOrStepCap { time, step_cap } = until else {
+        return None;
+    };
+    (summary.termination == Termination::StepCap).then(|| Error::InvalidParameter {
+        name: "max_steps".into(),
+        reason: format!(
+            "the run reached its step cap of {step_cap} steps at step {} (t = {:.6e} s of \
+             T = {time:e} s): its files and `{}` are complete up to that step; continue \
+             with --resume and a larger --max-steps (or output bound)",
+            state.step,
+            state.time,
+            show_path(checkpoint)
+        ),
+    })
 }
 
 /// Checks a window `(t0, t1)` (s) named `name` against `[0, end_time]`.

@@ -4,8 +4,8 @@
 //! shrinks), the volume's equilibrium when an observer reads it, and typed errors.
 
 use rsf::friction::{AsinhLaw, FrictionLaw};
-use rsf::observe::SECONDS_PER_YEAR;
-use rsf::{Flow, Integrator, Observer, StepView, TimeFunction, Until};
+use rsf::observe::{Checkpointer, Every, Interval, SECONDS_PER_YEAR};
+use rsf::{Flow, Integrator, Observer, StepView, Termination, TimeFunction, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 mod common;
@@ -376,16 +376,38 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
     let ks = kills(&whole.rows);
     assert!(!ks.is_empty());
     for k in ks {
+        // Stopped by a step cap, whose stop the checkpointer writes (it writes no other
+        // step: `Interval::Never`).
         let mut first = Trace::default();
         let mut m = make();
-        rsf::run_until(&mut m, Until::Steps(k), &mut [&mut first]).unwrap();
-        m.checkpoint().write(&path).unwrap();
+        let mut checkpointer = Every::new(Interval::Never, Checkpointer::new(&path)).unwrap();
+        std::fs::remove_file(&path).ok();
+        let capped = Until::TimeOrStepCap {
+            time: t_end,
+            step_cap: k,
+        };
+        let summary = rsf::run_until(&mut m, capped, &mut [&mut first, &mut checkpointer]).unwrap();
+        assert_eq!(summary.termination, Termination::StepCap);
+        assert_eq!((summary.steps, m.state().step), (k, k));
         drop(m);
         let c = rsf::Checkpoint::read(&path).unwrap();
+        assert_eq!(c.state.step, k);
+        // Resumed at the cap: no step, and the stop is checkpointed again (a resume of a
+        // capped run without a larger cap, `--max-steps 0`).
         let mut resumed = make();
         resumed.restore(&c).unwrap();
-        rsf::run_until(&mut resumed, Until::Time(t_end), &mut [&mut first]).unwrap();
-        assert_same_rows(&first.rows, &whole.rows, &format!("killed at step {k}"));
+        std::fs::remove_file(&path).unwrap();
+        let again = rsf::run_until(&mut resumed, capped, &mut [&mut checkpointer]).unwrap();
+        assert_eq!((again.steps, again.termination), (0, Termination::StepCap));
+        assert_eq!(rsf::Checkpoint::read(&path).unwrap().state.step, k);
+        // A larger cap than the run needs: it ends at its end time.
+        let beyond = Until::TimeOrStepCap {
+            time: t_end,
+            step_cap: whole.rows.len() + 1,
+        };
+        let rest = rsf::run_until(&mut resumed, beyond, &mut [&mut first]).unwrap();
+        assert_eq!(rest.termination, Termination::EndTime);
+        assert_same_rows(&first.rows, &whole.rows, &format!("capped at step {k}"));
     }
     // Interrupted at an end time (the last step lands on it), then resumed.
     let t_mid = whole.rows[whole.rows.len() / 2].0 * 0.999_999_7;

@@ -69,6 +69,10 @@ impl<const D: usize, const C: usize> Observer<D, C> for Checkpointer {
         self.write(s.checkpoint())?;
         Ok(Flow::Continue(()))
     }
+    /// A run stopped at its step cap is checkpointed where it stopped.
+    fn at_step_cap(&mut self, s: &StepView<'_, D, C>) -> Result<()> {
+        self.write(s.checkpoint())
+    }
     /// A checkpoint of a method condensed onto Γ_F needs only its state on Γ_F (the
     /// volume's `u`, `v` follow from it); the implicit simulation always has the whole
     /// field.

@@ -14,6 +14,11 @@ pub enum Interval {
     /// decision depends on the step's time and τ only, so a resumed run samples the same
     /// steps.
     Time(f64),
+    /// No step: the inner observer sees only a stop at a step cap
+    /// ([`Observer::at_step_cap`]) and [`finish`](Observer::finish) — e.g. a
+    /// [`Checkpointer`](crate::observe::Checkpointer) that writes only where a capped run
+    /// stops.
+    Never,
 }
 
 impl Interval {
@@ -32,17 +37,28 @@ impl Interval {
         }
     }
 
+    /// Every `n`-th step, or [`Interval::Never`] for `n = 0` (a program's
+    /// `--checkpoint-every 0`).
+    pub fn steps_or_never(n: usize) -> Self {
+        if n == 0 {
+            Interval::Never
+        } else {
+            Interval::Steps(n)
+        }
+    }
+
     /// Whether the step `step` ending at `time` (s) after a step of `tau` (s) is sampled.
     pub fn samples(&self, step: usize, time: f64, tau: f64) -> bool {
         match *self {
             Interval::Steps(n) => step % n == 0,
             Interval::Time(dt) => (time / dt).floor() > ((time - tau) / dt).floor(),
+            Interval::Never => false,
         }
     }
 }
 
 /// Shows the steps of a run to an inner observer at an [`Interval`] only; passes
-/// [`finish`](Observer::finish) on.
+/// [`finish`](Observer::finish) and [`at_step_cap`](Observer::at_step_cap) on.
 ///
 /// ```
 /// use rsf::observe::{Every, Interval, Reports};
@@ -81,6 +97,10 @@ impl<const D: usize, const C: usize, O: Observer<D, C>> Observer<D, C> for Every
         } else {
             Ok(Flow::Continue(()))
         }
+    }
+    /// Always passed on: the stop at a step cap is not a sampled step.
+    fn at_step_cap(&mut self, s: &StepView<'_, D, C>) -> Result<()> {
+        self.inner.at_step_cap(s)
     }
     fn finish(&mut self) -> Result<()> {
         self.inner.finish()

@@ -216,6 +216,20 @@ pub trait Observer<const D: usize, const C: usize = D> {
         Ok(())
     }
 
+    /// Called when a run stops at its step cap ([`Until::TimeOrStepCap`](crate::Until)),
+    /// after the last step's [`observe`](Self::observe) (or, for a state at its cap before
+    /// any step, with a report of that state and no iterations); before
+    /// [`finish`](Self::finish). Default: nothing. A
+    /// [`Checkpointer`](crate::observe::Checkpointer) writes the state, so a capped run can
+    /// be resumed; [`Every`](crate::observe::Every) passes it on.
+    ///
+    /// # Errors
+    /// I/O errors end the run with that error.
+    fn at_step_cap(&mut self, step: &StepView<'_, D, C>) -> Result<()> {
+        let _ = step;
+        Ok(())
+    }
+
     /// Whether the observer reads the state off the frictional boundary (interior and
     /// Dirichlet nodes' `u`, `v`). Default `true` (safe for an observer that does not say).
     /// A run that condenses its unknowns onto Γ_F ([`FaultOde`](crate::FaultOde))
