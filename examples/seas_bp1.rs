@@ -30,6 +30,7 @@
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
 
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
@@ -41,6 +42,7 @@ use rsf::observe::{
 use rsf::run_folder::read_checkpoint;
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
+use rsf_examples::cli::for_flag;
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
@@ -136,6 +138,10 @@ struct Args {
     /// the resume log to continue from with a larger value. 0 computes no step.
     #[arg(long, value_name = "N")]
     max_steps: Option<u64>,
+    /// Refuse a grid whose run is estimated above this many gigabytes of memory (nodes
+    /// and fault operators estimated before anything is allocated).
+    #[arg(long, default_value_t = 16.0, value_name = "GB")]
+    max_memory_gb: f64,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -148,8 +154,11 @@ enum Scheme {
 /// latter with fully dynamic events.
 type Bp1Run = rsf::Run<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::Integrator, 1>;
 
-fn main() -> Result<(), AnyError> {
-    let args = Args::parse();
+fn main() -> ExitCode {
+    rsf_examples::main_with(|| run(Args::parse()))
+}
+
+fn run(args: Args) -> Result<(), AnyError> {
     let bp1 = SeasBp1::default();
     let grid = SeasBp1Grid {
         dz: args.dz,
@@ -159,6 +168,25 @@ fn main() -> Result<(), AnyError> {
     if !(args.end_years > 0.0 && args.end_years <= 1e5) {
         return Err(format!("--end-years {} must be in (0, 1e5]", args.end_years).into());
     }
+    if !(args.state_change_cap >= 0.0 && args.state_change_cap.is_finite()) {
+        return Err(format!(
+            "--state-change-cap {} must be finite and >= 0 (0: no cap)",
+            args.state_change_cap
+        )
+        .into());
+    }
+    // The model's size, before anything is allocated.
+    let size = bp1.estimate(&grid)?;
+    rsf::run_folder::check_memory(
+        size.bytes,
+        args.max_memory_gb,
+        "dz, domain_km, ratio",
+        &format!(
+            "BP1 on dz = {:e} m, domain = {:e} km, ratio = {}: about {:.3e} nodes ({:.3e} on \
+             the fault)",
+            args.dz, args.domain_km, args.ratio, size.nodes, size.fault_nodes
+        ),
+    )?;
     // Refused before anything is computed: a folder of another run (of this or of any
     // other rsf program, unless --overwrite), one that cannot be written.
     let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
@@ -200,7 +228,12 @@ fn main() -> Result<(), AnyError> {
             })
             .build()
     };
-    let fault_ode = |model| bp1.fault_ode(model, bp1.fault_ode_options(args.rk_tolerance)?);
+    let rk_options = for_flag(
+        "rk_tolerance",
+        "tolerance",
+        bp1.fault_ode_options(args.rk_tolerance),
+    )?;
+    let fault_ode = |model| bp1.fault_ode(model, rk_options);
     let mut sim: Bp1Run = match method {
         MethodKind::Implicit => {
             implicit(model, args.inertia, 1e-2, args.fixed_point_tolerance)?.into()

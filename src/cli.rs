@@ -244,6 +244,25 @@ pub fn window(s: &str) -> Result<(f64, f64), String> {
     }
 }
 
+/// The error of a library call on a user's flag, named after the flag: an
+/// [`rsf::Error::InvalidParameter`] named `field` (the library's name) becomes one named
+/// `flag` (what the user wrote, e.g. `rk_tolerance` for the fault ODE's `tolerance`);
+/// other errors pass unchanged.
+///
+/// # Errors
+/// The error of `result`, renamed.
+pub fn for_flag<T>(flag: &str, field: &str, result: rsf::Result<T>) -> rsf::Result<T> {
+    result.map_err(|e| match e {
+        rsf::Error::InvalidParameter { name, reason } if name == field => {
+            rsf::Error::InvalidParameter {
+                name: flag.into(),
+                reason,
+            }
+        }
+        e => e,
+    })
+}
+
 /// Runs an example's body: on error prints `error: …` and its causes (one line each, at
 /// most five) to stderr and exits with code 1.
 pub fn main_with(body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>>) -> ExitCode {

@@ -152,6 +152,47 @@ pub fn rectangle_from_coordinates(
     SimplexMesh::new(vertices, tensor_cells(nx, ny, diagonal))
 }
 
+/// The most coordinates [`geometric_grading`] returns (10⁷).
+pub const MAX_GRADED_COORDINATES: f64 = 1e7;
+
+/// The number of coordinates [`geometric_grading`] returns for the same arguments, in
+/// closed form and without allocating (an estimate: at most 2 above the exact count, never
+/// below it; `f64`, so that a grid of 10³⁰⁰ intervals is a number, not an overflow) — to
+/// bound a mesh's size before it is built. `+∞` for arguments
+/// [`geometric_grading`] refuses.
+///
+/// ```
+/// use rsf_fem::{geometric_grading, geometric_grading_len};
+/// let n = geometric_grading(25.0, 40e3, 1.05, 400e3)?.len() as f64;
+/// let estimate = geometric_grading_len(25.0, 40e3, 1.05, 400e3);
+/// assert!(estimate >= n && estimate <= n + 2.0);
+/// assert!(geometric_grading_len(1e-300, 40e3, 1.0, 400e3) > 1e305); // refused, not built
+/// assert!(geometric_grading(1e-300, 40e3, 1.0, 400e3).is_err());
+/// # Ok::<(), rsf_fem::Error>(())
+/// ```
+pub fn geometric_grading_len(h: f64, uniform: f64, ratio: f64, length: f64) -> f64 {
+    let ok = h > 0.0
+        && length.is_finite()
+        && h <= length
+        && uniform >= 0.0
+        && uniform <= length
+        && (1.0..=10.0).contains(&ratio);
+    if !ok {
+        return f64::INFINITY;
+    }
+    let n_uniform = (uniform / h + 1e-9).floor();
+    let rest = length - n_uniform * h;
+    // Intervals growing from h·r: h r (r^k − 1)/(r − 1) ≥ rest.
+    let graded = if rest <= 1e-12 * length {
+        0.0
+    } else if ratio == 1.0 {
+        (rest / h).ceil()
+    } else {
+        ((1.0 + rest * (ratio - 1.0) / (h * ratio)).ln() / ratio.ln()).ceil()
+    };
+    n_uniform + 1.0 + graded
+}
+
 /// Coordinates `0 = c_0 < c_1 < … < c_n = length` with spacing `h` up to `uniform`
 /// (m), then growing by the factor `ratio` per interval until `length`; the last interval
 /// takes the remainder (between half the previous spacing and `1 + ratio` times it).
@@ -161,7 +202,8 @@ pub fn rectangle_from_coordinates(
 ///
 /// # Errors
 /// [`Error::InvalidGrid`] unless `0 < h ≤ length`, `0 ≤ uniform ≤ length`,
-/// `1 ≤ ratio ≤ 10` and all finite, or if more than 10⁷ coordinates would result.
+/// `1 ≤ ratio ≤ 10` and all finite, or if more than [`MAX_GRADED_COORDINATES`] would
+/// result (refused before anything is allocated: [`geometric_grading_len`]).
 pub fn geometric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Result<Vec<f64>> {
     let ok = h > 0.0
         && length.is_finite()
@@ -175,6 +217,13 @@ pub fn geometric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Resul
              got h = {h}, uniform = {uniform}, ratio = {ratio}, length = {length}"
         )));
     }
+    let estimate = geometric_grading_len(h, uniform, ratio, length);
+    if estimate > MAX_GRADED_COORDINATES {
+        return Err(Error::InvalidGrid(format!(
+            "grading: about {estimate:.3e} coordinates, more than {MAX_GRADED_COORDINATES:e} \
+             (h = {h:e} m, uniform = {uniform:e} m, ratio = {ratio}, length = {length:e} m)"
+        )));
+    }
     let n_uniform = (uniform / h + 1e-9).floor() as usize;
     let mut c = Vec::with_capacity(n_uniform + 64);
     for i in 0..=n_uniform {
@@ -183,9 +232,10 @@ pub fn geometric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Resul
     let mut step = h;
     let mut last = *c.last().expect("non-empty");
     while length - last > 1e-12 * length {
-        if c.len() > 10_000_000 {
+        if c.len() as f64 > MAX_GRADED_COORDINATES {
             return Err(Error::InvalidGrid(format!(
-                "grading: more than 1e7 coordinates (h = {h}, length = {length})"
+                "grading: more than {MAX_GRADED_COORDINATES:e} coordinates (h = {h:e} m, \
+                 length = {length:e} m)"
             )));
         }
         step *= ratio;

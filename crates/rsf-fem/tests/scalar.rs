@@ -323,3 +323,34 @@ fn geometric_grading_properties_and_errors() {
     assert_eq!(a.cells(), b.cells());
     assert_eq!(a.vertices(), b.vertices());
 }
+
+/// The closed-form count of a grading bounds the coordinates it builds (never below, at
+/// most 2 above) over spacings, uniform parts, ratios and lengths; sizes far beyond what
+/// can be allocated are refused, not attempted.
+#[test]
+fn grading_count_bounds_the_grading_without_building_it() {
+    for &h in &[1.0, 7.5, 25.0, 100.0] {
+        for &uniform in &[0.0, 40.0, 1234.5, 15e3] {
+            for &ratio in &[1.0, 1.01, 1.05, 1.3, 2.0, 10.0] {
+                for &length in &[20e3, 100e3, 400e3] {
+                    let n = geometric_grading(h, uniform, ratio, length).unwrap().len() as f64;
+                    let estimate = geometric_grading_len(h, uniform, ratio, length);
+                    assert!(
+                        estimate >= n && estimate <= n + 2.0,
+                        "h {h} uniform {uniform} ratio {ratio} length {length}: {estimate} vs {n}"
+                    );
+                }
+            }
+        }
+    }
+    for (h, uniform, ratio, length) in [
+        (1e-300, 40e3, 1.05, 400e3),
+        (25.0, 0.0, 1.0, 1e300),
+        (1e-3, 40e3, 1.0, 400e3),
+    ] {
+        assert!(geometric_grading_len(h, uniform, ratio, length) > MAX_GRADED_COORDINATES);
+        let e = geometric_grading(h, uniform, ratio, length).unwrap_err();
+        assert!(e.to_string().contains("coordinates"), "{e}");
+    }
+    assert!(geometric_grading_len(0.0, 0.0, 1.05, 1.0).is_infinite());
+}

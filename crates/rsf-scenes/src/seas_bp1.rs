@@ -3,7 +3,9 @@
 //! depth-dependent friction and the spec's closed-form initial conditions
 //! (docs/seas-bp1.md). Antiplane, fault on x = 0, z ≥ 0 the depth (m).
 
-use rsf_fem::{geometric_grading, rectangle_from_coordinates, Diagonal, TriangleMesh};
+use rsf_fem::{
+    geometric_grading, geometric_grading_len, rectangle_from_coordinates, Diagonal, TriangleMesh,
+};
 use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 use rsf_time::{Integrator, Quasistatic, StepControl};
@@ -51,6 +53,17 @@ impl Default for SeasBp1Grid {
             ratio: 1.05,
         }
     }
+}
+
+/// The size of a BP1 model estimated before it is built ([`SeasBp1::estimate`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridEstimate {
+    /// Mesh nodes (at most 2 per direction above the exact count: an upper bound).
+    pub nodes: f64,
+    /// Nodes on the fault `0 ≤ z ≤ W_f`.
+    pub fault_nodes: f64,
+    /// Estimated peak memory of a run (bytes).
+    pub bytes: f64,
 }
 
 /// The 12 on-fault stations of the benchmark output, depth in m (file `fltst_dpXXX` with
@@ -213,13 +226,51 @@ impl SeasBp1 {
     /// `ratio` for a grid that does not fit BP1 (`dz` must divide `W_f` into whole cells,
     /// the domain must be larger than `W_f`); grading errors.
     pub fn mesh(&self, grid: &SeasBp1Grid) -> Result<TriangleMesh> {
+        self.check_grid(grid)?;
+        let xs = geometric_grading(grid.dz, 0.0, grid.ratio, grid.domain)?;
+        let zs = geometric_grading(grid.dz, self.w_f, grid.ratio, grid.domain)?;
+        Ok(rectangle_from_coordinates(&xs, &zs, Diagonal::Forward)?)
+    }
+
+    /// The size of the model on `grid`, estimated in closed form before anything is
+    /// allocated ([`geometric_grading_len`]): its nodes, nodes on the fault and memory —
+    /// to refuse a grid the machine cannot hold (a ratio of 1 over a 400 km domain is
+    /// 2.6·10⁸ nodes) with a message instead of an aborted allocation.
+    ///
+    /// The memory model, from the runs of docs/seas-bp1.md (peak resident set: 407 MB at
+    /// 237 558 nodes / 1601 on the fault, 104 MB at 16 896 / 201 with the implicit
+    /// scheme): [`BYTES_PER_NODE`](Self::BYTES_PER_NODE) per node plus two dense
+    /// fault-by-fault operators (the condensed `S` and its work copies).
+    ///
+    /// # Errors
+    /// As [`mesh`](Self::mesh) for a grid that does not fit BP1.
+    pub fn estimate(&self, grid: &SeasBp1Grid) -> Result<GridEstimate> {
+        self.check_grid(grid)?;
+        let nx = geometric_grading_len(grid.dz, 0.0, grid.ratio, grid.domain);
+        let nz = geometric_grading_len(grid.dz, self.w_f, grid.ratio, grid.domain);
+        let fault_nodes = (self.w_f / grid.dz).round() + 1.0;
+        let nodes = nx * nz;
+        Ok(GridEstimate {
+            nodes,
+            fault_nodes,
+            bytes: nodes * Self::BYTES_PER_NODE + 2.0 * 8.0 * fault_nodes * fault_nodes,
+        })
+    }
+
+    /// Bytes per mesh node of a BP1 run in [`estimate`](Self::estimate) (measured ≈ 1.6 kB
+    /// with the fault ODE, ≈ 6 kB with the implicit scheme; the larger one).
+    pub const BYTES_PER_NODE: f64 = 6.5e3;
+
+    /// Checks that `grid` fits BP1: `dz` divides `W_f` into whole cells, the domain is
+    /// larger than `W_f`, the ratio is in [1, 2].
+    fn check_grid(&self, grid: &SeasBp1Grid) -> Result<()> {
         self.validate()?;
         let cells = self.w_f / grid.dz;
         if !(grid.dz > 0.0 && grid.dz.is_finite()) || (cells - cells.round()).abs() > 1e-9 {
             return Err(invalid(
                 "dz",
                 format!(
-                    "{} m must divide W_f = {} m into whole cells",
+                    "{:e} m must divide W_f = {} m into whole cells",
                     grid.dz, self.w_f
                 ),
             ));
@@ -227,7 +278,7 @@ impl SeasBp1 {
         if !(grid.domain > self.w_f && grid.domain.is_finite()) {
             return Err(invalid(
                 "domain",
-                format!("{} m must exceed W_f = {} m", grid.domain, self.w_f),
+                format!("{:e} m must exceed W_f = {} m", grid.domain, self.w_f),
             ));
         }
         if !(1.0..=2.0).contains(&grid.ratio) {
@@ -236,9 +287,7 @@ impl SeasBp1 {
                 format!("{} must be in [1, 2]", grid.ratio),
             ));
         }
-        let xs = geometric_grading(grid.dz, 0.0, grid.ratio, grid.domain)?;
-        let zs = geometric_grading(grid.dz, self.w_f, grid.ratio, grid.domain)?;
-        Ok(rectangle_from_coordinates(&xs, &zs, Diagonal::Forward)?)
+        Ok(())
     }
 
     /// The model of BP1 on `grid` (the half `x ≥ 0`; docs/seas-bp1.md): antiplane shear
@@ -450,6 +499,45 @@ fn json_number(x: f64) -> String {
 mod tests {
     use super::*;
     use rsf_friction::{AsinhLaw, FrictionLaw};
+
+    /// The closed-form size bounds the built mesh (nodes at most 2 per direction above,
+    /// fault nodes exact) and refuses nothing the mesh accepts; grids far beyond memory
+    /// are estimated, not built.
+    #[test]
+    fn size_estimate_bounds_the_mesh() {
+        let bp1 = SeasBp1::default();
+        for (dz, domain, ratio) in [
+            (500.0, 60e3, 1.05),
+            (1000.0, 100e3, 1.2),
+            (2000.0, 50e3, 1.0),
+        ] {
+            let grid = SeasBp1Grid { dz, domain, ratio };
+            let e = bp1.estimate(&grid).unwrap();
+            let model = bp1.model(&grid, false).unwrap();
+            let n = model.num_nodes() as f64;
+            let side = n.sqrt();
+            assert!(
+                e.nodes >= n && e.nodes <= (side + 2.0).powi(2) + 2.0 * side,
+                "{e:?} vs {n}"
+            );
+            assert_eq!(e.fault_nodes, model.frictional_boundary.len() as f64);
+        }
+        let huge = bp1
+            .estimate(&SeasBp1Grid {
+                dz: 25.0,
+                domain: 400e3,
+                ratio: 1.0,
+            })
+            .unwrap();
+        assert!(huge.nodes > 2.5e8 && huge.bytes > 1e12, "{huge:?}");
+        let tiny = bp1
+            .estimate(&SeasBp1Grid {
+                dz: 1e-300,
+                ..SeasBp1Grid::default()
+            })
+            .unwrap();
+        assert!(tiny.bytes > 1e300, "{tiny:?}");
+    }
 
     #[test]
     fn material_constants() {
