@@ -21,7 +21,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf_examples::{
-    max_slip_rate_figure, print_run, run_with_series, FrameArgs, SceneArgs, TimeStepArgs,
+    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
 use rsf_scenes::{arc_block_model, ARC_BLOCK_MESH};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
@@ -38,11 +38,8 @@ struct Cli {
     /// radius 10 m about (2.5, 10), `dirichlet` on top, `neumann` on the sides).
     #[arg(long, default_value = ARC_BLOCK_MESH)]
     mesh: PathBuf,
-    /// Output folder.
-    #[arg(long, default_value = "out/curved_fault")]
-    out: PathBuf,
     #[command(flatten)]
-    frames: FrameArgs,
+    output: OwnRunArgs,
 }
 
 fn main() -> ExitCode {
@@ -53,8 +50,21 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let scene: SliderScene = cli
         .time_step
         .apply(cli.scene.scene(SliderScene::default())?)?;
-    let out = cli.out;
-    std::fs::create_dir_all(&out)?;
+    let out = cli
+        .output
+        .out
+        .clone()
+        .unwrap_or_else(|| "out/curved_fault".into());
+    let run = OwnRun {
+        program: "curved_fault",
+        label: "curved fault",
+        out: &out,
+        figure: "slip_rate_max.png",
+        args: &cli.output,
+    };
+    // Refused before anything is computed: another run's folder, one that cannot be
+    // written.
+    let mode = run.prepare()?;
     println!(
         "curved_fault: level {}, {}, {} law, {}, {} solver, mesh {} → {}",
         scene.level,
@@ -69,12 +79,12 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let frames = model.frames.nodes.len();
     let mut sim = scene.build_with_model(model)?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
-    let (run, st) = run_with_series(&scene, &mut sim, x0, &out, &cli.frames, "curved fault")?;
+    let (result, st) = run_with_series(&scene, &mut sim, x0, run, mode)?;
     max_slip_rate_figure(
         &out.join("slip_rate_max.png"),
         "Largest slip rate on the arc",
-        &run,
+        &result,
     )?;
-    print_run(&run, &st, frames);
+    print_run(&result, &st, frames);
     Ok(())
 }

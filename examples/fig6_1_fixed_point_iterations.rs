@@ -213,7 +213,7 @@ fn draw(
                 .map(|r| TriangleMarker::new((r.1 as f64, r.3 as f64), 5, red.filled())),
         )?;
     }
-    root.present()?;
+    rsf_examples::present(&root, path)?;
     Ok(())
 }
 

@@ -348,6 +348,6 @@ fn draw_map(
         let b = vmax * (k + 1) as f64 / n as f64;
         Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
     }))?;
-    root.present()?;
+    rsf_examples::present(&root, path)?;
     Ok(())
 }

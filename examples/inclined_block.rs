@@ -32,14 +32,13 @@
 //! a `frames/frames.pvd` index for ParaView (slip, slip rate, shear and normal traction on
 //! the base, in slip coordinates).
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
 use rsf::Model;
 use rsf_examples::{
-    max_slip_rate_figure, print_run, run_with_series, FrameArgs, SceneArgs, TimeStepArgs,
+    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
 use rsf_scenes::SliderScene;
 use rsf_scenes::{inclined_centre, inclined_slider_model};
@@ -61,11 +60,8 @@ struct Cli {
     /// shear traction at t = 0 and the weight drives its slip).
     #[arg(long, value_enum, default_value = "free")]
     initial_equilibrium: InitialEquilibrium,
-    /// Output folder.
-    #[arg(long, default_value = "out/inclined_block")]
-    out: PathBuf,
     #[command(flatten)]
-    frames: FrameArgs,
+    output: OwnRunArgs,
 }
 
 /// Which equilibrium the run starts from (`--initial-equilibrium`).
@@ -104,8 +100,21 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .time_step
         .apply(cli.scene.scene(SliderScene::default())?)?;
     let dip = cli.dip.to_radians();
-    let out = cli.out;
-    std::fs::create_dir_all(&out)?;
+    let out = cli
+        .output
+        .out
+        .clone()
+        .unwrap_or_else(|| "out/inclined_block".into());
+    let run = OwnRun {
+        program: "inclined_block",
+        label: "inclined block",
+        out: &out,
+        figure: "slip_rate_x0.png",
+        args: &cli.output,
+    };
+    // Refused before anything is computed: another run's folder, one that cannot be
+    // written.
+    let mode = run.prepare()?;
     println!(
         "inclined_block: dip {}°, level {}, {}, {} law, {}, {} solver → {}",
         cli.dip,
@@ -123,12 +132,12 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let frames = model.frames.nodes.len();
     let mut sim = scene.build_with_model(model)?;
     let x0 = sim.model().nearest_node(&inclined_centre(dip))?;
-    let (run, st) = run_with_series(&scene, &mut sim, x0, &out, &cli.frames, "inclined block")?;
+    let (result, st) = run_with_series(&scene, &mut sim, x0, run, mode)?;
     max_slip_rate_figure(
         &out.join("slip_rate_x0.png"),
         &format!("Largest slip rate on the base, dip {}°", cli.dip),
-        &run,
+        &result,
     )?;
-    print_run(&run, &st, frames);
+    print_run(&result, &st, frames);
     Ok(())
 }

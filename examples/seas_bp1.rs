@@ -527,6 +527,6 @@ fn overview(dir: &Path, events: &[&rsf::observe::SeasEvent]) -> Result<(), AnyEr
             .map(|r| (r[0] / SECONDS_PER_YEAR, r[1].max(-13.0))),
         BLACK.stroke_width(1),
     ))?;
-    root.present()?;
+    rsf_examples::present(&root, &path)?;
     Ok(())
 }

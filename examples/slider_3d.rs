@@ -48,10 +48,6 @@ use rsf_scenes::{LateralBoundary, Slider3dScene};
 const DEFAULT_FRAME_EVERY: usize = 100;
 /// Bytes of a 3-D time series row (13 columns; 160 bytes measured at level 1; rounded up).
 const SERIES_ROW_BYTES_3D: f64 = 250.0;
-/// Bytes per vertex of a VTU frame: 16 doubles of coordinates and point data (171 bytes
-/// in base64; rounded up). A level-1 frame (99 vertices, 240 cells) measured 31 862 bytes
-/// against the bound's 35 160.
-const VTU_VERTEX_BYTES: f64 = 200.0;
 /// The files a run writes into its folder.
 const OUTPUTS: [&str; 5] = [
     "timeseries.csv",
@@ -60,9 +56,6 @@ const OUTPUTS: [&str; 5] = [
     "fault_slip_rate.png",
     "frames/frames.pvd",
 ];
-/// Bytes per tetrahedron of a VTU frame: connectivity, offset and type (41 bytes, 55 in
-/// base64; rounded up).
-const VTU_CELL_BYTES: f64 = 64.0;
 
 /// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
 #[derive(Parser)]
@@ -291,15 +284,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     // The output bound, before any file: a series row per step, a frame of every vertex
     // and cell every --frame-every steps.
     let steps = steps_bound(s, (0.0, s.end_time_s));
-    let frames_bound = match cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY) {
-        0 => 0.0,
-        n => (steps / n as f64).ceil(),
-    };
-    let frame_bytes = VTU_VERTEX_BYTES * model.num_nodes() as f64
-        + VTU_CELL_BYTES * (model.cells.len() / 4) as f64;
+    let frames_bytes = cli.frames.bytes_bound(
+        DEFAULT_FRAME_EVERY,
+        steps,
+        model.num_nodes(),
+        model.cells.len() / 4,
+    );
     check_output_size(
         steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
-            + frames_bound * frame_bytes,
+            + frames_bytes,
         cli.folder.max_output_gb,
         "steps",
     )?;

@@ -71,6 +71,6 @@ pub fn log_heat_map(
             Rectangle::new([(xa, ya), (xb, yb)], color.filled())
         })
     }))?;
-    root.present()?;
+    crate::present(&root, path)?;
     Ok(())
 }

@@ -19,7 +19,7 @@ pub mod run_folder;
 pub use cli::{main_with, FrameArgs, SceneArgs, TimeStepArgs};
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
-pub use own_model::{print_run, run_with_series};
+pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
 pub use panels::PanelLayout;
 pub use run::{
     cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,
@@ -64,6 +64,19 @@ const COLORS: [RGBColor; 6] = [
 ];
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Writes a figure drawn on `root` to its file `path` (plotters writes a bitmap when it is
+/// presented), the error naming the path (plotters' own names none).
+///
+/// # Errors
+/// The file cannot be written: `cannot write the figure `PATH`: …`.
+pub fn present(
+    root: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    path: &Path,
+) -> PlotResult {
+    root.present()
+        .map_err(|e| format!("cannot write the figure `{}`: {e}", path.display()).into())
+}
 
 fn range(points: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = points
@@ -180,8 +193,7 @@ pub fn line_plot(
             .label_font(("sans-serif", 15))
             .draw()?;
     }
-    root.present()?;
-    Ok(())
+    present(&root, path)
 }
 
 /// Edges `(a, b)` of the cell around sample `i` of the increasing coordinates `v`: the

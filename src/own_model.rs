@@ -2,47 +2,117 @@
 //! time series at x0, a progress bar and, with `--frame-every`, VTU frames; then the run
 //! read back from the series and its one-paragraph summary.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use rsf::observe::{FileMode, PointSeries};
+use rsf::run_folder::{check_output_size, RunFolder, SERIES_ROW_BYTES};
 use rsf::{Observer, Until};
-use rsf_scenes::{SceneSimulation, SliderScene};
+use rsf_scenes::{steps_bound, SceneSimulation, SliderScene};
 
 use crate::{stats, FrameArgs, SliderRun, SliderStats};
 
+/// The output flags of a slider example on a model of its own: the folder, whether an
+/// earlier run's files there may be replaced, the output bound, the frames.
+#[derive(Debug, Clone, clap::Args)]
+pub struct OwnRunArgs {
+    /// Output folder [default: the example's].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Replace the files of an earlier run in the output folder (without it, a folder
+    /// holding any rsf program's run is refused and left untouched).
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Refuse to start a run whose output (a series row per step, the frames) is
+    /// estimated above this many gigabytes.
+    #[arg(long, default_value_t = 10.0, value_name = "GB")]
+    pub max_output_gb: f64,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub frames: FrameArgs,
+}
+
+/// A slider example's run on its own model: the program (its name in the run folder's
+/// manifest), a label for the progress bar, the folder and the figure it writes there.
+#[derive(Debug, Clone, Copy)]
+pub struct OwnRun<'a> {
+    /// The program's name (e.g. `inclined_block`).
+    pub program: &'a str,
+    /// The progress bar's label.
+    pub label: &'a str,
+    /// The output folder.
+    pub out: &'a Path,
+    /// The figure's file name in the folder.
+    pub figure: &'a str,
+    /// The output flags.
+    pub args: &'a OwnRunArgs,
+}
+
+impl OwnRun<'_> {
+    /// The run folder: the program and the files it writes.
+    fn folder(&self) -> RunFolder {
+        RunFolder::new(
+            self.out,
+            self.program,
+            &["timeseries.csv", self.figure, "frames/frames.pvd"],
+        )
+    }
+
+    /// Prepares the folder before anything is computed, as every rsf program does
+    /// ([`RunFolder::prepare`]): another run's files are refused unless `--overwrite`, the
+    /// folder is probed writable, no output path may be a folder.
+    ///
+    /// # Errors
+    /// Those of [`RunFolder::prepare`], naming the path.
+    pub fn prepare(&self) -> rsf::Result<FileMode> {
+        self.folder().prepare(false, self.args.overwrite)
+    }
+}
+
 /// Runs `sim` (built from `scene`) to the scene's end time, writing `out/timeseries.csv` (a
-/// [`PointSeries`] at vertex `x0`) and the frames `frames` asks for, and returns the run
-/// read back from the series with its statistics.
+/// [`PointSeries`] at vertex `x0`) and the frames the flags ask for, and returns the run
+/// read back from the series with its statistics, into the folder [`OwnRun::prepare`]
+/// prepared (`mode`: its answer). Before the first step the output is bounded (a series
+/// row per step of the scene's step bound, the frames: `--max-output-gb`).
 ///
 /// # Errors
-/// A refused or unwritable file (new files only: an earlier run's are refused), and the
-/// run's errors.
+/// A refused folder or output bound, an unwritable file, and the run's errors.
 pub fn run_with_series(
     scene: &SliderScene,
     sim: &mut SceneSimulation<2>,
     x0: usize,
-    out: &Path,
-    frames: &FrameArgs,
-    label: &str,
+    run: OwnRun<'_>,
+    mode: FileMode,
 ) -> Result<(SliderRun, SliderStats), Box<dyn std::error::Error>> {
-    let series_csv = out.join("timeseries.csv");
-    let mut frame_files = frames.observer(0, out, FileMode::Create)?;
-    let mut series = PointSeries::new(&series_csv, sim.model(), x0, FileMode::Create)?;
-    let mut progress = scene.progress(0.0, label);
+    let folder = run.folder();
+    let steps = steps_bound(scene, (0.0, scene.end_time_s));
+    let model = sim.model();
+    let frames_bytes =
+        run.args
+            .frames
+            .bytes_bound(0, steps, model.num_nodes(), model.cells.len() / 3);
+    check_output_size(
+        steps * SERIES_ROW_BYTES + frames_bytes,
+        run.args.max_output_gb,
+        "steps",
+    )?;
+    let series_csv = folder.path("timeseries.csv");
+    let mut frame_files = run.args.frames.observer(0, run.out, mode)?;
+    let mut series = PointSeries::new(&series_csv, sim.model(), x0, mode)?;
+    let mut progress = scene.progress(0.0, run.label);
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut progress];
     if let Some(f) = frame_files.as_mut() {
         observers.push(f);
     }
     let summary = sim.run_until(Until::Time(scene.end_time_s), &mut observers)?;
     drop(observers);
-    let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
-    (run.dofs, run.frictional_nodes) = (
+    let mut result = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
+    (result.dofs, result.frictional_nodes) = (
         sim.model().num_dofs(),
         sim.model().frictional_boundary.len(),
     );
-    run.seconds = summary.seconds;
-    let st = stats(&run, scene.end_time_s);
-    Ok((run, st))
+    result.seconds = summary.seconds;
+    let st = stats(&result, scene.end_time_s);
+    Ok((result, st))
 }
 
 /// Prints the size of a run (`frames` of its frictional nodes with nodal frames), its

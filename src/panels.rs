@@ -146,7 +146,7 @@ impl crate::Series<'_> {
                     .draw()?;
             }
         }
-        root.present()?;
+        crate::present(&root, path)?;
         Ok(())
     }
 }
