@@ -146,6 +146,14 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// An error in a file (e.g. a Gmsh file's [`Error::Gmsh`]), naming the file.
+    #[error("`{path}`: {inner}")]
+    InFile {
+        /// The file.
+        path: String,
+        /// What is wrong in it.
+        inner: Box<Error>,
+    },
     /// A file could not be read.
     #[error("cannot read `{path}`: {message}")]
     Io {

@@ -51,7 +51,9 @@ pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
 pub use frames::NodalFrames;
-pub use gmsh::{parse_gmsh, read_gmsh, GmshMesh, PhysicalGroup};
+pub use gmsh::{
+    parse_gmsh, parse_gmsh_with, read_gmsh, read_gmsh_with, GmshMesh, GmshOptions, PhysicalGroup,
+};
 pub use hierarchy::{vectorize, MeshHierarchy};
 pub use loads::{
     body_force_load, body_force_load_components, lumped_weights, traction_load,

@@ -426,3 +426,58 @@ proptest! {
         check_damaged(lines.join("\n").as_bytes());
     }
 }
+
+/// The plate with node 2 at (1, 0) duplicated as node 9, which the right square's cells
+/// and bottom line use: a crack from (1, 0) upwards that nobody declared.
+fn cracked_plate() -> String {
+    PLATE
+        .replace("2 8 1 8\n", "2 9 1 9\n")
+        .replace("2 1 0 7\n", "2 1 0 8\n")
+        .replace("8\n1 0 0\n", "8\n9\n1 0 0\n")
+        .replace("1.5 0.5 0\n", "1.5 0.5 0\n1 0 0\n")
+        .replace("3 2 3\n", "3 9 3\n")
+        .replace("12 2 3 8\n", "12 9 3 8\n")
+        .replace("15 2 5 8\n", "15 9 5 8\n")
+}
+
+/// Coincident nodes are refused naming both tags (with the path, read from a file); merged
+/// on request, they give the plate without the duplicate.
+#[test]
+fn coincident_nodes_are_refused_naming_both_tags_or_merged_on_request() {
+    let cracked = cracked_plate();
+    assert_ne!(cracked, PLATE);
+    let e = parse_gmsh::<2>(cracked.as_bytes()).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("nodes 2 and 9 coincide") && text.contains("Nodes"),
+        "{text}"
+    );
+    let dir = std::env::temp_dir().join(format!("rsf-gmsh-crack-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("cracked.msh");
+    std::fs::write(&path, &cracked).unwrap();
+    let e = read_gmsh::<2>(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("cracked.msh") && e.contains("nodes 2 and 9"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+
+    let merge = GmshOptions {
+        merge_coincident: true,
+    };
+    let merged = parse_gmsh_with::<2>(cracked.as_bytes(), merge).unwrap();
+    let plate = parse_gmsh::<2>(PLATE.as_bytes()).unwrap();
+    assert_eq!(merged.node_tags, plate.node_tags);
+    assert_eq!(merged.mesh.vertices(), plate.mesh.vertices());
+    assert_eq!(merged.mesh.num_cells(), plate.mesh.num_cells());
+    assert_eq!(
+        merged.mesh.num_boundary_facets(),
+        plate.mesh.num_boundary_facets()
+    );
+    assert_eq!(
+        merged.mesh.facets_with_tag("bottom").len(),
+        plate.mesh.facets_with_tag("bottom").len()
+    );
+    assert!((merged.mesh.measure() - 2.0).abs() < 1e-14);
+}

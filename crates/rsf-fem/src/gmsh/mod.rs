@@ -6,6 +6,7 @@
 //! (Gmsh reference manual, "MSH file format") and skips all others. Every problem in a
 //! file is an [`Error::Gmsh`] naming the line and section; no input panics.
 
+mod coincident;
 mod lexer;
 mod sections;
 
@@ -45,17 +46,43 @@ pub struct GmshMesh<const D: usize> {
     pub node_tags: Vec<u64>,
 }
 
+/// How a Gmsh file is read ([`read_gmsh_with`], [`parse_gmsh_with`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct GmshOptions {
+    /// Merge nodes that coincide (closer than 10⁻⁶ times the smallest cell edge) into the
+    /// one of the smallest tag, instead of refusing the file (default `false`: two nodes at
+    /// one place are a crack along which the mesh falls apart; a fault inside the body is
+    /// declared, not inferred from duplicate nodes).
+    pub merge_coincident: bool,
+}
+
 /// Reads a Gmsh MSH 4.1 ASCII file; see [`parse_gmsh`].
 ///
 /// # Errors
-/// [`Error::Io`] if the file cannot be read; as [`parse_gmsh`].
+/// [`Error::Io`] if the file cannot be read; as [`parse_gmsh`], inside
+/// [`Error::InFile`] naming the path.
 pub fn read_gmsh<const D: usize>(path: impl AsRef<Path>) -> Result<GmshMesh<D>> {
+    read_gmsh_with(path, GmshOptions::default())
+}
+
+/// Reads a Gmsh MSH 4.1 ASCII file with `options`; see [`parse_gmsh_with`].
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be read; as [`parse_gmsh_with`], inside
+/// [`Error::InFile`] naming the path.
+pub fn read_gmsh_with<const D: usize>(
+    path: impl AsRef<Path>,
+    options: GmshOptions,
+) -> Result<GmshMesh<D>> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|e| Error::Io {
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    parse_gmsh(&bytes)
+    parse_gmsh_with(&bytes, options).map_err(|e| Error::InFile {
+        path: path.display().to_string(),
+        inner: Box::new(e),
+    })
 }
 
 /// Parses the contents of a Gmsh MSH 4.1 ASCII file into a `D`-dimensional mesh
@@ -73,10 +100,19 @@ pub fn read_gmsh<const D: usize>(path: impl AsRef<Path>) -> Result<GmshMesh<D>> 
 /// MSH version, binary files, element types other than first-order points, lines,
 /// triangles and tetrahedra (e.g. quadrilaterals or second-order elements), elements of
 /// dimension above `D`, no cells, unknown or duplicate node tags, counts that do not match
-/// the headers, non-finite coordinates, `z ≠ 0` in 2D, degenerate cells, and facets in a
-/// physical group that are not boundary facets of the mesh (interior facets cannot be
-/// tagged); [`Error::Unsupported`] for `D = 1`.
+/// the headers, non-finite coordinates, `z ≠ 0` in 2D, degenerate cells, coincident nodes
+/// (naming both tags; [`GmshOptions::merge_coincident`] merges them instead), and facets
+/// in a physical group that are not boundary facets of the mesh (interior facets cannot
+/// be tagged); [`Error::Unsupported`] for `D = 1`.
 pub fn parse_gmsh<const D: usize>(bytes: &[u8]) -> Result<GmshMesh<D>> {
+    parse_gmsh_with(bytes, GmshOptions::default())
+}
+
+/// [`parse_gmsh`] with `options`.
+///
+/// # Errors
+/// As [`parse_gmsh`].
+pub fn parse_gmsh_with<const D: usize>(bytes: &[u8], options: GmshOptions) -> Result<GmshMesh<D>> {
     if !(D == 2 || D == 3) {
         return Err(Error::Unsupported("Gmsh import reads 2D and 3D meshes"));
     }
@@ -123,7 +159,7 @@ pub fn parse_gmsh<const D: usize>(bytes: &[u8]) -> Result<GmshMesh<D>> {
     }
     let elements =
         elements.ok_or_else(|| error(None, "file", "the file has no `$Elements` section"))?;
-    build(&nodes, elements, &physical, &names)
+    build(&nodes, elements, &physical, &names, options)
 }
 
 /// The error for a file that is not UTF-8 text: binary files are reported as such (their
@@ -161,6 +197,7 @@ fn build<const D: usize>(
     elements: sections::Elements,
     physical: &HashMap<(usize, i32), Vec<i32>>,
     names: &BTreeMap<(usize, i32), String>,
+    options: GmshOptions,
 ) -> Result<GmshMesh<D>> {
     if let Some((line, dim)) = elements.higher {
         return Err(error(
@@ -193,12 +230,42 @@ fn build<const D: usize>(
     let mut node_tags: Vec<u64> = cells.iter().flat_map(|e| e.nodes[..=D].to_vec()).collect();
     node_tags.sort_unstable();
     node_tags.dedup();
-    let index: HashMap<u64, usize> = node_tags.iter().enumerate().map(|(i, &t)| (t, i)).collect();
-    let vertices = vertices::<D>(nodes, &node_tags)?;
-    let connectivity = cells
+    let mut index: HashMap<u64, usize> =
+        node_tags.iter().enumerate().map(|(i, &t)| (t, i)).collect();
+    let mut vertices = vertices::<D>(nodes, &node_tags)?;
+    let mut connectivity: Vec<usize> = cells
         .iter()
         .flat_map(|e| e.nodes[..=D].iter().map(|t| index[t]))
         .collect();
+    let rep = coincident::representatives(
+        &node_tags,
+        &vertices,
+        &connectivity,
+        options.merge_coincident,
+    )?;
+    if rep.iter().enumerate().any(|(i, &r)| r != i) {
+        // Merged: the kept vertices renumbered in tag order, every tag to its kept one's.
+        let mut new_index = vec![usize::MAX; rep.len()];
+        let mut kept = 0;
+        for (i, &r) in rep.iter().enumerate() {
+            if r == i {
+                new_index[i] = kept;
+                kept += 1;
+            }
+        }
+        for i in 0..rep.len() {
+            new_index[i] = new_index[rep[i]];
+        }
+        for v in index.values_mut() {
+            *v = new_index[*v];
+        }
+        for c in &mut connectivity {
+            *c = new_index[*c];
+        }
+        let keep = |i: &usize| rep[*i] == *i;
+        vertices = (0..rep.len()).filter(keep).map(|i| vertices[i]).collect();
+        node_tags = (0..rep.len()).filter(keep).map(|i| node_tags[i]).collect();
+    }
     let mut mesh =
         SimplexMesh::from_ordered_cells(vertices, connectivity).map_err(|e| match e {
             Error::DegenerateCell { cell, measure } => error(
