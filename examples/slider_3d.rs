@@ -118,11 +118,7 @@ fn main() -> ExitCode {
 /// The scene from `--scene` (or the default) with the flags applied, validated.
 fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     let mut scene = match &cli.scene.scene {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-            Slider3dScene::from_toml(&text)?
-        }
+        Some(path) => Slider3dScene::read(path)?,
         None => Slider3dScene::default(),
     };
     let flags = SceneArgs {

@@ -49,11 +49,7 @@ impl SceneArgs {
     /// I/O and scene-file errors; invalid parameters.
     pub fn scene(&self, base: SliderScene) -> Result<SliderScene, Box<dyn std::error::Error>> {
         let mut scene = match &self.scene {
-            Some(path) => {
-                let text = std::fs::read_to_string(path)
-                    .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-                SliderScene::from_toml(&text)?
-            }
+            Some(path) => SliderScene::read(path)?,
             None => base,
         };
         if let Some(j) = self.level {

@@ -29,6 +29,7 @@
 mod curved;
 mod incline;
 pub mod output;
+mod scene_file;
 mod seas_bp1;
 mod slider;
 mod slider3d;

@@ -70,7 +70,7 @@ pub struct OutputLimits {
 pub struct OutputPlan {
     /// Upper bound on the bytes the run writes (time series, profile window, map).
     pub bytes: f64,
-    /// Stop after this many steps in total ([`StepCap`](rsf::run_folder::StepCap)), if any.
+    /// Stop after this many steps in total (a step cap: [`rsf::run_folder::until`]), if any.
     pub step_cap: Option<u64>,
 }
 

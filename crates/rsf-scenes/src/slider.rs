@@ -16,11 +16,11 @@ use rsf::method::StateIntegrator;
 use rsf::method::{FixedPointOptions, FixedPointScheme, InnerSolves};
 use rsf::model::{ProblemScales, ScaleFields};
 use rsf::Model;
+use rsf::Result;
 use rsf::Simulation;
 use rsf::SimulationBuilder;
 use rsf::SolverKind;
 use rsf::TimeFunction;
-use rsf::{Error, Result};
 use rsf::{Material, ModelBuilder, Part};
 
 /// The simulation a scene builds: Dieterich–Ruina friction, a built-in state law and a
@@ -276,9 +276,19 @@ impl SliderScene {
     /// Parses a TOML scene (fields as in this struct; unknown fields are an error).
     ///
     /// # Errors
-    /// [`Error::SceneFile`] with the parser's message (it names unknown fields).
+    /// [`Error::SceneFile`](rsf::Error::SceneFile) with the line, column and the parser's message (it names
+    /// unknown fields; long values excerpted).
     pub fn from_toml(text: &str) -> Result<Self> {
-        toml::from_str(text).map_err(|e| Error::SceneFile(e.to_string()))
+        toml::from_str(text).map_err(|e| crate::scene_file::toml_error(text, &e))
+    }
+
+    /// Reads a TOML scene file ([`from_toml`](Self::from_toml)).
+    ///
+    /// # Errors
+    /// [`Error::SceneFile`](rsf::Error::SceneFile) naming the path: it cannot be read, or as
+    /// [`from_toml`](Self::from_toml).
+    pub fn read(path: impl AsRef<std::path::Path>) -> Result<Self> {
+        crate::scene_file::read(path.as_ref(), Self::from_toml)
     }
 
     /// The time step τ = T/N (s).
@@ -309,7 +319,7 @@ impl SliderScene {
     /// The step control of adaptive time steps (`None` for fixed steps).
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the first invalid option
+    /// [`Error::InvalidParameter`](rsf::Error::InvalidParameter) naming the first invalid option
     /// (`time_step.<field>`): the controller's checks ([`StepControl::validate`]: the
     /// tolerance in (ε, 1), `tau_min_s` a normal double, …), and `tau_min_s ≥ ε ·
     /// end_time_s`, below which a step at the end of the run does not advance time.
@@ -421,7 +431,7 @@ impl SliderScene {
     /// Checks every parameter, naming the first invalid one.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] or the friction crate's parameter error.
+    /// [`Error::InvalidParameter`](rsf::Error::InvalidParameter) or the friction crate's parameter error.
     pub fn validate(&self) -> Result<()> {
         let pos = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
@@ -494,7 +504,7 @@ impl SliderScene {
     /// centuries); a value outside them is a mistake of units or of a digit.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] naming the field.
+    /// [`Error::InvalidParameter`](rsf::Error::InvalidParameter) naming the field.
     pub fn check_plausible(&self) -> Result<()> {
         let in_range = |name: &str, v: f64, (lo, hi): (f64, f64), reason: &str| {
             if v >= lo && v <= hi {
@@ -634,7 +644,7 @@ impl SliderScene {
     /// [`build_model_on`](Self::build_model_on) on a mesh of one's own.
     ///
     /// # Errors
-    /// Invalid parameters; assembly errors; [`Error::IllConditioned`].
+    /// Invalid parameters; assembly errors; [`Error::IllConditioned`](rsf::Error::IllConditioned).
     pub fn build_model(&self) -> Result<Model<2>> {
         self.validate()?;
         let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?;
@@ -696,7 +706,7 @@ impl SliderScene {
     ///
     /// # Errors
     /// Invalid parameters ([`validate`](Self::validate)); the builder's errors (e.g.
-    /// [`Error::BoundaryPart`] for a tag that selects nothing); [`Error::IllConditioned`].
+    /// [`Error::BoundaryPart`](rsf::Error::BoundaryPart) for a tag that selects nothing); [`Error::IllConditioned`](rsf::Error::IllConditioned).
     pub fn build_model_on(
         &self,
         builder: ModelBuilder<2>,
@@ -741,7 +751,7 @@ impl SliderScene {
     /// [`simulation_builder_with_model`](Self::simulation_builder_with_model).
     ///
     /// # Errors
-    /// [`Error::IllConditioned`] naming the scene fields behind the failed quantity.
+    /// [`Error::IllConditioned`](rsf::Error::IllConditioned) naming the scene fields behind the failed quantity.
     pub fn check_conditioning<const D: usize>(&self, model: &Model<D>) -> Result<()> {
         let scales = ProblemScales::new(
             &model.stiffness,
@@ -851,7 +861,7 @@ impl SliderScene {
     /// by the caller.
     ///
     /// # Errors
-    /// Invalid parameters; [`Error::IllConditioned`]
+    /// Invalid parameters; [`Error::IllConditioned`](rsf::Error::IllConditioned)
     /// ([`check_conditioning`](Self::check_conditioning)).
     pub fn simulation_builder_with_model(
         &self,

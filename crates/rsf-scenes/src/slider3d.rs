@@ -154,6 +154,15 @@ pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
 }
 
 impl Slider3dScene {
+    /// Reads a TOML scene file ([`from_toml`](Self::from_toml)).
+    ///
+    /// # Errors
+    /// [`Error::SceneFile`] naming the path: it cannot be read, or as
+    /// [`from_toml`](Self::from_toml).
+    pub fn read(path: impl AsRef<std::path::Path>) -> Result<Self> {
+        crate::scene_file::read(path.as_ref(), Self::from_toml)
+    }
+
     /// Parses a TOML scene: the fields of [`SliderScene`] and `width_m`, `lateral`
     /// (`"free"` or `"plane-strain"`), all optional: a missing field takes the value of
     /// [`Slider3dScene::default`] (level 2, `fixed_point_inner_solves = "by-solver"`, the
@@ -162,7 +171,7 @@ impl Slider3dScene {
     /// # Errors
     /// [`Error::SceneFile`] with the parser's message (it names unknown fields).
     pub fn from_toml(text: &str) -> Result<Self> {
-        let file = |e: toml::de::Error| Error::SceneFile(e.to_string());
+        let file = |e: toml::de::Error| crate::scene_file::toml_error(text, &e);
         let mut table: toml::Table = toml::from_str(text).map_err(file)?;
         let mut own = toml::Table::new();
         for key in ["width_m", "lateral"] {

@@ -20,7 +20,7 @@ use crate::simulation_state::SimulationState;
 use crate::switching::SwitchingRun;
 
 /// A built run of any of the three methods on one problem: what a program that lets its
-/// user choose the method ([`MethodKind`]) holds. It steps, checkpoints and restores like
+/// user choose the method ([`MethodKind`](crate::MethodKind)) holds. It steps, checkpoints and restores like
 /// each of them ([`Stepping`]); [`run_until`](Self::run_until) is the one run loop.
 ///
 /// `D` is the spatial dimension, `C` the components per node (see [`Model`]); `I` the

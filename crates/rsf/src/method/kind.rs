@@ -8,17 +8,17 @@
 #[derive(serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum MethodKind {
-    /// The paper's implicit scheme ([`Simulation`]): a velocity integrator (Newmark,
+    /// The paper's implicit scheme ([`Simulation`](crate::Simulation)): a velocity integrator (Newmark,
     /// backward Euler or quasistatic), each step a fixed point of a convex velocity problem
     /// (TNNMG or the direct solver) and the state update (docs/math.md §2–4).
     #[default]
     Implicit,
     /// Quasi-dynamic, condensed onto the fault and integrated by an explicit embedded
-    /// Runge–Kutta pair ([`FaultOde`], docs/math.md §12): needs radiation damping and no
+    /// Runge–Kutta pair ([`FaultOde`](crate::FaultOde), docs/math.md §12): needs radiation damping and no
     /// inertia.
     FaultOde,
     /// The fault ODE between events and the implicit scheme with inertia during them
-    /// ([`SwitchingRun`]).
+    /// ([`SwitchingRun`](crate::SwitchingRun)).
     Switching,
 }
 

@@ -27,7 +27,7 @@ impl FileMode {
 }
 
 /// How an output file of an observer ([`PointSeries`](crate::observe::PointSeries),
-/// [`FrictionalProfile`](crate::observe::FrictionalProfile), [`VtuFrames`](crate::observe::VtuFrames)) starts.
+/// [`FrictionalProfile`](crate::observe::FrictionalProfile), `VtuFrames` with the `vtk` feature) starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FileMode {
     /// A new file, starting with its header. An existing non-empty file is not touched:

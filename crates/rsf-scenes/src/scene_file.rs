@@ -1,0 +1,82 @@
+//! Scene files: read with the path, and their errors short — the file, line and column,
+//! and the parser's message with long values excerpted (a 1e300 as `1e300`, not 301
+//! digits; a 20 MB line as ≤ 100 characters of it).
+
+use std::path::Path;
+
+use rsf::{Error, Result};
+
+/// The longest excerpt of a value in a message (characters).
+const EXCERPT: usize = 100;
+
+/// Reads the scene file `path` and parses it with `parse`.
+///
+/// # Errors
+/// [`Error::SceneFile`] naming the path: it cannot be read, or `parse`'s error (with line
+/// and column).
+pub(crate) fn read<T>(path: &Path, parse: impl FnOnce(&str) -> Result<T>) -> Result<T> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::SceneFile(format!("cannot read `{}`: {e}", path.display())))?;
+    parse(&text).map_err(|e| match e {
+        Error::SceneFile(m) => Error::SceneFile(format!("`{}`, {m}", path.display())),
+        e => e,
+    })
+}
+
+/// The error of a TOML scene `text` that did not parse: `line L, column C: message`, the
+/// message excerpted ([`excerpt`]).
+pub(crate) fn toml_error(text: &str, e: &toml::de::Error) -> Error {
+    let place = e.span().map(|span| {
+        let before = &text[..span.start.min(text.len())];
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        format!("line {line}, column {column}: ")
+    });
+    Error::SceneFile(format!(
+        "{}{}",
+        place.unwrap_or_default(),
+        excerpt(e.message().trim())
+    ))
+}
+
+/// `message` with every long number written in exponent form and every other token
+/// longer than [`EXCERPT`] characters cut to its first characters and its length.
+pub(crate) fn excerpt(message: &str) -> String {
+    message
+        .split(' ')
+        .map(|token| {
+            let bare = token.trim_matches(|c| c == '`' || c == '"' || c == ',');
+            if bare.len() <= 20 {
+                return token.to_owned();
+            }
+            if let Ok(x) = bare.parse::<f64>() {
+                return token.replace(bare, &format!("{x:e}"));
+            }
+            if token.chars().count() > EXCERPT {
+                let head: String = token.chars().take(EXCERPT).collect();
+                return format!("{head}… ({} characters)", token.chars().count());
+            }
+            token.to_owned()
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_numbers_and_values_are_excerpted() {
+        let digits = format!("`1{}.0`", "0".repeat(300));
+        assert_eq!(
+            excerpt(&format!(
+                "invalid type: floating point {digits}, expected usize"
+            )),
+            "invalid type: floating point `1e300`, expected usize"
+        );
+        let long = format!("string \"{}\"", "x".repeat(2_000_000));
+        let e = excerpt(&long);
+        assert!(e.len() < 200 && e.contains("2000002 characters"), "{e}");
+    }
+}
