@@ -32,7 +32,7 @@ use rsf::observe::{EventThresholds, SlipEvent, SlipEvents};
 use rsf::run_folder::check_output_size;
 use rsf::run_folder::{until, RunFolder};
 use rsf::{Flow, Observer, StepView, Termination};
-use rsf_examples::cli::step_count;
+use rsf_examples::cli::{positive_number, step_count};
 use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
 use rsf_scenes::step_cap;
 use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
@@ -49,7 +49,7 @@ struct Cli {
     #[arg(long, value_parser = step_count, value_name = "N")]
     reference_steps: Option<usize>,
     /// End of the comparison with the fixed-τ run (s).
-    #[arg(long, default_value_t = 15.0, value_name = "T_REF")]
+    #[arg(long, default_value_t = 15.0, value_name = "T_REF", value_parser = positive_number)]
     compare_until: f64,
     /// Output folder.
     #[arg(long, default_value = "out/long_run")]

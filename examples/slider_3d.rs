@@ -138,7 +138,11 @@ fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     if cli.exact_inner_solves {
         scene.slider.fixed_point_inner_solves = rsf::method::InnerSolves::Exact;
     }
-    scene.validate()?;
+    // A width from the flag is named as the flag (`width`), from the file as its key.
+    match cli.width {
+        Some(_) => rsf_examples::cli::for_flag("width", "width_m", scene.validate())?,
+        None => scene.validate()?,
+    }
     Ok(scene)
 }
 

@@ -39,6 +39,7 @@ use rsf::run_folder::RunFolder;
 use rsf::state::Aging;
 use rsf::time::{Quasistatic, VelocityIntegrator};
 use rsf::{Integrator, Model, Simulation, SimulationBuilder, SolverKind, TimeFunction};
+use rsf_examples::cli::positive_number;
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -269,7 +270,7 @@ struct Cli {
     #[arg(long, value_enum, default_value = "quasistatic")]
     integrator: Integrator,
     /// Block mass (kg; dynamic integrators only).
-    #[arg(long, default_value_t = 1.0, value_name = "KG")]
+    #[arg(long, default_value_t = 1.0, value_name = "KG", value_parser = positive_number)]
     mass: f64,
     /// Radiation damping η of the quasistatic integrator (Pa·s/m).
     #[arg(long, default_value_t = 5e6, value_name = "PA_S_PER_M")]

@@ -259,6 +259,19 @@ pub fn window(s: &str) -> Result<(f64, f64), String> {
     }
 }
 
+/// Parses a positive, finite number (a clap value parser: a time, a mass, a size), so that
+/// `nan`, `inf`, 0 and negative values are refused where the flag is read.
+///
+/// # Errors
+/// A message naming the value.
+pub fn positive_number(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Ok(_) => Err(format!("`{s}` is not a positive finite number")),
+        Err(e) => Err(format!("`{s}`: {e}")),
+    }
+}
+
 /// The error of a library call on a user's flag, named after the flag: an
 /// [`rsf::Error::InvalidParameter`] named `field` (the library's name) becomes one named
 /// `flag` (what the user wrote, e.g. `rk_tolerance` for the fault ODE's `tolerance`);

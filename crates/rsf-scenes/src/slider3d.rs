@@ -132,13 +132,14 @@ pub fn skew_rotation(phi: f64, x: [f64; 3]) -> [f64; 3] {
 /// [`TAG_NEUMANN`] (x = 0 and x = 5) and [`TAG_LATERAL`] (z = 0 and z = W).
 ///
 /// # Errors
-/// [`Error::InvalidParameter`] named `width_m` for a width that is not finite and > 0 or
-/// needs more than 1000 coarse cells in z.
+/// [`Error::InvalidParameter`] named `width_m` for a width outside [1 mm, 1000 m]: below, the
+/// coarse tetrahedra are more than 1000 times thinner than the block is high (their
+/// stiffness matrix loses the digits of the run); above, more than 1000 coarse cells in z.
 pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
-    if !(width_m.is_finite() && width_m > 0.0 && width_m <= 1000.0) {
+    if !(width_m.is_finite() && (1e-3..=1000.0).contains(&width_m)) {
         return Err(invalid(
             "width_m",
-            format!("{width_m} must be in (0, 1000] m"),
+            format!("{width_m:e} m must be in [1e-3, 1000] m"),
         ));
     }
     let nz = (width_m.round() as usize).max(1);
@@ -423,7 +424,7 @@ mod tests {
 
     #[test]
     fn invalid_width_and_diagonal_are_named() {
-        for w in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e9] {
+        for w in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e9, 1e-300, 9e-4] {
             let s = Slider3dScene {
                 width_m: w,
                 ..Slider3dScene::default()
