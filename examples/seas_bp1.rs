@@ -187,6 +187,14 @@ fn run(args: Args) -> Result<(), AnyError> {
             args.dz, args.domain_km, args.ratio, size.nodes, size.fault_nodes
         ),
     )?;
+    // The methods' settings, checked before any file is touched.
+    let mut control = bp1.step_control(args.tolerance)?;
+    control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
+    let rk_options = for_flag(
+        "rk_tolerance",
+        "tolerance",
+        bp1.fault_ode_options(args.rk_tolerance),
+    )?;
     // Refused before anything is computed: a folder of another run (of this or of any
     // other rsf program, unless --overwrite), one that cannot be written.
     let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
@@ -207,8 +215,6 @@ fn run(args: Args) -> Result<(), AnyError> {
     let t_setup = Instant::now();
     let model = bp1.model(&grid, args.inertia)?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
-    let mut control = bp1.step_control(args.tolerance)?;
-    control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
     let scheme = args.scheme;
     let method = match (scheme, args.inertia) {
         (Scheme::Implicit, _) => MethodKind::Implicit,
@@ -228,11 +234,6 @@ fn run(args: Args) -> Result<(), AnyError> {
             })
             .build()
     };
-    let rk_options = for_flag(
-        "rk_tolerance",
-        "tolerance",
-        bp1.fault_ode_options(args.rk_tolerance),
-    )?;
     let fault_ode = |model| bp1.fault_ode(model, rk_options);
     let mut sim: Bp1Run = match method {
         MethodKind::Implicit => {
