@@ -61,7 +61,7 @@ pub use rsf_numeric::{wright_omega_ln, StateVariable};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Error {
     /// A law parameter is outside its admissible range (e.g. `a ≤ 0`, non-finite `L`).
-    #[error("invalid friction parameter {name} = {value}: {requirement}")]
+    #[error("invalid friction parameter {name} = {}: {requirement}", short(*.value))]
     InvalidParameter {
         /// Name of the parameter (`"a"`, `"sigma_n"`, …).
         name: &'static str,
@@ -70,6 +70,17 @@ pub enum Error {
         /// What the parameter must satisfy.
         requirement: &'static str,
     },
+}
+
+/// A value as a message shows it: as Rust writes it, or in exponent form when that is long
+/// (a 1e300 as `1e300`, not 301 digits).
+fn short(value: f64) -> String {
+    let plain = value.to_string();
+    if plain.len() > 20 {
+        format!("{value:e}")
+    } else {
+        plain
+    }
 }
 
 /// `Result` with this crate's [`Error`].

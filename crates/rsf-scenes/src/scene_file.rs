@@ -27,16 +27,34 @@ pub(crate) fn read<T>(path: &Path, parse: impl FnOnce(&str) -> Result<T>) -> Res
 /// message excerpted ([`excerpt`]).
 pub(crate) fn toml_error(text: &str, e: &toml::de::Error) -> Error {
     let place = e.span().map(|span| {
-        let before = &text[..span.start.min(text.len())];
+        let start = span.start.min(text.len());
+        let before = &text[..start];
         let line = before.matches('\n').count() + 1;
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        format!("line {line}, column {column}: ")
+        // The key of a `key = value` line the error points into.
+        let line_text = text[start - before.rsplit('\n').next().map_or(0, str::len)..]
+            .lines()
+            .next()
+            .unwrap_or("");
+        let key = line_text
+            .split_once('=')
+            .map(|(k, _)| k.trim())
+            .filter(|k| !k.is_empty() && k.len() <= 64 && !k.contains(char::is_whitespace));
+        match key {
+            Some(k) => format!("line {line}, column {column}, key `{k}`: "),
+            None => format!("line {line}, column {column}: "),
+        }
     });
     Error::SceneFile(format!(
         "{}{}",
         place.unwrap_or_default(),
         excerpt(e.message().trim())
     ))
+}
+
+/// The error of the value of `key` that did not parse: `key `k`: message`, excerpted.
+pub(crate) fn key_error(key: &str, e: &toml::de::Error) -> Error {
+    Error::SceneFile(format!("key `{key}`: {}", excerpt(e.message().trim())))
 }
 
 /// `message` with every long number written in exponent form and every other token

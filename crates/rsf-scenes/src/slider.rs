@@ -476,7 +476,9 @@ impl SliderScene {
         if self.fixed_point_max_iterations == 0 {
             return Err(invalid("fixed_point_max_iterations", "must be at least 1"));
         }
-        self.rate_state_params().validate()?;
+        self.rate_state_params()
+            .validate()
+            .map_err(Self::friction_key)?;
         self.step_control()?;
         // The initial step as the scene's fields give it: its integrator coefficients
         // (e.g. 2/τ of Newmark) must be finite.
@@ -630,7 +632,23 @@ impl SliderScene {
     /// # Errors
     /// The friction crate's parameter error.
     pub fn friction_law(&self) -> Result<DieterichRuina> {
-        Ok(DieterichRuina::new(self.rate_state_params())?)
+        DieterichRuina::new(self.rate_state_params()).map_err(Self::friction_key)
+    }
+
+    /// A friction parameter's error named as the scene's key (`v0` → `v0_m_per_s`, …).
+    fn friction_key(e: rsf_friction::Error) -> rsf::Error {
+        let rsf_friction::Error::InvalidParameter {
+            name,
+            value,
+            requirement,
+        } = e;
+        let key = match name {
+            "v0" => "v0_m_per_s",
+            "l" => "l_m",
+            "sigma_n" => "sigma_n_pa",
+            other => other,
+        };
+        invalid(key, format!("{value:e}: {requirement}"))
     }
 
     /// Assembles the model at `self.level` with [`ModelBuilder`]: the paper's coarse grid

@@ -174,6 +174,17 @@ impl Slider3dScene {
     pub fn from_toml(text: &str) -> Result<Self> {
         let file = |e: toml::de::Error| crate::scene_file::toml_error(text, &e);
         let mut table: toml::Table = toml::from_str(text).map_err(file)?;
+        // Each key alone first, so that an error names its key (a table read as a whole
+        // loses the place of its values).
+        for (key, value) in &table {
+            let one = toml::Table::from_iter([(key.clone(), value.clone())]);
+            let checked = if key == "width_m" || key == "lateral" {
+                one.try_into::<Extrusion>().map(drop)
+            } else {
+                one.try_into::<SliderScene>().map(drop)
+            };
+            checked.map_err(|e| crate::scene_file::key_error(key, &e))?;
+        }
         let mut own = toml::Table::new();
         for key in ["width_m", "lateral"] {
             if let Some(v) = table.remove(key) {

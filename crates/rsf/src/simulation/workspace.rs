@@ -7,6 +7,9 @@ use rsf_time::Kinematics;
 use crate::friction_blocks::evaluate_potentials;
 use crate::method::fixed_point::{Accelerator, FixedPointOptions};
 
+/// The fixed point history's capacity allocated up front (it grows beyond, if ever).
+const HISTORY_CAPACITY: usize = 1000;
+
 /// The buffers of a step, sized for `n` dofs and `nf` frictional nodes.
 pub(crate) struct Workspace<L: FrictionLaw> {
     /// The friction potentials at the state of the current fixed point iterate.
@@ -59,7 +62,9 @@ impl<L: FrictionLaw> Workspace<L> {
             alpha_trial: vec![0.0; nf],
             alpha_extrapolated: vec![0.0; nf],
             slip: vec![0.0; nf],
-            history: Vec::with_capacity(fixed_point.max_iterations),
+            // Room for the iterations a step takes in practice (the paper's steps take
+            // ≤ 30); a larger user bound (up to `usize::MAX`) is not allocated up front.
+            history: Vec::with_capacity(fixed_point.max_iterations.min(HISTORY_CAPACITY)),
             u_err: vec![0.0; n],
             accelerator: Accelerator::new(fixed_point.acceleration, weights),
         }
