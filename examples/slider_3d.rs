@@ -104,6 +104,10 @@ struct Cli {
     /// fit, else TNNMG; docs/scaling.md). Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
     memory_budget_gib: Option<f64>,
+    /// Refuse a level whose run is estimated above this many gigabytes of memory (nodes
+    /// estimated before anything is allocated; 35 kB per node, measured at level 4).
+    #[arg(long, default_value_t = 16.0, value_name = "GB")]
+    max_memory_gb: f64,
     /// Solve every fixed point iteration's velocity problem to the solver's tolerance (the
     /// paper's rule) instead of the scene's (3-D default: `by-solver`, inexact solves for
     /// TNNMG; docs/scaling.md).
@@ -240,6 +244,17 @@ impl Observer<3> for FaultSnapshot {
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let scene = scene(&cli)?;
     let s = &scene.slider;
+    // The model's size, before anything is allocated.
+    let (nodes, bytes) = scene.estimated_bytes();
+    rsf::run_folder::check_memory(
+        bytes,
+        cli.max_memory_gb,
+        "level",
+        &format!(
+            "the 3-D slider at level {} and width {} m: about {nodes:.3e} nodes",
+            s.level, scene.width_m
+        ),
+    )?;
     let out = cli.out.clone();
     if let Some(t) = cli.snapshot_time {
         // A NaN or a time outside the run would give an empty (all-zero) snapshot.

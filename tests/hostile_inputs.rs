@@ -224,6 +224,11 @@ fn careless_inputs_are_refused_naming_what_the_user_wrote_and_change_nothing() {
             "coincide",
         ),
         ("slider_3d", &["--width", "1e-300", "--out", "x"], "width"),
+        (
+            "slider_3d",
+            &["--level", "6", "--out", "x"],
+            "--max-memory-gb",
+        ),
         ("slider_3d", &["--out", "main_job"], "--overwrite"),
         (
             "pipping_slider",

@@ -155,6 +155,23 @@ pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
 }
 
 impl Slider3dScene {
+    /// Bytes per mesh node of a 3-D slider run in
+    /// [`estimated_bytes`](Self::estimated_bytes): the peak resident set of the j = 4 run
+    /// of docs/three-d.md and docs/scaling.md (752 MiB at 23 409 nodes, 33.7 kB per node),
+    /// rounded up.
+    pub const BYTES_PER_NODE: f64 = 35e3;
+
+    /// The scene's mesh nodes at its level, `(5·2ʲ + 1)(2ʲ + 1)(n_z·2ʲ + 1)` with `n_z`
+    /// the coarse cells across the width, and the memory a run takes, estimated before
+    /// anything is allocated (`f64`: a level of 30 is a number, not an overflow) — to
+    /// refuse a level the machine cannot hold.
+    pub fn estimated_bytes(&self) -> (f64, f64) {
+        let k = 2f64.powi(self.slider.level.min(1000) as i32);
+        let nz = self.width_m.round().max(1.0);
+        let nodes = (5.0 * k + 1.0) * (k + 1.0) * (nz * k + 1.0);
+        (nodes, nodes * Self::BYTES_PER_NODE)
+    }
+
     /// Reads a TOML scene file ([`from_toml`](Self::from_toml)).
     ///
     /// # Errors
@@ -431,6 +448,26 @@ mod tests {
         );
         let back = toml::to_string(&s).unwrap();
         assert_eq!(Slider3dScene::from_toml(&back).unwrap(), s);
+    }
+
+    /// The closed-form node count is the built mesh's.
+    #[test]
+    fn estimated_nodes_are_the_mesh_nodes() {
+        for (level, width_m) in [(0, 1.0), (1, 1.0), (1, 2.0), (2, 0.5)] {
+            let mut scene = Slider3dScene {
+                width_m,
+                ..Slider3dScene::default()
+            };
+            scene.slider.level = level;
+            let (nodes, bytes) = scene.estimated_bytes();
+            let model = scene.build_model().unwrap();
+            assert_eq!(
+                nodes,
+                model.num_nodes() as f64,
+                "level {level}, W {width_m}"
+            );
+            assert_eq!(bytes, nodes * Slider3dScene::BYTES_PER_NODE);
+        }
     }
 
     #[test]
