@@ -12,7 +12,9 @@
 //! default 25), `--domain-km L` (default 400), `--ratio R` (mesh growth away from the
 //! fault, default 1.05), `--tolerance E` (adaptive steps, default 1e-3), `--state-change-cap`
 //! (ξ, default 0.5; 0 for none), `--fixed-point-tolerance` (default 1e-10), `--inertia`
-//! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--every-step` (a station row
+//! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--absorbing
+//! none|dynamic|all` (absorbing far boundaries with `--inertia`, docs/seas-bp1-fd.md),
+//! `--every-step` (a station row
 //! at every step instead of the benchmark's thinning), `--setup-per-time-step` (one solver
 //! set-up per step size, for comparison), `--scheme runge-kutta|implicit` (default
 //! `runge-kutta`: the quasi-dynamic equations condensed onto the fault and integrated by
@@ -40,7 +42,7 @@ use rsf::run_folder::read_checkpoint;
 use rsf::run_folder::RunFolder;
 use rsf::{MethodKind, Observer, Until};
 use rsf_examples::{cpu_seconds, machine};
-use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
+use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -74,6 +76,15 @@ struct Args {
     /// `--scheme implicit`, adaptive Newmark throughout.
     #[arg(long)]
     inertia: bool,
+    /// Far boundaries of the fully dynamic runs (docs/seas-bp1-fd.md): `none` (the far
+    /// side moves with the plate, the bottom is free: both reflect), `dynamic`
+    /// (absorbing — Lysmer–Kuhlemeyer dashpots against the motion relative to the far
+    /// field at V_p/2 on the far side and the bottom — in the dynamic phases of the
+    /// switching run, the quasi-dynamic phases as `none`), `all` (the absorbing model
+    /// throughout: the implicit scheme, or both phases of the switching run, whose fault
+    /// ODE sees the absorbing parts traction-free). Needs `--inertia`.
+    #[arg(long, value_enum, default_value_t = Absorbing::None)]
+    absorbing: Absorbing,
     /// Time step of the dynamic phases (s); default a quarter of the time a shear wave
     /// takes to cross an element on the fault, Δz/(4 c_s) (docs/seas-bp1.md: Δz/(2 c_s)
     /// gets the first event but not the recurrence).
@@ -83,9 +94,9 @@ struct Args {
     #[arg(long, default_value_t = 1e-3)]
     switch_to_dynamic: f64,
     /// An event ends when the largest slip rate has stayed below 1e-3 m/s for this long
-    /// (s); default 0 (the benchmark's definition), 60 with `--inertia` (waves reflected
-    /// by the domain's boundaries lift the slip rate over the threshold for fractions of a
-    /// second after a rupture).
+    /// (s); default 0 (the benchmark's definition), 60 with `--inertia` and reflecting far
+    /// boundaries (`--absorbing none`: waves reflected by the domain's boundaries lift
+    /// the slip rate over the threshold for fractions of a second after a rupture).
     #[arg(long)]
     event_quiet_time: Option<f64>,
     /// Switch back to the quasi-dynamic method when it falls below this (m/s).
@@ -133,6 +144,13 @@ struct Args {
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum Absorbing {
+    None,
+    Dynamic,
+    All,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
 enum Scheme {
     RungeKutta,
     Implicit,
@@ -171,7 +189,20 @@ fn main() -> Result<(), AnyError> {
     let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
     let fresh = folder.prepare(args.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
-    let model = bp1.model(&grid, args.inertia)?;
+    if args.absorbing != Absorbing::None && !args.inertia {
+        return Err("--absorbing needs --inertia (BP1-FD)".into());
+    }
+    if args.absorbing == Absorbing::Dynamic && args.scheme == Scheme::Implicit {
+        return Err("--absorbing dynamic: the implicit scheme has one model (use all)".into());
+    }
+    let far = |absorbing| {
+        if absorbing {
+            SeasBp1Far::Absorbing
+        } else {
+            SeasBp1Far::Dirichlet
+        }
+    };
+    let model = bp1.model_with_far(&grid, args.inertia, far(args.absorbing == Absorbing::All))?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
     let mut control = bp1.step_control(args.tolerance)?;
     control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
@@ -203,7 +234,11 @@ fn main() -> Result<(), AnyError> {
         MethodKind::Switching => {
             let c_s = (bp1.shear_modulus() / bp1.rho).sqrt();
             let dynamic_tau = args.dynamic_tau.unwrap_or(0.25 * args.dz / c_s);
-            let dynamic = implicit(model.clone(), true, 1.0, args.dynamic_fixed_point_tolerance)?;
+            let dynamic_model = match args.absorbing {
+                Absorbing::Dynamic => bp1.model_with_far(&grid, true, far(true))?,
+                _ => model.clone(),
+            };
+            let dynamic = implicit(dynamic_model, true, 1.0, args.dynamic_fixed_point_tolerance)?;
             rsf::SwitchingRun::new(
                 fault_ode(model)?,
                 dynamic,
@@ -226,9 +261,13 @@ fn main() -> Result<(), AnyError> {
     );
     let sampling = SeasSampling {
         every_step: args.every_step,
-        event_quiet_time: args
-            .event_quiet_time
-            .unwrap_or(if args.inertia { 60.0 } else { 0.0 }),
+        event_quiet_time: args.event_quiet_time.unwrap_or(
+            if args.inertia && args.absorbing == Absorbing::None {
+                60.0
+            } else {
+                0.0
+            },
+        ),
         ..SeasSampling::default()
     };
     // What a checkpoint continues: the scene, grid, physics and sampling, and the options
@@ -249,6 +288,11 @@ fn main() -> Result<(), AnyError> {
             "dynamic_fixed_point_tolerance",
             args.dynamic_fixed_point_tolerance,
         );
+    // Only when set: checkpoints of runs without absorbing parts keep their fingerprint.
+    let fingerprint = match args.absorbing {
+        Absorbing::None => fingerprint,
+        a => fingerprint.with("absorbing", format!("{a:?}")),
+    };
     let setup = SeasSetup {
         problem: format!(
             "SEAS Benchmark BP1-{}",
@@ -356,6 +400,8 @@ fn main() -> Result<(), AnyError> {
     let json = serde_json::json!({
         "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
         "dz_m": args.dz,
+        "absorbing": format!("{:?}", args.absorbing),
+        "event_start_years": events.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
         "domain_km": args.domain_km,
         "ratio": args.ratio,
         "tolerance": args.tolerance,

@@ -138,7 +138,10 @@ pub(crate) fn assemble<const D: usize, const C: usize>(
     let n = stiffness.nrows();
     let moving = parts.iter().any(|p| p.velocity.iter().any(|&w| w != 0.0));
     let mut far = if moving { vec![0.0; n] } else { Vec::new() };
-    let (cp, ri) = (stiffness.symbolic().col_ptr(), stiffness.symbolic().row_idx());
+    let (cp, ri) = (
+        stiffness.symbolic().col_ptr(),
+        stiffness.symbolic().row_idx(),
+    );
     let mut vals = vec![0.0; ri.len()];
     for rp in parts {
         for &f in rp.part.facets() {

@@ -719,12 +719,14 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             .unzip();
 
         // Matrices.
+        self.check_absorbing(material.as_ref())?;
         let MediumMatrices {
             stiffness,
             mass,
             energy_norm,
         } = material.assemble(mesh, self.with_mass)?;
-        let absorbing = self.absorbing_parts(mesh, material.as_ref(), &gamma_f, &fixed, &stiffness)?;
+        let absorbing =
+            self.absorbing_parts(mesh, material.as_ref(), &gamma_f, &fixed, &stiffness)?;
 
         // Loads (gravity only for vector fields: its setter needs C = D).
         let rho = material.density();
@@ -885,6 +887,50 @@ fn same_block_size<const D: usize, const C: usize>(frames: NodalFrames<D>) -> No
 }
 
 impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    /// The checks of the absorbing parts that need no assembly (before it, so that a
+    /// medium the mass matrix would refuse, e.g. of zero density, is named here): inertia,
+    /// a finite far-field velocity, the medium's impedances finite and positive.
+    fn check_absorbing(&self, material: &dyn Medium<D, C>) -> Result<()> {
+        for a in &self.absorbing {
+            let name = a.part.name();
+            if !self.with_mass {
+                return Err(part_error(
+                    name,
+                    "absorbing parts need inertia (the model is built without_mass)",
+                ));
+            }
+            if a.velocity.iter().any(|w| !w.is_finite()) {
+                return Err(part_error(
+                    name,
+                    format!("far-field velocity {:?} must be finite", a.velocity),
+                ));
+            }
+            self.absorbing_impedances(material, name)?;
+        }
+        Ok(())
+    }
+
+    /// The medium's impedances `(ρc_p, ρc_s)`, finite and positive.
+    fn absorbing_impedances(&self, material: &dyn Medium<D, C>, name: &str) -> Result<[f64; 2]> {
+        let impedances = material.impedances().ok_or_else(|| {
+            part_error(
+                name,
+                "the medium gives no impedances (Medium::impedances) for its dashpots",
+            )
+        })?;
+        if impedances.iter().any(|z| !(z.is_finite() && *z > 0.0)) {
+            return Err(part_error(
+                name,
+                format!(
+                    "the medium's impedances (ρc_p, ρc_s) = {impedances:?} Pa·s/m must \
+                     be finite and positive (density ρ = {} kg/m³)",
+                    material.density()
+                ),
+            ));
+        }
+        Ok(impedances)
+    }
+
     /// The dashpots of the absorbing parts (Cartesian, unscaled), if any: each part
     /// resolved, checked (inertia, the medium's impedances, no facet of Γ_F, a free dof)
     /// and lumped on the pattern of `stiffness`.
@@ -902,34 +948,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let mut resolved = Vec::with_capacity(self.absorbing.len());
         for a in &self.absorbing {
             let name = a.part.name();
-            if !self.with_mass {
-                return Err(part_error(
-                    name,
-                    "absorbing parts need inertia (the model is built without_mass)",
-                ));
-            }
-            if a.velocity.iter().any(|w| !w.is_finite()) {
-                return Err(part_error(
-                    name,
-                    format!("far-field velocity {:?} must be finite", a.velocity),
-                ));
-            }
-            let impedances = material.impedances().ok_or_else(|| {
-                part_error(
-                    name,
-                    "the medium gives no impedances (Medium::impedances) for its dashpots",
-                )
-            })?;
-            if impedances.iter().any(|z| !(z.is_finite() && *z > 0.0)) {
-                return Err(part_error(
-                    name,
-                    format!(
-                        "the medium's impedances (ρc_p, ρc_s) = {impedances:?} Pa·s/m must \
-                         be finite and positive (density ρ = {} kg/m³)",
-                        material.density()
-                    ),
-                ));
-            }
+            let impedances = self.absorbing_impedances(material, name)?;
             let part = a.part.resolve(mesh)?;
             if let Some(f) = part
                 .facets()
@@ -966,7 +985,11 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             .collect();
         let (damping, far_field_force) = super::absorbing::assemble(mesh, &parts, stiffness)?;
         Ok(Some(AbsorbingBoundary {
-            parts: self.absorbing.iter().map(|a| a.part.name().to_owned()).collect(),
+            parts: self
+                .absorbing
+                .iter()
+                .map(|a| a.part.name().to_owned())
+                .collect(),
             damping,
             far_field_force,
         }))
