@@ -14,6 +14,7 @@
 //! (ξ, default 0.5; 0 for none), `--fixed-point-tolerance` (default 1e-10), `--inertia`
 //! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--absorbing
 //! none|dynamic|all` (absorbing far boundaries with `--inertia`, docs/seas-bp1-fd.md),
+//! `--dynamic-integrator newmark|backward-euler`,
 //! `--every-step` (a station row
 //! at every step instead of the benchmark's thinning), `--setup-per-time-step` (one solver
 //! set-up per step size, for comparison), `--scheme runge-kutta|implicit` (default
@@ -85,6 +86,11 @@ struct Args {
     /// ODE sees the absorbing parts traction-free). Needs `--inertia`.
     #[arg(long, value_enum, default_value_t = Absorbing::None)]
     absorbing: Absorbing,
+    /// The integrator with inertia (`--inertia`): `newmark` (trapezoidal, energy
+    /// conserving, the default) or `backward-euler` (first order, damps high frequencies;
+    /// docs/seas-bp1-fd.md).
+    #[arg(long, value_enum, default_value_t = DynamicIntegrator::Newmark)]
+    dynamic_integrator: DynamicIntegrator,
     /// Time step of the dynamic phases (s); default a quarter of the time a shear wave
     /// takes to cross an element on the fault, Δz/(4 c_s) (docs/seas-bp1.md: Δz/(2 c_s)
     /// gets the first event but not the recurrence).
@@ -141,6 +147,12 @@ struct Args {
     /// separated, e.g. `end_years`).
     #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
     allow_change: Vec<String>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum DynamicIntegrator {
+    Newmark,
+    BackwardEuler,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -214,7 +226,14 @@ fn main() -> Result<(), AnyError> {
     };
     // The implicit scheme on `model`, with or without inertia, from τ₀ (s).
     let implicit = |model, inertia, tau0, fixed_point_tolerance| {
-        bp1.simulation_builder(model, inertia, tau0, control)?
+        let builder = bp1.simulation_builder(model, inertia, tau0, control)?;
+        let builder = match (inertia, args.dynamic_integrator) {
+            (true, DynamicIntegrator::BackwardEuler) => {
+                builder.integrator(rsf::Integrator::BackwardEuler)
+            }
+            _ => builder,
+        };
+        builder
             .fixed_point(FixedPointOptions {
                 tolerance: fixed_point_tolerance,
                 ..FixedPointOptions::default()
@@ -292,6 +311,10 @@ fn main() -> Result<(), AnyError> {
     let fingerprint = match args.absorbing {
         Absorbing::None => fingerprint,
         a => fingerprint.with("absorbing", format!("{a:?}")),
+    };
+    let fingerprint = match args.dynamic_integrator {
+        DynamicIntegrator::Newmark => fingerprint,
+        i => fingerprint.with("dynamic_integrator", format!("{i:?}")),
     };
     let setup = SeasSetup {
         problem: format!(
@@ -401,6 +424,7 @@ fn main() -> Result<(), AnyError> {
         "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
         "dz_m": args.dz,
         "absorbing": format!("{:?}", args.absorbing),
+        "dynamic_integrator": format!("{:?}", args.dynamic_integrator),
         "event_start_years": events.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
         "domain_km": args.domain_km,
         "ratio": args.ratio,
