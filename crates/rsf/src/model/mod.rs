@@ -208,7 +208,10 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// without a fixed component; [`Error::InvalidParameter`] naming `stiffness` or `mass`
     /// for a negative diagonal entry (not positive semi-definite); [`Error::IllConditioned`]
     /// naming `stiffness`, `mass`, `load` or `initial_displacement` for a magnitude outside
-    /// [`representable_range`](crate::model::representable_range) (also a non-finite one).
+    /// [`representable_range`](crate::model::representable_range) (also a non-finite one);
+    /// [`Error::InvalidParameter`] named `absorbing` for a dashpot matrix of another size or
+    /// pattern than the stiffness, a far-field force of another length, a non-finite entry
+    /// or a negative diagonal entry ([`AbsorbingBoundary`]).
     pub fn validate(&self) -> Result<()> {
         self.validate_structure()?;
         self.check_magnitudes()
