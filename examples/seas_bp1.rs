@@ -12,7 +12,10 @@
 //! default 25), `--domain-km L` (default 400), `--ratio R` (mesh growth away from the
 //! fault, default 1.05), `--tolerance E` (adaptive steps, default 1e-3), `--state-change-cap`
 //! (ξ, default 0.5; 0 for none), `--fixed-point-tolerance` (default 1e-10), `--inertia`
-//! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--every-step` (a station row
+//! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--absorbing
+//! none|dynamic|all` (absorbing far boundaries with `--inertia`, docs/seas-bp1-fd.md),
+//! `--dynamic-integrator newmark|backward-euler`,
+//! `--every-step` (a station row
 //! at every step instead of the benchmark's thinning), `--setup-per-time-step` (one solver
 //! set-up per step size, for comparison), `--scheme runge-kutta|implicit` (default
 //! `runge-kutta`: the quasi-dynamic equations condensed onto the fault and integrated by
@@ -44,7 +47,7 @@ use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
 use rsf_examples::cli::for_flag;
 use rsf_examples::{cpu_seconds, machine};
-use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
+use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
 type AnyError = Box<dyn std::error::Error>;
 
@@ -78,6 +81,20 @@ struct Args {
     /// `--scheme implicit`, adaptive Newmark throughout.
     #[arg(long)]
     inertia: bool,
+    /// Far boundaries of the fully dynamic runs (docs/seas-bp1-fd.md): `none` (the far
+    /// side moves with the plate, the bottom is free: both reflect), `dynamic`
+    /// (absorbing — Lysmer–Kuhlemeyer dashpots against the motion relative to the far
+    /// field at V_p/2 on the far side and the bottom — in the dynamic phases of the
+    /// switching run, the quasi-dynamic phases as `none`), `all` (the absorbing model
+    /// throughout: the implicit scheme, or both phases of the switching run, whose fault
+    /// ODE sees the absorbing parts traction-free). Needs `--inertia`.
+    #[arg(long, value_enum, default_value_t = Absorbing::None)]
+    absorbing: Absorbing,
+    /// The integrator with inertia (`--inertia`): `newmark` (trapezoidal, energy
+    /// conserving, the default) or `backward-euler` (first order, damps high frequencies;
+    /// docs/seas-bp1-fd.md).
+    #[arg(long, value_enum, default_value_t = DynamicIntegrator::Newmark)]
+    dynamic_integrator: DynamicIntegrator,
     /// Time step of the dynamic phases (s); default a quarter of the time a shear wave
     /// takes to cross an element on the fault, Δz/(4 c_s) (docs/seas-bp1.md: Δz/(2 c_s)
     /// gets the first event but not the recurrence).
@@ -87,9 +104,9 @@ struct Args {
     #[arg(long, default_value_t = 1e-3)]
     switch_to_dynamic: f64,
     /// An event ends when the largest slip rate has stayed below 1e-3 m/s for this long
-    /// (s); default 0 (the benchmark's definition), 60 with `--inertia` (waves reflected
-    /// by the domain's boundaries lift the slip rate over the threshold for fractions of a
-    /// second after a rupture).
+    /// (s); default 0 (the benchmark's definition), 60 with `--inertia` and reflecting far
+    /// boundaries (`--absorbing none`: waves reflected by the domain's boundaries lift
+    /// the slip rate over the threshold for fractions of a second after a rupture).
     #[arg(long)]
     event_quiet_time: Option<f64>,
     /// Switch back to the quasi-dynamic method when it falls below this (m/s).
@@ -142,6 +159,19 @@ struct Args {
     /// and fault operators estimated before anything is allocated).
     #[arg(long, default_value_t = 16.0, value_name = "GB")]
     max_memory_gb: f64,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum DynamicIntegrator {
+    Newmark,
+    BackwardEuler,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum Absorbing {
+    None,
+    Dynamic,
+    All,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -213,7 +243,20 @@ fn run(args: Args) -> Result<(), AnyError> {
     let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
     let fresh = folder.prepare(args.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
-    let model = bp1.model(&grid, args.inertia)?;
+    if args.absorbing != Absorbing::None && !args.inertia {
+        return Err("--absorbing needs --inertia (BP1-FD)".into());
+    }
+    if args.absorbing == Absorbing::Dynamic && args.scheme == Scheme::Implicit {
+        return Err("--absorbing dynamic: the implicit scheme has one model (use all)".into());
+    }
+    let far = |absorbing| {
+        if absorbing {
+            SeasBp1Far::Absorbing
+        } else {
+            SeasBp1Far::Dirichlet
+        }
+    };
+    let model = bp1.model_with_far(&grid, args.inertia, far(args.absorbing == Absorbing::All))?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
     let scheme = args.scheme;
     let method = match (scheme, args.inertia) {
@@ -223,7 +266,14 @@ fn run(args: Args) -> Result<(), AnyError> {
     };
     // The implicit scheme on `model`, with or without inertia, from τ₀ (s).
     let implicit = |model, inertia, tau0, fixed_point_tolerance| {
-        bp1.simulation_builder(model, inertia, tau0, control)?
+        let builder = bp1.simulation_builder(model, inertia, tau0, control)?;
+        let builder = match (inertia, args.dynamic_integrator) {
+            (true, DynamicIntegrator::BackwardEuler) => {
+                builder.integrator(rsf::Integrator::BackwardEuler)
+            }
+            _ => builder,
+        };
+        builder
             .fixed_point(FixedPointOptions {
                 tolerance: fixed_point_tolerance,
                 ..FixedPointOptions::default()
@@ -243,7 +293,11 @@ fn run(args: Args) -> Result<(), AnyError> {
         MethodKind::Switching => {
             let c_s = (bp1.shear_modulus() / bp1.rho).sqrt();
             let dynamic_tau = args.dynamic_tau.unwrap_or(0.25 * args.dz / c_s);
-            let dynamic = implicit(model.clone(), true, 1.0, args.dynamic_fixed_point_tolerance)?;
+            let dynamic_model = match args.absorbing {
+                Absorbing::Dynamic => bp1.model_with_far(&grid, true, far(true))?,
+                _ => model.clone(),
+            };
+            let dynamic = implicit(dynamic_model, true, 1.0, args.dynamic_fixed_point_tolerance)?;
             rsf::SwitchingRun::new(
                 fault_ode(model)?,
                 dynamic,
@@ -266,9 +320,13 @@ fn run(args: Args) -> Result<(), AnyError> {
     );
     let sampling = SeasSampling {
         every_step: args.every_step,
-        event_quiet_time: args
-            .event_quiet_time
-            .unwrap_or(if args.inertia { 60.0 } else { 0.0 }),
+        event_quiet_time: args.event_quiet_time.unwrap_or(
+            if args.inertia && args.absorbing == Absorbing::None {
+                60.0
+            } else {
+                0.0
+            },
+        ),
         ..SeasSampling::default()
     };
     // What a checkpoint continues: the scene, grid, physics and sampling, and the options
@@ -289,6 +347,15 @@ fn run(args: Args) -> Result<(), AnyError> {
             "dynamic_fixed_point_tolerance",
             args.dynamic_fixed_point_tolerance,
         );
+    // Only when set: checkpoints of runs without absorbing parts keep their fingerprint.
+    let fingerprint = match args.absorbing {
+        Absorbing::None => fingerprint,
+        a => fingerprint.with("absorbing", format!("{a:?}")),
+    };
+    let fingerprint = match args.dynamic_integrator {
+        DynamicIntegrator::Newmark => fingerprint,
+        i => fingerprint.with("dynamic_integrator", format!("{i:?}")),
+    };
     let setup = SeasSetup {
         problem: format!(
             "SEAS Benchmark BP1-{}",
@@ -409,6 +476,9 @@ fn run(args: Args) -> Result<(), AnyError> {
     let json = serde_json::json!({
         "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
         "dz_m": args.dz,
+        "absorbing": format!("{:?}", args.absorbing),
+        "dynamic_integrator": format!("{:?}", args.dynamic_integrator),
+        "event_start_years": events.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
         "domain_km": args.domain_km,
         "ratio": args.ratio,
         "tolerance": args.tolerance,

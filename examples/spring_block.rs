@@ -114,6 +114,7 @@ fn build<I: VelocityIntegrator>(
         initial_displacement: vec![0.0, f_ss / k],
         cells: Vec::new(),
         frames: Default::default(),
+        absorbing: None,
     };
     let alpha_ss = (p.l / blk.v_load).ln();
     let sim = SimulationBuilder::new(model)

@@ -39,7 +39,8 @@ pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
 
 pub use seas_bp1::{
-    GridEstimate, SeasBp1, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS,
+    GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
+    SEAS_BP1_BOTTOM, SEAS_BP1_FAR_SIDE, SEAS_BP1_STATION_DEPTHS,
 };
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,

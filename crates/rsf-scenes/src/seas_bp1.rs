@@ -72,6 +72,26 @@ pub const SEAS_BP1_STATION_DEPTHS: [f64; 12] = [
     0.0, 2.5e3, 5e3, 7.5e3, 10e3, 12.5e3, 15e3, 17.5e3, 20e3, 25e3, 30e3, 35e3,
 ];
 
+/// Name of the far side `x = domain` of the BP1 model (a boundary part).
+pub const SEAS_BP1_FAR_SIDE: &str = "far side";
+
+/// Name of the bottom `z = domain` of the BP1 model (a boundary part; traction-free
+/// unless absorbing).
+pub const SEAS_BP1_BOTTOM: &str = "bottom";
+
+/// How the far boundaries of the truncated BP1 domain are treated
+/// ([`SeasBp1::model_with_far`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SeasBp1Far {
+    /// The spec's common choice: the far side moves with the plate, `u = V_p t/2`; the
+    /// bottom is traction-free. Both reflect waves.
+    #[default]
+    Dirichlet,
+    /// Both far boundaries absorbing (dashpots against the motion relative to the far
+    /// field at `V_p/2`); fully dynamic models only.
+    Absorbing,
+}
+
 /// BP1-QD parameters (Table 1 of the spec; SI units). [`SeasBp1::default`] is the spec.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -304,6 +324,34 @@ impl SeasBp1 {
     /// # Errors
     /// As [`mesh`](Self::mesh); model assembly errors.
     pub fn model(&self, grid: &SeasBp1Grid, inertia: bool) -> Result<Model<2, 1>> {
+        self.model_with_far(grid, inertia, SeasBp1Far::Dirichlet)
+    }
+
+    /// The model of BP1 on `grid` as [`model`](Self::model), with the far boundaries
+    /// (the parts [`SEAS_BP1_FAR_SIDE`] `x = domain` and [`SEAS_BP1_BOTTOM`] `z = domain`)
+    /// treated as `far` says: [`SeasBp1Far::Dirichlet`] is [`model`](Self::model);
+    /// [`SeasBp1Far::Absorbing`] makes both Lysmer–Kuhlemeyer dashpots (impedance ρc_s)
+    /// against the motion relative to the far field moving at `V_p/2`
+    /// ([`ModelBuilder::absorbing_boundary_moving`]; no Dirichlet data on the far side:
+    /// the body is loaded by the creep below W_f only, as the whole half-space is), for
+    /// the fully dynamic BP1-FD (docs/seas-bp1-fd.md). The fault ODE sees these parts
+    /// traction-free.
+    ///
+    /// # Errors
+    /// As [`model`](Self::model); [`Error::InvalidParameter`](rsf::Error::InvalidParameter)
+    /// named `far` for absorbing parts without `inertia`.
+    pub fn model_with_far(
+        &self,
+        grid: &SeasBp1Grid,
+        inertia: bool,
+        far: SeasBp1Far,
+    ) -> Result<Model<2, 1>> {
+        if far == SeasBp1Far::Absorbing && !inertia {
+            return Err(invalid(
+                "far",
+                "absorbing far boundaries need inertia (BP1-FD)",
+            ));
+        }
         let mesh = self.mesh(grid)?;
         let (w_f, l, eps) = (self.w_f, grid.domain, 1e-6 * grid.dz);
         let tau0 = self.tau0();
@@ -316,11 +364,17 @@ impl SeasBp1 {
                 Part::predicate("creep", move |x| x[0] < eps && x[1] > w_f),
                 [0.5 * self.v_p],
             )
-            .dirichlet(
-                Part::predicate("far side", move |x| x[0] > l - eps),
-                [0.5 * self.v_p],
-            )
             .antisymmetric_fault(2.0);
+        let far_side = Part::predicate(SEAS_BP1_FAR_SIDE, move |x| x[0] > l - eps);
+        builder = match far {
+            SeasBp1Far::Dirichlet => builder.dirichlet(far_side, [0.5 * self.v_p]),
+            SeasBp1Far::Absorbing => builder
+                .absorbing_boundary_moving(far_side, [0.5 * self.v_p])
+                .absorbing_boundary_moving(
+                    Part::predicate(SEAS_BP1_BOTTOM, move |x| x[1] > l - eps),
+                    [0.5 * self.v_p],
+                ),
+        };
         if !inertia {
             builder = builder.without_mass();
         }

@@ -76,6 +76,7 @@ fn build<I: VelocityIntegrator>(
         initial_displacement: vec![0.0, f_ss / k],
         cells: Vec::new(),
         frames: Default::default(),
+        absorbing: None,
     };
     let alpha0 = (PARAMS.l / V_LOAD).ln() + DALPHA;
     let mut sim = SimulationBuilder::new(model)

@@ -240,8 +240,8 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
     }
 }
 
-/// The matrix `A = c_M M + c_K K` (+ radiation damping `eta`, Pa·s/m) of the velocity
-/// problem at `tau`.
+/// The matrix `A = c_M M + c_K K` (+ the absorbing parts' dashpots `C` with inertia,
+/// + radiation damping `eta`, Pa·s/m) of the velocity problem at `tau`.
 ///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` for a
@@ -258,6 +258,11 @@ pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegr
         _ => combine(0.0, &model.stiffness, c_k, &model.stiffness),
     }
     .map_err(rsf_fem::Error::from)?;
+    if let Some(absorbing) = model.absorbing.as_ref().filter(|_| integrator.uses_mass()) {
+        // Lysmer–Kuhlemeyer dashpots: c_M M + C + c_K K (docs/math.md "Absorbing
+        // boundaries"); the multigrid levels get C through their Galerkin products.
+        a = combine(1.0, &a, 1.0, &absorbing.damping).map_err(rsf_fem::Error::from)?;
+    }
     if eta > 0.0 {
         add_radiation_damping(&mut a, model, eta);
     }

@@ -5,6 +5,7 @@ use rsf_fem::{
     BoundaryPart, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
 };
 
+use super::absorbing::{AbsorbingBoundary, ResolvedPart};
 use super::fault::FrictionalBoundary;
 use super::loading::{DirichletVelocity, TimeFunction};
 use super::Model;
@@ -69,6 +70,14 @@ pub trait Medium<const D: usize, const C: usize> {
     /// # Errors
     /// Invalid material constants; assembly errors.
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices>;
+
+    /// The impedances `(ρc_p, ρc_s)` (Pa·s/m) of the Lysmer–Kuhlemeyer dashpots on
+    /// absorbing parts ([`ModelBuilder::absorbing_boundary`]; a scalar field uses `ρc_s`
+    /// only). Default `None`: a medium that does not know its wave speeds cannot have
+    /// absorbing parts ([`Error::BoundaryPart`] from [`ModelBuilder::build`]).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        None
+    }
 }
 
 impl<const D: usize> Medium<D, D> for Material {
@@ -93,6 +102,15 @@ impl<const D: usize> Medium<D, D> for Material {
             mass,
             energy_norm,
         })
+    }
+
+    /// `(√(ρ(λ + 2μ)), √(ρμ))` with the Lamé constants of `E`, `ν` (plane strain in 2D:
+    /// the same P-wave modulus `λ + 2μ`).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        let (e, nu, rho) = (self.youngs_modulus, self.poisson_ratio, self.density);
+        let mu = e / (2.0 * (1.0 + nu));
+        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        Some([(rho * (lambda + 2.0 * mu)).sqrt(), (rho * mu).sqrt()])
     }
 }
 
@@ -145,6 +163,12 @@ impl<const D: usize> Medium<D, 1> for AntiplaneMaterial {
             mass,
             energy_norm,
         })
+    }
+
+    /// `√(ρμ) = ρc_s` twice (a scalar field has no P wave; only `ρc_s` is used).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        let z = (self.density * self.shear_modulus).sqrt();
+        Some([z, z])
     }
 }
 
@@ -249,6 +273,12 @@ struct Dirichlet<const D: usize, const C: usize> {
     velocity: [f64; C],
 }
 
+/// An absorbing part: dashpots against the motion relative to `velocity · g(t)`.
+struct Absorbing<const D: usize, const C: usize> {
+    part: Part<D>,
+    velocity: [f64; C],
+}
+
 /// Largest number of cells [`ModelBuilder::refined`] creates (the paper's slider at level 10
 /// has 10 · 4¹⁰ ≈ 1.0e7 triangles).
 pub const MAX_CELLS: usize = 50_000_000;
@@ -334,6 +364,7 @@ pub struct ModelBuilder<const D: usize, const C: usize = D> {
     max_kink_degrees: f64,
     fault_tangent: Option<[f64; D]>,
     slip_factor: f64,
+    absorbing: Vec<Absorbing<D, C>>,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -436,6 +467,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             max_kink_degrees: DEFAULT_MAX_FAULT_KINK_DEGREES,
             fault_tangent: None,
             slip_factor: 1.0,
+            absorbing: Vec::new(),
         }
     }
 
@@ -487,6 +519,31 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         traction: impl Fn(&[f64; D]) -> [f64; C] + 'static,
     ) -> Self {
         self.neumann.push((part.into(), Box::new(traction)));
+        self
+    }
+
+    /// An absorbing part Γ_A (a truncation boundary of a dynamic model): Lysmer–Kuhlemeyer
+    /// dashpots with the medium's impedances ([`Medium::impedances`]), the far field at
+    /// rest ([`AbsorbingBoundary`](crate::model::AbsorbingBoundary), docs/math.md
+    /// "Absorbing boundaries"). May be called for several parts; a part's dofs that are
+    /// also Dirichlet dofs stay prescribed (the dashpot does nothing there).
+    pub fn absorbing_boundary(self, part: impl Into<Part<D>>) -> Self {
+        self.absorbing_boundary_moving(part, [0.0; C])
+    }
+
+    /// An absorbing part whose far field moves with velocity `velocity · g(t)` (m/s, of
+    /// the field `u` as Dirichlet velocities are given; `g` the [`loading`](Self::loading)
+    /// history): the dashpots act on `v − velocity · g(t)`, so a body translating with the
+    /// far field feels no force (e.g. SEAS BP1's half-space moving at `V_p/2`).
+    pub fn absorbing_boundary_moving(
+        mut self,
+        part: impl Into<Part<D>>,
+        velocity: [f64; C],
+    ) -> Self {
+        self.absorbing.push(Absorbing {
+            part: part.into(),
+            velocity,
+        });
         self
     }
 
@@ -662,11 +719,14 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             .unzip();
 
         // Matrices.
+        self.check_absorbing(material.as_ref())?;
         let MediumMatrices {
             stiffness,
             mass,
             energy_norm,
         } = material.assemble(mesh, self.with_mass)?;
+        let absorbing =
+            self.absorbing_parts(mesh, material.as_ref(), &gamma_f, &fixed, &stiffness)?;
 
         // Loads (gravity only for vector fields: its setter needs C = D).
         let rho = material.density();
@@ -689,34 +749,55 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 *l += ti;
             }
         }
-        // An antisymmetric fault: the unknown is s·u (K/s², M/s², F/s, w/s).
-        let (mass, stiffness, energy_norm) = if s == 1.0 {
-            (mass, stiffness, energy_norm)
+        // An antisymmetric fault: the unknown is s·u (K/s², M/s², C/s², F/s, w/s).
+        let (mass, stiffness, energy_norm, absorbing) = if s == 1.0 {
+            (mass, stiffness, energy_norm, absorbing)
         } else {
             let k = 1.0 / (s * s);
             let scaled = |a: &SparseMatrix| combine(0.0, a, k, a).map_err(rsf_fem::Error::from);
             for l in &mut load {
                 *l /= s;
             }
+            let absorbing = match absorbing {
+                Some(mut a) => {
+                    a.damping = scaled(&a.damping)?;
+                    // C̃ (s w) = C w / s.
+                    a.far_field_force.iter_mut().for_each(|f| *f /= s);
+                    Some(a)
+                }
+                None => None,
+            };
             (
                 mass.as_ref().map(scaled).transpose()?,
                 scaled(&stiffness)?,
                 scaled(&energy_norm)?,
+                absorbing,
             )
         };
 
         // Slanted fault nodes: everything in the nodal frames (identity elsewhere).
-        let (mass, stiffness, energy_norm) = if frames.nodes.is_empty() {
-            (mass, stiffness, energy_norm)
+        let (mass, stiffness, energy_norm, absorbing) = if frames.nodes.is_empty() {
+            (mass, stiffness, energy_norm, absorbing)
         } else {
             frames.to_local(&mut load)?;
             let rotate = |a: &SparseMatrix| -> Result<SparseMatrix> {
                 symmetrized(&frames.rotate_matrix(a.as_ref())?)
             };
+            let absorbing = match absorbing {
+                Some(mut a) => {
+                    a.damping = rotate(&a.damping)?;
+                    if !a.far_field_force.is_empty() {
+                        frames.to_local(&mut a.far_field_force)?;
+                    }
+                    Some(a)
+                }
+                None => None,
+            };
             (
                 mass.as_ref().map(rotate).transpose()?,
                 rotate(&stiffness)?,
                 rotate(&energy_norm)?,
+                absorbing,
             )
         };
 
@@ -776,6 +857,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             initial_displacement: u0,
             cells: mesh.cells().to_vec(),
             frames,
+            absorbing,
         };
         // Consistent by construction; a simulation built on it validates it (once), with
         // the magnitudes of the user's data.
@@ -805,6 +887,114 @@ fn same_block_size<const D: usize, const C: usize>(frames: NodalFrames<D>) -> No
 }
 
 impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    /// The checks of the absorbing parts that need no assembly (before it, so that a
+    /// medium the mass matrix would refuse, e.g. of zero density, is named here): inertia,
+    /// a finite far-field velocity, the medium's impedances finite and positive.
+    fn check_absorbing(&self, material: &dyn Medium<D, C>) -> Result<()> {
+        for a in &self.absorbing {
+            let name = a.part.name();
+            if !self.with_mass {
+                return Err(part_error(
+                    name,
+                    "absorbing parts need inertia (the model is built without_mass)",
+                ));
+            }
+            if a.velocity.iter().any(|w| !w.is_finite()) {
+                return Err(part_error(
+                    name,
+                    format!("far-field velocity {:?} must be finite", a.velocity),
+                ));
+            }
+            self.absorbing_impedances(material, name)?;
+        }
+        Ok(())
+    }
+
+    /// The medium's impedances `(ρc_p, ρc_s)`, finite and positive.
+    fn absorbing_impedances(&self, material: &dyn Medium<D, C>, name: &str) -> Result<[f64; 2]> {
+        let impedances = material.impedances().ok_or_else(|| {
+            part_error(
+                name,
+                "the medium gives no impedances (Medium::impedances) for its dashpots",
+            )
+        })?;
+        if impedances.iter().any(|z| !(z.is_finite() && *z > 0.0)) {
+            return Err(part_error(
+                name,
+                format!(
+                    "the medium's impedances (ρc_p, ρc_s) = {impedances:?} Pa·s/m must \
+                     be finite and positive (density ρ = {} kg/m³)",
+                    material.density()
+                ),
+            ));
+        }
+        Ok(impedances)
+    }
+
+    /// The dashpots of the absorbing parts (Cartesian, unscaled), if any: each part
+    /// resolved, checked (inertia, the medium's impedances, no facet of Γ_F, a free dof)
+    /// and lumped on the pattern of `stiffness`.
+    fn absorbing_parts(
+        &self,
+        mesh: &SimplexMesh<D>,
+        material: &dyn Medium<D, C>,
+        gamma_f: &BoundaryPart<D>,
+        fixed: &[bool],
+        stiffness: &SparseMatrix,
+    ) -> Result<Option<AbsorbingBoundary>> {
+        if self.absorbing.is_empty() {
+            return Ok(None);
+        }
+        let mut resolved = Vec::with_capacity(self.absorbing.len());
+        for a in &self.absorbing {
+            let name = a.part.name();
+            let impedances = self.absorbing_impedances(material, name)?;
+            let part = a.part.resolve(mesh)?;
+            if let Some(f) = part
+                .facets()
+                .iter()
+                .find(|f| gamma_f.facets().binary_search(f).is_ok())
+            {
+                return Err(part_error(
+                    name,
+                    format!(
+                        "boundary facet {f} is also on the frictional boundary `{}`",
+                        gamma_f.name()
+                    ),
+                ));
+            }
+            if part
+                .nodes()
+                .iter()
+                .all(|&p| (0..C).all(|c| fixed[C * p + c]))
+            {
+                return Err(part_error(
+                    name,
+                    "every dof of its nodes is fixed (Dirichlet): the dashpots would do nothing",
+                ));
+            }
+            resolved.push((part, impedances, a.velocity));
+        }
+        let parts: Vec<ResolvedPart<'_, D, C>> = resolved
+            .iter()
+            .map(|(part, impedances, velocity)| ResolvedPart {
+                part,
+                impedances: *impedances,
+                velocity: *velocity,
+            })
+            .collect();
+        let (damping, far_field_force) = super::absorbing::assemble(mesh, &parts, stiffness)?;
+        Ok(Some(AbsorbingBoundary {
+            parts: self
+                .absorbing
+                .iter()
+                .map(|a| a.part.name().to_owned())
+                .collect(),
+            damping,
+            far_field_force,
+        }))
+    }
+
     /// The nodal frames of the slanted nodes of Γ_F (normal not along a coordinate axis),
     /// in increasing node order; checks corners and degenerate facets at every node.
     fn fault_frames(

@@ -1,6 +1,7 @@
 //! The assembled, discretised mechanical model a simulation runs on: matrices, loads,
 //! constraints, the frictional boundary and the refinement hierarchy.
 
+pub(crate) mod absorbing;
 pub(crate) mod builder;
 pub(crate) mod conditioning;
 pub(crate) mod equilibrium;
@@ -9,6 +10,7 @@ pub(crate) mod loading;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
+pub use absorbing::AbsorbingBoundary;
 pub use builder::{
     AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
     DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
@@ -102,6 +104,10 @@ pub struct Model<const D: usize, const C: usize = D> {
     /// The model's matrices, load, `u₀`, Dirichlet data and finest prolongation are
     /// expressed in these frames (`Rᵀ A R`, `Rᵀ F`, `Rᵀ P`).
     pub frames: NodalFrames<C>,
+    /// Lysmer–Kuhlemeyer dashpots on absorbing parts (docs/math.md "Absorbing
+    /// boundaries"); `None` (the default) for none: the velocity problem is then exactly
+    /// what it was without them.
+    pub absorbing: Option<AbsorbingBoundary>,
 }
 
 impl<const D: usize, const C: usize> Model<D, C> {
@@ -202,7 +208,10 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// without a fixed component; [`Error::InvalidParameter`] naming `stiffness` or `mass`
     /// for a negative diagonal entry (not positive semi-definite); [`Error::IllConditioned`]
     /// naming `stiffness`, `mass`, `load` or `initial_displacement` for a magnitude outside
-    /// [`representable_range`](crate::model::representable_range) (also a non-finite one).
+    /// [`representable_range`](crate::model::representable_range) (also a non-finite one);
+    /// [`Error::InvalidParameter`] named `absorbing` for a dashpot matrix of another size or
+    /// pattern than the stiffness, a far-field force of another length, a non-finite entry
+    /// or a negative diagonal entry ([`AbsorbingBoundary`]).
     pub fn validate(&self) -> Result<()> {
         self.validate_structure()?;
         self.check_magnitudes()
@@ -286,6 +295,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
             }
         }
         self.validate_frames()?;
+        if let Some(a) = &self.absorbing {
+            a.validate(&self.stiffness)?;
+        }
         if self.cells.len() % (D + 1) != 0 || self.cells.iter().any(|&c| c >= self.vertices.len()) {
             return Err(invalid(
                 "cells",

@@ -371,7 +371,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     }
 
     /// Checks every part once and builds the simulation: assembles
-    /// `A = c_M M + c_K K` (+ radiation damping), sets up the solver, and starts from
+    /// `A = c_M M + c_K K` (+ the absorbing parts' dashpots `C`, + radiation damping), sets up the solver, and starts from
     /// `u_0 = model.initial_displacement`, `v_0` = the Dirichlet velocities at `t = 0` on
     /// constrained dofs and [`initial_velocity_at`](Self::initial_velocity_at) (default 0)
     /// elsewhere, `a_0 = 0`, `α = α₀`, at step 0 and time 0.
@@ -383,9 +383,23 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// [`Error::FreeNormal`]), a missing mass matrix (`mass`), [`Error::StateVariableMismatch`],
     /// [`Error::StateLaw`] (monotonicity probe), the fixed point options
     /// (`fixed_point.*`), the step control, the state integrator (`state_integrator`);
-    /// then set-up errors of the solver (e.g. `tau` for a non-finite time-step matrix).
+    /// then set-up errors of the solver (e.g. `tau` for a non-finite time-step matrix);
+    /// [`Error::InvalidParameter`] named `absorbing` for a model with absorbing parts
+    /// ([`Model::absorbing`]) and an integrator without inertia (dashpots on a
+    /// quasistatic model would damp its slow deformation, not radiate waves; the fault ODE,
+    /// [`build_fault_ode`](Self::build_fault_ode), treats them as traction-free instead).
     pub fn build(self) -> Result<Simulation<D, L, S, I, C>> {
         let (this, friction, state_laws, alpha0, tau) = self.checked()?;
+        if this.model.absorbing.is_some() && !this.method.integrator.uses_mass() {
+            return Err(invalid(
+                "absorbing",
+                format!(
+                    "the model has absorbing parts and the integrator ({}) has no inertia: \
+                     use Newmark or backward Euler",
+                    this.method.integrator.name()
+                ),
+            ));
+        }
         let controller = match &this.method.step_control {
             Some(c) => Some(c.start(tau)?),
             None => None,
@@ -432,7 +446,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// implicit method (velocity solver and its options, fixed point, step control, state
     /// integrator) do not apply to it: given, they are an error (a method is given only
     /// the settings it uses); an initial velocity is ignored (the slip rates follow from
-    /// the stress).
+    /// the stress). Absorbing parts of the model ([`Model::absorbing`]) are traction-free
+    /// here: a quasi-dynamic model has no waves in the volume, and the dashpots' force
+    /// `ρc |v − v_far|` is dropped (for SEAS BP1 between events `ρc_s V_p ≈ 1e-2 Pa`).
     ///
     /// # Errors
     /// As [`build`](Self::build); [`Error::InvalidParameter`] named after the first

@@ -96,6 +96,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         method
             .load_operator()
             .apply(&model.load, &work.w_mass, &work.w_stiffness, &mut work.rhs);
+        if let Some(absorbing) = &model.absorbing {
+            // The dashpots act on v − v_far: the far field's force g(t_n) C w.
+            if !absorbing.far_field_force.is_empty() {
+                let g = model.dirichlet.speed(t);
+                for (r, f) in work.rhs.iter_mut().zip(&absorbing.far_field_force) {
+                    *r += g * f;
+                }
+            }
+        }
         // Predictor v⁰ with the Dirichlet data of t_n.
         let fixed_point = *method.fixed_point();
         let mut v = std::mem::take(&mut work.v);
