@@ -152,6 +152,19 @@ impl FaultKernel {
     }
 }
 
+/// `dense`, or `hierarchical epsilon=ε leaf_size=n` (ε as the shortest text that reads
+/// back to it): the text a run's fingerprint holds.
+impl std::fmt::Display for FaultKernel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Dense => write!(f, "dense"),
+            Self::Hierarchical { epsilon, leaf_size } => {
+                write!(f, "hierarchical epsilon={epsilon:e} leaf_size={leaf_size}")
+            }
+        }
+    }
+}
+
 /// What the set-up of a [`FaultOde`]'s kernel measured ([`FaultOde::kernel_report`]).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]

@@ -3,10 +3,10 @@
 //! agreement with the paper's implicit scheme (which converges to it as its tolerance
 //! shrinks), the volume's equilibrium when an observer reads it, and typed errors.
 
+use rsf::fault_ode::FaultKernel;
 use rsf::friction::{AsinhLaw, FrictionLaw};
 use rsf::observe::SECONDS_PER_YEAR;
 use rsf::{Flow, Integrator, Observer, StepView, TimeFunction, Until};
-use rsf::fault_ode::FaultKernel;
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 mod common;
@@ -508,7 +508,8 @@ fn hierarchical_kernel_follows_the_dense_first_event_within_its_accuracy() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
     let build = |kernel| {
         let model = bp1.model(&grid, false).unwrap();
-        bp1.fault_ode(model, kernel_options(&bp1, kernel, 1)).unwrap()
+        bp1.fault_ode(model, kernel_options(&bp1, kernel, 1))
+            .unwrap()
     };
     let mut dense = build(FaultKernel::Dense);
     let r = dense.kernel_report().clone();
@@ -528,7 +529,10 @@ fn hierarchical_kernel_follows_the_dense_first_event_within_its_accuracy() {
             // At the coarsest accuracy the 20 × 20 operator has far-field blocks of low
             // rank (finer ones keep more of them dense: too small to gain).
             assert!(r.low_rank_blocks > 0 && r.relative_error > 0.0, "{r:?}");
-            assert!(r.stored_entries < 400 && r.compression_ratio() > 1.0, "{r:?}");
+            assert!(
+                r.stored_entries < 400 && r.compression_ratio() > 1.0,
+                "{r:?}"
+            );
         }
         previous_error = r.relative_error;
         let t = first_event_time(&mut h);
@@ -538,7 +542,10 @@ fn hierarchical_kernel_follows_the_dense_first_event_within_its_accuracy() {
             t / SECONDS_PER_YEAR,
             t_dense / SECONDS_PER_YEAR
         );
-        assert!(rel <= 10.0 * r.relative_error + 1e-6, "ε = {epsilon}: {rel}");
+        assert!(
+            rel <= 10.0 * r.relative_error + 1e-6,
+            "ε = {epsilon}: {rel}"
+        );
     }
 }
 
@@ -605,11 +612,8 @@ fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
                         .fault_ode(model, kernel_options(&bp1, kernel, threads))
                         .unwrap();
                     let mut trace = Trace::default();
-                    ode.run_until(
-                        Until::Time(years * SECONDS_PER_YEAR),
-                        &mut [&mut trace],
-                    )
-                    .unwrap();
+                    ode.run_until(Until::Time(years * SECONDS_PER_YEAR), &mut [&mut trace])
+                        .unwrap();
                     (trace, ode.evaluations())
                 })
             };
