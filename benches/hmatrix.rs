@@ -6,6 +6,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, Mat, Par};
+use rsf_examples::fit_exponent;
 use rsf_hmatrix::kernels::AntiplaneHalfSpace;
 use rsf_hmatrix::{HMatrix, HOptions};
 use std::hint::black_box;
@@ -59,18 +60,6 @@ fn products(c: &mut Criterion) {
     group.finish();
     let slope = fit_exponent(&stored);
     println!("stored entries ~ N^{slope:.3} (least squares on log–log, N = 400 … 3200)");
-}
-
-/// Least-squares slope of `ln y` against `ln x`.
-fn fit_exponent(xy: &[(f64, f64)]) -> f64 {
-    let k = xy.len() as f64;
-    let (mx, my) = xy.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-        (a + x.ln() / k, b + y.ln() / k)
-    });
-    let (num, den) = xy.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-        (a + (x.ln() - mx) * (y.ln() - my), b + (x.ln() - mx).powi(2))
-    });
-    num / den
 }
 
 criterion_group!(benches, products);

@@ -27,7 +27,11 @@
 //! an uninterrupted run's, with either scheme and with `--inertia`; docs/reliability.md),
 //! `--allow-change FIELD,…` (a deliberate change on resume, e.g. `end_years`), `--max-steps
 //! N` (stop after step N in total, across resumes, with a checkpoint and the resume log to
-//! continue from with a larger N).
+//! continue from with a larger N), `--kernel dense|hierarchical` (how the Runge–Kutta run
+//! stores the operator condensed onto the fault: dense, the default, or as an ℋ-matrix;
+//! part of the fingerprint), `--kernel-epsilon E` (the ℋ-matrix's accuracy; default the
+//! `--rk-tolerance`, `FaultKernel::matching`), `--threads N` (threads of the product with
+//! the operator, default 1; the same bits for every N).
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
@@ -37,6 +41,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
+use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::method::{FixedPointOptions, SolverOptions};
 use rsf::observe::{
     Checkpointer, Every, FileMode, Interval, Progress, SeasOutput, SeasSampling, SeasSetup,
@@ -140,6 +145,17 @@ struct Args {
     /// absolute in ln θ).
     #[arg(long, default_value_t = 1e-6)]
     rk_tolerance: f64,
+    /// The Runge–Kutta run's operator condensed onto the fault: `dense` (m² entries) or
+    /// `hierarchical` (an ℋ-matrix, rsf-hmatrix).
+    #[arg(long, value_enum, default_value_t = KernelArg::Dense)]
+    kernel: KernelArg,
+    /// Relative accuracy ε of the hierarchical kernel (default: the `--rk-tolerance`).
+    #[arg(long)]
+    kernel_epsilon: Option<f64>,
+    /// Threads of the product with the condensed operator (rayon; the same bits for
+    /// every value).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
     /// Write `checkpoint.bin` every N steps (0: never), and the resume log of the
     /// benchmark files.
     #[arg(long, default_value_t = 0)]
@@ -172,6 +188,12 @@ enum Absorbing {
     None,
     Dynamic,
     All,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum KernelArg {
+    Dense,
+    Hierarchical,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -284,7 +306,24 @@ fn run(args: Args) -> Result<(), AnyError> {
             })
             .build()
     };
-    let fault_ode = |model| bp1.fault_ode(model, rk_options);
+    let kernel = match (args.kernel, args.kernel_epsilon) {
+        (KernelArg::Dense, None) => FaultKernel::Dense,
+        (KernelArg::Dense, Some(_)) => {
+            return Err("--kernel-epsilon needs --kernel hierarchical".into());
+        }
+        (KernelArg::Hierarchical, None) => FaultKernel::matching(args.rk_tolerance),
+        (KernelArg::Hierarchical, Some(e)) => FaultKernel::hierarchical(e),
+    };
+    if args.threads == 0 {
+        return Err("--threads must be at least 1".into());
+    }
+    let fault_ode_options = FaultOdeOptions {
+        kernel,
+        parallelism: rsf::Parallelism::rayon(args.threads),
+        ..rk_options
+    };
+    fault_ode_options.validate()?;
+    let fault_ode = |model| bp1.fault_ode(model, fault_ode_options);
     let mut sim: Bp1Run = match method {
         MethodKind::Implicit => {
             implicit(model, args.inertia, 1e-2, args.fixed_point_tolerance)?.into()
@@ -312,6 +351,14 @@ fn run(args: Args) -> Result<(), AnyError> {
         }
     };
     let setup_s = t_setup.elapsed().as_secs_f64();
+    let kernel_report = match &sim {
+        rsf::Run::Implicit(_) => None,
+        rsf::Run::FaultOde(s) => Some(s.kernel_report().clone()),
+        rsf::Run::Switching(s) => Some(s.quasi_dynamic().kernel_report().clone()),
+    };
+    if let Some(r) = &kernel_report {
+        eprintln!("{r}");
+    }
     eprintln!(
         "BP1{} ({scheme:?}): dz = {} m, domain {} km, {nodes} nodes, {fault_nodes} on the fault; set-up {setup_s:.1} s",
         if args.inertia { "-FD" } else { "-QD" },
@@ -340,6 +387,7 @@ fn run(args: Args) -> Result<(), AnyError> {
         .with("fixed_point_tolerance", args.fixed_point_tolerance)
         .with("setup_per_time_step", args.setup_per_time_step)
         .with("rk_tolerance", args.rk_tolerance)
+        .with("kernel", kernel)
         .with("dynamic_tau", format!("{:?}", args.dynamic_tau))
         .with("switch_to_dynamic", args.switch_to_dynamic)
         .with("switch_to_quasi_dynamic", args.switch_to_quasi_dynamic)
@@ -497,6 +545,18 @@ fn run(args: Args) -> Result<(), AnyError> {
         "scheme": format!("{scheme:?}"),
         "rk_tolerance": (scheme == Scheme::RungeKutta).then_some(args.rk_tolerance),
         "rate_evaluations": evaluations,
+        "kernel": kernel_report.as_ref().map(|r| serde_json::json!({
+            "kernel": r.kernel.to_string(),
+            "dim": r.dim,
+            "relative_error_frobenius": r.relative_error,
+            "stored_entries": r.stored_entries,
+            "compression_ratio": r.compression_ratio(),
+            "dense_blocks": r.dense_blocks,
+            "low_rank_blocks": r.low_rank_blocks,
+            "max_rank": r.max_rank,
+            "setup_s": r.setup_seconds,
+        })),
+        "threads": args.threads,
         "switching": switching,
         "tau_min_s": tau_min,
         "tau_max_s": tau_max,

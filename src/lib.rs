@@ -22,8 +22,8 @@ pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
 pub use panels::PanelLayout;
 pub use run::{
-    cpu_seconds, machine, old_wall_time, stats, step_control_json, write_summary, SliderRun,
-    SliderStats,
+    cpu_seconds, fit_exponent, machine, old_wall_time, stats, step_control_json, write_summary,
+    SliderRun, SliderStats,
 };
 pub use run_folder::FolderArgs;
 

@@ -282,6 +282,20 @@ pub fn cpu_seconds() -> f64 {
     cpu_time::ProcessTime::try_now().map_or(0.0, |t| t.as_duration().as_secs_f64())
 }
 
+/// Least-squares slope of `ln y` against `ln x` over the points `(x, y)` (both positive):
+/// the exponent `p` of a fit `y ≈ c xᵖ`, as the scaling tables quote it (docs/scaling.md).
+/// NaN for fewer than two distinct `x`.
+pub fn fit_exponent(xy: &[(f64, f64)]) -> f64 {
+    let k = xy.len() as f64;
+    let (mx, my) = xy.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + x.ln() / k, b + y.ln() / k)
+    });
+    let (num, den) = xy.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        (a + (x.ln() - mx) * (y.ln() - my), b + (x.ln() - mx).powi(2))
+    });
+    num / den
+}
+
 /// A one-line description of this machine (CPU model and core count).
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")

@@ -17,6 +17,11 @@ pub enum Error {
     /// Time integrator.
     #[error(transparent)]
     Time(#[from] rsf_time::Error),
+    /// The compressed (hierarchical) fault operator of a run condensed onto the fault
+    /// ([`FaultKernel::Hierarchical`](crate::fault_ode::FaultKernel::Hierarchical)): its
+    /// set-up (an SVD that did not converge, a non-finite entry) or product.
+    #[error(transparent)]
+    HMatrix(#[from] rsf_hmatrix::Error),
     /// Velocity solver (including its non-convergence).
     #[error(transparent)]
     Solver(#[from] rsf_tnnmg::Error),

@@ -3,6 +3,7 @@
 //! agreement with the paper's implicit scheme (which converges to it as its tolerance
 //! shrinks), the volume's equilibrium when an observer reads it, and typed errors.
 
+use rsf::fault_ode::FaultKernel;
 use rsf::friction::{AsinhLaw, FrictionLaw};
 use rsf::observe::{Checkpointer, Every, Interval, SECONDS_PER_YEAR};
 use rsf::{Flow, Integrator, Observer, StepView, Termination, TimeFunction, Until};
@@ -477,4 +478,181 @@ fn switching_run_resumes_bit_identically_in_either_phase() {
         &dir,
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Options of the small BP1's fault ODE at tolerance 1e-6 with `kernel` and `threads`.
+fn kernel_options(
+    bp1: &SeasBp1,
+    kernel: FaultKernel,
+    threads: usize,
+) -> rsf::fault_ode::FaultOdeOptions {
+    rsf::fault_ode::FaultOdeOptions {
+        kernel,
+        parallelism: rsf::Parallelism::rayon(threads),
+        ..bp1.fault_ode_options(1e-6).unwrap()
+    }
+}
+
+/// The time (s) at which the largest slip rate first reaches 1e-3 m/s, within 500 years.
+fn first_event_time(ode: &mut rsf_scenes::SeasBp1FaultOde) -> f64 {
+    let mut onset = None;
+    struct Onset<'a>(&'a mut Option<f64>);
+    impl Observer<2, 1> for Onset<'_> {
+        fn observe(&mut self, s: &StepView<'_, 2, 1>) -> rsf::Result<Flow> {
+            if s.report.max_slip_rate >= 1e-3 {
+                *self.0 = Some(s.state.time);
+                return Ok(Flow::Break(()));
+            }
+            Ok(Flow::Continue(()))
+        }
+        fn reads_volume(&self) -> bool {
+            false
+        }
+    }
+    ode.run_until(
+        Until::Time(500.0 * SECONDS_PER_YEAR),
+        &mut [&mut Onset(&mut onset)],
+    )
+    .unwrap();
+    onset.expect("an event within 500 years")
+}
+
+/// The small BP1 (m = 20) with the hierarchical kernel at leaf size 4 (so that it has
+/// far-field blocks): the set-up's measured `‖S − S_H‖_F/‖S‖_F` is at most ε and does not
+/// grow as ε shrinks, the storage is below m² at the coarsest ε; the first event moves from the dense kernel's by a
+/// relative amount within the kernel's error bound: the stress error is at most
+/// e ‖S‖_F ‖u_F‖ with e the measured relative error (≤ ε), so the time to reach a given
+/// stress moves by a relative e times the loading's amplification, taken as 10 (plus the
+/// 1e-6 the tolerance allows between two trajectories, as in
+/// `first_event_converges_with_the_tolerance`).
+#[test]
+fn hierarchical_kernel_follows_the_dense_first_event_within_its_accuracy() {
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
+    let build = |kernel| {
+        let model = bp1.model(&grid, false).unwrap();
+        bp1.fault_ode(model, kernel_options(&bp1, kernel, 1))
+            .unwrap()
+    };
+    let mut dense = build(FaultKernel::Dense);
+    let r = dense.kernel_report().clone();
+    assert_eq!((r.dim, r.stored_entries, r.relative_error), (20, 400, 0.0));
+    let t_dense = first_event_time(&mut dense);
+    let mut previous_error = f64::INFINITY;
+    for epsilon in [1e-2, 1e-3, 1e-4] {
+        let mut h = build(FaultKernel::Hierarchical {
+            epsilon,
+            leaf_size: 4,
+        });
+        let r = h.kernel_report().clone();
+        eprintln!("{r}");
+        assert!(r.relative_error <= epsilon, "{r:?}");
+        assert!(r.relative_error <= previous_error, "{r:?}");
+        if previous_error.is_infinite() {
+            // At the coarsest accuracy the 20 × 20 operator has far-field blocks of low
+            // rank (finer ones keep more of them dense: too small to gain).
+            assert!(r.low_rank_blocks > 0 && r.relative_error > 0.0, "{r:?}");
+            assert!(
+                r.stored_entries < 400 && r.compression_ratio() > 1.0,
+                "{r:?}"
+            );
+        }
+        previous_error = r.relative_error;
+        let t = first_event_time(&mut h);
+        let rel = ((t - t_dense) / t_dense).abs();
+        eprintln!(
+            "ε = {epsilon:e}: first event {} yr against {} yr dense, relative {rel:.2e}",
+            t / SECONDS_PER_YEAR,
+            t_dense / SECONDS_PER_YEAR
+        );
+        assert!(
+            rel <= 10.0 * r.relative_error + 1e-6,
+            "ε = {epsilon}: {rel}"
+        );
+    }
+}
+
+/// Kernel accuracy out of range, or a leaf size of 0: typed errors naming the field,
+/// from the options' check and from the set-up.
+#[test]
+fn invalid_kernel_accuracy_is_a_typed_error() {
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
+    let name = |r: rsf::Result<()>| match r {
+        Err(rsf::Error::InvalidParameter { name, .. }) => name,
+        other => panic!("expected InvalidParameter, got {other:?}"),
+    };
+    for epsilon in [0.0, -1e-6, f64::NAN, f64::INFINITY, 0.5] {
+        let o = kernel_options(&bp1, FaultKernel::hierarchical(epsilon), 1);
+        assert_eq!(name(o.validate()), "kernel.epsilon", "ε = {epsilon}");
+        let model = bp1.model(&grid, false).unwrap();
+        assert_eq!(
+            name(bp1.fault_ode(model, o).map(|_| ())),
+            "kernel.epsilon",
+            "ε = {epsilon}"
+        );
+    }
+    let o = kernel_options(
+        &bp1,
+        FaultKernel::Hierarchical {
+            epsilon: 1e-6,
+            leaf_size: 0,
+        },
+        1,
+    );
+    assert_eq!(name(o.validate()), "kernel.leaf_size");
+    assert!(kernel_options(&bp1, FaultKernel::matching(1e-6), 1)
+        .validate()
+        .is_ok());
+    assert!(kernel_options(&bp1, FaultKernel::matching(0.5), 1)
+        .validate()
+        .is_ok());
+}
+
+/// The same bits at 1, 2 and 4 threads (explicit rayon pools) for the dense and the
+/// hierarchical kernel: the small BP1 through its first event, and a finer fault (m = 100,
+/// where the dense product splits into several row blocks of SIMD width) for 20 years.
+#[test]
+fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
+    let (bp1, coarse) = small_bp1(&SeasBp1::default());
+    let fine = SeasBp1Grid {
+        dz: 100.0,
+        ..coarse
+    };
+    let h = FaultKernel::Hierarchical {
+        epsilon: 1e-6,
+        leaf_size: 8,
+    };
+    for (grid, years) in [(coarse, 150.0), (fine, 20.0)] {
+        for kernel in [FaultKernel::Dense, h] {
+            let run = |threads: usize| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    let model = bp1.model(&grid, false).unwrap();
+                    let mut ode = bp1
+                        .fault_ode(model, kernel_options(&bp1, kernel, threads))
+                        .unwrap();
+                    let mut trace = Trace::default();
+                    ode.run_until(Until::Time(years * SECONDS_PER_YEAR), &mut [&mut trace])
+                        .unwrap();
+                    (trace, ode.evaluations())
+                })
+            };
+            let (one, evaluations) = run(1);
+            assert!(one.rows.len() > 10);
+            if grid.dz == coarse.dz {
+                assert!(one.rows.iter().any(|r| r.1 >= 1e-3), "an event");
+            }
+            for threads in [2, 4] {
+                let (other, e) = run(threads);
+                assert_eq!(e, evaluations, "{kernel:?}, {threads} threads");
+                assert_same_rows(
+                    &other.rows,
+                    &one.rows,
+                    &format!("{kernel:?}, dz = {} m, {threads} threads", grid.dz),
+                );
+            }
+        }
+    }
 }

@@ -1,0 +1,110 @@
+//! Memory and cost of the fault ODE's operator against the number of fault unknowns
+//! (issue 37, docs/scaling.md "Compressed fault operator"): SEAS BP1 condensed onto the
+//! fault (`rsf::fault_ode::FaultOde`) at several element sizes, with the dense and the
+//! hierarchical kernel. For each it prints the kernel report (stored f64, compression
+//! ratio, measured `‖S − S_H‖_F/‖S‖_F`) and the CPU time per right-hand-side evaluation
+//! (one product with the operator and one friction solve per node) over the first
+//! `--steps` steps from t = 0, then least-squares exponents of storage and cost against m.
+//!
+//! ```sh
+//! cargo run --release --example fault_kernel_scaling -- --dz 200,100,50,25,12.5 --domain-km 100
+//! ```
+
+use clap::Parser;
+use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::Until;
+use rsf_examples::{cpu_seconds, fit_exponent};
+use rsf_scenes::{SeasBp1, SeasBp1Grid};
+
+type AnyError = Box<dyn std::error::Error>;
+
+/// Storage and cost of the dense and hierarchical fault operators of BP1.
+#[derive(Parser)]
+struct Cli {
+    /// Element sizes on the fault (m), comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "200,100,50,25,12.5")]
+    dz: Vec<f64>,
+    /// Side of the square domain (km).
+    #[arg(long, default_value_t = 100.0)]
+    domain_km: f64,
+    /// Accuracy ε of the hierarchical kernel.
+    #[arg(long, default_value_t = 1e-6)]
+    epsilon: f64,
+    /// Steps timed from t = 0 (creep: the same steps for both kernels up to round-off).
+    #[arg(long, default_value_t = 400)]
+    steps: usize,
+    /// Skip the dense kernel above this many unknowns (its m² storage).
+    #[arg(long, default_value_t = 10_000)]
+    dense_max: usize,
+}
+
+fn main() -> Result<(), AnyError> {
+    let cli = Cli::parse();
+    let bp1 = SeasBp1::default();
+    println!(
+        "| Δz (m) | m | kernel | stored f64 | MB | compression | ‖S − S_H‖_F/‖S‖_F | compress (s) | evaluations | CPU per evaluation (µs) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut rows: Vec<(&str, f64, f64, f64)> = Vec::new();
+    for &dz in &cli.dz {
+        let grid = SeasBp1Grid {
+            dz,
+            domain: cli.domain_km * 1e3,
+            ..SeasBp1Grid::default()
+        };
+        for kernel in [FaultKernel::Dense, FaultKernel::hierarchical(cli.epsilon)] {
+            let model = bp1.model(&grid, false)?;
+            if kernel == FaultKernel::Dense && model.condensed_unknowns() > cli.dense_max {
+                continue;
+            }
+            let options = FaultOdeOptions {
+                kernel,
+                ..bp1.fault_ode_options(1e-6)?
+            };
+            let mut ode = bp1.fault_ode(model, options)?;
+            let report = ode.kernel_report().clone();
+            let cpu = cpu_seconds();
+            let before = ode.evaluations();
+            ode.run_until(Until::Steps(cli.steps), &mut [])
+                .map_err(|e| e.error)?;
+            let per_eval = (cpu_seconds() - cpu) / (ode.evaluations() - before).max(1) as f64;
+            println!(
+                "| {dz} | {} | {} | {} | {:.2} | {:.1} | {:.2e} | {:.2} | {} | {:.1} |",
+                report.dim,
+                kernel.name(),
+                report.stored_entries,
+                report.bytes() as f64 / 1e6,
+                report.compression_ratio(),
+                report.relative_error,
+                report.setup_seconds,
+                ode.evaluations() - before,
+                per_eval * 1e6
+            );
+            rows.push((
+                kernel.name(),
+                report.dim as f64,
+                report.stored_entries as f64,
+                per_eval,
+            ));
+        }
+    }
+    for name in ["dense", "hierarchical"] {
+        let pick = |f: fn(&(&str, f64, f64, f64)) -> f64| -> Vec<(f64, f64)> {
+            rows.iter()
+                .filter(|r| r.0 == name)
+                .map(|r| (r.1, f(r)))
+                .collect()
+        };
+        let stored = pick(|r| r.2);
+        let cost = pick(|r| r.3);
+        if stored.len() >= 2 {
+            println!(
+                "{name}: stored f64 ~ m^{:.3}, CPU per evaluation ~ m^{:.3} (least squares on log–log, {} sizes)",
+                fit_exponent(&stored),
+                fit_exponent(&cost),
+                stored.len()
+            );
+        }
+    }
+    Ok(())
+}
