@@ -168,6 +168,11 @@ fn expand_use_trees(code: &str) -> Vec<(String, Vec<String>)> {
     let mut in_test: Option<usize> = None;
     let mut i = 0;
     while i < bytes.len() {
+        // Inside a multi-byte character (e.g. `…` in a string): not the start of a word.
+        if !code.is_char_boundary(i) {
+            i += 1;
+            continue;
+        }
         let rest = &code[i..];
         let word_start = i == 0 || !is_ident(bytes[i - 1]);
         let scope = || inline.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
