@@ -30,8 +30,9 @@
 //! continue from with a larger N), `--kernel dense|hierarchical` (how the Runge–Kutta run
 //! stores the operator condensed onto the fault: dense, the default, or as an ℋ-matrix;
 //! part of the fingerprint), `--kernel-epsilon E` (the ℋ-matrix's accuracy; default the
-//! `--rk-tolerance`, `FaultKernel::matching`), `--threads N` (threads of the product with
-//! the operator, default 1; the same bits for every N).
+//! `--rk-tolerance`, `FaultKernel::matching`), `--threads N` (threads of each evaluation:
+//! the product with the operator and the per-node friction solves; default 1; the same
+//! bits for every N).
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
@@ -152,8 +153,8 @@ struct Args {
     /// Relative accuracy ε of the hierarchical kernel (default: the `--rk-tolerance`).
     #[arg(long)]
     kernel_epsilon: Option<f64>,
-    /// Threads of the product with the condensed operator (rayon; the same bits for
-    /// every value).
+    /// Threads of each evaluation of the Runge–Kutta run: the product with the condensed
+    /// operator and the per-node friction solves (rayon; the same bits for every value).
     #[arg(long, default_value_t = 1)]
     threads: usize,
     /// Write `checkpoint.bin` every N steps (0: never), and the resume log of the

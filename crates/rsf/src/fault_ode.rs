@@ -51,12 +51,13 @@ pub struct FaultOdeOptions {
     /// trajectory, so runs that check their checkpoints put the kernel in their
     /// fingerprint (docs/seas-bp1.md, "Compressed kernel").
     pub kernel: FaultKernel,
-    /// Threads of the product with `S` in every evaluation (rayon's current pool;
+    /// Threads of every evaluation: the product with `S` and the friction solves (rayon's current pool;
     /// default [`Parallelism::SEQ`]). The results are bit-identical for every value: the
     /// dense product is split over blocks of rows (each row's dot product in the same
     /// order as the sequential product), the hierarchical one over its blocks and leaf
-    /// clusters in a fixed order (docs/math.md §13.5). The per-node friction solves stay
-    /// on the calling thread.
+    /// clusters in a fixed order (docs/math.md §13.5), and from 64 frictional nodes on
+    /// the per-node friction solves are split into one contiguous part per thread (each
+    /// node's solve is independent of the others).
     pub parallelism: Parallelism,
 }
 
@@ -406,6 +407,78 @@ struct FaultRates<const C: usize> {
     slip_scale: f64,
 }
 
+/// Fewest frictional nodes for which the per-node solves of an evaluation are split over
+/// threads (below it a split costs more than the solves: ~0.2 µs each).
+const PARALLEL_NODES_MIN: usize = 64;
+
+/// The per-node part of an evaluation: every node's slip rate from its traction and state,
+/// and its state rate. Nodes are independent, so any split over threads gives the same
+/// bits.
+struct NodeSolves<'a, L, S, const C: usize> {
+    friction: &'a [L],
+    state_laws: &'a [S],
+    uses_state: bool,
+    first: &'a [usize],
+    weights: &'a [f64],
+    fixed_velocity: &'a [[f64; C]],
+    eta: f64,
+    /// The loading history's rate `G'(t)` (factor of the Dirichlet velocities).
+    speed: f64,
+    /// `g(t) − S u_F`, all free components.
+    r: &'a [f64],
+    /// `α` of every frictional node.
+    alpha: &'a [f64],
+}
+
+impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
+    /// Nodes `k0..k1` in `pieces` contiguous parts on rayon's current pool (halving
+    /// recursively: no allocation); `dyu` holds their free components' rates
+    /// (`first[k0]..first[k1]`), `dya` their state rates.
+    fn solve(&self, k0: usize, k1: usize, pieces: usize, dyu: &mut [f64], dya: &mut [f64]) {
+        if pieces <= 1 || k1 - k0 < 2 {
+            self.solve_sequential(k0, k1, dyu, dya);
+            return;
+        }
+        let left = pieces / 2;
+        let mid = k0 + (k1 - k0) * left / pieces;
+        let (u_lo, u_hi) = dyu.split_at_mut(self.first[mid] - self.first[k0]);
+        let (a_lo, a_hi) = dya.split_at_mut(mid - k0);
+        rayon::join(
+            || self.solve(k0, mid, left, u_lo, a_lo),
+            || self.solve(mid, k1, pieces - left, u_hi, a_hi),
+        );
+    }
+
+    fn solve_sequential(&self, k0: usize, k1: usize, dyu: &mut [f64], dya: &mut [f64]) {
+        let base = self.first[k0];
+        for k in k0..k1 {
+            let (a, b) = (self.first[k], self.first[k + 1]);
+            let alpha = self.alpha[k];
+            let inv_w = 1.0 / self.weights[k];
+            let mut traction = [0.0; C];
+            for (tr, r) in traction.iter_mut().zip(&self.r[a..b]) {
+                *tr = r * inv_w;
+            }
+            let out = &mut dyu[a - base..b - base];
+            self.friction[k].potential(alpha).minimize_block(
+                self.eta,
+                &traction[..b - a],
+                1.0,
+                out,
+            );
+            let mut v2: f64 = out.iter().map(|v| v * v).sum();
+            for f in &self.fixed_velocity[k] {
+                v2 += (f * self.speed) * (f * self.speed);
+            }
+            dya[k - k0] = if self.uses_state {
+                -self.state_laws[k].dpsi_dalpha(alpha, v2.sqrt())
+            } else {
+                0.0
+            };
+        }
+    }
+}
+
 /// The ODE system of one step: the rates with the laws borrowed.
 struct Rates<'a, L, S, const C: usize> {
     friction: &'a [L],
@@ -429,27 +502,25 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
         }
         d.kernel.subtract_product(&y[..m], &mut d.r, d.par)?;
         let speed = d.history.value(t);
-        for (k, law) in self.friction.iter().enumerate() {
-            let (a, b) = (d.first[k], d.first[k + 1]);
-            let alpha = y[m + k];
-            let inv_w = 1.0 / d.weights[k];
-            let mut traction = [0.0; C];
-            for (tr, r) in traction.iter_mut().zip(&d.r[a..b]) {
-                *tr = r * inv_w;
-            }
-            let out = &mut dy[a..b];
-            law.potential(alpha)
-                .minimize_block(d.eta, &traction[..b - a], 1.0, out);
-            let mut v2: f64 = out.iter().map(|v| v * v).sum();
-            for f in &d.fixed_velocity[k] {
-                v2 += (f * speed) * (f * speed);
-            }
-            dy[m + k] = if self.uses_state {
-                -self.state_laws[k].dpsi_dalpha(alpha, v2.sqrt())
-            } else {
-                0.0
-            };
-        }
+        let (dyu, dya) = dy.split_at_mut(m);
+        let nodes = NodeSolves {
+            friction: self.friction,
+            state_laws: self.state_laws,
+            uses_state: self.uses_state,
+            first: &d.first,
+            weights: &d.weights,
+            fixed_velocity: &d.fixed_velocity,
+            eta: d.eta,
+            speed,
+            r: &d.r,
+            alpha: &y[m..],
+        };
+        let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
+            d.par.threads()
+        } else {
+            1
+        };
+        nodes.solve(0, self.friction.len(), pieces, dyu, dya);
         Ok(())
     }
 

@@ -609,7 +609,8 @@ fn invalid_kernel_accuracy_is_a_typed_error() {
 
 /// The same bits at 1, 2 and 4 threads (explicit rayon pools) for the dense and the
 /// hierarchical kernel: the small BP1 through its first event, and a finer fault (m = 100,
-/// where the dense product splits into several row blocks of SIMD width) for 20 years.
+/// where the dense product splits into several row blocks of SIMD width and the per-node
+/// friction solves into one part per thread) for 20 years.
 #[test]
 fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
     let (bp1, coarse) = small_bp1(&SeasBp1::default());
