@@ -19,7 +19,7 @@ YEARS=${YEARS:-3000}
 THREADS=${THREADS:-1}
 CONFIGS=${CONFIGS:-"dense:-:1e-8 dense:-:1e-5 dense:-:1e-6 dense:-:1e-7 hierarchical:1e-3:1e-6 hierarchical:1e-4:1e-6 hierarchical:-:1e-6 hierarchical:1e-8:1e-6 hierarchical:-:1e-5 hierarchical:-:1e-7"}
 cargo build --release --example seas_bp1 >&2
-BIN=target/release/examples/seas_bp1
+BIN=${CARGO_TARGET_DIR:-target}/release/examples/seas_bp1
 OUT=${OUT:-$(mktemp -d)}
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown); Δz $DZ m, $KM km, $YEARS years, $THREADS thread(s)"
 echo

@@ -4,7 +4,8 @@
 //! hierarchical kernel. For each it prints the kernel report (stored f64, compression
 //! ratio, measured `‖S − S_H‖_F/‖S‖_F`) and the CPU time per right-hand-side evaluation
 //! (one product with the operator and one friction solve per node) over the first
-//! `--steps` steps from t = 0, then least-squares exponents of storage and cost against m.
+//! `--steps` steps from t = 0 (CPU and wall time, at each `--threads` count), then
+//! least-squares exponents of storage and cost (one thread) against m.
 //!
 //! ```sh
 //! cargo run --release --example fault_kernel_scaling -- --dz 200,100,50,25,12.5 --domain-km 100
@@ -33,6 +34,10 @@ struct Cli {
     /// Steps timed from t = 0 (creep: the same steps for both kernels up to round-off).
     #[arg(long, default_value_t = 400)]
     steps: usize,
+    /// Thread counts of the evaluations (comma separated; `FaultOdeOptions::parallelism`,
+    /// on rayon's global pool): each size and kernel is timed at each.
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    threads: Vec<usize>,
     /// Skip the dense kernel above this many unknowns (its m² storage).
     #[arg(long, default_value_t = 10_000)]
     dense_max: usize,
@@ -41,10 +46,13 @@ struct Cli {
 fn main() -> Result<(), AnyError> {
     let cli = Cli::parse();
     let bp1 = SeasBp1::default();
+    if cli.threads.iter().any(|&t| t == 0) {
+        return Err("--threads: each count must be at least 1".into());
+    }
     println!(
-        "| Δz (m) | m | kernel | stored f64 | MB | compression | ‖S − S_H‖_F/‖S‖_F | compress (s) | evaluations | CPU per evaluation (µs) |"
+        "| Δz (m) | m | kernel | stored f64 | MB | compression | ‖S − S_H‖_F/‖S‖_F | compress (s) | threads | evaluations | CPU per evaluation (µs) | wall per evaluation (µs) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut rows: Vec<(&str, f64, f64, f64)> = Vec::new();
     for &dz in &cli.dz {
         let grid = SeasBp1Grid {
@@ -52,24 +60,30 @@ fn main() -> Result<(), AnyError> {
             domain: cli.domain_km * 1e3,
             ..SeasBp1Grid::default()
         };
-        for kernel in [FaultKernel::Dense, FaultKernel::hierarchical(cli.epsilon)] {
+        for (kernel, &threads) in [FaultKernel::Dense, FaultKernel::hierarchical(cli.epsilon)]
+            .into_iter()
+            .flat_map(|k| cli.threads.iter().map(move |t| (k, t)))
+        {
             let model = bp1.model(&grid, false)?;
             if kernel == FaultKernel::Dense && model.condensed_unknowns() > cli.dense_max {
                 continue;
             }
             let options = FaultOdeOptions {
                 kernel,
+                parallelism: rsf::Parallelism::rayon(threads),
                 ..bp1.fault_ode_options(1e-6)?
             };
             let mut ode = bp1.fault_ode(model, options)?;
             let report = ode.kernel_report().clone();
-            let cpu = cpu_seconds();
+            let (cpu, wall) = (cpu_seconds(), std::time::Instant::now());
             let before = ode.evaluations();
             ode.run_until(Until::Steps(cli.steps), &mut [])
                 .map_err(|e| e.error)?;
-            let per_eval = (cpu_seconds() - cpu) / (ode.evaluations() - before).max(1) as f64;
+            let evaluations = (ode.evaluations() - before).max(1) as f64;
+            let per_eval = (cpu_seconds() - cpu) / evaluations;
+            let wall_per_eval = wall.elapsed().as_secs_f64() / evaluations;
             println!(
-                "| {dz} | {} | {} | {} | {:.2} | {:.1} | {:.2e} | {:.2} | {} | {:.1} |",
+                "| {dz} | {} | {} | {} | {:.2} | {:.1} | {:.2e} | {:.2} | {threads} | {} | {:.1} | {:.1} |",
                 report.dim,
                 kernel.name(),
                 report.stored_entries,
@@ -78,8 +92,12 @@ fn main() -> Result<(), AnyError> {
                 report.relative_error,
                 report.setup_seconds,
                 ode.evaluations() - before,
-                per_eval * 1e6
+                per_eval * 1e6,
+                wall_per_eval * 1e6
             );
+            if threads != 1 {
+                continue;
+            }
             rows.push((
                 kernel.name(),
                 report.dim as f64,

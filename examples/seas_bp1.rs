@@ -157,6 +157,12 @@ struct Args {
     /// operator and the per-node friction solves (rayon; the same bits for every value).
     #[arg(long, default_value_t = 1)]
     threads: usize,
+    /// Modeler named in the benchmark files' headers (`# author=`).
+    #[arg(long, default_value = "rsf")]
+    modeler: String,
+    /// Date in the benchmark files' headers (`# date=`, YYYY-MM-DD); default today (UTC).
+    #[arg(long)]
+    date: Option<String>,
     /// Write `checkpoint.bin` every N steps (0: never), and the resume log of the
     /// benchmark files.
     #[arg(long, default_value_t = 0)]
@@ -410,6 +416,8 @@ fn run(args: Args) -> Result<(), AnyError> {
             "SEAS Benchmark BP1-{}",
             if args.inertia { "FD" } else { "QD" }
         ),
+        modeler: args.modeler.clone(),
+        date: args.date.clone().unwrap_or_else(rsf::observe::utc_date_today),
         element_size: args.dz,
         stations,
         depth_axis: 1,
@@ -449,6 +457,10 @@ fn run(args: Args) -> Result<(), AnyError> {
     // benchmark files hold at each checkpoint.
     if args.checkpoint_every > 0 || args.max_steps.is_some() {
         output = output.with_resume_log(mode)?;
+    }
+    if resumed.is_none() {
+        // The benchmark's first row: the initial state at t = 0.
+        output.write_initial_state(rsf::Stepping::model(&sim), rsf::Stepping::state(&sim))?;
     }
     let checkpointer = Checkpointer::new(folder.path("checkpoint.bin"))
         .fingerprint(fingerprint)
@@ -595,7 +607,10 @@ fn overview(dir: &Path, events: &[&rsf::observe::SeasEvent]) -> Result<(), AnyEr
     use plotters::prelude::*;
     rsf_examples::init_fonts();
     let text = std::fs::read_to_string(dir.join("devol.dat"))?;
-    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip_while(|l| !l.starts_with("0 0"));
     let depths: Vec<f64> = lines
         .next()
         .ok_or("devol.dat has no depth row")?

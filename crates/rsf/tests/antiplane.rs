@@ -123,6 +123,8 @@ fn output(dir: &std::path::Path, bp1: &SeasBp1, sim: &SeasBp1Simulation) -> Seas
         sim.problem().friction_laws(),
         SeasSetup {
             problem: "BP1-QD (coarse test)".into(),
+            modeler: "test".into(),
+            date: "2026-11-24".into(),
             element_size: 500.0,
             stations: SEAS_BP1_STATION_DEPTHS
                 .iter()
@@ -197,6 +199,9 @@ fn coarse_bp1_reaches_its_first_event_and_resumes_bit_identically() {
     assert!(rows.len() > 10 && rows.iter().all(|r| r.split_whitespace().count() == 5));
     let devol = std::fs::read_to_string(dir.join("a/devol.dat")).unwrap();
     let mut body = devol.lines().skip_while(|l| l.starts_with('#'));
+    // The description's two field-list lines, then the row of depths.
+    assert_eq!(body.next(), Some("z"));
+    assert_eq!(body.next(), Some("t max_slip_rate slip"));
     let depths = body.next().unwrap();
     assert!(depths.starts_with("0 0 "), "{depths}");
     let columns = depths.split_whitespace().count();

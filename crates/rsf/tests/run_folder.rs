@@ -467,6 +467,8 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
         .with("scheme", "implicit");
     let setup = |_: ()| SeasSetup {
         problem: "BP1-QD (small test)".into(),
+        modeler: "test".into(),
+        date: "2026-11-24".into(),
         element_size: grid.dz,
         stations: SEAS_BP1_STATION_DEPTHS[..5]
             .iter()

@@ -20,7 +20,10 @@ pub use files::FileMode;
 pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
-pub use seas::{SeasEvent, SeasOutput, SeasSampling, SeasSetup, SEAS_RESUME_LOG, SECONDS_PER_YEAR};
+pub use seas::{
+    utc_date_today, SeasEvent, SeasOutput, SeasSampling, SeasSetup, SEAS_BP1_STATION_COLUMNS,
+    SEAS_RESUME_LOG, SECONDS_PER_YEAR,
+};
 pub use series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
 pub use vtu::VtuFrames;

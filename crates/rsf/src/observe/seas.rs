@@ -15,6 +15,7 @@ use crate::checkpoint::write_atomically;
 use crate::error::{invalid, io_at, show_path, Error, Result};
 use crate::model::fault::block_norm;
 use crate::model::Model;
+use crate::simulation_state::SimulationState;
 
 /// Seconds per year (365.25 days), the unit of the benchmark's output intervals.
 pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
@@ -65,6 +66,10 @@ impl Default for SeasSampling {
 pub struct SeasSetup {
     /// Problem name for the headers, e.g. `SEAS Benchmark BP1-QD`.
     pub problem: String,
+    /// Who ran the model, for the headers' `author` line (the benchmark's "modeler").
+    pub modeler: String,
+    /// Date of the run for the headers, `YYYY-MM-DD` (e.g. [`utc_date_today`]).
+    pub date: String,
     /// Element size on the fault (m), for the headers.
     pub element_size: f64,
     /// Stations as `(file name, depth in m)`, each at the frictional node nearest that
@@ -159,8 +164,29 @@ const LOG_HEADER: &str = "step,t_s,steps,tau_min_s,tau_max_s,last_station_t_s,la
 station_rows,profile_rows,slip_at_start_m,pending_t_s,pending_slip_m,events,t_start_s,t_end_s,\
 hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m";
 
-/// Column line of a station file (after its `#` lines).
-const STATION_COLUMNS: &str = "t slip slip_rate shear_stress state";
+/// The columns of a BP1 station file: field name and its `# Column #k` description
+/// (the benchmark's units: s, m, log10 m/s, MPa, log10 s). The field-list line is the
+/// names joined by spaces.
+pub const SEAS_BP1_STATION_COLUMNS: [(&str, &str); 5] = [
+    ("t", "Time (s)"),
+    ("slip", "Slip (m)"),
+    ("slip_rate", "Slip rate (log10 m/s)"),
+    ("shear_stress", "Shear stress (MPa)"),
+    ("state", "State (log10 s)"),
+];
+
+/// The two field-list lines of the slip profiles `devol.dat` (depth, then time, maximum
+/// slip rate and slip); the first data row holds the depths.
+const PROFILE_FIELD_LINES: [&str; 2] = ["z", "t max_slip_rate slip"];
+
+/// The field-list line of a station file (after its `#` lines).
+fn station_field_line() -> String {
+    SEAS_BP1_STATION_COLUMNS
+        .iter()
+        .map(|(name, _)| *name)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
 
 /// The state of a [`SeasOutput`] after a step, as its resume log holds it.
 #[derive(Debug, Clone, PartialEq)]
@@ -312,6 +338,20 @@ impl<L: FrictionLaw> SeasOutput<L> {
         if setup.stations.is_empty() {
             return Err(invalid("stations", "none given"));
         }
+        for (name, value) in [("problem", &setup.problem), ("modeler", &setup.modeler)] {
+            if value.trim().is_empty() || value.contains(['\n', '\r']) {
+                return Err(invalid(
+                    name,
+                    format!("`{}` must be one non-empty line", rsf_numeric::excerpt(value)),
+                ));
+            }
+        }
+        if !is_iso_date(&setup.date) {
+            return Err(invalid(
+                "date",
+                format!("`{}` is not a date YYYY-MM-DD", rsf_numeric::excerpt(&setup.date)),
+            ));
+        }
         let layout = Layout::new(model, &setup);
         let (overwrite, state, log) = match mode {
             FileMode::Create | FileMode::Overwrite => {
@@ -344,7 +384,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
             } else {
                 let mut out = files::open(
                     &path,
-                    &station_header(&setup, layout.depths[k], None),
+                    &station_header(&setup, layout.depths[k], None, 0),
                     0,
                     Start::Fresh { overwrite },
                 )?;
@@ -368,7 +408,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
                 &path,
                 &format!(
                     "{}\n{}",
-                    common_header(&setup, None),
+                    profile_header(&setup, None, 0),
                     layout.profile_first_row()
                 ),
                 0,
@@ -487,11 +527,12 @@ impl<L: FrictionLaw> SeasOutput<L> {
         (self.tau_min, self.tau_max, self.steps)
     }
 
-    /// The slip (m) of frictional node `k` in `s`: the change of its field since the
-    /// start (signed for a scalar field, the norm of the change otherwise).
-    fn slip<const D: usize, const C: usize>(&self, s: &StepView<'_, D, C>, k: usize) -> f64 {
-        let p = s.model.frictional_boundary.nodes[k];
-        let u = &s.state.kinematics.u[C * p..C * p + C];
+    /// The slip (m) of frictional node `k` of `model` with displacement `u`: the change
+    /// of its field since the start (signed for a scalar field, the norm of the change
+    /// otherwise).
+    fn slip<const D: usize, const C: usize>(&self, model: &Model<D, C>, u: &[f64], k: usize) -> f64 {
+        let p = model.frictional_boundary.nodes[k];
+        let u = &u[C * p..C * p + C];
         let u0 = &self.u0[C * p..C * p + C];
         if C == 1 {
             u[0] - u0[0]
@@ -503,34 +544,214 @@ impl<L: FrictionLaw> SeasOutput<L> {
                 .sqrt()
         }
     }
+
+    /// Writes the rows of the initial state (time `state.time`, normally 0) to every
+    /// station file and `devol.dat`, as the benchmark asks (a first row at t = 0): call it
+    /// once, after [`new`](Self::new) with [`FileMode::Create`] or
+    /// [`FileMode::Overwrite`] and [`with_resume_log`](Self::with_resume_log) if used, and
+    /// before the run. (A resumed output has the rows already.) The rows are those of any
+    /// step: slip 0, the initial slip rate and state; the thinning of the following rows
+    /// counts from them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `state` if rows
+    /// were written already or `state` is not at step 0; I/O errors.
+    pub fn write_initial_state<const D: usize, const C: usize>(
+        &mut self,
+        model: &Model<D, C>,
+        state: &SimulationState,
+    ) -> Result<()> {
+        if self.station_rows > 0 || self.profile_rows > 0 || state.step != 0 {
+            return Err(invalid(
+                "state",
+                format!(
+                    "the initial rows are written once, before any step (state at step {}, \
+                     {} station and {} profile rows written)",
+                    state.step, self.station_rows, self.profile_rows
+                ),
+            ));
+        }
+        let v = &state.kinematics.v;
+        let vmax = model
+            .frictional_boundary
+            .nodes
+            .iter()
+            .map(|&p| block_norm::<C>(v, p))
+            .fold(0.0f64, f64::max);
+        self.write_station_rows(model, state)?;
+        self.write_profile_row(model, state, vmax)?;
+        self.write_log_line(0, state.time)
+    }
+
+    /// One row at `state` in every station file.
+    fn write_station_rows<const D: usize, const C: usize>(
+        &mut self,
+        model: &Model<D, C>,
+        state: &SimulationState,
+    ) -> Result<()> {
+        let t = state.time;
+        self.last_station_t = t;
+        let fb = &model.frictional_boundary;
+        let v = &state.kinematics.v;
+        for i in 0..self.stations.len() {
+            let k = self.stations[i].k;
+            let vk = block_norm::<C>(v, fb.nodes[k]);
+            let alpha = state.alpha[k];
+            let st = &self.stations[i];
+            let stress = self.setup.sigma_n * st.law.friction_coefficient(vk, alpha) / 1e6;
+            let row = format!(
+                "{} {} {} {} {}\n",
+                c_exp(t, 13, 21),
+                c_exp(self.slip(model, &state.kinematics.u, k), 6, 14),
+                c_exp(vk.log10(), 6, 14),
+                c_exp(stress, 6, 14),
+                c_exp(alpha / std::f64::consts::LN_10, 6, 14),
+            );
+            let st = &mut self.stations[i];
+            let out = writer(&mut st.out, &st.path)?;
+            out.write_all(row.as_bytes())
+                .map_err(io_at("write", &st.path))?;
+            if self.log.is_some() {
+                out.flush().map_err(io_at("flush", &st.path))?;
+            }
+        }
+        self.station_rows += 1;
+        Ok(())
+    }
+
+    /// One row of `devol.dat` at `state` (`vmax` the largest slip rate on the fault).
+    fn write_profile_row<const D: usize, const C: usize>(
+        &mut self,
+        model: &Model<D, C>,
+        state: &SimulationState,
+        vmax: f64,
+    ) -> Result<()> {
+        let t = state.time;
+        self.last_profile_t = t;
+        self.slips.clear();
+        for i in 0..self.profile.len() {
+            let x = self.slip(model, &state.kinematics.u, self.profile[i]);
+            self.slips.push(x);
+        }
+        let mut row = format!("{} {}", c_exp(t, 13, 21), c_exp(vmax.log10(), 6, 14));
+        for x in &self.slips {
+            row.push(' ');
+            row.push_str(&c_exp(*x, 6, 14));
+        }
+        row.push('\n');
+        let path = self.dir.join("devol.dat");
+        let out = writer(&mut self.profile_out, &path)?;
+        out.write_all(row.as_bytes())
+            .map_err(io_at("write", &path))?;
+        if self.log.is_some() {
+            out.flush().map_err(io_at("flush", &path))?;
+        }
+        self.profile_rows += 1;
+        Ok(())
+    }
 }
 
-/// The header lines every file shares (`#` lines), with the run's step statistics once
-/// known (`(τ_min, τ_max, steps)`).
-fn common_header(setup: &SeasSetup, stats: Option<(f64, f64, usize)>) -> String {
+/// The header lines every file shares (`#` lines): problem, author, date, code, version,
+/// element size, location, and the run's smallest and largest time step (`steps`,
+/// `(τ_min, τ_max)` once a step was taken) and the data rows in the file
+/// (`num_time_steps`, the benchmark's name for it).
+fn common_header(
+    setup: &SeasSetup,
+    location: &str,
+    steps: Option<(f64, f64)>,
+    rows: usize,
+) -> String {
     let mut h = format!(
-        "# problem={}\n# code=rsf\n# code_version={}\n# element_size={} m",
+        "# This is the file header:\n# problem={}\n# author={}\n# date={}\n# code=rsf\n\
+         # code_version={}\n# element_size={} m\n# location={location}",
         setup.problem,
+        setup.modeler,
+        setup.date,
         env!("CARGO_PKG_VERSION"),
         setup.element_size
     );
-    if let Some((lo, hi, n)) = stats {
+    if let Some((lo, hi)) = steps {
         h.push_str(&format!(
-            "\n# minimum_time_step={lo:e}\n# maximum_time_step={hi:e}\n# num_time_steps={n}"
+            "\n# minimum_time_step={lo:e}\n# maximum_time_step={hi:e}"
         ));
+    }
+    h.push_str(&format!("\n# num_time_steps={rows}"));
+    h
+}
+
+/// A station file's header: the shared lines, one `# Column #k` line per column, the
+/// field-list line.
+fn station_header(
+    setup: &SeasSetup,
+    depth: f64,
+    steps: Option<(f64, f64)>,
+    rows: usize,
+) -> String {
+    let mut h = common_header(
+        setup,
+        &format!("on fault, {} km depth", depth / 1e3),
+        steps,
+        rows,
+    );
+    for (i, (_, description)) in SEAS_BP1_STATION_COLUMNS.iter().enumerate() {
+        h.push_str(&format!("\n# Column #{} = {description}", i + 1));
+    }
+    h.push_str("\n# The line below lists the names of the data fields:\n");
+    h.push_str(&station_field_line());
+    h
+}
+
+/// The header of the slip profiles `devol.dat`: the shared lines, the columns'
+/// descriptions, the two field-list lines (the first data row, `0 0` and the depths,
+/// follows).
+fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows: usize) -> String {
+    let mut h = common_header(setup, "slip profiles along the fault's depth z", steps, rows);
+    h.push_str(
+        "\n# Column #1 = Time (s)\n# Column #2 = Max slip rate on the fault (log10 m/s)\n\
+         # Column #3 = Slip (m) at the depths z (m) of the first data row, one column per depth\n\
+         # The first data row is 0 0 followed by the depths z (m); every other row is a time.\n\
+         # The two lines below list the names of the data fields:",
+    );
+    for line in PROFILE_FIELD_LINES {
+        h.push('\n');
+        h.push_str(line);
     }
     h
 }
 
-/// A station file's header: the shared lines, the location, the column line.
-fn station_header(setup: &SeasSetup, depth: f64, stats: Option<(f64, f64, usize)>) -> String {
-    format!(
-        "{}\n# location=on fault, {} km depth\n# Column #1 = Time (s)\n# Column #2 = Slip (m)\n\
-         # Column #3 = Slip rate (log10 m/s)\n# Column #4 = Shear stress (MPa)\n\
-         # Column #5 = State (log10 s)\nt slip slip_rate shear_stress state",
-        common_header(setup, stats),
-        depth / 1e3
-    )
+/// Today's date in UTC as `YYYY-MM-DD`, for [`SeasSetup::date`] (from the system clock;
+/// `1970-01-01` if the clock is before the epoch).
+pub fn utc_date_today() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (y, m, d) = civil_from_days((secs / 86_400) as i64);
+    format!("{y:04}-{m:02}-{d:02}")
+}
+
+/// Whether `s` is a calendar date `YYYY-MM-DD` (month 1–12, day 1–31).
+fn is_iso_date(s: &str) -> bool {
+    let b = s.as_bytes();
+    let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
+    if b.len() != 10 || b[4] != b'-' || b[7] != b'-' || !digits(0..4) || !digits(5..7) || !digits(8..10) {
+        return false;
+    }
+    let (m, d): (u32, u32) = (s[5..7].parse().unwrap_or(0), s[8..10].parse().unwrap_or(0));
+    (1..=12).contains(&m) && (1..=31).contains(&d)
+}
+
+/// The proleptic Gregorian date `(year, month, day)` of `days` since 1970-01-01
+/// (H. Hinnant's `civil_from_days`).
+fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
 }
 
 /// Reads the resume log and the files of a [`SeasOutput`] in `dir` and plans their cut
@@ -543,17 +764,22 @@ fn plan_resume(dir: &Path, setup: &SeasSetup, layout: &Layout, step: usize) -> R
         let path = dir.join(name);
         let (keep, len) = kept_rows(
             &path,
-            STATION_COLUMNS,
-            5,
+            &[station_field_line()],
+            SEAS_BP1_STATION_COLUMNS.len(),
             state.station_rows,
             state.last_station_t,
         )?;
         cuts.push((path, keep, len));
     }
     let devol = dir.join("devol.dat");
+    let first = PROFILE_FIELD_LINES
+        .iter()
+        .map(|l| l.to_string())
+        .chain([layout.profile_first_row()])
+        .collect::<Vec<_>>();
     let (keep, len) = kept_rows(
         &devol,
-        &layout.profile_first_row(),
+        &first,
         2 + layout.profile.len(),
         state.profile_rows,
         state.last_profile_t,
@@ -658,11 +884,12 @@ fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usize)> {
 }
 
 /// Checks a station file or `devol.dat` at `path` for a resume keeping `rows` rows (each
-/// of `fields` fields, the last at time `last_t`) after its `#` lines and the line
-/// `first`; returns the bytes kept and the file's length.
+/// of `fields` fields, the last at time `last_t`) after its `#` lines and the lines
+/// `first` (its field-list lines, and `devol.dat`'s row of depths); returns the bytes kept
+/// and the file's length.
 fn kept_rows(
     path: &Path,
-    first: &str,
+    first: &[String],
     fields: usize,
     rows: usize,
     last_t: f64,
@@ -673,17 +900,22 @@ fn kept_rows(
         reason,
     };
     let mut lines = complete_lines(&text).skip_while(|(l, _)| l.starts_with(b"#"));
-    let mut keep = match lines.next() {
-        Some((l, end)) if l == first.as_bytes() => end,
-        Some((l, _)) => {
-            return Err(fail(format!(
-                "its line after the `#` lines is `{}`, expected `{}` (another layout or output)",
-                rsf_numeric::excerpt(&String::from_utf8_lossy(l)),
-                rsf_numeric::excerpt(first)
-            )))
-        }
-        None => return Err(fail("it has no column line".into())),
-    };
+    let mut keep = 0;
+    for (i, want) in first.iter().enumerate() {
+        keep = match lines.next() {
+            Some((l, end)) if l == want.as_bytes() => end,
+            Some((l, _)) => {
+                return Err(fail(format!(
+                    "its line {} after the `#` lines is `{}`, expected `{}` (another layout or \
+                     output)",
+                    i + 1,
+                    rsf_numeric::excerpt(&String::from_utf8_lossy(l)),
+                    rsf_numeric::excerpt(want)
+                )))
+            }
+            None => return Err(fail("it has no field-list line".into())),
+        };
+    }
     let mut last = None;
     for read in 0..rows {
         let Some((line, end)) = lines.next() else {
@@ -768,7 +1000,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
         }
         let threshold = self.setup.sampling.event_threshold;
         let in_event = vmax >= threshold;
-        let surface_slip = self.slip(s, self.surface);
+        let surface_slip = self.slip(s.model, &s.state.kinematics.u, self.surface);
         match self.events.last_mut() {
             Some(e) if e.t_end.is_nan() => {
                 e.peak_slip_rate = e.peak_slip_rate.max(vmax);
@@ -802,31 +1034,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             sm.station_quiet
         };
         if sm.every_step || t - self.last_station_t >= station_dt * (1.0 - 1e-12) {
-            self.last_station_t = t;
-            for i in 0..self.stations.len() {
-                let k = self.stations[i].k;
-                let p = fb.nodes[k];
-                let vk = block_norm::<C>(v, p);
-                let alpha = s.state.alpha[k];
-                let st = &self.stations[i];
-                let stress = self.setup.sigma_n * st.law.friction_coefficient(vk, alpha) / 1e6;
-                let row = format!(
-                    "{} {} {} {} {}\n",
-                    c_exp(t, 13, 21),
-                    c_exp(self.slip(s, k), 6, 14),
-                    c_exp(vk.log10(), 6, 14),
-                    c_exp(stress, 6, 14),
-                    c_exp(alpha / std::f64::consts::LN_10, 6, 14),
-                );
-                let st = &mut self.stations[i];
-                let out = writer(&mut st.out, &st.path)?;
-                out.write_all(row.as_bytes())
-                    .map_err(io_at("write", &st.path))?;
-                if self.log.is_some() {
-                    out.flush().map_err(io_at("flush", &st.path))?;
-                }
-            }
-            self.station_rows += 1;
+            self.write_station_rows(s.model, s.state)?;
         }
         let profile_dt = if in_event {
             sm.profile_event
@@ -834,26 +1042,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             sm.profile_quiet
         };
         if t - self.last_profile_t >= profile_dt * (1.0 - 1e-12) {
-            self.last_profile_t = t;
-            self.slips.clear();
-            for i in 0..self.profile.len() {
-                let x = self.slip(s, self.profile[i]);
-                self.slips.push(x);
-            }
-            let mut row = format!("{} {}", c_exp(t, 13, 21), c_exp(vmax.log10(), 6, 14));
-            for x in &self.slips {
-                row.push(' ');
-                row.push_str(&c_exp(*x, 6, 14));
-            }
-            row.push('\n');
-            let path = self.dir.join("devol.dat");
-            let out = writer(&mut self.profile_out, &path)?;
-            out.write_all(row.as_bytes())
-                .map_err(io_at("write", &path))?;
-            if self.log.is_some() {
-                out.flush().map_err(io_at("flush", &path))?;
-            }
-            self.profile_rows += 1;
+            self.write_profile_row(s.model, s.state, vmax)?;
         }
         self.write_log_line(s.report.step, t)?;
         Ok(Flow::Continue(()))
@@ -864,18 +1053,24 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             log.flush()
                 .map_err(io_at("flush", &self.dir.join(SEAS_RESUME_LOG)))?;
         }
-        let stats = (self.steps > 0).then_some((self.tau_min, self.tau_max, self.steps));
+        let stats = (self.steps > 0).then_some((self.tau_min, self.tau_max));
         for st in &mut self.stations {
             if let Some(mut out) = st.out.take() {
                 out.flush().map_err(io_at("write", &st.path))?;
             }
-            rewrite_header(&st.path, &station_header(&self.setup, st.depth, stats))?;
+            rewrite_header(
+                &st.path,
+                &station_header(&self.setup, st.depth, stats, self.station_rows),
+            )?;
         }
         let devol = self.dir.join("devol.dat");
         if let Some(mut out) = self.profile_out.take() {
             out.flush().map_err(io_at("write", &devol))?;
         }
-        rewrite_header(&devol, &common_header(&self.setup, stats))?;
+        rewrite_header(
+            &devol,
+            &profile_header(&self.setup, stats, self.profile_rows),
+        )?;
         let mut csv = String::from(
             "event,t_start_s,t_end_s,hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m\n",
         );
@@ -903,7 +1098,21 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
 
 #[cfg(test)]
 mod tests {
-    use super::c_exp;
+    use super::{c_exp, civil_from_days, is_iso_date, utc_date_today};
+
+    #[test]
+    fn dates_from_days_since_the_epoch() {
+        // Known dates (the epoch, a leap day, the turn of a century, a far date).
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(10_957), (2000, 1, 1));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+        assert_eq!(civil_from_days(20_781), (2026, 11, 24));
+        assert!(is_iso_date(&utc_date_today()));
+        for bad in ["2026-13-01", "2026-1-01", "26-11-24", "2026-11-24\n", "2026/11/24", ""] {
+            assert!(!is_iso_date(bad), "{bad:?}");
+        }
+    }
 
     #[test]
     fn c_style_exponents() {
