@@ -46,7 +46,7 @@ struct Cli {
 fn main() -> Result<(), AnyError> {
     let cli = Cli::parse();
     let bp1 = SeasBp1::default();
-    if cli.threads.iter().any(|&t| t == 0) {
+    if cli.threads.contains(&0) {
         return Err("--threads: each count must be at least 1".into());
     }
     println!(

@@ -417,7 +417,10 @@ fn run(args: Args) -> Result<(), AnyError> {
             if args.inertia { "FD" } else { "QD" }
         ),
         modeler: args.modeler.clone(),
-        date: args.date.clone().unwrap_or_else(rsf::observe::utc_date_today),
+        date: args
+            .date
+            .clone()
+            .unwrap_or_else(rsf::observe::utc_date_today),
         element_size: args.dz,
         stations,
         depth_axis: 1,

@@ -65,7 +65,9 @@ struct Recorder {
 /// The regularised rate-and-state law's shear stress (Pa), as the benchmark description
 /// writes it: τ = σ_n a asinh(V/(2V₀) exp((f₀ + b ln(V₀θ/L))/a)).
 fn published_shear_stress(p: &rsf::friction::RateStateParams, v: f64, theta: f64) -> f64 {
-    p.sigma_n * p.a * (v / (2.0 * p.v0) * ((p.mu0 + p.b * (p.v0 * theta / p.l).ln()) / p.a).exp()).asinh()
+    p.sigma_n
+        * p.a
+        * (v / (2.0 * p.v0) * ((p.mu0 + p.b * (p.v0 * theta / p.l).ln()) / p.a).exp()).asinh()
 }
 
 impl Recorder {
@@ -118,7 +120,12 @@ impl Observer<2, 1> for Recording<'_> {
 
 /// Runs `ode` to `years` with a `SeasOutput` into `dir` (its initial rows written first)
 /// and a recorder beside it; returns the recorder.
-fn run_with_output(ode: &mut SeasBp1FaultOde, setup: SeasSetup, dir: &Path, years: f64) -> Recorder {
+fn run_with_output(
+    ode: &mut SeasBp1FaultOde,
+    setup: SeasSetup,
+    dir: &Path,
+    years: f64,
+) -> Recorder {
     let mut out = SeasOutput::new(
         dir,
         rsf::Stepping::model(ode),
@@ -167,10 +174,17 @@ fn read_seas_file(path: &Path, field_lines: usize, skip_format: usize) -> SeasFi
         let body = l[1..].trim();
         if let Some(rest) = body.strip_prefix("Column #") {
             let (k, description) = rest.split_once(" = ").expect("`# Column #k = …`");
-            assert_eq!(k.parse::<usize>().unwrap(), columns.len() + 1, "{name}: column numbers");
+            assert_eq!(
+                k.parse::<usize>().unwrap(),
+                columns.len() + 1,
+                "{name}: column numbers"
+            );
             columns.push(description.to_owned());
         } else if let Some((k, v)) = body.split_once('=') {
-            assert!(header.insert(k.to_owned(), v.to_owned()).is_none(), "{name}: {k} twice");
+            assert!(
+                header.insert(k.to_owned(), v.to_owned()).is_none(),
+                "{name}: {k} twice"
+            );
         }
     }
     let field_lines: Vec<String> = (0..field_lines)
@@ -178,10 +192,17 @@ fn read_seas_file(path: &Path, field_lines: usize, skip_format: usize) -> SeasFi
         .collect();
     let mut rows = Vec::new();
     for (i, l) in lines.enumerate() {
-        assert!(!l.starts_with('#'), "{name}: a `#` line among the data: {l}");
+        assert!(
+            !l.starts_with('#'),
+            "{name}: a `#` line among the data: {l}"
+        );
         let fields: Vec<&str> = l.split_whitespace().collect();
         if i >= skip_format {
-            assert_eq!(l.len(), 21 + 15 * (fields.len() - 1), "{name}: row width: {l}");
+            assert_eq!(
+                l.len(),
+                21 + 15 * (fields.len() - 1),
+                "{name}: row width: {l}"
+            );
             for (j, f) in fields.iter().enumerate() {
                 let digits = if j == 0 { 13 } else { 6 };
                 let (mantissa, exponent) = f.split_once('E').expect("an exponent");
@@ -226,10 +247,17 @@ fn check_header(f: &SeasFile, name: &str, setup: &SeasSetup, data_rows: usize) {
     assert_eq!(f.header["author"], setup.modeler, "{name}");
     assert_eq!(f.header["date"], setup.date, "{name}");
     assert_eq!(f.header["code"], "rsf", "{name}");
-    assert_eq!(f.header["element_size"], format!("{} m", setup.element_size), "{name}");
+    assert_eq!(
+        f.header["element_size"],
+        format!("{} m", setup.element_size),
+        "{name}"
+    );
     let lo: f64 = f.header["minimum_time_step"].parse().unwrap();
     let hi: f64 = f.header["maximum_time_step"].parse().unwrap();
-    assert!(lo > 0.0 && lo <= hi && hi.is_finite(), "{name}: steps {lo} … {hi}");
+    assert!(
+        lo > 0.0 && lo <= hi && hi.is_finite(),
+        "{name}: steps {lo} … {hi}"
+    );
     assert_eq!(
         f.header["num_time_steps"].parse::<usize>().unwrap(),
         data_rows,
@@ -241,7 +269,11 @@ fn check_header(f: &SeasFile, name: &str, setup: &SeasSetup, data_rows: usize) {
 fn check_times(rows: &[Vec<f64>], name: &str) {
     assert_eq!(rows[0][0], 0.0, "{name}: the first row is at t = 0");
     for w in rows.windows(2) {
-        assert!(w[1][0] > w[0][0], "{name}: time not increasing at {}", w[1][0]);
+        assert!(
+            w[1][0] > w[0][0],
+            "{name}: time not increasing at {}",
+            w[1][0]
+        );
     }
 }
 
@@ -257,7 +289,10 @@ fn every_file_follows_the_description_and_holds_the_models_values() {
     // Through the first event (about 80 years on the small fault).
     let recorder = run_with_output(&mut ode, setup.clone(), &dir, 150.0);
     let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
-    assert!(events.lines().count() > 1, "an event within the run:\n{events}");
+    assert!(
+        events.lines().count() > 1,
+        "an event within the run:\n{events}"
+    );
 
     let field_line = SEAS_BP1_STATION_COLUMNS
         .iter()
@@ -298,41 +333,72 @@ fn every_file_follows_the_description_and_holds_the_models_values() {
                 .iter()
                 .min_by(|a, b| (*a - row[0]).abs().total_cmp(&(*b - row[0]).abs()))
                 .unwrap();
-            assert!((t - row[0]).abs() <= 1e-12 * t.abs().max(1.0), "{name}: no step at {}", row[0]);
+            assert!(
+                (t - row[0]).abs() <= 1e-12 * t.abs().max(1.0),
+                "{name}: no step at {}",
+                row[0]
+            );
             let want = recorder.rows[&t.to_bits()][s];
             for c in 0..4 {
                 // %14.6E: 7 significant digits, so a relative 5e-7 of the value (slip 0
                 // at t = 0 exactly).
                 let err = (row[c + 1] - want[c]).abs();
                 let tol = 5.1e-7 * want[c].abs() + 1e-300;
-                assert!(err <= tol, "{name}, t = {t}, column {}: {} in the file, {} from the state", c + 2, row[c + 1], want[c]);
+                assert!(
+                    err <= tol,
+                    "{name}, t = {t}, column {}: {} in the file, {} from the state",
+                    c + 2,
+                    row[c + 1],
+                    want[c]
+                );
                 worst[c] = worst[c].max(err / want[c].abs().max(1e-300));
             }
         }
     }
-    eprintln!("largest relative differences file − state (slip, log10 V, stress, log10 θ): {worst:?}");
+    eprintln!(
+        "largest relative differences file − state (slip, log10 V, stress, log10 θ): {worst:?}"
+    );
 
     // devol.dat: two field-list lines, the row of depths, then `t log10(max V) slip…`.
     let f = read_seas_file(&dir.join("devol.dat"), 2, 1);
     assert_eq!(f.field_lines, ["z", "t max_slip_rate slip"]);
     let depths = &f.rows[0];
     assert_eq!(&depths[..2], &[0.0, 0.0]);
-    assert!(depths[2..].windows(2).all(|w| w[1] > w[0]), "depths increase");
+    assert!(
+        depths[2..].windows(2).all(|w| w[1] > w[0]),
+        "depths increase"
+    );
     let data = &f.rows[1..];
     check_header(&f, "devol.dat", &setup, data.len());
-    assert!(data.iter().all(|r| r.len() == depths.len()), "devol.dat: rows of {}", depths.len());
+    assert!(
+        data.iter().all(|r| r.len() == depths.len()),
+        "devol.dat: rows of {}",
+        depths.len()
+    );
     check_times(data, "devol.dat");
     // The slip at the surface column equals the surface station's at the same time.
     let surface = read_seas_file(&dir.join(&setup.stations[0].0), 1, 0);
-    let by_time: HashMap<u64, f64> = surface.rows.iter().map(|r| (r[0].to_bits(), r[1])).collect();
+    let by_time: HashMap<u64, f64> = surface
+        .rows
+        .iter()
+        .map(|r| (r[0].to_bits(), r[1]))
+        .collect();
     let mut compared = 0;
     for r in data {
         if let Some(&slip) = by_time.get(&r[0].to_bits()) {
-            assert!((r[2] - slip).abs() <= 5.1e-7 * slip.abs(), "devol.dat at {}: {} vs {slip}", r[0], r[2]);
+            assert!(
+                (r[2] - slip).abs() <= 5.1e-7 * slip.abs(),
+                "devol.dat at {}: {} vs {slip}",
+                r[0],
+                r[2]
+            );
             compared += 1;
         }
     }
-    assert!(compared >= 2, "devol.dat and the surface station share rows ({compared})");
+    assert!(
+        compared >= 2,
+        "devol.dat and the surface station share rows ({compared})"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -344,7 +410,10 @@ fn every_file_follows_the_description_and_holds_the_models_values() {
 #[test]
 fn steady_creep_files_show_the_plate_rate_and_the_steady_stress() {
     let (bp1, grid) = common::small_bp1(&SeasBp1::default());
-    let bp1 = SeasBp1 { a0: bp1.a_max, ..bp1 };
+    let bp1 = SeasBp1 {
+        a0: bp1.a_max,
+        ..bp1
+    };
     let model = bp1.model(&grid, false).unwrap();
     let mut ode = bp1
         .fault_ode(model, bp1.fault_ode_options(1e-6).unwrap())
@@ -362,9 +431,24 @@ fn steady_creep_files_show_the_plate_rate_and_the_steady_stress() {
         let f = read_seas_file(&dir.join(station), 1, 0);
         assert!(f.rows.len() > 10);
         for r in &f.rows {
-            assert!((r[2] - bp1.v_p.log10()).abs() <= 1e-5, "{station} at {}: log10 V = {}", r[0], r[2]);
-            assert!((r[3] - tau).abs() <= 1e-6 * tau, "{station} at {}: {} MPa, steady {tau}", r[0], r[3]);
-            assert!((r[4] - log_theta).abs() <= 1e-5, "{station} at {}: log10 θ = {}", r[0], r[4]);
+            assert!(
+                (r[2] - bp1.v_p.log10()).abs() <= 1e-5,
+                "{station} at {}: log10 V = {}",
+                r[0],
+                r[2]
+            );
+            assert!(
+                (r[3] - tau).abs() <= 1e-6 * tau,
+                "{station} at {}: {} MPa, steady {tau}",
+                r[0],
+                r[3]
+            );
+            assert!(
+                (r[4] - log_theta).abs() <= 1e-5,
+                "{station} at {}: log10 θ = {}",
+                r[0],
+                r[4]
+            );
         }
     }
     std::fs::remove_dir_all(&dir).ok();

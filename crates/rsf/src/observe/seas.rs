@@ -342,14 +342,20 @@ impl<L: FrictionLaw> SeasOutput<L> {
             if value.trim().is_empty() || value.contains(['\n', '\r']) {
                 return Err(invalid(
                     name,
-                    format!("`{}` must be one non-empty line", rsf_numeric::excerpt(value)),
+                    format!(
+                        "`{}` must be one non-empty line",
+                        rsf_numeric::excerpt(value)
+                    ),
                 ));
             }
         }
         if !is_iso_date(&setup.date) {
             return Err(invalid(
                 "date",
-                format!("`{}` is not a date YYYY-MM-DD", rsf_numeric::excerpt(&setup.date)),
+                format!(
+                    "`{}` is not a date YYYY-MM-DD",
+                    rsf_numeric::excerpt(&setup.date)
+                ),
             ));
         }
         let layout = Layout::new(model, &setup);
@@ -530,7 +536,12 @@ impl<L: FrictionLaw> SeasOutput<L> {
     /// The slip (m) of frictional node `k` of `model` with displacement `u`: the change
     /// of its field since the start (signed for a scalar field, the norm of the change
     /// otherwise).
-    fn slip<const D: usize, const C: usize>(&self, model: &Model<D, C>, u: &[f64], k: usize) -> f64 {
+    fn slip<const D: usize, const C: usize>(
+        &self,
+        model: &Model<D, C>,
+        u: &[f64],
+        k: usize,
+    ) -> f64 {
         let p = model.frictional_boundary.nodes[k];
         let u = &u[C * p..C * p + C];
         let u0 = &self.u0[C * p..C * p + C];
@@ -681,12 +692,7 @@ fn common_header(
 
 /// A station file's header: the shared lines, one `# Column #k` line per column, the
 /// field-list line.
-fn station_header(
-    setup: &SeasSetup,
-    depth: f64,
-    steps: Option<(f64, f64)>,
-    rows: usize,
-) -> String {
+fn station_header(setup: &SeasSetup, depth: f64, steps: Option<(f64, f64)>, rows: usize) -> String {
     let mut h = common_header(
         setup,
         &format!("on fault, {} km depth", depth / 1e3),
@@ -705,7 +711,12 @@ fn station_header(
 /// descriptions, the two field-list lines (the first data row, `0 0` and the depths,
 /// follows).
 fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows: usize) -> String {
-    let mut h = common_header(setup, "slip profiles along the fault's depth z", steps, rows);
+    let mut h = common_header(
+        setup,
+        "slip profiles along the fault's depth z",
+        steps,
+        rows,
+    );
     h.push_str(
         "\n# Column #1 = Time (s)\n# Column #2 = Max slip rate on the fault (log10 m/s)\n\
          # Column #3 = Slip (m) at the depths z (m) of the first data row, one column per depth\n\
@@ -733,7 +744,13 @@ pub fn utc_date_today() -> String {
 fn is_iso_date(s: &str) -> bool {
     let b = s.as_bytes();
     let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
-    if b.len() != 10 || b[4] != b'-' || b[7] != b'-' || !digits(0..4) || !digits(5..7) || !digits(8..10) {
+    if b.len() != 10
+        || b[4] != b'-'
+        || b[7] != b'-'
+        || !digits(0..4)
+        || !digits(5..7)
+        || !digits(8..10)
+    {
         return false;
     }
     let (m, d): (u32, u32) = (s[5..7].parse().unwrap_or(0), s[8..10].parse().unwrap_or(0));
@@ -1109,7 +1126,14 @@ mod tests {
         assert_eq!(civil_from_days(-1), (1969, 12, 31));
         assert_eq!(civil_from_days(20_781), (2026, 11, 24));
         assert!(is_iso_date(&utc_date_today()));
-        for bad in ["2026-13-01", "2026-1-01", "26-11-24", "2026-11-24\n", "2026/11/24", ""] {
+        for bad in [
+            "2026-13-01",
+            "2026-1-01",
+            "26-11-24",
+            "2026-11-24\n",
+            "2026/11/24",
+            "",
+        ] {
             assert!(!is_iso_date(bad), "{bad:?}");
         }
     }
