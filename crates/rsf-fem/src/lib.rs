@@ -24,7 +24,8 @@
 //!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
 //!   weights [`lumped_weights`].
 //! * [`SimplexMesh::split_along`] / [`SimplexMesh::split_along_segment`]: a fault inside
-//!   the body cut open into two sides ([`FaultSides`], docs/math.md §13).
+//!   the body cut open into two sides ([`FaultSides`], docs/math.md §13), and the change of
+//!   variables to mean and jump at its pairs ([`FaultSides::mean_jump_transform`]).
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
 //!
@@ -46,6 +47,7 @@ mod mesh;
 mod part;
 mod refine;
 mod split;
+mod split_transform;
 mod structured;
 
 pub use assembly::Assembler;
@@ -67,6 +69,7 @@ pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, spmv_add, Cholesky, SparseMatrix};
 pub use split::FaultSides;
+pub use split_transform::MeanJumpTransform;
 pub use structured::{
     cuboid, geometric_grading, geometric_grading_len, pipping_slider_coarse, rectangle,
     rectangle_from_coordinates, Diagonal, MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL,
