@@ -117,6 +117,21 @@ impl SimplexMesh<2> {
     /// [`Error::FaultClosed`]; [`Error::FaultDisconnected`];
     /// [`Error::FaultSidesNotSeparated`] (the fault does not cut the cells around a vertex
     /// into two sides, e.g. a node inside the chain that lies on the outer boundary).
+    ///
+    /// ```
+    /// use rsf_fem::{rectangle, Diagonal};
+    /// let mesh = rectangle([-2.0, -2.0], [4.0, 2.0], 17, 9, Diagonal::Forward)?;
+    /// // A vertical fault from the surface y = 0 to depth 1 m (vertex i + 17 j sits at
+    /// // (-2 + i/4, -2 + j/4)): the surface node is split, the tip at (0, -1) is shared.
+    /// let id = |i: usize, j: usize| i + 17 * j;
+    /// let edges: Vec<[usize; 2]> = (4..8).rev().map(|j| [id(8, j + 1), id(8, j)]).collect();
+    /// let (split, sides) = mesh.split_along("fault", &edges)?;
+    /// assert_eq!(split.num_vertices(), mesh.num_vertices() + 4);
+    /// assert_eq!(sides.tips(), [id(8, 4)]);
+    /// assert_eq!(sides.normals()[0], [1.0, 0.0]); // plus side: x > 0
+    /// assert_eq!(split.facets_with_tag("fault_plus").len(), 4);
+    /// # Ok::<(), rsf_fem::Error>(())
+    /// ```
     pub fn split_along(&self, name: &str, edges: &[[usize; 2]]) -> Result<(Self, FaultSides)> {
         if edges.is_empty() {
             return Err(Error::EmptyFault);
