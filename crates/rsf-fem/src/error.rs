@@ -162,6 +162,66 @@ pub enum Error {
         /// The operating system's message.
         message: String,
     },
+    /// A fault to split ([`crate::SimplexMesh::split_along`]) has no edges.
+    #[error("the fault has no edges")]
+    EmptyFault,
+    /// A fault entry is not an edge of the mesh.
+    #[error("fault edge {edge} ({vertices:?}) is not an edge of the mesh")]
+    FaultEdgeNotInMesh {
+        /// Index in the list of fault edges.
+        edge: usize,
+        /// Its vertices.
+        vertices: [usize; 2],
+    },
+    /// A fault edge lies on the outer boundary (it has cells on one side only).
+    #[error("fault edge {edge} ({vertices:?}) lies on the outer boundary: it has one side only")]
+    FaultEdgeOnBoundary {
+        /// Index in the list of fault edges.
+        edge: usize,
+        /// Its vertices.
+        vertices: [usize; 2],
+    },
+    /// A fault edge is listed twice.
+    #[error("fault edge {edge} ({vertices:?}) is listed twice")]
+    FaultEdgeRepeated {
+        /// Index of the second occurrence.
+        edge: usize,
+        /// Its vertices.
+        vertices: [usize; 2],
+    },
+    /// More than two fault edges meet at a vertex: the fault branches or crosses itself.
+    #[error("{edges} fault edges meet at vertex {vertex}: the fault branches or crosses itself")]
+    FaultNotManifold {
+        /// The vertex.
+        vertex: usize,
+        /// Number of fault edges found there so far.
+        edges: usize,
+    },
+    /// The fault is a closed curve (it has no ends).
+    #[error("the fault is a closed curve through vertex {vertex}")]
+    FaultClosed {
+        /// A vertex on it.
+        vertex: usize,
+    },
+    /// The fault edges form more than one chain.
+    #[error("the fault is not connected: vertex {vertex} is not on the chain of the first edge")]
+    FaultDisconnected {
+        /// A vertex of an edge off the first edge's chain.
+        vertex: usize,
+    },
+    /// The fault does not cut the cells around a vertex into two sides (e.g. a fault node
+    /// inside the chain lies on the outer boundary).
+    #[error("the fault does not cut the cells around vertex {vertex} into two sides")]
+    FaultSidesNotSeparated {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// A straight fault is not made of mesh edges near this point (m).
+    #[error("the mesh has no edges along the fault segment at {point:?}")]
+    FaultSegmentNotResolved {
+        /// The first point of the segment not covered by mesh edges.
+        point: [f64; 2],
+    },
     /// A name that is not one of a choice's names.
     #[error(transparent)]
     UnknownName(#[from] rsf_numeric::UnknownName),

@@ -23,6 +23,9 @@
 //!   ([`LinearElasticity`]: E, ν; plane strain in 2D), energy matrix `K + M`, all sharing
 //!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
 //!   weights [`lumped_weights`].
+//! * [`SimplexMesh::split_along`] / [`SimplexMesh::split_along_segment`]: a fault inside
+//!   the body cut open into two sides ([`FaultSides`], docs/math.md §13), and the change of
+//!   variables to mean and jump at its pairs ([`FaultSides::mean_jump_transform`]).
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
 //!
@@ -43,6 +46,8 @@ mod loads;
 mod mesh;
 mod part;
 mod refine;
+mod split;
+mod split_transform;
 mod structured;
 
 pub use assembly::Assembler;
@@ -63,6 +68,8 @@ pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, spmv_add, Cholesky, SparseMatrix};
+pub use split::FaultSides;
+pub use split_transform::MeanJumpTransform;
 pub use structured::{
     cuboid, geometric_grading, geometric_grading_len, pipping_slider_coarse, rectangle,
     rectangle_from_coordinates, Diagonal, MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL,

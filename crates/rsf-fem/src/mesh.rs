@@ -342,6 +342,11 @@ impl<const D: usize> SimplexMesh<D> {
         self.tags = names;
         self.facet_tag = tags;
     }
+    /// Copies the refinement orders of `other` (same cells in the same stored order).
+    pub(crate) fn copy_refinement_orders(&mut self, other: &Self) {
+        debug_assert_eq!(self.num_cells(), other.num_cells());
+        self.flipped = other.flipped.clone();
+    }
     pub(crate) fn raw_facet_tag(&self, i: usize) -> Option<u32> {
         self.facet_tag[i]
     }

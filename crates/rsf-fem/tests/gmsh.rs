@@ -465,6 +465,7 @@ fn coincident_nodes_are_refused_naming_both_tags_or_merged_on_request() {
 
     let merge = GmshOptions {
         merge_coincident: true,
+        ..GmshOptions::default()
     };
     let merged = parse_gmsh_with::<2>(cracked.as_bytes(), merge).unwrap();
     let plate = parse_gmsh::<2>(PLATE.as_bytes()).unwrap();
@@ -480,4 +481,35 @@ fn coincident_nodes_are_refused_naming_both_tags_or_merged_on_request() {
         plate.mesh.facets_with_tag("bottom").len()
     );
     assert!((merged.mesh.measure() - 2.0).abs() < 1e-14);
+}
+
+#[test]
+fn an_interior_physical_curve_is_a_fault_to_split() {
+    // The plate's bottom group gets the inner edge x = 1 (nodes 2 = (1, 0), 5 = (1, 1))
+    // instead of its first boundary edge: refused by default, a fault with the option.
+    let text = PLATE.replacen("\n2 1 2\n", "\n2 2 5\n", 1);
+    assert!(matches!(
+        parse_gmsh::<2>(text.as_bytes()),
+        Err(Error::Gmsh { .. })
+    ));
+    let options = GmshOptions {
+        interior_facets: true,
+        ..GmshOptions::default()
+    };
+    let g = parse_gmsh_with::<2>(text.as_bytes(), options).unwrap();
+    assert_eq!(g.interior_facets["bottom"], vec![[1, 4]]);
+    assert_eq!(g.mesh.facets_with_tag("bottom").len(), 1);
+    let (split, sides) = g.split_along_group("bottom").unwrap();
+    // A through-going fault: both ends on the boundary, both split.
+    assert_eq!(sides.pairs().len(), 2);
+    assert!(sides.tips().is_empty());
+    assert_eq!(split.num_vertices(), g.mesh.num_vertices() + 2);
+    assert_eq!(split.measure(), g.mesh.measure());
+    assert_eq!(split.facets_with_tag("bottom").len(), 1);
+    assert_eq!(split.facets_with_tag("bottom_plus").len(), 1);
+    // Direction (1, 0) -> (1, 1): the plus side lies left of +y (x < 1), n = (-1, 0).
+    assert_eq!(sides.normals()[0], [-1.0, 0.0]);
+    assert_eq!(g.split_along_group("top").unwrap_err(), Error::EmptyFault);
+    let plain = parse_gmsh::<2>(PLATE.as_bytes()).unwrap();
+    assert!(plain.interior_facets.is_empty());
 }

@@ -44,6 +44,10 @@ pub struct GmshMesh<const D: usize> {
     /// Gmsh node tag of every mesh vertex (vertices are numbered by increasing node tag;
     /// nodes used by no cell are dropped).
     pub node_tags: Vec<u64>,
+    /// With [`GmshOptions::interior_facets`]: per physical group of dimension `D − 1`, its
+    /// facets inside the body (vertex indices, in file order) — a fault inside the body
+    /// ([`GmshMesh::split_along_group`]); empty otherwise.
+    pub interior_facets: BTreeMap<String, Vec<[usize; D]>>,
 }
 
 /// How a Gmsh file is read ([`read_gmsh_with`], [`parse_gmsh_with`]).
@@ -54,6 +58,10 @@ pub struct GmshOptions {
     /// one place are a crack along which the mesh falls apart; a fault inside the body is
     /// declared, not inferred from duplicate nodes).
     pub merge_coincident: bool,
+    /// Keep the facets of physical groups that lie inside the body in
+    /// [`GmshMesh::interior_facets`] (a fault inside the body, docs/faults-inside.md)
+    /// instead of refusing them (default `false`: only boundary facets can be tagged).
+    pub interior_facets: bool,
 }
 
 /// Reads a Gmsh MSH 4.1 ASCII file; see [`parse_gmsh`].
@@ -278,11 +286,19 @@ fn build<const D: usize>(
             ),
             other => other,
         })?;
-    tag_facets(&mut mesh, &elements.facets, &index, physical, names)?;
+    let interior_facets = tag_facets(
+        &mut mesh,
+        &elements.facets,
+        &index,
+        physical,
+        names,
+        options.interior_facets,
+    )?;
     Ok(GmshMesh {
         mesh,
         physical_groups: groups(physical, names, &elements.per_entity),
         node_tags,
+        interior_facets,
     })
 }
 
@@ -321,7 +337,9 @@ fn tag_facets<const D: usize>(
     index: &HashMap<u64, usize>,
     physical: &HashMap<(usize, i32), Vec<i32>>,
     names: &BTreeMap<(usize, i32), String>,
-) -> Result<()> {
+    keep_interior: bool,
+) -> Result<BTreeMap<String, Vec<[usize; D]>>> {
+    let mut interior: BTreeMap<String, Vec<[usize; D]>> = BTreeMap::new();
     let key = |v: &mut dyn Iterator<Item = usize>| {
         let mut k = [usize::MAX; 3];
         for (slot, x) in k.iter_mut().zip(v) {
@@ -339,6 +357,20 @@ fn tag_facets<const D: usize>(
             continue;
         };
         let vs: Option<Vec<usize>> = e.nodes[..D].iter().map(|t| index.get(t).copied()).collect();
+        if let (true, Some(vs)) = (keep_interior, &vs) {
+            if !by_key.contains_key(&key(&mut vs.iter().copied())) {
+                // Whether it is a facet of the mesh at all is checked when splitting.
+                let mut f = [0; D];
+                f.copy_from_slice(vs);
+                for &p in tags {
+                    interior
+                        .entry(group_name(names, D - 1, p))
+                        .or_default()
+                        .push(f);
+                }
+                continue;
+            }
+        }
         let Some(f) = vs.and_then(|vs| by_key.get(&key(&mut vs.into_iter())).copied()) else {
             return Err(error(
                 Some(e.line),
@@ -358,7 +390,22 @@ fn tag_facets<const D: usize>(
     for (p, fs) in groups {
         mesh.tag_boundary_facets(&group_name(names, D - 1, p), &fs)?;
     }
-    Ok(())
+    Ok(interior)
+}
+
+impl GmshMesh<2> {
+    /// Cuts the mesh open along the interior facets of the physical curve `group` (read
+    /// with [`GmshOptions::interior_facets`]): [`SimplexMesh::split_along`] with the
+    /// group's interior edges in file order (the first one's direction is the fault's).
+    /// The group's boundary facets (if any) keep their tag.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] if the group has no interior facets (or the file was read
+    /// without [`GmshOptions::interior_facets`]); as [`SimplexMesh::split_along`].
+    pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<2>, crate::FaultSides)> {
+        let edges = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
+        self.mesh.split_along(group, edges)
+    }
 }
 
 /// Every physical group named in `$PhysicalNames` or used by an entity, with its number

@@ -1,0 +1,126 @@
+//! The change of variables to mean and jump at the split pairs of a fault inside the body
+//! (docs/math.md §13, docs/faults-inside.md).
+
+use faer::sparse::{SparseColMat, Triplet};
+
+use crate::frames::frame_from_normal;
+use crate::{Error, FaultSides, Result, SimplexMesh, SparseMatrix};
+
+/// The mean–jump change of variables `u = T u'` of [`FaultSides::mean_jump_transform`].
+#[derive(Debug, Clone)]
+pub struct MeanJumpTransform {
+    /// `T` (`C·n × C·n`, `n` vertices of the split mesh): new coordinates to node-major
+    /// Cartesian ones.
+    pub t: SparseMatrix,
+    /// `T⁻¹`: node-major Cartesian coordinates to new ones.
+    pub t_inv: SparseMatrix,
+    /// The pair frame `R_p` of every split pair (row-major, columns `(t, −n)`, `n` the
+    /// minus side's outward normal, as [`crate::NodalFrames`]); for `C = 1` unused.
+    pub frames: Vec<[[f64; 2]; 2]>,
+}
+
+impl FaultSides {
+    /// The change of variables to mean and jump at every split pair `(p⁻, p⁺)`, identity
+    /// elsewhere (docs/math.md §13): in the new coordinates `u'` the block of `p⁻` holds the
+    /// jump `j = R_pᵀ(u⁺ − u⁻)` in the pair's frame (`C = 2`: tangential slip first, then the
+    /// normal component `−n·(u⁺ − u⁻)`, minus the opening; `C = 1`: the antiplane slip) and
+    /// the block of `p⁺` the mean `w = (u⁺ + u⁻)/2` in Cartesian components, so
+    /// `u⁻ = w − R_p j/2`, `u⁺ = w + R_p j/2`. The pair's normal `n` is the length-weighted
+    /// mean of the adjacent fault edges' normals ([`FaultSides::normals`]), as the nodal
+    /// frames of docs/math.md §12. Then `K' = Tᵀ K T`, `b' = Tᵀ b`, and the jump's tangential
+    /// components are the slip: friction acts on them, the normal one is tied (a fixed dof).
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] unless `C` is 1 or 2; [`Error::UndefinedNormal`] if the
+    /// adjacent normals of a pair cancel; [`Error::DimensionMismatch`] if `mesh` is not
+    /// the split mesh of these sides.
+    pub fn mean_jump_transform<const C: usize>(
+        &self,
+        mesh: &SimplexMesh<2>,
+    ) -> Result<MeanJumpTransform> {
+        if C != 1 && C != 2 {
+            return Err(Error::Unsupported(
+                "mean-jump transform for C other than 1, 2",
+            ));
+        }
+        let nv = mesh.num_vertices();
+        let need = self
+            .nodes()
+            .iter()
+            .map(|&(m, p)| m.max(p) + 1)
+            .max()
+            .unwrap_or(0);
+        if need > nv {
+            return Err(Error::DimensionMismatch {
+                what: "split mesh of the fault sides",
+                expected: need,
+                got: nv,
+            });
+        }
+        let length = |k: usize| mesh.boundary_facet_measure(self.minus_facets()[k]);
+        let mut in_pair = vec![false; nv];
+        let mut t = Vec::new();
+        let mut ti = Vec::new();
+        let mut frames = Vec::new();
+        let edges = self.normals().len();
+        for (i, &(a, b)) in self.nodes().iter().enumerate() {
+            if a == b {
+                continue;
+            }
+            in_pair[a] = true;
+            in_pair[b] = true;
+            let mut n = [0.0; 2];
+            for k in [i.wrapping_sub(1), i].into_iter().filter(|&k| k < edges) {
+                let w = length(k);
+                n[0] += w * self.normals()[k][0];
+                n[1] += w * self.normals()[k][1];
+            }
+            let l = n[0].hypot(n[1]);
+            if !(l > 1e-12 * length(i.min(edges - 1))) {
+                return Err(Error::UndefinedNormal { vertex: a });
+            }
+            let r = frame_from_normal::<2>(&[n[0] / l, n[1] / l], None);
+            frames.push(r);
+            for x in 0..C {
+                for y in 0..C {
+                    let (rxy, id) = if C == 2 {
+                        (r[x][y], f64::from(u8::from(x == y)))
+                    } else {
+                        (1.0, 1.0)
+                    };
+                    // u⁻ = w − R j/2, u⁺ = w + R j/2.
+                    t.push(Triplet::new(C * a + x, C * a + y, -0.5 * rxy));
+                    t.push(Triplet::new(C * b + x, C * a + y, 0.5 * rxy));
+                    if id != 0.0 {
+                        t.push(Triplet::new(C * a + x, C * b + y, 1.0));
+                        t.push(Triplet::new(C * b + x, C * b + y, 1.0));
+                    }
+                    // j = Rᵀ(u⁺ − u⁻), w = (u⁺ + u⁻)/2; (Rᵀ)_{xy} = R_{yx}.
+                    let ryx = if C == 2 { r[y][x] } else { 1.0 };
+                    ti.push(Triplet::new(C * a + x, C * a + y, -ryx));
+                    ti.push(Triplet::new(C * a + x, C * b + y, ryx));
+                    if id != 0.0 {
+                        ti.push(Triplet::new(C * b + x, C * a + y, 0.5));
+                        ti.push(Triplet::new(C * b + x, C * b + y, 0.5));
+                    }
+                }
+            }
+        }
+        for p in (0..nv).filter(|&p| !in_pair[p]) {
+            for x in 0..C {
+                t.push(Triplet::new(C * p + x, C * p + x, 1.0));
+                ti.push(Triplet::new(C * p + x, C * p + x, 1.0));
+            }
+        }
+        let n = C * nv;
+        let build = |trip: &[Triplet<usize, usize, f64>]| {
+            SparseColMat::try_new_from_triplets(n, n, trip)
+                .map_err(|e| Error::Faer(format!("{e:?}")))
+        };
+        Ok(MeanJumpTransform {
+            t: build(&t)?,
+            t_inv: build(&ti)?,
+            frames,
+        })
+    }
+}
