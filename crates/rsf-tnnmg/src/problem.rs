@@ -150,8 +150,8 @@ impl<const D: usize> NodalProblem<D> {
         }
     }
 
-    /// One multi-colour nonlinear block Gauss–Seidel sweep: colour by colour (in
-    /// decreasing colour order when `reverse`), each node block of a colour minimised
+    /// One multi-colour nonlinear block Gauss–Seidel sweep: colour by colour
+    /// (increasing colours), each node block of a colour minimised
     /// exactly with all others fixed, as [`nonlinear_gauss_seidel`](Self::nonlinear_gauss_seidel).
     /// The nodes of one colour are not adjacent, so their updates read only other colours'
     /// values: they are computed into `scratch` (at least
@@ -167,11 +167,8 @@ impl<const D: usize> NodalProblem<D> {
         colouring: &Colouring,
         par: Parallelism,
         scratch: &mut [[f64; D]],
-        reverse: bool,
     ) {
-        let colours = colouring.num_colours();
-        for k in 0..colours {
-            let c = if reverse { colours - 1 - k } else { k };
+        for c in 0..colouring.num_colours() {
             let list = colouring.colour(c);
             let out = &mut scratch[..list.len()];
             {

@@ -335,7 +335,6 @@ impl<const D: usize> Tnnmg<D> {
                         colouring,
                         self.parallelism,
                         &mut self.colour_scratch,
-                        false,
                     );
                 }
                 self.m
