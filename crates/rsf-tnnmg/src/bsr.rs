@@ -16,6 +16,10 @@ use std::sync::Arc;
 use crate::block::{load, mul_vec, store, sub_mul_t_vec, sub_mul_vec, Block};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
+use crate::Parallelism;
+
+/// Nodes below which [`BlockCsr::residual_rows`] stays on one thread.
+const RESIDUAL_PARALLEL_MIN: usize = 2048;
 
 /// Block `p` of `w`, leaving zeros behind.
 #[inline(always)]
@@ -221,6 +225,39 @@ impl<const D: usize> BlockCsr<D> {
             self.upper.sub_row(p, x, &mut s);
             store(res, p, &s);
             self.upper.push_row(p, &xp, w);
+        }
+    }
+
+    /// `res = rhs − A x` row by row over full rows (diagonal block, then the off-diagonal
+    /// blocks in increasing column order), the rows split into at most `par.threads()`
+    /// contiguous chunks: each row is computed by one thread with the same arithmetic, so
+    /// the result is bit-identical for every thread count (but rounds differently from
+    /// [`residual`](Self::residual)).
+    pub fn residual_rows(&self, rhs: &[f64], x: &[f64], res: &mut [f64], par: Parallelism) {
+        use rayon::prelude::*;
+        let row = |p: usize, out: &mut [f64]| {
+            let mut s = load::<D>(rhs, p);
+            sub_mul_vec(&mut s, &self.diag[p], &load::<D>(x, p));
+            for (q, blk) in self.neighbours(p) {
+                sub_mul_vec(&mut s, blk, &load::<D>(x, q));
+            }
+            out.copy_from_slice(&s);
+        };
+        let nodes = self.nodes();
+        let threads = par.threads();
+        if threads > 1 && nodes >= RESIDUAL_PARALLEL_MIN {
+            let chunk = nodes.div_ceil(threads);
+            res.par_chunks_mut(D * chunk)
+                .enumerate()
+                .for_each(|(i, out)| {
+                    for (k, o) in out.chunks_exact_mut(D).enumerate() {
+                        row(i * chunk + k, o);
+                    }
+                });
+        } else {
+            for (p, o) in res.chunks_exact_mut(D).enumerate() {
+                row(p, o);
+            }
         }
     }
 

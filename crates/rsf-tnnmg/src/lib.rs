@@ -25,8 +25,10 @@
 //!
 //! Internally the iterative solvers keep matrices in node-block storage (`D × D` blocks,
 //! 32-bit node indices, the upper and the lower triangle in separate arrays so that each
-//! Gauss–Seidel sweep streams half the matrix); results are deterministic (single
-//! threaded, fixed summation order).
+//! Gauss–Seidel sweep streams half the matrix); results are deterministic (fixed
+//! summation order). TNNMG's nonlinear smoother runs node by node (the default) or colour
+//! by colour ([`SmootherOrder`], [`Colouring`]), the latter with the nodes of a colour on
+//! several threads and bit-identical iterates for every thread count.
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.
@@ -57,6 +59,7 @@
 
 mod block;
 mod bsr;
+mod colouring;
 mod csc;
 mod direct;
 mod error;
@@ -73,6 +76,7 @@ mod step;
 mod tnnmg;
 
 pub use block::solve_spd_masked;
+pub use colouring::{Colouring, SmootherOrder};
 pub use direct::{
     Condensation, DirectMemory, DirectOptions, DirectSolver, DENSE_PARALLEL_MIN,
     INTERIOR_PARALLEL_MIN,

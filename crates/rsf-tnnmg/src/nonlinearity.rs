@@ -24,7 +24,8 @@ pub enum Linearization<const D: usize> {
 ///
 /// Contract: every φ_k is convex, finite and continuous on `R^D`. Implementations are the
 /// seam between the solvers and the physics (the friction potentials live elsewhere).
-pub trait BlockNonlinearity<const D: usize> {
+/// `Sync`: the multi-colour smoother minimises the blocks of one colour on several threads.
+pub trait BlockNonlinearity<const D: usize>: Sync {
     /// Node indices `p_k` of the blocks with a nonlinearity, strictly increasing.
     fn active_blocks(&self) -> &[usize];
 

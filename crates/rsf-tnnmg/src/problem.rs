@@ -2,11 +2,15 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
+use rayon::prelude::*;
+
+use crate::block::{load, masked_inverse, mul_vec, store, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
+use crate::colouring::Colouring;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
+use crate::Parallelism;
 
 /// A validated symmetric matrix with node-block structure and a fixed-dof mask, in scalar
 /// CSC storage (the direct solver's format).
@@ -112,26 +116,95 @@ impl<const D: usize> NodalProblem<D> {
         w: &mut [f64],
         reverse: bool,
     ) {
-        let ActiveBlocks { nl, active_of } = blocks;
         let a = &self.a;
         a.sweep(b, v, w, SweepOrder::from_x(reverse), |p, s, x| {
-            // s = b_p − Σ_{q≠p} A_pq v_q: the block right-hand side with off-block coupling.
-            let k = active_of[p];
-            if k != usize::MAX {
-                nl.minimize_block(k, &a.diag[p], s, &self.free[p], x);
-            } else {
-                // Linear block: exact solve on the free components (the fixed ones keep
-                // their values; their coupling enters through A_pp x).
-                let mut r = *s;
-                sub_mul_vec(&mut r, &a.diag[p], x);
-                let d = mul_vec(&self.inverse[p], &r);
-                for c in 0..D {
-                    x[c] += d[c];
-                }
-            }
+            self.local_update(blocks, p, s, x)
         });
     }
+
+    /// The exact minimisation of block `p` with the others fixed: `s = b_p − Σ_{q≠p}
+    /// A_pq v_q` is the block right-hand side with the off-block coupling, `x` holds `v_p`
+    /// and receives the update.
+    #[inline(always)]
+    fn local_update<N: BlockNonlinearity<D>>(
+        &self,
+        blocks: ActiveBlocks<'_, N>,
+        p: usize,
+        s: &[f64; D],
+        x: &mut [f64; D],
+    ) {
+        let ActiveBlocks { nl, active_of } = blocks;
+        let a = &self.a;
+        let k = active_of[p];
+        if k != usize::MAX {
+            nl.minimize_block(k, &a.diag[p], s, &self.free[p], x);
+        } else {
+            // Linear block: exact solve on the free components (the fixed ones keep
+            // their values; their coupling enters through A_pp x).
+            let mut r = *s;
+            sub_mul_vec(&mut r, &a.diag[p], x);
+            let d = mul_vec(&self.inverse[p], &r);
+            for c in 0..D {
+                x[c] += d[c];
+            }
+        }
+    }
+
+    /// One multi-colour nonlinear block Gauss–Seidel sweep: colour by colour
+    /// (increasing colours), each node block of a colour minimised
+    /// exactly with all others fixed, as [`nonlinear_gauss_seidel`](Self::nonlinear_gauss_seidel).
+    /// The nodes of one colour are not adjacent, so their updates read only other colours'
+    /// values: they are computed into `scratch` (at least
+    /// [`Colouring::max_colour_len`] blocks) in at most `par.threads()` contiguous chunks
+    /// and then written into `v`. Every node's arithmetic (full row in increasing column
+    /// order, then the local solve) is the same for any split: bit-identical results for
+    /// every thread count.
+    pub fn nonlinear_gauss_seidel_coloured<N: BlockNonlinearity<D>>(
+        &self,
+        b: &[f64],
+        blocks: ActiveBlocks<'_, N>,
+        v: &mut [f64],
+        colouring: &Colouring,
+        par: Parallelism,
+        scratch: &mut [[f64; D]],
+    ) {
+        for c in 0..colouring.num_colours() {
+            let list = colouring.colour(c);
+            let out = &mut scratch[..list.len()];
+            {
+                let v: &[f64] = v;
+                let update = |nodes: &[u32], out: &mut [[f64; D]]| {
+                    for (&p, o) in nodes.iter().zip(out.iter_mut()) {
+                        let p = p as usize;
+                        let mut s = load::<D>(b, p);
+                        for (q, blk) in self.a.neighbours(p) {
+                            sub_mul_vec(&mut s, blk, &load::<D>(v, q));
+                        }
+                        let mut x = load::<D>(v, p);
+                        self.local_update(blocks, p, &s, &mut x);
+                        *o = x;
+                    }
+                };
+                let threads = par.threads();
+                if threads > 1 && list.len() >= COLOUR_PARALLEL_MIN {
+                    let chunk = list.len().div_ceil(threads);
+                    out.par_chunks_mut(chunk)
+                        .zip(list.par_chunks(chunk))
+                        .for_each(|(o, l)| update(l, o));
+                } else {
+                    update(list, out);
+                }
+            }
+            for (&p, x) in list.iter().zip(out.iter()) {
+                store(v, p as usize, x);
+            }
+        }
+    }
 }
+
+/// Nodes of one colour below which a coloured sweep stays on one thread (a task costs a
+/// few microseconds; a node update a fraction of one).
+pub(crate) const COLOUR_PARALLEL_MIN: usize = 512;
 
 /// The nonlinear blocks of a sweep: the nonlinearity and, per node `p`, the position
 /// `active_of[p]` of its block in `nl.active_blocks()` (`usize::MAX` for a linear node).

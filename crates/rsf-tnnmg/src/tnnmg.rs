@@ -3,6 +3,7 @@
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
 use crate::block::load;
+use crate::colouring::{Colouring, SmootherOrder};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
@@ -14,6 +15,7 @@ use crate::problem::{dot, ActiveBlocks, NodalProblem};
 use crate::report::{
     iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
 };
+use crate::Parallelism;
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
 /// truncated in the linear correction (see `Tnnmg::is_rigid`): at this contrast the
@@ -46,6 +48,12 @@ pub struct TnnmgOptions {
     pub cycle_index: usize,
     /// Record `J(v_k)` in the report.
     pub record_energy: bool,
+    /// The node order of the nonlinear Gauss–Seidel sweeps (the fine-level smoother).
+    /// [`SmootherOrder::MultiColour`] also computes the residual after the sweeps row by
+    /// row on the solver's threads ([`Tnnmg::with_parallelism`]); both are bit-identical
+    /// for every thread count. Default [`SmootherOrder::Lexicographic`] (sequential, the
+    /// iterates of every trajectory before this option).
+    pub smoother: SmootherOrder,
 }
 
 impl TnnmgOptions {
@@ -78,6 +86,7 @@ impl Default for TnnmgOptions {
             smoothing: (2, 2),
             cycle_index: 1,
             record_energy: false,
+            smoother: SmootherOrder::Lexicographic,
         }
     }
 }
@@ -114,6 +123,11 @@ pub struct Tnnmg<const D: usize> {
     w: Vec<f64>,
     /// Multigrid cycles of the current (or last) solve.
     cycles: usize,
+    /// The fine-level colouring ([`SmootherOrder::MultiColour`] only).
+    colouring: Option<Colouring>,
+    /// Block updates of one colour (length of the largest colour; empty without colouring).
+    colour_scratch: Vec<[f64; D]>,
+    parallelism: Parallelism,
 }
 
 impl<const D: usize> Tnnmg<D> {
@@ -166,10 +180,18 @@ impl<const D: usize> Tnnmg<D> {
             },
         )?;
         let n = m.n();
+        let colouring = match opts.smoother {
+            SmootherOrder::Lexicographic => None,
+            SmootherOrder::MultiColour => Some(Colouring::of_blocks(&m.a)),
+        };
+        let colour_scratch = vec![[0.0; D]; colouring.as_ref().map_or(0, |c| c.max_colour_len())];
         Ok(Self {
             norm: EnergyNorm::new(energy_norm, n)?,
             m,
             mg,
+            colouring,
+            colour_scratch,
+            parallelism: Parallelism::SEQ,
             opts,
             active_of: Vec::new(),
             cached_active: None,
@@ -181,6 +203,24 @@ impl<const D: usize> Tnnmg<D> {
             w: vec![0.0; n],
             cycles: 0,
         })
+    }
+
+    /// Runs the parallel parts of [`SmootherOrder::MultiColour`] on `par`'s threads (default
+    /// [`Parallelism::SEQ`]); no effect with [`SmootherOrder::Lexicographic`]. The iterates
+    /// do not depend on it.
+    pub fn with_parallelism(mut self, par: Parallelism) -> Self {
+        self.parallelism = par;
+        self
+    }
+
+    /// The parallelism of [`with_parallelism`](Self::with_parallelism).
+    pub fn parallelism(&self) -> Parallelism {
+        self.parallelism
+    }
+
+    /// The fine-level colouring ([`SmootherOrder::MultiColour`]), `None` otherwise.
+    pub fn colouring(&self) -> Option<&Colouring> {
+        self.colouring.as_ref()
     }
 
     /// Number of multigrid levels.
@@ -278,11 +318,30 @@ impl<const D: usize> Tnnmg<D> {
             nl,
             active_of: &self.active_of,
         };
-        for _ in 0..self.opts.nonlinear_sweeps {
-            self.m
-                .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, false);
+        match &self.colouring {
+            None => {
+                for _ in 0..self.opts.nonlinear_sweeps {
+                    self.m
+                        .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, false);
+                }
+                self.m.a.residual(b, v, &mut self.res_a, &mut self.w);
+            }
+            Some(colouring) => {
+                for _ in 0..self.opts.nonlinear_sweeps {
+                    self.m.nonlinear_gauss_seidel_coloured(
+                        b,
+                        blocks,
+                        v,
+                        colouring,
+                        self.parallelism,
+                        &mut self.colour_scratch,
+                    );
+                }
+                self.m
+                    .a
+                    .residual_rows(b, v, &mut self.res_a, self.parallelism);
+            }
         }
-        self.m.a.residual(b, v, &mut self.res_a, &mut self.w);
         // Truncated linearisation at v, then the inexact linear correction H c = res.
         self.linearize(nl, v)?;
         self.cycles += self.linear.solve(

@@ -12,16 +12,19 @@ use rsf::{Parallelism, SolverKind};
 #[test]
 fn the_parallelism_reaches_the_solver_and_the_integrator() {
     assert_eq!(SolverOptions::default().parallelism, Parallelism::default());
-    for (solver, par) in [
-        (SolverKind::Direct, Parallelism::rayon(3)),
-        (SolverKind::Direct, Parallelism::SEQ),
-        (SolverKind::Tnnmg, Parallelism::rayon(4)),
+    use rsf::tnnmg::SmootherOrder::{Lexicographic, MultiColour};
+    for (solver, par, smoother) in [
+        (SolverKind::Direct, Parallelism::rayon(3), Lexicographic),
+        (SolverKind::Direct, Parallelism::SEQ, Lexicographic),
+        (SolverKind::Tnnmg, Parallelism::rayon(4), Lexicographic),
+        (SolverKind::Tnnmg, Parallelism::rayon(3), MultiColour),
     ] {
         let scene = paper(2, solver);
-        let options = SolverOptions {
+        let mut options = SolverOptions {
             parallelism: par,
             ..scene.solver_options()
         };
+        options.tnnmg.smoother = smoother;
         let mut sim = scene
             .simulation_builder()
             .unwrap()
@@ -31,7 +34,8 @@ fn the_parallelism_reaches_the_solver_and_the_integrator() {
         let method = sim.method();
         assert_eq!(method.options().solver_options.parallelism, par);
         assert_eq!(method.parallelism(), par);
-        let expected = (solver == SolverKind::Direct).then_some(par);
+        // TNNMG takes the threads with the multi-colour smoother only.
+        let expected = (solver == SolverKind::Direct || smoother == MultiColour).then_some(par);
         assert_eq!(method.solver_parallelism(), expected, "{solver}");
         sim.step().unwrap();
         assert_eq!(sim.method().solver_parallelism(), expected);

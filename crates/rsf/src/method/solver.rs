@@ -155,7 +155,10 @@ pub const DEFAULT_MEMORY_BUDGET_BYTES: usize = 8 << 30;
 /// The options of every velocity solver (whichever [`SolverKind`] picks).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverOptions {
-    /// Options of TNNMG.
+    /// Options of TNNMG, among them the smoother order `tnnmg.smoother`
+    /// ([`rsf_tnnmg::SmootherOrder`]: default lexicographic, the trajectories before the
+    /// option bit for bit; multi-colour changes them once, to round-off of the solver
+    /// tolerance, and is the order that runs on [`parallelism`](Self::parallelism)).
     pub tnnmg: TnnmgOptions,
     /// Options of the direct solver.
     pub direct: DirectOptions,
@@ -178,7 +181,9 @@ pub struct SolverOptions {
     /// harmonic extension (from [`rsf_tnnmg::INTERIOR_PARALLEL_MIN`] interior unknowns),
     /// its dense Newton factorisations (from [`rsf_tnnmg::DENSE_PARALLEL_MIN`] unknowns)
     /// and the integrator's right-hand side rows (from
-    /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows). TNNMG and Gauss–Seidel are sequential.
+    /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows), and TNNMG's multi-colour smoother and
+    /// residual when `tnnmg.smoother` is [`rsf_tnnmg::SmootherOrder::MultiColour`]. TNNMG's
+    /// default lexicographic smoother and Gauss–Seidel are sequential.
     /// Results are bit-identical for every value. Default [`Parallelism::default`] (two
     /// threads of rayon's pool, the behaviour before this option).
     pub parallelism: Parallelism,
@@ -227,6 +232,11 @@ impl<const C: usize> VelocitySolver<C> {
     pub(crate) fn parallelism(&self) -> Option<Parallelism> {
         match self {
             VelocitySolver::Direct(d) => Some(d.parallelism()),
+            VelocitySolver::Tnnmg(t)
+                if t.inner().options().smoother == rsf_tnnmg::SmootherOrder::MultiColour =>
+            {
+                Some(t.inner().parallelism())
+            }
             _ => None,
         }
     }
@@ -251,7 +261,8 @@ impl<const C: usize> VelocitySolver<C> {
                     &model.prolongations,
                     Some(e),
                     options.tnnmg.clone(),
-                )?,
+                )?
+                .with_parallelism(options.parallelism),
                 Some(e),
             )?)),
             SolverKind::Direct => {
