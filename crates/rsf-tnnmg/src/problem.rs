@@ -159,7 +159,7 @@ impl<const D: usize> NodalProblem<D> {
     /// and then written into `v`. Every node's arithmetic (full row in increasing column
     /// order, then the local solve) is the same for any split: bit-identical results for
     /// every thread count.
-    pub fn nonlinear_gauss_seidel_coloured<N: BlockNonlinearity<D>>(
+    pub(crate) fn nonlinear_gauss_seidel_coloured<N: BlockNonlinearity<D>>(
         &self,
         b: &[f64],
         blocks: ActiveBlocks<'_, N>,
