@@ -137,29 +137,6 @@ fn smoother_order_names_round_trip() {
     assert_eq!(SmootherOrder::default(), SmootherOrder::Lexicographic);
 }
 
-fn load(m: usize) -> Vec<f64> {
-    let n1 = m + 1;
-    let h = 1.0 / m as f64;
-    (0..n1 * n1)
-        .map(|k| {
-            let (i, j) = (k % n1, k / n1);
-            let (x, y) = (i as f64 * h, j as f64 * h);
-            h * h * 40.0 * (3.0 * x).sin() * (1.0 + y)
-        })
-        .collect()
-}
-
-/// Tresca friction on the bottom edge with a threshold that leaves stick and slip nodes.
-fn tresca(m: usize) -> Tresca1 {
-    let nodes = bottom_nodes(m);
-    let h = 1.0 / m as f64;
-    let g = nodes
-        .iter()
-        .map(|&i| h * 60.0 * (1.0 + (i as f64 * h * 7.0).cos()))
-        .collect();
-    Tresca1 { nodes, g }
-}
-
 fn options(smoother: SmootherOrder) -> TnnmgOptions {
     TnnmgOptions {
         stopping: Stopping {
@@ -182,8 +159,8 @@ fn multicolour_iterates_are_bit_identical_at_1_2_and_4_threads() {
     let m = m0 << level;
     let a = square(m, 10.0);
     let fixed = left_edge_fixed(m);
-    let b = load(m);
-    let nl = tresca(m);
+    let b = stick_slip_load(m);
+    let nl = stick_slip_tresca(m);
     let hierarchy = square_hierarchy(m0, level);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(4)
@@ -229,8 +206,8 @@ fn multicolour_converges_to_the_lexicographic_minimiser() {
         let m = m0 << level;
         let a = square(m, 10.0);
         let fixed = left_edge_fixed(m);
-        let b = load(m);
-        let nl = tresca(m);
+        let b = stick_slip_load(m);
+        let nl = stick_slip_tresca(m);
         let hierarchy = square_hierarchy(m0, level);
         let solve = |smoother| {
             let mut tn = Tnnmg::<1>::new(a.as_ref(), &fixed, &hierarchy, None, options(smoother))
@@ -252,11 +229,7 @@ fn multicolour_converges_to_the_lexicographic_minimiser() {
             DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default()).unwrap();
         let mut v_d = vec![0.0; b.len()];
         direct.solve(&b, &nl, &mut v_d).unwrap();
-        let scale = energy_norm(&a, &v_d);
-        let diff = |x: &[f64], y: &[f64]| {
-            let d: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
-            energy_norm(&a, &d) / scale
-        };
+        let diff = |x: &[f64], y: &[f64]| relative_energy_distance(&a, x, y, &v_d);
         assert!(
             diff(&v_mc, &v_d) < 1e-9,
             "level {level}: {}",

@@ -5,35 +5,12 @@ mod common;
 use common::*;
 use rsf_tnnmg::*;
 
-fn load(m: usize) -> Vec<f64> {
-    let n1 = m + 1;
-    let h = 1.0 / m as f64;
-    (0..n1 * n1)
-        .map(|k| {
-            let (i, j) = (k % n1, k / n1);
-            let (x, y) = (i as f64 * h, j as f64 * h);
-            h * h * 40.0 * (3.0 * x).sin() * (1.0 + y)
-        })
-        .collect()
-}
-
 fn tight() -> Stopping {
     Stopping {
         absolute: 1e-13,
         relative: 0.0,
         max_iterations: 200,
     }
-}
-
-fn tresca(m: usize) -> Tresca1 {
-    let nodes = bottom_nodes(m);
-    let h = 1.0 / m as f64;
-    // Threshold varying along the edge so that stick and slip nodes coexist.
-    let g = nodes
-        .iter()
-        .map(|&i| h * 60.0 * (1.0 + (i as f64 * h * 7.0).cos()))
-        .collect();
-    Tresca1 { nodes, g }
 }
 
 #[test]
@@ -43,8 +20,8 @@ fn tnnmg_gauss_seidel_and_direct_agree_on_stick_slip_problem() {
         let m = m0 << level;
         let a = square(m, 10.0);
         let fixed = left_edge_fixed(m);
-        let b = load(m);
-        let nl = tresca(m);
+        let b = stick_slip_load(m);
+        let nl = stick_slip_tresca(m);
         let opts = TnnmgOptions {
             stopping: tight(),
             ..Default::default()
@@ -69,11 +46,7 @@ fn tnnmg_gauss_seidel_and_direct_agree_on_stick_slip_problem() {
         let mut v_gs = vec![0.0; b.len()];
         gs.solve(&b, &nl, &mut v_gs).unwrap();
 
-        let scale = energy_norm(&a, &v_d);
-        let diff = |x: &[f64], y: &[f64]| {
-            let d: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
-            energy_norm(&a, &d) / scale
-        };
+        let diff = |x: &[f64], y: &[f64]| relative_energy_distance(&a, x, y, &v_d);
         assert!(
             diff(&v_tn, &v_d) < 1e-9,
             "level {level}: tnnmg vs direct {}",
@@ -104,7 +77,7 @@ fn cycle_shapes_and_linear_corrections_agree_with_direct() {
     let m = m0 << level;
     let a = square(m, 10.0);
     let fixed = left_edge_fixed(m);
-    let b = load(m);
+    let b = stick_slip_load(m);
     let shape =
         |linear_correction, smoothing, cycle_index, v_cycles, linear_reduction| TnnmgOptions {
             linear_correction,
@@ -128,7 +101,9 @@ fn cycle_shapes_and_linear_corrections_agree_with_direct() {
     };
     let mut direct = DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default()).unwrap();
     let (mut d_tresca, mut d_cosh) = (vec![0.0; b.len()], vec![0.0; b.len()]);
-    direct.solve(&b, &tresca(m), &mut d_tresca).unwrap();
+    direct
+        .solve(&b, &stick_slip_tresca(m), &mut d_tresca)
+        .unwrap();
     direct.solve(&b, &cosh, &mut d_cosh).unwrap();
     for variant in variants {
         let opts = TnnmgOptions {
@@ -141,7 +116,7 @@ fn cycle_shapes_and_linear_corrections_agree_with_direct() {
         for (name, exact) in [("tresca", &d_tresca), ("cosh", &d_cosh)] {
             let mut v = vec![0.0; b.len()];
             let report = if name == "tresca" {
-                tn.solve(&b, &tresca(m), &mut v).unwrap()
+                tn.solve(&b, &stick_slip_tresca(m), &mut v).unwrap()
             } else {
                 tn.solve(&b, &cosh, &mut v).unwrap()
             };
@@ -166,7 +141,7 @@ fn energy_decreases_monotonically() {
     let m = m0 << level;
     let a = square(m, 10.0);
     let fixed = left_edge_fixed(m);
-    let b = load(m);
+    let b = stick_slip_load(m);
     for stiff in [false, true] {
         let opts = TnnmgOptions {
             stopping: tight(),
@@ -184,7 +159,7 @@ fn energy_decreases_monotonically() {
             };
             tn.solve(&b, &nl, &mut v).unwrap()
         } else {
-            tn.solve(&b, &tresca(m), &mut v).unwrap()
+            tn.solve(&b, &stick_slip_tresca(m), &mut v).unwrap()
         };
         let e = report.energy.unwrap();
         assert!(e.len() >= 2);
@@ -201,7 +176,7 @@ fn iteration_counts<N: BlockNonlinearity<1>>(make: impl Fn(usize) -> N) -> Vec<u
             let m = m0 << level;
             let a = square(m, 10.0);
             let fixed = left_edge_fixed(m);
-            let b = load(m);
+            let b = stick_slip_load(m);
             let opts = TnnmgOptions {
                 stopping: Stopping {
                     absolute: 0.0,
@@ -241,7 +216,7 @@ fn tnnmg_iteration_counts_are_mesh_independent() {
     // takes a few more iterations on finer meshes (measured: [6, 7, 9, 11, 12] when this
     // test was written, [5, 5, 6, 8, 9] with today's defaults); the growth is logarithmic
     // in the number of unknowns. Guard against regressions.
-    let counts = iteration_counts(tresca);
+    let counts = iteration_counts(stick_slip_tresca);
     assert!(
         counts.windows(2).all(|w| w[1] <= w[0] + 3),
         "Tresca counts jump: {counts:?}"
@@ -260,7 +235,7 @@ fn linear_problem_converges_at_multigrid_rate() {
     let m = m0 << level;
     let a = square(m, 0.0);
     let fixed = left_edge_fixed(m);
-    let b = load(m);
+    let b = stick_slip_load(m);
     let mut exact = vec![0.0; b.len()];
     DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default())
         .unwrap()
@@ -299,7 +274,7 @@ fn budget_exhaustion_is_an_error_not_a_result() {
     let m = m0 << level;
     let a = square(m, 1.0);
     let fixed = left_edge_fixed(m);
-    let b = load(m);
+    let b = stick_slip_load(m);
     let mut gs = NonlinearGaussSeidel::<1>::new(
         a.as_ref(),
         &fixed,
@@ -313,7 +288,7 @@ fn budget_exhaustion_is_an_error_not_a_result() {
     )
     .unwrap();
     let mut v = vec![0.0; b.len()];
-    match gs.solve(&b, &tresca(m), &mut v) {
+    match gs.solve(&b, &stick_slip_tresca(m), &mut v) {
         Err(Error::NotConverged {
             iterations: 2,
             correction,
@@ -375,8 +350,8 @@ fn direct_solver_for_another_matrix_equals_a_fresh_one() {
     let m = 16;
     let (a1, a2) = (square(m, 10.0), square(m, 3.0));
     let fixed = left_edge_fixed(m);
-    let b = load(m);
-    let nl = tresca(m);
+    let b = stick_slip_load(m);
+    let nl = stick_slip_tresca(m);
     let mut first = DirectSolver::<1>::new(a1.as_ref(), &fixed, DirectOptions::default()).unwrap();
     first.prepare(&nl.nodes).unwrap();
     let mut reused = first.for_matrix(a2.as_ref()).unwrap();

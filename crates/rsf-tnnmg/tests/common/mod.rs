@@ -200,3 +200,35 @@ pub fn energy_norm(a: &Mat, x: &[f64]) -> f64 {
     }
     s.sqrt()
 }
+
+/// The load of the stick–slip test problem on the unit square with `m` cells per side
+/// (node-major, `(m + 1)²` entries).
+pub fn stick_slip_load(m: usize) -> Vec<f64> {
+    let n1 = m + 1;
+    let h = 1.0 / m as f64;
+    (0..n1 * n1)
+        .map(|k| {
+            let (i, j) = (k % n1, k / n1);
+            let (x, y) = (i as f64 * h, j as f64 * h);
+            h * h * 40.0 * (3.0 * x).sin() * (1.0 + y)
+        })
+        .collect()
+}
+
+/// Tresca friction on the bottom edge with a threshold varying along it, so that stick and
+/// slip nodes coexist under [`stick_slip_load`].
+pub fn stick_slip_tresca(m: usize) -> Tresca1 {
+    let nodes = bottom_nodes(m);
+    let h = 1.0 / m as f64;
+    let g = nodes
+        .iter()
+        .map(|&i| h * 60.0 * (1.0 + (i as f64 * h * 7.0).cos()))
+        .collect();
+    Tresca1 { nodes, g }
+}
+
+/// `‖x − y‖_A / ‖reference‖_A`.
+pub fn relative_energy_distance(a: &Mat, x: &[f64], y: &[f64], reference: &[f64]) -> f64 {
+    let d: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
+    energy_norm(a, &d) / energy_norm(a, reference)
+}
