@@ -40,6 +40,10 @@ pub struct SceneArgs {
     /// Triangulation diagonal of the coarse grid.
     #[arg(long, value_enum)]
     pub diagonal: Option<Diagonal>,
+    /// The block's ends x = 0 and x = 5 m absorb waves (Lysmer–Kuhlemeyer dashpots,
+    /// `SliderScene::absorbing_sides`) instead of being traction-free.
+    #[arg(long)]
+    pub absorbing_sides: bool,
 }
 
 impl SceneArgs {
@@ -75,6 +79,9 @@ impl SceneArgs {
         }
         if let Some(d) = self.diagonal {
             scene.diagonal = d;
+        }
+        if self.absorbing_sides {
+            scene.absorbing_sides = true;
         }
         scene.validate()?;
         Ok(scene)

@@ -25,7 +25,7 @@ mod sprs_conversion;
 
 pub use cholesky::{Cholesky, FillOrdering};
 pub use error::{Error, Result};
-pub use ops::{combine, spmv_add, SparseMatrix};
+pub use ops::{combine, quadratic_form, spmv_add, SparseMatrix};
 pub use parallelism::Parallelism;
 #[cfg(feature = "sprs")]
 pub use sprs_conversion::{from_sprs, to_sprs};

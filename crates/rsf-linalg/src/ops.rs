@@ -51,3 +51,22 @@ pub fn spmv_add(a: SparseColMatRef<'_, usize, f64>, alpha: f64, x: &[f64], y: &m
         }
     }
 }
+
+/// The quadratic form `xᵀ A x` of a CSC matrix (no allocation; summed column by column,
+/// so the result is the same on every machine and thread count).
+///
+/// # Panics
+/// If `x.len()` is not `A`'s size (internal invariant of callers).
+pub fn quadratic_form(a: SparseColMatRef<'_, usize, f64>, x: &[f64]) -> f64 {
+    assert_eq!(x.len(), a.ncols());
+    assert_eq!(x.len(), a.nrows());
+    let mut s = 0.0;
+    for j in 0..a.ncols() {
+        let mut col = 0.0;
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            col += v * x[i];
+        }
+        s += col * x[j];
+    }
+    s
+}

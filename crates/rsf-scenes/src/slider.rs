@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use rsf_fem::{pipping_slider_coarse, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL};
+use rsf_fem::{pipping_slider_coarse, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
 use rsf_friction::{DieterichRuina, RateStateParams};
 use rsf_state::{BuiltinStateLaw, StateLawKind};
 use rsf_time::{Integrator, StepControl, VelocityIntegrator};
@@ -228,6 +228,17 @@ pub struct SliderScene {
     pub solver_tolerance: f64,
     /// Coarse grid diagonal.
     pub diagonal: Diagonal,
+    /// The block's ends `x = 0` and `x = 5` m ([`TAG_NEUMANN`], traction-free in the paper)
+    /// absorb waves instead of reflecting them: Lysmer–Kuhlemeyer dashpots of impedance
+    /// ρc_p (normal) and ρc_s (tangential) against the velocity
+    /// ([`ModelBuilder::absorbing_boundary`], docs/math.md "Absorbing boundaries"), as if
+    /// the block went on in x. Needs an integrator with inertia. Default `false` (the
+    /// paper's scene); written only when `true`, so scenes and checkpoints without the
+    /// field keep their fingerprint. Used by [`build_model`](Self::build_model) and the
+    /// 3-D slider; on a mesh of one's own, add `absorbing_boundary(part)` to the builder
+    /// [`physics`](Self::physics) returns.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub absorbing_sides: bool,
 }
 
 impl Default for SliderScene {
@@ -261,6 +272,7 @@ impl Default for SliderScene {
             fixed_point_inner_solves: InnerSolves::Exact,
             solver_tolerance: 1e-10,
             diagonal: Diagonal::Forward,
+            absorbing_sides: false,
         }
     }
 }
@@ -472,6 +484,16 @@ impl SliderScene {
         }
         pos("fixed_point_tolerance", self.fixed_point_tolerance)?;
         pos("solver_tolerance", self.solver_tolerance)?;
+        if self.absorbing_sides && !self.integrator.uses_mass() {
+            return Err(invalid(
+                "absorbing_sides",
+                format!(
+                    "absorbing ends need an integrator with inertia; `{}` has none (no waves \
+                     to absorb)",
+                    self.integrator
+                ),
+            ));
+        }
         self.check_plausible()?;
         if self.fixed_point_max_iterations == 0 {
             return Err(invalid("fixed_point_max_iterations", "must be at least 1"));
@@ -666,7 +688,12 @@ impl SliderScene {
     pub fn build_model(&self) -> Result<Model<2>> {
         self.validate()?;
         let builder = ModelBuilder::refined(pipping_slider_coarse(self.diagonal), self.level)?;
-        self.checked_model(self.physics(builder, TAG_DIRICHLET, TAG_FRICTIONAL))
+        let builder = self.physics(builder, TAG_DIRICHLET, TAG_FRICTIONAL);
+        self.checked_model(if self.absorbing_sides {
+            builder.absorbing_boundary(TAG_NEUMANN)
+        } else {
+            builder
+        })
     }
 
     /// The scene's physics on the mesh (or refinement hierarchy) of a user's `builder`:

@@ -274,6 +274,9 @@ impl Slider3dScene {
         if self.lateral == LateralBoundary::PlaneStrain {
             builder = builder.dirichlet_components(TAG_LATERAL, &[2], [0.0; 3]);
         }
+        if s.absorbing_sides {
+            builder = builder.absorbing_boundary(TAG_NEUMANN);
+        }
         if !s.integrator.uses_mass() {
             builder = builder.without_mass();
         }

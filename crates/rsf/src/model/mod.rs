@@ -116,6 +116,32 @@ impl<const D: usize, const C: usize> Model<D, C> {
         self.load.len()
     }
 
+    /// The kinetic energy `½ vᵀ M v` of a velocity field (J; per metre of thickness in
+    /// 2-D): `v` has [`num_dofs`](Self::num_dofs) entries (m/s) in the model's unknowns —
+    /// nodal frames and, for an antisymmetric fault, the scaled field `s·u` with `M/s²`,
+    /// so the value is the (half) body's energy in `u` either way.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] if `v` has the wrong length or the model has no mass
+    /// matrix (built [`without_mass`](ModelBuilder::without_mass) for a quasistatic run).
+    pub fn kinetic_energy(&self, v: &[f64]) -> Result<f64> {
+        if v.len() != self.num_dofs() {
+            return Err(invalid(
+                "v",
+                format!(
+                    "has {} entries, the model {} dofs",
+                    v.len(),
+                    self.num_dofs()
+                ),
+            ));
+        }
+        let mass = self
+            .mass
+            .as_ref()
+            .ok_or_else(|| invalid("v", "the model has no mass matrix (no inertia)"))?;
+        Ok(0.5 * rsf_linalg::quadratic_form(mass.as_ref(), v))
+    }
+
     /// Number of nodes (mesh vertices; vertex ids are `0..num_nodes()`).
     pub fn num_nodes(&self) -> usize {
         self.vertices.len()
