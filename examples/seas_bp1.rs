@@ -412,22 +412,13 @@ fn run(args: Args) -> Result<(), AnyError> {
         i => fingerprint.with("dynamic_integrator", format!("{i:?}")),
     };
     let setup = SeasSetup {
-        problem: format!(
-            "SEAS Benchmark BP1-{}",
-            if args.inertia { "FD" } else { "QD" }
-        ),
         modeler: args.modeler.clone(),
         date: args
             .date
             .clone()
             .unwrap_or_else(rsf::observe::utc_date_today),
-        element_size: args.dz,
         stations,
-        depth_axis: 1,
-        depth_down: true,
-        sigma_n: bp1.sigma_n,
-        profile_spacing: 500.0,
-        sampling,
+        ..bp1.seas_setup(args.dz, args.inertia, sampling)
     };
     // On resume everything is checked before any file is touched: the checkpoint (its
     // checksum and fingerprint), then every file's rows up to the checkpoint's step.

@@ -14,7 +14,7 @@ use crate::invalid;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::model::AntiplaneMaterial;
-use rsf::observe::SeasSampling;
+use rsf::observe::{SeasSampling, SeasSetup};
 use rsf::FaultOde;
 use rsf::Model;
 use rsf::Result;
@@ -535,6 +535,32 @@ impl SeasBp1 {
                 json_number(sampling.event_quiet_time),
             )
             .with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
+    }
+
+    /// What the benchmark files of a BP1 run hold ([`SeasSetup`], for
+    /// [`SeasOutput`](rsf::observe::SeasOutput)): the problem name
+    /// `SEAS Benchmark BP1-QD` (`BP1-FD` with `inertia`), modeler `rsf`, today's UTC date,
+    /// element size `dz` (m), every station of the description
+    /// ([`SEAS_BP1_STATION_DEPTHS`],
+    /// [`station_name`](Self::station_name)), depth = `z` growing downwards, this scene's
+    /// σ_n, slip profiles every 500 m, and `sampling`. Change fields with struct update
+    /// syntax (`SeasSetup { modeler, ..bp1.seas_setup(dz, inertia, sampling) }`).
+    pub fn seas_setup(&self, dz: f64, inertia: bool, sampling: SeasSampling) -> SeasSetup {
+        SeasSetup {
+            problem: format!("SEAS Benchmark BP1-{}", if inertia { "FD" } else { "QD" }),
+            modeler: "rsf".into(),
+            date: rsf::observe::utc_date_today(),
+            element_size: dz,
+            stations: SEAS_BP1_STATION_DEPTHS
+                .iter()
+                .map(|&d| (Self::station_name(d), d))
+                .collect(),
+            depth_axis: 1,
+            depth_down: true,
+            sigma_n: self.sigma_n,
+            profile_spacing: 500.0,
+            sampling,
+        }
     }
 
     /// Name of the station file at `depth` (m): `fltst_dp` and the depth in hundreds of

@@ -8,7 +8,7 @@ use rsf::friction::{AsinhLaw, FrictionLaw};
 use rsf::model::AntiplaneMaterial;
 use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 use rsf::{Checkpoint, Flow, ModelBuilder, Observer, Part, StepView};
-use rsf_scenes::{SeasBp1, SeasBp1Grid, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
+use rsf_scenes::{SeasBp1, SeasBp1Grid, SeasBp1Simulation};
 
 mod common;
 use common::small_bp1;
@@ -125,16 +125,7 @@ fn output(dir: &std::path::Path, bp1: &SeasBp1, sim: &SeasBp1Simulation) -> Seas
             problem: "BP1-QD (coarse test)".into(),
             modeler: "test".into(),
             date: "2026-11-24".into(),
-            element_size: 500.0,
-            stations: SEAS_BP1_STATION_DEPTHS
-                .iter()
-                .map(|&d| (SeasBp1::station_name(d), d))
-                .collect(),
-            depth_axis: 1,
-            depth_down: true,
-            sigma_n: bp1.sigma_n,
-            profile_spacing: 500.0,
-            sampling: SeasSampling::default(),
+            ..bp1.seas_setup(500.0, false, SeasSampling::default())
         },
         FileMode::Overwrite,
     )

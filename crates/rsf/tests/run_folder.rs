@@ -455,7 +455,7 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
     use rsf::friction::AsinhLaw;
     use rsf::observe::{Checkpointer, SeasOutput, SeasSampling, SeasSetup};
     use rsf::Observer;
-    use rsf_scenes::{SeasBp1, SeasBp1Simulation, SEAS_BP1_STATION_DEPTHS};
+    use rsf_scenes::{SeasBp1, SeasBp1Simulation};
     let (bp1, grid) = common::small_bp1(&SeasBp1::default());
     let sampling = SeasSampling {
         station_quiet: 200.0,
@@ -465,20 +465,16 @@ fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
     let fingerprint = bp1
         .fingerprint(&grid, false, &sampling)
         .with("scheme", "implicit");
-    let setup = |_: ()| SeasSetup {
-        problem: "BP1-QD (small test)".into(),
-        modeler: "test".into(),
-        date: "2026-11-24".into(),
-        element_size: grid.dz,
-        stations: SEAS_BP1_STATION_DEPTHS[..5]
-            .iter()
-            .map(|&d| (SeasBp1::station_name(d), d))
-            .collect(),
-        depth_axis: 1,
-        depth_down: true,
-        sigma_n: bp1.sigma_n,
-        profile_spacing: 1000.0,
-        sampling,
+    let setup = |_: ()| {
+        let mut setup = SeasSetup {
+            problem: "BP1-QD (small test)".into(),
+            modeler: "test".into(),
+            date: "2026-11-24".into(),
+            profile_spacing: 1000.0,
+            ..bp1.seas_setup(grid.dz, false, sampling)
+        };
+        setup.stations.truncate(5);
+        setup
     };
     let build = || -> SeasBp1Simulation {
         let model = bp1.model(&grid, false).unwrap();

@@ -30,25 +30,19 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 fn setup(bp1: &SeasBp1, dz: f64) -> SeasSetup {
-    SeasSetup {
-        problem: "SEAS Benchmark BP1-QD".into(),
+    let sampling = SeasSampling {
+        station_quiet: 0.5 * SECONDS_PER_YEAR,
+        profile_quiet: 5.0 * SECONDS_PER_YEAR,
+        ..SeasSampling::default()
+    };
+    let mut setup = SeasSetup {
         modeler: "A. Tester".into(),
         date: "2026-11-24".into(),
-        element_size: dz,
-        stations: DEPTHS[..5]
-            .iter()
-            .map(|&d| (SeasBp1::station_name(d), d))
-            .collect(),
-        depth_axis: 1,
-        depth_down: true,
-        sigma_n: bp1.sigma_n,
         profile_spacing: 1000.0,
-        sampling: SeasSampling {
-            station_quiet: 0.5 * SECONDS_PER_YEAR,
-            profile_quiet: 5.0 * SECONDS_PER_YEAR,
-            ..SeasSampling::default()
-        },
-    }
+        ..bp1.seas_setup(dz, false, sampling)
+    };
+    setup.stations.truncate(5);
+    setup
 }
 
 /// The station values of every step, computed here from the state: time → per station
