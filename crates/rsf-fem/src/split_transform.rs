@@ -1,7 +1,9 @@
 //! The change of variables to mean and jump at the split pairs of a fault inside the body
 //! (docs/math.md §13, docs/faults-inside.md).
 
+use faer::sparse::linalg::matmul::sparse_sparse_matmul;
 use faer::sparse::{SparseColMat, Triplet};
+use faer::Par;
 
 use crate::frames::frame_from_normal;
 use crate::{Error, FaultSides, Result, SimplexMesh, SparseMatrix};
@@ -122,5 +124,58 @@ impl FaultSides {
             t_inv: build(&ti)?,
             frames,
         })
+    }
+}
+
+impl MeanJumpTransform {
+    /// `K' = Tᵀ A T` of a symmetric matrix `a` of the split mesh (stiffness, mass, energy
+    /// norm; `C·n × C·n`, node-major): the matrix in the new coordinates, made exactly
+    /// symmetric (`½(B + Bᵀ)` of the sparse product `B`, sequential and so the same bits on
+    /// every machine). Explicit zeros of the product are kept.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `a` is not `T`'s size; [`Error::Faer`] on allocation
+    /// failure.
+    pub fn congruence(&self, a: &SparseMatrix) -> Result<SparseMatrix> {
+        let n = self.t.nrows();
+        if a.nrows() != n || a.ncols() != n {
+            return Err(Error::DimensionMismatch {
+                what: "matrix of the split mesh for Tᵀ A T",
+                expected: n,
+                got: a.nrows(),
+            });
+        }
+        let faer = |e: faer::sparse::FaerError| Error::Faer(format!("{e:?}"));
+        let at = sparse_sparse_matmul(a.as_ref(), self.t.as_ref(), 1.0, Par::Seq).map_err(faer)?;
+        let tt = self.t.as_ref().transpose().to_col_major().map_err(faer)?;
+        let b = sparse_sparse_matmul(tt.as_ref(), at.as_ref(), 1.0, Par::Seq).map_err(faer)?;
+        let mut trip = Vec::with_capacity(2 * b.compute_nnz());
+        for j in 0..n {
+            for (i, &v) in b.row_idx_of_col(j).zip(b.val_of_col(j)) {
+                trip.push(Triplet::new(i, j, 0.5 * v));
+                trip.push(Triplet::new(j, i, 0.5 * v));
+            }
+        }
+        SparseColMat::try_new_from_triplets(n, n, &trip).map_err(|e| Error::Faer(format!("{e:?}")))
+    }
+
+    /// `T⁻¹ P`: a prolongation `P` onto the split mesh's Cartesian dofs (`C·n` rows, e.g.
+    /// the coarse space continuous across the fault, a plus copy taking its original's
+    /// row) in the new coordinates, for multigrid on `Tᵀ K T`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `p` does not have `T`'s size as rows;
+    /// [`Error::Faer`] on allocation failure.
+    pub fn prolongation(&self, p: &SparseMatrix) -> Result<SparseMatrix> {
+        let n = self.t_inv.ncols();
+        if p.nrows() != n {
+            return Err(Error::DimensionMismatch {
+                what: "prolongation rows for T⁻¹ P",
+                expected: n,
+                got: p.nrows(),
+            });
+        }
+        sparse_sparse_matmul(self.t_inv.as_ref(), p.as_ref(), 1.0, Par::Seq)
+            .map_err(|e| Error::Faer(format!("{e:?}")))
     }
 }

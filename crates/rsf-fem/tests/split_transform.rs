@@ -16,23 +16,6 @@ fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
     d
 }
 
-fn mul(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let n = b[0].len();
-    a.iter()
-        .map(|r| {
-            (0..n)
-                .map(|j| r.iter().zip(b).map(|(x, br)| x * br[j]).sum())
-                .collect()
-        })
-        .collect()
-}
-
-fn transpose(a: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    (0..a[0].len())
-        .map(|j| a.iter().map(|r| r[j]).collect())
-        .collect()
-}
-
 fn matvec(a: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
     a.iter()
         .map(|r| r.iter().zip(x).map(|(p, q)| p * q).sum())
@@ -92,20 +75,19 @@ fn the_transform_inverts_and_rigid_motions_have_no_jump_and_no_force() {
     let m = square(0.0);
     let (s, sides) = m.split_along_segment("f", [0.0, -1.0], [0.0, 0.5]).unwrap();
     let tr = sides.mean_jump_transform::<2>(&s).unwrap();
-    let (t, ti) = (dense(&tr.t), dense(&tr.t_inv));
-    let id = mul(&t, &ti);
+    let ti = dense(&tr.t_inv);
+    let id = dense(&(&tr.t * &tr.t_inv));
     for (i, r) in id.iter().enumerate() {
         for (j, v) in r.iter().enumerate() {
             assert!((v - f64::from(u8::from(i == j))).abs() < 1e-15);
         }
     }
-    let k = dense(
-        &Assembler::new(&s)
-            .unwrap()
-            .stiffness(&s, &LinearElasticity::plane_strain(1e10, 0.25).unwrap())
-            .unwrap(),
-    );
-    let kp = mul(&transpose(&t), &mul(&k, &t));
+    let k = Assembler::new(&s)
+        .unwrap()
+        .stiffness(&s, &LinearElasticity::plane_strain(1e10, 0.25).unwrap())
+        .unwrap();
+    let kp = dense(&tr.congruence(&k).unwrap());
+    let k = dense(&k);
     let scale = k.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
     for (a, b, w) in [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1e-3)] {
         let u: Vec<f64> = s
@@ -150,13 +132,12 @@ fn mode_ii(
         .unwrap();
     let tr = sides.mean_jump_transform::<2>(&s).unwrap();
     let t = dense(&tr.t);
-    let k = dense(
-        &Assembler::new(&s)
-            .unwrap()
-            .stiffness(&s, &LinearElasticity::plane_strain(1.0, 0.25).unwrap())
-            .unwrap(),
-    );
-    let kp = mul(&transpose(&t), &mul(&k, &t));
+    let k = Assembler::new(&s)
+        .unwrap()
+        .stiffness(&s, &LinearElasticity::plane_strain(1.0, 0.25).unwrap())
+        .unwrap();
+    let kp = dense(&tr.congruence(&k).unwrap());
+    let k = dense(&k);
     let n = 2 * s.num_vertices();
     let mut fixed = vec![false; n];
     let mut x = vec![0.0; n];
@@ -229,10 +210,11 @@ fn antiplane_dislocation_through_the_transform_equals_elimination() {
         .split_along_segment("fault", [0.0, 0.0], [0.0, -1.0])
         .unwrap();
     let nv = s.num_vertices();
-    let k = dense(&Assembler::scalar(&s).unwrap().laplace(&s, 1.0).unwrap());
+    let k = Assembler::scalar(&s).unwrap().laplace(&s, 1.0).unwrap();
     let tr = sides.mean_jump_transform::<1>(&s).unwrap();
     let t = dense(&tr.t);
-    let kp = mul(&transpose(&t), &mul(&k, &t));
+    let kp = dense(&tr.congruence(&k).unwrap());
+    let k = dense(&k);
     let exact = |x: [f64; 2]| {
         let pi = std::f64::consts::PI;
         ((x[1] + 1.0) / x[0]).atan() / (2.0 * pi) - ((x[1] - 1.0) / x[0]).atan() / (2.0 * pi)

@@ -14,58 +14,10 @@ use rsf::tnnmg::{
     DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver, Tnnmg, TnnmgOptions,
 };
 
-fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
-    let a = a.as_ref();
-    let mut d = vec![vec![0.0; a.ncols()]; a.nrows()];
-    for j in 0..a.ncols() {
-        for (i, v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-            d[i][j] += *v;
-        }
-    }
-    d
-}
-
-fn mul(a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let n = b[0].len();
-    a.iter()
-        .map(|r| {
-            let mut out = vec![0.0; n];
-            for (x, br) in r.iter().zip(b) {
-                if *x != 0.0 {
-                    for (o, y) in out.iter_mut().zip(br) {
-                        *o += x * y;
-                    }
-                }
-            }
-            out
-        })
-        .collect()
-}
-
-fn transpose(a: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    (0..a[0].len())
-        .map(|j| a.iter().map(|r| r[j]).collect())
-        .collect()
-}
-
-/// A sparse matrix of the nonzeros of `a` (symmetrised if `symmetric`).
-fn sparse(a: &[Vec<f64>], symmetric: bool) -> SparseMatrix {
-    let mut t = Vec::new();
-    for (i, r) in a.iter().enumerate() {
-        for (j, &v) in r.iter().enumerate() {
-            let v = if symmetric { 0.5 * (v + a[j][i]) } else { v };
-            if v != 0.0 || (symmetric && a[j][i] != 0.0) {
-                t.push(Triplet::new(i, j, v));
-            }
-        }
-    }
-    SparseColMat::try_new_from_triplets(a.len(), a[0].len(), &t).unwrap()
-}
-
 struct Problem {
     mesh: TriangleMesh,
     sides: FaultSides,
-    t: Vec<Vec<f64>>,
+    t: SparseMatrix,
     k: SparseMatrix,
     p: SparseMatrix,
     fixed: Vec<bool>,
@@ -91,22 +43,18 @@ fn problem() -> Problem {
     for (mi, pl) in sides.pairs() {
         original[pl] = mi;
     }
-    let p = dense(&vectorize::<2>(&p));
-    let p_split: Vec<Vec<f64>> = (0..2 * nv)
-        .map(|i| p[2 * original[i / 2] + i % 2].clone())
+    // The coarse space on the split mesh: a plus copy takes its original's row of P.
+    let copy: Vec<Triplet<usize, usize, f64>> = (0..2 * nv)
+        .map(|i| Triplet::new(i, 2 * original[i / 2] + i % 2, 1.0))
         .collect();
-    assert_eq!(p_split.len(), 2 * nv);
+    let copy = SparseColMat::try_new_from_triplets(2 * nv, 2 * nv0, &copy).unwrap();
+    let p_split = &copy * &vectorize::<2>(&p);
     assert!(nv0 < nv);
     let tr = sides.mean_jump_transform::<2>(&mesh).unwrap();
-    let t = dense(&tr.t);
-    let k = dense(
-        &Assembler::new(&mesh)
-            .unwrap()
-            .stiffness(&mesh, &LinearElasticity::plane_strain(1.0, 0.25).unwrap())
-            .unwrap(),
-    );
-    let kp = mul(&transpose(&t), &mul(&k, &t));
-    let pp = mul(&dense(&tr.t_inv), &p_split);
+    let k = Assembler::new(&mesh)
+        .unwrap()
+        .stiffness(&mesh, &LinearElasticity::plane_strain(1.0, 0.25).unwrap())
+        .unwrap();
     let mut fixed = vec![false; 2 * nv];
     let mut v0 = vec![0.0; 2 * nv];
     for f in 0..mesh.num_boundary_facets() {
@@ -142,9 +90,9 @@ fn problem() -> Problem {
     Problem {
         mesh,
         sides,
-        t,
-        k: sparse(&kp, true),
-        p: sparse(&pp, false),
+        k: tr.congruence(&k).unwrap(),
+        p: tr.prolongation(&p_split).unwrap(),
+        t: tr.t,
         fixed,
         v0,
         nodes: pairs.iter().map(|x| x.0).collect(),
@@ -223,10 +171,8 @@ fn tnnmg_and_the_direct_solver_agree_on_a_velocity_step_with_an_internal_fault()
     eprintln!("{slipping} of {nf} fault pairs slip");
     assert!(slipping > 0 && slipping < nf, "{slipping} of {nf} slip");
     assert_eq!(pb.mesh.num_vertices(), pb.fixed.len() / 2);
-    let v: Vec<f64> =
-        pb.t.iter()
-            .map(|row| row.iter().zip(&v_direct).map(|(a, b)| a * b).sum())
-            .collect();
+    let mut v = vec![0.0; n];
+    rsf::fem::spmv_add(pb.t.as_ref(), 1.0, &v_direct, &mut v);
     let jumps = pb.sides.jump(&v, 2).unwrap();
     for ((&(mi, pl), j), n) in pb.sides.nodes().iter().zip(&jumps).zip(
         pb.sides
