@@ -170,3 +170,35 @@ fn absorbing_ends_take_the_ringing_out_of_the_block() {
         "absorbing {ea:e} against traction-free {ef:e}"
     );
 }
+
+/// `Model::kinetic_energy` of a rigid translation is `½ m v²` with the block's mass
+/// `m = ρ · 5 m · 1 m`; a velocity of the wrong length and a model without mass are refused.
+#[test]
+fn kinetic_energy_of_a_translation_is_half_the_mass_times_the_speed_squared() {
+    let scene = SliderScene {
+        level: 2,
+        ..SliderScene::default()
+    };
+    let model = scene.build_model().unwrap();
+    let (vx, vy) = (0.3, -0.4);
+    let v: Vec<f64> = (0..model.num_dofs())
+        .map(|i| if i % 2 == 0 { vx } else { vy })
+        .collect();
+    let mass = scene.density_kg_per_m2 * 5.0 * 1.0;
+    let expected = 0.5 * mass * (vx * vx + vy * vy);
+    let e = model.kinetic_energy(&v).unwrap();
+    assert!((e / expected - 1.0).abs() < 1e-12, "{e} against {expected}");
+    assert!(matches!(
+        model.kinetic_energy(&v[1..]),
+        Err(Error::InvalidParameter { .. })
+    ));
+    let quasistatic = SliderScene {
+        level: 2,
+        integrator: Integrator::Quasistatic(Default::default()),
+        ..SliderScene::default()
+    };
+    assert!(matches!(
+        quasistatic.build_model().unwrap().kinetic_energy(&v),
+        Err(Error::InvalidParameter { .. })
+    ));
+}
