@@ -115,6 +115,7 @@ fn build<I: VelocityIntegrator>(
         cells: Vec::new(),
         frames: Default::default(),
         absorbing: None,
+        internal_fault: None,
     };
     let alpha_ss = (p.l / blk.v_load).ln();
     let sim = SimulationBuilder::new(model)

@@ -190,3 +190,179 @@ fn tnnmg_and_the_direct_solver_agree_on_a_velocity_step_with_an_internal_fault()
         assert!((slip - v_direct[2 * mi].abs()).abs() < 1e-14);
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The internal fault inside the model (`ModelBuilder::internal_fault`).
+
+use rsf::simulation::NoState;
+use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
+
+/// `x` turned by `theta` (rad) about the origin.
+fn turn(theta: f64, x: [f64; 2]) -> [f64; 2] {
+    let (c, s) = (theta.cos(), theta.sin());
+    [c * x[0] - s * x[1], s * x[0] + c * x[1]]
+}
+
+/// `[-1, 1]²` (9 × 9 coarse vertices, refined once: a two-level hierarchy) turned by
+/// `theta`, with a fault from `(0, −0.5)` to `(0, 0.5)` (tips inside), the top and bottom
+/// moving oppositely along the (turned) x axis — simple shear of the fault — the sides free,
+/// no inertia.
+fn sheared_block(theta: f64) -> rsf::Result<Model<2>> {
+    let square = rectangle([-1.0, -1.0], [2.0, 2.0], 9, 9, Diagonal::Forward)?;
+    let moved: Vec<[f64; 2]> = square.vertices().iter().map(|&x| turn(theta, x)).collect();
+    let coarse = square.with_moved_vertices(moved)?;
+    let back = move |x: &[f64; 2]| turn(-theta, *x);
+    let v = 1e-4;
+    ModelBuilder::refined(coarse, 1)?
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("top", move |x| back(x)[1] > 1.0 - 1e-9),
+            turn(theta, [v, 0.0]),
+        )
+        .dirichlet(
+            Part::predicate("bottom", move |x| back(x)[1] < -1.0 + 1e-9),
+            turn(theta, [-v, 0.0]),
+        )
+        .internal_fault("fault", turn(theta, [0.0, -0.5]), turn(theta, [0.0, 0.5]))
+        .build()
+}
+
+/// Per step and frictional node (in order along the fault, by the fault's own
+/// coordinate): the slip's length, and checks of what an observer sees at the split nodes.
+struct Slips {
+    along: Vec<usize>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl rsf::Observer<2> for Slips {
+    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
+        let f = s.model.internal_fault.as_ref().expect("an internal fault");
+        let u = s.model.to_cartesian(&s.state.kinematics.u)?;
+        let u0 = s.model.to_cartesian(&s.model.initial_displacement)?;
+        let mut row = Vec::new();
+        for &k in &self.along {
+            let (mi, pl) = f.pairs()[k];
+            let p = s
+                .model
+                .frictional_boundary
+                .nodes
+                .binary_search(&mi)
+                .unwrap();
+            // The observer's slip is the Cartesian jump of the two sides' displacements.
+            let slip = s.slip(p);
+            let jump: [f64; 2] = std::array::from_fn(|c| {
+                (u[2 * pl + c] - u0[2 * pl + c]) - (u[2 * mi + c] - u0[2 * mi + c])
+            });
+            let scale = slip[0].hypot(slip[1]).max(1e-12);
+            assert!((slip[0] - jump[0]).hypot(slip[1] - jump[1]) < 1e-9 * scale);
+            assert_eq!(s.displacement(pl), [u[2 * pl], u[2 * pl + 1]]);
+            // No opening: the jump is along the fault.
+            let normal = f.sides.normals()[k.min(f.sides.normals().len() - 1)];
+            let opening = (jump[0] * normal[0] + jump[1] * normal[1]).abs();
+            assert!(opening < 1e-12 * scale, "opening {opening:e}");
+            row.push(slip[0].hypot(slip[1]));
+        }
+        self.rows.push(row);
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// 20 quasistatic steps of 0.5 s with Tresca friction, weakest at the fault's centre
+/// (μ = 0.3 + 0.6·|y′|, y′ along the fault, σ̄_n = 5 MPa): the slip of every pair at
+/// every step.
+fn slip_history(theta: f64, solver: SolverKind) -> Vec<Vec<f64>> {
+    let model = sheared_block(theta).unwrap();
+    let f = model.internal_fault.as_ref().unwrap();
+    let mut sim = SimulationBuilder::new(model.clone())
+        .friction_at(|x| Tresca::new(0.3 + 0.6 * turn(-theta, *x)[1].abs(), 5e6))
+        .state_law(NoState)
+        .initial_state(0.0)
+        .integrator(rsf::time::Quasistatic::new())
+        .time_step(0.5)
+        .solver(solver)
+        .build()
+        .unwrap();
+    let mut slips = Slips {
+        along: (0..f.pairs().len()).collect(),
+        rows: Vec::new(),
+    };
+    sim.run(20, &mut [&mut slips]).unwrap();
+    slips.rows
+}
+
+/// The model's outputs at the split nodes are the two sides' Cartesian values, the
+/// observers' slip is the jump, the fault never opens; TNNMG on the two-level hierarchy
+/// (coarse space continuous across the fault) and the direct solver give the same slip
+/// history; and the same problem turned by 0.3 and 1.2 rad slips the same.
+#[test]
+fn a_model_with_an_internal_fault_slips_the_same_with_both_solvers_and_turned() {
+    let direct = slip_history(0.0, SolverKind::Direct);
+    let largest = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    // The slipping pairs per step: the slip starts somewhere along the fault and spreads.
+    let slipping: Vec<usize> = direct
+        .iter()
+        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
+        .collect();
+    eprintln!(
+        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
+        direct[0].len()
+    );
+    assert!(largest > 0.0);
+    assert!(
+        slipping.iter().any(|&k| k > 0 && k < direct[0].len()),
+        "partly stuck at some step"
+    );
+    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| {
+        a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / largest
+    };
+    let tnnmg = slip_history(0.0, SolverKind::Tnnmg);
+    let d = differs(&direct, &tnnmg);
+    eprintln!("TNNMG against direct: {d:e} of the largest slip");
+    assert!(d < 1e-6, "{d:e}");
+    for theta in [0.3, 1.2] {
+        let turned = slip_history(theta, SolverKind::Direct);
+        let d = differs(&direct, &turned);
+        eprintln!("turned by {theta}: {d:e} of the largest slip");
+        assert!(d < 1e-8, "{theta}: {d:e}");
+    }
+}
+
+/// What `internal_fault` refuses, by name.
+#[test]
+fn an_internal_fault_refuses_what_does_not_fit() {
+    let named = |r: rsf::Result<Model<2>>, what: &str| match r {
+        Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, what),
+        other => panic!(
+            "expected InvalidParameter {what}, got {:?}",
+            other.map(|_| ())
+        ),
+    };
+    let block = || {
+        ModelBuilder::new(rectangle([-1.0, -1.0], [2.0, 2.0], 9, 9, Diagonal::Forward).unwrap())
+            .material(Material::new(1e10, 0.25, 2700.0))
+            .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+    };
+    // Γ_F twice.
+    named(
+        block()
+            .frictional_boundary(Part::predicate("bottom", |x| x[1] < -1.0 + 1e-9))
+            .internal_fault("f", [0.0, -0.5], [0.0, 0.5])
+            .build(),
+        "frictional_boundary",
+    );
+    // A fault reaching a Dirichlet part: its end node is split and prescribed.
+    named(
+        block().internal_fault("f", [0.0, 0.0], [0.0, 1.0]).build(),
+        "dirichlet",
+    );
+    // A segment the mesh does not resolve: the splitting's error.
+    assert!(matches!(
+        block().internal_fault("f", [0.1, -0.5], [0.1, 0.5]).build(),
+        Err(rsf::Error::Fem(_))
+    ));
+}

@@ -77,6 +77,7 @@ fn build<I: VelocityIntegrator>(
         cells: Vec::new(),
         frames: Default::default(),
         absorbing: None,
+        internal_fault: None,
     };
     let alpha0 = (PARAMS.l / V_LOAD).ln() + DALPHA;
     let mut sim = SimulationBuilder::new(model)

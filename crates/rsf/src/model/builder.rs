@@ -7,9 +7,13 @@ use rsf_fem::{
 
 use super::absorbing::{AbsorbingBoundary, ResolvedPart};
 use super::fault::FrictionalBoundary;
+use super::internal::{InternalFault, SplitFault};
 use super::loading::{DirichletVelocity, TimeFunction};
 use super::Model;
 use crate::error::{invalid, Error, Result};
+use faer::sparse::linalg::matmul::sparse_sparse_matmul;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::Par;
 
 /// Isotropic linear elastic material (SI units; in 2D plane strain, per unit thickness).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -365,6 +369,7 @@ pub struct ModelBuilder<const D: usize, const C: usize = D> {
     fault_tangent: Option<[f64; D]>,
     slip_factor: f64,
     absorbing: Vec<Absorbing<D, C>>,
+    internal_fault: Option<SplitFault<D>>,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -452,6 +457,55 @@ fn refined_hierarchy<const D: usize>(
     Ok(MeshHierarchy::try_refine_uniformly(coarse, levels)?)
 }
 
+impl<const C: usize> ModelBuilder<2, C> {
+    /// A fault inside the body along the straight segment `from` → `to` (m) instead of a
+    /// frictional boundary: at [`build`](Self::build) the finest mesh is cut open along its
+    /// edges on the segment ([`SimplexMesh::split_along_segment`]: a node inside the body
+    /// at an end is a shared tip, an end on the outer boundary is split; the faces are
+    /// tagged `{name}_minus` and `{name}_plus`), and the model is written in the mean–jump
+    /// unknowns of the split pairs ([`InternalFault`], docs/math.md §15): Γ_F is the
+    /// pairs' minus nodes, the slip is the jump's tangential component (the normal one is
+    /// tied for a vector field: no opening), the weights are the minus face's, the friction
+    /// and state laws see the slip exactly as on a boundary fault. The coarse levels of a
+    /// hierarchy stay continuous across the fault (the finest prolongation gives a plus
+    /// copy its original's row, then `T⁻¹ P`). Outputs at split vertices
+    /// ([`StepView::displacement`](crate::observe::StepView::displacement), VTU frames)
+    /// are Cartesian.
+    ///
+    /// # Errors (at `build`)
+    /// The splitting's errors (e.g. a segment the mesh does not resolve, one lying on the
+    /// outer boundary); [`Error::InvalidParameter`] with a frictional boundary as well, an
+    /// [`antisymmetric_fault`](Self::antisymmetric_fault), or a Dirichlet part on a split
+    /// node (its Cartesian data would mix the mean and the jump).
+    ///
+    /// ```
+    /// use rsf::fem::{rectangle, Diagonal};
+    /// use rsf::{Material, ModelBuilder, Part};
+    /// // A 2 m square sheared by its top and bottom, a fault inside from (0, −0.5) to (0, 0.5).
+    /// let block = rectangle([-1.0, -1.0], [2.0, 2.0], 9, 9, Diagonal::Forward)?;
+    /// let model = ModelBuilder::refined(block, 1)?
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+    ///     .dirichlet(Part::predicate("bottom", |x| x[1] < -1.0 + 1e-9), [-1e-4, 0.0])
+    ///     .internal_fault("fault", [0.0, -0.5], [0.0, 0.5])
+    ///     .build()?;
+    /// // 9 fault nodes on the fine mesh: 2 shared tips, 7 split pairs (the slipping nodes).
+    /// assert_eq!(model.frictional_boundary.len(), 7);
+    /// assert_eq!(model.num_nodes(), 17 * 17 + 7);
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    pub fn internal_fault(mut self, name: &str, from: [f64; 2], to: [f64; 2]) -> Self {
+        let name = name.to_string();
+        self.internal_fault = Some(Box::new(move |mesh: &SimplexMesh<2>| {
+            let (split, sides) = mesh.split_along_segment(&name, from, to)?;
+            let transform = sides.mean_jump_transform::<C>(&split)?;
+            let n = split.num_vertices();
+            Ok((split, InternalFault::new(sides, transform, n)))
+        }));
+        self
+    }
+}
+
 impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     fn with_components(hierarchy: MeshHierarchy<D>) -> Self {
         Self {
@@ -468,6 +522,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             fault_tangent: None,
             slip_factor: 1.0,
             absorbing: Vec::new(),
+            internal_fault: None,
         }
     }
 
@@ -547,7 +602,8 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         self
     }
 
-    /// The frictional boundary Γ_F (required), with bilateral contact: the normal
+    /// The frictional boundary Γ_F (required unless the fault is inside the body,
+    /// [`internal_fault`](ModelBuilder::internal_fault)), with bilateral contact: the normal
     /// velocity component of its nodes is fixed (vector fields; a scalar field's one
     /// component is tangential).
     pub fn frictional_boundary(mut self, part: impl Into<Part<D>>) -> Self {
@@ -604,7 +660,15 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// and assembly errors ([`Error::Fem`]), e.g. a non-finite force or traction.
     pub fn build(self) -> Result<Model<D, C>> {
         const { assert!(C == D || C == 1, "vector (C = D) or scalar (C = 1) fields") };
-        let mesh = self.hierarchy.finest();
+        // A fault inside the body: the finest mesh cut open along it.
+        let (split, fault) = match &self.internal_fault {
+            Some(split_fault) => {
+                let (mesh, fault) = split_fault(self.hierarchy.finest())?;
+                (Some(mesh), Some(fault))
+            }
+            None => (None, None),
+        };
+        let mesh = split.as_ref().unwrap_or_else(|| self.hierarchy.finest());
         let n = C * mesh.num_vertices();
         let material = self
             .material
@@ -617,12 +681,32 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 format!("{s} must be finite and positive"),
             ));
         }
-        let fpart = self.frictional_boundary.as_ref().ok_or_else(|| {
-            invalid(
-                "frictional_boundary",
-                "not set (ModelBuilder::frictional_boundary)",
-            )
-        })?;
+        let minus_face: Part<D>;
+        let fpart = match (&self.frictional_boundary, &fault) {
+            (Some(p), None) => p,
+            (None, Some(f)) => {
+                minus_face = Part::from(f.sides.minus_tag());
+                &minus_face
+            }
+            (Some(_), Some(_)) => {
+                return Err(invalid(
+                    "frictional_boundary",
+                    "given besides an internal fault (whose minus face is Γ_F): give one",
+                ))
+            }
+            (None, None) => {
+                return Err(invalid(
+                    "frictional_boundary",
+                    "not set (ModelBuilder::frictional_boundary or internal_fault)",
+                ))
+            }
+        };
+        if fault.is_some() && s != 1.0 {
+            return Err(invalid(
+                "slip_factor",
+                "an internal fault's slip is its jump: no antisymmetric_fault with it",
+            ));
+        }
         self.loading.validate()?;
         if let Some(g) = self.gravity {
             if g.iter().any(|c| !c.is_finite()) {
@@ -674,19 +758,32 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let gamma_f = fpart.resolve(mesh)?;
         // A vector field slides tangentially (normal component fixed, nodal frames on
         // slanted nodes); a scalar field's one component is tangential to any in-plane Γ_F.
-        let frames: NodalFrames<C> = if C == D {
-            same_block_size(self.fault_frames(mesh, &gamma_f, fpart.name())?)
-        } else {
-            NodalFrames::default()
+        // An internal fault: the pair frames (kept for outputs; its matrices take `T`).
+        let frames: NodalFrames<C> = match &fault {
+            Some(f) => internal_fault_frames(f, &fixed)?,
+            None if C == D => same_block_size(self.fault_frames(mesh, &gamma_f, fpart.name())?),
+            None => NodalFrames::default(),
         };
-        if C == D {
+        if let Some(f) = &fault {
+            // The normal jump is tied (no opening); a scalar field has only the slip.
+            if C == D {
+                for &(mi, _) in f.pairs() {
+                    fixed[C * mi + C - 1] = true;
+                }
+            }
+        } else if C == D {
             for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
                 if let Some(c) = normal_axis(nrm) {
                     fixed[C * p + c] = true;
                 }
             }
         }
-        for (&p, q) in frames.nodes.iter().zip(&frames.rotations) {
+        for (&p, q) in frames
+            .nodes
+            .iter()
+            .zip(&frames.rotations)
+            .filter(|_| fault.is_none())
+        {
             let dofs = C * p..C * p + C;
             match fixed[dofs.clone()].iter().filter(|&&f| f).count() {
                 // Bilateral contact: the normal component in the frame.
@@ -775,8 +872,28 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             )
         };
 
+        // An internal fault: everything in the mean–jump unknowns, `Tᵀ A T` and `Tᵀ F`.
         // Slanted fault nodes: everything in the nodal frames (identity elsewhere).
-        let (mass, stiffness, energy_norm, absorbing) = if frames.nodes.is_empty() {
+        let (mass, stiffness, energy_norm, absorbing) = if let Some(f) = &fault {
+            load = f.pull_back(&load);
+            let congruence = |a: &SparseMatrix| f.transform.congruence(a);
+            let absorbing = match absorbing {
+                Some(mut a) => {
+                    a.damping = congruence(&a.damping)?;
+                    if !a.far_field_force.is_empty() {
+                        a.far_field_force = f.pull_back(&a.far_field_force);
+                    }
+                    Some(a)
+                }
+                None => None,
+            };
+            (
+                mass.as_ref().map(congruence).transpose()?,
+                congruence(&stiffness)?,
+                congruence(&energy_norm)?,
+                absorbing,
+            )
+        } else if frames.nodes.is_empty() {
             (mass, stiffness, energy_norm, absorbing)
         } else {
             frames.to_local(&mut load)?;
@@ -818,8 +935,24 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 .find(|o| o.is_ne())
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
-        let nodes_along: Vec<usize> = order.iter().map(|&k| gamma_f.nodes()[k]).collect();
-        let weights_along: Vec<f64> = order.iter().map(|&k| weights[k]).collect();
+        let (nodes_along, weights_along): (Vec<usize>, Vec<f64>) = match &fault {
+            // The pairs' minus nodes in order along the fault (a tip does not slip).
+            Some(f) => f
+                .pairs()
+                .iter()
+                .map(|&(mi, _)| {
+                    let k = gamma_f
+                        .nodes()
+                        .binary_search(&mi)
+                        .expect("a pair's minus node is on the minus face");
+                    (mi, weights[k])
+                })
+                .unzip(),
+            None => order
+                .iter()
+                .map(|&k| (gamma_f.nodes()[k], weights[k]))
+                .unzip(),
+        };
         let frictional_boundary =
             FrictionalBoundary::new(&nodes_along, &weights_along)?.with_slip_factor(s)?;
 
@@ -830,7 +963,9 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 _ => vectorize::<C>(self.hierarchy.prolongation(j)),
             })
             .collect();
-        if let Some(p) = prolongations
+        if let (Some(p), Some(f)) = (prolongations.last_mut(), &fault) {
+            *p = split_prolongation(f, p, self.hierarchy.finest().num_vertices())?;
+        } else if let Some(p) = prolongations
             .last_mut()
             .filter(|_| !frames.nodes.is_empty())
         {
@@ -858,6 +993,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             cells: mesh.cells().to_vec(),
             frames,
             absorbing,
+            internal_fault: fault,
         };
         // Consistent by construction; a simulation built on it validates it (once), with
         // the magnitudes of the user's data.
@@ -868,6 +1004,75 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         );
         Ok(model)
     }
+}
+
+/// The pair frames of an internal fault on its minus nodes, in increasing node order (for
+/// outputs: the jump block rotated back is the Cartesian jump); none for a scalar field.
+/// A Dirichlet constraint on a split node is refused: its Cartesian data would mix the
+/// mean and the jump.
+fn internal_fault_frames<const C: usize>(
+    fault: &InternalFault,
+    fixed: &[bool],
+) -> Result<NodalFrames<C>> {
+    for &(mi, pl) in fault.pairs() {
+        if let Some(p) = [mi, pl]
+            .into_iter()
+            .find(|&p| (0..C).any(|c| fixed[C * p + c]))
+        {
+            return Err(invalid(
+                "dirichlet",
+                format!(
+                    "node {p} is a split node of the internal fault `{}`: a Dirichlet part \
+                     there would prescribe the mean and the jump together; keep Dirichlet \
+                     parts off the fault",
+                    fault.sides.name()
+                ),
+            ));
+        }
+    }
+    if C != 2 {
+        return Ok(NodalFrames::default());
+    }
+    let mut frames: Vec<(usize, [[f64; C]; C])> = fault
+        .pairs()
+        .iter()
+        .zip(&fault.transform.frames)
+        .map(|(&(mi, _), r)| {
+            (
+                mi,
+                std::array::from_fn(|a| std::array::from_fn(|b| r[a][b])),
+            )
+        })
+        .collect();
+    frames.sort_by_key(|f| f.0);
+    Ok(NodalFrames {
+        nodes: frames.iter().map(|f| f.0).collect(),
+        rotations: frames.into_iter().map(|f| f.1).collect(),
+    })
+}
+
+/// The finest prolongation `P` (onto the unsplit mesh of `unsplit` vertices) for the split
+/// mesh in the fault's unknowns: a plus copy takes its original's (the minus node's) row,
+/// then `T⁻¹ P`. The coarse spaces stay continuous across the fault.
+fn split_prolongation(
+    fault: &InternalFault,
+    p: &SparseMatrix,
+    unsplit: usize,
+) -> Result<SparseMatrix> {
+    let c = p.nrows() / unsplit;
+    let n = fault.transform.t.nrows() / c;
+    let mut original: Vec<usize> = (0..n).collect();
+    for &(mi, pl) in fault.pairs() {
+        original[pl] = mi;
+    }
+    let copy: Vec<Triplet<usize, usize, f64>> = (0..c * n)
+        .map(|i| Triplet::new(i, c * original[i / c] + i % c, 1.0))
+        .collect();
+    let copy = SparseColMat::try_new_from_triplets(c * n, p.nrows(), &copy)
+        .map_err(|e| rsf_fem::Error::Faer(format!("{e:?}")))?;
+    let p_split = sparse_sparse_matmul(copy.as_ref(), p.as_ref(), 1.0, Par::Seq)
+        .map_err(|e| rsf_fem::Error::Faer(format!("{e:?}")))?;
+    Ok(fault.transform.prolongation(&p_split)?)
 }
 
 /// `frames` as frames of `C`-component blocks, for `C = D` (where they are the same type).

@@ -6,6 +6,7 @@ pub(crate) mod builder;
 pub(crate) mod conditioning;
 pub(crate) mod equilibrium;
 pub(crate) mod fault;
+pub(crate) mod internal;
 pub(crate) mod loading;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
@@ -18,6 +19,7 @@ pub use builder::{
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
 pub use fault::FrictionalBoundary;
+pub use internal::InternalFault;
 pub use loading::{DirichletVelocity, TimeFunction};
 
 use rsf_fem::{NodalFrames, SparseMatrix};
@@ -108,6 +110,10 @@ pub struct Model<const D: usize, const C: usize = D> {
     /// boundaries"); `None` (the default) for none: the velocity problem is then exactly
     /// what it was without them.
     pub absorbing: Option<AbsorbingBoundary>,
+    /// A fault inside the body ([`ModelBuilder::internal_fault`]): the split pairs and the
+    /// mean–jump change of variables every matrix, load and state vector is written in;
+    /// `None` for a fault on the boundary.
+    pub internal_fault: Option<InternalFault>,
 }
 
 impl<const D: usize, const C: usize> Model<D, C> {
@@ -186,6 +192,51 @@ impl<const D: usize, const C: usize> Model<D, C> {
             None => x,
             Some(q) => std::array::from_fn(|r| (0..C).map(|c| q[r][c] * x[c]).sum()),
         }
+    }
+
+    /// The Cartesian block of mesh vertex `vertex` (a vertex id) of a whole model vector
+    /// `x` (`C` entries per vertex, model coordinates): `Q_p x_p` at a frame node, at a
+    /// split vertex of an internal fault its side's value `w ∓ R_p j/2` (docs/math.md §15),
+    /// `x_p` elsewhere.
+    ///
+    /// # Panics
+    /// If `vertex` is not a vertex of the model or `x` is shorter than the model's vectors.
+    pub fn vertex_value(&self, vertex: usize, x: &[f64]) -> [f64; C] {
+        if let Some(b) = self
+            .internal_fault
+            .as_ref()
+            .and_then(|f| f.vertex_block::<C>(vertex, x))
+        {
+            return b;
+        }
+        self.to_global(vertex, std::array::from_fn(|c| x[C * vertex + c]))
+    }
+
+    /// A whole model vector (`C` entries per vertex) in Cartesian components at every
+    /// vertex: nodal frames rotated back, an internal fault's mean and jump turned into
+    /// the two sides' values (`T x`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] if `x` does not have [`num_dofs`](Self::num_dofs) entries.
+    pub fn to_cartesian(&self, x: &[f64]) -> Result<Vec<f64>> {
+        if x.len() != self.num_dofs() {
+            return Err(invalid(
+                "x",
+                format!(
+                    "has {} entries, the model {} dofs",
+                    x.len(),
+                    self.num_dofs()
+                ),
+            ));
+        }
+        if let Some(f) = &self.internal_fault {
+            return Ok(f.to_cartesian(x));
+        }
+        let mut g = x.to_vec();
+        if !self.frames.nodes.is_empty() {
+            self.frames.to_global(&mut g)?;
+        }
+        Ok(g)
     }
 
     /// The Cartesian block `x` of mesh vertex `vertex` (a vertex id) → model coordinates:

@@ -104,8 +104,7 @@ impl<const D: usize, const C: usize> StepView<'_, D, C> {
     /// If `vertex` is not a vertex of the model (callers check vertices when they are
     /// created).
     pub fn displacement(&self, vertex: usize) -> [f64; C] {
-        self.model
-            .to_global(vertex, block(&self.state.kinematics.u, vertex))
+        self.model.vertex_value(vertex, &self.state.kinematics.u)
     }
 
     /// The velocity of mesh vertex `vertex` (a vertex id; m/s), Cartesian components.
@@ -113,8 +112,7 @@ impl<const D: usize, const C: usize> StepView<'_, D, C> {
     /// # Panics
     /// If `vertex` is not a vertex of the model.
     pub fn velocity(&self, vertex: usize) -> [f64; C] {
-        self.model
-            .to_global(vertex, block(&self.state.kinematics.v, vertex))
+        self.model.vertex_value(vertex, &self.state.kinematics.v)
     }
 
     /// The displacement of mesh vertex `vertex` (a vertex id; m) in model coordinates: at

@@ -115,15 +115,11 @@ fn state_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
     out
 }
 
-/// A node-major vector of the model in Cartesian components (nodal frames rotated back).
+/// A node-major vector of the model in Cartesian components (nodal frames rotated back,
+/// an internal fault's two sides).
 fn global<const D: usize>(m: &Model<D>, x: &[f64]) -> Vec<f64> {
-    let mut g = x.to_vec();
-    if !m.frames.nodes.is_empty() {
-        m.frames
-            .to_global(&mut g)
-            .expect("the state vectors match the model");
-    }
-    g
+    m.to_cartesian(x)
+        .expect("the state vectors match the model")
 }
 
 /// `f(k)` at the `k`-th frictional node, NaN elsewhere.
