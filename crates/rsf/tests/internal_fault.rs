@@ -366,3 +366,84 @@ fn an_internal_fault_refuses_what_does_not_fit() {
         Err(rsf::Error::Fem(_))
     ));
 }
+
+/// The last step's slip of every frictional node (m).
+#[derive(Default)]
+struct LastSlip(Vec<f64>);
+
+impl rsf::Observer<2> for LastSlip {
+    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
+        self.0 = (0..s.model.frictional_boundary.len())
+            .map(|k| s.slip(k)[0].hypot(s.slip(k)[1]))
+            .collect();
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// The quasi-dynamic problem on the sheared block's internal fault (velocity
+/// strengthening, a = 0.015 > b = 0.01, f₀ = 0.1 so that the loading reaches the friction
+/// after about 1.3 s, the regularised law, aging law, radiation damping μ/(2c_s)) as a
+/// builder, the state steady at 1e-4 m/s.
+fn quasi_dynamic(
+) -> SimulationBuilder<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::time::Quasistatic, 2> {
+    let model = sheared_block(0.0).unwrap();
+    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
+    let params = rsf::friction::RateStateParams {
+        mu0: 0.1,
+        a: 0.015,
+        b: 0.01,
+        v0: 1e-6,
+        l: 1e-4,
+        sigma_n: 5e6,
+    };
+    SimulationBuilder::new(model)
+        .friction(rsf::friction::AsinhLaw::new(params).unwrap())
+        .state_law(rsf::state::Aging::new(params.l).unwrap())
+        .initial_state((params.l / 1e-4f64).ln())
+        .integrator(rsf::time::Quasistatic::new())
+        .radiation_damping(mu / (2.0 * c_s))
+}
+
+/// The two engines on an internal fault: the fault ODE (the volume condensed onto the
+/// jump, Runge–Kutta at tolerance 1e-9) and the implicit scheme (backward Euler, fixed
+/// steps) agree, the implicit scheme converging to the fault ODE at first order in τ.
+#[test]
+fn the_fault_ode_and_the_implicit_scheme_agree_on_an_internal_fault() {
+    let t_end = 3.0;
+    let mut ode = quasi_dynamic()
+        .time_step(1e-3)
+        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
+            tolerance: 1e-9,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut reference = LastSlip::default();
+    rsf::run_until(&mut ode, rsf::Until::Time(t_end), &mut [&mut reference]).unwrap();
+    let scale = reference.0.iter().fold(0.0f64, |m, &x| m.max(x));
+    assert!(scale > 0.0);
+    let mut errors = Vec::new();
+    for steps in [25, 50, 100, 200] {
+        let mut sim = quasi_dynamic()
+            .time_step(t_end / steps as f64)
+            .solver(SolverKind::Direct)
+            .build()
+            .unwrap();
+        let mut last = LastSlip::default();
+        sim.run(steps, &mut [&mut last]).unwrap();
+        let e = last
+            .0
+            .iter()
+            .zip(&reference.0)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale;
+        eprintln!(
+            "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
+        );
+        errors.push(e);
+    }
+    for w in errors.windows(2) {
+        let rate = (w[0] / w[1]).log2();
+        eprintln!("rate {rate:.3}");
+        assert!(rate > 0.8, "{errors:?}");
+    }
+}
