@@ -937,17 +937,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         });
         let (nodes_along, weights_along): (Vec<usize>, Vec<f64>) = match &fault {
             // The pairs' minus nodes in order along the fault (a tip does not slip).
-            Some(f) => f
-                .pairs()
-                .iter()
-                .map(|&(mi, _)| {
-                    let k = gamma_f
-                        .nodes()
-                        .binary_search(&mi)
-                        .expect("a pair's minus node is on the minus face");
-                    (mi, weights[k])
-                })
-                .unzip(),
+            Some(f) => {
+                let mut weight_of = vec![f64::NAN; mesh.num_vertices()];
+                for (&p, &w) in gamma_f.nodes().iter().zip(&weights) {
+                    weight_of[p] = w;
+                }
+                f.pairs().iter().map(|&(mi, _)| (mi, weight_of[mi])).unzip()
+            }
             None => order
                 .iter()
                 .map(|&k| (gamma_f.nodes()[k], weights[k]))
