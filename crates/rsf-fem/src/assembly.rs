@@ -195,6 +195,21 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
         out: &mut SparseMatrix,
         mut element: impl FnMut(&[[f64; D]; 4], f64, &mut [f64]),
     ) -> Result<()> {
+        self.assemble_cells_into(mesh, out, |_, g, m, local| element(g, m, local))
+    }
+
+    /// As [`Assembler::assemble_into`] with the cell's index passed to the element:
+    /// `element(cell, grads, measure, local)`, e.g. for a material that changes from cell
+    /// to cell (regions of a heterogeneous body). Cells are visited in increasing index.
+    ///
+    /// # Errors
+    /// As [`Assembler::assemble_into`].
+    pub fn assemble_cells_into(
+        &self,
+        mesh: &SimplexMesh<D>,
+        out: &mut SparseMatrix,
+        mut element: impl FnMut(usize, &[[f64; D]; 4], f64, &mut [f64]),
+    ) -> Result<()> {
         self.check_mesh(mesh)?;
         if out.symbolic().row_idx().len() != self.symbolic.row_idx().len()
             || out.nrows() != self.num_dofs()
@@ -211,7 +226,7 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
         for c in 0..self.num_cells {
             let x = mesh.cell_coords(c);
             let (g, m) = p1_gradients::<D>(&x[..k]).expect("mesh cells are non-degenerate");
-            element(&g, m, local);
+            element(c, &g, m, local);
             let cell = mesh.cell(c);
             let offs = &self.local_offset[c * k * k..(c + 1) * k * k];
             for a in 0..k {

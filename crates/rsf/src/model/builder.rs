@@ -7,13 +7,10 @@ use rsf_fem::{
 
 use super::absorbing::{AbsorbingBoundary, ResolvedPart};
 use super::fault::FrictionalBoundary;
-use super::internal::{InternalFault, SplitFault};
+use super::internal::{split_hierarchy, InternalFault, SplitFault};
 use super::loading::{DirichletVelocity, TimeFunction};
 use super::Model;
 use crate::error::{invalid, Error, Result};
-use faer::sparse::linalg::matmul::sparse_sparse_matmul;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::Par;
 
 /// Isotropic linear elastic material (SI units; in 2D plane strain, per unit thickness).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,6 +65,14 @@ pub struct MediumMatrices {
 pub trait Medium<const D: usize, const C: usize> {
     /// Density ρ (kg/m³; kg/m² per unit thickness in 2D) for gravity's body force `ρ g`.
     fn density(&self) -> f64;
+
+    /// The density at `x` (m) for gravity's body force `ρ(x) g` of a heterogeneous body
+    /// (e.g. [`MaterialRegions`](crate::model::MaterialRegions)); default
+    /// [`density`](Self::density) everywhere.
+    fn density_at(&self, x: &[f64; D]) -> f64 {
+        let _ = x;
+        self.density()
+    }
 
     /// Stiffness, mass (if `with_mass`) and energy norm on `mesh`, all on one pattern.
     ///
@@ -466,9 +471,11 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// unknowns of the split pairs ([`InternalFault`], docs/math.md §15): Γ_F is the
     /// pairs' minus nodes, the slip is the jump's tangential component (the normal one is
     /// tied for a vector field: no opening), the weights are the minus face's, the friction
-    /// and state laws see the slip exactly as on a boundary fault. The coarse levels of a
-    /// hierarchy stay continuous across the fault (the finest prolongation gives a plus
-    /// copy its original's row, then `T⁻¹ P`). Outputs at split vertices
+    /// and state laws see the slip exactly as on a boundary fault. Every coarser level of
+    /// a hierarchy that resolves the segment is split too, and its prolongation
+    /// interpolates each vertex from the coarse vertices on its own side, so the coarse
+    /// spaces of multigrid can slip (levels too coarse to resolve the segment stay
+    /// continuous; the finest prolongation is `T⁻¹ P`). Outputs at split vertices
     /// ([`StepView::displacement`](crate::observe::StepView::displacement), VTU frames)
     /// are Cartesian.
     ///
@@ -496,11 +503,8 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// ```
     pub fn internal_fault(mut self, name: &str, from: [f64; 2], to: [f64; 2]) -> Self {
         let name = name.to_string();
-        self.internal_fault = Some(Box::new(move |mesh: &SimplexMesh<2>| {
-            let (split, sides) = mesh.split_along_segment(&name, from, to)?;
-            let transform = sides.mean_jump_transform::<C>(&split)?;
-            let n = split.num_vertices();
-            Ok((split, InternalFault::new(sides, transform, n)))
+        self.internal_fault = Some(Box::new(move |hierarchy: &MeshHierarchy<2>| {
+            split_hierarchy::<C>(hierarchy, &name, from, to)
         }));
         self
     }
@@ -661,12 +665,12 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     pub fn build(self) -> Result<Model<D, C>> {
         const { assert!(C == D || C == 1, "vector (C = D) or scalar (C = 1) fields") };
         // A fault inside the body: the finest mesh cut open along it.
-        let (split, fault) = match &self.internal_fault {
+        let (split, fault, split_prolongations) = match &self.internal_fault {
             Some(split_fault) => {
-                let (mesh, fault) = split_fault(self.hierarchy.finest())?;
-                (Some(mesh), Some(fault))
+                let s = split_fault(&self.hierarchy)?;
+                (Some(s.mesh), Some(s.fault), Some(s.prolongations))
             }
-            None => (None, None),
+            None => (None, None, None),
         };
         let mesh = split.as_ref().unwrap_or_else(|| self.hierarchy.finest());
         let n = C * mesh.num_vertices();
@@ -826,15 +830,17 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             self.absorbing_parts(mesh, material.as_ref(), &gamma_f, &fixed, &stiffness)?;
 
         // Loads (gravity only for vector fields: its setter needs C = D).
-        let rho = material.density();
-        let gravity = |g: [f64; D]| -> [f64; C] { std::array::from_fn(|c| rho * g[c]) };
+        let gravity = |g: [f64; D], x: &[f64; D]| -> [f64; C] {
+            let rho = material.density_at(x);
+            std::array::from_fn(|c| rho * g[c])
+        };
         let mut load = match (self.gravity, &self.body_force) {
             (None, None) => vec![0.0; n],
-            (Some(g), None) => body_force_load_components(mesh, |_| gravity(g))?,
+            (Some(g), None) => body_force_load_components(mesh, |x| gravity(g, x))?,
             (None, Some(f)) => body_force_load_components(mesh, f)?,
             (Some(g), Some(f)) => body_force_load_components(mesh, |x| {
                 let mut v = f(x);
-                for (vc, gc) in v.iter_mut().zip(gravity(g)) {
+                for (vc, gc) in v.iter_mut().zip(gravity(g, x)) {
                     *vc += gc;
                 }
                 v
@@ -952,15 +958,20 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let frictional_boundary =
             FrictionalBoundary::new(&nodes_along, &weights_along)?.with_slip_factor(s)?;
 
-        let mut prolongations: Vec<_> = (1..self.hierarchy.num_levels())
-            .map(|j| match C {
-                1 => self.hierarchy.prolongation(j).clone(),
-                _ if C == D => self.hierarchy.vector_prolongation(j).clone(),
-                _ => vectorize::<C>(self.hierarchy.prolongation(j)),
-            })
-            .collect();
+        let mut prolongations: Vec<_> = match &split_prolongations {
+            // Split levels: Cartesian coarse spaces, discontinuous across the fault.
+            Some(split) => split.iter().map(vectorize::<C>).collect(),
+            None => (1..self.hierarchy.num_levels())
+                .map(|j| match C {
+                    1 => self.hierarchy.prolongation(j).clone(),
+                    _ if C == D => self.hierarchy.vector_prolongation(j).clone(),
+                    _ => vectorize::<C>(self.hierarchy.prolongation(j)),
+                })
+                .collect(),
+        };
         if let (Some(p), Some(f)) = (prolongations.last_mut(), &fault) {
-            *p = split_prolongation(f, p, self.hierarchy.finest().num_vertices())?;
+            // Onto the finest level's mean–jump unknowns: T⁻¹ P.
+            *p = f.transform.prolongation(p)?;
         } else if let Some(p) = prolongations
             .last_mut()
             .filter(|_| !frames.nodes.is_empty())
@@ -1045,30 +1056,6 @@ fn internal_fault_frames<const C: usize>(
         nodes: frames.iter().map(|f| f.0).collect(),
         rotations: frames.into_iter().map(|f| f.1).collect(),
     })
-}
-
-/// The finest prolongation `P` (onto the unsplit mesh of `unsplit` vertices) for the split
-/// mesh in the fault's unknowns: a plus copy takes its original's (the minus node's) row,
-/// then `T⁻¹ P`. The coarse spaces stay continuous across the fault.
-fn split_prolongation(
-    fault: &InternalFault,
-    p: &SparseMatrix,
-    unsplit: usize,
-) -> Result<SparseMatrix> {
-    let c = p.nrows() / unsplit;
-    let n = fault.transform.t.nrows() / c;
-    let mut original: Vec<usize> = (0..n).collect();
-    for &(mi, pl) in fault.pairs() {
-        original[pl] = mi;
-    }
-    let copy: Vec<Triplet<usize, usize, f64>> = (0..c * n)
-        .map(|i| Triplet::new(i, c * original[i / c] + i % c, 1.0))
-        .collect();
-    let copy = SparseColMat::try_new_from_triplets(c * n, p.nrows(), &copy)
-        .map_err(|e| rsf_fem::Error::Faer(format!("{e:?}")))?;
-    let p_split = sparse_sparse_matmul(copy.as_ref(), p.as_ref(), 1.0, Par::Seq)
-        .map_err(|e| rsf_fem::Error::Faer(format!("{e:?}")))?;
-    Ok(fault.transform.prolongation(&p_split)?)
 }
 
 /// `frames` as frames of `C`-component blocks, for `C = D` (where they are the same type).

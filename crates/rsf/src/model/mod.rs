@@ -8,6 +8,7 @@ pub(crate) mod equilibrium;
 pub(crate) mod fault;
 pub(crate) mod internal;
 pub(crate) mod loading;
+pub(crate) mod regions;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
@@ -21,6 +22,7 @@ pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLE
 pub use fault::FrictionalBoundary;
 pub use internal::InternalFault;
 pub use loading::{DirichletVelocity, TimeFunction};
+pub use regions::{CellPredicate, MaterialRegions};
 
 use rsf_fem::{NodalFrames, SparseMatrix};
 
