@@ -392,6 +392,36 @@ impl SimplexMesh<2> {
         a: [f64; 2],
         b: [f64; 2],
     ) -> Result<(Self, FaultSides)> {
+        self.split_along_polyline(name, &[a, b])
+    }
+
+    /// [`SimplexMesh::split_along`] for a fault made of straight pieces `points[0] →
+    /// points[1] → …` (m; e.g. a kinked fault, or a Gmsh physical curve's vertices in order):
+    /// the mesh edges on each piece, directed from `points[0]`. A piece's ends must be mesh
+    /// vertices joined by mesh edges along it.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] for fewer than two points; [`Error::FaultSegmentNotResolved`]
+    /// for a piece the mesh does not resolve (or a non-finite or zero-length one);
+    /// otherwise as [`SimplexMesh::split_along`] (e.g. [`Error::FaultEdgeRepeated`] or
+    /// [`Error::FaultNotManifold`] for a polyline that runs back over or crosses itself).
+    pub fn split_along_polyline(
+        &self,
+        name: &str,
+        points: &[[f64; 2]],
+    ) -> Result<(Self, FaultSides)> {
+        if points.len() < 2 {
+            return Err(Error::EmptyFault);
+        }
+        let mut edges = Vec::new();
+        for piece in points.windows(2) {
+            edges.extend(self.edges_along_segment(piece[0], piece[1])?);
+        }
+        self.split_along(name, &edges)
+    }
+
+    /// The mesh edges tiling the segment `a → b` in order, each directed from `a` to `b`.
+    fn edges_along_segment(&self, a: [f64; 2], b: [f64; 2]) -> Result<Vec<[usize; 2]>> {
         let d = [b[0] - a[0], b[1] - a[1]];
         let len = d[0].hypot(d[1]);
         if !(len > 0.0 && len.is_finite() && a.iter().all(|x| x.is_finite())) {
@@ -436,7 +466,6 @@ impl SimplexMesh<2> {
                 point: [a[0] + d[0] * reach / len, a[1] + d[1] * reach / len],
             });
         }
-        let edges: Vec<[usize; 2]> = found.into_iter().map(|(_, e)| e).collect();
-        self.split_along(name, &edges)
+        Ok(found.into_iter().map(|(_, e)| e).collect())
     }
 }

@@ -19,6 +19,9 @@ pub struct MeanJumpTransform {
     /// The pair frame `R_p` of every split pair (row-major, columns `(t, −n)`, `n` the
     /// minus side's outward normal, as [`crate::NodalFrames`]); for `C = 1` unused.
     pub frames: Vec<[[f64; 2]; 2]>,
+    /// The share `β_p ∈ [0, 1]` of the jump the minus side takes at every split pair
+    /// (`u⁻ = w − β_p R_p j`, `u⁺ = w + (1 − β_p) R_p j`); ½ for the mean.
+    pub minus_share: Vec<f64>,
 }
 
 impl FaultSides {
@@ -40,6 +43,14 @@ impl FaultSides {
         &self,
         mesh: &SimplexMesh<2>,
     ) -> Result<MeanJumpTransform> {
+        let frames = self.pair_frames::<C>(mesh)?;
+        let pairs = self.pairs();
+        let half = vec![0.5; pairs.len()];
+        assemble_transform::<C>(&pairs, mesh.num_vertices(), frames, &half)
+    }
+
+    /// The pair frames `R_p` (columns `(t, −n)`) of every split pair, in order.
+    fn pair_frames<const C: usize>(&self, mesh: &SimplexMesh<2>) -> Result<Vec<[[f64; 2]; 2]>> {
         if C != 1 && C != 2 {
             return Err(Error::Unsupported(
                 "mean-jump transform for C other than 1, 2",
@@ -60,17 +71,12 @@ impl FaultSides {
             });
         }
         let length = |k: usize| mesh.boundary_facet_measure(self.minus_facets()[k]);
-        let mut in_pair = vec![false; nv];
-        let mut t = Vec::new();
-        let mut ti = Vec::new();
-        let mut frames = Vec::new();
         let edges = self.normals().len();
+        let mut frames = Vec::new();
         for (i, &(a, b)) in self.nodes().iter().enumerate() {
             if a == b {
                 continue;
             }
-            in_pair[a] = true;
-            in_pair[b] = true;
             let mut n = [0.0; 2];
             for k in [i.wrapping_sub(1), i].into_iter().filter(|&k| k < edges) {
                 let w = length(k);
@@ -81,53 +87,110 @@ impl FaultSides {
             if !(l > 1e-12 * length(i.min(edges - 1))) {
                 return Err(Error::UndefinedNormal { vertex: a });
             }
-            let r = frame_from_normal::<2>(&[n[0] / l, n[1] / l], None);
-            frames.push(r);
-            for x in 0..C {
-                for y in 0..C {
-                    let (rxy, id) = if C == 2 {
-                        (r[x][y], f64::from(u8::from(x == y)))
-                    } else {
-                        (1.0, 1.0)
-                    };
-                    // u⁻ = w − R j/2, u⁺ = w + R j/2.
-                    t.push(Triplet::new(C * a + x, C * a + y, -0.5 * rxy));
-                    t.push(Triplet::new(C * b + x, C * a + y, 0.5 * rxy));
-                    if id != 0.0 {
-                        t.push(Triplet::new(C * a + x, C * b + y, 1.0));
-                        t.push(Triplet::new(C * b + x, C * b + y, 1.0));
-                    }
-                    // j = Rᵀ(u⁺ − u⁻), w = (u⁺ + u⁻)/2; (Rᵀ)_{xy} = R_{yx}.
-                    let ryx = if C == 2 { r[y][x] } else { 1.0 };
-                    ti.push(Triplet::new(C * a + x, C * a + y, -ryx));
-                    ti.push(Triplet::new(C * a + x, C * b + y, ryx));
-                    if id != 0.0 {
-                        ti.push(Triplet::new(C * b + x, C * a + y, 0.5));
-                        ti.push(Triplet::new(C * b + x, C * b + y, 0.5));
-                    }
-                }
-            }
+            frames.push(frame_from_normal::<2>(&[n[0] / l, n[1] / l], None));
         }
-        for p in (0..nv).filter(|&p| !in_pair[p]) {
-            for x in 0..C {
-                t.push(Triplet::new(C * p + x, C * p + x, 1.0));
-                ti.push(Triplet::new(C * p + x, C * p + x, 1.0));
-            }
-        }
-        let n = C * nv;
-        let build = |trip: &[Triplet<usize, usize, f64>]| {
-            SparseColMat::try_new_from_triplets(n, n, trip)
-                .map_err(|e| Error::Faer(format!("{e:?}")))
-        };
-        Ok(MeanJumpTransform {
-            t: build(&t)?,
-            t_inv: build(&ti)?,
-            frames,
-        })
+        Ok(frames)
     }
 }
 
+/// `T` and `T⁻¹` of the pairs `pairs` on `nv` vertices with their frames and the minus
+/// sides' shares of the jump.
+fn assemble_transform<const C: usize>(
+    pairs: &[(usize, usize)],
+    nv: usize,
+    frames: Vec<[[f64; 2]; 2]>,
+    minus_share: &[f64],
+) -> Result<MeanJumpTransform> {
+    if minus_share.len() != pairs.len() {
+        return Err(Error::DimensionMismatch {
+            what: "jump shares (one per split pair)",
+            expected: pairs.len(),
+            got: minus_share.len(),
+        });
+    }
+    if minus_share.iter().any(|b| !(0.0..=1.0).contains(b)) {
+        return Err(Error::Unsupported("a jump share outside [0, 1]"));
+    }
+    let mut in_pair = vec![false; nv];
+    let mut t = Vec::new();
+    let mut ti = Vec::new();
+    for ((&(a, b), r), &beta_minus) in pairs.iter().zip(&frames).zip(minus_share) {
+        let beta_plus = 1.0 - beta_minus;
+        in_pair[a] = true;
+        in_pair[b] = true;
+        for x in 0..C {
+            for y in 0..C {
+                let (rxy, id) = if C == 2 {
+                    (r[x][y], f64::from(u8::from(x == y)))
+                } else {
+                    (1.0, 1.0)
+                };
+                // u⁻ = w − β R j, u⁺ = w + (1 − β) R j.
+                t.push(Triplet::new(C * a + x, C * a + y, -beta_minus * rxy));
+                t.push(Triplet::new(C * b + x, C * a + y, beta_plus * rxy));
+                if id != 0.0 {
+                    t.push(Triplet::new(C * a + x, C * b + y, 1.0));
+                    t.push(Triplet::new(C * b + x, C * b + y, 1.0));
+                }
+                // j = Rᵀ(u⁺ − u⁻), w = (1 − β) u⁻ + β u⁺; (Rᵀ)_{xy} = R_{yx}.
+                let ryx = if C == 2 { r[y][x] } else { 1.0 };
+                ti.push(Triplet::new(C * a + x, C * a + y, -ryx));
+                ti.push(Triplet::new(C * a + x, C * b + y, ryx));
+                if id != 0.0 {
+                    ti.push(Triplet::new(C * b + x, C * a + y, beta_plus));
+                    ti.push(Triplet::new(C * b + x, C * b + y, beta_minus));
+                }
+            }
+        }
+    }
+    for p in (0..nv).filter(|&p| !in_pair[p]) {
+        for x in 0..C {
+            t.push(Triplet::new(C * p + x, C * p + x, 1.0));
+            ti.push(Triplet::new(C * p + x, C * p + x, 1.0));
+        }
+    }
+    let n = C * nv;
+    let build = |trip: &[Triplet<usize, usize, f64>]| {
+        SparseColMat::try_new_from_triplets(n, n, trip).map_err(|e| Error::Faer(format!("{e:?}")))
+    };
+    Ok(MeanJumpTransform {
+        t: build(&t)?,
+        t_inv: build(&ti)?,
+        frames,
+        minus_share: minus_share.to_vec(),
+    })
+}
+
 impl MeanJumpTransform {
+    /// The same change of variables with the jump shared unequally between the sides: at
+    /// pair `p` (in the order of [`FaultSides::pairs`]) `u⁻ = w − β_p R_p j`,
+    /// `u⁺ = w + (1 − β_p) R_p j`, so `j = R_pᵀ(u⁺ − u⁻)` is still the jump and
+    /// `w = (1 − β_p) u⁻ + β_p u⁺` a weighted mean (`β_p = ½`: the mean). With `β_p` the
+    /// plus side's share of the two sides' stiffness at the pair, `w` follows the stiffer
+    /// side and the jump's diagonal coupling to it vanishes: a node-block smoother then
+    /// relaxes the slip without dragging a stiff side along (a body on a much stiffer
+    /// base, docs/faults-inside.md). `sides` are the fault's of this transform.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `minus_share` does not have one entry per pair;
+    /// [`Error::Unsupported`] for a share outside `[0, 1]` or `C` other than 1, 2.
+    pub fn reshared<const C: usize>(
+        &self,
+        sides: &FaultSides,
+        minus_share: &[f64],
+    ) -> Result<MeanJumpTransform> {
+        if C != 1 && C != 2 {
+            return Err(Error::Unsupported(
+                "mean-jump transform for C other than 1, 2",
+            ));
+        }
+        assemble_transform::<C>(
+            &sides.pairs(),
+            self.t.nrows() / C,
+            self.frames.clone(),
+            minus_share,
+        )
+    }
     /// `K' = Tᵀ A T` of a symmetric matrix `a` of the split mesh (stiffness, mass, energy
     /// norm; `C·n × C·n`, node-major): the matrix in the new coordinates, made exactly
     /// symmetric (`½(B + Bᵀ)` of the sparse product `B`, sequential and so the same bits on

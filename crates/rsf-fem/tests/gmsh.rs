@@ -499,6 +499,11 @@ fn an_interior_physical_curve_is_a_fault_to_split() {
     let g = parse_gmsh_with::<2>(text.as_bytes(), options).unwrap();
     assert_eq!(g.interior_facets["bottom"], vec![[1, 4]]);
     assert_eq!(g.mesh.facets_with_tag("bottom").len(), 1);
+    // The curve as a polyline for a model builder: (1, 0) → (1, 1), the file's direction.
+    assert_eq!(
+        g.interior_polyline("bottom").unwrap(),
+        vec![[1.0, 0.0], [1.0, 1.0]]
+    );
     let (split, sides) = g.split_along_group("bottom").unwrap();
     // A through-going fault: both ends on the boundary, both split.
     assert_eq!(sides.pairs().len(), 2);

@@ -289,3 +289,52 @@ fn antiplane_dislocation_through_the_transform_equals_elimination() {
         .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
     assert!(d < 1e-12, "transform vs elimination: {d:e}");
 }
+
+/// The jump shared unequally (`MeanJumpTransform::reshared`): still an inverse pair, the
+/// jump block is the same `Rᵀ(u⁺ − u⁻)` whatever the shares, the other block the weighted
+/// mean `(1 − β) u⁻ + β u⁺`, and shares outside [0, 1] or of the wrong count are refused.
+#[test]
+fn a_reshared_transform_keeps_the_jump_and_weights_the_mean() {
+    // A kinked fault: the pair frames differ along it.
+    let m = square(0.0);
+    let (s, sides) = m
+        .split_along_polyline("f", &[[-0.5, -1.0], [0.0, -0.5], [0.0, 0.5]])
+        .unwrap();
+    let mean = sides.mean_jump_transform::<2>(&s).unwrap();
+    let pairs = sides.pairs();
+    let shares: Vec<f64> = (0..pairs.len())
+        .map(|k| (k as f64 + 0.5) / pairs.len() as f64)
+        .collect();
+    let tr = mean.reshared::<2>(&sides, &shares).unwrap();
+    let id = dense(&(&tr.t * &tr.t_inv));
+    for (i, r) in id.iter().enumerate() {
+        for (j, v) in r.iter().enumerate() {
+            assert!((v - f64::from(u8::from(i == j))).abs() < 1e-15);
+        }
+    }
+    let u: Vec<f64> = (0..2 * s.num_vertices())
+        .map(|i| ((i * 7919) % 101) as f64 / 101.0 - 0.5)
+        .collect();
+    let (a, b) = (
+        matvec(&dense(&mean.t_inv), &u),
+        matvec(&dense(&tr.t_inv), &u),
+    );
+    for (k, &(mi, pl)) in pairs.iter().enumerate() {
+        for c in 0..2 {
+            assert!((a[2 * mi + c] - b[2 * mi + c]).abs() < 1e-15);
+            let w = (1.0 - shares[k]) * u[2 * mi + c] + shares[k] * u[2 * pl + c];
+            assert!((b[2 * pl + c] - w).abs() < 1e-15);
+        }
+    }
+    let half = vec![0.5; pairs.len()];
+    let again = mean.reshared::<2>(&sides, &half).unwrap();
+    assert_eq!(dense(&again.t), dense(&mean.t));
+    assert!(matches!(
+        mean.reshared::<2>(&sides, &[1.5; 1].repeat(pairs.len())),
+        Err(Error::Unsupported(_))
+    ));
+    assert!(matches!(
+        mean.reshared::<2>(&sides, &[0.5]),
+        Err(Error::DimensionMismatch { .. })
+    ));
+}

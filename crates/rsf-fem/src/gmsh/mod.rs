@@ -406,6 +406,23 @@ impl GmshMesh<2> {
         let edges = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
         self.mesh.split_along(group, edges)
     }
+
+    /// The vertices (m) of the physical curve `group`'s interior facets in order along the
+    /// fault ([`FaultSides::nodes`](crate::FaultSides::nodes) of
+    /// [`split_along_group`](Self::split_along_group)): the polyline to give a model
+    /// builder that refines the mesh first (each piece is one edge of this mesh, which
+    /// uniform refinement splits along the straight piece).
+    ///
+    /// # Errors
+    /// As [`split_along_group`](Self::split_along_group).
+    pub fn interior_polyline(&self, group: &str) -> Result<Vec<[f64; 2]>> {
+        let (split, sides) = self.split_along_group(group)?;
+        Ok(sides
+            .nodes()
+            .iter()
+            .map(|&(minus, _)| split.vertices()[minus])
+            .collect())
+    }
 }
 
 /// Every physical group named in `$PhysicalNames` or used by an entity, with its number

@@ -501,10 +501,41 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// assert_eq!(model.num_nodes(), 17 * 17 + 7);
     /// # Ok::<(), rsf::Error>(())
     /// ```
-    pub fn internal_fault(mut self, name: &str, from: [f64; 2], to: [f64; 2]) -> Self {
+    pub fn internal_fault(self, name: &str, from: [f64; 2], to: [f64; 2]) -> Self {
+        self.internal_fault_polyline(name, &[from, to])
+    }
+
+    /// As [`internal_fault`](Self::internal_fault) for a fault of straight pieces
+    /// `points[0] → points[1] → …` (m): a kinked fault, or a curved one given by the
+    /// vertices of its mesh edges in order (e.g. a Gmsh physical curve's,
+    /// [`GmshMesh::interior_polyline`](rsf_fem::GmshMesh::interior_polyline)). Each piece
+    /// must be resolved by mesh edges ([`SimplexMesh::split_along_polyline`]); the slip's
+    /// direction follows the fault from `points[0]`, the plus side on the left.
+    ///
+    /// # Errors (at `build`)
+    /// As [`internal_fault`](Self::internal_fault); fewer than two points, a polyline
+    /// running back over or crossing itself.
+    ///
+    /// ```
+    /// use rsf::fem::{rectangle, Diagonal};
+    /// use rsf::{Material, ModelBuilder, Part};
+    /// // A fault kinked at (0, 0): from (−0.5, −0.5) up to (0, 0), then straight up.
+    /// let block = rectangle([-1.0, -1.0], [2.0, 2.0], 9, 9, Diagonal::Forward)?;
+    /// let model = ModelBuilder::refined(block, 1)?
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+    ///     .dirichlet(Part::predicate("bottom", |x| x[1] < -1.0 + 1e-9), [-1e-4, 0.0])
+    ///     .internal_fault_polyline("fault", &[[-0.5, -0.5], [0.0, 0.0], [0.0, 0.5]])
+    ///     .build()?;
+    /// // 4 + 4 fine edges: 9 fault nodes, 2 shared tips.
+    /// assert_eq!(model.frictional_boundary.len(), 7);
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    pub fn internal_fault_polyline(mut self, name: &str, points: &[[f64; 2]]) -> Self {
         let name = name.to_string();
+        let points = points.to_vec();
         self.internal_fault = Some(Box::new(move |hierarchy: &MeshHierarchy<2>| {
-            split_hierarchy::<C>(hierarchy, &name, from, to)
+            split_hierarchy::<C>(hierarchy, &name, &points)
         }));
         self
     }
@@ -878,8 +909,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             )
         };
 
-        // An internal fault: everything in the mean–jump unknowns, `Tᵀ A T` and `Tᵀ F`.
+        // An internal fault: the jump shared between the sides by their stiffness, then
+        // everything in the mean–jump unknowns, `Tᵀ A T` and `Tᵀ F`.
         // Slanted fault nodes: everything in the nodal frames (identity elsewhere).
+        let fault = match fault {
+            Some(f) => Some(f.shared_by_stiffness::<C>(&stiffness)?),
+            None => None,
+        };
         let (mass, stiffness, energy_norm, absorbing) = if let Some(f) = &fault {
             load = f.pull_back(&load);
             let congruence = |a: &SparseMatrix| f.transform.congruence(a);

@@ -1,6 +1,8 @@
 //! A fault inside the body: the mesh split along it and the mean–jump change of variables
 //! the model's matrices are expressed in (docs/faults-inside.md, docs/math.md §15).
 
+use std::collections::HashMap;
+
 use faer::sparse::{SparseColMat, Triplet};
 use rsf_fem::{spmv_add, FaultSides, MeanJumpTransform, MeshHierarchy, SimplexMesh, SparseMatrix};
 
@@ -9,7 +11,9 @@ use rsf_fem::{spmv_add, FaultSides, MeanJumpTransform, MeshHierarchy, SimplexMes
 /// pairs `(p⁻, p⁺)` and the change of variables `u = T u′` (docs/math.md §15) in which the
 /// model's matrices, loads, states and checkpoints are written. In `u′` the block of `p⁻`
 /// is the jump `u⁺ − u⁻` in the pair's frame (tangential slip, then the normal component,
-/// tied to 0 for a vector field), the block of `p⁺` the mean `(u⁺ + u⁻)/2` (Cartesian);
+/// tied to 0 for a vector field), the block of `p⁺` a weighted mean `(1 − β) u⁻ + β u⁺`
+/// (Cartesian; `β` the plus side's share of the stiffness at the pair, ½ for a body the
+/// same on both sides, [`MeanJumpTransform::minus_share`]);
 /// every other vertex is Cartesian. Γ_F is the minus nodes of the pairs (not the tips, which
 /// stay shared and do not slip).
 #[derive(Debug, Clone)]
@@ -41,94 +45,92 @@ pub(crate) struct SplitHierarchy<const D: usize> {
 pub(crate) type SplitFault<const D: usize> =
     Box<dyn Fn(&MeshHierarchy<D>) -> crate::Result<SplitHierarchy<D>>>;
 
-/// Which side of the fault's line a vertex of a split level lies on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Side {
-    Minus,
-    Plus,
-}
-
-/// One level of a hierarchy cut along the segment: its split pairs by original vertex.
+/// One level of a hierarchy cut along the fault.
 struct SplitLevel {
     /// Per original vertex: its plus copy if it is a split pair's minus vertex.
     plus_of: Vec<Option<usize>>,
     /// Vertices of the split level (originals, then plus copies).
     num_vertices: usize,
+    /// The split level's cells (3 vertices each, flat): the same cells in the same order
+    /// and vertex order as the unsplit level's, a plus-side cell naming plus copies.
+    cells: Vec<usize>,
+    /// A cell of the unsplit level holding each edge `(min, max)` that touches a split
+    /// vertex.
+    cell_of_edge: HashMap<(usize, usize), usize>,
 }
 
 impl SplitLevel {
-    fn new(sides: &FaultSides, original: usize, split: usize) -> Self {
-        let mut plus_of = vec![None; original];
+    fn new(unsplit: &SimplexMesh<2>, split: &SimplexMesh<2>, sides: &FaultSides) -> Self {
+        let mut plus_of = vec![None; unsplit.num_vertices()];
         for (mi, pl) in sides.pairs() {
             plus_of[mi] = Some(pl);
         }
+        let mut cell_of_edge = HashMap::new();
+        for c in 0..unsplit.num_cells() {
+            let cell = unsplit.cell(c);
+            for k in 0..3 {
+                let (a, b) = (cell[k], cell[(k + 1) % 3]);
+                if plus_of[a].is_some() || plus_of[b].is_some() {
+                    cell_of_edge.entry((a.min(b), a.max(b))).or_insert(c);
+                }
+            }
+        }
         Self {
             plus_of,
-            num_vertices: split,
+            num_vertices: split.num_vertices(),
+            cells: (0..split.num_cells())
+                .flat_map(|c| split.cell(c).to_vec())
+                .collect(),
+            cell_of_edge,
         }
+    }
+
+    /// The copy of original vertex `c` that cell `cell` uses.
+    fn copy_in_cell(&self, cell: usize, c: usize) -> Option<usize> {
+        let copies = [Some(c), self.plus_of[c]];
+        self.cells[3 * cell..3 * cell + 3]
+            .iter()
+            .copied()
+            .find(|v| copies.contains(&Some(*v)))
     }
 }
 
-/// Cuts every level of `hierarchy` that resolves the segment `from → to` along it: the
+/// Cuts every level of `hierarchy` that resolves the polyline `points` along it: the
 /// finest must (its errors are returned), coarser levels are split down to the first that
-/// does not resolve the segment, and the coarser ones stay continuous across it. The
-/// prolongation into a split level interpolates each vertex from the coarse vertices on
-/// its own side of the fault (docs/faults-inside.md): the coarse space is discontinuous
-/// across the fault wherever the coarse mesh can be, so multigrid's coarse corrections can
-/// slip.
+/// does not resolve it, and the coarser ones stay continuous across it. The prolongation
+/// into a split level interpolates each vertex from the coarse vertices on its own side of
+/// the fault (docs/faults-inside.md): the coarse space is discontinuous across the fault
+/// wherever the coarse mesh can be, so multigrid's coarse corrections can slip.
 ///
 /// # Errors
 /// The finest level's splitting and transform errors; [`crate::Error::InvalidParameter`]
-/// named `internal_fault` if a vertex of a split level on the fault's line but not split
-/// interpolates from a split coarse vertex (the levels are not nested along the fault).
+/// named `internal_fault` if the levels are not nested along the fault (a fine vertex
+/// interpolating from a split coarse vertex through no coarse edge or cell).
 pub(crate) fn split_hierarchy<const C: usize>(
     hierarchy: &MeshHierarchy<2>,
     name: &str,
-    from: [f64; 2],
-    to: [f64; 2],
+    points: &[[f64; 2]],
 ) -> crate::Result<SplitHierarchy<2>> {
     let finest = hierarchy.finest_level();
-    let (mesh, sides) = hierarchy.finest().split_along_segment(name, from, to)?;
+    let (mesh, sides) = hierarchy.finest().split_along_polyline(name, points)?;
     let transform = sides.mean_jump_transform::<C>(&mesh)?;
-    // Levels finest-first while they resolve the segment.
-    let mut levels = vec![Some(SplitLevel::new(
-        &sides,
-        hierarchy.finest().num_vertices(),
-        mesh.num_vertices(),
-    ))];
+    // Levels finest-first while they resolve the fault.
+    let mut levels = vec![Some(SplitLevel::new(hierarchy.finest(), &mesh, &sides))];
     for j in (0..finest).rev() {
         let coarse = hierarchy.level(j);
-        match coarse.split_along_segment(name, from, to) {
-            Ok((split, s)) => levels.push(Some(SplitLevel::new(
-                &s,
-                coarse.num_vertices(),
-                split.num_vertices(),
-            ))),
+        match coarse.split_along_polyline(name, points) {
+            Ok((split, s)) => levels.push(Some(SplitLevel::new(coarse, &split, &s))),
             Err(_) => break,
         }
     }
     levels.resize_with(finest + 1, || None);
     levels.reverse(); // levels[j] for level j
-    let d = [to[0] - from[0], to[1] - from[1]];
-    let len = d[0].hypot(d[1]);
-    let side_of = |x: &[f64; 2]| -> Option<Side> {
-        let s = (-d[1] * (x[0] - from[0]) + d[0] * (x[1] - from[1])) / len;
-        if s.abs() <= 1e-9 * len {
-            None
-        } else if s > 0.0 {
-            Some(Side::Plus)
-        } else {
-            Some(Side::Minus)
-        }
-    };
     let prolongations = (1..=finest)
         .map(|j| {
             split_prolongation(
                 hierarchy.prolongation(j),
-                hierarchy.level(j),
                 levels[j].as_ref(),
                 levels[j - 1].as_ref(),
-                &side_of,
             )
         })
         .collect::<crate::Result<Vec<_>>>()?;
@@ -140,50 +142,70 @@ pub(crate) fn split_hierarchy<const C: usize>(
     })
 }
 
-/// The scalar prolongation `p` (unsplit fine × unsplit coarse) between the split levels:
-/// a fine vertex (original or plus copy) takes its original's row; an entry at a split
-/// coarse vertex goes to the coarse copy on the fine vertex's side (a minus vertex of a
-/// pair: minus; a plus copy: plus; any other vertex: its side of the line).
+/// The scalar prolongation `p` (unsplit fine × unsplit coarse) between split levels: a fine
+/// vertex (original or plus copy) takes its original's row, each entry at a split coarse
+/// vertex `c` going to the copy of `c` on the fine vertex's side: for a split fine vertex
+/// (on the fault) its own side's copy; for any other, the copy used by the coarse cells
+/// around the coarse edge (or vertex) it interpolates from — a coarse edge off the fault
+/// lies on one side of it at `c`.
 fn split_prolongation(
     p: &SparseMatrix,
-    fine_mesh: &SimplexMesh<2>,
     fine: Option<&SplitLevel>,
     coarse: Option<&SplitLevel>,
-    side_of: &dyn Fn(&[f64; 2]) -> Option<Side>,
 ) -> crate::Result<SparseMatrix> {
     let Some(fine) = fine else {
         return Ok(p.clone());
     };
+    // Each fine row's coarse support (P is stored by columns).
+    let mut support: Vec<Vec<usize>> = vec![Vec::new(); p.nrows()];
+    for c in 0..p.ncols() {
+        for i in p.row_idx_of_col(c) {
+            support[i].push(c);
+        }
+    }
+    let not_nested = |i: usize| {
+        crate::error::invalid(
+            "internal_fault",
+            format!(
+                "fine vertex {i} interpolates from split coarse vertices {:?} through no \
+                 coarse edge: the levels are not nested along the fault",
+                support[i]
+            ),
+        )
+    };
     let mut trip = Vec::with_capacity(2 * p.compute_nnz());
     for c in 0..p.ncols() {
         for (i, &w) in p.row_idx_of_col(c).zip(p.val_of_col(c)) {
-            let copies =
-                std::iter::once((i, Side::Minus)).chain(fine.plus_of[i].map(|pl| (pl, Side::Plus)));
-            for (v, pair_side) in copies {
-                let column = match coarse.and_then(|l| l.plus_of[c]) {
-                    None => c,
-                    Some(c_plus) => {
-                        let side = if fine.plus_of[i].is_some() {
-                            Some(pair_side)
-                        } else {
-                            side_of(&fine_mesh.vertices()[i])
-                        };
-                        match side {
-                            Some(Side::Minus) => c,
-                            Some(Side::Plus) => c_plus,
-                            None => {
-                                return Err(crate::error::invalid(
-                                    "internal_fault",
-                                    format!(
-                                        "vertex {i} at {:?} lies on the fault's line but is                                          not split, and interpolates from a split coarse                                          vertex: the levels are not nested along the fault",
-                                        fine_mesh.vertices()[i]
-                                    ),
-                                ))
-                            }
-                        }
+            let split_c = coarse.and_then(|l| l.plus_of[c].map(|pl| (l, pl)));
+            match (split_c, fine.plus_of[i]) {
+                (None, plus) => {
+                    trip.push(Triplet::new(i, c, w));
+                    if let Some(pl) = plus {
+                        trip.push(Triplet::new(pl, c, w));
                     }
-                };
-                trip.push(Triplet::new(v, column, w));
+                }
+                // A fault vertex interpolating from a fault vertex: side by side.
+                (Some((_, c_plus)), Some(pl)) => {
+                    trip.push(Triplet::new(i, c, w));
+                    trip.push(Triplet::new(pl, c_plus, w));
+                }
+                // Off the fault: the copy the coarse cells around its support use.
+                (Some((level, _)), None) => {
+                    let key = match support[i][..] {
+                        [a] => (a, a),
+                        [a, b] => (a.min(b), a.max(b)),
+                        _ => return Err(not_nested(i)),
+                    };
+                    let cell = if key.0 == key.1 {
+                        None
+                    } else {
+                        level.cell_of_edge.get(&key).copied()
+                    };
+                    let column = cell
+                        .and_then(|cell| level.copy_in_cell(cell, c))
+                        .ok_or_else(|| not_nested(i))?;
+                    trip.push(Triplet::new(i, column, w));
+                }
             }
         }
     }
@@ -211,6 +233,46 @@ impl InternalFault {
             pair_of,
             pairs,
         }
+    }
+
+    /// The fault with its jump shared between the sides by their stiffness at each pair
+    /// ([`MeanJumpTransform::reshared`]): `β_p = k⁺/(k⁻ + k⁺)` with `k^±` the trace
+    /// of the diagonal block of `stiffness` (Cartesian, on the split mesh of `C` components
+    /// per vertex) at the pair's two vertices; `β_p = ½` exactly (the mean) where the two
+    /// agree to 1e-9 (a body the same on both sides).
+    ///
+    /// # Errors
+    /// The transform's errors.
+    pub(crate) fn shared_by_stiffness<const C: usize>(
+        self,
+        stiffness: &SparseMatrix,
+    ) -> crate::Result<Self> {
+        let diagonal = |p: usize| -> f64 {
+            (C * p..C * p + C)
+                .map(|j| {
+                    stiffness
+                        .row_idx_of_col(j)
+                        .zip(stiffness.val_of_col(j))
+                        .find(|&(i, _)| i == j)
+                        .map_or(0.0, |(_, &v)| v)
+                })
+                .sum()
+        };
+        let share: Vec<f64> = self
+            .pairs
+            .iter()
+            .map(|&(mi, pl)| {
+                let (km, kp) = (diagonal(mi), diagonal(pl));
+                if (km - kp).abs() <= 1e-9 * (km + kp) || !(km + kp > 0.0) {
+                    0.5
+                } else {
+                    (kp / (km + kp)).clamp(0.0, 1.0)
+                }
+            })
+            .collect();
+        let transform = self.transform.reshared::<C>(&self.sides, &share)?;
+        let n = self.pair_of.len();
+        Ok(Self::new(self.sides, transform, n))
     }
 
     /// The split pairs `(p⁻, p⁺)` along the fault (tips excluded).
@@ -260,7 +322,8 @@ impl InternalFault {
         } else {
             j
         };
-        let sign = if plus { 0.5 } else { -0.5 };
-        Some(std::array::from_fn(|c| w[c] + sign * rj[c]))
+        let beta = self.transform.minus_share[k];
+        let share = if plus { 1.0 - beta } else { -beta };
+        Some(std::array::from_fn(|c| w[c] + share * rj[c]))
     }
 }
