@@ -15,7 +15,8 @@
 //! log10 V at x0 = (2.5, 0) from the rigid run at the rigid run's step times up to the
 //! first event, with the wall time. `--compare-solvers` runs the rigid and the stiffest
 //! base with TNNMG and with the direct solver and prints all four. Writes `series.csv` (time and log10 V at
-//! x0 per run) and `slip_rate_x0.png` to `out/slider_elastic_base/` (or `--out DIR`).
+//! x0 per run) and `slip_rate_x0.png` (the rigid and the elastic bases) to
+//! `out/slider_elastic_base/` (or `--out DIR`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -236,11 +237,13 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     std::fs::write(cli.out.join("series.csv"), csv)?;
-    let points: Vec<Vec<(f64, f64)>> = runs
+    // The figure: the rigid base and the elastic ones (not the solver comparison).
+    let plotted = &runs[..=cli.base_e.len()];
+    let points: Vec<Vec<(f64, f64)>> = plotted
         .iter()
         .map(|r| r.rows.iter().map(|x| (x[0], x[1].max(1e-40))).collect())
         .collect();
-    let series: Vec<Series> = runs
+    let series: Vec<Series> = plotted
         .iter()
         .zip(&points)
         .map(|(r, p)| Series {
