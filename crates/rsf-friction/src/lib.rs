@@ -203,4 +203,12 @@ pub trait FrictionLaw: Clone + Send + Sync {
     fn normal_stress(&self) -> Option<f64> {
         None
     }
+
+    /// Whether the potential is `σ̄_n` ([`normal_stress`](FrictionLaw::normal_stress))
+    /// times a function of `(V, α)`, as for every law of the form `τ = σ̄_n μ(V, α)`: then a
+    /// normal stress `σ` that changes with slip (a fault inside the body) scales it by
+    /// `σ/σ̄_n`. Default `false` (a user law says so if it is).
+    fn proportional_to_normal_stress(&self) -> bool {
+        false
+    }
 }

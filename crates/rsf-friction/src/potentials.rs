@@ -122,6 +122,9 @@ impl FrictionLaw for Tresca {
     fn normal_stress(&self) -> Option<f64> {
         Some(self.sigma_n)
     }
+    fn proportional_to_normal_stress(&self) -> bool {
+        true
+    }
 }
 
 /// Tresca friction with a state-dependent coefficient `μ(α)` (docs/math.md §1):
@@ -197,6 +200,9 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> FrictionLaw for StateDependentTres
     }
     fn normal_stress(&self) -> Option<f64> {
         Some(self.sigma_n)
+    }
+    fn proportional_to_normal_stress(&self) -> bool {
+        true
     }
 }
 
@@ -475,6 +481,9 @@ impl FrictionLaw for DieterichRuina {
     fn normal_stress(&self) -> Option<f64> {
         Some(self.params.sigma_n)
     }
+    fn proportional_to_normal_stress(&self) -> bool {
+        true
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -658,6 +667,9 @@ impl FrictionLaw for AsinhLaw {
     }
     fn normal_stress(&self) -> Option<f64> {
         Some(self.params.sigma_n)
+    }
+    fn proportional_to_normal_stress(&self) -> bool {
+        true
     }
 }
 

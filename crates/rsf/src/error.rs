@@ -55,6 +55,23 @@ pub enum Error {
         /// The budget.
         budget_bytes: usize,
     },
+    /// The normal stress of a fault inside the body
+    /// ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip)) would
+    /// reach zero or below (the fault would open, which the model does not allow) or is
+    /// not finite.
+    #[error(
+        "the normal stress of frictional node {node} would be {sigma_n:e} Pa at t = {time:e} \
+         s: the slip unclamps the fault until it opens, which the model (tied normal jump) \
+         does not represent"
+    )]
+    NormalStressNotPositive {
+        /// The frictional node (position along Γ_F).
+        node: usize,
+        /// The time (s).
+        time: f64,
+        /// The normal stress it would have (Pa, compressive positive).
+        sigma_n: f64,
+    },
     /// An invalid parameter, named (a field of a scene or builder, an argument).
     #[error("invalid parameter `{name}`: {reason}")]
     InvalidParameter {

@@ -24,6 +24,7 @@ use crate::error::{invalid, Error, Result};
 use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
+use crate::normal_stress::{NormalCoupling, NormalStress, ScaledTractions};
 use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
@@ -59,6 +60,10 @@ pub struct FaultOdeOptions {
     /// the per-node friction solves are split into one contiguous part per thread (each
     /// node's solve is independent of the others).
     pub parallelism: Parallelism,
+    /// The normal stress of the fault (default [`NormalStress::Fixed`], the laws' own):
+    /// [`NormalStress::FromSlip`] on a fault inside the body makes it change with the slip
+    /// and the loading, explicitly in every evaluation (docs/faults-inside.md).
+    pub normal_stress: NormalStress,
 }
 
 impl Default for FaultOdeOptions {
@@ -70,6 +75,7 @@ impl Default for FaultOdeOptions {
             runge_kutta: RungeKuttaOptions::default(),
             kernel: FaultKernel::Dense,
             parallelism: Parallelism::SEQ,
+            normal_stress: NormalStress::Fixed,
         }
     }
 }
@@ -385,6 +391,8 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     options: FaultOdeOptions,
     evaluations: usize,
     kernel_report: KernelReport,
+    /// With a normal stress that changes: the laws scaled by it at the last step.
+    scaled_tractions: Option<ScaledTractions<L>>,
 }
 
 /// What the right-hand side needs besides the laws.
@@ -405,6 +413,9 @@ struct FaultRates<const C: usize> {
     r: Vec<f64>,
     tolerance: f64,
     slip_scale: f64,
+    /// A normal stress that changes with slip, and its values (scratch, one per node).
+    normal: Option<NormalCoupling>,
+    sigma: Vec<f64>,
 }
 
 /// Fewest frictional nodes for which the per-node solves of an evaluation are split over
@@ -428,6 +439,9 @@ struct NodeSolves<'a, L, S, const C: usize> {
     r: &'a [f64],
     /// `α` of every frictional node.
     alpha: &'a [f64],
+    /// Per node, the factor `σ̄_n/σ̄_n⁰` of its potential (a normal stress that changes
+    /// with slip), or `None`: 1.
+    scale: Option<(&'a [f64], &'a [f64])>,
 }
 
 impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
@@ -460,12 +474,12 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
                 *tr = r * inv_w;
             }
             let out = &mut dyu[a - base..b - base];
-            self.friction[k].potential(alpha).minimize_block(
-                self.eta,
-                &traction[..b - a],
-                1.0,
-                out,
-            );
+            let w = self
+                .scale
+                .map_or(1.0, |(sigma, sigma0)| sigma[k] / sigma0[k]);
+            self.friction[k]
+                .potential(alpha)
+                .minimize_block(self.eta, &traction[..b - a], w, out);
             let mut v2: f64 = out.iter().map(|v| v * v).sum();
             for f in &self.fixed_velocity[k] {
                 v2 += (f * self.speed) * (f * self.speed);
@@ -501,6 +515,9 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             *r = g0 + big_g * g1;
         }
         d.kernel.subtract_product(&y[..m], &mut d.r, d.par)?;
+        if let Some(normal) = &d.normal {
+            normal.evaluate(t, big_g, &y[..m], &mut d.sigma)?;
+        }
         let speed = d.history.value(t);
         let (dyu, dya) = dy.split_at_mut(m);
         let nodes = NodeSolves {
@@ -514,6 +531,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             speed,
             r: &d.r,
             alpha: &y[m..],
+            scale: d.normal.as_ref().map(|n| (&d.sigma[..], n.initial())),
         };
         let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
             d.par.threads()
@@ -598,6 +616,20 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         let s = Mat::from_fn(m, m, |i, j| s_dense[j * m + i]);
         drop(s_dense);
         let (kernel, kernel_report) = compress(s, model, &cond, options.kernel)?;
+        let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
+        let normal = NormalCoupling::new(
+            options.normal_stress,
+            model,
+            &mut cond,
+            problem.friction_laws(),
+            &velocity_factor,
+            big_g0,
+        )?;
+        let scaled_tractions = normal.as_ref().map(|n| ScaledTractions {
+            laws: problem.friction_laws().to_vec(),
+            sigma0: n.initial().to_vec(),
+            sigma: n.initial().to_vec(),
+        });
         let mut g0 = vec![0.0; m];
         cond.condense(&model.load, &model.initial_displacement, &mut g0)?;
         let zeros = vec![0.0; n];
@@ -648,6 +680,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             r: vec![0.0; m],
             tolerance: options.tolerance,
             slip_scale: options.slip_scale,
+            sigma: normal.as_ref().map_or(Vec::new(), |n| n.initial().to_vec()),
+            normal,
         };
         let mut kinematics = Kinematics::zeros(n);
         kinematics.u.copy_from_slice(&model.initial_displacement);
@@ -673,6 +707,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             options,
             evaluations: 0,
             kernel_report,
+            scaled_tractions,
         };
         // The slip rates at t = 0 (a check that the initial state is admissible).
         let mut dy = vec![0.0; ode.y.len()];
@@ -925,6 +960,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             }
         }
         self.state.alpha.copy_from_slice(&self.y[m..]);
+        if let (Some(normal), Some(tr)) = (&r.normal, &mut self.scaled_tractions) {
+            normal.evaluate(t, big_g, &self.y[..m], &mut tr.sigma)?;
+        }
         Ok(())
     }
 
@@ -1085,7 +1123,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
         &self.state
     }
     fn fault_tractions(&self) -> &dyn FaultTractions {
-        self.problem.fault_tractions()
+        match &self.scaled_tractions {
+            Some(t) => t,
+            None => self.problem.fault_tractions(),
+        }
     }
     fn method_state(&self) -> MethodState {
         MethodState::FaultOde(self.fault_ode_state())

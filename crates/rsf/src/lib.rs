@@ -53,6 +53,7 @@ mod friction_blocks;
 pub mod method;
 mod method_state;
 pub mod model;
+pub mod normal_stress;
 pub mod observe;
 mod problem;
 mod report;

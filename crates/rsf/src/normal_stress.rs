@@ -1,0 +1,198 @@
+//! Normal stress that changes with slip on a fault inside the body (docs/faults-inside.md
+//! "Normal stress", docs/math.md §15): the slip → normal-traction operator of the
+//! condensed problem and the friction laws scaled by the current normal stress.
+
+use faer::Mat;
+use rsf_friction::FrictionLaw;
+use rsf_tnnmg::Condensation;
+
+use crate::error::{invalid, Error, Result};
+use crate::model::Model;
+use crate::observe::FaultTractions;
+
+/// How a fault's normal stress `σ̄_n` (Pa, compressive positive) is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum NormalStress {
+    /// The laws' own `σ̄_n` ([`FrictionLaw::normal_stress`]), fixed in time: the paper's
+    /// model and every boundary fault (the default).
+    #[default]
+    Fixed,
+    /// On a fault inside the body (vector field): `σ̄_n = σ̄_n⁰ + Δσ_n`, `σ̄_n⁰` the laws'
+    /// and `Δσ_n` the change of the normal traction since `t = 0` that the slip and the
+    /// loading cause (the reaction that keeps the fault closed). The friction of node `k`
+    /// is its law's potential scaled by `σ̄_n,k/σ̄_n⁰,k`: the law must be proportional to
+    /// its normal stress ([`FrictionLaw::proportional_to_normal_stress`]).
+    FromSlip,
+}
+
+/// The normal stress of every frictional node as an affine function of the condensed
+/// unknowns `u_F` and the integrated loading `G(t)`:
+/// `σ̄_n,k = σ̄_n⁰,k − (G(t) a_k + (S_N (u_F − u_F⁰))_k)/w_k`, where `S_N` (`nodes × m`)
+/// maps the condensed unknowns to the reactions at the tied normal jumps and `a` is the
+/// reaction of a unit loading with the condensed unknowns held.
+#[derive(Debug, Clone)]
+pub(crate) struct NormalCoupling {
+    s_n: Mat<f64>,
+    loading: Vec<f64>,
+    u_f0: Vec<f64>,
+    g0: f64,
+    sigma0: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl NormalCoupling {
+    /// The coupling of `model`'s internal fault (`C = 2`) condensed by `cond` onto the
+    /// frictional nodes' free components, with the laws' `σ̄_n⁰`; `None` for
+    /// [`NormalStress::Fixed`].
+    ///
+    /// `velocity_factor`: the Dirichlet velocity factors (length `n`); `big_g0` = `G(0)`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `normal_stress` without an internal fault, for a
+    /// scalar field, or for a law without a normal stress or not proportional to it;
+    /// condensation errors.
+    pub(crate) fn new<const D: usize, const C: usize, L: FrictionLaw>(
+        choice: NormalStress,
+        model: &Model<D, C>,
+        cond: &mut Condensation<C>,
+        laws: &[L],
+        velocity_factor: &[f64],
+        big_g0: f64,
+    ) -> Result<Option<Self>> {
+        if choice == NormalStress::Fixed {
+            return Ok(None);
+        }
+        if model.internal_fault.is_none() || C != 2 {
+            return Err(invalid(
+                "normal_stress",
+                "NormalStress::FromSlip needs a fault inside the body of a vector (plane \
+                 strain) model (ModelBuilder::internal_fault): a boundary fault's normal \
+                 stress is prescribed",
+            ));
+        }
+        let sigma0 = laws
+            .iter()
+            .enumerate()
+            .map(|(k, law)| match law.normal_stress() {
+                Some(s) if law.proportional_to_normal_stress() && s > 0.0 && s.is_finite() => Ok(s),
+                _ => Err(invalid(
+                    "normal_stress",
+                    format!(
+                        "the law of frictional node {k} has no positive normal stress it is \
+                         proportional to (FrictionLaw::normal_stress, \
+                         FrictionLaw::proportional_to_normal_stress)"
+                    ),
+                )),
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        let fb = &model.frictional_boundary;
+        let n = model.num_dofs();
+        let m = cond.dim();
+        // The reaction at node k's tied normal jump of a field `x`: (K x)_N (no load: the
+        // load's part is constant and drops out of the change).
+        let normal_dofs: Vec<usize> = fb.nodes.iter().map(|&p| C * p + C - 1).collect();
+        let k = model.stiffness.as_ref();
+        let reactions = |x: &[f64], out: &mut [f64]| {
+            for (o, &dof) in out.iter_mut().zip(&normal_dofs) {
+                *o = k
+                    .row_idx_of_col(dof)
+                    .zip(k.val_of_col(dof))
+                    .map(|(i, v)| v * x[i])
+                    .sum();
+            }
+        };
+        let zeros = vec![0.0; n];
+        let mut g = vec![0.0; m];
+        let mut x = vec![0.0; n];
+        let mut column = vec![0.0; fb.len()];
+        let mut s_n = Mat::<f64>::zeros(fb.len(), m);
+        for (i, &dof) in cond.interface_dofs().to_vec().iter().enumerate() {
+            cond.condense(&zeros, &zeros, &mut g)?;
+            x.fill(0.0);
+            x[dof] = 1.0;
+            cond.extend(&mut x)?;
+            reactions(&x, &mut column);
+            for (r, &v) in column.iter().enumerate() {
+                s_n[(r, i)] = v;
+            }
+        }
+        // A unit of integrated loading with the condensed unknowns held at 0.
+        let mut loading = vec![0.0; fb.len()];
+        cond.condense(&zeros, velocity_factor, &mut g)?;
+        x.copy_from_slice(velocity_factor);
+        for &dof in cond.interface_dofs() {
+            x[dof] = 0.0;
+        }
+        cond.extend(&mut x)?;
+        reactions(&x, &mut loading);
+        let u_f0 = cond
+            .interface_dofs()
+            .iter()
+            .map(|&dof| model.initial_displacement[dof])
+            .collect();
+        Ok(Some(Self {
+            s_n,
+            loading,
+            u_f0,
+            g0: big_g0,
+            sigma0,
+            weights: fb.weights.clone(),
+        }))
+    }
+
+    /// The laws' normal stresses `σ̄_n⁰` (Pa).
+    pub(crate) fn initial(&self) -> &[f64] {
+        &self.sigma0
+    }
+
+    /// Writes `σ̄_n,k` (Pa) at integrated loading `big_g` and condensed unknowns `u_f`
+    /// (length `m`) into `sigma` (one per frictional node).
+    ///
+    /// # Errors
+    /// [`Error::NormalStressNotPositive`] where the slip would open the fault
+    /// (`σ̄_n ≤ 0`) or the value is not finite.
+    pub(crate) fn evaluate(
+        &self,
+        time: f64,
+        big_g: f64,
+        u_f: &[f64],
+        sigma: &mut [f64],
+    ) -> Result<()> {
+        let dg = big_g - self.g0;
+        for (k, s) in sigma.iter_mut().enumerate() {
+            let mut r = dg * self.loading[k];
+            for (i, (u, u0)) in u_f.iter().zip(&self.u_f0).enumerate() {
+                r += self.s_n[(k, i)] * (u - u0);
+            }
+            *s = self.sigma0[k] - r / self.weights[k];
+            if !(*s > 0.0 && s.is_finite()) {
+                return Err(Error::NormalStressNotPositive {
+                    node: k,
+                    time,
+                    sigma_n: *s,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The tractions observers see with a changing normal stress: each law's scaled by
+/// `σ̄_n/σ̄_n⁰` at the last accepted step.
+#[derive(Debug, Clone)]
+pub(crate) struct ScaledTractions<L> {
+    pub(crate) laws: Vec<L>,
+    pub(crate) sigma0: Vec<f64>,
+    pub(crate) sigma: Vec<f64>,
+}
+
+impl<L: FrictionLaw> FaultTractions for ScaledTractions<L> {
+    fn shear_traction(&self, k: usize, slip_rate: f64, alpha: f64) -> f64 {
+        use rsf_friction::ConvexPotential;
+        self.sigma[k] / self.sigma0[k] * self.laws[k].potential(alpha).slope(slip_rate)
+    }
+    fn normal_traction(&self, k: usize) -> Option<f64> {
+        Some(self.sigma[k])
+    }
+}

@@ -1,0 +1,251 @@
+//! Normal stress that changes with slip on a fault inside the body
+//! (`FaultOdeOptions::normal_stress = NormalStress::FromSlip`, docs/faults-inside.md):
+//! the fault ODE's normal stress against a full static solve at the same slip, zero change
+//! on a fault that is a plane of mirror symmetry, and typed refusals.
+use rsf::fault_ode::FaultOdeOptions;
+use rsf::fem::{rectangle, Diagonal, SimplexMesh, SparseMatrix};
+use rsf::friction::{AsinhLaw, RateStateParams};
+use rsf::normal_stress::NormalStress;
+use rsf::state::Aging;
+use rsf::time::Quasistatic;
+use rsf::tnnmg::{DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver};
+use rsf::{Flow, Material, Model, ModelBuilder, Observer, Part, SimulationBuilder, StepView};
+
+const SIGMA_N: f64 = 5e6;
+
+fn params() -> RateStateParams {
+    RateStateParams {
+        mu0: 0.1,
+        a: 0.015,
+        b: 0.01,
+        v0: 1e-6,
+        l: 1e-4,
+        sigma_n: SIGMA_N,
+    }
+}
+
+/// The quasi-dynamic fault ODE on `model` (regularised law, aging law, steady state at
+/// 1e-4 m/s, radiation damping μ/(2c_s)).
+fn fault_ode(
+    model: Model<2>,
+    normal_stress: NormalStress,
+) -> rsf::Result<rsf::FaultOde<2, AsinhLaw, Aging>> {
+    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
+    SimulationBuilder::new(model)
+        .friction(AsinhLaw::new(params()).unwrap())
+        .state_law(Aging::new(params().l).unwrap())
+        .initial_state((params().l / 1e-4f64).ln())
+        .integrator(Quasistatic::new())
+        .radiation_damping(mu / (2.0 * c_s))
+        .time_step(1e-3)
+        .build_fault_ode(FaultOdeOptions {
+            tolerance: 1e-9,
+            normal_stress,
+            ..Default::default()
+        })
+}
+
+/// Per step: time, the model's displacement (fixed dofs and the fault's unknowns), and the
+/// normal stress of every frictional node.
+#[derive(Default)]
+struct Record {
+    rows: Vec<(f64, Vec<f64>, Vec<f64>)>,
+}
+
+impl Observer<2> for Record {
+    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<Flow> {
+        let sigma = (0..s.model.frictional_boundary.len())
+            .map(|k| s.normal_traction(k).unwrap())
+            .collect();
+        self.rows
+            .push((s.state.time, s.state.kinematics.u.clone(), sigma));
+        Ok(Flow::Continue(()))
+    }
+}
+
+/// The reactions `(K u − F)` at the tied normal jumps of the static solution with the
+/// fault's unknowns and the fixed dofs at their values in `u` (a full sparse solve).
+fn normal_reactions(model: &Model<2>, u: &[f64]) -> Vec<f64> {
+    let k: &SparseMatrix = &model.stiffness;
+    let mut fixed = model.fixed.clone();
+    for &p in &model.frictional_boundary.nodes {
+        fixed[2 * p] = true;
+    }
+    let mut x: Vec<f64> = u
+        .iter()
+        .zip(&fixed)
+        .map(|(&v, &f)| if f { v } else { 0.0 })
+        .collect();
+    DirectSolver::<2>::new(k.as_ref(), &fixed, DirectOptions::default())
+        .unwrap()
+        .solve(&model.load, &NoNonlinearity, &mut x)
+        .unwrap();
+    let mut r: Vec<f64> = model.load.iter().map(|f| -f).collect();
+    rsf::fem::spmv_add(k.as_ref(), 1.0, &x, &mut r);
+    model
+        .frictional_boundary
+        .nodes
+        .iter()
+        .map(|&p| r[2 * p + 1])
+        .collect()
+}
+
+/// `[-1, 1] × [-1, 0]` (the top a free surface), a fault dipping 45° from the surface at
+/// the origin to a tip at (−0.5, −0.5), the sides pushed together (left +v, right −v):
+/// reverse slip, which changes the normal stress.
+fn thrust_block() -> Model<2> {
+    let v = 1e-4;
+    let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
+    ModelBuilder::refined(mesh, 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [v, 0.0])
+        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [-v, 0.0])
+        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
+        .build()
+        .unwrap()
+}
+
+/// The fault ODE's normal stress at every step equals `σ̄_n⁰ − Δr_N/w` with the
+/// reactions of a full static solve at the same slip and loading (an independent solver:
+/// the whole sparse system instead of the condensation), and it changes noticeably.
+#[test]
+fn the_fault_odes_normal_stress_is_the_reaction_of_the_full_static_solution() {
+    let model = thrust_block();
+    let weights = model.frictional_boundary.weights.clone();
+    let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
+    let mut record = Record::default();
+    rsf::run_until(&mut ode, rsf::Until::Time(3.0), &mut [&mut record]).unwrap();
+    let r0 = normal_reactions(&model, &model.initial_displacement);
+    let mut largest_change = 0.0f64;
+    let mut worst = 0.0f64;
+    let stride = (record.rows.len() / 12).max(1);
+    for (_, u, sigma) in record.rows.iter().step_by(stride) {
+        let r = normal_reactions(&model, u);
+        for k in 0..sigma.len() {
+            let expected = SIGMA_N - (r[k] - r0[k]) / weights[k];
+            worst = worst.max((sigma[k] - expected).abs());
+            largest_change = largest_change.max((sigma[k] - SIGMA_N).abs());
+        }
+    }
+    eprintln!(
+        "{} steps; largest normal-stress change {largest_change:e} Pa of σ̄_n⁰ = {SIGMA_N:e}; \
+         largest difference from the full solve {worst:e} Pa",
+        record.rows.len()
+    );
+    assert!(largest_change > 1e-3 * SIGMA_N, "{largest_change:e}");
+    assert!(
+        worst < 1e-8 * largest_change,
+        "{worst:e} of {largest_change:e}"
+    );
+    // Squeezing the block clamps the fault: compressive normal stress grows.
+    let (_, _, last) = record.rows.last().unwrap();
+    let mean = last.iter().sum::<f64>() / last.len() as f64;
+    eprintln!("mean normal stress at the end {mean:e} Pa");
+    assert!(mean > SIGMA_N, "{mean:e}");
+}
+
+/// `[-1, 1] × [-1, 1]` made mirror-symmetric about x = 0 (the right half's cells
+/// reflected), refined once.
+fn mirrored_square() -> SimplexMesh<2> {
+    let half = rectangle([0.0, -1.0], [1.0, 2.0], 5, 9, Diagonal::Forward).unwrap();
+    let mut vertices = half.vertices().to_vec();
+    let mirror: Vec<usize> = half
+        .vertices()
+        .iter()
+        .enumerate()
+        .map(|(i, x)| {
+            if x[0].abs() < 1e-12 {
+                i
+            } else {
+                vertices.push([-x[0], x[1]]);
+                vertices.len() - 1
+            }
+        })
+        .collect();
+    let mut cells = Vec::new();
+    for c in 0..half.num_cells() {
+        cells.extend_from_slice(half.cell(c));
+    }
+    for c in 0..half.num_cells() {
+        cells.extend(half.cell(c).iter().map(|&v| mirror[v]));
+    }
+    SimplexMesh::from_ordered_cells(vertices, cells).unwrap()
+}
+
+/// A fault on a plane of mirror symmetry (x = 0 in a mirror-symmetric body, the sides
+/// sheared oppositely: u_x even, u_y odd in x) is neither clamped nor unclamped by its
+/// slip: the normal stress stays σ̄_n⁰ to round-off while the fault slips.
+#[test]
+fn slip_on_a_plane_of_mirror_symmetry_leaves_the_normal_stress_unchanged() {
+    let v = 1e-4;
+    let model = ModelBuilder::refined(mirrored_square(), 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [0.0, v])
+        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [0.0, -v])
+        .internal_fault("fault", [0.0, -0.5], [0.0, 0.5])
+        .build()
+        .unwrap();
+    let mut ode = fault_ode(model, NormalStress::FromSlip).unwrap();
+    let mut record = Record::default();
+    rsf::run_until(&mut ode, rsf::Until::Time(3.0), &mut [&mut record]).unwrap();
+    let (_, u, _) = record.rows.last().unwrap();
+    let slip = ode
+        .model()
+        .frictional_boundary
+        .nodes
+        .iter()
+        .map(|&p| (u[2 * p] - ode.model().initial_displacement[2 * p]).abs())
+        .fold(0.0f64, f64::max);
+    let change = record
+        .rows
+        .iter()
+        .flat_map(|r| r.2.iter())
+        .map(|s| (s - SIGMA_N).abs())
+        .fold(0.0f64, f64::max);
+    eprintln!("largest slip {slip:e} m; largest normal-stress change {change:e} Pa");
+    assert!(slip > 1e-6, "the fault slips: {slip:e} m");
+    assert!(change < 1e-9 * SIGMA_N, "{change:e} Pa");
+}
+
+/// `NormalStress::FromSlip` needs a fault inside the body; a slip that would open the
+/// fault is a typed error, not a NaN.
+#[test]
+fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_error() {
+    let mesh = rectangle([0.0, 0.0], [2.0, 0.5], 9, 3, Diagonal::Forward).unwrap();
+    let boundary = ModelBuilder::refined(mesh, 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(Part::predicate("top", |x| x[1] > 0.5 - 1e-9), [1e-4, 0.0])
+        .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
+        .build()
+        .unwrap();
+    match fault_ode(boundary, NormalStress::FromSlip) {
+        Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "normal_stress"),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    // The thrust block pulled apart, hard: the fault unclamps until σ̄_n would be ≤ 0.
+    let v = 1e2;
+    let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
+    let model = ModelBuilder::refined(mesh, 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [-v, 0.0])
+        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [v, 0.0])
+        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
+        .build()
+        .unwrap();
+    let mut ode = fault_ode(model, NormalStress::FromSlip).unwrap();
+    let e = rsf::run_until(&mut ode, rsf::Until::Time(10.0), &mut []).unwrap_err();
+    let text = e.to_string();
+    eprintln!("{text}");
+    assert!(
+        matches!(e.error, rsf::Error::NormalStressNotPositive { .. }),
+        "{text}"
+    );
+}
