@@ -72,6 +72,16 @@ pub trait StepSolver<const D: usize> {
     /// # Errors
     /// Non-finite results.
     fn finish_step(&mut self, v: &mut [f64]) -> Result<()>;
+
+    /// Writes the full current iterate into `v` (length `n`; entries of fixed dofs are
+    /// left as the caller set them) as [`finish_step`](Self::finish_step) would, without
+    /// ending the step: for quantities of the whole field inside an outer iteration (the
+    /// normal stress of a fault inside the body). For a condensing solver one backward
+    /// sweep.
+    ///
+    /// # Errors
+    /// Outside a step; dimension mismatch; non-finite results.
+    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()>;
 }
 
 /// Any [`NonsmoothSolver`] as a [`StepSolver`]: every [`solve_step`](StepSolver::solve_step)
@@ -188,5 +198,9 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
         }
         v.copy_from_slice(&self.v);
         Ok(())
+    }
+
+    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
+        self.finish_step(v)
     }
 }

@@ -24,7 +24,7 @@ use crate::error::{invalid, Error, Result};
 use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
-use crate::normal_stress::{NormalCoupling, NormalStress, ScaledTractions};
+use crate::normal_stress::{NormalCoupling, ScaledTractions};
 use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
@@ -60,10 +60,6 @@ pub struct FaultOdeOptions {
     /// the per-node friction solves are split into one contiguous part per thread (each
     /// node's solve is independent of the others).
     pub parallelism: Parallelism,
-    /// The normal stress of the fault (default [`NormalStress::Fixed`], the laws' own):
-    /// [`NormalStress::FromSlip`] on a fault inside the body makes it change with the slip
-    /// and the loading, explicitly in every evaluation (docs/faults-inside.md).
-    pub normal_stress: NormalStress,
 }
 
 impl Default for FaultOdeOptions {
@@ -75,7 +71,6 @@ impl Default for FaultOdeOptions {
             runge_kutta: RungeKuttaOptions::default(),
             kernel: FaultKernel::Dense,
             parallelism: Parallelism::SEQ,
-            normal_stress: NormalStress::Fixed,
         }
     }
 }
@@ -618,7 +613,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         let (kernel, kernel_report) = compress(s, model, &cond, options.kernel)?;
         let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
         let normal = NormalCoupling::new(
-            options.normal_stress,
+            problem.normal_stress(),
             model,
             &mut cond,
             problem.friction_laws(),

@@ -26,6 +26,45 @@ pub enum NormalStress {
     FromSlip,
 }
 
+/// The laws' normal stresses `σ̄_n⁰` for a normal stress from slip (`None` for
+/// [`NormalStress::Fixed`]).
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `normal_stress` without an internal fault, for a
+/// scalar field, or for a law without a positive normal stress it is proportional to.
+fn initial_normal_stress<const D: usize, const C: usize, L: FrictionLaw>(
+    choice: NormalStress,
+    model: &Model<D, C>,
+    laws: &[L],
+) -> Result<Option<Vec<f64>>> {
+    if choice == NormalStress::Fixed {
+        return Ok(None);
+    }
+    if model.internal_fault.is_none() || C != 2 {
+        return Err(invalid(
+            "normal_stress",
+            "NormalStress::FromSlip needs a fault inside the body of a vector (plane \
+             strain) model (ModelBuilder::internal_fault): a boundary fault's normal \
+             stress is prescribed",
+        ));
+    }
+    laws.iter()
+        .enumerate()
+        .map(|(k, law)| match law.normal_stress() {
+            Some(s) if law.proportional_to_normal_stress() && s > 0.0 && s.is_finite() => Ok(s),
+            _ => Err(invalid(
+                "normal_stress",
+                format!(
+                    "the law of frictional node {k} has no positive normal stress it is \
+                     proportional to (FrictionLaw::normal_stress, \
+                     FrictionLaw::proportional_to_normal_stress)"
+                ),
+            )),
+        })
+        .collect::<Result<Vec<f64>>>()
+        .map(Some)
+}
+
 /// The normal stress of every frictional node as an affine function of the condensed
 /// unknowns `u_F` and the integrated loading `G(t)`:
 /// `σ̄_n,k = σ̄_n⁰,k − (G(t) a_k + (S_N (u_F − u_F⁰))_k)/w_k`, where `S_N` (`nodes × m`)
@@ -60,32 +99,9 @@ impl NormalCoupling {
         velocity_factor: &[f64],
         big_g0: f64,
     ) -> Result<Option<Self>> {
-        if choice == NormalStress::Fixed {
+        let Some(sigma0) = initial_normal_stress(choice, model, laws)? else {
             return Ok(None);
-        }
-        if model.internal_fault.is_none() || C != 2 {
-            return Err(invalid(
-                "normal_stress",
-                "NormalStress::FromSlip needs a fault inside the body of a vector (plane \
-                 strain) model (ModelBuilder::internal_fault): a boundary fault's normal \
-                 stress is prescribed",
-            ));
-        }
-        let sigma0 = laws
-            .iter()
-            .enumerate()
-            .map(|(k, law)| match law.normal_stress() {
-                Some(s) if law.proportional_to_normal_stress() && s > 0.0 && s.is_finite() => Ok(s),
-                _ => Err(invalid(
-                    "normal_stress",
-                    format!(
-                        "the law of frictional node {k} has no positive normal stress it is \
-                         proportional to (FrictionLaw::normal_stress, \
-                         FrictionLaw::proportional_to_normal_stress)"
-                    ),
-                )),
-            })
-            .collect::<Result<Vec<f64>>>()?;
+        };
         let fb = &model.frictional_boundary;
         let n = model.num_dofs();
         let m = cond.dim();
@@ -194,5 +210,100 @@ impl<L: FrictionLaw> FaultTractions for ScaledTractions<L> {
     }
     fn normal_traction(&self, k: usize) -> Option<f64> {
         Some(self.sigma[k])
+    }
+}
+
+/// The normal stress of the implicit scheme, from the whole field of an iterate:
+/// `σ̄_n,k = σ̄_n⁰,k − (r_N,k − r_N,k(0))/w_k` with the reactions
+/// `r_N = (M a + K u − F)_N` at the tied normal jumps (dashpots of absorbing parts are
+/// not included: they act on the outer boundary, not on the fault's split nodes).
+#[derive(Debug, Clone)]
+pub(crate) struct NormalReactions {
+    dofs: Vec<usize>,
+    r0: Vec<f64>,
+    sigma0: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl NormalReactions {
+    /// The reactions of `model` with its `laws`, relative to the `initial` kinematics;
+    /// `None` for [`NormalStress::Fixed`].
+    ///
+    /// # Errors
+    /// As [`NormalCoupling::new`]'s checks.
+    pub(crate) fn new<const D: usize, const C: usize, L: FrictionLaw>(
+        choice: NormalStress,
+        model: &Model<D, C>,
+        laws: &[L],
+        initial: &rsf_time::Kinematics,
+    ) -> Result<Option<Self>> {
+        let Some(sigma0) = initial_normal_stress(choice, model, laws)? else {
+            return Ok(None);
+        };
+        let fb = &model.frictional_boundary;
+        let mut this = Self {
+            dofs: fb.nodes.iter().map(|&p| C * p + C - 1).collect(),
+            r0: vec![0.0; fb.len()],
+            sigma0,
+            weights: fb.weights.clone(),
+        };
+        let mut r0 = vec![0.0; fb.len()];
+        this.reactions(model, initial, &mut r0);
+        this.r0 = r0;
+        Ok(Some(this))
+    }
+
+    /// The laws' normal stresses `σ̄_n⁰` (Pa).
+    pub(crate) fn initial(&self) -> &[f64] {
+        &self.sigma0
+    }
+
+    fn reactions<const D: usize, const C: usize>(
+        &self,
+        model: &Model<D, C>,
+        kin: &rsf_time::Kinematics,
+        out: &mut [f64],
+    ) {
+        let row = |a: &crate::fem::SparseMatrix, x: &[f64], dof: usize| -> f64 {
+            a.row_idx_of_col(dof)
+                .zip(a.val_of_col(dof))
+                .map(|(i, v)| v * x[i])
+                .sum()
+        };
+        for (o, &dof) in out.iter_mut().zip(&self.dofs) {
+            let mut r = row(&model.stiffness, &kin.u, dof) - model.load[dof];
+            if let Some(m) = &model.mass {
+                r += row(m, &kin.a, dof);
+            }
+            *o = r;
+        }
+    }
+
+    /// Writes `σ̄_n,k` (Pa) of the kinematics `kin` at `time` into `sigma` and the scaled
+    /// weights `w_k σ̄_n,k/σ̄_n⁰,k` into `weights`.
+    ///
+    /// # Errors
+    /// [`Error::NormalStressNotPositive`] where `σ̄_n ≤ 0` or not finite.
+    pub(crate) fn evaluate<const D: usize, const C: usize>(
+        &self,
+        model: &Model<D, C>,
+        kin: &rsf_time::Kinematics,
+        time: f64,
+        sigma: &mut [f64],
+        weights: &mut [f64],
+    ) -> Result<()> {
+        self.reactions(model, kin, sigma);
+        for (k, s) in sigma.iter_mut().enumerate() {
+            *s = self.sigma0[k] - (*s - self.r0[k]) / self.weights[k];
+            if !(*s > 0.0 && s.is_finite()) {
+                return Err(Error::NormalStressNotPositive {
+                    node: k,
+                    time,
+                    sigma_n: *s,
+                });
+            }
+            weights[k] = self.weights[k] * (*s / self.sigma0[k]);
+        }
+        Ok(())
     }
 }

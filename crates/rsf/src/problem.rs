@@ -1,6 +1,7 @@
 //! What a simulation solves: the model and the laws on its frictional boundary
 //! (docs/design.md, "Problem, method, state").
 
+use crate::normal_stress::NormalStress;
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 
@@ -17,6 +18,7 @@ pub struct Problem<const D: usize, L, S, const C: usize = D> {
     state_laws: Vec<S>,
     uses_state: bool,
     radiation_damping: f64,
+    normal_stress: NormalStress,
 }
 
 impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, S, C> {
@@ -34,7 +36,20 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, 
             state_laws,
             uses_state,
             radiation_damping,
+            normal_stress: NormalStress::Fixed,
         }
+    }
+
+    /// The problem with the fault's normal stress found as `choice` says.
+    pub(crate) fn with_normal_stress(mut self, choice: NormalStress) -> Self {
+        self.normal_stress = choice;
+        self
+    }
+
+    /// How the fault's normal stress is found
+    /// ([`SimulationBuilder::normal_stress`](crate::SimulationBuilder::normal_stress)).
+    pub fn normal_stress(&self) -> NormalStress {
+        self.normal_stress
     }
 
     /// The radiation damping η on Γ_F (Pa·s/m; 0 for none): the shear traction

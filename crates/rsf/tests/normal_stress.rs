@@ -24,12 +24,12 @@ fn params() -> RateStateParams {
     }
 }
 
-/// The quasi-dynamic fault ODE on `model` (regularised law, aging law, steady state at
-/// 1e-4 m/s, radiation damping μ/(2c_s)).
-fn fault_ode(
+/// The quasi-dynamic problem on `model` (regularised law, aging law, steady state at
+/// 1e-4 m/s, radiation damping μ/(2c_s)) with the normal stress found as `normal_stress`.
+fn quasi_dynamic(
     model: Model<2>,
     normal_stress: NormalStress,
-) -> rsf::Result<rsf::FaultOde<2, AsinhLaw, Aging>> {
+) -> SimulationBuilder<2, AsinhLaw, Aging, Quasistatic, 2> {
     let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
     SimulationBuilder::new(model)
         .friction(AsinhLaw::new(params()).unwrap())
@@ -37,10 +37,18 @@ fn fault_ode(
         .initial_state((params().l / 1e-4f64).ln())
         .integrator(Quasistatic::new())
         .radiation_damping(mu / (2.0 * c_s))
+        .normal_stress(normal_stress)
+}
+
+/// The fault ODE of [`quasi_dynamic`] at tolerance 1e-9.
+fn fault_ode(
+    model: Model<2>,
+    normal_stress: NormalStress,
+) -> rsf::Result<rsf::FaultOde<2, AsinhLaw, Aging>> {
+    quasi_dynamic(model, normal_stress)
         .time_step(1e-3)
         .build_fault_ode(FaultOdeOptions {
             tolerance: 1e-9,
-            normal_stress,
             ..Default::default()
         })
 }
@@ -247,5 +255,109 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
     assert!(
         matches!(e.error, rsf::Error::NormalStressNotPositive { .. }),
         "{text}"
+    );
+}
+
+/// The two engines with a normal stress from slip on the thrust block: the implicit scheme
+/// (backward Euler, σ̄_n iterated with the state in the fixed point, direct solver)
+/// converges to the fault ODE at first order in τ — in the slip and in the normal stress;
+/// TNNMG gives the direct solver's steps.
+#[test]
+fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip() {
+    let t_end = 3.0;
+    let model = thrust_block();
+    let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
+    let mut reference = Record::default();
+    rsf::run_until(&mut ode, rsf::Until::Time(t_end), &mut [&mut reference]).unwrap();
+    let nodes = model.frictional_boundary.nodes.clone();
+    let slip_of = |u: &[f64]| -> Vec<f64> {
+        nodes
+            .iter()
+            .map(|&p| u[2 * p] - model.initial_displacement[2 * p])
+            .collect()
+    };
+    let (_, u_ref, sigma_ref) = reference.rows.last().unwrap();
+    let slip_ref = slip_of(u_ref);
+    let slip_scale = slip_ref.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let sigma_change = sigma_ref
+        .iter()
+        .fold(0.0f64, |m, s| m.max((s - SIGMA_N).abs()));
+    let mut errors = Vec::new();
+    for steps in [25, 50, 100, 200] {
+        let mut sim = quasi_dynamic(model.clone(), NormalStress::FromSlip)
+            .time_step(t_end / steps as f64)
+            .solver(rsf::SolverKind::Direct)
+            .build()
+            .unwrap();
+        let mut last = Record::default();
+        sim.run(steps, &mut [&mut last]).unwrap();
+        let (_, u, sigma) = last.rows.last().unwrap();
+        let slip = slip_of(u);
+        let e_slip = slip
+            .iter()
+            .zip(&slip_ref)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / slip_scale;
+        let e_sigma = sigma
+            .iter()
+            .zip(sigma_ref)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / sigma_change;
+        eprintln!(
+            "τ = T/{steps}: implicit against the fault ODE: slip {e_slip:.3e} of {slip_scale:.3e} m, \
+             normal stress {e_sigma:.3e} of its change {sigma_change:.3e} Pa"
+        );
+        errors.push((e_slip, e_sigma));
+    }
+    // The coupling matters: with the laws' fixed σ̄_n the fault ODE slips differently, by
+    // far more than the implicit scheme's error.
+    let mut fixed = fault_ode(model.clone(), NormalStress::Fixed).unwrap();
+    let mut uncoupled = Record::default();
+    rsf::run_until(&mut fixed, rsf::Until::Time(t_end), &mut [&mut uncoupled]).unwrap();
+    let effect = slip_of(&uncoupled.rows.last().unwrap().1)
+        .iter()
+        .zip(&slip_ref)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        / slip_scale;
+    eprintln!("fixed σ̄_n against σ̄_n from slip (fault ODE): slip differs by {effect:.3e}");
+    assert!(effect > 100.0 * errors[3].0, "{effect:e}");
+    for w in errors.windows(2) {
+        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
+        eprintln!(
+            "rates {:.3} (slip), {:.3} (normal stress)",
+            rates.0, rates.1
+        );
+        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
+    }
+    // TNNMG (through its current iterate each fixed point iteration) gives the same steps.
+    let run = |solver| {
+        let mut sim = quasi_dynamic(model.clone(), NormalStress::FromSlip)
+            .time_step(t_end / 25.0)
+            .solver(solver)
+            .build()
+            .unwrap();
+        let mut last = Record::default();
+        sim.run(25, &mut [&mut last]).unwrap();
+        last.rows.last().unwrap().clone()
+    };
+    let (a, b) = (run(rsf::SolverKind::Direct), run(rsf::SolverKind::Tnnmg));
+    let d = slip_of(&a.1)
+        .iter()
+        .zip(slip_of(&b.1))
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    eprintln!("TNNMG against direct: slip {d:e} m");
+    assert!(d < 1e-6 * slip_scale, "{d:e}");
+    // Without a state there is no fixed point to iterate σ̄_n in: refused.
+    let e = SimulationBuilder::new(model.clone())
+        .friction(rsf::friction::Tresca::new(0.5, SIGMA_N).unwrap())
+        .integrator(Quasistatic::new())
+        .time_step(0.1)
+        .normal_stress(NormalStress::FromSlip)
+        .build()
+        .err()
+        .expect("refused");
+    assert!(
+        matches!(e, rsf::Error::InvalidParameter { ref name, .. } if name == "normal_stress"),
+        "{e}"
     );
 }

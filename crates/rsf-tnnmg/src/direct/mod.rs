@@ -64,6 +64,8 @@ pub struct DirectSolver<const D: usize> {
     par: Parallelism,
     cache: Option<Condensed<D>>,
     in_step: bool,
+    /// Scratch of [`StepSolver::current_iterate`] (allocated on its first use).
+    peek: Vec<f64>,
 }
 
 impl<const D: usize> DirectSolver<D> {
@@ -91,6 +93,7 @@ impl<const D: usize> DirectSolver<D> {
             par: Parallelism::default(),
             cache: None,
             in_step: false,
+            peek: Vec::new(),
         })
     }
 
@@ -150,6 +153,7 @@ impl<const D: usize> DirectSolver<D> {
             par: self.par,
             cache: None,
             in_step: false,
+            peek: Vec::new(),
         };
         if let Some(c) = &self.cache {
             solver.cache = Some(solver.condense(c.cond.blocks(), Some(&c.cond.factor))?);
@@ -480,6 +484,43 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
         self.in_step = false;
         if c.y.iter().any(|x| !x.is_finite()) {
             return Err(Error::NonFinite("direct solution"));
+        }
+        Ok(())
+    }
+
+    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
+        let n = self.a.nrows;
+        if v.len() != n {
+            return Err(Error::DimensionMismatch {
+                what: "iterate",
+                expected: n,
+                got: v.len(),
+            });
+        }
+        let cd = match self.cache.as_mut() {
+            Some(cd) if self.in_step => cd,
+            _ => {
+                return Err(Error::InvalidOption(
+                    "current_iterate outside a step".into(),
+                ))
+            }
+        };
+        let c = &mut cd.cond;
+        let nr = c.factor.nr;
+        // The backward sweep on a copy: the forward-condensed right-hand side stays for
+        // the step's further solves.
+        let peek = &mut self.peek;
+        peek.clear();
+        peek.extend_from_slice(&c.y);
+        for i in 0..cd.fault.num_free() {
+            peek[nr + i] = cd.fault.xb[cd.fault.comp(i)];
+        }
+        c.factor.backward_interior(peek);
+        for (k, &i) in c.order.iter().enumerate() {
+            v[i] = peek[k];
+        }
+        if peek.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite("direct iterate"));
         }
         Ok(())
     }

@@ -345,4 +345,7 @@ impl<const C: usize> StepSolver<C> for VelocitySolver<C> {
     fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
         dispatch!(self, s => s.finish_step(v))
     }
+    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
+        dispatch!(self, s => s.current_iterate(v))
+    }
 }

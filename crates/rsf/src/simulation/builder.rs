@@ -12,12 +12,13 @@ use crate::method::solver::{SolverKind, SolverOptions};
 use crate::method::state_integrator::StateIntegrator;
 use crate::method::{Method, MethodOptions};
 use crate::model::Model;
+use crate::normal_stress::{NormalReactions, NormalStress};
 use crate::problem::{NoState, Problem};
 use crate::simulation_state::SimulationState;
 
 use super::checks::Parts;
 use super::step::impose_dirichlet;
-use super::workspace::Workspace;
+use super::workspace::{NormalWork, Workspace};
 use super::Simulation;
 
 /// The friction-law type of a [`SimulationBuilder`] before a law is chosen: `build` is
@@ -72,6 +73,8 @@ pub struct SimulationBuilder<const D: usize, L, S, I, const C: usize = D> {
     tau: Option<f64>,
     /// The radiation damping η (Pa·s/m) given by [`radiation_damping`](Self::radiation_damping).
     eta: Option<f64>,
+    /// How the fault's normal stress is found ([`normal_stress`](Self::normal_stress)).
+    normal_stress: NormalStress,
     method: MethodOptions<I>,
     /// The settings of the implicit method given explicitly (by their setters' names):
     /// a method that does not use one of them refuses to be built.
@@ -89,6 +92,7 @@ impl<const D: usize, const C: usize> SimulationBuilder<D, Unset, NoState, Newmar
             v0: None,
             tau: None,
             eta: None,
+            normal_stress: NormalStress::Fixed,
             implicit_settings: Vec::new(),
             method: MethodOptions {
                 integrator: Newmark,
@@ -121,6 +125,7 @@ struct Checked<const D: usize, I, const C: usize> {
     method: MethodOptions<I>,
     /// The problem's radiation damping η (Pa·s/m).
     eta: f64,
+    normal_stress: NormalStress,
     implicit_settings: Vec<&'static str>,
 }
 
@@ -140,6 +145,7 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
             v0,
             tau,
             eta,
+            normal_stress,
             method,
             implicit_settings,
         } = self;
@@ -160,6 +166,7 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
             v0,
             tau,
             eta,
+            normal_stress,
             method: MethodOptions {
                 integrator,
                 solver,
@@ -244,6 +251,23 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     /// not both.
     pub fn radiation_damping(mut self, eta: f64) -> Self {
         self.eta = Some(eta);
+        self
+    }
+
+    /// How the fault's normal stress `σ̄_n` is found (default [`NormalStress::Fixed`], the
+    /// friction laws' own). [`NormalStress::FromSlip`] on a fault inside the body
+    /// ([`ModelBuilder::internal_fault`](crate::ModelBuilder::internal_fault), plane
+    /// strain) makes it change with the slip and the loading: explicitly in every
+    /// evaluation of the fault ODE, inside the fixed point (like the state) in the implicit
+    /// scheme (docs/faults-inside.md "Normal stress").
+    ///
+    /// # Errors (at `build`, `build_fault_ode`)
+    /// [`Error::InvalidParameter`] named `normal_stress` without an internal fault, for a
+    /// scalar field, or for a law without a normal stress it is proportional to
+    /// ([`FrictionLaw::proportional_to_normal_stress`]); in the implicit scheme also for
+    /// laws without a state (no fixed point to iterate it in).
+    pub fn normal_stress(mut self, choice: NormalStress) -> Self {
+        self.normal_stress = choice;
         self
     }
 
@@ -365,6 +389,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             v0: self.v0,
             method: self.method,
             eta,
+            normal_stress: self.normal_stress,
             implicit_settings: self.implicit_settings,
         };
         Ok((this, friction, state_laws, alpha0, tau))
@@ -414,13 +439,26 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             kinematics.v.copy_from_slice(v0);
         }
         impose_dirichlet(&this.model, 0.0, &mut kinematics.v);
-        let work = Workspace::new(
+        let mut work = Workspace::new(
             n,
             &friction,
             &alpha0,
             &this.model.frictional_boundary.weights,
             method.fixed_point(),
         );
+        if this.normal_stress != NormalStress::Fixed
+            && !friction.iter().any(FrictionLaw::uses_state)
+        {
+            return Err(invalid(
+                "normal_stress",
+                "a normal stress from slip is iterated with the state in the implicit \
+                 scheme's fixed point; laws without a state have none (use the fault ODE, \
+                 or a law with a state)",
+            ));
+        }
+        work.normal =
+            NormalReactions::new(this.normal_stress, &this.model, &friction, &kinematics)?
+                .map(|r| NormalWork::new(r, n, &friction, &this.model.frictional_boundary.weights));
         let state = SimulationState {
             step: 0,
             time: 0.0,
@@ -431,7 +469,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             controller,
         };
         Ok(Simulation {
-            problem: Problem::new(this.model, friction, state_laws, this.eta),
+            problem: Problem::new(this.model, friction, state_laws, this.eta)
+                .with_normal_stress(this.normal_stress),
             method,
             state,
             work,
@@ -474,7 +513,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             ));
         }
         FaultOde::new(
-            Problem::new(this.model, friction, state_laws, this.eta),
+            Problem::new(this.model, friction, state_laws, this.eta)
+                .with_normal_stress(this.normal_stress),
             alpha0,
             this.eta,
             tau,

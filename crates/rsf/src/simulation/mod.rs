@@ -329,7 +329,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         &self.state
     }
     fn fault_tractions(&self) -> &dyn FaultTractions {
-        self.problem.fault_tractions()
+        match &self.work.normal {
+            Some(normal) => &normal.tractions,
+            None => self.problem.fault_tractions(),
+        }
     }
     fn method_state(&self) -> MethodState {
         MethodState::Implicit

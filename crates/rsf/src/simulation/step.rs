@@ -19,7 +19,7 @@ use crate::report::StepReport;
 use crate::simulation_state::SimulationState;
 
 use super::checks;
-use super::workspace::Workspace;
+use super::workspace::{NormalWork, Workspace};
 
 /// The error estimate of the fixed point test is used only while the last correction is at
 /// most this multiple of the tolerance: a guard against a contraction ratio of two
@@ -60,6 +60,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// state.
     pub fn commit(&mut self, report: &StepReport) {
         std::mem::swap(&mut self.state.kinematics, &mut self.work.next);
+        if let Some(normal) = &mut self.work.normal {
+            normal.tractions.sigma.copy_from_slice(&normal.sigma);
+        }
         if self.problem.uses_state() {
             self.state.alpha.copy_from_slice(&self.work.alpha_trial);
         }
@@ -124,6 +127,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let begun = solver.begin_step(&work.rhs, &v, &model.frictional_boundary.nodes);
         work.v = v;
         begun?;
+        // A normal stress from slip needs the iterates' kinematics.
+        let integrator = work.normal.as_ref().map(|_| method.integrator().clone());
         work.history.clear();
         let full = method.inner_stopping();
         let inexact = fixed_point.inner_solves.rule(method.solver_kind());
@@ -155,6 +160,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             read_slip_rates(solver, &mut work.slip);
             update.apply(&work.slip, &mut work.alpha_trial)?;
             work.alpha_iter.copy_from_slice(&work.alpha_trial);
+            if let (Some(normal), Some(integrator)) = (&mut work.normal, &integrator) {
+                normal_stress_of_iterate(normal, solver, integrator, model, state, &work.v)?;
+            }
             let first: f64 = {
                 let w = &model.frictional_boundary.weights;
                 (0..w.len())
@@ -180,12 +188,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                     _ => full,
                 };
                 evaluate_potentials(laws, &work.alpha_iter, &mut work.potentials);
-                let r = solve(
-                    solver,
-                    &FrictionView::<L>::new(fb, &work.potentials),
-                    scaling,
-                    stopping,
-                )?;
+                let view = match &work.normal {
+                    None => FrictionView::<L>::new(fb, &work.potentials),
+                    Some(normal) => FrictionView::<L> {
+                        nodes: &fb.nodes,
+                        weights: &normal.weights,
+                        potentials: &work.potentials,
+                    },
+                };
+                let r = solve(solver, &view, scaling, stopping)?;
                 report.solver_iterations += r.iterations;
                 report.fixed_point_iterations += 1;
                 let c = solver.last_change();
@@ -211,9 +222,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                     converged = true;
                     break;
                 }
-                // Next state iterate from G(α^ν) = S(α_{n−1}, |v^{ν+1}|).
+                // Next state iterate from G(α^ν) = S(α_{n−1}, |v^{ν+1}|), and the normal
+                // stress of v^{ν+1}.
                 read_slip_rates(solver, &mut work.slip);
                 update.apply(&work.slip, &mut work.alpha_trial)?;
+                if let (Some(normal), Some(integrator)) = (&mut work.normal, &integrator) {
+                    normal_stress_of_iterate(normal, solver, integrator, model, state, &work.v)?;
+                }
                 work.accelerator
                     .next(&mut work.alpha_iter, &work.alpha_trial);
             }
@@ -239,6 +254,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         method
             .integrator()
             .advance(tau, &state.kinematics, &work.v, &mut work.next);
+        if let Some(normal) = &mut work.normal {
+            normal.reactions.evaluate(
+                model,
+                &work.next,
+                t,
+                &mut normal.sigma,
+                &mut normal.weights,
+            )?;
+        }
         report.max_slip_rate = model
             .frictional_boundary
             .nodes
@@ -285,6 +309,35 @@ pub(crate) fn impose_dirichlet<const D: usize, const C: usize>(
     for (&d, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
         v[d] = f * speed;
     }
+}
+
+/// `σ̄_n` of the solver's current iterate (a normal stress from slip): the whole iterate
+/// (the fixed dofs from `v_fixed`), its kinematics at the end of the step, the reactions at
+/// the tied normal jumps; the scaled friction weights with it.
+fn normal_stress_of_iterate<
+    const D: usize,
+    const C: usize,
+    L: FrictionLaw,
+    I: VelocityIntegrator,
+>(
+    normal: &mut NormalWork<L>,
+    solver: &mut VelocitySolver<C>,
+    integrator: &I,
+    model: &Model<D, C>,
+    state: &SimulationState,
+    v_fixed: &[f64],
+) -> Result<()> {
+    normal.v.copy_from_slice(v_fixed);
+    solver.current_iterate(&mut normal.v)?;
+    integrator.advance(state.tau, &state.kinematics, &normal.v, &mut normal.next);
+    let t = state.time_of(state.step + 1);
+    normal.reactions.evaluate(
+        model,
+        &normal.next,
+        t,
+        &mut normal.sigma,
+        &mut normal.weights,
+    )
 }
 
 /// `|v_p|` of the solver's current iterate on Γ_F into `slip`.

@@ -6,6 +6,7 @@ use rsf_time::Kinematics;
 
 use crate::friction_blocks::evaluate_potentials;
 use crate::method::fixed_point::{Accelerator, FixedPointOptions};
+use crate::normal_stress::{NormalReactions, ScaledTractions};
 
 /// The fixed point history's capacity allocated up front (it grows beyond, if ever).
 const HISTORY_CAPACITY: usize = 1000;
@@ -36,6 +37,41 @@ pub(crate) struct Workspace<L: FrictionLaw> {
     pub u_err: Vec<f64>,
     /// Acceleration of the fixed point iteration.
     pub accelerator: Accelerator,
+    /// A normal stress from slip: its reactions and buffers (`None`: the laws' own).
+    pub normal: Option<NormalWork<L>>,
+}
+
+/// The buffers of a normal stress from slip in the implicit scheme.
+pub(crate) struct NormalWork<L: FrictionLaw> {
+    /// The reactions at the tied normal jumps.
+    pub reactions: NormalReactions,
+    /// `σ̄_n` of the current iterate and the friction weights scaled by it.
+    pub sigma: Vec<f64>,
+    pub weights: Vec<f64>,
+    /// The current iterate's whole velocity and kinematics.
+    pub v: Vec<f64>,
+    pub next: Kinematics,
+    /// What observers see: the laws scaled by `σ̄_n` of the last committed step.
+    pub tractions: ScaledTractions<L>,
+}
+
+impl<L: FrictionLaw> NormalWork<L> {
+    /// Buffers for `n` dofs and the laws `laws`.
+    pub fn new(reactions: NormalReactions, n: usize, laws: &[L], weights: &[f64]) -> Self {
+        let sigma0 = reactions.initial().to_vec();
+        Self {
+            sigma: sigma0.clone(),
+            weights: weights.to_vec(),
+            v: vec![0.0; n],
+            next: Kinematics::zeros(n),
+            tractions: ScaledTractions {
+                laws: laws.to_vec(),
+                sigma: sigma0.clone(),
+                sigma0,
+            },
+            reactions,
+        }
+    }
 }
 
 impl<L: FrictionLaw> Workspace<L> {
@@ -67,6 +103,7 @@ impl<L: FrictionLaw> Workspace<L> {
             history: Vec::with_capacity(fixed_point.max_iterations.min(HISTORY_CAPACITY)),
             u_err: vec![0.0; n],
             accelerator: Accelerator::new(fixed_point.acceleration, weights),
+            normal: None,
         }
     }
 }
