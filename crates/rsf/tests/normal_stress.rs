@@ -1,7 +1,8 @@
 //! Normal stress that changes with slip on a fault inside the body
-//! (`FaultOdeOptions::normal_stress = NormalStress::FromSlip`, docs/faults-inside.md):
+//! (`SimulationBuilder::normal_stress(NormalStress::FromSlip)`, docs/faults-inside.md):
 //! the fault ODE's normal stress against a full static solve at the same slip, zero change
-//! on a fault that is a plane of mirror symmetry, and typed refusals.
+//! on a fault that is a plane of mirror symmetry, the implicit scheme converging to the
+//! fault ODE, and typed refusals.
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{rectangle, Diagonal, SimplexMesh, SparseMatrix};
 use rsf::friction::{AsinhLaw, RateStateParams};
