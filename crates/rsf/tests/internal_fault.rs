@@ -355,11 +355,27 @@ fn an_internal_fault_refuses_what_does_not_fit() {
             .build(),
         "frictional_boundary",
     );
-    // A fault reaching a Dirichlet part: its end node is split and prescribed.
+    // A fault reaching a Dirichlet part that fixes one component: its end node is split
+    // and only part of it prescribed.
     named(
-        block().internal_fault("f", [0.0, 0.0], [0.0, 1.0]).build(),
+        block()
+            .dirichlet_components(
+                Part::predicate("left", |x| x[0] < -1.0 + 1e-9),
+                &[0],
+                [0.0, 0.0],
+            )
+            .internal_fault("f", [-1.0, 0.0], [0.0, 0.0])
+            .build(),
         "dirichlet",
     );
+    // A fault reaching a Dirichlet part that fixes both sides of its end (the top moves
+    // as one): that pair's motion is prescribed (no slip) and it is not a frictional node.
+    let m = block()
+        .internal_fault("f", [0.0, 0.0], [0.0, 1.0])
+        .build()
+        .unwrap();
+    let f = m.internal_fault.as_ref().unwrap();
+    assert_eq!(m.frictional_boundary.len(), f.pairs().len() - 1);
     // A segment the mesh does not resolve: the splitting's error.
     assert!(matches!(
         block().internal_fault("f", [0.1, -0.5], [0.1, 0.5]).build(),

@@ -375,6 +375,9 @@ pub struct ModelBuilder<const D: usize, const C: usize = D> {
     slip_factor: f64,
     absorbing: Vec<Absorbing<D, C>>,
     internal_fault: Option<SplitFault<D>>,
+    /// The creeping section of an internal fault: where (by a pair's position) and its
+    /// slip rate (m/s, times `g(t)`).
+    internal_creep: Option<(FacetPredicate<D>, f64)>,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -482,8 +485,11 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// # Errors (at `build`)
     /// The splitting's errors (e.g. a segment the mesh does not resolve, one lying on the
     /// outer boundary); [`Error::InvalidParameter`] with a frictional boundary as well, an
-    /// [`antisymmetric_fault`](Self::antisymmetric_fault), or a Dirichlet part on a split
-    /// node (its Cartesian data would mix the mean and the jump).
+    /// [`antisymmetric_fault`](Self::antisymmetric_fault), Dirichlet parts fixing only
+    /// some components of a split pair's two sides (their Cartesian data would mix the
+    /// mean and the jump), or fixing both sides with velocities that open the fault. A
+    /// pair whose two sides are fully fixed is prescribed and not a frictional node
+    /// ([`internal_creep`](Self::internal_creep)).
     ///
     /// ```
     /// use rsf::fem::{rectangle, Diagonal};
@@ -503,6 +509,28 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// ```
     pub fn internal_fault(self, name: &str, from: [f64; 2], to: [f64; 2]) -> Self {
         self.internal_fault_polyline(name, &[from, to])
+    }
+
+    /// The creeping section of the internal fault: the split pairs at positions `x` (m)
+    /// with `inside(x)` slip at the prescribed rate `slip_rate · g(t)` (m/s; `g` the loading
+    /// history) instead of by friction — the jump's tangential component in the pair's
+    /// frame, whose tangent is the fault's direction turned by 180° (`t = −d`, `d` from the
+    /// first point to the last; the same sign as [`StepView::slip`](crate::StepView::slip)).
+    /// Used for a fault loaded by steady creep below the seismogenic depth (SEAS BP3). Pairs
+    /// whose two sides are both fully fixed by Dirichlet parts (each side's far-field
+    /// motion where the fault meets a far boundary) are prescribed too. Prescribed pairs are
+    /// not frictional nodes.
+    ///
+    /// # Errors (at `build`)
+    /// As [`internal_fault`](Self::internal_fault); [`Error::InvalidParameter`] named
+    /// `internal_creep` for a non-finite rate or without an internal fault.
+    pub fn internal_creep(
+        mut self,
+        inside: impl Fn(&[f64; 2]) -> bool + 'static,
+        slip_rate: f64,
+    ) -> Self {
+        self.internal_creep = Some((Box::new(inside), slip_rate));
+        self
     }
 
     /// As [`internal_fault`](Self::internal_fault) for a fault of straight pieces
@@ -542,6 +570,68 @@ impl<const C: usize> ModelBuilder<2, C> {
 }
 
 impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    /// Per pair of the internal fault `fault`: whether its slip is prescribed. A pair whose
+    /// two sides are fully fixed by Dirichlet parts gets their velocities in its
+    /// mean–jump unknowns (`j = Rᵀ(v⁺ − v⁻)`, `w = (1 − β) v⁻ + β v⁺`; an opening is
+    /// refused); a pair in the creeping section gets its jump's tangential component fixed
+    /// at the creep rate.
+    fn prescribed_pairs(
+        &self,
+        fault: &InternalFault,
+        mesh: &SimplexMesh<D>,
+        fixed: &mut [bool],
+        velocity: &mut [Option<f64>],
+    ) -> Result<Vec<bool>> {
+        let mut prescribed = Vec::with_capacity(fault.pairs().len());
+        for (k, &(mi, pl)) in fault.pairs().iter().enumerate() {
+            let beta = fault.transform.minus_share[k];
+            if fixed[C * mi] {
+                // Both sides fully fixed (checked by internal_fault_frames).
+                let v = |p: usize| -> [f64; C] {
+                    std::array::from_fn(|c| velocity[C * p + c].unwrap_or(0.0))
+                };
+                let (vm, vp) = (v(mi), v(pl));
+                let dv: [f64; C] = std::array::from_fn(|c| vp[c] - vm[c]);
+                let j: [f64; C] = if C == 2 {
+                    let r = fault.transform.frames[k];
+                    std::array::from_fn(|a| (0..C).map(|b| r[b][a] * dv[b]).sum())
+                } else {
+                    dv
+                };
+                let scale = vm.iter().chain(&vp).fold(0.0f64, |m, x| m.max(x.abs()));
+                if C == 2 && j[C - 1].abs() > 1e-12 * scale {
+                    return Err(invalid(
+                        "dirichlet",
+                        format!(
+                            "the Dirichlet parts at split node {mi} of the internal fault `{}` \
+                             open or close it (normal jump {:e} m/s): the fault's normal jump \
+                             is tied",
+                            fault.sides.name(),
+                            j[C - 1]
+                        ),
+                    ));
+                }
+                for c in 0..C {
+                    velocity[C * mi + c] = Some(if c == C - 1 && C == 2 { 0.0 } else { j[c] });
+                    velocity[C * pl + c] = Some((1.0 - beta) * vm[c] + beta * vp[c]);
+                }
+                prescribed.push(true);
+            } else if let Some((inside, rate)) = self
+                .internal_creep
+                .as_ref()
+                .filter(|(inside, _)| inside(&mesh.vertices()[mi]))
+            {
+                let _ = inside;
+                fixed[C * mi] = true;
+                velocity[C * mi] = Some(*rate);
+                prescribed.push(true);
+            } else {
+                prescribed.push(false);
+            }
+        }
+        Ok(prescribed)
+    }
+
     fn with_components(hierarchy: MeshHierarchy<D>) -> Self {
         Self {
             hierarchy,
@@ -558,6 +648,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             slip_factor: 1.0,
             absorbing: Vec::new(),
             internal_fault: None,
+            internal_creep: None,
         }
     }
 
@@ -703,6 +794,17 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             }
             None => (None, None, None),
         };
+        if let Some((_, rate)) = &self.internal_creep {
+            if fault.is_none() || !rate.is_finite() {
+                return Err(invalid(
+                    "internal_creep",
+                    format!(
+                        "a creep rate of {rate} m/s needs a finite rate and an internal fault \
+                         (ModelBuilder::internal_fault)"
+                    ),
+                ));
+            }
+        }
         let mesh = split.as_ref().unwrap_or_else(|| self.hierarchy.finest());
         let n = C * mesh.num_vertices();
         let material = self
@@ -844,11 +946,6 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 }
             }
         }
-        let (dofs, factors): (Vec<usize>, Vec<f64>) = velocity
-            .iter()
-            .enumerate()
-            .filter_map(|(i, w)| w.filter(|w| *w != 0.0).map(|w| (i, s * w)))
-            .unzip();
 
         // Matrices.
         self.check_absorbing(material.as_ref())?;
@@ -916,6 +1013,17 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             Some(f) => Some(f.shared_by_stiffness::<C>(&stiffness)?),
             None => None,
         };
+        // An internal fault's prescribed pairs (both sides' velocities given, or a
+        // creeping section): their data in the mean–jump unknowns; they do not slip freely.
+        let prescribed = match &fault {
+            Some(f) => self.prescribed_pairs(f, mesh, &mut fixed, &mut velocity)?,
+            None => Vec::new(),
+        };
+        let (dofs, factors): (Vec<usize>, Vec<f64>) = velocity
+            .iter()
+            .enumerate()
+            .filter_map(|(i, w)| w.filter(|w| *w != 0.0).map(|w| (i, s * w)))
+            .unzip();
         let (mass, stiffness, energy_norm, absorbing) = if let Some(f) = &fault {
             load = f.pull_back(&load);
             let congruence = |a: &SparseMatrix| f.transform.congruence(a);
@@ -984,7 +1092,12 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 for (&p, &w) in gamma_f.nodes().iter().zip(&weights) {
                     weight_of[p] = w;
                 }
-                f.pairs().iter().map(|&(mi, _)| (mi, weight_of[mi])).unzip()
+                f.pairs()
+                    .iter()
+                    .zip(&prescribed)
+                    .filter(|(_, &given)| !given)
+                    .map(|(&(mi, _), _)| (mi, weight_of[mi]))
+                    .unzip()
             }
             None => order
                 .iter()
@@ -1058,16 +1171,22 @@ fn internal_fault_frames<const C: usize>(
     fixed: &[bool],
 ) -> Result<NodalFrames<C>> {
     for &(mi, pl) in fault.pairs() {
-        if let Some(p) = [mi, pl]
-            .into_iter()
-            .find(|&p| (0..C).any(|c| fixed[C * p + c]))
-        {
+        let count = [mi, pl]
+            .iter()
+            .map(|&p| (0..C).filter(|&c| fixed[C * p + c]).count())
+            .sum::<usize>();
+        if count != 0 && count != 2 * C {
+            let p = if (0..C).any(|c| fixed[C * mi + c]) {
+                mi
+            } else {
+                pl
+            };
             return Err(invalid(
                 "dirichlet",
                 format!(
-                    "node {p} is a split node of the internal fault `{}`: a Dirichlet part \
-                     there would prescribe the mean and the jump together; keep Dirichlet \
-                     parts off the fault",
+                    "node {p} is a split node of the internal fault `{}` and Dirichlet parts \
+                     fix only some components of its two sides; fix every component of both \
+                     sides (e.g. each side's far-field motion) or none",
                     fault.sides.name()
                 ),
             ));
