@@ -73,8 +73,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// `quasi_dynamic`. `dynamic` is switched to fixed steps of `options.dynamic_tau`.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] named `dynamic` if its integrator has no inertia or its
-    /// model's dofs or frictional nodes differ, or naming the first invalid option
+    /// [`Error::InvalidParameter`] named `dynamic` if its integrator has no inertia, its
+    /// model's dofs or frictional nodes differ, or its normal stress setting
+    /// ([`SimulationBuilder::normal_stress`](crate::SimulationBuilder::normal_stress))
+    /// differs, or naming the first invalid option
     /// (thresholds positive and ordered, steps positive and finite).
     pub fn new(
         quasi_dynamic: FaultOde<D, L, S, C>,
@@ -109,6 +111,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             return Err(invalid(
                 "dynamic",
                 "its model differs from the quasi-dynamic one (dofs or frictional nodes)",
+            ));
+        }
+        let (qn, dn) = (
+            quasi_dynamic.problem().normal_stress(),
+            dynamic.problem().normal_stress(),
+        );
+        if qn != dn {
+            return Err(invalid(
+                "dynamic",
+                format!(
+                    "its normal stress ({dn:?}) differs from the quasi-dynamic one's ({qn:?}): \
+                     give both builders the same SimulationBuilder::normal_stress"
+                ),
             ));
         }
         dynamic.set_step_control(None)?;

@@ -362,3 +362,68 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
         "{e}"
     );
 }
+
+/// The thrust block with a mass matrix (the dynamic phases' model).
+fn thrust_block_with_mass() -> Model<2> {
+    let v = 1e-4;
+    let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
+    ModelBuilder::refined(mesh, 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [v, 0.0])
+        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [-v, 0.0])
+        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
+        .build()
+        .unwrap()
+}
+
+/// The switching run on an internal fault with a normal stress from slip: both phases
+/// carry it (low thresholds make the run switch to the dynamic phase and back), the
+/// observers see it change in both; engines with different settings are refused.
+#[test]
+fn the_switching_run_carries_a_normal_stress_from_slip_through_both_phases() {
+    let options = rsf::switching::SwitchingOptions {
+        to_dynamic: 5e-5,
+        to_quasi_dynamic: 2e-5,
+        dynamic_tau: 1e-3,
+        restart_dt: 1e-3,
+    };
+    let dynamic = |normal| {
+        quasi_dynamic(thrust_block_with_mass(), normal)
+            .integrator(rsf::time::Newmark)
+            .time_step(1e-3)
+            .solver(rsf::SolverKind::Direct)
+            .build()
+            .unwrap()
+    };
+    let ode = fault_ode(thrust_block(), NormalStress::FromSlip).unwrap();
+    match rsf::SwitchingRun::new(ode, dynamic(NormalStress::Fixed), options) {
+        Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "dynamic"),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    let ode = fault_ode(thrust_block(), NormalStress::FromSlip).unwrap();
+    let mut run = rsf::SwitchingRun::new(ode, dynamic(NormalStress::FromSlip), options).unwrap();
+    let mut record = Record::default();
+    run.run_until(rsf::Until::Time(3.0), &mut [&mut record])
+        .unwrap();
+    let stats = run.stats();
+    let change = record
+        .rows
+        .iter()
+        .flat_map(|r| r.2.iter())
+        .fold(0.0f64, |m, s| m.max((s - SIGMA_N).abs()));
+    eprintln!(
+        "{stats:?}; {} rows; largest normal-stress change {change:e} Pa",
+        record.rows.len()
+    );
+    assert!(
+        stats.dynamic_phases > 0 && stats.dynamic_steps > 0,
+        "{stats:?}"
+    );
+    assert!(change > 1e-3 * SIGMA_N, "{change:e}");
+    assert!(record
+        .rows
+        .iter()
+        .flat_map(|r| r.2.iter())
+        .all(|s| s.is_finite() && *s > 0.0));
+}
