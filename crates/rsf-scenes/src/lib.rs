@@ -31,6 +31,7 @@ mod incline;
 pub mod output;
 mod scene_file;
 mod seas_bp1;
+mod seas_bp3;
 mod slider;
 mod slider3d;
 
@@ -42,6 +43,7 @@ pub use seas_bp1::{
     GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
     SEAS_BP1_BOTTOM, SEAS_BP1_FAR_SIDE, SEAS_BP1_STATION_DEPTHS,
 };
+pub use seas_bp3::{SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,

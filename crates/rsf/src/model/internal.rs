@@ -291,6 +291,33 @@ impl InternalFault {
         out
     }
 
+    /// `T⁻¹ x`: a node-major Cartesian field (`C` per vertex, each side's own value at a
+    /// split vertex) in the model's unknowns.
+    ///
+    /// # Panics
+    /// If `x` is not of `T`'s size (internal invariant).
+    pub(crate) fn to_model_coordinates(&self, x: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        spmv_add(self.transform.t_inv.as_ref(), 1.0, x, &mut out);
+        out
+    }
+
+    /// The point `x` of `vertex` moved into its side of the fault by `10⁻⁹` of its largest
+    /// coordinate (at least 10⁻⁹ m) along the pair's normal, for a function of position
+    /// that tells the sides apart (e.g. an initial velocity that jumps across the fault);
+    /// `x` itself off the fault.
+    pub(crate) fn moved_into_side<const D: usize>(&self, vertex: usize, x: &[f64; D]) -> [f64; D] {
+        let Some((k, plus)) = self.pair_of.get(vertex).copied().flatten() else {
+            return *x;
+        };
+        let r = self.transform.frames[k];
+        // R's columns are (t, −n), n pointing from the minus into the plus side.
+        let n = [-r[0][1], -r[1][1]];
+        let size = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        let delta = if plus { 1e-9 } else { -1e-9 } * size;
+        std::array::from_fn(|a| if a < 2 { x[a] + delta * n[a] } else { x[a] })
+    }
+
     /// `Tᵀ f`: a Cartesian force vector (load, far-field dashpot force) in the new
     /// coordinates.
     pub(crate) fn pull_back(&self, f: &[f64]) -> Vec<f64> {

@@ -290,18 +290,31 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     /// `v_0` is given in Cartesian components (rotated into the nodal frames of a slanted
     /// fault, [`Model::to_model`]) for the displacement `u` (multiplied by
     /// the frictional boundary's `slip_factor` on a model of an antisymmetric fault, whose
-    /// unknown is `s·u`).
+    /// unknown is `s·u`). On a model with a fault inside the body each copy of a split
+    /// vertex takes the value at a point moved into its own side by 10⁻⁹ of the largest
+    /// coordinate (so a velocity that jumps across the fault, e.g. each side's rigid
+    /// motion, is seen by the two copies), and the field goes into the mean–jump unknowns.
     pub fn initial_velocity_at(mut self, mut v0: impl FnMut(&[f64; D]) -> [f64; C]) -> Self {
         let model = &self.model;
         let s = model.frictional_boundary.slip_factor;
-        self.v0 = Some(
-            model
+        self.v0 = Some(match &model.internal_fault {
+            // Each side's own value at a split vertex, then mean and jump.
+            Some(f) => {
+                let cartesian: Vec<f64> = model
+                    .vertices
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(p, x)| v0(&f.moved_into_side(p, x)).map(|v| s * v))
+                    .collect();
+                f.to_model_coordinates(&cartesian)
+            }
+            None => model
                 .vertices
                 .iter()
                 .enumerate()
                 .flat_map(|(p, x)| model.to_model(p, v0(x).map(|v| s * v)))
                 .collect(),
-        );
+        });
         self
     }
 
