@@ -251,14 +251,28 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
     /// # Errors
     /// [`Error::InvalidDensity`] unless `rho > 0` and finite; mesh mismatch.
     pub fn mass(&self, mesh: &SimplexMesh<D>, rho: f64) -> Result<SparseMatrix> {
-        check_density(rho)?;
+        self.mass_by_cell(mesh, |_| rho)
+    }
+
+    /// As [`Assembler::mass`] with the density `rho(cell)` of every cell (a body of
+    /// several materials).
+    ///
+    /// # Errors
+    /// [`Error::InvalidDensity`] for the first cell whose density is not positive and
+    /// finite; mesh mismatch.
+    pub fn mass_by_cell(
+        &self,
+        mesh: &SimplexMesh<D>,
+        rho: impl Fn(usize) -> f64,
+    ) -> Result<SparseMatrix> {
+        (0..mesh.num_cells()).try_for_each(|c| check_density(rho(c)))?;
         let mut out = self.zeros();
         if C == D {
             // The vector path, unchanged (bit-identical trajectories).
-            self.assemble_into(mesh, &mut out, |_, m, loc| p1_mass::<D>(m, rho, loc))?;
+            self.assemble_cells_into(mesh, &mut out, |c, _, m, loc| p1_mass::<D>(m, rho(c), loc))?;
         } else {
-            self.assemble_into(mesh, &mut out, |_, m, loc| {
-                p1_mass_components::<D, C>(m, rho, loc)
+            self.assemble_cells_into(mesh, &mut out, |c, _, m, loc| {
+                p1_mass_components::<D, C>(m, rho(c), loc)
             })?;
         }
         Ok(out)
@@ -271,9 +285,21 @@ impl<const D: usize> Assembler<D> {
     /// # Errors
     /// Mesh mismatch.
     pub fn stiffness(&self, mesh: &SimplexMesh<D>, mat: &LinearElasticity) -> Result<SparseMatrix> {
+        self.stiffness_by_cell(mesh, |_| mat)
+    }
+
+    /// As [`Assembler::stiffness`] with the elasticity tensor `mat(cell)` of every cell.
+    ///
+    /// # Errors
+    /// Mesh mismatch.
+    pub fn stiffness_by_cell<'m>(
+        &self,
+        mesh: &SimplexMesh<D>,
+        mat: impl Fn(usize) -> &'m LinearElasticity,
+    ) -> Result<SparseMatrix> {
         let mut out = self.zeros();
-        self.assemble_into(mesh, &mut out, |g, m, loc| {
-            p1_stiffness::<D>(g, m, mat, loc)
+        self.assemble_cells_into(mesh, &mut out, |c, g, m, loc| {
+            p1_stiffness::<D>(g, m, mat(c), loc)
         })?;
         Ok(out)
     }
@@ -288,10 +314,25 @@ impl<const D: usize> Assembler<D> {
         rho: f64,
         mat: &LinearElasticity,
     ) -> Result<SparseMatrix> {
-        check_density(rho)?;
+        self.energy_by_cell(mesh, |_| (rho, mat))
+    }
+
+    /// As [`Assembler::energy`] with the density and elasticity tensor
+    /// `material(cell)` of every cell.
+    ///
+    /// # Errors
+    /// [`Error::InvalidDensity`] for the first cell whose density is not positive and
+    /// finite; mesh mismatch.
+    pub fn energy_by_cell<'m>(
+        &self,
+        mesh: &SimplexMesh<D>,
+        material: impl Fn(usize) -> (f64, &'m LinearElasticity),
+    ) -> Result<SparseMatrix> {
+        (0..mesh.num_cells()).try_for_each(|c| check_density(material(c).0))?;
         let mut out = self.zeros();
         let mut tmp = [0.0f64; 144];
-        self.assemble_into(mesh, &mut out, |g, m, loc| {
+        self.assemble_cells_into(mesh, &mut out, |c, g, m, loc| {
+            let (rho, mat) = material(c);
             let tmp = &mut tmp[..loc.len()];
             p1_mass::<D>(m, rho, tmp);
             p1_stiffness::<D>(g, m, mat, loc);

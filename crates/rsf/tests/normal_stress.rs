@@ -103,17 +103,26 @@ fn normal_reactions(model: &Model<2>, u: &[f64]) -> Vec<f64> {
 /// the origin to a tip at (−0.5, −0.5), the sides pushed together (left +v, right −v):
 /// reverse slip, which changes the normal stress.
 fn thrust_block() -> Model<2> {
+    thrust_block_with(false)
+}
+
+/// [`thrust_block`], with a mass matrix if `inertia` (the dynamic phases' model).
+fn thrust_block_with(inertia: bool) -> Model<2> {
     let v = 1e-4;
     let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
-    ModelBuilder::refined(mesh, 1)
+    let builder = ModelBuilder::refined(mesh, 1)
         .unwrap()
         .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
         .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [v, 0.0])
         .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [-v, 0.0])
-        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
-        .build()
-        .unwrap()
+        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0]);
+    if inertia {
+        builder
+    } else {
+        builder.without_mass()
+    }
+    .build()
+    .unwrap()
 }
 
 /// The fault ODE's normal stress at every step equals `σ̄_n⁰ − Δr_N/w` with the
@@ -363,20 +372,6 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
     );
 }
 
-/// The thrust block with a mass matrix (the dynamic phases' model).
-fn thrust_block_with_mass() -> Model<2> {
-    let v = 1e-4;
-    let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
-    ModelBuilder::refined(mesh, 1)
-        .unwrap()
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [v, 0.0])
-        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [-v, 0.0])
-        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
-        .build()
-        .unwrap()
-}
-
 /// The switching run on an internal fault with a normal stress from slip: both phases
 /// carry it (low thresholds make the run switch to the dynamic phase and back), the
 /// observers see it change in both; engines with different settings are refused.
@@ -389,7 +384,7 @@ fn the_switching_run_carries_a_normal_stress_from_slip_through_both_phases() {
         restart_dt: 1e-3,
     };
     let dynamic = |normal| {
-        quasi_dynamic(thrust_block_with_mass(), normal)
+        quasi_dynamic(thrust_block_with(true), normal)
             .integrator(rsf::time::Newmark)
             .time_step(1e-3)
             .solver(rsf::SolverKind::Direct)

@@ -456,36 +456,9 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
     }
 
     fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
-        let n = self.a.nrows;
-        if v.len() != n {
-            return Err(Error::DimensionMismatch {
-                what: "iterate",
-                expected: n,
-                got: v.len(),
-            });
-        }
-        let cd = match self.cache.as_mut() {
-            Some(cd) if self.in_step => cd,
-            _ => {
-                return Err(Error::InvalidOption(
-                    "finish_step without begin_step".into(),
-                ))
-            }
-        };
-        let c = &mut cd.cond;
-        let nr = c.factor.nr;
-        for i in 0..cd.fault.num_free() {
-            c.y[nr + i] = cd.fault.xb[cd.fault.comp(i)];
-        }
-        c.factor.backward_interior(&mut c.y);
-        for (k, &i) in c.order.iter().enumerate() {
-            v[i] = c.y[k];
-        }
+        let done = self.current_iterate(v);
         self.in_step = false;
-        if c.y.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite("direct solution"));
-        }
-        Ok(())
+        done
     }
 
     fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
@@ -501,7 +474,7 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
             Some(cd) if self.in_step => cd,
             _ => {
                 return Err(Error::InvalidOption(
-                    "current_iterate outside a step".into(),
+                    "finish_step or current_iterate without begin_step".into(),
                 ))
             }
         };
@@ -520,7 +493,7 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
             v[i] = peek[k];
         }
         if peek.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite("direct iterate"));
+            return Err(Error::NonFinite("direct solution"));
         }
         Ok(())
     }

@@ -57,6 +57,22 @@ pub struct MediumMatrices {
     pub energy_norm: SparseMatrix,
 }
 
+impl MediumMatrices {
+    /// The matrices of a body with `stiffness` and, with inertia, its mass and energy
+    /// norm `(M, E)`; without, the energy norm is the stiffness.
+    pub fn new(stiffness: SparseMatrix, inertia: Option<(SparseMatrix, SparseMatrix)>) -> Self {
+        let (mass, energy_norm) = match inertia {
+            Some((m, e)) => (Some(m), e),
+            None => (None, stiffness.clone()),
+        };
+        Self {
+            stiffness,
+            mass,
+            energy_norm,
+        }
+    }
+}
+
 /// What the body is made of, for a field of `C` components per vertex on a `D`-dimensional
 /// mesh: the seam between [`ModelBuilder`] and the constitutive law. [`Material`]
 /// (isotropic elasticity, `C = D`) and [`AntiplaneMaterial`] (`C = 1`) implement it; a user's
@@ -96,21 +112,7 @@ impl<const D: usize> Medium<D, D> for Material {
 
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
         let elasticity = self.elasticity()?;
-        let assembler = Assembler::new(mesh)?;
-        let stiffness = assembler.stiffness(mesh, &elasticity)?;
-        let (mass, energy_norm) = if with_mass {
-            (
-                Some(assembler.mass(mesh, self.density)?),
-                assembler.energy(mesh, self.density, &elasticity)?,
-            )
-        } else {
-            (None, stiffness.clone())
-        };
-        Ok(MediumMatrices {
-            stiffness,
-            mass,
-            energy_norm,
-        })
+        assemble_elastic(mesh, with_mass, |_| (self.density, &elasticity))
     }
 
     /// `(√(ρ(λ + 2μ)), √(ρμ))` with the Lamé constants of `E`, `ν` (plane strain in 2D:
@@ -121,6 +123,26 @@ impl<const D: usize> Medium<D, D> for Material {
         let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
         Some([(rho * (lambda + 2.0 * mu)).sqrt(), (rho * mu).sqrt()])
     }
+}
+
+/// Stiffness, mass (if `with_mass`) and energy norm of an elastic body whose cell `c` has
+/// the density and elasticity tensor `material(c)` ([`Material`], [`MaterialRegions`](super::MaterialRegions)).
+pub(crate) fn assemble_elastic<'m, const D: usize>(
+    mesh: &SimplexMesh<D>,
+    with_mass: bool,
+    material: impl Fn(usize) -> (f64, &'m LinearElasticity),
+) -> Result<MediumMatrices> {
+    let assembler = Assembler::new(mesh)?;
+    let stiffness = assembler.stiffness_by_cell(mesh, |c| material(c).1)?;
+    let inertia = with_mass
+        .then(|| {
+            Ok::<_, Error>((
+                assembler.mass_by_cell(mesh, |c| material(c).0)?,
+                assembler.energy_by_cell(mesh, &material)?,
+            ))
+        })
+        .transpose()?;
+    Ok(MediumMatrices::new(stiffness, inertia))
 }
 
 /// A medium for a scalar field `u` (one component per vertex) with energy `½∫μ|∇u|²`: the
@@ -160,18 +182,14 @@ impl<const D: usize> Medium<D, 1> for AntiplaneMaterial {
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
         let assembler = Assembler::scalar(mesh)?;
         let stiffness = assembler.laplace(mesh, self.shear_modulus)?;
-        let (mass, energy_norm) = if with_mass {
-            let m = assembler.mass(mesh, self.density)?;
-            let e = combine(1.0, &m, 1.0, &stiffness).map_err(rsf_fem::Error::from)?;
-            (Some(m), e)
-        } else {
-            (None, stiffness.clone())
-        };
-        Ok(MediumMatrices {
-            stiffness,
-            mass,
-            energy_norm,
-        })
+        let inertia = with_mass
+            .then(|| {
+                let m = assembler.mass(mesh, self.density)?;
+                let e = combine(1.0, &m, 1.0, &stiffness).map_err(rsf_fem::Error::from)?;
+                Ok::<_, Error>((m, e))
+            })
+            .transpose()?;
+        Ok(MediumMatrices::new(stiffness, inertia))
     }
 
     /// `√(ρμ) = ρc_s` twice (a scalar field has no P wave; only `ρc_s` is used).

@@ -1,10 +1,9 @@
 //! A body made of several isotropic elastic materials: regions of cells chosen by their
 //! centroids (e.g. the paper's block on an elastic base, a soft layer over stiff rock).
 
-use rsf_fem::element::{p1_mass, p1_stiffness};
-use rsf_fem::{Assembler, LinearElasticity, SimplexMesh};
+use rsf_fem::{LinearElasticity, SimplexMesh};
 
-use super::builder::{Material, Medium, MediumMatrices};
+use super::builder::{assemble_elastic, Material, Medium, MediumMatrices};
 use crate::error::{invalid, Result};
 
 /// Selects a region's cells by their centroid (m).
@@ -15,7 +14,7 @@ pub type CellPredicate<const D: usize> = Box<dyn Fn(&[f64; D]) -> bool>;
 /// matches wins; cells no region selects are the background). A [`Medium`] for
 /// [`ModelBuilder::material`](crate::ModelBuilder::material): the stiffness, mass and
 /// energy norm are assembled cell by cell with each cell's material
-/// ([`Assembler::assemble_cells_into`]); gravity's body force uses the density of the
+/// ([`rsf_fem::Assembler::stiffness_by_cell`] and its kin); gravity's body force uses the density of the
 /// region containing the point ([`Medium::density_at`]).
 ///
 /// Regions follow mesh cells: an interface that is not a union of cell edges is
@@ -143,35 +142,7 @@ impl<const D: usize> Medium<D, D> for MaterialRegions<D> {
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
         let elasticities = self.elasticities()?;
         let cells = self.cell_materials(mesh);
-        let assembler = Assembler::new(mesh)?;
-        let mut stiffness = assembler.zeros();
-        assembler.assemble_cells_into(mesh, &mut stiffness, |c, g, m, loc| {
-            p1_stiffness::<D>(g, m, &elasticities[cells[c].0], loc)
-        })?;
-        let (mass, energy_norm) = if with_mass {
-            let mut mass = assembler.zeros();
-            assembler.assemble_cells_into(mesh, &mut mass, |c, _, m, loc| {
-                p1_mass::<D>(m, cells[c].1, loc)
-            })?;
-            let mut energy = assembler.zeros();
-            let mut tmp = [0.0f64; 144];
-            assembler.assemble_cells_into(mesh, &mut energy, |c, g, m, loc| {
-                let tmp = &mut tmp[..loc.len()];
-                p1_mass::<D>(m, cells[c].1, tmp);
-                p1_stiffness::<D>(g, m, &elasticities[cells[c].0], loc);
-                for (l, t) in loc.iter_mut().zip(tmp.iter()) {
-                    *l += t;
-                }
-            })?;
-            (Some(mass), energy)
-        } else {
-            (None, stiffness.clone())
-        };
-        Ok(MediumMatrices {
-            stiffness,
-            mass,
-            energy_norm,
-        })
+        assemble_elastic(mesh, with_mass, |c| (cells[c].1, &elasticities[cells[c].0]))
     }
 
     /// The materials' common impedances; `None` (no absorbing parts) if the regions'
