@@ -13,20 +13,19 @@
 //! the dip, `SeasBp3::mesh`; the parameters: BP1's table, which BP3 shares, with the depth
 //! replaced by the down-dip distance x_d).
 //!
-//! Writes to `--out`: `events.csv` (start time, peak slip rate, hypocentre x_d) and
-//! `stations.csv` (at the BP3 stations' down-dip distances, every `--every` accepted
-//! steps: time, slip, log10 V, shear and normal stress, log10 θ), and prints the events.
+//! Writes the benchmark's files to `--out` (`SeasBp3::seas_setup`: the twelve on-fault
+//! stations `fltst_dpXXX` with six columns — slip, log10 V, shear and normal stress,
+//! log10 θ — the slip profiles `slip.dat`, the event catalogue `events.csv`; not yet the
+//! surface stations and the stress profiles) and prints the events.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use rsf::observe::SECONDS_PER_YEAR;
-use rsf::{Flow, Observer, StepView};
+use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 use rsf_examples::{cpu_seconds, machine};
-use rsf_scenes::{SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
+use rsf_scenes::{SeasBp3, SeasBp3Grid};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
@@ -53,62 +52,9 @@ struct Args {
     /// Tolerance of the fault ODE.
     #[arg(long, default_value_t = 1e-7)]
     tolerance: f64,
-    /// A station row every this many accepted steps.
-    #[arg(long, default_value_t = 10)]
-    every: usize,
-}
-
-/// Per accepted step: the event catalogue and the station rows.
-struct Output {
-    bp3: SeasBp3,
-    stations: Vec<usize>,
-    u0: Vec<f64>,
-    every: usize,
-    steps: usize,
-    rows: String,
-    /// (start time, peak slip rate, hypocentre x_d); the last is open while slipping.
-    events: Vec<(f64, f64, f64)>,
-    slipping: bool,
-}
-
-impl Observer<2> for Output {
-    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<Flow> {
-        let fb = &s.model.frictional_boundary;
-        let (k_max, v_max) = (0..fb.len())
-            .map(|k| (k, s.slip_rate(k)))
-            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
-        let t = s.state.time;
-        if v_max >= 1e-3 {
-            if !self.slipping {
-                let x = s.model.vertices[fb.nodes[k_max]];
-                self.events.push((t, v_max, self.bp3.x_d(&x)));
-            }
-            let e = self.events.last_mut().expect("an open event");
-            e.1 = e.1.max(v_max);
-        }
-        self.slipping = v_max >= 1e-3;
-        if self.steps % self.every == 0 {
-            write!(self.rows, "{t:.13e}").expect("string");
-            for &k in &self.stations {
-                let p = fb.nodes[k];
-                let slip = s.state.kinematics.u[2 * p] - self.u0[2 * p];
-                let v = s.slip_rate(k);
-                let alpha = s.state.alpha[k];
-                write!(
-                    self.rows,
-                    ",{slip:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
-                    v.log10(),
-                    s.shear_traction(k) / 1e6,
-                    s.normal_traction(k).unwrap_or(f64::NAN) / 1e6,
-                    alpha / std::f64::consts::LN_10
-                )
-                .expect("string");
-            }
-            self.rows.push('\n');
-        }
-        self.steps += 1;
-        Ok(Flow::Continue(()))
-    }
+    /// Modeler's name for the files' headers.
+    #[arg(long, default_value = "rsf")]
+    modeler: String,
 }
 
 fn main() -> ExitCode {
@@ -118,9 +64,6 @@ fn main() -> ExitCode {
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     if !(args.dip > 0.0 && args.dip < 90.0) {
         return Err(format!("--dip {}: must be in (0, 90) degrees", args.dip).into());
-    }
-    if args.every == 0 {
-        return Err("--every must be at least 1".into());
     }
     let bp3 = SeasBp3 {
         dip_degrees: args.dip,
@@ -154,62 +97,35 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         fb.len(),
         machine()
     );
-    let stations = SEAS_BP3_STATION_DISTANCES
-        .iter()
-        .map(|&xd| {
-            (0..fb.len())
-                .min_by(|&a, &b| {
-                    let d = |k: usize| (bp3.x_d(&model.vertices[fb.nodes[k]]) - xd).abs();
-                    d(a).total_cmp(&d(b))
-                })
-                .expect("frictional nodes")
-        })
-        .collect();
     let mut options = bp3.params.fault_ode_options(args.tolerance)?;
     options.runge_kutta.dt_min = 1e-8;
-    let u0 = model.initial_displacement.clone();
     let mut ode = bp3.fault_ode(model, options)?;
-    let mut output = Output {
-        bp3: bp3.clone(),
-        stations,
-        u0,
-        every: args.every,
-        steps: 0,
-        rows: String::from("t"),
-        events: Vec::new(),
-        slipping: false,
+    let setup = SeasSetup {
+        modeler: args.modeler.clone(),
+        ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
-    for xd in SEAS_BP3_STATION_DISTANCES {
-        write!(
-            output.rows,
-            ",slip_{xd},log10V_{xd},shear_MPa_{xd},normal_MPa_{xd},log10theta_{xd}"
-        )?;
-    }
-    output.rows.push('\n');
+    let mut output = SeasOutput::new(
+        &args.out,
+        ode.model(),
+        ode.problem().friction_laws(),
+        setup,
+        FileMode::Overwrite,
+    )?;
+    output.write_initial_state(ode.model(), ode.state())?;
     let summary = ode.run_until(
         rsf::Until::Time(args.end_years * SECONDS_PER_YEAR),
         &mut [&mut output],
     )?;
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
-    std::fs::write(args.out.join("stations.csv"), &output.rows)?;
-    let mut events = String::from("t_start_yr,peak_slip_rate_m_per_s,hypocentre_x_d_m\n");
-    for e in &output.events {
-        writeln!(
-            events,
-            "{:.6},{:.6e},{:.1}",
-            e.0 / SECONDS_PER_YEAR,
-            e.1,
-            e.2
-        )?;
+    for e in output.events() {
         println!(
-            "event at {:.3} yr: peak slip rate {:.3e} m/s, hypocentre x_d = {:.1} km",
-            e.0 / SECONDS_PER_YEAR,
-            e.1,
-            e.2 / 1e3
+            "event at {:.3} yr: peak slip rate {:.3e} m/s, hypocentre x_d = {:.2} km",
+            e.t_start / SECONDS_PER_YEAR,
+            e.peak_slip_rate,
+            e.hypocentre_depth / 1e3
         );
     }
-    std::fs::write(args.out.join("events.csv"), events)?;
     println!(
         "{} steps, {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
         summary.steps,

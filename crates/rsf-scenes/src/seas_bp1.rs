@@ -560,6 +560,7 @@ impl SeasBp1 {
             sigma_n: self.sigma_n,
             profile_spacing: 500.0,
             sampling,
+            layout: rsf::observe::SeasLayout::Bp1,
         }
     }
 

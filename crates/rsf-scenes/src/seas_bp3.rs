@@ -5,6 +5,7 @@
 use rsf::fem::{geometric_grading, rectangle_from_coordinates, Diagonal, TriangleMesh};
 use rsf::friction::AsinhLaw;
 use rsf::normal_stress::NormalStress;
+use rsf::observe::{SeasLayout, SeasSampling, SeasSetup};
 use rsf::state::Aging;
 use rsf::time::Quasistatic;
 use rsf::{Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
@@ -243,6 +244,32 @@ impl SeasBp3 {
             .integrator(Quasistatic::new())
             .radiation_damping(p.radiation_damping())
             .normal_stress(NormalStress::FromSlip))
+    }
+
+    /// The benchmark output of a BP3-QD run with elements `dx` (m) along the fault
+    /// ([`SeasOutput`](rsf::observe::SeasOutput) with [`SeasLayout::Bp3`]): the twelve
+    /// on-fault stations `fltst_dpXXX` (XXX the down-dip distance in hundreds of metres)
+    /// with six columns, the slip profiles `slip.dat` every 500 m down-dip, the event
+    /// catalogue. (The surface stations and the stress profiles are not written yet.)
+    pub fn seas_setup(&self, dx: f64, sampling: SeasSampling) -> SeasSetup {
+        SeasSetup {
+            problem: "SEAS Benchmark BP3-QD".into(),
+            modeler: "rsf".into(),
+            date: rsf::observe::utc_date_today(),
+            element_size: dx,
+            stations: SEAS_BP3_STATION_DISTANCES
+                .iter()
+                .map(|&d| (SeasBp1::station_name(d), d))
+                .collect(),
+            depth_axis: 1,
+            depth_down: false,
+            sigma_n: self.params.sigma_n,
+            profile_spacing: 500.0,
+            sampling,
+            layout: SeasLayout::Bp3 {
+                dip_degrees: self.dip_degrees,
+            },
+        }
     }
 
     /// BP3-QD on `model` as a run condensed onto the fault (first trial step 0.01 s).

@@ -21,8 +21,8 @@ pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
 pub use seas::{
-    utc_date_today, SeasEvent, SeasOutput, SeasSampling, SeasSetup, SEAS_BP1_STATION_COLUMNS,
-    SEAS_RESUME_LOG, SECONDS_PER_YEAR,
+    utc_date_today, SeasEvent, SeasLayout, SeasOutput, SeasSampling, SeasSetup,
+    SEAS_BP1_STATION_COLUMNS, SEAS_BP3_STATION_COLUMNS, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
 };
 pub use series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]

@@ -1,13 +1,13 @@
 //! Output in the format of the SCEC SEAS benchmarks (Erickson et al. 2020, Seismol. Res.
-//! Lett. 91(2); the BP1-QD problem description): on-fault station time series
-//! `fltst_dpXXX`, slip profiles `devol.dat`, and an event catalogue `events.csv`
-//! (docs/seas-bp1.md, "Output").
+//! Lett. 91(2); the BP1-QD and BP3-QD problem descriptions): on-fault station time series
+//! `fltst_dpXXX`, slip profiles `devol.dat` (BP3: `slip.dat`), and an event catalogue
+//! `events.csv` (docs/seas-bp1.md "Output", docs/seas-bp3.md).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use rsf_friction::FrictionLaw;
+use rsf_friction::{ConvexPotential, FrictionLaw};
 
 use super::files::{self, FileMode, Start};
 use super::{Flow, Observer, StepView};
@@ -72,9 +72,9 @@ pub struct SeasSetup {
     pub date: String,
     /// Element size on the fault (m), for the headers.
     pub element_size: f64,
-    /// Stations as `(file name, depth in m)`, each at the frictional node nearest that
-    /// depth (e.g. `SEAS_BP1_STATION_DEPTHS` with
-    /// `SeasBp1::station_name`).
+    /// Stations as `(file name, position in m)`, each at the frictional node nearest that
+    /// position along the fault — its depth for BP1 (e.g. `SEAS_BP1_STATION_DEPTHS` with
+    /// `SeasBp1::station_name`), its down-dip distance for [`SeasLayout::Bp3`].
     pub stations: Vec<(String, f64)>,
     /// The coordinate that is depth (`1` for BP1's `(x, z)` mesh) …
     pub depth_axis: usize,
@@ -88,6 +88,60 @@ pub struct SeasSetup {
     pub profile_spacing: f64,
     /// When rows are written.
     pub sampling: SeasSampling,
+    /// Which benchmark's files: BP1's (the default) or BP3's.
+    pub layout: SeasLayout,
+}
+
+/// Which benchmark's files a [`SeasOutput`] writes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum SeasLayout {
+    /// BP1: stations and profiles by depth, five station columns (the shear stress
+    /// `σ_n μ(V, α)` with [`SeasSetup::sigma_n`]), the slip profiles `devol.dat`.
+    #[default]
+    Bp1,
+    /// BP3 (a vector model with a fault inside the body, dipping `dip_degrees`):
+    /// stations and profiles by down-dip distance `x_d = depth / sin ψ`, six station
+    /// columns (the run's shear and normal stress, signed slip: the jump's tangential
+    /// component), the slip profiles `slip.dat` (field line `xd`).
+    Bp3 {
+        /// Dip ψ (degrees).
+        dip_degrees: f64,
+    },
+}
+
+impl SeasLayout {
+    /// The station columns `(field name, description)`.
+    pub fn station_columns(&self) -> &'static [(&'static str, &'static str)] {
+        match self {
+            Self::Bp1 => &SEAS_BP1_STATION_COLUMNS,
+            Self::Bp3 { .. } => &SEAS_BP3_STATION_COLUMNS,
+        }
+    }
+
+    /// The slip profiles' file name.
+    pub fn profile_file(&self) -> &'static str {
+        match self {
+            Self::Bp1 => "devol.dat",
+            Self::Bp3 { .. } => "slip.dat",
+        }
+    }
+
+    /// The position along the fault of a point at `depth` (m): the depth (BP1) or the
+    /// down-dip distance (BP3).
+    fn along(&self, depth: f64) -> f64 {
+        match self {
+            Self::Bp1 => depth,
+            Self::Bp3 { dip_degrees } => depth / dip_degrees.to_radians().sin(),
+        }
+    }
+
+    /// The name of that position in the headers: `(word, symbol)`.
+    fn coordinate(&self) -> (&'static str, &'static str) {
+        match self {
+            Self::Bp1 => ("depth", "z"),
+            Self::Bp3 { .. } => ("down-dip distance", "xd"),
+        }
+    }
 }
 
 /// One event of the catalogue: from where the maximum slip rate on the fault rises to the
@@ -117,7 +171,8 @@ struct Station<L> {
 }
 
 /// The SEAS benchmark output of a run on a fault with per-node depths: station files,
-/// slip profiles, event catalogue (see the module docs). The slip of a node is the change
+/// slip profiles, event catalogue (see the module docs; [`SeasLayout`] chooses BP1's or
+/// BP3's files). The slip of a node is the change
 /// of its field since the start (signed for a scalar field, the Euclidean norm of the
 /// change otherwise; on a model of an antisymmetric fault the field is the slip); the shear
 /// stress is `σ_n μ(V, α)` of the node's law (the friction stress, MPa in the files); the
@@ -175,13 +230,29 @@ pub const SEAS_BP1_STATION_COLUMNS: [(&str, &str); 5] = [
     ("state", "State (log10 s)"),
 ];
 
-/// The two field-list lines of the slip profiles `devol.dat` (depth, then time, maximum
-/// slip rate and slip); the first data row holds the depths.
-const PROFILE_FIELD_LINES: [&str; 2] = ["z", "t max_slip_rate slip"];
+/// The station files' columns of BP3: BP1's with the normal stress.
+pub const SEAS_BP3_STATION_COLUMNS: [(&str, &str); 6] = [
+    ("t", "Time (s)"),
+    ("slip", "Slip (m)"),
+    ("slip_rate", "Slip rate (log10 m/s)"),
+    ("shear_stress", "Shear stress (MPa)"),
+    ("normal_stress", "Normal stress (MPa)"),
+    ("state", "State (log10 s)"),
+];
+
+/// The second field-list line of the slip profiles (time, maximum slip rate and slip);
+/// the first is the coordinate (`z` or `xd`), and the first data row holds its values.
+const PROFILE_FIELD_LINE: &str = "t max_slip_rate slip";
+
+/// The two field-list lines of the slip profiles of `layout`.
+fn profile_field_lines(layout: &SeasLayout) -> [&'static str; 2] {
+    [layout.coordinate().1, PROFILE_FIELD_LINE]
+}
 
 /// The field-list line of a station file (after its `#` lines).
-fn station_field_line() -> String {
-    SEAS_BP1_STATION_COLUMNS
+fn station_field_line(layout: &SeasLayout) -> String {
+    layout
+        .station_columns()
         .iter()
         .map(|(name, _)| *name)
         .collect::<Vec<_>>()
@@ -235,7 +306,11 @@ impl Layout {
         let depths: Vec<f64> = fb
             .nodes
             .iter()
-            .map(|&p| sign * model.vertices[p][setup.depth_axis])
+            .map(|&p| {
+                setup
+                    .layout
+                    .along(sign * model.vertices[p][setup.depth_axis])
+            })
             .collect();
         let nearest = |d: f64| {
             (0..depths.len())
@@ -406,7 +481,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
             });
         }
         let surface = layout.profile[0];
-        let path = dir.join("devol.dat");
+        let path = dir.join(setup.layout.profile_file());
         let profile_out = if resuming {
             None
         } else {
@@ -534,7 +609,8 @@ impl<L: FrictionLaw> SeasOutput<L> {
     }
 
     /// The slip (m) of frictional node `k` of `model` with displacement `u`: the change
-    /// of its field since the start (signed for a scalar field, the norm of the change
+    /// of its field since the start (signed for a scalar field and for BP3's internal
+    /// fault, whose first component is the jump's tangential one; the norm of the change
     /// otherwise).
     fn slip<const D: usize, const C: usize>(
         &self,
@@ -545,7 +621,9 @@ impl<L: FrictionLaw> SeasOutput<L> {
         let p = model.frictional_boundary.nodes[k];
         let u = &u[C * p..C * p + C];
         let u0 = &self.u0[C * p..C * p + C];
-        if C == 1 {
+        if C == 1 || matches!(self.setup.layout, SeasLayout::Bp3 { .. }) {
+            // A scalar field's one component, or an internal fault's jump's tangential
+            // component: signed.
             u[0] - u0[0]
         } else {
             u.iter()
@@ -589,16 +667,18 @@ impl<L: FrictionLaw> SeasOutput<L> {
             .iter()
             .map(|&p| block_norm::<C>(v, p))
             .fold(0.0f64, f64::max);
-        self.write_station_rows(model, state)?;
+        self.write_station_rows(model, state, None)?;
         self.write_profile_row(model, state, vmax)?;
         self.write_log_line(0, state.time)
     }
 
-    /// One row at `state` in every station file.
+    /// One row at `state` in every station file; `tractions` the run's (the laws' own at
+    /// the initial state if `None`).
     fn write_station_rows<const D: usize, const C: usize>(
         &mut self,
         model: &Model<D, C>,
         state: &SimulationState,
+        tractions: Option<&dyn super::FaultTractions>,
     ) -> Result<()> {
         let t = state.time;
         self.last_station_t = t;
@@ -609,15 +689,35 @@ impl<L: FrictionLaw> SeasOutput<L> {
             let vk = block_norm::<C>(v, fb.nodes[k]);
             let alpha = state.alpha[k];
             let st = &self.stations[i];
-            let stress = self.setup.sigma_n * st.law.friction_coefficient(vk, alpha) / 1e6;
-            let row = format!(
-                "{} {} {} {} {}\n",
-                c_exp(t, 13, 21),
-                c_exp(self.slip(model, &state.kinematics.u, k), 6, 14),
-                c_exp(vk.log10(), 6, 14),
-                c_exp(stress, 6, 14),
-                c_exp(alpha / std::f64::consts::LN_10, 6, 14),
-            );
+            let row = match self.setup.layout {
+                SeasLayout::Bp1 => {
+                    let stress = self.setup.sigma_n * st.law.friction_coefficient(vk, alpha) / 1e6;
+                    format!(
+                        "{} {} {} {} {}\n",
+                        c_exp(t, 13, 21),
+                        c_exp(self.slip(model, &state.kinematics.u, k), 6, 14),
+                        c_exp(vk.log10(), 6, 14),
+                        c_exp(stress, 6, 14),
+                        c_exp(alpha / std::f64::consts::LN_10, 6, 14),
+                    )
+                }
+                SeasLayout::Bp3 { .. } => {
+                    let (shear, normal) = match tractions {
+                        Some(f) => (f.shear_traction(k, vk, alpha), f.normal_traction(k)),
+                        None => (st.law.potential(alpha).slope(vk), st.law.normal_stress()),
+                    };
+                    let slip = self.slip(model, &state.kinematics.u, k);
+                    format!(
+                        "{} {} {} {} {} {}\n",
+                        c_exp(t, 13, 21),
+                        c_exp(slip, 6, 14),
+                        c_exp(vk.log10(), 6, 14),
+                        c_exp(shear / 1e6, 6, 14),
+                        c_exp(normal.unwrap_or(f64::NAN) / 1e6, 6, 14),
+                        c_exp(alpha / std::f64::consts::LN_10, 6, 14),
+                    )
+                }
+            };
             let st = &mut self.stations[i];
             let out = writer(&mut st.out, &st.path)?;
             out.write_all(row.as_bytes())
@@ -650,7 +750,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
             row.push_str(&c_exp(*x, 6, 14));
         }
         row.push('\n');
-        let path = self.dir.join("devol.dat");
+        let path = self.dir.join(self.setup.layout.profile_file());
         let out = writer(&mut self.profile_out, &path)?;
         out.write_all(row.as_bytes())
             .map_err(io_at("write", &path))?;
@@ -695,15 +795,19 @@ fn common_header(
 fn station_header(setup: &SeasSetup, depth: f64, steps: Option<(f64, f64)>, rows: usize) -> String {
     let mut h = common_header(
         setup,
-        &format!("on fault, {} km depth", depth / 1e3),
+        &format!(
+            "on fault, {} km {}",
+            depth / 1e3,
+            setup.layout.coordinate().0
+        ),
         steps,
         rows,
     );
-    for (i, (_, description)) in SEAS_BP1_STATION_COLUMNS.iter().enumerate() {
+    for (i, (_, description)) in setup.layout.station_columns().iter().enumerate() {
         h.push_str(&format!("\n# Column #{} = {description}", i + 1));
     }
     h.push_str("\n# The line below lists the names of the data fields:\n");
-    h.push_str(&station_field_line());
+    h.push_str(&station_field_line(&setup.layout));
     h
 }
 
@@ -711,19 +815,25 @@ fn station_header(setup: &SeasSetup, depth: f64, steps: Option<(f64, f64)>, rows
 /// descriptions, the two field-list lines (the first data row, `0 0` and the depths,
 /// follows).
 fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows: usize) -> String {
+    let (word, symbol) = setup.layout.coordinate();
+    let plural = if word == "depth" {
+        "depths"
+    } else {
+        "down-dip distances"
+    };
     let mut h = common_header(
         setup,
-        "slip profiles along the fault's depth z",
+        &format!("slip profiles along the fault's {word} {symbol}"),
         steps,
         rows,
     );
-    h.push_str(
+    h.push_str(&format!(
         "\n# Column #1 = Time (s)\n# Column #2 = Max slip rate on the fault (log10 m/s)\n\
-         # Column #3 = Slip (m) at the depths z (m) of the first data row, one column per depth\n\
-         # The first data row is 0 0 followed by the depths z (m); every other row is a time.\n\
+         # Column #3 = Slip (m) at the {plural} {symbol} (m) of the first data row, one column per {word}\n\
+         # The first data row is 0 0 followed by the {plural} {symbol} (m); every other row is a time.\n\
          # The two lines below list the names of the data fields:",
-    );
-    for line in PROFILE_FIELD_LINES {
+    ));
+    for line in profile_field_lines(&setup.layout) {
         h.push('\n');
         h.push_str(line);
     }
@@ -781,15 +891,15 @@ fn plan_resume(dir: &Path, setup: &SeasSetup, layout: &Layout, step: usize) -> R
         let path = dir.join(name);
         let (keep, len) = kept_rows(
             &path,
-            &[station_field_line()],
-            SEAS_BP1_STATION_COLUMNS.len(),
+            &[station_field_line(&setup.layout)],
+            setup.layout.station_columns().len(),
             state.station_rows,
             state.last_station_t,
         )?;
         cuts.push((path, keep, len));
     }
-    let devol = dir.join("devol.dat");
-    let first = PROFILE_FIELD_LINES
+    let devol = dir.join(setup.layout.profile_file());
+    let first = profile_field_lines(&setup.layout)
         .iter()
         .map(|l| l.to_string())
         .chain([layout.profile_first_row()])
@@ -1051,7 +1161,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             sm.station_quiet
         };
         if sm.every_step || t - self.last_station_t >= station_dt * (1.0 - 1e-12) {
-            self.write_station_rows(s.model, s.state)?;
+            self.write_station_rows(s.model, s.state, Some(s.friction))?;
         }
         let profile_dt = if in_event {
             sm.profile_event
@@ -1080,7 +1190,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
                 &station_header(&self.setup, st.depth, stats, self.station_rows),
             )?;
         }
-        let devol = self.dir.join("devol.dat");
+        let devol = self.dir.join(self.setup.layout.profile_file());
         if let Some(mut out) = self.profile_out.take() {
             out.flush().map_err(io_at("write", &devol))?;
         }
