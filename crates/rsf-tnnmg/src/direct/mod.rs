@@ -456,12 +456,22 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
     }
 
     fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
-        let done = self.current_iterate(v);
+        let done = self.recover(v, true);
         self.in_step = false;
         done
     }
 
     fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
+        self.recover(v, false)
+    }
+}
+
+impl<const D: usize> DirectSolver<D> {
+    /// Writes the whole current iterate into `v` (the interior by one backward sweep from
+    /// the step's forward-condensed right-hand side): in place at the end of a step
+    /// (`in_place`), on a copy inside it, where the right-hand side stays for the step's
+    /// further solves.
+    fn recover(&mut self, v: &mut [f64], in_place: bool) -> Result<()> {
         let n = self.a.nrows;
         if v.len() != n {
             return Err(Error::DimensionMismatch {
@@ -480,19 +490,21 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
         };
         let c = &mut cd.cond;
         let nr = c.factor.nr;
-        // The backward sweep on a copy: the forward-condensed right-hand side stays for
-        // the step's further solves.
-        let peek = &mut self.peek;
-        peek.clear();
-        peek.extend_from_slice(&c.y);
+        let y = if in_place {
+            &mut c.y
+        } else {
+            self.peek.clear();
+            self.peek.extend_from_slice(&c.y);
+            &mut self.peek
+        };
         for i in 0..cd.fault.num_free() {
-            peek[nr + i] = cd.fault.xb[cd.fault.comp(i)];
+            y[nr + i] = cd.fault.xb[cd.fault.comp(i)];
         }
-        c.factor.backward_interior(peek);
+        c.factor.backward_interior(y);
         for (k, &i) in c.order.iter().enumerate() {
-            v[i] = peek[k];
+            v[i] = y[k];
         }
-        if peek.iter().any(|x| !x.is_finite()) {
+        if y.iter().any(|x| !x.is_finite()) {
             return Err(Error::NonFinite("direct solution"));
         }
         Ok(())
