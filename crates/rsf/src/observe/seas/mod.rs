@@ -9,13 +9,19 @@ use std::path::{Path, PathBuf};
 
 use rsf_friction::{ConvexPotential, FrictionLaw};
 
+mod format;
+mod resume;
+
 use super::files::{self, FileMode, Start};
 use super::{Flow, Observer, StepView};
 use crate::checkpoint::write_atomically;
-use crate::error::{invalid, io_at, show_path, Error, Result};
+use crate::error::{invalid, io_at, Result};
 use crate::model::fault::block_norm;
 use crate::model::Model;
 use crate::simulation_state::SimulationState;
+pub use format::utc_date_today;
+use format::{c_exp, is_iso_date, profile_header, station_header};
+use resume::{plan_resume, LogState};
 
 /// Seconds per year (365.25 days), the unit of the benchmark's output intervals.
 pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
@@ -240,57 +246,6 @@ pub const SEAS_BP3_STATION_COLUMNS: [(&str, &str); 6] = [
     ("state", "State (log10 s)"),
 ];
 
-/// The second field-list line of the slip profiles (time, maximum slip rate and slip);
-/// the first is the coordinate (`z` or `xd`), and the first data row holds its values.
-const PROFILE_FIELD_LINE: &str = "t max_slip_rate slip";
-
-/// The two field-list lines of the slip profiles of `layout`.
-fn profile_field_lines(layout: &SeasLayout) -> [&'static str; 2] {
-    [layout.coordinate().1, PROFILE_FIELD_LINE]
-}
-
-/// The field-list line of a station file (after its `#` lines).
-fn station_field_line(layout: &SeasLayout) -> String {
-    layout
-        .station_columns()
-        .iter()
-        .map(|(name, _)| *name)
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// The state of a [`SeasOutput`] after a step, as its resume log holds it.
-#[derive(Debug, Clone, PartialEq)]
-struct LogState {
-    steps: usize,
-    tau_min: f64,
-    tau_max: f64,
-    last_station_t: f64,
-    last_profile_t: f64,
-    station_rows: usize,
-    profile_rows: usize,
-    slip_at_start: f64,
-    pending_end: Option<(f64, f64)>,
-    events: Vec<SeasEvent>,
-}
-
-impl Default for LogState {
-    fn default() -> Self {
-        Self {
-            steps: 0,
-            tau_min: f64::INFINITY,
-            tau_max: 0.0,
-            last_station_t: f64::NEG_INFINITY,
-            last_profile_t: f64::NEG_INFINITY,
-            station_rows: 0,
-            profile_rows: 0,
-            slip_at_start: 0.0,
-            pending_end: None,
-            events: Vec::new(),
-        }
-    }
-}
-
 /// Where the output's nodes are: depths of the frictional nodes, stations, profile.
 struct Layout {
     depths: Vec<f64>,
@@ -343,25 +298,6 @@ impl Layout {
             .collect::<Vec<_>>()
             .join(" ")
     }
-}
-
-/// What a resume keeps: the state of the checkpoint's step and, per file, the bytes kept.
-struct ResumePlan {
-    state: LogState,
-    /// `(file, bytes kept, bytes now)`, the resume log included.
-    cuts: Vec<(PathBuf, usize, usize)>,
-}
-
-/// Formats `x` as C's `%W.PE` (`1.2345E+03`), right-aligned in `width`.
-fn c_exp(x: f64, precision: usize, width: usize) -> String {
-    let s = format!("{x:.precision$E}");
-    let (mantissa, exponent) = s.split_once('E').unwrap_or((&s, "0"));
-    let e: i32 = exponent.parse().unwrap_or(0);
-    let sign = if e < 0 { '-' } else { '+' };
-    format!(
-        "{:>width$}",
-        format!("{mantissa}E{sign}{:02}", e.unsigned_abs())
-    )
 }
 
 impl<L: FrictionLaw> SeasOutput<L> {
@@ -762,322 +698,6 @@ impl<L: FrictionLaw> SeasOutput<L> {
     }
 }
 
-/// The header lines every file shares (`#` lines): problem, author, date, code, version,
-/// element size, location, and the run's smallest and largest time step (`steps`,
-/// `(τ_min, τ_max)` once a step was taken) and the data rows in the file
-/// (`num_time_steps`, the benchmark's name for it).
-fn common_header(
-    setup: &SeasSetup,
-    location: &str,
-    steps: Option<(f64, f64)>,
-    rows: usize,
-) -> String {
-    let mut h = format!(
-        "# This is the file header:\n# problem={}\n# author={}\n# date={}\n# code=rsf\n\
-         # code_version={}\n# element_size={} m\n# location={location}",
-        setup.problem,
-        setup.modeler,
-        setup.date,
-        env!("CARGO_PKG_VERSION"),
-        setup.element_size
-    );
-    if let Some((lo, hi)) = steps {
-        h.push_str(&format!(
-            "\n# minimum_time_step={lo:e}\n# maximum_time_step={hi:e}"
-        ));
-    }
-    h.push_str(&format!("\n# num_time_steps={rows}"));
-    h
-}
-
-/// A station file's header: the shared lines, one `# Column #k` line per column, the
-/// field-list line.
-fn station_header(setup: &SeasSetup, depth: f64, steps: Option<(f64, f64)>, rows: usize) -> String {
-    let mut h = common_header(
-        setup,
-        &format!(
-            "on fault, {} km {}",
-            depth / 1e3,
-            setup.layout.coordinate().0
-        ),
-        steps,
-        rows,
-    );
-    for (i, (_, description)) in setup.layout.station_columns().iter().enumerate() {
-        h.push_str(&format!("\n# Column #{} = {description}", i + 1));
-    }
-    h.push_str("\n# The line below lists the names of the data fields:\n");
-    h.push_str(&station_field_line(&setup.layout));
-    h
-}
-
-/// The header of the slip profiles `devol.dat`: the shared lines, the columns'
-/// descriptions, the two field-list lines (the first data row, `0 0` and the depths,
-/// follows).
-fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows: usize) -> String {
-    let (word, symbol) = setup.layout.coordinate();
-    let plural = if word == "depth" {
-        "depths"
-    } else {
-        "down-dip distances"
-    };
-    let mut h = common_header(
-        setup,
-        &format!("slip profiles along the fault's {word} {symbol}"),
-        steps,
-        rows,
-    );
-    h.push_str(&format!(
-        "\n# Column #1 = Time (s)\n# Column #2 = Max slip rate on the fault (log10 m/s)\n\
-         # Column #3 = Slip (m) at the {plural} {symbol} (m) of the first data row, one column per {word}\n\
-         # The first data row is 0 0 followed by the {plural} {symbol} (m); every other row is a time.\n\
-         # The two lines below list the names of the data fields:",
-    ));
-    for line in profile_field_lines(&setup.layout) {
-        h.push('\n');
-        h.push_str(line);
-    }
-    h
-}
-
-/// Today's date in UTC as `YYYY-MM-DD`, for [`SeasSetup::date`] (from the system clock;
-/// `1970-01-01` if the clock is before the epoch).
-pub fn utc_date_today() -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let (y, m, d) = civil_from_days((secs / 86_400) as i64);
-    format!("{y:04}-{m:02}-{d:02}")
-}
-
-/// Whether `s` is a calendar date `YYYY-MM-DD` (month 1–12, day 1–31).
-fn is_iso_date(s: &str) -> bool {
-    let b = s.as_bytes();
-    let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
-    if b.len() != 10
-        || b[4] != b'-'
-        || b[7] != b'-'
-        || !digits(0..4)
-        || !digits(5..7)
-        || !digits(8..10)
-    {
-        return false;
-    }
-    let (m, d): (u32, u32) = (s[5..7].parse().unwrap_or(0), s[8..10].parse().unwrap_or(0));
-    (1..=12).contains(&m) && (1..=31).contains(&d)
-}
-
-/// The proleptic Gregorian date `(year, month, day)` of `days` since 1970-01-01
-/// (H. Hinnant's `civil_from_days`).
-fn civil_from_days(days: i64) -> (i64, u32, u32) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
-}
-
-/// Reads the resume log and the files of a [`SeasOutput`] in `dir` and plans their cut
-/// at step `step`; changes nothing.
-fn plan_resume(dir: &Path, setup: &SeasSetup, layout: &Layout, step: usize) -> Result<ResumePlan> {
-    let log_path = dir.join(SEAS_RESUME_LOG);
-    let (state, log_keep, log_len) = read_log(&log_path, step)?;
-    let mut cuts = vec![(log_path, log_keep, log_len)];
-    for (name, _) in &setup.stations {
-        let path = dir.join(name);
-        let (keep, len) = kept_rows(
-            &path,
-            &[station_field_line(&setup.layout)],
-            setup.layout.station_columns().len(),
-            state.station_rows,
-            state.last_station_t,
-        )?;
-        cuts.push((path, keep, len));
-    }
-    let devol = dir.join(setup.layout.profile_file());
-    let first = profile_field_lines(&setup.layout)
-        .iter()
-        .map(|l| l.to_string())
-        .chain([layout.profile_first_row()])
-        .collect::<Vec<_>>();
-    let (keep, len) = kept_rows(
-        &devol,
-        &first,
-        2 + layout.profile.len(),
-        state.profile_rows,
-        state.last_profile_t,
-    )?;
-    cuts.push((devol, keep, len));
-    Ok(ResumePlan { state, cuts })
-}
-
-/// Reads `path` for a resume (a missing file is an [`Error::Resume`]).
-fn read_for_resume(path: &Path) -> Result<Vec<u8>> {
-    match std::fs::read(path) {
-        Ok(t) => Ok(t),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(Error::Resume {
-            path: show_path(path),
-            reason: "the file is missing: resume into the folder of the interrupted run (with \
-                     a SEAS output written with its resume log)"
-                .into(),
-        }),
-        Err(e) => Err(io_at("read", path)(e)),
-    }
-}
-
-/// The complete lines of `text` with the byte offset after each.
-fn complete_lines(text: &[u8]) -> impl Iterator<Item = (&[u8], usize)> {
-    let mut at = 0;
-    std::iter::from_fn(move || {
-        let len = text[at..].iter().position(|&b| b == b'\n')?;
-        let line = &text[at..at + len];
-        at += len + 1;
-        Some((line, at))
-    })
-}
-
-/// The state of the resume log `path` after step `step` (the default state if the log
-/// has no line up to it), the bytes of the log kept and its length.
-fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usize)> {
-    let text = read_for_resume(path)?;
-    let fail = |reason: String| Error::Resume {
-        path: show_path(path),
-        reason,
-    };
-    let mut lines = complete_lines(&text);
-    let header_end = match lines.next() {
-        Some((h, end)) if h == LOG_HEADER.as_bytes() => end,
-        _ => return Err(fail("its first line is not the resume log's header".into())),
-    };
-    let mut state = LogState::default();
-    let (mut keep, mut last) = (header_end, None);
-    for (line, end) in lines {
-        let line = std::str::from_utf8(line).map_err(|e| fail(e.to_string()))?;
-        let malformed = || fail(format!("malformed line `{}`", rsf_numeric::excerpt(line)));
-        let f: Vec<&str> = line.split(',').collect();
-        if f.len() != 18 {
-            return Err(malformed());
-        }
-        let n = |i: usize| f[i].parse::<usize>().map_err(|_| malformed());
-        let x = |i: usize| f[i].parse::<f64>().map_err(|_| malformed());
-        let row_step = n(0)?;
-        if row_step > step {
-            break;
-        }
-        if last.is_some_and(|l| row_step <= l) {
-            return Err(fail(format!("lines out of order at step {row_step}")));
-        }
-        let events = n(12)?;
-        let event = SeasEvent {
-            t_start: x(13)?,
-            t_end: x(14)?,
-            hypocentre_depth: x(15)?,
-            peak_slip_rate: x(16)?,
-            surface_slip: x(17)?,
-        };
-        if events == state.events.len() + 1 {
-            state.events.push(event);
-        } else if events == state.events.len() && events > 0 {
-            state.events[events - 1] = event;
-        } else if events != state.events.len() {
-            return Err(malformed());
-        }
-        let pending = (x(10)?, x(11)?);
-        state = LogState {
-            steps: n(2)?,
-            tau_min: x(3)?,
-            tau_max: x(4)?,
-            last_station_t: x(5)?,
-            last_profile_t: x(6)?,
-            station_rows: n(7)?,
-            profile_rows: n(8)?,
-            slip_at_start: x(9)?,
-            pending_end: (!pending.0.is_nan()).then_some(pending),
-            events: state.events,
-        };
-        (keep, last) = (end, Some(row_step));
-    }
-    if let Some(l) = last.filter(|&l| l != step) {
-        return Err(fail(format!(
-            "its lines end at step {l}, the checkpoint is at step {step}: lines are missing \
-             (was the output before the checkpointer?)"
-        )));
-    }
-    Ok((state, keep, text.len()))
-}
-
-/// Checks a station file or `devol.dat` at `path` for a resume keeping `rows` rows (each
-/// of `fields` fields, the last at time `last_t`) after its `#` lines and the lines
-/// `first` (its field-list lines, and `devol.dat`'s row of depths); returns the bytes kept
-/// and the file's length.
-fn kept_rows(
-    path: &Path,
-    first: &[String],
-    fields: usize,
-    rows: usize,
-    last_t: f64,
-) -> Result<(usize, usize)> {
-    let text = read_for_resume(path)?;
-    let fail = |reason: String| Error::Resume {
-        path: show_path(path),
-        reason,
-    };
-    let mut lines = complete_lines(&text).skip_while(|(l, _)| l.starts_with(b"#"));
-    let mut keep = 0;
-    for (i, want) in first.iter().enumerate() {
-        keep = match lines.next() {
-            Some((l, end)) if l == want.as_bytes() => end,
-            Some((l, _)) => {
-                return Err(fail(format!(
-                    "its line {} after the `#` lines is `{}`, expected `{}` (another layout or \
-                     output)",
-                    i + 1,
-                    rsf_numeric::excerpt(&String::from_utf8_lossy(l)),
-                    rsf_numeric::excerpt(want)
-                )))
-            }
-            None => return Err(fail("it has no field-list line".into())),
-        };
-    }
-    let mut last = None;
-    for read in 0..rows {
-        let Some((line, end)) = lines.next() else {
-            return Err(fail(format!(
-                "it has {read} complete rows, the checkpoint's step needs {rows}: rows are \
-                 missing (truncated or damaged file)"
-            )));
-        };
-        let line = String::from_utf8_lossy(line);
-        if line.split_whitespace().count() != fields {
-            return Err(fail(format!(
-                "malformed row `{}` (damaged file?)",
-                rsf_numeric::excerpt(&line)
-            )));
-        }
-        last = line.split_whitespace().next().map(str::to_owned);
-        keep = end;
-    }
-    if let Some(t) = last {
-        let want = c_exp(last_t, 13, 21);
-        match t {
-            t if t == want.trim() => {}
-            t => {
-                return Err(fail(format!(
-                    "its row {rows} is at t = {} s, the resume log says {} s: rows are missing \
-                     (truncated or damaged) or the file is of another run",
-                    rsf_numeric::excerpt(&t),
-                    want.trim()
-                )))
-            }
-        }
-    }
-    Ok((keep, text.len()))
-}
-
 /// The open writer of `path`, reopened for appending after a [`finish`](Observer::finish)
 /// (which closes the files to complete their headers; a run may continue afterwards).
 fn writer<'a>(
@@ -1220,39 +840,5 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
     }
     fn reads_volume(&self) -> bool {
         false
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{c_exp, civil_from_days, is_iso_date, utc_date_today};
-
-    #[test]
-    fn dates_from_days_since_the_epoch() {
-        // Known dates (the epoch, a leap day, the turn of a century, a far date).
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
-        assert_eq!(civil_from_days(10_957), (2000, 1, 1));
-        assert_eq!(civil_from_days(-1), (1969, 12, 31));
-        assert_eq!(civil_from_days(20_781), (2026, 11, 24));
-        assert!(is_iso_date(&utc_date_today()));
-        for bad in [
-            "2026-13-01",
-            "2026-1-01",
-            "26-11-24",
-            "2026-11-24\n",
-            "2026/11/24",
-            "",
-        ] {
-            assert!(!is_iso_date(bad), "{bad:?}");
-        }
-    }
-
-    #[test]
-    fn c_style_exponents() {
-        assert_eq!(c_exp(1234.5, 3, 10), " 1.234E+03");
-        assert_eq!(c_exp(-0.00012, 2, 9), "-1.20E-04");
-        assert_eq!(c_exp(0.0, 1, 7), "0.0E+00");
-        assert_eq!(c_exp(1e-100, 0, 7), " 1E-100");
     }
 }

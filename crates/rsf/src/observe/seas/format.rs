@@ -1,0 +1,193 @@
+//! The text of the SEAS files: C-style number formats, the `#` header lines and field-list
+//! lines, the date of a run.
+
+use super::{SeasLayout, SeasSetup};
+
+/// The second field-list line of the slip profiles (time, maximum slip rate and slip);
+/// the first is the coordinate (`z` or `xd`), and the first data row holds its values.
+pub(super) const PROFILE_FIELD_LINE: &str = "t max_slip_rate slip";
+
+/// The two field-list lines of the slip profiles of `layout`.
+pub(super) fn profile_field_lines(layout: &SeasLayout) -> [&'static str; 2] {
+    [layout.coordinate().1, PROFILE_FIELD_LINE]
+}
+
+/// The field-list line of a station file (after its `#` lines).
+pub(super) fn station_field_line(layout: &SeasLayout) -> String {
+    layout
+        .station_columns()
+        .iter()
+        .map(|(name, _)| *name)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Formats `x` as C's `%W.PE` (`1.2345E+03`), right-aligned in `width`.
+pub(super) fn c_exp(x: f64, precision: usize, width: usize) -> String {
+    let s = format!("{x:.precision$E}");
+    let (mantissa, exponent) = s.split_once('E').unwrap_or((&s, "0"));
+    let e: i32 = exponent.parse().unwrap_or(0);
+    let sign = if e < 0 { '-' } else { '+' };
+    format!(
+        "{:>width$}",
+        format!("{mantissa}E{sign}{:02}", e.unsigned_abs())
+    )
+}
+
+/// The header lines every file shares (`#` lines): problem, author, date, code, version,
+/// element size, location, and the run's smallest and largest time step (`steps`,
+/// `(τ_min, τ_max)` once a step was taken) and the data rows in the file
+/// (`num_time_steps`, the benchmark's name for it).
+pub(super) fn common_header(
+    setup: &SeasSetup,
+    location: &str,
+    steps: Option<(f64, f64)>,
+    rows: usize,
+) -> String {
+    let mut h = format!(
+        "# This is the file header:\n# problem={}\n# author={}\n# date={}\n# code=rsf\n\
+         # code_version={}\n# element_size={} m\n# location={location}",
+        setup.problem,
+        setup.modeler,
+        setup.date,
+        env!("CARGO_PKG_VERSION"),
+        setup.element_size
+    );
+    if let Some((lo, hi)) = steps {
+        h.push_str(&format!(
+            "\n# minimum_time_step={lo:e}\n# maximum_time_step={hi:e}"
+        ));
+    }
+    h.push_str(&format!("\n# num_time_steps={rows}"));
+    h
+}
+
+/// A station file's header: the shared lines, one `# Column #k` line per column, the
+/// field-list line.
+pub(super) fn station_header(
+    setup: &SeasSetup,
+    depth: f64,
+    steps: Option<(f64, f64)>,
+    rows: usize,
+) -> String {
+    let mut h = common_header(
+        setup,
+        &format!(
+            "on fault, {} km {}",
+            depth / 1e3,
+            setup.layout.coordinate().0
+        ),
+        steps,
+        rows,
+    );
+    for (i, (_, description)) in setup.layout.station_columns().iter().enumerate() {
+        h.push_str(&format!("\n# Column #{} = {description}", i + 1));
+    }
+    h.push_str("\n# The line below lists the names of the data fields:\n");
+    h.push_str(&station_field_line(&setup.layout));
+    h
+}
+
+/// The header of the slip profiles `devol.dat`: the shared lines, the columns'
+/// descriptions, the two field-list lines (the first data row, `0 0` and the depths,
+/// follows).
+pub(super) fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows: usize) -> String {
+    let (word, symbol) = setup.layout.coordinate();
+    let plural = if word == "depth" {
+        "depths"
+    } else {
+        "down-dip distances"
+    };
+    let mut h = common_header(
+        setup,
+        &format!("slip profiles along the fault's {word} {symbol}"),
+        steps,
+        rows,
+    );
+    h.push_str(&format!(
+        "\n# Column #1 = Time (s)\n# Column #2 = Max slip rate on the fault (log10 m/s)\n\
+         # Column #3 = Slip (m) at the {plural} {symbol} (m) of the first data row, one column per {word}\n\
+         # The first data row is 0 0 followed by the {plural} {symbol} (m); every other row is a time.\n\
+         # The two lines below list the names of the data fields:",
+    ));
+    for line in profile_field_lines(&setup.layout) {
+        h.push('\n');
+        h.push_str(line);
+    }
+    h
+}
+
+/// Today's date in UTC as `YYYY-MM-DD`, for [`SeasSetup::date`] (from the system clock;
+/// `1970-01-01` if the clock is before the epoch).
+pub fn utc_date_today() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (y, m, d) = civil_from_days((secs / 86_400) as i64);
+    format!("{y:04}-{m:02}-{d:02}")
+}
+
+/// Whether `s` is a calendar date `YYYY-MM-DD` (month 1–12, day 1–31).
+pub(super) fn is_iso_date(s: &str) -> bool {
+    let b = s.as_bytes();
+    let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
+    if b.len() != 10
+        || b[4] != b'-'
+        || b[7] != b'-'
+        || !digits(0..4)
+        || !digits(5..7)
+        || !digits(8..10)
+    {
+        return false;
+    }
+    let (m, d): (u32, u32) = (s[5..7].parse().unwrap_or(0), s[8..10].parse().unwrap_or(0));
+    (1..=12).contains(&m) && (1..=31).contains(&d)
+}
+
+/// The proleptic Gregorian date `(year, month, day)` of `days` since 1970-01-01
+/// (H. Hinnant's `civil_from_days`).
+pub(super) fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{c_exp, civil_from_days, is_iso_date, utc_date_today};
+
+    #[test]
+    fn dates_from_days_since_the_epoch() {
+        // Known dates (the epoch, a leap day, the turn of a century, a far date).
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(10_957), (2000, 1, 1));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+        assert_eq!(civil_from_days(20_781), (2026, 11, 24));
+        assert!(is_iso_date(&utc_date_today()));
+        for bad in [
+            "2026-13-01",
+            "2026-1-01",
+            "26-11-24",
+            "2026-11-24\n",
+            "2026/11/24",
+            "",
+        ] {
+            assert!(!is_iso_date(bad), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn c_style_exponents() {
+        assert_eq!(c_exp(1234.5, 3, 10), " 1.234E+03");
+        assert_eq!(c_exp(-0.00012, 2, 9), "-1.20E-04");
+        assert_eq!(c_exp(0.0, 1, 7), "0.0E+00");
+        assert_eq!(c_exp(1e-100, 0, 7), " 1E-100");
+    }
+}
