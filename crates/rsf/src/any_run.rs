@@ -86,6 +86,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport> {
         dispatch!(self, m => m.advance(t_end, reads_volume))
     }
+    fn watch_vertices(&mut self, vertices: &[usize]) -> Result<()> {
+        dispatch!(self, m => m.watch_vertices(vertices))
+    }
     fn model(&self) -> &Model<D, C> {
         dispatch!(self, m => Stepping::model(&**m))
     }

@@ -31,6 +31,7 @@ use crate::report::StepReport;
 use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
 use crate::simulation::step::impose_dirichlet;
 use crate::simulation_state::SimulationState;
+use crate::volume_probe::VolumeProbe;
 
 /// Options of a [`FaultOde`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -349,7 +350,9 @@ impl FaultOdeOptions {
 /// touched during the steps. Observers see the same [`StepView`](crate::StepView) as in a
 /// [`Simulation`](crate::Simulation): `u`, `v` on Γ_F and the fixed dofs always, the rest
 /// of the field (one sparse forward and backward sweep for each of `u` and `v`) only if
-/// an observer [reads the volume](Observer::reads_volume) — else it is NaN.
+/// an observer [reads the volume](Observer::reads_volume) — else it is NaN, except at the
+/// few vertices observers [ask for](Observer::volume_vertices) (surface stations: one
+/// dot product per component with precomputed rows of the extension operator).
 ///
 /// Suited to quasi-dynamic earthquake-cycle problems (SEAS BP1): explicit steps are
 /// limited by the stiffness `‖S‖/(w η)` of the damped fault, which the events' own time
@@ -388,6 +391,9 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     kernel_report: KernelReport,
     /// With a normal stress that changes: the laws scaled by it at the last step.
     scaled_tractions: Option<ScaledTractions<L>>,
+    /// The vertices off Γ_F that observers read without the volume
+    /// ([`Observer::volume_vertices`]), computed after every step.
+    probe: Option<VolumeProbe>,
 }
 
 /// What the right-hand side needs besides the laws.
@@ -703,6 +709,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             evaluations: 0,
             kernel_report,
             scaled_tractions,
+            probe: None,
         };
         // The slip rates at t = 0 (a check that the initial state is admissible).
         let mut dy = vec![0.0; ode.y.len()];
@@ -953,6 +960,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 kin.u[i] = f64::NAN;
                 kin.v[i] = f64::NAN;
             }
+            if let Some(probe) = &self.probe {
+                let speed = model.dirichlet.speed(t);
+                probe.fill(&self.y[..m], &dy[..m], big_g, speed, &mut kin.u, &mut kin.v);
+            }
         }
         self.state.alpha.copy_from_slice(&self.y[m..]);
         if let (Some(normal), Some(tr)) = (&r.normal, &mut self.scaled_tractions) {
@@ -1110,6 +1121,30 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
 {
     fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport> {
         self.advance_step(t_end, reads_volume)
+    }
+    /// Precomputes the extension operator's rows at the vertices' dofs (one forward sweep
+    /// per dof, kept while the same vertices are asked for) and fills them in the current
+    /// state.
+    fn watch_vertices(&mut self, vertices: &[usize]) -> Result<()> {
+        if vertices.is_empty() {
+            self.probe = None;
+            return Ok(());
+        }
+        if self.probe.as_ref().is_some_and(|p| p.watches(vertices)) {
+            return Ok(());
+        }
+        let model = self.problem.model();
+        let mut velocity_factor = vec![0.0; model.num_dofs()];
+        for (&dof, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
+            velocity_factor[dof] = f;
+        }
+        self.probe = Some(VolumeProbe::new(
+            model,
+            &mut self.rates.cond,
+            vertices,
+            &velocity_factor,
+        )?);
+        self.fill_state(false)
     }
     fn model(&self) -> &Model<D, C> {
         self.problem.model()

@@ -62,6 +62,7 @@ pub mod run_folder;
 pub mod simulation;
 mod simulation_state;
 pub mod switching;
+mod volume_probe;
 
 /// The names most programs need, in one `use rsf::prelude::*;`.
 pub mod prelude {

@@ -32,6 +32,19 @@ pub trait Stepping<const D: usize, const C: usize = D> {
     /// that of the last successful step.
     fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport>;
 
+    /// Called once before a run's steps with the vertices off Γ_F that the observers read
+    /// without reading the whole volume ([`Observer::volume_vertices`]; sorted, without
+    /// repeats): a method condensed onto the fault computes their `u` and `v` after every
+    /// step. Default: nothing (a method that always has the whole field).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a vertex that is not the model's; the method's
+    /// set-up errors.
+    fn watch_vertices(&mut self, vertices: &[usize]) -> Result<()> {
+        let _ = vertices;
+        Ok(())
+    }
+
     /// The model the current state belongs to.
     fn model(&self) -> &Model<D, C>;
 
@@ -113,6 +126,12 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
         Until::Steps(_) => None,
     };
     let volume = observers.iter().any(|o| o.reads_volume());
+    if !volume {
+        let mut watched: Vec<usize> = observers.iter().flat_map(|o| o.volume_vertices()).collect();
+        watched.sort_unstable();
+        watched.dedup();
+        method.watch_vertices(&watched)?;
+    }
     let mut last: Option<StepReport> = None;
     loop {
         let reached = match until {

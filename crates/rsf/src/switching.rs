@@ -295,6 +295,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         }
         Ok(report)
     }
+    /// The quasi-dynamic phase computes the watched vertices; the dynamic phase (the
+    /// implicit scheme) has the whole field.
+    fn watch_vertices(&mut self, vertices: &[usize]) -> Result<()> {
+        Stepping::watch_vertices(&mut self.quasi_dynamic, vertices)
+    }
     fn reached(&self, t_end: f64) -> bool {
         // As the nested runs of the phases did: the end is reached for the dynamic step or
         // for the active method's next step.

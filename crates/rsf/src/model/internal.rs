@@ -280,6 +280,12 @@ impl InternalFault {
         &self.pairs
     }
 
+    /// The pair `(p⁻, p⁺)` that `vertex` belongs to, `None` for a vertex off the split.
+    pub fn pair_of(&self, vertex: usize) -> Option<(usize, usize)> {
+        let (k, _) = self.pair_of.get(vertex).copied().flatten()?;
+        Some(self.pairs[k])
+    }
+
     /// `T x`: a node-major vector of the model's unknowns (`C` per vertex) in Cartesian
     /// components at every vertex, both sides of the fault included.
     ///

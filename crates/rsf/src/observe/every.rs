@@ -111,6 +111,9 @@ impl<const D: usize, const C: usize, O: Observer<D, C>> Observer<D, C> for Every
     fn reads_volume(&self) -> bool {
         self.inner.reads_volume()
     }
+    fn volume_vertices(&self) -> Vec<usize> {
+        self.inner.volume_vertices()
+    }
 }
 
 #[cfg(test)]

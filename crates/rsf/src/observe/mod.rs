@@ -244,6 +244,16 @@ pub trait Observer<const D: usize, const C: usize = D> {
         true
     }
 
+    /// The mesh vertices off Γ_F whose displacement and velocity the observer reads
+    /// ([`StepView::displacement`], [`StepView::velocity`]) although it does not
+    /// [read the volume](Self::reads_volume): a few stations. A run condensed onto Γ_F
+    /// computes exactly these after every step, each from a precomputed row of the
+    /// extension operator (one dot product with the fault's unknowns per component, instead
+    /// of the whole field's sparse solves). Default: none.
+    fn volume_vertices(&self) -> Vec<usize> {
+        Vec::new()
+    }
+
     /// A name for messages and [`Termination::Observer`](crate::Termination); default the
     /// type's name.
     fn name(&self) -> String {
