@@ -15,8 +15,9 @@
 //!
 //! Writes the benchmark's files to `--out` (`SeasBp3::seas_setup`: the twelve on-fault
 //! stations `fltst_dpXXX` with six columns — slip, log10 V, shear and normal stress,
-//! log10 θ — the slip profiles `slip.dat`, the event catalogue `events.csv`; not yet the
-//! surface stations and the stress profiles) and prints the events.
+//! log10 θ — the eight surface stations `srfst_fn…` with displacement and velocity, the
+//! profiles `slip.dat`, `shear_stress.dat` and `normal_stress.dat`, the event catalogue
+//! `events.csv`) and prints the events.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -24,6 +25,7 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::Stepping;
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::{SeasBp3, SeasBp3Grid};
 
@@ -111,6 +113,9 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         setup,
         FileMode::Overwrite,
     )?;
+    // The fault ODE computes the surface stations' vertices (not the whole field) after
+    // every step; their initial row needs them now.
+    ode.watch_vertices(&output.surface_vertices())?;
     output.write_initial_state(ode.model(), ode.state())?;
     let summary = ode.run_until(
         rsf::Until::Time(args.end_years * SECONDS_PER_YEAR),

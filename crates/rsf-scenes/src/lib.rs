@@ -43,7 +43,9 @@ pub use seas_bp1::{
     GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
     SEAS_BP1_BOTTOM, SEAS_BP1_FAR_SIDE, SEAS_BP1_STATION_DEPTHS,
 };
-pub use seas_bp3::{SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
+pub use seas_bp3::{
+    SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
+};
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,

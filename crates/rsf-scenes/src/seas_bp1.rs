@@ -561,6 +561,7 @@ impl SeasBp1 {
             profile_spacing: 500.0,
             sampling,
             layout: rsf::observe::SeasLayout::Bp1,
+            surface_stations: Vec::new(),
         }
     }
 

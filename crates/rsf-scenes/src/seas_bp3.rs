@@ -4,8 +4,9 @@
 
 use rsf::fem::{geometric_grading, rectangle_from_coordinates, Diagonal, TriangleMesh};
 use rsf::friction::AsinhLaw;
+use rsf::model::FaultSide;
 use rsf::normal_stress::NormalStress;
-use rsf::observe::{SeasLayout, SeasSampling, SeasSetup};
+use rsf::observe::{SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation};
 use rsf::state::Aging;
 use rsf::time::Quasistatic;
 use rsf::{Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
@@ -15,6 +16,19 @@ use crate::{invalid, SeasBp1};
 /// The down-dip distances (m) of the benchmark's on-fault stations.
 pub const SEAS_BP3_STATION_DISTANCES: [f64; 12] = [
     0.0, 2.5e3, 5e3, 7.5e3, 10e3, 12.5e3, 15e3, 17.5e3, 20e3, 25e3, 30e3, 35e3,
+];
+
+/// The benchmark's stations on the free surface: `(file name, x in m, side)`, the side
+/// saying which copy of the fault's trace the `±0` stations read.
+pub const SEAS_BP3_SURFACE_STATIONS: [(&str, f64, FaultSide); 8] = [
+    ("srfst_fn-32", -32e3, FaultSide::Minus),
+    ("srfst_fn-16", -16e3, FaultSide::Minus),
+    ("srfst_fn-08", -8e3, FaultSide::Minus),
+    ("srfst_fn-00", 0.0, FaultSide::Minus),
+    ("srfst_fn+00", 0.0, FaultSide::Plus),
+    ("srfst_fn+08", 8e3, FaultSide::Plus),
+    ("srfst_fn+16", 16e3, FaultSide::Plus),
+    ("srfst_fn+32", 32e3, FaultSide::Plus),
 ];
 
 /// The fault ODE of BP3 ([`SeasBp3::fault_ode`]).
@@ -250,7 +264,9 @@ impl SeasBp3 {
     /// ([`SeasOutput`](rsf::observe::SeasOutput) with [`SeasLayout::Bp3`]): the twelve
     /// on-fault stations `fltst_dpXXX` (XXX the down-dip distance in hundreds of metres)
     /// with six columns, the slip profiles `slip.dat` every 500 m down-dip, the event
-    /// catalogue. (The surface stations and the stress profiles are not written yet.)
+    /// catalogue, the stress profiles `shear_stress.dat` and `normal_stress.dat`, and the
+    /// eight stations on the free surface `srfst_fn…` ([`SEAS_BP3_SURFACE_STATIONS`]:
+    /// displacement and velocity, the vertical positive down).
     pub fn seas_setup(&self, dx: f64, sampling: SeasSampling) -> SeasSetup {
         SeasSetup {
             problem: "SEAS Benchmark BP3-QD".into(),
@@ -269,6 +285,14 @@ impl SeasBp3 {
             layout: SeasLayout::Bp3 {
                 dip_degrees: self.dip_degrees,
             },
+            surface_stations: SEAS_BP3_SURFACE_STATIONS
+                .iter()
+                .map(|&(name, x, side)| SeasSurfaceStation {
+                    name: name.into(),
+                    position: vec![x, 0.0],
+                    side,
+                })
+                .collect(),
         }
     }
 

@@ -98,7 +98,8 @@ fn the_two_engines_agree_on_a_coarse_bp3_before_its_first_event() {
 }
 
 /// The station values of every step as the run's observers see them: time → per station
-/// (signed slip m, log10 V, shear stress MPa, normal stress MPa, log10 θ).
+/// (signed slip m, log10 V, shear stress MPa signed with the slip rate, normal stress MPa,
+/// log10 θ).
 #[derive(Default)]
 struct StationValues {
     nodes: Vec<usize>,
@@ -115,7 +116,7 @@ impl Observer<2> for StationValues {
                 [
                     s.state.kinematics.u[2 * p] - s.model.initial_displacement[2 * p],
                     s.slip_rate(k).log10(),
-                    s.shear_traction(k) / 1e6,
+                    s.shear_traction(k) / 1e6 * s.state.kinematics.v[2 * p].signum(),
                     s.normal_traction(k).unwrap() / 1e6,
                     s.state.alpha[k] / std::f64::consts::LN_10,
                 ]
@@ -173,6 +174,7 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
         FileMode::Create,
     )
     .unwrap();
+    rsf::Stepping::watch_vertices(&mut ode, &out.surface_vertices()).unwrap();
     out.write_initial_state(ode.model(), ode.state()).unwrap();
     ode.run_until(
         rsf::Until::Time(150.0 * SECONDS_PER_YEAR),
@@ -264,5 +266,217 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
         normal_range.0, normal_range.1
     );
     assert!(normal_range.1 - normal_range.0 > 0.1);
+    check_surface_stations(&dir, &bp3, &stations[0].0);
+    check_stress_profiles(&dir, &values);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The `#` lines and the rows (numbers) of a benchmark file after its field-list lines
+/// (`field_lines` of them, checked against `fields`).
+fn read_file(path: &std::path::Path, fields: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header: Vec<String> = lines
+        .iter()
+        .take_while(|l| l.starts_with('#'))
+        .map(|l| l.to_string())
+        .collect();
+    for (i, f) in fields.iter().enumerate() {
+        assert_eq!(lines[header.len() + i], *f, "{}", path.display());
+    }
+    let rows = lines[header.len() + fields.len()..]
+        .iter()
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The eight surface files: the description's header and columns, the on-fault stations'
+/// times; and the slip at the trace from the two sides' displacements,
+/// δ = (u⁻ − u⁺) cos ψ + (w⁻ − w⁺) sin ψ (w positive down), equal to the on-fault station
+/// at x_d = 0 (`dp000`), its rate to that station's slip rate.
+fn check_surface_stations(dir: &std::path::Path, bp3: &SeasBp3, dp000: &str) {
+    let (_, fault) = read_file(
+        &dir.join(dp000),
+        &["t slip slip_rate shear_stress normal_stress state"],
+    );
+    let mut sides = Vec::new();
+    for (name, _, _) in rsf_scenes::SEAS_BP3_SURFACE_STATIONS {
+        let (header, rows) = read_file(&dir.join(name), &["t disp_1 disp_2 vel_1 vel_2"]);
+        assert!(header.iter().any(|l| l.contains("location=off fault")));
+        for k in 1..=5 {
+            assert!(header
+                .iter()
+                .any(|l| l.starts_with(&format!("# Column #{k} = "))));
+        }
+        let declared: usize = header
+            .iter()
+            .find_map(|l| l.strip_prefix("# num_time_steps="))
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(declared, rows.len(), "{name}");
+        assert_eq!(
+            rows.len(),
+            fault.len(),
+            "{name}: the on-fault stations' rows"
+        );
+        for (r, f) in rows.iter().zip(&fault) {
+            assert_eq!(r.len(), 5);
+            assert_eq!(r[0], f[0], "{name}: the on-fault stations' times");
+        }
+        if name.ends_with("00") {
+            sides.push(rows);
+        }
+    }
+    let (s, c) = bp3.dip_degrees.to_radians().sin_cos();
+    let slip_scale = fault.iter().fold(1.0f64, |m, r| m.max(r[1].abs()));
+    let (mut worst_slip, mut worst_rate) = (0.0f64, 0.0f64);
+    for ((minus, plus), f) in sides[0].iter().zip(&sides[1]).zip(&fault) {
+        let delta = (minus[1] - plus[1]) * c + (minus[2] - plus[2]) * s;
+        let rate = (minus[3] - plus[3]) * c + (minus[4] - plus[4]) * s;
+        worst_slip = worst_slip.max((delta - f[1]).abs() / slip_scale);
+        // The rate from 7-digit velocities of both sides: good to their printed digits
+        // (the fault may be locked while the surface moves with the plates).
+        let printed = minus[3..]
+            .iter()
+            .chain(&plus[3..])
+            .map(|v| v.abs())
+            .sum::<f64>();
+        worst_rate = worst_rate.max((rate.abs() - 10f64.powf(f[2])).abs() / printed);
+    }
+    eprintln!(
+        "slip at the trace from the surface stations: within {worst_slip:.1e} × max(1 m, |slip|) = {slip_scale:.3} m; \
+         its rate within {worst_rate:.1e} of the sides' velocities"
+    );
+    assert!(worst_slip < 1e-5, "{worst_slip:e}");
+    assert!(worst_rate < 1e-5, "{worst_rate:e}");
+}
+
+/// `shear_stress.dat` and `normal_stress.dat`: the field-list lines, the positions and
+/// times of `slip.dat`, and at x_d = 0 the run's stresses at that time.
+fn check_stress_profiles(dir: &std::path::Path, values: &StationValues) {
+    let (_, slip) = read_file(&dir.join("slip.dat"), &["xd", "t max_slip_rate slip"]);
+    let mut checked = 0;
+    for (file, column) in [("shear_stress.dat", 2), ("normal_stress.dat", 3)] {
+        let field = file.trim_end_matches(".dat");
+        let (header, rows) = read_file(
+            &dir.join(file),
+            &["xd", &format!("t max_slip_rate {field}")],
+        );
+        assert!(header.iter().any(|l| l.contains("num_time_steps=")));
+        assert_eq!(rows.len(), slip.len(), "{file}");
+        assert_eq!(rows[0], slip[0], "{file}: the positions");
+        for (r, q) in rows.iter().zip(&slip).skip(1) {
+            assert_eq!((r[0], r[1]), (q[0], q[1]), "{file}: times, max slip rate");
+            assert_eq!(r.len(), q.len());
+            if r[0] == 0.0 {
+                continue; // the initial state, before the observers' first step
+            }
+            // The first profile position is x_d = 0, station 0's node; the file's time
+            // has 13 digits: the step nearest it.
+            let (t, seen) = values
+                .rows
+                .iter()
+                .min_by(|a, b| {
+                    (f64::from_bits(*a.0) - r[0])
+                        .abs()
+                        .total_cmp(&(f64::from_bits(*b.0) - r[0]).abs())
+                })
+                .unwrap();
+            assert!((f64::from_bits(*t) - r[0]).abs() <= 1e-12 * r[0].abs());
+            let want = seen[0][column];
+            assert!(
+                (r[2] - want).abs() <= 1e-6 * want.abs(),
+                "{file}: {} vs {want}",
+                r[2]
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 10, "{checked} profile values checked");
+}
+
+/// Ends a run after step `0` (an interruption: no checkpoint there).
+struct BreakAt(usize);
+
+impl Observer<2> for BreakAt {
+    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<Flow> {
+        Ok(if s.state.step >= self.0 {
+            Flow::Break(())
+        } else {
+            Flow::Continue(())
+        })
+    }
+    fn reads_volume(&self) -> bool {
+        false
+    }
+}
+
+/// A BP3 run interrupted between checkpoints and resumed from its last one into the same
+/// folder (the rows after it cut) leaves every benchmark file — the surface stations and
+/// the stress profiles too — byte-identical to an uninterrupted run's.
+#[test]
+fn a_resumed_bp3_run_writes_the_same_bytes() {
+    use rsf::observe::{Checkpointer, Every, FileMode, Interval, SeasOutput, SeasSampling};
+    use rsf::{Checkpoint, Stepping};
+    let bp3 = SeasBp3::thrust();
+    let model = bp3.model(&GRID).unwrap();
+    let end = rsf::Until::Time(150.0 * SECONDS_PER_YEAR);
+    let sampling = SeasSampling {
+        station_quiet: SECONDS_PER_YEAR,
+        ..SeasSampling::default()
+    };
+    let setup = rsf::observe::SeasSetup {
+        date: "2026-11-25".into(),
+        ..bp3.seas_setup(GRID.dx, sampling)
+    };
+    let root = std::env::temp_dir().join(format!("rsf-seas-bp3-resume-{}", std::process::id()));
+    std::fs::remove_dir_all(&root).ok();
+    let (a, b) = (root.join("straight"), root.join("stopped"));
+    let run = |dir: &std::path::Path, stop: usize, resume: bool| {
+        let options = bp3.params.fault_ode_options(1e-7).unwrap();
+        let mut ode = bp3.fault_ode(model.clone(), options).unwrap();
+        let ckpt = dir.join("checkpoint.bin");
+        let mode = if resume {
+            let c = Checkpoint::read(&ckpt).unwrap();
+            ode.restore(&c).unwrap();
+            FileMode::Resume { step: c.state.step }
+        } else {
+            FileMode::Create
+        };
+        let laws = ode.problem().friction_laws().to_vec();
+        let mut out = SeasOutput::new(dir, ode.model(), &laws, setup.clone(), mode)
+            .unwrap()
+            .with_resume_log(mode)
+            .unwrap();
+        if !resume {
+            ode.watch_vertices(&out.surface_vertices()).unwrap();
+            out.write_initial_state(ode.model(), ode.state()).unwrap();
+        }
+        let mut checkpointer = Every::new(Interval::Steps(100), Checkpointer::new(&ckpt)).unwrap();
+        let mut stopper = BreakAt(stop);
+        ode.run_until(end, &mut [&mut out, &mut checkpointer, &mut stopper])
+            .unwrap();
+        ode.state().step
+    };
+    let steps = run(&a, usize::MAX, false);
+    let stop = steps / 2 + 37;
+    assert_eq!(run(&b, stop, false), stop);
+    assert_eq!(run(&b, usize::MAX, true), steps);
+    let mut names: Vec<String> = std::fs::read_dir(&a)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n != "checkpoint.bin")
+        .collect();
+    names.sort();
+    assert!(names.len() > 12 + 8 + 3, "{names:?}");
+    for name in &names {
+        let (x, y) = (
+            std::fs::read(a.join(name)).unwrap(),
+            std::fs::read(b.join(name)).unwrap(),
+        );
+        assert!(x == y, "{name} differs after resuming");
+    }
+    std::fs::remove_dir_all(&root).ok();
 }

@@ -28,6 +28,17 @@ pub struct InternalFault {
     pairs: Vec<(usize, usize)>,
 }
 
+/// A side of a fault inside the body: the minus side Ω⁻ (whose face carries the tag
+/// `{name}_minus`, the first vertex `p⁻` of every split pair; the fault's normal points
+/// from it into the plus side) or the plus side Ω⁺.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FaultSide {
+    /// Ω⁻ (`p⁻`).
+    Minus,
+    /// Ω⁺ (`p⁺`).
+    Plus,
+}
+
 /// A refinement hierarchy cut open along a fault: the split finest mesh, the fault on it
 /// and the scalar prolongations between the levels (each level split where it resolves
 /// the fault), in Cartesian components.
@@ -284,6 +295,15 @@ impl InternalFault {
     pub fn pair_of(&self, vertex: usize) -> Option<(usize, usize)> {
         let (k, _) = self.pair_of.get(vertex).copied().flatten()?;
         Some(self.pairs[k])
+    }
+
+    /// The copy of `vertex` on `side` if it is a split vertex, else `vertex` itself.
+    pub fn copy_on(&self, vertex: usize, side: FaultSide) -> usize {
+        match (self.pair_of(vertex), side) {
+            (Some((minus, _)), FaultSide::Minus) => minus,
+            (Some((_, plus)), FaultSide::Plus) => plus,
+            (None, _) => vertex,
+        }
     }
 
     /// `T x`: a node-major vector of the model's unknowns (`C` per vertex) in Cartesian

@@ -20,7 +20,7 @@ pub use builder::{
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
 pub use fault::FrictionalBoundary;
-pub use internal::InternalFault;
+pub use internal::{FaultSide, InternalFault};
 pub use loading::{DirichletVelocity, TimeFunction};
 pub use regions::{CellPredicate, MaterialRegions};
 

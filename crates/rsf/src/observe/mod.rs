@@ -21,7 +21,7 @@ pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
 pub use seas::{
-    utc_date_today, SeasEvent, SeasLayout, SeasOutput, SeasSampling, SeasSetup,
+    utc_date_today, SeasEvent, SeasLayout, SeasOutput, SeasSampling, SeasSetup, SeasSurfaceStation,
     SEAS_BP1_STATION_COLUMNS, SEAS_BP3_STATION_COLUMNS, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
 };
 pub use series::{PointSeries, SeriesRow};

@@ -3,13 +3,45 @@
 
 use super::{SeasLayout, SeasSetup};
 
-/// The second field-list line of the slip profiles (time, maximum slip rate and slip);
-/// the first is the coordinate (`z` or `xd`), and the first data row holds its values.
-pub(super) const PROFILE_FIELD_LINE: &str = "t max_slip_rate slip";
+/// What a profile file holds along the fault: BP1's `devol.dat` and BP3's `slip.dat` the
+/// slip, BP3's `shear_stress.dat` and `normal_stress.dat` the stresses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum ProfileQuantity {
+    /// Slip (m).
+    Slip,
+    /// Shear stress (MPa), signed with the slip rate.
+    ShearStress,
+    /// Normal stress (MPa), compressive positive.
+    NormalStress,
+}
 
-/// The two field-list lines of the slip profiles of `layout`.
-pub(super) fn profile_field_lines(layout: &SeasLayout) -> [&'static str; 2] {
-    [layout.coordinate().1, PROFILE_FIELD_LINE]
+impl ProfileQuantity {
+    /// The field name (the second field-list line ends with it).
+    pub(super) fn field(self) -> &'static str {
+        match self {
+            Self::Slip => "slip",
+            Self::ShearStress => "shear_stress",
+            Self::NormalStress => "normal_stress",
+        }
+    }
+
+    /// The description in the `# Column #3` line.
+    fn description(self) -> &'static str {
+        match self {
+            Self::Slip => "Slip (m)",
+            Self::ShearStress => "Shear stress (MPa)",
+            Self::NormalStress => "Normal stress (MPa)",
+        }
+    }
+}
+
+/// The two field-list lines of a profile of `quantity` in `layout`: the coordinate (`z` or
+/// `xd`, whose values the first data row holds), then `t max_slip_rate` and the quantity.
+pub(super) fn profile_field_lines(layout: &SeasLayout, quantity: ProfileQuantity) -> [String; 2] {
+    [
+        layout.coordinate().1.to_owned(),
+        format!("t max_slip_rate {}", quantity.field()),
+    ]
 }
 
 /// The field-list line of a station file (after its `#` lines).
@@ -88,10 +120,15 @@ pub(super) fn station_header(
     h
 }
 
-/// The header of the slip profiles `devol.dat`: the shared lines, the columns'
-/// descriptions, the two field-list lines (the first data row, `0 0` and the depths,
-/// follows).
-pub(super) fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows: usize) -> String {
+/// The header of a profile file of `quantity` (`devol.dat`, `slip.dat`,
+/// `shear_stress.dat`, `normal_stress.dat`): the shared lines, the columns' descriptions,
+/// the two field-list lines (the first data row, `0 0` and the positions, follows).
+pub(super) fn profile_header(
+    setup: &SeasSetup,
+    quantity: ProfileQuantity,
+    steps: Option<(f64, f64)>,
+    rows: usize,
+) -> String {
     let (word, symbol) = setup.layout.coordinate();
     let plural = if word == "depth" {
         "depths"
@@ -100,20 +137,90 @@ pub(super) fn profile_header(setup: &SeasSetup, steps: Option<(f64, f64)>, rows:
     };
     let mut h = common_header(
         setup,
-        &format!("slip profiles along the fault's {word} {symbol}"),
+        &format!(
+            "{} profiles along the fault's {word} {symbol}",
+            quantity.field()
+        ),
         steps,
         rows,
     );
     h.push_str(&format!(
         "\n# Column #1 = Time (s)\n# Column #2 = Max slip rate on the fault (log10 m/s)\n\
-         # Column #3 = Slip (m) at the {plural} {symbol} (m) of the first data row, one column per {word}\n\
+         # Column #3 = {} at the {plural} {symbol} (m) of the first data row, one column per {word}\n\
          # The first data row is 0 0 followed by the {plural} {symbol} (m); every other row is a time.\n\
          # The two lines below list the names of the data fields:",
+        quantity.description()
     ));
-    for line in profile_field_lines(&setup.layout) {
+    for line in profile_field_lines(&setup.layout, quantity) {
         h.push('\n');
-        h.push_str(line);
+        h.push_str(&line);
     }
+    h
+}
+
+/// The columns of a station off the fault with a field of `components` components: `t`,
+/// `disp_1 …`, `vel_1 …`, with their descriptions (`depth_axis` the vertical component,
+/// positive down, for a vector field).
+pub(super) fn surface_columns(components: usize, depth_axis: usize) -> Vec<(String, String)> {
+    let what = |c: usize| match components {
+        1 => "the field's component".to_owned(),
+        _ if c == depth_axis => "vertical, positive down".to_owned(),
+        2 => "horizontal".to_owned(),
+        _ => format!("along x{}", c + 1),
+    };
+    let column = |name: &str, unit: &str, c: usize| {
+        (
+            format!("{}_{}", name, c + 1),
+            format!(
+                "{} {}, {} ({unit})",
+                if name == "disp" {
+                    "Displacement"
+                } else {
+                    "Velocity"
+                },
+                c + 1,
+                what(c)
+            ),
+        )
+    };
+    std::iter::once(("t".to_owned(), "Time (s)".to_owned()))
+        .chain((0..components).map(|c| column("disp", "m", c)))
+        .chain((0..components).map(|c| column("vel", "m/s", c)))
+        .collect()
+}
+
+/// The field-list line of a station off the fault.
+pub(super) fn surface_field_line(components: usize, depth_axis: usize) -> String {
+    surface_columns(components, depth_axis)
+        .into_iter()
+        .map(|(name, _)| name)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The header of a station off the fault at `position` (m) with a field of `components`
+/// components.
+pub(super) fn surface_header(
+    setup: &SeasSetup,
+    position: &[f64],
+    components: usize,
+    steps: Option<(f64, f64)>,
+    rows: usize,
+) -> String {
+    let at = position
+        .iter()
+        .map(|x| format!("{} km", x / 1e3))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut h = common_header(setup, &format!("off fault, ({at})"), steps, rows);
+    for (i, (_, description)) in surface_columns(components, setup.depth_axis)
+        .iter()
+        .enumerate()
+    {
+        h.push_str(&format!("\n# Column #{} = {description}", i + 1));
+    }
+    h.push_str("\n# The line below lists the names of the data fields:\n");
+    h.push_str(&surface_field_line(components, setup.depth_axis));
     h
 }
 

@@ -17,10 +17,10 @@ use super::{Flow, Observer, StepView};
 use crate::checkpoint::write_atomically;
 use crate::error::{invalid, io_at, Result};
 use crate::model::fault::block_norm;
-use crate::model::Model;
+use crate::model::{FaultSide, Model};
 use crate::simulation_state::SimulationState;
 pub use format::utc_date_today;
-use format::{c_exp, is_iso_date, profile_header, station_header};
+use format::{c_exp, is_iso_date, profile_header, station_header, surface_header, ProfileQuantity};
 use resume::{plan_resume, LogState};
 
 /// Seconds per year (365.25 days), the unit of the benchmark's output intervals.
@@ -96,6 +96,24 @@ pub struct SeasSetup {
     pub sampling: SeasSampling,
     /// Which benchmark's files: BP1's (the default) or BP3's.
     pub layout: SeasLayout,
+    /// Stations off the fault (BP3's eight on the free surface,
+    /// `SeasBp3::surface_stations`): displacement and velocity, rows at the on-fault
+    /// stations' times. Empty for BP1.
+    pub surface_stations: Vec<SeasSurfaceStation>,
+}
+
+/// A station off the fault (BP3's `srfst_fn…`): the displacement and velocity of the mesh
+/// vertex nearest `position`, written as `t disp_1 … vel_1 …` (m, m/s; the component along
+/// the depth axis positive down; the displacement is the change since the start).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeasSurfaceStation {
+    /// File name, e.g. `srfst_fn+08`.
+    pub name: String,
+    /// Position (m), one coordinate per space dimension.
+    pub position: Vec<f64>,
+    /// Where the nearest vertex is a split vertex of a fault inside the body (the fault's
+    /// trace on the surface): the copy on this side (BP3's `0⁻` and `0⁺` stations).
+    pub side: FaultSide,
 }
 
 /// Which benchmark's files a [`SeasOutput`] writes.
@@ -129,6 +147,32 @@ impl SeasLayout {
         match self {
             Self::Bp1 => "devol.dat",
             Self::Bp3 { .. } => "slip.dat",
+        }
+    }
+
+    /// Every profile file's name: the slip profiles' ([`profile_file`](Self::profile_file)),
+    /// and for BP3 `shear_stress.dat` and `normal_stress.dat` (the run's stresses, MPa,
+    /// the shear stress signed with the slip rate).
+    pub fn profile_files(&self) -> Vec<&'static str> {
+        self.profiles()
+            .iter()
+            .map(|&q| match q {
+                ProfileQuantity::Slip => self.profile_file(),
+                ProfileQuantity::ShearStress => "shear_stress.dat",
+                ProfileQuantity::NormalStress => "normal_stress.dat",
+            })
+            .collect()
+    }
+
+    /// What the profile files hold, in the order of [`profile_files`](Self::profile_files).
+    fn profiles(&self) -> &'static [ProfileQuantity] {
+        match self {
+            Self::Bp1 => &[ProfileQuantity::Slip],
+            Self::Bp3 { .. } => &[
+                ProfileQuantity::Slip,
+                ProfileQuantity::ShearStress,
+                ProfileQuantity::NormalStress,
+            ],
         }
     }
 
@@ -176,6 +220,14 @@ struct Station<L> {
     out: Option<BufWriter<File>>,
 }
 
+/// A station off the fault: its vertex, file and position.
+struct SurfaceFile {
+    vertex: usize,
+    path: PathBuf,
+    position: Vec<f64>,
+    out: Option<BufWriter<File>>,
+}
+
 /// The SEAS benchmark output of a run on a fault with per-node depths: station files,
 /// slip profiles, event catalogue (see the module docs; [`SeasLayout`] chooses BP1's or
 /// BP3's files). The slip of a node is the change
@@ -195,8 +247,14 @@ pub struct SeasOutput<L> {
     depths: Vec<f64>,
     u0: Vec<f64>,
     profile: Vec<usize>,
-    profile_out: Option<BufWriter<File>>,
+    /// One writer per profile file ([`SeasLayout::profile_files`]).
+    profile_out: Vec<Option<BufWriter<File>>>,
     surface: usize,
+    surface_files: Vec<SurfaceFile>,
+    /// The laws of every frictional node (the stresses of BP3's profiles at the start).
+    laws: Vec<L>,
+    /// Components of the field.
+    components: usize,
     last_station_t: f64,
     last_profile_t: f64,
     events: Vec<SeasEvent>,
@@ -207,7 +265,7 @@ pub struct SeasOutput<L> {
     tau_min: f64,
     tau_max: f64,
     steps: usize,
-    slips: Vec<f64>,
+    values: Vec<f64>,
     /// The resume log (one line of the output's state per step), if written.
     log: Option<BufWriter<File>>,
     /// Station rows (one per station file) and slip profile rows written so far.
@@ -252,10 +310,18 @@ struct Layout {
     /// Frictional node of each station.
     stations: Vec<usize>,
     profile: Vec<usize>,
+    /// Vertex of each station off the fault.
+    surface: Vec<usize>,
+    /// Components of the field (the stations off the fault write each).
+    components: usize,
 }
 
 impl Layout {
-    fn new<const D: usize, const C: usize>(model: &Model<D, C>, setup: &SeasSetup) -> Self {
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
+    /// `surface_stations` for a position of another dimension than the model's or not
+    /// finite, a name that is empty, not one line or repeated.
+    fn new<const D: usize, const C: usize>(model: &Model<D, C>, setup: &SeasSetup) -> Result<Self> {
         let fb = &model.frictional_boundary;
         let sign = if setup.depth_down { 1.0 } else { -1.0 };
         let depths: Vec<f64> = fb
@@ -284,11 +350,49 @@ impl Layout {
                 next = depths[k] + setup.profile_spacing;
             }
         }
-        Self {
+        let mut surface = Vec::with_capacity(setup.surface_stations.len());
+        for (i, st) in setup.surface_stations.iter().enumerate() {
+            let bad = |why: String| invalid("surface_stations", format!("station {i}: {why}"));
+            if st.position.len() != D || st.position.iter().any(|x| !x.is_finite()) {
+                return Err(bad(format!(
+                    "position {:?} must have {D} finite coordinates",
+                    st.position
+                )));
+            }
+            if st.name.trim().is_empty()
+                || st.name.contains(['\n', '\r', '/', '\\'])
+                || setup.surface_stations[..i]
+                    .iter()
+                    .any(|o| o.name == st.name)
+                || setup.stations.iter().any(|(n, _)| *n == st.name)
+            {
+                return Err(bad(format!(
+                    "name `{}` must be one line, a file name, and not repeated",
+                    rsf_numeric::excerpt(&st.name)
+                )));
+            }
+            let distance = |p: usize| {
+                model.vertices[p]
+                    .iter()
+                    .zip(&st.position)
+                    .map(|(a, b)| (a - b) * (a - b))
+                    .sum::<f64>()
+            };
+            let nearest = (0..model.vertices.len())
+                .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+                .unwrap_or(0);
+            surface.push(match &model.internal_fault {
+                Some(f) => f.copy_on(nearest, st.side),
+                None => nearest,
+            });
+        }
+        Ok(Self {
             depths,
             stations,
             profile,
-        }
+            surface,
+            components: C,
+        })
     }
 
     /// The line of `devol.dat` after its `#` lines: `0 0` and the profile's depths.
@@ -369,7 +473,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
                 ),
             ));
         }
-        let layout = Layout::new(model, &setup);
+        let layout = Layout::new(model, &setup)?;
         let (overwrite, state, log) = match mode {
             FileMode::Create | FileMode::Overwrite => {
                 std::fs::create_dir_all(dir).map_err(io_at("create the folder", dir))?;
@@ -416,22 +520,51 @@ impl<L: FrictionLaw> SeasOutput<L> {
                 out,
             });
         }
+        let mut surface_files = Vec::with_capacity(layout.surface.len());
+        for (st, &vertex) in setup.surface_stations.iter().zip(&layout.surface) {
+            let path = dir.join(&st.name);
+            let out = if resuming {
+                None
+            } else {
+                let mut out = files::open(
+                    &path,
+                    &surface_header(&setup, &st.position, C, None, 0),
+                    0,
+                    Start::Fresh { overwrite },
+                )?;
+                out.flush().map_err(io_at("write", &path))?;
+                Some(out)
+            };
+            surface_files.push(SurfaceFile {
+                vertex,
+                path,
+                position: st.position.clone(),
+                out,
+            });
+        }
         let surface = layout.profile[0];
-        let path = dir.join(setup.layout.profile_file());
-        let profile_out = if resuming {
-            None
-        } else {
-            Some(files::open(
-                &path,
-                &format!(
-                    "{}\n{}",
-                    profile_header(&setup, None, 0),
-                    layout.profile_first_row()
-                ),
-                0,
-                Start::Fresh { overwrite },
-            )?)
-        };
+        let mut profile_out = Vec::new();
+        for (&quantity, name) in setup
+            .layout
+            .profiles()
+            .iter()
+            .zip(setup.layout.profile_files())
+        {
+            profile_out.push(if resuming {
+                None
+            } else {
+                Some(files::open(
+                    &dir.join(name),
+                    &format!(
+                        "{}\n{}",
+                        profile_header(&setup, quantity, None, 0),
+                        layout.profile_first_row()
+                    ),
+                    0,
+                    Start::Fresh { overwrite },
+                )?)
+            });
+        }
         let u0 = model.initial_displacement.clone();
         Ok(Self {
             dir: dir.to_owned(),
@@ -442,6 +575,9 @@ impl<L: FrictionLaw> SeasOutput<L> {
             profile: layout.profile,
             profile_out,
             surface,
+            surface_files,
+            laws: laws.to_vec(),
+            components: C,
             last_station_t: state.last_station_t,
             last_profile_t: state.last_profile_t,
             events: state.events,
@@ -450,7 +586,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
             tau_min: state.tau_min,
             tau_max: state.tau_max,
             steps: state.steps,
-            slips: Vec::new(),
+            values: Vec::new(),
             log,
             station_rows: state.station_rows,
             profile_rows: state.profile_rows,
@@ -494,7 +630,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
         setup: &SeasSetup,
         step: usize,
     ) -> Result<()> {
-        plan_resume(dir, setup, &Layout::new(model, setup), step).map(|_| ())
+        plan_resume(dir, setup, &Layout::new(model, setup)?, step).map(|_| ())
     }
 
     /// Appends the state after step `step` (time `t`) to the resume log, if written.
@@ -604,7 +740,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
             .map(|&p| block_norm::<C>(v, p))
             .fold(0.0f64, f64::max);
         self.write_station_rows(model, state, None)?;
-        self.write_profile_row(model, state, vmax)?;
+        self.write_profile_row(model, state, vmax, None)?;
         self.write_log_line(0, state.time)
     }
 
@@ -638,10 +774,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
                     )
                 }
                 SeasLayout::Bp3 { .. } => {
-                    let (shear, normal) = match tractions {
-                        Some(f) => (f.shear_traction(k, vk, alpha), f.normal_traction(k)),
-                        None => (st.law.potential(alpha).slope(vk), st.law.normal_stress()),
-                    };
+                    let (shear, normal) = self.stresses(model, state, tractions, k);
                     let slip = self.slip(model, &state.kinematics.u, k);
                     format!(
                         "{} {} {} {} {} {}\n",
@@ -649,7 +782,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
                         c_exp(slip, 6, 14),
                         c_exp(vk.log10(), 6, 14),
                         c_exp(shear / 1e6, 6, 14),
-                        c_exp(normal.unwrap_or(f64::NAN) / 1e6, 6, 14),
+                        c_exp(normal / 1e6, 6, 14),
                         c_exp(alpha / std::f64::consts::LN_10, 6, 14),
                     )
                 }
@@ -662,36 +795,143 @@ impl<L: FrictionLaw> SeasOutput<L> {
                 out.flush().map_err(io_at("flush", &st.path))?;
             }
         }
+        for i in 0..self.surface_files.len() {
+            let row = self.surface_row(model, state, i)?;
+            let f = &mut self.surface_files[i];
+            let out = writer(&mut f.out, &f.path)?;
+            out.write_all(row.as_bytes())
+                .map_err(io_at("write", &f.path))?;
+            if self.log.is_some() {
+                out.flush().map_err(io_at("flush", &f.path))?;
+            }
+        }
         self.station_rows += 1;
         Ok(())
     }
 
-    /// One row of `devol.dat` at `state` (`vmax` the largest slip rate on the fault).
+    /// BP3's shear stress, signed with the slip rate's tangential component (the jump's
+    /// first), and normal stress (Pa, compressive positive) of frictional node `k`;
+    /// `tractions` the run's (the laws' own at the initial state if `None`).
+    fn stresses<const D: usize, const C: usize>(
+        &self,
+        model: &Model<D, C>,
+        state: &SimulationState,
+        tractions: Option<&dyn super::FaultTractions>,
+        k: usize,
+    ) -> (f64, f64) {
+        let p = model.frictional_boundary.nodes[k];
+        let v = &state.kinematics.v;
+        let vk = block_norm::<C>(v, p);
+        let alpha = state.alpha[k];
+        let law = &self.laws[k];
+        let (shear, normal) = match tractions {
+            Some(f) => (f.shear_traction(k, vk, alpha), f.normal_traction(k)),
+            None => (law.potential(alpha).slope(vk), law.normal_stress()),
+        };
+        let signed = if v[C * p] < 0.0 { -shear } else { shear };
+        (signed, normal.unwrap_or(f64::NAN))
+    }
+
+    /// The row of station off the fault `i` at `state`: time, displacement change since
+    /// the start and velocity (Cartesian; the depth axis's component positive down).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
+    /// `surface_stations` where the state has no value at the station's vertex.
+    fn surface_row<const D: usize, const C: usize>(
+        &self,
+        model: &Model<D, C>,
+        state: &SimulationState,
+        i: usize,
+    ) -> Result<String> {
+        let f = &self.surface_files[i];
+        let u = model.vertex_value(f.vertex, &state.kinematics.u);
+        let u0 = model.vertex_value(f.vertex, &self.u0);
+        let v = model.vertex_value(f.vertex, &state.kinematics.v);
+        if u.iter().chain(&v).any(|x| !x.is_finite()) {
+            return Err(invalid(
+                "surface_stations",
+                format!(
+                    "station `{}` (vertex {}): the run's state has no displacement or velocity \
+                     there at t = {} s (a run condensed onto the fault computes the vertices \
+                     its observers ask for: call `Stepping::watch_vertices` with \
+                     `SeasOutput::surface_vertices` before writing the initial state)",
+                    f.path.display(),
+                    f.vertex,
+                    state.time
+                ),
+            ));
+        }
+        let down = |c: usize| {
+            if C == D && c == self.setup.depth_axis && !self.setup.depth_down {
+                -1.0
+            } else {
+                1.0
+            }
+        };
+        let mut row = c_exp(state.time, 13, 21);
+        for c in 0..C {
+            row.push(' ');
+            row.push_str(&c_exp(down(c) * (u[c] - u0[c]), 6, 14));
+        }
+        for (c, vc) in v.iter().enumerate() {
+            row.push(' ');
+            row.push_str(&c_exp(down(c) * vc, 6, 14));
+        }
+        row.push('\n');
+        Ok(row)
+    }
+
+    /// The vertices of the stations off the fault (what a run condensed onto the fault
+    /// must compute for them: [`Stepping::watch_vertices`](crate::Stepping::watch_vertices),
+    /// which a run calls itself with [`Observer::volume_vertices`]).
+    pub fn surface_vertices(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = self.surface_files.iter().map(|f| f.vertex).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    /// One row of every profile file at `state` (`vmax` the largest slip rate on the
+    /// fault; `tractions` as for [`stresses`](Self::stresses)).
     fn write_profile_row<const D: usize, const C: usize>(
         &mut self,
         model: &Model<D, C>,
         state: &SimulationState,
         vmax: f64,
+        tractions: Option<&dyn super::FaultTractions>,
     ) -> Result<()> {
         let t = state.time;
         self.last_profile_t = t;
-        self.slips.clear();
-        for i in 0..self.profile.len() {
-            let x = self.slip(model, &state.kinematics.u, self.profile[i]);
-            self.slips.push(x);
-        }
-        let mut row = format!("{} {}", c_exp(t, 13, 21), c_exp(vmax.log10(), 6, 14));
-        for x in &self.slips {
-            row.push(' ');
-            row.push_str(&c_exp(*x, 6, 14));
-        }
-        row.push('\n');
-        let path = self.dir.join(self.setup.layout.profile_file());
-        let out = writer(&mut self.profile_out, &path)?;
-        out.write_all(row.as_bytes())
-            .map_err(io_at("write", &path))?;
-        if self.log.is_some() {
-            out.flush().map_err(io_at("flush", &path))?;
+        let files = self.setup.layout.profile_files();
+        for (j, &quantity) in self.setup.layout.profiles().iter().enumerate() {
+            let mut values = std::mem::take(&mut self.values);
+            values.clear();
+            for &k in &self.profile {
+                values.push(match quantity {
+                    ProfileQuantity::Slip => self.slip(model, &state.kinematics.u, k),
+                    ProfileQuantity::ShearStress => {
+                        self.stresses(model, state, tractions, k).0 / 1e6
+                    }
+                    ProfileQuantity::NormalStress => {
+                        self.stresses(model, state, tractions, k).1 / 1e6
+                    }
+                });
+            }
+            let mut row = format!("{} {}", c_exp(t, 13, 21), c_exp(vmax.log10(), 6, 14));
+            for x in &values {
+                row.push(' ');
+                row.push_str(&c_exp(*x, 6, 14));
+            }
+            row.push('\n');
+            self.values = values;
+            let path = self.dir.join(files[j]);
+            let out = writer(&mut self.profile_out[j], &path)?;
+            out.write_all(row.as_bytes())
+                .map_err(io_at("write", &path))?;
+            if self.log.is_some() {
+                out.flush().map_err(io_at("flush", &path))?;
+            }
         }
         self.profile_rows += 1;
         Ok(())
@@ -789,7 +1029,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             sm.profile_quiet
         };
         if t - self.last_profile_t >= profile_dt * (1.0 - 1e-12) {
-            self.write_profile_row(s.model, s.state, vmax)?;
+            self.write_profile_row(s.model, s.state, vmax, Some(s.friction))?;
         }
         self.write_log_line(s.report.step, t)?;
         Ok(Flow::Continue(()))
@@ -810,14 +1050,32 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
                 &station_header(&self.setup, st.depth, stats, self.station_rows),
             )?;
         }
-        let devol = self.dir.join(self.setup.layout.profile_file());
-        if let Some(mut out) = self.profile_out.take() {
-            out.flush().map_err(io_at("write", &devol))?;
+        for f in &mut self.surface_files {
+            if let Some(mut out) = f.out.take() {
+                out.flush().map_err(io_at("write", &f.path))?;
+            }
+            rewrite_header(
+                &f.path,
+                &surface_header(
+                    &self.setup,
+                    &f.position,
+                    self.components,
+                    stats,
+                    self.station_rows,
+                ),
+            )?;
         }
-        rewrite_header(
-            &devol,
-            &profile_header(&self.setup, stats, self.profile_rows),
-        )?;
+        let files = self.setup.layout.profile_files();
+        for (j, &quantity) in self.setup.layout.profiles().iter().enumerate() {
+            let path = self.dir.join(files[j]);
+            if let Some(mut out) = self.profile_out[j].take() {
+                out.flush().map_err(io_at("write", &path))?;
+            }
+            rewrite_header(
+                &path,
+                &profile_header(&self.setup, quantity, stats, self.profile_rows),
+            )?;
+        }
         let mut csv = String::from(
             "event,t_start_s,t_end_s,hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m\n",
         );
@@ -840,5 +1098,8 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
     }
     fn reads_volume(&self) -> bool {
         false
+    }
+    fn volume_vertices(&self) -> Vec<usize> {
+        self.surface_vertices()
     }
 }

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::format::{c_exp, profile_field_lines, station_field_line};
+use super::format::{c_exp, profile_field_lines, station_field_line, surface_field_line};
 use super::{Layout, SeasEvent, SeasSetup, LOG_HEADER, SEAS_RESUME_LOG};
 use crate::error::{io_at, show_path, Error, Result};
 
@@ -68,20 +68,33 @@ pub(super) fn plan_resume(
         )?;
         cuts.push((path, keep, len));
     }
-    let devol = dir.join(setup.layout.profile_file());
-    let first = profile_field_lines(&setup.layout)
-        .iter()
-        .map(|l| l.to_string())
-        .chain([layout.profile_first_row()])
-        .collect::<Vec<_>>();
-    let (keep, len) = kept_rows(
-        &devol,
-        &first,
-        2 + layout.profile.len(),
-        state.profile_rows,
-        state.last_profile_t,
-    )?;
-    cuts.push((devol, keep, len));
+    for st in &setup.surface_stations {
+        let path = dir.join(&st.name);
+        let (keep, len) = kept_rows(
+            &path,
+            &[surface_field_line(layout.components, setup.depth_axis)],
+            1 + 2 * layout.components,
+            state.station_rows,
+            state.last_station_t,
+        )?;
+        cuts.push((path, keep, len));
+    }
+    let files = setup.layout.profile_files();
+    for (&quantity, name) in setup.layout.profiles().iter().zip(files) {
+        let path = dir.join(name);
+        let first = profile_field_lines(&setup.layout, quantity)
+            .into_iter()
+            .chain([layout.profile_first_row()])
+            .collect::<Vec<_>>();
+        let (keep, len) = kept_rows(
+            &path,
+            &first,
+            2 + layout.profile.len(),
+            state.profile_rows,
+            state.last_profile_t,
+        )?;
+        cuts.push((path, keep, len));
+    }
     Ok(ResumePlan { state, cuts })
 }
 
