@@ -16,6 +16,7 @@ mod panels;
 pub mod pipping_slider;
 mod run;
 pub mod run_folder;
+mod seas_overview;
 pub use cli::{main_with, FrameArgs, SceneArgs, TimeStepArgs};
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
@@ -26,6 +27,7 @@ pub use run::{
     SliderRun, SliderStats,
 };
 pub use run_folder::FolderArgs;
+pub use seas_overview::seas_overview;
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 

@@ -54,7 +54,10 @@ pub struct SeasBp3 {
 pub struct SeasBp3Grid {
     /// Element size along the fault (m), down to W_f.
     pub dx: f64,
-    /// Half-width `L` of the box across the fault (m); its depth is `L sin ψ`.
+    /// Half-width `L` of the box across the fault (m); its depth is `L sin ψ`. Default
+    /// 1600 km: the shallow normal fault (30°) needs a deep box — its first event moves by
+    /// 17.6 yr from L = 100 to 800 km and by 0.4 yr from 800 to 1600 km at Δx = 250 m
+    /// (docs/seas-bp3.md).
     pub domain: f64,
     /// Growth of the elements away from the fault and below W_f, in [1, 2].
     pub ratio: f64,
@@ -64,7 +67,7 @@ impl Default for SeasBp3Grid {
     fn default() -> Self {
         Self {
             dx: 25.0,
-            domain: 200e3,
+            domain: 1600e3,
             ratio: 1.05,
         }
     }

@@ -176,11 +176,19 @@ impl NormalCoupling {
         sigma: &mut [f64],
     ) -> Result<()> {
         let dg = big_g - self.g0;
-        for (k, s) in sigma.iter_mut().enumerate() {
-            let mut r = dg * self.loading[k];
-            for (i, (u, u0)) in u_f.iter().zip(&self.u_f0).enumerate() {
-                r += self.s_n[(k, i)] * (u - u0);
+        // The reactions r = dg a + S_N (u_F − u_F⁰) accumulated in `sigma` column by
+        // column (contiguous in S_N; each node's sum in the order of the columns).
+        for (s, a) in sigma.iter_mut().zip(&self.loading) {
+            *s = dg * a;
+        }
+        for (i, (u, u0)) in u_f.iter().zip(&self.u_f0).enumerate() {
+            let du = u - u0;
+            for (s, c) in sigma.iter_mut().zip(self.s_n.col(i).iter()) {
+                *s += c * du;
             }
+        }
+        for (k, s) in sigma.iter_mut().enumerate() {
+            let r = *s;
             *s = self.sigma0[k] - r / self.weights[k];
             if !(*s > 0.0 && s.is_finite()) {
                 return Err(Error::NormalStressNotPositive {
