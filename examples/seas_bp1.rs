@@ -42,7 +42,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::fault_ode::FaultOdeOptions;
 use rsf::method::{FixedPointOptions, SolverOptions};
 use rsf::observe::{
     Checkpointer, Every, FileMode, Interval, Progress, SeasOutput, SeasSampling, SeasSetup,
@@ -146,13 +146,8 @@ struct Args {
     /// absolute in ln θ).
     #[arg(long, default_value_t = 1e-6)]
     rk_tolerance: f64,
-    /// The Runge–Kutta run's operator condensed onto the fault: `dense` (m² entries) or
-    /// `hierarchical` (an ℋ-matrix, rsf-hmatrix).
-    #[arg(long, value_enum, default_value_t = KernelArg::Dense)]
-    kernel: KernelArg,
-    /// Relative accuracy ε of the hierarchical kernel (default: the `--rk-tolerance`).
-    #[arg(long)]
-    kernel_epsilon: Option<f64>,
+    #[command(flatten)]
+    kernel: rsf_examples::KernelArgs,
     /// Threads of each evaluation of the Runge–Kutta run: the product with the condensed
     /// operator and the per-node friction solves (rayon; the same bits for every value).
     #[arg(long, default_value_t = 1)]
@@ -195,12 +190,6 @@ enum Absorbing {
     None,
     Dynamic,
     All,
-}
-
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
-enum KernelArg {
-    Dense,
-    Hierarchical,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -313,14 +302,7 @@ fn run(args: Args) -> Result<(), AnyError> {
             })
             .build()
     };
-    let kernel = match (args.kernel, args.kernel_epsilon) {
-        (KernelArg::Dense, None) => FaultKernel::Dense,
-        (KernelArg::Dense, Some(_)) => {
-            return Err("--kernel-epsilon needs --kernel hierarchical".into());
-        }
-        (KernelArg::Hierarchical, None) => FaultKernel::matching(args.rk_tolerance),
-        (KernelArg::Hierarchical, Some(e)) => FaultKernel::hierarchical(e),
-    };
+    let kernel = args.kernel.kernel(args.rk_tolerance)?;
     if args.threads == 0 {
         return Err("--threads must be at least 1".into());
     }

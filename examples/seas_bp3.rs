@@ -56,6 +56,12 @@ struct Args {
     /// Tolerance of the fault ODE.
     #[arg(long, default_value_t = 1e-7)]
     tolerance: f64,
+    #[command(flatten)]
+    kernel: rsf_examples::KernelArgs,
+    /// Threads of each evaluation (the operator products and the per-node friction
+    /// solves; the same bits for every value).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
     /// Modeler's name for the files' headers.
     #[arg(long, default_value = "rsf")]
     modeler: String,
@@ -101,9 +107,23 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         fb.len(),
         machine()
     );
+    if args.threads == 0 {
+        return Err("--threads must be at least 1".into());
+    }
     let mut options = bp3.params.fault_ode_options(args.tolerance)?;
     options.runge_kutta.dt_min = 1e-8;
+    options.kernel = args.kernel.kernel(args.tolerance)?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
     let mut ode = bp3.fault_ode(model, options)?;
+    println!("S: {}", ode.kernel_report());
+    if let Some(r) = ode.normal_kernel_report() {
+        println!("S_N: {r}");
+    }
+    println!(
+        "set-up: wall {:.1} s, CPU {:.1} s",
+        clock.elapsed().as_secs_f64(),
+        cpu_seconds() - cpu0
+    );
     let setup = SeasSetup {
         modeler: args.modeler.clone(),
         ..bp3.seas_setup(args.dx, SeasSampling::default())

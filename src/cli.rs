@@ -395,3 +395,44 @@ mod tests {
         assert!(window("0.75,0.5").is_err() && window("1").is_err());
     }
 }
+
+/// How a Runge–Kutta run stores its operators condensed onto the fault (`S`, and `S_N` with
+/// a normal stress from slip).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum KernelArg {
+    /// Dense (m² entries).
+    #[default]
+    Dense,
+    /// ℋ-matrices (rsf-hmatrix).
+    Hierarchical,
+}
+
+/// `--kernel dense|hierarchical` and `--kernel-epsilon E` of the fault-ODE examples.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct KernelArgs {
+    /// The Runge–Kutta run's operators condensed onto the fault: `dense` (m² entries) or
+    /// `hierarchical` (ℋ-matrices, rsf-hmatrix).
+    #[arg(long, value_enum, default_value_t = KernelArg::Dense)]
+    pub kernel: KernelArg,
+    /// Relative accuracy ε of the hierarchical kernel (default: the Runge–Kutta tolerance).
+    #[arg(long)]
+    pub kernel_epsilon: Option<f64>,
+}
+
+impl KernelArgs {
+    /// The kernel for a run of Runge–Kutta `tolerance`.
+    ///
+    /// # Errors
+    /// `--kernel-epsilon` without `--kernel hierarchical`.
+    pub fn kernel(&self, tolerance: f64) -> Result<rsf::fault_ode::FaultKernel, String> {
+        use rsf::fault_ode::FaultKernel;
+        match (self.kernel, self.kernel_epsilon) {
+            (KernelArg::Dense, None) => Ok(FaultKernel::Dense),
+            (KernelArg::Dense, Some(_)) => {
+                Err("--kernel-epsilon needs --kernel hierarchical".into())
+            }
+            (KernelArg::Hierarchical, None) => Ok(FaultKernel::matching(tolerance)),
+            (KernelArg::Hierarchical, Some(e)) => Ok(FaultKernel::hierarchical(e)),
+        }
+    }
+}

@@ -237,8 +237,8 @@ impl std::fmt::Display for KernelReport {
     }
 }
 
-/// The operator of the right-hand side.
-enum Kernel {
+/// The operator of the right-hand side (and the normal-stress operator `S_N`).
+pub(crate) enum Kernel {
     Dense(Mat<f64>),
     Hierarchical(Box<HMatrix>),
 }
@@ -389,6 +389,8 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     options: FaultOdeOptions,
     evaluations: usize,
     kernel_report: KernelReport,
+    /// The compression of the normal-stress operator `S_N`, if compressed.
+    normal_kernel_report: Option<KernelReport>,
     /// With a normal stress that changes: the laws scaled by it at the last step.
     scaled_tractions: Option<ScaledTractions<L>>,
     /// The vertices off Γ_F that observers read without the volume
@@ -516,8 +518,8 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             *r = g0 + big_g * g1;
         }
         d.kernel.subtract_product(&y[..m], &mut d.r, d.par)?;
-        if let Some(normal) = &d.normal {
-            normal.evaluate(t, big_g, &y[..m], &mut d.sigma)?;
+        if let Some(normal) = &mut d.normal {
+            normal.evaluate(t, big_g, &y[..m], &mut d.sigma, d.par)?;
         }
         let speed = d.history.value(t);
         let (dyu, dya) = dy.split_at_mut(m);
@@ -618,7 +620,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         drop(s_dense);
         let (kernel, kernel_report) = compress(s, model, &cond, options.kernel)?;
         let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
-        let normal = NormalCoupling::new(
+        let mut normal = NormalCoupling::new(
             problem.normal_stress(),
             model,
             &mut cond,
@@ -626,6 +628,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             &velocity_factor,
             big_g0,
         )?;
+        let normal_kernel_report = match &mut normal {
+            Some(n) => n.compress(model, &cond, options.kernel)?,
+            None => None,
+        };
         let scaled_tractions = normal.as_ref().map(|n| ScaledTractions {
             laws: problem.friction_laws().to_vec(),
             sigma0: n.initial().to_vec(),
@@ -708,6 +714,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             options,
             evaluations: 0,
             kernel_report,
+            normal_kernel_report,
             scaled_tractions,
             probe: None,
         };
@@ -766,6 +773,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// `‖S − S_H‖_F/‖S‖_F`, storage and compression ratio. `Display` prints one line.
     pub fn kernel_report(&self) -> &KernelReport {
         &self.kernel_report
+    }
+
+    /// With a normal stress from slip ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip))
+    /// and a hierarchical [`FaultOdeOptions::kernel`]: what the compression of the
+    /// slip → normal-traction operator `S_N` measured (the same kind, accuracy and points
+    /// as `S`). `None` where `S_N` is dense: no normal stress from slip, a dense kernel, or
+    /// a fault whose nodes have more than one free component (3-D).
+    pub fn normal_kernel_report(&self) -> Option<&KernelReport> {
+        self.normal_kernel_report.as_ref()
     }
 
     /// Evaluations of the right-hand side so far (each one product with `S`).
@@ -966,8 +982,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             }
         }
         self.state.alpha.copy_from_slice(&self.y[m..]);
-        if let (Some(normal), Some(tr)) = (&r.normal, &mut self.scaled_tractions) {
-            normal.evaluate(t, big_g, &self.y[..m], &mut tr.sigma)?;
+        if let (Some(normal), Some(tr)) = (&mut r.normal, &mut self.scaled_tractions) {
+            normal.evaluate(t, big_g, &self.y[..m], &mut tr.sigma, r.par)?;
         }
         Ok(())
     }
@@ -1065,7 +1081,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
 
 /// The kernel of `kind` from the dense `s` (moved in, dropped if compressed) and its
 /// report. Points: each condensed unknown at its node's coordinates.
-fn compress<const D: usize, const C: usize>(
+pub(crate) fn compress<const D: usize, const C: usize>(
     s: Mat<f64>,
     model: &Model<D, C>,
     cond: &Condensation<C>,

@@ -4,9 +4,11 @@
 
 use faer::Mat;
 use rsf_friction::FrictionLaw;
+use rsf_linalg::Parallelism;
 use rsf_tnnmg::Condensation;
 
 use crate::error::{invalid, Error, Result};
+use crate::fault_ode::{compress, FaultKernel, Kernel, KernelReport};
 use crate::model::Model;
 use crate::observe::FaultTractions;
 
@@ -70,9 +72,11 @@ fn initial_normal_stress<const D: usize, const C: usize, L: FrictionLaw>(
 /// `σ̄_n,k = σ̄_n⁰,k − (G(t) a_k + (S_N (u_F − u_F⁰))_k)/w_k`, where `S_N` (`nodes × m`)
 /// maps the condensed unknowns to the reactions at the tied normal jumps and `a` is the
 /// reaction of a unit loading with the condensed unknowns held.
-#[derive(Debug, Clone)]
 pub(crate) struct NormalCoupling {
-    s_n: Mat<f64>,
+    /// `S_N`, dense or compressed ([`compress`](Self::compress)).
+    s_n: Kernel,
+    /// `u_F − u_F⁰` (scratch for the compressed product).
+    du: Vec<f64>,
     loading: Vec<f64>,
     u_f0: Vec<f64>,
     g0: f64,
@@ -148,13 +152,48 @@ impl NormalCoupling {
             .map(|&dof| model.initial_displacement[dof])
             .collect();
         Ok(Some(Self {
-            s_n,
+            s_n: Kernel::Dense(s_n),
+            du: vec![0.0; m],
             loading,
             u_f0,
             g0: big_g0,
             sigma0,
             weights: fb.weights.clone(),
         }))
+    }
+
+    /// `S_N` as the fault ODE's `kind` of kernel (its points: the condensed unknowns'
+    /// nodes, which are the rows' too where every frictional node has one free component,
+    /// as on a 2-D fault inside the body with its normal tied): the report of the
+    /// compression, `None` where `S_N` stays dense (a dense `kind`, or rows and columns on
+    /// different points).
+    ///
+    /// # Errors
+    /// The compression's errors.
+    pub(crate) fn compress<const D: usize, const C: usize>(
+        &mut self,
+        model: &Model<D, C>,
+        cond: &Condensation<C>,
+        kind: FaultKernel,
+    ) -> Result<Option<KernelReport>> {
+        let fb = &model.frictional_boundary;
+        let same_points = cond.interface_dofs().len() == fb.len()
+            && cond
+                .interface_dofs()
+                .iter()
+                .zip(&fb.nodes)
+                .all(|(&dof, &p)| dof / C == p);
+        if matches!(kind, FaultKernel::Dense) || !same_points {
+            return Ok(None);
+        }
+        let Kernel::Dense(dense) =
+            std::mem::replace(&mut self.s_n, Kernel::Dense(Mat::zeros(0, 0)))
+        else {
+            return Ok(None);
+        };
+        let (kernel, report) = compress(dense, model, cond, kind)?;
+        self.s_n = kernel;
+        Ok(Some(report))
     }
 
     /// The laws' normal stresses `σ̄_n⁰` (Pa).
@@ -169,22 +208,38 @@ impl NormalCoupling {
     /// [`Error::NormalStressNotPositive`] where the slip would open the fault
     /// (`σ̄_n ≤ 0`) or the value is not finite.
     pub(crate) fn evaluate(
-        &self,
+        &mut self,
         time: f64,
         big_g: f64,
         u_f: &[f64],
         sigma: &mut [f64],
+        par: Parallelism,
     ) -> Result<()> {
         let dg = big_g - self.g0;
-        // The reactions r = dg a + S_N (u_F − u_F⁰) accumulated in `sigma` column by
-        // column (contiguous in S_N; each node's sum in the order of the columns).
+        // The reactions r = dg a + S_N (u_F − u_F⁰) accumulated in `sigma`.
         for (s, a) in sigma.iter_mut().zip(&self.loading) {
             *s = dg * a;
         }
-        for (i, (u, u0)) in u_f.iter().zip(&self.u_f0).enumerate() {
-            let du = u - u0;
-            for (s, c) in sigma.iter_mut().zip(self.s_n.col(i).iter()) {
-                *s += c * du;
+        match &mut self.s_n {
+            // Column by column (contiguous in S_N; each node's sum in the order of the
+            // columns).
+            Kernel::Dense(s_n) => {
+                for (i, (u, u0)) in u_f.iter().zip(&self.u_f0).enumerate() {
+                    let du = u - u0;
+                    for (s, c) in sigma.iter_mut().zip(s_n.col(i).iter()) {
+                        *s += c * du;
+                    }
+                }
+            }
+            Kernel::Hierarchical(h) => {
+                for ((d, u), u0) in self.du.iter_mut().zip(u_f).zip(&self.u_f0) {
+                    *d = u - u0;
+                }
+                match h.apply_add(&self.du, sigma, 1.0, par.faer()) {
+                    // A trial stage that blew up: NaN, refused below as for dense.
+                    Err(rsf_hmatrix::Error::NonFiniteInput(_)) => sigma.fill(f64::NAN),
+                    other => other.map_err(Error::from)?,
+                }
             }
         }
         for (k, s) in sigma.iter_mut().enumerate() {
