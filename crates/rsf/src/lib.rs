@@ -48,6 +48,7 @@
 mod any_run;
 pub mod checkpoint;
 mod error;
+mod fault_kernel;
 pub mod fault_ode;
 mod friction_blocks;
 pub mod method;

@@ -8,7 +8,7 @@ use rsf_linalg::Parallelism;
 use rsf_tnnmg::Condensation;
 
 use crate::error::{invalid, Error, Result};
-use crate::fault_ode::{compress, FaultKernel, Kernel, KernelReport};
+use crate::fault_kernel::{compress, FaultKernel, Kernel, KernelReport};
 use crate::model::Model;
 use crate::observe::FaultTractions;
 

@@ -1,39 +1,7 @@
 //! The text of the SEAS files: C-style number formats, the `#` header lines and field-list
 //! lines, the date of a run.
 
-use super::{SeasLayout, SeasSetup};
-
-/// What a profile file holds along the fault: BP1's `devol.dat` and BP3's `slip.dat` the
-/// slip, BP3's `shear_stress.dat` and `normal_stress.dat` the stresses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum ProfileQuantity {
-    /// Slip (m).
-    Slip,
-    /// Shear stress (MPa), signed with the slip rate.
-    ShearStress,
-    /// Normal stress (MPa), compressive positive.
-    NormalStress,
-}
-
-impl ProfileQuantity {
-    /// The field name (the second field-list line ends with it).
-    pub(super) fn field(self) -> &'static str {
-        match self {
-            Self::Slip => "slip",
-            Self::ShearStress => "shear_stress",
-            Self::NormalStress => "normal_stress",
-        }
-    }
-
-    /// The description in the `# Column #3` line.
-    fn description(self) -> &'static str {
-        match self {
-            Self::Slip => "Slip (m)",
-            Self::ShearStress => "Shear stress (MPa)",
-            Self::NormalStress => "Normal stress (MPa)",
-        }
-    }
-}
+use super::setup::{ProfileQuantity, SeasLayout, SeasSetup};
 
 /// The two field-list lines of a profile of `quantity` in `layout`: the coordinate (`z` or
 /// `xd`, whose values the first data row holds), then `t max_slip_rate` and the quantity.

@@ -1,13 +1,25 @@
-//! Resuming a [`SeasOutput`](super::SeasOutput)'s files after a checkpoint: the resume log's state at the
+//! Resuming a [`SeasOutput`](super::SeasOutput)(super::SeasOutput)'s files after a checkpoint: the resume log's state at the
 //! checkpoint's step and how much of every file to keep.
 
 use std::path::{Path, PathBuf};
 
 use super::format::{c_exp, profile_field_lines, station_field_line, surface_field_line};
-use super::{Layout, SeasEvent, SeasSetup, LOG_HEADER, SEAS_RESUME_LOG};
+use super::layout::Layout;
+use super::setup::{SeasEvent, SeasSetup};
 use crate::error::{io_at, show_path, Error, Result};
 
-/// The state of a [`SeasOutput`] after a step, as its resume log holds it.
+/// Name of the resume log of a [`SeasOutput`](super::SeasOutput) in its folder
+/// ([`SeasOutput::with_resume_log`](super::SeasOutput::with_resume_log)).
+pub const SEAS_RESUME_LOG: &str = "seas_resume.csv";
+
+/// Header of the resume log: the output's state after each step, every `f64` in the
+/// shortest text that reads back to the same double (NaN: none).
+pub(super) const LOG_HEADER: &str =
+    "step,t_s,steps,tau_min_s,tau_max_s,last_station_t_s,last_profile_t_s,\
+station_rows,profile_rows,slip_at_start_m,pending_t_s,pending_slip_m,events,t_start_s,t_end_s,\
+hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m";
+
+/// The state of a [`SeasOutput`](super::SeasOutput) after a step, as its resume log holds it.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct LogState {
     pub(super) steps: usize,
@@ -46,7 +58,7 @@ pub(super) struct ResumePlan {
     pub(super) cuts: Vec<(PathBuf, usize, usize)>,
 }
 
-/// Reads the resume log and the files of a [`SeasOutput`] in `dir` and plans their cut
+/// Reads the resume log and the files of a [`SeasOutput`](super::SeasOutput) in `dir` and plans their cut
 /// at step `step`; changes nothing.
 pub(super) fn plan_resume(
     dir: &Path,
