@@ -128,10 +128,9 @@ impl NormalCoupling {
         let mut column = vec![0.0; fb.len()];
         let mut s_n = Mat::<f64>::zeros(fb.len(), m);
         for (i, &dof) in cond.interface_dofs().to_vec().iter().enumerate() {
-            cond.condense(&zeros, &zeros, &mut g)?;
             x.fill(0.0);
             x[dof] = 1.0;
-            cond.extend(&mut x)?;
+            cond.extend_homogeneous(&mut x)?;
             reactions(&x, &mut column);
             for (r, &v) in column.iter().enumerate() {
                 s_n[(r, i)] = v;
