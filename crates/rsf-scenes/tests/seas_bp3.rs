@@ -127,6 +127,23 @@ impl Observer<2> for StationValues {
     }
 }
 
+impl StationValues {
+    /// The step nearest the time `t` (s) — a file prints its times with 13 digits — and its
+    /// values.
+    fn nearest(&self, t: f64) -> (f64, &[[f64; 5]]) {
+        let (bits, row) = self
+            .rows
+            .iter()
+            .min_by(|a, b| {
+                (f64::from_bits(*a.0) - t)
+                    .abs()
+                    .total_cmp(&(f64::from_bits(*b.0) - t).abs())
+            })
+            .expect("the run observed steps");
+        (f64::from_bits(*bits), row)
+    }
+}
+
 /// BP3's files read back by the description's rules — header lines, six `# Column #k`
 /// lines, the field-list line `t slip slip_rate shear_stress normal_stress state`, rows
 /// of six numbers with time increasing from 0, `num_time_steps` the rows in the file —
@@ -226,19 +243,10 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
         );
         for r in &rows[1..] {
             assert_eq!(r.len(), 6, "{name}");
-            let seen = values.rows.get(&r[0].to_bits()).unwrap_or_else(|| {
-                // The file's time is printed with 13 digits: find the step.
-                let (_, v) = values
-                    .rows
-                    .iter()
-                    .min_by(|a, b| {
-                        (f64::from_bits(*a.0) - r[0])
-                            .abs()
-                            .total_cmp(&(f64::from_bits(*b.0) - r[0]).abs())
-                    })
-                    .unwrap();
-                v
-            })[i];
+            let seen = match values.rows.get(&r[0].to_bits()) {
+                Some(row) => row[i],
+                None => values.nearest(r[0]).1[i],
+            };
             for c in 0..5 {
                 let tol = 1e-6 * seen[c].abs().max(1e-12);
                 assert!(
@@ -375,16 +383,8 @@ fn check_stress_profiles(dir: &std::path::Path, values: &StationValues) {
             }
             // The first profile position is x_d = 0, station 0's node; the file's time
             // has 13 digits: the step nearest it.
-            let (t, seen) = values
-                .rows
-                .iter()
-                .min_by(|a, b| {
-                    (f64::from_bits(*a.0) - r[0])
-                        .abs()
-                        .total_cmp(&(f64::from_bits(*b.0) - r[0]).abs())
-                })
-                .unwrap();
-            assert!((f64::from_bits(*t) - r[0]).abs() <= 1e-12 * r[0].abs());
+            let (t, seen) = values.nearest(r[0]);
+            assert!((t - r[0]).abs() <= 1e-12 * r[0].abs());
             let want = seen[0][column];
             assert!(
                 (r[2] - want).abs() <= 1e-6 * want.abs(),
