@@ -132,3 +132,65 @@ fn watched_vertices_equal_the_whole_fields_values() {
         assert!(w < 1e-10, "{worst:?}");
     }
 }
+
+/// Whether a vertex off the fault was computed at each step.
+struct Computed {
+    vertex: usize,
+    volume: bool,
+    finite: Vec<bool>,
+}
+
+impl Observer<2> for Computed {
+    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<Flow> {
+        let (u, v) = (s.displacement(self.vertex), s.velocity(self.vertex));
+        self.finite.push(u.iter().chain(&v).all(|x| x.is_finite()));
+        Ok(Flow::Continue(()))
+    }
+    fn reads_volume(&self) -> bool {
+        self.volume
+    }
+}
+
+/// A vertex off the fault is computed exactly when an observer reads the volume (or the
+/// caller asks for it), and is uncomputed (NaN) again at every step after that, however
+/// runs with and without the volume follow each other.
+#[test]
+fn the_field_off_the_fault_is_computed_only_when_asked_for() {
+    let bp3 = SeasBp3::thrust();
+    let model = bp3.model(&GRID).unwrap();
+    let vertex = (0..model.vertices.len())
+        .min_by(|&a, &b| {
+            let d = |p: usize| (model.vertices[p][0] + 20e3).hypot(model.vertices[p][1] + 10e3);
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    let options = bp3.params.fault_ode_options(1e-7).unwrap();
+    let mut ode = bp3.fault_ode(model, options).unwrap();
+    assert!(ode.state().kinematics.u[2 * vertex].is_nan());
+    let run = |ode: &mut rsf::FaultOde<2, _, _, 2>, volume: bool| {
+        let mut obs = Computed {
+            vertex,
+            volume,
+            finite: Vec::new(),
+        };
+        ode.run_until(rsf::Until::Steps(5), &mut [&mut obs])
+            .unwrap();
+        assert_eq!(obs.finite.len(), 5);
+        obs.finite
+    };
+    assert_eq!(run(&mut ode, false), [false; 5]);
+    assert_eq!(run(&mut ode, true), [true; 5]);
+    assert_eq!(run(&mut ode, false), [false; 5]);
+    let state = ode.state_with_volume().unwrap();
+    assert!(state.kinematics.u[2 * vertex].is_finite());
+    assert_eq!(run(&mut ode, false), [false; 5]);
+    // A restored state (here one with the whole field) is not kept off the fault either.
+    let checkpoint = {
+        ode.state_with_volume().unwrap();
+        ode.checkpoint()
+    };
+    assert_eq!(run(&mut ode, false), [false; 5]);
+    ode.restore(&checkpoint).unwrap();
+    assert!(ode.state().kinematics.u[2 * vertex].is_nan());
+    assert_eq!(run(&mut ode, false), [false; 5]);
+}

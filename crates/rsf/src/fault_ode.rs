@@ -160,6 +160,10 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     state: SimulationState,
     /// The dofs neither fixed nor condensed onto (NaN in the state unless computed).
     interior: Vec<usize>,
+    /// Whether the state's `u` and `v` are NaN at every `interior` dof but the probe's
+    /// (which it rewrites after every step): then a step without the volume writes only
+    /// the fault's, the loading's and the probe's entries, not the whole field's.
+    interior_is_nan: bool,
     zeros: Vec<f64>,
     /// The rate `[V_F; α̇]` at the current point.
     dy: Vec<f64>,
@@ -486,6 +490,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             y,
             state,
             interior,
+            interior_is_nan: false,
             zeros,
             dy: Vec::new(),
             options,
@@ -640,6 +645,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.state.kinematics.u.copy_from_slice(&state.kinematics.u);
         self.state.kinematics.v.copy_from_slice(&state.kinematics.v);
         self.state.kinematics.a.fill(0.0);
+        self.interior_is_nan = false;
         self.fill_state(false)
     }
 
@@ -721,6 +727,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.state.step = state.step;
         self.state.tau = dt;
         self.state.kinematics.u.copy_from_slice(&state.kinematics.u);
+        self.interior_is_nan = false;
         self.fill_state(false)
     }
 
@@ -742,6 +749,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         impose_dirichlet(model, t, &mut kin.v);
         if volume {
+            self.interior_is_nan = false;
             r.cond
                 .condense(&model.load, &kin.u, &mut r.r)
                 .and_then(|()| r.cond.extend(&mut kin.u))?;
@@ -749,9 +757,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 .condense(&self.zeros, &kin.v, &mut r.r)
                 .and_then(|()| r.cond.extend(&mut kin.v))?;
         } else {
-            for &i in &self.interior {
-                kin.u[i] = f64::NAN;
-                kin.v[i] = f64::NAN;
+            if !self.interior_is_nan {
+                for &i in &self.interior {
+                    kin.u[i] = f64::NAN;
+                    kin.v[i] = f64::NAN;
+                }
+                self.interior_is_nan = true;
             }
             if let Some(probe) = &self.probe {
                 let speed = model.dirichlet.speed(t);
@@ -884,6 +895,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
             vertices,
             &velocity_factor,
         )?);
+        // Another probe's vertices are NaN again.
+        self.interior_is_nan = false;
         self.fill_state(false)
     }
     fn model(&self) -> &Model<D, C> {
