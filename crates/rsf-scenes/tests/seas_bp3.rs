@@ -229,12 +229,7 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
             .iter()
             .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
             .collect();
-        let declared: usize = header
-            .iter()
-            .find_map(|l| l.strip_prefix("# num_time_steps="))
-            .unwrap()
-            .parse()
-            .unwrap();
+        let declared = declared_rows(&header);
         assert_eq!(declared, rows.len(), "{name}");
         assert_eq!(rows[0][0], 0.0, "{name}: a first row at t = 0");
         assert!(
@@ -279,6 +274,16 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// The rows a file's header declares (`# num_time_steps=`).
+fn declared_rows<S: AsRef<str>>(header: &[S]) -> usize {
+    header
+        .iter()
+        .find_map(|l| l.as_ref().strip_prefix("# num_time_steps="))
+        .expect("a num_time_steps line")
+        .parse()
+        .expect("a row count")
+}
+
 /// The `#` lines and the rows (numbers) of a benchmark file after its field-list lines
 /// (`field_lines` of them, checked against `fields`).
 fn read_file(path: &std::path::Path, fields: &[&str]) -> (Vec<String>, Vec<Vec<f64>>) {
@@ -317,12 +322,7 @@ fn check_surface_stations(dir: &std::path::Path, bp3: &SeasBp3, dp000: &str) {
                 .iter()
                 .any(|l| l.starts_with(&format!("# Column #{k} = "))));
         }
-        let declared: usize = header
-            .iter()
-            .find_map(|l| l.strip_prefix("# num_time_steps="))
-            .unwrap()
-            .parse()
-            .unwrap();
+        let declared = declared_rows(&header);
         assert_eq!(declared, rows.len(), "{name}");
         assert_eq!(
             rows.len(),
