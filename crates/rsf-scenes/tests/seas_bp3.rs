@@ -151,19 +151,12 @@ impl StationValues {
 /// the normal stress changing).
 #[test]
 fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
-    use rsf::observe::{FileMode, SeasOutput, SeasSampling};
+    use rsf::observe::{FileMode, SeasOutput};
     let bp3 = SeasBp3::normal();
     let model = bp3.model(&GRID).unwrap();
     let dir = std::env::temp_dir().join(format!("rsf-seas-bp3-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
-    let sampling = SeasSampling {
-        station_quiet: SECONDS_PER_YEAR,
-        ..SeasSampling::default()
-    };
-    let setup = rsf::observe::SeasSetup {
-        date: "2026-11-25".into(),
-        ..bp3.seas_setup(GRID.dx, sampling)
-    };
+    let setup = test_setup(&bp3);
     let stations = setup.stations.clone();
     let options = bp3.params.fault_ode_options(1e-7).unwrap();
     let mut ode = bp3.fault_ode(model, options).unwrap();
@@ -272,6 +265,19 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
     check_surface_stations(&dir, &bp3, &stations[0].0);
     check_stress_profiles(&dir, &values);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The benchmark's set-up of `bp3` on [`GRID`] with a station row at most every year
+/// between events and a fixed date (files comparable between runs).
+fn test_setup(bp3: &SeasBp3) -> rsf::observe::SeasSetup {
+    let sampling = rsf::observe::SeasSampling {
+        station_quiet: SECONDS_PER_YEAR,
+        ..rsf::observe::SeasSampling::default()
+    };
+    rsf::observe::SeasSetup {
+        date: "2026-11-25".into(),
+        ..bp3.seas_setup(GRID.dx, sampling)
+    }
 }
 
 /// The rows a file's header declares (`# num_time_steps=`).
@@ -418,19 +424,12 @@ impl Observer<2> for BreakAt {
 /// the stress profiles too — byte-identical to an uninterrupted run's.
 #[test]
 fn a_resumed_bp3_run_writes_the_same_bytes() {
-    use rsf::observe::{Checkpointer, Every, FileMode, Interval, SeasOutput, SeasSampling};
+    use rsf::observe::{Checkpointer, Every, FileMode, Interval, SeasOutput};
     use rsf::{Checkpoint, Stepping};
     let bp3 = SeasBp3::thrust();
     let model = bp3.model(&GRID).unwrap();
     let end = rsf::Until::Time(150.0 * SECONDS_PER_YEAR);
-    let sampling = SeasSampling {
-        station_quiet: SECONDS_PER_YEAR,
-        ..SeasSampling::default()
-    };
-    let setup = rsf::observe::SeasSetup {
-        date: "2026-11-25".into(),
-        ..bp3.seas_setup(GRID.dx, sampling)
-    };
+    let setup = test_setup(&bp3);
     let root = std::env::temp_dir().join(format!("rsf-seas-bp3-resume-{}", std::process::id()));
     std::fs::remove_dir_all(&root).ok();
     let (a, b) = (root.join("straight"), root.join("stopped"));

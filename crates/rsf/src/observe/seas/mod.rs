@@ -193,14 +193,11 @@ impl<L: FrictionLaw> SeasOutput<L> {
             let out = if resuming {
                 None
             } else {
-                let mut out = files::open(
+                Some(fresh_station_file(
                     &path,
                     &station_header(&setup, layout.depths[k], None, 0),
-                    0,
-                    Start::Fresh { overwrite },
-                )?;
-                out.flush().map_err(io_at("write", &path))?;
-                Some(out)
+                    overwrite,
+                )?)
             };
             stations.push(Station {
                 k,
@@ -216,14 +213,11 @@ impl<L: FrictionLaw> SeasOutput<L> {
             let out = if resuming {
                 None
             } else {
-                let mut out = files::open(
+                Some(fresh_station_file(
                     &path,
                     &surface_header(&setup, &st.position, C, None, 0),
-                    0,
-                    Start::Fresh { overwrite },
-                )?;
-                out.flush().map_err(io_at("write", &path))?;
-                Some(out)
+                    overwrite,
+                )?)
             };
             surface_files.push(SurfaceFile {
                 vertex,
@@ -626,6 +620,14 @@ impl<L: FrictionLaw> SeasOutput<L> {
         self.profile_rows += 1;
         Ok(())
     }
+}
+
+/// A new station file (on or off the fault) at `path` with its `header`, flushed so that
+/// the header is on disk before the first row.
+fn fresh_station_file(path: &Path, header: &str, overwrite: bool) -> Result<BufWriter<File>> {
+    let mut out = files::open(path, header, 0, Start::Fresh { overwrite })?;
+    out.flush().map_err(io_at("write", path))?;
+    Ok(out)
 }
 
 /// The open writer of `path`, reopened for appending after a [`finish`](Observer::finish)
