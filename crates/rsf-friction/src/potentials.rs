@@ -1,7 +1,7 @@
 //! The friction laws and their potentials.
 
 use crate::{ConvexPotential, Error, FrictionLaw, Result};
-use rsf_numeric::{solve_increasing, wright_omega_ln, StateVariable};
+use rsf_numeric::{solve_increasing, solve_increasing_from, wright_omega_ln, StateVariable};
 
 const LN_2: f64 = std::f64::consts::LN_2;
 
@@ -266,8 +266,7 @@ impl RateStateParams {
     /// `ln V_m(α) = ln V0 − (μ0 + b(α + ln(V0/L)))/a` (2.13), computed without forming
     /// `V_m` (which underflows for large `α`). For `|α| → ∞` the result may be `±∞`.
     pub fn ln_cutoff_velocity(&self, alpha: f64) -> f64 {
-        let lv0 = self.v0.ln();
-        lv0 - (self.mu0 + self.b * (alpha + (lv0 - self.l.ln()))) / self.a
+        ParamLogs::of(self).ln_cutoff_velocity(self, alpha)
     }
 
     /// Steady-state friction coefficient `μ_ss(V) = μ0 + (a − b) ln(V/V0)`, reached at
@@ -279,6 +278,28 @@ impl RateStateParams {
     /// `κ = a σ̄_n` (Pa), the scale of the rate-state potentials.
     fn kappa(&self) -> f64 {
         self.a * self.sigma_n
+    }
+}
+
+/// `ln V0` and `ln L` of a law's parameters, taken once when the law is made: the cutoff
+/// `ln V_m(α)` is needed at every friction solve (the same values as computed each time).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ParamLogs {
+    ln_v0: f64,
+    ln_l: f64,
+}
+
+impl ParamLogs {
+    fn of(p: &RateStateParams) -> Self {
+        Self {
+            ln_v0: p.v0.ln(),
+            ln_l: p.l.ln(),
+        }
+    }
+    /// [`RateStateParams::ln_cutoff_velocity`] of `p` (whose logs these are).
+    fn ln_cutoff_velocity(&self, p: &RateStateParams, alpha: f64) -> f64 {
+        let lv0 = self.ln_v0;
+        lv0 - (p.mu0 + p.b * (alpha + (lv0 - self.ln_l))) / p.a
     }
 }
 
@@ -443,6 +464,7 @@ impl ConvexPotential for DieterichRuinaPotential {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DieterichRuina {
     params: RateStateParams,
+    logs: ParamLogs,
 }
 
 impl DieterichRuina {
@@ -452,7 +474,10 @@ impl DieterichRuina {
     /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
     pub fn new(params: RateStateParams) -> Result<Self> {
         params.validate()?;
-        Ok(Self { params })
+        Ok(Self {
+            params,
+            logs: ParamLogs::of(&params),
+        })
     }
     /// The parameters.
     pub fn params(&self) -> &RateStateParams {
@@ -464,7 +489,10 @@ impl FrictionLaw for DieterichRuina {
     type Potential = DieterichRuinaPotential;
     /// `ϕ(·, α)` with `ln V_m(α)` from (2.13).
     fn potential(&self, alpha: f64) -> DieterichRuinaPotential {
-        DieterichRuinaPotential::new(self.params.ln_cutoff_velocity(alpha), self.params.kappa())
+        DieterichRuinaPotential::new(
+            self.logs.ln_cutoff_velocity(&self.params, alpha),
+            self.params.kappa(),
+        )
     }
     fn uses_state(&self) -> bool {
         true
@@ -472,11 +500,11 @@ impl FrictionLaw for DieterichRuina {
     /// (2.12): `μ0 + a ln(V/V0) + b(α + ln(V0/L))` for `V ≥ V_m(α)`, else 0.
     fn friction_coefficient(&self, v: f64, alpha: f64) -> f64 {
         let p = &self.params;
-        if !(v > 0.0) || v.ln() <= p.ln_cutoff_velocity(alpha) {
+        if !(v > 0.0) || v.ln() <= self.logs.ln_cutoff_velocity(p, alpha) {
             return 0.0;
         }
-        let lv0 = p.v0.ln();
-        sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - p.l.ln())))
+        let lv0 = self.logs.ln_v0;
+        sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - self.logs.ln_l)))
     }
     fn normal_stress(&self) -> Option<f64> {
         Some(self.params.sigma_n)
@@ -621,9 +649,13 @@ impl ConvexPotential for AsinhPotential {
         if !(lo < hi) {
             return sat(lo.min(hi).exp());
         }
-        let (glo, ghi) = (g(lo).0, g(hi).0);
-        let x0 = if glo.abs() < ghi.abs() { lo } else { hi };
-        sat(solve_increasing(g, lo, hi, x0).exp())
+        let (glo, ghi) = (g(lo), g(hi));
+        let (x0, start) = if glo.0.abs() < ghi.0.abs() {
+            (lo, glo)
+        } else {
+            (hi, ghi)
+        };
+        sat(solve_increasing_from(g, lo, hi, x0, start).exp())
     }
 }
 
@@ -633,6 +665,7 @@ impl ConvexPotential for AsinhPotential {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AsinhLaw {
     params: RateStateParams,
+    logs: ParamLogs,
 }
 
 impl AsinhLaw {
@@ -642,7 +675,10 @@ impl AsinhLaw {
     /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
     pub fn new(params: RateStateParams) -> Result<Self> {
         params.validate()?;
-        Ok(Self { params })
+        Ok(Self {
+            params,
+            logs: ParamLogs::of(&params),
+        })
     }
     /// The parameters.
     pub fn params(&self) -> &RateStateParams {
@@ -653,7 +689,10 @@ impl AsinhLaw {
 impl FrictionLaw for AsinhLaw {
     type Potential = AsinhPotential;
     fn potential(&self, alpha: f64) -> AsinhPotential {
-        AsinhPotential::new(self.params.ln_cutoff_velocity(alpha), self.params.kappa())
+        AsinhPotential::new(
+            self.logs.ln_cutoff_velocity(&self.params, alpha),
+            self.params.kappa(),
+        )
     }
     fn uses_state(&self) -> bool {
         true
@@ -662,7 +701,7 @@ impl FrictionLaw for AsinhLaw {
         if !(v > 0.0) {
             return 0.0;
         }
-        let l = finite_ln_vm(self.params.ln_cutoff_velocity(alpha));
+        let l = finite_ln_vm(self.logs.ln_cutoff_velocity(&self.params, alpha));
         sat(self.params.a * asinh_exp(v.ln() - LN_2 - l))
     }
     fn normal_stress(&self) -> Option<f64> {

@@ -4,7 +4,8 @@
 //! * [`wright_omega`] and [`wright_omega_ln`] — the Wright omega function `ω(x) = W₀(eˣ)`,
 //!   overflow-safe for all real `x` (the closed-form aging-law update of `rsf-state` and
 //!   the exact local solves of `rsf-friction`).
-//! * [`safeguarded_newton`] and its one-closure form [`solve_increasing`] — roots of
+//! * [`safeguarded_newton`] and its one-closure forms [`solve_increasing`] and
+//!   [`solve_increasing_from`] — roots of
 //!   increasing scalar functions by Newton's method safeguarded with bisection (the
 //!   generic state update of `rsf-state`, the local solves of `rsf-friction`).
 //! * [`StateVariable`] — the convention for what the state `α` of a law is (`ln θ` or `θ`),
@@ -25,5 +26,6 @@ pub use convention::StateVariable;
 pub use message::{excerpt, parse_name, UnknownName, EXCERPT_CHARS};
 pub use omega::{wright_omega, wright_omega_ln};
 pub use root::{
-    safeguarded_newton, solve_increasing, Bracket, IncreasingFunction, RootOutcome, Start, Stopping,
+    safeguarded_newton, solve_increasing, solve_increasing_from, Bracket, IncreasingFunction,
+    RootOutcome, Start, Stopping,
 };

@@ -163,6 +163,43 @@ pub fn solve_increasing(g: impl Fn(f64) -> (f64, f64), lo: f64, hi: f64, x0: f64
     };
     let mut g = ValueAndSlope { g, slope: 0.0 };
     let Ok(value) = g.value(x);
+    newton_from(g, lo, hi, x, value)
+}
+
+/// [`solve_increasing`] started at a point `x0` of `[lo, hi]` where `g` has already been
+/// evaluated: `known = g(x0)` (value and slope, as `g` returns them). The same iterates
+/// and result as `solve_increasing(g, lo, hi, x0)` with one evaluation of `g` fewer —
+/// for callers that evaluate `g` at the ends of the bracket to choose where to start. If
+/// `x0` is not in `[lo, hi]`, `known` is not used and the result is `solve_increasing`'s.
+///
+/// ```
+/// let g = |x: f64| (x * x - 2.0, 2.0 * x);
+/// let x = rsf_numeric::solve_increasing_from(g, 0.0, 2.0, 2.0, g(2.0));
+/// assert_eq!(x, rsf_numeric::solve_increasing(g, 0.0, 2.0, 2.0));
+/// ```
+pub fn solve_increasing_from(
+    g: impl Fn(f64) -> (f64, f64),
+    lo: f64,
+    hi: f64,
+    x0: f64,
+    known: (f64, f64),
+) -> f64 {
+    if !(lo < hi && x0 >= lo && x0 <= hi) {
+        return solve_increasing(g, lo, hi, x0);
+    }
+    let (value, slope) = known;
+    newton_from(ValueAndSlope { g, slope }, lo, hi, x0, value)
+}
+
+/// [`safeguarded_newton`] with [`solve_increasing`]'s stopping rule from `x` in the bracket,
+/// `value = g(x)` and `g.slope` its slope.
+fn newton_from<F: Fn(f64) -> (f64, f64)>(
+    mut g: ValueAndSlope<F>,
+    lo: f64,
+    hi: f64,
+    x: f64,
+    value: f64,
+) -> f64 {
     let stopping = Stopping {
         tolerance: 2.0,
         max_iterations: 300,
@@ -195,6 +232,48 @@ mod tests {
         let step = |x: f64| (if x < 1.0 { -1.0 } else { 1.0 } + (x - 1.0), 1.0);
         let x = solve_increasing(step, 0.0, 3.0, 0.0);
         assert!((x - 1.0).abs() <= 8.0 * f64::EPSILON, "{x}");
+    }
+
+    #[test]
+    fn a_known_start_gives_the_same_iterates_with_one_evaluation_fewer() {
+        use std::cell::Cell;
+        // Increasing functions with a smooth part, a kink and steep exponentials, started at
+        // either end of the bracket (as the friction solves do) and inside it.
+        type ValueAndSlopeFn = fn(f64) -> (f64, f64);
+        let cases: [(ValueAndSlopeFn, f64, f64); 3] = [
+            (|x| (x.exp() + x - 3.0, x.exp() + 1.0), -10.0, 10.0),
+            (
+                |x| (x.sinh() + 0.3 * x.abs() - 0.2, x.cosh() + 0.3),
+                -40.0,
+                3.0,
+            ),
+            (
+                |x| ((5.0 * x).exp() - 7.0, 5.0 * (5.0 * x).exp()),
+                -100.0,
+                1.0,
+            ),
+        ];
+        for (f, lo, hi) in cases {
+            for x0 in [lo, hi, 0.25 * lo + 0.75 * hi] {
+                let count = Cell::new(0_usize);
+                let counted = |x: f64| {
+                    count.set(count.get() + 1);
+                    f(x)
+                };
+                let plain = solve_increasing(counted, lo, hi, x0);
+                let plain_calls = count.replace(0);
+                let from = solve_increasing_from(counted, lo, hi, x0, f(x0));
+                assert_eq!(plain.to_bits(), from.to_bits(), "x0 = {x0}");
+                assert_eq!(count.get() + 1, plain_calls, "x0 = {x0}");
+                assert!(f(from).0.abs() <= 1e-12 * f(from).1.max(1.0), "x0 = {x0}");
+            }
+        }
+        // Outside the bracket the known value is not used.
+        let g = |x: f64| (x - 0.25, 1.0);
+        assert_eq!(
+            solve_increasing_from(g, 0.0, 1.0, 7.0, (f64::NAN, f64::NAN)),
+            0.25
+        );
     }
 
     #[test]
