@@ -1,41 +1,18 @@
 //! The hierarchical matrix: set-up from a dense matrix or from an entry function, and the
 //! allocation-free product (docs/math.md §13).
 
+use std::ops::Range;
+
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
-use rayon::prelude::*;
 
-use crate::block::{partition, BlockShape};
+use crate::block::partition;
 use crate::cluster::ClusterTree;
 use crate::error::Error;
 use crate::lowrank::{aca, recompress, svd_truncate, LowRank};
 use crate::options::{ErrorMeasure, HOptions, SetupReport};
 use crate::points::Points;
-
-/// The data of a block.
-#[derive(Debug, Clone)]
-enum Data {
-    /// `nrows × ncols`, column-major.
-    Dense(Vec<f64>),
-    /// `U Vᵀ` and the scratch `t = Vᵀ x` of the product.
-    LowRank(LowRank, Vec<f64>),
-}
-
-#[derive(Debug, Clone)]
-struct Block {
-    shape: BlockShape,
-    data: Data,
-}
-
-/// A leaf cluster of rows, with the blocks that reach it and its part of the product.
-#[derive(Debug, Clone)]
-struct Segment {
-    start: usize,
-    /// `(block, first row of the block inside the segment)`, in block order.
-    parts: Vec<(usize, usize)>,
-    /// Scratch: the segment's rows of `S_H x` in cluster order.
-    z: Vec<f64>,
-}
+use crate::product::{run_parts, Block, Data, Operands, PartRows, Segment, Split};
 
 /// A hierarchical (ℋ-) matrix approximation `S_H` of a square matrix `S` whose rows and
 /// columns belong to points (docs/math.md §13): a cluster tree on the points, a block tree
@@ -70,8 +47,16 @@ pub struct HMatrix {
     perm: Vec<usize>,
     blocks: Vec<Block>,
     segments: Vec<Segment>,
+    /// The parts of the product (one for a sequential product).
+    split: Split,
+    /// Number of parts the split was asked for.
+    split_request: usize,
+    /// Total rank of the low-rank blocks (the length of a part's projection scratch).
+    t_len: usize,
     /// Scratch: `x` in cluster order.
     xp: Vec<f64>,
+    /// Scratch: `S_H x` in cluster order, from the last product.
+    zp: Vec<f64>,
     report: SetupReport,
 }
 
@@ -122,12 +107,15 @@ impl HMatrix {
             let data = match lr {
                 Some(lr) => {
                     err2 += low_rank_error2(dense.as_ref(), &lr);
-                    let t = vec![0.0; lr.rank];
-                    Data::LowRank(lr, t)
+                    Data::LowRank(lr)
                 }
                 None => Data::Dense(to_column_major(dense.as_ref())),
             };
-            blocks.push(Block { shape, data });
+            blocks.push(Block {
+                shape,
+                data,
+                t_offset: 0,
+            });
         }
         let norm2: f64 = (0..n)
             .flat_map(|j| (0..n).map(move |i| (i, j)))
@@ -182,8 +170,7 @@ impl HMatrix {
             let data = match lr {
                 Some(lr) => {
                     let lr = recompress(&lr, shape.nrows, shape.ncols, 0.9 * options.epsilon)?;
-                    let t = vec![0.0; lr.rank];
-                    Data::LowRank(lr, t)
+                    Data::LowRank(lr)
                 }
                 None => {
                     let mut d = Vec::with_capacity(shape.nrows * shape.ncols);
@@ -195,7 +182,11 @@ impl HMatrix {
                     Data::Dense(d)
                 }
             };
-            blocks.push(Block { shape, data });
+            blocks.push(Block {
+                shape,
+                data,
+                t_offset: 0,
+            });
         }
         let mut h = Self::assemble(tree, blocks, 0.0, ErrorMeasure::Exact);
         // Error estimate on a sample of entries.
@@ -236,13 +227,13 @@ impl HMatrix {
 
     fn assemble(
         tree: ClusterTree,
-        blocks: Vec<Block>,
+        mut blocks: Vec<Block>,
         relative_error: f64,
         error_measure: ErrorMeasure,
     ) -> Self {
         let n = tree.perm.len();
         let leaves = tree.leaves();
-        let segments = leaves
+        let segments: Vec<Segment> = leaves
             .iter()
             .map(|&leaf| {
                 let c = &tree.nodes[leaf];
@@ -255,8 +246,8 @@ impl HMatrix {
                     .collect();
                 Segment {
                     start: c.start,
+                    len: c.len(),
                     parts,
-                    z: vec![0.0; c.len()],
                 }
             })
             .collect();
@@ -272,16 +263,17 @@ impl HMatrix {
             leaf_clusters: leaves.len(),
         };
         let mut rank_sum = 0;
-        for b in &blocks {
+        for b in &mut blocks {
             match &b.data {
                 Data::Dense(d) => {
                     report.dense_blocks += 1;
                     report.stored_entries += d.len();
                 }
-                Data::LowRank(lr, _) => {
+                Data::LowRank(lr) => {
                     report.low_rank_blocks += 1;
                     report.stored_entries += lr.u.len() + lr.v.len();
                     report.max_rank = report.max_rank.max(lr.rank);
+                    b.t_offset = rank_sum;
                     rank_sum += lr.rank;
                 }
             }
@@ -289,12 +281,17 @@ impl HMatrix {
         if report.low_rank_blocks > 0 {
             report.mean_rank = rank_sum as f64 / report.low_rank_blocks as f64;
         }
+        let split = Split::new(1, 0.0, &segments, &blocks, rank_sum);
         Self {
             n,
             perm: tree.perm,
             blocks,
             segments,
+            split,
+            split_request: 1,
+            t_len: rank_sum,
             xp: vec![0.0; n],
+            zp: vec![0.0; n],
             report,
         }
     }
@@ -310,7 +307,7 @@ impl HMatrix {
                 let (i, j) = (off + p - seg.start, q - sh.col);
                 return match &b.data {
                     Data::Dense(d) => d[j * sh.nrows + i],
-                    Data::LowRank(lr, _) => (0..lr.rank)
+                    Data::LowRank(lr) => (0..lr.rank)
                         .map(|l| lr.u[l * sh.nrows + i] * lr.v[l * sh.ncols + j])
                         .sum(),
                 };
@@ -319,11 +316,13 @@ impl HMatrix {
         0.0
     }
 
-    /// `y ← y + α S_H x` (original numbering). Allocates nothing; the result is bit-identical
-    /// from run to run and for every `par`: low-rank blocks first form `t = Vᵀ x` each,
-    /// then every leaf cluster of rows sums its blocks in a fixed order (fixed-order
-    /// kernels independent of memory alignment; docs/math.md §13.5). `Par::Rayon(k)` with
-    /// `k > 1` runs both phases on rayon's current thread pool.
+    /// `y ← y + α S_H x` (original numbering). Allocates nothing (but a new split of the
+    /// rows when `par`'s thread count changes); the result is bit-identical from run to
+    /// run and for every `par`: the rows are summed in parts, each part forming the
+    /// projections `t = Vᵀ x` of the low-rank blocks that reach its rows and summing the
+    /// blocks of each of its leaf clusters in a fixed order (fixed-order kernels
+    /// independent of memory alignment and of the split; docs/math.md §13.5).
+    /// `Par::Rayon(k)` with `k > 1` runs `k` parts on rayon's current thread pool.
     ///
     /// # Errors
     /// [`Error::VectorLength`] unless `x` and `y` have length [`dim`](Self::dim);
@@ -336,19 +335,11 @@ impl HMatrix {
         alpha: f64,
         par: Par,
     ) -> Result<(), Error> {
-        let n = self.n;
-        if x.len() != n {
-            return Err(Error::VectorLength {
-                name: "x",
-                len: x.len(),
-                expected: n,
-            });
-        }
-        if y.len() != n {
+        if y.len() != self.n {
             return Err(Error::VectorLength {
                 name: "y",
                 len: y.len(),
-                expected: n,
+                expected: self.n,
             });
         }
         if !alpha.is_finite() {
@@ -358,33 +349,95 @@ impl HMatrix {
                 expected: "finite",
             });
         }
+        let threads = match par {
+            Par::Rayon(k) => k.get(),
+            Par::Seq => 1,
+        };
+        if self.split_request != threads {
+            self.split_rows(threads, 0.0);
+        }
+        // Zero-sized states: no allocation.
+        let mut states = vec![(); self.split.len()];
+        self.apply_by_parts(x, &mut states, |_, _| {})?;
+        for (&i, z) in self.perm.iter().zip(&self.zp) {
+            y[i] += alpha * z;
+        }
+        Ok(())
+    }
+
+    /// Splits the rows for [`apply_by_parts`](Self::apply_by_parts) into at most `parts`
+    /// consecutive ranges of the cluster order (whole leaf clusters, at least one part)
+    /// of about equal work: each row's multiply-adds plus `work_per_row` (what the caller
+    /// does with each row inside its part, in multiply-adds). Returns the ranges; they
+    /// cover `0..dim` in order. Kept until the next call (or an [`apply_add`](Self::apply_add)
+    /// with another thread count). Allocates.
+    pub fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Vec<Range<usize>> {
+        let work_per_row = if work_per_row.is_finite() {
+            work_per_row.max(0.0)
+        } else {
+            0.0
+        };
+        self.split = Split::new(
+            parts,
+            work_per_row,
+            &self.segments,
+            &self.blocks,
+            self.t_len,
+        );
+        self.split_request = parts;
+        self.split.rows().collect()
+    }
+
+    /// `S_H x` by the parts of the last [`split_rows`](Self::split_rows) (one part unless
+    /// split), each part run as a rayon task (the parts do not wait for each other) and,
+    /// once its rows are summed, handed to `f` with its state (`states[part]`) in the same
+    /// task: the way to do row-wise work on the product without a second parallel region.
+    /// Each row's value is bit-identical to [`apply_add`](Self::apply_add)'s for every
+    /// split. Afterwards the whole product is [`last_product`](Self::last_product).
+    /// Allocates nothing.
+    ///
+    /// # Errors
+    /// [`Error::VectorLength`] unless `x` has length [`dim`](Self::dim) and `states` one
+    /// entry per part; [`Error::NonFiniteInput`] for NaN or infinity in `x` (then `f` is
+    /// not called).
+    pub fn apply_by_parts<S, F>(&mut self, x: &[f64], states: &mut [S], f: F) -> Result<(), Error>
+    where
+        S: Send,
+        F: Fn(PartRows<'_>, &mut S) + Sync,
+    {
+        if x.len() != self.n {
+            return Err(Error::VectorLength {
+                name: "x",
+                len: x.len(),
+                expected: self.n,
+            });
+        }
+        if states.len() != self.split.len() {
+            return Err(Error::VectorLength {
+                name: "states",
+                len: states.len(),
+                expected: self.split.len(),
+            });
+        }
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFiniteInput(i));
         }
         for (xp, &i) in self.xp.iter_mut().zip(&self.perm) {
             *xp = x[i];
         }
-        let parallel = matches!(par, Par::Rayon(k) if k.get() > 1);
-        let xp = &self.xp;
-        if parallel {
-            self.blocks.par_iter_mut().for_each(|b| project(b, xp));
-            let blocks = &self.blocks;
-            self.segments
-                .par_iter_mut()
-                .for_each(|s| accumulate(s, blocks, xp));
-        } else {
-            self.blocks.iter_mut().for_each(|b| project(b, xp));
-            let blocks = &self.blocks;
-            self.segments
-                .iter_mut()
-                .for_each(|s| accumulate(s, blocks, xp));
-        }
-        for s in &self.segments {
-            for (k, z) in s.z.iter().enumerate() {
-                y[self.perm[s.start + k]] += alpha * z;
-            }
-        }
+        let ops = Operands {
+            blocks: &self.blocks,
+            segments: &self.segments,
+            xp: &self.xp,
+        };
+        run_parts(0, self.split.parts_mut(), &mut self.zp, states, &ops, &f);
         Ok(())
+    }
+
+    /// `S_H x` of the last product, in cluster order: entry `p` is row
+    /// [`permutation`](Self::permutation)`()[p]` (zeros before the first product).
+    pub fn last_product(&self) -> &[f64] {
+        &self.zp
     }
 
     /// The dimension `n` (rows = columns = points).
@@ -419,69 +472,6 @@ impl HMatrix {
             self.entry_in_cluster_order(iperm[i], iperm[j])
         })
     }
-}
-
-/// `t = Vᵀ x_σ` for a low-rank block.
-fn project(b: &mut Block, xp: &[f64]) {
-    if let Data::LowRank(lr, t) = &mut b.data {
-        let (col, nc) = (b.shape.col, b.shape.ncols);
-        let xs = &xp[col..col + nc];
-        for (l, tl) in t.iter_mut().enumerate() {
-            *tl = dot(&lr.v[l * nc..(l + 1) * nc], xs);
-        }
-    }
-}
-
-/// The segment's rows of `S_H x`, its blocks summed in order.
-fn accumulate(s: &mut Segment, blocks: &[Block], xp: &[f64]) {
-    s.z.fill(0.0);
-    let len = s.z.len();
-    for &(k, off) in &s.parts {
-        let b = &blocks[k];
-        let sh = b.shape;
-        match &b.data {
-            Data::Dense(d) => {
-                let xs = &xp[sh.col..sh.col + sh.ncols];
-                for (j, &xj) in xs.iter().enumerate() {
-                    let c = &d[j * sh.nrows + off..j * sh.nrows + off + len];
-                    axpy(&mut s.z, xj, c);
-                }
-            }
-            Data::LowRank(lr, t) => {
-                for (l, &tl) in t.iter().enumerate() {
-                    let c = &lr.u[l * sh.nrows + off..l * sh.nrows + off + len];
-                    axpy(&mut s.z, tl, c);
-                }
-            }
-        }
-    }
-}
-
-/// `z ← z + a c`, element by element (no reordering, vectorisable).
-#[inline]
-fn axpy(z: &mut [f64], a: f64, c: &[f64]) {
-    for (zi, ci) in z.iter_mut().zip(c) {
-        *zi += a * ci;
-    }
-}
-
-/// Dot product with eight fixed partial sums (vectorisable, same bits on every machine
-/// with IEEE f64 and no fused multiply-add contraction, which Rust never does implicitly).
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut acc = [0.0; 8];
-    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
-    let (ra, rb) = (ca.remainder(), cb.remainder());
-    for (x, y) in ca.zip(cb) {
-        for k in 0..8 {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    let mut tail = 0.0;
-    for (x, y) in ra.iter().zip(rb) {
-        tail += x * y;
-    }
-    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
 }
 
 fn to_column_major(m: MatRef<'_, f64>) -> Vec<f64> {

@@ -11,6 +11,9 @@
 //!   recompression; for matrices too large to form.
 //! - [`HMatrix::apply_add`]: `y ← y + α S_H x`, allocation-free, bit-identical run to run
 //!   and between sequential and parallel runs.
+//! - [`HMatrix::split_rows`] and [`HMatrix::apply_by_parts`]: the product by parts of the
+//!   rows, each part's rows ([`PartRows`]) handed to the caller's function inside the
+//!   part's own task — row-wise work on the product in the same parallel region.
 //! - [`SetupReport`]: the measured error `‖S − S_H‖_F / ‖S‖_F`, memory, ranks, blocks.
 //!
 //! The mathematics (cluster tree, admissibility, compression, error measure, cost) is in
@@ -26,8 +29,10 @@ pub mod kernels;
 mod lowrank;
 mod options;
 mod points;
+mod product;
 
 pub use error::Error;
 pub use hmatrix::HMatrix;
 pub use options::{ErrorMeasure, HOptions, SetupReport};
 pub use points::Points;
+pub use product::PartRows;

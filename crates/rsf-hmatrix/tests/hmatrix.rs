@@ -209,6 +209,64 @@ fn products_are_bit_identical_run_to_run_and_in_parallel() {
 }
 
 #[test]
+fn products_by_parts_give_every_row_the_bits_of_the_whole_product() {
+    let n = 1000;
+    let k = kernel(n);
+    let s = dense(&k);
+    let points = k.points();
+    let mut h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::with_epsilon(1e-6)).unwrap();
+    let x = test_vector(n, 11);
+    let mut whole = vec![0.0; n];
+    h.apply_add(&x, &mut whole, 1.0, Par::Seq).unwrap();
+    // Against the dense product (so that a split that drops or repeats rows fails).
+    let exact = dense_product(&s, &x);
+    let diff: Vec<f64> = whole.iter().zip(&exact).map(|(a, b)| a - b).collect();
+    assert!(vec_norm(&diff) <= 1e-5 * vec_norm(&exact));
+    let perm = h.permutation().to_vec();
+    for (parts, work_per_row) in [
+        (1, 0.0),
+        (2, 0.0),
+        (2, 500.0),
+        (3, 50.0),
+        (7, 0.0),
+        (500, 1.0),
+    ] {
+        let ranges = h.split_rows(parts, work_per_row);
+        assert!(!ranges.is_empty() && ranges.len() <= parts);
+        assert_eq!(ranges[0].start, 0);
+        assert_eq!(ranges[ranges.len() - 1].end, n);
+        assert!(ranges
+            .windows(2)
+            .all(|w| w[0].end == w[1].start && w[0].start < w[0].end));
+        // Each part writes its rows (original numbering) into its own state.
+        let mut states: Vec<Vec<(usize, f64)>> = vec![Vec::new(); ranges.len()];
+        h.apply_by_parts(&x, &mut states, |rows, out: &mut Vec<(usize, f64)>| {
+            assert_eq!(rows.rows, ranges[rows.part]);
+            assert_eq!(rows.z.len(), rows.rows.len());
+            for (p, z) in rows.rows.clone().zip(rows.z) {
+                out.push((perm[p], *z));
+            }
+        })
+        .unwrap();
+        let mut seen = vec![false; n];
+        for (i, z) in states.iter().flatten() {
+            assert!(!seen[*i], "row {i} twice");
+            seen[*i] = true;
+            assert_eq!(z.to_bits(), whole[*i].to_bits(), "{parts} parts, row {i}");
+        }
+        assert!(seen.iter().all(|&b| b), "{parts} parts: a row is missing");
+        for (p, &i) in perm.iter().enumerate() {
+            assert_eq!(h.last_product()[p].to_bits(), whole[i].to_bits());
+        }
+        let mut wrong = vec![(); ranges.len() + 1];
+        assert!(matches!(
+            h.apply_by_parts(&x, &mut wrong, |_, _| {}),
+            Err(Error::VectorLength { name: "states", .. })
+        ));
+    }
+}
+
+#[test]
 fn empty_and_one_by_one() {
     let none = Points::new(&[], 2).unwrap();
     let mut h = HMatrix::from_dense(

@@ -182,6 +182,14 @@ pub(crate) enum Kernel {
 }
 
 impl Kernel {
+    /// The ℋ-matrix of a hierarchical kernel.
+    pub(crate) fn hierarchical_mut(&mut self) -> Option<&mut HMatrix> {
+        match self {
+            Self::Dense(_) => None,
+            Self::Hierarchical(h) => Some(h),
+        }
+    }
+
     /// `r ← r − S x` on `par`'s threads, bit-identical for every `par`. A non-finite `x`
     /// (a trial stage that blew up) gives a NaN `r`, as the dense product does, so that
     /// the step is rejected.

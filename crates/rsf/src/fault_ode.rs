@@ -8,7 +8,7 @@
 use std::time::Instant;
 
 use faer::Mat;
-use rsf_friction::{ConvexPotential, FrictionLaw};
+use rsf_friction::FrictionLaw;
 use rsf_linalg::Parallelism;
 use rsf_state::StateLaw;
 use rsf_time::{
@@ -24,6 +24,7 @@ pub use crate::fault_kernel::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
 use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
+use crate::node_solves::{Loading, NodeSolves, PartNodes, PARALLEL_NODES_MIN};
 use crate::normal_stress::{NormalCoupling, ScaledTractions};
 use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
@@ -56,10 +57,12 @@ pub struct FaultOdeOptions {
     /// Threads of every evaluation: the product with `S` and the friction solves (rayon's current pool;
     /// default [`Parallelism::SEQ`]). The results are bit-identical for every value: the
     /// dense product is split over blocks of rows (each row's dot product in the same
-    /// order as the sequential product), the hierarchical one over its blocks and leaf
-    /// clusters in a fixed order (docs/math.md §13.5), and from 64 frictional nodes on
-    /// the per-node friction solves are split into one contiguous part per thread (each
-    /// node's solve is independent of the others).
+    /// order as the sequential product), the hierarchical one into parts of its leaf
+    /// clusters of rows, each summed in a fixed order (docs/math.md §13.5), and from 64
+    /// frictional nodes on the per-node friction solves are split into one part per
+    /// thread (each node's solve is independent of the others) — with the hierarchical
+    /// kernel and a fixed normal stress inside the product's parts, one parallel region
+    /// per evaluation.
     pub parallelism: Parallelism,
 }
 
@@ -200,81 +203,8 @@ struct FaultRates<const C: usize> {
     /// A normal stress that changes with slip, and its values (scratch, one per node).
     normal: Option<NormalCoupling>,
     sigma: Vec<f64>,
-}
-
-/// Fewest frictional nodes for which the per-node solves of an evaluation are split over
-/// threads (below it a split costs more than the solves: ~0.2 µs each).
-const PARALLEL_NODES_MIN: usize = 64;
-
-/// The per-node part of an evaluation: every node's slip rate from its traction and state,
-/// and its state rate. Nodes are independent, so any split over threads gives the same
-/// bits.
-struct NodeSolves<'a, L, S, const C: usize> {
-    friction: &'a [L],
-    state_laws: &'a [S],
-    uses_state: bool,
-    first: &'a [usize],
-    weights: &'a [f64],
-    fixed_velocity: &'a [[f64; C]],
-    eta: f64,
-    /// The loading history's rate `G'(t)` (factor of the Dirichlet velocities).
-    speed: f64,
-    /// `g(t) − S u_F`, all free components.
-    r: &'a [f64],
-    /// `α` of every frictional node.
-    alpha: &'a [f64],
-    /// Per node, the factor `σ̄_n/σ̄_n⁰` of its potential (a normal stress that changes
-    /// with slip), or `None`: 1.
-    scale: Option<(&'a [f64], &'a [f64])>,
-}
-
-impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
-    /// Nodes `k0..k1` in `pieces` contiguous parts on rayon's current pool (halving
-    /// recursively: no allocation); `dyu` holds their free components' rates
-    /// (`first[k0]..first[k1]`), `dya` their state rates.
-    fn solve(&self, k0: usize, k1: usize, pieces: usize, dyu: &mut [f64], dya: &mut [f64]) {
-        if pieces <= 1 || k1 - k0 < 2 {
-            self.solve_sequential(k0, k1, dyu, dya);
-            return;
-        }
-        let left = pieces / 2;
-        let mid = k0 + (k1 - k0) * left / pieces;
-        let (u_lo, u_hi) = dyu.split_at_mut(self.first[mid] - self.first[k0]);
-        let (a_lo, a_hi) = dya.split_at_mut(mid - k0);
-        rayon::join(
-            || self.solve(k0, mid, left, u_lo, a_lo),
-            || self.solve(mid, k1, pieces - left, u_hi, a_hi),
-        );
-    }
-
-    fn solve_sequential(&self, k0: usize, k1: usize, dyu: &mut [f64], dya: &mut [f64]) {
-        let base = self.first[k0];
-        for k in k0..k1 {
-            let (a, b) = (self.first[k], self.first[k + 1]);
-            let alpha = self.alpha[k];
-            let inv_w = 1.0 / self.weights[k];
-            let mut traction = [0.0; C];
-            for (tr, r) in traction.iter_mut().zip(&self.r[a..b]) {
-                *tr = r * inv_w;
-            }
-            let out = &mut dyu[a - base..b - base];
-            let w = self
-                .scale
-                .map_or(1.0, |(sigma, sigma0)| sigma[k] / sigma0[k]);
-            self.friction[k]
-                .potential(alpha)
-                .minimize_block(self.eta, &traction[..b - a], w, out);
-            let mut v2: f64 = out.iter().map(|v| v * v).sum();
-            for f in &self.fixed_velocity[k] {
-                v2 += (f * self.speed) * (f * self.speed);
-            }
-            dya[k - k0] = if self.uses_state {
-                -self.state_laws[k].dpsi_dalpha(alpha, v2.sqrt())
-            } else {
-                0.0
-            };
-        }
-    }
+    /// The nodes of each part of the ℋ-product, made at the first parallel evaluation.
+    parts: Option<PartNodes>,
 }
 
 /// The ODE system of one step: the rates with the laws borrowed.
@@ -295,16 +225,15 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             .history
             .integral(t)
             .expect("checked at construction: a loading history with a closed-form integral");
-        for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
-            *r = g0 + big_g * g1;
-        }
-        d.kernel.subtract_product(&y[..m], &mut d.r, d.par)?;
-        if let Some(normal) = &mut d.normal {
-            normal.evaluate(t, big_g, &y[..m], &mut d.sigma, d.par)?;
-        }
         let speed = d.history.value(t);
+        let (u, alpha) = y.split_at(m);
         let (dyu, dya) = dy.split_at_mut(m);
-        let nodes = NodeSolves {
+        let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
+            d.par.threads()
+        } else {
+            1
+        };
+        let mut solves = NodeSolves {
             friction: self.friction,
             state_laws: self.state_laws,
             uses_state: self.uses_state,
@@ -313,16 +242,34 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             fixed_velocity: &d.fixed_velocity,
             eta: d.eta,
             speed,
-            r: &d.r,
-            alpha: &y[m..],
-            scale: d.normal.as_ref().map(|n| (&d.sigma[..], n.initial())),
+            alpha,
+            scale: None,
         };
-        let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
-            d.par.threads()
-        } else {
-            1
-        };
-        nodes.solve(0, self.friction.len(), pieces, dyu, dya);
+        // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each
+        // thread its rows of the product and their nodes' solves (same bits).
+        if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.kernel.hierarchical_mut()) {
+            let parts = d
+                .parts
+                .get_or_insert_with(|| PartNodes::new(h, pieces, solves.first));
+            let load = Loading {
+                g0: &d.g0,
+                g1: &d.g1,
+                big_g,
+            };
+            match parts.evaluate(h, u, (&solves, load), dyu, dya) {
+                Err(rsf_hmatrix::Error::NonFiniteInput(_)) => {} // as below: a NaN residual
+                other => return other.map_err(Error::from),
+            }
+        }
+        for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
+            *r = g0 + big_g * g1;
+        }
+        d.kernel.subtract_product(u, &mut d.r, d.par)?;
+        if let Some(normal) = &mut d.normal {
+            normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
+            solves.scale = Some((&d.sigma[..], normal.initial()));
+        }
+        solves.solve((0, self.friction.len()), pieces, &d.r, dyu, dya);
         Ok(())
     }
 
@@ -470,6 +417,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             slip_scale: options.slip_scale,
             sigma: normal.as_ref().map_or(Vec::new(), |n| n.initial().to_vec()),
             normal,
+            parts: None,
         };
         let mut kinematics = Kinematics::zeros(n);
         kinematics.u.copy_from_slice(&model.initial_displacement);

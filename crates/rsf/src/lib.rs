@@ -54,6 +54,7 @@ mod friction_blocks;
 pub mod method;
 mod method_state;
 pub mod model;
+mod node_solves;
 pub mod normal_stress;
 pub mod observe;
 mod problem;

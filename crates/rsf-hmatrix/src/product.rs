@@ -1,0 +1,272 @@
+//! The product `S_H x` by parts of the rows (docs/math.md §13.5): the blocks' data, the
+//! leaf clusters of rows ("segments"), and a split of the segments into contiguous parts
+//! that run without synchronising each other — each part projects the low-rank blocks
+//! that reach its rows (a block reaching two parts is projected by both, into each part's
+//! own scratch) and sums its segments. Every row is summed by the same fixed-order
+//! kernels whatever the split, so the product's bits do not depend on it.
+
+use std::ops::Range;
+
+use crate::block::BlockShape;
+use crate::lowrank::LowRank;
+
+/// The data of a block.
+#[derive(Debug, Clone)]
+pub(crate) enum Data {
+    /// `nrows × ncols`, column-major.
+    Dense(Vec<f64>),
+    /// `U Vᵀ`.
+    LowRank(LowRank),
+}
+
+#[derive(Debug, Clone)]
+pub(crate) struct Block {
+    pub shape: BlockShape,
+    pub data: Data,
+    /// Where the block's `t = Vᵀ x` lies in a part's projection scratch (low-rank blocks).
+    pub t_offset: usize,
+}
+
+/// A leaf cluster of rows, with the blocks that reach it.
+#[derive(Debug, Clone)]
+pub(crate) struct Segment {
+    /// First row (cluster order).
+    pub start: usize,
+    /// Number of rows.
+    pub len: usize,
+    /// `(block, first row of the block inside the segment)`, in block order.
+    pub parts: Vec<(usize, usize)>,
+}
+
+/// One part of a [`Split`]: consecutive segments, the low-rank blocks that reach them and
+/// the scratch of their projections.
+#[derive(Debug, Clone)]
+pub(crate) struct Part {
+    segments: Range<usize>,
+    rows: Range<usize>,
+    low_rank: Vec<usize>,
+    /// `t = Vᵀ x` of the blocks in `low_rank`, at their `t_offset`s (the other entries unused).
+    t: Vec<f64>,
+}
+
+/// The segments split into consecutive parts of about equal work.
+#[derive(Debug, Clone)]
+pub(crate) struct Split {
+    parts: Vec<Part>,
+}
+
+impl Split {
+    /// `parts` parts (at least 1, at most one per segment) of about equal work: each
+    /// segment's multiply-adds plus `work_per_row` per row (what a caller does with each
+    /// row of the product inside the part).
+    pub fn new(
+        parts: usize,
+        work_per_row: f64,
+        segments: &[Segment],
+        blocks: &[Block],
+        t_len: usize,
+    ) -> Self {
+        let count = parts.clamp(1, segments.len().max(1));
+        let work: Vec<f64> = segments
+            .iter()
+            .map(|s| {
+                let sums: usize = s
+                    .parts
+                    .iter()
+                    .map(|&(k, _)| match &blocks[k].data {
+                        Data::Dense(_) => blocks[k].shape.ncols,
+                        Data::LowRank(lr) => lr.rank,
+                    })
+                    .sum();
+                (s.len * sums) as f64 + work_per_row * s.len as f64
+            })
+            .collect();
+        let total: f64 = work.iter().sum();
+        let mut bounds = vec![0];
+        let mut acc = 0.0;
+        for (i, w) in work.iter().enumerate() {
+            acc += w;
+            let next = bounds.len();
+            if next < count && acc >= total * next as f64 / count as f64 && i + 1 < segments.len() {
+                bounds.push(i + 1);
+            }
+        }
+        bounds.push(segments.len());
+        let parts = bounds
+            .windows(2)
+            .map(|w| {
+                let segs = w[0]..w[1];
+                let rows = match (
+                    segments.get(w[0]),
+                    w[1].checked_sub(1).map(|e| &segments[e]),
+                ) {
+                    (Some(first), Some(last)) if w[0] < w[1] => first.start..last.start + last.len,
+                    _ => 0..0,
+                };
+                let low_rank = blocks
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, b)| {
+                        matches!(b.data, Data::LowRank(_))
+                            && b.shape.row < rows.end
+                            && rows.start < b.shape.row + b.shape.nrows
+                    })
+                    .map(|(k, _)| k)
+                    .collect();
+                Part {
+                    segments: segs,
+                    rows,
+                    low_rank,
+                    t: vec![0.0; t_len],
+                }
+            })
+            .collect();
+        Self { parts }
+    }
+
+    /// Number of parts.
+    pub fn len(&self) -> usize {
+        self.parts.len()
+    }
+
+    /// The parts, to run.
+    pub fn parts_mut(&mut self) -> &mut [Part] {
+        &mut self.parts
+    }
+
+    /// The rows (cluster order) of each part: consecutive, covering all rows.
+    pub fn rows(&self) -> impl Iterator<Item = Range<usize>> + '_ {
+        self.parts.iter().map(|p| p.rows.clone())
+    }
+}
+
+/// What a part's product gives to the caller's function: its rows of `S_H x`.
+#[derive(Debug)]
+pub struct PartRows<'a> {
+    /// The part's index (0-based, in cluster order).
+    pub part: usize,
+    /// The part's rows in cluster order: `z[i]` is row `rows.start + i` of `S_H x` in
+    /// cluster order, i.e. row `permutation[rows.start + i]` in the original numbering.
+    pub rows: Range<usize>,
+    /// The rows' values of `S_H x`.
+    pub z: &'a [f64],
+}
+
+/// The read-only data of a product.
+pub(crate) struct Operands<'a> {
+    pub blocks: &'a [Block],
+    pub segments: &'a [Segment],
+    /// `x` in cluster order.
+    pub xp: &'a [f64],
+}
+
+/// Runs `parts` (with `z` their rows of the product, `states` one per part) on rayon's
+/// current pool, halving recursively (no allocation), each part calling `f` with its rows
+/// once they are summed. One part runs on the calling thread.
+pub(crate) fn run_parts<S: Send, F: Fn(PartRows<'_>, &mut S) + Sync>(
+    first: usize,
+    parts: &mut [Part],
+    z: &mut [f64],
+    states: &mut [S],
+    ops: &Operands<'_>,
+    f: &F,
+) {
+    if parts.len() == 1 {
+        let part = &mut parts[0];
+        run_part(part, z, ops);
+        f(
+            PartRows {
+                part: first,
+                rows: part.rows.clone(),
+                z,
+            },
+            &mut states[0],
+        );
+        return;
+    }
+    let half = parts.len() / 2;
+    let (p_lo, p_hi) = parts.split_at_mut(half);
+    let (z_lo, z_hi) = z.split_at_mut(p_hi[0].rows.start - p_lo[0].rows.start);
+    let (s_lo, s_hi) = states.split_at_mut(half);
+    rayon::join(
+        || run_parts(first, p_lo, z_lo, s_lo, ops, f),
+        || run_parts(first + half, p_hi, z_hi, s_hi, ops, f),
+    );
+}
+
+/// One part: its projections, then its segments' rows into `z`.
+fn run_part(part: &mut Part, z: &mut [f64], ops: &Operands<'_>) {
+    for &k in &part.low_rank {
+        let b = &ops.blocks[k];
+        if let Data::LowRank(lr) = &b.data {
+            project(b, lr, ops.xp, &mut part.t[b.t_offset..b.t_offset + lr.rank]);
+        }
+    }
+    let base = part.rows.start;
+    for s in &ops.segments[part.segments.clone()] {
+        let zs = &mut z[s.start - base..s.start - base + s.len];
+        accumulate(s, zs, ops.blocks, &part.t, ops.xp);
+    }
+}
+
+/// `t = Vᵀ x_σ` for a low-rank block.
+fn project(b: &Block, lr: &LowRank, xp: &[f64], t: &mut [f64]) {
+    let (col, nc) = (b.shape.col, b.shape.ncols);
+    let xs = &xp[col..col + nc];
+    for (l, tl) in t.iter_mut().enumerate() {
+        *tl = dot(&lr.v[l * nc..(l + 1) * nc], xs);
+    }
+}
+
+/// The segment's rows of `S_H x` into `z`, its blocks summed in order (`t` holds the
+/// projections of the low-rank ones).
+fn accumulate(s: &Segment, z: &mut [f64], blocks: &[Block], t: &[f64], xp: &[f64]) {
+    z.fill(0.0);
+    let len = z.len();
+    for &(k, off) in &s.parts {
+        let b = &blocks[k];
+        let sh = b.shape;
+        match &b.data {
+            Data::Dense(d) => {
+                let xs = &xp[sh.col..sh.col + sh.ncols];
+                for (j, &xj) in xs.iter().enumerate() {
+                    let c = &d[j * sh.nrows + off..j * sh.nrows + off + len];
+                    axpy(z, xj, c);
+                }
+            }
+            Data::LowRank(lr) => {
+                for (l, &tl) in t[b.t_offset..b.t_offset + lr.rank].iter().enumerate() {
+                    let c = &lr.u[l * sh.nrows + off..l * sh.nrows + off + len];
+                    axpy(z, tl, c);
+                }
+            }
+        }
+    }
+}
+
+/// `z ← z + a c`, element by element (no reordering, vectorisable).
+#[inline]
+fn axpy(z: &mut [f64], a: f64, c: &[f64]) {
+    for (zi, ci) in z.iter_mut().zip(c) {
+        *zi += a * ci;
+    }
+}
+
+/// Dot product with eight fixed partial sums (vectorisable, same bits on every machine
+/// with IEEE f64 and no fused multiply-add contraction, which Rust never does implicitly).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..8 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let mut tail = 0.0;
+    for (x, y) in ra.iter().zip(rb) {
+        tail += x * y;
+    }
+    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
+}

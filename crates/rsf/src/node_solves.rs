@@ -1,0 +1,318 @@
+//! The per-node part of a fault-ODE evaluation (docs/math.md §12): every frictional node's
+//! slip rate from its traction and state, and its state rate — split over threads by
+//! contiguous nodes, or, with a hierarchical kernel, inside the parts of the ℋ-product
+//! ([`PartNodes`]: each thread sums its rows of `S u` and solves the nodes of those rows
+//! in one task, one parallel region per evaluation). Nodes are independent and each row
+//! of the product is summed in a fixed order, so every split gives the same bits.
+
+use std::ops::Range;
+
+use rsf_friction::{ConvexPotential, FrictionLaw};
+use rsf_hmatrix::HMatrix;
+use rsf_state::StateLaw;
+
+/// Fewest frictional nodes for which the per-node solves of an evaluation are split over
+/// threads (below it a split costs more than the solves: ~0.2 µs each).
+pub(crate) const PARALLEL_NODES_MIN: usize = 64;
+
+/// A node's solve in multiply-adds of the ℋ-product, what the split of the rows balances:
+/// an estimate (about 0.2 µs against 0.5 ns per multiply-add); on BP1 at Δz = 25 and
+/// 12.5 m two threads took the same time per evaluation, within the noise, for any value
+/// from 100 to 1000.
+const SOLVE_WORK: f64 = 400.0;
+
+/// The per-node part of an evaluation: every node's slip rate from its traction and state,
+/// and its state rate.
+pub(crate) struct NodeSolves<'a, L, S, const C: usize> {
+    pub friction: &'a [L],
+    pub state_laws: &'a [S],
+    pub uses_state: bool,
+    pub first: &'a [usize],
+    pub weights: &'a [f64],
+    pub fixed_velocity: &'a [[f64; C]],
+    pub eta: f64,
+    /// The loading history's rate `G'(t)` (factor of the Dirichlet velocities).
+    pub speed: f64,
+    /// `α` of every frictional node.
+    pub alpha: &'a [f64],
+    /// Per node, the factor `σ̄_n/σ̄_n⁰` of its potential (a normal stress that changes
+    /// with slip), or `None`: 1.
+    pub scale: Option<(&'a [f64], &'a [f64])>,
+}
+
+impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
+    /// Nodes `k0..k1` in `pieces` contiguous parts on rayon's current pool (halving
+    /// recursively: no allocation); `r` is `g(t) − S u_F` (all free components), `dyu`
+    /// holds the nodes' free components' rates (`first[k0]..first[k1]`), `dya` their state
+    /// rates.
+    pub fn solve(
+        &self,
+        (k0, k1): (usize, usize),
+        pieces: usize,
+        r: &[f64],
+        dyu: &mut [f64],
+        dya: &mut [f64],
+    ) {
+        if pieces <= 1 || k1 - k0 < 2 {
+            let base = self.first[k0];
+            for k in k0..k1 {
+                let (a, b) = (self.first[k], self.first[k + 1]);
+                dya[k - k0] = self.solve_node(k, &r[a..b], &mut dyu[a - base..b - base]);
+            }
+            return;
+        }
+        let left = pieces / 2;
+        let mid = k0 + (k1 - k0) * left / pieces;
+        let (u_lo, u_hi) = dyu.split_at_mut(self.first[mid] - self.first[k0]);
+        let (a_lo, a_hi) = dya.split_at_mut(mid - k0);
+        rayon::join(
+            || self.solve((k0, mid), left, r, u_lo, a_lo),
+            || self.solve((mid, k1), pieces - left, r, u_hi, a_hi),
+        );
+    }
+
+    /// Node `k`: its free components' slip rates into `out` from its rows `r` of
+    /// `g(t) − S u_F`; returns its state rate.
+    fn solve_node(&self, k: usize, r: &[f64], out: &mut [f64]) -> f64 {
+        let alpha = self.alpha[k];
+        let inv_w = 1.0 / self.weights[k];
+        let mut traction = [0.0; C];
+        for (tr, r) in traction.iter_mut().zip(r) {
+            *tr = r * inv_w;
+        }
+        let w = self
+            .scale
+            .map_or(1.0, |(sigma, sigma0)| sigma[k] / sigma0[k]);
+        self.friction[k]
+            .potential(alpha)
+            .minimize_block(self.eta, &traction[..r.len()], w, out);
+        let mut v2: f64 = out.iter().map(|v| v * v).sum();
+        for f in &self.fixed_velocity[k] {
+            v2 += (f * self.speed) * (f * self.speed);
+        }
+        if self.uses_state {
+            -self.state_laws[k].dpsi_dalpha(alpha, v2.sqrt())
+        } else {
+            0.0
+        }
+    }
+}
+
+/// `g(t)` of the right-hand side: `g0 + G(t) g1` (all free components).
+#[derive(Clone, Copy)]
+pub(crate) struct Loading<'a> {
+    pub g0: &'a [f64],
+    pub g1: &'a [f64],
+    /// `G(t)`, the loading history's integral.
+    pub big_g: f64,
+}
+
+impl Loading<'_> {
+    /// Row `i` of `g(t) − S u_F` from row `i` of `S u_F` (the sums of the sequential
+    /// evaluation: `g` first, then the product subtracted — `r + (−1)·su` there, the same
+    /// number as `r − su`).
+    #[inline]
+    fn residual(&self, i: usize, su: f64) -> f64 {
+        (self.g0[i] + self.big_g * self.g1[i]) - su
+    }
+}
+
+/// The nodes of each part of an ℋ-product's row split and their results: a node belongs
+/// to the part holding all of its rows (in the cluster order), and a node whose rows lie
+/// in two parts is solved after the parts. Set up once per thread count.
+pub(crate) struct PartNodes {
+    parts: Vec<PartBuffers>,
+    /// The rows of each part (cluster order), as split.
+    ranges: Vec<Range<usize>>,
+    straddling: Vec<usize>,
+    /// Position of every free component in the cluster order.
+    position: Vec<usize>,
+}
+
+/// One part's nodes and the rates it computes (node after node).
+#[derive(Clone, Default)]
+struct PartBuffers {
+    nodes: Vec<usize>,
+    dyu: Vec<f64>,
+    dya: Vec<f64>,
+}
+
+impl PartNodes {
+    /// Splits `h`'s rows into `threads` parts ([`HMatrix::split_rows`], balanced for a
+    /// node's solve per row) and gives each node to its part; `first` as in
+    /// [`NodeSolves`].
+    pub fn new(h: &mut HMatrix, threads: usize, first: &[usize]) -> Self {
+        let nodes = first.len() - 1;
+        let m = first[nodes];
+        let per_row = SOLVE_WORK * nodes as f64 / m.max(1) as f64;
+        let ranges = h.split_rows(threads, per_row);
+        let mut position = vec![0; m];
+        for (p, &i) in h.permutation().iter().enumerate() {
+            position[i] = p;
+        }
+        let part_of = |p: usize| ranges.partition_point(|r| r.end <= p);
+        let mut parts = vec![PartBuffers::default(); ranges.len()];
+        let mut straddling = Vec::new();
+        for k in 0..nodes {
+            let (a, b) = (first[k], first[k + 1]);
+            // A node without free components (fixed velocity) has no rows: part 0 solves it.
+            let owner = if a < b { part_of(position[a]) } else { 0 };
+            if (a..b).all(|i| part_of(position[i]) == owner) {
+                parts[owner].nodes.push(k);
+                parts[owner].dyu.extend(std::iter::repeat_n(0.0, b - a));
+                parts[owner].dya.push(0.0);
+            } else {
+                straddling.push(k);
+            }
+        }
+        Self {
+            parts,
+            ranges,
+            straddling,
+            position,
+        }
+    }
+
+    /// The evaluation by parts: `S u` by `h`'s parts (the split of [`PartNodes::new`]),
+    /// each part solving its nodes inside its task, then the nodes across parts; the
+    /// rates into `dyu` (all free components) and `dya` (all nodes). Bit-identical to
+    /// [`NodeSolves::solve`] after the whole product.
+    ///
+    /// # Errors
+    /// The product's ([`HMatrix::apply_by_parts`]), before anything is written.
+    pub fn evaluate<L: FrictionLaw + Sync, S: StateLaw + Sync, const C: usize>(
+        &mut self,
+        h: &mut HMatrix,
+        u: &[f64],
+        (solves, load): (&NodeSolves<'_, L, S, C>, Loading<'_>),
+        dyu: &mut [f64],
+        dya: &mut [f64],
+    ) -> Result<(), rsf_hmatrix::Error> {
+        let (position, ranges) = (&self.position, &self.ranges);
+        let first = solves.first;
+        h.apply_by_parts(u, &mut self.parts, |rows, buf| {
+            assert_eq!(
+                rows.rows, ranges[rows.part],
+                "the ℋ-matrix's rows were split again after the nodes were given to parts"
+            );
+            let mut offset = 0;
+            for (j, &k) in buf.nodes.iter().enumerate() {
+                let (a, b) = (first[k], first[k + 1]);
+                let mut r = [0.0; C];
+                for (rc, i) in r.iter_mut().zip(a..b) {
+                    *rc = load.residual(i, rows.z[position[i] - rows.rows.start]);
+                }
+                let out = &mut buf.dyu[offset..offset + (b - a)];
+                buf.dya[j] = solves.solve_node(k, &r[..b - a], out);
+                offset += b - a;
+            }
+        })?;
+        let su = h.last_product();
+        for &k in &self.straddling {
+            let (a, b) = (first[k], first[k + 1]);
+            let mut r = [0.0; C];
+            for (rc, i) in r.iter_mut().zip(a..b) {
+                *rc = load.residual(i, su[position[i]]);
+            }
+            dya[k] = solves.solve_node(k, &r[..b - a], &mut dyu[a..b]);
+        }
+        for buf in &self.parts {
+            let mut offset = 0;
+            for (j, &k) in buf.nodes.iter().enumerate() {
+                let (a, b) = (first[k], first[k + 1]);
+                dyu[a..b].copy_from_slice(&buf.dyu[offset..offset + (b - a)]);
+                dya[k] = buf.dya[j];
+                offset += b - a;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rsf_friction::{AsinhLaw, RateStateParams};
+    use rsf_hmatrix::{HOptions, Points};
+    use rsf_state::Aging;
+
+    /// Two components per node (coincident points, so that the cluster tree's median
+    /// splits can put them in different leaves and parts): the evaluation by parts gives
+    /// the bits of the whole product followed by the sequential solves, for every number
+    /// of parts, with nodes across parts among them.
+    #[test]
+    fn the_evaluation_by_parts_has_the_bits_of_the_sequential_one() {
+        const C: usize = 2;
+        let nodes = 61;
+        let m = C * nodes;
+        let coords: Vec<f64> = (0..m).map(|i| 25.0 * (i / C) as f64).collect();
+        let points = Points::new(&coords, 1).unwrap();
+        let s = faer::Mat::from_fn(m, m, |i, j| {
+            let d = (coords[i] - coords[j]).abs();
+            let same = if i % C == j % C { 1.0 } else { 0.3 };
+            same * 3e7 / (1.0 + d / 25.0) + if i == j { 1e8 } else { 0.0 }
+        });
+        let options = HOptions {
+            leaf_size: 5,
+            ..HOptions::with_epsilon(1e-9)
+        };
+        let params = RateStateParams {
+            mu0: 0.6,
+            a: 0.01,
+            b: 0.015,
+            v0: 1e-6,
+            l: 0.008,
+            sigma_n: 50e6,
+        };
+        let friction = vec![AsinhLaw::new(params).unwrap(); nodes];
+        let state_laws = vec![Aging::new(params.l).unwrap(); nodes];
+        let first: Vec<usize> = (0..=nodes).map(|k| C * k).collect();
+        let weights: Vec<f64> = (0..nodes).map(|k| 20.0 + (k % 3) as f64).collect();
+        let fixed_velocity = vec![[0.0; C]; nodes];
+        let alpha: Vec<f64> = (0..nodes).map(|k| 8.0 + (k as f64 * 0.37).sin()).collect();
+        let u: Vec<f64> = (0..m).map(|i| 1e-3 * ((i as f64) * 0.71).cos()).collect();
+        let g0: Vec<f64> = (0..m).map(|i| 6e8 + 1e6 * (i % 7) as f64).collect();
+        let g1: Vec<f64> = (0..m).map(|i| 1e5 * (i % 5) as f64).collect();
+        let load = Loading {
+            g0: &g0,
+            g1: &g1,
+            big_g: 0.75,
+        };
+        let solves = NodeSolves::<_, _, C> {
+            friction: &friction,
+            state_laws: &state_laws,
+            uses_state: true,
+            first: &first,
+            weights: &weights,
+            fixed_velocity: &fixed_velocity,
+            eta: 5e6,
+            speed: 1e-9,
+            alpha: &alpha,
+            scale: None,
+        };
+        let mut h = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
+        let mut r: Vec<f64> = (0..m).map(|i| g0[i] + load.big_g * g1[i]).collect();
+        h.apply_add(&u, &mut r, -1.0, faer::Par::Seq).unwrap();
+        let (mut dyu, mut dya) = (vec![0.0; m], vec![0.0; nodes]);
+        solves.solve((0, nodes), 1, &r, &mut dyu, &mut dya);
+        assert!(dyu.iter().chain(&dya).all(|v| v.is_finite() && *v != 0.0));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let mut straddled = 0;
+        for threads in 1..=6 {
+            let mut parts = PartNodes::new(&mut h, threads, &first);
+            straddled += parts.straddling.len();
+            let owned: usize = parts.parts.iter().map(|p| p.nodes.len()).sum();
+            assert_eq!(owned + parts.straddling.len(), nodes);
+            let (mut pu, mut pa) = (vec![f64::NAN; m], vec![f64::NAN; nodes]);
+            parts
+                .evaluate(&mut h, &u, (&solves, load), &mut pu, &mut pa)
+                .unwrap();
+            assert_eq!(bits(&pu), bits(&dyu), "{threads} parts");
+            assert_eq!(bits(&pa), bits(&dya), "{threads} parts");
+        }
+        assert!(
+            straddled > 0,
+            "no node across two parts: the test misses that path"
+        );
+    }
+}
