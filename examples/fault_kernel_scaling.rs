@@ -35,9 +35,13 @@ struct Cli {
     #[arg(long, default_value_t = 400)]
     steps: usize,
     /// Thread counts of the evaluations (comma separated; `FaultOdeOptions::parallelism`,
-    /// on rayon's global pool): each size and kernel is timed at each.
+    /// the run on a pool of that many threads): each size and kernel is timed at each.
     #[arg(long, value_delimiter = ',', default_value = "1")]
     threads: Vec<usize>,
+    /// Run from the main thread, outside the pool (rayon's global pool; each parallel
+    /// region then hands over to the pool and back).
+    #[arg(long)]
+    outside_pool: bool,
     /// Skip the dense kernel above this many unknowns (its m² storage).
     #[arg(long, default_value_t = 10_000)]
     dense_max: usize,
@@ -77,8 +81,17 @@ fn main() -> Result<(), AnyError> {
             let report = ode.kernel_report().clone();
             let (cpu, wall) = (cpu_seconds(), std::time::Instant::now());
             let before = ode.evaluations();
-            ode.run_until(Until::Steps(cli.steps), &mut [])
-                .map_err(|e| e.error)?;
+            // On a pool of `threads` threads, as the SEAS examples run (docs/scaling.md,
+            // "From inside the pool"); `--outside-pool` times the calls from this thread.
+            if cli.outside_pool || threads == 1 {
+                ode.run_until(Until::Steps(cli.steps), &mut [])
+            } else {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()?
+                    .install(|| ode.run_until(Until::Steps(cli.steps), &mut []))
+            }
+            .map_err(|e| e.error)?;
             let evaluations = (ode.evaluations() - before).max(1) as f64;
             let per_eval = (cpu_seconds() - cpu) / evaluations;
             let wall_per_eval = wall.elapsed().as_secs_f64() / evaluations;

@@ -203,7 +203,9 @@ enum Scheme {
 type Bp1Run = rsf::Run<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::Integrator, 1>;
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Args::parse()))
+    let args = Args::parse();
+    // With threads, the whole run on the pool (no hand-over per parallel region).
+    rsf_examples::main_on_threads(args.threads, || run(args))
 }
 
 fn run(args: Args) -> Result<(), AnyError> {

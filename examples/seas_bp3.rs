@@ -68,7 +68,9 @@ struct Args {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Args::parse()))
+    let args = Args::parse();
+    // With threads, the whole run on the pool (no hand-over per parallel region).
+    rsf_examples::main_on_threads(args.threads, || run(args))
 }
 
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {

@@ -17,7 +17,9 @@ pub mod pipping_slider;
 mod run;
 pub mod run_folder;
 mod seas_overview;
-pub use cli::{main_with, FrameArgs, KernelArg, KernelArgs, SceneArgs, TimeStepArgs};
+pub use cli::{
+    main_on_threads, main_with, FrameArgs, KernelArg, KernelArgs, SceneArgs, TimeStepArgs,
+};
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};

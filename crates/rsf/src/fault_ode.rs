@@ -62,7 +62,10 @@ pub struct FaultOdeOptions {
     /// frictional nodes on the per-node friction solves are split into one part per
     /// thread (each node's solve is independent of the others) — with the hierarchical
     /// kernel and a fixed normal stress inside the product's parts, one parallel region
-    /// per evaluation.
+    /// per evaluation. Run the simulation on a thread of the pool
+    /// (`rayon::ThreadPool::install`): called from outside it, each region hands its work
+    /// to the pool and puts the caller to sleep until it is done, which can cost more than
+    /// the evaluation (docs/scaling.md, "From inside the pool").
     pub parallelism: Parallelism,
 }
 
