@@ -49,8 +49,6 @@ pub struct HMatrix {
     segments: Vec<Segment>,
     /// The parts of the product (one for a sequential product).
     split: Split,
-    /// Number of parts the split was asked for.
-    split_request: usize,
     /// Total rank of the low-rank blocks (the length of a part's projection scratch).
     t_len: usize,
     /// Scratch: `x` in cluster order.
@@ -288,7 +286,6 @@ impl HMatrix {
             blocks,
             segments,
             split,
-            split_request: 1,
             t_len: rank_sum,
             xp: vec![0.0; n],
             zp: vec![0.0; n],
@@ -353,7 +350,7 @@ impl HMatrix {
             Par::Rayon(k) => k.get(),
             Par::Seq => 1,
         };
-        if self.split_request != threads {
+        if self.split.requested() != threads {
             self.split_rows(threads, 0.0);
         }
         // Zero-sized states: no allocation.
@@ -384,7 +381,6 @@ impl HMatrix {
             &self.blocks,
             self.t_len,
         );
-        self.split_request = parts;
         self.split.rows().collect()
     }
 

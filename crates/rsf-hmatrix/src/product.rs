@@ -53,6 +53,8 @@ pub(crate) struct Part {
 #[derive(Debug, Clone)]
 pub(crate) struct Split {
     parts: Vec<Part>,
+    /// The number of parts asked for (more than there may be).
+    requested: usize,
 }
 
 impl Split {
@@ -60,13 +62,13 @@ impl Split {
     /// segment's multiply-adds plus `work_per_row` per row (what a caller does with each
     /// row of the product inside the part).
     pub fn new(
-        parts: usize,
+        parts_requested: usize,
         work_per_row: f64,
         segments: &[Segment],
         blocks: &[Block],
         t_len: usize,
     ) -> Self {
-        let count = parts.clamp(1, segments.len().max(1));
+        let count = parts_requested.clamp(1, segments.len().max(1));
         let work: Vec<f64> = segments
             .iter()
             .map(|s| {
@@ -121,7 +123,15 @@ impl Split {
                 }
             })
             .collect();
-        Self { parts }
+        Self {
+            parts,
+            requested: parts_requested,
+        }
+    }
+
+    /// The number of parts the split was asked for.
+    pub fn requested(&self) -> usize {
+        self.requested
     }
 
     /// Number of parts.
