@@ -122,7 +122,9 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    let cli = Cli::parse();
+    // With threads, the whole run on the pool (no hand-over per parallel region).
+    rsf_examples::main_on_threads(cli.threads.threads(), || run(cli))
 }
 
 /// The scene from `--scene` (or the default) with the flags applied, validated.
