@@ -122,20 +122,21 @@ impl NormalCoupling {
                     .sum();
             }
         };
+        // S_N's columns: the reactions of the harmonic extensions of the unit interface
+        // vectors, many extensions per sweep over the factor.
+        let rows: Vec<Vec<(usize, f64)>> = normal_dofs
+            .iter()
+            .map(|&dof| {
+                k.row_idx_of_col(dof)
+                    .zip(k.val_of_col(dof))
+                    .map(|(i, &v)| (i, v))
+                    .collect()
+            })
+            .collect();
+        let s_n = cond.extension_functionals(&rows)?;
         let zeros = vec![0.0; n];
         let mut g = vec![0.0; m];
         let mut x = vec![0.0; n];
-        let mut column = vec![0.0; fb.len()];
-        let mut s_n = Mat::<f64>::zeros(fb.len(), m);
-        for (i, &dof) in cond.interface_dofs().to_vec().iter().enumerate() {
-            x.fill(0.0);
-            x[dof] = 1.0;
-            cond.extend_homogeneous(&mut x)?;
-            reactions(&x, &mut column);
-            for (r, &v) in column.iter().enumerate() {
-                s_n[(r, i)] = v;
-            }
-        }
         // A unit of integrated loading with the condensed unknowns held at 0.
         let mut loading = vec![0.0; fb.len()];
         cond.condense(&zeros, velocity_factor, &mut g)?;

@@ -2,6 +2,7 @@
 
 mod condensation;
 mod fault_newton;
+mod functionals;
 mod memory;
 mod options;
 mod partial_cholesky;
