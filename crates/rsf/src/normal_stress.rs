@@ -109,43 +109,38 @@ impl NormalCoupling {
         let fb = &model.frictional_boundary;
         let n = model.num_dofs();
         let m = cond.dim();
-        // The reaction at node k's tied normal jump of a field `x`: (K x)_N (no load: the
-        // load's part is constant and drops out of the change).
-        let normal_dofs: Vec<usize> = fb.nodes.iter().map(|&p| C * p + C - 1).collect();
+        // The reaction at node k's tied normal jump of a field `x` is row k of `rows` applied
+        // to `x`: (K x)_N, column N of the symmetric K (no load: the load's part is constant
+        // and drops out of the change).
         let k = model.stiffness.as_ref();
-        let reactions = |x: &[f64], out: &mut [f64]| {
-            for (o, &dof) in out.iter_mut().zip(&normal_dofs) {
-                *o = k
-                    .row_idx_of_col(dof)
-                    .zip(k.val_of_col(dof))
-                    .map(|(i, v)| v * x[i])
-                    .sum();
-            }
-        };
-        // S_N's columns: the reactions of the harmonic extensions of the unit interface
-        // vectors, many extensions per sweep over the factor.
-        let rows: Vec<Vec<(usize, f64)>> = normal_dofs
+        let rows: Vec<Vec<(usize, f64)>> = fb
+            .nodes
             .iter()
-            .map(|&dof| {
+            .map(|&p| {
+                let dof = C * p + C - 1;
                 k.row_idx_of_col(dof)
                     .zip(k.val_of_col(dof))
                     .map(|(i, &v)| (i, v))
                     .collect()
             })
             .collect();
+        // S_N's columns: the reactions of the harmonic extensions of the unit interface
+        // vectors, many extensions per sweep over the factor.
         let s_n = cond.extension_functionals(&rows)?;
         let zeros = vec![0.0; n];
         let mut g = vec![0.0; m];
         let mut x = vec![0.0; n];
         // A unit of integrated loading with the condensed unknowns held at 0.
-        let mut loading = vec![0.0; fb.len()];
         cond.condense(&zeros, velocity_factor, &mut g)?;
         x.copy_from_slice(velocity_factor);
         for &dof in cond.interface_dofs() {
             x[dof] = 0.0;
         }
         cond.extend(&mut x)?;
-        reactions(&x, &mut loading);
+        let loading = rows
+            .iter()
+            .map(|row| row.iter().map(|&(i, v)| v * x[i]).sum())
+            .collect();
         let u_f0 = cond
             .interface_dofs()
             .iter()
