@@ -70,10 +70,10 @@ impl<const D: usize> Condensation<D> {
             }
             rows.push(row);
         }
-        let mut out = vec![0.0; nf * m];
         if m == 0 || nf == 0 {
             return Ok(Mat::zeros(nf, m));
         }
+        let mut out = vec![0.0; nf * m];
         let per = m.div_ceil(block).div_ceil(tasks);
         let one_block = |(ext, tmp): &mut Scratch, f0: usize, cols: &mut [f64]| -> Result<()> {
             let r = cols.len() / nf;
