@@ -19,15 +19,15 @@ use crate::{Error, Result, SimplexMesh};
 /// minus side into the plus side, so it is the outward normal of the minus side's facet
 /// and `−n_k` that of the plus side's. Slip is the jump `u⁺ − u⁻` (docs/math.md §13).
 #[derive(Debug, Clone, PartialEq)]
-pub struct FaultSides {
+pub struct FaultSides<const D: usize = 2> {
     name: String,
     nodes: Vec<(usize, usize)>,
     minus_facets: Vec<usize>,
     plus_facets: Vec<usize>,
-    normals: Vec<[f64; 2]>,
+    normals: Vec<[f64; D]>,
 }
 
-impl FaultSides {
+impl<const D: usize> FaultSides<D> {
     /// The fault's name (the side tags are [`FaultSides::minus_tag`], [`FaultSides::plus_tag`]).
     pub fn name(&self) -> &str {
         &self.name
@@ -68,7 +68,7 @@ impl FaultSides {
     }
     /// Unit normal of every fault edge, pointing from the minus into the plus side (the
     /// minus side's outward normal; the plus side's is its negative).
-    pub fn normals(&self) -> &[[f64; 2]] {
+    pub fn normals(&self) -> &[[f64; D]] {
         &self.normals
     }
     /// The jump `u⁺ − u⁻` of a node-major field with `c` components per vertex at every

@@ -10,7 +10,7 @@ use crate::{Error, FaultSides, Result, SimplexMesh, SparseMatrix};
 
 /// The mean–jump change of variables `u = T u'` of [`FaultSides::mean_jump_transform`].
 #[derive(Debug, Clone)]
-pub struct MeanJumpTransform {
+pub struct MeanJumpTransform<const D: usize = 2> {
     /// `T` (`C·n × C·n`, `n` vertices of the split mesh): new coordinates to node-major
     /// Cartesian ones.
     pub t: SparseMatrix,
@@ -18,13 +18,13 @@ pub struct MeanJumpTransform {
     pub t_inv: SparseMatrix,
     /// The pair frame `R_p` of every split pair (row-major, columns `(t, −n)`, `n` the
     /// minus side's outward normal, as [`crate::NodalFrames`]); for `C = 1` unused.
-    pub frames: Vec<[[f64; 2]; 2]>,
+    pub frames: Vec<[[f64; D]; D]>,
     /// The share `β_p ∈ [0, 1]` of the jump the minus side takes at every split pair
     /// (`u⁻ = w − β_p R_p j`, `u⁺ = w + (1 − β_p) R_p j`); ½ for the mean.
     pub minus_share: Vec<f64>,
 }
 
-impl FaultSides {
+impl FaultSides<2> {
     /// The change of variables to mean and jump at every split pair `(p⁻, p⁺)`, identity
     /// elsewhere (docs/math.md §13): in the new coordinates `u'` the block of `p⁻` holds the
     /// jump `j = R_pᵀ(u⁺ − u⁻)` in the pair's frame (`C = 2`: tangential slip first, then the
@@ -46,7 +46,7 @@ impl FaultSides {
         let frames = self.pair_frames::<C>(mesh)?;
         let pairs = self.pairs();
         let half = vec![0.5; pairs.len()];
-        assemble_transform::<C>(&pairs, mesh.num_vertices(), frames, &half)
+        assemble_transform::<2, C>(&pairs, mesh.num_vertices(), frames, &half)
     }
 
     /// The pair frames `R_p` (columns `(t, −n)`) of every split pair, in order.
@@ -95,12 +95,12 @@ impl FaultSides {
 
 /// `T` and `T⁻¹` of the pairs `pairs` on `nv` vertices with their frames and the minus
 /// sides' shares of the jump.
-fn assemble_transform<const C: usize>(
+fn assemble_transform<const D: usize, const C: usize>(
     pairs: &[(usize, usize)],
     nv: usize,
-    frames: Vec<[[f64; 2]; 2]>,
+    frames: Vec<[[f64; D]; D]>,
     minus_share: &[f64],
-) -> Result<MeanJumpTransform> {
+) -> Result<MeanJumpTransform<D>> {
     if minus_share.len() != pairs.len() {
         return Err(Error::DimensionMismatch {
             what: "jump shares (one per split pair)",
@@ -111,6 +111,8 @@ fn assemble_transform<const C: usize>(
     if minus_share.iter().any(|b| !(0.0..=1.0).contains(b)) {
         return Err(Error::Unsupported("a jump share outside [0, 1]"));
     }
+    // A vector field's jump is in the pair's frame; a scalar field's is the field's own.
+    let rotated = C == D && C > 1;
     let mut in_pair = vec![false; nv];
     let mut t = Vec::new();
     let mut ti = Vec::new();
@@ -120,7 +122,7 @@ fn assemble_transform<const C: usize>(
         in_pair[b] = true;
         for x in 0..C {
             for y in 0..C {
-                let (rxy, id) = if C == 2 {
+                let (rxy, id) = if rotated {
                     (r[x][y], f64::from(u8::from(x == y)))
                 } else {
                     (1.0, 1.0)
@@ -133,7 +135,7 @@ fn assemble_transform<const C: usize>(
                     t.push(Triplet::new(C * b + x, C * b + y, 1.0));
                 }
                 // j = Rᵀ(u⁺ − u⁻), w = (1 − β) u⁻ + β u⁺; (Rᵀ)_{xy} = R_{yx}.
-                let ryx = if C == 2 { r[y][x] } else { 1.0 };
+                let ryx = if rotated { r[y][x] } else { 1.0 };
                 ti.push(Triplet::new(C * a + x, C * a + y, -ryx));
                 ti.push(Triplet::new(C * a + x, C * b + y, ryx));
                 if id != 0.0 {
@@ -161,7 +163,7 @@ fn assemble_transform<const C: usize>(
     })
 }
 
-impl MeanJumpTransform {
+impl<const D: usize> MeanJumpTransform<D> {
     /// The same change of variables with the jump shared unequally between the sides: at
     /// pair `p` (in the order of [`FaultSides::pairs`]) `u⁻ = w − β_p R_p j`,
     /// `u⁺ = w + (1 − β_p) R_p j`, so `j = R_pᵀ(u⁺ − u⁻)` is still the jump and
@@ -173,18 +175,18 @@ impl MeanJumpTransform {
     ///
     /// # Errors
     /// [`Error::DimensionMismatch`] if `minus_share` does not have one entry per pair;
-    /// [`Error::Unsupported`] for a share outside `[0, 1]` or `C` other than 1, 2.
+    /// [`Error::Unsupported`] for a share outside `[0, 1]` or `C` other than 1 and `D`.
     pub fn reshared<const C: usize>(
         &self,
-        sides: &FaultSides,
+        sides: &FaultSides<D>,
         minus_share: &[f64],
-    ) -> Result<MeanJumpTransform> {
-        if C != 1 && C != 2 {
+    ) -> Result<MeanJumpTransform<D>> {
+        if C != 1 && C != D {
             return Err(Error::Unsupported(
-                "mean-jump transform for C other than 1, 2",
+                "mean-jump transform for C other than 1 and the dimension",
             ));
         }
-        assemble_transform::<C>(
+        assemble_transform::<D, C>(
             &sides.pairs(),
             self.t.nrows() / C,
             self.frames.clone(),
