@@ -162,7 +162,8 @@ pub enum Error {
         /// The operating system's message.
         message: String,
     },
-    /// A fault to split ([`crate::SimplexMesh::split_along`]) has no edges.
+    /// A fault to split ([`crate::SimplexMesh::split_along`]) has no edges (2-D) or
+    /// faces (3-D).
     #[error("the fault has no edges")]
     EmptyFault,
     /// A fault entry is not an edge of the mesh.
@@ -203,10 +204,12 @@ pub enum Error {
         /// A vertex on it.
         vertex: usize,
     },
-    /// The fault edges form more than one chain.
+    /// The fault edges form more than one chain (2-D), or the fault faces are not all
+    /// connected through shared edges (3-D).
     #[error("the fault is not connected: vertex {vertex} is not on the chain of the first edge")]
     FaultDisconnected {
-        /// A vertex of an edge off the first edge's chain.
+        /// A vertex of an edge off the first edge's chain (3-D: the first vertex of the
+        /// first face, in input order, not connected to the first face).
         vertex: usize,
     },
     /// The fault does not cut the cells around a vertex into two sides (e.g. a fault node
@@ -221,6 +224,55 @@ pub enum Error {
     FaultSegmentNotResolved {
         /// The first point of the segment not covered by mesh edges.
         point: [f64; 2],
+    },
+    /// A 3-D fault entry is not a face (triangle) of the mesh: a vertex out of range, two
+    /// equal vertices, or three vertices that are no cell's face.
+    #[error("fault face {face} ({vertices:?}) is not a face of the mesh")]
+    FaultFaceNotInMesh {
+        /// Index in the list of fault faces.
+        face: usize,
+        /// Its vertices.
+        vertices: [usize; 3],
+    },
+    /// A 3-D fault face lies on the outer boundary (it has a cell on one side only).
+    #[error("fault face {face} ({vertices:?}) lies on the outer boundary: it has one side only")]
+    FaultFaceOnBoundary {
+        /// Index in the list of fault faces.
+        face: usize,
+        /// Its vertices.
+        vertices: [usize; 3],
+    },
+    /// A 3-D fault face is listed twice (in any vertex order).
+    #[error("fault face {face} ({vertices:?}) is listed twice")]
+    FaultFaceRepeated {
+        /// Index of the second occurrence.
+        face: usize,
+        /// Its vertices.
+        vertices: [usize; 3],
+    },
+    /// More than two 3-D fault faces share an edge: the fault branches or crosses itself.
+    #[error(
+        "{faces} fault faces share the edge {vertices:?}: the fault branches or crosses itself"
+    )]
+    FaultEdgeNotManifold {
+        /// The edge's vertices (increasing).
+        vertices: [usize; 2],
+        /// Number of fault faces found at it so far.
+        faces: usize,
+    },
+    /// The 3-D fault faces cannot be oriented consistently (a Möbius strip): walking from
+    /// the first face, this face would need both orientations.
+    #[error("the fault is not orientable: fault face {face} cannot be oriented consistently")]
+    FaultNotOrientable {
+        /// Index in the list of fault faces.
+        face: usize,
+    },
+    /// A planar fault polygon is not made of mesh faces near this point (m), or the polygon
+    /// itself is invalid (non-finite, not planar, degenerate).
+    #[error("the mesh has no faces tiling the fault polygon near {point:?}")]
+    FaultSurfaceNotResolved {
+        /// A point of the polygon not covered by mesh faces, or a corner.
+        point: [f64; 3],
     },
     /// A name that is not one of a choice's names.
     #[error(transparent)]

@@ -25,7 +25,9 @@
 //!   weights [`lumped_weights`].
 //! * [`SimplexMesh::split_along`] / [`SimplexMesh::split_along_segment`]: a fault inside
 //!   the body cut open into two sides ([`FaultSides`], docs/math.md §13), and the change of
-//!   variables to mean and jump at its pairs ([`FaultSides::mean_jump_transform`]).
+//!   variables to mean and jump at its pairs ([`FaultSides::mean_jump_transform`]); in 3-D
+//!   along a surface of mesh triangles (`SimplexMesh::<3>::split_along`,
+//!   [`SimplexMesh::split_along_polygon`] for a planar polygon).
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
 //!
@@ -47,6 +49,7 @@ mod mesh;
 mod part;
 mod refine;
 mod split;
+mod split_surface;
 mod split_transform;
 mod structured;
 

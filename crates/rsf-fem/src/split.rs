@@ -5,7 +5,9 @@
 //! copies, and the two faces of the cut become boundary facets tagged `{name}_minus` and
 //! `{name}_plus`. A chain end inside the body (a tip) stays shared; a chain end on the outer
 //! boundary (e.g. a free surface) is split. Coordinates and the order of every cell's
-//! vertices are unchanged, so assembly per cell is unchanged.
+//! vertices are unchanged, so assembly per cell is unchanged. The 3-D cut along a surface
+//! of mesh triangles is in `split_surface.rs`; the grouping of the cells around a vertex
+//! and the tags of the split mesh are shared (`cell_groups_around`, `tag_split_facets`).
 
 use std::collections::HashMap;
 
@@ -13,18 +15,31 @@ use crate::{Error, Result, SimplexMesh};
 
 /// The two sides of a fault cut by [`SimplexMesh::split_along`].
 ///
-/// The fault is a chain of nodes `x_0, …, x_m` (m ≥ 1 edges); its direction is the
+/// 2-D: the fault is a chain of nodes `x_0, …, x_m` (m ≥ 1 edges); its direction is the
 /// direction of the first listed edge. The unit normal `n_k` of edge `k` (from `x_k` to
 /// `x_{k+1}`, tangent `t_k`) is `t_k` turned by +90°, `n = (−t_y, t_x)`: it points from the
 /// minus side into the plus side, so it is the outward normal of the minus side's facet
 /// and `−n_k` that of the plus side's. Slip is the jump `u⁺ − u⁻` (docs/math.md §13).
+///
+/// 3-D (`FaultSides<3>`, from `SimplexMesh::<3>::split_along`): the fault is a surface of
+/// mesh triangles ("faces", in the order given); the first face's right-hand-rule normal
+/// sets the fault's orientation, the others are oriented consistently with it, and
+/// `n_k` is the unit normal of face `k` so oriented, again from the minus into the plus
+/// side. The nodes are the fault's vertices in increasing vertex index (not in an order
+/// along the fault); the normals and the minus and plus facets are per face, in input
+/// order.
+///
+/// A fault face or edge all of whose vertices are tips (a face at a corner of a buried
+/// fault's rim in 3-D; a single buried edge in 2-D) cannot open: it stays an interior face
+/// of the split mesh (the P1 jump vanishes on it anyway), untagged, and its entries of
+/// [`FaultSides::minus_facets`] and [`FaultSides::plus_facets`] are `usize::MAX`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FaultSides<const D: usize = 2> {
-    name: String,
-    nodes: Vec<(usize, usize)>,
-    minus_facets: Vec<usize>,
-    plus_facets: Vec<usize>,
-    normals: Vec<[f64; D]>,
+    pub(crate) name: String,
+    pub(crate) nodes: Vec<(usize, usize)>,
+    pub(crate) minus_facets: Vec<usize>,
+    pub(crate) plus_facets: Vec<usize>,
+    pub(crate) normals: Vec<[f64; D]>,
 }
 
 impl<const D: usize> FaultSides<D> {
@@ -40,16 +55,20 @@ impl<const D: usize> FaultSides<D> {
     pub fn plus_tag(&self) -> String {
         format!("{}_plus", self.name)
     }
-    /// Every fault node in order along the fault as `(minus, plus)` vertex indices of the
-    /// split mesh; a tip (shared node) appears as `(p, p)`.
+    /// Every fault node as `(minus, plus)` vertex indices of the split mesh, in order along
+    /// the fault in 2-D and in increasing vertex index `minus` in 3-D; a tip (shared node)
+    /// appears as `(p, p)`.
     pub fn nodes(&self) -> &[(usize, usize)] {
         &self.nodes
     }
-    /// The split pairs `(minus, plus)` in order along the fault (tips left out).
+    /// The split pairs `(minus, plus)` in the order of [`FaultSides::nodes`] (tips left
+    /// out).
     pub fn pairs(&self) -> Vec<(usize, usize)> {
         self.nodes.iter().copied().filter(|(m, p)| m != p).collect()
     }
-    /// The tips: fault nodes inside the body, shared by both sides.
+    /// The tips: fault nodes shared by both sides (2-D: a chain end inside the body; 3-D:
+    /// the rim of the fault surface inside the body, including where the rim meets the
+    /// outer boundary).
     pub fn tips(&self) -> Vec<usize> {
         self.nodes
             .iter()
@@ -58,21 +77,24 @@ impl<const D: usize> FaultSides<D> {
             .collect()
     }
     /// Boundary facet indices (of the split mesh) of the minus side, one per fault edge in
-    /// order along the fault.
+    /// order along the fault (3-D: one per fault face, in input order; `usize::MAX` for a
+    /// face that stays closed, see [`FaultSides`]).
     pub fn minus_facets(&self) -> &[usize] {
         &self.minus_facets
     }
-    /// Boundary facet indices (of the split mesh) of the plus side, one per fault edge.
+    /// Boundary facet indices (of the split mesh) of the plus side, one per fault edge (3-D:
+    /// per fault face), as [`FaultSides::minus_facets`].
     pub fn plus_facets(&self) -> &[usize] {
         &self.plus_facets
     }
-    /// Unit normal of every fault edge, pointing from the minus into the plus side (the
-    /// minus side's outward normal; the plus side's is its negative).
+    /// Unit normal of every fault edge (3-D: face, in input order), pointing from the minus
+    /// into the plus side (the minus side's outward normal; the plus side's is its
+    /// negative).
     pub fn normals(&self) -> &[[f64; D]] {
         &self.normals
     }
     /// The jump `u⁺ − u⁻` of a node-major field with `c` components per vertex at every
-    /// fault node (zero at tips), in order along the fault.
+    /// fault node (zero at tips), in the order of [`FaultSides::nodes`].
     ///
     /// # Errors
     /// [`Error::DimensionMismatch`] if `u` is too short for the split mesh's nodes.
@@ -263,30 +285,8 @@ impl SimplexMesh<2> {
             }
             // Group the cells around p: neighbours across a non-fault edge through p.
             let around = &vertex_cells[p];
-            let mut group = vec![usize::MAX; around.len()];
-            let mut groups = 0;
-            for s in 0..around.len() {
-                if group[s] != usize::MAX {
-                    continue;
-                }
-                group[s] = groups;
-                let mut stack = vec![s];
-                while let Some(x) = stack.pop() {
-                    let cx = self.cell(around[x]);
-                    for &q in cx.iter().filter(|&&q| q != p) {
-                        if fault_edge.contains_key(&key(p, q)) {
-                            continue;
-                        }
-                        for (y, &cy) in around.iter().enumerate() {
-                            if group[y] == usize::MAX && self.cell(cy).contains(&q) {
-                                group[y] = groups;
-                                stack.push(y);
-                            }
-                        }
-                    }
-                }
-                groups += 1;
-            }
+            let (group, groups) =
+                cell_groups_around(self, p, around, |f| fault_edge.contains_key(&(f[0], f[1])));
             let (ea, eb) = if i < m {
                 (chain[i], chain[i + 1])
             } else {
@@ -316,47 +316,19 @@ impl SimplexMesh<2> {
         let mut split = Self::new(vertices, cells)?;
         split.copy_refinement_orders(self);
         // Tags: the old boundary facets keep theirs, the fault's faces get the sides' tags.
-        let mut names = self.tag_names().to_vec();
-        let mut index_of = |tag: String| match names.iter().position(|t| *t == tag) {
-            Some(t) => t as u32,
-            None => {
-                names.push(tag);
-                (names.len() - 1) as u32
-            }
-        };
-        let (minus_tag, plus_tag) = (
-            index_of(format!("{name}_minus")),
-            index_of(format!("{name}_plus")),
+        let edge_position: HashMap<[usize; 3], usize> = (0..m)
+            .map(|k| (facet_key(&[chain[k], chain[k + 1]]), k))
+            .collect();
+        // The plus side's cell lies left of the fault's direction.
+        let plus_cells: Vec<usize> = (0..m).map(|k| left_cell(chain[k], chain[k + 1])).collect();
+        let (minus_facets, plus_facets) = tag_split_facets(
+            self,
+            &mut split,
+            name,
+            &original,
+            &edge_position,
+            &plus_cells,
         );
-        let mut old_tag: HashMap<(usize, usize), Option<u32>> = HashMap::new();
-        for f in 0..self.num_boundary_facets() {
-            let v = self.boundary_facet(f);
-            old_tag.insert(key(v[0], v[1]), self.raw_facet_tag(f));
-        }
-        let mut tags = Vec::with_capacity(split.num_boundary_facets());
-        let mut minus_facets = vec![usize::MAX; m];
-        let mut plus_facets = vec![usize::MAX; m];
-        let edge_position: HashMap<(usize, usize), usize> =
-            (0..m).map(|k| (key(chain[k], chain[k + 1]), k)).collect();
-        for f in 0..split.num_boundary_facets() {
-            let v = split.boundary_facet(f);
-            let k0 = key(original[v[0]], original[v[1]]);
-            if let Some(&t) = old_tag.get(&k0) {
-                tags.push(t);
-                continue;
-            }
-            let k = edge_position[&k0];
-            // The plus side's cell lies left of the fault's direction.
-            let c = split.boundary_facet_cell(f);
-            if c == left_cell(chain[k], chain[k + 1]) {
-                plus_facets[k] = f;
-                tags.push(Some(plus_tag));
-            } else {
-                minus_facets[k] = f;
-                tags.push(Some(minus_tag));
-            }
-        }
-        split.set_facet_tags(names, tags);
         let normals = (0..m)
             .map(|k| {
                 let (x, y) = (self.vertices()[chain[k]], self.vertices()[chain[k + 1]]);
@@ -468,4 +440,129 @@ impl SimplexMesh<2> {
         }
         Ok(found.into_iter().map(|(_, e)| e).collect())
     }
+}
+
+/// The sorted vertices of a facet (`D ≤ 3` entries), padded with `usize::MAX`: a key equal
+/// for every vertex order.
+pub(crate) fn facet_key(vertices: &[usize]) -> [usize; 3] {
+    let mut k = [usize::MAX; 3];
+    k[..vertices.len()].copy_from_slice(vertices);
+    k.sort_unstable();
+    k
+}
+
+/// Groups the cells `around` vertex `p` (all cells containing it) by adjacency through
+/// facets containing `p` that are not fault facets (`is_fault` of the facet's
+/// [`facet_key`]). Returns each cell's group (numbered by first appearance in `around`)
+/// and the number of groups.
+pub(crate) fn cell_groups_around<const D: usize>(
+    mesh: &SimplexMesh<D>,
+    p: usize,
+    around: &[usize],
+    is_fault: impl Fn(&[usize; 3]) -> bool,
+) -> (Vec<usize>, usize) {
+    let mut root: Vec<usize> = (0..around.len()).collect();
+    fn find(root: &mut [usize], mut x: usize) -> usize {
+        while root[x] != x {
+            root[x] = root[root[x]];
+            x = root[x];
+        }
+        x
+    }
+    let mut first: HashMap<[usize; 3], usize> = HashMap::new();
+    for (s, &c) in around.iter().enumerate() {
+        let cell = mesh.cell(c);
+        for &r in cell.iter().filter(|&&r| r != p) {
+            let mut f = [0; 3];
+            let mut n = 0;
+            for &v in cell.iter().filter(|&&v| v != r) {
+                f[n] = v;
+                n += 1;
+            }
+            let key = facet_key(&f[..n]);
+            if is_fault(&key) {
+                continue;
+            }
+            match first.entry(key) {
+                std::collections::hash_map::Entry::Occupied(e) => {
+                    let (a, b) = (find(&mut root, s), find(&mut root, *e.get()));
+                    root[a.max(b)] = a.min(b);
+                }
+                std::collections::hash_map::Entry::Vacant(e) => {
+                    e.insert(s);
+                }
+            }
+        }
+    }
+    let mut label = vec![usize::MAX; around.len()];
+    let mut group = vec![0; around.len()];
+    let mut groups = 0;
+    for s in 0..around.len() {
+        let r = find(&mut root, s);
+        if label[r] == usize::MAX {
+            label[r] = groups;
+            groups += 1;
+        }
+        group[s] = label[r];
+    }
+    (group, groups)
+}
+
+/// Tags the boundary facets of `split`, the mesh `old` cut open along a fault: the old
+/// boundary facets keep their tags, the fault's faces get `{name}_minus` or `{name}_plus`.
+/// `original` maps every vertex of `split` to its vertex of `old`; `fault` maps the
+/// [`facet_key`] (in `old`'s vertices) of every fault face to its index `k`, whose plus
+/// side's cell is `plus_cells[k]`. Returns the minus and plus facets per fault face
+/// (`usize::MAX` for a face that stayed closed).
+pub(crate) fn tag_split_facets<const D: usize>(
+    old: &SimplexMesh<D>,
+    split: &mut SimplexMesh<D>,
+    name: &str,
+    original: &[usize],
+    fault: &HashMap<[usize; 3], usize>,
+    plus_cells: &[usize],
+) -> (Vec<usize>, Vec<usize>) {
+    let mut names = old.tag_names().to_vec();
+    let mut index_of = |tag: String| match names.iter().position(|t| *t == tag) {
+        Some(t) => t as u32,
+        None => {
+            names.push(tag);
+            (names.len() - 1) as u32
+        }
+    };
+    let (minus_tag, plus_tag) = (
+        index_of(format!("{name}_minus")),
+        index_of(format!("{name}_plus")),
+    );
+    let mut old_tag: HashMap<[usize; 3], Option<u32>> = HashMap::new();
+    for f in 0..old.num_boundary_facets() {
+        old_tag.insert(facet_key(old.boundary_facet(f)), old.raw_facet_tag(f));
+    }
+    let m = plus_cells.len();
+    let mut tags = Vec::with_capacity(split.num_boundary_facets());
+    let mut minus_facets = vec![usize::MAX; m];
+    let mut plus_facets = vec![usize::MAX; m];
+    for f in 0..split.num_boundary_facets() {
+        let mut v = [0; 3];
+        for (slot, &x) in v.iter_mut().zip(split.boundary_facet(f)) {
+            *slot = original[x];
+        }
+        let k0 = facet_key(&v[..D]);
+        if let Some(&t) = old_tag.get(&k0) {
+            tags.push(t);
+            continue;
+        }
+        let k = *fault
+            .get(&k0)
+            .expect("a new boundary facet is a face of the fault");
+        if split.boundary_facet_cell(f) == plus_cells[k] {
+            plus_facets[k] = f;
+            tags.push(Some(plus_tag));
+        } else {
+            minus_facets[k] = f;
+            tags.push(Some(minus_tag));
+        }
+    }
+    split.set_facet_tags(names, tags);
+    (minus_facets, plus_facets)
 }

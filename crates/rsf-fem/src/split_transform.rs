@@ -93,6 +93,96 @@ impl FaultSides<2> {
     }
 }
 
+impl FaultSides<3> {
+    /// The change of variables to mean and jump at every split pair `(p⁻, p⁺)` of a 3-D
+    /// fault, identity elsewhere (docs/math.md §13), as the 2-D
+    /// `FaultSides::<2>::mean_jump_transform`: the block of `p⁻` holds the jump
+    /// `j = R_pᵀ(u⁺ − u⁻)` in the pair's frame (`C = 3`: the two tangential slip components
+    /// along `t1`, `t2`, then the normal one `−n·(u⁺ − u⁻)`, minus the opening; `C = 1`:
+    /// the scalar jump) and the block of `p⁺` the mean `w = (u⁺ + u⁻)/2` in Cartesian
+    /// components, so `u⁻ = w − R_p j/2`, `u⁺ = w + R_p j/2`.
+    ///
+    /// The pair's normal `n` is the area-weighted mean of the normals
+    /// ([`FaultSides::normals`]) of the fault faces at the pair (weights: the areas of the
+    /// minus side's facets, m²), and `R_p` the frame of
+    /// [`crate::NodalFrames`]: columns `(t1, t2, −n)` with `t1` the projection of `tangent`
+    /// (m, any length; e.g. the dip or the strike direction) onto the plane normal to `n`,
+    /// or of a Cartesian axis if `tangent` is `None` or (nearly) normal there, and
+    /// `t2 = −n × t1`.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] unless `C` is 1 or 3; [`Error::UndefinedNormal`] if the
+    /// normals of the faces at a pair cancel; [`Error::DimensionMismatch`] if `mesh` is not
+    /// the split mesh of these sides.
+    pub fn mean_jump_transform<const C: usize>(
+        &self,
+        mesh: &SimplexMesh<3>,
+        tangent: Option<&[f64; 3]>,
+    ) -> Result<MeanJumpTransform<3>> {
+        if C != 1 && C != 3 {
+            return Err(Error::Unsupported(
+                "mean-jump transform for C other than 1, 3",
+            ));
+        }
+        let nv = mesh.num_vertices();
+        let need = self
+            .nodes()
+            .iter()
+            .map(|&(m, p)| m.max(p) + 1)
+            .max()
+            .unwrap_or(0);
+        if need > nv {
+            return Err(Error::DimensionMismatch {
+                what: "split mesh of the fault sides",
+                expected: need,
+                got: nv,
+            });
+        }
+        let nf = mesh.num_boundary_facets();
+        if let Some(&f) = self
+            .minus_facets()
+            .iter()
+            .find(|&&f| f != usize::MAX && f >= nf)
+        {
+            return Err(Error::DimensionMismatch {
+                what: "boundary facets of the split mesh of the fault sides",
+                expected: f + 1,
+                got: nf,
+            });
+        }
+        let pairs = self.pairs();
+        let mut pair_of = vec![usize::MAX; nv];
+        for (i, &(a, _)) in pairs.iter().enumerate() {
+            pair_of[a] = i;
+        }
+        // The minus side keeps the original vertices: its facets name the pairs' minus ends.
+        let mut sum = vec![[0.0; 3]; pairs.len()];
+        let mut weight = vec![0.0; pairs.len()];
+        for (&f, n) in self.minus_facets().iter().zip(self.normals()) {
+            if f == usize::MAX {
+                continue;
+            }
+            let w = mesh.boundary_facet_measure(f);
+            for &v in mesh.boundary_facet(f) {
+                if let Some(i) = pair_of.get(v).copied().filter(|&i| i != usize::MAX) {
+                    (0..3).for_each(|r| sum[i][r] += w * n[r]);
+                    weight[i] += w;
+                }
+            }
+        }
+        let mut frames = Vec::with_capacity(pairs.len());
+        for ((n, w), &(a, _)) in sum.iter().zip(&weight).zip(&pairs) {
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            if !(l > 1e-12 * w) {
+                return Err(Error::UndefinedNormal { vertex: a });
+            }
+            frames.push(frame_from_normal::<3>(&n.map(|x| x / l), tangent));
+        }
+        let half = vec![0.5; pairs.len()];
+        assemble_transform::<3, C>(&pairs, nv, frames, &half)
+    }
+}
+
 /// `T` and `T⁻¹` of the pairs `pairs` on `nv` vertices with their frames and the minus
 /// sides' shares of the jump.
 fn assemble_transform<const D: usize, const C: usize>(

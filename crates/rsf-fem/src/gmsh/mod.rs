@@ -425,6 +425,22 @@ impl GmshMesh<2> {
     }
 }
 
+impl GmshMesh<3> {
+    /// Cuts the mesh open along the interior facets of the physical surface `group` (read
+    /// with [`GmshOptions::interior_facets`]): `SimplexMesh::<3>::split_along` with the
+    /// group's interior triangles in file order (the first one's right-hand-rule normal is
+    /// the fault's, pointing from the minus into the plus side). The group's boundary
+    /// facets (if any) keep their tag.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] if the group has no interior facets (or the file was read
+    /// without [`GmshOptions::interior_facets`]); as `SimplexMesh::<3>::split_along`.
+    pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<3>, crate::FaultSides<3>)> {
+        let faces = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
+        self.mesh.split_along(group, faces)
+    }
+}
+
 /// Every physical group named in `$PhysicalNames` or used by an entity, with its number
 /// of elements.
 fn groups(

@@ -529,28 +529,6 @@ impl<const C: usize> ModelBuilder<2, C> {
         self.internal_fault_polyline(name, &[from, to])
     }
 
-    /// The creeping section of the internal fault: the split pairs at positions `x` (m)
-    /// with `inside(x)` slip at the prescribed rate `slip_rate · g(t)` (m/s; `g` the loading
-    /// history) instead of by friction — the jump's tangential component in the pair's
-    /// frame, whose tangent is the fault's direction turned by 180° (`t = −d`, `d` from the
-    /// first point to the last; the same sign as [`StepView::slip`](crate::StepView::slip)).
-    /// Used for a fault loaded by steady creep below the seismogenic depth (SEAS BP3). Pairs
-    /// whose two sides are both fully fixed by Dirichlet parts (each side's far-field
-    /// motion where the fault meets a far boundary) are prescribed too. Prescribed pairs are
-    /// not frictional nodes.
-    ///
-    /// # Errors (at `build`)
-    /// As [`internal_fault`](Self::internal_fault); [`Error::InvalidParameter`] named
-    /// `internal_creep` for a non-finite rate or without an internal fault.
-    pub fn internal_creep(
-        mut self,
-        inside: impl Fn(&[f64; 2]) -> bool + 'static,
-        slip_rate: f64,
-    ) -> Self {
-        self.internal_creep = Some((Box::new(inside), slip_rate));
-        self
-    }
-
     /// As [`internal_fault`](Self::internal_fault) for a fault of straight pieces
     /// `points[0] → points[1] → …` (m): a kinked fault, or a curved one given by the
     /// vertices of its mesh edges in order (e.g. a Gmsh physical curve's,
@@ -580,14 +558,103 @@ impl<const C: usize> ModelBuilder<2, C> {
     pub fn internal_fault_polyline(mut self, name: &str, points: &[[f64; 2]]) -> Self {
         let name = name.to_string();
         let points = points.to_vec();
-        self.internal_fault = Some(Box::new(move |hierarchy: &MeshHierarchy<2>| {
-            split_hierarchy::<C>(hierarchy, &name, &points)
+        self.internal_fault = Some(Box::new(move |hierarchy: &MeshHierarchy<2>, _| {
+            split_hierarchy(
+                hierarchy,
+                |mesh| mesh.split_along_polyline(&name, &points),
+                |sides, mesh| sides.mean_jump_transform::<C>(mesh),
+            )
         }));
         self
     }
 }
 
+impl<const C: usize> ModelBuilder<3, C> {
+    /// A fault inside a 3-D body on the convex planar polygon `corners` (m, at least three,
+    /// in order around it) instead of a frictional boundary: at [`build`](Self::build) the
+    /// finest mesh is cut open along its faces on the polygon
+    /// ([`SimplexMesh::split_along_polygon`]: a fault vertex whose cells the fault does
+    /// not separate — its rim inside the body — is a shared tip, a vertex where the fault
+    /// meets the outer boundary (a free surface) is split; the faces are tagged
+    /// `{name}_minus` and `{name}_plus`), and the model is written in the mean–jump
+    /// unknowns of the split pairs as in 2-D ([`internal_fault`](ModelBuilder::internal_fault),
+    /// docs/math.md §15). The fault's normal `n` is the polygon's by the right-hand rule of
+    /// the corners' order; it points from the minus into the plus side. Each pair's frame
+    /// is `(t₁, t₂, −n)` with `n` the area-weighted mean of the adjacent faces' normals and
+    /// `t₁` the projection of [`fault_tangent`](Self::fault_tangent) (default: the axis
+    /// with the smallest `|n_k|`): the jump's first two components are the slip (friction
+    /// acts on them as on a 3-D boundary fault, the creeping section of
+    /// [`internal_creep`](ModelBuilder::internal_creep) prescribes its `t₁` component), the
+    /// third is tied (no opening). Every coarser level of a hierarchy that resolves the
+    /// polygon is split too, as in 2-D.
+    ///
+    /// # Errors (at `build`)
+    /// [`Error::Fem`] with the splitting's errors (a polygon the mesh does not resolve,
+    /// [`rsf_fem::Error::FaultSurfaceNotResolved`]; fewer than three or non-coplanar
+    /// corners; a fault face on the outer boundary); [`Error::InvalidParameter`] named
+    /// `fault_tangent` for a non-finite or zero tangent, `dirichlet` for a split vertex
+    /// with only some components fixed, `internal_fault` for levels not nested along the
+    /// fault.
+    ///
+    /// ```
+    /// use rsf::fem::cuboid;
+    /// use rsf::{Material, ModelBuilder, Part};
+    /// // A unit cube cut through by the plane x = 0.5: every fault vertex is split.
+    /// let cube = cuboid([0.0; 3], [1.0; 3], [3, 3, 3])?;
+    /// let model = ModelBuilder::refined(cube, 1)?
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .dirichlet(Part::predicate("left", |x| x[0] < 1e-9), [0.0, -1e-4, 0.0])
+    ///     .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [0.0, 1e-4, 0.0])
+    ///     .internal_fault_polygon(
+    ///         "fault",
+    ///         &[[0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [0.5, 1.0, 1.0], [0.5, 0.0, 1.0]],
+    ///     )
+    ///     .build()?;
+    /// // The fine level has 5 × 5 fault vertices, all split.
+    /// assert_eq!(model.frictional_boundary.len(), 25);
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    pub fn internal_fault_polygon(mut self, name: &str, corners: &[[f64; 3]]) -> Self {
+        let name = name.to_string();
+        let corners = corners.to_vec();
+        self.internal_fault = Some(Box::new(
+            move |hierarchy: &MeshHierarchy<3>, tangent: Option<&[f64; 3]>| {
+                split_hierarchy(
+                    hierarchy,
+                    |mesh| mesh.split_along_polygon(&name, &corners),
+                    |sides, mesh| sides.mean_jump_transform::<C>(mesh, tangent),
+                )
+            },
+        ));
+        self
+    }
+}
+
 impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    /// The creeping section of the internal fault: the split pairs at positions `x` (m)
+    /// with `inside(x)` slip at the prescribed rate `slip_rate · g(t)` (m/s; `g` the loading
+    /// history) instead of by friction — the jump's tangential component in the pair's
+    /// frame, whose tangent is in 2-D the fault's direction turned by 180° (`t = −d`, `d`
+    /// from the first point to the last; the same sign as
+    /// [`StepView::slip`](crate::StepView::slip)), in 3-D the frame's first tangent `t₁`
+    /// ([`internal_fault_polygon`](ModelBuilder::internal_fault_polygon)).
+    /// Used for a fault loaded by steady creep below the seismogenic depth (SEAS BP3). Pairs
+    /// whose two sides are both fully fixed by Dirichlet parts (each side's far-field
+    /// motion where the fault meets a far boundary) are prescribed too. Prescribed pairs are
+    /// not frictional nodes.
+    ///
+    /// # Errors (at `build`)
+    /// As [`internal_fault`](Self::internal_fault); [`Error::InvalidParameter`] named
+    /// `internal_creep` for a non-finite rate or without an internal fault.
+    pub fn internal_creep(
+        mut self,
+        inside: impl Fn(&[f64; D]) -> bool + 'static,
+        slip_rate: f64,
+    ) -> Self {
+        self.internal_creep = Some((Box::new(inside), slip_rate));
+        self
+    }
+
     /// Per pair of the internal fault `fault`: whether its slip is prescribed. A pair whose
     /// two sides are fully fixed by Dirichlet parts gets their velocities in its
     /// mean–jump unknowns (`j = Rᵀ(v⁺ − v⁻)`, `w = (1 − β) v⁻ + β v⁺`; an opening is
@@ -595,7 +662,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// at the creep rate.
     fn prescribed_pairs(
         &self,
-        fault: &InternalFault,
+        fault: &InternalFault<D>,
         mesh: &SimplexMesh<D>,
         fixed: &mut [bool],
         velocity: &mut [Option<f64>],
@@ -610,14 +677,15 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 };
                 let (vm, vp) = (v(mi), v(pl));
                 let dv: [f64; C] = std::array::from_fn(|c| vp[c] - vm[c]);
-                let j: [f64; C] = if C == 2 {
+                let vector = C == D && C > 1;
+                let j: [f64; C] = if vector {
                     let r = fault.transform.frames[k];
                     std::array::from_fn(|a| (0..C).map(|b| r[b][a] * dv[b]).sum())
                 } else {
                     dv
                 };
                 let scale = vm.iter().chain(&vp).fold(0.0f64, |m, x| m.max(x.abs()));
-                if C == 2 && j[C - 1].abs() > 1e-12 * scale {
+                if vector && j[C - 1].abs() > 1e-12 * scale {
                     return Err(invalid(
                         "dirichlet",
                         format!(
@@ -630,7 +698,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     ));
                 }
                 for c in 0..C {
-                    velocity[C * mi + c] = Some(if c == C - 1 && C == 2 { 0.0 } else { j[c] });
+                    velocity[C * mi + c] = Some(if c == C - 1 && vector { 0.0 } else { j[c] });
                     velocity[C * pl + c] = Some((1.0 - beta) * vm[c] + beta * vp[c]);
                 }
                 prescribed.push(true);
@@ -807,7 +875,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         // A fault inside the body: the finest mesh cut open along it.
         let (split, fault, split_prolongations) = match &self.internal_fault {
             Some(split_fault) => {
-                let s = split_fault(&self.hierarchy)?;
+                let s = split_fault(&self.hierarchy, self.checked_fault_tangent()?.as_ref())?;
                 (Some(s.mesh), Some(s.fault), Some(s.prolongations))
             }
             None => (None, None, None),
@@ -1184,8 +1252,8 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
 /// outputs: the jump block rotated back is the Cartesian jump); none for a scalar field.
 /// A Dirichlet constraint on a split node is refused: its Cartesian data would mix the
 /// mean and the jump.
-fn internal_fault_frames<const C: usize>(
-    fault: &InternalFault,
+fn internal_fault_frames<const D: usize, const C: usize>(
+    fault: &InternalFault<D>,
     fixed: &[bool],
 ) -> Result<NodalFrames<C>> {
     for &(mi, pl) in fault.pairs() {
@@ -1210,7 +1278,7 @@ fn internal_fault_frames<const C: usize>(
             ));
         }
     }
-    if C != 2 {
+    if C != D || C == 1 {
         return Ok(NodalFrames::default());
     }
     let mut frames: Vec<(usize, [[f64; C]; C])> = fault
@@ -1358,19 +1426,8 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
 
     /// The nodal frames of the slanted nodes of Γ_F (normal not along a coordinate axis),
     /// in increasing node order; checks corners and degenerate facets at every node.
-    fn fault_frames(
-        &self,
-        mesh: &SimplexMesh<D>,
-        gamma_f: &BoundaryPart<D>,
-        name: &str,
-    ) -> Result<NodalFrames<D>> {
-        let limit = self.max_kink_degrees;
-        if !(0.0..=180.0).contains(&limit) {
-            return Err(invalid(
-                "max_fault_kink",
-                format!("{limit} must be in [0, 180] degrees"),
-            ));
-        }
+    /// The [`fault_tangent`](Self::fault_tangent), checked: 3-D only, finite, non-zero.
+    fn checked_fault_tangent(&self) -> Result<Option<[f64; D]>> {
         if let Some(t) = self.fault_tangent {
             if D != 3 {
                 return Err(invalid(
@@ -1389,6 +1446,23 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 ));
             }
         }
+        Ok(self.fault_tangent)
+    }
+
+    fn fault_frames(
+        &self,
+        mesh: &SimplexMesh<D>,
+        gamma_f: &BoundaryPart<D>,
+        name: &str,
+    ) -> Result<NodalFrames<D>> {
+        let limit = self.max_kink_degrees;
+        if !(0.0..=180.0).contains(&limit) {
+            return Err(invalid(
+                "max_fault_kink",
+                format!("{limit} must be in [0, 180] degrees"),
+            ));
+        }
+        self.checked_fault_tangent()?;
         let facets = gamma_f.facets();
         let mean = facets
             .iter()

@@ -17,11 +17,11 @@ use rsf_fem::{spmv_add, FaultSides, MeanJumpTransform, MeshHierarchy, SimplexMes
 /// every other vertex is Cartesian. Γ_F is the minus nodes of the pairs (not the tips, which
 /// stay shared and do not slip).
 #[derive(Debug, Clone)]
-pub struct InternalFault {
+pub struct InternalFault<const D: usize = 2> {
     /// The split pairs, tips and faces ([`FaultSides`]).
-    pub sides: FaultSides,
+    pub sides: FaultSides<D>,
     /// `T` and `T⁻¹` (`C·n × C·n`) and the pair frames.
-    pub transform: MeanJumpTransform,
+    pub transform: MeanJumpTransform<D>,
     /// Per vertex: `Some((pair, is_plus))` for a vertex of a split pair, index into
     /// [`FaultSides::pairs`].
     pair_of: Vec<Option<(usize, bool)>>,
@@ -46,15 +46,16 @@ pub(crate) struct SplitHierarchy<const D: usize> {
     /// The finest mesh, split.
     pub mesh: SimplexMesh<D>,
     /// The fault on it with its mean–jump transform.
-    pub fault: InternalFault,
+    pub fault: InternalFault<D>,
     /// `P_j` from level `j − 1` to level `j` (`j = 1, …`; one entry per level above the
     /// coarsest), scalar, between the split (or unsplit) levels' vertices.
     pub prolongations: Vec<SparseMatrix>,
 }
 
-/// How the builder splits its hierarchy.
+/// How the builder splits its hierarchy, given the checked
+/// [`fault_tangent`](crate::ModelBuilder::fault_tangent) (3-D pair frames).
 pub(crate) type SplitFault<const D: usize> =
-    Box<dyn Fn(&MeshHierarchy<D>) -> crate::Result<SplitHierarchy<D>>>;
+    Box<dyn Fn(&MeshHierarchy<D>, Option<&[f64; D]>) -> crate::Result<SplitHierarchy<D>>>;
 
 /// One level of a hierarchy cut along the fault.
 struct SplitLevel {
@@ -62,33 +63,43 @@ struct SplitLevel {
     plus_of: Vec<Option<usize>>,
     /// Vertices of the split level (originals, then plus copies).
     num_vertices: usize,
-    /// The split level's cells (3 vertices each, flat): the same cells in the same order
+    /// The split level's cells (`D + 1` vertices each, flat): the same cells in the same order
     /// and vertex order as the unsplit level's, a plus-side cell naming plus copies.
     cells: Vec<usize>,
+    /// `D + 1`.
+    vertices_per_cell: usize,
     /// A cell of the unsplit level holding each edge `(min, max)` that touches a split
     /// vertex.
     cell_of_edge: HashMap<(usize, usize), usize>,
 }
 
 impl SplitLevel {
-    fn new(unsplit: &SimplexMesh<2>, split: &SimplexMesh<2>, sides: &FaultSides) -> Self {
+    fn new<const D: usize>(
+        unsplit: &SimplexMesh<D>,
+        split: &SimplexMesh<D>,
+        sides: &FaultSides<D>,
+    ) -> Self {
         let mut plus_of = vec![None; unsplit.num_vertices()];
         for (mi, pl) in sides.pairs() {
             plus_of[mi] = Some(pl);
         }
         let mut cell_of_edge = HashMap::new();
+        // Every two vertices of a simplex are joined by one of its edges.
         for c in 0..unsplit.num_cells() {
             let cell = unsplit.cell(c);
-            for k in 0..3 {
-                let (a, b) = (cell[k], cell[(k + 1) % 3]);
-                if plus_of[a].is_some() || plus_of[b].is_some() {
-                    cell_of_edge.entry((a.min(b), a.max(b))).or_insert(c);
+            for k in 0..cell.len() {
+                for &b in &cell[k + 1..] {
+                    let a = cell[k];
+                    if plus_of[a].is_some() || plus_of[b].is_some() {
+                        cell_of_edge.entry((a.min(b), a.max(b))).or_insert(c);
+                    }
                 }
             }
         }
         Self {
             plus_of,
             num_vertices: split.num_vertices(),
+            vertices_per_cell: D + 1,
             cells: (0..split.num_cells())
                 .flat_map(|c| split.cell(c).to_vec())
                 .collect(),
@@ -99,15 +110,17 @@ impl SplitLevel {
     /// The copy of original vertex `c` that cell `cell` uses.
     fn copy_in_cell(&self, cell: usize, c: usize) -> Option<usize> {
         let copies = [Some(c), self.plus_of[c]];
-        self.cells[3 * cell..3 * cell + 3]
+        let k = self.vertices_per_cell;
+        self.cells[k * cell..k * cell + k]
             .iter()
             .copied()
             .find(|v| copies.contains(&Some(*v)))
     }
 }
 
-/// Cuts every level of `hierarchy` that resolves the polyline `points` along it: the
-/// finest must (its errors are returned), coarser levels are split down to the first that
+/// Cuts every level of `hierarchy` that resolves the fault along it (`split`, e.g.
+/// [`SimplexMesh::split_along_polyline`] with the fault's points), with the finest level's
+/// change of variables by `transform`: the finest must (its errors are returned), coarser levels are split down to the first that
 /// does not resolve it, and the coarser ones stay continuous across it. The prolongation
 /// into a split level interpolates each vertex from the coarse vertices on its own side of
 /// the fault (docs/faults-inside.md): the coarse space is discontinuous across the fault
@@ -117,19 +130,19 @@ impl SplitLevel {
 /// The finest level's splitting and transform errors; [`crate::Error::InvalidParameter`]
 /// named `internal_fault` if the levels are not nested along the fault (a fine vertex
 /// interpolating from a split coarse vertex through no coarse edge or cell).
-pub(crate) fn split_hierarchy<const C: usize>(
-    hierarchy: &MeshHierarchy<2>,
-    name: &str,
-    points: &[[f64; 2]],
-) -> crate::Result<SplitHierarchy<2>> {
+pub(crate) fn split_hierarchy<const D: usize>(
+    hierarchy: &MeshHierarchy<D>,
+    split: impl Fn(&SimplexMesh<D>) -> rsf_fem::Result<(SimplexMesh<D>, FaultSides<D>)>,
+    transform: impl FnOnce(&FaultSides<D>, &SimplexMesh<D>) -> rsf_fem::Result<MeanJumpTransform<D>>,
+) -> crate::Result<SplitHierarchy<D>> {
     let finest = hierarchy.finest_level();
-    let (mesh, sides) = hierarchy.finest().split_along_polyline(name, points)?;
-    let transform = sides.mean_jump_transform::<C>(&mesh)?;
+    let (mesh, sides) = split(hierarchy.finest())?;
+    let transform = transform(&sides, &mesh)?;
     // Levels finest-first while they resolve the fault.
     let mut levels = vec![Some(SplitLevel::new(hierarchy.finest(), &mesh, &sides))];
     for j in (0..finest).rev() {
         let coarse = hierarchy.level(j);
-        match coarse.split_along_polyline(name, points) {
+        match split(coarse) {
             Ok((split, s)) => levels.push(Some(SplitLevel::new(coarse, &split, &s))),
             Err(_) => break,
         }
@@ -225,11 +238,11 @@ fn split_prolongation(
         .map_err(|e| rsf_fem::Error::Faer(format!("{e:?}")).into())
 }
 
-impl InternalFault {
+impl<const D: usize> InternalFault<D> {
     /// The fault of `sides` on a split mesh of `num_vertices` vertices with its transform.
     pub(crate) fn new(
-        sides: FaultSides,
-        transform: MeanJumpTransform,
+        sides: FaultSides<D>,
+        transform: MeanJumpTransform<D>,
         num_vertices: usize,
     ) -> Self {
         let pairs = sides.pairs();
@@ -332,16 +345,15 @@ impl InternalFault {
     /// coordinate (at least 10⁻⁹ m) along the pair's normal, for a function of position
     /// that tells the sides apart (e.g. an initial velocity that jumps across the fault);
     /// `x` itself off the fault.
-    pub(crate) fn moved_into_side<const D: usize>(&self, vertex: usize, x: &[f64; D]) -> [f64; D] {
+    pub(crate) fn moved_into_side(&self, vertex: usize, x: &[f64; D]) -> [f64; D] {
         let Some((k, plus)) = self.pair_of.get(vertex).copied().flatten() else {
             return *x;
         };
         let r = self.transform.frames[k];
-        // R's columns are (t, −n), n pointing from the minus into the plus side.
-        let n = [-r[0][1], -r[1][1]];
+        // R's columns are (t…, −n), n pointing from the minus into the plus side.
         let size = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         let delta = if plus { 1e-9 } else { -1e-9 } * size;
-        std::array::from_fn(|a| if a < 2 { x[a] + delta * n[a] } else { x[a] })
+        std::array::from_fn(|a| x[a] + delta * -r[a][D - 1])
     }
 
     /// `Tᵀ f`: a Cartesian force vector (load, far-field dashpot force) in the new
@@ -369,9 +381,9 @@ impl InternalFault {
         let (mi, pl) = self.pairs[k];
         let j: [f64; C] = std::array::from_fn(|c| x[C * mi + c]);
         let w: [f64; C] = std::array::from_fn(|c| x[C * pl + c]);
-        let rj: [f64; C] = if C == 2 {
+        let rj: [f64; C] = if C == D && C > 1 {
             let r = self.transform.frames[k];
-            std::array::from_fn(|a| r[a][0] * j[0] + r[a][1] * j[1])
+            std::array::from_fn(|a| (1..C).fold(r[a][0] * j[0], |s, b| s + r[a][b] * j[b]))
         } else {
             j
         };

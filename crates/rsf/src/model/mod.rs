@@ -115,7 +115,7 @@ pub struct Model<const D: usize, const C: usize = D> {
     /// A fault inside the body ([`ModelBuilder::internal_fault`]): the split pairs and the
     /// mean–jump change of variables every matrix, load and state vector is written in;
     /// `None` for a fault on the boundary.
-    pub internal_fault: Option<InternalFault>,
+    pub internal_fault: Option<InternalFault<D>>,
 }
 
 impl<const D: usize, const C: usize> Model<D, C> {

@@ -1,0 +1,368 @@
+//! Faults inside a 3-D body (docs/faults-inside.md, "In 3-D"): a planar fault cut into a
+//! tetrahedron mesh ([`ModelBuilder::internal_fault_polygon`]), written in the mean–jump
+//! unknowns of its split pairs like the 2-D one. A uniform slip on a fault through the
+//! whole body is a rigid motion of the two blocks (no stress); TNNMG on the split
+//! hierarchy and the direct solver give the same slip history of a partly stuck buried
+//! fault, the fault never opens, and the same problem turned by a rotation slips the same;
+//! the fault ODE (condensed onto the jumps) and the implicit scheme agree.
+use rsf::fem::{cuboid, SimplexMesh};
+use rsf::friction::Tresca;
+use rsf::simulation::NoState;
+use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
+
+/// `x` rotated by `q` (row-major).
+fn rotate(q: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|r| (0..3).map(|c| q[r][c] * x[c]).sum())
+}
+
+/// `x` rotated back by `qᵀ`.
+fn rotate_back(q: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|r| (0..3).map(|c| q[c][r] * x[c]).sum())
+}
+
+/// The rotation about the unit axis `(1, 2, 2)/3` by `angle` (rad).
+fn rotation(angle: f64) -> [[f64; 3]; 3] {
+    let k = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
+    let (s, c) = angle.sin_cos();
+    std::array::from_fn(|r| {
+        std::array::from_fn(|col| {
+            let cross = match (r, col) {
+                (0, 1) => -k[2],
+                (0, 2) => k[1],
+                (1, 0) => k[2],
+                (1, 2) => -k[0],
+                (2, 0) => -k[1],
+                (2, 1) => k[0],
+                _ => 0.0,
+            };
+            let id = if r == col { 1.0 } else { 0.0 };
+            c * id + s * cross + (1.0 - c) * k[r] * k[col]
+        })
+    })
+}
+
+/// The cube `[-1, 1]³` of 5 × 5 × 5 coarse vertices rotated by `q`, refined once.
+fn cube(q: &[[f64; 3]; 3]) -> SimplexMesh<3> {
+    let mesh = cuboid([-1.0; 3], [2.0; 3], [5, 5, 5]).unwrap();
+    let moved: Vec<[f64; 3]> = mesh.vertices().iter().map(|&x| rotate(q, x)).collect();
+    mesh.with_moved_vertices(moved).unwrap()
+}
+
+/// The cube rotated by `q` with the fault `x = 0` over `|y|, |z| ≤ half` (rotated), its
+/// faces `x = ±1` moving oppositely along y — simple shear of the fault — no inertia.
+fn sheared_cube(q: [[f64; 3]; 3], half: f64) -> rsf::Result<Model<3>> {
+    let v = 1e-4;
+    let corners = [
+        [0.0, -half, -half],
+        [0.0, half, -half],
+        [0.0, half, half],
+        [0.0, -half, half],
+    ]
+    .map(|x| rotate(&q, x));
+    ModelBuilder::refined(cube(&q), 1)?
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("plus face", move |x| rotate_back(&q, *x)[0] > 1.0 - 1e-9),
+            rotate(&q, [0.0, v, 0.0]),
+        )
+        .dirichlet(
+            Part::predicate("minus face", move |x| rotate_back(&q, *x)[0] < -1.0 + 1e-9),
+            rotate(&q, [0.0, -v, 0.0]),
+        )
+        .fault_tangent(rotate(&q, [0.0, 1.0, 0.0]))
+        .internal_fault_polygon("fault", &corners)
+        .build()
+}
+
+/// A fault through the whole body: moving each block rigidly (the minus side by `−s/2`,
+/// the plus side by `+s/2` along a direction in the fault) stresses nothing; in the model's
+/// unknowns that field's jump is the tangential `s` at every pair.
+#[test]
+fn uniform_slip_on_a_fault_through_the_body_is_a_rigid_motion_of_the_two_blocks() {
+    for angle in [0.0, 0.7] {
+        let q = rotation(angle);
+        let model = sheared_cube(q, 1.0).unwrap();
+        let f = model.internal_fault.as_ref().unwrap();
+        assert!(f.sides.tips().is_empty(), "every fault vertex split");
+        assert_eq!(f.pairs().len(), 81, "9 × 9 fine fault vertices");
+        // A slip of 1 mm along (0, 0.6, 0.8) in the fault's own coordinates.
+        let s = rotate(&q, [0.0, 6e-4, 8e-4]);
+        let mut plus = vec![false; model.vertices.len()];
+        for &(_, pl) in f.pairs() {
+            plus[pl] = true;
+        }
+        let side = |p: usize| {
+            let x = rotate_back(&q, model.vertices[p])[0];
+            plus[p] || (x > 1e-9 && !f.pairs().iter().any(|&(mi, _)| mi == p))
+        };
+        let u: Vec<f64> = (0..model.vertices.len())
+            .flat_map(|p| {
+                let sign = if side(p) { 0.5 } else { -0.5 };
+                s.map(|c| sign * c)
+            })
+            .collect();
+        let t_inv = &f.transform.t_inv;
+        let mut u_model = vec![0.0; u.len()];
+        for j in 0..t_inv.ncols() {
+            for (i, &w) in t_inv.row_idx_of_col(j).zip(t_inv.val_of_col(j)) {
+                u_model[i] += w * u[j];
+            }
+        }
+        // The jump blocks hold (s·t₁, s·t₂, 0): the slip is tangential.
+        for (k, &(mi, _)) in f.pairs().iter().enumerate() {
+            let r = f.transform.frames[k];
+            let j: [f64; 3] = std::array::from_fn(|a| (0..3).map(|b| r[b][a] * s[b]).sum());
+            for c in 0..3 {
+                assert!((u_model[3 * mi + c] - j[c]).abs() < 1e-15, "{k} {c}");
+            }
+            assert!(j[2].abs() < 1e-15, "the slip is tangential");
+        }
+        // K' u' = 0 to round-off.
+        let k = &model.stiffness;
+        let mut ku = vec![0.0; u.len()];
+        let mut scale = 0.0f64;
+        for j in 0..k.ncols() {
+            for (i, &w) in k.row_idx_of_col(j).zip(k.val_of_col(j)) {
+                ku[i] += w * u_model[j];
+                scale = scale.max((w * u_model[j]).abs());
+            }
+        }
+        let residual = ku.iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale;
+        eprintln!("turned by {angle}: |K'u'| / max|K'_ij u'_j| = {residual:e}");
+        assert!(residual < 1e-12, "{residual:e}");
+    }
+}
+
+/// Per step and pair: the slip's length; checks at every step that the observers' slip is
+/// the Cartesian jump of the two sides' displacements and that the fault does not open.
+struct Slips {
+    rows: Vec<Vec<f64>>,
+}
+
+impl rsf::Observer<3> for Slips {
+    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
+        let f = s.model.internal_fault.as_ref().expect("an internal fault");
+        let u = s.model.to_cartesian(&s.state.kinematics.u)?;
+        let u0 = s.model.to_cartesian(&s.model.initial_displacement)?;
+        let mut row = Vec::new();
+        for (k, &(mi, pl)) in f.pairs().iter().enumerate() {
+            let p = s
+                .model
+                .frictional_boundary
+                .nodes
+                .binary_search(&mi)
+                .unwrap();
+            let slip = s.slip(p);
+            let jump: [f64; 3] = std::array::from_fn(|c| {
+                (u[3 * pl + c] - u0[3 * pl + c]) - (u[3 * mi + c] - u0[3 * mi + c])
+            });
+            let length = |x: [f64; 3]| x.iter().map(|c| c * c).sum::<f64>().sqrt();
+            let scale = length(slip).max(1e-12);
+            let d: [f64; 3] = std::array::from_fn(|c| slip[c] - jump[c]);
+            assert!(length(d) < 1e-9 * scale, "{k}");
+            // No opening: the jump is in the fault's plane (−(last column of R) = n).
+            let r = f.transform.frames[k];
+            let opening: f64 = (0..3).map(|c| jump[c] * r[c][2]).sum::<f64>().abs();
+            assert!(opening < 1e-12 * scale, "opening {opening:e}");
+            row.push(length(slip));
+        }
+        self.rows.push(row);
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// 16 quasistatic steps of 0.5 s with Tresca friction weakest at the fault's centre
+/// (μ = 0.3 + 0.6·r, r the distance from the centre in the fault, σ̄_n = 5 MPa) on the
+/// buried fault `|y|, |z| ≤ 0.5` (its rim tips inside the body): the slip of every pair
+/// at every step, pairs in the order of their unrotated coordinates.
+fn slip_history(angle: f64, solver: SolverKind) -> Vec<Vec<f64>> {
+    let q = rotation(angle);
+    let model = sheared_cube(q, 0.5).unwrap();
+    let f = model.internal_fault.as_ref().unwrap();
+    // Pairs sorted by their position in the unrotated fault.
+    let mut order: Vec<usize> = (0..f.pairs().len()).collect();
+    let key = |k: usize| {
+        let x = rotate_back(&q, model.vertices[f.pairs()[k].0]);
+        ((x[1] * 1e6).round() as i64, (x[2] * 1e6).round() as i64)
+    };
+    order.sort_by_key(|&k| key(k));
+    let mut sim = SimulationBuilder::new(model.clone())
+        .friction_at(move |x| {
+            let y = rotate_back(&q, *x);
+            Tresca::new(0.3 + 0.6 * y[1].hypot(y[2]), 5e6)
+        })
+        .state_law(NoState)
+        .initial_state(0.0)
+        .integrator(rsf::time::Quasistatic::new())
+        .time_step(0.5)
+        .solver(solver)
+        .build()
+        .unwrap();
+    let mut slips = Slips { rows: Vec::new() };
+    sim.run(16, &mut [&mut slips]).unwrap();
+    slips
+        .rows
+        .iter()
+        .map(|row| order.iter().map(|&k| row[k]).collect())
+        .collect()
+}
+
+/// TNNMG (on the two-level hierarchy, both levels split) and the direct solver give the
+/// same slip history on a buried fault that is partly stuck (the slip starts at the
+/// centre and spreads to all nine pairs), and the problem turned by 0.7 rad about
+/// (1, 2, 2) slips the same.
+#[test]
+fn a_buried_3d_fault_slips_the_same_with_both_solvers_and_turned() {
+    let direct = slip_history(0.0, SolverKind::Direct);
+    let largest = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    let slipping: Vec<usize> = direct
+        .iter()
+        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
+        .collect();
+    eprintln!(
+        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
+        direct[0].len()
+    );
+    assert_eq!(
+        direct[0].len(),
+        9,
+        "3 × 3 inner vertices split, the rim's 16 tips"
+    );
+    assert!(largest > 0.0);
+    assert!(
+        slipping.iter().any(|&k| k > 0 && k < direct[0].len()),
+        "partly stuck at some step"
+    );
+    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| {
+        a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / largest
+    };
+    let tnnmg = slip_history(0.0, SolverKind::Tnnmg);
+    let d = differs(&direct, &tnnmg);
+    eprintln!("TNNMG against direct: {d:e} of the largest slip");
+    assert!(d < 1e-6, "{d:e}");
+    let turned = slip_history(0.7, SolverKind::Direct);
+    let d = differs(&direct, &turned);
+    eprintln!("turned by 0.7 rad: {d:e} of the largest slip");
+    assert!(d < 1e-8, "{d:e}");
+}
+
+/// What a 3-D internal fault refuses: a polygon the mesh does not resolve (the splitting's
+/// error), a zero tangent.
+#[test]
+fn a_3d_internal_fault_refuses_what_does_not_fit() {
+    let q = rotation(0.0);
+    let builder = || {
+        ModelBuilder::refined(cube(&q), 1)
+            .unwrap()
+            .material(Material::new(1e10, 0.25, 2700.0))
+            .dirichlet(
+                Part::predicate("top", |x| x[2] > 1.0 - 1e-9),
+                [1e-4, 0.0, 0.0],
+            )
+    };
+    let off_grid = [
+        [0.1, -0.5, -0.5],
+        [0.1, 0.5, -0.5],
+        [0.1, 0.5, 0.5],
+        [0.1, -0.5, 0.5],
+    ];
+    assert!(matches!(
+        builder().internal_fault_polygon("f", &off_grid).build(),
+        Err(rsf::Error::Fem(_))
+    ));
+    let on_grid = off_grid.map(|x| [0.0, x[1], x[2]]);
+    match builder()
+        .fault_tangent([0.0; 3])
+        .internal_fault_polygon("f", &on_grid)
+        .build()
+    {
+        Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "fault_tangent"),
+        other => panic!("expected fault_tangent, got {:?}", other.map(|_| ())),
+    }
+}
+
+/// The last step's slip length of every frictional node (m).
+#[derive(Default)]
+struct LastSlip(Vec<f64>);
+
+impl rsf::Observer<3> for LastSlip {
+    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
+        self.0 = (0..s.model.frictional_boundary.len())
+            .map(|k| s.slip(k).iter().map(|c| c * c).sum::<f64>().sqrt())
+            .collect();
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// The quasi-dynamic problem on the buried 3-D fault (velocity strengthening,
+/// a = 0.015 > b = 0.01, f₀ = 0.1, the regularised law, aging law, radiation damping
+/// μ/(2c_s)), the state steady at 1e-4 m/s.
+fn quasi_dynamic(
+) -> SimulationBuilder<3, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::time::Quasistatic, 3> {
+    let model = sheared_cube(rotation(0.0), 0.5).unwrap();
+    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
+    let params = rsf::friction::RateStateParams {
+        mu0: 0.1,
+        a: 0.015,
+        b: 0.01,
+        v0: 1e-6,
+        l: 1e-4,
+        sigma_n: 5e6,
+    };
+    SimulationBuilder::new(model)
+        .friction(rsf::friction::AsinhLaw::new(params).unwrap())
+        .state_law(rsf::state::Aging::new(params.l).unwrap())
+        .initial_state((params.l / 1e-4f64).ln())
+        .integrator(rsf::time::Quasistatic::new())
+        .radiation_damping(mu / (2.0 * c_s))
+}
+
+/// The two engines on a 3-D internal fault: the fault ODE (the volume condensed onto the
+/// jump's two tangential components, Runge–Kutta at tolerance 1e-9) and the implicit
+/// scheme (backward Euler, fixed steps) agree, the implicit scheme converging to the
+/// fault ODE at first order in τ.
+#[test]
+fn the_fault_ode_and_the_implicit_scheme_agree_on_a_3d_internal_fault() {
+    let t_end = 3.0;
+    let mut ode = quasi_dynamic()
+        .time_step(1e-3)
+        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
+            tolerance: 1e-9,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut reference = LastSlip::default();
+    rsf::run_until(&mut ode, rsf::Until::Time(t_end), &mut [&mut reference]).unwrap();
+    let scale = reference.0.iter().fold(0.0f64, |m, &x| m.max(x));
+    assert!(scale > 0.0);
+    let mut errors = Vec::new();
+    for steps in [25, 50, 100, 200] {
+        let mut sim = quasi_dynamic()
+            .time_step(t_end / steps as f64)
+            .solver(SolverKind::Direct)
+            .build()
+            .unwrap();
+        let mut last = LastSlip::default();
+        sim.run(steps, &mut [&mut last]).unwrap();
+        let e = last
+            .0
+            .iter()
+            .zip(&reference.0)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale;
+        eprintln!(
+            "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
+        );
+        errors.push(e);
+    }
+    for w in errors.windows(2) {
+        let rate = (w[0] / w[1]).log2();
+        eprintln!("rate {rate:.3}");
+        assert!(rate > 0.8, "{errors:?}");
+    }
+}
