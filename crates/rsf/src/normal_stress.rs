@@ -42,12 +42,13 @@ fn initial_normal_stress<const D: usize, const C: usize, L: FrictionLaw>(
     if choice == NormalStress::Fixed {
         return Ok(None);
     }
-    if model.internal_fault.is_none() || C != 2 {
+    if model.internal_fault.is_none() || C != D || C == 1 {
         return Err(invalid(
             "normal_stress",
             "NormalStress::FromSlip needs a fault inside the body of a vector (plane \
-             strain) model (ModelBuilder::internal_fault): a boundary fault's normal \
-             stress is prescribed",
+             strain or 3-D) model (ModelBuilder::internal_fault, \
+             internal_fault_polygon): a boundary fault's normal stress is prescribed, \
+             an antiplane model has none",
         ));
     }
     laws.iter()
@@ -85,7 +86,7 @@ pub(crate) struct NormalCoupling {
 }
 
 impl NormalCoupling {
-    /// The coupling of `model`'s internal fault (`C = 2`) condensed by `cond` onto the
+    /// The coupling of `model`'s internal fault (`C = D` = 2 or 3) condensed by `cond` onto the
     /// frictional nodes' free components, with the laws' `σ̄_n⁰`; `None` for
     /// [`NormalStress::Fixed`].
     ///

@@ -366,3 +366,141 @@ fn the_fault_ode_and_the_implicit_scheme_agree_on_a_3d_internal_fault() {
         assert!(rate > 0.8, "{errors:?}");
     }
 }
+
+/// `[-1, 1]² × [-1, 0]` (the top a free surface; 5 × 5 × 3 coarse vertices refined once)
+/// with a fault on the plane `x = z` dipping 45° from its trace `x = z = 0, |y| ≤ 0.5`
+/// on the surface to depth 0.5 (its other rim inside the body), the faces `x = ±1`
+/// pushed together (left +v, right −v): reverse slip, which changes the normal stress.
+fn thrust_block_3d() -> Model<3> {
+    let v = 1e-4;
+    let mesh = cuboid([-1.0, -1.0, -1.0], [2.0, 2.0, 1.0], [5, 5, 3]).unwrap();
+    ModelBuilder::refined(mesh, 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("left", |x| x[0] < -1.0 + 1e-9),
+            [v, 0.0, 0.0],
+        )
+        .dirichlet(
+            Part::predicate("right", |x| x[0] > 1.0 - 1e-9),
+            [-v, 0.0, 0.0],
+        )
+        .internal_fault_polygon(
+            "fault",
+            &[
+                [0.0, -0.5, 0.0],
+                [-0.5, -0.5, -0.5],
+                [-0.5, 0.5, -0.5],
+                [0.0, 0.5, 0.0],
+            ],
+        )
+        .build()
+        .unwrap()
+}
+
+/// Per step the last slip lengths and normal stresses of every frictional node.
+#[derive(Default)]
+struct SlipAndNormalStress(Vec<f64>, Vec<f64>);
+
+impl rsf::Observer<3> for SlipAndNormalStress {
+    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
+        let n = s.model.frictional_boundary.len();
+        self.0 = (0..n)
+            .map(|k| s.slip(k).iter().map(|c| c * c).sum::<f64>().sqrt())
+            .collect();
+        self.1 = (0..n).map(|k| s.normal_traction(k).unwrap()).collect();
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// A normal stress that changes with slip on a dipping 3-D fault under a free surface
+/// (`NormalStress::FromSlip`): the implicit scheme (σ̄_n iterated with the state in the
+/// fixed point) converges to the fault ODE (the slip → normal-traction operator condensed
+/// onto the jumps) at first order, in the slip and in the normal stress; the coupling
+/// changes the slip by far more than that error.
+#[test]
+fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_engines() {
+    use rsf::normal_stress::NormalStress;
+    let t_end = 3.0;
+    let model = thrust_block_3d();
+    let f = model.internal_fault.as_ref().unwrap();
+    eprintln!(
+        "{} pairs, {} tips, {} frictional nodes",
+        f.pairs().len(),
+        f.sides.tips().len(),
+        model.frictional_boundary.len()
+    );
+    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
+    let params = rsf::friction::RateStateParams {
+        mu0: 0.1,
+        a: 0.015,
+        b: 0.01,
+        v0: 1e-6,
+        l: 1e-4,
+        sigma_n: 5e6,
+    };
+    let builder = |normal_stress| {
+        SimulationBuilder::new(model.clone())
+            .friction(rsf::friction::AsinhLaw::new(params).unwrap())
+            .state_law(rsf::state::Aging::new(params.l).unwrap())
+            .initial_state((params.l / 1e-4f64).ln())
+            .integrator(rsf::time::Quasistatic::new())
+            .radiation_damping(mu / (2.0 * c_s))
+            .normal_stress(normal_stress)
+    };
+    let ode = |normal_stress| {
+        let mut ode = builder(normal_stress)
+            .time_step(1e-3)
+            .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
+                tolerance: 1e-9,
+                ..Default::default()
+            })
+            .unwrap();
+        let mut last = SlipAndNormalStress::default();
+        rsf::run_until(&mut ode, rsf::Until::Time(t_end), &mut [&mut last]).unwrap();
+        last
+    };
+    let reference = ode(NormalStress::FromSlip);
+    let slip_scale = reference.0.iter().fold(0.0f64, |m, &x| m.max(x));
+    let sigma_change = reference
+        .1
+        .iter()
+        .fold(0.0f64, |m, s| m.max((s - params.sigma_n).abs()));
+    eprintln!("largest slip {slip_scale:e} m, largest change of σ̄_n {sigma_change:e} Pa");
+    assert!(slip_scale > 0.0 && sigma_change > 1e-3 * params.sigma_n);
+    let largest_difference = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    };
+    let mut errors = Vec::new();
+    for steps in [25, 50, 100, 200] {
+        let mut sim = builder(NormalStress::FromSlip)
+            .time_step(t_end / steps as f64)
+            .solver(SolverKind::Direct)
+            .build()
+            .unwrap();
+        let mut last = SlipAndNormalStress::default();
+        sim.run(steps, &mut [&mut last]).unwrap();
+        let e_slip = largest_difference(&last.0, &reference.0) / slip_scale;
+        let e_sigma = largest_difference(&last.1, &reference.1) / sigma_change;
+        eprintln!(
+            "τ = T/{steps}: implicit against the fault ODE: slip {e_slip:.3e}, normal stress \
+             {e_sigma:.3e} of its change"
+        );
+        errors.push((e_slip, e_sigma));
+    }
+    let uncoupled = ode(NormalStress::Fixed);
+    let effect = largest_difference(&uncoupled.0, &reference.0) / slip_scale;
+    eprintln!("fixed σ̄_n against σ̄_n from slip (fault ODE): slip differs by {effect:.3e}");
+    assert!(effect > 100.0 * errors[3].0, "{effect:e}");
+    for w in errors.windows(2) {
+        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
+        eprintln!(
+            "rates {:.3} (slip), {:.3} (normal stress)",
+            rates.0, rates.1
+        );
+        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
+    }
+}
