@@ -504,3 +504,139 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
         assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
     }
 }
+
+/// The faces of `mesh` whose three vertices satisfy `on` (a convex piece of a plane).
+fn faces_where(mesh: &SimplexMesh<3>, on: impl Fn(&[f64; 3]) -> bool) -> Vec<[usize; 3]> {
+    let mut seen = std::collections::HashSet::new();
+    let mut faces = Vec::new();
+    for c in 0..mesh.num_cells() {
+        let cell = mesh.cell(c);
+        for skip in 0..4 {
+            let face: Vec<usize> = (0..4).filter(|&k| k != skip).map(|k| cell[k]).collect();
+            let mut key = face.clone();
+            key.sort_unstable();
+            if face.iter().all(|&v| on(&mesh.vertices()[v])) && seen.insert(key) {
+                faces.push([face[0], face[1], face[2]]);
+            }
+        }
+    }
+    faces
+}
+
+/// The sheared cube with the fault given as coarse faces (`internal_fault_faces`).
+fn sheared_cube_with_faces(faces: &[[usize; 3]]) -> rsf::Result<Model<3>> {
+    let v = 1e-4;
+    ModelBuilder::refined(cube(&rotation(0.0)), 1)?
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("plus face", |x| x[0] > 1.0 - 1e-9),
+            [0.0, v, 0.0],
+        )
+        .dirichlet(
+            Part::predicate("minus face", |x| x[0] < -1.0 + 1e-9),
+            [0.0, -v, 0.0],
+        )
+        .fault_tangent([0.0, 1.0, 0.0])
+        .internal_fault_faces("fault", faces)
+        .build()
+}
+
+/// The slip history (16 quasistatic Tresca steps as [`slip_history`]) of `model`, pairs in
+/// the model's order.
+fn slips_of(model: Model<3>, solver: SolverKind) -> Vec<Vec<f64>> {
+    let mut sim = SimulationBuilder::new(model)
+        .friction_at(|x| Tresca::new(0.3 + 0.6 * x[1].hypot(x[2]), 5e6))
+        .state_law(NoState)
+        .initial_state(0.0)
+        .integrator(rsf::time::Quasistatic::new())
+        .time_step(0.5)
+        .solver(solver)
+        .build()
+        .unwrap();
+    let mut slips = Slips { rows: Vec::new() };
+    sim.run(16, &mut [&mut slips]).unwrap();
+    slips.rows
+}
+
+/// A fault given as faces of the coarse mesh (followed down the hierarchy: four children
+/// per face and level) gives the polygon's model — the same pairs and stiffness — and
+/// slip history; a kinked fault (the plane x = 0 below z = 0, the plane x = z above)
+/// given as faces slips the same with TNNMG and the direct solver; bad faces are the
+/// splitting's typed errors.
+#[test]
+fn a_3d_fault_given_as_coarse_faces_follows_the_hierarchy() {
+    let coarse = cube(&rotation(0.0));
+    let square = |x: &[f64; 3]| x[0] == 0.0 && x[1].abs() <= 0.5 && x[2].abs() <= 0.5;
+    let faces = faces_where(&coarse, square);
+    assert_eq!(faces.len(), 8);
+    let by_faces = sheared_cube_with_faces(&faces).unwrap();
+    let by_polygon = sheared_cube(rotation(0.0), 0.5).unwrap();
+    assert_eq!(
+        by_faces.frictional_boundary.nodes,
+        by_polygon.frictional_boundary.nodes
+    );
+    let (a, b) = (&by_faces.stiffness, &by_polygon.stiffness);
+    assert_eq!(a.compute_nnz(), b.compute_nnz());
+    let mut largest = 0.0f64;
+    let mut differs = 0.0f64;
+    for j in 0..a.ncols() {
+        for ((i, x), (k, y)) in a
+            .row_idx_of_col(j)
+            .zip(a.val_of_col(j))
+            .zip(b.row_idx_of_col(j).zip(b.val_of_col(j)))
+        {
+            assert_eq!(i, k);
+            largest = largest.max(x.abs());
+            differs = differs.max((x - y).abs());
+        }
+    }
+    eprintln!(
+        "stiffness by faces against by polygon: {:e}",
+        differs / largest
+    );
+    assert!(differs <= 1e-14 * largest);
+    let (s1, s2) = (
+        slips_of(by_faces, SolverKind::Direct),
+        slips_of(by_polygon, SolverKind::Direct),
+    );
+    let scale = s2.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    let d = s1
+        .iter()
+        .flatten()
+        .zip(s2.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(scale > 0.0 && d <= 1e-10 * scale, "{d:e}");
+
+    // A kinked fault of two planes, as faces.
+    let kinked = |x: &[f64; 3]| {
+        x[1].abs() <= 0.5
+            && ((x[0] == 0.0 && (-0.5..=0.0).contains(&x[2]))
+                || (x[0] == x[2] && (0.0..=0.5).contains(&x[2])))
+    };
+    let faces = faces_where(&coarse, kinked);
+    assert_eq!(faces.len(), 8);
+    let model = sheared_cube_with_faces(&faces).unwrap();
+    let pairs = model.internal_fault.as_ref().unwrap().pairs().len();
+    let direct = slips_of(model.clone(), SolverKind::Direct);
+    let tnnmg = slips_of(model, SolverKind::Tnnmg);
+    let scale = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    let d = direct
+        .iter()
+        .flatten()
+        .zip(tnnmg.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    eprintln!(
+        "kinked: {pairs} pairs, largest slip {scale:e} m, TNNMG against direct {:e}",
+        d / scale
+    );
+    assert!(scale > 0.0 && d <= 1e-6 * scale, "{d:e}");
+
+    // A face that is not a face of the mesh: the splitting's error.
+    let mut bad = faces_where(&coarse, square);
+    bad[0][2] += 1000;
+    assert!(matches!(
+        sheared_cube_with_faces(&bad),
+        Err(rsf::Error::Fem(_))
+    ));
+}

@@ -7,7 +7,7 @@ use rsf_fem::{
 
 use super::absorbing::{AbsorbingBoundary, ResolvedPart};
 use super::fault::FrictionalBoundary;
-use super::internal::{split_hierarchy, InternalFault, SplitFault};
+use super::internal::{faces_on_levels, split_hierarchy, InternalFault, SplitFault};
 use super::loading::{DirichletVelocity, TimeFunction};
 use super::Model;
 use crate::error::{invalid, Error, Result};
@@ -561,7 +561,7 @@ impl<const C: usize> ModelBuilder<2, C> {
         self.internal_fault = Some(Box::new(move |hierarchy: &MeshHierarchy<2>, _| {
             split_hierarchy(
                 hierarchy,
-                |mesh| mesh.split_along_polyline(&name, &points),
+                |_, mesh| mesh.split_along_polyline(&name, &points),
                 |sides, mesh| sides.mean_jump_transform::<C>(mesh),
             )
         }));
@@ -621,7 +621,40 @@ impl<const C: usize> ModelBuilder<3, C> {
             move |hierarchy: &MeshHierarchy<3>, tangent: Option<&[f64; 3]>| {
                 split_hierarchy(
                     hierarchy,
-                    |mesh| mesh.split_along_polygon(&name, &corners),
+                    |_, mesh| mesh.split_along_polygon(&name, &corners),
+                    |sides, mesh| sides.mean_jump_transform::<C>(mesh, tangent),
+                )
+            },
+        ));
+        self
+    }
+
+    /// As [`internal_fault_polygon`](Self::internal_fault_polygon) for a fault given as
+    /// triangles of the coarsest mesh (vertex indices of the hierarchy's level 0, any
+    /// orientation: the first face's right-hand-rule normal points from the minus into the
+    /// plus side, [`SimplexMesh::split_along`]) — any surface of mesh faces, curved or
+    /// kinked, e.g. a Gmsh physical surface inside the body
+    /// ([`GmshMesh::interior_facets`](rsf_fem::GmshMesh::interior_facets) read with
+    /// `interior_facets: true`). Every level of the hierarchy is split: a finer level's
+    /// fault is the four children of each face of the level below (a curved fault stays
+    /// the piecewise-planar surface of its coarse faces, as a 2-D fault is the polyline of
+    /// its coarse edges).
+    ///
+    /// # Errors (at `build`)
+    /// As [`internal_fault_polygon`](Self::internal_fault_polygon), with the face errors
+    /// of [`SimplexMesh::split_along`] (a face not in the mesh or on its boundary, three
+    /// faces at an edge, a non-orientable or disconnected set, sides not separated).
+    pub fn internal_fault_faces(mut self, name: &str, faces: &[[usize; 3]]) -> Self {
+        let name = name.to_string();
+        let faces = faces.to_vec();
+        self.internal_fault = Some(Box::new(
+            move |hierarchy: &MeshHierarchy<3>, tangent: Option<&[f64; 3]>| {
+                // The given faces' own errors first (as faces of level 0).
+                hierarchy.level(0).split_along(&name, &faces)?;
+                let levels = faces_on_levels(hierarchy, &faces)?;
+                split_hierarchy(
+                    hierarchy,
+                    |j, mesh| mesh.split_along(&name, &levels[j]),
                     |sides, mesh| sides.mean_jump_transform::<C>(mesh, tangent),
                 )
             },

@@ -118,8 +118,9 @@ impl SplitLevel {
     }
 }
 
-/// Cuts every level of `hierarchy` that resolves the fault along it (`split`, e.g.
-/// [`SimplexMesh::split_along_polyline`] with the fault's points), with the finest level's
+/// Cuts every level of `hierarchy` that resolves the fault along it (`split` of the level
+/// index and mesh, e.g. [`SimplexMesh::split_along_polyline`] with the fault's points),
+/// with the finest level's
 /// change of variables by `transform`: the finest must (its errors are returned), coarser levels are split down to the first that
 /// does not resolve it, and the coarser ones stay continuous across it. The prolongation
 /// into a split level interpolates each vertex from the coarse vertices on its own side of
@@ -132,17 +133,17 @@ impl SplitLevel {
 /// interpolating from a split coarse vertex through no coarse edge or cell).
 pub(crate) fn split_hierarchy<const D: usize>(
     hierarchy: &MeshHierarchy<D>,
-    split: impl Fn(&SimplexMesh<D>) -> rsf_fem::Result<(SimplexMesh<D>, FaultSides<D>)>,
+    split: impl Fn(usize, &SimplexMesh<D>) -> rsf_fem::Result<(SimplexMesh<D>, FaultSides<D>)>,
     transform: impl FnOnce(&FaultSides<D>, &SimplexMesh<D>) -> rsf_fem::Result<MeanJumpTransform<D>>,
 ) -> crate::Result<SplitHierarchy<D>> {
     let finest = hierarchy.finest_level();
-    let (mesh, sides) = split(hierarchy.finest())?;
+    let (mesh, sides) = split(finest, hierarchy.finest())?;
     let transform = transform(&sides, &mesh)?;
     // Levels finest-first while they resolve the fault.
     let mut levels = vec![Some(SplitLevel::new(hierarchy.finest(), &mesh, &sides))];
     for j in (0..finest).rev() {
         let coarse = hierarchy.level(j);
-        match split(coarse) {
+        match split(j, coarse) {
             Ok((split, s)) => levels.push(Some(SplitLevel::new(coarse, &split, &s))),
             Err(_) => break,
         }
@@ -391,4 +392,85 @@ impl<const D: usize> InternalFault<D> {
         let share = if plus { 1.0 - beta } else { -beta };
         Some(std::array::from_fn(|c| w[c] + share * rj[c]))
     }
+}
+
+/// The fault faces of every level of `hierarchy` (coarsest first) from those of the
+/// coarsest, `faces` (vertex triples of level 0): a face of level `j` is on the fault if
+/// the coarse vertices its three vertices interpolate from (one for a vertex of level
+/// `j − 1`, the edge's two for a midpoint; the prolongation's support) are the three
+/// vertices of a fault face of level `j − 1`. Under uniform (red) refinement those are exactly the four
+/// children of each coarse face: a conforming mesh has no other face on it.
+///
+/// # Errors
+/// [`crate::Error::InvalidParameter`] named `internal_fault` if a level's faces are not
+/// four per coarse face (the hierarchy is not a uniform refinement along the fault).
+pub(crate) fn faces_on_levels(
+    hierarchy: &MeshHierarchy<3>,
+    faces: &[[usize; 3]],
+) -> crate::Result<Vec<Vec<[usize; 3]>>> {
+    let mut levels = vec![faces.to_vec()];
+    for j in 1..hierarchy.num_levels() {
+        let p = hierarchy.prolongation(j);
+        let mut parents: Vec<Vec<usize>> = vec![Vec::new(); p.nrows()];
+        for c in 0..p.ncols() {
+            for i in p.row_idx_of_col(c) {
+                parents[i].push(c);
+            }
+        }
+        let coarse = levels.last().expect("level 0");
+        let mut on_fault: std::collections::HashSet<[usize; 3]> = Default::default();
+        for f in coarse {
+            let mut k = *f;
+            k.sort_unstable();
+            on_fault.insert(k);
+        }
+        // Fine faces, each once, in the order of the cells.
+        let fine = hierarchy.level(j);
+        let mut seen = std::collections::HashSet::new();
+        let mut found = Vec::new();
+        for c in 0..fine.num_cells() {
+            let cell = fine.cell(c);
+            for skip in 0..4 {
+                let mut face = [0; 3];
+                let mut n = 0;
+                for (k, &v) in cell.iter().enumerate() {
+                    if k != skip {
+                        face[n] = v;
+                        n += 1;
+                    }
+                }
+                let mut key = face;
+                key.sort_unstable();
+                if !seen.insert(key) {
+                    continue;
+                }
+                let mut support: Vec<usize> = face
+                    .iter()
+                    .flat_map(|&v| parents[v].iter().copied())
+                    .collect();
+                support.sort_unstable();
+                support.dedup();
+                // A child of a coarse face interpolates from exactly its three vertices.
+                if let [a, b, c] = support[..] {
+                    if on_fault.contains(&[a, b, c]) {
+                        found.push(face);
+                    }
+                }
+            }
+        }
+        if found.len() != 4 * coarse.len() {
+            return Err(crate::error::invalid(
+                "internal_fault",
+                format!(
+                    "level {j} has {} faces on the fault's {} faces of level {}: the levels \
+                     are not uniform refinements along the fault",
+                    found.len(),
+                    coarse.len(),
+                    j - 1
+                ),
+            ));
+        }
+        levels.push(found);
+    }
+    Ok(levels)
 }
