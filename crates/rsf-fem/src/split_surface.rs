@@ -3,26 +3,22 @@
 
 use std::collections::{HashMap, HashSet, VecDeque};
 
+use nalgebra::Vector3;
+
 use crate::split::{cell_groups_around, facet_key, tag_split_facets};
 use crate::{Error, FaultSides, Result, SimplexMesh};
 
 type V3 = [f64; 3];
 
-fn sub(a: &V3, b: &V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// A point as a nalgebra vector.
+fn v(x: &V3) -> Vector3<f64> {
+    Vector3::from(*x)
 }
-fn dot(a: &V3, b: &V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: &V3, b: &V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn length(a: &V3) -> f64 {
-    dot(a, a).sqrt()
+
+/// The right-hand-rule normal `(b − a) × (c − a)` of the triangle `a, b, c` (twice its
+/// area long).
+fn area_normal(a: &V3, b: &V3, c: &V3) -> Vector3<f64> {
+    (v(b) - v(a)).cross(&(v(c) - v(a)))
 }
 
 impl SimplexMesh<3> {
@@ -123,8 +119,8 @@ impl SimplexMesh<3> {
         let mut plus_cells = Vec::with_capacity(faces.len());
         let mut minus_cells = Vec::with_capacity(faces.len());
         for (f, cells) in oriented.iter().zip(&face_cells) {
-            let n = cross(&sub(&x[f[1]], &x[f[0]]), &sub(&x[f[2]], &x[f[0]]));
-            let l = length(&n);
+            let n = area_normal(&x[f[0]], &x[f[1]], &x[f[2]]);
+            let l = n.norm();
             normals.push([n[0] / l, n[1] / l, n[2] / l]);
             let d = |c: usize| {
                 *self
@@ -133,7 +129,7 @@ impl SimplexMesh<3> {
                     .find(|v| !f.contains(v))
                     .expect("a tetrahedron has a fourth vertex")
             };
-            let (p, m) = if dot(&sub(&x[d(cells[0])], &x[f[0]]), &n) > 0.0 {
+            let (p, m) = if (v(&x[d(cells[0])]) - v(&x[f[0]])).dot(&n) > 0.0 {
                 (cells[0], cells[1])
             } else {
                 (cells[1], cells[0])
@@ -239,34 +235,29 @@ impl SimplexMesh<3> {
         let c0 = corners[0];
         let size = corners
             .iter()
-            .flat_map(|a| corners.iter().map(move |b| length(&sub(a, b))))
+            .flat_map(|a| corners.iter().map(move |b| (v(a) - v(b)).norm()))
             .fold(0.0, f64::max);
         // Area vector (twice the area, along the right-hand-rule normal).
-        let mut av = [0.0; 3];
-        for w in corners[1..].windows(2) {
-            let t = cross(&sub(&w[0], &c0), &sub(&w[1], &c0));
-            (0..3).for_each(|r| av[r] += t[r]);
-        }
-        let area = 0.5 * length(&av);
+        let av: Vector3<f64> = corners[1..]
+            .windows(2)
+            .map(|w| area_normal(&c0, &w[0], &w[1]))
+            .sum();
+        let area = 0.5 * av.norm();
         if !(area > 1e-12 * size * size) {
             return Err(Error::FaultSurfaceNotResolved { point: c0 });
         }
-        let n = av.map(|a| 0.5 * a / area);
+        let n = av * (0.5 / area);
         let tol = 1e-9 * size;
-        if let Some(c) = corners.iter().find(|c| dot(&sub(c, &c0), &n).abs() > tol) {
+        if let Some(c) = corners.iter().find(|c| (v(c) - v(&c0)).dot(&n).abs() > tol) {
             return Err(Error::FaultSurfaceNotResolved { point: *c });
         }
         // In-plane coordinates: e1 along the first side, e2 = n × e1.
-        let s1 = sub(&corners[1], &c0);
-        let e1 = {
-            let t = sub(&s1, &n.map(|x| x * dot(&s1, &n)));
-            let l = length(&t);
-            t.map(|x| x / l)
-        };
-        let e2 = cross(&n, &e1);
+        let s1 = v(&corners[1]) - v(&c0);
+        let e1 = (s1 - n * s1.dot(&n)).normalize();
+        let e2 = n.cross(&e1);
         let plane = |p: &V3| {
-            let r = sub(p, &c0);
-            [dot(&r, &e1), dot(&r, &e2)]
+            let r = v(p) - v(&c0);
+            [r.dot(&e1), r.dot(&e2)]
         };
         let poly: Vec<[f64; 2]> = corners.iter().map(plane).collect();
         // Even–odd rule.
@@ -286,7 +277,7 @@ impl SimplexMesh<3> {
         let x = self.vertices();
         let on_plane: Vec<bool> = x
             .iter()
-            .map(|p| dot(&sub(p, &c0), &n).abs() <= tol)
+            .map(|p| (v(p) - v(&c0)).dot(&n).abs() <= tol)
             .collect();
         let mut seen = HashSet::new();
         let mut faces = Vec::new();
@@ -310,11 +301,11 @@ impl SimplexMesh<3> {
                 if !inside(plane(&centroid)) {
                     continue;
                 }
-                let nf = cross(&sub(&x[f[1]], &x[f[0]]), &sub(&x[f[2]], &x[f[0]]));
-                if dot(&nf, &n) < 0.0 {
+                let nf = area_normal(&x[f[0]], &x[f[1]], &x[f[2]]);
+                if nf.dot(&n) < 0.0 {
                     f.swap(1, 2);
                 }
-                covered += 0.5 * length(&nf);
+                covered += 0.5 * nf.norm();
                 faces.push(f);
             }
         }
@@ -339,19 +330,19 @@ impl SimplexMesh<3> {
 struct Polygon<'a> {
     corners: &'a [V3],
     origin: V3,
-    e1: V3,
-    e2: V3,
+    e1: Vector3<f64>,
+    e2: Vector3<f64>,
     poly: &'a [[f64; 2]],
     tol: f64,
 }
 
 impl Polygon<'_> {
     fn plane(&self, p: &V3) -> [f64; 2] {
-        let r = sub(p, &self.origin);
-        [dot(&r, &self.e1), dot(&r, &self.e2)]
+        let r = v(p) - v(&self.origin);
+        [r.dot(&self.e1), r.dot(&self.e2)]
     }
     fn point(&self, q: [f64; 2]) -> V3 {
-        std::array::from_fn(|r| self.origin[r] + q[0] * self.e1[r] + q[1] * self.e2[r])
+        (v(&self.origin) + self.e1 * q[0] + self.e2 * q[1]).into()
     }
     /// The point of the polygon's edges nearest to `q` (in-plane coordinates) and its
     /// distance.
@@ -386,7 +377,7 @@ impl Polygon<'_> {
         covered: f64,
         area: f64,
     ) -> Option<V3> {
-        let near = |a: &V3, b: &V3| length(&sub(a, b)) <= self.tol;
+        let near = |a: &V3, b: &V3| (v(a) - v(b)).norm() <= self.tol;
         if let Some(c) = self
             .corners
             .iter()
