@@ -299,18 +299,8 @@ impl SimplexMesh<2> {
                 return Err(Error::FaultSidesNotSeparated { vertex: p });
             }
             let plus_group = g(plus_cell);
-            let q = vertices.len();
-            vertices.push(vertices[p]);
+            let q = add_plus_copy(p, around, &group, plus_group, &mut vertices, &mut cells);
             original.push(p);
-            for (s, &c) in around.iter().enumerate() {
-                if group[s] == plus_group {
-                    for v in &mut cells[3 * c..3 * c + 3] {
-                        if *v == p {
-                            *v = q;
-                        }
-                    }
-                }
-            }
             nodes.push((p, q));
         }
         let mut split = Self::new(vertices, cells)?;
@@ -444,6 +434,52 @@ impl SimplexMesh<2> {
 
 /// The sorted vertices of a facet (`D ≤ 3` entries), padded with `usize::MAX`: a key equal
 /// for every vertex order.
+/// Appends the plus copy `q` of fault vertex `p` (the same point) and renumbers `p` to
+/// `q` in the cells around it (`around`, each of `D + 1` vertices in the flat `cells`)
+/// whose `group` is `plus_group`; returns `q`.
+pub(crate) fn add_plus_copy<const D: usize>(
+    p: usize,
+    around: &[usize],
+    group: &[usize],
+    plus_group: usize,
+    vertices: &mut Vec<[f64; D]>,
+    cells: &mut [usize],
+) -> usize {
+    let q = vertices.len();
+    vertices.push(vertices[p]);
+    for (&c, _) in around.iter().zip(group).filter(|(_, &g)| g == plus_group) {
+        for v in &mut cells[(D + 1) * c..(D + 1) * c + D + 1] {
+            if *v == p {
+                *v = q;
+            }
+        }
+    }
+    q
+}
+
+impl<const D: usize> FaultSides<D> {
+    /// Checks that a mesh of `num_vertices` vertices can be the split mesh of these sides.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if a fault node's index is out of range.
+    pub(crate) fn check_split_mesh(&self, num_vertices: usize) -> Result<()> {
+        let need = self
+            .nodes
+            .iter()
+            .map(|&(m, p)| m.max(p) + 1)
+            .max()
+            .unwrap_or(0);
+        if need > num_vertices {
+            return Err(Error::DimensionMismatch {
+                what: "split mesh of the fault sides",
+                expected: need,
+                got: num_vertices,
+            });
+        }
+        Ok(())
+    }
+}
+
 pub(crate) fn facet_key(vertices: &[usize]) -> [usize; 3] {
     let mut k = [usize::MAX; 3];
     k[..vertices.len()].copy_from_slice(vertices);

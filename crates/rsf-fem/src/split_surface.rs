@@ -5,7 +5,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use nalgebra::Vector3;
 
-use crate::split::{cell_groups_around, facet_key, tag_split_facets};
+use crate::split::{add_plus_copy, cell_groups_around, facet_key, tag_split_facets};
 use crate::{Error, FaultSides, Result, SimplexMesh};
 
 type V3 = [f64; 3];
@@ -167,18 +167,8 @@ impl SimplexMesh<3> {
             {
                 return Err(Error::FaultSidesNotSeparated { vertex: p });
             }
-            let q = vertices.len();
-            vertices.push(vertices[p]);
+            let q = add_plus_copy(p, around, &group, plus_group, &mut vertices, &mut cells);
             original.push(p);
-            for (s, &c) in around.iter().enumerate() {
-                if group[s] == plus_group {
-                    for v in &mut cells[4 * c..4 * c + 4] {
-                        if *v == p {
-                            *v = q;
-                        }
-                    }
-                }
-            }
             nodes.push((p, q));
         }
         let mut split = Self::new(vertices, cells)?;

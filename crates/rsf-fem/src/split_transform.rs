@@ -57,19 +57,7 @@ impl FaultSides<2> {
             ));
         }
         let nv = mesh.num_vertices();
-        let need = self
-            .nodes()
-            .iter()
-            .map(|&(m, p)| m.max(p) + 1)
-            .max()
-            .unwrap_or(0);
-        if need > nv {
-            return Err(Error::DimensionMismatch {
-                what: "split mesh of the fault sides",
-                expected: need,
-                got: nv,
-            });
-        }
+        self.check_split_mesh(nv)?;
         let length = |k: usize| mesh.boundary_facet_measure(self.minus_facets()[k]);
         let edges = self.normals().len();
         let mut frames = Vec::new();
@@ -125,19 +113,7 @@ impl FaultSides<3> {
             ));
         }
         let nv = mesh.num_vertices();
-        let need = self
-            .nodes()
-            .iter()
-            .map(|&(m, p)| m.max(p) + 1)
-            .max()
-            .unwrap_or(0);
-        if need > nv {
-            return Err(Error::DimensionMismatch {
-                what: "split mesh of the fault sides",
-                expected: need,
-                got: nv,
-            });
-        }
+        self.check_split_mesh(nv)?;
         let nf = mesh.num_boundary_facets();
         if let Some(&f) = self
             .minus_facets()
