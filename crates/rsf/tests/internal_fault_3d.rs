@@ -161,6 +161,14 @@ impl rsf::Observer<3> for Slips {
             let scale = length(slip).max(1e-12);
             let d: [f64; 3] = std::array::from_fn(|c| slip[c] - jump[c]);
             assert!(length(d) < 1e-9 * scale, "{k}");
+            // Each side's own displacement at a split vertex (Model::vertex_value).
+            for side in [mi, pl] {
+                let own = s.displacement(side);
+                let size = (0..3).fold(1e-300f64, |m, c| m.max(u[3 * side + c].abs()));
+                for c in 0..3 {
+                    assert!((own[c] - u[3 * side + c]).abs() <= 1e-14 * size, "{k} {c}");
+                }
+            }
             // No opening: the jump is in the fault's plane (−(last column of R) = n).
             let r = f.transform.frames[k];
             let opening: f64 = (0..3).map(|c| jump[c] * r[c][2]).sum::<f64>().abs();
