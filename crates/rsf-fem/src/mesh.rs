@@ -263,6 +263,33 @@ impl<const D: usize> SimplexMesh<D> {
     pub fn num_cells(&self) -> usize {
         self.cells.len() / (D + 1)
     }
+    /// Every facet of the mesh (interior and boundary) once, in the order of the cells and,
+    /// within a cell, of the vertex each facet leaves out; a facet's `D` vertices in the
+    /// order of the first cell holding it (that cell without the left-out vertex).
+    pub fn facets(&self) -> Vec<[usize; D]> {
+        let mut seen = std::collections::HashSet::new();
+        let mut facets = Vec::with_capacity(self.num_cells() * (D + 1) / 2 + 1);
+        for c in 0..self.num_cells() {
+            let cell = self.cell(c);
+            for skip in 0..=D {
+                let mut f = [0; D];
+                for (slot, &v) in f.iter_mut().zip(
+                    cell.iter()
+                        .enumerate()
+                        .filter(|&(k, _)| k != skip)
+                        .map(|(_, v)| v),
+                ) {
+                    *slot = v;
+                }
+                let mut key = f;
+                key.sort_unstable();
+                if seen.insert(key) {
+                    facets.push(f);
+                }
+            }
+        }
+        facets
+    }
     /// Number of boundary facets.
     pub fn num_boundary_facets(&self) -> usize {
         self.facet_cell.len()

@@ -1,7 +1,7 @@
 //! Faults inside a 3-D body: a surface of mesh triangles cut open (docs/math.md §13,
 //! docs/faults-inside.md), the 3-D counterpart of `split.rs` with its conventions.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::{HashMap, VecDeque};
 
 use nalgebra::Vector3;
 
@@ -269,35 +269,23 @@ impl SimplexMesh<3> {
             .iter()
             .map(|p| (v(p) - v(&c0)).dot(&n).abs() <= tol)
             .collect();
-        let mut seen = HashSet::new();
         let mut faces = Vec::new();
         let mut covered = 0.0;
-        for c in 0..self.num_cells() {
-            let cell = self.cell(c);
-            for skip in 0..4 {
-                let mut f = [0; 3];
-                let mut k = 0;
-                for (r, &v) in cell.iter().enumerate() {
-                    if r != skip {
-                        f[k] = v;
-                        k += 1;
-                    }
-                }
-                if !f.iter().all(|&v| on_plane[v]) || !seen.insert(facet_key(&f)) {
-                    continue;
-                }
-                let centroid: V3 =
-                    std::array::from_fn(|r| f.iter().map(|&v| x[v][r]).sum::<f64>() / 3.0);
-                if !inside(plane(&centroid)) {
-                    continue;
-                }
-                let nf = area_normal(&x[f[0]], &x[f[1]], &x[f[2]]);
-                if nf.dot(&n) < 0.0 {
-                    f.swap(1, 2);
-                }
-                covered += 0.5 * nf.norm();
-                faces.push(f);
+        for mut f in self.facets() {
+            if !f.iter().all(|&v| on_plane[v]) {
+                continue;
             }
+            let centroid: V3 =
+                std::array::from_fn(|r| f.iter().map(|&v| x[v][r]).sum::<f64>() / 3.0);
+            if !inside(plane(&centroid)) {
+                continue;
+            }
+            let nf = area_normal(&x[f[0]], &x[f[1]], &x[f[2]]);
+            if nf.dot(&n) < 0.0 {
+                f.swap(1, 2);
+            }
+            covered += 0.5 * nf.norm();
+            faces.push(f);
         }
         // The faces tile the polygon iff they lie in it (they do not overlap: faces of a
         // conforming mesh) and cover its area.

@@ -316,3 +316,24 @@ fn refinement_of_a_near_degenerate_cell_is_an_error_not_a_panic() {
         Err(Error::DegenerateCell { .. })
     ));
 }
+
+/// `facets()` lists every facet once: each interior facet is shared by two cells and each
+/// boundary facet belongs to one, so 4·cells = 2·interior + boundary; and every boundary
+/// facet is among them.
+#[test]
+fn facets_lists_every_facet_once() {
+    let mesh = cuboid([0.0; 3], [1.0, 2.0, 3.0], [3, 4, 5]).unwrap();
+    let facets = mesh.facets();
+    let boundary = mesh.num_boundary_facets();
+    assert_eq!(2 * facets.len(), 4 * mesh.num_cells() + boundary);
+    let key = |f: &[usize]| {
+        let mut k = f.to_vec();
+        k.sort_unstable();
+        k
+    };
+    let all: std::collections::HashSet<Vec<usize>> = facets.iter().map(|f| key(f)).collect();
+    assert_eq!(all.len(), facets.len());
+    for b in 0..boundary {
+        assert!(all.contains(&key(mesh.boundary_facet(b))));
+    }
+}

@@ -515,20 +515,10 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
 
 /// The faces of `mesh` whose three vertices satisfy `on` (a convex piece of a plane).
 fn faces_where(mesh: &SimplexMesh<3>, on: impl Fn(&[f64; 3]) -> bool) -> Vec<[usize; 3]> {
-    let mut seen = std::collections::HashSet::new();
-    let mut faces = Vec::new();
-    for c in 0..mesh.num_cells() {
-        let cell = mesh.cell(c);
-        for skip in 0..4 {
-            let face: Vec<usize> = (0..4).filter(|&k| k != skip).map(|k| cell[k]).collect();
-            let mut key = face.clone();
-            key.sort_unstable();
-            if face.iter().all(|&v| on(&mesh.vertices()[v])) && seen.insert(key) {
-                faces.push([face[0], face[1], face[2]]);
-            }
-        }
-    }
-    faces
+    mesh.facets()
+        .into_iter()
+        .filter(|f| f.iter().all(|&v| on(&mesh.vertices()[v])))
+        .collect()
 }
 
 /// The sheared cube with the fault given as coarse faces (`internal_fault_faces`).

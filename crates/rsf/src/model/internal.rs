@@ -425,36 +425,18 @@ pub(crate) fn faces_on_levels(
             on_fault.insert(k);
         }
         // Fine faces, each once, in the order of the cells.
-        let fine = hierarchy.level(j);
-        let mut seen = std::collections::HashSet::new();
         let mut found = Vec::new();
-        for c in 0..fine.num_cells() {
-            let cell = fine.cell(c);
-            for skip in 0..4 {
-                let mut face = [0; 3];
-                let mut n = 0;
-                for (k, &v) in cell.iter().enumerate() {
-                    if k != skip {
-                        face[n] = v;
-                        n += 1;
-                    }
-                }
-                let mut key = face;
-                key.sort_unstable();
-                if !seen.insert(key) {
-                    continue;
-                }
-                let mut support: Vec<usize> = face
-                    .iter()
-                    .flat_map(|&v| parents[v].iter().copied())
-                    .collect();
-                support.sort_unstable();
-                support.dedup();
-                // A child of a coarse face interpolates from exactly its three vertices.
-                if let [a, b, c] = support[..] {
-                    if on_fault.contains(&[a, b, c]) {
-                        found.push(face);
-                    }
+        for face in hierarchy.level(j).facets() {
+            let mut support: Vec<usize> = face
+                .iter()
+                .flat_map(|&v| parents[v].iter().copied())
+                .collect();
+            support.sort_unstable();
+            support.dedup();
+            // A child of a coarse face interpolates from exactly its three vertices.
+            if let [a, b, c] = support[..] {
+                if on_fault.contains(&[a, b, c]) {
+                    found.push(face);
                 }
             }
         }
