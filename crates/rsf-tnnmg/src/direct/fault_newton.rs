@@ -24,6 +24,7 @@ use faer::linalg::cholesky::llt::factor::{
 use faer::{Mat, Par};
 use rsf_linalg::Parallelism;
 
+use super::norm_bounds::{euclidean, NormBounds, NORM_BOUNDS_MIN};
 use crate::error::{Error, Result};
 use crate::nonlinearity::{BlockNonlinearity, Linearization};
 use crate::report::{SolveReport, Stopping};
@@ -40,6 +41,12 @@ pub(super) struct DenseFault<const D: usize> {
     /// diagonal; None if it could not be factorised): `‖x‖² = ‖Lᵀx‖²` costs half the `m²`
     /// of `xᵀ N x`.
     norm_factor: Option<Vec<f64>>,
+    /// Bounds of the stopping norm by the Euclidean one (None: not set up yet; `Some(None)`:
+    /// not used, for small or ill-conditioned factors).
+    norm_bounds: Option<Option<NormBounds>>,
+    /// Evaluations of the stopping norm (tests count them).
+    #[cfg(test)]
+    norm_evaluations: std::sync::atomic::AtomicUsize,
     /// Free component `i` ↦ position `D k + c` in the block vector.
     comp: Vec<usize>,
     /// Free components of block `k`: `first[k]..first[k + 1]`.
@@ -113,6 +120,9 @@ impl<const D: usize> DenseFault<D> {
             s,
             norm,
             norm_factor,
+            norm_bounds: None,
+            #[cfg(test)]
+            norm_evaluations: Default::default(),
             comp,
             first,
             free,
@@ -169,6 +179,25 @@ impl<const D: usize> DenseFault<D> {
         self.factored.len()
     }
 
+    /// Turns the bounds of the stopping norm off (every test evaluates the norm).
+    #[cfg(test)]
+    pub(super) fn without_norm_bounds(&mut self) {
+        self.norm_bounds = Some(None);
+    }
+
+    /// The bounds of the stopping norm (None before the first solve or where not used).
+    #[cfg(test)]
+    pub(super) fn norm_bounds(&self) -> Option<NormBounds> {
+        self.norm_bounds.flatten()
+    }
+
+    /// Evaluations of the stopping norm so far.
+    #[cfg(test)]
+    pub(super) fn norm_evaluations(&self) -> usize {
+        self.norm_evaluations
+            .load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// Number of free components.
     pub(super) fn num_free(&self) -> usize {
         self.m
@@ -182,6 +211,9 @@ impl<const D: usize> DenseFault<D> {
     /// `‖x‖` in the stopping norm for a vector on the free components.
     #[inline(always)]
     fn norm_of(&self, x: &[f64]) -> f64 {
+        #[cfg(test)]
+        self.norm_evaluations
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let m = self.m;
         let x = &x[..m];
         if let Some(l) = &self.norm_factor {
@@ -527,7 +559,33 @@ impl<const D: usize> DenseFault<D> {
     ) -> Result<SolveReport> {
         // The dense loops compiled for the machine's SIMD level (pulp, chosen at run time);
         // the order of every floating-point operation is fixed, so the results are too.
-        pulp::Arch::new().dispatch(|| self.solve_kernel(nl, stopping))
+        pulp::Arch::new().dispatch(Kernel {
+            fault: self,
+            nl,
+            stopping,
+        })
+    }
+
+    /// The bounds of the stopping norm, set up on first use (see [`NormBounds`]).
+    fn bounds(&mut self) -> Option<NormBounds> {
+        if self.norm_bounds.is_none() {
+            let bounds = match &self.norm_factor {
+                Some(l) if self.m >= NORM_BOUNDS_MIN => NormBounds::of_factor(l, self.m),
+                _ => None,
+            };
+            self.norm_bounds = Some(bounds);
+        }
+        self.norm_bounds.flatten()
+    }
+
+    /// `‖x‖₂` of the current iterate on the free components.
+    #[inline(always)]
+    fn euclidean_iterate(&self) -> f64 {
+        self.comp
+            .iter()
+            .map(|&p| self.xb[p] * self.xb[p])
+            .sum::<f64>()
+            .sqrt()
     }
 
     #[inline(always)]
@@ -545,6 +603,7 @@ impl<const D: usize> DenseFault<D> {
             self.residual();
             self.residual_valid = true;
         }
+        let bounds = self.bounds();
         let mut correction = f64::INFINITY;
         for it in 1..=stopping.max_iterations {
             let mut x_old = std::mem::take(&mut self.x_old);
@@ -555,29 +614,55 @@ impl<const D: usize> DenseFault<D> {
             }
             // A sweep that changed nothing beyond the tolerance ends the iteration: the Newton
             // step would only confirm convergence (and the sweep's change is the correction).
-            correction = self.norm_of(&self.dx);
-            if correction > stopping.absolute {
+            // Where the norm's lower bound already exceeds the tolerance, the norm is not
+            // needed: the Newton step follows and its correction replaces the sweep's.
+            let sweep_large = match bounds {
+                Some(b) if b.lower * euclidean(&self.dx) > stopping.absolute => true,
+                _ => {
+                    correction = self.norm_of(&self.dx);
+                    correction > stopping.absolute
+                }
+            };
+            let mut certainly_not_met = false;
+            if sweep_large {
                 self.classify(nl);
                 self.newton(nl);
                 for i in 0..self.m {
                     self.dx[i] = self.xb[self.comp[i]] - x_old[i];
                 }
-                correction = self.norm_of(&self.dx);
+                // The stopping test cannot pass where the correction's lower bound exceeds
+                // the tolerance at the iterate's upper bound; the last iteration computes
+                // the norm regardless (it is reported).
+                certainly_not_met = it < stopping.max_iterations
+                    && bounds.is_some_and(|b| {
+                        b.lower * euclidean(&self.dx)
+                            > stopping.absolute
+                                + stopping.relative * b.upper * self.euclidean_iterate()
+                    });
+                if !certainly_not_met {
+                    correction = self.norm_of(&self.dx);
+                }
             }
             self.x_old = x_old;
             if self.xb.iter().any(|x| !x.is_finite()) {
                 return Err(Error::NonFinite("condensed iterate"));
             }
-            let norm_x = if stopping.relative > 0.0 {
-                let mut x = std::mem::take(&mut self.c);
-                self.gather(&mut x);
-                let nx = self.norm_of(&x);
-                self.c = x;
-                nx
-            } else {
-                0.0
-            };
-            if stopping.met(correction, norm_x) {
+            if certainly_not_met {
+                continue;
+            }
+            // The iterate's norm only where its lower bound does not already pass the test
+            // (the test is monotone in it).
+            let met = stopping.met(correction, 0.0)
+                || bounds
+                    .is_some_and(|b| stopping.met(correction, b.lower * self.euclidean_iterate()))
+                || (stopping.relative > 0.0 && {
+                    let mut x = std::mem::take(&mut self.c);
+                    self.gather(&mut x);
+                    let nx = self.norm_of(&x);
+                    self.c = x;
+                    stopping.met(correction, nx)
+                });
+            if met {
                 for i in 0..self.m {
                     self.dx[i] = self.xb[self.comp[i]] - self.x_start[i];
                 }
@@ -596,6 +681,25 @@ impl<const D: usize> DenseFault<D> {
             correction,
             tolerance: stopping.absolute,
         })
+    }
+}
+
+/// [`DenseFault::solve`] as a SIMD kernel: implementing [`pulp::WithSimd`] (rather than
+/// passing a closure) inlines the whole iteration into the function that pulp compiles for
+/// the machine's instruction set. A closure stayed a function of its own, compiled for the
+/// baseline (SSE2). Either way no operation is reordered or fused, so the bits are the same.
+struct Kernel<'a, N, const D: usize> {
+    fault: &'a mut DenseFault<D>,
+    nl: &'a N,
+    stopping: Stopping,
+}
+
+impl<N: BlockNonlinearity<D>, const D: usize> pulp::WithSimd for Kernel<'_, N, D> {
+    type Output = Result<SolveReport>;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        self.fault.solve_kernel(self.nl, self.stopping)
     }
 }
 
@@ -661,6 +765,12 @@ fn small_llt_params() -> faer::Spec<LltParams, f64> {
     let mut params: LltParams = faer::Auto::<f64>::auto();
     params.recursion_threshold = SMALL_LLT;
     params.into()
+}
+
+/// `‖Lᵀx‖` as the direct solver's stopping norm computes it (tests of its bounds).
+#[cfg(test)]
+pub(super) fn norm_via_factor(l: &[f64], x: &[f64]) -> f64 {
+    factor_norm_sq(l, x).sqrt()
 }
 
 /// `‖Lᵀx‖²` for the dense lower-triangular `L` stored by rows (`m × m` row-major, zero

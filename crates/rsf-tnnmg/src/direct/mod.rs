@@ -4,6 +4,7 @@ mod condensation;
 mod fault_newton;
 mod functionals;
 mod memory;
+mod norm_bounds;
 mod options;
 mod partial_cholesky;
 
@@ -644,6 +645,66 @@ mod tests {
         fn directional_derivatives(&self, _: usize, v: &[f64; 1], d: &[f64; 1]) -> (f64, f64) {
             let s = self.w * v[0] / (1.0 + v[0] * v[0]).sqrt() * d[0];
             (s, s)
+        }
+    }
+
+    /// The bounds of the stopping norm (direct/norm_bounds.rs) skip most of its evaluations
+    /// and change no bit: the same iterate, iterations, correction and change with and without
+    /// them, for an absolute and a relative stopping test, in several solves from the last
+    /// one's iterate (as a coupled time step makes them).
+    #[test]
+    fn norm_bounds_leave_the_bits_unchanged() {
+        let m = 40;
+        let a = memory::tests::grid(m);
+        let n = m * m;
+        let fixed = vec![false; n];
+        // 160 fault nodes (≥ NORM_BOUNDS_MIN), all soft.
+        let nl = Soft {
+            nodes: (18 * m..22 * m).collect(),
+            w: 2.0,
+        };
+        let run = |bounds: bool, stopping: Stopping| {
+            let opts = DirectOptions {
+                stopping,
+                ..DirectOptions::default()
+            };
+            let mut s = DirectSolver::<1>::new(a.as_ref(), &fixed, opts)
+                .unwrap()
+                .with_energy_norm(a.as_ref())
+                .unwrap();
+            s.prepare(&nl.nodes).unwrap();
+            if !bounds {
+                s.cache.as_mut().unwrap().fault.without_norm_bounds();
+            }
+            let mut v = vec![0.0; n];
+            let mut bits = Vec::new();
+            for solve in 0..4 {
+                let b: Vec<f64> = (0..n)
+                    .map(|i| (0.37 * i as f64 + solve as f64).sin() * 10f64.powi(solve - 1))
+                    .collect();
+                let report = s.solve(&b, &nl, &mut v).unwrap();
+                bits.extend(v.iter().map(|x| x.to_bits()));
+                bits.push(report.iterations as u64);
+                bits.push(report.correction.to_bits());
+                bits.push(s.last_change().to_bits());
+            }
+            let fault = &s.cache.as_ref().unwrap().fault;
+            assert_eq!(fault.norm_bounds().is_some(), bounds);
+            (bits, fault.norm_evaluations())
+        };
+        for stopping in [
+            DirectOptions::default().stopping,
+            Stopping {
+                absolute: 1e-10,
+                relative: 0.0,
+                max_iterations: 200,
+            },
+        ] {
+            let (with, evaluations) = run(true, stopping);
+            let (without, all_evaluations) = run(false, stopping);
+            assert!(with == without, "{stopping:?}");
+            println!("{stopping:?}: {evaluations} of {all_evaluations} norm evaluations");
+            assert!(evaluations < all_evaluations, "{stopping:?}");
         }
     }
 
