@@ -655,14 +655,9 @@ mod tests {
     #[test]
     fn norm_bounds_leave_the_bits_unchanged() {
         let m = 40;
-        let a = memory::tests::grid(m);
-        let n = m * m;
-        let fixed = vec![false; n];
         // 160 fault nodes (≥ NORM_BOUNDS_MIN), all soft.
-        let nl = Soft {
-            nodes: (18 * m..22 * m).collect(),
-            w: 2.0,
-        };
+        let (a, fixed, nl) = grid_with_fault(m, 18..22, 2.0);
+        let n = m * m;
         let run = |bounds: bool, stopping: Stopping| {
             let opts = DirectOptions {
                 stopping,
@@ -708,6 +703,21 @@ mod tests {
         }
     }
 
+    /// The `m × m` grid matrix, nothing fixed, and a fault of the grid rows `rows` with the
+    /// smooth nonlinearity of weight `w`.
+    fn grid_with_fault(
+        m: usize,
+        rows: std::ops::Range<usize>,
+        w: f64,
+    ) -> (faer::sparse::SparseColMat<usize, f64>, Vec<bool>, Soft) {
+        let nodes = (rows.start * m..rows.end * m).collect();
+        (
+            memory::tests::grid(m),
+            vec![false; m * m],
+            Soft { nodes, w },
+        )
+    }
+
     /// The parallelism survives a set-up, a later change and a set-up for another matrix.
     #[test]
     fn parallelism_reaches_every_part_of_the_solver() {
@@ -751,14 +761,9 @@ mod tests {
     #[test]
     fn direct_solver_is_bit_identical_for_every_thread_count() {
         let m = 80;
-        let a = memory::tests::grid(m);
-        let n = m * m;
-        let fixed = vec![false; n];
         // The fault: 13 grid rows in the middle.
-        let nl = Soft {
-            nodes: (40 * m..53 * m).collect(),
-            w: 1.0,
-        };
+        let (a, fixed, nl) = grid_with_fault(m, 40..53, 1.0);
+        let n = m * m;
         let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
         let run = |par: Parallelism, max_extension_bytes: usize| {
             let opts = DirectOptions {
