@@ -705,7 +705,7 @@ impl<N: BlockNonlinearity<D>, const D: usize> pulp::WithSimd for Kernel<'_, N, D
 
 /// The lower Cholesky factor of the SPD `m × m` column-major `a`, stored by rows (row-major,
 /// zero above the diagonal), or None if `a` is not numerically positive definite.
-fn lower_cholesky(a: &[f64], m: usize) -> Option<Vec<f64>> {
+pub(super) fn lower_cholesky(a: &[f64], m: usize) -> Option<Vec<f64>> {
     let mut l = Mat::from_fn(m, m, |i, j| if i >= j { a[j * m + i] } else { 0.0 });
     let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
         m,

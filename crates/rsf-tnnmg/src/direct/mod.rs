@@ -663,10 +663,7 @@ mod tests {
                 stopping,
                 ..DirectOptions::default()
             };
-            let mut s = DirectSolver::<1>::new(a.as_ref(), &fixed, opts)
-                .unwrap()
-                .with_energy_norm(a.as_ref())
-                .unwrap();
+            let mut s = energy_solver(&a, &fixed, opts);
             s.prepare(&nl.nodes).unwrap();
             if !bounds {
                 s.cache.as_mut().unwrap().fault.without_norm_bounds();
@@ -716,6 +713,18 @@ mod tests {
             vec![false; m * m],
             Soft { nodes, w },
         )
+    }
+
+    /// The direct solver of `a` with `opts`, its stopping norm `a`'s energy norm.
+    fn energy_solver(
+        a: &faer::sparse::SparseColMat<usize, f64>,
+        fixed: &[bool],
+        opts: DirectOptions,
+    ) -> DirectSolver<1> {
+        DirectSolver::<1>::new(a.as_ref(), fixed, opts)
+            .unwrap()
+            .with_energy_norm(a.as_ref())
+            .unwrap()
     }
 
     /// The parallelism survives a set-up, a later change and a set-up for another matrix.
@@ -770,11 +779,7 @@ mod tests {
                 max_extension_bytes,
                 ..DirectOptions::default()
             };
-            let mut s = DirectSolver::<1>::new(a.as_ref(), &fixed, opts)
-                .unwrap()
-                .with_energy_norm(a.as_ref())
-                .unwrap()
-                .with_parallelism(par);
+            let mut s = energy_solver(&a, &fixed, opts).with_parallelism(par);
             assert_eq!(s.parallelism(), par);
             let mut v = vec![0.0; n];
             let report = s.solve(&b, &nl, &mut v).unwrap();

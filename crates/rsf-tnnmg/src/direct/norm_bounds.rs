@@ -5,7 +5,7 @@
 //! `L` of the norm's matrix `N` (`m × m`): `m²/2` multiply–adds per evaluation, a pass over
 //! the factor. On the fault of SEAS BP1-FD at Δz = 25 m (`m = 1601`) these passes (three
 //! per iteration, one more per solve) took about 40 % of the time of a dynamic step in a
-//! profile (docs/seas-bp1-fd.md). Far from convergence, though, every test the
+//! profile (docs/performance.md, "The direct solver on a long fault"). Far from convergence, though, every test the
 //! iteration makes ("is the sweep's correction above the absolute tolerance?", "is the
 //! correction below the stopping tolerance?") has a certain answer, which a bound tells
 //! from `‖x‖₂` in `O(m)`.
@@ -94,30 +94,16 @@ pub(super) fn euclidean(x: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::NormBounds;
-    use crate::direct::fault_newton::norm_via_factor;
+    use crate::direct::fault_newton::{lower_cholesky, norm_via_factor};
 
     /// An `m × m` matrix by its entries.
     type Entries = Box<dyn Fn(usize, usize) -> f64>;
 
-    /// Row-major lower Cholesky factor of the `m × m` SPD matrix `a(i, j)`.
+    /// Row-major lower Cholesky factor of the `m × m` SPD matrix `a(i, j)`, as the solver
+    /// computes it.
     fn factor(m: usize, a: impl Fn(usize, usize) -> f64) -> Vec<f64> {
-        let mut l = vec![0.0; m * m];
-        for j in 0..m {
-            let mut d = a(j, j);
-            for k in 0..j {
-                d -= l[j * m + k] * l[j * m + k];
-            }
-            let d = d.sqrt();
-            l[j * m + j] = d;
-            for i in j + 1..m {
-                let mut s = a(i, j);
-                for k in 0..j {
-                    s -= l[i * m + k] * l[j * m + k];
-                }
-                l[i * m + j] = s / d;
-            }
-        }
-        l
+        let dense: Vec<f64> = (0..m * m).map(|k| a(k % m, k / m)).collect();
+        lower_cholesky(&dense, m).expect("SPD")
     }
 
     /// The bounds enclose the computed norm for vectors at both ends of its range: smooth
