@@ -100,10 +100,11 @@ struct Cli {
     /// it. (`--dense-threads` is an old name of this flag.)
     #[arg(long, default_value = "2", alias = "dense-threads", value_name = "N")]
     threads: rsf::Parallelism,
-    /// Node order of TNNMG's nonlinear smoother (`rsf::tnnmg::SmootherOrder`):
-    /// `lexicographic` (sequential, the trajectories before this flag) or `multicolour`
-    /// (parallel on `--threads`, bit-identical for every thread count, other round-off than
-    /// lexicographic).
+    /// Node order of TNNMG's smoothers (`rsf::tnnmg::SmootherOrder`): `lexicographic`
+    /// (sequential, the trajectories before this flag), `multicolour` (the nonlinear sweeps
+    /// on `--threads`) or `red-black-chunks` (the nonlinear sweeps and the linear
+    /// multigrid's fine level on `--threads`); both parallel orders are bit-identical for
+    /// every thread count, with other round-off than lexicographic.
     #[arg(long, default_value = "lexicographic", value_name = "ORDER")]
     smoother: rsf::tnnmg::SmootherOrder,
     /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must

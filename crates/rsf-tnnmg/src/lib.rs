@@ -26,9 +26,11 @@
 //! Internally the iterative solvers keep matrices in node-block storage (`D × D` blocks,
 //! 32-bit node indices, the upper and the lower triangle in separate arrays so that each
 //! Gauss–Seidel sweep streams half the matrix); results are deterministic (fixed
-//! summation order). TNNMG's nonlinear smoother runs node by node (the default) or colour
-//! by colour ([`SmootherOrder`], [`Colouring`]), the latter with the nodes of a colour on
-//! several threads and bit-identical iterates for every thread count.
+//! summation order). TNNMG's nonlinear smoother runs node by node (the default), colour
+//! by colour ([`SmootherOrder::MultiColour`], [`Colouring`]) or by red–black chunks of
+//! breadth-first levels ([`SmootherOrder::RedBlackChunks`], also the linear multigrid's
+//! fine-level smoother); the parallel orders run on several threads with bit-identical
+//! iterates for every thread count.
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.
@@ -59,6 +61,7 @@
 
 mod block;
 mod bsr;
+mod chunks;
 mod colouring;
 mod csc;
 mod direct;

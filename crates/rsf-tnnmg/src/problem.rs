@@ -2,10 +2,9 @@
 
 use faer::sparse::SparseColMatRef;
 
-use rayon::prelude::*;
-
-use crate::block::{load, masked_inverse, mul_vec, store, sub_mul_vec, Block};
+use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
+use crate::chunks::ChunkedSweep;
 use crate::colouring::Colouring;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
@@ -122,6 +121,32 @@ impl<const D: usize> NodalProblem<D> {
         });
     }
 
+    /// `sweeps` forward nonlinear block Gauss–Seidel sweeps in the red–black chunked order
+    /// of `chunked` (built on this problem's matrix), each node block minimised exactly as
+    /// in [`nonlinear_gauss_seidel`](Self::nonlinear_gauss_seidel); the chunks of one
+    /// colour on `par`'s threads, bit-identical for every thread count. Afterwards `b − A v`
+    /// in `res`.
+    pub(crate) fn nonlinear_gauss_seidel_chunked<N: BlockNonlinearity<D>>(
+        &self,
+        (b, blocks): (&[f64], ActiveBlocks<'_, N>),
+        (v, res): (&mut [f64], &mut [f64]),
+        sweeps: usize,
+        chunked: &mut ChunkedSweep<D>,
+        par: Parallelism,
+    ) {
+        let local = |p: usize, _: &Block<D>, s: &[f64; D], x: &mut [f64; D]| {
+            self.local_update(blocks, p, s, x)
+        };
+        let residual = Some(res);
+        chunked.smooth(
+            sweeps,
+            SweepOrder::from_x(false),
+            (v, b),
+            residual,
+            (par, local),
+        );
+    }
+
     /// The exact minimisation of block `p` with the others fixed: `s = b_p − Σ_{q≠p}
     /// A_pq v_q` is the block right-hand side with the off-block coupling, `x` holds `v_p`
     /// and receives the update.
@@ -168,43 +193,17 @@ impl<const D: usize> NodalProblem<D> {
         par: Parallelism,
         scratch: &mut [[f64; D]],
     ) {
-        for c in 0..colouring.num_colours() {
-            let list = colouring.colour(c);
-            let out = &mut scratch[..list.len()];
-            {
-                let v: &[f64] = v;
-                let update = |nodes: &[u32], out: &mut [[f64; D]]| {
-                    for (&p, o) in nodes.iter().zip(out.iter_mut()) {
-                        let p = p as usize;
-                        let mut s = load::<D>(b, p);
-                        for (q, blk) in self.a.neighbours(p) {
-                            sub_mul_vec(&mut s, blk, &load::<D>(v, q));
-                        }
-                        let mut x = load::<D>(v, p);
-                        self.local_update(blocks, p, &s, &mut x);
-                        *o = x;
-                    }
-                };
-                let threads = par.threads();
-                if threads > 1 && list.len() >= COLOUR_PARALLEL_MIN {
-                    let chunk = list.len().div_ceil(threads);
-                    out.par_chunks_mut(chunk)
-                        .zip(list.par_chunks(chunk))
-                        .for_each(|(o, l)| update(l, o));
-                } else {
-                    update(list, out);
-                }
+        colouring.sweep(v, false, scratch, par, |p, v| {
+            let mut s = load::<D>(b, p);
+            for (q, blk) in self.a.neighbours(p) {
+                sub_mul_vec(&mut s, blk, &load::<D>(v, q));
             }
-            for (&p, x) in list.iter().zip(out.iter()) {
-                store(v, p as usize, x);
-            }
-        }
+            let mut x = load::<D>(v, p);
+            self.local_update(blocks, p, &s, &mut x);
+            x
+        });
     }
 }
-
-/// Nodes of one colour below which a coloured sweep stays on one thread (a task costs a
-/// few microseconds; a node update a fraction of one).
-pub(crate) const COLOUR_PARALLEL_MIN: usize = 512;
 
 /// The nonlinear blocks of a sweep: the nonlinearity and, per node `p`, the position
 /// `active_of[p]` of its block in `nl.active_blocks()` (`usize::MAX` for a linear node).

@@ -1,8 +1,11 @@
 //! Truncated nonsmooth Newton multigrid (Gräser, Kornhuber, Sander).
 
+use std::sync::Arc;
+
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
 use crate::block::load;
+use crate::chunks::{ChunkedOrder, ChunkedSweep};
 use crate::colouring::{Colouring, SmootherOrder};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
@@ -48,11 +51,13 @@ pub struct TnnmgOptions {
     pub cycle_index: usize,
     /// Record `J(v_k)` in the report.
     pub record_energy: bool,
-    /// The node order of the nonlinear Gauss–Seidel sweeps (the fine-level smoother).
-    /// [`SmootherOrder::MultiColour`] also computes the residual after the sweeps row by
-    /// row on the solver's threads ([`Tnnmg::with_parallelism`]); both are bit-identical
-    /// for every thread count. Default [`SmootherOrder::Lexicographic`] (sequential, the
-    /// iterates of every trajectory before this option).
+    /// The node order of the nonlinear Gauss–Seidel sweeps (the fine-level smoother) and,
+    /// with [`SmootherOrder::RedBlackChunks`], of the linear multigrid's fine-level
+    /// smoother. [`SmootherOrder::MultiColour`] and [`SmootherOrder::RedBlackChunks`] also
+    /// compute the residual after the sweeps in their order, all on the solver's threads
+    /// ([`Tnnmg::with_parallelism`]), bit-identical for every thread count. Default
+    /// [`SmootherOrder::Lexicographic`] (sequential, the iterates of every trajectory before
+    /// this option).
     pub smoother: SmootherOrder,
 }
 
@@ -127,6 +132,8 @@ pub struct Tnnmg<const D: usize> {
     colouring: Option<Colouring>,
     /// Block updates of one colour (length of the largest colour; empty without colouring).
     colour_scratch: Vec<[f64; D]>,
+    /// The nonlinear sweeps' chunked order ([`SmootherOrder::RedBlackChunks`] only).
+    chunked: Option<ChunkedSweep<D>>,
     parallelism: Parallelism,
 }
 
@@ -170,7 +177,7 @@ impl<const D: usize> Tnnmg<D> {
             .iter()
             .map(|p| Csc::from_faer(p.as_ref()))
             .collect::<Result<Vec<_>>>()?;
-        let mg = LinearMultigrid::new(
+        let mut mg = LinearMultigrid::new(
             m.a.clone(),
             prolongations,
             CycleShape {
@@ -180,9 +187,14 @@ impl<const D: usize> Tnnmg<D> {
             },
         )?;
         let n = m.n();
-        let colouring = match opts.smoother {
-            SmootherOrder::Lexicographic => None,
-            SmootherOrder::MultiColour => Some(Colouring::of_blocks(&m.a)),
+        let (colouring, chunked) = match opts.smoother {
+            SmootherOrder::Lexicographic => (None, None),
+            SmootherOrder::MultiColour => (Some(Colouring::of_blocks(&m.a)), None),
+            SmootherOrder::RedBlackChunks => {
+                let order = Arc::new(ChunkedOrder::new(&m.a));
+                mg.chunk_fine_level(order.clone());
+                (None, Some(ChunkedSweep::new(order, &m.a.diag)))
+            }
         };
         let colour_scratch = vec![[0.0; D]; colouring.as_ref().map_or(0, |c| c.max_colour_len())];
         Ok(Self {
@@ -191,6 +203,7 @@ impl<const D: usize> Tnnmg<D> {
             mg,
             colouring,
             colour_scratch,
+            chunked,
             parallelism: Parallelism::SEQ,
             opts,
             active_of: Vec::new(),
@@ -205,11 +218,12 @@ impl<const D: usize> Tnnmg<D> {
         })
     }
 
-    /// Runs the parallel parts of [`SmootherOrder::MultiColour`] on `par`'s threads (default
-    /// [`Parallelism::SEQ`]); no effect with [`SmootherOrder::Lexicographic`]. The iterates
-    /// do not depend on it.
+    /// Runs the parallel parts of [`SmootherOrder::MultiColour`] and
+    /// [`SmootherOrder::RedBlackChunks`] on `par`'s threads (default [`Parallelism::SEQ`]);
+    /// no effect with [`SmootherOrder::Lexicographic`]. The iterates do not depend on it.
     pub fn with_parallelism(mut self, par: Parallelism) -> Self {
         self.parallelism = par;
+        self.mg.set_parallelism(par);
         self
     }
 
@@ -318,28 +332,38 @@ impl<const D: usize> Tnnmg<D> {
             nl,
             active_of: &self.active_of,
         };
-        match &self.colouring {
-            None => {
-                for _ in 0..self.opts.nonlinear_sweeps {
+        if let Some(chunked) = &mut self.chunked {
+            self.m.nonlinear_gauss_seidel_chunked(
+                (b, blocks),
+                (v, &mut self.res_a),
+                self.opts.nonlinear_sweeps,
+                chunked,
+                self.parallelism,
+            );
+        } else {
+            match &self.colouring {
+                None => {
+                    for _ in 0..self.opts.nonlinear_sweeps {
+                        self.m
+                            .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, false);
+                    }
+                    self.m.a.residual(b, v, &mut self.res_a, &mut self.w);
+                }
+                Some(colouring) => {
+                    for _ in 0..self.opts.nonlinear_sweeps {
+                        self.m.nonlinear_gauss_seidel_coloured(
+                            b,
+                            blocks,
+                            v,
+                            colouring,
+                            self.parallelism,
+                            &mut self.colour_scratch,
+                        );
+                    }
                     self.m
-                        .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, false);
+                        .a
+                        .residual_rows(b, v, &mut self.res_a, self.parallelism);
                 }
-                self.m.a.residual(b, v, &mut self.res_a, &mut self.w);
-            }
-            Some(colouring) => {
-                for _ in 0..self.opts.nonlinear_sweeps {
-                    self.m.nonlinear_gauss_seidel_coloured(
-                        b,
-                        blocks,
-                        v,
-                        colouring,
-                        self.parallelism,
-                        &mut self.colour_scratch,
-                    );
-                }
-                self.m
-                    .a
-                    .residual_rows(b, v, &mut self.res_a, self.parallelism);
             }
         }
         // Truncated linearisation at v, then the inexact linear correction H c = res.

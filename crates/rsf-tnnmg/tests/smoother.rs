@@ -1,6 +1,7 @@
-//! The multi-colour smoother (`SmootherOrder::MultiColour`): the colouring is proper on
-//! 2-D and 3-D P1 patterns, its iterates are bit-identical at 1, 2 and 4 threads, and it
-//! converges to the same minimiser as the lexicographic order and the direct solver.
+//! The parallel smoother orders (`SmootherOrder::MultiColour`, `RedBlackChunks`): the
+//! colouring is proper on 2-D and 3-D P1 patterns, their iterates are bit-identical at 1, 2
+//! and 4 threads, and they converge to the same minimiser as the lexicographic order and
+//! the direct solver.
 
 mod common;
 use common::*;
@@ -130,7 +131,11 @@ fn colouring_is_proper_on_p1_patterns() {
 
 #[test]
 fn smoother_order_names_round_trip() {
-    for s in [SmootherOrder::Lexicographic, SmootherOrder::MultiColour] {
+    for s in [
+        SmootherOrder::Lexicographic,
+        SmootherOrder::MultiColour,
+        SmootherOrder::RedBlackChunks,
+    ] {
         assert_eq!(s.to_string().parse::<SmootherOrder>().unwrap(), s);
     }
     assert!("red-black".parse::<SmootherOrder>().is_err());
@@ -151,10 +156,17 @@ fn options(smoother: SmootherOrder) -> TnnmgOptions {
 }
 
 /// 65² nodes: each of the two colours (over 2000 nodes) and the residual's rows are split
-/// between the threads; run inside a pool of 4 threads so that 4 tasks really run
-/// concurrently.
+/// between the threads, and so are the red–black chunks (of the nonlinear sweeps and of the
+/// linear multigrid's fine level); run inside a pool of 4 threads so that 4 tasks really
+/// run concurrently.
 #[test]
-fn multicolour_iterates_are_bit_identical_at_1_2_and_4_threads() {
+fn parallel_orders_give_bit_identical_iterates_at_1_2_and_4_threads() {
+    for order in [SmootherOrder::MultiColour, SmootherOrder::RedBlackChunks] {
+        bit_identical_at_1_2_and_4_threads(order);
+    }
+}
+
+fn bit_identical_at_1_2_and_4_threads(order: SmootherOrder) {
     let (m0, level) = (2, 5);
     let m = m0 << level;
     let a = square(m, 10.0);
@@ -167,16 +179,12 @@ fn multicolour_iterates_are_bit_identical_at_1_2_and_4_threads() {
         .build()
         .unwrap();
     let run = |threads: usize| {
-        let mut tn = Tnnmg::<1>::new(
-            a.as_ref(),
-            &fixed,
-            &hierarchy,
-            None,
-            options(SmootherOrder::MultiColour),
-        )
-        .unwrap()
-        .with_parallelism(Parallelism::rayon(threads));
-        assert_eq!(tn.colouring().unwrap().num_colours(), 2);
+        let mut tn = Tnnmg::<1>::new(a.as_ref(), &fixed, &hierarchy, None, options(order))
+            .unwrap()
+            .with_parallelism(Parallelism::rayon(threads));
+        if order == SmootherOrder::MultiColour {
+            assert_eq!(tn.colouring().unwrap().num_colours(), 2);
+        }
         let mut v = vec![0.0; b.len()];
         let report = pool.install(|| tn.solve(&b, &nl, &mut v)).unwrap();
         (v, report)
@@ -185,22 +193,23 @@ fn multicolour_iterates_are_bit_identical_at_1_2_and_4_threads() {
     assert!(r1.iterations >= 3, "{} iterations", r1.iterations);
     for threads in [2, 4] {
         let (v, r) = run(threads);
-        assert_eq!(r.iterations, r1.iterations);
+        assert_eq!(r.iterations, r1.iterations, "{order}");
         let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(
             bits(r.energy.as_ref().unwrap()),
             bits(r1.energy.as_ref().unwrap()),
-            "{threads} threads"
+            "{order}, {threads} threads"
         );
-        assert_eq!(bits(&v), bits(&v1), "{threads} threads");
+        assert_eq!(bits(&v), bits(&v1), "{order}, {threads} threads");
     }
 }
 
-/// MultiColour, Lexicographic and the direct solver (condensation plus Newton: no
-/// Gauss–Seidel at all) agree to the stopping tolerance on the stick-slip problem, with
-/// both stick and slip nodes present; MultiColour's energy never increases.
+/// MultiColour, RedBlackChunks, Lexicographic and the direct solver (condensation plus
+/// Newton: no Gauss–Seidel at all) agree to the stopping tolerance on the stick-slip
+/// problem, with both stick and slip nodes present; the parallel orders' energy never
+/// increases.
 #[test]
-fn multicolour_converges_to_the_lexicographic_minimiser() {
+fn parallel_orders_converge_to_the_lexicographic_minimiser() {
     let m0 = 2;
     for level in 2..=4 {
         let m = m0 << level;
@@ -218,29 +227,24 @@ fn multicolour_converges_to_the_lexicographic_minimiser() {
             (v, r)
         };
         let (v_lex, _) = solve(SmootherOrder::Lexicographic);
-        let (v_mc, r_mc) = solve(SmootherOrder::MultiColour);
-        assert!(r_mc
-            .energy
-            .as_ref()
-            .unwrap()
-            .windows(2)
-            .all(|w| w[1] <= w[0] + 1e-14 * w[0].abs()));
         let mut direct =
             DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default()).unwrap();
         let mut v_d = vec![0.0; b.len()];
         direct.solve(&b, &nl, &mut v_d).unwrap();
         let diff = |x: &[f64], y: &[f64]| relative_energy_distance(&a, x, y, &v_d);
-        assert!(
-            diff(&v_mc, &v_d) < 1e-9,
-            "level {level}: {}",
-            diff(&v_mc, &v_d)
-        );
-        assert!(
-            diff(&v_mc, &v_lex) < 1e-9,
-            "level {level}: {}",
-            diff(&v_mc, &v_lex)
-        );
-        assert_ne!(v_mc, v_lex, "another order gives other rounding");
+        for order in [SmootherOrder::MultiColour, SmootherOrder::RedBlackChunks] {
+            let (v, r) = solve(order);
+            assert!(r
+                .energy
+                .as_ref()
+                .unwrap()
+                .windows(2)
+                .all(|w| w[1] <= w[0] + 1e-14 * w[0].abs()));
+            let (to_direct, to_lex) = (diff(&v, &v_d), diff(&v, &v_lex));
+            assert!(to_direct < 1e-9, "{order}, level {level}: {to_direct}");
+            assert!(to_lex < 1e-9, "{order}, level {level}: {to_lex}");
+            assert_ne!(v, v_lex, "{order}: another order gives other rounding");
+        }
         let stick = nl.nodes.iter().filter(|&&p| v_d[p] == 0.0).count();
         assert!(stick > 0 && stick < nl.nodes.len());
     }

@@ -12,12 +12,13 @@ use rsf::{Parallelism, SolverKind};
 #[test]
 fn the_parallelism_reaches_the_solver_and_the_integrator() {
     assert_eq!(SolverOptions::default().parallelism, Parallelism::default());
-    use rsf::tnnmg::SmootherOrder::{Lexicographic, MultiColour};
+    use rsf::tnnmg::SmootherOrder::{Lexicographic, MultiColour, RedBlackChunks};
     for (solver, par, smoother) in [
         (SolverKind::Direct, Parallelism::rayon(3), Lexicographic),
         (SolverKind::Direct, Parallelism::SEQ, Lexicographic),
         (SolverKind::Tnnmg, Parallelism::rayon(4), Lexicographic),
         (SolverKind::Tnnmg, Parallelism::rayon(3), MultiColour),
+        (SolverKind::Tnnmg, Parallelism::rayon(2), RedBlackChunks),
     ] {
         let scene = paper(2, solver);
         let mut options = SolverOptions {
@@ -34,8 +35,8 @@ fn the_parallelism_reaches_the_solver_and_the_integrator() {
         let method = sim.method();
         assert_eq!(method.options().solver_options.parallelism, par);
         assert_eq!(method.parallelism(), par);
-        // TNNMG takes the threads with the multi-colour smoother only.
-        let expected = (solver == SolverKind::Direct || smoother == MultiColour).then_some(par);
+        // TNNMG takes the threads with the parallel smoother orders only.
+        let expected = (solver == SolverKind::Direct || smoother != Lexicographic).then_some(par);
         assert_eq!(method.solver_parallelism(), expected, "{solver}");
         sim.step().unwrap();
         assert_eq!(sim.method().solver_parallelism(), expected);

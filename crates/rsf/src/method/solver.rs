@@ -181,9 +181,10 @@ pub struct SolverOptions {
     /// harmonic extension (from [`rsf_tnnmg::INTERIOR_PARALLEL_MIN`] interior unknowns),
     /// its dense Newton factorisations (from [`rsf_tnnmg::DENSE_PARALLEL_MIN`] unknowns)
     /// and the integrator's right-hand side rows (from
-    /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows), and TNNMG's multi-colour smoother and
-    /// residual when `tnnmg.smoother` is [`rsf_tnnmg::SmootherOrder::MultiColour`]. TNNMG's
-    /// default lexicographic smoother and Gauss–Seidel are sequential.
+    /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows), and TNNMG's smoothers and residuals when
+    /// `tnnmg.smoother` is [`rsf_tnnmg::SmootherOrder::MultiColour`] (the nonlinear sweeps)
+    /// or [`rsf_tnnmg::SmootherOrder::RedBlackChunks`] (also the linear multigrid's fine
+    /// level). TNNMG's default lexicographic smoother and Gauss–Seidel are sequential.
     /// Results are bit-identical for every value. Default [`Parallelism::default`] (two
     /// threads of rayon's pool, the behaviour before this option).
     pub parallelism: Parallelism,
@@ -233,7 +234,7 @@ impl<const C: usize> VelocitySolver<C> {
         match self {
             VelocitySolver::Direct(d) => Some(d.parallelism()),
             VelocitySolver::Tnnmg(t)
-                if t.inner().options().smoother == rsf_tnnmg::SmootherOrder::MultiColour =>
+                if t.inner().options().smoother != rsf_tnnmg::SmootherOrder::Lexicographic =>
             {
                 Some(t.inner().parallelism())
             }
