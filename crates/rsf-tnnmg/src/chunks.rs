@@ -57,6 +57,18 @@ impl<const D: usize> PositionRows<D> {
         self.ptr.push(self.pos.len());
     }
 
+    /// `w_{pos_k − first} −= B_kᵀ y` over row `i` (the transposed couplings of position
+    /// `i` pushed into the chunk starting at position `first`).
+    #[inline(always)]
+    fn push_row(&self, i: usize, first: usize, y: &[f64; D], w: &mut [f64]) {
+        for (j, blk) in self.row(i) {
+            let m = j - first;
+            let mut wm = load::<D>(w, m);
+            sub_mul_t_vec(&mut wm, blk, y);
+            store(w, m, &wm);
+        }
+    }
+
     #[inline(always)]
     fn row(&self, i: usize) -> impl Iterator<Item = (usize, &Block<D>)> {
         let r = self.ptr[i]..self.ptr[i + 1];
@@ -65,6 +77,18 @@ impl<const D: usize> PositionRows<D> {
             .zip(&self.val[r])
             .map(|(&j, b)| (j as usize, b))
     }
+}
+
+/// Block `l` of `w` plus `r` (in this order, as the lexicographic sweep adds them),
+/// leaving zeros behind in `w`.
+#[inline(always)]
+fn take_plus<const D: usize>(w: &mut [f64], l: usize, r: &[f64; D]) -> [f64; D] {
+    let mut s = load::<D>(w, l);
+    w[D * l..D * l + D].fill(0.0);
+    for c in 0..D {
+        s[c] += r[c];
+    }
+    s
 }
 
 /// The breadth-first order of the node graph of `a` from `start`, continued from the
@@ -378,12 +402,7 @@ impl<const D: usize> ChunkedSweep<D> {
                     for step in 0..len {
                         let l = if sweep.reverse { len - 1 - step } else { step };
                         let i = first + l;
-                        let mut s = load::<D>(w, l);
-                        w[D * l..D * l + D].fill(0.0);
-                        let r = load::<D>(rs, i);
-                        for c in 0..D {
-                            s[c] += r[c];
-                        }
+                        let mut s = take_plus(w, l, &load::<D>(rs, i));
                         let mut xi = [0.0; D];
                         if !sweep.zero_start {
                             // (From x = 0 the nodes not yet visited contribute nothing.)
@@ -397,12 +416,7 @@ impl<const D: usize> ChunkedSweep<D> {
                         }
                         local(chunked.perm[i] as usize, &local_block[i], &s, &mut xi);
                         store(x, l, &xi);
-                        for (j, blk) in inside.row(i) {
-                            let m = j - first;
-                            let mut wj = load::<D>(w, m);
-                            sub_mul_t_vec(&mut wj, blk, &xi);
-                            store(w, m, &wj);
-                        }
+                        inside.push_row(i, first, &xi, w);
                     }
                 });
             }
@@ -418,12 +432,7 @@ impl<const D: usize> ChunkedSweep<D> {
                 for l in 0..chunked.bounds[k + 1] - first {
                     let i = first + l;
                     let xi = load::<D>(xs, i);
-                    let mut s = load::<D>(w, l);
-                    w[D * l..D * l + D].fill(0.0);
-                    let rr = load::<D>(r, l);
-                    for c in 0..D {
-                        s[c] += rr[c];
-                    }
+                    let mut s = take_plus(w, l, &load::<D>(r, l));
                     sub_mul_vec(&mut s, &diag[i], &xi);
                     for (j, blk) in chunked.ahead.row(i) {
                         sub_mul_vec(&mut s, blk, &load::<D>(xs, j));
@@ -432,12 +441,7 @@ impl<const D: usize> ChunkedSweep<D> {
                         sub_mul_vec(&mut s, blk, &load::<D>(xs, j));
                     }
                     store(r, l, &s);
-                    for (j, blk) in chunked.ahead.row(i) {
-                        let m = j - first;
-                        let mut wj = load::<D>(w, m);
-                        sub_mul_t_vec(&mut wj, blk, &xi);
-                        store(w, m, &wj);
-                    }
+                    chunked.ahead.push_row(i, first, &xi, w);
                 }
             });
             for (i, &p) in chunked.perm.iter().enumerate() {
