@@ -1,9 +1,9 @@
 //! Truncated linear multigrid on a hierarchy of Galerkin operators in node-block storage.
 
-use crate::block::{masked_inverse, mul_vec, Block};
-use crate::bsr::{BlockCsr, SweepOrder};
 use std::sync::Arc;
 
+use crate::block::{masked_inverse, mul_vec, Block};
+use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedOrder, ChunkedSweep};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
@@ -77,9 +77,9 @@ impl<const D: usize> Level<D> {
     /// `sweeps` block Gauss–Seidel sweeps on `a x = rhs` (forward, or backward when
     /// `order.reverse`), starting from `x = 0` when `order.zero_start` (whatever `x` holds);
     /// afterwards `rhs − a x` in `res` when `residual` is set. Masked entries of `x` must be
-    /// 0 unless `zero_start` (they are 0 afterwards). A chunked level sweeps in its chunked
-    /// order and computes the residual by full rows, both on `par`'s threads with the same
-    /// bits for every thread count.
+    /// 0 unless `zero_start` (they are 0 afterwards). A chunked level sweeps and computes
+    /// the residual in its chunked order (by full rows without sweeps), on `par`'s threads
+    /// with the same bits for every thread count.
     fn smooth(&mut self, sweeps: usize, order: SweepOrder, residual: bool, par: Parallelism) {
         let Self {
             a,
@@ -148,7 +148,7 @@ pub(crate) struct LinearMultigrid<const D: usize> {
     variable: Vec<Vec<usize>>,
     /// Per Galerkin operator `l`: the fine (`T`) rows to recompute incrementally.
     t_rows: Vec<Vec<usize>>,
-    /// Threads of the coloured smoothers and residuals.
+    /// Threads of the chunked fine level's sweeps and residuals.
     par: Parallelism,
 }
 
