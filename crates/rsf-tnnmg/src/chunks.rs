@@ -574,26 +574,25 @@ mod tests {
                     store(&mut y, p, &mul_vec(&s[p], &r));
                 }
             }
-            let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let err = x
-                .iter()
-                .zip(&y)
-                .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
+            let (err, scale) = (max_diff(&x, &y), max_diff(&y, &vec![0.0; n]));
             assert!(err <= 1e-14 * scale, "{reverse} {zero_start}: {err:e}");
             assert!(c.w.iter().all(|&v| v == 0.0));
             // The residual against one by full rows.
             let mut full = vec![0.0; n];
             a.residual_rows(&rhs, &x, &mut full, Parallelism::SEQ);
-            let rscale = full.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let rerr = res
-                .iter()
-                .zip(&full)
-                .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
+            let (rerr, rscale) = (max_diff(&res, &full), max_diff(&full, &vec![0.0; n]));
             assert!(rerr <= 1e-13 * rscale, "residual {rerr:e} of {rscale:e}");
         }
     }
 
     const D2: usize = 2;
+
+    /// `max |u_i − v_i|`.
+    fn max_diff(u: &[f64], v: &[f64]) -> f64 {
+        u.iter()
+            .zip(v)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+    }
 
     /// The same bits on 1, 2 and 4 threads (in a pool of 4).
     #[test]
