@@ -16,6 +16,7 @@ use std::sync::Arc;
 use crate::block::{load, mul_vec, store, sub_mul_t_vec, sub_mul_vec, Block};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
+use crate::reduce::ordered_sum;
 use crate::Parallelism;
 
 /// Nodes below which [`BlockCsr::residual_rows`] stays on one thread.
@@ -263,20 +264,28 @@ impl<const D: usize> BlockCsr<D> {
 
     /// `xᵀ A x` (one pass over the upper triangle).
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
-        let mut total = 0.0;
-        for p in 0..self.nodes() {
+        self.quadratic_form_par(x, Parallelism::SEQ, &mut Vec::new())
+    }
+
+    /// [`quadratic_form`](Self::quadratic_form) with the rows' terms computed on `par`'s
+    /// threads and added in the sequential order ([`ordered_sum`]): the same bits for
+    /// every thread count. `scratch` (one entry per node) is kept by the caller.
+    pub fn quadratic_form_par(
+        &self,
+        x: &[f64],
+        par: Parallelism,
+        scratch: &mut Vec<Option<[f64; D]>>,
+    ) -> f64 {
+        ordered_sum(self.nodes(), par, scratch, |p| {
             let xp = load::<D>(x, p);
             if xp.iter().all(|&v| v == 0.0) {
-                continue;
+                return None;
             }
             let d = mul_vec(&self.diag[p], &xp);
             let mut s = [0.0; D];
             self.upper.sub_row(p, x, &mut s);
-            for c in 0..D {
-                total += xp[c] * (d[c] - 2.0 * s[c]);
-            }
-        }
-        total
+            Some(std::array::from_fn(|c| xp[c] * (d[c] - 2.0 * s[c])))
+        })
     }
 
     /// One Gauss–Seidel sweep over the nodes (increasing order, or decreasing when
@@ -427,7 +436,10 @@ mod tests {
         let want: Vec<f64> = rhs.iter().zip(&ax).map(|(r, y)| r - y).collect();
         assert!(close(&res, &want));
         let q = b.quadratic_form(&x);
-        assert!((q - a.quadratic_form(&x)).abs() < 1e-12 * q.abs());
+        assert!(
+            (q - a.quadratic_form_par(&x, Parallelism::SEQ, &mut Vec::new())).abs()
+                < 1e-12 * q.abs()
+        );
         let (mut c, map) = b.csc_pattern();
         for (v, &k) in c.val.iter_mut().zip(&map) {
             *v = b.flat_value(k);

@@ -172,12 +172,25 @@ impl<const D: usize> ChunkedOrder<D> {
         while 2 * chunks <= CHUNKS_MAX && 2 * chunks * LEVELS_PER_CHUNK <= levels {
             chunks *= 2;
         }
-        let target = nodes.div_ceil(chunks).max(1);
+        // Chunk k + 1 starts at the level start nearest to (k + 1)·nodes/chunks after the
+        // start of chunk k: nearly equal node counts, so that every thread of a colour has
+        // the same work (closing each chunk once it held nodes/chunks left the last one
+        // with the accumulated shortfall: 1 156 nodes against 3 179 at 3-D j = 4).
+        let level_starts: Vec<usize> = (1..nodes)
+            .filter(|&i| level[perm[i] as usize] != level[perm[i - 1] as usize])
+            .collect();
         let mut bounds = vec![0];
-        for i in 1..nodes {
-            let (prev, cur) = (perm[i - 1] as usize, perm[i] as usize);
-            if level[cur] != level[prev] && i - bounds.last().expect("non-empty") >= target {
-                bounds.push(i);
+        for k in 1..chunks {
+            let target = k * nodes / chunks;
+            let last = *bounds.last().expect("non-empty");
+            let nearest = level_starts
+                .iter()
+                .copied()
+                .filter(|&i| i > last)
+                .min_by_key(|&i| i.abs_diff(target));
+            match nearest {
+                Some(i) => bounds.push(i),
+                None => break,
             }
         }
         bounds.push(nodes);
@@ -374,14 +387,11 @@ impl<const D: usize> ChunkedSweep<D> {
         } = self;
         let (diag, local_block): (&[Block<D>], &[Block<D>]) = (diag, local_block);
         let chunked = &**chunked;
-        for (i, &p) in chunked.perm.iter().enumerate() {
-            store(rs, i, &load::<D>(rhs, p as usize));
-            let xp = if order.zero_start {
-                [0.0; D]
-            } else {
-                load::<D>(x, p as usize)
-            };
-            store(xs, i, &xp);
+        gather::<D>(rs, rhs, &chunked.perm, par);
+        if order.zero_start {
+            xs.fill(0.0);
+        } else {
+            gather::<D>(xs, x, &chunked.perm, par);
         }
         for k in 0..sweeps {
             let sweep = SweepOrder {
@@ -421,9 +431,7 @@ impl<const D: usize> ChunkedSweep<D> {
                 });
             }
         }
-        for (i, &p) in chunked.perm.iter().enumerate() {
-            store(x, p as usize, &load::<D>(xs, i));
-        }
+        gather::<D>(x, xs, &chunked.pos_of, par);
         if let Some(res) = residual {
             let xs: &[f64] = xs;
             // rhs − A x in positions, into `rs` (each position reads its own entry only).
@@ -444,10 +452,32 @@ impl<const D: usize> ChunkedSweep<D> {
                     chunked.ahead.push_row(i, first, &xi, w);
                 }
             });
-            for (i, &p) in chunked.perm.iter().enumerate() {
-                store(res, p as usize, &load::<D>(rs, i));
-            }
+            gather::<D>(res, rs, &chunked.pos_of, par);
         }
+    }
+}
+
+/// Nodes below which [`gather`] stays on the calling thread.
+const GATHER_PARALLEL_MIN: usize = 4096;
+
+/// `dst_i = src_{idx_i}` for the node blocks `i` of `dst` (between node numbers and
+/// positions: `idx` is `perm` or `pos_of`), on `par`'s threads in contiguous ranges of `i`;
+/// copies, so the same bits for every thread count.
+fn gather<const D: usize>(dst: &mut [f64], src: &[f64], idx: &[u32], par: Parallelism) {
+    let copy = |(k, out): (usize, &mut [f64]), chunk: usize| {
+        for (j, o) in out.chunks_exact_mut(D).enumerate() {
+            o.copy_from_slice(&src[D * idx[k * chunk + j] as usize..][..D]);
+        }
+    };
+    let nodes = idx.len();
+    let threads = par.threads();
+    if threads > 1 && nodes >= GATHER_PARALLEL_MIN {
+        let chunk = nodes.div_ceil(threads);
+        dst.par_chunks_mut(D * chunk)
+            .enumerate()
+            .for_each(|c| copy(c, chunk));
+    } else {
+        copy((0, dst), nodes);
     }
 }
 

@@ -5,6 +5,8 @@
 //! allocation-free loops over a fixed pattern.
 
 use crate::error::{Error, Result};
+use crate::reduce::ordered_sum;
+use crate::Parallelism;
 use faer::sparse::SparseColMatRef;
 
 /// Compressed sparse column matrix with sorted row indices in every column.
@@ -126,15 +128,19 @@ impl Csc {
         s
     }
 
-    /// `xᵀ A x` for symmetric A (energy norms of [`FullStep`](crate::FullStep)).
-    pub fn quadratic_form(&self, x: &[f64]) -> f64 {
-        let mut s = 0.0;
-        for j in 0..self.ncols {
-            if x[j] != 0.0 {
-                s += x[j] * self.sym_row_dot(j, x);
-            }
-        }
-        s
+    /// `xᵀ A x` for symmetric A (energy norms of [`FullStep`](crate::FullStep)): the
+    /// columns' terms `x_j (A x)_j` (for `x_j ≠ 0`) computed on `par`'s threads and added
+    /// in increasing `j` ([`ordered_sum`]), the same bits for every thread count.
+    /// `scratch` (one entry per column) is kept by the caller.
+    pub fn quadratic_form_par(
+        &self,
+        x: &[f64],
+        par: Parallelism,
+        scratch: &mut Vec<Option<[f64; 1]>>,
+    ) -> f64 {
+        ordered_sum(self.ncols, par, scratch, |j| {
+            (x[j] != 0.0).then(|| [x[j] * self.sym_row_dot(j, x)])
+        })
     }
 
     /// Checks that the matrix is square and structurally symmetric with a full diagonal.

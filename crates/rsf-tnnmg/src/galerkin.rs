@@ -5,14 +5,26 @@
 //! patterns of `T = H F P` (fine node rows) and `C = Pᵀ F T` (coarse node rows) are computed
 //! once; every numeric update is an allocation-free pass over rows, and an incremental
 //! update recomputes only the rows that a change of a few fine nodes can reach.
+//!
+//! Every row (of `T`, `C`, a restriction or a prolongation) is computed by one thread with
+//! the same arithmetic whatever the thread count: with [`Parallelism`] the rows are split
+//! into contiguous ranges, one per thread, each with its own dense accumulator, so the
+//! results have the same bits on any number of threads.
+
+use rayon::prelude::*;
 
 use crate::block::{add_mul, add_mul_t, load, mul_vec, Block};
 use crate::bsr::BlockCsr;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
+use crate::Parallelism;
 
+/// Rows below which the Galerkin updates and the transfers stay on the calling thread.
+const GALERKIN_PARALLEL_MIN: usize = 512;
+
+/// The structure of `P` and `T` (fixed after [`Galerkin::new`]).
 #[derive(Debug, Clone)]
-pub(crate) struct Galerkin<const D: usize> {
+struct Pattern<const D: usize> {
     /// Prolongation by fine node rows: blocks `p_ptr[i]..p_ptr[i + 1]`, coarse node
     /// `p_col[k]`, value `p_val[k]`.
     p_ptr: Vec<usize>,
@@ -21,12 +33,142 @@ pub(crate) struct Galerkin<const D: usize> {
     /// Its transpose by coarse node rows: `(fine node, position in p_val)`.
     pt_ptr: Vec<usize>,
     pt: Vec<(u32, u32)>,
-    /// `T = H F P` by fine node rows.
+    /// `T = H F P` by fine node rows: blocks `t_ptr[i]..t_ptr[i + 1]`, coarse node
+    /// `t_col[k]`.
     t_ptr: Vec<usize>,
     t_col: Vec<u32>,
+}
+
+/// Galerkin products and grid transfers between one fine and one coarse level.
+#[derive(Debug, Clone)]
+pub(crate) struct Galerkin<const D: usize> {
+    pattern: Pattern<D>,
+    /// Values of `T`, by the pattern's rows.
     t_val: Vec<Block<D>>,
-    /// Dense accumulator over the coarse nodes (zero between uses).
-    acc: Vec<Block<D>>,
+    /// Dense accumulators over the coarse nodes, one per thread used (zero between uses).
+    accs: Vec<Vec<Block<D>>>,
+}
+
+/// The rows an update visits: all of `start..end`, or a sorted list.
+#[derive(Debug, Clone, Copy)]
+enum Rows<'a> {
+    Range(usize, usize),
+    List(&'a [usize]),
+}
+
+impl Rows<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Rows::Range(a, b) => b - a,
+            Rows::List(l) => l.len(),
+        }
+    }
+    fn get(&self, k: usize) -> usize {
+        match self {
+            Rows::Range(a, _) => a + k,
+            Rows::List(l) => l[k],
+        }
+    }
+    fn split_at(self, k: usize) -> (Self, Self) {
+        match self {
+            Rows::Range(a, b) => (Rows::Range(a, a + k), Rows::Range(a + k, b)),
+            Rows::List(l) => {
+                let (x, y) = l.split_at(k);
+                (Rows::List(x), Rows::List(y))
+            }
+        }
+    }
+}
+
+/// The values of consecutive rows of a row-compressed array: row `i` is
+/// `val[ptr[i] − offset .. ptr[i + 1] − offset]`, or the single value `val[i − offset]`
+/// without `ptr`.
+struct RowValues<'a, T> {
+    val: &'a mut [T],
+    ptr: Option<&'a [usize]>,
+    offset: usize,
+}
+
+impl<'a, T> RowValues<'a, T> {
+    fn new(val: &'a mut [T], ptr: Option<&'a [usize]>) -> Self {
+        Self {
+            val,
+            ptr,
+            offset: 0,
+        }
+    }
+    fn start(&self, i: usize) -> usize {
+        self.ptr.map_or(i, |p| p[i])
+    }
+    fn row(&mut self, i: usize) -> &mut [T] {
+        let (a, b) = (self.start(i), self.start(i + 1));
+        &mut self.val[a - self.offset..b - self.offset]
+    }
+}
+
+/// Output arrays that split between two rows (rows below `i` in the first part).
+trait SplitRows: Sized {
+    fn split_at_row(self, i: usize) -> (Self, Self);
+}
+
+impl<T> SplitRows for RowValues<'_, T> {
+    fn split_at_row(self, i: usize) -> (Self, Self) {
+        let at = self.start(i);
+        let (a, b) = self.val.split_at_mut(at - self.offset);
+        (
+            RowValues {
+                val: a,
+                ptr: self.ptr,
+                offset: self.offset,
+            },
+            RowValues {
+                val: b,
+                ptr: self.ptr,
+                offset: at,
+            },
+        )
+    }
+}
+
+impl<A: SplitRows, B: SplitRows, C: SplitRows> SplitRows for (A, B, C) {
+    fn split_at_row(self, i: usize) -> (Self, Self) {
+        let (a, b, c) = self;
+        let ((a0, a1), (b0, b1), (c0, c1)) =
+            (a.split_at_row(i), b.split_at_row(i), c.split_at_row(i));
+        ((a0, b0, c0), (a1, b1, c1))
+    }
+}
+
+/// Runs `f(i, acc, out)` for every row `i` of `rows`, in contiguous ranges, one per
+/// accumulator in `accs` (on rayon's threads when there are several), `out` holding the
+/// range's rows.
+fn for_rows<O, A, F>(rows: Rows<'_>, accs: &mut [A], out: O, f: &F)
+where
+    O: SplitRows + Send,
+    A: Send,
+    F: Fn(usize, &mut A, &mut O) + Sync,
+{
+    if accs.len() == 1 || rows.len() < 2 {
+        let mut out = out;
+        for k in 0..rows.len() {
+            f(rows.get(k), &mut accs[0], &mut out);
+        }
+        return;
+    }
+    let half = accs.len() / 2;
+    let (r0, r1) = rows.split_at(rows.len() * half / accs.len());
+    let (o0, o1) = out.split_at_row(r1.get(0));
+    let (a0, a1) = accs.split_at_mut(half);
+    rayon::join(|| for_rows(r0, a0, o0, f), || for_rows(r1, a1, o1, f));
+}
+
+/// Threads for `rows` rows on `par`: one below [`GALERKIN_PARALLEL_MIN`].
+fn threads_for(rows: usize, par: Parallelism) -> usize {
+    if rows >= GALERKIN_PARALLEL_MIN {
+        par.threads().min(rows)
+    } else {
+        1
+    }
 }
 
 /// Node index as u32 (the block formats store node indices in 32 bits).
@@ -132,61 +274,107 @@ impl<const D: usize> Galerkin<D> {
         let nt = t_col.len();
         Ok((
             Self {
-                p_ptr,
-                p_col,
-                p_val,
-                pt_ptr,
-                pt,
-                t_ptr,
-                t_col,
+                pattern: Pattern {
+                    p_ptr,
+                    p_col,
+                    p_val,
+                    pt_ptr,
+                    pt,
+                    t_ptr,
+                    t_col,
+                },
                 t_val: vec![[[0.0; D]; D]; nt],
-                acc: vec![[[0.0; D]; D]; nc],
+                accs: vec![vec![[[0.0; D]; D]; nc]],
             },
             coarse,
         ))
     }
 
-    /// Numeric update `C = P_tᵀ H P_t` (all rows); `free[i]` is 1 on free fine dofs and 0
-    /// on masked ones.
-    pub fn update(&mut self, h: &BlockCsr<D>, free: &[f64], c: &mut BlockCsr<D>) {
-        for i in 0..h.nodes() {
-            self.update_t_row(h, free, i);
-        }
-        for ic in 0..c.nodes() {
-            self.update_c_row(free, ic, c);
-        }
+    /// Numeric update `C = P_tᵀ H P_t` (all rows) on `par`'s threads; `free[i]` is 1 on
+    /// free fine dofs and 0 on masked ones.
+    pub fn update(&mut self, h: &BlockCsr<D>, free: &[f64], c: &mut BlockCsr<D>, par: Parallelism) {
+        self.update_rows(
+            h,
+            free,
+            c,
+            (Rows::Range(0, h.nodes()), Rows::Range(0, c.nodes())),
+            par,
+        );
     }
 
-    /// Recomputes only the given rows of `T` and `C` (see [`affected`](Self::affected)).
-    pub fn update_rows(
+    /// Recomputes only the given rows of `T` and `C` (sorted; see
+    /// [`affected`](Self::affected)) on `par`'s threads.
+    pub fn update_some(
         &mut self,
         h: &BlockCsr<D>,
         free: &[f64],
         c: &mut BlockCsr<D>,
-        t_rows: &[usize],
-        c_rows: &[usize],
+        (t_rows, c_rows): (&[usize], &[usize]),
+        par: Parallelism,
     ) {
-        for &i in t_rows {
-            self.update_t_row(h, free, i);
-        }
-        for &ic in c_rows {
-            self.update_c_row(free, ic, c);
-        }
+        self.update_rows(h, free, c, (Rows::List(t_rows), Rows::List(c_rows)), par);
+    }
+
+    fn update_rows(
+        &mut self,
+        h: &BlockCsr<D>,
+        free: &[f64],
+        c: &mut BlockCsr<D>,
+        (t_rows, c_rows): (Rows<'_>, Rows<'_>),
+        par: Parallelism,
+    ) {
+        let Self {
+            pattern,
+            t_val,
+            accs,
+        } = self;
+        let threads = threads_for(t_rows.len().max(c_rows.len()), par);
+        let nc = accs[0].len();
+        accs.resize_with(threads.max(accs.len()), || vec![[[0.0; D]; D]; nc]);
+        let t_out = RowValues::new(t_val, Some(&pattern.t_ptr));
+        let t_threads = threads_for(t_rows.len(), par);
+        for_rows(t_rows, &mut accs[..t_threads], t_out, &|i, acc, out| {
+            pattern.t_row(h, free, i, acc, out.row(i));
+        });
+        let t_val = &t_val[..];
+        let (lower, upper) = (
+            std::sync::Arc::make_mut(&mut c.lower),
+            std::sync::Arc::make_mut(&mut c.upper),
+        );
+        let c_out = (
+            RowValues::new(&mut c.diag, None),
+            RowValues::new(&mut lower.val, Some(&lower.ptr)),
+            RowValues::new(&mut upper.val, Some(&upper.ptr)),
+        );
+        let (lower_col, upper_col) = (&lower.col, &upper.col);
+        let c_threads = threads_for(c_rows.len(), par);
+        for_rows(c_rows, &mut accs[..c_threads], c_out, &|ic, acc, out| {
+            pattern.c_row(free, t_val, ic, acc);
+            let zero = [[0.0; D]; D];
+            out.0.row(ic)[0] = std::mem::replace(&mut acc[ic], zero);
+            for (v, &q) in out.1.row(ic).iter_mut().zip(&lower_col[lower.ptr[ic]..]) {
+                *v = std::mem::replace(&mut acc[q as usize], zero);
+            }
+            for (v, &q) in out.2.row(ic).iter_mut().zip(&upper_col[upper.ptr[ic]..]) {
+                *v = std::mem::replace(&mut acc[q as usize], zero);
+            }
+        });
     }
 
     /// Rows of `T` and of `C` that change when the diagonal blocks of `H` or the masks of
     /// the fine nodes marked in `changed` change: `T` rows of those nodes and their
     /// neighbours in `h` (through `F`), and every coarse row whose prolongation support
-    /// meets a changed `T` row. The coarse rows are sorted.
+    /// meets a changed `T` row. Both lists are sorted.
     pub fn affected(&self, h: &BlockCsr<D>, changed: &[bool]) -> (Vec<usize>, Vec<usize>) {
+        let Pattern { pt_ptr, pt, .. } = &self.pattern;
         let nf = h.nodes();
         let t_changed: Vec<bool> = (0..nf)
             .map(|i| changed[i] || h.neighbours(i).any(|(q, _)| changed[q]))
             .collect();
         let t_rows = (0..nf).filter(|&i| t_changed[i]).collect();
-        let c_rows = (0..self.acc.len())
+        let c_rows = (0..pt_ptr.len() - 1)
             .filter(|&ic| {
-                self.pt[self.pt_ptr[ic]..self.pt_ptr[ic + 1]]
+                pt[pt_ptr[ic]..pt_ptr[ic + 1]]
                     .iter()
                     .any(|&(i, _)| t_changed[i as usize])
             })
@@ -194,8 +382,65 @@ impl<const D: usize> Galerkin<D> {
         (t_rows, c_rows)
     }
 
-    /// `T[i, :] = Σ_j H_ij F_j P[j, :]`.
-    fn update_t_row(&mut self, h: &BlockCsr<D>, free: &[f64], i: usize) {
+    /// `coarse = P_tᵀ fine` (restriction; masked fine entries skipped through `free`), on
+    /// `par`'s threads by coarse rows.
+    pub fn restrict(&self, fine: &[f64], free: &[f64], coarse: &mut [f64], par: Parallelism) {
+        let Pattern {
+            pt_ptr, pt, p_val, ..
+        } = &self.pattern;
+        let row = |ic: usize, out: &mut [f64]| {
+            let mut s = [0.0; D];
+            for &(i, k) in &pt[pt_ptr[ic]..pt_ptr[ic + 1]] {
+                let i = i as usize;
+                let (r, f) = (load::<D>(fine, i), load::<D>(free, i));
+                let pb = &p_val[k as usize];
+                for rr in 0..D {
+                    let x = r[rr] * f[rr];
+                    for c in 0..D {
+                        s[c] += pb[rr][c] * x;
+                    }
+                }
+            }
+            out.copy_from_slice(&s);
+        };
+        by_node_rows::<D>(coarse, par, row);
+    }
+
+    /// `fine += P_t coarse` (prolongation; masked fine entries left unchanged), on `par`'s
+    /// threads by fine rows.
+    pub fn prolong_add(&self, coarse: &[f64], free: &[f64], fine: &mut [f64], par: Parallelism) {
+        let Pattern {
+            p_ptr,
+            p_col,
+            p_val,
+            ..
+        } = &self.pattern;
+        let row = |i: usize, out: &mut [f64]| {
+            let mut s = [0.0; D];
+            for k in p_ptr[i]..p_ptr[i + 1] {
+                let y = mul_vec(&p_val[k], &load::<D>(coarse, p_col[k] as usize));
+                for c in 0..D {
+                    s[c] += y[c];
+                }
+            }
+            for c in 0..D {
+                out[c] += free[D * i + c] * s[c];
+            }
+        };
+        by_node_rows::<D>(fine, par, row);
+    }
+}
+
+impl<const D: usize> Pattern<D> {
+    /// `T[i, :] = Σ_j H_ij F_j P[j, :]` into `out` (row `i`'s values), through `acc`.
+    fn t_row(
+        &self,
+        h: &BlockCsr<D>,
+        free: &[f64],
+        i: usize,
+        acc: &mut [Block<D>],
+        out: &mut [Block<D>],
+    ) {
         for (j, hb) in std::iter::once((i, &h.diag[i])).chain(h.neighbours(i)) {
             let f = load::<D>(free, j);
             if f.iter().all(|&x| x == 0.0) {
@@ -208,18 +453,17 @@ impl<const D: usize> Galerkin<D> {
                 }
             }
             for k in self.p_ptr[j]..self.p_ptr[j + 1] {
-                add_mul(&mut self.acc[self.p_col[k] as usize], &hf, &self.p_val[k]);
+                add_mul(&mut acc[self.p_col[k] as usize], &hf, &self.p_val[k]);
             }
         }
-        for k in self.t_ptr[i]..self.t_ptr[i + 1] {
-            let a = &mut self.acc[self.t_col[k] as usize];
-            self.t_val[k] = *a;
-            *a = [[0.0; D]; D];
+        for (o, &q) in out.iter_mut().zip(&self.t_col[self.t_ptr[i]..]) {
+            *o = std::mem::replace(&mut acc[q as usize], [[0.0; D]; D]);
         }
     }
 
-    /// `C[ic, :] = Σ_i (F_i P[i, ic])ᵀ T[i, :]` (written into both triangles' row `ic`).
-    fn update_c_row(&mut self, free: &[f64], ic: usize, c: &mut BlockCsr<D>) {
+    /// Accumulates `C[ic, :] = Σ_i (F_i P[i, ic])ᵀ T[i, :]` in `acc` (the caller takes
+    /// row `ic`'s entries out, leaving zeros).
+    fn c_row(&self, free: &[f64], t_val: &[Block<D>], ic: usize, acc: &mut [Block<D>]) {
         for &(i, k) in &self.pt[self.pt_ptr[ic]..self.pt_ptr[ic + 1]] {
             let i = i as usize;
             let f = load::<D>(free, i);
@@ -233,51 +477,30 @@ impl<const D: usize> Galerkin<D> {
                 }
             }
             for kt in self.t_ptr[i]..self.t_ptr[i + 1] {
-                add_mul_t(&mut self.acc[self.t_col[kt] as usize], &pf, &self.t_val[kt]);
-            }
-        }
-        let zero = [[0.0; D]; D];
-        c.diag[ic] = std::mem::replace(&mut self.acc[ic], zero);
-        for t in [&mut c.lower, &mut c.upper] {
-            let t = std::sync::Arc::make_mut(t);
-            for k in t.range(ic) {
-                t.val[k] = std::mem::replace(&mut self.acc[t.col[k] as usize], zero);
+                add_mul_t(&mut acc[self.t_col[kt] as usize], &pf, &t_val[kt]);
             }
         }
     }
+}
 
-    /// `coarse = P_tᵀ fine` (restriction; masked fine entries skipped through `free`).
-    pub fn restrict(&self, fine: &[f64], free: &[f64], coarse: &mut [f64]) {
-        for ic in 0..self.acc.len() {
-            let mut s = [0.0; D];
-            for &(i, k) in &self.pt[self.pt_ptr[ic]..self.pt_ptr[ic + 1]] {
-                let i = i as usize;
-                let (r, f) = (load::<D>(fine, i), load::<D>(free, i));
-                let pb = &self.p_val[k as usize];
-                for rr in 0..D {
-                    let x = r[rr] * f[rr];
-                    for c in 0..D {
-                        s[c] += pb[rr][c] * x;
-                    }
-                }
-            }
-            coarse[D * ic..D * ic + D].copy_from_slice(&s);
+/// Calls `row(p, out)` for every node `p` of the node-major vector `v` (`out` its `D`
+/// entries), in at most `par.threads()` contiguous ranges of nodes.
+fn by_node_rows<const D: usize>(
+    v: &mut [f64],
+    par: Parallelism,
+    row: impl Fn(usize, &mut [f64]) + Sync,
+) {
+    let nodes = v.len() / D;
+    let threads = threads_for(nodes, par);
+    let chunk = nodes.div_ceil(threads).max(1);
+    let run = |(k, out): (usize, &mut [f64])| {
+        for (j, o) in out.chunks_exact_mut(D).enumerate() {
+            row(k * chunk + j, o);
         }
-    }
-
-    /// `fine += P_t coarse` (prolongation; masked fine entries left unchanged).
-    pub fn prolong_add(&self, coarse: &[f64], free: &[f64], fine: &mut [f64]) {
-        for i in 0..self.p_ptr.len() - 1 {
-            let mut s = [0.0; D];
-            for k in self.p_ptr[i]..self.p_ptr[i + 1] {
-                let y = mul_vec(&self.p_val[k], &load::<D>(coarse, self.p_col[k] as usize));
-                for c in 0..D {
-                    s[c] += y[c];
-                }
-            }
-            for c in 0..D {
-                fine[D * i + c] += free[D * i + c] * s[c];
-            }
-        }
+    };
+    if threads > 1 {
+        v.par_chunks_mut(D * chunk).enumerate().for_each(run);
+    } else {
+        v.chunks_mut(D * chunk).enumerate().for_each(run);
     }
 }

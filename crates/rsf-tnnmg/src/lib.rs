@@ -74,6 +74,7 @@ mod multigrid;
 mod nonlinearity;
 mod norm;
 mod problem;
+mod reduce;
 mod report;
 mod step;
 mod tnnmg;

@@ -262,7 +262,7 @@ impl<const D: usize> LinearMultigrid<D> {
         for l in (0..nl - 1).rev() {
             let (lo, hi) = self.levels.split_at_mut(l + 1);
             let (coarse, finer) = (&mut lo[l], &hi[0]);
-            self.galerkin[l].update(&finer.a, &finer.free, &mut coarse.a);
+            self.galerkin[l].update(&finer.a, &finer.free, &mut coarse.a, self.par);
             // A coarse dof all of whose fine support is truncated has an exactly zero
             // row (no term is accumulated); it is excluded from smoothing and the coarse
             // solve. The diagonal is kept as the reference for incremental updates.
@@ -313,12 +313,12 @@ impl<const D: usize> LinearMultigrid<D> {
             let (lo, hi) = self.levels.split_at_mut(l + 1);
             let (coarse, finer) = (&mut lo[l], &hi[0]);
             let rows = &self.variable[l];
-            self.galerkin[l].update_rows(
+            self.galerkin[l].update_some(
                 &finer.a,
                 &finer.free,
                 &mut coarse.a,
-                &self.t_rows[l],
-                rows,
+                (&self.t_rows[l], rows),
+                self.par,
             );
             for &p in rows {
                 for c in 0..D {
@@ -395,7 +395,7 @@ impl<const D: usize> LinearMultigrid<D> {
         {
             let (lo, hi) = self.levels.split_at_mut(l);
             let (fine, coarse) = (&hi[0], &mut lo[l - 1]);
-            self.galerkin[l - 1].restrict(&fine.res, &fine.free, &mut coarse.rhs);
+            self.galerkin[l - 1].restrict(&fine.res, &fine.free, &mut coarse.rhs, par);
         }
         // The coarse correction starts from 0; the coarsest level is solved exactly, so
         // one visit suffices there.
@@ -406,7 +406,7 @@ impl<const D: usize> LinearMultigrid<D> {
         {
             let (lo, hi) = self.levels.split_at_mut(l);
             let (fine, coarse) = (&mut hi[0], &lo[l - 1]);
-            self.galerkin[l - 1].prolong_add(&coarse.x, &fine.free, &mut fine.x);
+            self.galerkin[l - 1].prolong_add(&coarse.x, &fine.free, &mut fine.x, par);
         }
         self.levels[l].smooth(shape.post, SweepOrder::from_x(true), fine_residual, par);
     }
@@ -585,6 +585,57 @@ mod tests {
         inc.update().unwrap();
         inc.set_variable_nodes(&variable);
         compare_updates(&mut inc, &mut full, &variable, 6);
+    }
+
+    /// Galerkin updates (full and incremental, over more rows than the parallel
+    /// threshold), restrictions, prolongations and cycles on 2, 3 and 4 threads give the
+    /// bits of one thread.
+    #[test]
+    fn parallel_updates_and_cycles_have_the_bits_of_one_thread() {
+        let n = 2049;
+        let blocks = ([[2.0, 0.6], [0.6, 1.0]], [[1.0, 0.2], [-0.1, 0.9]]);
+        let mut ps = Vec::new();
+        let mut nc = 5;
+        while 2 * nc - 1 <= n {
+            ps.push(kron(&interpolation(nc), blocks.1));
+            nc = 2 * nc - 1;
+        }
+        let fine = BlockCsr::<2>::from_csc(&kron(&laplacian_1d(n), blocks.0)).unwrap();
+        let variable: Vec<usize> = (0..n).step_by(3).collect();
+        let run = |par: Parallelism| {
+            let mut mg = LinearMultigrid::new(fine.clone(), ps.clone(), SHAPE).unwrap();
+            mg.set_parallelism(par);
+            mg.update().unwrap();
+            mg.set_variable_nodes(&variable);
+            for &i in &variable {
+                mg.fine_diag_mut()[i][0][0] += 1.0 + i as f64;
+            }
+            mg.fine_mask_mut()[6] = true;
+            mg.update_incremental().unwrap();
+            let mut x = vec![0.0; 2 * n];
+            let mut rhs: Vec<f64> = (0..2 * n)
+                .map(|i| ((i * 7919) % 101) as f64 - 50.0)
+                .collect();
+            mg.apply(&mut x, &mut rhs, true, true);
+            mg.apply(&mut x, &mut rhs, false, true);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let matrices: Vec<_> = mg
+                .levels
+                .iter()
+                .map(|l| (l.a.diag.clone(), l.a.lower.clone(), l.a.upper.clone()))
+                .collect();
+            (matrices, bits(&x), bits(mg.fine_residual()))
+        };
+        let one = run(Parallelism::SEQ);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            for threads in [2, 3, 4] {
+                assert!(run(Parallelism::rayon(threads)) == one, "{threads} threads");
+            }
+        });
     }
 
     /// The linear correction reaches the requested residual reduction (checked with an

@@ -5,6 +5,7 @@ use faer::sparse::SparseColMatRef;
 use crate::bsr::BlockCsr;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
+use crate::Parallelism;
 
 /// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
 #[derive(Debug, Clone)]
@@ -29,10 +30,22 @@ impl<const D: usize> EnergyNorm<D> {
         })
     }
     pub fn norm(&self, a: &BlockCsr<D>, x: &[f64]) -> f64 {
+        self.norm_par(a, x, Parallelism::SEQ, &mut Vec::new())
+    }
+
+    /// [`norm`](Self::norm) on `par`'s threads, the same bits for every thread count
+    /// ([`BlockCsr::quadratic_form_par`]; `scratch` is kept by the caller).
+    pub fn norm_par(
+        &self,
+        a: &BlockCsr<D>,
+        x: &[f64],
+        par: Parallelism,
+        scratch: &mut Vec<Option<[f64; D]>>,
+    ) -> f64 {
         self.e
             .as_ref()
             .unwrap_or(a)
-            .quadratic_form(x)
+            .quadratic_form_par(x, par, scratch)
             .max(0.0)
             .sqrt()
     }

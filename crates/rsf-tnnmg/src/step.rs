@@ -18,6 +18,7 @@ use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
 use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+use crate::Parallelism;
 
 /// A minimiser of `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` for a sequence of
 /// nonlinearities `φ` with the same `A`, `b`, fixed dofs and active blocks.
@@ -95,6 +96,9 @@ pub struct FullStep<const D: usize, S: NonsmoothSolver<D>> {
     v_before: Vec<f64>,
     active: Vec<usize>,
     change: f64,
+    parallelism: Parallelism,
+    /// Per-dof terms of the parallel energy norm (empty until used).
+    sum_scratch: Vec<Option<[f64; 1]>>,
 }
 
 impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
@@ -124,7 +128,17 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
             v_before: vec![0.0; n],
             active: Vec::new(),
             change: f64::INFINITY,
+            parallelism: Parallelism::SEQ,
+            sum_scratch: Vec::new(),
         })
+    }
+
+    /// Computes the energy norm of [`last_change`](StepSolver::last_change) on `par`'s
+    /// threads (default [`Parallelism::SEQ`]), with the same bits for every thread count;
+    /// the wrapped solver's own parallelism is set on the solver.
+    pub fn with_parallelism(mut self, par: Parallelism) -> Self {
+        self.parallelism = par;
+        self
     }
 
     /// The wrapped solver.
@@ -174,7 +188,10 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
             *d = x - *d;
         }
         self.change = match &self.norm {
-            Some(e) => e.quadratic_form(&self.v_before).max(0.0).sqrt(),
+            Some(e) => e
+                .quadratic_form_par(&self.v_before, self.parallelism, &mut self.sum_scratch)
+                .max(0.0)
+                .sqrt(),
             None => self.v_before.iter().map(|x| x * x).sum::<f64>().sqrt(),
         };
         Ok(report)

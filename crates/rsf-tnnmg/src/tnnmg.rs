@@ -134,6 +134,8 @@ pub struct Tnnmg<const D: usize> {
     colour_scratch: Vec<[f64; D]>,
     /// The nonlinear sweeps' chunked order ([`SmootherOrder::RedBlackChunks`] only).
     chunked: Option<ChunkedSweep<D>>,
+    /// Per-node terms of the parallel quadratic forms (empty until used).
+    sum_scratch: Vec<Option<[f64; D]>>,
     parallelism: Parallelism,
 }
 
@@ -204,6 +206,7 @@ impl<const D: usize> Tnnmg<D> {
             colouring,
             colour_scratch,
             chunked,
+            sum_scratch: Vec::new(),
             parallelism: Parallelism::SEQ,
             opts,
             active_of: Vec::new(),
@@ -395,7 +398,10 @@ impl<const D: usize> Tnnmg<D> {
         }
         // Exact line search along c: g0 = cᵀ(Av − b), h = cᵀAc.
         let g0 = -dot(&self.c, &self.res_a);
-        let h = self.m.a.quadratic_form(&self.c);
+        let h = self
+            .m
+            .a
+            .quadratic_form_par(&self.c, self.parallelism, &mut self.sum_scratch);
         if h > 0.0 && h.is_finite() {
             let s = exact_line_search(nl, v, &self.c, g0, h);
             for (vi, ci) in v.iter_mut().zip(&self.c) {
@@ -408,7 +414,12 @@ impl<const D: usize> Tnnmg<D> {
         for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
             *o = x - *o;
         }
-        Ok(self.norm.norm(&self.m.a, &self.v_old))
+        Ok(self.norm.norm_par(
+            &self.m.a,
+            &self.v_old,
+            self.parallelism,
+            &mut self.sum_scratch,
+        ))
     }
 }
 

@@ -255,17 +255,20 @@ impl<const C: usize> VelocitySolver<C> {
     ) -> Result<Self> {
         let e = model.energy_norm.as_ref();
         Ok(match kind.resolve(model) {
-            SolverKind::Tnnmg => VelocitySolver::Tnnmg(Box::new(FullStep::new(
-                Tnnmg::new(
-                    a.as_ref(),
-                    &model.fixed,
-                    &model.prolongations,
+            SolverKind::Tnnmg => VelocitySolver::Tnnmg(Box::new(
+                FullStep::new(
+                    Tnnmg::new(
+                        a.as_ref(),
+                        &model.fixed,
+                        &model.prolongations,
+                        Some(e),
+                        options.tnnmg.clone(),
+                    )?
+                    .with_parallelism(options.parallelism),
                     Some(e),
-                    options.tnnmg.clone(),
                 )?
                 .with_parallelism(options.parallelism),
-                Some(e),
-            )?)),
+            )),
             SolverKind::Direct => {
                 let mut d = DirectSolver::new(a.as_ref(), &model.fixed, options.direct.clone())?
                     .with_energy_norm(e)?
