@@ -49,10 +49,11 @@ pub struct Cli {
     /// on it.
     #[arg(long, default_value = "2", value_name = "N")]
     pub threads: rsf::Parallelism,
-    /// Node order of TNNMG's nonlinear smoother (`rsf::tnnmg::SmootherOrder`):
-    /// `lexicographic` (the paper's figures, sequential) or `multicolour` (parallel on
-    /// `--threads`, bit-identical for every thread count, other round-off than
-    /// lexicographic).
+    /// Node order of TNNMG's smoothers (`rsf::tnnmg::SmootherOrder`): `lexicographic`
+    /// (the paper's figures, sequential sweeps), `multicolour` (the nonlinear sweeps on
+    /// `--threads`) or `red-black-chunks` (the nonlinear sweeps and the fine level's
+    /// linear smoother on `--threads`); every order gives the same bits for every thread
+    /// count, the parallel ones other round-off than lexicographic.
     #[arg(long, default_value = "lexicographic", value_name = "ORDER")]
     pub smoother: rsf::tnnmg::SmootherOrder,
 }

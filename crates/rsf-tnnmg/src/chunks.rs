@@ -4,8 +4,8 @@
 //!
 //! The node graph's breadth-first levels (from a pseudo-peripheral node, a function of the
 //! pattern alone) have the property that a node couples only to nodes of its own level and
-//! of the levels just before and after it. Grouping consecutive levels into chunks of equal
-//! node counts (2, 4, 8 or 16 of them, at least [`LEVELS_PER_CHUNK`] levels each where the
+//! of the levels just before and after it. Grouping consecutive levels into chunks of nearly
+//! equal node counts (2, 4, 8 or 16 of them, at least [`LEVELS_PER_CHUNK`] levels each where the
 //! graph has enough levels) therefore gives chunks that couple only to the chunk before and
 //! the chunk after: the even chunks are mutually independent, and so are the odd ones. A
 //! forward sweep visits the even chunks (each in increasing node order, one task per
@@ -165,8 +165,7 @@ impl<const D: usize> ChunkedOrder<D> {
         let start = *breadth_first(a, 0).0.last().expect("non-empty") as usize;
         let (mut perm, level) = breadth_first(a, start);
         // 2, 4, 8 or 16 chunks (even counts split evenly between 2, 4, 8 threads), as many
-        // as keep LEVELS_PER_CHUNK levels per chunk; chunks of whole levels, each closed
-        // once it holds `target` nodes.
+        // as keep LEVELS_PER_CHUNK levels per chunk; chunks of whole levels.
         let levels = level.iter().max().map_or(0, |&l| l as usize + 1);
         let mut chunks = 2;
         while 2 * chunks <= CHUNKS_MAX && 2 * chunks * LEVELS_PER_CHUNK <= levels {

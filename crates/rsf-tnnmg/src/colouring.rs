@@ -33,14 +33,15 @@ pub enum SmootherOrder {
     /// solver's [`Parallelism`](crate::Parallelism). Each node's update is the same
     /// arithmetic whatever the thread count, so the iterates are bit-identical for 1, 2, …
     /// threads; they differ from [`Lexicographic`](Self::Lexicographic) ones (another
-    /// Gauss–Seidel order, the same minimiser). The linear multigrid cycles stay
+    /// Gauss–Seidel order, the same minimiser). The linear multigrid's smoothers stay
     /// lexicographic and sequential.
     MultiColour,
     /// Red–black chunks: the fine node graph's breadth-first levels (from a
-    /// pseudo-peripheral node, a function of the pattern alone) grouped into about 16
-    /// chunks of consecutive levels, each coupled only to the chunk before and after it;
-    /// a forward sweep visits the even chunks, then the odd ones, each chunk in
-    /// breadth-first order, and a backward sweep the reverse. The chunks of one colour are
+    /// pseudo-peripheral node, a function of the pattern alone) grouped into 2, 4, 8 or
+    /// 16 chunks of consecutive levels and nearly equal node counts, each coupled only to
+    /// the chunk before and after it; a forward sweep visits the even chunks, then the odd
+    /// ones, each chunk in increasing node order, and a backward sweep the reverse. The
+    /// chunks of one colour are
     /// independent and run in parallel on the solver's
     /// [`Parallelism`](crate::Parallelism); inside a chunk the sweep reads the couplings
     /// once, as the lexicographic sweep does (half the matrix traffic of a node colouring,

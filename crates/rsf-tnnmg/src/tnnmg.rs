@@ -221,9 +221,13 @@ impl<const D: usize> Tnnmg<D> {
         })
     }
 
-    /// Runs the parallel parts of [`SmootherOrder::MultiColour`] and
-    /// [`SmootherOrder::RedBlackChunks`] on `par`'s threads (default [`Parallelism::SEQ`]);
-    /// no effect with [`SmootherOrder::Lexicographic`]. The iterates do not depend on it.
+    /// Runs the parallel parts on `par`'s threads (default [`Parallelism::SEQ`]): in every
+    /// smoother order the parts computed row by row (the quadratic forms of the line
+    /// search and the energy norm as ordered sums of per-row terms, the Galerkin updates
+    /// of the coarse operators, restrictions and prolongations); with
+    /// [`SmootherOrder::MultiColour`] the nonlinear sweeps, with
+    /// [`SmootherOrder::RedBlackChunks`] the nonlinear sweeps and the fine level's linear
+    /// smoothing. The iterates do not depend on it (the same bits for every thread count).
     pub fn with_parallelism(mut self, par: Parallelism) -> Self {
         self.parallelism = par;
         self.mg.set_parallelism(par);

@@ -157,11 +157,16 @@ fn options(smoother: SmootherOrder) -> TnnmgOptions {
 
 /// 65² nodes: each of the two colours (over 2000 nodes) and the residual's rows are split
 /// between the threads, and so are the red–black chunks (of the nonlinear sweeps and of the
-/// linear multigrid's fine level); run inside a pool of 4 threads so that 4 tasks really
-/// run concurrently.
+/// linear multigrid's fine level) and, in every order, the quadratic forms' rows (over
+/// 2048), the Galerkin updates and the transfers (over 512 rows); run inside a pool of 4
+/// threads so that 4 tasks really run concurrently.
 #[test]
-fn parallel_orders_give_bit_identical_iterates_at_1_2_and_4_threads() {
-    for order in [SmootherOrder::MultiColour, SmootherOrder::RedBlackChunks] {
+fn every_order_gives_bit_identical_iterates_at_1_2_and_4_threads() {
+    for order in [
+        SmootherOrder::Lexicographic,
+        SmootherOrder::MultiColour,
+        SmootherOrder::RedBlackChunks,
+    ] {
         bit_identical_at_1_2_and_4_threads(order);
     }
 }

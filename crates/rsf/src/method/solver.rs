@@ -233,11 +233,7 @@ impl<const C: usize> VelocitySolver<C> {
     pub(crate) fn parallelism(&self) -> Option<Parallelism> {
         match self {
             VelocitySolver::Direct(d) => Some(d.parallelism()),
-            VelocitySolver::Tnnmg(t)
-                if t.inner().options().smoother != rsf_tnnmg::SmootherOrder::Lexicographic =>
-            {
-                Some(t.inner().parallelism())
-            }
+            VelocitySolver::Tnnmg(t) => Some(t.inner().parallelism()),
             _ => None,
         }
     }
