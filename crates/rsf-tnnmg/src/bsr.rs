@@ -16,7 +16,7 @@ use std::sync::Arc;
 use crate::block::{load, mul_vec, store, sub_mul_t_vec, sub_mul_vec, Block};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
-use crate::reduce::ordered_sum;
+use crate::reduce::{for_node_rows, ordered_sum};
 use crate::Parallelism;
 
 /// Nodes below which [`BlockCsr::residual_rows`] stays on one thread.
@@ -235,31 +235,14 @@ impl<const D: usize> BlockCsr<D> {
     /// the result is bit-identical for every thread count (but rounds differently from
     /// [`residual`](Self::residual)).
     pub fn residual_rows(&self, rhs: &[f64], x: &[f64], res: &mut [f64], par: Parallelism) {
-        use rayon::prelude::*;
-        let row = |p: usize, out: &mut [f64]| {
+        for_node_rows::<D>(res, (par, RESIDUAL_PARALLEL_MIN), |p, out| {
             let mut s = load::<D>(rhs, p);
             sub_mul_vec(&mut s, &self.diag[p], &load::<D>(x, p));
             for (q, blk) in self.neighbours(p) {
                 sub_mul_vec(&mut s, blk, &load::<D>(x, q));
             }
             out.copy_from_slice(&s);
-        };
-        let nodes = self.nodes();
-        let threads = par.threads();
-        if threads > 1 && nodes >= RESIDUAL_PARALLEL_MIN {
-            let chunk = nodes.div_ceil(threads);
-            res.par_chunks_mut(D * chunk)
-                .enumerate()
-                .for_each(|(i, out)| {
-                    for (k, o) in out.chunks_exact_mut(D).enumerate() {
-                        row(i * chunk + k, o);
-                    }
-                });
-        } else {
-            for (p, o) in res.chunks_exact_mut(D).enumerate() {
-                row(p, o);
-            }
-        }
+        });
     }
 
     /// `xᵀ A x` (one pass over the upper triangle).

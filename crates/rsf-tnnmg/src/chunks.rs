@@ -26,6 +26,7 @@ use rayon::prelude::*;
 
 use crate::block::{load, store, sub_mul_t_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
+use crate::reduce::for_node_rows;
 use crate::Parallelism;
 
 /// The most chunks (eight per colour: eight threads).
@@ -463,21 +464,9 @@ const GATHER_PARALLEL_MIN: usize = 4096;
 /// positions: `idx` is `perm` or `pos_of`), on `par`'s threads in contiguous ranges of `i`;
 /// copies, so the same bits for every thread count.
 fn gather<const D: usize>(dst: &mut [f64], src: &[f64], idx: &[u32], par: Parallelism) {
-    let copy = |(k, out): (usize, &mut [f64]), chunk: usize| {
-        for (j, o) in out.chunks_exact_mut(D).enumerate() {
-            o.copy_from_slice(&src[D * idx[k * chunk + j] as usize..][..D]);
-        }
-    };
-    let nodes = idx.len();
-    let threads = par.threads();
-    if threads > 1 && nodes >= GATHER_PARALLEL_MIN {
-        let chunk = nodes.div_ceil(threads);
-        dst.par_chunks_mut(D * chunk)
-            .enumerate()
-            .for_each(|c| copy(c, chunk));
-    } else {
-        copy((0, dst), nodes);
-    }
+    for_node_rows::<D>(dst, (par, GATHER_PARALLEL_MIN), |i, out| {
+        out.copy_from_slice(&src[D * idx[i] as usize..][..D]);
+    });
 }
 
 #[cfg(test)]

@@ -11,12 +11,11 @@
 //! into contiguous ranges, one per thread, each with its own dense accumulator, so the
 //! results have the same bits on any number of threads.
 
-use rayon::prelude::*;
-
 use crate::block::{add_mul, add_mul_t, load, mul_vec, Block};
 use crate::bsr::BlockCsr;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
+use crate::reduce::for_node_rows;
 use crate::Parallelism;
 
 /// Rows below which the Galerkin updates and the transfers stay on the calling thread.
@@ -403,7 +402,7 @@ impl<const D: usize> Galerkin<D> {
             }
             out.copy_from_slice(&s);
         };
-        by_node_rows::<D>(coarse, par, row);
+        for_node_rows::<D>(coarse, (par, GALERKIN_PARALLEL_MIN), row);
     }
 
     /// `fine += P_t coarse` (prolongation; masked fine entries left unchanged), on `par`'s
@@ -427,7 +426,7 @@ impl<const D: usize> Galerkin<D> {
                 out[c] += free[D * i + c] * s[c];
             }
         };
-        by_node_rows::<D>(fine, par, row);
+        for_node_rows::<D>(fine, (par, GALERKIN_PARALLEL_MIN), row);
     }
 }
 
@@ -480,27 +479,5 @@ impl<const D: usize> Pattern<D> {
                 add_mul_t(&mut acc[self.t_col[kt] as usize], &pf, &t_val[kt]);
             }
         }
-    }
-}
-
-/// Calls `row(p, out)` for every node `p` of the node-major vector `v` (`out` its `D`
-/// entries), in at most `par.threads()` contiguous ranges of nodes.
-fn by_node_rows<const D: usize>(
-    v: &mut [f64],
-    par: Parallelism,
-    row: impl Fn(usize, &mut [f64]) + Sync,
-) {
-    let nodes = v.len() / D;
-    let threads = threads_for(nodes, par);
-    let chunk = nodes.div_ceil(threads).max(1);
-    let run = |(k, out): (usize, &mut [f64])| {
-        for (j, o) in out.chunks_exact_mut(D).enumerate() {
-            row(k * chunk + j, o);
-        }
-    };
-    if threads > 1 {
-        v.par_chunks_mut(D * chunk).enumerate().for_each(run);
-    } else {
-        v.chunks_mut(D * chunk).enumerate().for_each(run);
     }
 }

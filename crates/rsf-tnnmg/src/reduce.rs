@@ -1,5 +1,6 @@
-//! Sums over rows whose terms are computed on several threads and added in one fixed
-//! order, so that the result has the bits of the sequential loop for every thread count.
+//! Work over rows on several threads with the bits of one thread: sums whose per-row
+//! terms are computed in parallel and added in one fixed order, and row-by-row writes of
+//! node-major vectors.
 
 use rayon::prelude::*;
 
@@ -55,6 +56,34 @@ where
         }
     }
     total
+}
+
+/// Calls `row(p, out)` for every node `p` of the node-major vector `v` (`out`: its `D`
+/// entries), in at most `par.threads()` contiguous ranges of nodes, on one thread below
+/// `min_nodes` nodes. Each node's values are computed by one call, so the result has the
+/// same bits for every thread count.
+pub(crate) fn for_node_rows<const D: usize>(
+    v: &mut [f64],
+    (par, min_nodes): (Parallelism, usize),
+    row: impl Fn(usize, &mut [f64]) + Sync,
+) {
+    let nodes = v.len() / D;
+    let threads = if nodes >= min_nodes {
+        par.threads().min(nodes)
+    } else {
+        1
+    };
+    let chunk = nodes.div_ceil(threads).max(1);
+    let run = |(k, out): (usize, &mut [f64])| {
+        for (j, o) in out.chunks_exact_mut(D).enumerate() {
+            row(k * chunk + j, o);
+        }
+    };
+    if threads > 1 {
+        v.par_chunks_mut(D * chunk).enumerate().for_each(run);
+    } else {
+        v.chunks_mut(D * chunk).enumerate().for_each(run);
+    }
 }
 
 #[cfg(test)]
