@@ -327,11 +327,15 @@ impl<const D: usize> Galerkin<D> {
             t_val,
             accs,
         } = self;
-        let threads = threads_for(t_rows.len().max(c_rows.len()), par);
+        let (t_threads, c_threads) = (
+            threads_for(t_rows.len(), par),
+            threads_for(c_rows.len(), par),
+        );
         let nc = accs[0].len();
-        accs.resize_with(threads.max(accs.len()), || vec![[[0.0; D]; D]; nc]);
+        accs.resize_with(t_threads.max(c_threads).max(accs.len()), || {
+            vec![[[0.0; D]; D]; nc]
+        });
         let t_out = RowValues::new(t_val, Some(&pattern.t_ptr));
-        let t_threads = threads_for(t_rows.len(), par);
         for_rows(t_rows, &mut accs[..t_threads], t_out, &|i, acc, out| {
             pattern.t_row(h, free, i, acc, out.row(i));
         });
@@ -346,7 +350,6 @@ impl<const D: usize> Galerkin<D> {
             RowValues::new(&mut upper.val, Some(&upper.ptr)),
         );
         let (lower_col, upper_col) = (&lower.col, &upper.col);
-        let c_threads = threads_for(c_rows.len(), par);
         for_rows(c_rows, &mut accs[..c_threads], c_out, &|ic, acc, out| {
             pattern.c_row(free, t_val, ic, acc);
             let zero = [[0.0; D]; D];
