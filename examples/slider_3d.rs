@@ -100,13 +100,14 @@ struct Cli {
     /// it. (`--dense-threads` is an old name of this flag.)
     #[arg(long, default_value = "2", alias = "dense-threads", value_name = "N")]
     threads: rsf::Parallelism,
-    /// Node order of TNNMG's smoothers (`rsf::tnnmg::SmootherOrder`): `lexicographic`
-    /// (sequential, the trajectories before this flag), `multicolour` (the nonlinear sweeps
-    /// on `--threads`) or `red-black-chunks` (the nonlinear sweeps and the linear
-    /// multigrid's fine level on `--threads`); both parallel orders are bit-identical for
+    /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
+    /// `rsf::tnnmg::SmootherOrder`): `red-black-chunks` (the 3-D scene's default: the
+    /// nonlinear sweeps and the linear multigrid's fine level on `--threads`),
+    /// `multicolour` (the nonlinear sweeps on `--threads`) or `lexicographic` (sequential,
+    /// the 3-D trajectories before 2026-11-26); both parallel orders are bit-identical for
     /// every thread count, with other round-off than lexicographic.
-    #[arg(long, default_value = "lexicographic", value_name = "ORDER")]
-    smoother: rsf::tnnmg::SmootherOrder,
+    #[arg(long, value_name = "ORDER")]
+    smoother: Option<rsf::tnnmg::SmootherOrder>,
     /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
     /// fit, else TNNMG; docs/scaling.md). Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
@@ -150,6 +151,9 @@ fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     }
     if cli.exact_inner_solves {
         scene.slider.fixed_point_inner_solves = rsf::method::InnerSolves::Exact;
+    }
+    if let Some(order) = cli.smoother {
+        scene.slider.tnnmg_smoother = order;
     }
     // A width from the flag is named as the flag (`width`), from the file as its key.
     match cli.width {
@@ -294,7 +298,6 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let setup = std::time::Instant::now();
     let mut options = scene.slider.solver_options();
     options.parallelism = cli.threads;
-    options.tnnmg.smoother = cli.smoother;
     if let Some(gib) = cli.memory_budget_gib {
         options.memory_budget_bytes =
             rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
@@ -324,11 +327,6 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let frame_every = cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY);
     // What changes the files besides the scene: the frame spacing.
     let fingerprint = scene.fingerprint().with("frame_every", frame_every);
-    // The smoother order changes the round-off of a TNNMG run (not the default's).
-    let fingerprint = match cli.smoother {
-        rsf::tnnmg::SmootherOrder::Lexicographic => fingerprint,
-        order => fingerprint.with("smoother", order),
-    };
     // Everything is checked before any file is touched: folder, checkpoint, rows.
     let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
     let resumed = match &cli.resume {

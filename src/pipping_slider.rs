@@ -49,13 +49,14 @@ pub struct Cli {
     /// on it.
     #[arg(long, default_value = "2", value_name = "N")]
     pub threads: rsf::Parallelism,
-    /// Node order of TNNMG's smoothers (`rsf::tnnmg::SmootherOrder`): `lexicographic`
-    /// (the paper's figures, sequential sweeps), `multicolour` (the nonlinear sweeps on
-    /// `--threads`) or `red-black-chunks` (the nonlinear sweeps and the fine level's
-    /// linear smoother on `--threads`); every order gives the same bits for every thread
-    /// count, the parallel ones other round-off than lexicographic.
-    #[arg(long, default_value = "lexicographic", value_name = "ORDER")]
-    pub smoother: rsf::tnnmg::SmootherOrder,
+    /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
+    /// `rsf::tnnmg::SmootherOrder`): `lexicographic` (the scene's default: the paper's
+    /// figures, sequential sweeps), `multicolour` (the nonlinear sweeps on `--threads`) or
+    /// `red-black-chunks` (the nonlinear sweeps and the fine level's linear smoother on
+    /// `--threads`); every order gives the same bits for every thread count, the parallel
+    /// ones other round-off than lexicographic.
+    #[arg(long, value_name = "ORDER")]
+    pub smoother: Option<rsf::tnnmg::SmootherOrder>,
 }
 
 /// The files a run writes into its folder.
@@ -77,9 +78,12 @@ const OUTPUTS: [&str; 9] = [
 /// Every error of the run, typed: invalid flags or scene, a refused folder or checkpoint,
 /// a run stopped at `--max-steps`, solver and I/O errors.
 pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let scene = cli
+    let mut scene = cli
         .time_step
         .apply(cli.scene.scene(SliderScene::default())?)?;
+    if let Some(order) = cli.smoother {
+        scene.tnnmg_smoother = order;
+    }
     let t_end = scene.end_time_s;
     let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
     check_window("window", (w0, w1), t_end)?;
@@ -98,7 +102,6 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let setup = std::time::Instant::now();
     let mut options = scene.solver_options();
     options.parallelism = cli.threads;
-    options.tnnmg.smoother = cli.smoother;
     let mut sim = scene
         .simulation_builder()?
         .solver_options(options)
@@ -137,11 +140,6 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .fingerprint()
         .with("window", format!("{w0:e},{w1:e}"))
         .with("frame_every", cli.frames.frame_every.unwrap_or(0));
-    // The smoother order changes the round-off of a TNNMG run (not the default's).
-    let fingerprint = match cli.smoother {
-        rsf::tnnmg::SmootherOrder::Lexicographic => fingerprint,
-        order => fingerprint.with("smoother", order),
-    };
     let resumed = match &cli.resume {
         Some(path) => {
             let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;

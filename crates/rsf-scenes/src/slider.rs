@@ -7,7 +7,7 @@ use rsf_fem::{pipping_slider_coarse, Diagonal, TAG_DIRICHLET, TAG_FRICTIONAL, TA
 use rsf_friction::{DieterichRuina, RateStateParams};
 use rsf_state::{BuiltinStateLaw, StateLawKind};
 use rsf_time::{Integrator, StepControl, VelocityIntegrator};
-use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
+use rsf_tnnmg::{DirectOptions, SmootherOrder, Stopping, TnnmgOptions};
 
 use crate::invalid;
 use rsf::checkpoint::{Fingerprint, CHECKPOINT_FORMAT};
@@ -224,6 +224,15 @@ pub struct SliderScene {
     /// field keep their fingerprint.
     #[serde(default, skip_serializing_if = "InnerSolves::is_exact")]
     pub fixed_point_inner_solves: InnerSolves,
+    /// The node order of TNNMG's smoothers ([`SmootherOrder`]: `"lexicographic"`,
+    /// `"multicolour"` or `"red-black-chunks"`; the other solvers ignore it). Default
+    /// `"lexicographic"` (sequential; the paper's figures and every 2-D trajectory); the 3-D
+    /// slider's default is `"red-black-chunks"` (the sweeps on
+    /// [`SolverOptions::parallelism`]'s threads, bit-identical for every thread count,
+    /// other round-off than lexicographic; docs/scaling.md). Written only when not
+    /// `"lexicographic"`: scenes and checkpoints without the field keep their fingerprint.
+    #[serde(default, skip_serializing_if = "is_lexicographic")]
+    pub tnnmg_smoother: SmootherOrder,
     /// Velocity solver tolerance (energy norm, absolute; paper 1e-10).
     pub solver_tolerance: f64,
     /// Coarse grid diagonal.
@@ -270,11 +279,18 @@ impl Default for SliderScene {
             fixed_point_tolerance: 1e-10,
             fixed_point_max_iterations: 100,
             fixed_point_inner_solves: InnerSolves::Exact,
+            tnnmg_smoother: SmootherOrder::Lexicographic,
             solver_tolerance: 1e-10,
             diagonal: Diagonal::Forward,
             absorbing_sides: false,
         }
     }
+}
+
+/// `skip_serializing_if` of [`SliderScene::tnnmg_smoother`]: the default order is not
+/// written.
+fn is_lexicographic(order: &SmootherOrder) -> bool {
+    *order == SmootherOrder::Lexicographic
 }
 
 /// The admissible initial states α₀ = ln θ₀ (θ₀ in s): those with θ₀ = exp(α₀) a normal
@@ -837,8 +853,8 @@ impl SliderScene {
     }
 
     /// The options of the velocity solvers with the scene's tolerance (TNNMG: absolute
-    /// `solver_tolerance`; direct: absolute `solver_tolerance · 1e-2`, relative 1e-14;
-    /// 500 iterations each).
+    /// `solver_tolerance`, smoother order `tnnmg_smoother`; direct: absolute
+    /// `solver_tolerance · 1e-2`, relative 1e-14; 500 iterations each).
     pub fn solver_options(&self) -> SolverOptions {
         let stopping = Stopping {
             absolute: self.solver_tolerance,
@@ -848,6 +864,7 @@ impl SliderScene {
         SolverOptions {
             tnnmg: TnnmgOptions {
                 stopping,
+                smoother: self.tnnmg_smoother,
                 ..TnnmgOptions::default()
             },
             direct: DirectOptions {

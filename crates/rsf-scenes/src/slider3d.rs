@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use rsf_fem::{cuboid, Diagonal, TetrahedronMesh, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
 use rsf_time::VelocityIntegrator;
+use rsf_tnnmg::SmootherOrder;
 
 use crate::invalid;
 use rsf::checkpoint::Fingerprint;
@@ -69,12 +70,15 @@ pub struct Slider3dScene {
 impl Default for Slider3dScene {
     /// The paper's parameters at level 2, W = 1 m, free lateral faces; inexact inner
     /// solves for TNNMG ([`InnerSolves::BySolver`]: 1.8× fewer TNNMG iterations for the
-    /// same events, docs/scaling.md).
+    /// same events, docs/scaling.md) and its smoothers in red–black chunks
+    /// ([`SmootherOrder::RedBlackChunks`]: on the solver's threads, the same bits for every
+    /// thread count; the lexicographic order's trajectories in round-off; docs/scaling.md).
     fn default() -> Self {
         Self {
             slider: SliderScene {
                 level: 2,
                 fixed_point_inner_solves: InnerSolves::BySolver,
+                tnnmg_smoother: SmootherOrder::RedBlackChunks,
                 ..SliderScene::default()
             },
             width_m: 1.0,
@@ -85,8 +89,9 @@ impl Default for Slider3dScene {
 
 impl Serialize for Slider3dScene {
     /// The fields of [`SliderScene`] and `width_m`, `lateral` at the top level, as
-    /// [`from_toml`](Slider3dScene::from_toml) reads them; `fixed_point_inner_solves` is
-    /// always written (its default differs between the 2-D and the 3-D scene).
+    /// [`from_toml`](Slider3dScene::from_toml) reads them; `fixed_point_inner_solves` and
+    /// `tnnmg_smoother` are always written (their defaults differ between the 2-D and the
+    /// 3-D scene).
     fn serialize<S: serde::Serializer>(
         &self,
         serializer: S,
@@ -97,6 +102,9 @@ impl Serialize for Slider3dScene {
             .map_err(S::Error::custom)?;
         let lateral = toml::Value::try_from(self.lateral).map_err(S::Error::custom)?;
         table.insert("fixed_point_inner_solves".into(), inner);
+        let smoother =
+            toml::Value::try_from(self.slider.tnnmg_smoother).map_err(S::Error::custom)?;
+        table.insert("tnnmg_smoother".into(), smoother);
         table.insert("width_m".into(), toml::Value::Float(self.width_m));
         table.insert("lateral".into(), lateral);
         table.serialize(serializer)
@@ -183,8 +191,9 @@ impl Slider3dScene {
 
     /// Parses a TOML scene: the fields of [`SliderScene`] and `width_m`, `lateral`
     /// (`"free"` or `"plane-strain"`), all optional: a missing field takes the value of
-    /// [`Slider3dScene::default`] (level 2, `fixed_point_inner_solves = "by-solver"`, the
-    /// other shared fields as in [`SliderScene::default`]).
+    /// [`Slider3dScene::default`] (level 2, `fixed_point_inner_solves = "by-solver"`,
+    /// `tnnmg_smoother = "red-black-chunks"`, the other shared fields as in
+    /// [`SliderScene::default`]).
     ///
     /// # Errors
     /// [`Error::SceneFile`] with the parser's message (it names unknown fields).
@@ -210,7 +219,7 @@ impl Slider3dScene {
         }
         let extrusion: Extrusion = own.try_into().map_err(file)?;
         // The file's fields over the 3-D scene's defaults (level 2, `by-solver` inner
-        // solves), not the 2-D scene's.
+        // solves, red–black chunks), not the 2-D scene's.
         let default = Self::default();
         let mut merged =
             toml::Table::try_from(&default.slider).map_err(|e| Error::SceneFile(e.to_string()))?;
@@ -225,9 +234,15 @@ impl Slider3dScene {
 
     /// What a checkpoint of this scene continues: every field as TOML names it (those of
     /// [`SliderScene`] and `width_m`, `lateral`) and the checkpoint `format`, like
-    /// [`SliderScene::fingerprint`].
+    /// [`SliderScene::fingerprint`]; `tnnmg_smoother` only when not `"lexicographic"`
+    /// (the one order before the field existed, so the checkpoints of those runs
+    /// continue).
     pub fn fingerprint(&self) -> Fingerprint {
-        Fingerprint::of_serialized(self).with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
+        let mut fingerprint = Fingerprint::of_serialized(self);
+        if self.slider.tnnmg_smoother == SmootherOrder::Lexicographic {
+            fingerprint.0.retain(|(field, _)| field != "tnnmg_smoother");
+        }
+        fingerprint.with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
     }
 
     /// The point where the time series is recorded: `x0 = (2.5, 0, W/2)` m, the centre of
@@ -451,6 +466,52 @@ mod tests {
         );
         let back = toml::to_string(&s).unwrap();
         assert_eq!(Slider3dScene::from_toml(&back).unwrap(), s);
+    }
+
+    /// The 3-D scene's TNNMG smoothers default to red–black chunks, from a file too, and
+    /// reach the solver options; the 2-D scene keeps the lexicographic order and does not
+    /// write it, so its files and fingerprints are unchanged, and so is the fingerprint
+    /// of a 3-D scene set to lexicographic (the 3-D runs before the default changed) —
+    /// which differs from the new default's.
+    #[test]
+    fn tnnmg_smoother_defaults_round_trip_and_fingerprints() {
+        let three = Slider3dScene::default();
+        assert_eq!(three.slider.tnnmg_smoother, SmootherOrder::RedBlackChunks);
+        assert_eq!(
+            three.slider.solver_options().tnnmg.smoother,
+            SmootherOrder::RedBlackChunks
+        );
+        let s = Slider3dScene::from_toml("level = 1").unwrap();
+        assert_eq!(s.slider.tnnmg_smoother, SmootherOrder::RedBlackChunks);
+        for (text, order) in [
+            ("lexicographic", SmootherOrder::Lexicographic),
+            ("multicolour", SmootherOrder::MultiColour),
+            ("multicolor", SmootherOrder::MultiColour),
+            ("red-black-chunks", SmootherOrder::RedBlackChunks),
+        ] {
+            let s = Slider3dScene::from_toml(&format!("tnnmg_smoother = \"{text}\"")).unwrap();
+            assert_eq!(s.slider.tnnmg_smoother, order);
+            assert_eq!(s.slider.solver_options().tnnmg.smoother, order);
+            let back = toml::to_string(&s).unwrap();
+            assert_eq!(Slider3dScene::from_toml(&back).unwrap(), s);
+        }
+        let e = Slider3dScene::from_toml("tnnmg_smoother = \"red-black\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("tnnmg_smoother"), "{e}");
+        // 2-D: lexicographic, not written.
+        let two = SliderScene::default();
+        assert_eq!(two.tnnmg_smoother, SmootherOrder::Lexicographic);
+        assert!(!toml::to_string(&two).unwrap().contains("tnnmg_smoother"));
+        // 3-D: the default's fingerprint names the order; lexicographic's does not.
+        let mut lexicographic = three.clone();
+        lexicographic.slider.tnnmg_smoother = SmootherOrder::Lexicographic;
+        assert_eq!(lexicographic.fingerprint().get("tnnmg_smoother"), None);
+        assert_eq!(
+            three.fingerprint().get("tnnmg_smoother"),
+            Some("\"red-black-chunks\"")
+        );
+        assert_ne!(three.fingerprint(), lexicographic.fingerprint());
     }
 
     /// The closed-form node count is the built mesh's.

@@ -21,7 +21,16 @@ use crate::Parallelism;
 pub(crate) const COLOUR_PARALLEL_MIN: usize = 512;
 
 /// The order in which a nonlinear block Gauss–Seidel sweep visits the nodes.
+///
+/// With the `serde` feature it reads and writes as its [`Display`](std::fmt::Display)
+/// names (`"lexicographic"`, `"multicolour"`, `"red-black-chunks"`; `"multicolor"` is read
+/// too), as in scene files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
 pub enum SmootherOrder {
     /// Node by node in increasing index order (decreasing for a backward sweep): the
     /// classical sweep and the default; sequential, and its iterates are those of every
@@ -35,6 +44,7 @@ pub enum SmootherOrder {
     /// threads; they differ from [`Lexicographic`](Self::Lexicographic) ones (another
     /// Gauss–Seidel order, the same minimiser). The linear multigrid's smoothers stay
     /// lexicographic and sequential.
+    #[cfg_attr(feature = "serde", serde(rename = "multicolour", alias = "multicolor"))]
     MultiColour,
     /// Red–black chunks: the fine node graph's breadth-first levels (from a
     /// pseudo-peripheral node, a function of the pattern alone) grouped into 2, 4, 8 or

@@ -157,8 +157,9 @@ pub const DEFAULT_MEMORY_BUDGET_BYTES: usize = 8 << 30;
 pub struct SolverOptions {
     /// Options of TNNMG, among them the smoother order `tnnmg.smoother`
     /// ([`rsf_tnnmg::SmootherOrder`]: default lexicographic, the trajectories before the
-    /// option bit for bit; multi-colour changes them once, to round-off of the solver
-    /// tolerance, and is the order that runs on [`parallelism`](Self::parallelism)).
+    /// option bit for bit; multi-colour and red–black chunks change them once, to
+    /// round-off of the solver tolerance, and run on [`parallelism`](Self::parallelism);
+    /// the 3-D slider scene of `rsf-scenes` sets red–black chunks).
     pub tnnmg: TnnmgOptions,
     /// Options of the direct solver.
     pub direct: DirectOptions,
@@ -184,7 +185,8 @@ pub struct SolverOptions {
     /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows), and TNNMG's smoothers and residuals when
     /// `tnnmg.smoother` is [`rsf_tnnmg::SmootherOrder::MultiColour`] (the nonlinear sweeps)
     /// or [`rsf_tnnmg::SmootherOrder::RedBlackChunks`] (also the linear multigrid's fine
-    /// level). TNNMG's default lexicographic smoother and Gauss–Seidel are sequential.
+    /// level). TNNMG's lexicographic smoother (the default here) and Gauss–Seidel are
+    /// sequential.
     /// Results are bit-identical for every value. Default [`Parallelism::default`] (two
     /// threads of rayon's pool, the behaviour before this option).
     pub parallelism: Parallelism,
