@@ -366,3 +366,77 @@ fn direct_solver_for_another_matrix_equals_a_fresh_one() {
     first.solve(&b, &nl, &mut v1).unwrap();
     assert_ne!(bits(&v1), bits(&v_r));
 }
+
+/// `FullStep::with_correction_from_solver`: a solve of one TNNMG iteration takes its change
+/// from the solver's report. The iterates are those of the measured `FullStep` bit for
+/// bit; the change agrees with the measured one and with an independent `‖Δv‖_E` to
+/// round-off; a solve of several iterations is measured as without the option.
+#[test]
+fn full_step_takes_the_change_of_one_iteration_from_the_solver() {
+    let (m0, level) = (2, 3);
+    let m = m0 << level;
+    let a = square(m, 10.0);
+    let fixed = left_edge_fixed(m);
+    let b = stick_slip_load(m);
+    let nl = stick_slip_tresca(m);
+    let make = |from_solver: bool| {
+        let tnnmg = Tnnmg::<1>::new(
+            a.as_ref(),
+            &fixed,
+            &square_hierarchy(m0, level),
+            Some(a.as_ref()),
+            TnnmgOptions::default(),
+        )
+        .unwrap();
+        let step = FullStep::new(tnnmg, Some(a.as_ref())).unwrap();
+        if from_solver {
+            step.with_correction_from_solver()
+        } else {
+            step
+        }
+    };
+    let (mut measured, mut reported) = (make(false), make(true));
+    let v0 = vec![0.0; b.len()];
+    measured.begin_step(&b, &v0, &nl.nodes).unwrap();
+    reported.begin_step(&b, &v0, &nl.nodes).unwrap();
+    let one = Stopping {
+        absolute: f64::MAX,
+        relative: 0.0,
+        max_iterations: 1,
+    };
+    let (mut before, mut after, mut check) = (v0.clone(), v0.clone(), v0.clone());
+    for it in 0..4 {
+        let r = reported.solve_step(&nl, one).unwrap();
+        assert_eq!(measured.solve_step(&nl, one).unwrap().iterations, 1);
+        assert_eq!(r.iterations, 1);
+        reported.current_iterate(&mut after).unwrap();
+        measured.current_iterate(&mut check).unwrap();
+        assert!(
+            after
+                .iter()
+                .zip(&check)
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            "iteration {it}: iterates differ"
+        );
+        let delta: Vec<f64> = after.iter().zip(&before).map(|(x, y)| x - y).collect();
+        let independent = energy_norm(&a, &delta);
+        let (c_r, c_m) = (reported.last_change(), measured.last_change());
+        assert_eq!(c_r.to_bits(), r.correction.to_bits());
+        assert!(independent > 0.0);
+        for c in [c_r, c_m] {
+            assert!(
+                (c - independent).abs() <= 1e-12 * independent,
+                "iteration {it}: {c:e} against {independent:e}"
+            );
+        }
+        before.copy_from_slice(&after);
+    }
+    // Several iterations: measured over the whole solve, the same bits either way.
+    let r = reported.solve_step(&nl, tight()).unwrap();
+    measured.solve_step(&nl, tight()).unwrap();
+    assert!(r.iterations > 1, "{} iterations", r.iterations);
+    assert_eq!(
+        reported.last_change().to_bits(),
+        measured.last_change().to_bits()
+    );
+}

@@ -265,7 +265,9 @@ impl<const C: usize> VelocitySolver<C> {
                     .with_parallelism(options.parallelism),
                     Some(e),
                 )?
-                .with_parallelism(options.parallelism),
+                .with_parallelism(options.parallelism)
+                // TNNMG measures its corrections in `e` too.
+                .with_correction_from_solver(),
             )),
             SolverKind::Direct => {
                 let mut d = DirectSolver::new(a.as_ref(), &model.fixed, options.direct.clone())?
