@@ -174,10 +174,7 @@ fn every_order_gives_bit_identical_iterates_at_1_2_and_4_threads() {
 fn bit_identical_at_1_2_and_4_threads(order: SmootherOrder) {
     let (m0, level) = (2, 5);
     let m = m0 << level;
-    let a = square(m, 10.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
-    let nl = stick_slip_tresca(m);
+    let StickSlip { a, fixed, b, nl } = stick_slip(m);
     let hierarchy = square_hierarchy(m0, level);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(4)
@@ -218,10 +215,7 @@ fn parallel_orders_converge_to_the_lexicographic_minimiser() {
     let m0 = 2;
     for level in 2..=4 {
         let m = m0 << level;
-        let a = square(m, 10.0);
-        let fixed = left_edge_fixed(m);
-        let b = stick_slip_load(m);
-        let nl = stick_slip_tresca(m);
+        let StickSlip { a, fixed, b, nl } = stick_slip(m);
         let hierarchy = square_hierarchy(m0, level);
         let solve = |smoother| {
             let mut tn = Tnnmg::<1>::new(a.as_ref(), &fixed, &hierarchy, None, options(smoother))

@@ -18,10 +18,7 @@ fn tnnmg_gauss_seidel_and_direct_agree_on_stick_slip_problem() {
     let m0 = 2;
     for level in 2..=4 {
         let m = m0 << level;
-        let a = square(m, 10.0);
-        let fixed = left_edge_fixed(m);
-        let b = stick_slip_load(m);
-        let nl = stick_slip_tresca(m);
+        let StickSlip { a, fixed, b, nl } = stick_slip(m);
         let opts = TnnmgOptions {
             stopping: tight(),
             ..Default::default()
@@ -375,10 +372,7 @@ fn direct_solver_for_another_matrix_equals_a_fresh_one() {
 fn full_step_takes_the_change_of_one_iteration_from_the_solver() {
     let (m0, level) = (2, 3);
     let m = m0 << level;
-    let a = square(m, 10.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
-    let nl = stick_slip_tresca(m);
+    let StickSlip { a, fixed, b, nl } = stick_slip(m);
     let make = |from_solver: bool| {
         let tnnmg = Tnnmg::<1>::new(
             a.as_ref(),

@@ -227,6 +227,26 @@ pub fn stick_slip_tresca(m: usize) -> Tresca1 {
     Tresca1 { nodes, g }
 }
 
+/// The stick–slip test problem on the unit square with `m` cells per side: the P1
+/// matrix [`square`]`(m, 10)`, fixed on x = 0, the load [`stick_slip_load`] and Tresca
+/// friction [`stick_slip_tresca`] on the bottom edge.
+pub struct StickSlip {
+    pub a: Mat,
+    pub fixed: Vec<bool>,
+    pub b: Vec<f64>,
+    pub nl: Tresca1,
+}
+
+/// [`StickSlip`] with `m` cells per side.
+pub fn stick_slip(m: usize) -> StickSlip {
+    StickSlip {
+        a: square(m, 10.0),
+        fixed: left_edge_fixed(m),
+        b: stick_slip_load(m),
+        nl: stick_slip_tresca(m),
+    }
+}
+
 /// `‖x − y‖_A / ‖reference‖_A`.
 pub fn relative_energy_distance(a: &Mat, x: &[f64], y: &[f64], reference: &[f64]) -> f64 {
     let d: Vec<f64> = x.iter().zip(y).map(|(a, b)| a - b).collect();
