@@ -30,7 +30,7 @@ use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
 use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
-use crate::simulation::step::impose_dirichlet;
+use crate::simulation::step::impose_dirichlet_velocities;
 use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
@@ -166,6 +166,9 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     state: SimulationState,
     /// The dofs neither fixed nor condensed onto (NaN in the state unless computed).
     interior: Vec<usize>,
+    /// The fixed dofs (velocity 0 but on the Dirichlet dofs): what a step writes of them
+    /// costs their number, not the whole field's.
+    fixed: Vec<usize>,
     /// Whether the state's `u` and `v` are NaN at every `interior` dof but the probe's
     /// (which it rewrites after every step): then a step without the volume writes only
     /// the fault's, the loading's and the probe's entries, not the whole field's.
@@ -397,6 +400,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         let interior = (0..n)
             .filter(|&i| !model.fixed[i] && !in_interface[i])
             .collect();
+        let fixed = (0..n).filter(|&i| model.fixed[i]).collect();
         let mut y = Vec::with_capacity(m + fb.len());
         y.extend(
             cond.interface_dofs()
@@ -441,6 +445,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             y,
             state,
             interior,
+            fixed,
             interior_is_nan: false,
             zeros,
             dy: Vec::new(),
@@ -698,7 +703,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         for (&dof, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
             kin.u[dof] = model.initial_displacement[dof] + f * big_g;
         }
-        impose_dirichlet(model, t, &mut kin.v);
+        for &i in &self.fixed {
+            kin.v[i] = 0.0;
+        }
+        impose_dirichlet_velocities(model, t, &mut kin.v);
         if volume {
             self.interior_is_nan = false;
             r.cond
