@@ -11,7 +11,9 @@
 //!   `sprs::CsMat<f64>` in CSC storage.
 //!
 //! * [`Parallelism`] — the one parallelism parameter of the workspace (faer's `Par` with
-//!   a default, names and a deterministic two-way [`join`](Parallelism::join)).
+//!   a default, names, a deterministic two-way [`join`](Parallelism::join) and
+//!   [`linger`](Parallelism::linger), which keeps idle pool threads polling between
+//!   parallel regions that follow each other closely).
 //!
 //! Everything here is sequential (`Par::Seq`), so results are bit-for-bit reproducible.
 #![warn(missing_docs)]

@@ -65,7 +65,10 @@ pub struct FaultOdeOptions {
     /// per evaluation. Run the simulation on a thread of the pool
     /// (`rayon::ThreadPool::install`): called from outside it, each region hands its work
     /// to the pool and puts the caller to sleep until it is done, which can cost more than
-    /// the evaluation (docs/scaling.md, "From inside the pool").
+    /// the evaluation (docs/scaling.md, "From inside the pool"). After each evaluation
+    /// the pool's other threads poll it for the next for up to
+    /// [`Parallelism::LINGER`] instead of sleeping ([`Parallelism::linger`]; timing
+    /// only).
     pub parallelism: Parallelism,
 }
 
@@ -213,6 +216,16 @@ struct FaultRates<const C: usize> {
     parts: Option<PartNodes>,
 }
 
+/// [`Parallelism::linger`] when dropped: at the end of an evaluation however it ends (a
+/// few microseconds of Runge–Kutta arithmetic come before the next).
+struct LingerAfter(Parallelism);
+
+impl Drop for LingerAfter {
+    fn drop(&mut self) {
+        self.0.linger();
+    }
+}
+
 /// The ODE system of one step: the rates with the laws borrowed.
 struct Rates<'a, L, S, const C: usize> {
     friction: &'a [L],
@@ -251,6 +264,8 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             alpha,
             scale: None,
         };
+        // Between the parallel evaluations the pool's other threads poll for work.
+        let _linger = (pieces > 1).then_some(LingerAfter(d.par));
         // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each
         // thread its rows of the product and their nodes' solves (same bits).
         if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.kernel.hierarchical_mut()) {

@@ -4,6 +4,8 @@ use std::num::NonZeroUsize;
 
 use crate::error::{Error, Result};
 
+mod linger;
+
 /// How many threads the parallel parts of a computation may use: the direct solver's
 /// sweeps and dense factorisations (`rsf-tnnmg`), the rows of the integrators'
 /// right-hand side (`rsf-time`), and, through `rsf::SolverOptions::parallelism`, every
