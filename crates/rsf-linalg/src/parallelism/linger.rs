@@ -18,9 +18,10 @@ static LINGERING: AtomicUsize = AtomicUsize::new(0);
 
 impl Parallelism {
     /// How long a lingering thread polls after the last work it found
-    /// ([`linger`](Self::linger)): longer than the sequential work between two parallel
-    /// regions of a fault-ODE evaluation or a TNNMG iteration (microseconds to tens of
-    /// them), short against anything a user would notice as a busy core.
+    /// ([`linger`](Self::linger)): longer than the sequential work between two
+    /// fault-ODE evaluations (about 15 µs on SEAS BP1 at Δz = 25 m; docs/scaling.md,
+    /// "Idle threads that poll"), short against anything a user would notice as a busy
+    /// core.
     pub const LINGER: Duration = Duration::from_micros(200);
 
     /// After a parallel region when the next one follows within microseconds: unless
