@@ -205,7 +205,8 @@ struct FaultRates<const C: usize> {
     /// or at rest).
     fixed_velocity: Vec<[f64; C]>,
     weights: Vec<f64>,
-    eta: f64,
+    /// η of every frictional node (Pa·s/m).
+    eta: Vec<f64>,
     r: Vec<f64>,
     tolerance: f64,
     slip_scale: f64,
@@ -259,7 +260,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             first: &d.first,
             weights: &d.weights,
             fixed_velocity: &d.fixed_velocity,
-            eta: d.eta,
+            eta: &d.eta,
             speed,
             alpha,
             scale: None,
@@ -319,18 +320,23 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     pub(crate) fn new(
         problem: Problem<D, L, S, C>,
         alpha0: Vec<f64>,
-        eta: f64,
         dt0: f64,
         options: FaultOdeOptions,
     ) -> Result<Self> {
         options.validate()?;
         let model = problem.model();
-        if !(eta > 0.0 && eta.is_finite()) {
+        let eta = problem.radiation_damping().to_vec();
+        if let Some((k, e)) = eta
+            .iter()
+            .enumerate()
+            .find(|(_, e)| !(**e > 0.0 && e.is_finite()))
+        {
             return Err(invalid(
                 "radiation_damping",
                 format!(
-                    "η = {eta} Pa·s/m: a run condensed onto the fault needs radiation damping \
-                     η > 0 (quasi-dynamic, Quasistatic::with_radiation_damping)"
+                    "η = {e} Pa·s/m at frictional node {k}: a run condensed onto the fault \
+                     needs radiation damping η > 0 at every node (quasi-dynamic, \
+                     SimulationBuilder::radiation_damping)"
                 ),
             ));
         }

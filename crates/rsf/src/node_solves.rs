@@ -30,7 +30,8 @@ pub(crate) struct NodeSolves<'a, L, S, const C: usize> {
     pub first: &'a [usize],
     pub weights: &'a [f64],
     pub fixed_velocity: &'a [[f64; C]],
-    pub eta: f64,
+    /// η of every frictional node (Pa·s/m).
+    pub eta: &'a [f64],
     /// The loading history's rate `G'(t)` (factor of the Dirichlet velocities).
     pub speed: f64,
     /// `α` of every frictional node.
@@ -85,7 +86,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
             .map_or(1.0, |(sigma, sigma0)| sigma[k] / sigma0[k]);
         self.friction[k]
             .potential(alpha)
-            .minimize_block(self.eta, &traction[..r.len()], w, out);
+            .minimize_block(self.eta[k], &traction[..r.len()], w, out);
         let mut v2: f64 = out.iter().map(|v| v * v).sum();
         for f in &self.fixed_velocity[k] {
             v2 += (f * self.speed) * (f * self.speed);
@@ -278,6 +279,7 @@ mod tests {
             g1: &g1,
             big_g: 0.75,
         };
+        let eta = vec![5e6; nodes];
         let solves = NodeSolves::<_, _, C> {
             friction: &friction,
             state_laws: &state_laws,
@@ -285,7 +287,7 @@ mod tests {
             first: &first,
             weights: &weights,
             fixed_velocity: &fixed_velocity,
-            eta: 5e6,
+            eta: &eta,
             speed: 1e-9,
             alpha: &alpha,
             scale: None,

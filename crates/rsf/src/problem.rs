@@ -17,7 +17,7 @@ pub struct Problem<const D: usize, L, S, const C: usize = D> {
     friction_laws: Vec<L>,
     state_laws: Vec<S>,
     uses_state: bool,
-    radiation_damping: f64,
+    radiation_damping: Vec<f64>,
     normal_stress: NormalStress,
 }
 
@@ -27,7 +27,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, 
         model: Model<D, C>,
         friction_laws: Vec<L>,
         state_laws: Vec<S>,
-        radiation_damping: f64,
+        radiation_damping: Vec<f64>,
     ) -> Self {
         let uses_state = friction_laws.iter().any(FrictionLaw::uses_state);
         Self {
@@ -52,11 +52,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, 
         self.normal_stress
     }
 
-    /// The radiation damping η on Γ_F (Pa·s/m; 0 for none): the shear traction
-    /// `−η V` of waves radiated from the fault in a quasi-dynamic model (Rice 1993;
-    /// docs/math.md §11), per unit fault area.
-    pub fn radiation_damping(&self) -> f64 {
-        self.radiation_damping
+    /// The radiation damping η of every frictional node (Pa·s/m, in
+    /// `model.frictional_boundary.nodes` order; 0 for none): the shear traction `−η V` of
+    /// waves radiated from the fault in a quasi-dynamic model (Rice 1993; docs/math.md
+    /// §11), per unit fault area — `μ/(2c_s)` of the material at the node for the usual
+    /// choice.
+    pub fn radiation_damping(&self) -> &[f64] {
+        &self.radiation_damping
     }
 
     /// The model.

@@ -359,6 +359,84 @@ fn the_fault_ode_and_the_implicit_scheme_agree_on_a_3d_internal_fault() {
     }
 }
 
+/// Radiation damping that varies along the fault (`SimulationBuilder::radiation_damping_at`:
+/// η per node, e.g. `μ/(2c_s)` of the material at each node): the fault ODE and the
+/// implicit scheme (backward Euler, direct solver) agree on it as on a uniform η, the
+/// implicit scheme converging to the fault ODE as τ halves, and the answer is not the
+/// uniform η's (the per-node values are used, not one of them).
+#[test]
+fn radiation_damping_per_node_is_the_same_physics_in_both_engines() {
+    let t_end = 3.0;
+    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
+    // A hundred times μ/(2c_s), so that ηV is comparable to the frictional stress change.
+    let eta0 = 100.0 * mu / (2.0 * c_s);
+    let varying = move |x: &[f64; 3]| eta0 * (1.0 + 1.8 * x[1]);
+    let options = rsf::fault_ode::FaultOdeOptions {
+        tolerance: 1e-9,
+        ..Default::default()
+    };
+    let ode_slip = |builder: SimulationBuilder<3, _, _, _, 3>| {
+        let mut ode = builder.time_step(1e-3).build_fault_ode(options).unwrap();
+        let mut last = LastSlip::default();
+        rsf::run_until(&mut ode, rsf::Until::Time(t_end), &mut [&mut last]).unwrap();
+        last.0
+    };
+    let reference = ode_slip(quasi_dynamic().radiation_damping_at(varying));
+    let uniform = ode_slip(quasi_dynamic().radiation_damping(eta0));
+    let scale = reference.iter().fold(0.0f64, |m, &x| m.max(x));
+    let max_diff = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / scale
+    };
+    let effect = max_diff(&reference, &uniform);
+    let implicit_slip = |builder: SimulationBuilder<3, _, _, _, 3>, steps: usize| {
+        let mut sim = builder
+            .time_step(t_end / steps as f64)
+            .solver(SolverKind::Direct)
+            .build()
+            .unwrap();
+        let mut last = LastSlip::default();
+        sim.run(steps, &mut [&mut last]).unwrap();
+        last.0
+    };
+    // Per τ: the implicit scheme's distance from the fault ODE, and the change that the
+    // varying η makes in the implicit scheme against the change it makes in the fault ODE.
+    let (mut errors, mut effect_errors) = (Vec::new(), Vec::new());
+    for steps in [50, 100, 200] {
+        let varied = implicit_slip(quasi_dynamic().radiation_damping_at(varying), steps);
+        let flat = implicit_slip(quasi_dynamic().radiation_damping(eta0), steps);
+        errors.push(max_diff(&varied, &reference));
+        let change: Vec<f64> = varied.iter().zip(&flat).map(|(a, b)| a - b).collect();
+        let ode_change: Vec<f64> = reference.iter().zip(&uniform).map(|(a, b)| a - b).collect();
+        effect_errors.push(max_diff(&change, &ode_change));
+    }
+    eprintln!(
+        "η varying by ±90 %: changes the slip by {effect:e} of the largest {scale:e} m; the \
+         implicit scheme at T/50, T/100, T/200 is {errors:?} from the fault ODE, its change \
+         by the varying η {effect_errors:?} from the fault ODE's"
+    );
+    for w in errors.windows(2).chain(effect_errors.windows(2)) {
+        assert!(w[1] < 0.7 * w[0], "{errors:?} {effect_errors:?}");
+    }
+    assert!(
+        effect_errors[2] < 0.1 * effect,
+        "{effect_errors:?} against {effect:e}"
+    );
+    // η ≤ 0 at one node is refused by the fault ODE, naming the node.
+    let e = quasi_dynamic()
+        .radiation_damping_at(|x| if x[1] > 0.2 { 0.0 } else { 1e6 })
+        .time_step(1e-3)
+        .build_fault_ode(options)
+        .map(|_| ())
+        .expect_err("refused");
+    assert!(
+        matches!(e, rsf::Error::InvalidParameter { ref name, ref reason } if name == "radiation_damping" && reason.contains("node")),
+        "{e}"
+    );
+}
+
 /// `[-1, 1]² × [-1, 0]` (the top a free surface; 5 × 5 × 3 coarse vertices refined once)
 /// with a fault on the plane `x = z` dipping 45° from its trace `x = z = 0, |y| ≤ 0.5`
 /// on the surface to depth 0.5 (its other rim inside the body), the faces `x = ±1`

@@ -68,12 +68,13 @@ pub struct Method<const D: usize, I, const C: usize = D> {
     /// damping `q_k = η w_k` of each frictional node, moved from the matrix into the
     /// nonlinearity.
     tau_free: Option<Vec<f64>>,
-    /// The radiation damping η of the problem (Pa·s/m; physics, not method).
-    eta: f64,
+    /// The radiation damping η of every frictional node (Pa·s/m; physics, not method).
+    eta: Vec<f64>,
 }
 
 impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
-    /// Builds the method for `model` with radiation damping `eta` (Pa·s/m, the problem's)
+    /// Builds the method for `model` with radiation damping `eta` (Pa·s/m, the problem's,
+    /// one per frictional node)
     /// at the time step `tau` (s).
     ///
     /// # Errors
@@ -83,7 +84,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         options: MethodOptions<I>,
         model: &Model<D, C>,
         tau: f64,
-        eta: f64,
+        eta: &[f64],
     ) -> Result<Self> {
         let load_operator = LoadOperator::new(
             model
@@ -98,7 +99,10 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             && !options.solver_options.setup_per_time_step)
             .then(|| {
                 let w = &model.frictional_boundary.weights;
-                w.iter().map(|w| eta * w).collect::<Vec<f64>>()
+                w.iter()
+                    .zip(eta)
+                    .map(|(w, eta)| eta * w)
+                    .collect::<Vec<f64>>()
             });
         let a = match tau_free {
             // A/c_K without the damping: K, whatever τ.
@@ -120,7 +124,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             solver_cache: Vec::new(),
             load_operator,
             tau_free,
-            eta,
+            eta: eta.to_vec(),
         })
     }
 
@@ -227,7 +231,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             None => self.solver.for_matrix(
                 self.resolved,
                 &self.options.solver_options,
-                &time_step_matrix(model, &self.options.integrator, tau, self.eta)?,
+                &time_step_matrix(model, &self.options.integrator, tau, &self.eta)?,
                 model,
             )?,
         };
@@ -241,7 +245,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
 }
 
 /// The matrix `A = c_M M + c_K K` (+ the absorbing parts' dashpots `C` with inertia,
-/// + radiation damping `eta`, Pa·s/m) of the velocity problem at `tau`.
+/// + radiation damping `eta`, Pa·s/m per frictional node) of the velocity problem at `tau`.
 ///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tau` for a
@@ -250,7 +254,7 @@ pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegr
     model: &Model<D, C>,
     integrator: &I,
     tau: f64,
-    eta: f64,
+    eta: &[f64],
 ) -> Result<SparseMatrix> {
     let (c_m, c_k) = integrator.coefficients(tau);
     let mut a = match (&model.mass, integrator.uses_mass()) {
@@ -263,7 +267,7 @@ pub(crate) fn time_step_matrix<const D: usize, const C: usize, I: VelocityIntegr
         // boundaries"); the multigrid levels get C through their Galerkin products.
         a = combine(1.0, &a, 1.0, &absorbing.damping).map_err(rsf_fem::Error::from)?;
     }
-    if eta > 0.0 {
+    if eta.iter().any(|&eta| eta > 0.0) {
         add_radiation_damping(&mut a, model, eta);
     }
     if let Some(x) = a.val().iter().find(|x| !x.is_finite()) {
@@ -298,19 +302,20 @@ pub(crate) fn check_time_step_matrix<const D: usize, const C: usize, I: Velocity
     Ok(())
 }
 
-/// Adds `η w_p` to the diagonal of every component of each frictional node: the Hessian of
-/// the radiation damping term `Σ_p w_p η/2 |v_p|²`.
+/// Adds `η_p w_p` to the diagonal of every component of each frictional node `p`: the
+/// Hessian of the radiation damping term `Σ_p w_p η_p/2 |v_p|²`.
 fn add_radiation_damping<const D: usize, const C: usize>(
     a: &mut SparseMatrix,
     model: &Model<D, C>,
-    eta: f64,
+    eta: &[f64],
 ) {
     let (sym, vals) = a.parts_mut();
-    for (&p, &w) in model
+    for ((&p, &w), &eta) in model
         .frictional_boundary
         .nodes
         .iter()
         .zip(&model.frictional_boundary.weights)
+        .zip(eta)
     {
         for c in 0..C {
             let j = C * p + c;

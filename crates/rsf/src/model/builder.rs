@@ -6,6 +6,7 @@ use rsf_fem::{
 };
 
 use super::absorbing::{AbsorbingBoundary, ResolvedPart};
+use super::creep::{CreepField, CreepRate};
 use super::fault::FrictionalBoundary;
 use super::internal::{faces_on_levels, split_hierarchy, InternalFault, SplitFault};
 use super::loading::{DirichletVelocity, TimeFunction};
@@ -393,9 +394,9 @@ pub struct ModelBuilder<const D: usize, const C: usize = D> {
     slip_factor: f64,
     absorbing: Vec<Absorbing<D, C>>,
     internal_fault: Option<SplitFault<D>>,
-    /// The creeping section of an internal fault: where (by a pair's position) and its
-    /// slip rate (m/s, times `g(t)`).
-    internal_creep: Option<(FacetPredicate<D>, f64)>,
+    /// The creeping section of an internal fault: its slip rate (m/s, times `g(t)`) by a
+    /// pair's position, `None` where the pair slips by friction.
+    internal_creep: Option<CreepField<D>>,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -666,11 +667,12 @@ impl<const C: usize> ModelBuilder<3, C> {
 impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// The creeping section of the internal fault: the split pairs at positions `x` (m)
     /// with `inside(x)` slip at the prescribed rate `slip_rate · g(t)` (m/s; `g` the loading
-    /// history) instead of by friction — the jump's tangential component in the pair's
-    /// frame, whose tangent is in 2-D the fault's direction turned by 180° (`t = −d`, `d`
-    /// from the first point to the last; the same sign as
-    /// [`StepView::slip`](crate::StepView::slip)), in 3-D the frame's first tangent `t₁`
-    /// ([`internal_fault_polygon`](ModelBuilder::internal_fault_polygon)).
+    /// history) instead of by friction — along the pair's tangent, in 2-D the fault's
+    /// direction turned by 180° (`t = −d`, `d` from the first point to the last; the same
+    /// sign as [`StepView::slip`](crate::StepView::slip)), in 3-D the frame's first tangent
+    /// `t₁` ([`internal_fault_polygon`](ModelBuilder::internal_fault_polygon)), with the
+    /// second tangential component fixed at 0 (a vector of prescribed direction; other
+    /// directions, a rake or a rate per node: [`internal_creep_at`](Self::internal_creep_at)).
     /// Used for a fault loaded by steady creep below the seismogenic depth (SEAS BP3). Pairs
     /// whose two sides are both fully fixed by Dirichlet parts (each side's far-field
     /// motion where the fault meets a far boundary) are prescribed too. Prescribed pairs are
@@ -680,11 +682,52 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// As [`internal_fault`](Self::internal_fault); [`Error::InvalidParameter`] named
     /// `internal_creep` for a non-finite rate or without an internal fault.
     pub fn internal_creep(
-        mut self,
+        self,
         inside: impl Fn(&[f64; D]) -> bool + 'static,
         slip_rate: f64,
     ) -> Self {
-        self.internal_creep = Some((Box::new(inside), slip_rate));
+        self.internal_creep_at(move |x| inside(x).then_some(CreepRate::InFrame([slip_rate, 0.0])))
+    }
+
+    /// The creeping section of the internal fault with a slip-rate vector per pair: the
+    /// pair at position `x` (m) slips at `rate(x)` times the loading history `g(t)` where
+    /// it is `Some` ([`CreepRate`]: components in the pair's frame, a rake, or a Cartesian
+    /// vector tangent to the fault), by friction where it is `None`. Every tangential
+    /// component of a creeping pair is fixed (docs/math.md "Slip as a vector").
+    ///
+    /// ```
+    /// use rsf::fem::cuboid;
+    /// use rsf::model::CreepRate;
+    /// use rsf::{Material, ModelBuilder, Part};
+    /// // The plane x = 0.5 of a unit cube: its upper half creeps along (0, cos 30°, sin 30°).
+    /// let cube = cuboid([0.0; 3], [1.0; 3], [3, 3, 3])?;
+    /// let v = 1e-9;
+    /// let model = ModelBuilder::refined(cube, 1)?
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .dirichlet(Part::predicate("left", |x| x[0] < 1e-9), [0.0; 3])
+    ///     .internal_fault_polygon(
+    ///         "fault",
+    ///         &[[0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [0.5, 1.0, 1.0], [0.5, 0.0, 1.0]],
+    ///     )
+    ///     .internal_creep_at(move |x| {
+    ///         let rake = 30f64.to_radians();
+    ///         (x[2] > 0.6).then_some(CreepRate::Cartesian([0.0, v * rake.cos(), v * rake.sin()]))
+    ///     })
+    ///     .build()?;
+    /// // 5 × 5 fault vertices, the 5 at z = 0.75 and the 5 at z = 1 creep.
+    /// assert_eq!(model.frictional_boundary.len(), 15);
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    ///
+    /// # Errors (at `build`)
+    /// As [`internal_creep`](Self::internal_creep); [`Error::InvalidParameter`] named
+    /// `internal_creep` for a rate [`CreepRate`] refuses (a second tangential component in
+    /// 2-D, a Cartesian rate with a normal part or on a scalar field), naming the position.
+    pub fn internal_creep_at(
+        mut self,
+        rate: impl Fn(&[f64; D]) -> Option<CreepRate<D>> + 'static,
+    ) -> Self {
+        self.internal_creep = Some(Box::new(rate));
         self
     }
 
@@ -735,14 +778,18 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     velocity[C * pl + c] = Some((1.0 - beta) * vm[c] + beta * vp[c]);
                 }
                 prescribed.push(true);
-            } else if let Some((inside, rate)) = self
+            } else if let Some(rate) = self
                 .internal_creep
                 .as_ref()
-                .filter(|(inside, _)| inside(&mesh.vertices()[mi]))
+                .and_then(|creep| creep(&mesh.vertices()[mi]))
             {
-                let _ = inside;
-                fixed[C * mi] = true;
-                velocity[C * mi] = Some(*rate);
+                let x = &mesh.vertices()[mi];
+                let j = rate.in_frame::<C>(&fault.transform.frames[k], x)?;
+                let tangential = if C == D && C > 1 { C - 1 } else { 1 };
+                for (c, &jc) in j.iter().enumerate().take(tangential) {
+                    fixed[C * mi + c] = true;
+                    velocity[C * mi + c] = Some(jc);
+                }
                 prescribed.push(true);
             } else {
                 prescribed.push(false);
@@ -913,16 +960,11 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             }
             None => (None, None, None),
         };
-        if let Some((_, rate)) = &self.internal_creep {
-            if fault.is_none() || !rate.is_finite() {
-                return Err(invalid(
-                    "internal_creep",
-                    format!(
-                        "a creep rate of {rate} m/s needs a finite rate and an internal fault \
-                         (ModelBuilder::internal_fault)"
-                    ),
-                ));
-            }
+        if self.internal_creep.is_some() && fault.is_none() {
+            return Err(invalid(
+                "internal_creep",
+                "a creeping section needs an internal fault (ModelBuilder::internal_fault)",
+            ));
         }
         let mesh = split.as_ref().unwrap_or_else(|| self.hierarchy.finest());
         let n = C * mesh.num_vertices();

@@ -4,6 +4,7 @@
 pub(crate) mod absorbing;
 pub(crate) mod builder;
 pub(crate) mod conditioning;
+pub(crate) mod creep;
 pub(crate) mod equilibrium;
 pub(crate) mod fault;
 pub(crate) mod internal;
@@ -18,6 +19,7 @@ pub use builder::{
     DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
 };
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
+pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
 pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
 pub use fault::FrictionalBoundary;
 pub use internal::{FaultSide, InternalFault};

@@ -71,8 +71,10 @@ pub struct SimulationBuilder<const D: usize, L, S, I, const C: usize = D> {
     alpha0: Option<Vec<f64>>,
     v0: Option<Vec<f64>>,
     tau: Option<f64>,
-    /// The radiation damping η (Pa·s/m) given by [`radiation_damping`](Self::radiation_damping).
-    eta: Option<f64>,
+    /// The radiation damping η (Pa·s/m) of every frictional node given by
+    /// [`radiation_damping`](Self::radiation_damping) or
+    /// [`radiation_damping_at`](Self::radiation_damping_at).
+    eta: Option<Vec<f64>>,
     /// How the fault's normal stress is found ([`normal_stress`](Self::normal_stress)).
     normal_stress: NormalStress,
     method: MethodOptions<I>,
@@ -123,8 +125,8 @@ struct Checked<const D: usize, I, const C: usize> {
     model: Model<D, C>,
     v0: Option<Vec<f64>>,
     method: MethodOptions<I>,
-    /// The problem's radiation damping η (Pa·s/m).
-    eta: f64,
+    /// The problem's radiation damping η (Pa·s/m) of every frictional node.
+    eta: Vec<f64>,
     normal_stress: NormalStress,
     implicit_settings: Vec<&'static str>,
 }
@@ -250,7 +252,20 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     /// [`Quasistatic::with_radiation_damping`](rsf_time::Quasistatic::with_radiation_damping),
     /// not both.
     pub fn radiation_damping(mut self, eta: f64) -> Self {
-        self.eta = Some(eta);
+        self.eta = Some(vec![eta; self.model.frictional_boundary.len()]);
+        self
+    }
+
+    /// The radiation damping η (Pa·s/m, ≥ 0) of each frictional node from its position `x`
+    /// (m): e.g. `μ/(2c_s)` of the material there, on a fault between materials or through
+    /// layers. As [`radiation_damping`](Self::radiation_damping) otherwise (a uniform η is
+    /// the same as giving it there, to the bit).
+    ///
+    /// # Errors (at `build`, `build_fault_ode`)
+    /// As [`radiation_damping`](Self::radiation_damping), naming the first node whose η is
+    /// negative or not finite.
+    pub fn radiation_damping_at(mut self, eta: impl FnMut(&[f64; D]) -> f64) -> Self {
+        self.eta = Some(self.model.on_frictional_nodes(eta));
         self
     }
 
@@ -379,22 +394,29 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         .check()?;
         let alpha0 = self.alpha0.unwrap_or_else(|| vec![0.0; nf]);
         let eta = match (self.eta, self.method.integrator.radiation_damping()) {
-            (None, eta) => eta,
-            (Some(eta), 0.0) if eta.is_finite() && eta >= 0.0 => eta,
+            (None, eta) => vec![eta; nf],
             (Some(eta), 0.0) => {
-                return Err(invalid(
-                    "radiation_damping",
-                    format!("η = {eta} Pa·s/m must be finite and >= 0"),
-                ))
+                if let Some((k, e)) = eta
+                    .iter()
+                    .enumerate()
+                    .find(|(_, e)| !(e.is_finite() && **e >= 0.0))
+                {
+                    return Err(invalid(
+                        "radiation_damping",
+                        format!("η = {e} Pa·s/m at frictional node {k} must be finite and >= 0"),
+                    ));
+                }
+                eta
             }
             (Some(eta), by_integrator) => {
+                let eta = eta.first().copied().unwrap_or(0.0);
                 return Err(invalid(
                     "radiation_damping",
                     format!(
                         "η = {eta} Pa·s/m given twice: also {by_integrator} Pa·s/m by the \
                          integrator (give it once, with SimulationBuilder::radiation_damping)"
                     ),
-                ))
+                ));
             }
         };
         let this = Checked {
@@ -442,7 +464,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             Some(c) => Some(c.start(tau)?),
             None => None,
         };
-        let method = Method::new(this.method, &this.model, tau, this.eta)?;
+        let method = Method::new(this.method, &this.model, tau, &this.eta)?;
         let n = this.model.num_dofs();
         let mut kinematics = Kinematics::zeros(n);
         kinematics
@@ -529,7 +551,6 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             Problem::new(this.model, friction, state_laws, this.eta)
                 .with_normal_stress(this.normal_stress),
             alpha0,
-            this.eta,
             tau,
             options,
         )
