@@ -82,7 +82,7 @@ mod tnnmg;
 pub use block::solve_spd_masked;
 pub use colouring::{Colouring, SmootherOrder};
 pub use direct::{
-    Condensation, DirectMemory, DirectOptions, DirectSolver, DENSE_PARALLEL_MIN,
+    Condensation, DirectMemory, DirectOptions, DirectSolver, SchurEntries, DENSE_PARALLEL_MIN,
     INTERIOR_PARALLEL_MIN,
 };
 pub use error::{Error, Result};

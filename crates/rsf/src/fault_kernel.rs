@@ -1,7 +1,8 @@
-//! The fault ODE's elastic operators: the dense slip → traction matrix `S` from the
-//! condensation, or its hierarchical (ℋ-matrix) compression ([`FaultKernel`]), with the
-//! product every right-hand side needs and a report of what was stored. Shared by the
-//! shear operator of [`FaultOde`](crate::FaultOde)(crate::FaultOde) and the normal-stress operator `S_N`.
+//! The fault ODE's condensed elastic operators: the dense slip → traction matrix `S` from
+//! the condensation, or its hierarchical (ℋ-matrix) compression ([`FaultKernel`]), with
+//! the product every right-hand side needs and a report of what was stored — the
+//! finite-element [`FaultOperator`]. Shared by the shear operator of
+//! [`FaultOde`](crate::FaultOde) and the normal-stress operator `S_N`.
 
 use std::time::Instant;
 
@@ -11,168 +12,100 @@ use rsf_hmatrix::{HMatrix, HOptions, Points};
 use rsf_linalg::Parallelism;
 use rsf_tnnmg::Condensation;
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{Error, Result};
+use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport};
 use crate::model::Model;
 
-/// Largest relative accuracy ε of a [`FaultKernel::Hierarchical`]: a coarser operator
-/// than 1 % no longer describes the elastic medium.
-pub const MAX_KERNEL_EPSILON: f64 = 1e-2;
-
-/// How a [`FaultOde`](crate::FaultOde) stores and applies the Schur complement `S` of its right-hand side.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum FaultKernel {
-    /// The dense `m × m` matrix: `m²` f64 and `m²` multiply-adds per evaluation (`m` the
-    /// number of free components on Γ_F). The default; exact up to round-off.
-    #[default]
-    Dense,
-    /// An ℋ-matrix `S_H` of `S` (rsf-hmatrix, docs/math.md §13), compressed from the dense
-    /// `S` at set-up with one point per condensed unknown (its node's coordinates, m, so
-    /// that a node's components are coincident points, never separated by the
-    /// admissibility condition): far-field blocks of low rank, near field dense; storage
-    /// and product `O(k m log m)`. `‖S − S_H‖_F ≤ ε ‖S‖_F`, measured at set-up
-    /// ([`FaultOde::kernel_report`](crate::FaultOde::kernel_report)).
-    Hierarchical {
-        /// Relative accuracy ε of every admissible block (Frobenius norm), in
-        /// `(0, `[`MAX_KERNEL_EPSILON`]`]`. [`FaultKernel::matching`] ties it to the
-        /// integrator's tolerance.
-        epsilon: f64,
-        /// Largest number of unknowns in a leaf cluster (≥ 1; 48 in
-        /// [`FaultKernel::hierarchical`]).
-        leaf_size: usize,
-    },
+/// The condensed finite-element operator `S` of a fault ODE: its kernel and the report of
+/// its set-up.
+pub(crate) struct CondensedOperator {
+    kernel: Kernel,
+    report: KernelReport,
 }
 
-impl FaultKernel {
-    /// [`FaultKernel::Hierarchical`] with accuracy `epsilon` and rsf-hmatrix's default
-    /// leaf size (48) and admissibility (η = 2).
-    pub fn hierarchical(epsilon: f64) -> Self {
-        Self::Hierarchical {
-            epsilon,
-            leaf_size: HOptions::default().leaf_size,
-        }
+impl FaultOperator for CondensedOperator {
+    fn dim(&self) -> usize {
+        self.report.dim
     }
 
-    /// The hierarchical kernel whose accuracy matches a run of Runge–Kutta `tolerance`
-    /// ([`FaultOdeOptions::tolerance`](crate::fault_ode::FaultOdeOptions::tolerance)): `ε = tolerance` (capped at
-    /// [`MAX_KERNEL_EPSILON`]). The operator's error then perturbs the stress by at most
-    /// `ε ‖S‖_F ‖u_F‖`, a relative change of the right-hand side no larger than the
-    /// relative local error each step is allowed, and in practice far smaller: ε bounds
-    /// each far-field block against its own norm, and the measured `‖S − S_H‖_F/‖S‖_F` is
-    /// about three orders of magnitude below ε on BP1 (docs/scaling.md, "Compressed fault
-    /// operator"; docs/work-precision.md, "BP1: compressed kernel").
-    pub fn matching(tolerance: f64) -> Self {
-        Self::hierarchical(tolerance.min(MAX_KERNEL_EPSILON))
+    fn subtract_product(&mut self, x: &[f64], r: &mut [f64], par: Parallelism) -> Result<()> {
+        self.kernel.subtract_product(x, r, par)
     }
 
-    /// `"dense"` or `"hierarchical"`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Dense => "dense",
-            Self::Hierarchical { .. } => "hierarchical",
-        }
+    fn hierarchical_mut(&mut self) -> Option<&mut HMatrix> {
+        self.kernel.hierarchical_mut()
     }
 
-    /// Checks the kernel's parameters.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] named `kernel.epsilon` unless ε is in
-    /// `(0, `[`MAX_KERNEL_EPSILON`]`]`, named `kernel.leaf_size` for a leaf size of 0.
-    pub fn validate(&self) -> Result<()> {
-        if let Self::Hierarchical { epsilon, leaf_size } = *self {
-            if !(epsilon > 0.0 && epsilon <= MAX_KERNEL_EPSILON) {
-                return Err(invalid(
-                    "kernel.epsilon",
-                    format!("{epsilon} must be in (0, {MAX_KERNEL_EPSILON}]"),
-                ));
-            }
-            if leaf_size == 0 {
-                return Err(invalid("kernel.leaf_size", "0 must be at least 1"));
-            }
-        }
-        Ok(())
+    fn report(&self) -> &KernelReport {
+        &self.report
     }
 }
 
-/// `dense`, or `hierarchical epsilon=ε leaf_size=n` (ε as the shortest text that reads
-/// back to it): the text a run's fingerprint holds.
-impl std::fmt::Display for FaultKernel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Dense => write!(f, "dense"),
-            Self::Hierarchical { epsilon, leaf_size } => {
-                write!(f, "hierarchical epsilon={epsilon:e} leaf_size={leaf_size}")
-            }
+/// The condensed operator `S` of `cond` as `kind` says: dense from
+/// [`Condensation::schur_complement`]; hierarchical from the dense `S` by truncated SVD on
+/// a 1-D or 2-D model (a fault line: `m` small, the tighter compression, and the
+/// trajectories published with it), from its entries by cross approximation on a 3-D
+/// model ([`Condensation::schur_entries`]: half of one dense copy, no dense product).
+pub(crate) fn condensed_operator<const D: usize, const C: usize>(
+    model: &Model<D, C>,
+    cond: &Condensation<C>,
+    kind: FaultKernel,
+) -> Result<CondensedOperator> {
+    let m = cond.dim();
+    let (kernel, report) = match kind {
+        FaultKernel::Hierarchical { epsilon, leaf_size } if D == 3 => {
+            let clock = Instant::now();
+            let entries = cond.schur_entries();
+            let options = HOptions {
+                epsilon,
+                leaf_size,
+                ..HOptions::default()
+            };
+            let h = HMatrix::from_entries(
+                |i, j| entries.entry(i, j),
+                &interface_points(model, cond)?,
+                &options,
+            )?;
+            let r = h.report();
+            let report = KernelReport {
+                kernel: kind,
+                dim: m,
+                relative_error: r.relative_error,
+                error_samples: match r.error_measure {
+                    rsf_hmatrix::ErrorMeasure::Exact => 0,
+                    rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
+                },
+                setup_bytes: entries.bytes(),
+                stored_entries: r.stored_entries,
+                dense_blocks: r.dense_blocks,
+                low_rank_blocks: r.low_rank_blocks,
+                max_rank: r.max_rank,
+                setup_seconds: clock.elapsed().as_secs_f64(),
+            };
+            (Kernel::Hierarchical(Box::new(h)), report)
         }
-    }
+        _ => {
+            let s_dense = cond.schur_complement();
+            let s = Mat::from_fn(m, m, |i, j| s_dense[j * m + i]);
+            drop(s_dense);
+            compress(s, model, cond, kind)?
+        }
+    };
+    Ok(CondensedOperator { kernel, report })
 }
 
-/// What the set-up of a [`FaultOde`](crate::FaultOde)'s kernel measured ([`FaultOde::kernel_report`](crate::FaultOde::kernel_report)).
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub struct KernelReport {
-    /// The kernel.
-    pub kernel: FaultKernel,
-    /// Number `m` of condensed unknowns (rows and columns of `S`).
-    pub dim: usize,
-    /// `‖S − S_H‖_F / ‖S‖_F` over every entry (0 for the dense kernel).
-    pub relative_error: f64,
-    /// f64 stored for the operator: `m²` dense; dense near-field entries plus
-    /// `k (rows + columns)` per low-rank block hierarchical.
-    pub stored_entries: usize,
-    /// Blocks stored dense (1 for the dense kernel).
-    pub dense_blocks: usize,
-    /// Blocks stored low-rank (0 for the dense kernel).
-    pub low_rank_blocks: usize,
-    /// Largest rank of a low-rank block (0 if none).
-    pub max_rank: usize,
-    /// Time to compress `S` (s; 0 for the dense kernel), after the condensation.
-    pub setup_seconds: f64,
-}
-
-impl KernelReport {
-    /// `m² / stored_entries`: how many times smaller the operator is than dense (1 for
-    /// the dense kernel; 0 for `m = 0`).
-    pub fn compression_ratio(&self) -> f64 {
-        if self.stored_entries == 0 {
-            0.0
-        } else {
-            (self.dim * self.dim) as f64 / self.stored_entries as f64
-        }
-    }
-
-    /// Bytes of the operator's entries (8 per stored f64).
-    pub fn bytes(&self) -> usize {
-        8 * self.stored_entries
-    }
-}
-
-impl std::fmt::Display for KernelReport {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self.kernel {
-            FaultKernel::Dense => write!(
-                f,
-                "dense kernel: m = {}, {} f64 ({:.1} MB)",
-                self.dim,
-                self.stored_entries,
-                self.bytes() as f64 / 1e6
-            ),
-            FaultKernel::Hierarchical { epsilon, leaf_size } => write!(
-                f,
-                "hierarchical kernel (ε = {epsilon:e}, leaf size {leaf_size}): m = {}, \
-                 ‖S − S_H‖_F/‖S‖_F = {:.2e}, {} f64 ({:.1} MB, {:.1}× smaller than dense), \
-                 blocks {} dense + {} low-rank, max rank {}, compressed in {:.2} s",
-                self.dim,
-                self.relative_error,
-                self.stored_entries,
-                self.bytes() as f64 / 1e6,
-                self.compression_ratio(),
-                self.dense_blocks,
-                self.low_rank_blocks,
-                self.max_rank,
-                self.setup_seconds
-            ),
-        }
-    }
+/// One point per condensed unknown: its node's coordinates (m), so that a node's
+/// components are coincident points, never separated by the admissibility condition.
+fn interface_points<const D: usize, const C: usize>(
+    model: &Model<D, C>,
+    cond: &Condensation<C>,
+) -> Result<Points> {
+    let coords: Vec<[f64; D]> = cond
+        .interface_dofs()
+        .iter()
+        .map(|&dof| model.vertices[dof / C])
+        .collect();
+    Ok(Points::from_array(&coords)?)
 }
 
 /// The operator of the right-hand side (and the normal-stress operator `S_N`).
@@ -266,6 +199,8 @@ pub(crate) fn compress<const D: usize, const C: usize>(
                 kernel: kind,
                 dim: m,
                 relative_error: 0.0,
+                error_samples: 0,
+                setup_bytes: 8 * m * m,
                 stored_entries: m * m,
                 dense_blocks: 1,
                 low_rank_blocks: 0,
@@ -275,12 +210,7 @@ pub(crate) fn compress<const D: usize, const C: usize>(
         )),
         FaultKernel::Hierarchical { epsilon, leaf_size } => {
             let clock = Instant::now();
-            let coords: Vec<[f64; D]> = cond
-                .interface_dofs()
-                .iter()
-                .map(|&dof| model.vertices[dof / C])
-                .collect();
-            let points = Points::from_array(&coords)?;
+            let points = interface_points(model, cond)?;
             let options = HOptions {
                 epsilon,
                 leaf_size,
@@ -292,6 +222,8 @@ pub(crate) fn compress<const D: usize, const C: usize>(
                 kernel: kind,
                 dim: m,
                 relative_error: r.relative_error,
+                error_samples: 0,
+                setup_bytes: 8 * m * m,
                 stored_entries: r.stored_entries,
                 dense_blocks: r.dense_blocks,
                 low_rank_blocks: r.low_rank_blocks,
@@ -300,5 +232,73 @@ pub(crate) fn compress<const D: usize, const C: usize>(
             };
             Ok((Kernel::Hierarchical(Box::new(h)), report))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Material, ModelBuilder, Part};
+
+    /// A 3-D fault's ℋ-kernel built from the factor's entries (no dense `S`) applies `S`
+    /// to within its ε: against the dense Schur complement on random vectors, with the
+    /// sampled error estimate in the report.
+    #[test]
+    fn a_3d_hierarchical_kernel_from_entries_matches_the_dense_operator() {
+        let cube = rsf_fem::cuboid([-1.0; 3], [2.0; 3], [5, 33, 17]).unwrap();
+        let model = ModelBuilder::new(cube)
+            .material(Material::new(1e10, 0.25, 2700.0))
+            .without_mass()
+            .dirichlet(Part::predicate("minus", |x| x[0] < -1.0 + 1e-9), [0.0; 3])
+            .dirichlet(Part::predicate("plus", |x| x[0] > 1.0 - 1e-9), [0.0; 3])
+            .internal_fault_polygon(
+                "fault",
+                &[
+                    [0.0, -1.0, -1.0],
+                    [0.0, 1.0, -1.0],
+                    [0.0, 1.0, 1.0],
+                    [0.0, -1.0, 1.0],
+                ],
+            )
+            .build()
+            .unwrap();
+        let fb = &model.frictional_boundary;
+        let cond =
+            Condensation::<3>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes).unwrap();
+        let m = cond.dim();
+        let epsilon = 1e-6;
+        let kind = FaultKernel::Hierarchical {
+            epsilon,
+            leaf_size: 12,
+        };
+        let mut op = condensed_operator(&model, &cond, kind).unwrap();
+        let report = op.report().clone();
+        eprintln!("{report}");
+        assert_eq!(report.dim, m);
+        assert!(report.low_rank_blocks > 0, "no block compressed: {report}");
+        assert!(report.error_samples > 0);
+        assert_eq!(report.setup_bytes, 4 * m * (m + 1));
+        assert!(report.relative_error <= epsilon, "{report}");
+        let s = cond.schur_complement();
+        let mut worst = 0.0f64;
+        for seed in 0..4u64 {
+            let x: Vec<f64> = (0..m)
+                .map(|i| ((i as u64 * 2654435761 + seed * 97) % 1000) as f64 / 500.0 - 1.0)
+                .collect();
+            let mut exact = vec![0.0; m];
+            for j in 0..m {
+                for i in 0..m {
+                    exact[i] -= s[j * m + i] * x[j];
+                }
+            }
+            let mut approx = vec![0.0; m];
+            op.subtract_product(&x, &mut approx, Parallelism::SEQ)
+                .unwrap();
+            let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
+            let diff: Vec<f64> = exact.iter().zip(&approx).map(|(a, b)| a - b).collect();
+            worst = worst.max(norm(&diff) / norm(&exact));
+        }
+        eprintln!("‖(S − S_H) x‖ / ‖S x‖ ≤ {worst:e} (ε = {epsilon:e}, m = {m})");
+        assert!(worst <= 10.0 * epsilon, "{worst:e}");
     }
 }

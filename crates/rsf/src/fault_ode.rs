@@ -7,7 +7,6 @@
 
 use std::time::Instant;
 
-use faer::Mat;
 use rsf_friction::FrictionLaw;
 use rsf_linalg::Parallelism;
 use rsf_state::StateLaw;
@@ -19,8 +18,9 @@ use rsf_tnnmg::Condensation;
 
 use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{invalid, Error, Result};
-use crate::fault_kernel::{compress, Kernel};
-pub use crate::fault_kernel::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
+use crate::fault_kernel::condensed_operator;
+use crate::fault_operator::FaultOperator;
+pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
 use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
@@ -181,7 +181,6 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     dy: Vec<f64>,
     options: FaultOdeOptions,
     evaluations: usize,
-    kernel_report: KernelReport,
     /// The compression of the normal-stress operator `S_N`, if compressed.
     normal_kernel_report: Option<KernelReport>,
     /// With a normal stress that changes: the laws scaled by it at the last step.
@@ -194,7 +193,7 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
 /// What the right-hand side needs besides the laws.
 struct FaultRates<const C: usize> {
     cond: Condensation<C>,
-    kernel: Kernel,
+    operator: Box<dyn FaultOperator>,
     par: Parallelism,
     g0: Vec<f64>,
     g1: Vec<f64>,
@@ -269,7 +268,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
         let _linger = (pieces > 1).then_some(LingerAfter(d.par));
         // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each
         // thread its rows of the product and their nodes' solves (same bits).
-        if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.kernel.hierarchical_mut()) {
+        if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.operator.hierarchical_mut()) {
             let parts = d
                 .parts
                 .get_or_insert_with(|| PartNodes::new(h, pieces, solves.first));
@@ -286,7 +285,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
         for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
             *r = g0 + big_g * g1;
         }
-        d.kernel.subtract_product(u, &mut d.r, d.par)?;
+        d.operator.subtract_product(u, &mut d.r, d.par)?;
         if let Some(normal) = &mut d.normal {
             normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
             solves.scale = Some((&d.sigma[..], normal.initial()));
@@ -322,6 +321,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         alpha0: Vec<f64>,
         dt0: f64,
         options: FaultOdeOptions,
+        operator: Option<Box<dyn FaultOperator>>,
     ) -> Result<Self> {
         options.validate()?;
         let model = problem.model();
@@ -370,10 +370,19 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         let mut cond = Condensation::<C>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes)?;
         let m = cond.dim();
-        let s_dense = cond.schur_complement();
-        let s = Mat::from_fn(m, m, |i, j| s_dense[j * m + i]);
-        drop(s_dense);
-        let (kernel, kernel_report) = compress(s, model, &cond, options.kernel)?;
+        let operator: Box<dyn FaultOperator> = match operator {
+            Some(op) if op.dim() != m => {
+                return Err(invalid(
+                    "fault_operator",
+                    format!(
+                        "an operator of {} unknowns for a fault of {m} slip unknowns",
+                        op.dim()
+                    ),
+                ))
+            }
+            Some(op) => op,
+            None => Box::new(condensed_operator(model, &cond, options.kernel)?),
+        };
         let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
         let mut normal = NormalCoupling::new(
             problem.normal_stress(),
@@ -431,7 +440,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         y.extend_from_slice(&alpha0);
         let rates = FaultRates {
             cond,
-            kernel,
+            operator,
             par: options.parallelism,
             g0,
             g1,
@@ -472,7 +481,6 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             dy: Vec::new(),
             options,
             evaluations: 0,
-            kernel_report,
             normal_kernel_report,
             scaled_tractions,
             probe: None,
@@ -531,7 +539,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// What the set-up measured of the operator `S` (or `S_H`): the kernel, its error
     /// `‖S − S_H‖_F/‖S‖_F`, storage and compression ratio. `Display` prints one line.
     pub fn kernel_report(&self) -> &KernelReport {
-        &self.kernel_report
+        self.rates.operator.report()
     }
 
     /// With a normal stress from slip ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip))

@@ -50,6 +50,7 @@ pub mod checkpoint;
 mod error;
 mod fault_kernel;
 pub mod fault_ode;
+pub mod fault_operator;
 mod friction_blocks;
 pub mod method;
 mod method_state;

@@ -8,7 +8,8 @@ use rsf_linalg::Parallelism;
 use rsf_tnnmg::Condensation;
 
 use crate::error::{invalid, Error, Result};
-use crate::fault_kernel::{compress, FaultKernel, Kernel, KernelReport};
+use crate::fault_kernel::{compress, Kernel};
+use crate::fault_operator::{FaultKernel, KernelReport};
 use crate::model::Model;
 use crate::observe::FaultTractions;
 

@@ -7,6 +7,7 @@ mod memory;
 mod norm_bounds;
 mod options;
 mod partial_cholesky;
+mod schur_entries;
 
 use std::time::Instant;
 
@@ -29,6 +30,7 @@ pub use options::DirectOptions;
 use options::HARMONIC_BLOCK;
 use partial_cholesky::PartialCholesky;
 pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
+pub use schur_entries::SchurEntries;
 
 /// What the condensation computed for one set of nonsmooth blocks.
 struct Condensed<const D: usize> {

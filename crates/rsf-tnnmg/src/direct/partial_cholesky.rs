@@ -930,6 +930,32 @@ impl PartialCholesky {
 
     /// `S = L_F L_Fᵀ`, the Schur complement on the interface, dense column-major
     /// (`|F| × |F|`, symmetric).
+    /// The interface block `L_F` of the factor as packed rows (row `i` of the lower
+    /// triangle at `i(i+1)/2`, entries `0..=i`): `m(m+1)/2` f64 for `m` interface unknowns.
+    pub(super) fn interface_rows(&self) -> Vec<f64> {
+        let (nr, nf) = (self.nr, self.n - self.nr);
+        let mut packed = vec![0.0; nf * (nf + 1) / 2];
+        let at = |i: usize, j: usize| i * (i + 1) / 2 + j;
+        for s in self.l.covering(&(nr..self.n)) {
+            let (c0, w, pattern, l) = self.l.get(s);
+            let ld = w + pattern.len();
+            for jj in 0..w {
+                let j = c0 + jj;
+                if j < nr {
+                    continue;
+                }
+                let col = &l[jj * ld..(jj + 1) * ld];
+                for ii in jj..w {
+                    packed[at(c0 + ii - nr, j - nr)] = col[ii];
+                }
+                for (k, &i) in pattern.iter().enumerate() {
+                    packed[at(i as usize - nr, j - nr)] = col[w + k];
+                }
+            }
+        }
+        packed
+    }
+
     pub(super) fn schur_complement(&self) -> Vec<f64> {
         let (nr, nf) = (self.nr, self.n - self.nr);
         // Dense L_F (lower, column-major).

@@ -7,6 +7,7 @@ use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
 
 use crate::error::{invalid, Error, Result};
 use crate::fault_ode::{FaultOde, FaultOdeOptions};
+use crate::fault_operator::FaultOperator;
 use crate::method::fixed_point::FixedPointOptions;
 use crate::method::solver::{SolverKind, SolverOptions};
 use crate::method::state_integrator::StateIntegrator;
@@ -532,6 +533,33 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// for a frictional node with some components prescribed at a non-zero velocity; the
     /// options' errors; [`Error::Solver`] if `K` is not positive definite on the free dofs.
     pub fn build_fault_ode(self, options: FaultOdeOptions) -> Result<FaultOde<D, L, S, C>> {
+        self.fault_ode(options, None)
+    }
+
+    /// As [`build_fault_ode`](Self::build_fault_ode) with the elastic operator `S` given
+    /// instead of condensed from the model's stiffness ([`FaultOperator`]): e.g. a
+    /// boundary-element half-space operator on the fault's nodes, to compare with the
+    /// finite-element one on the same problem. The model still gives everything else: the
+    /// unknowns (the free components of the frictional nodes, in their order), the loads
+    /// condensed onto them, the volume between steps. `options.kernel` is not used.
+    ///
+    /// # Errors
+    /// As [`build_fault_ode`](Self::build_fault_ode); [`Error::InvalidParameter`] named
+    /// `fault_operator` if the operator's dimension is not the fault's number of slip
+    /// unknowns.
+    pub fn build_fault_ode_with_operator(
+        self,
+        options: FaultOdeOptions,
+        operator: Box<dyn FaultOperator>,
+    ) -> Result<FaultOde<D, L, S, C>> {
+        self.fault_ode(options, Some(operator))
+    }
+
+    fn fault_ode(
+        self,
+        options: FaultOdeOptions,
+        operator: Option<Box<dyn FaultOperator>>,
+    ) -> Result<FaultOde<D, L, S, C>> {
         let (this, friction, state_laws, alpha0, tau) = self.checked()?;
         if let Some(name) = this.implicit_settings.first() {
             return Err(invalid(
@@ -553,6 +581,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             alpha0,
             tau,
             options,
+            operator,
         )
     }
 }

@@ -1,0 +1,221 @@
+//! The seam between the fault ODE and its elastic operator: slip on the fault → change of
+//! the traction force on the fault ([`FaultOperator`]). The finite-element model's exact
+//! condensation (dense, or an ℋ-matrix) is one implementation; a boundary-element
+//! half-space operator on the same unknowns is another (docs/math.md §12, "The fault
+//! operator").
+
+use rsf_hmatrix::{HMatrix, HOptions};
+use rsf_linalg::Parallelism;
+
+use crate::error::{invalid, Result};
+
+/// The elastic operator `S` of a [`FaultOde`](crate::FaultOde): `m` slip unknowns (the
+/// free tangential components of the frictional nodes, node by node in
+/// `model.frictional_boundary.nodes` order, components in the node's frame order; m) to
+/// the forces on them (N: traction times the node's weight), so that the quasi-static
+/// balance of the fault ODE reads `g(t) − S u_F = w (τ(V, α) + η V)` node by node.
+///
+/// `S` is symmetric and positive semi-definite for any elastic medium (it is the energy's
+/// Hessian restricted to the fault). Implementations must be deterministic: the same `x`
+/// gives the same bits, whatever `par`.
+pub trait FaultOperator: Send {
+    /// Number `m` of slip unknowns (rows and columns of `S`).
+    fn dim(&self) -> usize;
+
+    /// `r ← r − S x` (`x`, `r` of length [`dim`](Self::dim)) on `par`'s threads (rayon's
+    /// current pool), bit-identical for every `par`. A non-finite `x` (a trial stage that
+    /// blew up) must give a non-finite `r`, not an error: the step is then rejected.
+    ///
+    /// # Errors
+    /// Errors of the implementation's product (not for non-finite input).
+    fn subtract_product(&mut self, x: &[f64], r: &mut [f64], par: Parallelism) -> Result<()>;
+
+    /// The ℋ-matrix, if the operator is one: the fault ODE then sums each thread's rows of
+    /// the product and solves their nodes in one task (one parallel region per evaluation).
+    /// Default `None`: the product, then the node solves.
+    fn hierarchical_mut(&mut self) -> Option<&mut HMatrix> {
+        None
+    }
+
+    /// What the set-up stored and measured.
+    fn report(&self) -> &KernelReport;
+}
+
+/// Largest relative accuracy ε of a [`FaultKernel::Hierarchical`]: a coarser operator
+/// than 1 % no longer describes the elastic medium.
+pub const MAX_KERNEL_EPSILON: f64 = 1e-2;
+
+/// How a [`FaultOde`](crate::FaultOde) stores and applies the Schur complement `S` of its right-hand side.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum FaultKernel {
+    /// The dense `m × m` matrix: `m²` f64 and `m²` multiply-adds per evaluation (`m` the
+    /// number of free components on Γ_F). The default; exact up to round-off.
+    #[default]
+    Dense,
+    /// An ℋ-matrix `S_H` of `S` (rsf-hmatrix, docs/math.md §13), compressed from the dense
+    /// `S` at set-up with one point per condensed unknown (its node's coordinates, m, so
+    /// that a node's components are coincident points, never separated by the
+    /// admissibility condition): far-field blocks of low rank, near field dense; storage
+    /// and product `O(k m log m)`. `‖S − S_H‖_F ≤ ε ‖S‖_F`, measured at set-up
+    /// ([`FaultOde::kernel_report`](crate::FaultOde::kernel_report)).
+    Hierarchical {
+        /// Relative accuracy ε of every admissible block (Frobenius norm), in
+        /// `(0, `[`MAX_KERNEL_EPSILON`]`]`. [`FaultKernel::matching`] ties it to the
+        /// integrator's tolerance.
+        epsilon: f64,
+        /// Largest number of unknowns in a leaf cluster (≥ 1; 48 in
+        /// [`FaultKernel::hierarchical`]).
+        leaf_size: usize,
+    },
+}
+
+impl FaultKernel {
+    /// [`FaultKernel::Hierarchical`] with accuracy `epsilon` and rsf-hmatrix's default
+    /// leaf size (48) and admissibility (η = 2).
+    pub fn hierarchical(epsilon: f64) -> Self {
+        Self::Hierarchical {
+            epsilon,
+            leaf_size: HOptions::default().leaf_size,
+        }
+    }
+
+    /// The hierarchical kernel whose accuracy matches a run of Runge–Kutta `tolerance`
+    /// ([`FaultOdeOptions::tolerance`](crate::fault_ode::FaultOdeOptions::tolerance)): `ε = tolerance` (capped at
+    /// [`MAX_KERNEL_EPSILON`]). The operator's error then perturbs the stress by at most
+    /// `ε ‖S‖_F ‖u_F‖`, a relative change of the right-hand side no larger than the
+    /// relative local error each step is allowed, and in practice far smaller: ε bounds
+    /// each far-field block against its own norm, and the measured `‖S − S_H‖_F/‖S‖_F` is
+    /// about three orders of magnitude below ε on BP1 (docs/scaling.md, "Compressed fault
+    /// operator"; docs/work-precision.md, "BP1: compressed kernel").
+    pub fn matching(tolerance: f64) -> Self {
+        Self::hierarchical(tolerance.min(MAX_KERNEL_EPSILON))
+    }
+
+    /// `"dense"` or `"hierarchical"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Dense => "dense",
+            Self::Hierarchical { .. } => "hierarchical",
+        }
+    }
+
+    /// Checks the kernel's parameters.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `kernel.epsilon` unless ε is in
+    /// `(0, `[`MAX_KERNEL_EPSILON`]`]`, named `kernel.leaf_size` for a leaf size of 0.
+    pub fn validate(&self) -> Result<()> {
+        if let Self::Hierarchical { epsilon, leaf_size } = *self {
+            if !(epsilon > 0.0 && epsilon <= MAX_KERNEL_EPSILON) {
+                return Err(invalid(
+                    "kernel.epsilon",
+                    format!("{epsilon} must be in (0, {MAX_KERNEL_EPSILON}]"),
+                ));
+            }
+            if leaf_size == 0 {
+                return Err(invalid("kernel.leaf_size", "0 must be at least 1"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `dense`, or `hierarchical epsilon=ε leaf_size=n` (ε as the shortest text that reads
+/// back to it): the text a run's fingerprint holds.
+impl std::fmt::Display for FaultKernel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Dense => write!(f, "dense"),
+            Self::Hierarchical { epsilon, leaf_size } => {
+                write!(f, "hierarchical epsilon={epsilon:e} leaf_size={leaf_size}")
+            }
+        }
+    }
+}
+
+/// What the set-up of a [`FaultOde`](crate::FaultOde)'s kernel measured ([`FaultOde::kernel_report`](crate::FaultOde::kernel_report)).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct KernelReport {
+    /// The kernel.
+    pub kernel: FaultKernel,
+    /// Number `m` of condensed unknowns (rows and columns of `S`).
+    pub dim: usize,
+    /// `‖S − S_H‖_F / ‖S‖_F` (0 for the dense kernel): over every entry, or estimated on
+    /// [`error_samples`](Self::error_samples) sampled entries.
+    pub relative_error: f64,
+    /// 0 if [`relative_error`](Self::relative_error) is over every entry, else the number
+    /// of (seeded, uniformly drawn) entries it was estimated on (rsf-hmatrix's
+    /// `ErrorMeasure::Sampled`, docs/math.md §13.4).
+    pub error_samples: usize,
+    /// Bytes of the set-up's largest transient copy: the dense `S` (`8 m²`) where it is
+    /// formed, the factor's interface rows (`4 m (m + 1)`) where the ℋ-matrix is built
+    /// from entries (a 3-D fault).
+    pub setup_bytes: usize,
+    /// f64 stored for the operator: `m²` dense; dense near-field entries plus
+    /// `k (rows + columns)` per low-rank block hierarchical.
+    pub stored_entries: usize,
+    /// Blocks stored dense (1 for the dense kernel).
+    pub dense_blocks: usize,
+    /// Blocks stored low-rank (0 for the dense kernel).
+    pub low_rank_blocks: usize,
+    /// Largest rank of a low-rank block (0 if none).
+    pub max_rank: usize,
+    /// Time to compress `S` (s; 0 for the dense kernel), after the condensation.
+    pub setup_seconds: f64,
+}
+
+impl KernelReport {
+    /// `m² / stored_entries`: how many times smaller the operator is than dense (1 for
+    /// the dense kernel; 0 for `m = 0`).
+    pub fn compression_ratio(&self) -> f64 {
+        if self.stored_entries == 0 {
+            0.0
+        } else {
+            (self.dim * self.dim) as f64 / self.stored_entries as f64
+        }
+    }
+
+    /// Bytes of the operator's entries (8 per stored f64).
+    pub fn bytes(&self) -> usize {
+        8 * self.stored_entries
+    }
+}
+
+impl std::fmt::Display for KernelReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.kernel {
+            FaultKernel::Dense => write!(
+                f,
+                "dense kernel: m = {}, {} f64 ({:.1} MB)",
+                self.dim,
+                self.stored_entries,
+                self.bytes() as f64 / 1e6
+            ),
+            FaultKernel::Hierarchical { epsilon, leaf_size } => write!(
+                f,
+                "hierarchical kernel (ε = {epsilon:e}, leaf size {leaf_size}): m = {}, \
+                 ‖S − S_H‖_F/‖S‖_F = {:.2e}, {} f64 ({:.1} MB, {:.1}× smaller than dense), \
+                 blocks {} dense + {} low-rank, max rank {}, compressed in {:.2} s{}",
+                self.dim,
+                self.relative_error,
+                self.stored_entries,
+                self.bytes() as f64 / 1e6,
+                self.compression_ratio(),
+                self.dense_blocks,
+                self.low_rank_blocks,
+                self.max_rank,
+                self.setup_seconds,
+                if self.error_samples > 0 {
+                    format!(
+                        " from entries (error on {} sampled entries; {:.1} MB of factor rows)",
+                        self.error_samples,
+                        self.setup_bytes as f64 / 1e6
+                    )
+                } else {
+                    String::new()
+                }
+            ),
+        }
+    }
+}
