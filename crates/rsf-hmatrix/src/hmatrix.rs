@@ -6,13 +6,15 @@ use std::ops::Range;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
 
+use crate::aca::{compress_block, AcaParams};
 use crate::block::partition;
 use crate::cluster::ClusterTree;
 use crate::error::Error;
-use crate::lowrank::{aca, recompress, svd_truncate, LowRank};
+use crate::lowrank::{recompress, svd_truncate, LowRank};
 use crate::options::{ErrorMeasure, HOptions, SetupReport};
 use crate::points::Points;
 use crate::product::{run_parts, Block, Data, Operands, PartRows, Segment, Split};
+use crate::rng::SplitMix64;
 
 /// A hierarchical (ℋ-) matrix approximation `S_H` of a square matrix `S` whose rows and
 /// columns belong to points (docs/math.md §13): a cluster tree on the points, a block tree
@@ -130,25 +132,33 @@ impl HMatrix {
     /// Builds the matrix from its entries `entry(i, j)` (row `i`, column `j`, original
     /// numbering, one point per row/column), evaluating only the near-field blocks in full
     /// and `O(k (m + n))` entries of each admissible `m × n` block: adaptive cross
-    /// approximation with partial pivoting to `ε/10`, then recompression (QR of both
-    /// factors, SVD of the small core) to `0.9 ε` (docs/math.md §13.3). The way to matrices
-    /// too large to form densely. The ACA stopping test is a heuristic (exact for the
-    /// asymptotically smooth kernels it is meant for, not a bound); the error in the
-    /// [report](Self::report) is estimated on a random sample of
-    /// [`HOptions::error_samples`] entries (all entries if `n²` is not larger).
+    /// approximation ACA+ (Bebendorf & Grzhibovskis 2006: pivots from a reference row and
+    /// a reference column kept as residuals) on each of the block's
+    /// [`components`](HOptions::components)² component blocks, each stopped when its
+    /// newest cross and a seeded random sample of its residual's entries (`m_a + n_b` of
+    /// them) both estimate a remainder of at most `ε/(10 c)` of the block's estimated
+    /// Frobenius norm; then recompression (QR of both factors, SVD of the small core) to
+    /// `0.9 ε` (docs/math.md §13.3). The way to matrices too large to form densely. The
+    /// stopping tests are estimates (sharp for the asymptotically smooth kernels ACA is
+    /// meant for, not bounds); the error in the [report](Self::report) is estimated on a
+    /// random sample of [`HOptions::error_samples`] entries (all entries if `n²` is not
+    /// larger). Deterministic: every random choice is seeded by
+    /// [`HOptions::seed`] and the block.
     ///
     /// # Errors
-    /// Invalid options; [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity for
-    /// an entry it is asked for (entries ACA never evaluates are not seen);
+    /// Invalid options ([`HOptions::validate_for`]: also unless `n` is a multiple of the
+    /// components); [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity for an
+    /// entry it is asked for (entries ACA never evaluates are not seen);
     /// [`Error::Svd`] if an SVD does not converge.
     pub fn from_entries<F>(mut entry: F, points: &Points, options: &HOptions) -> Result<Self, Error>
     where
         F: FnMut(usize, usize) -> f64,
     {
-        options.validate()?;
         let n = points.len();
+        options.validate_for(n)?;
         let tree = ClusterTree::new(points, options.leaf_size);
         let perm = tree.perm.clone();
+        let c = options.components;
         let mut checked = |i: usize, j: usize| -> Result<f64, Error> {
             let v = entry(i, j);
             if v.is_finite() {
@@ -161,7 +171,23 @@ impl HMatrix {
         for shape in partition(&tree, options.eta) {
             let mut local = |i: usize, j: usize| checked(perm[shape.row + i], perm[shape.col + j]);
             let lr = if shape.admissible {
-                aca(shape.nrows, shape.ncols, &mut local, options.epsilon / 10.0)?
+                let row_comp: Vec<usize> =
+                    (0..shape.nrows).map(|i| perm[shape.row + i] % c).collect();
+                let col_comp: Vec<usize> =
+                    (0..shape.ncols).map(|j| perm[shape.col + j] % c).collect();
+                let params = AcaParams {
+                    eps: options.epsilon / 10.0,
+                    components: c,
+                    seed: options.seed ^ ((shape.row as u64) << 32 | shape.col as u64),
+                };
+                compress_block(
+                    shape.nrows,
+                    shape.ncols,
+                    &row_comp,
+                    &col_comp,
+                    &mut local,
+                    params,
+                )?
             } else {
                 None
             };
@@ -209,7 +235,7 @@ impl HMatrix {
             }
             ErrorMeasure::Exact
         } else {
-            let mut rng = SplitMix64(options.seed);
+            let mut rng = SplitMix64::new(options.seed);
             for _ in 0..options.error_samples {
                 let k = rng.below(total as u64) as usize;
                 add(k % n, k / n)?;
@@ -494,28 +520,4 @@ fn low_rank_error2(b: MatRef<'_, f64>, lr: &LowRank) -> f64 {
         }
     }
     e
-}
-
-/// SplitMix64 (Steele, Lea, Flood 2014): the sample of the error estimate.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..bound` (`bound > 0`), by rejection.
-    fn below(&mut self, bound: u64) -> u64 {
-        let zone = u64::MAX - u64::MAX % bound;
-        loop {
-            let r = self.next();
-            if r < zone {
-                return r % bound;
-            }
-        }
-    }
 }

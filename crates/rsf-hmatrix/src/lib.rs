@@ -21,6 +21,7 @@
 
 #![warn(missing_docs)]
 
+mod aca;
 mod block;
 mod cluster;
 mod error;
@@ -30,6 +31,7 @@ mod lowrank;
 mod options;
 mod points;
 mod product;
+mod rng;
 
 pub use error::Error;
 pub use hmatrix::HMatrix;

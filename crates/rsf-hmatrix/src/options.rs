@@ -21,8 +21,20 @@ pub struct HOptions {
     /// Number of random entries on which [`HMatrix::from_entries`](crate::HMatrix::from_entries)
     /// estimates its error (default 20 000; all entries when `n²` is not larger).
     pub error_samples: usize,
-    /// Seed of the random sample of the error estimate (default 1).
+    /// Seed of the random choices of the set-up (default 1): the sample of the error
+    /// estimates, and the reference columns and residual samples of
+    /// [`HMatrix::from_entries`](crate::HMatrix::from_entries)'s cross approximation.
     pub seed: u64,
+    /// Number `c ≥ 1` of interleaved components per point (default 1): unknown `i` is
+    /// component `i mod c` of its point (unknowns `c p, …, c p + c − 1` at point `p`, the
+    /// layout of the fault operator's free components).
+    /// [`HMatrix::from_entries`](crate::HMatrix::from_entries) compresses each of a
+    /// block's `c²` component blocks (rows of component `a`, columns of component `b`) by
+    /// its own cross approximation, so that a component block that no row or column of
+    /// another component sees (zero coupling between components) is not missed
+    /// (docs/math.md §13.3). Ignored by [`HMatrix::from_dense`](crate::HMatrix::from_dense),
+    /// which sees every entry. The number of points must be a multiple of `c`.
+    pub components: usize,
 }
 
 impl Default for HOptions {
@@ -33,6 +45,7 @@ impl Default for HOptions {
             epsilon: 1e-6,
             error_samples: 20_000,
             seed: 1,
+            components: 1,
         }
     }
 }
@@ -46,11 +59,29 @@ impl HOptions {
         }
     }
 
+    /// Checks the ranges of the options, and that `n` points are a whole number of
+    /// points of [`components`](Self::components) components.
+    ///
+    /// # Errors
+    /// As [`validate`](Self::validate); [`Error::Option`] (`components`) unless `n` is a
+    /// multiple of `components`.
+    pub fn validate_for(&self, n: usize) -> Result<(), Error> {
+        self.validate()?;
+        if n % self.components != 0 {
+            return Err(Error::Option {
+                name: "components",
+                value: self.components as f64,
+                expected: "a divisor of the number of points",
+            });
+        }
+        Ok(())
+    }
+
     /// Checks the ranges of the options.
     ///
     /// # Errors
-    /// [`Error::Option`] for a leaf size of 0, `η` not finite and positive, or `ε` not in
-    /// `[0, 1)`.
+    /// [`Error::Option`] for a leaf size of 0, `η` not finite and positive, `ε` not in
+    /// `[0, 1)`, or 0 components.
     pub fn validate(&self) -> Result<(), Error> {
         if self.leaf_size == 0 {
             return Err(Error::Option {
@@ -58,6 +89,15 @@ impl HOptions {
                 value: 0.0,
                 expected: "≥ 1",
             });
+        }
+        for (name, value) in [("components", self.components)] {
+            if value == 0 {
+                return Err(Error::Option {
+                    name,
+                    value: 0.0,
+                    expected: "≥ 1",
+                });
+            }
         }
         if !(self.eta.is_finite() && self.eta > 0.0) {
             return Err(Error::Option {
