@@ -27,9 +27,13 @@ pub(crate) fn max_useful_rank(m: usize, n: usize) -> usize {
 }
 
 /// The smallest `k` with `Σ_{i ≥ k} σ_i² ≤ eps² Σ_i σ_i²` (`σ` non-increasing).
-fn truncation_rank(sigma: &[f64], eps: f64) -> usize {
+pub(crate) fn truncation_rank(sigma: &[f64], eps: f64) -> usize {
     let total: f64 = sigma.iter().map(|s| s * s).sum();
-    let bound = eps * eps * total;
+    truncation_rank_below(sigma, eps * eps * total).0
+}
+
+/// The smallest `k` with `Σ_{i ≥ k} σ_i² ≤ bound` (`σ` non-increasing), and that tail.
+pub(crate) fn truncation_rank_below(sigma: &[f64], bound: f64) -> (usize, f64) {
     let mut tail = 0.0;
     let mut k = sigma.len();
     // Accumulate the tail from the smallest value up (accurate sums of small numbers).
@@ -41,7 +45,38 @@ fn truncation_rank(sigma: &[f64], eps: f64) -> usize {
         tail = next;
         k -= 1;
     }
-    k
+    (k, tail)
+}
+
+/// `(U, σ, V)` of a thin SVD.
+pub(crate) type ThinSvd = (Mat<f64>, Vec<f64>, Mat<f64>);
+
+/// Thin SVD `a = U diag(σ) Vᵀ` on the calling thread (`Par::Seq`: the same bits whatever
+/// the thread pool), `σ` non-increasing: `(U, σ, V)`, `U` `m × min(m, n)`, `V`
+/// `n × min(m, n)`.
+pub(crate) fn thin_svd_seq(a: MatRef<'_, f64>) -> Result<ThinSvd, Error> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors};
+    let (m, n) = a.shape();
+    let size = m.min(n);
+    let mut u = Mat::<f64>::zeros(m, size);
+    let mut v = Mat::<f64>::zeros(n, size);
+    let mut s = faer::diag::Diag::<f64>::zeros(size);
+    let thin = ComputeSvdVectors::Thin;
+    let scratch = svd_scratch::<f64>(m, n, thin, thin, Par::Seq, Default::default());
+    svd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        Some(v.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut MemBuffer::new(scratch)),
+        Default::default(),
+    )
+    .map_err(|_| Error::Svd { rows: m, cols: n })?;
+    let sv = s.column_vector();
+    let sigma = (0..size).map(|i| sv[i]).collect();
+    Ok((u, sigma, v))
 }
 
 /// Truncated SVD of a dense block to relative Frobenius accuracy `eps`; `None` if the
