@@ -334,3 +334,53 @@ fn oracle_errors_and_bad_columns_are_typed_errors() {
         (0, 0)
     );
 }
+
+/// The SEAS BP5 fault's sizes: a 100 km × 40 km plane in 3-D, nodes every `h` km (1 and
+/// 0.5 km: m = 8 282 and 32 562 unknowns, strike and dip), a regularised Kelvin-like
+/// kernel standing in for the Schur complement (an entry costs nanoseconds here, a column
+/// of the real S one pair of sparse triangular solves). Prints what the set-up measured;
+/// run with `cargo test -p rsf-hmatrix --test columns -- --ignored --nocapture`.
+#[test]
+#[ignore = "measurement (a minute or more)"]
+fn bp5_sized_faults() {
+    for h in [1.0, 0.5] {
+        let (nx, nz) = ((100.0 / h) as usize + 1, (40.0 / h) as usize + 1);
+        let nodes: Vec<Vec<f64>> = (0..nx * nz)
+            .map(|p| vec![(p % nx) as f64 * h, 0.0, -((p / nx) as f64) * h])
+            .collect();
+        // Components: strike (x) and dip (z).
+        let plane: Vec<Vec<f64>> = nodes.iter().map(|p| vec![p[0], p[2]]).collect();
+        let entry = |i: usize, j: usize| kelvin(&plane, 2, h, i, j);
+        let points = unknown_points(&nodes, 2);
+        let m = points.len();
+        for eps in [1e-4, 1e-6] {
+            let clock = std::time::Instant::now();
+            let (hm, oracle) = build(&entry, &points, &HOptions::with_epsilon(eps));
+            let wall = clock.elapsed().as_secs_f64();
+            oracle.assert_each_column_once();
+            let r = hm.report();
+            let c = r.columns.as_ref().unwrap();
+            eprintln!(
+                "m {m} ε {eps:.0e}: columns {} in {} calls (≤ {}), peak {:.1} MB (dense copy {:.1} MB), \
+                 stored {:.1} MB = {:.4} of dense, ranks ≤ {} (mean {:.1}), {} + {} blocks, \
+                 error estimate {:.2e} bound {:.2e}, oracle {:.1} s, set-up {:.1} s (wall {wall:.1} s)",
+                c.columns_computed,
+                c.batches,
+                c.largest_batch,
+                c.peak_bytes as f64 / 1e6,
+                8.0 * (m * m) as f64 / 1e6,
+                8.0 * r.stored_entries as f64 / 1e6,
+                r.memory_ratio(),
+                r.max_rank,
+                r.mean_rank,
+                r.dense_blocks,
+                r.low_rank_blocks,
+                r.relative_error,
+                c.error_bound,
+                c.oracle_seconds,
+                c.setup_seconds,
+            );
+            assert!(c.error_bound <= eps);
+        }
+    }
+}
