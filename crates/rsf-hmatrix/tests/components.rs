@@ -87,3 +87,73 @@ fn cross_approximation_finds_every_component_block() {
         );
     }
 }
+
+#[test]
+fn component_blocks_cost_their_crosses_not_their_entries() {
+    // Two components without coupling on a line of 2 000 points: half of every admissible
+    // block is zero, and evaluating it (a pivot search that falls back on every row of a
+    // vanishing residual) would cost about half of the far field's entries (≈ 8 × 10⁶;
+    // the near field is 5.8 × 10⁵).
+    let line: Vec<[f64; 2]> = (0..2000).map(|p| [p as f64, 0.0]).collect();
+    let n = 2 * line.len();
+    let points = unknown_points(&line, 2);
+    let options = HOptions {
+        components: 2,
+        error_samples: 0,
+        ..HOptions::with_epsilon(1e-6)
+    };
+    let count = std::cell::Cell::new(0usize);
+    let f = |i: usize, j: usize| {
+        count.set(count.get() + 1);
+        decoupled(&line, i, j)
+    };
+    let h = HMatrix::from_entries(f, &points, &options).unwrap();
+    let r = h.report();
+    let evaluated = count.get();
+    // The near field, and per low-rank block its crosses, references and samples.
+    assert!(
+        evaluated < 3 * r.stored_entries && evaluated < n * n / 5,
+        "{evaluated} entries evaluated for {} stored, n² = {}",
+        r.stored_entries,
+        n * n
+    );
+    // And the matrix is right: the error on every entry of a sample of rows.
+    let mut e2 = 0.0;
+    let mut s2 = 0.0;
+    let hd = h.to_dense();
+    for i in (0..n).step_by(37) {
+        for j in 0..n {
+            let s = decoupled(&line, i, j);
+            e2 += (hd[(i, j)] - s).powi(2);
+            s2 += s * s;
+        }
+    }
+    assert!((e2 / s2).sqrt() <= 1e-6);
+}
+
+#[test]
+fn points_must_be_whole_numbers_of_components() {
+    let points = Points::new(&[0.0, 1.0, 2.0, 3.0, 4.0], 1).unwrap();
+    let options = HOptions {
+        components: 2,
+        ..HOptions::default()
+    };
+    assert!(matches!(
+        HMatrix::from_entries(|_, _| 1.0, &points, &options),
+        Err(rsf_hmatrix::Error::Option {
+            name: "components",
+            ..
+        })
+    ));
+    let none = HOptions {
+        components: 0,
+        ..HOptions::default()
+    };
+    assert!(matches!(
+        HMatrix::from_entries(|_, _| 1.0, &points, &none),
+        Err(rsf_hmatrix::Error::Option {
+            name: "components",
+            ..
+        })
+    ));
+}
