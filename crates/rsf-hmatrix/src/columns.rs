@@ -88,8 +88,8 @@ impl Basis {
 
     /// Adds the columns `c` (`nrows × b`, block columns `first..first + b`): their
     /// projection on `Q` (classical Gram–Schmidt, twice), the SVD of the rest truncated
-    /// where the discarded part's `‖·‖_F² ≤ eps² ‖c‖_F²`, the kept directions appended
-    /// to `Q`.
+    /// where the discarded part's `‖·‖_F² ≤ eps² ‖c‖_F²` (no SVD when the whole rest is
+    /// that small), the kept directions appended to `Q`.
     fn extend(&mut self, mut c: Mat<f64>, first: usize, eps: f64) -> Result<(), Error> {
         let (nr, b) = c.shape();
         let norm2 = frob2(&c);
@@ -110,8 +110,17 @@ impl Basis {
                 coef += &p;
             }
         }
+        let bound = eps * eps * norm2;
+        let rest = frob2(&c);
+        if rest <= bound {
+            // The basis holds these columns to the tolerance: no new direction (what the
+            // SVD's truncation would find, without the SVD).
+            self.err2 += rest;
+            self.chunks.push((first, coef));
+            return Ok(());
+        }
         let (u, sigma, v) = thin_svd_seq(c.as_ref())?;
-        let (t, tail) = truncation_rank_below(&sigma, eps * eps * norm2);
+        let (t, tail) = truncation_rank_below(&sigma, bound);
         self.err2 += tail;
         let mut q = Mat::<f64>::zeros(nr, r + t);
         for l in 0..r {

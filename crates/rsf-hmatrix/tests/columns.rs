@@ -339,11 +339,17 @@ fn oracle_errors_and_bad_columns_are_typed_errors() {
 /// 0.5 km: m = 8 282 and 32 562 unknowns, strike and dip), a regularised Kelvin-like
 /// kernel standing in for the Schur complement (an entry costs nanoseconds here, a column
 /// of the real S one pair of sparse triangular solves). Prints what the set-up measured;
-/// run with `cargo test -p rsf-hmatrix --test columns -- --ignored --nocapture`.
+/// run with `cargo test -p rsf-hmatrix --test columns -- --ignored --nocapture`
+/// (`RSF_BP5_SPACINGS=1` for the 1 km fault only; spacings in km, comma-separated).
 #[test]
 #[ignore = "measurement (a minute or more)"]
 fn bp5_sized_faults() {
-    for h in [1.0, 0.5] {
+    let spacings: Vec<f64> = std::env::var("RSF_BP5_SPACINGS")
+        .unwrap_or_else(|_| "1,0.5".into())
+        .split(',')
+        .map(|h| h.trim().parse().expect("spacing in km"))
+        .collect();
+    for h in spacings {
         let (nx, nz) = ((100.0 / h) as usize + 1, (40.0 / h) as usize + 1);
         let nodes: Vec<Vec<f64>> = (0..nx * nz)
             .map(|p| vec![(p % nx) as f64 * h, 0.0, -((p / nx) as f64) * h])
