@@ -103,40 +103,38 @@ pub(crate) fn svd_truncate(block: MatRef<'_, f64>, eps: f64) -> Result<Option<Lo
 }
 
 /// Recompression of `U Vᵀ` (`m × k`, `n × k`) to relative accuracy `eps` of its own norm:
-/// `U = Q_u R_u`, `V = Q_v R_v`, SVD of the small `R_u R_vᵀ`, truncation.
+/// orthonormal bases of both factors, `U = Q_u R_u`, `V = Q_v R_v` (from their thin SVDs,
+/// `R = Σ Bᵀ`), the SVD of the small core `R_u R_vᵀ`, truncation. Every factorisation and
+/// product on the calling thread on owned (aligned) matrices: the same bits whatever the
+/// thread pool and the factors' addresses.
 pub(crate) fn recompress(lr: &LowRank, m: usize, n: usize, eps: f64) -> Result<LowRank, Error> {
     let k = lr.rank;
     if k == 0 {
         return Ok(lr.clone());
     }
-    let u = MatRef::from_column_major_slice(&lr.u, m, k);
-    let v = MatRef::from_column_major_slice(&lr.v, n, k);
-    let (qru, qrv) = (u.qr(), v.qr());
-    let (qu, qv) = (qru.compute_thin_Q(), qrv.compute_thin_Q());
-    let (ru, rv) = (qru.thin_R(), qrv.thin_R());
+    let u = Mat::<f64>::from_fn(m, k, |i, l| lr.u[l * m + i]);
+    let v = Mat::<f64>::from_fn(n, k, |j, l| lr.v[l * n + j]);
+    let (qu, su, bu) = thin_svd_seq(u.as_ref())?;
+    let (qv, sv, bv) = thin_svd_seq(v.as_ref())?;
+    let ru = Mat::<f64>::from_fn(su.len(), k, |i, l| su[i] * bu[(l, i)]);
+    let rv = Mat::<f64>::from_fn(sv.len(), k, |i, l| sv[i] * bv[(l, i)]);
     let mut core = Mat::<f64>::zeros(ru.nrows(), rv.nrows());
-    matmul(&mut core, Accum::Replace, ru, rv.transpose(), 1.0, Par::Seq);
-    let svd = core.thin_svd().map_err(|_| Error::Svd {
-        rows: core.nrows(),
-        cols: core.ncols(),
-    })?;
-    let s = svd.S().column_vector();
-    let sigma: Vec<f64> = (0..s.nrows()).map(|i| s[i]).collect();
+    matmul(
+        &mut core,
+        Accum::Replace,
+        &ru,
+        rv.transpose(),
+        1.0,
+        Par::Seq,
+    );
+    let (w, sigma, z) = thin_svd_seq(core.as_ref())?;
     let r = truncation_rank(&sigma, eps);
-    let mut w = Mat::<f64>::zeros(ru.nrows(), r);
-    let mut z = Mat::<f64>::zeros(rv.nrows(), r);
-    for l in 0..r {
-        for i in 0..ru.nrows() {
-            w[(i, l)] = svd.U()[(i, l)] * sigma[l];
-        }
-        for j in 0..rv.nrows() {
-            z[(j, l)] = svd.V()[(j, l)];
-        }
-    }
+    let ws = Mat::<f64>::from_fn(ru.nrows(), r, |i, l| w[(i, l)] * sigma[l]);
+    let zs = Mat::<f64>::from_fn(rv.nrows(), r, |j, l| z[(j, l)]);
     let mut nu = Mat::<f64>::zeros(m, r);
     let mut nv = Mat::<f64>::zeros(n, r);
-    matmul(&mut nu, Accum::Replace, &qu, &w, 1.0, Par::Seq);
-    matmul(&mut nv, Accum::Replace, &qv, &z, 1.0, Par::Seq);
+    matmul(&mut nu, Accum::Replace, &qu, &ws, 1.0, Par::Seq);
+    matmul(&mut nv, Accum::Replace, &qv, &zs, 1.0, Par::Seq);
     let mut out = LowRank {
         u: Vec::with_capacity(m * r),
         v: Vec::with_capacity(n * r),

@@ -157,3 +157,31 @@ fn points_must_be_whole_numbers_of_components() {
         })
     ));
 }
+
+#[test]
+fn cross_approximation_is_bit_identical_for_every_thread_count() {
+    let xy = grid(16);
+    let points = unknown_points(&xy, 3);
+    let f = |i: usize, j: usize| three_components(&xy, i, j);
+    let options = HOptions {
+        components: 3,
+        ..HOptions::with_epsilon(1e-6)
+    };
+    let mut first: Option<Vec<u64>> = None;
+    for threads in [1, 2, 4] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let h = pool.install(|| HMatrix::from_entries(f, &points, &options).unwrap());
+        let d = h.to_dense();
+        let bits: Vec<u64> = d
+            .col_iter()
+            .flat_map(|c| c.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+            .collect();
+        match &first {
+            None => first = Some(bits),
+            Some(b) => assert!(*b == bits, "{threads} threads: other bits"),
+        }
+    }
+}
