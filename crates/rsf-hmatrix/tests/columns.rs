@@ -18,6 +18,29 @@ struct Oracle<'a, F> {
     entry: &'a F,
     counts: Vec<AtomicUsize>,
     calls: AtomicUsize,
+    /// CPU time spent in the oracle, µs (Linux; 0 elsewhere).
+    cpu_micros: AtomicUsize,
+}
+
+/// CPU seconds of the calling thread (`thread`) or of the process, from /proc (Linux; 0
+/// elsewhere), at the kernel's 100 Hz tick.
+fn cpu_seconds(thread: bool) -> f64 {
+    let path = if thread {
+        "/proc/thread-self/stat"
+    } else {
+        "/proc/self/stat"
+    };
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|s| {
+            // Fields after the command name (in parentheses): utime and stime are the
+            // 12th and 13th.
+            let rest = &s[s.rfind(')')? + 2..];
+            let f: Vec<&str> = rest.split(' ').collect();
+            let t = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+            Some(t / 100.0)
+        })
+        .unwrap_or(0.0)
 }
 
 impl<'a, F: Fn(usize, usize) -> f64 + Sync> Oracle<'a, F> {
@@ -26,11 +49,13 @@ impl<'a, F: Fn(usize, usize) -> f64 + Sync> Oracle<'a, F> {
             entry,
             counts: (0..n).map(|_| AtomicUsize::new(0)).collect(),
             calls: AtomicUsize::new(0),
+            cpu_micros: AtomicUsize::new(0),
         }
     }
 
     fn columns(&self, js: &[usize], mut out: MatMut<'_, f64>) -> Result<(), Infallible> {
         self.calls.fetch_add(1, Ordering::Relaxed);
+        let cpu = cpu_seconds(true);
         assert_eq!(out.ncols(), js.len());
         assert_eq!(out.nrows(), self.counts.len());
         for (k, &j) in js.iter().enumerate() {
@@ -40,6 +65,9 @@ impl<'a, F: Fn(usize, usize) -> f64 + Sync> Oracle<'a, F> {
                 out[(i, k)] = (self.entry)(i, j);
             }
         }
+        let spent = (cpu_seconds(true) - cpu).max(0.0);
+        self.cpu_micros
+            .fetch_add((spent * 1e6) as usize, Ordering::Relaxed);
         Ok(())
     }
 
@@ -360,16 +388,19 @@ fn bp5_sized_faults() {
         let points = unknown_points(&nodes, 2);
         let m = points.len();
         for eps in [1e-4, 1e-6] {
-            let clock = std::time::Instant::now();
+            let (clock, cpu) = (std::time::Instant::now(), cpu_seconds(false));
             let (hm, oracle) = build(&entry, &points, &HOptions::with_epsilon(eps));
             let wall = clock.elapsed().as_secs_f64();
+            let cpu = cpu_seconds(false) - cpu;
+            let oracle_cpu = oracle.cpu_micros.load(Ordering::Relaxed) as f64 * 1e-6;
             oracle.assert_each_column_once();
             let r = hm.report();
             let c = r.columns.as_ref().unwrap();
             eprintln!(
                 "m {m} ε {eps:.0e}: columns {} in {} calls (≤ {}), peak {:.1} MB (dense copy {:.1} MB), \
                  stored {:.1} MB = {:.4} of dense, ranks ≤ {} (mean {:.1}), {} + {} blocks, \
-                 error estimate {:.2e} bound {:.2e}, oracle {:.1} s, set-up {:.1} s (wall {wall:.1} s)",
+                 error estimate {:.2e} bound {:.2e}, oracle {:.1} s, set-up {:.1} s (wall {wall:.1} s); \
+                 CPU: oracle {oracle_cpu:.1} s, the rest {:.1} s",
                 c.columns_computed,
                 c.batches,
                 c.largest_batch,
@@ -385,6 +416,7 @@ fn bp5_sized_faults() {
                 c.error_bound,
                 c.oracle_seconds,
                 c.setup_seconds,
+                cpu - oracle_cpu,
             );
             assert!(c.error_bound <= eps);
         }
