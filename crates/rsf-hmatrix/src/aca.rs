@@ -177,15 +177,15 @@ impl Samples {
         }
     }
 
-    /// The row of the largest residual sample in a row not `used`, if not zero.
-    fn worst(&self, used: &[bool]) -> Option<usize> {
-        let mut best: Option<(usize, f64)> = None;
-        for &(r, _, x) in &self.at {
-            if x != 0.0 && !used[r] && best.is_none_or(|(_, b)| x.abs() > b) {
-                best = Some((r, x.abs()));
+    /// The position of the largest residual sample in a row not `used`, if not zero.
+    fn worst(&self, used: &[bool]) -> Option<(usize, usize)> {
+        let mut best: Option<(usize, usize, f64)> = None;
+        for &(r, s, x) in &self.at {
+            if x != 0.0 && !used[r] && best.is_none_or(|(_, _, b)| x.abs() > b) {
+                best = Some((r, s, x.abs()));
             }
         }
-        best.map(|(r, _)| r)
+        best.map(|(r, s, _)| (r, s))
     }
 }
 
@@ -350,13 +350,17 @@ fn aca_plus(
             let rmax = by_col.map_or(0.0, |(_, v)| v);
             if cmax == 0.0 && rmax == 0.0 {
                 // The references are reproduced: the samples decide.
-                match samples.worst(&row_used) {
-                    Some(r) if samples.norm2_estimate() > tol2 => {
-                        forced = Some(r);
-                        continue;
-                    }
-                    _ => break,
+                if samples.norm2_estimate() <= tol2 {
+                    break;
                 }
+                let Some(at) = samples.worst(&row_used) else {
+                    break;
+                };
+                forced = Some(at.0);
+                follow(
+                    at, &mut x, entry, samples, &mut jref, &mut cref, &col_used, rng,
+                )?;
+                continue;
             }
             if rmax > cmax {
                 let (j, _) = by_col.unwrap_or((0, 0.0));
@@ -421,13 +425,45 @@ fn aca_plus(
                 break;
             }
             // The newest cross is small but the samples are not reproduced.
-            match samples.worst(&row_used) {
-                Some(r) => forced = Some(r),
-                None => break,
-            }
+            let Some(at) = samples.worst(&row_used) else {
+                break;
+            };
+            forced = Some(at.0);
+            follow(
+                at, &mut x, entry, samples, &mut jref, &mut cref, &col_used, rng,
+            )?;
         }
     }
     Ok(Some(x.into_crosses()))
+}
+
+/// After a failed sample check at the worst sample `(r, s)` (its row `r` is the next
+/// pivot row): the reference column moves to `s` if unused, so that the search goes on
+/// where the samples found the residual; and the samples are drawn anew (with their
+/// residual), so that the next check is made on entries that guided no pivot — a sample
+/// set that chose pivots is reproduced at its own positions first and would stop early.
+/// Costs `ms + ns` entries per failed check, each followed by at least one cross.
+#[allow(clippy::too_many_arguments)]
+fn follow(
+    (_, s): (usize, usize),
+    x: &mut Approximation,
+    entry: &mut dyn FnMut(usize, usize) -> Result<f64, Error>,
+    samples: &mut Samples,
+    jref: &mut Option<usize>,
+    cref: &mut [f64],
+    col_used: &[bool],
+    rng: &mut SplitMix64,
+) -> Result<(), Error> {
+    if !col_used[s] {
+        *jref = Some(s);
+        x.residual_col(s, entry, cref)?;
+    }
+    let (ms, ns) = (cref.len(), col_used.len());
+    *samples = Samples::draw(ms, ns, rng, entry)?;
+    for (u, v) in x.us.iter().zip(&x.vs) {
+        samples.subtract(u, v);
+    }
+    Ok(())
 }
 
 /// Index of the smallest `|x_i|` (first on ties); `None` for an empty slice.
