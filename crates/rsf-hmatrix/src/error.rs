@@ -72,3 +72,23 @@ pub enum Error {
         cols: usize,
     },
 }
+
+/// Errors of [`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns):
+/// the column oracle's own error `E`, or the set-up's.
+#[derive(Debug, thiserror::Error)]
+pub enum ColumnsError<E> {
+    /// The oracle failed on a batch of columns.
+    #[error("the column oracle failed on a batch of {columns} columns (the first: {first})")]
+    Oracle {
+        /// The first column of the batch (original numbering).
+        first: usize,
+        /// Number of columns in the batch.
+        columns: usize,
+        /// The oracle's error.
+        #[source]
+        source: E,
+    },
+    /// Invalid options, a non-finite entry of a column, or an SVD that did not converge.
+    #[error(transparent)]
+    HMatrix(#[from] Error),
+}

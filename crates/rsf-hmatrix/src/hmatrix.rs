@@ -2,17 +2,21 @@
 //! allocation-free product (docs/math.md §13).
 
 use std::ops::Range;
+use std::time::Instant;
 
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
+use crate::aca::{compress_block, AcaParams};
 use crate::block::partition;
 use crate::cluster::ClusterTree;
-use crate::error::Error;
-use crate::lowrank::{aca, recompress, svd_truncate, LowRank};
-use crate::options::{ErrorMeasure, HOptions, SetupReport};
+use crate::columns;
+use crate::error::{ColumnsError, Error};
+use crate::lowrank::{recompress, svd_truncate, LowRank};
+use crate::options::{ColumnReport, ErrorMeasure, HOptions, SetupReport};
 use crate::points::Points;
 use crate::product::{run_parts, Block, Data, Operands, PartRows, Segment, Split};
+use crate::rng::SplitMix64;
 
 /// A hierarchical (ℋ-) matrix approximation `S_H` of a square matrix `S` whose rows and
 /// columns belong to points (docs/math.md §13): a cluster tree on the points, a block tree
@@ -130,25 +134,33 @@ impl HMatrix {
     /// Builds the matrix from its entries `entry(i, j)` (row `i`, column `j`, original
     /// numbering, one point per row/column), evaluating only the near-field blocks in full
     /// and `O(k (m + n))` entries of each admissible `m × n` block: adaptive cross
-    /// approximation with partial pivoting to `ε/10`, then recompression (QR of both
-    /// factors, SVD of the small core) to `0.9 ε` (docs/math.md §13.3). The way to matrices
-    /// too large to form densely. The ACA stopping test is a heuristic (exact for the
-    /// asymptotically smooth kernels it is meant for, not a bound); the error in the
-    /// [report](Self::report) is estimated on a random sample of
-    /// [`HOptions::error_samples`] entries (all entries if `n²` is not larger).
+    /// approximation ACA+ (Bebendorf & Grzhibovskis 2006: pivots from a reference row and
+    /// a reference column kept as residuals) on each of the block's
+    /// [`components`](HOptions::components)² component blocks, each stopped when its
+    /// newest cross and a seeded random sample of its residual's entries (`m_a + n_b` of
+    /// them) both estimate a remainder of at most `ε/(10 c)` of the block's estimated
+    /// Frobenius norm; then recompression (QR of both factors, SVD of the small core) to
+    /// `0.9 ε` (docs/math.md §13.3). The way to matrices too large to form densely. The
+    /// stopping tests are estimates (sharp for the asymptotically smooth kernels ACA is
+    /// meant for, not bounds); the error in the [report](Self::report) is estimated on a
+    /// random sample of [`HOptions::error_samples`] entries (all entries if `n²` is not
+    /// larger). Deterministic: every random choice is seeded by
+    /// [`HOptions::seed`] and the block.
     ///
     /// # Errors
-    /// Invalid options; [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity for
-    /// an entry it is asked for (entries ACA never evaluates are not seen);
+    /// Invalid options ([`HOptions::validate_for`]: also unless `n` is a multiple of the
+    /// components); [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity for an
+    /// entry it is asked for (entries ACA never evaluates are not seen);
     /// [`Error::Svd`] if an SVD does not converge.
     pub fn from_entries<F>(mut entry: F, points: &Points, options: &HOptions) -> Result<Self, Error>
     where
         F: FnMut(usize, usize) -> f64,
     {
-        options.validate()?;
         let n = points.len();
+        options.validate_for(n)?;
         let tree = ClusterTree::new(points, options.leaf_size);
         let perm = tree.perm.clone();
+        let c = options.components;
         let mut checked = |i: usize, j: usize| -> Result<f64, Error> {
             let v = entry(i, j);
             if v.is_finite() {
@@ -161,7 +173,23 @@ impl HMatrix {
         for shape in partition(&tree, options.eta) {
             let mut local = |i: usize, j: usize| checked(perm[shape.row + i], perm[shape.col + j]);
             let lr = if shape.admissible {
-                aca(shape.nrows, shape.ncols, &mut local, options.epsilon / 10.0)?
+                let row_comp: Vec<usize> =
+                    (0..shape.nrows).map(|i| perm[shape.row + i] % c).collect();
+                let col_comp: Vec<usize> =
+                    (0..shape.ncols).map(|j| perm[shape.col + j] % c).collect();
+                let params = AcaParams {
+                    eps: options.epsilon / 10.0,
+                    components: c,
+                    seed: options.seed ^ ((shape.row as u64) << 32 | shape.col as u64),
+                };
+                compress_block(
+                    shape.nrows,
+                    shape.ncols,
+                    &row_comp,
+                    &col_comp,
+                    &mut local,
+                    params,
+                )?
             } else {
                 None
             };
@@ -209,7 +237,7 @@ impl HMatrix {
             }
             ErrorMeasure::Exact
         } else {
-            let mut rng = SplitMix64(options.seed);
+            let mut rng = SplitMix64::new(options.seed);
             for _ in 0..options.error_samples {
                 let k = rng.below(total as u64) as usize;
                 add(k % n, k / n)?;
@@ -220,6 +248,103 @@ impl HMatrix {
         };
         h.report.relative_error = if s2 > 0.0 { (e2 / s2).sqrt() } else { 0.0 };
         h.report.error_measure = measure;
+        Ok(h)
+    }
+
+    /// Builds the matrix of a symmetric `n × n` matrix `S` from its columns, never forming
+    /// anything `n × n` — for `S` too large to form, each column costing a solve (the
+    /// fault's Schur complement: one pair of sparse triangular solves with the volume's
+    /// factor per column, docs/math.md §12). Every column is asked for exactly once:
+    /// the near-field blocks need the columns of every leaf cluster, so no set-up from
+    /// columns needs fewer (docs/math.md §13.6).
+    ///
+    /// `columns(js, out)` must write column `js[k]` of `S` (original numbering) into
+    /// column `k` of `out`, an `n × js.len()` matrix whose row `i` is row `i` of `S`
+    /// (entries on entry zero), and return `Ok(())`. `js` holds whole leaf clusters of
+    /// the cluster tree, at least [`HOptions::column_batch`] columns (fewer only in the
+    /// last batch), distinct and in no particular order; every column of `0..n` comes in
+    /// exactly one call, the calls in a fixed order. Calls come one at a time (never two
+    /// at once) but possibly from a thread of rayon's current pool while the previous
+    /// batch is compressed on the others; the oracle may use threads itself (a
+    /// multi-right-hand-side solve). `S` is taken symmetric and not checked: the rows of
+    /// each block come from the same columns as its columns.
+    ///
+    /// Each batch fills the near-field blocks it reaches and extends, in every admissible
+    /// block it reaches, an orthonormal basis of the block's columns: the new columns are
+    /// projected on the basis (Gram–Schmidt, twice), what the basis misses is truncated by
+    /// its SVD to `ε/10` of the batch's columns and appended. A block whose columns are all
+    /// seen is recompressed to `0.9 ε` (SVD of the coefficients, the basis being
+    /// orthonormal) and freed of its basis; a block whose rank reaches the point where it
+    /// is cheaper dense is stored dense. Every entry is seen, so the result does not rest
+    /// on a sampling heuristic: the discarded singular values give a bound on the error
+    /// ([`ColumnReport::error_bound`](crate::ColumnReport::error_bound)), and
+    /// [`SetupReport::relative_error`] is estimated on [`HOptions::error_columns`] random
+    /// columns kept as they pass ([`ErrorMeasure::SampledColumns`]; exact if every column
+    /// is sampled); [`SetupReport::columns`] holds the columns computed, the calls, the
+    /// memory peak and the times. Blocks are compressed in parallel on rayon's current
+    /// pool, each by sequential kernels, so the result is bit-identical for every thread
+    /// count. Memory: two batches (`n × batch` each), the sampled columns (`n` each) and
+    /// the blocks (the ℋ-matrix at accuracy `ε/10` while being built). Cost: the `n`
+    /// columns, plus `O(k n²)` flops of projections (`k` a block's rank at `ε/10`).
+    ///
+    /// # Errors
+    /// [`ColumnsError::Oracle`] with the oracle's error (the set-up stops);
+    /// [`ColumnsError::HMatrix`] with invalid options ([`HOptions::validate`]),
+    /// [`Error::NonFiniteEntry`] for NaN or infinity in a column, or [`Error::Svd`] if an
+    /// SVD does not converge.
+    pub fn from_symmetric_columns<C, E>(
+        columns: C,
+        points: &Points,
+        options: &HOptions,
+    ) -> Result<Self, ColumnsError<E>>
+    where
+        C: Fn(&[usize], MatMut<'_, f64>) -> Result<(), E> + Sync,
+        E: Send,
+    {
+        let clock = Instant::now();
+        options.validate()?;
+        let n = points.len();
+        let tree = ClusterTree::new(points, options.leaf_size);
+        let shapes = partition(&tree, options.eta);
+        let built = columns::build(&columns, &tree, shapes, options)?;
+        let mut h = Self::assemble(tree, built.blocks, 0.0, ErrorMeasure::Exact);
+        // The error on the sampled columns, against S_H's columns.
+        let mut iperm = vec![0; n];
+        for (p, &i) in h.perm.iter().enumerate() {
+            iperm[i] = p;
+        }
+        let mut e2 = 0.0;
+        for (j, col) in &built.sampled {
+            for (i, s) in col.iter().enumerate() {
+                e2 += (s - h.entry_in_cluster_order(iperm[i], iperm[*j])).powi(2);
+            }
+        }
+        let s = built.sampled.len();
+        let (measure, err2) = if s == n {
+            (ErrorMeasure::Exact, e2)
+        } else {
+            let err2 = if s > 0 { e2 * n as f64 / s as f64 } else { 0.0 };
+            (ErrorMeasure::SampledColumns { columns: s }, err2)
+        };
+        let rel = |x2: f64| {
+            if built.norm2 > 0.0 {
+                (x2 / built.norm2).sqrt()
+            } else {
+                0.0
+            }
+        };
+        h.report.relative_error = rel(err2);
+        h.report.error_measure = measure;
+        let stored = 8 * h.report.stored_entries;
+        h.report.columns = Some(ColumnReport {
+            columns_computed: built.columns_computed,
+            batches: built.batches,
+            largest_batch: built.largest_batch,
+            peak_bytes: built.peak_bytes.max(stored),
+            oracle_seconds: built.oracle_seconds,
+            setup_seconds: clock.elapsed().as_secs_f64(),
+            error_bound: rel(built.bound2),
+        });
         Ok(h)
     }
 
@@ -259,6 +384,7 @@ impl HMatrix {
             max_rank: 0,
             mean_rank: 0.0,
             leaf_clusters: leaves.len(),
+            columns: None,
         };
         let mut rank_sum = 0;
         for b in &mut blocks {
@@ -494,28 +620,4 @@ fn low_rank_error2(b: MatRef<'_, f64>, lr: &LowRank) -> f64 {
         }
     }
     e
-}
-
-/// SplitMix64 (Steele, Lea, Flood 2014): the sample of the error estimate.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..bound` (`bound > 0`), by rejection.
-    fn below(&mut self, bound: u64) -> u64 {
-        let zone = u64::MAX - u64::MAX % bound;
-        loop {
-            let r = self.next();
-            if r < zone {
-                return r % bound;
-            }
-        }
-    }
 }

@@ -21,8 +21,32 @@ pub struct HOptions {
     /// Number of random entries on which [`HMatrix::from_entries`](crate::HMatrix::from_entries)
     /// estimates its error (default 20 000; all entries when `n²` is not larger).
     pub error_samples: usize,
-    /// Seed of the random sample of the error estimate (default 1).
+    /// Seed of the random choices of the set-up (default 1): the sample of the error
+    /// estimates, and the reference columns and residual samples of
+    /// [`HMatrix::from_entries`](crate::HMatrix::from_entries)'s cross approximation.
     pub seed: u64,
+    /// Number `c ≥ 1` of interleaved components per point (default 1): unknown `i` is
+    /// component `i mod c` of its point (unknowns `c p, …, c p + c − 1` at point `p`, the
+    /// layout of the fault operator's free components).
+    /// [`HMatrix::from_entries`](crate::HMatrix::from_entries) compresses each of a
+    /// block's `c²` component blocks (rows of component `a`, columns of component `b`) by
+    /// its own cross approximation, so that a component block that no row or column of
+    /// another component sees (zero coupling between components) is not missed
+    /// (docs/math.md §13.3). Ignored by [`HMatrix::from_dense`](crate::HMatrix::from_dense)
+    /// and [`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns),
+    /// which see every entry. The number of points must be a multiple of `c`.
+    pub components: usize,
+    /// Number of columns per call of the column oracle of
+    /// [`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns)
+    /// (≥ 1, default 64): whole leaf clusters are gathered until a batch holds at least
+    /// this many columns, so a batch holds fewer than `column_batch + leaf_size`. The
+    /// set-up holds two batches (`n × batch` numbers each): the one being compressed and
+    /// the next one, computed meanwhile.
+    pub column_batch: usize,
+    /// Number of random whole columns on which
+    /// [`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns)
+    /// estimates its error (default 8; all columns when `n` is not larger; 0 for none).
+    pub error_columns: usize,
 }
 
 impl Default for HOptions {
@@ -33,6 +57,9 @@ impl Default for HOptions {
             epsilon: 1e-6,
             error_samples: 20_000,
             seed: 1,
+            components: 1,
+            column_batch: 64,
+            error_columns: 8,
         }
     }
 }
@@ -46,11 +73,29 @@ impl HOptions {
         }
     }
 
+    /// Checks the ranges of the options, and that `n` points are a whole number of
+    /// points of [`components`](Self::components) components.
+    ///
+    /// # Errors
+    /// As [`validate`](Self::validate); [`Error::Option`] (`components`) unless `n` is a
+    /// multiple of `components`.
+    pub fn validate_for(&self, n: usize) -> Result<(), Error> {
+        self.validate()?;
+        if n % self.components != 0 {
+            return Err(Error::Option {
+                name: "components",
+                value: self.components as f64,
+                expected: "a divisor of the number of points",
+            });
+        }
+        Ok(())
+    }
+
     /// Checks the ranges of the options.
     ///
     /// # Errors
-    /// [`Error::Option`] for a leaf size of 0, `η` not finite and positive, or `ε` not in
-    /// `[0, 1)`.
+    /// [`Error::Option`] for a leaf size of 0, `η` not finite and positive, `ε` not in
+    /// `[0, 1)`, or 0 components or a column batch of 0.
     pub fn validate(&self) -> Result<(), Error> {
         if self.leaf_size == 0 {
             return Err(Error::Option {
@@ -58,6 +103,18 @@ impl HOptions {
                 value: 0.0,
                 expected: "≥ 1",
             });
+        }
+        for (name, value) in [
+            ("components", self.components),
+            ("column_batch", self.column_batch),
+        ] {
+            if value == 0 {
+                return Err(Error::Option {
+                    name,
+                    value: 0.0,
+                    expected: "≥ 1",
+                });
+            }
         }
         if !(self.eta.is_finite() && self.eta > 0.0) {
             return Err(Error::Option {
@@ -89,6 +146,15 @@ pub enum ErrorMeasure {
         /// Number of sampled entries.
         samples: usize,
     },
+    /// On random whole columns
+    /// ([`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns);
+    /// uniform without replacement, fixed seed): `((n/s) Σ_j ‖S e_j − S_H e_j‖²)^½ / ‖S‖_F`
+    /// over `s` sampled columns `j`, with the exact `‖S‖_F` (every column is seen) — an
+    /// estimate, not a bound; the bound is [`ColumnReport::error_bound`].
+    SampledColumns {
+        /// Number of sampled columns.
+        columns: usize,
+    },
 }
 
 /// What the set-up measured, read with [`HMatrix::report`](crate::HMatrix::report).
@@ -115,6 +181,36 @@ pub struct SetupReport {
     pub mean_rank: f64,
     /// Number of leaves of the cluster tree.
     pub leaf_clusters: usize,
+    /// The set-up's cost from a column oracle
+    /// ([`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns));
+    /// `None` for the other constructors.
+    pub columns: Option<ColumnReport>,
+}
+
+/// What [`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns)
+/// measured (docs/math.md §13.6).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct ColumnReport {
+    /// Number of columns of `S` the oracle was asked for (each once: `n`).
+    pub columns_computed: usize,
+    /// Number of calls of the oracle.
+    pub batches: usize,
+    /// Largest number of columns in one call.
+    pub largest_batch: usize,
+    /// Peak of the set-up's own memory (bytes): the batches held, the sampled columns,
+    /// the blocks being compressed and those done (logical sizes of the f64 arrays, not
+    /// the oracle's memory).
+    pub peak_bytes: usize,
+    /// Wall time inside the oracle (s).
+    pub oracle_seconds: f64,
+    /// Wall time of the whole set-up (s), the oracle included (it overlaps the
+    /// compression of the previous batch).
+    pub setup_seconds: f64,
+    /// A bound on `‖S − S_H‖_F / ‖S‖_F` (up to round-off): per block, the norms of the
+    /// parts discarded by the truncations of each batch and by the recompression, added
+    /// (triangle inequality), then summed in squares over the blocks.
+    pub error_bound: f64,
 }
 
 impl SetupReport {
