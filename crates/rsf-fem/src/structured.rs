@@ -316,6 +316,62 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
             }
         }
     }
+    SimplexMesh::from_ordered_cells(vertices, kuhn_cells(nx, ny, nz))
+}
+
+/// The tensor-product box with vertices at every `(xs[i], ys[j], zs[k])` (m; each list
+/// strictly increasing, at least 2 entries), each box cut into six tetrahedra as
+/// [`cuboid`] does (Kuhn's subdivision, conforming, refinable): with
+/// [`geometric_grading`] a 3-D mesh fine near a fault and coarsening geometrically to
+/// a far boundary hundreds of km away (docs/three-d.md). No tags are set.
+///
+/// ```
+/// use rsf_fem::{cuboid_from_coordinates, geometric_grading};
+/// let x: Vec<f64> = geometric_grading(1.0, 2.0, 1.5, 10.0)?;
+/// let mesh = cuboid_from_coordinates(&x, &[0.0, 1.0, 2.0], &[-1.0, 0.0])?;
+/// assert_eq!(mesh.num_vertices(), x.len() * 3 * 2);
+/// assert_eq!(mesh.num_cells(), 6 * (x.len() - 1) * 2);
+/// # Ok::<(), rsf_fem::Error>(())
+/// ```
+///
+/// # Errors
+/// [`Error::InvalidGrid`] if a list has fewer than 2 entries, is not strictly increasing
+/// or holds a non-finite value, or the grid has more vertices than can be indexed.
+pub fn cuboid_from_coordinates(xs: &[f64], ys: &[f64], zs: &[f64]) -> Result<TetrahedronMesh> {
+    for (name, c) in [("xs", xs), ("ys", ys), ("zs", zs)] {
+        if c.len() < 2 {
+            return Err(Error::InvalidGrid(format!(
+                "{name}: need at least 2 coordinates, got {}",
+                c.len()
+            )));
+        }
+        if c.iter().any(|v| !v.is_finite()) || c.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(Error::InvalidGrid(format!(
+                "{name}: coordinates must be finite and strictly increasing"
+            )));
+        }
+    }
+    let (nx, ny, nz) = (xs.len(), ys.len(), zs.len());
+    let count = nx
+        .checked_mul(ny)
+        .and_then(|v| v.checked_mul(nz))
+        .filter(|&v| v.checked_mul(6 * 4).is_some())
+        .ok_or_else(|| Error::InvalidGrid(format!("too many vertices: {nx} × {ny} × {nz}")))?;
+    let mut vertices = Vec::with_capacity(count);
+    for &z in zs {
+        for &y in ys {
+            for &x in xs {
+                vertices.push([x, y, z]);
+            }
+        }
+    }
+    SimplexMesh::from_ordered_cells(vertices, kuhn_cells(nx, ny, nz))
+}
+
+/// The six tetrahedra of each box of an `nx × ny × nz` vertex grid (vertex
+/// `i + nx (j + ny k)`), four vertex indices each: one per path from the box's first to its
+/// last corner along the axes (Kuhn's subdivision).
+fn kuhn_cells(nx: usize, ny: usize, nz: usize) -> Vec<usize> {
     let stride = [1, nx, nx * ny];
     const PERMUTATIONS: [[usize; 3]; 6] = [
         [0, 1, 2],
@@ -341,5 +397,5 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
             }
         }
     }
-    SimplexMesh::from_ordered_cells(vertices, cells)
+    cells
 }

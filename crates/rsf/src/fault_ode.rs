@@ -536,6 +536,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.rates.cond.dim()
     }
 
+    /// Entries of the volume's sparse Cholesky factor the condensation holds (what limits a
+    /// 3-D run's memory with the operator's, docs/three-d.md).
+    pub fn factor_nnz(&self) -> usize {
+        self.rates.cond.factor_nnz()
+    }
+
     /// What the set-up measured of the operator `S` (or `S_H`): the kernel, its error
     /// `‖S − S_H‖_F/‖S‖_F`, storage and compression ratio. `Display` prints one line.
     pub fn kernel_report(&self) -> &KernelReport {
