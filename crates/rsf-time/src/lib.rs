@@ -70,6 +70,26 @@ pub enum Error {
         /// The smallest allowed step (s).
         tau_min: f64,
     },
+    /// The rate function of an ODE system refused the stages of an adaptive step as
+    /// outside its domain ([`OdeSystem::outside_domain`]) too often, or a refusal would
+    /// take the step below its smallest size: no smaller step keeps the trial points
+    /// inside (docs/reliability.md, "Trial points outside the domain").
+    #[error(
+        "at t = {time:e} s the step of dt = {dt:e} s was refused {refusals} times as outside \
+         the system's domain ({reason}); lower the tolerance, raise max_refusals or lower \
+         dt_min, or change the model so that the state stays inside"
+    )]
+    #[non_exhaustive]
+    TrialPointRefused {
+        /// Time of the accepted point the step starts from (s).
+        time: f64,
+        /// The last step tried (s).
+        dt: f64,
+        /// Refused attempts of this step.
+        refusals: usize,
+        /// The last refusal's message (the system's error).
+        reason: String,
+    },
     /// Invalid parameter (e.g. negative radiation damping).
     #[error("invalid parameter {name} = {value}: {requirement}")]
     InvalidParameter {
