@@ -58,7 +58,7 @@ pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
-pub use frames::NodalFrames;
+pub use frames::{frame_from_normal, NodalFrames};
 pub use gmsh::{
     parse_gmsh, parse_gmsh_with, read_gmsh, read_gmsh_with, GmshMesh, GmshOptions, PhysicalGroup,
 };

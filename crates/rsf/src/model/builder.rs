@@ -427,8 +427,11 @@ impl<const D: usize> ModelBuilder<D> {
 
     /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
     /// slanted fault nodes: its projection onto each node's tangent plane (as PyLith's
-    /// `ref_dir`; e.g. the loading direction), falling back to the coordinate axis with the
-    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal.
+    /// `ref_dir`; e.g. the loading direction). Where it is (nearly, its projection
+    /// `< 10⁻⁶` of its length) normal to a slanted node or a split pair of an internal
+    /// fault, [`build`](Self::build) fails with [`rsf_fem::Error::TangentAlongNormal`]
+    /// naming the node and its position (it used to take the coordinate axis with the
+    /// smallest `|n_k|` there silently; without a tangent that axis is the rule).
     ///
     /// 3-D only: in 1-D and 2-D the tangent is fixed by the normal (`t = (−n_y, n_x)`) and
     /// there is nothing to choose, so [`build`](Self::build) refuses a `fault_tangent`
@@ -1552,19 +1555,26 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 });
             }
         }
-        let all = match self.fault_tangent {
-            Some(t) => gamma_f.frames_with_tangent(mesh, t)?,
-            None => gamma_f.frames(mesh)?,
-        };
+        // Frames at the slanted nodes only (an axis-aligned node keeps the Cartesian basis,
+        // whatever the tangent there): a fault tangent (nearly) normal at one of them is
+        // an error naming it (rsf_fem::Error::TangentAlongNormal), not another tangent.
         let normals = gamma_f.normals(mesh)?;
-        let mut slanted: Vec<(usize, [[f64; D]; D])> = all
-            .nodes
+        let mut slanted: Vec<(usize, [[f64; D]; D])> = gamma_f
+            .nodes()
             .iter()
-            .zip(all.rotations)
             .zip(&normals)
             .filter(|(_, n)| normal_axis(n).is_none())
-            .map(|((&p, q), _)| (p, q))
-            .collect();
+            .map(|(&p, n)| {
+                let q = rsf_fem::frame_from_normal(n, self.fault_tangent.as_ref());
+                q.map(|q| (p, q))
+                    .ok_or_else(|| rsf_fem::Error::TangentAlongNormal {
+                        vertex: p,
+                        position: mesh.vertices()[p].to_vec(),
+                        normal: n.to_vec(),
+                        direction: self.fault_tangent.map_or_else(Vec::new, |t| t.to_vec()),
+                    })
+            })
+            .collect::<std::result::Result<_, _>>()?;
         slanted.sort_by_key(|&(p, _)| p);
         Ok(NodalFrames {
             nodes: slanted.iter().map(|&(p, _)| p).collect(),
