@@ -7,8 +7,9 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use crate::{Error, Result};
 
 /// The frame at a node with outward unit normal `n`: a rotation (row-major, det = +1) whose
-/// **last column is the inward normal** `−n` and whose first `D − 1` columns are unit
-/// tangents (docs/math.md §10):
+/// **last column is the inward normal** `−n` (column
+/// [`normal_component`](rsf_numeric::normal_component)`(D)`) and whose first `D − 1`
+/// columns are unit tangents (docs/math.md §10):
 ///
 /// * 2D: `t = (−n_y, n_x)` (the counter-clockwise traversal direction of the boundary);
 /// * 3D: `t1` = the normalised projection of `hint` onto the tangent plane, or, without a
@@ -27,7 +28,7 @@ pub fn frame_from_normal<const D: usize>(
 ) -> Option<[[f64; D]; D]> {
     let n = SVector::<f64, D>::from(*n);
     let mut q = SMatrix::<f64, D, D>::zeros();
-    q.set_column(D - 1, &-n);
+    q.set_column(rsf_numeric::normal_component(D), &-n);
     match D {
         1 => {}
         // The outward normal turned counter-clockwise by 90°.

@@ -71,6 +71,7 @@ pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, quadratic_form, spmv_add, Cholesky, SparseMatrix};
+pub use rsf_numeric::normal_component;
 pub use split::FaultSides;
 pub use split_transform::MeanJumpTransform;
 pub use structured::{

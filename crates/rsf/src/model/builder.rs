@@ -4,6 +4,7 @@ use rsf_fem::{
     body_force_load_components, combine, traction_load_components, vectorize, Assembler,
     BoundaryPart, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
 };
+use rsf_numeric::normal_component;
 
 use super::absorbing::{AbsorbingBoundary, ResolvedPart};
 use super::fault::FrictionalBoundary;
@@ -721,7 +722,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     dv
                 };
                 let scale = vm.iter().chain(&vp).fold(0.0f64, |m, x| m.max(x.abs()));
-                if vector && j[C - 1].abs() > 1e-12 * scale {
+                if vector && j[normal_component(C)].abs() > 1e-12 * scale {
                     return Err(invalid(
                         "dirichlet",
                         format!(
@@ -729,12 +730,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                              open or close it (normal jump {:e} m/s): the fault's normal jump \
                              is tied",
                             fault.sides.name(),
-                            j[C - 1]
+                            j[normal_component(C)]
                         ),
                     ));
                 }
                 for c in 0..C {
-                    velocity[C * mi + c] = Some(if c == C - 1 && vector { 0.0 } else { j[c] });
+                    let tied = c == normal_component(C) && vector;
+                    velocity[C * mi + c] = Some(if tied { 0.0 } else { j[c] });
                     velocity[C * pl + c] = Some((1.0 - beta) * vm[c] + beta * vp[c]);
                 }
                 prescribed.push(true);
@@ -1027,7 +1029,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             // The normal jump is tied (no opening); a scalar field has only the slip.
             if C == D {
                 for &(mi, _) in f.pairs() {
-                    fixed[C * mi + C - 1] = true;
+                    fixed[C * mi + normal_component(C)] = true;
                 }
             }
         } else if C == D {
@@ -1046,7 +1048,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             let dofs = C * p..C * p + C;
             match fixed[dofs.clone()].iter().filter(|&&f| f).count() {
                 // Bilateral contact: the normal component in the frame.
-                0 => fixed[C * p + C - 1] = true,
+                0 => fixed[C * p + normal_component(C)] = true,
                 // A Dirichlet node on the slanted fault: its prescribed velocity in the frame.
                 k if k == C => {
                     let w: Vec<f64> = dofs.map(|i| velocity[i].unwrap_or(0.0)).collect();

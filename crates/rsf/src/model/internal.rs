@@ -394,7 +394,7 @@ impl<const D: usize> InternalFault<D> {
         // R's columns are (t…, −n), n pointing from the minus into the plus side.
         let size = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         let delta = if plus { 1e-9 } else { -1e-9 } * size;
-        std::array::from_fn(|a| x[a] + delta * -r[a][D - 1])
+        std::array::from_fn(|a| x[a] + delta * -r[a][rsf_numeric::normal_component(D)])
     }
 
     /// `Tᵀ f`: a Cartesian force vector (load, far-field dashpot force) in the new
