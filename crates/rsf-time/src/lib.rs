@@ -75,9 +75,10 @@ pub enum Error {
     /// take the step below its smallest size: no smaller step keeps the trial points
     /// inside (docs/reliability.md, "Trial points outside the domain").
     #[error(
-        "at t = {time:e} s the step of dt = {dt:e} s was refused {refusals} times as outside \
-         the system's domain ({reason}); lower the tolerance, raise max_refusals or lower \
-         dt_min, or change the model so that the state stays inside"
+        "the step from t = {time:e} s had {refusals} attempt(s) refused as outside the \
+         system's domain, the last with dt = {dt:e} s ({reason}); lower dt_min or raise \
+         max_refusals if a smaller step may stay inside, else the model leaves its domain \
+         there"
     )]
     #[non_exhaustive]
     TrialPointRefused {

@@ -80,8 +80,8 @@ pub enum Error {
     /// the fault ODE's counterpart is [`rsf_time::Error::TrialPointRefused`]
     /// (docs/reliability.md, "Trial points outside the domain").
     #[error(
-        "step {step} from t = {time:e} s with τ = {tau:e} s: its trial state was refused \
-         {refusals} times, last because {reason}; {remedy}"
+        "step {step} from t = {time:e} s: {refusals} attempt(s) refused, the last with \
+         τ = {tau:e} s because {reason}; {remedy}"
     )]
     #[non_exhaustive]
     TrialStateRefused {
