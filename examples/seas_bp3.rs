@@ -158,8 +158,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     println!(
-        "{} steps, {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+        "{} steps ({} attempts rejected, {} of them for σ̄_n ≤ 0 at a stage), {} evaluations; \
+         wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
         summary.steps,
+        summary.rejected_attempts,
+        summary.rejected_normal_stress,
         ode.evaluations(),
         args.out.display()
     );

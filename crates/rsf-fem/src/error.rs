@@ -103,6 +103,26 @@ pub enum Error {
         /// The vertex.
         vertex: usize,
     },
+    /// The reference direction of the first tangent of 3-D nodal frames
+    /// ([`BoundaryPart::frames_with_tangent`](crate::BoundaryPart::frames_with_tangent), a
+    /// fault's `tangent` in [`FaultSides::mean_jump_transform`](crate::FaultSides)) is
+    /// (nearly) normal to the surface at a node, so it gives no tangent there.
+    #[error(
+        "the tangent direction {direction:?} is (nearly) normal to the surface at vertex \
+         {vertex} at {position:?} m (outward normal {normal:?}): it gives the nodal frame no \
+         first tangent there; give a direction along the surface at every such node, or \
+         none (the default rule: the coordinate axis with the smallest normal component)"
+    )]
+    TangentAlongNormal {
+        /// The mesh vertex.
+        vertex: usize,
+        /// Its coordinates (m).
+        position: Vec<f64>,
+        /// The outward unit normal there.
+        normal: Vec<f64>,
+        /// The direction given.
+        direction: Vec<f64>,
+    },
     /// A requested hierarchy level does not exist.
     #[error("level {level} does not exist (hierarchy has levels 0..={finest})")]
     InvalidLevel {

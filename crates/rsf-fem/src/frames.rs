@@ -7,22 +7,28 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use crate::{Error, Result};
 
 /// The frame at a node with outward unit normal `n`: a rotation (row-major, det = +1) whose
-/// **last column is the inward normal** `−n` and whose first `D − 1` columns are unit
-/// tangents (docs/math.md §10):
+/// **last column is the inward normal** `−n` (column
+/// [`normal_component`](rsf_numeric::normal_component)`(D)`) and whose first `D − 1`
+/// columns are unit tangents (docs/math.md §10):
 ///
 /// * 2D: `t = (−n_y, n_x)` (the counter-clockwise traversal direction of the boundary);
-/// * 3D: `t1` = the normalised projection of `hint` onto the tangent plane, or, if no hint
-///   is given or the hint is (nearly, `< 1e-6` of its length) normal, of the Cartesian axis
-///   `e_k` with the smallest `|n_k|` (the first such `k`); `t2 = −n × t1`.
+/// * 3D: `t1` = the normalised projection of `hint` onto the tangent plane, or, without a
+///   hint, of the Cartesian axis `e_k` with the smallest `|n_k|` (the first such `k`);
+///   `t2 = −n × t1`.
 ///
 /// With `n = (0, 0, −1)` (a bottom face, `z` up) the 3D frame is the identity.
-pub(crate) fn frame_from_normal<const D: usize>(
+///
+/// `None` in 3D where `hint` is given and (nearly, its projection `< 1e-6` of its length)
+/// normal: the hint gives no tangent there, and the caller reports the node
+/// ([`Error::TangentAlongNormal`]) instead of choosing another tangent silently. Never
+/// `None` without a hint.
+pub fn frame_from_normal<const D: usize>(
     n: &[f64; D],
     hint: Option<&[f64; D]>,
-) -> [[f64; D]; D] {
+) -> Option<[[f64; D]; D]> {
     let n = SVector::<f64, D>::from(*n);
     let mut q = SMatrix::<f64, D, D>::zeros();
-    q.set_column(D - 1, &-n);
+    q.set_column(rsf_numeric::normal_component(D), &-n);
     match D {
         1 => {}
         // The outward normal turned counter-clockwise by 90°.
@@ -38,18 +44,18 @@ pub(crate) fn frame_from_normal<const D: usize>(
                 let l = t.norm();
                 (l > 0.0 && l >= 1e-6 * h.norm()).then(|| t / l)
             };
-            // The axis with the smallest |n_k| (the first such k): |n_k| ≤ 1/√3.
-            let axis = Vector3::ith(n.iamin(), 1.0);
-            let t1 = hint
-                .and_then(|h| project(Vector3::from_iterator(h.iter().copied())))
-                .or_else(|| project(axis))
-                .expect("an axis with |n_k| ≤ 1/√3 is never normal");
+            let t1 = match hint {
+                Some(h) => project(Vector3::from_iterator(h.iter().copied()))?,
+                // The axis with the smallest |n_k| (the first such k): |n_k| ≤ 1/√3.
+                None => project(Vector3::ith(n.iamin(), 1.0))
+                    .expect("an axis with |n_k| ≤ 1/√3 is never normal"),
+            };
             let t2 = (-n).cross(&t1);
             q.fixed_view_mut::<3, 1>(0, 0).copy_from(&t1);
             q.fixed_view_mut::<3, 1>(0, 1).copy_from(&t2);
         }
     }
-    std::array::from_fn(|r| std::array::from_fn(|c| q[(r, c)]))
+    Some(std::array::from_fn(|r| std::array::from_fn(|c| q[(r, c)])))
 }
 
 /// Per-node orthonormal frames `Q_p` (row-major `D × D`, columns = local basis vectors)
@@ -70,13 +76,29 @@ pub struct NodalFrames<const D: usize> {
 impl<const D: usize> NodalFrames<D> {
     /// Frames at `nodes` from their outward unit normals (see the rule on
     /// [`crate::BoundaryPart::frames`]), optionally aligning the first tangent with `hint`.
+    ///
+    /// # Errors
+    /// [`Error::TangentAlongNormal`] at the first node where `hint` is (nearly) normal,
+    /// naming it and its position (`positions`: the mesh's vertices).
     pub(crate) fn from_normals(
         nodes: Vec<usize>,
         normals: &[[f64; D]],
         hint: Option<&[f64; D]>,
-    ) -> Self {
-        let rotations = normals.iter().map(|n| frame_from_normal(n, hint)).collect();
-        Self { nodes, rotations }
+        positions: &[[f64; D]],
+    ) -> Result<Self> {
+        let rotations = normals
+            .iter()
+            .zip(&nodes)
+            .map(|(n, &p)| {
+                frame_from_normal(n, hint).ok_or_else(|| Error::TangentAlongNormal {
+                    vertex: p,
+                    position: positions[p].to_vec(),
+                    normal: n.to_vec(),
+                    direction: hint.map_or_else(Vec::new, |h| h.to_vec()),
+                })
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self { nodes, rotations })
     }
 
     fn check(&self, n_dofs: usize) -> Result<Vec<Option<usize>>> {

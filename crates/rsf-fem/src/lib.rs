@@ -58,7 +58,7 @@ pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
-pub use frames::NodalFrames;
+pub use frames::{frame_from_normal, NodalFrames};
 pub use gmsh::{
     parse_gmsh, parse_gmsh_with, read_gmsh, read_gmsh_with, GmshMesh, GmshOptions, PhysicalGroup,
 };
@@ -71,6 +71,7 @@ pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, quadratic_form, spmv_add, Cholesky, SparseMatrix};
+pub use rsf_numeric::normal_component;
 pub use split::FaultSides;
 pub use split_transform::MeanJumpTransform;
 pub use structured::{

@@ -248,16 +248,18 @@ impl<const D: usize> BoundaryPart<D> {
     /// As [`BoundaryPart::normals`].
     pub fn frames(&self, mesh: &SimplexMesh<D>) -> Result<NodalFrames<D>> {
         let n = self.normals(mesh)?;
-        Ok(NodalFrames::from_normals(self.nodes.clone(), &n, None))
+        NodalFrames::from_normals(self.nodes.clone(), &n, None, mesh.vertices())
     }
 
     /// As [`BoundaryPart::frames`], but in 3D the first tangent is the normalised
     /// projection of `direction` onto each node's tangent plane (e.g. the loading
-    /// direction), falling back to the default rule where `direction` is (nearly) normal.
-    /// In 1D and 2D the frames do not depend on `direction`.
+    /// direction). In 1D and 2D the frames do not depend on `direction`.
     ///
     /// # Errors
-    /// As [`BoundaryPart::normals`]; [`Error::NonFiniteValue`] if `direction` is not finite.
+    /// As [`BoundaryPart::normals`]; [`Error::NonFiniteValue`] if `direction` is not finite;
+    /// [`Error::TangentAlongNormal`] naming the first node (and its position) where
+    /// `direction` is (nearly, its projection `< 1e-6` of its length) normal — no other
+    /// tangent is chosen silently there.
     pub fn frames_with_tangent(
         &self,
         mesh: &SimplexMesh<D>,
@@ -267,11 +269,7 @@ impl<const D: usize> BoundaryPart<D> {
             return Err(Error::NonFiniteValue("tangent direction"));
         }
         let n = self.normals(mesh)?;
-        Ok(NodalFrames::from_normals(
-            self.nodes.clone(),
-            &n,
-            Some(&direction),
-        ))
+        NodalFrames::from_normals(self.nodes.clone(), &n, Some(&direction), mesh.vertices())
     }
 }
 

@@ -75,7 +75,10 @@ impl FaultSides<2> {
             if !(l > 1e-12 * length(i.min(edges - 1))) {
                 return Err(Error::UndefinedNormal { vertex: a });
             }
-            frames.push(frame_from_normal::<2>(&[n[0] / l, n[1] / l], None));
+            frames.push(
+                frame_from_normal::<2>(&[n[0] / l, n[1] / l], None)
+                    .expect("a frame without a tangent always exists"),
+            );
         }
         Ok(frames)
     }
@@ -95,13 +98,13 @@ impl FaultSides<3> {
     /// minus side's facets, m²), and `R_p` the frame of
     /// [`crate::NodalFrames`]: columns `(t1, t2, −n)` with `t1` the projection of `tangent`
     /// (m, any length; e.g. the dip or the strike direction) onto the plane normal to `n`,
-    /// or of a Cartesian axis if `tangent` is `None` or (nearly) normal there, and
-    /// `t2 = −n × t1`.
+    /// or of a Cartesian axis if `tangent` is `None`, and `t2 = −n × t1`.
     ///
     /// # Errors
     /// [`Error::Unsupported`] unless `C` is 1 or 3; [`Error::UndefinedNormal`] if the
-    /// normals of the faces at a pair cancel; [`Error::DimensionMismatch`] if `mesh` is not
-    /// the split mesh of these sides.
+    /// normals of the faces at a pair cancel; [`Error::TangentAlongNormal`] naming the
+    /// pair's minus vertex and position where `tangent` is (nearly) normal to the fault;
+    /// [`Error::DimensionMismatch`] if `mesh` is not the split mesh of these sides.
     pub fn mean_jump_transform<const C: usize>(
         &self,
         mesh: &SimplexMesh<3>,
@@ -152,7 +155,15 @@ impl FaultSides<3> {
             if !(l > 1e-12 * w) {
                 return Err(Error::UndefinedNormal { vertex: a });
             }
-            frames.push(frame_from_normal::<3>(&n.map(|x| x / l), tangent));
+            let n = n.map(|x| x / l);
+            frames.push(frame_from_normal::<3>(&n, tangent).ok_or_else(|| {
+                Error::TangentAlongNormal {
+                    vertex: a,
+                    position: mesh.vertices()[a].to_vec(),
+                    normal: n.to_vec(),
+                    direction: tangent.map_or_else(Vec::new, |t| t.to_vec()),
+                }
+            })?);
         }
         let half = vec![0.5; pairs.len()];
         assemble_transform::<3, C>(&pairs, nv, frames, &half)

@@ -70,9 +70,22 @@ fn parts_on_a_box_faces() {
         check_rotation(&q, &[0.0, 0.0, -1.0]);
         assert!((col(&q, 0)[1] - 1.0).abs() < 1e-15 && (col(&q, 1)[0] + 1.0).abs() < 1e-15);
     }
-    // A direction normal to the face falls back to the default rule.
-    let fallback = bottom.frames_with_tangent(&m, [0.0, 0.0, 3.0]).unwrap();
-    assert_eq!(fallback, bottom.frames(&m).unwrap());
+    // A direction normal to the face is an error naming a node of it and its position
+    // (it used to fall back to the default rule silently).
+    match bottom.frames_with_tangent(&m, [0.0, 0.0, 3.0]) {
+        Err(rsf_fem::Error::TangentAlongNormal {
+            vertex,
+            position,
+            normal,
+            direction,
+        }) => {
+            assert!(bottom.nodes().contains(&vertex));
+            assert_eq!(position, m.vertices()[vertex].to_vec());
+            assert_eq!(normal, vec![0.0, 0.0, -1.0]);
+            assert_eq!(direction, vec![0.0, 0.0, 3.0]);
+        }
+        other => panic!("{other:?}"),
+    }
     // All of the boundary: area, and corner normals are unit averages pointing outwards.
     let all = BoundaryPart::from_predicate(&m, "all", |_| true).unwrap();
     assert_eq!(all.num_nodes(), m.num_vertices());

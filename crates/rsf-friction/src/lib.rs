@@ -117,7 +117,12 @@ pub trait ConvexPotential: Clone + Send + Sync {
     /// `s ≥ 0` with `0 ∈ a s − r + w ∂ϕ(s)`.
     ///
     /// Expects finite `a > 0` (Pa·s/m, a diagonal entry of `A`), `r ≥ 0` (Pa) and
-    /// `w ≥ 0` (the lumped weight, dimensionless or m). For `r ≤ 0` returns 0.
+    /// `w ≥ 0` (the lumped weight, dimensionless or m). For `r ≤ 0` returns 0; for a NaN
+    /// `r` returns NaN — never the "stuck" answer 0 for a traction that is not a number,
+    /// so that the NaN reaches the caller's checks (a time step's error test or a
+    /// solver's non-finite iterate rejects it; docs/reliability.md, "NaN is never
+    /// stuck"). Implementations keep this (the built-in potentials do; one comparison on
+    /// the branch that returns 0).
     /// The optimality residual is below `1e-10` relative to the magnitude of its terms
     /// (see the crate tests).
     fn minimize(&self, a: f64, r: f64, w: f64) -> f64;
@@ -131,11 +136,16 @@ pub trait ConvexPotential: Clone + Send + Sync {
     /// Exact minimiser of `½ a |v|² − r·v + w ϕ(|v|)` over `v ∈ R^D`.
     ///
     /// The minimiser is collinear with `r`: `v = s r/|r|` with
-    /// `s = `[`minimize`](ConvexPotential::minimize)`(a, |r|, w)`. Returns `0` for `r = 0`.
+    /// `s = `[`minimize`](ConvexPotential::minimize)`(a, |r|, w)`. Returns `0` for `r = 0`
+    /// and NaN in every component for an `r` with a non-finite component (a NaN or
+    /// infinite traction is an error of the caller's state, not stick; docs/reliability.md).
     /// `|r|` is computed overflow-safely.
     fn minimize_vector<const D: usize>(&self, a: f64, r: [f64; D], w: f64) -> [f64; D] {
         let norm = norm(&r);
-        if !(norm > 0.0) {
+        if !norm.is_finite() {
+            return [f64::NAN; D];
+        }
+        if norm == 0.0 {
             return [0.0; D];
         }
         let s = self.minimize(a, norm, w);
@@ -147,15 +157,20 @@ pub trait ConvexPotential: Clone + Send + Sync {
     }
 
     /// Slice version of [`minimize_vector`](ConvexPotential::minimize_vector): writes the
-    /// minimiser into `out`.
+    /// minimiser into `out` — NaN in every component for an `r` with a non-finite
+    /// component. Allocates nothing (the fault ODE calls it per node and evaluation).
     ///
     /// # Panics
     /// If `r.len() != out.len()`.
     fn minimize_block(&self, a: f64, r: &[f64], w: f64, out: &mut [f64]) {
         assert_eq!(r.len(), out.len(), "minimize_block: length mismatch");
         let norm = norm(r);
-        if !(norm > 0.0) {
-            out.iter_mut().for_each(|x| *x = 0.0);
+        if !norm.is_finite() {
+            out.fill(f64::NAN);
+            return;
+        }
+        if norm == 0.0 {
+            out.fill(0.0);
             return;
         }
         let s = self.minimize(a, norm, w);

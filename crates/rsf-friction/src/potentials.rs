@@ -65,11 +65,13 @@ impl ConvexPotential for TrescaPotential {
     fn curvature(&self, v: f64) -> Option<f64> {
         (v > 0.0).then_some(0.0)
     }
-    /// Closed form `s = max(0, r − w μ σ̄_n)/a` (shrinkage).
+    /// Closed form `s = max(0, r − w μ σ̄_n)/a` (shrinkage); NaN for a NaN `r`.
     fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
         let excess = r - w * self.threshold;
         if excess > 0.0 {
             linear_solution(a, excess)
+        } else if r.is_nan() {
+            r
         } else {
             0.0
         }
@@ -433,7 +435,8 @@ impl ConvexPotential for DieterichRuinaPotential {
     /// `[ln V_m, ln(r/a)]`.
     fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
         if !(r > 0.0) {
-            return 0.0;
+            // A NaN traction is not "stuck": it propagates (docs/reliability.md).
+            return if r.is_nan() { r } else { 0.0 };
         }
         let c = sat(w.max(0.0) * self.kappa);
         let hi = r.ln() - a.ln();
@@ -618,7 +621,8 @@ impl ConvexPotential for AsinhPotential {
     /// `asinh(y) ≥ ln(2y)`).
     fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
         if !(r > 0.0) {
-            return 0.0;
+            // A NaN traction is not "stuck": it propagates (docs/reliability.md).
+            return if r.is_nan() { r } else { 0.0 };
         }
         let c = sat(w.max(0.0) * self.kappa);
         if c == 0.0 {

@@ -376,3 +376,45 @@ fn laws_declare_their_state_variable() {
         StateVariable::Theta
     );
 }
+
+/// A NaN or infinite traction is never "stuck": every built-in potential's scalar
+/// minimiser returns NaN for a NaN `r`, and the vector and block minimisers NaN in every
+/// component for a traction with a NaN or infinite component (where they used to return
+/// the finite slip rate 0) — in states of stick and of slip, with and without weight.
+#[test]
+fn a_non_finite_traction_is_never_stuck() {
+    fn check<P: ConvexPotential>(name: &str, p: &P) {
+        for w in [0.0, 0.2] {
+            let s = p.minimize(1e3, f64::NAN, w);
+            assert!(s.is_nan(), "{name}: minimize(NaN) = {s}");
+            for r in [
+                [f64::NAN, 0.0],
+                [0.0, f64::NAN],
+                [f64::INFINITY, f64::NAN],
+                [f64::NEG_INFINITY, 1.0],
+                [f64::NAN, f64::NAN],
+            ] {
+                let v = p.minimize_vector(1e3, r, w);
+                assert!(v.iter().all(|x| x.is_nan()), "{name}: {r:?} → {v:?}");
+                let mut out = [0.0; 2];
+                p.minimize_block(1e3, &r, w, &mut out);
+                assert!(out.iter().all(|x| x.is_nan()), "{name}: {r:?} → {out:?}");
+            }
+            // Finite tractions keep their answers: 0 at r = 0, finite otherwise.
+            assert_eq!(p.minimize_vector(1e3, [0.0, 0.0], w), [0.0, 0.0]);
+            assert!(p.minimize(1e3, 1.0, w).is_finite());
+        }
+    }
+    let dr = DieterichRuina::new(paper()).unwrap();
+    let asinh = AsinhLaw::new(paper()).unwrap();
+    for alpha in [-30.0, 0.0, 30.0] {
+        check("Dieterich–Ruina", &dr.potential(alpha));
+        check("regularised", &asinh.potential(alpha));
+        check(
+            "slip-scaled",
+            &rsf_friction::SlipScaled::new(asinh.potential(alpha), 2.0).unwrap(),
+        );
+    }
+    check("Tresca", &Tresca::new(0.6, 1e5).unwrap().potential(0.0));
+    check("Tresca potential", &TrescaPotential::new(6e4));
+}

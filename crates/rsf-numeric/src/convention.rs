@@ -1,4 +1,6 @@
-//! The state-variable convention: what the state `α` of a law stands for.
+//! Conventions shared by the crates: what the state `α` of a law stands for
+//! ([`StateVariable`]), and which component of a nodal frame is the normal
+//! ([`normal_component`]).
 //!
 //! A state law (`rsf-state`) evolves a state `α` at every frictional node and a friction
 //! law (`rsf-friction`) reads it; both must mean the same quantity. The rate-and-state laws
@@ -18,4 +20,23 @@ pub enum StateVariable {
     LogTheta,
     /// `α = θ` itself (discontinuous law (2.17)).
     Theta,
+}
+
+/// The component of a block of `components` (per node: `C` unknowns, `C ≥ 1`) that a
+/// nodal frame makes the **normal**: the last, `components − 1` (docs/math.md §10). A
+/// frame's columns are its tangents then the inward normal, so in local coordinates the
+/// normal velocity, the tied normal jump of a fault inside the body and the normal
+/// reaction sit there, and the tangential slip is the components before it. Every crate
+/// that means "the normal component" uses this function instead of writing `C − 1`.
+///
+/// ```
+/// assert_eq!(rsf_numeric::normal_component(3), 2);
+/// assert_eq!(rsf_numeric::normal_component(2), 1);
+/// ```
+///
+/// # Panics
+/// For `components = 0` (no component; in const contexts a compile error).
+pub const fn normal_component(components: usize) -> usize {
+    assert!(components > 0, "a block has at least one component");
+    components - 1
 }

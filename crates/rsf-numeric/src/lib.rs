@@ -10,6 +10,8 @@
 //!   generic state update of `rsf-state`, the local solves of `rsf-friction`).
 //! * [`StateVariable`] — the convention for what the state `α` of a law is (`ln θ` or `θ`),
 //!   shared by the state laws and the friction laws ([`convention`]).
+//! * [`normal_component`] — the convention for which component of a nodal frame is the
+//!   normal (the last), shared by the meshes' frames and the models built on them.
 //! * [`excerpt`] — what an error message quotes of a user's value (at most 100
 //!   characters).
 //!
@@ -22,7 +24,7 @@ mod message;
 mod omega;
 mod root;
 
-pub use convention::StateVariable;
+pub use convention::{normal_component, StateVariable};
 pub use message::{excerpt, parse_name, UnknownName, EXCERPT_CHARS};
 pub use omega::{wright_omega, wright_omega_ln};
 pub use root::{

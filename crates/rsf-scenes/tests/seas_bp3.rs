@@ -65,6 +65,40 @@ fn a_coarse_bp3_thrust_reaches_its_first_event_with_a_changing_normal_stress() {
     assert!(watch.sigma.1 - watch.sigma.0 > 1e5, "{:?}", watch.sigma);
 }
 
+/// A coarse tolerance lets the fault ODE's trial stages overshoot to `σ̄_n ≤ 0` on the
+/// normal fault (at 1e-3 on this grid about 52 years in, where the run used to end with
+/// `NormalStressNotPositive`): the stages are refused, the steps retried smaller and
+/// counted, the run reaches its end time, and every accepted state is closed.
+#[test]
+fn overshooting_stages_are_rejected_and_the_run_completes() {
+    let bp3 = SeasBp3::normal();
+    let model = bp3.model(&GRID).unwrap();
+    let mut options = bp3.params.fault_ode_options(1e-3).unwrap();
+    options.runge_kutta.dt_min = 1e-8;
+    let mut ode = bp3.fault_ode(model, options).unwrap();
+    let mut watch = Watch {
+        sigma: (f64::INFINITY, 0.0),
+        ..Watch::default()
+    };
+    let end = 80.0 * SECONDS_PER_YEAR;
+    let summary = ode
+        .run_until(rsf::Until::Time(end), &mut [&mut watch])
+        .unwrap();
+    eprintln!(
+        "{} steps, {} rejected, {} for σ̄_n ≤ 0; normal stress in [{:.3}, {:.3}] MPa",
+        summary.steps,
+        summary.rejected_attempts,
+        summary.rejected_normal_stress,
+        watch.sigma.0 / 1e6,
+        watch.sigma.1 / 1e6
+    );
+    assert_eq!(summary.termination, rsf::Termination::EndTime);
+    assert!((ode.state().time - end).abs() < 1e-6 * end);
+    assert!(summary.rejected_normal_stress > 0, "{summary:?}");
+    assert!(summary.rejected_attempts >= summary.rejected_normal_stress);
+    assert!(watch.sigma.0 > 0.0, "{:?}", watch.sigma);
+}
+
 #[test]
 fn the_two_engines_agree_on_a_coarse_bp3_before_its_first_event() {
     let bp3 = SeasBp3::normal();

@@ -70,6 +70,27 @@ pub enum Error {
         /// The smallest allowed step (s).
         tau_min: f64,
     },
+    /// The rate function of an ODE system refused the stages of an adaptive step as
+    /// outside its domain ([`OdeSystem::outside_domain`]) too often, or a refusal would
+    /// take the step below its smallest size: no smaller step keeps the trial points
+    /// inside (docs/reliability.md, "Trial points outside the domain").
+    #[error(
+        "the step from t = {time:e} s had {refusals} attempt(s) refused as outside the \
+         system's domain, the last with dt = {dt:e} s ({reason}); lower dt_min or raise \
+         max_refusals if a smaller step may stay inside, else the model leaves its domain \
+         there"
+    )]
+    #[non_exhaustive]
+    TrialPointRefused {
+        /// Time of the accepted point the step starts from (s).
+        time: f64,
+        /// The last step tried (s).
+        dt: f64,
+        /// Refused attempts of this step.
+        refusals: usize,
+        /// The last refusal's message (the system's error).
+        reason: String,
+    },
     /// Invalid parameter (e.g. negative radiation damping).
     #[error("invalid parameter {name} = {value}: {requirement}")]
     InvalidParameter {

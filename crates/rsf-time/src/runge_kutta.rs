@@ -5,7 +5,10 @@
 //!
 //! The system decides what an acceptable error is ([`OdeSystem::scaled_error`], ≤ 1 is
 //! accepted), so that mixed absolute/relative tolerances per component stay with the
-//! system that knows their units.
+//! system that knows their units, and which trial points lie outside its domain
+//! ([`OdeSystem::outside_domain`]: a stage the rate function refuses, e.g. a normal stress
+//! that an overshooting stage drives to zero, rejects the step like a failed error test
+//! and retries a smaller one; docs/math.md §12, docs/reliability.md).
 
 use crate::{Error, Result};
 
@@ -89,16 +92,34 @@ pub const BOGACKI_SHAMPINE_32: Tableau = Tableau {
 
 /// An ODE system `y' = f(t, y)` of fixed dimension.
 pub trait OdeSystem {
-    /// The system's error type (a failed evaluation that is not a matter of step size).
-    type Error: From<Error>;
+    /// The system's error type (a failed evaluation; its message is the reason of an
+    /// [`Error::TrialPointRefused`]).
+    type Error: From<Error> + std::fmt::Display;
 
     /// Evaluates `f(t, y)` into `dy` (same length as `y`). Non-finite values in `dy` make
     /// the integrator reject the step and retry with a smaller one (a step too large for
     /// a stiff stage), so they need no error.
     ///
     /// # Errors
-    /// Failures that a smaller step cannot cure.
+    /// Failures that a smaller step cannot cure, and trial points outside the system's
+    /// domain (those for which [`outside_domain`](Self::outside_domain) is `true`: the
+    /// integrator rejects the step and retries a smaller one).
     fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> std::result::Result<(), Self::Error>;
+
+    /// Whether an error of [`rate`](Self::rate) says that its trial point `y` lies outside
+    /// the system's domain (e.g. a state in which a normal stress would be ≤ 0), so that a
+    /// smaller step, whose stages stay closer to the accepted point, may cure it. Such an
+    /// error at a **stage** of a step is a rejection: the step shrinks by
+    /// [`RungeKuttaOptions::refusal_shrink`] and is retried, and after
+    /// [`RungeKuttaOptions::max_refusals`] refusals in one step (or a step that would fall
+    /// below `dt_min`) the integrator gives up with [`Error::TrialPointRefused`] naming the
+    /// time, the step and the reason. At the **accepted** point (the first evaluation of
+    /// an integration, where no smaller step exists) the error is returned as it is.
+    ///
+    /// Default: `false` for every error (every error ends the integration).
+    fn outside_domain(&self, _error: &Self::Error) -> bool {
+        false
+    }
 
     /// The local error estimate `err` of a step from `y` to `y_new` measured against the
     /// system's tolerances: a step with a value ≤ 1 is accepted. Must return a value ≥ 0
@@ -122,6 +143,14 @@ pub struct RungeKuttaOptions {
     /// Exponent β of the PI controller's memory (DOPRI5's 0.04; 0 gives the plain
     /// I-controller).
     pub beta: f64,
+    /// Factor by which a step shrinks when the rate function refuses one of its stages
+    /// ([`OdeSystem::outside_domain`]; default 0.1, the reduction of a non-finite stage).
+    /// In (0, 1).
+    pub refusal_shrink: f64,
+    /// Most refused attempts of one step ([`OdeSystem::outside_domain`]; default 12: the
+    /// step may shrink by `refusal_shrink¹²` = 10⁻¹² before the integrator gives up with
+    /// [`Error::TrialPointRefused`]). At least 1.
+    pub max_refusals: usize,
 }
 
 impl Default for RungeKuttaOptions {
@@ -133,6 +162,8 @@ impl Default for RungeKuttaOptions {
             max_growth: 10.0,
             max_shrink: 0.2,
             beta: 0.04,
+            refusal_shrink: 0.1,
+            max_refusals: 12,
         }
     }
 }
@@ -168,6 +199,12 @@ impl RungeKuttaOptions {
         if !(self.beta >= 0.0 && self.beta < 0.2) {
             return bad("beta", self.beta, "must be in [0, 0.2)");
         }
+        if !(self.refusal_shrink > 0.0 && self.refusal_shrink < 1.0) {
+            return bad("refusal_shrink", self.refusal_shrink, "must be in (0, 1)");
+        }
+        if self.max_refusals == 0 {
+            return bad("max_refusals", 0.0, "must be at least 1");
+        }
         Ok(())
     }
 }
@@ -177,8 +214,12 @@ impl RungeKuttaOptions {
 pub struct RungeKuttaStep {
     /// The step taken (s).
     pub dt: f64,
-    /// Attempts rejected before it.
+    /// Attempts rejected before it (for any reason: a failed error test, a non-finite
+    /// stage, a refused stage).
     pub rejected: usize,
+    /// Of those, the attempts whose stage the rate function refused as outside its domain
+    /// ([`OdeSystem::outside_domain`]).
+    pub refused: usize,
     /// Its scaled error estimate (≤ 1).
     pub error: f64,
     /// Evaluations of `f` it took (rejected attempts included).
@@ -289,10 +330,15 @@ impl EmbeddedRungeKutta {
 
     /// One accepted step from `(t, y)`, updating both; at most up to `t_end` (the step is
     /// shortened to land on it, and the controller's proposal is kept for the next one).
+    /// A stage outside the system's domain ([`OdeSystem::outside_domain`]) rejects the
+    /// attempt and shrinks the step by `refusal_shrink`.
     ///
     /// # Errors
     /// [`Error::StepTooSmall`] (as `S::Error`) when the step would fall below `dt_min`;
-    /// [`Error::DimensionMismatch`] for a `y` of another length; the system's errors.
+    /// [`Error::TrialPointRefused`] after `max_refusals` refused attempts of this step or
+    /// when a refusal would take the step below `dt_min`; [`Error::DimensionMismatch`] for
+    /// a `y` of another length; the system's errors (also a refusal at the current point,
+    /// the first evaluation of an integration).
     pub fn step<S: OdeSystem>(
         &mut self,
         sys: &mut S,
@@ -329,6 +375,7 @@ impl EmbeddedRungeKutta {
         }
         let exponent = 1.0 / f64::from(tab.error_order + 1) - 0.75 * o.beta;
         let mut rejected = 0;
+        let mut refused = 0;
         loop {
             let proposal = self.state.dt.min(o.dt_max);
             let (dt, landing) = match t_end {
@@ -344,17 +391,43 @@ impl EmbeddedRungeKutta {
             }
             // Stages 2..s; the last stage's argument is the new solution (FSAL).
             let mut finite = true;
+            let mut refusal = None;
             for i in 1..tab.stages {
                 combine(&mut self.stage, tab.a[i - 1], &self.k);
                 for (s, &yj) in self.stage.iter_mut().zip(y.iter()) {
                     *s = yj + dt * *s;
                 }
-                sys.rate(*t + tab.c[i] * dt, &self.stage, &mut self.k[i])?;
+                let evaluated = sys.rate(*t + tab.c[i] * dt, &self.stage, &mut self.k[i]);
                 evaluations += 1;
+                match evaluated {
+                    Ok(()) => {}
+                    Err(e) if sys.outside_domain(&e) => {
+                        refusal = Some(e);
+                        break;
+                    }
+                    Err(e) => return Err(e),
+                }
                 if self.k[i].iter().any(|x| !x.is_finite()) {
                     finite = false;
                     break;
                 }
+            }
+            if let Some(e) = refusal {
+                // Outside the domain: a strong reduction, a typed error after too many.
+                rejected += 1;
+                refused += 1;
+                let next = dt * o.refusal_shrink;
+                if refused >= o.max_refusals || next < o.dt_min {
+                    return Err(Error::TrialPointRefused {
+                        time: *t,
+                        dt,
+                        refusals: refused,
+                        reason: e.to_string(),
+                    }
+                    .into());
+                }
+                self.state.dt = next;
+                continue;
             }
             let error = if finite {
                 self.y_new.copy_from_slice(&self.stage);
@@ -386,6 +459,7 @@ impl EmbeddedRungeKutta {
                 return Ok(RungeKuttaStep {
                     dt,
                     rejected,
+                    refused,
                     error,
                     evaluations,
                 });
@@ -564,5 +638,155 @@ mod tests {
             }
         }
         assert!(matches!(got, Err(Error::StepTooSmall { .. })), "{got:?}");
+    }
+
+    /// `y' = −y` whose rate refuses trial points with `y < 0` (outside its domain) when
+    /// `refuse` is set.
+    struct Decay {
+        tol: f64,
+        refuse: bool,
+    }
+
+    #[derive(Debug, PartialEq)]
+    enum DecayError {
+        Negative(f64),
+        Time(Error),
+    }
+
+    impl From<Error> for DecayError {
+        fn from(e: Error) -> Self {
+            Self::Time(e)
+        }
+    }
+
+    impl std::fmt::Display for DecayError {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            match self {
+                Self::Negative(y) => write!(f, "y = {y} < 0"),
+                Self::Time(e) => write!(f, "{e}"),
+            }
+        }
+    }
+
+    impl OdeSystem for Decay {
+        type Error = DecayError;
+        fn rate(
+            &mut self,
+            _t: f64,
+            y: &[f64],
+            dy: &mut [f64],
+        ) -> std::result::Result<(), DecayError> {
+            if self.refuse && y[0] < 0.0 {
+                return Err(DecayError::Negative(y[0]));
+            }
+            dy[0] = -y[0];
+            Ok(())
+        }
+        fn scaled_error(&self, y: &[f64], y_new: &[f64], err: &[f64]) -> f64 {
+            err[0].abs() / (self.tol * (1e-3 + y[0].abs().max(y_new[0].abs())))
+        }
+        fn outside_domain(&self, e: &DecayError) -> bool {
+            matches!(e, DecayError::Negative(_))
+        }
+    }
+
+    /// Integrates `Decay` to `t = 5` from a first step of 10 s (its first stages reach
+    /// `y < 0`): the answer, the refused and the rejected attempts.
+    fn decay(refuse: bool) -> (f64, usize, usize) {
+        let tol = 1e-8;
+        let mut rk =
+            EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 1, 10.0)
+                .unwrap();
+        let (mut t, mut y) = (0.0, [1.0]);
+        let mut sys = Decay { tol, refuse };
+        let (mut refused, mut rejected) = (0, 0);
+        while t < 5.0 {
+            let s = rk.step(&mut sys, &mut t, &mut y, Some(5.0)).unwrap();
+            assert!(s.refused <= s.rejected, "{s:?}");
+            refused += s.refused;
+            rejected += s.rejected;
+        }
+        (y[0], refused, rejected)
+    }
+
+    /// A rate function that refuses the overshooting first stages (`y < 0` at a step of
+    /// 10 s) makes the controller shrink the step and recover: the run completes, counts
+    /// its refusals among its rejections, and agrees with `e^{−5}` and with the run
+    /// without refusals (whose error test rejects the same steps) within the tolerance.
+    #[test]
+    fn a_refused_stage_shrinks_the_step_and_the_run_recovers() {
+        let (with, refused, rejected) = decay(true);
+        let (without, none, rejected_without) = decay(false);
+        println!(
+            "refusing: y(5) = {with:e} ({refused} refused of {rejected} rejected); \
+             not: {without:e} ({rejected_without} rejected); exact {:e}",
+            (-5.0f64).exp()
+        );
+        assert!(refused > 0 && rejected >= refused, "{refused} {rejected}");
+        assert_eq!(none, 0);
+        let exact = (-5.0f64).exp();
+        assert!((with - exact).abs() < 1e-6 * exact, "{with} vs {exact}");
+        assert!((with - without).abs() < 1e-6 * exact, "{with} vs {without}");
+    }
+
+    /// A system that refuses every stage beyond `t = 1` stops with the typed error naming
+    /// the time, the last step and the reason after `max_refusals` refusals; a refusal at
+    /// the accepted point (the first evaluation) is the system's own error.
+    #[test]
+    fn refusals_are_capped_and_the_accepted_point_is_not_refused() {
+        struct Wall;
+        impl OdeSystem for Wall {
+            type Error = Error;
+            fn rate(&mut self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<()> {
+                if t > 1.0 {
+                    return Err(Error::InvalidParameter {
+                        name: "t",
+                        value: t,
+                        requirement: "at most 1",
+                    });
+                }
+                dy[0] = 1.0;
+                Ok(())
+            }
+            fn scaled_error(&self, _y: &[f64], _n: &[f64], err: &[f64]) -> f64 {
+                err[0].abs()
+            }
+            fn outside_domain(&self, e: &Error) -> bool {
+                matches!(e, Error::InvalidParameter { name: "t", .. })
+            }
+        }
+        let options = RungeKuttaOptions {
+            max_refusals: 3,
+            ..RungeKuttaOptions::default()
+        };
+        let mut rk = EmbeddedRungeKutta::new(DORMAND_PRINCE_54, options, 1, 0.5).unwrap();
+        let (mut t, mut y) = (0.0, [0.0]);
+        let mut got = Ok(RungeKuttaStep::default());
+        for _ in 0..100 {
+            got = rk.step(&mut Wall, &mut t, &mut y, None);
+            if got.is_err() {
+                break;
+            }
+        }
+        match got {
+            Err(Error::TrialPointRefused {
+                time,
+                dt,
+                refusals,
+                ref reason,
+            }) => {
+                assert!(time <= 1.0 && time + dt > 1.0, "{time} {dt}");
+                assert_eq!(refusals, 3);
+                assert!(reason.contains("at most 1"), "{reason}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let mut rk = EmbeddedRungeKutta::new(DORMAND_PRINCE_54, options, 1, 0.5).unwrap();
+        let (mut t, mut y) = (2.0, [0.0]);
+        let got = rk.step(&mut Wall, &mut t, &mut y, None);
+        assert!(
+            matches!(got, Err(Error::InvalidParameter { name: "t", .. })),
+            "{got:?}"
+        );
     }
 }

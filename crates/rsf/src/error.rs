@@ -72,6 +72,33 @@ pub enum Error {
         /// The normal stress it would have (Pa, compressive positive).
         sigma_n: f64,
     },
+    /// A time step of the implicit scheme whose trial state — a fixed-point iterate or
+    /// the state it converged to — was refused ([`Error::NormalStressNotPositive`]: the
+    /// reason) and that cannot be retried smaller: the step is fixed, or the step control
+    /// is at `tau_min`. An adaptive step retries a smaller one first (counted in
+    /// [`StepReport::rejected_normal_stress`](crate::StepReport::rejected_normal_stress));
+    /// the fault ODE's counterpart is [`rsf_time::Error::TrialPointRefused`]
+    /// (docs/reliability.md, "Trial points outside the domain").
+    #[error(
+        "step {step} from t = {time:e} s: {refusals} attempt(s) refused, the last with \
+         τ = {tau:e} s because {reason}; {remedy}"
+    )]
+    #[non_exhaustive]
+    TrialStateRefused {
+        /// The step index (1-based) that failed.
+        step: usize,
+        /// The time of the accepted state it starts from (s).
+        time: f64,
+        /// The last step size tried (s).
+        tau: f64,
+        /// Attempts of this step refused for the reason's kind.
+        refusals: usize,
+        /// The refusal of the last attempt.
+        #[source]
+        reason: Box<Error>,
+        /// What to change.
+        remedy: &'static str,
+    },
     /// An invalid parameter, named (a field of a scene or builder, an argument).
     #[error("invalid parameter `{name}`: {reason}")]
     InvalidParameter {

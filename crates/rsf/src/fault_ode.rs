@@ -294,6 +294,13 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
         Ok(())
     }
 
+    /// A stage whose normal stress would be `≤ 0` or not finite
+    /// ([`Error::NormalStressNotPositive`]) is outside the domain: the step is rejected
+    /// and retried smaller (docs/reliability.md, "Trial points outside the domain").
+    fn outside_domain(&self, error: &Error) -> bool {
+        matches!(error, Error::NormalStressNotPositive { .. })
+    }
+
     fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
         let d = &*self.data;
         let m = d.first[d.first.len() - 1];
@@ -854,6 +861,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             evaluations: taken.evaluations,
             max_slip_rate,
             rejected_attempts: taken.rejected,
+            rejected_normal_stress: taken.refused,
             error_estimate: taken.error,
             seconds: clock.elapsed().as_secs_f64(),
             ..StepReport::default()

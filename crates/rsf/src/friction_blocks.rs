@@ -280,6 +280,10 @@ fn minimize_anisotropic<const D: usize, P: ConvexPotential>(
     phi: &P,
 ) -> [f64; D] {
     let rn = r[..m].iter().fold(0.0f64, |acc, &x| acc.hypot(x));
+    if !rn.is_finite() {
+        // A non-finite traction is not stick: the NaN reaches the solver's checks.
+        return [f64::NAN; D];
+    }
     if rn <= w * phi.slope(0.0) || rn == 0.0 {
         return [0.0; D];
     }
@@ -438,6 +442,31 @@ mod tests {
                 let g0 = a[0][0] * v[0] + a[0][2] * v[2] - r[0] + t * v[0];
                 let g2 = a[2][0] * v[0] + a[2][2] * v[2] - r[2] + t * v[2];
                 assert!(g0.hypot(g2) <= 1e-10 * r[0].hypot(r[2]));
+            }
+        }
+    }
+
+    /// A NaN in the traction of a block is never "stuck": with one free component (the
+    /// scalar minimiser) and with two (the anisotropic one) the block becomes NaN, which
+    /// the velocity solvers' non-finite checks turn into an error (before: slip rate 0).
+    #[test]
+    fn a_nan_traction_gives_a_nan_block_not_stick() {
+        let law = DieterichRuina::new(params()).unwrap();
+        let fb = FrictionBlocks::new(vec![0], vec![0.05], vec![law], &[0.0]);
+        let a = [[1e4, 0.0, 0.0], [0.0, 2e4, 0.0], [0.0, 0.0, 3e4]];
+        for (free, r) in [
+            ([true, false, false], [f64::NAN, 0.0, 0.0]),
+            ([true, false, true], [f64::NAN, 0.0, 1.0]),
+            ([true, false, true], [f64::INFINITY, 0.0, f64::NAN]),
+        ] {
+            let mut v = [0.0; 3];
+            BlockNonlinearity::<3>::minimize_block(&fb, 0, &a, &r, &free, &mut v);
+            for c in 0..3 {
+                if free[c] {
+                    assert!(v[c].is_nan(), "free {free:?}, r {r:?}: {v:?}");
+                } else {
+                    assert_eq!(v[c], 0.0);
+                }
             }
         }
     }

@@ -5,6 +5,7 @@
 use faer::Mat;
 use rsf_friction::FrictionLaw;
 use rsf_linalg::Parallelism;
+use rsf_numeric::normal_component;
 use rsf_tnnmg::Condensation;
 
 use crate::error::{invalid, Error, Result};
@@ -119,7 +120,7 @@ impl NormalCoupling {
             .nodes
             .iter()
             .map(|&p| {
-                let dof = C * p + C - 1;
+                let dof = C * p + normal_component(C);
                 k.row_idx_of_col(dof)
                     .zip(k.val_of_col(dof))
                     .map(|(i, &v)| (i, v))
@@ -302,7 +303,11 @@ impl NormalReactions {
         };
         let fb = &model.frictional_boundary;
         let mut this = Self {
-            dofs: fb.nodes.iter().map(|&p| C * p + C - 1).collect(),
+            dofs: fb
+                .nodes
+                .iter()
+                .map(|&p| C * p + normal_component(C))
+                .collect(),
             r0: vec![0.0; fb.len()],
             sigma0,
             weights: fb.weights.clone(),

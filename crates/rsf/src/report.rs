@@ -31,8 +31,14 @@ pub struct StepReport {
     pub fixed_point_error: f64,
     /// Largest slip rate on Γ_F after the step (m/s).
     pub max_slip_rate: f64,
-    /// Adaptive steps: attempts rejected before this step was accepted.
+    /// Adaptive steps: attempts rejected before this step was accepted (for any reason).
     pub rejected_attempts: usize,
+    /// Of `rejected_attempts`, those rejected because a trial state — a Runge–Kutta stage
+    /// of the fault ODE or a fixed-point iterate of the implicit scheme — had a normal
+    /// stress `σ̄_n ≤ 0` (or not finite) on a fault inside the body
+    /// ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip);
+    /// docs/reliability.md, "Trial points outside the domain").
+    pub rejected_normal_stress: usize,
     /// Adaptive steps: the scaled local error estimate of the accepted step (≤ 1).
     pub error_estimate: f64,
     /// Wall time of the step (s; not part of any numerical output).

@@ -159,6 +159,7 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
         summary.evaluations += report.evaluations;
         summary.relaxed_steps += usize::from(report.relaxed_iterations > 0);
         summary.rejected_attempts += report.rejected_attempts;
+        summary.rejected_normal_stress += report.rejected_normal_stress;
         summary.steps += 1;
         let view = StepView {
             model: method.model(),
@@ -275,6 +276,9 @@ pub struct RunSummary {
     pub relaxed_steps: usize,
     /// Adaptive steps: rejected attempts over the run.
     pub rejected_attempts: usize,
+    /// Of `rejected_attempts`, those rejected because a trial state had a normal stress
+    /// `σ̄_n ≤ 0` ([`StepReport::rejected_normal_stress`]).
+    pub rejected_normal_stress: usize,
     /// Why the run ended.
     pub termination: Termination,
 }

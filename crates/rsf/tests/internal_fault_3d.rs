@@ -705,3 +705,44 @@ fn a_3d_fault_given_as_coarse_faces_follows_the_hierarchy() {
         Err(rsf::Error::Fem(_))
     ));
 }
+
+/// A fault tangent normal to the fault gives its nodal frames no first tangent: the build
+/// fails naming a split vertex on the fault and its position (it used to take a
+/// coordinate axis there silently).
+#[test]
+fn a_fault_tangent_normal_to_the_fault_is_an_error_naming_the_node() {
+    let q = rotation(0.7);
+    let half = 0.5;
+    let corners = [
+        [0.0, -half, -half],
+        [0.0, half, -half],
+        [0.0, half, half],
+        [0.0, -half, half],
+    ]
+    .map(|x| rotate(&q, x));
+    let e = ModelBuilder::refined(cube(&q), 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("plus face", move |x| rotate_back(&q, *x)[0] > 1.0 - 1e-9),
+            rotate(&q, [0.0, 1e-4, 0.0]),
+        )
+        .fault_tangent(rotate(&q, [1.0, 0.0, 0.0]))
+        .internal_fault_polygon("fault", &corners)
+        .build()
+        .unwrap_err();
+    match &e {
+        rsf::Error::Fem(rsf::fem::Error::TangentAlongNormal {
+            vertex, position, ..
+        }) => {
+            let x = rotate_back(&q, [position[0], position[1], position[2]]);
+            assert!(
+                x[0].abs() < 1e-9,
+                "vertex {vertex} at {position:?} is on the fault"
+            );
+            assert!(e.to_string().contains(&format!("vertex {vertex}")), "{e}");
+        }
+        other => panic!("{other}"),
+    }
+}

@@ -306,3 +306,21 @@ fn tnnmg_on_a_fault_between_contrasting_sides_shares_the_jump_by_stiffness() {
         "{shared} vs mean {mean_iterations:?}"
     );
 }
+
+/// The model reports where the builder stopped cutting the hierarchy: every level for a
+/// fault on the coarsest mesh's edges; from level 1 up for one between the coarsest
+/// vertices (level 0's spacing 0.5 has no vertex at y = ±0.25), which level 0 does not
+/// resolve.
+#[test]
+fn the_coarsest_split_level_is_reported() {
+    let coarsest = |fault: &[[f64; 2]]| {
+        model(2, fault)
+            .internal_fault
+            .as_ref()
+            .unwrap()
+            .coarsest_split_level()
+    };
+    assert_eq!(coarsest(&[FROM, TO]), 0);
+    assert_eq!(coarsest(&[[0.0, -0.25], [0.0, 0.25]]), 1);
+    assert_eq!(coarsest(&[[0.0, -0.125], [0.0, 0.125]]), 2);
+}

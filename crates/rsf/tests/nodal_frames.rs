@@ -324,7 +324,10 @@ fn tnnmg_against_direct<const D: usize>(
             }
         }
         if model.frame(p).is_some() {
-            assert!(model.fixed[D * p + D - 1], "node {p}: normal fixed");
+            assert!(
+                model.fixed[D * p + rsf::fem::normal_component(D)],
+                "node {p}: normal fixed"
+            );
         }
     }
     (rel, vmax)

@@ -230,7 +230,9 @@ fn slip_on_a_plane_of_mirror_symmetry_leaves_the_normal_stress_unchanged() {
 }
 
 /// `NormalStress::FromSlip` needs a fault inside the body; a slip that would open the
-/// fault is a typed error, not a NaN.
+/// fault is a typed error, not a NaN: the fault ODE refuses the stages until its cap of
+/// refusals ([`rsf::time::Error::TrialPointRefused`]), the implicit scheme its iterates
+/// until it cannot shrink the step ([`rsf::Error::TrialStateRefused`]).
 #[test]
 fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_error() {
     let mesh = rectangle([0.0, 0.0], [2.0, 0.5], 9, 3, Diagonal::Forward).unwrap();
@@ -258,14 +260,59 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
         .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
         .build()
         .unwrap();
-    let mut ode = fault_ode(model, NormalStress::FromSlip).unwrap();
+    let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
     let e = rsf::run_until(&mut ode, rsf::Until::Time(10.0), &mut []).unwrap_err();
-    let text = e.to_string();
-    eprintln!("{text}");
-    assert!(
-        matches!(e.error, rsf::Error::NormalStressNotPositive { .. }),
-        "{text}"
-    );
+    let text = format!("{e}: {}", e.error);
+    eprintln!("fault ODE: {text}");
+    match &e.error {
+        rsf::Error::Time(rsf::time::Error::TrialPointRefused {
+            refusals, reason, ..
+        }) => {
+            // Up to the cap, or fewer where the next refusal would pass dt_min.
+            let cap = FaultOdeOptions::default().runge_kutta.max_refusals;
+            assert!(*refusals >= 1 && *refusals <= cap, "{text}");
+            assert!(reason.contains("normal stress"), "{reason}");
+        }
+        _ => panic!("{text}"),
+    }
+    // Every refused attempt was counted in the steps before the last.
+    assert!(e.summary.rejected_normal_stress <= e.summary.rejected_attempts);
+    // The implicit scheme: a fixed step cannot be retried smaller (one refusal); an
+    // adaptive one shrinks to tau_min first.
+    for adaptive in [false, true] {
+        let builder = quasi_dynamic(model.clone(), NormalStress::FromSlip)
+            .time_step(1e-3)
+            .solver(rsf::SolverKind::Direct);
+        let mut sim = if adaptive {
+            builder.step_control(rsf::time::StepControl::new(1e-3, 1e-4, 1e-9, 1.0).unwrap())
+        } else {
+            builder
+        }
+        .build()
+        .unwrap();
+        let e = sim.run_until(rsf::Until::Time(10.0), &mut []).unwrap_err();
+        let text = format!("{e}: {}", e.error);
+        eprintln!("implicit, adaptive {adaptive}: {text}");
+        match &e.error {
+            rsf::Error::TrialStateRefused {
+                refusals, reason, ..
+            } => {
+                assert!(
+                    matches!(**reason, rsf::Error::NormalStressNotPositive { .. }),
+                    "{text}"
+                );
+                assert!(
+                    if adaptive {
+                        *refusals > 1
+                    } else {
+                        *refusals == 1
+                    },
+                    "{text}"
+                );
+            }
+            _ => panic!("{text}"),
+        }
+    }
 }
 
 /// The two engines with a normal stress from slip on the thrust block: the implicit scheme

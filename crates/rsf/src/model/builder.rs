@@ -4,6 +4,7 @@ use rsf_fem::{
     body_force_load_components, combine, traction_load_components, vectorize, Assembler,
     BoundaryPart, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
 };
+use rsf_numeric::normal_component;
 
 use super::absorbing::{AbsorbingBoundary, ResolvedPart};
 use super::creep::{CreepField, CreepRate};
@@ -428,8 +429,11 @@ impl<const D: usize> ModelBuilder<D> {
 
     /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
     /// slanted fault nodes: its projection onto each node's tangent plane (as PyLith's
-    /// `ref_dir`; e.g. the loading direction), falling back to the coordinate axis with the
-    /// smallest `|n_k|` where it is (nearly, `< 10⁻⁶` of its length) normal.
+    /// `ref_dir`; e.g. the loading direction). Where it is (nearly, its projection
+    /// `< 10⁻⁶` of its length) normal to a slanted node or a split pair of an internal
+    /// fault, [`build`](Self::build) fails with [`rsf_fem::Error::TangentAlongNormal`]
+    /// naming the node and its position (it used to take the coordinate axis with the
+    /// smallest `|n_k|` there silently; without a tangent that axis is the rule).
     ///
     /// 3-D only: in 1-D and 2-D the tangent is fixed by the normal (`t = (−n_y, n_x)`) and
     /// there is nothing to choose, so [`build`](Self::build) refuses a `fault_tangent`
@@ -761,7 +765,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     dv
                 };
                 let scale = vm.iter().chain(&vp).fold(0.0f64, |m, x| m.max(x.abs()));
-                if vector && j[C - 1].abs() > 1e-12 * scale {
+                if vector && j[normal_component(C)].abs() > 1e-12 * scale {
                     return Err(invalid(
                         "dirichlet",
                         format!(
@@ -769,12 +773,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                              open or close it (normal jump {:e} m/s): the fault's normal jump \
                              is tied",
                             fault.sides.name(),
-                            j[C - 1]
+                            j[normal_component(C)]
                         ),
                     ));
                 }
                 for c in 0..C {
-                    velocity[C * mi + c] = Some(if c == C - 1 && vector { 0.0 } else { j[c] });
+                    let tied = c == normal_component(C) && vector;
+                    velocity[C * mi + c] = Some(if tied { 0.0 } else { j[c] });
                     velocity[C * pl + c] = Some((1.0 - beta) * vm[c] + beta * vp[c]);
                 }
                 prescribed.push(true);
@@ -1066,7 +1071,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             // The normal jump is tied (no opening); a scalar field has only the slip.
             if C == D {
                 for &(mi, _) in f.pairs() {
-                    fixed[C * mi + C - 1] = true;
+                    fixed[C * mi + normal_component(C)] = true;
                 }
             }
         } else if C == D {
@@ -1085,7 +1090,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             let dofs = C * p..C * p + C;
             match fixed[dofs.clone()].iter().filter(|&&f| f).count() {
                 // Bilateral contact: the normal component in the frame.
-                0 => fixed[C * p + C - 1] = true,
+                0 => fixed[C * p + normal_component(C)] = true,
                 // A Dirichlet node on the slanted fault: its prescribed velocity in the frame.
                 k if k == C => {
                     let w: Vec<f64> = dofs.map(|i| velocity[i].unwrap_or(0.0)).collect();
@@ -1594,19 +1599,26 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 });
             }
         }
-        let all = match self.fault_tangent {
-            Some(t) => gamma_f.frames_with_tangent(mesh, t)?,
-            None => gamma_f.frames(mesh)?,
-        };
+        // Frames at the slanted nodes only (an axis-aligned node keeps the Cartesian basis,
+        // whatever the tangent there): a fault tangent (nearly) normal at one of them is
+        // an error naming it (rsf_fem::Error::TangentAlongNormal), not another tangent.
         let normals = gamma_f.normals(mesh)?;
-        let mut slanted: Vec<(usize, [[f64; D]; D])> = all
-            .nodes
+        let mut slanted: Vec<(usize, [[f64; D]; D])> = gamma_f
+            .nodes()
             .iter()
-            .zip(all.rotations)
             .zip(&normals)
             .filter(|(_, n)| normal_axis(n).is_none())
-            .map(|((&p, q), _)| (p, q))
-            .collect();
+            .map(|(&p, n)| {
+                let q = rsf_fem::frame_from_normal(n, self.fault_tangent.as_ref());
+                q.map(|q| (p, q))
+                    .ok_or_else(|| rsf_fem::Error::TangentAlongNormal {
+                        vertex: p,
+                        position: mesh.vertices()[p].to_vec(),
+                        normal: n.to_vec(),
+                        direction: self.fault_tangent.map_or_else(Vec::new, |t| t.to_vec()),
+                    })
+            })
+            .collect::<std::result::Result<_, _>>()?;
         slanted.sort_by_key(|&(p, _)| p);
         Ok(NodalFrames {
             nodes: slanted.iter().map(|&(p, _)| p).collect(),

@@ -26,6 +26,8 @@ pub struct InternalFault<const D: usize = 2> {
     /// [`FaultSides::pairs`].
     pair_of: Vec<Option<(usize, bool)>>,
     pairs: Vec<(usize, usize)>,
+    /// The coarsest level of the hierarchy cut along the fault.
+    coarsest_split_level: usize,
 }
 
 /// A side of a fault inside the body: the minus side Ω⁻ (whose face carries the tag
@@ -127,9 +129,14 @@ impl SplitLevel {
 /// the fault (docs/faults-inside.md): the coarse space is discontinuous across the fault
 /// wherever the coarse mesh can be, so multigrid's coarse corrections can slip.
 ///
+/// Only a level that does not resolve the fault ends the cutting
+/// (`FaultSegmentNotResolved`, `FaultSurfaceNotResolved`); the decision is reported by
+/// [`InternalFault::coarsest_split_level`].
+///
 /// # Errors
 /// The finest level's splitting and transform errors; [`crate::Error::InvalidParameter`]
-/// named `internal_fault` if the levels are not nested along the fault (a fine vertex
+/// named `internal_fault` for any other error of cutting a coarser level (naming the level
+/// and the cause) and if the levels are not nested along the fault (a fine vertex
 /// interpolating from a split coarse vertex through no coarse edge or cell).
 pub(crate) fn split_hierarchy<const D: usize>(
     hierarchy: &MeshHierarchy<D>,
@@ -139,14 +146,28 @@ pub(crate) fn split_hierarchy<const D: usize>(
     let finest = hierarchy.finest_level();
     let (mesh, sides) = split(finest, hierarchy.finest())?;
     let transform = transform(&sides, &mesh)?;
-    // Levels finest-first while they resolve the fault.
+    // Levels finest-first while they resolve the fault; the first that does not (the
+    // only error that ends the cutting) and those below stay continuous across it, which
+    // the fault reports (InternalFault::coarsest_split_level). Any other error of a
+    // coarse level is returned.
     let mut levels = vec![Some(SplitLevel::new(hierarchy.finest(), &mesh, &sides))];
+    let mut coarsest = finest;
     for j in (0..finest).rev() {
         let coarse = hierarchy.level(j);
         match split(j, coarse) {
             Ok((split, s)) => levels.push(Some(SplitLevel::new(coarse, &split, &s))),
-            Err(_) => break,
+            Err(
+                rsf_fem::Error::FaultSegmentNotResolved { .. }
+                | rsf_fem::Error::FaultSurfaceNotResolved { .. },
+            ) => break,
+            Err(e) => {
+                return Err(crate::error::invalid(
+                    "internal_fault",
+                    format!("cutting level {j} of the hierarchy along the fault: {e}"),
+                ))
+            }
         }
+        coarsest = j;
     }
     levels.resize_with(finest + 1, || None);
     levels.reverse(); // levels[j] for level j
@@ -162,7 +183,10 @@ pub(crate) fn split_hierarchy<const D: usize>(
     let n = mesh.num_vertices();
     Ok(SplitHierarchy {
         mesh,
-        fault: InternalFault::new(sides, transform, n),
+        fault: InternalFault {
+            coarsest_split_level: coarsest,
+            ..InternalFault::new(sides, transform, n)
+        },
         prolongations,
     })
 }
@@ -257,7 +281,19 @@ impl<const D: usize> InternalFault<D> {
             transform,
             pair_of,
             pairs,
+            coarsest_split_level: 0,
         }
+    }
+
+    /// The coarsest level of the model's refinement hierarchy that is cut along the fault
+    /// (0: every level; the finest level's index: only the finest). The levels below it do
+    /// not resolve the fault (`rsf_fem::Error::FaultSegmentNotResolved` in 2-D,
+    /// `FaultSurfaceNotResolved` in 3-D) and stay continuous across it — the decision
+    /// the builder takes there, reported here (docs/faults-inside.md, "Multigrid"): their
+    /// coarse corrections cannot slip, so TNNMG converges more slowly than with every
+    /// level cut.
+    pub fn coarsest_split_level(&self) -> usize {
+        self.coarsest_split_level
     }
 
     /// The fault with its jump shared between the sides by their stiffness at each pair
@@ -297,7 +333,11 @@ impl<const D: usize> InternalFault<D> {
             .collect();
         let transform = self.transform.reshared::<C>(&self.sides, &share)?;
         let n = self.pair_of.len();
-        Ok(Self::new(self.sides, transform, n))
+        let coarsest_split_level = self.coarsest_split_level;
+        Ok(Self {
+            coarsest_split_level,
+            ..Self::new(self.sides, transform, n)
+        })
     }
 
     /// The split pairs `(p⁻, p⁺)` along the fault (tips excluded).
@@ -354,7 +394,7 @@ impl<const D: usize> InternalFault<D> {
         // R's columns are (t…, −n), n pointing from the minus into the plus side.
         let size = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         let delta = if plus { 1e-9 } else { -1e-9 } * size;
-        std::array::from_fn(|a| x[a] + delta * -r[a][D - 1])
+        std::array::from_fn(|a| x[a] + delta * -r[a][rsf_numeric::normal_component(D)])
     }
 
     /// `Tᵀ f`: a Cartesian force vector (load, far-field dashpot force) in the new
@@ -455,4 +495,51 @@ pub(crate) fn faces_on_levels(
         levels.push(found);
     }
     Ok(levels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rsf_fem::{rectangle, Diagonal};
+
+    /// A coarse level that does not resolve the fault ends the cutting (reported); any
+    /// other error of cutting a coarse level is the builder's error naming the level.
+    #[test]
+    fn only_an_unresolved_coarse_level_stops_the_cutting() {
+        let mesh = rectangle([-1.0, -1.0], [2.0, 2.0], 5, 5, Diagonal::Forward).unwrap();
+        let hierarchy = MeshHierarchy::try_refine_uniformly(mesh, 2).unwrap();
+        let points = [[0.0, -0.5], [0.0, 0.5]];
+        let run = |refused: Option<rsf_fem::Error>| {
+            split_hierarchy(
+                &hierarchy,
+                |j, m: &SimplexMesh<2>| match (&refused, j) {
+                    (Some(e), 0) => Err(e.clone()),
+                    _ => m.split_along_polyline("fault", &points),
+                },
+                |sides, m| sides.mean_jump_transform::<2>(m),
+            )
+        };
+        let all = run(None).unwrap();
+        assert_eq!(all.fault.coarsest_split_level(), 0);
+        let unresolved = run(Some(rsf_fem::Error::FaultSegmentNotResolved {
+            point: [0.0, -0.5],
+        }))
+        .unwrap();
+        assert_eq!(unresolved.fault.coarsest_split_level(), 1);
+        let other = rsf_fem::Error::FaultEdgeOnBoundary {
+            edge: 0,
+            vertices: [0, 1],
+        };
+        match run(Some(other)) {
+            Err(crate::Error::InvalidParameter { name, reason }) => {
+                assert_eq!(name, "internal_fault");
+                assert!(
+                    reason.contains("level 0") && reason.contains("outer boundary"),
+                    "{reason}"
+                );
+            }
+            Err(e) => panic!("{e}"),
+            Ok(_) => panic!("an error of a coarse level was ignored"),
+        }
+    }
 }

@@ -12,7 +12,10 @@ use crate::report::StepReport;
 use super::step::Stepper;
 use crate::run::time_slack;
 
-/// Errors after which an adaptive step is retried with a smaller τ.
+/// Errors after which an adaptive step is retried with a smaller τ: a fixed point or a
+/// solver that did not converge, a non-finite solve or state update, and a trial state
+/// whose normal stress would be `≤ 0` (an iterate that overshoots; counted apart,
+/// [`StepReport::rejected_normal_stress`]).
 fn recoverable(e: &Error) -> bool {
     matches!(
         e,
@@ -20,6 +23,7 @@ fn recoverable(e: &Error) -> bool {
             | Error::Solver(rsf_tnnmg::Error::NotConverged { .. })
             | Error::Solver(rsf_tnnmg::Error::NonFinite(_))
             | Error::State(_)
+            | Error::NormalStressNotPositive { .. }
     )
 }
 
@@ -36,6 +40,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     pub fn adaptive_step(&mut self, t_end: Option<f64>) -> Result<StepReport> {
         let control = *self.method.step_control().expect("adaptive");
         let mut rejected = 0;
+        let mut refused = 0;
         // A breakpoint closer than the round-off allowance is taken as reached (no sliver of
         // a step).
         let tau_now = self.controller().tau();
@@ -69,6 +74,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                             control.accept(self.controller_mut(), err, state_change);
                         }
                         report.rejected_attempts = rejected;
+                        report.rejected_normal_stress = refused;
                         report.error_estimate = err;
                         if control.state_extrapolation && self.problem.uses_state() {
                             self.work
@@ -81,11 +87,25 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                     control.reject(self.controller_mut(), err)?;
                 }
                 Err(e) if recoverable(&e) => {
+                    let opens = matches!(e, Error::NormalStressNotPositive { .. });
+                    refused += usize::from(opens);
                     if control
                         .reject(self.controller_mut(), f64::INFINITY)
                         .is_err()
                     {
-                        return Err(e);
+                        return Err(if opens {
+                            Error::TrialStateRefused {
+                                step: self.state.step + 1,
+                                time: self.state.time,
+                                tau,
+                                refusals: refused,
+                                reason: Box::new(e),
+                                remedy: "the step control cannot shrink the step below \
+                                         tau_min; lower tau_min or the tolerance",
+                            }
+                        } else {
+                            e
+                        });
                     }
                 }
                 Err(e) => return Err(e),

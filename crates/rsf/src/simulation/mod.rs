@@ -187,7 +187,21 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let mut report = if adaptive {
             stepper.adaptive_step(t_end)?
         } else {
-            let r = stepper.attempt()?;
+            let attempted = stepper.attempt();
+            let state = &*stepper.state;
+            let r = attempted.map_err(|e| match e {
+                // A fixed step cannot be retried smaller: say so.
+                Error::NormalStressNotPositive { .. } => Error::TrialStateRefused {
+                    step: state.step + 1,
+                    time: state.time,
+                    tau: state.tau,
+                    refusals: 1,
+                    reason: Box::new(e),
+                    remedy: "a fixed time step cannot be retried smaller; lower tau or \
+                             use adaptive step control (SimulationBuilder::step_control)",
+                },
+                e => e,
+            })?;
             stepper.commit(&r);
             r
         };
