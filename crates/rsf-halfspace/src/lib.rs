@@ -7,6 +7,9 @@
 //!   in a half-space", BSSA 82(2), 1018–1040, 1992, §3). Checked against Okada's own
 //!   FORTRAN routine on 972 fixture values (`tests/okada_fixture.rs`).
 //! - [`Medium`], [`traction`]: Hooke's law from the displacement gradient.
+//! - [`two_d`]: the 2-D antiplane screw dislocation (vertical strike-slip segment) and the
+//!   plane-strain edge dislocation (dipping dip-slip segment, surface displacement) in a
+//!   half-space, in closed form.
 //!
 //! Units are SI (m, Pa) throughout; the kernels are linear, so any consistent units work.
 //! The conventions — Okada's frame, the hanging wall and the signs of slip and traction,
@@ -34,6 +37,7 @@
 mod error;
 pub mod okada;
 mod stress;
+pub mod two_d;
 
 pub use error::Error;
 pub use okada::{Deformation, Okada, Rectangle};

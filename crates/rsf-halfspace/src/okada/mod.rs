@@ -26,7 +26,7 @@
 //!   same (orthogonal) map; docs/halfspace.md §1 has the details.
 //!
 //! # Singular cases
-//! Lengths closer than `ε = 10⁻⁶ ×` the rectangle's larger side to 0 are snapped to 0
+//! Lengths closer than `ε = 10⁻⁶ ×` the rectangle's smaller side to 0 are snapped to 0
 //! (DC3D does the same with an absolute `10⁻⁶`). A point on an edge of the rectangle is
 //! [`Error::OnEdge`] (DC3D returns zeros and `IRET = 1`); on the negative extension of an
 //! edge (`R + ξ → 0` or `R + η → 0`) the logarithms are rewritten as in DC3D and the
@@ -40,7 +40,7 @@ use crate::error::Error;
 use geometry::{Corner, DipConsts};
 use parts::{part_a, part_b, part_c, Part};
 
-/// Relative snapping tolerance (times the rectangle's larger side).
+/// Relative snapping tolerance (times the rectangle's smaller side).
 const EPS_REL: f64 = 1e-6;
 
 /// A rectangle in Okada's frame (see the [module docs](self)): reference point
@@ -138,9 +138,9 @@ impl Rectangle {
         (self.strike[1] - self.strike[0]) * (self.dip[1] - self.dip[0])
     }
 
-    /// The larger side (m).
+    /// The smaller side (m), the length scale of the snapping tolerance.
     fn scale(&self) -> f64 {
-        (self.strike[1] - self.strike[0]).max(self.dip[1] - self.dip[0])
+        (self.strike[1] - self.strike[0]).min(self.dip[1] - self.dip[0])
     }
 
     /// The point `(ξ, η)` of the rectangle's plane in Okada's frame:
