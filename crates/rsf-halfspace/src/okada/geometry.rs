@@ -49,6 +49,18 @@ impl DipConsts {
     }
 }
 
+/// `R + a` for `R = √(a² + b2)`, without the cancellation of `R + a` for `a < 0`:
+/// `b2/(R − a)` there (the same number in exact arithmetic). Near the negative extension
+/// of an edge (`b2 ≪ a²`) the plain sum loses `log₁₀(a²/b2)` digits, which the corner
+/// sums then amplify; DC3D uses the plain sum.
+fn sum_with_r(r: f64, a: f64, b2: f64) -> f64 {
+    if a < 0.0 {
+        b2 / (r - a)
+    } else {
+        r + a
+    }
+}
+
 /// The quantities of one corner `(ξ, η)` of the rectangle at distance `q` from its plane.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Corner {
@@ -126,14 +138,14 @@ impl Corner {
         let (alx, x11, x32) = if r_plus_xi_zero {
             (-(r - xi).ln(), 0.0, 0.0)
         } else {
-            let rxi = r + xi;
+            let rxi = sum_with_r(r, xi, et2 + q2);
             let x11 = 1.0 / (r * rxi);
             (rxi.ln(), x11, (r + rxi) * x11 * x11 / r)
         };
         let (ale, y11, y32) = if r_plus_eta_zero {
             (-(r - et).ln(), 0.0, 0.0)
         } else {
-            let ret = r + et;
+            let ret = sum_with_r(r, et, xi2 + q2);
             let y11 = 1.0 / (r * ret);
             (ret.ln(), y11, (r + ret) * y11 * y11 / r)
         };

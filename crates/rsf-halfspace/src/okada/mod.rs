@@ -29,8 +29,9 @@
 //! Lengths closer than `ε = 10⁻⁶ ×` the rectangle's smaller side to 0 are snapped to 0
 //! (DC3D does the same with an absolute `10⁻⁶`). A point on an edge of the rectangle is
 //! [`Error::OnEdge`] (DC3D returns zeros and `IRET = 1`); on the negative extension of an
-//! edge (`R + ξ → 0` or `R + η → 0`) the logarithms are rewritten as in DC3D and the
-//! result is finite; `|cos δ| < 10⁻⁶` is taken as a vertical fault; points on the surface
+//! edge (`R + ξ = 0` or `R + η = 0`) the logarithms are rewritten as in DC3D and the
+//! result is finite, and near it `R + ξ` is computed without cancellation (DC3D loses
+//! digits there); `|cos δ| < 10⁻⁶` is taken as a vertical fault; points on the surface
 //! `z = 0` are regular.
 
 mod geometry;
@@ -326,7 +327,7 @@ impl Okada {
             {
                 return Err(Error::OnEdge { point });
             }
-            let flags = NegativeExtension::new(xi, et, q, eps);
+            let flags = NegativeExtension::new(xi, et, q);
             for (ke, &eta) in et.iter().enumerate() {
                 for (jx, &xij) in xi.iter().enumerate() {
                     let corner = Corner::new(
@@ -366,24 +367,27 @@ impl Okada {
 
 /// Which corners lie on the negative extension of an edge, where `R + ξ` (or `R + η`)
 /// vanishes: `r_plus_xi[k]` for the corners with `η = et[k]`, `r_plus_eta[j]` for those
-/// with `ξ = xi[j]` (both ends of the edge are then on the extension).
+/// with `ξ = xi[j]` (both ends of the edge are then on the extension). DC3D flags
+/// `R + ξ < ε`, which also catches points up to `√(2|ξ|ε)` off the line, where it drops
+/// `ln(η² + q²)` and the `2/(η² + q²)` part of `X11` from both corners (they cancel in the
+/// sum) but where the plain `R + ξ` it keeps elsewhere has lost most of its digits. We
+/// compute `R + ξ` without cancellation (`geometry::sum_with_r`) and flag only the points
+/// on the line itself (`η = q = 0` after snapping), where `R + ξ = 0` exactly.
 struct NegativeExtension {
     r_plus_xi: [bool; 2],
     r_plus_eta: [bool; 2],
 }
 
 impl NegativeExtension {
-    fn new(xi: [f64; 2], et: [f64; 2], q: f64, eps: f64) -> Self {
-        let r = |a: f64, b: f64| (a * a + b * b + q * q).sqrt();
-        let (r12, r21, r22) = (r(xi[0], et[1]), r(xi[1], et[0]), r(xi[1], et[1]));
+    fn new(xi: [f64; 2], et: [f64; 2], q: f64) -> Self {
         Self {
             r_plus_xi: [
-                xi[0] < 0.0 && r21 + xi[1] < eps,
-                xi[0] < 0.0 && r22 + xi[1] < eps,
+                xi[0] < 0.0 && et[0] == 0.0 && q == 0.0,
+                xi[0] < 0.0 && et[1] == 0.0 && q == 0.0,
             ],
             r_plus_eta: [
-                et[0] < 0.0 && r12 + et[1] < eps,
-                et[0] < 0.0 && r22 + et[1] < eps,
+                et[0] < 0.0 && xi[0] == 0.0 && q == 0.0,
+                et[0] < 0.0 && xi[1] == 0.0 && q == 0.0,
             ],
         }
     }
