@@ -62,13 +62,18 @@ proptest! {
     }
 
     /// ∇u against central differences of u, and ∇·σ = 0 by central differences of σ:
-    /// step 1e-3 (truncation O(h²) ≈ 1e-6 of the scale at ≥ 0.3 from the rectangle;
-    /// smaller steps meet the round-off of the corner sums' cancellation).
+    /// step 1e-4 (truncation O(h²/ℓ²) ≤ 1e-6 of the scale at ℓ ≥ 0.3 from the rectangle's
+    /// edges, where the error of 1e-3 steps reached 2e-4; round-off of the corner sums'
+    /// cancellation over 2h below 1e-8).
     #[test]
     fn derivatives_and_equilibrium(
         x in -6.0..6.0f64, y in -6.0..6.0f64, z in -9.0..-0.5f64, dip in 10.0..170.0f64,
         d1 in -1.0..1.0f64, d2 in -1.0..1.0f64, d3 in -1.0..1.0f64,
     ) {
+        // Within a few degrees of vertical the general forms lose digits as 1e-16/cos²δ
+        // (as DC3D's; see vertical_fault_is_the_limit_of_steep_dips), which the 2h of
+        // the differences would magnify.
+        prop_assume!((dip - 90.0).abs() > 3.0);
         let ok = okada(4.0, dip, [-2.0, 2.0], [-1.0, 1.0]);
         let p = [x, y, z];
         // Stay away from the rectangle (its plane within 0.3 of it).
@@ -80,7 +85,7 @@ proptest! {
         prop_assume!(dot(&rel, &n).abs() > 0.3 || dot(&rel, &es).abs() > 2.3 || dot(&rel, &ed).abs() > 1.3);
         let disl = [d1, d2, d3];
         let d = ok.deformation(p, disl).unwrap();
-        let h = 1e-3;
+        let h = 1e-4;
         let gscale = d.grad.iter().flatten().fold(1e-300f64, |m, v| m.max(v.abs()));
         let mut div = [0.0; 3];
         let s0 = stress_at(&ok, p, disl);
