@@ -10,6 +10,10 @@
 //! - [`two_d`]: the 2-D antiplane screw dislocation (vertical strike-slip segment) and the
 //!   plane-strain edge dislocation (dipping dip-slip segment, surface displacement) in a
 //!   half-space, in closed form.
+//! - [`RectangularFault`]: a planar rectangular fault meshed into `n_strike × n_dip`
+//!   constant-slip rectangles, and its boundary-element operators: the stiffness `K`
+//!   (`Δτ = −K s`) and the slip-to-normal-traction operator `K_N`, dense (on rayon) or as
+//!   an ℋ-matrix ([`rsf_hmatrix`]).
 //!
 //! Units are SI (m, Pa) throughout; the kernels are linear, so any consistent units work.
 //! The conventions — Okada's frame, the hanging wall and the signs of slip and traction,
@@ -30,15 +34,25 @@
 //!              [0.0, 1.0, 0.0]).unwrap();
 //! let sigma = medium.stress(&d.grad);
 //! assert!(sigma[0][1] == sigma[1][0]);
+//!
+//! use rsf_halfspace::RectangularFault;
+//! // A vertical strike-slip fault 4 km long, from the surface to 2 km, in 500 m cells.
+//! let fault = RectangularFault::new(medium, 0.0, 90.0, [-2e3, 2e3], [-2e3, 0.0], 500.0).unwrap();
+//! assert_eq!(fault.len(), 2 * 8 * 4);
+//! let k = fault.dense().unwrap();
+//! // Slip on an element lowers the shear traction there: K's diagonal is positive.
+//! assert!(k[(0, 0)] > 0.0 && k[(1, 1)] > 0.0);
 //! ```
 
 #![warn(missing_docs)]
 
+mod bem;
 mod error;
 pub mod okada;
 mod stress;
 pub mod two_d;
 
+pub use bem::{Component, RectangularFault};
 pub use error::Error;
 pub use okada::{Deformation, Okada, Rectangle};
 pub use stress::{traction, Medium};
