@@ -3,7 +3,7 @@
 //! element centres from Okada's stresses (docs/halfspace.md §5).
 
 use crate::error::Error;
-use crate::okada::{Deformation, Okada, Rectangle};
+use crate::okada::{Okada, Rectangle};
 use crate::stress::{traction, Medium};
 use faer::Mat;
 use rayon::prelude::*;
@@ -47,15 +47,39 @@ impl Component {
 ///
 /// Entry `(i, j)` is the traction at the centre of unknown `i`'s element due to unit slip
 /// of unknown `j`, from [`Okada`] (DC3D) and [`Medium::stress`].
+///
+/// **Translation along strike.** The half-space and the grid are invariant under shifts
+/// by whole cells along strike, so entry `(i, j)` depends only on the strike offset of the
+/// two elements and their rows: it is evaluated for the source in the first column and
+/// the receiver at that offset, the same arithmetic for [`entry`](Self::entry),
+/// [`dense`](Self::dense) and [`hmatrix`](Self::hmatrix) (the same bits), and `dense`
+/// and `hmatrix` tabulate the `(2 n_strike − 1) n_dip²` distinct source–receiver pairs
+/// once instead of evaluating `(n_strike n_dip)²` entries.
 #[derive(Debug, Clone)]
 pub struct RectangularFault {
     medium: Medium,
     n_strike: usize,
     n_dip: usize,
-    elements: Vec<Okada>,
+    /// The elements, physical position (for [`element`](Self::element)).
+    elements: Vec<Rectangle>,
+    /// Their centres.
     centres: Vec<[f64; 3]>,
+    /// The source of each row in the first column.
+    sources: Vec<Okada>,
+    /// `(y, z)` of the centres of each row.
+    row_yz: Vec<[f64; 2]>,
+    /// `al1` and the cell length along strike.
+    al1: f64,
+    hs: f64,
     frame: [[f64; 3]; 3],
 }
+
+/// `[τ_s, τ_d, σ_n]` for unit strike slip, then for unit dip slip.
+type Pair = [f64; 6];
+
+/// Largest number of source–receiver pairs [`RectangularFault::hmatrix`] tabulates
+/// (`2²² × 48` bytes ≈ 200 MB); beyond it each entry is evaluated when asked for.
+const TABLE_MAX: usize = 1 << 22;
 
 impl RectangularFault {
     /// The fault `Rectangle::new(depth, dip_deg, strike, dip)` meshed into square cells of
@@ -124,8 +148,17 @@ impl RectangularFault {
         let [aw1, aw2] = rect.dip_range();
         let (hs, hd) = ((al2 - al1) / n_strike as f64, (aw2 - aw1) / n_dip as f64);
         let alpha = medium.alpha();
+        let strike_edge = |is: usize| {
+            if is == n_strike {
+                al2
+            } else {
+                al1 + is as f64 * hs
+            }
+        };
         let mut elements = Vec::with_capacity(n / 2);
         let mut centres = Vec::with_capacity(n / 2);
+        let mut sources = Vec::with_capacity(n_dip);
+        let mut row_yz = Vec::with_capacity(n_dip);
         for id in 0..n_dip {
             // Top row first: η from aw2 down.
             let top = aw2 - id as f64 * hd;
@@ -134,16 +167,23 @@ impl RectangularFault {
             } else {
                 aw2 - (id + 1) as f64 * hd
             };
+            let c = rect.point(0.0, aw2 - (id as f64 + 0.5) * hd);
+            row_yz.push([c[1], c[2]]);
+            let first = Rectangle::new(
+                rect.depth(),
+                rect.dip_deg(),
+                [al1, strike_edge(1)],
+                [bottom, top],
+            )?;
+            sources.push(Okada::new(alpha, first)?);
             for is in 0..n_strike {
-                let left = al1 + is as f64 * hs;
-                let right = if is + 1 == n_strike {
-                    al2
-                } else {
-                    al1 + (is + 1) as f64 * hs
-                };
-                let r = Rectangle::new(rect.depth(), rect.dip_deg(), [left, right], [bottom, top])?;
-                centres.push(r.centre());
-                elements.push(Okada::new(alpha, r)?);
+                elements.push(Rectangle::new(
+                    rect.depth(),
+                    rect.dip_deg(),
+                    [strike_edge(is), strike_edge(is + 1)],
+                    [bottom, top],
+                )?);
+                centres.push([al1 + (is as f64 + 0.5) * hs, c[1], c[2]]);
             }
         }
         Ok(Self {
@@ -152,6 +192,10 @@ impl RectangularFault {
             n_dip,
             elements,
             centres,
+            sources,
+            row_yz,
+            al1,
+            hs,
             frame: rect.frame(),
         })
     }
@@ -191,13 +235,10 @@ impl RectangularFault {
     /// # Errors
     /// [`Error::Index`] if out of range.
     pub fn element(&self, e: usize) -> Result<&Rectangle, Error> {
-        self.elements
-            .get(e)
-            .map(Okada::rectangle)
-            .ok_or(Error::Index {
-                index: e,
-                len: self.elements.len(),
-            })
+        self.elements.get(e).ok_or(Error::Index {
+            index: e,
+            len: self.elements.len(),
+        })
     }
 
     /// The element index of `(i_strike, i_dip)`.
@@ -247,17 +288,60 @@ impl RectangularFault {
         Points::new(&coords, 3).unwrap_or_else(|_| unreachable!("finite element centres"))
     }
 
-    /// `[τ_strike, τ_dip, σ_n]` at element `e`'s centre for unit strike slip and unit dip
-    /// slip on element `f`.
-    fn tractions(&self, e: usize, f: usize) -> Result<[[f64; 3]; 2], Error> {
-        let unit = self.elements[f].unit_responses(self.centres[e])?;
+    /// The tractions at the centre of an element of row `id_e`, `delta` columns from a
+    /// source element of row `id_f` (unit strike slip, then unit dip slip).
+    fn pair(&self, delta: isize, id_e: usize, id_f: usize) -> Result<Pair, Error> {
+        let [y, z] = self.row_yz[id_e];
+        let x = self.al1 + (delta as f64 + 0.5) * self.hs;
+        let unit = self.sources[id_f].unit_responses([x, y, z])?;
         let [es, ed, n] = self.frame;
-        let t = |d: &Deformation| -> [f64; 3] {
-            let tr = traction(&self.medium.stress(&d.grad), &n);
+        let mut out = [0.0; 6];
+        for (d, resp) in unit[..2].iter().enumerate() {
+            let tr = traction(&self.medium.stress(&resp.grad), &n);
             let dot = |a: &[f64; 3]| tr[0] * a[0] + tr[1] * a[1] + tr[2] * a[2];
-            [dot(&es), dot(&ed), dot(&n)]
-        };
-        Ok([t(&unit[0]), t(&unit[1])])
+            out[3 * d] = dot(&es);
+            out[3 * d + 1] = dot(&ed);
+            out[3 * d + 2] = dot(&n);
+        }
+        Ok(out)
+    }
+
+    /// `(delta, id_e, id_f)` of receiver element `e` and source element `f`.
+    fn offsets(&self, e: usize, f: usize) -> (isize, usize, usize) {
+        let ns = self.n_strike;
+        ((e % ns) as isize - (f % ns) as isize, e / ns, f / ns)
+    }
+
+    /// The tractions at element `e`'s centre due to unit slips on element `f`.
+    fn tractions(&self, e: usize, f: usize) -> Result<Pair, Error> {
+        let (delta, id_e, id_f) = self.offsets(e, f);
+        self.pair(delta, id_e, id_f)
+    }
+
+    /// Number of distinct source–receiver pairs, `(2 n_strike − 1) n_dip²`.
+    fn table_len(&self) -> usize {
+        (2 * self.n_strike - 1) * self.n_dip * self.n_dip
+    }
+
+    /// All distinct pairs, on rayon's threads (each computed alone: the same bits on
+    /// any number of threads).
+    fn table(&self) -> Result<Vec<Pair>, Error> {
+        let (ns, nd) = (self.n_strike, self.n_dip);
+        let rows: Vec<Vec<Pair>> = (0..(2 * ns - 1) * nd)
+            .into_par_iter()
+            .map(|r| {
+                let (delta, id_e) = ((r / nd) as isize - (ns as isize - 1), r % nd);
+                (0..nd).map(|id_f| self.pair(delta, id_e, id_f)).collect()
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(rows.into_iter().flatten().collect())
+    }
+
+    /// The index in [`table`](Self::table) of receiver `e` and source `f`.
+    fn table_index(&self, e: usize, f: usize) -> usize {
+        let (delta, id_e, id_f) = self.offsets(e, f);
+        let nd = self.n_dip;
+        (((delta + self.n_strike as isize - 1) as usize) * nd + id_e) * nd + id_f
     }
 
     fn check_unknown(&self, i: usize) -> Result<(), Error> {
@@ -281,7 +365,7 @@ impl RectangularFault {
         self.check_unknown(i)?;
         self.check_unknown(j)?;
         let t = self.tractions(i / 2, j / 2)?;
-        Ok(-t[j % 2][i % 2])
+        Ok(-t[3 * (j % 2) + i % 2])
     }
 
     /// Entry `K_N[e][j]` (Pa/m): minus the normal traction (tension positive) at element
@@ -299,40 +383,19 @@ impl RectangularFault {
         }
         self.check_unknown(j)?;
         let t = self.tractions(e, j / 2)?;
-        Ok(-t[j % 2][2])
+        Ok(-t[3 * (j % 2) + 2])
     }
 
-    /// The columns of both unknowns of source element `f`: `[K rows…, K_N rows…]` for
-    /// each of its two components.
-    fn source_columns(&self, f: usize) -> Result<[Vec<f64>; 4], Error> {
-        let m = self.n_elements();
-        let mut cols = [
-            vec![0.0; 2 * m],
-            vec![0.0; 2 * m],
-            vec![0.0; m],
-            vec![0.0; m],
-        ];
-        for e in 0..m {
-            let t = self.tractions(e, f)?;
-            for d in 0..2 {
-                cols[d][2 * e] = -t[d][0];
-                cols[d][2 * e + 1] = -t[d][1];
-                cols[2 + d][e] = -t[d][2];
-            }
-        }
-        Ok(cols)
-    }
-
-    /// Both operators densely, columns of the source elements on rayon's threads (each
-    /// entry computed alone, so the same bits whatever the number of threads).
+    /// Both operators densely from the [table](Self::table).
     fn dense_both(&self) -> Result<(Mat<f64>, Mat<f64>), Error> {
-        let cols: Vec<[Vec<f64>; 4]> = (0..self.n_elements())
-            .into_par_iter()
-            .map(|f| self.source_columns(f))
-            .collect::<Result<_, _>>()?;
+        let table = self.table()?;
         let (m, n) = (self.n_elements(), self.len());
-        let k = Mat::from_fn(n, n, |i, j| cols[j / 2][j % 2][i]);
-        let kn = Mat::from_fn(m, n, |e, j| cols[j / 2][2 + j % 2][e]);
+        let k = Mat::from_fn(n, n, |i, j| {
+            -table[self.table_index(i / 2, j / 2)][3 * (j % 2) + i % 2]
+        });
+        let kn = Mat::from_fn(m, n, |e, j| {
+            -table[self.table_index(e, j / 2)][3 * (j % 2) + 2]
+        });
         Ok((k, kn))
     }
 
@@ -354,14 +417,23 @@ impl RectangularFault {
 
     /// `K` as an ℋ-matrix from its entries ([`HMatrix::from_entries`], adaptive cross
     /// approximation), on [`RectangularFault::points`], original numbering = the
-    /// unknowns' order.
+    /// unknowns' order. The entries come from the table of distinct source–receiver pairs
+    /// when it has at most `2²²` of them (about 200 MB), else each is evaluated when asked
+    /// for; the same bits either way.
     ///
     /// # Errors
     /// [`Error::HMatrix`] for invalid options or a failed compression (an entry that
     /// could not be evaluated is reported as a non-finite entry).
     pub fn hmatrix(&self, options: &HOptions) -> Result<HMatrix, Error> {
         let points = self.points();
-        let entry = |i: usize, j: usize| self.entry(i, j).unwrap_or(f64::NAN);
-        Ok(HMatrix::from_entries(entry, &points, options)?)
+        if self.table_len() <= TABLE_MAX {
+            let table = self.table()?;
+            let entry =
+                |i: usize, j: usize| -table[self.table_index(i / 2, j / 2)][3 * (j % 2) + i % 2];
+            Ok(HMatrix::from_entries(entry, &points, options)?)
+        } else {
+            let entry = |i: usize, j: usize| self.entry(i, j).unwrap_or(f64::NAN);
+            Ok(HMatrix::from_entries(entry, &points, options)?)
+        }
     }
 }
