@@ -203,8 +203,9 @@ fn averaged_n(receiver: &Rectangle, source: &Rectangle, c: usize, d: usize, n: u
 }
 
 /// Reciprocity. Betti's theorem makes the Galerkin (element-averaged) operator symmetric:
-/// `∫_{E_i} τ_c(slip d on E_j) dA = ∫_{E_j} τ_d(slip c on E_i) dA` — checked for pairs of
-/// elements at least one element apart (the quadrature's error there is below 10⁻¹⁰),
+/// `∫_{E_i} τ_c(slip d on E_j) dA = ∫_{E_j} τ_d(slip c on E_i) dA` for elements that do
+/// not touch (touching ones diverge logarithmically) — checked for pairs of elements at
+/// least one element apart (the quadrature's error there is below 10⁻¹⁰),
 /// buried and surface-breaking, dipping and vertical. Centre collocation keeps this only
 /// up to the centre rule's error on the receiver (not exact near the surface); exactly,
 /// on a vertical fault the reflection `x → −x` makes `K·diag(A)` symmetric within each
@@ -212,7 +213,7 @@ fn averaged_n(receiver: &Rectangle, source: &Rectangle, c: usize, d: usize, n: u
 #[test]
 fn reciprocity() {
     for fault in [bp5_like(), dipping()] {
-        let pairs = [(0usize, 2usize), (1, 9), (4, 17), (7, 23), (13, 2)];
+        let pairs = [(0usize, 2usize), (1, 9), (4, 18), (7, 23), (13, 3)];
         for &(ei, ej) in &pairs {
             let (ri, rj) = (fault.element(ei).unwrap(), fault.element(ej).unwrap());
             for c in 0..2 {
@@ -411,4 +412,19 @@ fn normal_traction_operator() {
     );
     assert!(at_surface >= 1e-2);
     assert!(deep <= 1e-4);
+}
+
+/// Like a finite-element Schur complement, `K`'s symmetric part is positive definite
+/// (Cholesky succeeds) for the vertical surface-breaking grid and the buried dipping one.
+/// Not a theorem for centre collocation (piecewise-constant slip has infinite elastic
+/// energy, so there is no exact energy form to inherit it from); a check that slip on
+/// these grids always does work against the tractions it changes.
+#[test]
+fn symmetric_part_is_positive_definite() {
+    for fault in [bp5_like(), dipping()] {
+        let k = fault.dense().unwrap();
+        let n = k.nrows();
+        let sym = Mat::from_fn(n, n, |i, j| 0.5 * (k[(i, j)] + k[(j, i)]));
+        assert!(sym.llt(faer::Side::Lower).is_ok());
+    }
 }
