@@ -199,6 +199,7 @@ fn errors_on_user_input() {
         .is_err());
     assert!(Rectangle::new(3.0, 60.0, [2.0, -1.0], [-1.0, 1.0]).is_err());
     assert!(Rectangle::new(3.0, 60.0, [-1.0, 2.0], [-1.0, f64::NAN]).is_err());
+    assert!(Rectangle::new(1e308, 90.0, [-1e308, 1e308], [-1.0, 0.0]).is_err());
     assert!(matches!(
         Rectangle::new(0.5, 90.0, [-1.0, 2.0], [-1.0, 1.0]),
         Err(Error::SourceAboveSurface { .. })
@@ -210,4 +211,28 @@ fn errors_on_user_input() {
     let m = Medium::from_shear_poisson(3e10, 0.25).unwrap();
     assert!((m.lambda() - 3e10).abs() < 1e-3 && (m.alpha() - 2.0 / 3.0).abs() < 1e-15);
     assert!((m.nu() - 0.25).abs() < 1e-15);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Any finite (or not) input gives a value or an error, never a panic, and a value is
+    /// finite.
+    #[test]
+    fn no_panics_on_any_input(
+        alpha in prop::num::f64::ANY, depth in prop::num::f64::ANY, dip in prop::num::f64::ANY,
+        a in prop::array::uniform4(prop::num::f64::ANY),
+        p in prop::array::uniform3(prop::num::f64::ANY),
+        d in prop::array::uniform3(prop::num::f64::ANY),
+    ) {
+        if let Ok(out) = rsf_halfspace::okada::dc3d(alpha, p, depth, dip, [a[0], a[1]], [a[2], a[3]], d) {
+            prop_assert!(out.u.iter().chain(out.grad.iter().flatten()).all(|v| v.is_finite()));
+        }
+        if let Ok(f) = rsf_halfspace::two_d::antiplane_segment(alpha, depth, a[0], a[1], p[0], p[1]) {
+            prop_assert!(f.u.is_finite() && f.sigma_xy.is_finite() && f.sigma_xz.is_finite());
+        }
+        if let Ok(u) = rsf_halfspace::two_d::edge_surface_displacement(alpha, depth, dip, [a[0], a[1]], p[0]) {
+            prop_assert!(u.iter().all(|v| v.is_finite()));
+        }
+    }
 }

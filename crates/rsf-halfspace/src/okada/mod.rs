@@ -59,7 +59,8 @@ impl Rectangle {
     /// The rectangle of DC3D's arguments `DEPTH, DIP, AL1, AL2, AW1, AW2`.
     ///
     /// # Errors
-    /// [`Error::Parameter`] unless all are finite and `al1 < al2`, `aw1 < aw2`;
+    /// [`Error::Parameter`] unless all are finite and `al1 < al2`, `aw1 < aw2` (with
+    /// finite differences);
     /// [`Error::SourceAboveSurface`] if part of the rectangle is above `z = 0` (by more
     /// than the snapping tolerance).
     pub fn new(depth: f64, dip_deg: f64, strike: [f64; 2], dip: [f64; 2]) -> Result<Self, Error> {
@@ -79,14 +80,14 @@ impl Rectangle {
                 });
             }
         }
-        if !(strike[1] - strike[0] > 0.0) {
+        if !(strike[1] - strike[0] > 0.0 && (strike[1] - strike[0]).is_finite()) {
             return Err(Error::Parameter {
                 name: "al2 - al1",
                 value: strike[1] - strike[0],
                 expected: "> 0 (and finite)",
             });
         }
-        if !(dip[1] - dip[0] > 0.0) {
+        if !(dip[1] - dip[0] > 0.0 && (dip[1] - dip[0]).is_finite()) {
             return Err(Error::Parameter {
                 name: "aw2 - aw1",
                 value: dip[1] - dip[0],
@@ -99,13 +100,6 @@ impl Rectangle {
             strike,
             dip,
         };
-        if !(rect.scale().is_finite()) {
-            return Err(Error::Parameter {
-                name: "rectangle size",
-                value: rect.scale(),
-                expected: "finite",
-            });
-        }
         let sd = DipConsts::new(0.5, dip_deg).sd;
         let z_top = -depth + (dip[0] * sd).max(dip[1] * sd);
         if !(z_top <= EPS_REL * rect.scale()) {
