@@ -7,9 +7,9 @@
 //!   in a half-space", BSSA 82(2), 1018–1040, 1992, §3). Checked against Okada's own
 //!   FORTRAN routine on 972 fixture values (`tests/okada_fixture.rs`).
 //! - [`Medium`], [`traction`]: Hooke's law from the displacement gradient.
-//! - [`two_d`]: the 2-D antiplane screw dislocation (vertical strike-slip segment) and the
-//!   plane-strain edge dislocation (dipping dip-slip segment, surface displacement) in a
-//!   half-space, in closed form.
+//! - [`two_d`]: the 2-D antiplane screw dislocation (vertical strike-slip segment:
+//!   displacement and stress) and the plane-strain edge dislocation (dipping dip-slip
+//!   segment: surface displacement, and stress anywhere) in a half-space, in closed form.
 //! - [`RectangularFault`]: a planar rectangular fault meshed into `n_strike × n_dip`
 //!   constant-slip rectangles, and its boundary-element operators: the stiffness `K`
 //!   (`Δτ = −K s`) and the slip-to-normal-traction operator `K_N`, dense (on rayon) or as

@@ -9,12 +9,15 @@
 //!   edge dislocations, plane strain), the displacement of the free surface (Freund &
 //!   Barnett 1976, BSSA 66(3), 667–675, in the form of Segall 2010, *Earthquake and
 //!   Volcano Deformation*, §3.3; independent of ν).
+//! - [`edge_segment_stress`]: the same source's stress anywhere in the half-space
+//!   (Segall 2010, eqs. 3.77–3.79 as corrected in the book's errata).
 //!
 //! Slip follows Okada's convention: the motion of the hanging wall relative to the
 //! footwall, where the hanging wall is the side of `n = (0, −sin δ, cos δ)` (for a
 //! vertical fault `y < 0`).
 
 use crate::error::Error;
+use crate::stress::Medium;
 use std::f64::consts::PI;
 
 /// The antiplane field at a point.
@@ -26,6 +29,17 @@ pub struct AntiplaneField {
     pub sigma_xy: f64,
     /// `σ_xz = μ ∂u_x/∂z` (Pa).
     pub sigma_xz: f64,
+}
+
+/// `(sin δ, cos δ)` with `cos δ = 0`, `sin δ = 1` when `|cos δ| < 10⁻⁶`, as in DC3D, so that
+/// a vertical segment's ends are exactly at `y = 0`.
+fn sin_cos_snapped(dip_deg: f64) -> (f64, f64) {
+    let (sd, cd) = dip_deg.to_radians().sin_cos();
+    if cd.abs() < 1e-6 {
+        (1.0, 0.0)
+    } else {
+        (sd, cd)
+    }
 }
 
 /// `a/(y² + a²)`, 0 for infinite `a`.
@@ -180,7 +194,7 @@ pub fn edge_surface_displacement(
             expected: "> 0",
         });
     }
-    let (sd, cd) = dip_deg.to_radians().sin_cos();
+    let (sd, cd) = sin_cos_snapped(dip_deg);
     let (sv, sh) = (slip * sd, slip * cd);
     // Depth of the up-dip end (η = aw2) and of the down-dip end.
     let (d_top, d_bot) = (depth - aw[1] * sd, depth - aw[0] * sd);
@@ -209,6 +223,149 @@ pub fn edge_surface_displacement(
     } else {
         Err(Error::NonFinite {
             what: "surface displacement",
+        })
+    }
+}
+
+/// Plane-strain stress (Pa, tension positive) in Okada's cross-section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneStrainStress {
+    /// `σ_yy`.
+    pub yy: f64,
+    /// `σ_zz`.
+    pub zz: f64,
+    /// `σ_yz`.
+    pub yz: f64,
+    /// `σ_xx = ν (σ_yy + σ_zz)` (plane strain along the fault's strike `x`).
+    pub xx: f64,
+}
+
+/// The stress `[σ11, σ22, σ12]` of one edge dislocation at depth `xi2` below the origin
+/// of Segall's frame (`x1` horizontal, `x2` down), Burgers vector `(s1, s2)`, in a
+/// half-space `x2 ≥ 0` (Segall 2010, eqs. 3.77–3.79 with the errata): the dislocation,
+/// its image at `x2 = −xi2` and the surface correction. `c = μ/(2π(1 − ν))`.
+fn segall_edge_stress(c: f64, s1: f64, s2: f64, xi2: f64, x1: f64, x2: f64) -> [f64; 3] {
+    let (a, b) = (x2 - xi2, x2 + xi2);
+    let x12 = x1 * x1;
+    let r1 = x12 + a * a;
+    let r2 = x12 + b * b;
+    let (r1_2, r2_2, r2_3) = (r1 * r1, r2 * r2, r2 * r2 * r2);
+    let (a2, b2, b3) = (a * a, b * b, b * b * b);
+    let m = 6.0 * x2 * b * x12;
+    let s11 = s2
+        * (x1 * (a2 - x12) / r1_2 - x1 * (b2 - x12) / r2_2
+            + 4.0 * xi2 * x1 / r2_3 * ((2.0 * xi2 - x2) * b2 + (3.0 * x2 + 2.0 * xi2) * x12))
+        + s1 * (a * (a2 + 3.0 * x12) / r1_2 - b * (b2 + 3.0 * x12) / r2_2
+            + 2.0 * xi2 / r2_3 * (m - a * b3 - x12 * x12));
+    let s22 = -s2
+        * (x1 * (3.0 * a2 + x12) / r1_2
+            - x1 * (3.0 * b2 + x12) / r2_2
+            - 4.0 * xi2 * x2 * x1 / r2_3 * (3.0 * b2 - x12))
+        + s1 * (a * (a2 - x12) / r1_2
+            - b * (b2 - x12) / r2_2
+            - 2.0 * xi2 / r2_3 * (m - (3.0 * x2 + xi2) * b3 + x12 * x12));
+    let s12 = s2
+        * (a * (a2 - x12) / r1_2 - b * (b2 - x12) / r2_2
+            + 2.0 * xi2 / r2_3 * (m - x12 * x12 + (xi2 - x2) * b3))
+        + s1 * (x1 * (a2 - x12) / r1_2 - x1 * (b2 - x12) / r2_2
+            + 4.0 * xi2 * x2 * x1 / r2_3 * (3.0 * b2 - x12));
+    [c * s11, c * s22, c * s12]
+}
+
+/// The plane-strain stress at `point = [y, z]` of uniform dip slip `slip` (reverse positive) on
+/// the segment of Okada's cross-section `(η cos δ, −depth + η sin δ)`, `η ∈ [aw1, aw2]`
+/// (the source of [`edge_surface_displacement`]), in a half-space of the given `medium`
+/// (its `μ` and `ν`) — the 2-D (infinitely long) limit of
+/// [`okada::dc3d`](crate::okada::dc3d) with `U2 = slip`. Two edge dislocations, at the
+/// up-dip end (`+`) and the down-dip end (`−`), each with its image and surface
+/// correction (Segall 2010, eqs. 3.77–3.79 as corrected in the errata), evaluated in
+/// Segall's frame `x1 = −(y − y_k)`, `x2 = −z` (a rotation by π, so
+/// `σ_yy = σ11`, `σ_zz = σ22`, `σ_yz = σ12`) with Burgers vector
+/// `(s1, s2) = slip (cos δ, sin δ)`, a sign convention fixed by the comparison with DC3D
+/// in `tests/two_d.rs`.
+///
+/// # Errors
+/// [`Error::Parameter`] for non-finite input, `aw1 ≥ aw2` or a dip outside
+/// `(0°, 180°)`; [`Error::SourceAboveSurface`] if the segment reaches above
+/// `z = 0`; [`Error::AboveSurface`] for `z > 0`; [`Error::AtDislocation`] within
+/// `10⁻⁹ (aw2 − aw1)` of an end of the segment.
+pub fn edge_segment_stress(
+    medium: &Medium,
+    slip: f64,
+    depth: f64,
+    dip_deg: f64,
+    aw: [f64; 2],
+    point: [f64; 2],
+) -> Result<PlaneStrainStress, Error> {
+    let [y, z] = point;
+    let (mu, nu) = (medium.mu(), medium.nu());
+    for (name, value) in [
+        ("slip", slip),
+        ("depth", depth),
+        ("dip", dip_deg),
+        ("aw1", aw[0]),
+        ("aw2", aw[1]),
+        ("y", y),
+        ("z", z),
+    ] {
+        if !value.is_finite() {
+            return Err(Error::Parameter {
+                name,
+                value,
+                expected: "finite",
+            });
+        }
+    }
+    if !(dip_deg > 0.0 && dip_deg < 180.0) {
+        return Err(Error::Parameter {
+            name: "dip",
+            value: dip_deg,
+            expected: "in (0, 180) degrees",
+        });
+    }
+    if !(aw[1] > aw[0]) {
+        return Err(Error::Parameter {
+            name: "aw2 - aw1",
+            value: aw[1] - aw[0],
+            expected: "> 0",
+        });
+    }
+    if z > 0.0 {
+        return Err(Error::AboveSurface { z });
+    }
+    let (sd, cd) = sin_cos_snapped(dip_deg);
+    let (d_top, d_bot) = (depth - aw[1] * sd, depth - aw[0] * sd);
+    if d_top < 0.0 {
+        return Err(Error::SourceAboveSurface { z_top: -d_top });
+    }
+    let c = mu / (2.0 * PI * (1.0 - nu));
+    let near = 1e-9 * (aw[1] - aw[0]);
+    let (s1, s2) = (slip * cd, slip * sd);
+    let mut sigma = [0.0; 3];
+    for (sign, yk, dk) in [(1.0, aw[1] * cd, d_top), (-1.0, aw[0] * cd, d_bot)] {
+        let x1 = -(y - yk);
+        if x1.hypot(-z - dk) <= near {
+            return Err(Error::AtDislocation { x: y, z });
+        }
+        let e = segall_edge_stress(c, sign * s1, sign * s2, dk, x1, -z);
+        for (t, v) in sigma.iter_mut().zip(e) {
+            *t += v;
+        }
+    }
+    let out = PlaneStrainStress {
+        yy: sigma[0],
+        zz: sigma[1],
+        yz: sigma[2],
+        xx: nu * (sigma[0] + sigma[1]),
+    };
+    if [out.yy, out.zz, out.yz, out.xx]
+        .iter()
+        .all(|v| v.is_finite())
+    {
+        Ok(out)
+    } else {
+        Err(Error::NonFinite {
+            what: "plane-strain stress",
         })
     }
 }

@@ -234,5 +234,10 @@ proptest! {
         if let Ok(u) = rsf_halfspace::two_d::edge_surface_displacement(alpha, depth, dip, [a[0], a[1]], p[0]) {
             prop_assert!(u.iter().all(|v| v.is_finite()));
         }
+        if let Ok(m) = Medium::new(d[0], d[1]) {
+            if let Ok(t) = rsf_halfspace::two_d::edge_segment_stress(&m, alpha, depth, dip, [a[0], a[1]], [p[0], p[1]]) {
+                prop_assert!([t.yy, t.zz, t.yz, t.xx].iter().all(|v| v.is_finite()));
+            }
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! The 2-D closed forms against rsf-hmatrix's antiplane kernel, the classic screw
 //! dislocation (Savage & Burford) surface profile, and the 3-D DC3D of a very long fault.
 use rsf_halfspace::okada::dc3d;
-use rsf_halfspace::two_d::{antiplane_segment, edge_surface_displacement};
+use rsf_halfspace::two_d::{antiplane_segment, edge_segment_stress, edge_surface_displacement};
 use rsf_halfspace::Error;
 use rsf_hmatrix::kernels::AntiplaneHalfSpace;
 use std::f64::consts::PI;
@@ -167,6 +167,62 @@ fn edge_surface_displacement_is_the_long_fault_limit_of_dc3d() {
     }
 }
 
+/// The plane-strain stress of dip slip on a dipping segment (Segall's edge dislocations)
+/// is the limit of DC3D's stress for a long fault: within `(H/L)` of `μ s/W` at
+/// `L = 10⁴` and converging from `L = 10³` (or at the round-off floor), for several dips,
+/// buried and surface-breaking, at points around and near the segment; `σ_xx` is the
+/// plane-strain `ν(σ_yy + σ_zz)`.
+#[test]
+fn edge_segment_stress_is_the_long_fault_limit_of_dc3d() {
+    let m = rsf_halfspace::Medium::from_shear_poisson(MU, 0.3).unwrap();
+    let s = 0.8;
+    for (depth, dip, aw) in [
+        (3.0, 30.0, [-1.0, 1.5]),
+        (2.0, 60.0, [-2.0, 0.5]),
+        (4.0, 90.0, [-1.0, 1.0]),
+        (0.0, 45.0, [-3.0, 0.0]),
+        (2.5, 120.0, [-1.0, 1.0]),
+    ] {
+        let w = aw[1] - aw[0];
+        let scale = MU * s / w;
+        for (y, z) in [
+            (0.7, -1.0),
+            (-2.0, -4.0),
+            (3.0, -0.5),
+            (-0.5, -5.5),
+            (1.0, 0.0),
+        ] {
+            let two = edge_segment_stress(&m, s, depth, dip, aw, [y, z]).unwrap();
+            let hh = (depth + 3.0f64).max(y.abs()).max(z.abs());
+            let err = |l: f64| {
+                let d = dc3d(
+                    m.alpha(),
+                    [0.0, y, z],
+                    depth,
+                    dip,
+                    [-l, l],
+                    aw,
+                    [0.0, s, 0.0],
+                )
+                .unwrap();
+                let st = m.stress(&d.grad);
+                let e = [
+                    st[1][1] - two.yy,
+                    st[2][2] - two.zz,
+                    st[1][2] - two.yz,
+                    st[0][0] - two.xx,
+                ];
+                e.iter().fold(0.0f64, |a, v| a.max(v.abs())) / scale
+            };
+            let (e3, e4) = (err(1e3), err(1e4));
+            assert!(
+                e4 <= hh / 1e4 && (e4 <= e3 / 5.0 || e4 <= 1e-8),
+                "depth {depth} dip {dip} ({y}, {z}): {two:?}, errors {e3:e} {e4:e}"
+            );
+        }
+    }
+}
+
 #[test]
 fn two_d_errors() {
     assert!(matches!(
@@ -186,4 +242,15 @@ fn two_d_errors() {
     ));
     assert!(edge_surface_displacement(1.0, 0.0, 90.0, [-1.0, 1.0], 2.0).is_err());
     assert!(edge_surface_displacement(1.0, 1.0, 0.0, [-1.0, 1.0], 2.0).is_err());
+    let m = rsf_halfspace::Medium::from_shear_poisson(MU, 0.25).unwrap();
+    assert!(matches!(
+        edge_segment_stress(&m, 1.0, 2.0, 90.0, [-1.0, 1.0], [0.0, -1.0]),
+        Err(Error::AtDislocation { .. })
+    ));
+    assert!(matches!(
+        edge_segment_stress(&m, 1.0, 0.0, 90.0, [-1.0, 0.0], [0.0, 0.0]),
+        Err(Error::AtDislocation { .. })
+    ));
+    assert!(edge_segment_stress(&m, 1.0, 2.0, 90.0, [-1.0, 1.0], [0.0, 0.1]).is_err());
+    assert!(edge_segment_stress(&m, 1.0, 0.5, 90.0, [-1.0, 1.0], [0.0, -3.0]).is_err());
 }
