@@ -1,0 +1,58 @@
+//! Elastic half-space kernels, independent of the finite-element model: a test anchor for
+//! it and a boundary-element fault operator.
+//!
+//! - [`okada`]: Okada (1992) DC3D — displacement and its nine derivatives at any point of
+//!   the half-space `z ≤ 0` for uniform strike-slip, dip-slip and tensile dislocation on
+//!   a finite rectangle (Y. Okada, "Internal deformation due to shear and tensile faults
+//!   in a half-space", BSSA 82(2), 1018–1040, 1992, §3). Checked against Okada's own
+//!   FORTRAN routine on 972 fixture values (`tests/okada_fixture.rs`).
+//! - [`Medium`], [`traction`]: Hooke's law from the displacement gradient.
+//! - [`two_d`]: the 2-D antiplane screw dislocation (vertical strike-slip segment:
+//!   displacement and stress) and the plane-strain edge dislocation (dipping dip-slip
+//!   segment: surface displacement, and stress anywhere) in a half-space, in closed form.
+//! - [`RectangularFault`]: a planar rectangular fault meshed into `n_strike × n_dip`
+//!   constant-slip rectangles, and its boundary-element operators: the stiffness `K`
+//!   (`Δτ = −K s`) and the slip-to-normal-traction operator `K_N`, dense (on rayon) or as
+//!   an ℋ-matrix ([`rsf_hmatrix`]).
+//!
+//! Units are SI (m, Pa) throughout; the kernels are linear, so any consistent units work.
+//! The conventions — Okada's frame, the hanging wall and the signs of slip and traction,
+//! the unknown order and how to map other frames such as SEAS BP5's — are written out in
+//! docs/halfspace.md.
+//!
+//! # Errors and panics
+//! Every public function on user input returns [`Result`] with [`Error`] (invalid
+//! parameters, points above the surface or on a dislocation's edge, results that
+//! overflow); none panics on user input.
+//!
+//! # Example
+//! ```
+//! use rsf_halfspace::{okada::dc3d, Medium};
+//! let medium = Medium::from_shear_poisson(32.04e9, 0.25).unwrap();
+//! // 1 m of reverse slip on a 45° fault, stress 1 km above its centre.
+//! let d = dc3d(medium.alpha(), [0.0, 0.0, -1e3], 3e3, 45.0, [-2e3, 2e3], [-1e3, 1e3],
+//!              [0.0, 1.0, 0.0]).unwrap();
+//! let sigma = medium.stress(&d.grad);
+//! assert!(sigma[0][1] == sigma[1][0]);
+//!
+//! use rsf_halfspace::RectangularFault;
+//! // A vertical strike-slip fault 4 km long, from the surface to 2 km, in 500 m cells.
+//! let fault = RectangularFault::new(medium, 0.0, 90.0, [-2e3, 2e3], [-2e3, 0.0], 500.0).unwrap();
+//! assert_eq!(fault.len(), 2 * 8 * 4);
+//! let k = fault.dense().unwrap();
+//! // Slip on an element lowers the shear traction there: K's diagonal is positive.
+//! assert!(k[(0, 0)] > 0.0 && k[(1, 1)] > 0.0);
+//! ```
+
+#![warn(missing_docs)]
+
+mod bem;
+mod error;
+pub mod okada;
+mod stress;
+pub mod two_d;
+
+pub use bem::{Component, RectangularFault};
+pub use error::Error;
+pub use okada::{Deformation, Okada, Rectangle};
+pub use stress::{traction, Medium};
