@@ -47,7 +47,7 @@ fn energy_fraction<I: VelocityIntegrator, const C: usize>(
     energy(sim.model(), &k.u, &k.v) / e0
 }
 
-/// The strip `[0, 4] × [0, 0.25]` (h = 0.025 m).
+/// The strip `[0, 4] × [0, 0.25]` (160 × 10 vertices: h = 4/159 m along x, 0.25/9 m across).
 fn strip() -> SimplexMesh<2> {
     rectangle([0.0, 0.0], [4.0, 0.25], 160, 10, Diagonal::Forward).unwrap()
 }
@@ -158,6 +158,59 @@ fn the_dashpots_integrate_the_impedances_over_the_part() {
     assert!((yy - 0.25).abs() < 1e-14, "ρc_s |Γ_A|: {yy}");
     assert_eq!(xy, 0.0);
     assert!(scalar_strip(false).absorbing.is_none());
+}
+
+/// An absorbing part across material regions takes each region's impedances (issue 55):
+/// the plane strain strip with its cells above y = 4h (h = 0.25/9, 5 of the 9 cell rows)
+/// four times as dense and nine times as stiff (c_p, c_s three times, impedances ρc 12
+/// times the lower part's); the right end's dashpots sum to Σ_regions ρc_p |Γ_A ∩ region|
+/// (xx) and ρc_s |…| (yy), computed from the materials' definitions. (Before issue 55 such
+/// a medium had no impedances and absorbing parts were refused.)
+#[test]
+fn an_absorbing_part_across_regions_takes_each_regions_impedances() {
+    const H: f64 = 0.25 / 9.0;
+    let left = |x: &[f64; 2]| x[0] < EPS;
+    let (lower, upper) = (
+        Material::new(2.5, 0.25, 1.0),
+        Material::new(9.0 * 2.5, 0.25, 4.0),
+    );
+    let model = ModelBuilder::new(strip())
+        .material(rsf::model::MaterialRegions::new(lower).region(
+            "upper",
+            |x| x[1] > 4.0 * H,
+            upper,
+        ))
+        .dirichlet(Part::predicate("left", left), [0.0, 0.0])
+        .frictional_boundary(Part::predicate("left", left))
+        .absorbing_boundary(right())
+        .build()
+        .unwrap();
+    let c = &model.absorbing.as_ref().unwrap().damping;
+    let (cp, ri, val) = (c.symbolic().col_ptr(), c.symbolic().row_idx(), c.val());
+    let (mut xx, mut yy) = (0.0, 0.0);
+    for j in 0..c.ncols() {
+        for k in cp[j]..cp[j + 1] {
+            match (ri[k] % 2, j % 2) {
+                (0, 0) => xx += val[k],
+                (1, 1) => yy += val[k],
+                _ => {}
+            }
+        }
+    }
+    // λ = μ = 1 below (ρ = 1): ρc_p = √3, ρc_s = 1; above λ = μ = 9, ρ = 4: ρc_p = √(4·27)
+    // = 6√3, ρc_s = √(4·9) = 6; the end's 9 facets of height h, 4 below and 5 above.
+    let (zp, zs) = (
+        H * (4.0 * 3f64.sqrt() + 5.0 * 6.0 * 3f64.sqrt()),
+        H * (4.0 + 5.0 * 6.0),
+    );
+    assert!(
+        (xx - zp).abs() < 1e-13 * zp,
+        "ρc_p |Γ_A|: {xx} against {zp}"
+    );
+    assert!(
+        (yy - zs).abs() < 1e-13 * zs,
+        "ρc_s |Γ_A|: {yy} against {zs}"
+    );
 }
 
 /// Normal incidence, antiplane (SH): both halves of the pulse cross x = 4 by t = 7 s;

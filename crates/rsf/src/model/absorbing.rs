@@ -118,8 +118,8 @@ pub(crate) fn dashpot_block<const D: usize, const C: usize>(
 /// One absorbing part resolved on the mesh, with its impedances and far-field velocity.
 pub(crate) struct ResolvedPart<'a, const D: usize, const C: usize> {
     pub part: &'a BoundaryPart<D>,
-    /// `(ρc_p, ρc_s)` (Pa·s/m).
-    pub impedances: [f64; 2],
+    /// `(ρc_p, ρc_s)` (Pa·s/m) of each of the part's facets (in `part.facets()` order).
+    pub impedances: &'a [[f64; 2]],
     /// The far-field velocity `w` (m/s, Cartesian, of the unscaled field).
     pub velocity: [f64; C],
 }
@@ -144,9 +144,9 @@ pub(crate) fn assemble<const D: usize, const C: usize>(
     );
     let mut vals = vec![0.0; ri.len()];
     for rp in parts {
-        for &f in rp.part.facets() {
+        for (&f, &impedances) in rp.part.facets().iter().zip(rp.impedances) {
             let share = mesh.boundary_facet_measure(f) / D as f64;
-            let z = dashpot_block::<D, C>(&mesh.boundary_facet_normal(f), rp.impedances);
+            let z = dashpot_block::<D, C>(&mesh.boundary_facet_normal(f), impedances);
             for &p in mesh.boundary_facet(f) {
                 for (c, zc) in (0..C).map(|c| (c, z.map(|row| row[c]))) {
                     let j = C * p + c;

@@ -105,6 +105,14 @@ pub trait Medium<const D: usize, const C: usize> {
     fn impedances(&self) -> Option<[f64; 2]> {
         None
     }
+
+    /// The impedances at the point `x` (m) inside the body: an absorbing facet takes those
+    /// at the centroid of its cell, so that a boundary crossing material regions gets each
+    /// region's own dashpots. Default [`impedances`](Self::impedances) everywhere.
+    fn impedances_at(&self, x: &[f64; D]) -> Option<[f64; 2]> {
+        let _ = x;
+        self.impedances()
+    }
 }
 
 impl<const D: usize> Medium<D, D> for Material {
@@ -1414,30 +1422,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     format!("far-field velocity {:?} must be finite", a.velocity),
                 ));
             }
-            self.absorbing_impedances(material, name)?;
+            // A medium with one impedance for the whole body is checked here; one that
+            // varies (material regions) facet by facet at assembly.
+            if material.impedances().is_some() {
+                absorbing_impedances(material, name, None)?;
+            }
         }
         Ok(())
-    }
-
-    /// The medium's impedances `(ρc_p, ρc_s)`, finite and positive.
-    fn absorbing_impedances(&self, material: &dyn Medium<D, C>, name: &str) -> Result<[f64; 2]> {
-        let impedances = material.impedances().ok_or_else(|| {
-            part_error(
-                name,
-                "the medium gives no impedances (Medium::impedances) for its dashpots",
-            )
-        })?;
-        if impedances.iter().any(|z| !(z.is_finite() && *z > 0.0)) {
-            return Err(part_error(
-                name,
-                format!(
-                    "the medium's impedances (ρc_p, ρc_s) = {impedances:?} Pa·s/m must \
-                     be finite and positive (density ρ = {} kg/m³)",
-                    material.density()
-                ),
-            ));
-        }
-        Ok(impedances)
     }
 
     /// The dashpots of the absorbing parts (Cartesian, unscaled), if any: each part
@@ -1457,8 +1448,18 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let mut resolved = Vec::with_capacity(self.absorbing.len());
         for a in &self.absorbing {
             let name = a.part.name();
-            let impedances = self.absorbing_impedances(material, name)?;
             let part = a.part.resolve(mesh)?;
+            let impedances = part
+                .facets()
+                .iter()
+                .map(|&f| {
+                    let cell = mesh.cell(mesh.boundary_facet_cell(f));
+                    let centroid: [f64; D] = std::array::from_fn(|k| {
+                        cell.iter().map(|&p| mesh.vertices()[p][k]).sum::<f64>() / (D + 1) as f64
+                    });
+                    absorbing_impedances(material, name, Some(&centroid))
+                })
+                .collect::<Result<Vec<[f64; 2]>>>()?;
             if let Some(f) = part
                 .facets()
                 .iter()
@@ -1488,7 +1489,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             .iter()
             .map(|(part, impedances, velocity)| ResolvedPart {
                 part,
-                impedances: *impedances,
+                impedances,
                 velocity: *velocity,
             })
             .collect();
@@ -1646,4 +1647,35 @@ fn symmetrized(a: &SparseMatrix) -> Result<SparseMatrix> {
 /// The coordinate axis `c` with `|n_c| = 1` (within [`AXIS_TOLERANCE`]), if any.
 fn normal_axis<const D: usize>(n: &[f64; D]) -> Option<usize> {
     (0..D).find(|&c| (n[c].abs() - 1.0).abs() <= AXIS_TOLERANCE)
+}
+
+/// The medium's impedances `(ρc_p, ρc_s)` for absorbing part `name`, at `x` (m) inside the
+/// body or its single ones, finite and positive.
+fn absorbing_impedances<const D: usize, const C: usize>(
+    material: &dyn Medium<D, C>,
+    name: &str,
+    x: Option<&[f64; D]>,
+) -> Result<[f64; 2]> {
+    let at = x.map_or(String::new(), |x| format!(" at {x:?} m"));
+    let impedances = match x {
+        Some(x) => material.impedances_at(x),
+        None => material.impedances(),
+    }
+    .ok_or_else(|| {
+        part_error(
+            name,
+            format!("the medium gives no impedances{at} (Medium::impedances_at) for its dashpots"),
+        )
+    })?;
+    if impedances.iter().any(|z| !(z.is_finite() && *z > 0.0)) {
+        let density = x.map_or(material.density(), |x| material.density_at(x));
+        return Err(part_error(
+            name,
+            format!(
+                "the medium's impedances (ρc_p, ρc_s) = {impedances:?} Pa·s/m{at} must be \
+                 finite and positive (density ρ = {density} kg/m³)"
+            ),
+        ));
+    }
+    Ok(impedances)
 }

@@ -145,9 +145,8 @@ impl<const D: usize> Medium<D, D> for MaterialRegions<D> {
         assemble_elastic(mesh, with_mass, |c| (cells[c].1, &elasticities[cells[c].0]))
     }
 
-    /// The materials' common impedances; `None` (no absorbing parts) if the regions'
-    /// impedances differ — a dashpot's impedance would depend on which region its facet
-    /// borders.
+    /// The materials' common impedances; `None` if the regions' impedances differ (each
+    /// absorbing facet then takes its own region's, [`impedances_at`](Medium::impedances_at)).
     fn impedances(&self) -> Option<[f64; 2]> {
         let z = |m: &Material| <Material as Medium<D, D>>::impedances(m);
         let first = z(&self.background)?;
@@ -155,5 +154,11 @@ impl<const D: usize> Medium<D, D> for MaterialRegions<D> {
             .iter()
             .all(|(_, _, m)| z(m) == Some(first))
             .then_some(first)
+    }
+
+    /// The impedances of the material at `x` (the region whose predicate holds there, else
+    /// the background), as cells are assigned by their centroids.
+    fn impedances_at(&self, x: &[f64; D]) -> Option<[f64; 2]> {
+        <Material as Medium<D, D>>::impedances(self.material_at(x))
     }
 }
