@@ -573,7 +573,14 @@ impl HalfSpaceOperator {
             dim: 2 * nodes.len(),
             relative_error,
             error_samples,
-            setup_bytes: 8 * stored,
+            // The dense K, or the table of distinct source–receiver pairs (48 bytes each,
+            // at most 2²² of them) the ℋ-matrix is compressed from.
+            setup_bytes: if blocks.1 == 0 && kind == FaultKernel::Dense {
+                8 * stored
+            } else {
+                let pairs = (2 * n_strike - 1).saturating_mul(n_dip.saturating_mul(n_dip));
+                48 * pairs.min(1 << 22)
+            },
             stored_entries: stored,
             dense_blocks: blocks.0,
             low_rank_blocks: blocks.1,
