@@ -409,10 +409,15 @@ impl HalfSpaceOperator {
             let mut v: Vec<f64> = coords.iter().map(|x| x[c]).collect();
             v.sort_by(f64::total_cmp);
             let extent = v[v.len() - 1] - v[0];
-            v.windows(2)
+            // The median gap between distinct values: the spacing of a regular grid, and
+            // still its spacing with a few nodes off it (reported below, by name).
+            let mut gaps: Vec<f64> = v
+                .windows(2)
                 .map(|w| w[1] - w[0])
                 .filter(|&g| g > 1e-9 * extent)
-                .min_by(f64::total_cmp)
+                .collect();
+            gaps.sort_by(f64::total_cmp);
+            gaps.get(gaps.len() / 2).copied()
         };
         let (hs, hd) = match (spacing(0), spacing(1)) {
             (Some(a), Some(b)) => (a, b),
@@ -548,7 +553,6 @@ impl HalfSpaceOperator {
                 let h = bem.hmatrix(&HOptions {
                     epsilon: options.epsilon,
                     leaf_size: options.leaf_size,
-                    components: 2,
                     ..HOptions::default()
                 })?;
                 let r = h.report().clone();

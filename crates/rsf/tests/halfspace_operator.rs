@@ -305,8 +305,10 @@ fn the_plus_side_is_okadas_hanging_wall_by_the_displacement_off_the_fault() {
     }
 }
 
-/// What the operator refuses: a fault breaking the free surface (its surface nodes would
-/// be centres of half cells), a model without an internal fault.
+/// What the operator refuses, naming the node or element: a fault breaking the free
+/// surface (its surface nodes would be centres of half cells), a node off its element's
+/// centre or off the plane, an element without a node, a model without an internal
+/// fault.
 #[test]
 fn the_half_space_operator_refuses_surface_breaking_faults() {
     let model = model(6, 4.0 * A, 1.6, None);
@@ -321,6 +323,43 @@ fn the_half_space_operator_refuses_surface_breaking_faults() {
         "{e}"
     );
     eprintln!("{e}");
+    // A node moved within the plane by h/3 along strike: not at an element centre.
+    let h = 2.0 * A / 6.0;
+    let vertex = model.frictional_boundary.nodes[12];
+    let mut moved = model.clone();
+    moved.vertices[vertex][1] += h / 3.0;
+    match HalfSpaceOperator::new(&moved, &options()).unwrap_err() {
+        HalfSpaceOperatorError::NotAtCentre { vertex: v, .. } => assert_eq!(v, vertex),
+        e => panic!("{e}"),
+    }
+    // Moved off the plane: not planar.
+    let mut moved = model.clone();
+    moved.vertices[vertex][0] += h / 3.0;
+    match HalfSpaceOperator::new(&moved, &options()).unwrap_err() {
+        HalfSpaceOperatorError::NotPlanar { vertex: v, .. } => assert_eq!(v, vertex),
+        e => panic!("{e}"),
+    }
+    // A node taken off Γ_F (an interior one of the 5 × 5): its element has none.
+    let mut holed = model.clone();
+    let fb = &mut holed.frictional_boundary;
+    let x = model.vertices[vertex];
+    assert!(
+        x[1].abs() < A - 1.5 * h && (x[2] + DEPTH).abs() < A - 1.5 * h,
+        "{x:?}"
+    );
+    fb.nodes.remove(12);
+    fb.weights.remove(12);
+    let e = HalfSpaceOperator::new(&holed, &options()).unwrap_err();
+    eprintln!("{e}");
+    match e {
+        HalfSpaceOperatorError::ElementWithoutNode { centre, .. } => {
+            assert!(
+                (0..3).all(|i| (centre[i] - x[i]).abs() < 1e-9 * h),
+                "{centre:?}"
+            )
+        }
+        e => panic!("{e}"),
+    }
     let mut plain = model.clone();
     plain.internal_fault = None;
     let e = HalfSpaceOperator::new(&plain, &options()).unwrap_err();
@@ -485,4 +524,61 @@ fn the_first_event_comes_at_nearly_the_same_time_with_either_operator() {
     // that slip relaxes before the event, a fraction of the load: measured 1.2 %, the
     // bound 5 %.
     assert!(d < 0.05, "{d:e}");
+}
+
+/// Above `dense_max` unknowns the stiffness is an ℋ-matrix: its product is the dense
+/// operator's to its accuracy, reported as hierarchical; invalid options are refused by
+/// name.
+#[test]
+fn a_large_fault_gets_the_hierarchical_half_space_operator() {
+    let model = model(16, 4.0 * A, 1.6, None);
+    let mut dense = HalfSpaceOperator::new(&model, &options()).unwrap();
+    let options_h = HalfSpaceOptions {
+        dense_max: 0,
+        epsilon: 1e-4,
+        leaf_size: 16,
+        ..options()
+    };
+    let mut h = HalfSpaceOperator::new(&model, &options_h).unwrap();
+    let report = h.report().clone();
+    eprintln!("{report}");
+    assert_eq!(report.kernel.name(), "hierarchical");
+    assert!(
+        report.low_rank_blocks > 0 && report.relative_error <= 1e-4,
+        "{report}"
+    );
+    let m = dense.dim();
+    let x: Vec<f64> = (0..m).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
+    let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
+    dense
+        .subtract_product(&x, &mut a, Parallelism::SEQ)
+        .unwrap();
+    h.subtract_product(&x, &mut b, Parallelism::SEQ).unwrap();
+    let norm = |v: &[f64]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let diff: Vec<f64> = a.iter().zip(&b).map(|(p, q)| p - q).collect();
+    let e = norm(&diff) / norm(&a);
+    eprintln!("‖(S_bem − S_H) x‖/‖S_bem x‖ = {e:e}");
+    assert!(e < 1e-3, "{e:e}");
+    // A non-finite slip gives a non-finite product (the step is rejected), not an error.
+    let mut nan = x.clone();
+    nan[3] = f64::NAN;
+    h.subtract_product(&nan, &mut b, Parallelism::SEQ).unwrap();
+    assert!(b.iter().any(|v| !v.is_finite()));
+    for bad in [
+        HalfSpaceOptions {
+            epsilon: 0.0,
+            ..options()
+        },
+        HalfSpaceOptions {
+            leaf_size: 0,
+            ..options()
+        },
+        HalfSpaceOptions {
+            surface: f64::NAN,
+            ..options()
+        },
+    ] {
+        let e = HalfSpaceOperator::new(&model, &bad).unwrap_err();
+        assert!(matches!(e, HalfSpaceOperatorError::Options { .. }), "{e}");
+    }
 }
