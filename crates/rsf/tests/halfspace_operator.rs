@@ -449,6 +449,11 @@ struct FirstEvent {
 }
 
 impl rsf::Observer<3> for FirstEvent {
+    /// Slip rates only: the fault ODE need not extend the slip into the volume.
+    fn reads_volume(&self) -> bool {
+        false
+    }
+
     fn observe(&mut self, s: &rsf::StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
         self.steps += 1;
         let vmax = (0..s.model.frictional_boundary.len())
@@ -465,9 +470,11 @@ impl rsf::Observer<3> for FirstEvent {
 /// The same quasi-dynamic problem (9 × 9 fault nodes, velocity-weakening centre, the box
 /// sheared) run with the finite-element operator and with the half-space operator: the
 /// first event's time (first step with a slip rate above 1 mm/s).
-fn first_event(bem: bool) -> (f64, usize) {
+/// `bem`: `None` for the finite-element operator, `Some(stiffer)` for the half-space one
+/// with μ (and so `S_bem`) times `stiffer`.
+fn first_event(bem: Option<f64>) -> (f64, usize) {
     let far = 4.0 * A;
-    let model = model(10, far, 1.3, Some(1e-6));
+    let model = model(10, far, 1.6, Some(1e-6));
     let c_s = (MU / 2700.0f64).sqrt();
     let params = |x: &[f64; 3]| {
         let inside = x[1].abs() < 0.6 * A && (x[2] + DEPTH).abs() < 0.6 * A;
@@ -480,7 +487,10 @@ fn first_event(bem: bool) -> (f64, usize) {
             sigma_n: 50e6,
         }
     };
-    let operator = bem.then(|| HalfSpaceOperator::new(&model, &options()).unwrap());
+    let operator = bem.map(|stiffer| {
+        let medium = Medium::from_shear_poisson(stiffer * MU, NU).unwrap();
+        HalfSpaceOperator::new(&model, &HalfSpaceOptions::new(0.0, medium)).unwrap()
+    });
     let builder = rsf::SimulationBuilder::new(model)
         .friction_at(|x| rsf::friction::AsinhLaw::new(params(x)))
         .state_law(rsf::state::Aging::new(4e-3).unwrap())
@@ -506,24 +516,31 @@ fn first_event(bem: bool) -> (f64, usize) {
     (event.time.expect("an event before 1e8 s"), event.steps)
 }
 
-/// The fault ODE with either operator has its first event at nearly the same time.
+/// The fault ODE with either operator has its first event at nearly the same time, within
+/// the bound the operators' measured difference gives: the event's sensitivity to the
+/// operator is measured by a third run with `S_bem` 10 % stiffer, and the operators differ
+/// by 15 % on the long waves at this mesh (the crack's slip at n = 10,
+/// docs/three-d.md's table) — so `|ΔT|/T ≤ 2 × 1.5 × |T(1.1 S_bem) − T(S_bem)|/T`
+/// (twice for the slack of a linear estimate). Measured: 1.26 % apart, sensitivity 0.82 %.
 #[test]
 fn the_first_event_comes_at_nearly_the_same_time_with_either_operator() {
     let clock = std::time::Instant::now();
-    let (t_fe, steps_fe) = first_event(false);
-    let (t_bem, steps_bem) = first_event(true);
+    let (t_fe, steps_fe) = first_event(None);
+    let (t_bem, steps_bem) = first_event(Some(1.0));
+    let (t_stiff, _) = first_event(Some(1.1));
     let d = (t_fe - t_bem).abs() / t_fe;
+    let sensitivity = (t_stiff - t_bem).abs() / t_bem;
     eprintln!(
         "first event: finite elements {t_fe:.6e} s ({steps_fe} steps), boundary elements \
-         {t_bem:.6e} s ({steps_bem} steps): {d:.3e} apart ({:.1} s)",
+         {t_bem:.6e} s ({steps_bem} steps): {d:.3e} apart; with S_bem 10 % stiffer \
+         {t_stiff:.6e} s ({sensitivity:.3e} later or earlier) ({:.1} s)",
         clock.elapsed().as_secs_f64()
     );
-    // Both load the fault with the same g(t) (the finite elements' condensed loading);
-    // the operators differ by ≈ 15–20 % on the long waves at h = A/5 (the crack's slip,
-    // fe_and_bem_operators_converge_on_a_buried_fault) and enter only through the stress
-    // that slip relaxes before the event, a fraction of the load: measured 1.2 %, the
-    // bound 5 %.
-    assert!(d < 0.05, "{d:e}");
+    assert!(sensitivity > 0.0);
+    assert!(
+        d <= 2.0 * 1.5 * sensitivity,
+        "{d:e} against {sensitivity:e}"
+    );
 }
 
 /// Above `dense_max` unknowns the stiffness is an ℋ-matrix: its product is the dense
