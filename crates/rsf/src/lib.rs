@@ -52,6 +52,8 @@ mod fault_kernel;
 pub mod fault_ode;
 pub mod fault_operator;
 mod friction_blocks;
+#[cfg(feature = "halfspace")]
+pub mod halfspace_operator;
 pub mod method;
 mod method_state;
 pub mod model;
@@ -95,6 +97,8 @@ pub use switching::SwitchingRun;
 pub use faer;
 pub use rsf_fem as fem;
 pub use rsf_friction as friction;
+#[cfg(feature = "halfspace")]
+pub use rsf_halfspace as halfspace;
 pub use rsf_state as state;
 pub use rsf_time as time;
 pub use rsf_tnnmg as tnnmg;

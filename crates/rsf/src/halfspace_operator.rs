@@ -1,0 +1,706 @@
+//! A boundary-element fault operator behind [`FaultOperator`]: Okada's half-space
+//! stiffness of a planar rectangular fault ([`rsf_halfspace::RectangularFault`]) on the
+//! slip unknowns of a 3-D finite-element model's internal fault, so that the same fault
+//! problem runs with either kernel (docs/math.md §12, "The fault operator";
+//! docs/three-d.md, "Finite elements against boundary elements (issue 55)").
+//!
+//! Feature `halfspace`.
+
+use std::time::Instant;
+
+use faer::Mat;
+use rsf_halfspace::{Medium, Rectangle, RectangularFault};
+use rsf_hmatrix::HOptions;
+use rsf_linalg::Parallelism;
+
+use crate::error::Result;
+use crate::fault_kernel::Kernel;
+use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, MAX_KERNEL_EPSILON};
+use crate::model::Model;
+
+/// Relative tolerance (times the grid's spacing) of "at an element centre" and "in the
+/// fault's plane".
+pub const GRID_TOLERANCE: f64 = 1e-6;
+
+/// Why a [`HalfSpaceOperator`] cannot be built on a model: each names the node (fault
+/// index `k` into `model.frictional_boundary.nodes` and its vertex id) or the element
+/// that does not fit, and says what to change.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum HalfSpaceOperatorError {
+    /// The model has no fault inside the body (`Model::internal_fault` is `None`).
+    #[error(
+        "the model has no internal fault: build it with ModelBuilder::internal_fault_polygon \
+         (a fault on the model's boundary is not supported by the half-space operator)"
+    )]
+    NoInternalFault,
+    /// A frictional node is not one of the internal fault's split pairs.
+    #[error(
+        "frictional node {node} (vertex {vertex}) is not a split pair's minus vertex of the \
+         internal fault"
+    )]
+    NotAPair {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+    },
+    /// A frictional node's free components are not exactly its two tangential slip
+    /// components (a Dirichlet condition on the fault, or a free normal jump).
+    #[error(
+        "frictional node {node} (vertex {vertex}) has free components {free:?}; the \
+         half-space operator needs the two tangential slip components free and the normal \
+         one tied (no Dirichlet condition on the fault)"
+    )]
+    Components {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+        /// Which of the node's three components (t₁, t₂, normal) are free.
+        free: [bool; 3],
+    },
+    /// The fault has fewer than two nodes along one direction or none at all.
+    #[error("the fault has {nodes} frictional node(s) in a single row: no grid spacing to take")]
+    TooFewNodes {
+        /// Frictional nodes.
+        nodes: usize,
+    },
+    /// The fault is not planar: a node's normal or position leaves the plane of the first
+    /// node.
+    #[error(
+        "frictional node {node} (vertex {vertex}) at {position:?} is not in the plane of \
+         node 0 (normal {normal:?}; distance or normal change {distance:e} m or rad): the \
+         half-space operator is for planar faults"
+    )]
+    NotPlanar {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+        /// Its position (m).
+        position: [f64; 3],
+        /// The plane's unit normal (node 0's).
+        normal: [f64; 3],
+        /// The offset from the plane (m) or the angle between the normals (rad).
+        distance: f64,
+    },
+    /// A node is not at the centre of an element of the regular grid.
+    #[error(
+        "frictional node {node} (vertex {vertex}) at {position:?} is not at an element \
+         centre of the regular {spacing:?} m grid of the fault's nodes (off by {offset:e} \
+         m): the half-space operator needs the fault's nodes on a regular grid (uniform \
+         spacing on the fault)"
+    )]
+    NotAtCentre {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+        /// Its position (m).
+        position: [f64; 3],
+        /// The grid's spacing along strike and along dip (m).
+        spacing: [f64; 2],
+        /// Distance from the nearest element centre (m), or 0 if that centre has another
+        /// node already.
+        offset: f64,
+    },
+    /// An element of the grid spanned by the nodes has no node at its centre (the nodes
+    /// do not fill a rectangle).
+    #[error(
+        "element ({i_strike}, {i_dip}) of the {n_strike} × {n_dip} grid, centre {centre:?} \
+         m, has no frictional node: the half-space operator needs the fault's interior \
+         nodes to fill a rectangle"
+    )]
+    ElementWithoutNode {
+        /// Its column along strike.
+        i_strike: usize,
+        /// Its row down dip (0 at the top).
+        i_dip: usize,
+        /// Elements along strike.
+        n_strike: usize,
+        /// Elements along dip.
+        n_dip: usize,
+        /// Its centre in the model's coordinates (m).
+        centre: [f64; 3],
+    },
+    /// A node's cell reaches above the free surface: a fault breaking the surface, whose
+    /// split nodes on the surface would need half cells. Not supported.
+    #[error(
+        "frictional node {node} (vertex {vertex}) at {position:?}: its cell reaches \
+         {above:e} m above the free surface z = {surface} m; surface-breaking faults (split \
+         nodes on the surface, half cells) are not supported by the half-space operator — \
+         bury the fault, or raise HalfSpaceOptions::surface"
+    )]
+    SurfaceBreaking {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+        /// Its position (m).
+        position: [f64; 3],
+        /// The free surface's z (m).
+        surface: f64,
+        /// How far the top of the node's cell is above it (m).
+        above: f64,
+    },
+    /// Invalid options.
+    #[error("HalfSpaceOptions::{name} = {value}: {expected}")]
+    Options {
+        /// The option.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        expected: &'static str,
+    },
+    /// The half-space kernels refused (the rectangle, the ℋ-matrix, an entry).
+    #[error("half-space kernel: {0}")]
+    Kernel(#[from] rsf_halfspace::Error),
+}
+
+/// How a [`HalfSpaceOperator`] places the half-space and stores its stiffness.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HalfSpaceOptions {
+    /// The free surface `z = surface` of the half-space in the model's coordinates (m),
+    /// the model's `z` axis pointing up (Okada's `z`): the fault must lie below it. For a
+    /// buried fault in a box whose every face is held (a full space truncated), put it far
+    /// above the fault: the surface's effect on the stiffness decays as `(a/d)³` (`a` the
+    /// fault's size, `d` its depth).
+    pub surface: f64,
+    /// The elastic medium (the model's λ, μ).
+    pub medium: Medium,
+    /// Above this many unknowns (`2 ×` elements) the stiffness is an ℋ-matrix of
+    /// accuracy [`epsilon`](Self::epsilon) ([`RectangularFault::hmatrix`]), at or below
+    /// it dense ([`RectangularFault::dense`]). Default 4 096 (128 MB dense).
+    pub dense_max: usize,
+    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`]`]`
+    /// (default 1e-6).
+    pub epsilon: f64,
+    /// Largest leaf cluster of the ℋ-matrix (default rsf-hmatrix's, 48).
+    pub leaf_size: usize,
+}
+
+impl HalfSpaceOptions {
+    /// A dense operator up to 4 096 unknowns, an ℋ-matrix at ε = 1e-6 beyond.
+    pub fn new(surface: f64, medium: Medium) -> Self {
+        Self {
+            surface,
+            medium,
+            dense_max: 4096,
+            epsilon: 1e-6,
+            leaf_size: HOptions::default().leaf_size,
+        }
+    }
+}
+
+/// The half-space geometry of the fault: Okada's frame in the model's coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OkadaFrame {
+    /// Model point of Okada's `(0, 0, 0)` (m; on the free surface).
+    pub origin: [f64; 3],
+    /// Okada's `x` (strike `e_s`), `y` and `z` (up) axes in model coordinates.
+    pub axes: [[f64; 3]; 3],
+    /// The fault's up-dip unit vector `e_d` in model coordinates.
+    pub up_dip: [f64; 3],
+    /// Okada's fault normal `n = e_s × e_d` (into the hanging wall) in model coordinates.
+    pub normal: [f64; 3],
+    /// The dip δ (degrees, in `[0, 90]`).
+    pub dip_deg: f64,
+    /// `+1` if the model's plus side (where the polygon's right-hand normal points) is
+    /// Okada's hanging wall, else `−1`: the model's jump `u⁺ − u⁻` is `sign ×` Okada's
+    /// dislocation `U`.
+    pub plus_is_hanging_wall: f64,
+}
+
+impl OkadaFrame {
+    /// Okada coordinates (m) of the model point `x`.
+    pub fn to_okada(&self, x: [f64; 3]) -> [f64; 3] {
+        let d = [0, 1, 2].map(|i| x[i] - self.origin[i]);
+        self.axes.map(|a| dot(&a, &d))
+    }
+
+    /// Model components of a vector `v` given in Okada's frame.
+    pub fn to_model(&self, v: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|i| (0..3).map(|a| self.axes[a][i] * v[a]).sum())
+    }
+}
+
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    let l = dot(&a, &a).sqrt();
+    a.map(|x| x / l)
+}
+
+/// The boundary-element operator `S_bem` of a planar rectangular fault in a half-space on
+/// the slip unknowns of a 3-D finite-element model's internal fault — a
+/// [`FaultOperator`], for
+/// [`SimulationBuilder::build_fault_ode_with_operator`](crate::SimulationBuilder::build_fault_ode_with_operator).
+///
+/// **Geometry.** The frictional nodes (the split pairs' minus vertices; the rim's tips
+/// do not slip) must lie in one plane on a regular grid of spacings `h_s × h_d` along
+/// strike and dip — e.g. a buried polygon of
+/// [`ModelBuilder::internal_fault_polygon`](crate::ModelBuilder::internal_fault_polygon)
+/// on a mesh of uniform spacing `h` on the fault, whose `(n − 1) × (n − 1)` interior
+/// nodes are the centres of `h × h` cells offset by `h/2` from the rim. Each node is the
+/// centre of one constant-slip element of a [`RectangularFault`]; every element has one
+/// node (checked by coordinates to [`GRID_TOLERANCE`] `× h`).
+///
+/// **Unknowns and scaling.** With `j_k = (j₁, j₂)` node `k`'s slip in its pair frame
+/// (`t₁`, `t₂`: the model's unknowns, `Model::internal_fault`'s `transform.frames`) and
+/// `s_e = (U₁, U₂)` Okada's strike and up-dip slip of its element `e`,
+/// `s_e = σ A_k j_k`, `A_k[c][a] = e_c · t_a` (`e_c` strike, up dip; `σ = ±1`
+/// [`OkadaFrame::plus_is_hanging_wall`]), and
+///
+/// ```text
+/// S_bem = Pᵀ W K P,     (S_bem)_{k,l} = w_k A_kᵀ K_{e(k), e(l)} A_l
+/// ```
+///
+/// (`K` the half-space stiffness, Pa/m, `Δτ = −K s`; `W` the nodes' weights
+/// `model.frictional_boundary.weights`, m², `= h_s h_d` on the regular grid), so that
+/// `S_bem` maps slip (m) to forces (N) like the condensed finite-element `S`. `σ` cancels
+/// (`σ² = 1`): both the slip and the traction change sign with the side.
+///
+/// **Not supported** (typed errors, [`HalfSpaceOperatorError`]): non-planar faults, nodes
+/// off a regular grid or not filling a rectangle, a fault on the model's boundary, and a
+/// fault breaking the free surface — its split nodes on the surface would be centres of
+/// half cells that [`RectangularFault`] (square cells centred on the nodes) cannot
+/// represent.
+pub struct HalfSpaceOperator {
+    kernel: Kernel,
+    /// Per frictional node: its element and `σ A_k` (row c = strike, dip).
+    element: Vec<usize>,
+    map: Vec<[[f64; 2]; 2]>,
+    weights: Vec<f64>,
+    frame: OkadaFrame,
+    fault: RectangularFault,
+    s: Vec<f64>,
+    y: Vec<f64>,
+    report: KernelReport,
+}
+
+impl std::fmt::Debug for HalfSpaceOperator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HalfSpaceOperator")
+            .field("n_strike", &self.fault.n_strike())
+            .field("n_dip", &self.fault.n_dip())
+            .field("frame", &self.frame)
+            .field("report", &self.report)
+            .finish_non_exhaustive()
+    }
+}
+
+impl HalfSpaceOperator {
+    /// The operator of `model`'s internal fault in the half-space of `options`.
+    ///
+    /// # Errors
+    /// [`HalfSpaceOperatorError`]: no internal fault, a frictional node not a pair or
+    /// without exactly its two tangential components free, a non-planar fault, nodes
+    /// off a regular grid or not filling a rectangle, a cell above the free surface
+    /// (surface-breaking faults), invalid options, and the kernels' errors.
+    pub fn new(
+        model: &Model<3, 3>,
+        options: &HalfSpaceOptions,
+    ) -> std::result::Result<Self, HalfSpaceOperatorError> {
+        use HalfSpaceOperatorError as E;
+        if !(options.epsilon > 0.0 && options.epsilon <= MAX_KERNEL_EPSILON) {
+            return Err(E::Options {
+                name: "epsilon",
+                value: options.epsilon,
+                expected: "in (0, 1e-2]",
+            });
+        }
+        if options.leaf_size == 0 {
+            return Err(E::Options {
+                name: "leaf_size",
+                value: 0.0,
+                expected: "at least 1",
+            });
+        }
+        if !options.surface.is_finite() {
+            return Err(E::Options {
+                name: "surface",
+                value: options.surface,
+                expected: "finite",
+            });
+        }
+        let clock = Instant::now();
+        let fault = model.internal_fault.as_ref().ok_or(E::NoInternalFault)?;
+        let fb = &model.frictional_boundary;
+        let pairs = fault.pairs();
+        let mut pair_index = std::collections::HashMap::with_capacity(pairs.len());
+        for (i, &(minus, _)) in pairs.iter().enumerate() {
+            pair_index.insert(minus, i);
+        }
+        // Per node: position, t₁, t₂, n (the minus side's outward normal, into the plus side).
+        let mut nodes = Vec::with_capacity(fb.len());
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let i = *pair_index
+                .get(&p)
+                .ok_or(E::NotAPair { node: k, vertex: p })?;
+            let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
+            if free != [true, true, false] {
+                return Err(E::Components {
+                    node: k,
+                    vertex: p,
+                    free,
+                });
+            }
+            let r = fault.transform.frames[i];
+            let col = |c: usize| [r[0][c], r[1][c], r[2][c]];
+            nodes.push((model.vertices[p], col(0), col(1), col(2).map(|x| -x)));
+        }
+        if nodes.len() < 2 {
+            return Err(E::TooFewNodes { nodes: nodes.len() });
+        }
+        let (x0, _, _, n_fe) = nodes[0];
+        // Okada's normal: n_fe or −n_fe, pointing up (z ≥ 0); a vertical fault keeps n_fe.
+        let vertical = n_fe[2].abs() < 1e-12;
+        let sign = if vertical || n_fe[2] > 0.0 { 1.0 } else { -1.0 };
+        let n_ok = if vertical {
+            [n_fe[0], n_fe[1], 0.0]
+        } else {
+            n_fe.map(|x| sign * x)
+        };
+        let n_ok = unit(n_ok);
+        let (up_dip, strike) = if n_ok[2] > 1.0 - 1e-12 {
+            // Horizontal: strike along the model's x, up dip along y.
+            ([0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
+        } else {
+            let ez = [0.0, 0.0, 1.0];
+            let d = if vertical {
+                ez
+            } else {
+                unit([0, 1, 2].map(|i| ez[i] - n_ok[2] * n_ok[i]))
+            };
+            (d, unit(cross(&d, &n_ok)))
+        };
+        let dip_deg = if vertical {
+            90.0
+        } else {
+            n_ok[2].clamp(-1.0, 1.0).acos().to_degrees()
+        };
+        let axis_y = cross(&[0.0, 0.0, 1.0], &strike);
+        let axis_y = if dot(&axis_y, &axis_y) > 0.5 {
+            axis_y
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        // Fault coordinates (ξ along strike, η up dip) from node 0.
+        let coords: Vec<[f64; 2]> = nodes
+            .iter()
+            .map(|(x, ..)| {
+                let d = [0, 1, 2].map(|i| x[i] - x0[i]);
+                [dot(&strike, &d), dot(&up_dip, &d)]
+            })
+            .collect();
+        let spacing = |c: usize| -> Option<f64> {
+            let mut v: Vec<f64> = coords.iter().map(|x| x[c]).collect();
+            v.sort_by(f64::total_cmp);
+            let extent = v[v.len() - 1] - v[0];
+            // The median gap between distinct values: the spacing of a regular grid, and
+            // still its spacing with a few nodes off it (reported below, by name).
+            let mut gaps: Vec<f64> = v
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .filter(|&g| g > 1e-9 * extent)
+                .collect();
+            gaps.sort_by(f64::total_cmp);
+            gaps.get(gaps.len() / 2).copied()
+        };
+        let (hs, hd) = match (spacing(0), spacing(1)) {
+            (Some(a), Some(b)) => (a, b),
+            (Some(a), None) => (a, a),
+            (None, Some(b)) => (b, b),
+            (None, None) => return Err(E::TooFewNodes { nodes: nodes.len() }),
+        };
+        let tol = GRID_TOLERANCE * hs.min(hd);
+        for (k, (x, _, _, n)) in nodes.iter().enumerate() {
+            let d = [0, 1, 2].map(|i| x[i] - x0[i]);
+            let off = dot(&n_fe, &d).abs();
+            let turn = dot(&cross(n, &n_fe), &cross(n, &n_fe)).sqrt();
+            if off > tol || turn > GRID_TOLERANCE || dot(n, &n_fe) < 0.0 {
+                return Err(E::NotPlanar {
+                    node: k,
+                    vertex: fb.nodes[k],
+                    position: *x,
+                    normal: n_fe,
+                    distance: if off > tol { off } else { turn },
+                });
+            }
+        }
+        let min = |c: usize| coords.iter().map(|x| x[c]).fold(f64::INFINITY, f64::min);
+        let max = |c: usize| {
+            coords
+                .iter()
+                .map(|x| x[c])
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let (xi0, eta1) = (min(0), max(1));
+        let n_strike = ((max(0) - xi0) / hs).round() as usize + 1;
+        let n_dip = ((eta1 - min(1)) / hd).round() as usize + 1;
+        let mut node_of = std::collections::HashMap::with_capacity(nodes.len());
+        let mut element = vec![0; nodes.len()];
+        for (k, c) in coords.iter().enumerate() {
+            let fs = (c[0] - xi0) / hs;
+            let fd = (eta1 - c[1]) / hd;
+            let (is, id) = (fs.round(), fd.round());
+            let offset = ((fs - is) * hs).hypot((fd - id) * hd);
+            let e = id as usize * n_strike + is as usize;
+            let taken = node_of.contains_key(&e);
+            if offset > tol || taken {
+                return Err(E::NotAtCentre {
+                    node: k,
+                    vertex: fb.nodes[k],
+                    position: nodes[k].0,
+                    spacing: [hs, hd],
+                    offset: if offset > tol { offset } else { 0.0 },
+                });
+            }
+            node_of.insert(e, k);
+            element[k] = e;
+        }
+        // The origin: on the surface above node 0 along Okada's z.
+        let depth = options.surface - x0[2];
+        let origin = [x0[0], x0[1], options.surface];
+        // At most one more element than nodes to look at: the first without a node.
+        if let Some(e) = (0..n_strike.saturating_mul(n_dip)).find(|e| !node_of.contains_key(e)) {
+            let (i_strike, i_dip) = (e % n_strike, e / n_strike);
+            let xi = xi0 + i_strike as f64 * hs;
+            let eta = eta1 - i_dip as f64 * hd;
+            return Err(E::ElementWithoutNode {
+                i_strike,
+                i_dip,
+                n_strike,
+                n_dip,
+                centre: [0, 1, 2].map(|i| x0[i] + xi * strike[i] + eta * up_dip[i]),
+            });
+        }
+        // A node whose cell reaches above the surface (a surface-breaking fault).
+        let sin_dip = up_dip[2];
+        for (k, (x, ..)) in nodes.iter().enumerate() {
+            let above = x[2] + 0.5 * hd * sin_dip - options.surface;
+            if above > tol {
+                return Err(E::SurfaceBreaking {
+                    node: k,
+                    vertex: fb.nodes[k],
+                    position: *x,
+                    surface: options.surface,
+                    above,
+                });
+            }
+        }
+        let rect = Rectangle::new(
+            depth,
+            dip_deg,
+            [xi0 - 0.5 * hs, xi0 + (n_strike as f64 - 0.5) * hs],
+            [eta1 - (n_dip as f64 - 0.5) * hd, eta1 + 0.5 * hd],
+        )?;
+        let bem = RectangularFault::from_rectangle(options.medium, rect, n_strike, n_dip)?;
+        let frame = OkadaFrame {
+            origin,
+            axes: [strike, axis_y, [0.0, 0.0, 1.0]],
+            up_dip,
+            normal: n_ok,
+            dip_deg,
+            plus_is_hanging_wall: sign,
+        };
+        // Every node at its element's centre, in Okada's frame.
+        for (k, (x, ..)) in nodes.iter().enumerate() {
+            let c = bem.centres()[element[k]];
+            let o = frame.to_okada(*x);
+            let offset = (0..3).map(|i| (c[i] - o[i]).powi(2)).sum::<f64>().sqrt();
+            if offset > tol {
+                return Err(E::NotAtCentre {
+                    node: k,
+                    vertex: fb.nodes[k],
+                    position: *x,
+                    spacing: [hs, hd],
+                    offset,
+                });
+            }
+        }
+        let map = nodes
+            .iter()
+            .map(|(_, t1, t2, _)| {
+                [strike, up_dip].map(|e| [sign * dot(&e, t1), sign * dot(&e, t2)])
+            })
+            .collect();
+        let len = bem.len();
+        let (kernel, kind, relative_error, error_samples, stored, blocks) =
+            if len <= options.dense_max {
+                let k = bem.dense()?;
+                (
+                    Kernel::Dense(k),
+                    FaultKernel::Dense,
+                    0.0,
+                    0,
+                    len * len,
+                    (1, 0, 0),
+                )
+            } else {
+                let h = bem.hmatrix(&HOptions {
+                    epsilon: options.epsilon,
+                    leaf_size: options.leaf_size,
+                    ..HOptions::default()
+                })?;
+                let r = h.report().clone();
+                let samples = match r.error_measure {
+                    rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
+                    _ => 0,
+                };
+                (
+                    Kernel::Hierarchical(Box::new(h)),
+                    FaultKernel::Hierarchical {
+                        epsilon: options.epsilon,
+                        leaf_size: options.leaf_size,
+                    },
+                    r.relative_error,
+                    samples,
+                    r.stored_entries,
+                    (r.dense_blocks, r.low_rank_blocks, r.max_rank),
+                )
+            };
+        let report = KernelReport {
+            kernel: kind,
+            dim: 2 * nodes.len(),
+            relative_error,
+            error_samples,
+            // The dense K, or the table of distinct source–receiver pairs (48 bytes each,
+            // at most 2²² of them) the ℋ-matrix is compressed from.
+            setup_bytes: if blocks.1 == 0 && kind == FaultKernel::Dense {
+                8 * stored
+            } else {
+                let pairs = (2 * n_strike - 1).saturating_mul(n_dip.saturating_mul(n_dip));
+                48 * pairs.min(1 << 22)
+            },
+            stored_entries: stored,
+            dense_blocks: blocks.0,
+            low_rank_blocks: blocks.1,
+            max_rank: blocks.2,
+            setup_seconds: clock.elapsed().as_secs_f64(),
+        };
+        Ok(Self {
+            kernel,
+            element,
+            map,
+            weights: fb.weights.clone(),
+            frame,
+            fault: bem,
+            s: vec![0.0; len],
+            y: vec![0.0; len],
+            report,
+        })
+    }
+
+    /// The boundary-element fault (Okada's frame: [`frame`](Self::frame)).
+    pub fn fault(&self) -> &RectangularFault {
+        &self.fault
+    }
+
+    /// Okada's frame in the model's coordinates, the dip and the side convention.
+    pub fn frame(&self) -> &OkadaFrame {
+        &self.frame
+    }
+
+    /// The element (`i_dip · n_strike + i_strike` of [`fault`](Self::fault)) of every
+    /// frictional node, by fault index.
+    pub fn elements(&self) -> &[usize] {
+        &self.element
+    }
+
+    /// `σ A_k` of every frictional node (rows: strike, up dip; columns: `t₁`, `t₂`):
+    /// Okada's slip of its element is `σ A_k j_k`.
+    pub fn component_maps(&self) -> &[[[f64; 2]; 2]] {
+        &self.map
+    }
+
+    /// Okada's slip `[U₁, U₂]` of every element (element-major, length
+    /// `2 n_strike n_dip`, m) from the model's slip unknowns `x` (length
+    /// [`dim`](FaultOperator::dim), m).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] named `x` for a length other than `dim`.
+    pub fn okada_slip(&self, x: &[f64]) -> Result<Vec<f64>> {
+        if x.len() != 2 * self.element.len() {
+            return Err(crate::error::invalid(
+                "x",
+                format!(
+                    "has {} entries, the operator {}",
+                    x.len(),
+                    2 * self.element.len()
+                ),
+            ));
+        }
+        let mut s = vec![0.0; self.fault.len()];
+        self.scatter(x, &mut s);
+        Ok(s)
+    }
+
+    fn scatter(&self, x: &[f64], s: &mut [f64]) {
+        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
+            let j = [x[2 * k], x[2 * k + 1]];
+            s[2 * e] = a[0][0] * j[0] + a[0][1] * j[1];
+            s[2 * e + 1] = a[1][0] * j[0] + a[1][1] * j[1];
+        }
+    }
+
+    /// The dense `S_bem` (`m × m`, N/m, rows and columns the model's slip unknowns).
+    ///
+    /// # Errors
+    /// Those of the product.
+    pub fn dense(&mut self) -> Result<Mat<f64>> {
+        let m = self.dim();
+        let mut out = Mat::zeros(m, m);
+        let mut x = vec![0.0; m];
+        let mut r = vec![0.0; m];
+        for j in 0..m {
+            x[j] = 1.0;
+            r.fill(0.0);
+            self.subtract_product(&x, &mut r, Parallelism::SEQ)?;
+            for i in 0..m {
+                out[(i, j)] = -r[i];
+            }
+            x[j] = 0.0;
+        }
+        Ok(out)
+    }
+}
+
+impl FaultOperator for HalfSpaceOperator {
+    fn dim(&self) -> usize {
+        2 * self.element.len()
+    }
+
+    fn subtract_product(&mut self, x: &[f64], r: &mut [f64], par: Parallelism) -> Result<()> {
+        let mut s = std::mem::take(&mut self.s);
+        self.scatter(x, &mut s);
+        self.y.fill(0.0);
+        let result = self.kernel.subtract_product(&s, &mut self.y, par);
+        self.s = s;
+        result?;
+        // y = −K s: r_k += w_k (σ A_k)ᵀ y_e.
+        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
+            let w = self.weights[k];
+            let y = [self.y[2 * e], self.y[2 * e + 1]];
+            r[2 * k] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
+            r[2 * k + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
+        }
+        Ok(())
+    }
+
+    fn report(&self) -> &KernelReport {
+        &self.report
+    }
+}
