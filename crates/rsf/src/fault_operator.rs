@@ -208,7 +208,7 @@ impl std::fmt::Display for KernelReport {
                 self.setup_seconds,
                 if self.error_samples > 0 {
                     format!(
-                        " from entries (error on {} sampled entries; {:.1} MB of factor rows)",
+                        " from entries (error on {} sampled entries; set-up copy {:.1} MB)",
                         self.error_samples,
                         self.setup_bytes as f64 / 1e6
                     )
