@@ -1,0 +1,434 @@
+//! The 3-D finite-element model against Okada's half-space (issue 55, docs/three-d.md
+//! "Against Okada's half-space (issue 55)"): uniform slip on a vertical rectangle — buried
+//! strike slip, surface-breaking strike slip, buried dip slip — prescribed as the creep of
+//! every split pair of an internal fault, the static problem solved once with the direct
+//! solver, and the surface displacement and the on-fault traction compared with Okada
+//! (1992) as `rsf-halfspace` evaluates it (docs/halfspace.md). The same comparison as
+//! `crates/rsf/tests/okada_anchor.rs` (whose module documentation explains the frame, the
+//! signs, the rim grown by h/2 and the traction from the nodal forces), here over finer
+//! cells and several domain sizes, with the far faces held at Okada's displacement or at
+//! rest. The mesh: spacing `h = h0 / 2^k` along the fault and one cell beyond its rim,
+//! then the coarsest mesh's cells graded from `h0` by `--ratio` per cell to the far faces
+//! (`--far` from the fault's centre line, in units of the fault's width W = 1), each split
+//! into `2^k`: every cell shrinks with `h`.
+//!
+//! Prints a markdown table: per case, far-face condition, domain and `h`, the vertices,
+//! the wall time, the largest surface-displacement error (within |x|, |y| ≤ L = 2 W, at
+//! least L/4 from the ends of a surface trace) relative to the largest surface
+//! displacement there, the largest traction error at the fault nodes at least W/4 from
+//! the rim and the surface relative to the largest traction there, and the orders
+//! between successive `h`. No output files.
+//!
+//! ```sh
+//! cargo run --release --example okada_anchor -- --levels 0,1,2,3 --far 3
+//! cargo run --release --example okada_anchor -- --levels 1,2 --far 3,6,12 --held zero
+//! ```
+
+use std::time::Instant;
+
+use clap::{Parser, ValueEnum};
+use rsf::fem::{cuboid_from_coordinates, geometric_grading};
+use rsf::model::CreepRate;
+use rsf::tnnmg::{DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver};
+use rsf::{Material, Model, ModelBuilder, Part};
+use rsf_halfspace::{Medium, Okada, Rectangle};
+
+type AnyError = Box<dyn std::error::Error>;
+
+const MU: f64 = 3e10;
+const NU: f64 = 0.25;
+/// The slip (m).
+const SLIP: f64 = 1.0;
+
+/// The rectangles compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Case {
+    /// Strike slip on `|x| ≤ 1`, depth 0.5 to 1.5.
+    Buried,
+    /// Strike slip on `|x| ≤ 1`, from the surface to depth 1.
+    Surface,
+    /// Dip slip (hanging wall y < 0 up) on the buried rectangle.
+    Dip,
+}
+
+impl Case {
+    fn fault(self) -> Fault {
+        match self {
+            Case::Buried => Fault {
+                half_length: 1.0,
+                top: 0.5,
+                bottom: 1.5,
+                slip: [SLIP, 0.0, 0.0],
+            },
+            Case::Surface => Fault {
+                half_length: 1.0,
+                top: 0.0,
+                bottom: 1.0,
+                slip: [SLIP, 0.0, 0.0],
+            },
+            Case::Dip => Fault {
+                half_length: 1.0,
+                top: 0.5,
+                bottom: 1.5,
+                slip: [0.0, 0.0, SLIP],
+            },
+        }
+    }
+}
+
+/// What the far faces are held at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Held {
+    /// Okada's displacement (the truncation of the half-space is not in the error).
+    Okada,
+    /// Zero (the error of the truncated domain is).
+    Zero,
+}
+
+/// The finite-element model of uniform slip on a rectangle against Okada's half-space.
+#[derive(Parser)]
+struct Cli {
+    /// Cases, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "buried,surface,dip")]
+    cases: Vec<Case>,
+    /// The coarsest cell size on the fault (units of its width W = 1).
+    #[arg(long, default_value_t = 0.5)]
+    h0: f64,
+    /// Refinement levels, comma separated: level k has h = h0 / 2^k on the fault and every
+    /// graded interval of the coarsest mesh split into 2^k.
+    #[arg(long, value_delimiter = ',', default_value = "0,1,2")]
+    levels: Vec<u32>,
+    /// Distances of the far faces from the fault's centre line (units of W), comma
+    /// separated.
+    #[arg(long, value_delimiter = ',', default_value = "3")]
+    far: Vec<f64>,
+    /// What the far faces are held at.
+    #[arg(long, value_enum, default_value = "okada")]
+    held: Held,
+    /// Growth of the cells per cell away from the fault, on the coarsest mesh.
+    #[arg(long, default_value_t = 1.3)]
+    ratio: f64,
+}
+
+/// A vertical rectangle in the plane `y = 0`: `|x| ≤ half_length`, `-bottom ≤ z ≤ -top`.
+#[derive(Clone, Copy)]
+struct Fault {
+    half_length: f64,
+    top: f64,
+    bottom: f64,
+    /// Okada's `[U1, U2]` (strike, dip) as a Cartesian slip of the hanging wall (y < 0).
+    slip: [f64; 3],
+}
+
+/// `n` intervals of `spacing` each from `start` upwards, then graded intervals (the
+/// grading by `ratio` of the coarsest mesh from `h0`, each interval split into `2^level`)
+/// to `end`.
+fn band_and_grading(
+    start: f64,
+    spacing: f64,
+    n: usize,
+    (h0, level, ratio): (f64, u32, f64),
+    end: f64,
+) -> Result<Vec<f64>, AnyError> {
+    let mut c: Vec<f64> = (0..=n).map(|i| start + i as f64 * spacing).collect();
+    let last = c[n];
+    if end - last > 1e-9 * h0 {
+        let graded = geometric_grading(h0, 0.0, ratio, end - last)?;
+        let parts = 1usize << level;
+        for w in graded.windows(2) {
+            for k in 1..=parts {
+                c.push(last + w[0] + (w[1] - w[0]) * k as f64 / parts as f64);
+            }
+        }
+    }
+    Ok(c)
+}
+
+/// The comparison of one mesh.
+struct Errors {
+    h: f64,
+    vertices: usize,
+    /// max over the surface window of `|u_FE − u_Okada|`, relative to max `|u_Okada|` there.
+    surface: f64,
+    /// max over the inner fault nodes of `|t_FE − σ e_y|`, relative to max `|σ e_y|` there.
+    traction: f64,
+    /// max deviation of the model's jump from the prescribed slip (m).
+    jump: f64,
+}
+
+/// The model of `fault` with cell size `h0 / 2^level` on the fault (the coarsest mesh's
+/// grading from `h0` by `ratio`, each interval split into `2^level`), the far faces at
+/// distance `far` from the fault's centre line held at Okada's displacement (`at_okada`) or
+/// at 0, solved and compared with Okada.
+fn compare_held(
+    fault: Fault,
+    (h0, level, ratio): (f64, u32, f64),
+    far: f64,
+    at_okada: bool,
+) -> Result<Errors, AnyError> {
+    let h = h0 / f64::from(1u32 << level);
+    let surface_breaking = fault.top == 0.0;
+    // The model's polygon: Okada's rectangle grown by h/2 on the inner edges.
+    let a = fault.half_length + h / 2.0;
+    let zb = -(fault.bottom + h / 2.0);
+    let zt = if surface_breaking {
+        0.0
+    } else {
+        -(fault.top - h / 2.0)
+    };
+    // x: the fault's lines at spacing h (one more cell each side), graded beyond.
+    let n_x = ((2.0 * a) / h).round() as usize + 2;
+    let right = band_and_grading(-a - h, h, n_x, (h0, level, ratio), far)?;
+    let mut xs: Vec<f64> = right.iter().rev().map(|x| -x).collect();
+    xs.retain(|&x| x < -a - h - 1e-9 * h);
+    xs.extend(&right);
+    // y: the fault plane y = 0, two cells of h each side, graded beyond.
+    let half_y = band_and_grading(0.0, h, 2, (h0, level, ratio), far)?;
+    let mut ys: Vec<f64> = half_y.iter().rev().map(|y| -y).collect();
+    ys.extend(&half_y[1..]);
+    // z (as depth, downwards): for a buried fault equal cells from the surface to the
+    // fault's top, h along the fault and one cell more, graded to the bottom; for a
+    // surface-breaking one a first cell of h/2 (the fault's lines are then h/2 + i h).
+    let mut depths: Vec<f64> = if surface_breaking {
+        vec![0.0]
+    } else {
+        let n_top = (-zt / h).ceil() as usize;
+        (0..n_top).map(|i| -zt * i as f64 / n_top as f64).collect()
+    };
+    let start = if surface_breaking { h / 2.0 } else { -zt };
+    let n_f = ((-zb - start) / h).round() as usize + 1;
+    depths.extend(band_and_grading(start, h, n_f, (h0, level, ratio), far)?);
+    let zs: Vec<f64> = depths.iter().rev().map(|d| -d).collect();
+
+    let mesh = cuboid_from_coordinates(&xs, &ys, &zs)?;
+    let slip = fault.slip;
+    // The builder wants a frictional node: one pair (an inner corner of the fault grid) is
+    // left to friction and its jump fixed by hand before the solve.
+    let probe = [-a + h, 0.0, zb + h];
+    let e = 2.0 * MU * (1.0 + NU);
+    let tol = 1e-9 * far;
+    let model = ModelBuilder::new(mesh)
+        .material(Material::new(e, NU, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("far", move |x| {
+                x[0].abs() > far - tol || x[1].abs() > far - tol || x[2] < -far + tol
+            }),
+            [0.0; 3],
+        )
+        .fault_tangent([1.0, 0.0, 0.0])
+        .internal_fault_polygon(
+            "fault",
+            &[[-a, 0.0, zb], [a, 0.0, zb], [a, 0.0, zt], [-a, 0.0, zt]],
+        )
+        .internal_creep_at(move |x| {
+            let at_probe = (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h);
+            (!at_probe).then_some(CreepRate::Cartesian(slip))
+        })
+        .build()?;
+    solve_and_compare(&model, fault, h, far, at_okada, probe, (&xs, &zs))
+}
+
+fn okada(fault: Fault) -> Result<(Okada, Medium), AnyError> {
+    let medium = Medium::from_shear_poisson(MU, NU)?;
+    let rect = Rectangle::new(
+        fault.bottom,
+        90.0,
+        [-fault.half_length, fault.half_length],
+        [0.0, fault.bottom - fault.top],
+    )?;
+    Ok((Okada::new(medium.alpha(), rect)?, medium))
+}
+
+/// The lumped weight (m²) of the fault node at `(x, z)` on a tensor grid of lines `xs`,
+/// `zs` whose rectangles are split by the diagonal from their lower to their upper corner
+/// (the Kuhn tetrahedra's faces on a plane `y` = const): a third of each adjacent
+/// triangle's area.
+fn node_weight(xs: &[f64], zs: &[f64], x: f64, z: f64) -> f64 {
+    let find = |c: &[f64], v: f64| {
+        c.iter()
+            .position(|&w| (w - v).abs() < 1e-9)
+            .expect("a grid line")
+    };
+    let (i, k) = (find(xs, x), find(zs, z));
+    let (xm, xp) = (x - xs[i - 1], xs[i + 1] - x);
+    let (zm, zp) = (z - zs[k - 1], zs[k + 1] - z);
+    (xp * zp + xm * zm + 0.5 * (xm * zp + xp * zm)) / 3.0
+}
+
+fn solve_and_compare(
+    model: &Model<3>,
+    fault: Fault,
+    h: f64,
+    far: f64,
+    at_okada: bool,
+    probe: [f64; 3],
+    (xs, zs): (&[f64], &[f64]),
+) -> Result<Errors, AnyError> {
+    let (okada, medium) = okada(fault)?;
+    let dislocation = [fault.slip[0], fault.slip[2], 0.0];
+    let f = model
+        .internal_fault
+        .as_ref()
+        .ok_or("the model has no internal fault")?;
+    let tol = 1e-9 * far;
+    let mut v = vec![0.0; model.num_dofs()];
+    for (&d, &factor) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
+        v[d] = factor;
+    }
+    // The far faces at Okada's displacement (Cartesian unknowns: no frame there).
+    for (q, x) in model.vertices.iter().enumerate() {
+        let on_far_face = x[0].abs() > far - tol || x[1].abs() > far - tol || x[2] < -far + tol;
+        if at_okada && on_far_face {
+            assert!(f.pair_of(q).is_none());
+            let u = okada.deformation(*x, dislocation)?.u;
+            for c in 0..3 {
+                assert!(model.fixed[3 * q + c]);
+                v[3 * q + c] = u[c];
+            }
+        }
+    }
+    // The probe pair's jump: the slip in its frame (the normal component is tied already).
+    let mut fixed = model.fixed.clone();
+    let mut probes = 0;
+    for (k, &(mi, _)) in f.pairs().iter().enumerate() {
+        let x = model.vertices[mi];
+        if (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h) {
+            let r = f.transform.frames[k];
+            let j: [f64; 3] =
+                std::array::from_fn(|a| (0..3).map(|b| r[b][a] * fault.slip[b]).sum());
+            assert!(fixed[3 * mi + 2] && j[2].abs() < 1e-12);
+            assert!(!fixed[3 * mi] && !fixed[3 * mi + 1]);
+            for c in 0..2 {
+                fixed[3 * mi + c] = true;
+                v[3 * mi + c] = j[c];
+            }
+            probes += 1;
+        }
+    }
+    assert_eq!(probes, 1);
+    DirectSolver::<3>::new(model.stiffness.as_ref(), &fixed, DirectOptions::default())?.solve(
+        &vec![0.0; v.len()],
+        &NoNonlinearity,
+        &mut v,
+    )?;
+    let u = model.to_cartesian(&v)?;
+
+    // The jump u⁺ − u⁻ of every pair is the prescribed slip (plus side y < 0).
+    let mut jump = 0.0f64;
+    for &(mi, pl) in f.pairs() {
+        for c in 0..3 {
+            jump = jump.max((u[3 * pl + c] - u[3 * mi + c] - fault.slip[c]).abs());
+        }
+    }
+
+    // Surface displacement: every surface vertex with |x|, |y| ≤ L (L the fault's
+    // length) and at least L/4 from the ends of a surface trace; a vertex on the trace
+    // (a split pair) compared with Okada's limit from its own side.
+    let length = 2.0 * fault.half_length;
+    let window = length;
+    let (mut err, mut scale) = (0.0f64, 0.0f64);
+    for (q, x) in model.vertices.iter().enumerate() {
+        if x[2] < -tol || x[0].abs() > window || x[1].abs() > window {
+            continue;
+        }
+        let near_end = [-1.0, 1.0]
+            .iter()
+            .any(|s| (x[0] - s * fault.half_length).hypot(x[1]) < length / 4.0);
+        if fault.top == 0.0 && near_end {
+            continue;
+        }
+        let mut point = *x;
+        if let Some((_, pl)) = f.pair_of(q) {
+            point[1] = if q == pl {
+                -1e-5 * length
+            } else {
+                1e-5 * length
+            };
+        }
+        let uo = okada.deformation(point, dislocation)?.u;
+        let e = (0..3).fold(0.0f64, |m, c| m.hypot(u[3 * q + c] - uo[c]));
+        err = err.max(e);
+        scale = scale.max(uo.iter().fold(0.0f64, |m, c| m.hypot(*c)));
+    }
+    let surface = err / scale;
+
+    // On-fault traction: f' = K' v' at the jump dofs, f⁺ = R f'_j, f⁺/h² against σ e_y.
+    let mut force = vec![0.0; v.len()];
+    rsf::fem::spmv_add(model.stiffness.as_ref(), 1.0, &v, &mut force);
+    let width = fault.bottom - fault.top;
+    let (mut terr, mut tscale) = (0.0f64, 0.0f64);
+    let mut inner = 0;
+    for (k, &(mi, _)) in f.pairs().iter().enumerate() {
+        let x = model.vertices[mi];
+        let from_rim_x = fault.half_length - x[0].abs();
+        let from_bottom = fault.bottom + x[2];
+        let from_top = -x[2] - fault.top;
+        if from_rim_x.min(from_bottom).min(from_top) < width / 4.0 - 1e-9 * width {
+            continue;
+        }
+        inner += 1;
+        let r = f.transform.frames[k];
+        let w = node_weight(xs, zs, x[0], x[2]);
+        let fj = [force[3 * mi], force[3 * mi + 1], force[3 * mi + 2]];
+        let t_fe: [f64; 3] =
+            std::array::from_fn(|i| (0..3).map(|a| r[i][a] * fj[a]).sum::<f64>() / w);
+        let grad = okada.deformation(x, dislocation)?.grad;
+        let sigma = medium.stress(&grad);
+        let t_ok = rsf_halfspace::traction(&sigma, &[0.0, 1.0, 0.0]);
+        let e = (0..3).fold(0.0f64, |m, c| m.hypot(t_fe[c] - t_ok[c]));
+        terr = terr.max(e);
+        tscale = tscale.max(t_ok.iter().fold(0.0f64, |m, c| m.hypot(*c)));
+    }
+    assert!(inner > 0);
+    Ok(Errors {
+        h,
+        vertices: model.num_nodes(),
+        surface,
+        traction: terr / tscale,
+        jump,
+    })
+}
+
+fn main() -> Result<(), AnyError> {
+    let cli = Cli::parse();
+    if !(cli.h0 > 0.0 && cli.h0 <= 0.5) || cli.levels.iter().any(|&k| k > 6) {
+        return Err("--h0 in (0, 0.5] (units of the fault's width), --levels at most 6".into());
+    }
+    if cli.far.iter().any(|&f| !(f >= 2.0 && f.is_finite())) {
+        return Err("--far: at least 2 (the fault and its surrounding cells inside)".into());
+    }
+    let at_okada = cli.held == Held::Okada;
+    println!(
+        "| case | far faces | far | h | vertices | wall (s) | surface error | order | \
+         traction error | order | jump error (m) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for &case in &cli.cases {
+        for &far in &cli.far {
+            let mut previous: Option<Errors> = None;
+            for &level in &cli.levels {
+                let t = Instant::now();
+                let e = compare_held(case.fault(), (cli.h0, level, cli.ratio), far, at_okada)?;
+                let h = e.h;
+                let wall = t.elapsed().as_secs_f64();
+                let rate = |a: f64, b: f64, ha: f64| (a / b).ln() / (ha / e.h).ln();
+                let (p_s, p_t) = previous
+                    .as_ref()
+                    .map_or((String::new(), String::new()), |p| {
+                        (
+                            format!("{:.2}", rate(p.surface, e.surface, p.h)),
+                            format!("{:.2}", rate(p.traction, e.traction, p.h)),
+                        )
+                    });
+                println!(
+                    "| {case:?} | {:?} | {far} | {h} | {} | {wall:.1} | {:.3e} | {p_s} | {:.3e} | \
+                     {p_t} | {:.1e} |",
+                    cli.held, e.vertices, e.surface, e.traction, e.jump
+                );
+                previous = Some(e);
+            }
+        }
+    }
+    Ok(())
+}
