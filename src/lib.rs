@@ -11,6 +11,7 @@ use plotters::prelude::*;
 pub mod cli;
 mod curved;
 mod heat_map;
+pub mod okada_anchor;
 mod own_model;
 mod panels;
 pub mod pipping_slider;
