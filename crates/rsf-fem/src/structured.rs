@@ -129,7 +129,21 @@ pub fn rectangle_from_coordinates(
     ys: &[f64],
     diagonal: Diagonal,
 ) -> Result<TriangleMesh> {
-    for (name, c) in [("xs", xs), ("ys", ys)] {
+    check_coordinates(&[("xs", xs), ("ys", ys)])?;
+    let (nx, ny) = (xs.len(), ys.len());
+    let mut vertices = Vec::with_capacity(nx * ny);
+    for &y in ys {
+        for &x in xs {
+            vertices.push([x, y]);
+        }
+    }
+    SimplexMesh::new(vertices, tensor_cells(nx, ny, diagonal))
+}
+
+/// Each named list of a tensor grid's coordinates: at least 2, finite, strictly
+/// increasing ([`Error::InvalidGrid`] naming the list otherwise).
+fn check_coordinates(lists: &[(&str, &[f64])]) -> Result<()> {
+    for &(name, c) in lists {
         if c.len() < 2 {
             return Err(Error::InvalidGrid(format!(
                 "{name}: need at least 2 coordinates, got {}",
@@ -142,14 +156,7 @@ pub fn rectangle_from_coordinates(
             )));
         }
     }
-    let (nx, ny) = (xs.len(), ys.len());
-    let mut vertices = Vec::with_capacity(nx * ny);
-    for &y in ys {
-        for &x in xs {
-            vertices.push([x, y]);
-        }
-    }
-    SimplexMesh::new(vertices, tensor_cells(nx, ny, diagonal))
+    Ok(())
 }
 
 /// The most coordinates [`geometric_grading`] returns (10⁷).
@@ -338,19 +345,7 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
 /// [`Error::InvalidGrid`] if a list has fewer than 2 entries, is not strictly increasing
 /// or holds a non-finite value, or the grid has more vertices than can be indexed.
 pub fn cuboid_from_coordinates(xs: &[f64], ys: &[f64], zs: &[f64]) -> Result<TetrahedronMesh> {
-    for (name, c) in [("xs", xs), ("ys", ys), ("zs", zs)] {
-        if c.len() < 2 {
-            return Err(Error::InvalidGrid(format!(
-                "{name}: need at least 2 coordinates, got {}",
-                c.len()
-            )));
-        }
-        if c.iter().any(|v| !v.is_finite()) || c.windows(2).any(|w| w[1] <= w[0]) {
-            return Err(Error::InvalidGrid(format!(
-                "{name}: coordinates must be finite and strictly increasing"
-            )));
-        }
-    }
+    check_coordinates(&[("xs", xs), ("ys", ys), ("zs", zs)])?;
     let (nx, ny, nz) = (xs.len(), ys.len(), zs.len());
     let count = nx
         .checked_mul(ny)
