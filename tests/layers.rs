@@ -20,6 +20,9 @@ const LAYERS: &[&[&str]] = &[
         "rsf-hmatrix",
         "rsf-time",
     ],
+    // The half-space solution compresses its operator with rsf-hmatrix; rsf uses it behind
+    // its feature `halfspace` (docs/design.md).
+    &["rsf-halfspace"],
     &["rsf"],
     &["rsf-scenes"],
 ];

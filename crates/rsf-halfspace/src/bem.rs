@@ -82,22 +82,14 @@ type Pair = [f64; 6];
 const TABLE_MAX: usize = 1 << 22;
 
 impl RectangularFault {
-    /// The fault `Rectangle::new(depth, dip_deg, strike, dip)` meshed into square cells of
-    /// side `cell` (m): `n_strike = (al2 − al1)/cell` and `n_dip = (aw2 − aw1)/cell`, each
-    /// a whole number to a relative `10⁻⁹`.
+    /// The fault `rect` ([`Rectangle::new`]`(depth, dip_deg, [al1, al2], [aw1, aw2])`)
+    /// meshed into square cells of side `cell` (m): `n_strike = (al2 − al1)/cell` and
+    /// `n_dip = (aw2 − aw1)/cell`, each a whole number to a relative `10⁻⁹`.
     ///
     /// # Errors
-    /// Those of [`Rectangle::new`]; [`Error::Parameter`] unless `cell > 0` divides both
-    /// extents; [`Error::TooManyElements`] beyond `2³⁰` unknowns.
-    pub fn new(
-        medium: Medium,
-        depth: f64,
-        dip_deg: f64,
-        strike: [f64; 2],
-        dip: [f64; 2],
-        cell: f64,
-    ) -> Result<Self, Error> {
-        let rect = Rectangle::new(depth, dip_deg, strike, dip)?;
+    /// [`Error::Parameter`] unless `cell > 0` divides both extents;
+    /// [`Error::TooManyElements`] beyond `2³⁰` unknowns.
+    pub fn new(medium: Medium, rect: Rectangle, cell: f64) -> Result<Self, Error> {
         if !(cell.is_finite() && cell > 0.0) {
             return Err(Error::Parameter {
                 name: "cell",
@@ -117,6 +109,7 @@ impl RectangularFault {
             }
             Ok(n as usize)
         };
+        let (strike, dip) = (rect.strike_range(), rect.dip_range());
         let (ns, nd) = (count(strike[1] - strike[0])?, count(dip[1] - dip[0])?);
         Self::from_rectangle(medium, rect, ns, nd)
     }

@@ -27,17 +27,18 @@
 //!
 //! # Example
 //! ```
-//! use rsf_halfspace::{okada::dc3d, Medium};
+//! use rsf_halfspace::{okada::dc3d, Medium, Rectangle};
 //! let medium = Medium::from_shear_poisson(32.04e9, 0.25).unwrap();
 //! // 1 m of reverse slip on a 45° fault, stress 1 km above its centre.
-//! let d = dc3d(medium.alpha(), [0.0, 0.0, -1e3], 3e3, 45.0, [-2e3, 2e3], [-1e3, 1e3],
-//!              [0.0, 1.0, 0.0]).unwrap();
+//! let fault = Rectangle::new(3e3, 45.0, [-2e3, 2e3], [-1e3, 1e3]).unwrap();
+//! let d = dc3d(medium.alpha(), [0.0, 0.0, -1e3], fault, [0.0, 1.0, 0.0]).unwrap();
 //! let sigma = medium.stress(&d.grad);
 //! assert!(sigma[0][1] == sigma[1][0]);
 //!
 //! use rsf_halfspace::RectangularFault;
 //! // A vertical strike-slip fault 4 km long, from the surface to 2 km, in 500 m cells.
-//! let fault = RectangularFault::new(medium, 0.0, 90.0, [-2e3, 2e3], [-2e3, 0.0], 500.0).unwrap();
+//! let plane = Rectangle::new(0.0, 90.0, [-2e3, 2e3], [-2e3, 0.0]).unwrap();
+//! let fault = RectangularFault::new(medium, plane, 500.0).unwrap();
 //! assert_eq!(fault.len(), 2 * 8 * 4);
 //! let k = fault.dense().unwrap();
 //! // Slip on an element lowers the shear traction there: K's diagonal is positive.

@@ -61,8 +61,8 @@ fn slope(a: f64, y: f64) -> f64 {
 }
 
 /// Uniform strike slip `slip` (`u_x` of the side `y < 0` minus that of `y > 0`) on the
-/// vertical segment `y = 0`, `−d2 ≤ z ≤ −d1`, in a half-space of shear modulus `mu`;
-/// the field at `(y, z)`:
+/// vertical segment `y = 0`, `−d2 ≤ z ≤ −d1` (`depths = [d1, d2]`), in a half-space of
+/// shear modulus `mu`; the field at `point = [y, z]`:
 ///
 /// ```text
 /// u_x  = s/(2π) [atan((z + d1)/y) − atan((z + d2)/y) + atan((d1 − z)/y) − atan((d2 − z)/y)]
@@ -80,10 +80,8 @@ fn slope(a: f64, y: f64) -> f64 {
 pub fn antiplane_segment(
     mu: f64,
     slip: f64,
-    d1: f64,
-    d2: f64,
-    y: f64,
-    z: f64,
+    [d1, d2]: [f64; 2],
+    [y, z]: [f64; 2],
 ) -> Result<AntiplaneField, Error> {
     if !(mu.is_finite() && mu > 0.0) {
         return Err(Error::Parameter {
@@ -227,6 +225,18 @@ pub fn edge_surface_displacement(
     }
 }
 
+/// A segment of a plane-strain (infinitely long) dipping fault in Okada's cross-section:
+/// the points `(η cos δ, −depth + η sin δ)`, `η ∈ [aw1, aw2]` (m), `δ = dip_deg`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DipSegment {
+    /// Depth of the reference point `η = 0` (m, positive down).
+    pub depth: f64,
+    /// Dip δ (degrees, in `(0, 180)`).
+    pub dip_deg: f64,
+    /// `[aw1, aw2]`: the segment's extent along dip from the reference point (m).
+    pub aw: [f64; 2],
+}
+
 /// Plane-strain stress (Pa, tension positive) in Okada's cross-section.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlaneStrainStress {
@@ -273,7 +283,7 @@ fn segall_edge_stress(c: f64, s1: f64, s2: f64, xi2: f64, x1: f64, x2: f64) -> [
 }
 
 /// The plane-strain stress at `point = [y, z]` of uniform dip slip `slip` (reverse positive) on
-/// the segment of Okada's cross-section `(η cos δ, −depth + η sin δ)`, `η ∈ [aw1, aw2]`
+/// the [`DipSegment`] `(η cos δ, −depth + η sin δ)`, `η ∈ [aw1, aw2]`
 /// (the source of [`edge_surface_displacement`]), in a half-space of the given `medium`
 /// (its `μ` and `ν`) — the 2-D (infinitely long) limit of
 /// [`okada::dc3d`](crate::okada::dc3d) with `U2 = slip`. Two edge dislocations, at the
@@ -292,11 +302,10 @@ fn segall_edge_stress(c: f64, s1: f64, s2: f64, xi2: f64, x1: f64, x2: f64) -> [
 pub fn edge_segment_stress(
     medium: &Medium,
     slip: f64,
-    depth: f64,
-    dip_deg: f64,
-    aw: [f64; 2],
+    segment: DipSegment,
     point: [f64; 2],
 ) -> Result<PlaneStrainStress, Error> {
+    let DipSegment { depth, dip_deg, aw } = segment;
     let [y, z] = point;
     let (mu, nu) = (medium.mu(), medium.nu());
     for (name, value) in [

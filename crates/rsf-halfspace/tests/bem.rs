@@ -23,10 +23,13 @@ fn tractions_at(rect: &Rectangle, p: [f64; 3], disl: [f64; 3]) -> [f64; 3] {
     let d = dc3d(
         m.alpha(),
         p,
-        rect.depth(),
-        rect.dip_deg(),
-        rect.strike_range(),
-        rect.dip_range(),
+        Rectangle::new(
+            rect.depth(),
+            rect.dip_deg(),
+            rect.strike_range(),
+            rect.dip_range(),
+        )
+        .unwrap(),
         disl,
     )
     .unwrap();
@@ -44,12 +47,22 @@ fn tractions_at(rect: &Rectangle, p: [f64; 3], disl: [f64; 3]) -> [f64; 3] {
 
 fn bp5_like() -> RectangularFault {
     // Vertical, surface-breaking, 12 × 5 cells of 2 m.
-    RectangularFault::new(medium(), 0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0], 2.0).unwrap()
+    RectangularFault::new(
+        medium(),
+        Rectangle::new(0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0]).unwrap(),
+        2.0,
+    )
+    .unwrap()
 }
 
 fn dipping() -> RectangularFault {
     // 30°, buried (top at 1 m depth), 6 × 4 cells of 1.5 m.
-    RectangularFault::new(medium(), 4.0, 30.0, [-4.5, 4.5], [-3.0, 3.0], 1.5).unwrap()
+    RectangularFault::new(
+        medium(),
+        Rectangle::new(4.0, 30.0, [-4.5, 4.5], [-3.0, 3.0]).unwrap(),
+        1.5,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -79,9 +92,20 @@ fn layout_and_errors() {
     assert!(matches!(f.entry(120, 0), Err(Error::Index { .. })));
     assert!(matches!(f.normal_entry(60, 0), Err(Error::Index { .. })));
     assert!(f.element(60).is_err());
-    assert!(RectangularFault::new(medium(), 0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0], 3.0).is_err());
-    assert!(RectangularFault::new(medium(), 0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0], 0.0).is_err());
-    assert!(RectangularFault::new(medium(), 0.0, 90.0, [-12.0, 12.0], [-10.0, 1.0], 1.0).is_err());
+    assert!(RectangularFault::new(
+        medium(),
+        Rectangle::new(0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0]).unwrap(),
+        3.0
+    )
+    .is_err());
+    assert!(RectangularFault::new(
+        medium(),
+        Rectangle::new(0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0]).unwrap(),
+        0.0
+    )
+    .is_err());
+    // A fault reaching above the surface is refused by its rectangle.
+    assert!(Rectangle::new(0.0, 90.0, [-12.0, 12.0], [-10.0, 1.0]).is_err());
     let rect = Rectangle::new(1.0, 90.0, [0.0, 1.0], [-1.0, 0.0]).unwrap();
     assert!(RectangularFault::from_rectangle(medium(), rect, 0, 3).is_err());
     assert!(matches!(
@@ -276,8 +300,12 @@ fn frobenius(m: &Mat<f64>) -> f64 {
 #[test]
 fn hmatrix_matches_dense() {
     // 32 × 12 cells, 768 unknowns.
-    let fault =
-        RectangularFault::new(medium(), 0.0, 90.0, [-32.0, 32.0], [-24.0, 0.0], 2.0).unwrap();
+    let fault = RectangularFault::new(
+        medium(),
+        Rectangle::new(0.0, 90.0, [-32.0, 32.0], [-24.0, 0.0]).unwrap(),
+        2.0,
+    )
+    .unwrap();
     let k = fault.dense().unwrap();
     for eps in [1e-4, 1e-7] {
         let options = HOptions {
@@ -327,7 +355,7 @@ fn long_strike_slip_fault_tends_to_antiplane() {
                     .map(|s| k[(2 * e, 2 * fault.element_index(s, col).unwrap())])
                     .sum();
                 let d1 = col as f64 * h;
-                let f = antiplane_segment(MU, 1.0, d1, d1 + h, 0.0, z).unwrap();
+                let f = antiplane_segment(MU, 1.0, [d1, d1 + h], [0.0, z]).unwrap();
                 worst = worst.max((sum - f.sigma_xy).abs() / scale);
             }
         }

@@ -14,7 +14,7 @@
 //! three digits (2·10⁻¹³ and 2·10⁻¹⁴ when we formed the sums as DC3D does). We ask
 //! 10⁻¹⁰ relative to the field's scale at the point — the largest displacement component
 //! for `u`, the largest derivative for `∇u` — which catches any wrong term.
-use rsf_halfspace::okada::dc3d;
+use rsf_halfspace::okada::{dc3d, Rectangle};
 use rsf_halfspace::Error;
 
 struct Row {
@@ -66,7 +66,12 @@ fn dc3d_matches_okadas_routine() {
     let (mut worst_u, mut worst_g, mut singular) = (0.0f64, 0.0f64, 0);
     let mut worst_row = (0, 0);
     for (n, r) in rows.iter().enumerate() {
-        let got = dc3d(r.alpha, r.point, r.depth, r.dip, r.al, r.aw, r.disl);
+        let got = dc3d(
+            r.alpha,
+            r.point,
+            Rectangle::new(r.depth, r.dip, r.al, r.aw).unwrap(),
+            r.disl,
+        );
         if r.iret == 1 {
             assert!(
                 matches!(got, Err(Error::OnEdge { .. })),

@@ -225,17 +225,18 @@ proptest! {
         p in prop::array::uniform3(prop::num::f64::ANY),
         d in prop::array::uniform3(prop::num::f64::ANY),
     ) {
-        if let Ok(out) = rsf_halfspace::okada::dc3d(alpha, p, depth, dip, [a[0], a[1]], [a[2], a[3]], d) {
+        if let Ok(out) = Rectangle::new(depth, dip, [a[0], a[1]], [a[2], a[3]])
+            .and_then(|r| rsf_halfspace::okada::dc3d(alpha, p, r, d)) {
             prop_assert!(out.u.iter().chain(out.grad.iter().flatten()).all(|v| v.is_finite()));
         }
-        if let Ok(f) = rsf_halfspace::two_d::antiplane_segment(alpha, depth, a[0], a[1], p[0], p[1]) {
+        if let Ok(f) = rsf_halfspace::two_d::antiplane_segment(alpha, depth, [a[0], a[1]], [p[0], p[1]]) {
             prop_assert!(f.u.is_finite() && f.sigma_xy.is_finite() && f.sigma_xz.is_finite());
         }
         if let Ok(u) = rsf_halfspace::two_d::edge_surface_displacement(alpha, depth, dip, [a[0], a[1]], p[0]) {
             prop_assert!(u.iter().all(|v| v.is_finite()));
         }
         if let Ok(m) = Medium::new(d[0], d[1]) {
-            if let Ok(t) = rsf_halfspace::two_d::edge_segment_stress(&m, alpha, depth, dip, [a[0], a[1]], [p[0], p[1]]) {
+            if let Ok(t) = rsf_halfspace::two_d::edge_segment_stress(&m, alpha, rsf_halfspace::two_d::DipSegment { depth, dip_deg: dip, aw: [a[0], a[1]] }, [p[0], p[1]]) {
                 prop_assert!([t.yy, t.zz, t.yz, t.xx].iter().all(|v| v.is_finite()));
             }
         }

@@ -1,7 +1,9 @@
 //! The 2-D closed forms against rsf-hmatrix's antiplane kernel, the classic screw
 //! dislocation (Savage & Burford) surface profile, and the 3-D DC3D of a very long fault.
-use rsf_halfspace::okada::dc3d;
-use rsf_halfspace::two_d::{antiplane_segment, edge_segment_stress, edge_surface_displacement};
+use rsf_halfspace::okada::{dc3d, Rectangle};
+use rsf_halfspace::two_d::{
+    antiplane_segment, edge_segment_stress, edge_surface_displacement, DipSegment,
+};
 use rsf_halfspace::Error;
 use rsf_hmatrix::kernels::AntiplaneHalfSpace;
 use std::f64::consts::PI;
@@ -25,7 +27,7 @@ fn antiplane_cells_against_rsf_hmatrix_kernel() {
         for j in 0..n {
             let (z, zeta) = (k.depth(i), k.depth(j));
             let field =
-                antiplane_segment(MU, 1.0, zeta - 0.5 * h, zeta + 0.5 * h, 0.0, -z).unwrap();
+                antiplane_segment(MU, 1.0, [zeta - 0.5 * h, zeta + 0.5 * h], [0.0, -z]).unwrap();
             let ours = -field.sigma_xy;
             let theirs = k.entry(i, j);
             assert!(
@@ -48,7 +50,7 @@ fn antiplane_cells_against_rsf_hmatrix_kernel() {
 fn screw_dislocation_surface_profile() {
     let (s, d) = (2.0, 15e3);
     for y in [-5e4, -1e4, -10.0, 3.0, 2e3, 1e5] {
-        let f = antiplane_segment(MU, s, d, f64::INFINITY, y, 0.0).unwrap();
+        let f = antiplane_segment(MU, s, [d, f64::INFINITY], [y, 0.0]).unwrap();
         let want = -(s / PI) * (y / d).atan();
         assert!((f.u - want).abs() < 1e-14 * s, "y = {y}: {} vs {want}", f.u);
         assert!(f.sigma_xz.abs() < 1e-12 * MU * s / d);
@@ -59,12 +61,12 @@ fn screw_dislocation_surface_profile() {
 #[test]
 fn antiplane_jump_is_the_slip() {
     let s = 0.7;
-    let a = antiplane_segment(MU, s, 1.0, 3.0, -1e-9, -2.0).unwrap();
-    let b = antiplane_segment(MU, s, 1.0, 3.0, 1e-9, -2.0).unwrap();
+    let a = antiplane_segment(MU, s, [1.0, 3.0], [-1e-9, -2.0]).unwrap();
+    let b = antiplane_segment(MU, s, [1.0, 3.0], [1e-9, -2.0]).unwrap();
     assert!((a.u - b.u - s).abs() < 1e-8);
     // Off the segment (below it) no jump.
-    let a = antiplane_segment(MU, s, 1.0, 3.0, -1e-9, -4.0).unwrap();
-    let b = antiplane_segment(MU, s, 1.0, 3.0, 1e-9, -4.0).unwrap();
+    let a = antiplane_segment(MU, s, [1.0, 3.0], [-1e-9, -4.0]).unwrap();
+    let b = antiplane_segment(MU, s, [1.0, 3.0], [1e-9, -4.0]).unwrap();
     assert!((a.u - b.u).abs() < 1e-8);
 }
 
@@ -84,17 +86,14 @@ fn antiplane_is_the_long_fault_limit_of_dc3d() {
         (5.0, -6.0),
         (-0.3, -3.5),
     ] {
-        let f = antiplane_segment(MU, 1.0, d1, d2, y, z).unwrap();
+        let f = antiplane_segment(MU, 1.0, [d1, d2], [y, z]).unwrap();
         let hh = d2.max(y.abs()).max(z.abs());
         let mut last = [f64::INFINITY; 3];
         for l in [1e3, 1e4] {
             let d = dc3d(
                 m.alpha(),
                 [0.0, y, z],
-                d2,
-                90.0,
-                [-l, l],
-                [0.0, d2 - d1],
+                Rectangle::new(d2, 90.0, [-l, l], [0.0, d2 - d1]).unwrap(),
                 [1.0, 0.0, 0.0],
             )
             .unwrap();
@@ -148,10 +147,7 @@ fn edge_surface_displacement_is_the_long_fault_limit_of_dc3d() {
                 let d = dc3d(
                     2.0 / 3.0,
                     [0.0, y, 0.0],
-                    depth,
-                    dip,
-                    [-l, l],
-                    aw,
+                    Rectangle::new(depth, dip, [-l, l], aw).unwrap(),
                     [0.0, s, 0.0],
                 )
                 .unwrap();
@@ -192,16 +188,23 @@ fn edge_segment_stress_is_the_long_fault_limit_of_dc3d() {
             (-0.5, -5.5),
             (1.0, 0.0),
         ] {
-            let two = edge_segment_stress(&m, s, depth, dip, aw, [y, z]).unwrap();
+            let two = edge_segment_stress(
+                &m,
+                s,
+                DipSegment {
+                    depth,
+                    dip_deg: dip,
+                    aw,
+                },
+                [y, z],
+            )
+            .unwrap();
             let hh = (depth + 3.0f64).max(y.abs()).max(z.abs());
             let err = |l: f64| {
                 let d = dc3d(
                     m.alpha(),
                     [0.0, y, z],
-                    depth,
-                    dip,
-                    [-l, l],
-                    aw,
+                    Rectangle::new(depth, dip, [-l, l], aw).unwrap(),
                     [0.0, s, 0.0],
                 )
                 .unwrap();
@@ -226,16 +229,16 @@ fn edge_segment_stress_is_the_long_fault_limit_of_dc3d() {
 #[test]
 fn two_d_errors() {
     assert!(matches!(
-        antiplane_segment(MU, 1.0, 1.0, 2.0, 0.0, 0.5),
+        antiplane_segment(MU, 1.0, [1.0, 2.0], [0.0, 0.5]),
         Err(Error::AboveSurface { .. })
     ));
     assert!(matches!(
-        antiplane_segment(MU, 1.0, 1.0, 2.0, 0.0, -2.0),
+        antiplane_segment(MU, 1.0, [1.0, 2.0], [0.0, -2.0]),
         Err(Error::AtDislocation { .. })
     ));
-    assert!(antiplane_segment(MU, 1.0, 2.0, 1.0, 0.0, -2.0).is_err());
-    assert!(antiplane_segment(0.0, 1.0, 1.0, 2.0, 0.0, -2.0).is_err());
-    assert!(antiplane_segment(MU, f64::NAN, 1.0, 2.0, 0.0, -2.0).is_err());
+    assert!(antiplane_segment(MU, 1.0, [2.0, 1.0], [0.0, -2.0]).is_err());
+    assert!(antiplane_segment(0.0, 1.0, [1.0, 2.0], [0.0, -2.0]).is_err());
+    assert!(antiplane_segment(MU, f64::NAN, [1.0, 2.0], [0.0, -2.0]).is_err());
     assert!(matches!(
         edge_surface_displacement(1.0, 0.0, 90.0, [-1.0, 0.0], 0.0),
         Err(Error::AtDislocation { .. })
@@ -244,13 +247,51 @@ fn two_d_errors() {
     assert!(edge_surface_displacement(1.0, 1.0, 0.0, [-1.0, 1.0], 2.0).is_err());
     let m = rsf_halfspace::Medium::from_shear_poisson(MU, 0.25).unwrap();
     assert!(matches!(
-        edge_segment_stress(&m, 1.0, 2.0, 90.0, [-1.0, 1.0], [0.0, -1.0]),
+        edge_segment_stress(
+            &m,
+            1.0,
+            DipSegment {
+                depth: 2.0,
+                dip_deg: 90.0,
+                aw: [-1.0, 1.0]
+            },
+            [0.0, -1.0]
+        ),
         Err(Error::AtDislocation { .. })
     ));
     assert!(matches!(
-        edge_segment_stress(&m, 1.0, 0.0, 90.0, [-1.0, 0.0], [0.0, 0.0]),
+        edge_segment_stress(
+            &m,
+            1.0,
+            DipSegment {
+                depth: 0.0,
+                dip_deg: 90.0,
+                aw: [-1.0, 0.0]
+            },
+            [0.0, 0.0]
+        ),
         Err(Error::AtDislocation { .. })
     ));
-    assert!(edge_segment_stress(&m, 1.0, 2.0, 90.0, [-1.0, 1.0], [0.0, 0.1]).is_err());
-    assert!(edge_segment_stress(&m, 1.0, 0.5, 90.0, [-1.0, 1.0], [0.0, -3.0]).is_err());
+    assert!(edge_segment_stress(
+        &m,
+        1.0,
+        DipSegment {
+            depth: 2.0,
+            dip_deg: 90.0,
+            aw: [-1.0, 1.0]
+        },
+        [0.0, 0.1]
+    )
+    .is_err());
+    assert!(edge_segment_stress(
+        &m,
+        1.0,
+        DipSegment {
+            depth: 0.5,
+            dip_deg: 90.0,
+            aw: [-1.0, 1.0]
+        },
+        [0.0, -3.0]
+    )
+    .is_err());
 }

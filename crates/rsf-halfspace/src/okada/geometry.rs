@@ -108,7 +108,7 @@ impl Corner {
     /// the logarithm is replaced by `−ln(R − ξ)` and `X11`, `X32` (resp. `Y11`, `Y32`) by
     /// 0: the singular parts cancel in the sum over the corners (Okada 1992, §3, the
     /// remarks on the singular cases). `None` if `R = 0` (the point is the corner).
-    pub fn new(
+    pub(crate) fn new(
         xi: f64,
         et: f64,
         q: f64,

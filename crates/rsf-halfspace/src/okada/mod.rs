@@ -431,32 +431,29 @@ fn image_terms(c: &Corner, k: &DipConsts, z: f64) -> Part {
     out
 }
 
-/// DC3D with its own argument list: medium constant `alpha = (λ + μ)/(λ + 2μ)`, point
-/// `[x, y, z]`, `depth`, `dip_deg`, `[al1, al2]`, `[aw1, aw2]` and the dislocation
-/// `[U1, U2, U3]` (see the [module docs](self) for the conventions).
+/// DC3D in one call: medium constant `alpha = (λ + μ)/(λ + 2μ)`, point `[x, y, z]`, the
+/// rectangle of DC3D's `depth`, `dip`, `[al1, al2]`, `[aw1, aw2]`
+/// ([`Rectangle::new`]) and the dislocation `[U1, U2, U3]` (see the [module docs](self)
+/// for the conventions).
 ///
 /// # Errors
-/// Those of [`Rectangle::new`], [`Okada::new`] and [`Okada::deformation`].
+/// Those of [`Okada::new`] and [`Okada::deformation`].
 ///
 /// # Example
 /// ```
-/// use rsf_halfspace::okada::dc3d;
+/// use rsf_halfspace::okada::{dc3d, Rectangle};
 /// // 1 m of left-lateral strike slip on a vertical fault 2 km long, from the surface
 /// // to 1 km depth; displacement 500 m off the fault's middle on the surface.
-/// let d = dc3d(2.0 / 3.0, [0.0, 500.0, 0.0], 0.0, 90.0, [-1e3, 1e3], [-1e3, 0.0],
-///              [1.0, 0.0, 0.0]).unwrap();
+/// let fault = Rectangle::new(0.0, 90.0, [-1e3, 1e3], [-1e3, 0.0]).unwrap();
+/// let d = dc3d(2.0 / 3.0, [0.0, 500.0, 0.0], fault, [1.0, 0.0, 0.0]).unwrap();
 /// // The footwall side (y > 0) moves towards −x.
 /// assert!(d.u[0] < 0.0 && d.u[0] > -0.5);
 /// ```
 pub fn dc3d(
     alpha: f64,
     point: [f64; 3],
-    depth: f64,
-    dip_deg: f64,
-    strike: [f64; 2],
-    dip: [f64; 2],
+    rect: Rectangle,
     dislocation: [f64; 3],
 ) -> Result<Deformation, Error> {
-    let rect = Rectangle::new(depth, dip_deg, strike, dip)?;
     Okada::new(alpha, rect)?.deformation(point, dislocation)
 }
