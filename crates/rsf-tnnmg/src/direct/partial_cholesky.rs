@@ -928,14 +928,11 @@ impl PartialCholesky {
         );
     }
 
-    /// `S = L_F L_Fᵀ`, the Schur complement on the interface, dense column-major
-    /// (`|F| × |F|`, symmetric).
-    /// The interface block `L_F` of the factor as packed rows (row `i` of the lower
-    /// triangle at `i(i+1)/2`, entries `0..=i`): `m(m+1)/2` f64 for `m` interface unknowns.
-    pub(super) fn interface_rows(&self) -> Vec<f64> {
-        let (nr, nf) = (self.nr, self.n - self.nr);
-        let mut packed = vec![0.0; nf * (nf + 1) / 2];
-        let at = |i: usize, j: usize| i * (i + 1) / 2 + j;
+    /// Every stored entry `(i, j, L_ij)` of the interface block `L_F` of the factor
+    /// (lower triangle, `i ≥ j`, both counted from the interface's first unknown), column
+    /// by column.
+    fn for_each_interface_entry(&self, mut f: impl FnMut(usize, usize, f64)) {
+        let nr = self.nr;
         for s in self.l.covering(&(nr..self.n)) {
             let (c0, w, pattern, l) = self.l.get(s);
             let ld = w + pattern.len();
@@ -946,37 +943,31 @@ impl PartialCholesky {
                 }
                 let col = &l[jj * ld..(jj + 1) * ld];
                 for ii in jj..w {
-                    packed[at(c0 + ii - nr, j - nr)] = col[ii];
+                    f(c0 + ii - nr, j - nr, col[ii]);
                 }
                 for (k, &i) in pattern.iter().enumerate() {
-                    packed[at(i as usize - nr, j - nr)] = col[w + k];
+                    f(i as usize - nr, j - nr, col[w + k]);
                 }
             }
         }
+    }
+
+    /// The interface block `L_F` of the factor as packed rows (row `i` of the lower
+    /// triangle at `i(i+1)/2`, entries `0..=i`): `m(m+1)/2` f64 for `m` interface unknowns.
+    pub(super) fn interface_rows(&self) -> Vec<f64> {
+        let nf = self.n - self.nr;
+        let mut packed = vec![0.0; nf * (nf + 1) / 2];
+        self.for_each_interface_entry(|i, j, v| packed[i * (i + 1) / 2 + j] = v);
         packed
     }
 
+    /// `S = L_F L_Fᵀ`, the Schur complement on the interface, dense column-major
+    /// (`|F| × |F|`, symmetric).
     pub(super) fn schur_complement(&self) -> Vec<f64> {
-        let (nr, nf) = (self.nr, self.n - self.nr);
+        let nf = self.n - self.nr;
         // Dense L_F (lower, column-major).
         let mut lf = vec![0.0; nf * nf];
-        for s in 0..self.l.len() {
-            let (c0, w, pattern, l) = self.l.get(s);
-            let ld = w + pattern.len();
-            for jj in 0..w {
-                let j = c0 + jj;
-                if j < nr {
-                    continue;
-                }
-                let col = &l[jj * ld..(jj + 1) * ld];
-                for ii in jj..w {
-                    lf[(j - nr) * nf + (c0 + ii - nr)] = col[ii];
-                }
-                for (k, &i) in pattern.iter().enumerate() {
-                    lf[(j - nr) * nf + (i as usize - nr)] = col[w + k];
-                }
-            }
-        }
+        self.for_each_interface_entry(|i, j, v| lf[j * nf + i] = v);
         let l = faer::MatRef::from_column_major_slice(&lf, nf, nf);
         let mut s = faer::Mat::<f64>::zeros(nf, nf);
         faer::linalg::matmul::matmul(
