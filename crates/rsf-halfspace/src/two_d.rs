@@ -162,36 +162,8 @@ pub fn edge_surface_displacement(
     aw: [f64; 2],
     y: f64,
 ) -> Result<[f64; 2], Error> {
-    for (name, value) in [
-        ("slip", slip),
-        ("depth", depth),
-        ("dip", dip_deg),
-        ("aw1", aw[0]),
-        ("aw2", aw[1]),
-        ("y", y),
-    ] {
-        if !value.is_finite() {
-            return Err(Error::Parameter {
-                name,
-                value,
-                expected: "finite",
-            });
-        }
-    }
-    if !(dip_deg > 0.0 && dip_deg < 180.0) {
-        return Err(Error::Parameter {
-            name: "dip",
-            value: dip_deg,
-            expected: "in (0, 180) degrees",
-        });
-    }
-    if !(aw[1] > aw[0]) {
-        return Err(Error::Parameter {
-            name: "aw2 - aw1",
-            value: aw[1] - aw[0],
-            expected: "> 0",
-        });
-    }
+    check_finite(&[("slip", slip), ("y", y)])?;
+    DipSegment { depth, dip_deg, aw }.check()?;
     let (sd, cd) = sin_cos_snapped(dip_deg);
     let (sv, sh) = (slip * sd, slip * cd);
     // Depth of the up-dip end (η = aw2) and of the down-dip end.
@@ -235,6 +207,46 @@ pub struct DipSegment {
     pub dip_deg: f64,
     /// `[aw1, aw2]`: the segment's extent along dip from the reference point (m).
     pub aw: [f64; 2],
+}
+
+impl DipSegment {
+    /// Finite numbers, a dip in `(0°, 180°)` and `aw1 < aw2`.
+    fn check(&self) -> Result<(), Error> {
+        let Self { depth, dip_deg, aw } = *self;
+        check_finite(&[
+            ("depth", depth),
+            ("dip", dip_deg),
+            ("aw1", aw[0]),
+            ("aw2", aw[1]),
+        ])?;
+        if !(dip_deg > 0.0 && dip_deg < 180.0) {
+            return Err(Error::Parameter {
+                name: "dip",
+                value: dip_deg,
+                expected: "in (0, 180) degrees",
+            });
+        }
+        if !(aw[1] > aw[0]) {
+            return Err(Error::Parameter {
+                name: "aw2 - aw1",
+                value: aw[1] - aw[0],
+                expected: "> 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// [`Error::Parameter`] naming the first value that is not finite.
+fn check_finite(values: &[(&'static str, f64)]) -> Result<(), Error> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        Some(&(name, value)) => Err(Error::Parameter {
+            name,
+            value,
+            expected: "finite",
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Plane-strain stress (Pa, tension positive) in Okada's cross-section.
@@ -308,37 +320,8 @@ pub fn edge_segment_stress(
     let DipSegment { depth, dip_deg, aw } = segment;
     let [y, z] = point;
     let (mu, nu) = (medium.mu(), medium.nu());
-    for (name, value) in [
-        ("slip", slip),
-        ("depth", depth),
-        ("dip", dip_deg),
-        ("aw1", aw[0]),
-        ("aw2", aw[1]),
-        ("y", y),
-        ("z", z),
-    ] {
-        if !value.is_finite() {
-            return Err(Error::Parameter {
-                name,
-                value,
-                expected: "finite",
-            });
-        }
-    }
-    if !(dip_deg > 0.0 && dip_deg < 180.0) {
-        return Err(Error::Parameter {
-            name: "dip",
-            value: dip_deg,
-            expected: "in (0, 180) degrees",
-        });
-    }
-    if !(aw[1] > aw[0]) {
-        return Err(Error::Parameter {
-            name: "aw2 - aw1",
-            value: aw[1] - aw[0],
-            expected: "> 0",
-        });
-    }
+    check_finite(&[("slip", slip), ("y", y), ("z", z)])?;
+    segment.check()?;
     if z > 0.0 {
         return Err(Error::AboveSurface { z });
     }

@@ -51,6 +51,15 @@ fn cube(q: &[[f64; 3]; 3]) -> SimplexMesh<3> {
 /// The cube rotated by `q` with the fault `x = 0` over `|y|, |z| ≤ half` (rotated), its
 /// faces `x = ±1` moving oppositely along y — simple shear of the fault — no inertia.
 fn sheared_cube(q: [[f64; 3]; 3], half: f64) -> rsf::Result<Model<3>> {
+    sheared_cube_with_tangent(q, half, [0.0, 1.0, 0.0])
+}
+
+/// [`sheared_cube`] with the frames' first tangent along `tangent` (unrotated).
+fn sheared_cube_with_tangent(
+    q: [[f64; 3]; 3],
+    half: f64,
+    tangent: [f64; 3],
+) -> rsf::Result<Model<3>> {
     let v = 1e-4;
     let corners = [
         [0.0, -half, -half],
@@ -70,7 +79,7 @@ fn sheared_cube(q: [[f64; 3]; 3], half: f64) -> rsf::Result<Model<3>> {
             Part::predicate("minus face", move |x| rotate_back(&q, *x)[0] < -1.0 + 1e-9),
             rotate(&q, [0.0, -v, 0.0]),
         )
-        .fault_tangent(rotate(&q, [0.0, 1.0, 0.0]))
+        .fault_tangent(rotate(&q, tangent))
         .internal_fault_polygon("fault", &corners)
         .build()
 }
@@ -712,26 +721,7 @@ fn a_3d_fault_given_as_coarse_faces_follows_the_hierarchy() {
 #[test]
 fn a_fault_tangent_normal_to_the_fault_is_an_error_naming_the_node() {
     let q = rotation(0.7);
-    let half = 0.5;
-    let corners = [
-        [0.0, -half, -half],
-        [0.0, half, -half],
-        [0.0, half, half],
-        [0.0, -half, half],
-    ]
-    .map(|x| rotate(&q, x));
-    let e = ModelBuilder::refined(cube(&q), 1)
-        .unwrap()
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(
-            Part::predicate("plus face", move |x| rotate_back(&q, *x)[0] > 1.0 - 1e-9),
-            rotate(&q, [0.0, 1e-4, 0.0]),
-        )
-        .fault_tangent(rotate(&q, [1.0, 0.0, 0.0]))
-        .internal_fault_polygon("fault", &corners)
-        .build()
-        .unwrap_err();
+    let e = sheared_cube_with_tangent(q, 0.5, [1.0, 0.0, 0.0]).unwrap_err();
     match &e {
         rsf::Error::Fem(rsf::fem::Error::TangentAlongNormal {
             vertex, position, ..
