@@ -5,7 +5,8 @@
 //!   Table 6.1), a 5 m × 1 m elastic block on a rigid base, from a TOML file or in code;
 //! - [`Slider3dScene`]: the same block extruded to 5 m × 1 m × W (tetrahedra);
 //! - [`SeasBp1`]: the SCEC SEAS benchmark BP1 (antiplane, a vertical strike-slip fault,
-//!   docs/seas-bp1.md);
+//!   docs/seas-bp1.md); [`SeasBp3`]: BP3 (a dipping fault inside the body); [`SeasBp5`]:
+//!   BP5 (3-D, a fault alone in a half-space, docs/seas-bp5.md);
 //! - the slider on an inclined base ([`inclined_slider_model`]) and on a curved one read from
 //!   a Gmsh file ([`arc_block_model`]), with nodal frames;
 //! - [`output`]: bounds on a scene's output before it runs.
@@ -32,6 +33,8 @@ pub mod output;
 mod scene_file;
 mod seas_bp1;
 mod seas_bp3;
+mod seas_bp5;
+mod seas_bp5_output;
 mod slider;
 mod slider3d;
 
@@ -45,6 +48,11 @@ pub use seas_bp1::{
 };
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
+};
+pub use seas_bp5::{SeasBp5, SeasBp5FaultOde, MAX_CELLS as SEAS_BP5_MAX_CELLS};
+pub use seas_bp5_output::{
+    Bp5Event, SeasBp5Output, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
+    SLIP_RATE_FLOOR,
 };
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,

@@ -18,6 +18,7 @@ use rsf_tnnmg::Condensation;
 
 use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{invalid, Error, Result};
+use crate::fault_alone::{free_fault_dofs, load_rate, Body, Elastic};
 use crate::fault_kernel::condensed_operator;
 use crate::fault_operator::FaultOperator;
 pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
@@ -25,7 +26,7 @@ use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
 use crate::node_solves::{Loading, NodeSolves, PartNodes, PARALLEL_NODES_MIN};
-use crate::normal_stress::{NormalCoupling, ScaledTractions};
+use crate::normal_stress::{NormalCoupling, NormalStress, ScaledTractions};
 use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
@@ -192,7 +193,7 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
 
 /// What the right-hand side needs besides the laws.
 struct FaultRates<const C: usize> {
-    cond: Condensation<C>,
+    body: Body<C>,
     operator: Box<dyn FaultOperator>,
     par: Parallelism,
     g0: Vec<f64>,
@@ -328,7 +329,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         alpha0: Vec<f64>,
         dt0: f64,
         options: FaultOdeOptions,
-        operator: Option<Box<dyn FaultOperator>>,
+        elastic: Elastic,
     ) -> Result<Self> {
         options.validate()?;
         let model = problem.model();
@@ -375,44 +376,67 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 ));
             }
         }
-        let mut cond = Condensation::<C>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes)?;
-        let m = cond.dim();
-        let operator: Box<dyn FaultOperator> = match operator {
-            Some(op) if op.dim() != m => {
-                return Err(invalid(
-                    "fault_operator",
-                    format!(
-                        "an operator of {} unknowns for a fault of {m} slip unknowns",
-                        op.dim()
-                    ),
-                ))
+        let (body, operator, g0, g1, history, mut normal) = match elastic {
+            Elastic::Condensed(operator) => {
+                let mut cond =
+                    Condensation::<C>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes)?;
+                let m = cond.dim();
+                let operator: Box<dyn FaultOperator> = match operator {
+                    Some(op) if op.dim() != m => {
+                        return Err(invalid(
+                            "fault_operator",
+                            format!(
+                                "an operator of {} unknowns for a fault of {m} slip unknowns",
+                                op.dim()
+                            ),
+                        ))
+                    }
+                    Some(op) => op,
+                    None => Box::new(condensed_operator(model, &cond, options.kernel)?),
+                };
+                let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
+                let normal = NormalCoupling::new(
+                    problem.normal_stress(),
+                    model,
+                    &mut cond,
+                    problem.friction_laws(),
+                    &velocity_factor,
+                    big_g0,
+                )?;
+                let mut g0 = vec![0.0; m];
+                cond.condense(&model.load, &model.initial_displacement, &mut g0)?;
+                let mut g1 = vec![0.0; m];
+                cond.condense(&vec![0.0; n], &velocity_factor, &mut g1)?;
+                let history = model.dirichlet.history.clone();
+                (Body::Volume(cond), operator, g0, g1, history, normal)
             }
-            Some(op) => op,
-            None => Box::new(condensed_operator(model, &cond, options.kernel)?),
+            Elastic::Alone(mut alone) => {
+                if problem.normal_stress() != NormalStress::Fixed {
+                    return Err(invalid(
+                        "normal_stress",
+                        "a fault alone has no volume to take a normal stress from slip from: \
+                         use NormalStress::Fixed",
+                    ));
+                }
+                let g1 = load_rate(model, &mut alone, options.parallelism)?;
+                let dofs = free_fault_dofs(model);
+                let g0 = dofs.iter().map(|&i| model.load[i]).collect();
+                // g(t) = g₀ + t S v_pl: the history's integral is t.
+                let history = TimeFunction::Constant(1.0);
+                (Body::Alone { dofs }, alone.operator, g0, g1, history, None)
+            }
         };
-        let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
-        let mut normal = NormalCoupling::new(
-            problem.normal_stress(),
-            model,
-            &mut cond,
-            problem.friction_laws(),
-            &velocity_factor,
-            big_g0,
-        )?;
-        let normal_kernel_report = match &mut normal {
-            Some(n) => n.compress(model, &cond, options.kernel)?,
-            None => None,
+        let m = body.dim();
+        let normal_kernel_report = match (&mut normal, &body) {
+            (Some(n), Body::Volume(cond)) => n.compress(model, cond, options.kernel)?,
+            _ => None,
         };
         let scaled_tractions = normal.as_ref().map(|n| ScaledTractions {
             laws: problem.friction_laws().to_vec(),
             sigma0: n.initial().to_vec(),
             sigma: n.initial().to_vec(),
         });
-        let mut g0 = vec![0.0; m];
-        cond.condense(&model.load, &model.initial_displacement, &mut g0)?;
         let zeros = vec![0.0; n];
-        let mut g1 = vec![0.0; m];
-        cond.condense(&zeros, &velocity_factor, &mut g1)?;
         let mut first = Vec::with_capacity(fb.len() + 1);
         let mut fixed_velocity = Vec::with_capacity(fb.len());
         let mut count = 0;
@@ -431,7 +455,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         first.push(count);
         debug_assert_eq!(count, m);
         let mut in_interface = vec![false; n];
-        for &dof in cond.interface_dofs() {
+        for &dof in body.interface_dofs() {
             in_interface[dof] = true;
         }
         let interior = (0..n)
@@ -440,18 +464,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         let fixed = (0..n).filter(|&i| model.fixed[i]).collect();
         let mut y = Vec::with_capacity(m + fb.len());
         y.extend(
-            cond.interface_dofs()
+            body.interface_dofs()
                 .iter()
                 .map(|&dof| model.initial_displacement[dof]),
         );
         y.extend_from_slice(&alpha0);
         let rates = FaultRates {
-            cond,
+            body,
             operator,
             par: options.parallelism,
             g0,
             g1,
-            history: model.dirichlet.history.clone(),
+            history,
             first,
             fixed_velocity,
             weights: fb.weights.clone(),
@@ -540,13 +564,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
 
     /// Number of condensed unknowns (free components on Γ_F).
     pub fn condensed_dim(&self) -> usize {
-        self.rates.cond.dim()
+        self.rates.body.dim()
     }
 
     /// Entries of the volume's sparse Cholesky factor the condensation holds (what limits a
     /// 3-D run's memory with the operator's, docs/three-d.md).
     pub fn factor_nnz(&self) -> usize {
-        self.rates.cond.factor_nnz()
+        self.rates.body.factor_nnz()
     }
 
     /// What the set-up measured of the operator `S` (or `S_H`): the kernel, its error
@@ -619,9 +643,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 format!("next step {dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
             ));
         }
-        let m = self.rates.cond.dim();
+        let m = self.rates.body.dim();
         let mut y = self.y.clone();
-        for (yi, &dof) in y.iter_mut().zip(self.rates.cond.interface_dofs()) {
+        for (yi, &dof) in y.iter_mut().zip(self.rates.body.interface_dofs()) {
             *yi = state.kinematics.u[dof];
         }
         y[m..].copy_from_slice(&state.alpha);
@@ -698,9 +722,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 format!("{dt} s must be in [{}, {}] s", o.dt_min, o.dt_max),
             ));
         }
-        let m = self.rates.cond.dim();
+        let m = self.rates.body.dim();
         let mut y = self.y.clone();
-        for (yi, &dof) in y.iter_mut().zip(self.rates.cond.interface_dofs()) {
+        for (yi, &dof) in y.iter_mut().zip(self.rates.body.interface_dofs()) {
             *yi = state.kinematics.u[dof];
         }
         y[m..].copy_from_slice(&state.alpha);
@@ -734,11 +758,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         let dy = &self.dy;
         let model = self.problem.model();
         let r = &mut self.rates;
-        let m = r.cond.dim();
+        let m = r.body.dim();
         let t = self.state.time;
         let big_g = r.history.integral(t).unwrap_or(0.0);
         let kin = &mut self.state.kinematics;
-        for (i, &dof) in r.cond.interface_dofs().iter().enumerate() {
+        for (i, &dof) in r.body.interface_dofs().iter().enumerate() {
             kin.u[dof] = self.y[i];
             kin.v[dof] = dy[i];
         }
@@ -751,12 +775,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         impose_dirichlet_velocities(model, t, &mut kin.v);
         if volume {
             self.interior_is_nan = false;
-            r.cond
-                .condense(&model.load, &kin.u, &mut r.r)
-                .and_then(|()| r.cond.extend(&mut kin.u))?;
-            r.cond
-                .condense(&self.zeros, &kin.v, &mut r.r)
-                .and_then(|()| r.cond.extend(&mut kin.v))?;
+            if let Some(cond) = r.body.volume_mut() {
+                cond.condense(&model.load, &kin.u, &mut r.r)
+                    .and_then(|()| cond.extend(&mut kin.u))?;
+                cond.condense(&self.zeros, &kin.v, &mut r.r)
+                    .and_then(|()| cond.extend(&mut kin.v))?;
+            }
         } else {
             if !self.interior_is_nan {
                 for &i in &self.interior {
@@ -891,12 +915,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
         for (&dof, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
             velocity_factor[dof] = f;
         }
-        self.probe = Some(VolumeProbe::new(
-            model,
-            &mut self.rates.cond,
-            vertices,
-            &velocity_factor,
-        )?);
+        let Some(cond) = self.rates.body.volume_mut() else {
+            return Err(invalid(
+                "volume_vertices",
+                "a fault alone (FaultAlone) has no volume: an observer cannot read vertices \
+                 off the fault",
+            ));
+        };
+        self.probe = Some(VolumeProbe::new(model, cond, vertices, &velocity_factor)?);
         // Another probe's vertices are NaN again.
         self.interior_is_nan = false;
         self.fill_state(false)
@@ -924,7 +950,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
 impl<const D: usize, L, S, const C: usize> std::fmt::Debug for FaultOde<D, L, S, C> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("FaultOde")
-            .field("condensed_dim", &self.rates.cond.dim())
+            .field("condensed_dim", &self.rates.body.dim())
             .field("time", &self.state.time)
             .field("step", &self.state.step)
             .field("options", &self.options)

@@ -226,6 +226,40 @@ impl OkadaFrame {
     }
 }
 
+/// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
+type Node = ([f64; 3], [f64; 3], [f64; 3], [f64; 3]);
+
+/// The checks of [`HalfSpaceOptions`].
+fn check_options(options: &HalfSpaceOptions) -> std::result::Result<(), HalfSpaceOperatorError> {
+    use HalfSpaceOperatorError as E;
+    if !(options.epsilon > 0.0 && options.epsilon <= MAX_KERNEL_EPSILON) {
+        return Err(E::Options {
+            name: "epsilon",
+            value: options.epsilon,
+            expected: "in (0, 1e-2]",
+        });
+    }
+    if options.leaf_size == 0 {
+        return Err(E::Options {
+            name: "leaf_size",
+            value: 0.0,
+            expected: "at least 1",
+        });
+    }
+    if !options.surface.is_finite() {
+        return Err(E::Options {
+            name: "surface",
+            value: options.surface,
+            expected: "finite",
+        });
+    }
+    Ok(())
+}
+
+fn kernel_error(e: rsf_halfspace::Error) -> crate::Error {
+    crate::error::invalid("half_space", e.to_string())
+}
+
 fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -314,27 +348,7 @@ impl HalfSpaceOperator {
         options: &HalfSpaceOptions,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
-        if !(options.epsilon > 0.0 && options.epsilon <= MAX_KERNEL_EPSILON) {
-            return Err(E::Options {
-                name: "epsilon",
-                value: options.epsilon,
-                expected: "in (0, 1e-2]",
-            });
-        }
-        if options.leaf_size == 0 {
-            return Err(E::Options {
-                name: "leaf_size",
-                value: 0.0,
-                expected: "at least 1",
-            });
-        }
-        if !options.surface.is_finite() {
-            return Err(E::Options {
-                name: "surface",
-                value: options.surface,
-                expected: "finite",
-            });
-        }
+        check_options(options)?;
         let clock = Instant::now();
         let fault = model.internal_fault.as_ref().ok_or(E::NoInternalFault)?;
         let fb = &model.frictional_boundary;
@@ -361,6 +375,66 @@ impl HalfSpaceOperator {
             let col = |c: usize| [r[0][c], r[1][c], r[2][c]];
             nodes.push((model.vertices[p], col(0), col(1), col(2).map(|x| -x)));
         }
+        Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock)
+    }
+
+    /// The operator of a fault alone ([`Model::fault_only`]: one vertex per cell, no
+    /// volume) in the half-space of `options`, for
+    /// [`SimulationBuilder::build_fault_ode_alone`](crate::SimulationBuilder::build_fault_ode_alone):
+    /// each frictional node's two free components are its slip along those Cartesian
+    /// axes (`t₁`, `t₂` in increasing axis order), its fixed component the normal `n`
+    /// (`+` that axis: the plus side is where it points). The cells must be the
+    /// centres of a regular grid filling a rectangle below the surface, as for
+    /// [`new`](Self::new) — here a fault may reach the free surface (the cells' tops on it).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) ([`HalfSpaceOperatorError::Components`] for a node without
+    /// exactly one fixed component); [`HalfSpaceOperatorError::NotAPair`] is not raised.
+    pub fn fault_alone(
+        model: &Model<3, 3>,
+        options: &HalfSpaceOptions,
+    ) -> std::result::Result<Self, HalfSpaceOperatorError> {
+        use HalfSpaceOperatorError as E;
+        check_options(options)?;
+        let clock = Instant::now();
+        let fb = &model.frictional_boundary;
+        let axis = |c: usize| {
+            let mut e = [0.0; 3];
+            e[c] = 1.0;
+            e
+        };
+        let mut nodes = Vec::with_capacity(fb.len());
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
+            let tangential: Vec<usize> = (0..3).filter(|&c| free[c]).collect();
+            let Some(normal) = (0..3).find(|&c| !free[c]).filter(|_| tangential.len() == 2) else {
+                return Err(E::Components {
+                    node: k,
+                    vertex: p,
+                    free,
+                });
+            };
+            nodes.push((
+                model.vertices[p],
+                axis(tangential[0]),
+                axis(tangential[1]),
+                axis(normal),
+            ));
+        }
+        Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock)
+    }
+
+    /// The operator on `nodes` (position, `t₁`, `t₂`, normal into the plus side) of the
+    /// frictional vertices `vertices` with weights `weights`.
+    fn from_nodes(
+        nodes: &[Node],
+        vertices: &[usize],
+        weights: &[f64],
+        options: &HalfSpaceOptions,
+        clock: Instant,
+    ) -> std::result::Result<Self, HalfSpaceOperatorError> {
+        use HalfSpaceOperatorError as E;
+        let fb_nodes = vertices;
         if nodes.len() < 2 {
             return Err(E::TooFewNodes { nodes: nodes.len() });
         }
@@ -433,7 +507,7 @@ impl HalfSpaceOperator {
             if off > tol || turn > GRID_TOLERANCE || dot(n, &n_fe) < 0.0 {
                 return Err(E::NotPlanar {
                     node: k,
-                    vertex: fb.nodes[k],
+                    vertex: fb_nodes[k],
                     position: *x,
                     normal: n_fe,
                     distance: if off > tol { off } else { turn },
@@ -462,7 +536,7 @@ impl HalfSpaceOperator {
             if offset > tol || taken {
                 return Err(E::NotAtCentre {
                     node: k,
-                    vertex: fb.nodes[k],
+                    vertex: fb_nodes[k],
                     position: nodes[k].0,
                     spacing: [hs, hd],
                     offset: if offset > tol { offset } else { 0.0 },
@@ -494,7 +568,7 @@ impl HalfSpaceOperator {
             if above > tol {
                 return Err(E::SurfaceBreaking {
                     node: k,
-                    vertex: fb.nodes[k],
+                    vertex: fb_nodes[k],
                     position: *x,
                     surface: options.surface,
                     above,
@@ -524,7 +598,7 @@ impl HalfSpaceOperator {
             if offset > tol {
                 return Err(E::NotAtCentre {
                     node: k,
-                    vertex: fb.nodes[k],
+                    vertex: fb_nodes[k],
                     position: *x,
                     spacing: [hs, hd],
                     offset,
@@ -595,7 +669,7 @@ impl HalfSpaceOperator {
             kernel,
             element,
             map,
-            weights: fb.weights.clone(),
+            weights: weights.to_vec(),
             frame,
             fault: bem,
             s: vec![0.0; len],
@@ -654,6 +728,50 @@ impl HalfSpaceOperator {
             s[2 * e] = a[0][0] * j[0] + a[0][1] * j[1];
             s[2 * e + 1] = a[1][0] * j[0] + a[1][1] * j[1];
         }
+    }
+
+    /// The displacement at `points` (model coordinates, in the half-space, off the
+    /// fault; m) per unit slip of every slip unknown (Okada's `DC3D` of each element):
+    /// `out[p][c · dim + j]` is component `c` (the model's Cartesian axes) at point `p` of
+    /// unit slip (1 m) of unknown `j`, so that the displacement at `p` of a slip `x` is
+    /// `Σ_j out[p][c · dim + j] x_j` — the half-space's elastic part; a fault alone
+    /// loaded by back slip adds each side's rigid plate motion (docs/seas-bp5.md).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] named `points` for a point above the free
+    /// surface or a non-finite one; the kernels' errors (e.g. a point on an element's
+    /// edge), named `half_space`.
+    pub fn displacement_columns(&self, points: &[[f64; 3]]) -> Result<Vec<Vec<f64>>> {
+        let m = self.dim();
+        let alpha = self.fault.medium().alpha();
+        let mut out = Vec::with_capacity(points.len());
+        for (p, x) in points.iter().enumerate() {
+            let o = self.frame.to_okada(*x);
+            if !(o.iter().all(|c| c.is_finite()) && o[2] <= 0.0) {
+                return Err(crate::error::invalid(
+                    "points",
+                    format!("point {p} at {x:?} is not finite or above the free surface"),
+                ));
+            }
+            let mut row = vec![0.0; 3 * m];
+            for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
+                let unit = |d: [f64; 3]| -> Result<[f64; 3]> {
+                    let rect = *self.fault.element(e).map_err(kernel_error)?;
+                    let u = rsf_halfspace::okada::dc3d(alpha, o, rect, d)
+                        .map_err(kernel_error)?
+                        .u;
+                    Ok(self.frame.to_model(u))
+                };
+                let (strike, dip) = (unit([1.0, 0.0, 0.0])?, unit([0.0, 1.0, 0.0])?);
+                for t in 0..2 {
+                    for c in 0..3 {
+                        row[c * m + 2 * k + t] = a[0][t] * strike[c] + a[1][t] * dip[c];
+                    }
+                }
+            }
+            out.push(row);
+        }
+        Ok(out)
     }
 
     /// The dense `S_bem` (`m × m`, N/m, rows and columns the model's slip unknowns).

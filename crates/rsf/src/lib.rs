@@ -48,6 +48,7 @@
 mod any_run;
 pub mod checkpoint;
 mod error;
+pub mod fault_alone;
 mod fault_kernel;
 pub mod fault_ode;
 pub mod fault_operator;

@@ -84,7 +84,12 @@ impl ProblemScales {
             displacement: initial_displacement
                 .iter()
                 .fold(0.0_f64, |m, x| nan_max(m, x.abs())),
-            displacement_estimate: if load == 0.0 { 0.0 } else { load / stiffness.0 },
+            // No stiffness at all (a fault alone, Model::fault_only): no estimate.
+            displacement_estimate: if load == 0.0 || stiffness.1 == 0.0 {
+                0.0
+            } else {
+                load / stiffness.0
+            },
         }
     }
 

@@ -21,8 +21,9 @@ pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
 pub use seas::{
-    utc_date_today, SeasEvent, SeasLayout, SeasOutput, SeasSampling, SeasSetup, SeasSurfaceStation,
-    SEAS_BP1_STATION_COLUMNS, SEAS_BP3_STATION_COLUMNS, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
+    c_exp as seas_number, common_header as seas_header, utc_date_today, SeasEvent, SeasLayout,
+    SeasOutput, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
+    SEAS_BP3_STATION_COLUMNS, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
 };
 pub use series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]

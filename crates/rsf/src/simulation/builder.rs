@@ -6,6 +6,7 @@ use rsf_state::StateLaw;
 use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
 
 use crate::error::{invalid, Error, Result};
+use crate::fault_alone::{Elastic, FaultAlone};
 use crate::fault_ode::{FaultOde, FaultOdeOptions};
 use crate::fault_operator::FaultOperator;
 use crate::method::fixed_point::FixedPointOptions;
@@ -533,7 +534,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// for a frictional node with some components prescribed at a non-zero velocity; the
     /// options' errors; [`Error::Solver`] if `K` is not positive definite on the free dofs.
     pub fn build_fault_ode(self, options: FaultOdeOptions) -> Result<FaultOde<D, L, S, C>> {
-        self.fault_ode(options, None)
+        self.fault_ode(options, Elastic::Condensed(None))
     }
 
     /// As [`build_fault_ode`](Self::build_fault_ode) with the elastic operator `S` given
@@ -552,14 +553,32 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         options: FaultOdeOptions,
         operator: Box<dyn FaultOperator>,
     ) -> Result<FaultOde<D, L, S, C>> {
-        self.fault_ode(options, Some(operator))
+        self.fault_ode(options, Elastic::Condensed(Some(operator)))
     }
 
-    fn fault_ode(
+    /// As [`build_fault_ode`](Self::build_fault_ode) for a fault without a volume
+    /// ([`Model::fault_only`]): the elastic operator and the plate motion that loads the
+    /// fault by back slip are `alone`'s ([`FaultAlone`]: `g₀ − S (u_F − t v_pl)` on the
+    /// right-hand side, `g₀` the model's load), the laws, state and damping the builder's.
+    /// Observers see the fault only (an observer asking for vertices off it is refused).
+    /// `options.kernel` is not used.
+    ///
+    /// # Errors
+    /// As [`build_fault_ode`](Self::build_fault_ode); [`Error::InvalidParameter`] named
+    /// `stiffness` for a model with a stiffness (a body: use
+    /// [`build_fault_ode_with_operator`](Self::build_fault_ode_with_operator)),
+    /// `dirichlet` for prescribed velocities, `fault_operator` for an operator of another
+    /// dimension than the fault's slip unknowns, `plate_velocity` for another length or
+    /// non-finite entries, `normal_stress` for a normal stress from slip.
+    pub fn build_fault_ode_alone(
         self,
         options: FaultOdeOptions,
-        operator: Option<Box<dyn FaultOperator>>,
+        alone: FaultAlone,
     ) -> Result<FaultOde<D, L, S, C>> {
+        self.fault_ode(options, Elastic::Alone(alone))
+    }
+
+    fn fault_ode(self, options: FaultOdeOptions, elastic: Elastic) -> Result<FaultOde<D, L, S, C>> {
         let (this, friction, state_laws, alpha0, tau) = self.checked()?;
         if let Some(name) = this.implicit_settings.first() {
             return Err(invalid(
@@ -581,7 +600,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             alpha0,
             tau,
             options,
-            operator,
+            elastic,
         )
     }
 }

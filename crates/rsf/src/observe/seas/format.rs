@@ -22,8 +22,10 @@ pub(super) fn station_field_line(layout: &SeasLayout) -> String {
         .join(" ")
 }
 
-/// Formats `x` as C's `%W.PE` (`1.2345E+03`), right-aligned in `width`.
-pub(super) fn c_exp(x: f64, precision: usize, width: usize) -> String {
+/// Formats `x` as C's `%W.PE` (`1.2345E+03`), right-aligned in `width`: the SEAS
+/// files' number format (e.g. `c_exp(t, 13, 21)` for a time column, `c_exp(x, 6, 14)`
+/// for the others).
+pub fn c_exp(x: f64, precision: usize, width: usize) -> String {
     let s = format!("{x:.precision$E}");
     let (mantissa, exponent) = s.split_once('E').unwrap_or((&s, "0"));
     let e: i32 = exponent.parse().unwrap_or(0);
@@ -37,8 +39,9 @@ pub(super) fn c_exp(x: f64, precision: usize, width: usize) -> String {
 /// The header lines every file shares (`#` lines): problem, author, date, code, version,
 /// element size, location, and the run's smallest and largest time step (`steps`,
 /// `(τ_min, τ_max)` once a step was taken) and the data rows in the file
-/// (`num_time_steps`, the benchmark's name for it).
-pub(super) fn common_header(
+/// (`num_time_steps`, the benchmark's name for it). Only `setup`'s `problem`, `modeler`,
+/// `date` and `element_size` are read.
+pub fn common_header(
     setup: &SeasSetup,
     location: &str,
     steps: Option<(f64, f64)>,

@@ -1,0 +1,401 @@
+//! The SCEC SEAS benchmark BP5-QD (Jiang et al. 2022, JGR Solid Earth 127,
+//! e2021JB023519; docs/seas-bp5.md): a vertical strike-slip fault in a homogeneous
+//! half-space, slip with two components, a 100 km × 40 km rate-and-state region in a
+//! plane that creeps at the plate rate, a nucleation patch, 1800 years.
+//!
+//! Coordinates: the benchmark's `(x₁, x₂, x₃)` (`x₁` normal to the fault, `x₂` along
+//! strike, `x₃` depth, positive down) are the model's `(x, y, −z)`: the model's `z` points
+//! up, the free surface is `z = 0`. A model's slip `(u_y, u_z)` is the benchmark's
+//! `(slip₂, −slip₃)`.
+
+use rsf::fault_alone::FaultAlone;
+use rsf::fault_ode::FaultOdeOptions;
+use rsf::halfspace::Medium;
+use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
+use rsf::{FaultOde, Model, Result, SimulationBuilder};
+use rsf_friction::{AsinhLaw, RateStateParams};
+use rsf_state::Aging;
+
+use crate::invalid;
+
+/// The fault ODE of BP5 (the regularised law, the aging law, a 3-D fault alone).
+pub type SeasBp5FaultOde = FaultOde<3, AsinhLaw, Aging, 3>;
+
+/// BP5-QD parameters (Table 1 of the description; SI units). [`SeasBp5::default`] is
+/// the benchmark.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SeasBp5 {
+    /// Density ρ (kg/m³).
+    pub rho: f64,
+    /// Shear wave speed c_s (m/s).
+    pub c_s: f64,
+    /// Poisson's ratio ν.
+    pub nu: f64,
+    /// Effective normal stress σ̄_n (Pa).
+    pub sigma_n: f64,
+    /// Direct effect a in the velocity-weakening core.
+    pub a0: f64,
+    /// Direct effect a outside it (velocity strengthening).
+    pub a_max: f64,
+    /// Evolution effect b (uniform).
+    pub b0: f64,
+    /// Characteristic slip distance L (m) outside the nucleation patch.
+    pub l: f64,
+    /// L (m) in the nucleation patch.
+    pub l_nucleation: f64,
+    /// Reference friction coefficient f₀.
+    pub f0: f64,
+    /// Reference slip rate V₀ (m/s).
+    pub v0: f64,
+    /// Plate rate V_p (m/s), along +x₂.
+    pub v_p: f64,
+    /// Initial slip rate V_init (m/s) outside the nucleation patch.
+    pub v_init: f64,
+    /// Initial slip rate V_i (m/s) in the nucleation patch.
+    pub v_i: f64,
+    /// Depth h_s of the shallow strengthening layer (m).
+    pub h_s: f64,
+    /// Width h_t of the transitions of a (m).
+    pub h_t: f64,
+    /// Depth extent H of the weakening core (m).
+    pub h: f64,
+    /// Length l of the weakening core along strike (m).
+    pub l_core: f64,
+    /// Depth W_f of the rate-and-state region (m).
+    pub w_f: f64,
+    /// Length l_f of the rate-and-state region along strike (m).
+    pub l_f: f64,
+    /// Size w of the nucleation patch (m).
+    pub w: f64,
+}
+
+impl Default for SeasBp5 {
+    fn default() -> Self {
+        Self {
+            rho: 2670.0,
+            c_s: 3464.0,
+            nu: 0.25,
+            sigma_n: 25e6,
+            a0: 0.004,
+            a_max: 0.04,
+            b0: 0.03,
+            l: 0.14,
+            l_nucleation: 0.13,
+            f0: 0.6,
+            v0: 1e-6,
+            v_p: 1e-9,
+            v_init: 1e-9,
+            v_i: 0.03,
+            h_s: 2e3,
+            h_t: 2e3,
+            h: 12e3,
+            l_core: 60e3,
+            w_f: 40e3,
+            l_f: 100e3,
+            w: 12e3,
+        }
+    }
+}
+
+impl SeasBp5 {
+    /// Checks that every parameter is finite, all but `f0` and `nu` positive, `ν` in
+    /// `(−1, ½)`, and the core and the patch inside the rate-and-state region.
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        let fields = [
+            ("rho", self.rho),
+            ("c_s", self.c_s),
+            ("sigma_n", self.sigma_n),
+            ("a0", self.a0),
+            ("a_max", self.a_max),
+            ("b0", self.b0),
+            ("l", self.l),
+            ("l_nucleation", self.l_nucleation),
+            ("v0", self.v0),
+            ("v_p", self.v_p),
+            ("v_init", self.v_init),
+            ("v_i", self.v_i),
+            ("h_s", self.h_s),
+            ("h_t", self.h_t),
+            ("h", self.h),
+            ("l_core", self.l_core),
+            ("w_f", self.w_f),
+            ("l_f", self.l_f),
+            ("w", self.w),
+        ];
+        for (name, v) in fields {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(invalid(name, format!("{v} must be positive and finite")));
+            }
+        }
+        if !self.f0.is_finite() {
+            return Err(invalid("f0", "must be finite"));
+        }
+        if !(self.nu > -1.0 && self.nu < 0.5) {
+            return Err(invalid("nu", format!("{} must be in (-1, 0.5)", self.nu)));
+        }
+        if self.h_s + 2.0 * self.h_t + self.h > self.w_f || self.l_core + 2.0 * self.h_t > self.l_f
+        {
+            return Err(invalid(
+                "w_f",
+                "the weakening core and its transitions must lie inside the rate-and-state \
+                 region (h_s + 2 h_t + H <= W_f, l + 2 h_t <= l_f)",
+            ));
+        }
+        if self.w > self.l_core {
+            return Err(invalid(
+                "w",
+                "the nucleation patch must lie in the core (w <= l)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Shear modulus μ = ρ c_s² (Pa); 32.04 GPa for the benchmark.
+    pub fn shear_modulus(&self) -> f64 {
+        self.rho * self.c_s * self.c_s
+    }
+
+    /// Radiation damping η = μ/(2c_s) (Pa·s/m).
+    pub fn radiation_damping(&self) -> f64 {
+        self.shear_modulus() / (2.0 * self.c_s)
+    }
+
+    /// The half-space: λ = 2μν/(1 − 2ν), μ.
+    ///
+    /// # Errors
+    /// Invalid parameters.
+    pub fn medium(&self) -> Result<Medium> {
+        self.validate()?;
+        let mu = self.shear_modulus();
+        Medium::new(2.0 * mu * self.nu / (1.0 - 2.0 * self.nu), mu)
+            .map_err(|e| invalid("nu", e.to_string()))
+    }
+
+    /// a at `(x₂, x₃)` (m; `x₃` the depth): `a0` in the core (`h_s + h_t ≤ x₃ ≤ h_s +
+    /// h_t + H`, `|x₂| ≤ l/2`), `a_max` a transition `h_t` away from it, linear in between
+    /// (the larger of the two distances along depth and strike).
+    pub fn a(&self, x2: f64, x3: f64) -> f64 {
+        let depth = (x3 - self.h_s - self.h_t - 0.5 * self.h).abs() - 0.5 * self.h;
+        let strike = x2.abs() - 0.5 * self.l_core;
+        let r = (depth.max(strike) / self.h_t).clamp(0.0, 1.0);
+        self.a0 + r * (self.a_max - self.a0)
+    }
+
+    /// Whether `(x₂, x₃)` is in the nucleation patch (`−l/2 ≤ x₂ ≤ −l/2 + w`,
+    /// `h_s + h_t ≤ x₃ ≤ h_s + h_t + H`).
+    pub fn in_nucleation_patch(&self, x2: f64, x3: f64) -> bool {
+        let x2_lo = -0.5 * self.l_core;
+        let x3_lo = self.h_s + self.h_t;
+        (x2_lo..=x2_lo + self.w).contains(&x2) && (x3_lo..=x3_lo + self.h).contains(&x3)
+    }
+
+    /// L at `(x₂, x₃)` (m).
+    pub fn l_at(&self, x2: f64, x3: f64) -> f64 {
+        if self.in_nucleation_patch(x2, x3) {
+            self.l_nucleation
+        } else {
+            self.l
+        }
+    }
+
+    /// The initial slip rate at `(x₂, x₃)` (m/s, along +x₂): `V_i` in the patch, `V_init`
+    /// elsewhere.
+    pub fn initial_slip_rate(&self, x2: f64, x3: f64) -> f64 {
+        if self.in_nucleation_patch(x2, x3) {
+            self.v_i
+        } else {
+            self.v_init
+        }
+    }
+
+    /// The rate-and-state parameters at `(x₂, x₃)` for the regularised law
+    /// [`AsinhLaw`]: `mu0 = f0`, `a(x₂, x₃)`, `b0`, `l = L(x₂, x₃)`.
+    pub fn params(&self, x2: f64, x3: f64) -> RateStateParams {
+        RateStateParams {
+            mu0: self.f0,
+            a: self.a(x2, x3),
+            b: self.b0,
+            v0: self.v0,
+            l: self.l_at(x2, x3),
+            sigma_n: self.sigma_n,
+        }
+    }
+
+    /// The initial state `α = ln θ₀ = ln(L/V_init)` (θ in s): steady state at the plate
+    /// rate everywhere, the patch included (its ψ is the same; docs/seas-bp5.md).
+    pub fn alpha0(&self, x2: f64, x3: f64) -> f64 {
+        (self.l_at(x2, x3) / self.v_init).ln()
+    }
+
+    /// The prestress along +x₂ (Pa): `τ⁰ = σ̄_n a asinh(V/(2V₀) exp((f₀ + b ln(V₀/V_init))/a)) + ηV`
+    /// with the local `a` and `V` the initial slip rate ([`initial_slip_rate`](Self::initial_slip_rate)),
+    /// so that the fault starts at `V` with the state [`alpha0`](Self::alpha0).
+    pub fn tau0(&self, x2: f64, x3: f64) -> f64 {
+        let a = self.a(x2, x3);
+        let v = self.initial_slip_rate(x2, x3);
+        let psi = self.f0 + self.b0 * (self.v0 / self.v_init).ln();
+        self.sigma_n * a * (v / (2.0 * self.v0) * (psi / a).exp()).asinh()
+            + self.radiation_damping() * v
+    }
+
+    /// The cells of a grid of size `dx` on the rate-and-state region: their centres
+    /// `(x₂, x₃)` (m), strike fastest, from the shallowest row down.
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `dx` unless it divides `l_f` and `W_f` into
+    /// whole cells (to 1e-9 relative).
+    pub fn cells(&self, dx: f64) -> Result<Vec<[f64; 2]>> {
+        self.validate()?;
+        let count = |length: f64| -> Result<usize> {
+            let n = length / dx;
+            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-9 * n {
+                return Err(invalid(
+                    "dx",
+                    format!(
+                        "{dx} m must divide l_f = {} m and W_f = {} m into whole cells",
+                        self.l_f, self.w_f
+                    ),
+                ));
+            }
+            Ok(n.round() as usize)
+        };
+        let (n_strike, n_dip) = (count(self.l_f)?, count(self.w_f)?);
+        if n_strike.saturating_mul(n_dip) > MAX_CELLS {
+            return Err(invalid(
+                "dx",
+                format!(
+                    "{dx} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
+                     grid)"
+                ),
+            ));
+        }
+        let mut cells = Vec::with_capacity(n_strike * n_dip);
+        for j in 0..n_dip {
+            for i in 0..n_strike {
+                cells.push([
+                    -0.5 * self.l_f + (i as f64 + 0.5) * dx,
+                    (j as f64 + 0.5) * dx,
+                ]);
+            }
+        }
+        Ok(cells)
+    }
+
+    /// The fault alone on the grid of size `dx` ([`Model::fault_only`]): one vertex per
+    /// cell at `(0, x₂, −x₃)`, `x` (the fault normal) fixed, the prestress
+    /// [`tau0`](Self::tau0) along `+y` as the load (times the cell's area).
+    ///
+    /// # Errors
+    /// Those of [`cells`](Self::cells).
+    pub fn model(&self, dx: f64) -> Result<Model<3, 3>> {
+        let cells = self.cells(dx)?;
+        let centres = cells.iter().map(|c| [0.0, c[0], -c[1]]).collect();
+        let areas = vec![dx * dx; cells.len()];
+        let mut model = Model::fault_only(centres, &areas, 0)?;
+        for (k, c) in cells.iter().enumerate() {
+            model.load[3 * k + 1] = dx * dx * self.tau0(c[0], c[1]);
+        }
+        Ok(model)
+    }
+
+    /// The fault ODE of BP5 on `model` (from [`model`](Self::model)) with Okada's
+    /// half-space operator ([`HalfSpaceOperator::fault_alone`]: dense up to
+    /// `half_space.dense_max` unknowns, an ℋ-matrix of accuracy `half_space.epsilon`
+    /// beyond), loaded by back slip at `V_p` along `+x₂`: the regularised law with
+    /// [`params`](Self::params), the aging law with the local L, θ₀ of
+    /// [`alpha0`](Self::alpha0), η = μ/(2c_s), first trial step 1 ms.
+    ///
+    /// # Errors
+    /// Invalid parameters; the operator's errors (as
+    /// [`rsf::Error::InvalidParameter`] named `half_space`); the set-up errors of
+    /// [`build_fault_ode_alone`](SimulationBuilder::build_fault_ode_alone).
+    pub fn fault_ode(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+        half_space: &HalfSpaceOptions,
+    ) -> Result<SeasBp5FaultOde> {
+        Ok(self
+            .fault_ode_with_stations(model, options, half_space, &[])?
+            .0)
+    }
+
+    /// The off-fault stations of BP5 ([`SEAS_BP5_BODY_STATIONS`](crate::SEAS_BP5_BODY_STATIONS))
+    /// as model points `(x₁, x₂, −x₃)` (m).
+    pub fn body_station_points() -> Vec<[f64; 3]> {
+        crate::SEAS_BP5_BODY_STATIONS
+            .iter()
+            .map(|&(s, n, d)| [n * 1e3, s * 1e3, -d * 1e3])
+            .collect()
+    }
+
+    /// As [`fault_ode`](Self::fault_ode), with the half-space displacement at `points`
+    /// (model coordinates, m) per unit slip of every slip unknown
+    /// ([`HalfSpaceOperator::displacement_columns`]) for off-fault stations.
+    ///
+    /// # Errors
+    /// As [`fault_ode`](Self::fault_ode); a point above the surface or on an element.
+    pub fn fault_ode_with_stations(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+        half_space: &HalfSpaceOptions,
+        points: &[[f64; 3]],
+    ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
+        self.validate()?;
+        let operator = HalfSpaceOperator::fault_alone(&model, half_space)
+            .map_err(|e| invalid("half_space", e.to_string()))?;
+        let columns = operator.displacement_columns(points)?;
+        let cells = model.vertices.len();
+        let plate_velocity = (0..cells).flat_map(|_| [self.v_p, 0.0]).collect();
+        let alone = FaultAlone {
+            operator: Box::new(operator),
+            plate_velocity,
+        };
+        SimulationBuilder::new(model)
+            .friction_at(|x| AsinhLaw::new(self.params(x[1], -x[2])))
+            .state_law_at(|x| Aging::new(self.l_at(x[1], -x[2])))
+            .initial_state_at(|x| self.alpha0(x[1], -x[2]))
+            .integrator(rsf::Integrator::Quasistatic(rsf_time::Quasistatic::new()))
+            .radiation_damping(self.radiation_damping())
+            .time_step(1e-3)
+            .build_fault_ode_alone(options, alone)
+            .map(|ode| (ode, columns))
+    }
+
+    /// Half-space options of BP5: the free surface `z = 0`, the medium, dense up to
+    /// 4 096 unknowns, ε = `epsilon` beyond.
+    ///
+    /// # Errors
+    /// Invalid parameters.
+    pub fn half_space(&self, epsilon: f64) -> Result<HalfSpaceOptions> {
+        Ok(HalfSpaceOptions {
+            epsilon,
+            ..HalfSpaceOptions::new(0.0, self.medium()?)
+        })
+    }
+
+    /// Options of the fault ODE for BP5: Dormand–Prince 5(4), local errors at most
+    /// `tolerance · L` in slip and `tolerance` in ln θ per step, steps in [1e-6 s, 1 yr].
+    ///
+    /// # Errors
+    /// An invalid tolerance.
+    pub fn fault_ode_options(&self, tolerance: f64) -> Result<FaultOdeOptions> {
+        let mut o = FaultOdeOptions {
+            tolerance,
+            slip_scale: self.l,
+            ..FaultOdeOptions::default()
+        };
+        o.runge_kutta.dt_min = 1e-6;
+        o.runge_kutta.dt_max = 3.15576e7;
+        o.validate()?;
+        Ok(o)
+    }
+}
+
+/// Most cells [`SeasBp5::cells`] builds: the 250 m grid (400 × 160).
+pub const MAX_CELLS: usize = 64_000;

@@ -1,0 +1,630 @@
+//! The files of SEAS BP5-QD (docs/seas-bp5.md, "Output"): the ten on-fault stations
+//! `fltst_strk±XXdp±YY` (8 columns), the nine off-fault stations `blkst_strk±XXfn±YYdp±ZZ`
+//! (7 columns), `global.dat` (maximum slip rate and moment rate) and the event catalogue
+//! `events.csv`, with the SCEC header conventions of BP1 and BP3.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use rsf::checkpoint::write_atomically;
+use rsf::observe::{seas_header, seas_number, SeasSampling, SeasSetup};
+use rsf::{Flow, Model, Observer, Result, StepView};
+
+use crate::invalid;
+use crate::seas_bp5::SeasBp5;
+
+/// BP5's on-fault stations `(x₂, x₃)` (km along strike, km depth).
+pub const SEAS_BP5_FAULT_STATIONS: [(f64, f64); 10] = [
+    (-36.0, 0.0),
+    (-16.0, 0.0),
+    (0.0, 0.0),
+    (16.0, 0.0),
+    (36.0, 0.0),
+    (-24.0, 10.0),
+    (-16.0, 10.0),
+    (0.0, 10.0),
+    (16.0, 10.0),
+    (0.0, 22.0),
+];
+
+/// BP5's off-fault stations `(x₂, x₁, x₃)` (km along strike, km normal to the fault, km
+/// depth).
+pub const SEAS_BP5_BODY_STATIONS: [(f64, f64, f64); 9] = [
+    (-16.0, 8.0, 0.0),
+    (0.0, 8.0, 0.0),
+    (16.0, 8.0, 0.0),
+    (0.0, 16.0, 0.0),
+    (0.0, 32.0, 0.0),
+    (0.0, 48.0, 0.0),
+    (0.0, 8.0, 10.0),
+    (0.0, 16.0, 10.0),
+    (0.0, 32.0, 10.0),
+];
+
+const FAULT_COLUMNS: [(&str, &str); 8] = [
+    ("t", "Time (s)"),
+    ("slip_2", "Slip_2 (m)"),
+    ("slip_3", "Slip_3 (m)"),
+    ("slip_rate_2", "Slip_rate_2 (log10 m/s)"),
+    ("slip_rate_3", "Slip_rate_3 (log10 m/s)"),
+    ("shear_stress_2", "Shear_stress_2 (MPa)"),
+    ("shear_stress_3", "Shear_stress_3 (MPa)"),
+    ("state", "State (log10 s)"),
+];
+
+const BODY_COLUMNS: [(&str, &str); 7] = [
+    ("t", "Time (s)"),
+    ("disp_1", "Displacement_1 (m)"),
+    ("disp_2", "Displacement_2 (m)"),
+    ("disp_3", "Displacement_3 (m)"),
+    ("vel_1", "Velocity_1 (m/s)"),
+    ("vel_2", "Velocity_2 (m/s)"),
+    ("vel_3", "Velocity_3 (m/s)"),
+];
+
+const GLOBAL_COLUMNS: [(&str, &str); 3] = [
+    ("t", "Time (s)"),
+    ("max_slip_rate", "Max slip rate (log10 m/s)"),
+    ("moment_rate", "Moment rate (N-m/s)"),
+];
+
+/// The smallest slip rate component written (m/s): `log10` of a component below it is
+/// written as `log10` of it (the benchmark's convention for a zero component).
+pub const SLIP_RATE_FLOOR: f64 = 1e-20;
+
+/// A file: its path, header location line and rows so far.
+struct File {
+    path: PathBuf,
+    location: String,
+    columns: &'static [(&'static str, &'static str)],
+    rows: String,
+}
+
+/// An on-fault station: the cells around it and their bilinear weights.
+struct FaultStation {
+    file: File,
+    cells: [(usize, f64); 4],
+}
+
+/// An off-fault station: its side of the fault and its displacement per unit slip of
+/// every unknown (3 rows of `m`).
+struct BodyStation {
+    file: File,
+    side: f64,
+    columns: Vec<f64>,
+}
+
+/// An event of the catalogue.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Bp5Event {
+    /// First step with the maximum slip rate at or above the threshold (s).
+    pub t_start: f64,
+    /// First step below it again (s); `None` while open.
+    pub t_end: Option<f64>,
+    /// Peak slip rate (m/s).
+    pub peak_slip_rate: f64,
+    /// `(x₂, x₃)` of the fastest cell at the start (m).
+    pub hypocentre: [f64; 2],
+}
+
+/// The BP5 files of a run of [`SeasBp5`]'s fault alone (an [`Observer`]). Rows are kept
+/// in memory and every file is written whole, atomically, by
+/// [`finish`](Observer::finish) (at the end of each run call), its header completed
+/// (time-step bounds, number of rows).
+pub struct SeasBp5Output {
+    dir: PathBuf,
+    setup: SeasSetup,
+    fault: Vec<FaultStation>,
+    body: Vec<BodyStation>,
+    global: File,
+    /// Cell centres `(x₂, x₃)` (m).
+    cells: Vec<[f64; 2]>,
+    area: f64,
+    mu: f64,
+    v_p: f64,
+    mark: Mark,
+    /// Persist the files and the resume log every this many steps (0: only at a step
+    /// cap), if the log is kept.
+    persist_every: usize,
+    /// Whether the resume log is kept.
+    resume_log: bool,
+    /// The resume log's marks so far.
+    log: Vec<Mark>,
+}
+
+/// Name of the resume log of [`SeasBp5Output`]: the output's state at every persisted
+/// step (JSON).
+pub const SEAS_BP5_RESUME_LOG: &str = "bp5_resume.json";
+
+/// The output's own state at a step: what its files hold and what comes next.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+struct Mark {
+    /// The run's step.
+    step: usize,
+    /// Rows in every file.
+    written: usize,
+    /// Time of the last row (s).
+    last_station_t: f64,
+    /// Smallest and largest step so far (s).
+    tau: (f64, f64),
+    /// Steps seen.
+    steps: usize,
+    /// The catalogue.
+    events: Vec<Bp5Event>,
+}
+
+impl SeasBp5Output {
+    /// The output of `bp5` on the grid of size `dx` into `dir` (created if missing):
+    /// `body_columns` the displacement columns of [`SEAS_BP5_BODY_STATIONS`] (from
+    /// [`SeasBp5::fault_ode_with_stations`] with [`SeasBp5::body_station_points`]), `setup`
+    /// the headers' problem, modeler, date and element size and the sampling.
+    ///
+    /// # Errors
+    /// Invalid parameters or grid; [`rsf::Error::InvalidParameter`] named `body_columns`
+    /// for another number of stations; I/O errors creating `dir`.
+    pub fn new(
+        dir: &Path,
+        bp5: &SeasBp5,
+        dx: f64,
+        body_columns: Vec<Vec<f64>>,
+        setup: SeasSetup,
+    ) -> Result<Self> {
+        let cells = bp5.cells(dx)?;
+        if body_columns.len() != SEAS_BP5_BODY_STATIONS.len() {
+            return Err(invalid(
+                "body_columns",
+                format!(
+                    "{} for {} stations",
+                    body_columns.len(),
+                    SEAS_BP5_BODY_STATIONS.len()
+                ),
+            ));
+        }
+        std::fs::create_dir_all(dir).map_err(|source| rsf::Error::File {
+            path: dir.display().to_string(),
+            action: "create",
+            source,
+        })?;
+        let file = |name: &str, location: String, columns| File {
+            path: dir.join(name),
+            location,
+            columns,
+            rows: String::new(),
+        };
+        let n_strike = (bp5.l_f / dx).round() as usize;
+        let n_dip = (bp5.w_f / dx).round() as usize;
+        let fault = SEAS_BP5_FAULT_STATIONS
+            .iter()
+            .map(|&(s, d)| FaultStation {
+                file: file(
+                    &fault_station_name(s, d),
+                    format!("on fault, {s} km along strike, {d} km down-dip"),
+                    &FAULT_COLUMNS,
+                ),
+                cells: bilinear(
+                    [(s * 1e3 + 0.5 * bp5.l_f) / dx - 0.5, d * 1e3 / dx - 0.5],
+                    n_strike,
+                    n_dip,
+                ),
+            })
+            .collect();
+        let body = SEAS_BP5_BODY_STATIONS
+            .iter()
+            .zip(body_columns)
+            .map(|(&(s, n, d), columns)| BodyStation {
+                file: file(
+                    &body_station_name(s, n, d),
+                    format!(
+                        "off fault, {s} km along strike, {n} km normal to the fault, {d} km depth"
+                    ),
+                    &BODY_COLUMNS,
+                ),
+                side: n.signum(),
+                columns,
+            })
+            .collect();
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            setup,
+            fault,
+            body,
+            global: file("global.dat", "global".into(), &GLOBAL_COLUMNS),
+            cells,
+            area: dx * dx,
+            mu: bp5.shear_modulus(),
+            v_p: bp5.v_p,
+            mark: Mark {
+                step: 0,
+                written: 0,
+                last_station_t: f64::NEG_INFINITY,
+                tau: (f64::INFINITY, 0.0),
+                steps: 0,
+                events: Vec::new(),
+            },
+            persist_every: 0,
+            resume_log: false,
+            log: Vec::new(),
+        })
+    }
+
+    /// Keeps the resume log [`SEAS_BP5_RESUME_LOG`]: writes every file, the catalogue and
+    /// a mark of the log every `steps` steps (0: never) and where a step cap stops the run,
+    /// so that a run continued from a checkpoint written at such a step continues its
+    /// files ([`resume`](Self::resume)) — checkpoint at multiples of `steps`, with the
+    /// checkpointer after this output among the observers.
+    pub fn with_resume_log(mut self, steps: usize) -> Self {
+        self.resume_log = true;
+        self.persist_every = steps;
+        self
+    }
+
+    /// Writes the files and a mark of the resume log at the current step.
+    fn persist(&mut self) -> Result<()> {
+        self.write_files()?;
+        if self.log.last().map(|m| m.step) != Some(self.mark.step) {
+            self.log.push(self.mark.clone());
+        }
+        let log = serde_json::to_string(&self.log)
+            .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
+        write_atomically(&self.dir.join(SEAS_BP5_RESUME_LOG), log.as_bytes())
+    }
+
+    /// Continues the files of the run in this folder at its persisted step `step` (the
+    /// checkpoint's): reads the resume log and keeps each file's rows up to that step
+    /// (the files are rewritten at the next persisted step or the end of the run call).
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `resume` if the log has no mark at `step`
+    /// or a file holds fewer rows than the mark says; read errors naming the file.
+    pub fn resume(&mut self, step: usize) -> Result<()> {
+        let path = self.dir.join(SEAS_BP5_RESUME_LOG);
+        let text = std::fs::read_to_string(&path).map_err(|source| rsf::Error::File {
+            path: path.display().to_string(),
+            action: "read",
+            source,
+        })?;
+        let log: Vec<Mark> = serde_json::from_str(&text)
+            .map_err(|e| invalid("resume", format!("{}: {e}", path.display())))?;
+        let Some(i) = log.iter().position(|m| m.step == step) else {
+            return Err(invalid(
+                "resume",
+                format!(
+                    "{} has no mark at step {step} (the files were written at steps {:?}): \
+                     checkpoint at multiples of the output's persist interval",
+                    path.display(),
+                    log.iter().map(|m| m.step).collect::<Vec<_>>()
+                ),
+            ));
+        };
+        let mark = log[i].clone();
+        let files = self
+            .fault
+            .iter_mut()
+            .map(|s| &mut s.file)
+            .chain(self.body.iter_mut().map(|s| &mut s.file))
+            .chain(std::iter::once(&mut self.global));
+        for f in files {
+            let text = std::fs::read_to_string(&f.path).map_err(|source| rsf::Error::File {
+                path: f.path.display().to_string(),
+                action: "read",
+                source,
+            })?;
+            let names: Vec<&str> = f.columns.iter().map(|(n, _)| *n).collect();
+            let names = names.join(" ");
+            let mut lines = text.split_inclusive('\n');
+            if !lines.by_ref().any(|l| l.trim_end() == names) {
+                return Err(invalid(
+                    "resume",
+                    format!("{} has no field line {names:?}", f.path.display()),
+                ));
+            }
+            let rows: Vec<&str> = lines.take(mark.written).collect();
+            if rows.len() < mark.written || rows.iter().any(|r| !r.ends_with('\n')) {
+                return Err(invalid(
+                    "resume",
+                    format!(
+                        "{} holds {} complete rows, the mark at step {step} {}",
+                        f.path.display(),
+                        rows.iter().filter(|r| r.ends_with('\n')).count(),
+                        mark.written
+                    ),
+                ));
+            }
+            f.rows = rows.concat();
+        }
+        self.log = log[..=i].to_vec();
+        self.mark = mark;
+        Ok(())
+    }
+
+    /// The benchmark's first row: every file at the state at `t = 0` (`friction` the
+    /// run's laws, e.g. `ode.problem().friction_laws()`).
+    pub fn write_initial_state(
+        &mut self,
+        model: &Model<3, 3>,
+        state: &rsf::SimulationState,
+        friction: &dyn rsf::observe::FaultTractions,
+    ) {
+        let (vmax, moment_rate) = self.max_and_moment_rate(&state.kinematics.v).0;
+        self.write_rows(model, state, friction, (vmax, moment_rate));
+    }
+
+    /// `((max |V|, moment rate), fastest cell)`.
+    fn max_and_moment_rate(&self, v: &[f64]) -> ((f64, f64), usize) {
+        let (mut vmax, mut kmax, mut sum) = (0.0_f64, 0, 0.0);
+        for k in 0..self.cells.len() {
+            let speed = v[3 * k + 1].hypot(v[3 * k + 2]);
+            sum += speed;
+            if speed > vmax {
+                (vmax, kmax) = (speed, k);
+            }
+        }
+        ((vmax, self.mu * self.area * sum), kmax)
+    }
+
+    /// Writes every file whole (atomically) and the catalogue.
+    fn write_files(&self) -> Result<()> {
+        let files = self
+            .fault
+            .iter()
+            .map(|s| &s.file)
+            .chain(self.body.iter().map(|s| &s.file))
+            .chain(std::iter::once(&self.global));
+        for f in files {
+            let text = format!("{}{}", self.header(f), f.rows);
+            write_atomically(&f.path, text.as_bytes())?;
+        }
+        let mut csv = String::from(
+            "event,t_start_s,t_end_s,peak_slip_rate_mps,hypocentre_x2_m,hypocentre_x3_m\n",
+        );
+        for (i, e) in self.mark.events.iter().enumerate() {
+            let _ = writeln!(
+                csv,
+                "{},{:e},{:e},{:e},{},{}",
+                i + 1,
+                e.t_start,
+                e.t_end.unwrap_or(f64::NAN),
+                e.peak_slip_rate,
+                e.hypocentre[0],
+                e.hypocentre[1]
+            );
+        }
+        write_atomically(&self.dir.join("events.csv"), csv.as_bytes())
+    }
+
+    /// The names of the benchmark files this output writes (stations and `global.dat`;
+    /// besides them `events.csv` and, with [`with_resume_log`](Self::with_resume_log),
+    /// [`SEAS_BP5_RESUME_LOG`]).
+    pub fn file_names() -> Vec<String> {
+        let mut names: Vec<String> = SEAS_BP5_FAULT_STATIONS
+            .iter()
+            .map(|&(s, d)| fault_station_name(s, d))
+            .collect();
+        names.extend(
+            SEAS_BP5_BODY_STATIONS
+                .iter()
+                .map(|&(s, n, d)| body_station_name(s, n, d)),
+        );
+        names.push("global.dat".into());
+        names
+    }
+
+    /// The events so far.
+    pub fn events(&self) -> &[Bp5Event] {
+        &self.mark.events
+    }
+
+    /// The sampling.
+    fn sampling(&self) -> &SeasSampling {
+        &self.setup.sampling
+    }
+
+    /// Writes a row of every file at the state of `s` (max slip rate `vmax`, m/s).
+    fn write_rows(
+        &mut self,
+        model: &Model<3, 3>,
+        state: &rsf::SimulationState,
+        friction: &dyn rsf::observe::FaultTractions,
+        (vmax, moment_rate): (f64, f64),
+    ) {
+        let t = state.time;
+        self.mark.last_station_t = t;
+        self.mark.written += 1;
+        let (u, v) = (&state.kinematics.u, &state.kinematics.v);
+        let n = model.vertices.len();
+        // Per cell: slip₂, slip₃, V₂, V₃, τ₂, τ₃, α (benchmark components: x₃ down).
+        let cell = |k: usize| -> [f64; 7] {
+            let (v2, v3) = (v[3 * k + 1], -v[3 * k + 2]);
+            let speed = v2.hypot(v3);
+            let alpha = state.alpha[k];
+            let shear = friction.shear_traction(k, speed, alpha);
+            let (t2, t3) = if speed > 0.0 {
+                (shear * v2 / speed, shear * v3 / speed)
+            } else {
+                (0.0, 0.0)
+            };
+            [u[3 * k + 1], -u[3 * k + 2], v2, v3, t2, t3, alpha]
+        };
+        for st in &mut self.fault {
+            let mut x = [0.0; 7];
+            for &(k, w) in &st.cells {
+                if w != 0.0 && k < n {
+                    let c = cell(k);
+                    for (xi, ci) in x.iter_mut().zip(c) {
+                        *xi += w * ci;
+                    }
+                }
+            }
+            let log_rate = |r: f64| r.abs().max(SLIP_RATE_FLOOR).log10();
+            let _ = writeln!(
+                st.file.rows,
+                "{} {} {} {} {} {} {} {}",
+                seas_number(t, 13, 21),
+                seas_number(x[0], 6, 14),
+                seas_number(x[1], 6, 14),
+                seas_number(log_rate(x[2]), 6, 14),
+                seas_number(log_rate(x[3]), 6, 14),
+                seas_number(x[4] / 1e6, 6, 14),
+                seas_number(x[5] / 1e6, 6, 14),
+                seas_number(x[6] / std::f64::consts::LN_10, 6, 14),
+            );
+        }
+        let m = 2 * n;
+        for st in &mut self.body {
+            let mut d = [0.0; 3];
+            let mut vel = [0.0; 3];
+            for (c, (dc, vc)) in d.iter_mut().zip(vel.iter_mut()).enumerate() {
+                let col = &st.columns[c * m..(c + 1) * m];
+                for k in 0..n {
+                    // Back slip: the elastic part of the slip less the plate's.
+                    let (g2, g3) = (col[2 * k], col[2 * k + 1]);
+                    *dc += g2 * (u[3 * k + 1] - self.v_p * t) + g3 * u[3 * k + 2];
+                    *vc += g2 * (v[3 * k + 1] - self.v_p) + g3 * v[3 * k + 2];
+                }
+            }
+            // Each side's rigid plate motion, ±V_p t/2 along strike.
+            d[1] += st.side * 0.5 * self.v_p * t;
+            vel[1] += st.side * 0.5 * self.v_p;
+            let _ = writeln!(
+                st.file.rows,
+                "{} {} {} {} {} {} {}",
+                seas_number(t, 13, 21),
+                seas_number(d[0], 6, 14),
+                seas_number(d[1], 6, 14),
+                seas_number(-d[2], 6, 14),
+                seas_number(vel[0], 6, 14),
+                seas_number(vel[1], 6, 14),
+                seas_number(-vel[2], 6, 14),
+            );
+        }
+        let _ = writeln!(
+            self.global.rows,
+            "{} {} {}",
+            seas_number(t, 13, 21),
+            seas_number(vmax.max(SLIP_RATE_FLOOR).log10(), 6, 14),
+            seas_number(moment_rate, 6, 14),
+        );
+    }
+
+    /// The header of `file`.
+    fn header(&self, file: &File) -> String {
+        let steps = (self.mark.steps > 0).then_some(self.mark.tau);
+        let mut h = seas_header(&self.setup, &file.location, steps, self.mark.written);
+        for (i, (_, description)) in file.columns.iter().enumerate() {
+            let _ = write!(h, "\n# Column #{} = {description}", i + 1);
+        }
+        h.push_str("\n# The line below lists the names of the data fields:\n");
+        let names: Vec<&str> = file.columns.iter().map(|(n, _)| *n).collect();
+        h.push_str(&names.join(" "));
+        h.push('\n');
+        h
+    }
+}
+
+/// `fltst_strk±XXdp±YY` of the on-fault station at `(x₂, x₃)` km.
+fn fault_station_name(strike: f64, depth: f64) -> String {
+    format!("fltst_strk{}dp{}", signed(strike), signed(depth))
+}
+
+/// `blkst_strk±XXfn±YYdp±ZZ` of the off-fault station at `(x₂, x₁, x₃)` km.
+fn body_station_name(strike: f64, normal: f64, depth: f64) -> String {
+    format!(
+        "blkst_strk{}fn{}dp{}",
+        signed(strike),
+        signed(normal),
+        signed(depth)
+    )
+}
+
+/// `+08`, `-16`, `+00`: the benchmark's signed two-digit kilometres.
+fn signed(km: f64) -> String {
+    format!(
+        "{}{:02}",
+        if km < 0.0 { '-' } else { '+' },
+        km.abs().round() as i64
+    )
+}
+
+/// The four cells around the fractional cell index `f` (strike, dip) of an
+/// `n_strike × n_dip` grid and their bilinear weights (constant beyond the outer
+/// centres).
+fn bilinear(f: [f64; 2], n_strike: usize, n_dip: usize) -> [(usize, f64); 4] {
+    let axis = |x: f64, n: usize| -> (usize, f64) {
+        if n < 2 {
+            return (0, 0.0);
+        }
+        let x = x.clamp(0.0, (n - 1) as f64);
+        let i = (x.floor() as usize).min(n - 2);
+        (i, x - i as f64)
+    };
+    let (i, wi) = axis(f[0], n_strike);
+    let (j, wj) = axis(f[1], n_dip);
+    let at =
+        |di: usize, dj: usize| ((j + dj).min(n_dip - 1)) * n_strike + (i + di).min(n_strike - 1);
+    [
+        (at(0, 0), (1.0 - wi) * (1.0 - wj)),
+        (at(1, 0), wi * (1.0 - wj)),
+        (at(0, 1), (1.0 - wi) * wj),
+        (at(1, 1), wi * wj),
+    ]
+}
+
+impl Observer<3, 3> for SeasBp5Output {
+    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> Result<Flow> {
+        let t = s.state.time;
+        let m = &mut self.mark;
+        m.step = s.report.step;
+        m.steps += 1;
+        m.tau = (m.tau.0.min(s.report.tau), m.tau.1.max(s.report.tau));
+        let ((vmax, moment_rate), kmax) = self.max_and_moment_rate(&s.state.kinematics.v);
+        let sampling = *self.sampling();
+        let in_event = vmax >= sampling.event_threshold;
+        let hypocentre = self.cells[kmax];
+        match self.mark.events.last_mut() {
+            Some(e) if e.t_end.is_none() => {
+                e.peak_slip_rate = e.peak_slip_rate.max(vmax);
+                if !in_event {
+                    e.t_end = Some(t);
+                }
+            }
+            _ if in_event => self.mark.events.push(Bp5Event {
+                t_start: t,
+                t_end: None,
+                peak_slip_rate: vmax,
+                hypocentre,
+            }),
+            _ => {}
+        }
+        let dt = if in_event {
+            sampling.station_event
+        } else {
+            sampling.station_quiet
+        };
+        if sampling.every_step || t - self.mark.last_station_t >= dt * (1.0 - 1e-12) {
+            self.write_rows(s.model, s.state, s.friction, (vmax, moment_rate));
+        }
+        if self.resume_log && self.persist_every > 0 && s.report.step % self.persist_every == 0 {
+            self.persist()?;
+        }
+        Ok(Flow::Continue(()))
+    }
+
+    fn at_step_cap(&mut self, _s: &StepView<'_, 3, 3>) -> Result<()> {
+        if self.resume_log {
+            self.persist()?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<()> {
+        self.write_files()
+    }
+
+    fn name(&self) -> String {
+        "SEAS BP5 output".into()
+    }
+
+    fn reads_volume(&self) -> bool {
+        false
+    }
+}

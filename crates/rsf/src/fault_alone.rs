@@ -1,0 +1,236 @@
+//! A fault without a volume: the fault ODE's elastic part given as an operator and a
+//! plate motion instead of condensed from a finite-element body — the formulation of
+//! boundary-element earthquake-cycle codes (a planar fault in a half-space loaded by
+//! back slip, docs/math.md §12, "A fault alone"; SEAS BP5, docs/seas-bp5.md).
+//!
+//! The model is a [`Model::fault_only`] (its vertices the fault's cells, no stiffness);
+//! [`SimulationBuilder::build_fault_ode_alone`](crate::SimulationBuilder::build_fault_ode_alone)
+//! runs it with a [`FaultAlone`].
+
+use rsf_linalg::Parallelism;
+use rsf_tnnmg::Condensation;
+
+use crate::error::{invalid, Result};
+use crate::fault_operator::FaultOperator;
+use rsf_fem::NodalFrames;
+
+use crate::model::{DirichletVelocity, FrictionalBoundary, Model};
+
+/// The elastic part of a fault without a volume, for
+/// [`SimulationBuilder::build_fault_ode_alone`](crate::SimulationBuilder::build_fault_ode_alone).
+///
+/// With `S` the operator ([`FaultOperator`], slip (m) → force (N)), `g₀` the model's load
+/// on the slip unknowns (N: the prestress times the nodes' weights) and `v_pl` the plate
+/// velocity of every slip unknown (m/s), the fault's balance is
+///
+/// ```text
+/// g₀ − S (u_F − t v_pl) = w (τ(V, α) + η V)
+/// ```
+///
+/// — **back slip**: a fault slipping at the plate velocity everywhere feels no stress
+/// change, as the infinite plane of a half-space model creeping uniformly around the
+/// fault (Savage 1983). The load rate `S v_pl` is computed once, with the operator's own
+/// product.
+pub struct FaultAlone {
+    /// The elastic operator on the fault's slip unknowns.
+    pub operator: Box<dyn FaultOperator>,
+    /// The plate velocity of every slip unknown (m/s; length the operator's dimension,
+    /// node by node, the free components of each in order).
+    pub plate_velocity: Vec<f64>,
+}
+
+impl std::fmt::Debug for FaultAlone {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FaultAlone")
+            .field("dim", &self.operator.dim())
+            .field("report", self.operator.report())
+            .finish_non_exhaustive()
+    }
+}
+
+/// How a fault ODE gets its elastic part.
+pub(crate) enum Elastic {
+    /// Condensed from the model's body, with the operator `S` given or condensed too.
+    Condensed(Option<Box<dyn FaultOperator>>),
+    /// A fault alone.
+    Alone(FaultAlone),
+}
+
+/// Where a fault ODE's unknowns live: the condensed finite-element body, or the fault
+/// alone (its free components, node by node).
+pub(crate) enum Body<const C: usize> {
+    /// A finite-element body condensed onto the fault.
+    Volume(Condensation<C>),
+    /// No volume: the slip unknowns' dofs.
+    Alone {
+        /// The model dof of every slip unknown.
+        dofs: Vec<usize>,
+    },
+}
+
+impl<const C: usize> Body<C> {
+    /// Number of slip unknowns.
+    pub(crate) fn dim(&self) -> usize {
+        self.interface_dofs().len()
+    }
+
+    /// The model dof of every slip unknown.
+    pub(crate) fn interface_dofs(&self) -> &[usize] {
+        match self {
+            Self::Volume(c) => c.interface_dofs(),
+            Self::Alone { dofs } => dofs,
+        }
+    }
+
+    /// Entries of the volume's factor (0 without one).
+    pub(crate) fn factor_nnz(&self) -> usize {
+        match self {
+            Self::Volume(c) => c.factor_nnz(),
+            Self::Alone { .. } => 0,
+        }
+    }
+
+    /// The condensation, if there is a volume.
+    pub(crate) fn volume_mut(&mut self) -> Option<&mut Condensation<C>> {
+        match self {
+            Self::Volume(c) => Some(c),
+            Self::Alone { .. } => None,
+        }
+    }
+}
+
+/// The free components of the frictional nodes, node by node (the slip unknowns of a
+/// fault alone).
+pub(crate) fn free_fault_dofs<const D: usize, const C: usize>(model: &Model<D, C>) -> Vec<usize> {
+    let mut dofs = Vec::new();
+    for &p in &model.frictional_boundary.nodes {
+        dofs.extend((C * p..C * p + C).filter(|&i| !model.fixed[i]));
+    }
+    dofs
+}
+
+/// The checks of a fault alone on `model`, and its load rate `S v_pl` (N/s).
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `stiffness` for a
+/// model with a stiffness, `dirichlet` for prescribed velocities, `plate_velocity` for a
+/// length other than the operator's or non-finite entries, `fault_operator` for an
+/// operator of another dimension than the fault's slip unknowns; the product's errors.
+pub(crate) fn load_rate<const D: usize, const C: usize>(
+    model: &Model<D, C>,
+    alone: &mut FaultAlone,
+    par: Parallelism,
+) -> Result<Vec<f64>> {
+    if model.stiffness.compute_nnz() != 0 {
+        return Err(invalid(
+            "stiffness",
+            "a fault alone has no volume: the model's stiffness must be empty (Model::fault_only)",
+        ));
+    }
+    if !model.dirichlet.dofs.is_empty() {
+        return Err(invalid(
+            "dirichlet",
+            "a fault alone is loaded by its plate velocity (FaultAlone::plate_velocity), \
+             not by prescribed velocities",
+        ));
+    }
+    let m = free_fault_dofs(model).len();
+    if alone.operator.dim() != m {
+        return Err(invalid(
+            "fault_operator",
+            format!(
+                "an operator of {} unknowns for a fault of {m} slip unknowns",
+                alone.operator.dim()
+            ),
+        ));
+    }
+    if alone.plate_velocity.len() != m {
+        return Err(invalid(
+            "plate_velocity",
+            format!(
+                "has {} entries for {m} slip unknowns",
+                alone.plate_velocity.len()
+            ),
+        ));
+    }
+    if let Some(i) = alone.plate_velocity.iter().position(|v| !v.is_finite()) {
+        return Err(invalid(
+            "plate_velocity",
+            format!("entry {i} is {}", alone.plate_velocity[i]),
+        ));
+    }
+    let mut r = vec![0.0; m];
+    alone
+        .operator
+        .subtract_product(&alone.plate_velocity, &mut r, par)?;
+    Ok(r.into_iter().map(|x| -x).collect())
+}
+
+impl<const D: usize> Model<D, D> {
+    /// A model of a fault alone, without a volume: one vertex per cell of the fault at
+    /// `centres` (m) with weight `areas` (its area, m²; length in 1-D), the component
+    /// `normal_axis` of every cell fixed (no opening) and the others its slip; no
+    /// stiffness, mass, load or prescribed velocity. Set the prestress as
+    /// [`load`](Model::load) (N: traction times area on each slip component) and run it with
+    /// [`SimulationBuilder::build_fault_ode_alone`](crate::SimulationBuilder::build_fault_ode_alone),
+    /// whose operator (e.g. Okada's half-space stiffness,
+    /// [`HalfSpaceOperator::fault_alone`](crate::halfspace_operator::HalfSpaceOperator::fault_alone))
+    /// gives the elasticity. The field of the model is the slip (`u⁺ − u⁻`), its
+    /// frictional nodes are all vertices in order.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `centres` (none,
+    /// or non-finite coordinates), `areas` (another length, non-positive or non-finite
+    /// entries) or `normal_axis` (`≥ D`).
+    pub fn fault_only(centres: Vec<[f64; D]>, areas: &[f64], normal_axis: usize) -> Result<Self> {
+        if centres.is_empty() {
+            return Err(invalid("centres", "a fault alone needs at least one cell"));
+        }
+        if let Some(k) = centres
+            .iter()
+            .position(|x| x.iter().any(|c| !c.is_finite()))
+        {
+            return Err(invalid(
+                "centres",
+                format!("cell {k} at {:?} is not finite", centres[k]),
+            ));
+        }
+        if areas.len() != centres.len() {
+            return Err(invalid(
+                "areas",
+                format!("{} areas for {} cells", areas.len(), centres.len()),
+            ));
+        }
+        if normal_axis >= D {
+            return Err(invalid(
+                "normal_axis",
+                format!("{normal_axis} must be below the dimension {D}"),
+            ));
+        }
+        let cells: Vec<usize> = (0..centres.len()).collect();
+        let frictional_boundary = FrictionalBoundary::new(&cells, areas)
+            .map_err(|_| invalid("areas", "must be finite and positive"))?;
+        let n = D * centres.len();
+        let empty = || {
+            crate::fem::SparseMatrix::try_new_from_triplets(n, n, &[])
+                .expect("an empty n × n matrix is valid")
+        };
+        let fixed = (0..n).map(|i| i % D == normal_axis).collect();
+        Ok(Self {
+            vertices: centres,
+            mass: None,
+            stiffness: empty(),
+            energy_norm: empty(),
+            load: vec![0.0; n],
+            fixed,
+            dirichlet: DirichletVelocity::none(),
+            prolongations: Vec::new(),
+            frictional_boundary,
+            initial_displacement: vec![0.0; n],
+            cells: Vec::new(),
+            frames: NodalFrames::default(),
+            absorbing: None,
+            internal_fault: None,
+        })
+    }
+}

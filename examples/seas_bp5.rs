@@ -1,0 +1,277 @@
+//! SEAS BP5-QD (a vertical strike-slip fault in a half-space, two slip components, 3-D;
+//! docs/seas-bp5.md) as a fault alone with Okada's half-space operator, loaded by back
+//! slip, integrated by the fault ODE.
+//!
+//! ```sh
+//! cargo run --release --example seas_bp5 -- --out out/bp5            # Δx = 2 km, 1800 years
+//! cargo run --release --example seas_bp5 -- --dx 1000 --out out/bp5_1km --threads 2
+//! ```
+//!
+//! The scene is `rsf_scenes::SeasBp5`: the rate-and-state region (100 km × 40 km) in
+//! square cells of size `--dx`, each the centre of a constant-slip element of
+//! `rsf::halfspace_operator::HalfSpaceOperator::fault_alone` (dense up to 4 096
+//! unknowns, an ℋ-matrix of accuracy `--epsilon` beyond). The rest of the fault plane
+//! creeps at V_p: back slip (`rsf::fault_alone::FaultAlone`) represents it exactly.
+//!
+//! Writes the benchmark's files to `--out` (`rsf_scenes::SeasBp5Output`: the ten
+//! on-fault stations `fltst_strk±XXdp±YY`, the nine off-fault stations
+//! `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, the event catalogue `events.csv`) and
+//! `summary.json`, and prints the events and the recurrence intervals.
+//!
+//! Runs: `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files
+//! and their resume log `bp5_resume.json` written at the same steps), `--resume FILE`
+//! (continues the files in `--out` from a checkpoint of this run: the same bytes as an
+//! uninterrupted run), `--max-steps N` (stop after step N in total, with a checkpoint),
+//! `--overwrite` (a folder of another run is refused, and left untouched, otherwise).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::{
+    utc_date_today, Checkpointer, Every, Interval, Observer, SeasLayout, SeasSampling, SeasSetup,
+    SECONDS_PER_YEAR,
+};
+use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
+use rsf_examples::{cpu_seconds, machine};
+use rsf_scenes::{SeasBp5, SeasBp5Output, SEAS_BP5_RESUME_LOG};
+
+/// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
+#[derive(Parser)]
+#[command(version)]
+struct Args {
+    /// Output folder.
+    #[arg(long, default_value = "out/seas_bp5")]
+    out: PathBuf,
+    /// Cell size on the fault (m); must divide 100 km and 40 km.
+    #[arg(long, default_value_t = 2000.0)]
+    dx: f64,
+    /// End time (years).
+    #[arg(long, default_value_t = 1800.0)]
+    end_years: f64,
+    /// Tolerance of the fault ODE (local error per step: tolerance · L in slip,
+    /// tolerance in ln θ).
+    #[arg(long, default_value_t = 1e-6)]
+    tolerance: f64,
+    /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km).
+    #[arg(long, default_value_t = 1e-6)]
+    epsilon: f64,
+    /// Threads of each evaluation (the same bits for every value).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// Modeler's name for the files' headers.
+    #[arg(long, default_value = "rsf")]
+    modeler: String,
+    /// Date for the files' headers (YYYY-MM-DD; default today, UTC).
+    #[arg(long)]
+    date: Option<String>,
+    /// Write `checkpoint.bin` (and the files with their resume log) every N steps (0:
+    /// never).
+    #[arg(long, default_value_t = 0)]
+    checkpoint_every: usize,
+    /// Continue from this checkpoint, continuing the files in `--out`.
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
+    /// On `--resume`, accept a checkpoint whose fingerprint differs in these fields (comma
+    /// separated, e.g. `end_years`).
+    #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
+    allow_change: Vec<String>,
+    /// Stop after this many steps in total (across resumes), with `checkpoint.bin` to
+    /// continue from.
+    #[arg(long, value_name = "N")]
+    max_steps: Option<u64>,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    overwrite: bool,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    rsf_examples::main_on_threads(args.threads, || run(args))
+}
+
+fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
+    if !(args.end_years > 0.0 && args.end_years <= 1e5) {
+        return Err(format!("--end-years {}: must be in (0, 1e5]", args.end_years).into());
+    }
+    if args.threads == 0 {
+        return Err("--threads must be at least 1".into());
+    }
+    if args.resume.is_some() && args.overwrite {
+        return Err(
+            "--resume continues the files in --out: it cannot be given with --overwrite".into(),
+        );
+    }
+    let bp5 = SeasBp5::default();
+    // Checked before any file is touched.
+    let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
+    let mut options = bp5
+        .fault_ode_options(args.tolerance)
+        .map_err(|e| format!("--tolerance: {e}"))?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    let half_space = bp5
+        .half_space(args.epsilon)
+        .map_err(|e| format!("--epsilon: {e}"))?;
+    // A folder of another run (unless --overwrite), one that cannot be written: refused
+    // before anything is computed.
+    let mut outputs = SeasBp5Output::file_names();
+    outputs.extend(
+        [
+            "events.csv",
+            "summary.json",
+            "checkpoint.bin",
+            SEAS_BP5_RESUME_LOG,
+        ]
+        .map(String::from),
+    );
+    let names: Vec<&str> = outputs.iter().map(String::as_str).collect();
+    let folder = RunFolder::new(&args.out, "seas_bp5", &names);
+    folder.prepare(args.resume.is_some(), args.overwrite)?;
+    // What a checkpoint continues: the scene, the grid and what changes the trajectory.
+    let fingerprint = Fingerprint::of_serialized(&bp5)
+        .with("kernel", "okada")
+        .with("dx", args.dx)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("epsilon", args.epsilon);
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let model = bp5.model(args.dx)?;
+    println!(
+        "BP5-QD, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
+        args.dx,
+        2 * cells,
+        machine()
+    );
+    let (mut ode, columns) =
+        bp5.fault_ode_with_stations(model, options, &half_space, &SeasBp5::body_station_points())?;
+    println!("S: {}", ode.kernel_report());
+    let setup_s = clock.elapsed().as_secs_f64();
+    println!(
+        "set-up: wall {setup_s:.1} s, CPU {:.1} s",
+        cpu_seconds() - cpu0
+    );
+    let setup = SeasSetup {
+        problem: "SEAS Benchmark BP5-QD".into(),
+        modeler: args.modeler.clone(),
+        date: args.date.clone().unwrap_or_else(utc_date_today),
+        element_size: args.dx,
+        stations: Vec::new(),
+        depth_axis: 2,
+        depth_down: false,
+        sigma_n: bp5.sigma_n,
+        profile_spacing: args.dx,
+        sampling: SeasSampling::default(),
+        layout: SeasLayout::default(),
+        surface_stations: Vec::new(),
+    };
+    let mut output = SeasBp5Output::new(&args.out, &bp5, args.dx, columns, setup)?;
+    if args.checkpoint_every > 0 || args.max_steps.is_some() {
+        output = output.with_resume_log(args.checkpoint_every);
+    }
+    let resumed = match &args.resume {
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &args.allow_change)?;
+            output.resume(c.state.step)?;
+            ode.restore(&c)?;
+            Some(c)
+        }
+        None => {
+            output.write_initial_state(
+                ode.model(),
+                ode.state(),
+                rsf::Stepping::fault_tractions(&ode),
+            );
+            None
+        }
+    };
+    let checkpointer = Checkpointer::new(folder.path("checkpoint.bin"))
+        .fingerprint(fingerprint)
+        .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
+    let mut checkpointer = Every::new(
+        Interval::steps_or_never(args.checkpoint_every),
+        checkpointer,
+    )?;
+    let end = until(args.end_years * SECONDS_PER_YEAR, args.max_steps);
+    let run = {
+        // The files first, the checkpoint after them: a checkpoint never runs ahead.
+        let mut observers: Vec<&mut dyn Observer<3, 3>> = vec![&mut output, &mut checkpointer];
+        ode.run_until(end, &mut observers)
+    };
+    let summary = match run {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("run failed after {} steps: {}", e.summary.steps, e.error);
+            return Err(e.error.into());
+        }
+    };
+    if let Some(e) = step_cap_error(&summary, end, ode.state(), &folder.path("checkpoint.bin")) {
+        return Err(e.into());
+    }
+    let wall = clock.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    // Events with a peak above 0.1 m/s: the ruptures (the catalogue also holds the
+    // shallow afterslip that crosses 1 mm/s after some).
+    let ruptures: Vec<_> = output
+        .events()
+        .iter()
+        .filter(|e| e.peak_slip_rate >= 0.1)
+        .collect();
+    let mut previous: Option<f64> = None;
+    let mut intervals = Vec::new();
+    for e in &ruptures {
+        let years = e.t_start / SECONDS_PER_YEAR;
+        let interval = previous.map_or(String::new(), |p| {
+            intervals.push(years - p);
+            format!(", {:.3} yr after the previous", years - p)
+        });
+        println!(
+            "rupture at {years:.4} yr ({:.1} s): peak slip rate {:.3e} m/s at x₂ = {:.1} km, \
+             x₃ = {:.1} km, {:.1} s above 1 mm/s{interval}",
+            e.t_start,
+            e.peak_slip_rate,
+            e.hypocentre[0] / 1e3,
+            e.hypocentre[1] / 1e3,
+            e.t_end.map_or(f64::NAN, |t| t - e.t_start),
+        );
+        previous = Some(years);
+    }
+    println!(
+        "{} steps ({} attempts rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
+         wrote {}",
+        summary.steps,
+        summary.rejected_attempts,
+        ode.evaluations(),
+        args.out.display()
+    );
+    let json = serde_json::json!({
+        "problem": "BP5-QD",
+        "kernel": "okada",
+        "dx_m": args.dx,
+        "cells": cells,
+        "end_years": args.end_years,
+        "tolerance": args.tolerance,
+        "epsilon": args.epsilon,
+        "operator": ode.kernel_report().to_string(),
+        "accepted_steps": ode.state().step,
+        "steps_this_invocation": summary.steps,
+        "rejected_attempts": summary.rejected_attempts,
+        "rate_evaluations": ode.evaluations(),
+        "threads": args.threads,
+        "setup_s": setup_s,
+        "wall_time_s": wall,
+        "cpu_time_s": cpu,
+        "machine": machine(),
+        "rupture_start_years": ruptures.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
+        "recurrence_intervals_years": intervals,
+        "peak_slip_rates_mps": ruptures.iter().map(|e| e.peak_slip_rate).collect::<Vec<_>>(),
+        "catalogue_events": output.events().len(),
+    });
+    rsf::checkpoint::write_atomically(
+        &folder.path("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    Ok(())
+}
