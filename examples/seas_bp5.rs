@@ -1,10 +1,14 @@
 //! SEAS BP5-QD (a vertical strike-slip fault in a half-space, two slip components, 3-D;
-//! docs/seas-bp5.md) as a fault alone with Okada's half-space operator, loaded by back
-//! slip, integrated by the fault ODE.
+//! docs/seas-bp5.md), integrated by the fault ODE with either kernel: `--kernel okada`
+//! (the default) a fault alone with Okada's half-space operator, loaded by back slip;
+//! `--kernel fe` the finite-element volume model (`SeasBp5::fe_model`: the fault plane
+//! inside a graded box, creeping outside the rate-and-state region, the far faces moving
+//! with their side) condensed onto the fault.
 //!
 //! ```sh
 //! cargo run --release --example seas_bp5 -- --out out/bp5            # Δx = 2 km, 1800 years
 //! cargo run --release --example seas_bp5 -- --dx 1000 --out out/bp5_1km --threads 2
+//! cargo run --release --example seas_bp5 -- --kernel fe --dx 2500 --out out/bp5_fe
 //! ```
 //!
 //! The scene is `rsf_scenes::SeasBp5`: the rate-and-state region (100 km × 40 km) in
@@ -30,13 +34,15 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::FaultKernel;
 use rsf::observe::{
     utc_date_today, Checkpointer, Every, Interval, Observer, SeasLayout, SeasSampling, SeasSetup,
     SECONDS_PER_YEAR,
 };
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
+use rsf::Stepping;
 use rsf_examples::{cpu_seconds, machine};
-use rsf_scenes::{SeasBp5, SeasBp5Output, SEAS_BP5_RESUME_LOG};
+use rsf_scenes::{SeasBp5, SeasBp5Grid, SeasBp5Output, SEAS_BP5_RESUME_LOG};
 
 /// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
 #[derive(Parser)]
@@ -45,9 +51,19 @@ struct Args {
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp5")]
     out: PathBuf,
-    /// Cell size on the fault (m); must divide 100 km and 40 km.
+    /// The elastic operator: `okada` (a fault alone in a half-space, boundary elements)
+    /// or `fe` (the finite-element volume model condensed onto the fault).
+    #[arg(long, value_enum, default_value_t = Kernel::Okada)]
+    kernel: Kernel,
+    /// Cell size on the fault (m); must divide 100 km and 40 km (`fe`: 50 km and 40 km).
     #[arg(long, default_value_t = 2000.0)]
     dx: f64,
+    /// `fe`: distance from the fault to the box's far faces, and its depth (km).
+    #[arg(long, default_value_t = 400.0)]
+    domain_km: f64,
+    /// `fe`: growth of the spacing away from the rate-and-state region.
+    #[arg(long, default_value_t = 1.3)]
+    ratio: f64,
     /// End time (years).
     #[arg(long, default_value_t = 1800.0)]
     end_years: f64,
@@ -87,6 +103,15 @@ struct Args {
     overwrite: bool,
 }
 
+/// The elastic operator of the run.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum Kernel {
+    /// Okada's half-space, a fault alone, back slip.
+    Okada,
+    /// The finite-element volume model.
+    Fe,
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
     rsf_examples::main_on_threads(args.threads, || run(args))
@@ -107,6 +132,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let bp5 = SeasBp5::default();
     // Checked before any file is touched.
     let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
+    let grid = SeasBp5Grid {
+        dx: args.dx,
+        domain: args.domain_km * 1e3,
+        ratio: args.ratio,
+    };
     let mut options = bp5
         .fault_ode_options(args.tolerance)
         .map_err(|e| format!("--tolerance: {e}"))?;
@@ -131,28 +161,15 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     folder.prepare(args.resume.is_some(), args.overwrite)?;
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.
     let fingerprint = Fingerprint::of_serialized(&bp5)
-        .with("kernel", "okada")
+        .with("kernel", format!("{:?}", args.kernel))
         .with("dx", args.dx)
+        .with("domain_km", args.domain_km)
+        .with("ratio", args.ratio)
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("epsilon", args.epsilon);
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let model = bp5.model(args.dx)?;
-    println!(
-        "BP5-QD, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
-        args.dx,
-        2 * cells,
-        machine()
-    );
-    let (mut ode, columns) =
-        bp5.fault_ode_with_stations(model, options, &half_space, &SeasBp5::body_station_points())?;
-    println!("S: {}", ode.kernel_report());
-    let setup_s = clock.elapsed().as_secs_f64();
-    println!(
-        "set-up: wall {setup_s:.1} s, CPU {:.1} s",
-        cpu_seconds() - cpu0
-    );
     let setup = SeasSetup {
         problem: "SEAS Benchmark BP5-QD".into(),
         modeler: args.modeler.clone(),
@@ -167,7 +184,55 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         layout: SeasLayout::default(),
         surface_stations: Vec::new(),
     };
-    let mut output = SeasBp5Output::new(&args.out, &bp5, args.dx, columns, setup)?;
+    let (mut ode, output) = match args.kernel {
+        Kernel::Okada => {
+            let model = bp5.model(args.dx)?;
+            println!(
+                "BP5-QD, Okada, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
+                args.dx,
+                2 * cells,
+                machine()
+            );
+            let (ode, columns) = bp5.fault_ode_with_stations(
+                model,
+                options,
+                &half_space,
+                &SeasBp5::body_station_points(),
+            )?;
+            let output = SeasBp5Output::new(&args.out, &bp5, args.dx, columns, setup)?;
+            (ode, output)
+        }
+        Kernel::Fe => {
+            let model = bp5
+                .fe_model(&grid)
+                .map_err(|e| format!("--kernel fe: {e}"))?;
+            let m = 2 * model.frictional_boundary.len();
+            println!(
+                "BP5-QD, finite elements, Δx = {} m, box ±{} km (ratio {}), {} vertices, {m} \
+                 slip unknowns; on {}",
+                args.dx,
+                args.domain_km,
+                args.ratio,
+                model.vertices.len(),
+                machine()
+            );
+            if m > 4096 {
+                options.kernel = FaultKernel::hierarchical(args.epsilon);
+            }
+            let output = SeasBp5Output::for_volume(&args.out, &bp5, &model, args.dx, setup)?;
+            let mut ode = bp5.fe_fault_ode(model, options)?;
+            ode.watch_vertices(&output.volume_vertices())?;
+            println!("volume factor: {} entries", ode.factor_nnz());
+            (ode, output)
+        }
+    };
+    let mut output = output;
+    println!("S: {}", ode.kernel_report());
+    let setup_s = clock.elapsed().as_secs_f64();
+    println!(
+        "set-up: wall {setup_s:.1} s, CPU {:.1} s",
+        cpu_seconds() - cpu0
+    );
     if args.checkpoint_every > 0 || args.max_steps.is_some() {
         output = output.with_resume_log(args.checkpoint_every);
     }
@@ -248,13 +313,16 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     );
     let json = serde_json::json!({
         "problem": "BP5-QD",
-        "kernel": "okada",
+        "kernel": format!("{:?}", args.kernel),
+        "domain_km": (args.kernel == Kernel::Fe).then_some(args.domain_km),
+        "ratio": (args.kernel == Kernel::Fe).then_some(args.ratio),
         "dx_m": args.dx,
         "cells": cells,
         "end_years": args.end_years,
         "tolerance": args.tolerance,
         "epsilon": args.epsilon,
         "operator": ode.kernel_report().to_string(),
+        "volume_factor_entries": ode.factor_nnz(),
         "accepted_steps": ode.state().step,
         "steps_this_invocation": summary.steps,
         "rejected_attempts": summary.rejected_attempts,

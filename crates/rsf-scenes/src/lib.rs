@@ -49,7 +49,7 @@ pub use seas_bp1::{
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
-pub use seas_bp5::{SeasBp5, SeasBp5FaultOde, MAX_CELLS as SEAS_BP5_MAX_CELLS};
+pub use seas_bp5::{SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS};
 pub use seas_bp5_output::{
     Bp5Event, SeasBp5Output, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
     SLIP_RATE_FLOOR,

@@ -10,9 +10,11 @@
 
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_ode::FaultOdeOptions;
+use rsf::fem::{cuboid_from_coordinates, geometric_grading};
 use rsf::halfspace::Medium;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
-use rsf::{FaultOde, Model, Result, SimulationBuilder};
+use rsf::model::CreepRate;
+use rsf::{FaultOde, Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
 use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 
@@ -394,6 +396,175 @@ impl SeasBp5 {
         o.runge_kutta.dt_max = 3.15576e7;
         o.validate()?;
         Ok(o)
+    }
+}
+
+/// The finite-element grid of BP5's volume model ([`SeasBp5::fe_model`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SeasBp5Grid {
+    /// Spacing on the fault's rate-and-state region (m); must divide `l_f/2` and `W_f`.
+    pub dx: f64,
+    /// Distance from the fault to the box's far faces, and depth of the box (m).
+    pub domain: f64,
+    /// Growth of the spacing away from the rate-and-state region, in `[1, 2]`.
+    pub ratio: f64,
+}
+
+impl Default for SeasBp5Grid {
+    /// 4 km on the fault, a box reaching 400 km from it, growth 1.3.
+    fn default() -> Self {
+        Self {
+            dx: 4e3,
+            domain: 400e3,
+            ratio: 1.3,
+        }
+    }
+}
+
+impl SeasBp5 {
+    /// The rate-and-state region `|x₂| ≤ l_f/2`, `x₃ ≤ W_f` (with a relative margin of
+    /// 1e-9 of `W_f`).
+    pub fn in_rate_state_region(&self, x2: f64, x3: f64) -> bool {
+        let eps = 1e-9 * self.w_f;
+        x2.abs() <= 0.5 * self.l_f + eps && x3 <= self.w_f + eps
+    }
+
+    /// BP5 as a finite-element volume model on `grid` (quasi-dynamic: no mass): the box
+    /// `|x|, |y| ≤ domain`, `−domain ≤ z ≤ 0` of Kuhn tetrahedra on a tensor grid, uniform
+    /// `dx` over the rate-and-state region (and one cell across the fault) and growing
+    /// by `ratio` beyond, isotropic (μ = ρc_s², ν); the whole plane `x = 0` a fault inside
+    /// the body ([`ModelBuilder::internal_fault_polygon`], `t₁` along strike): its pairs
+    /// outside the rate-and-state region creeping at `(V_p, 0)`
+    /// ([`ModelBuilder::internal_creep_at`]), those inside it frictional; the far faces
+    /// carrying each side's rigid motion `±V_p/2` along `y` (the fault's own vertices on
+    /// them only by the creep); the free surface `z = 0`; the prestress
+    /// [`tau0`](Self::tau0) as equal and opposite tractions `±τ⁰ e_y` on the fault's two
+    /// faces over the rate-and-state region; the initial displacement 0.
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `dx` (not dividing `l_f/2` and `W_f`),
+    /// `domain` (not beyond 1.5 l_f/2 and 1.5 W_f) or `ratio` (outside `[1, 2]`);
+    /// grading and assembly errors.
+    pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
+        self.validate()?;
+        let (h, far) = (grid.dx, grid.domain);
+        let whole = |length: f64| {
+            let n = length / h;
+            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-9 * n
+        };
+        if !(whole(0.5 * self.l_f) && whole(self.w_f)) {
+            return Err(invalid(
+                "dx",
+                format!(
+                    "{h} m must divide l_f/2 = {} m and W_f = {} m into whole cells",
+                    0.5 * self.l_f,
+                    self.w_f
+                ),
+            ));
+        }
+        if !(far.is_finite() && far >= 1.5 * (0.5 * self.l_f).max(self.w_f)) {
+            return Err(invalid(
+                "domain",
+                format!("{far} m must reach 1.5 times l_f/2 and W_f"),
+            ));
+        }
+        if !(1.0..=2.0).contains(&grid.ratio) {
+            return Err(invalid(
+                "ratio",
+                format!("{} must be in [1, 2]", grid.ratio),
+            ));
+        }
+        let symmetric = |uniform: f64| -> Result<Vec<f64>> {
+            let half = geometric_grading(h, uniform, grid.ratio, far)?;
+            let mut c: Vec<f64> = half.iter().rev().map(|x| -x).collect();
+            c.extend_from_slice(&half[1..]);
+            Ok(c)
+        };
+        let xs = symmetric(h)?;
+        let ys = symmetric(0.5 * self.l_f)?;
+        let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
+            .iter()
+            .rev()
+            .map(|z| -z)
+            .collect();
+        *zs.last_mut().expect("a graded list is not empty") = 0.0;
+        let mesh = cuboid_from_coordinates(&xs, &ys, &zs)?;
+        let mu = self.shear_modulus();
+        let material = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let eps = 1e-6 * h;
+        let side = 0.5 * self.v_p;
+        let (a, b, c) = (*self, *self, *self);
+        let mut model = ModelBuilder::new(mesh)
+            .material(material)
+            .without_mass()
+            .dirichlet(
+                Part::predicate("far minus", move |x| {
+                    x[0] < -eps
+                        && (x[0] < -far + eps || x[1].abs() > far - eps || x[2] < -far + eps)
+                }),
+                [0.0, -side, 0.0],
+            )
+            .dirichlet(
+                Part::predicate("far plus", move |x| {
+                    x[0] > eps && (x[0] > far - eps || x[1].abs() > far - eps || x[2] < -far + eps)
+                }),
+                [0.0, side, 0.0],
+            )
+            .fault_tangent([0.0, 1.0, 0.0])
+            .internal_fault_polygon(
+                "fault",
+                &[
+                    [0.0, -far, -far],
+                    [0.0, far, -far],
+                    [0.0, far, 0.0],
+                    [0.0, -far, 0.0],
+                ],
+            )
+            .internal_creep_at(move |x| {
+                (!a.in_rate_state_region(x[1], -x[2])).then_some(CreepRate::InFrame([a.v_p, 0.0]))
+            })
+            .neumann(Part::from("fault_minus"), move |x| {
+                let t = if b.in_rate_state_region(x[1], -x[2]) {
+                    b.tau0(x[1], -x[2])
+                } else {
+                    0.0
+                };
+                [0.0, -t, 0.0]
+            })
+            .neumann(Part::from("fault_plus"), move |x| {
+                let t = if c.in_rate_state_region(x[1], -x[2]) {
+                    c.tau0(x[1], -x[2])
+                } else {
+                    0.0
+                };
+                [0.0, t, 0.0]
+            })
+            .build()?;
+        model.initial_displacement.fill(0.0);
+        Ok(model)
+    }
+
+    /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))
+    /// with the condensed finite-element operator (`options.kernel`): the laws, state and
+    /// damping of [`fault_ode`](Self::fault_ode).
+    ///
+    /// # Errors
+    /// Invalid parameters; the set-up errors of
+    /// [`build_fault_ode`](SimulationBuilder::build_fault_ode).
+    pub fn fe_fault_ode(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+    ) -> Result<SeasBp5FaultOde> {
+        self.validate()?;
+        SimulationBuilder::new(model)
+            .friction_at(|x| AsinhLaw::new(self.params(x[1], -x[2])))
+            .state_law_at(|x| Aging::new(self.l_at(x[1], -x[2])))
+            .initial_state_at(|x| self.alpha0(x[1], -x[2]))
+            .integrator(rsf::Integrator::Quasistatic(rsf_time::Quasistatic::new()))
+            .radiation_damping(self.radiation_damping())
+            .time_step(1e-3)
+            .build_fault_ode(options)
     }
 }
 

@@ -86,12 +86,50 @@ struct FaultStation {
     cells: [(usize, f64); 4],
 }
 
-/// An off-fault station: its side of the fault and its displacement per unit slip of
-/// every unknown (3 rows of `m`).
+/// An off-fault station: its file and where its displacement comes from.
 struct BodyStation {
     file: File,
-    side: f64,
-    columns: Vec<f64>,
+    source: BodySource,
+}
+
+/// Where an off-fault station's displacement comes from.
+enum BodySource {
+    /// A fault alone: its side of the fault (`±1`) and its displacement per unit slip of
+    /// every unknown (3 rows of `m`).
+    Columns { side: f64, columns: Vec<f64> },
+    /// A volume model: the vertex (Cartesian components).
+    Vertex(usize),
+}
+
+/// How the slip `(slip₂, slip₃)` of a fault node is read off the model's field: the
+/// node's first dof and the coefficients of its three components for each (`x₃` down).
+#[derive(Debug, Clone, Copy)]
+struct SlipMap {
+    dof: usize,
+    e2: [f64; 3],
+    e3: [f64; 3],
+}
+
+impl SlipMap {
+    fn of(&self, x: &[f64]) -> (f64, f64) {
+        let b = &x[self.dof..self.dof + 3];
+        let dot = |e: &[f64; 3]| e[0] * b[0] + e[1] * b[1] + e[2] * b[2];
+        (dot(&self.e2), dot(&self.e3))
+    }
+}
+
+/// The fault's nodes as the output sees them: per fault index its position `(x₂, x₃)`
+/// (m), area (m²) and slip map, and the regular grid they fill (for the stations).
+struct FaultLayout {
+    positions: Vec<[f64; 2]>,
+    areas: Vec<f64>,
+    slip: Vec<SlipMap>,
+    /// The grid's first point `(x₂, x₃)` (m), spacing (m), points along strike and dip,
+    /// and the fault index of every point (strike fastest).
+    origin: [f64; 2],
+    spacing: f64,
+    n: [usize; 2],
+    index: Vec<usize>,
 }
 
 /// An event of the catalogue.
@@ -117,9 +155,7 @@ pub struct SeasBp5Output {
     fault: Vec<FaultStation>,
     body: Vec<BodyStation>,
     global: File,
-    /// Cell centres `(x₂, x₃)` (m).
-    cells: Vec<[f64; 2]>,
-    area: f64,
+    layout: FaultLayout,
     mu: f64,
     v_p: f64,
     mark: Mark,
@@ -180,6 +216,133 @@ impl SeasBp5Output {
                 ),
             ));
         }
+        let n = [
+            (bp5.l_f / dx).round() as usize,
+            (bp5.w_f / dx).round() as usize,
+        ];
+        let layout = FaultLayout {
+            areas: vec![dx * dx; cells.len()],
+            slip: (0..cells.len())
+                .map(|k| SlipMap {
+                    dof: 3 * k,
+                    e2: [0.0, 1.0, 0.0],
+                    e3: [0.0, 0.0, -1.0],
+                })
+                .collect(),
+            origin: cells[0],
+            spacing: dx,
+            n,
+            index: (0..cells.len()).collect(),
+            positions: cells,
+        };
+        let body = SEAS_BP5_BODY_STATIONS
+            .iter()
+            .zip(body_columns)
+            .map(|(&(_, n, _), columns)| BodySource::Columns {
+                side: n.signum(),
+                columns,
+            })
+            .collect();
+        Self::build(dir, bp5, layout, body, setup)
+    }
+
+    /// The output of `bp5` on its finite-element volume model `model`
+    /// ([`SeasBp5::fe_model`] with spacing `dx` on the fault) into `dir`: the on-fault
+    /// stations from the frictional nodes (the grid of spacing `dx` over the
+    /// rate-and-state region; slip and slip rate the jump of each split pair in Cartesian
+    /// components), the off-fault stations at the mesh vertices nearest them (read
+    /// through [`Observer::volume_vertices`]).
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `model` for a model without an internal
+    /// fault or whose frictional nodes do not fill the grid; I/O errors creating `dir`.
+    pub fn for_volume(
+        dir: &Path,
+        bp5: &SeasBp5,
+        model: &Model<3, 3>,
+        dx: f64,
+        setup: SeasSetup,
+    ) -> Result<Self> {
+        let fault = model
+            .internal_fault
+            .as_ref()
+            .ok_or_else(|| invalid("model", "has no fault inside the body"))?;
+        let fb = &model.frictional_boundary;
+        let pair_of: std::collections::HashMap<usize, usize> = fault
+            .pairs()
+            .iter()
+            .enumerate()
+            .map(|(i, &(minus, _))| (minus, i))
+            .collect();
+        let n = [
+            (bp5.l_f / dx).round() as usize + 1,
+            (bp5.w_f / dx).round() as usize + 1,
+        ];
+        let origin = [-0.5 * bp5.l_f, 0.0];
+        let mut index = vec![usize::MAX; n[0] * n[1]];
+        let mut layout = FaultLayout {
+            positions: Vec::with_capacity(fb.len()),
+            areas: fb.weights.clone(),
+            slip: Vec::with_capacity(fb.len()),
+            origin,
+            spacing: dx,
+            n,
+            index: Vec::new(),
+        };
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let x = model.vertices[p];
+            let i = *pair_of
+                .get(&p)
+                .ok_or_else(|| invalid("model", format!("frictional node {k} is not a pair")))?;
+            let r = fault.transform.frames[i];
+            layout.positions.push([x[1], -x[2]]);
+            layout.slip.push(SlipMap {
+                dof: 3 * p,
+                e2: r[1],
+                e3: r[2].map(|c| -c),
+            });
+            let (fi, fj) = ((x[1] - origin[0]) / dx, -x[2] / dx);
+            let (i, j) = (fi.round(), fj.round());
+            if (fi - i).abs() > 1e-6 || (fj - j).abs() > 1e-6 || i < 0.0 || j < 0.0 {
+                return Err(invalid(
+                    "model",
+                    format!("frictional node {k} at {x:?} is off the {dx} m grid"),
+                ));
+            }
+            let (i, j) = (i as usize, j as usize);
+            if i >= n[0] || j >= n[1] {
+                return Err(invalid(
+                    "model",
+                    format!("frictional node {k} at {x:?} is outside the rate-and-state region"),
+                ));
+            }
+            index[j * n[0] + i] = k;
+        }
+        if let Some(g) = index.iter().position(|&k| k == usize::MAX) {
+            return Err(invalid(
+                "model",
+                format!(
+                    "no frictional node at grid point ({}, {}) of the rate-and-state region",
+                    g % n[0],
+                    g / n[0]
+                ),
+            ));
+        }
+        layout.index = index;
+        let body = SeasBp5::body_station_points()
+            .iter()
+            .map(|x| model.nearest_node(x).map(BodySource::Vertex))
+            .collect::<Result<_>>()?;
+        Self::build(dir, bp5, layout, body, setup)
+    }
+
+    fn build(
+        dir: &Path,
+        bp5: &SeasBp5,
+        layout: FaultLayout,
+        body: Vec<BodySource>,
+        setup: SeasSetup,
+    ) -> Result<Self> {
         std::fs::create_dir_all(dir).map_err(|source| rsf::Error::File {
             path: dir.display().to_string(),
             action: "create",
@@ -191,8 +354,6 @@ impl SeasBp5Output {
             columns,
             rows: String::new(),
         };
-        let n_strike = (bp5.l_f / dx).round() as usize;
-        let n_dip = (bp5.w_f / dx).round() as usize;
         let fault = SEAS_BP5_FAULT_STATIONS
             .iter()
             .map(|&(s, d)| FaultStation {
@@ -201,17 +362,13 @@ impl SeasBp5Output {
                     format!("on fault, {s} km along strike, {d} km down-dip"),
                     &FAULT_COLUMNS,
                 ),
-                cells: bilinear(
-                    [(s * 1e3 + 0.5 * bp5.l_f) / dx - 0.5, d * 1e3 / dx - 0.5],
-                    n_strike,
-                    n_dip,
-                ),
+                cells: layout.bilinear([s * 1e3, d * 1e3]),
             })
             .collect();
         let body = SEAS_BP5_BODY_STATIONS
             .iter()
-            .zip(body_columns)
-            .map(|(&(s, n, d), columns)| BodyStation {
+            .zip(body)
+            .map(|(&(s, n, d), source)| BodyStation {
                 file: file(
                     &body_station_name(s, n, d),
                     format!(
@@ -219,8 +376,7 @@ impl SeasBp5Output {
                     ),
                     &BODY_COLUMNS,
                 ),
-                side: n.signum(),
-                columns,
+                source,
             })
             .collect();
         Ok(Self {
@@ -229,8 +385,7 @@ impl SeasBp5Output {
             fault,
             body,
             global: file("global.dat", "global".into(), &GLOBAL_COLUMNS),
-            cells,
-            area: dx * dx,
+            layout,
             mu: bp5.shear_modulus(),
             v_p: bp5.v_p,
             mark: Mark {
@@ -352,14 +507,15 @@ impl SeasBp5Output {
     /// `((max |V|, moment rate), fastest cell)`.
     fn max_and_moment_rate(&self, v: &[f64]) -> ((f64, f64), usize) {
         let (mut vmax, mut kmax, mut sum) = (0.0_f64, 0, 0.0);
-        for k in 0..self.cells.len() {
-            let speed = v[3 * k + 1].hypot(v[3 * k + 2]);
-            sum += speed;
+        for (k, (map, area)) in self.layout.slip.iter().zip(&self.layout.areas).enumerate() {
+            let (v2, v3) = map.of(v);
+            let speed = v2.hypot(v3);
+            sum += area * speed;
             if speed > vmax {
                 (vmax, kmax) = (speed, k);
             }
         }
-        ((vmax, self.mu * self.area * sum), kmax)
+        ((vmax, self.mu * sum), kmax)
     }
 
     /// Writes every file whole (atomically) and the catalogue.
@@ -432,9 +588,11 @@ impl SeasBp5Output {
         self.mark.written += 1;
         let (u, v) = (&state.kinematics.u, &state.kinematics.v);
         let n = model.vertices.len();
-        // Per cell: slip₂, slip₃, V₂, V₃, τ₂, τ₃, α (benchmark components: x₃ down).
+        let slip = &self.layout.slip;
+        // Per node: slip₂, slip₃, V₂, V₃, τ₂, τ₃, α (benchmark components: x₃ down).
         let cell = |k: usize| -> [f64; 7] {
-            let (v2, v3) = (v[3 * k + 1], -v[3 * k + 2]);
+            let (s2, s3) = slip[k].of(u);
+            let (v2, v3) = slip[k].of(v);
             let speed = v2.hypot(v3);
             let alpha = state.alpha[k];
             let shear = friction.shear_traction(k, speed, alpha);
@@ -443,12 +601,12 @@ impl SeasBp5Output {
             } else {
                 (0.0, 0.0)
             };
-            [u[3 * k + 1], -u[3 * k + 2], v2, v3, t2, t3, alpha]
+            [s2, s3, v2, v3, t2, t3, alpha]
         };
         for st in &mut self.fault {
             let mut x = [0.0; 7];
             for &(k, w) in &st.cells {
-                if w != 0.0 && k < n {
+                if w != 0.0 {
                     let c = cell(k);
                     for (xi, ci) in x.iter_mut().zip(c) {
                         *xi += w * ci;
@@ -473,18 +631,26 @@ impl SeasBp5Output {
         for st in &mut self.body {
             let mut d = [0.0; 3];
             let mut vel = [0.0; 3];
-            for (c, (dc, vc)) in d.iter_mut().zip(vel.iter_mut()).enumerate() {
-                let col = &st.columns[c * m..(c + 1) * m];
-                for k in 0..n {
-                    // Back slip: the elastic part of the slip less the plate's.
-                    let (g2, g3) = (col[2 * k], col[2 * k + 1]);
-                    *dc += g2 * (u[3 * k + 1] - self.v_p * t) + g3 * u[3 * k + 2];
-                    *vc += g2 * (v[3 * k + 1] - self.v_p) + g3 * v[3 * k + 2];
+            match &st.source {
+                BodySource::Columns { side, columns } => {
+                    for (c, (dc, vc)) in d.iter_mut().zip(vel.iter_mut()).enumerate() {
+                        let col = &columns[c * m..(c + 1) * m];
+                        for k in 0..n {
+                            // Back slip: the elastic part of the slip less the plate's.
+                            let (g2, g3) = (col[2 * k], col[2 * k + 1]);
+                            *dc += g2 * (u[3 * k + 1] - self.v_p * t) + g3 * u[3 * k + 2];
+                            *vc += g2 * (v[3 * k + 1] - self.v_p) + g3 * v[3 * k + 2];
+                        }
+                    }
+                    // Each side's rigid plate motion, ±V_p t/2 along strike.
+                    d[1] += side * 0.5 * self.v_p * t;
+                    vel[1] += side * 0.5 * self.v_p;
+                }
+                &BodySource::Vertex(p) => {
+                    d.copy_from_slice(&u[3 * p..3 * p + 3]);
+                    vel.copy_from_slice(&v[3 * p..3 * p + 3]);
                 }
             }
-            // Each side's rigid plate motion, ±V_p t/2 along strike.
-            d[1] += st.side * 0.5 * self.v_p * t;
-            vel[1] += st.side * 0.5 * self.v_p;
             let _ = writeln!(
                 st.file.rows,
                 "{} {} {} {} {} {} {}",
@@ -545,28 +711,31 @@ fn signed(km: f64) -> String {
     )
 }
 
-/// The four cells around the fractional cell index `f` (strike, dip) of an
-/// `n_strike × n_dip` grid and their bilinear weights (constant beyond the outer
-/// centres).
-fn bilinear(f: [f64; 2], n_strike: usize, n_dip: usize) -> [(usize, f64); 4] {
-    let axis = |x: f64, n: usize| -> (usize, f64) {
-        if n < 2 {
-            return (0, 0.0);
-        }
-        let x = x.clamp(0.0, (n - 1) as f64);
-        let i = (x.floor() as usize).min(n - 2);
-        (i, x - i as f64)
-    };
-    let (i, wi) = axis(f[0], n_strike);
-    let (j, wj) = axis(f[1], n_dip);
-    let at =
-        |di: usize, dj: usize| ((j + dj).min(n_dip - 1)) * n_strike + (i + di).min(n_strike - 1);
-    [
-        (at(0, 0), (1.0 - wi) * (1.0 - wj)),
-        (at(1, 0), wi * (1.0 - wj)),
-        (at(0, 1), (1.0 - wi) * wj),
-        (at(1, 1), wi * wj),
-    ]
+impl FaultLayout {
+    /// The four grid points around the point `x = (x₂, x₃)` (m) and their bilinear
+    /// weights (constant beyond the outer points), as fault indices.
+    fn bilinear(&self, x: [f64; 2]) -> [(usize, f64); 4] {
+        let axis = |a: usize| -> (usize, f64) {
+            let n = self.n[a];
+            if n < 2 {
+                return (0, 0.0);
+            }
+            let f = ((x[a] - self.origin[a]) / self.spacing).clamp(0.0, (n - 1) as f64);
+            let i = (f.floor() as usize).min(n - 2);
+            (i, f - i as f64)
+        };
+        let ((i, wi), (j, wj)) = (axis(0), axis(1));
+        let at = |di: usize, dj: usize| {
+            let (i, j) = ((i + di).min(self.n[0] - 1), (j + dj).min(self.n[1] - 1));
+            self.index[j * self.n[0] + i]
+        };
+        [
+            (at(0, 0), (1.0 - wi) * (1.0 - wj)),
+            (at(1, 0), wi * (1.0 - wj)),
+            (at(0, 1), (1.0 - wi) * wj),
+            (at(1, 1), wi * wj),
+        ]
+    }
 }
 
 impl Observer<3, 3> for SeasBp5Output {
@@ -579,7 +748,7 @@ impl Observer<3, 3> for SeasBp5Output {
         let ((vmax, moment_rate), kmax) = self.max_and_moment_rate(&s.state.kinematics.v);
         let sampling = *self.sampling();
         let in_event = vmax >= sampling.event_threshold;
-        let hypocentre = self.cells[kmax];
+        let hypocentre = self.layout.positions[kmax];
         match self.mark.events.last_mut() {
             Some(e) if e.t_end.is_none() => {
                 e.peak_slip_rate = e.peak_slip_rate.max(vmax);
@@ -626,5 +795,15 @@ impl Observer<3, 3> for SeasBp5Output {
 
     fn reads_volume(&self) -> bool {
         false
+    }
+
+    fn volume_vertices(&self) -> Vec<usize> {
+        self.body
+            .iter()
+            .filter_map(|b| match b.source {
+                BodySource::Vertex(p) => Some(p),
+                BodySource::Columns { .. } => None,
+            })
+            .collect()
     }
 }
