@@ -376,3 +376,67 @@ fn a_fault_alone_refuses_what_it_cannot_hold() {
         .unwrap_err();
     assert!(err.to_string().contains("fault_operator"), "{err}");
 }
+
+#[test]
+fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rate() {
+    let bp5 = SeasBp5::default();
+    let grid = rsf_scenes::SeasBp5Grid {
+        dx: 5e3,
+        ..rsf_scenes::SeasBp5Grid::default()
+    };
+    let model = bp5.fe_model(&grid).unwrap();
+    let fault = model.internal_fault.as_ref().unwrap();
+    // 21 × 9 frictional nodes on the rate-and-state region; every other pair creeps.
+    assert_eq!(model.frictional_boundary.len(), 21 * 9);
+    let creeping: Vec<usize> = fault
+        .pairs()
+        .iter()
+        .map(|&(minus, _)| minus)
+        .filter(|p| model.frictional_boundary.fault_index(*p).is_none())
+        .collect();
+    assert!(creeping.len() > 100, "{} creeping pairs", creeping.len());
+    let mut ode = bp5
+        .fe_fault_ode(model, bp5.fault_ode_options(1e-6).unwrap())
+        .unwrap();
+    // At t = 0 the slip rate is V_init where the prestress is uniform around the node
+    // (the core's interior: a = a0 on every adjacent face — x₃ in [5, 15] km around
+    // x₃ = 10 km — outside the patch), along +x₂.
+    let check = |ode: &rsf_scenes::SeasBp5FaultOde| {
+        let m = ode.model();
+        let fb = &m.frictional_boundary;
+        let mut checked = 0;
+        for &p in &fb.nodes {
+            let x = m.vertices[p];
+            let (x2, x3) = (x[1], -x[2]);
+            if x2.abs() <= 10e3 + 1.0 && (x3 - 10e3).abs() < 1.0 {
+                let v = &ode.state().kinematics.v[3 * p..3 * p + 3];
+                assert!((v[0] / 1e-9 - 1.0).abs() < 1e-6, "node at {x:?}: V = {v:?}");
+                assert!(v[1].abs() < 1e-15, "node at {x:?}: V = {v:?}");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 5);
+    };
+    check(&ode);
+    // The creeping pairs slip at (V_p, 0) in their frame (t₁ along +y): u⁺ − u⁻ = V_p t e_y.
+    ode.run_until(Until::Time(10.0 * SECONDS_PER_YEAR), &mut [])
+        .unwrap();
+    let t = ode.state().time;
+    let m = ode.model();
+    let frames = &m.internal_fault.as_ref().unwrap().transform.frames;
+    for (i, &(minus, _)) in m
+        .internal_fault
+        .as_ref()
+        .unwrap()
+        .pairs()
+        .iter()
+        .enumerate()
+    {
+        if creeping.contains(&minus) {
+            let j = &ode.state().kinematics.u[3 * minus..3 * minus + 2];
+            assert!((j[0] - 1e-9 * t).abs() < 1e-12 * t, "pair {i}: jump {j:?}");
+            assert!(j[1].abs() < 1e-15, "pair {i}: jump {j:?}");
+            assert!((frames[i][1][0] - 1.0).abs() < 1e-12, "t₁ along +y");
+        }
+    }
+}
