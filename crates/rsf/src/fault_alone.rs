@@ -60,7 +60,7 @@ pub(crate) enum Elastic {
 /// alone (its free components, node by node).
 pub(crate) enum Body<const C: usize> {
     /// A finite-element body condensed onto the fault.
-    Volume(Condensation<C>),
+    Volume(Box<Condensation<C>>),
     /// No volume: the slip unknowns' dofs.
     Alone {
         /// The model dof of every slip unknown.
