@@ -8,7 +8,7 @@
 //!
 //! * [`SimplexMesh`] / [`TriangleMesh`] / [`TetrahedronMesh`]: vertices (m), oriented cells,
 //!   boundary facets with tags; structured [`rectangle`] (graded:
-//!   [`rectangle_from_coordinates`], [`geometric_grading`], [`geometric_grading_len`]), [`cuboid`] (Kuhn tetrahedra; graded: [`cuboid_from_coordinates`]) and
+//!   [`rectangle_from_coordinates`], [`geometric_grading`], [`geometric_grading_len`], [`symmetric_grading`]), [`cuboid`] (Kuhn tetrahedra; graded: [`cuboid_from_coordinates`]) and
 //!   the paper's coarse grid [`pipping_slider_coarse`]; Gmsh MSH 4.1 import
 //!   ([`read_gmsh`], [`parse_gmsh`]) with physical groups as tags.
 //! * [`MeshHierarchy`]: uniform red refinement ([`refine_red`]; Bey's rule for tetrahedra,
@@ -76,6 +76,6 @@ pub use split::FaultSides;
 pub use split_transform::MeanJumpTransform;
 pub use structured::{
     cuboid, cuboid_from_coordinates, geometric_grading, geometric_grading_len,
-    pipping_slider_coarse, rectangle, rectangle_from_coordinates, Diagonal, MAX_GRADED_COORDINATES,
-    TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
+    pipping_slider_coarse, rectangle, rectangle_from_coordinates, symmetric_grading, Diagonal,
+    MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

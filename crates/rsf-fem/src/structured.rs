@@ -200,6 +200,25 @@ pub fn geometric_grading_len(h: f64, uniform: f64, ratio: f64, length: f64) -> f
     n_uniform + 1.0 + graded
 }
 
+/// [`geometric_grading`] mirrored about 0: `−length … −uniform … 0 … uniform … length`
+/// (m), spacing `h` over `[−uniform, uniform]`, growing by `ratio` beyond (e.g. across a
+/// fault at 0).
+///
+/// ```
+/// let c = rsf_fem::symmetric_grading(1.0, 2.0, 2.0, 8.0)?;
+/// assert_eq!(c, [-8.0, -4.0, -2.0, -1.0, 0.0, 1.0, 2.0, 4.0, 8.0]);
+/// # Ok::<(), rsf_fem::Error>(())
+/// ```
+///
+/// # Errors
+/// As [`geometric_grading`].
+pub fn symmetric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Result<Vec<f64>> {
+    let half = geometric_grading(h, uniform, ratio, length)?;
+    let mut c: Vec<f64> = half.iter().rev().map(|x| -x).collect();
+    c.extend_from_slice(&half[1..]);
+    Ok(c)
+}
+
 /// Coordinates `0 = c_0 < c_1 < … < c_n = length` with spacing `h` up to `uniform`
 /// (m), then growing by the factor `ratio` per interval until `length`; the last interval
 /// takes the remainder (between half the previous spacing and `1 + ratio` times it).

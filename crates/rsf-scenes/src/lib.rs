@@ -49,16 +49,34 @@ pub use seas_bp1::{
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
-pub use seas_bp5::{SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS};
-pub use seas_bp5_output::{
-    Bp5Event, SeasBp5Output, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
-    SLIP_RATE_FLOOR,
+pub use seas_bp5::{
+    SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS, SEAS_BP5_BODY_STATIONS,
+    SEAS_BP5_FAULT_STATIONS,
 };
+pub use seas_bp5_output::{Bp5Event, SeasBp5Output, SEAS_BP5_RESUME_LOG, SLIP_RATE_FLOOR};
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,
 };
 pub use slider3d::{skew_rotation, slider_3d_coarse, LateralBoundary, Slider3dScene, TAG_LATERAL};
+
+/// Options of the fault ODE of the SEAS scenes: Dormand–Prince 5(4), local errors at most
+/// `tolerance · slip_scale` in slip and `tolerance` in ln θ per step, steps in
+/// [1e-6 s, 1 yr].
+fn seas_fault_ode_options(
+    tolerance: f64,
+    slip_scale: f64,
+) -> rsf::Result<rsf::fault_ode::FaultOdeOptions> {
+    let mut o = rsf::fault_ode::FaultOdeOptions {
+        tolerance,
+        slip_scale,
+        ..rsf::fault_ode::FaultOdeOptions::default()
+    };
+    o.runge_kutta.dt_min = 1e-6;
+    o.runge_kutta.dt_max = 3.15576e7;
+    o.validate()?;
+    Ok(o)
+}
 
 /// [`rsf::Error::InvalidParameter`] named `name` with `reason`.
 pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> rsf::Error {

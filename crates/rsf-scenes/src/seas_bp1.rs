@@ -481,15 +481,7 @@ impl SeasBp1 {
     /// # Errors
     /// An invalid tolerance.
     pub fn fault_ode_options(&self, tolerance: f64) -> Result<FaultOdeOptions> {
-        let mut o = FaultOdeOptions {
-            tolerance,
-            slip_scale: self.d_c,
-            ..FaultOdeOptions::default()
-        };
-        o.runge_kutta.dt_min = 1e-6;
-        o.runge_kutta.dt_max = 3.15576e7;
-        o.validate()?;
-        Ok(o)
+        crate::seas_fault_ode_options(tolerance, self.d_c)
     }
 
     /// What a checkpoint of a BP1 run continues: every parameter (as serde names it),

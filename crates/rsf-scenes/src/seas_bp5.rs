@@ -10,7 +10,7 @@
 
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_ode::FaultOdeOptions;
-use rsf::fem::{cuboid_from_coordinates, geometric_grading};
+use rsf::fem::{cuboid_from_coordinates, geometric_grading, symmetric_grading};
 use rsf::halfspace::Medium;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
 use rsf::model::CreepRate;
@@ -19,6 +19,34 @@ use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 
 use crate::invalid;
+
+/// BP5's on-fault stations `(x₂, x₃)` (km along strike, km depth).
+pub const SEAS_BP5_FAULT_STATIONS: [(f64, f64); 10] = [
+    (-36.0, 0.0),
+    (-16.0, 0.0),
+    (0.0, 0.0),
+    (16.0, 0.0),
+    (36.0, 0.0),
+    (-24.0, 10.0),
+    (-16.0, 10.0),
+    (0.0, 10.0),
+    (16.0, 10.0),
+    (0.0, 22.0),
+];
+
+/// BP5's off-fault stations `(x₂, x₁, x₃)` (km along strike, km normal to the fault, km
+/// depth).
+pub const SEAS_BP5_BODY_STATIONS: [(f64, f64, f64); 9] = [
+    (-16.0, 8.0, 0.0),
+    (0.0, 8.0, 0.0),
+    (16.0, 8.0, 0.0),
+    (0.0, 16.0, 0.0),
+    (0.0, 32.0, 0.0),
+    (0.0, 48.0, 0.0),
+    (0.0, 8.0, 10.0),
+    (0.0, 16.0, 10.0),
+    (0.0, 32.0, 10.0),
+];
 
 /// The fault ODE of BP5 (the regularised law, the aging law, a 3-D fault alone).
 pub type SeasBp5FaultOde = FaultOde<3, AsinhLaw, Aging, 3>;
@@ -326,10 +354,10 @@ impl SeasBp5 {
             .0)
     }
 
-    /// The off-fault stations of BP5 ([`SEAS_BP5_BODY_STATIONS`](crate::SEAS_BP5_BODY_STATIONS))
+    /// The off-fault stations of BP5 ([`SEAS_BP5_BODY_STATIONS`](SEAS_BP5_BODY_STATIONS))
     /// as model points `(x₁, x₂, −x₃)` (m).
     pub fn body_station_points() -> Vec<[f64; 3]> {
-        crate::SEAS_BP5_BODY_STATIONS
+        SEAS_BP5_BODY_STATIONS
             .iter()
             .map(|&(s, n, d)| [n * 1e3, s * 1e3, -d * 1e3])
             .collect()
@@ -358,6 +386,18 @@ impl SeasBp5 {
             operator: Box::new(operator),
             plate_velocity,
         };
+        self.problem_builder(model)
+            .build_fault_ode_alone(options, alone)
+            .map(|ode| (ode, columns))
+    }
+
+    /// The problem of BP5 on `model` (a fault alone or the volume model): the regularised
+    /// law with [`params`](Self::params), the aging law with the local L, θ₀ of
+    /// [`alpha0`](Self::alpha0), quasi-dynamic with η = μ/(2c_s), first trial step 1 ms.
+    pub fn problem_builder(
+        &self,
+        model: Model<3, 3>,
+    ) -> SimulationBuilder<3, AsinhLaw, Aging, rsf::Integrator, 3> {
         SimulationBuilder::new(model)
             .friction_at(|x| AsinhLaw::new(self.params(x[1], -x[2])))
             .state_law_at(|x| Aging::new(self.l_at(x[1], -x[2])))
@@ -365,8 +405,6 @@ impl SeasBp5 {
             .integrator(rsf::Integrator::Quasistatic(rsf_time::Quasistatic::new()))
             .radiation_damping(self.radiation_damping())
             .time_step(1e-3)
-            .build_fault_ode_alone(options, alone)
-            .map(|ode| (ode, columns))
     }
 
     /// Half-space options of BP5: the free surface `z = 0`, the medium, dense up to
@@ -387,15 +425,7 @@ impl SeasBp5 {
     /// # Errors
     /// An invalid tolerance.
     pub fn fault_ode_options(&self, tolerance: f64) -> Result<FaultOdeOptions> {
-        let mut o = FaultOdeOptions {
-            tolerance,
-            slip_scale: self.l,
-            ..FaultOdeOptions::default()
-        };
-        o.runge_kutta.dt_min = 1e-6;
-        o.runge_kutta.dt_max = 3.15576e7;
-        o.validate()?;
-        Ok(o)
+        crate::seas_fault_ode_options(tolerance, self.l)
     }
 }
 
@@ -474,14 +504,8 @@ impl SeasBp5 {
                 format!("{} must be in [1, 2]", grid.ratio),
             ));
         }
-        let symmetric = |uniform: f64| -> Result<Vec<f64>> {
-            let half = geometric_grading(h, uniform, grid.ratio, far)?;
-            let mut c: Vec<f64> = half.iter().rev().map(|x| -x).collect();
-            c.extend_from_slice(&half[1..]);
-            Ok(c)
-        };
-        let xs = symmetric(h)?;
-        let ys = symmetric(0.5 * self.l_f)?;
+        let xs = symmetric_grading(h, h, grid.ratio, far)?;
+        let ys = symmetric_grading(h, 0.5 * self.l_f, grid.ratio, far)?;
         let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
             .iter()
             .rev()
@@ -557,14 +581,7 @@ impl SeasBp5 {
         options: FaultOdeOptions,
     ) -> Result<SeasBp5FaultOde> {
         self.validate()?;
-        SimulationBuilder::new(model)
-            .friction_at(|x| AsinhLaw::new(self.params(x[1], -x[2])))
-            .state_law_at(|x| Aging::new(self.l_at(x[1], -x[2])))
-            .initial_state_at(|x| self.alpha0(x[1], -x[2]))
-            .integrator(rsf::Integrator::Quasistatic(rsf_time::Quasistatic::new()))
-            .radiation_damping(self.radiation_damping())
-            .time_step(1e-3)
-            .build_fault_ode(options)
+        self.problem_builder(model).build_fault_ode(options)
     }
 }
 

@@ -11,35 +11,7 @@ use rsf::observe::{seas_header, seas_number, SeasSampling, SeasSetup};
 use rsf::{Flow, Model, Observer, Result, StepView};
 
 use crate::invalid;
-use crate::seas_bp5::SeasBp5;
-
-/// BP5's on-fault stations `(x₂, x₃)` (km along strike, km depth).
-pub const SEAS_BP5_FAULT_STATIONS: [(f64, f64); 10] = [
-    (-36.0, 0.0),
-    (-16.0, 0.0),
-    (0.0, 0.0),
-    (16.0, 0.0),
-    (36.0, 0.0),
-    (-24.0, 10.0),
-    (-16.0, 10.0),
-    (0.0, 10.0),
-    (16.0, 10.0),
-    (0.0, 22.0),
-];
-
-/// BP5's off-fault stations `(x₂, x₁, x₃)` (km along strike, km normal to the fault, km
-/// depth).
-pub const SEAS_BP5_BODY_STATIONS: [(f64, f64, f64); 9] = [
-    (-16.0, 8.0, 0.0),
-    (0.0, 8.0, 0.0),
-    (16.0, 8.0, 0.0),
-    (0.0, 16.0, 0.0),
-    (0.0, 32.0, 0.0),
-    (0.0, 48.0, 0.0),
-    (0.0, 8.0, 10.0),
-    (0.0, 16.0, 10.0),
-    (0.0, 32.0, 10.0),
-];
+use crate::seas_bp5::{SeasBp5, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};
 
 const FAULT_COLUMNS: [(&str, &str); 8] = [
     ("t", "Time (s)"),
@@ -614,18 +586,16 @@ impl SeasBp5Output {
                 }
             }
             let log_rate = |r: f64| r.abs().max(SLIP_RATE_FLOOR).log10();
-            let _ = writeln!(
-                st.file.rows,
-                "{} {} {} {} {} {} {} {}",
-                seas_number(t, 13, 21),
-                seas_number(x[0], 6, 14),
-                seas_number(x[1], 6, 14),
-                seas_number(log_rate(x[2]), 6, 14),
-                seas_number(log_rate(x[3]), 6, 14),
-                seas_number(x[4] / 1e6, 6, 14),
-                seas_number(x[5] / 1e6, 6, 14),
-                seas_number(x[6] / std::f64::consts::LN_10, 6, 14),
-            );
+            let values = [
+                x[0],
+                x[1],
+                log_rate(x[2]),
+                log_rate(x[3]),
+                x[4] / 1e6,
+                x[5] / 1e6,
+                x[6] / std::f64::consts::LN_10,
+            ];
+            write_row(&mut st.file.rows, t, &values);
         }
         let m = 2 * n;
         for st in &mut self.body {
@@ -651,25 +621,11 @@ impl SeasBp5Output {
                     vel.copy_from_slice(&v[3 * p..3 * p + 3]);
                 }
             }
-            let _ = writeln!(
-                st.file.rows,
-                "{} {} {} {} {} {} {}",
-                seas_number(t, 13, 21),
-                seas_number(d[0], 6, 14),
-                seas_number(d[1], 6, 14),
-                seas_number(-d[2], 6, 14),
-                seas_number(vel[0], 6, 14),
-                seas_number(vel[1], 6, 14),
-                seas_number(-vel[2], 6, 14),
-            );
+            let values = [d[0], d[1], -d[2], vel[0], vel[1], -vel[2]];
+            write_row(&mut st.file.rows, t, &values);
         }
-        let _ = writeln!(
-            self.global.rows,
-            "{} {} {}",
-            seas_number(t, 13, 21),
-            seas_number(vmax.max(SLIP_RATE_FLOOR).log10(), 6, 14),
-            seas_number(moment_rate, 6, 14),
-        );
+        let values = [vmax.max(SLIP_RATE_FLOOR).log10(), moment_rate];
+        write_row(&mut self.global.rows, t, &values);
     }
 
     /// The header of `file`.
@@ -685,6 +641,16 @@ impl SeasBp5Output {
         h.push('\n');
         h
     }
+}
+
+/// A data row: the time as `%21.13E`, every value as `%14.6E`.
+fn write_row(rows: &mut String, t: f64, values: &[f64]) {
+    rows.push_str(&seas_number(t, 13, 21));
+    for &x in values {
+        rows.push(' ');
+        rows.push_str(&seas_number(x, 6, 14));
+    }
+    rows.push('\n');
 }
 
 /// `fltst_strk±XXdp±YY` of the on-fault station at `(x₂, x₃)` km.

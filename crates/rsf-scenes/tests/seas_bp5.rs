@@ -17,6 +17,17 @@ fn published_tau0(a: f64, v: f64) -> f64 {
     sigma * a * (v / (2.0 * v0) * ((f0 + b * (v0 / v_p).ln()) / a).exp()).asinh() + eta * v
 }
 
+/// The fault alone on cells of `dx` with the off-fault stations' columns.
+fn with_stations(bp5: &SeasBp5, dx: f64) -> (rsf_scenes::SeasBp5FaultOde, Vec<Vec<f64>>) {
+    bp5.fault_ode_with_stations(
+        bp5.model(dx).unwrap(),
+        bp5.fault_ode_options(1e-6).unwrap(),
+        &bp5.half_space(1e-6).unwrap(),
+        &SeasBp5::body_station_points(),
+    )
+    .unwrap()
+}
+
 fn setup(dx: f64) -> SeasSetup {
     SeasSetup {
         problem: "SEAS Benchmark BP5-QD".into(),
@@ -150,14 +161,7 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
     let dx = 4000.0;
     let dir = std::env::temp_dir().join(format!("rsf_bp5_coarse_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let (mut ode, columns) = bp5
-        .fault_ode_with_stations(
-            bp5.model(dx).unwrap(),
-            bp5.fault_ode_options(1e-6).unwrap(),
-            &bp5.half_space(1e-6).unwrap(),
-            &SeasBp5::body_station_points(),
-        )
-        .unwrap();
+    let (mut ode, columns) = with_stations(&bp5, dx);
     let mut output = SeasBp5Output::new(&dir, &bp5, dx, columns, setup(dx)).unwrap();
     output.write_initial_state(
         ode.model(),
@@ -235,14 +239,7 @@ fn a_stopped_and_continued_run_writes_the_same_bytes() {
     let end = Until::Time(190.0 * SECONDS_PER_YEAR);
     let every = 200;
     let run = |dir: &Path, stop: Option<usize>, resume: Option<&rsf::Checkpoint>| {
-        let (mut ode, columns) = bp5
-            .fault_ode_with_stations(
-                bp5.model(dx).unwrap(),
-                bp5.fault_ode_options(1e-6).unwrap(),
-                &bp5.half_space(1e-6).unwrap(),
-                &SeasBp5::body_station_points(),
-            )
-            .unwrap();
+        let (mut ode, columns) = with_stations(&bp5, dx);
         let mut output = SeasBp5Output::new(dir, &bp5, dx, columns, setup(dx))
             .unwrap()
             .with_resume_log(every);

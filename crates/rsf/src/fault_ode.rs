@@ -408,7 +408,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 let mut g1 = vec![0.0; m];
                 cond.condense(&vec![0.0; n], &velocity_factor, &mut g1)?;
                 let history = model.dirichlet.history.clone();
-                (Body::Volume(Box::new(cond)), operator, g0, g1, history, normal)
+                (
+                    Body::Volume(Box::new(cond)),
+                    operator,
+                    g0,
+                    g1,
+                    history,
+                    normal,
+                )
             }
             Elastic::Alone(mut alone) => {
                 if problem.normal_stress() != NormalStress::Fixed {
