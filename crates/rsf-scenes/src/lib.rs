@@ -53,7 +53,10 @@ pub use seas_bp5::{
     SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS, SEAS_BP5_BODY_STATIONS,
     SEAS_BP5_FAULT_STATIONS,
 };
-pub use seas_bp5_output::{Bp5Event, SeasBp5Output, SEAS_BP5_RESUME_LOG, SLIP_RATE_FLOOR};
+pub use seas_bp5_output::{
+    Bp5Event, SeasBp5Output, NEVER_RUPTURED, RUPTURE_THRESHOLD, SEAS_BP5_RESUME_LOG,
+    SLIP_RATE_FLOOR,
+};
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,

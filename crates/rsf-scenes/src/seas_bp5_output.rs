@@ -50,7 +50,44 @@ struct File {
     location: String,
     columns: &'static [(&'static str, &'static str)],
     rows: String,
+    /// For a profile: the name of its coordinate (`x2` or `x3`); its first data row holds
+    /// the positions.
+    coordinate: Option<&'static str>,
 }
+
+/// A slip or shear-stress profile (component 2) along dip or strike.
+struct Profile {
+    file: File,
+    /// `true`: slip₂ (m); `false`: shear stress₂ (MPa).
+    slip: bool,
+    /// The nodes around every point and their bilinear weights.
+    points: Vec<[(usize, f64); 4]>,
+}
+
+const SLIP_PROFILE_COLUMNS: [(&str, &str); 3] = [
+    ("t", "Time (s)"),
+    ("max_slip_rate", "Max slip rate (log10 m/s)"),
+    (
+        "slip_2",
+        "Slip_2 (m) at the positions (m) of the first data row, one column each",
+    ),
+];
+
+const STRESS_PROFILE_COLUMNS: [(&str, &str); 3] = [
+    ("t", "Time (s)"),
+    ("max_slip_rate", "Max slip rate (log10 m/s)"),
+    (
+        "shear_stress_2",
+        "Shear_stress_2 (MPa) at the positions (m) of the first data row, one column each",
+    ),
+];
+
+/// The slip rate (m/s) from which a node counts as rupturing in `rupture.dat`.
+pub const RUPTURE_THRESHOLD: f64 = 1e-3;
+
+/// The time written in `rupture.dat` for a node that did not rupture (s; far beyond any
+/// run: the times are absolute, from the start of the run).
+pub const NEVER_RUPTURED: f64 = 1e20;
 
 /// An on-fault station: the cells around it and their bilinear weights.
 struct FaultStation {
@@ -127,6 +164,7 @@ pub struct SeasBp5Output {
     fault: Vec<FaultStation>,
     body: Vec<BodyStation>,
     global: File,
+    profiles: Vec<Profile>,
     layout: FaultLayout,
     mu: f64,
     v_p: f64,
@@ -159,6 +197,12 @@ struct Mark {
     steps: usize,
     /// The catalogue.
     events: Vec<Bp5Event>,
+    /// Profile rows written (besides the positions row) and the time of the last.
+    profile_written: usize,
+    last_profile_t: f64,
+    /// Per fault node: the first time after the first event that its slip rate reached
+    /// [`RUPTURE_THRESHOLD`] (s).
+    rupture: Vec<Option<f64>>,
 }
 
 impl SeasBp5Output {
@@ -325,7 +369,55 @@ impl SeasBp5Output {
             location,
             columns,
             rows: String::new(),
+            coordinate: None,
         };
+        // Profiles along dip at x₂ = 0 and along strike at x₃ = 10 km, at the grid's
+        // rows and columns.
+        let g = &layout;
+        let along_dip: Vec<f64> = (0..g.n[1])
+            .map(|j| g.origin[1] + j as f64 * g.spacing)
+            .collect();
+        let along_strike: Vec<f64> = (0..g.n[0])
+            .map(|i| g.origin[0] + i as f64 * g.spacing)
+            .collect();
+        let mut profiles = Vec::new();
+        for slip in [true, false] {
+            for dip in [true, false] {
+                let (name, quantity) = if slip {
+                    ("slip_2", &SLIP_PROFILE_COLUMNS)
+                } else {
+                    ("stress_2", &STRESS_PROFILE_COLUMNS)
+                };
+                let (positions, coordinate, location) = if dip {
+                    (&along_dip, "x3", format!("{name} along dip at x2 = 0 km"))
+                } else {
+                    (
+                        &along_strike,
+                        "x2",
+                        format!("{name} along strike at x3 = 10 km"),
+                    )
+                };
+                let points = positions
+                    .iter()
+                    .map(|&x| g.bilinear(if dip { [0.0, x] } else { [x, 10e3] }))
+                    .collect();
+                let mut f = file(
+                    &format!("{name}_{}.dat", if dip { "depth" } else { "strike" }),
+                    location,
+                    quantity,
+                );
+                f.coordinate = Some(coordinate);
+                let mut first = vec![0.0];
+                first.extend_from_slice(positions);
+                write_row(&mut f.rows, 0.0, &first);
+                profiles.push(Profile {
+                    file: f,
+                    slip,
+                    points,
+                });
+            }
+        }
+        let nodes = g.positions.len();
         let fault = SEAS_BP5_FAULT_STATIONS
             .iter()
             .map(|&(s, d)| FaultStation {
@@ -357,6 +449,7 @@ impl SeasBp5Output {
             fault,
             body,
             global: file("global.dat", "global".into(), &GLOBAL_COLUMNS),
+            profiles,
             layout,
             mu: bp5.shear_modulus(),
             v_p: bp5.v_p,
@@ -367,6 +460,9 @@ impl SeasBp5Output {
                 tau: (f64::INFINITY, 0.0),
                 steps: 0,
                 events: Vec::new(),
+                profile_written: 0,
+                last_profile_t: f64::NEG_INFINITY,
+                rupture: vec![None; nodes],
             },
             persist_every: 0,
             resume_log: false,
@@ -429,8 +525,15 @@ impl SeasBp5Output {
             .iter_mut()
             .map(|s| &mut s.file)
             .chain(self.body.iter_mut().map(|s| &mut s.file))
-            .chain(std::iter::once(&mut self.global));
+            .chain(std::iter::once(&mut self.global))
+            .chain(self.profiles.iter_mut().map(|p| &mut p.file));
         for f in files {
+            // A profile's positions row and its time rows; a station's rows.
+            let kept = if f.coordinate.is_some() {
+                1 + mark.profile_written
+            } else {
+                mark.written
+            };
             let text = std::fs::read_to_string(&f.path).map_err(|source| rsf::Error::File {
                 path: f.path.display().to_string(),
                 action: "read",
@@ -445,15 +548,14 @@ impl SeasBp5Output {
                     format!("{} has no field line {names:?}", f.path.display()),
                 ));
             }
-            let rows: Vec<&str> = lines.take(mark.written).collect();
-            if rows.len() < mark.written || rows.iter().any(|r| !r.ends_with('\n')) {
+            let rows: Vec<&str> = lines.take(kept).collect();
+            if rows.len() < kept || rows.iter().any(|r| !r.ends_with('\n')) {
                 return Err(invalid(
                     "resume",
                     format!(
-                        "{} holds {} complete rows, the mark at step {step} {}",
+                        "{} holds {} complete rows, the mark at step {step} {kept}",
                         f.path.display(),
                         rows.iter().filter(|r| r.ends_with('\n')).count(),
-                        mark.written
                     ),
                 ));
             }
@@ -474,6 +576,47 @@ impl SeasBp5Output {
     ) {
         let (vmax, moment_rate) = self.max_and_moment_rate(&state.kinematics.v).0;
         self.write_rows(model, state, friction, (vmax, moment_rate));
+        self.write_profiles(state, friction, vmax);
+    }
+
+    /// A row of every profile at `state` (max slip rate `vmax`, m/s).
+    fn write_profiles(
+        &mut self,
+        state: &rsf::SimulationState,
+        friction: &dyn rsf::observe::FaultTractions,
+        vmax: f64,
+    ) {
+        let t = state.time;
+        self.mark.last_profile_t = t;
+        self.mark.profile_written += 1;
+        let (u, v) = (&state.kinematics.u, &state.kinematics.v);
+        let slip = &self.layout.slip;
+        let value = |k: usize, want_slip: bool| -> f64 {
+            if want_slip {
+                return slip[k].of(u).0;
+            }
+            let (v2, v3) = slip[k].of(v);
+            let speed = v2.hypot(v3);
+            if speed > 0.0 {
+                friction.shear_traction(k, speed, state.alpha[k]) * v2 / speed / 1e6
+            } else {
+                0.0
+            }
+        };
+        let mut values = Vec::new();
+        for p in &mut self.profiles {
+            values.clear();
+            values.push(vmax.max(SLIP_RATE_FLOOR).log10());
+            for cells in &p.points {
+                let x: f64 = cells
+                    .iter()
+                    .filter(|(_, w)| *w != 0.0)
+                    .map(|&(k, w)| w * value(k, p.slip))
+                    .sum();
+                values.push(x);
+            }
+            write_row(&mut p.file.rows, t, &values);
+        }
     }
 
     /// `((max |V|, moment rate), fastest cell)`.
@@ -497,11 +640,13 @@ impl SeasBp5Output {
             .iter()
             .map(|s| &s.file)
             .chain(self.body.iter().map(|s| &s.file))
-            .chain(std::iter::once(&self.global));
+            .chain(std::iter::once(&self.global))
+            .chain(self.profiles.iter().map(|p| &p.file));
         for f in files {
             let text = format!("{}{}", self.header(f), f.rows);
             write_atomically(&f.path, text.as_bytes())?;
         }
+        self.write_rupture()?;
         let mut csv = String::from(
             "event,t_start_s,t_end_s,peak_slip_rate_mps,hypocentre_x2_m,hypocentre_x3_m\n",
         );
@@ -534,6 +679,12 @@ impl SeasBp5Output {
                 .map(|&(s, n, d)| body_station_name(s, n, d)),
         );
         names.push("global.dat".into());
+        for q in ["slip_2", "stress_2"] {
+            for along in ["depth", "strike"] {
+                names.push(format!("{q}_{along}.dat"));
+            }
+        }
+        names.push("rupture.dat".into());
         names
     }
 
@@ -631,15 +782,56 @@ impl SeasBp5Output {
     /// The header of `file`.
     fn header(&self, file: &File) -> String {
         let steps = (self.mark.steps > 0).then_some(self.mark.tau);
-        let mut h = seas_header(&self.setup, &file.location, steps, self.mark.written);
+        let rows = match file.coordinate {
+            Some(_) => self.mark.profile_written,
+            None => self.mark.written,
+        };
+        let mut h = seas_header(&self.setup, &file.location, steps, rows);
         for (i, (_, description)) in file.columns.iter().enumerate() {
             let _ = write!(h, "\n# Column #{} = {description}", i + 1);
         }
-        h.push_str("\n# The line below lists the names of the data fields:\n");
+        if let Some(coordinate) = file.coordinate {
+            let _ = write!(
+                h,
+                "\n# The first data row is 0 0 followed by the positions {coordinate} (m); \
+                 every other row is a time.\n# The two lines below list the names of the data \
+                 fields:\n{coordinate}\n"
+            );
+        } else {
+            h.push_str("\n# The line below lists the names of the data fields:\n");
+        }
         let names: Vec<&str> = file.columns.iter().map(|(n, _)| *n).collect();
         h.push_str(&names.join(" "));
         h.push('\n');
         h
+    }
+}
+
+impl SeasBp5Output {
+    /// `rupture.dat`: per fault node `x2 x3 t` (m, m, s), the first time after the first
+    /// event that its slip rate reached [`RUPTURE_THRESHOLD`] ([`NEVER_RUPTURED`] if it
+    /// did not).
+    fn write_rupture(&self) -> Result<()> {
+        let steps = (self.mark.steps > 0).then_some(self.mark.tau);
+        let location = format!(
+            "on fault, the first time after the first event that each node's slip rate \
+             reached {RUPTURE_THRESHOLD:e} m/s ({NEVER_RUPTURED:e} s: never)"
+        );
+        let mut text = seas_header(&self.setup, &location, steps, self.layout.positions.len());
+        text.push_str(
+            "\n# Column #1 = x2 (m)\n# Column #2 = x3 (m)\n# Column #3 = t (s)\n\
+             # The line below lists the names of the data fields:\nx2 x3 t\n",
+        );
+        for (x, t) in self.layout.positions.iter().zip(&self.mark.rupture) {
+            let _ = writeln!(
+                text,
+                "{} {} {}",
+                seas_number(x[0], 6, 14),
+                seas_number(x[1], 6, 14),
+                seas_number(t.unwrap_or(NEVER_RUPTURED), 13, 21)
+            );
+        }
+        write_atomically(&self.dir.join("rupture.dat"), text.as_bytes())
     }
 }
 
@@ -737,6 +929,26 @@ impl Observer<3, 3> for SeasBp5Output {
         };
         if sampling.every_step || t - self.mark.last_station_t >= dt * (1.0 - 1e-12) {
             self.write_rows(s.model, s.state, s.friction, (vmax, moment_rate));
+        }
+        let profile_dt = if in_event {
+            sampling.profile_event
+        } else {
+            sampling.profile_quiet
+        };
+        if t - self.mark.last_profile_t >= profile_dt * (1.0 - 1e-12) {
+            self.write_profiles(s.state, s.friction, vmax);
+        }
+        // After the first event (the patch's): each node's first time at the threshold.
+        if self.mark.events.first().is_some_and(|e| e.t_end.is_some()) {
+            let v = &s.state.kinematics.v;
+            for (map, first) in self.layout.slip.iter().zip(&mut self.mark.rupture) {
+                if first.is_none() {
+                    let (v2, v3) = map.of(v);
+                    if v2.hypot(v3) >= RUPTURE_THRESHOLD {
+                        *first = Some(t);
+                    }
+                }
+            }
         }
         if self.resume_log && self.persist_every > 0 && s.report.step % self.persist_every == 0 {
             self.persist()?;

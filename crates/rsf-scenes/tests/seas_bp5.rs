@@ -193,7 +193,10 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
     assert!(ruptures
         .iter()
         .all(|e| (0.3..10.0).contains(&e.peak_slip_rate)));
-    for name in SeasBp5Output::file_names() {
+    let stations = SeasBp5Output::file_names()
+        .into_iter()
+        .filter(|n| n.starts_with("fltst") || n.starts_with("blkst") || n == "global.dat");
+    for name in stations {
         let columns = match &name[..5] {
             "fltst" => 8,
             "blkst" => 7,
@@ -227,6 +230,53 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
             }
         }
     }
+    // The profiles: the positions row (0 0 and the grid's rows or columns), then time rows
+    // of t, log10 max slip rate and one value per position.
+    for (name, points) in [
+        ("slip_2_depth.dat", 10),
+        ("slip_2_strike.dat", 25),
+        ("stress_2_depth.dat", 10),
+        ("stress_2_strike.dat", 25),
+    ] {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with('x') && !l.starts_with('t'))
+            .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+            .collect();
+        assert!(rows.iter().all(|r| r.len() == 2 + points), "{name}");
+        assert_eq!(&rows[0][..2], &[0.0, 0.0], "{name}: the positions row");
+        let count: usize = text
+            .lines()
+            .find_map(|l| l.strip_prefix("# num_time_steps="))
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(count, rows.len() - 1, "{name}");
+        // Profiles every 5 years between events: about 50 in 250 years, more in events.
+        assert!(rows.len() > 50, "{name}: {} rows", rows.len());
+    }
+    // rupture.dat: every cell once; the ruptured ones after the first event, in the
+    // second rupture (its start at ~180 years) or the afterslip that follows.
+    let text = std::fs::read_to_string(dir.join("rupture.dat")).unwrap();
+    let times: Vec<f64> = text
+        .lines()
+        .filter(|l| l.starts_with(' '))
+        .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(times.len(), 250);
+    let ruptured: Vec<f64> = times
+        .iter()
+        .copied()
+        .filter(|&t| t < rsf_scenes::NEVER_RUPTURED)
+        .collect();
+    // The weakening core (60 km × 12 km: 45 cells of 4 km) and some of its rim.
+    assert!(
+        (45..=250).contains(&ruptured.len()),
+        "{} of 250 cells ruptured",
+        ruptured.len()
+    );
+    assert!(ruptured.iter().all(|&t| t >= ruptures[0].t_end.unwrap()));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -284,7 +334,7 @@ fn a_stopped_and_continued_run_writes_the_same_bytes() {
         assert!(a == b, "{name} differs after the resumes");
         compared += 1;
     }
-    assert_eq!(compared, 21);
+    assert_eq!(compared, 26);
     let _ = std::fs::remove_dir_all(&base);
 }
 
