@@ -487,3 +487,22 @@ fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rat
         }
     }
 }
+
+#[test]
+fn the_fault_alone_operator_refuses_a_body() {
+    let bp5 = SeasBp5::default();
+    let grid = rsf_scenes::SeasBp5Grid {
+        dx: 10e3,
+        ..rsf_scenes::SeasBp5Grid::default()
+    };
+    let body = bp5.fe_model(&grid).unwrap();
+    let err = rsf::halfspace_operator::HalfSpaceOperator::fault_alone(
+        &body,
+        &bp5.half_space(1e-6).unwrap(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        err,
+        rsf::halfspace_operator::HalfSpaceOperatorError::NotAlone
+    );
+}

@@ -28,6 +28,14 @@ pub const GRID_TOLERANCE: f64 = 1e-6;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum HalfSpaceOperatorError {
+    /// [`HalfSpaceOperator::fault_alone`] on a model that is not a fault alone (it has a
+    /// stiffness, a fault inside the body or nodal frames).
+    #[error(
+        "the model is not a fault alone (it has a stiffness, a fault inside the body or nodal \
+         frames): build it with Model::fault_only, or use HalfSpaceOperator::new for a \
+         fault inside a body"
+    )]
+    NotAlone,
     /// The model has no fault inside the body (`Model::internal_fault` is `None`).
     #[error(
         "the model has no internal fault: build it with ModelBuilder::internal_fault_polygon \
@@ -389,13 +397,20 @@ impl HalfSpaceOperator {
     ///
     /// # Errors
     /// As [`new`](Self::new) ([`HalfSpaceOperatorError::Components`] for a node without
-    /// exactly one fixed component); [`HalfSpaceOperatorError::NotAPair`] is not raised.
+    /// exactly one fixed component); [`HalfSpaceOperatorError::NotAlone`] for a model
+    /// with a stiffness, a fault inside the body or nodal frames.
     pub fn fault_alone(
         model: &Model<3, 3>,
         options: &HalfSpaceOptions,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
         check_options(options)?;
+        if model.stiffness.compute_nnz() != 0
+            || model.internal_fault.is_some()
+            || !model.frames.nodes.is_empty()
+        {
+            return Err(E::NotAlone);
+        }
         let clock = Instant::now();
         let fb = &model.frictional_boundary;
         let axis = |c: usize| {
