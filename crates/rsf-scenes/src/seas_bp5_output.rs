@@ -167,6 +167,8 @@ pub struct SeasBp5Output {
     profiles: Vec<Profile>,
     layout: FaultLayout,
     mu: f64,
+    /// Radiation damping η (Pa·s/m): the shear stress written is `friction + ηV`.
+    eta: f64,
     v_p: f64,
     mark: Mark,
     /// Persist the files and the resume log every this many steps (0: only at a step
@@ -452,6 +454,7 @@ impl SeasBp5Output {
             profiles,
             layout,
             mu: bp5.shear_modulus(),
+            eta: bp5.radiation_damping(),
             v_p: bp5.v_p,
             mark: Mark {
                 step: 0,
@@ -591,17 +594,19 @@ impl SeasBp5Output {
         self.mark.profile_written += 1;
         let (u, v) = (&state.kinematics.u, &state.kinematics.v);
         let slip = &self.layout.slip;
+        let eta = self.eta;
         let value = |k: usize, want_slip: bool| -> f64 {
             if want_slip {
                 return slip[k].of(u).0;
             }
             let (v2, v3) = slip[k].of(v);
             let speed = v2.hypot(v3);
-            if speed > 0.0 {
-                friction.shear_traction(k, speed, state.alpha[k]) * v2 / speed / 1e6
+            let friction_2 = if speed > 0.0 {
+                friction.shear_traction(k, speed, state.alpha[k]) * v2 / speed
             } else {
                 0.0
-            }
+            };
+            (friction_2 + eta * v2) / 1e6
         };
         let mut values = Vec::new();
         for p in &mut self.profiles {
@@ -712,7 +717,9 @@ impl SeasBp5Output {
         let (u, v) = (&state.kinematics.u, &state.kinematics.v);
         let n = model.vertices.len();
         let slip = &self.layout.slip;
-        // Per node: slip₂, slip₃, V₂, V₃, τ₂, τ₃, α (benchmark components: x₃ down).
+        let eta = self.eta;
+        // Per node: slip₂, slip₃, V₂, V₃, τ₂, τ₃, α (benchmark components: x₃ down); the
+        // shear stress τ⁰ + Δτ = friction + ηV.
         let cell = |k: usize| -> [f64; 7] {
             let (s2, s3) = slip[k].of(u);
             let (v2, v3) = slip[k].of(v);
@@ -724,7 +731,7 @@ impl SeasBp5Output {
             } else {
                 (0.0, 0.0)
             };
-            [s2, s3, v2, v3, t2, t3, alpha]
+            [s2, s3, v2, v3, t2 + eta * v2, t3 + eta * v3, alpha]
         };
         for st in &mut self.fault {
             let mut x = [0.0; 7];

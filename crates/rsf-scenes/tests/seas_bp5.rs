@@ -196,6 +196,25 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
     let stations = SeasBp5Output::file_names()
         .into_iter()
         .filter(|n| n.starts_with("fltst") || n.starts_with("blkst") || n == "global.dat");
+    // The first rows are the description's check values (τ⁰ in MPa, log10 θ), computed
+    // above from its formulas: the core, the patch, and a_max at the surface.
+    for (name, tau0, log_theta) in [
+        ("fltst_strk+00dp+10", published_tau0(0.004, 1e-9), 8.146),
+        ("fltst_strk-24dp+10", published_tau0(0.004, 0.03), 8.114),
+        ("fltst_strk+36dp+00", published_tau0(0.04, 1e-9), 8.146),
+    ] {
+        let rows = parse(&dir.join(name), 8);
+        assert!(
+            (rows[0][5] - tau0 / 1e6).abs() < 1e-5,
+            "{name}: {}",
+            rows[0][5]
+        );
+        assert!(
+            (rows[0][7] - log_theta).abs() < 5e-4,
+            "{name}: {}",
+            rows[0][7]
+        );
+    }
     for name in stations {
         let columns = match &name[..5] {
             "fltst" => 8,
