@@ -215,7 +215,8 @@ impl SeasBp5Output {
     ///
     /// # Errors
     /// Invalid parameters or grid; [`rsf::Error::InvalidParameter`] named `body_columns`
-    /// for another number of stations; I/O errors creating `dir`.
+    /// for another number of stations, `date` for a header date that is not a calendar
+    /// date; I/O errors creating `dir`.
     pub fn new(
         dir: &Path,
         bp5: &SeasBp5,
@@ -361,6 +362,12 @@ impl SeasBp5Output {
         body: Vec<BodySource>,
         setup: SeasSetup,
     ) -> Result<Self> {
+        if !rsf::observe::is_iso_date(&setup.date) {
+            return Err(invalid(
+                "date",
+                format!("{:?} is not a calendar date YYYY-MM-DD", setup.date),
+            ));
+        }
         std::fs::create_dir_all(dir).map_err(|source| rsf::Error::File {
             path: dir.display().to_string(),
             action: "create",

@@ -416,6 +416,16 @@ fn a_fault_alone_refuses_what_it_cannot_hold() {
     assert!(bp5.model(f64::NAN).is_err());
     assert!(bp5.model(100.0).is_err(), "above the cell limit");
     assert!(rsf::Model::<3, 3>::fault_only(vec![], &[], 0).is_err());
+    let dir = std::env::temp_dir().join(format!("rsf_bp5_date_{}", std::process::id()));
+    let bad_date = SeasSetup {
+        date: "2023-02-31".into(),
+        ..setup(10e3)
+    };
+    let columns = vec![vec![0.0; 3 * 2 * 40]; SEAS_BP5_BODY_STATIONS.len()];
+    let err = SeasBp5Output::new(&dir, &bp5, 10e3, columns, bad_date)
+        .err()
+        .unwrap();
+    assert!(err.to_string().contains("date"), "{err}");
     assert!(rsf::Model::<3, 3>::fault_only(vec![[0.0; 3]], &[0.0], 0).is_err());
     assert!(rsf::Model::<3, 3>::fault_only(vec![[0.0; 3]], &[1.0], 3).is_err());
     assert!(rsf::Model::<3, 3>::fault_only(vec![[f64::NAN; 3]], &[1.0], 0).is_err());

@@ -21,8 +21,8 @@ pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
 pub use seas::{
-    c_exp as seas_number, common_header as seas_header, utc_date_today, SeasEvent, SeasLayout,
-    SeasOutput, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
+    c_exp as seas_number, common_header as seas_header, is_iso_date, utc_date_today, SeasEvent,
+    SeasLayout, SeasOutput, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
     SEAS_BP3_STATION_COLUMNS, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
 };
 pub use series::{PointSeries, SeriesRow};

@@ -195,61 +195,35 @@ pub(super) fn surface_header(
     h
 }
 
-/// Today's date in UTC as `YYYY-MM-DD`, for [`SeasSetup::date`] (from the system clock;
-/// `1970-01-01` if the clock is before the epoch).
+/// Today's date in UTC as `YYYY-MM-DD`, for [`SeasSetup::date`] (from the system clock).
 pub fn utc_date_today() -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let (y, m, d) = civil_from_days((secs / 86_400) as i64);
-    format!("{y:04}-{m:02}-{d:02}")
+    jiff::tz::Offset::UTC
+        .to_datetime(jiff::Timestamp::now())
+        .date()
+        .to_string()
 }
 
-/// Whether `s` is a calendar date `YYYY-MM-DD` (month 1–12, day 1–31).
-pub(super) fn is_iso_date(s: &str) -> bool {
-    let b = s.as_bytes();
-    let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
-    if b.len() != 10
-        || b[4] != b'-'
-        || b[7] != b'-'
-        || !digits(0..4)
-        || !digits(5..7)
-        || !digits(8..10)
-    {
-        return false;
-    }
-    let (m, d): (u32, u32) = (s[5..7].parse().unwrap_or(0), s[8..10].parse().unwrap_or(0));
-    (1..=12).contains(&m) && (1..=31).contains(&d)
-}
-
-/// The proleptic Gregorian date `(year, month, day)` of `days` since 1970-01-01
-/// (H. Hinnant's `civil_from_days`).
-pub(super) fn civil_from_days(days: i64) -> (i64, u32, u32) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
+/// Whether `s` is a calendar date `YYYY-MM-DD` of the proleptic Gregorian calendar (a
+/// day the month has: `2023-02-31` is not one, `2024-02-29` is).
+pub fn is_iso_date(s: &str) -> bool {
+    s.len() == 10 && s.parse::<jiff::civil::Date>().is_ok()
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{c_exp, civil_from_days, is_iso_date, utc_date_today};
+    use super::{c_exp, is_iso_date, utc_date_today};
 
     #[test]
-    fn dates_from_days_since_the_epoch() {
-        // Known dates (the epoch, a leap day, the turn of a century, a far date).
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
-        assert_eq!(civil_from_days(10_957), (2000, 1, 1));
-        assert_eq!(civil_from_days(-1), (1969, 12, 31));
-        assert_eq!(civil_from_days(20_781), (2026, 11, 24));
+    fn calendar_dates() {
         assert!(is_iso_date(&utc_date_today()));
+        for good in ["2024-02-29", "2000-02-29", "2026-11-24", "1970-01-01"] {
+            assert!(is_iso_date(good), "{good:?}");
+        }
         for bad in [
+            "2023-02-31",
+            "2023-02-29",
+            "1900-02-29",
+            "2026-04-31",
             "2026-13-01",
             "2026-1-01",
             "26-11-24",
