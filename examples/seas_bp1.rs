@@ -12,8 +12,10 @@
 //! default 25), `--domain-km L` (default 400), `--ratio R` (mesh growth away from the
 //! fault, default 1.05), `--tolerance E` (adaptive steps, default 1e-3), `--state-change-cap`
 //! (ξ, default 0.5; 0 for none), `--fixed-point-tolerance` (default 1e-10), `--inertia`
-//! (Newmark, fully dynamic, no radiation damping: BP1-FD), `--absorbing
-//! none|dynamic|all` (absorbing far boundaries with `--inertia`, docs/seas-bp1-fd.md),
+//! (Newmark, fully dynamic, no radiation damping: BP1-FD; its defaults the converged
+//! set-up of docs/seas-bp1-fd.md: `--absorbing all --switch-to-dynamic 1e-2
+//! --switch-to-quasi-dynamic 1e-3`), `--absorbing none|dynamic|all` (absorbing far
+//! boundaries with `--inertia`, default `all`; docs/seas-bp1-fd.md),
 //! `--dynamic-integrator newmark|backward-euler`,
 //! `--every-step` (a station row
 //! at every step instead of the benchmark's thinning), `--setup-per-time-step` (one solver
@@ -27,12 +29,13 @@
 //! an uninterrupted run's, with either scheme and with `--inertia`; docs/reliability.md),
 //! `--allow-change FIELD,…` (a deliberate change on resume, e.g. `end_years`), `--max-steps
 //! N` (stop after step N in total, across resumes, with a checkpoint and the resume log to
-//! continue from with a larger N), `--kernel dense|hierarchical` (how the Runge–Kutta run
-//! stores the operator condensed onto the fault: dense, the default, or as an ℋ-matrix;
-//! part of the fingerprint), `--kernel-epsilon E` (the ℋ-matrix's accuracy; default the
-//! `--rk-tolerance`, `FaultKernel::matching`), `--threads N` (threads of each evaluation:
-//! the product with the operator and the per-node friction solves; default 1; the same
-//! bits for every N).
+//! continue from with a larger N), `--kernel hierarchical|dense` (how the Runge–Kutta run
+//! stores the operator condensed onto the fault: as an ℋ-matrix, the default, or dense;
+//! part of the fingerprint, so a checkpoint of the other kernel is refused on `--resume`),
+//! `--kernel-epsilon E` (the ℋ-matrix's accuracy; default the `--rk-tolerance`,
+//! `FaultKernel::matching`), `--threads N` (threads of each evaluation: the product with
+//! the operator and the per-node friction solves; default every core of the machine; the
+//! same bits for every N).
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
@@ -93,9 +96,10 @@ struct Args {
     /// field at V_p/2 on the far side and the bottom — in the dynamic phases of the
     /// switching run, the quasi-dynamic phases as `none`), `all` (the absorbing model
     /// throughout: the implicit scheme, or both phases of the switching run, whose fault
-    /// ODE sees the absorbing parts traction-free). Needs `--inertia`.
-    #[arg(long, value_enum, default_value_t = Absorbing::None)]
-    absorbing: Absorbing,
+    /// ODE sees the absorbing parts traction-free). Needs `--inertia`; default `all` (the
+    /// converged set-up of docs/seas-bp1-fd.md), `none` without `--inertia`.
+    #[arg(long, value_enum)]
+    absorbing: Option<Absorbing>,
     /// The integrator with inertia (`--inertia`): `newmark` (trapezoidal, energy
     /// conserving, the default) or `backward-euler` (first order, damps high frequencies;
     /// docs/seas-bp1-fd.md).
@@ -106,18 +110,22 @@ struct Args {
     /// gets the first event but not the recurrence).
     #[arg(long)]
     dynamic_tau: Option<f64>,
-    /// Switch to the dynamic method when the largest slip rate reaches this (m/s).
-    #[arg(long, default_value_t = 1e-3)]
-    switch_to_dynamic: f64,
+    /// Switch to the dynamic method when the largest slip rate reaches this (m/s);
+    /// default 1e-2 (docs/seas-bp1-fd.md: with absorbing boundaries 1e-3 / 1e-4 left the
+    /// afterslip below a rupture to the dynamic step for hours). Without `--inertia`
+    /// unused (1e-3, as in checkpoints before issue 59).
+    #[arg(long)]
+    switch_to_dynamic: Option<f64>,
     /// An event ends when the largest slip rate has stayed below 1e-3 m/s for this long
     /// (s); default 0 (the benchmark's definition), 60 with `--inertia` and reflecting far
     /// boundaries (`--absorbing none`: waves reflected by the domain's boundaries lift
     /// the slip rate over the threshold for fractions of a second after a rupture).
     #[arg(long)]
     event_quiet_time: Option<f64>,
-    /// Switch back to the quasi-dynamic method when it falls below this (m/s).
-    #[arg(long, default_value_t = 1e-4)]
-    switch_to_quasi_dynamic: f64,
+    /// Switch back to the quasi-dynamic method when it falls below this (m/s); default
+    /// 1e-3 (docs/seas-bp1-fd.md). Without `--inertia` unused (1e-4).
+    #[arg(long)]
+    switch_to_quasi_dynamic: Option<f64>,
     /// Fixed point tolerance of the dynamic phases (energy norm of K + M, absolute): during
     /// an event ‖v‖ is about 1e6 in this norm, so 1e-6 is 1e-12 relative; the paper's 1e-10
     /// lies below the round-off of the corrections (they stagnate near 1e-9).
@@ -150,7 +158,8 @@ struct Args {
     kernel: rsf_examples::KernelArgs,
     /// Threads of each evaluation of the Runge–Kutta run: the product with the condensed
     /// operator and the per-node friction solves (rayon; the same bits for every value).
-    #[arg(long, default_value_t = 1)]
+    /// Default: every core of the machine.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
     /// Modeler named in the benchmark files' headers (`# author=`).
     #[arg(long, default_value = "rsf")]
@@ -263,10 +272,25 @@ fn run(args: Args) -> Result<(), AnyError> {
     let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
     let fresh = folder.prepare(args.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
-    if args.absorbing != Absorbing::None && !args.inertia {
+    // BP1-FD's defaults: the converged set-up of docs/seas-bp1-fd.md. Without inertia the
+    // switching thresholds are unused; their old defaults keep BP1-QD's fingerprints.
+    let absorbing = args.absorbing.unwrap_or(if args.inertia {
+        Absorbing::All
+    } else {
+        Absorbing::None
+    });
+    let (switch_to_dynamic, switch_to_quasi_dynamic) = match args.inertia {
+        true => (1e-2, 1e-3),
+        false => (1e-3, 1e-4),
+    };
+    let switch_to_dynamic = args.switch_to_dynamic.unwrap_or(switch_to_dynamic);
+    let switch_to_quasi_dynamic = args
+        .switch_to_quasi_dynamic
+        .unwrap_or(switch_to_quasi_dynamic);
+    if absorbing != Absorbing::None && !args.inertia {
         return Err("--absorbing needs --inertia (BP1-FD)".into());
     }
-    if args.absorbing == Absorbing::Dynamic && args.scheme == Scheme::Implicit {
+    if absorbing == Absorbing::Dynamic && args.scheme == Scheme::Implicit {
         return Err("--absorbing dynamic: the implicit scheme has one model (use all)".into());
     }
     let far = |absorbing| {
@@ -276,7 +300,7 @@ fn run(args: Args) -> Result<(), AnyError> {
             SeasBp1Far::Dirichlet
         }
     };
-    let model = bp1.model_with_far(&grid, args.inertia, far(args.absorbing == Absorbing::All))?;
+    let model = bp1.model_with_far(&grid, args.inertia, far(absorbing == Absorbing::All))?;
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
     let scheme = args.scheme;
     let method = match (scheme, args.inertia) {
@@ -323,7 +347,7 @@ fn run(args: Args) -> Result<(), AnyError> {
         MethodKind::Switching => {
             let c_s = (bp1.shear_modulus() / bp1.rho).sqrt();
             let dynamic_tau = args.dynamic_tau.unwrap_or(0.25 * args.dz / c_s);
-            let dynamic_model = match args.absorbing {
+            let dynamic_model = match absorbing {
                 Absorbing::Dynamic => bp1.model_with_far(&grid, true, far(true))?,
                 _ => model.clone(),
             };
@@ -332,8 +356,8 @@ fn run(args: Args) -> Result<(), AnyError> {
                 fault_ode(model)?,
                 dynamic,
                 rsf::switching::SwitchingOptions {
-                    to_dynamic: args.switch_to_dynamic,
-                    to_quasi_dynamic: args.switch_to_quasi_dynamic,
+                    to_dynamic: switch_to_dynamic,
+                    to_quasi_dynamic: switch_to_quasi_dynamic,
                     dynamic_tau,
                     restart_dt: dynamic_tau,
                 },
@@ -359,7 +383,7 @@ fn run(args: Args) -> Result<(), AnyError> {
     let sampling = SeasSampling {
         every_step: args.every_step,
         event_quiet_time: args.event_quiet_time.unwrap_or(
-            if args.inertia && args.absorbing == Absorbing::None {
+            if args.inertia && absorbing == Absorbing::None {
                 60.0
             } else {
                 0.0
@@ -380,14 +404,14 @@ fn run(args: Args) -> Result<(), AnyError> {
         .with("rk_tolerance", args.rk_tolerance)
         .with("kernel", kernel)
         .with("dynamic_tau", format!("{:?}", args.dynamic_tau))
-        .with("switch_to_dynamic", args.switch_to_dynamic)
-        .with("switch_to_quasi_dynamic", args.switch_to_quasi_dynamic)
+        .with("switch_to_dynamic", switch_to_dynamic)
+        .with("switch_to_quasi_dynamic", switch_to_quasi_dynamic)
         .with(
             "dynamic_fixed_point_tolerance",
             args.dynamic_fixed_point_tolerance,
         );
     // Only when set: checkpoints of runs without absorbing parts keep their fingerprint.
-    let fingerprint = match args.absorbing {
+    let fingerprint = match absorbing {
         Absorbing::None => fingerprint,
         a => fingerprint.with("absorbing", format!("{a:?}")),
     };
@@ -505,8 +529,8 @@ fn run(args: Args) -> Result<(), AnyError> {
                 "quasi_dynamic_steps": st.quasi_dynamic_steps,
                 "dynamic_time_s": st.dynamic_time,
                 "dynamic_tau_s": s.dynamic().tau(),
-                "switch_to_dynamic_mps": args.switch_to_dynamic,
-                "switch_to_quasi_dynamic_mps": args.switch_to_quasi_dynamic,
+                "switch_to_dynamic_mps": switch_to_dynamic,
+                "switch_to_quasi_dynamic_mps": switch_to_quasi_dynamic,
             }))
         }
         _ => None,
@@ -515,7 +539,7 @@ fn run(args: Args) -> Result<(), AnyError> {
     let json = serde_json::json!({
         "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
         "dz_m": args.dz,
-        "absorbing": format!("{:?}", args.absorbing),
+        "absorbing": format!("{:?}", absorbing),
         "dynamic_integrator": format!("{:?}", args.dynamic_integrator),
         "event_start_years": events.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
         "domain_km": args.domain_km,

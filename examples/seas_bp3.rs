@@ -61,8 +61,8 @@ struct Args {
     #[command(flatten)]
     kernel: rsf_examples::KernelArgs,
     /// Threads of each evaluation (the operator products and the per-node friction
-    /// solves; the same bits for every value).
-    #[arg(long, default_value_t = 1)]
+    /// solves; the same bits for every value). Default: every core of the machine.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
     /// Modeler's name for the files' headers.
     #[arg(long, default_value = "rsf")]

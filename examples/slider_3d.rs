@@ -96,9 +96,10 @@ struct Cli {
     /// Threads of every parallel part of a step (`rsf::method::SolverOptions::parallelism`: the
     /// direct solver's sweeps and its dense Newton factorisations of at least
     /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns, the right-hand side rows; docs/scaling.md):
-    /// a count, `0` or `pool` for rayon's pool, `seq` for one. The output does not depend on
-    /// it. (`--dense-threads` is an old name of this flag.)
-    #[arg(long, default_value = "2", alias = "dense-threads", value_name = "N")]
+    /// a count, `0` or `pool` for rayon's pool, `seq` for one; default every core of the
+    /// machine. The output does not depend on it. (`--dense-threads` is an old name of
+    /// this flag.)
+    #[arg(long, default_value_t = rsf::Parallelism::default(), alias = "dense-threads", value_name = "N")]
     threads: rsf::Parallelism,
     /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
     /// `rsf::tnnmg::SmootherOrder`): `red-black-chunks` (the 3-D scene's default: the

@@ -45,9 +45,9 @@ pub struct Cli {
     #[command(flatten)]
     pub frames: FrameArgs,
     /// Threads of every parallel part of a step (`rsf::method::SolverOptions::parallelism`):
-    /// a count, `0` or `pool` for rayon's pool, `seq` for one. The output does not depend
-    /// on it.
-    #[arg(long, default_value = "2", value_name = "N")]
+    /// a count, `0` or `pool` for rayon's pool, `seq` for one; default every core of the
+    /// machine. The output does not depend on it.
+    #[arg(long, default_value_t = rsf::Parallelism::default(), value_name = "N")]
     pub threads: rsf::Parallelism,
     /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
     /// `rsf::tnnmg::SmootherOrder`): `lexicographic` (the scene's default: the paper's

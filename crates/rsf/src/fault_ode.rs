@@ -56,7 +56,8 @@ pub struct FaultOdeOptions {
     /// fingerprint (docs/seas-bp1.md, "Compressed kernel").
     pub kernel: FaultKernel,
     /// Threads of every evaluation: the product with `S` and the friction solves (rayon's current pool;
-    /// default [`Parallelism::SEQ`]). The results are bit-identical for every value: the
+    /// default [`Parallelism::default`], every core, as [`SolverOptions`](crate::method::SolverOptions)'s
+    /// since the bits do not depend on it). The results are bit-identical for every value: the
     /// dense product is split over blocks of rows (each row's dot product in the same
     /// order as the sequential product), the hierarchical one into parts of its leaf
     /// clusters of rows, each summed in a fixed order (docs/math.md §13.5), and from 64
@@ -81,7 +82,7 @@ impl Default for FaultOdeOptions {
             slip_scale: 1e-3,
             runge_kutta: RungeKuttaOptions::default(),
             kernel: FaultKernel::Dense,
-            parallelism: Parallelism::SEQ,
+            parallelism: Parallelism::default(),
         }
     }
 }

@@ -7,48 +7,86 @@
 //! time" before they sleep.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::Parallelism;
 
-/// Lingering tasks running or queued, of all pools. Never more than a linger's
-/// `threads − 1` of them: a lingering task that ran another inside its polling would
-/// nest them without bound.
-static LINGERING: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Lingering tasks running or queued that this thread started. Never more than a
+    /// linger's `threads − 1` of them: a lingering task that ran another inside its
+    /// polling would nest them without bound. One counter per calling thread, so two runs
+    /// in one process — on two pools, or on two threads of one pool — neither share nor
+    /// spend each other's lingering (a thread of a pool belongs to that pool only).
+    static LINGERING: Arc<AtomicUsize> = Arc::new(AtomicUsize::new(0));
+}
 
 impl Parallelism {
-    /// How long a lingering thread polls after the last work it found
+    /// How long a lingering thread polls after the last work it found by default
     /// ([`linger`](Self::linger)): longer than the sequential work between two
     /// fault-ODE evaluations (about 15 µs on SEAS BP1 at Δz = 25 m; docs/scaling.md,
     /// "Idle threads that poll"), short against anything a user would notice as a busy
     /// core.
     pub const LINGER: Duration = Duration::from_micros(200);
 
+    /// The same threads, their idle threads polling for `idle` after each
+    /// [`linger`](Self::linger) (`Duration::ZERO`: never), whatever the pool and the
+    /// machine. Timing only: the results keep their bits.
+    pub fn with_linger(self, idle: Duration) -> Self {
+        Self {
+            linger: Some(idle),
+            ..self
+        }
+    }
+
+    /// How long [`linger`](Self::linger) polls when called now: the time set by
+    /// [`with_linger`](Self::with_linger), else [`LINGER`](Self::LINGER) — or zero (off)
+    /// when rayon's current pool has more threads than the machine has cores
+    /// ([`available_cores`](Self::available_cores)), where a polling thread would take a
+    /// core from a thread with work.
+    pub fn linger_time(self) -> Duration {
+        match self.linger {
+            Some(idle) => idle,
+            None if rayon::current_num_threads() > Self::available_cores() => Duration::ZERO,
+            None => Self::LINGER,
+        }
+    }
+
     /// After a parallel region when the next one follows within microseconds: unless
-    /// `threads − 1` tasks are lingering already, a task on rayon's current pool that
-    /// polls the pool, running whatever work it finds (the next regions' tasks), until
-    /// none has come for [`LINGER`](Self::LINGER). Only the timing changes — which tasks
-    /// exist and what they compute stay the same, so results keep their bits. Does
-    /// nothing for [`SEQ`](Self::SEQ) or when called outside a rayon pool (a region
-    /// entered from outside is handed to the pool and back anyway). A lingering task
-    /// that the calling thread itself picks up later returns at once.
-    pub fn linger(self) {
+    /// `threads − 1` tasks started by this thread are lingering already, a task on
+    /// rayon's current pool that polls the pool, running whatever work it finds (the next
+    /// regions' tasks), until none has come for [`linger_time`](Self::linger_time). Only
+    /// the timing changes — which tasks exist and what they compute stay the same, so
+    /// results keep their bits. Does nothing for [`SEQ`](Self::SEQ), when the linger time
+    /// is zero, or when called outside a rayon pool (a region entered from outside is
+    /// handed to the pool and back anyway). A lingering task that the calling thread
+    /// itself picks up later returns at once. Returns whether it started a task.
+    pub fn linger(self) -> bool {
         let Some(caller) = rayon::current_thread_index() else {
-            return;
+            return false;
         };
         let wanted = self.threads() - 1;
-        let claimed = LINGERING.fetch_update(Ordering::AcqRel, Ordering::Acquire, |n| {
+        if wanted == 0 {
+            return false;
+        }
+        let idle = self.linger_time();
+        if idle.is_zero() {
+            return false;
+        }
+        let count = LINGERING.with(Arc::clone);
+        let claimed = count.fetch_update(Ordering::AcqRel, Ordering::Acquire, |n| {
             (n < wanted).then_some(n + 1)
         });
         if claimed.is_err() {
-            return;
+            return false;
         }
         rayon::spawn(move || {
             if rayon::current_thread_index() != Some(caller) {
-                poll(Self::LINGER);
+                poll(idle);
             }
-            LINGERING.fetch_sub(1, Ordering::AcqRel);
+            count.fetch_sub(1, Ordering::AcqRel);
         });
+        true
     }
 }
 
@@ -71,39 +109,107 @@ fn poll(idle: Duration) {
 mod tests {
     use super::*;
 
-    /// Lingering leaves results and their bits alone, comes back on its own and never
-    /// stacks up: a thousand regions with a linger after each on a two-thread pool give
-    /// the sums of the sequential run, and once the pool is idle for longer than
-    /// `LINGER` no lingering task is left.
-    #[test]
-    fn lingering_changes_no_result_and_ends() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let data: Vec<f64> = (0..4096).map(|i| (i as f64 * 0.37).sin()).collect();
-        let (lo, hi) = data.split_at(2048);
-        let seq = (lo.iter().sum::<f64>(), hi.iter().sum::<f64>());
-        let p = Parallelism::rayon(2);
-        pool.install(|| {
-            for _ in 0..1000 {
-                let sums = p.join(|| lo.iter().sum::<f64>(), || hi.iter().sum::<f64>());
-                assert_eq!(sums.0.to_bits(), seq.0.to_bits());
-                assert_eq!(sums.1.to_bits(), seq.1.to_bits());
-                p.linger();
-                assert!(LINGERING.load(Ordering::Acquire) <= 1);
-            }
-        });
+    /// The lingering tasks this thread started and not yet ended.
+    fn lingering_here() -> Arc<AtomicUsize> {
+        LINGERING.with(Arc::clone)
+    }
+
+    /// Waits until no lingering task of `count` is left; panics after 10 s.
+    fn wait_until_none(count: &AtomicUsize) -> Duration {
         let start = Instant::now();
-        while LINGERING.load(Ordering::Acquire) != 0 {
+        while count.load(Ordering::Acquire) != 0 {
             assert!(
                 start.elapsed() < Duration::from_secs(10),
                 "a lingering task did not end"
             );
             std::thread::sleep(Duration::from_millis(1));
         }
-        Parallelism::SEQ.linger();
-        Parallelism::rayon(2).linger(); // outside any pool: nothing
-        assert_eq!(LINGERING.load(Ordering::Acquire), 0);
+        start.elapsed()
+    }
+
+    /// What lingering could break, asserted: it starts a task after a region when on, at
+    /// most `threads − 1` at a time, and the tasks end on their own once the pool is idle
+    /// (none left — a task that never stopped polling would spin a core for ever);
+    /// configured off (`with_linger(ZERO)`), with one thread, or outside a pool it starts
+    /// none; a second caller's lingering does not stop the first's (one count per
+    /// calling thread, not per process).
+    #[test]
+    fn lingering_starts_when_on_never_stacks_and_ends() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        // Long enough that a task is still polling when the next call comes.
+        let p = Parallelism::rayon(2).with_linger(Duration::from_millis(50));
+        assert_eq!(p.linger_time(), Duration::from_millis(50));
+        let count = pool.install(|| {
+            let count = lingering_here();
+            assert!(p.linger(), "on: a lingering task");
+            for _ in 0..100 {
+                p.join(|| (), || ());
+                p.linger();
+                assert!(count.load(Ordering::Acquire) <= 1, "more than threads − 1");
+            }
+            count
+        });
+        wait_until_none(&count);
+        // Off: no task, however often called.
+        let off = Parallelism::rayon(2).with_linger(Duration::ZERO);
+        pool.install(|| {
+            let count = lingering_here();
+            for _ in 0..100 {
+                assert!(!off.linger());
+                assert!(!Parallelism::SEQ.linger());
+                assert_eq!(count.load(Ordering::Acquire), 0);
+            }
+        });
+        assert!(!Parallelism::rayon(2).linger(), "outside any pool");
+        // Two callers on two pools: each starts its own task while the other's polls.
+        let other = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let (a, b) = pool.install(|| {
+            let a = lingering_here();
+            assert!(p.linger());
+            let b = other.install(|| {
+                let b = lingering_here();
+                assert!(p.linger(), "the other pool's caller lingers too");
+                b
+            });
+            (a, b)
+        });
+        wait_until_none(&a);
+        wait_until_none(&b);
+    }
+
+    /// The default: [`Parallelism::LINGER`] on a pool no larger than the machine, off on
+    /// one whose threads outnumber its cores.
+    #[test]
+    fn lingering_is_off_by_default_on_an_oversubscribed_pool() {
+        let cores = Parallelism::available_cores();
+        let fits = rayon::ThreadPoolBuilder::new()
+            .num_threads(cores.max(2))
+            .build()
+            .unwrap();
+        let p = Parallelism::rayon(2);
+        let on = fits.install(|| p.linger_time());
+        if cores >= 2 {
+            assert_eq!(on, Parallelism::LINGER);
+        }
+        let over = rayon::ThreadPoolBuilder::new()
+            .num_threads(cores + 1)
+            .build()
+            .unwrap();
+        let count = over.install(|| {
+            assert_eq!(p.linger_time(), Duration::ZERO);
+            let count = lingering_here();
+            assert!(!p.linger(), "oversubscribed: no lingering by default");
+            assert_eq!(count.load(Ordering::Acquire), 0);
+            // Set explicitly, it lingers even there, and ends.
+            assert!(p.with_linger(Parallelism::LINGER).linger());
+            count
+        });
+        wait_until_none(&count);
     }
 }

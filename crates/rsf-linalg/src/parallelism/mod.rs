@@ -1,6 +1,8 @@
 //! The one parallelism parameter of the workspace (docs/design.md, "Parallelism").
 
 use std::num::NonZeroUsize;
+use std::sync::OnceLock;
+use std::time::Duration;
 
 use crate::error::{Error, Result};
 
@@ -22,16 +24,27 @@ mod linger;
 /// Results do not depend on it: every split keeps each entry's arithmetic fixed, so
 /// [`SEQ`](Self::SEQ) and any thread count give bit-identical output (tested per crate).
 ///
-/// Default: [`rayon(2)`](Self::rayon) ([`DEFAULT_THREADS`](Self::DEFAULT_THREADS)), the
-/// behaviour before this parameter existed on the two-core machines the project is
-/// measured on. A stated number, not a reading of the machine.
+/// Default: every core of the machine, [`rayon(available_cores())`](Self::available_cores)
+/// (`std::thread::available_parallelism`, read once per process). Since the bits do not
+/// depend on the threads, the fast choice costs nothing in reproducibility (issue 59;
+/// before, the default was a stated two). A computation that splits into short parallel
+/// regions (the fault ODE's evaluations) should run on a thread of the pool
+/// (`rayon::ThreadPool::install`): entered from outside, each region hands its work to the
+/// pool and back, which on small problems costs more than it saves (docs/scaling.md,
+/// "From inside the pool"); [`SEQ`](Self::SEQ) is the choice there.
+///
+/// Between such regions idle pool threads may poll for the next one
+/// ([`linger`](Self::linger)): for [`LINGER`](Self::LINGER) by default, not at all when the
+/// current pool has more threads than the machine has cores (a polling thread would take
+/// a core from one with work), or as set by [`with_linger`](Self::with_linger) (timing
+/// only, never the bits).
 ///
 /// Names (`FromStr`, `Display`): a thread count (`1`, `2`, …), `0` or `pool` for
 /// rayon's current pool size (read once, when parsed), `seq` for one thread.
 ///
 /// ```
 /// use rsf_linalg::Parallelism;
-/// assert_eq!(Parallelism::default(), Parallelism::rayon(2));
+/// assert_eq!(Parallelism::default(), Parallelism::rayon(Parallelism::available_cores()));
 /// assert_eq!(Parallelism::rayon(1), Parallelism::SEQ);
 /// assert!(!Parallelism::SEQ.is_parallel());
 /// assert_eq!("4".parse::<Parallelism>().unwrap().threads(), 4);
@@ -40,16 +53,25 @@ mod linger;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Parallelism {
     threads: NonZeroUsize,
+    /// How long idle threads poll after [`linger`](Self::linger): `None` for the default
+    /// ([`linger_time`](Self::linger_time)).
+    linger: Option<Duration>,
 }
 
 impl Parallelism {
     /// One thread: everything on the calling thread.
     pub const SEQ: Self = Self {
         threads: NonZeroUsize::MIN,
+        linger: None,
     };
 
-    /// Threads of [`Default`]: two.
-    pub const DEFAULT_THREADS: usize = 2;
+    /// The machine's cores as the process may use them (`std::thread::available_parallelism`,
+    /// read at the first call and kept; 1 if it cannot be read): the threads of
+    /// [`Default`].
+    pub fn available_cores() -> usize {
+        static CORES: OnceLock<usize> = OnceLock::new();
+        *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, NonZeroUsize::get))
+    }
 
     /// At most `threads` threads of rayon's current pool; `0` means the size of that pool,
     /// read now (as faer's `Par::rayon(0)`), so the value is fixed where it is given.
@@ -58,7 +80,10 @@ impl Parallelism {
         let threads = NonZeroUsize::new(threads).unwrap_or_else(|| {
             NonZeroUsize::new(rayon::current_num_threads()).unwrap_or(NonZeroUsize::MIN)
         });
-        Self { threads }
+        Self {
+            threads,
+            linger: None,
+        }
     }
 
     /// The largest number of threads (≥ 1).
@@ -100,8 +125,9 @@ impl Parallelism {
 }
 
 impl Default for Parallelism {
+    /// Every core: [`rayon(available_cores())`](Self::available_cores).
     fn default() -> Self {
-        Self::rayon(Self::DEFAULT_THREADS)
+        Self::rayon(Self::available_cores())
     }
 }
 
@@ -109,7 +135,10 @@ impl From<faer::Par> for Parallelism {
     fn from(par: faer::Par) -> Self {
         match par {
             faer::Par::Seq => Self::SEQ,
-            faer::Par::Rayon(threads) => Self { threads },
+            faer::Par::Rayon(threads) => Self {
+                threads,
+                linger: None,
+            },
         }
     }
 }
@@ -173,7 +202,7 @@ mod tests {
         assert_eq!(Parallelism::rayon(3).faer(), faer::Par::rayon(3));
         assert_eq!(
             Parallelism::default().threads(),
-            Parallelism::DEFAULT_THREADS
+            std::thread::available_parallelism().unwrap().get()
         );
     }
 

@@ -187,8 +187,11 @@ pub struct SolverOptions {
     /// or [`rsf_tnnmg::SmootherOrder::RedBlackChunks`] (also the linear multigrid's fine
     /// level). TNNMG's lexicographic smoother (the default here) and Gauss–Seidel are
     /// sequential.
-    /// Results are bit-identical for every value. Default [`Parallelism::default`] (two
-    /// threads of rayon's pool, the behaviour before this option).
+    /// Results are bit-identical for every value (tested per crate and on whole runs,
+    /// `tests/reference_hashes.rs`), so the default is the fast one:
+    /// [`Parallelism::default`], every core of the machine (as
+    /// [`FaultOdeOptions::parallelism`](crate::fault_ode::FaultOdeOptions::parallelism);
+    /// before issue 59 a stated two).
     pub parallelism: Parallelism,
 }
 
