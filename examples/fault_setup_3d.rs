@@ -10,12 +10,13 @@
 //!
 //! ```sh
 //! cargo run --release --example fault_setup_3d -- --dx 4,2,1
+//! cargo run --release --features metis --example fault_setup_3d -- --dx 4,2,1 --ordering nested-dissection
 //! ```
 
 use std::time::Instant;
 
 use clap::Parser;
-use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::fault_ode::{FaultKernel, FaultOdeOptions, InteriorOrdering};
 use rsf::fem::{cuboid_from_coordinates, geometric_grading};
 use rsf::friction::{AsinhLaw, RateStateParams};
 use rsf::state::Aging;
@@ -51,6 +52,17 @@ struct Cli {
     /// Steps of the fault ODE timed after the set-up.
     #[arg(long, default_value_t = 20)]
     steps: usize,
+    /// Ordering of the volume's interior in the condensation: `amd` or `nested-dissection`
+    /// (METIS; needs `--features metis`).
+    #[arg(long, default_value = "amd", value_parser = parse_ordering)]
+    ordering: InteriorOrdering,
+}
+
+fn parse_ordering(s: &str) -> Result<InteriorOrdering, String> {
+    [InteriorOrdering::Amd, InteriorOrdering::NestedDissection]
+        .into_iter()
+        .find(|o| o.to_string() == s)
+        .ok_or_else(|| format!("`{s}`: amd or nested-dissection"))
 }
 
 /// Coordinates `-far … -uniform … uniform … far` (m): spacing `h` over `[-uniform,
@@ -86,6 +98,7 @@ fn main() -> Result<(), AnyError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cli.threads)
         .build()?;
+    println!("ordering of the interior: {}", cli.ordering);
     println!(
         "| Δx (km) | vertices | dofs | m | factor nnz | stored f64 | MB | max rank | error (sampled) | factor rows MB | operator (s) | set-up (s) | peak GB | CPU per evaluation (ms) |"
     );
@@ -143,6 +156,7 @@ fn main() -> Result<(), AnyError> {
             parallelism: rsf::Parallelism::rayon(cli.threads),
             tolerance: 1e-6,
             slip_scale: params.l,
+            ordering: cli.ordering,
             ..FaultOdeOptions::default()
         };
         let mut ode = SimulationBuilder::new(model)

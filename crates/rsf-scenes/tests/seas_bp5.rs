@@ -39,9 +39,9 @@ fn the_initial_values_are_the_descriptions_check_values() {
     let bp5 = SeasBp5::default();
     // The description's check values (MPa; log10 s), and the published formulas.
     let checks = [
-        ((0.0, 10e3), 19.490, 8.146),    // weakening core
-        ((45e3, 10e3), 13.273, 8.146),   // a = a_max
-        ((-24e3, 10e3), 21.350, 8.114),  // nucleation patch
+        ((0.0, 10e3), 19.490, 8.146),   // weakening core
+        ((45e3, 10e3), 13.273, 8.146),  // a = a_max
+        ((-24e3, 10e3), 21.350, 8.114), // nucleation patch
     ];
     for ((x2, x3), tau_mpa, log_theta) in checks {
         let (a, v) = if x2 > 40e3 {
@@ -51,8 +51,15 @@ fn the_initial_values_are_the_descriptions_check_values() {
         } else {
             (0.004, 1e-9)
         };
-        assert!((published_tau0(a, v) / 1e6 - tau_mpa).abs() < 5e-4, "formula at {x2}");
-        assert!((bp5.tau0(x2, x3) / 1e6 - tau_mpa).abs() < 5e-4, "scene at {x2}: {}", bp5.tau0(x2, x3));
+        assert!(
+            (published_tau0(a, v) / 1e6 - tau_mpa).abs() < 5e-4,
+            "formula at {x2}"
+        );
+        assert!(
+            (bp5.tau0(x2, x3) / 1e6 - tau_mpa).abs() < 5e-4,
+            "scene at {x2}: {}",
+            bp5.tau0(x2, x3)
+        );
         let theta = bp5.alpha0(x2, x3).exp();
         assert!((theta.log10() - log_theta).abs() < 5e-4, "θ at {x2}");
     }
@@ -60,14 +67,21 @@ fn the_initial_values_are_the_descriptions_check_values() {
     let dx = 4000.0;
     let model = bp5.model(dx).unwrap();
     let ode = bp5
-        .fault_ode(model, bp5.fault_ode_options(1e-6).unwrap(), &bp5.half_space(1e-6).unwrap())
+        .fault_ode(
+            model,
+            bp5.fault_ode_options(1e-6).unwrap(),
+            &bp5.half_space(1e-6).unwrap(),
+        )
         .unwrap();
     let cells = bp5.cells(dx).unwrap();
     let v = &ode.state().kinematics.v;
     for (k, c) in cells.iter().enumerate() {
         let expected = bp5.initial_slip_rate(c[0], c[1]);
         let (v2, v3) = (v[3 * k + 1], v[3 * k + 2]);
-        assert!((v2 / expected - 1.0).abs() < 1e-9, "cell {k}: V₂ = {v2:e}, expected {expected:e}");
+        assert!(
+            (v2 / expected - 1.0).abs() < 1e-9,
+            "cell {k}: V₂ = {v2:e}, expected {expected:e}"
+        );
         assert!(v3.abs() < 1e-12 * expected, "cell {k}: V₃ = {v3:e}");
     }
 }
@@ -80,13 +94,25 @@ fn parse(path: &Path, columns: usize) -> Vec<Vec<f64>> {
     let mut header = Vec::new();
     for line in lines.by_ref() {
         if !line.starts_with('#') {
-            assert_eq!(line.split(' ').count(), columns, "{}: field line {line}", path.display());
+            assert_eq!(
+                line.split(' ').count(),
+                columns,
+                "{}: field line {line}",
+                path.display()
+            );
             break;
         }
         header.push(line);
     }
-    assert!(header.contains(&"# problem=SEAS Benchmark BP5-QD"), "{}", path.display());
-    let described = header.iter().filter(|l| l.starts_with("# Column #")).count();
+    assert!(
+        header.contains(&"# problem=SEAS Benchmark BP5-QD"),
+        "{}",
+        path.display()
+    );
+    let described = header
+        .iter()
+        .filter(|l| l.starts_with("# Column #"))
+        .count();
     assert_eq!(described, columns, "{}", path.display());
     let rows: Vec<Vec<f64>> = lines
         .map(|l| {
@@ -94,9 +120,16 @@ fn parse(path: &Path, columns: usize) -> Vec<Vec<f64>> {
             assert_eq!(tokens.len(), columns, "{}: {l}", path.display());
             for (i, t) in tokens.iter().enumerate() {
                 let (mantissa, exponent) = t.split_once('E').expect("an %E number");
-                let digits = mantissa.trim_start_matches('-').split_once('.').unwrap().1.len();
+                let digits = mantissa
+                    .trim_start_matches('-')
+                    .split_once('.')
+                    .unwrap()
+                    .1
+                    .len();
                 assert_eq!(digits, if i == 0 { 13 } else { 6 }, "{t}");
-                assert!(exponent.len() == 3 && (exponent.starts_with('+') || exponent.starts_with('-')));
+                assert!(
+                    exponent.len() == 3 && (exponent.starts_with('+') || exponent.starts_with('-'))
+                );
             }
             tokens.iter().map(|t| t.parse().unwrap()).collect()
         })
@@ -126,7 +159,11 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
         )
         .unwrap();
     let mut output = SeasBp5Output::new(&dir, &bp5, dx, columns, setup(dx)).unwrap();
-    output.write_initial_state(ode.model(), ode.state(), rsf::Stepping::fault_tractions(&ode));
+    output.write_initial_state(
+        ode.model(),
+        ode.state(),
+        rsf::Stepping::fault_tractions(&ode),
+    );
     ode.run_until(Until::Time(250.0 * SECONDS_PER_YEAR), &mut [&mut output])
         .unwrap();
     let ruptures: Vec<_> = output
@@ -138,11 +175,20 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
     // 236 at 1 km; a cycle is at least the time to reload the stress drop of a few MPa at
     // V_p over the weakening core, far more than a few years).
     assert!(ruptures.len() >= 2, "{:?}", output.events());
-    assert!(ruptures[0].t_start < 1000.0, "first rupture at {} s", ruptures[0].t_start);
+    assert!(
+        ruptures[0].t_start < 1000.0,
+        "first rupture at {} s",
+        ruptures[0].t_start
+    );
     let recurrence = (ruptures[1].t_start - ruptures[0].t_start) / SECONDS_PER_YEAR;
-    assert!((100.0..300.0).contains(&recurrence), "recurrence {recurrence} yr");
+    assert!(
+        (100.0..300.0).contains(&recurrence),
+        "recurrence {recurrence} yr"
+    );
     // Peak slip rates of a rupture: ~1 m/s (the description's codes: 1–3 m/s).
-    assert!(ruptures.iter().all(|e| (0.3..10.0).contains(&e.peak_slip_rate)));
+    assert!(ruptures
+        .iter()
+        .all(|e| (0.3..10.0).contains(&e.peak_slip_rate)));
     for name in SeasBp5Output::file_names() {
         let columns = match &name[..5] {
             "fltst" => 8,
@@ -152,17 +198,28 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
         let rows = parse(&dir.join(&name), columns);
         assert!(rows.len() > 100, "{name}: {} rows", rows.len());
         assert_eq!(rows[0][0], 0.0, "{name}: the first row is t = 0");
-        assert!(rows.windows(2).all(|w| w[1][0] > w[0][0]), "{name}: time increases");
+        assert!(
+            rows.windows(2).all(|w| w[1][0] > w[0][0]),
+            "{name}: time increases"
+        );
         if name.starts_with("fltst") {
             // Slip along x₃ (the loading is along x₂) stays small: computed, bounded.
             let slip2 = rows.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
             let slip3 = rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
             assert!(slip2 > 1.0, "{name}: slip₂ {slip2} m");
-            assert!(slip3 < 0.05 * slip2, "{name}: slip₃ {slip3} m against slip₂ {slip2} m");
+            assert!(
+                slip3 < 0.05 * slip2,
+                "{name}: slip₃ {slip3} m against slip₂ {slip2} m"
+            );
             assert!(slip3 > 0.0, "{name}: slip₃ is computed, not assumed 0");
             // V₃ below V₂ whenever V₂ is seismic.
             for r in rows.iter().filter(|r| r[3] > -3.0) {
-                assert!(r[4] < r[3] - 0.5, "{name}: log10 V₃ {} against log10 V₂ {}", r[4], r[3]);
+                assert!(
+                    r[4] < r[3] - 0.5,
+                    "{name}: log10 V₃ {} against log10 V₂ {}",
+                    r[4],
+                    r[3]
+                );
             }
         }
     }
@@ -221,7 +278,10 @@ fn a_stopped_and_continued_run_writes_the_same_bytes() {
     let again = run(&parts, None, Some(&stopped));
     assert!(again.state.step > 900);
     let mut compared = 0;
-    for name in SeasBp5Output::file_names().into_iter().chain(["events.csv".into()]) {
+    for name in SeasBp5Output::file_names()
+        .into_iter()
+        .chain(["events.csv".into()])
+    {
         let a = std::fs::read(whole.join(&name)).unwrap();
         let b = std::fs::read(parts.join(&name)).unwrap();
         assert!(a == b, "{name} differs after the resumes");
@@ -275,7 +335,10 @@ fn uniform_slip_of_the_cells_displaces_the_stations_as_one_rectangle() {
             );
         }
         // Strike slip on the + side (x > 0) moves it along +y, away from the fault less.
-        assert!(uniform[1] > 0.0 && uniform[1] < 0.5, "station {p}: {uniform:?}");
+        assert!(
+            uniform[1] > 0.0 && uniform[1] < 0.5,
+            "station {p}: {uniform:?}"
+        );
     }
 }
 

@@ -1,0 +1,116 @@
+//! The ordering of a condensation's interior: AMD after one home-made level of dissection
+//! (partial_cholesky.rs), or METIS's nested dissection (crate rsf-metis, feature `metis`).
+
+use crate::csc::Csc;
+use crate::error::{Error, Result};
+
+/// How the interior `R` of a [`Condensation`](crate::Condensation) is ordered for its
+/// sparse Cholesky factor (the interface `F` is always eliminated last, which makes the
+/// Schur complement the factor's last block). Both split `R` into two halves without
+/// coupling and their separator, `[R₁, R₂, C, F]`, whose halves each sweep works on
+/// independently (two threads); they differ in the fill of the factor, not in what it
+/// represents: the Schur complement and the solves agree to round-off.
+///
+/// With the `serde` feature it reads and writes as `"amd"` and `"nested-dissection"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
+pub enum InteriorOrdering {
+    /// The separator is a middle level of a breadth-first search from a pseudo-peripheral
+    /// dof, and each of `R₁`, `R₂`, `C` is in faer's AMD order. The default; its results
+    /// are those of every earlier version.
+    #[default]
+    Amd,
+    /// METIS's multilevel nested dissection (METIS_NodeNDP: its top-level separator gives
+    /// `R₁`, `R₂`, `C`, and its recursion their orders) of the graph of the nodes (blocks of
+    /// `D` dofs) with an interior dof, expanded to their interior dofs in component order.
+    /// Much less fill than [`Amd`](Self::Amd) on 3-D volumes (docs/three-d.md, "The
+    /// operator at scale"). Deterministic (a fixed seed). Needs the cargo feature `metis`
+    /// (of rsf-tnnmg, or rsf's `metis`); without it a condensation asking for it fails with
+    /// [`Error::FeatureDisabled`].
+    NestedDissection,
+}
+
+impl std::fmt::Display for InteriorOrdering {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Amd => "amd",
+            Self::NestedDissection => "nested-dissection",
+        })
+    }
+}
+
+/// METIS's nested dissection of the dofs `interior` of `a` (node graph, `node` dofs per
+/// node): the interior dofs in elimination order and the ends `p1`, `p2` of the halves
+/// `R₁ = ..p1`, `R₂ = p1..p2` (the separator `C = p2..`).
+pub(super) fn nested_dissection(
+    a: &Csc,
+    interior: &[usize],
+    node: usize,
+) -> Result<(Vec<usize>, usize, usize)> {
+    if interior.is_empty() {
+        return Ok((Vec::new(), 0, 0));
+    }
+    let n = a.nrows;
+    let mut inside = vec![false; n];
+    for &i in interior {
+        inside[i] = true;
+    }
+    // The nodes with an interior dof, numbered in increasing order.
+    let mut local = vec![usize::MAX; n.div_ceil(node)];
+    let mut nodes = Vec::new();
+    for i in (0..n).filter(|&i| inside[i]) {
+        if local[i / node] == usize::MAX {
+            local[i / node] = nodes.len();
+            nodes.push(i / node);
+        }
+    }
+    // Their graph: p ~ q when a couples an interior dof of p with one of q (p ≠ q).
+    let mut xadj = Vec::with_capacity(nodes.len() + 1);
+    let mut adjncy = Vec::new();
+    let mut mark = vec![usize::MAX; nodes.len()];
+    xadj.push(0);
+    for (k, &p) in nodes.iter().enumerate() {
+        mark[k] = k;
+        for j in (node * p..(node * p + node).min(n)).filter(|&j| inside[j]) {
+            for &i in a.col(j).0 {
+                if inside[i] {
+                    let q = local[i / node];
+                    if mark[q] != k {
+                        mark[q] = k;
+                        adjncy.push(q);
+                    }
+                }
+            }
+        }
+        xadj.push(adjncy.len());
+    }
+    let dissection = rsf_metis::node_nd_halves(&xadj, &adjncy).map_err(|e| match e {
+        rsf_metis::Error::FeatureDisabled(what) => Error::FeatureDisabled {
+            what,
+            feature: "metis",
+        },
+        e => Error::Factorisation(e.to_string()),
+    })?;
+    // Expand to dofs; the ends move with the dofs of the nodes before them.
+    let mut order = Vec::with_capacity(interior.len());
+    let mut ends = [0; 2];
+    for (k, &v) in dissection.order.iter().enumerate() {
+        for (e, &end) in ends.iter_mut().zip(&dissection.ends) {
+            if k == end {
+                *e = order.len();
+            }
+        }
+        let p = nodes[v];
+        order.extend((node * p..(node * p + node).min(n)).filter(|&j| inside[j]));
+    }
+    for (e, &end) in ends.iter_mut().zip(&dissection.ends) {
+        if end == dissection.order.len() {
+            *e = order.len();
+        }
+    }
+    Ok((order, ends[0], ends[1]))
+}
