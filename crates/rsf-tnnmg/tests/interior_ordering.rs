@@ -51,9 +51,7 @@ fn grid3(m: usize) -> Grid3 {
     let n = 3 * m * m * m;
     let a = SparseColMat::try_new_from_triplets(n, n, &t).unwrap();
     let fixed = (0..n).map(|i| (i / 3) % m == 0).collect();
-    let mut fault: Vec<usize> = (0..m * m)
-        .map(|k| node(m / 2, k % m, k / m))
-        .collect();
+    let mut fault: Vec<usize> = (0..m * m).map(|k| node(m / 2, k % m, k / m)).collect();
     fault.sort_unstable();
     Grid3 { m, a, fixed, fault }
 }
@@ -63,7 +61,9 @@ fn max_abs(v: &[f64]) -> f64 {
 }
 
 fn max_diff(p: &[f64], q: &[f64]) -> f64 {
-    p.iter().zip(q).fold(0.0_f64, |s, (x, y)| s.max((x - y).abs()))
+    p.iter()
+        .zip(q)
+        .fold(0.0_f64, |s, (x, y)| s.max((x - y).abs()))
 }
 
 /// AMD is `Condensation::new`: the same factor, the same Schur complement bits.
@@ -94,7 +94,13 @@ fn nested_dissection_without_the_feature_is_a_typed_error() {
     )
     .unwrap_err();
     assert!(
-        matches!(e, rsf_tnnmg::Error::FeatureDisabled { feature: "metis", .. }),
+        matches!(
+            e,
+            rsf_tnnmg::Error::FeatureDisabled {
+                feature: "metis",
+                ..
+            }
+        ),
         "{e:?}"
     );
     assert!(e.to_string().contains("feature `metis`"), "{e}");
@@ -114,12 +120,21 @@ fn nested_dissection_condenses_like_amd() {
     let (s_amd, s_nd) = (amd.schur_complement(), nd.schur_complement());
     let scale = max_abs(&s_amd);
     let ds = max_diff(&s_amd, &s_nd);
-    assert!(scale > 1.0 && ds <= 1e-10 * scale, "max |ΔS| = {ds:e} of {scale:e}");
+    assert!(
+        scale > 1.0 && ds <= 1e-10 * scale,
+        "max |ΔS| = {ds:e} of {scale:e}"
+    );
     // A right-hand side and fixed values: g and the extension's interior.
     let n = g.a.nrows();
     let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin()).collect();
     let x_fixed: Vec<f64> = (0..n)
-        .map(|i| if g.fixed[i] { 1.0 + (i % 5) as f64 } else { 0.0 })
+        .map(|i| {
+            if g.fixed[i] {
+                1.0 + (i % 5) as f64
+            } else {
+                0.0
+            }
+        })
         .collect();
     let mut g_amd = vec![0.0; amd.dim()];
     let mut g_nd = vec![0.0; nd.dim()];

@@ -114,3 +114,52 @@ pub(super) fn nested_dissection(
     }
     Ok((order, ends[0], ends[1]))
 }
+
+#[cfg(all(test, feature = "metis"))]
+mod tests {
+    use super::*;
+    use crate::direct::partial_cholesky::tests::grid;
+
+    /// On a 40 × 40 grid with nodes of two dofs (consecutive pairs), a row of dofs left out
+    /// and one odd dof out of a node: the order is a permutation of the interior, each
+    /// node's interior dofs side by side in increasing order, the halves uncoupled and not
+    /// empty, and a second run gives the same order.
+    #[test]
+    fn nested_dissection_is_a_deterministic_permutation_with_uncoupled_halves() {
+        let m = 40;
+        let a = grid(m);
+        let interior: Vec<usize> = (0..m * m).filter(|&i| i / m != 7 && i != 301).collect();
+        let (order, p1, p2) = nested_dissection(&a, &interior, 2).unwrap();
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, interior);
+        for w in order.windows(2) {
+            if w[0] / 2 == w[1] / 2 {
+                assert!(w[0] < w[1]);
+            }
+        }
+        let mut part = vec![0; a.nrows];
+        for (k, &i) in order.iter().enumerate() {
+            part[i] = if k < p1 {
+                1
+            } else if k < p2 {
+                2
+            } else {
+                3
+            };
+        }
+        assert!(
+            0 < p1 && p1 < p2 && p2 < order.len(),
+            "{p1} {p2} {}",
+            order.len()
+        );
+        for &j in &order[..p1] {
+            assert!(a.col(j).0.iter().all(|&i| part[i] != 2), "dof {j}");
+        }
+        assert_eq!(
+            nested_dissection(&a, &interior, 2).unwrap(),
+            (order, p1, p2)
+        );
+        assert_eq!(nested_dissection(&a, &[], 2).unwrap(), (vec![], 0, 0));
+    }
+}
