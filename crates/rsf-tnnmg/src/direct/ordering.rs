@@ -118,7 +118,28 @@ pub(super) fn nested_dissection(
 #[cfg(all(test, feature = "metis"))]
 mod tests {
     use super::*;
-    use crate::direct::partial_cholesky::tests::grid;
+
+    /// The pattern of the 5-point `m × m` grid (values 1; only the pattern is read).
+    fn grid(m: usize) -> Csc {
+        let mut col_ptr = vec![0];
+        let mut row_idx = Vec::new();
+        for j in 0..m * m {
+            let (x, y) = (j % m, j / m);
+            let below = [(y > 0, j.wrapping_sub(m)), (x > 0, j.wrapping_sub(1))];
+            let above = [(x + 1 < m, j + 1), (y + 1 < m, j + m)];
+            row_idx.extend(below.iter().filter(|e| e.0).map(|e| e.1));
+            row_idx.push(j);
+            row_idx.extend(above.iter().filter(|e| e.0).map(|e| e.1));
+            col_ptr.push(row_idx.len());
+        }
+        Csc {
+            nrows: m * m,
+            ncols: m * m,
+            val: vec![1.0; row_idx.len()],
+            col_ptr,
+            row_idx,
+        }
+    }
 
     /// On a 40 × 40 grid with nodes of two dofs (consecutive pairs), a row of dofs left out
     /// and one odd dof out of a node: the order is a permutation of the interior, each
