@@ -55,15 +55,8 @@ struct Cli {
     steps: usize,
     /// Ordering of the volume's interior in the condensation: `amd` or `nested-dissection`
     /// (METIS; needs `--features metis`).
-    #[arg(long, default_value = "amd", value_parser = parse_ordering)]
+    #[arg(long, default_value = "amd", value_parser = |s: &str| s.parse::<InteriorOrdering>())]
     ordering: InteriorOrdering,
-}
-
-fn parse_ordering(s: &str) -> Result<InteriorOrdering, String> {
-    [InteriorOrdering::Amd, InteriorOrdering::NestedDissection]
-        .into_iter()
-        .find(|o| o.to_string() == s)
-        .ok_or_else(|| format!("`{s}`: amd or nested-dissection"))
 }
 
 /// Coordinates `-far … -uniform … uniform … far` (m): spacing `h` over `[-uniform,

@@ -76,6 +76,10 @@ fn amd_is_the_default_condensation_bit_for_bit() {
         Condensation::<3>::with_ordering(g.a.as_ref(), &g.fixed, &g.fault, InteriorOrdering::Amd)
             .unwrap();
     assert_eq!(InteriorOrdering::default(), InteriorOrdering::Amd);
+    for o in [InteriorOrdering::Amd, InteriorOrdering::NestedDissection] {
+        assert_eq!(o.to_string().parse::<InteriorOrdering>(), Ok(o));
+    }
+    assert!("metis".parse::<InteriorOrdering>().is_err());
     assert_eq!(new.factor_nnz(), amd.factor_nnz());
     let bits = |c: &Condensation<3>| -> Vec<u64> {
         c.schur_complement().iter().map(|x| x.to_bits()).collect()

@@ -74,8 +74,9 @@ pub struct FaultOdeOptions {
     pub parallelism: Parallelism,
     /// The fill-reducing ordering of the volume's interior in the condensation onto the
     /// fault (default [`InteriorOrdering::Amd`]). [`InteriorOrdering::NestedDissection`]
-    /// (METIS; rsf's feature `metis`) cuts the fill, set-up time and memory of 3-D models
-    /// (docs/three-d.md, "The operator at scale") and changes `S` by round-off only.
+    /// (METIS; rsf's feature `metis`) cuts the factor's entries and the set-up time of
+    /// 3-D models (docs/three-d.md, "The operator at scale") and changes `S`, so the
+    /// trajectory, by round-off only: bit-identical runs keep one ordering.
     pub ordering: InteriorOrdering,
 }
 

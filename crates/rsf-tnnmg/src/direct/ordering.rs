@@ -11,7 +11,8 @@ use crate::error::{Error, Result};
 /// independently (two threads); they differ in the fill of the factor, not in what it
 /// represents: the Schur complement and the solves agree to round-off.
 ///
-/// With the `serde` feature it reads and writes as `"amd"` and `"nested-dissection"`.
+/// Its [`Display`](std::fmt::Display) and [`FromStr`](std::str::FromStr) names are `amd`
+/// and `nested-dissection`; with the `serde` feature it reads and writes as those.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(
     feature = "serde",
@@ -40,6 +41,21 @@ impl std::fmt::Display for InteriorOrdering {
             Self::Amd => "amd",
             Self::NestedDissection => "nested-dissection",
         })
+    }
+}
+
+impl std::str::FromStr for InteriorOrdering {
+    type Err = Error;
+
+    /// `amd` or `nested-dissection` (the [`Display`](std::fmt::Display) names).
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "amd" => Ok(Self::Amd),
+            "nested-dissection" => Ok(Self::NestedDissection),
+            _ => Err(Error::InvalidOption(format!(
+                "interior ordering `{s}`: expected amd or nested-dissection"
+            ))),
+        }
     }
 }
 
