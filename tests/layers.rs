@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 /// The crates from the bottom up: a crate may depend only on crates before it.
 const LAYERS: &[&[&str]] = &[
-    &["rsf-numeric", "rsf-linalg"],
+    &["rsf-numeric", "rsf-linalg", "rsf-metis"],
     &[
         "rsf-fem",
         "rsf-friction",

@@ -40,6 +40,16 @@ pub enum Error {
     /// Invalid solver option.
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// A choice that needs a cargo feature this build does not have (e.g.
+    /// [`InteriorOrdering::NestedDissection`](crate::InteriorOrdering::NestedDissection)
+    /// without `metis`).
+    #[error("{what} needs the cargo feature `{feature}` (of rsf-tnnmg, or rsf's `{feature}`)")]
+    FeatureDisabled {
+        /// What was asked for.
+        what: &'static str,
+        /// The feature to enable.
+        feature: &'static str,
+    },
     /// Failure inside the sparse factorisation library.
     #[error("sparse factorisation failed: {0}")]
     Factorisation(String),

@@ -82,8 +82,8 @@ mod tnnmg;
 pub use block::solve_spd_masked;
 pub use colouring::{Colouring, SmootherOrder};
 pub use direct::{
-    Condensation, DirectMemory, DirectOptions, DirectSolver, SchurEntries, DENSE_PARALLEL_MIN,
-    INTERIOR_PARALLEL_MIN,
+    Condensation, DirectMemory, DirectOptions, DirectSolver, InteriorOrdering, SchurEntries,
+    DENSE_PARALLEL_MIN, INTERIOR_PARALLEL_MIN,
 };
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;

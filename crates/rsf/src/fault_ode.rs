@@ -15,6 +15,7 @@ use rsf_time::{
     DORMAND_PRINCE_54, TOLERANCE_RANGE,
 };
 use rsf_tnnmg::Condensation;
+pub use rsf_tnnmg::InteriorOrdering;
 
 use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{invalid, Error, Result};
@@ -72,6 +73,12 @@ pub struct FaultOdeOptions {
     /// [`Parallelism::LINGER`] instead of sleeping ([`Parallelism::linger`]; timing
     /// only).
     pub parallelism: Parallelism,
+    /// The fill-reducing ordering of the volume's interior in the condensation onto the
+    /// fault (default [`InteriorOrdering::Amd`]). [`InteriorOrdering::NestedDissection`]
+    /// (METIS; rsf's feature `metis`) cuts the factor's entries and the set-up time of
+    /// 3-D models (docs/three-d.md, "The operator at scale") and changes `S`, so the
+    /// trajectory, by round-off only: bit-identical runs keep one ordering.
+    pub ordering: InteriorOrdering,
 }
 
 impl Default for FaultOdeOptions {
@@ -83,6 +90,7 @@ impl Default for FaultOdeOptions {
             runge_kutta: RungeKuttaOptions::default(),
             kernel: FaultKernel::Dense,
             parallelism: Parallelism::default(),
+            ordering: InteriorOrdering::Amd,
         }
     }
 }
@@ -379,8 +387,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         let (body, operator, g0, g1, history, mut normal) = match elastic {
             Elastic::Condensed(operator) => {
-                let mut cond =
-                    Condensation::<C>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes)?;
+                let mut cond = Condensation::<C>::with_ordering(
+                    model.stiffness.as_ref(),
+                    &model.fixed,
+                    &fb.nodes,
+                    options.ordering,
+                )?;
                 let m = cond.dim();
                 let operator: Box<dyn FaultOperator> = match operator {
                     Some(op) if op.dim() != m => {

@@ -5,6 +5,7 @@
 use faer::sparse::SparseColMatRef;
 use rsf_linalg::Parallelism;
 
+use super::ordering::InteriorOrdering;
 use super::partial_cholesky::PartialCholesky;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
@@ -71,8 +72,24 @@ impl<const D: usize> Condensation<D> {
         fixed: &[bool],
         blocks: &[usize],
     ) -> Result<Self> {
+        Self::with_ordering(a, fixed, blocks, InteriorOrdering::Amd)
+    }
+
+    /// [`new`](Self::new) with the interior ordered by `ordering` ([`InteriorOrdering`]):
+    /// the same condensation up to round-off, another factor (its fill, set-up time and
+    /// memory). [`InteriorOrdering::Amd`] is [`new`](Self::new), bit for bit.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); [`Error::FeatureDisabled`] for
+    /// [`InteriorOrdering::NestedDissection`] in a build without the feature `metis`.
+    pub fn with_ordering(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        blocks: &[usize],
+        ordering: InteriorOrdering,
+    ) -> Result<Self> {
         let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
-        Self::build(&a, &fixed, blocks, None)
+        Self::build_ordered(&a, &fixed, blocks, None, ordering)
     }
 
     /// The condensation of `a` (checked by the caller) onto `blocks`; with `previous`, a
@@ -84,13 +101,25 @@ impl<const D: usize> Condensation<D> {
         blocks: &[usize],
         previous: Option<&PartialCholesky>,
     ) -> Result<Self> {
+        Self::build_ordered(a, fixed, blocks, previous, InteriorOrdering::Amd)
+    }
+
+    /// [`build`](Self::build) with the interior ordered by `ordering` (for a new
+    /// analysis; a reused one keeps its order).
+    fn build_ordered(
+        a: &Csc,
+        fixed: &[bool],
+        blocks: &[usize],
+        previous: Option<&PartialCholesky>,
+        ordering: InteriorOrdering,
+    ) -> Result<Self> {
         let n = a.nrows;
         let (interior, interface) = split_dofs::<D>(n, fixed, blocks)?;
         let (factor, order) = match previous {
             Some(p) if p.analysed_for(a, &interior, &interface) => {
                 (p.refactor(a)?, p.order().to_vec())
             }
-            _ => PartialCholesky::new(a, &interior, &interface)?,
+            _ => PartialCholesky::with_ordering(a, &interior, &interface, (ordering, D))?,
         };
         let mut pos = vec![usize::MAX; n];
         for (k, &i) in order.iter().enumerate() {

@@ -6,6 +6,7 @@ mod functionals;
 mod memory;
 mod norm_bounds;
 mod options;
+mod ordering;
 mod partial_cholesky;
 mod schur_entries;
 
@@ -28,6 +29,7 @@ pub use fault_newton::DENSE_PARALLEL_MIN;
 pub use memory::DirectMemory;
 pub use options::DirectOptions;
 use options::HARMONIC_BLOCK;
+pub use ordering::InteriorOrdering;
 use partial_cholesky::PartialCholesky;
 pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
 pub use schur_entries::SchurEntries;

@@ -42,6 +42,7 @@ use faer::{Par, Side};
 
 use rsf_linalg::Parallelism;
 
+use super::ordering::{nested_dissection, InteriorOrdering};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 
@@ -565,52 +566,73 @@ fn bisect(a: &Csc, idx: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
 }
 
 impl PartialCholesky {
-    /// Factorises the principal submatrix of `a` (symmetric, both triangles stored) on the
-    /// rows/columns `interior ∪ interface`, eliminating `interior` first (two halves and a
-    /// separator, each in a fill-reducing order) and `interface` last (in the given order).
-    /// Returns the factor and the elimination order (`order[k]` = the row of `a` of column
-    /// `k` of `L`).
-    ///
-    /// # Errors
-    /// [`Error::NotPositiveDefinite`] if the submatrix is not numerically SPD;
-    /// [`Error::Factorisation`] if faer fails (e.g. out of memory) or the factor has more
-    /// than `u32::MAX` rows.
+    /// [`with_ordering`](Self::with_ordering) with [`InteriorOrdering::Amd`].
+    #[cfg(test)]
     pub(super) fn new(
         a: &Csc,
         interior: &[usize],
         interface: &[usize],
     ) -> Result<(Self, Vec<usize>)> {
-        let (analysis, layout, p1, p2) = Self::analyse(a, interior, interface)?;
+        Self::with_ordering(a, interior, interface, (InteriorOrdering::Amd, 1))
+    }
+
+    /// Factorises the principal submatrix of `a` (symmetric, both triangles stored) on the
+    /// rows/columns `interior ∪ interface`, eliminating `interior` first (two halves and a
+    /// separator, in the fill-reducing order `ordering.0`; nested dissection orders the
+    /// graph of nodes of `ordering.1` dofs) and `interface` last (in the given order).
+    /// Returns the factor and the elimination order (`order[k]` = the row of `a` of column
+    /// `k` of `L`).
+    ///
+    /// # Errors
+    /// [`Error::NotPositiveDefinite`] if the submatrix is not numerically SPD;
+    /// [`Error::Factorisation`] if faer or METIS fails (e.g. out of memory) or the factor
+    /// has more than `u32::MAX` rows; [`Error::FeatureDisabled`] for nested dissection
+    /// without the feature `metis`.
+    pub(super) fn with_ordering(
+        a: &Csc,
+        interior: &[usize],
+        interface: &[usize],
+        ordering: (InteriorOrdering, usize),
+    ) -> Result<(Self, Vec<usize>)> {
+        let (analysis, layout, p1, p2) = Self::analyse(a, interior, interface, ordering)?;
         let factor = Self::numeric(a, Arc::new(analysis), layout, interior.len(), p1, p2)?;
         let order = factor.analysis.order.clone();
         Ok((factor, order))
     }
 
-    /// Stored entries of the factor [`new`](Self::new) would compute for these arguments,
-    /// by the ordering and symbolic factorisation alone (no numeric work; the memory of the
-    /// numeric factor is 8 bytes per entry).
+    /// Stored entries of the factor [`with_ordering`](Self::with_ordering) would compute
+    /// with AMD for these arguments, by the ordering and symbolic factorisation alone (no
+    /// numeric work; the memory of the numeric factor is 8 bytes per entry).
     ///
     /// # Errors
     /// As [`new`](Self::new) without the numeric failures.
     pub(super) fn planned_nnz(a: &Csc, interior: &[usize], interface: &[usize]) -> Result<usize> {
-        let (analysis, ..) = Self::analyse(a, interior, interface)?;
+        let (analysis, ..) = Self::analyse(a, interior, interface, (InteriorOrdering::Amd, 1))?;
         Ok(analysis.symbolic.len_val())
     }
 
-    /// The ordering (two halves, a separator, the interface last) and faer's symbolic
-    /// factorisation of the submatrix of `a` on `interior ∪ interface`, with the layout
-    /// of the supernodes and the ends `p1`, `p2` of the two halves in the order.
+    /// The ordering (two halves, a separator, the interface last; the interior by
+    /// `ordering`) and faer's symbolic factorisation of the submatrix of `a` on
+    /// `interior ∪ interface`, with the layout of the supernodes and the ends `p1`, `p2`
+    /// of the two halves in the order.
     fn analyse(
         a: &Csc,
         interior: &[usize],
         interface: &[usize],
+        (ordering, node): (InteriorOrdering, usize),
     ) -> Result<(Analysis, Supernodes, usize, usize)> {
-        let (r1, r2, c) = bisect(a, interior);
-        let mut order = amd_order(a, &r1)?;
-        let p1 = order.len();
-        order.extend(amd_order(a, &r2)?);
-        let p2 = order.len();
-        order.extend(amd_order(a, &c)?);
+        let (mut order, p1, p2) = match ordering {
+            InteriorOrdering::Amd => {
+                let (r1, r2, c) = bisect(a, interior);
+                let mut order = amd_order(a, &r1)?;
+                let p1 = order.len();
+                order.extend(amd_order(a, &r2)?);
+                let p2 = order.len();
+                order.extend(amd_order(a, &c)?);
+                (order, p1, p2)
+            }
+            InteriorOrdering::NestedDissection => nested_dissection(a, interior, node)?,
+        };
         order.extend_from_slice(interface);
         let n = order.len();
         if n > u32::MAX as usize {

@@ -1,0 +1,80 @@
+//! The call into METIS's C library (the workspace's only `unsafe` code).
+#![allow(unsafe_code)]
+
+use std::sync::Mutex;
+
+use metis_sys::{
+    idx_t, moptions_et_METIS_OPTION_NUMBERING, moptions_et_METIS_OPTION_SEED, rstatus_et_METIS_OK,
+    METIS_NodeND, METIS_NodeNDP, METIS_SetDefaultOptions, METIS_NOPTIONS,
+};
+
+use crate::{Error, Result, SEED};
+
+/// One METIS call at a time: its random number generator (GKlib's) is a global C array,
+/// and a seed set by one call must not be advanced by another's.
+static METIS: Mutex<()> = Mutex::new(());
+
+/// METIS_NodeND of a checked graph (`xadj`, `adjncy` valid, symmetric, no self-loops,
+/// `n = xadj.len() − 1 ≥ 2`), with the default options, 0-based numbering and seed
+/// [`SEED`]: its `perm` (`perm[k]` = the vertex eliminated `k`-th). With `halves`,
+/// METIS_NodeNDP for two processors instead (the same nested dissection, which also
+/// reports the top level): `perm` and the sizes of the first half, the second half and
+/// the top separator, in the order's sequence; else the sizes are zero.
+pub(crate) fn node_nd(
+    xadj: &mut [idx_t],
+    adjncy: &mut [idx_t],
+    halves: bool,
+) -> Result<(Vec<idx_t>, [idx_t; 3])> {
+    let n = xadj.len() - 1;
+    let mut nvtxs = idx_t::try_from(n).map_err(|_| Error::TooLarge {
+        vertices: n,
+        entries: adjncy.len(),
+    })?;
+    let mut options: [idx_t; METIS_NOPTIONS as usize] = [0; METIS_NOPTIONS as usize];
+    let mut perm: Vec<idx_t> = vec![0; n];
+    let mut iperm: Vec<idx_t> = vec![0; n];
+    let _one_at_a_time = METIS.lock().unwrap_or_else(|e| e.into_inner());
+    // SAFETY: `options` has METIS_NOPTIONS entries, as METIS_SetDefaultOptions writes.
+    let status = unsafe { METIS_SetDefaultOptions(options.as_mut_ptr()) };
+    if status != rstatus_et_METIS_OK {
+        return Err(Error::Metis(status));
+    }
+    options[moptions_et_METIS_OPTION_NUMBERING as usize] = 0;
+    options[moptions_et_METIS_OPTION_SEED as usize] = SEED;
+    // SAFETY: `nvtxs` = n vertices; `xadj` has n + 1 entries rising from 0 to
+    // `adjncy.len()` and every entry of `adjncy` is in 0..n (checked by the caller, as is
+    // the symmetry METIS assumes); no vertex weights (null); `options` has
+    // METIS_NOPTIONS entries; `perm` and `iperm` have n entries each. METIS reads its
+    // inputs and writes n entries of each output, nothing else.
+    // METIS_NodeNDP: the same, `npes` = 2 and `sizes` of 2 · 2 − 1 = 3 entries.
+    let mut sizes: [idx_t; 3] = [0; 3];
+    let status = unsafe {
+        if halves {
+            METIS_NodeNDP(
+                nvtxs,
+                xadj.as_mut_ptr(),
+                adjncy.as_mut_ptr(),
+                std::ptr::null_mut(),
+                2,
+                options.as_mut_ptr(),
+                perm.as_mut_ptr(),
+                iperm.as_mut_ptr(),
+                sizes.as_mut_ptr(),
+            )
+        } else {
+            METIS_NodeND(
+                &mut nvtxs,
+                xadj.as_mut_ptr(),
+                adjncy.as_mut_ptr(),
+                std::ptr::null_mut(),
+                options.as_mut_ptr(),
+                perm.as_mut_ptr(),
+                iperm.as_mut_ptr(),
+            )
+        }
+    };
+    if status != rstatus_et_METIS_OK {
+        return Err(Error::Metis(status));
+    }
+    Ok((perm, sizes))
+}
