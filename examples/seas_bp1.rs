@@ -161,27 +161,10 @@ struct Args {
     /// Default: every core of the machine.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
-    /// Modeler named in the benchmark files' headers (`# author=`).
-    #[arg(long, default_value = "rsf")]
-    modeler: String,
-    /// Date in the benchmark files' headers (`# date=`, YYYY-MM-DD); default today (UTC).
-    #[arg(long)]
-    date: Option<String>,
-    /// Write `checkpoint.bin` every N steps (0: never), and the resume log of the
-    /// benchmark files.
-    #[arg(long, default_value_t = 0)]
-    checkpoint_every: usize,
-    /// Continue from this checkpoint, appending to the files in `--out`.
-    #[arg(long, value_name = "FILE")]
-    resume: Option<PathBuf>,
-    /// On `--resume`, accept a checkpoint whose fingerprint differs in these fields (comma
-    /// separated, e.g. `end_years`).
-    #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
-    allow_change: Vec<String>,
-    /// Stop after this many steps in total (across resumes), writing `checkpoint.bin` and
-    /// the resume log to continue from with a larger value. 0 computes no step.
-    #[arg(long, value_name = "N")]
-    max_steps: Option<u64>,
+    #[command(flatten)]
+    header: rsf_examples::SeasHeaderArgs,
+    #[command(flatten)]
+    run: rsf_examples::ResumeArgs,
     /// Refuse a grid whose run is estimated above this many gigabytes of memory (nodes
     /// and fault operators estimated before anything is allocated).
     #[arg(long, default_value_t = 16.0, value_name = "GB")]
@@ -270,7 +253,7 @@ fn run(args: Args) -> Result<(), AnyError> {
         rsf::observe::SEAS_RESUME_LOG,
     ]);
     let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
-    let fresh = folder.prepare(args.resume.is_some(), args.overwrite)?;
+    let fresh = folder.prepare(args.run.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
     // BP1-FD's defaults: the converged set-up of docs/seas-bp1-fd.md. Without inertia the
     // switching thresholds are unused; their old defaults keep BP1-QD's fingerprints.
@@ -420,8 +403,9 @@ fn run(args: Args) -> Result<(), AnyError> {
         i => fingerprint.with("dynamic_integrator", format!("{i:?}")),
     };
     let setup = SeasSetup {
-        modeler: args.modeler.clone(),
+        modeler: args.header.modeler.clone(),
         date: args
+            .header
             .date
             .clone()
             .unwrap_or_else(rsf::observe::utc_date_today),
@@ -430,10 +414,10 @@ fn run(args: Args) -> Result<(), AnyError> {
     };
     // On resume everything is checked before any file is touched: the checkpoint (its
     // checksum and fingerprint), then every file's rows up to the checkpoint's step.
-    let resumed = match &args.resume {
+    let resumed = match &args.run.resume {
         None => None,
         Some(path) => {
-            let c = read_checkpoint(path, &fingerprint, &args.allow_change)?;
+            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
             SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
                 &args.out,
                 rsf::Stepping::model(&sim),
@@ -457,7 +441,7 @@ fn run(args: Args) -> Result<(), AnyError> {
     )?;
     // A run that can stop before its end (checkpoints, a step cap) logs what its
     // benchmark files hold at each checkpoint.
-    if args.checkpoint_every > 0 || args.max_steps.is_some() {
+    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
         output = output.with_resume_log(mode)?;
     }
     if resumed.is_none() {
@@ -469,11 +453,11 @@ fn run(args: Args) -> Result<(), AnyError> {
         .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
     // Every `--checkpoint-every` steps, and where the step cap stops the run.
     let mut checkpointer = Every::new(
-        Interval::steps_or_never(args.checkpoint_every),
+        Interval::steps_or_never(args.run.checkpoint_every),
         checkpointer,
     )?;
     let t_end = args.end_years * SECONDS_PER_YEAR;
-    let end = until(t_end, args.max_steps);
+    let end = until(t_end, args.run.max_steps);
     let t0 = rsf::Stepping::state(&sim).time;
     let mut progress = Progress::time(t0, t_end, "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());

@@ -74,30 +74,14 @@ struct Args {
     /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km).
     #[arg(long, default_value_t = 1e-6)]
     epsilon: f64,
-    /// Threads of each evaluation (the same bits for every value).
-    #[arg(long, default_value_t = 1)]
+    /// Threads of each evaluation (the same bits for every value). Default: every core
+    /// of the machine.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
-    /// Modeler's name for the files' headers.
-    #[arg(long, default_value = "rsf")]
-    modeler: String,
-    /// Date for the files' headers (YYYY-MM-DD; default today, UTC).
-    #[arg(long)]
-    date: Option<String>,
-    /// Write `checkpoint.bin` (and the files with their resume log) every N steps (0:
-    /// never).
-    #[arg(long, default_value_t = 0)]
-    checkpoint_every: usize,
-    /// Continue from this checkpoint, continuing the files in `--out`.
-    #[arg(long, value_name = "FILE")]
-    resume: Option<PathBuf>,
-    /// On `--resume`, accept a checkpoint whose fingerprint differs in these fields (comma
-    /// separated, e.g. `end_years`).
-    #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
-    allow_change: Vec<String>,
-    /// Stop after this many steps in total (across resumes), with `checkpoint.bin` to
-    /// continue from.
-    #[arg(long, value_name = "N")]
-    max_steps: Option<u64>,
+    #[command(flatten)]
+    header: rsf_examples::SeasHeaderArgs,
+    #[command(flatten)]
+    run: rsf_examples::ResumeArgs,
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
@@ -124,7 +108,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     if args.threads == 0 {
         return Err("--threads must be at least 1".into());
     }
-    if args.resume.is_some() && args.overwrite {
+    if args.run.resume.is_some() && args.overwrite {
         return Err(
             "--resume continues the files in --out: it cannot be given with --overwrite".into(),
         );
@@ -158,7 +142,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     );
     let names: Vec<&str> = outputs.iter().map(String::as_str).collect();
     let folder = RunFolder::new(&args.out, "seas_bp5", &names);
-    folder.prepare(args.resume.is_some(), args.overwrite)?;
+    folder.prepare(args.run.resume.is_some(), args.overwrite)?;
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.
     let fingerprint = Fingerprint::of_serialized(&bp5)
         .with("kernel", format!("{:?}", args.kernel))
@@ -172,8 +156,8 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let cpu0 = cpu_seconds();
     let setup = SeasSetup {
         problem: "SEAS Benchmark BP5-QD".into(),
-        modeler: args.modeler.clone(),
-        date: args.date.clone().unwrap_or_else(utc_date_today),
+        modeler: args.header.modeler.clone(),
+        date: args.header.date.clone().unwrap_or_else(utc_date_today),
         element_size: args.dx,
         stations: Vec::new(),
         depth_axis: 2,
@@ -233,12 +217,12 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         "set-up: wall {setup_s:.1} s, CPU {:.1} s",
         cpu_seconds() - cpu0
     );
-    if args.checkpoint_every > 0 || args.max_steps.is_some() {
-        output = output.with_resume_log(args.checkpoint_every);
+    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+        output = output.with_resume_log(args.run.checkpoint_every);
     }
-    let resumed = match &args.resume {
+    let resumed = match &args.run.resume {
         Some(path) => {
-            let c = read_checkpoint(path, &fingerprint, &args.allow_change)?;
+            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
             output.resume(c.state.step)?;
             ode.restore(&c)?;
             Some(c)
@@ -256,10 +240,10 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         .fingerprint(fingerprint)
         .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
     let mut checkpointer = Every::new(
-        Interval::steps_or_never(args.checkpoint_every),
+        Interval::steps_or_never(args.run.checkpoint_every),
         checkpointer,
     )?;
-    let end = until(args.end_years * SECONDS_PER_YEAR, args.max_steps);
+    let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
     let run = {
         // The files first, the checkpoint after them: a checkpoint never runs ahead.
         let mut observers: Vec<&mut dyn Observer<3, 3>> = vec![&mut output, &mut checkpointer];

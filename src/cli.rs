@@ -446,6 +446,38 @@ pub enum KernelArg {
     Hierarchical,
 }
 
+/// `--checkpoint-every N`, `--resume FILE`, `--allow-change FIELD,…` and `--max-steps N`
+/// of the programs that checkpoint and continue their runs (SEAS BP1, BP5).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct ResumeArgs {
+    /// Write `checkpoint.bin` every N steps (0: never), and the benchmark files with their
+    /// resume log at the same steps.
+    #[arg(long, default_value_t = 0)]
+    pub checkpoint_every: usize,
+    /// Continue from this checkpoint, continuing the files in `--out`.
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<std::path::PathBuf>,
+    /// On `--resume`, accept a checkpoint whose fingerprint differs in these fields (comma
+    /// separated, e.g. `end_years`).
+    #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
+    pub allow_change: Vec<String>,
+    /// Stop after this many steps in total (across resumes), writing `checkpoint.bin` and
+    /// the resume log to continue from with a larger value. 0 computes no step.
+    #[arg(long, value_name = "N")]
+    pub max_steps: Option<u64>,
+}
+
+/// `--modeler NAME` and `--date YYYY-MM-DD` of the SEAS files' headers.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SeasHeaderArgs {
+    /// Modeler named in the benchmark files' headers (`# author=`).
+    #[arg(long, default_value = "rsf")]
+    pub modeler: String,
+    /// Date in the benchmark files' headers (`# date=`, YYYY-MM-DD); default today (UTC).
+    #[arg(long)]
+    pub date: Option<String>,
+}
+
 /// `--kernel dense|hierarchical` and `--kernel-epsilon E` of the fault-ODE examples.
 #[derive(Debug, Clone, Copy, Default, clap::Args)]
 pub struct KernelArgs {

@@ -19,7 +19,8 @@ mod run;
 pub mod run_folder;
 mod seas_overview;
 pub use cli::{
-    main_on_threads, main_with, FrameArgs, KernelArg, KernelArgs, SceneArgs, TimeStepArgs,
+    main_on_threads, main_with, FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs,
+    SeasHeaderArgs, TimeStepArgs,
 };
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
