@@ -19,8 +19,10 @@
 //!
 //! Writes the benchmark's files to `--out` (`rsf_scenes::SeasBp5Output`: the ten
 //! on-fault stations `fltst_strk±XXdp±YY`, the nine off-fault stations
-//! `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, the event catalogue `events.csv`) and
-//! `summary.json`, and prints the events and the recurrence intervals.
+//! `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, the slip and stress profiles, `rupture.dat`,
+//! the event catalogue `events.csv`), `summary.json` and the figure `overview.png`
+//! (slip₂ along dip at x₂ = 0; the maximum slip rate against time), and prints the
+//! ruptures and their recurrence intervals.
 //!
 //! Runs: `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files
 //! and their resume log `bp5_resume.json` written at the same steps), `--resume FILE`
@@ -135,6 +137,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         [
             "events.csv",
             "summary.json",
+            "overview.png",
             "checkpoint.bin",
             SEAS_BP5_RESUME_LOG,
         ]
@@ -325,5 +328,8 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         &folder.path("summary.json"),
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
+    // Slip₂ along dip at x₂ = 0 and the maximum slip rate against time.
+    rsf_examples::seas_overview(&args.out, "slip_2_depth.dat", "depth (km)", ruptures.len())?;
+    println!("wrote {}", args.out.join("overview.png").display());
     Ok(())
 }

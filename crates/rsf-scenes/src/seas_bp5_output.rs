@@ -416,9 +416,13 @@ impl SeasBp5Output {
                     quantity,
                 );
                 f.coordinate = Some(coordinate);
-                let mut first = vec![0.0];
-                first.extend_from_slice(positions);
-                write_row(&mut f.rows, 0.0, &first);
+                // The benchmark's first data row: `0 0` and the positions.
+                f.rows.push_str("0 0");
+                for &x in positions.iter() {
+                    f.rows.push(' ');
+                    f.rows.push_str(&seas_number(x, 6, 14));
+                }
+                f.rows.push('\n');
                 profiles.push(Profile {
                     file: f,
                     slip,
