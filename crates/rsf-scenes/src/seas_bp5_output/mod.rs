@@ -13,81 +13,18 @@ use rsf::{Flow, Model, Observer, Result, StepView};
 use crate::invalid;
 use crate::seas_bp5::{SeasBp5, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};
 
-const FAULT_COLUMNS: [(&str, &str); 8] = [
-    ("t", "Time (s)"),
-    ("slip_2", "Slip_2 (m)"),
-    ("slip_3", "Slip_3 (m)"),
-    ("slip_rate_2", "Slip_rate_2 (log10 m/s)"),
-    ("slip_rate_3", "Slip_rate_3 (log10 m/s)"),
-    ("shear_stress_2", "Shear_stress_2 (MPa)"),
-    ("shear_stress_3", "Shear_stress_3 (MPa)"),
-    ("state", "State (log10 s)"),
-];
+mod layout;
+mod mark;
+mod text;
 
-const BODY_COLUMNS: [(&str, &str); 7] = [
-    ("t", "Time (s)"),
-    ("disp_1", "Displacement_1 (m)"),
-    ("disp_2", "Displacement_2 (m)"),
-    ("disp_3", "Displacement_3 (m)"),
-    ("vel_1", "Velocity_1 (m/s)"),
-    ("vel_2", "Velocity_2 (m/s)"),
-    ("vel_3", "Velocity_3 (m/s)"),
-];
-
-const GLOBAL_COLUMNS: [(&str, &str); 3] = [
-    ("t", "Time (s)"),
-    ("max_slip_rate", "Max slip rate (log10 m/s)"),
-    ("moment_rate", "Moment rate (N-m/s)"),
-];
-
-/// The smallest slip rate component written (m/s): `log10` of a component below it is
-/// written as `log10` of it (the benchmark's convention for a zero component).
-pub const SLIP_RATE_FLOOR: f64 = 1e-20;
-
-/// A file: its path, header location line and rows so far.
-struct File {
-    path: PathBuf,
-    location: String,
-    columns: &'static [(&'static str, &'static str)],
-    rows: String,
-    /// For a profile: the name of its coordinate (`x2` or `x3`); its first data row holds
-    /// the positions.
-    coordinate: Option<&'static str>,
-}
-
-/// A slip or shear-stress profile (component 2) along dip or strike.
-struct Profile {
-    file: File,
-    /// `true`: slip₂ (m); `false`: shear stress₂ (MPa).
-    slip: bool,
-    /// The nodes around every point and their bilinear weights.
-    points: Vec<[(usize, f64); 4]>,
-}
-
-const SLIP_PROFILE_COLUMNS: [(&str, &str); 3] = [
-    ("t", "Time (s)"),
-    ("max_slip_rate", "Max slip rate (log10 m/s)"),
-    (
-        "slip_2",
-        "Slip_2 (m) at the positions (m) of the first data row, one column each",
-    ),
-];
-
-const STRESS_PROFILE_COLUMNS: [(&str, &str); 3] = [
-    ("t", "Time (s)"),
-    ("max_slip_rate", "Max slip rate (log10 m/s)"),
-    (
-        "shear_stress_2",
-        "Shear_stress_2 (MPa) at the positions (m) of the first data row, one column each",
-    ),
-];
-
-/// The slip rate (m/s) from which a node counts as rupturing in `rupture.dat`.
-pub const RUPTURE_THRESHOLD: f64 = 1e-3;
-
-/// The time written in `rupture.dat` for a node that did not rupture (s; far beyond any
-/// run: the times are absolute, from the start of the run).
-pub const NEVER_RUPTURED: f64 = 1e20;
+use layout::{BodySource, FaultLayout, SlipMap};
+use mark::Mark;
+pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
+use text::{
+    body_station_name, fault_station_name, write_row, File, Profile, BODY_COLUMNS, FAULT_COLUMNS,
+    GLOBAL_COLUMNS, SLIP_PROFILE_COLUMNS, STRESS_PROFILE_COLUMNS,
+};
+pub use text::{NEVER_RUPTURED, RUPTURE_THRESHOLD, SLIP_RATE_FLOOR};
 
 /// An on-fault station: the cells around it and their bilinear weights.
 struct FaultStation {
@@ -99,59 +36,6 @@ struct FaultStation {
 struct BodyStation {
     file: File,
     source: BodySource,
-}
-
-/// Where an off-fault station's displacement comes from.
-enum BodySource {
-    /// A fault alone: its side of the fault (`±1`) and its displacement per unit slip of
-    /// every unknown (3 rows of `m`).
-    Columns { side: f64, columns: Vec<f64> },
-    /// A volume model: the vertex (Cartesian components).
-    Vertex(usize),
-}
-
-/// How the slip `(slip₂, slip₃)` of a fault node is read off the model's field: the
-/// node's first dof and the coefficients of its three components for each (`x₃` down).
-#[derive(Debug, Clone, Copy)]
-struct SlipMap {
-    dof: usize,
-    e2: [f64; 3],
-    e3: [f64; 3],
-}
-
-impl SlipMap {
-    fn of(&self, x: &[f64]) -> (f64, f64) {
-        let b = &x[self.dof..self.dof + 3];
-        let dot = |e: &[f64; 3]| e[0] * b[0] + e[1] * b[1] + e[2] * b[2];
-        (dot(&self.e2), dot(&self.e3))
-    }
-}
-
-/// The fault's nodes as the output sees them: per fault index its position `(x₂, x₃)`
-/// (m), area (m²) and slip map, and the regular grid they fill (for the stations).
-struct FaultLayout {
-    positions: Vec<[f64; 2]>,
-    areas: Vec<f64>,
-    slip: Vec<SlipMap>,
-    /// The grid's first point `(x₂, x₃)` (m), spacing (m), points along strike and dip,
-    /// and the fault index of every point (strike fastest).
-    origin: [f64; 2],
-    spacing: f64,
-    n: [usize; 2],
-    index: Vec<usize>,
-}
-
-/// An event of the catalogue.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Bp5Event {
-    /// First step with the maximum slip rate at or above the threshold (s).
-    pub t_start: f64,
-    /// First step below it again (s); `None` while open.
-    pub t_end: Option<f64>,
-    /// Peak slip rate (m/s).
-    pub peak_slip_rate: f64,
-    /// `(x₂, x₃)` of the fastest cell at the start (m).
-    pub hypocentre: [f64; 2],
 }
 
 /// The BP5 files of a run of [`SeasBp5`]'s fault alone (an [`Observer`]). Rows are kept
@@ -178,33 +62,6 @@ pub struct SeasBp5Output {
     resume_log: bool,
     /// The resume log's marks so far.
     log: Vec<Mark>,
-}
-
-/// Name of the resume log of [`SeasBp5Output`]: the output's state at every persisted
-/// step (JSON).
-pub const SEAS_BP5_RESUME_LOG: &str = "bp5_resume.json";
-
-/// The output's own state at a step: what its files hold and what comes next.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
-struct Mark {
-    /// The run's step.
-    step: usize,
-    /// Rows in every file.
-    written: usize,
-    /// Time of the last row (s).
-    last_station_t: f64,
-    /// Smallest and largest step so far (s).
-    tau: (f64, f64),
-    /// Steps seen.
-    steps: usize,
-    /// The catalogue.
-    events: Vec<Bp5Event>,
-    /// Profile rows written (besides the positions row) and the time of the last.
-    profile_written: usize,
-    last_profile_t: f64,
-    /// Per fault node: the first time after the first event that its slip rate reached
-    /// [`RUPTURE_THRESHOLD`] (s).
-    rupture: Vec<Option<f64>>,
 }
 
 impl SeasBp5Output {
@@ -659,7 +516,12 @@ impl SeasBp5Output {
             .chain(std::iter::once(&self.global))
             .chain(self.profiles.iter().map(|p| &p.file));
         for f in files {
-            let text = format!("{}{}", self.header(f), f.rows);
+            let steps = (self.mark.steps > 0).then_some(self.mark.tau);
+            let rows = match f.coordinate {
+                Some(_) => self.mark.profile_written,
+                None => self.mark.written,
+            };
+            let text = format!("{}{}", f.header(&self.setup, steps, rows), f.rows);
             write_atomically(&f.path, text.as_bytes())?;
         }
         self.write_rupture()?;
@@ -796,33 +658,6 @@ impl SeasBp5Output {
         let values = [vmax.max(SLIP_RATE_FLOOR).log10(), moment_rate];
         write_row(&mut self.global.rows, t, &values);
     }
-
-    /// The header of `file`.
-    fn header(&self, file: &File) -> String {
-        let steps = (self.mark.steps > 0).then_some(self.mark.tau);
-        let rows = match file.coordinate {
-            Some(_) => self.mark.profile_written,
-            None => self.mark.written,
-        };
-        let mut h = seas_header(&self.setup, &file.location, steps, rows);
-        for (i, (_, description)) in file.columns.iter().enumerate() {
-            let _ = write!(h, "\n# Column #{} = {description}", i + 1);
-        }
-        if let Some(coordinate) = file.coordinate {
-            let _ = write!(
-                h,
-                "\n# The first data row is 0 0 followed by the positions {coordinate} (m); \
-                 every other row is a time.\n# The two lines below list the names of the data \
-                 fields:\n{coordinate}\n"
-            );
-        } else {
-            h.push_str("\n# The line below lists the names of the data fields:\n");
-        }
-        let names: Vec<&str> = file.columns.iter().map(|(n, _)| *n).collect();
-        h.push_str(&names.join(" "));
-        h.push('\n');
-        h
-    }
 }
 
 impl SeasBp5Output {
@@ -850,67 +685,6 @@ impl SeasBp5Output {
             );
         }
         write_atomically(&self.dir.join("rupture.dat"), text.as_bytes())
-    }
-}
-
-/// A data row: the time as `%21.13E`, every value as `%14.6E`.
-fn write_row(rows: &mut String, t: f64, values: &[f64]) {
-    rows.push_str(&seas_number(t, 13, 21));
-    for &x in values {
-        rows.push(' ');
-        rows.push_str(&seas_number(x, 6, 14));
-    }
-    rows.push('\n');
-}
-
-/// `fltst_strk±XXdp±YY` of the on-fault station at `(x₂, x₃)` km.
-fn fault_station_name(strike: f64, depth: f64) -> String {
-    format!("fltst_strk{}dp{}", signed(strike), signed(depth))
-}
-
-/// `blkst_strk±XXfn±YYdp±ZZ` of the off-fault station at `(x₂, x₁, x₃)` km.
-fn body_station_name(strike: f64, normal: f64, depth: f64) -> String {
-    format!(
-        "blkst_strk{}fn{}dp{}",
-        signed(strike),
-        signed(normal),
-        signed(depth)
-    )
-}
-
-/// `+08`, `-16`, `+00`: the benchmark's signed two-digit kilometres.
-fn signed(km: f64) -> String {
-    format!(
-        "{}{:02}",
-        if km < 0.0 { '-' } else { '+' },
-        km.abs().round() as i64
-    )
-}
-
-impl FaultLayout {
-    /// The four grid points around the point `x = (x₂, x₃)` (m) and their bilinear
-    /// weights (constant beyond the outer points), as fault indices.
-    fn bilinear(&self, x: [f64; 2]) -> [(usize, f64); 4] {
-        let axis = |a: usize| -> (usize, f64) {
-            let n = self.n[a];
-            if n < 2 {
-                return (0, 0.0);
-            }
-            let f = ((x[a] - self.origin[a]) / self.spacing).clamp(0.0, (n - 1) as f64);
-            let i = (f.floor() as usize).min(n - 2);
-            (i, f - i as f64)
-        };
-        let ((i, wi), (j, wj)) = (axis(0), axis(1));
-        let at = |di: usize, dj: usize| {
-            let (i, j) = ((i + di).min(self.n[0] - 1), (j + dj).min(self.n[1] - 1));
-            self.index[j * self.n[0] + i]
-        };
-        [
-            (at(0, 0), (1.0 - wi) * (1.0 - wj)),
-            (at(1, 0), wi * (1.0 - wj)),
-            (at(0, 1), (1.0 - wi) * wj),
-            (at(1, 1), wi * wj),
-        ]
     }
 }
 
