@@ -8,12 +8,8 @@
 use std::time::Instant;
 
 use rsf_friction::FrictionLaw;
-use rsf_linalg::Parallelism;
 use rsf_state::StateLaw;
-use rsf_time::{
-    EmbeddedRungeKutta, Kinematics, OdeSystem, RungeKuttaOptions, RungeKuttaState, Tableau,
-    DORMAND_PRINCE_54, TOLERANCE_RANGE,
-};
+use rsf_time::{EmbeddedRungeKutta, Kinematics, OdeSystem, RungeKuttaState};
 use rsf_tnnmg::Condensation;
 pub use rsf_tnnmg::InteriorOrdering;
 
@@ -26,7 +22,6 @@ pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
 use crate::method_state::{FaultOdeState, MethodState};
 use crate::model::loading::TimeFunction;
 use crate::model::Model;
-use crate::node_solves::{Loading, NodeSolves, PartNodes, PARALLEL_NODES_MIN};
 use crate::normal_stress::{NormalCoupling, NormalStress, ScaledTractions};
 use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
@@ -36,89 +31,11 @@ use crate::simulation::step::impose_dirichlet_velocities;
 use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
-/// Options of a [`FaultOde`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FaultOdeOptions {
-    /// The embedded pair (default [`DORMAND_PRINCE_54`]).
-    pub tableau: Tableau,
-    /// Error tolerance per step: the local error of every slip component is at most
-    /// `tolerance · slip_scale` (m) and of every state `α` at most `tolerance` (absolute:
-    /// a relative error of θ). In [`TOLERANCE_RANGE`]; default 1e-6.
-    pub tolerance: f64,
-    /// The slip that the tolerance is relative to (m), e.g. the characteristic slip
-    /// distance `L` (`D_c`). Positive and finite; default 1e-3 m.
-    pub slip_scale: f64,
-    /// Step limits and controller constants (default: DOPRI5's, steps in [1e-12 s, ∞)).
-    pub runge_kutta: RungeKuttaOptions,
-    /// How the condensed operator `S` is stored and applied (default
-    /// [`FaultKernel::Dense`]). A hierarchical kernel changes the trajectory (by its
-    /// accuracy ε); a checkpoint of one kernel continues with the other only as a new
-    /// trajectory, so runs that check their checkpoints put the kernel in their
-    /// fingerprint (docs/seas-bp1.md, "Compressed kernel").
-    pub kernel: FaultKernel,
-    /// Threads of every evaluation: the product with `S` and the friction solves (rayon's current pool;
-    /// default [`Parallelism::default`], every core, as [`SolverOptions`](crate::method::SolverOptions)'s
-    /// since the bits do not depend on it). The results are bit-identical for every value: the
-    /// dense product is split over blocks of rows (each row's dot product in the same
-    /// order as the sequential product), the hierarchical one into parts of its leaf
-    /// clusters of rows, each summed in a fixed order (docs/math.md §13.5), and from 64
-    /// frictional nodes on the per-node friction solves are split into one part per
-    /// thread (each node's solve is independent of the others) — with the hierarchical
-    /// kernel and a fixed normal stress inside the product's parts, one parallel region
-    /// per evaluation. Run the simulation on a thread of the pool
-    /// (`rayon::ThreadPool::install`): called from outside it, each region hands its work
-    /// to the pool and puts the caller to sleep until it is done, which can cost more than
-    /// the evaluation (docs/scaling.md, "From inside the pool"). After each evaluation
-    /// the pool's other threads poll it for the next for up to
-    /// [`Parallelism::LINGER`] instead of sleeping ([`Parallelism::linger`]; timing
-    /// only).
-    pub parallelism: Parallelism,
-    /// The fill-reducing ordering of the volume's interior in the condensation onto the
-    /// fault (default [`InteriorOrdering::Amd`]). [`InteriorOrdering::NestedDissection`]
-    /// (METIS; rsf's feature `metis`) cuts the factor's entries and the set-up time of
-    /// 3-D models (docs/three-d.md, "The operator at scale") and changes `S`, so the
-    /// trajectory, by round-off only: bit-identical runs keep one ordering.
-    pub ordering: InteriorOrdering,
-}
+mod options;
+mod rates;
 
-impl Default for FaultOdeOptions {
-    fn default() -> Self {
-        Self {
-            tableau: DORMAND_PRINCE_54,
-            tolerance: 1e-6,
-            slip_scale: 1e-3,
-            runge_kutta: RungeKuttaOptions::default(),
-            kernel: FaultKernel::Dense,
-            parallelism: Parallelism::default(),
-            ordering: InteriorOrdering::Amd,
-        }
-    }
-}
-
-impl FaultOdeOptions {
-    /// Checks the options.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] named `tolerance` or `slip_scale`; the Runge–Kutta
-    /// options' errors; the kernel's ([`FaultKernel::validate`]).
-    pub fn validate(&self) -> Result<()> {
-        let (lo, hi) = TOLERANCE_RANGE;
-        if !(self.tolerance >= lo && self.tolerance <= hi) {
-            return Err(invalid(
-                "tolerance",
-                format!("{} must be in {TOLERANCE_RANGE:?}", self.tolerance),
-            ));
-        }
-        if !(self.slip_scale > 0.0 && self.slip_scale.is_finite()) {
-            return Err(invalid(
-                "slip_scale",
-                format!("{} m must be positive and finite", self.slip_scale),
-            ));
-        }
-        self.runge_kutta.validate()?;
-        self.kernel.validate()
-    }
-}
+pub use options::FaultOdeOptions;
+use rates::{FaultRates, Rates};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
@@ -198,134 +115,6 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     /// The vertices off Γ_F that observers read without the volume
     /// ([`Observer::volume_vertices`]), computed after every step.
     probe: Option<VolumeProbe>,
-}
-
-/// What the right-hand side needs besides the laws.
-struct FaultRates<const C: usize> {
-    body: Body<C>,
-    operator: Box<dyn FaultOperator>,
-    par: Parallelism,
-    g0: Vec<f64>,
-    g1: Vec<f64>,
-    history: TimeFunction,
-    /// Free components of frictional node `k`: `first[k]..first[k + 1]`.
-    first: Vec<usize>,
-    /// Dirichlet velocity factor of every component of each frictional node (0 where free
-    /// or at rest).
-    fixed_velocity: Vec<[f64; C]>,
-    weights: Vec<f64>,
-    /// η of every frictional node (Pa·s/m).
-    eta: Vec<f64>,
-    r: Vec<f64>,
-    tolerance: f64,
-    slip_scale: f64,
-    /// A normal stress that changes with slip, and its values (scratch, one per node).
-    normal: Option<NormalCoupling>,
-    sigma: Vec<f64>,
-    /// The nodes of each part of the ℋ-product, made at the first parallel evaluation.
-    parts: Option<PartNodes>,
-}
-
-/// [`Parallelism::linger`] when dropped: at the end of an evaluation however it ends (a
-/// few microseconds of Runge–Kutta arithmetic come before the next).
-struct LingerAfter(Parallelism);
-
-impl Drop for LingerAfter {
-    fn drop(&mut self) {
-        self.0.linger();
-    }
-}
-
-/// The ODE system of one step: the rates with the laws borrowed.
-struct Rates<'a, L, S, const C: usize> {
-    friction: &'a [L],
-    state_laws: &'a [S],
-    uses_state: bool,
-    data: &'a mut FaultRates<C>,
-}
-
-impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, C> {
-    type Error = Error;
-
-    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
-        let d = &mut *self.data;
-        let m = d.first[d.first.len() - 1];
-        let big_g = d
-            .history
-            .integral(t)
-            .expect("checked at construction: a loading history with a closed-form integral");
-        let speed = d.history.value(t);
-        let (u, alpha) = y.split_at(m);
-        let (dyu, dya) = dy.split_at_mut(m);
-        let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
-            d.par.threads()
-        } else {
-            1
-        };
-        let mut solves = NodeSolves {
-            friction: self.friction,
-            state_laws: self.state_laws,
-            uses_state: self.uses_state,
-            first: &d.first,
-            weights: &d.weights,
-            fixed_velocity: &d.fixed_velocity,
-            eta: &d.eta,
-            speed,
-            alpha,
-            scale: None,
-        };
-        // Between the parallel evaluations the pool's other threads poll for work.
-        let _linger = (pieces > 1).then_some(LingerAfter(d.par));
-        // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each
-        // thread its rows of the product and their nodes' solves (same bits).
-        if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.operator.hierarchical_mut()) {
-            let parts = d
-                .parts
-                .get_or_insert_with(|| PartNodes::new(h, pieces, solves.first));
-            let load = Loading {
-                g0: &d.g0,
-                g1: &d.g1,
-                big_g,
-            };
-            match parts.evaluate(h, u, (&solves, load), dyu, dya) {
-                Err(rsf_hmatrix::Error::NonFiniteInput(_)) => {} // as below: a NaN residual
-                other => return other.map_err(Error::from),
-            }
-        }
-        for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
-            *r = g0 + big_g * g1;
-        }
-        d.operator.subtract_product(u, &mut d.r, d.par)?;
-        if let Some(normal) = &mut d.normal {
-            normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
-            solves.scale = Some((&d.sigma[..], normal.initial()));
-        }
-        solves.solve((0, self.friction.len()), pieces, &d.r, dyu, dya);
-        Ok(())
-    }
-
-    /// A stage whose normal stress would be `≤ 0` or not finite
-    /// ([`Error::NormalStressNotPositive`]) is outside the domain: the step is rejected
-    /// and retried smaller (docs/reliability.md, "Trial points outside the domain").
-    fn outside_domain(&self, error: &Error) -> bool {
-        matches!(error, Error::NormalStressNotPositive { .. })
-    }
-
-    fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
-        let d = &*self.data;
-        let m = d.first[d.first.len() - 1];
-        let slip = 1.0 / (d.tolerance * d.slip_scale);
-        let state = 1.0 / d.tolerance;
-        let mut worst = 0.0_f64;
-        for (i, e) in err.iter().enumerate() {
-            let x = e.abs() * if i < m { slip } else { state };
-            if x.is_nan() {
-                return f64::INFINITY;
-            }
-            worst = worst.max(x);
-        }
-        worst
-    }
 }
 
 impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L, S, C> {

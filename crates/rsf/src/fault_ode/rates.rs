@@ -1,0 +1,142 @@
+//! The right-hand side of a fault ODE: the load, the product with the elastic operator
+//! and the node-by-node friction solves, as an [`OdeSystem`].
+
+use rsf_friction::FrictionLaw;
+use rsf_linalg::Parallelism;
+use rsf_state::StateLaw;
+use rsf_time::OdeSystem;
+
+use crate::error::{Error, Result};
+use crate::fault_alone::Body;
+use crate::fault_operator::FaultOperator;
+use crate::model::loading::TimeFunction;
+use crate::node_solves::{Loading, NodeSolves, PartNodes, PARALLEL_NODES_MIN};
+use crate::normal_stress::NormalCoupling;
+
+/// What the right-hand side needs besides the laws.
+pub(super) struct FaultRates<const C: usize> {
+    pub(super) body: Body<C>,
+    pub(super) operator: Box<dyn FaultOperator>,
+    pub(super) par: Parallelism,
+    pub(super) g0: Vec<f64>,
+    pub(super) g1: Vec<f64>,
+    pub(super) history: TimeFunction,
+    /// Free components of frictional node `k`: `first[k]..first[k + 1]`.
+    pub(super) first: Vec<usize>,
+    /// Dirichlet velocity factor of every component of each frictional node (0 where free
+    /// or at rest).
+    pub(super) fixed_velocity: Vec<[f64; C]>,
+    pub(super) weights: Vec<f64>,
+    /// η of every frictional node (Pa·s/m).
+    pub(super) eta: Vec<f64>,
+    pub(super) r: Vec<f64>,
+    pub(super) tolerance: f64,
+    pub(super) slip_scale: f64,
+    /// A normal stress that changes with slip, and its values (scratch, one per node).
+    pub(super) normal: Option<NormalCoupling>,
+    pub(super) sigma: Vec<f64>,
+    /// The nodes of each part of the ℋ-product, made at the first parallel evaluation.
+    pub(super) parts: Option<PartNodes>,
+}
+
+/// [`Parallelism::linger`] when dropped: at the end of an evaluation however it ends (a
+/// few microseconds of Runge–Kutta arithmetic come before the next).
+pub(super) struct LingerAfter(Parallelism);
+
+impl Drop for LingerAfter {
+    fn drop(&mut self) {
+        self.0.linger();
+    }
+}
+
+/// The ODE system of one step: the rates with the laws borrowed.
+pub(super) struct Rates<'a, L, S, const C: usize> {
+    pub(super) friction: &'a [L],
+    pub(super) state_laws: &'a [S],
+    pub(super) uses_state: bool,
+    pub(super) data: &'a mut FaultRates<C>,
+}
+
+impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, C> {
+    type Error = Error;
+
+    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        let d = &mut *self.data;
+        let m = d.first[d.first.len() - 1];
+        let big_g = d
+            .history
+            .integral(t)
+            .expect("checked at construction: a loading history with a closed-form integral");
+        let speed = d.history.value(t);
+        let (u, alpha) = y.split_at(m);
+        let (dyu, dya) = dy.split_at_mut(m);
+        let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
+            d.par.threads()
+        } else {
+            1
+        };
+        let mut solves = NodeSolves {
+            friction: self.friction,
+            state_laws: self.state_laws,
+            uses_state: self.uses_state,
+            first: &d.first,
+            weights: &d.weights,
+            fixed_velocity: &d.fixed_velocity,
+            eta: &d.eta,
+            speed,
+            alpha,
+            scale: None,
+        };
+        // Between the parallel evaluations the pool's other threads poll for work.
+        let _linger = (pieces > 1).then_some(LingerAfter(d.par));
+        // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each
+        // thread its rows of the product and their nodes' solves (same bits).
+        if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.operator.hierarchical_mut()) {
+            let parts = d
+                .parts
+                .get_or_insert_with(|| PartNodes::new(h, pieces, solves.first));
+            let load = Loading {
+                g0: &d.g0,
+                g1: &d.g1,
+                big_g,
+            };
+            match parts.evaluate(h, u, (&solves, load), dyu, dya) {
+                Err(rsf_hmatrix::Error::NonFiniteInput(_)) => {} // as below: a NaN residual
+                other => return other.map_err(Error::from),
+            }
+        }
+        for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
+            *r = g0 + big_g * g1;
+        }
+        d.operator.subtract_product(u, &mut d.r, d.par)?;
+        if let Some(normal) = &mut d.normal {
+            normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
+            solves.scale = Some((&d.sigma[..], normal.initial()));
+        }
+        solves.solve((0, self.friction.len()), pieces, &d.r, dyu, dya);
+        Ok(())
+    }
+
+    /// A stage whose normal stress would be `≤ 0` or not finite
+    /// ([`Error::NormalStressNotPositive`]) is outside the domain: the step is rejected
+    /// and retried smaller (docs/reliability.md, "Trial points outside the domain").
+    fn outside_domain(&self, error: &Error) -> bool {
+        matches!(error, Error::NormalStressNotPositive { .. })
+    }
+
+    fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+        let d = &*self.data;
+        let m = d.first[d.first.len() - 1];
+        let slip = 1.0 / (d.tolerance * d.slip_scale);
+        let state = 1.0 / d.tolerance;
+        let mut worst = 0.0_f64;
+        for (i, e) in err.iter().enumerate() {
+            let x = e.abs() * if i < m { slip } else { state };
+            if x.is_nan() {
+                return f64::INFINITY;
+            }
+            worst = worst.max(x);
+        }
+        worst
+    }
+}
