@@ -253,6 +253,11 @@ fn run(args: Args) -> Result<(), AnyError> {
         rsf::observe::SEAS_RESUME_LOG,
     ]);
     let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
+    if args.run.resume.is_some() && args.overwrite {
+        return Err(
+            "--resume continues the files in --out: it cannot be given with --overwrite".into(),
+        );
+    }
     let fresh = folder.prepare(args.run.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
     // BP1-FD's defaults: the converged set-up of docs/seas-bp1-fd.md. Without inertia the

@@ -76,6 +76,9 @@ fn main() -> ExitCode {
 }
 
 fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
+    if !(args.end_years > 0.0 && args.end_years <= 1e5) {
+        return Err(format!("--end-years {}: must be in (0, 1e5]", args.end_years).into());
+    }
     if !(args.dip > 0.0 && args.dip < 90.0) {
         return Err(format!("--dip {}: must be in (0, 90) degrees", args.dip).into());
     }
