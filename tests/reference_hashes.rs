@@ -319,3 +319,26 @@ fn seas_bp3_dx_2000() {
     ];
     check("seas_bp3_thrust_dx_2000_150_years", &runs);
 }
+
+/// SEAS BP5-QD as a fault alone with Okada's operator (issue 56), 4 km cells (dense
+/// operator) over 200 years: the patch's rupture, the interseismic period and the second
+/// rupture (at ~182 years), at one and two threads. Labelled when issue 56 landed (not
+/// by f23e6d1, which had no fault alone).
+#[test]
+fn seas_bp5_dx_4000() {
+    let run = |par: Parallelism| {
+        let bp5 = rsf_scenes::SeasBp5::default();
+        let model = bp5.model(4000.0).unwrap();
+        let mut options = bp5.fault_ode_options(1e-6).unwrap();
+        options.parallelism = par;
+        let mut ode = bp5
+            .fault_ode(model, options, &bp5.half_space(1e-6).unwrap())
+            .unwrap();
+        hash_run(&mut ode, Until::Time(200.0 * SECONDS_PER_YEAR))
+    };
+    let runs = [
+        (1, run(Parallelism::SEQ)),
+        (2, on_threads(2, || run(Parallelism::rayon(2)))),
+    ];
+    check("seas_bp5_okada_dx_4000_200_years", &runs);
+}
