@@ -66,6 +66,11 @@ struct Args {
     /// `fe`: growth of the spacing away from the rate-and-state region.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
+    /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
+    /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
+    /// changes by round-off.
+    #[arg(long, default_value = "amd")]
+    ordering: rsf::fault_ode::InteriorOrdering,
     /// End time (years).
     #[arg(long, default_value_t = 1800.0)]
     end_years: f64,
@@ -152,6 +157,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         .with("dx", args.dx)
         .with("domain_km", args.domain_km)
         .with("ratio", args.ratio)
+        .with("ordering", args.ordering)
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("epsilon", args.epsilon);
@@ -206,6 +212,7 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             if m > 4096 {
                 options.kernel = FaultKernel::hierarchical(args.epsilon);
             }
+            options.ordering = args.ordering;
             let output = SeasBp5Output::for_volume(&args.out, &bp5, &model, args.dx, setup)?;
             let mut ode = bp5.fe_fault_ode(model, options)?;
             ode.watch_vertices(&output.volume_vertices())?;
