@@ -47,10 +47,7 @@ use std::time::Instant;
 use clap::Parser;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::method::{FixedPointOptions, SolverOptions};
-use rsf::observe::{
-    Checkpointer, Every, FileMode, Interval, Progress, SeasOutput, SeasSampling, SeasSetup,
-    SECONDS_PER_YEAR,
-};
+use rsf::observe::{FileMode, Progress, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 use rsf::run_folder::read_checkpoint;
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
@@ -453,13 +450,11 @@ fn run(args: Args) -> Result<(), AnyError> {
         // The benchmark's first row: the initial state at t = 0.
         output.write_initial_state(rsf::Stepping::model(&sim), rsf::Stepping::state(&sim))?;
     }
-    let checkpointer = Checkpointer::new(folder.path("checkpoint.bin"))
-        .fingerprint(fingerprint)
-        .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
     // Every `--checkpoint-every` steps, and where the step cap stops the run.
-    let mut checkpointer = Every::new(
-        Interval::steps_or_never(args.run.checkpoint_every),
-        checkpointer,
+    let mut checkpointer = args.run.checkpointer(
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
     )?;
     let t_end = args.end_years * SECONDS_PER_YEAR;
     let end = until(t_end, args.run.max_steps);

@@ -38,8 +38,7 @@ use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultKernel;
 use rsf::observe::{
-    utc_date_today, Checkpointer, Every, Interval, Observer, SeasLayout, SeasSampling, SeasSetup,
-    SECONDS_PER_YEAR,
+    utc_date_today, Observer, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR,
 };
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
@@ -246,12 +245,11 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             None
         }
     };
-    let checkpointer = Checkpointer::new(folder.path("checkpoint.bin"))
-        .fingerprint(fingerprint)
-        .wall_time_before(resumed.as_ref().map_or(0.0, |c| c.wall_time_s));
-    let mut checkpointer = Every::new(
-        Interval::steps_or_never(args.run.checkpoint_every),
-        checkpointer,
+    // Every `--checkpoint-every` steps, and where the step cap stops the run.
+    let mut checkpointer = args.run.checkpointer(
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
     )?;
     let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
     let run = {

@@ -467,6 +467,29 @@ pub struct ResumeArgs {
     pub max_steps: Option<u64>,
 }
 
+impl ResumeArgs {
+    /// The checkpointer of a run: `path` every `--checkpoint-every` steps (and where a
+    /// step cap stops the run) with `fingerprint`, counting `wall_before` seconds of the
+    /// invocations before a resume.
+    ///
+    /// # Errors
+    /// An invalid interval.
+    pub fn checkpointer(
+        &self,
+        path: std::path::PathBuf,
+        fingerprint: rsf::checkpoint::Fingerprint,
+        wall_before: f64,
+    ) -> rsf::Result<rsf::observe::Every<rsf::observe::Checkpointer>> {
+        let checkpointer = rsf::observe::Checkpointer::new(path)
+            .fingerprint(fingerprint)
+            .wall_time_before(wall_before);
+        rsf::observe::Every::new(
+            rsf::observe::Interval::steps_or_never(self.checkpoint_every),
+            checkpointer,
+        )
+    }
+}
+
 /// `--modeler NAME` and `--date YYYY-MM-DD` of the SEAS files' headers.
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct SeasHeaderArgs {
