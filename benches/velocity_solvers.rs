@@ -240,6 +240,10 @@ fn no_cycles<S>(_: &S) -> Option<usize> {
 
 /// Prints the iteration count (and `cycles(solver)`) and set-up time, then benchmarks one
 /// solve from `v0`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a bench helper: the group, the problem and the solver's set-up and probes"
+)]
 fn bench_solver<S: NonsmoothSolver<2>, N: BlockNonlinearity<2>>(
     c: &mut criterion::BenchmarkGroup<'_, ThreadTime>,
     name: &str,

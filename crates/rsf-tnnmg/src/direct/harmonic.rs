@@ -109,6 +109,10 @@ fn energy_in_order(e: &Csc, order: &[usize], pos: &[usize]) -> (Vec<usize>, Vec<
 /// `[0; e_f]` for the `r` right-hand sides, then `W_i += E_ik Z_k` over `k` in increasing
 /// order (contiguous, vectorised updates; each entry adds the same terms in the same order
 /// as a column-by-column product).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a hot kernel: the factor, the energy matrix, the column block and three scratch buffers reused across blocks"
+)]
 fn extension_rows(
     factor: &PartialCholesky,
     (e_ptr, e_rows, e_vals): &(Vec<usize>, Vec<usize>, Vec<f64>),

@@ -57,6 +57,10 @@ impl Supernodes {
     /// Forward sweep over the columns `cols`: `y_j ← y_j / L_jj`, then `y_i −= L_ij y_j` for
     /// the rows below. Rows below `split` live in `own` (at `row − own_off`), the others in
     /// `tail` (at `row − split`).
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a hot kernel: the two halves of the right-hand side (own rows, shared tail) are its data, as in `SplitRows`"
+    )]
     pub(super) fn forward(
         &self,
         cols: Range<usize>,
@@ -72,6 +76,10 @@ impl Supernodes {
         pulp::Arch::new().dispatch(|| self.forward_kernel(cols, own, own_off, tail, split, tmp));
     }
 
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a hot kernel: the two halves of the right-hand side (own rows, shared tail) are its data, as in `SplitRows`"
+    )]
     #[inline(always)]
     pub(super) fn forward_kernel(
         &self,
@@ -134,6 +142,10 @@ impl Supernodes {
     /// Backward sweep over the columns `cols` (in reverse):
     /// `y_j ← (y_j − Σ_{i>j} L_ij y_i) / L_jj`. Rows below `split` live in `own` (updated),
     /// the others in `tail` (read only).
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a hot kernel: the two halves of the right-hand side (own rows, shared tail) are its data, as in `SplitRows`"
+    )]
     pub(super) fn backward(
         &self,
         cols: Range<usize>,
@@ -146,6 +158,10 @@ impl Supernodes {
         pulp::Arch::new().dispatch(|| self.backward_kernel(cols, own, own_off, tail, split, tmp));
     }
 
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "a hot kernel: the two halves of the right-hand side (own rows, shared tail) are its data, as in `SplitRows`"
+    )]
     #[inline(always)]
     pub(super) fn backward_kernel(
         &self,
