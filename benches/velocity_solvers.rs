@@ -5,7 +5,7 @@
 //! Gauss–Seidel (j ≤ 3), all to the paper's tolerance (1e-10 absolute in the energy norm
 //! K + M) from the same warm start.
 //!
-//! The problem is the one of `crates/rsf/tests/velocity_solvers.rs`: Newmark, τ = 1.5e-3 s,
+//! The problem is the one of `crates/rsf/tests/suite/velocity_solvers.rs`: Newmark, τ = 1.5e-3 s,
 //! Dieterich–Ruina at steady state α = ln(L/V) for V = 1e-6 m/s, right-hand side from the
 //! equilibrium displacement plus a shear prestress whose traction on Γ_F equals the
 //! steady-state friction at V, the previous velocity sliding at V, the top at 2e-4 m/s.
@@ -240,6 +240,10 @@ fn no_cycles<S>(_: &S) -> Option<usize> {
 
 /// Prints the iteration count (and `cycles(solver)`) and set-up time, then benchmarks one
 /// solve from `v0`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a bench helper: the group, the problem and the solver's set-up and probes"
+)]
 fn bench_solver<S: NonsmoothSolver<2>, N: BlockNonlinearity<2>>(
     c: &mut criterion::BenchmarkGroup<'_, ThreadTime>,
     name: &str,

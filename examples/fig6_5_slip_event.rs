@@ -289,6 +289,10 @@ fn connected(values: &[Vec<f64>], it: usize, k: usize) -> (usize, usize, usize) 
 
 /// Space–time map of the slip rate, linear colour from 0 (white/blue) to `vmax` (red),
 /// with a colour bar, as the paper's Figure 6.5.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a figure: the file, its title, the map's axes and values and the colour scale"
+)]
 fn draw_map(
     path: &std::path::Path,
     title: &str,

@@ -1,9 +1,9 @@
-//! Runs the stability cases of `crates/rsf/tests/stability.rs` (issue 6) and prints the
+//! Runs the stability cases of `crates/rsf/tests/suite/stability.rs` (issue 6) and prints the
 //! markdown table of `docs/stability.md`.
 //!
 //! `cargo run --release --example stability_table [-- NAME-SUBSTRING...]`
 
-#[path = "../crates/rsf/tests/stability.rs"]
+#[path = "../crates/rsf/tests/suite/stability.rs"]
 mod stability;
 
 use stability::Expect;
@@ -26,7 +26,7 @@ fn outcome(o: &stability::Outcome) -> String {
     }
 }
 
-/// The stability cases of `crates/rsf/tests/stability.rs` as the markdown table of
+/// The stability cases of `crates/rsf/tests/suite/stability.rs` as the markdown table of
 /// docs/stability.md.
 #[derive(clap::Parser)]
 #[command(version)]

@@ -59,6 +59,7 @@ pub use rsf_numeric::{wright_omega_ln, StateVariable};
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A law parameter is outside its admissible range (e.g. `a ≤ 0`, non-finite `L`).
     #[error("invalid friction parameter {name} = {}: {requirement}", short(*.value))]

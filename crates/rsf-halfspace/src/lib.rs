@@ -5,7 +5,7 @@
 //!   the half-space `z ≤ 0` for uniform strike-slip, dip-slip and tensile dislocation on
 //!   a finite rectangle (Y. Okada, "Internal deformation due to shear and tensile faults
 //!   in a half-space", BSSA 82(2), 1018–1040, 1992, §3). Checked against Okada's own
-//!   FORTRAN routine on 972 fixture values (`tests/okada_fixture.rs`).
+//!   FORTRAN routine on 972 fixture values (`tests/suite/okada_fixture.rs`).
 //! - [`Medium`], [`traction`]: Hooke's law from the displacement gradient.
 //! - [`two_d`]: the 2-D antiplane screw dislocation (vertical strike-slip segment:
 //!   displacement and stress) and the plane-strain edge dislocation (dipping dip-slip

@@ -304,7 +304,7 @@ fn segall_edge_stress(c: f64, s1: f64, s2: f64, xi2: f64, x1: f64, x2: f64) -> [
 /// Segall's frame `x1 = −(y − y_k)`, `x2 = −z` (a rotation by π, so
 /// `σ_yy = σ11`, `σ_zz = σ22`, `σ_yz = σ12`) with Burgers vector
 /// `(s1, s2) = slip (cos δ, sin δ)`, a sign convention fixed by the comparison with DC3D
-/// in `tests/two_d.rs`.
+/// in `tests/suite/two_d.rs`.
 ///
 /// # Errors
 /// [`Error::Parameter`] for non-finite input, `aw1 ≥ aw2` or a dip outside

@@ -380,6 +380,10 @@ fn frob2_col(panel: &Mat<f64>, k: usize) -> f64 {
 
 /// Feeds the block `shape` the columns of the batch `range` (cluster order) from `panel`
 /// (rows in original numbering, column `k` = cluster-order column `range.start + k`).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one block's state, its shape and the batch it is fed: the loop body of the set-up, called in one place"
+)]
 fn update(
     state: &mut State,
     shape: &BlockShape,

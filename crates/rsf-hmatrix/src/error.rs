@@ -2,6 +2,7 @@
 
 /// Errors of the set-up and of the product of an [`HMatrix`](crate::HMatrix).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// The point dimension is not 1, 2 or 3.
     #[error("point dimension {0} is not 1, 2 or 3")]
@@ -76,6 +77,7 @@ pub enum Error {
 /// Errors of [`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns):
 /// the column oracle's own error `E`, or the set-up's.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ColumnsError<E> {
     /// The oracle failed on a batch of columns.
     #[error("the column oracle failed on a batch of {columns} columns (the first: {first})")]

@@ -2,6 +2,7 @@
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A dimension or length does not match.
     #[error("dimension mismatch in {what}: expected {expected}, got {got}")]

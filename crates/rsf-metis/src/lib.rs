@@ -20,6 +20,7 @@ pub const SEED: i32 = 1;
 
 /// Errors of this crate.
 #[derive(Debug, thiserror::Error, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Error {
     /// The crate was built without its feature `metis` (rsf-tnnmg's and rsf's `metis`).
     #[error(

@@ -679,7 +679,10 @@ impl SliderScene {
             name,
             value,
             requirement,
-        } = e;
+        } = e
+        else {
+            return e.into();
+        };
         let key = match name {
             "v0" => "v0_m_per_s",
             "l" => "l_m",

@@ -2,6 +2,7 @@
 
 /// Errors of this crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A law parameter is outside its admissible range (e.g. `L ≤ 0`).
     #[error("invalid state-law parameter {name} = {value}: {requirement}")]

@@ -45,6 +45,7 @@ pub const LOAD_PARALLEL_MIN_ROWS: usize = 5000;
 
 /// Errors of the time integrators.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// The time step is not finite and positive.
     #[error("time step τ = {0} s must be finite and > 0")]

@@ -2,6 +2,7 @@
 
 /// Errors returned by the solvers of this crate.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum Error {
     /// Input arrays do not have matching lengths.
     #[error("dimension mismatch in {what}: expected {expected}, got {got}")]

@@ -184,6 +184,10 @@ impl<const D: usize> NodalProblem<D> {
     /// and then written into `v`. Every node's arithmetic (full row in increasing column
     /// order, then the local solve) is the same for any split: bit-identical results for
     /// every thread count.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "one smoother sweep: the problem's data, the colouring, the threads and the scratch it reuses"
+    )]
     pub(crate) fn nonlinear_gauss_seidel_coloured<N: BlockNonlinearity<D>>(
         &self,
         b: &[f64],

@@ -4,6 +4,7 @@ use rsf_state::StateVariable;
 
 /// Errors of models, simulations, scenes and their output.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// Finite elements (mesh, assembly, constraints).
     #[error(transparent)]

@@ -114,6 +114,10 @@ impl VolumeProbe {
 
     /// Writes the watched dofs of `u` and `v` (length `n`) from the fault's unknowns `u_f`
     /// and rates `v_f` (length `m`), the integrated loading `big_g` and its speed.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the fault's unknowns and rates, the loading and its speed in, the watched displacement and velocity out"
+    )]
     pub(crate) fn fill(
         &self,
         u_f: &[f64],

@@ -108,6 +108,10 @@ impl Corner {
     /// the logarithm is replaced by `−ln(R − ξ)` and `X11`, `X32` (resp. `Y11`, `Y32`) by
     /// 0: the singular parts cancel in the sum over the corners (Okada 1992, §3, the
     /// remarks on the singular cases). `None` if `R = 0` (the point is the corner).
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "Okada's (1992) variables of one corner, as his DC3D passes them"
+    )]
     pub(crate) fn new(
         xi: f64,
         et: f64,

@@ -8,7 +8,7 @@
 //! source, surface corrections), with the vertical-fault (`cos δ = 0`) limits of the
 //! part-B integrals and the treatment of the singular cases on the rectangle's edges and
 //! their extensions. Our implementation follows the same organisation as Okada's FORTRAN
-//! routine DC3D, and `tests/okada_fixture.rs` compares it with that routine's output.
+//! routine DC3D, and `tests/suite/okada_fixture.rs` compares it with that routine's output.
 //!
 //! # Conventions (docs/halfspace.md §1)
 //! - Okada's frame: `x` along strike, `z` up, the half-space is `z ≤ 0`, `y` completes a

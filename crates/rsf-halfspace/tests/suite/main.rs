@@ -1,0 +1,8 @@
+//! The integration tests of `rsf-halfspace`, one binary (one link of the crate and its
+//! dependencies instead of one per file): each file is a module, run with
+//! `cargo test -p rsf-halfspace --test suite [module::test]`.
+
+mod bem;
+mod okada_fixture;
+mod okada_properties;
+mod two_d;

@@ -1,0 +1,9 @@
+//! The integration tests of `rsf-scenes`, one binary (one link of the crate and its
+//! dependencies instead of one per file): each file is a module, run with
+//! `cargo test -p rsf-scenes --test suite [module::test]`.
+
+mod absorbing_sides;
+mod scene_values;
+mod seas_bp3;
+mod seas_bp5;
+mod volume_vertices;

@@ -1,0 +1,46 @@
+//! The integration tests of `rsf`, one binary (one link of the crate and its
+//! dependencies instead of one per file): each file is a module, run with
+//! `cargo test -p rsf --test suite [module::test]`.
+
+mod common;
+
+mod absorbing;
+mod adaptive;
+mod adaptive_extremes;
+mod antiplane;
+mod consistency;
+mod coupled;
+mod direct_extension;
+mod energy;
+mod fault_ode;
+mod fault_ode_ordering;
+mod fixed_point_schemes;
+#[cfg(feature = "halfspace")]
+mod halfspace_operator;
+mod internal_fault;
+mod internal_fault_3d;
+mod internal_fault_multigrid;
+mod internal_loading;
+mod material_regions;
+mod memory_budget;
+mod model_builder;
+mod nodal_frames;
+mod normal_stress;
+mod observers;
+mod paper_scene;
+mod parallelism;
+mod reliability;
+mod resume;
+mod run_folder;
+mod seas_files;
+mod slider_3d;
+mod slip_event;
+mod spring_block;
+#[cfg(feature = "sprs")]
+mod sprs_edge;
+mod stability;
+mod steady_sliding;
+mod step_invariants;
+mod time_convergence;
+mod velocity_solvers;
+mod vtu;

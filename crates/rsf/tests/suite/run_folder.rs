@@ -1,0 +1,564 @@
+//! The run-folder procedure of the library (`rsf::run_folder`, docs/reliability.md): a
+//! folder of another run or program refused and left byte-identical, resumes checked
+//! before anything is cut (checkpoint, fingerprint, every file's continuation), output
+//! bounds and step caps; resumes of the 3-D slider and of the SEAS output byte-identical
+//! to uninterrupted runs.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use rsf::observe::{FileMode, PointSeries};
+use rsf::run_folder::RunFolder;
+use rsf::run_folder::{check_output_size, check_window, read_checkpoint};
+use rsf::Error;
+use rsf_scenes::SliderScene;
+
+const OUTPUTS: [&str; 3] = ["timeseries.csv", "checkpoint.bin", "summary.json"];
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rsf-run-folder-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every file under `dir` (recursively) with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(snapshot(&p));
+        } else {
+            out.insert(p.clone(), std::fs::read(&p).unwrap());
+        }
+    }
+    out
+}
+
+#[test]
+fn a_folder_of_another_run_is_refused_unless_overwritten() {
+    let dir = temp_dir("occupied");
+    let folder = RunFolder::new(&dir, "test_program", &OUTPUTS);
+    assert_eq!(folder.prepare(false, false).unwrap(), FileMode::Create);
+    std::fs::write(dir.join("timeseries.csv"), "rows").unwrap();
+    std::fs::write(dir.join("checkpoint.bin"), "state").unwrap();
+    let before = snapshot(&dir);
+    let e = folder.prepare(false, false).unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, Error::FileExists { .. }), "{msg}");
+    assert!(
+        msg.contains("timeseries.csv") && msg.contains("checkpoint.bin"),
+        "{msg}"
+    );
+    assert_eq!(snapshot(&dir), before);
+    // A resume leaves the files to the checks of the resume.
+    assert_eq!(folder.prepare(true, false).unwrap(), FileMode::Create);
+    assert_eq!(snapshot(&dir), before);
+    // --overwrite: the old checkpoint cannot be mistaken for the new run's.
+    assert_eq!(folder.prepare(false, true).unwrap(), FileMode::Overwrite);
+    assert!(!dir.join("checkpoint.bin").exists());
+}
+
+#[test]
+fn an_output_that_is_a_folder_or_an_out_that_is_a_file_is_refused_first() {
+    let dir = temp_dir("shapes");
+    std::fs::create_dir_all(dir.join("summary.json")).unwrap();
+    let e = RunFolder::new(&dir, "test_program", &OUTPUTS)
+        .prepare(false, true)
+        .unwrap_err();
+    assert!(e.to_string().contains("summary.json"), "{e}");
+    assert!(dir.join("summary.json").is_dir());
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let e = RunFolder::new(&file, "test_program", &OUTPUTS)
+        .prepare(false, false)
+        .unwrap_err();
+    let Error::File { path, action, .. } = &e else {
+        panic!("{e}")
+    };
+    assert!(
+        path.ends_with("a-file") && action.contains("output folder"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+}
+
+#[test]
+fn a_checkpoint_is_checked_against_the_scene_and_the_rows() {
+    let dir = temp_dir("rows");
+    let scene = SliderScene {
+        level: 1,
+        steps: 10,
+        end_time_s: 0.01,
+        ..SliderScene::default()
+    };
+    let mut sim = scene.build().unwrap();
+    let x0 = sim
+        .model()
+        .nearest_node(&rsf_scenes::SLIDER_CENTRE)
+        .unwrap();
+    let series = dir.join("timeseries.csv");
+    let mut obs = PointSeries::new(&series, sim.model(), x0, FileMode::Create).unwrap();
+    sim.run(4, &mut [&mut obs]).unwrap();
+    drop(obs);
+    let mut c = sim.checkpoint();
+    c.fingerprint = scene.fingerprint();
+    let path = dir.join("checkpoint.bin");
+    c.write(&path).unwrap();
+    let before = snapshot(&dir);
+    let c = read_checkpoint(&path, &scene.fingerprint(), &[]).unwrap();
+    PointSeries::<2>::check_checkpoint_row(&series, &c, x0).unwrap();
+    // Another node's values (as a checkpoint of another run would have) are refused.
+    let e = PointSeries::<2>::check_checkpoint_row(&series, &c, x0 + 1).unwrap_err();
+    assert!(e.to_string().contains("another run"), "{e}");
+    let mut later = c.clone();
+    later.state.step = 9;
+    assert!(PointSeries::<2>::check_checkpoint_row(&series, &later, x0).is_err());
+    let other = SliderScene { steps: 20, ..scene };
+    let e = read_checkpoint(&path, &other.fingerprint(), &[]).unwrap_err();
+    assert!(matches!(&e, Error::CheckpointMismatch { field, .. } if field == "steps"));
+    read_checkpoint(&path, &other.fingerprint(), &["steps".into()]).unwrap();
+    assert_eq!(snapshot(&dir), before);
+}
+
+#[test]
+fn windows_and_output_sizes_are_bounded() {
+    check_window("window", (0.5, 1.0), 1.0).unwrap();
+    for w in [(-0.1, 0.5), (0.5, 1.5), (0.5, 0.5), (f64::NAN, 0.5)] {
+        let e = check_window("window", w, 1.0).unwrap_err();
+        assert!(e.to_string().contains("`window`"), "{e}");
+    }
+    check_output_size(9e9, 10.0, "steps").unwrap();
+    let e = check_output_size(2e11, 10.0, "steps").unwrap_err();
+    assert!(e.to_string().contains("--max-output-gb"), "{e}");
+}
+
+/// The bound on the steps of adaptive runs is `T / tau_min_s` (not the initial step
+/// count), checked against a run: the steps taken never exceed it, even with a
+/// tolerance that drives τ to `tau_min_s`.
+#[test]
+fn adaptive_output_bounds_are_honest() {
+    use rsf_scenes::{AdaptiveTimeStep, TimeStep};
+    let adaptive = |tol: f64, tau_min_s: f64| SliderScene {
+        level: 1,
+        steps: 10,
+        end_time_s: 0.05,
+        loading_velocity_m_per_s: 1e-2,
+        ramp_fraction: 0.5,
+        time_step: TimeStep::Adaptive(AdaptiveTimeStep {
+            tau_min_s,
+            ..AdaptiveTimeStep::new(tol)
+        }),
+        ..SliderScene::default()
+    };
+    for (tol, tau_min) in [(1e-3, 1e-4), (1e-12, 2e-4), (0.5, 1e-3)] {
+        let scene = adaptive(tol, tau_min);
+        let bound = rsf_scenes::steps_bound(&scene, (0.0, scene.end_time_s));
+        let mut sim = scene.build().unwrap();
+        let run = sim.run_until(rsf::Until::Time(scene.end_time_s), &mut []);
+        let steps = sim.state().step as f64;
+        assert!(
+            steps <= bound,
+            "tol {tol:e}, tau_min {tau_min:e}: {steps} steps > bound {bound} ({run:?})"
+        );
+        assert!(
+            bound >= scene.end_time_s / tau_min,
+            "the bound is T / tau_min, not the initial N"
+        );
+    }
+    // Fixed steps: the bound is N + 1 (and the window's share).
+    let fixed = SliderScene {
+        steps: 1000,
+        ..SliderScene::default()
+    };
+    assert_eq!(
+        rsf_scenes::steps_bound(&fixed, (0.0, fixed.end_time_s)),
+        1001.0
+    );
+    // The paper's default adaptive run: T / tau_min = 1.5e10 rows would be refused;
+    // instead it gets a cap that fits in the budget, and explicit caps are checked.
+    let scene = SliderScene {
+        time_step: TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3)),
+        ..SliderScene::default()
+    };
+    let window = (0.6725 * 15.0, 0.6775 * 15.0);
+    let plan = rsf_scenes::plan_output(
+        &scene,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: None,
+            max_gb: 10.0,
+        },
+    )
+    .unwrap();
+    let cap = plan.step_cap.expect("a cap");
+    assert!(plan.bytes <= 10e9, "{plan:?}");
+    assert!(cap > 1_000_000, "{cap}");
+    let e = rsf_scenes::plan_output(
+        &scene,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: Some(1e9 as u64),
+            max_gb: 10.0,
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("`max_steps`"), "{e}");
+    let ok = rsf_scenes::plan_output(
+        &scene,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: Some(100_000),
+            max_gb: 10.0,
+        },
+    )
+    .unwrap();
+    assert_eq!(ok.step_cap, Some(100_000));
+    // Fixed steps above the budget are refused naming `steps`.
+    let huge = SliderScene {
+        steps: 1_000_000_000,
+        ..SliderScene::default()
+    };
+    let e = rsf_scenes::plan_output(
+        &huge,
+        window,
+        81,
+        600,
+        rsf_scenes::OutputLimits {
+            max_steps: None,
+            max_gb: 10.0,
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("`steps`"), "{e}");
+}
+
+/// The per-step bound of a run that keeps a record of every step (`long_run`): the
+/// closed forms of the bound (T / tau_min_s + 2 adaptive steps, N + 1 fixed ones).
+#[test]
+fn per_step_records_are_bounded_before_the_run() {
+    let adaptive = SliderScene {
+        end_time_s: 200.0,
+        time_step: rsf_scenes::TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep::new(1e-3)),
+        ..SliderScene::default()
+    };
+    let rsf_scenes::TimeStep::Adaptive(a) = adaptive.time_step else {
+        unreachable!()
+    };
+    // 200 s / tau_min_s steps of 150 bytes do not fit in 10 GB: capped at what fits.
+    assert!(200.0 / a.tau_min_s * 150.0 > 10e9);
+    let cap = rsf_scenes::step_cap(&adaptive, 150.0, None, 10.0).unwrap();
+    assert_eq!(cap, Some((10e9 / 150.0) as u64));
+    // An explicit cap that fits is kept; one that does not names max_steps.
+    assert_eq!(
+        rsf_scenes::step_cap(&adaptive, 150.0, Some(1000), 10.0).unwrap(),
+        Some(1000)
+    );
+    for bad in [Some(0), Some(1_000_000_000_000)] {
+        let e = rsf_scenes::step_cap(&adaptive, 150.0, bad, 10.0).unwrap_err();
+        assert!(e.to_string().contains("max_steps"), "{e}");
+    }
+    // Fixed steps: N + 1 rows; 1e12 steps refused by name, 1e4 steps need no cap.
+    let fixed = |steps| SliderScene {
+        steps,
+        ..SliderScene::default()
+    };
+    assert_eq!(
+        rsf_scenes::step_cap(&fixed(10_000), 150.0, None, 10.0).unwrap(),
+        None
+    );
+    let e = rsf_scenes::step_cap(&fixed(1_000_000_000_000), 150.0, None, 10.0).unwrap_err();
+    assert!(e.to_string().contains("`steps`"), "{e}");
+    // 10 GB hold 66 666 666 steps of 150 bytes: 66 666 665 fixed steps (+1) fit, one more does not.
+    assert!(rsf_scenes::step_cap(&fixed(66_666_665), 150.0, None, 10.0).is_ok());
+    assert!(rsf_scenes::step_cap(&fixed(66_666_667), 150.0, None, 10.0).is_err());
+    for gb in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = rsf_scenes::step_cap(&fixed(10), 150.0, None, gb).unwrap_err();
+        assert!(e.to_string().contains("max_output_gb"), "{e}");
+    }
+}
+
+/// A folder written by another program is refused — by its manifest, even where no file
+/// name is shared — and left byte-identical; `--overwrite` replaces it.
+#[test]
+fn a_folder_of_another_program_is_refused_and_left_byte_identical() {
+    let dir = temp_dir("other-program");
+    let main_job = RunFolder::new(
+        &dir,
+        "pipping_slider",
+        &["timeseries.csv", "checkpoint.bin", "summary.json"],
+    );
+    assert_eq!(main_job.prepare(false, false).unwrap(), FileMode::Create);
+    for name in ["timeseries.csv", "checkpoint.bin", "summary.json"] {
+        std::fs::write(dir.join(name), format!("{name} of the main job")).unwrap();
+    }
+    let before = snapshot(&dir);
+    assert!(before.contains_key(&dir.join(rsf::run_folder::MANIFEST)));
+    // A program with an overlapping file name (summary.json) and one with none.
+    for outputs in [
+        &["fltst_dp000", "devol.dat", "summary.json"][..],
+        &["sweep.csv"][..],
+    ] {
+        let other = RunFolder::new(&dir, "seas_bp1", outputs);
+        for resume in [false, true] {
+            let e = other.prepare(resume, false).unwrap_err();
+            let msg = e.to_string();
+            assert!(matches!(e, Error::FileExists { .. }), "{msg}");
+            assert!(msg.contains("pipping_slider"), "{msg}");
+            assert_eq!(snapshot(&dir), before, "{msg}");
+        }
+        // A resume into another program's folder is refused even with --overwrite.
+        assert!(other.prepare(true, true).is_err());
+        assert_eq!(snapshot(&dir), before);
+    }
+    // --overwrite: the earlier run's files are gone, the manifest is the new program's.
+    let other = RunFolder::new(&dir, "seas_bp1", &["devol.dat", "summary.json"]);
+    assert_eq!(other.prepare(false, true).unwrap(), FileMode::Overwrite);
+    for name in ["timeseries.csv", "checkpoint.bin", "summary.json"] {
+        assert!(!dir.join(name).exists(), "{name}");
+    }
+    let manifest = std::fs::read_to_string(dir.join(rsf::run_folder::MANIFEST)).unwrap();
+    assert!(manifest.starts_with("program=seas_bp1\n"), "{manifest}");
+}
+
+/// `--allow-change` accepts only fields of the run's fingerprint and lists them when
+/// given another; the checkpoint is not even read then.
+#[test]
+fn allow_change_with_an_unknown_field_names_the_known_ones() {
+    let scene = SliderScene {
+        level: 1,
+        steps: 10,
+        end_time_s: 0.01,
+        ..SliderScene::default()
+    };
+    let fingerprint = scene.fingerprint().with("window", "0e0,1e-2");
+    let missing = temp_dir("allow-change").join("no-checkpoint.bin");
+    let e = read_checkpoint(&missing, &fingerprint, &["end_time".into()]).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        matches!(&e, Error::InvalidParameter { name, .. } if name == "allow_change"),
+        "{msg}"
+    );
+    for known in ["end_time_s", "steps", "window", "level", "format"] {
+        assert!(msg.contains(known), "{known}: {msg}");
+    }
+    // Known fields pass the check (and then the missing file is the error).
+    let e = read_checkpoint(
+        &missing,
+        &fingerprint,
+        &["end_time_s".into(), "window".into()],
+    )
+    .unwrap_err();
+    assert!(matches!(e, Error::File { .. }), "{e}");
+}
+
+/// The 3-D slider (level 0): checkpointed at step 5, "killed" at step 9, resumed from the
+/// checkpoint through the library's procedure to step 12 — the time series and the
+/// profile are byte-identical to an uninterrupted run's, and the fingerprint of the
+/// 3-D scene refuses a checkpoint of another width.
+#[test]
+fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
+    use rsf::observe::{Checkpointer, Every, FrictionalProfile, Interval};
+    use rsf::Observer;
+    use rsf_scenes::Slider3dScene;
+    let scene = Slider3dScene {
+        slider: SliderScene {
+            level: 0,
+            steps: 1000,
+            end_time_s: 1.5,
+            ..Slider3dScene::default().slider
+        },
+        ..Slider3dScene::default()
+    };
+    const OUT: [&str; 3] = ["timeseries.csv", "profile.csv", "checkpoint.bin"];
+    let fingerprint = scene.fingerprint();
+    assert_eq!(fingerprint.get("width_m"), Some("1.0"));
+    // Runs `steps` steps into `dir` (from the checkpoint `resume`, if given), checkpointing
+    // every 5 steps.
+    let run = |dir: &Path, steps: usize, resume: Option<&Path>| -> rsf::Result<()> {
+        let folder = RunFolder::new(dir, "slider_3d_test", &OUT);
+        let fresh = folder.prepare(resume.is_some(), false)?;
+        let mut sim = scene.build()?;
+        let x0 = sim.model().nearest_node(&scene.centre())?;
+        let (series, profile) = (folder.path("timeseries.csv"), folder.path("profile.csv"));
+        let mode = match resume {
+            Some(path) => {
+                let c = read_checkpoint(path, &fingerprint, &[])?;
+                PointSeries::<3>::check_resume(&series, c.state.step)?;
+                PointSeries::<3>::check_checkpoint_row(&series, &c, x0)?;
+                FrictionalProfile::<3>::check_resume(&profile, c.state.step)?;
+                sim.restore(&c)?;
+                FileMode::Resume { step: c.state.step }
+            }
+            None => fresh,
+        };
+        let mut s = PointSeries::new(&series, sim.model(), x0, mode)?;
+        let mut p = FrictionalProfile::new(&profile, (0.0, f64::INFINITY), mode)?;
+        let mut c = Every::new(
+            Interval::Steps(5),
+            Checkpointer::new(folder.path("checkpoint.bin")).fingerprint(fingerprint.clone()),
+        )?;
+        let left = steps - sim.state().step;
+        let mut observers: [&mut dyn Observer<3>; 3] = [&mut s, &mut p, &mut c];
+        sim.run(left, &mut observers).map_err(|e| e.error)?;
+        Ok(())
+    };
+    let (whole, parts) = (temp_dir("3d-whole"), temp_dir("3d-parts"));
+    run(&whole, 12, None).unwrap();
+    run(&parts, 9, None).unwrap();
+    let checkpoint = parts.join("checkpoint.bin");
+    let saved = temp_dir("3d-saved").join("checkpoint.bin");
+    std::fs::copy(&checkpoint, &saved).unwrap();
+    assert_eq!(rsf::Checkpoint::read(&saved).unwrap().state.step, 5);
+    // Another width is another run.
+    let wider = Slider3dScene {
+        width_m: 2.0,
+        ..scene.clone()
+    };
+    let e = read_checkpoint(&saved, &wider.fingerprint(), &[]).unwrap_err();
+    assert!(
+        matches!(&e, Error::CheckpointMismatch { field, .. } if field == "width_m"),
+        "{e}"
+    );
+    run(&parts, 12, Some(&saved)).unwrap();
+    for name in ["timeseries.csv", "profile.csv"] {
+        let (a, b) = (
+            std::fs::read(whole.join(name)).unwrap(),
+            std::fs::read(parts.join(name)).unwrap(),
+        );
+        assert!(a == b, "{name} differs after the resume");
+    }
+    assert_eq!(
+        PointSeries::<3>::read(&parts.join("timeseries.csv"))
+            .unwrap()
+            .len(),
+        12
+    );
+}
+
+/// The SEAS output of the small BP1 (implicit scheme), thinned: written for 40 steps,
+/// against written for 15 steps, checkpointed, "killed" at 22 and resumed from the
+/// checkpoint to 40 — every file (stations, `devol.dat`, `events.csv`, the resume log)
+/// byte-identical. A station file truncated mid-row is refused first, naming it, with
+/// nothing changed.
+#[test]
+fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
+    use rsf::friction::AsinhLaw;
+    use rsf::observe::{Checkpointer, SeasOutput, SeasSampling, SeasSetup};
+    use rsf::Observer;
+    use rsf_scenes::{SeasBp1, SeasBp1Simulation};
+    let (bp1, grid) = crate::common::small_bp1(&SeasBp1::default());
+    let sampling = SeasSampling {
+        station_quiet: 200.0,
+        profile_quiet: 2000.0,
+        ..SeasSampling::default()
+    };
+    let fingerprint = bp1
+        .fingerprint(&grid, false, &sampling)
+        .with("scheme", "implicit");
+    let setup = |_: ()| {
+        let mut setup = SeasSetup {
+            problem: "BP1-QD (small test)".into(),
+            modeler: "test".into(),
+            date: "2026-11-24".into(),
+            profile_spacing: 1000.0,
+            ..bp1.seas_setup(grid.dz, false, sampling)
+        };
+        setup.stations.truncate(5);
+        setup
+    };
+    let build = || -> SeasBp1Simulation {
+        let model = bp1.model(&grid, false).unwrap();
+        bp1.simulation_builder(model, false, 1e-2, bp1.step_control(1e-2).unwrap())
+            .unwrap()
+            .build()
+            .unwrap()
+    };
+    let output = |dir: &Path, sim: &SeasBp1Simulation, mode: FileMode| {
+        SeasOutput::<AsinhLaw>::new(
+            dir,
+            sim.model(),
+            sim.problem().friction_laws(),
+            setup(()),
+            mode,
+        )
+    };
+    // `steps` steps into `dir`, a checkpoint at `checkpoint_at`.
+    let run =
+        |dir: &Path, sim: &mut SeasBp1Simulation, out: &mut SeasOutput<AsinhLaw>, steps: usize| {
+            let mut c = rsf::observe::Every::new(
+                rsf::observe::Interval::Steps(15),
+                Checkpointer::new(dir.join("checkpoint.bin")).fingerprint(fingerprint.clone()),
+            )
+            .unwrap();
+            let mut observers: [&mut dyn Observer<2, 1>; 2] = [out, &mut c];
+            sim.run(steps, &mut observers).unwrap();
+        };
+    let (whole, parts) = (temp_dir("seas-whole"), temp_dir("seas-parts"));
+    let mut sim = build();
+    let mut out = output(&whole, &sim, FileMode::Overwrite)
+        .unwrap()
+        .with_resume_log(FileMode::Overwrite)
+        .unwrap();
+    run(&whole, &mut sim, &mut out, 40);
+    drop(out);
+    let mut sim = build();
+    let mut out = output(&parts, &sim, FileMode::Overwrite)
+        .unwrap()
+        .with_resume_log(FileMode::Overwrite)
+        .unwrap();
+    run(&parts, &mut sim, &mut out, 22);
+    drop(out);
+    let c = read_checkpoint(&parts.join("checkpoint.bin"), &fingerprint, &[]).unwrap();
+    assert_eq!(c.state.step, 15);
+    // The thinning matters: fewer station rows than steps, more than one.
+    let station = parts.join(SeasBp1::station_name(0.0));
+    let rows = std::fs::read_to_string(&station)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .count()
+        - 1;
+    assert!(rows > 1 && rows < 22, "{rows} station rows in 22 steps");
+
+    // A station file truncated mid-row (inside the rows up to the checkpoint) is refused
+    // before anything is cut.
+    let damaged = parts.join(SeasBp1::station_name(5e3));
+    let intact = std::fs::read(&damaged).unwrap();
+    let header_end = intact.windows(6).position(|w| w == b"state\n").unwrap() + 6;
+    std::fs::write(&damaged, &intact[..header_end + 30]).unwrap();
+    let before = snapshot(&parts);
+    let sim = build();
+    let e = output(&parts, &sim, FileMode::Resume { step: 15 })
+        .err()
+        .unwrap();
+    let msg = e.to_string();
+    assert!(matches!(e, Error::Resume { .. }), "{msg}");
+    assert!(msg.contains("fltst_dp050"), "{msg}");
+    assert_eq!(snapshot(&parts), before, "nothing is cut: {msg}");
+    std::fs::write(&damaged, &intact).unwrap();
+
+    // The intact folder resumes byte-identically.
+    let mut sim = build();
+    SeasOutput::<AsinhLaw>::check_resume(&parts, sim.model(), &setup(()), 15).unwrap();
+    sim.restore(&c).unwrap();
+    let mut out = output(&parts, &sim, FileMode::Resume { step: 15 }).unwrap();
+    run(&parts, &mut sim, &mut out, 25);
+    drop(out);
+    let (a, b) = (snapshot(&whole), snapshot(&parts));
+    assert_eq!(a.len(), b.len());
+    for ((pa, ba), (pb, bb)) in a.iter().zip(&b) {
+        assert_eq!(pa.file_name(), pb.file_name());
+        if pa.ends_with("checkpoint.bin") {
+            continue; // wall times differ
+        }
+        assert!(ba == bb, "{} differs after the resume", pa.display());
+    }
+}

@@ -1,0 +1,135 @@
+//! VTU frames for ParaView: files are written during the run, read back with vtkio, and
+//! their point data (u, v, α; on Γ_F slip, shear and normal traction) equal the
+//! simulation's state at the frame's step (issues 13, 24).
+#![cfg(feature = "vtk")]
+
+use crate::common::*;
+use rsf::friction::FrictionLaw;
+use rsf::observe::{Every, FileMode, Interval, VtuFrames};
+
+/// The point data `name` of a frame as 3-vectors per vertex.
+fn point_vectors(piece: &vtkio::model::UnstructuredGridPiece, name: &str) -> Vec<f64> {
+    let attr = piece
+        .data
+        .point
+        .iter()
+        .find(|a| a.name() == name)
+        .unwrap_or_else(|| panic!("no point data `{name}`"));
+    let vtkio::model::Attribute::DataArray(array) = attr else {
+        panic!("`{name}` is not a data array")
+    };
+    array
+        .data
+        .clone()
+        .cast_into::<f64>()
+        .expect("numeric point data")
+}
+
+#[test]
+fn frames_hold_the_state_of_their_step() {
+    let dir = temp_dir("vtu");
+    // Fast loading: by step 40 Γ_F slides, so u, v differ from node to node and step to step.
+    let scene = with_level(fast_loading(2e-2, 40), 1);
+    let mut sim = build(&scene);
+    let mut frames = Every::new(
+        Interval::Steps(20),
+        VtuFrames::new(&dir, FileMode::Create).expect("frame folder"),
+    )
+    .unwrap();
+    let mut states = Snapshots {
+        every: 20,
+        ..Snapshots::default()
+    };
+    run_until(&mut sim, 0.04, &mut [&mut frames, &mut states]);
+    assert_eq!(states.states.len(), 2);
+    let model = sim.model();
+    let n = model.vertices.len();
+    for (step, kin, alpha) in &states.states {
+        let path = dir.join(format!("frame_{step:06}.vtu"));
+        let vtk = vtkio::Vtk::import(&path).expect("frame is valid VTK XML");
+        let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+            panic!("not an unstructured grid")
+        };
+        let piece = pieces[0].load_piece_data(None).expect("inline piece");
+        assert_eq!(piece.num_points(), n);
+        let points = piece
+            .points
+            .clone()
+            .cast_into::<f64>()
+            .expect("point coordinates");
+        for (p, x) in model.vertices.iter().enumerate() {
+            assert_eq!(&points[3 * p..3 * p + 3], &[x[0], x[1], 0.0], "vertex {p}");
+        }
+        for (name, field) in [("displacement", &kin.u), ("velocity", &kin.v)] {
+            let data = point_vectors(&piece, name);
+            assert_eq!(data.len(), 3 * n, "{name}");
+            for p in 0..n {
+                assert_eq!(
+                    &data[3 * p..3 * p + 3],
+                    &[field[2 * p], field[2 * p + 1], 0.0],
+                    "step {step}: {name} at vertex {p}"
+                );
+            }
+        }
+        // α on Γ_F, NaN (no state) elsewhere.
+        let state = point_vectors(&piece, "state_alpha");
+        assert_eq!(state.len(), n);
+        let mut on_fault = vec![false; n];
+        for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
+            on_fault[p] = true;
+            assert_eq!(state[p], alpha[k], "step {step}: α at frictional node {p}");
+        }
+        for p in (0..n).filter(|&p| !on_fault[p]) {
+            assert!(state[p].is_nan(), "step {step}: α at interior vertex {p}");
+        }
+        // In slip coordinates on Γ_F (NaN elsewhere): the slip u − u₀, the shear traction
+        // σ̄_n μ(V, α) by the law's friction coefficient (the frame evaluates the
+        // potential's slope: another code path), the prescribed normal traction σ̄_n.
+        let slip = point_vectors(&piece, "slip");
+        let shear = point_vectors(&piece, "shear_traction");
+        let normal = point_vectors(&piece, "normal_traction");
+        let law = friction_law(&scene);
+        let sigma_n = params(&scene).sigma_n;
+        let mut sliding = 0;
+        for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
+            let u0 = &model.initial_displacement;
+            let expected = [
+                kin.u[2 * p] - u0[2 * p],
+                kin.u[2 * p + 1] - u0[2 * p + 1],
+                0.0,
+            ];
+            assert_eq!(
+                &slip[3 * p..3 * p + 3],
+                &expected,
+                "step {step}: slip at {p}"
+            );
+            let v = kin.v[2 * p].hypot(kin.v[2 * p + 1]);
+            let tau = sigma_n * law.friction_coefficient(v, alpha[k]);
+            assert!(
+                (shear[p] - tau).abs() <= 1e-12 * tau.abs().max(1.0),
+                "step {step}: shear traction at {p}: {} vs σ̄_n μ = {tau}",
+                shear[p]
+            );
+            sliding += usize::from(tau > 0.0);
+            assert_eq!(normal[p], sigma_n, "step {step}: normal traction at {p}");
+        }
+        assert!(sliding > 0, "step {step}: no node slides");
+        for p in (0..n).filter(|&p| !on_fault[p]) {
+            assert!(shear[p].is_nan() && normal[p].is_nan() && slip[3 * p].is_nan());
+        }
+        // The frames differ from each other: the data are the step's, not a stale copy.
+        let slip_rate = kin.v[2 * model.frictional_boundary.nodes[0]];
+        assert!(slip_rate != 0.0, "step {step}: Γ_F at rest");
+    }
+    assert_ne!(states.states[0].1.u, states.states[1].1.u);
+    assert_ne!(
+        states.states[0].2, states.states[1].2,
+        "α evolves between the frames"
+    );
+    let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet ").count(), 2);
+    for (step, ..) in &states.states {
+        assert!(pvd.contains(&format!("file=\"frame_{step:06}.vtu\"")));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
