@@ -38,7 +38,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
 use rsf::Model;
-use rsf_examples::guard::{refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_examples::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{
     max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
@@ -135,7 +135,11 @@ impl Program for Cli {
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;
         if !(self.dip.abs() < 90.0) {
-            return Err(refuse("--dip", self.dip, "must be in (-90, 90) degrees"));
+            return Err(refuse(
+                "--dip",
+                number(self.dip),
+                "must be in (-90, 90) degrees",
+            ));
         }
         let out = self.out();
         Ok(self.own(&out).plan(&scene))

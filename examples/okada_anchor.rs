@@ -27,7 +27,7 @@
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use rsf_examples::guard::{in_range, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::okada_anchor::{compare_held, Errors, Fault, SLIP};
 
 /// The rectangles compared.
@@ -114,7 +114,7 @@ impl Program for Cli {
         if !(self.h0 > 0.0 && self.h0 <= 0.5) {
             return Err(refuse(
                 "--h0",
-                self.h0,
+                number(self.h0),
                 "must be in (0, 0.5] (units of the fault's width)",
             ));
         }

@@ -53,7 +53,9 @@ use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
 use rsf_examples::cli::for_flag;
 use rsf_examples::estimates::seas_output_bytes;
-use rsf_examples::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_examples::guard::{
+    flag, in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program,
+};
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
@@ -272,7 +274,7 @@ impl Program for Args {
             in_range(
                 "--dynamic-tau",
                 tau,
-                (1e-12 * crossing, crossing),
+                (1e-12, crossing),
                 &format!(
                     "s: at most the {crossing:.3e} s a shear wave takes to cross an element \
                      of the fault (Δz/c_s); a longer step does not resolve the rupture"
@@ -318,9 +320,13 @@ impl Program for Args {
                 size.bytes,
                 "--dz, --domain-km, --ratio",
                 format!(
-                    "BP1 on dz = {:e} m, domain = {:e} km, ratio = {}: about {:.3e} nodes \
+                    "BP1 on dz = {} m, domain = {} km, ratio = {}: about {:.3e} nodes \
                      ({:.3e} on the fault)",
-                    self.dz, self.domain_km, self.ratio, size.nodes, size.fault_nodes
+                    number(self.dz),
+                    number(self.domain_km),
+                    number(self.ratio),
+                    size.nodes,
+                    size.fault_nodes
                 ),
             )
             .output(

@@ -28,7 +28,9 @@ use clap::Parser;
 use rsf::observe::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 use rsf::Stepping;
 use rsf_examples::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
-use rsf_examples::guard::{in_range, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_examples::guard::{
+    in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program,
+};
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
@@ -125,7 +127,11 @@ impl Program for Args {
     fn plan(&self) -> Result<Plan, AnyError> {
         in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
         if !(self.dip > 0.0 && self.dip < 90.0) {
-            return Err(refuse("--dip", self.dip, "must be in (0, 90) degrees"));
+            return Err(refuse(
+                "--dip",
+                number(self.dip),
+                "must be in (0, 90) degrees",
+            ));
         }
         let (bp3, grid) = scene(self);
         let w_f = bp3.params.w_f;
@@ -167,8 +173,11 @@ impl Program for Args {
                 memory,
                 "--dx, --domain-km, --ratio",
                 format!(
-                    "BP3 on dx = {:e} m, domain = {:e} km, ratio = {}: about {nodes:.3e} nodes,                      {nz:.3e} on the fault",
-                    self.dx, self.domain_km, self.ratio
+                    "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
+                     {nz:.3e} on the fault",
+                    number(self.dx),
+                    number(self.domain_km),
+                    number(self.ratio)
                 ),
             )
             .output(

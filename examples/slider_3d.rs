@@ -140,7 +140,7 @@ impl Program for Cli {
             if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
                 return Err(rsf_examples::guard::refuse(
                     "--snapshot-time",
-                    format_args!("{t:e}"),
+                    rsf_examples::guard::number(t),
                     &format!(
                         "must be a finite time inside [0, T] = [0, {:e}] s",
                         s.end_time_s

@@ -355,7 +355,7 @@ fn positive(name: &str, x: f64) -> Result<f64, AnyError> {
     } else {
         Err(refuse(
             name,
-            format_args!("{x:e}"),
+            rsf_examples::guard::number(x),
             "must be positive and finite",
         ))
     }

@@ -116,6 +116,22 @@ fn excerpt(s: &str) -> String {
     rsf_numeric::excerpt(s)
 }
 
+/// A number for a message as a user would write it: `300`, `0.025`, `1e300` (never 301
+/// digits), `NaN`.
+pub fn number(x: f64) -> String {
+    let s = if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    };
+    // A computed bound (`0.007217090069284064`) with four digits.
+    if s.len() > 10 {
+        format!("{x:.3e}")
+    } else {
+        s
+    }
+}
+
 /// Checks that `x` (the value of `flag`) lies in `[lo, hi]` (NaN is refused).
 ///
 /// # Errors
@@ -126,8 +142,8 @@ pub fn in_range(flag: &str, x: f64, (lo, hi): (f64, f64), why: &str) -> Result<f
     } else {
         Err(refuse(
             flag,
-            format_args!("{x:e}"),
-            &format!("must be in [{lo:e}, {hi:e}] ({why})"),
+            number(x),
+            &format!("must be in [{}, {}] ({why})", number(lo), number(hi)),
         ))
     }
 }
