@@ -19,14 +19,22 @@
 //! profiles `slip.dat`, `shear_stress.dat` and `normal_stress.dat`, the event catalogue
 //! `events.csv`), the figure `overview.png` (slip profiles, maximum slip rate against
 //! time), and prints the events.
+//!
+//! Runs: `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files
+//! and their resume log `seas_resume.csv` written at the same steps), `--resume FILE`
+//! (continues the files in `--out` from a checkpoint of this run: the same bytes as an
+//! uninterrupted run), `--max-steps N` (stop after step N in total, with a checkpoint),
+//! `--overwrite` (a folder of another run is refused, and left untouched, otherwise).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use rsf::observe::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
-use rsf::Stepping;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::run_folder::{read_checkpoint, step_cap_error, until};
+use rsf::{Observer, Stepping};
 use rsf_examples::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
 use rsf_examples::guard::{
     in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program,
@@ -75,6 +83,12 @@ struct Args {
     threads: usize,
     #[command(flatten)]
     header: rsf_examples::SeasHeaderArgs,
+    /// `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files'
+    /// resume log `seas_resume.csv` at the same steps), `--resume FILE` (continues the
+    /// files in `--out`: the checkpoint and every file's rows are checked before anything
+    /// is cut), `--allow-change`, `--max-steps N`.
+    #[command(flatten)]
+    run: rsf_examples::ResumeArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -111,6 +125,8 @@ fn outputs() -> Vec<String> {
             "normal_stress.dat",
             "events.csv",
             "overview.png",
+            "checkpoint.bin",
+            rsf::observe::SEAS_RESUME_LOG,
         ]
         .map(String::from),
     );
@@ -188,7 +204,11 @@ impl Program for Args {
                     self.end_years
                 ),
             )
-            .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)))
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
     }
 }
 
@@ -240,21 +260,70 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             .unwrap_or_else(rsf::observe::utc_date_today),
         ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
+    // What a checkpoint continues: the scene, the grid and what changes the trajectory.
+    let fingerprint = Fingerprint::of_serialized(&bp3.params)
+        .with("dip_degrees", args.dip)
+        .with("normal_faulting", bp3.normal_faulting)
+        .with("dx", args.dx)
+        .with("domain_km", args.domain_km)
+        .with("ratio", args.ratio)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("kernel", options.kernel);
+    // On resume everything is checked before any file is touched: the checkpoint (its
+    // checksum and fingerprint), then every file's rows up to the checkpoint's step.
+    let resumed = match &args.run.resume {
+        None => None,
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
+            SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
+                &args.out,
+                ode.model(),
+                &setup,
+                c.state.step,
+            )?;
+            ode.restore(&c)?;
+            Some(c)
+        }
+    };
+    let mode = match &resumed {
+        Some(c) => FileMode::Resume { step: c.state.step },
+        None => folder.mode(),
+    };
     let mut output = SeasOutput::new(
         &args.out,
         ode.model(),
         ode.problem().friction_laws(),
         setup,
-        folder.mode(),
+        mode,
     )?;
+    // A run that can stop before its end (checkpoints, a step cap) logs what its files
+    // hold at each checkpoint.
+    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+        output = output.with_resume_log(mode)?;
+    }
     // The fault ODE computes the surface stations' vertices (not the whole field) after
     // every step; their initial row needs them now.
     ode.watch_vertices(&output.surface_vertices())?;
-    output.write_initial_state(ode.model(), ode.state())?;
-    let summary = ode.run_until(
-        rsf::Until::Time(args.end_years * SECONDS_PER_YEAR),
-        &mut [&mut output],
+    if resumed.is_none() {
+        output.write_initial_state(ode.model(), ode.state())?;
+    }
+    // Every `--checkpoint-every` steps, and where the step cap stops the run.
+    let checkpoint = args.out.join("checkpoint.bin");
+    let mut checkpointer = args.run.checkpointer(
+        checkpoint.clone(),
+        fingerprint,
+        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
     )?;
+    let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
+    let summary = {
+        // The files first, the checkpoint after them: a checkpoint never runs ahead.
+        let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut output, &mut checkpointer];
+        ode.run_until(end, &mut observers)?
+    };
+    if let Some(e) = step_cap_error(&summary, end, ode.state(), &checkpoint) {
+        return Err(e.into());
+    }
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     for e in output.events() {
