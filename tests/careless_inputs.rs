@@ -10,7 +10,9 @@
 //! guard (`rsf_examples::guard`) or fails here.
 //!
 //! The binaries are the examples `cargo test` builds beside this test
-//! (`target/<profile>/examples/`); the cases run two at a time.
+//! (`target/<profile>/examples/`); the cases run two at a time. Two more tests: a second
+//! run into a running `seas_bp3`'s folder, and a full disk (a 1 MB tmpfs, where the
+//! machine allows mounting one).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -490,6 +492,71 @@ fn a_second_run_into_a_running_folder_is_refused_at_once() {
     );
     assert!(still_running, "the first run ended early");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A 1 MB filesystem mounted for the test (`mount -t tmpfs`), unmounted when dropped.
+struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    /// Mounts one at `dir`, if the machine allows (root, a kernel with tmpfs).
+    fn mount(dir: &Path) -> Option<Self> {
+        std::fs::create_dir_all(dir).ok()?;
+        let ok = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=1m", "tmpfs"])
+            .arg(dir)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        ok.then(|| Self(dir.to_path_buf()))
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        Command::new("umount").arg(&self.0).status().ok();
+    }
+}
+
+/// Programs that fill a 1 MB disk within seconds stop with an error naming the file they
+/// could not write and the operating system's cause ("No space left on device"), where the
+/// machine allows mounting one.
+#[test]
+fn a_full_disk_is_reported_with_the_path_and_its_cause() {
+    let dir = std::env::temp_dir().join(format!("rsf-full-disk-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let Some(disk) = SmallDisk::mount(&dir.join("disk")) else {
+        println!("no 1 MB filesystem could be mounted here: skipped");
+        return;
+    };
+    let cases: &[(&str, &[&str])] = &[
+        ("seas_bp3", &["--dx", "2000", "--threads", "1"]),
+        (
+            "seas_bp1",
+            &["--dz", "400", "--domain-km", "60", "--threads", "1"],
+        ),
+        (
+            "pipping_slider",
+            &["--level", "2", "--steps", "20000", "--threads", "1"],
+        ),
+        ("inclined_block", &["--level", "2", "--frame-every", "1"]),
+        ("spring_block", &["--steps-per-l", "2000"]),
+    ];
+    let mut failures = Vec::new();
+    for (i, (program, args)) in cases.iter().enumerate() {
+        let mut args: Vec<String> = args.iter().map(|s| (*s).to_owned()).collect();
+        args.extend(["--out".into(), format!("disk/{i}")]);
+        let o = run(program, &args, &dir, Duration::from_secs(120));
+        let err = &o.stderr;
+        if o.ok || !(err.contains("No space left on device") && err.contains(&format!("disk/{i}/")))
+        {
+            failures.push(format!("{program} {args:?} (ok: {}):\n{err}", o.ok));
+        }
+        // Free the disk for the next case.
+        std::fs::remove_dir_all(dir.join(format!("disk/{i}"))).ok();
+    }
+    drop(disk);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
 
 /// The arc block's Gmsh fixture with a duplicated node: a crack nobody declared.
