@@ -423,8 +423,9 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
     for f in &plan.folders {
         if f.resume && f.overwrite {
             return Err(format!(
-                "--overwrite: a run that continues the files in {} `{}` cannot replace them \
-                 (leave out --overwrite to continue, or --resume to start anew)",
+                "--overwrite: a run that continues the files in {} `{}` (--resume, --reuse) \
+                 cannot replace them: leave out --overwrite to continue them, or the flag \
+                 that continues them to start anew",
                 f.flag,
                 f.dir.display()
             )
