@@ -16,10 +16,11 @@
 //! with `--frame-every N`, VTU frames with a `frames/frames.pvd` index for ParaView (slip,
 //! slip rate, shear and normal traction along the arc).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
+use rsf_examples::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{
     max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
@@ -43,28 +44,69 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let scene: SliderScene = cli
-        .time_step
-        .apply(cli.scene.scene(SliderScene::default())?)?;
-    let out = cli
-        .output
-        .out
-        .clone()
-        .unwrap_or_else(|| "out/curved_fault".into());
-    let run = OwnRun {
-        program: "curved_fault",
-        label: "curved fault",
-        out: &out,
-        figure: "slip_rate_max.png",
-        args: &cli.output,
-    };
-    // Refused before anything is computed: another run's folder, one that cannot be
-    // written.
-    let mode = run.prepare()?;
+impl Cli {
+    /// The scene of the flags.
+    fn scene(&self) -> Result<SliderScene, AnyError> {
+        Ok(self
+            .time_step
+            .apply(self.scene.scene(SliderScene::default())?)?)
+    }
+
+    /// The output folder.
+    fn out(&self) -> PathBuf {
+        self.output
+            .out
+            .clone()
+            .unwrap_or_else(|| "out/curved_fault".into())
+    }
+
+    /// The run on its own model.
+    fn own<'a>(&'a self, out: &'a Path) -> OwnRun<'a> {
+        OwnRun {
+            program: "curved_fault",
+            label: "curved fault",
+            out,
+            figure: "slip_rate_max.png",
+            args: &self.output,
+        }
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "curved_fault";
+
+    fn limits(&self) -> Limits {
+        self.output.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = self.scene()?;
+        // The mesh must be there to be read (read with the model, after the folder).
+        flag(
+            &format!("--mesh {}", self.mesh.display()),
+            std::fs::metadata(&self.mesh).and_then(|m| {
+                if m.is_file() {
+                    Ok(())
+                } else {
+                    Err(std::io::Error::other("not a file"))
+                }
+            }),
+        )?;
+        let out = self.out();
+        Ok(self.own(&out).plan(&scene))
+    }
+}
+
+fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
+    let scene: SliderScene = cli.scene()?;
+    let out = cli.out();
+    let run = cli.own(&out);
+    // The folder was refused before anything was computed if it holds another run or
+    // cannot be written (the guard).
+    let mode = prepared.mode();
     println!(
         "curved_fault: level {}, {}, {} law, {}, {} solver, mesh {} → {}",
         scene.level,

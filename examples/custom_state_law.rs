@@ -38,9 +38,30 @@ impl StateLaw for NoHealing {
     }
 }
 
+/// The program's flags: only the bounds every program takes (no input changes its size).
+#[derive(clap::Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    limits: rsf_examples::guard::Limits,
+}
+
+impl rsf_examples::guard::Program for Cli {
+    const NAME: &'static str = "custom_state_law";
+
+    fn limits(&self) -> rsf_examples::guard::Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+        // A fixed problem: three scalar state updates; nothing written but the terminal's lines.
+        Ok(rsf_examples::guard::Plan::new().memory(1e6, "(none)", "three scalar state updates"))
+    }
+}
+
 fn main() -> std::process::ExitCode {
-    <rsf_examples::cli::NoArgs as clap::Parser>::parse();
-    rsf_examples::main_with(|| Ok(run()?))
+    // --help; rejects unknown flags; errors printed with Display, exit code 1.
+    rsf_examples::guard::main(|_: Cli, _| Ok(run()?))
 }
 
 fn run() -> Result<(), rsf_state::Error> {

@@ -14,13 +14,15 @@
 use clap::Parser;
 use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::Until;
+use rsf_examples::cli::for_flag;
+use rsf_examples::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{cpu_seconds, fit_exponent};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
-
-type AnyError = Box<dyn std::error::Error>;
+use std::process::ExitCode;
 
 /// Storage and cost of the dense and hierarchical fault operators of BP1.
 #[derive(Parser)]
+#[command(version)]
 struct Cli {
     /// Element sizes on the fault (m), comma separated.
     #[arg(long, value_delimiter = ',', default_value = "200,100,50,25,12.5")]
@@ -45,14 +47,71 @@ struct Cli {
     /// Skip the dense kernel above this many unknowns (its m² storage).
     #[arg(long, default_value_t = 10_000)]
     dense_max: usize,
+    #[command(flatten)]
+    limits: Limits,
 }
 
-fn main() -> Result<(), AnyError> {
-    let cli = Cli::parse();
-    let bp1 = SeasBp1::default();
-    if cli.threads.contains(&0) {
-        return Err("--threads: each count must be at least 1".into());
+impl Program for Cli {
+    const NAME: &'static str = "fault_kernel_scaling";
+
+    fn limits(&self) -> Limits {
+        self.limits
     }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let bp1 = SeasBp1::default();
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (f64::EPSILON, 0.5),
+            "a relative accuracy",
+        )?;
+        in_range(
+            "--steps",
+            self.steps as f64,
+            (1.0, 1e6),
+            "steps timed from t = 0",
+        )?;
+        let mut plan = Plan::new();
+        for &n in &self.threads {
+            plan = plan.threads("--threads", n);
+        }
+        // One model and kernel at a time: the largest (BP1's estimate: the nodes and two
+        // dense fault operators, an upper bound of the hierarchical kernel's).
+        let mut worst = 0.0f64;
+        for &dz in &self.dz {
+            let grid = SeasBp1Grid {
+                dz,
+                domain: self.domain_km * 1e3,
+                ..SeasBp1Grid::default()
+            };
+            let size = for_flag(
+                "--domain-km",
+                "domain",
+                for_flag("--dz", "dz", bp1.estimate(&grid)),
+            )?;
+            if size.bytes > worst {
+                worst = size.bytes;
+                plan = plan.memory(
+                    size.bytes,
+                    "--dz, --domain-km",
+                    format!(
+                        "BP1 on dz = {dz:e} m: about {:.3e} nodes ({:.3e} on the fault)",
+                        size.nodes, size.fault_nodes
+                    ),
+                );
+            }
+        }
+        Ok(plan)
+    }
+}
+
+fn main() -> ExitCode {
+    rsf_examples::guard::main(run)
+}
+
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
+    let bp1 = SeasBp1::default();
     println!(
         "| Δz (m) | m | kernel | stored f64 | MB | compression | ‖S − S_H‖_F/‖S‖_F | compress (s) | threads | evaluations | CPU per evaluation (µs) | wall per evaluation (µs) |"
     );

@@ -22,12 +22,13 @@ use rsf::fem::{cuboid_from_coordinates, geometric_grading};
 use rsf::friction::{AsinhLaw, RateStateParams};
 use rsf::state::Aging;
 use rsf::{Material, ModelBuilder, Part, SimulationBuilder, Until};
+use rsf_examples::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{cpu_seconds, fit_exponent};
-
-type AnyError = Box<dyn std::error::Error>;
+use std::process::ExitCode;
 
 /// The fault operator of a BP5-like 3-D fault at several cell sizes.
 #[derive(Parser)]
+#[command(version)]
 struct Cli {
     /// Cell sizes on the fault (km), comma separated.
     #[arg(long, value_delimiter = ',', default_value = "4,2")]
@@ -57,6 +58,70 @@ struct Cli {
     /// (METIS; needs `--features metis`).
     #[arg(long, default_value = "amd", value_parser = |s: &str| s.parse::<InteriorOrdering>())]
     ordering: InteriorOrdering,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// Bytes per vertex of the set-up, assumed as the 3-D slider's measured 35 kB
+/// (`rsf_scenes::Slider3dScene::BYTES_PER_NODE`: the volume's factor dominates both).
+const BYTES_PER_VERTEX: f64 = rsf_scenes::Slider3dScene::BYTES_PER_NODE;
+
+impl Program for Cli {
+    const NAME: &'static str = "fault_setup_3d";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let (length, depth, far) = (
+            self.length_km * 1e3,
+            self.depth_km * 1e3,
+            self.domain_km * 1e3,
+        );
+        if !(length > 0.0 && depth > 0.0 && far > length && far > depth && far <= 1e7) {
+            return Err(format!(
+                "--length-km {}, --depth-km {}, --domain-km {}: positive, the first two \
+                 below --domain-km, at most 1e4 km",
+                self.length_km, self.depth_km, self.domain_km
+            )
+            .into());
+        }
+        in_range("--ratio", self.ratio, (1.0, 2.0), "the growth of the cells")?;
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (f64::EPSILON, 0.5),
+            "a relative accuracy",
+        )?;
+        in_range(
+            "--steps",
+            self.steps as f64,
+            (0.0, 1e6),
+            "steps timed after the set-up",
+        )?;
+        let mut plan = Plan::new().threads("--threads", self.threads);
+        let mut worst = 0.0f64;
+        for &dx_km in &self.dx {
+            let h = dx_km * 1e3;
+            if !(h > 0.0 && h <= depth) {
+                return Err(format!("--dx {dx_km}: positive and at most --depth-km").into());
+            }
+            // The graded box in closed form (rsf_fem::geometric_grading_len per axis).
+            let len = |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, self.ratio, far);
+            let vertices = (2.0 * len(h) - 1.0) * (2.0 * len(length / 2.0) - 1.0) * len(depth);
+            let bytes = vertices * BYTES_PER_VERTEX;
+            if bytes > worst {
+                worst = bytes;
+                plan = plan.memory(
+                    bytes,
+                    "--dx, --domain-km, --ratio",
+                    format!("the box at dx = {dx_km} km: about {vertices:.3e} vertices"),
+                );
+            }
+        }
+        Ok(plan)
+    }
 }
 
 /// Coordinates `-far … -uniform … uniform … far` (m): spacing `h` over `[-uniform,
@@ -80,15 +145,12 @@ fn peak_gb() -> f64 {
         .map_or(0.0, |kb| kb / 1e6)
 }
 
-fn main() -> Result<(), AnyError> {
-    let cli = Cli::parse();
-    if cli.threads == 0 || cli.threads > 4096 {
-        return Err("--threads: between 1 and 4096".into());
-    }
+fn main() -> ExitCode {
+    rsf_examples::guard::main(run)
+}
+
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
     let (length, depth, far) = (cli.length_km * 1e3, cli.depth_km * 1e3, cli.domain_km * 1e3);
-    if !(length > 0.0 && depth > 0.0 && far > length && far > depth) {
-        return Err("--length-km, --depth-km positive and below --domain-km".into());
-    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cli.threads)
         .build()?;

@@ -26,6 +26,9 @@ use plotters::prelude::*;
 use rsf::method::FixedPointScheme;
 use rsf::{SolverKind, StateLawKind};
 use rsf_examples::cli::step_count;
+use rsf_examples::estimates::{slider_memory, slider_steps, slider_what};
+use rsf_examples::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{stats, SliderRun};
 use rsf_scenes::SliderScene;
 
@@ -36,7 +39,7 @@ struct Cli {
     /// Levels j to run (comma separated) [default: 2..=--max-level].
     #[arg(long, value_delimiter = ',', value_name = "J1,J2,...")]
     levels: Option<Vec<usize>>,
-    /// Largest level when --levels is not given (at most 8).
+    /// Largest level when --levels is not given (2 to 8).
     #[arg(long, default_value_t = 5, value_name = "J")]
     max_level: usize,
     /// State laws (comma separated).
@@ -55,24 +58,80 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/fig6_1")]
     out: PathBuf,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Cli {
+    /// The levels to run.
+    fn levels(&self) -> Vec<usize> {
+        self.levels
+            .clone()
+            .unwrap_or_else(|| (2..=self.max_level.min(8)).collect())
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "fig6_1";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range(
+            "--max-level",
+            self.max_level as f64,
+            (2.0, 8.0),
+            "the paper's levels",
+        )?;
+        let levels = self.levels();
+        let mut plan = Plan::new();
+        let mut worst = 0.0f64;
+        for &level in &levels {
+            let scene = SliderScene {
+                level,
+                steps: self.steps,
+                ..SliderScene::default()
+            };
+            // One run at a time: its model and every step's record.
+            let bytes = slider_memory(&scene) + slider_steps(&scene) * RECORDED_STEP_BYTES;
+            if bytes > worst {
+                worst = bytes;
+                plan = plan.memory(bytes, "--levels, --max-level, --steps", slider_what(&scene));
+            }
+        }
+        let rows = (levels.len() * self.laws.len()) as f64;
+        Ok(plan
+            .output(
+                rows * 200.0 + FIGURE_BYTES,
+                "--levels, --laws",
+                "the table and figure",
+            )
+            .folder(
+                Folder::new("--out", &self.out, &["table.csv", "fig6_1_fpi.png"])
+                    .overwrite(self.overwrite),
+            ))
+    }
 }
 
 /// One measured point: law, level, mean FPIs, max FPIs.
 type Row = (StateLawKind, usize, f64, usize);
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let levels = cli
-        .levels
-        .unwrap_or_else(|| (2..=cli.max_level.min(8)).collect());
+fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
+    let levels = cli.levels();
     let laws: Vec<StateLawKind> = cli.laws.clone();
     let solver = cli.solver;
     let steps = cli.steps;
     let out = cli.out;
-    std::fs::create_dir_all(&out)?;
     println!(
         "Figure 6.1: FPIs per step over N = {steps} steps, levels {levels:?}, {solver} solver \
          (tolerance 1e-10), {} fixed point, Newmark, on {}",
@@ -92,7 +151,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         "max at t",
         "wall s"
     );
-    let mut table = std::fs::File::create(out.join("table.csv"))?;
+    let table_path = out.join("table.csv");
+    let mut table = std::fs::File::create(&table_path)
+        .map_err(|e| format!("cannot create `{}`: {e}", table_path.display()))?;
     writeln!(
         table,
         "law,level,dofs,steps,fpi_mean,fpi_max,relaxed_steps,solver_iterations,first_slip_event_s,wall_s"

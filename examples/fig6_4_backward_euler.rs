@@ -26,6 +26,8 @@ use clap::Parser;
 use rsf::observe::PointSeries;
 use rsf::{Integrator, SolverKind};
 use rsf_examples::cli::StepCounts;
+use rsf_examples::estimates::{slider_memory, FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
 use rsf_scenes::SliderScene;
 
@@ -56,22 +58,70 @@ struct Cli {
     /// Re-tabulate and re-plot the backward Euler series of an earlier run.
     #[arg(long)]
     reuse: bool,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
 }
 
-fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
-}
-
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let steps = cli.steps.counts();
-    let scene = cli.scene.scene(SliderScene {
+/// The scene of the flags (level 4, the direct solver unless they say otherwise).
+fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
+    cli.scene.scene(SliderScene {
         level: 4,
         solver: SolverKind::Direct,
         ..SliderScene::default()
-    })?;
+    })
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "fig6_4";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = base(self)?;
+        self.scene.steps_ignored(&scene, "--steps")?;
+        let counts = self.steps.counts();
+        let mut names = vec![
+            "table.csv".to_owned(),
+            "fig6_4_slip_rate.png".to_owned(),
+            "fig6_4_displacement.png".to_owned(),
+        ];
+        names.extend(
+            counts
+                .iter()
+                .map(|n| format!("centre_backward_euler_N{n}.csv")),
+        );
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let total: f64 = counts.iter().map(|&n| n as f64 + 1.0).sum();
+        // Both integrators' series of every N in memory until the figures are drawn.
+        let memory = slider_memory(&scene) + 2.0 * total * RECORDED_STEP_BYTES;
+        let output = total * rsf::run_folder::SERIES_ROW_BYTES + 2.0 * FIGURE_BYTES;
+        let what = format!("runs of N = {counts:?} at level {}", scene.level);
+        Ok(Plan::new()
+            .memory(memory, "--level, --steps (or --scene)", what.clone())
+            .output(output, "--steps", what)
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.reuse),
+            ))
+    }
+}
+
+fn main() -> ExitCode {
+    rsf_examples::guard::main(run)
+}
+
+fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
+    let steps = cli.steps.counts();
+    let scene = base(&cli)?;
     let (newmark_dir, run_newmark, out, reuse) =
         (cli.newmark_dir, cli.run_newmark, cli.out, cli.reuse);
-    std::fs::create_dir_all(&out)?;
     let t_end = scene.end_time_s;
     println!(
         "Figure 6.4: level {}, {} law, backward Euler vs Newmark, {} solver, N = {:?} on {}",
@@ -119,7 +169,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 ..SliderRun::from_series(&PointSeries::<2>::read(&be_csv)?)
             }
         } else {
-            SliderRun::record(&be, 0, Some(&be_csv))?
+            SliderRun::record(&be, 0, Some((&be_csv, folder.mode())))?
         };
         report(&mut table, "backward-euler", &be, &run, t_end)?;
         let csv = newmark_dir.join(format!("centre_N{n}.csv"));
@@ -149,7 +199,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         };
         runs.push((n, run, newmark));
     }
-    std::fs::write(out.join("table.csv"), &table)?;
+    rsf::checkpoint::write_atomically(&out.join("table.csv"), table.as_bytes())?;
 
     let labels: Vec<String> = runs
         .iter()

@@ -24,11 +24,12 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use plotters::prelude::*;
-use rsf::observe::{
-    Every, FaultRecorder, FileMode, FrictionalProfile, Interval, Progress, Recorder,
-};
+use rsf::observe::{Every, FaultRecorder, FrictionalProfile, Interval, Progress, Recorder};
 use rsf::{Observer, SolverKind, Until};
 use rsf_examples::cli::{step_count, window};
+use rsf_examples::estimates::{slider_fault_nodes, slider_memory};
+use rsf_examples::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{SceneArgs, SliderRun};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
@@ -45,7 +46,12 @@ struct Cli {
     #[arg(long, value_parser = step_count, default_value = "1000000")]
     fine: usize,
     /// Switch from the coarse to the fine τ at this fraction of T.
-    #[arg(long, default_value_t = 0.66, value_name = "FRACTION")]
+    #[arg(
+        long,
+        default_value_t = 0.66,
+        value_name = "FRACTION",
+        allow_negative_numbers = true
+    )]
     switch: f64,
     /// Window F0,F1 as fractions of T.
     #[arg(long, value_parser = window, default_value = "0.6725,0.6775", value_name = "F0,F1")]
@@ -59,26 +65,87 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/fig6_5")]
     out: PathBuf,
-    /// Replace the map of an earlier run in the output folder (without it, it is refused
-    /// and left untouched).
+    /// Replace the files of an earlier run in the output folder (without it, a folder
+    /// holding any rsf program's run is refused and left untouched).
     #[arg(long)]
     overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The scene of the flags (level 4, the direct solver unless they say otherwise).
+fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
+    cli.scene.scene(SliderScene {
+        level: 4,
+        solver: SolverKind::Direct,
+        ..SliderScene::default()
+    })
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "fig6_5";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = base(self)?;
+        self.scene.steps_ignored(&scene, "--coarse and --fine")?;
+        let (f0, f1) = self.window;
+        if !(f0 >= 0.0 && f1 <= 1.0) {
+            return Err(format!("--window {f0},{f1}: fractions of T inside [0, 1]").into());
+        }
+        if !self.straight {
+            in_range(
+                "--switch",
+                self.switch,
+                (0.0, f0),
+                "a fraction of T before the window",
+            )?;
+        }
+        in_range(
+            "--rows",
+            self.rows as f64,
+            (1.0, 1e6),
+            "time samples of the map",
+        )?;
+        // Every step's record in memory; the map's rows on Γ_F in memory and in the file.
+        let before = if self.straight { 0.0 } else { self.switch };
+        let steps = before * self.coarse as f64 + (f1 - before) * self.fine as f64 + 2.0;
+        let nodes = slider_fault_nodes(scene.level);
+        let window_steps = (f1 - f0) * self.fine as f64;
+        let map_rows = (self.rows as f64).min(window_steps) + 1.0;
+        let memory = slider_memory(&scene) + steps * RECORDED_STEP_BYTES + map_rows * nodes * 8.0;
+        let output = map_rows * nodes * rsf::run_folder::PROFILE_ROW_BYTES + FIGURE_BYTES;
+        let what = format!(
+            "{steps:.3e} steps at level {} and a map of {map_rows:.3e} rows",
+            scene.level
+        );
+        Ok(Plan::new()
+            .memory(memory, "--level, --coarse, --fine, --rows", what.clone())
+            .output(output, "--rows, --level", what)
+            .folder(
+                Folder::new(
+                    "--out",
+                    &self.out,
+                    &["slip_rate_map.csv", "table.csv", "fig6_5_slip_event.png"],
+                )
+                .overwrite(self.overwrite),
+            ))
+    }
 }
 
 /// Slip rate marking the slipping region (m/s), as the slip-event threshold.
 const SLIPPING: f64 = 1e-3;
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
     let (coarse, fine, switch, (f0, f1)) = (cli.coarse, cli.fine, cli.switch, cli.window);
-    let mut scene = cli.scene.scene(SliderScene {
-        level: 4,
-        solver: SolverKind::Direct,
-        ..SliderScene::default()
-    })?;
+    let mut scene = base(&cli)?;
     let t_end = scene.end_time_s;
     let (t0, t1) = (f0 * t_end, f1 * t_end);
     let window_steps = ((t1 - t0) / (t_end / fine as f64)).round() as usize;
@@ -96,7 +163,6 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     scene.steps = phases[0].0;
     scene.validate()?;
     let out = cli.out;
-    std::fs::create_dir_all(&out)?;
     let how = if cli.straight {
         format!("τ = T/{fine} from t = 0")
     } else {
@@ -118,15 +184,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;
     let mut profile = Every::new(
         Interval::Steps(map_every.max(1)),
-        FrictionalProfile::new(
-            &out.join("slip_rate_map.csv"),
-            (t0, t1),
-            if cli.overwrite {
-                FileMode::Overwrite
-            } else {
-                FileMode::Create
-            },
-        )?,
+        FrictionalProfile::new(&out.join("slip_rate_map.csv"), (t0, t1), folder.mode())?,
     )?;
     for &(n, until, every) in &phases {
         sim.set_time_step(t_end / n as f64)?;
@@ -235,7 +293,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         format!("{fpi_mean:.2} / {fpi_max}"),
     );
     row("wall time (s)", format!("{:.1}", run.seconds));
-    std::fs::write(out.join("table.csv"), &table)?;
+    rsf::checkpoint::write_atomically(&out.join("table.csv"), table.as_bytes())?;
 
     draw_map(
         &out.join("fig6_5_slip_event.png"),

@@ -22,6 +22,8 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::{Observer, StepView, Until};
+use rsf_examples::estimates::{slider_memory, slider_what};
+use rsf_examples::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{SceneArgs, TimeStepArgs};
 use rsf_scenes::inclined_slider_model;
 use rsf_scenes::{SceneSimulation, Slider3dScene, SliderScene};
@@ -40,6 +42,50 @@ struct Cli {
     /// Angle the slider is turned by (degrees; 0: the axis-aligned slider, no frames).
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     angle: f64,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Cli {
+    /// The scene of the flags.
+    fn scene(&self) -> Result<SliderScene, AnyError> {
+        Ok(self
+            .time_step
+            .apply(self.scene.scene(SliderScene::default())?)?)
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "frames_cost";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = self.scene()?;
+        in_range("--angle", self.angle, (-360.0, 360.0), "degrees")?;
+        // A timing run: its fixed steps are bounded so that a typo does not run for ever.
+        if scene.time_step == (rsf_scenes::TimeStep::Fixed {}) {
+            in_range(
+                "--steps",
+                scene.steps as f64,
+                (1.0, 1e7),
+                "steps of a timing run (more time nothing new)",
+            )?;
+        }
+        let bytes = if self.dim == 2 {
+            slider_memory(&scene)
+        } else {
+            Slider3dScene {
+                slider: scene.clone(),
+                ..Slider3dScene::default()
+            }
+            .estimated_bytes()
+            .1
+        };
+        Ok(Plan::new().memory(bytes, "--level, --dim (or --scene)", slider_what(&scene)))
+    }
 }
 
 /// The first time the largest slip rate exceeds 1e-3 m/s, and the peak slip rate.
@@ -61,13 +107,11 @@ impl<const D: usize> Observer<D> for Events {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let scene: SliderScene = cli
-        .time_step
-        .apply(cli.scene.scene(SliderScene::default())?)?;
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
+    let scene: SliderScene = cli.scene()?;
     let phi = cli.angle.to_radians();
     let start = Instant::now();
     if cli.dim == 2 {

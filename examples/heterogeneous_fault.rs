@@ -26,9 +26,34 @@ impl StateLaw for HealingAging {
     }
 }
 
+/// The program's flags: only the bounds every program takes (no input changes its size).
+#[derive(clap::Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    limits: rsf_examples::guard::Limits,
+}
+
+impl rsf_examples::guard::Program for Cli {
+    const NAME: &'static str = "heterogeneous_fault";
+
+    fn limits(&self) -> rsf_examples::guard::Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+        // A fixed problem: an 8 m × 1 m block at level 3 (585 nodes); nothing written but the terminal's lines.
+        Ok(rsf_examples::guard::Plan::new().memory(
+            2e8,
+            "(none)",
+            "an 8 m × 1 m block at level 3 (585 nodes)",
+        ))
+    }
+}
+
 fn main() -> std::process::ExitCode {
-    <rsf_examples::cli::NoArgs as clap::Parser>::parse(); // --help; rejects unknown flags
-    rsf_examples::main_with(run) // errors printed with Display, exit code 1
+    // --help; rejects unknown flags; errors printed with Display, exit code 1.
+    rsf_examples::guard::main(|_: Cli, _| run())
 }
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {

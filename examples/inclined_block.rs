@@ -32,11 +32,13 @@
 //! a `frames/frames.pvd` index for ParaView (slip, slip rate, shear and normal traction on
 //! the base, in slip coordinates).
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
 use rsf::Model;
+use rsf_examples::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{
     max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
@@ -92,29 +94,66 @@ fn stuck_equilibrium(mut model: Model<2>) -> rsf::Result<Model<2>> {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let scene: SliderScene = cli
-        .time_step
-        .apply(cli.scene.scene(SliderScene::default())?)?;
+impl Cli {
+    /// The scene of the flags.
+    fn scene(&self) -> Result<SliderScene, AnyError> {
+        Ok(self
+            .time_step
+            .apply(self.scene.scene(SliderScene::default())?)?)
+    }
+
+    /// The output folder.
+    fn out(&self) -> PathBuf {
+        self.output
+            .out
+            .clone()
+            .unwrap_or_else(|| "out/inclined_block".into())
+    }
+
+    /// The run on its own model.
+    fn own<'a>(&'a self, out: &'a Path) -> OwnRun<'a> {
+        OwnRun {
+            program: "inclined_block",
+            label: "inclined block",
+            out,
+            figure: "slip_rate_x0.png",
+            args: &self.output,
+        }
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "inclined_block";
+
+    fn limits(&self) -> Limits {
+        self.output.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = self.scene()?;
+        if !(self.dip.abs() < 90.0) {
+            return Err(refuse(
+                "--dip",
+                number(self.dip),
+                "must be in (-90, 90) degrees",
+            ));
+        }
+        let out = self.out();
+        Ok(self.own(&out).plan(&scene))
+    }
+}
+
+fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
+    let scene: SliderScene = cli.scene()?;
     let dip = cli.dip.to_radians();
-    let out = cli
-        .output
-        .out
-        .clone()
-        .unwrap_or_else(|| "out/inclined_block".into());
-    let run = OwnRun {
-        program: "inclined_block",
-        label: "inclined block",
-        out: &out,
-        figure: "slip_rate_x0.png",
-        args: &cli.output,
-    };
-    // Refused before anything is computed: another run's folder, one that cannot be
-    // written.
-    let mode = run.prepare()?;
+    let out = cli.out();
+    let run = cli.own(&out);
+    // The folder was refused before anything was computed if it holds another run or
+    // cannot be written (the guard).
+    let mode = prepared.mode();
     println!(
         "inclined_block: dip {}°, level {}, {}, {} law, {}, {} solver → {}",
         cli.dip,

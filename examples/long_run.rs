@@ -30,9 +30,11 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::observe::{EventThresholds, SlipEvent, SlipEvents};
 use rsf::run_folder::check_output_size;
-use rsf::run_folder::{until, RunFolder};
+use rsf::run_folder::until;
 use rsf::{Flow, Observer, StepView, Termination};
-use rsf_examples::cli::{positive_number, step_count};
+use rsf_examples::cli::{for_flag, positive_number, step_count};
+use rsf_examples::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
+use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
 use rsf_scenes::step_cap;
 use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
@@ -57,11 +59,11 @@ struct Cli {
     /// Replace the files of an earlier run in the output folder.
     #[arg(long)]
     overwrite: bool,
-    /// Refuse a run whose per-step record (`steps.csv`, and the rows held in memory until
-    /// it is written) is estimated above this many gigabytes; an adaptive run without
-    /// `--max-steps` instead stops at the step count that fits.
-    #[arg(long, default_value_t = 10.0, value_name = "GB")]
-    max_output_gb: f64,
+    /// `--max-output-gb`: a run whose per-step record (`steps.csv`, and the rows held in
+    /// memory until it is written) is estimated above it is refused; an adaptive run
+    /// without `--max-steps` instead stops at the step count that fits.
+    #[command(flatten)]
+    limits: Limits,
     /// Stop after this many accepted steps: the files of the steps so far are written and
     /// the run ends with an error saying where it stopped.
     #[arg(long, value_name = "N")]
@@ -92,8 +94,92 @@ const RAMP_S: f64 = 3.75;
 /// apply.
 const DEFAULT_TOLERANCE: f64 = 1e-3;
 
+impl Cli {
+    /// The scene of the flags: the paper's slider for 200 s, adaptive steps unless the
+    /// flags or the scene file say otherwise.
+    fn scene(&self) -> Result<SliderScene, AnyError> {
+        let base = SliderScene {
+            end_time_s: 200.0,
+            ..SliderScene::default()
+        };
+        let mut scene = self.time_step.apply(self.scene.scene(base)?)?;
+        if scene.time_step == (TimeStep::Fixed {}) {
+            scene.time_step = TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep {
+                slip_rate_floor_mps: f64::INFINITY,
+                ..rsf_scenes::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
+            });
+        }
+        scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
+        self.scene.named(scene.validate())?;
+        // The first step T/N of the adaptive steps below their smallest step (e.g.
+        // `steps = 1e12`) would be refused by the controller only after the set-up.
+        if let TimeStep::Adaptive(a) = scene.time_step {
+            let first = scene.end_time_s / scene.steps as f64;
+            if a.initial_tau_s.is_none() && first < a.tau_min_s {
+                return Err(format!(
+                    "--steps (or `steps` of --scene) {}: the first adaptive step T/N = {first:e} \
+                     s is below tau_min_s = {:e} s (N only sets the first step)",
+                    scene.steps, a.tau_min_s
+                )
+                .into());
+            }
+        }
+        Ok(scene)
+    }
+
+    /// The step cap of the run (refused if even `--max-steps` does not fit).
+    fn cap(&self, scene: &SliderScene) -> Result<Option<u64>, AnyError> {
+        let cap = step_cap(scene, STEP_BYTES, self.max_steps, self.limits.max_output_gb);
+        Ok(for_flag(
+            "--max-steps",
+            "max_steps",
+            for_flag("--steps", "steps", cap),
+        )?)
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "long_run";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = self.scene()?;
+        // An output above the bound (or the cap where it fits).
+        let cap = self.cap(&scene)?;
+        let rows = slider_steps(&scene).min(cap.map_or(f64::INFINITY, |c| c as f64));
+        let reference = self.reference_steps.map_or(0.0, |n| n as f64);
+        if let Some(n) = self.reference_steps {
+            for_flag(
+                "--reference-steps",
+                "reference_steps",
+                check_output_size(
+                    n as f64 * STEP_BYTES,
+                    self.limits.max_output_gb,
+                    "reference_steps",
+                ),
+            )?;
+        }
+        let what = slider_what(&scene);
+        Ok(Plan::new()
+            .memory(
+                slider_memory(&scene) + rows.max(reference) * STEP_BYTES,
+                "--level, --max-steps, --reference-steps",
+                what.clone(),
+            )
+            .output(
+                rows * 50.0 + 3.0 * FIGURE_BYTES,
+                "--max-steps, --end-time",
+                what,
+            )
+            .folder(Folder::new("--out", &self.out, &OUTPUTS).overwrite(self.overwrite)))
+    }
+}
+
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
 /// Every accepted step: `(t, τ, max slip rate, fixed point iterations)`.
@@ -143,31 +229,14 @@ fn simulate(
     })
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let base = SliderScene {
-        end_time_s: 200.0,
-        ..SliderScene::default()
-    };
-    let mut scene = cli.time_step.apply(cli.scene.scene(base)?)?;
-    if scene.time_step == (TimeStep::Fixed {}) {
-        scene.time_step = TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep {
-            slip_rate_floor_mps: f64::INFINITY,
-            ..rsf_scenes::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
-        });
-    }
-    scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
-    scene.validate()?;
-    // Refused before anything is computed: an output above the bound (or the cap where
-    // it fits), a folder of another run (unless --overwrite), one that cannot be written.
-    let cap = step_cap(&scene, STEP_BYTES, cli.max_steps, cli.max_output_gb)?;
-    if let Some(n) = cli.reference_steps {
-        check_output_size(n as f64 * STEP_BYTES, cli.max_output_gb, "reference_steps")?;
-    }
-    RunFolder::new(&cli.out, "long_run", &OUTPUTS).prepare(false, cli.overwrite)?;
+fn run(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
+    // The output bound, the folder: checked by the guard before anything was computed.
+    let scene = cli.scene()?;
+    let cap = cli.cap(&scene)?;
     if let (Some(cap), None) = (cap, cli.max_steps) {
         println!(
             "at most {cap} steps (--max-output-gb {})",
-            cli.max_output_gb
+            cli.limits.max_output_gb
         );
     }
     println!(

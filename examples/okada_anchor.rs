@@ -27,9 +27,8 @@
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
+use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::okada_anchor::{compare_held, Errors, Fault, SLIP};
-
-type AnyError = Box<dyn std::error::Error>;
 
 /// The rectangles compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -78,6 +77,7 @@ enum Held {
 
 /// The finite-element model of uniform slip on a rectangle against Okada's half-space.
 #[derive(Parser)]
+#[command(version)]
 struct Cli {
     /// Cases, comma separated.
     #[arg(long, value_delimiter = ',', default_value = "buried,surface,dip")]
@@ -99,16 +99,59 @@ struct Cli {
     /// Growth of the cells per cell away from the fault, on the coarsest mesh.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
+    #[command(flatten)]
+    limits: Limits,
 }
 
-fn main() -> Result<(), AnyError> {
-    let cli = Cli::parse();
-    if !(cli.h0 > 0.0 && cli.h0 <= 0.5) || cli.levels.iter().any(|&k| k > 6) {
-        return Err("--h0 in (0, 0.5] (units of the fault's width), --levels at most 6".into());
+impl Program for Cli {
+    const NAME: &'static str = "okada_anchor";
+
+    fn limits(&self) -> Limits {
+        self.limits
     }
-    if cli.far.iter().any(|&f| !(f >= 2.0 && f.is_finite())) {
-        return Err("--far: at least 2 (the fault and its surrounding cells inside)".into());
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        if !(self.h0 > 0.0 && self.h0 <= 0.5) {
+            return Err(refuse(
+                "--h0",
+                number(self.h0),
+                "must be in (0, 0.5] (units of the fault's width)",
+            ));
+        }
+        if let Some(k) = self.levels.iter().find(|&&k| k > 6) {
+            return Err(refuse("--levels", k, "at most 6"));
+        }
+        for &f in &self.far {
+            in_range(
+                "--far",
+                f,
+                (2.0, 1e3),
+                "the fault and its surrounding cells inside",
+            )?;
+        }
+        in_range("--ratio", self.ratio, (1.0, 2.0), "the growth of the cells")?;
+        // The coarsest mesh graded from h0 to the far faces (about 2 W of uniform cells
+        // around the fault), every interval split into 2^k: per half-axis
+        // 2^k · geometric_grading_len(h0, 1.5, ratio, far) intervals, 4 n³ vertices;
+        // 35 kB per vertex as the 3-D slider's direct solver.
+        let k = self.levels.iter().copied().max().unwrap_or(0);
+        let far = self.far.iter().copied().fold(2.0, f64::max);
+        let n =
+            2f64.powi(k as i32) * rsf::fem::geometric_grading_len(self.h0, 1.5, self.ratio, far);
+        let vertices = 4.0 * n * n * n;
+        Ok(Plan::new().memory(
+            vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE,
+            "--levels, --far, --h0",
+            format!("level {k}, far {far}: about {vertices:.3e} vertices"),
+        ))
     }
+}
+
+fn main() -> std::process::ExitCode {
+    rsf_examples::guard::main(run)
+}
+
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
     let at_okada = cli.held == Held::Okada;
     println!(
         "| case | far faces | far | h | vertices | wall (s) | surface error | order | \

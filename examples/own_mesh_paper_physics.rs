@@ -10,9 +10,30 @@ use rsf::{ModelBuilder, Until};
 use rsf_scenes::SliderScene;
 use rsf_scenes::ARC_BLOCK_MESH; // crates/rsf-fem/tests/fixtures/arc_block.msh
 
+/// The program's flags: only the bounds every program takes (no input changes its size).
+#[derive(clap::Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    limits: rsf_examples::guard::Limits,
+}
+
+impl rsf_examples::guard::Program for Cli {
+    const NAME: &'static str = "own_mesh_paper_physics";
+
+    fn limits(&self) -> rsf_examples::guard::Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+        // A fixed problem: the arc block refined twice; nothing written but the terminal's lines.
+        Ok(rsf_examples::guard::Plan::new().memory(2e8, "(none)", "the arc block refined twice"))
+    }
+}
+
 fn main() -> std::process::ExitCode {
-    <rsf_examples::cli::NoArgs as clap::Parser>::parse(); // --help; rejects unknown flags
-    rsf_examples::main_with(run) // errors printed with Display, exit code 1
+    // --help; rejects unknown flags; errors printed with Display, exit code 1.
+    rsf_examples::guard::main(|_: Cli, _| run())
 }
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {

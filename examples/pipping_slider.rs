@@ -31,9 +31,8 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
-use rsf_examples::pipping_slider::{run, Cli};
+use rsf_examples::pipping_slider::{run_prepared, Cli};
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main::<Cli>(run_prepared)
 }

@@ -52,10 +52,12 @@ use rsf::run_folder::read_checkpoint;
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
 use rsf_examples::cli::for_flag;
+use rsf_examples::estimates::seas_output_bytes;
+use rsf_examples::guard::{
+    flag, in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program,
+};
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
-
-type AnyError = Box<dyn std::error::Error>;
 
 #[derive(Parser, Debug)]
 #[command(about = "SCEC SEAS benchmark BP1-QD (antiplane, 3000 years)")]
@@ -162,10 +164,182 @@ struct Args {
     header: rsf_examples::SeasHeaderArgs,
     #[command(flatten)]
     run: rsf_examples::ResumeArgs,
-    /// Refuse a grid whose run is estimated above this many gigabytes of memory (nodes
-    /// and fault operators estimated before anything is allocated).
-    #[arg(long, default_value_t = 16.0, value_name = "GB")]
-    max_memory_gb: f64,
+    /// `--max-memory-gb` (nodes and fault operators estimated before anything is
+    /// allocated), `--max-output-gb` (the station files: with `--every-step` and without
+    /// `--max-steps`, the run stops at the step count whose rows fit, with a checkpoint).
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// Bytes of the station rows of one step with `--every-step` (12 files of 7 numbers).
+const EVERY_STEP_BYTES: f64 = 12.0 * 7.0 * 25.0;
+
+impl Args {
+    /// The grid of the flags.
+    fn grid(&self) -> SeasBp1Grid {
+        SeasBp1Grid {
+            dz: self.dz,
+            domain: self.domain_km * 1e3,
+            ratio: self.ratio,
+        }
+    }
+
+    /// The step cap of the run: `--max-steps`, or with `--every-step` the steps whose
+    /// station rows fit in `--max-output-gb`.
+    fn step_cap(&self) -> Option<u64> {
+        self.run.max_steps.or_else(|| {
+            (self.every_step && self.limits.max_output_gb.is_finite()).then(|| {
+                ((self.limits.max_output_gb * 1e9 / EVERY_STEP_BYTES).floor() as u64).max(1)
+            })
+        })
+    }
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp1";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let bp1 = SeasBp1::default();
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        in_range(
+            "--state-change-cap",
+            self.state_change_cap,
+            (0.0, 1e3),
+            "0: no cap",
+        )?;
+        for (flag, tol) in [
+            ("--fixed-point-tolerance", self.fixed_point_tolerance),
+            (
+                "--dynamic-fixed-point-tolerance",
+                self.dynamic_fixed_point_tolerance,
+            ),
+        ] {
+            in_range(flag, tol, (1e-300, 1e3), "an absolute tolerance")?;
+        }
+        // The model's size, before anything is allocated.
+        let size = for_flag(
+            "--ratio",
+            "ratio",
+            for_flag(
+                "--domain-km",
+                "domain",
+                for_flag("--dz", "dz", bp1.estimate(&self.grid())),
+            ),
+        )?;
+        // The methods' settings.
+        flag("--tolerance", bp1.step_control(self.tolerance))?;
+        for_flag(
+            "--rk-tolerance",
+            "tolerance",
+            bp1.fault_ode_options(self.rk_tolerance),
+        )?;
+        self.kernel.kernel(self.rk_tolerance)?;
+        self.header.check()?;
+        // The fully dynamic flags need --inertia; their values are physical.
+        if !self.inertia {
+            for (flag, given) in [
+                (
+                    "--absorbing",
+                    self.absorbing.is_some_and(|a| a != Absorbing::None),
+                ),
+                ("--dynamic-tau", self.dynamic_tau.is_some()),
+                ("--switch-to-dynamic", self.switch_to_dynamic.is_some()),
+                (
+                    "--switch-to-quasi-dynamic",
+                    self.switch_to_quasi_dynamic.is_some(),
+                ),
+                (
+                    "--dynamic-integrator",
+                    self.dynamic_integrator != DynamicIntegrator::Newmark,
+                ),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the fully dynamic run: it needs --inertia \
+                         (BP1-FD), without it it would be ignored"
+                    )
+                    .into());
+                }
+            }
+        }
+        if self.absorbing == Some(Absorbing::Dynamic) && self.scheme == Scheme::Implicit {
+            return Err("--absorbing dynamic: the implicit scheme has one model (use all)".into());
+        }
+        let crossing = self.dz / (bp1.shear_modulus() / bp1.rho).sqrt();
+        if let Some(tau) = self.dynamic_tau {
+            in_range(
+                "--dynamic-tau",
+                tau,
+                (1e-12, crossing),
+                &format!(
+                    "s: at most the {crossing:.3e} s a shear wave takes to cross an element \
+                     of the fault (Δz/c_s); a longer step does not resolve the rupture"
+                ),
+            )?;
+        }
+        let thresholds = [
+            ("--switch-to-dynamic", self.switch_to_dynamic),
+            ("--switch-to-quasi-dynamic", self.switch_to_quasi_dynamic),
+        ];
+        for (flag, v) in thresholds {
+            if let Some(v) = v {
+                in_range(flag, v, (1e-12, 1e2), "m/s: a slip rate")?;
+            }
+        }
+        if let Some(q) = self.event_quiet_time {
+            in_range("--event-quiet-time", q, (0.0, 1e9), "s")?;
+        }
+        let stations = SEAS_BP1_STATION_DEPTHS.len() as f64;
+        let output = match (self.every_step, self.step_cap()) {
+            (true, Some(cap)) => cap as f64 * EVERY_STEP_BYTES,
+            _ => seas_output_bytes(self.end_years, stations, 7, size.fault_nodes),
+        };
+        let mut outputs: Vec<String> = SEAS_BP1_STATION_DEPTHS
+            .iter()
+            .map(|&d| SeasBp1::station_name(d))
+            .collect();
+        outputs.extend(
+            [
+                "devol.dat",
+                "events.csv",
+                "summary.json",
+                "overview.png",
+                "checkpoint.bin",
+                rsf::observe::SEAS_RESUME_LOG,
+            ]
+            .map(String::from),
+        );
+        let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                size.bytes,
+                "--dz, --domain-km, --ratio",
+                format!(
+                    "BP1 on dz = {} m, domain = {} km, ratio = {}: about {:.3e} nodes \
+                     ({:.3e} on the fault)",
+                    number(self.dz),
+                    number(self.domain_km),
+                    number(self.ratio),
+                    size.nodes,
+                    size.fault_nodes
+                ),
+            )
+            .output(
+                output,
+                "--end-years, --every-step, --max-steps",
+                format!("{} years of the benchmark's files", self.end_years),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &outputs)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
+    }
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -192,41 +366,14 @@ enum Scheme {
 type Bp1Run = rsf::Run<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::Integrator, 1>;
 
 fn main() -> ExitCode {
-    let args = Args::parse();
     // With threads, the whole run on the pool (no hand-over per parallel region).
-    rsf_examples::main_on_threads(args.threads, || run(args))
+    rsf_examples::guard::main(run)
 }
 
-fn run(args: Args) -> Result<(), AnyError> {
+fn run(args: Args, prepared: Prepared) -> Result<(), AnyError> {
     let bp1 = SeasBp1::default();
-    let grid = SeasBp1Grid {
-        dz: args.dz,
-        domain: args.domain_km * 1e3,
-        ratio: args.ratio,
-    };
-    if !(args.end_years > 0.0 && args.end_years <= 1e5) {
-        return Err(format!("--end-years {} must be in (0, 1e5]", args.end_years).into());
-    }
-    if !(args.state_change_cap >= 0.0 && args.state_change_cap.is_finite()) {
-        return Err(format!(
-            "--state-change-cap {} must be finite and >= 0 (0: no cap)",
-            args.state_change_cap
-        )
-        .into());
-    }
-    // The model's size, before anything is allocated.
-    let size = bp1.estimate(&grid)?;
-    rsf::run_folder::check_memory(
-        size.bytes,
-        args.max_memory_gb,
-        "dz, domain_km, ratio",
-        &format!(
-            "BP1 on dz = {:e} m, domain = {:e} km, ratio = {}: about {:.3e} nodes ({:.3e} on \
-             the fault)",
-            args.dz, args.domain_km, args.ratio, size.nodes, size.fault_nodes
-        ),
-    )?;
-    // The methods' settings, checked before any file is touched.
+    let grid = args.grid();
+    // The methods' settings (checked by the plan before any file was touched).
     let mut control = bp1.step_control(args.tolerance)?;
     control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
     let rk_options = for_flag(
@@ -234,28 +381,21 @@ fn run(args: Args) -> Result<(), AnyError> {
         "tolerance",
         bp1.fault_ode_options(args.rk_tolerance),
     )?;
-    // Refused before anything is computed: a folder of another run (of this or of any
-    // other rsf program, unless --overwrite), one that cannot be written.
+    // The folder was refused before anything was computed if it holds another run (of
+    // this or of any other rsf program, unless --overwrite) or cannot be written.
     let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
         .iter()
         .map(|&d| (SeasBp1::station_name(d), d))
         .collect();
-    let mut outputs: Vec<&str> = stations.iter().map(|(n, _)| n.as_str()).collect();
-    outputs.extend([
-        "devol.dat",
-        "events.csv",
-        "summary.json",
-        "overview.png",
-        "checkpoint.bin",
-        rsf::observe::SEAS_RESUME_LOG,
-    ]);
-    let folder = RunFolder::new(&args.out, "seas_bp1", &outputs);
-    if args.run.resume.is_some() && args.overwrite {
-        return Err(
-            "--resume continues the files in --out: it cannot be given with --overwrite".into(),
+    let folder = RunFolder::new(&args.out, "seas_bp1", &[]);
+    let fresh = prepared.mode();
+    let step_cap = args.step_cap();
+    if let (Some(cap), None) = (step_cap, args.run.max_steps) {
+        eprintln!(
+            "--every-step: at most {cap} steps (station rows within --max-output-gb {})",
+            args.limits.max_output_gb
         );
     }
-    let fresh = folder.prepare(args.run.resume.is_some(), args.overwrite)?;
     let t_setup = Instant::now();
     // BP1-FD's defaults: the converged set-up of docs/seas-bp1-fd.md. Without inertia the
     // switching thresholds are unused; their old defaults keep BP1-QD's fingerprints.
@@ -272,12 +412,6 @@ fn run(args: Args) -> Result<(), AnyError> {
     let switch_to_quasi_dynamic = args
         .switch_to_quasi_dynamic
         .unwrap_or(switch_to_quasi_dynamic);
-    if absorbing != Absorbing::None && !args.inertia {
-        return Err("--absorbing needs --inertia (BP1-FD)".into());
-    }
-    if absorbing == Absorbing::Dynamic && args.scheme == Scheme::Implicit {
-        return Err("--absorbing dynamic: the implicit scheme has one model (use all)".into());
-    }
     let far = |absorbing| {
         if absorbing {
             SeasBp1Far::Absorbing
@@ -314,9 +448,6 @@ fn run(args: Args) -> Result<(), AnyError> {
             .build()
     };
     let kernel = args.kernel.kernel(args.rk_tolerance)?;
-    if args.threads == 0 {
-        return Err("--threads must be at least 1".into());
-    }
     let fault_ode_options = FaultOdeOptions {
         kernel,
         parallelism: rsf::Parallelism::rayon(args.threads),
@@ -443,7 +574,7 @@ fn run(args: Args) -> Result<(), AnyError> {
     )?;
     // A run that can stop before its end (checkpoints, a step cap) logs what its
     // benchmark files hold at each checkpoint.
-    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+    if args.run.checkpoint_every > 0 || step_cap.is_some() {
         output = output.with_resume_log(mode)?;
     }
     if resumed.is_none() {
@@ -457,7 +588,7 @@ fn run(args: Args) -> Result<(), AnyError> {
         resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
     )?;
     let t_end = args.end_years * SECONDS_PER_YEAR;
-    let end = until(t_end, args.run.max_steps);
+    let end = until(t_end, step_cap);
     let t0 = rsf::Stepping::state(&sim).time;
     let mut progress = Progress::time(t0, t_end, "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());

@@ -19,44 +19,61 @@
 //! profiles `slip.dat`, `shear_stress.dat` and `normal_stress.dat`, the event catalogue
 //! `events.csv`), the figure `overview.png` (slip profiles, maximum slip rate against
 //! time), and prints the events.
+//!
+//! Runs: `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files
+//! and their resume log `seas_resume.csv` written at the same steps), `--resume FILE`
+//! (continues the files in `--out` from a checkpoint of this run: the same bytes as an
+//! uninterrupted run), `--max-steps N` (stop after step N in total, with a checkpoint),
+//! `--overwrite` (a folder of another run is refused, and left untouched, otherwise).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
+use rsf::checkpoint::Fingerprint;
 use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
-use rsf::Stepping;
+use rsf::run_folder::{read_checkpoint, step_cap_error, until};
+use rsf::{Observer, Stepping};
+use rsf_examples::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
+use rsf_examples::guard::{
+    in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program,
+};
 use rsf_examples::{cpu_seconds, machine};
-use rsf_scenes::{SeasBp3, SeasBp3Grid};
+use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
+use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
 #[command(version)]
 struct Args {
     /// Dip ψ (degrees): 60 (thrust) or 30 (normal).
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     dip: f64,
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp3")]
     out: PathBuf,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
     /// End time (years).
-    #[arg(long, default_value_t = 300.0)]
+    #[arg(long, default_value_t = 300.0, allow_negative_numbers = true)]
     end_years: f64,
     /// Element size along the fault (m).
-    #[arg(long, default_value_t = 500.0)]
+    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true)]
     dx: f64,
     /// Half-width L of the box across the fault (km); its depth is L sin ψ. The default
     /// moves the first event by < 0.1 yr against a box twice as large (docs/seas-bp3.md).
-    #[arg(long, default_value_t = 1600.0)]
+    #[arg(long, default_value_t = 1600.0, allow_negative_numbers = true)]
     domain_km: f64,
     /// Growth of the elements away from the fault and below W_f. The default is within
     /// 0.2 yr of a ratio of 1.0125 in the first event; 1.1 puts the normal fault's 2.9 yr
     /// early (docs/seas-bp3.md, "Mesh grading").
-    #[arg(long, default_value_t = 1.025)]
+    #[arg(long, default_value_t = 1.025, allow_negative_numbers = true)]
     ratio: f64,
     /// Tolerance of the fault ODE.
-    #[arg(long, default_value_t = 1e-7)]
+    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
     tolerance: f64,
     #[command(flatten)]
     kernel: rsf_examples::KernelArgs,
@@ -64,24 +81,20 @@ struct Args {
     /// solves; the same bits for every value). Default: every core of the machine.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
-    /// Modeler's name for the files' headers.
-    #[arg(long, default_value = "rsf")]
-    modeler: String,
+    #[command(flatten)]
+    header: rsf_examples::SeasHeaderArgs,
+    /// `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files'
+    /// resume log `seas_resume.csv` at the same steps), `--resume FILE` (continues the
+    /// files in `--out`: the checkpoint and every file's rows are checked before anything
+    /// is cut), `--allow-change`, `--max-steps N`.
+    #[command(flatten)]
+    run: rsf_examples::ResumeArgs,
+    #[command(flatten)]
+    limits: Limits,
 }
 
-fn main() -> ExitCode {
-    let args = Args::parse();
-    // With threads, the whole run on the pool (no hand-over per parallel region).
-    rsf_examples::main_on_threads(args.threads, || run(args))
-}
-
-fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
-    if !(args.end_years > 0.0 && args.end_years <= 1e5) {
-        return Err(format!("--end-years {}: must be in (0, 1e5]", args.end_years).into());
-    }
-    if !(args.dip > 0.0 && args.dip < 90.0) {
-        return Err(format!("--dip {}: must be in (0, 90) degrees", args.dip).into());
-    }
+/// The scene and grid of the flags.
+fn scene(args: &Args) -> (SeasBp3, SeasBp3Grid) {
     let bp3 = SeasBp3 {
         dip_degrees: args.dip,
         ..if args.dip < 45.0 {
@@ -95,7 +108,117 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         domain: args.domain_km * 1e3,
         ratio: args.ratio,
     };
-    std::fs::create_dir_all(&args.out)?;
+    (bp3, grid)
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut names: Vec<String> = SEAS_BP3_STATION_DISTANCES
+        .iter()
+        .map(|&d| SeasBp1::station_name(d))
+        .collect();
+    names.extend(SEAS_BP3_SURFACE_STATIONS.iter().map(|s| s.0.to_owned()));
+    names.extend(
+        [
+            "slip.dat",
+            "shear_stress.dat",
+            "normal_stress.dat",
+            "events.csv",
+            "overview.png",
+            "checkpoint.bin",
+            rsf::observe::SEAS_RESUME_LOG,
+        ]
+        .map(String::from),
+    );
+    names
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp3";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        if !(self.dip > 0.0 && self.dip < 90.0) {
+            return Err(refuse(
+                "--dip",
+                number(self.dip),
+                "must be in (0, 90) degrees",
+            ));
+        }
+        let (bp3, grid) = scene(self);
+        let w_f = bp3.params.w_f;
+        in_range("--dx", self.dx, (1e-3, w_f / 4.0), "m: at most W_f/4")?;
+        in_range(
+            "--domain-km",
+            self.domain_km,
+            (1.5 * w_f / 1e3 * 1.000001, 1e5),
+            "km: the box must reach 1.5 W_f down the fault",
+        )?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the elements",
+        )?;
+        rsf_examples::cli::for_flag(
+            "--tolerance",
+            "tolerance",
+            bp3.params.fault_ode_options(self.tolerance),
+        )?;
+        self.kernel.kernel(self.tolerance)?;
+        self.header.check()?;
+        // The graded mesh in closed form (rsf_fem::geometric_grading_len, as SeasBp3::mesh
+        // grades it), before anything is allocated.
+        let (s, _) = self.dip.to_radians().sin_cos();
+        let side = rsf::fem::geometric_grading_len(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain);
+        let nz = rsf::fem::geometric_grading_len(grid.dx * s, w_f * s, grid.ratio, grid.domain * s);
+        let nodes = (2.0 * side - 1.0) * nz + nz;
+        let hierarchical = self.kernel.kernel == rsf_examples::KernelArg::Hierarchical;
+        let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(nz, hierarchical);
+        let profile = grid.domain / 500.0 + 1.0;
+        let stations = (SEAS_BP3_STATION_DISTANCES.len() + SEAS_BP3_SURFACE_STATIONS.len()) as f64;
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --domain-km, --ratio",
+                format!(
+                    "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
+                     {nz:.3e} on the fault",
+                    number(self.dx),
+                    number(self.domain_km),
+                    number(self.ratio)
+                ),
+            )
+            .output(
+                seas_output_bytes(self.end_years, stations, 8, 3.0 * profile),
+                "--end-years, --domain-km",
+                format!(
+                    "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
+                    self.end_years
+                ),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
+    }
+}
+
+fn main() -> ExitCode {
+    // With threads, the whole run on the pool (no hand-over per parallel region).
+    rsf_examples::guard::main(run)
+}
+
+fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
+    let (bp3, grid) = scene(&args);
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
     let model = bp3.model(&grid)?;
@@ -114,9 +237,6 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         fb.len(),
         machine()
     );
-    if args.threads == 0 {
-        return Err("--threads must be at least 1".into());
-    }
     let mut options = bp3.params.fault_ode_options(args.tolerance)?;
     options.runge_kutta.dt_min = 1e-8;
     options.kernel = args.kernel.kernel(args.tolerance)?;
@@ -132,24 +252,78 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         cpu_seconds() - cpu0
     );
     let setup = SeasSetup {
-        modeler: args.modeler.clone(),
+        modeler: args.header.modeler.clone(),
+        date: args
+            .header
+            .date
+            .clone()
+            .unwrap_or_else(rsf::observe::utc_date_today),
         ..bp3.seas_setup(args.dx, SeasSampling::default())
+    };
+    // What a checkpoint continues: the scene, the grid and what changes the trajectory.
+    let fingerprint = Fingerprint::of_serialized(&bp3.params)
+        .with("dip_degrees", args.dip)
+        .with("normal_faulting", bp3.normal_faulting)
+        .with("dx", args.dx)
+        .with("domain_km", args.domain_km)
+        .with("ratio", args.ratio)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("kernel", options.kernel);
+    // On resume everything is checked before any file is touched: the checkpoint (its
+    // checksum and fingerprint), then every file's rows up to the checkpoint's step.
+    let resumed = match &args.run.resume {
+        None => None,
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
+            SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
+                &args.out,
+                ode.model(),
+                &setup,
+                c.state.step,
+            )?;
+            ode.restore(&c)?;
+            Some(c)
+        }
+    };
+    let mode = match &resumed {
+        Some(c) => FileMode::Resume { step: c.state.step },
+        None => folder.mode(),
     };
     let mut output = SeasOutput::new(
         &args.out,
         ode.model(),
         ode.problem().friction_laws(),
         setup,
-        FileMode::Overwrite,
+        mode,
     )?;
+    // A run that can stop before its end (checkpoints, a step cap) logs what its files
+    // hold at each checkpoint.
+    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+        output = output.with_resume_log(mode)?;
+    }
     // The fault ODE computes the surface stations' vertices (not the whole field) after
     // every step; their initial row needs them now.
     ode.watch_vertices(&output.surface_vertices())?;
-    output.write_initial_state(ode.model(), ode.state())?;
-    let summary = ode.run_until(
-        rsf::Until::Time(args.end_years * SECONDS_PER_YEAR),
-        &mut [&mut output],
+    if resumed.is_none() {
+        output.write_initial_state(ode.model(), ode.state())?;
+    }
+    // Every `--checkpoint-every` steps, and where the step cap stops the run.
+    let checkpoint = args.out.join("checkpoint.bin");
+    let mut checkpointer = args.run.checkpointer(
+        checkpoint.clone(),
+        fingerprint,
+        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
     )?;
+    let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
+    let summary = {
+        // The files first, the checkpoint after them: a checkpoint never runs ahead.
+        let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut output, &mut checkpointer];
+        ode.run_until(end, &mut observers)?
+    };
+    if let Some(e) = step_cap_error(&summary, end, ode.state(), &checkpoint) {
+        return Err(e.into());
+    }
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     for e in output.events() {

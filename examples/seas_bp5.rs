@@ -42,6 +42,8 @@ use rsf::observe::{
 };
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
+use rsf_examples::estimates::{operator_bytes, seas_output_bytes};
+use rsf_examples::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::{SeasBp5, SeasBp5Grid, SeasBp5Output, SEAS_BP5_RESUME_LOG};
 
@@ -59,12 +61,13 @@ struct Args {
     /// Cell size on the fault (m); must divide 100 km and 40 km (`fe`: 50 km and 40 km).
     #[arg(long, default_value_t = 2000.0)]
     dx: f64,
-    /// `fe`: distance from the fault to the box's far faces, and its depth (km).
-    #[arg(long, default_value_t = 400.0)]
-    domain_km: f64,
-    /// `fe`: growth of the spacing away from the rate-and-state region.
-    #[arg(long, default_value_t = 1.3)]
-    ratio: f64,
+    /// `fe`: distance from the fault to the box's far faces, and its depth (km) [default:
+    /// 400].
+    #[arg(long)]
+    domain_km: Option<f64>,
+    /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
+    #[arg(long)]
+    ratio: Option<f64>,
     /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
     /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
     /// changes by round-off.
@@ -91,6 +94,113 @@ struct Args {
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut outputs = SeasBp5Output::file_names();
+    outputs.extend(
+        [
+            "events.csv",
+            "summary.json",
+            "overview.png",
+            "checkpoint.bin",
+            SEAS_BP5_RESUME_LOG,
+        ]
+        .map(String::from),
+    );
+    outputs
+}
+
+impl Args {
+    /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
+    fn box_size(&self) -> (f64, f64) {
+        (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+    }
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp5";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        let bp5 = SeasBp5::default();
+        let cells = flag("--dx", bp5.cells(self.dx))?.len() as f64;
+        flag("--tolerance", bp5.fault_ode_options(self.tolerance))?;
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (f64::MIN_POSITIVE, 1e-2),
+            "a relative accuracy",
+        )?;
+        flag("--epsilon", bp5.half_space(self.epsilon))?;
+        self.header.check()?;
+        let m = 2.0 * cells;
+        let (domain_km, ratio) = self.box_size();
+        if self.kernel == Kernel::Okada {
+            for (flag, given) in [
+                ("--domain-km", self.domain_km.is_some()),
+                ("--ratio", self.ratio.is_some()),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the finite-element kernel: it needs --kernel fe \
+                         (the Okada kernel has no box), without it it would be ignored"
+                    )
+                    .into());
+                }
+            }
+        }
+        let memory = match self.kernel {
+            // The fault alone: the operator (dense up to 4 096 unknowns, an ℋ-matrix
+            // beyond) and the body stations' columns.
+            Kernel::Okada => operator_bytes(m, m > 4096.0) + 9.0 * 3.0 * 8.0 * m,
+            Kernel::Fe => {
+                in_range(
+                    "--domain-km",
+                    domain_km,
+                    (75.0, 1e4),
+                    "km: 1.5 l_f/2 and more",
+                )?;
+                in_range("--ratio", ratio, (1.0, 2.0), "the growth of the spacing")?;
+                // The graded box (SeasBp5::fe_model) in closed form; 35 kB per vertex as
+                // the 3-D slider's direct factor, and the condensed operator.
+                let (h, far) = (self.dx, domain_km * 1e3);
+                let len = |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                let vertices =
+                    (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
+                vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE + operator_bytes(m, m > 4096.0)
+            }
+        };
+        // Ten fault stations, nine body stations, the slip and stress profiles (every
+        // cell's values), global.dat and rupture.dat.
+        let output = seas_output_bytes(self.end_years, 19.0, 13, 6.0 * cells);
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --kernel, --domain-km, --ratio",
+                format!("BP5 on dx = {:e} m: {cells} cells", self.dx),
+            )
+            .output(
+                output,
+                "--end-years, --dx",
+                format!("{} years of the benchmark's files", self.end_years),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
+    }
 }
 
 /// The elastic operator of the run.
@@ -103,29 +213,18 @@ enum Kernel {
 }
 
 fn main() -> ExitCode {
-    let args = Args::parse();
-    rsf_examples::main_on_threads(args.threads, || run(args))
+    rsf_examples::guard::main(run)
 }
 
-fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
-    if !(args.end_years > 0.0 && args.end_years <= 1e5) {
-        return Err(format!("--end-years {}: must be in (0, 1e5]", args.end_years).into());
-    }
-    if args.threads == 0 {
-        return Err("--threads must be at least 1".into());
-    }
-    if args.run.resume.is_some() && args.overwrite {
-        return Err(
-            "--resume continues the files in --out: it cannot be given with --overwrite".into(),
-        );
-    }
+fn run(args: Args, _prepared: Prepared) -> Result<(), AnyError> {
     let bp5 = SeasBp5::default();
+    let (domain_km, ratio) = args.box_size();
     // Checked before any file is touched.
     let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
     let grid = SeasBp5Grid {
         dx: args.dx,
-        domain: args.domain_km * 1e3,
-        ratio: args.ratio,
+        domain: domain_km * 1e3,
+        ratio,
     };
     let mut options = bp5
         .fault_ode_options(args.tolerance)
@@ -135,27 +234,14 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         .half_space(args.epsilon)
         .map_err(|e| format!("--epsilon: {e}"))?;
     // A folder of another run (unless --overwrite), one that cannot be written: refused
-    // before anything is computed.
-    let mut outputs = SeasBp5Output::file_names();
-    outputs.extend(
-        [
-            "events.csv",
-            "summary.json",
-            "overview.png",
-            "checkpoint.bin",
-            SEAS_BP5_RESUME_LOG,
-        ]
-        .map(String::from),
-    );
-    let names: Vec<&str> = outputs.iter().map(String::as_str).collect();
-    let folder = RunFolder::new(&args.out, "seas_bp5", &names);
-    folder.prepare(args.run.resume.is_some(), args.overwrite)?;
+    // by the guard before anything was computed.
+    let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.
     let fingerprint = Fingerprint::of_serialized(&bp5)
         .with("kernel", format!("{:?}", args.kernel))
         .with("dx", args.dx)
-        .with("domain_km", args.domain_km)
-        .with("ratio", args.ratio)
+        .with("domain_km", domain_km)
+        .with("ratio", ratio)
         .with("ordering", args.ordering)
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
@@ -203,8 +289,8 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
                 "BP5-QD, finite elements, Δx = {} m, box ±{} km (ratio {}), {} vertices, {m} \
                  slip unknowns; on {}",
                 args.dx,
-                args.domain_km,
-                args.ratio,
+                domain_km,
+                ratio,
                 model.vertices.len(),
                 machine()
             );
@@ -306,8 +392,8 @@ fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     let json = serde_json::json!({
         "problem": "BP5-QD",
         "kernel": format!("{:?}", args.kernel),
-        "domain_km": (args.kernel == Kernel::Fe).then_some(args.domain_km),
-        "ratio": (args.kernel == Kernel::Fe).then_some(args.ratio),
+        "domain_km": (args.kernel == Kernel::Fe).then_some(domain_km),
+        "ratio": (args.kernel == Kernel::Fe).then_some(ratio),
         "dx_m": args.dx,
         "cells": cells,
         "end_years": args.end_years,

@@ -40,6 +40,7 @@ use rsf::run_folder::{check_output_size, read_checkpoint};
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{Flow, Model, Observer, StepView};
 use rsf_examples::cli::step_count;
+use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use rsf_scenes::steps_bound;
 use rsf_scenes::{LateralBoundary, Slider3dScene};
@@ -113,10 +114,10 @@ struct Cli {
     /// fit, else TNNMG; docs/scaling.md). Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
     memory_budget_gib: Option<f64>,
-    /// Refuse a level whose run is estimated above this many gigabytes of memory (nodes
-    /// estimated before anything is allocated; 35 kB per node, measured at level 4).
-    #[arg(long, default_value_t = 16.0, value_name = "GB")]
-    max_memory_gb: f64,
+    /// `--max-memory-gb` (nodes estimated before anything is allocated; 35 kB per node,
+    /// measured at level 4), `--max-output-gb` (time series rows and VTU frames).
+    #[command(flatten)]
+    limits: Limits,
     /// Solve every fixed point iteration's velocity problem to the solver's tolerance (the
     /// paper's rule) instead of the scene's (3-D default: `by-solver`, inexact solves for
     /// TNNMG; docs/scaling.md).
@@ -124,10 +125,68 @@ struct Cli {
     exact_inner_solves: bool,
 }
 
+impl Program for Cli {
+    const NAME: &'static str = "slider_3d";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = scene(self)?;
+        let s = &scene.slider;
+        if let Some(t) = self.snapshot_time {
+            // A NaN or a time outside the run would give an empty (all-zero) snapshot.
+            if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
+                return Err(rsf_examples::guard::refuse(
+                    "--snapshot-time",
+                    rsf_examples::guard::number(t),
+                    &format!(
+                        "must be a finite time inside [0, T] = [0, {:e}] s",
+                        s.end_time_s
+                    ),
+                ));
+            }
+        }
+        if let Some(gib) = self.memory_budget_gib {
+            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
+        }
+        // The model's size, and the output bound: a series row per step, a frame of every
+        // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps.
+        let (nodes, bytes) = scene.estimated_bytes();
+        let k = 2f64.powi(s.level.min(1000) as i32);
+        let cells = 6.0 * 5.0 * k * k * scene.width_m.round().max(1.0) * k;
+        let steps = steps_bound(s, (0.0, s.end_time_s))
+            .min(self.folder.max_steps.map_or(f64::INFINITY, |m| m as f64));
+        let frames = self.frames.bytes_bound(
+            DEFAULT_FRAME_EVERY,
+            steps,
+            nodes.min(1e18) as usize,
+            cells.min(1e18) as usize,
+        );
+        let what = format!(
+            "the 3-D slider at level {} and width {} m: about {nodes:.3e} nodes, {steps:.3e} steps",
+            s.level, scene.width_m
+        );
+        Ok(Plan::new()
+            .pool(self.threads.threads())
+            .memory(bytes, "--level, --width (or --scene)", what.clone())
+            .output(
+                steps * SERIES_ROW_BYTES_3D + frames,
+                "--steps, --frame-every, --max-steps",
+                what,
+            )
+            .folder(
+                Folder::new("--out", &self.out, &OUTPUTS)
+                    .overwrite(self.folder.overwrite)
+                    .resume(self.resume.is_some()),
+            ))
+    }
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
     // With threads, the whole run on the pool (no hand-over per parallel region).
-    rsf_examples::main_on_threads(cli.threads.threads(), || run(cli))
+    rsf_examples::guard::main(run)
 }
 
 /// The scene from `--scene` (or the default) with the flags applied, validated.
@@ -158,7 +217,7 @@ fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     }
     // A width from the flag is named as the flag (`width`), from the file as its key.
     match cli.width {
-        Some(_) => rsf_examples::cli::for_flag("width", "width_m", scene.validate())?,
+        Some(_) => rsf_examples::cli::for_flag("--width", "width_m", scene.validate())?,
         None => scene.validate()?,
     }
     Ok(scene)
@@ -255,34 +314,10 @@ impl Observer<3> for FaultSnapshot {
     }
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let scene = scene(&cli)?;
     let s = &scene.slider;
-    // The model's size, before anything is allocated.
-    let (nodes, bytes) = scene.estimated_bytes();
-    rsf::run_folder::check_memory(
-        bytes,
-        cli.max_memory_gb,
-        "level",
-        &format!(
-            "the 3-D slider at level {} and width {} m: about {nodes:.3e} nodes",
-            s.level, scene.width_m
-        ),
-    )?;
     let out = cli.out.clone();
-    if let Some(t) = cli.snapshot_time {
-        // A NaN or a time outside the run would give an empty (all-zero) snapshot.
-        if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
-            return Err(rsf::Error::InvalidParameter {
-                name: "snapshot_time".into(),
-                reason: format!(
-                    "{t:e} s must be a finite time inside [0, T] = [0, {:e}] s",
-                    s.end_time_s
-                ),
-            }
-            .into());
-        }
-    }
     let folder = RunFolder::new(&out, "slider_3d", &OUTPUTS);
     println!(
         "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {} law, {}, {} solver → {}",
@@ -322,14 +357,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     check_output_size(
         steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
             + frames_bytes,
-        cli.folder.max_output_gb,
+        cli.limits.max_output_gb,
         "steps",
     )?;
     let frame_every = cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY);
     // What changes the files besides the scene: the frame spacing.
     let fingerprint = scene.fingerprint().with("frame_every", frame_every);
-    // Everything is checked before any file is touched: folder, checkpoint, rows.
-    let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
+    // Everything is checked before any file is touched: folder (the guard), checkpoint,
+    // rows.
+    let fresh = prepared.mode();
     let resumed = match &cli.resume {
         Some(path) => {
             let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;

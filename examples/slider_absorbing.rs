@@ -25,6 +25,9 @@ use clap::Parser;
 use rsf::observe::StepView;
 use rsf::{Flow, Observer, Until};
 use rsf_examples::cli::window;
+use rsf_examples::estimates::FIGURE_BYTES;
+use rsf_examples::estimates::{csv_row_bytes, slider_memory, slider_steps, slider_what};
+use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{line_plot, Labels, SceneArgs, Series};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
@@ -35,11 +38,62 @@ struct Cli {
     #[command(flatten)]
     scene: SceneArgs,
     /// Figure window T0,T1 (s) [default: around the first event].
-    #[arg(long, value_parser = window, value_name = "T0,T1")]
+    #[arg(long, value_parser = window, value_name = "T0,T1", allow_hyphen_values = true)]
     window: Option<(f64, f64)>,
     /// Output folder.
     #[arg(long, default_value = "out/slider_absorbing")]
     out: PathBuf,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched). The two runs keep their rows in
+    /// memory until the end, so there is no `--resume`: they take minutes.
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The scene of the flags (level 3 unless they say otherwise).
+fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
+    cli.scene.scene(SliderScene {
+        level: 3,
+        ..SliderScene::default()
+    })
+}
+
+/// Bytes of a `series.csv` row (7 numbers of 24 characters).
+const ROW_BYTES: f64 = 170.0;
+
+impl Program for Cli {
+    const NAME: &'static str = "slider_absorbing";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = base(self)?;
+        if let Some((w0, w1)) = self.window {
+            if !(w0.is_finite() && w1.is_finite()) {
+                return Err(format!("--window {w0},{w1}: must be finite").into());
+            }
+        }
+        let steps = slider_steps(&scene);
+        // Two runs' rows in memory (4 numbers each) and the CSV's text before it is written.
+        let memory = 2.0 * slider_memory(&scene) + steps * (2.0 * 32.0 + ROW_BYTES);
+        let output = steps * csv_row_bytes(7) + 2.0 * FIGURE_BYTES;
+        let what = slider_what(&scene);
+        Ok(Plan::new()
+            .memory(memory, "--level, --steps (or --scene)", what.clone())
+            .output(output, "--steps, --end-time (or --scene)", what)
+            .folder(
+                Folder::new(
+                    "--out",
+                    &self.out,
+                    &["series.csv", "slip_rate_x0.png", "kinetic_energy.png"],
+                )
+                .overwrite(self.overwrite),
+            ))
+    }
 }
 
 /// Slip rate of an event (m/s), as the main job's event definition.
@@ -85,15 +139,11 @@ fn events(rows: &[[f64; 4]]) -> Vec<(f64, f64)> {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let base = cli.scene.scene(SliderScene {
-        level: 3,
-        ..SliderScene::default()
-    })?;
-    std::fs::create_dir_all(&cli.out)?;
+fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
+    let base = base(&cli)?;
     println!(
         "slider, level {}, N = {}, T = {} s, {} law, {}: traction-free and absorbing ends; on {}",
         base.level,
@@ -162,7 +212,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             a[0], a[1], a[2], a[3], b[1], b[2], b[3]
         )?;
     }
-    std::fs::write(cli.out.join("series.csv"), csv)?;
+    rsf::checkpoint::write_atomically(&cli.out.join("series.csv"), csv.as_bytes())?;
 
     let onset = runs[0].2.first().map_or(0.0, |e| e.0);
     let (w0, w1) = cli.window.unwrap_or((onset - 0.05, onset + 1.0));

@@ -27,6 +27,8 @@ use rsf::model::MaterialRegions;
 use rsf::observe::StepView;
 use rsf::time::VelocityIntegrator;
 use rsf::{Flow, Material, ModelBuilder, Observer, Part, SolverKind, Until};
+use rsf_examples::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
+use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{line_plot, Labels, SceneArgs, Series};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
@@ -37,7 +39,12 @@ struct Cli {
     #[command(flatten)]
     scene: SceneArgs,
     /// Young's moduli of the base (Pa), comma-separated (the block's is the scene's, 5e7).
-    #[arg(long, value_delimiter = ',', default_value = "5e7,5e8,5e9,5e10,5e11")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "5e7,5e8,5e9,5e10,5e11",
+        allow_negative_numbers = true
+    )]
     base_e: Vec<f64>,
     /// Also run the rigid and the stiffest base with both TNNMG and the direct solver.
     #[arg(long)]
@@ -45,6 +52,55 @@ struct Cli {
     /// Output folder.
     #[arg(long, default_value = "out/slider_elastic_base")]
     out: PathBuf,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched). The runs keep their rows in
+    /// memory until the end, so there is no `--resume`: they take minutes.
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The scene of the flags (level 3 unless they say otherwise).
+fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
+    cli.scene.scene(SliderScene {
+        level: 3,
+        ..SliderScene::default()
+    })
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "slider_elastic_base";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = base(self)?;
+        for &e in &self.base_e {
+            // The scene's admissible Young's moduli (`youngs_modulus_pa`).
+            in_range("--base-e", e, (1e3, 1e13), "Pa: foam to beyond diamond")?;
+        }
+        let runs = (1 + self.base_e.len() + if self.compare_solvers { 4 } else { 0 }) as f64;
+        let steps = slider_steps(&scene);
+        // A model of the block and its base (twice the block's nodes) at a time; every
+        // run's rows (3 numbers) in memory, the CSV's text before it is written.
+        let memory = 2.0 * slider_memory(&scene) + runs * steps * (24.0 + 80.0);
+        let output = runs * steps * 80.0 + FIGURE_BYTES;
+        let what = format!("{} runs of {}", runs, slider_what(&scene));
+        Ok(Plan::new()
+            .memory(
+                memory,
+                "--level, --steps, --base-e (or --scene)",
+                what.clone(),
+            )
+            .output(output, "--steps, --end-time, --base-e (or --scene)", what)
+            .folder(
+                Folder::new("--out", &self.out, &["series.csv", "slip_rate_x0.png"])
+                    .overwrite(self.overwrite),
+            ))
+    }
 }
 
 /// Slip rate of an event (m/s), as the main job's event definition.
@@ -150,19 +206,11 @@ fn log_v_at(rows: &[[f64; 3]], t: f64) -> f64 {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let scene = cli.scene.scene(SliderScene {
-        level: 3,
-        ..SliderScene::default()
-    })?;
-    scene.validate()?;
-    if let Some(e) = cli.base_e.iter().find(|e| !(e.is_finite() && **e > 0.0)) {
-        return Err(format!("--base-e {e}: must be finite and > 0").into());
-    }
-    std::fs::create_dir_all(&cli.out)?;
+fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
+    let scene = base(&cli)?;
     println!(
         "slider on an elastic base, level {}, N = {}, T = {} s, {} law, {}, solver {:?}; on {}",
         scene.level,
@@ -236,7 +284,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             csv.push_str(&format!("{},{:.17e},{:.17e}\n", r.name, x[0], x[1].log10()));
         }
     }
-    std::fs::write(cli.out.join("series.csv"), csv)?;
+    rsf::checkpoint::write_atomically(&cli.out.join("series.csv"), csv.as_bytes())?;
     // The figure: the rigid base and the elastic ones (not the solver comparison).
     let plotted = &runs[..=cli.base_e.len()];
     let points: Vec<Vec<(f64, f64)>> = plotted

@@ -19,6 +19,8 @@ use clap::Parser;
 use rsf::method::SolverOptions;
 use rsf::tnnmg::{DirectMemory, DirectOptions};
 use rsf::{Model, SolverKind};
+use rsf_examples::estimates::slider_nodes;
+use rsf_examples::guard::{AnyError, Limits, Plan, Prepared, Program};
 use rsf_scenes::{Slider3dScene, SliderScene};
 
 /// The direct solver's memory estimate and the `auto` choice per refinement level.
@@ -34,10 +36,45 @@ struct Cli {
     /// The budget (GiB) of the `auto` choice. Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
     memory_budget_gib: Option<f64>,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// Bytes per node of a model with its stiffness matrix and the symbolic factorisation
+/// (no factor): assumed a sixth of a 2-D slider run's 30 kB and a third of a 3-D one's
+/// 35 kB (the factor and the solver's work are most of a run).
+const MODEL_BYTES_PER_NODE: [f64; 2] = [5e3, 12e3];
+
+impl Program for Cli {
+    const NAME: &'static str = "solver_memory";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        if let Some(gib) = self.memory_budget_gib {
+            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
+        }
+        let k = self.levels.iter().copied().max().unwrap_or(0);
+        let nodes = if self.dim == 2 {
+            slider_nodes(k)
+        } else {
+            let mut scene = Slider3dScene::default();
+            scene.slider.level = k;
+            scene.estimated_bytes().0
+        };
+        let bytes = nodes * MODEL_BYTES_PER_NODE[usize::from(self.dim == 3)];
+        Ok(Plan::new().memory(
+            bytes,
+            "--levels",
+            format!("the {}-D slider at level {k}: {nodes:.3e} nodes", self.dim),
+        ))
+    }
 }
 
 fn main() -> ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
 fn mib(bytes: usize) -> f64 {
@@ -75,7 +112,7 @@ fn row<const D: usize, const C: usize>(
     Ok(())
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
     let mut options = SolverOptions::default();
     if let Some(gib) = cli.memory_budget_gib {
         options.memory_budget_bytes =

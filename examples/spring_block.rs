@@ -35,13 +35,11 @@ use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::method::FixedPointOptions;
 use rsf::model::{DirichletVelocity, FrictionalBoundary};
-use rsf::run_folder::RunFolder;
 use rsf::state::Aging;
 use rsf::time::{Quasistatic, VelocityIntegrator};
 use rsf::{Integrator, Model, Simulation, SimulationBuilder, SolverKind, TimeFunction};
 use rsf_examples::cli::positive_number;
-
-type AnyError = Box<dyn std::error::Error>;
+use rsf_examples::guard::{in_range, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
 
 /// Physical parameters of the spring–block system (SI units, contact area 1 m²).
 #[derive(Debug, Clone, Copy)]
@@ -289,25 +287,77 @@ struct Cli {
     /// Replace the files of an earlier run in the output folder.
     #[arg(long)]
     overwrite: bool,
-    /// Refuse a sweep whose runs would hold more than this many gigabytes (the slip-rate
-    /// history of a run in memory, the kept runs' time series on disk).
-    #[arg(long, default_value_t = 10.0, value_name = "GB")]
-    max_output_gb: f64,
+    /// `--max-output-gb`: a sweep whose runs would hold more than it (the slip-rate
+    /// history of a run in memory, the kept runs' time series on disk) is refused.
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The friction of the sweep (σ̄_n in Pa; contact area 1 m²).
+const FRICTION: RateStateParams = RateStateParams {
+    mu0: 0.6,
+    a: 0.010,
+    b: 0.015,
+    v0: 1e-6,
+    l: 1e-5,
+    sigma_n: 1e6,
+};
+
+/// The load-point velocity (m/s).
+const V_LOAD: f64 = 1e-6;
+
+impl Cli {
+    /// Steps of each run: `--periods` periods of the oscillation at k_c, τ = (L/V_load) /
+    /// `--steps-per-l`.
+    fn steps(&self) -> Result<f64, AnyError> {
+        let steps_per_l = positive("--steps-per-l", self.steps_per_l)?;
+        let periods = positive("--periods", self.periods)?;
+        let probe = Block {
+            friction: FRICTION,
+            v_load: V_LOAD,
+            mass: None,
+            eta: 0.0,
+            dalpha: 0.0,
+        };
+        let tau = FRICTION.l / V_LOAD / steps_per_l;
+        Ok((periods * probe.period_at_kc() / tau).ceil())
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "spring_block";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let steps = self.steps()?;
+        in_range("--eta", self.eta, (0.0, 1e15), "Pa·s/m")?;
+        let bytes = steps * STEP_BYTES;
+        let what = format!("{steps:.3e} steps per run");
+        Ok(Plan::new()
+            // A run's history in memory, the kept runs' series on disk.
+            .memory(bytes, "--steps-per-l, --periods", what.clone())
+            .output(bytes, "--steps-per-l, --periods", what)
+            .folder(Folder::new("--out", &self.out, &OUTPUTS).overwrite(self.overwrite)))
+    }
 }
 
 /// Bytes per step of a run, rounded up: its slip-rate history in memory and, for the
 /// two kept runs, a time series row (≈ 60 bytes) and its text before the atomic write.
 const STEP_BYTES: f64 = 150.0;
 
-/// `x` finite and > 0, else [`rsf::Error::InvalidParameter`] named `name`.
-fn positive(name: &str, x: f64) -> Result<f64, rsf::Error> {
+/// `x` finite and > 0, else an error naming the flag `name`.
+fn positive(name: &str, x: f64) -> Result<f64, AnyError> {
     if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
-        Err(rsf::Error::InvalidParameter {
-            name: name.into(),
-            reason: format!("{x:e} must be positive and finite"),
-        })
+        Err(refuse(
+            name,
+            rsf_examples::guard::number(x),
+            "must be positive and finite",
+        ))
     }
 }
 
@@ -320,16 +370,14 @@ const OUTPUTS: [&str; 4] = [
 ];
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::main_with(|| run_cli(Cli::parse()))
+    rsf_examples::guard::main(run_cli)
 }
 
-fn run_cli(cli: Cli) -> Result<(), AnyError> {
+fn run_cli(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
+    // The steps and the folder: checked by the guard before anything was computed.
+    let steps = cli.steps()? as usize;
+    let steps_per_l = cli.steps_per_l;
     let (mass, out_dir) = (cli.mass, cli.out);
-    let steps_per_l = positive("steps_per_l", cli.steps_per_l)?;
-    let periods = positive("periods", cli.periods)?;
-    // Refused before anything is computed: a folder of another run (unless --overwrite),
-    // one that cannot be written.
-    RunFolder::new(&out_dir, "spring_block", &OUTPUTS).prepare(false, cli.overwrite)?;
     let integ_name = cli.integrator.name();
     let integ = match cli.integrator {
         Integrator::Quasistatic(_) => {
@@ -338,15 +386,8 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
         other => other,
     };
     let blk = Block {
-        friction: RateStateParams {
-            mu0: 0.6,
-            a: 0.010,
-            b: 0.015,
-            v0: 1e-6,
-            l: 1e-5,
-            sigma_n: 1e6,
-        },
-        v_load: 1e-6,
+        friction: FRICTION,
+        v_load: V_LOAD,
         mass: match integ {
             Integrator::Quasistatic(_) => None,
             _ => Some(mass),
@@ -359,10 +400,6 @@ fn run_cli(cli: Cli) -> Result<(), AnyError> {
     let t_l = p.l / blk.v_load;
     let tau = t_l / steps_per_l;
     let period = blk.period_at_kc();
-    // Bounded before anything is computed: a run's steps in memory and on disk.
-    let steps = (periods * period / tau).ceil();
-    rsf::run_folder::check_output_size(steps * STEP_BYTES, cli.max_output_gb, "steps_per_l")?;
-    let steps = steps as usize;
 
     // Expected shifts of the discrete threshold (docs/spring-block.md):
     // backward Euler ~ τ V_load / L, radiation damping η V_load / (σ̄_n (b − a)),

@@ -33,10 +33,36 @@ fn outcome(o: &stability::Outcome) -> String {
 struct Cli {
     /// Run only the cases whose name contains one of these.
     filter: Vec<String>,
+    #[command(flatten)]
+    limits: rsf_examples::guard::Limits,
 }
 
-fn main() {
-    let filter = <Cli as clap::Parser>::parse().filter;
+impl rsf_examples::guard::Program for Cli {
+    const NAME: &'static str = "stability_table";
+
+    fn limits(&self) -> rsf_examples::guard::Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+        // Fixed cases of the paper's slider at levels ≤ 3; the table goes to the terminal.
+        Ok(rsf_examples::guard::Plan::new().memory(
+            1e9,
+            "(none)",
+            "the stability cases (levels ≤ 3)",
+        ))
+    }
+}
+
+fn main() -> std::process::ExitCode {
+    rsf_examples::guard::main(|cli: Cli, _| {
+        table(&cli.filter);
+        Ok(())
+    })
+}
+
+/// Runs the cases whose name contains one of `filter` (all if empty) and prints the table.
+fn table(filter: &[String]) {
     println!(
         "| case | what | steps | outcome | as expected | FPI mean / max | solver it. per solve (max per step) | steps with ω = 0.5 | max V (m/s) | time (s) |"
     );

@@ -47,6 +47,8 @@ use clap::{Parser, ValueEnum};
 use rsf::observe::{EventDetector, EventThresholds};
 use rsf::{Integrator, SolverKind};
 use rsf_examples::cli::step_count;
+use rsf_examples::estimates::{slider_memory, FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{machine, Labels, PanelLayout, Series};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
@@ -124,6 +126,88 @@ struct Cli {
     /// Euler).
     #[arg(long, value_enum, default_value = "backward-euler")]
     state_integrator: rsf::method::StateIntegrator,
+    /// Replace the files of an earlier run in `--out` and `--figures` (without it, a
+    /// folder holding any rsf program's run is refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "work_precision";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        if let Some(t) = &self.tolerances {
+            for &tol in t {
+                in_range(
+                    "--tolerances",
+                    tol,
+                    (f64::EPSILON * 2.0, 0.5),
+                    "relative tolerances",
+                )?;
+            }
+        }
+        let study = self.study;
+        let has = |s: &[Study]| s.contains(&study);
+        // (csv, figure) of each study this run makes.
+        let mut csv = Vec::new();
+        let mut png = Vec::new();
+        if has(&[Study::All, Study::Time]) {
+            csv.push("time_step.csv");
+            png.push("work_precision_time_step.png");
+        }
+        if has(&[Study::All, Study::Tol]) {
+            csv.push("tolerance.csv");
+            png.push("work_precision_tolerance.png");
+        }
+        if has(&[Study::Adaptive]) {
+            csv.push("adaptive.csv");
+            png.push("work_precision_adaptive.png");
+        }
+        if has(&[Study::All, Study::Mesh]) {
+            csv.push("mesh.csv");
+            png.push("work_precision_mesh.png");
+        }
+        if has(&[Study::Energy]) {
+            csv.push("energy.csv");
+        }
+        // The finest level any run takes (the mesh study's reference: j = 5, or 6 with
+        // --big) and the longest run's every step in memory (the reference at --ref-n,
+        // the profile run at --steps).
+        let mesh = has(&[Study::All, Study::Mesh, Study::Energy]);
+        let level = self
+            .level
+            .max(if mesh { 5 + usize::from(self.big) } else { 0 });
+        let steps = self
+            .ref_n
+            .max(self.steps)
+            .max(self.mesh_steps)
+            .max(self.energy_steps) as f64
+            * if self.big { 10.0 } else { 1.0 };
+        let scene = SliderScene {
+            level,
+            ..SliderScene::default()
+        };
+        let memory = slider_memory(&scene) + steps * RECORDED_STEP_BYTES;
+        Ok(Plan::new()
+            .memory(
+                memory,
+                "--level, --ref-n, --steps, --mesh-steps, --energy-steps",
+                format!("runs up to level {level} and {steps:.3e} steps"),
+            )
+            .output(
+                (csv.len() as f64) * 1e6 + png.len() as f64 * FIGURE_BYTES,
+                "--study",
+                "the studies' tables and figures",
+            )
+            .folder(Folder::new("--out", &self.out, &csv).overwrite(self.overwrite))
+            .folder(Folder::new("--figures", &self.figures, &png).overwrite(self.overwrite)))
+    }
 }
 
 /// CPU seconds the repeats of one configuration of the adaptive study add up to at least,
@@ -1119,10 +1203,10 @@ fn energy_study(c: &Ctx) -> Res<Vec<Line>> {
 }
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::main_with(|| run(Cli::parse()))
+    rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli) -> Res<()> {
+fn run(cli: Cli, _folders: Prepared) -> Res<()> {
     let c = Ctx {
         out: cli.out,
         figures: cli.figures,
@@ -1154,8 +1238,6 @@ fn run(cli: Cli) -> Res<()> {
         }),
         state_integrator: cli.state_integrator,
     };
-    std::fs::create_dir_all(&c.out)?;
-    std::fs::create_dir_all(&c.figures)?;
     let study = cli.study;
     elapsed();
     log(&format!("machine: {}", machine()));

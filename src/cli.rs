@@ -56,6 +56,16 @@ impl SceneArgs {
             Some(path) => SliderScene::read(path)?,
             None => base,
         };
+        if let Some(t) = self.end_time {
+            // Also refused by the scene's validation (as `end_time_s`); here named as
+            // written, with the range.
+            crate::guard::in_range(
+                "--end-time",
+                t,
+                (f64::MIN_POSITIVE, 1e10),
+                "seconds; beyond 1e10 s the time loses the digits of the steps",
+            )?;
+        }
         if let Some(j) = self.level {
             scene.level = j;
         }
@@ -83,8 +93,55 @@ impl SceneArgs {
         if self.absorbing_sides {
             scene.absorbing_sides = true;
         }
-        scene.validate()?;
+        let checked = for_flag(
+            "--level",
+            "level",
+            for_flag("--end-time", "end_time_s", scene.validate()),
+        );
+        self.named(checked)?;
         Ok(scene)
+    }
+
+    /// Refuses a scene file that sets `steps` (to other than the default's) for a program
+    /// that takes its step counts from its own flags (`flags`, e.g. `--steps`): the key
+    /// would be ignored.
+    ///
+    /// # Errors
+    /// A message naming the key, the file and the flags.
+    pub fn steps_ignored(
+        &self,
+        scene: &SliderScene,
+        flags: &str,
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        match &self.scene {
+            Some(path) if scene.steps != SliderScene::default().steps => Err(format!(
+                "--scene {}: `steps = {}`: this program takes its step counts from {flags}, \
+                 the key would be ignored",
+                rsf_numeric::excerpt(&path.display().to_string()),
+                scene.steps
+            )
+            .into()),
+            _ => Ok(()),
+        }
+    }
+
+    /// `result`'s error named after the scene file when one was given and the error
+    /// names none of the flags (`--scene FILE: steps …`).
+    ///
+    /// # Errors
+    /// The error of `result`, named.
+    pub fn named<T>(&self, result: rsf::Result<T>) -> Result<T, Box<dyn std::error::Error>> {
+        match (&self.scene, result) {
+            (_, Ok(t)) => Ok(t),
+            (Some(path), Err(e)) if !e.to_string().contains("--") => crate::guard::flag(
+                &format!(
+                    "--scene {}",
+                    rsf_numeric::excerpt(&path.display().to_string())
+                ),
+                Err::<T, _>(e),
+            ),
+            (_, Err(e)) => Err(e.into()),
+        }
     }
 }
 
@@ -173,7 +230,7 @@ impl TimeStepArgs {
             // the message names the flag).
             if !(tol > f64::EPSILON && tol < 1.0) && tol.is_finite() && tol > 0.0 {
                 return Err(rsf::Error::InvalidParameter {
-                    name: "time_step.tolerance".into(),
+                    name: "--adaptive".into(),
                     reason: format!(
                         "--adaptive {tol:e} is outside the admissible range ({:e}, 1): a \
                          relative tolerance ≥ 1 accepts any step, one ≤ the machine epsilon \
@@ -190,7 +247,14 @@ impl TimeStepArgs {
                 TimeStep::Fixed {} => AdaptiveTimeStep::new(tol),
             });
         }
-        scene.validate()?;
+        let checked = match self.steps {
+            Some(_) => for_flag("--steps", "steps", scene.validate()),
+            None => scene.validate(),
+        };
+        match self.adaptive {
+            Some(_) => for_flag("--adaptive", "time_step.tolerance", checked)?,
+            None => checked?,
+        }
         Ok(scene)
     }
 
@@ -404,7 +468,7 @@ mod tests {
         for bad in ["0", "-1e-3", "nan"] {
             let cli = Cli::try_parse_from(["x".into(), format!("--adaptive={bad}")]).unwrap();
             let e = cli.time_step.apply(SliderScene::default()).unwrap_err();
-            assert!(e.to_string().contains("time_step.tolerance"), "{bad}: {e}");
+            assert!(e.to_string().contains("--adaptive"), "{bad}: {e}");
         }
         assert!(Cli::try_parse_from(["x", "--adaptive", "x"]).is_err());
     }
@@ -501,6 +565,35 @@ pub struct SeasHeaderArgs {
     pub date: Option<String>,
 }
 
+impl SeasHeaderArgs {
+    /// Checks the flags before any work: `--modeler` one non-empty line of at most 100
+    /// characters, `--date` a calendar date `YYYY-MM-DD` (`2023-02-31` is not).
+    ///
+    /// # Errors
+    /// A message naming the flag.
+    pub fn check(&self) -> Result<(), Box<dyn std::error::Error>> {
+        let m = &self.modeler;
+        if m.trim().is_empty() || m.chars().any(char::is_control) || m.chars().count() > 100 {
+            return Err(crate::guard::refuse(
+                "--modeler",
+                format_args!("`{m}`"),
+                "must be one non-empty line of at most 100 characters",
+            ));
+        }
+        if let Some(d) = &self.date {
+            let calendar = d.len() == 10 && d.parse::<jiff::civil::Date>().is_ok();
+            if !calendar {
+                return Err(crate::guard::refuse(
+                    "--date",
+                    format_args!("`{d}`"),
+                    "is not a calendar date YYYY-MM-DD",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// `--kernel dense|hierarchical` and `--kernel-epsilon E` of the fault-ODE examples.
 #[derive(Debug, Clone, Copy, Default, clap::Args)]
 pub struct KernelArgs {
@@ -529,7 +622,13 @@ impl KernelArgs {
                 Err("--kernel-epsilon needs --kernel hierarchical".into())
             }
             (KernelArg::Hierarchical, None) => Ok(FaultKernel::matching(tolerance)),
-            (KernelArg::Hierarchical, Some(e)) => Ok(FaultKernel::hierarchical(e)),
+            (KernelArg::Hierarchical, Some(e)) if e > f64::EPSILON && e < 1.0 => {
+                Ok(FaultKernel::hierarchical(e))
+            }
+            (KernelArg::Hierarchical, Some(e)) => Err(format!(
+                "--kernel-epsilon {e:e}: must be in ({:e}, 1) (a relative accuracy)",
+                f64::EPSILON
+            )),
         }
     }
 }

@@ -10,6 +10,8 @@ use plotters::prelude::*;
 
 pub mod cli;
 mod curved;
+pub mod estimates;
+pub mod guard;
 mod heat_map;
 pub mod okada_anchor;
 mod own_model;

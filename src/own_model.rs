@@ -9,6 +9,7 @@ use rsf::run_folder::{check_output_size, RunFolder, SERIES_ROW_BYTES};
 use rsf::{Observer, Until};
 use rsf_scenes::{steps_bound, SceneSimulation, SliderScene};
 
+use crate::guard::{Folder, Limits, Plan};
 use crate::{stats, FrameArgs, SliderRun, SliderStats};
 
 /// The output flags of a slider example on a model of its own: the folder, whether an
@@ -22,13 +23,12 @@ pub struct OwnRunArgs {
     /// holding any rsf program's run is refused and left untouched).
     #[arg(long)]
     pub overwrite: bool,
-    /// Refuse to start a run whose output (a series row per step, the frames) is
-    /// estimated above this many gigabytes.
-    #[arg(long, default_value_t = 10.0, value_name = "GB")]
-    pub max_output_gb: f64,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub frames: FrameArgs,
+    /// `--max-memory-gb`, `--max-output-gb` (a series row per step, the frames).
+    #[command(flatten)]
+    pub limits: Limits,
 }
 
 /// A slider example's run on its own model: the program (its name in the run folder's
@@ -48,30 +48,51 @@ pub struct OwnRun<'a> {
 }
 
 impl OwnRun<'_> {
-    /// The run folder: the program and the files it writes.
-    fn folder(&self) -> RunFolder {
-        RunFolder::new(
-            self.out,
-            self.program,
-            &["timeseries.csv", self.figure, "frames/frames.pvd"],
-        )
+    /// The files the run writes into its folder.
+    fn outputs(&self) -> [&str; 3] {
+        ["timeseries.csv", self.figure, "frames/frames.pvd"]
     }
 
-    /// Prepares the folder before anything is computed, as every rsf program does
-    /// ([`RunFolder::prepare`]): another run's files are refused unless `--overwrite`, the
-    /// folder is probed writable, no output path may be a folder.
-    ///
-    /// # Errors
-    /// Those of [`RunFolder::prepare`], naming the path.
-    pub fn prepare(&self) -> rsf::Result<FileMode> {
-        self.folder().prepare(false, self.args.overwrite)
+    /// The run folder: the program and the files it writes.
+    fn folder(&self) -> RunFolder {
+        RunFolder::new(self.out, self.program, &self.outputs())
+    }
+
+    /// The plan of the run of `scene` (on a model of about the paper's slider's size at
+    /// its level), from the flags alone: the memory, the output (a series row per step,
+    /// the frames) and the folder ([`Plan`], which the guard checks and prepares before
+    /// anything is computed: another run's files are refused unless `--overwrite`, the
+    /// folder is locked and probed writable, no output path may be a folder).
+    pub fn plan(&self, scene: &SliderScene) -> Plan {
+        let steps = steps_bound(scene, (0.0, scene.end_time_s));
+        let k = 2f64.powi(scene.level.min(1000) as i32);
+        let nodes = crate::estimates::slider_nodes(scene.level);
+        let frames = self.args.frames.bytes_bound(
+            0,
+            steps,
+            nodes.min(1e18) as usize,
+            (10.0 * k * k).min(1e18) as usize,
+        );
+        let what = crate::estimates::slider_what(scene);
+        Plan::new()
+            .memory(
+                crate::estimates::slider_memory(scene),
+                "--level (or --scene)",
+                what.clone(),
+            )
+            .output(
+                steps * SERIES_ROW_BYTES + frames,
+                "--steps, --end-time, --frame-every (or --scene)",
+                what,
+            )
+            .folder(Folder::new("--out", self.out, &self.outputs()).overwrite(self.args.overwrite))
     }
 }
 
 /// Runs `sim` (built from `scene`) to the scene's end time, writing `out/timeseries.csv` (a
 /// [`PointSeries`] at vertex `x0`) and the frames the flags ask for, and returns the run
-/// read back from the series with its statistics, into the folder [`OwnRun::prepare`]
-/// prepared (`mode`: its answer). Before the first step the output is bounded (a series
+/// read back from the series with its statistics, into the folder the guard prepared
+/// from [`OwnRun::plan`] (`mode`: its answer). Before the first step the output is bounded (a series
 /// row per step of the scene's step bound, the frames: `--max-output-gb`).
 ///
 /// # Errors
@@ -92,7 +113,7 @@ pub fn run_with_series(
             .bytes_bound(0, steps, model.num_nodes(), model.cells.len() / 3);
     check_output_size(
         steps * SERIES_ROW_BYTES + frames_bytes,
-        run.args.max_output_gb,
+        run.args.limits.max_output_gb,
         "steps",
     )?;
     let series_csv = folder.path("timeseries.csv");

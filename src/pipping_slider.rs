@@ -5,7 +5,9 @@
 
 use std::path::PathBuf;
 
-use crate::cli::window;
+use crate::cli::{for_flag, window};
+use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
+use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::run_folder::FolderArgs;
 use crate::{
     line_plot, space_time_map, stats, write_summary, FieldMap, FrameArgs, Labels, SceneArgs,
@@ -57,6 +59,80 @@ pub struct Cli {
     /// ones other round-off than lexicographic.
     #[arg(long, value_name = "ORDER")]
     pub smoother: Option<rsf::tnnmg::SmootherOrder>,
+    #[command(flatten)]
+    pub limits: Limits,
+}
+
+impl Cli {
+    /// The scene of the flags, validated.
+    fn scene(&self) -> Result<SliderScene, AnyError> {
+        let mut scene = self
+            .time_step
+            .apply(self.scene.scene(SliderScene::default())?)?;
+        if let Some(order) = self.smoother {
+            scene.tnnmg_smoother = order;
+        }
+        Ok(scene)
+    }
+
+    /// The profile window (s) of the flags or the scene's default.
+    fn window(&self, t_end: f64) -> (f64, f64) {
+        self.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end))
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "pipping_slider";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = self.scene()?;
+        let (w0, w1) = self.window(scene.end_time_s);
+        for_flag(
+            "--window",
+            "window",
+            check_window("window", (w0, w1), scene.end_time_s),
+        )?;
+        // The output bound of the run (the library's plan, with the slider's frictional
+        // nodes in closed form): refused here before any work.
+        let output = for_flag(
+            "--max-steps",
+            "max_steps",
+            for_flag(
+                "--steps",
+                "steps",
+                plan_output(
+                    &scene,
+                    (w0, w1),
+                    slider_fault_nodes(scene.level) as usize,
+                    600,
+                    rsf_scenes::OutputLimits {
+                        max_steps: self.folder.max_steps,
+                        max_gb: self.limits.max_output_gb,
+                    },
+                ),
+            ),
+        )?;
+        // The series is read back into memory at the end (a row per step, at most the
+        // step cap or the step bound).
+        let rows = crate::estimates::slider_steps(&scene)
+            .min(output.step_cap.map_or(f64::INFINITY, |c| c as f64))
+            .min(self.folder.max_steps.map_or(f64::INFINITY, |c| c as f64));
+        let memory = slider_memory(&scene) + rows * RECORDED_STEP_BYTES;
+        let what = slider_what(&scene);
+        Ok(Plan::new()
+            .threads("--threads", self.threads.threads())
+            .memory(memory, "--level, --steps (or --scene)", what.clone())
+            .output(output.bytes, "--steps, --window (or --scene)", what)
+            .folder(
+                Folder::new("--out", &self.out, &OUTPUTS)
+                    .overwrite(self.folder.overwrite)
+                    .resume(self.resume.is_some()),
+            ))
+    }
 }
 
 /// The files a run writes into its folder.
@@ -77,16 +153,20 @@ const OUTPUTS: [&str; 9] = [
 /// # Errors
 /// Every error of the run, typed: invalid flags or scene, a refused folder or checkpoint,
 /// a run stopped at `--max-steps`, solver and I/O errors.
-pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let mut scene = cli
-        .time_step
-        .apply(cli.scene.scene(SliderScene::default())?)?;
-    if let Some(order) = cli.smoother {
-        scene.tnnmg_smoother = order;
-    }
+pub fn run(cli: Cli) -> Result<(), AnyError> {
+    let prepared = crate::guard::prepare(&cli)?;
+    run_prepared(cli, prepared)
+}
+
+/// The run of `cli` in its folder, which the guard has prepared (`prepared`: its file
+/// mode and lock; [`crate::guard::prepare`]).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
+    let scene = cli.scene()?;
     let t_end = scene.end_time_s;
-    let (w0, w1) = cli.window.unwrap_or((0.6725 * t_end, 0.6775 * t_end));
-    check_window("window", (w0, w1), t_end)?;
+    let (w0, w1) = cli.window(t_end);
     let folder = RunFolder::new(&cli.out, "pipping_slider", &OUTPUTS);
     let out = folder.dir.clone();
     println!(
@@ -123,7 +203,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         600,
         rsf_scenes::OutputLimits {
             max_steps: cli.folder.max_steps,
-            max_gb: cli.folder.max_output_gb,
+            max_gb: cli.limits.max_output_gb,
         },
     )?;
     if let Some(cap) = plan.step_cap {
@@ -132,8 +212,9 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             plan.bytes / 1e9
         );
     }
-    // Everything is checked before any file is touched: folder, checkpoint, rows.
-    let fresh = folder.prepare(cli.resume.is_some(), cli.folder.overwrite)?;
+    // Everything is checked before any file is touched: folder (the guard), checkpoint,
+    // rows.
+    let fresh = prepared.mode();
     // Besides the scene, what changes the files: the profile window and the frame
     // spacing (a resume with another window would mix two windows in the profile).
     let fingerprint = scene

@@ -44,14 +44,15 @@ pub struct SliderRun {
 impl SliderRun {
     /// Runs `scene` to its end time with a progress bar, recording x0 every step and Γ_F
     /// every `map_every` steps (0: never); with `series_csv`, also writes the
-    /// [`PointSeries`](rsf::observe::PointSeries) at x0 there.
+    /// [`PointSeries`](rsf::observe::PointSeries) at x0 there (new, or replacing an earlier
+    /// run's with [`FileMode::Overwrite`]).
     ///
     /// # Errors
     /// Scene, solver and I/O errors.
     pub fn record(
         scene: &SliderScene,
         map_every: usize,
-        series_csv: Option<&Path>,
+        series_csv: Option<(&Path, FileMode)>,
     ) -> rsf::Result<Self> {
         let setup = std::time::Instant::now();
         let mut sim = scene.build()?;
@@ -62,12 +63,9 @@ impl SliderRun {
             FaultRecorder::new(sim.model()),
         )?;
         let mut series = match series_csv {
-            Some(path) => Some(rsf::observe::PointSeries::new(
-                path,
-                sim.model(),
-                x0,
-                FileMode::Create,
-            )?),
+            Some((path, mode)) => {
+                Some(rsf::observe::PointSeries::new(path, sim.model(), x0, mode)?)
+            }
             None => None,
         };
         let mut progress = scene.progress(0.0, &format!("τ = T/{}", scene.steps));

@@ -1,10 +1,11 @@
-//! The clap flags of a run folder (`--overwrite`, `--allow-change`, `--max-output-gb`,
-//! `--max-steps`). The procedure itself (refusing another run's folder, checking a resume
+//! The clap flags of a run folder (`--overwrite`, `--allow-change`, `--max-steps`; the
+//! output bound `--max-output-gb` is every program's, `crate::guard::Limits`). The procedure itself (refusing another run's folder, checking a resume
 //! before any file is cut, output bounds and step caps) is the library's:
 //! [`rsf::run_folder`] (docs/reliability.md).
 
 /// The flags of a run folder: how to treat existing files, deliberate changes on resume
-/// and the bound on the output size.
+/// and the step cap (for adaptive steps without `--max-steps`, the run stops at the step
+/// count whose output fits in `--max-output-gb`, with a checkpoint to resume from).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct FolderArgs {
     /// Replace the files of an earlier run in the output folder (without it, a folder
@@ -16,11 +17,6 @@ pub struct FolderArgs {
     /// is not in the run's fingerprint is refused, naming the fields that are.
     #[arg(long, value_delimiter = ',', value_name = "FIELD,…")]
     pub allow_change: Vec<String>,
-    /// Refuse to start a run whose output is estimated above this many gigabytes (for
-    /// adaptive steps without `--max-steps`: stop the run at the step count whose output
-    /// fits, with a checkpoint to resume from).
-    #[arg(long, default_value_t = 10.0, value_name = "GB")]
-    pub max_output_gb: f64,
     /// Stop the run after this many steps in total (across resumes), writing a checkpoint
     /// to continue from with a larger value; bounds the output of adaptive runs. 0
     /// computes no step.

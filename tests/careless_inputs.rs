@@ -1,0 +1,645 @@
+//! Every program against a careless user's inputs (issues 38, 58): the test lists every
+//! example binary (`examples/*.rs`), reads its flags from its `--help`, and runs the same
+//! careless inputs against each — another program's finished folder, a folder another run
+//! is writing (its lock held), an `--out` that is a file, a huge step count or end time, a
+//! huge or tiny size, `nan`, `-1`, `--threads 1000000`, absurd `--max-memory-gb` and
+//! `--max-output-gb` — plus the cases of particular programs below. Each must exit non-zero
+//! within seconds, print `error: …` naming the flag, key or path the user wrote (never a
+//! Debug dump or a panic), and leave every file of the scratch folder byte-identical. A
+//! program added later is covered without anyone editing this test: it goes through the
+//! guard (`rsf_examples::guard`) or fails here.
+//!
+//! The binaries are the examples `cargo test` builds beside this test
+//! (`target/<profile>/examples/`); the cases run two at a time. Two more tests: a second
+//! run into a running `seas_bp3`'s folder, and a full disk (a 1 MB tmpfs, where the
+//! machine allows mounting one).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The programs: the stems of `examples/*.rs`.
+fn programs() -> Vec<String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.unwrap().path();
+            (p.extension()? == "rs").then(|| p.file_stem().unwrap().to_string_lossy().into())
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+/// The example binary `name`, built by `cargo test` beside this test's executable.
+fn example(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let dir = exe.parent().unwrap().parent().unwrap().join("examples");
+    let path = dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        path.is_file(),
+        "{} not built: run the tests with `cargo test` (which builds the examples)",
+        path.display()
+    );
+    path
+}
+
+/// Every file under `dir` (recursively) with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in entries {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if let Ok(bytes) = std::fs::read(&p) {
+                files.insert(p.clone(), bytes);
+            }
+        }
+    }
+    files
+}
+
+/// What a run of a program gave.
+struct Outcome {
+    ok: bool,
+    stdout: String,
+    stderr: String,
+    seconds: f64,
+}
+
+/// Runs `program` with `args` in `dir`, killed after `limit` (then `ok` is false and the
+/// time is the limit).
+fn run(program: &str, args: &[String], dir: &Path, limit: Duration) -> Outcome {
+    let mut child = Command::new(example(program))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    // Read both pipes on threads so that a chatty program cannot block on a full pipe.
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut out, &mut s).ok();
+        s
+    });
+    let err = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut err, &mut s).ok();
+        s
+    });
+    let ok = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status.success();
+        }
+        if start.elapsed() > limit {
+            child.kill().ok();
+            child.wait().ok();
+            break false;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    Outcome {
+        ok,
+        seconds: start.elapsed().as_secs_f64(),
+        stdout: out.join().unwrap(),
+        stderr: err.join().unwrap(),
+    }
+}
+
+/// The long flags a program's `--help` lists (the first `--name` of each option line).
+fn flags(program: &str, dir: &Path) -> BTreeSet<String> {
+    let help = run(program, &["--help".into()], dir, Duration::from_secs(20));
+    assert!(help.ok, "{program} --help failed:\n{}", help.stderr);
+    help.stdout
+        .lines()
+        .filter_map(|l| {
+            let t = l.trim_start();
+            let t = match t.strip_prefix('-') {
+                Some(rest) if !rest.starts_with('-') => rest.get(3..)?.trim_start(),
+                _ => t,
+            };
+            let name = t.strip_prefix("--")?;
+            let end = name
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+                .unwrap_or(name.len());
+            Some(format!("--{}", &name[..end]))
+        })
+        .collect()
+}
+
+/// Careless values of the flags that any program may have: `(flag, values)`; the error
+/// must name the flag.
+const CARELESS: &[(&str, &[&str])] = &[
+    ("--steps", &["1e12"]),
+    ("--end-years", &["1e12", "-1", "nan"]),
+    ("--end-time", &["1e12", "-1", "nan"]),
+    ("--level", &["30"]),
+    ("--levels", &["30"]),
+    ("--max-level", &["30"]),
+    ("--dx", &["1e-3", "1e300", "nan", "-1"]),
+    ("--dz", &["1e-3", "1e300", "nan", "-1"]),
+    ("--domain-km", &["1e300", "nan", "-1"]),
+    ("--ratio", &["1e300", "nan", "-1"]),
+    ("--width", &["1e300", "1e-300", "nan"]),
+    ("--tolerance", &["nan", "-1"]),
+    ("--rk-tolerance", &["nan", "0"]),
+    ("--epsilon", &["nan", "-1"]),
+    ("--kernel-epsilon", &["nan"]),
+    ("--adaptive", &["nan", "2"]),
+    ("--coarse", &["1e12"]),
+    ("--fine", &["1e12"]),
+    ("--rows", &["1e12"]),
+    ("--steps-per-l", &["1e12", "nan"]),
+    ("--periods", &["1e12", "nan"]),
+    ("--reference-steps", &["1e12"]),
+    ("--ref-n", &["1e12"]),
+    ("--mesh-steps", &["1e12"]),
+    ("--energy-steps", &["1e12"]),
+    ("--length-km", &["1e300", "nan"]),
+    ("--depth-km", &["1e300", "nan"]),
+    ("--h0", &["nan", "-1"]),
+    ("--far", &["1e300", "nan"]),
+    ("--base-e", &["1e300", "nan", "-1"]),
+    ("--dip", &["nan", "1e300"]),
+    ("--mass", &["nan", "-1"]),
+    ("--eta", &["nan", "-1"]),
+    ("--compare-until", &["nan"]),
+    ("--snapshot-time", &["nan"]),
+    ("--switch", &["nan"]),
+    ("--angle", &["nan"]),
+    ("--window", &["nan,1"]),
+    ("--state-change-cap", &["nan"]),
+    ("--fixed-point-tolerance", &["nan"]),
+    ("--dynamic-fixed-point-tolerance", &["nan"]),
+    ("--dynamic-tau", &["1e8"]),
+    ("--switch-to-dynamic", &["nan"]),
+    ("--event-quiet-time", &["nan"]),
+    ("--memory-budget-gib", &["nan"]),
+    ("--date", &["2023-02-31"]),
+    ("--modeler", &[""]),
+    ("--tolerances", &["nan"]),
+];
+
+/// One case: a program, its arguments, what the error must name.
+#[derive(Debug, Clone)]
+struct Case {
+    program: String,
+    args: Vec<String>,
+    names: String,
+}
+
+fn case(program: &str, args: &[&str], names: &str) -> Case {
+    Case {
+        program: program.into(),
+        args: args.iter().map(|s| (*s).to_owned()).collect(),
+        names: names.into(),
+    }
+}
+
+/// The cases of every program from its flags.
+fn generic_cases(program: &str, flags: &BTreeSet<String>) -> Vec<Case> {
+    let mut cases = vec![
+        case(program, &["--max-memory-gb", "nan"], "--max-memory-gb"),
+        case(program, &["--max-memory-gb", "1e-9"], "--max-memory-gb"),
+        case(program, &["--max-output-gb", "-1"], "--max-output-gb"),
+        case(program, &["--threads", "1000000"], "--threads"),
+    ];
+    // Another program's finished run (`pipping_slider`'s; `seas_bp1`'s for it).
+    let other = if program == "pipping_slider" {
+        "bp1_run"
+    } else {
+        "main_job"
+    };
+    for folder in ["--out", "--figures"] {
+        if flags.contains(folder) {
+            cases.push(case(program, &[folder, other], "--overwrite"));
+            cases.push(case(program, &[folder, "a_file"], "a_file"));
+            cases.push(case(program, &[folder, "busy"], "another run"));
+        }
+    }
+    for &(flag, values) in CARELESS {
+        if flags.contains(flag) {
+            for v in values {
+                cases.push(case(program, &[flag, v], flag));
+            }
+        }
+    }
+    if flags.contains("--scene") {
+        cases.push(case(program, &["--scene", "huge_steps.toml"], "steps"));
+        cases.push(case(program, &["--scene", "huge_level.toml"], "level"));
+        cases.push(case(program, &["--scene", "missing.toml"], "missing.toml"));
+    }
+    cases
+}
+
+/// The physically meaningless inputs of issue 58 and the cases of particular programs.
+fn particular_cases(mesh: &str) -> Vec<Case> {
+    vec![
+        case("seas_bp3", &["--end-years", "-1"], "--end-years"),
+        case("seas_bp3", &["--dx", "1"], "--dx"),
+        case("seas_bp3", &["--ratio", "1"], "--ratio"),
+        case("seas_bp3", &["--dip", "90"], "--dip"),
+        case(
+            "seas_bp1",
+            &["--inertia", "--dynamic-tau", "1e8"],
+            "--dynamic-tau",
+        ),
+        case("seas_bp1", &["--dynamic-tau", "0.01"], "--inertia"),
+        case("seas_bp1", &["--switch-to-dynamic", "1e-2"], "--inertia"),
+        case("seas_bp1", &["--absorbing", "all"], "--inertia"),
+        case(
+            "seas_bp1",
+            &["--ratio", "1", "--end-years", "50"],
+            "--ratio",
+        ),
+        case("seas_bp1", &["--dz", "1e-300"], "--dz"),
+        case("seas_bp1", &["--date", "2023-02-31"], "--date"),
+        case(
+            "seas_bp1",
+            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+            "--overwrite",
+        ),
+        case("seas_bp5", &["--ratio", "1.1"], "--kernel fe"),
+        case("seas_bp5", &["--dx", "100"], "--dx"),
+        case("slider_elastic_base", &["--base-e", "1e300"], "--base-e"),
+        case("slider_3d", &["--level", "6"], "--max-memory-gb"),
+        case("slider_3d", &["--width", "1e-300"], "--width"),
+        case(
+            "inclined_block",
+            &["--level", "1", "--steps", "1e12"],
+            "--steps",
+        ),
+        case(
+            "curved_fault",
+            &["--level", "0", "--mesh", mesh],
+            "coincide",
+        ),
+        case("pipping_slider", &["--scene", "huge.toml"], "huge.toml"),
+        case(
+            "spring_block",
+            &["--integrator", "newmark", "--mass", "0"],
+            "--mass",
+        ),
+        case(
+            "fig6_1_fixed_point_iterations",
+            &["--max-level", "30"],
+            "--max-level",
+        ),
+    ]
+}
+
+/// The scratch folder: another program's finished runs, a file, a folder whose lock is
+/// held, careless scene files.
+fn scratch() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rsf-careless-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let main_job = dir.join("main_job");
+    std::fs::create_dir_all(&main_job).unwrap();
+    std::fs::write(
+        main_job.join("rsf-run.txt"),
+        "program=pipping_slider\noutput=summary.json\noutput=timeseries.csv\n",
+    )
+    .unwrap();
+    std::fs::write(main_job.join("summary.json"), "{\"steps\": 10000}\n").unwrap();
+    std::fs::write(main_job.join("timeseries.csv"), "t,max_v\n0,1e-6\n").unwrap();
+    std::fs::write(main_job.join("checkpoint.bin"), "not a checkpoint\n").unwrap();
+    let bp1 = dir.join("bp1_run");
+    std::fs::create_dir_all(&bp1).unwrap();
+    std::fs::write(
+        bp1.join("rsf-run.txt"),
+        "program=seas_bp1\noutput=devol.dat\noutput=summary.json\n",
+    )
+    .unwrap();
+    std::fs::write(bp1.join("devol.dat"), "# BP1\n0 0\n").unwrap();
+    std::fs::write(bp1.join("summary.json"), "{\"events\": 3}\n").unwrap();
+    std::fs::create_dir_all(dir.join("busy")).unwrap();
+    std::fs::write(dir.join("busy").join("timeseries.csv"), "t\n0\n").unwrap();
+    std::fs::write(dir.join("a_file"), "not a folder\n").unwrap();
+    std::fs::write(dir.join("huge.toml"), "level = 1e300\n").unwrap();
+    std::fs::write(dir.join("huge_steps.toml"), "steps = 1000000000000\n").unwrap();
+    std::fs::write(dir.join("huge_level.toml"), "level = 30\n").unwrap();
+    dir
+}
+
+/// Runs `cases` in `dir` two at a time, each with a fresh `--out` (if the program has
+/// one and the case gives none), and returns the failures.
+fn check(cases: &[Case], dir: &Path, has_out: &BTreeMap<String, bool>) -> Vec<String> {
+    let before = snapshot(dir);
+    let next = Mutex::new(0usize);
+    let failures = Mutex::new(Vec::new());
+    let times = Mutex::new(Vec::new());
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| loop {
+                let i = {
+                    let mut n = next.lock().unwrap();
+                    *n += 1;
+                    *n - 1
+                };
+                let Some(c) = cases.get(i) else { break };
+                let mut args = c.args.clone();
+                if has_out[&c.program] && !args.iter().any(|a| a == "--out") {
+                    args.extend(["--out".into(), format!("fresh/{i}")]);
+                }
+                let o = run(&c.program, &args, dir, Duration::from_secs(20));
+                let err = &o.stderr;
+                let what = format!("{} {args:?}", c.program);
+                let fail = if o.ok {
+                    Some(format!("{what} succeeded:\n{}", o.stdout))
+                } else if o.seconds >= 20.0 {
+                    Some(format!("{what}: not refused within 20 s"))
+                } else if !(err.contains("error") && err.contains(&c.names)) {
+                    Some(format!(
+                        "{what}: the error does not name `{}`:\n{err}",
+                        c.names
+                    ))
+                } else if err.contains("panicked") || err.contains("InvalidParameter {") {
+                    Some(format!("{what}: a panic or a Debug dump:\n{err}"))
+                } else if err.len() > 2500 {
+                    Some(format!("{what}: a {}-byte message", err.len()))
+                } else {
+                    None
+                };
+                times.lock().unwrap().push((o.seconds, what));
+                if let Some(f) = fail {
+                    failures.lock().unwrap().push(f);
+                }
+            });
+        }
+    });
+    // A refused run leaves the scratch folder as it was: new (empty or manifest-only)
+    // folders may appear, the files that existed are untouched.
+    let after = snapshot(dir);
+    let mut failures = failures.into_inner().unwrap();
+    for (path, bytes) in &before {
+        if after.get(path) != Some(bytes) {
+            failures.push(format!("{} was changed", path.display()));
+        }
+    }
+    let mut times = times.into_inner().unwrap();
+    times.sort_by(|a, b| b.0.total_cmp(&a.0));
+    println!(
+        "{} cases; slowest: {:?}",
+        cases.len(),
+        &times[..times.len().min(3)]
+    );
+    failures
+}
+
+/// Holds the exclusive lock of `dir` as a running program does (the guard's lock: the
+/// folder's own `flock` on Unix).
+fn hold_lock(dir: &Path) -> std::fs::File {
+    #[cfg(unix)]
+    let file = std::fs::File::open(dir).unwrap();
+    #[cfg(not(unix))]
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(dir.join("rsf-run.lock"))
+        .unwrap();
+    file.try_lock().unwrap();
+    file
+}
+
+#[test]
+fn every_program_refuses_careless_inputs_naming_them_and_changes_nothing() {
+    let dir = scratch();
+    let mesh = cracked_arc_mesh(&dir);
+    let _busy = hold_lock(&dir.join("busy"));
+    let start = Instant::now();
+    let programs = programs();
+    assert!(programs.len() >= 25, "{programs:?}");
+    let mut cases = Vec::new();
+    let mut has_out = BTreeMap::new();
+    for p in &programs {
+        let f = flags(p, &dir);
+        has_out.insert(p.clone(), f.contains("--out"));
+        cases.extend(generic_cases(p, &f));
+    }
+    for c in particular_cases(mesh.to_str().unwrap()) {
+        assert!(programs.contains(&c.program), "{c:?}: no such program");
+        cases.push(c);
+    }
+    let failures = check(&cases, &dir, &has_out);
+    println!(
+        "{} programs, {} cases in {:.1} s",
+        programs.len(),
+        cases.len(),
+        start.elapsed().as_secs_f64()
+    );
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n\n")
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A second run into the folder a run is writing is refused at once, and the first is
+/// not disturbed: `seas_bp3` (whose two runs into one folder both used to exit 0, leaving
+/// files that matched neither).
+#[test]
+fn a_second_run_into_a_running_folder_is_refused_at_once() {
+    let dir = std::env::temp_dir().join(format!("rsf-concurrent-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let args = ["--out", "run", "--dx", "2000", "--end-years", "1000"];
+    let mut first = Command::new(example("seas_bp3"))
+        .args(args)
+        .arg("--threads=1")
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // The first run has taken the folder once its manifest is there.
+    let start = Instant::now();
+    while !dir.join("run/rsf-run.txt").exists() {
+        assert!(start.elapsed() < Duration::from_secs(30), "no manifest");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let args: Vec<String> = args.iter().map(|s| (*s).to_owned()).collect();
+    let second = run("seas_bp3", &args, &dir, Duration::from_secs(20));
+    let still_running = first.try_wait().unwrap().is_none();
+    first.kill().ok();
+    first.wait().ok();
+    assert!(!second.ok, "the second run succeeded");
+    assert!(
+        second.stderr.contains("another run") && second.stderr.contains("run"),
+        "{}",
+        second.stderr
+    );
+    assert!(
+        second.seconds < 5.0,
+        "refused after {:.1} s",
+        second.seconds
+    );
+    assert!(still_running, "the first run ended early");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A 1 MB filesystem mounted for the test (`mount -t tmpfs`), unmounted when dropped.
+struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    /// Mounts one at `dir`, if the machine allows (root, a kernel with tmpfs).
+    fn mount(dir: &Path) -> Option<Self> {
+        std::fs::create_dir_all(dir).ok()?;
+        let ok = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=1m", "tmpfs"])
+            .arg(dir)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        ok.then(|| Self(dir.to_path_buf()))
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        Command::new("umount").arg(&self.0).status().ok();
+    }
+}
+
+/// Programs that fill a 1 MB disk within seconds stop with an error naming the file they
+/// could not write and the operating system's cause ("No space left on device"), where the
+/// machine allows mounting one.
+#[test]
+fn a_full_disk_is_reported_with_the_path_and_its_cause() {
+    let dir = std::env::temp_dir().join(format!("rsf-full-disk-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let Some(disk) = SmallDisk::mount(&dir.join("disk")) else {
+        println!("no 1 MB filesystem could be mounted here: skipped");
+        return;
+    };
+    let cases: &[(&str, &[&str])] = &[
+        ("seas_bp3", &["--dx", "2000", "--threads", "1"]),
+        (
+            "seas_bp1",
+            &["--dz", "400", "--domain-km", "60", "--threads", "1"],
+        ),
+        (
+            "pipping_slider",
+            &["--level", "2", "--steps", "20000", "--threads", "1"],
+        ),
+        ("inclined_block", &["--level", "2", "--frame-every", "1"]),
+        ("spring_block", &["--steps-per-l", "2000"]),
+    ];
+    let mut failures = Vec::new();
+    for (i, (program, args)) in cases.iter().enumerate() {
+        let mut args: Vec<String> = args.iter().map(|s| (*s).to_owned()).collect();
+        args.extend(["--out".into(), format!("disk/{i}")]);
+        let o = run(program, &args, &dir, Duration::from_secs(120));
+        let err = &o.stderr;
+        if o.ok || !(err.contains("No space left on device") && err.contains(&format!("disk/{i}/")))
+        {
+            failures.push(format!("{program} {args:?} (ok: {}):\n{err}", o.ok));
+        }
+        // Free the disk for the next case.
+        std::fs::remove_dir_all(dir.join(format!("disk/{i}"))).ok();
+    }
+    drop(disk);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// The arc block's Gmsh fixture with a duplicated node: a crack nobody declared.
+fn cracked_arc_mesh(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/crates/rsf-fem/tests/fixtures/arc_block.msh"
+    ))
+    .unwrap();
+    // The first node block's first node, repeated under a new tag in its own block.
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines.iter().position(|l| *l == "$Nodes").unwrap();
+    let header: Vec<u64> = lines[at + 1]
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let (blocks, nodes, max_tag) = (header[0], header[1], header[3]);
+    // First block: "dim entity parametric count", then `count` tags, then coordinates.
+    let count: usize = lines[at + 2]
+        .split_whitespace()
+        .nth(3)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let first_tag: u64 = lines[at + 3].trim().parse().unwrap();
+    let coords = lines[at + 3 + count];
+    let dim_entity: Vec<&str> = lines[at + 2].split_whitespace().take(2).collect();
+    let new_tag = max_tag + 1;
+    let mut out: Vec<String> = lines[..=at].iter().map(|s| s.to_string()).collect();
+    out.push(format!("{} {} 1 {}", blocks + 1, nodes + 1, new_tag));
+    out.extend(
+        lines[at + 2..]
+            .iter()
+            .take_while(|l| **l != "$EndNodes")
+            .map(|s| s.to_string()),
+    );
+    out.push(format!("{} {} 0 1", dim_entity[0], dim_entity[1]));
+    out.push(new_tag.to_string());
+    out.push(coords.to_string());
+    let rest = lines.iter().position(|l| *l == "$EndNodes").unwrap();
+    // The first triangle using the first node uses its duplicate instead (blocks of
+    // `$Elements`: a header `dim entity type count`, then `count` lines `tag nodes…`).
+    let first = first_tag.to_string();
+    let mut i = rest;
+    while lines[i] != "$Elements" {
+        out.push(lines[i].to_string());
+        i += 1;
+    }
+    out.push(lines[i].to_string());
+    out.push(lines[i + 1].to_string());
+    i += 2;
+    let mut swapped = false;
+    while lines[i] != "$EndElements" {
+        let header: Vec<usize> = lines[i]
+            .split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect();
+        out.push(lines[i].to_string());
+        for l in &lines[i + 1..=i + header[3]] {
+            let fields: Vec<&str> = l.split_whitespace().collect();
+            if header[2] == 2 && !swapped && fields[1..].contains(&first.as_str()) {
+                swapped = true;
+                let f: Vec<String> = fields
+                    .iter()
+                    .enumerate()
+                    .map(|(k, f)| {
+                        if k > 0 && *f == first {
+                            new_tag.to_string()
+                        } else {
+                            f.to_string()
+                        }
+                    })
+                    .collect();
+                out.push(f.join(" "));
+            } else {
+                out.push(l.to_string());
+            }
+        }
+        i += header[3] + 1;
+    }
+    assert!(swapped, "no triangle uses node {first}");
+    out.extend(lines[i..].iter().map(|s| s.to_string()));
+    let path = dir.join("cracked.msh");
+    std::fs::write(&path, out.join("\n") + "\n").unwrap();
+    path
+}
