@@ -16,7 +16,8 @@ use rsf::Model;
 use rsf::ModelBuilder;
 use rsf::{Error, Result};
 
-use super::slider::{scene_builder, SceneSimulation, SceneSimulationBuilder, SliderScene};
+use super::slider::build::scene_builder;
+use super::slider::{SceneSimulation, SceneSimulationBuilder, SliderScene};
 
 /// Tag of the lateral faces z = 0 and z = W of [`slider_3d_coarse`].
 pub const TAG_LATERAL: &str = "lateral";

@@ -1,5 +1,5 @@
 //! The ordering of a condensation's interior: AMD after one home-made level of dissection
-//! (partial_cholesky.rs), or METIS's nested dissection (crate rsf-metis, feature `metis`).
+//! (partial_cholesky/), or METIS's nested dissection (crate rsf-metis, feature `metis`).
 
 use crate::csc::Csc;
 use crate::error::{Error, Result};
