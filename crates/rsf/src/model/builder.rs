@@ -2,7 +2,8 @@
 
 use rsf_fem::{
     body_force_load_components, combine, traction_load_components, vectorize, Assembler,
-    BoundaryPart, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh, SparseMatrix,
+    BoundaryPart, DofTransform, LinearElasticity, MeshHierarchy, NodalFrames, SimplexMesh,
+    SparseMatrix,
 };
 use rsf_numeric::normal_component;
 
