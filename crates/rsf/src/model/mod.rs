@@ -9,21 +9,20 @@ pub(crate) mod equilibrium;
 pub(crate) mod fault;
 pub(crate) mod internal;
 pub(crate) mod loading;
+pub(crate) mod medium;
 pub(crate) mod regions;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
 pub use absorbing::AbsorbingBoundary;
-pub use builder::{
-    AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
-    DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
-};
+pub use builder::{FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS};
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
 pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
 pub use fault::FrictionalBoundary;
 pub use internal::{FaultSide, InternalFault};
 pub use loading::{DirichletVelocity, TimeFunction};
+pub use medium::{AntiplaneMaterial, Material, Medium, MediumMatrices};
 pub use regions::{CellPredicate, MaterialRegions};
 
 use rsf_fem::{NodalFrames, SparseMatrix};
