@@ -1005,13 +1005,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             .filter_map(|(i, w)| w.filter(|w| *w != 0.0).map(|w| (i, s * w)))
             .unzip();
         let (mass, stiffness, energy_norm, absorbing) = if let Some(f) = &fault {
-            load = f.pull_back(&load);
+            load = f.transform.pull_back(&load)?;
             let congruence = |a: &SparseMatrix| f.transform.congruence(a);
             let absorbing = match absorbing {
                 Some(mut a) => {
                     a.damping = congruence(&a.damping)?;
                     if !a.far_field_force.is_empty() {
-                        a.far_field_force = f.pull_back(&a.far_field_force);
+                        a.far_field_force = f.transform.pull_back(&a.far_field_force)?;
                     }
                     Some(a)
                 }
