@@ -69,10 +69,10 @@ impl MediumMatrices {
 }
 
 /// What the body is made of, for a field of `C` components per vertex on a `D`-dimensional
-/// mesh: the seam between [`ModelBuilder`](crate::ModelBuilder) and the constitutive law. [`Material`]
-/// (isotropic elasticity, `C = D`) and [`AntiplaneMaterial`] (`C = 1`) implement it; a user's
-/// own medium (anisotropic, graded) implements [`assemble`](Self::assemble) with
-/// [`rsf_fem::Assembler`].
+/// mesh: the seam between [`ModelBuilder`](crate::ModelBuilder) and the constitutive law.
+/// [`Material`] (isotropic elasticity, `C = D`) and [`AntiplaneMaterial`] (`C = 1`)
+/// implement it; a user's own medium (anisotropic, graded) implements
+/// [`assemble`](Self::assemble) with [`rsf_fem::Assembler`].
 pub trait Medium<const D: usize, const C: usize> {
     /// Density ρ (kg/m³; kg/m² per unit thickness in 2D) for gravity's body force `ρ g`.
     fn density(&self) -> f64;
@@ -92,9 +92,11 @@ pub trait Medium<const D: usize, const C: usize> {
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices>;
 
     /// The impedances `(ρc_p, ρc_s)` (Pa·s/m) of the Lysmer–Kuhlemeyer dashpots on
-    /// absorbing parts ([`ModelBuilder::absorbing_boundary`](crate::ModelBuilder::absorbing_boundary); a scalar field uses `ρc_s`
-    /// only). Default `None`: a medium that does not know its wave speeds cannot have
-    /// absorbing parts ([`Error::BoundaryPart`] from [`ModelBuilder::build`](crate::ModelBuilder::build)).
+    /// absorbing parts
+    /// ([`ModelBuilder::absorbing_boundary`](crate::ModelBuilder::absorbing_boundary); a
+    /// scalar field uses `ρc_s` only). Default `None`: a medium that does not know its wave
+    /// speeds cannot have absorbing parts ([`Error::BoundaryPart`] from
+    /// [`ModelBuilder::build`](crate::ModelBuilder::build)).
     fn impedances(&self) -> Option<[f64; 2]> {
         None
     }
@@ -129,7 +131,8 @@ impl<const D: usize> Medium<D, D> for Material {
 }
 
 /// Stiffness, mass (if `with_mass`) and energy norm of an elastic body whose cell `c` has
-/// the density and elasticity tensor `material(c)` ([`Material`], [`MaterialRegions`](super::MaterialRegions)).
+/// the density and elasticity tensor `material(c)` ([`Material`],
+/// [`MaterialRegions`](super::MaterialRegions)).
 pub(crate) fn assemble_elastic<'m, const D: usize>(
     mesh: &SimplexMesh<D>,
     with_mass: bool,
