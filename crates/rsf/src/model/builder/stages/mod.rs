@@ -39,3 +39,6 @@ pub(crate) mod pairs;
 pub(crate) mod prolongations;
 pub(crate) mod scaling;
 pub(crate) mod variables;
+
+#[cfg(test)]
+mod tests;
