@@ -4,7 +4,8 @@
 use faer::sparse::{SparseColMat, SparseColMatRef, Triplet};
 use nalgebra::{SMatrix, SVector, Vector3};
 
-use crate::{Error, Result};
+use crate::dof_transform::{symmetrized, DofTransform};
+use crate::{Error, Result, SparseMatrix};
 
 /// The frame at a node with outward unit normal `n`: a rotation (row-major, det = +1) whose
 /// **last column is the inward normal** `−n` (column
@@ -63,8 +64,10 @@ pub fn frame_from_normal<const D: usize>(
 ///
 /// With `R = blockdiag(Q_p)` (identity off the frame nodes), local coefficients are
 /// `ṽ = Rᵀ v`, a matrix transforms as `Ã = Rᵀ A R` and a fine-level prolongation as
-/// `P̃ = Rᵀ P` (its coarse side stays Cartesian).
-/// The default has no frame nodes (every node Cartesian).
+/// `P̃ = Rᵀ P` (its coarse side stays Cartesian): the [`DofTransform`] `u = R ũ`
+/// (orthogonal, `R⁻¹ = Rᵀ`), whose [`congruence`](DofTransform::congruence) is
+/// [`rotate_matrix`](Self::rotate_matrix) made exactly symmetric.
+/// The default has no frame nodes (every node Cartesian, the identity).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct NodalFrames<const D: usize> {
     /// Mesh vertices carrying a frame.
@@ -221,5 +224,41 @@ impl<const D: usize> NodalFrames<D> {
         }
         SparseColMat::try_new_from_triplets(a.nrows(), a.ncols(), &t)
             .map_err(|e| Error::Faer(format!("{e:?}")))
+    }
+}
+
+/// `u = R ũ` with `R = blockdiag(Q_p)`: `T⁻¹ = Tᵀ = Rᵀ`.
+impl<const D: usize> DofTransform for NodalFrames<D> {
+    fn is_identity(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// `Rᵀ A R` ([`rotate_matrix`](Self::rotate_matrix)), then `(B + Bᵀ)/2`.
+    fn congruence(&self, a: &SparseMatrix) -> Result<SparseMatrix> {
+        symmetrized(&self.rotate_matrix(a.as_ref())?)
+    }
+
+    /// `Rᵀ f` ([`to_local`](Self::to_local)).
+    fn pull_back(&self, f: &[f64]) -> Result<Vec<f64>> {
+        let mut v = f.to_vec();
+        self.to_local(&mut v)?;
+        Ok(v)
+    }
+
+    /// `R x` ([`to_global`](Self::to_global)).
+    fn to_cartesian(&self, x: &[f64]) -> Result<Vec<f64>> {
+        let mut v = x.to_vec();
+        self.to_global(&mut v)?;
+        Ok(v)
+    }
+
+    /// `Rᵀ x` ([`to_local`](Self::to_local)).
+    fn to_model(&self, x: &[f64]) -> Result<Vec<f64>> {
+        self.pull_back(x)
+    }
+
+    /// `Rᵀ P` ([`rotate_rows`](Self::rotate_rows)).
+    fn prolongation(&self, p: &SparseMatrix) -> Result<SparseMatrix> {
+        self.rotate_rows(p.as_ref())
     }
 }

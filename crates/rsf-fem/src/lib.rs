@@ -24,10 +24,13 @@
 //!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
 //!   weights [`lumped_weights`].
 //! * [`SimplexMesh::split_along`] / [`SimplexMesh::split_along_segment`]: a fault inside
-//!   the body cut open into two sides ([`FaultSides`], docs/math.md §13), and the change of
+//!   the body cut open into two sides ([`FaultSides`], docs/math.md §15), and the change of
 //!   variables to mean and jump at its pairs ([`FaultSides::mean_jump_transform`]); in 3-D
 //!   along a surface of mesh triangles (`SimplexMesh::<3>::split_along`,
 //!   [`SimplexMesh::split_along_polygon`] for a planar polygon).
+//! * [`DofTransform`]: the one interface of a change of variables `u = T u′` (`Tᵀ A T`,
+//!   `Tᵀ F`, `T x`, `T⁻¹ x`, `T⁻¹ P`) — [`NodalFrames`], [`MeanJumpTransform`] and their
+//!   [`Composition`].
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
 //!
@@ -38,6 +41,7 @@
 mod assembly;
 mod boundary;
 mod constraints;
+mod dof_transform;
 pub mod element;
 mod error;
 mod frames;
@@ -56,6 +60,7 @@ mod structured;
 pub use assembly::Assembler;
 pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
+pub use dof_transform::{Composition, DofTransform};
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
 pub use frames::{frame_from_normal, NodalFrames};

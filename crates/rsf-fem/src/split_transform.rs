@@ -1,14 +1,17 @@
 //! The change of variables to mean and jump at the split pairs of a fault inside the body
-//! (docs/math.md §13, docs/faults-inside.md).
+//! (docs/math.md §15, docs/faults-inside.md).
 
 use faer::sparse::linalg::matmul::sparse_sparse_matmul;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Par;
 
+use crate::dof_transform::{check_len, symmetrized, DofTransform};
 use crate::frames::frame_from_normal;
-use crate::{Error, FaultSides, Result, SimplexMesh, SparseMatrix};
+use crate::{spmv_add, Error, FaultSides, Result, SimplexMesh, SparseMatrix};
 
-/// The mean–jump change of variables `u = T u'` of [`FaultSides::mean_jump_transform`].
+/// The mean–jump change of variables `u = T u'` of [`FaultSides::mean_jump_transform`]: a
+/// [`DofTransform`] (`T` not orthogonal: vectors go back by `T⁻¹`) with the pair frames and
+/// the sides' shares of the jump it was built from.
 #[derive(Debug, Clone)]
 pub struct MeanJumpTransform<const D: usize = 2> {
     /// `T` (`C·n × C·n`, `n` vertices of the split mesh): new coordinates to node-major
@@ -26,13 +29,13 @@ pub struct MeanJumpTransform<const D: usize = 2> {
 
 impl FaultSides<2> {
     /// The change of variables to mean and jump at every split pair `(p⁻, p⁺)`, identity
-    /// elsewhere (docs/math.md §13): in the new coordinates `u'` the block of `p⁻` holds the
+    /// elsewhere (docs/math.md §15): in the new coordinates `u'` the block of `p⁻` holds the
     /// jump `j = R_pᵀ(u⁺ − u⁻)` in the pair's frame (`C = 2`: tangential slip first, then the
     /// normal component `−n·(u⁺ − u⁻)`, minus the opening; `C = 1`: the antiplane slip) and
     /// the block of `p⁺` the mean `w = (u⁺ + u⁻)/2` in Cartesian components, so
     /// `u⁻ = w − R_p j/2`, `u⁺ = w + R_p j/2`. The pair's normal `n` is the length-weighted
     /// mean of the adjacent fault edges' normals ([`FaultSides::normals`]), as the nodal
-    /// frames of docs/math.md §12. Then `K' = Tᵀ K T`, `b' = Tᵀ b`, and the jump's tangential
+    /// frames of docs/math.md §10.1. Then `K' = Tᵀ K T`, `b' = Tᵀ b`, and the jump's tangential
     /// components are the slip: friction acts on them, the normal one is tied (a fixed dof).
     ///
     /// # Errors
@@ -86,7 +89,7 @@ impl FaultSides<2> {
 
 impl FaultSides<3> {
     /// The change of variables to mean and jump at every split pair `(p⁻, p⁺)` of a 3-D
-    /// fault, identity elsewhere (docs/math.md §13), as the 2-D
+    /// fault, identity elsewhere (docs/math.md §15), as the 2-D
     /// `FaultSides::<2>::mean_jump_transform`: the block of `p⁻` holds the jump
     /// `j = R_pᵀ(u⁺ − u⁻)` in the pair's frame (`C = 3`: the two tangential slip components
     /// along `t1`, `t2`, then the normal one `−n·(u⁺ − u⁻)`, minus the opening; `C = 1`:
@@ -270,53 +273,75 @@ impl<const D: usize> MeanJumpTransform<D> {
             minus_share,
         )
     }
-    /// `K' = Tᵀ A T` of a symmetric matrix `a` of the split mesh (stiffness, mass, energy
-    /// norm; `C·n × C·n`, node-major): the matrix in the new coordinates, made exactly
-    /// symmetric (`½(B + Bᵀ)` of the sparse product `B`, sequential and so the same bits on
-    /// every machine). Explicit zeros of the product are kept.
-    ///
-    /// # Errors
-    /// [`Error::DimensionMismatch`] if `a` is not `T`'s size; [`Error::Faer`] on allocation
-    /// failure.
-    pub fn congruence(&self, a: &SparseMatrix) -> Result<SparseMatrix> {
+}
+
+/// `u = T u'`: the mean and jump at every split pair, the identity elsewhere.
+impl<const D: usize> DofTransform for MeanJumpTransform<D> {
+    /// No split pair.
+    fn is_identity(&self) -> bool {
+        self.frames.is_empty()
+    }
+
+    /// `Tᵀ A T` of a symmetric matrix `a` of the split mesh (stiffness, mass, energy norm;
+    /// `C·n × C·n`, node-major): two sequential sparse products `Tᵀ(A T)`, then
+    /// `(B + Bᵀ)/2`. Explicit zeros of the product are kept.
+    fn congruence(&self, a: &SparseMatrix) -> Result<SparseMatrix> {
         let n = self.t.nrows();
-        if a.nrows() != n || a.ncols() != n {
-            return Err(Error::DimensionMismatch {
-                what: "matrix of the split mesh for Tᵀ A T",
-                expected: n,
-                got: a.nrows(),
-            });
-        }
+        check_len("matrix of the split mesh for Tᵀ A T", n, a.nrows())?;
+        check_len("matrix of the split mesh for Tᵀ A T", n, a.ncols())?;
         let faer = |e: faer::sparse::FaerError| Error::Faer(format!("{e:?}"));
         let at = sparse_sparse_matmul(a.as_ref(), self.t.as_ref(), 1.0, Par::Seq).map_err(faer)?;
         let tt = self.t.as_ref().transpose().to_col_major().map_err(faer)?;
         let b = sparse_sparse_matmul(tt.as_ref(), at.as_ref(), 1.0, Par::Seq).map_err(faer)?;
-        let mut trip = Vec::with_capacity(2 * b.compute_nnz());
-        for j in 0..n {
-            for (i, &v) in b.row_idx_of_col(j).zip(b.val_of_col(j)) {
-                trip.push(Triplet::new(i, j, 0.5 * v));
-                trip.push(Triplet::new(j, i, 0.5 * v));
-            }
-        }
-        SparseColMat::try_new_from_triplets(n, n, &trip).map_err(|e| Error::Faer(format!("{e:?}")))
+        symmetrized(&b)
     }
 
-    /// `T⁻¹ P`: a prolongation `P` onto the split mesh's Cartesian dofs (`C·n` rows, e.g.
-    /// the coarse space continuous across the fault, a plus copy taking its original's
-    /// row) in the new coordinates, for multigrid on `Tᵀ K T`.
-    ///
-    /// # Errors
-    /// [`Error::DimensionMismatch`] if `p` does not have `T`'s size as rows;
-    /// [`Error::Faer`] on allocation failure.
-    pub fn prolongation(&self, p: &SparseMatrix) -> Result<SparseMatrix> {
-        let n = self.t_inv.ncols();
-        if p.nrows() != n {
-            return Err(Error::DimensionMismatch {
-                what: "prolongation rows for T⁻¹ P",
-                expected: n,
-                got: p.nrows(),
-            });
-        }
+    /// `Tᵀ f`, column by column of `T`.
+    fn pull_back(&self, f: &[f64]) -> Result<Vec<f64>> {
+        let t = self.t.as_ref();
+        check_len(
+            "force vector of the split mesh for Tᵀ f",
+            t.nrows(),
+            f.len(),
+        )?;
+        Ok((0..t.ncols())
+            .map(|j| {
+                t.row_idx_of_col(j)
+                    .zip(t.val_of_col(j))
+                    .map(|(i, v)| v * f[i])
+                    .sum()
+            })
+            .collect())
+    }
+
+    /// `T x`: at a pair `u⁻ = w − β R j`, `u⁺ = w + (1 − β) R j`.
+    fn to_cartesian(&self, x: &[f64]) -> Result<Vec<f64>> {
+        check_len(
+            "model vector of the split mesh for T x",
+            self.t.ncols(),
+            x.len(),
+        )?;
+        let mut out = vec![0.0; x.len()];
+        spmv_add(self.t.as_ref(), 1.0, x, &mut out);
+        Ok(out)
+    }
+
+    /// `T⁻¹ x`: at a pair `j = Rᵀ(u⁺ − u⁻)`, `w = (1 − β) u⁻ + β u⁺`.
+    fn to_model(&self, x: &[f64]) -> Result<Vec<f64>> {
+        check_len(
+            "Cartesian vector of the split mesh for T⁻¹ x",
+            self.t_inv.ncols(),
+            x.len(),
+        )?;
+        let mut out = vec![0.0; x.len()];
+        spmv_add(self.t_inv.as_ref(), 1.0, x, &mut out);
+        Ok(out)
+    }
+
+    /// `T⁻¹ P` (one sequential sparse product), e.g. of the coarse space continuous across
+    /// the fault (a plus copy taking its original's row) or split along it.
+    fn prolongation(&self, p: &SparseMatrix) -> Result<SparseMatrix> {
+        check_len("prolongation rows for T⁻¹ P", self.t_inv.ncols(), p.nrows())?;
         sparse_sparse_matmul(self.t_inv.as_ref(), p.as_ref(), 1.0, Par::Seq)
             .map_err(|e| Error::Faer(format!("{e:?}")))
     }

@@ -29,7 +29,8 @@ pub struct AbsorbingBoundary {
     /// The dashpot matrix `C` (`n × n`, `n = C · nodes`, node-major; N·s/m, per unit
     /// thickness in 2D): symmetric positive semi-definite, non-zero only in the diagonal
     /// blocks of the nodes of Γ_A, stored on the pattern of the stiffness matrix, in model
-    /// coordinates (the slip factor and the nodal frames applied as to `M` and `K`).
+    /// coordinates (the slip factor and the model's change of variables,
+    /// [`Model::transform`](crate::Model::transform), applied as to `M` and `K`).
     pub damping: SparseMatrix,
     /// `C w`: the dashpots' force of the far-field motion at `g(t) = 1` (N, length `n`,
     /// model coordinates); the right-hand side of a step at `t_n` gains `g(t_n) C w`.

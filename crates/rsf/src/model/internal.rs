@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use faer::sparse::{SparseColMat, Triplet};
-use rsf_fem::{spmv_add, FaultSides, MeanJumpTransform, MeshHierarchy, SimplexMesh, SparseMatrix};
+use rsf_fem::{FaultSides, MeanJumpTransform, MeshHierarchy, SimplexMesh, SparseMatrix};
 
 /// A fault inside the body of a [`Model`](crate::Model) built with
 /// [`ModelBuilder::internal_fault`](crate::ModelBuilder::internal_fault): the split mesh's
@@ -20,7 +20,10 @@ use rsf_fem::{spmv_add, FaultSides, MeanJumpTransform, MeshHierarchy, SimplexMes
 pub struct InternalFault<const D: usize = 2> {
     /// The split pairs, tips and faces ([`FaultSides`]).
     pub sides: FaultSides<D>,
-    /// `T` and `T⁻¹` (`C·n × C·n`) and the pair frames.
+    /// `T` and `T⁻¹` (`C·n × C·n`), the pair frames and the sides' shares of the jump: the
+    /// model's change of variables ([`Model::transform`](crate::Model::transform), a
+    /// [`DofTransform`](rsf_fem::DofTransform): `T x` of a model vector is Cartesian at
+    /// every vertex, `T⁻¹ x` goes back).
     pub transform: MeanJumpTransform<D>,
     /// Per vertex: `Some((pair, is_plus))` for a vertex of a split pair, index into
     /// [`FaultSides::pairs`].
@@ -360,28 +363,6 @@ impl<const D: usize> InternalFault<D> {
         }
     }
 
-    /// `T x`: a node-major vector of the model's unknowns (`C` per vertex) in Cartesian
-    /// components at every vertex, both sides of the fault included.
-    ///
-    /// # Panics
-    /// If `x` is not of `T`'s size (internal invariant: callers pass model vectors).
-    pub fn to_cartesian(&self, x: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; x.len()];
-        spmv_add(self.transform.t.as_ref(), 1.0, x, &mut out);
-        out
-    }
-
-    /// `T⁻¹ x`: a node-major Cartesian field (`C` per vertex, each side's own value at a
-    /// split vertex) in the model's unknowns.
-    ///
-    /// # Panics
-    /// If `x` is not of `T`'s size (internal invariant).
-    pub(crate) fn to_model_coordinates(&self, x: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; x.len()];
-        spmv_add(self.transform.t_inv.as_ref(), 1.0, x, &mut out);
-        out
-    }
-
     /// The point `x` of `vertex` moved into its side of the fault by `10⁻⁹` of its largest
     /// coordinate (at least 10⁻⁹ m) along the pair's normal, for a function of position
     /// that tells the sides apart (e.g. an initial velocity that jumps across the fault);
@@ -395,20 +376,6 @@ impl<const D: usize> InternalFault<D> {
         let size = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
         let delta = if plus { 1e-9 } else { -1e-9 } * size;
         std::array::from_fn(|a| x[a] + delta * -r[a][rsf_numeric::normal_component(D)])
-    }
-
-    /// `Tᵀ f`: a Cartesian force vector (load, far-field dashpot force) in the new
-    /// coordinates.
-    pub(crate) fn pull_back(&self, f: &[f64]) -> Vec<f64> {
-        let t = self.transform.t.as_ref();
-        (0..t.ncols())
-            .map(|j| {
-                t.row_idx_of_col(j)
-                    .zip(t.val_of_col(j))
-                    .map(|(i, v)| v * f[i])
-                    .sum()
-            })
-            .collect()
     }
 
     /// The Cartesian block of `vertex` of the model vector `x` (`C` components per

@@ -9,24 +9,23 @@ pub(crate) mod equilibrium;
 pub(crate) mod fault;
 pub(crate) mod internal;
 pub(crate) mod loading;
+pub(crate) mod medium;
 pub(crate) mod regions;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
 pub use absorbing::AbsorbingBoundary;
-pub use builder::{
-    AntiplaneMaterial, FacetPredicate, Material, Medium, MediumMatrices, ModelBuilder, Part,
-    DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
-};
+pub use builder::{FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS};
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
 pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
 pub use fault::FrictionalBoundary;
 pub use internal::{FaultSide, InternalFault};
 pub use loading::{DirichletVelocity, TimeFunction};
+pub use medium::{AntiplaneMaterial, Material, Medium, MediumMatrices};
 pub use regions::{CellPredicate, MaterialRegions};
 
-use rsf_fem::{NodalFrames, SparseMatrix};
+use rsf_fem::{DofTransform, NodalFrames, SparseMatrix};
 
 use crate::error::{invalid, Error, Result};
 
@@ -38,11 +37,15 @@ use crate::error::{invalid, Error, Result};
 /// scalar field such as the antiplane displacement, see
 /// [`AntiplaneMaterial`](crate::model::AntiplaneMaterial)).
 ///
-/// Vectors are node-major with `C` components per node (`n = C · nodes`), in Cartesian
-/// components except at the nodes of [`frames`](Self::frames) (slanted fault nodes), whose
-/// blocks are in their nodal frame (tangential…, normal): "model coordinates", what the
-/// solvers, the simulation state and checkpoints hold. [`Model::to_global`] and
-/// [`Model::to_model`] convert a node's block. Build one with
+/// Vectors are node-major with `C` components per node (`n = C · nodes`) in the model's
+/// unknowns `u′` of its change of variables `u = T u′` ([`Model::transform`]), "model
+/// coordinates", what the solvers, the simulation state and checkpoints hold: Cartesian
+/// components, except at the slanted nodes of a fault on the boundary, whose blocks are in
+/// their nodal frame (tangential…, normal; [`frames`](Self::frames)), and at the split
+/// pairs of a fault inside the body, where the minus vertex's block is the jump in the
+/// pair's frame and the plus vertex's the (weighted) mean
+/// ([`internal_fault`](Self::internal_fault)). [`Model::to_cartesian`] converts a whole
+/// vector, [`Model::vertex_value`] one vertex's block. Build one with
 /// [`ModelBuilder`](crate::ModelBuilder) from a mesh, a material and boundary parts, or
 /// fill the public fields yourself (e.g. a lumped spring–block system without a mesh);
 /// [`Model::validate`] checks them, and every simulation validates its model.
@@ -105,10 +108,19 @@ pub struct Model<const D: usize, const C: usize = D> {
     /// Mesh cells as vertex indices with stride `D + 1` (for output such as VTU frames);
     /// empty for models without a mesh (e.g. a spring–block).
     pub cells: Vec<usize>,
-    /// Nodal frames `Q_p` of the slanted frictional nodes (normal not along a coordinate
-    /// axis), nodes in increasing order; empty for axis-aligned faults (docs/math.md §10).
-    /// The model's matrices, load, `u₀`, Dirichlet data and finest prolongation are
-    /// expressed in these frames (`Rᵀ A R`, `Rᵀ F`, `Rᵀ P`).
+    /// The frames `Q_p` (row-major, columns: tangent(s), inward normal) of the vertices
+    /// whose block of a model vector is written in a frame, nodes in increasing order:
+    /// * a fault on the boundary: the nodal frames of its slanted nodes (normal not along a
+    ///   coordinate axis; empty for an axis-aligned fault and for a scalar field;
+    ///   docs/math.md §10.1). They are then the model's change of variables
+    ///   ([`transform`](Self::transform)): the matrices, load, `u₀`, Dirichlet data and
+    ///   finest prolongation are `Rᵀ A R`, `Rᵀ F`, `Rᵀ P` with `R = blockdiag(Q_p)`.
+    /// * a fault inside the body: the pair frames `R_p` at the split pairs' minus vertices
+    ///   (vector fields), whose block is the jump `R_pᵀ(u⁺ − u⁻)`. They are not the model's
+    ///   change of variables — that is the mean–jump transform of
+    ///   [`internal_fault`](Self::internal_fault) (`Tᵀ A T`), which contains them — and `Q_p`
+    ///   turns a minus block into the Cartesian jump, not into the vertex's value
+    ///   ([`vertex_value`](Self::vertex_value)).
     pub frames: NodalFrames<C>,
     /// Lysmer–Kuhlemeyer dashpots on absorbing parts (docs/math.md "Absorbing
     /// boundaries"); `None` (the default) for none: the velocity problem is then exactly
@@ -179,8 +191,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
             .collect()
     }
 
-    /// The nodal frame `Q_p` of mesh vertex `vertex` (a vertex id, not a fault index;
-    /// row-major; columns = tangents, inward normal), if it has one.
+    /// The frame `Q_p` of mesh vertex `vertex` (a vertex id, not a fault index; row-major;
+    /// columns = tangents, inward normal), if it has one ([`frames`](Self::frames): a
+    /// slanted node of a boundary fault, or a split pair's minus vertex).
     pub fn frame(&self, vertex: usize) -> Option<&[[f64; C]; C]> {
         self.frames
             .nodes
@@ -189,8 +202,11 @@ impl<const D: usize, const C: usize> Model<D, C> {
             .map(|k| &self.frames.rotations[k])
     }
 
-    /// The block `x` of mesh vertex `vertex` (a vertex id) in model coordinates →
-    /// Cartesian: `Q_p x` at a frame node, `x` elsewhere.
+    /// The block `x` of mesh vertex `vertex` (a vertex id) in its frame → Cartesian
+    /// components: `Q_p x` at a frame node ([`frame`](Self::frame)), `x` elsewhere. On a
+    /// boundary fault this is the vertex's value in model coordinates rotated back; at a
+    /// split pair's minus vertex (whose block is the jump) the Cartesian jump, and at its
+    /// plus vertex (the mean) `x`: the sides' values are [`vertex_value`](Self::vertex_value)'s.
     pub fn to_global(&self, vertex: usize, x: [f64; C]) -> [f64; C] {
         match self.frame(vertex) {
             None => x,
@@ -233,18 +249,31 @@ impl<const D: usize, const C: usize> Model<D, C> {
                 ),
             ));
         }
-        if let Some(f) = &self.internal_fault {
-            return Ok(f.to_cartesian(x));
+        let t = self.transform();
+        if t.is_identity() {
+            return Ok(x.to_vec());
         }
-        let mut g = x.to_vec();
-        if !self.frames.nodes.is_empty() {
-            self.frames.to_global(&mut g)?;
-        }
-        Ok(g)
+        Ok(t.to_cartesian(x)?)
     }
 
-    /// The Cartesian block `x` of mesh vertex `vertex` (a vertex id) → model coordinates:
-    /// `Q_pᵀ x` at a frame node.
+    /// The change of variables `u = T u′` the model is written in: the mean–jump transform
+    /// of a fault inside the body ([`InternalFault::transform`]), else the nodal frames of
+    /// a boundary fault's slanted nodes ([`frames`](Self::frames); the identity without
+    /// any). The matrices are `Tᵀ A T`, the load `Tᵀ F`, the finest prolongation `T⁻¹ P`,
+    /// and a model vector's Cartesian components are `T x`
+    /// ([`to_cartesian`](Self::to_cartesian)). (An antisymmetric fault's unknown `s·u` is a
+    /// scaling apart, [`FrictionalBoundary::slip_factor`].)
+    pub fn transform(&self) -> &dyn DofTransform {
+        match &self.internal_fault {
+            Some(f) => &f.transform,
+            None => &self.frames,
+        }
+    }
+
+    /// The Cartesian block `x` of mesh vertex `vertex` (a vertex id) → its frame: `Q_pᵀ x`
+    /// at a frame node ([`frame`](Self::frame)), `x` elsewhere (the inverse of
+    /// [`to_global`](Self::to_global); model coordinates on a boundary fault, a jump in
+    /// the pair frame at a split pair's minus vertex).
     pub fn to_model(&self, vertex: usize, x: [f64; C]) -> [f64; C] {
         match self.frame(vertex) {
             None => x,
@@ -292,7 +321,9 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// [`representable_range`](crate::model::representable_range) (also a non-finite one);
     /// [`Error::InvalidParameter`] named `absorbing` for a dashpot matrix of another size or
     /// pattern than the stiffness, a far-field force of another length, a non-finite entry
-    /// or a negative diagonal entry ([`AbsorbingBoundary`]).
+    /// or a negative diagonal entry ([`AbsorbingBoundary`]); [`Error::InvalidParameter`]
+    /// named `internal_fault` for a mean–jump transform `T` or `T⁻¹` of another size than
+    /// the model's dofs.
     pub fn validate(&self) -> Result<()> {
         self.validate_structure()?;
         self.check_magnitudes()
@@ -376,6 +407,19 @@ impl<const D: usize, const C: usize> Model<D, C> {
             }
         }
         self.validate_frames()?;
+        if let Some(f) = &self.internal_fault {
+            let (t, t_inv) = (&f.transform.t, &f.transform.t_inv);
+            if [t.nrows(), t.ncols(), t_inv.nrows(), t_inv.ncols()] != [n; 4] {
+                return Err(invalid(
+                    "internal_fault",
+                    format!(
+                        "its transform T is {}x{}, the model has {n} dofs",
+                        t.nrows(),
+                        t.ncols()
+                    ),
+                ));
+            }
+        }
         if let Some(a) = &self.absorbing {
             a.validate(&self.stiffness)?;
         }

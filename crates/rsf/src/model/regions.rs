@@ -3,7 +3,7 @@
 
 use rsf_fem::{LinearElasticity, SimplexMesh};
 
-use super::builder::{assemble_elastic, Material, Medium, MediumMatrices};
+use super::medium::{assemble_elastic, Material, Medium, MediumMatrices};
 use crate::error::{invalid, Result};
 
 /// Selects a region's cells by their centroid (m).

@@ -116,9 +116,11 @@ impl<const D: usize, const C: usize> StepView<'_, D, C> {
         self.model.vertex_value(vertex, &self.state.kinematics.v)
     }
 
-    /// The displacement of mesh vertex `vertex` (a vertex id; m) in model coordinates: at
-    /// a node with a nodal frame (a slanted fault node) its slip coordinates
-    /// (tangential…, inward normal), Cartesian elsewhere ([`Model`]'s convention).
+    /// The displacement of mesh vertex `vertex` (a vertex id; m) in model coordinates
+    /// ([`Model`]'s convention): at a node with a nodal frame (a slanted fault node) its
+    /// slip coordinates (tangential…, inward normal); at a split pair of a fault inside the
+    /// body the jump in the pair frame (minus vertex) or the weighted mean (plus vertex);
+    /// Cartesian elsewhere.
     ///
     /// # Panics
     /// If `vertex` is not a vertex of the model.

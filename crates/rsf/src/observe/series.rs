@@ -20,7 +20,8 @@ use super::{Flow, Observer, StepView};
 ///
 /// Components are in model coordinates ([`Model`]): Cartesian at a vertex without a nodal
 /// frame (every vertex of an axis-aligned model, e.g. the paper's slider, whose files keep
-/// the header above). At a slanted fault vertex (one with a nodal frame,
+/// the header above) that is not a split vertex of a fault inside the body (there the
+/// jump in the pair frame or the weighted mean). At a slanted fault vertex (one with a nodal frame,
 /// [`Model::frame`]) they are the slip coordinates: the component along the frame's
 /// tangent(s) and along its **inward** normal `−n` ([`Model::to_global`] turns them into
 /// Cartesian ones), and the header says so ([`header_at`](Self::header_at)):

@@ -1,6 +1,7 @@
 //! Constructing a [`Simulation`] with defaults, laws given per node or by position: the
 //! only way in.
 
+use rsf_fem::DofTransform;
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
@@ -323,7 +324,9 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
                     .enumerate()
                     .flat_map(|(p, x)| v0(&f.moved_into_side(p, x)).map(|v| s * v))
                     .collect();
-                f.to_model_coordinates(&cartesian)
+                // T⁻¹ of a field of the model's size; a fault whose transform does not fit
+                // the model leaves it empty and is refused by Model::validate at `build`.
+                f.transform.to_model(&cartesian).unwrap_or_default()
             }
             None => model
                 .vertices

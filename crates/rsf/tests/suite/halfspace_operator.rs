@@ -9,7 +9,7 @@
 
 use faer::Mat;
 use rsf::fault_operator::FaultOperator;
-use rsf::fem::{cuboid_from_coordinates, geometric_grading};
+use rsf::fem::{cuboid_from_coordinates, geometric_grading, DofTransform};
 use rsf::halfspace::{Medium, Okada};
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOperatorError, HalfSpaceOptions};
 use rsf::tnnmg::Condensation;
@@ -273,7 +273,7 @@ fn the_plus_side_is_okadas_hanging_wall_by_the_displacement_off_the_fault() {
             u[dof] = x[i];
         }
         cond.extend_homogeneous(&mut u).unwrap();
-        let u = f.to_cartesian(&u);
+        let u = f.transform.to_cartesian(&u).unwrap();
         let s = op.okada_slip(&x).unwrap();
         for side in [1.0, -1.0] {
             // A vertex 2h off the fault's centre.

@@ -5,8 +5,8 @@
 //! solve: both give the same minimiser, part of the fault slipping, part stuck.
 use rsf::faer::sparse::{SparseColMat, Triplet};
 use rsf::fem::{
-    rectangle, refine_red, vectorize, Assembler, Diagonal, FaultSides, LinearElasticity,
-    SparseMatrix, TriangleMesh,
+    rectangle, refine_red, vectorize, Assembler, Diagonal, DofTransform, FaultSides,
+    LinearElasticity, SparseMatrix, TriangleMesh,
 };
 use rsf::friction::Tresca;
 use rsf::method::FrictionBlocks;

@@ -5,7 +5,7 @@
 //! below that of the same solver whose coarse spaces are continuous across the fault (the
 //! first version: only the finest mesh split, a plus copy taking its original's row).
 use rsf::faer::sparse::{SparseColMat, Triplet};
-use rsf::fem::{rectangle, vectorize, Diagonal, MeshHierarchy, SparseMatrix};
+use rsf::fem::{rectangle, vectorize, Diagonal, DofTransform, MeshHierarchy, SparseMatrix};
 use rsf::friction::Tresca;
 use rsf::method::FrictionBlocks;
 use rsf::model::{MaterialRegions, Medium};

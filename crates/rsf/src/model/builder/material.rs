@@ -1,0 +1,34 @@
+//! The builder's setters for the body: its medium, the forces acting inside it, inertia.
+
+use super::ModelBuilder;
+use crate::model::medium::Medium;
+
+impl<const D: usize> ModelBuilder<D> {
+    /// Gravitational acceleration `g` (m/s²): body force density `ρ g`.
+    pub fn gravity(mut self, g: [f64; D]) -> Self {
+        self.body.gravity = Some(g);
+        self
+    }
+}
+
+impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    /// The material (required): a [`Material`](crate::model::Material) for elasticity
+    /// (`C = D`), an [`AntiplaneMaterial`](crate::model::AntiplaneMaterial) for a scalar
+    /// field (`C = 1`), or a user's [`Medium`].
+    pub fn material(mut self, material: impl Medium<D, C> + 'static) -> Self {
+        self.body.material = Some(Box::new(material));
+        self
+    }
+
+    /// A body force density `f(x)` (N/m³; N/m² per unit thickness in 2D), added to gravity.
+    pub fn body_force(mut self, f: impl Fn(&[f64; D]) -> [f64; C] + 'static) -> Self {
+        self.body.body_force = Some(Box::new(f));
+        self
+    }
+
+    /// No mass matrix (quasistatic problems); the energy norm is then `K`.
+    pub fn without_mass(mut self) -> Self {
+        self.body.with_mass = false;
+        self
+    }
+}

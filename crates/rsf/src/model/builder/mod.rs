@@ -1,0 +1,299 @@
+//! Building a [`Model`] from a mesh, a material and named boundary parts: the
+//! [`ModelBuilder`] (its constructors and [`build`](ModelBuilder::build), the pipeline of
+//! `stages/`), its setters grouped by concern (`material.rs`: the body; `boundary.rs`: the
+//! boundary conditions; `faults.rs`: the fault), what they record (`settings.rs`) and the
+//! boundary parts they name (`part.rs`).
+
+mod boundary;
+mod faults;
+mod material;
+pub(crate) mod part;
+pub(crate) mod settings;
+pub(crate) mod stages;
+
+use rsf_fem::{DofTransform, MeshHierarchy, SimplexMesh};
+
+use super::Model;
+use crate::error::{invalid, Result};
+use settings::{Body, Boundary, Faults};
+use stages::constraints::constrain;
+use stages::domain::Domain;
+use stages::matrices::System;
+use stages::pairs::share_and_prescribe;
+use stages::{fault_order, inputs, loads, matrices, prolongations};
+
+pub use part::{FacetPredicate, Part};
+pub use settings::DEFAULT_MAX_FAULT_KINK_DEGREES;
+
+/// Largest number of cells [`ModelBuilder::refined`] creates (the paper's slider at level 10
+/// has 10 · 4¹⁰ ≈ 1.0e7 triangles).
+pub const MAX_CELLS: usize = 50_000_000;
+
+/// Builds a consistent [`Model`] (its magnitudes are checked when a simulation is built,
+/// [`Model::validate`]) from a mesh (or a refinement hierarchy), a
+/// [`Material`](crate::model::Material), body forces, and named boundary parts: Dirichlet
+/// parts with a prescribed velocity, Neumann parts with a traction, and the frictional
+/// boundary Γ_F with bilateral contact.
+///
+/// What it does for you (docs/math.md §3, §6): node-major dofs; consistent mass `M` and
+/// stiffness `K` (plane strain in 2D) on one pattern; the energy norm `K + M` (`K` without
+/// mass); the load `F` (body force + tractions); the constraints (all listed components of
+/// Dirichlet nodes, the normal component of every frictional node); the prescribed
+/// velocities `v_i(t) = w_i g(t)` with one loading history `g`
+/// ([`TimeFunction`](crate::model::TimeFunction)); the initial displacement `u₀` solving
+/// `K u₀ = F` under these constraints; lumped weights on Γ_F; the hierarchy's prolongations
+/// for multigrid; the cells for output.
+///
+/// Γ_F may have any orientation (docs/math.md §10, docs/design.md "Nodal frames"). At a
+/// node whose outer normal `n` (the facets' area-weighted mean) is along a coordinate axis
+/// (e.g. the bottom of a block) the normal velocity is that Cartesian component, fixed, and
+/// nothing is rotated: an axis-aligned fault gives exactly the model it gave before frames
+/// existed. At every other node the builder sets a **nodal frame** `Q_p` (columns: the
+/// tangent(s), then the inward normal `−n`; 2-D: `t = (−n_y, n_x)`; 3-D: `t₁` the
+/// projection of [`fault_tangent`](Self::fault_tangent) onto the tangent plane, by default
+/// of the coordinate axis with the smallest `|n_k|`, `t₂ = −n × t₁`) and rotates the model
+/// block-diagonally, `Ã = Rᵀ A R` with `R = blockdiag(Q_p)` (identity elsewhere; the
+/// [`DofTransform`] of [`NodalFrames`](rsf_fem::NodalFrames), [`Model::transform`]): `K`,
+/// `M`, the energy norm, the load, the Dirichlet data of such nodes, `u₀` and the finest
+/// prolongation (`Rᵀ P`; coarser levels stay Cartesian). The solvers then see the fault
+/// velocity in slip coordinates (tangential…, normal) with the normal component (`D − 1`)
+/// fixed; [`Model::frames`] keeps the `Q_p` to present results in global coordinates. A
+/// fault inside the body ([`internal_fault`](ModelBuilder::internal_fault)) goes the same
+/// way through its mean–jump transform instead (`Tᵀ A T`, docs/math.md §15).
+/// Corners (facet normals further apart than [`max_fault_kink`](Self::max_fault_kink))
+/// and zero-measure facets are typed errors naming the node.
+///
+/// [`build`](Self::build) is a pipeline of stages, each a function of typed inputs to a
+/// typed output (`model/builder/stages/`): the domain (the mesh, cut open along a fault
+/// inside the body) → the settings checked → the constraints (Dirichlet parts, Γ_F, its
+/// frames, bilateral contact) → the matrices (with absorbing dashpots) → the load → an
+/// antisymmetric fault's scaling → an internal fault's shared jump and prescribed pairs →
+/// the change of variables (one [`DofTransform`]) → Γ_F's order and weights → the
+/// prolongations → the initial equilibrium; its errors come in that order.
+///
+/// ```
+/// use rsf::fem::{rectangle, Diagonal};
+/// use rsf::{Material, ModelBuilder, Part, TimeFunction};
+///
+/// // A 2 m × 0.5 m block: fixed sides pushed inwards, sliding on its bottom.
+/// let mesh = rectangle([0.0, 0.0], [2.0, 0.5], 5, 2, Diagonal::Forward)?;
+/// let model = ModelBuilder::refined(mesh, 2)?
+///     .material(Material { youngs_modulus: 1e8, poisson_ratio: 0.25, density: 2.7e3 })
+///     .gravity([0.0, -9.81])
+///     .dirichlet(Part::predicate("left", |x| x[0] < 1e-9), [1e-4, 0.0])
+///     .dirichlet(Part::predicate("right", |x| x[0] > 2.0 - 1e-9), [-1e-4, 0.0])
+///     .neumann(Part::predicate("top", |x| x[1] > 0.5 - 1e-9), |_| [0.0, -1e4])
+///     .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
+///     .loading(TimeFunction::ramp(1.0))
+///     .build()?;
+/// assert_eq!(model.frictional_boundary.len(), 17);
+/// assert_eq!(model.prolongations.len(), 2);
+/// # Ok::<(), rsf::Error>(())
+/// ```
+///
+/// `ModelBuilder<D>` builds vector (elasticity) models, `C = D`; `ModelBuilder<D, 1>`
+/// ([`scalar`](ModelBuilder::scalar), [`scalar_refined`](ModelBuilder::scalar_refined))
+/// builds scalar ones, e.g. antiplane shear with an
+/// [`AntiplaneMaterial`](crate::model::AntiplaneMaterial), where the one component is
+/// tangential to every in-plane fault (no normal to fix, no frames).
+pub struct ModelBuilder<const D: usize, const C: usize = D> {
+    hierarchy: MeshHierarchy<D>,
+    /// The medium, gravity, body force, inertia (`material.rs`).
+    body: Body<D, C>,
+    /// Dirichlet, Neumann and absorbing parts, the loading history (`boundary.rs`).
+    boundary: Boundary<D, C>,
+    /// Γ_F or a fault inside the body (`faults.rs`).
+    fault: Faults<D>,
+}
+
+impl<const D: usize> ModelBuilder<D> {
+    /// A model on one mesh (no hierarchy: the direct solver, or TNNMG as a smoother only).
+    pub fn new(mesh: SimplexMesh<D>) -> Self {
+        Self::from_hierarchy(MeshHierarchy::refine_uniformly(mesh, 0))
+    }
+
+    /// A model on the finest level of `hierarchy`, with its prolongations for TNNMG.
+    pub fn from_hierarchy(hierarchy: MeshHierarchy<D>) -> Self {
+        Self::with_components(hierarchy)
+    }
+
+    /// A model on `coarse` refined `levels` times uniformly (red refinement: `2^D`
+    /// children per cell and level).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `levels` if the
+    /// finest mesh would have more than [`MAX_CELLS`] cells; refinement errors of
+    /// [`MeshHierarchy::try_refine_uniformly`].
+    pub fn refined(coarse: SimplexMesh<D>, levels: usize) -> Result<Self> {
+        Ok(Self::from_hierarchy(refined_hierarchy(coarse, levels)?))
+    }
+}
+
+impl<const D: usize> ModelBuilder<D, 1> {
+    /// A scalar-field model (one component per vertex, e.g. antiplane shear with an
+    /// [`AntiplaneMaterial`](crate::model::AntiplaneMaterial)) on one mesh (the direct solver).
+    pub fn scalar(mesh: SimplexMesh<D>) -> Self {
+        Self::scalar_from_hierarchy(MeshHierarchy::refine_uniformly(mesh, 0))
+    }
+
+    /// A scalar-field model on the finest level of `hierarchy`, with its prolongations.
+    pub fn scalar_from_hierarchy(hierarchy: MeshHierarchy<D>) -> Self {
+        Self::with_components(hierarchy)
+    }
+
+    /// A scalar-field model on `coarse` refined `levels` times uniformly.
+    ///
+    /// # Errors
+    /// As [`ModelBuilder::refined`].
+    pub fn scalar_refined(coarse: SimplexMesh<D>, levels: usize) -> Result<Self> {
+        Ok(Self::scalar_from_hierarchy(refined_hierarchy(
+            coarse, levels,
+        )?))
+    }
+}
+
+/// `coarse` refined `levels` times, refusing more than [`MAX_CELLS`] cells.
+fn refined_hierarchy<const D: usize>(
+    coarse: SimplexMesh<D>,
+    levels: usize,
+) -> Result<MeshHierarchy<D>> {
+    let cells = (0..levels).try_fold(coarse.num_cells(), |c, _| {
+        c.checked_mul(1 << D).filter(|&c| c <= MAX_CELLS)
+    });
+    if cells.is_none() {
+        return Err(invalid(
+            "levels",
+            format!(
+                "{levels} refinements of {} cells exceed {MAX_CELLS} cells",
+                coarse.num_cells()
+            ),
+        ));
+    }
+    Ok(MeshHierarchy::try_refine_uniformly(coarse, levels)?)
+}
+
+impl<const D: usize, const C: usize> ModelBuilder<D, C> {
+    fn with_components(hierarchy: MeshHierarchy<D>) -> Self {
+        Self {
+            hierarchy,
+            body: Body::default(),
+            boundary: Boundary::default(),
+            fault: Faults::default(),
+        }
+    }
+
+    /// The finest mesh (where parts are selected).
+    pub fn mesh(&self) -> &SimplexMesh<D> {
+        self.hierarchy.finest()
+    }
+
+    /// Assembles the model and checks its consistency (shapes, constraints, frames).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) for a missing material
+    /// or frictional part, non-finite velocities or gravity, a component ≥ D, two Dirichlet
+    /// parts prescribing different velocities to one dof;
+    /// [`Error::BoundaryPart`](crate::Error::BoundaryPart) for a part that selects nothing
+    /// or was built on another mesh; [`Error::FaultCorner`](crate::Error::FaultCorner) /
+    /// [`Error::FaultFoldsBack`](crate::Error::FaultFoldsBack) /
+    /// [`Error::DegenerateFaultFacet`](crate::Error::DegenerateFaultFacet) where Γ_F has no
+    /// well-defined nodal frame;
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dirichlet` for a
+    /// slanted fault node with only some Cartesian components fixed, `max_fault_kink` or
+    /// `fault_tangent` out of range, `fault_tangent` in 1-D or 2-D;
+    /// [`Error::Equilibrium`](crate::Error::Equilibrium) if `K u₀ = F` is singular under
+    /// the constraints; material and assembly errors ([`Error::Fem`](crate::Error::Fem)),
+    /// e.g. a non-finite force or traction.
+    pub fn build(self) -> Result<Model<D, C>> {
+        const { assert!(C == D || C == 1, "vector (C = D) or scalar (C = 1) fields") };
+        let Self {
+            hierarchy,
+            body,
+            boundary,
+            fault: faults,
+        } = self;
+        // 1. The mesh, cut open along a fault inside the body.
+        let (domain, fault) = Domain::cut(&hierarchy, faults.internal.as_ref(), faults.tangent)?;
+        // 2. The settings that need no mesh data.
+        let inputs = inputs::check(&body, &boundary, &faults, fault.as_ref())?;
+        let (mesh, s) = (domain.mesh(), inputs.slip_factor);
+        // 3. Constraints and prescribed velocities (in the frames of slanted Γ_F nodes).
+        let mut constraints = constrain(
+            mesh,
+            &boundary.dirichlet,
+            &inputs.fault_part,
+            fault.as_ref(),
+            &faults,
+        )?;
+        // 4.–5. The matrices and the load, Cartesian, in u.
+        let matrices = matrices::assemble(
+            mesh,
+            inputs.material,
+            body.with_mass,
+            &boundary.absorbing,
+            &constraints,
+        )?;
+        let load = loads::load(mesh, inputs.material, &body, &boundary)?;
+        // 6. An antisymmetric fault: the unknown is s·u.
+        let system = System { matrices, load }.scaled(s)?;
+        // 7. A fault inside the body: the jump shared by the sides' stiffness, the
+        // prescribed pairs' data in the mean–jump unknowns (they do not slip freely).
+        let fault = fault
+            .map(|f| {
+                share_and_prescribe(
+                    f,
+                    &system.matrices.stiffness,
+                    mesh,
+                    faults.creep.as_ref(),
+                    &mut constraints,
+                )
+            })
+            .transpose()?;
+        // 8. The change of variables: everything in the nodal frames of slanted Γ_F nodes
+        // (`Rᵀ A R`), or in an internal fault's mean–jump unknowns (`Tᵀ A T`).
+        let transform: &dyn DofTransform = match &fault {
+            Some(f) => &f.fault.transform,
+            None => &constraints.frames,
+        };
+        let dirichlet = constraints.dirichlet_velocity(s, boundary.loading);
+        let System { matrices, load } = system.in_unknowns(transform)?;
+        // 9. Γ_F in the order of the fault indices.
+        let frictional_boundary =
+            fault_order::frictional_boundary(mesh, &constraints.gamma_f, s, fault.as_ref())?;
+        // 10. The prolongations, the finest onto the model's unknowns.
+        let prolongations = prolongations::prolongations::<D, C>(&domain, transform)?;
+        // Initial equilibrium (after the prolongations: a large 3-D model solves it by
+        // multigrid on them).
+        let u0 = super::equilibrium::solve::<D, C>(
+            &matrices.stiffness,
+            &constraints.fixed,
+            &load,
+            &prolongations,
+        )?;
+
+        let model = Model {
+            vertices: mesh.vertices().to_vec(),
+            mass: matrices.mass,
+            stiffness: matrices.stiffness,
+            energy_norm: matrices.energy_norm,
+            load,
+            fixed: constraints.fixed,
+            dirichlet,
+            prolongations,
+            frictional_boundary,
+            initial_displacement: u0,
+            cells: mesh.cells().to_vec(),
+            frames: constraints.frames,
+            absorbing: matrices.absorbing,
+            internal_fault: fault.map(|f| f.fault),
+        };
+        // Consistent by construction; a simulation built on it validates it (once), with
+        // the magnitudes of the user's data.
+        debug_assert!(
+            model.validate_structure().is_ok(),
+            "{:?}",
+            model.validate_structure()
+        );
+        Ok(model)
+    }
+}

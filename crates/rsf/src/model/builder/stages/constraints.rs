@@ -1,0 +1,194 @@
+//! Stage 3: the constraints — the Dirichlet parts resolved on the model's mesh, Γ_F
+//! resolved with the frames of its nodes, bilateral contact (the normal component of every
+//! frictional node fixed), the prescribed velocities in the basis of their node.
+
+use rsf_fem::{BoundaryPart, NodalFrames, SimplexMesh};
+use rsf_numeric::normal_component;
+
+use super::super::settings::{Dirichlet, Faults};
+use super::frames::{fault_frames, internal_fault_frames, normal_axis, same_block_size};
+use super::inputs::FaultPart;
+use crate::error::{invalid, Result};
+use crate::model::internal::InternalFault;
+use crate::model::loading::{DirichletVelocity, TimeFunction};
+
+/// The constraints of the model's dofs (node-major, `C` per vertex of the model's mesh).
+pub(crate) struct Constraints<const D: usize, const C: usize> {
+    /// Per dof: constrained (Dirichlet, bilateral contact, a tied normal jump).
+    pub fixed: Vec<bool>,
+    /// Per dof: the velocity factor `w_i` (m/s, of `u`; times `g(t)`) of a Dirichlet dof, in
+    /// its node's basis (a slanted fault node's frame, Cartesian elsewhere); `None` where
+    /// nothing is prescribed (a fixed dof without data moves with velocity 0).
+    pub velocity: Vec<Option<f64>>,
+    /// Γ_F on the model's mesh.
+    pub gamma_f: BoundaryPart<D>,
+    /// The frames of Γ_F's nodes: a boundary fault's slanted nodes (the model's basis there),
+    /// or a fault inside the body's pair frames at the minus vertices (of the jump blocks).
+    pub frames: NodalFrames<C>,
+}
+
+/// The constraints on `mesh` of the Dirichlet parts `dirichlet` (in order), of bilateral
+/// contact on Γ_F `fault_part` (a vector field; its frames by the kink limit and the 3-D
+/// tangent of `faults`), or of a fault inside the body `fault` (its normal jump tied).
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dirichlet` for
+/// components out of range, a non-finite velocity, two parts prescribing different
+/// velocities to one dof, a slanted fault node or a split pair with only some components
+/// fixed; the parts' resolution errors; [`frames`](super::frames)'.
+pub(crate) fn constrain<const D: usize, const C: usize>(
+    mesh: &SimplexMesh<D>,
+    dirichlet: &[Dirichlet<D, C>],
+    fault_part: &FaultPart<'_, D>,
+    fault: Option<&InternalFault<D>>,
+    faults: &Faults<D>,
+) -> Result<Constraints<D, C>> {
+    let (mut fixed, mut velocity) = dirichlet_dofs(mesh, dirichlet)?;
+    let fpart = fault_part.part();
+    let gamma_f = fpart.resolve(mesh)?;
+    // A vector field slides tangentially (normal component fixed, nodal frames on
+    // slanted nodes); a scalar field's one component is tangential to any in-plane Γ_F.
+    // An internal fault: the pair frames (kept for outputs; its matrices take `T`).
+    let frames: NodalFrames<C> = match fault {
+        Some(f) => internal_fault_frames(f, &fixed)?,
+        None if C == D => same_block_size(fault_frames(
+            mesh,
+            &gamma_f,
+            fpart.name(),
+            faults.max_kink_degrees,
+            faults.tangent,
+        )?),
+        None => NodalFrames::default(),
+    };
+    if let Some(f) = fault {
+        // The normal jump is tied (no opening); a scalar field has only the slip.
+        if C == D {
+            for &(mi, _) in f.pairs() {
+                fixed[C * mi + normal_component(C)] = true;
+            }
+        }
+    } else if C == D {
+        for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
+            if let Some(c) = normal_axis(nrm) {
+                fixed[C * p + c] = true;
+            }
+        }
+    }
+    if fault.is_none() {
+        in_frames(&frames, fpart.name(), &mut fixed, &mut velocity)?;
+    }
+    Ok(Constraints {
+        fixed,
+        velocity,
+        gamma_f,
+        frames,
+    })
+}
+
+/// The Dirichlet parts resolved on `mesh`, in order: the fixed dofs and their velocities.
+fn dirichlet_dofs<const D: usize, const C: usize>(
+    mesh: &SimplexMesh<D>,
+    dirichlet: &[Dirichlet<D, C>],
+) -> Result<(Vec<bool>, Vec<Option<f64>>)> {
+    let n = C * mesh.num_vertices();
+    let mut fixed = vec![false; n];
+    let mut velocity: Vec<Option<f64>> = vec![None; n];
+    for d in dirichlet {
+        let name = d.part.name();
+        if d.components.is_empty() || d.components.iter().any(|&c| c >= C) {
+            return Err(invalid(
+                "dirichlet",
+                format!(
+                    "part `{name}`: components {:?} must be in 0..{C}",
+                    d.components
+                ),
+            ));
+        }
+        if d.velocity.iter().any(|c| !c.is_finite()) {
+            return Err(invalid(
+                "dirichlet",
+                format!("part `{name}`: velocity {:?} must be finite", d.velocity),
+            ));
+        }
+        let part = d.part.resolve(mesh)?;
+        for &p in part.nodes() {
+            for &c in &d.components {
+                let i = C * p + c;
+                let w = d.velocity[c];
+                match velocity[i] {
+                    Some(old) if old != w => {
+                        return Err(invalid(
+                            "dirichlet",
+                            format!(
+                                "node {p} component {c}: part `{name}` prescribes {w} m/s, \
+                                 an earlier part {old} m/s"
+                            ),
+                        ))
+                    }
+                    _ => velocity[i] = Some(w),
+                }
+                fixed[i] = true;
+            }
+        }
+    }
+    Ok((fixed, velocity))
+}
+
+/// At every frame node of a boundary fault (Γ_F named `name`): bilateral contact fixes the
+/// normal component in the frame, or a fully clamped node gets its velocity in the frame
+/// (`Q_pᵀ w`).
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dirichlet` for a
+/// node with only some Cartesian components fixed.
+fn in_frames<const C: usize>(
+    frames: &NodalFrames<C>,
+    name: &str,
+    fixed: &mut [bool],
+    velocity: &mut [Option<f64>],
+) -> Result<()> {
+    for (&p, q) in frames.nodes.iter().zip(&frames.rotations) {
+        let dofs = C * p..C * p + C;
+        match fixed[dofs.clone()].iter().filter(|&&f| f).count() {
+            // Bilateral contact: the normal component in the frame.
+            0 => fixed[C * p + normal_component(C)] = true,
+            // A Dirichlet node on the slanted fault: its prescribed velocity in the frame.
+            k if k == C => {
+                let w: Vec<f64> = dofs.map(|i| velocity[i].unwrap_or(0.0)).collect();
+                for c in 0..C {
+                    let wc: f64 = (0..C).map(|r| q[r][c] * w[r]).sum();
+                    velocity[C * p + c] = Some(wc);
+                }
+            }
+            _ => {
+                return Err(invalid(
+                    "dirichlet",
+                    format!(
+                        "node {p} is on the slanted frictional boundary `{name}` (it has a \
+                         nodal frame) and a Dirichlet part fixes only some of its \
+                         Cartesian components; fix all of them or none"
+                    ),
+                ))
+            }
+        }
+    }
+    Ok(())
+}
+
+impl<const D: usize, const C: usize> Constraints<D, C> {
+    /// The prescribed velocities `v_i(t) = s w_i g(t)` of the model's unknown `s·u` (`s`
+    /// the slip factor): the dofs with a non-zero velocity factor, in increasing order.
+    pub fn dirichlet_velocity(&self, s: f64, history: TimeFunction) -> DirichletVelocity {
+        let (dofs, factors): (Vec<usize>, Vec<f64>) = self
+            .velocity
+            .iter()
+            .enumerate()
+            .filter_map(|(i, w)| w.filter(|w| *w != 0.0).map(|w| (i, s * w)))
+            .unzip();
+        DirichletVelocity {
+            dofs,
+            factors,
+            history,
+        }
+    }
+}

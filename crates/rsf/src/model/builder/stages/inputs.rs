@@ -1,0 +1,103 @@
+//! Stage 2: the settings that need no mesh data, checked — the medium, the slip factor,
+//! which part is Γ_F, the loading history, gravity.
+
+use super::super::part::Part;
+use super::super::settings::{Body, Boundary, Faults};
+use crate::error::{invalid, Result};
+use crate::model::internal::InternalFault;
+use crate::model::medium::Medium;
+
+/// The part that is Γ_F: the caller's frictional boundary, or the minus face of a fault
+/// inside the body.
+pub(crate) enum FaultPart<'b, const D: usize> {
+    /// [`ModelBuilder::frictional_boundary`](crate::ModelBuilder::frictional_boundary).
+    Given(&'b Part<D>),
+    /// The faces tagged `{name}_minus` of the split mesh.
+    MinusFace(Part<D>),
+}
+
+impl<const D: usize> FaultPart<'_, D> {
+    /// The part.
+    pub fn part(&self) -> &Part<D> {
+        match self {
+            Self::Given(p) => p,
+            Self::MinusFace(p) => p,
+        }
+    }
+}
+
+/// The checked settings the later stages take.
+pub(crate) struct Inputs<'b, const D: usize, const C: usize> {
+    /// The medium.
+    pub material: &'b dyn Medium<D, C>,
+    /// The antisymmetry factor `s` (finite, positive; 1 with a fault inside the body).
+    pub slip_factor: f64,
+    /// Γ_F.
+    pub fault_part: FaultPart<'b, D>,
+}
+
+/// Checks the settings in the order of their errors: a creeping section without a fault
+/// inside the body, the medium, the slip factor, Γ_F (one of a frictional boundary and a
+/// fault inside the body), the slip factor against a fault inside the body, the loading
+/// history, gravity.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `internal_creep`,
+/// `material`, `slip_factor`, `frictional_boundary`, `gravity`; the loading history's.
+pub(crate) fn check<'b, const D: usize, const C: usize>(
+    body: &'b Body<D, C>,
+    boundary: &Boundary<D, C>,
+    faults: &'b Faults<D>,
+    fault: Option<&InternalFault<D>>,
+) -> Result<Inputs<'b, D, C>> {
+    if faults.creep.is_some() && fault.is_none() {
+        return Err(invalid(
+            "internal_creep",
+            "a creeping section needs an internal fault (ModelBuilder::internal_fault)",
+        ));
+    }
+    let material = body
+        .material
+        .as_deref()
+        .ok_or_else(|| invalid("material", "not set"))?;
+    let s = faults.slip_factor;
+    if !(s.is_finite() && s > 0.0) {
+        return Err(invalid(
+            "slip_factor",
+            format!("{s} must be finite and positive"),
+        ));
+    }
+    let fault_part = match (&faults.frictional_boundary, fault) {
+        (Some(p), None) => FaultPart::Given(p),
+        (None, Some(f)) => FaultPart::MinusFace(Part::from(f.sides.minus_tag())),
+        (Some(_), Some(_)) => {
+            return Err(invalid(
+                "frictional_boundary",
+                "given besides an internal fault (whose minus face is Γ_F): give one",
+            ))
+        }
+        (None, None) => {
+            return Err(invalid(
+                "frictional_boundary",
+                "not set (ModelBuilder::frictional_boundary or internal_fault)",
+            ))
+        }
+    };
+    if fault.is_some() && s != 1.0 {
+        return Err(invalid(
+            "slip_factor",
+            "an internal fault's slip is its jump: no antisymmetric_fault with it",
+        ));
+    }
+    boundary.loading.validate()?;
+    if let Some(g) = body.gravity {
+        if g.iter().any(|c| !c.is_finite()) {
+            return Err(invalid("gravity", format!("{g:?} must be finite")));
+        }
+    }
+    Ok(Inputs {
+        material,
+        slip_factor: s,
+        fault_part,
+    })
+}

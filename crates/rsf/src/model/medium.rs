@@ -1,0 +1,206 @@
+//! What a body is made of: the seam [`Medium`] between the model builder and the
+//! constitutive law, isotropic elasticity ([`Material`]) and the antiplane scalar field
+//! ([`AntiplaneMaterial`]); several materials by region are
+//! [`MaterialRegions`](super::MaterialRegions).
+
+use rsf_fem::{combine, Assembler, LinearElasticity, SimplexMesh, SparseMatrix};
+
+use crate::error::{Error, Result};
+
+/// Isotropic linear elastic material (SI units; in 2D plane strain, per unit thickness).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Material {
+    /// Young's modulus E (Pa), finite and > 0.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν ∈ (−1, ½).
+    pub poisson_ratio: f64,
+    /// Density ρ (kg/m³; kg/m² per unit thickness in 2D), finite and > 0.
+    pub density: f64,
+}
+
+impl Material {
+    /// Young's modulus E (Pa), Poisson's ratio ν, density ρ (kg/m³; kg/m² in 2D).
+    pub const fn new(youngs_modulus: f64, poisson_ratio: f64, density: f64) -> Self {
+        Self {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+        }
+    }
+
+    /// The elasticity tensor: [`LinearElasticity::isotropic`] (plane strain in 2D).
+    ///
+    /// # Errors
+    /// [`rsf_fem::Error::InvalidYoungsModulus`], [`rsf_fem::Error::InvalidPoissonRatio`].
+    pub fn elasticity(&self) -> Result<LinearElasticity> {
+        Ok(LinearElasticity::isotropic(
+            self.youngs_modulus,
+            self.poisson_ratio,
+        )?)
+    }
+}
+
+/// The matrices a [`Medium`] assembles on a mesh.
+#[derive(Debug, Clone)]
+pub struct MediumMatrices {
+    /// Stiffness `K` (`n × n`, `n = C · vertices`, node-major).
+    pub stiffness: SparseMatrix,
+    /// Mass `M` on the pattern of `K`, if asked for.
+    pub mass: Option<SparseMatrix>,
+    /// The energy-norm matrix: `K + M` with mass, `K` without.
+    pub energy_norm: SparseMatrix,
+}
+
+impl MediumMatrices {
+    /// The matrices of a body with `stiffness` and, with inertia, its mass and energy
+    /// norm `(M, E)`; without, the energy norm is the stiffness.
+    pub fn new(stiffness: SparseMatrix, inertia: Option<(SparseMatrix, SparseMatrix)>) -> Self {
+        let (mass, energy_norm) = match inertia {
+            Some((m, e)) => (Some(m), e),
+            None => (None, stiffness.clone()),
+        };
+        Self {
+            stiffness,
+            mass,
+            energy_norm,
+        }
+    }
+}
+
+/// What the body is made of, for a field of `C` components per vertex on a `D`-dimensional
+/// mesh: the seam between [`ModelBuilder`](crate::ModelBuilder) and the constitutive law.
+/// [`Material`] (isotropic elasticity, `C = D`) and [`AntiplaneMaterial`] (`C = 1`)
+/// implement it; a user's own medium (anisotropic, graded) implements
+/// [`assemble`](Self::assemble) with [`rsf_fem::Assembler`].
+pub trait Medium<const D: usize, const C: usize> {
+    /// Density ρ (kg/m³; kg/m² per unit thickness in 2D) for gravity's body force `ρ g`.
+    fn density(&self) -> f64;
+
+    /// The density at `x` (m) for gravity's body force `ρ(x) g` of a heterogeneous body
+    /// (e.g. [`MaterialRegions`](crate::model::MaterialRegions)); default
+    /// [`density`](Self::density) everywhere.
+    fn density_at(&self, x: &[f64; D]) -> f64 {
+        let _ = x;
+        self.density()
+    }
+
+    /// Stiffness, mass (if `with_mass`) and energy norm on `mesh`, all on one pattern.
+    ///
+    /// # Errors
+    /// Invalid material constants; assembly errors.
+    fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices>;
+
+    /// The impedances `(ρc_p, ρc_s)` (Pa·s/m) of the Lysmer–Kuhlemeyer dashpots on
+    /// absorbing parts
+    /// ([`ModelBuilder::absorbing_boundary`](crate::ModelBuilder::absorbing_boundary); a
+    /// scalar field uses `ρc_s` only). Default `None`: a medium that does not know its wave
+    /// speeds cannot have absorbing parts ([`Error::BoundaryPart`] from
+    /// [`ModelBuilder::build`](crate::ModelBuilder::build)).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        None
+    }
+
+    /// The impedances at the point `x` (m) inside the body: an absorbing facet takes those
+    /// at the centroid of its cell, so that a boundary crossing material regions gets each
+    /// region's own dashpots. Default [`impedances`](Self::impedances) everywhere.
+    fn impedances_at(&self, x: &[f64; D]) -> Option<[f64; 2]> {
+        let _ = x;
+        self.impedances()
+    }
+}
+
+impl<const D: usize> Medium<D, D> for Material {
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
+        let elasticity = self.elasticity()?;
+        assemble_elastic(mesh, with_mass, |_| (self.density, &elasticity))
+    }
+
+    /// `(√(ρ(λ + 2μ)), √(ρμ))` with the Lamé constants of `E`, `ν` (plane strain in 2D:
+    /// the same P-wave modulus `λ + 2μ`).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        let (e, nu, rho) = (self.youngs_modulus, self.poisson_ratio, self.density);
+        let mu = e / (2.0 * (1.0 + nu));
+        let lambda = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        Some([(rho * (lambda + 2.0 * mu)).sqrt(), (rho * mu).sqrt()])
+    }
+}
+
+/// Stiffness, mass (if `with_mass`) and energy norm of an elastic body whose cell `c` has
+/// the density and elasticity tensor `material(c)` ([`Material`],
+/// [`MaterialRegions`](super::MaterialRegions)).
+pub(crate) fn assemble_elastic<'m, const D: usize>(
+    mesh: &SimplexMesh<D>,
+    with_mass: bool,
+    material: impl Fn(usize) -> (f64, &'m LinearElasticity),
+) -> Result<MediumMatrices> {
+    let assembler = Assembler::new(mesh)?;
+    let stiffness = assembler.stiffness_by_cell(mesh, |c| material(c).1)?;
+    let inertia = with_mass
+        .then(|| {
+            Ok::<_, Error>((
+                assembler.mass_by_cell(mesh, |c| material(c).0)?,
+                assembler.energy_by_cell(mesh, &material)?,
+            ))
+        })
+        .transpose()?;
+    Ok(MediumMatrices::new(stiffness, inertia))
+}
+
+/// A medium for a scalar field `u` (one component per vertex) with energy `½∫μ|∇u|²`: the
+/// antiplane (mode III) displacement of an isotropic elastic body in the plane of a 2-D
+/// mesh, `u` the displacement out of that plane (SI units; per unit length out of the
+/// plane). Stiffness `K_ij = ∫μ∇φ_i·∇φ_j`, mass `∫ρφ_iφ_j`
+/// ([`rsf_fem::Assembler::laplace`]). Used by the SCEC SEAS benchmark BP1 (docs/seas-bp1.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct AntiplaneMaterial {
+    /// Shear modulus μ (Pa), finite and > 0.
+    pub shear_modulus: f64,
+    /// Density ρ (kg/m³), finite and > 0.
+    pub density: f64,
+}
+
+impl AntiplaneMaterial {
+    /// Shear modulus μ (Pa) and density ρ (kg/m³).
+    pub const fn new(shear_modulus: f64, density: f64) -> Self {
+        Self {
+            shear_modulus,
+            density,
+        }
+    }
+
+    /// The shear wave speed `c_s = √(μ/ρ)` (m/s).
+    pub fn shear_wave_speed(&self) -> f64 {
+        (self.shear_modulus / self.density).sqrt()
+    }
+}
+
+impl<const D: usize> Medium<D, 1> for AntiplaneMaterial {
+    fn density(&self) -> f64 {
+        self.density
+    }
+
+    fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
+        let assembler = Assembler::scalar(mesh)?;
+        let stiffness = assembler.laplace(mesh, self.shear_modulus)?;
+        let inertia = with_mass
+            .then(|| {
+                let m = assembler.mass(mesh, self.density)?;
+                let e = combine(1.0, &m, 1.0, &stiffness).map_err(rsf_fem::Error::from)?;
+                Ok::<_, Error>((m, e))
+            })
+            .transpose()?;
+        Ok(MediumMatrices::new(stiffness, inertia))
+    }
+
+    /// `√(ρμ) = ρc_s` twice (a scalar field has no P wave; only `ρc_s` is used).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        let z = (self.density * self.shear_modulus).sqrt();
+        Some([z, z])
+    }
+}
