@@ -311,6 +311,20 @@ impl<const D: usize> ChunkedOrder<D> {
     }
 }
 
+/// How [`ChunkedSweep::smooth`] sweeps: how many sweeps, in which order, on which
+/// threads, and the node update `local(p, b_p, s, x_p)`.
+#[derive(Clone, Copy)]
+pub(crate) struct Smoothing<F> {
+    /// Number of sweeps.
+    pub sweeps: usize,
+    /// Direction, and whether the first sweep starts from `x = 0`.
+    pub order: SweepOrder,
+    /// The threads of the chunks of one colour.
+    pub par: Parallelism,
+    /// The node update.
+    pub local: F,
+}
+
 /// A sweeper in a [`ChunkedOrder`]: the shared order and the vectors of one user in
 /// positions (`x`, the right-hand side, the push accumulator; `D` values per node), and
 /// per position the diagonal block of the residual and a block for the local solves.
@@ -359,7 +373,7 @@ impl<const D: usize> ChunkedSweep<D> {
         &self.order
     }
 
-    /// `sweeps` block Gauss–Seidel sweeps on `A x = rhs` (forward, or backward when
+    /// `sweeps` block Gauss–Seidel sweeps ([`Smoothing`]) on `A x = rhs` (forward, or backward when
     /// `order.reverse`) in the chunked order, starting from `x = 0` when `order.zero_start`:
     /// for each node `p`, `local(p, b_p, s, x_p)` updates its block `x_p` in place from `s =
     /// rhs_p − Σ_{q≠p} A_pq x_q` (`b_p` is its local block, [`set_node_blocks`](Self::set_node_blocks)),
@@ -369,14 +383,19 @@ impl<const D: usize> ChunkedSweep<D> {
     /// chunk on the threads; the couplings inside a chunk pushed as in a sweep).
     pub fn smooth<F>(
         &mut self,
-        sweeps: usize,
-        order: SweepOrder,
-        (x, rhs): (&mut [f64], &[f64]),
+        x: &mut [f64],
+        rhs: &[f64],
         residual: Option<&mut [f64]>,
-        (par, local): (Parallelism, F),
+        smoothing: Smoothing<F>,
     ) where
         F: Fn(usize, &Block<D>, &[f64; D], &mut [f64; D]) + Sync,
     {
+        let Smoothing {
+            sweeps,
+            order,
+            par,
+            local,
+        } = smoothing;
         let Self {
             order: chunked,
             x: xs,
@@ -574,8 +593,13 @@ mod tests {
                 zero_start,
             };
             let mut res = vec![0.0; n];
-            let sweeps = (Parallelism::SEQ, local::<D2>);
-            c.smooth(2, sweep, (&mut x, &rhs), Some(&mut res), sweeps);
+            let smoothing = Smoothing {
+                sweeps: 2,
+                order: sweep,
+                par: Parallelism::SEQ,
+                local: local::<D2>,
+            };
+            c.smooth(&mut x, &rhs, Some(&mut res), smoothing);
             let mut y = if zero_start { vec![0.0; n] } else { x0.clone() };
             for _ in 0..2 {
                 let visit: Vec<usize> = if reverse {
@@ -627,14 +651,22 @@ mod tests {
             let mut c = sweeper(&a, &s);
             let (mut x, mut res) = (vec![0.0; n], vec![0.0; n]);
             pool.install(|| {
-                let par = (Parallelism::rayon(threads), local::<3>);
-                let first = SweepOrder {
-                    reverse: false,
-                    zero_start: true,
+                let first = Smoothing {
+                    sweeps: 1,
+                    order: SweepOrder {
+                        reverse: false,
+                        zero_start: true,
+                    },
+                    par: Parallelism::rayon(threads),
+                    local: local::<3>,
                 };
-                c.smooth(1, first, (&mut x, &rhs), None, par);
-                let back = SweepOrder::from_x(true);
-                c.smooth(2, back, (&mut x, &rhs), Some(&mut res), par);
+                c.smooth(&mut x, &rhs, None, first);
+                let back = Smoothing {
+                    sweeps: 2,
+                    order: SweepOrder::from_x(true),
+                    ..first
+                };
+                c.smooth(&mut x, &rhs, Some(&mut res), back);
             });
             let bits = |v: &[f64]| v.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             (bits(&x), bits(&res))

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use crate::block::{masked_inverse, mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
-use crate::chunks::{ChunkedOrder, ChunkedSweep};
+use crate::chunks::{ChunkedOrder, ChunkedSweep, Smoothing};
 use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
@@ -98,7 +98,17 @@ impl<const D: usize> Level<D> {
                     *xp = mul_vec(sp, s);
                 };
                 let residual = residual.then_some(&mut res[..]);
-                chunked.smooth(sweeps, order, (x, rhs), residual, (par, local));
+                chunked.smooth(
+                    x,
+                    rhs,
+                    residual,
+                    Smoothing {
+                        sweeps,
+                        order,
+                        par,
+                        local,
+                    },
+                );
             } else {
                 if order.zero_start {
                     x.fill(0.0);

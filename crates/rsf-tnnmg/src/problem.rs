@@ -4,7 +4,7 @@ use faer::sparse::SparseColMatRef;
 
 use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
-use crate::chunks::ChunkedSweep;
+use crate::chunks::{ChunkedSweep, Smoothing};
 use crate::colouring::Colouring;
 use crate::csc::Csc;
 use crate::error::{Error, Result};
@@ -50,6 +50,17 @@ impl<const D: usize> BlockedMatrix<D> {
             fixed: fixed.to_vec(),
         })
     }
+}
+
+/// The chunked nonlinear smoother of TNNMG: the sweeper (its red–black chunked order), the
+/// number of sweeps and the threads ([`NodalProblem::nonlinear_gauss_seidel_chunked`]).
+pub(crate) struct ChunkedSmoother<'a, const D: usize> {
+    /// The sweeper built on the problem's matrix.
+    pub sweeper: &'a mut ChunkedSweep<D>,
+    /// Number of sweeps.
+    pub sweeps: usize,
+    /// The threads of the chunks of one colour.
+    pub par: Parallelism,
 }
 
 /// The quadratic part in node-block storage, for the iterative solvers: `A` as
@@ -128,23 +139,27 @@ impl<const D: usize> NodalProblem<D> {
     /// in `res`.
     pub(crate) fn nonlinear_gauss_seidel_chunked<N: BlockNonlinearity<D>>(
         &self,
-        (b, blocks): (&[f64], ActiveBlocks<'_, N>),
-        (v, res): (&mut [f64], &mut [f64]),
-        sweeps: usize,
-        chunked: &mut ChunkedSweep<D>,
-        par: Parallelism,
+        b: &[f64],
+        blocks: ActiveBlocks<'_, N>,
+        v: &mut [f64],
+        res: &mut [f64],
+        smoother: ChunkedSmoother<'_, D>,
     ) {
+        let ChunkedSmoother {
+            sweeper,
+            sweeps,
+            par,
+        } = smoother;
         let local = |p: usize, _: &Block<D>, s: &[f64; D], x: &mut [f64; D]| {
             self.local_update(blocks, p, s, x)
         };
-        let residual = Some(res);
-        chunked.smooth(
+        let smoothing = Smoothing {
             sweeps,
-            SweepOrder::from_x(false),
-            (v, b),
-            residual,
-            (par, local),
-        );
+            order: SweepOrder::from_x(false),
+            par,
+            local,
+        };
+        sweeper.smooth(v, b, Some(res), smoothing);
     }
 
     /// The exact minimisation of block `p` with the others fixed: `s = b_p − Σ_{q≠p}

@@ -14,7 +14,7 @@ use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
 use crate::multigrid::{CycleShape, LinearMultigrid};
 use crate::nonlinearity::{BlockNonlinearity, Linearization};
 use crate::norm::EnergyNorm;
-use crate::problem::{dot, ActiveBlocks, NodalProblem};
+use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
 use crate::report::{
     iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
 };
@@ -340,13 +340,13 @@ impl<const D: usize> Tnnmg<D> {
             active_of: &self.active_of,
         };
         if let Some(chunked) = &mut self.chunked {
-            self.m.nonlinear_gauss_seidel_chunked(
-                (b, blocks),
-                (v, &mut self.res_a),
-                self.opts.nonlinear_sweeps,
-                chunked,
-                self.parallelism,
-            );
+            let smoother = ChunkedSmoother {
+                sweeper: chunked,
+                sweeps: self.opts.nonlinear_sweeps,
+                par: self.parallelism,
+            };
+            self.m
+                .nonlinear_gauss_seidel_chunked(b, blocks, v, &mut self.res_a, smoother);
         } else {
             match &self.colouring {
                 None => {

@@ -118,6 +118,15 @@ impl Loading<'_> {
     }
 }
 
+/// Where [`PartNodes::evaluate`] writes the rates: of the free slip components (`dyu`) and
+/// of the state of every node (`dya`).
+pub(crate) struct RatesOut<'a> {
+    /// Slip rates, one per free component.
+    pub dyu: &'a mut [f64],
+    /// State rates, one per node.
+    pub dya: &'a mut [f64],
+}
+
 /// The nodes of each part of an ℋ-product's row split and their results: a node belongs
 /// to the part holding all of its rows (in the cluster order), and a node whose rows lie
 /// in two parts is solved after the parts. Set up once per thread count.
@@ -185,10 +194,11 @@ impl PartNodes {
         &mut self,
         h: &mut HMatrix,
         u: &[f64],
-        (solves, load): (&NodeSolves<'_, L, S, C>, Loading<'_>),
-        dyu: &mut [f64],
-        dya: &mut [f64],
+        solves: &NodeSolves<'_, L, S, C>,
+        load: Loading<'_>,
+        rates: RatesOut<'_>,
     ) -> Result<(), rsf_hmatrix::Error> {
+        let RatesOut { dyu, dya } = rates;
         let (position, ranges) = (&self.position, &self.ranges);
         let first = solves.first;
         h.apply_by_parts(u, &mut self.parts, |rows, buf| {
@@ -307,7 +317,16 @@ mod tests {
             assert_eq!(owned + parts.straddling.len(), nodes);
             let (mut pu, mut pa) = (vec![f64::NAN; m], vec![f64::NAN; nodes]);
             parts
-                .evaluate(&mut h, &u, (&solves, load), &mut pu, &mut pa)
+                .evaluate(
+                    &mut h,
+                    &u,
+                    &solves,
+                    load,
+                    RatesOut {
+                        dyu: &mut pu,
+                        dya: &mut pa,
+                    },
+                )
                 .unwrap();
             assert_eq!(bits(&pu), bits(&dyu), "{threads} parts");
             assert_eq!(bits(&pa), bits(&dya), "{threads} parts");

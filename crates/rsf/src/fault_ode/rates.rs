@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::fault_alone::Body;
 use crate::fault_operator::FaultOperator;
 use crate::model::loading::TimeFunction;
-use crate::node_solves::{Loading, NodeSolves, PartNodes, PARALLEL_NODES_MIN};
+use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut, PARALLEL_NODES_MIN};
 use crate::normal_stress::NormalCoupling;
 
 /// What the right-hand side needs besides the laws.
@@ -100,7 +100,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
                 g1: &d.g1,
                 big_g,
             };
-            match parts.evaluate(h, u, (&solves, load), dyu, dya) {
+            match parts.evaluate(h, u, &solves, load, RatesOut { dyu, dya }) {
                 Err(rsf_hmatrix::Error::NonFiniteInput(_)) => {} // as below: a NaN residual
                 other => return other.map_err(Error::from),
             }
