@@ -2,7 +2,6 @@
 //! printed with `Display` and their causes, the exit code is non-zero.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use rsf::fem::Diagonal;
 use rsf::method::{FixedPointScheme, StateIntegrator};
@@ -360,62 +359,6 @@ pub fn for_flag<T>(flag: &str, field: &str, result: rsf::Result<T>) -> rsf::Resu
         }
         e => e,
     })
-}
-
-/// Runs an example's body: on error prints `error: …` and its causes (one line each, at
-/// most five) to stderr and exits with code 1.
-pub fn main_with(body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>>) -> ExitCode {
-    exit_with(body().map_err(|e| error_lines(&*e)))
-}
-
-/// [`main_with`] with the body run on a rayon pool of `threads` threads when `threads > 1`
-/// (on the calling thread otherwise). A run whose steps have short parallel regions (the
-/// fault ODE's evaluations) must run on a thread of the pool: a region entered from
-/// outside it hands all its work to the pool and puts the caller to sleep until it is
-/// done, a wake-up of a thread per region (docs/scaling.md, "From inside the pool").
-/// The results do not depend on it.
-pub fn main_on_threads(
-    threads: usize,
-    body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>> + Send,
-) -> ExitCode {
-    if threads <= 1 {
-        return main_with(body);
-    }
-    let pool = match rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        // The main thread's stack, not a spawned thread's default.
-        .stack_size(8 << 20)
-        .build()
-    {
-        Ok(pool) => pool,
-        Err(e) => return main_with(|| Err(e.into())),
-    };
-    // The error's text crosses back: a boxed error need not be `Send`.
-    exit_with(pool.install(|| body().map_err(|e| error_lines(&*e))))
-}
-
-/// An error and at most five of its causes, one line each.
-fn error_lines(e: &dyn std::error::Error) -> Vec<String> {
-    let mut lines = vec![format!("error: {e}")];
-    let mut cause = e.source();
-    for _ in 0..5 {
-        let Some(c) = cause else { break };
-        lines.push(format!("  caused by: {c}"));
-        cause = c.source();
-    }
-    lines
-}
-
-fn exit_with(outcome: Result<(), Vec<String>>) -> ExitCode {
-    match outcome {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(lines) => {
-            for line in lines {
-                eprintln!("{line}");
-            }
-            ExitCode::FAILURE
-        }
-    }
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@ use std::process::ExitCode;
 use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
-use crate::cli::{main_on_threads, main_with};
+use crate::process::{main_on_threads, main_with};
 
 /// The error type of the programs.
 pub type AnyError = Box<dyn Error>;

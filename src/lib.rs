@@ -17,17 +17,18 @@ pub mod okada_anchor;
 mod own_model;
 mod panels;
 pub mod pipping_slider;
+mod process;
 mod run;
 pub mod run_folder;
 mod seas_overview;
 pub use cli::{
-    main_on_threads, main_with, FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs,
-    SeasHeaderArgs, TimeStepArgs,
+    FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,
 };
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
 pub use panels::PanelLayout;
+pub use process::{main_on_threads, main_with};
 pub use run::{
     cpu_seconds, fit_exponent, machine, old_wall_time, stats, step_control_json, write_summary,
     SliderRun, SliderStats,
