@@ -26,7 +26,7 @@ use clap::Parser;
 use rsf::observe::PointSeries;
 use rsf::{Integrator, SolverKind};
 use rsf_examples::cli::StepCounts;
-use rsf_examples::estimates::{slider_memory, FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_examples::estimates::step_study_plan;
 use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
 use rsf_scenes::SliderScene;
@@ -97,19 +97,11 @@ impl Program for Cli {
                 .map(|n| format!("centre_backward_euler_N{n}.csv")),
         );
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let total: f64 = counts.iter().map(|&n| n as f64 + 1.0).sum();
+        let folder = Folder::new("--out", &self.out, &names)
+            .overwrite(self.overwrite)
+            .resume(self.reuse);
         // Both integrators' series of every N in memory until the figures are drawn.
-        let memory = slider_memory(&scene) + 2.0 * total * RECORDED_STEP_BYTES;
-        let output = total * rsf::run_folder::SERIES_ROW_BYTES + 2.0 * FIGURE_BYTES;
-        let what = format!("runs of N = {counts:?} at level {}", scene.level);
-        Ok(Plan::new()
-            .memory(memory, "--level, --steps (or --scene)", what.clone())
-            .output(output, "--steps", what)
-            .folder(
-                Folder::new("--out", &self.out, &names)
-                    .overwrite(self.overwrite)
-                    .resume(self.reuse),
-            ))
+        Ok(step_study_plan(&scene, &counts, 2.0, folder))
     }
 }
 

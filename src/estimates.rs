@@ -5,6 +5,8 @@
 
 use rsf_scenes::{steps_bound, SliderScene};
 
+use crate::guard::{Folder, Plan};
+
 /// Nodes of the paper's 2-D slider (the 5 × 1 grid of 1 m cells refined `level` times):
 /// `(5·2ʲ + 1)(2ʲ + 1)` (an `f64`: a level of 30 is a number, not an overflow).
 pub fn slider_nodes(level: usize) -> f64 {
@@ -92,4 +94,23 @@ pub fn seas_output_bytes(years: f64, stations: f64, columns: usize, profile_valu
         * (SEAS_ROWS_PER_YEAR * stations * csv_row_bytes(columns)
             + SEAS_PROFILE_ROWS_PER_YEAR * 25.0 * profile_values)
         + 2.0 * FIGURE_BYTES
+}
+
+/// The plan of a study that runs `scene` once per step count in `counts` (fig6_2_6_3,
+/// fig6_4): `series_per_run` recorded series of every run in memory until the figures
+/// are drawn, one series file per run and two figures written into `folder`.
+pub fn step_study_plan(
+    scene: &SliderScene,
+    counts: &[usize],
+    series_per_run: f64,
+    folder: Folder,
+) -> Plan {
+    let total: f64 = counts.iter().map(|&n| n as f64 + 1.0).sum();
+    let memory = slider_memory(scene) + series_per_run * total * RECORDED_STEP_BYTES;
+    let output = total * rsf::run_folder::SERIES_ROW_BYTES + 2.0 * FIGURE_BYTES;
+    let what = format!("runs of N = {counts:?} at level {}", scene.level);
+    Plan::new()
+        .memory(memory, "--level, --steps (or --scene)", what.clone())
+        .output(output, "--steps", what)
+        .folder(folder)
 }
