@@ -29,7 +29,8 @@ use std::process::ExitCode;
 use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
-use crate::process::{main_on_threads, main_with};
+use crate::process::{error_lines, main_on_threads, main_with, on_threads};
+pub use crate::ranks::Processes;
 
 /// The error type of the programs.
 pub type AnyError = Box<dyn Error>;
@@ -444,12 +445,9 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
     })
 }
 
-/// Runs `P` as a program: parses its flags (a negative number is a value), [`prepare`]s its run and runs `body` (on a
-/// pool of the plan's threads if it asks for more than one); prints `error: …` with its
-/// causes and exits with code 1 on any error.
-pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCode {
-    // Negative numbers are values (`--end-years -1` is refused with the valid range, not
-    // taken for a flag `-1`).
+/// `P`'s flags from the command line (a negative number is a value); exits with clap's
+/// message on a parse error or `--help`.
+fn parse<P: Program>() -> P {
     let command = P::command().mut_args(|a| {
         if a.get_action().takes_values() {
             a.allow_negative_numbers(true)
@@ -457,8 +455,17 @@ pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCo
             a
         }
     });
-    let program = P::from_arg_matches(&command.get_matches())
-        .unwrap_or_else(|e| e.format(&mut P::command()).exit());
+    P::from_arg_matches(&command.get_matches())
+        .unwrap_or_else(|e| e.format(&mut P::command()).exit())
+}
+
+/// Runs `P` as a program: parses its flags (a negative number is a value), [`prepare`]s its run and runs `body` (on a
+/// pool of the plan's threads if it asks for more than one); prints `error: …` with its
+/// causes and exits with code 1 on any error.
+pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCode {
+    // Negative numbers are values (`--end-years -1` is refused with the valid range, not
+    // taken for a flag `-1`).
+    let program = parse::<P>();
     let prepared = match prepare(&program) {
         Ok(p) => p,
         Err(e) => return main_with(|| Err(e)),
@@ -467,6 +474,44 @@ pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCo
         0 | 1 => main_with(|| body(program, prepared)),
         n => main_on_threads(n, move || body(program, prepared)),
     }
+}
+
+/// [`main`] on the processes of a job (MPI ranks, `processes`): every rank parses and
+/// checks the flags and plans the run; rank 0 alone prepares the folders (creates, locks,
+/// checks them) — the others get a [`Prepared`] without folders, and a body writes its
+/// files on rank 0 only. `body` gets the processes. Any rank's error (its refusal, the
+/// body's error) is printed with the rank and ends every rank
+/// ([`Processes::end_all`]): a rank that returned would leave the others waiting.
+pub fn main_on_ranks<P: Program>(
+    processes: &dyn Processes,
+    body: fn(P, Prepared, &dyn Processes) -> Result<(), AnyError>,
+) -> ExitCode {
+    let program = parse::<P>();
+    let prepared = if processes.rank() == 0 {
+        prepare(&program)
+    } else {
+        plan_only(&program)
+    };
+    let outcome = match prepared {
+        Ok(prepared) => on_threads(prepared.pool, || body(program, prepared, processes)),
+        Err(e) => Err(error_lines(&*e)),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(lines) => processes.end_all(&lines.join("\n")),
+    }
+}
+
+/// The checks of [`prepare`] that touch no file: the plan and the estimates (the
+/// processes of a job other than rank 0, which prepares the folders).
+fn plan_only<P: Program>(program: &P) -> Result<Prepared, AnyError> {
+    let plan = program.plan()?;
+    plan.check(program.limits())?;
+    Ok(Prepared {
+        modes: vec![FileMode::Create; plan.folders.len()],
+        pool: plan.pool,
+        _locks: Vec::new(),
+    })
 }
 
 /// Creates the folder `dir` and takes its exclusive lock (held while the returned file is

@@ -18,8 +18,10 @@ mod own_model;
 mod panels;
 pub mod pipping_slider;
 mod process;
+pub mod ranks;
 mod run;
 pub mod run_folder;
+pub mod seas_bp1;
 mod seas_overview;
 pub use cli::{
     FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,

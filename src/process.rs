@@ -19,24 +19,30 @@ pub fn main_on_threads(
     threads: usize,
     body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>> + Send,
 ) -> ExitCode {
+    exit_with(on_threads(threads, body))
+}
+
+/// `body` on a rayon pool of `threads` threads when `threads > 1` (on the calling thread
+/// otherwise); its error as the lines [`main_with`] prints.
+pub(crate) fn on_threads(
+    threads: usize,
+    body: impl FnOnce() -> Result<(), Box<dyn std::error::Error>> + Send,
+) -> Result<(), Vec<String>> {
     if threads <= 1 {
-        return main_with(body);
+        return body().map_err(|e| error_lines(&*e));
     }
-    let pool = match rayon::ThreadPoolBuilder::new()
+    let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         // The main thread's stack, not a spawned thread's default.
         .stack_size(8 << 20)
         .build()
-    {
-        Ok(pool) => pool,
-        Err(e) => return main_with(|| Err(e.into())),
-    };
+        .map_err(|e| error_lines(&e))?;
     // The error's text crosses back: a boxed error need not be `Send`.
-    exit_with(pool.install(|| body().map_err(|e| error_lines(&*e))))
+    pool.install(|| body().map_err(|e| error_lines(&*e)))
 }
 
 /// An error and at most five of its causes, one line each.
-fn error_lines(e: &dyn std::error::Error) -> Vec<String> {
+pub(crate) fn error_lines(e: &dyn std::error::Error) -> Vec<String> {
     let mut lines = vec![format!("error: {e}")];
     let mut cause = e.source();
     for _ in 0..5 {

@@ -25,6 +25,8 @@ const LAYERS: &[&[&str]] = &[
     &["rsf-halfspace"],
     &["rsf"],
     &["rsf-scenes"],
+    // Outside the default build (MPI); its programs are the root package's.
+    &["rsf-mpi"],
 ];
 
 fn workspace() -> PathBuf {

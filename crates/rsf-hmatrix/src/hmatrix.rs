@@ -15,7 +15,7 @@ use crate::error::{ColumnsError, Error};
 use crate::lowrank::{recompress, svd_truncate, LowRank};
 use crate::options::{ColumnReport, ErrorMeasure, HOptions, SetupReport};
 use crate::points::Points;
-use crate::product::{run_parts, Block, Data, Operands, PartRows, Segment, Split};
+use crate::product::{run_part, run_parts, Block, Data, Operands, PartRows, Segment, Split};
 use crate::rng::SplitMix64;
 
 /// A hierarchical (ℋ-) matrix approximation `S_H` of a square matrix `S` whose rows and
@@ -554,6 +554,56 @@ impl HMatrix {
         };
         run_parts(0, self.split.parts_mut(), &mut self.zp, states, &ops, &f);
         Ok(())
+    }
+
+    /// One part's rows of `S_H x` (part `part` of the last [`split_rows`](Self::split_rows)),
+    /// handed to `f`: the share of one process when the parts are shared out between
+    /// processes (each then holds its own rows). Each row's value is bit-identical to
+    /// [`apply_add`](Self::apply_add)'s and to [`apply_by_parts`](Self::apply_by_parts)'s,
+    /// whatever the split. Afterwards [`last_product`](Self::last_product) holds the
+    /// part's rows (the others are stale). Runs on the calling thread; allocates nothing.
+    ///
+    /// # Errors
+    /// [`Error::VectorLength`] unless `x` has length [`dim`](Self::dim) and `part` is a
+    /// part of the split (`part < ` the number of ranges [`split_rows`](Self::split_rows)
+    /// returned); [`Error::NonFiniteInput`] for NaN or infinity anywhere in `x` (then `f`
+    /// is not called).
+    pub fn apply_part<T>(
+        &mut self,
+        x: &[f64],
+        part: usize,
+        f: impl FnOnce(PartRows<'_>) -> T,
+    ) -> Result<T, Error> {
+        if x.len() != self.n {
+            return Err(Error::VectorLength {
+                name: "x",
+                len: x.len(),
+                expected: self.n,
+            });
+        }
+        if part >= self.split.len() {
+            return Err(Error::VectorLength {
+                name: "part",
+                len: part,
+                expected: self.split.len(),
+            });
+        }
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFiniteInput(i));
+        }
+        for (xp, &i) in self.xp.iter_mut().zip(&self.perm) {
+            *xp = x[i];
+        }
+        let ops = Operands {
+            blocks: &self.blocks,
+            segments: &self.segments,
+            xp: &self.xp,
+        };
+        let p = &mut self.split.parts_mut()[part];
+        let rows = p.rows();
+        let z = &mut self.zp[rows.clone()];
+        run_part(p, z, &ops);
+        Ok(f(PartRows { part, rows, z }))
     }
 
     /// `S_H x` of the last product, in cluster order: entry `p` is row

@@ -49,6 +49,13 @@ pub(crate) struct Part {
     t: Vec<f64>,
 }
 
+impl Part {
+    /// The part's rows (cluster order).
+    pub fn rows(&self) -> Range<usize> {
+        self.rows.clone()
+    }
+}
+
 /// The segments split into consecutive parts of about equal work.
 #[derive(Debug, Clone)]
 pub(crate) struct Split {
@@ -204,8 +211,8 @@ pub(crate) fn run_parts<S: Send, F: Fn(PartRows<'_>, &mut S) + Sync>(
     );
 }
 
-/// One part: its projections, then its segments' rows into `z`.
-fn run_part(part: &mut Part, z: &mut [f64], ops: &Operands<'_>) {
+/// One part: its projections, then its segments' rows into `z` (the part's rows).
+pub(crate) fn run_part(part: &mut Part, z: &mut [f64], ops: &Operands<'_>) {
     for &k in &part.low_rank {
         let b = &ops.blocks[k];
         if let Data::LowRank(lr) = &b.data {

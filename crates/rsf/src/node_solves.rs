@@ -8,7 +8,7 @@
 use std::ops::Range;
 
 use rsf_friction::{ConvexPotential, FrictionLaw};
-use rsf_hmatrix::HMatrix;
+use rsf_hmatrix::{HMatrix, PartRows};
 use rsf_state::StateLaw;
 
 /// Fewest frictional nodes for which the per-node solves of an evaluation are split over
@@ -137,6 +137,12 @@ pub(crate) struct PartNodes {
     straddling: Vec<usize>,
     /// Position of every free component in the cluster order.
     position: Vec<usize>,
+    /// Per part, the positions (cluster order, ascending) of its rows that belong to
+    /// nodes across parts: what a part shared out to another process sends of its rows
+    /// ([`SharedEvaluation`](crate::ranks::SharedEvaluation)).
+    straddling_rows: Vec<Vec<usize>>,
+    /// What the last [`evaluate_part`](Self::evaluate_part) sends.
+    send: Vec<f64>,
 }
 
 /// One part's nodes and the rates it computes (node after node).
@@ -175,11 +181,123 @@ impl PartNodes {
                 straddling.push(k);
             }
         }
+        let mut straddling_rows = vec![Vec::new(); ranges.len()];
+        for &k in &straddling {
+            for i in first[k]..first[k + 1] {
+                straddling_rows[part_of(position[i])].push(position[i]);
+            }
+        }
+        for rows in &mut straddling_rows {
+            rows.sort_unstable();
+        }
         Self {
             parts,
             ranges,
             straddling,
             position,
+            straddling_rows,
+            send: Vec::new(),
+        }
+    }
+
+    /// The number of parts (at most the number asked for: one per leaf cluster at most).
+    pub fn len(&self) -> usize {
+        self.parts.len()
+    }
+
+    /// How many values part `p` sends when shared out ([`evaluate_part`](Self::evaluate_part)).
+    pub fn send_len(&self, p: usize) -> usize {
+        let b = &self.parts[p];
+        b.dyu.len() + b.dya.len() + self.straddling_rows[p].len()
+    }
+
+    /// Part `p` alone (one process's share): its rows of `S u`, its nodes' solves, and
+    /// what it sends ([`sent`](Self::sent)): its nodes' slip rates, their state rates and
+    /// its rows of the nodes across parts — what [`unpack`](Self::unpack) reads, part
+    /// after part.
+    ///
+    /// # Errors
+    /// The product's ([`HMatrix::apply_part`]), before anything is written.
+    pub fn evaluate_part<L: FrictionLaw, S: StateLaw, const C: usize>(
+        &mut self,
+        h: &mut HMatrix,
+        p: usize,
+        u: &[f64],
+        solves: &NodeSolves<'_, L, S, C>,
+        load: Loading<'_>,
+    ) -> Result<(), rsf_hmatrix::Error> {
+        let send = &mut self.send;
+        send.clear();
+        let position = &self.position;
+        let buf = &mut self.parts[p];
+        let straddling_rows = &self.straddling_rows[p];
+        h.apply_part(u, p, |rows| {
+            assert_eq!(
+                rows.rows, self.ranges[p],
+                "the ℋ-matrix's rows were split again after the nodes were given to parts"
+            );
+            buf.solve(&rows, position, solves, load);
+            send.extend_from_slice(&buf.dyu);
+            send.extend_from_slice(&buf.dya);
+            send.extend(straddling_rows.iter().map(|&q| rows.z[q - rows.rows.start]));
+        })
+    }
+
+    /// What the last [`evaluate_part`](Self::evaluate_part) sends.
+    pub fn sent(&self) -> &[f64] {
+        &self.send
+    }
+
+    /// Every part's values sent by [`evaluate_part`](Self::evaluate_part), concatenated
+    /// in part order (`all`), into the rates; the nodes across parts solved from the rows
+    /// the parts sent (`rows`: scratch of the product's length, cluster order).
+    pub fn unpack<L: FrictionLaw, S: StateLaw, const C: usize>(
+        &self,
+        all: &[f64],
+        solves: &NodeSolves<'_, L, S, C>,
+        load: Loading<'_>,
+        rows: &mut [f64],
+        rates: RatesOut<'_>,
+    ) {
+        let RatesOut { dyu, dya } = rates;
+        let first = solves.first;
+        let mut at = 0;
+        for (buf, straddling_rows) in self.parts.iter().zip(&self.straddling_rows) {
+            let (u_len, a_len) = (buf.dyu.len(), buf.dya.len());
+            buf.scatter(
+                first,
+                &all[at..at + u_len],
+                &all[at + u_len..at + u_len + a_len],
+                dyu,
+                dya,
+            );
+            at += u_len + a_len;
+            for &q in straddling_rows {
+                rows[q] = all[at];
+                at += 1;
+            }
+        }
+        debug_assert_eq!(at, all.len());
+        self.solve_straddling(rows, solves, load, dyu, dya);
+    }
+
+    /// The nodes across parts, from the product's rows `su` (cluster order).
+    fn solve_straddling<L: FrictionLaw, S: StateLaw, const C: usize>(
+        &self,
+        su: &[f64],
+        solves: &NodeSolves<'_, L, S, C>,
+        load: Loading<'_>,
+        dyu: &mut [f64],
+        dya: &mut [f64],
+    ) {
+        let first = solves.first;
+        for &k in &self.straddling {
+            let (a, b) = (first[k], first[k + 1]);
+            let mut r = [0.0; C];
+            for (rc, i) in r.iter_mut().zip(a..b) {
+                *rc = load.residual(i, su[self.position[i]]);
+            }
+            dya[k] = solves.solve_node(k, &r[..b - a], &mut dyu[a..b]);
         }
     }
 
@@ -200,43 +318,61 @@ impl PartNodes {
     ) -> Result<(), rsf_hmatrix::Error> {
         let RatesOut { dyu, dya } = rates;
         let (position, ranges) = (&self.position, &self.ranges);
-        let first = solves.first;
         h.apply_by_parts(u, &mut self.parts, |rows, buf| {
             assert_eq!(
                 rows.rows, ranges[rows.part],
                 "the ℋ-matrix's rows were split again after the nodes were given to parts"
             );
-            let mut offset = 0;
-            for (j, &k) in buf.nodes.iter().enumerate() {
-                let (a, b) = (first[k], first[k + 1]);
-                let mut r = [0.0; C];
-                for (rc, i) in r.iter_mut().zip(a..b) {
-                    *rc = load.residual(i, rows.z[position[i] - rows.rows.start]);
-                }
-                let out = &mut buf.dyu[offset..offset + (b - a)];
-                buf.dya[j] = solves.solve_node(k, &r[..b - a], out);
-                offset += b - a;
-            }
+            buf.solve(&rows, position, solves, load);
         })?;
-        let su = h.last_product();
-        for &k in &self.straddling {
+        self.solve_straddling(h.last_product(), solves, load, dyu, dya);
+        for buf in &self.parts {
+            buf.scatter(solves.first, &buf.dyu, &buf.dya, dyu, dya);
+        }
+        Ok(())
+    }
+}
+
+impl PartBuffers {
+    /// The part's nodes' solves from its rows of the product.
+    fn solve<L: FrictionLaw, S: StateLaw, const C: usize>(
+        &mut self,
+        rows: &PartRows<'_>,
+        position: &[usize],
+        solves: &NodeSolves<'_, L, S, C>,
+        load: Loading<'_>,
+    ) {
+        let first = solves.first;
+        let mut offset = 0;
+        for (j, &k) in self.nodes.iter().enumerate() {
             let (a, b) = (first[k], first[k + 1]);
             let mut r = [0.0; C];
             for (rc, i) in r.iter_mut().zip(a..b) {
-                *rc = load.residual(i, su[position[i]]);
+                *rc = load.residual(i, rows.z[position[i] - rows.rows.start]);
             }
-            dya[k] = solves.solve_node(k, &r[..b - a], &mut dyu[a..b]);
+            let out = &mut self.dyu[offset..offset + (b - a)];
+            self.dya[j] = solves.solve_node(k, &r[..b - a], out);
+            offset += b - a;
         }
-        for buf in &self.parts {
-            let mut offset = 0;
-            for (j, &k) in buf.nodes.iter().enumerate() {
-                let (a, b) = (first[k], first[k + 1]);
-                dyu[a..b].copy_from_slice(&buf.dyu[offset..offset + (b - a)]);
-                dya[k] = buf.dya[j];
-                offset += b - a;
-            }
+    }
+
+    /// The part's nodes' rates (`part_u`, `part_a`: node after node, as in the buffers)
+    /// into the whole rates.
+    fn scatter(
+        &self,
+        first: &[usize],
+        part_u: &[f64],
+        part_a: &[f64],
+        dyu: &mut [f64],
+        dya: &mut [f64],
+    ) {
+        let mut offset = 0;
+        for (j, &k) in self.nodes.iter().enumerate() {
+            let (a, b) = (first[k], first[k + 1]);
+            dyu[a..b].copy_from_slice(&part_u[offset..offset + (b - a)]);
+            dya[k] = part_a[j];
+            offset += b - a;
         }
-        Ok(())
     }
 }
 

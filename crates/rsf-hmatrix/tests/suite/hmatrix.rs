@@ -223,6 +223,7 @@ fn products_by_parts_give_every_row_the_bits_of_the_whole_product() {
     let diff: Vec<f64> = whole.iter().zip(&exact).map(|(a, b)| a - b).collect();
     assert!(vec_norm(&diff) <= 1e-5 * vec_norm(&exact));
     let perm = h.permutation().to_vec();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     for (parts, work_per_row) in [
         (1, 0.0),
         (2, 0.0),
@@ -263,7 +264,31 @@ fn products_by_parts_give_every_row_the_bits_of_the_whole_product() {
             h.apply_by_parts(&x, &mut wrong, |_, _| {}),
             Err(Error::VectorLength { name: "states", .. })
         ));
+        // Each part alone (a process's share): its rows, with the whole product's bits;
+        // stale values elsewhere are never read.
+        let mut alone = vec![f64::NAN; n];
+        for part in 0..ranges.len() {
+            h.apply_part(&x, part, |rows| {
+                assert_eq!((rows.part, &rows.rows), (part, &ranges[part]));
+                for (p, z) in rows.rows.clone().zip(rows.z) {
+                    assert!(alone[perm[p]].is_nan(), "row {} in two parts", perm[p]);
+                    alone[perm[p]] = *z;
+                }
+            })
+            .unwrap();
+        }
+        assert_eq!(bits(&alone), bits(&whole), "{parts} parts, one at a time");
+        assert!(matches!(
+            h.apply_part(&x, ranges.len(), |_| ()),
+            Err(Error::VectorLength { name: "part", .. })
+        ));
     }
+    let mut nan = x.clone();
+    nan[3] = f64::NAN;
+    assert!(matches!(
+        h.apply_part(&nan, 0, |_| ()),
+        Err(Error::NonFiniteInput(3))
+    ));
 }
 
 #[test]

@@ -12,6 +12,7 @@ use crate::fault_operator::FaultOperator;
 use crate::model::loading::TimeFunction;
 use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut, PARALLEL_NODES_MIN};
 use crate::normal_stress::NormalCoupling;
+use crate::ranks::SharedEvaluation;
 
 /// What the right-hand side needs besides the laws.
 pub(super) struct FaultRates<const C: usize> {
@@ -37,6 +38,9 @@ pub(super) struct FaultRates<const C: usize> {
     pub(super) sigma: Vec<f64>,
     /// The nodes of each part of the ℋ-product, made at the first parallel evaluation.
     pub(super) parts: Option<PartNodes>,
+    /// The ranks that share the evaluations, if shared
+    /// ([`FaultOde::share_evaluations`](super::FaultOde::share_evaluations)).
+    pub(super) shared: Option<SharedEvaluation>,
 }
 
 /// [`Parallelism::linger`] when dropped: at the end of an evaluation however it ends (a
@@ -87,6 +91,24 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             alpha,
             scale: None,
         };
+        // Shared by ranks (an ℋ-kernel and a fixed normal stress, checked when shared):
+        // each rank its part of the rows and their nodes, then one exchange. A non-finite
+        // `u` (the same on every rank) takes the sequential path below on every rank.
+        if let (Some(shared), None, Some(h), true) = (
+            &mut d.shared,
+            &d.normal,
+            d.operator.hierarchical_mut(),
+            u.iter().all(|v| v.is_finite()),
+        ) {
+            let load = Loading {
+                g0: &d.g0,
+                g1: &d.g1,
+                big_g,
+            };
+            return shared
+                .evaluate(h, u, &solves, load, RatesOut { dyu, dya })
+                .map_err(Error::from);
+        }
         // Between the parallel evaluations the pool's other threads poll for work.
         let _linger = (pieces > 1).then_some(LingerAfter(d.par));
         // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each

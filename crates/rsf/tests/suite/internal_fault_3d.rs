@@ -303,7 +303,7 @@ impl rsf::Observer<3> for LastSlip {
 /// The quasi-dynamic problem on the buried 3-D fault (velocity strengthening,
 /// a = 0.015 > b = 0.01, f₀ = 0.1, the regularised law, aging law, radiation damping
 /// μ/(2c_s)), the state steady at 1e-4 m/s.
-fn quasi_dynamic(
+pub(crate) fn quasi_dynamic(
 ) -> SimulationBuilder<3, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::time::Quasistatic, 3> {
     let model = sheared_cube(rotation(0.0), 0.5).unwrap();
     let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());

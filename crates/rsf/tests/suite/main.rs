@@ -29,6 +29,7 @@ mod normal_stress;
 mod observers;
 mod paper_scene;
 mod parallelism;
+mod ranks;
 mod reliability;
 mod resume;
 mod run_folder;

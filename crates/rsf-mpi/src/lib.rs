@@ -1,0 +1,143 @@
+//! MPI ranks for rsf (docs/scaling.md, "Past one machine"): [`MpiRanks`], the
+//! [`rsf::RankGroup`] of the processes of `MPI_COMM_WORLD`, with which
+//! [`FaultOde::share_evaluations`](rsf::FaultOde::share_evaluations) splits every
+//! evaluation of the fault ODE's right-hand side (the rows of the ℋ-product and their
+//! nodes' friction solves) between the ranks and gathers the rates with one
+//! `MPI_Allgatherv`. The trajectory has the same bits at every rank count.
+//!
+//! Every rank runs the whole program (the same scene, options and state); only the
+//! evaluations are shared. A program writes its files on rank 0 ([`MpiRanks::is_root`])
+//! and ends every rank on an error with [`end_all_ranks`] (an error on one rank must not
+//! leave the others waiting in a collective).
+//!
+//! This crate is outside the workspace's default build (it needs an MPI library and
+//! clang); `cargo build --release --manifest-path crates/rsf-mpi/Cargo.toml`.
+#![warn(missing_docs)]
+
+use mpi::datatype::PartitionMut;
+use mpi::environment::Universe;
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::{Communicator, CommunicatorCollectives};
+use mpi::Threading;
+
+/// What can go wrong when MPI starts.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// `MPI_Init_thread` was already called (MPI starts once per process).
+    #[error("MPI is already initialised in this process")]
+    AlreadyInitialised,
+    /// The MPI library gives less than `MPI_THREAD_SERIALIZED`: the fault ODE calls MPI
+    /// from the thread that runs it, which need not be the main thread.
+    #[error(
+        "the MPI library gives thread support {0:?}; rsf needs Serialized (calls from any \
+         thread, one at a time)"
+    )]
+    ThreadSupport(Threading),
+    /// More ranks or values than MPI's `int` counts hold.
+    #[error("{0} does not fit MPI's int counts")]
+    Count(usize),
+}
+
+/// The ranks of `MPI_COMM_WORLD` as an [`rsf::RankGroup`].
+///
+/// Holds no handle (every call takes the world communicator afresh), so it is `Send`; MPI
+/// was initialised with `MPI_THREAD_SERIALIZED`, so the fault ODE may call it from any
+/// thread, one call at a time (a fault ODE evaluates on one thread at a time).
+#[derive(Debug, Clone, Copy)]
+pub struct MpiRanks {
+    rank: usize,
+    size: usize,
+}
+
+/// Starts MPI (`MPI_Init_thread` with `MPI_THREAD_SERIALIZED`): the universe (MPI ends
+/// when it is dropped, at the end of the program) and the world's ranks.
+///
+/// # Errors
+/// [`Error::AlreadyInitialised`]; [`Error::ThreadSupport`] if the library gives less than
+/// serialised calls from several threads.
+pub fn initialize() -> Result<(Universe, MpiRanks), Error> {
+    let (universe, threading) =
+        mpi::initialize_with_threading(Threading::Serialized).ok_or(Error::AlreadyInitialised)?;
+    if matches!(threading, Threading::Single | Threading::Funneled) {
+        return Err(Error::ThreadSupport(threading));
+    }
+    let world = universe.world();
+    let ranks = MpiRanks {
+        rank: usize::try_from(world.rank()).expect("MPI ranks are not negative"),
+        size: usize::try_from(world.size()).expect("MPI sizes are positive"),
+    };
+    Ok((universe, ranks))
+}
+
+impl MpiRanks {
+    /// Whether this is rank 0, the one that writes a program's files.
+    pub fn is_root(&self) -> bool {
+        self.rank == 0
+    }
+
+    /// Waits until every rank is here (`MPI_Barrier`).
+    pub fn barrier(&self) {
+        SimpleCommunicator::world().barrier();
+    }
+}
+
+impl rsf::RankGroup for MpiRanks {
+    fn rank(&self) -> usize {
+        self.rank
+    }
+
+    fn size(&self) -> usize {
+        self.size
+    }
+
+    /// `MPI_Allgatherv` over `MPI_COMM_WORLD`.
+    ///
+    /// # Panics
+    /// If a count does not fit MPI's `int` (more than 2³¹ values per rank: far beyond a
+    /// fault an evaluation can hold), or `own` is not `counts[rank]` long.
+    fn all_gather(&self, own: &[f64], counts: &[usize], all: &mut [f64]) {
+        assert_eq!(own.len(), counts[self.rank], "this rank's share");
+        let to_int = |c: usize| i32::try_from(c).unwrap_or_else(|_| panic!("{}", Error::Count(c)));
+        let counts_i: Vec<i32> = counts.iter().map(|&c| to_int(c)).collect();
+        let mut displs = Vec::with_capacity(counts.len());
+        let mut at = 0usize;
+        for &c in counts {
+            displs.push(to_int(at));
+            at += c;
+        }
+        let mut partition = PartitionMut::new(all, &counts_i[..], &displs[..]);
+        SimpleCommunicator::world().all_gather_varcount_into(own, &mut partition);
+    }
+}
+
+/// Ends every rank: writes `message` (prefixed with this rank) to standard error and calls
+/// `MPI_Abort` with exit code 1, which ends every process of the job — where returning
+/// would leave the other ranks waiting in their next collective.
+pub fn end_all_ranks(ranks: &MpiRanks, message: &dyn std::fmt::Display) -> ! {
+    eprintln!("rank {} of {}: {message}", ranks.rank, ranks.size);
+    SimpleCommunicator::world().abort(1)
+}
+
+/// The ranks of `MPI_COMM_WORLD` as the processes of a program of the root package
+/// ([`rsf_examples::ranks::Processes`]): what `rsf_examples::seas_bp1::main_on_ranks` runs on.
+#[derive(Debug, Clone, Copy)]
+pub struct Job(pub MpiRanks);
+
+impl rsf_examples::ranks::Processes for Job {
+    fn rank(&self) -> usize {
+        rsf::RankGroup::rank(&self.0)
+    }
+
+    fn size(&self) -> usize {
+        rsf::RankGroup::size(&self.0)
+    }
+
+    fn group(&self) -> Box<dyn rsf::RankGroup> {
+        Box::new(self.0)
+    }
+
+    fn end_all(&self, message: &str) -> ! {
+        end_all_ranks(&self.0, &message)
+    }
+}

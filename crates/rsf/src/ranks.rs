@@ -1,0 +1,114 @@
+//! Processes that share the evaluations of a fault ODE (docs/scaling.md, "Past one
+//! machine"): the rows of the ℋ-product and their nodes' friction solves split into one
+//! part per rank ([`HMatrix::split_rows`]), each rank summing its rows and solving its
+//! nodes, then one all-gather of the rates per evaluation. Every row of the product is
+//! summed by the same fixed-order kernels and every node's solve is independent, so the
+//! rates have the same bits at every rank count and as in one process; the rest of a step
+//! (the Runge–Kutta stages, the error norm, the observers' data) is the same arithmetic on
+//! the same numbers on every rank.
+//!
+//! The transport is the caller's: [`RankGroup`] is what the fault ODE needs of one (an MPI
+//! communicator in the `rsf-mpi` crate; threads of one process in the tests).
+
+use rsf_friction::FrictionLaw;
+use rsf_hmatrix::HMatrix;
+use rsf_state::StateLaw;
+
+use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut};
+
+/// The processes ("ranks") that share a fault ODE's evaluations
+/// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations)).
+///
+/// Every rank holds the whole run (the model, the operator, the state) and calls the same
+/// collective operations in the same order; an implementation only moves numbers.
+pub trait RankGroup: Send {
+    /// This process's rank, in `0..size()`.
+    fn rank(&self) -> usize;
+
+    /// The number of ranks (≥ 1).
+    fn size(&self) -> usize;
+
+    /// Every rank's `own` to every rank: rank `r` gives `counts[r]` values (`own` has
+    /// length `counts[rank()]`), and `all` (length the sum of `counts`) receives them
+    /// concatenated in rank order, on every rank. Collective: every rank calls it with
+    /// the same `counts`.
+    ///
+    /// # Panics
+    /// May panic (or end the job) if the transport fails: a rank that cannot reach the
+    /// others has no answer to give.
+    fn all_gather(&self, own: &[f64], counts: &[usize], all: &mut [f64]);
+}
+
+/// A fault ODE's evaluation shared by ranks: the group, the nodes of each rank's part and
+/// the exchange buffers (made at the first evaluation, then reused).
+pub(crate) struct SharedEvaluation {
+    ranks: Box<dyn RankGroup>,
+    parts: Option<RankParts>,
+}
+
+/// The split of the rows into one part per rank and what each rank sends.
+struct RankParts {
+    nodes: PartNodes,
+    /// Per rank: how many values it sends (its nodes' slip rates, their state rates, its
+    /// rows of the product that belong to nodes across parts).
+    counts: Vec<usize>,
+    all: Vec<f64>,
+    /// The product's rows of the nodes across parts, in cluster order (others unused).
+    straddling_rows: Vec<f64>,
+}
+
+impl SharedEvaluation {
+    pub(crate) fn new(ranks: Box<dyn RankGroup>) -> Self {
+        Self { ranks, parts: None }
+    }
+
+    /// The group's rank and size.
+    pub(crate) fn rank_and_size(&self) -> (usize, usize) {
+        (self.ranks.rank(), self.ranks.size())
+    }
+
+    /// This rank's rows of `S u` and the solves of its nodes, then the all-gather: every
+    /// rank's rates into `rates`, the nodes across parts solved on every rank. The same
+    /// bits as [`PartNodes::evaluate`] and as the sequential evaluation. `u` must be
+    /// finite (the caller's check, the same on every rank).
+    ///
+    /// # Errors
+    /// The product's ([`HMatrix::apply_part`]), on every rank alike (its inputs are the
+    /// same on every rank).
+    pub(crate) fn evaluate<L: FrictionLaw, S: StateLaw, const C: usize>(
+        &mut self,
+        h: &mut HMatrix,
+        u: &[f64],
+        solves: &NodeSolves<'_, L, S, C>,
+        load: Loading<'_>,
+        rates: RatesOut<'_>,
+    ) -> Result<(), rsf_hmatrix::Error> {
+        let (rank, size) = (self.ranks.rank(), self.ranks.size());
+        let parts = self.parts.get_or_insert_with(|| {
+            let nodes = PartNodes::new(h, size, solves.first);
+            let mut counts = vec![0; size];
+            for (c, p) in counts.iter_mut().zip(0..nodes.len()) {
+                *c = nodes.send_len(p);
+            }
+            let total = counts.iter().sum();
+            RankParts {
+                counts,
+                all: vec![0.0; total],
+                straddling_rows: vec![0.0; h.dim()],
+                nodes,
+            }
+        });
+        let none: &[f64] = &[];
+        let own = if rank < parts.nodes.len() {
+            parts.nodes.evaluate_part(h, rank, u, solves, load)?;
+            parts.nodes.sent()
+        } else {
+            none
+        };
+        self.ranks.all_gather(own, &parts.counts, &mut parts.all);
+        parts
+            .nodes
+            .unpack(&parts.all, solves, load, &mut parts.straddling_rows, rates);
+        Ok(())
+    }
+}

@@ -1,0 +1,179 @@
+//! A fault ODE's evaluations shared by ranks (`FaultOde::share_evaluations`, docs/scaling.md
+//! "Past one machine"): the same bits at every rank count and as unshared. The ranks here
+//! are threads of this process with an all-gather through shared memory (a test double of
+//! an MPI communicator; the `rsf-mpi` crate's tests run the same on MPI processes).
+
+use std::sync::{Arc, Barrier, Mutex};
+
+use rsf::fault_ode::FaultKernel;
+use rsf::observe::SECONDS_PER_YEAR;
+use rsf::{Flow, Observer, RankGroup, StepView, Until};
+use rsf_scenes::{SeasBp1, SeasBp1Grid};
+
+use crate::common::small_bp1;
+
+/// Threads as ranks: each puts its values in its slot, waits for all, reads all slots in
+/// rank order, waits again (so that no slot is overwritten before every rank read it).
+struct ThreadRanks {
+    rank: usize,
+    size: usize,
+    slots: Arc<Mutex<Vec<Vec<f64>>>>,
+    barrier: Arc<Barrier>,
+}
+
+fn thread_ranks(size: usize) -> Vec<ThreadRanks> {
+    let slots = Arc::new(Mutex::new(vec![Vec::new(); size]));
+    let barrier = Arc::new(Barrier::new(size));
+    (0..size)
+        .map(|rank| ThreadRanks {
+            rank,
+            size,
+            slots: slots.clone(),
+            barrier: barrier.clone(),
+        })
+        .collect()
+}
+
+impl RankGroup for ThreadRanks {
+    fn rank(&self) -> usize {
+        self.rank
+    }
+    fn size(&self) -> usize {
+        self.size
+    }
+    fn all_gather(&self, own: &[f64], counts: &[usize], all: &mut [f64]) {
+        assert_eq!(own.len(), counts[self.rank]);
+        self.slots.lock().unwrap()[self.rank] = own.to_vec();
+        self.barrier.wait();
+        {
+            let slots = self.slots.lock().unwrap();
+            let mut at = 0;
+            for (slot, &c) in slots.iter().zip(counts) {
+                assert_eq!(slot.len(), c);
+                all[at..at + c].copy_from_slice(slot);
+                at += c;
+            }
+            assert_eq!(at, all.len());
+        }
+        self.barrier.wait();
+    }
+}
+
+/// Every accepted step's time, step size and the bits of the fault's slip and state.
+#[derive(Default)]
+struct Bits(Vec<Vec<u64>>);
+
+impl<const D: usize, const C: usize> Observer<D, C> for Bits {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> rsf::Result<Flow> {
+        let mut row = vec![s.state.time.to_bits(), s.state.tau.to_bits()];
+        for &p in &s.model.frictional_boundary.nodes {
+            row.extend((0..C).map(|c| s.state.kinematics.u[C * p + c].to_bits()));
+        }
+        row.extend(s.state.alpha.iter().map(|a| a.to_bits()));
+        self.0.push(row);
+        Ok(Flow::Continue(()))
+    }
+    fn reads_volume(&self) -> bool {
+        false
+    }
+}
+
+/// Runs `run` unshared, then on 1, 2, 3 and 4 thread ranks (each rank its own run), and
+/// checks that every rank's rows have the unshared bits; returns the unshared rows.
+fn same_bits_on_ranks(run: impl Fn(Option<ThreadRanks>) -> Vec<Vec<u64>> + Sync) -> usize {
+    let alone = run(None);
+    assert!(alone.len() > 10, "{} steps", alone.len());
+    for size in 1..=4 {
+        let rows: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
+            let handles: Vec<_> = thread_ranks(size)
+                .into_iter()
+                .map(|ranks| s.spawn(|| run(Some(ranks))))
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for (rank, r) in rows.iter().enumerate() {
+            assert_eq!(r.len(), alone.len(), "rank {rank} of {size}: steps");
+            for (k, (a, b)) in r.iter().zip(&alone).enumerate() {
+                assert_eq!(a, b, "rank {rank} of {size}: step {k} differs");
+            }
+        }
+    }
+    alone.len()
+}
+
+/// BP1 at Δz = 100 m (m = 100, leaf size 8: up to 4 parts of the rows) for 20 years.
+#[test]
+fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
+    let (bp1, coarse) = small_bp1(&SeasBp1::default());
+    let grid = SeasBp1Grid {
+        dz: 100.0,
+        ..coarse
+    };
+    let steps = same_bits_on_ranks(|ranks| {
+        let model = bp1.model(&grid, false).unwrap();
+        let options = rsf::fault_ode::FaultOdeOptions {
+            kernel: FaultKernel::Hierarchical {
+                epsilon: 1e-6,
+                leaf_size: 8,
+            },
+            ..bp1.fault_ode_options(1e-6).unwrap()
+        };
+        let mut ode = bp1.fault_ode(model, options).unwrap();
+        if let Some(ranks) = ranks {
+            let (rank, size) = (ranks.rank(), ranks.size());
+            ode.share_evaluations(Box::new(ranks)).unwrap();
+            assert_eq!(ode.rank_and_size(), (rank, size));
+        }
+        let mut bits = Bits::default();
+        ode.run_until(Until::Time(20.0 * SECONDS_PER_YEAR), &mut [&mut bits])
+            .unwrap();
+        bits.0
+    });
+    eprintln!("BP1, m = 100: {steps} steps with the same bits on 1–4 ranks");
+}
+
+/// The quasi-dynamic buried 3-D fault of `internal_fault_3d` with the ℋ-kernel at leaf size
+/// 4 (two slip components per node: a node's two rows can fall in two parts, solved on
+/// every rank from the rows the parts send) for 3 s.
+#[test]
+fn a_3d_fault_with_nodes_across_parts_has_the_same_bits_on_1_to_4_ranks() {
+    let steps = same_bits_on_ranks(|ranks| {
+        let mut ode = crate::internal_fault_3d::quasi_dynamic()
+            .time_step(1e-3)
+            .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
+                tolerance: 1e-9,
+                kernel: FaultKernel::Hierarchical {
+                    epsilon: 1e-2,
+                    leaf_size: 4,
+                },
+                ..Default::default()
+            })
+            .unwrap();
+        if let Some(ranks) = ranks {
+            ode.share_evaluations(Box::new(ranks)).unwrap();
+        }
+        let mut bits = Bits::default();
+        ode.run_until(Until::Time(3.0), &mut [&mut bits]).unwrap();
+        bits.0
+    });
+    eprintln!("3-D internal fault: {steps} steps with the same bits on 1–4 ranks");
+}
+
+/// A dense operator has no rows to share out, a normal stress from slip is evaluated
+/// whole: typed errors naming `ranks`.
+#[test]
+fn what_cannot_be_shared_is_refused() {
+    let (bp1, grid) = small_bp1(&SeasBp1::default());
+    let model = bp1.model(&grid, false).unwrap();
+    let options = rsf::fault_ode::FaultOdeOptions {
+        kernel: FaultKernel::Dense,
+        ..bp1.fault_ode_options(1e-6).unwrap()
+    };
+    let mut ode = bp1.fault_ode(model, options).unwrap();
+    let ranks = thread_ranks(1).pop().unwrap();
+    match ode.share_evaluations(Box::new(ranks)) {
+        Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "ranks"),
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+    assert_eq!(ode.rank_and_size(), (0, 1));
+}
