@@ -1,5 +1,5 @@
 //! The processes of a job (MPI ranks) as a program sees them: its rank, the group that
-//! shares its fault ODE's evaluations ([`rsf::RankGroup`]), and how an error ends them
+//! shares its fault ODE's evaluations ([`rsf::ranks::RankGroup`]), and how an error ends them
 //! all. The MPI implementation lives in the `rsf-mpi` crate (outside the default build);
 //! this package's programs take any implementation ([`guard::main_on_ranks`](crate::guard::main_on_ranks)).
 
@@ -13,7 +13,7 @@ pub trait Processes: Sync {
 
     /// The group that shares a fault ODE's evaluations
     /// ([`rsf::FaultOde::share_evaluations`]).
-    fn group(&self) -> Box<dyn rsf::RankGroup>;
+    fn group(&self) -> Box<dyn rsf::ranks::RankGroup>;
 
     /// Prints `message` (with this rank) and ends every process of the job with a failure
     /// code: an error on one rank must not leave the others waiting in a collective.

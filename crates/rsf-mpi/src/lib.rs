@@ -1,5 +1,5 @@
 //! MPI ranks for rsf (docs/scaling.md, "Past one machine"): [`MpiRanks`], the
-//! [`rsf::RankGroup`] of the processes of `MPI_COMM_WORLD`, with which
+//! [`rsf::ranks::RankGroup`] of the processes of `MPI_COMM_WORLD`, with which
 //! [`FaultOde::share_evaluations`](rsf::FaultOde::share_evaluations) splits every
 //! evaluation of the fault ODE's right-hand side (the rows of the ℋ-product and their
 //! nodes' friction solves) between the ranks and gathers the rates with one
@@ -39,7 +39,7 @@ pub enum Error {
     Count(usize),
 }
 
-/// The ranks of `MPI_COMM_WORLD` as an [`rsf::RankGroup`].
+/// The ranks of `MPI_COMM_WORLD` as an [`rsf::ranks::RankGroup`].
 ///
 /// Holds no handle (every call takes the world communicator afresh), so it is `Send`; MPI
 /// was initialised with `MPI_THREAD_SERIALIZED`, so the fault ODE may call it from any
@@ -82,7 +82,7 @@ impl MpiRanks {
     }
 }
 
-impl rsf::RankGroup for MpiRanks {
+impl rsf::ranks::RankGroup for MpiRanks {
     fn rank(&self) -> usize {
         self.rank
     }
@@ -126,14 +126,14 @@ pub struct Job(pub MpiRanks);
 
 impl rsf_examples::ranks::Processes for Job {
     fn rank(&self) -> usize {
-        rsf::RankGroup::rank(&self.0)
+        rsf::ranks::RankGroup::rank(&self.0)
     }
 
     fn size(&self) -> usize {
-        rsf::RankGroup::size(&self.0)
+        rsf::ranks::RankGroup::size(&self.0)
     }
 
-    fn group(&self) -> Box<dyn rsf::RankGroup> {
+    fn group(&self) -> Box<dyn rsf::ranks::RankGroup> {
         Box::new(self.0)
     }
 

@@ -5,7 +5,8 @@
 
 use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::observe::SECONDS_PER_YEAR;
-use rsf::{Flow, Observer, RankGroup, StepView, Until};
+use rsf::ranks::RankGroup;
+use rsf::{Flow, Observer, StepView, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 /// Set in the ranks' environment: run the body, not the launcher.

@@ -92,7 +92,6 @@ pub use fault_ode::FaultOde;
 pub use method::{Integrator, MethodKind, Parallelism, SolverKind, StateLawKind};
 pub use model::{Material, Model, ModelBuilder, Part, TimeFunction};
 pub use observe::{Flow, Observer, StepView};
-pub use ranks::RankGroup;
 pub use run::{run_until, RunError, RunSummary, StepReport, Stepping, Termination, Until};
 pub use simulation::{Problem, Run, Simulation, SimulationBuilder};
 pub use switching::SwitchingRun;

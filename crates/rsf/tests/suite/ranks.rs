@@ -7,7 +7,8 @@ use std::sync::{Arc, Barrier, Mutex};
 
 use rsf::fault_ode::FaultKernel;
 use rsf::observe::SECONDS_PER_YEAR;
-use rsf::{Flow, Observer, RankGroup, StepView, Until};
+use rsf::ranks::RankGroup;
+use rsf::{Flow, Observer, StepView, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 use crate::common::small_bp1;
