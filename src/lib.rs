@@ -22,6 +22,7 @@ pub mod ranks;
 mod run;
 pub mod run_folder;
 pub mod seas_bp1;
+pub mod seas_bp3;
 mod seas_overview;
 pub use cli::{
     FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,

@@ -141,3 +141,18 @@ impl rsf_examples::ranks::Processes for Job {
         end_all_ranks(&self.0, &message)
     }
 }
+
+/// Starts MPI and runs a program of the root package on the world's ranks
+/// (`program`: e.g. `rsf_examples::seas_bp1::main_on_ranks`); MPI ends when the program
+/// returns. A failure to start MPI is printed as `error: …` with exit code 1.
+pub fn main_on_ranks(
+    program: fn(&dyn rsf_examples::ranks::Processes) -> std::process::ExitCode,
+) -> std::process::ExitCode {
+    match initialize() {
+        Ok((_universe, ranks)) => program(&Job(ranks)),
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

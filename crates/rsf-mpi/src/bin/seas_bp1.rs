@@ -7,14 +7,6 @@
 //! mpirun -n 2 crates/rsf-mpi/target/release/seas_bp1 --out out/bp1_mpi --threads 1
 //! ```
 
-use std::process::ExitCode;
-
-fn main() -> ExitCode {
-    match rsf_mpi::initialize() {
-        Ok((_universe, ranks)) => rsf_examples::seas_bp1::main_on_ranks(&rsf_mpi::Job(ranks)),
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+fn main() -> std::process::ExitCode {
+    rsf_mpi::main_on_ranks(rsf_examples::seas_bp1::main_on_ranks)
 }

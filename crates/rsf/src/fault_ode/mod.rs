@@ -357,20 +357,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// rank every rate. Every rank must hold the same run (the same scene, options and
     /// state) and call the same methods in the same order; the trajectory then has the
     /// same bits on every rank, at every rank count, and as unshared. Within a rank the
-    /// shared part of an evaluation runs on one thread.
+    /// shared part of an evaluation runs on one thread. A normal stress that changes with
+    /// slip (its product with `S_N`) is evaluated whole on every rank.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] named `ranks` unless the operator is an ℋ-matrix
-    /// ([`FaultKernel::Hierarchical`], the rows that are split) and the normal stress is
-    /// fixed (a normal stress from slip is evaluated whole).
+    /// ([`FaultKernel::Hierarchical`], the rows that are split).
     pub fn share_evaluations(&mut self, ranks: Box<dyn RankGroup>) -> Result<()> {
-        if self.rates.normal.is_some() {
-            return Err(invalid(
-                "ranks",
-                "evaluations shared by ranks need a fixed normal stress \
-                 (NormalStress::Fixed); a normal stress from slip is evaluated whole",
-            ));
-        }
         if self.rates.operator.hierarchical_mut().is_none() {
             return Err(invalid(
                 "ranks",

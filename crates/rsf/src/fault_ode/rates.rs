@@ -91,15 +91,19 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             alpha,
             scale: None,
         };
-        // Shared by ranks (an ℋ-kernel and a fixed normal stress, checked when shared):
-        // each rank its part of the rows and their nodes, then one exchange. A non-finite
-        // `u` (the same on every rank) takes the sequential path below on every rank.
-        if let (Some(shared), None, Some(h), true) = (
+        // Shared by ranks (an ℋ-kernel, checked when shared): each rank its part of the
+        // rows and their nodes, then one exchange; a normal stress from slip is evaluated
+        // whole on every rank first (the same numbers as below). A non-finite `u` (the
+        // same on every rank) takes the sequential path below on every rank.
+        if let (Some(shared), Some(h), true) = (
             &mut d.shared,
-            &d.normal,
             d.operator.hierarchical_mut(),
             u.iter().all(|v| v.is_finite()),
         ) {
+            if let Some(normal) = &mut d.normal {
+                normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
+                solves.scale = Some((&d.sigma[..], normal.initial()));
+            }
             let load = Loading {
                 g0: &d.g0,
                 g1: &d.g1,

@@ -160,8 +160,38 @@ fn a_3d_fault_with_nodes_across_parts_has_the_same_bits_on_1_to_4_ranks() {
     eprintln!("3-D internal fault: {steps} steps with the same bits on 1–4 ranks");
 }
 
-/// A dense operator has no rows to share out, a normal stress from slip is evaluated
-/// whole: typed errors naming `ranks`.
+/// SEAS BP3 (a thrust fault dipping 60° under the free surface: the normal stress changes
+/// with slip, evaluated whole on every rank) at Δx = 2 km with the ℋ-kernel at leaf size 8,
+/// for 1500 steps.
+#[test]
+fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4_ranks() {
+    use rsf_scenes::{SeasBp3, SeasBp3Grid};
+    let bp3 = SeasBp3::thrust();
+    let grid = SeasBp3Grid {
+        dx: 2000.0,
+        domain: 100e3,
+        ratio: 1.2,
+    };
+    let steps = same_bits_on_ranks(|ranks| {
+        let model = bp3.model(&grid).unwrap();
+        let mut options = bp3.params.fault_ode_options(1e-7).unwrap();
+        options.runge_kutta.dt_min = 1e-8;
+        options.kernel = FaultKernel::Hierarchical {
+            epsilon: 1e-7,
+            leaf_size: 8,
+        };
+        let mut ode = bp3.fault_ode(model, options).unwrap();
+        if let Some(ranks) = ranks {
+            ode.share_evaluations(Box::new(ranks)).unwrap();
+        }
+        let mut bits = Bits::default();
+        ode.run_until(Until::Steps(1500), &mut [&mut bits]).unwrap();
+        bits.0
+    });
+    eprintln!("BP3 thrust, 2 km: {steps} steps with the same bits on 1–4 ranks");
+}
+
+/// A dense operator has no rows to share out: a typed error naming `ranks`.
 #[test]
 fn what_cannot_be_shared_is_refused() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());

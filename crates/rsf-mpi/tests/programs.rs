@@ -1,7 +1,8 @@
-//! The program `seas_bp1` on MPI ranks (this crate's binary: the root package's program with
-//! its evaluations shared): every file byte-identical to one process's at 1, 2 and 4
-//! ranks, a run stopped at a step cap and resumed on 2 ranks byte-identical to an
-//! uninterrupted one, and an error on rank 0 ends every rank at once.
+//! The programs `seas_bp1` and `seas_bp3` on MPI ranks (this crate's binaries: the root
+//! package's programs with their evaluations shared): every file byte-identical to one
+//! process's (BP1 at 1, 2 and 4 ranks, BP3 — a normal stress from slip — at 2), a run
+//! stopped at a step cap and resumed on 2 ranks byte-identical to an uninterrupted one,
+//! and an error on rank 0 ends every rank at once.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -11,6 +12,7 @@ mod common;
 use common::mpirun;
 
 const BIN: &str = env!("CARGO_BIN_EXE_seas_bp1");
+const BP3: &str = env!("CARGO_BIN_EXE_seas_bp3");
 
 /// A fresh folder for `name` under the target directory's tmp.
 fn folder(name: &str) -> PathBuf {
@@ -33,13 +35,18 @@ fn flags(out: &Path) -> Vec<String> {
 }
 
 fn run(ranks: Option<usize>, args: &[String]) -> Output {
+    run_program(BIN, ranks, args)
+}
+
+/// `bin` with `args`, on `ranks` MPI ranks or as one process (`None`).
+fn run_program(bin: &str, ranks: Option<usize>, args: &[String]) -> Output {
     let mut c = match ranks {
         Some(n) => {
             let mut c = mpirun(n);
-            c.arg(BIN);
+            c.arg(bin);
             c
         }
-        None => std::process::Command::new(BIN),
+        None => std::process::Command::new(bin),
     };
     c.args(args).output().expect("the program (and mpirun)")
 }
@@ -138,4 +145,45 @@ fn an_error_on_rank_0_ends_every_rank() {
     assert!(err.contains("rank 0 of 2: error: --out"), "{err}");
     assert!(t.elapsed() < Duration::from_secs(30), "{:?}", t.elapsed());
     assert_eq!(std::fs::read(&file).unwrap(), b"a file");
+}
+
+/// BP3 (thrust, 60°) at Δx = 2 km for 300 years: its 26 files (with the figure) on 2 ranks
+/// have one process's bytes.
+#[test]
+fn bp3_files_are_byte_identical_on_2_ranks() {
+    let args = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--dx",
+            "2000",
+            "--end-years",
+            "300",
+            "--threads",
+            "1",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("bp3_one_process");
+    let out = run_program(BP3, None, &args(&one));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let two = folder("bp3_2_ranks");
+    let out = run_program(BP3, Some(2), &args(&two));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("2 MPI ranks share every evaluation"),
+        "{text}"
+    );
+    assert!(same_files(&one, &two, "BP3 on 2 ranks") >= 20);
 }

@@ -1,0 +1,385 @@
+//! A coarse SEAS BP3-QD (a thrust or normal fault dipping under a free surface, plane
+//! strain, quasi-dynamic; docs/seas-bp3.md): the fault inside the body
+//! (`ModelBuilder::internal_fault`), its normal stress changing with slip
+//! (`NormalStress::FromSlip`), loaded by creep below W_f (`internal_creep`) and by each
+//! side's rigid motion on the far boundaries, integrated by the fault ODE.
+//!
+//! ```sh
+//! cargo run --release --example seas_bp3 -- --dip 60 --out out/bp3_60 --end-years 300
+//! cargo run --release --example seas_bp3 -- --dip 30 --dx 250 --out out/bp3_30
+//! ```
+//!
+//! The scene is `rsf_scenes::SeasBp3` (the mesh: a graded structured mesh sheared along
+//! the dip, `SeasBp3::mesh`; the parameters: BP1's table, which BP3 shares, with the depth
+//! replaced by the down-dip distance x_d).
+//!
+//! Writes the benchmark's files to `--out` (`SeasBp3::seas_setup`: the twelve on-fault
+//! stations `fltst_dpXXX` with six columns — slip, log10 V, shear and normal stress,
+//! log10 θ — the eight surface stations `srfst_fn…` with displacement and velocity, the
+//! profiles `slip.dat`, `shear_stress.dat` and `normal_stress.dat`, the event catalogue
+//! `events.csv`), the figure `overview.png` (slip profiles, maximum slip rate against
+//! time), and prints the events.
+//!
+//! Runs: `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files
+//! and their resume log `seas_resume.csv` written at the same steps), `--resume FILE`
+//! (continues the files in `--out` from a checkpoint of this run: the same bytes as an
+//! uninterrupted run), `--max-steps N` (stop after step N in total, with a checkpoint),
+//! `--overwrite` (a folder of another run is refused, and left untouched, otherwise).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
+use crate::guard::{
+    in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Processes, Program,
+};
+use crate::{cpu_seconds, machine};
+use clap::Parser;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::run_folder::{read_checkpoint, step_cap_error, until};
+use rsf::{Observer, Stepping};
+use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
+use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
+
+/// A coarse SEAS BP3-QD.
+#[derive(Parser)]
+#[command(version)]
+struct Args {
+    /// Dip ψ (degrees): 60 (thrust) or 30 (normal).
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    dip: f64,
+    /// Output folder.
+    #[arg(long, default_value = "out/seas_bp3")]
+    out: PathBuf,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
+    /// End time (years).
+    #[arg(long, default_value_t = 300.0, allow_negative_numbers = true)]
+    end_years: f64,
+    /// Element size along the fault (m).
+    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true)]
+    dx: f64,
+    /// Half-width L of the box across the fault (km); its depth is L sin ψ. The default
+    /// moves the first event by < 0.1 yr against a box twice as large (docs/seas-bp3.md).
+    #[arg(long, default_value_t = 1600.0, allow_negative_numbers = true)]
+    domain_km: f64,
+    /// Growth of the elements away from the fault and below W_f. The default is within
+    /// 0.2 yr of a ratio of 1.0125 in the first event; 1.1 puts the normal fault's 2.9 yr
+    /// early (docs/seas-bp3.md, "Mesh grading").
+    #[arg(long, default_value_t = 1.025, allow_negative_numbers = true)]
+    ratio: f64,
+    /// Tolerance of the fault ODE.
+    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
+    tolerance: f64,
+    #[command(flatten)]
+    kernel: crate::KernelArgs,
+    /// Threads of each evaluation (the operator products and the per-node friction
+    /// solves; the same bits for every value). Default: every core of the machine.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
+    threads: usize,
+    #[command(flatten)]
+    header: crate::SeasHeaderArgs,
+    /// `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files'
+    /// resume log `seas_resume.csv` at the same steps), `--resume FILE` (continues the
+    /// files in `--out`: the checkpoint and every file's rows are checked before anything
+    /// is cut), `--allow-change`, `--max-steps N`.
+    #[command(flatten)]
+    run: crate::ResumeArgs,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The scene and grid of the flags.
+fn scene(args: &Args) -> (SeasBp3, SeasBp3Grid) {
+    let bp3 = SeasBp3 {
+        dip_degrees: args.dip,
+        ..if args.dip < 45.0 {
+            SeasBp3::normal()
+        } else {
+            SeasBp3::thrust()
+        }
+    };
+    let grid = SeasBp3Grid {
+        dx: args.dx,
+        domain: args.domain_km * 1e3,
+        ratio: args.ratio,
+    };
+    (bp3, grid)
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut names: Vec<String> = SEAS_BP3_STATION_DISTANCES
+        .iter()
+        .map(|&d| SeasBp1::station_name(d))
+        .collect();
+    names.extend(SEAS_BP3_SURFACE_STATIONS.iter().map(|s| s.0.to_owned()));
+    names.extend(
+        [
+            "slip.dat",
+            "shear_stress.dat",
+            "normal_stress.dat",
+            "events.csv",
+            "overview.png",
+            "checkpoint.bin",
+            rsf::observe::SEAS_RESUME_LOG,
+        ]
+        .map(String::from),
+    );
+    names
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp3";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        if !(self.dip > 0.0 && self.dip < 90.0) {
+            return Err(refuse(
+                "--dip",
+                number(self.dip),
+                "must be in (0, 90) degrees",
+            ));
+        }
+        let (bp3, grid) = scene(self);
+        let w_f = bp3.params.w_f;
+        in_range("--dx", self.dx, (1e-3, w_f / 4.0), "m: at most W_f/4")?;
+        in_range(
+            "--domain-km",
+            self.domain_km,
+            (1.5 * w_f / 1e3 * 1.000001, 1e5),
+            "km: the box must reach 1.5 W_f down the fault",
+        )?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the elements",
+        )?;
+        crate::cli::for_flag(
+            "--tolerance",
+            "tolerance",
+            bp3.params.fault_ode_options(self.tolerance),
+        )?;
+        self.kernel.kernel(self.tolerance)?;
+        self.header.check()?;
+        // The graded mesh in closed form (rsf_fem::geometric_grading_len, as SeasBp3::mesh
+        // grades it), before anything is allocated.
+        let (s, _) = self.dip.to_radians().sin_cos();
+        let side = rsf::fem::geometric_grading_len(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain);
+        let nz = rsf::fem::geometric_grading_len(grid.dx * s, w_f * s, grid.ratio, grid.domain * s);
+        let nodes = (2.0 * side - 1.0) * nz + nz;
+        let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
+        let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(nz, hierarchical);
+        let profile = grid.domain / 500.0 + 1.0;
+        let stations = (SEAS_BP3_STATION_DISTANCES.len() + SEAS_BP3_SURFACE_STATIONS.len()) as f64;
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --domain-km, --ratio",
+                format!(
+                    "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
+                     {nz:.3e} on the fault",
+                    number(self.dx),
+                    number(self.domain_km),
+                    number(self.ratio)
+                ),
+            )
+            .output(
+                seas_output_bytes(self.end_years, stations, 8, 3.0 * profile),
+                "--end-years, --domain-km",
+                format!(
+                    "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
+                    self.end_years
+                ),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
+    }
+}
+
+/// The program `seas_bp3` (`cargo run --release --example seas_bp3 -- --out DIR …`).
+pub fn main() -> ExitCode {
+    // With threads, the whole run on the pool (no hand-over per parallel region).
+    crate::guard::main(|args, folder| run(args, folder, None))
+}
+
+/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp3`):
+/// every evaluation of the fault ODE shared by the ranks
+/// ([`rsf::FaultOde::share_evaluations`]; the hierarchical kernel, the normal stress
+/// evaluated whole on every rank), the files written by rank 0 — byte-identical to one
+/// process's (docs/scaling.md, "The fault ODE on MPI ranks").
+pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
+    crate::guard::main_on_ranks(processes, |args, folder, processes| {
+        run(args, folder, Some(processes))
+    })
+}
+
+fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
+    // Rank 0 (or the one process) writes the files and tells.
+    let root = processes.is_none_or(|p| p.rank() == 0);
+    let (bp3, grid) = scene(&args);
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let model = bp3.model(&grid)?;
+    let fb = &model.frictional_boundary;
+    if root {
+        println!(
+            "BP3-QD, dip {}° ({}), Δx = {} m, box ±{} km, {} nodes, {} frictional nodes; on {}",
+            args.dip,
+            if bp3.normal_faulting {
+                "normal"
+            } else {
+                "thrust"
+            },
+            args.dx,
+            args.domain_km,
+            model.vertices.len(),
+            fb.len(),
+            machine()
+        );
+    }
+    let mut options = bp3.params.fault_ode_options(args.tolerance)?;
+    options.runge_kutta.dt_min = 1e-8;
+    options.kernel = args.kernel.kernel(args.tolerance)?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    let mut ode = bp3.fault_ode(model, options)?;
+    if let Some(p) = processes {
+        ode.share_evaluations(p.group())?;
+    }
+    if root {
+        println!("S: {}", ode.kernel_report());
+        if let Some(r) = ode.normal_kernel_report() {
+            println!("S_N: {r}");
+        }
+        if let Some(p) = processes {
+            println!("{} MPI ranks share every evaluation", p.size());
+        }
+        println!(
+            "set-up: wall {:.1} s, CPU {:.1} s",
+            clock.elapsed().as_secs_f64(),
+            cpu_seconds() - cpu0
+        );
+    }
+    let setup = SeasSetup {
+        modeler: args.header.modeler.clone(),
+        date: args
+            .header
+            .date
+            .clone()
+            .unwrap_or_else(rsf::observe::utc_date_today),
+        ..bp3.seas_setup(args.dx, SeasSampling::default())
+    };
+    // What a checkpoint continues: the scene, the grid and what changes the trajectory.
+    let fingerprint = Fingerprint::of_serialized(&bp3.params)
+        .with("dip_degrees", args.dip)
+        .with("normal_faulting", bp3.normal_faulting)
+        .with("dx", args.dx)
+        .with("domain_km", args.domain_km)
+        .with("ratio", args.ratio)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("kernel", options.kernel);
+    // On resume everything is checked before any file is touched: the checkpoint (its
+    // checksum and fingerprint), then every file's rows up to the checkpoint's step.
+    let resumed = match &args.run.resume {
+        None => None,
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
+            if root {
+                SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
+                    &args.out,
+                    ode.model(),
+                    &setup,
+                    c.state.step,
+                )?;
+            }
+            ode.restore(&c)?;
+            Some(c)
+        }
+    };
+    let mode = match &resumed {
+        Some(c) => FileMode::Resume { step: c.state.step },
+        None => folder.mode(),
+    };
+    let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
+    if !root {
+        // The same steps as rank 0, no files (no observer here ends a run).
+        ode.run_until(end, &mut [])?;
+        return Ok(());
+    }
+    let mut output = SeasOutput::new(
+        &args.out,
+        ode.model(),
+        ode.problem().friction_laws(),
+        setup,
+        mode,
+    )?;
+    // A run that can stop before its end (checkpoints, a step cap) logs what its files
+    // hold at each checkpoint.
+    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+        output = output.with_resume_log(mode)?;
+    }
+    // The fault ODE computes the surface stations' vertices (not the whole field) after
+    // every step; their initial row needs them now.
+    ode.watch_vertices(&output.surface_vertices())?;
+    if resumed.is_none() {
+        output.write_initial_state(ode.model(), ode.state())?;
+    }
+    // Every `--checkpoint-every` steps, and where the step cap stops the run.
+    let checkpoint = args.out.join("checkpoint.bin");
+    let mut checkpointer = args.run.checkpointer(
+        checkpoint.clone(),
+        fingerprint,
+        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
+    )?;
+    let summary = {
+        // The files first, the checkpoint after them: a checkpoint never runs ahead.
+        let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut output, &mut checkpointer];
+        ode.run_until(end, &mut observers)?
+    };
+    if let Some(e) = step_cap_error(&summary, end, ode.state(), &checkpoint) {
+        return Err(e.into());
+    }
+    let wall = clock.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    for e in output.events() {
+        println!(
+            "event at {:.3} yr: peak slip rate {:.3e} m/s, hypocentre x_d = {:.2} km",
+            e.t_start / SECONDS_PER_YEAR,
+            e.peak_slip_rate,
+            e.hypocentre_depth / 1e3
+        );
+    }
+    println!(
+        "{} steps ({} attempts rejected, {} of them for σ̄_n ≤ 0 at a stage), {} evaluations; \
+         wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+        summary.steps,
+        summary.rejected_attempts,
+        summary.rejected_normal_stress,
+        ode.evaluations(),
+        args.out.display()
+    );
+    crate::seas_overview(
+        &args.out,
+        "slip.dat",
+        "down-dip distance (km)",
+        output.events().len(),
+    )?;
+    println!("wrote {}", args.out.join("overview.png").display());
+    Ok(())
+}
