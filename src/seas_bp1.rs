@@ -685,6 +685,10 @@ fn run(args: Args, prepared: Prepared, processes: Option<&dyn Processes>) -> Res
         }
         _ => None,
     };
+    let exchanges = match &sim {
+        rsf::Run::FaultOde(s) => s.exchanges(),
+        _ => None,
+    };
     let (tau_min, tau_max, _) = output.time_steps();
     let json = serde_json::json!({
         "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
@@ -722,6 +726,13 @@ fn run(args: Args, prepared: Prepared, processes: Option<&dyn Processes>) -> Res
             "setup_s": r.setup_seconds,
         })),
         "threads": args.threads,
+        // On MPI ranks: the processes and what they exchanged (counted by the code).
+        "ranks": exchanges.map(|e| serde_json::json!({
+            "ranks": e.ranks,
+            "all_gathers": e.all_gathers,
+            "values_per_all_gather": e.values as f64 / e.all_gathers.max(1) as f64,
+            "bytes_received_per_rank": 8 * e.values,
+        })),
         "switching": switching,
         "tau_min_s": tau_min,
         "tau_max_s": tau_max,

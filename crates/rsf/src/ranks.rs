@@ -44,6 +44,21 @@ pub trait RankGroup: Send {
 pub(crate) struct SharedEvaluation {
     ranks: Box<dyn RankGroup>,
     parts: Option<RankParts>,
+    exchanges: Exchanges,
+}
+
+/// What the ranks of a shared fault ODE have exchanged
+/// ([`FaultOde::exchanges`](crate::FaultOde::exchanges)): counted by the code, the numbers a
+/// model of the communication cost is fitted with (docs/scaling.md).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Exchanges {
+    /// The number of ranks.
+    pub ranks: usize,
+    /// All-gathers (one per shared evaluation).
+    pub all_gathers: u64,
+    /// f64 values received by every rank over all the all-gathers (each rank receives
+    /// every rank's values: 8 bytes each).
+    pub values: u64,
 }
 
 /// The split of the rows into one part per rank and what each rank sends.
@@ -59,7 +74,20 @@ struct RankParts {
 
 impl SharedEvaluation {
     pub(crate) fn new(ranks: Box<dyn RankGroup>) -> Self {
-        Self { ranks, parts: None }
+        let exchanges = Exchanges {
+            ranks: ranks.size(),
+            ..Exchanges::default()
+        };
+        Self {
+            ranks,
+            parts: None,
+            exchanges,
+        }
+    }
+
+    /// What the ranks have exchanged so far.
+    pub(crate) fn exchanges(&self) -> Exchanges {
+        self.exchanges
     }
 
     /// The group's rank and size.
@@ -106,6 +134,8 @@ impl SharedEvaluation {
             none
         };
         self.ranks.all_gather(own, &parts.counts, &mut parts.all);
+        self.exchanges.all_gathers += 1;
+        self.exchanges.values += parts.all.len() as u64;
         parts
             .nodes
             .unpack(&parts.all, solves, load, &mut parts.straddling_rows, rates);

@@ -381,6 +381,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         Ok(())
     }
 
+    /// What the ranks that share the evaluations have exchanged so far (all-gathers and
+    /// values), or `None` unshared.
+    pub fn exchanges(&self) -> Option<crate::ranks::Exchanges> {
+        self.rates.shared.as_ref().map(SharedEvaluation::exchanges)
+    }
+
     /// The rank and the number of ranks that share the evaluations
     /// ([`share_evaluations`](Self::share_evaluations)); `(0, 1)` unshared.
     pub fn rank_and_size(&self) -> (usize, usize) {
