@@ -58,3 +58,24 @@ pub enum Error {
 
 /// Result alias of this crate.
 pub type Result<T> = std::result::Result<T, Error>;
+
+impl From<rsf_linalg::Error> for Error {
+    /// The shared sparse matrix's checks ([`rsf_linalg::Csc`]) as this crate reported them
+    /// before it moved to `rsf-linalg`; anything else is a failure of the factorisation.
+    fn from(e: rsf_linalg::Error) -> Self {
+        match e {
+            rsf_linalg::Error::InvalidMatrix(m) => Error::InvalidMatrix(m),
+            rsf_linalg::Error::NonFinite(what) => Error::NonFinite(what),
+            rsf_linalg::Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            } => Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            },
+            other => Error::Factorisation(other.to_string()),
+        }
+    }
+}

@@ -6,10 +6,10 @@ use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedSweep, Smoothing};
 use crate::colouring::Colouring;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
 use crate::Parallelism;
+use rsf_linalg::Csc;
 
 /// A validated symmetric matrix with node-block structure and a fixed-dof mask, in scalar
 /// CSC storage (the direct solver's format).

@@ -14,11 +14,11 @@
 use faer::sparse::SparseColMatRef;
 
 use crate::block::load;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
 use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
 use crate::Parallelism;
+use rsf_linalg::Csc;
 
 /// A minimiser of `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` for a sequence of
 /// nonlinearities `φ` with the same `A`, `b`, fixed dofs and active blocks.

@@ -7,7 +7,6 @@ use faer::sparse::{SparseColMat, SparseColMatRef};
 use crate::block::load;
 use crate::chunks::{ChunkedOrder, ChunkedSweep};
 use crate::colouring::{Colouring, SmootherOrder};
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
 use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
@@ -19,6 +18,7 @@ use crate::report::{
     iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
 };
 use crate::Parallelism;
+use rsf_linalg::Csc;
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
 /// truncated in the linear correction (see `Tnnmg::is_rigid`): at this contrast the
@@ -177,7 +177,7 @@ impl<const D: usize> Tnnmg<D> {
         let m = NodalProblem::<D>::new(a, fixed)?;
         let prolongations = prolongations
             .iter()
-            .map(|p| Csc::from_faer(p.as_ref()))
+            .map(|p| Csc::from_faer(p.as_ref()).map_err(Error::from))
             .collect::<Result<Vec<_>>>()?;
         let mut mg = LinearMultigrid::new(
             m.a.clone(),

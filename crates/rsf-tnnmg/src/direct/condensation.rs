@@ -7,9 +7,9 @@ use rsf_linalg::Parallelism;
 
 use super::ordering::InteriorOrdering;
 use super::partial_cholesky::PartialCholesky;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::problem::BlockedMatrix;
+use rsf_linalg::Csc;
 
 /// The condensation of `A` (`n × n`, symmetric, positive definite on its free dofs) onto
 /// the free components `F` of a set of blocks (nodes; `D` components each): with `R` the

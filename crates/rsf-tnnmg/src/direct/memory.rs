@@ -6,9 +6,9 @@ use faer::sparse::SparseColMatRef;
 use super::condensation::split_dofs;
 use super::options::{DirectOptions, HARMONIC_BLOCK};
 use super::partial_cholesky::PartialCholesky;
-use crate::csc::Csc;
 use crate::error::Result;
 use crate::problem::BlockedMatrix;
+use rsf_linalg::Csc;
 
 /// The memory of a [`DirectSolver`](super::DirectSolver) set up for a problem, by part
 /// (bytes), from [`DirectMemory::estimate`]: the ordering and symbolic factorisation are

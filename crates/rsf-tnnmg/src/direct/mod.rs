@@ -19,7 +19,6 @@ use faer::sparse::SparseColMatRef;
 use rsf_linalg::Parallelism;
 
 use crate::block::load;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::nonlinearity::BlockNonlinearity;
 use crate::problem::BlockedMatrix;
@@ -33,6 +32,7 @@ pub use options::DirectOptions;
 pub use ordering::InteriorOrdering;
 use partial_cholesky::PartialCholesky;
 pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
+use rsf_linalg::Csc;
 pub use schur_entries::SchurEntries;
 
 /// What the condensation computed for one set of nonsmooth blocks.

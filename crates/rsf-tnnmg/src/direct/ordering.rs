@@ -1,8 +1,8 @@
 //! The ordering of a condensation's interior: AMD after one home-made level of dissection
 //! (partial_cholesky/), or METIS's nested dissection (crate rsf-metis, feature `metis`).
 
-use crate::csc::Csc;
 use crate::error::{Error, Result};
+use rsf_linalg::Csc;
 
 /// How the interior `R` of a [`Condensation`](crate::Condensation) is ordered for its
 /// sparse Cholesky factor (the interface `F` is always eliminated last, which makes the
