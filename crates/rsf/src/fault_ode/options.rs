@@ -1,9 +1,9 @@
 //! The options of a fault ODE: its Runge–Kutta pair, tolerances, kernel, threads and
 //! the volume's fill-reducing ordering.
 
+use rsf_direct::InteriorOrdering;
 use rsf_linalg::Parallelism;
 use rsf_time::{RungeKuttaOptions, Tableau, DORMAND_PRINCE_54, TOLERANCE_RANGE};
-use rsf_tnnmg::InteriorOrdering;
 
 use crate::error::{invalid, Result};
 use crate::fault_operator::FaultKernel;

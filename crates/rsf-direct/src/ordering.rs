@@ -30,7 +30,7 @@ pub enum InteriorOrdering {
     /// `D` dofs) with an interior dof, expanded to their interior dofs in component order.
     /// Much less fill than [`Amd`](Self::Amd) on 3-D volumes (docs/three-d.md, "The
     /// operator at scale"). Deterministic (a fixed seed). Needs the cargo feature `metis`
-    /// (of rsf-tnnmg, or rsf's `metis`); without it a condensation asking for it fails with
+    /// (of rsf-direct, or rsf's `metis`); without it a condensation asking for it fails with
     /// [`Error::FeatureDisabled`].
     NestedDissection,
 }

@@ -41,8 +41,8 @@ use faer::{Par, Side};
 
 use rsf_linalg::Parallelism;
 
-use crate::direct::ordering::{nested_dissection, InteriorOrdering};
 use crate::error::{Error, Result};
+use crate::ordering::{nested_dissection, InteriorOrdering};
 use rsf_linalg::Csc;
 
 mod interior_order;
