@@ -11,9 +11,7 @@
 //!   `sprs::CsMat<f64>` in CSC storage.
 //!
 //! * [`Parallelism`] — the one parallelism parameter of the workspace (faer's `Par` with
-//!   a default, names, a deterministic two-way [`join`](Parallelism::join) and
-//!   [`linger`](Parallelism::linger), which keeps idle pool threads polling between
-//!   parallel regions that follow each other closely).
+//!   a default, names and a deterministic two-way [`join`](Parallelism::join)).
 //!
 //! * [`Csc`] — the solvers' internal compressed-sparse-column matrix (plain arrays, sorted
 //!   rows), shared by `rsf-tnnmg` and `rsf-direct`.

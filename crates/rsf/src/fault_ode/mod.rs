@@ -31,9 +31,11 @@ use crate::simulation::step::impose_dirichlet_velocities;
 use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
+mod linger;
 mod options;
 mod rates;
 
+pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
 
@@ -282,6 +284,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             body,
             operator,
             par: options.parallelism,
+            linger: options.linger,
             g0,
             g1,
             history,
