@@ -28,14 +28,13 @@ use std::time::{Duration, Instant};
 
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::SparseMatrix;
 use rsf::friction::DieterichRuina;
 use rsf::method::FrictionBlocks;
+use rsf::nonsmooth::{BlockNonlinearity, NoNonlinearity, NonsmoothSolver, StepSolver, Stopping};
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
-use rsf::tnnmg::{
-    BlockNonlinearity, DirectOptions, DirectSolver, NoNonlinearity, NonlinearGaussSeidel,
-    NonsmoothSolver, StepSolver, Stopping, Tnnmg, TnnmgOptions,
-};
+use rsf::tnnmg::{NonlinearGaussSeidel, Tnnmg, TnnmgOptions};
 use rsf::Model;
 use rsf_scenes::SliderScene;
 

@@ -96,7 +96,7 @@ struct Cli {
     resume: Option<PathBuf>,
     /// Threads of every parallel part of a step (`rsf::method::SolverOptions::parallelism`: the
     /// direct solver's sweeps and its dense Newton factorisations of at least
-    /// `rsf::tnnmg::DENSE_PARALLEL_MIN` unknowns, the right-hand side rows; docs/scaling.md):
+    /// `rsf::direct::DENSE_PARALLEL_MIN` unknowns, the right-hand side rows; docs/scaling.md):
     /// a count, `0` or `pool` for rayon's pool, `seq` for one; default every core of the
     /// machine. The output does not depend on it. (`--dense-threads` is an old name of
     /// this flag.)

@@ -9,15 +9,15 @@
 //! ```
 //!
 //! Prints one row per level: dofs, condensed unknowns, the estimate by part
-//! (`rsf::tnnmg::DirectMemory`: sparse factor, dense matrices on Γ_F, the set-up's harmonic
+//! (`rsf::direct::DirectMemory`: sparse factor, dense matrices on Γ_F, the set-up's harmonic
 //! extension; MiB), the time the estimate took (s) and the choice of `auto`. Writes no
 //! files.
 
 use std::process::ExitCode;
 
 use clap::Parser;
+use rsf::direct::{DirectMemory, DirectOptions};
 use rsf::method::SolverOptions;
-use rsf::tnnmg::{DirectMemory, DirectOptions};
 use rsf::{Model, SolverKind};
 use rsf_examples::estimates::slider_nodes;
 use rsf_examples::guard::{AnyError, Limits, Plan, Prepared, Program};

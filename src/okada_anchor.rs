@@ -32,9 +32,10 @@
 //! The builder wants one frictional node: one pair (an inner corner of the fault grid) is
 //! left to friction and its jump fixed by hand before the solve.
 
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::{cuboid_from_coordinates, geometric_grading};
 use rsf::model::CreepRate;
-use rsf::tnnmg::{DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver};
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
 use rsf::{Material, Model, ModelBuilder, Part};
 use rsf_halfspace::{Medium, Okada, Rectangle};
 

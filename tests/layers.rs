@@ -16,10 +16,13 @@ const LAYERS: &[&[&str]] = &[
         "rsf-fem",
         "rsf-friction",
         "rsf-state",
-        "rsf-tnnmg",
+        "rsf-nonsmooth",
         "rsf-hmatrix",
         "rsf-time",
     ],
+    // The two solvers of the velocity problem are siblings: each depends on its interface
+    // (rsf-nonsmooth), neither on the other (docs/design.md, "Layers").
+    &["rsf-tnnmg", "rsf-direct"],
     // The half-space solution compresses its operator with rsf-hmatrix; rsf uses it behind
     // its feature `halfspace` (docs/design.md).
     &["rsf-halfspace"],
@@ -510,4 +513,6 @@ fn crates_depend_only_on_lower_layers() {
     // The rule the layers encode: a friction potential takes α as a number, so the friction
     // laws and the state laws do not know each other.
     assert_eq!(layer_of("rsf-friction"), layer_of("rsf-state"));
+    // And TNNMG and the direct solver (with the condensation) do not know each other.
+    assert_eq!(layer_of("rsf-tnnmg"), layer_of("rsf-direct"));
 }

@@ -36,6 +36,13 @@ pub enum Error {
         /// What is wrong.
         reason: &'static str,
     },
+    /// A matrix given to the solvers is not square, not symmetric (in pattern or values) or
+    /// misses a diagonal entry ([`Csc`](crate::Csc)'s checks).
+    #[error("invalid matrix: {0}")]
+    InvalidMatrix(String),
+    /// A non-finite number in a matrix given to the solvers.
+    #[error("non-finite value in {0}")]
+    NonFinite(&'static str),
     /// A sparse matrix is stored by rows (CSR) where columns (CSC) are expected.
     #[error("expected compressed sparse column (CSC) storage, got CSR")]
     RowStorage,

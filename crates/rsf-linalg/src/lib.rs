@@ -11,23 +11,31 @@
 //!   `sprs::CsMat<f64>` in CSC storage.
 //!
 //! * [`Parallelism`] — the one parallelism parameter of the workspace (faer's `Par` with
-//!   a default, names, a deterministic two-way [`join`](Parallelism::join) and
-//!   [`linger`](Parallelism::linger), which keeps idle pool threads polling between
-//!   parallel regions that follow each other closely).
+//!   a default, names and a deterministic two-way [`join`](Parallelism::join)).
 //!
-//! Everything here is sequential (`Par::Seq`), so results are bit-for-bit reproducible.
+//! * [`Csc`] — the solvers' internal compressed-sparse-column matrix (plain arrays, sorted
+//!   rows), shared by `rsf-tnnmg` and `rsf-direct`.
+//! * [`ordered_sum`] and [`for_node_rows`] — work over rows on several threads with the
+//!   bits of one thread (the solvers' deterministic sums and row-by-row writes).
+//!
+//! The factorisation and the products are sequential (`Par::Seq`); the parallel helpers
+//! keep the bits of one thread, so results are bit-for-bit reproducible.
 #![warn(missing_docs)]
 
 mod cholesky;
+mod csc;
 mod error;
 mod ops;
 mod parallelism;
+mod reduce;
 #[cfg(feature = "sprs")]
 mod sprs_conversion;
 
 pub use cholesky::{Cholesky, FillOrdering};
+pub use csc::Csc;
 pub use error::{Error, Result};
 pub use ops::{combine, quadratic_form, spmv_add, SparseMatrix};
 pub use parallelism::Parallelism;
+pub use reduce::{for_node_rows, ordered_sum, SUM_PARALLEL_MIN};
 #[cfg(feature = "sprs")]
 pub use sprs_conversion::{from_sprs, to_sprs};

@@ -4,7 +4,7 @@
 /// writing the free components of `x`; fixed components of `x` are left unchanged and their
 /// coupling `A_{free,fixed} x_fixed` must already be in `r`. Returns `false` when the free
 /// sub-block is not positive definite (then `x` is unchanged). A helper for
-/// [`BlockNonlinearity::minimize_block`](crate::BlockNonlinearity::minimize_block)
+/// [`BlockNonlinearity::minimize_block`](rsf_nonsmooth::BlockNonlinearity::minimize_block)
 /// implementations.
 pub fn solve_spd_masked<const D: usize>(
     a: &[[f64; D]; D],

@@ -14,10 +14,10 @@
 use std::sync::Arc;
 
 use crate::block::{load, mul_vec, store, sub_mul_t_vec, sub_mul_vec, Block};
-use crate::csc::Csc;
 use crate::error::{Error, Result};
-use crate::reduce::{for_node_rows, ordered_sum};
 use crate::Parallelism;
+use rsf_linalg::Csc;
+use rsf_linalg::{for_node_rows, ordered_sum};
 
 /// Nodes below which [`BlockCsr::residual_rows`] stays on one thread.
 const RESIDUAL_PARALLEL_MIN: usize = 2048;

@@ -26,8 +26,8 @@ use rayon::prelude::*;
 
 use crate::block::{load, store, sub_mul_t_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
-use crate::reduce::for_node_rows;
 use crate::Parallelism;
+use rsf_linalg::for_node_rows;
 
 /// The most chunks (eight per colour: eight threads).
 const CHUNKS_MAX: usize = 16;
@@ -492,7 +492,7 @@ fn gather<const D: usize>(dst: &mut [f64], src: &[f64], idx: &[u32], par: Parall
 mod tests {
     use super::*;
     use crate::block::{masked_inverse, mul_vec};
-    use crate::csc::Csc;
+    use rsf_linalg::Csc;
 
     /// A symmetric positive definite matrix with the 9-point pattern of an `m × m` grid
     /// and dense `D × D` blocks (nodes numbered row by row after a shuffle, so that the

@@ -12,9 +12,9 @@ use rayon::prelude::*;
 
 use crate::block::store;
 use crate::bsr::BlockCsr;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::Parallelism;
+use rsf_linalg::Csc;
 
 /// Nodes of one colour below which a coloured sweep stays on one thread (a task costs a
 /// few microseconds; a node update a fraction of one).

@@ -41,16 +41,6 @@ pub enum Error {
     /// Invalid solver option.
     #[error("invalid option: {0}")]
     InvalidOption(String),
-    /// A choice that needs a cargo feature this build does not have (e.g.
-    /// [`InteriorOrdering::NestedDissection`](crate::InteriorOrdering::NestedDissection)
-    /// without `metis`).
-    #[error("{what} needs the cargo feature `{feature}` (of rsf-tnnmg, or rsf's `{feature}`)")]
-    FeatureDisabled {
-        /// What was asked for.
-        what: &'static str,
-        /// The feature to enable.
-        feature: &'static str,
-    },
     /// Failure inside the sparse factorisation library.
     #[error("sparse factorisation failed: {0}")]
     Factorisation(String),
@@ -58,3 +48,47 @@ pub enum Error {
 
 /// Result alias of this crate.
 pub type Result<T> = std::result::Result<T, Error>;
+
+impl From<rsf_linalg::Error> for Error {
+    /// The shared sparse matrix's checks ([`rsf_linalg::Csc`]) as this crate reported them
+    /// before it moved to `rsf-linalg`; anything else is a failure of the factorisation.
+    fn from(e: rsf_linalg::Error) -> Self {
+        match e {
+            rsf_linalg::Error::InvalidMatrix(m) => Error::InvalidMatrix(m),
+            rsf_linalg::Error::NonFinite(what) => Error::NonFinite(what),
+            rsf_linalg::Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            } => Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            },
+            other => Error::Factorisation(other.to_string()),
+        }
+    }
+}
+
+impl From<rsf_nonsmooth::Error> for Error {
+    /// The checks shared by the solvers (`rsf-nonsmooth`) as the same variants of this crate.
+    fn from(e: rsf_nonsmooth::Error) -> Self {
+        match e {
+            rsf_nonsmooth::Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            } => Error::DimensionMismatch {
+                what,
+                expected,
+                got,
+            },
+            rsf_nonsmooth::Error::InvalidMatrix(m) => Error::InvalidMatrix(m),
+            rsf_nonsmooth::Error::NonFinite(what) => Error::NonFinite(what),
+            rsf_nonsmooth::Error::NotPositiveDefinite(what) => Error::NotPositiveDefinite(what),
+            rsf_nonsmooth::Error::InvalidOption(m) => Error::InvalidOption(m),
+            rsf_nonsmooth::Error::Linalg(e) => e.into(),
+            other => Error::InvalidOption(other.to_string()),
+        }
+    }
+}

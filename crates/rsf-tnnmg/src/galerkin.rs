@@ -13,10 +13,10 @@
 
 use crate::block::{add_mul, add_mul_t, load, mul_vec, Block};
 use crate::bsr::BlockCsr;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
-use crate::reduce::for_node_rows;
 use crate::Parallelism;
+use rsf_linalg::for_node_rows;
+use rsf_linalg::Csc;
 
 /// Rows below which the Galerkin updates and the transfers stay on the calling thread.
 const GALERKIN_PARALLEL_MIN: usize = 512;

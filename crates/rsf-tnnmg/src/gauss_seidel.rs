@@ -3,12 +3,10 @@
 use faer::sparse::SparseColMatRef;
 
 use crate::error::{Error, Result};
-use crate::nonlinearity::BlockNonlinearity;
 use crate::norm::EnergyNorm;
 use crate::problem::{ActiveBlocks, NodalProblem};
-use crate::report::{
-    iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
-};
+use crate::report::{iterate_to_tolerance, Iteration, IterationRun};
+use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
 /// minimisations. Globally convergent for the convex problems of this crate but slow
@@ -88,6 +86,8 @@ impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
 }
 
 impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
+    type Error = Error;
+
     fn name(&self) -> &'static str {
         "nonlinear-gauss-seidel"
     }

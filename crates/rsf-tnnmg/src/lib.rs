@@ -12,16 +12,20 @@
 //! (Dirichlet values, bilateral contact) and each `φ_k` is a convex function of one block
 //! (lumped friction). This crate knows nothing of friction laws or meshes: it takes the
 //! matrix, the prolongations of a refinement hierarchy and the block functions through the
-//! [`BlockNonlinearity`] trait.
+//! [`BlockNonlinearity`](rsf_nonsmooth::BlockNonlinearity) trait of `rsf-nonsmooth`, the
+//! problem's interface, which this crate shares with `rsf-direct`.
 //!
-//! Solvers, all behind [`NonsmoothSolver`]:
+//! Solvers, both behind [`NonsmoothSolver`](rsf_nonsmooth::NonsmoothSolver) (and, through
+//! [`FullStep`](rsf_nonsmooth::FullStep), [`StepSolver`](rsf_nonsmooth::StepSolver)):
 //! - [`Tnnmg`]: truncated nonsmooth Newton multigrid (Gräser, Kornhuber, Sander); mesh
 //!   independent iteration counts, the method of the paper (§6.2, tolerance 1e-10). Its
 //!   linear correction runs block Gauss–Seidel multigrid cycles, by default as the
 //!   preconditioner of conjugate gradients ([`LinearCorrection`]).
 //! - [`NonlinearGaussSeidel`]: the block smoother alone (baseline).
-//! - [`DirectSolver`]: exact condensation onto the nonsmooth blocks plus globalised
-//!   Newton on the Schur complement (reference and small-problem fast path).
+//!
+//! The third solver of the same problem, exact condensation onto the nonsmooth blocks plus
+//! globalised Newton on the Schur complement (reference and small-problem fast path), is
+//! `rsf-direct`'s `DirectSolver`.
 //!
 //! Internally the iterative solvers keep matrices in node-block storage (`D × D` blocks,
 //! 32-bit node indices, the upper and the lower triangle in separate arrays so that each
@@ -37,7 +41,8 @@
 //!
 //! ```
 //! use faer::sparse::{SparseColMat, Triplet};
-//! use rsf_tnnmg::{NoNonlinearity, NonsmoothSolver, Tnnmg, TnnmgOptions};
+//! use rsf_nonsmooth::{NoNonlinearity, NonsmoothSolver};
+//! use rsf_tnnmg::{Tnnmg, TnnmgOptions};
 //!
 //! // 1-D Laplacian (block size 1) with both ends fixed at 0: a linear problem.
 //! let n = 5;
@@ -63,33 +68,21 @@ mod block;
 mod bsr;
 mod chunks;
 mod colouring;
-mod csc;
-mod direct;
 mod error;
 mod galerkin;
 mod gauss_seidel;
 mod line_search;
 mod linear_correction;
 mod multigrid;
-mod nonlinearity;
 mod norm;
 mod problem;
-mod reduce;
 mod report;
-mod step;
 mod tnnmg;
 
 pub use block::solve_spd_masked;
 pub use colouring::{Colouring, SmootherOrder};
-pub use direct::{
-    Condensation, DirectMemory, DirectOptions, DirectSolver, InteriorOrdering, SchurEntries,
-    DENSE_PARALLEL_MIN, INTERIOR_PARALLEL_MIN,
-};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;
-pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity, Scaled};
-pub use report::{NonsmoothSolver, SolveReport, Stopping};
 pub use rsf_linalg::Parallelism;
-pub use step::{FullStep, StepSolver};
 pub use tnnmg::{Tnnmg, TnnmgOptions};

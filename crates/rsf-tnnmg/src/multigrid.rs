@@ -5,11 +5,11 @@ use std::sync::Arc;
 use crate::block::{masked_inverse, mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedOrder, ChunkedSweep, Smoothing};
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use faer::sparse::SymbolicSparseColMatRef;
+use rsf_linalg::Csc;
 use rsf_linalg::{Cholesky, FillOrdering};
 
 /// Shape of the multigrid cycle.

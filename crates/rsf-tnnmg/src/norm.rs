@@ -3,9 +3,9 @@
 use faer::sparse::SparseColMatRef;
 
 use crate::bsr::BlockCsr;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::Parallelism;
+use rsf_linalg::Csc;
 
 /// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
 #[derive(Debug, Clone)]

@@ -6,51 +6,10 @@ use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedSweep, Smoothing};
 use crate::colouring::Colouring;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
-use crate::nonlinearity::BlockNonlinearity;
 use crate::Parallelism;
-
-/// A validated symmetric matrix with node-block structure and a fixed-dof mask, in scalar
-/// CSC storage (the direct solver's format).
-#[derive(Debug, Clone)]
-pub(crate) struct BlockedMatrix<const D: usize> {
-    pub a: Csc,
-    pub fixed: Vec<bool>,
-}
-
-impl<const D: usize> BlockedMatrix<D> {
-    /// # Errors
-    /// Non-symmetric pattern, missing diagonal, dimension not a multiple of `D`, mask of
-    /// the wrong length, non-positive diagonal entry on a free dof.
-    pub fn new(a: Csc, fixed: &[bool]) -> Result<Self> {
-        a.check_symmetric_pattern()?;
-        let n = a.nrows;
-        if n % D != 0 {
-            return Err(Error::InvalidMatrix(format!(
-                "dimension {n} is not a multiple of the block size {D}"
-            )));
-        }
-        if fixed.len() != n {
-            return Err(Error::DimensionMismatch {
-                what: "fixed mask",
-                expected: n,
-                got: fixed.len(),
-            });
-        }
-        for (i, p) in a.diagonal_positions()?.into_iter().enumerate() {
-            if !fixed[i] && a.val[p] <= 0.0 {
-                return Err(Error::NotPositiveDefinite(
-                    "non-positive diagonal entry on a free dof",
-                ));
-            }
-        }
-        Ok(Self {
-            a,
-            fixed: fixed.to_vec(),
-        })
-    }
-}
+use rsf_linalg::Csc;
+use rsf_nonsmooth::{BlockNonlinearity, BlockedMatrix};
 
 /// The chunked nonlinear smoother of TNNMG: the sweeper (its red–black chunked order), the
 /// number of sweeps and the threads ([`NodalProblem::nonlinear_gauss_seidel_chunked`]).

@@ -7,18 +7,16 @@ use faer::sparse::{SparseColMat, SparseColMatRef};
 use crate::block::load;
 use crate::chunks::{ChunkedOrder, ChunkedSweep};
 use crate::colouring::{Colouring, SmootherOrder};
-use crate::csc::Csc;
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
 use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
 use crate::multigrid::{CycleShape, LinearMultigrid};
-use crate::nonlinearity::{BlockNonlinearity, Linearization};
 use crate::norm::EnergyNorm;
 use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
-use crate::report::{
-    iterate_to_tolerance, Iteration, IterationRun, NonsmoothSolver, SolveReport, Stopping,
-};
+use crate::report::{iterate_to_tolerance, Iteration, IterationRun};
 use crate::Parallelism;
+use rsf_linalg::Csc;
+use rsf_nonsmooth::{BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, Stopping};
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
 /// truncated in the linear correction (see `Tnnmg::is_rigid`): at this contrast the
@@ -177,7 +175,7 @@ impl<const D: usize> Tnnmg<D> {
         let m = NodalProblem::<D>::new(a, fixed)?;
         let prolongations = prolongations
             .iter()
-            .map(|p| Csc::from_faer(p.as_ref()))
+            .map(|p| Csc::from_faer(p.as_ref()).map_err(Error::from))
             .collect::<Result<Vec<_>>>()?;
         let mut mg = LinearMultigrid::new(
             m.a.clone(),
@@ -448,6 +446,8 @@ impl<const D: usize> Iteration<D> for Tnnmg<D> {
 }
 
 impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
+    type Error = Error;
+
     fn name(&self) -> &'static str {
         "tnnmg"
     }

@@ -23,9 +23,15 @@ pub enum Error {
     /// set-up (an SVD that did not converge, a non-finite entry) or product.
     #[error(transparent)]
     HMatrix(#[from] rsf_hmatrix::Error),
-    /// Velocity solver (including its non-convergence).
+    /// Velocity solver TNNMG or nonlinear Gauss–Seidel (including its non-convergence), or
+    /// TNNMG as the initial equilibrium's linear multigrid.
     #[error(transparent)]
     Solver(#[from] rsf_tnnmg::Error),
+    /// The direct velocity solver (including its non-convergence) or the condensation onto
+    /// the fault (the fault ODE's, the normal stress's), e.g. an interior ordering whose
+    /// cargo feature is off.
+    #[error(transparent)]
+    Direct(#[from] rsf_direct::Error),
     /// The fixed point iteration of a time step did not converge within its budget.
     #[error(
         "fixed point iteration of step {step} (t = {time:.6e} s) did not converge in {iterations} \
@@ -51,7 +57,7 @@ pub enum Error {
          with a hierarchy or choose a solver explicitly"
     )]
     MemoryBudget {
-        /// The direct solver's estimate ([`rsf_tnnmg::DirectMemory::total_bytes`]).
+        /// The direct solver's estimate ([`rsf_direct::DirectMemory::total_bytes`]).
         needed_bytes: usize,
         /// The budget.
         budget_bytes: usize,

@@ -7,8 +7,8 @@
 //! [`SimulationBuilder::build_fault_ode_alone`](crate::SimulationBuilder::build_fault_ode_alone)
 //! runs it with a [`FaultAlone`].
 
+use rsf_direct::Condensation;
 use rsf_linalg::Parallelism;
-use rsf_tnnmg::Condensation;
 
 use crate::error::{invalid, Result};
 use crate::fault_operator::FaultOperator;

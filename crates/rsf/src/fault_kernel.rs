@@ -8,9 +8,9 @@ use std::time::Instant;
 
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
+use rsf_direct::Condensation;
 use rsf_hmatrix::{HMatrix, HOptions, Points};
 use rsf_linalg::Parallelism;
-use rsf_tnnmg::Condensation;
 
 use crate::error::{Error, Result};
 use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport};

@@ -2,7 +2,7 @@
 //! block nonlinearity for the velocity solvers.
 
 use rsf_friction::{ConvexPotential, FrictionLaw};
-use rsf_tnnmg::{BlockNonlinearity, Linearization};
+use rsf_nonsmooth::{BlockNonlinearity, Linearization};
 
 use crate::model::fault::{norm, FrictionalBoundary};
 
@@ -365,7 +365,7 @@ fn minimize_anisotropic<const D: usize, P: ConvexPotential>(
 mod tests {
     use super::*;
     use rsf_friction::{DieterichRuina, RateStateParams, Tresca};
-    use rsf_tnnmg::BlockNonlinearity;
+    use rsf_nonsmooth::BlockNonlinearity;
 
     fn params() -> RateStateParams {
         RateStateParams {

@@ -97,10 +97,12 @@ pub use simulation::{Problem, Run, Simulation, SimulationBuilder};
 pub use switching::SwitchingRun;
 
 pub use faer;
+pub use rsf_direct as direct;
 pub use rsf_fem as fem;
 pub use rsf_friction as friction;
 #[cfg(feature = "halfspace")]
 pub use rsf_halfspace as halfspace;
+pub use rsf_nonsmooth as nonsmooth;
 pub use rsf_state as state;
 pub use rsf_time as time;
 pub use rsf_tnnmg as tnnmg;

@@ -3,10 +3,10 @@
 //! condensed problem and the friction laws scaled by the current normal stress.
 
 use faer::Mat;
+use rsf_direct::Condensation;
 use rsf_friction::FrictionLaw;
 use rsf_linalg::Parallelism;
 use rsf_numeric::normal_component;
-use rsf_tnnmg::Condensation;
 
 use crate::error::{invalid, Error, Result};
 use crate::fault_kernel::{compress, Kernel};

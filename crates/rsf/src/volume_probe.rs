@@ -16,7 +16,7 @@
 //! `c0` the extension of the load with the initial fixed values and `x_F = 0`, `c1` that of
 //! no load with the Dirichlet factors and `x_F = 0`.
 
-use rsf_tnnmg::Condensation;
+use rsf_direct::Condensation;
 
 use crate::error::{invalid, Result};
 use crate::model::Model;

@@ -2,10 +2,12 @@
 
 use super::{SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep};
 
+use rsf_direct::DirectOptions;
 use rsf_fem::{pipping_slider_coarse, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN};
+use rsf_nonsmooth::Stopping;
 use rsf_state::BuiltinStateLaw;
 use rsf_time::VelocityIntegrator;
-use rsf_tnnmg::{DirectOptions, Stopping, TnnmgOptions};
+use rsf_tnnmg::TnnmgOptions;
 
 use rsf::method::FixedPointOptions;
 use rsf::method::SolverOptions;

@@ -4,6 +4,5 @@
 
 mod common;
 
-mod interior_ordering;
 mod smoother;
 mod solvers;

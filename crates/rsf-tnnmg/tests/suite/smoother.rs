@@ -5,6 +5,8 @@
 
 use crate::common::*;
 use faer::sparse::Triplet;
+use rsf_direct::{DirectOptions, DirectSolver};
+use rsf_nonsmooth::*;
 use rsf_tnnmg::*;
 
 /// A symmetric matrix with the node pattern of P1 on a simplicial mesh given by its

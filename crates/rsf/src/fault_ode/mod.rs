@@ -7,11 +7,11 @@
 
 use std::time::Instant;
 
+use rsf_direct::Condensation;
+pub use rsf_direct::InteriorOrdering;
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 use rsf_time::{EmbeddedRungeKutta, Kinematics, OdeSystem, RungeKuttaState};
-use rsf_tnnmg::Condensation;
-pub use rsf_tnnmg::InteriorOrdering;
 
 use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{invalid, Error, Result};
@@ -32,9 +32,11 @@ use crate::simulation::step::impose_dirichlet_velocities;
 use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
+mod linger;
 mod options;
 mod rates;
 
+pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
 
@@ -283,6 +285,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             body,
             operator,
             par: options.parallelism,
+            linger: options.linger,
             g0,
             g1,
             history,
@@ -539,7 +542,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// [`Checkpoint::new`](crate::Checkpoint::new)).
     ///
     /// # Errors
-    /// [`Error::Solver`] if the extension is not finite.
+    /// [`Error::Direct`] if the extension is not finite.
     pub fn state_with_volume(&mut self) -> Result<&SimulationState> {
         self.fill_state(true)?;
         Ok(&self.state)

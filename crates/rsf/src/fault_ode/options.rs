@@ -1,9 +1,11 @@
 //! The options of a fault ODE: its Runge–Kutta pair, tolerances, kernel, threads and
 //! the volume's fill-reducing ordering.
 
+use std::time::Duration;
+
+use rsf_direct::InteriorOrdering;
 use rsf_linalg::Parallelism;
 use rsf_time::{RungeKuttaOptions, Tableau, DORMAND_PRINCE_54, TOLERANCE_RANGE};
-use rsf_tnnmg::InteriorOrdering;
 
 use crate::error::{invalid, Result};
 use crate::fault_operator::FaultKernel;
@@ -41,10 +43,15 @@ pub struct FaultOdeOptions {
     /// (`rayon::ThreadPool::install`): called from outside it, each region hands its work
     /// to the pool and puts the caller to sleep until it is done, which can cost more than
     /// the evaluation (docs/scaling.md, "From inside the pool"). After each evaluation
-    /// the pool's other threads poll it for the next for up to
-    /// [`Parallelism::LINGER`] instead of sleeping ([`Parallelism::linger`]; timing
-    /// only).
+    /// the pool's other threads poll it for the next (see [`linger`](Self::linger)).
     pub parallelism: Parallelism,
+    /// How long, after each evaluation on more than one thread, the pool's other threads
+    /// poll it for the next instead of sleeping (timing only, never the bits;
+    /// docs/scaling.md, "Idle threads that poll"): `None` (the default) for
+    /// [`LINGER`](super::LINGER) = 200 µs, or not at all when rayon's current pool has
+    /// more threads than the machine has cores (a polling thread would take a core from
+    /// one with work); `Some(t)` for `t` whatever the pool, `Some(Duration::ZERO)` for off.
+    pub linger: Option<Duration>,
     /// The fill-reducing ordering of the volume's interior in the condensation onto the
     /// fault (default [`InteriorOrdering::Amd`]). [`InteriorOrdering::NestedDissection`]
     /// (METIS; rsf's feature `metis`) cuts the factor's entries and the set-up time of
@@ -62,6 +69,7 @@ impl Default for FaultOdeOptions {
             runge_kutta: RungeKuttaOptions::default(),
             kernel: FaultKernel::Dense,
             parallelism: Parallelism::default(),
+            linger: None,
             ordering: InteriorOrdering::Amd,
         }
     }

@@ -1,6 +1,8 @@
 //! The right-hand side of a fault ODE: the load, the product with the elastic operator
 //! and the node-by-node friction solves, as an [`OdeSystem`].
 
+use std::time::Duration;
+
 use rsf_friction::FrictionLaw;
 use rsf_linalg::Parallelism;
 use rsf_state::StateLaw;
@@ -14,11 +16,15 @@ use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut, PARALLEL_NODE
 use crate::normal_stress::NormalCoupling;
 use crate::ranks::SharedEvaluation;
 
+use super::linger::linger;
+
 /// What the right-hand side needs besides the laws.
 pub(super) struct FaultRates<const C: usize> {
     pub(super) body: Body<C>,
     pub(super) operator: Box<dyn FaultOperator>,
     pub(super) par: Parallelism,
+    /// The polling of idle threads after an evaluation ([`super::FaultOdeOptions::linger`]).
+    pub(super) linger: Option<Duration>,
     pub(super) g0: Vec<f64>,
     pub(super) g1: Vec<f64>,
     pub(super) history: TimeFunction,
@@ -43,13 +49,13 @@ pub(super) struct FaultRates<const C: usize> {
     pub(super) shared: Option<SharedEvaluation>,
 }
 
-/// [`Parallelism::linger`] when dropped: at the end of an evaluation however it ends (a
-/// few microseconds of Runge–Kutta arithmetic come before the next).
-pub(super) struct LingerAfter(Parallelism);
+/// [`linger`] when dropped: at the end of an evaluation however it ends (a few
+/// microseconds of Runge–Kutta arithmetic come before the next).
+pub(super) struct LingerAfter(Parallelism, Option<Duration>);
 
 impl Drop for LingerAfter {
     fn drop(&mut self) {
-        self.0.linger();
+        linger(self.0, self.1);
     }
 }
 
@@ -114,7 +120,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
                 .map_err(Error::from);
         }
         // Between the parallel evaluations the pool's other threads poll for work.
-        let _linger = (pieces > 1).then_some(LingerAfter(d.par));
+        let _linger = (pieces > 1).then_some(LingerAfter(d.par, d.linger));
         // With threads, an ℋ-kernel and a fixed normal stress: one parallel region, each
         // thread its rows of the product and their nodes' solves (same bits).
         if let (true, None, Some(h)) = (pieces > 1, &d.normal, d.operator.hierarchical_mut()) {

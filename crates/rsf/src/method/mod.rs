@@ -20,8 +20,8 @@ pub use solver::{
 pub use state_integrator::StateIntegrator;
 
 use rsf_fem::{combine, SparseMatrix};
+use rsf_nonsmooth::{StepSolver, Stopping};
 use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
-use rsf_tnnmg::{StepSolver, Stopping};
 
 use crate::error::{invalid, Result};
 use crate::model::Model;
@@ -191,7 +191,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
 
     /// The solver and, when one set-up serves every τ, the scaling of the step's problem
     /// at `tau`: `(1/c_K(τ), q)` — divide the right-hand side by `c_K` and solve with the
-    /// nonlinearity [`Scaled`](rsf_tnnmg::Scaled) by `1/c_K` with the damping `q`.
+    /// nonlinearity [`Scaled`](rsf_nonsmooth::Scaled) by `1/c_K` with the damping `q`.
     pub(crate) fn solver_and_scaling(
         &mut self,
         tau: f64,

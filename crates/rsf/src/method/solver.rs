@@ -1,11 +1,10 @@
 //! The velocity solver: which one ([`SolverKind`]), its options ([`SolverOptions`]), and
 //! the built solvers of a simulation, one per time step size used.
 
+use rsf_direct::{DirectMemory, DirectOptions, DirectSolver};
 use rsf_fem::SparseMatrix;
-use rsf_tnnmg::{
-    BlockNonlinearity, DirectMemory, DirectOptions, DirectSolver, FullStep, NonlinearGaussSeidel,
-    Parallelism, Result, SolveReport, StepSolver, Stopping, Tnnmg, TnnmgOptions,
-};
+use rsf_nonsmooth::{BlockNonlinearity, FullStep, SolveReport, StepSolver, Stopping};
+use rsf_tnnmg::{NonlinearGaussSeidel, Parallelism, Tnnmg, TnnmgOptions};
 
 use crate::model::Model;
 
@@ -52,7 +51,7 @@ impl SolverKind {
     /// has no hierarchy). The count is the measured crossover of the cost per step
     /// (docs/scaling.md); the direct solver's memory beyond its factor is `O(|F|²)` since
     /// its harmonic extension is formed block by block when large
-    /// ([`DirectOptions::max_extension_bytes`](rsf_tnnmg::DirectOptions)), so `n · |F|` no
+    /// ([`DirectOptions::max_extension_bytes`](rsf_direct::DirectOptions)), so `n · |F|` no
     /// longer enters the choice. The memory budget is applied on top by
     /// [`resolve_within`](Self::resolve_within), which simulations use.
     pub fn resolve<const D: usize, const C: usize>(self, model: &Model<D, C>) -> SolverKind {
@@ -72,7 +71,7 @@ impl SolverKind {
     /// The concrete choice for `model` with the time-step matrix `a` under the memory
     /// budget of `options`: as [`resolve`](Self::resolve), and where that picks the direct
     /// solver for [`Auto`](Self::Auto), its memory estimate
-    /// ([`rsf_tnnmg::DirectMemory::estimate`]: ordering and symbolic factorisation, no
+    /// ([`rsf_direct::DirectMemory::estimate`]: ordering and symbolic factorisation, no
     /// numeric work) must fit in [`SolverOptions::memory_budget_bytes`]; otherwise TNNMG.
     /// Explicit kinds are returned unchanged.
     ///
@@ -169,18 +168,18 @@ pub struct SolverOptions {
     /// step sizes. Without inertia (the quasistatic integrator) `A = τK + H` with `H` the
     /// radiation damping on Γ_F, so by default the solver is set up once for `K` and each
     /// step solves the same problem divided by τ (the damping and friction scaled by
-    /// `1/τ` on Γ_F, [`rsf_tnnmg::Scaled`]; docs/math.md §11); `true` restores one set-up
+    /// `1/τ` on Γ_F, [`rsf_nonsmooth::Scaled`]; docs/math.md §11); `true` restores one set-up
     /// per step size (the same solution up to round-off). Default `false`.
     pub setup_per_time_step: bool,
     /// Memory (bytes) that [`SolverKind::Auto`] may give the direct solver: its estimate
-    /// ([`rsf_tnnmg::DirectMemory`]: sparse factor, dense matrices on Γ_F, the set-up's
+    /// ([`rsf_direct::DirectMemory`]: sparse factor, dense matrices on Γ_F, the set-up's
     /// harmonic extension) must fit, else TNNMG is chosen (docs/scaling.md). Not applied
     /// to an explicitly chosen solver. Default [`DEFAULT_MEMORY_BUDGET_BYTES`].
     pub memory_budget_bytes: usize,
     /// The threads of every parallel part of a step, set once here (docs/design.md,
     /// "Parallelism"): the direct solver's sweeps over two halves of the interior and its
-    /// harmonic extension (from [`rsf_tnnmg::INTERIOR_PARALLEL_MIN`] interior unknowns),
-    /// its dense Newton factorisations (from [`rsf_tnnmg::DENSE_PARALLEL_MIN`] unknowns)
+    /// harmonic extension (from [`rsf_direct::INTERIOR_PARALLEL_MIN`] interior unknowns),
+    /// its dense Newton factorisations (from [`rsf_direct::DENSE_PARALLEL_MIN`] unknowns)
     /// and the integrator's right-hand side rows (from
     /// [`rsf_time::LOAD_PARALLEL_MIN_ROWS`] rows), and TNNMG's smoothers and residuals when
     /// `tnnmg.smoother` is [`rsf_tnnmg::SmootherOrder::MultiColour`] (the nonlinear sweeps)
@@ -253,7 +252,7 @@ impl<const C: usize> VelocitySolver<C> {
         options: &SolverOptions,
         a: &SparseMatrix,
         model: &Model<D, C>,
-    ) -> Result<Self> {
+    ) -> crate::Result<Self> {
         let e = model.energy_norm.as_ref();
         Ok(match kind.resolve(model) {
             SolverKind::Tnnmg => VelocitySolver::Tnnmg(Box::new(
@@ -306,7 +305,7 @@ impl<const C: usize> VelocitySolver<C> {
         options: &SolverOptions,
         a: &SparseMatrix,
         model: &Model<D, C>,
-    ) -> Result<Self> {
+    ) -> crate::Result<Self> {
         match self {
             VelocitySolver::Direct(d) => {
                 Ok(VelocitySolver::Direct(Box::new(d.for_matrix(a.as_ref())?)))
@@ -326,22 +325,26 @@ macro_rules! dispatch {
     };
 }
 
+/// One dispatch for the three solvers, whose errors are their crates' (`rsf_tnnmg::Error`,
+/// `rsf_direct::Error`): as [`crate::Error`].
 impl<const C: usize> StepSolver<C> for VelocitySolver<C> {
+    type Error = crate::Error;
+
     fn name(&self) -> &'static str {
         dispatch!(self, s => StepSolver::name(s.as_ref()))
     }
     fn dim(&self) -> usize {
         dispatch!(self, s => StepSolver::dim(s.as_ref()))
     }
-    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
-        dispatch!(self, s => s.begin_step(b, v, active))
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> crate::Result<()> {
+        dispatch!(self, s => s.begin_step(b, v, active).map_err(crate::Error::from))
     }
     fn solve_step<N: BlockNonlinearity<C>>(
         &mut self,
         nl: &N,
         stopping: Stopping,
-    ) -> Result<SolveReport> {
-        dispatch!(self, s => s.solve_step(nl, stopping))
+    ) -> crate::Result<SolveReport> {
+        dispatch!(self, s => s.solve_step(nl, stopping).map_err(crate::Error::from))
     }
     fn block(&self, k: usize) -> [f64; C] {
         dispatch!(self, s => s.block(k))
@@ -349,10 +352,10 @@ impl<const C: usize> StepSolver<C> for VelocitySolver<C> {
     fn last_change(&self) -> f64 {
         dispatch!(self, s => s.last_change())
     }
-    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
-        dispatch!(self, s => s.finish_step(v))
+    fn finish_step(&mut self, v: &mut [f64]) -> crate::Result<()> {
+        dispatch!(self, s => s.finish_step(v).map_err(crate::Error::from))
     }
-    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
-        dispatch!(self, s => s.current_iterate(v))
+    fn current_iterate(&mut self, v: &mut [f64]) -> crate::Result<()> {
+        dispatch!(self, s => s.current_iterate(v).map_err(crate::Error::from))
     }
 }

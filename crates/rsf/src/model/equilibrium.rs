@@ -4,7 +4,8 @@
 //! (TNNMG without nonlinearity) on the model's prolongations (docs/scaling.md).
 
 use rsf_fem::{ConstrainedSystem, SparseMatrix};
-use rsf_tnnmg::{NoNonlinearity, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
+use rsf_nonsmooth::{NoNonlinearity, NonsmoothSolver, Stopping};
+use rsf_tnnmg::{Tnnmg, TnnmgOptions};
 
 use crate::error::{Error, Result};
 

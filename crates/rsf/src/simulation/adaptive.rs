@@ -22,6 +22,8 @@ fn recoverable(e: &Error) -> bool {
         Error::FixedPointNotConverged { .. }
             | Error::Solver(rsf_tnnmg::Error::NotConverged { .. })
             | Error::Solver(rsf_tnnmg::Error::NonFinite(_))
+            | Error::Direct(rsf_direct::Error::NotConverged { .. })
+            | Error::Direct(rsf_direct::Error::NonFinite(_))
             | Error::State(_)
             | Error::NormalStressNotPositive { .. }
     )

@@ -535,7 +535,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// `step_control`, `state_integrator`), `integrator` for an integrator with inertia,
     /// `radiation_damping` for η ≤ 0, `loading` for a custom loading history, `dirichlet`
     /// for a frictional node with some components prescribed at a non-zero velocity; the
-    /// options' errors; [`Error::Solver`] if `K` is not positive definite on the free dofs.
+    /// options' errors; [`Error::Direct`] if `K` is not positive definite on the free dofs.
     pub fn build_fault_ode(self, options: FaultOdeOptions) -> Result<FaultOde<D, L, S, C>> {
         self.fault_ode(options, Elastic::Condensed(None))
     }

@@ -2,9 +2,9 @@
 //! and the state update (docs/math.md §4, §8; paper §6.2), its commit, and changes of τ.
 
 use rsf_friction::FrictionLaw;
+use rsf_nonsmooth::{BlockNonlinearity, Scaled, SolveReport, StepSolver, Stopping};
 use rsf_state::StateLaw;
 use rsf_time::VelocityIntegrator;
-use rsf_tnnmg::{BlockNonlinearity, Scaled, SolveReport, StepSolver, Stopping};
 
 use crate::error::{Error, Result};
 use crate::friction_blocks::{evaluate_potentials, FrictionView};
@@ -281,7 +281,7 @@ fn solve<const C: usize, N: BlockNonlinearity<C>>(
     nl: &N,
     scaling: Option<(f64, &[f64])>,
     stopping: Stopping,
-) -> std::result::Result<SolveReport, rsf_tnnmg::Error> {
+) -> Result<SolveReport> {
     match scaling {
         Some((scale, quadratic)) => solver.solve_step(
             &Scaled {

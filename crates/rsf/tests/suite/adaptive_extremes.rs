@@ -91,6 +91,7 @@ fn is_numerical_failure(e: &Error) -> bool {
             Error::Time(TimeError::StepTooSmall { .. })
                 | Error::FixedPointNotConverged { .. }
                 | Error::Solver(_)
+                | Error::Direct(_)
                 | Error::State(_)
         ),
     }

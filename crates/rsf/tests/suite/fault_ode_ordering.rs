@@ -73,7 +73,7 @@ fn nested_dissection_without_the_feature_is_a_typed_error() {
     assert!(
         matches!(
             e,
-            rsf::Error::Solver(rsf_tnnmg::Error::FeatureDisabled {
+            rsf::Error::Direct(rsf_direct::Error::FeatureDisabled {
                 feature: "metis",
                 ..
             })

@@ -8,11 +8,11 @@
 #![cfg(feature = "halfspace")]
 
 use faer::Mat;
+use rsf::direct::Condensation;
 use rsf::fault_operator::FaultOperator;
 use rsf::fem::{cuboid_from_coordinates, geometric_grading, DofTransform};
 use rsf::halfspace::{Medium, Okada};
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOperatorError, HalfSpaceOptions};
-use rsf::tnnmg::Condensation;
 use rsf::{Material, Model, ModelBuilder, Parallelism, Part};
 
 const MU: f64 = 30e9;

@@ -3,6 +3,7 @@
 //! problem `min ½ v'ᵀ K' v' + Σ w_p φ(|j_T,p|)` with `K' = Tᵀ K T`, the normal jump tied
 //! and Tresca friction on the jump blocks is what TNNMG and the direct solver already
 //! solve: both give the same minimiser, part of the fault slipping, part stuck.
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::faer::sparse::{SparseColMat, Triplet};
 use rsf::fem::{
     rectangle, refine_red, vectorize, Assembler, Diagonal, DofTransform, FaultSides,
@@ -10,9 +11,8 @@ use rsf::fem::{
 };
 use rsf::friction::Tresca;
 use rsf::method::FrictionBlocks;
-use rsf::tnnmg::{
-    DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver, Tnnmg, TnnmgOptions,
-};
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
+use rsf::tnnmg::{Tnnmg, TnnmgOptions};
 
 struct Problem {
     mesh: TriangleMesh,

@@ -4,14 +4,14 @@
 //! fault slipping: TNNMG's iteration count stays bounded as the mesh is refined, and it is
 //! below that of the same solver whose coarse spaces are continuous across the fault (the
 //! first version: only the finest mesh split, a plus copy taking its original's row).
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::faer::sparse::{SparseColMat, Triplet};
 use rsf::fem::{rectangle, vectorize, Diagonal, DofTransform, MeshHierarchy, SparseMatrix};
 use rsf::friction::Tresca;
 use rsf::method::FrictionBlocks;
 use rsf::model::{MaterialRegions, Medium};
-use rsf::tnnmg::{
-    DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver, Tnnmg, TnnmgOptions,
-};
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
+use rsf::tnnmg::{Tnnmg, TnnmgOptions};
 use rsf::{Material, Model, ModelBuilder, Part};
 
 const FROM: [f64; 2] = [0.0, -0.5];

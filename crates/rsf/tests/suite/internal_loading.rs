@@ -3,8 +3,9 @@
 //! both copies of a split node), a creeping section with a prescribed slip rate
 //! (`ModelBuilder::internal_creep`); uniform slip on a through-going fault is then a rigid
 //! motion of the two sides, with no stress change.
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::{rectangle, Diagonal};
-use rsf::tnnmg::{DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver};
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
 use rsf::{Material, Model, ModelBuilder, Part};
 
 const V: f64 = 1e-3;

@@ -31,14 +31,16 @@
 //!   errors naming the node.
 
 use crate::common::*;
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::{
     pipping_slider_coarse, rectangle, Diagonal, SimplexMesh, TriangleMesh, TAG_DIRICHLET,
     TAG_FRICTIONAL, TAG_NEUMANN,
 };
 use rsf::friction::DieterichRuina;
 use rsf::method::FrictionBlocks;
+use rsf::nonsmooth::{NonsmoothSolver, Stopping};
 use rsf::time::{Kinematics, Newmark, SystemMatrices, VelocityIntegrator};
-use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
+use rsf::tnnmg::{Tnnmg, TnnmgOptions};
 use rsf::{Error, Model, ModelBuilder, Observer, Part, SolverKind, StateLawKind, StepView};
 use rsf_scenes::{
     onto_arc, skew_rotation, slider_3d_coarse, Slider3dScene, SliderScene, ARC_BLOCK_MESH,

@@ -3,13 +3,14 @@
 //! the fault ODE's normal stress against a full static solve at the same slip, zero change
 //! on a fault that is a plane of mirror symmetry, the implicit scheme converging to the
 //! fault ODE, and typed refusals.
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{rectangle, Diagonal, SimplexMesh, SparseMatrix};
 use rsf::friction::{AsinhLaw, RateStateParams};
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
 use rsf::normal_stress::NormalStress;
 use rsf::state::Aging;
 use rsf::time::Quasistatic;
-use rsf::tnnmg::{DirectOptions, DirectSolver, NoNonlinearity, NonsmoothSolver};
 use rsf::{Flow, Material, Model, ModelBuilder, Observer, Part, SimulationBuilder, StepView};
 
 const SIGMA_N: f64 = 5e6;

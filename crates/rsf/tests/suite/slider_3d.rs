@@ -3,11 +3,13 @@
 //! problems, and its VTU frames hold tetrahedra.
 
 use crate::common::{apply, dot, first_crossing};
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::SparseMatrix;
 use rsf::friction::DieterichRuina;
 use rsf::method::FrictionBlocks;
+use rsf::nonsmooth::{NonsmoothSolver, Stopping};
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
-use rsf::tnnmg::{DirectOptions, DirectSolver, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions};
+use rsf::tnnmg::{Tnnmg, TnnmgOptions};
 use rsf::{Model, Observer, SolverKind, StepView};
 use rsf_scenes::{LateralBoundary, Slider3dScene, SliderScene, SLIDER_CENTRE};
 
@@ -379,7 +381,7 @@ fn solve_cost_tnnmg_against_linear_multigrid() {
         let its = |tn: &mut Tnnmg<3>, linear: bool| {
             let mut v = start.clone();
             if linear {
-                tn.solve(&b, &rsf::tnnmg::NoNonlinearity, &mut v)
+                tn.solve(&b, &rsf::nonsmooth::NoNonlinearity, &mut v)
             } else {
                 tn.solve(&b, &nl, &mut v)
             }
@@ -393,7 +395,7 @@ fn solve_cost_tnnmg_against_linear_multigrid() {
                 tn.solve(&b, &nl, v).unwrap();
             }));
             t_lin.push(seconds_per_solve(&start, |v| {
-                tn.solve(&b, &rsf::tnnmg::NoNonlinearity, v).unwrap();
+                tn.solve(&b, &rsf::nonsmooth::NoNonlinearity, v).unwrap();
             }));
         }
         t_tn.sort_by(f64::total_cmp);

@@ -9,14 +9,13 @@
 //! The Dirichlet values are the post-ramp loading `v = (2e-4, 0)` m/s on the top edge and
 //! `v_y = 0` on Γ_F (bilateral contact). Warm start: `v_prev` with the Dirichlet values.
 
+use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, Tresca};
 use rsf::method::FrictionBlocks;
+use rsf::nonsmooth::{BlockNonlinearity, NoNonlinearity, NonsmoothSolver, Stopping};
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
-use rsf::tnnmg::{
-    BlockNonlinearity, DirectOptions, DirectSolver, Error as SolverError, NoNonlinearity,
-    NonlinearGaussSeidel, NonsmoothSolver, Stopping, Tnnmg, TnnmgOptions,
-};
+use rsf::tnnmg::{Error as SolverError, NonlinearGaussSeidel, Tnnmg, TnnmgOptions};
 use rsf::Model;
 use rsf_scenes::SliderScene;
 
@@ -668,8 +667,11 @@ fn converged_or_typed<N: BlockNonlinearity<2>, S: NonsmoothSolver<2>>(
     b: &[f64],
     nl: &N,
     v: &mut [f64],
-) -> bool {
-    match solver.solve(b, nl, v) {
+) -> bool
+where
+    S::Error: Into<rsf::Error>,
+{
+    match solver.solve(b, nl, v).map_err(Into::<rsf::Error>::into) {
         Ok(rep) => {
             assert!(
                 v.iter().all(|x| x.is_finite()),
@@ -679,7 +681,12 @@ fn converged_or_typed<N: BlockNonlinearity<2>, S: NonsmoothSolver<2>>(
             eprintln!("{what}: {} converged in {}", solver.name(), rep.iterations);
             true
         }
-        Err(e @ SolverError::NotConverged { .. }) | Err(e @ SolverError::NonFinite(_)) => {
+        Err(
+            e @ (rsf::Error::Solver(SolverError::NotConverged { .. })
+            | rsf::Error::Solver(SolverError::NonFinite(_))
+            | rsf::Error::Direct(rsf::direct::Error::NotConverged { .. })
+            | rsf::Error::Direct(rsf::direct::Error::NonFinite(_))),
+        ) => {
             eprintln!("{what}: {} typed error: {e}", solver.name());
             false
         }

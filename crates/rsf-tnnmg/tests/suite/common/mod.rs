@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use faer::sparse::{SparseColMat, Triplet};
-use rsf_tnnmg::{BlockNonlinearity, Linearization};
+use rsf_nonsmooth::{BlockNonlinearity, Linearization};
 
 pub type Mat = SparseColMat<usize, f64>;
 

@@ -6,19 +6,25 @@
 //! [`StepSolver`] is that sequence as an interface: [`begin_step`](StepSolver::begin_step)
 //! once per time step, [`solve_step`](StepSolver::solve_step) once per fixed point
 //! iteration, [`finish_step`](StepSolver::finish_step) once at the end. A solver that
-//! condenses onto the nonsmooth blocks ([`DirectSolver`](crate::DirectSolver)) does all of
+//! condenses onto the nonsmooth blocks (`rsf_direct::DirectSolver`) does all of
 //! its per-step bulk work in `begin_step`/`finish_step` and the iterations on the
 //! frictional unknowns only; [`FullStep`] turns any [`NonsmoothSolver`] into a
 //! `StepSolver` that solves the whole problem every iteration (TNNMG, Gauss–Seidel).
 
 use faer::sparse::SparseColMatRef;
 
-use crate::block::load;
-use crate::csc::Csc;
-use crate::error::{Error, Result};
+use crate::error::Error;
 use crate::nonlinearity::BlockNonlinearity;
-use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
-use crate::Parallelism;
+use crate::solver::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+use rsf_linalg::{Csc, Parallelism};
+
+/// Block `p` of the node-major vector `v`.
+#[inline]
+fn load<const D: usize>(v: &[f64], p: usize) -> [f64; D] {
+    let mut out = [0.0; D];
+    out.copy_from_slice(&v[D * p..D * p + D]);
+    out
+}
 
 /// A minimiser of `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` for a sequence of
 /// nonlinearities `φ` with the same `A`, `b`, fixed dofs and active blocks.
@@ -29,6 +35,9 @@ use crate::Parallelism;
 /// [`block`](Self::block) reads the current value of an active block (e.g. to update the
 /// friction state from the slip rate).
 pub trait StepSolver<const D: usize> {
+    /// The solver's error type.
+    type Error: std::error::Error;
+
     /// Short name for reports.
     fn name(&self) -> &'static str;
 
@@ -45,18 +54,18 @@ pub trait StepSolver<const D: usize> {
     ///
     /// # Errors
     /// Dimension mismatches, non-finite input, active blocks that differ from the set-up.
-    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()>;
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<(), Self::Error>;
 
     /// Minimises `J` for the nonlinearity `nl` (whose active blocks are those given to
     /// [`begin_step`](Self::begin_step)) from the current iterate, to `stopping`.
     ///
     /// # Errors
-    /// Non-convergence within the budget ([`Error::NotConverged`]), non-finite iterates.
+    /// Non-convergence within the budget (the solver's "not converged"), non-finite iterates.
     fn solve_step<N: BlockNonlinearity<D>>(
         &mut self,
         nl: &N,
         stopping: Stopping,
-    ) -> Result<SolveReport>;
+    ) -> Result<SolveReport, Self::Error>;
 
     /// Value of active block `k` (all `D` components) of the current iterate.
     fn block(&self, k: usize) -> [f64; D];
@@ -72,7 +81,7 @@ pub trait StepSolver<const D: usize> {
     ///
     /// # Errors
     /// Non-finite results.
-    fn finish_step(&mut self, v: &mut [f64]) -> Result<()>;
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<(), Self::Error>;
 
     /// Writes the full current iterate into `v` (length `n`; entries of fixed dofs are
     /// left as the caller set them) as [`finish_step`](Self::finish_step) would, without
@@ -82,7 +91,7 @@ pub trait StepSolver<const D: usize> {
     ///
     /// # Errors
     /// Outside a step; dimension mismatch; non-finite results.
-    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()>;
+    fn current_iterate(&mut self, v: &mut [f64]) -> Result<(), Self::Error>;
 }
 
 /// Any [`NonsmoothSolver`] as a [`StepSolver`]: every [`solve_step`](StepSolver::solve_step)
@@ -111,16 +120,23 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
     ///
     /// # Errors
     /// [`Error::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
-    pub fn new(solver: S, energy_norm: Option<SparseColMatRef<'_, usize, f64>>) -> Result<Self> {
+    pub fn new(
+        solver: S,
+        energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
+    ) -> Result<Self, S::Error> {
         let n = solver.dim();
-        let norm = energy_norm.map(Csc::from_faer).transpose()?;
+        let norm = energy_norm
+            .map(Csc::from_faer)
+            .transpose()
+            .map_err(Error::from)?;
         if let Some(e) = &norm {
             if e.nrows != n || e.ncols != n {
                 return Err(Error::DimensionMismatch {
                     what: "energy-norm matrix",
                     expected: n,
                     got: e.nrows,
-                });
+                }
+                .into());
             }
         }
         Ok(Self {
@@ -138,8 +154,8 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
     }
 
     /// Declares that the wrapped solver measures its corrections in this `FullStep`'s
-    /// energy norm (the same `E`, e.g. [`Tnnmg`](crate::Tnnmg) or
-    /// [`NonlinearGaussSeidel`](crate::NonlinearGaussSeidel) built with it): a solve of
+    /// energy norm (the same `E`, e.g. `rsf_tnnmg::Tnnmg` or
+    /// `rsf_tnnmg::NonlinearGaussSeidel` built with it): a solve of
     /// one iteration changes the iterate by exactly its last correction, so
     /// [`last_change`](StepSolver::last_change) is the report's
     /// [`correction`](SolveReport::correction) and is not measured a second time (a pass
@@ -172,6 +188,8 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
 }
 
 impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
+    type Error = S::Error;
+
     fn name(&self) -> &'static str {
         self.solver.name()
     }
@@ -180,8 +198,8 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
         self.solver.dim()
     }
 
-    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<()> {
-        check_inputs(self.dim(), b, v)?;
+    fn begin_step(&mut self, b: &[f64], v: &[f64], active: &[usize]) -> Result<(), S::Error> {
+        check_inputs(self.dim(), b, v).map_err(S::Error::from)?;
         self.b.copy_from_slice(b);
         self.v.copy_from_slice(v);
         self.active.clear();
@@ -194,11 +212,12 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
         &mut self,
         nl: &N,
         stopping: Stopping,
-    ) -> Result<SolveReport> {
+    ) -> Result<SolveReport, S::Error> {
         if nl.active_blocks() != self.active.as_slice() {
             return Err(Error::InvalidOption(
                 "the nonlinearity's active blocks differ from those of begin_step".into(),
-            ));
+            )
+            .into());
         }
         self.solver.set_stopping(stopping)?;
         self.v_before.copy_from_slice(&self.v);
@@ -228,19 +247,20 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
         self.change
     }
 
-    fn finish_step(&mut self, v: &mut [f64]) -> Result<()> {
+    fn finish_step(&mut self, v: &mut [f64]) -> Result<(), S::Error> {
         if v.len() != self.v.len() {
             return Err(Error::DimensionMismatch {
                 what: "iterate",
                 expected: self.v.len(),
                 got: v.len(),
-            });
+            }
+            .into());
         }
         v.copy_from_slice(&self.v);
         Ok(())
     }
 
-    fn current_iterate(&mut self, v: &mut [f64]) -> Result<()> {
+    fn current_iterate(&mut self, v: &mut [f64]) -> Result<(), S::Error> {
         self.finish_step(v)
     }
 }

@@ -4,10 +4,10 @@
 
 use rayon::prelude::*;
 
-use crate::Parallelism;
+use crate::parallelism::Parallelism;
 
 /// Rows below which [`ordered_sum`] stays on the calling thread.
-pub(crate) const SUM_PARALLEL_MIN: usize = 2048;
+pub const SUM_PARALLEL_MIN: usize = 2048;
 
 /// `Σ_i Σ_c t_i[c]` over the rows `i < rows` with `term(i) = Some(t_i)`, added in increasing
 /// `i`, then `c` — the bits of the loop
@@ -18,7 +18,7 @@ pub(crate) const SUM_PARALLEL_MIN: usize = 2048;
 /// computed on at most that many threads, in contiguous ranges of rows, and stored in
 /// `scratch` (resized to `rows` on first use; kept by the caller, so repeated sums
 /// allocate nothing); the calling thread then adds them in the order above.
-pub(crate) fn ordered_sum<const K: usize, F>(
+pub fn ordered_sum<const K: usize, F>(
     rows: usize,
     par: Parallelism,
     scratch: &mut Vec<Option<[f64; K]>>,
@@ -62,7 +62,7 @@ where
 /// entries), in at most `par.threads()` contiguous ranges of nodes, on one thread below
 /// `min_nodes` nodes. Each node's values are computed by one call, so the result has the
 /// same bits for every thread count.
-pub(crate) fn for_node_rows<const D: usize>(
+pub fn for_node_rows<const D: usize>(
     v: &mut [f64],
     (par, min_nodes): (Parallelism, usize),
     row: impl Fn(usize, &mut [f64]) + Sync,

@@ -28,8 +28,7 @@ use super::dense::{
 };
 use super::norm_bounds::{euclidean, NormBounds, NORM_BOUNDS_MIN};
 use crate::error::{Error, Result};
-use crate::nonlinearity::{BlockNonlinearity, Linearization};
-use crate::report::{SolveReport, Stopping};
+use rsf_nonsmooth::{BlockNonlinearity, Linearization, SolveReport, Stopping};
 
 /// Dense condensed problem and the state of its iteration.
 pub(super) struct DenseFault<const D: usize> {

@@ -1,8 +1,8 @@
 //! The ordering of a condensation's interior: AMD after one home-made level of dissection
 //! (partial_cholesky/), or METIS's nested dissection (crate rsf-metis, feature `metis`).
 
-use crate::csc::Csc;
 use crate::error::{Error, Result};
+use rsf_linalg::Csc;
 
 /// How the interior `R` of a [`Condensation`](crate::Condensation) is ordered for its
 /// sparse Cholesky factor (the interface `F` is always eliminated last, which makes the
@@ -30,7 +30,7 @@ pub enum InteriorOrdering {
     /// `D` dofs) with an interior dof, expanded to their interior dofs in component order.
     /// Much less fill than [`Amd`](Self::Amd) on 3-D volumes (docs/three-d.md, "The
     /// operator at scale"). Deterministic (a fixed seed). Needs the cargo feature `metis`
-    /// (of rsf-tnnmg, or rsf's `metis`); without it a condensation asking for it fails with
+    /// (of rsf-direct, or rsf's `metis`); without it a condensation asking for it fails with
     /// [`Error::FeatureDisabled`].
     NestedDissection,
 }

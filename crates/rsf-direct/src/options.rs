@@ -1,11 +1,11 @@
 //! The options of the direct solver and the constants of its set-up.
 
-use crate::report::Stopping;
+use rsf_nonsmooth::Stopping;
 
 /// Options of [`DirectSolver`](super::DirectSolver).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DirectOptions {
-    /// Stopping test of [`NonsmoothSolver::solve`](crate::NonsmoothSolver::solve): energy norm of the correction of an
+    /// Stopping test of [`NonsmoothSolver::solve`](rsf_nonsmooth::NonsmoothSolver::solve): energy norm of the correction of an
     /// iteration of the condensed problem (the norm of its discrete harmonic extension in
     /// the energy norm, see [`DirectSolver::with_energy_norm`](super::DirectSolver::with_energy_norm)). Default: absolute 1e-13,
     /// relative 1e-13, 200 iterations.

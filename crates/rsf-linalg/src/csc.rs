@@ -1,26 +1,36 @@
 //! A minimal compressed-sparse-column matrix used inside the solvers.
 //!
-//! The public API takes and returns `faer::sparse::SparseColMat<usize, f64>`; internally the
-//! solvers keep plain arrays so that kernels (Gauss–Seidel, Galerkin products) are simple,
+//! The solvers' public APIs (`rsf-tnnmg`, `rsf-direct`) take and return
+//! `faer::sparse::SparseColMat<usize, f64>`; internally they keep plain arrays so that
+//! kernels (Gauss–Seidel, Galerkin products, the partial Cholesky's scatter) are simple,
 //! allocation-free loops over a fixed pattern.
 
 use crate::error::{Error, Result};
+use crate::parallelism::Parallelism;
 use crate::reduce::ordered_sum;
-use crate::Parallelism;
 use faer::sparse::SparseColMatRef;
 
-/// Compressed sparse column matrix with sorted row indices in every column.
+/// Compressed sparse column matrix with sorted row indices in every column (the solvers'
+/// internal format; `rsf-tnnmg` and `rsf-direct` share it).
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Csc {
+pub struct Csc {
+    /// Number of rows.
     pub nrows: usize,
+    /// Number of columns.
     pub ncols: usize,
+    /// Start of each column in `row_idx` and `val` (length `ncols + 1`).
     pub col_ptr: Vec<usize>,
+    /// Row index of each stored entry, increasing within a column.
     pub row_idx: Vec<usize>,
+    /// Value of each stored entry.
     pub val: Vec<f64>,
 }
 
 impl Csc {
     /// Copies a faer matrix (any column storage; rows sorted and duplicates summed here).
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] for a non-finite entry.
     pub fn from_faer(m: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
         let (nrows, ncols) = (m.nrows(), m.ncols());
         let mut col_ptr = Vec::with_capacity(ncols + 1);
@@ -55,7 +65,6 @@ impl Csc {
     }
 
     /// The nonzero entries of a dense matrix (rows of `dense`), for tests.
-    #[cfg(test)]
     pub fn from_dense(dense: &[Vec<f64>]) -> Self {
         let (nrows, ncols) = (dense.len(), dense.first().map_or(0, Vec::len));
         let mut col_ptr = vec![0];
@@ -78,6 +87,7 @@ impl Csc {
         }
     }
 
+    /// Row indices and values of column `j`.
     #[inline]
     pub fn col(&self, j: usize) -> (&[usize], &[f64]) {
         let r = self.col_ptr[j]..self.col_ptr[j + 1];
@@ -93,7 +103,10 @@ impl Csc {
             .map(|k| r.start + k)
     }
 
-    /// Positions of the diagonal entries; error if one is missing.
+    /// Positions of the diagonal entries.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] if one is missing.
     pub fn diagonal_positions(&self) -> Result<Vec<usize>> {
         (0..self.ncols)
             .map(|j| {
@@ -106,7 +119,6 @@ impl Csc {
 
     /// `y = A x` for symmetric A (a reference for the block kernels' tests) (reads columns as rows; valid for any A as `y = Aᵀ x`
     /// computed row-wise, which equals `A x` when A is symmetric).
-    #[cfg(test)]
     pub fn sym_mul(&self, x: &[f64], y: &mut [f64]) {
         for (j, yj) in y.iter_mut().enumerate() {
             let (rows, vals) = self.col(j);
@@ -128,7 +140,7 @@ impl Csc {
         s
     }
 
-    /// `xᵀ A x` for symmetric A (energy norms of [`FullStep`](crate::FullStep)): the
+    /// `xᵀ A x` for symmetric A (the energy norms of `rsf_nonsmooth::FullStep`): the
     /// columns' terms `x_j (A x)_j` (for `x_j ≠ 0`) computed on `par`'s threads and added
     /// in increasing `j` ([`ordered_sum`]), the same bits for every thread count.
     /// `scratch` (one entry per column) is kept by the caller.
@@ -144,6 +156,9 @@ impl Csc {
     }
 
     /// Checks that the matrix is square and structurally symmetric with a full diagonal.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] naming the first entry that breaks it.
     pub fn check_symmetric_pattern(&self) -> Result<()> {
         if self.nrows != self.ncols {
             return Err(Error::InvalidMatrix(format!(

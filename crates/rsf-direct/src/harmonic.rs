@@ -6,7 +6,7 @@ use super::partial_cholesky::PartialCholesky;
 
 use faer::{Accum, MatRef, Par};
 
-use crate::csc::Csc;
+use rsf_linalg::Csc;
 
 /// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), computed
 /// in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives the columns of

@@ -2,11 +2,8 @@
 
 use std::num::NonZeroUsize;
 use std::sync::OnceLock;
-use std::time::Duration;
 
 use crate::error::{Error, Result};
-
-mod linger;
 
 /// How many threads the parallel parts of a computation may use: the direct solver's
 /// sweeps and dense factorisations (`rsf-tnnmg`), the rows of the integrators'
@@ -31,13 +28,9 @@ mod linger;
 /// regions (the fault ODE's evaluations) should run on a thread of the pool
 /// (`rayon::ThreadPool::install`): entered from outside, each region hands its work to the
 /// pool and back, which on small problems costs more than it saves (docs/scaling.md,
-/// "From inside the pool"); [`SEQ`](Self::SEQ) is the choice there.
-///
-/// Between such regions idle pool threads may poll for the next one
-/// ([`linger`](Self::linger)): for [`LINGER`](Self::LINGER) by default, not at all when the
-/// current pool has more threads than the machine has cores (a polling thread would take
-/// a core from one with work), or as set by [`with_linger`](Self::with_linger) (timing
-/// only, never the bits).
+/// "From inside the pool"); [`SEQ`](Self::SEQ) is the choice there. (Whether idle pool
+/// threads poll between such regions is the fault ODE's own policy,
+/// `rsf::fault_ode::FaultOdeOptions::linger`, not part of the thread count.)
 ///
 /// Names (`FromStr`, `Display`): a thread count (`1`, `2`, …), `0` or `pool` for
 /// rayon's current pool size (read once, when parsed), `seq` for one thread.
@@ -53,16 +46,12 @@ mod linger;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Parallelism {
     threads: NonZeroUsize,
-    /// How long idle threads poll after [`linger`](Self::linger): `None` for the default
-    /// ([`linger_time`](Self::linger_time)).
-    linger: Option<Duration>,
 }
 
 impl Parallelism {
     /// One thread: everything on the calling thread.
     pub const SEQ: Self = Self {
         threads: NonZeroUsize::MIN,
-        linger: None,
     };
 
     /// The machine's cores as the process may use them (`std::thread::available_parallelism`,
@@ -80,10 +69,7 @@ impl Parallelism {
         let threads = NonZeroUsize::new(threads).unwrap_or_else(|| {
             NonZeroUsize::new(rayon::current_num_threads()).unwrap_or(NonZeroUsize::MIN)
         });
-        Self {
-            threads,
-            linger: None,
-        }
+        Self { threads }
     }
 
     /// The largest number of threads (≥ 1).
@@ -135,10 +121,7 @@ impl From<faer::Par> for Parallelism {
     fn from(par: faer::Par) -> Self {
         match par {
             faer::Par::Seq => Self::SEQ,
-            faer::Par::Rayon(threads) => Self {
-                threads,
-                linger: None,
-            },
+            faer::Par::Rayon(threads) => Self { threads },
         }
     }
 }

@@ -1,39 +1,29 @@
-//! Direct solver: exact condensation onto the nonsmooth blocks (docs/math.md §8).
-
-mod condensation;
-mod dense;
-mod fault_newton;
-mod functionals;
-mod harmonic;
-use harmonic::{harmonic_energy, harmonic_energy_by_blocks};
-mod memory;
-mod norm_bounds;
-mod options;
-mod ordering;
-mod partial_cholesky;
-mod schur_entries;
+//! The direct solver of the velocity problem: exact condensation onto the nonsmooth blocks
+//! (docs/math.md §8) and the dense nonsmooth Newton iteration on them.
 
 use std::time::Instant;
 
 use faer::sparse::SparseColMatRef;
-use rsf_linalg::Parallelism;
+use rsf_linalg::{Csc, Parallelism};
+use rsf_nonsmooth::{
+    check_inputs, BlockNonlinearity, BlockedMatrix, NonsmoothSolver, SolveReport, StepSolver,
+    Stopping,
+};
 
-use crate::block::load;
-use crate::csc::Csc;
+use crate::condensation::Condensation;
 use crate::error::{Error, Result};
-use crate::nonlinearity::BlockNonlinearity;
-use crate::problem::BlockedMatrix;
-use crate::report::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
-use crate::step::StepSolver;
-pub use condensation::Condensation;
-pub use dense::DENSE_PARALLEL_MIN;
-use fault_newton::DenseFault;
-pub use memory::DirectMemory;
-pub use options::DirectOptions;
-pub use ordering::InteriorOrdering;
-use partial_cholesky::PartialCholesky;
-pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
-pub use schur_entries::SchurEntries;
+use crate::fault_newton::DenseFault;
+use crate::harmonic::{harmonic_energy, harmonic_energy_by_blocks};
+use crate::options::DirectOptions;
+use crate::partial_cholesky::PartialCholesky;
+
+/// Block `k` of the node-major vector `v`.
+#[inline]
+fn load<const D: usize>(v: &[f64], k: usize) -> [f64; D] {
+    let mut out = [0.0; D];
+    out.copy_from_slice(&v[D * k..D * k + D]);
+    out
+}
 
 /// What the condensation computed for one set of nonsmooth blocks.
 struct Condensed<const D: usize> {
@@ -60,8 +50,8 @@ struct Condensed<const D: usize> {
 ///
 /// Threads ([`with_parallelism`](Self::with_parallelism), default
 /// [`Parallelism::default`]): the two halves of the interior in every sweep and the
-/// columns of the harmonic extension from [`INTERIOR_PARALLEL_MIN`] interior unknowns on,
-/// and the dense Newton factorisations from [`DENSE_PARALLEL_MIN`] unknowns on. The
+/// columns of the harmonic extension from [`INTERIOR_PARALLEL_MIN`](crate::INTERIOR_PARALLEL_MIN) interior unknowns on,
+/// and the dense Newton factorisations from [`DENSE_PARALLEL_MIN`](crate::DENSE_PARALLEL_MIN) unknowns on. The
 /// results do not depend on them.
 pub struct DirectSolver<const D: usize> {
     a: Csc,
@@ -219,6 +209,8 @@ impl<const D: usize> DirectSolver<D> {
 }
 
 impl<const D: usize> StepSolver<D> for DirectSolver<D> {
+    type Error = Error;
+
     fn name(&self) -> &'static str {
         "direct"
     }
@@ -331,6 +323,8 @@ impl<const D: usize> DirectSolver<D> {
 }
 
 impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
+    type Error = Error;
+
     fn name(&self) -> &'static str {
         "direct"
     }
@@ -368,7 +362,8 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use partial_cholesky::tests::grid;
+    use crate::partial_cholesky::tests::grid;
+    use crate::{DENSE_PARALLEL_MIN, INTERIOR_PARALLEL_MIN};
 
     /// The two ways of forming `N = Zᵀ E Z` agree: the stored extension's dense product and
     /// the block-by-block forward sweeps (an identity of the factor, not the same sums).
@@ -452,9 +447,9 @@ mod tests {
             }
             v[0] = 0.5 * (lo + hi);
         }
-        fn linearize(&self, _: usize, v: &[f64; 1]) -> crate::Linearization<1> {
+        fn linearize(&self, _: usize, v: &[f64; 1]) -> rsf_nonsmooth::Linearization<1> {
             let q = 1.0 + v[0] * v[0];
-            crate::Linearization::Smooth {
+            rsf_nonsmooth::Linearization::Smooth {
                 gradient: [self.w * v[0] / q.sqrt()],
                 hessian: [[self.w / (q * q.sqrt())]],
             }
@@ -526,7 +521,7 @@ mod tests {
     ) -> (faer::sparse::SparseColMat<usize, f64>, Vec<bool>, Soft) {
         let nodes = (rows.start * m..rows.end * m).collect();
         (
-            memory::tests::grid(m),
+            crate::memory::tests::grid(m),
             vec![false; m * m],
             Soft { nodes, w },
         )
@@ -548,7 +543,7 @@ mod tests {
     #[test]
     fn parallelism_reaches_every_part_of_the_solver() {
         let m = 12;
-        let a = memory::tests::grid(m);
+        let a = crate::memory::tests::grid(m);
         let fixed = vec![false; m * m];
         let nodes: Vec<usize> = (0..m).collect();
         let three = Parallelism::rayon(3);

@@ -120,7 +120,7 @@ impl<const D: usize> Condensation<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::direct::partial_cholesky::tests::grid;
+    use crate::partial_cholesky::tests::grid;
 
     /// Every entry has the bits of `extend_homogeneous` column by column and the sums in
     /// the given order, for blocks of one and of several columns (a last block shorter),

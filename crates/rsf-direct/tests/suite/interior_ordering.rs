@@ -4,7 +4,7 @@
 //! bit for bit.
 
 use faer::sparse::{SparseColMat, Triplet};
-use rsf_tnnmg::{Condensation, InteriorOrdering};
+use rsf_direct::{Condensation, InteriorOrdering};
 
 /// A 3-D vector problem on an `m × m × m` grid of nodes (3 dofs each): the 7-point
 /// Laplacian (plus a shift) times an SPD 3 × 3 block that couples the components, so its
@@ -101,7 +101,7 @@ fn nested_dissection_without_the_feature_is_a_typed_error() {
     assert!(
         matches!(
             e,
-            rsf_tnnmg::Error::FeatureDisabled {
+            rsf_direct::Error::FeatureDisabled {
                 feature: "metis",
                 ..
             }

@@ -7,9 +7,9 @@ use rsf_linalg::Parallelism;
 
 use super::ordering::InteriorOrdering;
 use super::partial_cholesky::PartialCholesky;
-use crate::csc::Csc;
 use crate::error::{Error, Result};
-use crate::problem::BlockedMatrix;
+use rsf_linalg::Csc;
+use rsf_nonsmooth::BlockedMatrix;
 
 /// The condensation of `A` (`n × n`, symmetric, positive definite on its free dofs) onto
 /// the free components `F` of a set of blocks (nodes; `D` components each): with `R` the
@@ -317,7 +317,7 @@ pub(super) fn split_dofs<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::direct::partial_cholesky::tests::grid;
+    use crate::partial_cholesky::tests::grid;
 
     /// Dense Cholesky solve of an SPD system (the reference, independent of the sparse
     /// factor).

@@ -5,8 +5,8 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
 use faer::sparse::SymbolicSparseColMat;
 
-use crate::csc::Csc;
 use crate::error::{Error, Result};
+use rsf_linalg::Csc;
 
 /// A faer failure as [`Error::Factorisation`].
 pub(super) fn faer_err(e: impl std::fmt::Debug) -> Error {

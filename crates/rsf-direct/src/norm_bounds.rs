@@ -94,7 +94,7 @@ pub(super) fn euclidean(x: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::NormBounds;
-    use crate::direct::dense::{lower_cholesky, norm_via_factor};
+    use crate::dense::{lower_cholesky, norm_via_factor};
 
     /// An `m × m` matrix by its entries.
     type Entries = Box<dyn Fn(usize, usize) -> f64>;

@@ -6,9 +6,9 @@ use faer::sparse::SparseColMatRef;
 use super::condensation::split_dofs;
 use super::options::{DirectOptions, HARMONIC_BLOCK};
 use super::partial_cholesky::PartialCholesky;
-use crate::csc::Csc;
 use crate::error::Result;
-use crate::problem::BlockedMatrix;
+use rsf_linalg::Csc;
+use rsf_nonsmooth::BlockedMatrix;
 
 /// The memory of a [`DirectSolver`](super::DirectSolver) set up for a problem, by part
 /// (bytes), from [`DirectMemory::estimate`]: the ordering and symbolic factorisation are
@@ -81,7 +81,7 @@ pub(super) mod tests {
     use faer::sparse::{SparseColMat, Triplet};
 
     /// 5-point Laplacian plus identity on an `m × m` grid (node `i + m j`).
-    pub(in crate::direct) fn grid(m: usize) -> SparseColMat<usize, f64> {
+    pub(crate) fn grid(m: usize) -> SparseColMat<usize, f64> {
         let mut t = Vec::new();
         for j in 0..m {
             for i in 0..m {

@@ -41,9 +41,9 @@ use faer::{Par, Side};
 
 use rsf_linalg::Parallelism;
 
-use crate::csc::Csc;
-use crate::direct::ordering::{nested_dissection, InteriorOrdering};
 use crate::error::{Error, Result};
+use crate::ordering::{nested_dissection, InteriorOrdering};
+use rsf_linalg::Csc;
 
 mod interior_order;
 mod supernodes;
