@@ -32,7 +32,7 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::observe::FileMode;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until};
 use rsf::{Observer, Stepping};
 use rsf_examples::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
@@ -42,6 +42,7 @@ use rsf_examples::guard::{
 use rsf_examples::{cpu_seconds, machine};
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
+use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
@@ -126,7 +127,7 @@ fn outputs() -> Vec<String> {
             "events.csv",
             "overview.png",
             "checkpoint.bin",
-            rsf::observe::SEAS_RESUME_LOG,
+            rsf_seas::SEAS_RESUME_LOG,
         ]
         .map(String::from),
     );
@@ -257,7 +258,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             .header
             .date
             .clone()
-            .unwrap_or_else(rsf::observe::utc_date_today),
+            .unwrap_or_else(rsf_seas::utc_date_today),
         ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.

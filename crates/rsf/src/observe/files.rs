@@ -79,15 +79,7 @@ pub(crate) fn open(
     start: Start,
 ) -> Result<BufWriter<File>> {
     let (step, every_step) = match start {
-        Start::Fresh { overwrite } => {
-            if !overwrite {
-                refuse_existing(path)?;
-            }
-            let mut out = BufWriter::new(File::create(path).map_err(io_at("create", path))?);
-            writeln!(out, "{header}").map_err(io_at("write", path))?;
-            out.flush().map_err(io_at("write", path))?;
-            return Ok(out);
-        }
+        Start::Fresh { overwrite } => return create_file(path, header, overwrite),
         Start::Resume { step, every_step } => (step, every_step),
     };
     let fail = |reason: String| Error::Resume {
@@ -143,6 +135,25 @@ pub(crate) fn check_resume(
             path: show_path(path),
             reason,
         })
+}
+
+/// Creates the output file `path` with the line(s) `header` (a newline added), flushed so
+/// that the header is on disk before the first row, and returns it for appending rows: the
+/// start of every output file of [`FileMode::Create`] (`overwrite` false) and
+/// [`FileMode::Overwrite`] (`overwrite` true), here and in the crates above (the SEAS files
+/// of `rsf-seas`).
+///
+/// # Errors
+/// [`Error::FileExists`] where a non-empty file exists and not `overwrite`;
+/// [`Error::File`] for I/O errors.
+pub fn create_file(path: &Path, header: &str, overwrite: bool) -> Result<BufWriter<File>> {
+    if !overwrite {
+        refuse_existing(path)?;
+    }
+    let mut out = BufWriter::new(File::create(path).map_err(io_at("create", path))?);
+    writeln!(out, "{header}").map_err(io_at("write", path))?;
+    out.flush().map_err(io_at("write", path))?;
+    Ok(out)
 }
 
 /// [`Error::FileExists`] if `path` exists and is not an empty file.
