@@ -4,8 +4,9 @@
 
 use rsf::model::FaultSide;
 
-/// Seconds per year (365.25 days), the unit of the benchmark's output intervals.
-pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
+/// Seconds per year (365.25 days), the unit of the benchmark's output intervals (the
+/// library's, [`rsf::observe::SECONDS_PER_YEAR`]).
+pub use rsf::observe::SECONDS_PER_YEAR;
 
 /// When rows are written: every accepted step, or thinned to the benchmark's suggestion
 /// (a station row at most every `station_quiet` s between events and every

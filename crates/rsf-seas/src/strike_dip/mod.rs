@@ -44,10 +44,10 @@ struct BodyStation {
     source: BodySource,
 }
 
-/// The BP5 files of a run of [`SeasBp5`]'s fault alone (an [`Observer`]). Rows are kept
-/// in memory and every file is written whole, atomically, by
-/// [`finish`](Observer::finish) (at the end of each run call), its header completed
-/// (time-step bounds, number of rows).
+/// The BP5 files of a run of `rsf_scenes::SeasBp5`, its fault alone or its volume model
+/// (an [`Observer`]). Rows are kept in memory and every file is written whole,
+/// atomically, by [`finish`](Observer::finish) (at the end of each run call), its header
+/// completed (time-step bounds, number of rows).
 pub struct SeasBp5Output {
     dir: PathBuf,
     setup: SeasSetup,

@@ -25,6 +25,10 @@ pub use vtu::VtuFrames;
 
 use rsf_friction::{ConvexPotential, FrictionLaw};
 
+/// Seconds per year (365.25 days): the unit of the long runs' times and intervals (the
+/// SEAS benchmarks' output intervals, `rsf_seas`, which re-exports it).
+pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
+
 use crate::checkpoint::Checkpoint;
 use crate::error::Result;
 use crate::method_state::MethodState;

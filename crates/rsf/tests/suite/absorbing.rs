@@ -527,13 +527,13 @@ fn small_bp1_fd_with_absorbing_boundaries_switching_and_implicit_agree_on_the_fi
         },
     )
     .unwrap();
-    let t_end = rsf::Until::Time(300.0 * crate::common::SECONDS_PER_YEAR);
+    let t_end = rsf::Until::Time(300.0 * rsf::observe::SECONDS_PER_YEAR);
     let mut a = FirstEvent::default();
     rsf::run_until(&mut switching, t_end, &mut [&mut a]).unwrap();
     let mut implicit = dynamic(1e-2);
     let mut b = FirstEvent::default();
     rsf::run_until(&mut implicit, t_end, &mut [&mut b]).unwrap();
-    let year = crate::common::SECONDS_PER_YEAR;
+    let year = rsf::observe::SECONDS_PER_YEAR;
     eprintln!(
         "switching: start {:.4} yr, peak {:.3} m/s, end +{:.1} s; implicit: start {:.4} yr, \
          peak {:.3} m/s, end +{:.1} s",

@@ -8,7 +8,9 @@ use rsf::model::AntiplaneMaterial;
 use rsf::{ModelBuilder, Part};
 use rsf_scenes::SeasBp1;
 
-use crate::common::{small_bp1, SECONDS_PER_YEAR};
+use rsf::observe::SECONDS_PER_YEAR;
+
+use crate::common::small_bp1;
 
 /// The antisymmetric fault scales the model's unknown to s·u: K/s², F/s, w/s, velocities
 /// s·v — checked against the same model without it, entry by entry.

@@ -5,11 +5,11 @@
 
 use rsf::fault_ode::FaultKernel;
 use rsf::friction::{AsinhLaw, FrictionLaw};
-use rsf::observe::{Checkpointer, Every, Interval};
+use rsf::observe::{Checkpointer, Every, Interval, SECONDS_PER_YEAR};
 use rsf::{Flow, Integrator, Observer, StepView, Termination, TimeFunction, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
-use crate::common::{small_bp1, SECONDS_PER_YEAR};
+use crate::common::small_bp1;
 
 fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf_scenes::SeasBp1FaultOde {
     let model = bp1.model(grid, false).unwrap();

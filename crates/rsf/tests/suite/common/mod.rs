@@ -334,10 +334,6 @@ pub fn checkpointer<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
     Every::new(Interval::Steps(every), Checkpointer::new(path)).expect("every >= 1")
 }
 
-/// Seconds per year (365.25 days), the SEAS benchmarks' unit of time (`rsf_seas::SECONDS_PER_YEAR`;
-/// rsf's tests do not depend on the output crate).
-pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
-
 /// A CSV file of numbers: its header and rows (every field parsed as `f64`), read by the
 /// `csv` crate.
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
