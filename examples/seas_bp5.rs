@@ -17,7 +17,7 @@
 //! unknowns, an ℋ-matrix of accuracy `--epsilon` beyond). The rest of the fault plane
 //! creeps at V_p: back slip (`rsf::fault_alone::FaultAlone`) represents it exactly.
 //!
-//! Writes the benchmark's files to `--out` (`rsf_scenes::SeasBp5Output`: the ten
+//! Writes the benchmark's files to `--out` (`rsf_seas::SeasBp5Output`: the ten
 //! on-fault stations `fltst_strk±XXdp±YY`, the nine off-fault stations
 //! `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, the slip and stress profiles, `rupture.dat`,
 //! the event catalogue `events.csv`), `summary.json` and the figure `overview.png`
@@ -37,15 +37,17 @@ use std::time::Instant;
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultKernel;
-use rsf::observe::{
-    utc_date_today, Observer, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR,
-};
+use rsf::observe::Observer;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
 use rsf_examples::estimates::{operator_bytes, seas_output_bytes};
 use rsf_examples::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
 use rsf_examples::{cpu_seconds, machine};
-use rsf_scenes::{SeasBp5, SeasBp5Grid, SeasBp5Output, SEAS_BP5_RESUME_LOG};
+use rsf_scenes::{SeasBp5, SeasBp5Grid};
+use rsf_seas::{
+    utc_date_today, SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP5_RESUME_LOG,
+    SECONDS_PER_YEAR,
+};
 
 /// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
 #[derive(Parser)]
@@ -277,7 +279,7 @@ fn run(args: Args, _prepared: Prepared) -> Result<(), AnyError> {
                 &half_space,
                 &SeasBp5::body_station_points(),
             )?;
-            let output = SeasBp5Output::new(&args.out, &bp5, args.dx, columns, setup)?;
+            let output = bp5.output(&args.out, args.dx, columns, setup)?;
             (ode, output)
         }
         Kernel::Fe => {
@@ -298,7 +300,7 @@ fn run(args: Args, _prepared: Prepared) -> Result<(), AnyError> {
                 options.kernel = FaultKernel::hierarchical(args.epsilon);
             }
             options.ordering = args.ordering;
-            let output = SeasBp5Output::for_volume(&args.out, &bp5, &model, args.dx, setup)?;
+            let output = bp5.volume_output(&args.out, &model, args.dx, setup)?;
             let mut ode = bp5.fe_fault_ode(model, options)?;
             ode.watch_vertices(&output.volume_vertices())?;
             println!("volume factor: {} entries", ode.factor_nnz());

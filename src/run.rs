@@ -313,13 +313,20 @@ pub fn machine() -> String {
 /// Wall time of the row of an earlier `table.csv` whose first `key.len()` fields are
 /// `key` (wall time in column `col`); NaN if there is none.
 pub fn old_wall_time(table: &Path, key: &[&str], col: usize) -> f64 {
-    std::fs::read_to_string(table)
-        .ok()
-        .and_then(|text| {
-            text.lines().find_map(|l| {
-                let f: Vec<&str> = l.split(',').collect();
-                (f.len() > col && f[..key.len()] == *key).then(|| f[col].parse().ok())?
-            })
+    let Ok(mut reader) = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .quoting(false)
+        .from_path(table)
+    else {
+        return f64::NAN;
+    };
+    reader
+        .records()
+        .map_while(std::result::Result::ok)
+        .find_map(|f| {
+            let keyed = f.len() >= key.len() && f.iter().zip(key).all(|(a, b)| a == *b);
+            (f.len() > col && keyed).then(|| f[col].parse().ok())?
         })
         .unwrap_or(f64::NAN)
 }

@@ -53,11 +53,12 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::method::{FixedPointOptions, SolverOptions};
-use rsf::observe::{FileMode, Progress, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::observe::{FileMode, Progress};
 use rsf::run_folder::read_checkpoint;
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
 use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
+use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
 #[derive(Parser, Debug)]
 #[command(about = "SCEC SEAS benchmark BP1-QD (antiplane, 3000 years)")]
@@ -309,7 +310,7 @@ impl Program for Args {
                 "summary.json",
                 "overview.png",
                 "checkpoint.bin",
-                rsf::observe::SEAS_RESUME_LOG,
+                rsf_seas::SEAS_RESUME_LOG,
             ]
             .map(String::from),
         );
@@ -569,7 +570,7 @@ fn run(args: Args, prepared: Prepared, processes: Option<&dyn Processes>) -> Res
             .header
             .date
             .clone()
-            .unwrap_or_else(rsf::observe::utc_date_today),
+            .unwrap_or_else(rsf_seas::utc_date_today),
         stations,
         ..bp1.seas_setup(args.dz, args.inertia, sampling)
     };

@@ -37,11 +37,12 @@ use crate::guard::{
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::{FileMode, SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf::observe::FileMode;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until};
 use rsf::{Observer, Stepping};
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
+use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
@@ -126,7 +127,7 @@ fn outputs() -> Vec<String> {
             "events.csv",
             "overview.png",
             "checkpoint.bin",
-            rsf::observe::SEAS_RESUME_LOG,
+            rsf_seas::SEAS_RESUME_LOG,
         ]
         .map(String::from),
     );
@@ -281,7 +282,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
             .header
             .date
             .clone()
-            .unwrap_or_else(rsf::observe::utc_date_today),
+            .unwrap_or_else(rsf_seas::utc_date_today),
         ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use plotters::prelude::*;
-use rsf::observe::SECONDS_PER_YEAR;
+use rsf_seas::SECONDS_PER_YEAR;
 
 /// `overview.png` in `dir`: slip profiles (every 5 years between events in blue, every
 /// second during events in red, as in the benchmark descriptions' figures) against the

@@ -27,6 +27,8 @@ const LAYERS: &[&[&str]] = &[
     // its feature `halfspace` (docs/design.md).
     &["rsf-halfspace"],
     &["rsf"],
+    // The SEAS output files: observers of rsf, set up by the scenes (docs/design.md).
+    &["rsf-seas"],
     &["rsf-scenes"],
     // Outside the default build (MPI); its programs are the root package's.
     &["rsf-mpi"],

@@ -24,9 +24,10 @@ use std::sync::Mutex;
 
 use rsf::fault_ode::FaultKernel;
 use rsf::method::SolverOptions;
-use rsf::observe::{StepView, SECONDS_PER_YEAR};
+use rsf::observe::StepView;
 use rsf::{Flow, Observer, Parallelism, Stepping, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid, SeasBp3, SeasBp3Grid, Slider3dScene, SliderScene};
+use rsf_seas::SECONDS_PER_YEAR;
 use sha2::{Digest, Sha256};
 
 /// The hashes file, next to this test.

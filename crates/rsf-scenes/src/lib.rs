@@ -6,7 +6,9 @@
 //! - [`Slider3dScene`]: the same block extruded to 5 m × 1 m × W (tetrahedra);
 //! - [`SeasBp1`]: the SCEC SEAS benchmark BP1 (antiplane, a vertical strike-slip fault,
 //!   docs/seas-bp1.md); [`SeasBp3`]: BP3 (a dipping fault inside the body); [`SeasBp5`]:
-//!   BP5 (3-D, a fault alone in a half-space, docs/seas-bp5.md);
+//!   BP5 (3-D, a fault alone in a half-space, docs/seas-bp5.md); their output files (the
+//!   SCEC format) are the crate `rsf-seas`'s, which the scenes set up
+//!   ([`SeasBp1::seas_setup`], [`SeasBp5::output`]);
 //! - the slider on an inclined base ([`inclined_slider_model`]) and on a curved one read from
 //!   a Gmsh file ([`arc_block_model`]), with nodal frames;
 //! - [`output`]: bounds on a scene's output before it runs.
@@ -49,14 +51,9 @@ pub use seas_bp1::{
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
-pub use seas_bp5::{
-    SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS, SEAS_BP5_BODY_STATIONS,
-    SEAS_BP5_FAULT_STATIONS,
-};
-pub use seas_bp5_output::{
-    Bp5Event, SeasBp5Output, NEVER_RUPTURED, RUPTURE_THRESHOLD, SEAS_BP5_RESUME_LOG,
-    SLIP_RATE_FLOOR,
-};
+pub use seas_bp5::{SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS};
+// BP5's stations: their files are the output's (rsf-seas), their positions the scene's.
+pub use rsf_seas::{SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
     SLIDER_CENTRE,

@@ -14,13 +14,13 @@ use crate::invalid;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::model::AntiplaneMaterial;
-use rsf::observe::{SeasSampling, SeasSetup};
 use rsf::FaultOde;
 use rsf::Model;
 use rsf::Result;
 use rsf::Simulation;
 use rsf::SimulationBuilder;
 use rsf::{ModelBuilder, Part};
+use rsf_seas::{SeasSampling, SeasSetup};
 
 /// A simulation of BP1: 2-D mesh, one (antiplane) component, regularised rate-and-state
 /// friction, aging law, quasi-dynamic ([`Quasistatic`] with radiation damping) or fully
@@ -530,7 +530,7 @@ impl SeasBp1 {
     }
 
     /// What the benchmark files of a BP1 run hold ([`SeasSetup`], for
-    /// [`SeasOutput`](rsf::observe::SeasOutput)): the problem name
+    /// [`SeasOutput`](rsf_seas::SeasOutput)): the problem name
     /// `SEAS Benchmark BP1-QD` (`BP1-FD` with `inertia`), modeler `rsf`, today's UTC date,
     /// element size `dz` (m), every station of the description
     /// ([`SEAS_BP1_STATION_DEPTHS`],
@@ -541,7 +541,7 @@ impl SeasBp1 {
         SeasSetup {
             problem: format!("SEAS Benchmark BP1-{}", if inertia { "FD" } else { "QD" }),
             modeler: "rsf".into(),
-            date: rsf::observe::utc_date_today(),
+            date: rsf_seas::utc_date_today(),
             element_size: dz,
             stations: SEAS_BP1_STATION_DEPTHS
                 .iter()
@@ -552,7 +552,7 @@ impl SeasBp1 {
             sigma_n: self.sigma_n,
             profile_spacing: 500.0,
             sampling,
-            layout: rsf::observe::SeasLayout::Bp1,
+            layout: rsf_seas::SeasLayout::Bp1,
             surface_stations: Vec::new(),
         }
     }

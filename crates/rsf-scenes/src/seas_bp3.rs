@@ -6,10 +6,10 @@ use rsf::fem::{geometric_grading, rectangle_from_coordinates, Diagonal, Triangle
 use rsf::friction::AsinhLaw;
 use rsf::model::FaultSide;
 use rsf::normal_stress::NormalStress;
-use rsf::observe::{SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation};
 use rsf::state::Aging;
 use rsf::time::Quasistatic;
 use rsf::{Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
+use rsf_seas::{SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation};
 
 use crate::{invalid, SeasBp1};
 
@@ -268,7 +268,7 @@ impl SeasBp3 {
     }
 
     /// The benchmark output of a BP3-QD run with elements `dx` (m) along the fault
-    /// ([`SeasOutput`](rsf::observe::SeasOutput) with [`SeasLayout::Bp3`]): the twelve
+    /// ([`SeasOutput`](rsf_seas::SeasOutput) with [`SeasLayout::Bp3`]): the twelve
     /// on-fault stations `fltst_dpXXX` (XXX the down-dip distance in hundreds of metres)
     /// with six columns, the slip profiles `slip.dat` every 500 m down-dip, the event
     /// catalogue, the stress profiles `shear_stress.dat` and `normal_stress.dat`, and the
@@ -278,7 +278,7 @@ impl SeasBp3 {
         SeasSetup {
             problem: "SEAS Benchmark BP3-QD".into(),
             modeler: "rsf".into(),
-            date: rsf::observe::utc_date_today(),
+            date: rsf_seas::utc_date_today(),
             element_size: dx,
             stations: SEAS_BP3_STATION_DISTANCES
                 .iter()

@@ -19,34 +19,7 @@ use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 
 use crate::invalid;
-
-/// BP5's on-fault stations `(x₂, x₃)` (km along strike, km depth).
-pub const SEAS_BP5_FAULT_STATIONS: [(f64, f64); 10] = [
-    (-36.0, 0.0),
-    (-16.0, 0.0),
-    (0.0, 0.0),
-    (16.0, 0.0),
-    (36.0, 0.0),
-    (-24.0, 10.0),
-    (-16.0, 10.0),
-    (0.0, 10.0),
-    (16.0, 10.0),
-    (0.0, 22.0),
-];
-
-/// BP5's off-fault stations `(x₂, x₁, x₃)` (km along strike, km normal to the fault, km
-/// depth).
-pub const SEAS_BP5_BODY_STATIONS: [(f64, f64, f64); 9] = [
-    (-16.0, 8.0, 0.0),
-    (0.0, 8.0, 0.0),
-    (16.0, 8.0, 0.0),
-    (0.0, 16.0, 0.0),
-    (0.0, 32.0, 0.0),
-    (0.0, 48.0, 0.0),
-    (0.0, 8.0, 10.0),
-    (0.0, 16.0, 10.0),
-    (0.0, 32.0, 10.0),
-];
+use rsf_seas::bp5_body_station_points;
 
 /// The fault ODE of BP5 (the regularised law, the aging law, a 3-D fault alone).
 pub type SeasBp5FaultOde = FaultOde<3, AsinhLaw, Aging, 3>;
@@ -354,13 +327,10 @@ impl SeasBp5 {
             .0)
     }
 
-    /// The off-fault stations of BP5 ([`SEAS_BP5_BODY_STATIONS`](SEAS_BP5_BODY_STATIONS))
-    /// as model points `(x₁, x₂, −x₃)` (m).
+    /// The off-fault stations of BP5 ([`SEAS_BP5_BODY_STATIONS`](crate::SEAS_BP5_BODY_STATIONS))
+    /// as model points `(x₁, x₂, −x₃)` (m) ([`rsf_seas::bp5_body_station_points`]).
     pub fn body_station_points() -> Vec<[f64; 3]> {
-        SEAS_BP5_BODY_STATIONS
-            .iter()
-            .map(|&(s, n, d)| [n * 1e3, s * 1e3, -d * 1e3])
-            .collect()
+        bp5_body_station_points()
     }
 
     /// As [`fault_ode`](Self::fault_ode), with the half-space displacement at `points`

@@ -20,8 +20,9 @@
 //!   checkpoint, a restore), [`run_until`] an [`Until`], the [`RunSummary`] with its
 //!   [`Termination`] or a [`RunError`].
 //! - [`observe`]: [`Observer`]s see a [`StepView`] after every step and may end a run
-//!   ([`Flow`]): time series, fault profiles, event catalogues, the SEAS benchmark files,
-//!   checkpoints, progress, ParaView frames (feature `vtk`).
+//!   ([`Flow`]): time series, fault profiles, event catalogues, checkpoints, progress,
+//!   ParaView frames (feature `vtk`); the SEAS benchmark files are observers of the crate
+//!   `rsf-seas`.
 //! - [`checkpoint`]: [`Checkpoint`]s of the common [`SimulationState`] and the method's own
 //!   state, which every method resumes bit-identically; [`run_folder`]: the run-folder
 //!   procedure of programs (refusing another run's files, resuming safely).

@@ -12,7 +12,7 @@
 //!   ([`PointSeries::check_resume`](crate::observe::PointSeries::check_resume),
 //!   [`PointSeries::check_checkpoint_row`](crate::observe::PointSeries::check_checkpoint_row),
 //!   [`FrictionalProfile::check_resume`](crate::observe::FrictionalProfile::check_resume),
-//!   [`SeasOutput::check_resume`](crate::observe::SeasOutput::check_resume)) before any file is cut.
+//!   and `rsf_seas::SeasOutput::check_resume` of the SEAS files) before any file is cut.
 //! - Output bounds and step caps: [`check_output_size`]; a step cap is where a run ends
 //!   ([`until`]: [`Until::TimeOrStepCap`], whose stop a
 //!   [`Checkpointer`](crate::observe::Checkpointer) checkpoints), [`step_cap_error`] says

@@ -31,16 +31,21 @@ struct Row {
 
 fn rows() -> Vec<Row> {
     let text = include_str!("../fixtures/dc3d.csv");
-    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    // The fixture's `#` lines are comments; the header names the 28 columns.
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let header = reader.headers().unwrap().clone();
     assert_eq!(header.len(), 28);
-    assert_eq!(header[2], "alpha");
-    assert_eq!(header[15], "iret");
-    assert_eq!(header[16], "ux");
-    assert_eq!(header[27], "uzz");
-    lines
-        .map(|l| {
-            let f: Vec<f64> = l.split(',').map(|v| v.trim().parse().unwrap()).collect();
+    assert_eq!(&header[2], "alpha");
+    assert_eq!(&header[15], "iret");
+    assert_eq!(&header[16], "ux");
+    assert_eq!(&header[27], "uzz");
+    reader
+        .records()
+        .map(|record| {
+            let f: Vec<f64> = record.unwrap().iter().map(|v| v.parse().unwrap()).collect();
             assert_eq!(f.len(), 28);
             let mut values = [0.0; 12];
             values.copy_from_slice(&f[16..28]);

@@ -1,9 +1,10 @@
 //! A coarse SEAS BP3-QD (`SeasBp3`, docs/seas-bp3.md): the thrust reaches its first event
 //! in CI time with its normal stress changing, and the two engines (the fault ODE, the
 //! implicit scheme with adaptive steps) agree on its time and on the slip before it.
-use rsf::observe::{StepView, SECONDS_PER_YEAR};
+use rsf::observe::StepView;
 use rsf::{Flow, Observer};
 use rsf_scenes::{SeasBp3, SeasBp3Grid};
+use rsf_seas::SECONDS_PER_YEAR;
 
 /// A coarse grid: 2 km along the fault, a 100 km box.
 const GRID: SeasBp3Grid = SeasBp3Grid {
@@ -237,7 +238,8 @@ impl StationValues {
 /// the normal stress changing).
 #[test]
 fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
-    use rsf::observe::{FileMode, SeasOutput};
+    use rsf::observe::FileMode;
+    use rsf_seas::SeasOutput;
     let bp3 = SeasBp3::normal();
     let model = bp3.model(&GRID).unwrap();
     let dir = std::env::temp_dir().join(format!("rsf-seas-bp3-{}", std::process::id()));
@@ -355,12 +357,12 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
 
 /// The benchmark's set-up of `bp3` on [`GRID`] with a station row at most every year
 /// between events and a fixed date (files comparable between runs).
-fn test_setup(bp3: &SeasBp3) -> rsf::observe::SeasSetup {
-    let sampling = rsf::observe::SeasSampling {
+fn test_setup(bp3: &SeasBp3) -> rsf_seas::SeasSetup {
+    let sampling = rsf_seas::SeasSampling {
         station_quiet: SECONDS_PER_YEAR,
-        ..rsf::observe::SeasSampling::default()
+        ..rsf_seas::SeasSampling::default()
     };
-    rsf::observe::SeasSetup {
+    rsf_seas::SeasSetup {
         date: "2026-11-25".into(),
         ..bp3.seas_setup(GRID.dx, sampling)
     }
@@ -510,8 +512,9 @@ impl Observer<2> for BreakAt {
 /// the stress profiles too — byte-identical to an uninterrupted run's.
 #[test]
 fn a_resumed_bp3_run_writes_the_same_bytes() {
-    use rsf::observe::{Checkpointer, Every, FileMode, Interval, SeasOutput};
+    use rsf::observe::{Checkpointer, Every, FileMode, Interval};
     use rsf::{Checkpoint, Stepping};
+    use rsf_seas::SeasOutput;
     let bp3 = SeasBp3::thrust();
     let model = bp3.model(&GRID).unwrap();
     let end = rsf::Until::Time(150.0 * SECONDS_PER_YEAR);

@@ -1,13 +1,12 @@
 //! SEAS BP5-QD as a fault alone (docs/seas-bp5.md): the description's check values at
-//! t = 0, a coarse run's ruptures and files, the second slip component, a stopped and
-//! continued run, and the off-fault displacement against one big Okada rectangle.
-
-use std::path::Path;
+//! t = 0, the off-fault displacement against one big Okada rectangle, the volume model.
+//! (A coarse run's ruptures and files, and a stopped and continued run: the crate
+//! rsf-seas's tests.)
 
 use rsf::halfspace::okada::{dc3d, Rectangle};
-use rsf::observe::{SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
-use rsf::{Observer, Until};
-use rsf_scenes::{SeasBp5, SeasBp5Output, SEAS_BP5_BODY_STATIONS};
+use rsf::Until;
+use rsf_scenes::{SeasBp5, SEAS_BP5_BODY_STATIONS};
+use rsf_seas::{SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
 /// The prestress of the description, written out here from its formula (not the scene's
 /// code): τ⁰ = σ̄_n a asinh(V/(2V₀) exp((f₀ + b ln(V₀/V_p))/a)) + η V (Pa).
@@ -15,17 +14,6 @@ fn published_tau0(a: f64, v: f64) -> f64 {
     let (sigma, f0, b, v0, v_p) = (25e6, 0.6, 0.03, 1e-6, 1e-9);
     let eta = 2670.0 * 3464.0 * 3464.0 / (2.0 * 3464.0);
     sigma * a * (v / (2.0 * v0) * ((f0 + b * (v0 / v_p).ln()) / a).exp()).asinh() + eta * v
-}
-
-/// The fault alone on cells of `dx` with the off-fault stations' columns.
-fn with_stations(bp5: &SeasBp5, dx: f64) -> (rsf_scenes::SeasBp5FaultOde, Vec<Vec<f64>>) {
-    bp5.fault_ode_with_stations(
-        bp5.model(dx).unwrap(),
-        bp5.fault_ode_options(1e-6).unwrap(),
-        &bp5.half_space(1e-6).unwrap(),
-        &SeasBp5::body_station_points(),
-    )
-    .unwrap()
 }
 
 fn setup(dx: f64) -> SeasSetup {
@@ -97,266 +85,6 @@ fn the_initial_values_are_the_descriptions_check_values() {
     }
 }
 
-/// The rows of a SEAS file: checks its header (problem, `# Column #k` lines, the field
-/// line, `num_time_steps`) and every number's `%E` form.
-fn parse(path: &Path, columns: usize) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let mut header = Vec::new();
-    for line in lines.by_ref() {
-        if !line.starts_with('#') {
-            assert_eq!(
-                line.split(' ').count(),
-                columns,
-                "{}: field line {line}",
-                path.display()
-            );
-            break;
-        }
-        header.push(line);
-    }
-    assert!(
-        header.contains(&"# problem=SEAS Benchmark BP5-QD"),
-        "{}",
-        path.display()
-    );
-    let described = header
-        .iter()
-        .filter(|l| l.starts_with("# Column #"))
-        .count();
-    assert_eq!(described, columns, "{}", path.display());
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| {
-            let tokens: Vec<&str> = l.split_whitespace().collect();
-            assert_eq!(tokens.len(), columns, "{}: {l}", path.display());
-            for (i, t) in tokens.iter().enumerate() {
-                let (mantissa, exponent) = t.split_once('E').expect("an %E number");
-                let digits = mantissa
-                    .trim_start_matches('-')
-                    .split_once('.')
-                    .unwrap()
-                    .1
-                    .len();
-                assert_eq!(digits, if i == 0 { 13 } else { 6 }, "{t}");
-                assert!(
-                    exponent.len() == 3 && (exponent.starts_with('+') || exponent.starts_with('-'))
-                );
-            }
-            tokens.iter().map(|t| t.parse().unwrap()).collect()
-        })
-        .collect();
-    let count: usize = header
-        .iter()
-        .find_map(|l| l.strip_prefix("# num_time_steps="))
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert_eq!(count, rows.len(), "{}", path.display());
-    rows
-}
-
-#[test]
-fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
-    let bp5 = SeasBp5::default();
-    let dx = 4000.0;
-    let dir = std::env::temp_dir().join(format!("rsf_bp5_coarse_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let (mut ode, columns) = with_stations(&bp5, dx);
-    let mut output = SeasBp5Output::new(&dir, &bp5, dx, columns, setup(dx)).unwrap();
-    output.write_initial_state(
-        ode.model(),
-        ode.state(),
-        rsf::Stepping::fault_tractions(&ode),
-    );
-    ode.run_until(Until::Time(250.0 * SECONDS_PER_YEAR), &mut [&mut output])
-        .unwrap();
-    let ruptures: Vec<_> = output
-        .events()
-        .iter()
-        .filter(|e| e.peak_slip_rate > 0.1)
-        .collect();
-    // The patch fails at once; the next rupture a cycle later (~180 years at 4 km cells,
-    // 236 at 1 km; a cycle is at least the time to reload the stress drop of a few MPa at
-    // V_p over the weakening core, far more than a few years).
-    assert!(ruptures.len() >= 2, "{:?}", output.events());
-    assert!(
-        ruptures[0].t_start < 1000.0,
-        "first rupture at {} s",
-        ruptures[0].t_start
-    );
-    let recurrence = (ruptures[1].t_start - ruptures[0].t_start) / SECONDS_PER_YEAR;
-    assert!(
-        (100.0..300.0).contains(&recurrence),
-        "recurrence {recurrence} yr"
-    );
-    // Peak slip rates of a rupture: ~1 m/s (the description's codes: 1–3 m/s).
-    assert!(ruptures
-        .iter()
-        .all(|e| (0.3..10.0).contains(&e.peak_slip_rate)));
-    let stations = SeasBp5Output::file_names()
-        .into_iter()
-        .filter(|n| n.starts_with("fltst") || n.starts_with("blkst") || n == "global.dat");
-    // The first rows are the description's check values (τ⁰ in MPa, log10 θ), computed
-    // above from its formulas: the core, the patch, and a_max at the surface.
-    for (name, tau0, log_theta) in [
-        ("fltst_strk+00dp+10", published_tau0(0.004, 1e-9), 8.146),
-        ("fltst_strk-24dp+10", published_tau0(0.004, 0.03), 8.114),
-        ("fltst_strk+36dp+00", published_tau0(0.04, 1e-9), 8.146),
-    ] {
-        let rows = parse(&dir.join(name), 8);
-        assert!(
-            (rows[0][5] - tau0 / 1e6).abs() < 1e-5,
-            "{name}: {}",
-            rows[0][5]
-        );
-        assert!(
-            (rows[0][7] - log_theta).abs() < 5e-4,
-            "{name}: {}",
-            rows[0][7]
-        );
-    }
-    for name in stations {
-        let columns = match &name[..5] {
-            "fltst" => 8,
-            "blkst" => 7,
-            _ => 3,
-        };
-        let rows = parse(&dir.join(&name), columns);
-        assert!(rows.len() > 100, "{name}: {} rows", rows.len());
-        assert_eq!(rows[0][0], 0.0, "{name}: the first row is t = 0");
-        assert!(
-            rows.windows(2).all(|w| w[1][0] > w[0][0]),
-            "{name}: time increases"
-        );
-        if name.starts_with("fltst") {
-            // Slip along x₃ (the loading is along x₂) stays small: computed, bounded.
-            let slip2 = rows.iter().map(|r| r[1].abs()).fold(0.0, f64::max);
-            let slip3 = rows.iter().map(|r| r[2].abs()).fold(0.0, f64::max);
-            assert!(slip2 > 1.0, "{name}: slip₂ {slip2} m");
-            assert!(
-                slip3 < 0.05 * slip2,
-                "{name}: slip₃ {slip3} m against slip₂ {slip2} m"
-            );
-            assert!(slip3 > 0.0, "{name}: slip₃ is computed, not assumed 0");
-            // V₃ below V₂ whenever V₂ is seismic.
-            for r in rows.iter().filter(|r| r[3] > -3.0) {
-                assert!(
-                    r[4] < r[3] - 0.5,
-                    "{name}: log10 V₃ {} against log10 V₂ {}",
-                    r[4],
-                    r[3]
-                );
-            }
-        }
-    }
-    // The profiles: the positions row (0 0 and the grid's rows or columns), then time rows
-    // of t, log10 max slip rate and one value per position.
-    for (name, points) in [
-        ("slip_2_depth.dat", 10),
-        ("slip_2_strike.dat", 25),
-        ("stress_2_depth.dat", 10),
-        ("stress_2_strike.dat", 25),
-    ] {
-        let text = std::fs::read_to_string(dir.join(name)).unwrap();
-        let rows: Vec<Vec<f64>> = text
-            .lines()
-            .filter(|l| !l.starts_with('#') && !l.starts_with('x') && !l.starts_with('t'))
-            .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
-            .collect();
-        assert!(rows.iter().all(|r| r.len() == 2 + points), "{name}");
-        assert_eq!(&rows[0][..2], &[0.0, 0.0], "{name}: the positions row");
-        let count: usize = text
-            .lines()
-            .find_map(|l| l.strip_prefix("# num_time_steps="))
-            .unwrap()
-            .parse()
-            .unwrap();
-        assert_eq!(count, rows.len() - 1, "{name}");
-        // Profiles every 5 years between events: about 50 in 250 years, more in events.
-        assert!(rows.len() > 50, "{name}: {} rows", rows.len());
-    }
-    // rupture.dat: every cell once; the ruptured ones after the first event, in the
-    // second rupture (its start at ~180 years) or the afterslip that follows.
-    let text = std::fs::read_to_string(dir.join("rupture.dat")).unwrap();
-    let times: Vec<f64> = text
-        .lines()
-        .filter(|l| l.starts_with(' '))
-        .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
-        .collect();
-    assert_eq!(times.len(), 250);
-    let ruptured: Vec<f64> = times
-        .iter()
-        .copied()
-        .filter(|&t| t < rsf_scenes::NEVER_RUPTURED)
-        .collect();
-    // The weakening core (60 km × 12 km: 45 cells of 4 km) and some of its rim.
-    assert!(
-        (45..=250).contains(&ruptured.len()),
-        "{} of 250 cells ruptured",
-        ruptured.len()
-    );
-    assert!(ruptured.iter().all(|&t| t >= ruptures[0].t_end.unwrap()));
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
-#[test]
-fn a_stopped_and_continued_run_writes_the_same_bytes() {
-    let bp5 = SeasBp5::default();
-    let dx = 4000.0;
-    let base = std::env::temp_dir().join(format!("rsf_bp5_resume_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&base);
-    let end = Until::Time(190.0 * SECONDS_PER_YEAR);
-    let every = 200;
-    let run = |dir: &Path, stop: Option<usize>, resume: Option<&rsf::Checkpoint>| {
-        let (mut ode, columns) = with_stations(&bp5, dx);
-        let mut output = SeasBp5Output::new(dir, &bp5, dx, columns, setup(dx))
-            .unwrap()
-            .with_resume_log(every);
-        match resume {
-            Some(c) => {
-                output.resume(c.state.step).unwrap();
-                ode.restore(c).unwrap();
-            }
-            None => output.write_initial_state(
-                ode.model(),
-                ode.state(),
-                rsf::Stepping::fault_tractions(&ode),
-            ),
-        }
-        let until = match stop {
-            Some(step) => Until::TimeOrStepCap {
-                time: 190.0 * SECONDS_PER_YEAR,
-                step_cap: step,
-            },
-            None => end,
-        };
-        let observers: &mut [&mut dyn Observer<3, 3>] = &mut [&mut output];
-        ode.run_until(until, observers).unwrap();
-        ode.checkpoint()
-    };
-    let (whole, parts) = (base.join("whole"), base.join("parts"));
-    run(&whole, None, None);
-    // Stopped in the middle of the first interseismic period and after the files were
-    // persisted at step 600 and 800, continued from step 600 (a checkpoint behind the files).
-    let stopped = run(&parts, Some(600), None);
-    assert_eq!(stopped.state.step, 600);
-    run(&parts, Some(900), Some(&stopped));
-    let again = run(&parts, None, Some(&stopped));
-    assert!(again.state.step > 900);
-    let mut compared = 0;
-    for name in SeasBp5Output::file_names()
-        .into_iter()
-        .chain(["events.csv".into()])
-    {
-        let a = std::fs::read(whole.join(&name)).unwrap();
-        let b = std::fs::read(parts.join(&name)).unwrap();
-        assert!(a == b, "{name} differs after the resumes");
-        compared += 1;
-    }
-    assert_eq!(compared, 26);
-    let _ = std::fs::remove_dir_all(&base);
-}
-
 #[test]
 fn uniform_slip_of_the_cells_displaces_the_stations_as_one_rectangle() {
     // Linearity and the frames: the cells' displacement columns summed for a uniform
@@ -422,9 +150,7 @@ fn a_fault_alone_refuses_what_it_cannot_hold() {
         ..setup(10e3)
     };
     let columns = vec![vec![0.0; 3 * 2 * 40]; SEAS_BP5_BODY_STATIONS.len()];
-    let err = SeasBp5Output::new(&dir, &bp5, 10e3, columns, bad_date)
-        .err()
-        .unwrap();
+    let err = bp5.output(&dir, 10e3, columns, bad_date).err().unwrap();
     assert!(err.to_string().contains("date"), "{err}");
     assert!(rsf::Model::<3, 3>::fault_only(vec![[0.0; 3]], &[0.0], 0).is_err());
     assert!(rsf::Model::<3, 3>::fault_only(vec![[0.0; 3]], &[1.0], 3).is_err());

@@ -2,9 +2,10 @@
 //! for (`Observer::volume_vertices`) from precomputed rows of the extension operator; the
 //! values must be those of the whole field's sparse solves (an observer reading the
 //! volume), and the rest of the field must stay uncomputed.
-use rsf::observe::{StepView, SECONDS_PER_YEAR};
+use rsf::observe::StepView;
 use rsf::{Flow, Observer};
 use rsf_scenes::{SeasBp3, SeasBp3Grid};
+use rsf_seas::SECONDS_PER_YEAR;
 
 const GRID: SeasBp3Grid = SeasBp3Grid {
     dx: 2000.0,

@@ -124,9 +124,13 @@ pub(crate) fn norm<const D: usize>(v: &[f64; D]) -> f64 {
     }
 }
 
-/// `|v_p|`, the Euclidean norm of node `p`'s block of the node-major vector `v`.
+/// `|v_p|`, the Euclidean norm of node `p`'s block of the node-major vector `v` (as the
+/// library computes a slip rate: squares directly unless that over- or underflows).
+///
+/// # Panics
+/// If `v` has no block `p`.
 #[inline]
-pub(crate) fn block_norm<const D: usize>(v: &[f64], p: usize) -> f64 {
+pub fn block_norm<const D: usize>(v: &[f64], p: usize) -> f64 {
     let mut x = [0.0; D];
     x.copy_from_slice(&v[D * p..D * p + D]);
     norm(&x)

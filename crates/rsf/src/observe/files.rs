@@ -79,15 +79,7 @@ pub(crate) fn open(
     start: Start,
 ) -> Result<BufWriter<File>> {
     let (step, every_step) = match start {
-        Start::Fresh { overwrite } => {
-            if !overwrite {
-                refuse_existing(path)?;
-            }
-            let mut out = BufWriter::new(File::create(path).map_err(io_at("create", path))?);
-            writeln!(out, "{header}").map_err(io_at("write", path))?;
-            out.flush().map_err(io_at("write", path))?;
-            return Ok(out);
-        }
+        Start::Fresh { overwrite } => return create_file(path, header, overwrite),
         Start::Resume { step, every_step } => (step, every_step),
     };
     let fail = |reason: String| Error::Resume {
@@ -145,6 +137,25 @@ pub(crate) fn check_resume(
         })
 }
 
+/// Creates the output file `path` with the line(s) `header` (a newline added), flushed so
+/// that the header is on disk before the first row, and returns it for appending rows: the
+/// start of every output file of [`FileMode::Create`] (`overwrite` false) and
+/// [`FileMode::Overwrite`] (`overwrite` true), here and in the crates above (the SEAS files
+/// of `rsf-seas`).
+///
+/// # Errors
+/// [`Error::FileExists`] where a non-empty file exists and not `overwrite`;
+/// [`Error::File`] for I/O errors.
+pub fn create_file(path: &Path, header: &str, overwrite: bool) -> Result<BufWriter<File>> {
+    if !overwrite {
+        refuse_existing(path)?;
+    }
+    let mut out = BufWriter::new(File::create(path).map_err(io_at("create", path))?);
+    writeln!(out, "{header}").map_err(io_at("write", path))?;
+    out.flush().map_err(io_at("write", path))?;
+    Ok(out)
+}
+
 /// [`Error::FileExists`] if `path` exists and is not an empty file.
 pub(crate) fn refuse_existing(path: &Path) -> Result<()> {
     match std::fs::metadata(path) {
@@ -164,7 +175,12 @@ pub(crate) fn refuse_existing(path: &Path) -> Result<()> {
     }
 }
 
-/// The rows of a CSV file with `header`, each parsed by `parse` from its fields.
+/// The rows of a CSV file with `header`, each parsed by `parse` from its fields (read by
+/// the `csv` crate, a last line without its newline included).
+///
+/// # Errors
+/// [`Error::File`] if the file cannot be read; [`Error::Resume`] naming the file for
+/// another header, and naming the line for a row `parse` refuses or a blank line.
 pub(crate) fn read_rows<T>(
     path: &Path,
     header: &str,
@@ -175,17 +191,100 @@ pub(crate) fn read_rows<T>(
         path: show_path(path),
         reason,
     };
-    let mut lines = text.lines();
-    if lines.next() != Some(header) {
+    if text.lines().next() != Some(header) {
         return Err(fail(format!("its header is not `{header}`")));
     }
-    lines
-        .map(|line| {
-            let fields: Vec<&str> = line.split(',').collect();
-            parse(&fields)
-                .ok_or_else(|| fail(format!("malformed row `{}`", rsf_numeric::excerpt(line))))
+    let start = text.find('\n').map_or(text.len(), |i| i + 1);
+    csv_lines(text.as_bytes(), start, 2, false)
+        .map(|row| {
+            let row = row.map_err(|(line, reason)| fail(format!("line {line}: {reason}")))?;
+            let fields: Vec<&str> = row.fields.iter().collect();
+            parse(&fields).ok_or_else(|| {
+                fail(format!(
+                    "line {}: malformed row `{}`",
+                    row.line,
+                    rsf_numeric::excerpt(&fields.join(","))
+                ))
+            })
         })
         .collect()
+}
+
+/// A line of a CSV file read back ([`csv_lines`]).
+pub(crate) struct CsvLine {
+    /// Its fields.
+    pub(crate) fields: csv::StringRecord,
+    /// Its number in the file (1-based).
+    pub(crate) line: u64,
+    /// The byte offset after it (after its newline, if it has one).
+    pub(crate) end: usize,
+}
+
+/// The CSV lines of `text` from byte `start` (the start of line `line`), by the `csv`
+/// crate: fields as written (no quoting), any number of them; with `complete_only`, up to
+/// the last newline (a last line without one, cut off by an interruption, is not read). A
+/// blank line, or a line that is not UTF-8, is an error `(line, reason)`, after which the
+/// iterator ends.
+pub(crate) fn csv_lines(
+    text: &[u8],
+    start: usize,
+    line: u64,
+    complete_only: bool,
+) -> impl Iterator<Item = std::result::Result<CsvLine, (u64, String)>> + '_ {
+    let end = if complete_only {
+        text.iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(start, |i| (i + 1).max(start))
+    } else {
+        text.len().max(start)
+    };
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .quoting(false)
+        .from_reader(&text[start..end]);
+    let mut record = csv::StringRecord::new();
+    let (mut done, mut last_end) = (false, 0);
+    std::iter::from_fn(move || {
+        if done {
+            return None;
+        }
+        // Lines of the slice are 1-based from `line`.
+        let at = |p: &csv::Position| line + p.line() - 1;
+        let read = reader.read_record(&mut record);
+        let after = reader.position().clone();
+        let item = match read {
+            Ok(true) => {
+                let pos = record.position().cloned().unwrap_or_else(|| after.clone());
+                // The csv crate skips blank lines: a record after one began at it. (A
+                // last line without its newline ends where it began.)
+                let ended = after.line() == pos.line() + 1
+                    || (after.line() == pos.line() && after.byte() as usize == end - start);
+                if ended {
+                    last_end = after.byte() as usize;
+                    Ok(CsvLine {
+                        fields: record.clone(),
+                        line: at(&pos),
+                        end: start + last_end,
+                    })
+                } else {
+                    Err((at(&pos), "a blank line".to_owned()))
+                }
+            }
+            // Blank lines at the end, skipped.
+            Ok(false) if last_end < end - start => {
+                let lines = text[start..start + last_end]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count() as u64;
+                Err((line + lines, "a blank line".to_owned()))
+            }
+            Ok(false) => return None,
+            Err(e) => Err((e.position().map_or(line, at), e.to_string())),
+        };
+        done = item.is_err();
+        Some(item)
+    })
 }
 
 /// Length in bytes of the header and the complete rows of steps `≤ step`.
@@ -208,16 +307,21 @@ fn kept_length(
     }
     let mut keep = first + 1;
     let mut last = 0;
-    while keep < text.len() {
-        let Some(len) = text[keep..].iter().position(|&b| b == b'\n') else {
-            break; // a row cut off by the interruption
-        };
-        let line = std::str::from_utf8(&text[keep..keep + len]).map_err(|e| e.to_string())?;
-        let row_step: usize = line
-            .split(',')
-            .nth(step_field)
+    // Complete rows only: a row cut off by the interruption is dropped.
+    for row in csv_lines(text, keep, 2, true) {
+        let row = row.map_err(|(line, reason)| format!("line {line}: {reason}"))?;
+        let row_step: usize = row
+            .fields
+            .get(step_field)
             .and_then(|s| s.parse().ok())
-            .ok_or_else(|| format!("malformed row `{}`", rsf_numeric::excerpt(line)))?;
+            .ok_or_else(|| {
+                let fields: Vec<&str> = row.fields.iter().collect();
+                format!(
+                    "line {}: malformed row `{}`",
+                    row.line,
+                    rsf_numeric::excerpt(&fields.join(","))
+                )
+            })?;
         if row_step > step {
             break;
         }
@@ -225,7 +329,7 @@ fn kept_length(
             return Err(format!("rows out of order at step {row_step}"));
         }
         last = row_step;
-        keep += len + 1;
+        keep = row.end;
     }
     if every_step && last != step {
         return Err(format!(
@@ -263,5 +367,26 @@ mod tests {
             .unwrap_err()
             .contains("malformed"));
         assert!(kept_length(b"", H, 1, 1, true).is_err());
+        let e = kept_length(b"t,step\n0.1,1\n\n0.3,3\n", H, 1, 3, true).unwrap_err();
+        assert!(e.contains("line 3") && e.contains("blank"), "{e}");
+        let e = kept_length(b"t,step\n0.1,1\n0.2,x\n", H, 1, 3, true).unwrap_err();
+        assert!(e.contains("line 3") && e.contains("malformed"), "{e}");
+    }
+
+    #[test]
+    fn csv_lines_end_where_their_rows_do() {
+        let text = b"a,b\n1,2\n3,4";
+        let rows: Vec<_> = super::csv_lines(text, 4, 2, false)
+            .map(|r| r.map(|l| (l.line, l.end, l.fields.len())))
+            .collect();
+        assert_eq!(rows, vec![Ok((2, 8, 2)), Ok((3, 11, 2))]);
+        let complete: Vec<_> = super::csv_lines(text, 4, 2, true)
+            .map(|r| r.map(|l| l.end))
+            .collect();
+        assert_eq!(complete, vec![Ok(8)]);
+        let blank: Vec<_> = super::csv_lines(b"1\n\n", 0, 1, true)
+            .map(|r| r.map(|l| l.line))
+            .collect();
+        assert_eq!(blank, vec![Ok(1), Err((2, "a blank line".to_owned()))]);
     }
 }

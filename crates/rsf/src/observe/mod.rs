@@ -8,7 +8,6 @@ pub(crate) mod files;
 pub(crate) mod profile;
 pub(crate) mod progress;
 pub(crate) mod recorder;
-pub(crate) mod seas;
 pub(crate) mod series;
 #[cfg(feature = "vtk")]
 pub(crate) mod vtu;
@@ -16,20 +15,19 @@ pub(crate) mod vtu;
 pub use checkpointer::{Checkpointer, Reports};
 pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
 pub use every::{Every, Interval};
-pub use files::FileMode;
+pub use files::{create_file, FileMode};
 pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
-pub use seas::{
-    c_exp as seas_number, common_header as seas_header, is_iso_date, utc_date_today, SeasEvent,
-    SeasLayout, SeasOutput, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
-    SEAS_BP3_STATION_COLUMNS, SEAS_RESUME_LOG, SECONDS_PER_YEAR,
-};
 pub use series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
 pub use vtu::VtuFrames;
 
 use rsf_friction::{ConvexPotential, FrictionLaw};
+
+/// Seconds per year (365.25 days): the unit of the long runs' times and intervals (the
+/// SEAS benchmarks' output intervals, `rsf_seas`, which re-exports it).
+pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
 
 use crate::checkpoint::Checkpoint;
 use crate::error::Result;
@@ -241,8 +239,8 @@ pub trait Observer<const D: usize, const C: usize = D> {
     /// otherwise: the library's observers of the fault ([`SlipEvents`](crate::observe::SlipEvents),
     /// [`FrictionalProfile`](crate::observe::FrictionalProfile),
     /// [`FaultRecorder`](crate::observe::FaultRecorder), [`Reports`](crate::observe::Reports),
-    /// [`Checkpointer`](crate::observe::Checkpointer), [`SeasOutput`](crate::observe::SeasOutput),
-    /// [`Progress`](crate::observe::Progress)) return `false`.
+    /// [`Checkpointer`](crate::observe::Checkpointer), [`Progress`](crate::observe::Progress);
+    /// and the SEAS outputs of the crate `rsf-seas`) return `false`.
     fn reads_volume(&self) -> bool {
         true
     }

@@ -164,14 +164,18 @@ impl<const D: usize> PointSeries<D> {
             path: show_path(path),
             reason,
         };
-        let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
+        let text = std::fs::read(path).map_err(io_at("read", path))?;
         let want = step.to_string();
-        let Some(row) = text
-            .split_inclusive('\n')
-            .filter(|l| l.ends_with('\n'))
-            .map(|l| l.trim_end().split(',').collect::<Vec<_>>())
-            .find(|f| f.get(6) == Some(&want.as_str()))
-        else {
+        // The complete rows (a row cut off by an interruption is no row), by the csv crate.
+        let mut found = None;
+        for row in files::csv_lines(&text, 0, 1, true) {
+            let row = row.map_err(|(line, reason)| fail(format!("line {line}: {reason}")))?;
+            if row.fields.get(6) == Some(want.as_str()) {
+                found = Some(row.fields);
+                break;
+            }
+        }
+        let Some(row) = found else {
             return Err(fail(format!(
                 "it has no row of the checkpoint's step {step}: the checkpoint is not of this \
                  run folder"
@@ -194,11 +198,11 @@ impl<const D: usize> PointSeries<D> {
             expected.push((10 + 2 * (k - 1), format!("{:.12e}", v[i + k])));
         }
         for (col, value) in expected {
-            if row.get(col) != Some(&value.as_str()) {
+            if row.get(col) != Some(value.as_str()) {
                 return Err(fail(format!(
                     "its row of step {step} has `{}` in column {col}, the checkpoint gives \
                      `{value}`: the checkpoint belongs to another run (nothing was changed)",
-                    rsf_numeric::excerpt(row.get(col).unwrap_or(&"")),
+                    rsf_numeric::excerpt(row.get(col).unwrap_or("")),
                 )));
             }
         }

@@ -33,7 +33,6 @@ mod ranks;
 mod reliability;
 mod resume;
 mod run_folder;
-mod seas_files;
 mod slider_3d;
 mod slip_event;
 mod spring_block;

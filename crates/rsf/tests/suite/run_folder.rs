@@ -1,8 +1,8 @@
 //! The run-folder procedure of the library (`rsf::run_folder`, docs/reliability.md): a
 //! folder of another run or program refused and left byte-identical, resumes checked
 //! before anything is cut (checkpoint, fingerprint, every file's continuation), output
-//! bounds and step caps; resumes of the 3-D slider and of the SEAS output byte-identical
-//! to uninterrupted runs.
+//! bounds and step caps; resumes of the 3-D slider byte-identical to uninterrupted runs
+//! (the SEAS output's: the crate rsf-seas's tests).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -441,124 +441,4 @@ fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
             .len(),
         12
     );
-}
-
-/// The SEAS output of the small BP1 (implicit scheme), thinned: written for 40 steps,
-/// against written for 15 steps, checkpointed, "killed" at 22 and resumed from the
-/// checkpoint to 40 — every file (stations, `devol.dat`, `events.csv`, the resume log)
-/// byte-identical. A station file truncated mid-row is refused first, naming it, with
-/// nothing changed.
-#[test]
-fn seas_output_resumed_from_a_checkpoint_writes_byte_identical_files() {
-    use rsf::friction::AsinhLaw;
-    use rsf::observe::{Checkpointer, SeasOutput, SeasSampling, SeasSetup};
-    use rsf::Observer;
-    use rsf_scenes::{SeasBp1, SeasBp1Simulation};
-    let (bp1, grid) = crate::common::small_bp1(&SeasBp1::default());
-    let sampling = SeasSampling {
-        station_quiet: 200.0,
-        profile_quiet: 2000.0,
-        ..SeasSampling::default()
-    };
-    let fingerprint = bp1
-        .fingerprint(&grid, false, &sampling)
-        .with("scheme", "implicit");
-    let setup = |_: ()| {
-        let mut setup = SeasSetup {
-            problem: "BP1-QD (small test)".into(),
-            modeler: "test".into(),
-            date: "2026-11-24".into(),
-            profile_spacing: 1000.0,
-            ..bp1.seas_setup(grid.dz, false, sampling)
-        };
-        setup.stations.truncate(5);
-        setup
-    };
-    let build = || -> SeasBp1Simulation {
-        let model = bp1.model(&grid, false).unwrap();
-        bp1.simulation_builder(model, false, 1e-2, bp1.step_control(1e-2).unwrap())
-            .unwrap()
-            .build()
-            .unwrap()
-    };
-    let output = |dir: &Path, sim: &SeasBp1Simulation, mode: FileMode| {
-        SeasOutput::<AsinhLaw>::new(
-            dir,
-            sim.model(),
-            sim.problem().friction_laws(),
-            setup(()),
-            mode,
-        )
-    };
-    // `steps` steps into `dir`, a checkpoint at `checkpoint_at`.
-    let run =
-        |dir: &Path, sim: &mut SeasBp1Simulation, out: &mut SeasOutput<AsinhLaw>, steps: usize| {
-            let mut c = rsf::observe::Every::new(
-                rsf::observe::Interval::Steps(15),
-                Checkpointer::new(dir.join("checkpoint.bin")).fingerprint(fingerprint.clone()),
-            )
-            .unwrap();
-            let mut observers: [&mut dyn Observer<2, 1>; 2] = [out, &mut c];
-            sim.run(steps, &mut observers).unwrap();
-        };
-    let (whole, parts) = (temp_dir("seas-whole"), temp_dir("seas-parts"));
-    let mut sim = build();
-    let mut out = output(&whole, &sim, FileMode::Overwrite)
-        .unwrap()
-        .with_resume_log(FileMode::Overwrite)
-        .unwrap();
-    run(&whole, &mut sim, &mut out, 40);
-    drop(out);
-    let mut sim = build();
-    let mut out = output(&parts, &sim, FileMode::Overwrite)
-        .unwrap()
-        .with_resume_log(FileMode::Overwrite)
-        .unwrap();
-    run(&parts, &mut sim, &mut out, 22);
-    drop(out);
-    let c = read_checkpoint(&parts.join("checkpoint.bin"), &fingerprint, &[]).unwrap();
-    assert_eq!(c.state.step, 15);
-    // The thinning matters: fewer station rows than steps, more than one.
-    let station = parts.join(SeasBp1::station_name(0.0));
-    let rows = std::fs::read_to_string(&station)
-        .unwrap()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .count()
-        - 1;
-    assert!(rows > 1 && rows < 22, "{rows} station rows in 22 steps");
-
-    // A station file truncated mid-row (inside the rows up to the checkpoint) is refused
-    // before anything is cut.
-    let damaged = parts.join(SeasBp1::station_name(5e3));
-    let intact = std::fs::read(&damaged).unwrap();
-    let header_end = intact.windows(6).position(|w| w == b"state\n").unwrap() + 6;
-    std::fs::write(&damaged, &intact[..header_end + 30]).unwrap();
-    let before = snapshot(&parts);
-    let sim = build();
-    let e = output(&parts, &sim, FileMode::Resume { step: 15 })
-        .err()
-        .unwrap();
-    let msg = e.to_string();
-    assert!(matches!(e, Error::Resume { .. }), "{msg}");
-    assert!(msg.contains("fltst_dp050"), "{msg}");
-    assert_eq!(snapshot(&parts), before, "nothing is cut: {msg}");
-    std::fs::write(&damaged, &intact).unwrap();
-
-    // The intact folder resumes byte-identically.
-    let mut sim = build();
-    SeasOutput::<AsinhLaw>::check_resume(&parts, sim.model(), &setup(()), 15).unwrap();
-    sim.restore(&c).unwrap();
-    let mut out = output(&parts, &sim, FileMode::Resume { step: 15 }).unwrap();
-    run(&parts, &mut sim, &mut out, 25);
-    drop(out);
-    let (a, b) = (snapshot(&whole), snapshot(&parts));
-    assert_eq!(a.len(), b.len());
-    for ((pa, ba), (pb, bb)) in a.iter().zip(&b) {
-        assert_eq!(pa.file_name(), pb.file_name());
-        if pa.ends_with("checkpoint.bin") {
-            continue; // wall times differ
-        }
-        assert!(ba == bb, "{} differs after the resume", pa.display());
-    }
 }

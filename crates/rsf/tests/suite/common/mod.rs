@@ -334,18 +334,24 @@ pub fn checkpointer<L: FrictionLaw, S: StateLaw, I: VelocityIntegrator>(
     Every::new(Interval::Steps(every), Checkpointer::new(path)).expect("every >= 1")
 }
 
-/// A CSV file of numbers: its header and rows (every field parsed as `f64`).
+/// A CSV file of numbers: its header and rows (every field parsed as `f64`), read by the
+/// `csv` crate.
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).expect("readable CSV");
-    let mut lines = text.lines();
-    let header = lines
-        .next()
+    let mut reader = csv::Reader::from_path(path).expect("readable CSV");
+    let header = reader
+        .headers()
         .expect("a header line")
-        .split(',')
+        .iter()
         .map(str::to_owned)
         .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse().expect("a number")).collect())
+    let rows = reader
+        .records()
+        .map(|r| {
+            r.expect("a row")
+                .iter()
+                .map(|x| x.parse().expect("a number"))
+                .collect()
+        })
         .collect();
     (header, rows)
 }

@@ -1,36 +1,27 @@
-//! Output in the format of the SCEC SEAS benchmarks (Erickson et al. 2020, Seismol. Res.
-//! Lett. 91(2); the BP1-QD and BP3-QD problem descriptions): on-fault station time series
-//! `fltst_dpXXX`, slip profiles `devol.dat` (BP3: `slip.dat`), and an event catalogue
-//! `events.csv` (docs/seas-bp1.md "Output", docs/seas-bp3.md).
+//! The SEAS files of a fault along dip (the 2-D benchmarks; Erickson et al. 2020, Seismol.
+//! Res. Lett. 91(2); the BP1-QD and BP3-QD problem descriptions): on-fault station time
+//! series `fltst_dpXXX`, slip profiles `devol.dat` (BP3: `slip.dat`), and an event
+//! catalogue `events.csv` (docs/seas-bp1.md "Output", docs/seas-bp3.md).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use rsf_friction::{ConvexPotential, FrictionLaw};
+use rsf::checkpoint::write_atomically;
+use rsf::friction::{ConvexPotential, FrictionLaw};
+use rsf::model::block_norm;
+use rsf::observe::{create_file, FaultTractions, FileMode};
+use rsf::{Flow, Model, Observer, SimulationState, StepView};
 
-mod format;
+mod headers;
 mod layout;
-mod resume;
-mod setup;
+pub(crate) mod resume;
 
-use super::files::{self, FileMode, Start};
-use super::{Flow, Observer, StepView};
-use crate::checkpoint::write_atomically;
 use crate::error::{invalid, io_at, Result};
-use crate::model::fault::block_norm;
-use crate::model::Model;
-use crate::simulation_state::SimulationState;
-pub use format::{c_exp, common_header, is_iso_date, utc_date_today};
-use format::{profile_header, station_header, surface_header};
+use crate::setup::{ProfileQuantity, SeasEvent, SeasLayout, SeasSetup};
+use crate::text::{is_iso_date, write_row};
 use layout::Layout;
-pub use resume::SEAS_RESUME_LOG;
-use resume::{plan_resume, LogState, LOG_HEADER};
-use setup::ProfileQuantity;
-pub use setup::{
-    SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
-    SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,
-};
+use resume::{plan_resume, LogState, LOG_HEADER, SEAS_RESUME_LOG};
 
 /// A station: a frictional node, its file and its law.
 struct Station<L> {
@@ -193,9 +184,9 @@ impl<L: FrictionLaw> SeasOutput<L> {
             let out = if resuming {
                 None
             } else {
-                Some(fresh_station_file(
+                Some(create_file(
                     &path,
-                    &station_header(&setup, layout.depths[k], None, 0),
+                    &headers::station(&setup, layout.depths[k]).header(&setup, None, 0),
                     overwrite,
                 )?)
             };
@@ -213,9 +204,9 @@ impl<L: FrictionLaw> SeasOutput<L> {
             let out = if resuming {
                 None
             } else {
-                Some(fresh_station_file(
+                Some(create_file(
                     &path,
-                    &surface_header(&setup, &st.position, C, None, 0),
+                    &headers::surface(&setup, &st.position, C).header(&setup, None, 0),
                     overwrite,
                 )?)
             };
@@ -237,15 +228,14 @@ impl<L: FrictionLaw> SeasOutput<L> {
             profile_out.push(if resuming {
                 None
             } else {
-                Some(files::open(
+                Some(create_file(
                     &dir.join(name),
                     &format!(
                         "{}\n{}",
-                        profile_header(&setup, quantity, None, 0),
+                        headers::profile(&setup, quantity).header(&setup, None, 0),
                         layout.profile_first_row()
                     ),
-                    0,
-                    Start::Fresh { overwrite },
+                    overwrite,
                 )?)
             });
         }
@@ -282,7 +272,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
     /// to it, so that a checkpoint of any step can be resumed with
     /// [`FileMode::Resume`]: the station files, `devol.dat`, `events.csv` and the log
     /// then end byte-identical to an uninterrupted run's. Put the output before the
-    /// [`Checkpointer`](crate::observe::Checkpointer). (A resumed output keeps writing its log.)
+    /// [`Checkpointer`](rsf::observe::Checkpointer). (A resumed output keeps writing its log.)
     ///
     /// # Errors
     /// [`Error::FileExists`](crate::Error::FileExists) for a non-empty log of an earlier
@@ -290,11 +280,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
     pub fn with_resume_log(mut self, mode: FileMode) -> Result<Self> {
         if self.log.is_none() {
             let path = self.dir.join(SEAS_RESUME_LOG);
-            let start = match mode {
-                FileMode::Overwrite => Start::Fresh { overwrite: true },
-                _ => Start::Fresh { overwrite: false },
-            };
-            self.log = Some(files::open(&path, LOG_HEADER, 0, start)?);
+            self.log = Some(create_file(&path, LOG_HEADER, mode == FileMode::Overwrite)?);
         }
         Ok(self)
     }
@@ -434,7 +420,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
         &mut self,
         model: &Model<D, C>,
         state: &SimulationState,
-        tractions: Option<&dyn super::FaultTractions>,
+        tractions: Option<&dyn FaultTractions>,
     ) -> Result<()> {
         let t = state.time;
         self.last_station_t = t;
@@ -445,32 +431,27 @@ impl<L: FrictionLaw> SeasOutput<L> {
             let vk = block_norm::<C>(v, fb.nodes[k]);
             let alpha = state.alpha[k];
             let st = &self.stations[i];
-            let row = match self.setup.layout {
+            let mut row = String::new();
+            match self.setup.layout {
                 SeasLayout::Bp1 => {
                     let stress = self.setup.sigma_n * st.law.friction_coefficient(vk, alpha) / 1e6;
-                    format!(
-                        "{} {} {} {} {}\n",
-                        c_exp(t, 13, 21),
-                        c_exp(self.slip(model, &state.kinematics.u, k), 6, 14),
-                        c_exp(vk.log10(), 6, 14),
-                        c_exp(stress, 6, 14),
-                        c_exp(alpha / std::f64::consts::LN_10, 6, 14),
-                    )
+                    let slip = self.slip(model, &state.kinematics.u, k);
+                    let values = [slip, vk.log10(), stress, alpha / std::f64::consts::LN_10];
+                    write_row(&mut row, t, &values);
                 }
                 SeasLayout::Bp3 { .. } => {
                     let (shear, normal) = self.stresses(model, state, tractions, k);
                     let slip = self.slip(model, &state.kinematics.u, k);
-                    format!(
-                        "{} {} {} {} {} {}\n",
-                        c_exp(t, 13, 21),
-                        c_exp(slip, 6, 14),
-                        c_exp(vk.log10(), 6, 14),
-                        c_exp(shear / 1e6, 6, 14),
-                        c_exp(normal / 1e6, 6, 14),
-                        c_exp(alpha / std::f64::consts::LN_10, 6, 14),
-                    )
+                    let values = [
+                        slip,
+                        vk.log10(),
+                        shear / 1e6,
+                        normal / 1e6,
+                        alpha / std::f64::consts::LN_10,
+                    ];
+                    write_row(&mut row, t, &values);
                 }
-            };
+            }
             let st = &mut self.stations[i];
             let out = writer(&mut st.out, &st.path)?;
             out.write_all(row.as_bytes())
@@ -500,7 +481,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
         &self,
         model: &Model<D, C>,
         state: &SimulationState,
-        tractions: Option<&dyn super::FaultTractions>,
+        tractions: Option<&dyn FaultTractions>,
         k: usize,
     ) -> (f64, f64) {
         let p = model.frictional_boundary.nodes[k];
@@ -553,21 +534,17 @@ impl<L: FrictionLaw> SeasOutput<L> {
                 1.0
             }
         };
-        let mut row = c_exp(state.time, 13, 21);
-        for c in 0..C {
-            row.push(' ');
-            row.push_str(&c_exp(down(c) * (u[c] - u0[c]), 6, 14));
-        }
-        for (c, vc) in v.iter().enumerate() {
-            row.push(' ');
-            row.push_str(&c_exp(down(c) * vc, 6, 14));
-        }
-        row.push('\n');
+        let values: Vec<f64> = (0..C)
+            .map(|c| down(c) * (u[c] - u0[c]))
+            .chain(v.iter().enumerate().map(|(c, vc)| down(c) * vc))
+            .collect();
+        let mut row = String::new();
+        write_row(&mut row, state.time, &values);
         Ok(row)
     }
 
     /// The vertices of the stations off the fault (what a run condensed onto the fault
-    /// must compute for them: [`Stepping::watch_vertices`](crate::Stepping::watch_vertices),
+    /// must compute for them: [`Stepping::watch_vertices`](rsf::Stepping::watch_vertices),
     /// which a run calls itself with [`Observer::volume_vertices`]).
     pub fn surface_vertices(&self) -> Vec<usize> {
         let mut v: Vec<usize> = self.surface_files.iter().map(|f| f.vertex).collect();
@@ -583,7 +560,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
         model: &Model<D, C>,
         state: &SimulationState,
         vmax: f64,
-        tractions: Option<&dyn super::FaultTractions>,
+        tractions: Option<&dyn FaultTractions>,
     ) -> Result<()> {
         let t = state.time;
         self.last_profile_t = t;
@@ -591,6 +568,7 @@ impl<L: FrictionLaw> SeasOutput<L> {
         for (j, &quantity) in self.setup.layout.profiles().iter().enumerate() {
             let mut values = std::mem::take(&mut self.values);
             values.clear();
+            values.push(vmax.log10());
             for &k in &self.profile {
                 values.push(match quantity {
                     ProfileQuantity::Slip => self.slip(model, &state.kinematics.u, k),
@@ -602,12 +580,8 @@ impl<L: FrictionLaw> SeasOutput<L> {
                     }
                 });
             }
-            let mut row = format!("{} {}", c_exp(t, 13, 21), c_exp(vmax.log10(), 6, 14));
-            for x in &values {
-                row.push(' ');
-                row.push_str(&c_exp(*x, 6, 14));
-            }
-            row.push('\n');
+            let mut row = String::new();
+            write_row(&mut row, t, &values);
             self.values = values;
             let path = self.dir.join(files[j]);
             let out = writer(&mut self.profile_out[j], &path)?;
@@ -620,14 +594,6 @@ impl<L: FrictionLaw> SeasOutput<L> {
         self.profile_rows += 1;
         Ok(())
     }
-}
-
-/// A new station file (on or off the fault) at `path` with its `header`, flushed so that
-/// the header is on disk before the first row.
-fn fresh_station_file(path: &Path, header: &str, overwrite: bool) -> Result<BufWriter<File>> {
-    let mut out = files::open(path, header, 0, Start::Fresh { overwrite })?;
-    out.flush().map_err(io_at("write", path))?;
-    Ok(out)
 }
 
 /// The open writer of `path`, reopened for appending after a [`finish`](Observer::finish)
@@ -658,11 +624,14 @@ fn rewrite_header(path: &Path, header: &str) -> Result<()> {
         .take_while(|l| l.starts_with('#'))
         .map(|l| format!("{l}\n"))
         .collect();
-    write_atomically(path, format!("{hashes}{body}").as_bytes())
+    Ok(write_atomically(
+        path,
+        format!("{hashes}{body}").as_bytes(),
+    )?)
 }
 
 impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutput<L> {
-    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> rsf::Result<Flow> {
         let t = s.state.time;
         let fb = &s.model.frictional_boundary;
         self.steps += 1;
@@ -727,7 +696,7 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
         Ok(Flow::Continue(()))
     }
 
-    fn finish(&mut self) -> Result<()> {
+    fn finish(&mut self) -> rsf::Result<()> {
         if let Some(log) = self.log.as_mut() {
             log.flush()
                 .map_err(io_at("flush", &self.dir.join(SEAS_RESUME_LOG)))?;
@@ -739,7 +708,11 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             }
             rewrite_header(
                 &st.path,
-                &station_header(&self.setup, st.depth, stats, self.station_rows),
+                &headers::station(&self.setup, st.depth).header(
+                    &self.setup,
+                    stats,
+                    self.station_rows,
+                ),
             )?;
         }
         for f in &mut self.surface_files {
@@ -748,10 +721,8 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             }
             rewrite_header(
                 &f.path,
-                &surface_header(
+                &headers::surface(&self.setup, &f.position, self.components).header(
                     &self.setup,
-                    &f.position,
-                    self.components,
                     stats,
                     self.station_rows,
                 ),
@@ -765,7 +736,11 @@ impl<const D: usize, const C: usize, L: FrictionLaw> Observer<D, C> for SeasOutp
             }
             rewrite_header(
                 &path,
-                &profile_header(&self.setup, quantity, stats, self.profile_rows),
+                &headers::profile(&self.setup, quantity).header(
+                    &self.setup,
+                    stats,
+                    self.profile_rows,
+                ),
             )?;
         }
         let mut csv = String::from(

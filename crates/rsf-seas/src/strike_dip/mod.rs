@@ -1,27 +1,33 @@
 //! The files of SEAS BP5-QD (docs/seas-bp5.md, "Output"): the ten on-fault stations
 //! `fltst_strk±XXdp±YY` (8 columns), the nine off-fault stations `blkst_strk±XXfn±YYdp±ZZ`
 //! (7 columns), `global.dat` (maximum slip rate and moment rate) and the event catalogue
-//! `events.csv`, with the SCEC header conventions of BP1 and BP3.
+//! `events.csv`, with the SCEC header conventions of BP1 and BP3: the stations on a
+//! strike–dip grid of the fault.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use rsf::checkpoint::write_atomically;
-use rsf::observe::{seas_header, seas_number, SeasSampling, SeasSetup};
-use rsf::{Flow, Model, Observer, Result, StepView};
+use rsf::{Flow, Model, Observer, StepView};
 
-use crate::invalid;
-use crate::seas_bp5::{SeasBp5, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};
+use crate::error::{invalid, io_at, Result};
+use crate::setup::{SeasSampling, SeasSetup};
+use crate::text::{c_exp, is_iso_date, positions_row, write_row, FileLayout, Positions};
 
 mod layout;
 mod mark;
+mod resume;
+mod stations;
 mod text;
 
 use layout::{BodySource, FaultLayout, SlipMap};
 use mark::Mark;
 pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
+pub use stations::{
+    bp5_body_station_points, StrikeDipFault, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS,
+};
 use text::{
-    body_station_name, fault_station_name, write_row, File, Profile, BODY_COLUMNS, FAULT_COLUMNS,
+    body_station_name, fault_station_name, File, Profile, BODY_COLUMNS, FAULT_COLUMNS,
     GLOBAL_COLUMNS, SLIP_PROFILE_COLUMNS, STRESS_PROFILE_COLUMNS,
 };
 pub use text::{NEVER_RUPTURED, RUPTURE_THRESHOLD, SLIP_RATE_FLOOR};
@@ -38,10 +44,10 @@ struct BodyStation {
     source: BodySource,
 }
 
-/// The BP5 files of a run of [`SeasBp5`]'s fault alone (an [`Observer`]). Rows are kept
-/// in memory and every file is written whole, atomically, by
-/// [`finish`](Observer::finish) (at the end of each run call), its header completed
-/// (time-step bounds, number of rows).
+/// The BP5 files of a run of `rsf_scenes::SeasBp5`, its fault alone or its volume model
+/// (an [`Observer`]). Rows are kept in memory and every file is written whole,
+/// atomically, by [`finish`](Observer::finish) (at the end of each run call), its header
+/// completed (time-step bounds, number of rows).
 pub struct SeasBp5Output {
     dir: PathBuf,
     setup: SeasSetup,
@@ -65,23 +71,42 @@ pub struct SeasBp5Output {
 }
 
 impl SeasBp5Output {
-    /// The output of `bp5` on the grid of size `dx` into `dir` (created if missing):
-    /// `body_columns` the displacement columns of [`SEAS_BP5_BODY_STATIONS`] (from
-    /// [`SeasBp5::fault_ode_with_stations`] with [`SeasBp5::body_station_points`]), `setup`
-    /// the headers' problem, modeler, date and element size and the sampling.
+    /// The output of a fault alone, `region`, on the grid of size `dx` into `dir` (created
+    /// if missing): `cells` the grid's cells, their centres `(x₂, x₃)` (m), strike fastest,
+    /// from the shallowest row down (`rsf_scenes::SeasBp5::cells`), `body_columns` the
+    /// displacement columns of [`SEAS_BP5_BODY_STATIONS`] (from
+    /// `rsf_scenes::SeasBp5::fault_ode_with_stations` with [`bp5_body_station_points`]),
+    /// `setup` the headers' problem, modeler, date and element size and the sampling.
+    /// (`rsf_scenes::SeasBp5::output` makes BP5's.)
     ///
     /// # Errors
-    /// Invalid parameters or grid; [`rsf::Error::InvalidParameter`] named `body_columns`
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `cells` for
+    /// another number of cells than the grid of `dx` over the fault has, `body_columns`
     /// for another number of stations, `date` for a header date that is not a calendar
     /// date; I/O errors creating `dir`.
     pub fn new(
         dir: &Path,
-        bp5: &SeasBp5,
+        region: &StrikeDipFault,
         dx: f64,
+        cells: Vec<[f64; 2]>,
         body_columns: Vec<Vec<f64>>,
         setup: SeasSetup,
     ) -> Result<Self> {
-        let cells = bp5.cells(dx)?;
+        let n = [
+            (region.length / dx).round() as usize,
+            (region.width / dx).round() as usize,
+        ];
+        if cells.is_empty() || cells.len() != n[0] * n[1] {
+            return Err(invalid(
+                "cells",
+                format!(
+                    "{} cells, the grid of {dx} m over the fault has {} × {}",
+                    cells.len(),
+                    n[0],
+                    n[1]
+                ),
+            ));
+        }
         if body_columns.len() != SEAS_BP5_BODY_STATIONS.len() {
             return Err(invalid(
                 "body_columns",
@@ -92,10 +117,6 @@ impl SeasBp5Output {
                 ),
             ));
         }
-        let n = [
-            (bp5.l_f / dx).round() as usize,
-            (bp5.w_f / dx).round() as usize,
-        ];
         let layout = FaultLayout {
             areas: vec![dx * dx; cells.len()],
             slip: (0..cells.len())
@@ -119,22 +140,23 @@ impl SeasBp5Output {
                 columns,
             })
             .collect();
-        Self::build(dir, bp5, layout, body, setup)
+        Self::build(dir, region, layout, body, setup)
     }
 
-    /// The output of `bp5` on its finite-element volume model `model`
-    /// ([`SeasBp5::fe_model`] with spacing `dx` on the fault) into `dir`: the on-fault
+    /// The output of the fault `region` on its finite-element volume model `model`
+    /// (`rsf_scenes::SeasBp5::fe_model` with spacing `dx` on the fault) into `dir`: the on-fault
     /// stations from the frictional nodes (the grid of spacing `dx` over the
     /// rate-and-state region; slip and slip rate the jump of each split pair in Cartesian
     /// components), the off-fault stations at the mesh vertices nearest them (read
     /// through [`Observer::volume_vertices`]).
     ///
     /// # Errors
-    /// [`rsf::Error::InvalidParameter`] named `model` for a model without an internal
-    /// fault or whose frictional nodes do not fill the grid; I/O errors creating `dir`.
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `model` for a
+    /// model without an internal fault or whose frictional nodes do not fill the grid; I/O
+    /// errors creating `dir`. (`rsf_scenes::SeasBp5::volume_output` makes BP5's.)
     pub fn for_volume(
         dir: &Path,
-        bp5: &SeasBp5,
+        region: &StrikeDipFault,
         model: &Model<3, 3>,
         dx: f64,
         setup: SeasSetup,
@@ -151,10 +173,10 @@ impl SeasBp5Output {
             .map(|(i, &(minus, _))| (minus, i))
             .collect();
         let n = [
-            (bp5.l_f / dx).round() as usize + 1,
-            (bp5.w_f / dx).round() as usize + 1,
+            (region.length / dx).round() as usize + 1,
+            (region.width / dx).round() as usize + 1,
         ];
-        let origin = [-0.5 * bp5.l_f, 0.0];
+        let origin = [-0.5 * region.length, 0.0];
         let mut index = vec![usize::MAX; n[0] * n[1]];
         let mut layout = FaultLayout {
             positions: Vec::with_capacity(fb.len()),
@@ -205,37 +227,31 @@ impl SeasBp5Output {
             ));
         }
         layout.index = index;
-        let body = SeasBp5::body_station_points()
+        let body = bp5_body_station_points()
             .iter()
             .map(|x| model.nearest_node(x).map(BodySource::Vertex))
-            .collect::<Result<_>>()?;
-        Self::build(dir, bp5, layout, body, setup)
+            .collect::<rsf::Result<_>>()?;
+        Self::build(dir, region, layout, body, setup)
     }
 
     fn build(
         dir: &Path,
-        bp5: &SeasBp5,
+        region: &StrikeDipFault,
         layout: FaultLayout,
         body: Vec<BodySource>,
         setup: SeasSetup,
     ) -> Result<Self> {
-        if !rsf::observe::is_iso_date(&setup.date) {
+        if !is_iso_date(&setup.date) {
             return Err(invalid(
                 "date",
                 format!("{:?} is not a calendar date YYYY-MM-DD", setup.date),
             ));
         }
-        std::fs::create_dir_all(dir).map_err(|source| rsf::Error::File {
-            path: dir.display().to_string(),
-            action: "create",
-            source,
-        })?;
-        let file = |name: &str, location: String, columns| File {
+        std::fs::create_dir_all(dir).map_err(io_at("create", dir))?;
+        let file = |name: &str, location: String, columns: &[(&str, &str)]| File {
             path: dir.join(name),
-            location,
-            columns,
+            layout: FileLayout::new(location, columns),
             rows: String::new(),
-            coordinate: None,
         };
         // Profiles along dip at x₂ = 0 and along strike at x₃ = 10 km, at the grid's
         // rows and columns.
@@ -272,13 +288,12 @@ impl SeasBp5Output {
                     location,
                     quantity,
                 );
-                f.coordinate = Some(coordinate);
+                f.layout.profile = Some(Positions {
+                    words: format!("positions {coordinate}"),
+                    coordinate: coordinate.into(),
+                });
                 // The benchmark's first data row: `0 0` and the positions.
-                f.rows.push_str("0 0");
-                for &x in positions.iter() {
-                    f.rows.push(' ');
-                    f.rows.push_str(&seas_number(x, 6, 14));
-                }
+                f.rows = positions_row(positions.iter().copied());
                 f.rows.push('\n');
                 profiles.push(Profile {
                     file: f,
@@ -321,9 +336,9 @@ impl SeasBp5Output {
             global: file("global.dat", "global".into(), &GLOBAL_COLUMNS),
             profiles,
             layout,
-            mu: bp5.shear_modulus(),
-            eta: bp5.radiation_damping(),
-            v_p: bp5.v_p,
+            mu: region.shear_modulus,
+            eta: region.radiation_damping,
+            v_p: region.plate_rate,
             mark: Mark {
                 step: 0,
                 written: 0,
@@ -339,102 +354,6 @@ impl SeasBp5Output {
             resume_log: false,
             log: Vec::new(),
         })
-    }
-
-    /// Keeps the resume log [`SEAS_BP5_RESUME_LOG`]: writes every file, the catalogue and
-    /// a mark of the log every `steps` steps (0: never) and where a step cap stops the run,
-    /// so that a run continued from a checkpoint written at such a step continues its
-    /// files ([`resume`](Self::resume)) — checkpoint at multiples of `steps`, with the
-    /// checkpointer after this output among the observers.
-    pub fn with_resume_log(mut self, steps: usize) -> Self {
-        self.resume_log = true;
-        self.persist_every = steps;
-        self
-    }
-
-    /// Writes the files and a mark of the resume log at the current step.
-    fn persist(&mut self) -> Result<()> {
-        self.write_files()?;
-        if self.log.last().map(|m| m.step) != Some(self.mark.step) {
-            self.log.push(self.mark.clone());
-        }
-        let log = serde_json::to_string(&self.log)
-            .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
-        write_atomically(&self.dir.join(SEAS_BP5_RESUME_LOG), log.as_bytes())
-    }
-
-    /// Continues the files of the run in this folder at its persisted step `step` (the
-    /// checkpoint's): reads the resume log and keeps each file's rows up to that step
-    /// (the files are rewritten at the next persisted step or the end of the run call).
-    ///
-    /// # Errors
-    /// [`rsf::Error::InvalidParameter`] named `resume` if the log has no mark at `step`
-    /// or a file holds fewer rows than the mark says; read errors naming the file.
-    pub fn resume(&mut self, step: usize) -> Result<()> {
-        let path = self.dir.join(SEAS_BP5_RESUME_LOG);
-        let text = std::fs::read_to_string(&path).map_err(|source| rsf::Error::File {
-            path: path.display().to_string(),
-            action: "read",
-            source,
-        })?;
-        let log: Vec<Mark> = serde_json::from_str(&text)
-            .map_err(|e| invalid("resume", format!("{}: {e}", path.display())))?;
-        let Some(i) = log.iter().position(|m| m.step == step) else {
-            return Err(invalid(
-                "resume",
-                format!(
-                    "{} has no mark at step {step} (the files were written at steps {:?}): \
-                     checkpoint at multiples of the output's persist interval",
-                    path.display(),
-                    log.iter().map(|m| m.step).collect::<Vec<_>>()
-                ),
-            ));
-        };
-        let mark = log[i].clone();
-        let files = self
-            .fault
-            .iter_mut()
-            .map(|s| &mut s.file)
-            .chain(self.body.iter_mut().map(|s| &mut s.file))
-            .chain(std::iter::once(&mut self.global))
-            .chain(self.profiles.iter_mut().map(|p| &mut p.file));
-        for f in files {
-            // A profile's positions row and its time rows; a station's rows.
-            let kept = if f.coordinate.is_some() {
-                1 + mark.profile_written
-            } else {
-                mark.written
-            };
-            let text = std::fs::read_to_string(&f.path).map_err(|source| rsf::Error::File {
-                path: f.path.display().to_string(),
-                action: "read",
-                source,
-            })?;
-            let names: Vec<&str> = f.columns.iter().map(|(n, _)| *n).collect();
-            let names = names.join(" ");
-            let mut lines = text.split_inclusive('\n');
-            if !lines.by_ref().any(|l| l.trim_end() == names) {
-                return Err(invalid(
-                    "resume",
-                    format!("{} has no field line {names:?}", f.path.display()),
-                ));
-            }
-            let rows: Vec<&str> = lines.take(kept).collect();
-            if rows.len() < kept || rows.iter().any(|r| !r.ends_with('\n')) {
-                return Err(invalid(
-                    "resume",
-                    format!(
-                        "{} holds {} complete rows, the mark at step {step} {kept}",
-                        f.path.display(),
-                        rows.iter().filter(|r| r.ends_with('\n')).count(),
-                    ),
-                ));
-            }
-            f.rows = rows.concat();
-        }
-        self.log = log[..=i].to_vec();
-        self.mark = mark;
-        Ok(())
     }
 
     /// The benchmark's first row: every file at the state at `t = 0` (`friction` the
@@ -517,7 +436,7 @@ impl SeasBp5Output {
             .chain(self.profiles.iter().map(|p| &p.file));
         for f in files {
             let steps = (self.mark.steps > 0).then_some(self.mark.tau);
-            let rows = match f.coordinate {
+            let rows = match f.layout.profile {
                 Some(_) => self.mark.profile_written,
                 None => self.mark.written,
             };
@@ -540,7 +459,10 @@ impl SeasBp5Output {
                 e.hypocentre[1]
             );
         }
-        write_atomically(&self.dir.join("events.csv"), csv.as_bytes())
+        Ok(write_atomically(
+            &self.dir.join("events.csv"),
+            csv.as_bytes(),
+        )?)
     }
 
     /// The names of the benchmark files this output writes (stations and `global.dat`;
@@ -670,26 +592,31 @@ impl SeasBp5Output {
             "on fault, the first time after the first event that each node's slip rate \
              reached {RUPTURE_THRESHOLD:e} m/s ({NEVER_RUPTURED:e} s: never)"
         );
-        let mut text = seas_header(&self.setup, &location, steps, self.layout.positions.len());
-        text.push_str(
-            "\n# Column #1 = x2 (m)\n# Column #2 = x3 (m)\n# Column #3 = t (s)\n\
-             # The line below lists the names of the data fields:\nx2 x3 t\n",
+        let columns = [("x2", "x2 (m)"), ("x3", "x3 (m)"), ("t", "t (s)")];
+        let mut text = FileLayout::new(location, &columns).header(
+            &self.setup,
+            steps,
+            self.layout.positions.len(),
         );
+        text.push('\n');
         for (x, t) in self.layout.positions.iter().zip(&self.mark.rupture) {
             let _ = writeln!(
                 text,
                 "{} {} {}",
-                seas_number(x[0], 6, 14),
-                seas_number(x[1], 6, 14),
-                seas_number(t.unwrap_or(NEVER_RUPTURED), 13, 21)
+                c_exp(x[0], 6, 14),
+                c_exp(x[1], 6, 14),
+                c_exp(t.unwrap_or(NEVER_RUPTURED), 13, 21)
             );
         }
-        write_atomically(&self.dir.join("rupture.dat"), text.as_bytes())
+        Ok(write_atomically(
+            &self.dir.join("rupture.dat"),
+            text.as_bytes(),
+        )?)
     }
 }
 
 impl Observer<3, 3> for SeasBp5Output {
-    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> Result<Flow> {
+    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> rsf::Result<Flow> {
         let t = s.state.time;
         let m = &mut self.mark;
         m.step = s.report.step;
@@ -748,15 +675,15 @@ impl Observer<3, 3> for SeasBp5Output {
         Ok(Flow::Continue(()))
     }
 
-    fn at_step_cap(&mut self, _s: &StepView<'_, 3, 3>) -> Result<()> {
+    fn at_step_cap(&mut self, _s: &StepView<'_, 3, 3>) -> rsf::Result<()> {
         if self.resume_log {
             self.persist()?;
         }
         Ok(())
     }
 
-    fn finish(&mut self) -> Result<()> {
-        self.write_files()
+    fn finish(&mut self) -> rsf::Result<()> {
+        Ok(self.write_files()?)
     }
 
     fn name(&self) -> String {

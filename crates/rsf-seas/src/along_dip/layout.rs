@@ -1,10 +1,11 @@
 //! Where a SEAS output's nodes are: the position along the fault of every frictional
 //! node, the stations' nodes, the profile's nodes, the vertices of the stations off the fault.
 
-use super::format::c_exp;
-use super::setup::SeasSetup;
+use rsf::Model;
+
 use crate::error::{invalid, Result};
-use crate::model::Model;
+use crate::setup::SeasSetup;
+use crate::text::positions_row;
 
 /// Where the output's nodes are: depths of the frictional nodes, stations, profile.
 pub(super) struct Layout {
@@ -102,9 +103,6 @@ impl Layout {
 
     /// The line of `devol.dat` after its `#` lines: `0 0` and the profile's depths.
     pub(super) fn profile_first_row(&self) -> String {
-        std::iter::once("0 0".to_owned())
-            .chain(self.profile.iter().map(|&k| c_exp(self.depths[k], 6, 14)))
-            .collect::<Vec<_>>()
-            .join(" ")
+        positions_row(self.profile.iter().map(|&k| self.depths[k]))
     }
 }

@@ -1,10 +1,12 @@
-//! What a SEAS output is asked to write: its sampling, stations and layout (BP1 or BP3),
-//! the benchmark's columns, the events of its catalogue.
+//! What a SEAS output is asked to write: the headers' problem, author, date and element
+//! size, its sampling, and for an output along dip its stations and layout (BP1 or BP3), the
+//! benchmark's columns, the events of its catalogue.
 
-use crate::model::FaultSide;
+use rsf::model::FaultSide;
 
-/// Seconds per year (365.25 days), the unit of the benchmark's output intervals.
-pub const SECONDS_PER_YEAR: f64 = 365.25 * 24.0 * 3600.0;
+/// Seconds per year (365.25 days), the unit of the benchmark's output intervals (the
+/// library's, [`rsf::observe::SECONDS_PER_YEAR`]).
+pub use rsf::observe::SECONDS_PER_YEAR;
 
 /// When rows are written: every accepted step, or thinned to the benchmark's suggestion
 /// (a station row at most every `station_quiet` s between events and every
@@ -47,14 +49,14 @@ impl Default for SeasSampling {
     }
 }
 
-/// What a [`SeasOutput`](super::SeasOutput) writes and where its numbers come from.
+/// What a [`SeasOutput`](crate::SeasOutput) writes and where its numbers come from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SeasSetup {
     /// Problem name for the headers, e.g. `SEAS Benchmark BP1-QD`.
     pub problem: String,
     /// Who ran the model, for the headers' `author` line (the benchmark's "modeler").
     pub modeler: String,
-    /// Date of the run for the headers, `YYYY-MM-DD` (e.g. [`utc_date_today`](super::utc_date_today)).
+    /// Date of the run for the headers, `YYYY-MM-DD` (e.g. [`utc_date_today`](crate::utc_date_today)).
     pub date: String,
     /// Element size on the fault (m), for the headers.
     pub element_size: f64,
@@ -96,7 +98,7 @@ pub struct SeasSurfaceStation {
     pub side: FaultSide,
 }
 
-/// Which benchmark's files a [`SeasOutput`](super::SeasOutput) writes.
+/// Which benchmark's files a [`SeasOutput`](crate::SeasOutput) writes.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum SeasLayout {
     /// BP1: stations and profiles by depth, five station columns (the shear stress
@@ -145,7 +147,7 @@ impl SeasLayout {
     }
 
     /// What the profile files hold, in the order of [`profile_files`](Self::profile_files).
-    pub(super) fn profiles(&self) -> &'static [ProfileQuantity] {
+    pub(crate) fn profiles(&self) -> &'static [ProfileQuantity] {
         match self {
             Self::Bp1 => &[ProfileQuantity::Slip],
             Self::Bp3 { .. } => &[
@@ -158,7 +160,7 @@ impl SeasLayout {
 
     /// The position along the fault of a point at `depth` (m): the depth (BP1) or the
     /// down-dip distance (BP3).
-    pub(super) fn along(&self, depth: f64) -> f64 {
+    pub(crate) fn along(&self, depth: f64) -> f64 {
         match self {
             Self::Bp1 => depth,
             Self::Bp3 { dip_degrees } => depth / dip_degrees.to_radians().sin(),
@@ -166,7 +168,7 @@ impl SeasLayout {
     }
 
     /// The name of that position in the headers: `(word, symbol)`.
-    pub(super) fn coordinate(&self) -> (&'static str, &'static str) {
+    pub(crate) fn coordinate(&self) -> (&'static str, &'static str) {
         match self {
             Self::Bp1 => ("depth", "z"),
             Self::Bp3 { .. } => ("down-dip distance", "xd"),
@@ -215,7 +217,7 @@ pub const SEAS_BP3_STATION_COLUMNS: [(&str, &str); 6] = [
 /// What a profile file holds along the fault: BP1's `devol.dat` and BP3's `slip.dat` the
 /// slip, BP3's `shear_stress.dat` and `normal_stress.dat` the stresses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum ProfileQuantity {
+pub(crate) enum ProfileQuantity {
     /// Slip (m).
     Slip,
     /// Shear stress (MPa), signed with the slip rate.
@@ -226,7 +228,7 @@ pub(super) enum ProfileQuantity {
 
 impl ProfileQuantity {
     /// The field name (the second field-list line ends with it).
-    pub(super) fn field(self) -> &'static str {
+    pub(crate) fn field(self) -> &'static str {
         match self {
             Self::Slip => "slip",
             Self::ShearStress => "shear_stress",
@@ -235,7 +237,7 @@ impl ProfileQuantity {
     }
 
     /// The description in the `# Column #3` line.
-    pub(super) fn description(self) -> &'static str {
+    pub(crate) fn description(self) -> &'static str {
         match self {
             Self::Slip => "Slip (m)",
             Self::ShearStress => "Shear stress (MPa)",

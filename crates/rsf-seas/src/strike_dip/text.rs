@@ -1,11 +1,10 @@
-//! The text of the BP5 files: their columns, the data rows' number format, the file
-//! names, and the file being written (its rows so far).
+//! The text of the BP5 files: their columns, the file names, and the file being written
+//! (its rows so far).
 
 use std::path::PathBuf;
 
-use std::fmt::Write as _;
-
-use rsf::observe::{seas_header, seas_number, SeasSetup};
+use crate::setup::SeasSetup;
+use crate::text::FileLayout;
 
 pub(super) const FAULT_COLUMNS: [(&str, &str); 8] = [
     ("t", "Time (s)"),
@@ -38,15 +37,12 @@ pub(super) const GLOBAL_COLUMNS: [(&str, &str); 3] = [
 /// written as `log10` of it (the benchmark's convention for a zero component).
 pub const SLIP_RATE_FLOOR: f64 = 1e-20;
 
-/// A file: its path, header location line and rows so far.
+/// A file: its path, its layout (a profile's positions `x2` or `x3`, whose values its
+/// first data row holds) and its rows so far.
 pub(super) struct File {
     pub(super) path: PathBuf,
-    pub(super) location: String,
-    pub(super) columns: &'static [(&'static str, &'static str)],
+    pub(super) layout: FileLayout,
     pub(super) rows: String,
-    /// For a profile: the name of its coordinate (`x2` or `x3`); its first data row holds
-    /// the positions.
-    pub(super) coordinate: Option<&'static str>,
 }
 
 /// A slip or shear-stress profile (component 2) along dip or strike.
@@ -83,16 +79,6 @@ pub const RUPTURE_THRESHOLD: f64 = 1e-3;
 /// run: the times are absolute, from the start of the run).
 pub const NEVER_RUPTURED: f64 = 1e20;
 
-/// A data row: the time as `%21.13E`, every value as `%14.6E`.
-pub(super) fn write_row(rows: &mut String, t: f64, values: &[f64]) {
-    rows.push_str(&seas_number(t, 13, 21));
-    for &x in values {
-        rows.push(' ');
-        rows.push_str(&seas_number(x, 6, 14));
-    }
-    rows.push('\n');
-}
-
 /// `fltst_strk±XXdp±YY` of the on-fault station at `(x₂, x₃)` km.
 pub(super) fn fault_station_name(strike: f64, depth: f64) -> String {
     format!("fltst_strk{}dp{}", signed(strike), signed(depth))
@@ -120,29 +106,14 @@ pub(super) fn signed(km: f64) -> String {
 impl File {
     /// The file's header: the SEAS lines of `setup` (`steps` the smallest and largest
     /// step so far, `rows` the data rows), one `# Column #k` line per column, the field
-    /// lines (a profile's coordinate line first).
+    /// lines (a profile's coordinate line first), a newline at its end.
     pub(super) fn header(
         &self,
         setup: &SeasSetup,
         steps: Option<(f64, f64)>,
         rows: usize,
     ) -> String {
-        let mut h = seas_header(setup, &self.location, steps, rows);
-        for (i, (_, description)) in self.columns.iter().enumerate() {
-            let _ = write!(h, "\n# Column #{} = {description}", i + 1);
-        }
-        if let Some(coordinate) = self.coordinate {
-            let _ = write!(
-                h,
-                "\n# The first data row is 0 0 followed by the positions {coordinate} (m); \
-                 every other row is a time.\n# The two lines below list the names of the data \
-                 fields:\n{coordinate}\n"
-            );
-        } else {
-            h.push_str("\n# The line below lists the names of the data fields:\n");
-        }
-        let names: Vec<&str> = self.columns.iter().map(|(n, _)| *n).collect();
-        h.push_str(&names.join(" "));
+        let mut h = self.layout.header(setup, steps, rows);
         h.push('\n');
         h
     }

@@ -10,12 +10,10 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use rsf::observe::{
-    FileMode, SeasOutput, SeasSampling, SeasSetup, StepView, SEAS_BP1_STATION_COLUMNS,
-    SECONDS_PER_YEAR,
-};
+use rsf::observe::{FileMode, StepView};
 use rsf::{Flow, Observer, Until};
 use rsf_scenes::{SeasBp1, SeasBp1FaultOde, SEAS_BP1_STATION_DEPTHS};
+use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SEAS_BP1_STATION_COLUMNS, SECONDS_PER_YEAR};
 
 /// The stations on the small BP1's 10 km fault (0, 2.5, 5, 7.5, 10 km).
 const DEPTHS: &[f64] = &SEAS_BP1_STATION_DEPTHS;

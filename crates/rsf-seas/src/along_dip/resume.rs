@@ -1,20 +1,21 @@
-//! Resuming a [`SeasOutput`](super::SeasOutput)(super::SeasOutput)'s files after a checkpoint: the resume log's state at the
-//! checkpoint's step and how much of every file to keep.
+//! Resuming a [`SeasOutput`](super::SeasOutput)'s files after a checkpoint: the resume log's
+//! state at the checkpoint's step and how much of every file to keep.
 
 use std::path::{Path, PathBuf};
 
-use super::format::{c_exp, profile_field_lines, station_field_line, surface_field_line};
+use super::headers;
 use super::layout::Layout;
-use super::setup::{SeasEvent, SeasSetup};
-use crate::error::{io_at, show_path, Error, Result};
+use crate::error::{show_path, Error, Result};
+use crate::resume::{complete_lines, csv_lines, kept_rows, read_for_resume};
+use crate::setup::{SeasEvent, SeasSetup};
 
-/// Name of the resume log of a [`SeasOutput`](super::SeasOutput) in its folder
+/// Name of the resume log of a [`SeasOutput`](crate::SeasOutput) in its folder
 /// ([`SeasOutput::with_resume_log`](super::SeasOutput::with_resume_log)).
 pub const SEAS_RESUME_LOG: &str = "seas_resume.csv";
 
 /// Header of the resume log: the output's state after each step, every `f64` in the
 /// shortest text that reads back to the same double (NaN: none).
-pub(super) const LOG_HEADER: &str =
+pub(crate) const LOG_HEADER: &str =
     "step,t_s,steps,tau_min_s,tau_max_s,last_station_t_s,last_profile_t_s,\
 station_rows,profile_rows,slip_at_start_m,pending_t_s,pending_slip_m,events,t_start_s,t_end_s,\
 hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m";
@@ -71,89 +72,80 @@ pub(super) fn plan_resume(
     let mut cuts = vec![(log_path, log_keep, log_len)];
     for (name, _) in &setup.stations {
         let path = dir.join(name);
-        let (keep, len) = kept_rows(
+        let kept = kept_rows(
             &path,
-            &[station_field_line(&setup.layout)],
+            &headers::station(setup, 0.0).field_lines(),
             setup.layout.station_columns().len(),
             state.station_rows,
             state.last_station_t,
         )?;
-        cuts.push((path, keep, len));
+        cuts.push((path, kept.keep, kept.text.len()));
     }
     for st in &setup.surface_stations {
         let path = dir.join(&st.name);
-        let (keep, len) = kept_rows(
+        let kept = kept_rows(
             &path,
-            &[surface_field_line(layout.components, setup.depth_axis)],
+            &headers::surface(setup, &st.position, layout.components).field_lines(),
             1 + 2 * layout.components,
             state.station_rows,
             state.last_station_t,
         )?;
-        cuts.push((path, keep, len));
+        cuts.push((path, kept.keep, kept.text.len()));
     }
     let files = setup.layout.profile_files();
     for (&quantity, name) in setup.layout.profiles().iter().zip(files) {
         let path = dir.join(name);
-        let first = profile_field_lines(&setup.layout, quantity)
+        let first = headers::profile(setup, quantity)
+            .field_lines()
             .into_iter()
             .chain([layout.profile_first_row()])
             .collect::<Vec<_>>();
-        let (keep, len) = kept_rows(
+        let kept = kept_rows(
             &path,
             &first,
             2 + layout.profile.len(),
             state.profile_rows,
             state.last_profile_t,
         )?;
-        cuts.push((path, keep, len));
+        cuts.push((path, kept.keep, kept.text.len()));
     }
     Ok(ResumePlan { state, cuts })
 }
 
-/// Reads `path` for a resume (a missing file is an [`Error::Resume`]).
-pub(super) fn read_for_resume(path: &Path) -> Result<Vec<u8>> {
-    match std::fs::read(path) {
-        Ok(t) => Ok(t),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(Error::Resume {
-            path: show_path(path),
-            reason: "the file is missing: resume into the folder of the interrupted run (with \
-                     a SEAS output written with its resume log)"
-                .into(),
-        }),
-        Err(e) => Err(io_at("read", path)(e)),
-    }
-}
-
-/// The complete lines of `text` with the byte offset after each.
-pub(super) fn complete_lines(text: &[u8]) -> impl Iterator<Item = (&[u8], usize)> {
-    let mut at = 0;
-    std::iter::from_fn(move || {
-        let len = text[at..].iter().position(|&b| b == b'\n')?;
-        let line = &text[at..at + len];
-        at += len + 1;
-        Some((line, at))
-    })
-}
-
 /// The state of the resume log `path` after step `step` (the default state if the log
-/// has no line up to it), the bytes of the log kept and its length.
+/// has no line up to it), the bytes of the log kept and its length. The log is read by the
+/// `csv` crate; a last line without its newline (cut off by an interruption) is not read.
+///
+/// # Errors
+/// [`Error::Resume`] for a missing log, another header, lines missing up to `step`;
+/// [`Error::Malformed`] naming the line that is not one the output writes.
 pub(super) fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usize)> {
     let text = read_for_resume(path)?;
     let fail = |reason: String| Error::Resume {
         path: show_path(path),
         reason,
     };
-    let mut lines = complete_lines(&text);
-    let header_end = match lines.next() {
+    let header_end = match complete_lines(&text).next() {
         Some((h, end)) if h == LOG_HEADER.as_bytes() => end,
         _ => return Err(fail("its first line is not the resume log's header".into())),
     };
     let mut state = LogState::default();
     let (mut keep, mut last) = (header_end, None);
-    for (line, end) in lines {
-        let line = std::str::from_utf8(line).map_err(|e| fail(e.to_string()))?;
-        let malformed = || fail(format!("malformed line `{}`", rsf_numeric::excerpt(line)));
-        let f: Vec<&str> = line.split(',').collect();
+    for read in csv_lines(&text, header_end, 2) {
+        let row = read.map_err(|(line, reason)| Error::Malformed {
+            path: show_path(path),
+            line,
+            reason,
+        })?;
+        let f = &row.fields;
+        let malformed = || Error::Malformed {
+            path: show_path(path),
+            line: row.line,
+            reason: format!(
+                "malformed line `{}`",
+                rsf_numeric::excerpt(&f.iter().collect::<Vec<_>>().join(","))
+            ),
+        };
         if f.len() != 18 {
             return Err(malformed());
         }
@@ -194,7 +186,7 @@ pub(super) fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usi
             pending_end: (!pending.0.is_nan()).then_some(pending),
             events: state.events,
         };
-        (keep, last) = (end, Some(row_step));
+        (keep, last) = (row.end, Some(row_step));
     }
     if let Some(l) = last.filter(|&l| l != step) {
         return Err(fail(format!(
@@ -203,72 +195,4 @@ pub(super) fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usi
         )));
     }
     Ok((state, keep, text.len()))
-}
-
-/// Checks a station file or `devol.dat` at `path` for a resume keeping `rows` rows (each
-/// of `fields` fields, the last at time `last_t`) after its `#` lines and the lines
-/// `first` (its field-list lines, and `devol.dat`'s row of depths); returns the bytes kept
-/// and the file's length.
-pub(super) fn kept_rows(
-    path: &Path,
-    first: &[String],
-    fields: usize,
-    rows: usize,
-    last_t: f64,
-) -> Result<(usize, usize)> {
-    let text = read_for_resume(path)?;
-    let fail = |reason: String| Error::Resume {
-        path: show_path(path),
-        reason,
-    };
-    let mut lines = complete_lines(&text).skip_while(|(l, _)| l.starts_with(b"#"));
-    let mut keep = 0;
-    for (i, want) in first.iter().enumerate() {
-        keep = match lines.next() {
-            Some((l, end)) if l == want.as_bytes() => end,
-            Some((l, _)) => {
-                return Err(fail(format!(
-                    "its line {} after the `#` lines is `{}`, expected `{}` (another layout or \
-                     output)",
-                    i + 1,
-                    rsf_numeric::excerpt(&String::from_utf8_lossy(l)),
-                    rsf_numeric::excerpt(want)
-                )))
-            }
-            None => return Err(fail("it has no field-list line".into())),
-        };
-    }
-    let mut last = None;
-    for read in 0..rows {
-        let Some((line, end)) = lines.next() else {
-            return Err(fail(format!(
-                "it has {read} complete rows, the checkpoint's step needs {rows}: rows are \
-                 missing (truncated or damaged file)"
-            )));
-        };
-        let line = String::from_utf8_lossy(line);
-        if line.split_whitespace().count() != fields {
-            return Err(fail(format!(
-                "malformed row `{}` (damaged file?)",
-                rsf_numeric::excerpt(&line)
-            )));
-        }
-        last = line.split_whitespace().next().map(str::to_owned);
-        keep = end;
-    }
-    if let Some(t) = last {
-        let want = c_exp(last_t, 13, 21);
-        match t {
-            t if t == want.trim() => {}
-            t => {
-                return Err(fail(format!(
-                    "its row {rows} is at t = {} s, the resume log says {} s: rows are missing \
-                     (truncated or damaged) or the file is of another run",
-                    rsf_numeric::excerpt(&t),
-                    want.trim()
-                )))
-            }
-        }
-    }
-    Ok((keep, text.len()))
 }

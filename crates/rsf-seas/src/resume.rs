@@ -1,0 +1,191 @@
+//! What a resume of SEAS files shares, 2-D and 3-D alike: reading a file of the interrupted
+//! run, and how much of a station or profile file to keep — after its `#` lines its
+//! field-list lines, then the rows written up to the checkpoint's step, complete and the
+//! last at the time the output's resume log says.
+
+use std::path::Path;
+
+use crate::error::{io_at, show_path, Error, Result};
+use crate::text::c_exp;
+
+/// Reads `path` for a resume (a missing file is an [`Error::Resume`]).
+pub(crate) fn read_for_resume(path: &Path) -> Result<Vec<u8>> {
+    match std::fs::read(path) {
+        Ok(t) => Ok(t),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(Error::Resume {
+            path: show_path(path),
+            reason: "the file is missing: resume into the folder of the interrupted run (with \
+                     a SEAS output written with its resume log)"
+                .into(),
+        }),
+        Err(e) => Err(io_at("read", path)(e)),
+    }
+}
+
+/// The complete lines of `text` with the byte offset after each.
+pub(crate) fn complete_lines(text: &[u8]) -> impl Iterator<Item = (&[u8], usize)> {
+    let mut at = 0;
+    std::iter::from_fn(move || {
+        let len = text[at..].iter().position(|&b| b == b'\n')?;
+        let line = &text[at..at + len];
+        at += len + 1;
+        Some((line, at))
+    })
+}
+
+/// What a resume keeps of a file ([`kept_rows`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Kept {
+    /// The file's bytes.
+    pub(crate) text: Vec<u8>,
+    /// The byte offset after the lines `first`, where the rows begin.
+    pub(crate) rows_start: usize,
+    /// The bytes kept: the `#` lines, the lines `first`, the rows.
+    pub(crate) keep: usize,
+}
+
+/// Checks a station or profile file at `path` for a resume keeping `rows` rows (each of
+/// `fields` fields, the last at time `last_t`) after its `#` lines and the lines `first`
+/// (its field-list lines, and a profile's row of positions).
+///
+/// # Errors
+/// [`Error::Resume`] naming the file: missing, other lines than `first`, fewer complete
+/// rows, a row of another number of fields, the last row at another time.
+pub(crate) fn kept_rows(
+    path: &Path,
+    first: &[String],
+    fields: usize,
+    rows: usize,
+    last_t: f64,
+) -> Result<Kept> {
+    let text = read_for_resume(path)?;
+    let fail = |reason: String| Error::Resume {
+        path: show_path(path),
+        reason,
+    };
+    let mut lines = complete_lines(&text).skip_while(|(l, _)| l.starts_with(b"#"));
+    let mut keep = 0;
+    for (i, want) in first.iter().enumerate() {
+        keep = match lines.next() {
+            Some((l, end)) if l == want.as_bytes() => end,
+            Some((l, _)) => {
+                return Err(fail(format!(
+                    "its line {} after the `#` lines is `{}`, expected `{}` (another layout or \
+                     output)",
+                    i + 1,
+                    rsf_numeric::excerpt(&String::from_utf8_lossy(l)),
+                    rsf_numeric::excerpt(want)
+                )))
+            }
+            None => return Err(fail("it has no field-list line".into())),
+        };
+    }
+    let rows_start = keep;
+    let mut last = None;
+    for read in 0..rows {
+        let Some((line, end)) = lines.next() else {
+            return Err(fail(format!(
+                "it has {read} complete rows, the checkpoint's step needs {rows}: rows are \
+                 missing (truncated or damaged file)"
+            )));
+        };
+        let line = String::from_utf8_lossy(line);
+        if line.split_whitespace().count() != fields {
+            return Err(fail(format!(
+                "malformed row `{}` (damaged file?)",
+                rsf_numeric::excerpt(&line)
+            )));
+        }
+        last = line.split_whitespace().next().map(str::to_owned);
+        keep = end;
+    }
+    if let Some(t) = last {
+        let want = c_exp(last_t, 13, 21);
+        match t {
+            t if t == want.trim() => {}
+            t => {
+                return Err(fail(format!(
+                    "its row {rows} is at t = {} s, the resume log says {} s: rows are missing \
+                     (truncated or damaged) or the file is of another run",
+                    rsf_numeric::excerpt(&t),
+                    want.trim()
+                )))
+            }
+        }
+    }
+    drop(lines);
+    Ok(Kept {
+        text,
+        rows_start,
+        keep,
+    })
+}
+
+/// A line of a CSV file read back ([`csv_lines`]).
+pub(crate) struct CsvLine {
+    /// Its fields.
+    pub(crate) fields: csv::StringRecord,
+    /// Its number in the file (1-based).
+    pub(crate) line: u64,
+    /// The byte offset after its newline.
+    pub(crate) end: usize,
+}
+
+/// The CSV lines of `text` from byte `start` (the start of line `line`) up to its last
+/// newline (a last line without one, cut off by an interruption, is not read), by the `csv`
+/// crate: fields as written (no quoting), any number of them. A blank line, or a line that
+/// is not UTF-8, is an error `(line, reason)`, after which the iterator ends.
+pub(crate) fn csv_lines(
+    text: &[u8],
+    start: usize,
+    line: u64,
+) -> impl Iterator<Item = std::result::Result<CsvLine, (u64, String)>> + '_ {
+    let end = text
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(start, |i| (i + 1).max(start));
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .quoting(false)
+        .from_reader(&text[start..end]);
+    let mut record = csv::StringRecord::new();
+    let (mut done, mut last_end) = (false, 0);
+    std::iter::from_fn(move || {
+        if done {
+            return None;
+        }
+        // Lines of the slice are 1-based from `line`.
+        let at = |p: &csv::Position| line + p.line() - 1;
+        let read = reader.read_record(&mut record);
+        let after = reader.position().clone();
+        let item = match read {
+            Ok(true) => {
+                let pos = record.position().cloned().unwrap_or_else(|| after.clone());
+                if after.line() != pos.line() + 1 {
+                    // The csv crate skips blank lines: the record began at one.
+                    Err((at(&pos), "a blank line".to_owned()))
+                } else {
+                    last_end = after.byte() as usize;
+                    Ok(CsvLine {
+                        fields: record.clone(),
+                        line: at(&pos),
+                        end: start + after.byte() as usize,
+                    })
+                }
+            }
+            // Blank lines at the end, skipped.
+            Ok(false) if last_end < end - start => {
+                let blank = text[start..start + last_end]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count() as u64;
+                Err((line + blank, "a blank line".to_owned()))
+            }
+            Ok(false) => return None,
+            Err(e) => Err((e.position().map_or(line, at), e.to_string())),
+        };
+        done = item.is_err();
+        Some(item)
+    })
+}

@@ -1,0 +1,94 @@
+//! The resume of a BP5 output: its log of marks (the output's state at each persisted
+//! step, `bp5_resume.json`) and each file continued from the mark of the checkpoint's step
+//! (the shared check of a station or profile file, [`kept_rows`]).
+
+use rsf::checkpoint::write_atomically;
+
+use super::mark::{Mark, SEAS_BP5_RESUME_LOG};
+use super::SeasBp5Output;
+use crate::error::{invalid, io_at, show_path, Error, Result};
+use crate::resume::kept_rows;
+
+impl SeasBp5Output {
+    /// Keeps the resume log [`SEAS_BP5_RESUME_LOG`]: writes every file, the catalogue and
+    /// a mark of the log every `steps` steps (0: never) and where a step cap stops the run,
+    /// so that a run continued from a checkpoint written at such a step continues its
+    /// files ([`resume`](Self::resume)) — checkpoint at multiples of `steps`, with the
+    /// checkpointer after this output among the observers.
+    pub fn with_resume_log(mut self, steps: usize) -> Self {
+        self.resume_log = true;
+        self.persist_every = steps;
+        self
+    }
+
+    /// Writes the files and a mark of the resume log at the current step.
+    pub(super) fn persist(&mut self) -> Result<()> {
+        self.write_files()?;
+        if self.log.last().map(|m| m.step) != Some(self.mark.step) {
+            self.log.push(self.mark.clone());
+        }
+        let log = serde_json::to_string(&self.log)
+            .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
+        Ok(write_atomically(
+            &self.dir.join(SEAS_BP5_RESUME_LOG),
+            log.as_bytes(),
+        )?)
+    }
+
+    /// Continues the files of the run in this folder at its persisted step `step` (the
+    /// checkpoint's): reads the resume log and keeps each file's rows up to that step
+    /// (the files are rewritten at the next persisted step or the end of the run call).
+    /// Each file is checked as the files along dip are: its field-list lines (and a
+    /// profile's positions) after its `#` lines, then the mark's rows, complete, of the
+    /// file's number of fields, the last at the mark's time.
+    ///
+    /// # Errors
+    /// [`Error::Resume`](crate::Error::Resume) naming the resume log if it has no mark at
+    /// `step` or cannot be read back, or the file that cannot be continued (missing,
+    /// another layout, rows missing or damaged); read errors naming the file.
+    pub fn resume(&mut self, step: usize) -> Result<()> {
+        let path = self.dir.join(SEAS_BP5_RESUME_LOG);
+        let fail = |reason: String| Error::Resume {
+            path: show_path(&path),
+            reason,
+        };
+        let text = std::fs::read_to_string(&path).map_err(io_at("read", &path))?;
+        let log: Vec<Mark> = serde_json::from_str(&text).map_err(|e| fail(e.to_string()))?;
+        let Some(i) = log.iter().position(|m| m.step == step) else {
+            return Err(fail(format!(
+                "it has no mark at step {step} (the files were written at steps {:?}): \
+                 checkpoint at multiples of the output's persist interval",
+                log.iter().map(|m| m.step).collect::<Vec<_>>()
+            )));
+        };
+        let mark = log[i].clone();
+        let files = self
+            .fault
+            .iter_mut()
+            .map(|s| &mut s.file)
+            .chain(self.body.iter_mut().map(|s| &mut s.file))
+            .chain(std::iter::once(&mut self.global))
+            .chain(self.profiles.iter_mut().map(|p| &mut p.file));
+        for f in files {
+            let mut first = f.layout.field_lines();
+            // A profile's row of positions (its rows begin with it); a station's rows.
+            let (positions, rows, last_t) = match f.layout.profile {
+                Some(_) => {
+                    let row = f.rows.split_inclusive('\n').next().unwrap_or("").to_owned();
+                    first.push(row.trim_end().to_owned());
+                    (row, mark.profile_written, mark.last_profile_t)
+                }
+                None => (String::new(), mark.written, mark.last_station_t),
+            };
+            let fields = match f.layout.profile {
+                Some(_) => first.last().map_or(0, |r| r.split_whitespace().count()),
+                None => f.layout.columns.len(),
+            };
+            let kept = kept_rows(&f.path, &first, fields, rows, last_t)?;
+            f.rows = positions + &String::from_utf8_lossy(&kept.text[kept.rows_start..kept.keep]);
+        }
+        self.log = log[..=i].to_vec();
+        self.mark = mark;
+        Ok(())
+    }
+}
