@@ -80,19 +80,16 @@ pub(crate) fn thin_svd_seq(a: MatRef<'_, f64>) -> Result<ThinSvd, Error> {
 }
 
 /// Truncated SVD of a dense block to relative Frobenius accuracy `eps`; `None` if the
-/// truncated factors would store no fewer numbers than the block.
+/// truncated factors would store no fewer numbers than the block. On the calling thread
+/// ([`thin_svd_seq`]): faer's `thin_svd()` splits its work by the size of rayon's pool,
+/// which made the factors' bits depend on the machine's cores (issue 57).
 pub(crate) fn svd_truncate(block: MatRef<'_, f64>, eps: f64) -> Result<Option<LowRank>, Error> {
     let (m, n) = (block.nrows(), block.ncols());
-    let svd = block
-        .thin_svd()
-        .map_err(|_| Error::Svd { rows: m, cols: n })?;
-    let s = svd.S().column_vector();
-    let sigma: Vec<f64> = (0..s.nrows()).map(|i| s[i]).collect();
+    let (uu, sigma, vv) = thin_svd_seq(block)?;
     let k = truncation_rank(&sigma, eps);
     if k > max_useful_rank(m, n) {
         return Ok(None);
     }
-    let (uu, vv) = (svd.U(), svd.V());
     let mut u = Vec::with_capacity(m * k);
     let mut v = Vec::with_capacity(n * k);
     for l in 0..k {

@@ -187,3 +187,40 @@ fn bp3_files_are_byte_identical_on_2_ranks() {
     );
     assert!(same_files(&one, &two, "BP3 on 2 ranks") >= 20);
 }
+
+/// BP1 at the benchmark's Δz = 25 m (m = 1 600: ℋ-blocks large enough that a set-up whose
+/// bits depended on the cores a process sees — ranks are bound to one core each — would
+/// differ) for 30 years: every file on 2 ranks has one process's bytes.
+#[test]
+fn bp1_at_25_m_is_byte_identical_on_2_ranks() {
+    let args = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--dz",
+            "25",
+            "--end-years",
+            "30",
+            "--threads",
+            "1",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("bp1_25m_one_process");
+    let out = run(None, &args(&one));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let two = folder("bp1_25m_2_ranks");
+    let out = run(Some(2), &args(&two));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(same_files(&one, &two, "BP1 at 25 m on 2 ranks") >= 14);
+}

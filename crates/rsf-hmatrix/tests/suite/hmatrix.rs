@@ -433,3 +433,32 @@ fn invalid_input_is_rejected() {
     assert!(AntiplaneHalfSpace::new(3, 0.0, MU).is_err());
     assert!(AntiplaneHalfSpace::new(3, 1.0, f64::INFINITY).is_err());
 }
+
+/// The set-up from a dense matrix has the same bits whatever the size of rayon's pool it
+/// runs in (its SVDs on the calling thread): before issue 57's fix, faer's `thin_svd()`
+/// split its work by the pool's size, and a run's bits depended on the machine's cores.
+#[test]
+fn from_dense_has_the_same_bits_in_pools_of_any_size() {
+    let n = 600;
+    let k = kernel(n);
+    let s = dense(&k);
+    let points = k.points();
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::with_epsilon(1e-8))
+                    .unwrap();
+                let d = h.to_dense();
+                (0..n * n)
+                    .map(|i| d[(i % n, i / n)].to_bits())
+                    .collect::<Vec<u64>>()
+            })
+    };
+    let one = build(1);
+    for threads in [2, 4] {
+        assert!(build(threads) == one, "{threads} threads");
+    }
+}
