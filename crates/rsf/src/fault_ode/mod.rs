@@ -25,7 +25,6 @@ use crate::model::Model;
 use crate::normal_stress::{NormalCoupling, NormalStress, ScaledTractions};
 use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
-use crate::ranks::{RankGroup, SharedEvaluation};
 use crate::report::StepReport;
 use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
 use crate::simulation::step::impose_dirichlet_velocities;
@@ -35,6 +34,7 @@ use crate::volume_probe::VolumeProbe;
 mod linger;
 mod options;
 mod rates;
+mod shared;
 
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
@@ -352,51 +352,6 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             uses_state: self.problem.uses_state(),
             data: &mut self.rates,
         }
-    }
-
-    /// Shares the evaluations of the right-hand side with the other ranks of `ranks`
-    /// (docs/scaling.md, "Past one machine"): each rank sums its part of the rows of the
-    /// ℋ-product and solves their nodes, then one all-gather per evaluation gives every
-    /// rank every rate. Every rank must hold the same run (the same scene, options and
-    /// state) and call the same methods in the same order; the trajectory then has the
-    /// same bits on every rank, at every rank count, and as unshared. Within a rank the
-    /// shared part of an evaluation runs on one thread. A normal stress that changes with
-    /// slip (its product with `S_N`) is evaluated whole on every rank.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] named `ranks` unless the operator is an ℋ-matrix
-    /// ([`FaultKernel::Hierarchical`], the rows that are split).
-    pub fn share_evaluations(&mut self, ranks: Box<dyn RankGroup>) -> Result<()> {
-        if self.rates.operator.hierarchical_mut().is_none() {
-            return Err(invalid(
-                "ranks",
-                "evaluations shared by ranks split the rows of an ℋ-matrix: use \
-                 FaultKernel::Hierarchical",
-            ));
-        }
-        if ranks.size() == 0 || ranks.rank() >= ranks.size() {
-            return Err(invalid(
-                "ranks",
-                format!("rank {} of {} ranks", ranks.rank(), ranks.size()),
-            ));
-        }
-        self.rates.shared = Some(SharedEvaluation::new(ranks));
-        Ok(())
-    }
-
-    /// What the ranks that share the evaluations have exchanged so far (all-gathers and
-    /// values), or `None` unshared.
-    pub fn exchanges(&self) -> Option<crate::ranks::Exchanges> {
-        self.rates.shared.as_ref().map(SharedEvaluation::exchanges)
-    }
-
-    /// The rank and the number of ranks that share the evaluations
-    /// ([`share_evaluations`](Self::share_evaluations)); `(0, 1)` unshared.
-    pub fn rank_and_size(&self) -> (usize, usize) {
-        self.rates
-            .shared
-            .as_ref()
-            .map_or((0, 1), SharedEvaluation::rank_and_size)
     }
 
     /// The problem (model and laws).

@@ -1,0 +1,56 @@
+//! A fault ODE's evaluations shared by ranks ([`FaultOde::share_evaluations`];
+//! docs/scaling.md, "The fault ODE on MPI ranks").
+
+use rsf_friction::FrictionLaw;
+use rsf_state::StateLaw;
+
+use super::FaultOde;
+use crate::error::{invalid, Result};
+use crate::ranks::{Exchanges, RankGroup, SharedEvaluation};
+
+impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L, S, C> {
+    /// Shares the evaluations of the right-hand side with the other ranks of `ranks`
+    /// (docs/scaling.md, "Past one machine"): each rank sums its part of the rows of the
+    /// ℋ-product and solves their nodes, then one all-gather per evaluation gives every
+    /// rank every rate. Every rank must hold the same run (the same scene, options and
+    /// state) and call the same methods in the same order; the trajectory then has the
+    /// same bits on every rank, at every rank count, and as unshared. Within a rank the
+    /// shared part of an evaluation runs on one thread. A normal stress that changes with
+    /// slip (its product with `S_N`) is evaluated whole on every rank.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `ranks` unless the operator is an ℋ-matrix
+    /// ([`FaultKernel::Hierarchical`], the rows that are split).
+    pub fn share_evaluations(&mut self, ranks: Box<dyn RankGroup>) -> Result<()> {
+        if self.rates.operator.hierarchical_mut().is_none() {
+            return Err(invalid(
+                "ranks",
+                "evaluations shared by ranks split the rows of an ℋ-matrix: use \
+                 FaultKernel::Hierarchical",
+            ));
+        }
+        if ranks.size() == 0 || ranks.rank() >= ranks.size() {
+            return Err(invalid(
+                "ranks",
+                format!("rank {} of {} ranks", ranks.rank(), ranks.size()),
+            ));
+        }
+        self.rates.shared = Some(SharedEvaluation::new(ranks));
+        Ok(())
+    }
+
+    /// What the ranks that share the evaluations have exchanged so far (all-gathers and
+    /// values), or `None` unshared.
+    pub fn exchanges(&self) -> Option<Exchanges> {
+        self.rates.shared.as_ref().map(SharedEvaluation::exchanges)
+    }
+
+    /// The rank and the number of ranks that share the evaluations
+    /// ([`share_evaluations`](Self::share_evaluations)); `(0, 1)` unshared.
+    pub fn rank_and_size(&self) -> (usize, usize) {
+        self.rates
+            .shared
+            .as_ref()
+            .map_or((0, 1), SharedEvaluation::rank_and_size)
+    }
+}
