@@ -472,6 +472,11 @@ impl HMatrix {
                 expected: "finite",
             });
         }
+        // Before any new split: a non-finite `x` (a trial stage that blew up) leaves the
+        // split of a caller's parts as it was (`apply_part` shares it out to processes).
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFiniteInput(i));
+        }
         let threads = match par {
             Par::Rayon(k) => k.get(),
             Par::Seq => 1,

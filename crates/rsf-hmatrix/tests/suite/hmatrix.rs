@@ -289,6 +289,16 @@ fn products_by_parts_give_every_row_the_bits_of_the_whole_product() {
         h.apply_part(&nan, 0, |_| ()),
         Err(Error::NonFiniteInput(3))
     ));
+    // A non-finite whole product (another thread count) leaves the split as it was: a part
+    // shared out to a process stays the part it was.
+    let ranges = h.split_rows(3, 0.0);
+    let last = ranges.len() - 1;
+    assert!(matches!(
+        h.apply_add(&nan, &mut vec![0.0; n], 1.0, Par::Seq),
+        Err(Error::NonFiniteInput(3))
+    ));
+    h.apply_part(&x, last, |rows| assert_eq!(rows.rows, ranges[last]))
+        .unwrap();
 }
 
 #[test]
