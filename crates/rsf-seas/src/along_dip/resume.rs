@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use super::headers;
 use super::layout::Layout;
 use crate::error::{show_path, Error, Result};
-use crate::resume::{complete_lines, csv_lines, kept_rows, read_for_resume};
+use rsf::observe::csv_lines;
+
+use crate::resume::{complete_lines, kept_rows, read_for_resume};
 use crate::setup::{SeasEvent, SeasSetup};
 
 /// Name of the resume log of a [`SeasOutput`](crate::SeasOutput) in its folder
@@ -131,7 +133,7 @@ pub(super) fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usi
     };
     let mut state = LogState::default();
     let (mut keep, mut last) = (header_end, None);
-    for read in csv_lines(&text, header_end, 2) {
+    for read in csv_lines(&text, header_end, 2, true) {
         let row = read.map_err(|(line, reason)| Error::Malformed {
             path: show_path(path),
             line,

@@ -210,14 +210,16 @@ pub(crate) fn read_rows<T>(
         .collect()
 }
 
-/// A line of a CSV file read back ([`csv_lines`]).
-pub(crate) struct CsvLine {
+/// A line of a CSV file read back ([`csv_lines`]): rsf's own files and the SEAS files of
+/// `rsf-seas` (the `csv` crate's record: the workspace pins one `csv` for both).
+#[derive(Debug)]
+pub struct CsvLine {
     /// Its fields.
-    pub(crate) fields: csv::StringRecord,
+    pub fields: csv::StringRecord,
     /// Its number in the file (1-based).
-    pub(crate) line: u64,
+    pub line: u64,
     /// The byte offset after it (after its newline, if it has one).
-    pub(crate) end: usize,
+    pub end: usize,
 }
 
 /// The CSV lines of `text` from byte `start` (the start of line `line`), by the `csv`
@@ -225,7 +227,7 @@ pub(crate) struct CsvLine {
 /// the last newline (a last line without one, cut off by an interruption, is not read). A
 /// blank line, or a line that is not UTF-8, is an error `(line, reason)`, after which the
 /// iterator ends.
-pub(crate) fn csv_lines(
+pub fn csv_lines(
     text: &[u8],
     start: usize,
     line: u64,

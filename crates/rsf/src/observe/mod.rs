@@ -15,7 +15,7 @@ pub(crate) mod vtu;
 pub use checkpointer::{Checkpointer, Reports};
 pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
 pub use every::{Every, Interval};
-pub use files::{create_file, FileMode};
+pub use files::{create_file, csv_lines, CsvLine, FileMode};
 pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};
