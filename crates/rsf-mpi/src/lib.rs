@@ -44,10 +44,15 @@ pub enum Error {
 /// Holds no handle (every call takes the world communicator afresh), so it is `Send`; MPI
 /// was initialised with `MPI_THREAD_SERIALIZED`, so the fault ODE may call it from any
 /// thread, one call at a time (a fault ODE evaluates on one thread at a time).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct MpiRanks {
     rank: usize,
     size: usize,
+    /// `MPI_Allgatherv`'s counts and displacements (`int`), derived from the fault ODE's
+    /// counts at the first all-gather and kept (the same at every call): no allocation
+    /// per evaluation.
+    counts: Vec<i32>,
+    displs: Vec<i32>,
 }
 
 /// Starts MPI (`MPI_Init_thread` with `MPI_THREAD_SERIALIZED`): the universe (MPI ends
@@ -66,6 +71,8 @@ pub fn initialize() -> Result<(Universe, MpiRanks), Error> {
     let ranks = MpiRanks {
         rank: usize::try_from(world.rank()).expect("MPI ranks are not negative"),
         size: usize::try_from(world.size()).expect("MPI sizes are positive"),
+        counts: Vec::new(),
+        displs: Vec::new(),
     };
     Ok((universe, ranks))
 }
@@ -96,17 +103,28 @@ impl rsf::ranks::RankGroup for MpiRanks {
     /// # Panics
     /// If a count does not fit MPI's `int` (more than 2³¹ values per rank: far beyond a
     /// fault an evaluation can hold), or `own` is not `counts[rank]` long.
-    fn all_gather(&self, own: &[f64], counts: &[usize], all: &mut [f64]) {
+    fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]) {
         assert_eq!(own.len(), counts[self.rank], "this rank's share");
         let to_int = |c: usize| i32::try_from(c).unwrap_or_else(|_| panic!("{}", Error::Count(c)));
-        let counts_i: Vec<i32> = counts.iter().map(|&c| to_int(c)).collect();
-        let mut displs = Vec::with_capacity(counts.len());
-        let mut at = 0usize;
-        for &c in counts {
-            displs.push(to_int(at));
-            at += c;
+        let same = self.counts.len() == counts.len()
+            && self
+                .counts
+                .iter()
+                .zip(counts)
+                .all(|(&a, &b)| a as usize == b);
+        if !same {
+            self.counts = counts.iter().map(|&c| to_int(c)).collect();
+            let mut at = 0usize;
+            self.displs = counts
+                .iter()
+                .map(|&c| {
+                    let d = to_int(at);
+                    at += c;
+                    d
+                })
+                .collect();
         }
-        let mut partition = PartitionMut::new(all, &counts_i[..], &displs[..]);
+        let mut partition = PartitionMut::new(all, &self.counts[..], &self.displs[..]);
         SimpleCommunicator::world().all_gather_varcount_into(own, &mut partition);
     }
 }
@@ -121,7 +139,7 @@ pub fn end_all_ranks(ranks: &MpiRanks, message: &dyn std::fmt::Display) -> ! {
 
 /// The ranks of `MPI_COMM_WORLD` as the processes of a program of the root package
 /// ([`rsf_examples::ranks::Processes`]): what `rsf_examples::seas_bp1::main_on_ranks` runs on.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Job(pub MpiRanks);
 
 impl rsf_examples::ranks::Processes for Job {
@@ -134,7 +152,7 @@ impl rsf_examples::ranks::Processes for Job {
     }
 
     fn group(&self) -> Box<dyn rsf::ranks::RankGroup> {
-        Box::new(self.0)
+        Box::new(self.0.clone())
     }
 
     fn end_all(&self, message: &str) -> ! {

@@ -31,12 +31,13 @@ pub trait RankGroup: Send {
     /// Every rank's `own` to every rank: rank `r` gives `counts[r]` values (`own` has
     /// length `counts[rank()]`), and `all` (length the sum of `counts`) receives them
     /// concatenated in rank order, on every rank. Collective: every rank calls it with
-    /// the same `counts`.
+    /// the same `counts` (the same at every call of one run: an implementation may keep
+    /// what it derives from them).
     ///
     /// # Panics
     /// May panic (or end the job) if the transport fails: a rank that cannot reach the
     /// others has no answer to give.
-    fn all_gather(&self, own: &[f64], counts: &[usize], all: &mut [f64]);
+    fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]);
 }
 
 /// A fault ODE's evaluation shared by ranks: the group, the nodes of each rank's part and

@@ -42,7 +42,7 @@ impl RankGroup for ThreadRanks {
     fn size(&self) -> usize {
         self.size
     }
-    fn all_gather(&self, own: &[f64], counts: &[usize], all: &mut [f64]) {
+    fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]) {
         assert_eq!(own.len(), counts[self.rank]);
         self.slots.lock().unwrap()[self.rank] = own.to_vec();
         self.barrier.wait();
