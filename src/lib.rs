@@ -23,6 +23,7 @@ mod run;
 pub mod run_folder;
 pub mod seas_bp1;
 pub mod seas_bp3;
+pub mod seas_bp5;
 mod seas_overview;
 pub use cli::{
     FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,

@@ -44,7 +44,8 @@ impl Cluster {
 }
 
 /// Binary cluster tree by bisection along the longest side of the bounding box, splitting
-/// at the median (the two halves differ by at most one point), down to `leaf_size` points.
+/// at the median (the two halves differ by at most one point, or by a run of coincident
+/// points, which are never separated), down to `leaf_size` points.
 #[derive(Debug, Clone)]
 pub(crate) struct ClusterTree {
     /// The nodes; the root is node 0 (absent for no points).
@@ -100,7 +101,25 @@ impl ClusterTree {
                 .total_cmp(&points.point(b)[axis])
                 .then(a.cmp(&b))
         });
-        let mid = start + (end - start) / 2;
+        // The median, moved past a run of coincident points so that it never separates
+        // them: a node's slip components (coincident points, consecutive indices, so
+        // adjacent in this order) stay in one leaf, and so in one part of a row split
+        // (`HMatrix::split_rows`; a process that shares the product computes whole nodes).
+        // A cluster of coincident points only stays a leaf.
+        let same = |a: usize, b: usize| points.point(self.perm[a]) == points.point(self.perm[b]);
+        let mut mid = start + (end - start) / 2;
+        while mid < end && same(mid - 1, mid) {
+            mid += 1;
+        }
+        if mid == end {
+            mid = start + (end - start) / 2;
+            while mid > start && same(mid - 1, mid) {
+                mid -= 1;
+            }
+            if mid == start {
+                return id;
+            }
+        }
         let left = self.build(points, start, mid, leaf_size);
         let right = self.build(points, mid, end, leaf_size);
         self.nodes[id].sons = Some((left, right));

@@ -10,7 +10,9 @@ use crate::error::Error;
 #[derive(Debug, Clone, PartialEq)]
 pub struct HOptions {
     /// Largest number of points in a leaf of the cluster tree (≥ 1; default 48). Leaves
-    /// hold between about half of it and all of it.
+    /// hold between about half of it and all of it, give or take a run of coincident
+    /// points with consecutive indices, which the tree never separates (a node's slip
+    /// components stay in one leaf).
     pub leaf_size: usize,
     /// Admissibility parameter `η > 0` (default 2): a block of clusters `τ × σ` is
     /// compressed when `min(diam τ, diam σ) ≤ η dist(τ, σ)` and `dist(τ, σ) > 0`.

@@ -9,7 +9,9 @@ use crate::error::Error;
 /// of the frictional nodes in order (`C` components per node, component-minor), the caller
 /// repeats each node's coordinates once per free component, so that the points are in the
 /// unknowns' order. Coincident points are allowed (they are never separated by the
-/// admissibility condition: their blocks stay dense).
+/// admissibility condition: their blocks stay dense), and coincident points with
+/// consecutive indices stay in one leaf cluster (so in one part of
+/// [`HMatrix::split_rows`](crate::HMatrix::split_rows)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Points {
     coords: Vec<f64>,

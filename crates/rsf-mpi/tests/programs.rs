@@ -1,8 +1,9 @@
-//! The programs `seas_bp1` and `seas_bp3` on MPI ranks (this crate's binaries: the root
-//! package's programs with their evaluations shared): every file byte-identical to one
-//! process's (BP1 at 1, 2 and 4 ranks, BP3 — a normal stress from slip — at 2), a run
-//! stopped at a step cap and resumed on 2 ranks byte-identical to an uninterrupted one,
-//! and an error on rank 0 ends every rank at once.
+//! The programs `seas_bp1`, `seas_bp3` and `seas_bp5` on MPI ranks (this crate's binaries:
+//! the root package's programs with their evaluations shared): every file byte-identical to
+//! one process's (BP1 at 1, 2 and 4 ranks, BP3 — a normal stress from slip — at 2, BP5 —
+//! the half-space operator — at 2 and 3), a run stopped at a step cap and resumed on 2
+//! ranks, and one killed (`SIGKILL` to every process of the job) and resumed on 2 ranks,
+//! byte-identical to an uninterrupted one, and an error on rank 0 ends every rank at once.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -13,6 +14,7 @@ use common::mpirun;
 
 const BIN: &str = env!("CARGO_BIN_EXE_seas_bp1");
 const BP3: &str = env!("CARGO_BIN_EXE_seas_bp3");
+const BP5: &str = env!("CARGO_BIN_EXE_seas_bp5");
 
 /// A fresh folder for `name` under the target directory's tmp.
 fn folder(name: &str) -> PathBuf {
@@ -62,6 +64,7 @@ fn same_files(a: &Path, b: &Path, what: &str) -> usize {
             "rsf-run.txt",
             "checkpoint.bin",
             "seas_resume.csv",
+            "bp5_resume.json",
         ]
         .contains(&name.as_str())
         {
@@ -223,4 +226,152 @@ fn bp1_at_25_m_is_byte_identical_on_2_ranks() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(same_files(&one, &two, "BP1 at 25 m on 2 ranks") >= 14);
+}
+
+/// BP5 at Δx = 4 km (500 cells, Okada's operator, dense: its rows in blocks of 8 per
+/// rank) for 300 years: every file on 2 and on 3 ranks has one process's bytes.
+#[test]
+fn bp5_files_are_byte_identical_on_2_and_3_ranks() {
+    let args = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--dx",
+            "4000",
+            "--end-years",
+            "300",
+            "--threads",
+            "1",
+            "--date",
+            "2026-11-26",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("bp5_one_process");
+    let out = run_program(BP5, None, &args(&one));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for n in [2, 3] {
+        let dir = folder(&format!("bp5_{n}_ranks"));
+        let out = run_program(BP5, Some(n), &args(&dir));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            text.contains(&format!("{n} MPI ranks share every evaluation")),
+            "{text}"
+        );
+        assert!(same_files(&one, &dir, &format!("BP5 on {n} ranks")) >= 25);
+    }
+}
+
+/// The processes whose parent is `pid` (from `/proc`; Open MPI puts each rank in a process
+/// group of its own, so a signal to mpirun's group does not reach them).
+fn children(pid: u32) -> Vec<u32> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else {
+            continue;
+        };
+        // `pid (comm) state ppid …`: comm may hold spaces, so after the last ')'.
+        let after = &stat[stat.rfind(')').map_or(0, |i| i + 1)..];
+        let ppid = after.split_whitespace().nth(1).and_then(|p| p.parse().ok());
+        if ppid == Some(pid) {
+            out.extend(
+                entry
+                    .file_name()
+                    .to_str()
+                    .and_then(|p| p.parse::<u32>().ok()),
+            );
+        }
+    }
+    out
+}
+
+/// BP1 at Δz = 200 m for 600 years (seconds) on 2 ranks with a checkpoint every 500
+/// steps, killed (`SIGKILL` to mpirun and both ranks at once) once a checkpoint is on
+/// disk, then resumed on 2 ranks: every file has the bytes of an uninterrupted
+/// one-process run.
+#[test]
+fn a_job_killed_and_resumed_on_2_ranks_writes_the_same_bytes() {
+    let flags = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--dz",
+            "200",
+            "--end-years",
+            "600",
+            "--threads",
+            "1",
+            "--checkpoint-every",
+            "500",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("bp1_kill_one_process");
+    let out = run(None, &flags(&one));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let dir = folder("bp1_killed");
+    let checkpointed = flags(&dir);
+    let mut job = mpirun(2)
+        .arg(BIN)
+        .args(&checkpointed)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let checkpoint = dir.join("checkpoint.bin");
+    let t = Instant::now();
+    while !checkpoint.exists() {
+        assert!(t.elapsed() < Duration::from_secs(120), "no checkpoint");
+        assert!(job.try_wait().unwrap().is_none(), "the job ended first");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let ranks = children(job.id());
+    assert_eq!(ranks.len(), 2, "mpirun's children: {ranks:?}");
+    let killed = std::process::Command::new("kill")
+        .arg("-KILL")
+        .arg(job.id().to_string())
+        .args(ranks.iter().map(u32::to_string))
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    job.wait().unwrap();
+    // Killed before its end: rank 0 writes the summary last.
+    assert!(!dir.join("summary.json").exists(), "the job had ended");
+    let mut resumed = checkpointed.clone();
+    resumed.push("--resume".into());
+    resumed.push(checkpoint.to_str().unwrap().to_owned());
+    // The killed ranks' lock on the folder ends with them.
+    let t = Instant::now();
+    let out = loop {
+        let out = run(Some(2), &resumed);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        if out.status.success() || !err.contains("holds the folder's lock") {
+            break out;
+        }
+        assert!(t.elapsed() < Duration::from_secs(30), "{err}");
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(same_files(&one, &dir, "killed and resumed on 2 ranks") >= 14);
 }

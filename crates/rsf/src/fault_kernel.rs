@@ -13,7 +13,7 @@ use rsf_hmatrix::{HMatrix, HOptions, Points};
 use rsf_linalg::Parallelism;
 
 use crate::error::{Error, Result};
-use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport};
+use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, RowSplit};
 use crate::model::Model;
 
 /// The condensed finite-element operator `S` of a fault ODE: its kernel and the report of
@@ -21,6 +21,8 @@ use crate::model::Model;
 pub(crate) struct CondensedOperator {
     kernel: Kernel,
     report: KernelReport,
+    /// The split of [`FaultOperator::split_rows`], if any.
+    rows: Option<KernelRows>,
 }
 
 impl FaultOperator for CondensedOperator {
@@ -39,6 +41,36 @@ impl FaultOperator for CondensedOperator {
     fn report(&self) -> &KernelReport {
         &self.report
     }
+
+    fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {
+        let rows = self.kernel.split_rows(parts, work_per_row);
+        let split = rows.split.clone();
+        self.rows = Some(rows);
+        Ok(split)
+    }
+
+    fn part_subtract(&mut self, x: &[f64], part: usize, r: &mut [f64]) -> Result<()> {
+        let rows = self.rows.as_ref().ok_or_else(no_split)?;
+        self.kernel.part_subtract(rows, x, part, r)
+    }
+}
+
+/// The error of a part's product asked for before any split.
+pub(crate) fn no_split() -> Error {
+    crate::error::invalid(
+        "ranks",
+        "a part of the product before the rows were split (FaultOperator::split_rows)",
+    )
+}
+
+/// A [`Kernel`]'s rows split into parts ([`Kernel::split_rows`]) and what made the split,
+/// so that it can be made again should another product have split the ℋ-matrix's rows
+/// otherwise since.
+pub(crate) struct KernelRows {
+    parts: usize,
+    work_per_row: f64,
+    /// The parts (rows in the kernel's own numbering).
+    pub(crate) split: RowSplit,
 }
 
 /// The condensed operator `S` of `cond` as `kind` says: dense from
@@ -92,7 +124,11 @@ pub(crate) fn condensed_operator<const D: usize, const C: usize>(
             compress(s, model, cond, kind)?
         }
     };
-    Ok(CondensedOperator { kernel, report })
+    Ok(CondensedOperator {
+        kernel,
+        report,
+        rows: None,
+    })
 }
 
 /// The number of condensed unknowns of every node if it is the same for all (the slip's
@@ -130,6 +166,113 @@ pub(crate) enum Kernel {
 }
 
 impl Kernel {
+    /// Splits the rows into at most `parts` parts for [`part_subtract`](Self::part_subtract):
+    /// dense, consecutive blocks of a multiple of 8 rows (each row's dot product then has
+    /// the bits of the whole product's, as in its threaded form); ℋ, whole leaf clusters of
+    /// about equal work ([`HMatrix::split_rows`]) in the cluster order.
+    pub(crate) fn split_rows(&mut self, parts: usize, work_per_row: f64) -> KernelRows {
+        let parts = parts.max(1);
+        let split = match self {
+            Self::Dense(s) => {
+                let m = s.nrows();
+                let rows = m.div_ceil(parts).next_multiple_of(ROW_BLOCK_ALIGN).max(1);
+                RowSplit {
+                    order: (0..m).collect(),
+                    ranges: (0..m.div_ceil(rows).max(1))
+                        .map(|b| b * rows..((b + 1) * rows).min(m))
+                        .collect(),
+                }
+            }
+            Self::Hierarchical(h) => RowSplit {
+                ranges: h.split_rows(parts, work_per_row),
+                order: h.permutation().to_vec(),
+            },
+        };
+        KernelRows {
+            parts,
+            work_per_row,
+            split,
+        }
+    }
+
+    /// `r ← r − (S x)` at part `part`'s rows of `rows` (in its order; `x` finite): the bits
+    /// of [`subtract_product`](Self::subtract_product) at those rows.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `ranks` for a part or a length that does not
+    /// fit `rows`; the ℋ-product's errors (a non-finite `x`).
+    pub(crate) fn part_subtract(
+        &mut self,
+        rows: &KernelRows,
+        x: &[f64],
+        part: usize,
+        r: &mut [f64],
+    ) -> Result<()> {
+        let range = rows.split.ranges.get(part).cloned().ok_or_else(|| {
+            crate::error::invalid(
+                "ranks",
+                format!("part {part} of {} parts", rows.split.ranges.len()),
+            )
+        })?;
+        if r.len() != range.len() || x.len() != rows.split.order.len() {
+            return Err(crate::error::invalid(
+                "ranks",
+                format!(
+                    "a part of {} rows and an x of {} for a part of {} rows of {}",
+                    r.len(),
+                    x.len(),
+                    range.len(),
+                    rows.split.order.len()
+                ),
+            ));
+        }
+        match self {
+            Self::Dense(s) => {
+                let xm = MatRef::from_column_major_slice(x, x.len(), 1);
+                faer::linalg::matmul::matmul(
+                    MatMut::from_column_major_slice_mut(r, range.len(), 1),
+                    Accum::Add,
+                    s.as_ref().subrows(range.start, range.len()),
+                    xm,
+                    -1.0,
+                    Par::Seq,
+                );
+                Ok(())
+            }
+            Self::Hierarchical(h) => {
+                // Another product (with another thread count) may have split the rows
+                // since: the same call splits them as before.
+                for again in [false, true] {
+                    let done = h.apply_part(x, part, |p| {
+                        if p.rows != range {
+                            return false;
+                        }
+                        // As `apply_add`'s `y[i] += alpha * z` with alpha = −1.
+                        for (ri, z) in r.iter_mut().zip(p.z) {
+                            *ri += -1.0 * z;
+                        }
+                        true
+                    });
+                    match done {
+                        Ok(true) => return Ok(()),
+                        // Split otherwise (fewer parts, or other rows): split again.
+                        Ok(false) | Err(rsf_hmatrix::Error::VectorLength { name: "part", .. })
+                            if !again =>
+                        {
+                            h.split_rows(rows.parts, rows.work_per_row);
+                        }
+                        Ok(false) => break,
+                        Err(e) => return Err(e.into()),
+                    }
+                }
+                Err(crate::error::invalid(
+                    "ranks",
+                    "the ℋ-matrix's rows split again gave other parts than before",
+                ))
+            }
+        }
+    }
+
     /// The ℋ-matrix of a hierarchical kernel.
     pub(crate) fn hierarchical_mut(&mut self) -> Option<&mut HMatrix> {
         match self {

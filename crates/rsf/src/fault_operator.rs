@@ -4,6 +4,8 @@
 //! half-space operator on the same unknowns is another (docs/math.md §12, "The fault
 //! operator").
 
+use std::ops::Range;
+
 use rsf_hmatrix::{HMatrix, HOptions};
 use rsf_linalg::Parallelism;
 
@@ -39,6 +41,88 @@ pub trait FaultOperator: Send {
 
     /// What the set-up stored and measured.
     fn report(&self) -> &KernelReport;
+
+    /// Splits the rows of `S` into at most `parts` (≥ 1) parts of about equal work — each
+    /// row's multiply-adds plus `work_per_row` (what the caller does per row, in
+    /// multiply-adds) — for processes that share a fault ODE's evaluations
+    /// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations); docs/scaling.md,
+    /// "The fault ODE on MPI ranks"): one part per process, each computing its rows with
+    /// [`part_subtract`](Self::part_subtract) alone. Deterministic: the same call gives the
+    /// same split. The split is kept until the next call.
+    ///
+    /// # Errors
+    /// The default: [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
+    /// `ranks` (an operator whose rows cannot be computed apart). Implementations: their
+    /// own errors.
+    fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {
+        let _ = (parts, work_per_row);
+        Err(invalid(
+            "ranks",
+            "this fault operator cannot compute its rows apart (FaultOperator::split_rows)",
+        ))
+    }
+
+    /// `r ← r − (S x)` at the rows of part `part` of the last
+    /// [`split_rows`](Self::split_rows), in the split's order (`r` has the part's length;
+    /// `x` finite, of length [`dim`](Self::dim)): every row's bits those
+    /// [`subtract_product`](Self::subtract_product) gives it, for every split.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `ranks` before
+    /// any split (the default: rows not computed apart) or for a part or a length that
+    /// does not fit; the product's errors.
+    fn part_subtract(&mut self, x: &[f64], part: usize, r: &mut [f64]) -> Result<()> {
+        let _ = (x, part, r);
+        Err(invalid(
+            "ranks",
+            "this fault operator cannot compute its rows apart (FaultOperator::part_subtract)",
+        ))
+    }
+}
+
+/// The rows of a [`FaultOperator`] split into parts ([`FaultOperator::split_rows`]): part
+/// `p` computes rows `order[ranges[p]]`, in that order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RowSplit {
+    /// Every row (slip unknown, `0..dim`) once, part after part.
+    pub order: Vec<usize>,
+    /// Each part's positions in `order`: consecutive ranges covering `0..dim`, at least one.
+    pub ranges: Vec<Range<usize>>,
+}
+
+impl RowSplit {
+    /// Checks that `order` is a permutation of `0..dim` and that `ranges` cover it in order.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `row_split`.
+    pub fn validate(&self, dim: usize) -> Result<()> {
+        let mut seen = vec![false; dim];
+        for &i in &self.order {
+            if i >= dim || std::mem::replace(&mut seen[i], true) {
+                return Err(invalid(
+                    "row_split",
+                    format!("row {i} is out of 0..{dim} or listed twice"),
+                ));
+            }
+        }
+        let mut at = 0;
+        for r in &self.ranges {
+            if r.start != at || r.end < r.start {
+                return Err(invalid(
+                    "row_split",
+                    format!("the part {r:?} does not start where the last ended ({at})"),
+                ));
+            }
+            at = r.end;
+        }
+        if at != dim || self.order.len() != dim || self.ranges.is_empty() {
+            return Err(invalid(
+                "row_split",
+                format!("the parts cover {at} of {dim} rows"),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// Largest relative accuracy ε of a [`FaultKernel::Hierarchical`]: a coarser operator

@@ -8,8 +8,10 @@
 use std::ops::Range;
 
 use rsf_friction::{ConvexPotential, FrictionLaw};
-use rsf_hmatrix::{HMatrix, PartRows};
+use rsf_hmatrix::HMatrix;
 use rsf_state::StateLaw;
+
+use crate::fault_operator::{FaultOperator, RowSplit};
 
 /// Fewest frictional nodes for which the per-node solves of an evaluation are split over
 /// threads (below it a split costs more than the solves: ~0.2 µs each).
@@ -127,22 +129,29 @@ pub(crate) struct RatesOut<'a> {
     pub dya: &'a mut [f64],
 }
 
-/// The nodes of each part of an ℋ-product's row split and their results: a node belongs
-/// to the part holding all of its rows (in the cluster order), and a node whose rows lie
-/// in two parts is solved after the parts. Set up once per thread count.
+/// The nodes of each part of a row split ([`RowSplit`]: an ℋ-product's parts on threads,
+/// an operator's parts on ranks) and their results: a node belongs to the part holding
+/// all of its rows, and a node whose rows lie in two parts is solved after the parts. Set
+/// up once per split.
 pub(crate) struct PartNodes {
     parts: Vec<PartBuffers>,
-    /// The rows of each part (cluster order), as split.
+    /// The rows of each part (positions in the split's order), as split.
     ranges: Vec<Range<usize>>,
     straddling: Vec<usize>,
-    /// Position of every free component in the cluster order.
+    /// Position of every free component in the split's order (the ℋ-matrix's cluster
+    /// order on threads).
     position: Vec<usize>,
-    /// Per part, the positions (cluster order, ascending) of its rows that belong to
-    /// nodes across parts: what a part shared out to another process sends of its rows
+    /// The split's order (the inverse of `position`).
+    order: Vec<usize>,
+    /// Per part, the positions (ascending) of its rows that belong to nodes across parts:
+    /// what a part shared out to another process sends of its rows
     /// ([`SharedEvaluation`](crate::ranks::SharedEvaluation)).
     straddling_rows: Vec<Vec<usize>>,
     /// What the last [`evaluate_part`](Self::evaluate_part) sends.
     send: Vec<f64>,
+    /// A part's rows of `g(t) − S u_F` ([`evaluate_part`](Self::evaluate_part); scratch of
+    /// the longest part).
+    residual: Vec<f64>,
 }
 
 /// One part's nodes and the rates it computes (node after node).
@@ -158,12 +167,25 @@ impl PartNodes {
     /// node's solve per row) and gives each node to its part; `first` as in
     /// [`NodeSolves`].
     pub fn new(h: &mut HMatrix, threads: usize, first: &[usize]) -> Self {
+        let ranges = h.split_rows(threads, Self::work_per_row(first));
+        let order = h.permutation().to_vec();
+        Self::from_split(RowSplit { order, ranges }, first)
+    }
+
+    /// The work of a node's solve per row, in multiply-adds (what a split balances).
+    pub fn work_per_row(first: &[usize]) -> f64 {
+        let nodes = first.len() - 1;
+        SOLVE_WORK * nodes as f64 / first[nodes].max(1) as f64
+    }
+
+    /// Gives each node to the part of `split` holding its rows (`split` valid for the
+    /// `first[nodes]` rows).
+    pub fn from_split(split: RowSplit, first: &[usize]) -> Self {
         let nodes = first.len() - 1;
         let m = first[nodes];
-        let per_row = SOLVE_WORK * nodes as f64 / m.max(1) as f64;
-        let ranges = h.split_rows(threads, per_row);
+        let RowSplit { order, ranges } = split;
         let mut position = vec![0; m];
-        for (p, &i) in h.permutation().iter().enumerate() {
+        for (p, &i) in order.iter().enumerate() {
             position[i] = p;
         }
         let part_of = |p: usize| ranges.partition_point(|r| r.end <= p);
@@ -190,13 +212,16 @@ impl PartNodes {
         for rows in &mut straddling_rows {
             rows.sort_unstable();
         }
+        let longest = ranges.iter().map(Range::len).max().unwrap_or(0);
         Self {
             parts,
             ranges,
             straddling,
             position,
+            order,
             straddling_rows,
             send: Vec::new(),
+            residual: vec![0.0; longest],
         }
     }
 
@@ -211,36 +236,42 @@ impl PartNodes {
         b.dyu.len() + b.dya.len() + self.straddling_rows[p].len()
     }
 
-    /// Part `p` alone (one process's share): its rows of `S u`, its nodes' solves, and
-    /// what it sends ([`sent`](Self::sent)): its nodes' slip rates, their state rates and
-    /// its rows of the nodes across parts — what [`unpack`](Self::unpack) reads, part
-    /// after part.
+    /// Part `p` alone (one process's share): its rows of `g(t) − S u`
+    /// ([`FaultOperator::part_subtract`] of the operator that made the split), its nodes'
+    /// solves, and what it sends ([`sent`](Self::sent)): its nodes' slip rates, their
+    /// state rates and its rows of the nodes across parts — what
+    /// [`unpack`](Self::unpack) reads, part after part.
     ///
     /// # Errors
-    /// The product's ([`HMatrix::apply_part`]), before anything is written.
+    /// The product's, before anything is sent.
     pub fn evaluate_part<L: FrictionLaw, S: StateLaw, const C: usize>(
         &mut self,
-        h: &mut HMatrix,
+        operator: &mut dyn FaultOperator,
         p: usize,
         u: &[f64],
         solves: &NodeSolves<'_, L, S, C>,
         load: Loading<'_>,
-    ) -> Result<(), rsf_hmatrix::Error> {
-        let send = &mut self.send;
-        send.clear();
+    ) -> crate::Result<()> {
+        let range = self.ranges[p].clone();
+        let residual = &mut self.residual[..range.len()];
+        // `g` first, then the product subtracted: the sums of the sequential evaluation.
+        for (r, &i) in residual.iter_mut().zip(&self.order[range.clone()]) {
+            *r = load.g0[i] + load.big_g * load.g1[i];
+        }
+        operator.part_subtract(u, p, residual)?;
         let position = &self.position;
         let buf = &mut self.parts[p];
-        let straddling_rows = &self.straddling_rows[p];
-        h.apply_part(u, p, |rows| {
-            assert_eq!(
-                rows.rows, self.ranges[p],
-                "the ℋ-matrix's rows were split again after the nodes were given to parts"
-            );
-            buf.solve(&rows, position, solves, load);
-            send.extend_from_slice(&buf.dyu);
-            send.extend_from_slice(&buf.dya);
-            send.extend(straddling_rows.iter().map(|&q| rows.z[q - rows.rows.start]));
-        })
+        buf.solve(|i| residual[position[i] - range.start], solves);
+        let send = &mut self.send;
+        send.clear();
+        send.extend_from_slice(&buf.dyu);
+        send.extend_from_slice(&buf.dya);
+        send.extend(
+            self.straddling_rows[p]
+                .iter()
+                .map(|&q| residual[q - range.start]),
+        );
+        Ok(())
     }
 
     /// What the last [`evaluate_part`](Self::evaluate_part) sends.
@@ -250,12 +281,12 @@ impl PartNodes {
 
     /// Every part's values sent by [`evaluate_part`](Self::evaluate_part), concatenated
     /// in part order (`all`), into the rates; the nodes across parts solved from the rows
-    /// the parts sent (`rows`: scratch of the product's length, cluster order).
+    /// of `g(t) − S u` the parts sent (`rows`: scratch of the product's length, the split's
+    /// order).
     pub fn unpack<L: FrictionLaw, S: StateLaw, const C: usize>(
         &self,
         all: &[f64],
         solves: &NodeSolves<'_, L, S, C>,
-        load: Loading<'_>,
         rows: &mut [f64],
         rates: RatesOut<'_>,
     ) {
@@ -278,15 +309,14 @@ impl PartNodes {
             }
         }
         debug_assert_eq!(at, all.len());
-        self.solve_straddling(rows, solves, load, dyu, dya);
+        self.solve_straddling(|i| rows[self.position[i]], solves, dyu, dya);
     }
 
-    /// The nodes across parts, from the product's rows `su` (cluster order).
+    /// The nodes across parts, from their rows of `g(t) − S u` (`residual(i)`, row `i`).
     fn solve_straddling<L: FrictionLaw, S: StateLaw, const C: usize>(
         &self,
-        su: &[f64],
+        residual: impl Fn(usize) -> f64,
         solves: &NodeSolves<'_, L, S, C>,
-        load: Loading<'_>,
         dyu: &mut [f64],
         dya: &mut [f64],
     ) {
@@ -295,7 +325,7 @@ impl PartNodes {
             let (a, b) = (first[k], first[k + 1]);
             let mut r = [0.0; C];
             for (rc, i) in r.iter_mut().zip(a..b) {
-                *rc = load.residual(i, su[self.position[i]]);
+                *rc = residual(i);
             }
             dya[k] = solves.solve_node(k, &r[..b - a], &mut dyu[a..b]);
         }
@@ -323,9 +353,11 @@ impl PartNodes {
                 rows.rows, ranges[rows.part],
                 "the ℋ-matrix's rows were split again after the nodes were given to parts"
             );
-            buf.solve(&rows, position, solves, load);
+            let start = rows.rows.start;
+            buf.solve(|i| load.residual(i, rows.z[position[i] - start]), solves);
         })?;
-        self.solve_straddling(h.last_product(), solves, load, dyu, dya);
+        let su = h.last_product();
+        self.solve_straddling(|i| load.residual(i, su[self.position[i]]), solves, dyu, dya);
         for buf in &self.parts {
             buf.scatter(solves.first, &buf.dyu, &buf.dya, dyu, dya);
         }
@@ -334,13 +366,11 @@ impl PartNodes {
 }
 
 impl PartBuffers {
-    /// The part's nodes' solves from its rows of the product.
+    /// The part's nodes' solves from their rows of `g(t) − S u` (`residual(i)`, row `i`).
     fn solve<L: FrictionLaw, S: StateLaw, const C: usize>(
         &mut self,
-        rows: &PartRows<'_>,
-        position: &[usize],
+        residual: impl Fn(usize) -> f64,
         solves: &NodeSolves<'_, L, S, C>,
-        load: Loading<'_>,
     ) {
         let first = solves.first;
         let mut offset = 0;
@@ -348,7 +378,7 @@ impl PartBuffers {
             let (a, b) = (first[k], first[k + 1]);
             let mut r = [0.0; C];
             for (rc, i) in r.iter_mut().zip(a..b) {
-                *rc = load.residual(i, rows.z[position[i] - rows.rows.start]);
+                *rc = residual(i);
             }
             let out = &mut self.dyu[offset..offset + (b - a)];
             self.dya[j] = solves.solve_node(k, &r[..b - a], out);
@@ -383,16 +413,18 @@ mod tests {
     use rsf_hmatrix::{HOptions, Points};
     use rsf_state::Aging;
 
-    /// Two components per node (coincident points, so that the cluster tree's median
-    /// splits can put them in different leaves and parts): the evaluation by parts gives
-    /// the bits of the whole product followed by the sequential solves, for every number
-    /// of parts, with nodes across parts among them.
+    /// Two components per node (1 m apart, not coincident, so that the cluster tree's
+    /// median splits can put them in different leaves and parts): the evaluation by parts
+    /// gives the bits of the whole product followed by the sequential solves, for every
+    /// number of parts, with nodes across parts among them.
     #[test]
     fn the_evaluation_by_parts_has_the_bits_of_the_sequential_one() {
         const C: usize = 2;
         let nodes = 61;
         let m = C * nodes;
-        let coords: Vec<f64> = (0..m).map(|i| 25.0 * (i / C) as f64).collect();
+        let coords: Vec<f64> = (0..m)
+            .map(|i| 25.0 * (i / C) as f64 + (i % C) as f64)
+            .collect();
         let points = Points::new(&coords, 1).unwrap();
         let s = faer::Mat::from_fn(m, m, |i, j| {
             let d = (coords[i] - coords[j]).abs();
@@ -471,5 +503,142 @@ mod tests {
             straddled > 0,
             "no node across two parts: the test misses that path"
         );
+    }
+
+    /// A dense operator whose every row is one sum in column order, by parts or whole.
+    struct RowSums(
+        faer::Mat<f64>,
+        crate::fault_operator::KernelReport,
+        RowSplit,
+    );
+
+    impl RowSums {
+        fn row(&self, i: usize, x: &[f64]) -> f64 {
+            (0..x.len()).fold(0.0, |acc, j| acc + self.0[(i, j)] * x[j])
+        }
+    }
+
+    impl FaultOperator for RowSums {
+        fn dim(&self) -> usize {
+            self.0.nrows()
+        }
+        fn subtract_product(
+            &mut self,
+            x: &[f64],
+            r: &mut [f64],
+            _: rsf_linalg::Parallelism,
+        ) -> crate::Result<()> {
+            for (i, ri) in r.iter_mut().enumerate() {
+                *ri += -self.row(i, x);
+            }
+            Ok(())
+        }
+        fn report(&self) -> &crate::fault_operator::KernelReport {
+            &self.1
+        }
+        fn split_rows(&mut self, _: usize, _: f64) -> crate::Result<RowSplit> {
+            Ok(self.2.clone())
+        }
+        fn part_subtract(&mut self, x: &[f64], part: usize, r: &mut [f64]) -> crate::Result<()> {
+            let range = self.2.ranges[part].clone();
+            for (ri, &i) in r.iter_mut().zip(&self.2.order[range]) {
+                *ri += -self.row(i, x);
+            }
+            Ok(())
+        }
+    }
+
+    /// Parts shared out to processes (`evaluate_part` of each, their values concatenated,
+    /// `unpack`) give the bits of the sequential evaluation, with a split in another order
+    /// than the rows' whose parts cut nodes (three components) in two.
+    #[test]
+    fn parts_shared_out_have_the_bits_of_the_sequential_evaluation() {
+        const C: usize = 3;
+        let nodes = 23;
+        let m = C * nodes;
+        let s = faer::Mat::from_fn(m, m, |i, j| {
+            let d = (i as f64 - j as f64).abs();
+            3e7 / (1.0 + d) + if i == j { 1e8 } else { 0.0 }
+        });
+        let split = RowSplit {
+            order: (0..m).rev().collect(),
+            ranges: vec![0..7, 7..31, 31..32, 32..m],
+        };
+        split.validate(m).unwrap();
+        let report = crate::fault_operator::KernelReport {
+            kernel: crate::fault_operator::FaultKernel::Dense,
+            dim: m,
+            relative_error: 0.0,
+            error_samples: 0,
+            setup_bytes: 8 * m * m,
+            stored_entries: m * m,
+            dense_blocks: 1,
+            low_rank_blocks: 0,
+            max_rank: 0,
+            setup_seconds: 0.0,
+        };
+        let mut op = RowSums(s, report, split.clone());
+        let params = RateStateParams {
+            mu0: 0.6,
+            a: 0.01,
+            b: 0.015,
+            v0: 1e-6,
+            l: 0.008,
+            sigma_n: 50e6,
+        };
+        let friction = vec![AsinhLaw::new(params).unwrap(); nodes];
+        let state_laws = vec![Aging::new(params.l).unwrap(); nodes];
+        let first: Vec<usize> = (0..=nodes).map(|k| C * k).collect();
+        let weights: Vec<f64> = (0..nodes).map(|k| 20.0 + (k % 3) as f64).collect();
+        let fixed_velocity = vec![[0.0; C]; nodes];
+        let alpha: Vec<f64> = (0..nodes).map(|k| 8.0 + (k as f64 * 0.37).sin()).collect();
+        let u: Vec<f64> = (0..m).map(|i| 1e-3 * ((i as f64) * 0.71).cos()).collect();
+        let g0: Vec<f64> = (0..m).map(|i| 6e8 + 1e6 * (i % 7) as f64).collect();
+        let g1: Vec<f64> = (0..m).map(|i| 1e5 * (i % 5) as f64).collect();
+        let load = Loading {
+            g0: &g0,
+            g1: &g1,
+            big_g: 0.75,
+        };
+        let eta = vec![5e6; nodes];
+        let solves = NodeSolves::<_, _, C> {
+            friction: &friction,
+            state_laws: &state_laws,
+            uses_state: true,
+            first: &first,
+            weights: &weights,
+            fixed_velocity: &fixed_velocity,
+            eta: &eta,
+            speed: 1e-9,
+            alpha: &alpha,
+            scale: None,
+        };
+        let mut r: Vec<f64> = (0..m).map(|i| g0[i] + load.big_g * g1[i]).collect();
+        op.subtract_product(&u, &mut r, rsf_linalg::Parallelism::SEQ)
+            .unwrap();
+        let (mut dyu, mut dya) = (vec![0.0; m], vec![0.0; nodes]);
+        solves.solve((0, nodes), 1, &r, &mut dyu, &mut dya);
+        let mut parts = PartNodes::from_split(split, &first);
+        assert!(!parts.straddling.is_empty(), "no node across parts");
+        let mut all = Vec::new();
+        for p in 0..parts.len() {
+            parts.evaluate_part(&mut op, p, &u, &solves, load).unwrap();
+            assert_eq!(parts.sent().len(), parts.send_len(p));
+            all.extend_from_slice(parts.sent());
+        }
+        let (mut pu, mut pa) = (vec![f64::NAN; m], vec![f64::NAN; nodes]);
+        let mut rows = vec![0.0; m];
+        parts.unpack(
+            &all,
+            &solves,
+            &mut rows,
+            RatesOut {
+                dyu: &mut pu,
+                dya: &mut pa,
+            },
+        );
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&pu), bits(&dyu));
+        assert_eq!(bits(&pa), bits(&dya));
     }
 }

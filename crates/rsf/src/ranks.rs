@@ -1,7 +1,9 @@
 //! Processes that share the evaluations of a fault ODE (docs/scaling.md, "Past one
-//! machine"): the rows of the ℋ-product and their nodes' friction solves split into one
-//! part per rank ([`HMatrix::split_rows`]), each rank summing its rows and solving its
-//! nodes, then one all-gather of the rates per evaluation. Every row of the product is
+//! machine"): the rows of the fault operator's product and their nodes' friction solves
+//! split into one part per rank ([`FaultOperator::split_rows`]: the ℋ-matrix's leaf
+//! clusters, a dense matrix's row blocks, the half-space operator's elements), each rank
+//! summing its rows and solving its nodes, then one all-gather of the rates per
+//! evaluation. Every row of the product is
 //! summed by the same fixed-order kernels and every node's solve is independent, so the
 //! rates have the same bits at every rank count and as in one process; the rest of a step
 //! (the Runge–Kutta stages, the error norm, the observers' data) is the same arithmetic on
@@ -11,9 +13,9 @@
 //! communicator in the `rsf-mpi` crate; threads of one process in the tests).
 
 use rsf_friction::FrictionLaw;
-use rsf_hmatrix::HMatrix;
 use rsf_state::StateLaw;
 
+use crate::fault_operator::{FaultOperator, RowSplit};
 use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut};
 
 /// The processes ("ranks") that share a fault ODE's evaluations
@@ -41,10 +43,10 @@ pub trait RankGroup: Send {
 }
 
 /// A fault ODE's evaluation shared by ranks: the group, the nodes of each rank's part and
-/// the exchange buffers (made at the first evaluation, then reused).
+/// the exchange buffers (made when shared, then reused).
 pub(crate) struct SharedEvaluation {
     ranks: Box<dyn RankGroup>,
-    parts: Option<RankParts>,
+    parts: RankParts,
     exchanges: Exchanges,
 }
 
@@ -66,22 +68,37 @@ pub struct Exchanges {
 struct RankParts {
     nodes: PartNodes,
     /// Per rank: how many values it sends (its nodes' slip rates, their state rates, its
-    /// rows of the product that belong to nodes across parts).
+    /// rows of `g(t) − S u` that belong to nodes across parts).
     counts: Vec<usize>,
     all: Vec<f64>,
-    /// The product's rows of the nodes across parts, in cluster order (others unused).
+    /// The rows of `g(t) − S u` of the nodes across parts, in the split's order (others
+    /// unused).
     straddling_rows: Vec<f64>,
 }
 
 impl SharedEvaluation {
-    pub(crate) fn new(ranks: Box<dyn RankGroup>) -> Self {
+    /// The group `ranks` sharing the evaluations of a fault ODE whose operator's rows are
+    /// split into one part per rank (`split`; `first` the nodes' first unknowns).
+    pub(crate) fn new(ranks: Box<dyn RankGroup>, split: RowSplit, first: &[usize]) -> Self {
         let exchanges = Exchanges {
             ranks: ranks.size(),
             ..Exchanges::default()
         };
+        let nodes = PartNodes::from_split(split, first);
+        let mut counts = vec![0; ranks.size()];
+        for (c, p) in counts.iter_mut().zip(0..nodes.len()) {
+            *c = nodes.send_len(p);
+        }
+        let total = counts.iter().sum();
+        let parts = RankParts {
+            counts,
+            all: vec![0.0; total],
+            straddling_rows: vec![0.0; first[first.len() - 1]],
+            nodes,
+        };
         Self {
             ranks,
-            parts: None,
+            parts,
             exchanges,
         }
     }
@@ -91,45 +108,30 @@ impl SharedEvaluation {
         self.exchanges
     }
 
-    /// The group's rank and size.
+    /// This rank and the number of ranks.
     pub(crate) fn rank_and_size(&self) -> (usize, usize) {
         (self.ranks.rank(), self.ranks.size())
     }
 
-    /// This rank's rows of `S u` and the solves of its nodes, then the all-gather: every
-    /// rank's rates into `rates`, the nodes across parts solved on every rank. The same
-    /// bits as [`PartNodes::evaluate`] and as the sequential evaluation. `u` must be
-    /// finite (the caller's check, the same on every rank).
+    /// One evaluation shared: this rank's part of `operator`'s rows (the split of
+    /// [`new`](Self::new)) and their nodes, one all-gather, then every node's rates.
     ///
     /// # Errors
-    /// The product's ([`HMatrix::apply_part`]), on every rank alike (its inputs are the
-    /// same on every rank).
+    /// The part's product (every rank holds the same numbers, so every rank fails alike
+    /// before the all-gather).
     pub(crate) fn evaluate<L: FrictionLaw, S: StateLaw, const C: usize>(
         &mut self,
-        h: &mut HMatrix,
+        operator: &mut dyn FaultOperator,
         u: &[f64],
         solves: &NodeSolves<'_, L, S, C>,
         load: Loading<'_>,
         rates: RatesOut<'_>,
-    ) -> Result<(), rsf_hmatrix::Error> {
-        let (rank, size) = (self.ranks.rank(), self.ranks.size());
-        let parts = self.parts.get_or_insert_with(|| {
-            let nodes = PartNodes::new(h, size, solves.first);
-            let mut counts = vec![0; size];
-            for (c, p) in counts.iter_mut().zip(0..nodes.len()) {
-                *c = nodes.send_len(p);
-            }
-            let total = counts.iter().sum();
-            RankParts {
-                counts,
-                all: vec![0.0; total],
-                straddling_rows: vec![0.0; h.dim()],
-                nodes,
-            }
-        });
+    ) -> crate::Result<()> {
+        let rank = self.ranks.rank();
+        let parts = &mut self.parts;
         let none: &[f64] = &[];
         let own = if rank < parts.nodes.len() {
-            parts.nodes.evaluate_part(h, rank, u, solves, load)?;
+            parts.nodes.evaluate_part(operator, rank, u, solves, load)?;
             parts.nodes.sent()
         } else {
             none
@@ -139,7 +141,7 @@ impl SharedEvaluation {
         self.exchanges.values += parts.all.len() as u64;
         parts
             .nodes
-            .unpack(&parts.all, solves, load, &mut parts.straddling_rows, rates);
+            .unpack(&parts.all, solves, &mut parts.straddling_rows, rates);
         Ok(())
     }
 }

@@ -185,3 +185,51 @@ fn cross_approximation_is_bit_identical_for_every_thread_count() {
         }
     }
 }
+
+/// A point's components (coincident points with consecutive indices) are never separated
+/// by the cluster tree, so every part of a row split holds whole points: what a process
+/// sharing the product needs to finish a node's rows alone. With 2 and 3 components, leaf
+/// sizes that put the median inside a point (odd halves), and every number of parts up
+/// to 9.
+#[test]
+fn a_points_components_stay_in_one_part_of_every_row_split() {
+    let xy = grid(23);
+    for c in [2, 3] {
+        let points = unknown_points(&xy, c);
+        for leaf_size in [5, 7, 48] {
+            let options = HOptions {
+                leaf_size,
+                components: c,
+                ..HOptions::with_epsilon(1e-6)
+            };
+            let mut h =
+                HMatrix::from_entries(|i, j| decoupled_or_coupled(&xy, c, i, j), &points, &options)
+                    .unwrap();
+            for parts in 1..=9 {
+                let ranges = h.split_rows(parts, 0.0);
+                let mut part_of = vec![usize::MAX; h.dim()];
+                for (p, r) in ranges.iter().enumerate() {
+                    for q in r.clone() {
+                        part_of[h.permutation()[q]] = p;
+                    }
+                }
+                for (p, rows) in part_of.chunks(c).enumerate() {
+                    assert!(
+                        rows.iter().all(|&r| r == rows[0]),
+                        "c = {c}, leaf size {leaf_size}, {parts} parts: point {p}'s \
+                         components in parts {rows:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// `decoupled` for two components, a coupled smooth kernel for three.
+fn decoupled_or_coupled(xy: &[[f64; 2]], c: usize, i: usize, j: usize) -> f64 {
+    if c == 2 {
+        return decoupled(xy, i, j);
+    }
+    let (p, a, q, b) = (i / c, i % c, j / c, j % c);
+    (1.0 + (a * c + b) as f64 * 0.1) / (dist(xy[p], xy[q]) + 1.0)
+}

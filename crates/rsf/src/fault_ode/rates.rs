@@ -97,15 +97,11 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             alpha,
             scale: None,
         };
-        // Shared by ranks (an ℋ-kernel, checked when shared): each rank its part of the
-        // rows and their nodes, then one exchange; a normal stress from slip is evaluated
-        // whole on every rank first (the same numbers as below). A non-finite `u` (the
-        // same on every rank) takes the sequential path below on every rank.
-        if let (Some(shared), Some(h), true) = (
-            &mut d.shared,
-            d.operator.hierarchical_mut(),
-            u.iter().all(|v| v.is_finite()),
-        ) {
+        // Shared by ranks: each rank its part of the operator's rows and their nodes,
+        // then one exchange; a normal stress from slip is evaluated whole on every rank
+        // first (the same numbers as below). A non-finite `u` (the same on every rank)
+        // takes the sequential path below on every rank.
+        if let (Some(shared), true) = (&mut d.shared, u.iter().all(|v| v.is_finite())) {
             if let Some(normal) = &mut d.normal {
                 normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
                 solves.scale = Some((&d.sigma[..], normal.initial()));
@@ -115,9 +111,7 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
                 g1: &d.g1,
                 big_g,
             };
-            return shared
-                .evaluate(h, u, &solves, load, RatesOut { dyu, dya })
-                .map_err(Error::from);
+            return shared.evaluate(&mut *d.operator, u, &solves, load, RatesOut { dyu, dya });
         }
         // Between the parallel evaluations the pool's other threads poll for work.
         let _linger = (pieces > 1).then_some(LingerAfter(d.par, d.linger));

@@ -6,36 +6,40 @@ use rsf_state::StateLaw;
 
 use super::FaultOde;
 use crate::error::{invalid, Result};
+use crate::node_solves::PartNodes;
 use crate::ranks::{Exchanges, RankGroup, SharedEvaluation};
 
 impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L, S, C> {
     /// Shares the evaluations of the right-hand side with the other ranks of `ranks`
-    /// (docs/scaling.md, "Past one machine"): each rank sums its part of the rows of the
-    /// ℋ-product and solves their nodes, then one all-gather per evaluation gives every
-    /// rank every rate. Every rank must hold the same run (the same scene, options and
-    /// state) and call the same methods in the same order; the trajectory then has the
-    /// same bits on every rank, at every rank count, and as unshared. Within a rank the
-    /// shared part of an evaluation runs on one thread. A normal stress that changes with
-    /// slip (its product with `S_N`) is evaluated whole on every rank.
+    /// (docs/scaling.md, "Past one machine"): the operator's rows are split into one part
+    /// per rank ([`FaultOperator::split_rows`](crate::fault_operator::FaultOperator::split_rows)),
+    /// each rank sums its rows of the product and solves their nodes, then one all-gather
+    /// per evaluation gives every rank every rate. Every rank must hold the same run (the
+    /// same scene, options and state) and call the same methods in the same order; the
+    /// trajectory then has the same bits on every rank, at every rank count, and as
+    /// unshared. Within a rank the shared part of an evaluation runs on one thread. A
+    /// normal stress that changes with slip (its product with `S_N`) is evaluated whole
+    /// on every rank.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] named `ranks` unless the operator is an ℋ-matrix
-    /// ([`FaultKernel::Hierarchical`], the rows that are split).
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `ranks` for a rank
+    /// outside `0..size`, or an operator whose rows cannot be computed apart (the
+    /// default of [`FaultOperator::split_rows`](crate::fault_operator::FaultOperator::split_rows);
+    /// rsf's dense and ℋ kernels and the half-space operator can).
     pub fn share_evaluations(&mut self, ranks: Box<dyn RankGroup>) -> Result<()> {
-        if self.rates.operator.hierarchical_mut().is_none() {
-            return Err(invalid(
-                "ranks",
-                "evaluations shared by ranks split the rows of an ℋ-matrix: use \
-                 FaultKernel::Hierarchical",
-            ));
-        }
         if ranks.size() == 0 || ranks.rank() >= ranks.size() {
             return Err(invalid(
                 "ranks",
                 format!("rank {} of {} ranks", ranks.rank(), ranks.size()),
             ));
         }
-        self.rates.shared = Some(SharedEvaluation::new(ranks));
+        let first = &self.rates.first;
+        let split = self
+            .rates
+            .operator
+            .split_rows(ranks.size(), PartNodes::work_per_row(first))?;
+        split.validate(first[first.len() - 1])?;
+        self.rates.shared = Some(SharedEvaluation::new(ranks, split, first));
         Ok(())
     }
 

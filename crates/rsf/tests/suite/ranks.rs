@@ -134,10 +134,9 @@ fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
 }
 
 /// The quasi-dynamic buried 3-D fault of `internal_fault_3d` with the ℋ-kernel at leaf size
-/// 4 (two slip components per node: a node's two rows can fall in two parts, solved on
-/// every rank from the rows the parts send) for 3 s.
+/// 4 (two slip components per node, kept in one leaf and so in one part) for 3 s.
 #[test]
-fn a_3d_fault_with_nodes_across_parts_has_the_same_bits_on_1_to_4_ranks() {
+fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
     let steps = same_bits_on_ranks(|ranks| {
         let mut ode = crate::internal_fault_3d::quasi_dynamic()
             .time_step(1e-3)
@@ -191,16 +190,100 @@ fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4
     eprintln!("BP3 thrust, 2 km: {steps} steps with the same bits on 1–4 ranks");
 }
 
-/// A dense operator has no rows to share out: a typed error naming `ranks`.
+/// The dense kernel's rows in blocks of 8 (BP1 at Δz = 100 m, m = 100: up to 4 parts)
+/// for 20 years.
 #[test]
-fn what_cannot_be_shared_is_refused() {
-    let (bp1, grid) = small_bp1(&SeasBp1::default());
-    let model = bp1.model(&grid, false).unwrap();
-    let options = rsf::fault_ode::FaultOdeOptions {
-        kernel: FaultKernel::Dense,
-        ..bp1.fault_ode_options(1e-6).unwrap()
+fn a_bp1_fault_with_the_dense_kernel_has_the_same_bits_on_1_to_4_ranks() {
+    let (bp1, coarse) = small_bp1(&SeasBp1::default());
+    let grid = SeasBp1Grid {
+        dz: 100.0,
+        ..coarse
     };
-    let mut ode = bp1.fault_ode(model, options).unwrap();
+    let steps = same_bits_on_ranks(|ranks| {
+        let model = bp1.model(&grid, false).unwrap();
+        let options = rsf::fault_ode::FaultOdeOptions {
+            kernel: FaultKernel::Dense,
+            ..bp1.fault_ode_options(1e-6).unwrap()
+        };
+        let mut ode = bp1.fault_ode(model, options).unwrap();
+        if let Some(ranks) = ranks {
+            ode.share_evaluations(Box::new(ranks)).unwrap();
+        }
+        let mut bits = Bits::default();
+        ode.run_until(Until::Time(20.0 * SECONDS_PER_YEAR), &mut [&mut bits])
+            .unwrap();
+        bits.0
+    });
+    eprintln!("BP1 dense, m = 100: {steps} steps with the same bits on 1–4 ranks");
+}
+
+/// SEAS BP5 at Δx = 4 km (a fault alone, 500 cells, two slip components each) with
+/// Okada's half-space operator, dense (its rows in blocks of 8) and as an ℋ-matrix of leaf
+/// size 16 (an element's two rows in one leaf), for 150 steps.
+#[test]
+fn a_bp5_fault_with_the_half_space_operator_has_the_same_bits_on_1_to_4_ranks() {
+    use rsf_scenes::SeasBp5;
+    let bp5 = SeasBp5::default();
+    for dense_max in [usize::MAX, 0] {
+        let steps = same_bits_on_ranks(|ranks| {
+            let model = bp5.model(4000.0).unwrap();
+            let half_space = rsf::halfspace_operator::HalfSpaceOptions {
+                dense_max,
+                leaf_size: 16,
+                ..bp5.half_space(1e-6).unwrap()
+            };
+            let options = bp5.fault_ode_options(1e-6).unwrap();
+            let mut ode = bp5.fault_ode(model, options, &half_space).unwrap();
+            if let Some(ranks) = ranks {
+                ode.share_evaluations(Box::new(ranks)).unwrap();
+            }
+            let mut bits = Bits::default();
+            ode.run_until(Until::Steps(150), &mut [&mut bits]).unwrap();
+            bits.0
+        });
+        eprintln!("BP5 at 4 km, dense_max {dense_max}: {steps} steps with the same bits");
+    }
+}
+
+/// An operator that cannot compute its rows apart (the trait's default) is refused with a
+/// typed error naming `ranks`, and the run stays unshared.
+#[test]
+fn an_operator_without_parts_is_refused() {
+    use rsf::fault_operator::{FaultOperator, KernelReport};
+    use rsf_scenes::SeasBp5;
+    /// The half-space operator without its parts.
+    struct Whole(rsf::halfspace_operator::HalfSpaceOperator);
+    impl FaultOperator for Whole {
+        fn dim(&self) -> usize {
+            self.0.dim()
+        }
+        fn subtract_product(
+            &mut self,
+            x: &[f64],
+            r: &mut [f64],
+            par: rsf::Parallelism,
+        ) -> rsf::Result<()> {
+            self.0.subtract_product(x, r, par)
+        }
+        fn report(&self) -> &KernelReport {
+            self.0.report()
+        }
+    }
+    let bp5 = SeasBp5::default();
+    let model = bp5.model(4000.0).unwrap();
+    let half_space = bp5.half_space(1e-6).unwrap();
+    let operator =
+        rsf::halfspace_operator::HalfSpaceOperator::fault_alone(&model, &half_space).unwrap();
+    let alone = rsf::fault_alone::FaultAlone {
+        plate_velocity: (0..model.vertices.len())
+            .flat_map(|_| [bp5.v_p, 0.0])
+            .collect(),
+        operator: Box::new(Whole(operator)),
+    };
+    let mut ode = bp5
+        .problem_builder(model)
+        .build_fault_ode_alone(bp5.fault_ode_options(1e-6).unwrap(), alone)
+        .unwrap();
     let ranks = thread_ranks(1).pop().unwrap();
     match ode.share_evaluations(Box::new(ranks)) {
         Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "ranks"),

@@ -1,0 +1,478 @@
+//! SEAS BP5-QD (a vertical strike-slip fault in a half-space, two slip components, 3-D;
+//! docs/seas-bp5.md), integrated by the fault ODE with either kernel: `--kernel okada`
+//! (the default) a fault alone with Okada's half-space operator, loaded by back slip;
+//! `--kernel fe` the finite-element volume model (`SeasBp5::fe_model`: the fault plane
+//! inside a graded box, creeping outside the rate-and-state region, the far faces moving
+//! with their side) condensed onto the fault.
+//!
+//! ```sh
+//! cargo run --release --example seas_bp5 -- --out out/bp5            # Δx = 2 km, 1800 years
+//! cargo run --release --example seas_bp5 -- --dx 1000 --out out/bp5_1km --threads 2
+//! cargo run --release --example seas_bp5 -- --kernel fe --dx 2500 --out out/bp5_fe
+//! ```
+//!
+//! The scene is `rsf_scenes::SeasBp5`: the rate-and-state region (100 km × 40 km) in
+//! square cells of size `--dx`, each the centre of a constant-slip element of
+//! `rsf::halfspace_operator::HalfSpaceOperator::fault_alone` (dense up to 4 096
+//! unknowns, an ℋ-matrix of accuracy `--epsilon` beyond). The rest of the fault plane
+//! creeps at V_p: back slip (`rsf::fault_alone::FaultAlone`) represents it exactly.
+//!
+//! Writes the benchmark's files to `--out` (`rsf_seas::SeasBp5Output`: the ten
+//! on-fault stations `fltst_strk±XXdp±YY`, the nine off-fault stations
+//! `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, the slip and stress profiles, `rupture.dat`,
+//! the event catalogue `events.csv`), `summary.json` and the figure `overview.png`
+//! (slip₂ along dip at x₂ = 0; the maximum slip rate against time), and prints the
+//! ruptures and their recurrence intervals.
+//!
+//! Runs: `--checkpoint-every N` (a checkpoint `checkpoint.bin` every N steps, the files
+//! and their resume log `bp5_resume.json` written at the same steps), `--resume FILE`
+//! (continues the files in `--out` from a checkpoint of this run: the same bytes as an
+//! uninterrupted run), `--max-steps N` (stop after step N in total, with a checkpoint),
+//! `--overwrite` (a folder of another run is refused, and left untouched, otherwise).
+//!
+//! On MPI ranks: the `rsf-mpi` crate's `seas_bp5` runs [`main_on_ranks`] (every evaluation
+//! shared by the ranks, the files written by rank 0; docs/scaling.md, "The fault ODE on MPI
+//! ranks").
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::estimates::{operator_bytes, seas_output_bytes};
+use crate::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Prepared, Processes, Program};
+use crate::{cpu_seconds, machine};
+use clap::Parser;
+use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::FaultKernel;
+use rsf::observe::Observer;
+use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
+use rsf::Stepping;
+use rsf_scenes::{SeasBp5, SeasBp5Grid};
+use rsf_seas::{
+    utc_date_today, SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP5_RESUME_LOG,
+    SECONDS_PER_YEAR,
+};
+
+/// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
+#[derive(Parser)]
+#[command(version)]
+struct Args {
+    /// Output folder.
+    #[arg(long, default_value = "out/seas_bp5")]
+    out: PathBuf,
+    /// The elastic operator: `okada` (a fault alone in a half-space, boundary elements)
+    /// or `fe` (the finite-element volume model condensed onto the fault).
+    #[arg(long, value_enum, default_value_t = Kernel::Okada)]
+    kernel: Kernel,
+    /// Cell size on the fault (m); must divide 100 km and 40 km (`fe`: 50 km and 40 km).
+    #[arg(long, default_value_t = 2000.0)]
+    dx: f64,
+    /// `fe`: distance from the fault to the box's far faces, and its depth (km) [default:
+    /// 400].
+    #[arg(long)]
+    domain_km: Option<f64>,
+    /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
+    #[arg(long)]
+    ratio: Option<f64>,
+    /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
+    /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
+    /// changes by round-off.
+    #[arg(long, default_value = "amd")]
+    ordering: rsf::fault_ode::InteriorOrdering,
+    /// End time (years).
+    #[arg(long, default_value_t = 1800.0)]
+    end_years: f64,
+    /// Tolerance of the fault ODE (local error per step: tolerance · L in slip,
+    /// tolerance in ln θ).
+    #[arg(long, default_value_t = 1e-6)]
+    tolerance: f64,
+    /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km).
+    #[arg(long, default_value_t = 1e-6)]
+    epsilon: f64,
+    /// Threads of each evaluation (the same bits for every value). Default: every core
+    /// of the machine.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
+    threads: usize,
+    #[command(flatten)]
+    header: crate::SeasHeaderArgs,
+    #[command(flatten)]
+    run: crate::ResumeArgs,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    overwrite: bool,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut outputs = SeasBp5Output::file_names();
+    outputs.extend(
+        [
+            "events.csv",
+            "summary.json",
+            "overview.png",
+            "checkpoint.bin",
+            SEAS_BP5_RESUME_LOG,
+        ]
+        .map(String::from),
+    );
+    outputs
+}
+
+impl Args {
+    /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
+    fn box_size(&self) -> (f64, f64) {
+        (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+    }
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp5";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        let bp5 = SeasBp5::default();
+        let cells = flag("--dx", bp5.cells(self.dx))?.len() as f64;
+        flag("--tolerance", bp5.fault_ode_options(self.tolerance))?;
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (f64::MIN_POSITIVE, 1e-2),
+            "a relative accuracy",
+        )?;
+        flag("--epsilon", bp5.half_space(self.epsilon))?;
+        self.header.check()?;
+        let m = 2.0 * cells;
+        let (domain_km, ratio) = self.box_size();
+        if self.kernel == Kernel::Okada {
+            for (flag, given) in [
+                ("--domain-km", self.domain_km.is_some()),
+                ("--ratio", self.ratio.is_some()),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the finite-element kernel: it needs --kernel fe \
+                         (the Okada kernel has no box), without it it would be ignored"
+                    )
+                    .into());
+                }
+            }
+        }
+        let memory = match self.kernel {
+            // The fault alone: the operator (dense up to 4 096 unknowns, an ℋ-matrix
+            // beyond) and the body stations' columns.
+            Kernel::Okada => operator_bytes(m, m > 4096.0) + 9.0 * 3.0 * 8.0 * m,
+            Kernel::Fe => {
+                in_range(
+                    "--domain-km",
+                    domain_km,
+                    (75.0, 1e4),
+                    "km: 1.5 l_f/2 and more",
+                )?;
+                in_range("--ratio", ratio, (1.0, 2.0), "the growth of the spacing")?;
+                // The graded box (SeasBp5::fe_model) in closed form; 35 kB per vertex as
+                // the 3-D slider's direct factor, and the condensed operator.
+                let (h, far) = (self.dx, domain_km * 1e3);
+                let len = |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                let vertices =
+                    (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
+                vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE + operator_bytes(m, m > 4096.0)
+            }
+        };
+        // Ten fault stations, nine body stations, the slip and stress profiles (every
+        // cell's values), global.dat and rupture.dat.
+        let output = seas_output_bytes(self.end_years, 19.0, 13, 6.0 * cells);
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --kernel, --domain-km, --ratio",
+                format!("BP5 on dx = {:e} m: {cells} cells", self.dx),
+            )
+            .output(
+                output,
+                "--end-years, --dx",
+                format!("{} years of the benchmark's files", self.end_years),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
+    }
+}
+
+/// The elastic operator of the run.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum Kernel {
+    /// Okada's half-space, a fault alone, back slip.
+    Okada,
+    /// The finite-element volume model.
+    Fe,
+}
+
+/// The program `seas_bp5` (`cargo run --release --example seas_bp5 -- --out DIR …`).
+pub fn main() -> ExitCode {
+    crate::guard::main(|args, folder| run(args, folder, None))
+}
+
+/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp5`):
+/// every evaluation of the fault ODE shared by the ranks
+/// ([`rsf::FaultOde::share_evaluations`]: the half-space operator's elements, or the
+/// finite-element operator's rows), the files written by rank 0 — byte-identical to one
+/// process's (docs/scaling.md, "The fault ODE on MPI ranks").
+pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
+    crate::guard::main_on_ranks(processes, |args, folder, processes| {
+        run(args, folder, Some(processes))
+    })
+}
+
+fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
+    // Rank 0 (or the one process) writes the files and tells.
+    let root = processes.is_none_or(|p| p.rank() == 0);
+    let bp5 = SeasBp5::default();
+    let (domain_km, ratio) = args.box_size();
+    // Checked before any file is touched.
+    let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
+    let grid = SeasBp5Grid {
+        dx: args.dx,
+        domain: domain_km * 1e3,
+        ratio,
+    };
+    let mut options = bp5
+        .fault_ode_options(args.tolerance)
+        .map_err(|e| format!("--tolerance: {e}"))?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    let half_space = bp5
+        .half_space(args.epsilon)
+        .map_err(|e| format!("--epsilon: {e}"))?;
+    // A folder of another run (unless --overwrite), one that cannot be written: refused
+    // by the guard before anything was computed.
+    let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
+    // What a checkpoint continues: the scene, the grid and what changes the trajectory.
+    let fingerprint = Fingerprint::of_serialized(&bp5)
+        .with("kernel", format!("{:?}", args.kernel))
+        .with("dx", args.dx)
+        .with("domain_km", domain_km)
+        .with("ratio", ratio)
+        .with("ordering", args.ordering)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("epsilon", args.epsilon);
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let setup = SeasSetup {
+        problem: "SEAS Benchmark BP5-QD".into(),
+        modeler: args.header.modeler.clone(),
+        date: args.header.date.clone().unwrap_or_else(utc_date_today),
+        element_size: args.dx,
+        stations: Vec::new(),
+        depth_axis: 2,
+        depth_down: false,
+        sigma_n: bp5.sigma_n,
+        profile_spacing: args.dx,
+        sampling: SeasSampling::default(),
+        layout: SeasLayout::default(),
+        surface_stations: Vec::new(),
+    };
+    let (mut ode, output) = match args.kernel {
+        Kernel::Okada => {
+            let model = bp5.model(args.dx)?;
+            if root {
+                println!(
+                    "BP5-QD, Okada, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
+                    args.dx,
+                    2 * cells,
+                    machine()
+                );
+            }
+            let (ode, columns) = bp5.fault_ode_with_stations(
+                model,
+                options,
+                &half_space,
+                &SeasBp5::body_station_points(),
+            )?;
+            let output = if root {
+                Some(bp5.output(&args.out, args.dx, columns, setup)?)
+            } else {
+                None
+            };
+            (ode, output)
+        }
+        Kernel::Fe => {
+            let model = bp5
+                .fe_model(&grid)
+                .map_err(|e| format!("--kernel fe: {e}"))?;
+            let m = 2 * model.frictional_boundary.len();
+            if root {
+                println!(
+                    "BP5-QD, finite elements, Δx = {} m, box ±{} km (ratio {}), {} vertices, {m} \
+                 slip unknowns; on {}",
+                    args.dx,
+                    domain_km,
+                    ratio,
+                    model.vertices.len(),
+                    machine()
+                );
+            }
+            if m > 4096 {
+                options.kernel = FaultKernel::hierarchical(args.epsilon);
+            }
+            options.ordering = args.ordering;
+            let output = if root {
+                Some(bp5.volume_output(&args.out, &model, args.dx, setup)?)
+            } else {
+                None
+            };
+            let mut ode = bp5.fe_fault_ode(model, options)?;
+            if let Some(output) = &output {
+                ode.watch_vertices(&output.volume_vertices())?;
+                println!("volume factor: {} entries", ode.factor_nnz());
+            }
+            (ode, output)
+        }
+    };
+    if let Some(p) = processes {
+        ode.share_evaluations(p.group())?;
+    }
+    let setup_s = clock.elapsed().as_secs_f64();
+    let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
+    let Some(mut output) = output else {
+        // The other ranks: the same steps as rank 0 (from the same checkpoint), no files
+        // (no observer here ends a run).
+        if let Some(path) = &args.run.resume {
+            ode.restore(&read_checkpoint(
+                path,
+                &fingerprint,
+                &args.run.allow_change,
+            )?)?;
+        }
+        ode.run_until(end, &mut [])?;
+        return Ok(());
+    };
+    println!("S: {}", ode.kernel_report());
+    if let Some(p) = processes {
+        println!("{} MPI ranks share every evaluation", p.size());
+    }
+    println!(
+        "set-up: wall {setup_s:.1} s, CPU {:.1} s",
+        cpu_seconds() - cpu0
+    );
+    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+        output = output.with_resume_log(args.run.checkpoint_every);
+    }
+    let resumed = match &args.run.resume {
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
+            output.resume(c.state.step)?;
+            ode.restore(&c)?;
+            Some(c)
+        }
+        None => {
+            output.write_initial_state(
+                ode.model(),
+                ode.state(),
+                rsf::Stepping::fault_tractions(&ode),
+            );
+            None
+        }
+    };
+    // Every `--checkpoint-every` steps, and where the step cap stops the run.
+    let mut checkpointer = args.run.checkpointer(
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
+    )?;
+    let run = {
+        // The files first, the checkpoint after them: a checkpoint never runs ahead.
+        let mut observers: Vec<&mut dyn Observer<3, 3>> = vec![&mut output, &mut checkpointer];
+        ode.run_until(end, &mut observers)
+    };
+    let summary = match run {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("run failed after {} steps: {}", e.summary.steps, e.error);
+            return Err(e.error.into());
+        }
+    };
+    if let Some(e) = step_cap_error(&summary, end, ode.state(), &folder.path("checkpoint.bin")) {
+        return Err(e.into());
+    }
+    let wall = clock.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    // Events with a peak above 0.1 m/s: the ruptures (the catalogue also holds the
+    // shallow afterslip that crosses 1 mm/s after some).
+    let ruptures: Vec<_> = output
+        .events()
+        .iter()
+        .filter(|e| e.peak_slip_rate >= 0.1)
+        .collect();
+    let mut previous: Option<f64> = None;
+    let mut intervals = Vec::new();
+    for e in &ruptures {
+        let years = e.t_start / SECONDS_PER_YEAR;
+        let interval = previous.map_or(String::new(), |p| {
+            intervals.push(years - p);
+            format!(", {:.3} yr after the previous", years - p)
+        });
+        println!(
+            "rupture at {years:.4} yr ({:.1} s): peak slip rate {:.3e} m/s at x₂ = {:.1} km, \
+             x₃ = {:.1} km, {:.1} s above 1 mm/s{interval}",
+            e.t_start,
+            e.peak_slip_rate,
+            e.hypocentre[0] / 1e3,
+            e.hypocentre[1] / 1e3,
+            e.t_end.map_or(f64::NAN, |t| t - e.t_start),
+        );
+        previous = Some(years);
+    }
+    println!(
+        "{} steps ({} attempts rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
+         wrote {}",
+        summary.steps,
+        summary.rejected_attempts,
+        ode.evaluations(),
+        args.out.display()
+    );
+    let json = serde_json::json!({
+        "problem": "BP5-QD",
+        "kernel": format!("{:?}", args.kernel),
+        "domain_km": (args.kernel == Kernel::Fe).then_some(domain_km),
+        "ratio": (args.kernel == Kernel::Fe).then_some(ratio),
+        "dx_m": args.dx,
+        "cells": cells,
+        "end_years": args.end_years,
+        "tolerance": args.tolerance,
+        "epsilon": args.epsilon,
+        "operator": ode.kernel_report().to_string(),
+        "volume_factor_entries": ode.factor_nnz(),
+        "accepted_steps": ode.state().step,
+        "steps_this_invocation": summary.steps,
+        "rejected_attempts": summary.rejected_attempts,
+        "rate_evaluations": ode.evaluations(),
+        "threads": args.threads,
+        "setup_s": setup_s,
+        "wall_time_s": wall,
+        "cpu_time_s": cpu,
+        "machine": machine(),
+        "rupture_start_years": ruptures.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
+        "recurrence_intervals_years": intervals,
+        "peak_slip_rates_mps": ruptures.iter().map(|e| e.peak_slip_rate).collect::<Vec<_>>(),
+        "catalogue_events": output.events().len(),
+    });
+    rsf::checkpoint::write_atomically(
+        &folder.path("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    // Slip₂ along dip at x₂ = 0 and the maximum slip rate against time.
+    crate::seas_overview(&args.out, "slip_2_depth.dat", "depth (km)", ruptures.len())?;
+    println!("wrote {}", args.out.join("overview.png").display());
+    Ok(())
+}
