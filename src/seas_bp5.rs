@@ -184,9 +184,12 @@ impl Program for Args {
                 vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE + operator_bytes(m, m > 4096.0)
             }
         };
-        // Ten fault stations, nine body stations, the slip and stress profiles (every
-        // cell's values), global.dat and rupture.dat.
-        let output = seas_output_bytes(self.end_years, 19.0, 13, 6.0 * cells);
+        // Ten fault stations, nine body stations and global.dat; the four profiles (slip
+        // and stress along dip and along strike: a row holds a column or a row of the
+        // grid); rupture.dat (one row per cell, once).
+        let (along_strike, along_dip) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
+        let output = seas_output_bytes(self.end_years, 20.0, 13, 2.0 * (along_strike + along_dip))
+            + cells * rsf::run_folder::SERIES_ROW_BYTES;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()

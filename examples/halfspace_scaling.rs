@@ -1,0 +1,142 @@
+//! Set-up, memory and product cost of the boundary-element half-space operator against
+//! the number of fault unknowns (issue 55, "a set-up that scales"; docs/seas-bp5.md,
+//! "The operator at scale"): SEAS BP5's fault alone (`rsf_scenes::SeasBp5::model`, two
+//! slip components per cell) with Okada's operator
+//! (`rsf::halfspace_operator::HalfSpaceOperator::fault_alone`) always as an ℋ-matrix, at
+//! several cell sizes. For each it prints the set-up's wall and CPU time, what it stored
+//! (f64, MB, the table of distinct source–receiver pairs it was built from), the largest
+//! rank, the sampled `‖K − K_H‖_F/‖K‖_F`, and the median wall time of one product on one
+//! thread over `--products` products; then least-squares exponents against m. Run it
+//! under `/usr/bin/time -v` for the peak memory (the largest size's).
+//!
+//! ```sh
+//! cargo run --release --example halfspace_scaling -- --dx 4000,2000,1000,500
+//! ```
+
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+use rsf::fault_operator::FaultOperator;
+use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
+use rsf_examples::estimates::operator_bytes;
+use rsf_examples::guard::{flag, in_range, AnyError, Limits, Plan, Prepared, Program};
+use rsf_examples::{cpu_seconds, fit_exponent, machine};
+use rsf_scenes::SeasBp5;
+
+/// Set-up and product cost of BP5's half-space operator against m.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    /// Cell sizes on the fault (m), comma separated; each must divide 100 km and 40 km.
+    #[arg(long, value_delimiter = ',', default_value = "4000,2000,1000,500")]
+    dx: Vec<f64>,
+    /// Accuracy ε of the ℋ-matrix.
+    #[arg(long, default_value_t = 1e-6)]
+    epsilon: f64,
+    /// Products timed per size (the median is printed).
+    #[arg(long, default_value_t = 21)]
+    products: usize,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "halfspace_scaling";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (f64::MIN_POSITIVE, 1e-2),
+            "a relative accuracy",
+        )?;
+        in_range(
+            "--products",
+            self.products as f64,
+            (1.0, 1e5),
+            "products timed",
+        )?;
+        let bp5 = SeasBp5::default();
+        let mut largest = 0.0f64;
+        for &dx in &self.dx {
+            largest = largest.max(flag("--dx", bp5.cells(dx))?.len() as f64);
+        }
+        // One operator at a time: the largest (its ℋ-matrix, at most the dense size, and
+        // the table of distinct pairs, at most 2²² of 48 bytes).
+        let m = 2.0 * largest;
+        Ok(Plan::new().memory(
+            operator_bytes(m, true) + 48.0 * 4_194_304.0,
+            "--dx",
+            format!("BP5's half-space operator of {m} unknowns"),
+        ))
+    }
+}
+
+fn main() -> ExitCode {
+    rsf_examples::guard::main(run)
+}
+
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
+    let bp5 = SeasBp5::default();
+    println!("on {}", machine());
+    println!(
+        "| Δx (m) | m | set-up wall (s) | set-up CPU (s) | stored f64 | MB | table MB | dense blocks | low-rank blocks | max rank | ‖K − K_H‖_F/‖K‖_F (sampled) | product (ms, median) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
+    for &dx in &cli.dx {
+        let model = bp5.model(dx)?;
+        let options = HalfSpaceOptions {
+            // Always the ℋ-matrix, also where BP5 would keep K dense.
+            dense_max: 0,
+            ..bp5.half_space(cli.epsilon)?
+        };
+        let (wall, cpu) = (Instant::now(), cpu_seconds());
+        let mut op = HalfSpaceOperator::fault_alone(&model, &options)?;
+        let (setup_wall, setup_cpu) = (wall.elapsed().as_secs_f64(), cpu_seconds() - cpu);
+        let m = op.dim();
+        let x: Vec<f64> = (0..m).map(|i| (0.37 * i as f64).sin()).collect();
+        let mut r = vec![0.0; m];
+        let mut times: Vec<f64> = (0..cli.products)
+            .map(|_| {
+                let t = Instant::now();
+                op.subtract_product(&x, &mut r, rsf::Parallelism::SEQ)
+                    .map(|()| t.elapsed().as_secs_f64())
+            })
+            .collect::<rsf::Result<_>>()?;
+        times.sort_by(f64::total_cmp);
+        let product = times[times.len() / 2];
+        let report = op.report();
+        println!(
+            "| {dx} | {m} | {setup_wall:.2} | {setup_cpu:.2} | {} | {:.1} | {:.1} | {} | {} | {} | {:.2e} ({} samples) | {:.3} |",
+            report.stored_entries,
+            report.bytes() as f64 / 1e6,
+            report.setup_bytes as f64 / 1e6,
+            report.dense_blocks,
+            report.low_rank_blocks,
+            report.max_rank,
+            report.relative_error,
+            report.error_samples,
+            product * 1e3
+        );
+        rows.push((m as f64, report.stored_entries as f64, product, setup_wall));
+    }
+    if rows.len() >= 2 {
+        let fit = |f: fn(&(f64, f64, f64, f64)) -> f64| {
+            fit_exponent(&rows.iter().map(|r| (r.0, f(r))).collect::<Vec<_>>())
+        };
+        println!(
+            "stored f64 ~ m^{:.3}, product ~ m^{:.3}, set-up ~ m^{:.3} (least squares on log–log, {} sizes)",
+            fit(|r| r.1),
+            fit(|r| r.2),
+            fit(|r| r.3),
+            rows.len()
+        );
+    }
+    Ok(())
+}
