@@ -374,7 +374,7 @@ pub fn main() -> ExitCode {
 
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp1`):
 /// the Runge–Kutta run of BP1-QD with every evaluation shared by the ranks
-/// ([`rsf::FaultOde::share_evaluations`]; the hierarchical kernel), the files written by
+/// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel), the files written by
 /// rank 0 — byte-identical to one process's (docs/scaling.md, "Past one machine").
 pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
     crate::guard::main_on_ranks(processes, |args, prepared, processes| {

@@ -221,7 +221,7 @@ pub fn main() -> ExitCode {
 
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp3`):
 /// every evaluation of the fault ODE shared by the ranks
-/// ([`rsf::FaultOde::share_evaluations`]; the hierarchical kernel, the normal stress
+/// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel, the normal stress
 /// evaluated whole on every rank), the files written by rank 0 — byte-identical to one
 /// process's (docs/scaling.md, "The fault ODE on MPI ranks").
 pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {

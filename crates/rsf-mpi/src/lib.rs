@@ -1,9 +1,11 @@
 //! MPI ranks for rsf (docs/scaling.md, "Past one machine"): [`MpiRanks`], the
 //! [`rsf::ranks::RankGroup`] of the processes of `MPI_COMM_WORLD`, with which
 //! [`FaultOde::share_evaluations`](rsf::FaultOde::share_evaluations) splits every
-//! evaluation of the fault ODE's right-hand side (the rows of the ℋ-product and their
-//! nodes' friction solves) between the ranks and gathers the rates with one
-//! `MPI_Allgatherv`. The trajectory has the same bits at every rank count.
+//! evaluation of the fault ODE's right-hand side (the rows of the fault operator's product
+//! — dense, ℋ or the half-space operator — and their nodes' friction solves) between the
+//! ranks and gathers the rates with one `MPI_Allgatherv`. The trajectory has the same bits
+//! at every rank count. Binaries: `seas_bp1`, `seas_bp3`, `seas_bp5` (the root package's
+//! programs).
 //!
 //! Every rank runs the whole program (the same scene, options and state); only the
 //! evaluations are shared. A program writes its files on rank 0 ([`MpiRanks::is_root`])

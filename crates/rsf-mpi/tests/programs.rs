@@ -53,6 +53,15 @@ fn run_program(bin: &str, ranks: Option<usize>, args: &[String]) -> Output {
     c.args(args).output().expect("the program (and mpirun)")
 }
 
+/// Asserts that the program (or mpirun) ended with success, showing its standard error.
+fn succeeded(out: &Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// Every file of `a` but the summary (its times) has the bytes of `b`'s.
 fn same_files(a: &Path, b: &Path, what: &str) -> usize {
     let mut n = 0;
@@ -84,11 +93,7 @@ fn same_files(a: &Path, b: &Path, what: &str) -> usize {
 fn files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
     let one = folder("bp1_one_process");
     let out = run(None, &flags(&one));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     for n in [1, 2, 4] {
         let dir = folder(&format!("bp1_{n}_ranks"));
         let out = run(Some(n), &flags(&dir));
@@ -116,11 +121,7 @@ fn files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
     resumed.extend(["--checkpoint-every", "500", "--resume"].map(String::from));
     resumed.push(dir.join("checkpoint.bin").to_str().unwrap().to_owned());
     let out = run(Some(2), &resumed);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     same_files(&one, &dir, "stopped and resumed on 2 ranks");
 }
 
@@ -171,19 +172,11 @@ fn bp3_files_are_byte_identical_on_2_ranks() {
     };
     let one = folder("bp3_one_process");
     let out = run_program(BP3, None, &args(&one));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let two = folder("bp3_2_ranks");
     let out = run_program(BP3, Some(2), &args(&two));
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     assert!(
         text.contains("2 MPI ranks share every evaluation"),
         "{text}"
@@ -213,18 +206,10 @@ fn bp1_at_25_m_is_byte_identical_on_2_ranks() {
     };
     let one = folder("bp1_25m_one_process");
     let out = run(None, &args(&one));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let two = folder("bp1_25m_2_ranks");
     let out = run(Some(2), &args(&two));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     assert!(same_files(&one, &two, "BP1 at 25 m on 2 ranks") >= 14);
 }
 
@@ -251,20 +236,12 @@ fn bp5_files_are_byte_identical_on_2_and_3_ranks() {
     };
     let one = folder("bp5_one_process");
     let out = run_program(BP5, None, &args(&one));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     for n in [2, 3] {
         let dir = folder(&format!("bp5_{n}_ranks"));
         let out = run_program(BP5, Some(n), &args(&dir));
         let text = String::from_utf8_lossy(&out.stdout);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        succeeded(&out);
         assert!(
             text.contains(&format!("{n} MPI ranks share every evaluation")),
             "{text}"
@@ -321,11 +298,7 @@ fn a_job_killed_and_resumed_on_2_ranks_writes_the_same_bytes() {
     };
     let one = folder("bp1_kill_one_process");
     let out = run(None, &flags(&one));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let dir = folder("bp1_killed");
     let checkpointed = flags(&dir);
     let mut job = mpirun(2)
@@ -368,10 +341,6 @@ fn a_job_killed_and_resumed_on_2_ranks_writes_the_same_bytes() {
         assert!(t.elapsed() < Duration::from_secs(30), "{err}");
         std::thread::sleep(Duration::from_millis(200));
     };
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     assert!(same_files(&one, &dir, "killed and resumed on 2 ranks") >= 14);
 }

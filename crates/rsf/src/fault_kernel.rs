@@ -351,21 +351,7 @@ pub(crate) fn compress<const D: usize, const C: usize>(
 ) -> Result<(Kernel, KernelReport)> {
     let m = s.nrows();
     match kind {
-        FaultKernel::Dense => Ok((
-            Kernel::Dense(s),
-            KernelReport {
-                kernel: kind,
-                dim: m,
-                relative_error: 0.0,
-                error_samples: 0,
-                setup_bytes: 8 * m * m,
-                stored_entries: m * m,
-                dense_blocks: 1,
-                low_rank_blocks: 0,
-                max_rank: 0,
-                setup_seconds: 0.0,
-            },
-        )),
+        FaultKernel::Dense => Ok((Kernel::Dense(s), KernelReport::dense(m))),
         FaultKernel::Hierarchical { epsilon, leaf_size } => {
             let clock = Instant::now();
             let points = interface_points(model, cond)?;

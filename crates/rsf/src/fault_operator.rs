@@ -250,6 +250,22 @@ pub struct KernelReport {
 }
 
 impl KernelReport {
+    /// The report of a dense `m × m` kernel (nothing compressed, nothing measured).
+    pub(crate) fn dense(m: usize) -> Self {
+        Self {
+            kernel: FaultKernel::Dense,
+            dim: m,
+            relative_error: 0.0,
+            error_samples: 0,
+            setup_bytes: 8 * m * m,
+            stored_entries: m * m,
+            dense_blocks: 1,
+            low_rank_blocks: 0,
+            max_rank: 0,
+            setup_seconds: 0.0,
+        }
+    }
+
     /// `m² / stored_entries`: how many times smaller the operator is than dense (1 for
     /// the dense kernel; 0 for `m = 0`).
     pub fn compression_ratio(&self) -> f64 {

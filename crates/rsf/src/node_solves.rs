@@ -413,6 +413,80 @@ mod tests {
     use rsf_hmatrix::{HOptions, Points};
     use rsf_state::Aging;
 
+    /// The per-node data of an evaluation of `nodes` nodes of `C` components: the laws,
+    /// weights, states, slip `u` and loading `g0 + 0.75 g1`.
+    struct Fixture<const C: usize> {
+        friction: Vec<AsinhLaw>,
+        state_laws: Vec<Aging>,
+        first: Vec<usize>,
+        weights: Vec<f64>,
+        fixed_velocity: Vec<[f64; C]>,
+        alpha: Vec<f64>,
+        u: Vec<f64>,
+        g0: Vec<f64>,
+        g1: Vec<f64>,
+        eta: Vec<f64>,
+    }
+
+    impl<const C: usize> Fixture<C> {
+        fn new(nodes: usize) -> Self {
+            let m = C * nodes;
+            let params = RateStateParams {
+                mu0: 0.6,
+                a: 0.01,
+                b: 0.015,
+                v0: 1e-6,
+                l: 0.008,
+                sigma_n: 50e6,
+            };
+            Self {
+                friction: vec![AsinhLaw::new(params).unwrap(); nodes],
+                state_laws: vec![Aging::new(params.l).unwrap(); nodes],
+                first: (0..=nodes).map(|k| C * k).collect(),
+                weights: (0..nodes).map(|k| 20.0 + (k % 3) as f64).collect(),
+                fixed_velocity: vec![[0.0; C]; nodes],
+                alpha: (0..nodes).map(|k| 8.0 + (k as f64 * 0.37).sin()).collect(),
+                u: (0..m).map(|i| 1e-3 * ((i as f64) * 0.71).cos()).collect(),
+                g0: (0..m).map(|i| 6e8 + 1e6 * (i % 7) as f64).collect(),
+                g1: (0..m).map(|i| 1e5 * (i % 5) as f64).collect(),
+                eta: vec![5e6; nodes],
+            }
+        }
+
+        fn load(&self) -> Loading<'_> {
+            Loading {
+                g0: &self.g0,
+                g1: &self.g1,
+                big_g: 0.75,
+            }
+        }
+
+        fn solves(&self) -> NodeSolves<'_, AsinhLaw, Aging, C> {
+            NodeSolves {
+                friction: &self.friction,
+                state_laws: &self.state_laws,
+                uses_state: true,
+                first: &self.first,
+                weights: &self.weights,
+                fixed_velocity: &self.fixed_velocity,
+                eta: &self.eta,
+                speed: 1e-9,
+                alpha: &self.alpha,
+                scale: None,
+            }
+        }
+
+        /// `g0 + 0.75 g1`, what the product is subtracted from.
+        fn loading(&self) -> Vec<f64> {
+            let big_g = self.load().big_g;
+            self.g0
+                .iter()
+                .zip(&self.g1)
+                .map(|(a, b)| a + big_g * b)
+                .collect()
+        }
+    }
+
     /// Two components per node (1 m apart, not coincident, so that the cluster tree's
     /// median splits can put them in different leaves and parts): the evaluation by parts
     /// gives the bits of the whole product followed by the sequential solves, for every
@@ -435,51 +509,18 @@ mod tests {
             leaf_size: 5,
             ..HOptions::with_epsilon(1e-9)
         };
-        let params = RateStateParams {
-            mu0: 0.6,
-            a: 0.01,
-            b: 0.015,
-            v0: 1e-6,
-            l: 0.008,
-            sigma_n: 50e6,
-        };
-        let friction = vec![AsinhLaw::new(params).unwrap(); nodes];
-        let state_laws = vec![Aging::new(params.l).unwrap(); nodes];
-        let first: Vec<usize> = (0..=nodes).map(|k| C * k).collect();
-        let weights: Vec<f64> = (0..nodes).map(|k| 20.0 + (k % 3) as f64).collect();
-        let fixed_velocity = vec![[0.0; C]; nodes];
-        let alpha: Vec<f64> = (0..nodes).map(|k| 8.0 + (k as f64 * 0.37).sin()).collect();
-        let u: Vec<f64> = (0..m).map(|i| 1e-3 * ((i as f64) * 0.71).cos()).collect();
-        let g0: Vec<f64> = (0..m).map(|i| 6e8 + 1e6 * (i % 7) as f64).collect();
-        let g1: Vec<f64> = (0..m).map(|i| 1e5 * (i % 5) as f64).collect();
-        let load = Loading {
-            g0: &g0,
-            g1: &g1,
-            big_g: 0.75,
-        };
-        let eta = vec![5e6; nodes];
-        let solves = NodeSolves::<_, _, C> {
-            friction: &friction,
-            state_laws: &state_laws,
-            uses_state: true,
-            first: &first,
-            weights: &weights,
-            fixed_velocity: &fixed_velocity,
-            eta: &eta,
-            speed: 1e-9,
-            alpha: &alpha,
-            scale: None,
-        };
+        let fx = Fixture::<C>::new(nodes);
+        let (first, u, load, solves) = (&fx.first, &fx.u, fx.load(), fx.solves());
         let mut h = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
-        let mut r: Vec<f64> = (0..m).map(|i| g0[i] + load.big_g * g1[i]).collect();
-        h.apply_add(&u, &mut r, -1.0, faer::Par::Seq).unwrap();
+        let mut r = fx.loading();
+        h.apply_add(u, &mut r, -1.0, faer::Par::Seq).unwrap();
         let (mut dyu, mut dya) = (vec![0.0; m], vec![0.0; nodes]);
         solves.solve((0, nodes), 1, &r, &mut dyu, &mut dya);
         assert!(dyu.iter().chain(&dya).all(|v| v.is_finite() && *v != 0.0));
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         let mut straddled = 0;
         for threads in 1..=6 {
-            let mut parts = PartNodes::new(&mut h, threads, &first);
+            let mut parts = PartNodes::new(&mut h, threads, first);
             straddled += parts.straddling.len();
             let owned: usize = parts.parts.iter().map(|p| p.nodes.len()).sum();
             assert_eq!(owned + parts.straddling.len(), nodes);
@@ -487,7 +528,7 @@ mod tests {
             parts
                 .evaluate(
                     &mut h,
-                    &u,
+                    u,
                     &solves,
                     load,
                     RatesOut {
@@ -565,64 +606,23 @@ mod tests {
             ranges: vec![0..7, 7..31, 31..32, 32..m],
         };
         split.validate(m).unwrap();
-        let report = crate::fault_operator::KernelReport {
-            kernel: crate::fault_operator::FaultKernel::Dense,
-            dim: m,
-            relative_error: 0.0,
-            error_samples: 0,
-            setup_bytes: 8 * m * m,
-            stored_entries: m * m,
-            dense_blocks: 1,
-            low_rank_blocks: 0,
-            max_rank: 0,
-            setup_seconds: 0.0,
-        };
-        let mut op = RowSums(s, report, split.clone());
-        let params = RateStateParams {
-            mu0: 0.6,
-            a: 0.01,
-            b: 0.015,
-            v0: 1e-6,
-            l: 0.008,
-            sigma_n: 50e6,
-        };
-        let friction = vec![AsinhLaw::new(params).unwrap(); nodes];
-        let state_laws = vec![Aging::new(params.l).unwrap(); nodes];
-        let first: Vec<usize> = (0..=nodes).map(|k| C * k).collect();
-        let weights: Vec<f64> = (0..nodes).map(|k| 20.0 + (k % 3) as f64).collect();
-        let fixed_velocity = vec![[0.0; C]; nodes];
-        let alpha: Vec<f64> = (0..nodes).map(|k| 8.0 + (k as f64 * 0.37).sin()).collect();
-        let u: Vec<f64> = (0..m).map(|i| 1e-3 * ((i as f64) * 0.71).cos()).collect();
-        let g0: Vec<f64> = (0..m).map(|i| 6e8 + 1e6 * (i % 7) as f64).collect();
-        let g1: Vec<f64> = (0..m).map(|i| 1e5 * (i % 5) as f64).collect();
-        let load = Loading {
-            g0: &g0,
-            g1: &g1,
-            big_g: 0.75,
-        };
-        let eta = vec![5e6; nodes];
-        let solves = NodeSolves::<_, _, C> {
-            friction: &friction,
-            state_laws: &state_laws,
-            uses_state: true,
-            first: &first,
-            weights: &weights,
-            fixed_velocity: &fixed_velocity,
-            eta: &eta,
-            speed: 1e-9,
-            alpha: &alpha,
-            scale: None,
-        };
-        let mut r: Vec<f64> = (0..m).map(|i| g0[i] + load.big_g * g1[i]).collect();
-        op.subtract_product(&u, &mut r, rsf_linalg::Parallelism::SEQ)
+        let mut op = RowSums(
+            s,
+            crate::fault_operator::KernelReport::dense(m),
+            split.clone(),
+        );
+        let fx = Fixture::<C>::new(nodes);
+        let (first, u, load, solves) = (&fx.first, &fx.u, fx.load(), fx.solves());
+        let mut r = fx.loading();
+        op.subtract_product(u, &mut r, rsf_linalg::Parallelism::SEQ)
             .unwrap();
         let (mut dyu, mut dya) = (vec![0.0; m], vec![0.0; nodes]);
         solves.solve((0, nodes), 1, &r, &mut dyu, &mut dya);
-        let mut parts = PartNodes::from_split(split, &first);
+        let mut parts = PartNodes::from_split(split, first);
         assert!(!parts.straddling.is_empty(), "no node across parts");
         let mut all = Vec::new();
         for p in 0..parts.len() {
-            parts.evaluate_part(&mut op, p, &u, &solves, load).unwrap();
+            parts.evaluate_part(&mut op, p, u, &solves, load).unwrap();
             assert_eq!(parts.sent().len(), parts.send_len(p));
             all.extend_from_slice(parts.sent());
         }

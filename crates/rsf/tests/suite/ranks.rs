@@ -79,6 +79,26 @@ impl<const D: usize, const C: usize> Observer<D, C> for Bits {
     }
 }
 
+/// `ode` shared by `ranks` (if any) run to `until`: every accepted step's bits.
+fn run_shared<const D: usize, L, S, const C: usize>(
+    mut ode: rsf::FaultOde<D, L, S, C>,
+    ranks: Option<ThreadRanks>,
+    until: Until,
+) -> Vec<Vec<u64>>
+where
+    L: rsf::friction::FrictionLaw,
+    S: rsf::state::StateLaw,
+{
+    if let Some(ranks) = ranks {
+        let (rank, size) = (ranks.rank(), ranks.size());
+        ode.share_evaluations(Box::new(ranks)).unwrap();
+        assert_eq!(ode.rank_and_size(), (rank, size));
+    }
+    let mut bits = Bits::default();
+    ode.run_until(until, &mut [&mut bits]).unwrap();
+    bits.0
+}
+
 /// Runs `run` unshared, then on 1, 2, 3 and 4 thread ranks (each rank its own run), and
 /// checks that every rank's rows have the unshared bits; returns the unshared rows.
 fn same_bits_on_ranks(run: impl Fn(Option<ThreadRanks>) -> Vec<Vec<u64>> + Sync) -> usize {
@@ -102,7 +122,8 @@ fn same_bits_on_ranks(run: impl Fn(Option<ThreadRanks>) -> Vec<Vec<u64>> + Sync)
     alone.len()
 }
 
-/// BP1 at Δz = 100 m (m = 100, leaf size 8: up to 4 parts of the rows) for 20 years.
+/// BP1 at Δz = 100 m (m = 100) for 20 years with the ℋ-kernel at leaf size 8 (up to 4
+/// parts of the rows) and with the dense kernel (its rows in blocks of 8).
 #[test]
 fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
     let (bp1, coarse) = small_bp1(&SeasBp1::default());
@@ -110,27 +131,22 @@ fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
         dz: 100.0,
         ..coarse
     };
-    let steps = same_bits_on_ranks(|ranks| {
-        let model = bp1.model(&grid, false).unwrap();
-        let options = rsf::fault_ode::FaultOdeOptions {
-            kernel: FaultKernel::Hierarchical {
-                epsilon: 1e-6,
-                leaf_size: 8,
-            },
-            ..bp1.fault_ode_options(1e-6).unwrap()
-        };
-        let mut ode = bp1.fault_ode(model, options).unwrap();
-        if let Some(ranks) = ranks {
-            let (rank, size) = (ranks.rank(), ranks.size());
-            ode.share_evaluations(Box::new(ranks)).unwrap();
-            assert_eq!(ode.rank_and_size(), (rank, size));
-        }
-        let mut bits = Bits::default();
-        ode.run_until(Until::Time(20.0 * SECONDS_PER_YEAR), &mut [&mut bits])
-            .unwrap();
-        bits.0
-    });
-    eprintln!("BP1, m = 100: {steps} steps with the same bits on 1–4 ranks");
+    let hierarchical = FaultKernel::Hierarchical {
+        epsilon: 1e-6,
+        leaf_size: 8,
+    };
+    for kernel in [hierarchical, FaultKernel::Dense] {
+        let steps = same_bits_on_ranks(|ranks| {
+            let model = bp1.model(&grid, false).unwrap();
+            let options = rsf::fault_ode::FaultOdeOptions {
+                kernel,
+                ..bp1.fault_ode_options(1e-6).unwrap()
+            };
+            let ode = bp1.fault_ode(model, options).unwrap();
+            run_shared(ode, ranks, Until::Time(20.0 * SECONDS_PER_YEAR))
+        });
+        eprintln!("BP1, m = 100, {kernel:?}: {steps} steps with the same bits on 1–4 ranks");
+    }
 }
 
 /// The quasi-dynamic buried 3-D fault of `internal_fault_3d` with the ℋ-kernel at leaf size
@@ -138,7 +154,7 @@ fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
 #[test]
 fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
     let steps = same_bits_on_ranks(|ranks| {
-        let mut ode = crate::internal_fault_3d::quasi_dynamic()
+        let ode = crate::internal_fault_3d::quasi_dynamic()
             .time_step(1e-3)
             .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
                 tolerance: 1e-9,
@@ -149,12 +165,7 @@ fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
                 ..Default::default()
             })
             .unwrap();
-        if let Some(ranks) = ranks {
-            ode.share_evaluations(Box::new(ranks)).unwrap();
-        }
-        let mut bits = Bits::default();
-        ode.run_until(Until::Time(3.0), &mut [&mut bits]).unwrap();
-        bits.0
+        run_shared(ode, ranks, Until::Time(3.0))
     });
     eprintln!("3-D internal fault: {steps} steps with the same bits on 1–4 ranks");
 }
@@ -179,42 +190,10 @@ fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4
             epsilon: 1e-7,
             leaf_size: 8,
         };
-        let mut ode = bp3.fault_ode(model, options).unwrap();
-        if let Some(ranks) = ranks {
-            ode.share_evaluations(Box::new(ranks)).unwrap();
-        }
-        let mut bits = Bits::default();
-        ode.run_until(Until::Steps(1500), &mut [&mut bits]).unwrap();
-        bits.0
+        let ode = bp3.fault_ode(model, options).unwrap();
+        run_shared(ode, ranks, Until::Steps(1500))
     });
     eprintln!("BP3 thrust, 2 km: {steps} steps with the same bits on 1–4 ranks");
-}
-
-/// The dense kernel's rows in blocks of 8 (BP1 at Δz = 100 m, m = 100: up to 4 parts)
-/// for 20 years.
-#[test]
-fn a_bp1_fault_with_the_dense_kernel_has_the_same_bits_on_1_to_4_ranks() {
-    let (bp1, coarse) = small_bp1(&SeasBp1::default());
-    let grid = SeasBp1Grid {
-        dz: 100.0,
-        ..coarse
-    };
-    let steps = same_bits_on_ranks(|ranks| {
-        let model = bp1.model(&grid, false).unwrap();
-        let options = rsf::fault_ode::FaultOdeOptions {
-            kernel: FaultKernel::Dense,
-            ..bp1.fault_ode_options(1e-6).unwrap()
-        };
-        let mut ode = bp1.fault_ode(model, options).unwrap();
-        if let Some(ranks) = ranks {
-            ode.share_evaluations(Box::new(ranks)).unwrap();
-        }
-        let mut bits = Bits::default();
-        ode.run_until(Until::Time(20.0 * SECONDS_PER_YEAR), &mut [&mut bits])
-            .unwrap();
-        bits.0
-    });
-    eprintln!("BP1 dense, m = 100: {steps} steps with the same bits on 1–4 ranks");
 }
 
 /// SEAS BP5 at Δx = 4 km (a fault alone, 500 cells, two slip components each) with
@@ -233,13 +212,8 @@ fn a_bp5_fault_with_the_half_space_operator_has_the_same_bits_on_1_to_4_ranks() 
                 ..bp5.half_space(1e-6).unwrap()
             };
             let options = bp5.fault_ode_options(1e-6).unwrap();
-            let mut ode = bp5.fault_ode(model, options, &half_space).unwrap();
-            if let Some(ranks) = ranks {
-                ode.share_evaluations(Box::new(ranks)).unwrap();
-            }
-            let mut bits = Bits::default();
-            ode.run_until(Until::Steps(150), &mut [&mut bits]).unwrap();
-            bits.0
+            let ode = bp5.fault_ode(model, options, &half_space).unwrap();
+            run_shared(ode, ranks, Until::Steps(150))
         });
         eprintln!("BP5 at 4 km, dense_max {dense_max}: {steps} steps with the same bits");
     }
