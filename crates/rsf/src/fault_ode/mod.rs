@@ -395,9 +395,17 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
 
     /// With a normal stress from slip ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip))
     /// and a hierarchical [`FaultOdeOptions::kernel`]: what the compression of the
-    /// slip → normal-traction operator `S_N` measured (the same kind, accuracy and points
-    /// as `S`). `None` where `S_N` is dense: no normal stress from slip, a dense kernel, or
-    /// a fault whose nodes have more than one free component (3-D).
+    /// slip → normal-traction operator `S_N` (`nodes × m`, N/m) measured (the same
+    /// accuracy and leaf size as `S`, one point per node). On a 2-D fault inside the body
+    /// `S_N` is square and compressed whole; on a 3-D fault the columns of each slip
+    /// component form a square ℋ-matrix on the nodes, and the report sums them:
+    /// `dim` is `m`, `relative_error` is `‖S_N − S_N,H‖_F/‖S_N‖_F` (the components'
+    /// errors weighed by their norms; sampled estimates where `error_samples > 0`),
+    /// `stored_entries` against the dense `S_N`'s `nodes × m = m²/2` (its
+    /// [`compression_ratio`](KernelReport::compression_ratio) counts `m²`, twice that),
+    /// `setup_bytes` the dense `S_N` held until compressed. `None` where `S_N` is dense: no
+    /// normal stress from slip, a dense kernel, or a 2-D fault whose rows and columns are
+    /// on different points (a frictional node without a free component).
     pub fn normal_kernel_report(&self) -> Option<&KernelReport> {
         self.normal_kernel_report.as_ref()
     }

@@ -26,6 +26,7 @@ mod memory_budget;
 mod model_builder;
 mod nodal_frames;
 mod normal_stress;
+mod normal_stress_3d;
 mod observers;
 mod paper_scene;
 mod parallelism;
