@@ -1,9 +1,9 @@
 //! The programs `seas_bp1`, `seas_bp3` and `seas_bp5` on MPI ranks (this crate's binaries:
 //! the root package's programs with their evaluations shared): every file byte-identical to
-//! one process's (BP1 at 1, 2 and 4 ranks, BP3 — a normal stress from slip — at 2, BP5 —
-//! the half-space operator — at 2 and 3), a run stopped at a step cap and resumed on 2
-//! ranks, and one killed (`SIGKILL` to every process of the job) and resumed on 2 ranks,
-//! byte-identical to an uninterrupted one, and an error on rank 0 ends every rank at once.
+//! one process's — BP1 at 1, 2 and 4 ranks, BP3 (a normal stress from slip) at 2, BP5 (the
+//! half-space operator) at 2 and 3, a run stopped at a step cap on 2 ranks and resumed on
+//! 3, and a job killed (`SIGKILL` to every process) and resumed on 2 ranks — and an error
+//! on rank 0 ends every rank at once.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -107,7 +107,8 @@ fn files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
         assert!(files >= 14, "{files} files compared");
     }
     // Stopped after 3000 steps with checkpoints (rank 0 ends the job with the step cap's
-    // message), then resumed on 2 ranks to the end.
+    // message), then resumed on 3 ranks to the end (a checkpoint holds the whole state:
+    // any rank count continues it).
     let dir = folder("bp1_resumed");
     let mut capped = flags(&dir);
     capped.extend(["--checkpoint-every", "500", "--max-steps", "3000"].map(String::from));
@@ -120,9 +121,9 @@ fn files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
     let mut resumed = flags(&dir);
     resumed.extend(["--checkpoint-every", "500", "--resume"].map(String::from));
     resumed.push(dir.join("checkpoint.bin").to_str().unwrap().to_owned());
-    let out = run(Some(2), &resumed);
+    let out = run(Some(3), &resumed);
     succeeded(&out);
-    same_files(&one, &dir, "stopped and resumed on 2 ranks");
+    same_files(&one, &dir, "stopped on 2 ranks and resumed on 3");
 }
 
 /// `--out` names a file: rank 0 refuses it while the other ranks have started a long run

@@ -14,13 +14,14 @@ use rsf_hmatrix::HOptions;
 use rsf_linalg::Parallelism;
 
 use crate::error::Result;
-use crate::fault_kernel::{no_split, Kernel, KernelRows};
+use crate::fault_kernel::Kernel;
 use crate::fault_operator::{
     FaultKernel, FaultOperator, KernelReport, RowSplit, MAX_KERNEL_EPSILON,
 };
 use crate::model::Model;
 
 mod error;
+mod parts;
 
 pub use error::HalfSpaceOperatorError;
 
@@ -192,19 +193,7 @@ pub struct HalfSpaceOperator {
     y: Vec<f64>,
     report: KernelReport,
     /// The split of [`FaultOperator::split_rows`], if any.
-    rows: Option<ElementRows>,
-}
-
-/// The split of a [`HalfSpaceOperator`]'s rows: `K`'s rows split by its kernel (an
-/// element's two rows in one part), each part's nodes those of its elements.
-struct ElementRows {
-    kernel: KernelRows,
-    /// Per part, its nodes in the order of the split's rows (two rows per node).
-    nodes: Vec<Vec<usize>>,
-    /// Position of every row of `K` in the kernel's split order.
-    position: Vec<usize>,
-    /// `−K s` at a part's rows (scratch of the longest part).
-    y: Vec<f64>,
+    rows: Option<parts::ElementRows>,
 }
 
 impl std::fmt::Debug for HalfSpaceOperator {
@@ -713,95 +702,13 @@ impl FaultOperator for HalfSpaceOperator {
         &self.report
     }
 
-    /// `K`'s rows split by its kernel; a node's two rows go to the part of its element's
-    /// two rows of `K`, which the kernel keeps in one part (dense: blocks of 8 rows; ℋ:
-    /// an element's two coincident points in one leaf cluster).
-    ///
-    /// # Errors
-    /// [`crate::Error::InvalidParameter`] named `ranks` should an element's two rows fall in
-    /// two parts (a kernel whose leaves separate them).
+    /// `K`'s rows split by its kernel, by element (docs/scaling.md, "The fault ODE on MPI
+    /// ranks"; `parts.rs`).
     fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {
-        let kernel = self.kernel.split_rows(parts, work_per_row);
-        let mut position = vec![0; self.fault.len()];
-        for (q, &i) in kernel.split.order.iter().enumerate() {
-            position[i] = q;
-        }
-        let part_of = |q: usize| kernel.split.ranges.partition_point(|r| r.end <= q);
-        let mut nodes = vec![Vec::new(); kernel.split.ranges.len()];
-        for (k, &e) in self.element.iter().enumerate() {
-            let (p, p1) = (part_of(position[2 * e]), part_of(position[2 * e + 1]));
-            if p != p1 {
-                return Err(crate::error::invalid(
-                    "ranks",
-                    format!("element {e}'s two rows of K fall in parts {p} and {p1}"),
-                ));
-            }
-            nodes[p].push(k);
-        }
-        // Each part's nodes in the order of their element's first row in the part.
-        for part in &mut nodes {
-            part.sort_by_key(|&k| {
-                position[2 * self.element[k]].min(position[2 * self.element[k] + 1])
-            });
-        }
-        let mut order = Vec::with_capacity(self.dim());
-        let mut ranges = Vec::with_capacity(nodes.len());
-        for part in &nodes {
-            let start = order.len();
-            order.extend(part.iter().flat_map(|&k| [2 * k, 2 * k + 1]));
-            ranges.push(start..order.len());
-        }
-        let longest = kernel
-            .split
-            .ranges
-            .iter()
-            .map(|r| r.len())
-            .max()
-            .unwrap_or(0);
-        self.rows = Some(ElementRows {
-            kernel,
-            nodes,
-            position,
-            y: vec![0.0; longest],
-        });
-        Ok(RowSplit { order, ranges })
+        self.split_element_rows(parts, work_per_row)
     }
 
-    /// The part's rows of `−K s` (the kernel's part product on zeros, as
-    /// [`subtract_product`](FaultOperator::subtract_product) on the whole), then each of
-    /// its nodes' two rows by the same arithmetic.
     fn part_subtract(&mut self, x: &[f64], part: usize, r: &mut [f64]) -> Result<()> {
-        let mut s = std::mem::take(&mut self.s);
-        self.scatter(x, &mut s);
-        let rows = self.rows.as_mut().ok_or_else(no_split);
-        let result = rows.and_then(|rows| {
-            let (Some(range), Some(nodes)) = (
-                rows.kernel.split.ranges.get(part).cloned(),
-                rows.nodes.get(part),
-            ) else {
-                return Err(crate::error::invalid("ranks", format!("no part {part}")));
-            };
-            if r.len() != 2 * nodes.len() {
-                return Err(crate::error::invalid(
-                    "ranks",
-                    format!("{} rows for a part of {}", r.len(), 2 * nodes.len()),
-                ));
-            }
-            let y = &mut rows.y[..range.len()];
-            y.fill(0.0);
-            self.kernel.part_subtract(&rows.kernel, &s, part, y)?;
-            for (j, &k) in nodes.iter().enumerate() {
-                let (e, a, w) = (self.element[k], &self.map[k], self.weights[k]);
-                let y = [
-                    y[rows.position[2 * e] - range.start],
-                    y[rows.position[2 * e + 1] - range.start],
-                ];
-                r[2 * j] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
-                r[2 * j + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
-            }
-            Ok(())
-        });
-        self.s = s;
-        result
+        self.element_part_subtract(x, part, r)
     }
 }

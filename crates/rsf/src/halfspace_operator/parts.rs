@@ -1,0 +1,123 @@
+//! A [`HalfSpaceOperator`]'s rows split into parts for processes that share a fault ODE's
+//! evaluations ([`FaultOperator::split_rows`](crate::fault_operator::FaultOperator::split_rows)):
+//! by element, each part's nodes those of its elements of `K`.
+
+use super::HalfSpaceOperator;
+use crate::error::Result;
+use crate::fault_kernel::{no_split, KernelRows};
+use crate::fault_operator::{FaultOperator, RowSplit};
+
+/// The split of a [`HalfSpaceOperator`]'s rows: `K`'s rows split by its kernel (an
+/// element's two rows in one part), each part's nodes those of its elements.
+pub(super) struct ElementRows {
+    kernel: KernelRows,
+    /// Per part, its nodes in the order of the split's rows (two rows per node).
+    nodes: Vec<Vec<usize>>,
+    /// Position of every row of `K` in the kernel's split order.
+    position: Vec<usize>,
+    /// `−K s` at a part's rows (scratch of the longest part).
+    y: Vec<f64>,
+}
+
+impl HalfSpaceOperator {
+    /// `K`'s rows split by its kernel; a node's two rows go to the part of its element's
+    /// two rows of `K`, which the kernel keeps in one part (dense: blocks of 8 rows; ℋ:
+    /// an element's two coincident points in one leaf cluster).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] named `ranks` should an element's two rows fall in
+    /// two parts (a kernel whose leaves separate them).
+    pub(super) fn split_element_rows(
+        &mut self,
+        parts: usize,
+        work_per_row: f64,
+    ) -> Result<RowSplit> {
+        let kernel = self.kernel.split_rows(parts, work_per_row);
+        let mut position = vec![0; self.fault.len()];
+        for (q, &i) in kernel.split.order.iter().enumerate() {
+            position[i] = q;
+        }
+        let part_of = |q: usize| kernel.split.ranges.partition_point(|r| r.end <= q);
+        let mut nodes = vec![Vec::new(); kernel.split.ranges.len()];
+        for (k, &e) in self.element.iter().enumerate() {
+            let (p, p1) = (part_of(position[2 * e]), part_of(position[2 * e + 1]));
+            if p != p1 {
+                return Err(crate::error::invalid(
+                    "ranks",
+                    format!("element {e}'s two rows of K fall in parts {p} and {p1}"),
+                ));
+            }
+            nodes[p].push(k);
+        }
+        // Each part's nodes in the order of their element's first row in the part.
+        for part in &mut nodes {
+            part.sort_by_key(|&k| {
+                position[2 * self.element[k]].min(position[2 * self.element[k] + 1])
+            });
+        }
+        let mut order = Vec::with_capacity(self.dim());
+        let mut ranges = Vec::with_capacity(nodes.len());
+        for part in &nodes {
+            let start = order.len();
+            order.extend(part.iter().flat_map(|&k| [2 * k, 2 * k + 1]));
+            ranges.push(start..order.len());
+        }
+        let longest = kernel
+            .split
+            .ranges
+            .iter()
+            .map(|r| r.len())
+            .max()
+            .unwrap_or(0);
+        self.rows = Some(ElementRows {
+            kernel,
+            nodes,
+            position,
+            y: vec![0.0; longest],
+        });
+        Ok(RowSplit { order, ranges })
+    }
+
+    /// The part's rows of `−K s` (the kernel's part product on zeros, as
+    /// [`subtract_product`](crate::fault_operator::FaultOperator::subtract_product) on the whole), then each of
+    /// its nodes' two rows by the same arithmetic.
+    pub(super) fn element_part_subtract(
+        &mut self,
+        x: &[f64],
+        part: usize,
+        r: &mut [f64],
+    ) -> Result<()> {
+        let mut s = std::mem::take(&mut self.s);
+        self.scatter(x, &mut s);
+        let rows = self.rows.as_mut().ok_or_else(no_split);
+        let result = rows.and_then(|rows| {
+            let (Some(range), Some(nodes)) = (
+                rows.kernel.split.ranges.get(part).cloned(),
+                rows.nodes.get(part),
+            ) else {
+                return Err(crate::error::invalid("ranks", format!("no part {part}")));
+            };
+            if r.len() != 2 * nodes.len() {
+                return Err(crate::error::invalid(
+                    "ranks",
+                    format!("{} rows for a part of {}", r.len(), 2 * nodes.len()),
+                ));
+            }
+            let y = &mut rows.y[..range.len()];
+            y.fill(0.0);
+            self.kernel.part_subtract(&rows.kernel, &s, part, y)?;
+            for (j, &k) in nodes.iter().enumerate() {
+                let (e, a, w) = (self.element[k], &self.map[k], self.weights[k]);
+                let y = [
+                    y[rows.position[2 * e] - range.start],
+                    y[rows.position[2 * e + 1] - range.start],
+                ];
+                r[2 * j] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
+                r[2 * j + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
+            }
+            Ok(())
+        });
+        self.s = s;
+        result
+    }
+}
