@@ -451,31 +451,7 @@ fn radiation_damping_per_node_is_the_same_physics_in_both_engines() {
 /// on the surface to depth 0.5 (its other rim inside the body), the faces `x = ±1`
 /// pushed together (left +v, right −v): reverse slip, which changes the normal stress.
 fn thrust_block_3d() -> Model<3> {
-    let v = 1e-4;
-    let mesh = cuboid([-1.0, -1.0, -1.0], [2.0, 2.0, 1.0], [5, 5, 3]).unwrap();
-    ModelBuilder::refined(mesh, 1)
-        .unwrap()
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(
-            Part::predicate("left", |x| x[0] < -1.0 + 1e-9),
-            [v, 0.0, 0.0],
-        )
-        .dirichlet(
-            Part::predicate("right", |x| x[0] > 1.0 - 1e-9),
-            [-v, 0.0, 0.0],
-        )
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, 0.0],
-                [-0.5, -0.5, -0.5],
-                [-0.5, 0.5, -0.5],
-                [0.0, 0.5, 0.0],
-            ],
-        )
-        .build()
-        .unwrap()
+    crate::normal_stress_3d::dipping_fault([5, 5, 3])
 }
 
 /// Per step the last slip lengths and normal stresses of every frictional node.

@@ -13,9 +13,11 @@ use rsf::state::Aging;
 use rsf::time::Quasistatic;
 use rsf::{Flow, Material, Model, ModelBuilder, Observer, Part, SimulationBuilder, StepView};
 
-const SIGMA_N: f64 = 5e6;
+/// The laws' normal stress σ̄_n⁰ (Pa) of these tests (and of `normal_stress_3d`).
+pub(crate) const SIGMA_N: f64 = 5e6;
 
-fn params() -> RateStateParams {
+/// The regularised law's parameters of these tests (and of `normal_stress_3d`).
+pub(crate) fn params() -> RateStateParams {
     RateStateParams {
         mu0: 0.1,
         a: 0.015,

@@ -5,7 +5,7 @@
 //! on 1, 2 and 4 threads.
 use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::fem::cuboid;
-use rsf::friction::{AsinhLaw, RateStateParams};
+use rsf::friction::AsinhLaw;
 use rsf::normal_stress::NormalStress;
 use rsf::state::Aging;
 use rsf::time::Quasistatic;
@@ -14,18 +14,7 @@ use rsf::{
     Stepping, Until,
 };
 
-const SIGMA_N: f64 = 5e6;
-
-fn params() -> RateStateParams {
-    RateStateParams {
-        mu0: 0.1,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: SIGMA_N,
-    }
-}
+use crate::normal_stress::{params, SIGMA_N};
 
 /// `[-1, 1]² × [-1, 0]` (the top a free surface) of `cells` coarse vertices per axis
 /// (`x` and `z` at the same spacing, so that the plane `x = z` runs along faces) refined
