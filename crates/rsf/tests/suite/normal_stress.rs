@@ -29,11 +29,12 @@ pub(crate) fn params() -> RateStateParams {
 }
 
 /// The quasi-dynamic problem on `model` (regularised law, aging law, steady state at
-/// 1e-4 m/s, radiation damping μ/(2c_s)) with the normal stress found as `normal_stress`.
-fn quasi_dynamic(
-    model: Model<2>,
+/// 1e-4 m/s, radiation damping μ/(2c_s)) with the normal stress found as `normal_stress`
+/// (also `normal_stress_3d`'s, in 3-D).
+pub(crate) fn quasi_dynamic<const D: usize>(
+    model: Model<D>,
     normal_stress: NormalStress,
-) -> SimulationBuilder<2, AsinhLaw, Aging, Quasistatic, 2> {
+) -> SimulationBuilder<D, AsinhLaw, Aging, Quasistatic, D> {
     let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
     SimulationBuilder::new(model)
         .friction(AsinhLaw::new(params()).unwrap())

@@ -8,13 +8,11 @@ use rsf::fem::cuboid;
 use rsf::friction::AsinhLaw;
 use rsf::normal_stress::NormalStress;
 use rsf::state::Aging;
-use rsf::time::Quasistatic;
 use rsf::{
-    FaultOde, Flow, Material, Model, ModelBuilder, Observer, Part, SimulationBuilder, StepView,
-    Stepping, Until,
+    FaultOde, Flow, Material, Model, ModelBuilder, Observer, Part, StepView, Stepping, Until,
 };
 
-use crate::normal_stress::{params, SIGMA_N};
+use crate::normal_stress::SIGMA_N;
 
 /// `[-1, 1]² × [-1, 0]` (the top a free surface) of `cells` coarse vertices per axis
 /// (`x` and `z` at the same spacing, so that the plane `x = z` runs along faces) refined
@@ -57,14 +55,7 @@ pub(crate) fn fault_ode(
     kernel: FaultKernel,
     threads: usize,
 ) -> FaultOde<3, AsinhLaw, Aging> {
-    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
-    SimulationBuilder::new(model)
-        .friction(AsinhLaw::new(params()).unwrap())
-        .state_law(Aging::new(params().l).unwrap())
-        .initial_state((params().l / 1e-4f64).ln())
-        .integrator(Quasistatic::new())
-        .radiation_damping(mu / (2.0 * c_s))
-        .normal_stress(NormalStress::FromSlip)
+    crate::normal_stress::quasi_dynamic(model, NormalStress::FromSlip)
         .time_step(1e-3)
         .build_fault_ode(FaultOdeOptions {
             tolerance: 1e-9,
