@@ -1,8 +1,9 @@
 //! The 3-D finite-element model against Okada's half-space (issue 55, docs/three-d.md
 //! "Against Okada's half-space (issue 55)"): uniform slip on a vertical rectangle — buried
 //! strike slip, surface-breaking strike slip, buried dip slip — prescribed as the creep of
-//! every split pair of an internal fault, the static problem solved once with the direct
-//! solver, and the surface displacement and the on-fault traction compared with Okada
+//! every split pair of an internal fault, the static problem solved once (the direct
+//! solver on the finest mesh, or TNNMG's multigrid on a refinement hierarchy: `--method`),
+//! and the surface displacement and the on-fault traction compared with Okada
 //! (1992) as `rsf-halfspace` evaluates it (docs/halfspace.md). The same comparison as
 //! `tests/okada_anchor.rs` (the frame, the signs, the rim grown by h/2 and the traction
 //! from the nodal forces: `rsf_examples::okada_anchor`), here over finer
@@ -22,13 +23,19 @@
 //! ```sh
 //! cargo run --release --example okada_anchor -- --levels 0,1,2,3 --far 3
 //! cargo run --release --example okada_anchor -- --levels 1,2 --far 3,6,12 --held zero
+//! cargo run --release --example okada_anchor -- --method multigrid --levels 2,3,4 --far 2
 //! ```
+//!
+//! With `--method multigrid` the coarsest mesh (spacing `h0` along the fault, whose
+//! rectangle lies on its lines) is refined `level` times and the reference is Okada's
+//! rectangle with the model's moment, shrunk by `h/2` on the inner edges
+//! (`rsf_examples::okada_anchor::compare_refined`); memory grows like the vertices.
 
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::okada_anchor::{compare_held, Errors, Fault, SLIP};
+use rsf_examples::okada_anchor::{compare_held, compare_refined, Errors, Fault, Solver, SLIP};
 
 /// The rectangles compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -75,6 +82,17 @@ enum Held {
     Zero,
 }
 
+/// How the model is meshed and solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Method {
+    /// The finest mesh built directly (the polygon grown by h/2 to Okada's rectangle),
+    /// the direct solver: memory grows like the direct factor.
+    Direct,
+    /// The coarsest mesh refined `level` times (the polygon on the coarsest lines, Okada's
+    /// rectangle shrunk by h/2), TNNMG's multigrid: memory linear in the vertices.
+    Multigrid,
+}
+
 /// The finite-element model of uniform slip on a rectangle against Okada's half-space.
 #[derive(Parser)]
 #[command(version)]
@@ -96,6 +114,9 @@ struct Cli {
     /// What the far faces are held at.
     #[arg(long, value_enum, default_value = "okada")]
     held: Held,
+    /// How the model is meshed and solved.
+    #[arg(long, value_enum, default_value = "direct")]
+    method: Method,
     /// Growth of the cells per cell away from the fault, on the coarsest mesh.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
@@ -133,19 +154,29 @@ impl Program for Cli {
         // The coarsest mesh graded from h0 to the far faces (about 2 W of uniform cells
         // around the fault), every interval split into 2^k: per half-axis
         // 2^k · geometric_grading_len(h0, 1.5, ratio, far) intervals, 4 n³ vertices;
-        // 35 kB per vertex as the 3-D slider's direct solver.
+        // 35 kB per vertex as the 3-D slider's direct solver; 12 kB with multigrid
+        // (measured: docs/three-d.md).
         let k = self.levels.iter().copied().max().unwrap_or(0);
         let far = self.far.iter().copied().fold(2.0, f64::max);
         let n =
             2f64.powi(k as i32) * rsf::fem::geometric_grading_len(self.h0, 1.5, self.ratio, far);
         let vertices = 4.0 * n * n * n;
+        let per_vertex = match self.method {
+            Method::Direct => rsf_scenes::Slider3dScene::BYTES_PER_NODE,
+            Method::Multigrid => MULTIGRID_BYTES_PER_VERTEX,
+        };
         Ok(Plan::new().memory(
-            vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE,
+            vertices * per_vertex,
             "--levels, --far, --h0",
             format!("level {k}, far {far}: about {vertices:.3e} vertices"),
         ))
     }
 }
+
+/// Peak resident bytes per vertex of a [`Method::Multigrid`] row, rounded up: 11.7 kB
+/// measured at 216 330 and at 815 298 vertices (docs/three-d.md; the builder's change of
+/// variables is the peak).
+const MULTIGRID_BYTES_PER_VERTEX: f64 = 12e3;
 
 fn main() -> std::process::ExitCode {
     rsf_examples::guard::main(run)
@@ -163,7 +194,13 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
             let mut previous: Option<Errors> = None;
             for &level in &cli.levels {
                 let t = Instant::now();
-                let e = compare_held(case.fault(), (cli.h0, level, cli.ratio), far, at_okada)?;
+                let mesh = (cli.h0, level, cli.ratio);
+                let e = match cli.method {
+                    Method::Direct => compare_held(case.fault(), mesh, far, at_okada)?,
+                    Method::Multigrid => {
+                        compare_refined(case.fault(), mesh, far, at_okada, Solver::Multigrid)?
+                    }
+                };
                 let h = e.h;
                 let wall = t.elapsed().as_secs_f64();
                 let rate = |a: f64, b: f64, ha: f64| (a / b).ln() / (ha / e.h).ln();

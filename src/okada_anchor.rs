@@ -33,9 +33,11 @@
 //! left to friction and its jump fixed by hand before the solve.
 
 use rsf::direct::{DirectOptions, DirectSolver};
-use rsf::fem::{cuboid_from_coordinates, geometric_grading};
+use rsf::fem::{cuboid_from_coordinates, geometric_grading, SimplexMesh};
 use rsf::model::CreepRate;
-use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
+use rsf::model::InternalFault;
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver, Stopping};
+use rsf::tnnmg::{Tnnmg, TnnmgOptions};
 use rsf::{Material, Model, ModelBuilder, Part};
 use rsf_halfspace::{Medium, Okada, Rectangle};
 
@@ -148,13 +150,133 @@ pub fn compare_held(
     let zs: Vec<f64> = depths.iter().rev().map(|d| -d).collect();
 
     let mesh = cuboid_from_coordinates(&xs, &ys, &zs)?;
-    let slip = fault.slip;
-    // The builder wants a frictional node: one pair (an inner corner of the fault grid) is
-    // left to friction and its jump fixed by hand before the solve.
     let probe = [-a + h, 0.0, zb + h];
+    let model = slip_model(
+        ModelBuilder::new(mesh),
+        fault.slip,
+        far,
+        [[-a, 0.0, zb], [a, 0.0, zb], [a, 0.0, zt], [-a, 0.0, zt]],
+        (probe, h),
+    )?;
+    solve_and_compare(&model, fault, h, (far, at_okada), probe, Solver::Direct)
+}
+
+/// How the static problem is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Solver {
+    /// The direct solver on the finest mesh (its factor's memory grows like the vertices
+    /// to the power 4/3 and more: the limit of [`compare_held`]).
+    Direct,
+    /// TNNMG on the refinement hierarchy (no nonlinearity: one Gauss–Seidel sweep and
+    /// conjugate gradients preconditioned by multigrid V-cycles per iteration, to a
+    /// relative correction of 1e-10 in the energy norm): memory linear in the vertices.
+    Multigrid,
+}
+
+/// The relative energy-norm correction at which [`Solver::Multigrid`] stops.
+pub const MULTIGRID_TOLERANCE: f64 = 1e-10;
+
+/// The comparison on a refinement hierarchy, solved by [`Solver::Multigrid`] (or, to
+/// check it, [`Solver::Direct`] on the finest mesh): the coarsest mesh has spacing `h0`
+/// along `fault` and one cell beyond its rim, then cells graded by `ratio` to the far
+/// faces; it is refined `level` times (each tetrahedron into eight), so every level's
+/// grid lines are the coarser level's and their midpoints. The model's polygon is
+/// `fault`'s rectangle itself at every level (its rim on the coarsest mesh's lines); its
+/// slip ramps to 0 over the last cell, so the reference it is compared with is Okada's
+/// rectangle with the same moment: `fault` shrunk by `h/2` on every inner edge (not along
+/// the free surface), `h = h0 / 2^level`. Errors are relative to that reference; the
+/// windows (surface, inner nodes) are taken from it as in [`compare_held`].
+///
+/// # Errors
+/// `fault` not on the coarsest grid (its length, width and a buried top not multiples of
+/// `h0`), mesh, model, solver (including TNNMG's "not converged") and Okada errors.
+pub fn compare_refined(
+    fault: Fault,
+    (h0, level, ratio): (f64, u32, f64),
+    far: f64,
+    at_okada: bool,
+    solver: Solver,
+) -> Result<Errors, AnyError> {
+    let on_grid = |len: f64| ((len / h0).round() * h0 - len).abs() < 1e-9 * h0;
+    let surface_breaking = fault.top == 0.0;
+    if !on_grid(2.0 * fault.half_length) || !on_grid(fault.bottom - fault.top) {
+        return Err(format!(
+            "the fault's length {} and width {} must be multiples of h0 = {h0}",
+            2.0 * fault.half_length,
+            fault.bottom - fault.top
+        )
+        .into());
+    }
+    let a = fault.half_length;
+    let n_x = ((2.0 * a) / h0).round() as usize + 2;
+    let right = band_and_grading(-a - h0, h0, n_x, (h0, 0, ratio), far)?;
+    let mut xs: Vec<f64> = right.iter().rev().map(|x| -x).collect();
+    xs.retain(|&x| x < -a - h0 - 1e-9 * h0);
+    xs.extend(&right);
+    let half_y = band_and_grading(0.0, h0, 2, (h0, 0, ratio), far)?;
+    let mut ys: Vec<f64> = half_y.iter().rev().map(|y| -y).collect();
+    ys.extend(&half_y[1..]);
+    // Depths: equal cells from the surface to the fault's top (none if it breaks the
+    // surface), h0 along the fault and one cell more, graded to the bottom.
+    let n_top = (fault.top / h0).ceil() as usize;
+    let mut depths: Vec<f64> = (0..n_top)
+        .map(|i| fault.top * i as f64 / n_top as f64)
+        .collect();
+    let n_f = ((fault.bottom - fault.top) / h0).round() as usize + 1;
+    depths.extend(band_and_grading(fault.top, h0, n_f, (h0, 0, ratio), far)?);
+    let zs: Vec<f64> = depths.iter().rev().map(|d| -d).collect();
+    let coarse = cuboid_from_coordinates(&xs, &ys, &zs)?;
+
+    let h = h0 / f64::from(1u32 << level);
+    let (zb, zt) = (-fault.bottom, -fault.top);
+    let probe = [-a + h, 0.0, zb + h];
+    let builder = match solver {
+        Solver::Multigrid => ModelBuilder::refined(coarse, level as usize)?,
+        Solver::Direct => ModelBuilder::new(refine(coarse, level)?),
+    };
+    let model = slip_model(
+        builder,
+        fault.slip,
+        far,
+        [[-a, 0.0, zb], [a, 0.0, zb], [a, 0.0, zt], [-a, 0.0, zt]],
+        (probe, h),
+    )?;
+    let reference = Fault {
+        half_length: a - h / 2.0,
+        top: if surface_breaking {
+            0.0
+        } else {
+            fault.top + h / 2.0
+        },
+        bottom: fault.bottom - h / 2.0,
+        slip: fault.slip,
+    };
+    solve_and_compare(&model, reference, h, (far, at_okada), probe, solver)
+}
+
+/// `mesh` refined `level` times uniformly (the finest mesh of [`ModelBuilder::refined`]).
+fn refine(mesh: SimplexMesh<3>, level: u32) -> Result<SimplexMesh<3>, AnyError> {
+    Ok(
+        rsf::fem::MeshHierarchy::refine_uniformly(mesh, level as usize)
+            .finest()
+            .clone(),
+    )
+}
+
+/// The model of uniform Cartesian `slip` on the internal fault `polygon` of `builder`'s
+/// mesh: the far faces (distance `far`) held (at 0; the caller may overwrite the values),
+/// every split pair creeping at `slip` but the one at `probe` (within `1e-9 h`), which the
+/// builder wants as a frictional node.
+fn slip_model(
+    builder: ModelBuilder<3>,
+    slip: [f64; 3],
+    far: f64,
+    polygon: [[f64; 3]; 4],
+    (probe, h): ([f64; 3], f64),
+) -> Result<Model<3>, AnyError> {
     let e = 2.0 * MU * (1.0 + NU);
     let tol = 1e-9 * far;
-    let model = ModelBuilder::new(mesh)
+    Ok(builder
         .material(Material::new(e, NU, 2700.0))
         .without_mass()
         .dirichlet(
@@ -164,16 +286,12 @@ pub fn compare_held(
             [0.0; 3],
         )
         .fault_tangent([1.0, 0.0, 0.0])
-        .internal_fault_polygon(
-            "fault",
-            &[[-a, 0.0, zb], [a, 0.0, zb], [a, 0.0, zt], [-a, 0.0, zt]],
-        )
+        .internal_fault_polygon("fault", &polygon)
         .internal_creep_at(move |x| {
             let at_probe = (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h);
             (!at_probe).then_some(CreepRate::Cartesian(slip))
         })
-        .build()?;
-    solve_and_compare(&model, fault, h, far, at_okada, probe, (&xs, &zs))
+        .build()?)
 }
 
 fn okada(fault: Fault) -> Result<(Okada, Medium), AnyError> {
@@ -187,34 +305,49 @@ fn okada(fault: Fault) -> Result<(Okada, Medium), AnyError> {
     Ok((Okada::new(medium.alpha(), rect)?, medium))
 }
 
-/// The lumped weight (m²) of the fault node at `(x, z)` on a tensor grid of lines `xs`,
-/// `zs` whose rectangles are split by the diagonal from their lower to their upper corner
-/// (the Kuhn tetrahedra's faces on a plane `y` = const): a third of each adjacent
-/// triangle's area.
-fn node_weight(xs: &[f64], zs: &[f64], x: f64, z: f64) -> f64 {
-    let find = |c: &[f64], v: f64| {
-        c.iter()
-            .position(|&w| (w - v).abs() < 1e-9)
-            .expect("a grid line")
-    };
-    let (i, k) = (find(xs, x), find(zs, z));
-    let (xm, xp) = (x - xs[i - 1], xs[i + 1] - x);
-    let (zm, zp) = (z - zs[k - 1], zs[k + 1] - z);
-    (xp * zp + xm * zm + 0.5 * (xm * zp + xp * zm)) / 3.0
+/// Per vertex, its lumped weight (m²) on the fault: a third of the area of every fault
+/// triangle of the minus side it is a corner of (0 off the fault). A fault triangle of the
+/// minus side is a face of a cell whose three corners are fault nodes — minus vertices of
+/// split pairs or the rim's shared tips, all in the fault's plane — at least one of them a
+/// minus vertex (only the minus side's cells hold those; a face of three tips, at a
+/// corner of the rim, is left out: its weight is not used).
+fn fault_weights(model: &Model<3>, f: &InternalFault<3>) -> Vec<f64> {
+    let mut w = vec![0.0; model.num_nodes()];
+    let (mut on_fault, mut minus) = (vec![false; w.len()], vec![false; w.len()]);
+    for &(m, p) in f.sides.nodes() {
+        on_fault[m] = true;
+        minus[m] = m != p;
+    }
+    for cell in model.cells.chunks_exact(4) {
+        let corners: Vec<usize> = cell.iter().copied().filter(|&q| on_fault[q]).collect();
+        if !corners.iter().any(|&q| minus[q]) {
+            continue;
+        }
+        if let [p, q, r] = corners[..] {
+            let (x, y, z) = (model.vertices[p], model.vertices[q], model.vertices[r]);
+            let d1: [f64; 3] = std::array::from_fn(|c| y[c] - x[c]);
+            let d2: [f64; 3] = std::array::from_fn(|c| z[c] - x[c]);
+            let n = [
+                d1[1] * d2[2] - d1[2] * d2[1],
+                d1[2] * d2[0] - d1[0] * d2[2],
+                d1[0] * d2[1] - d1[1] * d2[0],
+            ];
+            let third = 0.5 * n.iter().map(|c| c * c).sum::<f64>().sqrt() / 3.0;
+            for v in [p, q, r] {
+                w[v] += third;
+            }
+        }
+    }
+    w
 }
 
-#[expect(
-    clippy::too_many_arguments,
-    reason = "one row of the study: the model, the dislocation, the mesh and box sizes, where to compare and the grid"
-)]
 fn solve_and_compare(
     model: &Model<3>,
     fault: Fault,
     h: f64,
-    far: f64,
-    at_okada: bool,
+    (far, at_okada): (f64, bool),
     probe: [f64; 3],
-    (xs, zs): (&[f64], &[f64]),
+    solver: Solver,
 ) -> Result<Errors, AnyError> {
     let (okada, medium) = okada(fault)?;
     let dislocation = [fault.slip[0], fault.slip[2], 0.0];
@@ -258,11 +391,32 @@ fn solve_and_compare(
         }
     }
     assert_eq!(probes, 1);
-    DirectSolver::<3>::new(model.stiffness.as_ref(), &fixed, DirectOptions::default())?.solve(
-        &vec![0.0; v.len()],
-        &NoNonlinearity,
-        &mut v,
-    )?;
+    let zero = vec![0.0; v.len()];
+    match solver {
+        Solver::Direct => {
+            DirectSolver::<3>::new(model.stiffness.as_ref(), &fixed, DirectOptions::default())?
+                .solve(&zero, &NoNonlinearity, &mut v)?;
+        }
+        Solver::Multigrid => {
+            let options = TnnmgOptions {
+                stopping: Stopping {
+                    absolute: 0.0,
+                    relative: MULTIGRID_TOLERANCE,
+                    max_iterations: 500,
+                },
+                ..TnnmgOptions::default()
+            };
+            Tnnmg::<3>::new(
+                model.stiffness.as_ref(),
+                &fixed,
+                &model.prolongations,
+                None,
+                options,
+            )?
+            .with_parallelism(rsf::Parallelism::default())
+            .solve(&zero, &NoNonlinearity, &mut v)?;
+        }
+    }
     let u = model.to_cartesian(&v)?;
 
     // The jump u⁺ − u⁻ of every pair is the prescribed slip (plus side y < 0).
@@ -308,6 +462,7 @@ fn solve_and_compare(
     let mut force = vec![0.0; v.len()];
     rsf::fem::spmv_add(model.stiffness.as_ref(), 1.0, &v, &mut force);
     let width = fault.bottom - fault.top;
+    let weights = fault_weights(model, f);
     let (mut terr, mut tscale) = (0.0f64, 0.0f64);
     let mut inner = 0;
     for (k, &(mi, _)) in f.pairs().iter().enumerate() {
@@ -320,7 +475,7 @@ fn solve_and_compare(
         }
         inner += 1;
         let r = f.transform.frames[k];
-        let w = node_weight(xs, zs, x[0], x[2]);
+        let w = weights[mi];
         let fj = [force[3 * mi], force[3 * mi + 1], force[3 * mi + 2]];
         let t_fe: [f64; 3] =
             std::array::from_fn(|i| (0..3).map(|a| r[i][a] * fj[a]).sum::<f64>() / w);

@@ -290,9 +290,14 @@ impl<const D: usize> DofTransform for MeanJumpTransform<D> {
         check_len("matrix of the split mesh for Tᵀ A T", n, a.nrows())?;
         check_len("matrix of the split mesh for Tᵀ A T", n, a.ncols())?;
         let faer = |e: faer::sparse::FaerError| Error::Faer(format!("{e:?}"));
-        let at = sparse_sparse_matmul(a.as_ref(), self.t.as_ref(), 1.0, Par::Seq).map_err(faer)?;
-        let tt = self.t.as_ref().transpose().to_col_major().map_err(faer)?;
-        let b = sparse_sparse_matmul(tt.as_ref(), at.as_ref(), 1.0, Par::Seq).map_err(faer)?;
+        // `A T` and `Tᵀ` dropped before the symmetrisation: the peak is `A`, then `A T` and
+        // `B`, then `B` and `(B + Bᵀ)/2` with `Bᵀ`.
+        let b = {
+            let at =
+                sparse_sparse_matmul(a.as_ref(), self.t.as_ref(), 1.0, Par::Seq).map_err(faer)?;
+            let tt = self.t.as_ref().transpose().to_col_major().map_err(faer)?;
+            sparse_sparse_matmul(tt.as_ref(), at.as_ref(), 1.0, Par::Seq).map_err(faer)?
+        };
         symmetrized(&b)
     }
 

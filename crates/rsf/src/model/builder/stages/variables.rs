@@ -39,11 +39,18 @@ impl System {
             }
             None => None,
         };
+        // One matrix at a time, each original dropped once transformed: the peak is the
+        // matrices plus one congruence's work (issue 55: this stage was a split 3-D model's
+        // peak).
+        let transformed = |a: rsf_fem::SparseMatrix| t.congruence(&a);
+        let mass = mass.map(transformed).transpose()?;
+        let stiffness = transformed(stiffness)?;
+        let energy_norm = transformed(energy_norm)?;
         Ok(Self {
             matrices: Matrices {
-                mass: mass.as_ref().map(congruence).transpose()?,
-                stiffness: congruence(&stiffness)?,
-                energy_norm: congruence(&energy_norm)?,
+                mass,
+                stiffness,
+                energy_norm,
                 absorbing,
             },
             load: t.pull_back(&load)?,
