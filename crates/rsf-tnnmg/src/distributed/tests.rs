@@ -383,3 +383,76 @@ fn set_up_refuses_wrong_owners_and_colourings() {
     ));
     assert!(new(&vec![1; n], &colouring).is_ok());
 }
+
+/// The halo of METIS partitions of a cube's elasticity stiffness (docs/scaling.md, "The
+/// distributed smoother"): per rank the owned and ghost nodes, the neighbour ranks and what
+/// one sweep sends, counted by the sweep on thread ranks (and checked against its plan).
+/// Not a check of numbers: run with
+/// `cargo test --release -p rsf-tnnmg --features rsf-metis/metis --lib
+/// distributed::tests::halo_table -- --ignored --nocapture`.
+#[test]
+#[ignore = "prints the halo table of docs/scaling.md; needs METIS"]
+fn halo_table() {
+    assert!(
+        rsf_metis::is_available(),
+        "build with --features rsf-metis/metis"
+    );
+    println!(
+        "| refinements | nodes | dofs | colours | parts | rank | owned nodes | ghost nodes \
+         | neighbours | messages / sweep | values / sweep | KB / sweep | sent / owned values \
+         | ghost / owned nodes |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for refinements in 1..=3 {
+        // 5 × 3 × 3 Kuhn-split cubes: 10 647 dofs after 2 refinements, 76 875 after 3
+        // (the 3-D slider has about 10⁴ at j = 3 and 70 227 at j = 4).
+        let mut mesh = cuboid([0.0; 3], [2.0, 1.0, 1.0], [6, 4, 4]).unwrap();
+        for _ in 0..refinements {
+            mesh = refine_red(&mesh).0;
+        }
+        let material = LinearElasticity::isotropic(1.0, 0.3).unwrap();
+        let a = Assembler::new(&mesh)
+            .unwrap()
+            .stiffness(&mesh, &material)
+            .unwrap();
+        let colouring = Colouring::new::<D>(a.as_ref()).unwrap();
+        let (xadj, adjncy) = node_graph::<D>(a.as_ref()).unwrap();
+        let nodes = mesh.num_vertices();
+        for parts in [2, 4] {
+            let owner = rsf_metis::part_graph_kway(&xadj, &adjncy, parts).unwrap();
+            let rows: Vec<_> = std::thread::scope(|s| {
+                let handles: Vec<_> = ThreadExchange::group(parts)
+                    .into_iter()
+                    .map(|mut halo| {
+                        let (a, owner, colouring) = (&a, &owner, &colouring);
+                        s.spawn(move || {
+                            let mut ds =
+                                DistributedSweep::<D>::new(a.as_ref(), owner, colouring, &halo)
+                                    .unwrap();
+                            let mut x = vec![0.0; D * ds.rows().len()];
+                            ds.sweep(&mut x, false, &mut halo, |_, p, x| load::<D>(x, p));
+                            assert_eq!(ds.counters(), ds.per_sweep());
+                            let r = ds.rows();
+                            let neighbours = ds.neighbour_ranks().count();
+                            (r.owned(), r.ghosts(), neighbours, ds.counters())
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for (rank, (owned, ghosts, neighbours, c)) in rows.into_iter().enumerate() {
+                println!(
+                    "| {refinements} | {nodes} | {} | {} | {parts} | {rank} | {owned} | {ghosts} \
+                     | {neighbours} | {} | {} | {:.1} | {:.3} | {:.3} |",
+                    D * nodes,
+                    colouring.num_colours(),
+                    c.messages,
+                    c.values,
+                    c.bytes() as f64 / 1000.0,
+                    c.values as f64 / (D * owned) as f64,
+                    ghosts as f64 / owned as f64,
+                );
+            }
+        }
+    }
+}
