@@ -250,6 +250,35 @@ fn distributed_sweeps_have_the_one_process_bits() {
     }
 }
 
+/// A rank that owns no node (ranks 0 and 2 of 3 share the nodes, rank 1 has none) takes
+/// part in every exchange without a message; the others keep the one-process bits.
+#[test]
+fn an_empty_rank_changes_nothing() {
+    let pb = cube(1);
+    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let reference = one_process(&pb, &colouring, &SWEEPS);
+    let owner: Vec<usize> = coordinate_split(&pb.mesh, 2)
+        .into_iter()
+        .map(|r| 2 * r)
+        .collect();
+    let ranks = on_ranks(&pb, &colouring, &owner, 3, &SWEEPS, None);
+    assert_eq!((ranks[1].owned, ranks[1].global.len()), (0, 0));
+    let sweeps = SWEEPS.len() as u64;
+    assert_eq!(
+        ranks[1].counters,
+        HaloCounters {
+            sweeps,
+            exchanges: sweeps * colouring.num_colours() as u64,
+            messages: 0,
+            values: 0,
+        }
+    );
+    for r in [0, 2] {
+        assert!(ranks[r].owned > 0);
+        assert_eq!(differing_bits(&ranks[r], &reference), 0, "rank {r}");
+    }
+}
+
 /// A plan without one ghost (a free node owned by rank 0 and a ghost on rank 1, neither
 /// sent nor received): rank 1's values no longer have the one-process bits.
 #[test]
