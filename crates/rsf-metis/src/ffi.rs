@@ -5,7 +5,7 @@ use std::sync::Mutex;
 
 use metis_sys::{
     idx_t, moptions_et_METIS_OPTION_NUMBERING, moptions_et_METIS_OPTION_SEED, rstatus_et_METIS_OK,
-    METIS_NodeND, METIS_NodeNDP, METIS_SetDefaultOptions, METIS_NOPTIONS,
+    METIS_NodeND, METIS_NodeNDP, METIS_PartGraphKway, METIS_SetDefaultOptions, METIS_NOPTIONS,
 };
 
 use crate::{Error, Result, SEED};
@@ -30,17 +30,10 @@ pub(crate) fn node_nd(
         vertices: n,
         entries: adjncy.len(),
     })?;
-    let mut options: [idx_t; METIS_NOPTIONS as usize] = [0; METIS_NOPTIONS as usize];
     let mut perm: Vec<idx_t> = vec![0; n];
     let mut iperm: Vec<idx_t> = vec![0; n];
     let _one_at_a_time = METIS.lock().unwrap_or_else(|e| e.into_inner());
-    // SAFETY: `options` has METIS_NOPTIONS entries, as METIS_SetDefaultOptions writes.
-    let status = unsafe { METIS_SetDefaultOptions(options.as_mut_ptr()) };
-    if status != rstatus_et_METIS_OK {
-        return Err(Error::Metis(status));
-    }
-    options[moptions_et_METIS_OPTION_NUMBERING as usize] = 0;
-    options[moptions_et_METIS_OPTION_SEED as usize] = SEED;
+    let mut options = default_options()?;
     // SAFETY: `nvtxs` = n vertices; `xadj` has n + 1 entries rising from 0 to
     // `adjncy.len()` and every entry of `adjncy` is in 0..n (checked by the caller, as is
     // the symmetry METIS assumes); no vertex weights (null); `options` has
@@ -77,4 +70,65 @@ pub(crate) fn node_nd(
         return Err(Error::Metis(status));
     }
     Ok((perm, sizes))
+}
+
+/// METIS's default options with 0-based numbering and the seed [`SEED`] (called with the
+/// lock held: the options are read by the next call).
+fn default_options() -> Result<[idx_t; METIS_NOPTIONS as usize]> {
+    let mut options: [idx_t; METIS_NOPTIONS as usize] = [0; METIS_NOPTIONS as usize];
+    // SAFETY: `options` has METIS_NOPTIONS entries, as METIS_SetDefaultOptions writes.
+    let status = unsafe { METIS_SetDefaultOptions(options.as_mut_ptr()) };
+    if status != rstatus_et_METIS_OK {
+        return Err(Error::Metis(status));
+    }
+    options[moptions_et_METIS_OPTION_NUMBERING as usize] = 0;
+    options[moptions_et_METIS_OPTION_SEED as usize] = SEED;
+    Ok(options)
+}
+
+/// METIS_PartGraphKway of a checked graph (`xadj`, `adjncy` valid, symmetric, no
+/// self-loops, `n = xadj.len() − 1 ≥ 1`) into `nparts ≥ 2` parts, with the default options
+/// (minimal edge cut, imbalance tolerance 1.03), 0-based numbering and seed [`SEED`],
+/// without vertex or edge weights: `part[v]` is the part of vertex `v` (length n).
+pub(crate) fn part_graph_kway(
+    xadj: &mut [idx_t],
+    adjncy: &mut [idx_t],
+    nparts: idx_t,
+) -> Result<Vec<idx_t>> {
+    let n = xadj.len() - 1;
+    let mut nvtxs = idx_t::try_from(n).map_err(|_| Error::TooLarge {
+        vertices: n,
+        entries: adjncy.len(),
+    })?;
+    let (mut ncon, mut nparts, mut edgecut) = (1, nparts, 0);
+    let mut part: Vec<idx_t> = vec![0; n];
+    let _one_at_a_time = METIS.lock().unwrap_or_else(|e| e.into_inner());
+    let mut options = default_options()?;
+    // SAFETY: `nvtxs` = n vertices and one balance constraint; `xadj` has n + 1 entries
+    // rising from 0 to `adjncy.len()` and every entry of `adjncy` is in 0..n (checked by
+    // the caller, as is the symmetry METIS assumes); no vertex weights, sizes or edge
+    // weights, no target part weights and the default imbalance (null pointers); `options`
+    // has METIS_NOPTIONS entries; `edgecut` is one value and `part` has n entries. METIS
+    // reads its inputs and writes `edgecut` and n entries of `part`, nothing else.
+    let status = unsafe {
+        METIS_PartGraphKway(
+            &mut nvtxs,
+            &mut ncon,
+            xadj.as_mut_ptr(),
+            adjncy.as_mut_ptr(),
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            &mut nparts,
+            std::ptr::null_mut(),
+            std::ptr::null_mut(),
+            options.as_mut_ptr(),
+            &mut edgecut,
+            part.as_mut_ptr(),
+        )
+    };
+    if status != rstatus_et_METIS_OK {
+        return Err(Error::Metis(status));
+    }
+    Ok(part)
 }

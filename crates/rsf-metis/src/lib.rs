@@ -1,10 +1,12 @@
 //! METIS for the rsf crates: nested-dissection fill-reducing orderings of a graph
 //! ([`node_nd`], METIS_NodeND), for the sparse factorisations whose fill an AMD ordering
-//! cannot keep in bounds (3-D volumes condensed onto a fault, docs/three-d.md).
+//! cannot keep in bounds (3-D volumes condensed onto a fault, docs/three-d.md), and k-way
+//! partitions of a graph ([`part_graph_kway`], METIS_PartGraphKway), for the mesh nodes
+//! owned by each rank of a distributed run.
 //!
 //! METIS itself (vendored C sources, built by the `metis-sys` crate) comes with the cargo
-//! feature `metis`; without it [`node_nd`] returns [`Error::FeatureDisabled`], so a build
-//! without the feature compiles no C. The workspace's one `unsafe` block, the call into C,
+//! feature `metis`; without it [`node_nd`] and [`part_graph_kway`] return
+//! [`Error::FeatureDisabled`], so a build without the feature compiles no C. The workspace's one `unsafe` block, the call into C,
 //! is in this crate's `ffi` module.
 //!
 //! Determinism: METIS is called with its default options and a fixed random seed
@@ -38,6 +40,9 @@ pub enum Error {
         /// Number of adjacency entries (twice the edges).
         entries: usize,
     },
+    /// A partition into zero parts was asked for.
+    #[error("a partition needs at least one part, got {0}")]
+    InvalidPartCount(usize),
     /// METIS returned an error status (METIS_ERROR_INPUT −2, METIS_ERROR_MEMORY −3,
     /// METIS_ERROR −4).
     #[error("METIS failed with status {0}")]
@@ -122,6 +127,55 @@ pub fn node_nd_halves(xadj: &[usize], adjncy: &[usize]) -> Result<Dissection> {
     } else {
         whole(order)
     })
+}
+
+/// A k-way partition of the graph with adjacency `adjncy[xadj[v] .. xadj[v + 1]]` of
+/// vertex `v` (`n = xadj.len() − 1` vertices; symmetric, no self-loops, no repeated
+/// neighbour) into `parts` parts: `part[v] < parts` is the part of vertex `v` (length n).
+/// METIS_PartGraphKway with its default options: a small edge cut with parts of at most
+/// 1.03 times the mean vertex count (METIS's default imbalance; a part may be empty when
+/// `parts` exceeds what the graph can fill). `parts == 1` (or an empty graph) gives all
+/// zeros without calling METIS. Deterministic (module docs).
+///
+/// # Errors
+/// [`Error::InvalidPartCount`] for `parts == 0`; [`Error::InvalidGraph`] for an invalid or
+/// unsymmetric graph or a self-loop; [`Error::FeatureDisabled`] without the feature
+/// `metis` when `parts ≥ 2`; [`Error::TooLarge`] beyond 32-bit indices (vertices, entries
+/// or parts); [`Error::Metis`] if METIS fails or returns a part out of range.
+pub fn part_graph_kway(xadj: &[usize], adjncy: &[usize], parts: usize) -> Result<Vec<usize>> {
+    if parts == 0 {
+        return Err(Error::InvalidPartCount(parts));
+    }
+    check_graph(xadj, adjncy)?;
+    let n = xadj.len() - 1;
+    if parts == 1 || n == 0 {
+        return Ok(vec![0; n]);
+    }
+    part_graph_kway_checked(xadj, adjncy, parts)
+}
+
+#[cfg(feature = "metis")]
+fn part_graph_kway_checked(xadj: &[usize], adjncy: &[usize], parts: usize) -> Result<Vec<usize>> {
+    let too_large = || Error::TooLarge {
+        vertices: xadj.len() - 1,
+        entries: adjncy.len(),
+    };
+    let to_idx = |v: &usize| i32::try_from(*v).map_err(|_| too_large());
+    let mut x: Vec<i32> = xadj.iter().map(to_idx).collect::<Result<_>>()?;
+    let mut a: Vec<i32> = adjncy.iter().map(to_idx).collect::<Result<_>>()?;
+    let part = ffi::part_graph_kway(&mut x, &mut a, to_idx(&parts)?)?;
+    // Checked, as nothing else guards it: every part in 0..parts.
+    part.iter()
+        .map(|&p| match usize::try_from(p) {
+            Ok(p) if p < parts => Ok(p),
+            _ => Err(Error::Metis(-4)),
+        })
+        .collect()
+}
+
+#[cfg(not(feature = "metis"))]
+fn part_graph_kway_checked(_: &[usize], _: &[usize], _: usize) -> Result<Vec<usize>> {
+    Err(Error::FeatureDisabled("a k-way graph partition"))
 }
 
 #[cfg(feature = "metis")]
@@ -239,6 +293,81 @@ mod tests {
     fn trivial_graphs_need_no_metis() {
         assert_eq!(node_nd(&[0], &[]), Ok(vec![]));
         assert_eq!(node_nd(&[0, 0], &[]), Ok(vec![0]));
+        let (x, a) = cube(3);
+        assert_eq!(part_graph_kway(&x, &a, 1), Ok(vec![0; 27]));
+        assert_eq!(part_graph_kway(&[0], &[], 4), Ok(vec![]));
+    }
+
+    /// The partition refuses what `node_nd` refuses, and zero parts.
+    #[test]
+    fn invalid_partitions_are_refused() {
+        let (x, a) = cube(3);
+        assert_eq!(part_graph_kway(&x, &a, 0), Err(Error::InvalidPartCount(0)));
+        for parts in [1, 2] {
+            let e = part_graph_kway(&[0, 1, 1], &[1], parts);
+            assert!(matches!(e, Err(Error::InvalidGraph(_))), "{e:?}");
+            let e = part_graph_kway(&[0, 1, 2], &[0, 0], parts);
+            assert!(matches!(e, Err(Error::InvalidGraph(_))), "{e:?}");
+        }
+    }
+
+    /// The CSR graph of an `m × m × m` grid (7-point stencil).
+    fn cube(m: usize) -> (Vec<usize>, Vec<usize>) {
+        let (mut xadj, mut adjncy) = (vec![0], Vec::new());
+        let stride = [1, m, m * m];
+        for v in 0..m * m * m {
+            let at = [v % m, (v / m) % m, v / (m * m)];
+            for axis in (0..3).rev() {
+                if at[axis] > 0 {
+                    adjncy.push(v - stride[axis]);
+                }
+            }
+            for axis in 0..3 {
+                if at[axis] + 1 < m {
+                    adjncy.push(v + stride[axis]);
+                }
+            }
+            xadj.push(adjncy.len());
+        }
+        (xadj, adjncy)
+    }
+
+    /// On a 20 × 20 × 20 grid graph, 2, 3, 4 and 8 parts: every vertex in a part below
+    /// `parts`, every part non-empty and at most 1.1 times the mean size (METIS's default
+    /// tolerance is 1.03), the cut edges a small share of all edges (a random assignment
+    /// cuts about (parts − 1)/parts of them), the same parts on a second call.
+    #[cfg(feature = "metis")]
+    #[test]
+    fn grid_partitions_are_balanced_and_deterministic() {
+        let m = 20;
+        let n = m * m * m;
+        let (x, a) = cube(m);
+        for parts in [2, 3, 4, 8] {
+            let part = part_graph_kway(&x, &a, parts).unwrap();
+            assert_eq!(part.len(), n);
+            let mut size = vec![0usize; parts];
+            for &p in &part {
+                assert!(p < parts, "part {p} of {parts}");
+                size[p] += 1;
+            }
+            let mean = n as f64 / parts as f64;
+            for &s in &size {
+                assert!(
+                    s > 0 && s as f64 <= 1.1 * mean,
+                    "{parts} parts: sizes {size:?}"
+                );
+            }
+            let cut = (0..n)
+                .flat_map(|v| a[x[v]..x[v + 1]].iter().map(move |&u| (v, u)))
+                .filter(|&(v, u)| part[v] != part[u])
+                .count();
+            assert!(
+                cut * 5 < a.len(),
+                "{parts} parts: {cut} of {} entries cut",
+                a.len()
+            );
+            assert_eq!(part_graph_kway(&x, &a, parts).unwrap(), part);
+        }
     }
 
     #[cfg(not(feature = "metis"))]
@@ -249,6 +378,8 @@ mod tests {
         assert!(matches!(e, Error::FeatureDisabled(_)));
         assert!(e.to_string().contains("feature `metis`"), "{e}");
         assert!(!is_available());
+        let e = part_graph_kway(&x, &a, 2).unwrap_err();
+        assert!(matches!(e, Error::FeatureDisabled(_)));
     }
 
     /// On a 31 × 31 grid the order is a permutation, the same bits twice, and nested

@@ -41,6 +41,10 @@ pub enum Error {
     /// Invalid solver option.
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// The nodes' split into ranks does not fit the transport or the matrix (an owner that
+    /// is not a rank, a colouring of another matrix).
+    #[error("invalid partition: {0}")]
+    InvalidPartition(String),
     /// Failure inside the sparse factorisation library.
     #[error("sparse factorisation failed: {0}")]
     Factorisation(String),

@@ -36,6 +36,11 @@
 //! fine-level smoother); the parallel orders run on several threads with bit-identical
 //! iterates for every thread count.
 //!
+//! On ranks with distributed memory (docs/scaling.md, "Past one machine"), the
+//! [`distributed`] module holds the multi-colour block Gauss–Seidel sweep of one rank with a
+//! halo exchange per colour (the first part of the implicit engine on ranks: not yet the
+//! V-cycle or TNNMG).
+//!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.
 //!
@@ -68,6 +73,7 @@ mod block;
 mod bsr;
 mod chunks;
 mod colouring;
+pub mod distributed;
 mod error;
 mod galerkin;
 mod gauss_seidel;

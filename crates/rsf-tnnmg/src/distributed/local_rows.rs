@@ -1,0 +1,212 @@
+//! One rank's rows of a node-block matrix: its owned nodes' block rows in local numbering
+//! (owned nodes first, then the ghost layer), and the node graph a partitioner splits.
+
+use faer::sparse::SparseColMatRef;
+
+use crate::block::Block;
+use crate::bsr::BlockCsr;
+use crate::error::{Error, Result};
+use rsf_linalg::Csc;
+
+/// The block rows of the nodes one rank owns, in local numbering.
+///
+/// Local nodes are the owned nodes in increasing global order (`0..owned()`), then the
+/// ghosts — the nodes of other ranks adjacent to an owned node (a stored block `A_pq`) — in
+/// increasing global order (`owned()..len()`). A local vector holds `D` values per local
+/// node, node-major (length `D · len()`). Each owned row keeps its diagonal block and its
+/// off-diagonal blocks with local column indices **in increasing global column order**
+/// (the one-process row order, not the local one): a row sum over
+/// [`neighbours`](Self::neighbours) has the same bits as the same sum in one process.
+///
+/// Built from the whole matrix, which every rank holds for now (a later phase builds the
+/// rows from the rank's part of the mesh).
+#[derive(Debug, Clone)]
+pub struct LocalRows<const D: usize> {
+    rank: usize,
+    /// Global node of each local node.
+    global: Vec<usize>,
+    owned: usize,
+    /// Owner rank of each ghost (ghost `g` is local node `owned + g`).
+    ghost_owner: Vec<usize>,
+    /// Owned row `p`'s off-diagonal blocks are `ptr[p]..ptr[p + 1]`.
+    ptr: Vec<usize>,
+    col: Vec<u32>,
+    val: Vec<Block<D>>,
+    diag: Vec<Block<D>>,
+}
+
+impl<const D: usize> LocalRows<D> {
+    /// The rows of rank `rank` of the symmetric-pattern matrix `a` (`D n × D n`,
+    /// node-major: node `p` owns the dofs `D p .. D p + D`), node `p` being owned by rank
+    /// `owner[p]` (length `n`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new);
+    /// [`Error::DimensionMismatch`] if `owner` does not have one entry per node.
+    pub fn new(a: SparseColMatRef<'_, usize, f64>, owner: &[usize], rank: usize) -> Result<Self> {
+        let a = blocks::<D>(a)?;
+        Self::of_blocks(&a, owner, rank)
+    }
+
+    /// [`new`](Self::new) of a block matrix.
+    pub(crate) fn of_blocks(a: &BlockCsr<D>, owner: &[usize], rank: usize) -> Result<Self> {
+        let nodes = a.nodes();
+        if owner.len() != nodes {
+            return Err(Error::DimensionMismatch {
+                what: "owner (one rank per node)",
+                expected: nodes,
+                got: owner.len(),
+            });
+        }
+        let mut global: Vec<usize> = (0..nodes).filter(|&p| owner[p] == rank).collect();
+        let owned = global.len();
+        let mut is_ghost = vec![false; nodes];
+        for &p in &global {
+            for (q, _) in a.neighbours(p) {
+                is_ghost[q] = owner[q] != rank;
+            }
+        }
+        global.extend((0..nodes).filter(|&q| is_ghost[q]));
+        let ghost_owner = global[owned..].iter().map(|&q| owner[q]).collect();
+        let mut local_of = vec![u32::MAX; nodes];
+        for (l, &p) in global.iter().enumerate() {
+            // BlockCsr has fewer than 2³² nodes.
+            local_of[p] = l as u32;
+        }
+        let mut ptr = Vec::with_capacity(owned + 1);
+        ptr.push(0);
+        let (mut col, mut val) = (Vec::new(), Vec::new());
+        let mut diag = Vec::with_capacity(owned);
+        for &p in &global[..owned] {
+            // `neighbours` runs in increasing global column order.
+            for (q, blk) in a.neighbours(p) {
+                col.push(local_of[q]);
+                val.push(*blk);
+            }
+            ptr.push(col.len());
+            diag.push(a.diag[p]);
+        }
+        Ok(Self {
+            rank,
+            global,
+            owned,
+            ghost_owner,
+            ptr,
+            col,
+            val,
+            diag,
+        })
+    }
+
+    /// The rank whose rows these are.
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// Number of owned nodes (the local nodes `0..owned()`).
+    pub fn owned(&self) -> usize {
+        self.owned
+    }
+
+    /// Number of ghost nodes (the local nodes `owned()..len()`).
+    pub fn ghosts(&self) -> usize {
+        self.global.len() - self.owned
+    }
+
+    /// Number of local nodes, owned and ghosts (a local vector has `D · len()` values).
+    pub fn len(&self) -> usize {
+        self.global.len()
+    }
+
+    /// Whether the rank has no local node.
+    pub fn is_empty(&self) -> bool {
+        self.global.is_empty()
+    }
+
+    /// The global node of every local node (length [`len`](Self::len)): increasing over the
+    /// owned nodes, then increasing over the ghosts.
+    pub fn global_nodes(&self) -> &[usize] {
+        &self.global
+    }
+
+    /// The owner rank of every ghost (length [`ghosts`](Self::ghosts)).
+    pub fn ghost_owners(&self) -> &[usize] {
+        &self.ghost_owner
+    }
+
+    /// The diagonal block `A_pp` of owned node `p` (`p < owned()`), row-major.
+    ///
+    /// # Panics
+    /// If `p ≥ owned()`.
+    pub fn diag(&self, p: usize) -> &[[f64; D]; D] {
+        &self.diag[p]
+    }
+
+    /// The off-diagonal blocks of owned node `p`'s row as `(q, A_pq)` with `q` a local node,
+    /// in increasing global column order.
+    ///
+    /// # Panics
+    /// If `p ≥ owned()`.
+    pub fn neighbours(&self, p: usize) -> impl Iterator<Item = (usize, &[[f64; D]; D])> {
+        let r = self.ptr[p]..self.ptr[p + 1];
+        self.col[r.clone()]
+            .iter()
+            .zip(&self.val[r])
+            .map(|(&q, b)| (q as usize, b))
+    }
+
+    /// The local values of a global node-major vector: `local` (length `D · len()`)
+    /// receives the `D` values of every local node's global node from `global`.
+    ///
+    /// # Panics
+    /// If `local` is not `D · len()` long or `global` has fewer than `D` values per node of
+    /// the matrix.
+    pub fn gather<T: Copy>(&self, global: &[T], local: &mut [T]) {
+        assert_eq!(local.len(), D * self.len(), "local vector length");
+        for (l, &p) in local.chunks_exact_mut(D).zip(&self.global) {
+            l.copy_from_slice(&global[D * p..D * p + D]);
+        }
+    }
+
+    /// The owned nodes' values of a local vector (length `D · len()`) into their places in
+    /// a global node-major vector; the other entries of `global` are left alone.
+    ///
+    /// # Panics
+    /// If `local` is not `D · len()` long or `global` is too short.
+    pub fn scatter_owned(&self, local: &[f64], global: &mut [f64]) {
+        assert_eq!(local.len(), D * self.len(), "local vector length");
+        for (l, &p) in local.chunks_exact(D).zip(&self.global[..self.owned]) {
+            global[D * p..D * p + D].copy_from_slice(l);
+        }
+    }
+}
+
+/// The block matrix of a symmetric-pattern scalar matrix (checked as
+/// [`Colouring::new`](crate::Colouring::new) checks it).
+pub(crate) fn blocks<const D: usize>(a: SparseColMatRef<'_, usize, f64>) -> Result<BlockCsr<D>> {
+    let csc = Csc::from_faer(a)?;
+    csc.check_symmetric_pattern()?;
+    BlockCsr::<D>::from_csc(&csc)
+}
+
+/// The node graph of the symmetric-pattern matrix `a` (`D n × D n`, node-major) in CSR
+/// form, as graph partitioners take it: the neighbours of node `p` are
+/// `adjncy[xadj[p]..xadj[p + 1]]`, increasing (the nodes `q ≠ p` with a stored block
+/// `A_pq`; explicit zeros count); `xadj` has `n + 1` entries. Symmetric, without
+/// self-loops.
+///
+/// # Errors
+/// [`Error::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new).
+pub fn node_graph<const D: usize>(
+    a: SparseColMatRef<'_, usize, f64>,
+) -> Result<(Vec<usize>, Vec<usize>)> {
+    let a = blocks::<D>(a)?;
+    let mut xadj = Vec::with_capacity(a.nodes() + 1);
+    xadj.push(0);
+    let mut adjncy = Vec::new();
+    for p in 0..a.nodes() {
+        adjncy.extend(a.neighbours(p).map(|(q, _)| q));
+        xadj.push(adjncy.len());
+    }
+    Ok((xadj, adjncy))
+}

@@ -1,0 +1,24 @@
+//! Block Gauss–Seidel on ranks with distributed memory (issue 57, docs/scaling.md "Past one
+//! machine"): the first part of the implicit engine on ranks, a multi-colour smoother; the
+//! V-cycle with a ghost layer per level and TNNMG's outer loop are later parts.
+//!
+//! Every node of the matrix is owned by one rank (an owner vector, e.g. a graph partition
+//! of the node graph [`node_graph`]). A rank holds its owned nodes' block rows and one layer
+//! of ghost nodes ([`LocalRows`]), and sweeps colour by colour through a global
+//! [`Colouring`](crate::Colouring) ([`DistributedSweep`]): its owned nodes of a colour,
+//! then one halo exchange of that colour's values with the neighbour ranks through the
+//! caller's transport ([`HaloExchange`]: MPI in `rsf-mpi`, threads in [`ThreadExchange`]).
+//! The iterate has the same bits at every rank count as the one-process coloured sweep with
+//! the same node updates; [`HaloCounters`] counts the messages and values sent.
+
+mod halo;
+mod local_rows;
+mod sweep;
+mod transport;
+
+#[cfg(test)]
+mod tests;
+
+pub use local_rows::{node_graph, LocalRows};
+pub use sweep::{DistributedSweep, HaloCounters};
+pub use transport::{HaloExchange, HaloMessage, ThreadExchange};

@@ -1,0 +1,487 @@
+//! The distributed sweep against the one-process coloured sweep ([`Colouring`]'s) on a
+//! P1 elasticity stiffness of a refined cube with Dirichlet components: the same bits at
+//! 1–4 thread ranks, a wrong halo detected, the counters against an independent count.
+
+use faer::sparse::SparseColMat;
+use rsf_fem::{cuboid, refine_red, Assembler, LinearElasticity, TetrahedronMesh};
+
+use super::local_rows::blocks;
+use super::*;
+use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
+use crate::colouring::Colouring;
+use crate::error::Error;
+use crate::Parallelism;
+
+const D: usize = 3;
+
+/// A cube's elasticity problem: the stiffness, the fixed dofs (the face z = 0 clamped, the
+/// face x = 0 on rollers: its x component), a right-hand side and a start.
+struct Problem {
+    mesh: TetrahedronMesh,
+    a: SparseColMat<usize, f64>,
+    fixed: Vec<bool>,
+    b: Vec<f64>,
+    x0: Vec<f64>,
+}
+
+/// The box [0, 1.5] × [0, 1] × [0, 1] of 3 × 2 × 2 Kuhn-split cubes, refined
+/// `refinements` times.
+fn cube(refinements: usize) -> Problem {
+    let mut mesh = cuboid([0.0; 3], [1.5, 1.0, 1.0], [4, 3, 3]).unwrap();
+    for _ in 0..refinements {
+        mesh = refine_red(&mesh).0;
+    }
+    let material = LinearElasticity::isotropic(1.0, 0.3).unwrap();
+    let a = Assembler::new(&mesh)
+        .unwrap()
+        .stiffness(&mesh, &material)
+        .unwrap();
+    let n = D * mesh.num_vertices();
+    let mut fixed = vec![false; n];
+    for (p, v) in mesh.vertices().iter().enumerate() {
+        for c in 0..D {
+            fixed[D * p + c] = v[2] == 0.0 || (c == 0 && v[0] == 0.0);
+        }
+    }
+    let b = (0..n).map(|i| (0.37 * i as f64 + 0.1).sin()).collect();
+    let x0 = (0..n).map(|i| 0.5 * (1.3 * i as f64).cos()).collect();
+    Problem {
+        mesh,
+        a,
+        fixed,
+        b,
+        x0,
+    }
+}
+
+/// The linear block Gauss–Seidel update of node `p` on its free components,
+/// `x_p + S_p (b_p − Σ_{q≠p} A_pq x_q − A_pp x_p)` with `S_p` the inverse of the free
+/// sub-block of `A_pp` ([`masked_inverse`]), the row summed in `row`'s order.
+fn gauss_seidel<'a>(
+    b: [f64; D],
+    diag: &Block<D>,
+    inverse: &Block<D>,
+    row: impl Iterator<Item = (usize, &'a Block<D>)>,
+    x: &[f64],
+    p: usize,
+) -> [f64; D] {
+    let mut s = b;
+    for (q, blk) in row {
+        sub_mul_vec(&mut s, blk, &load::<D>(x, q));
+    }
+    let mut xp = load::<D>(x, p);
+    sub_mul_vec(&mut s, diag, &xp);
+    let d = mul_vec(inverse, &s);
+    for c in 0..D {
+        xp[c] += d[c];
+    }
+    xp
+}
+
+fn free(fixed: &[bool], p: usize) -> [bool; D] {
+    std::array::from_fn(|c| !fixed[D * p + c])
+}
+
+/// The one-process coloured sweeps (`reverse` of each) from `x0`.
+fn one_process(pb: &Problem, colouring: &Colouring, sweeps: &[bool]) -> Vec<f64> {
+    let a = blocks::<D>(pb.a.as_ref()).unwrap();
+    let inverse: Vec<Block<D>> = (0..a.nodes())
+        .map(|p| masked_inverse(&a.diag[p], &free(&pb.fixed, p)))
+        .collect();
+    let mut x = pb.x0.clone();
+    let mut scratch = vec![[0.0; D]; colouring.max_colour_len()];
+    for &reverse in sweeps {
+        colouring.sweep(&mut x, reverse, &mut scratch, Parallelism::SEQ, |p, x| {
+            gauss_seidel(
+                load::<D>(&pb.b, p),
+                &a.diag[p],
+                &inverse[p],
+                a.neighbours(p),
+                x,
+                p,
+            )
+        });
+    }
+    x
+}
+
+/// One rank's end of a distributed run.
+struct RankResult {
+    /// Global node of each local node, and the number of owned ones.
+    global: Vec<usize>,
+    owned: usize,
+    x: Vec<f64>,
+    /// Counted over the sweeps (not the set-up's ghost update), and the plan's per sweep.
+    counters: HaloCounters,
+    per_sweep: HaloCounters,
+}
+
+/// The sweeps on `size` thread ranks under `owner`, each rank from `x0` with its ghosts
+/// first set to NaN and refreshed by [`DistributedSweep::update_ghosts`]; with
+/// `dropped = Some(g)`, global node `g` is left out of every rank's halo plan.
+fn on_ranks(
+    pb: &Problem,
+    colouring: &Colouring,
+    owner: &[usize],
+    size: usize,
+    sweeps: &[bool],
+    dropped: Option<usize>,
+) -> Vec<RankResult> {
+    let run = |mut halo: ThreadExchange| {
+        let mut ds = DistributedSweep::<D>::new(pb.a.as_ref(), owner, colouring, &halo).unwrap();
+        if let Some(g) = dropped {
+            ds = ds.without_halo_node(colouring, g);
+        }
+        let rows = ds.rows();
+        let (len, owned) = (rows.len(), rows.owned());
+        let mut b = vec![0.0; D * len];
+        let mut fixed = vec![false; D * len];
+        let mut x = vec![0.0; D * len];
+        rows.gather(&pb.b, &mut b);
+        rows.gather(&pb.fixed, &mut fixed);
+        rows.gather(&pb.x0, &mut x);
+        x[D * owned..].fill(f64::NAN);
+        let inverse: Vec<Block<D>> = (0..owned)
+            .map(|p| masked_inverse(rows.diag(p), &free(&fixed, p)))
+            .collect();
+        let global = rows.global_nodes().to_vec();
+        ds.update_ghosts(&mut x, &mut halo);
+        ds.reset_counters();
+        for &reverse in sweeps {
+            ds.sweep(&mut x, reverse, &mut halo, |rows, p, x| {
+                gauss_seidel(
+                    load::<D>(&b, p),
+                    rows.diag(p),
+                    &inverse[p],
+                    rows.neighbours(p),
+                    x,
+                    p,
+                )
+            });
+        }
+        RankResult {
+            global,
+            owned,
+            x,
+            counters: ds.counters(),
+            per_sweep: ds.per_sweep(),
+        }
+    };
+    std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadExchange::group(size)
+            .into_iter()
+            .map(|halo| s.spawn(move || run(halo)))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// Values of `rank`'s local vector (owned and ghosts) whose bits differ from the
+/// one-process iterate's.
+fn differing_bits(rank: &RankResult, reference: &[f64]) -> usize {
+    rank.global
+        .iter()
+        .enumerate()
+        .flat_map(|(l, &g)| (0..D).map(move |c| (D * l + c, D * g + c)))
+        .filter(|&(l, g)| rank.x[l].to_bits() != reference[g].to_bits())
+        .count()
+}
+
+/// `size` slabs of nearly equal node counts along x (ties by node index).
+fn coordinate_split(mesh: &TetrahedronMesh, size: usize) -> Vec<usize> {
+    let v = mesh.vertices();
+    let mut order: Vec<usize> = (0..v.len()).collect();
+    order.sort_by(|&p, &q| v[p][0].total_cmp(&v[q][0]).then(p.cmp(&q)));
+    let mut owner = vec![0; v.len()];
+    for (k, &p) in order.iter().enumerate() {
+        owner[p] = k * size / v.len();
+    }
+    owner
+}
+
+/// The owner vectors tested at `size` ranks: the coordinate split, and METIS's partition
+/// of the node graph when the workspace is built with METIS.
+fn owners(pb: &Problem, size: usize) -> Vec<(&'static str, Vec<usize>)> {
+    let mut out = vec![("coordinates", coordinate_split(&pb.mesh, size))];
+    if rsf_metis::is_available() {
+        let (xadj, adjncy) = node_graph::<D>(pb.a.as_ref()).unwrap();
+        let part = rsf_metis::part_graph_kway(&xadj, &adjncy, size).unwrap();
+        out.push(("metis", part));
+    }
+    out
+}
+
+const SWEEPS: [bool; 6] = [false, true, false, false, true, true];
+
+/// Six forward and backward sweeps at 1, 2, 3 and 4 ranks: every rank's owned and ghost
+/// values have the bits of the one-process coloured sweep, for both owner vectors; every
+/// rank of several owns nodes and has ghosts.
+#[test]
+fn distributed_sweeps_have_the_one_process_bits() {
+    let pb = cube(2);
+    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let reference = one_process(&pb, &colouring, &SWEEPS);
+    assert!(reference.iter().zip(&pb.x0).any(|(a, b)| a != b));
+    assert!(reference.iter().all(|v| v.is_finite()));
+    for size in 1..=4 {
+        for (name, owner) in owners(&pb, size) {
+            let ranks = on_ranks(&pb, &colouring, &owner, size, &SWEEPS, None);
+            let mut owned = 0;
+            for (r, rank) in ranks.iter().enumerate() {
+                assert_eq!(
+                    differing_bits(rank, &reference),
+                    0,
+                    "{name}: rank {r} of {size}"
+                );
+                assert!(rank.owned > 0, "{name}: rank {r} of {size} owns nothing");
+                assert_eq!(
+                    rank.global.len() > rank.owned,
+                    size > 1,
+                    "{name}: ghosts of rank {r}"
+                );
+                owned += rank.owned;
+            }
+            assert_eq!(
+                owned,
+                pb.mesh.num_vertices(),
+                "{name}: every node owned once"
+            );
+        }
+    }
+}
+
+/// A rank that owns no node (ranks 0 and 2 of 3 share the nodes, rank 1 has none) takes
+/// part in every exchange without a message; the others keep the one-process bits.
+#[test]
+fn an_empty_rank_changes_nothing() {
+    let pb = cube(1);
+    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let reference = one_process(&pb, &colouring, &SWEEPS);
+    let owner: Vec<usize> = coordinate_split(&pb.mesh, 2)
+        .into_iter()
+        .map(|r| 2 * r)
+        .collect();
+    let ranks = on_ranks(&pb, &colouring, &owner, 3, &SWEEPS, None);
+    assert_eq!((ranks[1].owned, ranks[1].global.len()), (0, 0));
+    let sweeps = SWEEPS.len() as u64;
+    assert_eq!(
+        ranks[1].counters,
+        HaloCounters {
+            sweeps,
+            exchanges: sweeps * colouring.num_colours() as u64,
+            messages: 0,
+            values: 0,
+        }
+    );
+    for r in [0, 2] {
+        assert!(ranks[r].owned > 0);
+        assert_eq!(differing_bits(&ranks[r], &reference), 0, "rank {r}");
+    }
+}
+
+/// A plan without one ghost (a free node owned by rank 0 and a ghost on rank 1, neither
+/// sent nor received): rank 1's values no longer have the one-process bits.
+#[test]
+fn a_wrong_halo_breaks_the_bits() {
+    let pb = cube(2);
+    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let reference = one_process(&pb, &colouring, &SWEEPS);
+    for (name, owner) in owners(&pb, 2) {
+        let right = on_ranks(&pb, &colouring, &owner, 2, &SWEEPS, None);
+        let rank1 = &right[1];
+        let g = rank1.global[rank1.owned..]
+            .iter()
+            .copied()
+            .find(|&g| owner[g] == 0 && free(&pb.fixed, g).iter().all(|&f| f))
+            .expect("a free ghost of rank 1");
+        let wrong = on_ranks(&pb, &colouring, &owner, 2, &SWEEPS, Some(g));
+        assert_eq!(differing_bits(&right[1], &reference), 0, "{name}");
+        assert!(
+            differing_bits(&wrong[1], &reference) > 0,
+            "{name}: ghost {g} dropped, yet the same bits"
+        );
+    }
+}
+
+/// Per sweep and rank, counted independently from the scalar pattern, the owners and the
+/// colouring: the values sent are `D` per (owned node, rank where it is a ghost) pair, the
+/// messages one per (colour, neighbour rank) with such a node of that colour. The sweep's
+/// counters over the sweeps equal it times the number of sweeps, as does its plan's count;
+/// one rank sends nothing; on two ranks the values sent are `D` per ghost of the other.
+#[test]
+fn counters_match_an_independent_count() {
+    let pb = cube(2);
+    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let a = pb.a.as_ref();
+    let nodes = pb.mesh.num_vertices();
+    // Node adjacency from the scalar pattern: (p, q) for every entry (D p + ·, D q + ·).
+    let mut pairs = Vec::new();
+    for j in 0..a.ncols() {
+        for i in a.symbolic().row_idx_of_col(j) {
+            if i / D != j / D {
+                pairs.push((j / D, i / D));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    let sweeps = SWEEPS.len() as u64;
+    for size in 1..=4 {
+        for (name, owner) in owners(&pb, size) {
+            let ranks = on_ranks(&pb, &colouring, &owner, size, &SWEEPS, None);
+            // (sender, node, receiver) triples, deduplicated.
+            let mut sent: Vec<(usize, usize, usize)> = pairs
+                .iter()
+                .filter(|&&(p, q)| owner[p] != owner[q])
+                .map(|&(p, q)| (owner[p], p, owner[q]))
+                .collect();
+            sent.sort_unstable();
+            sent.dedup();
+            for (r, rank) in ranks.iter().enumerate() {
+                let mine: Vec<_> = sent.iter().filter(|t| t.0 == r).collect();
+                let values = (D * mine.len()) as u64;
+                let mut messages: Vec<(usize, usize)> = mine
+                    .iter()
+                    .map(|&&(_, p, s)| (colouring.colour_of(p), s))
+                    .collect();
+                messages.sort_unstable();
+                messages.dedup();
+                let want = HaloCounters {
+                    sweeps: 1,
+                    exchanges: colouring.num_colours() as u64,
+                    messages: messages.len() as u64,
+                    values,
+                };
+                assert_eq!(rank.per_sweep, want, "{name}: rank {r} of {size}");
+                let total = HaloCounters {
+                    sweeps,
+                    exchanges: sweeps * want.exchanges,
+                    messages: sweeps * want.messages,
+                    values: sweeps * want.values,
+                };
+                assert_eq!(rank.counters, total, "{name}: rank {r} of {size}");
+                assert_eq!(rank.counters.bytes(), 8 * total.values);
+                if size == 1 {
+                    assert_eq!((want.messages, want.values), (0, 0));
+                }
+                if size == 2 {
+                    let ghosts_of_other = ranks[1 - r].global.len() - ranks[1 - r].owned;
+                    assert_eq!(values, (D * ghosts_of_other) as u64, "{name}: rank {r}");
+                }
+            }
+        }
+    }
+    assert!(nodes > 1000);
+}
+
+/// Set-up errors: an owner vector of the wrong length, an owner that is not a rank, a
+/// colouring of another matrix.
+#[test]
+fn set_up_refuses_wrong_owners_and_colourings() {
+    let pb = cube(1);
+    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let n = pb.mesh.num_vertices();
+    let halo = ThreadExchange::group(2).swap_remove(0);
+    let new = |owner: &[usize], colouring: &Colouring| {
+        DistributedSweep::<D>::new(pb.a.as_ref(), owner, colouring, &halo)
+    };
+    assert!(matches!(
+        new(&vec![0; n - 1], &colouring),
+        Err(Error::DimensionMismatch { .. })
+    ));
+    let mut owner = vec![0; n];
+    owner[n / 2] = 2;
+    assert!(matches!(
+        new(&owner, &colouring),
+        Err(Error::InvalidPartition(_))
+    ));
+    // The colouring of a diagonal matrix: every node colour 0.
+    let diagonal = SparseColMat::<usize, f64>::try_new_from_triplets(
+        D * n,
+        D * n,
+        &(0..D * n)
+            .map(|i| faer::sparse::Triplet::new(i, i, 1.0))
+            .collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let one_colour = Colouring::new::<D>(diagonal.as_ref()).unwrap();
+    assert_eq!(one_colour.num_colours(), 1);
+    assert!(matches!(
+        new(&vec![0; n], &one_colour),
+        Err(Error::InvalidPartition(_))
+    ));
+    assert!(new(&vec![1; n], &colouring).is_ok());
+}
+
+/// The halo of METIS partitions of a cube's elasticity stiffness (docs/scaling.md, "The
+/// distributed smoother"): per rank the owned and ghost nodes, the neighbour ranks and what
+/// one sweep sends, counted by the sweep on thread ranks (and checked against its plan).
+/// Not a check of numbers: run with
+/// `cargo test --release -p rsf-tnnmg --features rsf-metis/metis --lib
+/// distributed::tests::halo_table -- --ignored --nocapture`.
+#[test]
+#[ignore = "prints the halo table of docs/scaling.md; needs METIS"]
+fn halo_table() {
+    assert!(
+        rsf_metis::is_available(),
+        "build with --features rsf-metis/metis"
+    );
+    println!(
+        "| refinements | nodes | dofs | colours | parts | rank | owned nodes | ghost nodes \
+         | neighbours | messages / sweep | values / sweep | KB / sweep | sent / owned values \
+         | ghost / owned nodes |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for refinements in 1..=3 {
+        // 5 × 3 × 3 Kuhn-split cubes: 10 647 dofs after 2 refinements, 76 875 after 3
+        // (the 3-D slider has about 10⁴ at j = 3 and 70 227 at j = 4).
+        let mut mesh = cuboid([0.0; 3], [2.0, 1.0, 1.0], [6, 4, 4]).unwrap();
+        for _ in 0..refinements {
+            mesh = refine_red(&mesh).0;
+        }
+        let material = LinearElasticity::isotropic(1.0, 0.3).unwrap();
+        let a = Assembler::new(&mesh)
+            .unwrap()
+            .stiffness(&mesh, &material)
+            .unwrap();
+        let colouring = Colouring::new::<D>(a.as_ref()).unwrap();
+        let (xadj, adjncy) = node_graph::<D>(a.as_ref()).unwrap();
+        let nodes = mesh.num_vertices();
+        for parts in [2, 4] {
+            let owner = rsf_metis::part_graph_kway(&xadj, &adjncy, parts).unwrap();
+            let rows: Vec<_> = std::thread::scope(|s| {
+                let handles: Vec<_> = ThreadExchange::group(parts)
+                    .into_iter()
+                    .map(|mut halo| {
+                        let (a, owner, colouring) = (&a, &owner, &colouring);
+                        s.spawn(move || {
+                            let mut ds =
+                                DistributedSweep::<D>::new(a.as_ref(), owner, colouring, &halo)
+                                    .unwrap();
+                            let mut x = vec![0.0; D * ds.rows().len()];
+                            ds.sweep(&mut x, false, &mut halo, |_, p, x| load::<D>(x, p));
+                            assert_eq!(ds.counters(), ds.per_sweep());
+                            let r = ds.rows();
+                            let neighbours = ds.neighbour_ranks().count();
+                            (r.owned(), r.ghosts(), neighbours, ds.counters())
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for (rank, (owned, ghosts, neighbours, c)) in rows.into_iter().enumerate() {
+                println!(
+                    "| {refinements} | {nodes} | {} | {} | {parts} | {rank} | {owned} | {ghosts} \
+                     | {neighbours} | {} | {} | {:.1} | {:.3} | {:.3} |",
+                    D * nodes,
+                    colouring.num_colours(),
+                    c.messages,
+                    c.values,
+                    c.bytes() as f64 / 1000.0,
+                    c.values as f64 / (D * owned) as f64,
+                    ghosts as f64 / owned as f64,
+                );
+            }
+        }
+    }
+}
