@@ -67,10 +67,10 @@ impl Program for Cli {
             largest = largest.max(flag("--dx", bp5.cells(dx))?.len() as f64);
         }
         // One operator at a time: the largest (its ℋ-matrix, at most the dense size, and
-        // the table of distinct pairs, at most 2²² of 48 bytes).
+        // the table of distinct pairs, at most `TABLE_MAX_PAIRS` of 48 bytes).
         let m = 2.0 * largest;
         Ok(Plan::new().memory(
-            operator_bytes(m, true) + 48.0 * 4_194_304.0,
+            operator_bytes(m, true) + 48.0 * rsf::halfspace::TABLE_MAX_PAIRS as f64,
             "--dx",
             format!("BP5's half-space operator of {m} unknowns"),
         ))

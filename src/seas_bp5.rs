@@ -165,8 +165,18 @@ impl Program for Args {
         }
         let memory = match self.kernel {
             // The fault alone: the operator (dense up to 4 096 unknowns, an ℋ-matrix
-            // beyond) and the body stations' columns.
-            Kernel::Okada => operator_bytes(m, m > 4096.0) + 9.0 * 3.0 * 8.0 * m,
+            // beyond), the table of distinct source–receiver pairs it is built from (48
+            // bytes each, if tabulated) and the body stations' columns.
+            Kernel::Okada => {
+                let (ns, nd) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
+                let pairs = (2.0 * ns - 1.0) * nd * nd;
+                let table = if pairs <= rsf::halfspace::TABLE_MAX_PAIRS as f64 {
+                    48.0 * pairs
+                } else {
+                    0.0
+                };
+                operator_bytes(m, m > 4096.0) + table + 9.0 * 3.0 * 8.0 * m
+            }
             Kernel::Fe => {
                 in_range(
                     "--domain-km",

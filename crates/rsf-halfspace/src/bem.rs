@@ -77,9 +77,12 @@ pub struct RectangularFault {
 /// `[τ_s, τ_d, σ_n]` for unit strike slip, then for unit dip slip.
 type Pair = [f64; 6];
 
-/// Largest number of source–receiver pairs [`RectangularFault::hmatrix`] tabulates
-/// (`2²² × 48` bytes ≈ 200 MB); beyond it each entry is evaluated when asked for.
-const TABLE_MAX: usize = 1 << 22;
+/// Largest number of distinct source–receiver pairs [`RectangularFault::hmatrix`]
+/// tabulates (`2²⁵ × 48` bytes ≈ 1.6 GB; BP5's fault at 250 m cells has 2.0e7 of them,
+/// 0.98 GB); beyond it each entry is evaluated when asked for (one DC3D evaluation per
+/// entry: at 250 m cells that set-up did not finish in 25 min, where the table's takes
+/// minutes; docs/seas-bp5.md). Until 2026-11-27 the bound was `2²²`.
+pub const TABLE_MAX_PAIRS: usize = 1 << 25;
 
 impl RectangularFault {
     /// The fault `rect` ([`Rectangle::new`]`(depth, dip_deg, [al1, al2], [aw1, aw2])`)
@@ -312,7 +315,9 @@ impl RectangularFault {
     }
 
     /// Number of distinct source–receiver pairs, `(2 n_strike − 1) n_dip²`.
-    fn table_len(&self) -> usize {
+    /// The number of distinct source–receiver pairs, `(2 n_strike − 1) n_dip²`: the
+    /// entries depend only on the two elements' strike offset and rows.
+    pub fn table_pairs(&self) -> usize {
         (2 * self.n_strike - 1) * self.n_dip * self.n_dip
     }
 
@@ -411,15 +416,16 @@ impl RectangularFault {
     /// `K` as an ℋ-matrix from its entries ([`HMatrix::from_entries`], adaptive cross
     /// approximation), on [`RectangularFault::points`], original numbering = the
     /// unknowns' order. The entries come from the table of distinct source–receiver pairs
-    /// when it has at most `2²²` of them (about 200 MB), else each is evaluated when asked
-    /// for; the same bits either way.
+    /// ([`table_pairs`](Self::table_pairs), 48 bytes each) when it has at most
+    /// [`TABLE_MAX_PAIRS`] of them, else each is evaluated when asked for; the same bits
+    /// either way.
     ///
     /// # Errors
     /// [`Error::HMatrix`] for invalid options or a failed compression (an entry that
     /// could not be evaluated is reported as a non-finite entry).
     pub fn hmatrix(&self, options: &HOptions) -> Result<HMatrix, Error> {
         let points = self.points();
-        if self.table_len() <= TABLE_MAX {
+        if self.table_pairs() <= TABLE_MAX_PAIRS {
             let table = self.table()?;
             let entry =
                 |i: usize, j: usize| -table[self.table_index(i / 2, j / 2)][3 * (j % 2) + i % 2];

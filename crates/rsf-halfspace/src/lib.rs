@@ -53,7 +53,7 @@ pub mod okada;
 mod stress;
 pub mod two_d;
 
-pub use bem::{Component, RectangularFault};
+pub use bem::{Component, RectangularFault, TABLE_MAX_PAIRS};
 pub use error::Error;
 pub use okada::{Deformation, Okada, Rectangle};
 pub use stress::{traction, Medium};

@@ -530,13 +530,18 @@ impl HalfSpaceOperator {
             dim: 2 * nodes.len(),
             relative_error,
             error_samples,
-            // The dense K, or the table of distinct source–receiver pairs (48 bytes each,
-            // at most 2²² of them) the ℋ-matrix is compressed from.
+            // The dense K, or the table of distinct source–receiver pairs (48 bytes each)
+            // the ℋ-matrix is compressed from, if it has one (at most
+            // `rsf_halfspace::TABLE_MAX_PAIRS` pairs).
             setup_bytes: if blocks.1 == 0 && kind == FaultKernel::Dense {
                 8 * stored
             } else {
                 let pairs = (2 * n_strike - 1).saturating_mul(n_dip.saturating_mul(n_dip));
-                48 * pairs.min(1 << 22)
+                if pairs <= rsf_halfspace::TABLE_MAX_PAIRS {
+                    48 * pairs
+                } else {
+                    0
+                }
             },
             stored_entries: stored,
             dense_blocks: blocks.0,
