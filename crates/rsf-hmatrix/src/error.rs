@@ -64,6 +64,18 @@ pub enum Error {
     /// The input vector of the product has a non-finite entry.
     #[error("x[{0}] is not finite")]
     NonFiniteInput(usize),
+    /// The ℋ-matrix holds only the rows of one part
+    /// ([`HMatrix::from_entries_part`](crate::HMatrix::from_entries_part)): the product of
+    /// another part, or of every row, was asked for.
+    #[error(
+        "this ℋ-matrix holds only the rows of part {part} of {parts} (HMatrix::from_entries_part)"
+    )]
+    PartOnly {
+        /// The part held.
+        part: usize,
+        /// The number of parts of its split.
+        parts: usize,
+    },
     /// The singular value decomposition of a block did not converge.
     #[error("the SVD of a {rows}×{cols} block did not converge")]
     Svd {

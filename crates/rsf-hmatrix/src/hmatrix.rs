@@ -13,9 +13,11 @@ use crate::cluster::ClusterTree;
 use crate::columns;
 use crate::error::{ColumnsError, Error};
 use crate::lowrank::{recompress, svd_truncate, LowRank};
-use crate::options::{ColumnReport, ErrorMeasure, HOptions, SetupReport};
+use crate::options::{ColumnReport, ErrorMeasure, HOptions, RowPart, SetupReport};
 use crate::points::Points;
-use crate::product::{run_part, run_parts, Block, Data, Operands, PartRows, Segment, Split};
+use crate::product::{
+    run_part, run_parts, segment_bounds, Block, Data, Operands, PartRows, Segment, Split,
+};
 use crate::rng::SplitMix64;
 
 /// A hierarchical (ℋ-) matrix approximation `S_H` of a square matrix `S` whose rows and
@@ -60,7 +62,15 @@ pub struct HMatrix {
     /// Scratch: `S_H x` in cluster order, from the last product.
     zp: Vec<f64>,
     report: SetupReport,
+    /// `(part, parts)` if only the blocks of one part's rows are held
+    /// ([`from_entries_part`](Self::from_entries_part)).
+    held: Option<(usize, usize)>,
 }
+
+/// The rank an admissible block is taken to have in the work estimate of a split made
+/// before the blocks are compressed ([`HMatrix::from_entries_part`]): BP5's half-space
+/// operator's ranks at ε = 1e-6 lie between a few and 47 (docs/seas-bp5.md).
+const ESTIMATED_RANK: usize = 16;
 
 impl HMatrix {
     /// Compresses the dense `n × n` matrix `s` whose row and column `i` belong to point `i`:
@@ -152,13 +162,62 @@ impl HMatrix {
     /// components); [`Error::NonFiniteEntry`] if `entry` returns NaN or infinity for an
     /// entry it is asked for (entries ACA never evaluates are not seen);
     /// [`Error::Svd`] if an SVD does not converge.
-    pub fn from_entries<F>(mut entry: F, points: &Points, options: &HOptions) -> Result<Self, Error>
+    pub fn from_entries<F>(entry: F, points: &Points, options: &HOptions) -> Result<Self, Error>
+    where
+        F: FnMut(usize, usize) -> f64,
+    {
+        Self::from_entries_in(entry, points, options, None)
+    }
+
+    /// As [`from_entries`](Self::from_entries), but only the blocks that reach the rows of
+    /// part `row_part.part` of a split of the rows into `row_part.parts` parts — the share
+    /// of one of `parts` processes, each building and holding its own rows (docs/scaling.md,
+    /// "The fault ODE on MPI ranks"). The split is made before anything is compressed,
+    /// from the block tree alone (whole leaf clusters; each row's work its near-field
+    /// columns plus an estimated rank per admissible block), so every process makes the
+    /// same split; it is the split of this matrix from then on ([`split_rows`](Self::split_rows)
+    /// returns it whatever it is asked). Every block held is the block
+    /// [`from_entries`](Self::from_entries) makes (the cross approximation of a block
+    /// depends on its entries and its position only), so the part's rows of the product
+    /// ([`apply_part`](Self::apply_part)) have the bits of the whole matrix's. The
+    /// [report](Self::report) counts the blocks held (`part: Some((part, parts))`) and
+    /// estimates the error on the samples that fall in the part's rows. Memory and
+    /// set-up: about `1/parts` of the whole.
+    ///
+    /// # Errors
+    /// As [`from_entries`](Self::from_entries); [`Error::Option`] named `part` for
+    /// `parts == 0`, `part ≥ parts`, or a part beyond those made (fewer leaf clusters
+    /// than parts).
+    pub fn from_entries_part<F>(
+        entry: F,
+        points: &Points,
+        options: &HOptions,
+        row_part: RowPart,
+    ) -> Result<Self, Error>
+    where
+        F: FnMut(usize, usize) -> f64,
+    {
+        Self::from_entries_in(entry, points, options, Some(row_part))
+    }
+
+    /// [`from_entries`](Self::from_entries) of every block, or of those of one part's rows.
+    fn from_entries_in<F>(
+        mut entry: F,
+        points: &Points,
+        options: &HOptions,
+        row_part: Option<RowPart>,
+    ) -> Result<Self, Error>
     where
         F: FnMut(usize, usize) -> f64,
     {
         let n = points.len();
         options.validate_for(n)?;
         let tree = ClusterTree::new(points, options.leaf_size);
+        let shapes = partition(&tree, options.eta);
+        let held = match row_part {
+            Some(rp) => Some((rp, part_bounds(&tree, &shapes, rp)?)),
+            None => None,
+        };
         let perm = tree.perm.clone();
         let c = options.components;
         let mut checked = |i: usize, j: usize| -> Result<f64, Error> {
@@ -170,7 +229,12 @@ impl HMatrix {
             }
         };
         let mut blocks = Vec::new();
-        for shape in partition(&tree, options.eta) {
+        for shape in shapes {
+            if let Some((_, (_, rows))) = &held {
+                if !(shape.row < rows.end && rows.start < shape.row + shape.nrows) {
+                    continue;
+                }
+            }
             let mut local = |i: usize, j: usize| checked(perm[shape.row + i], perm[shape.col + j]);
             let lr = if shape.admissible {
                 let row_comp: Vec<usize> =
@@ -215,14 +279,28 @@ impl HMatrix {
             });
         }
         let mut h = Self::assemble(tree, blocks, 0.0, ErrorMeasure::Exact);
-        // Error estimate on a sample of entries.
+        let rows = match &held {
+            Some((rp, (bounds, rows))) => {
+                h.split = Split::from_bounds(bounds, rp.parts, &h.segments, &h.blocks, h.t_len);
+                h.held = Some((rp.part, bounds.len() - 1));
+                h.report.part = h.held;
+                rows.clone()
+            }
+            None => 0..n,
+        };
+        // Error estimate on a sample of entries (of the rows held).
         let total = n * n;
         let (mut e2, mut s2) = (0.0, 0.0);
         let mut iperm = vec![0; n];
         for (p, &i) in h.perm.iter().enumerate() {
             iperm[i] = p;
         }
+        let mut used = 0;
         let mut add = |i: usize, j: usize| -> Result<(), Error> {
+            if !rows.contains(&iperm[i]) {
+                return Ok(());
+            }
+            used += 1;
             let exact = checked(i, j)?;
             let approx = h.entry_in_cluster_order(iperm[i], iperm[j]);
             e2 += (exact - approx).powi(2);
@@ -242,9 +320,7 @@ impl HMatrix {
                 let k = rng.below(total as u64) as usize;
                 add(k % n, k / n)?;
             }
-            ErrorMeasure::Sampled {
-                samples: options.error_samples,
-            }
+            ErrorMeasure::Sampled { samples: used }
         };
         h.report.relative_error = if s2 > 0.0 { (e2 / s2).sqrt() } else { 0.0 };
         h.report.error_measure = measure;
@@ -385,6 +461,7 @@ impl HMatrix {
             mean_rank: 0.0,
             leaf_clusters: leaves.len(),
             columns: None,
+            part: None,
         };
         let mut rank_sum = 0;
         for b in &mut blocks {
@@ -416,6 +493,7 @@ impl HMatrix {
             xp: vec![0.0; n],
             zp: vec![0.0; n],
             report,
+            held: None,
         }
     }
 
@@ -472,6 +550,7 @@ impl HMatrix {
                 expected: "finite",
             });
         }
+        self.whole()?;
         // Before any new split: a non-finite `x` (a trial stage that blew up) leaves the
         // split of a caller's parts as it was (`apply_part` shares it out to processes).
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
@@ -500,6 +579,10 @@ impl HMatrix {
     /// cover `0..dim` in order. Kept until the next call (or an [`apply_add`](Self::apply_add)
     /// with another thread count). Allocates.
     pub fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Vec<Range<usize>> {
+        if self.held.is_some() {
+            // Built for one part: its split is the only one.
+            return self.split.rows().collect();
+        }
         let work_per_row = if work_per_row.is_finite() {
             work_per_row.max(0.0)
         } else {
@@ -539,6 +622,7 @@ impl HMatrix {
                 expected: self.n,
             });
         }
+        self.whole()?;
         if states.len() != self.split.len() {
             return Err(Error::VectorLength {
                 name: "states",
@@ -593,6 +677,11 @@ impl HMatrix {
                 expected: self.split.len(),
             });
         }
+        if let Some((held, parts)) = self.held {
+            if part != held {
+                return Err(Error::PartOnly { part: held, parts });
+            }
+        }
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
             return Err(Error::NonFiniteInput(i));
         }
@@ -639,8 +728,29 @@ impl HMatrix {
         &self.perm
     }
 
+    /// `(part, parts)` if the matrix holds only the rows of one part
+    /// ([`from_entries_part`](Self::from_entries_part)), else `None`.
+    pub fn held_part(&self) -> Option<(usize, usize)> {
+        self.held
+    }
+
+    /// [`Error::PartOnly`] if only one part's rows are held.
+    fn whole(&self) -> Result<(), Error> {
+        match self.held {
+            Some((part, parts)) => Err(Error::PartOnly { part, parts }),
+            None => Ok(()),
+        }
+    }
+
     /// `S_H` as a dense matrix (original numbering), for checks; `n²` memory.
+    ///
+    /// # Panics
+    /// If the matrix holds only one part's rows ([`from_entries_part`](Self::from_entries_part)).
     pub fn to_dense(&self) -> Mat<f64> {
+        assert!(
+            self.held.is_none(),
+            "to_dense of an ℋ-matrix holding one part's rows"
+        );
         let mut iperm = vec![0; self.n];
         for (p, &i) in self.perm.iter().enumerate() {
             iperm[i] = p;
@@ -675,4 +785,55 @@ fn low_rank_error2(b: MatRef<'_, f64>, lr: &LowRank) -> f64 {
         }
     }
     e
+}
+
+/// The split of the leaf clusters of `tree` into `row_part.parts` parts of about equal
+/// estimated work (each row: its near-field columns plus [`ESTIMATED_RANK`] per
+/// admissible block, at most the block's size) and the rows (cluster order) of part
+/// `row_part.part`.
+///
+/// # Errors
+/// [`Error::Option`] named `part` for `parts == 0`, `part ≥ parts` or a part beyond those
+/// made.
+fn part_bounds(
+    tree: &ClusterTree,
+    shapes: &[crate::block::BlockShape],
+    row_part: RowPart,
+) -> Result<(Vec<usize>, Range<usize>), Error> {
+    let refuse = |expected| Error::Option {
+        name: "part",
+        value: row_part.part as f64,
+        expected,
+    };
+    if row_part.parts == 0 || row_part.part >= row_part.parts {
+        return Err(refuse("a part < parts, parts ≥ 1"));
+    }
+    let leaves: Vec<(usize, usize)> = tree
+        .leaves()
+        .iter()
+        .map(|&l| (tree.nodes[l].start, tree.nodes[l].end))
+        .collect();
+    let mut work = vec![0.0; leaves.len()];
+    for b in shapes {
+        let per_row = if b.admissible {
+            ESTIMATED_RANK.min(b.nrows).min(b.ncols)
+        } else {
+            b.ncols
+        };
+        let first = leaves.partition_point(|&(start, _)| start < b.row);
+        for (k, &(start, end)) in leaves.iter().enumerate().skip(first) {
+            if start >= b.row + b.nrows {
+                break;
+            }
+            work[k] += ((end - start) * per_row) as f64;
+        }
+    }
+    let bounds = segment_bounds(&work, row_part.parts);
+    if row_part.part + 1 >= bounds.len() {
+        return Err(refuse(
+            "a part of those made: fewer leaf clusters than parts",
+        ));
+    }
+    let rows = leaves[bounds[row_part.part]].0..leaves[bounds[row_part.part + 1] - 1].1;
+    Ok((bounds, rows))
 }

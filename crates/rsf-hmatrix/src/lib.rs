@@ -41,6 +41,6 @@ mod rng;
 
 pub use error::{ColumnsError, Error};
 pub use hmatrix::HMatrix;
-pub use options::{ColumnReport, ErrorMeasure, HOptions, SetupReport};
+pub use options::{ColumnReport, ErrorMeasure, HOptions, RowPart, SetupReport};
 pub use points::Points;
 pub use product::PartRows;

@@ -183,6 +183,11 @@ pub struct SetupReport {
     pub mean_rank: f64,
     /// Number of leaves of the cluster tree.
     pub leaf_clusters: usize,
+    /// The rows held, `(part, parts)`, of an ℋ-matrix built for one part
+    /// ([`HMatrix::from_entries_part`](crate::HMatrix::from_entries_part)): then the
+    /// stored entries, blocks and ranks are those of the blocks that reach the part's
+    /// rows, and the error is sampled on its rows. `None`: every row.
+    pub part: Option<(usize, usize)>,
     /// The set-up's cost from a column oracle
     /// ([`HMatrix::from_symmetric_columns`](crate::HMatrix::from_symmetric_columns));
     /// `None` for the other constructors.
@@ -224,4 +229,15 @@ impl SetupReport {
             self.stored_entries as f64 / self.dense_entries as f64
         }
     }
+}
+
+/// One part of the rows of an ℋ-matrix split into `parts` parts of about equal work
+/// ([`HMatrix::from_entries_part`](crate::HMatrix::from_entries_part)): the share of one
+/// process.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RowPart {
+    /// The number of parts (≥ 1; fewer are made if there are fewer leaf clusters).
+    pub parts: usize,
+    /// This part (`< parts`).
+    pub part: usize,
 }

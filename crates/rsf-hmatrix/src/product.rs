@@ -75,7 +75,6 @@ impl Split {
         blocks: &[Block],
         t_len: usize,
     ) -> Self {
-        let count = parts_requested.clamp(1, segments.len().max(1));
         let work: Vec<f64> = segments
             .iter()
             .map(|s| {
@@ -90,17 +89,19 @@ impl Split {
                 (s.len * sums) as f64 + work_per_row * s.len as f64
             })
             .collect();
-        let total: f64 = work.iter().sum();
-        let mut bounds = vec![0];
-        let mut acc = 0.0;
-        for (i, w) in work.iter().enumerate() {
-            acc += w;
-            let next = bounds.len();
-            if next < count && acc >= total * next as f64 / count as f64 && i + 1 < segments.len() {
-                bounds.push(i + 1);
-            }
-        }
-        bounds.push(segments.len());
+        let bounds = segment_bounds(&work, parts_requested);
+        Self::from_bounds(&bounds, parts_requested, segments, blocks, t_len)
+    }
+
+    /// The parts `bounds[p]..bounds[p + 1]` of the segments (as [`segment_bounds`] gives
+    /// them).
+    pub fn from_bounds(
+        bounds: &[usize],
+        parts_requested: usize,
+        segments: &[Segment],
+        blocks: &[Block],
+        t_len: usize,
+    ) -> Self {
         let parts = bounds
             .windows(2)
             .map(|w| {
@@ -155,6 +156,25 @@ impl Split {
     pub fn rows(&self) -> impl Iterator<Item = Range<usize>> + '_ {
         self.parts.iter().map(|p| p.rows.clone())
     }
+}
+
+/// Bounds `0 = b₀ < b₁ < … = work.len()` of at most `parts_requested` (at least 1, at
+/// most one per segment) consecutive groups of segments of about equal total `work`: a
+/// group ends once the work so far reaches its share of the total.
+pub(crate) fn segment_bounds(work: &[f64], parts_requested: usize) -> Vec<usize> {
+    let count = parts_requested.clamp(1, work.len().max(1));
+    let total: f64 = work.iter().sum();
+    let mut bounds = vec![0];
+    let mut acc = 0.0;
+    for (i, w) in work.iter().enumerate() {
+        acc += w;
+        let next = bounds.len();
+        if next < count && acc >= total * next as f64 / count as f64 && i + 1 < work.len() {
+            bounds.push(i + 1);
+        }
+    }
+    bounds.push(work.len());
+    bounds
 }
 
 /// What a part's product gives to the caller's function: its rows of `S_H x`.

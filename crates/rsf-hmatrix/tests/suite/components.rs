@@ -4,7 +4,7 @@
 //! block sees only the components of that row and column.
 
 use faer::Mat;
-use rsf_hmatrix::{HMatrix, HOptions, Points};
+use rsf_hmatrix::{Error, HMatrix, HOptions, Points, RowPart};
 
 /// Points of a slightly sheared `side × side` grid of spacing 1.
 fn grid(side: usize) -> Vec<[f64; 2]> {
@@ -223,6 +223,91 @@ fn a_points_components_stay_in_one_part_of_every_row_split() {
             }
         }
     }
+}
+
+/// An ℋ-matrix built for one part of its rows (`from_entries_part`, the share of one
+/// process) holds only that part's blocks, and its rows of the product have the bits of
+/// the whole matrix's product: for 1 to 5 parts, with 2 components per point, the parts'
+/// rows cover every row once, each row equals `apply_add`'s of the whole matrix to the
+/// bit, each part stores less than the whole (more than 1/parts of it in total: blocks
+/// that reach two parts are held by both), every point's components are in one part, and
+/// a part refuses the whole product and another part's.
+#[test]
+fn a_matrix_built_for_one_part_has_the_bits_of_the_whole_on_its_rows() {
+    let xy = grid(23);
+    let c = 2;
+    let points = unknown_points(&xy, c);
+    let options = HOptions {
+        leaf_size: 16,
+        components: c,
+        ..HOptions::with_epsilon(1e-6)
+    };
+    let kernel = |i: usize, j: usize| decoupled_or_coupled(&xy, c, i, j);
+    let mut whole = HMatrix::from_entries(kernel, &points, &options).unwrap();
+    let n = whole.dim();
+    let x: Vec<f64> = (0..n)
+        .map(|i| ((i * 37 % 101) as f64 - 50.0) / 7.0)
+        .collect();
+    let mut y = vec![0.0; n];
+    whole.apply_add(&x, &mut y, 1.0, faer::Par::Seq).unwrap();
+    for parts in 1..=5 {
+        let mut covered = vec![0usize; n];
+        let mut stored = 0;
+        for part in 0..parts {
+            let row_part = RowPart { parts, part };
+            let mut h = HMatrix::from_entries_part(kernel, &points, &options, row_part).unwrap();
+            assert_eq!(h.held_part(), Some((part, parts)));
+            assert_eq!(h.report().part, Some((part, parts)));
+            stored += h.stored_entries();
+            if parts > 1 {
+                assert!(h.stored_entries() < whole.stored_entries());
+            }
+            let perm = h.permutation().to_vec();
+            let rows = h.apply_part(&x, part, |p| {
+                for (q, z) in p.rows.clone().zip(p.z) {
+                    let i = perm[q];
+                    covered[i] += 1;
+                    assert_eq!(
+                        z.to_bits(),
+                        y[i].to_bits(),
+                        "{parts} parts, part {part}: row {i}"
+                    );
+                }
+                p.rows.clone()
+            });
+            let rows = rows.unwrap();
+            // A point's components in one part.
+            for q in rows.clone() {
+                let i = perm[q];
+                let partner = perm.iter().position(|&k| k == i ^ 1).unwrap();
+                assert!(rows.contains(&partner), "point {} split", i / c);
+            }
+            let mut r = vec![0.0; n];
+            assert!(matches!(
+                h.apply_add(&x, &mut r, 1.0, faer::Par::Seq),
+                Err(Error::PartOnly { .. })
+            ));
+            if parts > 1 {
+                let other = (part + 1) % parts;
+                assert!(matches!(
+                    h.apply_part(&x, other, |_| ()),
+                    Err(Error::PartOnly { .. })
+                ));
+            }
+            // The split is the part's whatever is asked.
+            assert_eq!(h.split_rows(7, 1e3).len(), parts);
+        }
+        assert!(
+            covered.iter().all(|&k| k == 1),
+            "{parts} parts: rows covered once"
+        );
+        assert!(stored >= whole.stored_entries());
+    }
+    // A part beyond the parts.
+    assert!(matches!(
+        HMatrix::from_entries_part(kernel, &points, &options, RowPart { parts: 2, part: 2 }),
+        Err(Error::Option { name: "part", .. })
+    ));
 }
 
 /// `decoupled` for two components, a coupled smooth kernel for three.
