@@ -306,11 +306,13 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
                     machine()
                 );
             }
-            let (ode, columns) = bp5.fault_ode_with_stations(
+            // On ranks, each builds and holds its rows of the operator.
+            let (ode, columns) = bp5.fault_ode_on_ranks(
                 model,
                 options,
                 &half_space,
                 &SeasBp5::body_station_points(),
+                processes.map(|p| p.group()),
             )?;
             let output = if root {
                 Some(bp5.output(&args.out, args.dx, columns, setup)?)

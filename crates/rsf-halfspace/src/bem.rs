@@ -7,7 +7,7 @@ use crate::okada::{Okada, Rectangle};
 use crate::stress::{traction, Medium};
 use faer::Mat;
 use rayon::prelude::*;
-use rsf_hmatrix::{HMatrix, HOptions, Points};
+use rsf_hmatrix::{HMatrix, HOptions, Points, RowPart};
 
 /// A slip (or traction) component on the fault.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -424,15 +424,42 @@ impl RectangularFault {
     /// [`Error::HMatrix`] for invalid options or a failed compression (an entry that
     /// could not be evaluated is reported as a non-finite entry).
     pub fn hmatrix(&self, options: &HOptions) -> Result<HMatrix, Error> {
+        self.hmatrix_rows(options, None)
+    }
+
+    /// As [`hmatrix`](Self::hmatrix), only the rows of one part
+    /// ([`HMatrix::from_entries_part`]: the share of one of `row_part.parts` processes,
+    /// its rows' bits those of the whole matrix). The table of distinct pairs is the
+    /// whole fault's (it is freed once the blocks are built).
+    ///
+    /// # Errors
+    /// As [`hmatrix`](Self::hmatrix); [`Error::HMatrix`] for a part that is not one.
+    pub fn hmatrix_part(&self, options: &HOptions, row_part: RowPart) -> Result<HMatrix, Error> {
+        self.hmatrix_rows(options, Some(row_part))
+    }
+
+    /// [`hmatrix`](Self::hmatrix) of every row, or of one part's.
+    fn hmatrix_rows(&self, options: &HOptions, part: Option<RowPart>) -> Result<HMatrix, Error> {
+        fn build(
+            entry: impl Fn(usize, usize) -> f64,
+            points: &Points,
+            options: &HOptions,
+            part: Option<RowPart>,
+        ) -> Result<HMatrix, rsf_hmatrix::Error> {
+            match part {
+                None => HMatrix::from_entries(entry, points, options),
+                Some(p) => HMatrix::from_entries_part(entry, points, options, p),
+            }
+        }
         let points = self.points();
         if self.table_pairs() <= TABLE_MAX_PAIRS {
             let table = self.table()?;
             let entry =
                 |i: usize, j: usize| -table[self.table_index(i / 2, j / 2)][3 * (j % 2) + i % 2];
-            Ok(HMatrix::from_entries(entry, &points, options)?)
+            Ok(build(entry, &points, options, part)?)
         } else {
             let entry = |i: usize, j: usize| self.entry(i, j).unwrap_or(f64::NAN);
-            Ok(HMatrix::from_entries(entry, &points, options)?)
+            Ok(build(entry, &points, options, part)?)
         }
     }
 }

@@ -346,9 +346,31 @@ impl SeasBp5 {
         half_space: &HalfSpaceOptions,
         points: &[[f64; 3]],
     ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
+        self.fault_ode_on_ranks(model, options, half_space, points, None)
+    }
+
+    /// As [`fault_ode_with_stations`](Self::fault_ode_with_stations), the operator's rows
+    /// shared out to `ranks` if given ([`HalfSpaceOperator::fault_alone_on_ranks`]: each
+    /// rank builds and holds its part of an ℋ-matrix operator; collective — every rank
+    /// calls this with the same arguments). Share the fault ODE's evaluations with the
+    /// same ranks ([`rsf::FaultOde::share_evaluations`]).
+    ///
+    /// # Errors
+    /// As [`fault_ode_with_stations`](Self::fault_ode_with_stations).
+    pub fn fault_ode_on_ranks(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+        half_space: &HalfSpaceOptions,
+        points: &[[f64; 3]],
+        ranks: Option<Box<dyn rsf::ranks::RankGroup>>,
+    ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
         self.validate()?;
-        let operator = HalfSpaceOperator::fault_alone(&model, half_space)
-            .map_err(|e| invalid("half_space", e.to_string()))?;
+        let operator = match ranks {
+            Some(group) => HalfSpaceOperator::fault_alone_on_ranks(&model, half_space, group),
+            None => HalfSpaceOperator::fault_alone(&model, half_space),
+        }
+        .map_err(|e| invalid("half_space", e.to_string()))?;
         let columns = operator.displacement_columns(points)?;
         let cells = model.vertices.len();
         let plate_velocity = (0..cells).flat_map(|_| [self.v_p, 0.0]).collect();

@@ -114,6 +114,7 @@ pub(crate) fn condensed_operator<const D: usize, const C: usize>(
                 low_rank_blocks: r.low_rank_blocks,
                 max_rank: r.max_rank,
                 setup_seconds: clock.elapsed().as_secs_f64(),
+                part: None,
             };
             (Kernel::Hierarchical(Box::new(h)), report)
         }
@@ -373,6 +374,7 @@ pub(crate) fn compress<const D: usize, const C: usize>(
                 low_rank_blocks: r.low_rank_blocks,
                 max_rank: r.max_rank,
                 setup_seconds: clock.elapsed().as_secs_f64(),
+                part: None,
             };
             Ok((Kernel::Hierarchical(Box::new(h)), report))
         }

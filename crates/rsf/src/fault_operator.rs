@@ -247,6 +247,11 @@ pub struct KernelReport {
     pub max_rank: usize,
     /// Time to compress `S` (s; 0 for the dense kernel), after the condensation.
     pub setup_seconds: f64,
+    /// `(part, parts)` for an operator that holds only one part of its rows (one rank's
+    /// share, [`HalfSpaceOperator::fault_alone_on_ranks`](crate::halfspace_operator::HalfSpaceOperator::fault_alone_on_ranks)):
+    /// the stored entries, blocks, ranks and error are then that part's. `None`: every
+    /// row.
+    pub part: Option<(usize, usize)>,
 }
 
 impl KernelReport {
@@ -263,6 +268,7 @@ impl KernelReport {
             low_rank_blocks: 0,
             max_rank: 0,
             setup_seconds: 0.0,
+            part: None,
         }
     }
 
@@ -296,7 +302,7 @@ impl std::fmt::Display for KernelReport {
                 f,
                 "hierarchical kernel (ε = {epsilon:e}, leaf size {leaf_size}): m = {}, \
                  ‖S − S_H‖_F/‖S‖_F = {:.2e}, {} f64 ({:.1} MB, {:.1}× smaller than dense), \
-                 blocks {} dense + {} low-rank, max rank {}, compressed in {:.2} s{}",
+                 blocks {} dense + {} low-rank, max rank {}, compressed in {:.2} s{}{}",
                 self.dim,
                 self.relative_error,
                 self.stored_entries,
@@ -314,6 +320,10 @@ impl std::fmt::Display for KernelReport {
                     )
                 } else {
                     String::new()
+                },
+                match self.part {
+                    Some((p, n)) => format!(" — this rank's rows only (part {p} of {n})"),
+                    None => String::new(),
                 }
             ),
         }

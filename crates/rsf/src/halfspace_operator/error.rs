@@ -143,4 +143,14 @@ pub enum HalfSpaceOperatorError {
     /// The half-space kernels refused (the rectangle, the ℋ-matrix, an entry).
     #[error("half-space kernel: {0}")]
     Kernel(#[from] rsf_halfspace::Error),
+    /// The operator's rows could not be shared out to the ranks
+    /// ([`HalfSpaceOperator::fault_alone_on_ranks`](super::HalfSpaceOperator::fault_alone_on_ranks)):
+    /// fewer parts than ranks, or a part that cuts an element.
+    #[error("the half-space operator on {ranks} ranks: {reason}")]
+    Ranks {
+        /// The number of ranks.
+        ranks: usize,
+        /// Why.
+        reason: String,
+    },
 }

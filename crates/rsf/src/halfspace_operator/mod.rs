@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use faer::Mat;
 use rsf_halfspace::{Medium, Rectangle, RectangularFault};
-use rsf_hmatrix::HOptions;
+use rsf_hmatrix::{HOptions, RowPart};
 use rsf_linalg::Parallelism;
 
 use crate::error::Result;
@@ -19,6 +19,7 @@ use crate::fault_operator::{
     FaultKernel, FaultOperator, KernelReport, RowSplit, MAX_KERNEL_EPSILON,
 };
 use crate::model::Model;
+use crate::ranks::RankGroup;
 
 mod error;
 mod parts;
@@ -194,6 +195,9 @@ pub struct HalfSpaceOperator {
     report: KernelReport,
     /// The split of [`FaultOperator::split_rows`], if any.
     rows: Option<parts::ElementRows>,
+    /// The ranks that hold the rows, one part each, if the kernel holds only this rank's
+    /// ([`fault_alone_on_ranks`](Self::fault_alone_on_ranks)).
+    on_ranks: Option<parts::OnRanks>,
 }
 
 impl std::fmt::Debug for HalfSpaceOperator {
@@ -247,7 +251,7 @@ impl HalfSpaceOperator {
             let col = |c: usize| [r[0][c], r[1][c], r[2][c]];
             nodes.push((model.vertices[p], col(0), col(1), col(2).map(|x| -x)));
         }
-        Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock)
+        Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock, None)
     }
 
     /// The operator of a fault alone ([`Model::fault_only`]: one vertex per cell, no
@@ -266,6 +270,42 @@ impl HalfSpaceOperator {
     pub fn fault_alone(
         model: &Model<3, 3>,
         options: &HalfSpaceOptions,
+    ) -> std::result::Result<Self, HalfSpaceOperatorError> {
+        Self::fault_alone_part(model, options, None)
+    }
+
+    /// [`fault_alone`](Self::fault_alone) shared by `ranks`, each holding only its part of
+    /// the rows (docs/scaling.md, "The fault ODE on MPI ranks"): with an ℋ-matrix kernel
+    /// (more than [`HalfSpaceOptions::dense_max`] unknowns) every rank builds and keeps
+    /// only the blocks of its part's rows ([`rsf_hmatrix::HMatrix::from_entries_part`]:
+    /// memory and set-up about `1/ranks` of the whole, the table of distinct pairs
+    /// excepted), and the whole product
+    /// ([`subtract_product`](FaultOperator::subtract_product)) is each rank's rows and one
+    /// all-gather — collective: every rank calls it with the same `x`, as every rank of a
+    /// shared fault ODE does. Every row has the bits of [`fault_alone`](Self::fault_alone)'s
+    /// product. [`split_rows`](FaultOperator::split_rows) gives the parts the ranks hold
+    /// (and refuses another number of parts), so that
+    /// [`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations) with the same
+    /// ranks uses them. A dense kernel (or one rank) is held whole, as by
+    /// [`fault_alone`](Self::fault_alone). The [report](FaultOperator::report) is this
+    /// rank's part's ([`KernelReport::part`]).
+    ///
+    /// # Errors
+    /// As [`fault_alone`](Self::fault_alone); [`HalfSpaceOperatorError::Ranks`] if the
+    /// rows give fewer parts than ranks.
+    pub fn fault_alone_on_ranks(
+        model: &Model<3, 3>,
+        options: &HalfSpaceOptions,
+        ranks: Box<dyn RankGroup>,
+    ) -> std::result::Result<Self, HalfSpaceOperatorError> {
+        Self::fault_alone_part(model, options, Some(ranks))
+    }
+
+    /// [`fault_alone`](Self::fault_alone), whole or on ranks.
+    fn fault_alone_part(
+        model: &Model<3, 3>,
+        options: &HalfSpaceOptions,
+        ranks: Option<Box<dyn RankGroup>>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
         check_options(options)?;
@@ -300,7 +340,16 @@ impl HalfSpaceOperator {
                 axis(normal),
             ));
         }
-        Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock)
+        let ranks = ranks.filter(|r| r.size() > 1 && 2 * nodes.len() > options.dense_max);
+        let row_part = ranks.as_ref().map(|r| RowPart {
+            parts: r.size(),
+            part: r.rank(),
+        });
+        let mut op = Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock, row_part)?;
+        if let Some(group) = ranks {
+            op.share_rows(group)?;
+        }
+        Ok(op)
     }
 
     /// The operator on `nodes` (position, `t₁`, `t₂`, normal into the plus side) of the
@@ -311,6 +360,7 @@ impl HalfSpaceOperator {
         weights: &[f64],
         options: &HalfSpaceOptions,
         clock: Instant,
+        row_part: Option<RowPart>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
         let fb_nodes = vertices;
@@ -503,11 +553,15 @@ impl HalfSpaceOperator {
                     (1, 0, 0),
                 )
             } else {
-                let h = bem.hmatrix(&HOptions {
+                let h_options = HOptions {
                     epsilon: options.epsilon,
                     leaf_size: options.leaf_size,
                     ..HOptions::default()
-                })?;
+                };
+                let h = match row_part {
+                    Some(p) => bem.hmatrix_part(&h_options, p)?,
+                    None => bem.hmatrix(&h_options)?,
+                };
                 let r = h.report().clone();
                 let samples = match r.error_measure {
                     rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
@@ -548,6 +602,10 @@ impl HalfSpaceOperator {
             low_rank_blocks: blocks.1,
             max_rank: blocks.2,
             setup_seconds: clock.elapsed().as_secs_f64(),
+            part: match &kernel {
+                Kernel::Hierarchical(h) => h.held_part(),
+                Kernel::Dense(_) => None,
+            },
         };
         Ok(Self {
             kernel,
@@ -560,6 +618,7 @@ impl HalfSpaceOperator {
             y: vec![0.0; len],
             report,
             rows: None,
+            on_ranks: None,
         })
     }
 
@@ -687,6 +746,9 @@ impl FaultOperator for HalfSpaceOperator {
     }
 
     fn subtract_product(&mut self, x: &[f64], r: &mut [f64], par: Parallelism) -> Result<()> {
+        if self.on_ranks.is_some() {
+            return self.subtract_product_on_ranks(x, r);
+        }
         let mut s = std::mem::take(&mut self.s);
         self.scatter(x, &mut s);
         self.y.fill(0.0);
@@ -710,6 +772,9 @@ impl FaultOperator for HalfSpaceOperator {
     /// `K`'s rows split by its kernel, by element (docs/scaling.md, "The fault ODE on MPI
     /// ranks"; `parts.rs`).
     fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {
+        if let Some(on) = &self.on_ranks {
+            return on.split_for(parts);
+        }
         self.split_element_rows(parts, work_per_row)
     }
 

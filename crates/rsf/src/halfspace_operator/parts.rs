@@ -2,10 +2,44 @@
 //! evaluations ([`FaultOperator::split_rows`](crate::fault_operator::FaultOperator::split_rows)):
 //! by element, each part's nodes those of its elements of `K`.
 
-use super::HalfSpaceOperator;
-use crate::error::Result;
+use super::{HalfSpaceOperator, HalfSpaceOperatorError};
+use crate::error::{invalid, Result};
 use crate::fault_kernel::{no_split, KernelRows};
 use crate::fault_operator::{FaultOperator, RowSplit};
+use crate::ranks::RankGroup;
+
+/// The ranks of an operator that holds only this rank's part of the rows
+/// ([`HalfSpaceOperator::fault_alone_on_ranks`]): the group, the split (one part per
+/// rank) and the buffers of the whole product's all-gather.
+pub(super) struct OnRanks {
+    group: Box<dyn RankGroup>,
+    split: RowSplit,
+    /// Values per rank (its part's rows).
+    counts: Vec<usize>,
+    /// This rank's rows of `r`, then of `r − S x`.
+    own: Vec<f64>,
+    /// Every rank's, in the split's order.
+    all: Vec<f64>,
+}
+
+impl OnRanks {
+    /// The split the ranks hold, for `parts` parts (one per rank).
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidParameter`] named `ranks` for another number of parts.
+    pub(super) fn split_for(&self, parts: usize) -> Result<RowSplit> {
+        if parts != self.split.ranges.len() {
+            return Err(invalid(
+                "ranks",
+                format!(
+                    "the half-space operator holds the rows of {} ranks, not {parts}",
+                    self.split.ranges.len()
+                ),
+            ));
+        }
+        Ok(self.split.clone())
+    }
+}
 
 /// The split of a [`HalfSpaceOperator`]'s rows: `K`'s rows split by its kernel (an
 /// element's two rows in one part), each part's nodes those of its elements.
@@ -118,6 +152,65 @@ impl HalfSpaceOperator {
             Ok(())
         });
         self.s = s;
+        result
+    }
+
+    /// Shares the rows out to `group`, one part per rank (the kernel holds this rank's
+    /// part only: [`HalfSpaceOperator::fault_alone_on_ranks`]).
+    ///
+    /// # Errors
+    /// [`HalfSpaceOperatorError::Ranks`] if the kernel's rows give another number of
+    /// parts than ranks, or a part cuts an element.
+    pub(super) fn share_rows(
+        &mut self,
+        group: Box<dyn RankGroup>,
+    ) -> std::result::Result<(), HalfSpaceOperatorError> {
+        let ranks = group.size();
+        let refuse = |reason: String| HalfSpaceOperatorError::Ranks { ranks, reason };
+        let split = self
+            .split_element_rows(ranks, 0.0)
+            .map_err(|e| refuse(e.to_string()))?;
+        if split.ranges.len() != ranks {
+            return Err(refuse(format!(
+                "its rows give {} parts",
+                split.ranges.len()
+            )));
+        }
+        let counts: Vec<usize> = split.ranges.iter().map(|r| r.len()).collect();
+        self.on_ranks = Some(OnRanks {
+            own: vec![0.0; counts[group.rank()]],
+            all: vec![0.0; self.dim()],
+            counts,
+            split,
+            group,
+        });
+        Ok(())
+    }
+
+    /// `r ← r − S x` of an operator on ranks: this rank's rows
+    /// ([`element_part_subtract`](Self::element_part_subtract) on its rows of `r`), then
+    /// one all-gather; each row the bits of the whole operator's product. A non-finite
+    /// `x` (the same on every rank) gives a NaN `r` on every rank without an exchange, as
+    /// the ℋ-kernel's product does.
+    pub(super) fn subtract_product_on_ranks(&mut self, x: &[f64], r: &mut [f64]) -> Result<()> {
+        if x.iter().any(|v| !v.is_finite()) {
+            r.fill(f64::NAN);
+            return Ok(());
+        }
+        let mut on = self.on_ranks.take().expect("on ranks");
+        let rank = on.group.rank();
+        let range = on.split.ranges[rank].clone();
+        for (o, &i) in on.own.iter_mut().zip(&on.split.order[range]) {
+            *o = r[i];
+        }
+        let result = self.element_part_subtract(x, rank, &mut on.own);
+        if result.is_ok() {
+            on.group.all_gather(&on.own, &on.counts, &mut on.all);
+            for (&i, &v) in on.split.order.iter().zip(&on.all) {
+                r[i] = v;
+            }
+        }
+        self.on_ranks = Some(on);
         result
     }
 }

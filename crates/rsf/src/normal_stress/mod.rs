@@ -409,6 +409,7 @@ impl NormalCoupling {
             low_rank_blocks,
             max_rank,
             setup_seconds: clock.elapsed().as_secs_f64(),
+            part: None,
         };
         drop(dense);
         self.s_n = SlipToNormal::ByComponent(blocks);

@@ -15,6 +15,7 @@ use crate::common::small_bp1;
 
 /// Threads as ranks: each puts its values in its slot, waits for all, reads all slots in
 /// rank order, waits again (so that no slot is overwritten before every rank read it).
+#[derive(Clone)]
 struct ThreadRanks {
     rank: usize,
     size: usize,
@@ -217,6 +218,49 @@ fn a_bp5_fault_with_the_half_space_operator_has_the_same_bits_on_1_to_4_ranks() 
         });
         eprintln!("BP5 at 4 km, dense_max {dense_max}: {steps} steps with the same bits");
     }
+}
+
+/// BP5 at Δx = 4 km with the ℋ-matrix half-space operator built on the ranks, each rank
+/// holding only the blocks of its rows (`fault_ode_on_ranks`: the back-slip loading at
+/// set-up is the operator's whole product, each rank's rows and an all-gather): every
+/// accepted step's bits those of one process with the whole operator at 1–4 ranks; on
+/// more than one rank each holds less than the whole and says which part.
+#[test]
+fn a_bp5_operator_held_in_parts_by_the_ranks_has_the_same_bits_as_one_process() {
+    use rsf_scenes::SeasBp5;
+    let bp5 = SeasBp5::default();
+    let half_space = rsf::halfspace_operator::HalfSpaceOptions {
+        dense_max: 0,
+        leaf_size: 16,
+        ..bp5.half_space(1e-6).unwrap()
+    };
+    let whole = bp5
+        .fault_ode(
+            bp5.model(4000.0).unwrap(),
+            bp5.fault_ode_options(1e-6).unwrap(),
+            &half_space,
+        )
+        .unwrap()
+        .kernel_report()
+        .stored_entries;
+    let steps = same_bits_on_ranks(|ranks| {
+        let model = bp5.model(4000.0).unwrap();
+        let options = bp5.fault_ode_options(1e-6).unwrap();
+        let group = ranks.clone().map(|r| Box::new(r) as Box<dyn RankGroup>);
+        let (ode, _) = bp5
+            .fault_ode_on_ranks(model, options, &half_space, &[], group)
+            .unwrap();
+        let report = ode.kernel_report();
+        match &ranks {
+            Some(r) if r.size() > 1 => {
+                assert_eq!(report.part, Some((r.rank(), r.size())));
+                assert!(report.stored_entries < whole);
+            }
+            _ => assert_eq!(report.part, None),
+        }
+        run_shared(ode, ranks, Until::Steps(150))
+    });
+    eprintln!("BP5 at 4 km, operator held in parts: {steps} steps with the same bits");
 }
 
 /// An operator that cannot compute its rows apart (the trait's default) is refused with a
