@@ -251,6 +251,42 @@ fn bp5_files_are_byte_identical_on_2_and_3_ranks() {
     }
 }
 
+/// BP5 at Δx = 1 km (8 000 slip unknowns: Okada's operator an ℋ-matrix) for its first
+/// 3 s (15 steps of the initial rupture) on 2 ranks, each building and holding only the blocks of its rows: every file has one
+/// process's bytes (the whole operator), and rank 0 says that it holds part 0 of 2.
+#[test]
+fn bp5_with_the_operator_held_in_parts_is_byte_identical_on_2_ranks() {
+    let args = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--dx",
+            "1000",
+            "--end-years",
+            "1e-7",
+            "--threads",
+            "1",
+            "--date",
+            "2026-11-27",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("bp5_1km_one_process");
+    let out = run_program(BP5, None, &args(&one));
+    succeeded(&out);
+    let dir = folder("bp5_1km_2_ranks");
+    let out = run_program(BP5, Some(2), &args(&dir));
+    let text = String::from_utf8_lossy(&out.stdout);
+    succeeded(&out);
+    assert!(
+        text.contains("this rank's rows only (part 0 of 2)"),
+        "{text}"
+    );
+    assert!(same_files(&one, &dir, "BP5 at 1 km on 2 ranks") >= 25);
+}
+
 /// The processes whose parent is `pid` (from `/proc`; Open MPI puts each rank in a process
 /// group of its own, so a signal to mpirun's group does not reach them).
 fn children(pid: u32) -> Vec<u32> {
