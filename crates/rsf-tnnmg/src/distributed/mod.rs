@@ -10,8 +10,12 @@
 //! caller's transport ([`HaloExchange`]: MPI in `rsf-mpi`, threads in [`ThreadExchange`]).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
 //! the same node updates; [`HaloCounters`] counts the messages and values sent.
+//! [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows, and
+//! [`coloured_gauss_seidel`] its one-process reference (the tests' and measurements'
+//! smoother).
 
 mod halo;
+mod linear;
 mod local_rows;
 mod sweep;
 mod transport;
@@ -19,6 +23,7 @@ mod transport;
 #[cfg(test)]
 mod tests;
 
+pub use linear::{coloured_gauss_seidel, BlockGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
 pub use sweep::{DistributedSweep, HaloCounters};
 pub use transport::{HaloExchange, HaloMessage, ThreadExchange};
