@@ -4,7 +4,9 @@
 use std::collections::BTreeMap;
 
 use super::local_rows::LocalRows;
-use super::transport::HaloMessage;
+use super::sweep::HaloCounters;
+use super::transport::{HaloExchange, HaloMessage};
+use crate::block::{load, store};
 use crate::colouring::Colouring;
 
 /// What one rank exchanges with one neighbour rank (local node indices).
@@ -171,4 +173,27 @@ fn add<'a>(
             len: values * (list.len() - first),
         });
     }
+}
+
+/// One exchange of `round` on the local vector `x` (`D` values per local node): packs the
+/// values of its send nodes into `send`, exchanges, unpacks `recv` into its receive nodes;
+/// counts the exchange, its messages and values in `counters`.
+pub(crate) fn exchange_round<const D: usize, H: HaloExchange + ?Sized>(
+    round: &Round,
+    x: &mut [f64],
+    halo: &mut H,
+    send: &mut [f64],
+    recv: &mut [f64],
+    counters: &mut HaloCounters,
+) {
+    for (k, &p) in round.send_nodes.iter().enumerate() {
+        store(send, k, &load::<D>(x, p as usize));
+    }
+    halo.exchange(&round.sends, send, &round.recvs, recv);
+    for (k, &g) in round.recv_nodes.iter().enumerate() {
+        store(x, g as usize, &load::<D>(recv, k));
+    }
+    counters.exchanges += 1;
+    counters.messages += round.sends.len() as u64;
+    counters.values += round.sends.iter().map(|m| m.len as u64).sum::<u64>();
 }

@@ -1,11 +1,12 @@
 //! Linear block Gauss–Seidel, the node update of the distributed sweep's tests and
 //! measurements: on a rank's owned rows ([`BlockGaussSeidel`]) and its one-process
-//! reference, the coloured sweep of the whole matrix ([`coloured_gauss_seidel`]).
+//! reference, the coloured sweep of the whole matrix ([`ColouredGaussSeidel`]).
 
 use faer::sparse::SparseColMatRef;
 
 use super::local_rows::{blocks, LocalRows};
 use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
+use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::Parallelism;
@@ -41,7 +42,7 @@ fn free<const D: usize>(fixed: &[bool], p: usize) -> [bool; D] {
 
 /// Linear block Gauss–Seidel on one rank's owned rows: the node update to give
 /// [`DistributedSweep::sweep`](super::DistributedSweep::sweep), the same arithmetic as
-/// [`coloured_gauss_seidel`]'s (a node's row summed in global column order, as
+/// [`ColouredGaussSeidel`]'s (a node's row summed in global column order, as
 /// [`LocalRows::neighbours`] gives it), so that the distributed sweeps have its bits.
 #[derive(Debug, Clone)]
 pub struct BlockGaussSeidel<const D: usize> {
@@ -98,44 +99,72 @@ impl<const D: usize> BlockGaussSeidel<D> {
 
 /// The one-process reference of [`BlockGaussSeidel`] on ranks: coloured linear block
 /// Gauss–Seidel sweeps of the whole symmetric-pattern matrix `a` (`D n × D n`, node-major)
-/// in the order of `colouring`, one sweep per entry of `reverse` (increasing colours, or
-/// decreasing when `true`), on `x` (length `D n`) with right-hand side `b` and the fixed
-/// dofs `fixed` (both length `D n`) left as they are. Each node's row is summed in
-/// increasing column order.
-///
-/// # Errors
-/// [`Error::InvalidMatrix`] as [`Colouring::new`]; [`Error::DimensionMismatch`] if `x`,
-/// `b`, `fixed` or `colouring` does not have the matrix's size.
-pub fn coloured_gauss_seidel<const D: usize>(
-    a: SparseColMatRef<'_, usize, f64>,
-    fixed: &[bool],
-    b: &[f64],
-    colouring: &Colouring,
-    x: &mut [f64],
-    reverse: &[bool],
-) -> Result<()> {
-    let a = blocks::<D>(a)?;
-    let n = a.nodes();
-    for (what, expected, got) in [
-        ("x", D * n, x.len()),
-        ("b", D * n, b.len()),
-        ("fixed", D * n, fixed.len()),
-        ("colouring (one colour per node)", n, colouring.num_nodes()),
-    ] {
-        if got != expected {
-            return Err(Error::DimensionMismatch {
-                what,
-                expected,
-                got,
-            });
+/// in the order of a [`Colouring`] on one thread, with a right-hand side and fixed dofs
+/// left as they are. Each node's row is summed in increasing column order.
+#[derive(Debug, Clone)]
+pub struct ColouredGaussSeidel<const D: usize> {
+    a: BlockCsr<D>,
+    inverse: Vec<Block<D>>,
+    b: Vec<f64>,
+    colouring: Colouring,
+    scratch: Vec<[f64; D]>,
+}
+
+impl<const D: usize> ColouredGaussSeidel<D> {
+    /// The sweeps of `a` with right-hand side `b` and the fixed dofs `fixed` (both length
+    /// `D n`) in the order of `colouring` (a colouring of `a`'s node graph).
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] as [`Colouring::new`]; [`Error::DimensionMismatch`] if `b`,
+    /// `fixed` or `colouring` does not have the matrix's size.
+    pub fn new(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        b: &[f64],
+        colouring: &Colouring,
+    ) -> Result<Self> {
+        let a = blocks::<D>(a)?;
+        let n = a.nodes();
+        for (what, expected, got) in [
+            ("b", D * n, b.len()),
+            ("fixed", D * n, fixed.len()),
+            ("colouring (one colour per node)", n, colouring.num_nodes()),
+        ] {
+            if got != expected {
+                return Err(Error::DimensionMismatch {
+                    what,
+                    expected,
+                    got,
+                });
+            }
         }
+        let inverse = (0..n)
+            .map(|p| masked_inverse(&a.diag[p], &free(fixed, p)))
+            .collect();
+        Ok(Self {
+            a,
+            inverse,
+            b: b.to_vec(),
+            colouring: colouring.clone(),
+            scratch: vec![[0.0; D]; colouring.max_colour_len()],
+        })
     }
-    let inverse: Vec<Block<D>> = (0..n)
-        .map(|p| masked_inverse(&a.diag[p], &free(fixed, p)))
-        .collect();
-    let mut scratch = vec![[0.0; D]; colouring.max_colour_len()];
-    for &reverse in reverse {
-        colouring.sweep(x, reverse, &mut scratch, Parallelism::SEQ, |p, x| {
+
+    /// One sweep of `x` (length `D n`): increasing colours, or decreasing when `reverse`.
+    /// Allocation-free.
+    ///
+    /// # Panics
+    /// If `x` is not `D n` long.
+    pub fn sweep(&mut self, x: &mut [f64], reverse: bool) {
+        assert_eq!(x.len(), D * self.a.nodes(), "x has D values per node");
+        let Self {
+            a,
+            inverse,
+            b,
+            colouring,
+            scratch,
+        } = self;
+        colouring.sweep(x, reverse, scratch, Parallelism::SEQ, |p, x| {
             update(
                 load::<D>(b, p),
                 &a.diag[p],
@@ -146,5 +175,4 @@ pub fn coloured_gauss_seidel<const D: usize>(
             )
         });
     }
-    Ok(())
 }

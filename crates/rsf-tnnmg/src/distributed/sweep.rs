@@ -2,10 +2,10 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::halo::{HaloPlan, Round};
+use super::halo::{exchange_round, HaloPlan};
 use super::local_rows::{blocks, LocalRows};
 use super::transport::HaloExchange;
-use crate::block::{load, store};
+use crate::block::store;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 
@@ -200,7 +200,7 @@ impl<const D: usize> DistributedSweep<D> {
     pub fn update_ghosts<H: HaloExchange + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
         self.check(x, halo);
         let full = self.num_colours();
-        Self::exchange_round(
+        exchange_round::<D, H>(
             &self.plan.rounds[full],
             x,
             halo,
@@ -233,7 +233,7 @@ impl<const D: usize> DistributedSweep<D> {
                 let xp = update(&self.rows, p as usize, x);
                 store(x, p as usize, &xp);
             }
-            Self::exchange_round(
+            exchange_round::<D, H>(
                 &self.plan.rounds[c],
                 x,
                 halo,
@@ -253,27 +253,6 @@ impl<const D: usize> DistributedSweep<D> {
             self.rows.rank(),
             "the transport of another rank"
         );
-    }
-
-    /// Packs the round's owned values, exchanges, unpacks into the ghosts; counts.
-    fn exchange_round<H: HaloExchange + ?Sized>(
-        round: &Round,
-        x: &mut [f64],
-        halo: &mut H,
-        send: &mut [f64],
-        recv: &mut [f64],
-        counters: &mut HaloCounters,
-    ) {
-        for (k, &p) in round.send_nodes.iter().enumerate() {
-            store(send, k, &load::<D>(x, p as usize));
-        }
-        halo.exchange(&round.sends, send, &round.recvs, recv);
-        for (k, &g) in round.recv_nodes.iter().enumerate() {
-            store(x, g as usize, &load::<D>(recv, k));
-        }
-        counters.exchanges += 1;
-        counters.messages += round.sends.len() as u64;
-        counters.values += round.sends.iter().map(|m| m.len as u64).sum::<u64>();
     }
 
     /// The same sweep with a wrong plan: `node` (global) dropped from the halo.

@@ -14,14 +14,14 @@ const D: usize = 3;
 
 /// A cube's elasticity problem ([`ElasticBox`]: the face z = 0 clamped, the face x = 0 on
 /// rollers), its right-hand side and start.
-struct Problem {
-    bx: ElasticBox,
-    b: Vec<f64>,
-    x0: Vec<f64>,
+pub(super) struct Problem {
+    pub bx: ElasticBox,
+    pub b: Vec<f64>,
+    pub x0: Vec<f64>,
 }
 
 impl Problem {
-    fn a(&self) -> SparseColMatRef<'_, usize, f64> {
+    pub fn a(&self) -> SparseColMatRef<'_, usize, f64> {
         self.bx.stiffness.as_ref()
     }
 
@@ -32,7 +32,7 @@ impl Problem {
 
 /// The box [0, 1.5] × [0, 1] × [0, 1] of 3 × 2 × 2 Kuhn-split cubes, refined
 /// `refinements` times.
-fn cube(refinements: usize) -> Problem {
+pub(super) fn cube(refinements: usize) -> Problem {
     let bx = ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], refinements).unwrap();
     let (b, x0) = (bx.load(), bx.start());
     Problem { bx, b, x0 }
@@ -44,8 +44,11 @@ fn free(fixed: &[bool], p: usize) -> [bool; D] {
 
 /// The one-process coloured sweeps (`reverse` of each) from `x0`.
 fn one_process(pb: &Problem, colouring: &Colouring, sweeps: &[bool]) -> Vec<f64> {
+    let mut gs = ColouredGaussSeidel::<D>::new(pb.a(), &pb.bx.fixed, &pb.b, colouring).unwrap();
     let mut x = pb.x0.clone();
-    coloured_gauss_seidel::<D>(pb.a(), &pb.bx.fixed, &pb.b, colouring, &mut x, sweeps).unwrap();
+    for &reverse in sweeps {
+        gs.sweep(&mut x, reverse);
+    }
     x
 }
 
@@ -136,7 +139,7 @@ fn coordinate_split(mesh: &TetrahedronMesh, size: usize) -> Vec<usize> {
 
 /// The owner vectors tested at `size` ranks: the coordinate split, and METIS's partition
 /// of the node graph when the workspace is built with METIS.
-fn owners(pb: &Problem, size: usize) -> Vec<(&'static str, Vec<usize>)> {
+pub(super) fn owners(pb: &Problem, size: usize) -> Vec<(&'static str, Vec<usize>)> {
     let mut out = vec![("coordinates", coordinate_split(pb.mesh(), size))];
     if rsf_metis::is_available() {
         let (xadj, adjncy) = node_graph::<D>(pb.a()).unwrap();
