@@ -264,8 +264,10 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     let rows = part.sweep.rows();
     let (plan, counted) = (part.sweep.per_sweep(), part.sweep.counters());
     let neighbours = part.sweep.neighbour_ranks().count();
+    // The rows' off-diagonal blocks (72 bytes and a 4-byte column each).
+    let blocks: usize = (0..rows.owned()).map(|p| rows.neighbours(p).count()).sum();
     eprintln!(
-        "rank {rank} of {size}: owned={} ghosts={} neighbours={neighbours} \
+        "rank {rank} of {size}: owned={} ghosts={} neighbours={neighbours} blocks={blocks} \
          plan_per_sweep={}/{}/{}/{} counted={}/{}/{}/{} set_up={set_up_s:.3} s \
          resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB",
         rows.owned(),

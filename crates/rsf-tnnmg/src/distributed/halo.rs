@@ -1,13 +1,36 @@
 //! The halo plan of one rank: which owned nodes each neighbour rank needs, which ghosts
-//! come from it, and the messages of each colour's exchange.
+//! come from it, and the messages of each colour's exchange; one exchange of a plan's
+//! round, and the counters of what was sent.
 
 use std::collections::BTreeMap;
 
 use super::local_rows::LocalRows;
-use super::sweep::HaloCounters;
 use super::transport::{HaloExchange, HaloMessage};
 use crate::block::{load, store};
 use crate::colouring::Colouring;
+
+/// What one rank has sent in its halo exchanges, counted by the sweep (or the transfers) as it hands the
+/// messages to the transport (the numbers a model of the communication cost is fitted
+/// with). Bytes are `8 · values`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct HaloCounters {
+    /// Sweeps ([`DistributedSweep::sweep`](super::DistributedSweep::sweep)).
+    pub sweeps: u64,
+    /// Exchanges (calls of [`HaloExchange::exchange`], with or without messages of this
+    /// rank: one per colour and sweep, one per ghost update).
+    pub exchanges: u64,
+    /// Messages sent (none is empty).
+    pub messages: u64,
+    /// f64 values sent.
+    pub values: u64,
+}
+
+impl HaloCounters {
+    /// Bytes sent: 8 per value.
+    pub fn bytes(&self) -> u64 {
+        8 * self.values
+    }
+}
 
 /// What one rank exchanges with one neighbour rank (local node indices).
 #[derive(Debug, Clone, PartialEq, Eq)]

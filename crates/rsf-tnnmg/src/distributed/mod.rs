@@ -26,8 +26,9 @@ mod tests;
 #[cfg(test)]
 mod transfer_tests;
 
+pub use halo::HaloCounters;
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
-pub use sweep::{DistributedSweep, HaloCounters};
+pub use sweep::DistributedSweep;
 pub use transfer::DistributedTransfer;
 pub use transport::{HaloExchange, HaloMessage, ThreadExchange};

@@ -2,35 +2,12 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::halo::{exchange_round, HaloPlan};
+use super::halo::{exchange_round, HaloCounters, HaloPlan};
 use super::local_rows::{blocks, LocalRows};
 use super::transport::HaloExchange;
 use crate::block::store;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
-
-/// What one rank has sent in its halo exchanges, counted by the sweep as it hands the
-/// messages to the transport (the numbers a model of the communication cost is fitted
-/// with). Bytes are `8 · values`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct HaloCounters {
-    /// Sweeps ([`DistributedSweep::sweep`]).
-    pub sweeps: u64,
-    /// Exchanges (calls of [`HaloExchange::exchange`], with or without messages of this
-    /// rank: one per colour and sweep, one per ghost update).
-    pub exchanges: u64,
-    /// Messages sent (none is empty).
-    pub messages: u64,
-    /// f64 values sent.
-    pub values: u64,
-}
-
-impl HaloCounters {
-    /// Bytes sent: 8 per value.
-    pub fn bytes(&self) -> u64 {
-        8 * self.values
-    }
-}
 
 /// One rank's part of a multi-colour block Gauss–Seidel sweep on distributed memory: its
 /// rows ([`LocalRows`]), its owned nodes of each colour, the halo plan and the exchange

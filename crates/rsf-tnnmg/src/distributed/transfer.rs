@@ -4,8 +4,7 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::halo::{exchange_round, HaloPlan, Peer};
-use super::sweep::HaloCounters;
+use super::halo::{exchange_round, HaloCounters, HaloPlan, Peer};
 use super::transport::HaloExchange;
 use crate::block::{load, store, Block};
 use crate::error::{Error, Result};
@@ -143,7 +142,7 @@ impl<const D: usize> Side<D> {
 /// prolongation `x += free ⊙ (P c)` onto its owned fine nodes, `P` the node-major vector
 /// prolongation (`D n_f × D n_c`).
 ///
-/// Nested numbering: coarse node `j` is fine node `j` (a [`MeshHierarchy`]'s coarse
+/// Nested numbering: coarse node `j` is fine node `j` (rsf-fem's `MeshHierarchy`: coarse
 /// vertices keep their indices on the finer level), so a rank owns the coarse nodes whose
 /// fine node it owns. Each direction reads values of other ranks — the restriction the
 /// fine residuals of the fine nodes next to an owned coarse node, the prolongation the
@@ -157,7 +156,6 @@ impl<const D: usize> Side<D> {
 /// part of a local vector of the level's rows is what the transfers read and write.
 /// Allocation-free after set-up (the transport may allocate).
 ///
-/// [`MeshHierarchy`]: https://docs.rs/rsf-fem (rsf_fem::MeshHierarchy)
 /// [`LocalRows`]: super::LocalRows
 #[derive(Debug, Clone)]
 pub struct DistributedTransfer<const D: usize> {
