@@ -162,3 +162,72 @@ fn the_reference_refuses_two_ranks() {
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(err.contains("--reference runs on one rank"), "{err}");
 }
+
+/// Set in the ranks' environment: run the body of `mpi_ranks_exchange_in_order`.
+const CHILD: &str = "RSF_MPI_HALO_TEST_RANK";
+
+/// `MpiExchange` alone on 3 MPI ranks in a ring: five exchanges of different lengths, no
+/// wait between them (a rank may run ahead by any number of exchanges), rank 1 sending
+/// nothing in the third: every message arrives at its rank, in order, where its receive
+/// entry puts it, and a receive range left out keeps its value.
+#[test]
+fn mpi_ranks_exchange_in_order() {
+    use rsf_tnnmg::distributed::{HaloExchange, HaloMessage};
+    if std::env::var_os(CHILD).is_some() {
+        let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
+        let mut halo = rsf_mpi::MpiExchange::world();
+        let (r, n) = (halo.rank(), halo.size());
+        let (next, prev) = ((r + 1) % n, (r + n - 1) % n);
+        for round in 0..5 {
+            let len = 1 + round;
+            let send: Vec<f64> = (0..len)
+                .map(|k| (100 * r + 10 * round + k) as f64)
+                .collect();
+            let mut recv = vec![-1.0; len + 2];
+            let silent = |s: usize| round == 2 && s == 1;
+            let to = [HaloMessage {
+                rank: next,
+                start: 0,
+                len,
+            }];
+            let from = [HaloMessage {
+                rank: prev,
+                start: 2,
+                len,
+            }];
+            halo.exchange(
+                if silent(r) { &[] } else { &to },
+                &send,
+                if silent(prev) { &[] } else { &from },
+                &mut recv,
+            );
+            let mut want = vec![-1.0; len + 2];
+            if !silent(prev) {
+                for k in 0..len {
+                    want[2 + k] = (100 * prev + 10 * round + k) as f64;
+                }
+            }
+            assert_eq!(recv, want, "rank {r}, exchange {round}");
+        }
+        // One write (the ranks share standard error).
+        let line = format!("rank {r} of {n}: five exchanges in order\n");
+        std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes()).unwrap();
+        return;
+    }
+    let me = std::env::current_exe().unwrap();
+    let out = mpirun(3)
+        .env(CHILD, "1")
+        .arg(&me)
+        .args([
+            "--exact",
+            "mpi_ranks_exchange_in_order",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(err.matches("five exchanges in order").count(), 3, "{err}");
+}

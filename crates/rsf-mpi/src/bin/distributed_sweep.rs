@@ -17,6 +17,7 @@
 //! runs the one-process coloured sweep (`rsf_tnnmg::distributed::ColouredGaussSeidel`)
 //! instead of the distributed one.
 
+use std::io::Write;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -266,10 +267,11 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     let neighbours = part.sweep.neighbour_ranks().count();
     // The rows' off-diagonal blocks (72 bytes and a 4-byte column each).
     let blocks: usize = (0..rows.owned()).map(|p| rows.neighbours(p).count()).sum();
-    eprintln!(
+    // One write of the whole line (the ranks share standard error: no interleaving).
+    let line = format!(
         "rank {rank} of {size}: owned={} ghosts={} neighbours={neighbours} blocks={blocks} \
          plan_per_sweep={}/{}/{}/{} counted={}/{}/{}/{} set_up={set_up_s:.3} s \
-         resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB",
+         resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB\n",
         rows.owned(),
         rows.ghosts(),
         plan.sweeps,
@@ -281,6 +283,9 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         counted.messages,
         counted.values,
     );
+    std::io::stderr()
+        .write_all(line.as_bytes())
+        .map_err(|e| e.to_string())?;
     if ranks.is_root() {
         report(f, part.dofs, part.colours, size, &mut times);
     }
