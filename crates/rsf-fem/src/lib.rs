@@ -33,6 +33,8 @@
 //!   [`Composition`].
 //! * [`Constraints`], [`ConstrainedSystem`], [`Cholesky`]: fixed dofs and sparse
 //!   Cholesky with reusable symbolic analysis.
+//! * [`ElasticBox`]: an elasticity problem of fixed data on a refined box, the one the
+//!   distributed solvers are tested and measured on.
 //!
 //! Conventions (docs/design.md): vector dofs are node-major (`D·node + component`);
 //! matrices are `faer::sparse::SparseColMat<usize, f64>` with both triangles stored.
@@ -42,6 +44,7 @@ mod assembly;
 mod boundary;
 mod constraints;
 mod dof_transform;
+mod elastic_box;
 pub mod element;
 mod error;
 mod frames;
@@ -61,6 +64,7 @@ pub use assembly::Assembler;
 pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use dof_transform::{Composition, DofTransform};
+pub use elastic_box::ElasticBox;
 pub use element::LinearElasticity;
 pub use error::{Error, Result};
 pub use frames::{frame_from_normal, NodalFrames};

@@ -175,6 +175,81 @@ fn node_u32(i: usize) -> Result<u32> {
     u32::try_from(i).map_err(|_| Error::InvalidMatrix("more than 2^32 nodes".into()))
 }
 
+/// The node blocks of a prolongation `p` (`D n_f × D n_c`, node-major on both sides;
+/// `p.nrows` and `p.ncols` multiples of `D`) by fine node rows: row `i`'s blocks are
+/// `val[ptr[i]..ptr[i + 1]]`, coarse node `col[k]` increasing; explicit zeros kept.
+pub(crate) fn prolongation_blocks<const D: usize>(
+    p: &Csc,
+) -> Result<(Vec<usize>, Vec<u32>, Vec<Block<D>>)> {
+    let nf = p.nrows / D;
+    // Node-level entries (fine i, coarse J, r, c, value), sorted by (i, J).
+    let mut entries: Vec<(usize, usize, usize, usize, f64)> = Vec::new();
+    for jd in 0..p.ncols {
+        let (rows, vals) = p.col(jd);
+        for (&id, &v) in rows.iter().zip(vals) {
+            entries.push((id / D, jd / D, id % D, jd % D, v));
+        }
+    }
+    entries.sort_by_key(|e| (e.0, e.1));
+    let mut p_ptr = vec![0usize; nf + 1];
+    let mut p_col: Vec<u32> = Vec::new();
+    let mut p_val: Vec<Block<D>> = Vec::new();
+    let mut last: Option<(usize, usize)> = None;
+    for &(i, j, r, c, v) in &entries {
+        if last != Some((i, j)) {
+            p_col.push(node_u32(j)?);
+            p_val.push([[0.0; D]; D]);
+            p_ptr[i + 1] += 1;
+            last = Some((i, j));
+        }
+        p_val.last_mut().expect("pushed")[r][c] += v;
+    }
+    for i in 0..nf {
+        p_ptr[i + 1] += p_ptr[i];
+    }
+    Ok((p_ptr, p_col, p_val))
+}
+
+/// `fine_i ⊙ free_i`: node `i`'s values with its masked components zeroed (the
+/// restriction's input, [`restrict_row`]).
+pub(crate) fn masked<const D: usize>(fine: &[f64], free: &[f64], i: usize) -> [f64; D] {
+    let (r, f) = (load::<D>(fine, i), load::<D>(free, i));
+    std::array::from_fn(|c| r[c] * f[c])
+}
+
+/// One coarse row of the restriction `Pᵀ x`: `Σ_k P_kᵀ x_k` over the row's `(block P_k,
+/// masked fine values x_k)` in order ([`masked`]), accumulated per block row `rr`, then
+/// column.
+pub(crate) fn restrict_row<'a, const D: usize>(
+    row: impl Iterator<Item = (&'a Block<D>, [f64; D])>,
+) -> [f64; D] {
+    let mut s = [0.0; D];
+    for (pb, x) in row {
+        for rr in 0..D {
+            for c in 0..D {
+                s[c] += pb[rr][c] * x[rr];
+            }
+        }
+    }
+    s
+}
+
+/// One fine row of the prolongation `P coarse`: `Σ_k P_k coarse_j` over the row's
+/// `(coarse node j, block P_k)` in order.
+pub(crate) fn prolong_row<'a, const D: usize>(
+    row: impl Iterator<Item = (usize, &'a Block<D>)>,
+    coarse: &[f64],
+) -> [f64; D] {
+    let mut s = [0.0; D];
+    for (j, pb) in row {
+        let y = mul_vec(pb, &load::<D>(coarse, j));
+        for c in 0..D {
+            s[c] += y[c];
+        }
+    }
+    s
+}
+
 impl<const D: usize> Galerkin<D> {
     /// Symbolic set-up for the pattern of the fine matrix `h` and the prolongation `p`
     /// (`D n_f × D n_c`, node-major on both sides). Returns the set-up and the coarse
@@ -193,31 +268,7 @@ impl<const D: usize> Galerkin<D> {
             )));
         }
         let (nf, nc) = (h.nodes(), p.ncols / D);
-        // Node-level entries (fine i, coarse J, r, c, value), sorted by (i, J).
-        let mut entries: Vec<(usize, usize, usize, usize, f64)> = Vec::new();
-        for jd in 0..p.ncols {
-            let (rows, vals) = p.col(jd);
-            for (&id, &v) in rows.iter().zip(vals) {
-                entries.push((id / D, jd / D, id % D, jd % D, v));
-            }
-        }
-        entries.sort_by_key(|e| (e.0, e.1));
-        let mut p_ptr = vec![0usize; nf + 1];
-        let mut p_col: Vec<u32> = Vec::new();
-        let mut p_val: Vec<Block<D>> = Vec::new();
-        let mut last: Option<(usize, usize)> = None;
-        for &(i, j, r, c, v) in &entries {
-            if last != Some((i, j)) {
-                p_col.push(node_u32(j)?);
-                p_val.push([[0.0; D]; D]);
-                p_ptr[i + 1] += 1;
-                last = Some((i, j));
-            }
-            p_val.last_mut().expect("pushed")[r][c] += v;
-        }
-        for i in 0..nf {
-            p_ptr[i + 1] += p_ptr[i];
-        }
+        let (p_ptr, p_col, p_val) = prolongation_blocks::<D>(p)?;
         // Transpose.
         let mut pt_ptr = vec![0usize; nc + 1];
         for &j in &p_col {
@@ -391,19 +442,10 @@ impl<const D: usize> Galerkin<D> {
             pt_ptr, pt, p_val, ..
         } = &self.pattern;
         let row = |ic: usize, out: &mut [f64]| {
-            let mut s = [0.0; D];
-            for &(i, k) in &pt[pt_ptr[ic]..pt_ptr[ic + 1]] {
-                let i = i as usize;
-                let (r, f) = (load::<D>(fine, i), load::<D>(free, i));
-                let pb = &p_val[k as usize];
-                for rr in 0..D {
-                    let x = r[rr] * f[rr];
-                    for c in 0..D {
-                        s[c] += pb[rr][c] * x;
-                    }
-                }
-            }
-            out.copy_from_slice(&s);
+            let entries = pt[pt_ptr[ic]..pt_ptr[ic + 1]]
+                .iter()
+                .map(|&(i, k)| (&p_val[k as usize], masked::<D>(fine, free, i as usize)));
+            out.copy_from_slice(&restrict_row::<D>(entries));
         };
         for_node_rows::<D>(coarse, (par, GALERKIN_PARALLEL_MIN), row);
     }
@@ -418,13 +460,8 @@ impl<const D: usize> Galerkin<D> {
             ..
         } = &self.pattern;
         let row = |i: usize, out: &mut [f64]| {
-            let mut s = [0.0; D];
-            for k in p_ptr[i]..p_ptr[i + 1] {
-                let y = mul_vec(&p_val[k], &load::<D>(coarse, p_col[k] as usize));
-                for c in 0..D {
-                    s[c] += y[c];
-                }
-            }
+            let entries = (p_ptr[i]..p_ptr[i + 1]).map(|k| (p_col[k] as usize, &p_val[k]));
+            let s = prolong_row::<D>(entries, coarse);
             for c in 0..D {
                 out[c] += free[D * i + c] * s[c];
             }

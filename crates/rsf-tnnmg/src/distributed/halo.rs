@@ -1,11 +1,36 @@
 //! The halo plan of one rank: which owned nodes each neighbour rank needs, which ghosts
-//! come from it, and the messages of each colour's exchange.
+//! come from it, and the messages of each colour's exchange; one exchange of a plan's
+//! round, and the counters of what was sent.
 
 use std::collections::BTreeMap;
 
 use super::local_rows::LocalRows;
-use super::transport::HaloMessage;
+use super::transport::{HaloExchange, HaloMessage};
+use crate::block::{load, store};
 use crate::colouring::Colouring;
+
+/// What one rank has sent in its halo exchanges, counted by the sweep (or the transfers) as it hands the
+/// messages to the transport (the numbers a model of the communication cost is fitted
+/// with). Bytes are `8 · values`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct HaloCounters {
+    /// Sweeps ([`DistributedSweep::sweep`](super::DistributedSweep::sweep)).
+    pub sweeps: u64,
+    /// Exchanges (calls of [`HaloExchange::exchange`], with or without messages of this
+    /// rank: one per colour and sweep, one per ghost update).
+    pub exchanges: u64,
+    /// Messages sent (none is empty).
+    pub messages: u64,
+    /// f64 values sent.
+    pub values: u64,
+}
+
+impl HaloCounters {
+    /// Bytes sent: 8 per value.
+    pub fn bytes(&self) -> u64 {
+        8 * self.values
+    }
+}
 
 /// What one rank exchanges with one neighbour rank (local node indices).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -171,4 +196,27 @@ fn add<'a>(
             len: values * (list.len() - first),
         });
     }
+}
+
+/// One exchange of `round` on the local vector `x` (`D` values per local node): packs the
+/// values of its send nodes into `send`, exchanges, unpacks `recv` into its receive nodes;
+/// counts the exchange, its messages and values in `counters`.
+pub(crate) fn exchange_round<const D: usize, H: HaloExchange + ?Sized>(
+    round: &Round,
+    x: &mut [f64],
+    halo: &mut H,
+    send: &mut [f64],
+    recv: &mut [f64],
+    counters: &mut HaloCounters,
+) {
+    for (k, &p) in round.send_nodes.iter().enumerate() {
+        store(send, k, &load::<D>(x, p as usize));
+    }
+    halo.exchange(&round.sends, send, &round.recvs, recv);
+    for (k, &g) in round.recv_nodes.iter().enumerate() {
+        store(x, g as usize, &load::<D>(recv, k));
+    }
+    counters.exchanges += 1;
+    counters.messages += round.sends.len() as u64;
+    counters.values += round.sends.iter().map(|m| m.len as u64).sum::<u64>();
 }

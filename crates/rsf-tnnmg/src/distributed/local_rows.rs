@@ -3,7 +3,7 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::block::Block;
+use crate::block::{load, store, sub_mul_vec, Block};
 use crate::bsr::BlockCsr;
 use crate::error::{Error, Result};
 use rsf_linalg::Csc;
@@ -153,6 +153,27 @@ impl<const D: usize> LocalRows<D> {
             .iter()
             .zip(&self.val[r])
             .map(|(&q, b)| (q as usize, b))
+    }
+
+    /// The residual `r = b − A x` on the owned rows: for every owned node `p`,
+    /// `b_p − A_pp x_p − Σ_q A_pq x_q` with the off-diagonal blocks in increasing global
+    /// column order — the arithmetic of the one-process residual by rows, so each owned
+    /// row has its bits when `x`'s ghosts are current (after a ghost update). `b` and `r`
+    /// hold at least the owned nodes' values (`D · owned()`; only those are read and
+    /// written), `x` is a local vector (`D · len()`).
+    ///
+    /// # Panics
+    /// If a vector is shorter than that.
+    pub fn residual(&self, b: &[f64], x: &[f64], r: &mut [f64]) {
+        assert!(x.len() >= D * self.len(), "local vector length");
+        for p in 0..self.owned {
+            let mut s = load::<D>(b, p);
+            sub_mul_vec(&mut s, &self.diag[p], &load::<D>(x, p));
+            for (q, blk) in self.neighbours(p) {
+                sub_mul_vec(&mut s, blk, &load::<D>(x, q));
+            }
+            store(r, p, &s);
+        }
     }
 
     /// The local values of a global node-major vector: `local` (length `D · len()`)

@@ -10,15 +10,25 @@
 //! caller's transport ([`HaloExchange`]: MPI in `rsf-mpi`, threads in [`ThreadExchange`]).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
 //! the same node updates; [`HaloCounters`] counts the messages and values sent.
+//! [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows, and
+//! [`ColouredGaussSeidel`] its one-process reference (the tests' and measurements'
+//! smoother).
 
 mod halo;
+mod linear;
 mod local_rows;
 mod sweep;
+mod transfer;
 mod transport;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod transfer_tests;
 
+pub use halo::HaloCounters;
+pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
-pub use sweep::{DistributedSweep, HaloCounters};
+pub use sweep::DistributedSweep;
+pub use transfer::DistributedTransfer;
 pub use transport::{HaloExchange, HaloMessage, ThreadExchange};

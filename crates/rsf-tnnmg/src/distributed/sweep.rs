@@ -2,35 +2,12 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::halo::{HaloPlan, Round};
+use super::halo::{exchange_round, HaloCounters, HaloPlan};
 use super::local_rows::{blocks, LocalRows};
 use super::transport::HaloExchange;
-use crate::block::{load, store};
+use crate::block::store;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
-
-/// What one rank has sent in its halo exchanges, counted by the sweep as it hands the
-/// messages to the transport (the numbers a model of the communication cost is fitted
-/// with). Bytes are `8 · values`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct HaloCounters {
-    /// Sweeps ([`DistributedSweep::sweep`]).
-    pub sweeps: u64,
-    /// Exchanges (calls of [`HaloExchange::exchange`], with or without messages of this
-    /// rank: one per colour and sweep, one per ghost update).
-    pub exchanges: u64,
-    /// Messages sent (none is empty).
-    pub messages: u64,
-    /// f64 values sent.
-    pub values: u64,
-}
-
-impl HaloCounters {
-    /// Bytes sent: 8 per value.
-    pub fn bytes(&self) -> u64 {
-        8 * self.values
-    }
-}
 
 /// One rank's part of a multi-colour block Gauss–Seidel sweep on distributed memory: its
 /// rows ([`LocalRows`]), its owned nodes of each colour, the halo plan and the exchange
@@ -200,7 +177,7 @@ impl<const D: usize> DistributedSweep<D> {
     pub fn update_ghosts<H: HaloExchange + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
         self.check(x, halo);
         let full = self.num_colours();
-        Self::exchange_round(
+        exchange_round::<D, H>(
             &self.plan.rounds[full],
             x,
             halo,
@@ -233,7 +210,7 @@ impl<const D: usize> DistributedSweep<D> {
                 let xp = update(&self.rows, p as usize, x);
                 store(x, p as usize, &xp);
             }
-            Self::exchange_round(
+            exchange_round::<D, H>(
                 &self.plan.rounds[c],
                 x,
                 halo,
@@ -253,27 +230,6 @@ impl<const D: usize> DistributedSweep<D> {
             self.rows.rank(),
             "the transport of another rank"
         );
-    }
-
-    /// Packs the round's owned values, exchanges, unpacks into the ghosts; counts.
-    fn exchange_round<H: HaloExchange + ?Sized>(
-        round: &Round,
-        x: &mut [f64],
-        halo: &mut H,
-        send: &mut [f64],
-        recv: &mut [f64],
-        counters: &mut HaloCounters,
-    ) {
-        for (k, &p) in round.send_nodes.iter().enumerate() {
-            store(send, k, &load::<D>(x, p as usize));
-        }
-        halo.exchange(&round.sends, send, &round.recvs, recv);
-        for (k, &g) in round.recv_nodes.iter().enumerate() {
-            store(x, g as usize, &load::<D>(recv, k));
-        }
-        counters.exchanges += 1;
-        counters.messages += round.sends.len() as u64;
-        counters.values += round.sends.iter().map(|m| m.len as u64).sum::<u64>();
     }
 
     /// The same sweep with a wrong plan: `node` (global) dropped from the halo.

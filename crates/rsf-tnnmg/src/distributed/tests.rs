@@ -2,80 +2,40 @@
 //! P1 elasticity stiffness of a refined cube with Dirichlet components: the same bits at
 //! 1–4 thread ranks, a wrong halo detected, the counters against an independent count.
 
-use faer::sparse::SparseColMat;
-use rsf_fem::{cuboid, refine_red, Assembler, LinearElasticity, TetrahedronMesh};
+use faer::sparse::{SparseColMat, SparseColMatRef};
+use rsf_fem::{ElasticBox, TetrahedronMesh};
 
-use super::local_rows::blocks;
 use super::*;
-use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
+use crate::block::load;
 use crate::colouring::Colouring;
 use crate::error::Error;
-use crate::Parallelism;
 
 const D: usize = 3;
 
-/// A cube's elasticity problem: the stiffness, the fixed dofs (the face z = 0 clamped, the
-/// face x = 0 on rollers: its x component), a right-hand side and a start.
-struct Problem {
-    mesh: TetrahedronMesh,
-    a: SparseColMat<usize, f64>,
-    fixed: Vec<bool>,
-    b: Vec<f64>,
-    x0: Vec<f64>,
+/// A cube's elasticity problem ([`ElasticBox`]: the face z = 0 clamped, the face x = 0 on
+/// rollers), its right-hand side and start.
+pub(super) struct Problem {
+    pub bx: ElasticBox,
+    pub b: Vec<f64>,
+    pub x0: Vec<f64>,
+}
+
+impl Problem {
+    pub fn a(&self) -> SparseColMatRef<'_, usize, f64> {
+        self.bx.stiffness.as_ref()
+    }
+
+    fn mesh(&self) -> &TetrahedronMesh {
+        self.bx.mesh()
+    }
 }
 
 /// The box [0, 1.5] × [0, 1] × [0, 1] of 3 × 2 × 2 Kuhn-split cubes, refined
 /// `refinements` times.
-fn cube(refinements: usize) -> Problem {
-    let mut mesh = cuboid([0.0; 3], [1.5, 1.0, 1.0], [4, 3, 3]).unwrap();
-    for _ in 0..refinements {
-        mesh = refine_red(&mesh).0;
-    }
-    let material = LinearElasticity::isotropic(1.0, 0.3).unwrap();
-    let a = Assembler::new(&mesh)
-        .unwrap()
-        .stiffness(&mesh, &material)
-        .unwrap();
-    let n = D * mesh.num_vertices();
-    let mut fixed = vec![false; n];
-    for (p, v) in mesh.vertices().iter().enumerate() {
-        for c in 0..D {
-            fixed[D * p + c] = v[2] == 0.0 || (c == 0 && v[0] == 0.0);
-        }
-    }
-    let b = (0..n).map(|i| (0.37 * i as f64 + 0.1).sin()).collect();
-    let x0 = (0..n).map(|i| 0.5 * (1.3 * i as f64).cos()).collect();
-    Problem {
-        mesh,
-        a,
-        fixed,
-        b,
-        x0,
-    }
-}
-
-/// The linear block Gauss–Seidel update of node `p` on its free components,
-/// `x_p + S_p (b_p − Σ_{q≠p} A_pq x_q − A_pp x_p)` with `S_p` the inverse of the free
-/// sub-block of `A_pp` ([`masked_inverse`]), the row summed in `row`'s order.
-fn gauss_seidel<'a>(
-    b: [f64; D],
-    diag: &Block<D>,
-    inverse: &Block<D>,
-    row: impl Iterator<Item = (usize, &'a Block<D>)>,
-    x: &[f64],
-    p: usize,
-) -> [f64; D] {
-    let mut s = b;
-    for (q, blk) in row {
-        sub_mul_vec(&mut s, blk, &load::<D>(x, q));
-    }
-    let mut xp = load::<D>(x, p);
-    sub_mul_vec(&mut s, diag, &xp);
-    let d = mul_vec(inverse, &s);
-    for c in 0..D {
-        xp[c] += d[c];
-    }
-    xp
+pub(super) fn cube(refinements: usize) -> Problem {
+    let bx = ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], refinements).unwrap();
+    let (b, x0) = (bx.load(), bx.start());
+    Problem { bx, b, x0 }
 }
 
 fn free(fixed: &[bool], p: usize) -> [bool; D] {
@@ -84,23 +44,10 @@ fn free(fixed: &[bool], p: usize) -> [bool; D] {
 
 /// The one-process coloured sweeps (`reverse` of each) from `x0`.
 fn one_process(pb: &Problem, colouring: &Colouring, sweeps: &[bool]) -> Vec<f64> {
-    let a = blocks::<D>(pb.a.as_ref()).unwrap();
-    let inverse: Vec<Block<D>> = (0..a.nodes())
-        .map(|p| masked_inverse(&a.diag[p], &free(&pb.fixed, p)))
-        .collect();
+    let mut gs = ColouredGaussSeidel::<D>::new(pb.a(), &pb.bx.fixed, &pb.b, colouring).unwrap();
     let mut x = pb.x0.clone();
-    let mut scratch = vec![[0.0; D]; colouring.max_colour_len()];
     for &reverse in sweeps {
-        colouring.sweep(&mut x, reverse, &mut scratch, Parallelism::SEQ, |p, x| {
-            gauss_seidel(
-                load::<D>(&pb.b, p),
-                &a.diag[p],
-                &inverse[p],
-                a.neighbours(p),
-                x,
-                p,
-            )
-        });
+        gs.sweep(&mut x, reverse);
     }
     x
 }
@@ -128,7 +75,7 @@ fn on_ranks(
     dropped: Option<usize>,
 ) -> Vec<RankResult> {
     let run = |mut halo: ThreadExchange| {
-        let mut ds = DistributedSweep::<D>::new(pb.a.as_ref(), owner, colouring, &halo).unwrap();
+        let mut ds = DistributedSweep::<D>::new(pb.a(), owner, colouring, &halo).unwrap();
         if let Some(g) = dropped {
             ds = ds.without_halo_node(colouring, g);
         }
@@ -138,25 +85,16 @@ fn on_ranks(
         let mut fixed = vec![false; D * len];
         let mut x = vec![0.0; D * len];
         rows.gather(&pb.b, &mut b);
-        rows.gather(&pb.fixed, &mut fixed);
+        rows.gather(&pb.bx.fixed, &mut fixed);
         rows.gather(&pb.x0, &mut x);
         x[D * owned..].fill(f64::NAN);
-        let inverse: Vec<Block<D>> = (0..owned)
-            .map(|p| masked_inverse(rows.diag(p), &free(&fixed, p)))
-            .collect();
+        let gs = BlockGaussSeidel::new(rows, &b, &fixed).unwrap();
         let global = rows.global_nodes().to_vec();
         ds.update_ghosts(&mut x, &mut halo);
         ds.reset_counters();
         for &reverse in sweeps {
             ds.sweep(&mut x, reverse, &mut halo, |rows, p, x| {
-                gauss_seidel(
-                    load::<D>(&b, p),
-                    rows.diag(p),
-                    &inverse[p],
-                    rows.neighbours(p),
-                    x,
-                    p,
-                )
+                gs.update(rows, p, x)
             });
         }
         RankResult {
@@ -201,10 +139,10 @@ fn coordinate_split(mesh: &TetrahedronMesh, size: usize) -> Vec<usize> {
 
 /// The owner vectors tested at `size` ranks: the coordinate split, and METIS's partition
 /// of the node graph when the workspace is built with METIS.
-fn owners(pb: &Problem, size: usize) -> Vec<(&'static str, Vec<usize>)> {
-    let mut out = vec![("coordinates", coordinate_split(&pb.mesh, size))];
+pub(super) fn owners(pb: &Problem, size: usize) -> Vec<(&'static str, Vec<usize>)> {
+    let mut out = vec![("coordinates", coordinate_split(pb.mesh(), size))];
     if rsf_metis::is_available() {
-        let (xadj, adjncy) = node_graph::<D>(pb.a.as_ref()).unwrap();
+        let (xadj, adjncy) = node_graph::<D>(pb.a()).unwrap();
         let part = rsf_metis::part_graph_kway(&xadj, &adjncy, size).unwrap();
         out.push(("metis", part));
     }
@@ -219,7 +157,7 @@ const SWEEPS: [bool; 6] = [false, true, false, false, true, true];
 #[test]
 fn distributed_sweeps_have_the_one_process_bits() {
     let pb = cube(2);
-    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let colouring = Colouring::new::<D>(pb.a()).unwrap();
     let reference = one_process(&pb, &colouring, &SWEEPS);
     assert!(reference.iter().zip(&pb.x0).any(|(a, b)| a != b));
     assert!(reference.iter().all(|v| v.is_finite()));
@@ -243,7 +181,7 @@ fn distributed_sweeps_have_the_one_process_bits() {
             }
             assert_eq!(
                 owned,
-                pb.mesh.num_vertices(),
+                pb.mesh().num_vertices(),
                 "{name}: every node owned once"
             );
         }
@@ -255,9 +193,9 @@ fn distributed_sweeps_have_the_one_process_bits() {
 #[test]
 fn an_empty_rank_changes_nothing() {
     let pb = cube(1);
-    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let colouring = Colouring::new::<D>(pb.a()).unwrap();
     let reference = one_process(&pb, &colouring, &SWEEPS);
-    let owner: Vec<usize> = coordinate_split(&pb.mesh, 2)
+    let owner: Vec<usize> = coordinate_split(pb.mesh(), 2)
         .into_iter()
         .map(|r| 2 * r)
         .collect();
@@ -284,7 +222,7 @@ fn an_empty_rank_changes_nothing() {
 #[test]
 fn a_wrong_halo_breaks_the_bits() {
     let pb = cube(2);
-    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
+    let colouring = Colouring::new::<D>(pb.a()).unwrap();
     let reference = one_process(&pb, &colouring, &SWEEPS);
     for (name, owner) in owners(&pb, 2) {
         let right = on_ranks(&pb, &colouring, &owner, 2, &SWEEPS, None);
@@ -292,7 +230,7 @@ fn a_wrong_halo_breaks_the_bits() {
         let g = rank1.global[rank1.owned..]
             .iter()
             .copied()
-            .find(|&g| owner[g] == 0 && free(&pb.fixed, g).iter().all(|&f| f))
+            .find(|&g| owner[g] == 0 && free(&pb.bx.fixed, g).iter().all(|&f| f))
             .expect("a free ghost of rank 1");
         let wrong = on_ranks(&pb, &colouring, &owner, 2, &SWEEPS, Some(g));
         assert_eq!(differing_bits(&right[1], &reference), 0, "{name}");
@@ -311,9 +249,9 @@ fn a_wrong_halo_breaks_the_bits() {
 #[test]
 fn counters_match_an_independent_count() {
     let pb = cube(2);
-    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
-    let a = pb.a.as_ref();
-    let nodes = pb.mesh.num_vertices();
+    let colouring = Colouring::new::<D>(pb.a()).unwrap();
+    let a = pb.a();
+    let nodes = pb.mesh().num_vertices();
     // Node adjacency from the scalar pattern: (p, q) for every entry (D p + ·, D q + ·).
     let mut pairs = Vec::new();
     for j in 0..a.ncols() {
@@ -379,11 +317,11 @@ fn counters_match_an_independent_count() {
 #[test]
 fn set_up_refuses_wrong_owners_and_colourings() {
     let pb = cube(1);
-    let colouring = Colouring::new::<D>(pb.a.as_ref()).unwrap();
-    let n = pb.mesh.num_vertices();
+    let colouring = Colouring::new::<D>(pb.a()).unwrap();
+    let n = pb.mesh().num_vertices();
     let halo = ThreadExchange::group(2).swap_remove(0);
     let new = |owner: &[usize], colouring: &Colouring| {
-        DistributedSweep::<D>::new(pb.a.as_ref(), owner, colouring, &halo)
+        DistributedSweep::<D>::new(pb.a(), owner, colouring, &halo)
     };
     assert!(matches!(
         new(&vec![0; n - 1], &colouring),
@@ -435,15 +373,8 @@ fn halo_table() {
     for refinements in 1..=3 {
         // 5 × 3 × 3 Kuhn-split cubes: 10 647 dofs after 2 refinements, 76 875 after 3
         // (the 3-D slider has about 10⁴ at j = 3 and 70 227 at j = 4).
-        let mut mesh = cuboid([0.0; 3], [2.0, 1.0, 1.0], [6, 4, 4]).unwrap();
-        for _ in 0..refinements {
-            mesh = refine_red(&mesh).0;
-        }
-        let material = LinearElasticity::isotropic(1.0, 0.3).unwrap();
-        let a = Assembler::new(&mesh)
-            .unwrap()
-            .stiffness(&mesh, &material)
-            .unwrap();
+        let bx = ElasticBox::bar(refinements).unwrap();
+        let (mesh, a) = (bx.mesh(), &bx.stiffness);
         let colouring = Colouring::new::<D>(a.as_ref()).unwrap();
         let (xadj, adjncy) = node_graph::<D>(a.as_ref()).unwrap();
         let nodes = mesh.num_vertices();

@@ -1,0 +1,325 @@
+//! The distributed smoother on MPI ranks (docs/scaling.md, "Phase 2"): linear block
+//! Gauss–Seidel sweeps of a refined elastic box (`rsf_fem::ElasticBox`, 5 × 3 × 3 cubes)
+//! partitioned by METIS, the halo exchanged by [`rsf_mpi::MpiExchange`].
+//!
+//! ```text
+//! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out FILE] [--reference]
+//! ```
+//!
+//! Every rank builds the whole problem (the stiffness, the colouring, METIS's partition of
+//! the node graph: the same on every rank), keeps its rows and drops the rest, then runs K
+//! repetitions of N sweeps from the same start (forward, backward, forward, …), each timed
+//! between two barriers. Each rank writes to standard error its owned and ghost nodes, its
+//! plan's halo per sweep and what it counted over the last repetition's sweeps, and its
+//! resident memory; rank 0 writes each repetition's time and the median to standard
+//! output, and with `--out` the owned values of every rank after the last repetition,
+//! gathered in global order (node-major, little-endian f64). `--reference` (one rank)
+//! runs the one-process coloured sweep (`rsf_tnnmg::distributed::ColouredGaussSeidel`)
+//! instead of the distributed one.
+
+use std::io::Write;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use mpi::collective::{CommunicatorCollectives, Root};
+use mpi::datatype::PartitionMut;
+use mpi::topology::Communicator;
+use rsf_fem::ElasticBox;
+use rsf_mpi::{end_all_ranks, MpiExchange, MpiRanks};
+use rsf_tnnmg::distributed::{
+    node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, HaloExchange,
+};
+use rsf_tnnmg::Colouring;
+
+const D: usize = 3;
+
+/// The command line.
+struct Flags {
+    refinements: usize,
+    sweeps: usize,
+    repetitions: usize,
+    out: Option<std::path::PathBuf>,
+    reference: bool,
+}
+
+fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
+    let mut f = Flags {
+        refinements: 2,
+        sweeps: 6,
+        repetitions: 1,
+        out: None,
+        reference: false,
+    };
+    let mut args = args.peekable();
+    while let Some(a) = args.next() {
+        let mut value = |name: &str| args.next().ok_or(format!("{name} needs a value"));
+        let number =
+            |name: &str, v: String| v.parse::<usize>().map_err(|e| format!("{name} {v}: {e}"));
+        match a.as_str() {
+            "--refinements" => f.refinements = number(&a, value(&a)?)?,
+            "--sweeps" => f.sweeps = number(&a, value(&a)?)?,
+            "--repetitions" => f.repetitions = number(&a, value(&a)?)?,
+            "--out" => f.out = Some(value(&a)?.into()),
+            "--reference" => f.reference = true,
+            _ => return Err(format!("unknown flag {a}")),
+        }
+    }
+    if f.repetitions == 0 {
+        return Err("--repetitions must be at least 1".into());
+    }
+    Ok(f)
+}
+
+/// This process's resident and peak resident memory in MB (`/proc/self/status`), or 0.
+fn memory_mb() -> (f64, f64) {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let kb = |key: &str| {
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    (kb("VmRSS:") / 1e3, kb("VmHWM:") / 1e3)
+}
+
+/// The median of `t` (sorted in place).
+fn median(t: &mut [f64]) -> f64 {
+    t.sort_by(f64::total_cmp);
+    let n = t.len();
+    if n % 2 == 1 {
+        t[n / 2]
+    } else {
+        0.5 * (t[n / 2 - 1] + t[n / 2])
+    }
+}
+
+/// One rank's part after set-up: its sweep, its update, its start (owned and ghosts).
+struct Part {
+    sweep: DistributedSweep<D>,
+    gs: BlockGaussSeidel<D>,
+    x0: Vec<f64>,
+    dofs: usize,
+    colours: usize,
+}
+
+/// Builds the whole problem, partitions it, keeps this rank's part.
+fn set_up(f: &Flags, halo: &MpiExchange) -> Result<Part, String> {
+    let bx = ElasticBox::bar(f.refinements).map_err(|e| e.to_string())?;
+    let a = bx.stiffness.as_ref();
+    let colouring = Colouring::new::<D>(a).map_err(|e| e.to_string())?;
+    let (xadj, adjncy) = node_graph::<D>(a).map_err(|e| e.to_string())?;
+    let owner =
+        rsf_metis::part_graph_kway(&xadj, &adjncy, halo.size()).map_err(|e| e.to_string())?;
+    let sweep =
+        DistributedSweep::<D>::new(a, &owner, &colouring, halo).map_err(|e| e.to_string())?;
+    let rows = sweep.rows();
+    let len = D * rows.len();
+    let (mut b, mut fixed, mut x0) = (vec![0.0; len], vec![false; len], vec![0.0; len]);
+    rows.gather(&bx.load(), &mut b);
+    rows.gather(&bx.fixed, &mut fixed);
+    rows.gather(&bx.start(), &mut x0);
+    let gs = BlockGaussSeidel::new(rows, &b, &fixed).map_err(|e| e.to_string())?;
+    Ok(Part {
+        sweep,
+        gs,
+        x0,
+        dofs: bx.dofs(),
+        colours: colouring.num_colours(),
+    })
+}
+
+/// Forward, backward, forward, …: sweep `k` is backward when `k` is odd.
+fn directions(n: usize) -> Vec<bool> {
+    (0..n).map(|k| k % 2 == 1).collect()
+}
+
+/// The one-process reference on one rank: timed, its result written.
+fn reference(f: &Flags) -> Result<(), String> {
+    let bx = ElasticBox::bar(f.refinements).map_err(|e| e.to_string())?;
+    let a = bx.stiffness.as_ref();
+    let colouring = Colouring::new::<D>(a).map_err(|e| e.to_string())?;
+    let x0 = bx.start();
+    let mut gs = ColouredGaussSeidel::<D>::new(a, &bx.fixed, &bx.load(), &colouring)
+        .map_err(|e| e.to_string())?;
+    let dirs = directions(f.sweeps);
+    let mut times = Vec::new();
+    let mut x = x0.clone();
+    for k in 0..f.repetitions {
+        x.copy_from_slice(&x0);
+        let t = Instant::now();
+        for &reverse in &dirs {
+            gs.sweep(&mut x, reverse);
+        }
+        let s = t.elapsed().as_secs_f64();
+        println!("repetition {k}: {} sweeps in {s:.6} s", f.sweeps);
+        times.push(s);
+    }
+    let (rss, peak) = memory_mb();
+    eprintln!("rank 0 of 1: one process, resident={rss:.1} MB peak={peak:.1} MB");
+    report(f, bx.dofs(), colouring.num_colours(), 1, &mut times);
+    if let Some(out) = &f.out {
+        write_values(out, &x)?;
+    }
+    Ok(())
+}
+
+fn report(f: &Flags, dofs: usize, colours: usize, ranks: usize, times: &mut [f64]) {
+    let m = median(times);
+    println!(
+        "dofs={dofs} colours={colours} ranks={ranks} sweeps={} repetitions={} \
+         median={m:.6} s sweeps_per_second={:.3}",
+        f.sweeps,
+        f.repetitions,
+        f.sweeps as f64 / m
+    );
+}
+
+fn write_values(path: &std::path::Path, x: &[f64]) -> Result<(), String> {
+    let bytes: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Gathers every rank's owned values into global order on rank 0 (`None` elsewhere).
+fn gather(halo: &MpiExchange, part: &Part, x: &[f64]) -> Option<Vec<f64>> {
+    let comm = halo.communicator();
+    let root = comm.process_at_rank(0);
+    let rows = part.sweep.rows();
+    let owned = rows.owned();
+    let nodes: Vec<u64> = rows.global_nodes()[..owned]
+        .iter()
+        .map(|&p| p as u64)
+        .collect();
+    let values = &x[..D * owned];
+    let count = i32::try_from(owned).expect("owned nodes fit an int");
+    if halo.rank() != 0 {
+        root.gather_into(&count);
+        root.gather_varcount_into(&nodes[..]);
+        root.gather_varcount_into(values);
+        return None;
+    }
+    let mut counts = vec![0i32; halo.size()];
+    root.gather_into_root(&count, &mut counts[..]);
+    let displs: Vec<i32> = counts
+        .iter()
+        .scan(0, |at, &c| {
+            let d = *at;
+            *at += c;
+            Some(d)
+        })
+        .collect();
+    let total = counts.iter().map(|&c| c as usize).sum::<usize>();
+    let mut all_nodes = vec![0u64; total];
+    root.gather_varcount_into_root(
+        &nodes[..],
+        &mut PartitionMut::new(&mut all_nodes[..], &counts[..], &displs[..]),
+    );
+    let (vc, vd): (Vec<i32>, Vec<i32>) = counts
+        .iter()
+        .zip(&displs)
+        .map(|(&c, &d)| (D as i32 * c, D as i32 * d))
+        .unzip();
+    let mut all_values = vec![0.0; D * total];
+    root.gather_varcount_into_root(
+        values,
+        &mut PartitionMut::new(&mut all_values[..], &vc[..], &vd[..]),
+    );
+    let mut global = vec![f64::NAN; D * total];
+    for (k, &p) in all_nodes.iter().enumerate() {
+        let p = p as usize;
+        global[D * p..D * p + D].copy_from_slice(&all_values[D * k..D * k + D]);
+    }
+    Some(global)
+}
+
+/// The distributed sweeps on every rank.
+fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
+    let mut halo = MpiExchange::world();
+    let (rank, size) = (halo.rank(), halo.size());
+    let t = Instant::now();
+    let mut part = set_up(f, &halo)?;
+    let set_up_s = t.elapsed().as_secs_f64();
+    let (rss, peak) = memory_mb();
+    let dirs = directions(f.sweeps);
+    let mut x = part.x0.clone();
+    let mut times = Vec::new();
+    for k in 0..f.repetitions {
+        x.copy_from_slice(&part.x0);
+        part.sweep.update_ghosts(&mut x, &mut halo);
+        part.sweep.reset_counters();
+        halo.communicator().barrier();
+        let t = Instant::now();
+        for &reverse in &dirs {
+            let gs = &part.gs;
+            part.sweep.sweep(&mut x, reverse, &mut halo, |rows, p, x| {
+                gs.update(rows, p, x)
+            });
+        }
+        halo.communicator().barrier();
+        let s = t.elapsed().as_secs_f64();
+        if ranks.is_root() {
+            println!("repetition {k}: {} sweeps in {s:.6} s", f.sweeps);
+        }
+        times.push(s);
+    }
+    let rows = part.sweep.rows();
+    let (plan, counted) = (part.sweep.per_sweep(), part.sweep.counters());
+    let neighbours = part.sweep.neighbour_ranks().count();
+    // The rows' off-diagonal blocks (72 bytes and a 4-byte column each).
+    let blocks: usize = (0..rows.owned()).map(|p| rows.neighbours(p).count()).sum();
+    // One write of the whole line (the ranks share standard error: no interleaving).
+    let line = format!(
+        "rank {rank} of {size}: owned={} ghosts={} neighbours={neighbours} blocks={blocks} \
+         plan_per_sweep={}/{}/{}/{} counted={}/{}/{}/{} set_up={set_up_s:.3} s \
+         resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB\n",
+        rows.owned(),
+        rows.ghosts(),
+        plan.sweeps,
+        plan.exchanges,
+        plan.messages,
+        plan.values,
+        counted.sweeps,
+        counted.exchanges,
+        counted.messages,
+        counted.values,
+    );
+    std::io::stderr()
+        .write_all(line.as_bytes())
+        .map_err(|e| e.to_string())?;
+    if ranks.is_root() {
+        report(f, part.dofs, part.colours, size, &mut times);
+    }
+    if let Some(global) = gather(&halo, &part, &x) {
+        if let Some(out) = &f.out {
+            write_values(out, &global)?;
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let (_universe, ranks) = match rsf_mpi::initialize() {
+        Ok(u) => u,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let flags = match parse(std::env::args().skip(1)) {
+        Ok(f) => f,
+        Err(e) => end_all_ranks(&ranks, &e),
+    };
+    let size = rsf::ranks::RankGroup::size(&ranks);
+    let result = if flags.reference {
+        if size != 1 {
+            end_all_ranks(&ranks, &"--reference runs on one rank");
+        }
+        reference(&flags)
+    } else {
+        distributed(&flags, &ranks)
+    };
+    if let Err(e) = result {
+        end_all_ranks(&ranks, &e);
+    }
+    ExitCode::SUCCESS
+}

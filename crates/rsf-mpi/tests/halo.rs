@@ -1,0 +1,233 @@
+//! The distributed smoother on MPI ranks: the program `distributed_sweep` (linear block
+//! Gauss–Seidel on an elastic box partitioned by METIS, the halo exchanged over MPI) under
+//! `mpirun -n 1, 2, 4` gives the bits of the one-process coloured sweep computed here, and
+//! every rank's counted halo equals its plan's.
+
+use std::path::{Path, PathBuf};
+
+use rsf_fem::ElasticBox;
+use rsf_tnnmg::distributed::ColouredGaussSeidel;
+use rsf_tnnmg::Colouring;
+
+mod common;
+use common::mpirun;
+
+const BIN: &str = env!("CARGO_BIN_EXE_distributed_sweep");
+const D: usize = 3;
+
+/// A fresh file `name` under the target directory's tmp.
+fn file(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("halo");
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::remove_file(&p).ok();
+    p
+}
+
+/// The values a run wrote (little-endian f64).
+fn values(path: &Path) -> Vec<f64> {
+    std::fs::read(path)
+        .unwrap()
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect()
+}
+
+/// Entries whose bits differ.
+fn differing_bits(a: &[f64], b: &[f64]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .filter(|(x, y)| x.to_bits() != y.to_bits())
+        .count()
+}
+
+/// One rank's line of the program's standard error.
+#[derive(Debug)]
+struct RankLine {
+    owned: u64,
+    ghosts: u64,
+    /// sweeps, exchanges, messages, values.
+    plan: [u64; 4],
+    counted: [u64; 4],
+}
+
+fn field<'a>(line: &'a str, key: &str) -> &'a str {
+    line.split_whitespace()
+        .find_map(|w| w.strip_prefix(key)?.strip_prefix('='))
+        .unwrap_or_else(|| panic!("no {key} in {line}"))
+}
+
+fn four(s: &str) -> [u64; 4] {
+    let v: Vec<u64> = s.split('/').map(|x| x.parse().unwrap()).collect();
+    v.try_into().unwrap()
+}
+
+/// The `rank r of n:` lines, by rank.
+fn rank_lines(err: &str, n: usize) -> Vec<RankLine> {
+    (0..n)
+        .map(|r| {
+            let line = err
+                .lines()
+                .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
+                .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"));
+            RankLine {
+                owned: field(line, "owned").parse().unwrap(),
+                ghosts: field(line, "ghosts").parse().unwrap(),
+                plan: four(field(line, "plan_per_sweep")),
+                counted: four(field(line, "counted")),
+            }
+        })
+        .collect()
+}
+
+/// Six forward and backward sweeps on the box of 10 647 dofs at 1, 2 and 4 MPI ranks: the
+/// owned values gathered on rank 0 have the bits of the one-process coloured sweep; per
+/// rank the counters over the sweeps are six times the plan's per sweep; the ranks own
+/// every node once; the values sent per sweep are `D` per ghost of the receiving ranks
+/// (every ghost is sent once per sweep); at several ranks every rank has ghosts and sends.
+/// The program's one-process reference (`--reference`) has the same bits.
+#[test]
+fn distributed_sweeps_on_1_2_and_4_mpi_ranks_have_the_one_process_bits() {
+    let bx = ElasticBox::bar(2).unwrap();
+    let colouring = Colouring::new::<D>(bx.stiffness.as_ref()).unwrap();
+    let sweeps = [false, true, false, true, false, true];
+    let start = bx.start();
+    let mut gs =
+        ColouredGaussSeidel::<D>::new(bx.stiffness.as_ref(), &bx.fixed, &bx.load(), &colouring)
+            .unwrap();
+    let mut x = start.clone();
+    for reverse in sweeps {
+        gs.sweep(&mut x, reverse);
+    }
+    assert!(differing_bits(&x, &start) > bx.dofs() / 2);
+    assert!(x.iter().all(|v| v.is_finite()));
+    let nodes = bx.mesh().num_vertices() as u64;
+    let args = ["--refinements", "2", "--sweeps", "6"];
+
+    let out = file("reference.bin");
+    let run = mpirun(1)
+        .arg(BIN)
+        .args(args)
+        .arg("--reference")
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("mpirun (Open MPI: apt-get install openmpi-bin libopenmpi-dev)");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(differing_bits(&values(&out), &x), 0, "--reference");
+
+    for n in [1, 2, 4] {
+        let out = file(&format!("ranks_{n}.bin"));
+        let run = mpirun(n)
+            .arg(BIN)
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{n} ranks: {err}");
+        assert_eq!(differing_bits(&values(&out), &x), 0, "{n} ranks");
+        let lines = rank_lines(&err, n);
+        assert_eq!(lines.iter().map(|l| l.owned).sum::<u64>(), nodes);
+        let ghosts: u64 = lines.iter().map(|l| l.ghosts).sum();
+        let sent: u64 = lines.iter().map(|l| l.plan[3]).sum();
+        assert_eq!(sent, D as u64 * ghosts, "{n} ranks: values per sweep");
+        for (r, l) in lines.iter().enumerate() {
+            assert_eq!(l.plan[0], 1, "rank {r} of {n}");
+            assert_eq!(l.plan[1], colouring.num_colours() as u64);
+            let six = l.plan.map(|v| 6 * v);
+            assert_eq!(l.counted, six, "rank {r} of {n}: counted against the plan");
+            assert_eq!(l.ghosts > 0, n > 1, "rank {r} of {n}: ghosts");
+            assert_eq!(l.plan[2] > 0, n > 1, "rank {r} of {n}: messages");
+        }
+    }
+}
+
+/// `--reference` is the one-process sweep: on two ranks the program refuses it, and every
+/// rank ends.
+#[test]
+fn the_reference_refuses_two_ranks() {
+    let run = mpirun(2)
+        .arg(BIN)
+        .args(["--refinements", "0", "--reference"])
+        .output()
+        .unwrap();
+    assert!(!run.status.success());
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("--reference runs on one rank"), "{err}");
+}
+
+/// Set in the ranks' environment: run the body of `mpi_ranks_exchange_in_order`.
+const CHILD: &str = "RSF_MPI_HALO_TEST_RANK";
+
+/// `MpiExchange` alone on 3 MPI ranks in a ring: five exchanges of different lengths, no
+/// wait between them (a rank may run ahead by any number of exchanges), rank 1 sending
+/// nothing in the third: every message arrives at its rank, in order, where its receive
+/// entry puts it, and a receive range left out keeps its value.
+#[test]
+fn mpi_ranks_exchange_in_order() {
+    use rsf_tnnmg::distributed::{HaloExchange, HaloMessage};
+    if std::env::var_os(CHILD).is_some() {
+        let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
+        let mut halo = rsf_mpi::MpiExchange::world();
+        let (r, n) = (halo.rank(), halo.size());
+        let (next, prev) = ((r + 1) % n, (r + n - 1) % n);
+        for round in 0..5 {
+            let len = 1 + round;
+            let send: Vec<f64> = (0..len)
+                .map(|k| (100 * r + 10 * round + k) as f64)
+                .collect();
+            let mut recv = vec![-1.0; len + 2];
+            let silent = |s: usize| round == 2 && s == 1;
+            let to = [HaloMessage {
+                rank: next,
+                start: 0,
+                len,
+            }];
+            let from = [HaloMessage {
+                rank: prev,
+                start: 2,
+                len,
+            }];
+            halo.exchange(
+                if silent(r) { &[] } else { &to },
+                &send,
+                if silent(prev) { &[] } else { &from },
+                &mut recv,
+            );
+            let mut want = vec![-1.0; len + 2];
+            if !silent(prev) {
+                for k in 0..len {
+                    want[2 + k] = (100 * prev + 10 * round + k) as f64;
+                }
+            }
+            assert_eq!(recv, want, "rank {r}, exchange {round}");
+        }
+        // One write (the ranks share standard error).
+        let line = format!("rank {r} of {n}: five exchanges in order\n");
+        std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes()).unwrap();
+        return;
+    }
+    let me = std::env::current_exe().unwrap();
+    let out = mpirun(3)
+        .env(CHILD, "1")
+        .arg(&me)
+        .args([
+            "--exact",
+            "mpi_ranks_exchange_in_order",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert_eq!(err.matches("five exchanges in order").count(), 3, "{err}");
+}
