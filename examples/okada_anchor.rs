@@ -35,7 +35,9 @@ use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::okada_anchor::{compare_held, compare_refined, Errors, Fault, Solver, SLIP};
+use rsf_examples::okada_anchor::{
+    compare_held, compare_refined, compare_smooth, Errors, Fault, Solver, SLIP,
+};
 
 /// The rectangles compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -93,6 +95,17 @@ enum Method {
     Multigrid,
 }
 
+/// The slip imposed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Slip {
+    /// Uniform on the rectangle, against Okada's closed form.
+    Uniform,
+    /// `cos(π x / 2a) cos(π (z − z_c) / W)` times the case's direction (buried cases
+    /// only), against its boundary-element discretisation (cells of side h on the nodes),
+    /// the far faces held at that field; with `--method multigrid`.
+    Smooth,
+}
+
 /// The finite-element model of uniform slip on a rectangle against Okada's half-space.
 #[derive(Parser)]
 #[command(version)]
@@ -117,6 +130,9 @@ struct Cli {
     /// How the model is meshed and solved.
     #[arg(long, value_enum, default_value = "direct")]
     method: Method,
+    /// The slip imposed.
+    #[arg(long, value_enum, default_value = "uniform")]
+    slip: Slip,
     /// Growth of the cells per cell away from the fault, on the coarsest mesh.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
@@ -151,6 +167,16 @@ impl Program for Cli {
             )?;
         }
         in_range("--ratio", self.ratio, (1.0, 2.0), "the growth of the cells")?;
+        if self.slip == Slip::Smooth && self.method != Method::Multigrid {
+            return Err(refuse("--slip", "smooth", "needs --method multigrid"));
+        }
+        if self.slip == Slip::Smooth && self.cases.contains(&Case::Surface) {
+            return Err(refuse(
+                "--slip",
+                "smooth",
+                "is for the buried cases (--cases buried,dip)",
+            ));
+        }
         // The coarsest mesh graded from h0 to the far faces (about 2 W of uniform cells
         // around the fault), every interval split into 2^k: per half-axis
         // 2^k · geometric_grading_len(h0, 1.5, ratio, far) intervals, 4 n³ vertices;
@@ -197,6 +223,9 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
                 let mesh = (cli.h0, level, cli.ratio);
                 let e = match cli.method {
                     Method::Direct => compare_held(case.fault(), mesh, far, at_okada)?,
+                    Method::Multigrid if cli.slip == Slip::Smooth => {
+                        compare_smooth(case.fault(), mesh, far, Solver::Multigrid)?
+                    }
                     Method::Multigrid => {
                         compare_refined(case.fault(), mesh, far, at_okada, Solver::Multigrid)?
                     }

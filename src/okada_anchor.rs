@@ -151,14 +151,22 @@ pub fn compare_held(
 
     let mesh = cuboid_from_coordinates(&xs, &ys, &zs)?;
     let probe = [-a + h, 0.0, zb + h];
+    let slip = fault.slip;
     let model = slip_model(
         ModelBuilder::new(mesh),
-        fault.slip,
+        move |_| slip,
         far,
         [[-a, 0.0, zb], [a, 0.0, zb], [a, 0.0, zt], [-a, 0.0, zt]],
         (probe, h),
     )?;
-    solve_and_compare(&model, fault, h, (far, at_okada), probe, Solver::Direct)
+    solve_and_compare(
+        &model,
+        fault,
+        (probe, h),
+        (far, at_okada),
+        Solver::Direct,
+        &Dislocation::uniform(fault)?,
+    )
 }
 
 /// How the static problem is solved.
@@ -192,13 +200,104 @@ pub const MULTIGRID_TOLERANCE: f64 = 1e-10;
 /// `h0`), mesh, model, solver (including TNNMG's "not converged") and Okada errors.
 pub fn compare_refined(
     fault: Fault,
-    (h0, level, ratio): (f64, u32, f64),
+    mesh: (f64, u32, f64),
     far: f64,
     at_okada: bool,
     solver: Solver,
 ) -> Result<Errors, AnyError> {
+    let slip = fault.slip;
+    let (model, probe, h) = refined_model(fault, mesh, far, solver, move |_| slip)?;
+    let reference = shrunk(fault, h);
+    solve_and_compare(
+        &model,
+        reference,
+        (probe, h),
+        (far, at_okada),
+        solver,
+        &Dislocation::uniform(reference)?,
+    )
+}
+
+/// `fault`'s rectangle shrunk by `h/2` on every inner edge (not along the free surface):
+/// the rectangle with the moment of a slip that ramps to 0 over the last cell of `h`.
+fn shrunk(fault: Fault, h: f64) -> Fault {
+    Fault {
+        half_length: fault.half_length - h / 2.0,
+        top: if fault.top == 0.0 {
+            0.0
+        } else {
+            fault.top + h / 2.0
+        },
+        bottom: fault.bottom - h / 2.0,
+        slip: fault.slip,
+    }
+}
+
+/// A smooth slip on the buried rectangle `fault` against the boundary-element field of the
+/// same slip (issue 55: the finite-element and boundary-element operators applied to one
+/// slip): the slip `fault.slip · cos(π x / 2a) · cos(π (z − z_c) / W)` (zero on the rim;
+/// `a` the half length, `z_c` the centre's height, `W` the width) given to the model on
+/// the hierarchy as [`compare_refined`]; the reference is `RectangularFault`'s
+/// discretisation of it — square cells of side `h` centred on the inner nodes of the
+/// fault grid, each with its node's slip, Okada's fields superposed. Errors as
+/// [`Errors`] (surface displacement; tractions at the nodes at least a quarter width from
+/// the rim) in the windows of the rectangle the cells cover (`fault` shrunk by `h/2`),
+/// the far faces held at the reference's displacement (`far`).
+///
+/// # Errors
+/// A surface-breaking `fault` (its slip would not vanish on the free surface's edge), and
+/// those of [`compare_refined`].
+pub fn compare_smooth(
+    fault: Fault,
+    mesh: (f64, u32, f64),
+    far: f64,
+    solver: Solver,
+) -> Result<Errors, AnyError> {
+    if fault.top == 0.0 {
+        return Err("a smooth slip needs a buried fault".into());
+    }
+    let (a, zc, w) = (
+        fault.half_length,
+        -(fault.top + fault.bottom) / 2.0,
+        fault.bottom - fault.top,
+    );
+    let direction = fault.slip;
+    let slip_at = move |x: [f64; 3]| {
+        let m = (std::f64::consts::PI * x[0] / (2.0 * a)).cos()
+            * (std::f64::consts::PI * (x[2] - zc) / w).cos();
+        direction.map(|d| d * m)
+    };
+    let (model, probe, h) = refined_model(fault, mesh, far, solver, slip_at)?;
+    let (n_x, n_z) = ((2.0 * a / h).round() as usize, (w / h).round() as usize);
+    let mut cells = Vec::with_capacity((n_x - 1) * (n_z - 1));
+    for i in 1..n_x {
+        for j in 1..n_z {
+            let (x, depth) = (-a + i as f64 * h, fault.bottom - j as f64 * h);
+            let rect = Rectangle::new(depth + h / 2.0, 90.0, [x - h / 2.0, x + h / 2.0], [0.0, h])?;
+            cells.push((rect, slip_at([x, 0.0, -depth])));
+        }
+    }
+    let dislocation = Dislocation::of(cells, Box::new(slip_at))?;
+    solve_and_compare(
+        &model,
+        shrunk(fault, h),
+        (probe, h),
+        (far, true),
+        solver,
+        &dislocation,
+    )
+}
+
+/// The model of `fault` on the hierarchy of [`compare_refined`], its pairs slipping
+/// `slip(x)`: the model, the position of the pair left to friction (set by hand) and `h`.
+fn refined_model(
+    fault: Fault,
+    (h0, level, ratio): (f64, u32, f64),
+    far: f64,
+    solver: Solver,
+    slip: impl Fn([f64; 3]) -> [f64; 3] + 'static,
+) -> Result<(Model<3>, [f64; 3], f64), AnyError> {
     let on_grid = |len: f64| ((len / h0).round() * h0 - len).abs() < 1e-9 * h0;
-    let surface_breaking = fault.top == 0.0;
     if !on_grid(2.0 * fault.half_length) || !on_grid(fault.bottom - fault.top) {
         return Err(format!(
             "the fault's length {} and width {} must be multiples of h0 = {h0}",
@@ -236,22 +335,12 @@ pub fn compare_refined(
     };
     let model = slip_model(
         builder,
-        fault.slip,
+        slip,
         far,
         [[-a, 0.0, zb], [a, 0.0, zb], [a, 0.0, zt], [-a, 0.0, zt]],
         (probe, h),
     )?;
-    let reference = Fault {
-        half_length: a - h / 2.0,
-        top: if surface_breaking {
-            0.0
-        } else {
-            fault.top + h / 2.0
-        },
-        bottom: fault.bottom - h / 2.0,
-        slip: fault.slip,
-    };
-    solve_and_compare(&model, reference, h, (far, at_okada), probe, solver)
+    Ok((model, probe, h))
 }
 
 /// `mesh` refined `level` times uniformly (the finest mesh of [`ModelBuilder::refined`]).
@@ -263,13 +352,13 @@ fn refine(mesh: SimplexMesh<3>, level: u32) -> Result<SimplexMesh<3>, AnyError> 
     )
 }
 
-/// The model of uniform Cartesian `slip` on the internal fault `polygon` of `builder`'s
+/// The model of the Cartesian `slip(x)` on the internal fault `polygon` of `builder`'s
 /// mesh: the far faces (distance `far`) held (at 0; the caller may overwrite the values),
-/// every split pair creeping at `slip` but the one at `probe` (within `1e-9 h`), which the
-/// builder wants as a frictional node.
+/// every split pair creeping at its `slip` but the one at `probe` (within `1e-9 h`), which
+/// the builder wants as a frictional node.
 fn slip_model(
     builder: ModelBuilder<3>,
-    slip: [f64; 3],
+    slip: impl Fn([f64; 3]) -> [f64; 3] + 'static,
     far: f64,
     polygon: [[f64; 3]; 4],
     (probe, h): ([f64; 3], f64),
@@ -289,20 +378,61 @@ fn slip_model(
         .internal_fault_polygon("fault", &polygon)
         .internal_creep_at(move |x| {
             let at_probe = (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h);
-            (!at_probe).then_some(CreepRate::Cartesian(slip))
+            (!at_probe).then_some(CreepRate::Cartesian(slip(*x)))
         })
         .build()?)
 }
 
-fn okada(fault: Fault) -> Result<(Okada, Medium), AnyError> {
-    let medium = Medium::from_shear_poisson(MU, NU)?;
-    let rect = Rectangle::new(
-        fault.bottom,
-        90.0,
-        [-fault.half_length, fault.half_length],
-        [0.0, fault.bottom - fault.top],
-    )?;
-    Ok((Okada::new(medium.alpha(), rect)?, medium))
+/// A slip imposed on the fault and its field in the half-space: Okada's rectangles, each
+/// with its uniform slip (Cartesian, hanging wall `y < 0`), superposed, and the slip the
+/// model's split pairs are given at a point.
+struct Dislocation {
+    medium: Medium,
+    /// Each rectangle with Okada's `[U1, U2, 0]`.
+    parts: Vec<(Okada, [f64; 3])>,
+    slip_at: Box<dyn Fn([f64; 3]) -> [f64; 3]>,
+}
+
+impl Dislocation {
+    /// Uniform `fault.slip` on `fault`'s rectangle.
+    fn uniform(fault: Fault) -> Result<Self, AnyError> {
+        let rect = Rectangle::new(
+            fault.bottom,
+            90.0,
+            [-fault.half_length, fault.half_length],
+            [0.0, fault.bottom - fault.top],
+        )?;
+        let slip = fault.slip;
+        Self::of(vec![(rect, slip)], Box::new(move |_| slip))
+    }
+
+    /// The rectangles `parts` with their Cartesian slips; the model's pairs slip `slip_at`.
+    fn of(
+        parts: Vec<(Rectangle, [f64; 3])>,
+        slip_at: Box<dyn Fn([f64; 3]) -> [f64; 3]>,
+    ) -> Result<Self, AnyError> {
+        let medium = Medium::from_shear_poisson(MU, NU)?;
+        let parts = parts
+            .into_iter()
+            .map(|(rect, s)| Ok((Okada::new(medium.alpha(), rect)?, [s[0], s[2], 0.0])))
+            .collect::<Result<Vec<_>, AnyError>>()?;
+        Ok(Self {
+            medium,
+            parts,
+            slip_at,
+        })
+    }
+
+    /// The displacement and its gradient at `x`: the rectangles' fields summed in order.
+    fn at(&self, x: [f64; 3]) -> Result<rsf_halfspace::Deformation, AnyError> {
+        let mut parts = self.parts.iter();
+        let (okada, u) = parts.next().ok_or("a dislocation without a rectangle")?;
+        let mut sum = okada.deformation(x, *u)?;
+        for (okada, u) in parts {
+            sum = sum.add_scaled(1.0, &okada.deformation(x, *u)?);
+        }
+        Ok(sum)
+    }
 }
 
 /// Per vertex, its lumped weight (m²) on the fault: a third of the area of every fault
@@ -341,16 +471,17 @@ fn fault_weights(model: &Model<3>, f: &InternalFault<3>) -> Vec<f64> {
     w
 }
 
+/// Solves `model` (its pairs slipping as `dislocation` says, the one at `probe` set by
+/// hand) and compares it with `dislocation`'s field in the windows of `fault`.
 fn solve_and_compare(
     model: &Model<3>,
     fault: Fault,
-    h: f64,
+    (probe, h): ([f64; 3], f64),
     (far, at_okada): (f64, bool),
-    probe: [f64; 3],
     solver: Solver,
+    dislocation: &Dislocation,
 ) -> Result<Errors, AnyError> {
-    let (okada, medium) = okada(fault)?;
-    let dislocation = [fault.slip[0], fault.slip[2], 0.0];
+    let medium = &dislocation.medium;
     let f = model
         .internal_fault
         .as_ref()
@@ -365,7 +496,7 @@ fn solve_and_compare(
         let on_far_face = x[0].abs() > far - tol || x[1].abs() > far - tol || x[2] < -far + tol;
         if at_okada && on_far_face {
             assert!(f.pair_of(q).is_none());
-            let u = okada.deformation(*x, dislocation)?.u;
+            let u = dislocation.at(*x)?.u;
             for c in 0..3 {
                 assert!(model.fixed[3 * q + c]);
                 v[3 * q + c] = u[c];
@@ -379,8 +510,8 @@ fn solve_and_compare(
         let x = model.vertices[mi];
         if (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h) {
             let r = f.transform.frames[k];
-            let j: [f64; 3] =
-                std::array::from_fn(|a| (0..3).map(|b| r[b][a] * fault.slip[b]).sum());
+            let slip = (dislocation.slip_at)(x);
+            let j: [f64; 3] = std::array::from_fn(|a| (0..3).map(|b| r[b][a] * slip[b]).sum());
             assert!(fixed[3 * mi + 2] && j[2].abs() < 1e-12);
             assert!(!fixed[3 * mi] && !fixed[3 * mi + 1]);
             for c in 0..2 {
@@ -422,8 +553,9 @@ fn solve_and_compare(
     // The jump u⁺ − u⁻ of every pair is the prescribed slip (plus side y < 0).
     let mut jump = 0.0f64;
     for &(mi, pl) in f.pairs() {
+        let slip = (dislocation.slip_at)(model.vertices[mi]);
         for c in 0..3 {
-            jump = jump.max((u[3 * pl + c] - u[3 * mi + c] - fault.slip[c]).abs());
+            jump = jump.max((u[3 * pl + c] - u[3 * mi + c] - slip[c]).abs());
         }
     }
 
@@ -451,7 +583,7 @@ fn solve_and_compare(
                 1e-5 * length
             };
         }
-        let uo = okada.deformation(point, dislocation)?.u;
+        let uo = dislocation.at(point)?.u;
         let e = (0..3).fold(0.0f64, |m, c| m.hypot(u[3 * q + c] - uo[c]));
         err = err.max(e);
         scale = scale.max(uo.iter().fold(0.0f64, |m, c| m.hypot(*c)));
@@ -479,7 +611,7 @@ fn solve_and_compare(
         let fj = [force[3 * mi], force[3 * mi + 1], force[3 * mi + 2]];
         let t_fe: [f64; 3] =
             std::array::from_fn(|i| (0..3).map(|a| r[i][a] * fj[a]).sum::<f64>() / w);
-        let grad = okada.deformation(x, dislocation)?.grad;
+        let grad = dislocation.at(x)?.grad;
         let sigma = medium.stress(&grad);
         let t_ok = rsf_halfspace::traction(&sigma, &[0.0, 1.0, 0.0]);
         let e = (0..3).fold(0.0f64, |m, c| m.hypot(t_fe[c] - t_ok[c]));
