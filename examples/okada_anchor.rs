@@ -36,7 +36,7 @@ use std::time::Instant;
 use clap::{Parser, ValueEnum};
 use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::okada_anchor::{
-    compare_held, compare_refined, compare_smooth, Errors, Fault, Solver, SLIP,
+    compare_held, compare_refined, compare_smooth, hierarchy_vertices, Errors, Fault, Solver, SLIP,
 };
 
 /// The rectangles compared.
@@ -184,12 +184,21 @@ impl Program for Cli {
         // (measured: docs/three-d.md).
         let k = self.levels.iter().copied().max().unwrap_or(0);
         let far = self.far.iter().copied().fold(2.0, f64::max);
-        let n =
-            2f64.powi(k as i32) * rsf::fem::geometric_grading_len(self.h0, 1.5, self.ratio, far);
-        let vertices = 4.0 * n * n * n;
-        let per_vertex = match self.method {
-            Method::Direct => rsf_scenes::Slider3dScene::BYTES_PER_NODE,
-            Method::Multigrid => MULTIGRID_BYTES_PER_VERTEX,
+        let (vertices, per_vertex) = match self.method {
+            Method::Direct => {
+                let n = 2f64.powi(k as i32)
+                    * rsf::fem::geometric_grading_len(self.h0, 1.5, self.ratio, far);
+                (4.0 * n * n * n, rsf_scenes::Slider3dScene::BYTES_PER_NODE)
+            }
+            // The hierarchy's vertices exactly (its coarsest mesh's lines).
+            Method::Multigrid => {
+                let mut most = 0.0f64;
+                for case in &self.cases {
+                    let mesh = (self.h0, k, self.ratio);
+                    most = most.max(hierarchy_vertices(case.fault(), mesh, far)?);
+                }
+                (most, MULTIGRID_BYTES_PER_VERTEX)
+            }
         };
         Ok(Plan::new().memory(
             vertices * per_vertex,

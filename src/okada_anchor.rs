@@ -288,6 +288,52 @@ pub fn compare_smooth(
     )
 }
 
+/// The grid lines `[x, y, z]` of the coarsest mesh of [`compare_refined`]: spacing `h0`
+/// along `fault` and one cell beyond its rim, graded by `ratio` to the far faces.
+fn coarse_lines(
+    fault: Fault,
+    (h0, ratio): (f64, f64),
+    far: f64,
+) -> Result<[Vec<f64>; 3], AnyError> {
+    let a = fault.half_length;
+    let n_x = ((2.0 * a) / h0).round() as usize + 2;
+    let right = band_and_grading(-a - h0, h0, n_x, (h0, 0, ratio), far)?;
+    let mut xs: Vec<f64> = right.iter().rev().map(|x| -x).collect();
+    xs.retain(|&x| x < -a - h0 - 1e-9 * h0);
+    xs.extend(&right);
+    let half_y = band_and_grading(0.0, h0, 2, (h0, 0, ratio), far)?;
+    let mut ys: Vec<f64> = half_y.iter().rev().map(|y| -y).collect();
+    ys.extend(&half_y[1..]);
+    // Depths: equal cells from the surface to the fault's top (none if it breaks the
+    // surface), h0 along the fault and one cell more, graded to the bottom.
+    let n_top = (fault.top / h0).ceil() as usize;
+    let mut depths: Vec<f64> = (0..n_top)
+        .map(|i| fault.top * i as f64 / n_top as f64)
+        .collect();
+    let n_f = ((fault.bottom - fault.top) / h0).round() as usize + 1;
+    depths.extend(band_and_grading(fault.top, h0, n_f, (h0, 0, ratio), far)?);
+    let zs: Vec<f64> = depths.iter().rev().map(|d| -d).collect();
+    Ok([xs, ys, zs])
+}
+
+/// The vertices of the model of [`compare_refined`] and [`compare_smooth`] before the
+/// fault is split: `(n − 1) 2^level + 1` lines along each axis of the coarsest mesh's `n`.
+///
+/// # Errors
+/// As the coarsest mesh's lines ([`compare_refined`]).
+pub fn hierarchy_vertices(
+    fault: Fault,
+    (h0, level, ratio): (f64, u32, f64),
+    far: f64,
+) -> Result<f64, AnyError> {
+    let lines = coarse_lines(fault, (h0, ratio), far)?;
+    let k = 2f64.powi(level as i32);
+    Ok(lines
+        .iter()
+        .map(|l| (l.len() as f64 - 1.0) * k + 1.0)
+        .product())
+}
+
 /// The model of `fault` on the hierarchy of [`compare_refined`], its pairs slipping
 /// `slip(x)`: the model, the position of the pair left to friction (set by hand) and `h`.
 fn refined_model(
@@ -307,23 +353,7 @@ fn refined_model(
         .into());
     }
     let a = fault.half_length;
-    let n_x = ((2.0 * a) / h0).round() as usize + 2;
-    let right = band_and_grading(-a - h0, h0, n_x, (h0, 0, ratio), far)?;
-    let mut xs: Vec<f64> = right.iter().rev().map(|x| -x).collect();
-    xs.retain(|&x| x < -a - h0 - 1e-9 * h0);
-    xs.extend(&right);
-    let half_y = band_and_grading(0.0, h0, 2, (h0, 0, ratio), far)?;
-    let mut ys: Vec<f64> = half_y.iter().rev().map(|y| -y).collect();
-    ys.extend(&half_y[1..]);
-    // Depths: equal cells from the surface to the fault's top (none if it breaks the
-    // surface), h0 along the fault and one cell more, graded to the bottom.
-    let n_top = (fault.top / h0).ceil() as usize;
-    let mut depths: Vec<f64> = (0..n_top)
-        .map(|i| fault.top * i as f64 / n_top as f64)
-        .collect();
-    let n_f = ((fault.bottom - fault.top) / h0).round() as usize + 1;
-    depths.extend(band_and_grading(fault.top, h0, n_f, (h0, 0, ratio), far)?);
-    let zs: Vec<f64> = depths.iter().rev().map(|d| -d).collect();
+    let [xs, ys, zs] = coarse_lines(fault, (h0, ratio), far)?;
     let coarse = cuboid_from_coordinates(&xs, &ys, &zs)?;
 
     let h = h0 / f64::from(1u32 << level);
