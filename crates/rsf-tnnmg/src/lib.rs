@@ -72,6 +72,7 @@
 mod block;
 mod bsr;
 mod chunks;
+mod coarse;
 mod colouring;
 pub mod distributed;
 mod error;

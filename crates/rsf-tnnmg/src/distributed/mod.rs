@@ -15,20 +15,26 @@
 //! smoother).
 
 mod halo;
+mod hierarchy;
 mod linear;
 mod local_rows;
 mod sweep;
 mod transfer;
 mod transport;
+mod vcycle;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod transfer_tests;
+#[cfg(test)]
+mod vcycle_tests;
 
 pub use halo::HaloCounters;
+pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
 pub use sweep::DistributedSweep;
 pub use transfer::DistributedTransfer;
 pub use transport::{HaloExchange, HaloMessage, ThreadExchange};
+pub use vcycle::DistributedVCycle;
