@@ -1,12 +1,13 @@
 //! The distributed smoother on MPI ranks: the program `distributed_sweep` (linear block
 //! Gauss–Seidel on an elastic box partitioned by METIS, the halo exchanged over MPI) under
 //! `mpirun -n 1, 2, 4` gives the bits of the one-process coloured sweep computed here, and
-//! every rank's counted halo equals its plan's.
+//! every rank's counted halo equals its plan's; with `--vcycle`, the linear V-cycle at
+//! `mpirun -n 1, 2` gives the bits of the one-process `ColouredVCycle`.
 
 use std::path::{Path, PathBuf};
 
 use rsf_fem::ElasticBox;
-use rsf_tnnmg::distributed::ColouredGaussSeidel;
+use rsf_tnnmg::distributed::{ColouredGaussSeidel, ColouredVCycle, VCycleHierarchy, VCycleShape};
 use rsf_tnnmg::Colouring;
 
 mod common;
@@ -145,6 +146,99 @@ fn distributed_sweeps_on_1_2_and_4_mpi_ranks_have_the_one_process_bits() {
             assert_eq!(l.counted, six, "rank {r} of {n}: counted against the plan");
             assert_eq!(l.ghosts > 0, n > 1, "rank {r} of {n}: ghosts");
             assert_eq!(l.plan[2] > 0, n > 1, "rank {r} of {n}: messages");
+        }
+    }
+}
+
+/// The `rank r of n:` lines of a `--vcycle` run, by rank: owned fine nodes, owned
+/// coarsest nodes, the plans' (sweeps, exchanges, messages, values) per cycle, and what
+/// was counted.
+fn vcycle_lines(err: &str, n: usize) -> Vec<(u64, u64, [u64; 4], [u64; 4])> {
+    (0..n)
+        .map(|r| {
+            let line = err
+                .lines()
+                .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
+                .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"));
+            (
+                field(line, "owned").parse().unwrap(),
+                field(line, "coarsest_owned").parse().unwrap(),
+                four(field(line, "plan_per_cycle")),
+                four(field(line, "counted")),
+            )
+        })
+        .collect()
+}
+
+/// Three linear V(1,1)-cycles on the box of 10 647 dofs (3 levels) with `--vcycle` at 1
+/// and 2 MPI ranks: the owned values gathered on rank 0 have the bits of the one-process
+/// `ColouredVCycle` computed here, as does the program's `--reference`; per rank the
+/// counters over the cycles are three times the plans' per cycle, with 2 sweeps per level
+/// above the coarsest; the ranks own every fine and every coarsest node once; at 2 ranks
+/// every rank sends.
+#[test]
+fn vcycles_on_1_and_2_mpi_ranks_have_the_one_process_bits() {
+    let bx = ElasticBox::bar(2).unwrap();
+    let h = &bx.hierarchy;
+    let ps: Vec<_> = (1..=h.finest_level())
+        .map(|j| h.vector_prolongation(j).as_ref())
+        .collect();
+    let vh = VCycleHierarchy::<D>::new(bx.stiffness.as_ref(), &bx.fixed, &ps).unwrap();
+    let mut vc = ColouredVCycle::new(&vh, VCycleShape { pre: 1, post: 1 }).unwrap();
+    vc.set_rhs(&bx.load()).unwrap();
+    let start = bx.start();
+    let mut x = start.clone();
+    for _ in 0..3 {
+        vc.cycle(&mut x);
+    }
+    assert!(differing_bits(&x, &start) > bx.dofs() / 2);
+    assert!(x.iter().all(|v| v.is_finite()));
+    let args = ["--refinements", "2", "--sweeps", "3", "--vcycle"];
+
+    let out = file("vcycle_reference.bin");
+    let run = mpirun(1)
+        .arg(BIN)
+        .args(args)
+        .arg("--reference")
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(differing_bits(&values(&out), &x), 0, "--reference");
+
+    let levels = vh.num_levels() as u64;
+    for n in [1, 2] {
+        let out = file(&format!("vcycle_ranks_{n}.bin"));
+        let run = mpirun(n)
+            .arg(BIN)
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{n} ranks: {err}");
+        assert_eq!(differing_bits(&values(&out), &x), 0, "{n} ranks");
+        let lines = vcycle_lines(&err, n);
+        let owned: u64 = lines.iter().map(|l| l.0).sum();
+        let coarsest: u64 = lines.iter().map(|l| l.1).sum();
+        assert_eq!(
+            (owned, coarsest),
+            (bx.mesh().num_vertices() as u64, vh.nodes(0) as u64)
+        );
+        for (r, (_, _, plan, counted)) in lines.iter().enumerate() {
+            assert_eq!(
+                plan[0],
+                2 * (levels - 1),
+                "rank {r} of {n}: sweeps per cycle"
+            );
+            assert_eq!(*counted, plan.map(|v| 3 * v), "rank {r} of {n}: counted");
+            assert_eq!(plan[2] > 0, n > 1, "rank {r} of {n}: messages");
         }
     }
 }

@@ -38,8 +38,8 @@
 //!
 //! On ranks with distributed memory (docs/scaling.md, "Past one machine"), the
 //! [`distributed`] module holds the multi-colour block Gauss–Seidel sweep of one rank with a
-//! halo exchange per colour (the first part of the implicit engine on ranks: not yet the
-//! V-cycle or TNNMG).
+//! halo exchange per colour and the linear V-cycle built on it (the first parts of the
+//! implicit engine on ranks: not yet TNNMG).
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.
@@ -72,6 +72,7 @@
 mod block;
 mod bsr;
 mod chunks;
+mod coarse;
 mod colouring;
 pub mod distributed;
 mod error;

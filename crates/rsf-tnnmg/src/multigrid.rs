@@ -5,12 +5,11 @@ use std::sync::Arc;
 use crate::block::{masked_inverse, mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedOrder, ChunkedSweep, Smoothing};
+use crate::coarse::{excluded, CoarseSolver};
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
-use faer::sparse::SymbolicSparseColMatRef;
 use rsf_linalg::Csc;
-use rsf_linalg::{Cholesky, FillOrdering};
 
 /// Shape of the multigrid cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -148,10 +147,7 @@ pub(crate) struct LinearMultigrid<const D: usize> {
     galerkin: Vec<Galerkin<D>>,
     /// Levels, coarsest first; the last one is the fine level.
     levels: Vec<Level<D>>,
-    coarse: Cholesky,
-    /// Coarsest matrix as CSC (dense blocks) and where each entry comes from.
-    coarse_csc: Csc,
-    coarse_map: Vec<usize>,
+    coarse: CoarseSolver,
     shape: CycleShape,
     /// Per level: the nodes whose rows, columns or masks may change between incremental
     /// updates (index `l` for level `l`; the fine level's set is given by the caller).
@@ -192,22 +188,11 @@ impl<const D: usize> LinearMultigrid<D> {
         }
         galerkin_rev.reverse();
         levels_rev.reverse();
-        let (coarse_csc, coarse_map) = levels_rev[0].a.csc_pattern();
-        let pattern = SymbolicSparseColMatRef::new_checked(
-            coarse_csc.nrows,
-            coarse_csc.nrows,
-            &coarse_csc.col_ptr,
-            None,
-            &coarse_csc.row_idx,
-        );
-        let coarse = Cholesky::analyze_with(pattern, FillOrdering::Amd)
-            .map_err(|e| Error::Factorisation(e.to_string()))?;
+        let coarse = CoarseSolver::new(&levels_rev[0].a)?;
         Ok(Self {
             galerkin: galerkin_rev,
             levels: levels_rev,
             coarse,
-            coarse_csc,
-            coarse_map,
             shape,
             variable: Vec::new(),
             t_rows: Vec::new(),
@@ -279,7 +264,7 @@ impl<const D: usize> LinearMultigrid<D> {
             for p in 0..coarse.a.nodes() {
                 for c in 0..D {
                     let d = coarse.a.diag[p][c][c];
-                    coarse.mask[D * p + c] = !(d > 0.0);
+                    coarse.mask[D * p + c] = excluded(d);
                     coarse.ref_diag[D * p + c] = d.max(0.0);
                 }
                 coarse.refresh_node(p);
@@ -347,53 +332,15 @@ impl<const D: usize> LinearMultigrid<D> {
     fn factorize_coarsest(&mut self) -> Result<()> {
         // Coarsest factorisation with masked rows/columns replaced by identity.
         let level = &self.levels[0];
-        let a = &mut self.coarse_csc;
-        for j in 0..a.ncols {
-            for k in a.col_ptr[j]..a.col_ptr[j + 1] {
-                let i = a.row_idx[k];
-                a.val[k] = if level.mask[i] || level.mask[j] {
-                    if i == j {
-                        1.0
-                    } else {
-                        0.0
-                    }
-                } else {
-                    level.a.flat_value(self.coarse_map[k])
-                };
-            }
-        }
-        match self.coarse.factorize_values(&a.val) {
-            Ok(()) => Ok(()),
-            Err(_) => {
-                // Truncation can make the truncated prolongation P_t rank deficient, and then
-                // P_tᵀ H P_t is only semidefinite. Its kernel is ker P_t: coarse vectors that
-                // prolongate to zero, so any component there is harmless. A relative diagonal
-                // shift makes the factorisation well defined without changing P_t x_c.
-                for j in 0..a.ncols {
-                    for k in a.col_ptr[j]..a.col_ptr[j + 1] {
-                        if a.row_idx[k] == j && !level.mask[j] {
-                            a.val[k] *= 1.0 + 1e-10;
-                            a.val[k] += f64::MIN_POSITIVE;
-                        }
-                    }
-                }
-                self.coarse
-                    .factorize_values(&a.val)
-                    .map_err(|_| Error::NotPositiveDefinite("Cholesky factorisation"))
-            }
-        }
+        self.coarse.factorize(&level.a, &level.mask)
     }
 
     /// One cycle on level `l` from the current `x`, or from `x = 0` when `zero_start`.
     fn cycle(&mut self, l: usize, fine_residual: bool, zero_start: bool) {
         if l == 0 {
             let level = &mut self.levels[0];
-            for ((x, &r), &f) in level.x.iter_mut().zip(&level.rhs).zip(&level.free) {
-                *x = r * f;
-            }
-            self.coarse
-                .solve_in_place(&mut level.x)
-                .expect("the coarse factorisation succeeded before a solve");
+            level.x.copy_from_slice(&level.rhs);
+            self.coarse.solve(&mut level.x, &level.free);
             return;
         }
         let (shape, par) = (self.shape, self.par);

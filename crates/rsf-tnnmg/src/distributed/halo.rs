@@ -30,6 +30,35 @@ impl HaloCounters {
     pub fn bytes(&self) -> u64 {
         8 * self.values
     }
+
+    /// Every count times `k` (what `k` repetitions of the counted work send).
+    pub fn times(self, k: u64) -> Self {
+        Self {
+            sweeps: k * self.sweeps,
+            exchanges: k * self.exchanges,
+            messages: k * self.messages,
+            values: k * self.values,
+        }
+    }
+}
+
+impl std::ops::Add for HaloCounters {
+    type Output = Self;
+
+    fn add(self, o: Self) -> Self {
+        Self {
+            sweeps: self.sweeps + o.sweeps,
+            exchanges: self.exchanges + o.exchanges,
+            messages: self.messages + o.messages,
+            values: self.values + o.values,
+        }
+    }
+}
+
+impl std::ops::AddAssign for HaloCounters {
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
 }
 
 /// What one rank exchanges with one neighbour rank (local node indices).
@@ -52,6 +81,50 @@ pub(crate) struct Round {
     pub recvs: Vec<HaloMessage>,
     /// Local nodes that the receive buffer's values go to, in order.
     pub recv_nodes: Vec<u32>,
+}
+
+impl Round {
+    /// What one exchange of this round sends (`D` values per node): one exchange, its
+    /// messages and values.
+    pub fn counters<const D: usize>(&self) -> HaloCounters {
+        HaloCounters {
+            sweeps: 0,
+            exchanges: 1,
+            messages: self.sends.len() as u64,
+            values: (D * self.send_nodes.len()) as u64,
+        }
+    }
+
+    /// The all-gather of a vector whose node `i` is owned by rank `owner[i]`, as one
+    /// exchange of rank `rank` of `size` on the global vector (node indices are global):
+    /// every rank sends its owned nodes (increasing) to every other rank and receives each
+    /// other rank's owned nodes (increasing) into their places. A rank that owns no node
+    /// sends no message and is sent none (it has no value to receive them for).
+    pub fn all_gather(owner: &[usize], rank: usize, size: usize, values: usize) -> Self {
+        let mut round = Self::default();
+        let nodes_of = |r: usize| (0..owner.len()).filter(move |&i| owner[i] == r);
+        let mine: Vec<u32> = nodes_of(rank).map(|i| i as u32).collect();
+        for r in (0..size).filter(|&r| r != rank) {
+            if nodes_of(r).next().is_some() {
+                add(
+                    &mut round.sends,
+                    &mut round.send_nodes,
+                    r,
+                    mine.iter(),
+                    values,
+                );
+            }
+            let theirs: Vec<u32> = nodes_of(r).map(|i| i as u32).collect();
+            add(
+                &mut round.recvs,
+                &mut round.recv_nodes,
+                r,
+                theirs.iter(),
+                values,
+            );
+        }
+        round
+    }
 }
 
 /// The halo plan of one rank ([`LocalRows`] with a global [`Colouring`]).

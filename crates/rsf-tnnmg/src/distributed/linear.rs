@@ -79,6 +79,17 @@ impl<const D: usize> BlockGaussSeidel<D> {
         })
     }
 
+    /// The owned nodes' right-hand side (`D · rows.owned()` values), to change between
+    /// sweeps (a multigrid level's right-hand side changes every cycle).
+    pub fn rhs_mut(&mut self) -> &mut [f64] {
+        &mut self.b
+    }
+
+    /// The owned nodes' right-hand side.
+    pub fn rhs(&self) -> &[f64] {
+        &self.b
+    }
+
     /// The new block of owned node `p` from the local vector `x` (its ghosts current), as
     /// [`DistributedSweep::sweep`](super::DistributedSweep::sweep) calls it.
     ///
@@ -123,7 +134,16 @@ impl<const D: usize> ColouredGaussSeidel<D> {
         b: &[f64],
         colouring: &Colouring,
     ) -> Result<Self> {
-        let a = blocks::<D>(a)?;
+        Self::of_blocks(blocks::<D>(a)?, fixed, b, colouring)
+    }
+
+    /// [`new`](Self::new) of a block matrix.
+    pub(crate) fn of_blocks(
+        a: BlockCsr<D>,
+        fixed: &[bool],
+        b: &[f64],
+        colouring: &Colouring,
+    ) -> Result<Self> {
         let n = a.nodes();
         for (what, expected, got) in [
             ("b", D * n, b.len()),
@@ -148,6 +168,22 @@ impl<const D: usize> ColouredGaussSeidel<D> {
             colouring: colouring.clone(),
             scratch: vec![[0.0; D]; colouring.max_colour_len()],
         })
+    }
+
+    /// The right-hand side (`D n` values), to change between sweeps.
+    pub fn rhs_mut(&mut self) -> &mut [f64] {
+        &mut self.b
+    }
+
+    /// The residual `r = b − A x` by rows (diagonal block, then the off-diagonal blocks in
+    /// increasing column order: the arithmetic of [`LocalRows::residual`] and of the
+    /// multigrid's residual by rows), one thread.
+    ///
+    /// # Panics
+    /// If `x` or `r` is not `D n` long.
+    pub fn residual(&self, x: &[f64], r: &mut [f64]) {
+        assert_eq!(x.len(), self.a.n(), "x has D values per node");
+        self.a.residual_rows(&self.b, x, r, Parallelism::SEQ);
     }
 
     /// One sweep of `x` (length `D n`): increasing colours, or decreasing when `reverse`.

@@ -1,6 +1,7 @@
-//! Block Gauss–Seidel on ranks with distributed memory (issue 57, docs/scaling.md "Past one
-//! machine"): the first part of the implicit engine on ranks, a multi-colour smoother; the
-//! V-cycle with a ghost layer per level and TNNMG's outer loop are later parts.
+//! Block Gauss–Seidel and the linear V-cycle on ranks with distributed memory (issue 57,
+//! docs/scaling.md "Past one machine"): the first parts of the implicit engine on ranks, a
+//! multi-colour smoother and a linear multigrid cycle; TNNMG's outer loop (the truncated
+//! nonlinear smoother, the Krylov method's reductions) is a later part.
 //!
 //! Every node of the matrix is owned by one rank (an owner vector, e.g. a graph partition
 //! of the node graph [`node_graph`]). A rank holds its owned nodes' block rows and one layer
@@ -13,22 +14,34 @@
 //! [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows, and
 //! [`ColouredGaussSeidel`] its one-process reference (the tests' and measurements'
 //! smoother).
+//!
+//! [`DistributedVCycle`] is one rank's linear V-cycle on a nested hierarchy: per level its
+//! rows, sweep and transfers ([`DistributedTransfer`]), the coarsest problem gathered and
+//! solved on every rank; the set-up ([`VCycleHierarchy`]: the Galerkin coarse operators,
+//! masks and colourings) is still computed whole on every rank. [`ColouredVCycle`] is its
+//! one-process reference with the same smoother order, and the same bits.
 
 mod halo;
+mod hierarchy;
 mod linear;
 mod local_rows;
 mod sweep;
 mod transfer;
 mod transport;
+mod vcycle;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod transfer_tests;
+#[cfg(test)]
+mod vcycle_tests;
 
 pub use halo::HaloCounters;
+pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
 pub use sweep::DistributedSweep;
 pub use transfer::DistributedTransfer;
 pub use transport::{HaloExchange, HaloMessage, ThreadExchange};
+pub use vcycle::DistributedVCycle;

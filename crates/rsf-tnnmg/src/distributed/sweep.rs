@@ -6,6 +6,7 @@ use super::halo::{exchange_round, HaloCounters, HaloPlan};
 use super::local_rows::{blocks, LocalRows};
 use super::transport::HaloExchange;
 use crate::block::store;
+use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 
@@ -54,6 +55,16 @@ impl<const D: usize> DistributedSweep<D> {
         colouring: &Colouring,
         halo: &H,
     ) -> Result<Self> {
+        Self::of_blocks(&blocks::<D>(a)?, owner, colouring, halo)
+    }
+
+    /// [`new`](Self::new) of a block matrix.
+    pub(crate) fn of_blocks<H: HaloExchange + ?Sized>(
+        a: &BlockCsr<D>,
+        owner: &[usize],
+        colouring: &Colouring,
+        halo: &H,
+    ) -> Result<Self> {
         let (rank, size) = (halo.rank(), halo.size());
         if let Some(p) = owner.iter().position(|&r| r >= size) {
             return Err(Error::InvalidPartition(format!(
@@ -61,7 +72,6 @@ impl<const D: usize> DistributedSweep<D> {
                 owner[p]
             )));
         }
-        let a = blocks::<D>(a)?;
         if colouring.num_nodes() != a.nodes() {
             return Err(Error::DimensionMismatch {
                 what: "colouring (one colour per node)",
@@ -69,7 +79,7 @@ impl<const D: usize> DistributedSweep<D> {
                 got: colouring.num_nodes(),
             });
         }
-        let rows = LocalRows::of_blocks(&a, owner, rank)?;
+        let rows = LocalRows::of_blocks(a, owner, rank)?;
         let global = rows.global_nodes();
         for p in 0..rows.owned() {
             let c = colouring.colour_of(global[p]);
@@ -166,6 +176,12 @@ impl<const D: usize> DistributedSweep<D> {
                 .map(|r| (D * r.send_nodes.len()) as u64)
                 .sum(),
         }
+    }
+
+    /// What one ghost update ([`update_ghosts`](Self::update_ghosts)) sends by the plan: one
+    /// exchange, its messages and values (`sweeps` = 0).
+    pub fn per_ghost_update(&self) -> HaloCounters {
+        self.plan.rounds[self.num_colours()].counters::<D>()
     }
 
     /// Refreshes every ghost of `x` (a local vector, `D · rows().len()` values) from its

@@ -274,6 +274,18 @@ impl<const D: usize> DistributedTransfer<D> {
         self.counters
     }
 
+    /// Sets the counters to zero.
+    pub fn reset_counters(&mut self) {
+        self.counters = HaloCounters::default();
+    }
+
+    /// What one restriction and one prolongation send by their plans: two exchanges,
+    /// their messages and values.
+    pub fn per_transfer_pair(&self) -> HaloCounters {
+        self.restriction.plan.rounds[0].counters::<D>()
+            + self.prolongation.plan.rounds[0].counters::<D>()
+    }
+
     /// The restriction onto the owned coarse nodes: `coarse_j = Σ_i P_ijᵀ (free_i ⊙
     /// fine_i)` for every owned coarse node `j` (the first `D · coarse_owned()` values of
     /// `coarse`; the rest are left alone), from the owned fine values of `fine` and of the

@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out FILE] [--reference]
+//!                   [--vcycle [--levels L]]
 //! ```
 //!
 //! Every rank builds the whole problem (the stiffness, the colouring, METIS's partition of
@@ -16,6 +17,13 @@
 //! gathered in global order (node-major, little-endian f64). `--reference` (one rank)
 //! runs the one-process coloured sweep (`rsf_tnnmg::distributed::ColouredGaussSeidel`)
 //! instead of the distributed one.
+//!
+//! With `--vcycle` (docs/scaling.md, "Phase 3") N counts linear V(1,1)-cycles
+//! (`rsf_tnnmg::distributed::DistributedVCycle`) instead of sweeps, on the box's hierarchy
+//! (its L finest levels, all by default), and `--reference` runs the one-process
+//! `ColouredVCycle`; see the module `vcycle`.
+
+mod vcycle;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -27,7 +35,7 @@ use mpi::topology::Communicator;
 use rsf_fem::ElasticBox;
 use rsf_mpi::{end_all_ranks, MpiExchange, MpiRanks};
 use rsf_tnnmg::distributed::{
-    node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, HaloExchange,
+    node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, HaloExchange, LocalRows,
 };
 use rsf_tnnmg::Colouring;
 
@@ -40,6 +48,9 @@ struct Flags {
     repetitions: usize,
     out: Option<std::path::PathBuf>,
     reference: bool,
+    /// V-cycles instead of sweeps, on the `levels` finest levels (all if `None`).
+    vcycle: bool,
+    levels: Option<usize>,
 }
 
 fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
@@ -49,6 +60,8 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
         repetitions: 1,
         out: None,
         reference: false,
+        vcycle: false,
+        levels: None,
     };
     let mut args = args.peekable();
     while let Some(a) = args.next() {
@@ -61,11 +74,16 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
             "--repetitions" => f.repetitions = number(&a, value(&a)?)?,
             "--out" => f.out = Some(value(&a)?.into()),
             "--reference" => f.reference = true,
+            "--vcycle" => f.vcycle = true,
+            "--levels" => f.levels = Some(number(&a, value(&a)?)?),
             _ => return Err(format!("unknown flag {a}")),
         }
     }
     if f.repetitions == 0 {
         return Err("--repetitions must be at least 1".into());
+    }
+    if f.levels.is_some() && !f.vcycle {
+        return Err("--levels needs --vcycle".into());
     }
     Ok(f)
 }
@@ -103,14 +121,19 @@ struct Part {
     colours: usize,
 }
 
+/// METIS's partition of the node graph of the box's stiffness into `parts`
+/// (deterministic: the same on every rank).
+fn metis_owner(bx: &ElasticBox, parts: usize) -> Result<Vec<usize>, String> {
+    let (xadj, adjncy) = node_graph::<D>(bx.stiffness.as_ref()).map_err(|e| e.to_string())?;
+    rsf_metis::part_graph_kway(&xadj, &adjncy, parts).map_err(|e| e.to_string())
+}
+
 /// Builds the whole problem, partitions it, keeps this rank's part.
 fn set_up(f: &Flags, halo: &MpiExchange) -> Result<Part, String> {
     let bx = ElasticBox::bar(f.refinements).map_err(|e| e.to_string())?;
     let a = bx.stiffness.as_ref();
     let colouring = Colouring::new::<D>(a).map_err(|e| e.to_string())?;
-    let (xadj, adjncy) = node_graph::<D>(a).map_err(|e| e.to_string())?;
-    let owner =
-        rsf_metis::part_graph_kway(&xadj, &adjncy, halo.size()).map_err(|e| e.to_string())?;
+    let owner = metis_owner(&bx, halo.size())?;
     let sweep =
         DistributedSweep::<D>::new(a, &owner, &colouring, halo).map_err(|e| e.to_string())?;
     let rows = sweep.rows();
@@ -180,11 +203,11 @@ fn write_values(path: &std::path::Path, x: &[f64]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Gathers every rank's owned values into global order on rank 0 (`None` elsewhere).
-fn gather(halo: &MpiExchange, part: &Part, x: &[f64]) -> Option<Vec<f64>> {
+/// Gathers every rank's owned values of the local vector `x` of `rows` into global order
+/// on rank 0 (`None` elsewhere).
+fn gather(halo: &MpiExchange, rows: &LocalRows<D>, x: &[f64]) -> Option<Vec<f64>> {
     let comm = halo.communicator();
     let root = comm.process_at_rank(0);
-    let rows = part.sweep.rows();
     let owned = rows.owned();
     let nodes: Vec<u64> = rows.global_nodes()[..owned]
         .iter()
@@ -289,7 +312,7 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     if ranks.is_root() {
         report(f, part.dofs, part.colours, size, &mut times);
     }
-    if let Some(global) = gather(&halo, &part, &x) {
+    if let Some(global) = gather(&halo, part.sweep.rows(), &x) {
         if let Some(out) = &f.out {
             write_values(out, &global)?;
         }
@@ -314,7 +337,13 @@ fn main() -> ExitCode {
         if size != 1 {
             end_all_ranks(&ranks, &"--reference runs on one rank");
         }
-        reference(&flags)
+        if flags.vcycle {
+            vcycle::reference(&flags)
+        } else {
+            reference(&flags)
+        }
+    } else if flags.vcycle {
+        vcycle::distributed(&flags, &ranks)
     } else {
         distributed(&flags, &ranks)
     };
