@@ -105,13 +105,7 @@ fn on_ranks(
             per_sweep: ds.per_sweep(),
         }
     };
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadExchange::group(size)
-            .into_iter()
-            .map(|halo| s.spawn(move || run(halo)))
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
+    on_thread_ranks(size, run)
 }
 
 /// Values of `rank`'s local vector (owned and ghosts) whose bits differ from the
@@ -135,6 +129,22 @@ fn coordinate_split(mesh: &TetrahedronMesh, size: usize) -> Vec<usize> {
         owner[p] = k * size / v.len();
     }
     owner
+}
+
+/// `run` on `size` thread ranks (one thread each, a [`ThreadExchange`] group): every
+/// rank's result in rank order.
+pub(super) fn on_thread_ranks<T: Send>(
+    size: usize,
+    run: impl Fn(ThreadExchange) -> T + Sync,
+) -> Vec<T> {
+    let run = &run;
+    std::thread::scope(|s| {
+        let handles: Vec<_> = ThreadExchange::group(size)
+            .into_iter()
+            .map(|halo| s.spawn(move || run(halo)))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
 }
 
 /// The owner vectors tested at `size` ranks: the coordinate split, and METIS's partition

@@ -4,7 +4,7 @@
 
 use rsf_linalg::Csc;
 
-use super::tests::{cube, owners, Problem};
+use super::tests::{cube, on_thread_ranks, owners, Problem};
 use super::*;
 use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
@@ -115,13 +115,7 @@ fn on_ranks(pb: &Problem, re: &Reference, owner: &[usize], size: usize) -> Vec<R
             counters: transfer.counters(),
         }
     };
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadExchange::group(size)
-            .into_iter()
-            .map(|halo| s.spawn(move || run(halo)))
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
+    on_thread_ranks(size, run)
 }
 
 /// The residual on owned rows, the restriction and the prolongation between the two finest

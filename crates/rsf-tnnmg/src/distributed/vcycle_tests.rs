@@ -6,7 +6,7 @@
 use faer::sparse::SparseColMatRef;
 use rsf_linalg::Csc;
 
-use super::tests::{cube, owners, Problem};
+use super::tests::{cube, on_thread_ranks, owners, Problem};
 use super::*;
 use crate::bsr::BlockCsr;
 use crate::error::Error;
@@ -98,13 +98,7 @@ fn on_ranks(
             per_cycle: vc.per_cycle(),
         }
     };
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadExchange::group(size)
-            .into_iter()
-            .map(|halo| s.spawn(move || run(halo)))
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
+    on_thread_ranks(size, run)
 }
 
 /// Values of a rank's local vector `x` (owned and ghosts) whose bits differ from the
