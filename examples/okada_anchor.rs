@@ -30,13 +30,22 @@
 //! rectangle lies on its lines) is refined `level` times and the reference is Okada's
 //! rectangle with the model's moment, shrunk by `h/2` on the inner edges
 //! (`rsf_examples::okada_anchor::compare_refined`); memory grows like the vertices.
+//! `--slip smooth` compares one smooth slip's fields with its boundary-element
+//! discretisation; `--slip modes --modes k` compares the finite-element and boundary-element
+//! fault operators in the operator norm on the span of the first `k × k` sine modes of the
+//! rectangle (`compare_modes`, docs/three-d.md "The operator norm on resolved slips"):
+//!
+//! ```sh
+//! cargo run --release --example okada_anchor -- --method multigrid --slip modes --cases buried --levels 1,2,3 --far 2 --modes 1
+//! ```
 
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
 use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::okada_anchor::{
-    compare_held, compare_refined, compare_smooth, hierarchy_vertices, Errors, Fault, Solver, SLIP,
+    compare_held, compare_modes, compare_refined, compare_smooth, hierarchy_vertices, Errors,
+    Fault, ModeComparison, Solver, SLIP,
 };
 
 /// The rectangles compared.
@@ -104,6 +113,10 @@ enum Slip {
     /// only), against its boundary-element discretisation (cells of side h on the nodes),
     /// the far faces held at that field; with `--method multigrid`.
     Smooth,
+    /// The first `--modes` × `--modes` sine modes of the rectangle in both directions (the
+    /// case's direction is not used: `--cases buried`), the two operators' Galerkin
+    /// matrices compared in the operator norm on their span; with `--method multigrid`.
+    Modes,
 }
 
 /// The finite-element model of uniform slip on a rectangle against Okada's half-space.
@@ -133,6 +146,9 @@ struct Cli {
     /// The slip imposed.
     #[arg(long, value_enum, default_value = "uniform")]
     slip: Slip,
+    /// Sine modes per direction along strike and dip with `--slip modes` (1 to 8).
+    #[arg(long, default_value_t = 2)]
+    modes: u32,
     /// Growth of the cells per cell away from the fault, on the coarsest mesh.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
@@ -167,15 +183,19 @@ impl Program for Cli {
             )?;
         }
         in_range("--ratio", self.ratio, (1.0, 2.0), "the growth of the cells")?;
-        if self.slip == Slip::Smooth && self.method != Method::Multigrid {
-            return Err(refuse("--slip", "smooth", "needs --method multigrid"));
+        let slip = format!("{:?}", self.slip).to_lowercase();
+        if self.slip != Slip::Uniform && self.method != Method::Multigrid {
+            return Err(refuse("--slip", slip, "needs --method multigrid"));
         }
-        if self.slip == Slip::Smooth && self.cases.contains(&Case::Surface) {
+        if self.slip != Slip::Uniform && self.cases.contains(&Case::Surface) {
             return Err(refuse(
                 "--slip",
-                "smooth",
+                slip,
                 "is for the buried cases (--cases buried,dip)",
             ));
+        }
+        if !(1..=8).contains(&self.modes) {
+            return Err(refuse("--modes", self.modes, "must be in 1..=8"));
         }
         // The coarsest mesh graded from h0 to the far faces (about 2 W of uniform cells
         // around the fault), every interval split into 2^k: per half-axis
@@ -217,7 +237,10 @@ fn main() -> std::process::ExitCode {
     rsf_examples::guard::main(run)
 }
 
-fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
+fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
+    if cli.slip == Slip::Modes {
+        return run_modes(cli, prepared);
+    }
     let at_okada = cli.held == Held::Okada;
     println!(
         "| case | far faces | far | h | vertices | wall (s) | surface error | order | \
@@ -254,6 +277,37 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
                     "| {case:?} | {:?} | {far} | {h} | {} | {wall:.1} | {:.3e} | {p_s} | {:.3e} | \
                      {p_t} | {:.1e} |",
                     cli.held, e.vertices, e.surface, e.traction, e.jump
+                );
+                previous = Some(e);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `--slip modes`: the two operators' relative difference in the operator norm on the
+/// modes' span, per case (its rectangle), far and level, and its order in `h`.
+fn run_modes(cli: Cli, _: Prepared) -> Result<(), AnyError> {
+    println!(
+        "| far | h | vertices | modes | wall (s) | ‖Ĝ_FE − Ĝ_BEM‖₂/‖Ĝ_BEM‖₂ | order | \
+         ‖Ĝ_FE‖₂/‖Ĝ_BEM‖₂ | worst mode | FE asymmetry |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for &case in &cli.cases {
+        for &far in &cli.far {
+            let mut previous: Option<ModeComparison> = None;
+            for &level in &cli.levels {
+                let t = Instant::now();
+                let mesh = (cli.h0, level, cli.ratio);
+                let e = compare_modes(case.fault(), mesh, far, cli.modes)?;
+                let wall = t.elapsed().as_secs_f64();
+                let order = previous.as_ref().map_or(String::new(), |p| {
+                    format!("{:.2}", (p.operator / e.operator).ln() / (p.h / e.h).ln())
+                });
+                println!(
+                    "| {far} | {} | {} | {} | {wall:.1} | {:.3e} | {order} | {:.4} | {:.3e} | \
+                     {:.1e} |",
+                    e.h, e.vertices, e.modes, e.operator, e.norm_ratio, e.worst_mode, e.asymmetry
                 );
                 previous = Some(e);
             }

@@ -43,6 +43,9 @@ use rsf_halfspace::{Medium, Okada, Rectangle};
 
 type AnyError = Box<dyn std::error::Error>;
 
+mod modes;
+pub use modes::{compare_modes, ModeComparison};
+
 /// Shear modulus μ (Pa).
 pub const MU: f64 = 3e10;
 /// Poisson's ratio ν.

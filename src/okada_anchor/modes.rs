@@ -1,0 +1,310 @@
+//! The finite-element and boundary-element fault operators compared in the operator norm on
+//! the slips both resolve (issue 55, docs/three-d.md "The operator norm on resolved
+//! slips"): the Galerkin matrices of the two operators on the first `k × k` sine modes of
+//! the buried rectangle, both tangential directions.
+//!
+//! The operator norm over all slips of the fault grid is the norm of the grid-scale waves,
+//! where the two discretisations differ by a constant factor at every h (docs/three-d.md
+//! "What converges and what does not"). Restricted to a fixed space of slips — the modes
+//! `φ_{pqd}(x) = sin(pπ (x + a)/2a) sin(qπ (z − z_b)/W) e_d`, `1 ≤ p, q ≤ k`, `d` strike or
+//! dip, zero on the rim — the norm sees the elastic medium, and its difference is what the
+//! refinement can shrink: `‖Ĝ_FE − Ĝ_BEM‖₂ / ‖Ĝ_BEM‖₂` with `Ĝ = L⁻¹ G L⁻ᵀ`, `G_ij` the
+//! work of mode `i` on the traction of mode `j` over the fault and `M = L Lᵀ` the modes'
+//! Gram matrix in the same quadrature (the lumped weights of the fault nodes): the
+//! operators' norm on the span of the modes, in its L² orthonormal basis.
+//!
+//! The finite-element side: the modes' slips prescribed at every split pair of the model on
+//! the refinement hierarchy ([`super::compare_smooth`]'s model), solved by multigrid, and
+//! `G_ij = Σ_n φ_i(x_n) · f_j⁺(n)` with the plus copies' nodal forces (the consistent
+//! integral of `φ_i`'s hat functions against the traction). The boundary-element side: the
+//! same slips on square cells of side `h` centred on the pairs (`RectangularFault`'s
+//! discretisation), Okada's fields superposed, and `G_ij = Σ_n w_n φ_i(x_n) · σ_j(x_n) e_y`
+//! at the cells' centres with the lumped weights `w_n`. The far faces of the model are held
+//! at the boundary-element field of each mode.
+
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver, Stopping};
+use rsf::tnnmg::{Tnnmg, TnnmgOptions};
+use rsf_halfspace::{Medium, Okada, Rectangle};
+
+use super::{fault_weights, refined_model, AnyError, Fault, Solver, MU, MULTIGRID_TOLERANCE, NU};
+
+/// The comparison of the two operators on one mesh.
+#[derive(Debug, Clone)]
+pub struct ModeComparison {
+    /// The cell size on the fault (m).
+    pub h: f64,
+    /// Vertices of the model.
+    pub vertices: usize,
+    /// The number of modes (`2 k²`).
+    pub modes: usize,
+    /// `‖Ĝ_FE − Ĝ_BEM‖₂ / ‖Ĝ_BEM‖₂`: the operators' relative difference in the operator
+    /// norm on the modes' span.
+    pub operator: f64,
+    /// `‖Ĝ_FE‖₂ / ‖Ĝ_BEM‖₂`.
+    pub norm_ratio: f64,
+    /// The largest relative difference of one mode's own work, `|G_FE,ii − G_BEM,ii| /
+    /// |G_BEM,ii|`.
+    pub worst_mode: f64,
+    /// The largest asymmetry of the finite-element Galerkin matrix relative to its norm
+    /// (the condensed stiffness is symmetric: a check of the assembly, ~ the solver's
+    /// tolerance).
+    pub asymmetry: f64,
+}
+
+/// One mode: the slip `sin(p π (x + a)/2a) sin(q π (z − z_b)/W)` along `direction`
+/// (Cartesian, hanging wall `y < 0`).
+#[derive(Debug, Clone, Copy)]
+struct Mode {
+    p: u32,
+    q: u32,
+    direction: [f64; 3],
+}
+
+impl Mode {
+    fn slip(&self, fault: &Fault, x: [f64; 3]) -> [f64; 3] {
+        let pi = std::f64::consts::PI;
+        let (a, zb, w) = (fault.half_length, -fault.bottom, fault.bottom - fault.top);
+        let m = (f64::from(self.p) * pi * (x[0] + a) / (2.0 * a)).sin()
+            * (f64::from(self.q) * pi * (x[2] - zb) / w).sin();
+        self.direction.map(|d| d * m)
+    }
+}
+
+/// The modes of [`compare_modes`], strike then dip, `p` then `q`.
+fn modes(k: u32) -> Vec<Mode> {
+    let mut out = Vec::new();
+    for direction in [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]] {
+        for p in 1..=k {
+            for q in 1..=k {
+                out.push(Mode { p, q, direction });
+            }
+        }
+    }
+    out
+}
+
+/// The boundary-element cells: a square of side `h` centred on every pair, each with its
+/// pair's slip in every mode (Okada's `[U1, U2]`: strike, up-dip on this vertical plane).
+struct Cells {
+    okada: Vec<Okada>,
+    /// `slips[c][m]`: cell `c`'s `[U1, U2]` in mode `m`.
+    slips: Vec<Vec<[f64; 2]>>,
+}
+
+impl Cells {
+    /// The deformation of every mode at `x`: each cell's unit responses once, weighted by
+    /// its slips of all modes (cells summed in order).
+    fn at(
+        &self,
+        x: [f64; 3],
+        out: &mut [rsf_halfspace::Deformation],
+    ) -> Result<(), rsf_halfspace::Error> {
+        out.fill(Default::default());
+        for (okada, slips) in self.okada.iter().zip(&self.slips) {
+            let [strike, dip, _] = okada.unit_responses(x)?;
+            for (o, s) in out.iter_mut().zip(slips) {
+                *o = o.add_scaled(s[0], &strike).add_scaled(s[1], &dip);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The two operators on the first `k × k` modes of the buried rectangle `fault` (both
+/// directions; its `slip` is not used), the model on the hierarchy of
+/// [`super::compare_refined`] (`mesh`, `far`), solved by multigrid.
+///
+/// # Errors
+/// `k` zero or above 8, a surface-breaking `fault`, the errors of
+/// [`super::compare_refined`], a Gram matrix that is not positive definite (fewer nodes
+/// than modes) or a boundary-element Galerkin matrix of norm 0.
+pub fn compare_modes(
+    fault: Fault,
+    mesh: (f64, u32, f64),
+    far: f64,
+    k: u32,
+) -> Result<ModeComparison, AnyError> {
+    if !(1..=8).contains(&k) {
+        return Err(format!("the modes per direction k = {k} must be in 1..=8").into());
+    }
+    if fault.top == 0.0 {
+        return Err("the modes need a buried fault".into());
+    }
+    let modes = modes(k);
+    let n_modes = modes.len();
+    // Any slip builds the model: every pair's two tangential components are prescribed
+    // (overwritten per mode below), the probe pair's set by hand.
+    let (model, probe, h) =
+        refined_model(fault, mesh, far, Solver::Multigrid, |_| [1.0, 0.0, 1.0])?;
+    let f = model
+        .internal_fault
+        .as_ref()
+        .ok_or("the model has no internal fault")?;
+    let medium = Medium::from_shear_poisson(MU, NU)?;
+    let pairs = f.pairs();
+    let at = |mi: usize| model.vertices[mi];
+
+    // The cells on the pairs, each with its slips.
+    let cells = Cells {
+        okada: pairs
+            .iter()
+            .map(|&(mi, _)| {
+                let x = at(mi);
+                let rect = Rectangle::new(
+                    -x[2] + h / 2.0,
+                    90.0,
+                    [x[0] - h / 2.0, x[0] + h / 2.0],
+                    [0.0, h],
+                )?;
+                Ok(Okada::new(medium.alpha(), rect)?)
+            })
+            .collect::<Result<_, AnyError>>()?,
+        slips: pairs
+            .iter()
+            .map(|&(mi, _)| {
+                modes
+                    .iter()
+                    .map(|m| {
+                        let s = m.slip(&fault, at(mi));
+                        [s[0], s[2]]
+                    })
+                    .collect()
+            })
+            .collect(),
+    };
+
+    // Boundary elements: σ e_y of every mode at every pair (the cells' centres).
+    let weights = fault_weights(&model, f);
+    let tractions: Vec<Vec<[f64; 3]>> = pairs
+        .par_iter()
+        .map(|&(mi, _)| {
+            let mut d = vec![rsf_halfspace::Deformation::default(); n_modes];
+            cells.at(at(mi), &mut d)?;
+            Ok(d.iter()
+                .map(|d| rsf_halfspace::traction(&medium.stress(&d.grad), &[0.0, 1.0, 0.0]))
+                .collect())
+        })
+        .collect::<Result<_, rsf_halfspace::Error>>()?;
+    let phi: Vec<Vec<[f64; 3]>> = pairs
+        .iter()
+        .map(|&(mi, _)| modes.iter().map(|m| m.slip(&fault, at(mi))).collect())
+        .collect();
+    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let gram = DMatrix::from_fn(n_modes, n_modes, |i, j| {
+        (0..pairs.len())
+            .map(|n| weights[pairs[n].0] * dot(&phi[n][i], &phi[n][j]))
+            .sum::<f64>()
+    });
+    let g_bem = DMatrix::from_fn(n_modes, n_modes, |i, j| {
+        (0..pairs.len())
+            .map(|n| weights[pairs[n].0] * dot(&phi[n][i], &tractions[n][j]))
+            .sum::<f64>()
+    });
+
+    // Finite elements: per mode, the far faces at the cells' field, every pair's jump the
+    // mode's slip, one multigrid solve; the plus copies' forces.
+    let tol = 1e-9 * far;
+    let far_face: Vec<usize> = (0..model.num_nodes())
+        .filter(|&q| {
+            let x = model.vertices[q];
+            x[0].abs() > far - tol || x[1].abs() > far - tol || x[2] < -far + tol
+        })
+        .collect();
+    let far_field: Vec<Vec<[f64; 3]>> = far_face
+        .par_iter()
+        .map(|&q| {
+            let mut d = vec![rsf_halfspace::Deformation::default(); n_modes];
+            cells.at(model.vertices[q], &mut d)?;
+            Ok(d.iter().map(|d| d.u).collect())
+        })
+        .collect::<Result<_, rsf_halfspace::Error>>()?;
+    let mut fixed = model.fixed.clone();
+    for (k, &(mi, _)) in pairs.iter().enumerate() {
+        let x = at(mi);
+        let is_probe = (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h);
+        let prescribed = fixed[3 * mi] && fixed[3 * mi + 1];
+        if !(is_probe || prescribed) {
+            return Err(format!("pair {k}'s slip is not prescribed").into());
+        }
+        fixed[3 * mi] = true;
+        fixed[3 * mi + 1] = true;
+    }
+    let options = TnnmgOptions {
+        stopping: Stopping {
+            absolute: 0.0,
+            relative: MULTIGRID_TOLERANCE,
+            max_iterations: 500,
+        },
+        ..TnnmgOptions::default()
+    };
+    let mut solver = Tnnmg::<3>::new(
+        model.stiffness.as_ref(),
+        &fixed,
+        &model.prolongations,
+        None,
+        options,
+    )?
+    .with_parallelism(rsf::Parallelism::default());
+    let zero = vec![0.0; model.num_dofs()];
+    let mut g_fe = DMatrix::zeros(n_modes, n_modes);
+    let mut force = vec![0.0; model.num_dofs()];
+    for (j, mode) in modes.iter().enumerate() {
+        let mut v = vec![0.0; model.num_dofs()];
+        for (idx, &q) in far_face.iter().enumerate() {
+            for c in 0..3 {
+                v[3 * q + c] = far_field[idx][j][c];
+            }
+        }
+        for (k, &(mi, _)) in pairs.iter().enumerate() {
+            let r = f.transform.frames[k];
+            let s = mode.slip(&fault, at(mi));
+            for a in 0..2 {
+                v[3 * mi + a] = (0..3).map(|b| r[b][a] * s[b]).sum();
+            }
+        }
+        solver.solve(&zero, &NoNonlinearity, &mut v)?;
+        force.fill(0.0);
+        rsf::fem::spmv_add(model.stiffness.as_ref(), 1.0, &v, &mut force);
+        for (n, (k, &(mi, _))) in pairs.iter().enumerate().enumerate() {
+            let r = f.transform.frames[k];
+            let fj = [force[3 * mi], force[3 * mi + 1], force[3 * mi + 2]];
+            let f_plus: [f64; 3] = std::array::from_fn(|i| (0..3).map(|a| r[i][a] * fj[a]).sum());
+            for i in 0..n_modes {
+                g_fe[(i, j)] += dot(&phi[n][i], &f_plus);
+            }
+        }
+    }
+
+    // The operators' norms on the modes' span, in its orthonormal basis.
+    let l = gram
+        .cholesky()
+        .ok_or("the modes' Gram matrix is not positive definite")?
+        .l();
+    let orthonormal = |g: &DMatrix<f64>| -> Result<DMatrix<f64>, AnyError> {
+        let x = l.solve_lower_triangular(g).ok_or("singular Gram factor")?;
+        let y = l
+            .solve_lower_triangular(&x.transpose())
+            .ok_or("singular Gram factor")?;
+        Ok(y.transpose())
+    };
+    let (fe, bem) = (orthonormal(&g_fe)?, orthonormal(&g_bem)?);
+    let norm = |m: &DMatrix<f64>| m.singular_values().max();
+    let bem_norm = norm(&bem);
+    if !(bem_norm > 0.0) {
+        return Err("the boundary-element Galerkin matrix has norm 0".into());
+    }
+    let worst_mode = (0..n_modes)
+        .map(|i| ((g_fe[(i, i)] - g_bem[(i, i)]) / g_bem[(i, i)]).abs())
+        .fold(0.0f64, f64::max);
+    Ok(ModeComparison {
+        h,
+        vertices: model.num_nodes(),
+        modes: n_modes,
+        operator: norm(&(&fe - &bem)) / bem_norm,
+        norm_ratio: norm(&fe) / bem_norm,
+        worst_mode,
+        asymmetry: norm(&(&fe - fe.transpose())) / norm(&fe),
+    })
+}
