@@ -133,20 +133,12 @@ impl<const D: usize> NodalProblem<D> {
         x: &mut [f64; D],
     ) {
         let ActiveBlocks { nl, active_of } = blocks;
-        let a = &self.a;
-        let k = active_of[p];
-        if k != usize::MAX {
-            nl.minimize_block(k, &a.diag[p], s, &self.free[p], x);
-        } else {
-            // Linear block: exact solve on the free components (the fixed ones keep
-            // their values; their coupling enters through A_pp x).
-            let mut r = *s;
-            sub_mul_vec(&mut r, &a.diag[p], x);
-            let d = mul_vec(&self.inverse[p], &r);
-            for c in 0..D {
-                x[c] += d[c];
-            }
-        }
+        let node = NodeBlocks {
+            diag: &self.a.diag[p],
+            inverse: &self.inverse[p],
+            free: &self.free[p],
+        };
+        node_update(nl, active_of[p], node, s, x);
     }
 
     /// One multi-colour nonlinear block Gauss–Seidel sweep: colour by colour
@@ -180,6 +172,43 @@ impl<const D: usize> NodalProblem<D> {
             self.local_update(blocks, p, &s, &mut x);
             x
         });
+    }
+}
+
+/// What the node update of the nonlinear Gauss–Seidel sweeps reads of one node: its
+/// diagonal block `A_pp`, the `masked_inverse` of it on the free components, and the free
+/// components.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NodeBlocks<'a, const D: usize> {
+    pub diag: &'a Block<D>,
+    pub inverse: &'a Block<D>,
+    pub free: &'a [bool; D],
+}
+
+/// The exact minimisation of one node block with the others fixed, the node update of
+/// every nonlinear Gauss–Seidel sweep (one process, and on ranks): `s = b_p − Σ_{q≠p}
+/// A_pq v_q` is the block right-hand side with the off-block coupling, `x` holds `v_p` and
+/// receives the update. `k` is the node's position in `nl.active_blocks()` (`usize::MAX`
+/// for a linear node, solved exactly on its free components).
+#[inline(always)]
+pub(crate) fn node_update<const D: usize, N: BlockNonlinearity<D>>(
+    nl: &N,
+    k: usize,
+    node: NodeBlocks<'_, D>,
+    s: &[f64; D],
+    x: &mut [f64; D],
+) {
+    if k != usize::MAX {
+        nl.minimize_block(k, node.diag, s, node.free, x);
+    } else {
+        // Linear block: exact solve on the free components (the fixed ones keep
+        // their values; their coupling enters through A_pp x).
+        let mut r = *s;
+        sub_mul_vec(&mut r, node.diag, x);
+        let d = mul_vec(node.inverse, &r);
+        for c in 0..D {
+            x[c] += d[c];
+        }
     }
 }
 

@@ -25,6 +25,7 @@ mod halo;
 mod hierarchy;
 mod linear;
 mod local_rows;
+mod reduce;
 mod sweep;
 mod transfer;
 mod transport;
