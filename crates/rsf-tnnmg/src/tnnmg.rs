@@ -269,11 +269,18 @@ impl<const D: usize> Tnnmg<D> {
             diag: &self.m.a.diag,
             fixed: &self.m.fixed,
         };
-        linearize_blocks(nl, v, quadratic, &mut self.mg, &mut self.cached_active, |p, g| {
-            for r in 0..D {
-                res[D * p + r] -= g[r];
-            }
-        })?;
+        linearize_blocks(
+            nl,
+            v,
+            quadratic,
+            &mut self.mg,
+            &mut self.cached_active,
+            |p, g| {
+                for r in 0..D {
+                    res[D * p + r] -= g[r];
+                }
+            },
+        )?;
         for (r, &m) in self.res.iter_mut().zip(self.mg.fine_mask()) {
             if m {
                 *r = 0.0;

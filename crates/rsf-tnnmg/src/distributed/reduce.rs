@@ -121,6 +121,11 @@ pub(crate) struct ExactSums {
     recvs: Vec<HaloMessage>,
     totals: Vec<f64>,
     counters: HaloCounters,
+    /// Rounds each rank's terms in floating point in the order added before the exact
+    /// combination (a reduction whose bits depend on the partition): for the test that
+    /// must detect it.
+    #[cfg(test)]
+    pub(crate) naive: Option<Vec<f64>>,
 }
 
 impl std::fmt::Debug for ExactSums {
@@ -140,7 +145,11 @@ impl ExactSums {
         let others: Vec<usize> = (0..size).filter(|&r| r != rank).collect();
         let sends = others
             .iter()
-            .map(|&r| HaloMessage { rank: r, start: 0, len })
+            .map(|&r| HaloMessage {
+                rank: r,
+                start: 0,
+                len,
+            })
             .collect();
         let recvs = others
             .iter()
@@ -160,7 +169,14 @@ impl ExactSums {
             recvs,
             totals: vec![0.0; sums],
             counters: HaloCounters::default(),
+            #[cfg(test)]
+            naive: None,
         }
+    }
+
+    /// Number of sums.
+    pub fn sums(&self) -> usize {
+        self.accs.len()
     }
 
     /// Adds the term `x` to sum `i` (exactly).
@@ -169,6 +185,11 @@ impl ExactSums {
     /// If `i` is not a sum of this reduction.
     #[inline]
     pub fn add(&mut self, i: usize, x: f64) {
+        #[cfg(test)]
+        if let Some(partial) = &mut self.naive {
+            partial[i] += x;
+            return;
+        }
         self.accs[i].add(x);
     }
 
@@ -179,6 +200,12 @@ impl ExactSums {
     /// If `halo` is another rank's, or as [`HaloExchange::exchange`].
     pub fn reduce<H: HaloExchange + ?Sized>(&mut self, halo: &mut H) -> &[f64] {
         assert_eq!(halo.rank(), self.rank, "the transport of another rank");
+        #[cfg(test)]
+        if let Some(partial) = &mut self.naive {
+            for (acc, p) in self.accs.iter_mut().zip(partial.iter_mut()) {
+                acc.add(std::mem::take(p));
+            }
+        }
         self.send.fill(0.0);
         for (acc, slot) in self.accs.iter_mut().zip(self.send.chunks_exact_mut(SLOT)) {
             let len = expansion(acc, &mut slot[1..]);
@@ -219,6 +246,11 @@ impl ExactSums {
     /// Sets the counters to zero.
     pub fn reset_counters(&mut self) {
         self.counters = HaloCounters::default();
+    }
+
+    /// Adds `c` to the counters (those of a reduction this one replaces).
+    pub fn add_counters(&mut self, c: HaloCounters) {
+        self.counters += c;
     }
 }
 
@@ -301,10 +333,19 @@ mod tests {
         let tiny = f64::from_bits(1); // 2^-1074
         let cases: Vec<(Vec<f64>, f64)> = vec![
             (vec![1e300, 1.0, -1e300], 1.0),
-            (vec![2f64.powi(1000), 2f64.powi(-1000), -2f64.powi(1000)], 2f64.powi(-1000)),
+            (
+                vec![2f64.powi(1000), 2f64.powi(-1000), -2f64.powi(1000)],
+                2f64.powi(-1000),
+            ),
             // 1 + 2^-53 + 2^-106 lies above the midpoint of 1 and 1 + 2^-52.
-            (vec![1.0, 2f64.powi(-53), 2f64.powi(-106)], 1.0 + 2f64.powi(-52)),
-            (vec![f64::MAX, tiny, -f64::MAX, tiny, 3.0 * tiny], 5.0 * tiny),
+            (
+                vec![1.0, 2f64.powi(-53), 2f64.powi(-106)],
+                1.0 + 2f64.powi(-52),
+            ),
+            (
+                vec![f64::MAX, tiny, -f64::MAX, tiny, 3.0 * tiny],
+                5.0 * tiny,
+            ),
             (vec![f64::MAX, 0.5, -f64::MAX, 0.25], 0.75),
             (vec![0.1, 0.2, -0.3, 1e-20, -1e-20], f64::NAN),
             (vec![1e16, 1.0, -1e16, 1.0, 1e-300], 2.0),
@@ -353,7 +394,12 @@ mod tests {
             longest = longest.max(len);
             for w in out[..len].windows(2) {
                 let half_ulp = (w[0].abs() * f64::EPSILON * 0.5).max(f64::from_bits(1));
-                assert!(w[1].abs() <= half_ulp, "case {case}: {} then {}", w[0], w[1]);
+                assert!(
+                    w[1].abs() <= half_ulp,
+                    "case {case}: {} then {}",
+                    w[0],
+                    w[1]
+                );
             }
             let mut again = ExactAccumulator::default();
             again.add_list(&out[..len]);
