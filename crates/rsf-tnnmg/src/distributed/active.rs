@@ -45,7 +45,7 @@ impl<const D: usize> ActiveGather<D> {
             .filter(|&(q, _)| (q as usize) < rows.owned())
             .collect();
         let owners: Vec<usize> = active.iter().map(|&p| owner[p]).collect();
-        let round = Round::all_gather(&owners, rank, size, D);
+        let round = Round::all_gather(&owners, rank, size, D, false);
         Self {
             active: active.to_vec(),
             local,

@@ -114,7 +114,7 @@ pub(super) struct NormRows<const D: usize> {
 /// per iteration after the first solve with a set of active blocks (the transport may
 /// allocate).
 pub struct DistributedTnnmg<const D: usize> {
-    pub(super) halo: Box<dyn HaloExchange + Send>,
+    pub(super) halo: Box<dyn HaloExchange>,
     pub(super) opts: DistributedTnnmgOptions,
     /// Global dofs.
     pub(super) n: usize,
@@ -202,7 +202,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: DistributedTnnmgOptions,
         owner: &[usize],
-        halo: Box<dyn HaloExchange + Send>,
+        halo: Box<dyn HaloExchange>,
     ) -> Result<Self> {
         opts.stopping.validate()?;
         if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
@@ -260,7 +260,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         for (q, &p) in rows.global_nodes()[..owned].iter().enumerate() {
             local_of[p] = q as u32;
         }
-        let solution = Round::all_gather(owner, rank, size, D);
+        let solution = Round::all_gather(owner, rank, size, D, false);
         let local = D * rows.len();
         Ok(Self {
             opts,

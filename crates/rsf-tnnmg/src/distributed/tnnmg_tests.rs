@@ -5,7 +5,7 @@
 use faer::sparse::SparseColMatRef;
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
-use super::tests::{cube, on_thread_ranks, owners, Problem};
+use super::tests::{cube, on_thread_ranks, owners, split_along, Problem};
 use super::*;
 use crate::colouring::SmootherOrder;
 use crate::error::Error;
@@ -96,8 +96,8 @@ fn differing(x: &[f64], y: &[f64]) -> usize {
         .count()
 }
 
-/// At 1, 2, 3 and 4 thread ranks, under the coordinate split and METIS's partition
-/// (when built with METIS): every rank's solution has the bits of the one-rank solve, the
+/// At 1, 2, 3 and 4 thread ranks, under the coordinate split, slabs along z (ranks without
+/// a frictional node) and METIS's partition (when built with METIS): every rank's solution has the bits of the one-rank solve, the
 /// iteration counts agree; the friction both sticks (truncated blocks) and slips; what
 /// every rank counted is its plans' per iteration times the iterations plus the
 /// solution's all-gather, and ranks exchange (more messages with more ranks).
@@ -126,7 +126,10 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
         nl.active_blocks().len()
     );
     for size in 2..=4 {
-        for (name, owner) in owners(&pb, size) {
+        let mut partitions = owners(&pb, size);
+        // Slabs along z: the frictional top face on the last rank only.
+        partitions.push(("z slabs", split_along(pb.bx.mesh(), size, 2)));
+        for (name, owner) in partitions {
             let ranks = solve_on_ranks(&pb, &nl, &owner, size, options(false), false);
             for (r, rank) in ranks.iter().enumerate() {
                 assert_eq!(

@@ -142,7 +142,7 @@ impl<const D: usize> DistributedVCycle<D> {
         let n0 = h.nodes(0);
         let own0 = &owner[..n0];
         let owned: Vec<usize> = (0..n0).filter(|&i| own0[i] == rank).collect();
-        let gather = Round::all_gather(own0, rank, size, D);
+        let gather = Round::all_gather(own0, rank, size, D, true);
         let coarsest = Coarsest {
             rhs: vec![0.0; D * owned.len()],
             x: vec![0.0; D * owned.len()],
