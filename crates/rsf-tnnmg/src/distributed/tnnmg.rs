@@ -27,8 +27,14 @@ pub struct DistributedTnnmgOptions {
     pub stopping: Stopping,
     /// Nonlinear multi-colour Gauss–Seidel sweeps before each linear correction (≥ 1).
     pub nonlinear_sweeps: usize,
-    /// Linear V-cycles on the truncated Newton system per iteration (≥ 1), from zero.
+    /// Linear V-cycles on the truncated Newton system per iteration (≥ 1), from zero; at
+    /// most this many with [`linear_reduction`](Self::linear_reduction).
     pub v_cycles: usize,
+    /// Inexact Newton: stop the V-cycles of an iteration once the truncated system's
+    /// residual (Euclidean norm on the untruncated dofs, a reproducible sum) is reduced by
+    /// this factor, in (0, 1); `None` always runs `v_cycles` cycles. Each check costs one
+    /// reduction (and the initial norm one more).
+    pub linear_reduction: Option<f64>,
     /// Block Gauss–Seidel sweeps of each V-cycle before and after the coarse correction.
     pub smoothing: VCycleShape,
     /// Record `J(v_k)` in the report (one more reduction per iteration).
@@ -43,6 +49,7 @@ impl Default for DistributedTnnmgOptions {
             stopping: Stopping::default(),
             nonlinear_sweeps: 1,
             v_cycles: 1,
+            linear_reduction: None,
             smoothing: VCycleShape { pre: 3, post: 3 },
             record_energy: false,
         }
@@ -55,6 +62,10 @@ impl Default for DistributedTnnmgOptions {
 pub struct TnnmgCounters {
     /// TNNMG iterations.
     pub iterations: u64,
+    /// Numeric set-ups of the whole replicated hierarchy: one per solve with a new set of
+    /// active blocks (its first iteration); every other iteration updates the rows the
+    /// active blocks reach.
+    pub full_updates: u64,
     /// The nonlinear smoother: one exchange per colour and sweep.
     pub smoother: HaloCounters,
     /// The linear V-cycles: sweeps, ghost updates and transfers of every level, the
@@ -154,6 +165,10 @@ pub struct DistributedTnnmg<const D: usize> {
     /// The line search's sums (`g0`, `h`) and the norms' (correction, iterate, energy).
     pub(super) line_sums: ExactSums,
     pub(super) norm_sums: ExactSums,
+    /// The linear correction's residual norms (with `linear_reduction`), and the owned
+    /// residual of the truncated system.
+    pub(super) linear_sums: ExactSums,
+    pub(super) linear_res: Vec<f64>,
     /// The iterate's norm and energy computed with the last correction's norm.
     pub(super) pending: (Option<f64>, Option<f64>),
     pub(super) solution: Round,
@@ -205,6 +220,11 @@ impl<const D: usize> DistributedTnnmg<D> {
         halo: Box<dyn HaloExchange>,
     ) -> Result<Self> {
         opts.stopping.validate()?;
+        if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
+            return Err(Error::InvalidOption(
+                "linear_reduction must lie in (0, 1)".into(),
+            ));
+        }
         if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
             return Err(Error::InvalidOption(
                 "nonlinear_sweeps and v_cycles must be at least 1".into(),
@@ -287,6 +307,8 @@ impl<const D: usize> DistributedTnnmg<D> {
             c_active: vec![0.0; n],
             line_sums: ExactSums::new(2, rank, size),
             norm_sums: ExactSums::new(1, rank, size),
+            linear_sums: ExactSums::new(1, rank, size),
+            linear_res: vec![0.0; D * owned],
             pending: (None, None),
             solution_send: vec![0.0; D * solution.send_nodes.len()],
             solution_recv: vec![0.0; D * solution.recv_nodes.len()],
@@ -312,7 +334,8 @@ impl<const D: usize> DistributedTnnmg<D> {
         let mut c = self.counters;
         c.smoother = self.sweep.counters();
         c.cycles = self.vcycle.counters();
-        c.reductions = self.line_sums.counters() + self.norm_sums.counters();
+        c.reductions =
+            self.line_sums.counters() + self.norm_sums.counters() + self.linear_sums.counters();
         c
     }
 
@@ -323,12 +346,16 @@ impl<const D: usize> DistributedTnnmg<D> {
         self.vcycle.reset_counters();
         self.line_sums.reset_counters();
         self.norm_sums.reset_counters();
+        self.linear_sums.reset_counters();
     }
 
     /// What one iteration sends by the plans, for the active blocks of the last solve
-    /// (`iterations` = 1; `solution` zero): `nonlinear_sweeps` sweeps, `v_cycles`
-    /// V-cycles, two all-gathers of the active blocks, two reductions (the second with
-    /// one sum, plus one for a relative stopping test and one for the energy record).
+    /// (`iterations` = 1; `full_updates` and `solution` zero): `nonlinear_sweeps` sweeps,
+    /// `v_cycles` V-cycles, two all-gathers of the active blocks, two reductions (the
+    /// second with one sum, plus one for a relative stopping test and one for the energy
+    /// record). With [`linear_reduction`](DistributedTnnmgOptions::linear_reduction) an
+    /// iteration runs at most `v_cycles` cycles and one reduction more per cycle but the
+    /// last; the plan counts the most (`v_cycles` cycles and `v_cycles` reductions more).
     /// `None` before the first solve.
     pub fn per_iteration(&self) -> Option<TnnmgCounters> {
         let gather = self.gather.as_ref()?.per_gather();
@@ -340,8 +367,17 @@ impl<const D: usize> DistributedTnnmg<D> {
                 .times(self.opts.nonlinear_sweeps as u64),
             cycles: self.vcycle.per_cycle().times(self.opts.v_cycles as u64),
             gathers: gather.times(2),
-            reductions: self.line_sums.per_reduction() + self.norm_sums.per_reduction(),
+            reductions: self.line_sums.per_reduction()
+                + self.norm_sums.per_reduction()
+                + match self.opts.linear_reduction {
+                    Some(_) => self
+                        .linear_sums
+                        .per_reduction()
+                        .times(self.opts.v_cycles as u64),
+                    None => HaloCounters::default(),
+                },
             solution: HaloCounters::default(),
+            full_updates: 0,
         })
     }
 

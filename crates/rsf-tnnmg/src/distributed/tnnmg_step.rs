@@ -161,14 +161,10 @@ impl<const D: usize> DistributedTnnmg<D> {
         }
         if full {
             self.vcycle.set_variable_nodes(&self.mg);
+            self.counters.full_updates += 1;
         }
         self.vcycle.refresh(&self.mg, full)?;
-        // The linear correction: V-cycles from zero (every ghost of zero is current).
-        self.c.fill(0.0);
-        self.vcycle.set_rhs(&self.res)?;
-        for _ in 0..self.opts.v_cycles {
-            self.vcycle.cycle(&mut self.c, &mut *self.halo);
-        }
+        self.linear_correction()?;
         // The kink rule on the gathered active blocks, the same on every rank; its
         // corrections written back on every local active node (owned and ghosts).
         let gather = self.gather.as_mut().expect("a solve started");
@@ -210,6 +206,50 @@ impl<const D: usize> DistributedTnnmg<D> {
         }
         self.counters.iterations += 1;
         Ok(correction.max(0.0).sqrt())
+    }
+
+    /// The linear correction: V-cycles on the truncated Newton system from `c = 0` (every
+    /// ghost of zero is current), `v_cycles` of them, or fewer once the residual's norm on
+    /// the untruncated dofs fell by `linear_reduction` (the residual by the fine rows of
+    /// the Newton matrix, its norm a reproducible sum: the same decision on every rank).
+    fn linear_correction(&mut self) -> Result<()> {
+        self.c.fill(0.0);
+        self.vcycle.set_rhs(&self.res)?;
+        let r0 = match self.opts.linear_reduction {
+            Some(_) => self.linear_residual_norm(false),
+            None => 0.0,
+        };
+        for k in 0..self.opts.v_cycles {
+            self.vcycle.cycle(&mut self.c, &mut *self.halo);
+            if let Some(red) = self.opts.linear_reduction {
+                if k + 1 < self.opts.v_cycles && self.linear_residual_norm(true) <= red * r0 {
+                    break;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The Euclidean norm over all ranks of the truncated system's residual `res − H c`
+    /// (`after_cycle`) or of `res`, on the untruncated owned dofs: one reduction.
+    fn linear_residual_norm(&mut self, after_cycle: bool) -> f64 {
+        let rows = self.vcycle.rows();
+        let r = if after_cycle {
+            rows.residual(&self.res, &self.c, &mut self.linear_res);
+            &self.linear_res
+        } else {
+            &self.res
+        };
+        let mask = self.mg.fine_mask();
+        for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
+            for i in 0..D {
+                if !mask[D * p + i] {
+                    let x = r[D * q + i];
+                    self.linear_sums.add(0, x * x);
+                }
+            }
+        }
+        self.linear_sums.reduce(&mut *self.halo)[0].sqrt()
     }
 
     /// `g0 = −Σ c · (b − Av)` over the owned dofs and `h = Σ c_p · (A c)_p` over the owned

@@ -53,7 +53,9 @@ struct RankSolve {
 }
 
 /// The solve from the box's start on `size` thread ranks under `owner`, every rank's
-/// end; `broken` makes the line search's sums non-reproducible.
+/// end; `broken` makes the line search's sums non-reproducible. With `solves > 1` the
+/// same solver solves again from the start, each time to the same bits (checked), and the
+/// last solve is returned (the counters over all).
 fn solve_on_ranks(
     pb: &Problem,
     nl: &BlockTresca<D>,
@@ -61,6 +63,19 @@ fn solve_on_ranks(
     size: usize,
     opts: DistributedTnnmgOptions,
     broken: bool,
+) -> Vec<RankSolve> {
+    solve_on_ranks_times(pb, nl, owner, size, opts, broken, 1)
+}
+
+#[expect(clippy::too_many_arguments, reason = "solve_on_ranks and a count")]
+fn solve_on_ranks_times(
+    pb: &Problem,
+    nl: &BlockTresca<D>,
+    owner: &[usize],
+    size: usize,
+    opts: DistributedTnnmgOptions,
+    broken: bool,
+    solves: usize,
 ) -> Vec<RankSolve> {
     on_thread_ranks(size, |halo| {
         let ps = prolongations(pb);
@@ -78,7 +93,12 @@ fn solve_on_ranks(
             s = s.with_naive_line_sums();
         }
         let mut v = pb.x0.clone();
-        let report = s.solve(&pb.b, nl, &mut v).unwrap();
+        let mut report = s.solve(&pb.b, nl, &mut v).unwrap();
+        for _ in 1..solves {
+            let first = std::mem::replace(&mut v, pb.x0.clone());
+            report = s.solve(&pb.b, nl, &mut v).unwrap();
+            assert_eq!(differing(&v, &first), 0, "a second solve");
+        }
         RankSolve {
             v,
             report,
@@ -146,6 +166,7 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
                 let mut want = rank.per_iteration;
                 want = TnnmgCounters {
                     iterations: it,
+                    full_updates: 1,
                     smoother: want.smoother.times(it),
                     cycles: want.cycles.times(it),
                     gathers: want.gathers.times(it),
@@ -154,6 +175,57 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
                 };
                 assert_eq!(rank.counters, want, "{name}: rank {r} of {size}");
                 assert!(rank.per_iteration.total().messages >= (size - 1) as u64 * 3);
+            }
+        }
+    }
+}
+
+/// The inexact-Newton rule (at most 4 V-cycles per iteration, stopping at a residual
+/// reduction of 0.1) at 1–4 thread ranks: the same bits and iteration counts as one
+/// rank, fewer iterations than one cycle per iteration, no more reductions and cycles than
+/// the plan's most; two solves with the same active blocks set the hierarchy up in full
+/// once, and the second has the first's bits.
+#[test]
+fn inexact_newton_on_ranks_has_the_same_bits() {
+    let pb = cube(2);
+    let nl = friction(&pb, 1.0, 0.1);
+    let opts = DistributedTnnmgOptions {
+        v_cycles: 4,
+        linear_reduction: Some(0.1),
+        ..options(false)
+    };
+    let nodes = pb.x0.len() / D;
+    let one = &solve_on_ranks_times(&pb, &nl, &vec![0; nodes], 1, opts, false, 2)[0];
+    let classical = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    assert!(
+        one.report.iterations < classical.report.iterations,
+        "{} against {}",
+        one.report.iterations,
+        classical.report.iterations
+    );
+    assert_eq!(one.counters.full_updates, 1);
+    let most = one
+        .per_iteration
+        .cycles
+        .times(2 * one.report.iterations as u64);
+    assert!(
+        one.counters.cycles.exchanges < most.exchanges,
+        "some iterations stop early"
+    );
+    for size in 2..=4 {
+        let owner = split_along(pb.bx.mesh(), size, 2);
+        let ranks = solve_on_ranks_times(&pb, &nl, &owner, size, opts, false, 2);
+        for (r, rank) in ranks.iter().enumerate() {
+            assert_eq!(differing(&rank.v, &one.v), 0, "rank {r} of {size}");
+            assert_eq!(rank.report.iterations, one.report.iterations);
+            assert_eq!(rank.counters.full_updates, 1);
+            let it = 2 * rank.report.iterations as u64;
+            let plan = rank.per_iteration;
+            for (got, most) in [
+                (rank.counters.cycles, plan.cycles.times(it)),
+                (rank.counters.reductions, plan.reductions.times(it)),
+            ] {
+                assert!(got.exchanges <= most.exchanges && got.values <= most.values);
             }
         }
     }

@@ -49,6 +49,7 @@ fn options() -> DistributedTnnmgOptions {
         },
         nonlinear_sweeps: 1,
         v_cycles: 1,
+        linear_reduction: None,
         smoothing: VCycleShape { pre: 2, post: 2 },
         record_energy: false,
     }
