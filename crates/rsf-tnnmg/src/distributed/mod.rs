@@ -29,6 +29,7 @@
 //! measurements.
 
 mod active;
+mod cg;
 mod halo;
 mod hierarchy;
 mod linear;

@@ -6,6 +6,7 @@ use rsf_linalg::Csc;
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
 use super::active::ActiveGather;
+use super::cg::DistributedCg;
 use super::halo::{exchange_round, HaloCounters, Round};
 use super::hierarchy::{VCycleHierarchy, VCycleShape};
 use super::local_rows::LocalRows;
@@ -15,6 +16,7 @@ use super::{DistributedSweep, DistributedVCycle};
 use crate::block::{load, masked_inverse, store, Block};
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
+use crate::linear_correction::LinearCorrection;
 use crate::multigrid::{CycleShape, LinearMultigrid};
 use crate::problem::{active_map, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun};
@@ -30,7 +32,13 @@ pub struct DistributedTnnmgOptions {
     /// Linear V-cycles on the truncated Newton system per iteration (≥ 1), from zero; at
     /// most this many with [`linear_reduction`](Self::linear_reduction).
     pub v_cycles: usize,
-    /// Inexact Newton: stop the V-cycles of an iteration once the truncated system's
+    /// How the V-cycles solve the truncated Newton system: as a stationary iteration
+    /// ([`LinearCorrection::Cycles`], the classical TNNMG) or as the preconditioner of
+    /// conjugate gradients ([`LinearCorrection::PreconditionedCg`], one cycle per step; its
+    /// inner products exact sums, three reductions per step with `linear_reduction`, two
+    /// without).
+    pub linear_correction: LinearCorrection,
+    /// Inexact Newton: stop the V-cycles (or CG steps) of an iteration once the truncated system's
     /// residual (Euclidean norm on the untruncated dofs, a reproducible sum) is reduced by
     /// this factor, in (0, 1); `None` always runs `v_cycles` cycles. Each check costs one
     /// reduction (and the initial norm one more).
@@ -49,6 +57,7 @@ impl Default for DistributedTnnmgOptions {
             stopping: Stopping::default(),
             nonlinear_sweeps: 1,
             v_cycles: 1,
+            linear_correction: LinearCorrection::Cycles,
             linear_reduction: None,
             smoothing: VCycleShape { pre: 3, post: 3 },
             record_energy: false,
@@ -169,6 +178,10 @@ pub struct DistributedTnnmg<const D: usize> {
     /// residual of the truncated system.
     pub(super) linear_sums: ExactSums,
     pub(super) linear_res: Vec<f64>,
+    /// The owned 0/1 factor of the Newton system's unmasked dofs, and the conjugate
+    /// gradients' work space.
+    pub(super) free_owned: Vec<f64>,
+    pub(super) cg: DistributedCg,
     /// The iterate's norm and energy computed with the last correction's norm.
     pub(super) pending: (Option<f64>, Option<f64>),
     pub(super) solution: Round,
@@ -309,6 +322,8 @@ impl<const D: usize> DistributedTnnmg<D> {
             norm_sums: ExactSums::new(1, rank, size),
             linear_sums: ExactSums::new(1, rank, size),
             linear_res: vec![0.0; D * owned],
+            free_owned: vec![0.0; D * owned],
+            cg: DistributedCg::new(D * owned, local, rank, size),
             pending: (None, None),
             solution_send: vec![0.0; D * solution.send_nodes.len()],
             solution_recv: vec![0.0; D * solution.recv_nodes.len()],
@@ -334,8 +349,10 @@ impl<const D: usize> DistributedTnnmg<D> {
         let mut c = self.counters;
         c.smoother = self.sweep.counters();
         c.cycles = self.vcycle.counters();
-        c.reductions =
-            self.line_sums.counters() + self.norm_sums.counters() + self.linear_sums.counters();
+        c.reductions = self.line_sums.counters()
+            + self.norm_sums.counters()
+            + self.linear_sums.counters()
+            + self.cg.counters();
         c
     }
 
@@ -347,15 +364,16 @@ impl<const D: usize> DistributedTnnmg<D> {
         self.line_sums.reset_counters();
         self.norm_sums.reset_counters();
         self.linear_sums.reset_counters();
+        self.cg.reset_counters();
     }
 
     /// What one iteration sends by the plans, for the active blocks of the last solve
     /// (`iterations` = 1; `full_updates` and `solution` zero): `nonlinear_sweeps` sweeps,
     /// `v_cycles` V-cycles, two all-gathers of the active blocks, two reductions (the
     /// second with one sum, plus one for a relative stopping test and one for the energy
-    /// record). With [`linear_reduction`](DistributedTnnmgOptions::linear_reduction) an
-    /// iteration runs at most `v_cycles` cycles and one reduction more per cycle but the
-    /// last; the plan counts the most (`v_cycles` cycles and `v_cycles` reductions more).
+    /// record), and the linear correction's reductions. With
+    /// [`linear_reduction`](DistributedTnnmgOptions::linear_reduction) or conjugate
+    /// gradients an iteration may stop its cycles early; the plan counts the most.
     /// `None` before the first solve.
     pub fn per_iteration(&self) -> Option<TnnmgCounters> {
         let gather = self.gather.as_ref()?.per_gather();
@@ -369,16 +387,28 @@ impl<const D: usize> DistributedTnnmg<D> {
             gathers: gather.times(2),
             reductions: self.line_sums.per_reduction()
                 + self.norm_sums.per_reduction()
-                + match self.opts.linear_reduction {
-                    Some(_) => self
-                        .linear_sums
-                        .per_reduction()
-                        .times(self.opts.v_cycles as u64),
-                    None => HaloCounters::default(),
-                },
+                + self.linear_per_iteration(),
             solution: HaloCounters::default(),
             full_updates: 0,
         })
+    }
+
+    /// The most reductions of one linear correction: with `linear_reduction`, the initial
+    /// norm and a check after every cycle but the last (`Cycles`) or in every step (CG);
+    /// CG's two per step.
+    fn linear_per_iteration(&self) -> HaloCounters {
+        let (cycles, checked) = (
+            self.opts.v_cycles as u64,
+            self.opts.linear_reduction.is_some(),
+        );
+        let norm = self.linear_sums.per_reduction();
+        match (self.opts.linear_correction, checked) {
+            (LinearCorrection::Cycles, false) => HaloCounters::default(),
+            (LinearCorrection::Cycles, true) => norm.times(cycles),
+            (LinearCorrection::PreconditionedCg, _) => {
+                self.cg.per_step(checked).times(cycles) + norm.times(u64::from(checked))
+            }
+        }
     }
 
     /// What the all-gather of the solution at the end of a solve sends.

@@ -8,6 +8,7 @@ use super::tnnmg::DistributedTnnmg;
 use crate::block::{load, sub_mul_vec};
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
+use crate::linear_correction::LinearCorrection;
 use crate::problem::{node_update, NodeBlocks};
 use crate::report::Iteration;
 use crate::tnnmg::{linearize_blocks, stop_at_kinks, QuadraticPart};
@@ -154,9 +155,11 @@ impl<const D: usize> DistributedTnnmg<D> {
         let mask = self.mg.fine_mask();
         for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
             for r in 0..D {
-                if mask[D * p + r] {
+                let masked = mask[D * p + r];
+                if masked {
                     self.res[D * q + r] = 0.0;
                 }
+                self.free_owned[D * q + r] = if masked { 0.0 } else { 1.0 };
             }
         }
         if full {
@@ -211,14 +214,28 @@ impl<const D: usize> DistributedTnnmg<D> {
     /// The linear correction: V-cycles on the truncated Newton system from `c = 0` (every
     /// ghost of zero is current), `v_cycles` of them, or fewer once the residual's norm on
     /// the untruncated dofs fell by `linear_reduction` (the residual by the fine rows of
-    /// the Newton matrix, its norm a reproducible sum: the same decision on every rank).
+    /// the Newton matrix, its norm a reproducible sum: the same decision on every rank);
+    /// or conjugate gradients preconditioned by them
+    /// ([`DistributedCg`](super::cg::DistributedCg)).
     fn linear_correction(&mut self) -> Result<()> {
-        self.c.fill(0.0);
-        self.vcycle.set_rhs(&self.res)?;
         let r0 = match self.opts.linear_reduction {
             Some(_) => self.linear_residual_norm(false),
             None => 0.0,
         };
+        if self.opts.linear_correction == LinearCorrection::PreconditionedCg {
+            self.cg.solve(
+                &mut self.vcycle,
+                &mut *self.halo,
+                &self.res,
+                &self.free_owned,
+                &mut self.c,
+                self.opts.v_cycles,
+                self.opts.linear_reduction.map(|red| (red, r0)),
+            );
+            return Ok(());
+        }
+        self.c.fill(0.0);
+        self.vcycle.set_rhs(&self.res)?;
         for k in 0..self.opts.v_cycles {
             self.vcycle.cycle(&mut self.c, &mut *self.halo);
             if let Some(red) = self.opts.linear_reduction {

@@ -231,6 +231,59 @@ fn inexact_newton_on_ranks_has_the_same_bits() {
     }
 }
 
+/// Conjugate gradients preconditioned by the V-cycle (at most 4 steps per iteration,
+/// with and without the reduction 0.1) at 1–4 thread ranks: the same bits and iteration
+/// counts as one rank, no more reductions and cycles than the plan's most, at most as
+/// many iterations as the classical cycles, and the classical solve's minimiser (relative
+/// A-norm distance below 1e-8).
+#[test]
+fn cg_on_ranks_has_the_same_bits() {
+    let pb = cube(2);
+    let nl = friction(&pb, 1.0, 0.1);
+    let nodes = pb.x0.len() / D;
+    let classical = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    for reduction in [None, Some(0.1)] {
+        let opts = DistributedTnnmgOptions {
+            v_cycles: 4,
+            linear_correction: crate::LinearCorrection::PreconditionedCg,
+            linear_reduction: reduction,
+            ..options(false)
+        };
+        let one = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, opts, false)[0];
+        assert!(
+            one.report.iterations <= classical.report.iterations,
+            "{reduction:?}: {} against {}",
+            one.report.iterations,
+            classical.report.iterations
+        );
+        let diff: Vec<f64> = one.v.iter().zip(&classical.v).map(|(a, b)| a - b).collect();
+        let (d, norm) = (a_norm(&pb, &diff), a_norm(&pb, &classical.v));
+        assert!(d <= 1e-8 * norm, "{reduction:?}: distance {d}, norm {norm}");
+        for size in 2..=4 {
+            for owner in [
+                split_along(pb.bx.mesh(), size, 0),
+                split_along(pb.bx.mesh(), size, 2),
+            ] {
+                let ranks = solve_on_ranks(&pb, &nl, &owner, size, opts, false);
+                for (r, rank) in ranks.iter().enumerate() {
+                    let what = format!("{reduction:?}: rank {r} of {size}");
+                    assert_eq!(differing(&rank.v, &one.v), 0, "{what}");
+                    assert_eq!(rank.report.iterations, one.report.iterations, "{what}");
+                    let it = rank.report.iterations as u64;
+                    let plan = rank.per_iteration;
+                    for (got, most) in [
+                        (rank.counters.cycles, plan.cycles.times(it)),
+                        (rank.counters.reductions, plan.reductions.times(it)),
+                    ] {
+                        assert!(got.exchanges <= most.exchanges, "{what}");
+                        assert!(got.values <= most.values, "{what}");
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// `J(v) = ½ vᵀAv − bᵀv + Σ φ` of a whole vector, summed in f64 (an independent
 /// evaluation).
 fn energy(pb: &Problem, nl: &BlockTresca<D>, v: &[f64]) -> f64 {

@@ -25,6 +25,7 @@ use rsf_tnnmg::distributed::{
     BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, HaloCounters, HaloExchange,
     ThreadExchange, VCycleShape,
 };
+use rsf_tnnmg::LinearCorrection;
 
 use super::{median, memory_mb, metis_owner, write_values, Flags, D};
 
@@ -49,6 +50,7 @@ fn options() -> DistributedTnnmgOptions {
         },
         nonlinear_sweeps: 1,
         v_cycles: 1,
+        linear_correction: LinearCorrection::Cycles,
         linear_reduction: None,
         smoothing: VCycleShape { pre: 2, post: 2 },
         record_energy: false,
