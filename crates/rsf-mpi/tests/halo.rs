@@ -253,19 +253,31 @@ fn three(line: &str, key: &str) -> [u64; 3] {
     v.try_into().unwrap()
 }
 
-/// TNNMG with Tresca friction on the top face of the box of 10 647 dofs: the program's
-/// solve on 1 and 3 thread ranks (one process) and on 1, 2 and 4 MPI ranks gives the same
-/// bits and iteration counts; the solution is finite, moved from the start, and sticks on
-/// some frictional nodes and slips on others; per MPI rank the counters over the solve
-/// are the iterations times the plans' per iteration plus the solution's all-gather, and
-/// at several ranks every rank sends in every iteration.
+/// TNNMG with Tresca friction on the top face of the box of 10 647 dofs, with V-cycles
+/// and with preconditioned CG (`--cg`): the program's solve on 1 and 3 thread ranks (one
+/// process) and on 1, 2 and 4 MPI ranks gives the same bits and iteration counts; the
+/// solution is finite, moved from the start, and sticks on some frictional nodes and
+/// slips on others; per MPI rank the counters over the solve are the iterations times the
+/// plans' per iteration plus the solution's all-gather (at most that with CG, whose
+/// iterations may stop their cycles early), and at several ranks every rank sends in
+/// every iteration.
 #[test]
 fn tnnmg_on_1_2_and_4_mpi_ranks_has_the_thread_ranks_bits() {
+    for cg in [false, true] {
+        tnnmg_on_mpi_ranks(cg);
+    }
+}
+
+fn tnnmg_on_mpi_ranks(cg: bool) {
     let bx = ElasticBox::bar(2).unwrap();
-    let args = ["--refinements", "2", "--tnnmg"];
+    let mut args = vec!["--refinements", "2", "--tnnmg"];
+    if cg {
+        args.push("--cg");
+    }
+    let args = &args[..];
     let mut solutions = Vec::new();
     for threads in [1, 3] {
-        let out = file(&format!("tnnmg_threads_{threads}.bin"));
+        let out = file(&format!("tnnmg_threads_{threads}_{cg}.bin"));
         let run = mpirun(1)
             .arg(BIN)
             .args(args)
@@ -296,7 +308,7 @@ fn tnnmg_on_1_2_and_4_mpi_ranks_has_the_thread_ranks_bits() {
     );
     let mut iterations = Vec::new();
     for n in [1, 2, 4] {
-        let out = file(&format!("tnnmg_ranks_{n}.bin"));
+        let out = file(&format!("tnnmg_ranks_{n}_{cg}.bin"));
         let run = mpirun(n)
             .arg(BIN)
             .args(args)
@@ -315,13 +327,21 @@ fn tnnmg_on_1_2_and_4_mpi_ranks_has_the_thread_ranks_bits() {
             let it: u64 = field(line, "iterations").parse().unwrap();
             iterations.push(it);
             let (plan, solution) = (three(line, "per_iteration"), three(line, "solution"));
-            let want: Vec<u64> = (0..3).map(|i| it * plan[i] + solution[i]).collect();
-            assert_eq!(three(line, "counted").to_vec(), want, "rank {r} of {n}");
+            let most: Vec<u64> = (0..3).map(|i| it * plan[i] + solution[i]).collect();
+            let counted = three(line, "counted");
+            if cg {
+                assert!(
+                    (0..3).all(|i| counted[i] <= most[i]),
+                    "rank {r} of {n}: {line}"
+                );
+            } else {
+                assert_eq!(counted.to_vec(), most, "rank {r} of {n}");
+            }
             assert!(plan[1] >= 3 * (n as u64 - 1), "rank {r} of {n}: {line}");
         }
     }
     for (name, v) in &solutions {
-        assert_eq!(differing_bits(v, &reference), 0, "{name}");
+        assert_eq!(differing_bits(v, &reference), 0, "{name}, cg {cg}");
     }
     assert!(
         iterations.iter().all(|&i| i == iterations[0] && i > 2),

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out FILE] [--reference]
-//!                   [--vcycle [--levels L]] [--tnnmg [--thread-ranks N]]
+//!                   [--vcycle [--levels L]] [--tnnmg [--cg] [--thread-ranks N]]
 //! ```
 //!
 //! Every rank builds the whole problem (the stiffness, the colouring, METIS's partition of
@@ -60,6 +60,8 @@ struct Flags {
     /// TNNMG solves instead of sweeps; on `thread_ranks` threads of one process if given.
     tnnmg: bool,
     thread_ranks: Option<usize>,
+    /// TNNMG's linear correction by preconditioned CG (the one-process default).
+    cg: bool,
 }
 
 fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
@@ -73,6 +75,7 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
         levels: None,
         tnnmg: false,
         thread_ranks: None,
+        cg: false,
     };
     let mut args = args.peekable();
     while let Some(a) = args.next() {
@@ -88,6 +91,7 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
             "--vcycle" => f.vcycle = true,
             "--levels" => f.levels = Some(number(&a, value(&a)?)?),
             "--tnnmg" => f.tnnmg = true,
+            "--cg" => f.cg = true,
             "--thread-ranks" => f.thread_ranks = Some(number(&a, value(&a)?)?),
             _ => return Err(format!("unknown flag {a}")),
         }
@@ -98,8 +102,8 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
     if f.levels.is_some() && !f.vcycle {
         return Err("--levels needs --vcycle".into());
     }
-    if f.thread_ranks.is_some() && !f.tnnmg {
-        return Err("--thread-ranks needs --tnnmg".into());
+    if (f.thread_ranks.is_some() || f.cg) && !f.tnnmg {
+        return Err("--thread-ranks and --cg need --tnnmg".into());
     }
     if f.thread_ranks == Some(0) {
         return Err("--thread-ranks must be at least 1".into());

@@ -4,7 +4,9 @@
 //! node graph, and sets up `DistributedTnnmg` (the hierarchy replicated, its rows kept);
 //! the nonlinearity is Tresca friction (`BlockTresca`, bound 1, viscous weight 0.1) on the
 //! nodes of the top face z = 1. K repetitions solve from the box's start to 1e-10 in the
-//! energy norm (one nonlinear sweep and one V(2,2)-cycle per iteration), each timed between
+//! energy norm (one nonlinear sweep and one V(2,2)-cycle per iteration; with `--cg`
+//! conjugate gradients preconditioned by V(2,2)-cycles, at most 4 per iteration, stopping
+//! at a residual reduction of 0.01: the one-process TNNMG's defaults), each timed between
 //! two barriers. Each rank writes its owned and ghost nodes, the iterations, what one
 //! iteration sends by the plans per part (smoother, cycles, gathers, reductions:
 //! exchanges/messages/values) and in total, and what it counted over the last solve
@@ -41,8 +43,8 @@ fn problem(f: &Flags) -> Result<(ElasticBox, BlockTresca<D>), String> {
     Ok((bx, nl))
 }
 
-fn options() -> DistributedTnnmgOptions {
-    DistributedTnnmgOptions {
+fn options(f: &Flags) -> DistributedTnnmgOptions {
+    let classical = DistributedTnnmgOptions {
         stopping: Stopping {
             absolute: 1e-10,
             relative: 0.0,
@@ -54,11 +56,22 @@ fn options() -> DistributedTnnmgOptions {
         linear_reduction: None,
         smoothing: VCycleShape { pre: 2, post: 2 },
         record_energy: false,
+    };
+    if f.cg {
+        DistributedTnnmgOptions {
+            v_cycles: 4,
+            linear_correction: LinearCorrection::PreconditionedCg,
+            linear_reduction: Some(0.01),
+            ..classical
+        }
+    } else {
+        classical
     }
 }
 
 /// The solver of `halo`'s rank on the box under `owner`.
 fn solver(
+    f: &Flags,
     bx: &ElasticBox,
     owner: &[usize],
     halo: Box<dyn HaloExchange>,
@@ -72,7 +85,7 @@ fn solver(
         &bx.fixed,
         &ps,
         None,
-        options(),
+        options(f),
         owner,
         halo,
     )
@@ -94,7 +107,7 @@ pub fn thread_ranks(f: &Flags, n: usize) -> Result<(), String> {
             .into_iter()
             .map(|halo| {
                 s.spawn(move || {
-                    let mut t = solver(bx, owner, Box::new(halo))?;
+                    let mut t = solver(f, bx, owner, Box::new(halo))?;
                     let mut v = bx.start();
                     let report = t.solve(&bx.load(), nl, &mut v).map_err(|e| e.to_string())?;
                     Ok((v, report.iterations))
@@ -129,7 +142,7 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     let t = Instant::now();
     let (bx, nl) = problem(f)?;
     let owner = metis_owner(&bx, size)?;
-    let mut tnnmg = solver(&bx, &owner, Box::new(halo))?;
+    let mut tnnmg = solver(f, &bx, &owner, Box::new(halo))?;
     let set_up_s = t.elapsed().as_secs_f64();
     let (rss, peak) = memory_mb();
     let (b, start) = (bx.load(), bx.start());
