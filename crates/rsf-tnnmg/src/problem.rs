@@ -164,10 +164,7 @@ impl<const D: usize> NodalProblem<D> {
         scratch: &mut [[f64; D]],
     ) {
         colouring.sweep(v, false, scratch, par, |p, v| {
-            let mut s = load::<D>(b, p);
-            for (q, blk) in self.a.neighbours(p) {
-                sub_mul_vec(&mut s, blk, &load::<D>(v, q));
-            }
+            let s = coupled_rhs(load::<D>(b, p), self.a.neighbours(p), v);
             let mut x = load::<D>(v, p);
             self.local_update(blocks, p, &s, &mut x);
             x
@@ -210,6 +207,22 @@ pub(crate) fn node_update<const D: usize, N: BlockNonlinearity<D>>(
             x[c] += d[c];
         }
     }
+}
+
+/// The block right-hand side with the off-block coupling of a node, `s = b_p − Σ_{q≠p}
+/// A_pq x_q`, its row `row` (`(q, A_pq)`, increasing global columns) summed in order: what
+/// the multi-colour nonlinear sweeps (one process, and on ranks) hand to [`node_update`].
+#[inline(always)]
+pub(crate) fn coupled_rhs<'a, const D: usize>(
+    b: [f64; D],
+    row: impl Iterator<Item = (usize, &'a Block<D>)>,
+    x: &[f64],
+) -> [f64; D] {
+    let mut s = b;
+    for (q, blk) in row {
+        sub_mul_vec(&mut s, blk, &load::<D>(x, q));
+    }
+    s
 }
 
 /// The nonlinear blocks of a sweep: the nonlinearity and, per node `p`, the position

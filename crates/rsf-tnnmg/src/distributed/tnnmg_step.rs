@@ -9,7 +9,7 @@ use crate::block::{load, sub_mul_vec};
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
 use crate::linear_correction::LinearCorrection;
-use crate::problem::{node_update, NodeBlocks};
+use crate::problem::{coupled_rhs, node_update, NodeBlocks};
 use crate::report::Iteration;
 use crate::tnnmg::{linearize_blocks, stop_at_kinks, QuadraticPart};
 
@@ -106,10 +106,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         v_old.copy_from_slice(v);
         for _ in 0..self.opts.nonlinear_sweeps {
             sweep.sweep(v, false, halo, |rows, p, x| {
-                let mut s = load::<D>(b, p);
-                for (q, blk) in rows.neighbours(p) {
-                    sub_mul_vec(&mut s, blk, &load::<D>(x, q));
-                }
+                let s = coupled_rhs(load::<D>(b, p), rows.neighbours(p), x);
                 let mut xp = load::<D>(x, p);
                 let node = NodeBlocks {
                     diag: rows.diag(p),
