@@ -284,6 +284,66 @@ fn cg_on_ranks_has_the_same_bits() {
     }
 }
 
+/// The stopping norm of another matrix (`E = 4A`, through the energy-norm rows): every
+/// term is four times the A-norm's, exactly, so the correction's norm is exactly twice
+/// it and a tolerance twice as large stops at the same iteration with the same bits, at
+/// 1 and 3 ranks; an energy-norm matrix of the wrong size is refused.
+#[test]
+fn an_energy_norm_matrix_is_used() {
+    use faer::sparse::{SparseColMat, Triplet};
+    let pb = cube(2);
+    let nl = friction(&pb, 1.0, 0.1);
+    let a = pb.a();
+    let mut t = Vec::new();
+    for j in 0..a.ncols() {
+        for (i, x) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            t.push(Triplet::new(i, j, 4.0 * x));
+        }
+    }
+    let e = SparseColMat::<usize, f64>::try_new_from_triplets(a.nrows(), a.ncols(), &t).unwrap();
+    let nodes = pb.x0.len() / D;
+    let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let mut opts = options(false);
+    opts.stopping.absolute = 2e-10;
+    for size in [1, 3] {
+        let owner = split_along(pb.bx.mesh(), size, 0);
+        let ranks = on_thread_ranks(size, |halo| {
+            let ps = prolongations(&pb);
+            let mut s = DistributedTnnmg::<D>::new(
+                a,
+                &pb.bx.fixed,
+                &ps,
+                Some(e.as_ref()),
+                opts,
+                &owner,
+                Box::new(halo),
+            )
+            .unwrap();
+            let mut v = pb.x0.clone();
+            let report = s.solve(&pb.b, &nl, &mut v).unwrap();
+            (v, report)
+        });
+        for (r, (v, report)) in ranks.iter().enumerate() {
+            assert_eq!(differing(v, &reference.v), 0, "rank {r} of {size}");
+            assert_eq!(report.iterations, reference.report.iterations);
+            assert_eq!(report.correction, 2.0 * reference.report.correction);
+        }
+    }
+    let halo = ThreadExchange::group(1).pop().unwrap();
+    let ps = prolongations(&pb);
+    let small = SparseColMat::<usize, f64>::try_new_from_triplets(3, 3, &[]).unwrap();
+    let wrong = DistributedTnnmg::<D>::new(
+        a,
+        &pb.bx.fixed,
+        &ps,
+        Some(small.as_ref()),
+        options(false),
+        &vec![0; nodes],
+        Box::new(halo),
+    );
+    assert!(matches!(wrong, Err(Error::DimensionMismatch { .. })));
+}
+
 /// `J(v) = ½ vᵀAv − bᵀv + Σ φ` of a whole vector, summed in f64 (an independent
 /// evaluation).
 fn energy(pb: &Problem, nl: &BlockTresca<D>, v: &[f64]) -> f64 {
