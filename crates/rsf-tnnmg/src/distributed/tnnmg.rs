@@ -34,9 +34,11 @@ pub(super) struct NormRows<const D: usize> {
 /// "Phase 4") for `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})`: per iteration multi-colour
 /// nonlinear block Gauss–Seidel on the rank's owned nodes (one halo exchange per colour;
 /// the node update of the one-process smoothers), the truncated linearisation (the rules of
-/// [`Tnnmg`](crate::Tnnmg)'s, truncating nonsmooth and rigid blocks), `v_cycles` linear
-/// V-cycles on the truncated Newton system ([`DistributedVCycle`]), the kink rule and the
-/// exact line search. Its iterates have the same bits at every rank count and partition:
+/// [`Tnnmg`](crate::Tnnmg)'s, truncating nonsmooth and rigid blocks), the linear
+/// correction on the truncated Newton system by distributed V-cycles
+/// ([`DistributedVCycle`]; a stationary iteration or the preconditioner of conjugate
+/// gradients, [`DistributedTnnmgOptions::linear_correction`]), the kink rule and the exact
+/// line search. Its iterates have the same bits at every rank count and partition:
 /// every value is computed by its owner with arithmetic that does not depend on the
 /// partition, and every global sum (the line search's `g0 = cᵀ(Av − b)` and `h = cᵀAc`, the
 /// energy norms of the correction and of the iterate, the energy) is exact, rounded once
@@ -53,8 +55,10 @@ pub(super) struct NormRows<const D: usize> {
 /// all-gather of the iterate's and one of the correction's active blocks per iteration).
 ///
 /// Set-up: the V-cycle hierarchy is replicated (as [`VCycleHierarchy`]: every rank holds
-/// the Galerkin operators of every level); per iteration every rank updates it
-/// incrementally (the rows the active blocks reach) and refreshes its rows from it. A
+/// the Galerkin operators of every level, and global vectors for the active blocks'
+/// values: memory of the whole problem's order on every rank); per iteration every rank
+/// updates it incrementally (the rows the active blocks reach) and refreshes its rows from
+/// it. A
 /// collective object: every rank calls every method in the same order. Allocation-free
 /// per iteration after the first solve with a set of active blocks (the transport may
 /// allocate).
@@ -298,8 +302,9 @@ impl<const D: usize> DistributedTnnmg<D> {
     /// second with one sum, plus one for a relative stopping test and one for the energy
     /// record), and the linear correction's reductions. With
     /// [`linear_reduction`](DistributedTnnmgOptions::linear_reduction) or conjugate
-    /// gradients an iteration may stop its cycles early; the plan counts the most.
-    /// `None` before the first solve.
+    /// gradients an iteration may stop its cycles early; the plan counts the most. A
+    /// recorded energy adds one reduction at the start of each solve. `None` before the
+    /// first solve.
     pub fn per_iteration(&self) -> Option<TnnmgCounters> {
         let gather = self.gather.as_ref()?.per_gather();
         Some(TnnmgCounters {
