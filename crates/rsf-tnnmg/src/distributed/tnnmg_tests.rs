@@ -344,6 +344,59 @@ fn an_energy_norm_matrix_is_used() {
     assert!(matches!(wrong, Err(Error::DimensionMismatch { .. })));
 }
 
+/// No nonlinearity (a linear system, no active block: empty gathers): the same bits at
+/// 1 and 3 ranks, and the solution of `A v = b` on the free dofs (residual below 1e-8 of
+/// the right-hand side's).
+#[test]
+fn a_linear_problem_on_ranks() {
+    let pb = cube(2);
+    let nl = rsf_nonsmooth::NoNonlinearity;
+    let mut solutions = Vec::new();
+    for size in [1, 3] {
+        let owner = split_along(pb.bx.mesh(), size, 0);
+        let ranks = on_thread_ranks(size, |halo| {
+            let ps = prolongations(&pb);
+            let mut s = DistributedTnnmg::<D>::new(
+                pb.a(),
+                &pb.bx.fixed,
+                &ps,
+                None,
+                options(false),
+                &owner,
+                Box::new(halo),
+            )
+            .unwrap();
+            let mut v = pb.x0.clone();
+            s.solve(&pb.b, &nl, &mut v).unwrap();
+            v
+        });
+        solutions.extend(ranks);
+    }
+    for v in &solutions {
+        assert_eq!(differing(v, &solutions[0]), 0);
+    }
+    let (a, v) = (pb.a(), &solutions[0]);
+    let mut r = pb.b.clone();
+    for j in 0..a.ncols() {
+        for (i, x) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            r[i] -= x * v[j];
+        }
+    }
+    let free = |x: &[f64]| {
+        (x.iter().zip(&pb.bx.fixed))
+            .filter(|(_, &f)| !f)
+            .map(|(x, _)| x * x)
+            .sum::<f64>()
+            .sqrt()
+    };
+    assert!(
+        free(&r) <= 1e-8 * free(&pb.b),
+        "{} of {}",
+        free(&r),
+        free(&pb.b)
+    );
+}
+
 /// `J(v) = ½ vᵀAv − bᵀv + Σ φ` of a whole vector, summed in f64 (an independent
 /// evaluation).
 fn energy(pb: &Problem, nl: &BlockTresca<D>, v: &[f64]) -> f64 {
