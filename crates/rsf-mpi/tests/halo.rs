@@ -2,7 +2,8 @@
 //! Gauss–Seidel on an elastic box partitioned by METIS, the halo exchanged over MPI) under
 //! `mpirun -n 1, 2, 4` gives the bits of the one-process coloured sweep computed here, and
 //! every rank's counted halo equals its plan's; with `--vcycle`, the linear V-cycle at
-//! `mpirun -n 1, 2` gives the bits of the one-process `ColouredVCycle`.
+//! `mpirun -n 1, 2` gives the bits of the one-process `ColouredVCycle`; with `--tnnmg`,
+//! TNNMG on `mpirun -n 1, 2, 4` gives the bits of its solve on 1 and 3 thread ranks.
 
 use std::path::{Path, PathBuf};
 
@@ -241,6 +242,111 @@ fn vcycles_on_1_and_2_mpi_ranks_have_the_one_process_bits() {
             assert_eq!(plan[2] > 0, n > 1, "rank {r} of {n}: messages");
         }
     }
+}
+
+/// `exchanges/messages/values` of a rank line's field.
+fn three(line: &str, key: &str) -> [u64; 3] {
+    let v: Vec<u64> = field(line, key)
+        .split('/')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    v.try_into().unwrap()
+}
+
+/// TNNMG with Tresca friction on the top face of the box of 10 647 dofs, with V-cycles
+/// and with preconditioned CG (`--cg`): the program's solve on 1 and 3 thread ranks (one
+/// process) and on 1, 2 and 4 MPI ranks gives the same bits and iteration counts; the
+/// solution is finite, moved from the start, and sticks on some frictional nodes and
+/// slips on others; per MPI rank the counters over the solve are the iterations times the
+/// plans' per iteration plus the solution's all-gather (at most that with CG, whose
+/// iterations may stop their cycles early), and at several ranks every rank sends in
+/// every iteration.
+#[test]
+fn tnnmg_on_1_2_and_4_mpi_ranks_has_the_thread_ranks_bits() {
+    for cg in [false, true] {
+        tnnmg_on_mpi_ranks(cg);
+    }
+}
+
+fn tnnmg_on_mpi_ranks(cg: bool) {
+    let bx = ElasticBox::bar(2).unwrap();
+    let mut args = vec!["--refinements", "2", "--tnnmg"];
+    if cg {
+        args.push("--cg");
+    }
+    let args = &args[..];
+    let mut solutions = Vec::new();
+    for threads in [1, 3] {
+        let out = file(&format!("tnnmg_threads_{threads}_{cg}.bin"));
+        let run = mpirun(1)
+            .arg(BIN)
+            .args(args)
+            .args(["--thread-ranks", &threads.to_string(), "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{threads} thread ranks: {err}");
+        solutions.push((format!("{threads} thread ranks"), values(&out)));
+    }
+    let reference = solutions[0].1.clone();
+    assert_eq!(reference.len(), bx.dofs());
+    assert!(reference.iter().all(|v| v.is_finite()));
+    assert!(differing_bits(&reference, &bx.start()) > bx.dofs() / 2);
+    let top: Vec<usize> = (bx.mesh().vertices().iter().enumerate())
+        .filter(|(_, v)| v[2] == 1.0)
+        .map(|(p, _)| p)
+        .collect();
+    let stuck = top
+        .iter()
+        .filter(|&&p| reference[D * p..D * p + D] == [0.0; D])
+        .count();
+    assert!(
+        stuck > 0 && stuck < top.len(),
+        "stuck {stuck} of {}",
+        top.len()
+    );
+    let mut iterations = Vec::new();
+    for n in [1, 2, 4] {
+        let out = file(&format!("tnnmg_ranks_{n}_{cg}.bin"));
+        let run = mpirun(n)
+            .arg(BIN)
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{n} ranks: {err}");
+        solutions.push((format!("{n} MPI ranks"), values(&out)));
+        for r in 0..n {
+            let line = err
+                .lines()
+                .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
+                .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"));
+            let it: u64 = field(line, "iterations").parse().unwrap();
+            iterations.push(it);
+            let (plan, solution) = (three(line, "per_iteration"), three(line, "solution"));
+            let most: Vec<u64> = (0..3).map(|i| it * plan[i] + solution[i]).collect();
+            let counted = three(line, "counted");
+            if cg {
+                assert!(
+                    (0..3).all(|i| counted[i] <= most[i]),
+                    "rank {r} of {n}: {line}"
+                );
+            } else {
+                assert_eq!(counted.to_vec(), most, "rank {r} of {n}");
+            }
+            assert!(plan[1] >= 3 * (n as u64 - 1), "rank {r} of {n}: {line}");
+        }
+    }
+    for (name, v) in &solutions {
+        assert_eq!(differing_bits(v, &reference), 0, "{name}, cg {cg}");
+    }
+    assert!(
+        iterations.iter().all(|&i| i == iterations[0] && i > 2),
+        "{iterations:?}"
+    );
 }
 
 /// `--reference` is the one-process sweep: on two ranks the program refuses it, and every

@@ -5,7 +5,7 @@ use faer::sparse::SparseColMatRef;
 use crate::error::{Error, Result};
 use crate::norm::EnergyNorm;
 use crate::problem::{ActiveBlocks, NodalProblem};
-use crate::report::{iterate_to_tolerance, Iteration, IterationRun};
+use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
@@ -49,7 +49,7 @@ impl<const D: usize> NonlinearGaussSeidel<D> {
     }
 }
 
-impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
+impl<const D: usize> NodalIteration<D> for NonlinearGaussSeidel<D> {
     fn blocked(&self) -> &NodalProblem<D> {
         &self.m
     }

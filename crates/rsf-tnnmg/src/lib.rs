@@ -38,8 +38,9 @@
 //!
 //! On ranks with distributed memory (docs/scaling.md, "Past one machine"), the
 //! [`distributed`] module holds the multi-colour block Gauss–Seidel sweep of one rank with a
-//! halo exchange per colour and the linear V-cycle built on it (the first parts of the
-//! implicit engine on ranks: not yet TNNMG).
+//! halo exchange per colour, the linear V-cycle built on it, and TNNMG on ranks
+//! ([`distributed::DistributedTnnmg`]: the same bits at every rank count, its global sums
+//! exact; the set-up still replicated).
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.

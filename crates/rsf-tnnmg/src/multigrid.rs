@@ -244,6 +244,32 @@ impl<const D: usize> LinearMultigrid<D> {
         &self.levels.last().expect("fine level").mask
     }
 
+    /// Level `l`'s matrix (0 the coarsest; the fine level's with its current diagonal).
+    pub fn level_matrix(&self, l: usize) -> &BlockCsr<D> {
+        &self.levels[l].a
+    }
+
+    /// Level `l`'s mask (truncated or excluded dofs).
+    pub fn level_mask(&self, l: usize) -> &[bool] {
+        &self.levels[l].mask
+    }
+
+    /// Level `l`'s mask as a 0/1 factor (1 on free dofs).
+    pub fn level_free(&self, l: usize) -> &[f64] {
+        &self.levels[l].free
+    }
+
+    /// The nodes of level `l` whose rows or masks an incremental update may change (after
+    /// [`set_variable_nodes`](Self::set_variable_nodes); empty before).
+    pub fn variable_nodes(&self, l: usize) -> &[usize] {
+        self.variable.get(l).map_or(&[], |v| &v[..])
+    }
+
+    /// The Galerkin transfers, `galerkin()[l]` between levels `l + 1` and `l`.
+    pub fn galerkin(&self) -> &[Galerkin<D>] {
+        &self.galerkin
+    }
+
     /// Recomputes the coarse operators, the smoothers and the coarse factorisation after
     /// the fine matrix values or the fine mask changed.
     pub fn update(&mut self) -> Result<()> {

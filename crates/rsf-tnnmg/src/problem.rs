@@ -133,20 +133,12 @@ impl<const D: usize> NodalProblem<D> {
         x: &mut [f64; D],
     ) {
         let ActiveBlocks { nl, active_of } = blocks;
-        let a = &self.a;
-        let k = active_of[p];
-        if k != usize::MAX {
-            nl.minimize_block(k, &a.diag[p], s, &self.free[p], x);
-        } else {
-            // Linear block: exact solve on the free components (the fixed ones keep
-            // their values; their coupling enters through A_pp x).
-            let mut r = *s;
-            sub_mul_vec(&mut r, &a.diag[p], x);
-            let d = mul_vec(&self.inverse[p], &r);
-            for c in 0..D {
-                x[c] += d[c];
-            }
-        }
+        let node = NodeBlocks {
+            diag: &self.a.diag[p],
+            inverse: &self.inverse[p],
+            free: &self.free[p],
+        };
+        node_update(nl, active_of[p], node, s, x);
     }
 
     /// One multi-colour nonlinear block Gauss–Seidel sweep: colour by colour
@@ -172,15 +164,65 @@ impl<const D: usize> NodalProblem<D> {
         scratch: &mut [[f64; D]],
     ) {
         colouring.sweep(v, false, scratch, par, |p, v| {
-            let mut s = load::<D>(b, p);
-            for (q, blk) in self.a.neighbours(p) {
-                sub_mul_vec(&mut s, blk, &load::<D>(v, q));
-            }
+            let s = coupled_rhs(load::<D>(b, p), self.a.neighbours(p), v);
             let mut x = load::<D>(v, p);
             self.local_update(blocks, p, &s, &mut x);
             x
         });
     }
+}
+
+/// What the node update of the nonlinear Gauss–Seidel sweeps reads of one node: its
+/// diagonal block `A_pp`, the `masked_inverse` of it on the free components, and the free
+/// components.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NodeBlocks<'a, const D: usize> {
+    pub diag: &'a Block<D>,
+    pub inverse: &'a Block<D>,
+    pub free: &'a [bool; D],
+}
+
+/// The exact minimisation of one node block with the others fixed, the node update of
+/// every nonlinear Gauss–Seidel sweep (one process, and on ranks): `s = b_p − Σ_{q≠p}
+/// A_pq v_q` is the block right-hand side with the off-block coupling, `x` holds `v_p` and
+/// receives the update. `k` is the node's position in `nl.active_blocks()` (`usize::MAX`
+/// for a linear node, solved exactly on its free components).
+#[inline(always)]
+pub(crate) fn node_update<const D: usize, N: BlockNonlinearity<D>>(
+    nl: &N,
+    k: usize,
+    node: NodeBlocks<'_, D>,
+    s: &[f64; D],
+    x: &mut [f64; D],
+) {
+    if k != usize::MAX {
+        nl.minimize_block(k, node.diag, s, node.free, x);
+    } else {
+        // Linear block: exact solve on the free components (the fixed ones keep
+        // their values; their coupling enters through A_pp x).
+        let mut r = *s;
+        sub_mul_vec(&mut r, node.diag, x);
+        let d = mul_vec(node.inverse, &r);
+        for c in 0..D {
+            x[c] += d[c];
+        }
+    }
+}
+
+/// The block right-hand side with the off-block coupling of a node, `s = b_p − Σ_{q≠p}
+/// A_pq x_q`, its row `row` (`(q, A_pq)`, increasing global columns) summed in order: what
+/// the multi-colour nonlinear sweeps (one process, and on ranks) hand to [`node_update`].
+#[inline(always)]
+pub(crate) fn coupled_rhs<'a, const D: usize>(
+    b: [f64; D],
+    row: impl Iterator<Item = (usize, &'a Block<D>)>,
+    x: &[f64],
+) -> [f64; D] {
+    let mut s = b;
+    for (q, blk) in row {
+        sub_mul_vec(&mut s, blk, &load::<D>(x, q));
+    }
+    s
 }
 
 /// The nonlinear blocks of a sweep: the nonlinearity and, per node `p`, the position

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
-use crate::block::load;
+use crate::block::{load, Block};
 use crate::chunks::{ChunkedOrder, ChunkedSweep};
 use crate::colouring::{Colouring, SmootherOrder};
 use crate::error::{Error, Result};
@@ -13,13 +13,13 @@ use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
 use crate::multigrid::{CycleShape, LinearMultigrid};
 use crate::norm::EnergyNorm;
 use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
-use crate::report::{iterate_to_tolerance, Iteration, IterationRun};
+use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::{BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, Stopping};
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
-/// truncated in the linear correction (see `Tnnmg::is_rigid`): at this contrast the
+/// truncated in the linear correction (see [`is_rigid`]): at this contrast the
 /// coarse operators still carry ~1e-6 relative accuracy (ratio × machine epsilon).
 const RIGID_BLOCK_RATIO: f64 = 1e10;
 
@@ -259,70 +259,34 @@ impl<const D: usize> Tnnmg<D> {
         self.cycles
     }
 
-    /// Whether the Hessian of block `p`'s nonlinearity is so large against `A`'s own block
-    /// diagonal (ratio above [`RIGID_BLOCK_RATIO`] on a free component) that the block is
-    /// numerically rigid: its Newton correction is negligible, and keeping it would put a
-    /// contrast beyond double precision into the coarse operators (rate-and-state friction
-    /// near the cutoff has `ϕ'' = κ/V` up to `κ/V_m`, e.g. 1e26 Pa·s/m against entries
-    /// ~1e6 of `A`; the coarse Cholesky then fails as "not positive definite"). Such blocks
-    /// are truncated like nonsmooth ones; the nonlinear smoother still updates them.
-    fn is_rigid(&self, p: usize, hessian: &[[f64; D]; D]) -> bool {
-        (0..D).any(|c| {
-            !self.m.fixed[D * p + c]
-                && !(hessian[c][c] <= RIGID_BLOCK_RATIO * self.m.a.diag[p][c][c])
-        })
-    }
-
     /// Sets the fine-level matrix `H = A + ∇²Φ(v)` (on the active blocks), its mask
     /// (fixed ∪ truncated) and the Newton right-hand side `res = b − Av − ∇Φ(v)` (0 on the
-    /// mask), then updates the hierarchy. Only the active blocks' diagonal blocks and
-    /// masks change from one iteration to the next, so after one full set-up per set of
-    /// active blocks the coarse operators are updated incrementally.
+    /// mask), then updates the hierarchy ([`linearize_blocks`]).
     fn linearize<N: BlockNonlinearity<D>>(&mut self, nl: &N, v: &[f64]) -> Result<()> {
-        let incremental = self.cached_active.as_deref() == Some(nl.active_blocks());
-        if incremental {
-            for &p in nl.active_blocks() {
-                self.mg.fine_diag_mut()[p] = self.m.a.diag[p];
-                self.mg.fine_mask_mut()[D * p..D * p + D]
-                    .copy_from_slice(&self.m.fixed[D * p..D * p + D]);
-            }
-        } else {
-            self.mg.fine_diag_mut().copy_from_slice(&self.m.a.diag);
-            self.mg.fine_mask_mut().copy_from_slice(&self.m.fixed);
-        }
         self.res.copy_from_slice(&self.res_a);
-        for (k, &p) in nl.active_blocks().iter().enumerate() {
-            match nl.linearize(k, &load::<D>(v, p)) {
-                Linearization::Smooth { hessian, .. } if self.is_rigid(p, &hessian) => {
-                    self.mg.fine_mask_mut()[D * p..D * p + D].fill(true);
+        let res = &mut self.res;
+        let quadratic = QuadraticPart {
+            diag: &self.m.a.diag,
+            fixed: &self.m.fixed,
+        };
+        linearize_blocks(
+            nl,
+            v,
+            quadratic,
+            &mut self.mg,
+            &mut self.cached_active,
+            |p, g| {
+                for r in 0..D {
+                    res[D * p + r] -= g[r];
                 }
-                Linearization::Smooth { gradient, hessian } => {
-                    let h = &mut self.mg.fine_diag_mut()[p];
-                    for r in 0..D {
-                        self.res[D * p + r] -= gradient[r];
-                        for c in 0..D {
-                            h[r][c] += hessian[r][c];
-                        }
-                    }
-                }
-                Linearization::Truncate => {
-                    self.mg.fine_mask_mut()[D * p..D * p + D].fill(true);
-                }
-            }
-        }
+            },
+        )?;
         for (r, &m) in self.res.iter_mut().zip(self.mg.fine_mask()) {
             if m {
                 *r = 0.0;
             }
         }
-        if incremental {
-            self.mg.update_incremental()
-        } else {
-            self.mg.update()?;
-            self.mg.set_variable_nodes(nl.active_blocks());
-            self.cached_active = Some(nl.active_blocks().to_vec());
-            Ok(())
-        }
+        Ok(())
     }
 
     /// One TNNMG iteration from `v`; returns the energy norm of the correction.
@@ -383,21 +347,7 @@ impl<const D: usize> Tnnmg<D> {
                 reduction: self.opts.linear_reduction,
             },
         );
-        // Blocks with a kink at zero whose correction passes through zero stop there.
-        for (k, &p) in nl.active_blocks().iter().enumerate() {
-            if !nl.kink_at_zero(k) {
-                continue;
-            }
-            let r = D * p..D * p + D;
-            let (vp, cp) = (&v[r.clone()], &self.c[r.clone()]);
-            let crosses = vp.iter().any(|&x| x != 0.0)
-                && vp.iter().zip(cp).map(|(a, c)| a * (a + c)).sum::<f64>() < 0.0;
-            if crosses {
-                for i in r {
-                    self.c[i] = -v[i];
-                }
-            }
-        }
+        stop_at_kinks(nl, v, &mut self.c);
         // Exact line search along c: g0 = cᵀ(Av − b), h = cᵀAc.
         let g0 = -dot(&self.c, &self.res_a);
         let h = self
@@ -425,7 +375,7 @@ impl<const D: usize> Tnnmg<D> {
     }
 }
 
-impl<const D: usize> Iteration<D> for Tnnmg<D> {
+impl<const D: usize> NodalIteration<D> for Tnnmg<D> {
     fn blocked(&self) -> &NodalProblem<D> {
         &self.m
     }
@@ -479,5 +429,115 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
         };
         self.cycles = 0;
         iterate_to_tolerance(self, run, b, nl, v)
+    }
+}
+
+/// Whether the Hessian of a block is so large against `A`'s own diagonal block `diag`
+/// (ratio above [`RIGID_BLOCK_RATIO`] on a free component; `fixed` the block's `D` flags)
+/// that the block is numerically rigid: its Newton correction is negligible, and keeping it
+/// would put a contrast beyond double precision into the coarse operators (rate-and-state
+/// friction near the cutoff has `ϕ'' = κ/V` up to `κ/V_m`, e.g. 1e26 Pa·s/m against entries
+/// ~1e6 of `A`; the coarse Cholesky then fails as "not positive definite"). Such blocks
+/// are truncated like nonsmooth ones; the nonlinear smoother still updates them.
+pub(crate) fn is_rigid<const D: usize>(
+    fixed: &[bool],
+    diag: &Block<D>,
+    hessian: &[[f64; D]; D],
+) -> bool {
+    (0..D).any(|c| !fixed[c] && !(hessian[c][c] <= RIGID_BLOCK_RATIO * diag[c][c]))
+}
+
+/// The quadratic part's data the truncated linearisation reads: `A`'s diagonal blocks and
+/// the fixed dofs (whole, `D` flags per node).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct QuadraticPart<'a, const D: usize> {
+    pub diag: &'a [Block<D>],
+    pub fixed: &'a [bool],
+}
+
+/// The truncated linearisation of TNNMG at `v` (global node-major; only the active
+/// blocks' values are read), one process or replicated on every rank: sets the fine
+/// level of `mg` to `H = A + ∇²Φ(v)` on the active blocks and its mask to the fixed dofs
+/// plus the truncated blocks (nonsmooth, [`Linearization::Truncate`], or rigid,
+/// [`is_rigid`]); calls `gradient(p, ∇φ_k(v_p))` for every block kept in the Newton
+/// system (the caller subtracts it from its right-hand side); then updates the hierarchy.
+/// Only the active blocks' diagonal blocks and masks change from one iteration to the
+/// next, so after one full set-up per set of active blocks (`cached_active` records it)
+/// the coarse operators are updated incrementally. Returns whether the update was full.
+pub(crate) fn linearize_blocks<const D: usize, N: BlockNonlinearity<D>>(
+    nl: &N,
+    v: &[f64],
+    quadratic: QuadraticPart<'_, D>,
+    mg: &mut LinearMultigrid<D>,
+    cached_active: &mut Option<Vec<usize>>,
+    mut gradient: impl FnMut(usize, &[f64; D]),
+) -> Result<bool> {
+    let QuadraticPart { diag, fixed } = quadratic;
+    let incremental = cached_active.as_deref() == Some(nl.active_blocks());
+    if incremental {
+        for &p in nl.active_blocks() {
+            mg.fine_diag_mut()[p] = diag[p];
+            mg.fine_mask_mut()[D * p..D * p + D].copy_from_slice(&fixed[D * p..D * p + D]);
+        }
+    } else {
+        mg.fine_diag_mut().copy_from_slice(diag);
+        mg.fine_mask_mut().copy_from_slice(fixed);
+    }
+    for (k, &p) in nl.active_blocks().iter().enumerate() {
+        match nl.linearize(k, &load::<D>(v, p)) {
+            Linearization::Smooth { hessian, .. }
+                if is_rigid(&fixed[D * p..D * p + D], &diag[p], &hessian) =>
+            {
+                mg.fine_mask_mut()[D * p..D * p + D].fill(true);
+            }
+            Linearization::Smooth {
+                gradient: g,
+                hessian,
+            } => {
+                gradient(p, &g);
+                let h = &mut mg.fine_diag_mut()[p];
+                for r in 0..D {
+                    for c in 0..D {
+                        h[r][c] += hessian[r][c];
+                    }
+                }
+            }
+            Linearization::Truncate => {
+                mg.fine_mask_mut()[D * p..D * p + D].fill(true);
+            }
+        }
+    }
+    if incremental {
+        mg.update_incremental()?;
+    } else {
+        mg.update()?;
+        mg.set_variable_nodes(nl.active_blocks());
+        *cached_active = Some(nl.active_blocks().to_vec());
+    }
+    Ok(!incremental)
+}
+
+/// The kink rule of TNNMG: a block with a kink at zero
+/// ([`BlockNonlinearity::kink_at_zero`]) whose correction `c_p` passes through zero
+/// (`v_p · (v_p + c_p) < 0`, `v_p ≠ 0`) stops there (`c_p = −v_p`). `v` and `c` are global
+/// node-major vectors; only the active blocks' values are read and written.
+pub(crate) fn stop_at_kinks<const D: usize, N: BlockNonlinearity<D>>(
+    nl: &N,
+    v: &[f64],
+    c: &mut [f64],
+) {
+    for (k, &p) in nl.active_blocks().iter().enumerate() {
+        if !nl.kink_at_zero(k) {
+            continue;
+        }
+        let r = D * p..D * p + D;
+        let (vp, cp) = (&v[r.clone()], &c[r.clone()]);
+        let crosses = vp.iter().any(|&x| x != 0.0)
+            && vp.iter().zip(cp).map(|(a, c)| a * (a + c)).sum::<f64>() < 0.0;
+        if crosses {
+            for i in r {
+                c[i] = -v[i];
+            }
+        }
     }
 }

@@ -97,15 +97,24 @@ impl Round {
 
     /// The all-gather of a vector whose node `i` is owned by rank `owner[i]`, as one
     /// exchange of rank `rank` of `size` on the global vector (node indices are global):
-    /// every rank sends its owned nodes (increasing) to every other rank and receives each
-    /// other rank's owned nodes (increasing) into their places. A rank that owns no node
-    /// sends no message and is sent none (it has no value to receive them for).
-    pub fn all_gather(owner: &[usize], rank: usize, size: usize, values: usize) -> Self {
+    /// every rank sends its owned nodes (increasing) to every other rank that receives and
+    /// receives each other rank's owned nodes (increasing) into their places. With
+    /// `to_owners`, only ranks that own a node receive (a rank that owns none sends no
+    /// message and is sent none: it has no value to compute from them); otherwise every
+    /// rank receives every value. No message is empty.
+    pub fn all_gather(
+        owner: &[usize],
+        rank: usize,
+        size: usize,
+        values: usize,
+        to_owners: bool,
+    ) -> Self {
         let mut round = Self::default();
         let nodes_of = |r: usize| (0..owner.len()).filter(move |&i| owner[i] == r);
+        let receives = |r: usize| !to_owners || nodes_of(r).next().is_some();
         let mine: Vec<u32> = nodes_of(rank).map(|i| i as u32).collect();
         for r in (0..size).filter(|&r| r != rank) {
-            if nodes_of(r).next().is_some() {
+            if receives(r) {
                 add(
                     &mut round.sends,
                     &mut round.send_nodes,
@@ -114,14 +123,16 @@ impl Round {
                     values,
                 );
             }
-            let theirs: Vec<u32> = nodes_of(r).map(|i| i as u32).collect();
-            add(
-                &mut round.recvs,
-                &mut round.recv_nodes,
-                r,
-                theirs.iter(),
-                values,
-            );
+            if receives(rank) {
+                let theirs: Vec<u32> = nodes_of(r).map(|i| i as u32).collect();
+                add(
+                    &mut round.recvs,
+                    &mut round.recv_nodes,
+                    r,
+                    theirs.iter(),
+                    values,
+                );
+            }
         }
         round
     }

@@ -13,6 +13,7 @@ use crate::coarse::{excluded, CoarseSolver};
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
+use crate::multigrid::LinearMultigrid;
 use crate::Parallelism;
 
 /// Smoothing sweeps of a V-cycle on every level but the coarsest (solved exactly).
@@ -113,17 +114,32 @@ impl<const D: usize> VCycleHierarchy<D> {
         galerkin.reverse();
         let h = Self {
             levels,
-            prolongations: prolongations
-                .iter()
-                .map(|p| {
-                    // Pᵀ column-major, then its transpose column-major: an owned copy of P.
-                    p.transpose()
-                        .to_col_major()
-                        .and_then(|pt| pt.as_ref().transpose().to_col_major())
-                })
-                .collect::<std::result::Result<_, _>>()
-                .map_err(|e| Error::InvalidMatrix(format!("prolongation: {e:?}")))?,
+            prolongations: owned_copies(prolongations)?,
             galerkin,
+        };
+        h.coarse_solver()?;
+        Ok(h)
+    }
+
+    /// The hierarchy of a set-up multigrid (its levels' current matrices and masks, a
+    /// colouring of each level computed here) and its prolongations (`prolongations[l]`
+    /// maps level `l` to `l + 1`, as `mg` was built with): the replicated set-up of TNNMG on
+    /// ranks, whose Newton matrices change in values, never in pattern.
+    ///
+    /// # Errors
+    /// [`Error::InvalidMatrix`] if a prolongation cannot be copied;
+    /// [`Error::NotPositiveDefinite`] if the coarsest operator cannot be factorised.
+    pub(crate) fn from_multigrid(
+        mg: &LinearMultigrid<D>,
+        prolongations: &[SparseColMatRef<'_, usize, f64>],
+    ) -> Result<Self> {
+        let levels = (0..mg.num_levels())
+            .map(|l| Level::new(mg.level_matrix(l).clone(), mg.level_mask(l).to_vec()))
+            .collect();
+        let h = Self {
+            levels,
+            prolongations: owned_copies(prolongations)?,
+            galerkin: mg.galerkin().to_vec(),
         };
         h.coarse_solver()?;
         Ok(h)
@@ -166,6 +182,22 @@ impl<const D: usize> VCycleHierarchy<D> {
         s.factorize(&coarsest.a, &coarsest.fixed)?;
         Ok(s)
     }
+}
+
+/// Owned copies of the prolongations.
+fn owned_copies(
+    prolongations: &[SparseColMatRef<'_, usize, f64>],
+) -> Result<Vec<SparseColMat<usize, f64>>> {
+    prolongations
+        .iter()
+        .map(|p| {
+            // Pᵀ column-major, then its transpose column-major: an owned copy of P.
+            p.transpose()
+                .to_col_major()
+                .and_then(|pt| pt.as_ref().transpose().to_col_major())
+        })
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|e| Error::InvalidMatrix(format!("prolongation: {e:?}")))
 }
 
 impl<const D: usize> Level<D> {

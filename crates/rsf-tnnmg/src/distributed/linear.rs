@@ -79,6 +79,15 @@ impl<const D: usize> BlockGaussSeidel<D> {
         })
     }
 
+    /// Recomputes owned node `p`'s local solve from its new diagonal block `diag` and its
+    /// fixed components (`fixed`, `D` flags).
+    ///
+    /// # Panics
+    /// If `p` is not an owned node of the rows this update was made for.
+    pub(crate) fn set_node(&mut self, p: usize, diag: &Block<D>, fixed: &[bool]) {
+        self.inverse[p] = masked_inverse(diag, &free(fixed, 0));
+    }
+
     /// The owned nodes' right-hand side (`D · rows.owned()` values), to change between
     /// sweeps (a multigrid level's right-hand side changes every cycle).
     pub fn rhs_mut(&mut self) -> &mut [f64] {

@@ -155,6 +155,29 @@ impl<const D: usize> LocalRows<D> {
             .map(|(&q, b)| (q as usize, b))
     }
 
+    /// Replaces the values of owned row `p`: its diagonal block and its off-diagonal blocks
+    /// in increasing global column order (the pattern is kept: `off` has one block per
+    /// stored block of the row, as the whole matrix the rows were built from, with the same
+    /// pattern, gives them).
+    ///
+    /// # Panics
+    /// If `p ≥ owned()`, or (debug builds) `off` does not have the row's length.
+    pub(crate) fn set_row<'a>(
+        &mut self,
+        p: usize,
+        diag: &Block<D>,
+        off: impl Iterator<Item = &'a Block<D>>,
+    ) {
+        self.diag[p] = *diag;
+        let r = self.ptr[p]..self.ptr[p + 1];
+        let mut n = 0;
+        for (v, b) in self.val[r.clone()].iter_mut().zip(off) {
+            *v = *b;
+            n += 1;
+        }
+        debug_assert_eq!(n, r.len(), "row {p}'s pattern");
+    }
+
     /// The residual `r = b − A x` on the owned rows: for every owned node `p`,
     /// `b_p − A_pp x_p − Σ_q A_pq x_q` with the off-diagonal blocks in increasing global
     /// column order — the arithmetic of the one-process residual by rows, so each owned

@@ -1,7 +1,6 @@
-//! Block Gauss–Seidel and the linear V-cycle on ranks with distributed memory (issue 57,
-//! docs/scaling.md "Past one machine"): the first parts of the implicit engine on ranks, a
-//! multi-colour smoother and a linear multigrid cycle; TNNMG's outer loop (the truncated
-//! nonlinear smoother, the Krylov method's reductions) is a later part.
+//! The implicit engine on ranks with distributed memory (issue 57, docs/scaling.md "Past
+//! one machine"): a multi-colour block Gauss–Seidel smoother, a linear multigrid cycle and
+//! TNNMG ([`DistributedTnnmg`]), whose iterates have the same bits at every rank count.
 //!
 //! Every node of the matrix is owned by one rank (an owner vector, e.g. a graph partition
 //! of the node graph [`node_graph`]). A rank holds its owned nodes' block rows and one layer
@@ -20,18 +19,35 @@
 //! solved on every rank; the set-up ([`VCycleHierarchy`]: the Galerkin coarse operators,
 //! masks and colourings) is still computed whole on every rank. [`ColouredVCycle`] is its
 //! one-process reference with the same smoother order, and the same bits.
+//!
+//! [`DistributedTnnmg`] is TNNMG on ranks: the multi-colour nonlinear smoother on the owned
+//! nodes, the truncated linearisation on the active blocks gathered from their owners, the
+//! replicated hierarchy updated incrementally, [`DistributedVCycle`]s on the truncated
+//! Newton system, the kink rule and the exact line search; its global sums are exact and
+//! rounded once (a reproducible reduction), and [`TnnmgCounters`] counts what each part
+//! sends. [`BlockTresca`] is a closed-form nonsmooth nonlinearity for its tests and
+//! measurements.
 
+mod active;
+mod cg;
 mod halo;
 mod hierarchy;
 mod linear;
 mod local_rows;
+mod reduce;
 mod sweep;
+mod tnnmg;
+mod tnnmg_options;
+mod tnnmg_step;
 mod transfer;
 mod transport;
+mod tresca;
 mod vcycle;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tnnmg_tests;
 #[cfg(test)]
 mod transfer_tests;
 #[cfg(test)]
@@ -42,6 +58,9 @@ pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
 pub use sweep::DistributedSweep;
+pub use tnnmg::DistributedTnnmg;
+pub use tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 pub use transfer::DistributedTransfer;
 pub use transport::{HaloExchange, HaloMessage, ThreadExchange};
+pub use tresca::BlockTresca;
 pub use vcycle::DistributedVCycle;

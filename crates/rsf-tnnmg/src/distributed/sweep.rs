@@ -135,6 +135,11 @@ impl<const D: usize> DistributedSweep<D> {
         &self.rows
     }
 
+    /// The rank's rows, to change their values (not their pattern).
+    pub(crate) fn rows_mut(&mut self) -> &mut LocalRows<D> {
+        &mut self.rows
+    }
+
     /// Number of colours (exchanges per sweep).
     pub fn num_colours(&self) -> usize {
         self.colour_ptr.len() - 1

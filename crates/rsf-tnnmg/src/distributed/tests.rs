@@ -121,9 +121,14 @@ fn differing_bits(rank: &RankResult, reference: &[f64]) -> usize {
 
 /// `size` slabs of nearly equal node counts along x (ties by node index).
 fn coordinate_split(mesh: &TetrahedronMesh, size: usize) -> Vec<usize> {
+    split_along(mesh, size, 0)
+}
+
+/// `size` slabs of nearly equal node counts along coordinate `axis` (ties by node index).
+pub(super) fn split_along(mesh: &TetrahedronMesh, size: usize, axis: usize) -> Vec<usize> {
     let v = mesh.vertices();
     let mut order: Vec<usize> = (0..v.len()).collect();
-    order.sort_by(|&p, &q| v[p][0].total_cmp(&v[q][0]).then(p.cmp(&q)));
+    order.sort_by(|&p, &q| v[p][axis].total_cmp(&v[q][axis]).then(p.cmp(&q)));
     let mut owner = vec![0; v.len()];
     for (k, &p) in order.iter().enumerate() {
         owner[p] = k * size / v.len();

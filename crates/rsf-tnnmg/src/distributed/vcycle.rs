@@ -10,6 +10,7 @@ use super::{BlockGaussSeidel, DistributedSweep, DistributedTransfer};
 use crate::block::{load, store};
 use crate::coarse::CoarseSolver;
 use crate::error::{Error, Result};
+use crate::multigrid::LinearMultigrid;
 
 /// One rank's part of a level above the coarsest.
 #[derive(Debug, Clone)]
@@ -74,6 +75,9 @@ pub struct DistributedVCycle<const D: usize> {
     /// `levels[l − 1]` is level `l ≥ 1`; the last the fine level.
     levels: Vec<RankLevel<D>>,
     coarsest: Coarsest,
+    /// Per level `l ≥ 1` (index `l − 1`): the local nodes an incremental refresh visits
+    /// ([`set_variable_nodes`](Self::set_variable_nodes)).
+    variable: Vec<Vec<u32>>,
     /// Leaves out the ghost update after each prolongation: a broken cycle, for the test
     /// that must detect it.
     #[cfg(test)]
@@ -138,7 +142,7 @@ impl<const D: usize> DistributedVCycle<D> {
         let n0 = h.nodes(0);
         let own0 = &owner[..n0];
         let owned: Vec<usize> = (0..n0).filter(|&i| own0[i] == rank).collect();
-        let gather = Round::all_gather(own0, rank, size, D);
+        let gather = Round::all_gather(own0, rank, size, D, true);
         let coarsest = Coarsest {
             rhs: vec![0.0; D * owned.len()],
             x: vec![0.0; D * owned.len()],
@@ -156,6 +160,7 @@ impl<const D: usize> DistributedVCycle<D> {
             shape,
             levels,
             coarsest,
+            variable: Vec::new(),
             #[cfg(test)]
             skip_ghost_update: false,
         })
@@ -207,6 +212,73 @@ impl<const D: usize> DistributedVCycle<D> {
         let n = rhs.len();
         rhs.copy_from_slice(&b[..n]);
         Ok(())
+    }
+
+    /// Takes the local nodes of every level whose values an incremental update of `mg`
+    /// changes ([`LinearMultigrid::variable_nodes`], global) for
+    /// [`refresh`](Self::refresh): once per set of variable nodes.
+    pub(crate) fn set_variable_nodes(&mut self, mg: &LinearMultigrid<D>) {
+        self.variable = self
+            .levels
+            .iter()
+            .enumerate()
+            .map(|(i, level)| {
+                let rows = level.sweep.rows();
+                let mut local = vec![u32::MAX; mg.level_matrix(i + 1).nodes()];
+                for (q, &g) in rows.global_nodes().iter().enumerate() {
+                    local[g] = q as u32;
+                }
+                let mut list: Vec<u32> = mg
+                    .variable_nodes(i + 1)
+                    .iter()
+                    .map(|&g| local[g])
+                    .filter(|&q| q != u32::MAX)
+                    .collect();
+                list.sort_unstable();
+                list
+            })
+            .collect();
+    }
+
+    /// Takes the values of `mg` (the whole hierarchy this cycle was built from, same
+    /// patterns, owners and colourings; its values changed by an update): on every level
+    /// above the coarsest the rank's rows, local solves and masks — of every local node
+    /// when `all`, else of the nodes of [`set_variable_nodes`](Self::set_variable_nodes) —
+    /// and the coarsest mask and factorisation. Replicated work of the size of the
+    /// variable nodes (and the coarsest level), no communication.
+    ///
+    /// # Errors
+    /// [`Error::NotPositiveDefinite`] if the coarsest operator cannot be factorised.
+    pub(crate) fn refresh(&mut self, mg: &LinearMultigrid<D>, all: bool) -> Result<()> {
+        for (i, level) in self.levels.iter_mut().enumerate() {
+            let (a, mask, free) = (
+                mg.level_matrix(i + 1),
+                mg.level_mask(i + 1),
+                mg.level_free(i + 1),
+            );
+            let every: Vec<u32>;
+            let nodes = if all {
+                every = (0..level.sweep.rows().len() as u32).collect();
+                &every[..]
+            } else {
+                &self.variable[i][..]
+            };
+            let owned = level.sweep.rows().owned();
+            for &q in nodes {
+                let q = q as usize;
+                let g = level.sweep.rows().global_nodes()[q];
+                level.free[D * q..D * q + D].copy_from_slice(&free[D * g..D * g + D]);
+                if q < owned {
+                    let off = a.neighbours(g).map(|(_, b)| b);
+                    level.sweep.rows_mut().set_row(q, &a.diag[g], off);
+                    level.gs.set_node(q, &a.diag[g], &mask[D * g..D * g + D]);
+                }
+            }
+        }
+        self.coarsest.free.copy_from_slice(mg.level_free(0));
+        self.coarsest
+            .solver
+            .factorize(mg.level_matrix(0), mg.level_mask(0))
     }
 
     /// Refreshes every ghost of the fine iterate `x` (a local vector of

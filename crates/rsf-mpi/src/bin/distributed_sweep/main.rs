@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out FILE] [--reference]
-//!                   [--vcycle [--levels L]]
+//!                   [--vcycle [--levels L]] [--tnnmg [--cg] [--thread-ranks N]]
 //! ```
 //!
 //! Every rank builds the whole problem (the stiffness, the colouring, METIS's partition of
@@ -22,7 +22,13 @@
 //! (`rsf_tnnmg::distributed::DistributedVCycle`) instead of sweeps, on the box's hierarchy
 //! (its L finest levels, all by default), and `--reference` runs the one-process
 //! `ColouredVCycle`; see the module `vcycle`.
+//!
+//! With `--tnnmg` (docs/scaling.md, "Phase 4") the program solves a frictional problem on
+//! the box with TNNMG on ranks (`rsf_tnnmg::distributed::DistributedTnnmg`), K times, and
+//! writes the solution; `--thread-ranks N` (one MPI rank) solves it on N threads as ranks
+//! instead; see the module `tnnmg`.
 
+mod tnnmg;
 mod vcycle;
 
 use std::io::Write;
@@ -51,6 +57,11 @@ struct Flags {
     /// V-cycles instead of sweeps, on the `levels` finest levels (all if `None`).
     vcycle: bool,
     levels: Option<usize>,
+    /// TNNMG solves instead of sweeps; on `thread_ranks` threads of one process if given.
+    tnnmg: bool,
+    thread_ranks: Option<usize>,
+    /// TNNMG's linear correction by preconditioned CG (the one-process default).
+    cg: bool,
 }
 
 fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
@@ -62,6 +73,9 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
         reference: false,
         vcycle: false,
         levels: None,
+        tnnmg: false,
+        thread_ranks: None,
+        cg: false,
     };
     let mut args = args.peekable();
     while let Some(a) = args.next() {
@@ -76,6 +90,9 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
             "--reference" => f.reference = true,
             "--vcycle" => f.vcycle = true,
             "--levels" => f.levels = Some(number(&a, value(&a)?)?),
+            "--tnnmg" => f.tnnmg = true,
+            "--cg" => f.cg = true,
+            "--thread-ranks" => f.thread_ranks = Some(number(&a, value(&a)?)?),
             _ => return Err(format!("unknown flag {a}")),
         }
     }
@@ -84,6 +101,15 @@ fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
     }
     if f.levels.is_some() && !f.vcycle {
         return Err("--levels needs --vcycle".into());
+    }
+    if (f.thread_ranks.is_some() || f.cg) && !f.tnnmg {
+        return Err("--thread-ranks and --cg need --tnnmg".into());
+    }
+    if f.thread_ranks == Some(0) {
+        return Err("--thread-ranks must be at least 1".into());
+    }
+    if f.tnnmg && (f.vcycle || f.reference) {
+        return Err("--tnnmg takes neither --vcycle nor --reference".into());
     }
     Ok(f)
 }
@@ -333,7 +359,13 @@ fn main() -> ExitCode {
         Err(e) => end_all_ranks(&ranks, &e),
     };
     let size = rsf::ranks::RankGroup::size(&ranks);
-    let result = if flags.reference {
+    let result = if flags.tnnmg {
+        match flags.thread_ranks {
+            Some(_) if size != 1 => end_all_ranks(&ranks, &"--thread-ranks runs on one rank"),
+            Some(n) => tnnmg::thread_ranks(&flags, n),
+            None => tnnmg::distributed(&flags, &ranks),
+        }
+    } else if flags.reference {
         if size != 1 {
             end_all_ranks(&ranks, &"--reference runs on one rank");
         }

@@ -1,0 +1,482 @@
+//! TNNMG on ranks with distributed memory ([`DistributedTnnmg`]): its set-up, options,
+//! counters and the solver interface; one iteration is in `tnnmg_step`.
+
+use faer::sparse::SparseColMatRef;
+use rsf_linalg::Csc;
+use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
+
+use super::active::ActiveGather;
+use super::cg::DistributedCg;
+use super::halo::{exchange_round, HaloCounters, Round};
+use super::hierarchy::VCycleHierarchy;
+use super::local_rows::LocalRows;
+use super::reduce::ExactSums;
+use super::tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
+use super::transport::HaloExchange;
+use super::{DistributedSweep, DistributedVCycle};
+use crate::block::{load, masked_inverse, store, Block};
+use crate::colouring::Colouring;
+use crate::error::{Error, Result};
+use crate::linear_correction::LinearCorrection;
+use crate::multigrid::{CycleShape, LinearMultigrid};
+use crate::problem::{active_map, NodalProblem};
+use crate::report::{iterate_to_tolerance, IterationRun};
+
+/// The energy-norm matrix's rows, their local columns mapped to the iterate's local nodes.
+#[derive(Debug, Clone)]
+pub(super) struct NormRows<const D: usize> {
+    pub rows: LocalRows<D>,
+    /// Local node of `rows` → local node of the iterate.
+    pub remap: Vec<u32>,
+}
+
+/// TNNMG on ranks with distributed memory (issue 57; docs/math.md §5, docs/scaling.md
+/// "Phase 4") for `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})`: per iteration multi-colour
+/// nonlinear block Gauss–Seidel on the rank's owned nodes (one halo exchange per colour;
+/// the node update of the one-process smoothers), the truncated linearisation (the rules of
+/// [`Tnnmg`](crate::Tnnmg)'s, truncating nonsmooth and rigid blocks), the linear
+/// correction on the truncated Newton system by distributed V-cycles
+/// ([`DistributedVCycle`]; a stationary iteration or the preconditioner of conjugate
+/// gradients, [`DistributedTnnmgOptions::linear_correction`]), the kink rule and the exact
+/// line search. Its iterates have the same bits at every rank count and partition:
+/// every value is computed by its owner with arithmetic that does not depend on the
+/// partition, and every global sum (the line search's `g0 = cᵀ(Av − b)` and `h = cᵀAc`, the
+/// energy norms of the correction and of the iterate, the energy) is exact, rounded once
+/// (a reproducible reduction). It is not the one-process [`Tnnmg`](crate::Tnnmg)'s
+/// iteration (another smoother order, exact sums), so their iterates differ in the last
+/// bits; both converge to the same minimiser.
+///
+/// The caller's vectors are global and replicated: every rank passes the same `b` and
+/// start `v` (length `D n`), and after [`solve`](NonsmoothSolver::solve) every rank's `v`
+/// holds the whole solution (one all-gather of the owned values). The nonlinearity is the
+/// same global object on every rank; a rank applies the per-block operations to the
+/// active blocks of the nodes it owns, and the linearisation and the line search (which
+/// need all active blocks) to the active blocks' values gathered from their owners (one
+/// all-gather of the iterate's and one of the correction's active blocks per iteration).
+///
+/// Set-up: the V-cycle hierarchy is replicated (as [`VCycleHierarchy`]: every rank holds
+/// the Galerkin operators of every level, and global vectors for the active blocks'
+/// values: memory of the whole problem's order on every rank); per iteration every rank
+/// updates it incrementally (the rows the active blocks reach) and refreshes its rows from
+/// it. A
+/// collective object: every rank calls every method in the same order. Allocation-free
+/// per iteration after the first solve with a set of active blocks (the transport may
+/// allocate).
+pub struct DistributedTnnmg<const D: usize> {
+    pub(super) halo: Box<dyn HaloExchange>,
+    pub(super) opts: DistributedTnnmgOptions,
+    /// Global dofs.
+    pub(super) n: usize,
+    /// Node `p`'s rank.
+    pub(super) owner: Vec<usize>,
+    /// The nonlinear smoother on `A`'s rows.
+    pub(super) sweep: DistributedSweep<D>,
+    /// Per owned node: `masked_inverse` of `A_pp` on the free components, and those.
+    pub(super) inverse: Vec<Block<D>>,
+    pub(super) free: Vec<[bool; D]>,
+    /// `A`'s diagonal blocks and the fixed dofs, whole (the replicated linearisation).
+    pub(super) a_diag: Vec<Block<D>>,
+    pub(super) fixed: Vec<bool>,
+    pub(super) norm_rows: Option<NormRows<D>>,
+    /// The replicated hierarchy of the truncated Newton matrix, and the active blocks of
+    /// its last full update.
+    pub(super) mg: LinearMultigrid<D>,
+    pub(super) cached_active: Option<Vec<usize>>,
+    pub(super) vcycle: DistributedVCycle<D>,
+    /// Global node → local node of the owned nodes (`u32::MAX` elsewhere).
+    pub(super) local_of: Vec<u32>,
+    /// Per global node, its position in the active blocks (`usize::MAX` if linear).
+    pub(super) active_of: Vec<usize>,
+    pub(super) gather: Option<ActiveGather<D>>,
+    /// Local vectors: the right-hand side, the iterate and the last one (later the
+    /// correction of the step), the correction; owned only: `b − Av`, the Newton
+    /// right-hand side.
+    pub(super) b: Vec<f64>,
+    pub(super) v: Vec<f64>,
+    pub(super) v_old: Vec<f64>,
+    pub(super) c: Vec<f64>,
+    pub(super) res_a: Vec<f64>,
+    pub(super) res: Vec<f64>,
+    /// Global vectors holding the active blocks' gathered iterate and correction.
+    pub(super) v_active: Vec<f64>,
+    pub(super) c_active: Vec<f64>,
+    /// The line search's sums (`g0`, `h`) and the norms' (correction, iterate, energy).
+    pub(super) line_sums: ExactSums,
+    pub(super) norm_sums: ExactSums,
+    /// The linear correction's residual norms (with `linear_reduction`), and the owned
+    /// residual of the truncated system.
+    pub(super) linear_sums: ExactSums,
+    pub(super) linear_res: Vec<f64>,
+    /// The owned 0/1 factor of the Newton system's unmasked dofs, and the conjugate
+    /// gradients' work space.
+    pub(super) free_owned: Vec<f64>,
+    pub(super) cg: DistributedCg,
+    /// The iterate's norm and energy computed with the last correction's norm.
+    pub(super) pending: (Option<f64>, Option<f64>),
+    pub(super) solution: Round,
+    pub(super) solution_send: Vec<f64>,
+    pub(super) solution_recv: Vec<f64>,
+    pub(super) counters: TnnmgCounters,
+}
+
+impl<const D: usize> std::fmt::Debug for DistributedTnnmg<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DistributedTnnmg")
+            .field("rank", &self.sweep.rows().rank())
+            .field("n", &self.n)
+            .field("opts", &self.opts)
+            .field("counters", &self.counters)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const D: usize> DistributedTnnmg<D> {
+    /// The solver of rank `halo.rank()` of `halo.size()` for the symmetric positive
+    /// definite (on the free dofs) matrix `a` (`D n × D n`, node-major, both triangles
+    /// stored; the same on every rank) with the dofs where `fixed` (length `D n`) is true
+    /// held at the start's values; `prolongations[l]` maps level `l` to level `l + 1`
+    /// (`D n_{l+1} × D n_l`, node-major, coarsest first; at least one: the linear correction
+    /// is a V-cycle), fine node `i`'s coarse counterparts owned by the same rank (node `i`
+    /// of every level is owned by `owner[i]`, as rsf-fem's nested hierarchies number
+    /// them); `energy_norm` the matrix of the stopping norm (`D n × D n`, its couplings a
+    /// subset of `a`'s), `None` for `a`; node `p` owned by rank `owner[p]` (length `n`).
+    /// The solver keeps `halo` (its transport) for its solves.
+    ///
+    /// # Errors
+    /// As [`Tnnmg::new`](crate::Tnnmg::new) for the matrices; [`Error::InvalidOption`] for
+    /// options out of range or no prolongation; [`Error::DimensionMismatch`] if `owner`
+    /// does not have one entry per node; [`Error::InvalidPartition`] if an owner is not a
+    /// rank of `halo`; [`Error::InvalidMatrix`] if `energy_norm` couples nodes that `a`
+    /// does not.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "Tnnmg::new's problem and options, plus the partition and the transport"
+    )]
+    pub fn new(
+        a: SparseColMatRef<'_, usize, f64>,
+        fixed: &[bool],
+        prolongations: &[SparseColMatRef<'_, usize, f64>],
+        energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
+        opts: DistributedTnnmgOptions,
+        owner: &[usize],
+        halo: Box<dyn HaloExchange>,
+    ) -> Result<Self> {
+        opts.stopping.validate()?;
+        if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
+            return Err(Error::InvalidOption(
+                "linear_reduction must lie in (0, 1)".into(),
+            ));
+        }
+        if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
+            return Err(Error::InvalidOption(
+                "nonlinear_sweeps and v_cycles must be at least 1".into(),
+            ));
+        }
+        if prolongations.is_empty() {
+            return Err(Error::InvalidOption(
+                "TNNMG on ranks needs at least one prolongation (a V-cycle)".into(),
+            ));
+        }
+        let m = NodalProblem::<D>::new(a, fixed)?;
+        let (n, nodes) = (m.n(), m.a.nodes());
+        if owner.len() != nodes {
+            return Err(Error::DimensionMismatch {
+                what: "owner (one rank per node)",
+                expected: nodes,
+                got: owner.len(),
+            });
+        }
+        let (rank, size) = (halo.rank(), halo.size());
+        let colouring = Colouring::of_blocks(&m.a);
+        let sweep = DistributedSweep::of_blocks(&m.a, owner, &colouring, &*halo)?;
+        let ps = prolongations
+            .iter()
+            .map(|p| Csc::from_faer(*p).map_err(Error::from))
+            .collect::<Result<Vec<_>>>()?;
+        let shape = CycleShape {
+            pre: opts.smoothing.pre,
+            post: opts.smoothing.post,
+            gamma: 1,
+        };
+        let mut mg = LinearMultigrid::new(m.a.clone(), ps, shape)?;
+        mg.fine_mask_mut().copy_from_slice(&m.fixed);
+        mg.update()?;
+        let vcycle = {
+            let h = VCycleHierarchy::from_multigrid(&mg, prolongations)?;
+            DistributedVCycle::new(&h, owner, opts.smoothing, &*halo)?
+        };
+        let rows = sweep.rows();
+        debug_assert_eq!(rows.global_nodes(), vcycle.rows().global_nodes());
+        let norm_rows = energy_norm
+            .map(|e| norm_rows(e, n, owner, rows))
+            .transpose()?;
+        let owned = rows.owned();
+        let free: Vec<[bool; D]> = rows.global_nodes()[..owned]
+            .iter()
+            .map(|&p| std::array::from_fn(|c| !m.fixed[D * p + c]))
+            .collect();
+        let inverse = (0..owned)
+            .map(|p| masked_inverse(rows.diag(p), &free[p]))
+            .collect();
+        let mut local_of = vec![u32::MAX; nodes];
+        for (q, &p) in rows.global_nodes()[..owned].iter().enumerate() {
+            local_of[p] = q as u32;
+        }
+        let solution = Round::all_gather(owner, rank, size, D, false);
+        let local = D * rows.len();
+        Ok(Self {
+            opts,
+            n,
+            owner: owner.to_vec(),
+            inverse,
+            free,
+            a_diag: m.a.diag.clone(),
+            fixed: m.fixed,
+            norm_rows,
+            mg,
+            cached_active: None,
+            vcycle,
+            local_of,
+            active_of: Vec::new(),
+            gather: None,
+            b: vec![0.0; local],
+            v: vec![0.0; local],
+            v_old: vec![0.0; local],
+            c: vec![0.0; local],
+            res_a: vec![0.0; D * owned],
+            res: vec![0.0; D * owned],
+            v_active: vec![0.0; n],
+            c_active: vec![0.0; n],
+            line_sums: ExactSums::new(2, rank, size),
+            norm_sums: ExactSums::new(1, rank, size),
+            linear_sums: ExactSums::new(1, rank, size),
+            linear_res: vec![0.0; D * owned],
+            free_owned: vec![0.0; D * owned],
+            cg: DistributedCg::new(D * owned, local, rank, size),
+            pending: (None, None),
+            solution_send: vec![0.0; D * solution.send_nodes.len()],
+            solution_recv: vec![0.0; D * solution.recv_nodes.len()],
+            solution,
+            counters: TnnmgCounters::default(),
+            sweep,
+            halo,
+        })
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &DistributedTnnmgOptions {
+        &self.opts
+    }
+
+    /// The rank's rows of `A` (its owned nodes and ghosts).
+    pub fn rows(&self) -> &LocalRows<D> {
+        self.sweep.rows()
+    }
+
+    /// What the rank has sent since set-up (or [`reset_counters`](Self::reset_counters)).
+    pub fn counters(&self) -> TnnmgCounters {
+        let mut c = self.counters;
+        c.smoother = self.sweep.counters();
+        c.cycles = self.vcycle.counters();
+        c.reductions = self.line_sums.counters()
+            + self.norm_sums.counters()
+            + self.linear_sums.counters()
+            + self.cg.counters();
+        c
+    }
+
+    /// Sets the counters to zero.
+    pub fn reset_counters(&mut self) {
+        self.counters = TnnmgCounters::default();
+        self.sweep.reset_counters();
+        self.vcycle.reset_counters();
+        self.line_sums.reset_counters();
+        self.norm_sums.reset_counters();
+        self.linear_sums.reset_counters();
+        self.cg.reset_counters();
+    }
+
+    /// What one iteration sends by the plans, for the active blocks of the last solve
+    /// (`iterations` = 1; `full_updates` and `solution` zero): `nonlinear_sweeps` sweeps,
+    /// `v_cycles` V-cycles, two all-gathers of the active blocks, two reductions (the
+    /// second with one sum, plus one for a relative stopping test and one for the energy
+    /// record), and the linear correction's reductions. With
+    /// [`linear_reduction`](DistributedTnnmgOptions::linear_reduction) or conjugate
+    /// gradients an iteration may stop its cycles early; the plan counts the most. A
+    /// recorded energy adds one reduction at the start of each solve. `None` before the
+    /// first solve.
+    pub fn per_iteration(&self) -> Option<TnnmgCounters> {
+        let gather = self.gather.as_ref()?.per_gather();
+        Some(TnnmgCounters {
+            iterations: 1,
+            smoother: self
+                .sweep
+                .per_sweep()
+                .times(self.opts.nonlinear_sweeps as u64),
+            cycles: self.vcycle.per_cycle().times(self.opts.v_cycles as u64),
+            gathers: gather.times(2),
+            reductions: self.line_sums.per_reduction()
+                + self.norm_sums.per_reduction()
+                + self.linear_per_iteration(),
+            solution: HaloCounters::default(),
+            full_updates: 0,
+        })
+    }
+
+    /// The most reductions of one linear correction: with `linear_reduction`, the initial
+    /// norm and a check after every cycle but the last (`Cycles`) or in every step (CG);
+    /// CG's two per step.
+    fn linear_per_iteration(&self) -> HaloCounters {
+        let (cycles, checked) = (
+            self.opts.v_cycles as u64,
+            self.opts.linear_reduction.is_some(),
+        );
+        let norm = self.linear_sums.per_reduction();
+        match (self.opts.linear_correction, checked) {
+            (LinearCorrection::Cycles, false) => HaloCounters::default(),
+            (LinearCorrection::Cycles, true) => norm.times(cycles),
+            (LinearCorrection::PreconditionedCg, _) => {
+                self.cg.per_step(checked).times(cycles) + norm.times(u64::from(checked))
+            }
+        }
+    }
+
+    /// What the all-gather of the solution at the end of a solve sends.
+    pub fn per_solution(&self) -> HaloCounters {
+        self.solution.counters::<D>()
+    }
+
+    /// Rounds each rank's terms of the line search's sums in floating point before their
+    /// exact combination (a reduction whose bits depend on the partition): a broken solver
+    /// for the test that must detect it.
+    #[cfg(test)]
+    pub(crate) fn with_naive_line_sums(mut self) -> Self {
+        self.line_sums.naive = Some(vec![0.0; 2]);
+        self
+    }
+
+    /// Starts a solve: the active map and gather, the local vectors from the global ones.
+    pub(super) fn start<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &[f64],
+    ) -> Result<()> {
+        active_map(nl, self.n / D, &mut self.active_of)?;
+        let rows = self.sweep.rows();
+        if self.gather.as_ref().map(|g| g.active()) != Some(nl.active_blocks()) {
+            let size = self.halo.size();
+            self.gather = Some(ActiveGather::new(
+                nl.active_blocks(),
+                rows,
+                &self.owner,
+                size,
+            ));
+        }
+        let sums = 1
+            + usize::from(self.opts.stopping.relative > 0.0)
+            + usize::from(self.opts.record_energy);
+        if self.norm_sums.sums() != sums {
+            let kept = self.norm_sums.counters();
+            self.norm_sums = ExactSums::new(sums, rows.rank(), self.halo.size());
+            self.norm_sums.add_counters(kept);
+        }
+        rows.gather(b, &mut self.b);
+        rows.gather(v, &mut self.v);
+        self.pending = (None, None);
+        Ok(())
+    }
+
+    /// Makes the caller's `v` the whole current iterate on every rank: every rank's owned
+    /// values, gathered in one exchange.
+    pub(super) fn finish(&mut self, v: &mut [f64]) {
+        let rows = self.sweep.rows();
+        for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
+            store(v, p, &load::<D>(&self.v, q));
+        }
+        exchange_round::<D, _>(
+            &self.solution,
+            v,
+            &mut *self.halo,
+            &mut self.solution_send,
+            &mut self.solution_recv,
+            &mut self.counters.solution,
+        );
+    }
+}
+
+/// The energy-norm matrix's rows on the iterate's local nodes.
+fn norm_rows<const D: usize>(
+    e: SparseColMatRef<'_, usize, f64>,
+    n: usize,
+    owner: &[usize],
+    rows: &LocalRows<D>,
+) -> Result<NormRows<D>> {
+    if e.nrows() != n || e.ncols() != n {
+        return Err(Error::DimensionMismatch {
+            what: "energy-norm matrix",
+            expected: n,
+            got: e.nrows(),
+        });
+    }
+    let e_rows = LocalRows::<D>::new(e, owner, rows.rank())?;
+    let mut local = vec![u32::MAX; owner.len()];
+    for (q, &p) in rows.global_nodes().iter().enumerate() {
+        local[p] = q as u32;
+    }
+    let remap = e_rows
+        .global_nodes()
+        .iter()
+        .map(|&p| match local[p] {
+            u32::MAX => Err(Error::InvalidMatrix(format!(
+                "the energy-norm matrix couples node {p} to a node of rank {} that the \
+                 matrix does not",
+                rows.rank()
+            ))),
+            q => Ok(q),
+        })
+        .collect::<Result<_>>()?;
+    Ok(NormRows {
+        rows: e_rows,
+        remap,
+    })
+}
+
+impl<const D: usize> NonsmoothSolver<D> for DistributedTnnmg<D> {
+    type Error = Error;
+
+    fn name(&self) -> &'static str {
+        "tnnmg-ranks"
+    }
+
+    fn dim(&self) -> usize {
+        self.n
+    }
+
+    fn stopping(&self) -> Stopping {
+        self.opts.stopping
+    }
+
+    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
+        stopping.validate()?;
+        self.opts.stopping = stopping;
+        Ok(())
+    }
+
+    /// Collective: every rank calls it with the same `b`, `nl` and `v`; afterwards every
+    /// rank's `v` is the whole solution (also when it returns an error, which every rank
+    /// returns alike).
+    fn solve<N: BlockNonlinearity<D>>(
+        &mut self,
+        b: &[f64],
+        nl: &N,
+        v: &mut [f64],
+    ) -> Result<SolveReport> {
+        let run = IterationRun {
+            solver: "tnnmg-ranks",
+            stop: self.opts.stopping,
+            record_energy: self.opts.record_energy,
+        };
+        iterate_to_tolerance(self, run, b, nl, v)
+    }
+}

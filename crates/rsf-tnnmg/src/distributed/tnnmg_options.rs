@@ -1,0 +1,84 @@
+//! The options of [`DistributedTnnmg`](super::DistributedTnnmg) and the counters of what
+//! its ranks send.
+
+use rsf_nonsmooth::Stopping;
+
+use super::halo::HaloCounters;
+use super::hierarchy::VCycleShape;
+use crate::linear_correction::LinearCorrection;
+
+/// Options of [`DistributedTnnmg`](super::DistributedTnnmg): the classical TNNMG iteration (docs/math.md §5) with
+/// the multi-colour smoother order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DistributedTnnmgOptions {
+    /// Stopping test on the energy norm of the correction.
+    pub stopping: Stopping,
+    /// Nonlinear multi-colour Gauss–Seidel sweeps before each linear correction (≥ 1).
+    pub nonlinear_sweeps: usize,
+    /// Linear V-cycles on the truncated Newton system per iteration (≥ 1), from zero; at
+    /// most this many with [`linear_reduction`](Self::linear_reduction).
+    pub v_cycles: usize,
+    /// How the V-cycles solve the truncated Newton system: as a stationary iteration
+    /// ([`LinearCorrection::Cycles`], the classical TNNMG) or as the preconditioner of
+    /// conjugate gradients ([`LinearCorrection::PreconditionedCg`], one cycle per step; its
+    /// inner products exact sums, three reductions per step with `linear_reduction`, two
+    /// without).
+    pub linear_correction: LinearCorrection,
+    /// Inexact Newton: stop the V-cycles (or CG steps) of an iteration once the truncated system's
+    /// residual (Euclidean norm on the untruncated dofs, a reproducible sum) is reduced by
+    /// this factor, in (0, 1); `None` always runs `v_cycles` cycles. Each check costs one
+    /// reduction (and the initial norm one more).
+    pub linear_reduction: Option<f64>,
+    /// Block Gauss–Seidel sweeps of each V-cycle before and after the coarse correction.
+    pub smoothing: VCycleShape,
+    /// Record `J(v_k)` in the report (one more reduction per iteration).
+    pub record_energy: bool,
+}
+
+impl Default for DistributedTnnmgOptions {
+    /// One nonlinear sweep and one V(3,3)-cycle per iteration, as
+    /// [`TnnmgOptions::classical`](crate::TnnmgOptions::classical).
+    fn default() -> Self {
+        Self {
+            stopping: Stopping::default(),
+            nonlinear_sweeps: 1,
+            v_cycles: 1,
+            linear_correction: LinearCorrection::Cycles,
+            linear_reduction: None,
+            smoothing: VCycleShape { pre: 3, post: 3 },
+            record_energy: false,
+        }
+    }
+}
+
+/// What one rank of [`DistributedTnnmg`](super::DistributedTnnmg) has sent, by part of the iteration (each counted
+/// as the messages are handed to the transport). Bytes are `8 · values`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TnnmgCounters {
+    /// TNNMG iterations.
+    pub iterations: u64,
+    /// Numeric set-ups of the whole replicated hierarchy: one per solve with a new set of
+    /// active blocks (its first iteration); every other iteration updates the rows the
+    /// active blocks reach.
+    pub full_updates: u64,
+    /// The nonlinear smoother: one exchange per colour and sweep.
+    pub smoother: HaloCounters,
+    /// The linear V-cycles: sweeps, ghost updates and transfers of every level, the
+    /// coarsest gathers.
+    pub cycles: HaloCounters,
+    /// The all-gathers of the active blocks' values (the iterate before the
+    /// linearisation, the correction before the line search).
+    pub gathers: HaloCounters,
+    /// The reproducible global sums (`g0` and `h` of the line search; the norms and the
+    /// energy).
+    pub reductions: HaloCounters,
+    /// The all-gather of the solution at the end of each solve.
+    pub solution: HaloCounters,
+}
+
+impl TnnmgCounters {
+    /// Everything sent.
+    pub fn total(&self) -> HaloCounters {
+        self.smoother + self.cycles + self.gathers + self.reductions + self.solution
+    }
+}
