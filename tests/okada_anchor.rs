@@ -100,6 +100,16 @@ fn assert_converges(name: &str, e: &[Errors], surface_bound: f64, traction_bound
     );
 }
 
+/// The buried vertical rectangle of the tests, `|x| ≤ 1`, depth 0.5 to 1.5, with `slip`.
+fn buried(slip: [f64; 3]) -> Fault {
+    Fault {
+        half_length: 1.0,
+        top: 0.5,
+        bottom: 1.5,
+        slip,
+    }
+}
+
 /// A buried vertical strike-slip rectangle, 2 × 1 (W) from depth 0.5 to 1.5, h = W/2,
 /// W/4, W/8, the far faces 3 from the centre line. The finest surface error is asked to be
 /// below 5 % of the largest surface displacement (the 1 % is for the finer meshes
@@ -107,12 +117,7 @@ fn assert_converges(name: &str, e: &[Errors], surface_bound: f64, traction_bound
 /// nodes (a first-order stress at W/h = 8 a quarter width from a 1/r singularity).
 #[test]
 fn buried_strike_slip() {
-    let fault = Fault {
-        half_length: 1.0,
-        top: 0.5,
-        bottom: 1.5,
-        slip: [SLIP, 0.0, 0.0],
-    };
+    let fault = buried([SLIP, 0.0, 0.0]);
     let e = study("buried strike slip", fault, 0.5, 3, 3.0);
     assert_converges("buried strike slip", &e, 0.1, 0.2);
 }
@@ -135,12 +140,7 @@ fn surface_breaking_strike_slip() {
 /// (y < 0) up (Okada's `U2 > 0`, reverse on a vertical fault).
 #[test]
 fn buried_dip_slip() {
-    let fault = Fault {
-        half_length: 1.0,
-        top: 0.5,
-        bottom: 1.5,
-        slip: [0.0, 0.0, SLIP],
-    };
+    let fault = buried([0.0, 0.0, SLIP]);
     let e = study("buried dip slip", fault, 0.5, 3, 3.0);
     assert_converges("buried dip slip", &e, 0.1, 0.2);
 }
@@ -154,12 +154,7 @@ fn buried_dip_slip() {
 /// fall from W/4 to W/8.
 #[test]
 fn multigrid_on_the_hierarchy_agrees_with_the_direct_solver() {
-    let fault = Fault {
-        half_length: 1.0,
-        top: 0.5,
-        bottom: 1.5,
-        slip: [0.0, 0.0, SLIP],
-    };
+    let fault = buried([0.0, 0.0, SLIP]);
     let mut previous: Option<Errors> = None;
     for level in 1..=2 {
         let run = |solver| compare_refined(fault, (0.5, level, RATIO), 2.0, true, solver).unwrap();
@@ -194,12 +189,7 @@ fn multigrid_on_the_hierarchy_agrees_with_the_direct_solver() {
 /// smooth; a wrong sign, scale or position of the cells would leave an O(1) difference).
 #[test]
 fn a_smooth_slip_gives_the_boundary_element_tractions_at_second_order() {
-    let fault = Fault {
-        half_length: 1.0,
-        top: 0.5,
-        bottom: 1.5,
-        slip: [SLIP, 0.0, 0.0],
-    };
+    let fault = buried([SLIP, 0.0, 0.0]);
     let e: Vec<Errors> = (1..=2)
         .map(|level| compare_smooth(fault, (0.5, level, RATIO), 2.0, Solver::Multigrid).unwrap())
         .collect();
@@ -228,12 +218,7 @@ fn a_smooth_slip_gives_the_boundary_element_tractions_at_second_order() {
 /// O(h²) in the interior, the ramp at the rim adds more).
 #[test]
 fn on_resolved_slips_the_two_operators_converge_in_the_operator_norm() {
-    let fault = Fault {
-        half_length: 1.0,
-        top: 0.5,
-        bottom: 1.5,
-        slip: [SLIP, 0.0, 0.0],
-    };
+    let fault = buried([SLIP, 0.0, 0.0]);
     let e: Vec<ModeComparison> = (1..=2)
         .map(|level| compare_modes(fault, (0.5, level, RATIO), 2.0, 1).unwrap())
         .collect();

@@ -35,6 +35,22 @@ fn values(path: &Path) -> Vec<f64> {
         .collect()
 }
 
+/// Runs `mpirun -n n` on the program with `args` and `--out out`; asserts that it
+/// succeeded (its standard error in the message) and returns the values it wrote and its
+/// standard error.
+fn run_program(n: usize, args: &[&str], out: &Path) -> (Vec<f64>, String) {
+    let run = mpirun(n)
+        .arg(BIN)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .expect("mpirun (Open MPI: apt-get install openmpi-bin libopenmpi-dev)");
+    let err = String::from_utf8_lossy(&run.stderr).into_owned();
+    assert!(run.status.success(), "{n} ranks, {args:?}: {err}");
+    (values(out), err)
+}
+
 /// Entries whose bits differ.
 fn differing_bits(a: &[f64], b: &[f64]) -> usize {
     assert_eq!(a.len(), b.len());
@@ -107,34 +123,13 @@ fn distributed_sweeps_on_1_2_and_4_mpi_ranks_have_the_one_process_bits() {
     let nodes = bx.mesh().num_vertices() as u64;
     let args = ["--refinements", "2", "--sweeps", "6"];
 
-    let out = file("reference.bin");
-    let run = mpirun(1)
-        .arg(BIN)
-        .args(args)
-        .arg("--reference")
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .expect("mpirun (Open MPI: apt-get install openmpi-bin libopenmpi-dev)");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    assert_eq!(differing_bits(&values(&out), &x), 0, "--reference");
+    let reference = [&args[..], &["--reference"]].concat();
+    let (values, _) = run_program(1, &reference, &file("reference.bin"));
+    assert_eq!(differing_bits(&values, &x), 0, "--reference");
 
     for n in [1, 2, 4] {
-        let out = file(&format!("ranks_{n}.bin"));
-        let run = mpirun(n)
-            .arg(BIN)
-            .args(args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&run.stderr);
-        assert!(run.status.success(), "{n} ranks: {err}");
-        assert_eq!(differing_bits(&values(&out), &x), 0, "{n} ranks");
+        let (values, err) = run_program(n, &args, &file(&format!("ranks_{n}.bin")));
+        assert_eq!(differing_bits(&values, &x), 0, "{n} ranks");
         let lines = rank_lines(&err, n);
         assert_eq!(lines.iter().map(|l| l.owned).sum::<u64>(), nodes);
         let ghosts: u64 = lines.iter().map(|l| l.ghosts).sum();
@@ -196,35 +191,14 @@ fn vcycles_on_1_and_2_mpi_ranks_have_the_one_process_bits() {
     assert!(x.iter().all(|v| v.is_finite()));
     let args = ["--refinements", "2", "--sweeps", "3", "--vcycle"];
 
-    let out = file("vcycle_reference.bin");
-    let run = mpirun(1)
-        .arg(BIN)
-        .args(args)
-        .arg("--reference")
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    assert_eq!(differing_bits(&values(&out), &x), 0, "--reference");
+    let reference = [&args[..], &["--reference"]].concat();
+    let (values, _) = run_program(1, &reference, &file("vcycle_reference.bin"));
+    assert_eq!(differing_bits(&values, &x), 0, "--reference");
 
     let levels = vh.num_levels() as u64;
     for n in [1, 2] {
-        let out = file(&format!("vcycle_ranks_{n}.bin"));
-        let run = mpirun(n)
-            .arg(BIN)
-            .args(args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&run.stderr);
-        assert!(run.status.success(), "{n} ranks: {err}");
-        assert_eq!(differing_bits(&values(&out), &x), 0, "{n} ranks");
+        let (values, err) = run_program(n, &args, &file(&format!("vcycle_ranks_{n}.bin")));
+        assert_eq!(differing_bits(&values, &x), 0, "{n} ranks");
         let lines = vcycle_lines(&err, n);
         let owned: u64 = lines.iter().map(|l| l.0).sum();
         let coarsest: u64 = lines.iter().map(|l| l.1).sum();
@@ -277,17 +251,11 @@ fn tnnmg_on_mpi_ranks(cg: bool) {
     let args = &args[..];
     let mut solutions = Vec::new();
     for threads in [1, 3] {
+        let threads_arg = threads.to_string();
+        let with_threads = [args, &["--thread-ranks", &threads_arg]].concat();
         let out = file(&format!("tnnmg_threads_{threads}_{cg}.bin"));
-        let run = mpirun(1)
-            .arg(BIN)
-            .args(args)
-            .args(["--thread-ranks", &threads.to_string(), "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&run.stderr);
-        assert!(run.status.success(), "{threads} thread ranks: {err}");
-        solutions.push((format!("{threads} thread ranks"), values(&out)));
+        let (values, _) = run_program(1, &with_threads, &out);
+        solutions.push((format!("{threads} thread ranks"), values));
     }
     let reference = solutions[0].1.clone();
     assert_eq!(reference.len(), bx.dofs());
@@ -308,17 +276,8 @@ fn tnnmg_on_mpi_ranks(cg: bool) {
     );
     let mut iterations = Vec::new();
     for n in [1, 2, 4] {
-        let out = file(&format!("tnnmg_ranks_{n}_{cg}.bin"));
-        let run = mpirun(n)
-            .arg(BIN)
-            .args(args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&run.stderr);
-        assert!(run.status.success(), "{n} ranks: {err}");
-        solutions.push((format!("{n} MPI ranks"), values(&out)));
+        let (values, err) = run_program(n, args, &file(&format!("tnnmg_ranks_{n}_{cg}.bin")));
+        solutions.push((format!("{n} MPI ranks"), values));
         for r in 0..n {
             let line = err
                 .lines()
