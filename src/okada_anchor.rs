@@ -187,6 +187,27 @@ pub enum Solver {
 /// The relative energy-norm correction at which [`Solver::Multigrid`] stops.
 pub const MULTIGRID_TOLERANCE: f64 = 1e-10;
 
+/// [`Solver::Multigrid`] for `model`'s stiffness with the dofs `fixed` held: TNNMG on the
+/// model's hierarchy, no nonlinearity, to [`MULTIGRID_TOLERANCE`], on the default threads.
+fn multigrid(model: &Model<3>, fixed: &[bool]) -> Result<Tnnmg<3>, AnyError> {
+    let options = TnnmgOptions {
+        stopping: Stopping {
+            absolute: 0.0,
+            relative: MULTIGRID_TOLERANCE,
+            max_iterations: 500,
+        },
+        ..TnnmgOptions::default()
+    };
+    Ok(Tnnmg::<3>::new(
+        model.stiffness.as_ref(),
+        fixed,
+        &model.prolongations,
+        None,
+        options,
+    )?
+    .with_parallelism(rsf::Parallelism::default()))
+}
+
 /// The comparison on a refinement hierarchy, solved by [`Solver::Multigrid`] (or, to
 /// check it, [`Solver::Direct`] on the finest mesh): the coarsest mesh has spacing `h0`
 /// along `fault` and one cell beyond its rim, then cells graded by `ratio` to the far
@@ -562,23 +583,7 @@ fn solve_and_compare(
                 .solve(&zero, &NoNonlinearity, &mut v)?;
         }
         Solver::Multigrid => {
-            let options = TnnmgOptions {
-                stopping: Stopping {
-                    absolute: 0.0,
-                    relative: MULTIGRID_TOLERANCE,
-                    max_iterations: 500,
-                },
-                ..TnnmgOptions::default()
-            };
-            Tnnmg::<3>::new(
-                model.stiffness.as_ref(),
-                &fixed,
-                &model.prolongations,
-                None,
-                options,
-            )?
-            .with_parallelism(rsf::Parallelism::default())
-            .solve(&zero, &NoNonlinearity, &mut v)?;
+            multigrid(model, &fixed)?.solve(&zero, &NoNonlinearity, &mut v)?;
         }
     }
     let u = model.to_cartesian(&v)?;

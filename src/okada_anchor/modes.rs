@@ -24,11 +24,10 @@
 
 use nalgebra::DMatrix;
 use rayon::prelude::*;
-use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver, Stopping};
-use rsf::tnnmg::{Tnnmg, TnnmgOptions};
+use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
 use rsf_halfspace::{Medium, Okada, Rectangle};
 
-use super::{fault_weights, refined_model, AnyError, Fault, Solver, MU, MULTIGRID_TOLERANCE, NU};
+use super::{fault_weights, multigrid, refined_model, AnyError, Fault, Solver, MU, NU};
 
 /// The comparison of the two operators on one mesh.
 #[derive(Debug, Clone)]
@@ -47,9 +46,9 @@ pub struct ModeComparison {
     /// The largest relative difference of one mode's own work, `|G_FE,ii − G_BEM,ii| /
     /// |G_BEM,ii|`.
     pub worst_mode: f64,
-    /// The largest asymmetry of the finite-element Galerkin matrix relative to its norm
-    /// (the condensed stiffness is symmetric: a check of the assembly, ~ the solver's
-    /// tolerance).
+    /// `‖Ĝ_FE − Ĝ_FEᵀ‖₂ / ‖Ĝ_FE‖₂`: the condensed stiffness is symmetric, but each mode's
+    /// far faces are held at its own boundary-element field, which adds a coupling to
+    /// those faces that is not (measured 1.7e-4 at W/4, 1.1e-5 at W/32).
     pub asymmetry: f64,
 }
 
@@ -231,22 +230,7 @@ pub fn compare_modes(
         fixed[3 * mi] = true;
         fixed[3 * mi + 1] = true;
     }
-    let options = TnnmgOptions {
-        stopping: Stopping {
-            absolute: 0.0,
-            relative: MULTIGRID_TOLERANCE,
-            max_iterations: 500,
-        },
-        ..TnnmgOptions::default()
-    };
-    let mut solver = Tnnmg::<3>::new(
-        model.stiffness.as_ref(),
-        &fixed,
-        &model.prolongations,
-        None,
-        options,
-    )?
-    .with_parallelism(rsf::Parallelism::default());
+    let mut solver = multigrid(&model, &fixed)?;
     let zero = vec![0.0; model.num_dofs()];
     let mut g_fe = DMatrix::zeros(n_modes, n_modes);
     let mut force = vec![0.0; model.num_dofs()];
