@@ -1,4 +1,6 @@
-//! The paper's slider extruded to three dimensions (issue 12; docs/math.md §10): a
+//! The program `slider_3d` (the example `slider_3d`; on MPI ranks the `rsf-mpi` crate's
+//! binary `slider_3d`, [`main_on_ranks`]): the paper's slider extruded to three dimensions
+//! (issue 12; docs/math.md §10): a
 //! 5 m × 1 m × W block of tetrahedra, sheared at its top face with the ramped velocity
 //! `(V_D g(t), 0, 0)`, sliding on its rate-and-state frictional bottom face (bilateral
 //! contact, slip in the x–z plane). The lateral faces z = 0, W are traction-free, or held
@@ -34,14 +36,15 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use crate::cli::step_count;
+use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::ranks::Processes;
+use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use clap::Parser;
 use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
 use rsf::run_folder::{check_output_size, read_checkpoint};
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{Flow, Model, Observer, StepView};
-use rsf_examples::cli::step_count;
-use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use rsf_scenes::steps_bound;
 use rsf_scenes::{LateralBoundary, Slider3dScene};
 
@@ -138,9 +141,9 @@ impl Program for Cli {
         if let Some(t) = self.snapshot_time {
             // A NaN or a time outside the run would give an empty (all-zero) snapshot.
             if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
-                return Err(rsf_examples::guard::refuse(
+                return Err(crate::guard::refuse(
                     "--snapshot-time",
-                    rsf_examples::guard::number(t),
+                    crate::guard::number(t),
                     &format!(
                         "must be a finite time inside [0, T] = [0, {:e}] s",
                         s.end_time_s
@@ -149,7 +152,7 @@ impl Program for Cli {
             }
         }
         if let Some(gib) = self.memory_budget_gib {
-            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
+            crate::memory_budget_bytes("--memory-budget-gib", gib)?;
         }
         // The model's size, and the output bound: a series row per step, a frame of every
         // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps.
@@ -184,9 +187,60 @@ impl Program for Cli {
     }
 }
 
-fn main() -> ExitCode {
+/// The program `slider_3d` in one process (the example `slider_3d`).
+pub fn main() -> ExitCode {
     // With threads, the whole run on the pool (no hand-over per parallel region).
-    rsf_examples::guard::main(run)
+    crate::guard::main(|cli, prepared| run(cli, prepared, None))
+}
+
+/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `slider_3d`;
+/// docs/scaling.md, "Phase 5"): every rank runs the same simulation, and every velocity
+/// problem is solved by TNNMG on the ranks
+/// ([`TnnmgOnRanks`](rsf::method::TnnmgOnRanks), the fine nodes partitioned by
+/// [`partition`]); rank 0 writes every file. The files are byte-identical at every rank
+/// count (the one-process reference is one rank: the solver on ranks has its own
+/// smoother order, so its files differ from the example's by round-off of the solver
+/// tolerance). The solver is TNNMG (`--solver auto` becomes `tnnmg`; another solver is
+/// refused). A checkpoint holds the whole replicated state, so a run resumes on any rank
+/// count.
+pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
+    crate::guard::main_on_ranks(processes, |cli, prepared, processes| {
+        run(cli, prepared, Some(processes))
+    })
+}
+
+/// The owner of every node of `model` among `ranks` ranks, the same on every rank:
+/// METIS's k-way partition of the stiffness matrix's node graph
+/// (`rsf_metis::part_graph_kway`, deterministic) where the build has METIS (the `rsf-mpi`
+/// crate's does), else slabs of equal width across the longest side of the model's
+/// bounding box (node `p` to rank `⌊ranks · (x_p − min)/(max − min)⌋` on that axis).
+/// Coarse nodes have the owner of the fine node with their number (nested hierarchies).
+///
+/// # Errors
+/// The node graph of an invalid stiffness matrix; METIS's errors other than its absence.
+pub fn partition(model: &Model<3>, ranks: usize) -> Result<Vec<usize>, AnyError> {
+    let (xadj, adjncy) = rsf::tnnmg::distributed::node_graph::<3>(model.stiffness.as_ref())?;
+    match rsf_metis::part_graph_kway(&xadj, &adjncy, ranks) {
+        Ok(owner) => return Ok(owner),
+        Err(rsf_metis::Error::FeatureDisabled(_)) => {}
+        Err(e) => return Err(e.into()),
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for x in &model.vertices {
+        for c in 0..3 {
+            lo[c] = lo[c].min(x[c]);
+            hi[c] = hi[c].max(x[c]);
+        }
+    }
+    let axis = (0..3)
+        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+        .unwrap_or(0);
+    let width = (hi[axis] - lo[axis]).max(f64::MIN_POSITIVE);
+    Ok(model
+        .vertices
+        .iter()
+        .map(|x| (((x[axis] - lo[axis]) / width * ranks as f64) as usize).min(ranks - 1))
+        .collect())
 }
 
 /// The scene from `--scene` (or the default) with the flags applied, validated.
@@ -217,7 +271,7 @@ fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     }
     // A width from the flag is named as the flag (`width`), from the file as its key.
     match cli.width {
-        Some(_) => rsf_examples::cli::for_flag("--width", "width_m", scene.validate())?,
+        Some(_) => crate::cli::for_flag("--width", "width_m", scene.validate())?,
         None => scene.validate()?,
     }
     Ok(scene)
@@ -314,12 +368,31 @@ impl Observer<3> for FaultSnapshot {
     }
 }
 
-fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
-    let scene = scene(&cli)?;
+fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
+    let mut scene = scene(&cli)?;
+    let root = processes.is_none_or(|p| p.rank() == 0);
+    if processes.is_some() {
+        match scene.slider.solver {
+            rsf::SolverKind::Auto => scene.slider.solver = rsf::SolverKind::Tnnmg,
+            rsf::SolverKind::Tnnmg => {}
+            other => {
+                return Err(format!(
+                    "on MPI ranks the velocity problems are solved by TNNMG on the ranks: \
+                     --solver {other} is not shared (use --solver tnnmg or auto)"
+                )
+                .into())
+            }
+        }
+    }
     let s = &scene.slider;
     let out = cli.out.clone();
     let folder = RunFolder::new(&out, "slider_3d", &OUTPUTS);
-    println!(
+    let println = |line: String| {
+        if root {
+            println!("{line}");
+        }
+    };
+    println(format!(
         "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {} law, {}, {} solver → {}",
         s.level,
         scene.width_m,
@@ -330,16 +403,23 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         s.integrator,
         s.solver,
         out.display()
-    );
+    ));
     let setup = std::time::Instant::now();
     let mut options = scene.slider.solver_options();
     options.parallelism = cli.threads;
     if let Some(gib) = cli.memory_budget_gib {
-        options.memory_budget_bytes =
-            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
+        options.memory_budget_bytes = crate::memory_budget_bytes("--memory-budget-gib", gib)?;
+    }
+    let model = scene.build_model()?;
+    if let Some(p) = processes {
+        let owner = partition(&model, p.size())?;
+        options.ranks = Some(rsf::method::TnnmgOnRanks::new(owner, p.transports()));
+        if root {
+            eprintln!("{} MPI ranks share every velocity solve", p.size());
+        }
     }
     let mut sim = scene
-        .simulation_builder_with_model(scene.build_model()?)?
+        .simulation_builder_with_model(model)?
         .solver_options(options)
         .build()?;
     let model = sim.model();
@@ -369,8 +449,11 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let resumed = match &cli.resume {
         Some(path) => {
             let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
-            PointSeries::<3>::check_resume(&series_csv, c.state.step)?;
-            PointSeries::<3>::check_checkpoint_row(&series_csv, &c, x0)?;
+            // Rank 0 checks the files it continues; every rank restores the whole state.
+            if root {
+                PointSeries::<3>::check_resume(&series_csv, c.state.step)?;
+                PointSeries::<3>::check_checkpoint_row(&series_csv, &c, x0)?;
+            }
             Some(c)
         }
         None => None,
@@ -383,6 +466,13 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         None => fresh,
         Some(c) => FileMode::Resume { step: c.state.step },
     };
+    let end = until(s.end_time_s, cli.folder.max_steps);
+    if !root {
+        // The same steps as rank 0, no files (no observer here ends a run; rank 0 reports
+        // a step cap).
+        sim.run_until(end, &mut [])?;
+        return Ok(());
+    }
     let model = sim.model();
     // Frames first: a missing index on resume is refused before the series is continued.
     let mut frames = cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?;
@@ -396,13 +486,13 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     // Every `--checkpoint-every` steps, and where a step cap stops the run (also a cap at
     // or below the state's step, `--max-steps 0`, which computes no step).
     let mut checkpointer = Every::new(Interval::steps_or_never(cli.checkpoint_every), checkpoint)?;
-    println!(
+    println(format!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),
         model.frictional_boundary.nodes.len(),
         sim.method().solver_name(),
         setup.elapsed().as_secs_f64()
-    );
+    ));
     // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
     let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot];
     if let Some(f) = frames.as_mut() {
@@ -410,7 +500,6 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     }
     observers.push(&mut checkpointer);
     observers.push(&mut progress);
-    let end = until(s.end_time_s, cli.folder.max_steps);
     let summary = sim.run_until(end, &mut observers)?;
     drop(observers);
     if let Some(e) = step_cap_error(&summary, end, sim.state(), &checkpoint_path) {
@@ -428,7 +517,7 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         summary.steps,
         summary.seconds,
         summary.seconds / summary.steps.max(1) as f64,
-        rsf_examples::machine()
+        crate::machine()
     );
     println!(
         "per step: fixed point iterations {fpi:.2}, solver iterations {its:.2}; first slip event (max V > 1e-3 m/s): {}; snapshot at t = {:.4} s (max V {:.3e} m/s)",
