@@ -25,6 +25,7 @@ pub mod seas_bp1;
 pub mod seas_bp3;
 pub mod seas_bp5;
 mod seas_overview;
+pub mod slider_3d;
 pub use cli::{
     FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,
 };

@@ -1,6 +1,6 @@
 //! The processes of a job (MPI ranks) as a program sees them: its rank, the group that
-//! shares its fault ODE's evaluations ([`rsf::ranks::RankGroup`]), and how an error ends them
-//! all. The MPI implementation lives in the `rsf-mpi` crate (outside the default build);
+//! shares its fault ODE's evaluations ([`rsf::ranks::RankGroup`]), the transports of TNNMG's
+//! solves on ranks, and how an error ends them all. The MPI implementation lives in the `rsf-mpi` crate (outside the default build);
 //! this package's programs take any implementation ([`guard::main_on_ranks`](crate::guard::main_on_ranks)).
 
 /// The processes of a job.
@@ -14,6 +14,12 @@ pub trait Processes: Sync {
     /// The group that shares a fault ODE's evaluations
     /// ([`rsf::FaultOde::share_evaluations`]).
     fn group(&self) -> Box<dyn rsf::ranks::RankGroup>;
+
+    /// The transports of TNNMG's solves on these processes
+    /// ([`rsf::method::TnnmgOnRanks::transport`]): each call of the factory (collective:
+    /// every rank builds its solvers in the same order) gives this rank's end of a fresh
+    /// group of all the processes (over MPI: a duplicate of the world communicator).
+    fn transports(&self) -> rsf::method::TransportFactory;
 
     /// Prints `message` (with this rank) and ends every process of the job with a failure
     /// code: an error on one rank must not leave the others waiting in a collective.

@@ -5,7 +5,8 @@
 //! — dense, ℋ or the half-space operator — and their nodes' friction solves) between the
 //! ranks and gathers the rates with one `MPI_Allgatherv`. The trajectory has the same bits
 //! at every rank count. Binaries: `seas_bp1`, `seas_bp3`, `seas_bp5` (the root package's
-//! programs).
+//! programs), and `slider_3d`, whose velocity solves are TNNMG on the ranks
+//! ([`rsf::method::TnnmgOnRanks`] over [`MpiExchange`]; docs/scaling.md, "Phase 5").
 //!
 //! Every rank runs the whole program (the same scene, options and state); only the
 //! evaluations are shared. A program writes its files on rank 0 ([`MpiRanks::is_root`])
@@ -163,6 +164,13 @@ impl rsf_examples::ranks::Processes for Job {
 
     fn group(&self) -> Box<dyn rsf::ranks::RankGroup> {
         Box::new(self.0.clone())
+    }
+
+    /// A new [`MpiExchange::world`] (a duplicate of the world communicator) per call.
+    fn transports(&self) -> rsf::method::TransportFactory {
+        std::sync::Arc::new(|| -> Box<dyn rsf_tnnmg::distributed::HaloExchange> {
+            Box::new(MpiExchange::world())
+        })
     }
 
     fn end_all(&self, message: &str) -> ! {

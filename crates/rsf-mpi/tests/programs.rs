@@ -3,7 +3,8 @@
 //! one process's — BP1 at 1, 2 and 4 ranks, BP3 (a normal stress from slip) at 2, BP5 (the
 //! half-space operator) at 2 and 3, a run stopped at a step cap on 2 ranks and resumed on
 //! 3, and a job killed (`SIGKILL` to every process) and resumed on 2 ranks — and an error
-//! on rank 0 ends every rank at once.
+//! on rank 0 ends every rank at once. The program `slider_3d` (TNNMG's velocity solves on
+//! the ranks) writes the same bytes on 1, 2 and 4 ranks, also stopped and resumed.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -15,6 +16,7 @@ use common::mpirun;
 const BIN: &str = env!("CARGO_BIN_EXE_seas_bp1");
 const BP3: &str = env!("CARGO_BIN_EXE_seas_bp3");
 const BP5: &str = env!("CARGO_BIN_EXE_seas_bp5");
+const SLIDER_3D: &str = env!("CARGO_BIN_EXE_slider_3d");
 
 /// A fresh folder for `name` under the target directory's tmp.
 fn folder(name: &str) -> PathBuf {
@@ -62,12 +64,17 @@ fn succeeded(out: &Output) {
     );
 }
 
-/// Every file of `a` but the summary (its times) has the bytes of `b`'s.
+/// Every file of `a` (and of its folders) but the summary (its times) has the bytes of
+/// `b`'s.
 fn same_files(a: &Path, b: &Path, what: &str) -> usize {
     let mut n = 0;
     for entry in std::fs::read_dir(a).unwrap() {
         let p = entry.unwrap().path();
         let name = p.file_name().unwrap().to_str().unwrap().to_owned();
+        if p.is_dir() {
+            n += same_files(&p, &b.join(&name), &format!("{what}: {name}"));
+            continue;
+        }
         if [
             "summary.json",
             "rsf-run.txt",
@@ -380,4 +387,70 @@ fn a_job_killed_and_resumed_on_2_ranks_writes_the_same_bytes() {
     };
     succeeded(&out);
     assert!(same_files(&one, &dir, "killed and resumed on 2 ranks") >= 14);
+}
+
+/// The 3-D slider at level 2 (525 nodes; Newmark, TNNMG on the ranks) for 48 steps of
+/// 0.25 s (`--end-time 12 --steps 48`: through the nucleation of the first event, the
+/// largest slip rate rising from 1e-29 to about 1e-3 m/s), a frame every 12 steps: its time
+/// series, fault snapshot and figure and every frame on 2 and 4 MPI ranks have the bytes of
+/// the run on one rank; stopped at step 20 on 2 ranks and resumed on 4, the same bytes
+/// again.
+#[test]
+fn slider_3d_files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
+    let args = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--level",
+            "2",
+            "--end-time",
+            "12",
+            "--steps",
+            "48",
+            "--frame-every",
+            "12",
+            "--threads",
+            "1",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("slider_3d_1_rank");
+    let out = run_program(SLIDER_3D, Some(1), &args(&one));
+    succeeded(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("tnnmg-ranks solver"), "{text}");
+    for n in [2, 4] {
+        let dir = folder(&format!("slider_3d_{n}_ranks"));
+        let out = run_program(SLIDER_3D, Some(n), &args(&dir));
+        succeeded(&out);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(&format!("{n} MPI ranks share every velocity solve")),
+            "{err}"
+        );
+        let files = same_files(&one, &dir, &format!("slider_3d on {n} ranks"));
+        // The series, the snapshot and its figure, four frames and their index.
+        assert!(files >= 8, "{files} files compared");
+    }
+    let dir = folder("slider_3d_resumed");
+    let mut capped = args(&dir);
+    capped.extend(["--checkpoint-every", "10", "--max-steps", "20"].map(String::from));
+    let out = run_program(SLIDER_3D, Some(2), &capped);
+    assert!(
+        dir.join("checkpoint.bin").exists(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut resumed = args(&dir);
+    resumed.extend(["--checkpoint-every", "10", "--resume"].map(String::from));
+    resumed.push(dir.join("checkpoint.bin").to_str().unwrap().to_owned());
+    let out = run_program(SLIDER_3D, Some(4), &resumed);
+    succeeded(&out);
+    // The snapshot is of the resumed part only (the program's documentation).
+    std::fs::remove_file(dir.join("fault_snapshot.csv")).unwrap();
+    std::fs::remove_file(dir.join("fault_slip_rate.png")).unwrap();
+    let files = same_files(&dir, &one, "slider_3d stopped on 2 ranks and resumed on 4");
+    assert!(files >= 6, "{files} files compared");
 }

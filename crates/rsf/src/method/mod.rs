@@ -15,7 +15,8 @@ pub use rsf_time::{Integrator, Parallelism};
 #[allow(deprecated)]
 pub use solver::AUTO_DIRECT_MAX_EXTENSION;
 pub use solver::{
-    SolverKind, SolverOptions, AUTO_DIRECT_MAX_CONDENSED, DEFAULT_MEMORY_BUDGET_BYTES,
+    SolverKind, SolverOptions, TnnmgOnRanks, TransportFactory, AUTO_DIRECT_MAX_CONDENSED,
+    DEFAULT_MEMORY_BUDGET_BYTES,
 };
 pub use state_integrator::StateIntegrator;
 

@@ -1,9 +1,14 @@
 //! The velocity solver: which one ([`SolverKind`]), its options ([`SolverOptions`]), and
 //! the built solvers of a simulation, one per time step size used.
 
+use std::sync::Arc;
+
 use rsf_direct::{DirectMemory, DirectOptions, DirectSolver};
 use rsf_fem::SparseMatrix;
 use rsf_nonsmooth::{BlockNonlinearity, FullStep, SolveReport, StepSolver, Stopping};
+use rsf_tnnmg::distributed::{
+    DistributedTnnmg, DistributedTnnmgOptions, HaloExchange, VCycleShape,
+};
 use rsf_tnnmg::{NonlinearGaussSeidel, Parallelism, Tnnmg, TnnmgOptions};
 
 use crate::model::Model;
@@ -192,6 +197,103 @@ pub struct SolverOptions {
     /// [`FaultOdeOptions::parallelism`](crate::fault_ode::FaultOdeOptions::parallelism);
     /// before issue 59 a stated two).
     pub parallelism: Parallelism,
+    /// TNNMG's solves shared by the ranks of a job ([`TnnmgOnRanks`]; docs/scaling.md,
+    /// "Phase 5"): when set and the solver is TNNMG, every velocity problem is solved by
+    /// [`DistributedTnnmg`] (each rank its owned nodes' rows, the solution all-gathered),
+    /// while everything else of a step (the integrator, the fixed point iteration, the
+    /// state) stays replicated on every rank. Default `None` (one process).
+    pub ranks: Option<TnnmgOnRanks>,
+}
+
+/// The transport of one solver on ranks: called once per built solver (every rank builds
+/// its solvers in the same order, one per time-step size used), it returns this rank's
+/// end of a fresh group of the job's ranks ([`HaloExchange`]: e.g. a duplicated MPI
+/// communicator, or the next group of thread ranks).
+pub type TransportFactory = Arc<dyn Fn() -> Box<dyn HaloExchange> + Send + Sync>;
+
+/// TNNMG on the ranks of a job (issue 57, docs/scaling.md "Phase 5"): replicated time
+/// stepping, distributed velocity solves. Every rank runs the same simulation (the same
+/// model, steps and state updates on whole vectors); only TNNMG's solves are shared, by
+/// [`DistributedTnnmg`], whose solution has the same bits at every rank count and is
+/// all-gathered on every rank, so every rank holds the same bits everywhere and a
+/// trajectory is bit-identical at any rank count.
+///
+/// The iteration is not the one-process [`Tnnmg`]'s: its nonlinear smoother sweeps in the
+/// multi-colour order of the distributed smoother whatever
+/// [`TnnmgOptions::smoother`] says, and its global sums are exact, so trajectories on
+/// ranks differ from the one-process runs (the red–black default of the 3-D slider
+/// included) by round-off of the solver tolerance. The one-process reference of a run on
+/// ranks is the same solver on one rank (a `owner` of zeros and a one-rank transport).
+///
+/// Equality (for [`SolverOptions`]' `PartialEq`): the same owner vector and the same
+/// transport factory (the same `Arc`).
+#[derive(Clone)]
+pub struct TnnmgOnRanks {
+    /// Fine node `p`'s rank (length the model's node count, every entry below the
+    /// transport's rank count); the coarse levels' node `p` has the same owner (nested
+    /// hierarchies number the coarse nodes first). The same on every rank.
+    pub owner: Arc<[usize]>,
+    /// This rank's transports, one per built solver.
+    pub transport: TransportFactory,
+}
+
+impl TnnmgOnRanks {
+    /// The owner vector `owner` (fine node → rank) and this rank's transport factory.
+    pub fn new(owner: impl Into<Arc<[usize]>>, transport: TransportFactory) -> Self {
+        Self {
+            owner: owner.into(),
+            transport,
+        }
+    }
+
+    /// The options of [`DistributedTnnmg`] that correspond to `tnnmg`: the same stopping
+    /// test, sweeps, cycles, linear correction, inexact-Newton factor, smoothing and
+    /// energy record; the smoother order is the distributed multi-colour one (see the
+    /// type's documentation).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
+    /// `tnnmg.cycle_index` unless it is 1 (the distributed linear correction runs
+    /// V-cycles).
+    pub fn options(tnnmg: &TnnmgOptions) -> crate::Result<DistributedTnnmgOptions> {
+        if tnnmg.cycle_index != 1 {
+            return Err(crate::error::invalid(
+                "tnnmg.cycle_index",
+                format!(
+                    "TNNMG on ranks runs V-cycles (cycle index 1), not {}",
+                    tnnmg.cycle_index
+                ),
+            ));
+        }
+        Ok(DistributedTnnmgOptions {
+            stopping: tnnmg.stopping,
+            nonlinear_sweeps: tnnmg.nonlinear_sweeps,
+            v_cycles: tnnmg.v_cycles,
+            linear_correction: tnnmg.linear_correction,
+            linear_reduction: tnnmg.linear_reduction,
+            smoothing: VCycleShape {
+                pre: tnnmg.smoothing.0,
+                post: tnnmg.smoothing.1,
+            },
+            record_energy: tnnmg.record_energy,
+        })
+    }
+}
+
+impl std::fmt::Debug for TnnmgOnRanks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let ranks = self.owner.iter().max().map_or(0, |&r| r + 1);
+        f.debug_struct("TnnmgOnRanks")
+            .field("nodes", &self.owner.len())
+            .field("ranks_owning_nodes", &ranks)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for TnnmgOnRanks {
+    fn eq(&self, other: &Self) -> bool {
+        self.owner == other.owner && Arc::ptr_eq(&self.transport, &other.transport)
+    }
 }
 
 impl Default for SolverOptions {
@@ -203,6 +305,7 @@ impl Default for SolverOptions {
             setup_per_time_step: false,
             memory_budget_bytes: DEFAULT_MEMORY_BUDGET_BYTES,
             parallelism: Parallelism::default(),
+            ranks: None,
         }
     }
 }
@@ -226,6 +329,8 @@ impl SolverOptions {
 pub(crate) enum VelocitySolver<const C: usize> {
     /// See [`SolverKind::Tnnmg`].
     Tnnmg(Box<FullStep<C, Tnnmg<C>>>),
+    /// [`SolverKind::Tnnmg`] on ranks ([`SolverOptions::ranks`]).
+    TnnmgOnRanks(Box<FullStep<C, DistributedTnnmg<C>>>),
     /// See [`SolverKind::Direct`].
     Direct(Box<DirectSolver<C>>),
     /// See [`SolverKind::GaussSeidel`].
@@ -255,6 +360,28 @@ impl<const C: usize> VelocitySolver<C> {
     ) -> crate::Result<Self> {
         let e = model.energy_norm.as_ref();
         Ok(match kind.resolve(model) {
+            SolverKind::Tnnmg if options.ranks.is_some() => {
+                let ranks = options.ranks.as_ref().expect("matched");
+                let opts = TnnmgOnRanks::options(&options.tnnmg)?;
+                let ps: Vec<_> = model.prolongations.iter().map(|p| p.as_ref()).collect();
+                VelocitySolver::TnnmgOnRanks(Box::new(
+                    FullStep::new(
+                        DistributedTnnmg::new(
+                            a.as_ref(),
+                            &model.fixed,
+                            &ps,
+                            Some(e),
+                            opts,
+                            &ranks.owner,
+                            (ranks.transport)(),
+                        )?,
+                        Some(e),
+                    )?
+                    .with_parallelism(options.parallelism)
+                    // Its corrections are measured in `e` too.
+                    .with_correction_from_solver(),
+                ))
+            }
             SolverKind::Tnnmg => VelocitySolver::Tnnmg(Box::new(
                 FullStep::new(
                     Tnnmg::new(
@@ -319,6 +446,7 @@ macro_rules! dispatch {
     ($self:ident, $s:ident => $e:expr) => {
         match $self {
             VelocitySolver::Tnnmg($s) => $e,
+            VelocitySolver::TnnmgOnRanks($s) => $e,
             VelocitySolver::Direct($s) => $e,
             VelocitySolver::GaussSeidel($s) => $e,
         }

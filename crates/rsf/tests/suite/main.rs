@@ -43,5 +43,6 @@ mod stability;
 mod steady_sliding;
 mod step_invariants;
 mod time_convergence;
+mod tnnmg_ranks;
 mod velocity_solvers;
 mod vtu;

@@ -1,0 +1,13 @@
+//! The 3-D slider on MPI ranks: the root package's `slider_3d` (the same flags and files)
+//! with every velocity problem solved by TNNMG on the ranks, every rank running the same
+//! time steps; rank 0 writes the files, byte-identical at every rank count
+//! (docs/scaling.md, "Phase 5").
+//!
+//! ```text
+//! cargo build --release --manifest-path crates/rsf-mpi/Cargo.toml
+//! mpirun -n 2 crates/rsf-mpi/target/release/slider_3d --level 3 --out out/slider_3d_mpi --threads 1
+//! ```
+
+fn main() -> std::process::ExitCode {
+    rsf_mpi::main_on_ranks(rsf_examples::slider_3d::main_on_ranks)
+}

@@ -1,0 +1,202 @@
+//! TNNMG on ranks as the velocity solver (`SolverOptions::ranks`, docs/scaling.md
+//! "Phase 5"): replicated time stepping with distributed velocity solves. The ranks here
+//! are threads of this process (`ThreadExchange`); the `rsf-mpi` crate's program tests run
+//! the 3-D slider on MPI processes.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+use rsf::method::{SolverOptions, TnnmgOnRanks, TransportFactory};
+use rsf::tnnmg::distributed::{HaloExchange, ThreadExchange};
+use rsf::{Flow, Model, Observer, SolverKind, StepView, Until};
+use rsf_scenes::Slider3dScene;
+
+/// Steps of every run (of 0.25 s: through the nucleation of the first event).
+const STEPS: usize = 48;
+
+/// The thread ranks' groups, made on demand and handed out in order: the `k`-th solver
+/// built on rank `r` takes rank `r`'s end of the `k`-th group (every rank builds its
+/// solvers in the same order, so the ends of one group meet in one solver).
+struct Groups {
+    size: usize,
+    made: Mutex<Vec<Vec<Option<ThreadExchange>>>>,
+}
+
+impl Groups {
+    fn new(size: usize) -> Arc<Self> {
+        Arc::new(Self {
+            size,
+            made: Mutex::new(Vec::new()),
+        })
+    }
+
+    /// Rank `rank`'s transport factory.
+    fn factory(self: &Arc<Self>, rank: usize) -> TransportFactory {
+        let (groups, next) = (self.clone(), AtomicUsize::new(0));
+        Arc::new(move || -> Box<dyn HaloExchange> {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let mut made = groups.made.lock().unwrap();
+            while made.len() <= k {
+                made.push(
+                    ThreadExchange::group(groups.size)
+                        .into_iter()
+                        .map(Some)
+                        .collect(),
+                );
+            }
+            Box::new(made[k][rank].take().expect("each end is taken once"))
+        })
+    }
+}
+
+/// Slabs across x: fine node `p` belongs to rank `⌊size · x_p / 5 m⌋`.
+fn slabs(model: &Model<3>, size: usize) -> Vec<usize> {
+    model
+        .vertices
+        .iter()
+        .map(|x| ((x[0] / 5.0 * size as f64) as usize).min(size - 1))
+        .collect()
+}
+
+/// The 3-D slider at level 1 with TNNMG (its scene's options: red–black smoother, inexact
+/// inner solves).
+fn scene() -> Slider3dScene {
+    let mut scene = Slider3dScene::default();
+    scene.slider.level = 1;
+    scene.slider.end_time_s = 12.0;
+    scene.slider.steps = STEPS;
+    scene.slider.solver = SolverKind::Tnnmg;
+    scene
+}
+
+/// Every step's time, step size, velocity and state, as bits.
+#[derive(Default)]
+struct Trajectory(Vec<Vec<u64>>);
+
+impl Observer<3> for Trajectory {
+    fn observe(&mut self, s: &StepView<'_, 3>) -> rsf::Result<Flow> {
+        let mut row = vec![s.state.time.to_bits(), s.state.tau.to_bits()];
+        row.extend(s.state.kinematics.v.iter().map(|v| v.to_bits()));
+        row.extend(s.state.alpha.iter().map(|a| a.to_bits()));
+        self.0.push(row);
+        Ok(Flow::Continue(()))
+    }
+}
+
+/// The scene run for [`STEPS`] steps with `ranks` (if any) as its solver's ranks.
+fn run(scene: &Slider3dScene, ranks: Option<(usize, usize, &Arc<Groups>)>) -> Vec<Vec<u64>> {
+    let model = scene.build_model().unwrap();
+    let mut options = scene.slider.solver_options();
+    options.parallelism = rsf::Parallelism::SEQ;
+    if let Some((rank, size, groups)) = ranks {
+        options.ranks = Some(TnnmgOnRanks::new(slabs(&model, size), groups.factory(rank)));
+    }
+    let mut sim = scene
+        .simulation_builder_with_model(model)
+        .unwrap()
+        .solver_options(options)
+        .build()
+        .unwrap();
+    let expected = if ranks.is_some() {
+        "tnnmg-ranks"
+    } else {
+        "tnnmg"
+    };
+    assert_eq!(sim.method().solver_name(), expected);
+    let mut trajectory = Trajectory::default();
+    sim.run_until(Until::Steps(STEPS), &mut [&mut trajectory])
+        .unwrap();
+    trajectory.0
+}
+
+/// The run on `size` thread ranks: every rank's trajectory.
+fn on_ranks(scene: &Slider3dScene, size: usize) -> Vec<Vec<Vec<u64>>> {
+    let groups = Groups::new(size);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..size)
+            .map(|rank| {
+                let groups = &groups;
+                s.spawn(move || run(scene, Some((rank, size, groups))))
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// The 3-D slider at level 1 (99 nodes, Newmark, the scene's inexact inner solves) for 48
+/// steps of 0.25 s (to t = 12 s: the largest velocity rises to about 1e-3 m/s as the first
+/// event nucleates) with TNNMG on 1, 2 and 3 thread ranks: every rank's whole trajectory
+/// (time, step size, every velocity and state value of every step) has the bits of the
+/// one-rank run. The one-rank run agrees with the one-process TNNMG (red–black smoother,
+/// another round-off), not bitwise: velocities within 1e-6 of their largest value, states
+/// within 1e-9 (ten times the fixed point tolerance; absolute, or relative above 1), the
+/// same times.
+#[test]
+fn the_3d_slider_has_the_same_bits_on_1_2_and_3_ranks() {
+    let scene = scene();
+    let one = on_ranks(&scene, 1).pop().unwrap();
+    assert_eq!(one.len(), STEPS);
+    for size in [2, 3] {
+        for (rank, trajectory) in on_ranks(&scene, size).iter().enumerate() {
+            assert_eq!(trajectory.len(), one.len(), "rank {rank} of {size}: steps");
+            for (k, (a, b)) in trajectory.iter().zip(&one).enumerate() {
+                assert!(a == b, "rank {rank} of {size}: step {k} differs");
+            }
+        }
+    }
+
+    let alone = run(&scene, None);
+    assert_eq!(alone.len(), one.len());
+    let dofs = 3 * scene.build_model().unwrap().num_nodes();
+    let f = |bits: &[u64]| bits.iter().map(|&b| f64::from_bits(b)).collect::<Vec<_>>();
+    let (mut v_diff, mut v_max, mut alpha_diff) = (0f64, 0f64, 0f64);
+    for (a, b) in one.iter().zip(&alone) {
+        let (a, b) = (f(a), f(b));
+        assert_eq!(a[..2], b[..2], "time and step size");
+        for (x, y) in a[2..2 + dofs].iter().zip(&b[2..2 + dofs]) {
+            v_diff = v_diff.max((x - y).abs());
+            v_max = v_max.max(y.abs());
+        }
+        for (x, y) in a[2 + dofs..].iter().zip(&b[2 + dofs..]) {
+            alpha_diff = alpha_diff.max((x - y).abs() / y.abs().max(1.0));
+        }
+    }
+    eprintln!(
+        "one rank against one process: velocities {v_diff:.3e} (largest {v_max:.3e} m/s), \
+         states {alpha_diff:.3e}"
+    );
+    assert!(
+        v_max > 0.0 && v_diff > 0.0,
+        "another iteration, other round-off"
+    );
+    assert!(v_diff <= 1e-6 * v_max, "{v_diff:e} against {v_max:e}");
+    assert!(alpha_diff <= 1e-9, "{alpha_diff:e}");
+}
+
+/// A wrong owner vector is an error of the simulation's set-up, not a panic: one rank too
+/// few or too many entries, a rank the transport does not have.
+#[test]
+fn a_wrong_owner_vector_is_refused() {
+    let scene = scene();
+    let model = scene.build_model().unwrap();
+    let n = model.num_nodes();
+    for (owner, what) in [
+        (vec![0; n - 1], "one entry too few"),
+        (vec![0; n + 1], "one entry too many"),
+        (vec![1; n], "rank 1 of a one-rank group"),
+    ] {
+        let groups = Groups::new(1);
+        let options = SolverOptions {
+            ranks: Some(TnnmgOnRanks::new(owner, groups.factory(0))),
+            ..scene.slider.solver_options()
+        };
+        let built = scene
+            .simulation_builder_with_model(model.clone())
+            .unwrap()
+            .solver_options(options)
+            .build();
+        let err = built.err().unwrap_or_else(|| panic!("{what}: accepted"));
+        assert!(matches!(err, rsf::Error::Solver(_)), "{what}: {err}");
+        eprintln!("{what}: {err}");
+    }
+}

@@ -1,0 +1,529 @@
+//! The program `slider_3d` (the example `slider_3d`; on MPI ranks the `rsf-mpi` crate's
+//! binary `slider_3d`, [`main_on_ranks`]): the paper's slider extruded to three dimensions
+//! (issue 12; docs/math.md §10): a
+//! 5 m × 1 m × W block of tetrahedra, sheared at its top face with the ramped velocity
+//! `(V_D g(t), 0, 0)`, sliding on its rate-and-state frictional bottom face (bilateral
+//! contact, slip in the x–z plane). The lateral faces z = 0, W are traction-free, or held
+//! at `u_z = 0` with `--plane-strain` (then the run reproduces the 2-D main job).
+//!
+//! ```sh
+//! cargo run --release --example slider_3d                          # j = 2, W = 1 m, free faces
+//! cargo run --release --example slider_3d -- --level 3 --plane-strain --solver tnnmg
+//! cargo run --release --example slider_3d -- --scene my_3d_scene.toml --steps 2e3
+//! ```
+//!
+//! `--scene` reads a TOML file with the fields of `rsf_scenes::Slider3dScene` (those of
+//! `rsf_scenes::SliderScene` plus `width_m` and `lateral`); the other flags override it.
+//!
+//! Writes to `out/slider_3d/` (or `--out DIR`): `timeseries.csv` (a `rsf::observe::PointSeries` at
+//! x0 = (2.5, 0, W/2): the 2-D main job's columns, then the y and z components),
+//! `frames/frame_NNNNNN.vtu` + `frames/frames.pvd` (tetrahedra, displacement and velocity;
+//! on Γ_F slip, slip rate, state, shear and normal traction; every `--frame-every` steps,
+//! default 100, for ParaView), `fault_snapshot.csv` (x, z, slip rate on Γ_F at the step of
+//! the largest slip rate, or at `--snapshot-time`) and its figure `fault_slip_rate.png`. A
+//! run whose series and frames are estimated above `--max-output-gb` (default 10) is
+//! refused before any file is written.
+//!
+//! Resumable (docs/reliability.md): `--checkpoint-every N` writes `checkpoint.bin` every N
+//! steps, `--resume out/slider_3d/checkpoint.bin` continues the run in its folder (the
+//! checkpoint, the scene's fingerprint and the time series are checked before any file is
+//! cut; `timeseries.csv` and the frames end byte-identical to an uninterrupted run's; the
+//! fault snapshot is of the resumed part only), `--max-steps N` stops after step N with a
+//! checkpoint, `--allow-change FIELD` accepts a deliberate change, `--overwrite` replaces
+//! the files of an earlier run (another program's folder is refused without it).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use crate::cli::step_count;
+use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::ranks::Processes;
+use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
+use clap::Parser;
+use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
+use rsf::run_folder::{check_output_size, read_checkpoint};
+use rsf::run_folder::{step_cap_error, until, RunFolder};
+use rsf::{Flow, Model, Observer, StepView};
+use rsf_scenes::steps_bound;
+use rsf_scenes::{LateralBoundary, Slider3dScene};
+
+/// VTU frames every this many steps unless `--frame-every` says otherwise.
+const DEFAULT_FRAME_EVERY: usize = 100;
+/// Bytes of a 3-D time series row (13 columns; 160 bytes measured at level 1; rounded up).
+const SERIES_ROW_BYTES_3D: f64 = 250.0;
+/// The files a run writes into its folder.
+const OUTPUTS: [&str; 5] = [
+    "timeseries.csv",
+    "checkpoint.bin",
+    "fault_snapshot.csv",
+    "fault_slip_rate.png",
+    "frames/frames.pvd",
+];
+
+/// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Number of time steps N (τ = T/N; `1e4` accepted).
+    #[arg(long, value_parser = step_count)]
+    steps: Option<usize>,
+    /// Width W of the block in z (m).
+    #[arg(long, value_name = "W")]
+    width: Option<f64>,
+    /// `u_z = 0` on both lateral faces (plane strain) instead of traction-free faces.
+    #[arg(long)]
+    plane_strain: bool,
+    /// VTU frames (this example's default: every 100 steps).
+    #[command(flatten)]
+    frames: FrameArgs,
+    /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
+    #[arg(long, value_name = "T")]
+    snapshot_time: Option<f64>,
+    /// Output folder.
+    #[arg(long, default_value = "out/slider_3d")]
+    out: PathBuf,
+    /// `--overwrite`, `--allow-change`, `--max-output-gb` (time series rows and VTU
+    /// frames), `--max-steps`.
+    #[command(flatten)]
+    folder: FolderArgs,
+    /// Write `checkpoint.bin` every N steps (0: never).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    checkpoint_every: usize,
+    /// Continue from this checkpoint, appending to the files in the output folder (the
+    /// checkpoint, the folder's time series and the scene are checked to belong together
+    /// first).
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
+    /// Threads of every parallel part of a step (`rsf::method::SolverOptions::parallelism`: the
+    /// direct solver's sweeps and its dense Newton factorisations of at least
+    /// `rsf::direct::DENSE_PARALLEL_MIN` unknowns, the right-hand side rows; docs/scaling.md):
+    /// a count, `0` or `pool` for rayon's pool, `seq` for one; default every core of the
+    /// machine. The output does not depend on it. (`--dense-threads` is an old name of
+    /// this flag.)
+    #[arg(long, default_value_t = rsf::Parallelism::default(), alias = "dense-threads", value_name = "N")]
+    threads: rsf::Parallelism,
+    /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
+    /// `rsf::tnnmg::SmootherOrder`): `red-black-chunks` (the 3-D scene's default: the
+    /// nonlinear sweeps and the linear multigrid's fine level on `--threads`),
+    /// `multicolour` (the nonlinear sweeps on `--threads`) or `lexicographic` (sequential,
+    /// the 3-D trajectories before 2026-11-26); both parallel orders are bit-identical for
+    /// every thread count, with other round-off than lexicographic.
+    #[arg(long, value_name = "ORDER")]
+    smoother: Option<rsf::tnnmg::SmootherOrder>,
+    /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
+    /// fit, else TNNMG; docs/scaling.md). Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
+    #[arg(long)]
+    memory_budget_gib: Option<f64>,
+    /// `--max-memory-gb` (nodes estimated before anything is allocated; 35 kB per node,
+    /// measured at level 4), `--max-output-gb` (time series rows and VTU frames).
+    #[command(flatten)]
+    limits: Limits,
+    /// Solve every fixed point iteration's velocity problem to the solver's tolerance (the
+    /// paper's rule) instead of the scene's (3-D default: `by-solver`, inexact solves for
+    /// TNNMG; docs/scaling.md).
+    #[arg(long)]
+    exact_inner_solves: bool,
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "slider_3d";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let scene = scene(self)?;
+        let s = &scene.slider;
+        if let Some(t) = self.snapshot_time {
+            // A NaN or a time outside the run would give an empty (all-zero) snapshot.
+            if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
+                return Err(crate::guard::refuse(
+                    "--snapshot-time",
+                    crate::guard::number(t),
+                    &format!(
+                        "must be a finite time inside [0, T] = [0, {:e}] s",
+                        s.end_time_s
+                    ),
+                ));
+            }
+        }
+        if let Some(gib) = self.memory_budget_gib {
+            crate::memory_budget_bytes("--memory-budget-gib", gib)?;
+        }
+        // The model's size, and the output bound: a series row per step, a frame of every
+        // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps.
+        let (nodes, bytes) = scene.estimated_bytes();
+        let k = 2f64.powi(s.level.min(1000) as i32);
+        let cells = 6.0 * 5.0 * k * k * scene.width_m.round().max(1.0) * k;
+        let steps = steps_bound(s, (0.0, s.end_time_s))
+            .min(self.folder.max_steps.map_or(f64::INFINITY, |m| m as f64));
+        let frames = self.frames.bytes_bound(
+            DEFAULT_FRAME_EVERY,
+            steps,
+            nodes.min(1e18) as usize,
+            cells.min(1e18) as usize,
+        );
+        let what = format!(
+            "the 3-D slider at level {} and width {} m: about {nodes:.3e} nodes, {steps:.3e} steps",
+            s.level, scene.width_m
+        );
+        Ok(Plan::new()
+            .pool(self.threads.threads())
+            .memory(bytes, "--level, --width (or --scene)", what.clone())
+            .output(
+                steps * SERIES_ROW_BYTES_3D + frames,
+                "--steps, --frame-every, --max-steps",
+                what,
+            )
+            .folder(
+                Folder::new("--out", &self.out, &OUTPUTS)
+                    .overwrite(self.folder.overwrite)
+                    .resume(self.resume.is_some()),
+            ))
+    }
+}
+
+/// The program `slider_3d` in one process (the example `slider_3d`).
+pub fn main() -> ExitCode {
+    // With threads, the whole run on the pool (no hand-over per parallel region).
+    crate::guard::main(|cli, prepared| run(cli, prepared, None))
+}
+
+/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `slider_3d`;
+/// docs/scaling.md, "Phase 5"): every rank runs the same simulation, and every velocity
+/// problem is solved by TNNMG on the ranks
+/// ([`TnnmgOnRanks`](rsf::method::TnnmgOnRanks), the fine nodes partitioned by
+/// [`partition`]); rank 0 writes every file. The files are byte-identical at every rank
+/// count (the one-process reference is one rank: the solver on ranks has its own
+/// smoother order, so its files differ from the example's by round-off of the solver
+/// tolerance). The solver is TNNMG (`--solver auto` becomes `tnnmg`; another solver is
+/// refused). A checkpoint holds the whole replicated state, so a run resumes on any rank
+/// count.
+pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
+    crate::guard::main_on_ranks(processes, |cli, prepared, processes| {
+        run(cli, prepared, Some(processes))
+    })
+}
+
+/// The owner of every node of `model` among `ranks` ranks, the same on every rank:
+/// METIS's k-way partition of the stiffness matrix's node graph
+/// (`rsf_metis::part_graph_kway`, deterministic) where the build has METIS (the `rsf-mpi`
+/// crate's does), else slabs of equal width across the longest side of the model's
+/// bounding box (node `p` to rank `⌊ranks · (x_p − min)/(max − min)⌋` on that axis).
+/// Coarse nodes have the owner of the fine node with their number (nested hierarchies).
+///
+/// # Errors
+/// The node graph of an invalid stiffness matrix; METIS's errors other than its absence.
+pub fn partition(model: &Model<3>, ranks: usize) -> Result<Vec<usize>, AnyError> {
+    let (xadj, adjncy) = rsf::tnnmg::distributed::node_graph::<3>(model.stiffness.as_ref())?;
+    match rsf_metis::part_graph_kway(&xadj, &adjncy, ranks) {
+        Ok(owner) => return Ok(owner),
+        Err(rsf_metis::Error::FeatureDisabled(_)) => {}
+        Err(e) => return Err(e.into()),
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for x in &model.vertices {
+        for c in 0..3 {
+            lo[c] = lo[c].min(x[c]);
+            hi[c] = hi[c].max(x[c]);
+        }
+    }
+    let axis = (0..3)
+        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+        .unwrap_or(0);
+    let width = (hi[axis] - lo[axis]).max(f64::MIN_POSITIVE);
+    Ok(model
+        .vertices
+        .iter()
+        .map(|x| (((x[axis] - lo[axis]) / width * ranks as f64) as usize).min(ranks - 1))
+        .collect())
+}
+
+/// The scene from `--scene` (or the default) with the flags applied, validated.
+fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
+    let mut scene = match &cli.scene.scene {
+        Some(path) => Slider3dScene::read(path)?,
+        None => Slider3dScene::default(),
+    };
+    let flags = SceneArgs {
+        scene: None,
+        ..cli.scene.clone()
+    };
+    scene.slider = flags.scene(scene.slider)?;
+    if let Some(n) = cli.steps {
+        scene.slider.steps = n;
+    }
+    if let Some(w) = cli.width {
+        scene.width_m = w;
+    }
+    if cli.plane_strain {
+        scene.lateral = LateralBoundary::PlaneStrain;
+    }
+    if cli.exact_inner_solves {
+        scene.slider.fixed_point_inner_solves = rsf::method::InnerSolves::Exact;
+    }
+    if let Some(order) = cli.smoother {
+        scene.slider.tnnmg_smoother = order;
+    }
+    // A width from the flag is named as the flag (`width`), from the file as its key.
+    match cli.width {
+        Some(_) => crate::cli::for_flag("--width", "width_m", scene.validate())?,
+        None => scene.validate()?,
+    }
+    Ok(scene)
+}
+
+/// Slip rates `√(v_x² + v_z²)` on Γ_F (the fault normal is y) at one step.
+struct FaultSnapshot {
+    /// Take the first step at or after this time; `None`: the step of the largest slip rate.
+    at: Option<f64>,
+    time: f64,
+    peak: f64,
+    slip_rates: Vec<f64>,
+}
+
+impl FaultSnapshot {
+    fn new(at: Option<f64>, frictional_nodes: usize) -> Self {
+        Self {
+            at,
+            time: f64::NAN,
+            peak: f64::NEG_INFINITY,
+            slip_rates: vec![0.0; frictional_nodes],
+        }
+    }
+
+    /// Writes `fault_snapshot.csv` and `fault_slip_rate.png` into `out`.
+    fn write(
+        &self,
+        model: &Model<3>,
+        width: f64,
+        out: &Path,
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        let nodes = &model.frictional_boundary.nodes;
+        let mut csv =
+            std::io::BufWriter::new(std::fs::File::create(out.join("fault_snapshot.csv"))?);
+        writeln!(csv, "x_m,z_m,slip_rate_mps")?;
+        for (&p, v) in nodes.iter().zip(&self.slip_rates) {
+            let x = model.vertices[p];
+            writeln!(csv, "{},{},{v:e}", x[0], x[2])?;
+        }
+        csv.flush()?;
+        // Γ_F's nodes lie on a tensor grid of the (x, z) plane.
+        let grid = |c: usize| {
+            let mut v: Vec<f64> = nodes.iter().map(|&p| model.vertices[p][c]).collect();
+            v.sort_by(f64::total_cmp);
+            v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+            v
+        };
+        let (xs, zs) = (grid(0), grid(2));
+        let index = |axis: &[f64], v: f64| axis.partition_point(|&a| a < v - 1e-9);
+        let mut values = vec![vec![0.0; xs.len()]; zs.len()];
+        for (&p, &v) in nodes.iter().zip(&self.slip_rates) {
+            let x = model.vertices[p];
+            values[index(&zs, x[2])][index(&xs, x[0])] = v;
+        }
+        let axes = HeatMapAxes {
+            title: &format!("Slip rate on the fault plane y = 0, t = {:.4} s", self.time),
+            x_label: "x (m)",
+            y_label: "z (m)",
+            log10_range: (-12.0, -2.0),
+        };
+        let height = (200.0 + 800.0 * (width / 5.0).min(1.0)) as u32;
+        log_heat_map(
+            &out.join("fault_slip_rate.png"),
+            (1000, height),
+            &axes,
+            &FieldMap {
+                xs: &xs,
+                ys: &zs,
+                values: &values,
+            },
+        )
+    }
+}
+
+impl Observer<3> for FaultSnapshot {
+    fn observe(&mut self, s: &StepView<'_, 3>) -> rsf::Result<Flow> {
+        let take = match self.at {
+            Some(t) => self.time.is_nan() && s.report.time >= t,
+            None => s.report.max_slip_rate > self.peak,
+        };
+        if take {
+            self.time = s.report.time;
+            self.peak = s.report.max_slip_rate;
+            let v = &s.state.kinematics.v;
+            for (r, &p) in self
+                .slip_rates
+                .iter_mut()
+                .zip(&s.model.frictional_boundary.nodes)
+            {
+                *r = v[3 * p].hypot(v[3 * p + 2]);
+            }
+        }
+        Ok(Flow::Continue(()))
+    }
+}
+
+fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
+    let mut scene = scene(&cli)?;
+    let root = processes.is_none_or(|p| p.rank() == 0);
+    if processes.is_some() {
+        match scene.slider.solver {
+            rsf::SolverKind::Auto => scene.slider.solver = rsf::SolverKind::Tnnmg,
+            rsf::SolverKind::Tnnmg => {}
+            other => {
+                return Err(format!(
+                    "on MPI ranks the velocity problems are solved by TNNMG on the ranks: \
+                     --solver {other} is not shared (use --solver tnnmg or auto)"
+                )
+                .into())
+            }
+        }
+    }
+    let s = &scene.slider;
+    let out = cli.out.clone();
+    let folder = RunFolder::new(&out, "slider_3d", &OUTPUTS);
+    let println = |line: String| {
+        if root {
+            println!("{line}");
+        }
+    };
+    println(format!(
+        "slider_3d: level {}, W = {} m, {:?} lateral faces, N = {} (τ = {:.3e} s), {} law, {}, {} solver → {}",
+        s.level,
+        scene.width_m,
+        scene.lateral,
+        s.steps,
+        s.tau(),
+        s.state_law,
+        s.integrator,
+        s.solver,
+        out.display()
+    ));
+    let setup = std::time::Instant::now();
+    let mut options = scene.slider.solver_options();
+    options.parallelism = cli.threads;
+    if let Some(gib) = cli.memory_budget_gib {
+        options.memory_budget_bytes = crate::memory_budget_bytes("--memory-budget-gib", gib)?;
+    }
+    let model = scene.build_model()?;
+    if let Some(p) = processes {
+        let owner = partition(&model, p.size())?;
+        options.ranks = Some(rsf::method::TnnmgOnRanks::new(owner, p.transports()));
+        if root {
+            eprintln!("{} MPI ranks share every velocity solve", p.size());
+        }
+    }
+    let mut sim = scene
+        .simulation_builder_with_model(model)?
+        .solver_options(options)
+        .build()?;
+    let model = sim.model();
+    let x0 = model.nearest_node(&scene.centre())?;
+    let series_csv = out.join("timeseries.csv");
+    // The output bound, before any file: a series row per step, a frame of every vertex
+    // and cell every --frame-every steps.
+    let steps = steps_bound(s, (0.0, s.end_time_s));
+    let frames_bytes = cli.frames.bytes_bound(
+        DEFAULT_FRAME_EVERY,
+        steps,
+        model.num_nodes(),
+        model.cells.len() / 4,
+    );
+    check_output_size(
+        steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
+            + frames_bytes,
+        cli.limits.max_output_gb,
+        "steps",
+    )?;
+    let frame_every = cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY);
+    // What changes the files besides the scene: the frame spacing.
+    let fingerprint = scene.fingerprint().with("frame_every", frame_every);
+    // Everything is checked before any file is touched: folder (the guard), checkpoint,
+    // rows.
+    let fresh = prepared.mode();
+    let resumed = match &cli.resume {
+        Some(path) => {
+            let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
+            // Rank 0 checks the files it continues; every rank restores the whole state.
+            if root {
+                PointSeries::<3>::check_resume(&series_csv, c.state.step)?;
+                PointSeries::<3>::check_checkpoint_row(&series_csv, &c, x0)?;
+            }
+            Some(c)
+        }
+        None => None,
+    };
+    if let Some(c) = &resumed {
+        sim.restore(c)?;
+    }
+    let wall_time_before = resumed.as_ref().map_or(0.0, |c| c.wall_time_s);
+    let mode = match &resumed {
+        None => fresh,
+        Some(c) => FileMode::Resume { step: c.state.step },
+    };
+    let end = until(s.end_time_s, cli.folder.max_steps);
+    if !root {
+        // The same steps as rank 0, no files (no observer here ends a run; rank 0 reports
+        // a step cap).
+        sim.run_until(end, &mut [])?;
+        return Ok(());
+    }
+    let model = sim.model();
+    // Frames first: a missing index on resume is refused before the series is continued.
+    let mut frames = cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?;
+    let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
+    let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
+    let mut progress = Progress::steps(s.steps, "slider 3-D");
+    let checkpoint_path = folder.path("checkpoint.bin");
+    let checkpoint = Checkpointer::new(&checkpoint_path)
+        .fingerprint(fingerprint)
+        .wall_time_before(wall_time_before);
+    // Every `--checkpoint-every` steps, and where a step cap stops the run (also a cap at
+    // or below the state's step, `--max-steps 0`, which computes no step).
+    let mut checkpointer = Every::new(Interval::steps_or_never(cli.checkpoint_every), checkpoint)?;
+    println(format!(
+        "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
+        model.num_dofs(),
+        model.frictional_boundary.nodes.len(),
+        sim.method().solver_name(),
+        setup.elapsed().as_secs_f64()
+    ));
+    // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
+    let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot];
+    if let Some(f) = frames.as_mut() {
+        observers.push(f);
+    }
+    observers.push(&mut checkpointer);
+    observers.push(&mut progress);
+    let summary = sim.run_until(end, &mut observers)?;
+    drop(observers);
+    if let Some(e) = step_cap_error(&summary, end, sim.state(), &checkpoint_path) {
+        return Err(e.into());
+    }
+    snapshot.write(sim.model(), scene.width_m, &out)?;
+
+    let rows = PointSeries::<3>::read(&series_csv)?;
+    let steps = rows.len().max(1) as f64;
+    let fpi = rows.iter().map(|r| r.fixed_point_iterations).sum::<usize>() as f64 / steps;
+    let its = rows.iter().map(|r| r.solver_iterations).sum::<usize>() as f64 / steps;
+    let first_event = rows.iter().find(|r| r.max_slip_rate > 1e-3).map(|r| r.time);
+    println!(
+        "{} steps in {:.2} s ({:.3} s per step) on {}",
+        summary.steps,
+        summary.seconds,
+        summary.seconds / summary.steps.max(1) as f64,
+        crate::machine()
+    );
+    println!(
+        "per step: fixed point iterations {fpi:.2}, solver iterations {its:.2}; first slip event (max V > 1e-3 m/s): {}; snapshot at t = {:.4} s (max V {:.3e} m/s)",
+        first_event.map_or("none".into(), |t| format!("{t:.4} s")),
+        snapshot.time,
+        snapshot.peak
+    );
+    Ok(())
+}
