@@ -200,3 +200,31 @@ fn a_wrong_owner_vector_is_refused() {
         eprintln!("{what}: {err}");
     }
 }
+
+/// Adaptive steps on ranks: the step size changes, so each rank builds a solver per step
+/// size used (Newmark's matrix depends on τ), in the same order on every rank, each taking
+/// the next group of the factory. The 3-D slider at level 1 with adaptive steps (tolerance
+/// 1e-3, from τ = 0.25 s) for 48 steps on 1 and 2 thread ranks: every rank's trajectory has
+/// the bits of the one-rank run, and the run used more than one step size (so more than one
+/// group was handed out).
+#[test]
+fn adaptive_steps_have_the_same_bits_on_1_and_2_ranks() {
+    let scene = Slider3dScene::from_toml(
+        "level = 1\nsteps = 48\nend_time_s = 12.0\nsolver = \"tnnmg\"\n\
+         [time_step]\nkind = \"adaptive\"\ntolerance = 1e-3\n",
+    )
+    .unwrap();
+    let one = on_ranks(&scene, 1).pop().unwrap();
+    assert_eq!(one.len(), STEPS);
+    let mut taus: Vec<u64> = one.iter().map(|row| row[1]).collect();
+    taus.sort_unstable();
+    taus.dedup();
+    assert!(taus.len() > 1, "one step size only: {taus:?}");
+    for (rank, trajectory) in on_ranks(&scene, 2).iter().enumerate() {
+        assert_eq!(trajectory.len(), one.len(), "rank {rank}: steps");
+        for (k, (a, b)) in trajectory.iter().zip(&one).enumerate() {
+            assert!(a == b, "rank {rank} of 2: step {k} differs");
+        }
+    }
+    eprintln!("adaptive on ranks: {} step sizes", taus.len());
+}
