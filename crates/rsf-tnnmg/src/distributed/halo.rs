@@ -42,6 +42,17 @@ impl HaloCounters {
     }
 }
 
+/// `sweeps/exchanges/messages/values`, the form the programs' rank lines print.
+impl std::fmt::Display for HaloCounters {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}/{}/{}/{}",
+            self.sweeps, self.exchanges, self.messages, self.values
+        )
+    }
+}
+
 impl std::ops::Add for HaloCounters {
     type Output = Self;
 

@@ -319,31 +319,38 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     // One write of the whole line (the ranks share standard error: no interleaving).
     let line = format!(
         "rank {rank} of {size}: owned={} ghosts={} neighbours={neighbours} blocks={blocks} \
-         plan_per_sweep={}/{}/{}/{} counted={}/{}/{}/{} set_up={set_up_s:.3} s \
+         plan_per_sweep={plan} counted={counted} set_up={set_up_s:.3} s \
          resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB\n",
         rows.owned(),
         rows.ghosts(),
-        plan.sweeps,
-        plan.exchanges,
-        plan.messages,
-        plan.values,
-        counted.sweeps,
-        counted.exchanges,
-        counted.messages,
-        counted.values,
     );
-    std::io::stderr()
-        .write_all(line.as_bytes())
-        .map_err(|e| e.to_string())?;
+    write_line(&line)?;
     if ranks.is_root() {
         report(f, part.dofs, part.colours, size, &mut times);
     }
-    if let Some(global) = gather(&halo, part.sweep.rows(), &x) {
-        if let Some(out) = &f.out {
-            write_values(out, &global)?;
-        }
+    write_gathered(f, &halo, part.sweep.rows(), &x)
+}
+
+/// Writes one rank's `line` to standard error in one write (the ranks share it: no
+/// interleaving).
+fn write_line(line: &str) -> Result<(), String> {
+    std::io::stderr()
+        .write_all(line.as_bytes())
+        .map_err(|e| e.to_string())
+}
+
+/// Gathers the ranks' owned values of `x` on rank 0 ([`gather`]) and writes them to
+/// `--out` there (if given).
+fn write_gathered(
+    f: &Flags,
+    halo: &MpiExchange,
+    rows: &LocalRows<D>,
+    x: &[f64],
+) -> Result<(), String> {
+    match (gather(halo, rows, x), &f.out) {
+        (Some(global), Some(out)) => write_values(out, &global),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 fn main() -> ExitCode {

@@ -15,7 +15,6 @@
 //! runs the same solve on N threads as ranks (`ThreadExchange`, METIS's partition into N)
 //! and writes thread rank 0's solution: the reference the MPI runs must reproduce.
 
-use std::io::Write;
 use std::time::Instant;
 
 use mpi::collective::CommunicatorCollectives;
@@ -29,7 +28,7 @@ use rsf_tnnmg::distributed::{
 };
 use rsf_tnnmg::LinearCorrection;
 
-use super::{median, memory_mb, metis_owner, write_values, Flags, D};
+use super::{median, memory_mb, metis_owner, write_line, write_values, Flags, D};
 
 /// The box of `f` and its friction on the top face.
 fn problem(f: &Flags) -> Result<(ElasticBox, BlockTresca<D>), String> {
@@ -185,9 +184,7 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         triple(tnnmg.per_solution()),
         triple(counted.total()),
     );
-    std::io::stderr()
-        .write_all(line.as_bytes())
-        .map_err(|e| e.to_string())?;
+    write_line(&line)?;
     if ranks.is_root() {
         let m = median(&mut times);
         println!(

@@ -9,7 +9,6 @@
 //! last repetition; rank 0 the median and, with `--out`, the owned fine values gathered in
 //! global order.
 
-use std::io::Write;
 use std::time::Instant;
 
 use mpi::collective::CommunicatorCollectives;
@@ -19,7 +18,7 @@ use rsf_tnnmg::distributed::{
     ColouredVCycle, DistributedVCycle, HaloExchange, VCycleHierarchy, VCycleShape,
 };
 
-use super::{gather, median, memory_mb, metis_owner, write_values, Flags, D};
+use super::{median, memory_mb, metis_owner, write_gathered, write_line, write_values, Flags, D};
 
 /// One pre- and one post-smoothing sweep.
 const SHAPE: VCycleShape = VCycleShape { pre: 1, post: 1 };
@@ -138,32 +137,17 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     // One write of the whole line (the ranks share standard error: no interleaving).
     let line = format!(
         "rank {rank} of {size}: owned={} ghosts={} coarsest_owned={} \
-         plan_per_cycle={}/{}/{}/{} bytes_per_cycle={} counted={}/{}/{}/{} \
+         plan_per_cycle={plan} bytes_per_cycle={} counted={counted} \
          set_up={set_up_s:.3} s resident_after_set_up={rss:.1} MB \
          peak_after_set_up={peak:.1} MB\n",
         rows.owned(),
         rows.ghosts(),
         vc.coarsest_owned(),
-        plan.sweeps,
-        plan.exchanges,
-        plan.messages,
-        plan.values,
         plan.bytes(),
-        counted.sweeps,
-        counted.exchanges,
-        counted.messages,
-        counted.values,
     );
-    std::io::stderr()
-        .write_all(line.as_bytes())
-        .map_err(|e| e.to_string())?;
+    write_line(&line)?;
     if ranks.is_root() {
         report(f, dofs, &levels, size, &mut times);
     }
-    if let Some(global) = gather(&halo, vc.rows(), &x) {
-        if let Some(out) = &f.out {
-            write_values(out, &global)?;
-        }
-    }
-    Ok(())
+    write_gathered(f, &halo, vc.rows(), &x)
 }
