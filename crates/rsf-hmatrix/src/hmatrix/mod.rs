@@ -422,13 +422,7 @@ impl HMatrix {
         S: Send,
         F: Fn(PartRows<'_>, &mut S) + Sync,
     {
-        if x.len() != self.n {
-            return Err(Error::VectorLength {
-                name: "x",
-                len: x.len(),
-                expected: self.n,
-            });
-        }
+        self.check_x(x)?;
         self.whole()?;
         if states.len() != self.split.len() {
             return Err(Error::VectorLength {
@@ -437,18 +431,38 @@ impl HMatrix {
                 expected: self.split.len(),
             });
         }
-        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFiniteInput(i));
-        }
-        for (xp, &i) in self.xp.iter_mut().zip(&self.perm) {
-            *xp = x[i];
-        }
+        self.load_x(x)?;
         let ops = Operands {
             blocks: &self.blocks,
             segments: &self.segments,
             xp: &self.xp,
         };
         run_parts(0, self.split.parts_mut(), &mut self.zp, states, &ops, &f);
+        Ok(())
+    }
+
+    /// [`Error::VectorLength`] unless `x` has length [`dim`](Self::dim).
+    fn check_x(&self, x: &[f64]) -> Result<(), Error> {
+        if x.len() == self.n {
+            Ok(())
+        } else {
+            Err(Error::VectorLength {
+                name: "x",
+                len: x.len(),
+                expected: self.n,
+            })
+        }
+    }
+
+    /// `x` (checked by [`check_x`](Self::check_x)) in cluster order into the products'
+    /// operand; [`Error::NonFiniteInput`] for NaN or infinity in it (nothing loaded).
+    fn load_x(&mut self, x: &[f64]) -> Result<(), Error> {
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFiniteInput(i));
+        }
+        for (xp, &i) in self.xp.iter_mut().zip(&self.perm) {
+            *xp = x[i];
+        }
         Ok(())
     }
 
@@ -470,13 +484,7 @@ impl HMatrix {
         part: usize,
         f: impl FnOnce(PartRows<'_>) -> T,
     ) -> Result<T, Error> {
-        if x.len() != self.n {
-            return Err(Error::VectorLength {
-                name: "x",
-                len: x.len(),
-                expected: self.n,
-            });
-        }
+        self.check_x(x)?;
         if part >= self.split.len() {
             return Err(Error::VectorLength {
                 name: "part",
@@ -489,12 +497,7 @@ impl HMatrix {
                 return Err(Error::PartOnly { part: held, parts });
             }
         }
-        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFiniteInput(i));
-        }
-        for (xp, &i) in self.xp.iter_mut().zip(&self.perm) {
-            *xp = x[i];
-        }
+        self.load_x(x)?;
         let ops = Operands {
             blocks: &self.blocks,
             segments: &self.segments,
