@@ -81,14 +81,18 @@ fn four(s: &str) -> [u64; 4] {
     v.try_into().unwrap()
 }
 
+/// Rank `r`'s line (`rank r of n: owned=…`) of a run's standard error.
+fn rank_line(err: &str, r: usize, n: usize) -> &str {
+    err.lines()
+        .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
+        .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"))
+}
+
 /// The `rank r of n:` lines, by rank.
 fn rank_lines(err: &str, n: usize) -> Vec<RankLine> {
     (0..n)
         .map(|r| {
-            let line = err
-                .lines()
-                .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
-                .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"));
+            let line = rank_line(err, r, n);
             RankLine {
                 owned: field(line, "owned").parse().unwrap(),
                 ghosts: field(line, "ghosts").parse().unwrap(),
@@ -152,10 +156,7 @@ fn distributed_sweeps_on_1_2_and_4_mpi_ranks_have_the_one_process_bits() {
 fn vcycle_lines(err: &str, n: usize) -> Vec<(u64, u64, [u64; 4], [u64; 4])> {
     (0..n)
         .map(|r| {
-            let line = err
-                .lines()
-                .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
-                .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"));
+            let line = rank_line(err, r, n);
             (
                 field(line, "owned").parse().unwrap(),
                 field(line, "coarsest_owned").parse().unwrap(),
@@ -279,10 +280,7 @@ fn tnnmg_on_mpi_ranks(cg: bool) {
         let (values, err) = run_program(n, args, &file(&format!("tnnmg_ranks_{n}_{cg}.bin")));
         solutions.push((format!("{n} MPI ranks"), values));
         for r in 0..n {
-            let line = err
-                .lines()
-                .find(|l| l.starts_with(&format!("rank {r} of {n}: owned=")))
-                .unwrap_or_else(|| panic!("no line of rank {r} of {n}:\n{err}"));
+            let line = rank_line(&err, r, n);
             let it: u64 = field(line, "iterations").parse().unwrap();
             iterations.push(it);
             let (plan, solution) = (three(line, "per_iteration"), three(line, "solution"));
