@@ -106,6 +106,16 @@ pub trait NonsmoothSolver<const D: usize> {
         nonlinearity: &N,
         v: &mut [f64],
     ) -> std::result::Result<SolveReport, Self::Error>;
+
+    /// The solver's own energy norm `√(xᵀ E x)` of the vector `x` (length
+    /// [`dim`](Self::dim)), if it holds the matrix `E` of its stopping norm; `None` (the
+    /// default) if it does not. A solver whose matrices are split among ranks holds only
+    /// its rows of `E`: then every rank calls this with the same `x` (collective), and
+    /// every rank gets the same bits. [`FullStep::with_norm_from_solver`](crate::FullStep::with_norm_from_solver)
+    /// measures its steps' changes with it instead of a copy of `E` of its own.
+    fn energy_norm_of(&mut self, _x: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 /// Checks the inputs of a solve of `n` unknowns: the lengths of the right-hand side `b`

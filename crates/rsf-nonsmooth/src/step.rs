@@ -111,6 +111,9 @@ pub struct FullStep<const D: usize, S: NonsmoothSolver<D>> {
     /// A solve of one iteration takes its change from the solver's report
     /// ([`with_correction_from_solver`](FullStep::with_correction_from_solver)).
     correction_from_solver: bool,
+    /// The change of a solve is measured in the solver's own norm
+    /// ([`with_norm_from_solver`](FullStep::with_norm_from_solver)).
+    norm_from_solver: bool,
 }
 
 impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
@@ -150,6 +153,7 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
             parallelism: Parallelism::SEQ,
             sum_scratch: Vec::new(),
             correction_from_solver: false,
+            norm_from_solver: false,
         })
     }
 
@@ -165,6 +169,18 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
     /// tolerances. Solves of several iterations are measured as without it. Default off.
     pub fn with_correction_from_solver(mut self) -> Self {
         self.correction_from_solver = true;
+        self
+    }
+
+    /// Measures [`last_change`](StepSolver::last_change) with the wrapped solver's own norm
+    /// ([`NonsmoothSolver::energy_norm_of`]) where a solve's report does not give it, so
+    /// that this wrapper holds no copy of the norm's matrix: for a solver whose matrices
+    /// are split among ranks (each rank holds its rows of `E`; then the measurement is
+    /// collective, and every rank calls the solves alike). Build the wrapper with
+    /// `energy_norm = None`; a solver that measures no norm of its own leaves the
+    /// Euclidean norm. Default off.
+    pub fn with_norm_from_solver(mut self) -> Self {
+        self.norm_from_solver = true;
         self
     }
 
@@ -229,12 +245,18 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
         for (d, x) in self.v_before.iter_mut().zip(&self.v) {
             *d = x - *d;
         }
-        self.change = match &self.norm {
-            Some(e) => e
+        let own = if self.norm_from_solver {
+            self.solver.energy_norm_of(&self.v_before)
+        } else {
+            None
+        };
+        self.change = match (own, &self.norm) {
+            (Some(norm), _) => norm,
+            (None, Some(e)) => e
                 .quadratic_form_par(&self.v_before, self.parallelism, &mut self.sum_scratch)
                 .max(0.0)
                 .sqrt(),
-            None => self.v_before.iter().map(|x| x * x).sum::<f64>().sqrt(),
+            (None, None) => self.v_before.iter().map(|x| x * x).sum::<f64>().sqrt(),
         };
         Ok(report)
     }

@@ -270,6 +270,8 @@ pub struct LoadOperator {
     paired: Vec<bool>,
     /// Threads of [`apply`](Self::apply).
     par: Parallelism,
+    /// The rows evaluated ([`for_rows`](Self::for_rows)); `None`: all.
+    rows_kept: Option<Vec<bool>>,
 }
 
 impl LoadOperator {
@@ -279,6 +281,37 @@ impl LoadOperator {
     /// # Errors
     /// [`Error::DimensionMismatch`] for non-square or mismatched shapes or `n ≥ 2³²`.
     pub fn new(mass: Option<&SparseMatrix>, stiffness: &SparseMatrix) -> Result<Self> {
+        Self::build(mass, stiffness, None)
+    }
+
+    /// The operator of [`new`](Self::new) holding only the rows `i` with `keep[i]` (length
+    /// `n`): what one rank of a job whose ranks share the rows keeps (its owned rows: the
+    /// memory of its share). [`apply`](Self::apply) computes those rows with the bits of
+    /// the whole operator's (each row's sums are the same) and writes NaN into the others,
+    /// which the caller fills from their owners (an all-gather).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); [`Error::DimensionMismatch`] if `keep` is not `n` long.
+    pub fn for_rows(
+        mass: Option<&SparseMatrix>,
+        stiffness: &SparseMatrix,
+        keep: &[bool],
+    ) -> Result<Self> {
+        if keep.len() != stiffness.nrows() {
+            return Err(Error::DimensionMismatch {
+                what: "rows kept",
+                expected: stiffness.nrows(),
+                got: keep.len(),
+            });
+        }
+        Self::build(mass, stiffness, Some(keep))
+    }
+
+    fn build(
+        mass: Option<&SparseMatrix>,
+        stiffness: &SparseMatrix,
+        keep: Option<&[bool]>,
+    ) -> Result<Self> {
         let n = stiffness.nrows();
         let square = |m: &SparseMatrix| m.nrows() == n && m.ncols() == n;
         if !square(stiffness) || mass.is_some_and(|m| !square(m)) || n >= u32::MAX as usize {
@@ -288,13 +321,23 @@ impl LoadOperator {
                 got: mass.map_or(stiffness.ncols(), |m| m.ncols()),
             });
         }
+        let kept = |j: usize| keep.is_none_or(|k| k[j]);
+        // Row j of the symmetric operator is column j.
+        let nnz: usize = (0..n)
+            .filter(|&j| kept(j))
+            .map(|j| stiffness.row_idx_of_col_raw(j).len())
+            .sum();
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut rows = Vec::with_capacity(stiffness.compute_nnz());
-        let mut values: Vec<[f64; 2]> = Vec::with_capacity(stiffness.compute_nnz());
+        let mut rows = Vec::with_capacity(nnz);
+        let mut values: Vec<[f64; 2]> = Vec::with_capacity(nnz);
         col_ptr.push(0);
         let mut merged: Vec<(usize, f64, f64)> = Vec::new();
         for j in 0..n {
             merged.clear();
+            if !kept(j) {
+                col_ptr.push(rows.len());
+                continue;
+            }
             for (&i, &k) in stiffness
                 .row_idx_of_col_raw(j)
                 .iter()
@@ -324,7 +367,7 @@ impl LoadOperator {
         let mut paired = vec![false; n];
         let mut j = 0;
         while j + 1 < n {
-            if pattern(j) == pattern(j + 1) {
+            if kept(j) && kept(j + 1) && pattern(j) == pattern(j + 1) {
                 paired[j] = true;
                 j += 2;
             } else {
@@ -338,6 +381,7 @@ impl LoadOperator {
             values,
             paired,
             par: Parallelism::default(),
+            rows_kept: keep.map(<[bool]>::to_vec),
         })
     }
 
@@ -421,6 +465,17 @@ impl LoadOperator {
             Parallelism::SEQ
         };
         par.join(|| simd_rows(0, lo), || simd_rows(half, hi));
+        if let Some(keep) = &self.rows_kept {
+            for (o, _) in out.iter_mut().zip(keep).filter(|(_, &k)| !k) {
+                *o = f64::NAN;
+            }
+        }
+    }
+
+    /// The rows [`apply`](Self::apply) computes (`None`: all; see
+    /// [`for_rows`](Self::for_rows)).
+    pub fn rows_kept(&self) -> Option<&[bool]> {
+        self.rows_kept.as_deref()
     }
 }
 
@@ -645,6 +700,46 @@ mod tests {
         op.apply(&load, &wm, &wk, &mut a);
         single.apply(&load, &wm, &wk, &mut b);
         assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
+    }
+
+    /// An operator of some rows (a rank's share, [`LoadOperator::for_rows`]): its rows have
+    /// the whole operator's bits, the others are NaN; its storage holds only its rows'
+    /// entries, so that the shares of two complementary sets of rows hold the whole's; a
+    /// `keep` of the wrong length is refused.
+    #[test]
+    fn an_operator_of_some_rows_has_the_whole_operators_bits_on_them() {
+        let h = MeshHierarchy::refine_uniformly(pipping_slider_coarse(Diagonal::Forward), 2);
+        let mesh = h.finest();
+        let asm = Assembler::new(mesh).unwrap();
+        let mat = LinearElasticity::plane_strain(5e7, 0.3).unwrap();
+        let m = asm.mass(mesh, 5e3).unwrap();
+        let k = asm.stiffness(mesh, &mat).unwrap();
+        let n = k.nrows();
+        let whole = LoadOperator::new(Some(&m), &k).unwrap();
+        let wave = |s: f64| -> Vec<f64> { (0..n).map(|i| (s * i as f64).sin() * 1e-3).collect() };
+        let (load, wm, wk) = (wave(0.3), wave(1.7), wave(2.9));
+        let mut reference = vec![0.0; n];
+        whole.apply(&load, &wm, &wk, &mut reference);
+        // Nodes (pairs of rows) in a pattern unrelated to the numbering, and a lone row.
+        let keep: Vec<bool> = (0..n).map(|i| (i / 2) % 3 == 1 || i == 7).collect();
+        let other: Vec<bool> = keep.iter().map(|k| !k).collect();
+        let mut stored = 0;
+        for keep in [&keep, &other] {
+            let part = LoadOperator::for_rows(Some(&m), &k, keep).unwrap();
+            assert_eq!(part.rows_kept(), Some(keep.as_slice()));
+            stored += part.values.len();
+            let mut out = vec![0.0; n];
+            part.apply(&load, &wm, &wk, &mut out);
+            for i in 0..n {
+                if keep[i] {
+                    assert_eq!(out[i].to_bits(), reference[i].to_bits(), "row {i}");
+                } else {
+                    assert!(out[i].is_nan(), "row {i} is not the part's");
+                }
+            }
+        }
+        assert_eq!(stored, whole.values.len());
+        assert!(LoadOperator::for_rows(Some(&m), &k, &keep[1..]).is_err());
     }
 
     /// Above the threshold, every parallelism gives the bits of one thread (the two halves

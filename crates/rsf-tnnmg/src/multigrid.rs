@@ -265,11 +265,6 @@ impl<const D: usize> LinearMultigrid<D> {
         self.variable.get(l).map_or(&[], |v| &v[..])
     }
 
-    /// The Galerkin transfers, `galerkin()[l]` between levels `l + 1` and `l`.
-    pub fn galerkin(&self) -> &[Galerkin<D>] {
-        &self.galerkin
-    }
-
     /// Recomputes the coarse operators, the smoothers and the coarse factorisation after
     /// the fine matrix values or the fine mask changed.
     pub fn update(&mut self) -> Result<()> {

@@ -121,30 +121,6 @@ impl<const D: usize> VCycleHierarchy<D> {
         Ok(h)
     }
 
-    /// The hierarchy of a set-up multigrid (its levels' current matrices and masks, a
-    /// colouring of each level computed here) and its prolongations (`prolongations[l]`
-    /// maps level `l` to `l + 1`, as `mg` was built with): the replicated set-up of TNNMG on
-    /// ranks, whose Newton matrices change in values, never in pattern.
-    ///
-    /// # Errors
-    /// [`Error::InvalidMatrix`] if a prolongation cannot be copied;
-    /// [`Error::NotPositiveDefinite`] if the coarsest operator cannot be factorised.
-    pub(crate) fn from_multigrid(
-        mg: &LinearMultigrid<D>,
-        prolongations: &[SparseColMatRef<'_, usize, f64>],
-    ) -> Result<Self> {
-        let levels = (0..mg.num_levels())
-            .map(|l| Level::new(mg.level_matrix(l).clone(), mg.level_mask(l).to_vec()))
-            .collect();
-        let h = Self {
-            levels,
-            prolongations: owned_copies(prolongations)?,
-            galerkin: mg.galerkin().to_vec(),
-        };
-        h.coarse_solver()?;
-        Ok(h)
-    }
-
     /// Number of levels (≥ 2).
     pub fn num_levels(&self) -> usize {
         self.levels.len()
@@ -177,11 +153,107 @@ impl<const D: usize> VCycleHierarchy<D> {
     /// The coarsest level's solver, factorised (each rank makes its own: the same input,
     /// the same factor).
     pub(crate) fn coarse_solver(&self) -> Result<CoarseSolver> {
-        let coarsest = &self.levels[0];
-        let mut s = CoarseSolver::new(&coarsest.a)?;
-        s.factorize(&coarsest.a, &coarsest.fixed)?;
+        LevelSource::coarse_solver(self)
+    }
+}
+
+/// What a rank's V-cycle is built from ([`DistributedVCycle`](super::DistributedVCycle)):
+/// every level's matrix, masks and colouring (level 0 the coarsest), the prolongations
+/// (`prolongation(l)` maps level `l` to `l + 1`) and the coarsest level's factorisation.
+pub(crate) trait LevelSource<const D: usize> {
+    fn num_levels(&self) -> usize;
+    fn matrix(&self, l: usize) -> &BlockCsr<D>;
+    /// Masked dofs.
+    fn fixed(&self, l: usize) -> &[bool];
+    /// 1 on free dofs, 0 on masked ones.
+    fn free(&self, l: usize) -> &[f64];
+    fn colouring(&self, l: usize) -> &Colouring;
+    fn prolongation(&self, l: usize) -> SparseColMatRef<'_, usize, f64>;
+
+    /// The coarsest level's solver, factorised (each rank makes its own: the same input,
+    /// the same factor).
+    fn coarse_solver(&self) -> Result<CoarseSolver> {
+        let mut s = CoarseSolver::new(self.matrix(0))?;
+        s.factorize(self.matrix(0), self.fixed(0))?;
         Ok(s)
     }
+}
+
+impl<const D: usize> LevelSource<D> for VCycleHierarchy<D> {
+    fn num_levels(&self) -> usize {
+        self.levels.len()
+    }
+    fn matrix(&self, l: usize) -> &BlockCsr<D> {
+        &self.levels[l].a
+    }
+    fn fixed(&self, l: usize) -> &[bool] {
+        &self.levels[l].fixed
+    }
+    fn free(&self, l: usize) -> &[f64] {
+        &self.levels[l].free
+    }
+    fn colouring(&self, l: usize) -> &Colouring {
+        &self.levels[l].colouring
+    }
+    fn prolongation(&self, l: usize) -> SparseColMatRef<'_, usize, f64> {
+        self.prolongations[l].as_ref()
+    }
+}
+
+/// A set-up [`LinearMultigrid`]'s levels read in place (their current matrices and
+/// masks, a colouring of each level computed here) with the prolongations it was built
+/// from, without a copy of either: the set-up of TNNMG on ranks, which keeps the
+/// multigrid (its Newton matrices change in values, never in pattern).
+pub(crate) struct MultigridLevels<'a, const D: usize> {
+    mg: &'a LinearMultigrid<D>,
+    prolongations: &'a [SparseColMatRef<'a, usize, f64>],
+    free: Vec<Vec<f64>>,
+    colourings: Vec<Colouring>,
+}
+
+impl<'a, const D: usize> MultigridLevels<'a, D> {
+    /// `mg`'s levels and `prolongations` (`prolongations[l]` maps level `l` to `l + 1`, as
+    /// `mg` was built with).
+    pub(crate) fn new(
+        mg: &'a LinearMultigrid<D>,
+        prolongations: &'a [SparseColMatRef<'a, usize, f64>],
+    ) -> Self {
+        let levels = 0..mg.num_levels();
+        Self {
+            free: levels.clone().map(|l| free_of(mg.level_mask(l))).collect(),
+            colourings: levels
+                .map(|l| Colouring::of_blocks(mg.level_matrix(l)))
+                .collect(),
+            mg,
+            prolongations,
+        }
+    }
+}
+
+impl<const D: usize> LevelSource<D> for MultigridLevels<'_, D> {
+    fn num_levels(&self) -> usize {
+        self.mg.num_levels()
+    }
+    fn matrix(&self, l: usize) -> &BlockCsr<D> {
+        self.mg.level_matrix(l)
+    }
+    fn fixed(&self, l: usize) -> &[bool] {
+        self.mg.level_mask(l)
+    }
+    fn free(&self, l: usize) -> &[f64] {
+        &self.free[l]
+    }
+    fn colouring(&self, l: usize) -> &Colouring {
+        &self.colourings[l]
+    }
+    fn prolongation(&self, l: usize) -> SparseColMatRef<'_, usize, f64> {
+        self.prolongations[l]
+    }
+}
+
+/// 1 on free dofs, 0 on masked ones.
+fn free_of(fixed: &[bool]) -> Vec<f64> {
+    fixed.iter().map(|&f| if f { 0.0 } else { 1.0 }).collect()
 }
 
 /// Owned copies of the prolongations.
@@ -202,7 +274,7 @@ fn owned_copies(
 
 impl<const D: usize> Level<D> {
     fn new(a: BlockCsr<D>, fixed: Vec<bool>) -> Self {
-        let free = fixed.iter().map(|&f| if f { 0.0 } else { 1.0 }).collect();
+        let free = free_of(&fixed);
         let colouring = Colouring::of_blocks(&a);
         Self {
             a,

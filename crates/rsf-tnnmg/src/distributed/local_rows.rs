@@ -50,7 +50,69 @@ impl<const D: usize> LocalRows<D> {
 
     /// [`new`](Self::new) of a block matrix.
     pub(crate) fn of_blocks(a: &BlockCsr<D>, owner: &[usize], rank: usize) -> Result<Self> {
-        let nodes = a.nodes();
+        Self::build(a.nodes(), owner, rank, |p, row| {
+            row.extend(a.neighbours(p).map(|(q, blk)| (q, *blk)));
+            a.diag[p]
+        })
+    }
+
+    /// [`new`](Self::new) without a copy of the whole matrix: only the owned nodes'
+    /// columns of `a` are read, each column as the row of a symmetric matrix (as
+    /// [`BlockCsr::from_csc`] reads them, with the same blocks), so `a`'s symmetry is the
+    /// caller's to ensure (it is not checked). What a rank keeps of a matrix it needs only
+    /// its rows of (the energy norm's).
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `a` is not `D · owner.len()` square.
+    pub(crate) fn of_columns(
+        a: SparseColMatRef<'_, usize, f64>,
+        owner: &[usize],
+        rank: usize,
+    ) -> Result<Self> {
+        let nodes = owner.len();
+        if a.nrows() != D * nodes || a.ncols() != D * nodes {
+            return Err(Error::DimensionMismatch {
+                what: "matrix (D rows per node of the owners)",
+                expected: D * nodes,
+                got: a.nrows(),
+            });
+        }
+        // slot[q] = (the call that placed A_pq, its position in the row); a row is read
+        // twice (`build`), each call its own stamp.
+        let (mut slot, mut call) = (vec![(usize::MAX, 0); nodes], 0);
+        Self::build(nodes, owner, rank, |p, row| {
+            call += 1;
+            let mut diag = [[0.0; D]; D];
+            for c in 0..D {
+                for (i, &v) in a.row_idx_of_col(D * p + c).zip(a.val_of_col(D * p + c)) {
+                    let (q, cc) = (i / D, i % D);
+                    let blk = if q == p {
+                        &mut diag
+                    } else {
+                        if slot[q].0 != call {
+                            slot[q] = (call, row.len());
+                            row.push((q, [[0.0; D]; D]));
+                        }
+                        &mut row[slot[q].1].1
+                    };
+                    blk[c][cc] = v;
+                }
+            }
+            row.sort_unstable_by_key(|(q, _)| *q);
+            diag
+        })
+    }
+
+    /// The rows of rank `rank` among `nodes` nodes owned by `owner`: `row(p, out)` appends
+    /// owned node `p`'s off-diagonal blocks `(q, A_pq)` in increasing `q` to the empty
+    /// `out` and returns `A_pp` (called twice per owned node: for the ghosts, then for the
+    /// values).
+    fn build(
+        nodes: usize,
+        owner: &[usize],
+        rank: usize,
+        mut row: impl FnMut(usize, &mut Vec<(usize, Block<D>)>) -> Block<D>,
+    ) -> Result<Self> {
         if owner.len() != nodes {
             return Err(Error::DimensionMismatch {
                 what: "owner (one rank per node)",
@@ -61,8 +123,13 @@ impl<const D: usize> LocalRows<D> {
         let mut global: Vec<usize> = (0..nodes).filter(|&p| owner[p] == rank).collect();
         let owned = global.len();
         let mut is_ghost = vec![false; nodes];
+        let mut blocks = 0;
+        let mut scratch = Vec::new();
         for &p in &global {
-            for (q, _) in a.neighbours(p) {
+            scratch.clear();
+            row(p, &mut scratch);
+            blocks += scratch.len();
+            for &(q, _) in &scratch {
                 is_ghost[q] = owner[q] != rank;
             }
         }
@@ -75,16 +142,19 @@ impl<const D: usize> LocalRows<D> {
         }
         let mut ptr = Vec::with_capacity(owned + 1);
         ptr.push(0);
-        let (mut col, mut val) = (Vec::new(), Vec::new());
+        // Sized exactly: no spare capacity kept, no copy while growing (the fine level's
+        // rows are most of a rank's memory).
+        let (mut col, mut val) = (Vec::with_capacity(blocks), Vec::with_capacity(blocks));
         let mut diag = Vec::with_capacity(owned);
         for &p in &global[..owned] {
-            // `neighbours` runs in increasing global column order.
-            for (q, blk) in a.neighbours(p) {
+            scratch.clear();
+            diag.push(row(p, &mut scratch));
+            // In increasing global column order.
+            for &(q, blk) in &scratch {
                 col.push(local_of[q]);
-                val.push(*blk);
+                val.push(blk);
             }
             ptr.push(col.len());
-            diag.push(a.diag[p]);
         }
         Ok(Self {
             rank,
@@ -253,4 +323,46 @@ pub fn node_graph<const D: usize>(
         xadj.push(adjncy.len());
     }
     Ok((xadj, adjncy))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{cube, owners};
+    use super::*;
+
+    const D: usize = 3;
+
+    /// A rank's rows read from the owned columns alone have the same local numbering,
+    /// ghosts, pattern and bits as those cut from the whole block matrix, at 1 to 4 ranks
+    /// and every tested partition; a matrix of the wrong size is refused.
+    #[test]
+    fn rows_from_the_owned_columns_are_the_rows_of_the_whole_matrix() {
+        let pb = cube(1);
+        let a = pb.a();
+        for size in 1..=4 {
+            for (name, owner) in owners(&pb, size) {
+                for rank in 0..size {
+                    let whole = LocalRows::<D>::new(a, &owner, rank).unwrap();
+                    let part = LocalRows::<D>::of_columns(a, &owner, rank).unwrap();
+                    let what = format!("{name}, rank {rank} of {size}");
+                    assert_eq!(part.global, whole.global, "{what}");
+                    assert_eq!(part.owned, whole.owned, "{what}");
+                    assert_eq!(part.ghost_owner, whole.ghost_owner, "{what}");
+                    assert_eq!(part.ptr, whole.ptr, "{what}");
+                    assert_eq!(part.col, whole.col, "{what}");
+                    let bits = |b: &[Block<D>]| -> Vec<u64> {
+                        b.iter().flatten().flatten().map(|x| x.to_bits()).collect()
+                    };
+                    assert_eq!(bits(&part.val), bits(&whole.val), "{what}");
+                    assert_eq!(bits(&part.diag), bits(&whole.diag), "{what}");
+                    assert_eq!(part.val.capacity(), part.val.len(), "{what}: exact size");
+                }
+            }
+        }
+        let n = pb.x0.len() / D;
+        assert!(matches!(
+            LocalRows::<D>::of_columns(a, &vec![0; n - 1], 0),
+            Err(Error::DimensionMismatch { .. })
+        ));
+    }
 }

@@ -30,6 +30,7 @@
 
 mod active;
 mod cg;
+mod gather;
 mod halo;
 mod hierarchy;
 mod linear;
@@ -53,6 +54,7 @@ mod transfer_tests;
 #[cfg(test)]
 mod vcycle_tests;
 
+pub use gather::NodeAllGather;
 pub use halo::HaloCounters;
 pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};

@@ -1,14 +1,14 @@
 //! TNNMG on ranks with distributed memory ([`DistributedTnnmg`]): its set-up, options,
 //! counters and the solver interface; one iteration is in `tnnmg_step`.
 
-use faer::sparse::SparseColMatRef;
+use faer::sparse::{SparseColMat, SparseColMatRef};
 use rsf_linalg::Csc;
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
 use super::active::ActiveGather;
 use super::cg::DistributedCg;
 use super::halo::{exchange_round, HaloCounters, Round};
-use super::hierarchy::VCycleHierarchy;
+use super::hierarchy::MultigridLevels;
 use super::local_rows::LocalRows;
 use super::reduce::ExactSums;
 use super::tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
@@ -161,6 +161,38 @@ impl<const D: usize> DistributedTnnmg<D> {
         owner: &[usize],
         halo: Box<dyn HaloExchange>,
     ) -> Result<Self> {
+        let problem = || NodalProblem::<D>::new(a, fixed);
+        Self::build(problem, prolongations, energy_norm, opts, owner, halo)
+    }
+
+    /// As [`new`](Self::new), taking the matrix `a`: it is freed as soon as its blocks are
+    /// made, not held through the rest of the set-up (the hierarchy's, whose peak is the
+    /// set-up's: a whole matrix less on every rank).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    #[expect(clippy::too_many_arguments, reason = "as new")]
+    pub fn new_owned(
+        a: SparseColMat<usize, f64>,
+        fixed: &[bool],
+        prolongations: &[SparseColMatRef<'_, usize, f64>],
+        energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
+        opts: DistributedTnnmgOptions,
+        owner: &[usize],
+        halo: Box<dyn HaloExchange>,
+    ) -> Result<Self> {
+        let problem = move || NodalProblem::<D>::new(a.as_ref(), fixed);
+        Self::build(problem, prolongations, energy_norm, opts, owner, halo)
+    }
+
+    fn build(
+        problem: impl FnOnce() -> Result<NodalProblem<D>>,
+        prolongations: &[SparseColMatRef<'_, usize, f64>],
+        energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
+        opts: DistributedTnnmgOptions,
+        owner: &[usize],
+        halo: Box<dyn HaloExchange>,
+    ) -> Result<Self> {
         opts.stopping.validate()?;
         if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
             return Err(Error::InvalidOption(
@@ -177,7 +209,8 @@ impl<const D: usize> DistributedTnnmg<D> {
                 "TNNMG on ranks needs at least one prolongation (a V-cycle)".into(),
             ));
         }
-        let m = NodalProblem::<D>::new(a, fixed)?;
+        // `a` (if owned) is dropped with the closure.
+        let m = problem()?;
         let (n, nodes) = (m.n(), m.a.nodes());
         if owner.len() != nodes {
             return Err(Error::DimensionMismatch {
@@ -198,13 +231,18 @@ impl<const D: usize> DistributedTnnmg<D> {
             post: opts.smoothing.post,
             gamma: 1,
         };
-        let mut mg = LinearMultigrid::new(m.a.clone(), ps, shape)?;
+        // The replicated hierarchy takes the fine matrix (no copy); the linearisation
+        // keeps its diagonal blocks.
+        let a_diag = m.a.diag.clone();
+        let mut mg = LinearMultigrid::new(m.a, ps, shape)?;
         mg.fine_mask_mut().copy_from_slice(&m.fixed);
         mg.update()?;
-        let vcycle = {
-            let h = VCycleHierarchy::from_multigrid(&mg, prolongations)?;
-            DistributedVCycle::new(&h, owner, opts.smoothing, &*halo)?
-        };
+        let vcycle = DistributedVCycle::of_levels(
+            &MultigridLevels::new(&mg, prolongations),
+            owner,
+            opts.smoothing,
+            &*halo,
+        )?;
         let rows = sweep.rows();
         debug_assert_eq!(rows.global_nodes(), vcycle.rows().global_nodes());
         let norm_rows = energy_norm
@@ -230,7 +268,7 @@ impl<const D: usize> DistributedTnnmg<D> {
             owner: owner.to_vec(),
             inverse,
             free,
-            a_diag: m.a.diag.clone(),
+            a_diag,
             fixed: m.fixed,
             norm_rows,
             mg,
@@ -419,7 +457,8 @@ fn norm_rows<const D: usize>(
             got: e.nrows(),
         });
     }
-    let e_rows = LocalRows::<D>::new(e, owner, rows.rank())?;
+    // Only the owned columns are read: no whole copy of `e` on any rank.
+    let e_rows = LocalRows::<D>::of_columns(e, owner, rows.rank())?;
     let mut local = vec![u32::MAX; owner.len()];
     for (q, &p) in rows.global_nodes().iter().enumerate() {
         local[p] = q as u32;
@@ -478,5 +517,23 @@ impl<const D: usize> NonsmoothSolver<D> for DistributedTnnmg<D> {
             record_energy: self.opts.record_energy,
         };
         iterate_to_tolerance(self, run, b, nl, v)
+    }
+
+    /// `√(xᵀ E x)` with the ranks' rows of `E` (the energy-norm matrix, or `A` without
+    /// one) and an exact sum: collective, every rank passes the same global `x` (length
+    /// `D n`) and gets the same bits at every rank count. Between solves (it uses the
+    /// correction's local vector as scratch).
+    ///
+    /// # Panics
+    /// If `x` is not `D n` long.
+    fn energy_norm_of(&mut self, x: &[f64]) -> Option<f64> {
+        assert_eq!(x.len(), self.n, "a global vector of the solver's length");
+        let mut local = std::mem::take(&mut self.c);
+        for (q, &p) in self.sweep.rows().global_nodes().iter().enumerate() {
+            local[D * q..D * q + D].copy_from_slice(&x[D * p..D * p + D]);
+        }
+        self.add_norm_terms(&local, 0);
+        self.c = local;
+        Some(self.norm_sums.reduce(&mut *self.halo)[0].max(0.0).sqrt())
     }
 }

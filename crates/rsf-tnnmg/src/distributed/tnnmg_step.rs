@@ -42,7 +42,7 @@ fn add_quadratic_terms<const D: usize>(
 impl<const D: usize> DistributedTnnmg<D> {
     /// Adds `xᵀ E x`'s owned terms (`E` the energy-norm matrix, or `A`) to sum `i` of the
     /// norms' reduction.
-    fn add_norm_terms(&mut self, x: &[f64], i: usize) {
+    pub(super) fn add_norm_terms(&mut self, x: &[f64], i: usize) {
         match &self.norm_rows {
             Some(e) => add_quadratic_terms(&e.rows, Some(&e.remap), x, &mut self.norm_sums, i),
             None => add_quadratic_terms(self.sweep.rows(), None, x, &mut self.norm_sums, i),

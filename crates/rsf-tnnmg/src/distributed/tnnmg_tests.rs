@@ -526,3 +526,105 @@ fn distributed_tnnmg_refuses_wrong_input() {
     let mut v = pb.x0.clone();
     assert!(s.solve(&pb.b[1..], &nl, &mut v).is_err());
 }
+
+/// The solver's own norm of a whole vector (what `FullStep::with_norm_from_solver`
+/// measures a step's change with, holding no copy of `E`): at 1 to 4 thread ranks every
+/// rank gets the bits of the one-rank value; it is the A-norm of an independent f64 sum
+/// up to round-off (1e-12 relative), and with `E = 4A` twice that.
+#[test]
+fn the_norm_of_a_whole_vector_has_the_same_bits_on_every_rank() {
+    use faer::sparse::{SparseColMat, Triplet};
+    let pb = cube(2);
+    let a = pb.a();
+    let mut t = Vec::new();
+    for j in 0..a.ncols() {
+        for (i, x) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            t.push(Triplet::new(i, j, 4.0 * x));
+        }
+    }
+    let e = SparseColMat::<usize, f64>::try_new_from_triplets(a.nrows(), a.ncols(), &t).unwrap();
+    // A vector with every dof nonzero and of mixed signs.
+    let x: Vec<f64> = (0..pb.x0.len())
+        .map(|i| ((i * 7919) % 101) as f64 / 50.0 - 1.0)
+        .collect();
+    let exact = a_norm(&pb, &x);
+    for (e, scale) in [(None, 1.0), (Some(e.as_ref()), 2.0)] {
+        let mut one_rank: Option<f64> = None;
+        for size in 1..=4 {
+            let owner = split_along(pb.bx.mesh(), size, 0);
+            let norms = on_thread_ranks(size, |halo| {
+                let ps = prolongations(&pb);
+                let mut s = DistributedTnnmg::<D>::new(
+                    a,
+                    &pb.bx.fixed,
+                    &ps,
+                    e,
+                    options(false),
+                    &owner,
+                    Box::new(halo),
+                )
+                .unwrap();
+                s.energy_norm_of(&x).unwrap()
+            });
+            let reference = *one_rank.get_or_insert(norms[0]);
+            for (r, norm) in norms.iter().enumerate() {
+                assert_eq!(norm.to_bits(), reference.to_bits(), "rank {r} of {size}");
+            }
+        }
+        let norm = one_rank.unwrap();
+        assert!(
+            (norm - scale * exact).abs() <= 1e-12 * scale * exact,
+            "{norm} against {}",
+            scale * exact
+        );
+    }
+}
+
+/// `FullStep::with_norm_from_solver` over TNNMG on ranks (no copy of `E` in the wrapper):
+/// for solves of several iterations the step's change is measured with the ranks' rows;
+/// at 1 to 3 thread ranks every rank has the one-rank change's bits, and it agrees with
+/// the change a wrapper holding the whole `A` measures (1e-12 relative).
+#[test]
+fn a_full_step_on_ranks_measures_its_change_with_the_solvers_norm() {
+    use rsf_nonsmooth::{FullStep, StepSolver};
+    let pb = cube(2);
+    let nl = friction(&pb, 1.0, 0.1);
+    let nodes = nl.active_blocks().to_vec();
+    let solve = |owner: &[usize], size: usize, own_norm: bool| {
+        on_thread_ranks(size, |halo| {
+            let ps = prolongations(&pb);
+            let s = DistributedTnnmg::<D>::new(
+                pb.a(),
+                &pb.bx.fixed,
+                &ps,
+                None,
+                options(false),
+                owner,
+                Box::new(halo),
+            )
+            .unwrap();
+            let mut step = if own_norm {
+                FullStep::new(s, None).unwrap().with_norm_from_solver()
+            } else {
+                FullStep::new(s, Some(pb.a())).unwrap()
+            };
+            step.begin_step(&pb.b, &pb.x0, &nodes).unwrap();
+            let report = step.solve_step(&nl, options(false).stopping).unwrap();
+            assert!(report.iterations > 1, "a solve of several iterations");
+            step.last_change()
+        })
+    };
+    let nodes_count = pb.x0.len() / D;
+    let whole = solve(&vec![0; nodes_count], 1, false)[0];
+    let reference = solve(&vec![0; nodes_count], 1, true)[0];
+    assert!(
+        (reference - whole).abs() <= 1e-12 * whole,
+        "{reference} against {whole}"
+    );
+    for size in 2..=3 {
+        let owner = split_along(pb.bx.mesh(), size, 0);
+        for (r, change) in solve(&owner, size, true).iter().enumerate() {
+            assert_eq!(change.to_bits(), reference.to_bits(), "rank {r} of {size}");
+        }
+    }
+}

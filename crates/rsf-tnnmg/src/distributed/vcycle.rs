@@ -3,7 +3,7 @@
 //! on every rank and solved there redundantly.
 
 use super::halo::{exchange_round, HaloCounters, Round};
-use super::hierarchy::{Level, VCycleHierarchy, VCycleShape};
+use super::hierarchy::{LevelSource, VCycleHierarchy, VCycleShape};
 use super::local_rows::LocalRows;
 use super::transport::HaloExchange;
 use super::{BlockGaussSeidel, DistributedSweep, DistributedTransfer};
@@ -99,9 +99,20 @@ impl<const D: usize> DistributedVCycle<D> {
         shape: VCycleShape,
         halo: &H,
     ) -> Result<Self> {
+        Self::of_levels(h, owner, shape, halo)
+    }
+
+    /// As [`new`](Self::new), from any source of the levels (a [`VCycleHierarchy`], or a
+    /// replicated multigrid read in place: [`MultigridLevels`]).
+    pub(crate) fn of_levels<H: HaloExchange + ?Sized>(
+        h: &impl LevelSource<D>,
+        owner: &[usize],
+        shape: VCycleShape,
+        halo: &H,
+    ) -> Result<Self> {
         let (rank, size) = (halo.rank(), halo.size());
         let nl = h.num_levels();
-        let fine_nodes = h.nodes(nl - 1);
+        let fine_nodes = h.matrix(nl - 1).nodes();
         if owner.len() != fine_nodes {
             return Err(Error::DimensionMismatch {
                 what: "owner (one rank per fine node)",
@@ -111,9 +122,8 @@ impl<const D: usize> DistributedVCycle<D> {
         }
         let mut levels = Vec::with_capacity(nl - 1);
         for l in 1..nl {
-            let level: &Level<D> = &h.levels[l];
-            let own = &owner[..level.a.nodes()];
-            let sweep = DistributedSweep::of_blocks(&level.a, own, &level.colouring, halo)?;
+            let own = &owner[..h.matrix(l).nodes()];
+            let sweep = DistributedSweep::of_blocks(h.matrix(l), own, h.colouring(l), halo)?;
             let rows = sweep.rows();
             let local = |v: &[f64]| {
                 let mut out = vec![0.0; D * rows.len()];
@@ -121,10 +131,10 @@ impl<const D: usize> DistributedVCycle<D> {
                 out
             };
             let mut fixed = vec![false; D * rows.len()];
-            rows.gather(&level.fixed, &mut fixed);
-            let free = local(&level.free);
+            rows.gather(h.fixed(l), &mut fixed);
+            let free = local(h.free(l));
             let gs = BlockGaussSeidel::new(rows, &vec![0.0; D * rows.owned()], &fixed)?;
-            let transfer = DistributedTransfer::new(h.prolongations[l - 1].as_ref(), own, halo)?;
+            let transfer = DistributedTransfer::new(h.prolongation(l - 1), own, halo)?;
             let x = if l + 1 < nl {
                 vec![0.0; D * rows.len()]
             } else {
@@ -139,7 +149,7 @@ impl<const D: usize> DistributedVCycle<D> {
                 transfer,
             });
         }
-        let n0 = h.nodes(0);
+        let n0 = h.matrix(0).nodes();
         let own0 = &owner[..n0];
         let owned: Vec<usize> = (0..n0).filter(|&i| own0[i] == rank).collect();
         let gather = Round::all_gather(own0, rank, size, D, true);
@@ -148,7 +158,7 @@ impl<const D: usize> DistributedVCycle<D> {
             x: vec![0.0; D * owned.len()],
             owned,
             global: vec![0.0; D * n0],
-            free: h.levels[0].free.clone(),
+            free: h.free(0).to_vec(),
             send: vec![0.0; D * gather.send_nodes.len()],
             recv: vec![0.0; D * gather.recv_nodes.len()],
             gather,

@@ -23,6 +23,7 @@ pub use state_integrator::StateIntegrator;
 use rsf_fem::{combine, SparseMatrix};
 use rsf_nonsmooth::{StepSolver, Stopping};
 use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
+use rsf_tnnmg::distributed::NodeAllGather;
 
 use crate::error::{invalid, Result};
 use crate::model::Model;
@@ -64,6 +65,9 @@ pub struct Method<const D: usize, I, const C: usize = D> {
     /// Solvers of earlier time steps, most recently used last.
     solver_cache: Vec<(f64, VelocitySolver<C>)>,
     load_operator: LoadOperator,
+    /// On ranks (TNNMG on ranks, [`SolverOptions::ranks`]): the all-gather that completes
+    /// the right-hand side, of which this rank's operator computes its owned nodes' rows.
+    load_gather: Option<NodeAllGather<C>>,
     /// With one set-up for every τ (no inertia, see
     /// [`SolverOptions::setup_per_time_step`](crate::method::SolverOptions)): the radiation
     /// damping `q_k = η w_k` of each frictional node, moved from the matrix into the
@@ -87,14 +91,36 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         tau: f64,
         eta: &[f64],
     ) -> Result<Self> {
-        let load_operator = LoadOperator::new(
-            model
-                .mass
-                .as_ref()
-                .filter(|_| options.integrator.uses_mass()),
-            &model.stiffness,
-        )?
-        .with_parallelism(options.solver_options.parallelism);
+        let mass = model
+            .mass
+            .as_ref()
+            .filter(|_| options.integrator.uses_mass());
+        // On ranks each rank keeps its owned nodes' rows of the right-hand side's operator
+        // (its share of the memory) and gathers the others' rows.
+        let (load_operator, load_gather) = match &options.solver_options.ranks {
+            Some(ranks) if options.solver.resolve(model) == SolverKind::Tnnmg => {
+                if ranks.owner.len() != model.num_nodes() {
+                    return Err(rsf_tnnmg::Error::DimensionMismatch {
+                        what: "owner (one rank per node)",
+                        expected: model.num_nodes(),
+                        got: ranks.owner.len(),
+                    }
+                    .into());
+                }
+                let gather = NodeAllGather::<C>::new(&ranks.owner, (ranks.transport)())
+                    .map_err(crate::Error::from)?;
+                let rank = gather.rank();
+                let keep: Vec<bool> = (0..C * ranks.owner.len())
+                    .map(|i| ranks.owner[i / C] == rank)
+                    .collect();
+                (
+                    LoadOperator::for_rows(mass, &model.stiffness, &keep)?,
+                    Some(gather),
+                )
+            }
+            _ => (LoadOperator::new(mass, &model.stiffness)?, None),
+        };
+        let load_operator = load_operator.with_parallelism(options.solver_options.parallelism);
         let inner_stopping = options.solver_options.stopping(options.solver);
         let tau_free = (!options.integrator.uses_mass()
             && !options.solver_options.setup_per_time_step)
@@ -116,7 +142,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         let resolved = options
             .solver
             .resolve_within(model, &a, &options.solver_options)?;
-        let solver = VelocitySolver::new(resolved, &options.solver_options, &a, model)?;
+        let solver = VelocitySolver::new(resolved, &options.solver_options, a, model)?;
         Ok(Self {
             options,
             resolved,
@@ -124,6 +150,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             solver,
             solver_cache: Vec::new(),
             load_operator,
+            load_gather,
             tau_free,
             eta: eta.to_vec(),
         })
@@ -204,8 +231,20 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         (&mut self.solver, scaling)
     }
 
-    pub(crate) fn load_operator(&self) -> &LoadOperator {
-        &self.load_operator
+    /// `out = load + M w_mass − K w_stiffness` (length `n`): on ranks each rank computes
+    /// its owned rows and one all-gather completes `out` (the same bits as one process's
+    /// operator on every row).
+    pub(crate) fn apply_load(
+        &mut self,
+        load: &[f64],
+        w_mass: &[f64],
+        w_stiffness: &[f64],
+        out: &mut [f64],
+    ) {
+        self.load_operator.apply(load, w_mass, w_stiffness, out);
+        if let Some(gather) = &mut self.load_gather {
+            gather.gather(out);
+        }
     }
 
     /// Replaces the solver for `old_tau` by one for `tau` (s): from the cache if `tau` was
@@ -232,7 +271,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             None => self.solver.for_matrix(
                 self.resolved,
                 &self.options.solver_options,
-                &time_step_matrix(model, &self.options.integrator, tau, &self.eta)?,
+                time_step_matrix(model, &self.options.integrator, tau, &self.eta)?,
                 model,
             )?,
         };

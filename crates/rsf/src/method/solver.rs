@@ -199,14 +199,19 @@ pub struct SolverOptions {
     pub parallelism: Parallelism,
     /// TNNMG's solves shared by the ranks of a job ([`TnnmgOnRanks`]; docs/scaling.md,
     /// "Phase 5"): when set and the solver is TNNMG, every velocity problem is solved by
-    /// [`DistributedTnnmg`] (each rank its owned nodes' rows, the solution all-gathered),
-    /// while everything else of a step (the integrator, the fixed point iteration, the
-    /// state) stays replicated on every rank. Default `None` (one process).
+    /// [`DistributedTnnmg`] (each rank its owned nodes' rows, the solution all-gathered;
+    /// the step's change measured with the ranks' rows of the energy norm), and each rank
+    /// keeps and evaluates its owned nodes' rows of the integrator's right-hand side (one
+    /// all-gather per step), while everything else of a step (the integrator's update, the
+    /// fixed point iteration, the state) stays replicated on every rank. Default `None`
+    /// (one process).
     pub ranks: Option<TnnmgOnRanks>,
 }
 
-/// The transport of one solver on ranks: called once per built solver (every rank builds
-/// its solvers in the same order, one per time-step size used), it returns this rank's
+/// The transport of one solver on ranks: called once per built method (the all-gather
+/// of the integrator's right-hand side, before its first solver) and once per built
+/// solver (every rank builds its methods and solvers in the same order, one solver per
+/// time-step size used), it returns this rank's
 /// end of a fresh group of the job's ranks ([`HaloExchange`]: e.g. a duplicated MPI
 /// communicator, or the next group of thread ranks).
 pub type TransportFactory = Arc<dyn Fn() -> Box<dyn HaloExchange> + Send + Sync>;
@@ -233,7 +238,7 @@ pub struct TnnmgOnRanks {
     /// transport's rank count); the coarse levels' node `p` has the same owner (nested
     /// hierarchies number the coarse nodes first). The same on every rank.
     pub owner: Arc<[usize]>,
-    /// This rank's transports, one per built solver.
+    /// This rank's transports, one per built method and one per built solver.
     pub transport: TransportFactory,
 }
 
@@ -355,7 +360,7 @@ impl<const C: usize> VelocitySolver<C> {
     pub fn new<const D: usize>(
         kind: SolverKind,
         options: &SolverOptions,
-        a: &SparseMatrix,
+        a: SparseMatrix,
         model: &Model<D, C>,
     ) -> crate::Result<Self> {
         let e = model.energy_norm.as_ref();
@@ -366,8 +371,9 @@ impl<const C: usize> VelocitySolver<C> {
                 let ps: Vec<_> = model.prolongations.iter().map(|p| p.as_ref()).collect();
                 VelocitySolver::TnnmgOnRanks(Box::new(
                     FullStep::new(
-                        DistributedTnnmg::new(
-                            a.as_ref(),
+                        // Given `a`: freed once blocked, before the hierarchy's set-up.
+                        DistributedTnnmg::new_owned(
+                            a,
                             &model.fixed,
                             &ps,
                             Some(e),
@@ -375,9 +381,11 @@ impl<const C: usize> VelocitySolver<C> {
                             &ranks.owner,
                             (ranks.transport)(),
                         )?,
-                        Some(e),
+                        // No whole copy of `e`: the changes are measured with the ranks'
+                        // rows of it.
+                        None,
                     )?
-                    .with_parallelism(options.parallelism)
+                    .with_norm_from_solver()
                     // Its corrections are measured in `e` too.
                     .with_correction_from_solver(),
                 ))
@@ -430,7 +438,7 @@ impl<const C: usize> VelocitySolver<C> {
         &self,
         kind: SolverKind,
         options: &SolverOptions,
-        a: &SparseMatrix,
+        a: SparseMatrix,
         model: &Model<D, C>,
     ) -> crate::Result<Self> {
         match self {

@@ -96,9 +96,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             &mut work.w_mass,
             &mut work.w_stiffness,
         )?;
-        method
-            .load_operator()
-            .apply(&model.load, &work.w_mass, &work.w_stiffness, &mut work.rhs);
+        method.apply_load(&model.load, &work.w_mass, &work.w_stiffness, &mut work.rhs);
         if let Some(absorbing) = &model.absorbing {
             // The dashpots act on v − v_far: the far field's force g(t_n) C w.
             if !absorbing.far_field_force.is_empty() {

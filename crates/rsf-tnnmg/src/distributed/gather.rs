@@ -1,0 +1,137 @@
+//! The all-gather of a whole vector among the ranks that own its nodes
+//! ([`NodeAllGather`]).
+
+use super::halo::{exchange_round, HaloCounters, Round};
+use super::transport::HaloExchange;
+use crate::error::{Error, Result};
+
+/// The all-gather of a global vector of `D` values per node whose node `p` is computed by
+/// rank `owner[p]`: after [`gather`](Self::gather) every rank holds every node's values as
+/// their owner computed them (pure data movement: the same bits on every rank). What a
+/// run whose ranks share the rows of an operator needs to keep its vectors whole and
+/// replicated (e.g. the integrator's right-hand side on ranks, each rank computing its
+/// owned rows). A collective object: every rank calls `gather` the same number of times.
+pub struct NodeAllGather<const D: usize> {
+    halo: Box<dyn HaloExchange>,
+    round: Round,
+    send: Vec<f64>,
+    recv: Vec<f64>,
+    counters: HaloCounters,
+}
+
+impl<const D: usize> std::fmt::Debug for NodeAllGather<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NodeAllGather")
+            .field("rank", &self.halo.rank())
+            .field("size", &self.halo.size())
+            .field("counters", &self.counters)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const D: usize> NodeAllGather<D> {
+    /// The gather of rank `halo.rank()` for the owners `owner` (one rank per node, the
+    /// same on every rank); it keeps `halo` for its gathers.
+    ///
+    /// # Errors
+    /// [`Error::InvalidPartition`] if an owner is not a rank of `halo`.
+    pub fn new(owner: &[usize], halo: Box<dyn HaloExchange>) -> Result<Self> {
+        let size = halo.size();
+        if let Some(p) = owner.iter().position(|&r| r >= size) {
+            return Err(Error::InvalidPartition(format!(
+                "node {p} is owned by rank {} of {size}",
+                owner[p]
+            )));
+        }
+        let round = Round::all_gather(owner, halo.rank(), size, D, false);
+        Ok(Self {
+            send: vec![0.0; D * round.send_nodes.len()],
+            recv: vec![0.0; D * round.recv_nodes.len()],
+            round,
+            halo,
+            counters: HaloCounters::default(),
+        })
+    }
+
+    /// Fills every node of `x` (`D` values per node, node-major, the owners' length) that
+    /// this rank does not own with its owner's values; the owned nodes are sent as they
+    /// are. Collective. Allocates nothing.
+    ///
+    /// # Panics
+    /// If `x` is not `D` values per node of the owner vector (an internal invariant of
+    /// the caller), or as the transport's [`HaloExchange::exchange`].
+    pub fn gather(&mut self, x: &mut [f64]) {
+        exchange_round::<D, _>(
+            &self.round,
+            x,
+            &mut *self.halo,
+            &mut self.send,
+            &mut self.recv,
+            &mut self.counters,
+        );
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.halo.rank()
+    }
+
+    /// What the gathers so far sent from this rank.
+    pub fn counters(&self) -> HaloCounters {
+        self.counters
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::distributed::ThreadExchange;
+
+    /// At 1 to 4 thread ranks with interleaved owners (and a rank owning nothing), every
+    /// rank ends with the whole vector, each node's values those its owner held; a wrong
+    /// owner is refused.
+    #[test]
+    fn every_rank_gets_every_owners_values() {
+        let nodes = 11;
+        for size in 1..=4 {
+            // Interleaved; the last rank owns nothing when there are several.
+            let owner: Vec<usize> = (0..nodes).map(|p| (7 * p) % (size - 1).max(1)).collect();
+            let got: Vec<Vec<f64>> = std::thread::scope(|s| {
+                let handles: Vec<_> = ThreadExchange::group(size)
+                    .into_iter()
+                    .map(|halo| {
+                        let owner = &owner;
+                        s.spawn(move || {
+                            let rank = halo.rank();
+                            let mut g = NodeAllGather::<2>::new(owner, Box::new(halo)).unwrap();
+                            // Owned values: the node and the rank; the rest garbage.
+                            let mut x: Vec<f64> = (0..2 * nodes)
+                                .map(|i| {
+                                    if owner[i / 2] == rank {
+                                        (i * 10 + rank) as f64
+                                    } else {
+                                        f64::NAN
+                                    }
+                                })
+                                .collect();
+                            g.gather(&mut x);
+                            x
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            let want: Vec<f64> = (0..2 * nodes)
+                .map(|i| (i * 10 + owner[i / 2]) as f64)
+                .collect();
+            for (r, x) in got.iter().enumerate() {
+                assert_eq!(x, &want, "rank {r} of {size}");
+            }
+        }
+        let halo = ThreadExchange::group(2).pop().unwrap();
+        assert!(matches!(
+            NodeAllGather::<2>::new(&[0, 2], Box::new(halo)),
+            Err(Error::InvalidPartition(_))
+        ));
+    }
+}
