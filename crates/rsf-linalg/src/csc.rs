@@ -34,8 +34,11 @@ impl Csc {
     pub fn from_faer(m: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
         let (nrows, ncols) = (m.nrows(), m.ncols());
         let mut col_ptr = Vec::with_capacity(ncols + 1);
-        let mut row_idx = Vec::new();
-        let mut val = Vec::new();
+        // At most the stored entries (duplicates merge): no growth by doubling, which held
+        // up to twice a large matrix's memory and copied it while growing.
+        let nnz = m.compute_nnz();
+        let mut row_idx = Vec::with_capacity(nnz);
+        let mut val = Vec::with_capacity(nnz);
         col_ptr.push(0);
         let mut entries: Vec<(usize, f64)> = Vec::new();
         for j in 0..ncols {

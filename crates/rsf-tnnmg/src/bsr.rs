@@ -127,6 +127,8 @@ impl<const D: usize> BlockCsr<D> {
             nodes = p + 1;
         }
         for t in [&mut lower, &mut upper] {
+            // No spare capacity kept from the growth.
+            t.col.shrink_to_fit();
             t.val = vec![[[0.0; D]; D]; t.col.len()];
         }
         Ok(Self {
