@@ -678,15 +678,23 @@ mod tests {
     use super::{LoadOperator, Parallelism, LOAD_PARALLEL_MIN_ROWS};
     use rsf_fem::{pipping_slider_coarse, Assembler, Diagonal, LinearElasticity, MeshHierarchy};
 
-    /// The rows of a node evaluated as a pair give the bits of the rows evaluated one by one.
-    #[test]
-    fn paired_rows_have_the_bits_of_single_rows() {
-        let h = MeshHierarchy::refine_uniformly(pipping_slider_coarse(Diagonal::Forward), 1);
+    /// `M` and `K` of the Pipping slider's mesh refined `refinements` times (plane strain).
+    fn slider_matrices(refinements: usize) -> (rsf_fem::SparseMatrix, rsf_fem::SparseMatrix) {
+        let h =
+            MeshHierarchy::refine_uniformly(pipping_slider_coarse(Diagonal::Forward), refinements);
         let mesh = h.finest();
         let asm = Assembler::new(mesh).unwrap();
         let mat = LinearElasticity::plane_strain(5e7, 0.3).unwrap();
-        let m = asm.mass(mesh, 5e3).unwrap();
-        let k = asm.stiffness(mesh, &mat).unwrap();
+        (
+            asm.mass(mesh, 5e3).unwrap(),
+            asm.stiffness(mesh, &mat).unwrap(),
+        )
+    }
+
+    /// The rows of a node evaluated as a pair give the bits of the rows evaluated one by one.
+    #[test]
+    fn paired_rows_have_the_bits_of_single_rows() {
+        let (m, k) = slider_matrices(1);
         let n = k.nrows();
         let op = LoadOperator::new(Some(&m), &k).unwrap();
         assert!(op.paired.iter().filter(|&&p| p).count() == n / 2);
@@ -708,12 +716,7 @@ mod tests {
     /// `keep` of the wrong length is refused.
     #[test]
     fn an_operator_of_some_rows_has_the_whole_operators_bits_on_them() {
-        let h = MeshHierarchy::refine_uniformly(pipping_slider_coarse(Diagonal::Forward), 2);
-        let mesh = h.finest();
-        let asm = Assembler::new(mesh).unwrap();
-        let mat = LinearElasticity::plane_strain(5e7, 0.3).unwrap();
-        let m = asm.mass(mesh, 5e3).unwrap();
-        let k = asm.stiffness(mesh, &mat).unwrap();
+        let (m, k) = slider_matrices(2);
         let n = k.nrows();
         let whole = LoadOperator::new(Some(&m), &k).unwrap();
         let wave = |s: f64| -> Vec<f64> { (0..n).map(|i| (s * i as f64).sin() * 1e-3).collect() };
@@ -746,12 +749,7 @@ mod tests {
     /// of the rows split between nodes), with the global pool and with a pool of one thread.
     #[test]
     fn rows_are_bit_identical_for_every_thread_count() {
-        let h = MeshHierarchy::refine_uniformly(pipping_slider_coarse(Diagonal::Forward), 5);
-        let mesh = h.finest();
-        let asm = Assembler::new(mesh).unwrap();
-        let mat = LinearElasticity::plane_strain(5e7, 0.3).unwrap();
-        let m = asm.mass(mesh, 5e3).unwrap();
-        let k = asm.stiffness(mesh, &mat).unwrap();
+        let (m, k) = slider_matrices(5);
         let n = k.nrows();
         assert!(n >= LOAD_PARALLEL_MIN_ROWS, "{n} rows: below the threshold");
         let wave = |s: f64| -> Vec<f64> { (0..n).map(|i| (s * i as f64).sin() * 1e-3).collect() };

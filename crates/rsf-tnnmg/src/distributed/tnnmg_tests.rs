@@ -290,17 +290,11 @@ fn cg_on_ranks_has_the_same_bits() {
 /// 1 and 3 ranks; an energy-norm matrix of the wrong size is refused.
 #[test]
 fn an_energy_norm_matrix_is_used() {
-    use faer::sparse::{SparseColMat, Triplet};
+    use faer::sparse::SparseColMat;
     let pb = cube(2);
     let nl = friction(&pb, 1.0, 0.1);
     let a = pb.a();
-    let mut t = Vec::new();
-    for j in 0..a.ncols() {
-        for (i, x) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-            t.push(Triplet::new(i, j, 4.0 * x));
-        }
-    }
-    let e = SparseColMat::<usize, f64>::try_new_from_triplets(a.nrows(), a.ncols(), &t).unwrap();
+    let e = four_a(&pb);
     let nodes = pb.x0.len() / D;
     let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
     let mut opts = options(false);
@@ -414,6 +408,19 @@ fn energy(pb: &Problem, nl: &BlockTresca<D>, v: &[f64]) -> f64 {
         .map(|(k, &p)| nl.value(k, &[v[D * p], v[D * p + 1], v[D * p + 2]]))
         .sum();
     quad + phi
+}
+
+/// `E = 4A`: an energy-norm matrix whose norm is twice the A-norm.
+fn four_a(pb: &Problem) -> faer::sparse::SparseColMat<usize, f64> {
+    use faer::sparse::{SparseColMat, Triplet};
+    let a = pb.a();
+    let mut t = Vec::new();
+    for j in 0..a.ncols() {
+        for (i, x) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            t.push(Triplet::new(i, j, 4.0 * x));
+        }
+    }
+    SparseColMat::<usize, f64>::try_new_from_triplets(a.nrows(), a.ncols(), &t).unwrap()
 }
 
 /// The A-norm of `x`, summed in f64.
@@ -533,16 +540,9 @@ fn distributed_tnnmg_refuses_wrong_input() {
 /// up to round-off (1e-12 relative), and with `E = 4A` twice that.
 #[test]
 fn the_norm_of_a_whole_vector_has_the_same_bits_on_every_rank() {
-    use faer::sparse::{SparseColMat, Triplet};
     let pb = cube(2);
     let a = pb.a();
-    let mut t = Vec::new();
-    for j in 0..a.ncols() {
-        for (i, x) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-            t.push(Triplet::new(i, j, 4.0 * x));
-        }
-    }
-    let e = SparseColMat::<usize, f64>::try_new_from_triplets(a.nrows(), a.ncols(), &t).unwrap();
+    let e = four_a(&pb);
     // A vector with every dof nonzero and of mixed signs.
     let x: Vec<f64> = (0..pb.x0.len())
         .map(|i| ((i * 7919) % 101) as f64 / 50.0 - 1.0)
