@@ -98,7 +98,8 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         // On ranks each rank keeps its owned nodes' rows of the right-hand side's operator
         // (its share of the memory) and gathers the others' rows.
         let (load_operator, load_gather) = match &options.solver_options.ranks {
-            Some(ranks) if options.solver.resolve(model) == SolverKind::Tnnmg => {
+            // On ranks the solver is TNNMG's (or `resolve_within` below refuses).
+            Some(ranks) => {
                 if ranks.owner.len() != model.num_nodes() {
                     return Err(rsf_tnnmg::Error::DimensionMismatch {
                         what: "owner (one rank per node)",

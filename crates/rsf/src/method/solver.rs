@@ -78,17 +78,39 @@ impl SolverKind {
     /// solver for [`Auto`](Self::Auto), its memory estimate
     /// ([`rsf_direct::DirectMemory::estimate`]: ordering and symbolic factorisation, no
     /// numeric work) must fit in [`SolverOptions::memory_budget_bytes`]; otherwise TNNMG.
-    /// Explicit kinds are returned unchanged.
+    /// Explicit kinds are returned unchanged. On ranks ([`SolverOptions::ranks`]) the
+    /// velocity problems are TNNMG's: [`Auto`](Self::Auto) is TNNMG whatever the size.
     ///
     /// # Errors
     /// [`Error::MemoryBudget`](crate::Error::MemoryBudget) if the direct solver does not fit and the model has no
-    /// refinement hierarchy; errors of the estimate (invalid matrix).
+    /// refinement hierarchy; errors of the estimate (invalid matrix). On ranks,
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `ranks` for
+    /// another explicit kind (its solves are not shared) or a model without a refinement
+    /// hierarchy (TNNMG on ranks runs V-cycles).
     pub fn resolve_within<const D: usize, const C: usize>(
         self,
         model: &Model<D, C>,
         a: &SparseMatrix,
         options: &SolverOptions,
     ) -> crate::Result<SolverKind> {
+        if options.ranks.is_some() {
+            return match self {
+                SolverKind::Auto | SolverKind::Tnnmg if !model.prolongations.is_empty() => {
+                    Ok(SolverKind::Tnnmg)
+                }
+                SolverKind::Auto | SolverKind::Tnnmg => Err(crate::error::invalid(
+                    "ranks",
+                    "TNNMG on ranks runs V-cycles: the model has no refinement hierarchy",
+                )),
+                other => Err(crate::error::invalid(
+                    "ranks",
+                    format!(
+                        "on ranks the velocity problems are solved by TNNMG: the {other} \
+                         solver's solves are not shared (use tnnmg or auto)"
+                    ),
+                )),
+            };
+        }
         let by_count = self.resolve(model);
         if self != SolverKind::Auto || by_count != SolverKind::Direct {
             return Ok(by_count);
@@ -198,7 +220,8 @@ pub struct SolverOptions {
     /// before issue 59 a stated two).
     pub parallelism: Parallelism,
     /// TNNMG's solves shared by the ranks of a job ([`TnnmgOnRanks`]; docs/scaling.md,
-    /// "Phase 5"): when set and the solver is TNNMG, every velocity problem is solved by
+    /// "Phase 5"): when set, the solver is TNNMG (`auto` resolves to it whatever the size;
+    /// the direct solver and Gauss–Seidel are refused), and every velocity problem is solved by
     /// [`DistributedTnnmg`] (each rank its owned nodes' rows, the solution all-gathered;
     /// the step's change measured with the ranks' rows of the energy norm), and each rank
     /// keeps and evaluates its owned nodes' rows of the integrator's right-hand side (one

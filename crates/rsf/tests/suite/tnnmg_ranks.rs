@@ -201,6 +201,49 @@ fn a_wrong_owner_vector_is_refused() {
     }
 }
 
+/// On ranks the velocity solver is TNNMG's: `auto` (which picks the direct solver for
+/// this small model in one process) becomes TNNMG on the ranks; the direct solver and
+/// Gauss–Seidel, whose solves are not shared, are refused with an error naming `ranks`.
+#[test]
+fn on_ranks_auto_is_tnnmg_and_unshared_solvers_are_refused() {
+    let scene = scene();
+    let model = scene.build_model().unwrap();
+    let build = |kind: SolverKind| {
+        let mut scene = scene.clone();
+        scene.slider.solver = kind;
+        let options = SolverOptions {
+            ranks: Some(TnnmgOnRanks::new(
+                slabs(&model, 1),
+                Groups::new(1).factory(0),
+            )),
+            ..scene.slider.solver_options()
+        };
+        scene
+            .simulation_builder_with_model(model.clone())
+            .unwrap()
+            .solver_options(options)
+            .build()
+    };
+    let mut auto_scene = scene.clone();
+    auto_scene.slider.solver = SolverKind::Auto;
+    let one_process = auto_scene
+        .simulation_builder_with_model(model.clone())
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(one_process.method().solver_kind(), SolverKind::Direct);
+    let auto = build(SolverKind::Auto).unwrap();
+    assert_eq!(auto.method().solver_name(), "tnnmg-ranks");
+    for kind in [SolverKind::Direct, SolverKind::GaussSeidel] {
+        match build(kind).err() {
+            Some(rsf::Error::InvalidParameter { name, reason }) => {
+                assert_eq!(name, "ranks", "{kind}: {reason}");
+            }
+            other => panic!("{kind}: {other:?}"),
+        }
+    }
+}
+
 /// Adaptive steps on ranks: the step size changes, so each rank builds a solver per step
 /// size used (Newmark's matrix depends on τ), in the same order on every rank, each taking
 /// the next group of the factory. The 3-D slider at level 1 with adaptive steps (tolerance
