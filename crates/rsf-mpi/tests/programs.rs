@@ -6,7 +6,8 @@
 //! on rank 0 ends every rank at once. The program `slider_3d` (TNNMG's velocity solves on
 //! the ranks) writes the same bytes on 1, 2 and 4 ranks, also stopped and resumed, but for
 //! its frames, which on more than one rank are parallel pieces that join to the one-rank
-//! frames bit for bit; an unwritable piece on rank 1 ends every rank.
+//! frames bit for bit (also resumed on more and on fewer ranks); an unwritable piece on
+//! rank 1 ends every rank.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -710,4 +711,50 @@ fn an_unwritable_frame_piece_on_rank_1_ends_every_rank() {
     assert!(t.elapsed() < Duration::from_secs(60), "{:?}", t.elapsed());
     assert!(!dir.join("frames/frame_000012.pvtu").exists());
     assert!(dir.join("frames/frame_000012_r0000.vtu").exists());
+}
+
+/// The 3-D slider ([`slider_args`]) stopped at step 20 on 4 ranks (the checkpoint kept
+/// aside), continued on 4 ranks to step 30 (the frame of step 24 in 4 pieces), then
+/// resumed from the step-20 checkpoint on 2 ranks to the end: the frame of step 24 is
+/// rewritten in 2 pieces, rank 0 removes the 4-rank run's pieces 2 and 3 of that step, and
+/// every frame joins to the one-rank frames bit for bit; the series has the one-rank bytes.
+#[test]
+fn slider_3d_frames_resumed_on_fewer_ranks_keep_no_stale_pieces() {
+    let one = folder("slider_3d_1_rank_for_fewer");
+    succeeded(&run_program(SLIDER_3D, Some(1), &slider_args(&one)));
+    let dir = folder("slider_3d_resumed_on_fewer");
+    let checkpoint = dir.join("checkpoint.bin");
+    let mut capped = slider_args(&dir);
+    capped.extend(["--checkpoint-every", "10", "--max-steps", "20"].map(String::from));
+    let out = run_program(SLIDER_3D, Some(4), &capped);
+    assert!(
+        checkpoint.exists(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let at_20 = dir.join("checkpoint_20.bin");
+    std::fs::copy(&checkpoint, &at_20).unwrap();
+    let resume = |from: &Path, extra: &[&str]| {
+        let mut args = slider_args(&dir);
+        args.extend(["--checkpoint-every", "10", "--resume"].map(String::from));
+        args.push(from.to_str().unwrap().to_owned());
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args
+    };
+    run_program(
+        SLIDER_3D,
+        Some(4),
+        &resume(&checkpoint, &["--max-steps", "30"]),
+    );
+    assert!(dir.join("frames/frame_000024_r0003.vtu").exists());
+    succeeded(&run_program(SLIDER_3D, Some(2), &resume(&at_20, &[])));
+    assert!(!dir.join("frames/frame_000024_r0002.vtu").exists());
+    assert_eq!(
+        same_frames_in_pieces(&one, &dir, |step| if step <= 20 { 4 } else { 2 }),
+        4
+    );
+    assert_eq!(
+        std::fs::read(dir.join("timeseries.csv")).unwrap(),
+        std::fs::read(one.join("timeseries.csv")).unwrap()
+    );
 }
