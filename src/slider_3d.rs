@@ -157,7 +157,8 @@ impl Program for Cli {
             crate::memory_budget_bytes("--memory-budget-gib", gib)?;
         }
         // The model's size, and the output bound: a series row per step, a frame of every
-        // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps.
+        // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps (frames
+        // in pieces on ranks repeat their border points: `run` checks their exact sizes).
         let (nodes, bytes) = scene.estimated_bytes();
         let k = 2f64.powi(s.level.min(1000) as i32);
         let cells = 6.0 * 5.0 * k * k * scene.width_m.round().max(1.0) * k;
@@ -422,6 +423,7 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     let model = scene.build_model()?;
     // On more than one rank: the node owners, which also share out the frames' cells.
     let mut frame_owner = None;
+    let owner_ranks = processes.map_or(1, |p| p.size());
     if let Some(p) = processes {
         let owner = partition(&model, p.size())?;
         if p.size() > 1 {
@@ -440,14 +442,22 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");
     // The output bound, before any file: a series row per step, a frame of every vertex
-    // and cell every --frame-every steps.
+    // and cell every --frame-every steps. In pieces (on ranks): every piece's points and
+    // cells (the border points in more than one piece), the `.pvtu` (about 1.1 kB and 40
+    // bytes per piece) counted as 8 more points (1.6 kB) per piece.
     let steps = steps_bound(s, (0.0, s.end_time_s));
-    let frames_bytes = cli.frames.bytes_bound(
-        DEFAULT_FRAME_EVERY,
-        steps,
-        model.num_nodes(),
-        model.cells.len() / 4,
-    );
+    let (frame_points, frame_cells) = match &frame_owner {
+        Some(owner) => {
+            let sizes = rsf::observe::VtuFrames::piece_sizes(&model.cells, 4, owner, owner_ranks);
+            sizes
+                .iter()
+                .fold((8 * sizes.len(), 0), |(p, c), s| (p + s.0, c + s.1))
+        }
+        None => (model.num_nodes(), model.cells.len() / 4),
+    };
+    let frames_bytes =
+        cli.frames
+            .bytes_bound(DEFAULT_FRAME_EVERY, steps, frame_points, frame_cells);
     check_output_size(
         steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
             + frames_bytes,

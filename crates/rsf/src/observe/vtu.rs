@@ -57,13 +57,19 @@ struct Share {
     points: Vec<usize>,
 }
 
+/// The rank whose piece holds `cell` (its vertices): the owner of its lowest-numbered
+/// vertex.
+fn cell_owner(cell: &[usize], owner: &[usize]) -> Option<usize> {
+    cell.iter().min().map(|&p| owner[p])
+}
+
 impl Share {
     /// The cells of `cells` (`k` vertices each) whose lowest-numbered vertex `rank` owns,
     /// and the points they use.
     fn new(cells: &[usize], k: usize, owner: &[usize], rank: usize) -> Self {
         let owned: Vec<&[usize]> = cells
             .chunks_exact(k)
-            .filter(|c| c.iter().min().is_some_and(|&p| owner[p] == rank))
+            .filter(|c| cell_owner(c, owner) == Some(rank))
             .collect();
         let mut points: Vec<usize> = owned.iter().flat_map(|c| c.iter().copied()).collect();
         points.sort_unstable();
@@ -153,6 +159,39 @@ impl VtuFrames {
             frames.read_index(mode)?;
         }
         Ok(frames)
+    }
+
+    /// The size of every rank's piece of a frame written by [`pieces`](Self::pieces) on
+    /// `ranks` ranks: `(points, cells)` per rank, for a mesh of `cells` (the vertex numbers
+    /// of one cell after another, `k` per cell, as [`Model::cells`]) with the vertex owners
+    /// `owner` (one rank per vertex). A piece holds the cells whose lowest-numbered vertex
+    /// its rank owns and the points they use, so the points of all pieces exceed the
+    /// mesh's vertices by those on the pieces' borders. For a bound of the bytes the
+    /// frames write.
+    ///
+    /// # Panics
+    /// If a vertex number in `cells` is not below `owner.len()`, or `k` is 0.
+    pub fn piece_sizes(
+        cells: &[usize],
+        k: usize,
+        owner: &[usize],
+        ranks: usize,
+    ) -> Vec<(usize, usize)> {
+        let mut sizes = vec![(0, 0); ranks];
+        // (rank, vertex) of every point of a piece, with repeats.
+        let mut points = Vec::with_capacity(cells.len());
+        for cell in cells.chunks_exact(k) {
+            if let Some(r) = cell_owner(cell, owner).filter(|&r| r < ranks) {
+                sizes[r].1 += 1;
+                points.extend(cell.iter().map(|&p| (r, p)));
+            }
+        }
+        points.sort_unstable();
+        points.dedup();
+        for (r, _) in points {
+            sizes[r].0 += 1;
+        }
+        sizes
     }
 
     /// Refuses an existing index for [`FileMode::Create`]; reads the frames of steps
@@ -527,7 +566,7 @@ impl<const D: usize> Observer<D> for VtuFrames {
 
 #[cfg(test)]
 mod tests {
-    use super::{piece_name, pvtu, Share};
+    use super::{piece_name, pvtu, Share, VtuFrames};
     use vtkio::model::{
         Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version,
         VertexNumbers, Vtk,
@@ -547,6 +586,10 @@ mod tests {
         assert_eq!(zero.connectivity, [0, 1, 2, 3, 2, 1]);
         let two = Share::new(&cells, 3, &owner, 2);
         assert!(two.points.is_empty() && two.connectivity.is_empty());
+        assert_eq!(
+            VtuFrames::piece_sizes(&cells, 3, &owner, 3),
+            [(4, 2), (3, 1), (0, 0)]
+        );
         assert_eq!(piece_name(12, 3), "frame_000012_r0003.vtu");
         assert_eq!(piece_name(1_234_567, 12_345), "frame_1234567_r12345.vtu");
     }
