@@ -193,9 +193,40 @@ impl FrameArgs {
         out: &Path,
         mode: FileMode,
     ) -> rsf::Result<Option<Every<VtuFrames>>> {
+        self.every(default, || VtuFrames::new(Self::dir(out), mode))
+    }
+
+    /// The frame observer of one rank of a run on ranks into `out`, writing the frames in
+    /// parallel pieces ([`VtuFrames::pieces`]: this rank's piece `frame_NNNNNN_rRRRR.vtu`
+    /// of the cells whose lowest-numbered vertex it owns by `owner`, one rank per mesh
+    /// vertex; on rank 0 also `frame_NNNNNN.pvtu` and the index). `None` for N = 0;
+    /// `default` when the flag is not given. Every rank of the run calls it (each frame is
+    /// a collective of `ranks`).
+    ///
+    /// # Errors
+    /// Those of [`VtuFrames::pieces`] (on rank 0 those of [`VtuFrames::new`]).
+    pub fn pieces(
+        &self,
+        default: usize,
+        out: &Path,
+        mode: FileMode,
+        owner: Vec<usize>,
+        ranks: Box<dyn rsf::ranks::RankGroup>,
+    ) -> rsf::Result<Option<Every<VtuFrames>>> {
+        self.every(default, || {
+            VtuFrames::pieces(Self::dir(out), mode, owner, ranks)
+        })
+    }
+
+    /// `frames()` every N steps (`None` for N = 0; `default` when the flag is not given).
+    fn every(
+        &self,
+        default: usize,
+        frames: impl FnOnce() -> rsf::Result<VtuFrames>,
+    ) -> rsf::Result<Option<Every<VtuFrames>>> {
         match self.frame_every.unwrap_or(default) {
             0 => Ok(None),
-            n => Every::new(Interval::Steps(n), VtuFrames::new(Self::dir(out), mode)?).map(Some),
+            n => Every::new(Interval::Steps(n), frames()?).map(Some),
         }
     }
 }

@@ -12,7 +12,8 @@ pub trait Processes: Sync {
     fn size(&self) -> usize;
 
     /// The group that shares a fault ODE's evaluations
-    /// ([`rsf::FaultOde::share_evaluations`]).
+    /// ([`rsf::FaultOde::share_evaluations`]), or that writes VTU frames in pieces
+    /// ([`rsf::observe::VtuFrames::pieces`]: one all-gather per frame).
     fn group(&self) -> Box<dyn rsf::ranks::RankGroup>;
 
     /// The transports of TNNMG's solves on these processes

@@ -22,7 +22,9 @@
 //! default 100, for ParaView), `fault_snapshot.csv` (x, z, slip rate on Γ_F at the step of
 //! the largest slip rate, or at `--snapshot-time`) and its figure `fault_slip_rate.png`. A
 //! run whose series and frames are estimated above `--max-output-gb` (default 10) is
-//! refused before any file is written.
+//! refused before any file is written. On more than one MPI rank ([`main_on_ranks`]) the
+//! frames are parallel pieces: `frames/frame_NNNNNN_rRRRR.vtu` by rank RRRR and
+//! `frames/frame_NNNNNN.pvtu`, listed in `frames.pvd`.
 //!
 //! Resumable (docs/reliability.md): `--checkpoint-every N` writes `checkpoint.bin` every N
 //! steps, `--resume out/slider_3d/checkpoint.bin` continues the run in its folder (the
@@ -155,7 +157,8 @@ impl Program for Cli {
             crate::memory_budget_bytes("--memory-budget-gib", gib)?;
         }
         // The model's size, and the output bound: a series row per step, a frame of every
-        // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps.
+        // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps (frames
+        // in pieces on ranks repeat their border points: `run` checks their exact sizes).
         let (nodes, bytes) = scene.estimated_bytes();
         let k = 2f64.powi(s.level.min(1000) as i32);
         let cells = 6.0 * 5.0 * k * k * scene.width_m.round().max(1.0) * k;
@@ -197,12 +200,19 @@ pub fn main() -> ExitCode {
 /// docs/scaling.md, "Phase 5"): every rank runs the same simulation, and every velocity
 /// problem is solved by TNNMG on the ranks
 /// ([`TnnmgOnRanks`](rsf::method::TnnmgOnRanks), the fine nodes partitioned by
-/// [`partition`]); rank 0 writes every file. The files are byte-identical at every rank
-/// count (the one-process reference is one rank: the solver on ranks has its own
-/// smoother order, so its files differ from the example's by round-off of the solver
-/// tolerance). The solver is TNNMG (`--solver auto` becomes `tnnmg`; another solver is
-/// refused). A checkpoint holds the whole replicated state, so a run resumes on any rank
-/// count.
+/// [`partition`]); rank 0 writes every file but the frames. On more than one rank the
+/// frames are written in parallel pieces ([`rsf::observe::VtuFrames::pieces`]): every rank
+/// writes `frames/frame_NNNNNN_rRRRR.vtu` (RRRR its rank), the tetrahedra whose
+/// lowest-numbered vertex it owns by [`partition`] with the points they use and their
+/// mesh numbers (`global_node`), and rank 0 writes `frames/frame_NNNNNN.pvtu` and lists it
+/// in `frames.pvd`; on one rank the frames are one file each, as in one process. The
+/// other files are byte-identical at every rank count, and the pieces hold the one-rank
+/// frames' values bit for bit (the one-process reference is one rank: the solver on ranks
+/// has its own smoother order, so its files differ from the example's by round-off of the
+/// solver tolerance). The solver is TNNMG (`--solver auto` becomes `tnnmg`; another
+/// solver is refused). A checkpoint holds the whole replicated state, so a run resumes on
+/// any rank count; the frames after the checkpoint are then in the new count's pieces
+/// (each `.pvtu` names its own), and `frames.pvd` may list `.vtu` and `.pvtu` frames.
 pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
     crate::guard::main_on_ranks(processes, |cli, prepared, processes| {
         run(cli, prepared, Some(processes))
@@ -411,8 +421,14 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
         options.memory_budget_bytes = crate::memory_budget_bytes("--memory-budget-gib", gib)?;
     }
     let model = scene.build_model()?;
+    // On more than one rank: the node owners, which also share out the frames' cells.
+    let mut frame_owner = None;
+    let owner_ranks = processes.map_or(1, |p| p.size());
     if let Some(p) = processes {
         let owner = partition(&model, p.size())?;
+        if p.size() > 1 {
+            frame_owner = Some(owner.clone());
+        }
         options.ranks = Some(rsf::method::TnnmgOnRanks::new(owner, p.transports()));
         if root {
             eprintln!("{} MPI ranks share every velocity solve", p.size());
@@ -426,14 +442,22 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");
     // The output bound, before any file: a series row per step, a frame of every vertex
-    // and cell every --frame-every steps.
+    // and cell every --frame-every steps. In pieces (on ranks): every piece's points and
+    // cells (the border points in more than one piece), the `.pvtu` (about 1.1 kB and 40
+    // bytes per piece) counted as 8 more points (1.6 kB) per piece.
     let steps = steps_bound(s, (0.0, s.end_time_s));
-    let frames_bytes = cli.frames.bytes_bound(
-        DEFAULT_FRAME_EVERY,
-        steps,
-        model.num_nodes(),
-        model.cells.len() / 4,
-    );
+    let (frame_points, frame_cells) = match &frame_owner {
+        Some(owner) => {
+            let sizes = rsf::observe::VtuFrames::piece_sizes(&model.cells, 4, owner, owner_ranks);
+            sizes
+                .iter()
+                .fold((8 * sizes.len(), 0), |(p, c), s| (p + s.0, c + s.1))
+        }
+        None => (model.num_nodes(), model.cells.len() / 4),
+    };
+    let frames_bytes =
+        cli.frames
+            .bytes_bound(DEFAULT_FRAME_EVERY, steps, frame_points, frame_cells);
     check_output_size(
         steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
             + frames_bytes,
@@ -467,15 +491,28 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
         Some(c) => FileMode::Resume { step: c.state.step },
     };
     let end = until(s.end_time_s, cli.folder.max_steps);
+    // Frames first: a missing index on resume is refused before the series is continued.
+    // On more than one rank every rank writes its piece of each frame (the cells whose
+    // lowest-numbered vertex it owns), rank 0 the `.pvtu` and the index; on one rank the
+    // one-process files.
+    let mut frames = match (processes, frame_owner) {
+        (Some(p), Some(owner)) => {
+            cli.frames
+                .pieces(DEFAULT_FRAME_EVERY, &out, mode, owner, p.group())?
+        }
+        _ => cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?,
+    };
     if !root {
-        // The same steps as rank 0, no files (no observer here ends a run; rank 0 reports
-        // a step cap).
-        sim.run_until(end, &mut [])?;
+        // The same steps as rank 0, its frame pieces the only files (no observer here ends
+        // a run; rank 0 reports a step cap).
+        let mut observers: Vec<&mut dyn Observer<3>> = Vec::new();
+        if let Some(f) = frames.as_mut() {
+            observers.push(f);
+        }
+        sim.run_until(end, &mut observers)?;
         return Ok(());
     }
     let model = sim.model();
-    // Frames first: a missing index on resume is refused before the series is continued.
-    let mut frames = cli.frames.observer(DEFAULT_FRAME_EVERY, &out, mode)?;
     let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
     let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
     let mut progress = Progress::steps(s.steps, "slider 3-D");

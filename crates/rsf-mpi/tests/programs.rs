@@ -4,7 +4,10 @@
 //! half-space operator) at 2 and 3, a run stopped at a step cap on 2 ranks and resumed on
 //! 3, and a job killed (`SIGKILL` to every process) and resumed on 2 ranks — and an error
 //! on rank 0 ends every rank at once. The program `slider_3d` (TNNMG's velocity solves on
-//! the ranks) writes the same bytes on 1, 2 and 4 ranks, also stopped and resumed.
+//! the ranks) writes the same bytes on 1, 2 and 4 ranks, also stopped and resumed, but for
+//! its frames, which on more than one rank are parallel pieces that join to the one-rank
+//! frames bit for bit (also resumed on more and on fewer ranks); an unwritable piece on
+//! rank 1 ends every rank.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -67,12 +70,19 @@ fn succeeded(out: &Output) {
 /// Every file of `a` (and of its folders) but the summary (its times) has the bytes of
 /// `b`'s.
 fn same_files(a: &Path, b: &Path, what: &str) -> usize {
+    same_files_but(a, b, what, &[])
+}
+
+/// [`same_files`] but for the folders named in `skip`.
+fn same_files_but(a: &Path, b: &Path, what: &str, skip: &[&str]) -> usize {
     let mut n = 0;
     for entry in std::fs::read_dir(a).unwrap() {
         let p = entry.unwrap().path();
         let name = p.file_name().unwrap().to_str().unwrap().to_owned();
         if p.is_dir() {
-            n += same_files(&p, &b.join(&name), &format!("{what}: {name}"));
+            if !skip.contains(&name.as_str()) {
+                n += same_files_but(&p, &b.join(&name), &format!("{what}: {name}"), skip);
+            }
             continue;
         }
         if [
@@ -389,38 +399,260 @@ fn a_job_killed_and_resumed_on_2_ranks_writes_the_same_bytes() {
     assert!(same_files(&one, &dir, "killed and resumed on 2 ranks") >= 14);
 }
 
-/// The 3-D slider at level 2 (525 nodes; Newmark, TNNMG on the ranks) for 48 steps of
-/// 0.25 s (`--end-time 12 --steps 48`: through the nucleation of the first event, the
-/// largest slip rate rising from 1e-29 to about 1e-3 m/s), a frame every 12 steps: its time
-/// series, fault snapshot and figure and every frame on 2 and 4 MPI ranks have the bytes of
-/// the run on one rank; stopped at step 20 on 2 ranks and resumed on 4, the same bytes
-/// again.
+/// The flags of the 3-D slider runs here: level 2 (525 nodes; Newmark, TNNMG on the
+/// ranks) for 48 steps of 0.25 s (`--end-time 12 --steps 48`: through the nucleation of
+/// the first event, the largest slip rate rising from 1e-29 to about 1e-3 m/s), a frame
+/// every 12 steps, into `out`.
+fn slider_args(out: &Path) -> Vec<String> {
+    let out = out.to_str().unwrap();
+    [
+        "--out",
+        out,
+        "--level",
+        "2",
+        "--end-time",
+        "12",
+        "--steps",
+        "48",
+        "--frame-every",
+        "12",
+        "--threads",
+        "1",
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+/// The one piece of the unstructured grid in the VTU file `path`.
+fn read_vtu(path: &Path) -> vtkio::model::UnstructuredGridPiece {
+    let vtk = vtkio::Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("{}: not an unstructured grid", path.display())
+    };
+    assert_eq!(pieces.len(), 1, "{}", path.display());
+    pieces[0].load_piece_data(None).unwrap()
+}
+
+/// The point data `name` of `piece`.
+fn point_array<'a>(
+    piece: &'a vtkio::model::UnstructuredGridPiece,
+    name: &str,
+) -> &'a vtkio::model::DataArray {
+    piece
+        .data
+        .point
+        .iter()
+        .find_map(|a| match a {
+            vtkio::model::Attribute::DataArray(a) if a.name == name => Some(a),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no point data `{name}`"))
+}
+
+/// The bits of an array of f64.
+fn bits(buffer: &vtkio::IOBuffer) -> Vec<u64> {
+    let values: Vec<f64> = buffer.clone().cast_into().expect("f64 values");
+    values.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The cells of `piece` (each its vertices in order), numbered by `global` (a piece's
+/// point `i` is mesh vertex `global[i]`).
+fn cells(piece: &vtkio::model::UnstructuredGridPiece, global: &[u64]) -> Vec<Vec<u64>> {
+    let (connectivity, offsets) = piece.cells.cell_verts.clone().into_xml();
+    let mut start = 0;
+    offsets
+        .iter()
+        .map(|&end| {
+            let cell = connectivity[start as usize..end as usize]
+                .iter()
+                .map(|&i| global[i as usize])
+                .collect();
+            start = end;
+            cell
+        })
+        .collect()
+}
+
+/// The point data arrays a `.pvtu` describes (its `PPointData`'s `PDataArray`s): name,
+/// type and component count. Read from the text: vtkio 0.7.0-rc2 reads a `PPointData`'s
+/// arrays from elements named `data_array` (a missing `rename` in its XML model), not
+/// `PDataArray`, so it finds none in a standard file.
+fn pvtu_point_arrays(path: &Path) -> Vec<(String, &'static str, u32)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let start = text.find("<PPointData>").expect("PPointData");
+    let end = text.find("</PPointData>").expect("the end of PPointData");
+    text[start..end]
+        .split("<PDataArray ")
+        .skip(1)
+        .map(|element| {
+            let attr = |name: &str| {
+                let from = element.find(&format!("{name}=\"")).expect(name) + name.len() + 2;
+                element[from..from + element[from..].find('"').unwrap()].to_owned()
+            };
+            let t = match attr("type").as_str() {
+                "Float64" => "Float64",
+                "UInt64" => "UInt64",
+                other => panic!("type {other}"),
+            };
+            (attr("Name"), t, attr("NumberOfComponents").parse().unwrap())
+        })
+        .collect()
+}
+
+/// The frames of a run on ranks in `dir` against the one-rank frames in `one`: for every
+/// one-rank frame `frame_NNNNNN.vtu`, `frame_NNNNNN.pvtu` names exactly the pieces
+/// `frame_NNNNNN_rRRRR.vtu` of ranks `0..ranks(NNNNNN)`, no other piece of that step is in
+/// the folder, its arrays are the one-rank frame's and `global_node` with their types and
+/// component counts, the pieces (loaded through the `.pvtu`) hold every cell exactly once,
+/// and every point's coordinates and point data joined by `global_node` have the one-rank
+/// bits; `frames.pvd` is the one-rank index with `.pvtu` for `.vtu`. Returns the number
+/// of frames.
+fn same_frames_in_pieces(one: &Path, dir: &Path, ranks: impl Fn(usize) -> usize) -> usize {
+    let (one, dir) = (one.join("frames"), dir.join("frames"));
+    let index = std::fs::read_to_string(one.join("frames.pvd")).unwrap();
+    assert_eq!(
+        std::fs::read_to_string(dir.join("frames.pvd")).unwrap(),
+        index.replace(".vtu\"", ".pvtu\""),
+        "frames.pvd"
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let mut frames = 0;
+    for entry in std::fs::read_dir(&one).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        let Some(step) = name
+            .strip_prefix("frame_")
+            .and_then(|n| n.strip_suffix(".vtu"))
+        else {
+            continue;
+        };
+        frames += 1;
+        let whole = read_vtu(&one.join(&name));
+        let n = whole.num_points();
+        let expected: Vec<String> = (0..ranks(step.parse().unwrap()))
+            .map(|r| format!("frame_{step}_r{r:04}.vtu"))
+            .collect();
+        let written: Vec<&String> = names
+            .iter()
+            .filter(|f| f.starts_with(&format!("frame_{step}_r")))
+            .collect();
+        assert_eq!(written, expected.iter().collect::<Vec<_>>(), "step {step}");
+        // The parallel file: its arrays and its pieces.
+        let pvtu = dir.join(format!("frame_{step}.pvtu"));
+        let vtk = vtkio::Vtk::import(&pvtu).unwrap();
+        let vtkio::model::DataSet::UnstructuredGrid { meta, pieces } = vtk.data else {
+            panic!("{}: not an unstructured grid", pvtu.display())
+        };
+        assert!(
+            matches!(
+                meta.as_deref(),
+                Some(vtkio::model::MetaData::UnstructuredGrid { .. })
+            ),
+            "{}: not a parallel unstructured grid",
+            pvtu.display()
+        );
+        let mut arrays: Vec<(String, &str, u32)> = whole
+            .data
+            .point
+            .iter()
+            .map(|a| {
+                let vtkio::model::Attribute::DataArray(a) = a else {
+                    panic!("not a data array")
+                };
+                let t = match a.data.scalar_type() {
+                    vtkio::model::ScalarType::F64 => "Float64",
+                    other => panic!("{}: {other:?}", a.name),
+                };
+                (a.name.clone(), t, a.elem.num_comp())
+            })
+            .collect();
+        arrays.push(("global_node".to_owned(), "UInt64", 1));
+        assert_eq!(pvtu_point_arrays(&pvtu), arrays, "{}", pvtu.display());
+        let sources: Vec<String> = pieces
+            .iter()
+            .map(|p| match p {
+                vtkio::model::Piece::Source(s, _) => s.clone(),
+                _ => panic!("an inline piece in {}", pvtu.display()),
+            })
+            .collect();
+        assert_eq!(sources, expected, "{}", pvtu.display());
+        // The pieces joined.
+        let whole_points = bits(&whole.points);
+        let mut uncovered = std::collections::HashMap::<Vec<u64>, usize>::new();
+        for cell in cells(&whole, &(0..n as u64).collect::<Vec<_>>()) {
+            *uncovered.entry(cell).or_default() += 1;
+        }
+        let mut seen = vec![false; n];
+        for p in &pieces {
+            let piece = p.load_piece_data(vtk.file_path.as_deref()).unwrap();
+            let global: Vec<u64> = point_array(&piece, "global_node")
+                .data
+                .clone()
+                .cast_into()
+                .expect("u64 global nodes");
+            assert_eq!(global.len(), piece.num_points());
+            for cell in cells(&piece, &global) {
+                let count = uncovered.get_mut(&cell).expect("a cell of the mesh");
+                assert!(*count > 0, "step {step}: cell {cell:?} twice");
+                *count -= 1;
+            }
+            let points = bits(&piece.points);
+            for (i, &g) in global.iter().enumerate() {
+                let g = g as usize;
+                seen[g] = true;
+                assert_eq!(points[3 * i..3 * i + 3], whole_points[3 * g..3 * g + 3]);
+            }
+            for (name, _, c) in &arrays[..arrays.len() - 1] {
+                let c = *c as usize;
+                let (mine, all) = (
+                    bits(&point_array(&piece, name).data),
+                    bits(&point_array(&whole, name).data),
+                );
+                for (i, &g) in global.iter().enumerate() {
+                    let g = g as usize;
+                    assert_eq!(
+                        mine[c * i..c * i + c],
+                        all[c * g..c * g + c],
+                        "step {step}: {name} at vertex {g}"
+                    );
+                }
+            }
+        }
+        assert!(
+            uncovered.values().all(|&c| c == 0),
+            "step {step}: a cell in no piece"
+        );
+        assert!(seen.iter().all(|&s| s), "step {step}: a vertex in no piece");
+    }
+    frames
+}
+
+/// The 3-D slider ([`slider_args`]) on 1, 2 and 4 MPI ranks: its time series, fault
+/// snapshot and figure on 2 and 4 ranks have the bytes of the run on one rank, and so
+/// does its frames' index but for the names; the frames on one rank are one file each
+/// (those of one process), on 2 and 4 ranks parallel pieces that join to the one-rank
+/// frames bit for bit ([`same_frames_in_pieces`]); stopped at step 20 on 2 ranks and
+/// resumed on 4, the same again (the frame of step 12 in 2 pieces, the later ones in 4).
 #[test]
 fn slider_3d_files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
-    let args = |out: &Path| -> Vec<String> {
-        let out = out.to_str().unwrap();
-        [
-            "--out",
-            out,
-            "--level",
-            "2",
-            "--end-time",
-            "12",
-            "--steps",
-            "48",
-            "--frame-every",
-            "12",
-            "--threads",
-            "1",
-        ]
-        .map(String::from)
-        .to_vec()
-    };
+    let args = slider_args;
     let one = folder("slider_3d_1_rank");
     let out = run_program(SLIDER_3D, Some(1), &args(&one));
     succeeded(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("tnnmg-ranks solver"), "{text}");
+    // One rank writes one file per frame, as one process does.
+    let frames: Vec<_> = std::fs::read_dir(one.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert_eq!(frames.len(), 5, "{frames:?}");
+    assert!(frames
+        .iter()
+        .all(|f| f.ends_with(".vtu") || f == "frames.pvd"));
     for n in [2, 4] {
         let dir = folder(&format!("slider_3d_{n}_ranks"));
         let out = run_program(SLIDER_3D, Some(n), &args(&dir));
@@ -430,9 +662,10 @@ fn slider_3d_files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
             err.contains(&format!("{n} MPI ranks share every velocity solve")),
             "{err}"
         );
-        let files = same_files(&one, &dir, &format!("slider_3d on {n} ranks"));
-        // The series, the snapshot and its figure, four frames and their index.
-        assert!(files >= 8, "{files} files compared");
+        let files = same_files_but(&one, &dir, &format!("slider_3d on {n} ranks"), &["frames"]);
+        // The series, the snapshot and its figure.
+        assert!(files >= 3, "{files} files compared");
+        assert_eq!(same_frames_in_pieces(&one, &dir, |_| n), 4);
     }
     let dir = folder("slider_3d_resumed");
     let mut capped = args(&dir);
@@ -451,6 +684,77 @@ fn slider_3d_files_are_byte_identical_on_1_2_and_4_ranks_and_after_a_resume() {
     // The snapshot is of the resumed part only (the program's documentation).
     std::fs::remove_file(dir.join("fault_snapshot.csv")).unwrap();
     std::fs::remove_file(dir.join("fault_slip_rate.png")).unwrap();
-    let files = same_files(&dir, &one, "slider_3d stopped on 2 ranks and resumed on 4");
-    assert!(files >= 6, "{files} files compared");
+    let files = same_files_but(
+        &dir,
+        &one,
+        "slider_3d stopped on 2 ranks and resumed on 4",
+        &["frames"],
+    );
+    assert!(files >= 1, "{files} files compared");
+    let frames = same_frames_in_pieces(&one, &dir, |step| if step <= 20 { 2 } else { 4 });
+    assert_eq!(frames, 4);
+}
+
+/// The piece rank 1 writes of the 3-D slider's first frame cannot be written (a folder
+/// has its name): rank 1's error, naming the piece, ends both ranks within seconds, and
+/// rank 0 (waiting for every piece) has not written that frame's `.pvtu`.
+#[test]
+fn an_unwritable_frame_piece_on_rank_1_ends_every_rank() {
+    let dir = folder("slider_3d_unwritable_piece");
+    std::fs::create_dir_all(dir.join("frames/frame_000012_r0001.vtu")).unwrap();
+    let t = Instant::now();
+    let out = run_program(SLIDER_3D, Some(2), &slider_args(&dir));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(err.contains("rank 1 of 2: error"), "{err}");
+    assert!(err.contains("frame_000012_r0001.vtu"), "{err}");
+    assert!(t.elapsed() < Duration::from_secs(60), "{:?}", t.elapsed());
+    assert!(!dir.join("frames/frame_000012.pvtu").exists());
+    assert!(dir.join("frames/frame_000012_r0000.vtu").exists());
+}
+
+/// The 3-D slider ([`slider_args`]) stopped at step 20 on 4 ranks (the checkpoint kept
+/// aside), continued on 4 ranks to step 30 (the frame of step 24 in 4 pieces), then
+/// resumed from the step-20 checkpoint on 2 ranks to the end: the frame of step 24 is
+/// rewritten in 2 pieces, rank 0 removes the 4-rank run's pieces 2 and 3 of that step, and
+/// every frame joins to the one-rank frames bit for bit; the series has the one-rank bytes.
+#[test]
+fn slider_3d_frames_resumed_on_fewer_ranks_keep_no_stale_pieces() {
+    let one = folder("slider_3d_1_rank_for_fewer");
+    succeeded(&run_program(SLIDER_3D, Some(1), &slider_args(&one)));
+    let dir = folder("slider_3d_resumed_on_fewer");
+    let checkpoint = dir.join("checkpoint.bin");
+    let mut capped = slider_args(&dir);
+    capped.extend(["--checkpoint-every", "10", "--max-steps", "20"].map(String::from));
+    let out = run_program(SLIDER_3D, Some(4), &capped);
+    assert!(
+        checkpoint.exists(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let at_20 = dir.join("checkpoint_20.bin");
+    std::fs::copy(&checkpoint, &at_20).unwrap();
+    let resume = |from: &Path, extra: &[&str]| {
+        let mut args = slider_args(&dir);
+        args.extend(["--checkpoint-every", "10", "--resume"].map(String::from));
+        args.push(from.to_str().unwrap().to_owned());
+        args.extend(extra.iter().map(|s| s.to_string()));
+        args
+    };
+    run_program(
+        SLIDER_3D,
+        Some(4),
+        &resume(&checkpoint, &["--max-steps", "30"]),
+    );
+    assert!(dir.join("frames/frame_000024_r0003.vtu").exists());
+    succeeded(&run_program(SLIDER_3D, Some(2), &resume(&at_20, &[])));
+    assert!(!dir.join("frames/frame_000024_r0002.vtu").exists());
+    assert_eq!(
+        same_frames_in_pieces(&one, &dir, |step| if step <= 20 { 4 } else { 2 }),
+        4
+    );
+    assert_eq!(
+        std::fs::read(dir.join("timeseries.csv")).unwrap(),
+        std::fs::read(one.join("timeseries.csv")).unwrap()
+    );
 }

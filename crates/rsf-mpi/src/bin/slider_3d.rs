@@ -1,7 +1,9 @@
 //! The 3-D slider on MPI ranks: the root package's `slider_3d` (the same flags and files)
 //! with every velocity problem solved by TNNMG on the ranks, every rank running the same
-//! time steps; rank 0 writes the files, byte-identical at every rank count
-//! (docs/scaling.md, "Phase 5").
+//! time steps; rank 0 writes the files, byte-identical at every rank count, but for the
+//! VTU frames, which on more than one rank every rank writes in parallel pieces
+//! (`frames/frame_NNNNNN_rRRRR.vtu`, indexed by rank 0's `frames/frame_NNNNNN.pvtu`;
+//! docs/scaling.md, "Phase 5").
 //!
 //! ```text
 //! cargo build --release --manifest-path crates/rsf-mpi/Cargo.toml
