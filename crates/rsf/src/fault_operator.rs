@@ -186,7 +186,7 @@ impl FaultKernel {
     /// Checks the kernel's parameters.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] named `kernel.epsilon` unless ε is in
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `kernel.epsilon` unless ε is in
     /// `(0, `[`MAX_KERNEL_EPSILON`]`]`, named `kernel.leaf_size` for a leaf size of 0.
     pub fn validate(&self) -> Result<()> {
         if let Self::Hierarchical { epsilon, leaf_size } = *self {

@@ -168,7 +168,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     }
 
     /// Runs until `until`, switching as the options say: the one run loop of every
-    /// method, [`run_until`](crate::run_until).
+    /// method, [`run_until`].
     ///
     /// # Errors
     /// A [`RunError`] with the first error of a step, an observer or a switch, and the

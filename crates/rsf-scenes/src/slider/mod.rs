@@ -231,7 +231,7 @@ pub struct SliderScene {
     /// `"multicolour"` or `"red-black-chunks"`; the other solvers ignore it). Default
     /// `"lexicographic"` (sequential; the paper's figures and every 2-D trajectory); the 3-D
     /// slider's default is `"red-black-chunks"` (the sweeps on
-    /// [`SolverOptions::parallelism`]'s threads, bit-identical for every thread count,
+    /// [`SolverOptions::parallelism`](rsf::method::SolverOptions::parallelism)'s threads, bit-identical for every thread count,
     /// other round-off than lexicographic; docs/scaling.md). Written only when not
     /// `"lexicographic"`: scenes and checkpoints without the field keep their fingerprint.
     #[serde(default, skip_serializing_if = "is_lexicographic")]
@@ -240,10 +240,10 @@ pub struct SliderScene {
     pub solver_tolerance: f64,
     /// Coarse grid diagonal.
     pub diagonal: Diagonal,
-    /// The block's ends `x = 0` and `x = 5` m ([`TAG_NEUMANN`], traction-free in the paper)
+    /// The block's ends `x = 0` and `x = 5` m ([`TAG_NEUMANN`](rsf_fem::TAG_NEUMANN), traction-free in the paper)
     /// absorb waves instead of reflecting them: Lysmer–Kuhlemeyer dashpots of impedance
     /// ρc_p (normal) and ρc_s (tangential) against the velocity
-    /// ([`ModelBuilder::absorbing_boundary`], docs/math.md "Absorbing boundaries"), as if
+    /// ([`ModelBuilder::absorbing_boundary`](rsf::ModelBuilder::absorbing_boundary), docs/math.md "Absorbing boundaries"), as if
     /// the block went on in x. Needs an integrator with inertia. Default `false` (the
     /// paper's scene); written only when `true`, so scenes and checkpoints without the
     /// field keep their fingerprint. Used by [`build_model`](Self::build_model) and the

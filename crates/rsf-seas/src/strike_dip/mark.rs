@@ -14,7 +14,7 @@ pub struct Bp5Event {
     pub hypocentre: [f64; 2],
 }
 
-/// Name of the resume log of [`SeasBp5Output`]: the output's state at every persisted
+/// Name of the resume log of [`SeasBp5Output`](crate::SeasBp5Output): the output's state at every persisted
 /// step (JSON).
 pub const SEAS_BP5_RESUME_LOG: &str = "bp5_resume.json";
 

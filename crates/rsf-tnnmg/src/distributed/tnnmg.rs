@@ -54,8 +54,8 @@ pub(super) struct NormRows<const D: usize> {
 /// need all active blocks) to the active blocks' values gathered from their owners (one
 /// all-gather of the iterate's and one of the correction's active blocks per iteration).
 ///
-/// Set-up: the V-cycle hierarchy is replicated (as [`VCycleHierarchy`]: every rank holds
-/// the Galerkin operators of every level, and global vectors for the active blocks'
+/// Set-up: the V-cycle hierarchy is replicated (a linear multigrid: every rank holds
+/// the Galerkin operators of every level, read in place by its [`DistributedVCycle`], and global vectors for the active blocks'
 /// values: memory of the whole problem's order on every rank); per iteration every rank
 /// updates it incrementally (the rows the active blocks reach) and refreshes its rows from
 /// it. A

@@ -54,7 +54,7 @@ use rates::{FaultRates, Rates};
 /// (`w_k` the node's lumped weight; `g₀` the condensed load with the fixed dofs at `u₀`,
 /// `g₁` that of the unit Dirichlet velocities, `G(t) = ∫₀ᵗ g` of the loading history), so
 /// the slip rate `V_k` is the exact minimiser of `½η|V|² − τ_k·V + ϕ_k(|V|)` with
-/// `τ_k = (g(t) − S u_F)_k / w_k` ([`ConvexPotential::minimize_block`]), and the ODE is
+/// `τ_k = (g(t) − S u_F)_k / w_k` ([`ConvexPotential::minimize_block`](rsf_friction::ConvexPotential::minimize_block)), and the ODE is
 ///
 /// ```text
 /// u̇_F = V(t, u_F, α),    α̇_k = −∂ψ/∂α(α_k, |V_k|).
@@ -393,7 +393,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.rates.operator.report()
     }
 
-    /// With a normal stress from slip ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip))
+    /// With a normal stress from slip ([`NormalStress::FromSlip`])
     /// and a hierarchical [`FaultOdeOptions::kernel`]: what the compression of the
     /// slip → normal-traction operator `S_N` (`nodes × m`, N/m) measured (the same
     /// accuracy and leaf size as `S`, one point per node). On a 2-D fault inside the body
@@ -624,7 +624,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     }
 
     /// Runs until `until`, showing every accepted step to the observers: the one run loop
-    /// of every method, [`run_until`](crate::run_until). A step's report counts its
+    /// of every method, [`run_until`]. A step's report counts its
     /// right-hand-side evaluations in `evaluations` (rejected attempts included); it has
     /// no fixed point and no velocity solver (their counts are 0).
     ///

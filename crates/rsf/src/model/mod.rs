@@ -35,7 +35,7 @@ use crate::error::{invalid, Error, Result};
 /// `D` is the spatial dimension (vertex coordinates), `C` the number of components of the
 /// unknown field per node (default `C = D`: displacement and velocity vectors; `C = 1`: a
 /// scalar field such as the antiplane displacement, see
-/// [`AntiplaneMaterial`](crate::model::AntiplaneMaterial)).
+/// [`AntiplaneMaterial`]).
 ///
 /// Vectors are node-major with `C` components per node (`n = C · nodes`) in the model's
 /// unknowns `u′` of its change of variables `u = T u′` ([`Model::transform`]), "model
@@ -46,7 +46,7 @@ use crate::error::{invalid, Error, Result};
 /// pair's frame and the plus vertex's the (weighted) mean
 /// ([`internal_fault`](Self::internal_fault)). [`Model::to_cartesian`] converts a whole
 /// vector, [`Model::vertex_value`] one vertex's block. Build one with
-/// [`ModelBuilder`](crate::ModelBuilder) from a mesh, a material and boundary parts, or
+/// [`ModelBuilder`] from a mesh, a material and boundary parts, or
 /// fill the public fields yourself (e.g. a lumped spring–block system without a mesh);
 /// [`Model::validate`] checks them, and every simulation validates its model.
 ///
@@ -318,7 +318,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// without a fixed component; [`Error::InvalidParameter`] naming `stiffness` or `mass`
     /// for a negative diagonal entry (not positive semi-definite); [`Error::IllConditioned`]
     /// naming `stiffness`, `mass`, `load` or `initial_displacement` for a magnitude outside
-    /// [`representable_range`](crate::model::representable_range) (also a non-finite one);
+    /// [`representable_range`] (also a non-finite one);
     /// [`Error::InvalidParameter`] named `absorbing` for a dashpot matrix of another size or
     /// pattern than the stiffness, a far-field force of another length, a non-finite entry
     /// or a negative diagonal entry ([`AbsorbingBoundary`]); [`Error::InvalidParameter`]

@@ -222,8 +222,8 @@ pub trait Observer<const D: usize, const C: usize = D> {
     /// after the last step's [`observe`](Self::observe) (or, for a state at its cap before
     /// any step, with a report of that state and no iterations); before
     /// [`finish`](Self::finish). Default: nothing. A
-    /// [`Checkpointer`](crate::observe::Checkpointer) writes the state, so a capped run can
-    /// be resumed; [`Every`](crate::observe::Every) passes it on.
+    /// [`Checkpointer`] writes the state, so a capped run can
+    /// be resumed; [`Every`] passes it on.
     ///
     /// # Errors
     /// I/O errors end the run with that error.
@@ -236,10 +236,10 @@ pub trait Observer<const D: usize, const C: usize = D> {
     /// Dirichlet nodes' `u`, `v`). Default `true` (safe for an observer that does not say).
     /// A run that condenses its unknowns onto Γ_F ([`FaultOde`](crate::FaultOde))
     /// computes the rest of the field only for observers that read it, and leaves it NaN
-    /// otherwise: the library's observers of the fault ([`SlipEvents`](crate::observe::SlipEvents),
-    /// [`FrictionalProfile`](crate::observe::FrictionalProfile),
-    /// [`FaultRecorder`](crate::observe::FaultRecorder), [`Reports`](crate::observe::Reports),
-    /// [`Checkpointer`](crate::observe::Checkpointer), [`Progress`](crate::observe::Progress);
+    /// otherwise: the library's observers of the fault ([`SlipEvents`],
+    /// [`FrictionalProfile`],
+    /// [`FaultRecorder`], [`Reports`],
+    /// [`Checkpointer`], [`Progress`];
     /// and the SEAS outputs of the crate `rsf-seas`) return `false`.
     fn reads_volume(&self) -> bool {
         true

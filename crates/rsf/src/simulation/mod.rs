@@ -36,7 +36,7 @@ use workspace::Workspace;
 /// per frictional node each, for heterogeneous faults) and velocity integrator `I`: the
 /// [`Problem`] (model and laws), the [`Method`] (integrator, velocity solver, fixed point,
 /// step control, state update) and the [`SimulationState`] (what a checkpoint saves),
-/// plus the scratch space of a step. Built by [`SimulationBuilder`](crate::SimulationBuilder)
+/// plus the scratch space of a step. Built by [`SimulationBuilder`]
 /// (or a scene built on it).
 ///
 /// Each [`step`](Self::step) solves the coupled problem at `t_n` by the paper's relaxed
@@ -226,7 +226,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     /// Steps until `until` is reached or an observer returns [`Flow::Break`](crate::Flow)
     /// (after every observer has seen that step), then calls every observer's
     /// [`finish`](Observer::finish) — also when the run fails: the one run loop of every
-    /// method, [`run_until`](crate::run_until). The summary says why the run ended
+    /// method, [`run_until`]. The summary says why the run ended
     /// ([`Termination`](crate::Termination)).
     ///
     /// # Errors
