@@ -61,6 +61,6 @@ pub use sweep::DistributedSweep;
 pub use tnnmg::DistributedTnnmg;
 pub use tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 pub use transfer::DistributedTransfer;
-pub use transport::{HaloExchange, HaloMessage, ThreadExchange};
+pub use transport::{check_all_gather, HaloExchange, HaloMessage, ThreadExchange};
 pub use tresca::BlockTresca;
 pub use vcycle::DistributedVCycle;
