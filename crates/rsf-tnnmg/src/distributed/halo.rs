@@ -389,3 +389,56 @@ impl AllGather {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::on_thread_ranks;
+    use super::*;
+
+    /// 11 nodes of 2 values owned out of order by 1–4 thread ranks (the last rank owns
+    /// none at 3 and 4 ranks), two gathers in a row: every rank ends with every node's
+    /// values from its owner, bit for bit, and counts one collective per gather with its
+    /// own nodes' values.
+    #[test]
+    fn all_gather_fills_every_node_from_its_owner() {
+        const V: usize = 2;
+        let value = |p: usize, c: usize, round: usize| (100 * round + 10 * p + c) as f64 / 3.0;
+        for size in 1..=4usize {
+            let owners = size.min(2).max(size.saturating_sub(1));
+            let owner: Vec<usize> = (0..11).map(|p| (p * 7 + 3) % owners).collect();
+            let owner = &owner;
+            let got = on_thread_ranks(size, |mut halo| {
+                let rank = halo.rank();
+                let mut gather = AllGather::new(owner, rank, size, V);
+                let mut counters = HaloCounters::default();
+                let mut out = Vec::new();
+                for round in 0..2 {
+                    let mut x = vec![f64::NAN; V * owner.len()];
+                    for p in (0..owner.len()).filter(|&p| owner[p] == rank) {
+                        for c in 0..V {
+                            x[V * p + c] = value(p, c, round);
+                        }
+                    }
+                    gather.gather(&mut x, &mut halo, &mut counters);
+                    out.push(x);
+                }
+                let mine = owner.iter().filter(|&&r| r == rank).count();
+                (out, counters, gather.per_gather(), mine)
+            });
+            for (r, (out, counters, per, mine)) in got.into_iter().enumerate() {
+                for (round, x) in out.iter().enumerate() {
+                    let want: Vec<u64> = (0..V * owner.len())
+                        .map(|k| value(k / V, k % V, round).to_bits())
+                        .collect();
+                    let bits: Vec<u64> = x.iter().map(|v| v.to_bits()).collect();
+                    assert_eq!(bits, want, "rank {r} of {size}, gather {round}");
+                }
+                assert_eq!(
+                    (per.collectives, per.collective_values),
+                    (1, (V * mine) as u64)
+                );
+                assert_eq!(counters, per.times(2), "rank {r} of {size}");
+            }
+        }
+    }
+}
