@@ -1,11 +1,15 @@
 //! The distributed smoother's halo exchanges over MPI: [`MpiExchange`], rsf-tnnmg's
-//! [`HaloExchange`] by nonblocking point-to-point messages on a communicator of its own.
+//! [`HaloExchange`] by nonblocking point-to-point messages on a communicator of its own,
+//! and its all-gathers by `MPI_Allgatherv`.
 
+use mpi::collective::CommunicatorCollectives;
 use mpi::point_to_point::{Destination, Source};
 use mpi::request::LocalScope;
 use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::Equivalence;
-use rsf_tnnmg::distributed::{HaloExchange, HaloMessage};
+use rsf_tnnmg::distributed::{check_all_gather, HaloExchange, HaloMessage};
+
+use crate::Partition;
 
 /// The one tag of every halo message: the exchanges of a pair of ranks are told apart by
 /// their order (MPI keeps the messages of one sender, tag and communicator in order).
@@ -16,10 +20,13 @@ const TAG: i32 = 57;
 ///
 /// Each exchange posts one `MPI_Irecv` per received message and one `MPI_Isend` per sent
 /// message, then waits for all of them: every rank posts all its messages before it waits,
-/// so no order of the ranks deadlocks. The messages go over a duplicate of the world
-/// communicator (made by [`world`](Self::world)), so that they never meet another
-/// message of the program (the fault ODE's all-gathers, a user's own). An exchange
-/// allocates nothing (its requests live on the stack).
+/// so no order of the ranks deadlocks. Each all-gather (the gathers of the active blocks,
+/// of the coarsest level and of the solution, the exact reductions) is one
+/// `MPI_Allgatherv`. The messages go over a duplicate of the world communicator (made by
+/// [`world`](Self::world)), so that they never meet another message of the program (the
+/// fault ODE's all-gathers, a user's own). An exchange allocates nothing (its requests
+/// live on the stack), nor does an all-gather once it has been called (its counts'
+/// buffers are kept).
 ///
 /// Drop it before MPI ends (before the `Universe` of [`crate::initialize`]): it frees its
 /// communicator.
@@ -27,6 +34,7 @@ pub struct MpiExchange {
     comm: SimpleCommunicator,
     rank: usize,
     size: usize,
+    partition: Partition,
 }
 
 impl std::fmt::Debug for MpiExchange {
@@ -45,7 +53,12 @@ impl MpiExchange {
         let comm = SimpleCommunicator::world().duplicate();
         let rank = usize::try_from(comm.rank()).expect("MPI ranks are not negative");
         let size = usize::try_from(comm.size()).expect("MPI sizes are positive");
-        Self { comm, rank, size }
+        Self {
+            comm,
+            rank,
+            size,
+            partition: Partition::default(),
+        }
     }
 
     /// The communicator of the halo messages (for a program's own collectives among the
@@ -91,6 +104,19 @@ impl HaloExchange for MpiExchange {
                 post(scope, comm, sends, send)
             })
         });
+    }
+
+    /// `MPI_Allgatherv` on the exchange's communicator: the trait's result, in one
+    /// collective (MPI's algorithm: a ring, recursive doubling or Bruck's, by the sizes).
+    ///
+    /// # Panics
+    /// As the trait's shapes; if a count or displacement does not fit MPI's `int` (more
+    /// than 2³¹ values). A failing MPI ends the job (MPI's error handler); counts that
+    /// disagree between the ranks are erroneous MPI (the job may end).
+    fn all_gather(&mut self, send: &[f64], counts: &[usize], recv: &mut [f64]) {
+        check_all_gather(self.rank, self.size, send, counts, recv);
+        let mut partition = self.partition.of(recv, counts);
+        self.comm.all_gather_varcount_into(send, &mut partition);
     }
 }
 

@@ -60,11 +60,44 @@ pub enum Error {
 pub struct MpiRanks {
     rank: usize,
     size: usize,
-    /// `MPI_Allgatherv`'s counts and displacements (`int`), derived from the fault ODE's
-    /// counts at the first all-gather and kept (the same at every call): no allocation
-    /// per evaluation.
+    /// `MPI_Allgatherv`'s counts and displacements, in buffers kept between calls: no
+    /// allocation per evaluation.
+    partition: Partition,
+}
+
+/// The counts and displacements of an `MPI_Allgatherv` (MPI's `int`) of a rank-ordered
+/// concatenation, in buffers kept between calls (no allocation once they hold the rank
+/// count).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Partition {
     counts: Vec<i32>,
     displs: Vec<i32>,
+}
+
+impl Partition {
+    /// `recv` partitioned by `counts`: rank `r`'s `counts[r]` values at
+    /// `counts[..r].iter().sum()`.
+    ///
+    /// # Panics
+    /// If a count or displacement does not fit MPI's `int` (more than 2³¹ values), or
+    /// `recv` is shorter than the counts' sum.
+    pub(crate) fn of<'a>(
+        &'a mut self,
+        recv: &'a mut [f64],
+        counts: &[usize],
+    ) -> PartitionMut<'a, [f64], &'a [i32], &'a [i32]> {
+        let to_int = |c: usize| i32::try_from(c).unwrap_or_else(|_| panic!("{}", Error::Count(c)));
+        self.counts.clear();
+        self.displs.clear();
+        let mut at = 0usize;
+        for &c in counts {
+            self.counts.push(to_int(c));
+            self.displs.push(to_int(at));
+            at += c;
+        }
+        assert!(recv.len() >= at, "all_gather: the sum of the counts");
+        PartitionMut::new(recv, &self.counts[..], &self.displs[..])
+    }
 }
 
 /// Starts MPI (`MPI_Init_thread` with `MPI_THREAD_SERIALIZED`): the universe (MPI ends
@@ -83,8 +116,7 @@ pub fn initialize() -> Result<(Universe, MpiRanks), Error> {
     let ranks = MpiRanks {
         rank: usize::try_from(world.rank()).expect("MPI ranks are not negative"),
         size: usize::try_from(world.size()).expect("MPI sizes are positive"),
-        counts: Vec::new(),
-        displs: Vec::new(),
+        partition: Partition::default(),
     };
     Ok((universe, ranks))
 }
@@ -117,26 +149,7 @@ impl rsf::ranks::RankGroup for MpiRanks {
     /// fault an evaluation can hold), or `own` is not `counts[rank]` long.
     fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]) {
         assert_eq!(own.len(), counts[self.rank], "this rank's share");
-        let to_int = |c: usize| i32::try_from(c).unwrap_or_else(|_| panic!("{}", Error::Count(c)));
-        let same = self.counts.len() == counts.len()
-            && self
-                .counts
-                .iter()
-                .zip(counts)
-                .all(|(&a, &b)| a as usize == b);
-        if !same {
-            self.counts = counts.iter().map(|&c| to_int(c)).collect();
-            let mut at = 0usize;
-            self.displs = counts
-                .iter()
-                .map(|&c| {
-                    let d = to_int(at);
-                    at += c;
-                    d
-                })
-                .collect();
-        }
-        let mut partition = PartitionMut::new(all, &self.counts[..], &self.displs[..]);
+        let mut partition = self.partition.of(all, counts);
         SimpleCommunicator::world().all_gather_varcount_into(own, &mut partition);
     }
 }

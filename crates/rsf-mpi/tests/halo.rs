@@ -4,6 +4,8 @@
 //! every rank's counted halo equals its plan's; with `--vcycle`, the linear V-cycle at
 //! `mpirun -n 1, 2` gives the bits of the one-process `ColouredVCycle`; with `--tnnmg`,
 //! TNNMG on `mpirun -n 1, 2, 4` gives the bits of its solve on 1 and 3 thread ranks.
+//! `MpiExchange` alone: its exchanges arrive in order, and its all-gather
+//! (`MPI_Allgatherv`) has the bits of rsf-tnnmg's default over point-to-point messages.
 
 use std::path::{Path, PathBuf};
 
@@ -65,9 +67,9 @@ fn differing_bits(a: &[f64], b: &[f64]) -> usize {
 struct RankLine {
     owned: u64,
     ghosts: u64,
-    /// sweeps, exchanges, messages, values.
-    plan: [u64; 4],
-    counted: [u64; 4],
+    /// sweeps, exchanges, messages, values, collectives, collective values.
+    plan: [u64; 6],
+    counted: [u64; 6],
 }
 
 fn field<'a>(line: &'a str, key: &str) -> &'a str {
@@ -76,9 +78,11 @@ fn field<'a>(line: &'a str, key: &str) -> &'a str {
         .unwrap_or_else(|| panic!("no {key} in {line}"))
 }
 
-fn four(s: &str) -> [u64; 4] {
+/// The `/`-separated counts of a field (`HaloCounters`' form and its parts).
+fn numbers<const N: usize>(s: &str) -> [u64; N] {
     let v: Vec<u64> = s.split('/').map(|x| x.parse().unwrap()).collect();
-    v.try_into().unwrap()
+    v.try_into()
+        .unwrap_or_else(|v: Vec<u64>| panic!("{N} counts expected in {s}: {v:?}"))
 }
 
 /// Rank `r`'s line (`rank r of n: owned=…`) of a run's standard error.
@@ -96,8 +100,8 @@ fn rank_lines(err: &str, n: usize) -> Vec<RankLine> {
             RankLine {
                 owned: field(line, "owned").parse().unwrap(),
                 ghosts: field(line, "ghosts").parse().unwrap(),
-                plan: four(field(line, "plan_per_sweep")),
-                counted: four(field(line, "counted")),
+                plan: numbers(field(line, "plan_per_sweep")),
+                counted: numbers(field(line, "counted")),
             }
         })
         .collect()
@@ -146,22 +150,23 @@ fn distributed_sweeps_on_1_2_and_4_mpi_ranks_have_the_one_process_bits() {
             assert_eq!(l.counted, six, "rank {r} of {n}: counted against the plan");
             assert_eq!(l.ghosts > 0, n > 1, "rank {r} of {n}: ghosts");
             assert_eq!(l.plan[2] > 0, n > 1, "rank {r} of {n}: messages");
+            assert_eq!(l.plan[4..], [0, 0], "rank {r} of {n}: no collective");
         }
     }
 }
 
 /// The `rank r of n:` lines of a `--vcycle` run, by rank: owned fine nodes, owned
-/// coarsest nodes, the plans' (sweeps, exchanges, messages, values) per cycle, and what
-/// was counted.
-fn vcycle_lines(err: &str, n: usize) -> Vec<(u64, u64, [u64; 4], [u64; 4])> {
+/// coarsest nodes, the plans' (sweeps, exchanges, messages, values, collectives,
+/// collective values) per cycle, and what was counted.
+fn vcycle_lines(err: &str, n: usize) -> Vec<(u64, u64, [u64; 6], [u64; 6])> {
     (0..n)
         .map(|r| {
             let line = rank_line(err, r, n);
             (
                 field(line, "owned").parse().unwrap(),
                 field(line, "coarsest_owned").parse().unwrap(),
-                four(field(line, "plan_per_cycle")),
-                four(field(line, "counted")),
+                numbers(field(line, "plan_per_cycle")),
+                numbers(field(line, "counted")),
             )
         })
         .collect()
@@ -215,17 +220,16 @@ fn vcycles_on_1_and_2_mpi_ranks_have_the_one_process_bits() {
             );
             assert_eq!(*counted, plan.map(|v| 3 * v), "rank {r} of {n}: counted");
             assert_eq!(plan[2] > 0, n > 1, "rank {r} of {n}: messages");
+            assert_eq!(plan[4], 1, "rank {r} of {n}: the coarsest gather");
         }
+        let gathered: u64 = lines.iter().map(|l| l.2[5]).sum();
+        assert_eq!(gathered, D as u64 * vh.nodes(0) as u64, "{n} ranks");
     }
 }
 
-/// `exchanges/messages/values` of a rank line's field.
-fn three(line: &str, key: &str) -> [u64; 3] {
-    let v: Vec<u64> = field(line, key)
-        .split('/')
-        .map(|x| x.parse().unwrap())
-        .collect();
-    v.try_into().unwrap()
+/// `exchanges/messages/values/collectives/collective_values` of a rank line's field.
+fn five(line: &str, key: &str) -> [u64; 5] {
+    numbers(field(line, key))
 }
 
 /// TNNMG with Tresca friction on the top face of the box of 10 647 dofs, with V-cycles
@@ -234,8 +238,9 @@ fn three(line: &str, key: &str) -> [u64; 3] {
 /// solution is finite, moved from the start, and sticks on some frictional nodes and
 /// slips on others; per MPI rank the counters over the solve are the iterations times the
 /// plans' per iteration plus the solution's all-gather (at most that with CG, whose
-/// iterations may stop their cycles early), and at several ranks every rank sends in
-/// every iteration.
+/// iterations may stop their cycles early); at several ranks every rank sends
+/// point-to-point messages in every iteration, and every iteration makes at least four
+/// collectives (the active blocks' two gathers, two reductions), the solve one more.
 #[test]
 fn tnnmg_on_1_2_and_4_mpi_ranks_has_the_thread_ranks_bits() {
     for cg in [false, true] {
@@ -283,18 +288,20 @@ fn tnnmg_on_mpi_ranks(cg: bool) {
             let line = rank_line(&err, r, n);
             let it: u64 = field(line, "iterations").parse().unwrap();
             iterations.push(it);
-            let (plan, solution) = (three(line, "per_iteration"), three(line, "solution"));
-            let most: Vec<u64> = (0..3).map(|i| it * plan[i] + solution[i]).collect();
-            let counted = three(line, "counted");
+            let (plan, solution) = (five(line, "per_iteration"), five(line, "solution"));
+            let most: Vec<u64> = (0..5).map(|i| it * plan[i] + solution[i]).collect();
+            let counted = five(line, "counted");
             if cg {
                 assert!(
-                    (0..3).all(|i| counted[i] <= most[i]),
+                    (0..5).all(|i| counted[i] <= most[i]),
                     "rank {r} of {n}: {line}"
                 );
             } else {
                 assert_eq!(counted.to_vec(), most, "rank {r} of {n}");
             }
-            assert!(plan[1] >= 3 * (n as u64 - 1), "rank {r} of {n}: {line}");
+            assert_eq!(plan[1] > 0, n > 1, "rank {r} of {n}: {line}");
+            assert!(plan[3] >= 4, "rank {r} of {n}: collectives, {line}");
+            assert_eq!(solution[3], 1, "rank {r} of {n}: {line}");
         }
     }
     for (name, v) in &solutions {
@@ -320,7 +327,8 @@ fn the_reference_refuses_two_ranks() {
     assert!(err.contains("--reference runs on one rank"), "{err}");
 }
 
-/// Set in the ranks' environment: run the body of `mpi_ranks_exchange_in_order`.
+/// Set in the ranks' environment: run the body of the test (`mpi_ranks_exchange_in_order`,
+/// `mpi_all_gather_is_the_default_all_gather`).
 const CHILD: &str = "RSF_MPI_HALO_TEST_RANK";
 
 /// `MpiExchange` alone on 3 MPI ranks in a ring: five exchanges of different lengths, no
@@ -371,20 +379,95 @@ fn mpi_ranks_exchange_in_order() {
         std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes()).unwrap();
         return;
     }
+    let err = run_as_child(3, "mpi_ranks_exchange_in_order");
+    assert_eq!(err.matches("five exchanges in order").count(), 3, "{err}");
+}
+
+/// Runs this test binary's test `name` alone on `ranks` MPI ranks, with [`CHILD`] set in
+/// their environment (so the test runs its ranks' body); asserts that the job succeeded
+/// and returns its standard error.
+fn run_as_child(ranks: usize, name: &str) -> String {
     let me = std::env::current_exe().unwrap();
-    let out = mpirun(3)
+    let out = mpirun(ranks)
         .env(CHILD, "1")
         .arg(&me)
-        .args([
-            "--exact",
-            "mpi_ranks_exchange_in_order",
-            "--nocapture",
-            "--test-threads",
-            "1",
-        ])
+        .args(["--exact", name, "--nocapture", "--test-threads", "1"])
         .output()
         .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{err}");
-    assert_eq!(err.matches("five exchanges in order").count(), 3, "{err}");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{ranks} ranks, {name}: {err}");
+    err
+}
+
+/// rsf-tnnmg's default all-gather (one exchange of point-to-point messages) on an
+/// `MpiExchange`: a transport that only forwards `exchange`.
+struct ByExchange<'a>(&'a mut rsf_mpi::MpiExchange);
+
+impl rsf_tnnmg::distributed::HaloExchange for ByExchange<'_> {
+    fn rank(&self) -> usize {
+        self.0.rank()
+    }
+
+    fn size(&self) -> usize {
+        self.0.size()
+    }
+
+    fn exchange(
+        &mut self,
+        sends: &[rsf_tnnmg::distributed::HaloMessage],
+        send: &[f64],
+        recvs: &[rsf_tnnmg::distributed::HaloMessage],
+        recv: &mut [f64],
+    ) {
+        self.0.exchange(sends, send, recvs, recv);
+    }
+}
+
+/// `MpiExchange::all_gather` (`MPI_Allgatherv`) at 2 and 4 MPI ranks, under five count
+/// patterns (uneven, some zero, the caller's own zero, all zero, one rank only) with
+/// values of every kind (negative zero, NaN payloads, subnormals): the bits of the
+/// default all-gather over point-to-point messages on the same ranks, and the
+/// concatenation of every rank's values in rank order; exchanges in between still pair
+/// up.
+#[test]
+fn mpi_all_gather_is_the_default_all_gather() {
+    use rsf_tnnmg::distributed::HaloExchange;
+    if std::env::var_os(CHILD).is_some() {
+        let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
+        let mut halo = rsf_mpi::MpiExchange::world();
+        let (r, n) = (halo.rank(), halo.size());
+        let value = |s: usize, round: usize, k: usize| match k % 4 {
+            0 => -0.0,
+            1 => f64::from_bits(0x7ff8_0000_0000_0000 | (100 * s + 10 * round + k) as u64),
+            2 => f64::from_bits(1 + (s + round) as u64),
+            _ => (100 * s + 10 * round + k) as f64 + 0.1,
+        };
+        let patterns: Vec<Vec<usize>> = vec![
+            (0..n).map(|s| 3 * s + 1).collect(),
+            (0..n).map(|s| if s % 2 == 0 { 0 } else { 5 + s }).collect(),
+            (0..n).map(|s| usize::from(s != 1) * (2 + s)).collect(),
+            vec![0; n],
+            (0..n).map(|s| usize::from(s + 1 == n) * 1000).collect(),
+        ];
+        for (round, counts) in patterns.iter().enumerate() {
+            let send: Vec<f64> = (0..counts[r]).map(|k| value(r, round, k)).collect();
+            let total: usize = counts.iter().sum();
+            let (mut collective, mut default) = (vec![7.0; total], vec![-7.0; total]);
+            halo.all_gather(&send, counts, &mut collective);
+            ByExchange(&mut halo).all_gather(&send, counts, &mut default);
+            let want: Vec<u64> = (0..n)
+                .flat_map(|s| (0..counts[s]).map(move |k| value(s, round, k).to_bits()))
+                .collect();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&collective), want, "rank {r} of {n}, pattern {round}");
+            assert_eq!(bits(&default), want, "rank {r} of {n}, pattern {round}");
+        }
+        let line = format!("rank {r} of {n}: all-gathers agree\n");
+        std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes()).unwrap();
+        return;
+    }
+    for n in [2, 4] {
+        let err = run_as_child(n, "mpi_all_gather_is_the_default_all_gather");
+        assert_eq!(err.matches("all-gathers agree").count(), n, "{err}");
+    }
 }

@@ -1,8 +1,8 @@
-//! The all-gather of the nonlinear blocks' values: every rank sends the blocks of its owned
-//! active nodes to every other rank, so that every rank holds the values of all active
+//! The all-gather of the nonlinear blocks' values: every rank contributes the blocks of its
+//! owned active nodes to one collective, so that every rank holds the values of all active
 //! blocks (the fault is a surface: few values) in their places of a global vector.
 
-use super::halo::{exchange_round, HaloCounters, Round};
+use super::halo::{AllGather, HaloCounters};
 use super::local_rows::LocalRows;
 use super::transport::HaloExchange;
 use crate::block::{load, store};
@@ -16,11 +16,9 @@ pub(crate) struct ActiveGather<const D: usize> {
     local: Vec<(u32, u32)>,
     /// The positions of the active nodes the rank owns, with their local nodes.
     owned: Vec<(u32, u32)>,
-    round: Round,
-    /// The compact vector (`D` per active block) the exchange fills.
+    all: AllGather,
+    /// The compact vector (`D` per active block) the gather fills.
     compact: Vec<f64>,
-    send: Vec<f64>,
-    recv: Vec<f64>,
 }
 
 impl<const D: usize> ActiveGather<D> {
@@ -45,15 +43,12 @@ impl<const D: usize> ActiveGather<D> {
             .filter(|&(q, _)| (q as usize) < rows.owned())
             .collect();
         let owners: Vec<usize> = active.iter().map(|&p| owner[p]).collect();
-        let round = Round::all_gather(&owners, rank, size, D, false);
         Self {
             active: active.to_vec(),
             local,
             owned,
             compact: vec![0.0; D * active.len()],
-            send: vec![0.0; D * round.send_nodes.len()],
-            recv: vec![0.0; D * round.recv_nodes.len()],
-            round,
+            all: AllGather::new(&owners, rank, size, D),
         }
     }
 
@@ -75,14 +70,7 @@ impl<const D: usize> ActiveGather<D> {
         for &(q, k) in &self.owned {
             store(&mut self.compact, k as usize, &load::<D>(x, q as usize));
         }
-        exchange_round::<D, H>(
-            &self.round,
-            &mut self.compact,
-            halo,
-            &mut self.send,
-            &mut self.recv,
-            counters,
-        );
+        self.all.gather(&mut self.compact, halo, counters);
         for (k, &p) in self.active.iter().enumerate() {
             store(global, p, &load::<D>(&self.compact, k));
         }
@@ -97,8 +85,8 @@ impl<const D: usize> ActiveGather<D> {
         }
     }
 
-    /// What one gather sends: one exchange, its messages and values.
+    /// What one gather sends: one collective, the rank's owned active blocks' values.
     pub fn per_gather(&self) -> HaloCounters {
-        self.round.counters::<D>()
+        self.all.per_gather()
     }
 }

@@ -1,7 +1,7 @@
 //! The all-gather of a whole vector among the ranks that own its nodes
 //! ([`NodeAllGather`]).
 
-use super::halo::{exchange_round, HaloCounters, Round};
+use super::halo::{AllGather, HaloCounters};
 use super::transport::HaloExchange;
 use crate::error::{Error, Result};
 
@@ -13,9 +13,7 @@ use crate::error::{Error, Result};
 /// owned rows). A collective object: every rank calls `gather` the same number of times.
 pub struct NodeAllGather<const D: usize> {
     halo: Box<dyn HaloExchange>,
-    round: Round,
-    send: Vec<f64>,
-    recv: Vec<f64>,
+    gather: AllGather,
     counters: HaloCounters,
 }
 
@@ -43,11 +41,8 @@ impl<const D: usize> NodeAllGather<D> {
                 owner[p]
             )));
         }
-        let round = Round::all_gather(owner, halo.rank(), size, D, false);
         Ok(Self {
-            send: vec![0.0; D * round.send_nodes.len()],
-            recv: vec![0.0; D * round.recv_nodes.len()],
-            round,
+            gather: AllGather::new(owner, halo.rank(), size, D),
             halo,
             counters: HaloCounters::default(),
         })
@@ -55,20 +50,15 @@ impl<const D: usize> NodeAllGather<D> {
 
     /// Fills every node of `x` (`D` values per node, node-major, the owners' length) that
     /// this rank does not own with its owner's values; the owned nodes are sent as they
-    /// are. Collective. Allocates nothing.
+    /// are. One collective ([`HaloExchange::all_gather`]: one `MPI_Allgatherv` on MPI).
+    /// Allocates nothing (the transport may).
     ///
     /// # Panics
     /// If `x` is not `D` values per node of the owner vector (an internal invariant of
     /// the caller), or as the transport's [`HaloExchange::exchange`].
     pub fn gather(&mut self, x: &mut [f64]) {
-        exchange_round::<D, _>(
-            &self.round,
-            x,
-            &mut *self.halo,
-            &mut self.send,
-            &mut self.recv,
-            &mut self.counters,
-        );
+        assert_eq!(x.len() % D, 0, "D values per node");
+        self.gather.gather(x, &mut *self.halo, &mut self.counters);
     }
 
     /// This rank.

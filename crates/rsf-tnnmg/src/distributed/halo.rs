@@ -1,34 +1,44 @@
 //! The halo plan of one rank: which owned nodes each neighbour rank needs, which ghosts
 //! come from it, and the messages of each colour's exchange; one exchange of a plan's
-//! round, and the counters of what was sent.
+//! round; the all-gather of a vector's owned values as one collective ([`AllGather`]);
+//! and the counters of what was sent.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 
 use super::local_rows::LocalRows;
 use super::transport::{HaloExchange, HaloMessage};
 use crate::block::{load, store};
 use crate::colouring::Colouring;
 
-/// What one rank has sent in its halo exchanges, counted by the sweep (or the transfers) as it hands the
-/// messages to the transport (the numbers a model of the communication cost is fitted
-/// with). Bytes are `8 · values`.
+/// What one rank has sent, counted by the sweep (or the transfers, gathers, reductions) as
+/// it hands the messages to the transport (the numbers a model of the communication cost
+/// is fitted with): its point-to-point exchanges (halo messages to neighbour ranks) and
+/// its collectives (all-gathers) apart. Bytes are `8 · values`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct HaloCounters {
     /// Sweeps ([`DistributedSweep::sweep`](super::DistributedSweep::sweep)).
     pub sweeps: u64,
     /// Exchanges (calls of [`HaloExchange::exchange`], with or without messages of this
-    /// rank: one per colour and sweep, one per ghost update).
+    /// rank: one per colour and sweep, one per ghost update, one per transfer).
     pub exchanges: u64,
-    /// Messages sent (none is empty).
+    /// Point-to-point messages sent (none is empty).
     pub messages: u64,
-    /// f64 values sent.
+    /// f64 values sent in point-to-point messages.
     pub values: u64,
+    /// Collectives (calls of [`HaloExchange::all_gather`]: the gathers of the active
+    /// blocks, of the coarsest level and of the solution, and the exact reductions).
+    pub collectives: u64,
+    /// f64 values this rank contributed to its collectives (its own count in each; it
+    /// receives every other rank's).
+    pub collective_values: u64,
 }
 
 impl HaloCounters {
-    /// Bytes sent: 8 per value.
+    /// Bytes handed to the transport: 8 per value, point-to-point and contributed to
+    /// collectives.
     pub fn bytes(&self) -> u64 {
-        8 * self.values
+        8 * (self.values + self.collective_values)
     }
 
     /// Every count times `k` (what `k` repetitions of the counted work send).
@@ -38,17 +48,25 @@ impl HaloCounters {
             exchanges: k * self.exchanges,
             messages: k * self.messages,
             values: k * self.values,
+            collectives: k * self.collectives,
+            collective_values: k * self.collective_values,
         }
     }
 }
 
-/// `sweeps/exchanges/messages/values`, the form the programs' rank lines print.
+/// `sweeps/exchanges/messages/values/collectives/collective_values`, the form the
+/// programs' rank lines print.
 impl std::fmt::Display for HaloCounters {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{}/{}/{}/{}",
-            self.sweeps, self.exchanges, self.messages, self.values
+            "{}/{}/{}/{}/{}/{}",
+            self.sweeps,
+            self.exchanges,
+            self.messages,
+            self.values,
+            self.collectives,
+            self.collective_values
         )
     }
 }
@@ -62,6 +80,8 @@ impl std::ops::Add for HaloCounters {
             exchanges: self.exchanges + o.exchanges,
             messages: self.messages + o.messages,
             values: self.values + o.values,
+            collectives: self.collectives + o.collectives,
+            collective_values: self.collective_values + o.collective_values,
         }
     }
 }
@@ -99,53 +119,11 @@ impl Round {
     /// messages and values.
     pub fn counters<const D: usize>(&self) -> HaloCounters {
         HaloCounters {
-            sweeps: 0,
             exchanges: 1,
             messages: self.sends.len() as u64,
             values: (D * self.send_nodes.len()) as u64,
+            ..HaloCounters::default()
         }
-    }
-
-    /// The all-gather of a vector whose node `i` is owned by rank `owner[i]`, as one
-    /// exchange of rank `rank` of `size` on the global vector (node indices are global):
-    /// every rank sends its owned nodes (increasing) to every other rank that receives and
-    /// receives each other rank's owned nodes (increasing) into their places. With
-    /// `to_owners`, only ranks that own a node receive (a rank that owns none sends no
-    /// message and is sent none: it has no value to compute from them); otherwise every
-    /// rank receives every value. No message is empty.
-    pub fn all_gather(
-        owner: &[usize],
-        rank: usize,
-        size: usize,
-        values: usize,
-        to_owners: bool,
-    ) -> Self {
-        let mut round = Self::default();
-        let nodes_of = |r: usize| (0..owner.len()).filter(move |&i| owner[i] == r);
-        let receives = |r: usize| !to_owners || nodes_of(r).next().is_some();
-        let mine: Vec<u32> = nodes_of(rank).map(|i| i as u32).collect();
-        for r in (0..size).filter(|&r| r != rank) {
-            if receives(r) {
-                add(
-                    &mut round.sends,
-                    &mut round.send_nodes,
-                    r,
-                    mine.iter(),
-                    values,
-                );
-            }
-            if receives(rank) {
-                let theirs: Vec<u32> = nodes_of(r).map(|i| i as u32).collect();
-                add(
-                    &mut round.recvs,
-                    &mut round.recv_nodes,
-                    r,
-                    theirs.iter(),
-                    values,
-                );
-            }
-        }
-        round
     }
 }
 
@@ -314,4 +292,153 @@ pub(crate) fn exchange_round<const D: usize, H: HaloExchange + ?Sized>(
     counters.exchanges += 1;
     counters.messages += round.sends.len() as u64;
     counters.values += round.sends.iter().map(|m| m.len as u64).sum::<u64>();
+}
+
+/// The all-gather of a vector of `values` f64 per node, node `i` owned by rank
+/// `owner[i]`, as one collective ([`HaloExchange::all_gather`]): each rank contributes
+/// its owned nodes' values (increasing nodes), and every rank scatters the rank-ordered
+/// concatenation into the nodes' places (a precomputed order). Pure data movement: every
+/// rank ends with the owners' bits. Allocation-free per gather (the transport may
+/// allocate).
+#[derive(Debug, Clone)]
+pub(crate) struct AllGather {
+    values: usize,
+    rank: usize,
+    /// Values per rank (`values` per owned node).
+    counts: Vec<usize>,
+    /// The node of each block of the gathered values: rank 0's nodes (increasing), rank
+    /// 1's, …
+    order: Vec<u32>,
+    /// This rank's blocks in `order`.
+    mine: Range<usize>,
+    send: Vec<f64>,
+    recv: Vec<f64>,
+}
+
+impl AllGather {
+    /// The gather of rank `rank` of `size` for the owners `owner` (one per node),
+    /// `values` per node.
+    ///
+    /// # Panics
+    /// If an owner is not below `size`, or `rank` is not, or `values == 0`.
+    pub fn new(owner: &[usize], rank: usize, size: usize, values: usize) -> Self {
+        assert!(
+            rank < size && values > 0,
+            "rank {rank} of {size}, {values} values"
+        );
+        let mut nodes = vec![0usize; size];
+        for &r in owner {
+            nodes[r] += 1;
+        }
+        let mut first = vec![0usize; size + 1];
+        for r in 0..size {
+            first[r + 1] = first[r] + nodes[r];
+        }
+        let mut next = first.clone();
+        let mut order = vec![0u32; owner.len()];
+        for (i, &r) in owner.iter().enumerate() {
+            order[next[r]] = i as u32;
+            next[r] += 1;
+        }
+        Self {
+            values,
+            rank,
+            counts: nodes.iter().map(|&k| values * k).collect(),
+            mine: first[rank]..first[rank + 1],
+            order,
+            send: vec![0.0; values * nodes[rank]],
+            recv: vec![0.0; values * owner.len()],
+        }
+    }
+
+    /// Gathers: `x` (`values` per node, global node order) holds this rank's owned nodes'
+    /// values on entry and every node's, from its owner, on return, on every rank.
+    /// Counts one collective and this rank's values in `counters`. Collective.
+    ///
+    /// # Panics
+    /// If `x` is shorter than the nodes' values, `halo` is another rank's, or as
+    /// [`HaloExchange::all_gather`].
+    pub fn gather<H: HaloExchange + ?Sized>(
+        &mut self,
+        x: &mut [f64],
+        halo: &mut H,
+        counters: &mut HaloCounters,
+    ) {
+        assert_eq!(halo.rank(), self.rank, "the transport of another rank");
+        let v = self.values;
+        for (block, &p) in self
+            .send
+            .chunks_exact_mut(v)
+            .zip(&self.order[self.mine.clone()])
+        {
+            block.copy_from_slice(&x[v * p as usize..][..v]);
+        }
+        halo.all_gather(&self.send, &self.counts, &mut self.recv);
+        for (block, &p) in self.recv.chunks_exact(v).zip(&self.order) {
+            x[v * p as usize..][..v].copy_from_slice(block);
+        }
+        *counters += self.per_gather();
+    }
+
+    /// What one gather sends: one collective, this rank's values.
+    pub fn per_gather(&self) -> HaloCounters {
+        HaloCounters {
+            collectives: 1,
+            collective_values: self.send.len() as u64,
+            ..HaloCounters::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::on_thread_ranks;
+    use super::*;
+
+    /// 11 nodes of 2 values owned out of order by 1–4 thread ranks (the last rank owns
+    /// none at 3 and 4 ranks), two gathers in a row: every rank ends with every node's
+    /// values from its owner, bit for bit, and counts one collective per gather with its
+    /// own nodes' values.
+    #[test]
+    fn all_gather_fills_every_node_from_its_owner() {
+        const V: usize = 2;
+        let value = |p: usize, c: usize, round: usize| (100 * round + 10 * p + c) as f64 / 3.0;
+        for size in 1..=4usize {
+            let owners = size.min(2).max(size.saturating_sub(1));
+            let owner: Vec<usize> = (0..11).map(|p| (p * 7 + 3) % owners).collect();
+            let owner = &owner;
+            let got = on_thread_ranks(size, |mut halo| {
+                let rank = halo.rank();
+                let mut gather = AllGather::new(owner, rank, size, V);
+                let mut counters = HaloCounters::default();
+                let mut out = Vec::new();
+                for round in 0..2 {
+                    let mut x = vec![f64::NAN; V * owner.len()];
+                    for p in (0..owner.len()).filter(|&p| owner[p] == rank) {
+                        for c in 0..V {
+                            x[V * p + c] = value(p, c, round);
+                        }
+                    }
+                    gather.gather(&mut x, &mut halo, &mut counters);
+                    out.push(x);
+                }
+                let mine = owner.iter().filter(|&&r| r == rank).count();
+                (out, counters, gather.per_gather(), mine)
+            });
+            for (r, (out, counters, per, mine)) in got.into_iter().enumerate() {
+                for (round, x) in out.iter().enumerate() {
+                    let want: Vec<u64> = (0..V * owner.len())
+                        .map(|k| value(k / V, k % V, round).to_bits())
+                        .collect();
+                    let bits: Vec<u64> = x.iter().map(|v| v.to_bits()).collect();
+                    assert_eq!(bits, want, "rank {r} of {size}, gather {round}");
+                }
+                assert_eq!(
+                    (per.collectives, per.collective_values),
+                    (1, (V * mine) as u64)
+                );
+                assert_eq!(counters, per.times(2), "rank {r} of {size}");
+            }
+        }
+    }
 }

@@ -9,7 +9,8 @@
 //! then one halo exchange of that colour's values with the neighbour ranks through the
 //! caller's transport ([`HaloExchange`]: MPI in `rsf-mpi`, threads in [`ThreadExchange`]).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
-//! the same node updates; [`HaloCounters`] counts the messages and values sent.
+//! the same node updates; [`HaloCounters`] counts the messages, collectives and values
+//! sent.
 //! [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows, and
 //! [`ColouredGaussSeidel`] its one-process reference (the tests' and measurements'
 //! smoother).
@@ -63,6 +64,6 @@ pub use sweep::DistributedSweep;
 pub use tnnmg::DistributedTnnmg;
 pub use tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 pub use transfer::DistributedTransfer;
-pub use transport::{HaloExchange, HaloMessage, ThreadExchange};
+pub use transport::{check_all_gather, HaloExchange, HaloMessage, ThreadExchange};
 pub use tresca::BlockTresca;
 pub use vcycle::DistributedVCycle;

@@ -1,7 +1,8 @@
 //! Reproducible global sums: every rank adds its terms into exact accumulators (Neal's
 //! superaccumulators, the `xsum` crate), extracts each partial sum as an exact expansion
-//! (a few non-overlapping doubles), sends it to every other rank, and every rank adds all
-//! expansions exactly and rounds once. The total is the correctly rounded exact sum of all
+//! (a few non-overlapping doubles), all-gathers them (one collective,
+//! [`HaloExchange::all_gather`]), and every rank adds all expansions exactly and rounds
+//! once. The total is the correctly rounded exact sum of all
 //! the terms: the same bits whatever the rank count, the partition and the order of the
 //! terms.
 //!
@@ -54,7 +55,7 @@ impl ExactAccumulator {
 }
 
 use super::halo::HaloCounters;
-use super::transport::{HaloExchange, HaloMessage};
+use super::transport::HaloExchange;
 
 /// Most doubles in the expansion of one exact sum of doubles: each term of
 /// [`expansion`] is at most half an ulp of the previous one, so its exponent is at least 53
@@ -107,18 +108,18 @@ fn total<'a>(parts: impl Iterator<Item = &'a [f64]>) -> f64 {
     }
 }
 
-/// A fixed number of global sums reduced together in one exchange (every rank sends its
-/// partial expansions to every other rank: `size − 1` messages of `42 · sums` values
-/// each). Allocation-free after set-up (the transport may allocate).
+/// A fixed number of global sums reduced together in one all-gather (every rank
+/// contributes its partial expansions, `42 · sums` values, and receives every other
+/// rank's). Allocation-free after set-up (the transport may allocate).
 pub(crate) struct ExactSums {
     rank: usize,
     accs: Vec<ExactAccumulator>,
-    /// Own slots (`SLOT` per sum), sent whole to every other rank.
+    /// Own slots (`SLOT` per sum), the rank's contribution.
     send: Vec<f64>,
-    /// Rank `r`'s slots at `SLOT · sums · r'`, `r'` the index of `r` among the others.
+    /// `SLOT · sums` per rank.
+    counts: Vec<usize>,
+    /// Every rank's slots, rank `r`'s at `SLOT · sums · r`.
     recv: Vec<f64>,
-    sends: Vec<HaloMessage>,
-    recvs: Vec<HaloMessage>,
     totals: Vec<f64>,
     counters: HaloCounters,
     /// Rounds each rank's terms in floating point in the order added before the exact
@@ -142,31 +143,12 @@ impl ExactSums {
     /// `sums` sums of rank `rank` of `size`.
     pub fn new(sums: usize, rank: usize, size: usize) -> Self {
         let len = SLOT * sums;
-        let others: Vec<usize> = (0..size).filter(|&r| r != rank).collect();
-        let sends = others
-            .iter()
-            .map(|&r| HaloMessage {
-                rank: r,
-                start: 0,
-                len,
-            })
-            .collect();
-        let recvs = others
-            .iter()
-            .enumerate()
-            .map(|(k, &r)| HaloMessage {
-                rank: r,
-                start: k * len,
-                len,
-            })
-            .collect();
         Self {
             rank,
             accs: (0..sums).map(|_| ExactAccumulator::default()).collect(),
             send: vec![0.0; len],
-            recv: vec![0.0; len * others.len()],
-            sends,
-            recvs,
+            counts: vec![len; size],
+            recv: vec![0.0; len * size],
             totals: vec![0.0; sums],
             counters: HaloCounters::default(),
             #[cfg(test)]
@@ -197,7 +179,8 @@ impl ExactSums {
     /// reduction, correctly rounded, the same bits on every rank. Collective.
     ///
     /// # Panics
-    /// If `halo` is another rank's, or as [`HaloExchange::exchange`].
+    /// If `halo` is another rank's or has another size, or as
+    /// [`HaloExchange::all_gather`].
     pub fn reduce<H: HaloExchange + ?Sized>(&mut self, halo: &mut H) -> &[f64] {
         assert_eq!(halo.rank(), self.rank, "the transport of another rank");
         #[cfg(test)]
@@ -211,30 +194,26 @@ impl ExactSums {
             let len = expansion(acc, &mut slot[1..]);
             slot[0] = len as f64;
         }
-        halo.exchange(&self.sends, &self.send, &self.recvs, &mut self.recv);
-        self.counters.exchanges += 1;
-        self.counters.messages += self.sends.len() as u64;
-        self.counters.values += self.sends.iter().map(|m| m.len as u64).sum::<u64>();
+        halo.all_gather(&self.send, &self.counts, &mut self.recv);
+        self.counters += self.per_reduction();
         let width = SLOT * self.accs.len();
         for (i, t) in self.totals.iter_mut().enumerate() {
-            let part = |buf: &'_ [f64]| -> usize { buf[SLOT * i] as usize };
-            let own = &self.send[SLOT * i + 1..SLOT * i + 1 + part(&self.send)];
-            let others = self.recv.chunks_exact(width).map(|m| {
+            // Every rank's expansion, in rank order (the sum is exact: any order).
+            let parts = self.recv.chunks_exact(width).map(|m| {
                 let len = (m[SLOT * i] as usize).min(MAX_EXPANSION);
                 &m[SLOT * i + 1..SLOT * i + 1 + len]
             });
-            *t = total(std::iter::once(own).chain(others));
+            *t = total(parts);
         }
         &self.totals
     }
 
-    /// What one reduction sends: one exchange, `size − 1` messages of `42 · sums` values.
+    /// What one reduction sends: one collective of `42 · sums` values.
     pub fn per_reduction(&self) -> HaloCounters {
         HaloCounters {
-            sweeps: 0,
-            exchanges: 1,
-            messages: self.sends.len() as u64,
-            values: self.sends.iter().map(|m| m.len as u64).sum(),
+            collectives: 1,
+            collective_values: self.send.len() as u64,
+            ..HaloCounters::default()
         }
     }
 

@@ -180,6 +180,7 @@ impl<const D: usize> DistributedSweep<D> {
                 .iter()
                 .map(|r| (D * r.send_nodes.len()) as u64)
                 .sum(),
+            ..HaloCounters::default()
         }
     }
 

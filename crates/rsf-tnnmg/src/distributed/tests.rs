@@ -222,8 +222,7 @@ fn an_empty_rank_changes_nothing() {
         HaloCounters {
             sweeps,
             exchanges: sweeps * colouring.num_colours() as u64,
-            messages: 0,
-            values: 0,
+            ..HaloCounters::default()
         }
     );
     for r in [0, 2] {
@@ -304,6 +303,7 @@ fn counters_match_an_independent_count() {
                     exchanges: colouring.num_colours() as u64,
                     messages: messages.len() as u64,
                     values,
+                    ..HaloCounters::default()
                 };
                 assert_eq!(rank.per_sweep, want, "{name}: rank {r} of {size}");
                 let total = HaloCounters {
@@ -311,6 +311,7 @@ fn counters_match_an_independent_count() {
                     exchanges: sweeps * want.exchanges,
                     messages: sweeps * want.messages,
                     values: sweeps * want.values,
+                    ..HaloCounters::default()
                 };
                 assert_eq!(rank.counters, total, "{name}: rank {r} of {size}");
                 assert_eq!(rank.counters.bytes(), 8 * total.values);

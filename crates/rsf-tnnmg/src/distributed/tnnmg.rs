@@ -7,7 +7,7 @@ use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
 use super::active::ActiveGather;
 use super::cg::DistributedCg;
-use super::halo::{exchange_round, HaloCounters, Round};
+use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::MultigridLevels;
 use super::local_rows::LocalRows;
 use super::reduce::ExactSums;
@@ -113,9 +113,7 @@ pub struct DistributedTnnmg<const D: usize> {
     pub(super) cg: DistributedCg,
     /// The iterate's norm and energy computed with the last correction's norm.
     pub(super) pending: (Option<f64>, Option<f64>),
-    pub(super) solution: Round,
-    pub(super) solution_send: Vec<f64>,
-    pub(super) solution_recv: Vec<f64>,
+    pub(super) solution: AllGather,
     pub(super) counters: TnnmgCounters,
 }
 
@@ -260,7 +258,6 @@ impl<const D: usize> DistributedTnnmg<D> {
         for (q, &p) in rows.global_nodes()[..owned].iter().enumerate() {
             local_of[p] = q as u32;
         }
-        let solution = Round::all_gather(owner, rank, size, D, false);
         let local = D * rows.len();
         Ok(Self {
             opts,
@@ -292,9 +289,7 @@ impl<const D: usize> DistributedTnnmg<D> {
             free_owned: vec![0.0; D * owned],
             cg: DistributedCg::new(D * owned, local, rank, size),
             pending: (None, None),
-            solution_send: vec![0.0; D * solution.send_nodes.len()],
-            solution_recv: vec![0.0; D * solution.recv_nodes.len()],
-            solution,
+            solution: AllGather::new(owner, rank, size, D),
             counters: TnnmgCounters::default(),
             sweep,
             halo,
@@ -381,7 +376,7 @@ impl<const D: usize> DistributedTnnmg<D> {
 
     /// What the all-gather of the solution at the end of a solve sends.
     pub fn per_solution(&self) -> HaloCounters {
-        self.solution.counters::<D>()
+        self.solution.per_gather()
     }
 
     /// Rounds each rank's terms of the line search's sums in floating point before their
@@ -426,20 +421,14 @@ impl<const D: usize> DistributedTnnmg<D> {
     }
 
     /// Makes the caller's `v` the whole current iterate on every rank: every rank's owned
-    /// values, gathered in one exchange.
+    /// values, gathered in one collective.
     pub(super) fn finish(&mut self, v: &mut [f64]) {
         let rows = self.sweep.rows();
         for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
             store(v, p, &load::<D>(&self.v, q));
         }
-        exchange_round::<D, _>(
-            &self.solution,
-            v,
-            &mut *self.halo,
-            &mut self.solution_send,
-            &mut self.solution_recv,
-            &mut self.counters.solution,
-        );
+        self.solution
+            .gather(v, &mut *self.halo, &mut self.counters.solution);
     }
 }
 

@@ -52,7 +52,7 @@ impl Default for DistributedTnnmgOptions {
 }
 
 /// What one rank of [`DistributedTnnmg`](super::DistributedTnnmg) has sent, by part of the iteration (each counted
-/// as the messages are handed to the transport). Bytes are `8 · values`.
+/// as the messages are handed to the transport). Bytes are `8` per value.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TnnmgCounters {
     /// TNNMG iterations.
@@ -63,16 +63,16 @@ pub struct TnnmgCounters {
     pub full_updates: u64,
     /// The nonlinear smoother: one exchange per colour and sweep.
     pub smoother: HaloCounters,
-    /// The linear V-cycles: sweeps, ghost updates and transfers of every level, the
-    /// coarsest gathers.
+    /// The linear V-cycles: sweeps, ghost updates and transfers of every level
+    /// (exchanges), the coarsest gathers (collectives).
     pub cycles: HaloCounters,
     /// The all-gathers of the active blocks' values (the iterate before the
-    /// linearisation, the correction before the line search).
+    /// linearisation, the correction before the line search; one collective each).
     pub gathers: HaloCounters,
     /// The reproducible global sums (`g0` and `h` of the line search; the norms and the
-    /// energy).
+    /// energy; one collective each).
     pub reductions: HaloCounters,
-    /// The all-gather of the solution at the end of each solve.
+    /// The all-gather of the solution at the end of each solve (one collective).
     pub solution: HaloCounters,
 }
 

@@ -120,7 +120,9 @@ fn differing(x: &[f64], y: &[f64]) -> usize {
 /// a frictional node) and METIS's partition (when built with METIS): every rank's solution has the bits of the one-rank solve, the
 /// iteration counts agree; the friction both sticks (truncated blocks) and slips; what
 /// every rank counted is its plans' per iteration times the iterations plus the
-/// solution's all-gather, and ranks exchange (more messages with more ranks).
+/// solution's all-gather; at several ranks every rank sends point-to-point messages, and
+/// an iteration makes at least four collectives (two gathers of the active blocks, two
+/// reductions).
 #[test]
 fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
     let pb = cube(2);
@@ -174,7 +176,9 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
                     solution: rank.per_solution,
                 };
                 assert_eq!(rank.counters, want, "{name}: rank {r} of {size}");
-                assert!(rank.per_iteration.total().messages >= (size - 1) as u64 * 3);
+                let total = rank.per_iteration.total();
+                assert_eq!(total.messages > 0, size > 1, "{name}: rank {r} of {size}");
+                assert!(total.collectives >= 4, "{name}: rank {r} of {size}");
             }
         }
     }

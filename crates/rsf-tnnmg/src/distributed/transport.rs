@@ -1,6 +1,7 @@
 //! What a distributed sweep needs of its transport: one exchange of f64 buffers with the
-//! neighbour ranks ([`HaloExchange`]), and an implementation over threads of one process
-//! ([`ThreadExchange`]).
+//! neighbour ranks ([`HaloExchange::exchange`]) and an all-gather of every rank's values
+//! ([`HaloExchange::all_gather`], by default made of one exchange), and an implementation
+//! over threads of one process ([`ThreadExchange`]).
 
 use std::sync::mpsc::{channel, Receiver, Sender};
 
@@ -31,7 +32,9 @@ impl HaloMessage {
 /// calls of all ranks form one exchange, whose messages were agreed in advance (a halo
 /// plan that every rank derives from the same global data): a message from rank `s` to
 /// rank `r` in `s`'s `k`-th call is received by `r`'s `k`-th call, whose `recvs` has an
-/// entry from `s` of the same length. An implementation only moves numbers.
+/// entry from `s` of the same length. The same holds for [`all_gather`](Self::all_gather):
+/// every rank makes its `k`-th all-gather call with the same counts, in the same order
+/// relative to its exchanges. An implementation only moves numbers.
 pub trait HaloExchange {
     /// This process's rank, in `0..size()`.
     fn rank(&self) -> usize;
@@ -56,6 +59,64 @@ pub trait HaloExchange {
         recvs: &[HaloMessage],
         recv: &mut [f64],
     );
+
+    /// The all-gather of a variable number of values per rank: rank `r` contributes
+    /// `counts[r]` values (this rank its `send`), and every rank's `recv` becomes the
+    /// concatenation of all contributions in rank order, rank `r`'s at
+    /// `counts[..r].iter().sum()`. Collective: every rank calls it with the same `counts`
+    /// (see the trait's documentation). A count may be zero.
+    ///
+    /// The default implementation is one [`exchange`](Self::exchange): the caller's values
+    /// to every other rank (if it has any), every other rank's non-empty contribution into
+    /// its place of `recv`, the caller's own copied there (`size − 1` messages per rank
+    /// that contributes; it allocates the two message lists). A transport with a collective
+    /// of its own (MPI's `MPI_Allgatherv`) overrides it; the result is the same values.
+    ///
+    /// # Panics
+    /// If `counts.len() != size()`, `send.len() != counts[rank()]` or
+    /// `recv.len() != counts.iter().sum()`; as [`exchange`](Self::exchange) if the
+    /// transport fails or the ranks' counts disagree.
+    fn all_gather(&mut self, send: &[f64], counts: &[usize], recv: &mut [f64]) {
+        let rank = self.rank();
+        check_all_gather(rank, self.size(), send, counts, recv);
+        let (mut sends, mut recvs) = (Vec::new(), Vec::new());
+        let mut start = 0;
+        for (r, &len) in counts.iter().enumerate() {
+            if r == rank {
+                recv[start..start + len].copy_from_slice(send);
+            } else {
+                if len > 0 {
+                    recvs.push(HaloMessage {
+                        rank: r,
+                        start,
+                        len,
+                    });
+                }
+                if !send.is_empty() {
+                    sends.push(HaloMessage {
+                        rank: r,
+                        start: 0,
+                        len: send.len(),
+                    });
+                }
+            }
+            start += len;
+        }
+        self.exchange(&sends, send, &recvs, recv);
+    }
+}
+
+/// Checks the shapes of rank `rank`'s [`all_gather`](HaloExchange::all_gather) among
+/// `size` ranks (for the trait's default and for transports that override it).
+///
+/// # Panics
+/// If `counts.len() != size`, `send.len() != counts[rank]` or
+/// `recv.len() != counts.iter().sum()`.
+pub fn check_all_gather(rank: usize, size: usize, send: &[f64], counts: &[usize], recv: &[f64]) {
+    assert_eq!(counts.len(), size, "all_gather: one count per rank");
+    assert_eq!(send.len(), counts[rank], "all_gather: rank {rank}'s count");
+    let total: usize = counts.iter().sum();
+    assert_eq!(recv.len(), total, "all_gather: the sum of the counts");
 }
 
 /// Threads of one process as ranks: one channel per ordered pair of ranks, each message a
@@ -199,5 +260,68 @@ mod tests {
             ];
             assert_eq!(got, &want.concat(), "rank {r}");
         }
+    }
+
+    /// The default all-gather on groups of 1–4 thread ranks, with uneven counts (some
+    /// zero, the caller's own among them) and three gathers in a row: every rank's result
+    /// is the concatenation of the contributions in rank order, bit for bit (negative
+    /// zero, a NaN payload and subnormals kept); exchanges in between still pair up.
+    #[test]
+    fn thread_ranks_all_gather_uneven_counts() {
+        let value = |r: usize, round: usize, k: usize| match k % 4 {
+            0 => -0.0,
+            1 => f64::from_bits(0x7ff8_0000_0000_0000 | (100 * r + 10 * round + k) as u64),
+            2 => f64::from_bits(1 + (r + round) as u64),
+            _ => (100 * r + 10 * round + k) as f64 + 0.1,
+        };
+        for size in 1..=4 {
+            let patterns: Vec<Vec<usize>> = vec![
+                (0..size).map(|r| r + 1).collect(),
+                (0..size)
+                    .map(|r| if r % 2 == 0 { 0 } else { 3 * r })
+                    .collect(),
+                (0..size).map(|r| usize::from(r + 1 == size) * 5).collect(),
+                vec![0; size],
+            ];
+            let results: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
+                let handles: Vec<_> = ThreadExchange::group(size)
+                    .into_iter()
+                    .map(|mut t| {
+                        let patterns = &patterns;
+                        s.spawn(move || {
+                            let r = t.rank();
+                            let mut got = Vec::new();
+                            for (round, counts) in patterns.iter().enumerate() {
+                                let send: Vec<f64> =
+                                    (0..counts[r]).map(|k| value(r, round, k)).collect();
+                                let mut recv = vec![7.0; counts.iter().sum()];
+                                t.all_gather(&send, counts, &mut recv);
+                                got.push(recv.iter().map(|x| x.to_bits()).collect());
+                                // An exchange with no messages between the gathers.
+                                t.exchange(&[], &[], &[], &mut []);
+                            }
+                            got
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for (round, counts) in patterns.iter().enumerate() {
+                let want: Vec<u64> = (0..size)
+                    .flat_map(|r| (0..counts[r]).map(move |k| value(r, round, k).to_bits()))
+                    .collect();
+                for (r, got) in results.iter().enumerate() {
+                    assert_eq!(got[round], want, "{size} ranks, rank {r}, gather {round}");
+                }
+            }
+        }
+    }
+
+    /// A rank whose count disagrees with its values is refused.
+    #[test]
+    #[should_panic(expected = "rank 0's count")]
+    fn all_gather_checks_the_own_count() {
+        let mut t = ThreadExchange::group(1).pop().unwrap();
+        t.all_gather(&[1.0], &[2], &mut [0.0; 2]);
     }
 }

@@ -2,7 +2,7 @@
 //! block Gauss–Seidel sweep, the residual and the transfers; the coarsest problem gathered
 //! on every rank and solved there redundantly.
 
-use super::halo::{exchange_round, HaloCounters, Round};
+use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::{LevelSource, VCycleHierarchy, VCycleShape};
 use super::local_rows::LocalRows;
 use super::transport::HaloExchange;
@@ -40,9 +40,7 @@ struct Coarsest {
     /// The global vector the gather fills and the solve overwrites.
     global: Vec<f64>,
     free: Vec<f64>,
-    gather: Round,
-    send: Vec<f64>,
-    recv: Vec<f64>,
+    gather: AllGather,
     counters: HaloCounters,
     solver: CoarseSolver,
 }
@@ -61,8 +59,9 @@ struct Coarsest {
 /// prolongation (one exchange), one ghost update (the owned values changed outside a
 /// sweep, and the post-sweeps and the next residual read the ghosts), `post` sweeps
 /// (decreasing colours). The coarsest level: an all-gather of the owned right-hand sides
-/// in one exchange (every rank sends its owned values to every other rank; the global
-/// vector is assembled by node index, so its bits do not depend on the rank count), then
+/// in one collective ([`HaloExchange::all_gather`]: every rank contributes its owned
+/// values and receives every other rank's; the global vector is assembled by node index,
+/// so its bits do not depend on the rank count), then
 /// every rank that owns a coarsest node solves the whole coarsest problem with the same
 /// factorisation and keeps its owned values. No reduction is made: every value is
 /// computed by one rank with the one-process arithmetic.
@@ -152,16 +151,13 @@ impl<const D: usize> DistributedVCycle<D> {
         let n0 = h.matrix(0).nodes();
         let own0 = &owner[..n0];
         let owned: Vec<usize> = (0..n0).filter(|&i| own0[i] == rank).collect();
-        let gather = Round::all_gather(own0, rank, size, D, true);
         let coarsest = Coarsest {
             rhs: vec![0.0; D * owned.len()],
             x: vec![0.0; D * owned.len()],
             owned,
             global: vec![0.0; D * n0],
             free: h.free(0).to_vec(),
-            send: vec![0.0; D * gather.send_nodes.len()],
-            recv: vec![0.0; D * gather.recv_nodes.len()],
-            gather,
+            gather: AllGather::new(own0, rank, size, D),
             counters: HaloCounters::default(),
             solver: h.coarse_solver()?,
         };
@@ -386,7 +382,7 @@ impl<const D: usize> DistributedVCycle<D> {
     /// level.
     pub fn per_cycle(&self) -> HaloCounters {
         let sweeps = (self.shape.pre + self.shape.post) as u64;
-        let mut c = self.coarsest.gather.counters::<D>();
+        let mut c = self.coarsest.gather.per_gather();
         for level in &self.levels {
             c += level.sweep.per_sweep().times(sweeps)
                 + level.sweep.per_ghost_update()
@@ -420,14 +416,8 @@ impl Coarsest {
         for (k, &i) in self.owned.iter().enumerate() {
             store(&mut self.global, i, &load::<D>(&self.rhs, k));
         }
-        exchange_round::<D, H>(
-            &self.gather,
-            &mut self.global,
-            halo,
-            &mut self.send,
-            &mut self.recv,
-            &mut self.counters,
-        );
+        self.gather
+            .gather(&mut self.global, halo, &mut self.counters);
         if self.owned.is_empty() {
             return;
         }

@@ -9,7 +9,8 @@
 //! at a residual reduction of 0.01: the one-process TNNMG's defaults), each timed between
 //! two barriers. Each rank writes its owned and ghost nodes, the iterations, what one
 //! iteration sends by the plans per part (smoother, cycles, gathers, reductions:
-//! exchanges/messages/values) and in total, and what it counted over the last solve
+//! exchanges/messages/values point to point, then collectives/values contributed to them)
+//! and in total, and what it counted over the last solve
 //! (including the solution's all-gather); rank 0 the median and, with `--out`, the
 //! solution (every rank holds it whole after the solve). `--thread-ranks N` (one MPI rank)
 //! runs the same solve on N threads as ranks (`ThreadExchange`, METIS's partition into N)
@@ -91,9 +92,12 @@ fn solver(
     .map_err(|e| e.to_string())
 }
 
-/// `exchanges/messages/values`.
-fn triple(c: HaloCounters) -> String {
-    format!("{}/{}/{}", c.exchanges, c.messages, c.values)
+/// `exchanges/messages/values/collectives/collective_values`.
+fn counts(c: HaloCounters) -> String {
+    format!(
+        "{}/{}/{}/{}/{}",
+        c.exchanges, c.messages, c.values, c.collectives, c.collective_values
+    )
 }
 
 /// The solve on `n` thread ranks in this process: thread rank 0's solution written.
@@ -175,14 +179,14 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
          resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB\n",
         rows.owned(),
         rows.ghosts(),
-        triple(plan.total()),
+        counts(plan.total()),
         plan.total().bytes(),
-        triple(plan.smoother),
-        triple(plan.cycles),
-        triple(plan.gathers),
-        triple(plan.reductions),
-        triple(tnnmg.per_solution()),
-        triple(counted.total()),
+        counts(plan.smoother),
+        counts(plan.cycles),
+        counts(plan.gathers),
+        counts(plan.reductions),
+        counts(tnnmg.per_solution()),
+        counts(counted.total()),
     );
     write_line(&line)?;
     if ranks.is_root() {
