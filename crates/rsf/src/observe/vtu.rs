@@ -408,6 +408,46 @@ fn pvtu(point: &[Attribute], pieces: &[String]) -> String {
     f
 }
 
+/// The VTU file of the mesh vertices `vertices` (the points, in this order, padded to 3
+/// coordinates), the cells `connectivity` (`k` point numbers per cell, of `cell_type`) and
+/// the point data `point`, titled `title`.
+fn grid<const D: usize>(
+    vertices: impl ExactSizeIterator<Item = [f64; D]>,
+    connectivity: Vec<u64>,
+    cell_type: CellType,
+    point: Vec<Attribute>,
+    title: String,
+) -> Vtk {
+    let mut points = vec![0.0; 3 * vertices.len()];
+    for (p, v) in vertices.enumerate() {
+        for c in 0..D.min(3) {
+            points[3 * p + c] = v[c];
+        }
+    }
+    let ncells = connectivity.len() / (D + 1);
+    let piece = UnstructuredGridPiece {
+        points: points.into(),
+        cells: Cells {
+            cell_verts: VertexNumbers::XML {
+                connectivity,
+                offsets: (1..=ncells).map(|k| (k * (D + 1)) as u64).collect(),
+            },
+            types: vec![cell_type; ncells],
+        },
+        data: Attributes {
+            point,
+            cell: Vec::new(),
+        },
+    };
+    Vtk {
+        version: Version::new_xml(1, 0),
+        title,
+        byte_order: ByteOrder::LittleEndian,
+        data: DataSet::inline(piece),
+        file_path: None,
+    }
+}
+
 /// Writes `vtk` to `path`; errors name the file.
 fn export(vtk: Vtk, path: &std::path::Path, action: &'static str) -> Result<()> {
     vtk.export(path).map_err(|e| Error::File {
@@ -441,13 +481,6 @@ impl VtuFrames {
         let share = pieces
             .share
             .get_or_insert_with(|| Share::new(&m.cells, D + 1, &pieces.owner, rank));
-        let mut points = vec![0.0; 3 * share.points.len()];
-        for (i, &p) in share.points.iter().enumerate() {
-            for c in 0..D.min(3) {
-                points[3 * i + c] = m.vertices[p][c];
-            }
-        }
-        let ncells = share.connectivity.len() / (D + 1);
         let mut point: Vec<Attribute> = point_fields(s)
             .into_iter()
             .map(|(name, c, data)| attribute(name, c, gather(&data, c, &share.points)))
@@ -460,27 +493,13 @@ impl VtuFrames {
             let names: Vec<String> = (0..size).map(|r| piece_name(step, r)).collect();
             pvtu(&point, &names)
         });
-        let piece = UnstructuredGridPiece {
-            points: points.into(),
-            cells: Cells {
-                cell_verts: VertexNumbers::XML {
-                    connectivity: share.connectivity.clone(),
-                    offsets: (1..=ncells).map(|k| (k * (D + 1)) as u64).collect(),
-                },
-                types: vec![cell_type; ncells],
-            },
-            data: Attributes {
-                point,
-                cell: Vec::new(),
-            },
-        };
-        let vtk = Vtk {
-            version: Version::new_xml(1, 0),
-            title: format!("rsf step {step}, piece {rank} of {size}"),
-            byte_order: ByteOrder::LittleEndian,
-            data: DataSet::inline(piece),
-            file_path: None,
-        };
+        let vtk = grid(
+            share.points.iter().map(|&p| m.vertices[p]),
+            share.connectivity.clone(),
+            cell_type,
+            point,
+            format!("rsf step {step}, piece {rank} of {size}"),
+        );
         // The other ranks reach their first frame after collective solves, when rank 0
         // has prepared the run's folder.
         std::fs::create_dir_all(&self.dir).map_err(io_at("create the frame folder", &self.dir))?;
@@ -520,38 +539,16 @@ impl<const D: usize> Observer<D> for VtuFrames {
             return Ok(Flow::Continue(()));
         }
         let m = s.model;
-        let n = m.vertices.len();
-        let mut points = vec![0.0; 3 * n];
-        for (p, v) in m.vertices.iter().enumerate() {
-            for c in 0..D.min(3) {
-                points[3 * p + c] = v[c];
-            }
-        }
-        let ncells = m.cells.len() / (D + 1);
-        let piece = UnstructuredGridPiece {
-            points: points.into(),
-            cells: Cells {
-                cell_verts: VertexNumbers::XML {
-                    connectivity: m.cells.iter().map(|&c| c as u64).collect(),
-                    offsets: (1..=ncells).map(|k| (k * (D + 1)) as u64).collect(),
-                },
-                types: vec![cell_type; ncells],
-            },
-            data: Attributes {
-                point: point_fields(s)
-                    .into_iter()
-                    .map(|(name, c, data)| attribute(name, c, data))
-                    .collect(),
-                cell: Vec::new(),
-            },
-        };
-        let vtk = Vtk {
-            version: Version::new_xml(1, 0),
-            title: format!("rsf step {}", s.report.step),
-            byte_order: ByteOrder::LittleEndian,
-            data: DataSet::inline(piece),
-            file_path: None,
-        };
+        let vtk = grid(
+            m.vertices.iter().copied(),
+            m.cells.iter().map(|&c| c as u64).collect(),
+            cell_type,
+            point_fields(s)
+                .into_iter()
+                .map(|(name, c, data)| attribute(name, c, data))
+                .collect(),
+            format!("rsf step {}", s.report.step),
+        );
         let name = format!("frame_{:06}.vtu", s.report.step);
         export(vtk, &self.dir.join(&name), "write the VTU frame")?;
         self.frames.push((s.report.time, name));
