@@ -74,49 +74,35 @@ impl<const D: usize> NodeAllGather<D> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::on_thread_ranks;
     use super::*;
     use crate::distributed::ThreadExchange;
 
-    /// At 1 to 4 thread ranks with interleaved owners (and a rank owning nothing), every
-    /// rank ends with the whole vector, each node's values those its owner held; a wrong
-    /// owner is refused.
+    /// The wrapper of `AllGather` (whose gathers halo.rs tests at 1–4 ranks): at 3 thread
+    /// ranks, one owning nothing, every rank ends with every owner's values and counts
+    /// one collective; a wrong owner is refused.
     #[test]
     fn every_rank_gets_every_owners_values() {
-        let nodes = 11;
-        for size in 1..=4 {
-            // Interleaved; the last rank owns nothing when there are several.
-            let owner: Vec<usize> = (0..nodes).map(|p| (7 * p) % (size - 1).max(1)).collect();
-            let got: Vec<Vec<f64>> = std::thread::scope(|s| {
-                let handles: Vec<_> = ThreadExchange::group(size)
-                    .into_iter()
-                    .map(|halo| {
-                        let owner = &owner;
-                        s.spawn(move || {
-                            let rank = halo.rank();
-                            let mut g = NodeAllGather::<2>::new(owner, Box::new(halo)).unwrap();
-                            // Owned values: the node and the rank; the rest garbage.
-                            let mut x: Vec<f64> = (0..2 * nodes)
-                                .map(|i| {
-                                    if owner[i / 2] == rank {
-                                        (i * 10 + rank) as f64
-                                    } else {
-                                        f64::NAN
-                                    }
-                                })
-                                .collect();
-                            g.gather(&mut x);
-                            x
-                        })
-                    })
-                    .collect();
-                handles.into_iter().map(|h| h.join().unwrap()).collect()
-            });
-            let want: Vec<f64> = (0..2 * nodes)
-                .map(|i| (i * 10 + owner[i / 2]) as f64)
+        let owner: Vec<usize> = (0..11).map(|p| (7 * p) % 2).collect();
+        let got = on_thread_ranks(3, |halo| {
+            let rank = halo.rank();
+            let mut g = NodeAllGather::<2>::new(&owner, Box::new(halo)).unwrap();
+            let mut x: Vec<f64> = (0..22)
+                .map(|i| {
+                    if owner[i / 2] == rank {
+                        i as f64
+                    } else {
+                        f64::NAN
+                    }
+                })
                 .collect();
-            for (r, x) in got.iter().enumerate() {
-                assert_eq!(x, &want, "rank {r} of {size}");
-            }
+            g.gather(&mut x);
+            (x, g.counters().collectives)
+        });
+        let want: Vec<f64> = (0..22).map(|i| i as f64).collect();
+        for (r, (x, collectives)) in got.iter().enumerate() {
+            assert_eq!(x, &want, "rank {r}");
+            assert_eq!(*collectives, 1, "rank {r}");
         }
         let halo = ThreadExchange::group(2).pop().unwrap();
         assert!(matches!(
