@@ -21,21 +21,22 @@ use rsf_linalg::Csc;
 /// Rows below which the Galerkin updates and the transfers stay on the calling thread.
 const GALERKIN_PARALLEL_MIN: usize = 512;
 
-/// The structure of `P` and `T` (fixed after [`Galerkin::new`]).
+/// The structure of `P` and `T` (fixed after [`Galerkin::new`]; on ranks the whole
+/// structure, of which a rank computes its rows: `distributed::rank_hierarchy`).
 #[derive(Debug, Clone)]
-struct Pattern<const D: usize> {
+pub(crate) struct Pattern<const D: usize> {
     /// Prolongation by fine node rows: blocks `p_ptr[i]..p_ptr[i + 1]`, coarse node
     /// `p_col[k]`, value `p_val[k]`.
-    p_ptr: Vec<usize>,
-    p_col: Vec<u32>,
-    p_val: Vec<Block<D>>,
+    pub p_ptr: Vec<usize>,
+    pub p_col: Vec<u32>,
+    pub p_val: Vec<Block<D>>,
     /// Its transpose by coarse node rows: `(fine node, position in p_val)`.
-    pt_ptr: Vec<usize>,
-    pt: Vec<(u32, u32)>,
+    pub pt_ptr: Vec<usize>,
+    pub pt: Vec<(u32, u32)>,
     /// `T = H F P` by fine node rows: blocks `t_ptr[i]..t_ptr[i + 1]`, coarse node
     /// `t_col[k]`.
-    t_ptr: Vec<usize>,
-    t_col: Vec<u32>,
+    pub t_ptr: Vec<usize>,
+    pub t_col: Vec<u32>,
 }
 
 /// Galerkin products and grid transfers between one fine and one coarse level.
@@ -259,80 +260,11 @@ impl<const D: usize> Galerkin<D> {
     /// [`Error::InvalidMatrix`] if the column count of `p` is not a multiple of `D` or the
     /// row count is not `h`'s dimension.
     pub fn new(h: &BlockCsr<D>, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
-        if p.ncols % D != 0 || p.nrows != h.n() {
-            return Err(Error::InvalidMatrix(format!(
-                "prolongation is {}x{}: expected {} rows and a column count divisible by {D}",
-                p.nrows,
-                p.ncols,
-                h.n()
-            )));
-        }
-        let (nf, nc) = (h.nodes(), p.ncols / D);
-        let (p_ptr, p_col, p_val) = prolongation_blocks::<D>(p)?;
-        // Transpose.
-        let mut pt_ptr = vec![0usize; nc + 1];
-        for &j in &p_col {
-            pt_ptr[j as usize + 1] += 1;
-        }
-        for j in 0..nc {
-            pt_ptr[j + 1] += pt_ptr[j];
-        }
-        let mut fill = pt_ptr.clone();
-        let mut pt = vec![(0u32, 0u32); p_col.len()];
-        for i in 0..nf {
-            for k in p_ptr[i]..p_ptr[i + 1] {
-                let j = p_col[k] as usize;
-                pt[fill[j]] = (node_u32(i)?, node_u32(k)?);
-                fill[j] += 1;
-            }
-        }
-        // Patterns of T (fine rows) and C (coarse rows, off-diagonal).
-        let mut marker = vec![usize::MAX; nc];
-        let mut t_ptr = vec![0];
-        let mut t_col = Vec::new();
-        for i in 0..nf {
-            let start = t_col.len();
-            for j in std::iter::once(i).chain(h.neighbours(i).map(|(q, _)| q)) {
-                for &jc in &p_col[p_ptr[j]..p_ptr[j + 1]] {
-                    if marker[jc as usize] != i {
-                        marker[jc as usize] = i;
-                        t_col.push(jc);
-                    }
-                }
-            }
-            t_col[start..].sort_unstable();
-            t_ptr.push(t_col.len());
-        }
-        marker.fill(usize::MAX);
-        let mut rows = Vec::with_capacity(nc);
-        for ic in 0..nc {
-            let mut cols = Vec::new();
-            for &(i, _) in &pt[pt_ptr[ic]..pt_ptr[ic + 1]] {
-                let i = i as usize;
-                for &jc in &t_col[t_ptr[i]..t_ptr[i + 1]] {
-                    let jc = jc as usize;
-                    if jc != ic && marker[jc] != ic {
-                        marker[jc] = ic;
-                        cols.push(jc);
-                    }
-                }
-            }
-            cols.sort_unstable();
-            rows.push(cols);
-        }
-        let coarse = BlockCsr::zeros(rows.into_iter())?;
-        let nt = t_col.len();
+        let (pattern, coarse) = Pattern::new(h, p)?;
+        let (nt, nc) = (pattern.t_col.len(), coarse.nodes());
         Ok((
             Self {
-                pattern: Pattern {
-                    p_ptr,
-                    p_col,
-                    p_val,
-                    pt_ptr,
-                    pt,
-                    t_ptr,
-                    t_col,
-                },
+                pattern,
                 t_val: vec![[[0.0; D]; D]; nt],
                 accs: vec![vec![[[0.0; D]; D]; nc]],
             },
@@ -471,6 +403,91 @@ impl<const D: usize> Galerkin<D> {
 }
 
 impl<const D: usize> Pattern<D> {
+    /// The structure for the pattern of the fine matrix `h` (its values are not read) and
+    /// the prolongation `p`, with the coarse operator's pattern (zero values): what
+    /// [`Galerkin::new`] computes before its values.
+    ///
+    /// # Errors
+    /// As [`Galerkin::new`].
+    pub(crate) fn new(h: &BlockCsr<D>, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
+        if p.ncols % D != 0 || p.nrows != h.n() {
+            return Err(Error::InvalidMatrix(format!(
+                "prolongation is {}x{}: expected {} rows and a column count divisible by {D}",
+                p.nrows,
+                p.ncols,
+                h.n()
+            )));
+        }
+        let (nf, nc) = (h.nodes(), p.ncols / D);
+        let (p_ptr, p_col, p_val) = prolongation_blocks::<D>(p)?;
+        // Transpose.
+        let mut pt_ptr = vec![0usize; nc + 1];
+        for &j in &p_col {
+            pt_ptr[j as usize + 1] += 1;
+        }
+        for j in 0..nc {
+            pt_ptr[j + 1] += pt_ptr[j];
+        }
+        let mut fill = pt_ptr.clone();
+        let mut pt = vec![(0u32, 0u32); p_col.len()];
+        for i in 0..nf {
+            for k in p_ptr[i]..p_ptr[i + 1] {
+                let j = p_col[k] as usize;
+                pt[fill[j]] = (node_u32(i)?, node_u32(k)?);
+                fill[j] += 1;
+            }
+        }
+        // Patterns of T (fine rows) and C (coarse rows, off-diagonal).
+        let mut marker = vec![usize::MAX; nc];
+        let mut t_ptr = vec![0];
+        let mut t_col = Vec::new();
+        for i in 0..nf {
+            let start = t_col.len();
+            for j in std::iter::once(i).chain(h.neighbours(i).map(|(q, _)| q)) {
+                for &jc in &p_col[p_ptr[j]..p_ptr[j + 1]] {
+                    if marker[jc as usize] != i {
+                        marker[jc as usize] = i;
+                        t_col.push(jc);
+                    }
+                }
+            }
+            t_col[start..].sort_unstable();
+            t_ptr.push(t_col.len());
+        }
+        marker.fill(usize::MAX);
+        let mut rows = Vec::with_capacity(nc);
+        for ic in 0..nc {
+            let mut cols = Vec::new();
+            for &(i, _) in &pt[pt_ptr[ic]..pt_ptr[ic + 1]] {
+                let i = i as usize;
+                for &jc in &t_col[t_ptr[i]..t_ptr[i + 1]] {
+                    let jc = jc as usize;
+                    if jc != ic && marker[jc] != ic {
+                        marker[jc] = ic;
+                        cols.push(jc);
+                    }
+                }
+            }
+            cols.sort_unstable();
+            rows.push(cols);
+        }
+        let coarse = BlockCsr::zeros(rows.into_iter())?;
+        Ok((
+            Self {
+                p_ptr,
+                p_col,
+                p_val,
+                pt_ptr,
+                pt,
+                t_ptr,
+                t_col,
+            },
+            coarse,
+        ))
+    }
+}
+
+impl<const D: usize> Pattern<D> {
     /// `T[i, :] = Σ_j H_ij F_j P[j, :]` into `out` (row `i`'s values), through `acc`.
     fn t_row(
         &self,
@@ -480,7 +497,22 @@ impl<const D: usize> Pattern<D> {
         acc: &mut [Block<D>],
         out: &mut [Block<D>],
     ) {
-        for (j, hb) in std::iter::once((i, &h.diag[i])).chain(h.neighbours(i)) {
+        let row = std::iter::once((i, &h.diag[i])).chain(h.neighbours(i));
+        self.t_row_of(row, free, i, acc, out);
+    }
+
+    /// [`t_row`](Self::t_row) of fine row `i` given as its blocks `(j, H_ij)`, the
+    /// diagonal first, then the off-diagonal blocks in increasing `j` (the order of
+    /// [`BlockCsr`]'s rows, so the same bits); `free` is read at the row's nodes.
+    pub(crate) fn t_row_of<'h>(
+        &self,
+        row: impl Iterator<Item = (usize, &'h Block<D>)>,
+        free: &[f64],
+        i: usize,
+        acc: &mut [Block<D>],
+        out: &mut [Block<D>],
+    ) {
+        for (j, hb) in row {
             let f = load::<D>(free, j);
             if f.iter().all(|&x| x == 0.0) {
                 continue;
@@ -503,6 +535,18 @@ impl<const D: usize> Pattern<D> {
     /// Accumulates `C[ic, :] = Σ_i (F_i P[i, ic])ᵀ T[i, :]` in `acc` (the caller takes
     /// row `ic`'s entries out, leaving zeros).
     fn c_row(&self, free: &[f64], t_val: &[Block<D>], ic: usize, acc: &mut [Block<D>]) {
+        self.c_row_of(free, |i| &t_val[self.t_ptr[i]..self.t_ptr[i + 1]], ic, acc);
+    }
+
+    /// [`c_row`](Self::c_row) with `T`'s rows given by `t_row(i)` (row `i`'s values in the
+    /// pattern's order); `free` is read at the fine nodes of `ic`'s support.
+    pub(crate) fn c_row_of<'t>(
+        &self,
+        free: &[f64],
+        t_row: impl Fn(usize) -> &'t [Block<D>],
+        ic: usize,
+        acc: &mut [Block<D>],
+    ) {
         for &(i, k) in &self.pt[self.pt_ptr[ic]..self.pt_ptr[ic + 1]] {
             let i = i as usize;
             let f = load::<D>(free, i);
@@ -515,9 +559,15 @@ impl<const D: usize> Pattern<D> {
                     *v *= fr;
                 }
             }
-            for kt in self.t_ptr[i]..self.t_ptr[i + 1] {
-                add_mul_t(&mut acc[self.t_col[kt] as usize], &pf, &t_val[kt]);
+            let cols = &self.t_col[self.t_ptr[i]..self.t_ptr[i + 1]];
+            for (&q, t) in cols.iter().zip(t_row(i)) {
+                add_mul_t(&mut acc[q as usize], &pf, t);
             }
         }
+    }
+
+    /// The number of blocks of `T`'s fine row `i`.
+    pub(crate) fn t_len(&self, i: usize) -> usize {
+        self.t_ptr[i + 1] - self.t_ptr[i]
     }
 }

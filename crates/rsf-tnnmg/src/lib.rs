@@ -40,7 +40,7 @@
 //! [`distributed`] module holds the multi-colour block Gauss–Seidel sweep of one rank with a
 //! halo exchange per colour, the linear V-cycle built on it, and TNNMG on ranks
 //! ([`distributed::DistributedTnnmg`]: the same bits at every rank count, its global sums
-//! exact; the set-up still replicated).
+//! exact; each rank computes its own rows of the coarse operators).
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction.

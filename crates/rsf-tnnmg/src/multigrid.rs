@@ -135,6 +135,40 @@ impl<const D: usize> Level<D> {
     }
 }
 
+/// What TNNMG's linearisation updates (`linearize_blocks`): the fine level's Newton
+/// diagonal blocks and mask, then the coarse operators in full or incrementally — the
+/// one-process [`LinearMultigrid`], or a rank's share of it on ranks.
+pub(crate) trait NewtonHierarchy<const D: usize> {
+    /// The fine level's diagonal blocks (whole).
+    fn fine_diag_mut(&mut self) -> &mut [Block<D>];
+    /// The fine level's mask (whole).
+    fn fine_mask_mut(&mut self) -> &mut [bool];
+    /// Recomputes every coarse operator.
+    fn update(&mut self) -> Result<()>;
+    /// Recomputes what the variable nodes reach.
+    fn update_incremental(&mut self) -> Result<()>;
+    /// Declares the fine nodes that may change between incremental updates.
+    fn set_variable_nodes(&mut self, fine_nodes: &[usize]);
+}
+
+impl<const D: usize> NewtonHierarchy<D> for LinearMultigrid<D> {
+    fn fine_diag_mut(&mut self) -> &mut [Block<D>] {
+        LinearMultigrid::fine_diag_mut(self)
+    }
+    fn fine_mask_mut(&mut self) -> &mut [bool] {
+        LinearMultigrid::fine_mask_mut(self)
+    }
+    fn update(&mut self) -> Result<()> {
+        LinearMultigrid::update(self)
+    }
+    fn update_incremental(&mut self) -> Result<()> {
+        LinearMultigrid::update_incremental(self)
+    }
+    fn set_variable_nodes(&mut self, fine_nodes: &[usize]) {
+        LinearMultigrid::set_variable_nodes(self, fine_nodes)
+    }
+}
+
 /// Multigrid cycle for `H x = r` with truncation: masked fine dofs are excluded (rows and
 /// columns), the truncation is carried to the coarse levels through Galerkin products
 /// `P_tᵀ H P_t`, coarse dofs whose diagonal vanishes are excluded as well. Smoother: block
@@ -242,27 +276,6 @@ impl<const D: usize> LinearMultigrid<D> {
     /// Fine-level mask.
     pub fn fine_mask(&self) -> &[bool] {
         &self.levels.last().expect("fine level").mask
-    }
-
-    /// Level `l`'s matrix (0 the coarsest; the fine level's with its current diagonal).
-    pub fn level_matrix(&self, l: usize) -> &BlockCsr<D> {
-        &self.levels[l].a
-    }
-
-    /// Level `l`'s mask (truncated or excluded dofs).
-    pub fn level_mask(&self, l: usize) -> &[bool] {
-        &self.levels[l].mask
-    }
-
-    /// Level `l`'s mask as a 0/1 factor (1 on free dofs).
-    pub fn level_free(&self, l: usize) -> &[f64] {
-        &self.levels[l].free
-    }
-
-    /// The nodes of level `l` whose rows or masks an incremental update may change (after
-    /// [`set_variable_nodes`](Self::set_variable_nodes); empty before).
-    pub fn variable_nodes(&self, l: usize) -> &[usize] {
-        self.variable.get(l).map_or(&[], |v| &v[..])
     }
 
     /// Recomputes the coarse operators, the smoothers and the coarse factorisation after

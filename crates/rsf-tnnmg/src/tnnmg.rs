@@ -10,7 +10,7 @@ use crate::colouring::{Colouring, SmootherOrder};
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
 use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
-use crate::multigrid::{CycleShape, LinearMultigrid};
+use crate::multigrid::{CycleShape, LinearMultigrid, NewtonHierarchy};
 use crate::norm::EnergyNorm;
 use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
@@ -457,7 +457,7 @@ pub(crate) struct QuadraticPart<'a, const D: usize> {
 
 /// The truncated linearisation of TNNMG at `v` (global node-major; only the active
 /// blocks' values are read), one process or replicated on every rank: sets the fine
-/// level of `mg` to `H = A + ∇²Φ(v)` on the active blocks and its mask to the fixed dofs
+/// level of `mg` (the one-process multigrid, or a rank's share of it) to `H = A + ∇²Φ(v)` on the active blocks and its mask to the fixed dofs
 /// plus the truncated blocks (nonsmooth, [`Linearization::Truncate`], or rigid,
 /// [`is_rigid`]); calls `gradient(p, ∇φ_k(v_p))` for every block kept in the Newton
 /// system (the caller subtracts it from its right-hand side); then updates the hierarchy.
@@ -468,7 +468,7 @@ pub(crate) fn linearize_blocks<const D: usize, N: BlockNonlinearity<D>>(
     nl: &N,
     v: &[f64],
     quadratic: QuadraticPart<'_, D>,
-    mg: &mut LinearMultigrid<D>,
+    mg: &mut impl NewtonHierarchy<D>,
     cached_active: &mut Option<Vec<usize>>,
     mut gradient: impl FnMut(usize, &[f64; D]),
 ) -> Result<bool> {

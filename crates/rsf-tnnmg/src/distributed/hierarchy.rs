@@ -7,13 +7,13 @@ use faer::sparse::{SparseColMat, SparseColMatRef};
 use rsf_linalg::Csc;
 
 use super::local_rows::blocks;
+use super::rank_hierarchy::RankHierarchy;
 use super::ColouredGaussSeidel;
 use crate::bsr::BlockCsr;
 use crate::coarse::{excluded, CoarseSolver};
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
-use crate::multigrid::LinearMultigrid;
 use crate::Parallelism;
 
 /// Smoothing sweeps of a V-cycle on every level but the coarsest (solved exactly).
@@ -200,48 +200,58 @@ impl<const D: usize> LevelSource<D> for VCycleHierarchy<D> {
     }
 }
 
-/// A set-up [`LinearMultigrid`]'s levels read in place (their current matrices and
-/// masks, a colouring of each level computed here) with the prolongations it was built
-/// from, without a copy of either: the set-up of TNNMG on ranks, which keeps the
-/// multigrid (its Newton matrices change in values, never in pattern).
-pub(crate) struct MultigridLevels<'a, const D: usize> {
-    mg: &'a LinearMultigrid<D>,
+/// A rank's hierarchy ([`RankHierarchy`], updated) with the fine level's whole pattern
+/// and values at set-up and the prolongations it was built from, a colouring of each
+/// level computed here: what the set-up of TNNMG on ranks builds its V-cycle from (the
+/// V-cycle reads the owned rows of each level; a coarse level's other rows are not
+/// computed on this rank).
+pub(crate) struct RankLevels<'a, const D: usize> {
+    fine: &'a BlockCsr<D>,
+    h: &'a RankHierarchy<D>,
     prolongations: &'a [SparseColMatRef<'a, usize, f64>],
-    free: Vec<Vec<f64>>,
     colourings: Vec<Colouring>,
 }
 
-impl<'a, const D: usize> MultigridLevels<'a, D> {
-    /// `mg`'s levels and `prolongations` (`prolongations[l]` maps level `l` to `l + 1`, as
-    /// `mg` was built with).
+impl<'a, const D: usize> RankLevels<'a, D> {
+    /// `h`'s levels, the fine one `fine` (its values those of `h`'s fine level at
+    /// set-up), with `prolongations` (`prolongations[l]` maps level `l` to `l + 1`).
     pub(crate) fn new(
-        mg: &'a LinearMultigrid<D>,
+        fine: &'a BlockCsr<D>,
+        h: &'a RankHierarchy<D>,
         prolongations: &'a [SparseColMatRef<'a, usize, f64>],
     ) -> Self {
-        let levels = 0..mg.num_levels();
+        let nl = h.num_levels();
+        let colourings = (0..nl)
+            .map(|l| match l + 1 == nl {
+                true => Colouring::of_blocks(fine),
+                false => Colouring::of_blocks(h.coarse_matrix(l)),
+            })
+            .collect();
         Self {
-            free: levels.clone().map(|l| free_of(mg.level_mask(l))).collect(),
-            colourings: levels
-                .map(|l| Colouring::of_blocks(mg.level_matrix(l)))
-                .collect(),
-            mg,
+            fine,
+            h,
             prolongations,
+            colourings,
         }
     }
 }
 
-impl<const D: usize> LevelSource<D> for MultigridLevels<'_, D> {
+impl<const D: usize> LevelSource<D> for RankLevels<'_, D> {
     fn num_levels(&self) -> usize {
-        self.mg.num_levels()
+        self.h.num_levels()
     }
     fn matrix(&self, l: usize) -> &BlockCsr<D> {
-        self.mg.level_matrix(l)
+        if l + 1 == self.h.num_levels() {
+            self.fine
+        } else {
+            self.h.coarse_matrix(l)
+        }
     }
     fn fixed(&self, l: usize) -> &[bool] {
-        self.mg.level_mask(l)
+        self.h.mask(l)
     }
     fn free(&self, l: usize) -> &[f64] {
-        &self.free[l]
+        self.h.free(l)
     }
     fn colouring(&self, l: usize) -> &Colouring {
         &self.colourings[l]

@@ -199,6 +199,16 @@ impl<const D: usize> LocalRows<D> {
         &self.global
     }
 
+    /// The local node of the owned global node `p`.
+    ///
+    /// # Panics
+    /// If the rank does not own `p`.
+    pub(crate) fn local_of_owned(&self, p: usize) -> usize {
+        self.global[..self.owned]
+            .binary_search(&p)
+            .unwrap_or_else(|_| panic!("node {p} is not owned by rank {}", self.rank))
+    }
+
     /// The owner rank of every ghost (length [`ghosts`](Self::ghosts)).
     pub fn ghost_owners(&self) -> &[usize] {
         &self.ghost_owner
@@ -246,6 +256,14 @@ impl<const D: usize> LocalRows<D> {
             n += 1;
         }
         debug_assert_eq!(n, r.len(), "row {p}'s pattern");
+    }
+
+    /// Replaces the diagonal block of owned row `p`.
+    ///
+    /// # Panics
+    /// If `p ≥ owned()`.
+    pub(crate) fn set_diag(&mut self, p: usize, diag: &Block<D>) {
+        self.diag[p] = *diag;
     }
 
     /// The residual `r = b − A x` on the owned rows: for every owned node `p`,

@@ -23,7 +23,8 @@
 //!
 //! [`DistributedTnnmg`] is TNNMG on ranks: the multi-colour nonlinear smoother on the owned
 //! nodes, the truncated linearisation on the active blocks gathered from their owners, the
-//! replicated hierarchy updated incrementally, [`DistributedVCycle`]s on the truncated
+//! rank's rows of the Newton hierarchy computed by their owners and updated
+//! incrementally, [`DistributedVCycle`]s on the truncated
 //! Newton system, the kink rule and the exact line search; its global sums are exact and
 //! rounded once (a reproducible reduction), and [`TnnmgCounters`] counts what each part
 //! sends. [`BlockTresca`] is a closed-form nonsmooth nonlinearity for its tests and
@@ -36,6 +37,7 @@ mod halo;
 mod hierarchy;
 mod linear;
 mod local_rows;
+mod rank_hierarchy;
 mod reduce;
 mod sweep;
 mod tnnmg;

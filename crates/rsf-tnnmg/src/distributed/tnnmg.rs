@@ -8,8 +8,9 @@ use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 use super::active::ActiveGather;
 use super::cg::DistributedCg;
 use super::halo::{AllGather, HaloCounters};
-use super::hierarchy::MultigridLevels;
+use super::hierarchy::RankLevels;
 use super::local_rows::LocalRows;
+use super::rank_hierarchy::RankHierarchy;
 use super::reduce::ExactSums;
 use super::tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 use super::transport::HaloExchange;
@@ -18,7 +19,7 @@ use crate::block::{load, masked_inverse, store, Block};
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::linear_correction::LinearCorrection;
-use crate::multigrid::{CycleShape, LinearMultigrid};
+use crate::multigrid::NewtonHierarchy;
 use crate::problem::{active_map, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun};
 
@@ -54,11 +55,15 @@ pub(super) struct NormRows<const D: usize> {
 /// need all active blocks) to the active blocks' values gathered from their owners (one
 /// all-gather of the iterate's and one of the correction's active blocks per iteration).
 ///
-/// Set-up: the V-cycle hierarchy is replicated (a linear multigrid: every rank holds
-/// the Galerkin operators of every level, read in place by its [`DistributedVCycle`], and global vectors for the active blocks'
-/// values: memory of the whole problem's order on every rank); per iteration every rank
-/// updates it incrementally (the rows the active blocks reach) and refreshes its rows from
-/// it. A
+/// The hierarchy of the truncated Newton matrix is the rank's (docs/scaling.md "Phase
+/// 7"): each rank computes the Galerkin rows of the coarse nodes it owns, from its rows
+/// of the finer level and the `T = H F P` rows its neighbour ranks send it, with the
+/// one-process multigrid's arithmetic (so with its bits), and all-gathers the coarsest
+/// level; per iteration every rank updates the rows the active blocks reach
+/// (incrementally) and refreshes its V-cycle's rows from them. Held whole on every rank:
+/// the levels' patterns (no values), the fine diagonal blocks, masks and prolongations,
+/// and global vectors for the active blocks' values. At set-up the fine matrix is read
+/// whole (its blocks, the pattern and colouring), then freed. A
 /// collective object: every rank calls every method in the same order. Allocation-free
 /// per iteration after the first solve with a set of active blocks (the transport may
 /// allocate).
@@ -78,9 +83,9 @@ pub struct DistributedTnnmg<const D: usize> {
     pub(super) a_diag: Vec<Block<D>>,
     pub(super) fixed: Vec<bool>,
     pub(super) norm_rows: Option<NormRows<D>>,
-    /// The replicated hierarchy of the truncated Newton matrix, and the active blocks of
-    /// its last full update.
-    pub(super) mg: LinearMultigrid<D>,
+    /// The rank's share of the truncated Newton matrix's hierarchy, and the active
+    /// blocks of its last full update.
+    pub(super) hierarchy: RankHierarchy<D>,
     pub(super) cached_active: Option<Vec<usize>>,
     pub(super) vcycle: DistributedVCycle<D>,
     /// Global node → local node of the owned nodes (`u32::MAX` elsewhere).
@@ -189,7 +194,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: DistributedTnnmgOptions,
         owner: &[usize],
-        halo: Box<dyn HaloExchange>,
+        mut halo: Box<dyn HaloExchange>,
     ) -> Result<Self> {
         opts.stopping.validate()?;
         if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
@@ -224,23 +229,24 @@ impl<const D: usize> DistributedTnnmg<D> {
             .iter()
             .map(|p| Csc::from_faer(*p).map_err(Error::from))
             .collect::<Result<Vec<_>>>()?;
-        let shape = CycleShape {
-            pre: opts.smoothing.pre,
-            post: opts.smoothing.post,
-            gamma: 1,
-        };
-        // The replicated hierarchy takes the fine matrix (no copy); the linearisation
-        // keeps its diagonal blocks.
+        // The rank's hierarchy: the fine level's pattern and diagonal blocks whole, its
+        // values computed from the rank's rows (the sweep's) by the first update; the
+        // linearisation keeps the diagonal blocks.
         let a_diag = m.a.diag.clone();
-        let mut mg = LinearMultigrid::new(m.a, ps, shape)?;
-        mg.fine_mask_mut().copy_from_slice(&m.fixed);
-        mg.update()?;
+        let mut hierarchy =
+            RankHierarchy::new(&m.a, a_diag.clone(), &m.fixed, &ps, owner, (rank, size))?;
+        drop(ps);
+        hierarchy.with(&mut *halo, sweep.rows()).update()?;
         let vcycle = DistributedVCycle::of_levels(
-            &MultigridLevels::new(&mg, prolongations),
+            &RankLevels::new(&m.a, &hierarchy, prolongations),
             owner,
             opts.smoothing,
             &*halo,
         )?;
+        // The whole fine matrix is not kept.
+        // (a partial move would keep the matrix until the end of the set-up)
+        let fixed = m.fixed;
+        drop(m.a);
         let rows = sweep.rows();
         debug_assert_eq!(rows.global_nodes(), vcycle.rows().global_nodes());
         let norm_rows = energy_norm
@@ -249,7 +255,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         let owned = rows.owned();
         let free: Vec<[bool; D]> = rows.global_nodes()[..owned]
             .iter()
-            .map(|&p| std::array::from_fn(|c| !m.fixed[D * p + c]))
+            .map(|&p| std::array::from_fn(|c| !fixed[D * p + c]))
             .collect();
         let inverse = (0..owned)
             .map(|p| masked_inverse(rows.diag(p), &free[p]))
@@ -266,9 +272,9 @@ impl<const D: usize> DistributedTnnmg<D> {
             inverse,
             free,
             a_diag,
-            fixed: m.fixed,
+            fixed,
             norm_rows,
-            mg,
+            hierarchy,
             cached_active: None,
             vcycle,
             local_of,
@@ -311,6 +317,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         let mut c = self.counters;
         c.smoother = self.sweep.counters();
         c.cycles = self.vcycle.counters();
+        c.hierarchy = self.hierarchy.counters();
         c.reductions = self.line_sums.counters()
             + self.norm_sums.counters()
             + self.linear_sums.counters()
@@ -323,6 +330,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         self.counters = TnnmgCounters::default();
         self.sweep.reset_counters();
         self.vcycle.reset_counters();
+        self.hierarchy.reset_counters();
         self.line_sums.reset_counters();
         self.norm_sums.reset_counters();
         self.linear_sums.reset_counters();
@@ -331,7 +339,8 @@ impl<const D: usize> DistributedTnnmg<D> {
 
     /// What one iteration sends by the plans, for the active blocks of the last solve
     /// (`iterations` = 1; `full_updates` and `solution` zero): `nonlinear_sweeps` sweeps,
-    /// `v_cycles` V-cycles, two all-gathers of the active blocks, two reductions (the
+    /// `v_cycles` V-cycles, an incremental update of the hierarchy, two all-gathers of
+    /// the active blocks, two reductions (the
     /// second with one sum, plus one for a relative stopping test and one for the energy
     /// record), and the linear correction's reductions. With
     /// [`linear_reduction`](DistributedTnnmgOptions::linear_reduction) or conjugate
@@ -353,6 +362,7 @@ impl<const D: usize> DistributedTnnmg<D> {
                 + self.linear_per_iteration(),
             solution: HaloCounters::default(),
             full_updates: 0,
+            hierarchy: self.hierarchy.per_incremental_update(),
         })
     }
 
@@ -372,6 +382,14 @@ impl<const D: usize> DistributedTnnmg<D> {
                 self.cg.per_step(checked).times(cycles) + norm.times(u64::from(checked))
             }
         }
+    }
+
+    /// What one full update of the rank's hierarchy sends (the first iteration of a
+    /// solve with new active blocks, and the set-up): per level below the fine one an
+    /// exchange of `T` rows, above the coarsest one of the ghosts' masks, and the
+    /// coarsest level's all-gather.
+    pub fn per_full_update(&self) -> HaloCounters {
+        self.hierarchy.per_full_update()
     }
 
     /// What the all-gather of the solution at the end of a solve sends.

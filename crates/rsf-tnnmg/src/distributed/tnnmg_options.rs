@@ -57,10 +57,14 @@ impl Default for DistributedTnnmgOptions {
 pub struct TnnmgCounters {
     /// TNNMG iterations.
     pub iterations: u64,
-    /// Numeric set-ups of the whole replicated hierarchy: one per solve with a new set of
+    /// Full numeric updates of the rank's hierarchy: one per solve with a new set of
     /// active blocks (its first iteration); every other iteration updates the rows the
     /// active blocks reach.
     pub full_updates: u64,
+    /// The hierarchy's updates: per level below the fine one an exchange of `T` rows
+    /// and (above the coarsest) one of the ghosts' masks, and the coarsest level's
+    /// all-gather (a collective).
+    pub hierarchy: HaloCounters,
     /// The nonlinear smoother: one exchange per colour and sweep.
     pub smoother: HaloCounters,
     /// The linear V-cycles: sweeps, ghost updates and transfers of every level
@@ -79,6 +83,11 @@ pub struct TnnmgCounters {
 impl TnnmgCounters {
     /// Everything sent.
     pub fn total(&self) -> HaloCounters {
-        self.smoother + self.cycles + self.gathers + self.reductions + self.solution
+        self.smoother
+            + self.cycles
+            + self.gathers
+            + self.reductions
+            + self.solution
+            + self.hierarchy
     }
 }

@@ -138,7 +138,7 @@ impl<const D: usize> DistributedTnnmg<D> {
             nl,
             &self.v_active,
             quadratic,
-            &mut self.mg,
+            &mut self.hierarchy.with(&mut *self.halo, self.sweep.rows()),
             &mut self.cached_active,
             |p, g| {
                 let q = local_of[p];
@@ -149,7 +149,7 @@ impl<const D: usize> DistributedTnnmg<D> {
                 }
             },
         )?;
-        let mask = self.mg.fine_mask();
+        let mask = self.hierarchy.fine_mask();
         for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
             for r in 0..D {
                 let masked = mask[D * p + r];
@@ -160,10 +160,10 @@ impl<const D: usize> DistributedTnnmg<D> {
             }
         }
         if full {
-            self.vcycle.set_variable_nodes(&self.mg);
+            self.vcycle.set_variable_nodes(&self.hierarchy);
             self.counters.full_updates += 1;
         }
-        self.vcycle.refresh(&self.mg, full)?;
+        self.vcycle.refresh(&self.hierarchy, full)?;
         self.linear_correction()?;
         // The kink rule on the gathered active blocks, the same on every rank; its
         // corrections written back on every local active node (owned and ghosts).
@@ -254,7 +254,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         } else {
             &self.res
         };
-        let mask = self.mg.fine_mask();
+        let mask = self.hierarchy.fine_mask();
         for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
             for i in 0..D {
                 if !mask[D * p + i] {

@@ -50,6 +50,8 @@ struct RankSolve {
     counters: TnnmgCounters,
     per_iteration: TnnmgCounters,
     per_solution: HaloCounters,
+    /// What a full update of the hierarchy sends.
+    per_full_update: HaloCounters,
 }
 
 /// The solve from the box's start on `size` thread ranks under `owner`, every rank's
@@ -105,6 +107,7 @@ fn solve_on_ranks_times(
             counters: s.counters(),
             per_iteration: s.per_iteration().unwrap(),
             per_solution: s.per_solution(),
+            per_full_update: s.per_full_update(),
         }
     })
 }
@@ -120,7 +123,8 @@ fn differing(x: &[f64], y: &[f64]) -> usize {
 /// a frictional node) and METIS's partition (when built with METIS): every rank's solution has the bits of the one-rank solve, the
 /// iteration counts agree; the friction both sticks (truncated blocks) and slips; what
 /// every rank counted is its plans' per iteration times the iterations plus the
-/// solution's all-gather; at several ranks every rank sends point-to-point messages, and
+/// solution's all-gather, and the hierarchy's two full updates (set-up and first
+/// iteration) and incremental ones; at several ranks every rank sends point-to-point messages, and
 /// an iteration makes at least four collectives (two gathers of the active blocks, two
 /// reductions).
 #[test]
@@ -174,6 +178,9 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
                     gathers: want.gathers.times(it),
                     reductions: want.reductions.times(it),
                     solution: rank.per_solution,
+                    // The set-up's full update and the solve's first; the others
+                    // incremental.
+                    hierarchy: rank.per_full_update.times(2) + want.hierarchy.times(it - 1),
                 };
                 assert_eq!(rank.counters, want, "{name}: rank {r} of {size}");
                 let total = rank.per_iteration.total();

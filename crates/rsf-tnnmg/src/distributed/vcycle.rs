@@ -5,12 +5,12 @@
 use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::{LevelSource, VCycleHierarchy, VCycleShape};
 use super::local_rows::LocalRows;
+use super::rank_hierarchy::RankHierarchy;
 use super::transport::HaloExchange;
 use super::{BlockGaussSeidel, DistributedSweep, DistributedTransfer};
 use crate::block::{load, store};
 use crate::coarse::CoarseSolver;
 use crate::error::{Error, Result};
-use crate::multigrid::LinearMultigrid;
 
 /// One rank's part of a level above the coarsest.
 #[derive(Debug, Clone)]
@@ -102,7 +102,7 @@ impl<const D: usize> DistributedVCycle<D> {
     }
 
     /// As [`new`](Self::new), from any source of the levels (a [`VCycleHierarchy`], or a
-    /// replicated multigrid read in place: [`MultigridLevels`]).
+    /// rank's hierarchy: [`RankLevels`](super::hierarchy::RankLevels)).
     pub(crate) fn of_levels<H: HaloExchange + ?Sized>(
         h: &impl LevelSource<D>,
         owner: &[usize],
@@ -220,21 +220,22 @@ impl<const D: usize> DistributedVCycle<D> {
         Ok(())
     }
 
-    /// Takes the local nodes of every level whose values an incremental update of `mg`
-    /// changes ([`LinearMultigrid::variable_nodes`], global) for
-    /// [`refresh`](Self::refresh): once per set of variable nodes.
-    pub(crate) fn set_variable_nodes(&mut self, mg: &LinearMultigrid<D>) {
+    /// Takes the variable nodes of `h` (after its `set_variable_nodes`): the local nodes
+    /// of each level above the coarsest that an incremental [`refresh`](Self::refresh)
+    /// visits.
+    pub(crate) fn set_variable_nodes(&mut self, h: &RankHierarchy<D>) {
         self.variable = self
             .levels
             .iter()
             .enumerate()
             .map(|(i, level)| {
                 let rows = level.sweep.rows();
-                let mut local = vec![u32::MAX; mg.level_matrix(i + 1).nodes()];
+                let nodes = h.free(i + 1).len() / D;
+                let mut local = vec![u32::MAX; nodes];
                 for (q, &g) in rows.global_nodes().iter().enumerate() {
                     local[g] = q as u32;
                 }
-                let mut list: Vec<u32> = mg
+                let mut list: Vec<u32> = h
                     .variable_nodes(i + 1)
                     .iter()
                     .map(|&g| local[g])
@@ -246,22 +247,20 @@ impl<const D: usize> DistributedVCycle<D> {
             .collect();
     }
 
-    /// Takes the values of `mg` (the whole hierarchy this cycle was built from, same
+    /// Takes the values of `h` (the rank's hierarchy this cycle was built from, same
     /// patterns, owners and colourings; its values changed by an update): on every level
-    /// above the coarsest the rank's rows, local solves and masks — of every local node
+    /// above the coarsest the rank's rows (on the fine level their diagonal blocks: its
+    /// off-diagonal blocks do not change), local solves and masks — of every local node
     /// when `all`, else of the nodes of [`set_variable_nodes`](Self::set_variable_nodes) —
-    /// and the coarsest mask and factorisation. Replicated work of the size of the
-    /// variable nodes (and the coarsest level), no communication.
+    /// and the coarsest mask and factorisation. No communication.
     ///
     /// # Errors
     /// [`Error::NotPositiveDefinite`] if the coarsest operator cannot be factorised.
-    pub(crate) fn refresh(&mut self, mg: &LinearMultigrid<D>, all: bool) -> Result<()> {
+    pub(crate) fn refresh(&mut self, h: &RankHierarchy<D>, all: bool) -> Result<()> {
+        let fine = self.levels.len();
         for (i, level) in self.levels.iter_mut().enumerate() {
-            let (a, mask, free) = (
-                mg.level_matrix(i + 1),
-                mg.level_mask(i + 1),
-                mg.level_free(i + 1),
-            );
+            let l = i + 1;
+            let (mask, free) = (h.mask(l), h.free(l));
             let every: Vec<u32>;
             let nodes = if all {
                 every = (0..level.sweep.rows().len() as u32).collect();
@@ -275,16 +274,23 @@ impl<const D: usize> DistributedVCycle<D> {
                 let g = level.sweep.rows().global_nodes()[q];
                 level.free[D * q..D * q + D].copy_from_slice(&free[D * g..D * g + D]);
                 if q < owned {
-                    let off = a.neighbours(g).map(|(_, b)| b);
-                    level.sweep.rows_mut().set_row(q, &a.diag[g], off);
-                    level.gs.set_node(q, &a.diag[g], &mask[D * g..D * g + D]);
+                    if l == fine {
+                        let diag = &h.fine_diag()[g];
+                        level.sweep.rows_mut().set_diag(q, diag);
+                        level.gs.set_node(q, diag, &mask[D * g..D * g + D]);
+                    } else {
+                        let a = h.coarse_matrix(l);
+                        let off = a.neighbours(g).map(|(_, b)| b);
+                        level.sweep.rows_mut().set_row(q, &a.diag[g], off);
+                        level.gs.set_node(q, &a.diag[g], &mask[D * g..D * g + D]);
+                    }
                 }
             }
         }
-        self.coarsest.free.copy_from_slice(mg.level_free(0));
+        self.coarsest.free.copy_from_slice(h.free(0));
         self.coarsest
             .solver
-            .factorize(mg.level_matrix(0), mg.level_mask(0))
+            .factorize(h.coarse_matrix(0), h.mask(0))
     }
 
     /// Refreshes every ghost of the fine iterate `x` (a local vector of
