@@ -120,13 +120,18 @@ impl Colouring {
 
     /// The colouring of a block matrix's node graph.
     pub(crate) fn of_blocks<const D: usize>(a: &BlockCsr<D>) -> Self {
+        Self::of_pattern(a)
+    }
+
+    /// The colouring of a node pattern (greedy in increasing node order).
+    pub(crate) fn of_pattern(a: &impl crate::distributed::NodePattern) -> Self {
         let nodes = a.nodes();
         let mut colour_of = vec![u32::MAX; nodes];
         // forbidden[c] == p: colour c is taken by a neighbour of p.
         let mut forbidden: Vec<usize> = Vec::new();
         let mut count = Vec::new();
         for p in 0..nodes {
-            for (q, _) in a.neighbours(p) {
+            for q in a.node_neighbours(p) {
                 let c = colour_of[q];
                 if c != u32::MAX {
                     forbidden[c as usize] = p;

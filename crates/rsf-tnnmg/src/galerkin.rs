@@ -409,13 +409,16 @@ impl<const D: usize> Pattern<D> {
     ///
     /// # Errors
     /// As [`Galerkin::new`].
-    pub(crate) fn new(h: &BlockCsr<D>, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
-        if p.ncols % D != 0 || p.nrows != h.n() {
+    pub(crate) fn new(
+        h: &impl crate::distributed::NodePattern,
+        p: &Csc,
+    ) -> Result<(Self, BlockCsr<D>)> {
+        if p.ncols % D != 0 || p.nrows != D * h.nodes() {
             return Err(Error::InvalidMatrix(format!(
                 "prolongation is {}x{}: expected {} rows and a column count divisible by {D}",
                 p.nrows,
                 p.ncols,
-                h.n()
+                D * h.nodes()
             )));
         }
         let (nf, nc) = (h.nodes(), p.ncols / D);
@@ -443,7 +446,7 @@ impl<const D: usize> Pattern<D> {
         let mut t_col = Vec::new();
         for i in 0..nf {
             let start = t_col.len();
-            for j in std::iter::once(i).chain(h.neighbours(i).map(|(q, _)| q)) {
+            for j in std::iter::once(i).chain(h.node_neighbours(i)) {
                 for &jc in &p_col[p_ptr[j]..p_ptr[j + 1]] {
                     if marker[jc as usize] != i {
                         marker[jc as usize] = i;

@@ -6,9 +6,11 @@
 use faer::sparse::{SparseColMat, SparseColMatRef};
 use rsf_linalg::Csc;
 
-use super::local_rows::blocks;
+use super::local_rows::{blocks, LocalRows};
 use super::rank_hierarchy::RankHierarchy;
+use super::transport::HaloExchange;
 use super::ColouredGaussSeidel;
+use super::DistributedSweep;
 use crate::bsr::BlockCsr;
 use crate::coarse::{excluded, CoarseSolver};
 use crate::colouring::Colouring;
@@ -162,19 +164,28 @@ impl<const D: usize> VCycleHierarchy<D> {
 /// (`prolongation(l)` maps level `l` to `l + 1`) and the coarsest level's factorisation.
 pub(crate) trait LevelSource<const D: usize> {
     fn num_levels(&self) -> usize;
-    fn matrix(&self, l: usize) -> &BlockCsr<D>;
+    /// Level `l`'s node count.
+    fn nodes(&self, l: usize) -> usize;
+    /// Level `l`'s sweep of the rank of `halo`, the level's nodes owned by `owner`.
+    fn sweep<H: HaloExchange + ?Sized>(
+        &self,
+        l: usize,
+        owner: &[usize],
+        halo: &H,
+    ) -> Result<DistributedSweep<D>>;
+    /// The coarsest level's matrix, whole.
+    fn coarsest(&self) -> &BlockCsr<D>;
     /// Masked dofs.
     fn fixed(&self, l: usize) -> &[bool];
     /// 1 on free dofs, 0 on masked ones.
     fn free(&self, l: usize) -> &[f64];
-    fn colouring(&self, l: usize) -> &Colouring;
     fn prolongation(&self, l: usize) -> SparseColMatRef<'_, usize, f64>;
 
     /// The coarsest level's solver, factorised (each rank makes its own: the same input,
     /// the same factor).
     fn coarse_solver(&self) -> Result<CoarseSolver> {
-        let mut s = CoarseSolver::new(self.matrix(0))?;
-        s.factorize(self.matrix(0), self.fixed(0))?;
+        let mut s = CoarseSolver::new(self.coarsest())?;
+        s.factorize(self.coarsest(), self.fixed(0))?;
         Ok(s)
     }
 }
@@ -183,8 +194,19 @@ impl<const D: usize> LevelSource<D> for VCycleHierarchy<D> {
     fn num_levels(&self) -> usize {
         self.levels.len()
     }
-    fn matrix(&self, l: usize) -> &BlockCsr<D> {
-        &self.levels[l].a
+    fn nodes(&self, l: usize) -> usize {
+        self.levels[l].a.nodes()
+    }
+    fn sweep<H: HaloExchange + ?Sized>(
+        &self,
+        l: usize,
+        owner: &[usize],
+        halo: &H,
+    ) -> Result<DistributedSweep<D>> {
+        DistributedSweep::of_blocks(&self.levels[l].a, owner, &self.levels[l].colouring, halo)
+    }
+    fn coarsest(&self) -> &BlockCsr<D> {
+        &self.levels[0].a
     }
     fn fixed(&self, l: usize) -> &[bool] {
         &self.levels[l].fixed
@@ -192,40 +214,38 @@ impl<const D: usize> LevelSource<D> for VCycleHierarchy<D> {
     fn free(&self, l: usize) -> &[f64] {
         &self.levels[l].free
     }
-    fn colouring(&self, l: usize) -> &Colouring {
-        &self.levels[l].colouring
-    }
     fn prolongation(&self, l: usize) -> SparseColMatRef<'_, usize, f64> {
         self.prolongations[l].as_ref()
     }
 }
 
-/// A rank's hierarchy ([`RankHierarchy`], updated) with the fine level's whole pattern
-/// and values at set-up and the prolongations it was built from, a colouring of each
-/// level computed here: what the set-up of TNNMG on ranks builds its V-cycle from (the
-/// V-cycle reads the owned rows of each level; a coarse level's other rows are not
-/// computed on this rank).
+/// A rank's hierarchy ([`RankHierarchy`], updated) with its rows of the fine level and
+/// the fine level's colouring, and the prolongations it was built from (a colouring of
+/// each coarse level computed here): what the set-up of TNNMG on ranks builds its
+/// V-cycle from (the V-cycle reads the owned rows of each level; a coarse level's other
+/// rows are not computed on this rank).
 pub(crate) struct RankLevels<'a, const D: usize> {
-    fine: &'a BlockCsr<D>,
+    fine: &'a LocalRows<D>,
     h: &'a RankHierarchy<D>,
     prolongations: &'a [SparseColMatRef<'a, usize, f64>],
+    /// Per level, the fine one's last.
     colourings: Vec<Colouring>,
 }
 
 impl<'a, const D: usize> RankLevels<'a, D> {
-    /// `h`'s levels, the fine one `fine` (its values those of `h`'s fine level at
-    /// set-up), with `prolongations` (`prolongations[l]` maps level `l` to `l + 1`).
+    /// `h`'s levels, the fine one's rows `fine` (its values those of `h`'s fine level at
+    /// set-up) coloured by `fine_colouring`, with `prolongations` (`prolongations[l]`
+    /// maps level `l` to `l + 1`).
     pub(crate) fn new(
-        fine: &'a BlockCsr<D>,
+        fine: &'a LocalRows<D>,
+        fine_colouring: Colouring,
         h: &'a RankHierarchy<D>,
         prolongations: &'a [SparseColMatRef<'a, usize, f64>],
     ) -> Self {
         let nl = h.num_levels();
-        let colourings = (0..nl)
-            .map(|l| match l + 1 == nl {
-                true => Colouring::of_blocks(fine),
-                false => Colouring::of_blocks(h.coarse_matrix(l)),
-            })
+        let colourings = (0..nl - 1)
+            .map(|l| Colouring::of_blocks(h.coarse_matrix(l)))
+            .chain(std::iter::once(fine_colouring))
             .collect();
         Self {
             fine,
@@ -240,21 +260,29 @@ impl<const D: usize> LevelSource<D> for RankLevels<'_, D> {
     fn num_levels(&self) -> usize {
         self.h.num_levels()
     }
-    fn matrix(&self, l: usize) -> &BlockCsr<D> {
+    fn nodes(&self, l: usize) -> usize {
+        self.colourings[l].num_nodes()
+    }
+    fn sweep<H: HaloExchange + ?Sized>(
+        &self,
+        l: usize,
+        owner: &[usize],
+        halo: &H,
+    ) -> Result<DistributedSweep<D>> {
         if l + 1 == self.h.num_levels() {
-            self.fine
+            DistributedSweep::of_rows(self.fine.clone(), &self.colourings[l])
         } else {
-            self.h.coarse_matrix(l)
+            DistributedSweep::of_blocks(self.h.coarse_matrix(l), owner, &self.colourings[l], halo)
         }
+    }
+    fn coarsest(&self) -> &BlockCsr<D> {
+        self.h.coarse_matrix(0)
     }
     fn fixed(&self, l: usize) -> &[bool] {
         self.h.mask(l)
     }
     fn free(&self, l: usize) -> &[f64] {
         self.h.free(l)
-    }
-    fn colouring(&self, l: usize) -> &Colouring {
-        &self.colourings[l]
     }
     fn prolongation(&self, l: usize) -> SparseColMatRef<'_, usize, f64> {
         self.prolongations[l]

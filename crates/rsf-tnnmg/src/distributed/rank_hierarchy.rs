@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use super::halo::HaloCounters;
 use super::local_rows::LocalRows;
+use super::node_graph::{NodeGraph, NodePattern};
 use super::transport::{HaloExchange, HaloMessage};
 use crate::block::Block;
 use crate::bsr::BlockCsr;
@@ -199,8 +200,8 @@ pub(crate) struct RankHierarchy<const D: usize> {
 }
 
 impl<const D: usize> RankHierarchy<D> {
-    /// The hierarchy of rank `rank` among `size` ranks: the fine level's pattern `fine`
-    /// (its values are not read), the fine diagonal blocks `diag` and masked dofs `fixed`
+    /// The hierarchy of rank `rank` among `size` ranks: the fine level's node graph
+    /// `fine` (whole), the fine diagonal blocks `diag` and masked dofs `fixed`
     /// (whole), the prolongations
     /// (`ps[l]` maps level `l` to `l + 1`, node-major) and the owners of the fine nodes.
     /// Values are set by the first update ([`with`](Self::with)), which reads the rank's
@@ -209,7 +210,7 @@ impl<const D: usize> RankHierarchy<D> {
     /// # Errors
     /// As [`Pattern::new`].
     pub(crate) fn new(
-        fine: &BlockCsr<D>,
+        fine: NodeGraph,
         diag: Vec<Block<D>>,
         fixed: &[bool],
         ps: &[Csc],
@@ -220,9 +221,11 @@ impl<const D: usize> RankHierarchy<D> {
         let mut pairs_rev = Vec::new();
         let mut coarse_rev: Vec<BlockCsr<D>> = Vec::new();
         for p in ps.iter().rev() {
-            let finer = coarse_rev.last().unwrap_or(fine);
-            let (pattern, c) = Pattern::new(finer, p)?;
-            let nf = finer.nodes();
+            let (pattern, c) = match coarse_rev.last() {
+                Some(finer) => Pattern::new(finer, p)?,
+                None => Pattern::new(&fine, p)?,
+            };
+            let nf = pattern.p_ptr.len() - 1;
             pairs_rev.push(RankGalerkin::new(pattern, nf, c.nodes(), owner, rank));
             coarse_rev.push(c);
         }
@@ -254,7 +257,7 @@ impl<const D: usize> RankHierarchy<D> {
             fine_diag: diag,
             fine_mask: fixed.to_vec(),
             fine_free: free,
-            fine_pattern: NodeGraph::of(fine),
+            fine_pattern: fine,
             variable: Vec::new(),
             counters: HaloCounters::default(),
         })
@@ -466,7 +469,7 @@ impl<const D: usize> RankHierarchy<D> {
                     changed[i]
                         || match self.coarse.get(l + 1) {
                             Some(c) => c.a.neighbours(i).any(|(q, _)| changed[q]),
-                            None => self.fine_pattern.neighbours(i).any(|q| changed[q]),
+                            None => self.fine_pattern.node_neighbours(i).any(|q| changed[q]),
                         }
                 })
                 .collect();
@@ -489,33 +492,6 @@ impl<const D: usize> RankHierarchy<D> {
             coarse.ghosts_some.select(|p| on[p], |_| D);
             self.variable[l] = c_rows;
         }
-    }
-}
-
-/// The node graph of the fine level, whole (its pattern without values: the rows an
-/// incremental update reaches are derived from it on every rank).
-#[derive(Debug)]
-struct NodeGraph {
-    ptr: Vec<usize>,
-    col: Vec<u32>,
-}
-
-impl NodeGraph {
-    fn of<const D: usize>(a: &BlockCsr<D>) -> Self {
-        let mut ptr = Vec::with_capacity(a.nodes() + 1);
-        ptr.push(0);
-        let mut col = Vec::with_capacity(a.lower.col.len() + a.upper.col.len());
-        for p in 0..a.nodes() {
-            col.extend(a.neighbours(p).map(|(q, _)| q as u32));
-            ptr.push(col.len());
-        }
-        Self { ptr, col }
-    }
-
-    fn neighbours(&self, p: usize) -> impl Iterator<Item = usize> + '_ {
-        self.col[self.ptr[p]..self.ptr[p + 1]]
-            .iter()
-            .map(|&q| q as usize)
     }
 }
 

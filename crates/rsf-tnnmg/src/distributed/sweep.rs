@@ -65,7 +65,7 @@ impl<const D: usize> DistributedSweep<D> {
         colouring: &Colouring,
         halo: &H,
     ) -> Result<Self> {
-        let (rank, size) = (halo.rank(), halo.size());
+        let size = halo.size();
         if let Some(p) = owner.iter().position(|&r| r >= size) {
             return Err(Error::InvalidPartition(format!(
                 "node {p} is owned by rank {}, but there are {size} ranks",
@@ -79,7 +79,27 @@ impl<const D: usize> DistributedSweep<D> {
                 got: colouring.num_nodes(),
             });
         }
-        let rows = LocalRows::of_blocks(a, owner, rank)?;
+        Self::of_rows(LocalRows::of_blocks(a, owner, halo.rank())?, colouring)
+    }
+
+    /// The sweep on a rank's rows `rows` (of a matrix with `colouring.num_nodes()`
+    /// nodes) in the order of `colouring`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `colouring` does not colour the rows' matrix;
+    /// [`Error::InvalidPartition`] if it gives two adjacent nodes the same colour.
+    pub(crate) fn of_rows(rows: LocalRows<D>, colouring: &Colouring) -> Result<Self> {
+        if rows
+            .global_nodes()
+            .iter()
+            .any(|&p| p >= colouring.num_nodes())
+        {
+            return Err(Error::DimensionMismatch {
+                what: "colouring (one colour per node)",
+                expected: rows.global_nodes().iter().max().map_or(0, |&p| p + 1),
+                got: colouring.num_nodes(),
+            });
+        }
         let global = rows.global_nodes();
         for p in 0..rows.owned() {
             let c = colouring.colour_of(global[p]);

@@ -10,6 +10,7 @@ use super::cg::DistributedCg;
 use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::RankLevels;
 use super::local_rows::LocalRows;
+use super::node_graph::NodeGraph;
 use super::rank_hierarchy::RankHierarchy;
 use super::reduce::ExactSums;
 use super::tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
@@ -20,7 +21,7 @@ use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::linear_correction::LinearCorrection;
 use crate::multigrid::NewtonHierarchy;
-use crate::problem::{active_map, NodalProblem};
+use crate::problem::active_map;
 use crate::report::{iterate_to_tolerance, IterationRun};
 
 /// The energy-norm matrix's rows, their local columns mapped to the iterate's local nodes.
@@ -136,7 +137,7 @@ impl<const D: usize> std::fmt::Debug for DistributedTnnmg<D> {
 impl<const D: usize> DistributedTnnmg<D> {
     /// The solver of rank `halo.rank()` of `halo.size()` for the symmetric positive
     /// definite (on the free dofs) matrix `a` (`D n × D n`, node-major, both triangles
-    /// stored; the same on every rank) with the dofs where `fixed` (length `D n`) is true
+    /// stored, symmetric pattern) with the dofs where `fixed` (length `D n`) is true
     /// held at the start's values; `prolongations[l]` maps level `l` to level `l + 1`
     /// (`D n_{l+1} × D n_l`, node-major, coarsest first; at least one: the linear correction
     /// is a V-cycle), fine node `i`'s coarse counterparts owned by the same rank (node `i`
@@ -145,11 +146,22 @@ impl<const D: usize> DistributedTnnmg<D> {
     /// subset of `a`'s), `None` for `a`; node `p` owned by rank `owner[p]` (length `n`).
     /// The solver keeps `halo` (its transport) for its solves.
     ///
+    /// Of `a` and `energy_norm` a rank reads only **the columns of the nodes it owns**
+    /// (each column as the row of the symmetric matrix): every rank may pass the whole
+    /// matrices, or only its own columns with the others empty (what a rank that assembles
+    /// its part holds; docs/scaling.md "Phase 7"). The rest of the fine level that the
+    /// set-up needs whole — its node graph and diagonal blocks — is all-gathered from the
+    /// ranks, and the graph checked symmetric.
+    ///
     /// # Errors
-    /// As [`Tnnmg::new`](crate::Tnnmg::new) for the matrices; [`Error::InvalidOption`] for
-    /// options out of range or no prolongation; [`Error::DimensionMismatch`] if `owner`
-    /// does not have one entry per node; [`Error::InvalidPartition`] if an owner is not a
-    /// rank of `halo`; [`Error::InvalidMatrix`] if `energy_norm` couples nodes that `a`
+    /// As [`Tnnmg::new`](crate::Tnnmg::new) for the matrices (on the rank's columns: a
+    /// non-finite entry or a non-positive diagonal entry on a free dof, the dimensions),
+    /// [`Error::InvalidMatrix`] if the gathered node graph is not symmetric;
+    /// [`Error::InvalidOption`] for options out of range or no prolongation;
+    /// [`Error::DimensionMismatch`] if `owner` does not have one entry per node;
+    /// [`Error::InvalidPartition`] if an owner is not a rank of `halo`, or on every other
+    /// rank when one rank's columns are refused (the ranks agree before going on: no rank
+    /// is left waiting); [`Error::InvalidMatrix`] if `energy_norm` couples nodes that `a`
     /// does not.
     #[expect(
         clippy::too_many_arguments,
@@ -164,13 +176,12 @@ impl<const D: usize> DistributedTnnmg<D> {
         owner: &[usize],
         halo: Box<dyn HaloExchange>,
     ) -> Result<Self> {
-        let problem = || NodalProblem::<D>::new(a, fixed);
-        Self::build(problem, prolongations, energy_norm, opts, owner, halo)
+        let rows = |owner: &[usize], rank| owned_rows::<D>(a, owner, rank);
+        Self::build(rows, fixed, prolongations, energy_norm, opts, owner, halo)
     }
 
-    /// As [`new`](Self::new), taking the matrix `a`: it is freed as soon as its blocks are
-    /// made, not held through the rest of the set-up (the hierarchy's, whose peak is the
-    /// set-up's: a whole matrix less on every rank).
+    /// As [`new`](Self::new), taking the matrix `a`: it is freed as soon as the rank's
+    /// rows are read from it, not held through the rest of the set-up.
     ///
     /// # Errors
     /// As [`new`](Self::new).
@@ -184,12 +195,14 @@ impl<const D: usize> DistributedTnnmg<D> {
         owner: &[usize],
         halo: Box<dyn HaloExchange>,
     ) -> Result<Self> {
-        let problem = move || NodalProblem::<D>::new(a.as_ref(), fixed);
-        Self::build(problem, prolongations, energy_norm, opts, owner, halo)
+        let rows = move |owner: &[usize], rank| owned_rows::<D>(a.as_ref(), owner, rank);
+        Self::build(rows, fixed, prolongations, energy_norm, opts, owner, halo)
     }
 
+    #[expect(clippy::too_many_arguments, reason = "new's arguments")]
     fn build(
-        problem: impl FnOnce() -> Result<NodalProblem<D>>,
+        rows: impl FnOnce(&[usize], usize) -> Result<LocalRows<D>>,
+        fixed: &[bool],
         prolongations: &[SparseColMatRef<'_, usize, f64>],
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: DistributedTnnmgOptions,
@@ -212,41 +225,46 @@ impl<const D: usize> DistributedTnnmg<D> {
                 "TNNMG on ranks needs at least one prolongation (a V-cycle)".into(),
             ));
         }
-        // `a` (if owned) is dropped with the closure.
-        let m = problem()?;
-        let (n, nodes) = (m.n(), m.a.nodes());
-        if owner.len() != nodes {
-            return Err(Error::DimensionMismatch {
-                what: "owner (one rank per node)",
-                expected: nodes,
-                got: owner.len(),
-            });
-        }
         let (rank, size) = (halo.rank(), halo.size());
-        let colouring = Colouring::of_blocks(&m.a);
-        let sweep = DistributedSweep::of_blocks(&m.a, owner, &colouring, &*halo)?;
+        let nodes = owner.len();
+        let n = D * nodes;
+        if let Some(p) = owner.iter().position(|&r| r >= size) {
+            return Err(Error::InvalidPartition(format!(
+                "node {p} is owned by rank {}, but there are {size} ranks",
+                owner[p]
+            )));
+        }
+        // The rank's rows, read from its owned columns (`a`, if owned, is dropped with
+        // the closure), checked here and agreed by every rank before any other
+        // collective, so that a bad matrix on one rank ends every rank's set-up.
+        let local = rows(owner, rank).and_then(|rows| {
+            check_rows(&rows, fixed, n)?;
+            Ok(rows)
+        });
+        let mut counters = HaloCounters::default();
+        let rows = agree(local, &mut *halo, &mut counters)?;
+        // The whole node graph and diagonal blocks (no values of other rows).
+        let (graph, a_diag) = NodeGraph::gather(&rows, owner, &mut *halo, &mut counters)?;
+        let colouring = Colouring::of_pattern(&graph);
+        let sweep = DistributedSweep::of_rows(rows, &colouring)?;
         let ps = prolongations
             .iter()
             .map(|p| Csc::from_faer(*p).map_err(Error::from))
             .collect::<Result<Vec<_>>>()?;
-        // The rank's hierarchy: the fine level's pattern and diagonal blocks whole, its
+        // The rank's hierarchy: the fine level's graph and diagonal blocks whole, its
         // values computed from the rank's rows (the sweep's) by the first update; the
         // linearisation keeps the diagonal blocks.
-        let a_diag = m.a.diag.clone();
         let mut hierarchy =
-            RankHierarchy::new(&m.a, a_diag.clone(), &m.fixed, &ps, owner, (rank, size))?;
+            RankHierarchy::new(graph, a_diag.clone(), fixed, &ps, owner, (rank, size))?;
         drop(ps);
         hierarchy.with(&mut *halo, sweep.rows()).update()?;
         let vcycle = DistributedVCycle::of_levels(
-            &RankLevels::new(&m.a, &hierarchy, prolongations),
+            &RankLevels::new(sweep.rows(), colouring, &hierarchy, prolongations),
             owner,
             opts.smoothing,
             &*halo,
         )?;
-        // The whole fine matrix is not kept.
-        // (a partial move would keep the matrix until the end of the set-up)
-        let fixed = m.fixed;
-        drop(m.a);
+        let fixed = fixed.to_vec();
         let rows = sweep.rows();
         debug_assert_eq!(rows.global_nodes(), vcycle.rows().global_nodes());
         let norm_rows = energy_norm
@@ -296,7 +314,10 @@ impl<const D: usize> DistributedTnnmg<D> {
             cg: DistributedCg::new(D * owned, local, rank, size),
             pending: (None, None),
             solution: AllGather::new(owner, rank, size, D),
-            counters: TnnmgCounters::default(),
+            counters: TnnmgCounters {
+                setup: counters,
+                ..TnnmgCounters::default()
+            },
             sweep,
             halo,
         })
@@ -363,6 +384,7 @@ impl<const D: usize> DistributedTnnmg<D> {
             solution: HaloCounters::default(),
             full_updates: 0,
             hierarchy: self.hierarchy.per_incremental_update(),
+            setup: HaloCounters::default(),
         })
     }
 
@@ -542,5 +564,68 @@ impl<const D: usize> NonsmoothSolver<D> for DistributedTnnmg<D> {
         self.add_norm_terms(&local, 0);
         self.c = local;
         Some(self.norm_sums.reduce(&mut *self.halo)[0].max(0.0).sqrt())
+    }
+}
+
+/// The rows of `a` owned by `rank`, read from its owned columns.
+fn owned_rows<const D: usize>(
+    a: SparseColMatRef<'_, usize, f64>,
+    owner: &[usize],
+    rank: usize,
+) -> Result<LocalRows<D>> {
+    LocalRows::of_columns(a, owner, rank)
+}
+
+/// The checks of [`NodalProblem::new`](crate::problem::NodalProblem::new) that a rank can
+/// make on its rows: `n` dofs in `fixed`, finite values, a positive diagonal on the free
+/// dofs (the pattern's symmetry is checked on the gathered graph).
+fn check_rows<const D: usize>(rows: &LocalRows<D>, fixed: &[bool], n: usize) -> Result<()> {
+    if fixed.len() != n {
+        return Err(Error::DimensionMismatch {
+            what: "fixed mask",
+            expected: n,
+            got: fixed.len(),
+        });
+    }
+    for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
+        let blocks = std::iter::once(rows.diag(q)).chain(rows.neighbours(q).map(|(_, b)| b));
+        if blocks.flatten().flatten().any(|x| !x.is_finite()) {
+            return Err(Error::InvalidMatrix(format!(
+                "a non-finite entry in the row of node {p}"
+            )));
+        }
+        for c in 0..D {
+            if !fixed[D * p + c] && rows.diag(q)[c][c] <= 0.0 {
+                return Err(Error::NotPositiveDefinite(
+                    "non-positive diagonal entry on a free dof",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every rank's verdict on its part: this rank's error, or — if another rank failed —
+/// [`Error::InvalidPartition`] naming it, on every rank (one all-gather). Collective.
+fn agree<T>(
+    local: Result<T>,
+    halo: &mut dyn HaloExchange,
+    counters: &mut HaloCounters,
+) -> Result<T> {
+    let size = halo.size();
+    let mut all = vec![0.0; size];
+    halo.all_gather(
+        &[f64::from(u8::from(local.is_err()))],
+        &vec![1; size],
+        &mut all,
+    );
+    counters.collectives += 1;
+    counters.collective_values += 1;
+    let local = local?;
+    match all.iter().position(|&f| f != 0.0) {
+        Some(r) => Err(Error::InvalidPartition(format!(
+            "rank {r} found its part of the matrix invalid"
+        ))),
+        None => Ok(local),
     }
 }

@@ -61,6 +61,10 @@ pub struct TnnmgCounters {
     /// active blocks (its first iteration); every other iteration updates the rows the
     /// active blocks reach.
     pub full_updates: u64,
+    /// The set-up's collectives: the agreement on the ranks' parts, the gathers of the
+    /// fine level's node graph and diagonal blocks (the hierarchy's first update is in
+    /// `hierarchy`).
+    pub setup: HaloCounters,
     /// The hierarchy's updates: per level below the fine one an exchange of `T` rows
     /// and (above the coarsest) one of the ghosts' masks, and the coarsest level's
     /// all-gather (a collective).

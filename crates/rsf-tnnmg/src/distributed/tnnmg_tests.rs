@@ -181,6 +181,12 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
                     // The set-up's full update and the solve's first; the others
                     // incremental.
                     hierarchy: rank.per_full_update.times(2) + want.hierarchy.times(it - 1),
+                    // One agreement on the parts, three gathers of the fine graph and
+                    // diagonal.
+                    setup: HaloCounters {
+                        collectives: 4,
+                        ..rank.counters.setup
+                    },
                 };
                 assert_eq!(rank.counters, want, "{name}: rank {r} of {size}");
                 let total = rank.per_iteration.total();
@@ -543,6 +549,71 @@ fn distributed_tnnmg_refuses_wrong_input() {
     let nl = friction(&pb, 1.0, 0.1);
     let mut v = pb.x0.clone();
     assert!(s.solve(&pb.b[1..], &nl, &mut v).is_err());
+}
+
+/// Each rank given only its owned nodes' columns of `A` (the others empty: what a rank
+/// that assembles its own part holds) solves with the bits of the one-rank solve on the
+/// whole matrix, at 2–4 thread ranks; a non-finite entry in one rank's columns ends every
+/// rank's set-up with an error (that rank's own, the other naming it) instead of leaving
+/// the others waiting in a collective.
+#[test]
+fn a_rank_needs_only_its_own_columns() {
+    let pb = cube(2);
+    let nl = friction(&pb, 1.0, 0.1);
+    let nodes = pb.x0.len() / D;
+    let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let set_up = |owner: &[usize], halo: ThreadExchange, poison: Option<f64>| {
+        let rank = halo.rank();
+        let a = columns(pb.a(), owner, rank, poison);
+        let ps = prolongations(&pb);
+        let (fixed, opts) = (&pb.bx.fixed, options(false));
+        DistributedTnnmg::<D>::new_owned(a, fixed, &ps, None, opts, owner, Box::new(halo))
+    };
+    for size in 2..=4 {
+        let owner = split_along(pb.bx.mesh(), size, 0);
+        let solutions = on_thread_ranks(size, |halo| {
+            let mut s = set_up(&owner, halo, None).unwrap();
+            let mut v = pb.x0.clone();
+            s.solve(&pb.b, &nl, &mut v).unwrap();
+            v
+        });
+        for (r, v) in solutions.iter().enumerate() {
+            assert_eq!(differing(v, &reference.v), 0, "rank {r} of {size}");
+        }
+    }
+    let owner = split_along(pb.bx.mesh(), 2, 0);
+    let errors = on_thread_ranks(2, |halo| {
+        let poison = (halo.rank() == 1).then_some(f64::NAN);
+        set_up(&owner, halo, poison).err()
+    });
+    assert!(
+        matches!(errors[1], Some(Error::InvalidMatrix(_))),
+        "{errors:?}"
+    );
+    assert!(
+        matches!(errors[0], Some(Error::InvalidPartition(_))),
+        "{errors:?}"
+    );
+}
+
+/// `a` with only the columns of the nodes `rank` owns (the others empty), its first
+/// stored value replaced by `poison` if given.
+fn columns(
+    a: SparseColMatRef<'_, usize, f64>,
+    owner: &[usize],
+    rank: usize,
+    poison: Option<f64>,
+) -> faer::sparse::SparseColMat<usize, f64> {
+    let mut triplets = Vec::new();
+    for j in (0..a.ncols()).filter(|&j| owner[j / D] == rank) {
+        for (i, &v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
+            triplets.push(faer::sparse::Triplet::new(i, j, v));
+        }
+    }
+    if let Some(x) = poison {
+        triplets[0].val = x;
+    }
+    faer::sparse::SparseColMat::try_new_from_triplets(a.nrows(), a.ncols(), &triplets).unwrap()
 }
 
 /// The solver's own norm of a whole vector (what `FullStep::with_norm_from_solver`

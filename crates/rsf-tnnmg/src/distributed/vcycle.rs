@@ -111,7 +111,7 @@ impl<const D: usize> DistributedVCycle<D> {
     ) -> Result<Self> {
         let (rank, size) = (halo.rank(), halo.size());
         let nl = h.num_levels();
-        let fine_nodes = h.matrix(nl - 1).nodes();
+        let fine_nodes = h.nodes(nl - 1);
         if owner.len() != fine_nodes {
             return Err(Error::DimensionMismatch {
                 what: "owner (one rank per fine node)",
@@ -121,8 +121,8 @@ impl<const D: usize> DistributedVCycle<D> {
         }
         let mut levels = Vec::with_capacity(nl - 1);
         for l in 1..nl {
-            let own = &owner[..h.matrix(l).nodes()];
-            let sweep = DistributedSweep::of_blocks(h.matrix(l), own, h.colouring(l), halo)?;
+            let own = &owner[..h.nodes(l)];
+            let sweep = h.sweep(l, own, halo)?;
             let rows = sweep.rows();
             let local = |v: &[f64]| {
                 let mut out = vec![0.0; D * rows.len()];
@@ -148,7 +148,7 @@ impl<const D: usize> DistributedVCycle<D> {
                 transfer,
             });
         }
-        let n0 = h.matrix(0).nodes();
+        let n0 = h.nodes(0);
         let own0 = &owner[..n0];
         let owned: Vec<usize> = (0..n0).filter(|&i| own0[i] == rank).collect();
         let coarsest = Coarsest {
