@@ -52,19 +52,64 @@ fn multigrid<const C: usize>(
     load: &[f64],
     prolongations: &[SparseMatrix],
 ) -> Result<Vec<f64>> {
-    let options = TnnmgOptions {
+    let options = multigrid_options();
+    let k = stiffness.as_ref();
+    let mut mg = Tnnmg::<C>::new(k, fixed, prolongations, Some(k), options)?;
+    let mut u0 = vec![0.0; load.len()];
+    mg.solve(load, &NoNonlinearity, &mut u0)?;
+    Ok(u0)
+}
+
+/// `u₀` with `K u₀ = F` on the free dofs (0 on the fixed ones), solved on the ranks of a
+/// job by [`DistributedTnnmg`](rsf_tnnmg::distributed::DistributedTnnmg) without
+/// nonlinearity (linear V-cycles on `prolongations`, stopped as the one-process multigrid
+/// branch: the energy norm of the last correction at most
+/// [`EQUILIBRIUM_MULTIGRID_TOLERANCE`] times `‖u₀‖_K`, at most 500 iterations): what a
+/// model whose ranks hold only their own columns of `K` (`ModelBuilder` on ranks) solves,
+/// at every size (sparse Cholesky would need `K` whole). Of `stiffness` each rank reads
+/// only the columns of the nodes it owns (`ranks.owner`); `load` and `fixed` are whole
+/// (length `n`), and so is the result, with the same bits on every rank and at every rank
+/// count. It takes one transport from `ranks` (every rank calls this in the same order).
+/// Collective.
+///
+/// # Errors
+/// [`Error::Solver`] if the multigrid does not converge in 500 iterations, or as
+/// `DistributedTnnmg::new` for the matrix and the partition (on every rank);
+/// [`Error::InvalidParameter`] named `tnnmg.cycle_index` as
+/// [`TnnmgOnRanks::options`](crate::method::TnnmgOnRanks::options).
+pub fn equilibrium_on_ranks<const C: usize>(
+    stiffness: &SparseMatrix,
+    fixed: &[bool],
+    load: &[f64],
+    prolongations: &[SparseMatrix],
+    ranks: &crate::method::TnnmgOnRanks,
+) -> Result<Vec<f64>> {
+    let options = crate::method::TnnmgOnRanks::options(&multigrid_options())?;
+    let ps: Vec<_> = prolongations.iter().map(|p| p.as_ref()).collect();
+    let mut mg = rsf_tnnmg::distributed::DistributedTnnmg::<C>::new(
+        stiffness.as_ref(),
+        fixed,
+        &ps,
+        None,
+        options,
+        &ranks.owner,
+        (ranks.transport)(),
+    )?;
+    let mut u0 = vec![0.0; load.len()];
+    mg.solve(load, &NoNonlinearity, &mut u0)?;
+    Ok(u0)
+}
+
+/// The stopping test of the multigrid branches.
+fn multigrid_options() -> TnnmgOptions {
+    TnnmgOptions {
         stopping: Stopping {
             absolute: 0.0,
             relative: EQUILIBRIUM_MULTIGRID_TOLERANCE,
             max_iterations: 500,
         },
         ..TnnmgOptions::default()
-    };
-    let k = stiffness.as_ref();
-    let mut mg = Tnnmg::<C>::new(k, fixed, prolongations, Some(k), options)?;
-    let mut u0 = vec![0.0; load.len()];
-    mg.solve(load, &NoNonlinearity, &mut u0)?;
-    Ok(u0)
+    }
 }
 
 #[cfg(test)]

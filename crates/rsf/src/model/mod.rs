@@ -18,7 +18,9 @@ pub use absorbing::AbsorbingBoundary;
 pub use builder::{FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS};
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
-pub use equilibrium::{EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE};
+pub use equilibrium::{
+    equilibrium_on_ranks, EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE,
+};
 pub use fault::{block_norm, FrictionalBoundary};
 pub use internal::{FaultSide, InternalFault};
 pub use loading::{DirichletVelocity, TimeFunction};
