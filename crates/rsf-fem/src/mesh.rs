@@ -263,6 +263,33 @@ impl<const D: usize> SimplexMesh<D> {
     pub fn num_cells(&self) -> usize {
         self.cells.len() / (D + 1)
     }
+
+    /// The vertex graph in CSR form, as graph partitioners take it: the neighbours of
+    /// vertex `p` (the other vertices of the cells containing it) are
+    /// `adjncy[xadj[p]..xadj[p + 1]]`, increasing; `xadj` has `num_vertices() + 1`
+    /// entries. Symmetric, without self-loops: the node graph of every matrix a P1
+    /// [`Assembler`](crate::Assembler) assembles on this mesh (its pattern couples the
+    /// vertices of each cell), so a partition of it is one of the matrices' nodes.
+    pub fn vertex_graph(&self) -> (Vec<usize>, Vec<usize>) {
+        let n = self.num_vertices();
+        let k = D + 1;
+        let mut lists: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for cell in self.cells.chunks_exact(k) {
+            for &p in cell {
+                lists[p].extend(cell.iter().copied().filter(|&q| q != p));
+            }
+        }
+        let mut xadj = Vec::with_capacity(n + 1);
+        xadj.push(0);
+        let mut adjncy = Vec::new();
+        for list in &mut lists {
+            list.sort_unstable();
+            list.dedup();
+            adjncy.extend_from_slice(list);
+            xadj.push(adjncy.len());
+        }
+        (xadj, adjncy)
+    }
     /// Every facet of the mesh (interior and boundary) once, in the order of the cells and,
     /// within a cell, of the vertex each facet leaves out; a facet's `D` vertices in the
     /// order of the first cell holding it (that cell without the left-out vertex).

@@ -337,3 +337,40 @@ fn facets_lists_every_facet_once() {
         assert!(all.contains(&key(mesh.boundary_facet(b))));
     }
 }
+
+/// The vertex graph is the node graph of the assembled matrices' pattern (every pair of
+/// vertices of a cell coupled): a Kuhn box refined once and a triangle mesh, against the
+/// block pattern of the vector stiffness assembler, read column by column.
+#[test]
+fn the_vertex_graph_is_the_matrices_node_graph() {
+    fn node_graph<const D: usize>(mesh: &SimplexMesh<D>) -> (Vec<usize>, Vec<usize>) {
+        let pattern = Assembler::<D>::new(mesh)
+            .unwrap()
+            .pattern()
+            .to_owned()
+            .unwrap();
+        let n = mesh.num_vertices();
+        let (mut xadj, mut adjncy) = (vec![0], Vec::new());
+        for p in 0..n {
+            let mut row: Vec<usize> = pattern
+                .row_idx_of_col(D * p)
+                .map(|i| i / D)
+                .filter(|&q| q != p)
+                .collect();
+            row.dedup();
+            adjncy.extend(row);
+            xadj.push(adjncy.len());
+        }
+        (xadj, adjncy)
+    }
+    let cube = MeshHierarchy::try_refine_uniformly(
+        cuboid([0.0; 3], [1.0, 2.0, 1.0], [2, 3, 2]).unwrap(),
+        1,
+    )
+    .unwrap()
+    .finest()
+    .clone();
+    assert_eq!(cube.vertex_graph(), node_graph(&cube));
+    let square = rectangle([0.0; 2], [2.0, 1.0], 4, 3, Diagonal::Forward).unwrap();
+    assert_eq!(square.vertex_graph(), node_graph(&square));
+}

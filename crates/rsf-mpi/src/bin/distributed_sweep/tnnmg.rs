@@ -1,16 +1,17 @@
 //! `--tnnmg`: TNNMG on MPI ranks (docs/scaling.md, "Phase 4").
 //!
 //! Every rank builds the box, its hierarchy (all levels) and METIS's partition of the fine
-//! node graph, and sets up `DistributedTnnmg` (the hierarchy replicated, its rows kept);
+//! node graph, and sets up `DistributedTnnmg` (each rank its rows of every level);
 //! the nonlinearity is Tresca friction (`BlockTresca`, bound 1, viscous weight 0.1) on the
 //! nodes of the top face z = 1. K repetitions solve from the box's start to 1e-10 in the
 //! energy norm (one nonlinear sweep and one V(2,2)-cycle per iteration; with `--cg`
 //! conjugate gradients preconditioned by V(2,2)-cycles, at most 4 per iteration, stopping
 //! at a residual reduction of 0.01: the one-process TNNMG's defaults), each timed between
 //! two barriers. Each rank writes its owned and ghost nodes, the iterations, what one
-//! iteration sends by the plans per part (smoother, cycles, gathers, reductions:
-//! exchanges/messages/values point to point, then collectives/values contributed to them)
-//! and in total, and what it counted over the last solve
+//! iteration sends by the plans per part (smoother, cycles, gathers, reductions, the
+//! hierarchy's incremental update: exchanges/messages/values point to point, then
+//! collectives/values contributed to them) and in total, what a full update of the
+//! hierarchy sends (a solve's first iteration), and what it counted over the last solve
 //! (including the solution's all-gather); rank 0 the median and, with `--out`, the
 //! solution (every rank holds it whole after the solve). `--thread-ranks N` (one MPI rank)
 //! runs the same solve on N threads as ranks (`ThreadExchange`, METIS's partition into N)
@@ -175,7 +176,8 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
     let line = format!(
         "rank {rank} of {size}: owned={} ghosts={} iterations={iterations} \
          per_iteration={} bytes_per_iteration={} smoother={} cycles={} gathers={} \
-         reductions={} solution={} counted={} set_up={set_up_s:.3} s \
+         reductions={} hierarchy={} full_update={} solution={} counted={} \
+         set_up={set_up_s:.3} s \
          resident_after_set_up={rss:.1} MB peak_after_set_up={peak:.1} MB\n",
         rows.owned(),
         rows.ghosts(),
@@ -185,6 +187,8 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         counts(plan.cycles),
         counts(plan.gathers),
         counts(plan.reductions),
+        counts(plan.hierarchy),
+        counts(tnnmg.per_full_update()),
         counts(tnnmg.per_solution()),
         counts(counted.total()),
     );
