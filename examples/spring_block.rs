@@ -114,6 +114,7 @@ fn build<I: VelocityIntegrator>(
         frames: Default::default(),
         absorbing: None,
         internal_fault: None,
+        columns: None,
     };
     let alpha_ss = (p.l / blk.v_load).ln();
     let sim = SimulationBuilder::new(model)

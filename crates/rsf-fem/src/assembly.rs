@@ -21,12 +21,27 @@ use crate::{Error, Result};
 /// assembler share the pattern,
 /// so `A = c_M M + c_K K` can be formed value-by-value ([`combine`](crate::combine)) and a
 /// [`Cholesky`](crate::Cholesky) analysis can be reused.
+///
+/// # Columns of some nodes
+/// [`Assembler::on_columns`] assembles only the columns of a set of kept nodes (all `C`
+/// columns of each; the matrices are symmetric, so a column is also a row): the matrices
+/// keep the whole `n × n` shape, the kept columns hold the whole pattern's rows and the
+/// other columns are empty. Only the cells with a kept vertex are visited, in increasing
+/// index, and they add only into kept columns, so every stored entry is summed over the
+/// same cells in the same order as in the whole assembly: it has the same bits (the whole
+/// assembly is the case "every node kept"). This is how one process of several assembles
+/// the rows of the nodes it owns.
 #[derive(Debug, Clone)]
 pub struct Assembler<const D: usize, const C: usize = D> {
     num_vertices: usize,
     num_cells: usize,
     symbolic: SymbolicSparseColMat<usize>,
-    /// Per cell, per local pair (a, b): offset of scalar row `v_a` within scalar column `v_b`.
+    /// The kept nodes (one flag per vertex); `None`: every node.
+    columns: Option<Vec<bool>>,
+    /// The cells visited (those with a kept vertex), increasing; `None`: every cell.
+    cells: Option<Vec<usize>>,
+    /// Per visited cell, per local pair (a, b): offset of scalar row `v_a` within scalar
+    /// column `v_b` (`u32::MAX` where `v_b` is not kept).
     local_offset: Vec<u32>,
 }
 
@@ -72,15 +87,57 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
     /// # Errors
     /// [`Error::Faer`] if the pattern cannot be allocated.
     pub fn with_components(mesh: &SimplexMesh<D>) -> Result<Self> {
+        Self::build(mesh, None)
+    }
+
+    /// An assembler of the columns of the nodes with `keep[vertex]` (one flag per vertex of
+    /// `mesh`; see "Columns of some nodes" on [`Assembler`]): its matrices are `n × n`
+    /// (`n = C · vertices`, node-major), column `C·p + s` holds the whole pattern's rows if
+    /// `keep[p]` and nothing otherwise, and every stored entry has the bits of the same
+    /// entry of the whole assembly ([`Assembler::with_components`]). Cost `O(cells)` to
+    /// find the cells with a kept vertex, then proportional to those.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`] if `keep` does not have one flag per vertex;
+    /// [`Error::Faer`] if the pattern cannot be allocated.
+    pub fn on_columns(mesh: &SimplexMesh<D>, keep: &[bool]) -> Result<Self> {
+        if keep.len() != mesh.num_vertices() {
+            return Err(Error::DimensionMismatch {
+                what: "kept columns (one flag per vertex)",
+                expected: mesh.num_vertices(),
+                got: keep.len(),
+            });
+        }
+        Self::build(mesh, Some(keep))
+    }
+
+    /// The pattern of the columns of the nodes `keep` (every node for `None`) and the
+    /// scatter map of the cells with a kept vertex.
+    fn build(mesh: &SimplexMesh<D>, keep: Option<&[bool]>) -> Result<Self> {
         const { assert!(C >= 1 && C <= 3, "1 to 3 components per vertex") };
         let nv = mesh.num_vertices();
         let nc = mesh.num_cells();
         let k = D + 1;
-        // Scalar adjacency by bucketing (with duplicates), then sort + dedup per column.
+        let kept = |v: usize| keep.is_none_or(|keep| keep[v]);
+        let cells: Option<Vec<usize>> = keep.map(|keep| {
+            (0..nc)
+                .filter(|&c| mesh.cell(c).iter().any(|&v| keep[v]))
+                .collect()
+        });
+        let visited = || -> Box<dyn Iterator<Item = usize> + '_> {
+            match &cells {
+                Some(cells) => Box::new(cells.iter().copied()),
+                None => Box::new(0..nc),
+            }
+        };
+        // Scalar adjacency of the kept columns by bucketing (with duplicates), then sort +
+        // dedup per column.
         let mut count = vec![0usize; nv + 1];
-        for c in 0..nc {
+        for c in visited() {
             for &v in mesh.cell(c) {
-                count[v + 1] += k;
+                if kept(v) {
+                    count[v + 1] += k;
+                }
             }
         }
         for i in 0..nv {
@@ -88,9 +145,9 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
         }
         let mut fill = count.clone();
         let mut rows = vec![0usize; count[nv]];
-        for c in 0..nc {
+        for c in visited() {
             let cell = mesh.cell(c);
-            for &vb in cell {
+            for &vb in cell.iter().filter(|&&vb| kept(vb)) {
                 for &va in cell {
                     rows[fill[vb]] = va;
                     fill[vb] += 1;
@@ -115,18 +172,24 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
             scol[q + 1] = w;
         }
         rows.truncate(w);
-        let mut local_offset = Vec::with_capacity(nc * k * k);
-        for c in 0..nc {
+        let num_visited = cells.as_ref().map_or(nc, Vec::len);
+        let mut local_offset = Vec::with_capacity(num_visited * k * k);
+        for c in visited() {
             let cell = mesh.cell(c);
             for &va in cell {
                 for &vb in cell {
+                    if !kept(vb) {
+                        local_offset.push(u32::MAX);
+                        continue;
+                    }
                     let col = &rows[scol[vb]..scol[vb + 1]];
                     let o = col.binary_search(&va).expect("pair is in the pattern");
                     local_offset.push(o as u32);
                 }
             }
         }
-        // Vector pattern: column (q, s) holds rows (p, r) for p adjacent to q, r = 0..C.
+        // Vector pattern: column (q, s) holds rows (p, r) for p adjacent to q, r = 0..C
+        // (none for a node not kept).
         let n = C * nv;
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(C * C * rows.len());
@@ -146,8 +209,16 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
             num_vertices: nv,
             num_cells: nc,
             symbolic,
+            columns: keep.map(<[bool]>::to_vec),
+            cells,
             local_offset,
         })
+    }
+
+    /// The kept nodes (one flag per vertex) of an assembler of some columns
+    /// ([`Assembler::on_columns`]); `None` for the whole assembly.
+    pub fn columns(&self) -> Option<&[bool]> {
+        self.columns.as_deref()
     }
 
     /// Number of dofs `C · num_vertices`.
@@ -185,7 +256,8 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
     /// Generic numeric assembly: zeroes `out` (which must have this assembler's pattern,
     /// e.g. from [`Assembler::zeros`]) and adds `element(grads, measure, local)` for
     /// every cell, where `local` is the row-major `(C(D+1))²` element matrix to fill
-    /// (see [`crate::element`]).
+    /// (see [`crate::element`]). An assembler of some columns ([`Assembler::on_columns`])
+    /// visits only the cells with a kept vertex and fills only the kept columns.
     ///
     /// # Errors
     /// [`Error::DimensionMismatch`] if `mesh` or `out` do not match the assembler.
@@ -200,7 +272,8 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
 
     /// As [`Assembler::assemble_into`] with the cell's index passed to the element:
     /// `element(cell, grads, measure, local)`, e.g. for a material that changes from cell
-    /// to cell (regions of a heterogeneous body). Cells are visited in increasing index.
+    /// to cell (regions of a heterogeneous body). Cells are visited in increasing index
+    /// (only those with a kept vertex for [`Assembler::on_columns`]).
     ///
     /// # Errors
     /// As [`Assembler::assemble_into`].
@@ -213,6 +286,7 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
         self.check_mesh(mesh)?;
         if out.symbolic().row_idx().len() != self.symbolic.row_idx().len()
             || out.nrows() != self.num_dofs()
+            || out.symbolic().col_ptr() != self.symbolic.col_ptr()
         {
             return Err(Error::PatternMismatch);
         }
@@ -223,15 +297,24 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
         vals.fill(0.0);
         let mut local = [0.0f64; 144];
         let local = &mut local[..n * n];
-        for c in 0..self.num_cells {
+        let visited: &mut dyn Iterator<Item = usize> = match &self.cells {
+            Some(cells) => &mut cells.iter().copied(),
+            None => &mut (0..self.num_cells),
+        };
+        for (i, c) in visited.enumerate() {
             let x = mesh.cell_coords(c);
             let (g, m) = p1_gradients::<D>(&x[..k]).expect("mesh cells are non-degenerate");
             element(c, &g, m, local);
             let cell = mesh.cell(c);
-            let offs = &self.local_offset[c * k * k..(c + 1) * k * k];
+            let offs = &self.local_offset[i * k * k..(i + 1) * k * k];
             for a in 0..k {
                 for b in 0..k {
-                    let o = offs[a * k + b] as usize;
+                    let o = offs[a * k + b];
+                    if o == u32::MAX {
+                        // Column of a node not kept.
+                        continue;
+                    }
+                    let o = o as usize;
                     for s in 0..C {
                         let base = col_ptr[C * cell[b] + s] + C * o;
                         for r in 0..C {
@@ -350,4 +433,37 @@ fn check_density(rho: f64) -> Result<()> {
     } else {
         Err(Error::InvalidDensity(rho))
     }
+}
+
+/// The columns of the kept nodes of a node-major matrix `a` (`C = a.ncols() / keep.len()`
+/// columns per node; `keep` one flag per node): the same `nrows × ncols` shape, column
+/// `C·p + s` as in `a` (rows and bits) if `keep[p]`, empty otherwise. What
+/// [`Assembler::on_columns`] gives without assembling the other columns, for a matrix
+/// assembled whole.
+///
+/// # Errors
+/// [`Error::DimensionMismatch`] unless `a.ncols()` is a multiple of `keep.len()` (and
+/// `keep` is not empty for a matrix with columns).
+pub fn node_columns(a: &SparseMatrix, keep: &[bool]) -> Result<SparseMatrix> {
+    let n = a.ncols();
+    let c = if keep.is_empty() { 0 } else { n / keep.len() };
+    if c * keep.len() != n || (n > 0 && c == 0) {
+        return Err(Error::DimensionMismatch {
+            what: "columns of a node-major matrix (components times kept-node flags)",
+            expected: keep.len() * c.max(1),
+            got: n,
+        });
+    }
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    let (mut row_idx, mut val) = (Vec::new(), Vec::new());
+    for j in 0..n {
+        if keep[j / c] {
+            row_idx.extend_from_slice(a.row_idx_of_col_raw(j));
+            val.extend_from_slice(a.val_of_col(j));
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let symbolic = SymbolicSparseColMat::new_checked(a.nrows(), n, col_ptr, None, row_idx);
+    Ok(SparseColMat::new(symbolic, val))
 }

@@ -21,7 +21,8 @@
 //!   for scalar fields with the stiffness [`Assembler::laplace`] `μ∇u·∇w`, the antiplane
 //!   problem); consistent mass `M` (ρ), stiffness `K` of isotropic elasticity
 //!   ([`LinearElasticity`]: E, ν; plane strain in 2D), energy matrix `K + M`, all sharing
-//!   one CSC pattern; loads [`body_force_load`], [`traction_load`]; lumped boundary
+//!   one CSC pattern, whole or the columns of some nodes ([`Assembler::on_columns`],
+//!   [`node_columns`]); loads [`body_force_load`], [`traction_load`]; lumped boundary
 //!   weights [`lumped_weights`].
 //! * [`SimplexMesh::split_along`] / [`SimplexMesh::split_along_segment`]: a fault inside
 //!   the body cut open into two sides ([`FaultSides`], docs/math.md §15), and the change of
@@ -60,7 +61,7 @@ mod split_surface;
 mod split_transform;
 mod structured;
 
-pub use assembly::Assembler;
+pub use assembly::{node_columns, Assembler};
 pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use dof_transform::{Composition, DofTransform};

@@ -12,6 +12,7 @@ use rsf_tnnmg::SmootherOrder;
 use crate::invalid;
 use rsf::checkpoint::Fingerprint;
 use rsf::method::InnerSolves;
+use rsf::model::EquilibriumSystem;
 use rsf::Model;
 use rsf::ModelBuilder;
 use rsf::{Error, Result};
@@ -279,6 +280,31 @@ impl Slider3dScene {
     /// Invalid parameters (a level whose mesh exceeds [`MAX_CELLS`](rsf::model::MAX_CELLS) is
     /// named `levels`); assembly errors; [`Error::IllConditioned`](rsf::Error::IllConditioned).
     pub fn build_model(&self) -> Result<Model<3>> {
+        let model = self.model_builder()?.build()?;
+        self.slider.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// The part of [`build_model`](Self::build_model)'s model one process of several
+    /// holds: the matrices' columns of the vertices with `keep[vertex]` (one flag per
+    /// vertex of the finest mesh), the initial equilibrium by `equilibrium`
+    /// ([`ModelBuilder::build_columns`]); then
+    /// [`SliderScene::check_conditioning`] on those columns.
+    ///
+    /// # Errors
+    /// As [`build_model`](Self::build_model) and [`ModelBuilder::build_columns`].
+    pub fn build_model_columns(
+        &self,
+        keep: &[bool],
+        equilibrium: impl FnOnce(&EquilibriumSystem<'_>) -> Result<Vec<f64>>,
+    ) -> Result<Model<3>> {
+        let model = self.model_builder()?.build_columns(keep, equilibrium)?;
+        self.slider.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// The builder of [`build_model`](Self::build_model), the scene validated.
+    fn model_builder(&self) -> Result<ModelBuilder<3>> {
         self.validate()?;
         let s = &self.slider;
         let mut builder = ModelBuilder::refined(slider_3d_coarse(self.width_m)?, s.level)?
@@ -296,9 +322,7 @@ impl Slider3dScene {
         if !s.integrator.uses_mass() {
             builder = builder.without_mass();
         }
-        let model = builder.build()?;
-        s.check_conditioning(&model)?;
-        Ok(model)
+        Ok(builder)
     }
 
     /// The model of this slider turned by `phi` (rad) about [`skew_rotation`]'s axis: the
@@ -318,12 +342,44 @@ impl Slider3dScene {
     /// for plane-strain lateral faces (a constraint on Cartesian `u_z`, not turned here) and
     /// named `angle` for a non-finite angle.
     pub fn build_turned_model(&self, phi: f64) -> Result<Model<3>> {
+        let model = match self.turned_model_builder(phi)? {
+            Some(builder) => builder.build()?,
+            None => return self.build_model(),
+        };
+        self.slider.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// The part of [`build_turned_model`](Self::build_turned_model)'s model one process of
+    /// several holds (as [`build_model_columns`](Self::build_model_columns)).
+    ///
+    /// # Errors
+    /// As [`build_turned_model`](Self::build_turned_model) and
+    /// [`ModelBuilder::build_columns`].
+    pub fn build_turned_model_columns(
+        &self,
+        phi: f64,
+        keep: &[bool],
+        equilibrium: impl FnOnce(&EquilibriumSystem<'_>) -> Result<Vec<f64>>,
+    ) -> Result<Model<3>> {
+        let model = match self.turned_model_builder(phi)? {
+            Some(builder) => builder.build_columns(keep, equilibrium)?,
+            None => return self.build_model_columns(keep, equilibrium),
+        };
+        self.slider.check_conditioning(&model)?;
+        Ok(model)
+    }
+
+    /// The builder of [`build_turned_model`](Self::build_turned_model), the scene
+    /// validated; `None` for plane-strain lateral faces at `phi = 0`
+    /// ([`build_model`](Self::build_model)'s).
+    fn turned_model_builder(&self, phi: f64) -> Result<Option<ModelBuilder<3>>> {
         if !phi.is_finite() {
             return Err(invalid("angle", format!("{phi} rad must be finite")));
         }
         if self.lateral != LateralBoundary::Free {
             if phi == 0.0 {
-                return self.build_model();
+                return Ok(None);
             }
             return Err(invalid(
                 "lateral",
@@ -370,13 +426,11 @@ impl Slider3dScene {
             .frictional_boundary(TAG_FRICTIONAL)
             .fault_tangent(skew_rotation(phi, [1.0, 0.0, 0.0]))
             .loading(s.loading());
-        let model = if s.integrator.uses_mass() {
-            builder.build()?
+        Ok(Some(if s.integrator.uses_mass() {
+            builder
         } else {
-            builder.without_mass().build()?
-        };
-        s.check_conditioning(&model)?;
-        Ok(model)
+            builder.without_mass()
+        }))
     }
 
     /// A [`SimulationBuilder`](rsf::SimulationBuilder) on `model` with everything the

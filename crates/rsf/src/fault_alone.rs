@@ -231,6 +231,7 @@ impl<const D: usize> Model<D, D> {
             frames: NodalFrames::default(),
             absorbing: None,
             internal_fault: None,
+            columns: None,
         })
     }
 }

@@ -143,13 +143,7 @@ impl SliderScene {
     /// # Errors
     /// [`Error::IllConditioned`](rsf::Error::IllConditioned) naming the scene fields behind the failed quantity.
     pub fn check_conditioning<const D: usize>(&self, model: &Model<D>) -> Result<()> {
-        let scales = ProblemScales::new(
-            &model.stiffness,
-            model.mass.as_ref(),
-            &model.load,
-            &model.initial_displacement,
-            &model.fixed,
-        );
+        let scales = ProblemScales::of_model(model);
         let t = self.end_time_s;
         // The steps of the run: τ = T/N, or the controller's range clipped to T (a step
         // never passes the end time).

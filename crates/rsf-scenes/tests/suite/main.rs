@@ -3,6 +3,7 @@
 //! `cargo test -p rsf-scenes --test suite [module::test]`.
 
 mod absorbing_sides;
+mod columns;
 mod scene_values;
 mod seas_bp3;
 mod seas_bp5;

@@ -126,7 +126,9 @@ pub(crate) struct ResolvedPart<'a, const D: usize, const C: usize> {
 }
 
 /// The lumped dashpot matrix (Cartesian, unscaled) on the pattern of `stiffness`, and
-/// `C w` (empty if every `w` is 0).
+/// `C w` (empty if every `w` is 0). With `columns` (one flag per vertex; `stiffness` then
+/// holds only those nodes' columns) the matrix gets only the kept nodes' blocks, each with
+/// the bits of the whole matrix's; `C w` is whole either way.
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] named `absorbing` if the stiffness matrix lacks an entry
@@ -135,6 +137,7 @@ pub(crate) fn assemble<const D: usize, const C: usize>(
     mesh: &SimplexMesh<D>,
     parts: &[ResolvedPart<'_, D, C>],
     stiffness: &SparseMatrix,
+    columns: Option<&[bool]>,
 ) -> Result<(SparseMatrix, Vec<f64>)> {
     let n = stiffness.nrows();
     let moving = parts.iter().any(|p| p.velocity.iter().any(|&w| w != 0.0));
@@ -149,10 +152,11 @@ pub(crate) fn assemble<const D: usize, const C: usize>(
             let share = mesh.boundary_facet_measure(f) / D as f64;
             let z = dashpot_block::<D, C>(&mesh.boundary_facet_normal(f), impedances);
             for &p in mesh.boundary_facet(f) {
+                let held = columns.is_none_or(|keep| keep[p]);
                 for (c, zc) in (0..C).map(|c| (c, z.map(|row| row[c]))) {
                     let j = C * p + c;
                     let col = &ri[cp[j]..cp[j + 1]];
-                    for (r, zrc) in zc.iter().enumerate() {
+                    for (r, zrc) in zc.iter().enumerate().filter(|_| held) {
                         let i = C * p + r;
                         let k = col.binary_search(&i).map_err(|_| {
                             crate::error::invalid(

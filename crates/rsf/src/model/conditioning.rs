@@ -63,15 +63,55 @@ impl ProblemScales {
         initial_displacement: &[f64],
         fixed: &[bool],
     ) -> Self {
+        Self::on_columns(stiffness, mass, load, initial_displacement, fixed, None)
+    }
+
+    /// The scales of `model` ([`new`](Self::new) of its matrices and vectors); of a model of
+    /// some columns ([`Model::columns`](crate::Model::columns)) as
+    /// [`on_columns`](Self::on_columns).
+    pub fn of_model<const D: usize, const C: usize>(model: &crate::Model<D, C>) -> Self {
+        Self::on_columns(
+            &model.stiffness,
+            model.mass.as_ref(),
+            &model.load,
+            &model.initial_displacement,
+            &model.fixed,
+            model.columns.as_deref(),
+        )
+    }
+
+    /// As [`new`](Self::new) for matrices of only the columns of the nodes with
+    /// `columns[node]` (`None`: whole matrices; `C = n / columns.len()` dofs per node):
+    /// the diagonal ranges of `K` and `M` are over the kept nodes' free dofs only — the
+    /// whole model's are the smallest and largest of the processes' (a reduction the caller
+    /// does), and so is `|F|∞ / min K_ii` (then `|F|∞` over the smallest `min K_ii`);
+    /// `(0, 0)` if no free dof is kept. `|F|∞` and `|u₀|∞` are of the whole vectors.
+    pub fn on_columns(
+        stiffness: &SparseMatrix,
+        mass: Option<&SparseMatrix>,
+        load: &[f64],
+        initial_displacement: &[f64],
+        fixed: &[bool],
+        columns: Option<&[bool]>,
+    ) -> Self {
         let free = |i: &usize| !fixed.get(*i).copied().unwrap_or(false);
+        let per_node = columns.map_or(1, |k| (stiffness.ncols() / k.len().max(1)).max(1));
+        let kept =
+            |i: &usize| columns.is_none_or(|k| k.get(*i / per_node).copied().unwrap_or(false));
         let range = |m: &SparseMatrix| {
             let d = diagonal(m);
-            d.iter()
+            let r = d
+                .iter()
                 .enumerate()
-                .filter(|(i, _)| free(i))
+                .filter(|(i, _)| free(i) && kept(i))
                 .fold((f64::INFINITY, 0.0_f64), |(lo, hi), (_, &x)| {
                     (nan_min(lo, x.abs()), nan_max(hi, x.abs()))
-                })
+                });
+            if columns.is_some() && r == (f64::INFINITY, 0.0) {
+                (0.0, 0.0)
+            } else {
+                r
+            }
         };
         let stiffness = range(stiffness);
         let load = (0..load.len())

@@ -19,6 +19,28 @@ pub const EQUILIBRIUM_DIRECT_MAX_DOFS_3D: usize = 250_000;
 /// at most this multiple of `‖u₀‖_K`.
 pub const EQUILIBRIUM_MULTIGRID_TOLERANCE: f64 = 1e-13;
 
+/// The initial equilibrium's linear system `K u₀ = F` (free dofs; `u₀ = 0` on the fixed
+/// ones) as a model builder hands it to the solver of
+/// [`ModelBuilder::build_columns`](crate::ModelBuilder::build_columns), in the model's
+/// unknowns (nodal frames, slip factor applied), `n = C · vertices` dofs node-major.
+#[derive(Debug, Clone, Copy)]
+pub struct EquilibriumSystem<'a> {
+    /// `K` (`n × n`, N/m): the whole matrix for
+    /// [`ModelBuilder::build`](crate::ModelBuilder::build), only the kept nodes' columns
+    /// ([`columns`](Self::columns)) for [`build_columns`](crate::ModelBuilder::build_columns)
+    /// (a process's part of a distributed matrix; symmetric, so a column is a row).
+    pub stiffness: &'a rsf_fem::SparseMatrix,
+    /// The kept nodes (one flag per vertex), `None` for a whole `stiffness`.
+    pub columns: Option<&'a [bool]>,
+    /// Per dof (`n`): constrained (`u₀ = 0` there).
+    pub fixed: &'a [bool],
+    /// `F` (`n` entries, N): the whole load on every process.
+    pub load: &'a [f64],
+    /// The hierarchy's prolongations, coarse to fine, the finest onto the model's unknowns
+    /// (whole matrices; may be empty).
+    pub prolongations: &'a [SparseMatrix],
+}
+
 /// `u₀` with `K u₀ = F` on the free dofs, 0 on the fixed ones.
 ///
 /// # Errors

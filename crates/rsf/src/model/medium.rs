@@ -3,7 +3,7 @@
 //! ([`AntiplaneMaterial`]); several materials by region are
 //! [`MaterialRegions`](super::MaterialRegions).
 
-use rsf_fem::{combine, Assembler, LinearElasticity, SimplexMesh, SparseMatrix};
+use rsf_fem::{combine, node_columns, Assembler, LinearElasticity, SimplexMesh, SparseMatrix};
 
 use crate::error::{Error, Result};
 
@@ -66,6 +66,20 @@ impl MediumMatrices {
             energy_norm,
         }
     }
+
+    /// The columns of the nodes with `keep[vertex]` of every matrix, the others emptied
+    /// ([`rsf_fem::node_columns`]; the kept columns' rows and bits unchanged).
+    ///
+    /// # Errors
+    /// [`Error::Fem`] if `keep` does not have one flag per node of the matrices.
+    pub fn node_columns(&self, keep: &[bool]) -> Result<Self> {
+        let columns = |a: &SparseMatrix| node_columns(a, keep).map_err(Error::from);
+        Ok(Self {
+            stiffness: columns(&self.stiffness)?,
+            mass: self.mass.as_ref().map(columns).transpose()?,
+            energy_norm: columns(&self.energy_norm)?,
+        })
+    }
 }
 
 /// What the body is made of, for a field of `C` components per vertex on a `D`-dimensional
@@ -90,6 +104,27 @@ pub trait Medium<const D: usize, const C: usize> {
     /// # Errors
     /// Invalid material constants; assembly errors.
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices>;
+
+    /// The columns of the nodes with `keep[vertex]` (one flag per vertex of `mesh`) of the
+    /// matrices of [`assemble`](Self::assemble): `n × n` matrices whose kept columns have
+    /// the rows and bits of the whole matrices' and whose other columns are empty (what
+    /// one process of several holds, [`ModelBuilder::build_columns`](crate::ModelBuilder::build_columns)).
+    /// The default assembles the whole matrices and drops the other columns (the same bits
+    /// by construction, the whole matrices' memory for a while); the built-in media assemble
+    /// only the cells with a kept vertex ([`rsf_fem::Assembler::on_columns`]).
+    ///
+    /// # Errors
+    /// As [`assemble`](Self::assemble); [`Error::Fem`] if `keep` does not have one flag per
+    /// vertex.
+    fn assemble_columns(
+        &self,
+        mesh: &SimplexMesh<D>,
+        with_mass: bool,
+        keep: &[bool],
+    ) -> Result<MediumMatrices> {
+        check_keep(mesh, keep)?;
+        self.assemble(mesh, with_mass)?.node_columns(keep)
+    }
 
     /// The impedances `(ρc_p, ρc_s)` (Pa·s/m) of the Lysmer–Kuhlemeyer dashpots on
     /// absorbing parts
@@ -117,7 +152,17 @@ impl<const D: usize> Medium<D, D> for Material {
 
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
         let elasticity = self.elasticity()?;
-        assemble_elastic(mesh, with_mass, |_| (self.density, &elasticity))
+        assemble_elastic(mesh, with_mass, None, |_| (self.density, &elasticity))
+    }
+
+    fn assemble_columns(
+        &self,
+        mesh: &SimplexMesh<D>,
+        with_mass: bool,
+        keep: &[bool],
+    ) -> Result<MediumMatrices> {
+        let elasticity = self.elasticity()?;
+        assemble_elastic(mesh, with_mass, Some(keep), |_| (self.density, &elasticity))
     }
 
     /// `(√(ρ(λ + 2μ)), √(ρμ))` with the Lamé constants of `E`, `ν` (plane strain in 2D:
@@ -132,13 +177,18 @@ impl<const D: usize> Medium<D, D> for Material {
 
 /// Stiffness, mass (if `with_mass`) and energy norm of an elastic body whose cell `c` has
 /// the density and elasticity tensor `material(c)` ([`Material`],
-/// [`MaterialRegions`](super::MaterialRegions)).
+/// [`MaterialRegions`](super::MaterialRegions)); only the columns of the nodes `keep`
+/// ([`Medium::assemble_columns`]) if given.
 pub(crate) fn assemble_elastic<'m, const D: usize>(
     mesh: &SimplexMesh<D>,
     with_mass: bool,
+    keep: Option<&[bool]>,
     material: impl Fn(usize) -> (f64, &'m LinearElasticity),
 ) -> Result<MediumMatrices> {
-    let assembler = Assembler::new(mesh)?;
+    let assembler = match keep {
+        Some(keep) => Assembler::on_columns(mesh, keep)?,
+        None => Assembler::new(mesh)?,
+    };
     let stiffness = assembler.stiffness_by_cell(mesh, |c| material(c).1)?;
     let inertia = with_mass
         .then(|| {
@@ -186,7 +236,33 @@ impl<const D: usize> Medium<D, 1> for AntiplaneMaterial {
     }
 
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
-        let assembler = Assembler::scalar(mesh)?;
+        self.assemble_on(Assembler::scalar(mesh)?, mesh, with_mass)
+    }
+
+    fn assemble_columns(
+        &self,
+        mesh: &SimplexMesh<D>,
+        with_mass: bool,
+        keep: &[bool],
+    ) -> Result<MediumMatrices> {
+        self.assemble_on(Assembler::on_columns(mesh, keep)?, mesh, with_mass)
+    }
+
+    /// `√(ρμ) = ρc_s` twice (a scalar field has no P wave; only `ρc_s` is used).
+    fn impedances(&self) -> Option<[f64; 2]> {
+        let z = (self.density * self.shear_modulus).sqrt();
+        Some([z, z])
+    }
+}
+
+impl AntiplaneMaterial {
+    /// The matrices on `assembler`'s columns (whole or some nodes').
+    fn assemble_on<const D: usize>(
+        &self,
+        assembler: Assembler<D, 1>,
+        mesh: &SimplexMesh<D>,
+        with_mass: bool,
+    ) -> Result<MediumMatrices> {
         let stiffness = assembler.laplace(mesh, self.shear_modulus)?;
         let inertia = with_mass
             .then(|| {
@@ -197,10 +273,18 @@ impl<const D: usize> Medium<D, 1> for AntiplaneMaterial {
             .transpose()?;
         Ok(MediumMatrices::new(stiffness, inertia))
     }
+}
 
-    /// `√(ρμ) = ρc_s` twice (a scalar field has no P wave; only `ρc_s` is used).
-    fn impedances(&self) -> Option<[f64; 2]> {
-        let z = (self.density * self.shear_modulus).sqrt();
-        Some([z, z])
+/// [`Error::Fem`] ([`rsf_fem::Error::DimensionMismatch`]) unless `keep` has one flag per
+/// vertex of `mesh`.
+pub(crate) fn check_keep<const D: usize>(mesh: &SimplexMesh<D>, keep: &[bool]) -> Result<()> {
+    if keep.len() == mesh.num_vertices() {
+        Ok(())
+    } else {
+        Err(Error::Fem(rsf_fem::Error::DimensionMismatch {
+            what: "kept columns (one flag per vertex)",
+            expected: mesh.num_vertices(),
+            got: keep.len(),
+        }))
     }
 }

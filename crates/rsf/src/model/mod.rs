@@ -3,6 +3,7 @@
 
 pub(crate) mod absorbing;
 pub(crate) mod builder;
+mod columns;
 pub(crate) mod conditioning;
 pub(crate) mod creep;
 pub(crate) mod equilibrium;
@@ -19,7 +20,8 @@ pub use builder::{FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEG
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
 pub use equilibrium::{
-    equilibrium_on_ranks, EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE,
+    equilibrium_on_ranks, EquilibriumSystem, EQUILIBRIUM_DIRECT_MAX_DOFS_3D,
+    EQUILIBRIUM_MULTIGRID_TOLERANCE,
 };
 pub use fault::{block_norm, FrictionalBoundary};
 pub use internal::{FaultSide, InternalFault};
@@ -132,6 +134,15 @@ pub struct Model<const D: usize, const C: usize = D> {
     /// mean–jump change of variables every matrix, load and state vector is written in;
     /// `None` for a fault on the boundary.
     pub internal_fault: Option<InternalFault<D>>,
+    /// The nodes whose columns the matrices hold (one flag per vertex), for a model built
+    /// on one process of several ([`ModelBuilder::build_columns`]): `stiffness`, `mass`,
+    /// `energy_norm` and the absorbing `damping` keep their `n × n` shape, the columns
+    /// `C·p .. C·p + C` of a kept node `p` have the rows and bits of the whole model's and
+    /// the other columns are empty (the matrices are symmetric: a kept column is also the
+    /// node's row). Every vector (`load`, `fixed`, `initial_displacement`, the Dirichlet
+    /// data, the far-field force), the prolongations and the frictional boundary are whole.
+    /// `None` (the default): the whole model.
+    pub columns: Option<Vec<bool>>,
 }
 
 impl<const D: usize, const C: usize> Model<D, C> {
@@ -148,6 +159,10 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// # Errors
     /// [`Error::InvalidParameter`] if `v` has the wrong length or the model has no mass
     /// matrix (built [`without_mass`](ModelBuilder::without_mass) for a quasistatic run).
+    ///
+    /// On a model of some columns ([`columns`](Self::columns)) the sum of the kept
+    /// columns' terms `v_j (M v)_j` only: the parts of the processes add up to the whole
+    /// energy (to round-off).
     pub fn kinetic_energy(&self, v: &[f64]) -> Result<f64> {
         if v.len() != self.num_dofs() {
             return Err(invalid(
@@ -325,7 +340,10 @@ impl<const D: usize, const C: usize> Model<D, C> {
     /// pattern than the stiffness, a far-field force of another length, a non-finite entry
     /// or a negative diagonal entry ([`AbsorbingBoundary`]); [`Error::InvalidParameter`]
     /// named `internal_fault` for a mean–jump transform `T` or `T⁻¹` of another size than
-    /// the model's dofs.
+    /// the model's dofs; [`Error::InvalidParameter`] named `columns` or after a matrix for
+    /// a model of some columns ([`columns`](Self::columns)) with another number of flags
+    /// than vertices or with entries in a column not kept. On such a model the magnitudes
+    /// are those of its columns ([`ProblemScales::on_columns`]).
     pub fn validate(&self) -> Result<()> {
         self.validate_structure()?;
         self.check_magnitudes()
@@ -350,6 +368,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
         if let Some(m) = &self.mass {
             sq("mass", m)?;
         }
+        self.validate_columns()?;
         for (name, len) in [
             ("load", self.load.len()),
             ("fixed", self.fixed.len()),
@@ -469,14 +488,7 @@ impl<const D: usize, const C: usize> Model<D, C> {
                 ));
             }
         }
-        ProblemScales::new(
-            &self.stiffness,
-            self.mass.as_ref(),
-            &self.load,
-            &self.initial_displacement,
-            &self.fixed,
-        )
-        .check(
+        ProblemScales::of_model(self).check(
             &[],
             (0.0, &[]),
             f64::INFINITY,

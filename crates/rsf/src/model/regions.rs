@@ -142,7 +142,22 @@ impl<const D: usize> Medium<D, D> for MaterialRegions<D> {
     fn assemble(&self, mesh: &SimplexMesh<D>, with_mass: bool) -> Result<MediumMatrices> {
         let elasticities = self.elasticities()?;
         let cells = self.cell_materials(mesh);
-        assemble_elastic(mesh, with_mass, |c| (cells[c].1, &elasticities[cells[c].0]))
+        assemble_elastic(mesh, with_mass, None, |c| {
+            (cells[c].1, &elasticities[cells[c].0])
+        })
+    }
+
+    fn assemble_columns(
+        &self,
+        mesh: &SimplexMesh<D>,
+        with_mass: bool,
+        keep: &[bool],
+    ) -> Result<MediumMatrices> {
+        let elasticities = self.elasticities()?;
+        let cells = self.cell_materials(mesh);
+        assemble_elastic(mesh, with_mass, Some(keep), |c| {
+            (cells[c].1, &elasticities[cells[c].0])
+        })
     }
 
     /// The materials' common impedances; `None` if the regions' impedances differ (each

@@ -78,6 +78,7 @@ fn build<I: VelocityIntegrator>(
         frames: Default::default(),
         absorbing: None,
         internal_fault: None,
+        columns: None,
     };
     let alpha0 = (PARAMS.l / V_LOAD).ln() + DALPHA;
     let mut sim = SimulationBuilder::new(model)

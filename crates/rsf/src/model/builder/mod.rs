@@ -152,6 +152,18 @@ impl<const D: usize> ModelBuilder<D, 1> {
     }
 }
 
+/// `keep` and every vertex that shares a cell of `mesh` with a kept one.
+fn with_neighbours<const D: usize>(mesh: &SimplexMesh<D>, keep: &[bool]) -> Vec<bool> {
+    let mut wide = keep.to_vec();
+    for c in 0..mesh.num_cells() {
+        let cell = mesh.cell(c);
+        if cell.iter().any(|&v| keep[v]) {
+            cell.iter().for_each(|&v| wide[v] = true);
+        }
+    }
+    wide
+}
+
 /// `coarse` refined `levels` times, refusing more than [`MAX_CELLS`] cells.
 fn refined_hierarchy<const D: usize>(
     coarse: SimplexMesh<D>,
@@ -205,6 +217,74 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// the constraints; material and assembly errors ([`Error::Fem`](crate::Error::Fem)),
     /// e.g. a non-finite force or traction.
     pub fn build(self) -> Result<Model<D, C>> {
+        self.build_on(None, |system| {
+            super::equilibrium::solve::<D, C>(
+                system.stiffness,
+                system.fixed,
+                system.load,
+                system.prolongations,
+            )
+        })
+    }
+
+    /// The model one process of several holds: as [`build`](Self::build), with matrices
+    /// of only the columns of the nodes with `keep[vertex]` (one flag per vertex of the
+    /// finest mesh, [`mesh`](Self::mesh); [`Model::columns`]). Every kept column of `K`,
+    /// `M`, the energy norm and the absorbing dashpots has the rows and bits of the whole
+    /// model's, the other columns are empty; the vectors (load, constraints, Dirichlet
+    /// data), the prolongations and the frictional boundary are the whole model's. The
+    /// stages are [`build`](Self::build)'s on column matrices: the medium assembles only
+    /// the cells with a kept vertex ([`Medium::assemble_columns`](crate::model::Medium::assemble_columns)),
+    /// the slip factor's scaling acts entry by entry, and the nodal frames' `Rᵀ A R`,
+    /// made symmetric by `½(B + Bᵀ)`, reads the rows of the kept columns, i.e. the columns
+    /// of their neighbours: with frames the matrices are assembled on the kept nodes and
+    /// their neighbours (the cells around the kept ones) and cut down to the kept columns
+    /// after the change of variables.
+    ///
+    /// The initial equilibrium `K u₀ = F` needs the whole `K`: `equilibrium` solves it
+    /// from this process's part ([`EquilibriumSystem`](crate::model::EquilibriumSystem),
+    /// e.g. by a solver distributed over the processes) and returns the whole `u₀`
+    /// (`n = C · vertices` entries, m, 0 on the fixed dofs).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build) (but [`Error::Equilibrium`](crate::Error::Equilibrium):
+    /// `equilibrium`'s errors); [`Error::InvalidParameter`](crate::Error::InvalidParameter)
+    /// named `keep` if it does not have one flag per vertex, named `internal_fault` for a
+    /// fault inside the body (its mean–jump transform mixes the columns of two nodes: not
+    /// built on columns), named `equilibrium` if `equilibrium` returns a vector of
+    /// another length.
+    pub fn build_columns(
+        self,
+        keep: &[bool],
+        equilibrium: impl FnOnce(&super::EquilibriumSystem<'_>) -> Result<Vec<f64>>,
+    ) -> Result<Model<D, C>> {
+        let nv = self.mesh().num_vertices();
+        if keep.len() != nv {
+            return Err(invalid(
+                "keep",
+                format!(
+                    "has {} flags, the finest mesh {nv} vertices (one flag per vertex)",
+                    keep.len()
+                ),
+            ));
+        }
+        if self.fault.internal.is_some() {
+            return Err(invalid(
+                "internal_fault",
+                "a model of some columns (build_columns) has no fault inside the body: its \
+                 mean–jump transform mixes the columns of two nodes",
+            ));
+        }
+        self.build_on(Some(keep), equilibrium)
+    }
+
+    /// [`build`](Self::build) on the columns of the nodes `columns` (whole for `None`),
+    /// the initial equilibrium by `equilibrium`.
+    fn build_on(
+        self,
+        columns: Option<&[bool]>,
+        equilibrium: impl FnOnce(&super::EquilibriumSystem<'_>) -> Result<Vec<f64>>,
+    ) -> Result<Model<D, C>> {
         const { assert!(C == D || C == 1, "vector (C = D) or scalar (C = 1) fields") };
         let Self {
             hierarchy,
@@ -225,13 +305,22 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             fault.as_ref(),
             &faults,
         )?;
-        // 4.–5. The matrices and the load, Cartesian, in u.
+        // 4.–5. The matrices and the load, Cartesian, in u. On some columns: with frames,
+        // also their neighbours' (the congruence's `½(B + Bᵀ)` reads the kept rows).
+        let assembled = columns.map(|keep| {
+            if constraints.frames.is_identity() {
+                keep.to_vec()
+            } else {
+                with_neighbours(mesh, keep)
+            }
+        });
         let matrices = matrices::assemble(
             mesh,
             inputs.material,
             body.with_mass,
             &boundary.absorbing,
             &constraints,
+            assembled.as_deref(),
         )?;
         let load = loads::load(mesh, inputs.material, &body, &boundary)?;
         // 6. An antisymmetric fault: the unknown is s·u.
@@ -256,7 +345,12 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             None => &constraints.frames,
         };
         let dirichlet = constraints.dirichlet_velocity(s, boundary.loading);
-        let System { matrices, load } = system.in_unknowns(transform)?;
+        let System { mut matrices, load } = system.in_unknowns(transform)?;
+        if let (Some(keep), Some(assembled)) = (columns, &assembled) {
+            if assembled.as_slice() != keep {
+                matrices = matrices.node_columns(keep)?;
+            }
+        }
         // 9. Γ_F in the order of the fault indices.
         let frictional_boundary =
             fault_order::frictional_boundary(mesh, &constraints.gamma_f, s, fault.as_ref())?;
@@ -264,12 +358,23 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let prolongations = prolongations::prolongations::<D, C>(&domain, transform)?;
         // Initial equilibrium (after the prolongations: a large 3-D model solves it by
         // multigrid on them).
-        let u0 = super::equilibrium::solve::<D, C>(
-            &matrices.stiffness,
-            &constraints.fixed,
-            &load,
-            &prolongations,
-        )?;
+        let u0 = equilibrium(&super::EquilibriumSystem {
+            stiffness: &matrices.stiffness,
+            columns,
+            fixed: &constraints.fixed,
+            load: &load,
+            prolongations: &prolongations,
+        })?;
+        if u0.len() != load.len() {
+            return Err(invalid(
+                "equilibrium",
+                format!(
+                    "returned {} entries, the model has {} dofs",
+                    u0.len(),
+                    load.len()
+                ),
+            ));
+        }
 
         let model = Model {
             vertices: mesh.vertices().to_vec(),
@@ -286,6 +391,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             frames: constraints.frames,
             absorbing: matrices.absorbing,
             internal_fault: fault.map(|f| f.fault),
+            columns: columns.map(<[bool]>::to_vec),
         };
         // Consistent by construction; a simulation built on it validates it (once), with
         // the magnitudes of the user's data.

@@ -1,10 +1,11 @@
 //! The absorbing parts (part of stage 4): their checks before assembly (inertia, the far
 //! field, the medium's impedances) and their Lysmer–Kuhlemeyer dashpots after it.
 
-use rsf_fem::{BoundaryPart, SimplexMesh, SparseMatrix};
+use rsf_fem::{SimplexMesh, SparseMatrix};
 
 use super::super::part::part_error;
 use super::super::settings::Absorbing;
+use super::constraints::Constraints;
 use crate::error::Result;
 use crate::model::absorbing::{assemble as assemble_dashpots, AbsorbingBoundary, ResolvedPart};
 use crate::model::medium::Medium;
@@ -41,16 +42,19 @@ pub(crate) fn check<const D: usize, const C: usize>(
 }
 
 /// The dashpots of the absorbing parts (Cartesian, unscaled), if any: each part
-/// resolved, checked (inertia, the medium's impedances, no facet of Γ_F, a free dof)
-/// and lumped on the pattern of `stiffness`.
+/// resolved, checked (inertia, the medium's impedances, no facet of Γ_F, a free dof under
+/// `constraints`)
+/// and lumped on the pattern of `stiffness` (its columns of the nodes `columns` only, if
+/// given: a matrix of some columns).
 pub(crate) fn dashpots<const D: usize, const C: usize>(
     absorbing: &[Absorbing<D, C>],
     mesh: &SimplexMesh<D>,
     material: &dyn Medium<D, C>,
-    gamma_f: &BoundaryPart<D>,
-    fixed: &[bool],
+    constraints: &Constraints<D, C>,
     stiffness: &SparseMatrix,
+    columns: Option<&[bool]>,
 ) -> Result<Option<AbsorbingBoundary>> {
+    let (gamma_f, fixed) = (&constraints.gamma_f, &constraints.fixed);
     if absorbing.is_empty() {
         return Ok(None);
     }
@@ -102,7 +106,7 @@ pub(crate) fn dashpots<const D: usize, const C: usize>(
             velocity: *velocity,
         })
         .collect();
-    let (damping, far_field_force) = assemble_dashpots(mesh, &parts, stiffness)?;
+    let (damping, far_field_force) = assemble_dashpots(mesh, &parts, stiffness, columns)?;
     Ok(Some(AbsorbingBoundary {
         parts: absorbing.iter().map(|a| a.part.name().to_owned()).collect(),
         damping,

@@ -32,7 +32,8 @@ pub(crate) struct System {
 }
 
 /// The matrices of `material` on `mesh` (with mass if `with_mass`) and the dashpots of the
-/// absorbing parts `absorbing` under `constraints`.
+/// absorbing parts `absorbing` under `constraints`: whole, or only the columns of the nodes
+/// with `columns[vertex]` ([`Medium::assemble_columns`]; the dashpots on the same columns).
 ///
 /// # Errors
 /// The absorbing parts' checks (before assembly, so that a medium the mass matrix would
@@ -44,25 +45,48 @@ pub(crate) fn assemble<const D: usize, const C: usize>(
     with_mass: bool,
     absorbing: &[Absorbing<D, C>],
     constraints: &Constraints<D, C>,
+    columns: Option<&[bool]>,
 ) -> Result<Matrices> {
     absorbing::check(absorbing, material, with_mass)?;
     let MediumMatrices {
         stiffness,
         mass,
         energy_norm,
-    } = material.assemble(mesh, with_mass)?;
-    let absorbing = absorbing::dashpots(
-        absorbing,
-        mesh,
-        material,
-        &constraints.gamma_f,
-        &constraints.fixed,
-        &stiffness,
-    )?;
+    } = match columns {
+        Some(keep) => material.assemble_columns(mesh, with_mass, keep)?,
+        None => material.assemble(mesh, with_mass)?,
+    };
+    let absorbing =
+        absorbing::dashpots(absorbing, mesh, material, constraints, &stiffness, columns)?;
     Ok(Matrices {
         stiffness,
         mass,
         energy_norm,
         absorbing,
     })
+}
+
+impl Matrices {
+    /// The columns of the nodes with `keep[vertex]` of every matrix (the dashpots' too), the
+    /// others emptied (rows and bits of the kept ones unchanged); the far-field force stays
+    /// whole.
+    ///
+    /// # Errors
+    /// [`crate::Error::Fem`] if `keep` does not have one flag per node.
+    pub fn node_columns(self, keep: &[bool]) -> Result<Self> {
+        let columns = |a: &SparseMatrix| rsf_fem::node_columns(a, keep).map_err(crate::Error::from);
+        let absorbing = match self.absorbing {
+            Some(mut a) => {
+                a.damping = columns(&a.damping)?;
+                Some(a)
+            }
+            None => None,
+        };
+        Ok(Self {
+            stiffness: columns(&self.stiffness)?,
+            mass: self.mass.as_ref().map(columns).transpose()?,
+            energy_norm: columns(&self.energy_norm)?,
+            absorbing,
+        })
+    }
 }

@@ -254,7 +254,7 @@ fn the_system_scales_exactly_and_keeps_its_energy_in_the_frames() {
     let (domain, c) = constraints_of(&b);
     let mesh = domain.mesh();
     let material = b.body.material.as_deref().unwrap();
-    let m = assemble(mesh, material, true, &b.boundary.absorbing, &c).unwrap();
+    let m = assemble(mesh, material, true, &b.boundary.absorbing, &c, None).unwrap();
     assert_eq!(
         m.stiffness.symbolic().row_idx(),
         m.energy_norm.symbolic().row_idx()
@@ -352,7 +352,7 @@ fn a_clamped_pair_is_prescribed_and_the_free_pairs_are_the_fault() {
     )
     .unwrap();
     let material = b.body.material.as_deref().unwrap();
-    let m = assemble(mesh, material, true, &[], &c).unwrap();
+    let m = assemble(mesh, material, true, &[], &c, None).unwrap();
     let shared = share_and_prescribe(fault, &m.stiffness, mesh, None, &mut c).unwrap();
     let pairs = shared.fault.pairs().to_vec();
     let clamped: Vec<usize> = (0..pairs.len()).filter(|&k| shared.prescribed[k]).collect();
@@ -421,4 +421,215 @@ fn only_the_finest_prolongation_takes_the_change_of_variables() {
     let back = c.frames.to_cartesian(&apply(&framed[0], &coarse)).unwrap();
     let direct = apply(&plain[0], &coarse);
     assert!(back.iter().zip(&direct).all(|(a, b)| (a - b).abs() < 1e-12));
+}
+
+/// Every kept node's columns of `part` have the rows and bits of `whole`'s, every other
+/// column is empty; the shapes agree.
+pub(crate) fn assert_node_columns(
+    what: &str,
+    whole: &SparseMatrix,
+    part: &SparseMatrix,
+    keep: &[bool],
+) {
+    assert_eq!(
+        (part.nrows(), part.ncols()),
+        (whole.nrows(), whole.ncols()),
+        "{what}"
+    );
+    let c = whole.ncols() / keep.len();
+    for j in 0..whole.ncols() {
+        if keep[j / c] {
+            assert_eq!(
+                part.row_idx_of_col_raw(j),
+                whole.row_idx_of_col_raw(j),
+                "{what} {j}"
+            );
+            let bits = |a: &SparseMatrix| -> Vec<u64> {
+                a.val_of_col(j).iter().map(|x| x.to_bits()).collect()
+            };
+            assert_eq!(bits(part), bits(whole), "{what}: column {j}");
+        } else {
+            assert!(part.row_idx_of_col_raw(j).is_empty(), "{what}: column {j}");
+        }
+    }
+}
+
+/// A model of some columns against the whole model ([`crate::Model::check_part_of`]).
+pub(crate) fn assert_columns_of<const D: usize, const C: usize>(
+    whole: &crate::Model<D, C>,
+    part: &crate::Model<D, C>,
+    keep: &[bool],
+) {
+    assert_eq!(part.columns.as_deref(), Some(keep));
+    part.validate().unwrap();
+    part.check_part_of(whole).unwrap();
+    assert!(whole.check_part_of(part).is_err() || keep.iter().all(|&k| k));
+}
+
+/// All, none, the first half and a pseudo-random half of `n` nodes.
+pub(crate) fn keep_sets(n: usize) -> Vec<Vec<bool>> {
+    let mut x = 57u64;
+    let mut random = || {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        x >> 63 == 1
+    };
+    vec![
+        vec![true; n],
+        vec![false; n],
+        (0..n).map(|p| p < n / 2).collect(),
+        (0..n).map(|_| random()).collect(),
+    ]
+}
+
+/// The slanted block (nodal frames at every fault node, an absorbing end, a traction),
+/// with and without inertia and with an antisymmetric fault's scaling: every keep-set's
+/// model has the whole model's columns and vectors, the equilibrium given the kept
+/// columns of `K`.
+#[test]
+fn a_model_of_some_columns_has_the_whole_models_columns() {
+    type Variant = fn(ModelBuilder<2>) -> ModelBuilder<2>;
+    let variants: [(&str, Variant); 3] = [
+        ("slanted", |b| b),
+        ("antisymmetric", |b| b.antisymmetric_fault(2.0)),
+        ("quasistatic", |b| {
+            // No inertia: no absorbing parts either.
+            let flat = rectangle([0.0; 2], [2.0, 1.0], 5, 3, Diagonal::Forward).unwrap();
+            let _ = b;
+            ModelBuilder::refined(flat, 1)
+                .unwrap()
+                .material(Material::new(1e8, 0.25, 2.7e3))
+                .gravity([0.0, -9.81])
+                .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+                .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
+                .without_mass()
+        }),
+    ];
+    for (name, variant) in variants {
+        let whole = variant(slanted_block()).build().unwrap();
+        for keep in keep_sets(whole.num_nodes()) {
+            let part = variant(slanted_block())
+                .build_columns(&keep, |system| {
+                    assert_eq!(system.columns, Some(&keep[..]));
+                    assert_node_columns("K given", &whole.stiffness, system.stiffness, &keep);
+                    assert_eq!(system.load, &whole.load[..]);
+                    assert_eq!(system.fixed, &whole.fixed[..]);
+                    assert_eq!(system.prolongations.len(), whole.prolongations.len());
+                    Ok(whole.initial_displacement.clone())
+                })
+                .unwrap();
+            println!(
+                "{name}: {} of {} nodes",
+                keep.iter().filter(|&&k| k).count(),
+                keep.len()
+            );
+            assert_columns_of(&whole, &part, &keep);
+        }
+    }
+}
+
+/// A user's medium that only assembles whole matrices gets the default
+/// `assemble_columns` (the whole matrices' columns, the same bits); the antiplane medium
+/// assembles its columns itself.
+#[test]
+fn a_user_medium_and_the_antiplane_medium_on_columns() {
+    struct Plain(Material);
+    impl crate::model::Medium<2, 2> for Plain {
+        fn density(&self) -> f64 {
+            self.0.density
+        }
+        fn assemble(
+            &self,
+            mesh: &SimplexMesh<2>,
+            with_mass: bool,
+        ) -> crate::Result<crate::model::MediumMatrices> {
+            crate::model::Medium::<2, 2>::assemble(&self.0, mesh, with_mass)
+        }
+    }
+    let plain = || {
+        let flat = rectangle([0.0; 2], [2.0, 1.0], 5, 3, Diagonal::Forward).unwrap();
+        ModelBuilder::refined(flat, 1)
+            .unwrap()
+            .material(Plain(Material::new(1e8, 0.25, 2.7e3)))
+            .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+            .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
+    };
+    let whole = plain().build().unwrap();
+    for keep in keep_sets(whole.num_nodes()) {
+        let part = plain()
+            .build_columns(&keep, |_| Ok(whole.initial_displacement.clone()))
+            .unwrap();
+        assert_columns_of(&whole, &part, &keep);
+    }
+    let antiplane = || {
+        let flat = rectangle([0.0; 2], [2.0, 1.0], 5, 3, Diagonal::Forward).unwrap();
+        ModelBuilder::scalar_refined(flat, 1)
+            .unwrap()
+            .material(crate::model::AntiplaneMaterial::new(3e10, 2670.0))
+            .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4])
+            .absorbing_boundary(Part::predicate("right", |x| x[0] > 2.0 - 1e-9))
+            .frictional_boundary(Part::predicate("bottom", |x| x[1] < 1e-9))
+    };
+    let whole = antiplane().build().unwrap();
+    for keep in keep_sets(whole.num_nodes()) {
+        let part = antiplane()
+            .build_columns(&keep, |_| Ok(whole.initial_displacement.clone()))
+            .unwrap();
+        assert_columns_of(&whole, &part, &keep);
+    }
+}
+
+/// `build_columns` refuses a keep-set of another length, a fault inside the body and an
+/// equilibrium of another length, each by name; a model whose column flags or matrices
+/// disagree is refused by `validate`.
+#[test]
+fn a_model_of_some_columns_refuses_what_it_cannot_build() {
+    let name = |e: Error| match e {
+        Error::InvalidParameter { name, .. } => name,
+        e => panic!("{e}"),
+    };
+    let n = slanted_block().mesh().num_vertices();
+    let e = slanted_block().build_columns(&vec![true; n + 1], |_| unreachable!());
+    assert_eq!(name(e.unwrap_err()), "keep");
+    let nf = square_with_fault().mesh().num_vertices();
+    let e = square_with_fault().build_columns(&vec![true; nf], |_| unreachable!());
+    assert_eq!(name(e.unwrap_err()), "internal_fault");
+    let e = slanted_block().build_columns(&vec![true; n], |s| Ok(vec![0.0; s.load.len() - 1]));
+    assert_eq!(name(e.unwrap_err()), "equilibrium");
+    let e = slanted_block().build_columns(&vec![true; n], |_| {
+        Err(Error::Equilibrium(rsf_fem::Error::PatternMismatch))
+    });
+    assert!(matches!(e, Err(Error::Equilibrium(_))));
+    let keep: Vec<bool> = (0..n).map(|p| p < n / 2).collect();
+    let whole = slanted_block().build().unwrap();
+    let mut part = slanted_block()
+        .build_columns(&keep, |_| Ok(whole.initial_displacement.clone()))
+        .unwrap();
+    // `check_part_of` finds the first field that differs.
+    part.check_part_of(&whole).unwrap();
+    let mut other = part.clone();
+    other.load[3] = f64::from_bits(other.load[3].to_bits() ^ 1);
+    assert_eq!(name(other.check_part_of(&whole).unwrap_err()), "load");
+    let mut other = part.clone();
+    let j = 2 * keep.iter().position(|&k| k).unwrap();
+    let k = other.stiffness.symbolic().col_ptr()[j];
+    let v = &mut other.stiffness.val_mut()[k];
+    *v = f64::from_bits(v.to_bits() ^ 1);
+    assert_eq!(name(other.check_part_of(&whole).unwrap_err()), "stiffness");
+    let mut other = part.clone();
+    other.columns = Some(vec![true; n]);
+    assert_eq!(name(other.check_part_of(&whole).unwrap_err()), "stiffness");
+    assert_eq!(name(whole.check_part_of(&part).unwrap_err()), "columns");
+    let mut other = part.clone();
+    other.initial_displacement[0] += 1.0;
+    assert_eq!(
+        name(other.check_part_of(&whole).unwrap_err()),
+        "initial_displacement"
+    );
+    // A column model whose flags do not match its matrices.
+    part.columns = Some(vec![false; n]);
+    assert_eq!(name(part.validate().unwrap_err()), "stiffness");
+    part.columns = Some(vec![true; n - 1]);
+    assert_eq!(name(part.validate().unwrap_err()), "columns");
 }
