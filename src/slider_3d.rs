@@ -43,6 +43,7 @@ use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::ranks::Processes;
 use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use clap::Parser;
+use rsf::fem::SimplexMesh;
 use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
 use rsf::run_folder::{check_output_size, read_checkpoint};
 use rsf::run_folder::{step_cap_error, until, RunFolder};
@@ -197,10 +198,16 @@ pub fn main() -> ExitCode {
 }
 
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `slider_3d`;
-/// docs/scaling.md, "Phase 5"): every rank runs the same simulation, and every velocity
-/// problem is solved by TNNMG on the ranks
-/// ([`TnnmgOnRanks`](rsf::method::TnnmgOnRanks), the fine nodes partitioned by
-/// [`partition`]); rank 0 writes every file but the frames. On more than one rank the
+/// docs/scaling.md, "Phase 5" and "Phase 7"): the finest mesh is partitioned
+/// ([`partition`]) before anything is assembled, each rank assembles only its own nodes'
+/// columns of `K`, `M` and the energy norm
+/// ([`ModelBuilder::build_columns`](rsf::ModelBuilder::build_columns)) and the ranks
+/// solve the initial equilibrium together
+/// ([`equilibrium_on_ranks`](rsf::model::equilibrium_on_ranks), at every size: its bits
+/// are not the one-process model's Cholesky or multigrid solution's); every rank then runs
+/// the same simulation, and every velocity problem is solved by TNNMG on the ranks
+/// ([`TnnmgOnRanks`](rsf::method::TnnmgOnRanks)); rank 0 writes every file but the
+/// frames. On more than one rank the
 /// frames are written in parallel pieces ([`rsf::observe::VtuFrames::pieces`]): every rank
 /// writes `frames/frame_NNNNNN_rRRRR.vtu` (RRRR its rank), the tetrahedra whose
 /// lowest-numbered vertex it owns by [`partition`] with the points they use and their
@@ -219,24 +226,26 @@ pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
     })
 }
 
-/// The owner of every node of `model` among `ranks` ranks, the same on every rank:
-/// METIS's k-way partition of the stiffness matrix's node graph
-/// (`rsf_metis::part_graph_kway`, deterministic) where the build has METIS (the `rsf-mpi`
-/// crate's does), else slabs of equal width across the longest side of the model's
-/// bounding box (node `p` to rank `⌊ranks · (x_p − min)/(max − min)⌋` on that axis).
+/// The owner of every vertex of `mesh` (the model's finest mesh) among `ranks` ranks,
+/// the same on every rank: METIS's k-way partition of the mesh's vertex graph (the node
+/// graph of the model's matrices, [`SimplexMesh::vertex_graph`];
+/// `rsf_metis::part_graph_kway`, deterministic) where the build has METIS (the `rsf-mpi`
+/// crate's does), else slabs of equal width across the longest side of the mesh's
+/// bounding box (vertex `p` to rank `⌊ranks · (x_p − min)/(max − min)⌋` on that axis).
 /// Coarse nodes have the owner of the fine node with their number (nested hierarchies).
+/// Made before the model: each rank then assembles its own nodes' columns.
 ///
 /// # Errors
-/// The node graph of an invalid stiffness matrix; METIS's errors other than its absence.
-pub fn partition(model: &Model<3>, ranks: usize) -> Result<Vec<usize>, AnyError> {
-    let (xadj, adjncy) = rsf::tnnmg::distributed::node_graph::<3>(model.stiffness.as_ref())?;
+/// METIS's errors other than its absence.
+pub fn partition(mesh: &SimplexMesh<3>, ranks: usize) -> Result<Vec<usize>, AnyError> {
+    let (xadj, adjncy) = mesh.vertex_graph();
     match rsf_metis::part_graph_kway(&xadj, &adjncy, ranks) {
         Ok(owner) => return Ok(owner),
         Err(rsf_metis::Error::FeatureDisabled(_)) => {}
         Err(e) => return Err(e.into()),
     }
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for x in &model.vertices {
+    for x in mesh.vertices() {
         for c in 0..3 {
             lo[c] = lo[c].min(x[c]);
             hi[c] = hi[c].max(x[c]);
@@ -246,8 +255,8 @@ pub fn partition(model: &Model<3>, ranks: usize) -> Result<Vec<usize>, AnyError>
         .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
         .unwrap_or(0);
     let width = (hi[axis] - lo[axis]).max(f64::MIN_POSITIVE);
-    Ok(model
-        .vertices
+    Ok(mesh
+        .vertices()
         .iter()
         .map(|x| (((x[axis] - lo[axis]) / width * ranks as f64) as usize).min(ranks - 1))
         .collect())
@@ -420,20 +429,38 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     if let Some(gib) = cli.memory_budget_gib {
         options.memory_budget_bytes = crate::memory_budget_bytes("--memory-budget-gib", gib)?;
     }
-    let model = scene.build_model()?;
-    // On more than one rank: the node owners, which also share out the frames' cells.
+    // On ranks: the node owners (a partition of the finest mesh), which also share out
+    // the frames' cells; each rank assembles its own nodes' columns of the matrices and
+    // the ranks solve the initial equilibrium together (docs/scaling.md "Phase 7").
     let mut frame_owner = None;
     let owner_ranks = processes.map_or(1, |p| p.size());
-    if let Some(p) = processes {
-        let owner = partition(&model, p.size())?;
-        if p.size() > 1 {
-            frame_owner = Some(owner.clone());
+    let model = match processes {
+        None => scene.build_model()?,
+        Some(p) => {
+            let builder = scene.model_builder()?;
+            let owner = partition(builder.mesh(), p.size())?;
+            let keep: Vec<bool> = owner.iter().map(|&r| r == p.rank()).collect();
+            let ranks = rsf::method::TnnmgOnRanks::new(owner, p.transports());
+            let model = builder.build_columns(&keep, |system| {
+                rsf::model::equilibrium_on_ranks::<3>(
+                    system.stiffness,
+                    system.fixed,
+                    system.load,
+                    system.prolongations,
+                    &ranks,
+                )
+            })?;
+            scene.slider.check_conditioning(&model)?;
+            if p.size() > 1 {
+                frame_owner = Some(ranks.owner.to_vec());
+            }
+            options.ranks = Some(ranks);
+            if root {
+                eprintln!("{} MPI ranks share every velocity solve", p.size());
+            }
+            model
         }
-        options.ranks = Some(rsf::method::TnnmgOnRanks::new(owner, p.transports()));
-        if root {
-            eprintln!("{} MPI ranks share every velocity solve", p.size());
-        }
-    }
+    };
     let mut sim = scene
         .simulation_builder_with_model(model)?
         .solver_options(options)

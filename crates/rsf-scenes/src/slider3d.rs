@@ -303,8 +303,14 @@ impl Slider3dScene {
         Ok(model)
     }
 
-    /// The builder of [`build_model`](Self::build_model), the scene validated.
-    fn model_builder(&self) -> Result<ModelBuilder<3>> {
+    /// The builder of [`build_model`](Self::build_model), the scene validated: for a
+    /// caller that needs the finest mesh before building (e.g. to partition it and
+    /// [`build_columns`](ModelBuilder::build_columns) a rank's part; then
+    /// [`SliderScene::check_conditioning`] as `build_model` does).
+    ///
+    /// # Errors
+    /// As [`build_model`](Self::build_model) before assembly.
+    pub fn model_builder(&self) -> Result<ModelBuilder<3>> {
         self.validate()?;
         let s = &self.slider;
         let mut builder = ModelBuilder::refined(slider_3d_coarse(self.width_m)?, s.level)?
