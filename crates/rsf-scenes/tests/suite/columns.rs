@@ -104,3 +104,78 @@ fn the_slider_on_columns_refuses_a_keep_set_of_another_length() {
         "{e}"
     );
 }
+
+/// The 3-D slider at `level` (the default scene otherwise) built by `how` — `whole`
+/// (`build_model`, its equilibrium solved), `all` (`build_model_columns` keeping every
+/// node), `half` (keeping the first half of the vertices) — its peak resident memory
+/// (VmHWM of /proc/self/status) printed; the column builds' equilibrium is `u₀ = 0` (not
+/// solved: what is measured is the assembly and the stages). Ignored (seconds, GB); run
+/// each in its own process, e.g.
+/// `cargo test --release -p rsf-scenes --test suite columns::peak_level_4_half -- --ignored --nocapture`.
+fn print_peak(level: usize, how: &str) {
+    let s = scene(level, LateralBoundary::Free, false);
+    // The finest mesh's vertices (the hierarchy dropped before the build).
+    let nv = rsf_fem::MeshHierarchy::refine_uniformly(
+        rsf_scenes::slider_3d_coarse(s.width_m).unwrap(),
+        s.slider.level,
+    )
+    .finest()
+    .num_vertices();
+    let zero = |s: &rsf::model::EquilibriumSystem<'_>| Ok(vec![0.0; s.load.len()]);
+    let model = match how {
+        "whole" => s.build_model().unwrap(),
+        "all" => s.build_model_columns(&vec![true; nv], zero).unwrap(),
+        "half" => {
+            let keep: Vec<bool> = (0..nv).map(|p| p < nv / 2).collect();
+            s.build_model_columns(&keep, zero).unwrap()
+        }
+        _ => unreachable!("{how}"),
+    };
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let peak = status
+        .lines()
+        .find(|l| l.starts_with("VmHWM"))
+        .unwrap_or("?");
+    println!(
+        "level {level}, {how}: {} nodes, K {} entries, M {:?}, {peak}",
+        model.num_nodes(),
+        model.stiffness.compute_nnz(),
+        model.mass.as_ref().map(|m| m.compute_nnz())
+    );
+}
+
+#[test]
+#[ignore = "memory measurement: level 4, seconds and GB"]
+fn peak_level_4_whole() {
+    print_peak(4, "whole");
+}
+
+#[test]
+#[ignore = "memory measurement: level 4, seconds and GB"]
+fn peak_level_4_all() {
+    print_peak(4, "all");
+}
+
+#[test]
+#[ignore = "memory measurement: level 4, seconds and GB"]
+fn peak_level_4_half() {
+    print_peak(4, "half");
+}
+
+#[test]
+#[ignore = "memory measurement: level 5, seconds and GB"]
+fn peak_level_5_whole() {
+    print_peak(5, "whole");
+}
+
+#[test]
+#[ignore = "memory measurement: level 5, seconds and GB"]
+fn peak_level_5_all() {
+    print_peak(5, "all");
+}
+
+#[test]
+#[ignore = "memory measurement: level 5, seconds and GB"]
+fn peak_level_5_half() {
+    print_peak(5, "half");
+}
