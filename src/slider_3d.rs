@@ -44,6 +44,7 @@ use crate::ranks::Processes;
 use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use clap::Parser;
 use rsf::fem::SimplexMesh;
+use rsf::model::ProblemScales;
 use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
 use rsf::run_folder::{check_output_size, read_checkpoint};
 use rsf::run_folder::{step_cap_error, until, RunFolder};
@@ -262,6 +263,38 @@ pub fn partition(mesh: &SimplexMesh<3>, ranks: usize) -> Result<Vec<usize>, AnyE
         .collect())
 }
 
+/// The conditioning scales of the whole model of which every rank of `processes` holds
+/// the columns `model` ([`ProblemScales::combined`] of every rank's, one all-gather: the
+/// same on every rank). Collective.
+fn whole_scales(model: &Model<3>, processes: &dyn Processes) -> ProblemScales {
+    let s = ProblemScales::of_model(model);
+    let (m_lo, m_hi) = s.mass.unwrap_or((f64::NAN, f64::NAN));
+    let own = [
+        s.stiffness.0,
+        s.stiffness.1,
+        m_lo,
+        m_hi,
+        s.load,
+        s.displacement,
+    ];
+    let size = processes.size();
+    let mut all = vec![0.0; own.len() * size];
+    processes
+        .group()
+        .all_gather(&own, &vec![own.len(); size], &mut all);
+    let parts: Vec<ProblemScales> = all
+        .chunks_exact(own.len())
+        .map(|x| ProblemScales {
+            stiffness: (x[0], x[1]),
+            mass: s.mass.map(|_| (x[2], x[3])),
+            load: x[4],
+            displacement: x[5],
+            displacement_estimate: 0.0,
+        })
+        .collect();
+    ProblemScales::combined(&parts)
+}
+
 /// The scene from `--scene` (or the default) with the flags applied, validated.
 fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
     let mut scene = match &cli.scene.scene {
@@ -450,7 +483,8 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
                     &ranks,
                 )
             })?;
-            scene.slider.check_conditioning(&model)?;
+            // The conditioning of the whole model: each rank's scales are of its columns.
+            scene.slider.check_scales(&whole_scales(&model, p))?;
             if p.size() > 1 {
                 frame_owner = Some(ranks.owner.to_vec());
             }

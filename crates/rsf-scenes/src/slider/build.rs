@@ -143,7 +143,16 @@ impl SliderScene {
     /// # Errors
     /// [`Error::IllConditioned`](rsf::Error::IllConditioned) naming the scene fields behind the failed quantity.
     pub fn check_conditioning<const D: usize>(&self, model: &Model<D>) -> Result<()> {
-        let scales = ProblemScales::of_model(model);
+        self.check_scales(&ProblemScales::of_model(model))
+    }
+
+    /// [`check_conditioning`](Self::check_conditioning) of a model given by its scales:
+    /// e.g. the whole model's, [`ProblemScales::combined`] from the column models of the
+    /// processes of a job (each process's own check sees only its columns' diagonals).
+    ///
+    /// # Errors
+    /// As [`check_conditioning`](Self::check_conditioning).
+    pub fn check_scales(&self, scales: &ProblemScales) -> Result<()> {
         let t = self.end_time_s;
         // The steps of the run: τ = T/N, or the controller's range clipped to T (a step
         // never passes the end time).

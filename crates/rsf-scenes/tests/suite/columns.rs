@@ -3,7 +3,8 @@
 //! the whole model's bits, the other columns are empty, and the vectors, the
 //! prolongations and the frictional boundary are the whole model's — with free and
 //! plane-strain lateral faces, absorbing sides, and turned (nodal frames at every fault
-//! node).
+//! node); the parts' conditioning scales combine to the whole model's.
+use rsf::model::ProblemScales;
 use rsf::Model;
 use rsf_scenes::{LateralBoundary, Slider3dScene};
 
@@ -42,6 +43,18 @@ fn check(
         };
         let part = build(&keep, &equilibrium).unwrap();
         assert_eq!(part.columns.as_deref(), Some(&keep[..]), "{what}");
+        // The scales of this part and of the complementary one combine to the whole
+        // model's (what the processes of a job check together).
+        let others: Vec<bool> = keep.iter().map(|&k| !k).collect();
+        let rest = build(&others, &|_| Ok(whole.initial_displacement.clone())).unwrap();
+        assert_eq!(
+            ProblemScales::combined(&[
+                ProblemScales::of_model(&rest),
+                ProblemScales::of_model(&part)
+            ]),
+            ProblemScales::of_model(whole),
+            "{what}"
+        );
         part.validate().unwrap();
         part.check_part_of(whole)
             .unwrap_or_else(|e| panic!("{what}: {e}"));

@@ -133,6 +133,46 @@ impl ProblemScales {
         }
     }
 
+    /// The whole model's scales from those of the processes' column models
+    /// ([`on_columns`](Self::on_columns), one per process, in any order): the smallest and
+    /// largest diagonal entries over the processes that keep a free dof (a part without
+    /// one, `(0, 0)`, is left out), `|F|∞ / min K_ii` with the smallest `min K_ii`; `|F|∞`
+    /// and `|u₀|∞` are every process's (the largest is taken). `NaN` anywhere stays `NaN`.
+    /// Exact (minima and maxima), so every process that combines the same parts gets the
+    /// same bits.
+    ///
+    /// # Panics
+    /// If `parts` is empty.
+    pub fn combined(parts: &[ProblemScales]) -> Self {
+        assert!(!parts.is_empty(), "the scales of at least one process");
+        let range = |ranges: &mut dyn Iterator<Item = (f64, f64)>| {
+            ranges
+                .filter(|&r| r != (0.0, 0.0))
+                .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| {
+                    Some(acc.map_or((lo, hi), |(a, b)| (nan_min(a, lo), nan_max(b, hi))))
+                })
+                .unwrap_or((0.0, 0.0))
+        };
+        let stiffness = range(&mut parts.iter().map(|p| p.stiffness));
+        let mass = parts[0]
+            .mass
+            .map(|_| range(&mut parts.iter().filter_map(|p| p.mass)));
+        let load = parts.iter().fold(0.0_f64, |m, p| nan_max(m, p.load));
+        Self {
+            stiffness,
+            mass,
+            load,
+            displacement: parts
+                .iter()
+                .fold(0.0_f64, |m, p| nan_max(m, p.displacement)),
+            displacement_estimate: if load == 0.0 || stiffness.1 == 0.0 {
+                0.0
+            } else {
+                load / stiffness.0
+            },
+        }
+    }
+
     /// Checks that every scale is representable ([`representable_range`]) and that a slip
     /// of `slip_distance` is resolvable against the displacements ([`SLIP_RESOLUTION`]).
     ///
