@@ -68,6 +68,8 @@ pub struct Method<const D: usize, I, const C: usize = D> {
     /// On ranks (TNNMG on ranks, [`SolverOptions::ranks`]): the all-gather that completes
     /// the right-hand side, of which this rank's operator computes its owned nodes' rows.
     load_gather: Option<NodeAllGather<C>>,
+    /// On ranks: the state update's share (each rank its own frictional nodes).
+    state_share: Option<StateShare>,
     /// With one set-up for every τ (no inertia, see
     /// [`SolverOptions::setup_per_time_step`](crate::method::SolverOptions)): the radiation
     /// damping `q_k = η w_k` of each frictional node, moved from the matrix into the
@@ -121,6 +123,11 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             }
             _ => (LoadOperator::new(mass, &model.stiffness)?, None),
         };
+        // On ranks each rank updates the state of its own frictional nodes.
+        let state_share = match &options.solver_options.ranks {
+            Some(ranks) => Some(StateShare::new(model, ranks)?),
+            None => None,
+        };
         let load_operator = load_operator.with_parallelism(options.solver_options.parallelism);
         let inner_stopping = options.solver_options.stopping(options.solver);
         let tau_free = (!options.integrator.uses_mass()
@@ -152,6 +159,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             solver_cache: Vec::new(),
             load_operator,
             load_gather,
+            state_share,
             tau_free,
             eta: eta.to_vec(),
         })
@@ -225,11 +233,25 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         &mut self,
         tau: f64,
     ) -> (&mut VelocitySolver<C>, Option<(f64, &[f64])>) {
+        let (solver, scaling, _) = self.step_parts(tau);
+        (solver, scaling)
+    }
+
+    /// [`solver_and_scaling`](Self::solver_and_scaling) and, on ranks, the state update's
+    /// share.
+    pub(crate) fn step_parts(
+        &mut self,
+        tau: f64,
+    ) -> (
+        &mut VelocitySolver<C>,
+        Option<(f64, &[f64])>,
+        Option<&mut StateShare>,
+    ) {
         let scaling = self.tau_free.as_deref().map(|q| {
             let (_, c_k) = self.options.integrator.coefficients(tau);
             (1.0 / c_k, q)
         });
-        (&mut self.solver, scaling)
+        (&mut self.solver, scaling, self.state_share.as_mut())
     }
 
     /// `out = load + M w_mass − K w_stiffness` (length `n`): on ranks each rank computes
@@ -363,6 +385,133 @@ fn add_radiation_damping<const D: usize, const C: usize>(
             let range = sym.col_ptr()[j]..sym.col_ptr()[j + 1];
             if let Ok(k) = sym.row_idx()[range.clone()].binary_search(&j) {
                 vals[range.start + k] += eta * w;
+            }
+        }
+    }
+}
+
+/// The state update on ranks: each rank updates the state of the frictional nodes it owns
+/// (the owner of their mesh node) and one all-gather gives every rank every node's new
+/// state (a node's update is its own arithmetic, so the bits are one process's at every
+/// rank count).
+pub(crate) struct StateShare {
+    gather: NodeAllGather<1>,
+    /// Positions `k` on Γ_F of this rank's frictional nodes, increasing.
+    owned: Vec<usize>,
+}
+
+impl StateShare {
+    fn new<const D: usize, const C: usize>(
+        model: &Model<D, C>,
+        ranks: &solver::TnnmgOnRanks,
+    ) -> Result<Self> {
+        let owner: Vec<usize> = model
+            .frictional_boundary
+            .nodes
+            .iter()
+            .map(|&p| ranks.owner.get(p).copied().unwrap_or(usize::MAX))
+            .collect();
+        Self::with_owner(&owner, (ranks.transport)())
+    }
+
+    /// The share of the rank of `halo` with frictional node `k` on rank `owner[k]`.
+    fn with_owner(
+        owner: &[usize],
+        halo: Box<dyn rsf_tnnmg::distributed::HaloExchange>,
+    ) -> Result<Self> {
+        let gather = NodeAllGather::<1>::new(owner, halo)?;
+        let rank = gather.rank();
+        let owned = (0..owner.len()).filter(|&k| owner[k] == rank).collect();
+        Ok(Self { gather, owned })
+    }
+
+    /// `out[k] = update(k)` for this rank's frictional nodes, then every other node's from
+    /// its rank (one collective). A failed node's value is sent as NaN, so every rank
+    /// learns of it: this rank returns its own node's error, the others an error naming the
+    /// node and its rank. Collective.
+    ///
+    /// # Errors
+    /// This rank's first failed update; [`Error::StateLaw`](crate::Error::StateLaw) for a
+    /// node another rank could not update.
+    pub(crate) fn apply(
+        &mut self,
+        out: &mut [f64],
+        mut update: impl FnMut(usize) -> Result<f64>,
+    ) -> Result<()> {
+        let mut failed = None;
+        for &k in &self.owned {
+            out[k] = match update(k) {
+                Ok(a) => a,
+                Err(e) => {
+                    failed.get_or_insert(e);
+                    f64::NAN
+                }
+            };
+        }
+        self.gather.gather(out);
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        match out.iter().position(|a| a.is_nan()) {
+            Some(k) => Err(crate::Error::StateLaw {
+                node: k,
+                source: rsf_state::Error::InvalidInput {
+                    name: "alpha",
+                    value: f64::NAN,
+                    requirement: "a state its rank could update (that rank reports why)",
+                },
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::StateShare;
+    use rsf_tnnmg::distributed::ThreadExchange;
+
+    /// The state update on 1–3 thread ranks: every rank gets every node's value (the
+    /// owner's) with one collective; a node that fails on its rank (rank 1's node 4) ends
+    /// the update on every rank: that rank with its own error, the others naming the node.
+    #[test]
+    fn each_rank_updates_its_own_nodes_and_a_failure_ends_every_rank() {
+        let owner = [0, 1, 0, 2, 1, 2, 0];
+        let want: Vec<f64> = (0..owner.len()).map(|k| 0.5 * k as f64 - 1.0).collect();
+        for size in 1..=3 {
+            let owner: Vec<usize> = owner.iter().map(|&r| r % size).collect();
+            let results: Vec<_> = std::thread::scope(|s| {
+                let handles: Vec<_> = ThreadExchange::group(size)
+                    .into_iter()
+                    .map(|halo| {
+                        let (owner, want) = (&owner, &want);
+                        s.spawn(move || {
+                            let mut share = StateShare::with_owner(owner, Box::new(halo)).unwrap();
+                            let mut out = vec![0.0; owner.len()];
+                            share.apply(&mut out, |k| Ok(want[k])).unwrap();
+                            let mut broken = vec![0.0; owner.len()];
+                            let failed = share.apply(&mut broken, |k| match k {
+                                4 => Err(crate::Error::from(rsf_state::Error::InvalidInput {
+                                    name: "v",
+                                    value: -1.0,
+                                    requirement: "a slip rate ≥ 0",
+                                })),
+                                _ => Ok(want[k]),
+                            });
+                            (out, failed.err().map(|e| e.to_string()))
+                        })
+                    })
+                    .collect();
+                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for (rank, (out, failed)) in results.iter().enumerate() {
+                assert_eq!(out, &want, "rank {rank} of {size}");
+                let failed = failed.as_deref().expect("every rank fails");
+                if owner[4] == rank {
+                    assert!(failed.contains("v = -1"), "rank {rank} of {size}: {failed}");
+                } else {
+                    assert!(failed.contains("k = 4"), "rank {rank} of {size}: {failed}");
+                }
             }
         }
     }

@@ -225,8 +225,10 @@ pub struct SolverOptions {
     /// [`DistributedTnnmg`] (each rank its owned nodes' rows, the solution all-gathered;
     /// the step's change measured with the ranks' rows of the energy norm), and each rank
     /// keeps and evaluates its owned nodes' rows of the integrator's right-hand side (one
-    /// all-gather per step), while everything else of a step (the integrator's update, the
-    /// fixed point iteration, the state) stays replicated on every rank. Default `None`
+    /// all-gather per step), and updates the state of its own frictional nodes (one
+    /// all-gather per update), while everything else of a step (the integrator's update,
+    /// the fixed point iteration, the friction potentials) stays replicated on every rank.
+    /// Default `None`
     /// (one process).
     pub ranks: Option<TnnmgOnRanks>,
 }

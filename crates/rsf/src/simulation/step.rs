@@ -11,7 +11,7 @@ use crate::friction_blocks::{evaluate_potentials, FrictionView};
 use crate::method::fixed_point::Predictor;
 use crate::method::solver::VelocitySolver;
 use crate::method::state_integrator::StateIntegrator;
-use crate::method::Method;
+use crate::method::{Method, StateShare};
 use crate::model::fault::{block_norm, norm};
 use crate::model::Model;
 use crate::problem::Problem;
@@ -131,7 +131,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let full = method.inner_stopping();
         let inexact = fixed_point.inner_solves.rule(method.solver_kind());
         let state_integrator = method.state_integrator();
-        let (solver, scaling) = method.solver_and_scaling(tau);
+        let (solver, scaling, mut share) = method.step_parts(tau);
         let laws = self.problem.friction_laws();
         let state_laws = self.problem.state_laws();
         let fb = &model.frictional_boundary;
@@ -156,7 +156,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         } else {
             // α⁰ = S(α_{n−1}, |v⁰|), then the fixed point iteration (docs/math.md §4, §8).
             read_slip_rates(solver, &mut work.slip);
-            update.apply(&work.slip, &mut work.alpha_trial)?;
+            update.apply(&work.slip, &mut work.alpha_trial, share.as_deref_mut())?;
             work.alpha_iter.copy_from_slice(&work.alpha_trial);
             if let (Some(normal), Some(integrator)) = (&mut work.normal, &integrator) {
                 normal_stress_of_iterate(normal, solver, integrator, model, state, &work.v)?;
@@ -223,7 +223,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                 // Next state iterate from G(α^ν) = S(α_{n−1}, |v^{ν+1}|), and the normal
                 // stress of v^{ν+1}.
                 read_slip_rates(solver, &mut work.slip);
-                update.apply(&work.slip, &mut work.alpha_trial)?;
+                update.apply(&work.slip, &mut work.alpha_trial, share.as_deref_mut())?;
                 if let (Some(normal), Some(integrator)) = (&mut work.normal, &integrator) {
                     normal_stress_of_iterate(normal, solver, integrator, model, state, &work.v)?;
                 }
@@ -247,7 +247,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         finished?;
         if self.problem.uses_state() {
             read_slip_rates(solver, &mut work.slip);
-            update.apply(&work.slip, &mut work.alpha_trial)?;
+            update.apply(&work.slip, &mut work.alpha_trial, share.as_deref_mut())?;
         }
         method
             .integrator()
@@ -364,13 +364,22 @@ struct StateUpdate<'a, S> {
 }
 
 impl<S: StateLaw> StateUpdate<'_, S> {
-    /// `out[k] = S(α_{n−1,k}, slip[k])`.
-    fn apply(&self, slip: &[f64], out: &mut [f64]) -> Result<()> {
-        for k in 0..slip.len() {
-            out[k] =
-                self.integrator
-                    .update(&self.laws[k], self.alpha_prev[k], slip[k], self.tau)?;
+    /// `out[k] = S(α_{n−1,k}, slip[k])`; on ranks (`share`) each rank its own nodes, then
+    /// one all-gather (collective).
+    fn apply(&self, slip: &[f64], out: &mut [f64], share: Option<&mut StateShare>) -> Result<()> {
+        let update = |k: usize| -> Result<f64> {
+            Ok(self
+                .integrator
+                .update(&self.laws[k], self.alpha_prev[k], slip[k], self.tau)?)
+        };
+        match share {
+            Some(share) => share.apply(out, update),
+            None => {
+                for (k, o) in out.iter_mut().enumerate().take(slip.len()) {
+                    *o = update(k)?;
+                }
+                Ok(())
+            }
         }
-        Ok(())
     }
 }
