@@ -233,25 +233,22 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
         &mut self,
         tau: f64,
     ) -> (&mut VelocitySolver<C>, Option<(f64, &[f64])>) {
-        let (solver, scaling, _) = self.step_parts(tau);
-        (solver, scaling)
+        let parts = self.step_parts(tau);
+        (parts.solver, parts.scaling)
     }
 
     /// [`solver_and_scaling`](Self::solver_and_scaling) and, on ranks, the state update's
     /// share.
-    pub(crate) fn step_parts(
-        &mut self,
-        tau: f64,
-    ) -> (
-        &mut VelocitySolver<C>,
-        Option<(f64, &[f64])>,
-        Option<&mut StateShare>,
-    ) {
+    pub(crate) fn step_parts(&mut self, tau: f64) -> StepParts<'_, C> {
         let scaling = self.tau_free.as_deref().map(|q| {
             let (_, c_k) = self.options.integrator.coefficients(tau);
             (1.0 / c_k, q)
         });
-        (&mut self.solver, scaling, self.state_share.as_mut())
+        StepParts {
+            solver: &mut self.solver,
+            scaling,
+            state_share: self.state_share.as_mut(),
+        }
     }
 
     /// `out = load + M w_mass − K w_stiffness` (length `n`): on ranks each rank computes
@@ -388,6 +385,15 @@ fn add_radiation_damping<const D: usize, const C: usize>(
             }
         }
     }
+}
+
+/// What a step's fixed point iteration uses of the method ([`Method::step_parts`]).
+pub(crate) struct StepParts<'a, const C: usize> {
+    pub solver: &'a mut VelocitySolver<C>,
+    /// As [`Method::solver_and_scaling`]'s.
+    pub scaling: Option<(f64, &'a [f64])>,
+    /// On ranks, the state update's share.
+    pub state_share: Option<&'a mut StateShare>,
 }
 
 /// The state update on ranks: each rank updates the state of the frictional nodes it owns

@@ -11,7 +11,7 @@ use crate::friction_blocks::{evaluate_potentials, FrictionView};
 use crate::method::fixed_point::Predictor;
 use crate::method::solver::VelocitySolver;
 use crate::method::state_integrator::StateIntegrator;
-use crate::method::{Method, StateShare};
+use crate::method::{Method, StateShare, StepParts};
 use crate::model::fault::{block_norm, norm};
 use crate::model::Model;
 use crate::problem::Problem;
@@ -131,7 +131,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let full = method.inner_stopping();
         let inexact = fixed_point.inner_solves.rule(method.solver_kind());
         let state_integrator = method.state_integrator();
-        let (solver, scaling, mut share) = method.step_parts(tau);
+        let StepParts {
+            solver,
+            scaling,
+            state_share: mut share,
+        } = method.step_parts(tau);
         let laws = self.problem.friction_laws();
         let state_laws = self.problem.state_laws();
         let fb = &model.frictional_boundary;
@@ -247,7 +251,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         finished?;
         if self.problem.uses_state() {
             read_slip_rates(solver, &mut work.slip);
-            update.apply(&work.slip, &mut work.alpha_trial, share.as_deref_mut())?;
+            update.apply(&work.slip, &mut work.alpha_trial, share)?;
         }
         method
             .integrator()
