@@ -38,6 +38,7 @@ mod hierarchy;
 mod linear;
 mod local_rows;
 mod node_graph;
+mod node_plan;
 mod rank_hierarchy;
 mod reduce;
 mod sweep;

@@ -7,7 +7,8 @@ use std::collections::BTreeMap;
 use super::halo::HaloCounters;
 use super::local_rows::LocalRows;
 use super::node_graph::{NodeGraph, NodePattern};
-use super::transport::{HaloExchange, HaloMessage};
+use super::node_plan::NodePlan;
+use super::transport::HaloExchange;
 use crate::block::Block;
 use crate::bsr::BlockCsr;
 use crate::coarse::excluded;
@@ -15,114 +16,6 @@ use crate::error::Result;
 use crate::galerkin::Pattern;
 use crate::multigrid::NewtonHierarchy;
 use rsf_linalg::Csc;
-
-/// Per-node records sent from their owners to the ranks that need them: per peer rank
-/// (increasing) the nodes, in increasing order on both sides, each record
-/// `len(node)` values long. Both sides derive their lists from the same global data.
-#[derive(Debug, Clone, Default)]
-struct NodePlan {
-    /// Per peer: `(rank, nodes)`.
-    send: Vec<(usize, Vec<usize>)>,
-    recv: Vec<(usize, Vec<usize>)>,
-    /// The messages in values, and the nodes in buffer order.
-    sends: Vec<HaloMessage>,
-    send_nodes: Vec<usize>,
-    recvs: Vec<HaloMessage>,
-    recv_nodes: Vec<usize>,
-    send_buf: Vec<f64>,
-    recv_buf: Vec<f64>,
-}
-
-impl NodePlan {
-    fn new(
-        send: BTreeMap<usize, Vec<usize>>,
-        recv: BTreeMap<usize, Vec<usize>>,
-        len: impl Fn(usize) -> usize,
-    ) -> Self {
-        let mut plan = Self {
-            send: send.into_iter().collect(),
-            recv: recv.into_iter().collect(),
-            ..Self::default()
-        };
-        plan.select(|_| true, len);
-        plan
-    }
-
-    /// Makes the messages carry only the nodes `keep` selects (both sides select with the
-    /// same global rule).
-    fn select(&mut self, keep: impl Fn(usize) -> bool, len: impl Fn(usize) -> usize) {
-        fn messages(
-            lists: &[(usize, Vec<usize>)],
-            keep: &impl Fn(usize) -> bool,
-            len: &impl Fn(usize) -> usize,
-            msgs: &mut Vec<HaloMessage>,
-            nodes: &mut Vec<usize>,
-        ) -> usize {
-            msgs.clear();
-            nodes.clear();
-            let mut start = 0;
-            for (rank, list) in lists {
-                let first = start;
-                for &p in list.iter().filter(|&&p| keep(p)) {
-                    nodes.push(p);
-                    start += len(p);
-                }
-                if start > first {
-                    msgs.push(HaloMessage {
-                        rank: *rank,
-                        start: first,
-                        len: start - first,
-                    });
-                }
-            }
-            start
-        }
-        let n = messages(
-            &self.send,
-            &keep,
-            &len,
-            &mut self.sends,
-            &mut self.send_nodes,
-        );
-        self.send_buf.resize(n, 0.0);
-        let n = messages(
-            &self.recv,
-            &keep,
-            &len,
-            &mut self.recvs,
-            &mut self.recv_nodes,
-        );
-        self.recv_buf.resize(n, 0.0);
-    }
-
-    /// Fills each sent record with `pack(node, out)`.
-    fn pack(&mut self, len: impl Fn(usize) -> usize, mut pack: impl FnMut(usize, &mut [f64])) {
-        let mut at = 0;
-        for &p in &self.send_nodes {
-            let n = len(p);
-            pack(p, &mut self.send_buf[at..at + n]);
-            at += n;
-        }
-    }
-
-    /// The exchange of the packed records. Collective among the plan's peers.
-    fn send(&mut self, halo: &mut dyn HaloExchange, counters: &mut HaloCounters) {
-        halo.exchange(&self.sends, &self.send_buf, &self.recvs, &mut self.recv_buf);
-        counters.exchanges += 1;
-        counters.messages += self.sends.len() as u64;
-        counters.values += self.send_buf.len() as u64;
-    }
-
-    /// Hands each received record to `unpack(node, values)`.
-    fn unpack(&self, len: impl Fn(usize) -> usize, mut unpack: impl FnMut(usize, &[f64])) {
-        let mut at = 0;
-        for &p in &self.recv_nodes {
-            let n = len(p);
-            unpack(p, &self.recv_buf[at..at + n]);
-            at += n;
-        }
-    }
-}
 
 /// One Galerkin product between level `l + 1` (fine) and level `l` on a rank: the whole
 /// structure, the values of `T`'s rows the rank computes (its owned fine nodes) or
@@ -193,6 +86,8 @@ pub(crate) struct RankHierarchy<const D: usize> {
     coarsest_counts: Vec<usize>,
     coarsest_send: Vec<f64>,
     coarsest_recv: Vec<f64>,
+    /// Where each rank's next record starts in `coarsest_recv` (work space).
+    coarsest_starts: Vec<usize>,
     /// Per level, the nodes an incremental update may change (global lists, every rank
     /// the same).
     variable: Vec<Vec<usize>>,
@@ -252,6 +147,7 @@ impl<const D: usize> RankHierarchy<D> {
             pairs: pairs_rev,
             coarsest_send: vec![0.0; coarsest_counts[rank]],
             coarsest_recv: vec![0.0; coarsest_counts.iter().sum()],
+            coarsest_starts: vec![0; size],
             coarsest_counts,
             coarse,
             fine_diag: diag,
@@ -424,15 +320,12 @@ impl<const D: usize> RankHierarchy<D> {
         self.counters.collectives += 1;
         self.counters.collective_values += self.coarsest_send.len() as u64;
         // Rank r's records in increasing node order, the ranks in turn.
-        let mut starts: Vec<usize> = self
-            .coarsest_counts
-            .iter()
-            .scan(0, |s, &k| {
-                let a = *s;
-                *s += k;
-                Some(a)
-            })
-            .collect();
+        let starts = &mut self.coarsest_starts;
+        let mut first = 0;
+        for (s, &k) in starts.iter_mut().zip(&self.coarsest_counts) {
+            *s = first;
+            first += k;
+        }
         for p in 0..n {
             let r = self.owner[p];
             if r != self.rank {

@@ -66,20 +66,6 @@ impl ProblemScales {
         Self::on_columns(stiffness, mass, load, initial_displacement, fixed, None)
     }
 
-    /// The scales of `model` ([`new`](Self::new) of its matrices and vectors); of a model of
-    /// some columns ([`Model::columns`](crate::Model::columns)) as
-    /// [`on_columns`](Self::on_columns).
-    pub fn of_model<const D: usize, const C: usize>(model: &crate::Model<D, C>) -> Self {
-        Self::on_columns(
-            &model.stiffness,
-            model.mass.as_ref(),
-            &model.load,
-            &model.initial_displacement,
-            &model.fixed,
-            model.columns.as_deref(),
-        )
-    }
-
     /// As [`new`](Self::new) for matrices of only the columns of the nodes with
     /// `columns[node]` (`None`: whole matrices; `C = n / columns.len()` dofs per node):
     /// the diagonal ranges of `K` and `M` are over the kept nodes' free dofs only — the

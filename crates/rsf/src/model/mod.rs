@@ -548,3 +548,20 @@ pub fn nearest_vertex<const D: usize>(vertices: &[[f64; D]], x: &[f64; D]) -> Re
         .min_by(|&i, &j| d2(&vertices[i]).total_cmp(&d2(&vertices[j])))
         .ok_or_else(|| invalid("vertices", "no vertex to choose from"))
 }
+
+// Here rather than in `conditioning` (which knows no `Model`): no import circle.
+impl ProblemScales {
+    /// The scales of `model` ([`new`](Self::new) of its matrices and vectors); of a model of
+    /// some columns ([`Model::columns`]) as
+    /// [`on_columns`](Self::on_columns).
+    pub fn of_model<const D: usize, const C: usize>(model: &Model<D, C>) -> Self {
+        Self::on_columns(
+            &model.stiffness,
+            model.mass.as_ref(),
+            &model.load,
+            &model.initial_displacement,
+            &model.fixed,
+            model.columns.as_deref(),
+        )
+    }
+}
