@@ -17,9 +17,11 @@
 //!
 //! [`DistributedVCycle`] is one rank's linear V-cycle on a nested hierarchy: per level its
 //! rows, sweep and transfers ([`DistributedTransfer`]), the coarsest problem gathered and
-//! solved on every rank; the set-up ([`VCycleHierarchy`]: the Galerkin coarse operators,
-//! masks and colourings) is still computed whole on every rank. [`ColouredVCycle`] is its
-//! one-process reference with the same smoother order, and the same bits.
+//! solved on every rank; built alone ([`DistributedVCycle::new`]) it reads a whole
+//! hierarchy ([`VCycleHierarchy`]: the Galerkin coarse operators, masks and colourings,
+//! computed on every rank), inside [`DistributedTnnmg`] the rank's own rows of every level
+//! (each computed by its owner). [`ColouredVCycle`] is its one-process reference with the
+//! same smoother order, and the same bits.
 //!
 //! [`DistributedTnnmg`] is TNNMG on ranks: the multi-colour nonlinear smoother on the owned
 //! nodes, the truncated linearisation on the active blocks gathered from their owners, the
