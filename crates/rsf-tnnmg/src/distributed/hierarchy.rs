@@ -1,7 +1,8 @@
-//! The replicated set-up of a linear V-cycle on a nested hierarchy ([`VCycleHierarchy`]:
-//! the Galerkin coarse operators, masks and colourings of every level, computed whole) and
-//! its one-process reference with the distributed cycle's smoother order
-//! ([`ColouredVCycle`]).
+//! What a rank's linear V-cycle is built from ([`LevelSource`]): a whole hierarchy
+//! ([`VCycleHierarchy`]: the Galerkin coarse operators, masks and colourings of every
+//! level, computed whole on every rank) or a rank's own rows of every level
+//! ([`RankLevels`], TNNMG on ranks); and the one-process reference with the distributed
+//! cycle's smoother order ([`ColouredVCycle`]).
 
 use faer::sparse::{SparseColMat, SparseColMatRef};
 use rsf_linalg::Csc;

@@ -45,8 +45,8 @@ struct Coarsest {
     solver: CoarseSolver,
 }
 
-/// One rank's linear V-cycle on a nested hierarchy ([`VCycleHierarchy`], built whole on
-/// every rank for now), with the bits of the one-process
+/// One rank's linear V-cycle on a nested hierarchy (a whole [`VCycleHierarchy`], or inside
+/// TNNMG on ranks the rank's own rows of every level), with the bits of the one-process
 /// [`ColouredVCycle`](super::ColouredVCycle) at every rank count.
 ///
 /// Node `i` of every level is owned by the rank that owns fine node `i` (rsf-fem's
