@@ -31,7 +31,10 @@ pub struct LocalRows<const D: usize> {
     /// Owned row `p`'s off-diagonal blocks are `ptr[p]..ptr[p + 1]`.
     ptr: Vec<usize>,
     col: Vec<u32>,
-    val: Vec<Block<D>>,
+    /// Shared by the clones (copied on the first [`set_row`](Self::set_row) of a shared
+    /// one): TNNMG's nonlinear smoother and its V-cycle's fine level hold the same
+    /// off-diagonal blocks of `A`, which never change, once.
+    val: std::sync::Arc<Vec<Block<D>>>,
     diag: Vec<Block<D>>,
 }
 
@@ -163,7 +166,7 @@ impl<const D: usize> LocalRows<D> {
             ghost_owner,
             ptr,
             col,
-            val,
+            val: std::sync::Arc::new(val),
             diag,
         })
     }
@@ -251,7 +254,8 @@ impl<const D: usize> LocalRows<D> {
         self.diag[p] = *diag;
         let r = self.ptr[p]..self.ptr[p + 1];
         let mut n = 0;
-        for (v, b) in self.val[r.clone()].iter_mut().zip(off) {
+        let val = std::sync::Arc::make_mut(&mut self.val);
+        for (v, b) in val[r.clone()].iter_mut().zip(off) {
             *v = *b;
             n += 1;
         }
