@@ -481,7 +481,9 @@ pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCo
 /// checks them) — the others get a [`Prepared`] without folders, and a body writes its
 /// files on rank 0 only. `body` gets the processes. Any rank's error (its refusal, the
 /// body's error) is printed with the rank and ends every rank
-/// ([`Processes::end_all`]): a rank that returned would leave the others waiting.
+/// ([`Processes::end_all`]): a rank that returned would leave the others waiting. The one
+/// exception is the stop at `--max-steps`, which every rank reaches at the same step: each
+/// rank returns failure, rank 0 printing the message.
 pub fn main_on_ranks<P: Program>(
     processes: &dyn Processes,
     body: fn(P, Prepared, &dyn Processes) -> Result<(), AnyError>,
@@ -492,14 +494,40 @@ pub fn main_on_ranks<P: Program>(
     } else {
         plan_only(&program)
     };
+    let step_cap = std::sync::atomic::AtomicBool::new(false);
     let outcome = match prepared {
-        Ok(prepared) => on_threads(prepared.pool, || body(program, prepared, processes)),
+        Ok(prepared) => on_threads(prepared.pool, || {
+            body(program, prepared, processes).inspect_err(|e| {
+                if is_step_cap(&**e) {
+                    step_cap.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+            })
+        }),
         Err(e) => Err(error_lines(&*e)),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
+        // Every rank stops at the step cap at the same step (the time stepping is the same
+        // on every rank, and rank 0 wrote the checkpoint before): no rank is left waiting,
+        // so each ends normally, rank 0 with the message. Ending the job from every rank
+        // at once (`end_all`, MPI_Abort) could leave Open MPI's launcher hanging.
+        Err(lines) if step_cap.load(std::sync::atomic::Ordering::Relaxed) => {
+            if processes.rank() == 0 {
+                eprintln!("rank 0 of {}: {}", processes.size(), lines.join("\n"));
+            }
+            ExitCode::FAILURE
+        }
         Err(lines) => processes.end_all(&lines.join("\n")),
     }
+}
+
+/// Whether `e` is a run's stop at its step cap (`--max-steps`:
+/// [`step_cap_error`](rsf::run_folder::step_cap_error)'s error).
+fn is_step_cap(e: &(dyn std::error::Error + 'static)) -> bool {
+    matches!(
+        e.downcast_ref::<rsf::Error>(),
+        Some(rsf::Error::InvalidParameter { name, .. }) if name == "max_steps"
+    )
 }
 
 /// The checks of [`prepare`] that touch no file: the plan and the estimates (the
