@@ -3,7 +3,8 @@
 //! split into one part per rank ([`FaultOperator::split_rows`]: the ℋ-matrix's leaf
 //! clusters, a dense matrix's row blocks, the half-space operator's elements), each rank
 //! summing its rows and solving its nodes, then one all-gather of the rates per
-//! evaluation. Every row of the product is
+//! evaluation (with a normal stress from slip, each rank's rows of `S_N` and one
+//! all-gather of the reactions first). Every row of the product is
 //! summed by the same fixed-order kernels and every node's solve is independent, so the
 //! rates have the same bits at every rank count and as in one process; the rest of a step
 //! (the Runge–Kutta stages, the error norm, the observers' data) is the same arithmetic on
@@ -15,8 +16,11 @@
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
 
+use rsf_linalg::Parallelism;
+
 use crate::fault_operator::{FaultOperator, RowSplit};
 use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut};
+use crate::normal_stress::{NormalCoupling, NormalGather};
 
 /// The processes ("ranks") that share a fault ODE's evaluations
 /// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations)).
@@ -48,6 +52,9 @@ pub(crate) struct SharedEvaluation {
     ranks: Box<dyn RankGroup>,
     parts: RankParts,
     exchanges: Exchanges,
+    /// `S_N`'s rows split by ranks, with a normal stress from slip (`None` without, or
+    /// where `S_N` is evaluated whole on every rank).
+    normal: Option<NormalGather>,
 }
 
 /// What the ranks of a shared fault ODE have exchanged
@@ -57,7 +64,8 @@ pub(crate) struct SharedEvaluation {
 pub struct Exchanges {
     /// The number of ranks.
     pub ranks: usize,
-    /// All-gathers (one per shared evaluation).
+    /// All-gathers (one per shared evaluation; two with a normal stress from slip, whose
+    /// reactions are gathered first).
     pub all_gathers: u64,
     /// f64 values received by every rank over all the all-gathers (each rank receives
     /// every rank's values: 8 bytes each).
@@ -79,7 +87,12 @@ struct RankParts {
 impl SharedEvaluation {
     /// The group `ranks` sharing the evaluations of a fault ODE whose operator's rows are
     /// split into one part per rank (`split`; `first` the nodes' first unknowns).
-    pub(crate) fn new(ranks: Box<dyn RankGroup>, split: RowSplit, first: &[usize]) -> Self {
+    pub(crate) fn new(
+        ranks: Box<dyn RankGroup>,
+        split: RowSplit,
+        first: &[usize],
+        normal: Option<&mut NormalCoupling>,
+    ) -> Self {
         let exchanges = Exchanges {
             ranks: ranks.size(),
             ..Exchanges::default()
@@ -96,10 +109,39 @@ impl SharedEvaluation {
             straddling_rows: vec![0.0; first[first.len() - 1]],
             nodes,
         };
+        let normal = normal.and_then(|n| NormalGather::new(n, ranks.size(), ranks.rank()));
         Self {
             ranks,
             parts,
             exchanges,
+            normal,
+        }
+    }
+
+    /// `σ̄_n` (Pa, one per frictional node) at integrated loading `big_g` and condensed
+    /// unknowns `u` into `sigma`: each rank its rows of `S_N` and one all-gather where they
+    /// are split, else whole on every rank; the bits of
+    /// [`NormalCoupling::evaluate`] either way.
+    ///
+    /// # Errors
+    /// As [`NormalCoupling::evaluate`], the same on every rank.
+    pub(crate) fn normal_stress(
+        &mut self,
+        normal: &mut NormalCoupling,
+        (time, big_g): (f64, f64),
+        u: &[f64],
+        sigma: &mut [f64],
+        par: Parallelism,
+    ) -> crate::Result<()> {
+        match &mut self.normal {
+            Some(gather) if u.iter().all(|v| v.is_finite()) => {
+                if gather.reactions(normal, &mut *self.ranks, big_g, u, sigma)? {
+                    self.exchanges.all_gathers += 1;
+                    self.exchanges.values += gather.values() as u64;
+                }
+                normal.finish(time, sigma)
+            }
+            _ => normal.evaluate(time, big_g, u, sigma, par),
         }
     }
 

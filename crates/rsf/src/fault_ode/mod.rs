@@ -618,6 +618,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         self.state.alpha.copy_from_slice(&self.y[m..]);
         if let (Some(normal), Some(tr)) = (&mut r.normal, &mut self.scaled_tractions) {
+            // Whole on every rank, not an exchange: a rank may fill its state alone (its
+            // observers' vertices, `watch_vertices`, are rank 0's alone in the programs).
             normal.evaluate(t, big_g, &self.y[..m], &mut tr.sigma, r.par)?;
         }
         Ok(())

@@ -98,12 +98,12 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             scale: None,
         };
         // Shared by ranks: each rank its part of the operator's rows and their nodes,
-        // then one exchange; a normal stress from slip is evaluated whole on every rank
-        // first (the same numbers as below). A non-finite `u` (the same on every rank)
-        // takes the sequential path below on every rank.
+        // then one exchange; a normal stress from slip first, each rank its rows of `S_N`
+        // and one exchange (the same numbers as below). A non-finite `u` (the same on
+        // every rank) takes the sequential path below on every rank.
         if let (Some(shared), true) = (&mut d.shared, u.iter().all(|v| v.is_finite())) {
             if let Some(normal) = &mut d.normal {
-                normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
+                shared.normal_stress(normal, (t, big_g), u, &mut d.sigma, d.par)?;
                 solves.scale = Some((&d.sigma[..], normal.initial()));
             }
             let load = Loading {

@@ -18,8 +18,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// same scene, options and state) and call the same methods in the same order; the
     /// trajectory then has the same bits on every rank, at every rank count, and as
     /// unshared. Within a rank the shared part of an evaluation runs on one thread. A
-    /// normal stress that changes with slip (its product with `S_N`) is evaluated whole
-    /// on every rank.
+    /// normal stress that changes with slip is shared too: each rank sums its rows of
+    /// `S_N` (a dense one's or a 2-D fault's ℋ-matrix's), then one all-gather of the
+    /// reactions before the evaluation's; a 3-D fault's `S_N` by components is evaluated
+    /// whole on every rank.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `ranks` for a rank
@@ -39,7 +41,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             .operator
             .split_rows(ranks.size(), PartNodes::work_per_row(first))?;
         split.validate(first[first.len() - 1])?;
-        self.rates.shared = Some(SharedEvaluation::new(ranks, split, first));
+        self.rates.shared = Some(SharedEvaluation::new(
+            ranks,
+            split,
+            first,
+            self.rates.normal.as_mut(),
+        ));
         Ok(())
     }
 

@@ -89,6 +89,8 @@ pub(crate) struct NormalCoupling {
     g0: f64,
     sigma0: Vec<f64>,
     weights: Vec<f64>,
+    /// `S_N`'s rows split into one part per rank, if split ([`split_rows`](Self::split_rows)).
+    rows: Option<parts::NormalRows>,
 }
 
 /// How `S_N` is stored.
@@ -173,18 +175,7 @@ const MIN_PARALLEL_ENTRIES: usize = 1 << 12;
 /// each column's rows are contiguous. An empty `u_f0` is taken as zero (`u_f` is then
 /// the difference itself).
 fn add_dense_product(s_n: &Mat<f64>, u_f: &[f64], u_f0: &[f64], r: &mut [f64], par: Parallelism) {
-    let part = |start: usize, r: &mut [f64]| {
-        for (i, u) in u_f.iter().enumerate() {
-            let du = match u_f0.get(i) {
-                Some(u0) => u - u0,
-                None => *u,
-            };
-            let col = &s_n.col_as_slice(i)[start..start + r.len()];
-            for (s, c) in r.iter_mut().zip(col) {
-                *s += c * du;
-            }
-        }
-    };
+    let part = |start: usize, r: &mut [f64]| add_dense_rows(s_n, u_f, u_f0, start, r);
     let rows = r.len();
     if !par.is_parallel() || rows < 2 || rows * u_f.len() < MIN_PARALLEL_ENTRIES {
         part(0, r);
@@ -194,6 +185,21 @@ fn add_dense_product(s_n: &Mat<f64>, u_f: &[f64], u_f0: &[f64], r: &mut [f64], p
     r.par_chunks_mut(chunk)
         .enumerate()
         .for_each(|(b, rb)| part(b * chunk, rb));
+}
+
+/// `r ← r + S_N (u_F − u_F⁰)` at rows `start..start + r.len()` of the dense `S_N`, each
+/// row's sum over the columns in order: [`add_dense_product`]'s arithmetic for those rows.
+fn add_dense_rows(s_n: &Mat<f64>, u_f: &[f64], u_f0: &[f64], start: usize, r: &mut [f64]) {
+    for (i, u) in u_f.iter().enumerate() {
+        let du = match u_f0.get(i) {
+            Some(u0) => u - u0,
+            None => *u,
+        };
+        let col = &s_n.col_as_slice(i)[start..start + r.len()];
+        for (s, c) in r.iter_mut().zip(col) {
+            *s += c * du;
+        }
+    }
 }
 
 impl NormalCoupling {
@@ -266,6 +272,7 @@ impl NormalCoupling {
             g0: big_g0,
             sigma0,
             weights: fb.weights.clone(),
+            rows: None,
         }))
     }
 
@@ -448,7 +455,13 @@ impl NormalCoupling {
                 for ((d, u), u0) in self.du.iter_mut().zip(u_f).zip(&self.u_f0) {
                     *d = u - u0;
                 }
-                match h.apply_add(&self.du, sigma, 1.0, par.faer()) {
+                // Split for ranks: every part in turn, the split kept for the ranks' shares
+                // (the same bits as the whole product).
+                let product = match &self.rows {
+                    Some(rows) => rows.add_every_part(h, &self.du, sigma),
+                    None => h.apply_add(&self.du, sigma, 1.0, par.faer()),
+                };
+                match product {
                     // A trial stage that blew up: NaN, refused below as for dense.
                     Err(rsf_hmatrix::Error::NonFiniteInput(_)) => sigma.fill(f64::NAN),
                     other => other.map_err(Error::from)?,
@@ -460,6 +473,15 @@ impl NormalCoupling {
                 }
             }
         }
+        self.finish(time, sigma)
+    }
+
+    /// The reactions `r` in `sigma` made into `σ̄_n,k = σ̄_n⁰,k − r_k/w_k`, checked in node
+    /// order.
+    ///
+    /// # Errors
+    /// [`Error::NormalStressNotPositive`] at the first node where `σ̄_n ≤ 0` or not finite.
+    pub(crate) fn finish(&self, time: f64, sigma: &mut [f64]) -> Result<()> {
         for (k, s) in sigma.iter_mut().enumerate() {
             let r = *s;
             *s = self.sigma0[k] - r / self.weights[k];
@@ -593,5 +615,8 @@ impl NormalReactions {
     }
 }
 
+mod parts;
 #[cfg(test)]
 mod tests;
+
+pub(crate) use parts::NormalGather;

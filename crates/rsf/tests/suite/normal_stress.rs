@@ -46,7 +46,7 @@ pub(crate) fn quasi_dynamic<const D: usize>(
 }
 
 /// The fault ODE of [`quasi_dynamic`] at tolerance 1e-9.
-fn fault_ode(
+pub(crate) fn fault_ode(
     model: Model<2>,
     normal_stress: NormalStress,
 ) -> rsf::Result<rsf::FaultOde<2, AsinhLaw, Aging>> {
@@ -233,6 +233,21 @@ fn slip_on_a_plane_of_mirror_symmetry_leaves_the_normal_stress_unchanged() {
     assert!(change < 1e-9 * SIGMA_N, "{change:e} Pa");
 }
 
+/// The thrust block pulled apart, hard: the fault unclamps until σ̄_n would be ≤ 0.
+pub(crate) fn pulled_apart_block() -> Model<2> {
+    let v = 1e2;
+    let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
+    ModelBuilder::refined(mesh, 1)
+        .unwrap()
+        .material(Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [-v, 0.0])
+        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [v, 0.0])
+        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
+        .build()
+        .unwrap()
+}
+
 /// `NormalStress::FromSlip` needs a fault inside the body; a slip that would open the
 /// fault is a typed error, not a NaN: the fault ODE refuses the stages until its cap of
 /// refusals ([`rsf::time::Error::TrialPointRefused`]), the implicit scheme its iterates
@@ -252,18 +267,7 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
         Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "normal_stress"),
         other => panic!("{:?}", other.map(|_| ())),
     }
-    // The thrust block pulled apart, hard: the fault unclamps until σ̄_n would be ≤ 0.
-    let v = 1e2;
-    let mesh = rectangle([-1.0, -1.0], [2.0, 1.0], 9, 5, Diagonal::Forward).unwrap();
-    let model = ModelBuilder::refined(mesh, 1)
-        .unwrap()
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(Part::predicate("left", |x| x[0] < -1.0 + 1e-9), [-v, 0.0])
-        .dirichlet(Part::predicate("right", |x| x[0] > 1.0 - 1e-9), [v, 0.0])
-        .internal_fault("fault", [-0.5, -0.5], [0.0, 0.0])
-        .build()
-        .unwrap();
+    let model = pulled_apart_block();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
     let e = rsf::run_until(&mut ode, rsf::Until::Time(10.0), &mut []).unwrap_err();
     let text = format!("{e}: {}", e.error);

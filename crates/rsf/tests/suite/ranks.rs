@@ -172,8 +172,10 @@ fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
 }
 
 /// SEAS BP3 (a thrust fault dipping 60° under the free surface: the normal stress changes
-/// with slip, evaluated whole on every rank) at Δx = 2 km with the ℋ-kernel at leaf size 8,
-/// for 1500 steps.
+/// with slip, each rank summing its rows of `S_N`) at Δx = 2 km with the ℋ-kernel at leaf
+/// size 8 (`S_N` an ℋ-matrix too, its rows by leaf clusters) and with the dense kernel
+/// (its rows in contiguous blocks), for 1500 steps; every shared evaluation makes two
+/// all-gathers, the reactions' (one per node) and the rates'.
 #[test]
 fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4_ranks() {
     use rsf_scenes::{SeasBp3, SeasBp3Grid};
@@ -183,18 +185,78 @@ fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4
         domain: 100e3,
         ratio: 1.2,
     };
-    let steps = same_bits_on_ranks(|ranks| {
-        let model = bp3.model(&grid).unwrap();
-        let mut options = bp3.params.fault_ode_options(1e-7).unwrap();
-        options.runge_kutta.dt_min = 1e-8;
-        options.kernel = FaultKernel::Hierarchical {
-            epsilon: 1e-7,
-            leaf_size: 8,
-        };
-        let ode = bp3.fault_ode(model, options).unwrap();
-        run_shared(ode, ranks, Until::Steps(1500))
-    });
-    eprintln!("BP3 thrust, 2 km: {steps} steps with the same bits on 1–4 ranks");
+    let hierarchical = FaultKernel::Hierarchical {
+        epsilon: 1e-7,
+        leaf_size: 8,
+    };
+    for kernel in [hierarchical, FaultKernel::Dense] {
+        let steps = same_bits_on_ranks(|ranks| {
+            let model = bp3.model(&grid).unwrap();
+            let mut options = bp3.params.fault_ode_options(1e-7).unwrap();
+            options.runge_kutta.dt_min = 1e-8;
+            options.kernel = kernel;
+            let mut ode = bp3.fault_ode(model, options).unwrap();
+            let nodes = ode.model().frictional_boundary.len();
+            let Some(ranks) = ranks else {
+                return run_shared(ode, None, Until::Steps(1500));
+            };
+            let size = ranks.size();
+            ode.share_evaluations(Box::new(ranks)).unwrap();
+            let mut bits = Bits::default();
+            ode.run_until(Until::Steps(1500), &mut [&mut bits]).unwrap();
+            let e = ode.exchanges().unwrap();
+            let evaluations = ode.evaluations() as u64;
+            assert_eq!(e.ranks, size);
+            assert_eq!(
+                e.all_gathers,
+                2 * evaluations,
+                "{e:?}, {evaluations} evaluations"
+            );
+            // Each rank receives every rate and every reaction.
+            assert!(e.values > nodes as u64 * evaluations, "{e:?}");
+            bits.0
+        });
+        eprintln!("BP3 thrust, 2 km, {kernel:?}: {steps} steps with the same bits on 1–4 ranks");
+    }
+}
+
+/// A slip that opens the fault (the thrust block of `normal_stress` pulled apart, `S_N`
+/// dense): each rank sums its rows of `S_N`, every rank finds the same first node with
+/// σ̄_n ≤ 0, refuses the same stages and ends with the unshared run's error, after the
+/// unshared run's steps.
+#[test]
+fn an_opening_fault_ends_every_rank_with_the_unshared_error() {
+    use rsf::normal_stress::NormalStress;
+    let run = |ranks: Option<ThreadRanks>| {
+        let model = crate::normal_stress::pulled_apart_block();
+        let mut ode = crate::normal_stress::fault_ode(model, NormalStress::FromSlip).unwrap();
+        if let Some(ranks) = ranks {
+            ode.share_evaluations(Box::new(ranks)).unwrap();
+        }
+        let mut bits = Bits::default();
+        let e = ode
+            .run_until(Until::Time(10.0), &mut [&mut bits])
+            .unwrap_err();
+        let text = format!("{e}: {}", e.error);
+        (bits.0, text, ode.exchanges())
+    };
+    let (alone, error, _) = run(None);
+    assert!(error.contains("normal stress"), "{error}");
+    for size in 1..=4 {
+        let runs: Vec<_> = std::thread::scope(|s| {
+            let handles: Vec<_> = thread_ranks(size)
+                .into_iter()
+                .map(|ranks| s.spawn(|| run(Some(ranks))))
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for (rank, (bits, text, exchanges)) in runs.iter().enumerate() {
+            assert_eq!(bits, &alone, "rank {rank} of {size}: steps");
+            assert_eq!(text, &error, "rank {rank} of {size}");
+            assert!(exchanges.unwrap().all_gathers > 0, "rank {rank} of {size}");
+        }
+    }
+    eprintln!("{} steps, then on every rank: {error}", alone.len());
 }
 
 /// SEAS BP5 at Δx = 4 km (a fault alone, 500 cells, two slip components each) with
