@@ -20,7 +20,8 @@ use rsf_linalg::Parallelism;
 
 use crate::fault_operator::{FaultOperator, RowSplit};
 use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut};
-use crate::normal_stress::{NormalCoupling, NormalGather};
+use crate::normal_stress::parts::NormalGather;
+use crate::normal_stress::NormalCoupling;
 
 /// The processes ("ranks") that share a fault ODE's evaluations
 /// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations)).
@@ -135,7 +136,11 @@ impl SharedEvaluation {
     ) -> crate::Result<()> {
         match &mut self.normal {
             Some(gather) if u.iter().all(|v| v.is_finite()) => {
-                if gather.reactions(normal, &mut *self.ranks, big_g, u, sigma)? {
+                let ranks = &mut self.ranks;
+                let mut all_gather = |own: &[f64], counts: &[usize], all: &mut [f64]| {
+                    ranks.all_gather(own, counts, all);
+                };
+                if gather.reactions(normal, &mut all_gather, big_g, u, sigma)? {
                     self.exchanges.all_gathers += 1;
                     self.exchanges.values += gather.values() as u64;
                 }

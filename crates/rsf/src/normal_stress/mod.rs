@@ -615,8 +615,6 @@ impl NormalReactions {
     }
 }
 
-mod parts;
+pub(crate) mod parts;
 #[cfg(test)]
 mod tests;
-
-pub(crate) use parts::NormalGather;

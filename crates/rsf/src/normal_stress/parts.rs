@@ -13,7 +13,6 @@ use rsf_hmatrix::HMatrix;
 
 use super::{add_dense_rows, NormalCoupling, SlipToNormal};
 use crate::error::Result;
-use crate::ranks::RankGroup;
 
 /// `S_N`'s rows split into parts, one per rank ([`NormalCoupling::split_rows`]).
 pub(crate) struct NormalRows {
@@ -50,9 +49,14 @@ impl NormalRows {
     }
 }
 
+/// The ranks' all-gather, `(own, counts, all)` as
+/// [`RankGroup::all_gather`](crate::ranks::RankGroup::all_gather)'s arguments.
+pub(crate) type AllGather<'a> = &'a mut dyn FnMut(&[f64], &[usize], &mut [f64]);
+
 /// What the ranks exchange for `σ̄_n` (made by [`NormalGather::new`], then reused): the
 /// number of reactions each rank sums, this rank's and everyone's.
 pub(crate) struct NormalGather {
+    rank: usize,
     counts: Vec<usize>,
     own: Vec<f64>,
     all: Vec<f64>,
@@ -66,7 +70,12 @@ impl NormalGather {
         let counts = normal.split_rows(ranks)?;
         let own = vec![0.0; counts.get(rank).copied().unwrap_or(0)];
         let all = vec![0.0; counts.iter().sum()];
-        Some(Self { counts, own, all })
+        Some(Self {
+            rank,
+            counts,
+            own,
+            all,
+        })
     }
 
     /// The number of reactions exchanged per evaluation (every rank receives them all).
@@ -75,26 +84,27 @@ impl NormalGather {
     }
 
     /// The reactions `r_k` (N) at integrated loading `big_g` and finite condensed unknowns
-    /// `u_f` (length `m`) into `sigma` (one per frictional node, node order): this rank's,
-    /// then one all-gather. Returns whether it exchanged: not where `u_F − u_F⁰` is not
-    /// finite — the same on every rank, each then writing NaN, which
-    /// [`NormalCoupling::finish`] refuses as the whole evaluation does.
+    /// `u_f` (length `m`) into `sigma` (one per frictional node, node order): this
+    /// rank's, then one all-gather (`all_gather(own, counts, all)`, the ranks'
+    /// [`RankGroup::all_gather`](crate::ranks::RankGroup::all_gather)). Returns whether it
+    /// exchanged: not where `u_F − u_F⁰` is not finite — the same on every rank, each then
+    /// writing NaN, which [`NormalCoupling::finish`] refuses as the whole evaluation does.
     ///
     /// # Errors
     /// The ℋ-matrix product's (lengths: none for those set up here).
     pub(crate) fn reactions(
         &mut self,
         normal: &mut NormalCoupling,
-        ranks: &mut dyn RankGroup,
+        all_gather: AllGather<'_>,
         big_g: f64,
         u_f: &[f64],
         sigma: &mut [f64],
     ) -> Result<bool> {
-        if !normal.part_reactions(big_g, u_f, ranks.rank(), &mut self.own)? {
+        if !normal.part_reactions(big_g, u_f, self.rank, &mut self.own)? {
             sigma.fill(f64::NAN);
             return Ok(false);
         }
-        ranks.all_gather(&self.own, &self.counts, &mut self.all);
+        all_gather(&self.own, &self.counts, &mut self.all);
         normal.place_reactions(&self.all, sigma);
         Ok(true)
     }
