@@ -135,7 +135,9 @@ impl SharedEvaluation {
         par: Parallelism,
     ) -> crate::Result<()> {
         match &mut self.normal {
-            Some(gather) if u.iter().all(|v| v.is_finite()) => {
+            // A non-finite `u` (the same on every rank) gives NaN reactions, or none summed
+            // where the ℋ product refuses it, on every rank alike: the same refusal.
+            Some(gather) => {
                 let ranks = &mut self.ranks;
                 let mut all_gather = |own: &[f64], counts: &[usize], all: &mut [f64]| {
                     ranks.all_gather(own, counts, all);

@@ -20,7 +20,8 @@ pub(crate) struct NormalRows {
     /// an ℋ-matrix's (`Square`). Fewer than the ranks where the ℋ-matrix has fewer leaf
     /// clusters: the other ranks sum nothing.
     ranges: Vec<Range<usize>>,
-    /// An ℋ-matrix's permutation to cluster order (empty for a dense `S_N`).
+    /// An ℋ-matrix's permutation to cluster order (empty for a dense `S_N`): a copy, read
+    /// while the matrix is borrowed by its own product.
     perm: Vec<usize>,
 }
 
@@ -126,10 +127,9 @@ impl NormalCoupling {
             SlipToNormal::Square(h) => (h.split_rows(parts, 0.0), h.permutation().to_vec()),
             SlipToNormal::ByComponent(_) => return None,
         };
-        let mut counts = vec![0; parts];
-        for (c, r) in counts.iter_mut().zip(&ranges) {
-            *c = r.len();
-        }
+        let counts = (0..parts)
+            .map(|p| ranges.get(p).map_or(0, Range::len))
+            .collect();
         self.rows = Some(NormalRows { ranges, perm });
         Some(counts)
     }
@@ -197,16 +197,18 @@ impl NormalCoupling {
     /// Every part's reactions (`all`: the parts concatenated in order) into `sigma` in node
     /// order.
     fn place_reactions(&self, all: &[f64], sigma: &mut [f64]) {
-        match &self.s_n {
-            // Contiguous nodes, part after part.
-            SlipToNormal::Dense(_) => sigma.copy_from_slice(all),
-            // The cluster order, part after part.
-            SlipToNormal::Square(h) => {
-                for (&k, v) in h.permutation().iter().zip(all) {
-                    sigma[k] = *v;
-                }
+        let rows = self
+            .rows
+            .as_ref()
+            .expect("split before its parts are placed");
+        if rows.perm.is_empty() {
+            // A dense `S_N`: contiguous nodes, part after part.
+            sigma.copy_from_slice(all);
+        } else {
+            // An ℋ-matrix's cluster order, part after part.
+            for (&k, v) in rows.perm.iter().zip(all) {
+                sigma[k] = *v;
             }
-            SlipToNormal::ByComponent(_) => unreachable!("not split (split_rows: None)"),
         }
     }
 }
