@@ -13,6 +13,7 @@ mod curved;
 pub mod estimates;
 pub mod guard;
 mod heat_map;
+pub mod memory;
 pub mod okada_anchor;
 mod own_model;
 mod panels;

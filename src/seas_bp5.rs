@@ -34,12 +34,15 @@
 //! shared by the ranks, the files written by rank 0; docs/scaling.md, "The fault ODE on MPI
 //! ranks").
 
+use std::cell::RefCell;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::rc::Rc;
 use std::time::Instant;
 
 use crate::estimates::{operator_bytes, seas_output_bytes};
 use crate::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Prepared, Processes, Program};
+use crate::memory::StageMemory;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -47,7 +50,7 @@ use rsf::fault_ode::FaultKernel;
 use rsf::observe::Observer;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
-use rsf_scenes::{SeasBp5, SeasBp5Grid};
+use rsf_scenes::{SeasBp5, SeasBp5Grid, SeasBp5Mesh};
 use rsf_seas::{
     utc_date_today, SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP5_RESUME_LOG,
     SECONDS_PER_YEAR,
@@ -74,6 +77,11 @@ struct Args {
     /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
     #[arg(long)]
     ratio: Option<f64>,
+    /// `fe`: the volume's mesh, `graded` (Kuhn cubes bisected towards the fault's
+    /// rate-and-state region and the stations, growing in every direction) or `tensor`
+    /// (a tensor grid graded axis by axis) [default: graded].
+    #[arg(long, value_enum)]
+    mesh: Option<MeshArg>,
     /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
     /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
     /// changes by round-off.
@@ -153,6 +161,7 @@ impl Program for Args {
             for (flag, given) in [
                 ("--domain-km", self.domain_km.is_some()),
                 ("--ratio", self.ratio.is_some()),
+                ("--mesh", self.mesh.is_some()),
             ] {
                 if given {
                     return Err(format!(
@@ -185,13 +194,36 @@ impl Program for Args {
                     "km: 1.5 l_f/2 and more",
                 )?;
                 in_range("--ratio", ratio, (1.0, 2.0), "the growth of the spacing")?;
-                // The graded box (SeasBp5::fe_model) in closed form; 35 kB per vertex as
-                // the 3-D slider's direct factor, and the condensed operator.
                 let (h, far) = (self.dx, domain_km * 1e3);
-                let len = |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
-                let vertices =
-                    (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
-                vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE + operator_bytes(m, m > 4096.0)
+                match self.mesh.unwrap_or(MeshArg::Graded) {
+                    MeshArg::Tensor => {
+                        // The tensor grid in closed form; 35 kB per vertex as the 3-D
+                        // slider's direct factor, and the condensed operator.
+                        let len =
+                            |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                        let vertices = (2.0 * len(h) - 1.0)
+                            * (2.0 * len(bp5.l_f / 2.0) - 1.0)
+                            * len(bp5.w_f);
+                        vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE
+                            + operator_bytes(m, m > 4096.0)
+                    }
+                    MeshArg::Graded => {
+                        // The graded mesh itself (under a second at 1 km), and the set-up's
+                        // peak as measured on it (docs/three-d.md, "BP5 on the graded
+                        // mesh"): the volume's factor grows like vertices^1.9.
+                        let grid = SeasBp5Grid {
+                            dx: h,
+                            domain: far,
+                            ratio,
+                            mesh: SeasBp5Mesh::Graded,
+                        };
+                        let vertices = flag("--dx", bp5.fe_model_builder(&grid))?
+                            .mesh()
+                            .num_vertices() as f64;
+                        GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                            + operator_bytes(m, m > 4096.0)
+                    }
+                }
             }
         };
         // Ten fault stations, nine body stations and global.dat; the four profiles (slip
@@ -219,6 +251,30 @@ impl Program for Args {
                     .overwrite(self.overwrite)
                     .resume(self.run.resume.is_some()),
             ))
+    }
+}
+
+/// The set-up's peak (bytes) of `--kernel fe` on the graded mesh at 4 km and its vertices
+/// (measured: docs/three-d.md, "BP5 on the graded mesh"), the anchor of its estimate.
+const GRADED_PEAK_AT_4_KM: f64 = 287e6;
+/// See [`GRADED_PEAK_AT_4_KM`].
+const GRADED_VERTICES_AT_4_KM: f64 = 7701.0;
+
+/// The finite-element kernel's mesh (`SeasBp5Mesh`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum MeshArg {
+    /// Bisected towards the fault and the stations, graded in every direction.
+    Graded,
+    /// A tensor grid graded axis by axis.
+    Tensor,
+}
+
+impl MeshArg {
+    fn mesh(self) -> SeasBp5Mesh {
+        match self {
+            MeshArg::Graded => SeasBp5Mesh::Graded,
+            MeshArg::Tensor => SeasBp5Mesh::Tensor,
+        }
     }
 }
 
@@ -258,6 +314,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
         dx: args.dx,
         domain: domain_km * 1e3,
         ratio,
+        mesh: args.mesh.unwrap_or(MeshArg::Graded).mesh(),
     };
     let mut options = bp5
         .fault_ode_options(args.tolerance)
@@ -270,7 +327,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
     // by the guard before anything was computed.
     let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.
-    let fingerprint = Fingerprint::of_serialized(&bp5)
+    let mut fingerprint = Fingerprint::of_serialized(&bp5)
         .with("kernel", format!("{:?}", args.kernel))
         .with("dx", args.dx)
         .with("domain_km", domain_km)
@@ -279,6 +336,11 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("epsilon", args.epsilon);
+    if args.kernel == Kernel::Fe {
+        // The volume's mesh (a field since the graded mesh; an older finite-element
+        // checkpoint, of the tensor grid, is then refused by its missing field).
+        fingerprint = fingerprint.with("mesh", format!("{:?}", grid.mesh));
+    }
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
     let setup = SeasSetup {
@@ -322,20 +384,37 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
             (ode, output)
         }
         Kernel::Fe => {
-            let model = bp5
-                .fe_model(&grid)
+            // The build's stages, each with its peak memory (docs/three-d.md, "The build's
+            // memory").
+            let stages = Rc::new(RefCell::new(StageMemory::start()));
+            let builder = bp5
+                .fe_model_builder(&grid)
+                .map_err(|e| format!("--kernel fe: {e}"))?;
+            stages.borrow_mut().end("mesh");
+            let mesh = builder.mesh();
+            let mesh_line = format!(
+                "{:?} mesh: {} vertices, {} tetrahedra, smallest dihedral angle {:.2}°, box ±{} km",
+                grid.mesh,
+                mesh.num_vertices(),
+                mesh.num_cells(),
+                mesh.min_dihedral_angle().to_degrees(),
+                mesh.vertices().iter().map(|x| x[0]).fold(0.0, f64::max) / 1e3
+            );
+            let watch = Rc::clone(&stages);
+            let model = builder
+                .on_stage(move |stage| watch.borrow_mut().end(stage.name()))
+                .build()
                 .map_err(|e| format!("--kernel fe: {e}"))?;
             let m = 2 * model.frictional_boundary.len();
             if root {
                 println!(
-                    "BP5-QD, finite elements, Δx = {} m, box ±{} km (ratio {}), {} vertices, {m} \
-                 slip unknowns; on {}",
+                    "BP5-QD, finite elements, Δx = {} m, ratio {ratio}, {} vertices (the fault's \
+                     split), {m} slip unknowns; on {}",
                     args.dx,
-                    domain_km,
-                    ratio,
                     model.vertices.len(),
                     machine()
                 );
+                println!("{mesh_line}");
             }
             if m > 4096 {
                 options.kernel = FaultKernel::hierarchical(args.epsilon);
@@ -347,6 +426,11 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
                 None
             };
             let mut ode = bp5.fe_fault_ode(model, options)?;
+            stages.borrow_mut().end("condensation and operator");
+            if root {
+                println!("the set-up's stages (peak and resident memory of this process):");
+                print!("{}", stages.borrow().table());
+            }
             if let Some(output) = &output {
                 ode.watch_vertices(&output.volume_vertices())?;
                 println!("volume factor: {} entries", ode.factor_nnz());

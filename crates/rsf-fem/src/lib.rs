@@ -42,6 +42,7 @@
 #![warn(missing_docs)]
 
 mod assembly;
+mod bisection;
 mod boundary;
 mod constraints;
 mod dof_transform;
@@ -62,6 +63,7 @@ mod split_transform;
 mod structured;
 
 pub use assembly::{node_columns, Assembler};
+pub use bisection::{BisectionMesh, BisectionReport};
 pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use dof_transform::{Composition, DofTransform};

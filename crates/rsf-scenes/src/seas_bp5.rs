@@ -10,7 +10,9 @@
 
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_ode::FaultOdeOptions;
-use rsf::fem::{cuboid_from_coordinates, geometric_grading, symmetric_grading};
+use rsf::fem::{
+    cuboid_from_coordinates, geometric_grading, symmetric_grading, BisectionMesh, TetrahedronMesh,
+};
 use rsf::halfspace::Medium;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
 use rsf::model::CreepRate;
@@ -421,6 +423,39 @@ impl SeasBp5 {
     }
 }
 
+/// Largest root cube of [`SeasBp5Mesh::Graded`] (m): cells at the far faces, 400 km
+/// from the fault, of at most 64 km (the tensor grid's there at ratio 1.3: about 90 km).
+pub const GRADED_ROOT_MAX: f64 = 64e3;
+
+/// Most cells of [`SeasBp5Mesh::Graded`]'s mesh (about 2.4 GB of mesh and a few times more
+/// of matrices).
+pub const GRADED_MAX_CELLS: usize = 20_000_000;
+
+/// The distance (m) between the boxes `a` and `b`, each `(lower, upper)` corners (0 where
+/// they meet).
+fn box_distance(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> f64 {
+    (0..3)
+        .map(|k| (a.0[k] - b.1[k]).max(b.0[k] - a.1[k]).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// How [`SeasBp5::fe_model`] meshes the volume.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SeasBp5Mesh {
+    /// A tensor grid of Kuhn boxes: uniform `dx` over the rate-and-state region along
+    /// strike and dip (and one cell either side of the fault), growing by `ratio` beyond,
+    /// axis by axis — the fault's fine spacing repeated in every layer of the box.
+    Tensor,
+    /// Kuhn cubes bisected towards the rate-and-state region and the off-fault stations
+    /// ([`BisectionMesh`], docs/fem.md "Graded meshes by bisection"): cells `dx` there,
+    /// growing with the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor
+    /// grid's growth), three shapes up to similarity.
+    #[default]
+    Graded,
+}
+
 /// The finite-element grid of BP5's volume model ([`SeasBp5::fe_model`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SeasBp5Grid {
@@ -430,15 +465,20 @@ pub struct SeasBp5Grid {
     pub domain: f64,
     /// Growth of the spacing away from the rate-and-state region, in `[1, 2]`.
     pub ratio: f64,
+    /// The tensor grid or the graded mesh (for the latter the box reaches the first
+    /// multiple of its root cube not below `domain`).
+    #[serde(default)]
+    pub mesh: SeasBp5Mesh,
 }
 
 impl Default for SeasBp5Grid {
-    /// 4 km on the fault, a box reaching 400 km from it, growth 1.3.
+    /// 4 km on the fault, a box reaching 400 km from it, growth 1.3, the graded mesh.
     fn default() -> Self {
         Self {
             dx: 4e3,
             domain: 400e3,
             ratio: 1.3,
+            mesh: SeasBp5Mesh::Graded,
         }
     }
 }
@@ -452,9 +492,11 @@ impl SeasBp5 {
     }
 
     /// BP5 as a finite-element volume model on `grid` (quasi-dynamic: no mass): the box
-    /// `|x|, |y| ≤ domain`, `−domain ≤ z ≤ 0` of Kuhn tetrahedra on a tensor grid, uniform
-    /// `dx` over the rate-and-state region (and one cell across the fault) and growing
-    /// by `ratio` beyond, isotropic (μ = ρc_s², ν); the whole plane `x = 0` a fault inside
+    /// `|x|, |y| ≤ domain`, `−domain ≤ z ≤ 0` of Kuhn tetrahedra (`grid.mesh`: on a tensor
+    /// grid, uniform `dx` over the rate-and-state region and one cell across the fault and
+    /// growing by `ratio` beyond; or graded by bisection in every direction, `dx` at the
+    /// rate-and-state region and the off-fault stations, the box rounded up to whole root
+    /// cubes), isotropic (μ = ρc_s², ν); the whole plane `x = 0` a fault inside
     /// the body ([`ModelBuilder::internal_fault_polygon`], `t₁` along strike): its pairs
     /// outside the rate-and-state region creeping at `(V_p, 0)`
     /// ([`ModelBuilder::internal_creep_at`]), those inside it frictional; the far faces
@@ -468,18 +510,36 @@ impl SeasBp5 {
     /// `domain` (not beyond 1.5 l_f/2 and 1.5 W_f) or `ratio` (outside `[1, 2]`);
     /// grading and assembly errors.
     pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
+        self.fe_model_builder(grid)?.build()
+    }
+
+    /// The builder of [`fe_model`](Self::fe_model) (its mesh made, nothing assembled), e.g.
+    /// to watch the build's stages ([`ModelBuilder::on_stage`]); `build` it for the model.
+    ///
+    /// # Errors
+    /// As [`fe_model`](Self::fe_model) before its assembly.
+    pub fn fe_model_builder(&self, grid: &SeasBp5Grid) -> Result<ModelBuilder<3>> {
         self.validate()?;
         let (h, far) = (grid.dx, grid.domain);
         let whole = |length: f64| {
             let n = length / h;
             h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-9 * n
         };
-        if !(whole(0.5 * self.l_f) && whole(self.w_f)) {
+        // The tensor grid is symmetric about x₂ = 0 (a line of nodes there); the graded
+        // mesh's lattice is shifted along strike so that x₂ = ±l_f/2 are nodes.
+        let along_strike = match grid.mesh {
+            SeasBp5Mesh::Tensor => 0.5 * self.l_f,
+            SeasBp5Mesh::Graded => self.l_f,
+        };
+        if !(whole(along_strike) && whole(self.w_f)) {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{h} m must divide l_f/2 = {} m and W_f = {} m into whole cells",
-                    0.5 * self.l_f,
+                    "{h} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
+                    match grid.mesh {
+                        SeasBp5Mesh::Tensor => "l_f/2 (the tensor grid)",
+                        SeasBp5Mesh::Graded => "l_f",
+                    },
                     self.w_f
                 ),
             ));
@@ -496,44 +556,43 @@ impl SeasBp5 {
                 format!("{} must be in [1, 2]", grid.ratio),
             ));
         }
-        let xs = symmetric_grading(h, h, grid.ratio, far)?;
-        let ys = symmetric_grading(h, 0.5 * self.l_f, grid.ratio, far)?;
-        let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
-            .iter()
-            .rev()
-            .map(|z| -z)
-            .collect();
-        *zs.last_mut().expect("a graded list is not empty") = 0.0;
-        let mesh = cuboid_from_coordinates(&xs, &ys, &zs)?;
+        let (mesh, [lo, hi]) = match grid.mesh {
+            SeasBp5Mesh::Tensor => (
+                self.tensor_mesh(grid)?,
+                [[-far, -far, -far], [far, far, 0.0]],
+            ),
+            SeasBp5Mesh::Graded => self.graded_mesh(grid)?,
+        };
         let mu = self.shear_modulus();
         let material = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
         let eps = 1e-6 * h;
         let side = 0.5 * self.v_p;
+        // Every face of the box but the free surface z = 0.
+        let far_face = move |x: &[f64; 3]| {
+            (0..2).any(|k| x[k] < lo[k] + eps || x[k] > hi[k] - eps) || x[2] < lo[2] + eps
+        };
         let (a, b, c) = (*self, *self, *self);
-        let mut model = ModelBuilder::new(mesh)
+        // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
+        let builder = ModelBuilder::new(mesh)
             .material(material)
             .without_mass()
+            .without_initial_equilibrium()
             .dirichlet(
-                Part::predicate("far minus", move |x| {
-                    x[0] < -eps
-                        && (x[0] < -far + eps || x[1].abs() > far - eps || x[2] < -far + eps)
-                }),
+                Part::predicate("far minus", move |x| x[0] < -eps && far_face(x)),
                 [0.0, -side, 0.0],
             )
             .dirichlet(
-                Part::predicate("far plus", move |x| {
-                    x[0] > eps && (x[0] > far - eps || x[1].abs() > far - eps || x[2] < -far + eps)
-                }),
+                Part::predicate("far plus", move |x| x[0] > eps && far_face(x)),
                 [0.0, side, 0.0],
             )
             .fault_tangent([0.0, 1.0, 0.0])
             .internal_fault_polygon(
                 "fault",
                 &[
-                    [0.0, -far, -far],
-                    [0.0, far, -far],
-                    [0.0, far, 0.0],
-                    [0.0, -far, 0.0],
+                    [0.0, lo[1], lo[2]],
+                    [0.0, hi[1], lo[2]],
+                    [0.0, hi[1], 0.0],
+                    [0.0, lo[1], 0.0],
                 ],
             )
             .internal_creep_at(move |x| {
@@ -554,10 +613,64 @@ impl SeasBp5 {
                     0.0
                 };
                 [0.0, t, 0.0]
-            })
-            .build()?;
-        model.initial_displacement.fill(0.0);
-        Ok(model)
+            });
+        Ok(builder)
+    }
+
+    /// The tensor grid of [`SeasBp5Mesh::Tensor`] (box `±domain`).
+    fn tensor_mesh(&self, grid: &SeasBp5Grid) -> Result<TetrahedronMesh> {
+        let (h, far) = (grid.dx, grid.domain);
+        let xs = symmetric_grading(h, h, grid.ratio, far)?;
+        let ys = symmetric_grading(h, 0.5 * self.l_f, grid.ratio, far)?;
+        let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
+            .iter()
+            .rev()
+            .map(|z| -z)
+            .collect();
+        *zs.last_mut().expect("a graded list is not empty") = 0.0;
+        Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
+    }
+
+    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): Kuhn cubes of
+    /// edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
+    /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
+    /// not below `domain` and `s` the shift (`l_f/2` modulo `dx`: 0 or `dx/2`) that puts
+    /// nodes at `x₂ = ±l_f/2`, bisected ([`BisectionMesh`]) until every cell is at most
+    /// `dx + (ratio − 1) d`, `d` the distance of its bounding box from the rate-and-state
+    /// region (on the plane `x = 0`) or from the nearest off-fault station
+    /// ([`body_station_points`](Self::body_station_points)).
+    fn graded_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
+        let h = grid.dx;
+        let doublings = (GRADED_ROOT_MAX / h).log2().floor().max(0.0);
+        let root = h * doublings.exp2();
+        let far = (grid.domain / root - 1e-9).ceil() * root;
+        let shift = {
+            let r = (0.5 * self.l_f / h).fract();
+            if r > 0.25 && r < 0.75 {
+                0.5 * h
+            } else {
+                0.0
+            }
+        };
+        let (lo, hi) = ([-far, shift - far, -far], [far, shift + far, 0.0]);
+        let growth = grid.ratio - 1.0;
+        let region = (
+            [0.0, -0.5 * self.l_f, -self.w_f],
+            [0.0, 0.5 * self.l_f, 0.0],
+        );
+        let stations = Self::body_station_points();
+        let size = move |lo: [f64; 3], hi: [f64; 3]| {
+            let near = stations
+                .iter()
+                .map(|&p| box_distance((lo, hi), (p, p)))
+                .fold(box_distance((lo, hi), region), f64::min);
+            h + growth * near
+        };
+        let mut cells = BisectionMesh::kuhn_box(lo, hi, root)?;
+        cells
+            .refine(size, GRADED_MAX_CELLS)
+            .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
+        Ok((cells.into_mesh()?, [lo, hi]))
     }
 
     /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))

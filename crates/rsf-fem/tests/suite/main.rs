@@ -6,6 +6,7 @@ mod common;
 
 mod assembly;
 mod assembly3d;
+mod bisection;
 mod columns;
 mod convergence;
 mod convergence3d;
