@@ -62,6 +62,7 @@ mod options;
 mod ordering;
 mod partial_cholesky;
 mod schur_entries;
+mod schur_only;
 mod solver;
 
 pub use condensation::Condensation;
@@ -72,4 +73,8 @@ pub use options::DirectOptions;
 pub use ordering::InteriorOrdering;
 pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
 pub use schur_entries::SchurEntries;
+pub use schur_only::{
+    CheckpointPolicy, ExtraRows, InterfaceSchur, KeptSchur, PackedSymmetric, Progress,
+    RightHandSide, SchurOnly, SchurOnlyOptions, SchurOnlyPlan, SchurOnlyReport,
+};
 pub use solver::DirectSolver;

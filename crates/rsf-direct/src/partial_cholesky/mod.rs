@@ -76,6 +76,22 @@ pub(super) struct PartialCholesky {
     analysis: Arc<Analysis>,
 }
 
+/// The elimination order and supernodal layout of a partial Cholesky factor, without
+/// values ([`PartialCholesky::symbolic_layout`]): supernode `s` covers the columns
+/// `start[s]..start[s + 1]` of the order, and the rows of its columns below its diagonal
+/// block are `rows[row_ptr[s]..row_ptr[s + 1]]` (increasing, elimination positions).
+#[derive(Debug)]
+pub(super) struct SymbolicLayout {
+    /// Elimination order (`order[k]` = the row of `a` of column `k`).
+    pub(super) order: Vec<usize>,
+    /// First column of each supernode, and the total dimension last.
+    pub(super) start: Vec<usize>,
+    /// Start of each supernode's rows in `rows`.
+    pub(super) row_ptr: Vec<usize>,
+    /// The rows below the diagonal blocks.
+    pub(super) rows: Vec<u32>,
+}
+
 /// What a factorisation of a matrix with a given pattern reuses for another matrix with
 /// the same pattern ([`PartialCholesky::refactor`]): the ordering, the submatrix pattern
 /// and faer's symbolic (supernodal) factorisation.
@@ -246,6 +262,35 @@ impl PartialCholesky {
             order,
         };
         Ok((analysis, layout, p1, p2))
+    }
+
+    /// The elimination order and the supernodal layout (no values) that
+    /// [`with_ordering`](Self::with_ordering) would factor into, without the numeric
+    /// factorisation: the ordering and the symbolic analysis are this factor's, and the
+    /// copies of the pattern that a refactorisation reuses are dropped here. For an
+    /// elimination that keeps no factor ([`SchurOnly`](crate::SchurOnly)).
+    ///
+    /// # Errors
+    /// As [`with_ordering`](Self::with_ordering) without the numeric failures.
+    pub(super) fn symbolic_layout(
+        a: &Csc,
+        interior: &[usize],
+        interface: &[usize],
+        ordering: (InteriorOrdering, usize),
+    ) -> Result<SymbolicLayout> {
+        let (analysis, layout, ..) = Self::analyse(a, interior, interface, ordering)?;
+        let Supernodes {
+            start,
+            row_ptr,
+            rows,
+            ..
+        } = layout;
+        Ok(SymbolicLayout {
+            order: analysis.order,
+            start,
+            row_ptr,
+            rows,
+        })
     }
 
     /// Whether this factor was computed for the pattern of `a` with these interior and
