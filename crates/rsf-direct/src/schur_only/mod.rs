@@ -59,10 +59,10 @@ use crate::ordering::InteriorOrdering;
 use crate::partial_cholesky::PartialCholesky;
 use checkpoint::{Checksum, Header};
 use front::{Ordered, State, Workspace};
-use packed::{packed_len, try_zeros, PANEL};
+use packed::{packed_len, try_zeros};
 use rsf_linalg::Csc;
 use rsf_nonsmooth::BlockedMatrix;
-use tree::Tree;
+use tree::{update_buffer, Tree};
 
 pub use extras::{ExtraRows, InterfaceSchur};
 pub use packed::PackedSymmetric;
@@ -151,15 +151,19 @@ pub struct SchurOnlyPlan {
     pub eliminated: usize,
     /// Dofs kept, `|K| = |F| + |P|`.
     pub kept: usize,
-    /// The largest front: its pivot columns with the rows below them (`(w + p) w`, the
-    /// workspace every front reuses) and its travelling contribution block.
+    /// The largest front as it is stored: the lower triangle of its pivot columns and of
+    /// its interior update columns (its kept rows' and columns' block goes straight into
+    /// `S_KK`).
     pub largest_front_bytes: usize,
-    /// The stack of pending contribution blocks at its peak (the block being assembled
-    /// included).
+    /// The stack of pending contribution blocks and the front being eliminated on top of
+    /// them, at its peak.
     pub peak_pending_bytes: usize,
-    /// The buffers every front reuses: the largest pivot block with its rows below,
-    /// `(w + p) w`, and the panel of the updates (`128 p` for the largest `p`).
+    /// The buffers every front reuses (with at most [`largest_order`](Self::largest_order)
+    /// right-hand sides): a dense panel of up to 256 pivot columns of a front and the
+    /// products of its updates (up to `256 (w + p)` each).
     pub workspace_bytes: usize,
+    /// The largest order `w + p` of a front (pivots and update rows).
+    pub largest_order: usize,
     /// `S_KK` in packed rows, `4 |K| (|K| + 1)`.
     pub result_bytes: usize,
     /// Each right-hand side carried through the elimination: one vector of `|R| + |K|`.
@@ -177,8 +181,11 @@ impl SchurOnlyPlan {
     /// copies, and the index map.
     pub fn total_bytes(&self, nrhs: usize) -> u128 {
         let n = (self.eliminated + self.kept) as u128;
+        let more_rhs =
+            update_buffer(self.largest_order, nrhs) - update_buffer(self.largest_order, 0);
         self.result_bytes as u128
             + self.workspace_bytes as u128
+            + 8 * more_rhs as u128
             + self.peak_pending_bytes as u128
             + nrhs as u128 * (self.bytes_per_rhs as u128 + 8 * self.kept as u128)
             + 4 * n
@@ -209,9 +216,9 @@ pub struct Progress {
 pub struct SchurOnlyReport {
     /// Fronts eliminated (all of them, before a resume included).
     pub fronts: usize,
-    /// The largest front met: pivot columns, rows below and travelling block.
+    /// The largest front met (as [`SchurOnlyPlan::largest_front_bytes`]).
     pub largest_front_bytes: usize,
-    /// The stack of pending contribution blocks at its peak.
+    /// The stack of pending contribution blocks with the front on top, at its peak.
     pub peak_pending_bytes: usize,
     /// `S_KK` (packed rows) and the condensed right-hand sides.
     pub result_bytes: usize,
@@ -446,7 +453,8 @@ impl<const D: usize> SchurOnly<D> {
             kept: t.nk,
             largest_front_bytes: 8 * t.max_front,
             peak_pending_bytes: 8 * t.peak_stack,
-            workspace_bytes: 8 * (t.max_panel + t.max_rows * PANEL),
+            workspace_bytes: 8 * (t.max_panel + update_buffer(t.max_order, 0)),
+            largest_order: t.max_order,
             result_bytes: 8 * packed_len(t.nk).unwrap_or(usize::MAX / 8),
             bytes_per_rhs: 8 * (t.nr + t.nk),
             flops: t.flops,
@@ -535,7 +543,7 @@ impl<const D: usize> SchurOnly<D> {
             },
             _ => (self.fresh(rhs)?, 0, 0.0),
         };
-        let mut ws = Workspace::new(&self.tree)?;
+        let mut ws = Workspace::new(&self.tree, rhs.len())?;
         let ordered = Ordered {
             a: &self.a,
             pos: &self.pos,

@@ -29,7 +29,7 @@ fn panel_updates_equal_the_plain_products() {
     let m = 700;
     let idx: Vec<u32> = (0..q as u32).map(|a| 2 * a + (a % 2)).collect();
     let mut s = PackedSymmetric::zeros(m).unwrap();
-    let mut tmp = vec![0.0; q * super::PANEL];
+    let mut tmp = vec![0.0; q * super::packed::PANEL];
     sub_gram_rows(s.rows_mut(), &idx, x.as_ref(), &mut tmp);
     let mut touched = vec![false; s.packed_rows().len()];
     for a in 0..q {
@@ -69,7 +69,8 @@ fn panel_updates_equal_the_plain_products() {
 }
 
 /// The schedule is a postorder (every child before its parent, each front's children the
-/// top of the stack), the stack's size follows the blocks pushed and popped to the peak
+/// top of the stack), the stack's size (a front on top of its children's blocks, which it
+/// replaces by its own) follows the blocks pushed and popped to the peak
 /// the symbolic pass planned, and it ends empty.
 #[test]
 fn schedule_is_a_postorder_with_the_planned_peak() {
@@ -103,7 +104,7 @@ fn schedule_is_a_postorder_with_the_planned_peak() {
         assert!(stack.len() >= kids.len());
         let top = stack.split_off(stack.len() - kids.len());
         assert_eq!(top, kids.iter().map(|&c| c as usize).collect::<Vec<_>>());
-        peak = peak.max(len + f.cb);
+        peak = peak.max(len + f.front);
         len = len - f.children_len + f.cb;
         assert_eq!(len, tree.stack_after(t + 1));
         if f.cb > 0 {

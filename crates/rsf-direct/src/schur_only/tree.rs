@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use super::packed::{packed_len, trapezoid_len};
+use super::packed::{packed_len, trapezoid_len, PANEL};
 use crate::error::{Error, Result};
 use crate::partial_cholesky::SymbolicLayout;
 
@@ -24,6 +24,10 @@ pub(super) struct Front {
     /// Entries of the travelling contribution block (the first `r` packed columns of the
     /// lower triangle of `p × p`).
     pub(super) cb: usize,
+    /// Entries of the front as it is stored: the first `w + r` packed columns of the
+    /// lower triangle of `(w + p) × (w + p)` (the kept rows' and columns' block is not
+    /// stored: it goes straight into `S_KK`), its last `cb` the contribution block.
+    pub(super) front: usize,
     /// The children with a contribution block, as positions in the schedule, in the
     /// order they are processed (their blocks are the top of the stack, in this order).
     pub(super) children: Range<usize>,
@@ -48,15 +52,13 @@ pub(super) struct Tree {
     pub(super) rows: Vec<u32>,
     /// Children lists (schedule positions).
     pub(super) children: Vec<u32>,
-    /// Largest `(w + p) w` (the pivot block and the rows below it).
+    /// Largest order `w + p` of a front.
+    pub(super) max_order: usize,
+    /// Largest dense panel of pivot columns, `(w + p) min(w, PANEL)`.
     pub(super) max_panel: usize,
-    /// Largest `p`.
-    pub(super) max_rows: usize,
-    /// Largest `w`.
-    pub(super) max_pivots: usize,
-    /// Largest front: `(w + p) w + cb` entries.
+    /// Largest front (entries stored).
     pub(super) max_front: usize,
-    /// Peak entries on the stack of contribution blocks.
+    /// Peak entries on the stack of contribution blocks and the front being eliminated.
     pub(super) peak_stack: usize,
     /// Floating-point operations of the elimination without right-hand sides, and per
     /// right-hand side.
@@ -101,13 +103,15 @@ impl Tree {
                 let t = start.partition_point(|&c| c <= u[0] as usize) - 1;
                 parent[s] = t as u32;
             }
-            packed_len(p).ok_or(too_large("a contribution block"))?;
+            let w = end - c0;
+            packed_len(w + p).ok_or(too_large("a front"))?;
             fronts.push(Front {
                 c0,
-                w: end - c0,
+                w,
                 rows: ptr[s]..ptr[s + 1],
                 r,
                 cb: trapezoid_len(r, p),
+                front: trapezoid_len(w + r, w + p),
                 children: 0..0,
                 children_len: 0,
             });
@@ -135,7 +139,9 @@ impl Tree {
             }
         }
         // Children lists; the peak of each subtree's stack, bottom-up (a child's index is
-        // below its parent's), children ordered by decreasing peak − block (Liu 1986).
+        // below its parent's), children ordered by decreasing peak − block (Liu 1986). A
+        // front is assembled on top of its children's blocks, which it then replaces by its
+        // own.
         let mut count = vec![0usize; ns + 1];
         for &t in &parent {
             if t != u32::MAX {
@@ -170,7 +176,7 @@ impl Tree {
                 below = below.saturating_add(fronts[c].cb);
             }
             fronts[s].children_len = below;
-            peak[s] = worst.max(below.saturating_add(fronts[s].cb));
+            peak[s] = worst.max(below.saturating_add(fronts[s].front));
         }
         // Postorder from the roots in increasing order.
         let mut sched = Vec::with_capacity(ns);
@@ -214,23 +220,18 @@ impl Tree {
             fronts: ordered,
             rows,
             children,
+            max_order: 0,
             max_panel: 0,
-            max_rows: 0,
-            max_pivots: 0,
             max_front: 0,
             peak_stack,
             flops: 0.0,
             flops_per_rhs: 0.0,
         };
         for f in &tree.fronts {
-            let (w, p) = (f.w, f.rows.len());
-            let panel = (w + p)
-                .checked_mul(w)
-                .ok_or(too_large("a front's pivot block"))?;
-            tree.max_panel = tree.max_panel.max(panel);
-            tree.max_rows = tree.max_rows.max(p);
-            tree.max_pivots = tree.max_pivots.max(w);
-            tree.max_front = tree.max_front.max(panel.saturating_add(f.cb));
+            let p = f.rows.len();
+            tree.max_order = tree.max_order.max(f.w + p);
+            tree.max_panel = tree.max_panel.max((f.w + p) * f.w.min(PANEL));
+            tree.max_front = tree.max_front.max(f.front);
             tree.flops += front_flops(f, p, 0);
             tree.flops_per_rhs += front_flops(f, p, 1) - front_flops(f, p, 0);
         }
@@ -268,4 +269,11 @@ pub(super) fn front_flops(f: &Front, p: usize, nrhs: usize) -> f64 {
         + pf * w * w
         + 2.0 * w * (f.cb as f64 + kept * (kept + 1.0) / 2.0)
         + nrhs as f64 * (w * w + 2.0 * pf * w)
+}
+
+/// Entries of the buffer of the updates' products for fronts of order up to `order` and
+/// `nrhs` right-hand sides: `order` rows, as many columns as a panel has (at most
+/// [`PANEL`], at most `order`, or the right-hand sides carried at once).
+pub(super) fn update_buffer(order: usize, nrhs: usize) -> usize {
+    order * PANEL.min(order.max(nrhs))
 }
