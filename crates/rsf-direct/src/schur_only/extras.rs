@@ -29,12 +29,22 @@ use crate::error::{Error, Result};
 /// The rows of the extension at the extra kept dofs: `x_P = o + E x_F` with
 /// `E = −S_PP⁻¹ S_PF` (`|P| × |F|`, row-major) and, per right-hand side, the offset
 /// `o = S_PP⁻¹ g_P` (the extension of that right-hand side with `x_F = 0`).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct ExtraRows {
     dofs: Vec<usize>,
     nf: usize,
     matrix: Vec<f64>,
     offsets: Vec<Vec<f64>>,
+}
+
+impl std::fmt::Debug for ExtraRows {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ExtraRows")
+            .field("dofs", &self.dofs)
+            .field("interface_len", &self.nf)
+            .field("rhs", &self.offsets.len())
+            .finish_non_exhaustive()
+    }
 }
 
 impl ExtraRows {
@@ -113,13 +123,23 @@ impl ExtraRows {
 /// The Schur complement on the blocks' free components alone, from
 /// [`KeptSchur::onto_interface`]: `S_F` (packed rows), the condensed right-hand sides
 /// `g_F`, and the [`ExtraRows`] that give the extra dofs from `x_F`.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct InterfaceSchur {
     s: PackedSymmetric,
     g: Vec<Vec<f64>>,
     interface: Vec<usize>,
     extras: ExtraRows,
     report: SchurOnlyReport,
+}
+
+impl std::fmt::Debug for InterfaceSchur {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("InterfaceSchur")
+            .field("dim", &self.interface.len())
+            .field("extras", &self.extras)
+            .field("report", &self.report)
+            .finish_non_exhaustive()
+    }
 }
 
 impl InterfaceSchur {

@@ -239,13 +239,24 @@ pub struct SchurOnlyReport {
 
 /// The Schur complement `S_KK` on the kept set and the condensed right-hand sides, from
 /// [`SchurOnly::eliminate`].
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct KeptSchur {
     s: PackedSymmetric,
     g: Vec<Vec<f64>>,
     kept: Vec<usize>,
     nf: usize,
     report: SchurOnlyReport,
+}
+
+impl std::fmt::Debug for KeptSchur {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("KeptSchur")
+            .field("dim", &self.kept.len())
+            .field("interface_len", &self.nf)
+            .field("rhs", &self.g.len())
+            .field("report", &self.report)
+            .finish_non_exhaustive()
+    }
 }
 
 impl KeptSchur {
@@ -319,7 +330,6 @@ impl KeptSchur {
 /// assert!((kept.schur().entry(0, 0) - cond.schur_complement()[0]).abs() < 1e-14);
 /// assert!((kept.condensed_rhs()[0][0] - g[0]).abs() < 1e-14);
 /// ```
-#[derive(Debug)]
 pub struct SchurOnly<const D: usize> {
     a: Csc,
     fixed: Vec<bool>,
@@ -333,6 +343,18 @@ pub struct SchurOnly<const D: usize> {
     pos: Vec<usize>,
     tree: Tree,
     layout_sum: [u64; 2],
+}
+
+impl<const D: usize> std::fmt::Debug for SchurOnly<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SchurOnly")
+            .field("n", &self.a.nrows)
+            .field("kept", &self.kept.len())
+            .field("interface", &self.nf)
+            .field("ordering", &self.ordering)
+            .field("fronts", &self.tree.fronts.len())
+            .finish_non_exhaustive()
+    }
 }
 
 impl<const D: usize> SchurOnly<D> {

@@ -19,10 +19,18 @@ pub(super) const PANEL: usize = 256;
 /// `m(m + 1)/2` f64 in all (half of a dense copy). The layout of
 /// [`SchurEntries`](crate::SchurEntries)' factor rows; rows and columns in the order of
 /// the dofs they are given with (e.g. [`KeptSchur::kept_dofs`](crate::KeptSchur::kept_dofs)).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct PackedSymmetric {
     m: usize,
     rows: Vec<f64>,
+}
+
+impl std::fmt::Debug for PackedSymmetric {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PackedSymmetric")
+            .field("dim", &self.m)
+            .finish_non_exhaustive()
+    }
 }
 
 /// Entries of the packed rows of an `m × m` symmetric matrix, if it fits in `usize` bytes.
