@@ -13,6 +13,8 @@
 //! cargo run --release -p rsf-direct --features metis --example schur_only_box -- \
 //!     --cubes 24 --method schur-only --ordering nested-dissection
 //! cargo run --release -p rsf-direct --example schur_only_box -- --cubes 12 --method both
+//! cargo run --release -p rsf-direct --example schur_only_box -- --cubes 32 \
+//!     --checkpoint /tmp/box.ckpt --every 500
 //! ```
 //!
 //! `full` is `Condensation::with_ordering` then `schur_entries` (what the fault ODE does
@@ -20,7 +22,10 @@
 //! two and prints their largest difference (its memory is not either's). Prints one
 //! Markdown table row: dofs, kept dofs, method, ordering, factor entries (full) or the
 //! plan's bytes (schur-only), wall times, peak resident memory, and trace(S) and ‖g‖ to
-//! compare the methods across runs.
+//! compare the methods across runs. With `--checkpoint PATH` the Schur-only set-up writes
+//! its state every `--every` fronts (default 1000) and resumes from an existing file (kill
+//! it and run the same command again); it prints a checksum of the bits of `S` and `g` to
+//! compare a resumed run with an uninterrupted one.
 
 #[path = "../tests/suite/elasticity_box.rs"]
 mod elasticity_box;
@@ -28,7 +33,9 @@ mod elasticity_box;
 use std::time::Instant;
 
 use elasticity_box::ElasticityBox;
-use rsf_direct::{Condensation, InteriorOrdering, RightHandSide, SchurOnly, SchurOnlyOptions};
+use rsf_direct::{
+    CheckpointPolicy, Condensation, InteriorOrdering, RightHandSide, SchurOnly, SchurOnlyOptions,
+};
 
 /// The process's peak resident set (VmHWM, bytes) from /proc/self/status (0 elsewhere).
 fn peak_rss() -> u64 {
@@ -51,6 +58,8 @@ struct Args {
     cubes: usize,
     method: String,
     ordering: InteriorOrdering,
+    checkpoint: Option<String>,
+    every: usize,
 }
 
 fn parse() -> Result<Args, String> {
@@ -58,6 +67,8 @@ fn parse() -> Result<Args, String> {
         cubes: 16,
         method: "schur-only".into(),
         ordering: InteriorOrdering::Amd,
+        checkpoint: None,
+        every: 1000,
     };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
@@ -68,6 +79,8 @@ fn parse() -> Result<Args, String> {
             "--ordering" => {
                 args.ordering = value()?.parse().map_err(|e| format!("--ordering: {e}"))?
             }
+            "--checkpoint" => args.checkpoint = Some(value()?),
+            "--every" => args.every = value()?.parse().map_err(|e| format!("--every: {e}"))?,
             _ => return Err(format!("unknown argument {a}")),
         }
     }
@@ -134,9 +147,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 x_fixed: &x,
             },
         ];
-        let kept = elim.eliminate(&rhs, &SchurOnlyOptions::default())?;
+        let options = SchurOnlyOptions {
+            checkpoint: args.checkpoint.as_ref().map(|path| CheckpointPolicy {
+                every_fronts: Some(args.every),
+                every_seconds: None,
+                ..CheckpointPolicy::new(path)
+            }),
+            ..Default::default()
+        };
+        let kept = elim.eliminate(&rhs, &options)?;
         let total = t.elapsed().as_secs_f64();
         eprintln!("report: {:?}", kept.report());
+        // FNV-1a over the bits of S and g: equal for equal bits.
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let bits = kept
+            .schur()
+            .packed_rows()
+            .iter()
+            .chain(kept.condensed_rhs().iter().flatten());
+        for v in bits {
+            for byte in v.to_bits().to_le_bytes() {
+                h = (h ^ byte as u64).wrapping_mul(0x100_0000_01b3);
+            }
+        }
+        eprintln!("checksum of the bits of S and g: {h:016x}");
         schur_only = Some((kept, analyse, total, plan));
     }
     if args.method != "schur-only" {
