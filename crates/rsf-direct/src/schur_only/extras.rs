@@ -14,15 +14,13 @@
 //! [`Condensation`](crate::Condensation)'s onto the blocks alone, and `x_P` is what
 //! [`Condensation::extend`](crate::Condensation::extend) gives at `P`.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
 use faer::reborrow::IntoConst;
 use faer::{Mat, Par};
 
-use super::packed::{sub_gram_rows, try_zeros, PackedSymmetric, PANEL};
+use super::packed::{cholesky, cholesky_scratch, sub_gram_rows, try_zeros, PackedSymmetric, PANEL};
 use super::{KeptSchur, SchurOnlyReport};
 use crate::error::{Error, Result};
 
@@ -227,28 +225,9 @@ impl KeptSchur {
                 }
             },
         );
-        let mut mem = MemBuffer::try_new(cholesky_in_place_scratch::<f64>(
-            np,
-            Par::Seq,
-            Default::default(),
-        ))
-        .map_err(|_| Error::OutOfMemory {
-            what: "the extras' Cholesky scratch",
-            bytes: 8 * np,
-        })?;
-        cholesky_in_place(
-            l.as_mut(),
-            Default::default(),
-            Par::Seq,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .map_err(|e| {
-            let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } = e;
-            Error::NonPositivePivot {
-                what: "S_PP, the extra kept dofs' block of the Schur complement",
-                dof: extra_dofs[index],
-            }
+        cholesky(l.as_mut(), &mut cholesky_scratch(np)?).map_err(|k| Error::NonPositivePivot {
+            what: "S_PP, the extra kept dofs' block of the Schur complement",
+            dof: extra_dofs[k],
         })?;
         // W = L⁻¹ S_PF, stored transposed (|F| × np, column-major: row j of Wᵀ is the
         // column j of W).

@@ -11,14 +11,15 @@
 //! stored. Its last `r` columns are then exactly the contribution block's layout, which
 //! moves down over the children's blocks.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::dyn_stack::MemBuffer;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, MatMut, MatRef, Par};
 
-use super::packed::{col_start, sub_gram_cols, sub_gram_rows, try_zeros, PANEL};
+use super::packed::{
+    cholesky, cholesky_scratch, col_start, sub_gram_cols, sub_gram_rows, try_zeros, PANEL,
+};
 use super::tree::{front_flops, update_buffer, Tree};
 use crate::error::{Error, Result};
 use rsf_linalg::Csc;
@@ -77,15 +78,7 @@ impl Workspace {
             bytes: 4 * n,
         })?;
         map.resize(n, NONE);
-        let chol = MemBuffer::try_new(cholesky_in_place_scratch::<f64>(
-            PANEL,
-            Par::Seq,
-            Default::default(),
-        ))
-        .map_err(|_| Error::OutOfMemory {
-            what: "the pivot block's scratch",
-            bytes: 8 * PANEL,
-        })?;
+        let chol = cholesky_scratch(PANEL)?;
         Ok(Self {
             panel: try_zeros(tree.max_panel, "the front's pivot panel")?,
             tmp: try_zeros(
@@ -195,19 +188,9 @@ pub(super) fn eliminate(
         }
         let mut dm = MatMut::from_column_major_slice_mut(d, h, nb);
         let (mut l11, mut l21) = dm.rb_mut().split_at_row_mut(nb);
-        cholesky_in_place(
-            l11.rb_mut(),
-            Default::default(),
-            Par::Seq,
-            MemStack::new(&mut ws.chol),
-            Default::default(),
-        )
-        .map_err(|e| {
-            let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } = e;
-            Error::NonPositivePivot {
-                what: "the elimination of the interior",
-                dof: m.order[c0 + j0 + index],
-            }
+        cholesky(l11.rb_mut(), &mut ws.chol).map_err(|k| Error::NonPositivePivot {
+            what: "the elimination of the interior",
+            dof: m.order[c0 + j0 + k],
         })?;
         solve_lower_triangular_in_place(l11.rb(), l21.rb_mut().transpose_mut(), Par::Seq);
         // l21: the front's rows j₁..ld.

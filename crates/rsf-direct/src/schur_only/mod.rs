@@ -551,19 +551,27 @@ impl<const D: usize> SchurOnly<D> {
                 limit,
             });
         }
-        let inputs = options.checkpoint.as_ref().map(|_| self.input_sum(rhs));
-        let mut resumed_at = None;
-        let (mut st, mut written, seconds_before) = match (&options.checkpoint, inputs) {
-            (Some(cp), Some(inputs)) => match checkpoint::open(&cp.path)? {
-                Some(reader) => {
+        let mut log = Log::new(
+            clock,
+            options
+                .checkpoint
+                .as_ref()
+                .map(|cp| (cp, self.input_sum(rhs))),
+        );
+        let resumed = match log.policy {
+            Some((cp, inputs)) => checkpoint::open(&cp.path)?
+                .map(|reader| {
                     let h = reader.header;
-                    let st = self.resume(reader, inputs, rhs.len(), &cp.path)?;
-                    resumed_at = Some(st.done);
-                    (st, h.written, h.seconds)
-                }
-                None => (self.fresh(rhs)?, 0, 0.0),
-            },
-            _ => (self.fresh(rhs)?, 0, 0.0),
+                    log.resumed(h.done, h.written, h.seconds);
+                    self.resume(reader, inputs, rhs.len(), &cp.path)
+                })
+                .transpose()?,
+            None => None,
+        };
+        let resumed_at = resumed.as_ref().map(|st| st.done);
+        let mut st = match resumed {
+            Some(st) => st,
+            None => self.fresh(rhs)?,
         };
         let mut ws = Workspace::new(&self.tree, rhs.len())?;
         let ordered = Ordered {
@@ -572,40 +580,20 @@ impl<const D: usize> SchurOnly<D> {
             order: &self.order,
         };
         let total = self.tree.fronts.len();
-        let mut last_write = Instant::now();
-        let mut checkpoint_seconds = 0.0;
-        let mut last_written_at = resumed_at;
         let flops_all = plan.flops + rhs.len() as f64 * plan.flops_per_rhs;
         while st.done < total {
             front::eliminate(st.done, &self.tree, &ordered, &mut st, &mut ws)?;
             st.done += 1;
-            if let Some(cp) = &options.checkpoint {
-                let due = cp.every_fronts.is_some_and(|k| st.done % k == 0)
-                    || cp
-                        .every_seconds
-                        .is_some_and(|s| last_write.elapsed().as_secs_f64() >= s);
-                if due && st.done < total {
-                    let t = Instant::now();
-                    written += 1;
-                    self.write(
-                        cp,
-                        &st,
-                        inputs,
-                        written,
-                        seconds_before + clock.elapsed().as_secs_f64(),
-                    )?;
-                    checkpoint_seconds += t.elapsed().as_secs_f64();
-                    last_write = Instant::now();
-                    last_written_at = Some(st.done);
-                }
+            if st.done < total && log.due(st.done) {
+                log.write(self, &st)?;
             }
             let progress = Progress {
                 fronts_done: st.done,
                 fronts: total,
                 flops_done: st.flops,
                 flops: flops_all,
-                seconds: clock.elapsed().as_secs_f64(),
-                checkpoints_written: written,
+                seconds: log.clock.elapsed().as_secs_f64(),
+                checkpoints_written: log.written,
             };
             if monitor(&progress).is_break() {
                 return Err(Error::Stopped {
@@ -614,31 +602,7 @@ impl<const D: usize> SchurOnly<D> {
                 });
             }
         }
-        if let Some(cp) = &options.checkpoint {
-            if !cp.keep_result {
-                match std::fs::remove_file(&cp.path) {
-                    Ok(()) => {}
-                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-                    Err(e) => {
-                        return Err(Error::Checkpoint {
-                            path: cp.path.display().to_string(),
-                            reason: e.to_string(),
-                        })
-                    }
-                }
-            } else if last_written_at != Some(total) {
-                let t = Instant::now();
-                written += 1;
-                self.write(
-                    cp,
-                    &st,
-                    inputs,
-                    written,
-                    seconds_before + clock.elapsed().as_secs_f64(),
-                )?;
-                checkpoint_seconds += t.elapsed().as_secs_f64();
-            }
-        }
+        log.finish(self, &st)?;
         drop(ws);
         let (nr, nk) = (self.tree.nr, self.tree.nk);
         let n = nr + nk;
@@ -649,7 +613,7 @@ impl<const D: usize> SchurOnly<D> {
         if !st.s.iter().all(|v| v.is_finite()) || !g.iter().flatten().all(|v| v.is_finite()) {
             return Err(Error::NonFinite("the Schur complement on the kept set"));
         }
-        let seconds = clock.elapsed().as_secs_f64();
+        let seconds = log.clock.elapsed().as_secs_f64();
         let report = SchurOnlyReport {
             fronts: st.done,
             largest_front_bytes: 8 * st.largest_front,
@@ -657,10 +621,10 @@ impl<const D: usize> SchurOnly<D> {
             result_bytes: 8 * (st.s.len() + nk * rhs.len()),
             flops: st.flops,
             seconds,
-            seconds_total: seconds_before + seconds,
+            seconds_total: log.seconds_before + seconds,
             resumed_at,
-            checkpoints_written: written,
-            checkpoint_seconds,
+            checkpoints_written: log.written,
+            checkpoint_seconds: log.seconds,
         };
         Ok(KeptSchur {
             s: PackedSymmetric::from_rows(nk, std::mem::take(&mut st.s)),
@@ -671,11 +635,8 @@ impl<const D: usize> SchurOnly<D> {
         })
     }
 
-    /// The state before the first front: `S_KK = A_KK`, the right-hand sides `b̃` in
-    /// elimination order, an empty stack with room for its peak.
-    fn fresh(&self, rhs: &[RightHandSide<'_>]) -> Result<State> {
-        let (nr, nk) = (self.tree.nr, self.tree.nk);
-        let n = nr + nk;
+    /// An empty stack with room for its planned peak (it never grows after).
+    fn empty_stack(&self) -> Result<Vec<f64>> {
         let mut stack = Vec::new();
         stack
             .try_reserve_exact(self.tree.peak_stack)
@@ -683,6 +644,15 @@ impl<const D: usize> SchurOnly<D> {
                 what: "the stack of contribution blocks",
                 bytes: 8 * self.tree.peak_stack,
             })?;
+        Ok(stack)
+    }
+
+    /// The state before the first front: `S_KK = A_KK`, the right-hand sides `b̃` in
+    /// elimination order, an empty stack with room for its peak.
+    fn fresh(&self, rhs: &[RightHandSide<'_>]) -> Result<State> {
+        let (nr, nk) = (self.tree.nr, self.tree.nk);
+        let n = nr + nk;
+        let stack = self.empty_stack()?;
         let mut s = PackedSymmetric::zeros(nk)?.into_packed_rows();
         for c in nr..n {
             let (rows, vals) = self.a.col(self.order[c]);
@@ -751,30 +721,6 @@ impl<const D: usize> SchurOnly<D> {
         sum.finish()
     }
 
-    fn write(
-        &self,
-        cp: &CheckpointPolicy,
-        st: &State,
-        inputs: Option<[u64; 2]>,
-        written: usize,
-        seconds: f64,
-    ) -> Result<()> {
-        let header = Header {
-            inputs: inputs.unwrap_or_default(),
-            layout: self.layout_sum,
-            done: st.done,
-            stack_len: st.stack.len(),
-            s_len: st.s.len(),
-            y_len: st.y.len(),
-            largest_front: st.largest_front,
-            peak_stack: st.peak_stack,
-            flops: st.flops,
-            seconds,
-            written,
-        };
-        checkpoint::write(&cp.path, &header, [&st.stack, &st.s, &st.y])
-    }
-
     /// The state of an opened checkpoint, if it is of these inputs and consistent.
     fn resume(
         &self,
@@ -811,13 +757,7 @@ impl<const D: usize> SchurOnly<D> {
                 reason: "damaged: its sizes do not match its problem".into(),
             });
         }
-        let mut stack = Vec::new();
-        stack
-            .try_reserve_exact(self.tree.peak_stack)
-            .map_err(|_| Error::OutOfMemory {
-                what: "the stack of contribution blocks",
-                bytes: 8 * self.tree.peak_stack,
-            })?;
+        let mut stack = self.empty_stack()?;
         stack.resize(h.stack_len, 0.0);
         let mut s = try_zeros(h.s_len, "the packed Schur complement")?;
         let mut y = try_zeros(h.y_len, "the carried right-hand sides")?;
@@ -831,5 +771,100 @@ impl<const D: usize> SchurOnly<D> {
             peak_stack: h.peak_stack,
             flops: h.flops,
         })
+    }
+}
+
+/// The checkpoints of one call: the policy and the inputs' checksum (none without a
+/// policy), how many were written (with those of the calls before it), when, and the time
+/// they took.
+struct Log<'p> {
+    policy: Option<(&'p CheckpointPolicy, [u64; 2])>,
+    /// The call's start.
+    clock: Instant,
+    /// The last write (or the start).
+    last: Instant,
+    /// The position of the last checkpoint written or resumed from.
+    at: Option<usize>,
+    written: usize,
+    /// Wall time of the calls before a resume, and this call's time writing.
+    seconds_before: f64,
+    seconds: f64,
+}
+
+impl<'p> Log<'p> {
+    fn new(clock: Instant, policy: Option<(&'p CheckpointPolicy, [u64; 2])>) -> Self {
+        Self {
+            policy,
+            clock,
+            last: clock,
+            at: None,
+            written: 0,
+            seconds_before: 0.0,
+            seconds: 0.0,
+        }
+    }
+
+    /// A resume from a checkpoint at `done` fronts, the `written`-th, after `seconds` of
+    /// earlier calls.
+    fn resumed(&mut self, done: usize, written: usize, seconds: f64) {
+        (self.at, self.written, self.seconds_before) = (Some(done), written, seconds);
+    }
+
+    /// Whether the policy asks for a checkpoint after `done` fronts.
+    fn due(&self, done: usize) -> bool {
+        self.policy.is_some_and(|(cp, _)| {
+            cp.every_fronts.is_some_and(|k| done % k == 0)
+                || cp
+                    .every_seconds
+                    .is_some_and(|s| self.last.elapsed().as_secs_f64() >= s)
+        })
+    }
+
+    /// Writes the state `st` of `elim`'s elimination.
+    fn write<const D: usize>(&mut self, elim: &SchurOnly<D>, st: &State) -> Result<()> {
+        let Some((cp, inputs)) = self.policy else {
+            return Ok(());
+        };
+        let t = Instant::now();
+        self.written += 1;
+        let header = Header {
+            inputs,
+            layout: elim.layout_sum,
+            done: st.done,
+            stack_len: st.stack.len(),
+            s_len: st.s.len(),
+            y_len: st.y.len(),
+            largest_front: st.largest_front,
+            peak_stack: st.peak_stack,
+            flops: st.flops,
+            seconds: self.seconds_before + self.clock.elapsed().as_secs_f64(),
+            written: self.written,
+        };
+        checkpoint::write(&cp.path, &header, [&st.stack, &st.s, &st.y])?;
+        self.seconds += t.elapsed().as_secs_f64();
+        self.last = Instant::now();
+        self.at = Some(st.done);
+        Ok(())
+    }
+
+    /// At the end: the finished state kept (unless it is the file already) or the file
+    /// removed, as the policy says.
+    fn finish<const D: usize>(&mut self, elim: &SchurOnly<D>, st: &State) -> Result<()> {
+        let Some((cp, _)) = self.policy else {
+            return Ok(());
+        };
+        if cp.keep_result {
+            if self.at != Some(st.done) {
+                self.write(elim, st)?;
+            }
+            return Ok(());
+        }
+        match std::fs::remove_file(&cp.path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::Checkpoint {
+                path: cp.path.display().to_string(),
+                reason: e.to_string(),
+            }),
+            _ => Ok(()),
+        }
     }
 }

@@ -1,6 +1,8 @@
 //! The symmetric result stored as the rows of its lower triangle, and the one dense update
 //! the elimination makes of it (and of its contribution blocks): `S −= X Xᵀ` in panels.
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch, LltError};
 use faer::linalg::matmul::matmul;
 use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::reborrow::ReborrowMut;
@@ -256,4 +258,37 @@ pub(super) fn sub_gram_cols(c: &mut [f64], r: usize, x: MatRef<'_, f64>, tmp: &m
             }
         }
     }
+}
+
+/// Scratch of [`cholesky`] for blocks of up to `m` rows, allocated fallibly.
+///
+/// # Errors
+/// [`Error::OutOfMemory`] if the allocation fails.
+pub(super) fn cholesky_scratch(m: usize) -> Result<MemBuffer> {
+    MemBuffer::try_new(cholesky_in_place_scratch::<f64>(
+        m,
+        Par::Seq,
+        Default::default(),
+    ))
+    .map_err(|_| Error::OutOfMemory {
+        what: "a Cholesky factor's scratch",
+        bytes: 8 * m,
+    })
+}
+
+/// The lower Cholesky factor of the SPD block `l` (lower triangle read) in place, by faer
+/// on one thread; `Err(k)` if pivot `k` is not positive.
+pub(super) fn cholesky(
+    l: MatMut<'_, f64>,
+    scratch: &mut MemBuffer,
+) -> std::result::Result<(), usize> {
+    cholesky_in_place(
+        l,
+        Default::default(),
+        Par::Seq,
+        MemStack::new(scratch),
+        Default::default(),
+    )
+    .map(|_| ())
+    .map_err(|LltError::NonPositivePivot { index }| index)
 }
