@@ -23,14 +23,19 @@
 //!   `K = F ∪ P` last: `F` the free components of the blocks, `P` optional extra free
 //!   dofs (e.g. the dofs observers read). A supernode that straddles the interior's end
 //!   is split there.
+//! - A front is stored on top of the stack (above its children's blocks) as the packed
+//!   lower triangle of its pivot and interior update columns; its pivots are factored 256
+//!   at a time (right-looking), each panel forgotten once its update of the rest of the
+//!   front is applied. The part of an update whose rows and columns are both in `K` is
+//!   added straight into `S_KK` (never stored in a front, never travelling); what remains
+//!   of the front, its contribution block, moves down over the children's blocks.
 //! - The fronts are processed in a postorder whose children come in decreasing order of
 //!   (subtree peak − contribution block), which minimises the stack's peak for the tree
 //!   (Liu 1986, "On the storage requirement in the out-of-core multifrontal method for
-//!   sparse factorization", ACM TOMS 12). A contribution block's rows and columns both in
-//!   `K` are added straight into `S_KK` (they never travel); its interior columns go on
-//!   the stack.
+//!   sparse factorization", ACM TOMS 12); [`SchurOnly::plan`] gives that peak before any
+//!   numeric work.
 //! - Right-hand sides ride along (forward substitution interleaved), so their condensed
-//!   values `g = b̃_F − A_FR A_RR⁻¹ b̃_R` come out with `S`.
+//!   values `g_K = b̃_K − A_KR A_RR⁻¹ b̃_R` come out with `S_KK`.
 //! - A post-step ([`KeptSchur::onto_interface`]) eliminates `P` again densely, giving the
 //!   Schur complement on `F` alone and the rows of the extension at `P`.
 //!
@@ -168,7 +173,7 @@ pub struct SchurOnlyPlan {
     pub result_bytes: usize,
     /// Each right-hand side carried through the elimination: one vector of `|R| + |K|`.
     pub bytes_per_rhs: usize,
-    /// Floating-point operations without right-hand sides, and per right-hand side.
+    /// Floating-point operations without right-hand sides.
     pub flops: f64,
     /// Floating-point operations per right-hand side.
     pub flops_per_rhs: f64,
@@ -196,14 +201,13 @@ impl SchurOnlyPlan {
 /// [`SchurOnly::eliminate_with`] after every front.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {
-    /// Fronts done (of the schedule) and in all.
+    /// Fronts done (of the schedule).
     pub fronts_done: usize,
     /// Fronts in all.
     pub fronts: usize,
-    /// Floating-point operations done (before a resume included) and in all (estimate
-    /// of the plan).
+    /// Floating-point operations done (before a resume included).
     pub flops_done: f64,
-    /// Floating-point operations in all.
+    /// Floating-point operations in all (the plan's count).
     pub flops: f64,
     /// Wall time of this call (s).
     pub seconds: f64,
@@ -230,8 +234,7 @@ pub struct SchurOnlyReport {
     pub seconds_total: f64,
     /// The front this call resumed at from a checkpoint (`None`: started afresh).
     pub resumed_at: Option<usize>,
-    /// Checkpoints written (before a resume included) and the wall time this call spent
-    /// writing them (s).
+    /// Checkpoints written (before a resume included).
     pub checkpoints_written: usize,
     /// Wall time this call spent writing checkpoints (s).
     pub checkpoint_seconds: f64,
@@ -415,11 +418,12 @@ impl<const D: usize> SchurOnly<D> {
             interior.retain(|&i| !is_extra[i]);
             kept.extend_from_slice(extras);
         }
-        let layout = PartialCholesky::symbolic_layout(&a, &interior, &kept, (ordering, D))?;
+        let mut layout = PartialCholesky::symbolic_layout(&a, &interior, &kept, (ordering, D))?;
         let nr = interior.len();
         drop(interior);
         let tree = Tree::new(&layout, nr)?;
-        let order = layout.order;
+        let order = std::mem::take(&mut layout.order);
+        drop(layout);
         let mut pos = vec![usize::MAX; n_all];
         for (k, &i) in order.iter().enumerate() {
             pos[i] = k;
