@@ -12,6 +12,9 @@
 //!   order is AMD after one level of dissection, or METIS's nested dissection
 //!   ([`InteriorOrdering`], feature `metis` through `rsf-metis`). The fault ODE of `rsf`
 //!   uses it alone; [`SchurEntries`] gives entries of `S` without forming it.
+//! - [`SchurOnly`]: the same `S` and condensed right-hand sides by a multifrontal
+//!   elimination that keeps no factor column (a fraction of the factor's memory in 3-D),
+//!   checkpointed, with a few extra kept dofs whose extension rows it also gives.
 //! - [`DirectSolver`]: the condensation plus a globalised nonsmooth Newton iteration on the
 //!   dense `|F|` unknowns (nonlinear Gauss–Seidel, truncated Newton with dense Cholesky,
 //!   line search) — a [`NonsmoothSolver`](rsf_nonsmooth::NonsmoothSolver) and a

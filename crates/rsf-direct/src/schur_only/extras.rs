@@ -180,9 +180,19 @@ impl InterfaceSchur {
 }
 
 impl KeptSchur {
-    /// Eliminates the extra dofs `P` from `S_KK` densely (module docs of `extras`):
-    /// `S_F = S_FF − S_FP S_PP⁻¹ S_PF`, `g_F` likewise, and the extension rows of `P`.
-    /// `S_F` reuses `S_KK`'s storage (its leading block); `O(|F|² |P|)` operations.
+    /// Eliminates the extra dofs `P` from `S_KK` densely: with `S_PP = L Lᵀ` and
+    /// `W = L⁻¹ S_PF` (`|P| × |F|`),
+    ///
+    /// ```text
+    /// S_F = S_FF − S_FP S_PP⁻¹ S_PF = S_FF − Wᵀ W,      g_F ← g_F − Wᵀ z,  z = L⁻¹ g_P,
+    /// x_P = S_PP⁻¹ (g_P − S_PF x_F) = L⁻ᵀ z − L⁻ᵀ W x_F,
+    /// ```
+    ///
+    /// so that `S_F`, `g_F` are the condensation's onto the blocks alone (the Schur
+    /// complement of `S_PP` in `S_KK` is that of `A_{R∪P}` in `A`) and `x_P` is what
+    /// [`Condensation::extend`](crate::Condensation::extend) gives at `P`
+    /// ([`ExtraRows`]). `S_F` reuses `S_KK`'s storage (its leading block);
+    /// `O(|F|² |P|)` operations.
     ///
     /// # Errors
     /// [`Error::NonPositivePivot`] (at a dof of `P`) if `S_PP` is not numerically

@@ -1,48 +1,7 @@
 //! The condensation without the whole factor: a multifrontal elimination of the interior
 //! that keeps no factor column, only the dense Schur complement on a kept set and the
 //! condensed right-hand sides (docs/three-d.md, "The condensation without the whole
-//! factor").
-//!
-//! [`Condensation`](crate::Condensation) holds the whole sparse Cholesky factor of `A`
-//! (`O(n^{4/3})` entries for a 3-D volume with nested dissection), which it needs for
-//! its forward and backward sweeps. A quasi-dynamic fault needs only `S` and a few
-//! condensed right-hand sides, and the factor is then the set-up's memory wall. The
-//! multifrontal method (Duff & Reid 1983, "The multifrontal solution of indefinite sparse
-//! symmetric linear equations", ACM TOMS 9; Liu 1992, "The multifrontal method for sparse
-//! matrix solution: theory and practice", SIAM Review 34) computes the same elimination
-//! front by front: each supernode's columns of the matrix and its children's
-//! contribution blocks are assembled into a dense front, its pivots are factored, and the
-//! update of the rows below is passed to the parent. Nothing needs a factor column once
-//! its front is done, so none is kept: what the elimination holds at once is the kept
-//! block `S_KK`, the largest front, and the stack of contribution blocks waiting for
-//! their parents. This is what MUMPS computes when asked for a Schur complement
-//! (`ICNTL(19)`), with the factor columns dropped instead of stored.
-//!
-//! - The ordering and the supernodes are [`Condensation`](crate::Condensation)'s (the
-//!   same [`InteriorOrdering`], the same symbolic analysis by faer), with the kept set
-//!   `K = F ∪ P` last: `F` the free components of the blocks, `P` optional extra free
-//!   dofs (e.g. the dofs observers read). A supernode that straddles the interior's end
-//!   is split there.
-//! - A front is stored on top of the stack (above its children's blocks) as the packed
-//!   lower triangle of its pivot and interior update columns; its pivots are factored 256
-//!   at a time (right-looking), each panel forgotten once its update of the rest of the
-//!   front is applied. The part of an update whose rows and columns are both in `K` is
-//!   added straight into `S_KK` (never stored in a front, never travelling); what remains
-//!   of the front, its contribution block, moves down over the children's blocks.
-//! - The fronts are processed in a postorder whose children come in decreasing order of
-//!   (subtree peak − contribution block), which minimises the stack's peak for the tree
-//!   (Liu 1986, "On the storage requirement in the out-of-core multifrontal method for
-//!   sparse factorization", ACM TOMS 12); [`SchurOnly::plan`] gives that peak before any
-//!   numeric work.
-//! - Right-hand sides ride along (forward substitution interleaved), so their condensed
-//!   values `g_K = b̃_K − A_KR A_RR⁻¹ b̃_R` come out with `S_KK`.
-//! - A post-step ([`KeptSchur::onto_interface`]) eliminates `P` again densely, giving the
-//!   Schur complement on `F` alone and the rows of the extension at `P`.
-//!
-//! Every dense kernel is faer's with `Par::Seq` and every sum has a fixed order: the
-//! results are the same bits whatever the thread count, and a set-up killed and resumed
-//! from a checkpoint ([`CheckpointPolicy`]) gives the bits of an uninterrupted one (on the
-//! same machine and build: faer picks its SIMD kernels at run time).
+//! factor"); [`SchurOnly`] describes the method and its sources.
 
 mod checkpoint;
 mod extras;
@@ -301,7 +260,51 @@ impl KeptSchur {
 
 /// The elimination of the interior of `A` (`n × n`, symmetric, positive definite on its
 /// free dofs) onto a kept set, analysed and ready to run: the ordering, the symbolic
-/// factorisation and the schedule of fronts ([module docs](self)).
+/// factorisation and the schedule of fronts.
+///
+/// [`Condensation`](crate::Condensation) holds the whole sparse Cholesky factor of `A`
+/// (`O(n^{4/3})` entries for a 3-D volume with nested dissection), which it needs for
+/// its forward and backward sweeps. A quasi-dynamic fault needs only `S` and a few
+/// condensed right-hand sides, and the factor is then the set-up's memory wall. The
+/// multifrontal method (Duff & Reid 1983, "The multifrontal solution of indefinite sparse
+/// symmetric linear equations", ACM TOMS 9; Liu 1992, "The multifrontal method for sparse
+/// matrix solution: theory and practice", SIAM Review 34) computes the same elimination
+/// front by front: each supernode's columns of the matrix and its children's
+/// contribution blocks are assembled into a dense front, its pivots are factored, and the
+/// update of the rows below is passed to the parent. Nothing needs a factor column once
+/// its front is done, so none is kept: what the elimination holds at once is the kept
+/// block `S_KK`, the largest front, and the stack of contribution blocks waiting for
+/// their parents. This is what MUMPS computes when asked for a Schur complement
+/// (`ICNTL(19)`), with the factor columns dropped instead of stored.
+///
+/// - The ordering and the supernodes are [`Condensation`](crate::Condensation)'s (the
+///   same [`InteriorOrdering`], the same symbolic analysis by faer), with the kept set
+///   `K = F ∪ P` last: `F` the free components of the blocks, `P` optional extra free
+///   dofs (e.g. the dofs observers read). A supernode that straddles the interior's end
+///   is split there.
+/// - A front is stored on top of the stack (above its children's blocks) as the packed
+///   lower triangle of its pivot and interior update columns; its pivots are factored 256
+///   at a time (right-looking), each panel forgotten once its update of the rest of the
+///   front is applied. The part of an update whose rows and columns are both in `K` is
+///   added straight into `S_KK` (never stored in a front, never travelling); what remains
+///   of the front, its contribution block, moves down over the children's blocks.
+/// - The fronts are processed in a postorder whose children come in decreasing order of
+///   (subtree peak − contribution block), which minimises the stack's peak for the tree
+///   (Liu 1986, "On the storage requirement in the out-of-core multifrontal method for
+///   sparse factorization", ACM TOMS 12); [`SchurOnly::plan`] gives that peak before any
+///   numeric work.
+/// - Right-hand sides ride along (forward substitution interleaved), so their condensed
+///   values `g_K = b̃_K − A_KR A_RR⁻¹ b̃_R` come out with `S_KK`.
+/// - A post-step ([`KeptSchur::onto_interface`]) eliminates `P` again densely, giving the
+///   Schur complement on `F` alone and the rows of the extension at `P`.
+///
+/// Every dense kernel is faer's with `Par::Seq` and every sum has a fixed order: the
+/// results are the same bits whatever the thread count, and a set-up killed and resumed
+/// from a checkpoint ([`CheckpointPolicy`]) gives the bits of an uninterrupted one (on the
+/// same machine and build: faer picks its SIMD kernels at run time).
+///
+/// Measured against the full factor on 3-D elasticity boxes: docs/three-d.md, "The
+/// condensation without the whole factor".
 ///
 /// ```
 /// use faer::sparse::{SparseColMat, Triplet};
