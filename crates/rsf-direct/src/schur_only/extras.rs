@@ -1,18 +1,7 @@
 //! The post-step: the extra kept dofs `P` eliminated again densely from `S_KK`, leaving
 //! the Schur complement on the blocks' free components `F`, their condensed right-hand
 //! sides, and the rows of the extension at `P`.
-//!
-//! With `S_PP = L Lᵀ` and `W = L⁻¹ S_PF` (`|P| × |F|`):
-//!
-//! ```text
-//! S_F = S_FF − S_FP S_PP⁻¹ S_PF = S_FF − Wᵀ W,      g_F ← g_F − Wᵀ z,  z = L⁻¹ g_P,
-//! x_P = S_PP⁻¹ (g_P − S_PF x_F) = L⁻ᵀ z − L⁻ᵀ W x_F,
-//! ```
-//!
-//! the quotient property of Schur complements (the Schur complement of `S_PP` in `S_KK`
-//! is the Schur complement of `A_{R∪P}` in `A`), so `S_F` and `g_F` are
-//! [`Condensation`](crate::Condensation)'s onto the blocks alone, and `x_P` is what
-//! [`Condensation::extend`](crate::Condensation::extend) gives at `P`.
+//! ([`KeptSchur::onto_interface`] has the formulas.)
 
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
