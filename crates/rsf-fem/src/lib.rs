@@ -87,7 +87,7 @@ pub use rsf_numeric::normal_component;
 pub use split::FaultSides;
 pub use split_transform::MeanJumpTransform;
 pub use structured::{
-    cuboid, cuboid_from_coordinates, geometric_grading, geometric_grading_len,
+    cuboid, cuboid_from_coordinates, cuboid_mirrored, geometric_grading, geometric_grading_len,
     pipping_slider_coarse, rectangle, rectangle_from_coordinates, symmetric_grading, Diagonal,
     MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

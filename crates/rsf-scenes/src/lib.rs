@@ -52,7 +52,7 @@ pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
 pub use seas_bp5::{
-    SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh, MAX_CELLS as SEAS_BP5_MAX_CELLS,
+    FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh, MAX_CELLS as SEAS_BP5_MAX_CELLS,
 };
 // BP5's stations: their files are the output's (rsf-seas), their positions the scene's.
 pub use rsf_seas::{SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};

@@ -8,7 +8,7 @@ use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
 
 use crate::error::{invalid, Error, Result};
 use crate::fault_alone::{Elastic, FaultAlone};
-use crate::fault_ode::{FaultOde, FaultOdeOptions};
+use crate::fault_ode::{FaultOde, FaultOdeOptions, SchurOnlySetup};
 use crate::fault_operator::FaultOperator;
 use crate::method::fixed_point::FixedPointOptions;
 use crate::method::solver::{SolverKind, SolverOptions};
@@ -557,6 +557,31 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         operator: Box<dyn FaultOperator>,
     ) -> Result<FaultOde<D, L, S, C>> {
         self.fault_ode(options, Elastic::Condensed(Some(operator)))
+    }
+
+    /// As [`build_fault_ode`](Self::build_fault_ode) without ever holding the volume's
+    /// whole factor (issue 70; docs/three-d.md, "The condensation without the whole
+    /// factor"): the Schur complement `S`, the condensed loads and the rows of
+    /// `setup.watch_vertices` come from one multifrontal elimination that drops each
+    /// front's factor once its update is passed on ([`rsf_direct::SchurOnly`]), so the
+    /// set-up's memory is its largest fronts and pending blocks, not the factor; it can be
+    /// checkpointed and resumed, bounded in memory and watched ([`SchurOnlySetup`]). The
+    /// same `S` as [`build_fault_ode`](Self::build_fault_ode)'s up to round-off (another
+    /// summation order: another trajectory at the level of round-off, so a run keeps one
+    /// set-up). What it gives up: observers read the fault and the watched vertices only
+    /// (one that [reads the volume](crate::Observer::reads_volume) ends the run with an
+    /// error), and the normal stress must be fixed.
+    ///
+    /// # Errors
+    /// As [`build_fault_ode`](Self::build_fault_ode); [`Error::InvalidParameter`] named
+    /// `normal_stress` for a normal stress from slip, `volume_vertices` for a vertex that
+    /// is not the model's; the elimination's ([`Error::Direct`]).
+    pub fn build_fault_ode_schur_only(
+        self,
+        options: FaultOdeOptions,
+        setup: SchurOnlySetup,
+    ) -> Result<FaultOde<D, L, S, C>> {
+        self.fault_ode(options, Elastic::SchurOnly(setup))
     }
 
     /// As [`build_fault_ode`](Self::build_fault_ode) for a fault without a volume
