@@ -508,15 +508,15 @@ impl SeasBp6 {
             .build()
     }
 
-    /// The adaptive steps of BP6-C: local error of the slip at most `tolerance · D_RS`
-    /// (m) per step (slip-rate floor 1e-12 m/s), steps in [1e-3 s, 1 day].
+    /// The adaptive steps of BP6-C: local error of the slip at most `tolerance` relative
+    /// and `tolerance · D_RS` (m) absolute per step, steps in [1e-3 s, 1 day]. No test on
+    /// the slip rate's logarithm (`slip_rate_floor`): a node that starts to slide jumps
+    /// from `V = 0` to `V > 0` however short the step.
     ///
     /// # Errors
     /// An invalid tolerance.
     pub fn step_control(&self, tolerance: f64) -> Result<StepControl> {
-        let mut c = StepControl::new(tolerance, self.d_rs, 1e-3, 86_400.0)?;
-        c.slip_rate_floor = Some(1e-12);
-        Ok(c)
+        Ok(StepControl::new(tolerance, self.d_rs, 1e-3, 86_400.0)?)
     }
 
     /// Options of the fault ODE for BP6-A and -S: Dormand–Prince 5(4), local errors at most

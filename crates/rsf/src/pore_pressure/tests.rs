@@ -106,11 +106,17 @@ fn numerical_diffusion_converges_to_the_closed_form_far_from_the_ends() {
     );
     assert!(away[2] < 1e-3, "{away:?}");
     for w in away.windows(2) {
-        assert!(w[1] < 0.3 * w[0], "second order away from the source: {away:?}");
+        assert!(
+            w[1] < 0.3 * w[0],
+            "second order away from the source: {away:?}"
+        );
     }
     assert!(at_source[2] < 0.02, "{at_source:?}");
     for w in at_source.windows(2) {
-        assert!(w[1] < 0.6 * w[0], "first order at the source: {at_source:?}");
+        assert!(
+            w[1] < 0.6 * w[0],
+            "first order at the source: {at_source:?}"
+        );
     }
 }
 
