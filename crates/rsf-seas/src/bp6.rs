@@ -165,8 +165,8 @@ struct Mark {
 /// the stations [`SEAS_BP6_STATIONS`], `global.dat` and the four profiles at 100 m on
 /// `|z| ≤ 10 km` (201 positions), each value interpolated linearly between the two
 /// frictional nodes around its position (a node itself where there is one). Rows at the
-/// first accepted step at least `station_interval` (default 1 h) after the last, profile
-/// rows every `profile_interval` (default 3 h); a first row of every file at `t = 0`
+/// first accepted step at least `station_interval` (default 1 h; 0: every step) after the
+/// last, profile rows every `profile_interval` (default 3 h); a first row of every file at `t = 0`
 /// ([`write_initial_state`](Self::write_initial_state)). Columns: slip (the change of the
 /// slip dof), `log10 |V|` (floored at [`BP6_SLIP_RATE_FLOOR`]), the shear stress
 /// `τ = τ⁰ + Δτ − ηV` (MPa: the friction where the node slides, the elastic traction
