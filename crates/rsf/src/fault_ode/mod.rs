@@ -117,6 +117,8 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     normal_kernel_report: Option<KernelReport>,
     /// With a normal stress that changes: the laws scaled by it at the last step.
     scaled_tractions: Option<ScaledTractions<L>>,
+    /// With a pore pressure: the laws at `σ̄_n − p` of the last step.
+    effective_tractions: Option<crate::pore_pressure::EffectiveTractions<L>>,
     /// The vertices off Γ_F that observers read without the volume
     /// ([`Observer::volume_vertices`]), computed after every step.
     probe: Option<VolumeProbe>,
@@ -329,7 +331,28 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             normal,
             parts: None,
             shared: None,
+            pressure: problem.pore_pressure().map(|at_nodes| {
+                let sigma_laws: Vec<f64> = problem
+                    .friction_laws()
+                    .iter()
+                    .map(|l| l.normal_stress().unwrap_or(f64::NAN))
+                    .collect();
+                rates::PressureRates {
+                    at_nodes: at_nodes.clone(),
+                    effective: sigma_laws.clone(),
+                    scratch: vec![0.0; sigma_laws.len()],
+                    sigma_laws,
+                }
+            }),
         };
+        let effective_tractions =
+            rates
+                .pressure
+                .as_ref()
+                .map(|p| crate::pore_pressure::EffectiveTractions {
+                    laws: problem.friction_laws().to_vec(),
+                    sigma: p.sigma_laws.clone(),
+                });
         let mut kinematics = Kinematics::zeros(n);
         kinematics.u.copy_from_slice(&model.initial_displacement);
         let rk = EmbeddedRungeKutta::new(options.tableau, options.runge_kutta, y.len(), dt0)?;
@@ -357,6 +380,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             evaluations: 0,
             normal_kernel_report,
             scaled_tractions,
+            effective_tractions,
             probe,
         };
         // The slip rates at t = 0 (a check that the initial state is admissible).
@@ -660,6 +684,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             // observers' vertices, `watch_vertices`, are rank 0's alone in the programs).
             normal.evaluate(t, big_g, &self.y[..m], &mut tr.sigma, r.par)?;
         }
+        if let (Some(pr), Some(tr)) = (&mut r.pressure, &mut self.effective_tractions) {
+            let base = self.scaled_tractions.as_ref().map(|s| &s.sigma[..]);
+            pr.lower(t, base)?;
+            tr.sigma.copy_from_slice(&pr.effective);
+        }
         Ok(())
     }
 
@@ -724,6 +753,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 state_laws: self.problem.state_laws(),
                 uses_state: self.problem.uses_state(),
                 data: &mut self.rates,
+            };
+            // A step ends at the pore pressure's next breakpoint (a shut-in) rather than
+            // step over it.
+            let t_end = match (
+                t_end,
+                sys.data
+                    .pressure
+                    .as_ref()
+                    .and_then(|p| p.at_nodes.next_breakpoint(t)),
+            ) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
             };
             self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?
         };
@@ -819,6 +860,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
         &self.state
     }
     fn fault_tractions(&self) -> &dyn FaultTractions {
+        if let Some(t) = &self.effective_tractions {
+            return t;
+        }
         match &self.scaled_tractions {
             Some(t) => t,
             None => self.problem.fault_tractions(),
