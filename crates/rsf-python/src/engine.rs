@@ -77,7 +77,7 @@ impl<const D: usize, const C: usize> Observer<D, C> for Recording {
         self.fixed_point_iterations
             .push(s.report.fixed_point_iterations as u64);
         self.detector.push(s.report.step, t, max, &[]);
-        if self.fault_every > 0 && s.report.step % self.fault_every == 0 {
+        if self.fault_every > 0 && s.report.step.is_multiple_of(self.fault_every) {
             self.fault_t.push(t);
             for k in 0..n {
                 self.slip_rate.push(s.slip_rate(k));

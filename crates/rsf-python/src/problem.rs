@@ -356,7 +356,6 @@ impl Friction {
     /// `mu0`, `a`, `b` (dimensionless), `v0` (m/s), `l` (m), `sigma_n` (Pa).
     #[staticmethod]
     fn dieterich_ruina(
-        py: Python<'_>,
         mu0: Py<PyAny>,
         a: Py<PyAny>,
         b: Py<PyAny>,
@@ -364,7 +363,6 @@ impl Friction {
         l: Py<PyAny>,
         sigma_n: Py<PyAny>,
     ) -> Self {
-        let _ = py;
         Self {
             kind: FrictionKind::DieterichRuina,
             params: vec![

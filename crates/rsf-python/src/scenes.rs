@@ -32,12 +32,15 @@ const PER_NODE: [(&str, &str); 4] = [
     ("sigma_n_pa", "sigma_n"),
 ];
 
+/// Keyword arguments split into scene fields (JSON values) and per-node parameters.
+type Split<'py> = (Vec<(String, Value)>, Vec<(String, Bound<'py, PyAny>)>);
+
 /// The keyword arguments as scene fields, those of `per_node_names` that are not numbers
 /// (arrays, functions) set aside.
 fn split<'py>(
     kwargs: Option<&Bound<'py, PyDict>>,
     per_node_names: &[&str],
-) -> PyResult<(Vec<(String, Value)>, Vec<(String, Bound<'py, PyAny>)>)> {
+) -> PyResult<Split<'py>> {
     let mut fields = Vec::new();
     let mut per = Vec::new();
     if let Some(kw) = kwargs {

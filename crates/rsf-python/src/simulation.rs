@@ -124,7 +124,7 @@ fn array1<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyAr
 
 /// `v` (row-major, `cols` per row) as an array of shape `(rows, cols)`.
 fn array2<'py>(py: Python<'py>, v: &[f64], cols: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let rows = if cols == 0 { 0 } else { v.len() / cols };
+    let rows = v.len().checked_div(cols).unwrap_or(0);
     v.to_vec().into_pyarray(py).reshape([rows, cols])
 }
 
@@ -163,6 +163,7 @@ impl Simulation {
     /// writes it every that many steps too. `progress` draws a bar on stderr. Returns a
     /// summary (steps, why it ended, mean fixed point iterations, rejected attempts).
     #[pyo3(signature = (until=None, *, steps=None, progress=false, checkpoint=None, checkpoint_every=0))]
+    #[allow(clippy::too_many_arguments)] // Python's keyword arguments
     fn advance(
         &mut self,
         py: Python<'_>,
