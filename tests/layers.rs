@@ -30,8 +30,11 @@ const LAYERS: &[&[&str]] = &[
     // The SEAS output files: observers of rsf, set up by the scenes (docs/design.md).
     &["rsf-seas"],
     &["rsf-scenes"],
-    // Outside the default build (MPI); its programs are the root package's.
-    &["rsf-mpi"],
+    // Outside the default build (MPI, HDF5); their programs are the root package's.
+    &["rsf-mpi", "rsf-hdf5"],
+    // Outside the default build: the Python package, over the crates above (rsf-hdf5 behind
+    // its feature `hdf5`).
+    &["rsf-python"],
 ];
 
 fn workspace() -> PathBuf {

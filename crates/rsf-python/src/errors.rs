@@ -102,6 +102,13 @@ impl<T> OrPy<T> for Result<T, rsf_seas::Error> {
     }
 }
 
+#[cfg(feature = "hdf5")]
+impl<T> OrPy<T> for Result<T, rsf_hdf5::Error> {
+    fn py(self) -> PyResult<T> {
+        self.map_err(|e| to_py(e.into()))
+    }
+}
+
 /// Registers the classes on the module.
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

@@ -1,9 +1,11 @@
-//! The fields of a 3-D (or 2-D) run into an HDF5 file with an Xdmf index (the library's
-//! `rsf::observe::Hdf5Fields`, feature `hdf5` of this package).
+//! HDF5 output (feature `hdf5` of this package, the crate `rsf-hdf5`): the fields of a
+//! 3-D (or 2-D) run into an HDF5 file with an Xdmf index (`rsf_hdf5::Hdf5Fields`), and the
+//! series of a SEAS run's folder into its `seas.h5` (`rsf_hdf5::SeasSeries`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
+use rsf::observe::FileMode;
 
 use crate::errors::invalid;
 
@@ -14,17 +16,38 @@ pub(crate) fn hdf5_observer<const D: usize>(
     every: usize,
 ) -> PyResult<Vec<Box<dyn rsf::Observer<D>>>> {
     use crate::errors::OrPy;
-    use rsf::observe::{Every, FileMode, Hdf5Fields, Interval};
+    use rsf::observe::{Every, Interval};
     let Some(path) = path else {
         return Ok(Vec::new());
     };
     if every == 0 {
         return Err(invalid("hdf5_every", "at least 1 (steps)"));
     }
-    let fields = Hdf5Fields::new(&path, FileMode::Create).py()?;
+    let fields = rsf_hdf5::Hdf5Fields::new(&path, FileMode::Create).py()?;
     Ok(vec![Box::new(
         Every::new(Interval::Steps(every), fields).py()?,
     )])
+}
+
+/// The observer writing the series of the SEAS run in `dir` into `dir/seas.h5` at the end
+/// of every run call (after the SEAS output, which it reads).
+#[cfg(feature = "hdf5")]
+pub(crate) fn seas_series_observer<const D: usize, const C: usize>(
+    dir: &Path,
+    mode: FileMode,
+) -> PyResult<Box<dyn rsf::Observer<D, C>>> {
+    use crate::errors::OrPy;
+    Ok(Box::new(rsf_hdf5::SeasSeries::new(dir, mode).py()?))
+}
+
+/// What a build without HDF5 says when asked for a file (`argument` the keyword).
+#[cfg(not(feature = "hdf5"))]
+fn no_hdf5(argument: &str) -> PyErr {
+    invalid(
+        argument,
+        "this build of the package has no HDF5 output: install it with \
+         MATURIN_PEP517_ARGS=\"--features hdf5\" (docs/python.md)",
+    )
 }
 
 /// Without the feature `hdf5`: an error if a file is asked for.
@@ -36,10 +59,16 @@ pub(crate) fn hdf5_observer<const D: usize>(
     let _ = every;
     match path {
         None => Ok(Vec::new()),
-        Some(_) => Err(invalid(
-            "hdf5",
-            "this build of the package has no HDF5 output: install it with \
-             MATURIN_PEP517_ARGS=\"--features hdf5\" (docs/python.md)",
-        )),
+        Some(_) => Err(no_hdf5("hdf5")),
     }
+}
+
+/// Without the feature `hdf5`: an error.
+#[cfg(not(feature = "hdf5"))]
+pub(crate) fn seas_series_observer<const D: usize, const C: usize>(
+    dir: &Path,
+    mode: FileMode,
+) -> PyResult<Box<dyn rsf::Observer<D, C>>> {
+    let _ = (dir, mode);
+    Err(no_hdf5("hdf5"))
 }

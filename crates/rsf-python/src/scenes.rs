@@ -203,10 +203,12 @@ pub(crate) fn slider_3d(
 /// "hierarchical" or "dense", `kernel_epsilon`, `threads`, `end_years`, `every_step`,
 /// `modeler`, `date`). With `out`, the benchmark's files (`fltst_dp*`, `devol.dat`,
 /// `events.csv`) are written there as the program writes them (the folder refused if it
-/// holds another run's files, unless `overwrite`). Other keyword arguments are the
-/// scene's physical parameters (`a0`, `a_max`, `sigma_n`, …, SI units).
+/// holds another run's files, unless `overwrite`); with `hdf5` also their series in one
+/// HDF5 file, `seas.h5` in `out`, at the end of every `run`/`advance` (the package built
+/// with the feature `hdf5`, as `crates/rsf-hdf5`'s program `seas_bp1`). Other keyword
+/// arguments are the scene's physical parameters (`a0`, `a_max`, `sigma_n`, …, SI units).
 #[pyfunction]
-#[pyo3(signature = (*, dz=25.0, domain_km=400.0, ratio=1.05, rk_tolerance=1e-6, kernel="hierarchical", kernel_epsilon=None, threads=None, end_years=3000.0, every_step=false, out=None, overwrite=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[pyo3(signature = (*, dz=25.0, domain_km=400.0, ratio=1.05, rk_tolerance=1e-6, kernel="hierarchical", kernel_epsilon=None, threads=None, end_years=3000.0, every_step=false, out=None, overwrite=false, hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn seas_bp1(
     dz: f64,
@@ -220,6 +222,7 @@ pub(crate) fn seas_bp1(
     every_step: bool,
     out: Option<PathBuf>,
     overwrite: bool,
+    hdf5: bool,
     modeler: &str,
     date: Option<String>,
     fault_every: usize,
@@ -292,6 +295,9 @@ pub(crate) fn seas_bp1(
         .with("switch_to_quasi_dynamic", 1e-4)
         .with("dynamic_fixed_point_tolerance", 1e-6);
     let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
+    if hdf5 && out.is_none() {
+        return Err(invalid("hdf5", "needs `out`: the series are those of its files"));
+    }
     if let Some(out) = out {
         let folder = RunFolder::new(&out, "seas_bp1", &[]);
         let mode: FileMode = folder.prepare(false, overwrite).py()?;
@@ -312,6 +318,10 @@ pub(crate) fn seas_bp1(
             .write_initial_state(model, rsf::Stepping::state(&sim))
             .py()?;
         files.push(Box::new(output));
+        if hdf5 {
+            // After the output, whose files it reads.
+            files.push(crate::fields::seas_series_observer(&out, mode)?);
+        }
     }
     let engine = Engine::<2, 1, _> {
         sim,

@@ -1,6 +1,7 @@
 """HDF5 fields of the 3-D slider read back with h5py: the file's fault fields equal the
 records the run keeps in memory, its last frame the state, and the Xdmf index parses and
-references the file's datasets."""
+references the file's datasets. BP1's series in `seas.h5` equal its text files read by
+numpy."""
 
 import xml.etree.ElementTree as ET
 
@@ -55,3 +56,47 @@ def test_hdf5_fields_read_back_with_h5py_equal_the_run(tmp_path):
             assert name == path.name
             dims = tuple(int(x) for x in d.get("Dimensions").split())
             assert f[dataset].shape == dims, dataset
+
+
+BP1 = dict(dz=400.0, domain_km=100.0, end_years=200.0, threads=1, date="2026-01-01")
+
+
+@pytest.mark.skipif(rsf.HAS_HDF5, reason="this build has HDF5 output")
+def test_without_the_feature_seas_series_are_a_named_error(tmp_path):
+    with pytest.raises(rsf.InvalidParameterError, match="hdf5"):
+        rsf.seas_bp1(out=tmp_path, hdf5=True, **BP1)
+
+
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_bp1_series_in_hdf5_equal_its_text_files(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    with pytest.raises(rsf.InvalidParameterError, match="out"):
+        rsf.seas_bp1(hdf5=True, **BP1)
+    sim = rsf.seas_bp1(out=tmp_path, hdf5=True, **BP1)
+    sim.run()
+    stations = sorted(p.name for p in tmp_path.iterdir() if p.name.startswith("fltst_"))
+    assert len(stations) == 12
+    with h5py.File(tmp_path / "seas.h5", "r") as f:
+        assert sorted(f.keys()) == sorted(stations + ["devol.dat", "events"])
+        for name in stations:
+            # numpy's own reader of the text file: the same numbers, bit for bit.
+            path = tmp_path / name
+            text = np.loadtxt(path, skiprows=_header_lines(path) + 1, ndmin=2)
+            g = f[name]
+            columns = ["t", "slip", "slip_rate", "shear_stress", "state"]
+            for j, c in enumerate(columns):
+                assert g[c][:].tobytes() == text[:, j].tobytes(), (name, c)
+            assert g.attrs["location"].startswith("on fault")
+        path = tmp_path / "devol.dat"
+        devol = np.loadtxt(path, skiprows=_header_lines(path) + 2)
+        assert f["devol.dat/z"][:].tobytes() == devol[0, 2:].tobytes()
+        assert f["devol.dat/slip"][:].tobytes() == devol[1:, 2:].tobytes()
+        assert f["devol.dat/slip"].shape == (devol.shape[0] - 1, devol.shape[1] - 2)
+        onsets = f["events/t_start_s"][:]
+        assert len(onsets) >= 2 and np.all(np.diff(onsets) > 0)
+
+
+def _header_lines(path):
+    """The number of `#` lines at the top of a SEAS file."""
+    with open(path) as f:
+        return sum(1 for line in f if line.startswith("#"))

@@ -35,6 +35,17 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// A file read back as a SEAS file ([`read_seas_file`](crate::read_seas_file)) that is
+    /// not one as this crate writes it.
+    #[error("`{path}`, line {line}: not a SEAS file as rsf writes it: {reason}")]
+    Format {
+        /// The file (at most about 100 characters of it).
+        path: String,
+        /// The line (1-based).
+        line: u64,
+        /// What is wrong.
+        reason: String,
+    },
     /// A file that exists where a new one would be written
     /// ([`FileMode::Create`](rsf::observe::FileMode::Create)).
     #[error("`{path}` exists and is not empty: {reason}")]
@@ -74,6 +85,14 @@ impl From<Error> for rsf::Error {
             Error::Malformed { path, line, reason } => rsf::Error::Resume {
                 path,
                 reason: format!("line {line}: {reason}"),
+            },
+            Error::Format { path, line, reason } => rsf::Error::File {
+                path,
+                action: "read the SEAS file",
+                source: std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!("line {line}: {reason}"),
+                ),
             },
             Error::FileExists { path, reason } => rsf::Error::FileExists { path, reason },
             Error::File {

@@ -13,6 +13,8 @@
 //!   strike and dip, `rupture.dat`, the catalogue;
 //! - along strike, BP6 (fluid injection, [`SeasBp6Output`]): stations with pore pressure
 //!   and Darcy velocity, `global.dat`, four profiles;
+//! - the files read back ([`read_seas_file`]): header, columns, a profile's positions, the
+//!   rows as numbers;
 //! - their resume logs ([`SEAS_RESUME_LOG`], [`SEAS_BP5_RESUME_LOG`]): a run continued from
 //!   a checkpoint continues the files, byte-identical to an uninterrupted run's.
 //!
@@ -29,6 +31,7 @@
 mod along_dip;
 mod bp6;
 mod error;
+mod read;
 mod resume;
 mod setup;
 mod strike_dip;
@@ -41,6 +44,7 @@ pub use bp6::{
     SEAS_BP6_RESUME_LOG, SEAS_BP6_STATIONS,
 };
 pub use error::{Error, Result};
+pub use read::{is_seas_file, read_seas_file, SeasColumn, SeasFile, SEAS_FIRST_LINE};
 pub use setup::{
     SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
     SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,

@@ -6,6 +6,7 @@
 
 use std::fmt::Write as _;
 
+use crate::read::SEAS_FIRST_LINE;
 use crate::setup::SeasSetup;
 
 /// What the header of one SEAS file says besides the lines every file shares: where the
@@ -73,11 +74,14 @@ impl FileLayout {
                 let _ = write!(
                     h,
                     "\n# The first data row is 0 0 followed by the {} (m); every other row is a \
-                     time.\n# The two lines below list the names of the data fields:",
+                     time.\n{PROFILE_FIELD_LINES}",
                     p.words
                 );
             }
-            None => h.push_str("\n# The line below lists the names of the data fields:"),
+            None => {
+                h.push('\n');
+                h.push_str(FIELD_LINE);
+            }
         }
         for line in self.field_lines() {
             h.push('\n');
@@ -86,6 +90,13 @@ impl FileLayout {
         h
     }
 }
+
+/// The header's last line in a file with one field-list line.
+pub(crate) const FIELD_LINE: &str = "# The line below lists the names of the data fields:";
+
+/// The header's last line in a profile (two field-list lines: the coordinate, the columns).
+pub(crate) const PROFILE_FIELD_LINES: &str =
+    "# The two lines below list the names of the data fields:";
 
 /// Appends a data row to `rows`: the time `t` as `%21.13E`, every value as `%14.6E`,
 /// separated by spaces, a newline at the end.
@@ -134,7 +145,7 @@ pub fn common_header(
     rows: usize,
 ) -> String {
     let mut h = format!(
-        "# This is the file header:\n# problem={}\n# author={}\n# date={}\n# code=rsf\n\
+        "{SEAS_FIRST_LINE}\n# problem={}\n# author={}\n# date={}\n# code=rsf\n\
          # code_version={}\n# element_size={} m\n# location={location}",
         setup.problem,
         setup.modeler,

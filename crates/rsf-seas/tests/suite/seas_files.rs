@@ -389,6 +389,45 @@ fn every_file_follows_the_description_and_holds_the_models_values() {
         compared >= 2,
         "devol.dat and the surface station share rows ({compared})"
     );
+    // The library's reader (rsf_seas::read_seas_file) gives what is read here by the
+    // description's rules: the columns, a profile's positions, every number.
+    let names = setup.stations.iter().map(|s| s.0.as_str());
+    for name in names.chain(["devol.dat"]) {
+        let field_lines = if name == "devol.dat" { 2 } else { 1 };
+        let here = read_seas_file(&dir.join(name), field_lines, field_lines - 1);
+        let lib = rsf_seas::read_seas_file(&dir.join(name)).unwrap();
+        let fields: Vec<&str> = lib.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(
+            fields.join(" "),
+            here.field_lines[field_lines - 1],
+            "{name}"
+        );
+        let described: Vec<&str> = lib.columns.iter().map(|c| c.description.as_str()).collect();
+        assert_eq!(described, here.columns, "{name}");
+        let mut rows = here.rows.clone();
+        match &lib.positions {
+            Some((coordinate, positions)) => {
+                assert_eq!(*coordinate, here.field_lines[0], "{name}");
+                assert_eq!(positions[..], rows.remove(0)[2..], "{name}");
+            }
+            None => assert_eq!(field_lines, 1, "{name}: a profile without positions"),
+        }
+        assert_eq!(lib.rows(), rows.len(), "{name}");
+        assert_eq!(lib.values, rows.concat(), "{name}");
+        let second: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+        assert_eq!(lib.column(1), second, "{name}");
+        let last = rows.iter().flat_map(|r| r[fields.len() - 1..].to_vec());
+        assert_eq!(
+            lib.column(fields.len() - 1),
+            last.collect::<Vec<_>>(),
+            "{name}"
+        );
+        assert_eq!(
+            lib.header_value("num_time_steps"),
+            Some(here.header["num_time_steps"].as_str()),
+            "{name}"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

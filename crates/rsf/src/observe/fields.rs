@@ -1,6 +1,8 @@
-//! The fields of a step at every mesh vertex, as the frame writers store them (VTU frames,
-//! HDF5 fields): displacement and velocity as Cartesian 3-vectors, the fault's scalars and
-//! slip at Γ_F's vertices (NaN elsewhere).
+//! The fields of a step at every mesh vertex, as the frame writers store them
+//! ([`VtuFrames`](crate::observe::VtuFrames) with the feature `vtk`, and the HDF5 fields of
+//! the crate `rsf-hdf5`): displacement and velocity as Cartesian 3-vectors, the fault's
+//! scalars and slip at Γ_F's vertices (NaN elsewhere). [`point_fields`] computes them,
+//! [`POINT_FIELDS`] names them.
 
 use super::StepView;
 use crate::model::Model;
@@ -58,36 +60,64 @@ fn slip_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
     out
 }
 
-/// A frame's point data at every mesh vertex: name, components (3: a vector, 1: a scalar)
-/// and values, vertex-major.
-pub(crate) fn point_fields<const D: usize>(
-    s: &StepView<'_, D>,
-) -> Vec<(&'static str, usize, Vec<f64>)> {
+/// The point fields of a frame, in the order [`point_fields`] gives them: name, components
+/// (3: a Cartesian 3-vector, zero-padded in 1-D and 2-D; 1: a scalar) and unit.
+///
+/// - `displacement` (m) and `velocity` (m/s) at every vertex, Cartesian components (rotated
+///   back from the nodal frames of a slanted fault; an internal fault's two sides);
+/// - on Γ_F only (NaN at the other vertices): `slip_rate` (m/s, [`StepView::slip_rate`]),
+///   `state_alpha` (α = ln θ, θ in s; NaN everywhere for a law without state), `slip` (m,
+///   a 3-vector, [`StepView::slip`]), `shear_traction` and `normal_traction` (Pa,
+///   [`StepView::shear_traction`], [`StepView::normal_traction`]; NaN where the law has no
+///   `σ̄_n`).
+pub const POINT_FIELDS: [(&str, usize, &str); 7] = [
+    ("displacement", 3, "m"),
+    ("velocity", 3, "m/s"),
+    ("slip_rate", 1, "m/s"),
+    ("state_alpha", 1, "1"),
+    ("slip", 3, "m"),
+    ("shear_traction", 1, "Pa"),
+    ("normal_traction", 1, "Pa"),
+];
+
+/// One point field of a frame at every mesh vertex ([`point_fields`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointField {
+    /// Its name, as [`POINT_FIELDS`] lists it.
+    pub name: &'static str,
+    /// Components per vertex: 3 (a Cartesian 3-vector) or 1 (a scalar).
+    pub components: usize,
+    /// The values, vertex-major: `components` values per mesh vertex (length
+    /// `components × model.vertices.len()`), in [`POINT_FIELDS`]' unit.
+    pub values: Vec<f64>,
+}
+
+/// The point fields of the step `s` at every mesh vertex, in the order and units of
+/// [`POINT_FIELDS`]: what every frame writer stores, so that their files agree bit for bit.
+/// Allocates the fields (one frame's worth); call it for the steps that are written.
+///
+/// # Panics
+/// If the state's vectors do not match the model (an internal invariant of a run's
+/// [`StepView`]).
+pub fn point_fields<const D: usize>(s: &StepView<'_, D>) -> Vec<PointField> {
     let m = s.model;
     let n = m.vertices.len();
-    vec![
-        (
-            "displacement",
-            3,
-            padded::<D>(&global(m, &s.state.kinematics.u), n),
-        ),
-        (
-            "velocity",
-            3,
-            padded::<D>(&global(m, &s.state.kinematics.v), n),
-        ),
-        ("slip_rate", 1, fault_scalars(s, n, |k| s.slip_rate(k))),
-        ("state_alpha", 1, state_field(s, n)),
-        ("slip", 3, slip_field(s, n)),
-        (
-            "shear_traction",
-            1,
-            fault_scalars(s, n, |k| s.shear_traction(k)),
-        ),
-        (
-            "normal_traction",
-            1,
-            fault_scalars(s, n, |k| s.normal_traction(k).unwrap_or(f64::NAN)),
-        ),
-    ]
+    let values = [
+        padded::<D>(&global(m, &s.state.kinematics.u), n),
+        padded::<D>(&global(m, &s.state.kinematics.v), n),
+        fault_scalars(s, n, |k| s.slip_rate(k)),
+        state_field(s, n),
+        slip_field(s, n),
+        fault_scalars(s, n, |k| s.shear_traction(k)),
+        fault_scalars(s, n, |k| s.normal_traction(k).unwrap_or(f64::NAN)),
+    ];
+    POINT_FIELDS
+        .iter()
+        .zip(values)
+        .map(|(&(name, components, _), values)| PointField {
+            name,
+            components,
+            values,
+        })
+        .collect()
 }

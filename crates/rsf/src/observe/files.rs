@@ -156,8 +156,14 @@ pub fn create_file(path: &Path, header: &str, overwrite: bool) -> Result<BufWrit
     Ok(out)
 }
 
-/// [`Error::FileExists`] if `path` exists and is not an empty file.
-pub(crate) fn refuse_existing(path: &Path) -> Result<()> {
+/// The check of [`FileMode::Create`] before a file is made: nothing, or an empty file, at
+/// `path` (what every writer of a new file checks first, here and in the crates above: the
+/// HDF5 files of `rsf-hdf5`).
+///
+/// # Errors
+/// [`Error::FileExists`] if `path` exists and is not an empty file (a folder, or a file
+/// with content); [`Error::File`] if it cannot be inspected.
+pub fn refuse_existing(path: &Path) -> Result<()> {
     match std::fs::metadata(path) {
         Ok(m) if m.is_file() && m.len() == 0 => Ok(()),
         Ok(m) => Err(Error::FileExists {

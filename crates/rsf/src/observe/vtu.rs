@@ -399,7 +399,13 @@ impl VtuFrames {
             .get_or_insert_with(|| Share::new(&m.cells, D + 1, &pieces.owner, rank));
         let mut point: Vec<Attribute> = point_fields(s)
             .into_iter()
-            .map(|(name, c, data)| attribute(name, c, gather(&data, c, &share.points)))
+            .map(|f| {
+                attribute(
+                    f.name,
+                    f.components,
+                    gather(&f.values, f.components, &share.points),
+                )
+            })
             .collect();
         point.push(
             Attribute::scalars("global_node", 1)
@@ -461,7 +467,7 @@ impl<const D: usize> Observer<D> for VtuFrames {
             cell_type,
             point_fields(s)
                 .into_iter()
-                .map(|(name, c, data)| attribute(name, c, data))
+                .map(|f| attribute(f.name, f.components, f.values))
                 .collect(),
             format!("rsf step {}", s.report.step),
         );

@@ -1,39 +1,48 @@
-//! The fields of a run in one HDF5 file with an Xdmf index (feature `hdf5`, through the
-//! `hdf5-metno` binding of the HDF5 C library): the mesh once, one time axis, each field
-//! one dataset over (time, vertex[, component]) — what h5py and xarray read directly and
-//! ParaView opens through the `.xmf` file.
+//! The fields of a run in one HDF5 file with an Xdmf index: the mesh once, one time axis,
+//! each field one dataset over (time, vertex[, component]) — what h5py and xarray read
+//! directly and ParaView opens through the `.xmf` file.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use hdf5::{Dataset, Extent, File};
+use rsf::observe::{point_fields, refuse_existing, FileMode, POINT_FIELDS};
+use rsf::{Flow, Observer, StepView};
 
-use crate::error::{show_path, Error, Result};
+use crate::error::{h5_at, show_path, Error, Result};
 
-use super::fields::point_fields;
-use super::files::FileMode;
-use super::{Flow, Observer, StepView};
-
-/// Writes the fields of every step it is shown (wrap it in
-/// [`Every`](crate::observe::Every) to sample) into one HDF5 file `path` and rewrites the
-/// Xdmf index `path` with the extension `.xmf` after every frame (so an interrupted run
-/// leaves a usable index). The file holds
+/// Writes the fields of every step it is shown (wrap it in [`rsf::observe::Every`] to
+/// sample) into one HDF5 file `path` and rewrites the Xdmf index `path` with the extension
+/// `.xmf` after every frame (so that an interrupted run leaves a usable index). The file
+/// holds
 ///
 /// - `/mesh/points` (vertices × 3, m; zero-padded in 2-D), `/mesh/cells` (cells × (D + 1),
 ///   vertex indices, `u64`), `/mesh/fault_nodes` (the vertices of Γ_F in fault order) —
 ///   written at the first frame;
 /// - `/time` (frames, s) and `/step` (frames, `u64`): the time axis;
-/// - `/fields/NAME` (frames × vertices × 3 for vectors, frames × vertices for scalars): the
-///   point data of the VTU frames ([`VtuFrames`](crate::observe::VtuFrames)) with the same
-///   names, units and values — `displacement` (m), `velocity` (m/s), `slip` (m), Cartesian
-///   3-vectors; `slip_rate` (m/s), `state_alpha` (α = ln θ, θ in s), `shear_traction` and
-///   `normal_traction` (Pa) on Γ_F, NaN at the other vertices.
+/// - `/fields/NAME` (frames × vertices × 3 for vectors, frames × vertices for scalars), each
+///   with an attribute `unit`: the point fields of [`rsf::observe::POINT_FIELDS`] with
+///   their names, units and values ([`rsf::observe::point_fields`], what the VTU frames of
+///   [`rsf::observe::VtuFrames`] hold) — `displacement` (m), `velocity` (m/s), `slip` (m),
+///   Cartesian 3-vectors; `slip_rate` (m/s), `state_alpha` (α = ln θ, θ in s),
+///   `shear_traction` and `normal_traction` (Pa) on Γ_F, NaN at the other vertices.
 ///
 /// The datasets are chunked one frame per chunk and grow by one frame per frame. The file
 /// is open only while a frame is written (HDF5 locks an open file): between frames h5py
 /// and ParaView read it, and an interrupted run leaves a closed, consistent file.
 /// [`FileMode::Resume`] continues after a checkpoint: frames of later steps are cut off,
 /// so the file ends as an uninterrupted run's.
+///
+/// ```no_run
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// use rsf::observe::{Every, FileMode, Interval};
+/// let mut sim = rsf_scenes::Slider3dScene::default().build()?;
+/// let fields = rsf_hdf5::Hdf5Fields::new("out/fields.h5", FileMode::Create)?;
+/// let mut fields = Every::new(Interval::Steps(10), fields)?;
+/// sim.run(100, &mut [&mut fields])?; // out/fields.h5 and its index out/fields.xmf
+/// # Ok(())
+/// # }
+/// ```
 pub struct Hdf5Fields {
     path: PathBuf,
     mode: FileMode,
@@ -42,36 +51,28 @@ pub struct Hdf5Fields {
     frames: usize,
 }
 
-/// An HDF5 error on `path` as a file error naming it.
-fn h5<'a>(path: &'a Path, action: &'static str) -> impl Fn(hdf5::Error) -> Error + 'a {
-    move |e| Error::File {
-        path: show_path(path),
-        action,
-        source: std::io::Error::other(e.to_string()),
-    }
-}
-
 impl Hdf5Fields {
     /// Fields into `path` (e.g. `out/fields.h5`; the index is `out/fields.xmf`), new or
     /// continued after a checkpoint of step `step` ([`FileMode::Resume`]).
     ///
     /// # Errors
-    /// [`Error::FileExists`] for [`FileMode::Create`] if `path` exists and is not empty;
-    /// [`Error::Resume`] for [`FileMode::Resume`] if `path` is missing or is not such a file;
-    /// [`Error::InvalidParameter`] if `path` ends in `.xmf` (the index's name).
+    /// [`Error::InvalidParameter`] if `path` ends in `.xmf` (the index's name);
+    /// [`rsf::Error::FileExists`] (as [`Error::Rsf`]) for [`FileMode::Create`] if `path`
+    /// exists and is not empty; [`Error::Resume`] for [`FileMode::Resume`] if `path` is
+    /// missing or is not such a file.
     pub fn new(path: impl Into<PathBuf>, mode: FileMode) -> Result<Self> {
         let path = path.into();
         if path.extension().is_some_and(|e| e == "xmf") {
-            return Err(crate::error::invalid(
-                "hdf5 path",
-                format!(
+            return Err(Error::InvalidParameter {
+                name: "hdf5 path".into(),
+                reason: format!(
                     "{}: the Xdmf index takes the name with .xmf",
-                    path.display()
+                    show_path(&path)
                 ),
-            ));
+            });
         }
         if mode == FileMode::Create {
-            super::files::refuse_existing(&path)?;
+            refuse_existing(&path)?;
         }
         let mut fields = Self {
             path,
@@ -92,11 +93,10 @@ impl Hdf5Fields {
 
     /// Opens the file of an interrupted run and cuts the frames after step `step`.
     fn resume(&mut self, step: usize) -> Result<()> {
-        let fail = |reason: String| Error::Resume {
+        let fail_h5 = |e: hdf5::Error| Error::Resume {
             path: show_path(&self.path),
-            reason,
+            reason: e.to_string(),
         };
-        let fail_h5 = |e: hdf5::Error| fail(e.to_string());
         let file = File::open_rw(&self.path).map_err(fail_h5)?;
         let steps: Vec<u64> = file
             .dataset("step")
@@ -123,45 +123,31 @@ impl Hdf5Fields {
 
     /// The file open for this frame: created with the mesh at the first frame.
     fn open<const D: usize>(&mut self, s: &StepView<'_, D>) -> Result<File> {
+        let path = self.path.clone();
         if self.started {
-            return File::open_rw(&self.path).map_err(h5(&self.path, "open the HDF5 file"));
+            return File::open_rw(&path).map_err(h5_at("open the HDF5 file", &path));
         }
-        {
-            let path = self.path.clone();
-            let file = File::create(&path).map_err(h5(&path, "create the HDF5 file"))?;
-            let m = s.model;
-            let mut points = vec![0.0; 3 * m.vertices.len()];
-            for (p, v) in m.vertices.iter().enumerate() {
-                points[3 * p..3 * p + D].copy_from_slice(v);
-            }
-            let cells: Vec<u64> = m.cells.iter().map(|&c| c as u64).collect();
-            let fault: Vec<u64> = m
-                .frictional_boundary
-                .nodes
-                .iter()
-                .map(|&p| p as u64)
-                .collect();
-            let write = |name: &str, data: ndarray::ArrayViewD<'_, f64>| {
-                file.new_dataset_builder()
-                    .with_data(data)
-                    .create(name)
-                    .map(|_| ())
-            };
-            let write_u64 = |name: &str, data: ndarray::ArrayViewD<'_, u64>| {
-                file.new_dataset_builder()
-                    .with_data(data)
-                    .create(name)
-                    .map(|_| ())
-            };
-            let err = h5(&path, "write the mesh into the HDF5 file");
-            file.create_group("mesh").map_err(&err)?;
-            write("mesh/points", view(&points, &[m.vertices.len(), 3])).map_err(&err)?;
-            write_u64("mesh/cells", view(&cells, &[cells.len() / (D + 1), D + 1])).map_err(&err)?;
-            write_u64("mesh/fault_nodes", view(&fault, &[fault.len()])).map_err(&err)?;
-            file.create_group("fields").map_err(&err)?;
-            self.started = true;
-            Ok(file)
+        let file = File::create(&path).map_err(h5_at("create the HDF5 file", &path))?;
+        let m = s.model;
+        let mut points = vec![0.0; 3 * m.vertices.len()];
+        for (p, v) in m.vertices.iter().enumerate() {
+            points[3 * p..3 * p + D].copy_from_slice(v);
         }
+        let cells: Vec<u64> = m.cells.iter().map(|&c| c as u64).collect();
+        let fault: Vec<u64> = m
+            .frictional_boundary
+            .nodes
+            .iter()
+            .map(|&p| p as u64)
+            .collect();
+        let err = h5_at("write the mesh into the HDF5 file", &path);
+        file.create_group("mesh").map_err(&err)?;
+        write(&file, "mesh/points", &points, &[m.vertices.len(), 3]).map_err(&err)?;
+        write(&file, "mesh/cells", &cells, &[cells.len() / (D + 1), D + 1]).map_err(&err)?;
+        write(&file, "mesh/fault_nodes", &fault, &[fault.len()]).map_err(&err)?;
+        file.create_group("fields").map_err(&err)?;
+        self.started = true;
+        Ok(file)
     }
 
     /// Rewrites the Xdmf index for the frames so far.
@@ -194,17 +180,13 @@ impl Hdf5Fields {
                  Format=\"HDF\">{h5}:/mesh/points</DataItem>\n        </Geometry>\n",
                 D + 1
             );
-            for (name, c, _) in FIELDS {
-                let (kind, dims, slab) = if *c == 3 {
-                    ("Vector", format!("{n} 3"), format!("{i} 0 0 1 1 1 1 {n} 3"))
+            for (name, c, _) in POINT_FIELDS {
+                let (kind, dims, slab, rank, full) = if c == 3 {
+                    let slab = format!("{i} 0 0 1 1 1 1 {n} 3");
+                    ("Vector", format!("{n} 3"), slab, 3, format!("{k} {n} 3"))
                 } else {
-                    ("Scalar", format!("{n}"), format!("{i} 0 1 1 1 {n}"))
-                };
-                let rank = if *c == 3 { 3 } else { 2 };
-                let full = if *c == 3 {
-                    format!("{k} {n} 3")
-                } else {
-                    format!("{k} {n}")
+                    let slab = format!("{i} 0 1 1 1 {n}");
+                    ("Scalar", format!("{n}"), slab, 2, format!("{k} {n}"))
                 };
                 let _ = write!(
                     x,
@@ -219,23 +201,62 @@ impl Hdf5Fields {
             x.push_str("      </Grid>\n");
         }
         x.push_str("    </Grid>\n  </Domain>\n</Xdmf>\n");
-        crate::checkpoint::write_atomically(&self.index_path(), x.as_bytes())
+        Ok(rsf::checkpoint::write_atomically(
+            &self.index_path(),
+            x.as_bytes(),
+        )?)
+    }
+
+    /// Appends the frame of `s` to the file (created at the first frame); the times of
+    /// all its frames.
+    fn append_frame<const D: usize>(&mut self, s: &StepView<'_, D>) -> Result<Vec<f64>> {
+        let frame = self.frames;
+        let path = self.path.clone();
+        let err = h5_at("write a frame into the HDF5 file", &path);
+        let fields = point_fields(s);
+        let n = s.model.vertices.len();
+        let file = self.open(s)?;
+        let time = frames_dataset::<f64>(&file, "time", &[]).map_err(&err)?;
+        append(&time, frame, &[s.state.time], &[]).map_err(&err)?;
+        let step = frames_dataset::<u64>(&file, "step", &[]).map_err(&err)?;
+        append(&step, frame, &[s.report.step as u64], &[]).map_err(&err)?;
+        for (f, (_, _, unit)) in fields.iter().zip(POINT_FIELDS) {
+            let tail: Vec<usize> = if f.components == 3 {
+                vec![n, 3]
+            } else {
+                vec![n]
+            };
+            let name = format!("fields/{}", f.name);
+            let d = frames_dataset::<f64>(&file, &name, &tail).map_err(&err)?;
+            if frame == 0 {
+                crate::attributes::text(&d, "unit", unit).map_err(&err)?;
+            }
+            append(&d, frame, &f.values, &tail).map_err(&err)?;
+        }
+        let times = time.read_raw().map_err(&err)?;
+        // Every handle closed before the file (so that it is closed on disk).
+        drop((time, step));
+        file.close().map_err(&err)?;
+        self.frames += 1;
+        Ok(times)
     }
 }
 
-/// The fields' names and components, in the order of [`point_fields`] (checked there).
-const FIELDS: &[(&str, usize, ())] = &[
-    ("displacement", 3, ()),
-    ("velocity", 3, ()),
-    ("slip_rate", 1, ()),
-    ("state_alpha", 1, ()),
-    ("slip", 3, ()),
-    ("shear_traction", 1, ()),
-    ("normal_traction", 1, ()),
-];
+/// Writes `data` (of `shape`) as the new dataset `name` of `file`.
+fn write<T: hdf5::H5Type>(
+    file: &File,
+    name: &str,
+    data: &[T],
+    shape: &[usize],
+) -> hdf5::Result<()> {
+    file.new_dataset_builder()
+        .with_data(view(data, shape))
+        .create(name)
+        .map(|_| ())
+}
 
 /// `data` as an array view of `shape`.
-fn view<'a, T>(data: &'a [T], shape: &[usize]) -> ndarray::ArrayViewD<'a, T> {
+pub(crate) fn view<'a, T>(data: &'a [T], shape: &[usize]) -> ndarray::ArrayViewD<'a, T> {
     ndarray::ArrayViewD::from_shape(ndarray::IxDyn(shape), data).expect("the shape of the data")
 }
 
@@ -278,32 +299,8 @@ fn append<T: hdf5::H5Type>(
 }
 
 impl<const D: usize> Observer<D> for Hdf5Fields {
-    fn observe(&mut self, s: &StepView<'_, D>) -> Result<Flow> {
-        let frame = self.frames;
-        let path = self.path.clone();
-        let err = h5(&path, "write a frame into the HDF5 file");
-        let fields = point_fields(s);
-        let n = s.model.vertices.len();
-        let times: Vec<f64> = {
-            let file = self.open(s)?;
-            let time = frames_dataset::<f64>(&file, "time", &[]).map_err(&err)?;
-            append(&time, frame, &[s.state.time], &[]).map_err(&err)?;
-            let step = frames_dataset::<u64>(&file, "step", &[]).map_err(&err)?;
-            append(&step, frame, &[s.report.step as u64], &[]).map_err(&err)?;
-            for ((name, c, data), (expected, ec, ())) in fields.iter().zip(FIELDS) {
-                debug_assert_eq!((name, c), (expected, ec));
-                let tail: Vec<usize> = if *c == 3 { vec![n, 3] } else { vec![n] };
-                let d =
-                    frames_dataset::<f64>(&file, &format!("fields/{name}"), &tail).map_err(&err)?;
-                append(&d, frame, data, &tail).map_err(&err)?;
-            }
-            let times = time.read_raw().map_err(&err)?;
-            // Every handle closed before the file (so that it is closed on disk).
-            drop((time, step));
-            file.close().map_err(&err)?;
-            times
-        };
-        self.frames += 1;
+    fn observe(&mut self, s: &StepView<'_, D>) -> rsf::Result<Flow> {
+        let times = self.append_frame(s)?;
         self.write_index(s, &times)?;
         Ok(Flow::Continue(()))
     }

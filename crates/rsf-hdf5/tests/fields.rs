@@ -1,13 +1,15 @@
-//! HDF5 fields (feature `hdf5`): a 3-D slider run writes VTU frames and the HDF5 file side
-//! by side; read back (vtkio, hdf5-metno) the file's mesh and every frame's fields equal
-//! the VTU frames' values bit for bit, the time axis is the frames', and the Xdmf index
-//! references datasets that exist with the dimensions it declares. A resume cuts the
-//! frames after the checkpoint.
-#![cfg(all(feature = "hdf5", feature = "vtk"))]
+//! HDF5 fields: a 3-D slider run writes VTU frames and the HDF5 file side by side; read
+//! back (vtkio, hdf5-metno) the file's mesh and every frame's fields equal the VTU frames'
+//! values bit for bit, the time axis is the frames', each field names its unit, and the
+//! Xdmf index references datasets that exist with the dimensions it declares. A resume cuts
+//! the frames after the checkpoint.
 
-use rsf::observe::{Every, FileMode, Hdf5Fields, Interval, VtuFrames};
+use rsf::observe::{Every, FileMode, Interval, VtuFrames};
+use rsf_hdf5::Hdf5Fields;
 use rsf_scenes::{Slider3dScene, SliderScene};
 
+/// The fields and their components, written out here (the writers take them from
+/// `rsf::observe::POINT_FIELDS`).
 const FIELDS: [(&str, usize); 7] = [
     ("displacement", 3),
     ("velocity", 3),
@@ -17,6 +19,14 @@ const FIELDS: [(&str, usize); 7] = [
     ("shear_traction", 1),
     ("normal_traction", 1),
 ];
+
+/// A fresh folder for `name` under the target directory's tmp.
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
 
 fn scene() -> Slider3dScene {
     Slider3dScene {
@@ -57,7 +67,7 @@ fn bits(v: &[f64]) -> Vec<u64> {
 
 #[test]
 fn hdf5_fields_equal_the_vtu_frames_and_the_xdmf_index_references_them() {
-    let dir = crate::common::temp_dir("hdf5-fields");
+    let dir = temp_dir("hdf5-fields");
     let h5 = dir.join("fields.h5");
     let mut sim = scene().build().unwrap();
     let mut frames = Every::new(
@@ -98,6 +108,13 @@ fn hdf5_fields_equal_the_vtu_frames_and_the_xdmf_index_references_them() {
         let d = file.dataset(&format!("fields/{name}")).unwrap();
         let shape: Vec<usize> = if c == 3 { vec![3, n, 3] } else { vec![3, n] };
         assert_eq!(d.shape(), shape, "{name}");
+        let unit: hdf5::types::VarLenUnicode = d.attr("unit").unwrap().read_scalar().unwrap();
+        let want = rsf::observe::POINT_FIELDS
+            .iter()
+            .find(|f| f.0 == name)
+            .unwrap()
+            .2;
+        assert_eq!(unit.as_str(), want, "{name}");
         let all: Vec<f64> = d.read_raw().unwrap();
         for (i, s) in steps.iter().enumerate() {
             let vtu = vtu_field(&dir.join(format!("frames/frame_{s:06}.vtu")), name);
@@ -139,7 +156,7 @@ fn hdf5_fields_equal_the_vtu_frames_and_the_xdmf_index_references_them() {
 
 #[test]
 fn a_resumed_hdf5_file_equals_the_uninterrupted_runs() {
-    let dir = crate::common::temp_dir("hdf5-resume");
+    let dir = temp_dir("hdf5-resume");
     let (whole, part) = (dir.join("whole.h5"), dir.join("part.h5"));
     let mut sim = scene().build().unwrap();
     let mut fields = Hdf5Fields::new(&whole, FileMode::Create).unwrap();

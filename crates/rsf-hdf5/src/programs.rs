@@ -1,0 +1,88 @@
+//! The root package's SEAS programs with their time series in one HDF5 file (feature
+//! `programs`): [`main_with_series`] runs a program and writes `seas.h5` into its `--out`
+//! folder when it ends — the binaries `seas_bp1`, `seas_bp3`, `seas_bp5` and `seas_bp6` of
+//! this crate.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use crate::series::{write_seas_series, SEAS_SERIES_FILE};
+
+/// Runs the root package's SEAS program `program` (its `main`: the same flags, guard and
+/// files, e.g. `rsf_examples::seas_bp1::main`) and, when it ends successfully, writes the
+/// time series of its `--out` folder (`default_out` where the program has a default and
+/// the flag is not given) into `seas.h5` there ([`write_seas_series`]), holding the
+/// folder's lock while it does (as a run does: no other run writes into it meanwhile).
+///
+/// A run that fails or stops at `--max-steps` (an error exit) leaves the folder's `seas.h5`
+/// as it was: the run resumed to its end writes it, or the program `seas_hdf5 DIR` at any
+/// time. So does a run of the root package's program itself in the folder (a resume,
+/// `--overwrite`), which knows nothing of `seas.h5`: `seas_hdf5 DIR` rebuilds it. Returns the program's exit code, or failure (the error printed) if the HDF5 file
+/// cannot be written.
+pub fn main_with_series(program: fn() -> ExitCode, default_out: Option<&str>) -> ExitCode {
+    let out = out_flag(std::env::args_os().skip(1)).or_else(|| default_out.map(PathBuf::from));
+    let code = program();
+    match out {
+        Some(dir) if code == ExitCode::SUCCESS => match write_series_locked(&dir) {
+            Ok(()) => code,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        _ => code,
+    }
+}
+
+/// Writes `dir/seas.h5` under the folder's lock; tells what it wrote.
+///
+/// # Errors
+/// Another run holds the folder's lock, or [`write_seas_series`]'s.
+pub fn write_series_locked(dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let _lock = rsf_examples::guard::lock(dir)?;
+    let path = dir.join(SEAS_SERIES_FILE);
+    let summary = write_seas_series(dir, &path)?;
+    let rows: usize = summary.groups.iter().map(|g| g.1).sum();
+    eprintln!(
+        "{}: {} groups, {rows} rows (the SEAS files of the folder)",
+        path.display(),
+        summary.groups.len()
+    );
+    Ok(())
+}
+
+/// The value of the flag `--out` (`--out DIR` or `--out=DIR`) among `args` (before a
+/// `--`), the last if given more than once (the program refuses that itself).
+pub fn out_flag(args: impl IntoIterator<Item = OsString>) -> Option<PathBuf> {
+    let mut args = args.into_iter();
+    let mut out = None;
+    while let Some(a) = args.next() {
+        if a == "--" {
+            break;
+        } else if a == "--out" {
+            out = args.next().map(PathBuf::from);
+        } else if let Some(dir) = a.to_str().and_then(|a| a.strip_prefix("--out=")) {
+            out = Some(PathBuf::from(dir));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::out_flag;
+    use std::path::PathBuf;
+
+    #[test]
+    fn the_out_folder_is_found_as_clap_reads_it() {
+        let flag = |args: &[&str]| out_flag(args.iter().map(Into::into));
+        let dir = Some(PathBuf::from("run"));
+        assert_eq!(flag(&["--dz", "400", "--out", "run"]), dir);
+        assert_eq!(flag(&["--out=run", "--threads", "1"]), dir);
+        assert_eq!(flag(&["--output", "x", "--out", "run"]), dir);
+        assert_eq!(flag(&["--dz", "400"]), None);
+        assert_eq!(flag(&["--", "--out", "run"]), None);
+        assert_eq!(flag(&["--out"]), None);
+    }
+}
