@@ -47,7 +47,7 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::direct::{CheckpointPolicy, Progress};
-use rsf::fault_ode::{FaultKernel, SchurOnlySetup};
+use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
 use rsf::observe::Observer;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
@@ -79,7 +79,7 @@ struct Args {
     /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
     #[arg(long)]
     ratio: Option<f64>,
-    /// `fe`: the volume's mesh, `graded` (Kuhn cubes bisected towards the fault's
+    /// `fe`: the volume's mesh, `graded` (an octree of Kuhn cubes refined towards the fault's
     /// rate-and-state region and the stations, growing in every direction) or `tensor`
     /// (a tensor grid graded axis by axis) [default: graded].
     #[arg(long, value_enum)]
@@ -342,7 +342,7 @@ fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
 
 /// A line on standard error at every tenth of the elimination's work (flops), with the
 /// fronts done and the wall time.
-fn elimination_progress() -> Box<dyn FnMut(&Progress) -> ControlFlow<()>> {
+fn elimination_progress() -> SetupProgress {
     let mut next = 0.1;
     Box::new(move |p: &Progress| {
         let done = if p.flops > 0.0 {
@@ -379,7 +379,7 @@ enum Condensation {
 /// The finite-element kernel's mesh (`SeasBp5Mesh`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
 enum MeshArg {
-    /// Bisected towards the fault and the stations, graded in every direction.
+    /// An octree of Kuhn cubes refined towards the fault and the stations, graded in every direction.
     Graded,
     /// A tensor grid graded axis by axis.
     Tensor,

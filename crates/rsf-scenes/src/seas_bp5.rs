@@ -11,7 +11,7 @@
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_ode::{FaultOdeOptions, SchurOnlySetup};
 use rsf::fem::{
-    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, BisectionMesh,
+    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, OctreeMesh,
     TetrahedronMesh,
 };
 use rsf::halfspace::Medium;
@@ -522,10 +522,11 @@ pub enum SeasBp5Mesh {
     /// diagonals on the tensor grid's boxes, to tell the effect of the pattern from that of
     /// the grading (docs/seas-bp5.md).
     TensorMirrored,
-    /// Kuhn cubes bisected towards the rate-and-state region and the off-fault stations
-    /// ([`BisectionMesh`], docs/fem.md "Graded meshes by bisection"): cells `dx` there,
-    /// growing with the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor
-    /// grid's growth), three shapes up to similarity.
+    /// An octree of Kuhn cubes refined towards the rate-and-state region and the off-fault
+    /// stations ([`OctreeMesh`], docs/fem.md "Graded meshes: octree of Kuhn cubes"): cells
+    /// `dx` there — the tensor grid's own Kuhn cells, with parallel diagonals — growing with
+    /// the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor grid's
+    /// growth) beyond the slab `near_fault`.
     #[default]
     Graded,
 }
@@ -768,11 +769,11 @@ impl SeasBp5 {
         Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
     }
 
-    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): Kuhn cubes of
-    /// edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
+    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): an octree of
+    /// Kuhn cubes of edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
     /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
     /// not below `domain` and `s` the shift (`l_f/2` modulo `dx`: 0 or `dx/2`) that puts
-    /// nodes at `x₂ = ±l_f/2`, bisected ([`BisectionMesh`]) until every cell is at most
+    /// nodes at `x₂ = ±l_f/2`, split ([`OctreeMesh`]) until every cell is at most
     /// `dx + (ratio − 1) d`, `d` the distance of its bounding box from the rate-and-state
     /// region (on the plane `x = 0`, thickened to `|x| ≤ near_fault`) or from the nearest
     /// off-fault station
@@ -805,11 +806,11 @@ impl SeasBp5 {
                 .fold(box_distance((lo, hi), region), f64::min);
             h + growth * closest
         };
-        let mut cells = BisectionMesh::kuhn_box(lo, hi, root)?;
-        cells
+        let mut cubes = OctreeMesh::new(lo, hi, root)?;
+        cubes
             .refine(size, GRADED_MAX_CELLS)
             .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
-        Ok((cells.into_mesh()?, [lo, hi]))
+        Ok((cubes.into_mesh()?, [lo, hi]))
     }
 
     /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))

@@ -40,7 +40,7 @@ mod shared;
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
-pub use schur_only::SchurOnlySetup;
+pub use schur_only::{SchurOnlySetup, SetupProgress};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
