@@ -287,14 +287,19 @@ impl Program for Args {
                         let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
                             .mesh()
                             .num_vertices() as f64;
+                        let nested =
+                            self.ordering == rsf::fault_ode::InteriorOrdering::NestedDissection;
                         let peak = match self.condensation() {
+                            Condensation::SchurOnly if nested => {
+                                SCHUR_ONLY_ND_PEAK_AT_500_M
+                                    * (vertices / GRADED_VERTICES_AT_500_M).powf(1.5)
+                            }
                             Condensation::SchurOnly => {
                                 SCHUR_ONLY_PEAK_AT_1_KM
                                     * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
                             }
                             Condensation::Factor => {
-                                GRADED_PEAK_AT_4_KM
-                                    * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                                GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
                             }
                         };
                         peak + operator_bytes(m, m > 4096.0)
@@ -343,6 +348,14 @@ const GRADED_VERTICES_AT_4_KM: f64 = 7701.0;
 const SCHUR_ONLY_PEAK_AT_1_KM: f64 = 1.25 * 7.30e9;
 /// See [`SCHUR_ONLY_PEAK_AT_1_KM`].
 const GRADED_VERTICES_AT_1_KM: f64 = 86_710.0;
+
+/// As [`SCHUR_ONLY_PEAK_AT_1_KM`] with `--ordering nested-dissection`: measured 11.49 GB at
+/// 500 m, 266 764 vertices (AMD EPYC), with a margin of 1.25; the exponent 1.5 keeps the
+/// estimate (2.7 GB at 1 km, 0.6 GB at 2 km) above the elimination's plan plus the model
+/// there (about 2.0 and 0.4 GB; docs/three-d.md, "On BP5's graded box").
+const SCHUR_ONLY_ND_PEAK_AT_500_M: f64 = 1.25 * 11.49e9;
+/// See [`SCHUR_ONLY_ND_PEAK_AT_500_M`].
+const GRADED_VERTICES_AT_500_M: f64 = 266_764.0;
 
 /// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
 /// kept: a `--resume` of the run reads it instead of eliminating again).

@@ -670,7 +670,8 @@ fn a_stopped_schur_only_set_up_resumes_with_the_same_bits() {
 /// Schur-only elimination's plan for BP5's graded volume — its fronts, the bytes it will
 /// hold with the two right-hand sides of a run, its floating-point operations — from the
 /// symbolic analysis alone, nothing eliminated. `RSF_BP5_PLAN_DX` lists the spacings (m,
-/// default `2000,1000,500`):
+/// default `2000,1000,500`), `RSF_BP5_PLAN_ORDERING=nested-dissection` orders the interior
+/// by METIS (feature `metis`) instead of AMD:
 /// `RSF_BP5_PLAN_DX=1000,500 cargo test -p rsf-scenes --test suite
 /// bp5_elimination_plan -- --ignored --nocapture`.
 #[test]
@@ -686,7 +687,10 @@ fn bp5_elimination_plan() {
         };
         let model = bp5.fe_model(&grid).unwrap();
         let built = clock.elapsed().as_secs_f64();
-        let ordering = bp5.fault_ode_options(1e-6).unwrap().ordering;
+        let ordering = match std::env::var("RSF_BP5_PLAN_ORDERING").as_deref() {
+            Ok("nested-dissection") => rsf::direct::InteriorOrdering::NestedDissection,
+            _ => bp5.fault_ode_options(1e-6).unwrap().ordering,
+        };
         let elimination = rsf::direct::SchurOnly::<3>::new(
             model.stiffness.as_ref(),
             &model.fixed,
@@ -697,7 +701,7 @@ fn bp5_elimination_plan() {
         .unwrap();
         let plan = elimination.plan();
         println!(
-            "dx {dx} m: {} vertices, {} dofs, K {:.0} MB (model built in {built:.1} s, \
+            "dx {dx} m, {ordering:?}: {} vertices, {} dofs, K {:.0} MB (model built in {built:.1} s, \
              analysed in {:.1} s): {} fronts, largest order {}, kept {}, holds {:.2} GB \
              (pending {:.2} GB, largest front {:.2} GB, S {:.2} GB), {:.3e} flops",
             model.vertices.len(),
