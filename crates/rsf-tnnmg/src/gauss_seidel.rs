@@ -117,6 +117,6 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
             stop: self.stopping,
             record_energy: self.record_energy,
         };
-        iterate_to_tolerance(self, run, b, nl, v)
+        iterate_to_tolerance(self, run, b, nl, v, None)
     }
 }
