@@ -24,6 +24,7 @@ pub mod run_folder;
 pub mod seas_bp1;
 pub mod seas_bp3;
 pub mod seas_bp5;
+pub mod seas_bp6;
 mod seas_overview;
 pub mod slider_3d;
 pub use cli::{

@@ -30,15 +30,16 @@ pub fn reset_peak() -> bool {
     std::fs::write("/proc/self/clear_refs", "5").is_ok()
 }
 
-/// One stage's reading: its name, wall time, the peak resident memory during it and the
-/// resident memory at its end (bytes; `None` where the system reports nothing).
+/// One stage's reading: its name, wall time, the peak resident memory during it (or so
+/// far, see [`StageMemory::start`]) and the resident memory at its end (bytes; `None`
+/// where the system reports nothing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StageReading {
     /// The stage.
     pub stage: String,
     /// Wall time of the stage (s).
     pub seconds: f64,
-    /// Peak resident memory during the stage (bytes).
+    /// Peak resident memory during the stage, or of the process so far (bytes).
     pub peak: Option<u64>,
     /// Resident memory at the end of the stage (bytes).
     pub resident: Option<u64>,
@@ -49,18 +50,23 @@ pub struct StageReading {
 #[derive(Debug)]
 pub struct StageMemory {
     since: Instant,
-    /// Whether the peak could be reset (else each stage's peak is the process's so far).
-    pub resettable: bool,
+    /// Whether each stage's peak is its own (the peak reset before it) rather than the
+    /// process's so far.
+    pub per_stage: bool,
     /// The stages read so far, in order.
     pub readings: Vec<StageReading>,
 }
 
 impl StageMemory {
-    /// Starts the first stage now.
-    pub fn start() -> Self {
+    /// Starts the first stage now. With `per_stage`, the process's peak is reset before
+    /// every stage (where the system allows it), so that each reading is that stage's
+    /// own peak — and the peak `/usr/bin/time -v` reports at the end is then only the
+    /// last stage's; without, each reading is the peak so far and the process's peak
+    /// stays whole.
+    pub fn start(per_stage: bool) -> Self {
         Self {
             since: Instant::now(),
-            resettable: reset_peak(),
+            per_stage: per_stage && reset_peak(),
             readings: Vec::new(),
         }
     }
@@ -73,7 +79,9 @@ impl StageMemory {
             peak: peak_bytes(),
             resident: resident_bytes(),
         });
-        self.resettable = reset_peak() && self.resettable;
+        if self.per_stage {
+            self.per_stage = reset_peak();
+        }
         self.since = Instant::now();
     }
 
@@ -83,10 +91,15 @@ impl StageMemory {
     }
 
     /// The readings as a Markdown table (MB), headed `| stage | wall (s) | peak (MB) |
-    /// resident after (MB) |`.
+    /// resident after (MB) |` (the peak "so far" unless each stage's own).
     pub fn table(&self) -> String {
         let mb = |b: Option<u64>| b.map_or("—".to_string(), |b| format!("{:.0}", b as f64 / 1e6));
-        let mut out = String::from("| stage | wall (s) | peak (MB) | resident after (MB) |\n");
+        let peak = if self.per_stage {
+            "peak in the stage"
+        } else {
+            "peak so far"
+        };
+        let mut out = format!("| stage | wall (s) | {peak} (MB) | resident after (MB) |\n");
         out.push_str("|---|---|---|---|\n");
         for r in &self.readings {
             out.push_str(&format!(

@@ -9,13 +9,14 @@
 //! `(slip₂, −slip₃)`.
 
 use rsf::fault_alone::FaultAlone;
-use rsf::fault_ode::FaultOdeOptions;
+use rsf::fault_ode::{FaultOdeOptions, SchurOnlySetup};
 use rsf::fem::{
-    cuboid_from_coordinates, geometric_grading, symmetric_grading, BisectionMesh, TetrahedronMesh,
+    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, OctreeMesh,
+    TetrahedronMesh,
 };
 use rsf::halfspace::Medium;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
-use rsf::model::CreepRate;
+use rsf::model::{CreepRate, MaterialRegions};
 use rsf::{FaultOde, Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
 use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
@@ -73,6 +74,28 @@ pub struct SeasBp5 {
     pub l_f: f64,
     /// Size w of the nucleation patch (m).
     pub w: f64,
+    /// A compliant fault zone around the rate-and-state region (not part of the
+    /// benchmark: `None` there; the finite-element kernel only; docs/seas-bp5.md, "A
+    /// compliant fault zone").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fault_zone: Option<FaultZone>,
+}
+
+/// A compliant fault zone (not part of BP5: a problem no half-space code can run): the slab
+/// `|x₁| ≤ half_width` over the rate-and-state region (`|x₂| ≤ l_f/2`, `x₃ ≤ W_f`) has the
+/// shear modulus `rigidity_ratio · μ` (the density and Poisson's ratio of the host, so its
+/// shear-wave speed is `√rigidity_ratio · c_s`); the fault's radiation damping is the
+/// zone's, `η = √(ρ μ_fz)/2`. Damaged rock around mature faults: low-velocity zones of a
+/// few hundred metres to a few kilometres with wave speeds reduced by 20–60 %
+/// (docs/seas-bp5.md lists the cycle models that study them).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FaultZone {
+    /// Half of the slab's width (m), positive; the mesh must resolve it
+    /// ([`SeasBp5Grid::near_fault`] at least this, a whole number of `dx`).
+    pub half_width: f64,
+    /// The zone's shear modulus over the host's, in `(0, 1]` (1: no contrast).
+    pub rigidity_ratio: f64,
 }
 
 impl Default for SeasBp5 {
@@ -99,6 +122,7 @@ impl Default for SeasBp5 {
             w_f: 40e3,
             l_f: 100e3,
             w: 12e3,
+            fault_zone: None,
         }
     }
 }
@@ -150,6 +174,20 @@ impl SeasBp5 {
                  region (h_s + 2 h_t + H <= W_f, l + 2 h_t <= l_f)",
             ));
         }
+        if let Some(zone) = self.fault_zone {
+            if !(zone.half_width.is_finite() && zone.half_width > 0.0) {
+                return Err(invalid(
+                    "fault_zone.half_width",
+                    format!("{} m must be positive and finite", zone.half_width),
+                ));
+            }
+            if !(zone.rigidity_ratio > 0.0 && zone.rigidity_ratio <= 1.0) {
+                return Err(invalid(
+                    "fault_zone.rigidity_ratio",
+                    format!("{} must be in (0, 1]", zone.rigidity_ratio),
+                ));
+            }
+        }
         if self.w > self.l_core {
             return Err(invalid(
                 "w",
@@ -164,9 +202,17 @@ impl SeasBp5 {
         self.rho * self.c_s * self.c_s
     }
 
-    /// Radiation damping η = μ/(2c_s) (Pa·s/m).
+    /// The shear modulus at the fault (Pa): the fault zone's, `rigidity_ratio · μ`, or μ.
+    pub fn fault_shear_modulus(&self) -> f64 {
+        self.shear_modulus() * self.fault_zone.map_or(1.0, |z| z.rigidity_ratio)
+    }
+
+    /// Radiation damping η = μ/(2c_s) (Pa·s/m) with the modulus and shear-wave speed at
+    /// the fault: the fault zone's `rigidity_ratio · μ` and `√rigidity_ratio · c_s`, so
+    /// that a ratio of 1 gives the description's `μ/(2c_s)` bit for bit.
     pub fn radiation_damping(&self) -> f64 {
-        self.shear_modulus() / (2.0 * self.c_s)
+        let ratio = self.fault_zone.map_or(1.0, |z| z.rigidity_ratio);
+        self.fault_shear_modulus() / (2.0 * self.c_s * ratio.sqrt())
     }
 
     /// The half-space: λ = 2μν/(1 − 2ν), μ.
@@ -335,6 +381,22 @@ impl SeasBp5 {
         bp5_body_station_points()
     }
 
+    /// The vertices of a volume model ([`fe_model`](Self::fe_model)) nearest the off-fault
+    /// stations ([`body_station_points`](Self::body_station_points)), sorted, without
+    /// repeats: those the output reads off the fault.
+    ///
+    /// # Errors
+    /// [`Model::nearest_node`]'s (a model without vertices).
+    pub fn station_vertices(&self, model: &Model<3, 3>) -> Result<Vec<usize>> {
+        let mut vertices = Self::body_station_points()
+            .iter()
+            .map(|x| model.nearest_node(x))
+            .collect::<Result<Vec<usize>>>()?;
+        vertices.sort_unstable();
+        vertices.dedup();
+        Ok(vertices)
+    }
+
     /// As [`fault_ode`](Self::fault_ode), with the half-space displacement at `points`
     /// (model coordinates, m) per unit slip of every slip unknown
     /// ([`HalfSpaceOperator::displacement_columns`]) for off-fault stations.
@@ -368,6 +430,13 @@ impl SeasBp5 {
         ranks: Option<Box<dyn rsf::ranks::RankGroup>>,
     ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
         self.validate()?;
+        if self.fault_zone.is_some() {
+            return Err(invalid(
+                "fault_zone",
+                "a fault zone is a change of the volume: it needs the finite-element kernel \
+                 (fe_model), not the half-space operator",
+            ));
+        }
         let operator = match ranks {
             Some(group) => HalfSpaceOperator::fault_alone_on_ranks(&model, half_space, group),
             None => HalfSpaceOperator::fault_alone(&model, half_space),
@@ -448,10 +517,16 @@ pub enum SeasBp5Mesh {
     /// strike and dip (and one cell either side of the fault), growing by `ratio` beyond,
     /// axis by axis — the fault's fine spacing repeated in every layer of the box.
     Tensor,
-    /// Kuhn cubes bisected towards the rate-and-state region and the off-fault stations
-    /// ([`BisectionMesh`], docs/fem.md "Graded meshes by bisection"): cells `dx` there,
-    /// growing with the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor
-    /// grid's growth), three shapes up to similarity.
+    /// The tensor grid with the boxes mirrored by the parity of their position
+    /// (`round(x/dx)` odd along an axis): the graded mesh's "union jack" pattern of
+    /// diagonals on the tensor grid's boxes, to tell the effect of the pattern from that of
+    /// the grading (docs/seas-bp5.md).
+    TensorMirrored,
+    /// An octree of Kuhn cubes refined towards the rate-and-state region and the off-fault
+    /// stations ([`OctreeMesh`], docs/fem.md "Graded meshes: octree of Kuhn cubes"): cells
+    /// `dx` there — the tensor grid's own Kuhn cells, with parallel diagonals — growing with
+    /// the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor grid's
+    /// growth) beyond the slab `near_fault`.
     #[default]
     Graded,
 }
@@ -469,6 +544,11 @@ pub struct SeasBp5Grid {
     /// multiple of its root cube not below `domain`).
     #[serde(default)]
     pub mesh: SeasBp5Mesh,
+    /// The graded mesh's cells are `dx` in the slab `|x₁| ≤ near_fault` over the
+    /// rate-and-state region (m; 0: on the fault's own cells only), so that a fault zone of
+    /// that half-width is resolved cell for cell ([`FaultZone`]); a whole number of `dx`.
+    #[serde(default)]
+    pub near_fault: f64,
 }
 
 impl Default for SeasBp5Grid {
@@ -479,6 +559,7 @@ impl Default for SeasBp5Grid {
             domain: 400e3,
             ratio: 1.3,
             mesh: SeasBp5Mesh::Graded,
+            near_fault: 0.0,
         }
     }
 }
@@ -528,7 +609,7 @@ impl SeasBp5 {
         // The tensor grid is symmetric about x₂ = 0 (a line of nodes there); the graded
         // mesh's lattice is shifted along strike so that x₂ = ±l_f/2 are nodes.
         let along_strike = match grid.mesh {
-            SeasBp5Mesh::Tensor => 0.5 * self.l_f,
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => 0.5 * self.l_f,
             SeasBp5Mesh::Graded => self.l_f,
         };
         if !(whole(along_strike) && whole(self.w_f)) {
@@ -537,7 +618,9 @@ impl SeasBp5 {
                 format!(
                     "{h} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
                     match grid.mesh {
-                        SeasBp5Mesh::Tensor => "l_f/2 (the tensor grid)",
+                        SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
+                            "l_f/2 (the tensor grid)"
+                        }
                         SeasBp5Mesh::Graded => "l_f",
                     },
                     self.w_f
@@ -556,15 +639,61 @@ impl SeasBp5 {
                 format!("{} must be in [1, 2]", grid.ratio),
             ));
         }
+        let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
+        if !(grid.near_fault.is_finite() && multiple(grid.near_fault)) {
+            return Err(invalid(
+                "near_fault",
+                format!(
+                    "{} m must be 0 or a whole number of dx = {h} m",
+                    grid.near_fault
+                ),
+            ));
+        }
+        if grid.near_fault > 0.0 && grid.mesh != SeasBp5Mesh::Graded {
+            return Err(invalid(
+                "near_fault",
+                "a slab of cells dx is a setting of the graded mesh (the tensor grid grows \
+                 from the fault at once)",
+            ));
+        }
+        if let Some(zone) = self.fault_zone {
+            if !(multiple(zone.half_width) && grid.near_fault >= zone.half_width) {
+                return Err(invalid(
+                    "fault_zone.half_width",
+                    format!(
+                        "{} m must be a whole number of dx = {h} m and the graded mesh's \
+                         near_fault ({} m) at least that, so that the zone is meshed cell \
+                         for cell",
+                        zone.half_width, grid.near_fault
+                    ),
+                ));
+            }
+        }
         let (mesh, [lo, hi]) = match grid.mesh {
-            SeasBp5Mesh::Tensor => (
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => (
                 self.tensor_mesh(grid)?,
                 [[-far, -far, -far], [far, far, 0.0]],
             ),
             SeasBp5Mesh::Graded => self.graded_mesh(grid)?,
         };
         let mu = self.shear_modulus();
-        let material = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let host = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let builder = ModelBuilder::new(mesh);
+        let builder = match self.fault_zone {
+            None => builder.material(host),
+            Some(zone) => {
+                let mu_fz = self.fault_shear_modulus();
+                let soft = Material::new(2.0 * mu_fz * (1.0 + self.nu), self.nu, self.rho);
+                let scene = *self;
+                builder.material(MaterialRegions::new(host).region(
+                    "fault zone",
+                    move |x| {
+                        x[0].abs() <= zone.half_width && scene.in_rate_state_region(x[1], -x[2])
+                    },
+                    soft,
+                ))
+            }
+        };
         let eps = 1e-6 * h;
         let side = 0.5 * self.v_p;
         // Every face of the box but the free surface z = 0.
@@ -573,8 +702,7 @@ impl SeasBp5 {
         };
         let (a, b, c) = (*self, *self, *self);
         // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
-        let builder = ModelBuilder::new(mesh)
-            .material(material)
+        let builder = builder
             .without_mass()
             .without_initial_equilibrium()
             .dirichlet(
@@ -628,16 +756,27 @@ impl SeasBp5 {
             .map(|z| -z)
             .collect();
         *zs.last_mut().expect("a graded list is not empty") = 0.0;
+        if grid.mesh == SeasBp5Mesh::TensorMirrored {
+            let odd = |c: &[f64]| -> Vec<bool> {
+                c[..c.len() - 1]
+                    .iter()
+                    .map(|x| (x / h).round().rem_euclid(2.0) == 1.0)
+                    .collect()
+            };
+            let (fx, fy, fz) = (odd(&xs), odd(&ys), odd(&zs));
+            return Ok(cuboid_mirrored(&xs, &ys, &zs, [&fx, &fy, &fz])?);
+        }
         Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
     }
 
-    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): Kuhn cubes of
-    /// edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
+    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): an octree of
+    /// Kuhn cubes of edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
     /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
     /// not below `domain` and `s` the shift (`l_f/2` modulo `dx`: 0 or `dx/2`) that puts
-    /// nodes at `x₂ = ±l_f/2`, bisected ([`BisectionMesh`]) until every cell is at most
+    /// nodes at `x₂ = ±l_f/2`, split ([`OctreeMesh`]) until every cell is at most
     /// `dx + (ratio − 1) d`, `d` the distance of its bounding box from the rate-and-state
-    /// region (on the plane `x = 0`) or from the nearest off-fault station
+    /// region (on the plane `x = 0`, thickened to `|x| ≤ near_fault`) or from the nearest
+    /// off-fault station
     /// ([`body_station_points`](Self::body_station_points)).
     fn graded_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
         let h = grid.dx;
@@ -654,23 +793,24 @@ impl SeasBp5 {
         };
         let (lo, hi) = ([-far, shift - far, -far], [far, shift + far, 0.0]);
         let growth = grid.ratio - 1.0;
+        let near = grid.near_fault;
         let region = (
-            [0.0, -0.5 * self.l_f, -self.w_f],
-            [0.0, 0.5 * self.l_f, 0.0],
+            [-near, -0.5 * self.l_f, -self.w_f],
+            [near, 0.5 * self.l_f, 0.0],
         );
         let stations = Self::body_station_points();
         let size = move |lo: [f64; 3], hi: [f64; 3]| {
-            let near = stations
+            let closest = stations
                 .iter()
                 .map(|&p| box_distance((lo, hi), (p, p)))
                 .fold(box_distance((lo, hi), region), f64::min);
-            h + growth * near
+            h + growth * closest
         };
-        let mut cells = BisectionMesh::kuhn_box(lo, hi, root)?;
-        cells
+        let mut cubes = OctreeMesh::new(lo, hi, root)?;
+        cubes
             .refine(size, GRADED_MAX_CELLS)
             .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
-        Ok((cells.into_mesh()?, [lo, hi]))
+        Ok((cubes.into_mesh()?, [lo, hi]))
     }
 
     /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))
@@ -687,6 +827,23 @@ impl SeasBp5 {
     ) -> Result<SeasBp5FaultOde> {
         self.validate()?;
         self.problem_builder(model).build_fault_ode(options)
+    }
+
+    /// As [`fe_fault_ode`](Self::fe_fault_ode) without ever holding the volume's whole
+    /// factor ([`SimulationBuilder::build_fault_ode_schur_only`]: the same operator to
+    /// round-off; the stations' vertices, `setup.watch_vertices`, given before the set-up).
+    ///
+    /// # Errors
+    /// As [`fe_fault_ode`](Self::fe_fault_ode); the elimination's.
+    pub fn fe_fault_ode_schur_only(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+        setup: SchurOnlySetup,
+    ) -> Result<SeasBp5FaultOde> {
+        self.validate()?;
+        self.problem_builder(model)
+            .build_fault_ode_schur_only(options, setup)
     }
 }
 

@@ -64,6 +64,7 @@ pub mod normal_stress;
 pub mod observe;
 #[cfg(feature = "halfspace")]
 pub mod okada_comparison;
+pub mod pore_pressure;
 mod problem;
 pub mod ranks;
 mod report;
@@ -73,6 +74,7 @@ pub mod simulation;
 mod simulation_state;
 pub mod switching;
 mod volume_probe;
+pub mod whole_space;
 
 /// The names most programs need, in one `use rsf::prelude::*;`.
 pub mod prelude {
