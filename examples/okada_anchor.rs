@@ -42,11 +42,11 @@
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf::okada_comparison::{
     compare_held, compare_modes, compare_refined, compare_smooth, hierarchy_vertices, Errors,
     Fault, ModeComparison, Solver, SLIP,
 };
+use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 
 /// The rectangles compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

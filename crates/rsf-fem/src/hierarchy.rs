@@ -98,10 +98,18 @@ impl<const D: usize> MeshHierarchy<D> {
         for (j, p) in prolongations.iter().enumerate() {
             let (coarse, fine) = (levels[j].num_vertices(), levels[j + 1].num_vertices());
             if p.ncols() != coarse {
-                return Err(mismatch("prolongation columns (coarse vertices)", coarse, p.ncols()));
+                return Err(mismatch(
+                    "prolongation columns (coarse vertices)",
+                    coarse,
+                    p.ncols(),
+                ));
             }
             if p.nrows() != fine {
-                return Err(mismatch("prolongation rows (fine vertices)", fine, p.nrows()));
+                return Err(mismatch(
+                    "prolongation rows (fine vertices)",
+                    fine,
+                    p.nrows(),
+                ));
             }
         }
         let vector_prolongations = prolongations.iter().map(vectorize::<D>).collect();

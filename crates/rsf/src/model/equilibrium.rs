@@ -368,8 +368,16 @@ mod tests {
         assert!(model.num_dofs() <= EQUILIBRIUM_DIRECT_MAX_DOFS_3D);
         let direct = &model.initial_displacement;
         let mut mg = vec![0.0; model.num_dofs()];
-        let mut solver =
-            StaticSolver::new(&model, StaticOptions::method(StaticMethod::Multigrid)).unwrap();
+        // The scene's model is of the `rsf` that `rsf-scenes` links (another crate instance
+        // in this unit test): its parts, not the model, go in.
+        let mut solver = StaticSolver::<3>::of::<3>(
+            &model.stiffness,
+            &model.fixed,
+            model.load.clone(),
+            &model.prolongations,
+            StaticOptions::method(StaticMethod::Multigrid),
+        )
+        .unwrap();
         assert_eq!(solver.method(), StaticMethod::Multigrid);
         solver.solve(&mut mg).unwrap();
         let k_norm = |x: &[f64]| {

@@ -29,9 +29,9 @@ mod multigrid_graded;
 mod nodal_frames;
 mod normal_stress;
 mod normal_stress_3d;
+mod observers;
 #[cfg(feature = "halfspace")]
 mod okada_dipping;
-mod observers;
 mod paper_scene;
 mod parallelism;
 mod prescribed_slip;

@@ -33,9 +33,7 @@ fn model(hierarchy: MeshHierarchy<3>, half: [f64; 3], patch: f64) -> Model<3> {
         .without_mass()
         .without_initial_equilibrium()
         .dirichlet(
-            Part::predicate("faces", move |x| {
-                (0..3).any(|i| x[i].abs() > half[i] - tol)
-            }),
+            Part::predicate("faces", move |x| (0..3).any(|i| x[i].abs() > half[i] - tol)),
             [0.0; 3],
         )
         .fault_tangent([0.0, 1.0, 0.0])
@@ -212,7 +210,11 @@ fn study_of_multigrid_on_graded_meshes() {
         for levels in 1..=5 {
             let (h, half, patch) = graded(levels, g);
             let m = model(h, half, patch);
-            row(&format!("bisection, g = {g}"), levels, &solve(&m, TnnmgOptions::default(), 500));
+            row(
+                &format!("bisection, g = {g}"),
+                levels,
+                &solve(&m, TnnmgOptions::default(), 500),
+            );
             row(
                 &format!("bisection, g = {g}, classical"),
                 levels,
@@ -224,7 +226,11 @@ fn study_of_multigrid_on_graded_meshes() {
         for levels in 1..=3 {
             let (h, half, patch) = tensor(levels, aspect);
             let m = model(h, half, patch);
-            row(&format!("tensor, aspect {aspect}"), levels, &solve(&m, TnnmgOptions::default(), 500));
+            row(
+                &format!("tensor, aspect {aspect}"),
+                levels,
+                &solve(&m, TnnmgOptions::default(), 500),
+            );
         }
     }
 }
