@@ -50,6 +50,9 @@ pub enum WatchVerdict {
     OutOfTime,
 }
 
+/// What a [`SolveWatch`] calls with each progress report.
+type Report = Box<dyn FnMut(&SolveProgress) + Send>;
+
 /// A progress report every `every` seconds (and after the first iteration) and a
 /// wall-clock limit on one solve, for the solvers that take one (`rsf_tnnmg::Tnnmg::
 /// with_watch`, `rsf::model::StaticOptions`). The reports do not change the iterates: a
@@ -64,7 +67,7 @@ pub enum WatchVerdict {
 pub struct SolveWatch {
     every: f64,
     limit: Option<f64>,
-    report: Option<Box<dyn FnMut(&SolveProgress) + Send>>,
+    report: Option<Report>,
     start: Option<Instant>,
     last_report: f64,
     /// The iteration of the last report.

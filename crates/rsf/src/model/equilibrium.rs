@@ -162,7 +162,7 @@ pub struct StaticSolver<const C: usize> {
 
 /// The solver behind a [`StaticSolver`].
 enum Inner<const C: usize> {
-    Direct(ConstrainedSystem),
+    Direct(Box<ConstrainedSystem>),
     Multigrid(Box<Tnnmg<C>>),
 }
 
@@ -238,7 +238,7 @@ impl<const C: usize> StaticSolver<C> {
                     rsf_fem::Error::NotPositiveDefinite { .. } => Error::Equilibrium(e),
                     e => Error::Fem(e),
                 })?;
-            Inner::Direct(system)
+            Inner::Direct(Box::new(system))
         };
         Ok(Self { inner, load })
     }

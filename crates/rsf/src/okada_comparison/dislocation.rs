@@ -64,16 +64,16 @@ impl Dislocation {
     }
 }
 
+/// The first error a held field met, for the caller to return after the build.
+pub(crate) type FirstError = Rc<RefCell<Option<ComparisonError>>>;
+
 /// The displacement of `dislocation` as the builder's held displacement of the far faces
 /// ([`ModelBuilder::dirichlet_displacement`](crate::ModelBuilder::dirichlet_displacement)),
 /// and the first error it met (a point the kernel refuses gives NaN, which the builder
 /// refuses; the caller returns this error instead).
 pub(crate) fn held_at(
     dislocation: Rc<Dislocation>,
-) -> (
-    impl Fn(&[f64; 3]) -> [f64; 3] + 'static,
-    Rc<RefCell<Option<ComparisonError>>>,
-) {
+) -> (impl Fn(&[f64; 3]) -> [f64; 3] + 'static, FirstError) {
     let error = Rc::new(RefCell::new(None));
     let slot = error.clone();
     let field = move |x: &[f64; 3]| match dislocation.at(*x) {
