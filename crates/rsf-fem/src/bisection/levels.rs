@@ -37,7 +37,7 @@ impl BisectionMesh {
     ///     let p = h.prolongation(j);
     ///     let mut fine = vec![0.0; p.nrows()];
     ///     for c in 0..p.ncols() {
-    ///         for (&r, &w) in p.row_idx_of_col(c).zip(p.val_of_col(c)) {
+    ///         for (r, &w) in p.row_idx_of_col(c).zip(p.val_of_col(c)) {
     ///             fine[r] += w * coarse[c];
     ///         }
     ///     }
