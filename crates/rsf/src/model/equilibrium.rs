@@ -134,13 +134,20 @@ impl StaticOptions {
 ///
 /// ```
 /// use rsf::fem::cuboid;
-/// use rsf::model::{StaticOptions, StaticSolver};
+/// use rsf::model::{PrescribedSlip, StaticOptions, StaticSolver};
 /// use rsf::{Material, ModelBuilder, Part};
-/// let model = ModelBuilder::new(cuboid([0.0; 3], [1.0; 3], [3, 3, 3])?)
+/// let model = ModelBuilder::new(cuboid([0.0; 3], [1.0; 3], [5, 5, 5])?)
 ///     .material(Material::new(1e10, 0.25, 2700.0))
 ///     .without_mass()
 ///     .dirichlet(Part::predicate("bottom", |x| x[2] < 1e-9), [0.0; 3])
 ///     .dirichlet(Part::predicate("top", |x| x[2] > 1.0 - 1e-9), [0.0; 3])
+///     // A model needs a fault: a buried square with zero slip (the displacement stays
+///     // continuous across it).
+///     .internal_fault_polygon(
+///         "fault",
+///         &[[0.5, 0.25, 0.25], [0.5, 0.75, 0.25], [0.5, 0.75, 0.75], [0.5, 0.25, 0.75]],
+///     )
+///     .internal_slip_at(|_| Some(PrescribedSlip::InFrame([0.0, 0.0])))
 ///     .build()?;
 /// let mut solver = StaticSolver::new(&model, StaticOptions::default())?;
 /// // The top held 1 mm along x.
@@ -151,7 +158,7 @@ impl StaticOptions {
 ///     }
 /// }
 /// solver.solve(&mut u)?;
-/// let middle = model.nearest_node(&[0.5, 0.5, 0.5])?;
+/// let middle = model.nearest_node(&[0.25, 0.5, 0.5])?;
 /// assert!((u[3 * middle] - 5e-4).abs() < 2e-4);
 /// # Ok::<(), rsf::Error>(())
 /// ```

@@ -42,21 +42,29 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     ///
     /// ```
     /// use rsf::fem::cuboid;
+    /// use rsf::model::PrescribedSlip;
     /// use rsf::{Material, ModelBuilder, Part};
     /// // A unit cube, its bottom clamped, its top shifted by 1 mm along x: simple shear.
-    /// let model = ModelBuilder::new(cuboid([0.0; 3], [1.0; 3], [3, 3, 3])?)
+    /// let model = ModelBuilder::new(cuboid([0.0; 3], [1.0; 3], [5, 5, 5])?)
     ///     .material(Material::new(1e10, 0.25, 2700.0))
     ///     .without_mass()
     ///     .dirichlet(Part::predicate("bottom", |x| x[2] < 1e-9), [0.0; 3])
     ///     .dirichlet_displacement(Part::predicate("top", |x| x[2] > 1.0 - 1e-9), |_| {
     ///         [1e-3, 0.0, 0.0]
     ///     })
+    ///     // A model needs a fault: a buried square with zero slip (the displacement stays
+    ///     // continuous across it).
+    ///     .internal_fault_polygon(
+    ///         "fault",
+    ///         &[[0.5, 0.25, 0.25], [0.5, 0.75, 0.25], [0.5, 0.75, 0.75], [0.5, 0.25, 0.75]],
+    ///     )
+    ///     .internal_slip_at(|_| Some(PrescribedSlip::InFrame([0.0, 0.0])))
     ///     .build()?;
     /// let u = &model.initial_displacement;
     /// let top = model.nearest_node(&[0.5, 0.5, 1.0])?;
     /// assert_eq!(u[3 * top], 1e-3);
     /// // The middle layer moves, by about half as much.
-    /// let middle = model.nearest_node(&[0.5, 0.5, 0.5])?;
+    /// let middle = model.nearest_node(&[0.25, 0.5, 0.5])?;
     /// assert!((u[3 * middle] - 5e-4).abs() < 2e-4);
     /// # Ok::<(), rsf::Error>(())
     /// ```
