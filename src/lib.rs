@@ -14,7 +14,6 @@ pub mod estimates;
 pub mod guard;
 mod heat_map;
 pub mod memory;
-pub mod okada_anchor;
 mod own_model;
 mod panels;
 pub mod pipping_slider;

@@ -19,6 +19,18 @@
 //! each of those at the midpoints present on its legs: one midpoint joins the opposite
 //! corner, two cut off the corner of the right angle and the rest along the line from the
 //! diagonal's lower end to the second leg's midpoint.
+//!
+//! **Which planes are resolved** (a fault inside the body must be a surface of faces,
+//! `SimplexMesh::split_along_polygon`): the planes `x_i = const` through the vertices of
+//! the leaves along them (a plane of the root grid always; a finer grid plane where the
+//! leaves on both sides are that fine), and, where the leaves are Kuhn cubes of one level
+//! (no transition cube touches the plane), the diagonal planes `x_i − x_j = const`
+//! through their vertices — a 45° fault, as on [`cuboid`](crate::cuboid) — never
+//! `x_i + x_j = const`. A transition cube's tetrahedra join its centre to its faces: they
+//! resolve no plane through its interior, so refine a fault's neighbourhood to one level.
+//! The meshes of successive refinements are not nested (a transition cube's tetrahedra are
+//! not unions of its children's), so an octree mesh is not a multigrid hierarchy:
+//! [`BisectionMesh::hierarchy`](crate::BisectionMesh::hierarchy) is.
 
 use std::collections::{HashMap, HashSet};
 

@@ -310,6 +310,16 @@ pub fn pipping_slider_coarse(diagonal: Diagonal) -> TriangleMesh {
 /// oriented (see [`SimplexMesh::from_ordered_cells`]). All 6 tetrahedra of a cube are
 /// congruent. No tags are set.
 ///
+/// **Which planes it resolves.** The tetrahedron of the path `(a, b, c)` is the set
+/// `1 ≥ ξ_a ≥ ξ_b ≥ ξ_c ≥ 0` of the box's local coordinates `ξ = (x − p)/(cell size)`, so
+/// its faces lie on the planes `ξ_i = 0, 1` and `ξ_i = ξ_j`: a surface made of mesh faces
+/// (a fault inside the body, [`SimplexMesh::split_along_polygon`]) can be a plane
+/// `x_i = const` on a grid line, or — where the cells are cubes (equal spacing along
+/// `x_i` and `x_j`) — a diagonal plane `x_i − x_j = const` through grid vertices, i.e.
+/// dipping at 45° (e.g. `y − z = d`: Okada's 45° dip towards `−y`). The other diagonal,
+/// `x_i + x_j = const`, cuts through the cells and is not resolved; nor is any other dip.
+/// Red refinement keeps all of these planes resolved ([`MeshHierarchy`](crate::MeshHierarchy)).
+///
 /// # Errors
 /// [`Error::InvalidGrid`] if some `n < 2` or a size is not positive and finite;
 /// [`Error::NonFiniteCoordinate`] for a non-finite origin.
@@ -350,6 +360,11 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
 /// [`cuboid`] does (Kuhn's subdivision, conforming, refinable): with
 /// [`geometric_grading`] a 3-D mesh fine near a fault and coarsening geometrically to
 /// a far boundary hundreds of km away (docs/three-d.md). No tags are set.
+///
+/// The planes it resolves are [`cuboid`]'s: the grid planes `x_i = const`, and the
+/// diagonal planes `x_i − x_j = const` only where the boxes are cubes (`x_i` and `x_j`
+/// spaced equally around the plane: a 45° fault needs a band of equal spacing around
+/// it), never `x_i + x_j = const`.
 ///
 /// ```
 /// use rsf_fem::{cuboid_from_coordinates, geometric_grading};

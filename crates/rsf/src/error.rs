@@ -147,6 +147,20 @@ pub enum Error {
         /// The mesh vertex id.
         node: usize,
     },
+    /// A model without frictional nodes — a fault inside the body whose every pair's slip
+    /// is prescribed ([`ModelBuilder::internal_slip_at`](crate::ModelBuilder::internal_slip_at)):
+    /// a static problem, solved when the model is built
+    /// ([`Model::initial_displacement`](crate::Model::initial_displacement)); what needs a
+    /// frictional node (a simulation, the fault ODE) refuses it by name.
+    #[error(
+        "{what} needs a frictional node, and the model has none: every pair of its fault \
+         inside the body has a prescribed slip (a kinematic source, whose static \
+         displacement is the model's initial_displacement)"
+    )]
+    NoFrictionalNode {
+        /// What needed one (e.g. "a simulation").
+        what: &'static str,
+    },
     /// The friction law and the state law disagree on what the state α is (e.g. the
     /// discontinuous law, α = θ, with Dieterich–Ruina friction, α = ln θ).
     #[error(

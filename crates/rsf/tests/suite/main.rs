@@ -25,12 +25,16 @@ mod internal_loading;
 mod material_regions;
 mod memory_budget;
 mod model_builder;
+mod multigrid_graded;
 mod nodal_frames;
 mod normal_stress;
 mod normal_stress_3d;
 mod observers;
+#[cfg(feature = "halfspace")]
+mod okada_dipping;
 mod paper_scene;
 mod parallelism;
+mod prescribed_slip;
 mod ranks;
 mod reliability;
 mod resume;
