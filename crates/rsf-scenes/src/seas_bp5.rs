@@ -138,7 +138,10 @@ impl SeasBp5 {
             return Err(invalid("f0", "must be finite"));
         }
         if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(invalid("nu", format!("{} must be in (-1, 0.5)", self.nu)));
+            return Err(invalid(
+                "nu",
+                format!("{} must be in (-1, 0.5)", rsf_numeric::number(self.nu)),
+            ));
         }
         if self.h_s + 2.0 * self.h_t + self.h > self.w_f || self.l_core + 2.0 * self.h_t > self.l_f
         {
@@ -255,12 +258,14 @@ impl SeasBp5 {
         self.validate()?;
         let count = |length: f64| -> Result<usize> {
             let n = length / dx;
-            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-9 * n {
+            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-12 * n {
                 return Err(invalid(
                     "dx",
                     format!(
-                        "{dx} m must divide l_f = {} m and W_f = {} m into whole cells",
-                        self.l_f, self.w_f
+                        "{} m must divide l_f = {} m and W_f = {} m into whole cells",
+                        rsf_numeric::number(dx),
+                        self.l_f,
+                        self.w_f
                     ),
                 ));
             }
@@ -271,8 +276,9 @@ impl SeasBp5 {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{dx} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
-                     grid)"
+                    "{} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
+                     grid)",
+                    rsf_numeric::number(dx)
                 ),
             ));
         }
@@ -472,13 +478,14 @@ impl SeasBp5 {
         let (h, far) = (grid.dx, grid.domain);
         let whole = |length: f64| {
             let n = length / h;
-            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-9 * n
+            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-12 * n
         };
         if !(whole(0.5 * self.l_f) && whole(self.w_f)) {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{h} m must divide l_f/2 = {} m and W_f = {} m into whole cells",
+                    "{} m must divide l_f/2 = {} m and W_f = {} m into whole cells",
+                    rsf_numeric::number(h),
                     0.5 * self.l_f,
                     self.w_f
                 ),
@@ -493,7 +500,7 @@ impl SeasBp5 {
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", grid.ratio),
+                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
             ));
         }
         let xs = symmetric_grading(h, h, grid.ratio, far)?;

@@ -39,7 +39,7 @@ pub use setup::{
     SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,
 };
 pub use strike_dip::{
-    bp5_body_station_points, Bp5Event, SeasBp5Output, StrikeDipFault, NEVER_RUPTURED,
+    bp5_body_station_points, Bp5Event, SeasBp5Output, StrikeDipFault, NEVER_RUPTURED, RESERVE_FILE,
     RUPTURE_THRESHOLD, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
     SLIP_RATE_FLOOR,
 };

@@ -221,8 +221,14 @@ fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rat
     };
     check(&ode);
     // The creeping pairs slip at (V_p, 0) in their frame (t₁ along +y): u⁺ − u⁻ = V_p t e_y.
-    ode.run_until(Until::Time(10.0 * SECONDS_PER_YEAR), &mut [])
-        .unwrap();
+    ode.run_until(
+        Until::TimeWithin {
+            time: 10.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     let t = ode.state().time;
     let m = ode.model();
     let frames = &m.internal_fault.as_ref().unwrap().transform.frames;

@@ -16,6 +16,7 @@ use crate::text::{c_exp, is_iso_date, positions_row, write_row, FileLayout, Posi
 
 mod layout;
 mod mark;
+mod reserve;
 mod resume;
 mod stations;
 mod text;
@@ -23,6 +24,8 @@ mod text;
 use layout::{BodySource, FaultLayout, SlipMap};
 use mark::Mark;
 pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
+use reserve::Reserve;
+pub use reserve::RESERVE_FILE;
 pub use stations::{
     bp5_body_station_points, StrikeDipFault, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS,
 };
@@ -47,7 +50,10 @@ struct BodyStation {
 /// The BP5 files of a run of `rsf_scenes::SeasBp5`, its fault alone or its volume model
 /// (an [`Observer`]). Rows are kept in memory and every file is written whole,
 /// atomically, by [`finish`](Observer::finish) (at the end of each run call), its header
-/// completed (time-step bounds, number of rows).
+/// completed (time-step bounds, number of rows). The disk space of the rows is held as
+/// they grow — a file of zeros, [`RESERVE_FILE`], in the output folder, given back just
+/// before the files are written — so that a full disk stops the run when it happens, not
+/// after it.
 pub struct SeasBp5Output {
     dir: PathBuf,
     setup: SeasSetup,
@@ -68,6 +74,8 @@ pub struct SeasBp5Output {
     resume_log: bool,
     /// The resume log's marks so far.
     log: Vec<Mark>,
+    /// The disk space held for the rows in memory.
+    reserve: Reserve,
 }
 
 impl SeasBp5Output {
@@ -353,6 +361,7 @@ impl SeasBp5Output {
             persist_every: 0,
             resume_log: false,
             log: Vec::new(),
+            reserve: Reserve::new(dir),
         })
     }
 
@@ -425,8 +434,27 @@ impl SeasBp5Output {
         ((vmax, self.mu * sum), kmax)
     }
 
-    /// Writes every file whole (atomically) and the catalogue.
-    fn write_files(&self) -> Result<()> {
+    /// Bytes of the rows held in memory (every file's).
+    fn held_bytes(&self) -> u64 {
+        let files = self
+            .fault
+            .iter()
+            .map(|s| &s.file)
+            .chain(self.body.iter().map(|s| &s.file))
+            .chain(std::iter::once(&self.global))
+            .chain(self.profiles.iter().map(|p| &p.file));
+        files.map(|f| f.rows.len() as u64).sum::<u64>() + 100 * self.layout.positions.len() as u64
+    }
+
+    /// Writes every file whole (atomically) and the catalogue, into the space held for
+    /// them (given back first).
+    fn write_files(&mut self) -> Result<()> {
+        self.reserve.release()?;
+        self.write_all_files()
+    }
+
+    /// [`write_files`](Self::write_files)' writing.
+    fn write_all_files(&self) -> Result<()> {
         let files = self
             .fault
             .iter()
@@ -672,6 +700,7 @@ impl Observer<3, 3> for SeasBp5Output {
         if self.resume_log && self.persist_every > 0 && s.report.step % self.persist_every == 0 {
             self.persist()?;
         }
+        self.reserve.hold(self.held_bytes())?;
         Ok(Flow::Continue(()))
     }
 

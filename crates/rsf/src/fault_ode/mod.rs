@@ -711,6 +711,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             rejected_attempts: taken.rejected,
             rejected_normal_stress: taken.refused,
             error_estimate: taken.error,
+            rejected_error: taken.rejected_error,
             seconds: clock.elapsed().as_secs_f64(),
             ..StepReport::default()
         })
@@ -722,6 +723,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
 {
     fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport> {
         self.advance_step(t_end, reads_volume)
+    }
+    /// The Runge–Kutta control's `dt_min`.
+    fn step_floor(&self) -> Option<f64> {
+        Some(self.options.runge_kutta.dt_min)
     }
     /// Precomputes the extension operator's rows at the vertices' dofs (one forward sweep
     /// per dof, kept while the same vertices are asked for) and fills them in the current
