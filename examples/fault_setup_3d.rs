@@ -206,9 +206,11 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
         let vertices = mesh.num_vertices();
         let eps = 1e-6 * far;
         let (mu, c_s) = (32.04e9, 3464.0);
+        // No loads and the far faces held at rest: u₀ = 0 without solving for it.
         let model = ModelBuilder::new(mesh)
             .material(Material::new(2.5 * mu, 0.25, 2670.0))
             .without_mass()
+            .without_initial_equilibrium()
             .dirichlet(
                 Part::predicate("far", move |x| {
                     x[0].abs() > far - eps || x[1].abs() > far - eps || x[2] < -far + eps

@@ -14,6 +14,7 @@ pub mod distributed_sweep;
 pub mod estimates;
 pub mod guard;
 mod heat_map;
+pub mod memory;
 pub mod okada_anchor;
 pub mod on_ranks;
 mod own_model;
@@ -26,6 +27,7 @@ pub mod run_folder;
 pub mod seas_bp1;
 pub mod seas_bp3;
 pub mod seas_bp5;
+pub mod seas_bp6;
 mod seas_overview;
 pub mod slider_3d;
 pub use cli::{

@@ -34,24 +34,29 @@
 //! shared by the ranks, the files written by rank 0; docs/scaling.md, "The fault ODE on MPI
 //! ranks").
 
+use std::cell::RefCell;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::rc::Rc;
 use std::time::Instant;
 
 use crate::estimates::{operator_bytes, seas_output_bytes};
 use crate::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Prepared, Processes, Program};
+use crate::memory::StageMemory;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
-use rsf::fault_ode::FaultKernel;
+use rsf::direct::{CheckpointPolicy, Progress};
+use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
 use rsf::observe::Observer;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
-use rsf_scenes::{SeasBp5, SeasBp5Grid};
+use rsf_scenes::{FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh};
 use rsf_seas::{
     utc_date_today, SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP5_RESUME_LOG,
     SECONDS_PER_YEAR,
 };
+use std::ops::ControlFlow;
 
 /// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
 #[derive(Parser)]
@@ -74,6 +79,29 @@ pub struct Args {
     /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
     #[arg(long)]
     ratio: Option<f64>,
+    /// `fe`: the volume's mesh, `graded` (an octree of Kuhn cubes refined towards the fault's
+    /// rate-and-state region and the stations, growing in every direction) or `tensor`
+    /// (a tensor grid graded axis by axis) [default: graded].
+    #[arg(long, value_enum)]
+    mesh: Option<MeshArg>,
+    /// `fe`: a compliant fault zone of this total width (km) around the rate-and-state
+    /// region (`|x₁| ≤ width/2`; a whole number of `2 dx`), not part of the benchmark
+    /// (docs/seas-bp5.md, "A compliant fault zone"); needs `--fault-zone-rigidity`.
+    #[arg(long)]
+    fault_zone_width_km: Option<f64>,
+    /// `fe`: the fault zone's shear modulus over the host's, in (0, 1].
+    #[arg(long)]
+    fault_zone_rigidity: Option<f64>,
+    /// `fe`: how the volume is condensed onto the fault: `schur-only` (the Schur complement
+    /// alone, no factor kept; its elimination checkpointed in `--out`) or `factor` (the
+    /// volume's whole factor held through the run) [default: schur-only].
+    #[arg(long, value_enum)]
+    condensation: Option<Condensation>,
+    /// `fe`: print each set-up stage's own peak memory (the process's peak is reset before
+    /// every stage, so `/usr/bin/time -v` then reports the last stage's) instead of the
+    /// peak so far.
+    #[arg(long)]
+    stage_peaks: bool,
     /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
     /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
     /// changes by round-off [default: amd].
@@ -110,6 +138,7 @@ fn outputs() -> Vec<String> {
     outputs.extend(
         [
             "events.csv",
+            SETUP_FILE,
             "summary.json",
             "overview.png",
             "checkpoint.bin",
@@ -130,6 +159,54 @@ impl Args {
     fn ordering(&self) -> rsf::fault_ode::InteriorOrdering {
         self.ordering.unwrap_or_default()
     }
+
+    /// The scene: BP5, with the fault zone of `--fault-zone-width-km` and
+    /// `--fault-zone-rigidity` if given (both or neither).
+    ///
+    /// # Errors
+    /// One of the two flags without the other; the zone's values (the scene's checks).
+    fn scene(&self) -> Result<SeasBp5, AnyError> {
+        let fault_zone = match (self.fault_zone_width_km, self.fault_zone_rigidity) {
+            (None, None) => None,
+            (Some(width), Some(rigidity_ratio)) => Some(FaultZone {
+                half_width: 0.5 * width * 1e3,
+                rigidity_ratio,
+            }),
+            _ => {
+                return Err(
+                    "--fault-zone-width-km and --fault-zone-rigidity go together: the \
+                            zone's width and its shear modulus over the host's"
+                        .into(),
+                )
+            }
+        };
+        let bp5 = SeasBp5 {
+            fault_zone,
+            ..SeasBp5::default()
+        };
+        flag(
+            "--fault-zone-width-km, --fault-zone-rigidity",
+            bp5.validate(),
+        )?;
+        Ok(bp5)
+    }
+
+    /// `--condensation` or its default.
+    fn condensation(&self) -> Condensation {
+        self.condensation.unwrap_or(Condensation::SchurOnly)
+    }
+
+    /// The finite-element grid of the flags: the fault zone's slab meshed at `--dx`.
+    fn grid(&self, bp5: &SeasBp5) -> SeasBp5Grid {
+        let (domain_km, ratio) = self.box_size();
+        SeasBp5Grid {
+            dx: self.dx,
+            domain: domain_km * 1e3,
+            ratio,
+            mesh: self.mesh.unwrap_or(MeshArg::Graded).mesh(),
+            near_fault: bp5.fault_zone.map_or(0.0, |z| z.half_width),
+        }
+    }
 }
 
 impl Program for Args {
@@ -141,7 +218,7 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
-        let bp5 = SeasBp5::default();
+        let bp5 = self.scene()?;
         let cells = flag("--dx", bp5.cells(self.dx))?.len() as f64;
         flag("--tolerance", bp5.fault_ode_options(self.tolerance))?;
         in_range(
@@ -159,6 +236,11 @@ impl Program for Args {
                 ("--domain-km", self.domain_km.is_some()),
                 ("--ratio", self.ratio.is_some()),
                 ("--ordering", self.ordering.is_some()),
+                ("--mesh", self.mesh.is_some()),
+                ("--condensation", self.condensation.is_some()),
+                ("--stage-peaks", self.stage_peaks),
+                ("--fault-zone-width-km", self.fault_zone_width_km.is_some()),
+                ("--fault-zone-rigidity", self.fault_zone_rigidity.is_some()),
             ] {
                 if given {
                     return Err(format!(
@@ -208,17 +290,29 @@ impl Program for Args {
                     "km: 1.5 l_f/2 and more",
                 )?;
                 in_range("--ratio", ratio, (1.0, 2.0), "the growth of the spacing")?;
-                // The graded box (SeasBp5::fe_model) in closed form, its model and factor
-                // (crate::estimates::fe_3d_memory: the constants fitted to measured peaks),
-                // and the condensed operator.
-                let vertices = crate::estimates::fe_3d_box_vertices(
-                    self.dx,
-                    bp5.l_f,
-                    bp5.w_f,
-                    ratio,
-                    domain_km * 1e3,
-                );
-                crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
+                let (h, far) = (self.dx, domain_km * 1e3);
+                match self.mesh.unwrap_or(MeshArg::Graded) {
+                    MeshArg::Tensor | MeshArg::TensorMirrored => {
+                        // The tensor grid in closed form; 35 kB per vertex as the 3-D
+                        // slider's direct factor, and the condensed operator.
+                        let len =
+                            |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                        let vertices =
+                            (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
+                        vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE
+                            + operator_bytes(m, m > 4096.0)
+                    }
+                    MeshArg::Graded => {
+                        // The graded mesh itself (under a second at 1 km), and the set-up's
+                        // peak as measured on it (docs/three-d.md, "BP5 on the graded
+                        // mesh"): the volume's factor grows like vertices^1.9.
+                        let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
+                            .mesh()
+                            .num_vertices() as f64;
+                        GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                            + operator_bytes(m, m > 4096.0)
+                    }
+                }
             }
         };
         // Ten fault stations, nine body stations and global.dat; the four profiles (slip
@@ -250,6 +344,83 @@ impl Program for Args {
     }
 }
 
+/// The set-up's peak (bytes) of `--kernel fe` on the graded mesh at 4 km and its vertices
+/// (measured: docs/three-d.md, "BP5 on the graded mesh"), the anchor of its estimate.
+const GRADED_PEAK_AT_4_KM: f64 = 287e6;
+/// See [`GRADED_PEAK_AT_4_KM`].
+const GRADED_VERTICES_AT_4_KM: f64 = 7701.0;
+
+/// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
+/// kept: a `--resume` of the run reads it instead of eliminating again).
+const SETUP_FILE: &str = "setup.bin";
+
+/// Removes `path` if it is there.
+fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(format!("{}: {e}", path.display()).into())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A line on standard error at every tenth of the elimination's work (flops), with the
+/// fronts done and the wall time.
+fn elimination_progress() -> SetupProgress {
+    let mut next = 0.1;
+    Box::new(move |p: &Progress| {
+        let done = if p.flops > 0.0 {
+            p.flops_done / p.flops
+        } else {
+            1.0
+        };
+        if done >= next {
+            eprintln!(
+                "set-up: {:.0} % of the elimination ({} of {} fronts, {:.0} s)",
+                100.0 * done,
+                p.fronts_done,
+                p.fronts,
+                p.seconds
+            );
+            while next <= done {
+                next += 0.1;
+            }
+        }
+        ControlFlow::Continue(())
+    })
+}
+
+/// How the finite-element kernel condenses the volume onto the fault.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum Condensation {
+    /// The Schur complement alone, by an elimination that keeps no factor column
+    /// (checkpointed in `--out`).
+    SchurOnly,
+    /// The volume's whole sparse Cholesky factor, kept for the run.
+    Factor,
+}
+
+/// The finite-element kernel's mesh (`SeasBp5Mesh`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+enum MeshArg {
+    /// An octree of Kuhn cubes refined towards the fault and the stations, graded in every direction.
+    Graded,
+    /// A tensor grid graded axis by axis.
+    Tensor,
+    /// The tensor grid with alternate boxes mirrored (the graded mesh's pattern of diagonals).
+    TensorMirrored,
+}
+
+impl MeshArg {
+    fn mesh(self) -> SeasBp5Mesh {
+        match self {
+            MeshArg::Graded => SeasBp5Mesh::Graded,
+            MeshArg::Tensor => SeasBp5Mesh::Tensor,
+            MeshArg::TensorMirrored => SeasBp5Mesh::TensorMirrored,
+        }
+    }
+}
+
 /// The elastic operator of the run.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
 enum Kernel {
@@ -278,15 +449,11 @@ pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
 fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
     // Rank 0 (or the one process) writes the files and tells.
     let root = processes.is_none_or(|p| p.rank() == 0);
-    let bp5 = SeasBp5::default();
+    let bp5 = args.scene()?;
     let (domain_km, ratio) = args.box_size();
     // Checked before any file is touched.
     let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
-    let grid = SeasBp5Grid {
-        dx: args.dx,
-        domain: domain_km * 1e3,
-        ratio,
-    };
+    let grid = args.grid(&bp5);
     let mut options = bp5
         .fault_ode_options(args.tolerance)
         .map_err(|e| format!("--tolerance: {e}"))?;
@@ -298,7 +465,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
     // by the guard before anything was computed.
     let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.
-    let fingerprint = Fingerprint::of_serialized(&bp5)
+    let mut fingerprint = Fingerprint::of_serialized(&bp5)
         .with("kernel", format!("{:?}", args.kernel))
         .with("dx", args.dx)
         .with("domain_km", domain_km)
@@ -307,6 +474,13 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("epsilon", args.epsilon);
+    if args.kernel == Kernel::Fe {
+        // The volume's mesh (a field since the graded mesh; an older finite-element
+        // checkpoint, of the tensor grid, is then refused by its missing field).
+        fingerprint = fingerprint
+            .with("mesh", format!("{:?}", grid.mesh))
+            .with("condensation", format!("{:?}", args.condensation()));
+    }
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
     let setup = SeasSetup {
@@ -350,20 +524,37 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
             (ode, output)
         }
         Kernel::Fe => {
-            let model = bp5
-                .fe_model(&grid)
+            // The build's stages, each with its peak memory (docs/three-d.md, "The build's
+            // memory").
+            let stages = Rc::new(RefCell::new(StageMemory::start(args.stage_peaks)));
+            let builder = bp5
+                .fe_model_builder(&grid)
+                .map_err(|e| format!("--kernel fe: {e}"))?;
+            stages.borrow_mut().end("mesh");
+            let mesh = builder.mesh();
+            let mesh_line = format!(
+                "{:?} mesh: {} vertices, {} tetrahedra, smallest dihedral angle {:.2}°, box ±{} km",
+                grid.mesh,
+                mesh.num_vertices(),
+                mesh.num_cells(),
+                mesh.min_dihedral_angle().to_degrees(),
+                mesh.vertices().iter().map(|x| x[0]).fold(0.0, f64::max) / 1e3
+            );
+            let watch = Rc::clone(&stages);
+            let model = builder
+                .on_stage(move |stage| watch.borrow_mut().end(stage.name()))
+                .build()
                 .map_err(|e| format!("--kernel fe: {e}"))?;
             let m = 2 * model.frictional_boundary.len();
             if root {
                 println!(
-                    "BP5-QD, finite elements, Δx = {} m, box ±{} km (ratio {}), {} vertices, {m} \
-                 slip unknowns; on {}",
+                    "BP5-QD, finite elements, Δx = {} m, ratio {ratio}, {} vertices (the fault's \
+                     split), {m} slip unknowns; on {}",
                     args.dx,
-                    domain_km,
-                    ratio,
                     model.vertices.len(),
                     machine()
                 );
+                println!("{mesh_line}");
             }
             if m > 4096 {
                 options.kernel = FaultKernel::hierarchical(args.epsilon);
@@ -374,10 +565,47 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
             } else {
                 None
             };
-            let mut ode = bp5.fe_fault_ode(model, options)?;
+            let mut ode = match args.condensation() {
+                Condensation::Factor => bp5.fe_fault_ode(model, options)?,
+                Condensation::SchurOnly => {
+                    // The stations' vertices on every rank (the elimination keeps them).
+                    let watch_vertices = bp5.station_vertices(&model)?;
+                    let path = folder.path(SETUP_FILE);
+                    if args.run.resume.is_none() {
+                        // Another run's elimination is not this one's to continue.
+                        remove_if_present(&path)?;
+                    }
+                    let checkpoint = CheckpointPolicy {
+                        // One process writes it; the others eliminate alike.
+                        every_seconds: root.then_some(600.0),
+                        ..CheckpointPolicy::new(path)
+                    };
+                    let setup = SchurOnlySetup {
+                        watch_vertices,
+                        checkpoint: root.then_some(checkpoint),
+                        max_bytes: Some(
+                            (args.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize
+                        ),
+                        progress: root.then(|| elimination_progress()),
+                    };
+                    bp5.fe_fault_ode_schur_only(model, options, setup)?
+                }
+            };
+            stages.borrow_mut().end("condensation and operator");
+            if root {
+                println!("the set-up's stages (memory of this process):");
+                print!("{}", stages.borrow().table());
+            }
             if let Some(output) = &output {
                 ode.watch_vertices(&output.volume_vertices())?;
-                println!("volume factor: {} entries", ode.factor_nnz());
+                match args.condensation() {
+                    Condensation::Factor => {
+                        println!("volume factor: {} entries", ode.factor_nnz())
+                    }
+                    Condensation::SchurOnly => {
+                        println!("volume: Schur complement only (no factor kept)")
+                    }
+                }
             }
             (ode, output)
         }

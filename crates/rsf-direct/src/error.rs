@@ -52,6 +52,60 @@ pub enum Error {
         /// The feature to enable.
         feature: &'static str,
     },
+    /// An elimination met a pivot that is not positive (the matrix is not numerically
+    /// positive definite there): `dof` is the row of the input matrix whose pivot failed.
+    #[error("matrix is not positive definite: non-positive pivot at dof {dof} ({what})")]
+    NonPositivePivot {
+        /// Which elimination.
+        what: &'static str,
+        /// The dof (row of the input matrix, or of the kept set for a post-step).
+        dof: usize,
+    },
+    /// What a computation would hold exceeds the limit it was given, or the index range:
+    /// refused before allocating it.
+    #[error("{what} needs {bytes} bytes, above the limit of {limit} bytes")]
+    TooLarge {
+        /// What would be held.
+        what: &'static str,
+        /// The bytes it needs.
+        bytes: u128,
+        /// The limit (`usize::MAX` for the address space).
+        limit: usize,
+    },
+    /// An allocation of a large buffer failed (the system refused it).
+    #[error("could not allocate {bytes} bytes for {what}")]
+    OutOfMemory {
+        /// The buffer.
+        what: &'static str,
+        /// Its size.
+        bytes: usize,
+    },
+    /// A checkpoint file could not be written or read, or is damaged.
+    #[error("checkpoint {path}: {reason}")]
+    Checkpoint {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// A checkpoint file belongs to another problem (matrix, sets, right-hand sides or
+    /// ordering): it is refused and left as it is.
+    #[error("checkpoint {path} is of another problem: {reason}")]
+    CheckpointMismatch {
+        /// The file.
+        path: String,
+        /// Which input differs.
+        reason: String,
+    },
+    /// A long computation was stopped by its caller's progress monitor after `done` of
+    /// `total` steps (its last checkpoint, if any, stays for a resumed call).
+    #[error("stopped by the caller after {done} of {total} steps")]
+    Stopped {
+        /// Steps done.
+        done: usize,
+        /// Steps in all.
+        total: usize,
+    },
     /// Failure inside the sparse factorisation (faer's symbolic or numeric Cholesky).
     #[error("sparse factorisation failed: {0}")]
     Factorisation(String),

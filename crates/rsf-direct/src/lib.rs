@@ -12,6 +12,9 @@
 //!   order is AMD after one level of dissection, or METIS's nested dissection
 //!   ([`InteriorOrdering`], feature `metis` through `rsf-metis`). The fault ODE of `rsf`
 //!   uses it alone; [`SchurEntries`] gives entries of `S` without forming it.
+//! - [`SchurOnly`]: the same `S` and condensed right-hand sides by a multifrontal
+//!   elimination that keeps no factor column (a fraction of the factor's memory in 3-D),
+//!   checkpointed, with a few extra kept dofs whose extension rows it also gives.
 //! - [`DirectSolver`]: the condensation plus a globalised nonsmooth Newton iteration on the
 //!   dense `|F|` unknowns (nonlinear Gauss–Seidel, truncated Newton with dense Cholesky,
 //!   line search) — a [`NonsmoothSolver`](rsf_nonsmooth::NonsmoothSolver) and a
@@ -62,6 +65,7 @@ mod options;
 mod ordering;
 mod partial_cholesky;
 mod schur_entries;
+mod schur_only;
 mod solver;
 
 pub use condensation::Condensation;
@@ -72,4 +76,8 @@ pub use options::DirectOptions;
 pub use ordering::InteriorOrdering;
 pub use partial_cholesky::INTERIOR_PARALLEL_MIN;
 pub use schur_entries::SchurEntries;
+pub use schur_only::{
+    CheckpointPolicy, ExtraRows, InterfaceSchur, KeptSchur, PackedSymmetric, Progress,
+    RightHandSide, SchurOnly, SchurOnlyOptions, SchurOnlyPlan, SchurOnlyReport,
+};
 pub use solver::DirectSolver;

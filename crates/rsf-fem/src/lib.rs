@@ -42,6 +42,7 @@
 #![warn(missing_docs)]
 
 mod assembly;
+mod bisection;
 mod boundary;
 mod constraints;
 mod dof_transform;
@@ -54,6 +55,7 @@ mod gmsh;
 mod hierarchy;
 mod loads;
 mod mesh;
+mod octree;
 mod part;
 mod refine;
 mod split;
@@ -62,6 +64,7 @@ mod split_transform;
 mod structured;
 
 pub use assembly::{node_columns, Assembler};
+pub use bisection::{BisectionMesh, BisectionReport};
 pub use boundary::BoundarySegment;
 pub use constraints::{ConstrainedSystem, Constraints};
 pub use dof_transform::{Composition, DofTransform};
@@ -78,6 +81,7 @@ pub use loads::{
     traction_load_components,
 };
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
+pub use octree::{OctreeMesh, OctreeReport};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, quadratic_form, spmv_add, Cholesky, SparseMatrix};
@@ -85,7 +89,7 @@ pub use rsf_numeric::normal_component;
 pub use split::FaultSides;
 pub use split_transform::MeanJumpTransform;
 pub use structured::{
-    cuboid, cuboid_from_coordinates, geometric_grading, geometric_grading_len,
+    cuboid, cuboid_from_coordinates, cuboid_mirrored, geometric_grading, geometric_grading_len,
     pipping_slider_coarse, rectangle, rectangle_from_coordinates, symmetric_grading, Diagonal,
     MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

@@ -382,10 +382,54 @@ pub fn cuboid_from_coordinates(xs: &[f64], ys: &[f64], zs: &[f64]) -> Result<Tet
     SimplexMesh::from_ordered_cells(vertices, kuhn_cells(nx, ny, nz))
 }
 
+/// As [`cuboid_from_coordinates`], each box's diagonal mirrored along the axes where it
+/// is flagged: `mirror[a][i]` (one flag per box along axis `a`: `xs.len() − 1` flags for
+/// `a = 0`, …) mirrors the six tetrahedra of the boxes with index `i` along `a` in the
+/// plane between their faces, so that their paths run from the box's higher to its lower
+/// face along `a`. Mirroring alternate boxes gives the "union jack" pattern that
+/// [`BisectionMesh`](crate::BisectionMesh) makes (there each half cube's diagonal runs
+/// through its parent's centre), on a tensor grid; every pattern of flags is conforming
+/// (a mirrored box meets its neighbour's triangulation of their shared face).
+///
+/// # Errors
+/// As [`cuboid_from_coordinates`]; [`Error::InvalidGrid`] if a list of flags does not have
+/// one flag per box along its axis.
+pub fn cuboid_mirrored(
+    xs: &[f64],
+    ys: &[f64],
+    zs: &[f64],
+    mirror: [&[bool]; 3],
+) -> Result<TetrahedronMesh> {
+    for (a, (flags, coordinates)) in mirror.iter().zip([xs, ys, zs]).enumerate() {
+        if flags.len() + 1 != coordinates.len() {
+            return Err(Error::InvalidGrid(format!(
+                "{} mirror flags along axis {a} for {} boxes",
+                flags.len(),
+                coordinates.len().saturating_sub(1)
+            )));
+        }
+    }
+    let mesh = cuboid_from_coordinates(xs, ys, zs)?;
+    let cells = kuhn_cells_mirrored(xs.len(), ys.len(), zs.len(), mirror);
+    SimplexMesh::from_ordered_cells(mesh.vertices().to_vec(), cells)
+}
+
 /// The six tetrahedra of each box of an `nx × ny × nz` vertex grid (vertex
 /// `i + nx (j + ny k)`), four vertex indices each: one per path from the box's first to its
 /// last corner along the axes (Kuhn's subdivision).
 fn kuhn_cells(nx: usize, ny: usize, nz: usize) -> Vec<usize> {
+    let none = [
+        vec![false; nx - 1],
+        vec![false; ny - 1],
+        vec![false; nz - 1],
+    ];
+    kuhn_cells_mirrored(nx, ny, nz, [&none[0], &none[1], &none[2]])
+}
+
+/// [`kuhn_cells`] with the boxes mirrored along the flagged axes (`mirror[a][i]` for the
+/// boxes of index `i` along `a`): their paths start at the higher face along `a` and step
+/// down it.
+fn kuhn_cells_mirrored(nx: usize, ny: usize, nz: usize, mirror: [&[bool]; 3]) -> Vec<usize> {
     let stride = [1, nx, nx * ny];
     const PERMUTATIONS: [[usize; 3]; 6] = [
         [0, 1, 2],
@@ -399,12 +443,22 @@ fn kuhn_cells(nx: usize, ny: usize, nz: usize) -> Vec<usize> {
     for k in 0..nz - 1 {
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {
-                let p = i + nx * (j + ny * k);
+                let flip = [mirror[0][i], mirror[1][j], mirror[2][k]];
+                let mut p = i + nx * (j + ny * k);
+                for a in 0..3 {
+                    if flip[a] {
+                        p += stride[a];
+                    }
+                }
                 for perm in PERMUTATIONS {
                     let mut v = p;
                     cells.push(v);
                     for axis in perm {
-                        v += stride[axis];
+                        if flip[axis] {
+                            v -= stride[axis];
+                        } else {
+                            v += stride[axis];
+                        }
                         cells.push(v);
                     }
                 }

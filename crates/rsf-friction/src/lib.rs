@@ -227,4 +227,17 @@ pub trait FrictionLaw: Clone + Send + Sync {
     fn proportional_to_normal_stress(&self) -> bool {
         false
     }
+
+    /// The potential at state `alpha` with the normal stress `sigma_n` (Pa) in place of
+    /// the law's own: a normal stress that changes in time (pore pressure, `σ̄_n − p`).
+    /// A law proportional to its normal stress returns the potential with the bits of the
+    /// same law built with `sigma_n` (the built-in laws do), so that a constant pressure
+    /// `p₀` gives the run of the laws with `σ̄_n − p₀` bit for bit. Default `None`: the
+    /// caller scales the potential by `sigma_n/σ̄_n` instead (a law that is
+    /// [`proportional_to_normal_stress`](FrictionLaw::proportional_to_normal_stress)) or
+    /// refuses a changing normal stress.
+    fn potential_at_normal_stress(&self, alpha: f64, sigma_n: f64) -> Option<Self::Potential> {
+        let _ = (alpha, sigma_n);
+        None
+    }
 }

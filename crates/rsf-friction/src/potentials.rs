@@ -115,6 +115,10 @@ impl FrictionLaw for Tresca {
     fn potential(&self, _alpha: f64) -> TrescaPotential {
         TrescaPotential::new(self.mu * self.sigma_n)
     }
+    /// The threshold `μ σ` (a time-dependent bound: `σ = σ̄_n − p(t)`).
+    fn potential_at_normal_stress(&self, _alpha: f64, sigma_n: f64) -> Option<TrescaPotential> {
+        Some(TrescaPotential::new(self.mu * sigma_n))
+    }
     fn uses_state(&self) -> bool {
         false
     }
@@ -190,6 +194,9 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> FrictionLaw for StateDependentTres
     type Potential = TrescaPotential;
     fn potential(&self, alpha: f64) -> TrescaPotential {
         TrescaPotential::new(self.mu_at(alpha) * self.sigma_n)
+    }
+    fn potential_at_normal_stress(&self, alpha: f64, sigma_n: f64) -> Option<TrescaPotential> {
+        Some(TrescaPotential::new(self.mu_at(alpha) * sigma_n))
     }
     fn uses_state(&self) -> bool {
         true
@@ -497,6 +504,17 @@ impl FrictionLaw for DieterichRuina {
             self.params.kappa(),
         )
     }
+    /// `κ = a σ` with the given `σ` (`V_m` does not depend on it).
+    fn potential_at_normal_stress(
+        &self,
+        alpha: f64,
+        sigma_n: f64,
+    ) -> Option<DieterichRuinaPotential> {
+        Some(DieterichRuinaPotential::new(
+            self.logs.ln_cutoff_velocity(&self.params, alpha),
+            self.params.a * sigma_n,
+        ))
+    }
     fn uses_state(&self) -> bool {
         true
     }
@@ -697,6 +715,13 @@ impl FrictionLaw for AsinhLaw {
             self.logs.ln_cutoff_velocity(&self.params, alpha),
             self.params.kappa(),
         )
+    }
+    /// `κ = a σ` with the given `σ` (`V_m` does not depend on it).
+    fn potential_at_normal_stress(&self, alpha: f64, sigma_n: f64) -> Option<AsinhPotential> {
+        Some(AsinhPotential::new(
+            self.logs.ln_cutoff_velocity(&self.params, alpha),
+            self.params.a * sigma_n,
+        ))
     }
     fn uses_state(&self) -> bool {
         true

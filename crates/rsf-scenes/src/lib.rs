@@ -6,7 +6,8 @@
 //! - [`Slider3dScene`]: the same block extruded to 5 m × 1 m × W (tetrahedra);
 //! - [`SeasBp1`]: the SCEC SEAS benchmark BP1 (antiplane, a vertical strike-slip fault,
 //!   docs/seas-bp1.md); [`SeasBp3`]: BP3 (a dipping fault inside the body); [`SeasBp5`]:
-//!   BP5 (3-D, a fault alone in a half-space, docs/seas-bp5.md); their output files (the
+//!   BP5 (3-D, a fault alone in a half-space, docs/seas-bp5.md); [`SeasBp6`]: BP6 (fluid
+//!   injection, docs/seas-bp6.md); their output files (the
 //!   SCEC format) are the crate `rsf-seas`'s, which the scenes set up
 //!   ([`SeasBp1::seas_setup`], [`SeasBp5::output`]);
 //! - the slider on an inclined base ([`inclined_slider_model`]) and on a curved one read from
@@ -37,6 +38,7 @@ mod seas_bp1;
 mod seas_bp3;
 mod seas_bp5;
 mod seas_bp5_output;
+mod seas_bp6;
 mod slider;
 mod slider3d;
 
@@ -51,7 +53,13 @@ pub use seas_bp1::{
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
-pub use seas_bp5::{SeasBp5, SeasBp5FaultOde, SeasBp5Grid, MAX_CELLS as SEAS_BP5_MAX_CELLS};
+pub use seas_bp5::{
+    FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh, MAX_CELLS as SEAS_BP5_MAX_CELLS,
+};
+pub use seas_bp6::{
+    Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,
+    BP6_SECONDS_PER_YEAR,
+};
 // BP5's stations: their files are the output's (rsf-seas), their positions the scene's.
 pub use rsf_seas::{SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};
 pub use slider::{

@@ -378,9 +378,8 @@ impl SeasBp1 {
         if !inertia {
             builder = builder.without_mass();
         }
-        let mut model = builder.build()?;
-        model.initial_displacement.fill(0.0);
-        Ok(model)
+        // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
+        builder.without_initial_equilibrium().build()
     }
 
     /// The problem of BP1 on `model` (from [`model`](Self::model)), without a method: the

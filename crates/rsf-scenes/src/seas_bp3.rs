@@ -223,7 +223,7 @@ impl SeasBp3 {
         let (w_f, l) = (p.w_f, grid.domain);
         let (a, b, d) = (self.clone(), self.clone(), self.clone());
         let (e, f) = (self.clone(), self.clone());
-        let mut model = ModelBuilder::new(mesh)
+        ModelBuilder::new(mesh)
             .material(material)
             .without_mass()
             .dirichlet(Part::predicate("left", move |x| a.xi(x) < -l + eps), minus)
@@ -246,9 +246,9 @@ impl SeasBp3 {
             .neumann(Part::from("fault_plus"), move |_| {
                 [tau0 * t[0], tau0 * t[1]]
             })
-            .build()?;
-        model.initial_displacement.fill(0.0);
-        Ok(model)
+            // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
+            .without_initial_equilibrium()
+            .build()
     }
 
     /// The problem on `model` (quasi-dynamic): the regularised law with `a(x_d)`, the

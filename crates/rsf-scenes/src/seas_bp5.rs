@@ -9,11 +9,14 @@
 //! `(slip₂, −slip₃)`.
 
 use rsf::fault_alone::FaultAlone;
-use rsf::fault_ode::FaultOdeOptions;
-use rsf::fem::{cuboid_from_coordinates, geometric_grading, symmetric_grading};
+use rsf::fault_ode::{FaultOdeOptions, SchurOnlySetup};
+use rsf::fem::{
+    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, OctreeMesh,
+    TetrahedronMesh,
+};
 use rsf::halfspace::Medium;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
-use rsf::model::CreepRate;
+use rsf::model::{CreepRate, MaterialRegions};
 use rsf::{FaultOde, Material, Model, ModelBuilder, Part, Result, SimulationBuilder};
 use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
@@ -71,6 +74,28 @@ pub struct SeasBp5 {
     pub l_f: f64,
     /// Size w of the nucleation patch (m).
     pub w: f64,
+    /// A compliant fault zone around the rate-and-state region (not part of the
+    /// benchmark: `None` there; the finite-element kernel only; docs/seas-bp5.md, "A
+    /// compliant fault zone").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fault_zone: Option<FaultZone>,
+}
+
+/// A compliant fault zone (not part of BP5: a problem no half-space code can run): the slab
+/// `|x₁| ≤ half_width` over the rate-and-state region (`|x₂| ≤ l_f/2`, `x₃ ≤ W_f`) has the
+/// shear modulus `rigidity_ratio · μ` (the density and Poisson's ratio of the host, so its
+/// shear-wave speed is `√rigidity_ratio · c_s`); the fault's radiation damping is the
+/// zone's, `η = √(ρ μ_fz)/2`. Damaged rock around mature faults: low-velocity zones of a
+/// few hundred metres to a few kilometres with wave speeds reduced by 20–60 %
+/// (docs/seas-bp5.md lists the cycle models that study them).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FaultZone {
+    /// Half of the slab's width (m), positive; the mesh must resolve it
+    /// ([`SeasBp5Grid::near_fault`] at least this, a whole number of `dx`).
+    pub half_width: f64,
+    /// The zone's shear modulus over the host's, in `(0, 1]` (1: no contrast).
+    pub rigidity_ratio: f64,
 }
 
 impl Default for SeasBp5 {
@@ -97,6 +122,7 @@ impl Default for SeasBp5 {
             w_f: 40e3,
             l_f: 100e3,
             w: 12e3,
+            fault_zone: None,
         }
     }
 }
@@ -151,6 +177,20 @@ impl SeasBp5 {
                  region (h_s + 2 h_t + H <= W_f, l + 2 h_t <= l_f)",
             ));
         }
+        if let Some(zone) = self.fault_zone {
+            if !(zone.half_width.is_finite() && zone.half_width > 0.0) {
+                return Err(invalid(
+                    "fault_zone.half_width",
+                    format!("{} m must be positive and finite", zone.half_width),
+                ));
+            }
+            if !(zone.rigidity_ratio > 0.0 && zone.rigidity_ratio <= 1.0) {
+                return Err(invalid(
+                    "fault_zone.rigidity_ratio",
+                    format!("{} must be in (0, 1]", zone.rigidity_ratio),
+                ));
+            }
+        }
         if self.w > self.l_core {
             return Err(invalid(
                 "w",
@@ -165,9 +205,17 @@ impl SeasBp5 {
         self.rho * self.c_s * self.c_s
     }
 
-    /// Radiation damping η = μ/(2c_s) (Pa·s/m).
+    /// The shear modulus at the fault (Pa): the fault zone's, `rigidity_ratio · μ`, or μ.
+    pub fn fault_shear_modulus(&self) -> f64 {
+        self.shear_modulus() * self.fault_zone.map_or(1.0, |z| z.rigidity_ratio)
+    }
+
+    /// Radiation damping η = μ/(2c_s) (Pa·s/m) with the modulus and shear-wave speed at
+    /// the fault: the fault zone's `rigidity_ratio · μ` and `√rigidity_ratio · c_s`, so
+    /// that a ratio of 1 gives the description's `μ/(2c_s)` bit for bit.
     pub fn radiation_damping(&self) -> f64 {
-        self.shear_modulus() / (2.0 * self.c_s)
+        let ratio = self.fault_zone.map_or(1.0, |z| z.rigidity_ratio);
+        self.fault_shear_modulus() / (2.0 * self.c_s * ratio.sqrt())
     }
 
     /// The half-space: λ = 2μν/(1 − 2ν), μ.
@@ -339,6 +387,22 @@ impl SeasBp5 {
         bp5_body_station_points()
     }
 
+    /// The vertices of a volume model ([`fe_model`](Self::fe_model)) nearest the off-fault
+    /// stations ([`body_station_points`](Self::body_station_points)), sorted, without
+    /// repeats: those the output reads off the fault.
+    ///
+    /// # Errors
+    /// [`Model::nearest_node`]'s (a model without vertices).
+    pub fn station_vertices(&self, model: &Model<3, 3>) -> Result<Vec<usize>> {
+        let mut vertices = Self::body_station_points()
+            .iter()
+            .map(|x| model.nearest_node(x))
+            .collect::<Result<Vec<usize>>>()?;
+        vertices.sort_unstable();
+        vertices.dedup();
+        Ok(vertices)
+    }
+
     /// As [`fault_ode`](Self::fault_ode), with the half-space displacement at `points`
     /// (model coordinates, m) per unit slip of every slip unknown
     /// ([`HalfSpaceOperator::displacement_columns`]) for off-fault stations.
@@ -372,6 +436,13 @@ impl SeasBp5 {
         ranks: Option<Box<dyn rsf::ranks::RankGroup>>,
     ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
         self.validate()?;
+        if self.fault_zone.is_some() {
+            return Err(invalid(
+                "fault_zone",
+                "a fault zone is a change of the volume: it needs the finite-element kernel \
+                 (fe_model), not the half-space operator",
+            ));
+        }
         let operator = match ranks {
             Some(group) => HalfSpaceOperator::fault_alone_on_ranks(&model, half_space, group),
             None => HalfSpaceOperator::fault_alone(&model, half_space),
@@ -427,6 +498,45 @@ impl SeasBp5 {
     }
 }
 
+/// Largest root cube of [`SeasBp5Mesh::Graded`] (m): cells at the far faces, 400 km
+/// from the fault, of at most 64 km (the tensor grid's there at ratio 1.3: about 90 km).
+pub const GRADED_ROOT_MAX: f64 = 64e3;
+
+/// Most cells of [`SeasBp5Mesh::Graded`]'s mesh (about 2.4 GB of mesh and a few times more
+/// of matrices).
+pub const GRADED_MAX_CELLS: usize = 20_000_000;
+
+/// The distance (m) between the boxes `a` and `b`, each `(lower, upper)` corners (0 where
+/// they meet).
+fn box_distance(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> f64 {
+    (0..3)
+        .map(|k| (a.0[k] - b.1[k]).max(b.0[k] - a.1[k]).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// How [`SeasBp5::fe_model`] meshes the volume.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SeasBp5Mesh {
+    /// A tensor grid of Kuhn boxes: uniform `dx` over the rate-and-state region along
+    /// strike and dip (and one cell either side of the fault), growing by `ratio` beyond,
+    /// axis by axis — the fault's fine spacing repeated in every layer of the box.
+    Tensor,
+    /// The tensor grid with the boxes mirrored by the parity of their position
+    /// (`round(x/dx)` odd along an axis): the graded mesh's "union jack" pattern of
+    /// diagonals on the tensor grid's boxes, to tell the effect of the pattern from that of
+    /// the grading (docs/seas-bp5.md).
+    TensorMirrored,
+    /// An octree of Kuhn cubes refined towards the rate-and-state region and the off-fault
+    /// stations ([`OctreeMesh`], docs/fem.md "Graded meshes: octree of Kuhn cubes"): cells
+    /// `dx` there — the tensor grid's own Kuhn cells, with parallel diagonals — growing with
+    /// the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor grid's
+    /// growth) beyond the slab `near_fault`.
+    #[default]
+    Graded,
+}
+
 /// The finite-element grid of BP5's volume model ([`SeasBp5::fe_model`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SeasBp5Grid {
@@ -436,15 +546,26 @@ pub struct SeasBp5Grid {
     pub domain: f64,
     /// Growth of the spacing away from the rate-and-state region, in `[1, 2]`.
     pub ratio: f64,
+    /// The tensor grid or the graded mesh (for the latter the box reaches the first
+    /// multiple of its root cube not below `domain`).
+    #[serde(default)]
+    pub mesh: SeasBp5Mesh,
+    /// The graded mesh's cells are `dx` in the slab `|x₁| ≤ near_fault` over the
+    /// rate-and-state region (m; 0: on the fault's own cells only), so that a fault zone of
+    /// that half-width is resolved cell for cell ([`FaultZone`]); a whole number of `dx`.
+    #[serde(default)]
+    pub near_fault: f64,
 }
 
 impl Default for SeasBp5Grid {
-    /// 4 km on the fault, a box reaching 400 km from it, growth 1.3.
+    /// 4 km on the fault, a box reaching 400 km from it, growth 1.3, the graded mesh.
     fn default() -> Self {
         Self {
             dx: 4e3,
             domain: 400e3,
             ratio: 1.3,
+            mesh: SeasBp5Mesh::Graded,
+            near_fault: 0.0,
         }
     }
 }
@@ -458,9 +579,11 @@ impl SeasBp5 {
     }
 
     /// BP5 as a finite-element volume model on `grid` (quasi-dynamic: no mass): the box
-    /// `|x|, |y| ≤ domain`, `−domain ≤ z ≤ 0` of Kuhn tetrahedra on a tensor grid, uniform
-    /// `dx` over the rate-and-state region (and one cell across the fault) and growing
-    /// by `ratio` beyond, isotropic (μ = ρc_s², ν); the whole plane `x = 0` a fault inside
+    /// `|x|, |y| ≤ domain`, `−domain ≤ z ≤ 0` of Kuhn tetrahedra (`grid.mesh`: on a tensor
+    /// grid, uniform `dx` over the rate-and-state region and one cell across the fault and
+    /// growing by `ratio` beyond; or graded by bisection in every direction, `dx` at the
+    /// rate-and-state region and the off-fault stations, the box rounded up to whole root
+    /// cubes), isotropic (μ = ρc_s², ν); the whole plane `x = 0` a fault inside
     /// the body ([`ModelBuilder::internal_fault_polygon`], `t₁` along strike): its pairs
     /// outside the rate-and-state region creeping at `(V_p, 0)`
     /// ([`ModelBuilder::internal_creep_at`]), those inside it frictional; the far faces
@@ -474,19 +597,39 @@ impl SeasBp5 {
     /// `domain` (not beyond 1.5 l_f/2 and 1.5 W_f) or `ratio` (outside `[1, 2]`);
     /// grading and assembly errors.
     pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
+        self.fe_model_builder(grid)?.build()
+    }
+
+    /// The builder of [`fe_model`](Self::fe_model) (its mesh made, nothing assembled), e.g.
+    /// to watch the build's stages ([`ModelBuilder::on_stage`]); `build` it for the model.
+    ///
+    /// # Errors
+    /// As [`fe_model`](Self::fe_model) before its assembly.
+    pub fn fe_model_builder(&self, grid: &SeasBp5Grid) -> Result<ModelBuilder<3>> {
         self.validate()?;
         let (h, far) = (grid.dx, grid.domain);
         let whole = |length: f64| {
             let n = length / h;
             h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-12 * n
         };
-        if !(whole(0.5 * self.l_f) && whole(self.w_f)) {
+        // The tensor grid is symmetric about x₂ = 0 (a line of nodes there); the graded
+        // mesh's lattice is shifted along strike so that x₂ = ±l_f/2 are nodes.
+        let along_strike = match grid.mesh {
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => 0.5 * self.l_f,
+            SeasBp5Mesh::Graded => self.l_f,
+        };
+        if !(whole(along_strike) && whole(self.w_f)) {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{} m must divide l_f/2 = {} m and W_f = {} m into whole cells",
+                    "{} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
                     rsf_numeric::number(h),
-                    0.5 * self.l_f,
+                    match grid.mesh {
+                        SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
+                            "l_f/2 (the tensor grid)"
+                        }
+                        SeasBp5Mesh::Graded => "l_f",
+                    },
                     self.w_f
                 ),
             ));
@@ -494,7 +637,10 @@ impl SeasBp5 {
         if !(far.is_finite() && far >= 1.5 * (0.5 * self.l_f).max(self.w_f)) {
             return Err(invalid(
                 "domain",
-                format!("{far} m must reach 1.5 times l_f/2 and W_f"),
+                format!(
+                    "{} m must reach 1.5 times l_f/2 and W_f",
+                    rsf_numeric::number(far)
+                ),
             ));
         }
         if !(1.0..=2.0).contains(&grid.ratio) {
@@ -503,44 +649,91 @@ impl SeasBp5 {
                 format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
             ));
         }
-        let xs = symmetric_grading(h, h, grid.ratio, far)?;
-        let ys = symmetric_grading(h, 0.5 * self.l_f, grid.ratio, far)?;
-        let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
-            .iter()
-            .rev()
-            .map(|z| -z)
-            .collect();
-        *zs.last_mut().expect("a graded list is not empty") = 0.0;
-        let mesh = cuboid_from_coordinates(&xs, &ys, &zs)?;
+        let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
+        if !(grid.near_fault.is_finite() && multiple(grid.near_fault)) {
+            return Err(invalid(
+                "near_fault",
+                format!(
+                    "{} m must be 0 or a whole number of dx = {} m",
+                    rsf_numeric::number(grid.near_fault),
+                    rsf_numeric::number(h)
+                ),
+            ));
+        }
+        if grid.near_fault > 0.0 && grid.mesh != SeasBp5Mesh::Graded {
+            return Err(invalid(
+                "near_fault",
+                "a slab of cells dx is a setting of the graded mesh (the tensor grid grows \
+                 from the fault at once)",
+            ));
+        }
+        if let Some(zone) = self.fault_zone {
+            if !(multiple(zone.half_width) && grid.near_fault >= zone.half_width) {
+                return Err(invalid(
+                    "fault_zone.half_width",
+                    format!(
+                        "{} m must be a whole number of dx = {} m and the graded mesh's \
+                         near_fault ({} m) at least that, so that the zone is meshed cell \
+                         for cell",
+                        rsf_numeric::number(zone.half_width),
+                        rsf_numeric::number(h),
+                        rsf_numeric::number(grid.near_fault)
+                    ),
+                ));
+            }
+        }
+        let (mesh, [lo, hi]) = match grid.mesh {
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => (
+                self.tensor_mesh(grid)?,
+                [[-far, -far, -far], [far, far, 0.0]],
+            ),
+            SeasBp5Mesh::Graded => self.graded_mesh(grid)?,
+        };
         let mu = self.shear_modulus();
-        let material = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let host = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let builder = ModelBuilder::new(mesh);
+        let builder = match self.fault_zone {
+            None => builder.material(host),
+            Some(zone) => {
+                let mu_fz = self.fault_shear_modulus();
+                let soft = Material::new(2.0 * mu_fz * (1.0 + self.nu), self.nu, self.rho);
+                let scene = *self;
+                builder.material(MaterialRegions::new(host).region(
+                    "fault zone",
+                    move |x| {
+                        x[0].abs() <= zone.half_width && scene.in_rate_state_region(x[1], -x[2])
+                    },
+                    soft,
+                ))
+            }
+        };
         let eps = 1e-6 * h;
         let side = 0.5 * self.v_p;
+        // Every face of the box but the free surface z = 0.
+        let far_face = move |x: &[f64; 3]| {
+            (0..2).any(|k| x[k] < lo[k] + eps || x[k] > hi[k] - eps) || x[2] < lo[2] + eps
+        };
         let (a, b, c) = (*self, *self, *self);
-        let mut model = ModelBuilder::new(mesh)
-            .material(material)
+        // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
+        let builder = builder
             .without_mass()
+            .without_initial_equilibrium()
             .dirichlet(
-                Part::predicate("far minus", move |x| {
-                    x[0] < -eps
-                        && (x[0] < -far + eps || x[1].abs() > far - eps || x[2] < -far + eps)
-                }),
+                Part::predicate("far minus", move |x| x[0] < -eps && far_face(x)),
                 [0.0, -side, 0.0],
             )
             .dirichlet(
-                Part::predicate("far plus", move |x| {
-                    x[0] > eps && (x[0] > far - eps || x[1].abs() > far - eps || x[2] < -far + eps)
-                }),
+                Part::predicate("far plus", move |x| x[0] > eps && far_face(x)),
                 [0.0, side, 0.0],
             )
             .fault_tangent([0.0, 1.0, 0.0])
             .internal_fault_polygon(
                 "fault",
                 &[
-                    [0.0, -far, -far],
-                    [0.0, far, -far],
-                    [0.0, far, 0.0],
-                    [0.0, -far, 0.0],
+                    [0.0, lo[1], lo[2]],
+                    [0.0, hi[1], lo[2]],
+                    [0.0, hi[1], 0.0],
+                    [0.0, lo[1], 0.0],
                 ],
             )
             .internal_creep_at(move |x| {
@@ -561,10 +754,76 @@ impl SeasBp5 {
                     0.0
                 };
                 [0.0, t, 0.0]
-            })
-            .build()?;
-        model.initial_displacement.fill(0.0);
-        Ok(model)
+            });
+        Ok(builder)
+    }
+
+    /// The tensor grid of [`SeasBp5Mesh::Tensor`] (box `±domain`).
+    fn tensor_mesh(&self, grid: &SeasBp5Grid) -> Result<TetrahedronMesh> {
+        let (h, far) = (grid.dx, grid.domain);
+        let xs = symmetric_grading(h, h, grid.ratio, far)?;
+        let ys = symmetric_grading(h, 0.5 * self.l_f, grid.ratio, far)?;
+        let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
+            .iter()
+            .rev()
+            .map(|z| -z)
+            .collect();
+        *zs.last_mut().expect("a graded list is not empty") = 0.0;
+        if grid.mesh == SeasBp5Mesh::TensorMirrored {
+            let odd = |c: &[f64]| -> Vec<bool> {
+                c[..c.len() - 1]
+                    .iter()
+                    .map(|x| (x / h).round().rem_euclid(2.0) == 1.0)
+                    .collect()
+            };
+            let (fx, fy, fz) = (odd(&xs), odd(&ys), odd(&zs));
+            return Ok(cuboid_mirrored(&xs, &ys, &zs, [&fx, &fy, &fz])?);
+        }
+        Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
+    }
+
+    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): an octree of
+    /// Kuhn cubes of edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
+    /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
+    /// not below `domain` and `s` the shift (`l_f/2` modulo `dx`: 0 or `dx/2`) that puts
+    /// nodes at `x₂ = ±l_f/2`, split ([`OctreeMesh`]) until every cell is at most
+    /// `dx + (ratio − 1) d`, `d` the distance of its bounding box from the rate-and-state
+    /// region (on the plane `x = 0`, thickened to `|x| ≤ near_fault`) or from the nearest
+    /// off-fault station
+    /// ([`body_station_points`](Self::body_station_points)).
+    fn graded_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
+        let h = grid.dx;
+        let doublings = (GRADED_ROOT_MAX / h).log2().floor().max(0.0);
+        let root = h * doublings.exp2();
+        let far = (grid.domain / root - 1e-9).ceil() * root;
+        let shift = {
+            let r = (0.5 * self.l_f / h).fract();
+            if r > 0.25 && r < 0.75 {
+                0.5 * h
+            } else {
+                0.0
+            }
+        };
+        let (lo, hi) = ([-far, shift - far, -far], [far, shift + far, 0.0]);
+        let growth = grid.ratio - 1.0;
+        let near = grid.near_fault;
+        let region = (
+            [-near, -0.5 * self.l_f, -self.w_f],
+            [near, 0.5 * self.l_f, 0.0],
+        );
+        let stations = Self::body_station_points();
+        let size = move |lo: [f64; 3], hi: [f64; 3]| {
+            let closest = stations
+                .iter()
+                .map(|&p| box_distance((lo, hi), (p, p)))
+                .fold(box_distance((lo, hi), region), f64::min);
+            h + growth * closest
+        };
+        let mut cubes = OctreeMesh::new(lo, hi, root)?;
+        cubes
+            .refine(size, GRADED_MAX_CELLS)
+            .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
+        Ok((cubes.into_mesh()?, [lo, hi]))
     }
 
     /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))
@@ -581,6 +840,23 @@ impl SeasBp5 {
     ) -> Result<SeasBp5FaultOde> {
         self.validate()?;
         self.problem_builder(model).build_fault_ode(options)
+    }
+
+    /// As [`fe_fault_ode`](Self::fe_fault_ode) without ever holding the volume's whole
+    /// factor ([`SimulationBuilder::build_fault_ode_schur_only`]: the same operator to
+    /// round-off; the stations' vertices, `setup.watch_vertices`, given before the set-up).
+    ///
+    /// # Errors
+    /// As [`fe_fault_ode`](Self::fe_fault_ode); the elimination's.
+    pub fn fe_fault_ode_schur_only(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+        setup: SchurOnlySetup,
+    ) -> Result<SeasBp5FaultOde> {
+        self.validate()?;
+        self.problem_builder(model)
+            .build_fault_ode_schur_only(options, setup)
     }
 }
 

@@ -16,7 +16,7 @@ impl SeasBp5 {
         StrikeDipFault {
             length: self.l_f,
             width: self.w_f,
-            shear_modulus: self.shear_modulus(),
+            shear_modulus: self.fault_shear_modulus(),
             radiation_damping: self.radiation_damping(),
             plate_rate: self.v_p,
         }

@@ -11,6 +11,8 @@
 //! - on a strike–dip grid, the 3-D benchmark BP5 ([`SeasBp5Output`]): stations
 //!   `fltst_strk±XXdp±YY` and `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, profiles along
 //!   strike and dip, `rupture.dat`, the catalogue;
+//! - along strike, BP6 (fluid injection, [`SeasBp6Output`]): stations with pore pressure
+//!   and Darcy velocity, `global.dat`, four profiles;
 //! - their resume logs ([`SEAS_RESUME_LOG`], [`SEAS_BP5_RESUME_LOG`]): a run continued from
 //!   a checkpoint continues the files, byte-identical to an uninterrupted run's.
 //!
@@ -25,6 +27,7 @@
 #![warn(missing_docs)]
 
 mod along_dip;
+mod bp6;
 mod error;
 mod resume;
 mod setup;
@@ -33,6 +36,10 @@ mod text;
 
 pub use along_dip::resume::SEAS_RESUME_LOG;
 pub use along_dip::SeasOutput;
+pub use bp6::{
+    bp6_profile_positions, bp6_station_name, Bp6Fault, SeasBp6Output, BP6_SLIP_RATE_FLOOR,
+    SEAS_BP6_RESUME_LOG, SEAS_BP6_STATIONS,
+};
 pub use error::{Error, Result};
 pub use setup::{
     SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,

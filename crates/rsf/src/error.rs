@@ -62,14 +62,14 @@ pub enum Error {
         /// The budget.
         budget_bytes: usize,
     },
-    /// The normal stress of a fault inside the body
-    /// ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip)) would
-    /// reach zero or below (the fault would open, which the model does not allow) or is
-    /// not finite.
+    /// The effective normal stress of a frictional node — of a fault inside the body
+    /// ([`NormalStress::FromSlip`](crate::normal_stress::NormalStress::FromSlip)), or
+    /// lowered by a pore pressure ([`crate::pore_pressure`]) — would reach zero or below
+    /// (the fault would open, which the model does not allow) or is not finite.
     #[error(
         "the normal stress of frictional node {node} would be {sigma_n:e} Pa at t = {time:e} \
-         s: the slip unclamps the fault until it opens, which the model (tied normal jump) \
-         does not represent"
+         s: the slip or the pore pressure unclamps the fault until it opens, which the \
+         model (tied normal jump) does not represent"
     )]
     NormalStressNotPositive {
         /// The frictional node (position along Γ_F).

@@ -54,6 +54,8 @@ pub(crate) enum Elastic {
     Condensed(Option<Box<dyn FaultOperator>>),
     /// A fault alone.
     Alone(FaultAlone),
+    /// Condensed from the model's body without its whole factor.
+    SchurOnly(crate::fault_ode::SchurOnlySetup),
 }
 
 /// Where a fault ODE's unknowns live: the condensed finite-element body, or the fault
@@ -63,6 +65,12 @@ pub(crate) enum Body<const C: usize> {
     Volume(Box<Condensation<C>>),
     /// No volume: the slip unknowns' dofs.
     Alone {
+        /// The model dof of every slip unknown.
+        dofs: Vec<usize>,
+    },
+    /// A finite-element body condensed onto the fault without its factor
+    /// ([`rsf_direct::SchurOnly`]): no extension off the fault but the probe's.
+    Condensed {
         /// The model dof of every slip unknown.
         dofs: Vec<usize>,
     },
@@ -78,7 +86,7 @@ impl<const C: usize> Body<C> {
     pub(crate) fn interface_dofs(&self) -> &[usize] {
         match self {
             Self::Volume(c) => c.interface_dofs(),
-            Self::Alone { dofs } => dofs,
+            Self::Alone { dofs } | Self::Condensed { dofs } => dofs,
         }
     }
 
@@ -86,7 +94,7 @@ impl<const C: usize> Body<C> {
     pub(crate) fn factor_nnz(&self) -> usize {
         match self {
             Self::Volume(c) => c.factor_nnz(),
-            Self::Alone { .. } => 0,
+            Self::Alone { .. } | Self::Condensed { .. } => 0,
         }
     }
 
@@ -94,7 +102,7 @@ impl<const C: usize> Body<C> {
     pub(crate) fn volume_mut(&mut self) -> Option<&mut Condensation<C>> {
         match self {
             Self::Volume(c) => Some(c),
-            Self::Alone { .. } => None,
+            Self::Alone { .. } | Self::Condensed { .. } => None,
         }
     }
 }

@@ -73,32 +73,81 @@ pub(crate) struct KernelRows {
     pub(crate) split: RowSplit,
 }
 
-/// The condensed operator `S` of `cond` as `kind` says: dense from
-/// [`Condensation::schur_complement`]; hierarchical from the dense `S` by truncated SVD on
-/// a 1-D or 2-D model (a fault line: `m` small, the tighter compression, and the
-/// trajectories published with it), from its entries by cross approximation on a 3-D
-/// model ([`Condensation::schur_entries`]: half of one dense copy, no dense product).
+/// Where the entries of a condensed operator `S` come from: the condensation's factor
+/// (its interface rows, [`Condensation::schur_entries`], or the dense product
+/// [`Condensation::schur_complement`]), or a Schur complement computed without the factor
+/// ([`rsf_direct::SchurOnly`]: packed rows of `S`).
+pub(crate) enum SchurSource<'a, const C: usize> {
+    /// The condensation of the whole factor.
+    Factor(&'a Condensation<C>),
+    /// `S` itself (packed rows of its lower triangle) on the interface dofs `dofs`.
+    Packed {
+        /// `S`.
+        s: &'a rsf_direct::PackedSymmetric,
+        /// The dof of each of its rows.
+        dofs: &'a [usize],
+    },
+}
+
+impl<const C: usize> SchurSource<'_, C> {
+    /// Number `m` of condensed unknowns.
+    fn dim(&self) -> usize {
+        self.interface_dofs().len()
+    }
+
+    /// The dof of each condensed unknown.
+    pub(crate) fn interface_dofs(&self) -> &[usize] {
+        match self {
+            Self::Factor(cond) => cond.interface_dofs(),
+            Self::Packed { dofs, .. } => dofs,
+        }
+    }
+
+    /// `S` dense (`m × m`).
+    fn dense(&self) -> Mat<f64> {
+        let m = self.dim();
+        match self {
+            Self::Factor(cond) => {
+                let s_dense = cond.schur_complement();
+                Mat::from_fn(m, m, |i, j| s_dense[j * m + i])
+            }
+            Self::Packed { s, .. } => Mat::from_fn(m, m, |i, j| s.entry(i, j)),
+        }
+    }
+}
+
+/// The condensed operator `S` of `source` as `kind` says: dense; hierarchical from the
+/// dense `S` by truncated SVD on a 1-D or 2-D model (a fault line: `m` small, the tighter
+/// compression, and the trajectories published with it), from its entries by cross
+/// approximation on a 3-D model (from the factor: [`Condensation::schur_entries`], half of
+/// one dense copy, no dense product; from a packed `S`: its entries as they are).
 pub(crate) fn condensed_operator<const D: usize, const C: usize>(
     model: &Model<D, C>,
-    cond: &Condensation<C>,
+    source: &SchurSource<'_, C>,
     kind: FaultKernel,
 ) -> Result<CondensedOperator> {
-    let m = cond.dim();
+    let m = source.dim();
     let (kernel, report) = match kind {
         FaultKernel::Hierarchical { epsilon, leaf_size } if D == 3 => {
             let clock = Instant::now();
-            let entries = cond.schur_entries();
             let options = HOptions {
                 epsilon,
                 leaf_size,
-                components: components_per_node(cond.interface_dofs(), C),
+                components: components_per_node(source.interface_dofs(), C),
                 ..HOptions::default()
             };
-            let h = HMatrix::from_entries(
-                |i, j| entries.entry(i, j),
-                &interface_points(model, cond)?,
-                &options,
-            )?;
+            let points = interface_points(model, source.interface_dofs())?;
+            let (h, setup_bytes) = match source {
+                SchurSource::Factor(cond) => {
+                    let entries = cond.schur_entries();
+                    let h = HMatrix::from_entries(|i, j| entries.entry(i, j), &points, &options)?;
+                    (h, entries.bytes())
+                }
+                SchurSource::Packed { s, .. } => (
+                    HMatrix::from_entries(|i, j| s.entry(i, j), &points, &options)?,
+                    s.bytes(),
+                ),
+            };
             let r = h.report();
             let report = KernelReport {
                 kernel: kind,
@@ -108,7 +157,7 @@ pub(crate) fn condensed_operator<const D: usize, const C: usize>(
                     rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
                     _ => 0,
                 },
-                setup_bytes: entries.bytes(),
+                setup_bytes,
                 stored_entries: r.stored_entries,
                 dense_blocks: r.dense_blocks,
                 low_rank_blocks: r.low_rank_blocks,
@@ -118,12 +167,7 @@ pub(crate) fn condensed_operator<const D: usize, const C: usize>(
             };
             (Kernel::Hierarchical(Box::new(h)), report)
         }
-        _ => {
-            let s_dense = cond.schur_complement();
-            let s = Mat::from_fn(m, m, |i, j| s_dense[j * m + i]);
-            drop(s_dense);
-            compress(s, model, cond, kind)?
-        }
+        _ => compress(source.dense(), model, source.interface_dofs(), kind)?,
     };
     Ok(CondensedOperator {
         kernel,
@@ -150,10 +194,9 @@ fn components_per_node(interface: &[usize], c: usize) -> usize {
 /// components are coincident points, never separated by the admissibility condition.
 fn interface_points<const D: usize, const C: usize>(
     model: &Model<D, C>,
-    cond: &Condensation<C>,
+    interface: &[usize],
 ) -> Result<Points> {
-    let coords: Vec<[f64; D]> = cond
-        .interface_dofs()
+    let coords: Vec<[f64; D]> = interface
         .iter()
         .map(|&dof| model.vertices[dof / C])
         .collect();
@@ -347,7 +390,7 @@ fn dense_subtract_product(s: MatRef<'_, f64>, x: &[f64], r: &mut [f64], par: Par
 pub(crate) fn compress<const D: usize, const C: usize>(
     s: Mat<f64>,
     model: &Model<D, C>,
-    cond: &Condensation<C>,
+    interface: &[usize],
     kind: FaultKernel,
 ) -> Result<(Kernel, KernelReport)> {
     let m = s.nrows();
@@ -355,7 +398,7 @@ pub(crate) fn compress<const D: usize, const C: usize>(
         FaultKernel::Dense => Ok((Kernel::Dense(s), KernelReport::dense(m))),
         FaultKernel::Hierarchical { epsilon, leaf_size } => {
             let clock = Instant::now();
-            let points = interface_points(model, cond)?;
+            let points = interface_points::<D, C>(model, interface)?;
             let options = HOptions {
                 epsilon,
                 leaf_size,
@@ -421,7 +464,7 @@ mod tests {
             epsilon,
             leaf_size: 48,
         };
-        let mut op = condensed_operator(&model, &cond, kind).unwrap();
+        let mut op = condensed_operator(&model, &SchurSource::Factor(&cond), kind).unwrap();
         let report = op.report().clone();
         eprintln!("{report}");
         assert_eq!(report.dim, m);

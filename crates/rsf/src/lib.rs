@@ -62,6 +62,7 @@ pub mod model;
 mod node_solves;
 pub mod normal_stress;
 pub mod observe;
+pub mod pore_pressure;
 mod problem;
 pub mod ranks;
 mod report;
@@ -71,6 +72,7 @@ pub mod simulation;
 mod simulation_state;
 pub mod switching;
 mod volume_probe;
+pub mod whole_space;
 
 /// The names most programs need, in one `use rsf::prelude::*;`.
 pub mod prelude {

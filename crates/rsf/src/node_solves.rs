@@ -41,6 +41,10 @@ pub(crate) struct NodeSolves<'a, L, S, const C: usize> {
     /// Per node, the factor `σ̄_n/σ̄_n⁰` of its potential (a normal stress that changes
     /// with slip), or `None`: 1.
     pub scale: Option<(&'a [f64], &'a [f64])>,
+    /// Per node, the effective normal stress `σ̄_n − p` (Pa) its law is evaluated at
+    /// ([`FrictionLaw::potential_at_normal_stress`]; a pore pressure), or `None`. Takes
+    /// the place of `scale`.
+    pub effective: Option<&'a [f64]>,
 }
 
 impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
@@ -83,12 +87,20 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
         for (tr, r) in traction.iter_mut().zip(r) {
             *tr = r * inv_w;
         }
-        let w = self
-            .scale
-            .map_or(1.0, |(sigma, sigma0)| sigma[k] / sigma0[k]);
-        self.friction[k]
-            .potential(alpha)
-            .minimize_block(self.eta[k], &traction[..r.len()], w, out);
+        let law = &self.friction[k];
+        match self
+            .effective
+            .and_then(|s| law.potential_at_normal_stress(alpha, s[k]))
+        {
+            Some(p) => p.minimize_block(self.eta[k], &traction[..r.len()], 1.0, out),
+            None => {
+                let w = self
+                    .scale
+                    .map_or(1.0, |(sigma, sigma0)| sigma[k] / sigma0[k]);
+                law.potential(alpha)
+                    .minimize_block(self.eta[k], &traction[..r.len()], w, out);
+            }
+        }
         let mut v2: f64 = out.iter().map(|v| v * v).sum();
         for f in &self.fixed_velocity[k] {
             v2 += (f * self.speed) * (f * self.speed);
@@ -473,6 +485,7 @@ mod tests {
                 speed: 1e-9,
                 alpha: &self.alpha,
                 scale: None,
+                effective: None,
             }
         }
 

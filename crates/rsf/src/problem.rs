@@ -19,6 +19,8 @@ pub struct Problem<const D: usize, L, S, const C: usize = D> {
     uses_state: bool,
     radiation_damping: Vec<f64>,
     normal_stress: NormalStress,
+    /// The pore pressure at the frictional nodes, if any.
+    pore_pressure: Option<std::sync::Arc<dyn crate::pore_pressure::NodePressures>>,
 }
 
 impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, S, C> {
@@ -37,7 +39,45 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Problem<D, L, 
             uses_state,
             radiation_damping,
             normal_stress: NormalStress::Fixed,
+            pore_pressure: None,
         }
+    }
+
+    /// The problem with the pore pressure `field` lowering the laws' normal stress
+    /// (none: unchanged).
+    ///
+    /// # Errors
+    /// As [`PressureAtNodes::new`](crate::pore_pressure::PressureAtNodes::new).
+    pub(crate) fn with_pore_pressure(
+        mut self,
+        field: Option<std::sync::Arc<dyn crate::pore_pressure::PorePressure<D>>>,
+    ) -> crate::Result<Self> {
+        if let Some(field) = field {
+            let points = self
+                .model
+                .frictional_boundary
+                .nodes
+                .iter()
+                .map(|&p| self.model.vertices[p])
+                .collect();
+            let at =
+                crate::pore_pressure::PressureAtNodes::new(field, points, &self.friction_laws)?;
+            self.pore_pressure = Some(std::sync::Arc::new(at));
+        }
+        Ok(self)
+    }
+
+    /// The pore pressure at the frictional nodes, if any.
+    pub(crate) fn pore_pressure(
+        &self,
+    ) -> Option<&std::sync::Arc<dyn crate::pore_pressure::NodePressures>> {
+        self.pore_pressure.as_ref()
+    }
+
+    /// Whether the problem has a pore pressure
+    /// ([`SimulationBuilder::pore_pressure`](crate::SimulationBuilder::pore_pressure)).
+    pub fn has_pore_pressure(&self) -> bool {
+        self.pore_pressure.is_some()
     }
 
     /// The problem with the fault's normal stress found as `choice` says.

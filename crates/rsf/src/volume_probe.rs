@@ -21,6 +21,47 @@ use rsf_direct::Condensation;
 use crate::error::{invalid, Result};
 use crate::model::Model;
 
+/// The dofs a probe of `vertices` (sorted, no repeats) computes: the free dofs of the
+/// vertices (of both blocks of a split vertex's pair: its value reads mean and jump) that
+/// are not condensed onto (`interface`), increasing.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `volume_vertices`
+/// for a vertex that is not the model's.
+pub(crate) fn probe_dofs<const D: usize, const C: usize>(
+    model: &Model<D, C>,
+    interface: &[usize],
+    vertices: &[usize],
+) -> Result<Vec<usize>> {
+    let nv = model.vertices.len();
+    if let Some(&v) = vertices.iter().find(|&&v| v >= nv) {
+        return Err(invalid(
+            "volume_vertices",
+            format!("vertex {v} is not one of the model's {nv}"),
+        ));
+    }
+    let mut in_interface = vec![false; model.num_dofs()];
+    for &dof in interface {
+        in_interface[dof] = true;
+    }
+    let mut blocks: Vec<usize> = vertices
+        .iter()
+        .flat_map(
+            |&v| match model.internal_fault.as_ref().and_then(|f| f.pair_of(v)) {
+                Some((minus, plus)) => vec![minus, plus],
+                None => vec![v],
+            },
+        )
+        .collect();
+    blocks.sort_unstable();
+    blocks.dedup();
+    Ok(blocks
+        .iter()
+        .flat_map(|&p| C * p..C * p + C)
+        .filter(|&i| !model.fixed[i] && !in_interface[i])
+        .collect())
+}
+
 /// The rows of the extension operator at the watched vertices' dofs.
 #[derive(Debug, Clone)]
 pub(crate) struct VolumeProbe {
@@ -47,36 +88,9 @@ impl VolumeProbe {
         vertices: &[usize],
         velocity_factor: &[f64],
     ) -> Result<Self> {
-        let nv = model.vertices.len();
-        if let Some(&v) = vertices.iter().find(|&&v| v >= nv) {
-            return Err(invalid(
-                "volume_vertices",
-                format!("vertex {v} is not one of the model's {nv}"),
-            ));
-        }
         let n = model.num_dofs();
         let m = cond.dim();
-        let mut in_interface = vec![false; n];
-        for &dof in cond.interface_dofs() {
-            in_interface[dof] = true;
-        }
-        // A split vertex's value reads both blocks of its pair (mean and jump).
-        let mut blocks: Vec<usize> = vertices
-            .iter()
-            .flat_map(
-                |&v| match model.internal_fault.as_ref().and_then(|f| f.pair_of(v)) {
-                    Some((minus, plus)) => vec![minus, plus],
-                    None => vec![v],
-                },
-            )
-            .collect();
-        blocks.sort_unstable();
-        blocks.dedup();
-        let dofs: Vec<usize> = blocks
-            .iter()
-            .flat_map(|&p| C * p..C * p + C)
-            .filter(|&i| !model.fixed[i] && !in_interface[i])
-            .collect();
+        let dofs = probe_dofs(model, cond.interface_dofs(), vertices)?;
         let zeros = vec![0.0; n];
         let mut unit = vec![0.0; n];
         let mut g = vec![0.0; m];
@@ -105,6 +119,33 @@ impl VolumeProbe {
             c0,
             c1,
         })
+    }
+
+    /// The probe of `vertices` from rows computed elsewhere (a Schur complement that kept
+    /// the probe's dofs, [`rsf_direct::ExtraRows`]): `dofs` those of [`probe_dofs`], `rows`
+    /// `P` row-major (`dofs.len() × m`), `c0` and `c1` the extensions of the load with the
+    /// initial fixed values and of the unit Dirichlet velocities (module docs).
+    pub(crate) fn from_rows(
+        vertices: &[usize],
+        dofs: Vec<usize>,
+        rows: Vec<f64>,
+        c0: Vec<f64>,
+        c1: Vec<f64>,
+    ) -> Self {
+        debug_assert!(c0.len() == dofs.len() && c1.len() == dofs.len());
+        debug_assert!(dofs.is_empty() || rows.len() % dofs.len() == 0);
+        Self {
+            vertices: vertices.to_vec(),
+            dofs,
+            rows,
+            c0,
+            c1,
+        }
+    }
+
+    /// The vertices this probe computes (sorted).
+    pub(crate) fn vertices(&self) -> &[usize] {
+        &self.vertices
     }
 
     /// Whether this probe computes exactly `vertices`.

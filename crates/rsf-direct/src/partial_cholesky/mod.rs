@@ -76,6 +76,22 @@ pub(super) struct PartialCholesky {
     analysis: Arc<Analysis>,
 }
 
+/// The elimination order and supernodal layout of a partial Cholesky factor, without
+/// values ([`PartialCholesky::symbolic_layout`]): supernode `s` covers the columns
+/// `start[s]..start[s + 1]` of the order, and the rows of its columns below its diagonal
+/// block are `rows[row_ptr[s]..row_ptr[s + 1]]` (increasing, elimination positions).
+#[derive(Debug)]
+pub(super) struct SymbolicLayout {
+    /// Elimination order (`order[k]` = the row of `a` of column `k`).
+    pub(super) order: Vec<usize>,
+    /// First column of each supernode, and the total dimension last.
+    pub(super) start: Vec<usize>,
+    /// Start of each supernode's rows in `rows`.
+    pub(super) row_ptr: Vec<usize>,
+    /// The rows below the diagonal blocks.
+    pub(super) rows: Vec<u32>,
+}
+
 /// What a factorisation of a matrix with a given pattern reuses for another matrix with
 /// the same pattern ([`PartialCholesky::refactor`]): the ordering, the submatrix pattern
 /// and faer's symbolic (supernodal) factorisation.
@@ -135,7 +151,7 @@ impl PartialCholesky {
         interface: &[usize],
         ordering: (InteriorOrdering, usize),
     ) -> Result<(Self, Vec<usize>)> {
-        let (analysis, layout, p1, p2) = Self::analyse(a, interior, interface, ordering)?;
+        let (analysis, layout, p1, p2) = Self::analyse(a, interior, interface, ordering, true)?;
         let factor = Self::numeric(a, Arc::new(analysis), layout, interior.len(), p1, p2)?;
         let order = factor.analysis.order.clone();
         Ok((factor, order))
@@ -148,19 +164,23 @@ impl PartialCholesky {
     /// # Errors
     /// As [`new`](Self::new) without the numeric failures.
     pub(super) fn planned_nnz(a: &Csc, interior: &[usize], interface: &[usize]) -> Result<usize> {
-        let (analysis, ..) = Self::analyse(a, interior, interface, (InteriorOrdering::Amd, 1))?;
+        let (analysis, ..) =
+            Self::analyse(a, interior, interface, (InteriorOrdering::Amd, 1), false)?;
         Ok(analysis.symbolic.len_val())
     }
 
     /// The ordering (two halves, a separator, the interface last; the interior by
     /// `ordering`) and faer's symbolic factorisation of the submatrix of `a` on
     /// `interior ∪ interface`, with the layout of the supernodes and the ends `p1`, `p2`
-    /// of the two halves in the order.
+    /// of the two halves in the order. With `numeric` false, what only a numeric
+    /// factorisation reads (the positions of the submatrix's values in `a`, the copy of
+    /// `a`'s pattern a refactorisation is checked against) is left empty.
     fn analyse(
         a: &Csc,
         interior: &[usize],
         interface: &[usize],
         (ordering, node): (InteriorOrdering, usize),
+        numeric: bool,
     ) -> Result<(Analysis, Supernodes, usize, usize)> {
         let (mut order, p1, p2) = match ordering {
             InteriorOrdering::Amd => {
@@ -197,7 +217,9 @@ impl PartialCholesky {
             for (k, &i) in rows.iter().enumerate() {
                 if local[i] != usize::MAX {
                     row_idx.push(local[i]);
-                    gather.push(base + k);
+                    if numeric {
+                        gather.push(base + k);
+                    }
                 }
             }
             col_ptr.push(row_idx.len());
@@ -237,15 +259,49 @@ impl PartialCholesky {
             val_ptr,
             val: Vec::new(),
         };
+        let (a_col_ptr, a_row_idx) = if numeric {
+            (a.col_ptr.clone(), a.row_idx.clone())
+        } else {
+            (Vec::new(), Vec::new())
+        };
         let analysis = Analysis {
-            a_col_ptr: a.col_ptr.clone(),
-            a_row_idx: a.row_idx.clone(),
+            a_col_ptr,
+            a_row_idx,
             gather,
             pattern,
             symbolic,
             order,
         };
         Ok((analysis, layout, p1, p2))
+    }
+
+    /// The elimination order and the supernodal layout (no values) that
+    /// [`with_ordering`](Self::with_ordering) would factor into, without the numeric
+    /// factorisation: the ordering and the symbolic analysis are this factor's, without
+    /// the maps a numeric factorisation and a refactorisation read. For an
+    /// elimination that keeps no factor ([`SchurOnly`](crate::SchurOnly)).
+    ///
+    /// # Errors
+    /// As [`with_ordering`](Self::with_ordering) without the numeric failures.
+    pub(super) fn symbolic_layout(
+        a: &Csc,
+        interior: &[usize],
+        interface: &[usize],
+        ordering: (InteriorOrdering, usize),
+    ) -> Result<SymbolicLayout> {
+        let (analysis, layout, ..) = Self::analyse(a, interior, interface, ordering, false)?;
+        let Supernodes {
+            start,
+            row_ptr,
+            rows,
+            ..
+        } = layout;
+        Ok(SymbolicLayout {
+            order: analysis.order,
+            start,
+            row_ptr,
+            rows,
+        })
     }
 
     /// Whether this factor was computed for the pattern of `a` with these interior and

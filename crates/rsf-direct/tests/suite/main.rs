@@ -3,6 +3,8 @@
 //! `cargo test -p rsf-direct --test suite [module::test]`.
 
 mod common;
+mod elasticity_box;
 
 mod interior_ordering;
+mod schur_only;
 mod solver;

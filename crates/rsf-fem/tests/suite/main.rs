@@ -6,6 +6,7 @@ mod common;
 
 mod assembly;
 mod assembly3d;
+mod bisection;
 mod columns;
 mod convergence;
 mod convergence3d;
@@ -13,6 +14,7 @@ mod edge_dislocation;
 mod gmsh;
 mod mesh;
 mod mesh3d;
+mod octree;
 mod parts;
 mod scalar;
 mod split;

@@ -7,4 +7,5 @@ mod columns;
 mod scene_values;
 mod seas_bp3;
 mod seas_bp5;
+mod seas_bp6;
 mod volume_vertices;

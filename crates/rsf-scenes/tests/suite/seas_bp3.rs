@@ -681,7 +681,8 @@ fn compressed_kernels_match_the_dense_ones_through_the_first_event() {
 #[test]
 fn the_run_at_t_0_is_the_descriptions() {
     let (rho, c_s, sigma0) = (2670.0, 3464.0, 50e6);
-    let (a0, a_max, b0, l, v_init, v0, f0) = (0.010, 0.025, 0.015, 0.008, 1e-9, 1e-6, 0.6);
+    let (a0, a_max, b0, l, v_init, v0, f0): (f64, f64, f64, f64, f64, f64, f64) =
+        (0.010, 0.025, 0.015, 0.008, 1e-9, 1e-6, 0.6);
     let (h_top, h) = (15e3, 3e3);
     let eta = rho * c_s * c_s / (2.0 * c_s);
     // τ⁰ − η V_init: steady state at V_init with a_max.

@@ -16,7 +16,7 @@ use rsf_time::{EmbeddedRungeKutta, Kinematics, OdeSystem, RungeKuttaState};
 use crate::checkpoint::{bad_value, check_size, Checkpoint};
 use crate::error::{invalid, Error, Result};
 use crate::fault_alone::{free_fault_dofs, load_rate, Body, Elastic};
-use crate::fault_kernel::condensed_operator;
+use crate::fault_kernel::{condensed_operator, SchurSource};
 use crate::fault_operator::FaultOperator;
 pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
 use crate::method_state::{FaultOdeState, MethodState};
@@ -34,11 +34,13 @@ use crate::volume_probe::VolumeProbe;
 mod linger;
 mod options;
 mod rates;
+mod schur_only;
 mod shared;
 
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
+pub use schur_only::{SchurOnlySetup, SetupProgress};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
@@ -115,6 +117,8 @@ pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     normal_kernel_report: Option<KernelReport>,
     /// With a normal stress that changes: the laws scaled by it at the last step.
     scaled_tractions: Option<ScaledTractions<L>>,
+    /// With a pore pressure: the laws at `σ̄_n − p` of the last step.
+    effective_tractions: Option<crate::pore_pressure::EffectiveTractions<L>>,
     /// The vertices off Γ_F that observers read without the volume
     /// ([`Observer::volume_vertices`]), computed after every step.
     probe: Option<VolumeProbe>,
@@ -177,6 +181,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 ));
             }
         }
+        // The watched vertices' rows: computed with the set-up without the factor, later
+        // (watch_vertices) with it.
+        let mut probe = None;
         let (body, operator, g0, g1, history, mut normal) = match elastic {
             Elastic::Condensed(operator) => {
                 let mut cond = Condensation::<C>::with_ordering(
@@ -197,7 +204,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                         ))
                     }
                     Some(op) => op,
-                    None => Box::new(condensed_operator(model, &cond, options.kernel)?),
+                    None => Box::new(condensed_operator(
+                        model,
+                        &SchurSource::Factor(&cond),
+                        options.kernel,
+                    )?),
                 };
                 let big_g0 = model.dirichlet.history.integral(0.0).unwrap_or(0.0);
                 let normal = NormalCoupling::new(
@@ -220,6 +231,26 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                     g1,
                     history,
                     normal,
+                )
+            }
+            Elastic::SchurOnly(setup) => {
+                if problem.normal_stress() != NormalStress::Fixed {
+                    return Err(invalid(
+                        "normal_stress",
+                        "a normal stress from slip needs the volume's factor (its extension \
+                         onto the fault's normal dofs): build the fault ODE with \
+                         build_fault_ode, not without the factor",
+                    ));
+                }
+                let body = schur_only::condense(model, &options, &velocity_factor, setup)?;
+                probe = body.probe;
+                (
+                    Body::Condensed { dofs: body.dofs },
+                    Box::new(body.operator) as Box<dyn FaultOperator>,
+                    body.g0,
+                    body.g1,
+                    model.dirichlet.history.clone(),
+                    None,
                 )
             }
             Elastic::Alone(mut alone) => {
@@ -300,7 +331,28 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             normal,
             parts: None,
             shared: None,
+            pressure: problem.pore_pressure().map(|at_nodes| {
+                let sigma_laws: Vec<f64> = problem
+                    .friction_laws()
+                    .iter()
+                    .map(|l| l.normal_stress().unwrap_or(f64::NAN))
+                    .collect();
+                rates::PressureRates {
+                    at_nodes: at_nodes.clone(),
+                    effective: sigma_laws.clone(),
+                    scratch: vec![0.0; sigma_laws.len()],
+                    sigma_laws,
+                }
+            }),
         };
+        let effective_tractions =
+            rates
+                .pressure
+                .as_ref()
+                .map(|p| crate::pore_pressure::EffectiveTractions {
+                    laws: problem.friction_laws().to_vec(),
+                    sigma: p.sigma_laws.clone(),
+                });
         let mut kinematics = Kinematics::zeros(n);
         kinematics.u.copy_from_slice(&model.initial_displacement);
         let rk = EmbeddedRungeKutta::new(options.tableau, options.runge_kutta, y.len(), dt0)?;
@@ -328,7 +380,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             evaluations: 0,
             normal_kernel_report,
             scaled_tractions,
-            probe: None,
+            effective_tractions,
+            probe,
         };
         // The slip rates at t = 0 (a check that the initial state is admissible).
         let mut dy = vec![0.0; ode.y.len()];
@@ -596,6 +649,15 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         impose_dirichlet_velocities(model, t, &mut kin.v);
         if volume {
+            if let Body::Condensed { .. } = r.body {
+                return Err(invalid(
+                    "reads_volume",
+                    "the fault ODE was set up without the volume's factor \
+                     (build_fault_ode_schur_only): it has the fault and the vertices given to \
+                     its set-up, not the whole volume; build it with build_fault_ode to \
+                     observe the volume",
+                ));
+            }
             self.interior_is_nan = false;
             if let Some(cond) = r.body.volume_mut() {
                 cond.condense(&model.load, &kin.u, &mut r.r)
@@ -621,6 +683,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             // Whole on every rank, not an exchange: a rank may fill its state alone (its
             // observers' vertices, `watch_vertices`, are rank 0's alone in the programs).
             normal.evaluate(t, big_g, &self.y[..m], &mut tr.sigma, r.par)?;
+        }
+        if let (Some(pr), Some(tr)) = (&mut r.pressure, &mut self.effective_tractions) {
+            let base = self.scaled_tractions.as_ref().map(|s| &s.sigma[..]);
+            pr.lower(t, base)?;
+            tr.sigma.copy_from_slice(&pr.effective);
         }
         Ok(())
     }
@@ -687,6 +754,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 uses_state: self.problem.uses_state(),
                 data: &mut self.rates,
             };
+            // A step ends at the pore pressure's next breakpoint (a shut-in) rather than
+            // step over it.
+            let t_end = match (
+                t_end,
+                sys.data
+                    .pressure
+                    .as_ref()
+                    .and_then(|p| p.at_nodes.next_breakpoint(t)),
+            ) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
             self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?
         };
         self.dy
@@ -730,8 +809,17 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
     }
     /// Precomputes the extension operator's rows at the vertices' dofs (one forward sweep
     /// per dof, kept while the same vertices are asked for) and fills them in the current
-    /// state.
+    /// state. Set up without the factor ([`SchurOnlySetup`]), the set-up's vertices (or
+    /// some of them) are accepted and any other is refused.
     fn watch_vertices(&mut self, vertices: &[usize]) -> Result<()> {
+        if let Body::Condensed { .. } = self.rates.body {
+            // Set up without the factor: the probe of the set-up's vertices stays (it
+            // cannot be made again); any of its vertices may be read.
+            let watched = self.probe.as_ref().map_or(&[][..], |p| p.vertices());
+            if vertices.iter().all(|v| watched.binary_search(v).is_ok()) {
+                return Ok(());
+            }
+        }
         if vertices.is_empty() {
             self.probe = None;
             return Ok(());
@@ -743,6 +831,20 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
         let mut velocity_factor = vec![0.0; model.num_dofs()];
         for (&dof, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
             velocity_factor[dof] = f;
+        }
+        if let Body::Condensed { .. } = self.rates.body {
+            return Err(invalid(
+                "volume_vertices",
+                format!(
+                    "the fault ODE was set up without the volume's factor: it reads the \
+                     vertices given to its set-up (SchurOnlySetup::watch_vertices{}), not \
+                     {vertices:?}",
+                    match &self.probe {
+                        Some(p) => format!(": {:?}", p.vertices()),
+                        None => ", none".to_string(),
+                    }
+                ),
+            ));
         }
         let Some(cond) = self.rates.body.volume_mut() else {
             return Err(invalid(
@@ -763,6 +865,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
         &self.state
     }
     fn fault_tractions(&self) -> &dyn FaultTractions {
+        if let Some(t) = &self.effective_tractions {
+            return t;
+        }
         match &self.scaled_tractions {
             Some(t) => t,
             None => self.problem.fault_tractions(),

@@ -47,6 +47,31 @@ pub(super) struct FaultRates<const C: usize> {
     /// The ranks that share the evaluations, if shared
     /// ([`FaultOde::share_evaluations`](super::FaultOde::share_evaluations)).
     pub(super) shared: Option<SharedEvaluation>,
+    /// A pore pressure: the field at the nodes, the laws' own `σ̄_n`, the effective normal
+    /// stress `σ̄_n − p` of the evaluation and scratch (one per node each).
+    pub(super) pressure: Option<PressureRates>,
+}
+
+/// A pore pressure in the fault ODE's evaluations.
+pub(super) struct PressureRates {
+    pub(super) at_nodes: std::sync::Arc<dyn crate::pore_pressure::NodePressures>,
+    pub(super) sigma_laws: Vec<f64>,
+    pub(super) effective: Vec<f64>,
+    pub(super) scratch: Vec<f64>,
+}
+
+impl PressureRates {
+    /// `σ̄_n − p(t)` into `effective` from `base` (the normal stress from slip) or the
+    /// laws' own.
+    ///
+    /// # Errors
+    /// [`Error::NormalStressNotPositive`] where it is `≤ 0` (a stage outside the domain).
+    pub(super) fn lower(&mut self, t: f64, base: Option<&[f64]>) -> Result<()> {
+        self.effective
+            .copy_from_slice(base.unwrap_or(self.sigma_laws.as_slice()));
+        self.at_nodes
+            .lower(t, &mut self.effective, &mut self.scratch)
+    }
 }
 
 /// [`linger`] when dropped: at the end of an evaluation however it ends (a few
@@ -85,7 +110,25 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
         } else {
             1
         };
-        let mut solves = NodeSolves {
+        // Shared by ranks: each rank its part of the operator's rows and their nodes,
+        // then one exchange; a normal stress from slip first, each rank its rows of `S_N`
+        // and one exchange (the same numbers as alone). A non-finite `u` (the same on
+        // every rank) takes the sequential path below on every rank.
+        let shared_path = d.shared.is_some() && u.iter().all(|v| v.is_finite());
+        // The normal stress first: from slip (alone or shared), then less a pore
+        // pressure (independent of the product below: the same bits in either order).
+        if let Some(normal) = &mut d.normal {
+            match (&mut d.shared, shared_path) {
+                (Some(shared), true) => {
+                    shared.normal_stress(normal, (t, big_g), u, &mut d.sigma, d.par)?;
+                }
+                _ => normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?,
+            }
+        }
+        if let Some(pr) = &mut d.pressure {
+            pr.lower(t, d.normal.as_ref().map(|_| &d.sigma[..]))?;
+        }
+        let solves = NodeSolves {
             friction: self.friction,
             state_laws: self.state_laws,
             uses_state: self.uses_state,
@@ -95,17 +138,10 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             eta: &d.eta,
             speed,
             alpha,
-            scale: None,
+            scale: d.normal.as_ref().map(|n| (&d.sigma[..], n.initial())),
+            effective: d.pressure.as_ref().map(|p| &p.effective[..]),
         };
-        // Shared by ranks: each rank its part of the operator's rows and their nodes,
-        // then one exchange; a normal stress from slip first, each rank its rows of `S_N`
-        // and one exchange (the same numbers as below). A non-finite `u` (the same on
-        // every rank) takes the sequential path below on every rank.
-        if let (Some(shared), true) = (&mut d.shared, u.iter().all(|v| v.is_finite())) {
-            if let Some(normal) = &mut d.normal {
-                shared.normal_stress(normal, (t, big_g), u, &mut d.sigma, d.par)?;
-                solves.scale = Some((&d.sigma[..], normal.initial()));
-            }
+        if let (Some(shared), true) = (&mut d.shared, shared_path) {
             let load = Loading {
                 g0: &d.g0,
                 g1: &d.g1,
@@ -135,10 +171,6 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             *r = g0 + big_g * g1;
         }
         d.operator.subtract_product(u, &mut d.r, d.par)?;
-        if let Some(normal) = &mut d.normal {
-            normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
-            solves.scale = Some((&d.sigma[..], normal.initial()));
-        }
         solves.solve((0, self.friction.len()), pieces, &d.r, dyu, dya);
         Ok(())
     }

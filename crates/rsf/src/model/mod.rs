@@ -16,7 +16,9 @@ pub(crate) mod regions;
 mod sprs_edge;
 
 pub use absorbing::AbsorbingBoundary;
-pub use builder::{FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS};
+pub use builder::{
+    BuildStage, FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
+};
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
 pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
 pub use equilibrium::{

@@ -319,7 +319,7 @@ impl NormalCoupling {
             return Ok(None);
         };
         if same_points {
-            let (kernel, report) = compress(dense, model, cond, kind)?;
+            let (kernel, report) = compress(dense, model, cond.interface_dofs(), kind)?;
             self.s_n = match kernel {
                 Kernel::Dense(s) => SlipToNormal::Dense(s),
                 Kernel::Hierarchical(h) => SlipToNormal::Square(h),

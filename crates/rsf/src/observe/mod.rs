@@ -4,7 +4,11 @@
 pub(crate) mod checkpointer;
 pub(crate) mod events;
 pub(crate) mod every;
+#[cfg(any(feature = "vtk", feature = "hdf5"))]
+pub(crate) mod fields;
 pub(crate) mod files;
+#[cfg(feature = "hdf5")]
+pub(crate) mod hdf5;
 pub(crate) mod profile;
 pub(crate) mod progress;
 pub(crate) mod recorder;
@@ -16,6 +20,8 @@ pub use checkpointer::{Checkpointer, Reports};
 pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
 pub use every::{Every, Interval};
 pub use files::{create_file, csv_lines, CsvLine, FileMode};
+#[cfg(feature = "hdf5")]
+pub use hdf5::Hdf5Fields;
 pub use profile::{FrictionalProfile, ProfileRow};
 pub use progress::Progress;
 pub use recorder::{FaultRecorder, Recorder};

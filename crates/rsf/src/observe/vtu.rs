@@ -10,9 +10,9 @@ use vtkio::model::{
 };
 
 use crate::error::{io_at, show_path, Error, Result};
-use crate::model::Model;
 use crate::ranks::RankGroup;
 
+use super::fields::point_fields;
 use super::files::FileMode;
 use super::{Flow, Observer, StepView};
 
@@ -163,7 +163,7 @@ impl VtuFrames {
 
     /// The size of every rank's piece of a frame written by [`pieces`](Self::pieces) on
     /// `ranks` ranks: `(points, cells)` per rank, for a mesh of `cells` (the vertex numbers
-    /// of one cell after another, `k` per cell, as [`Model::cells`]) with the vertex owners
+    /// of one cell after another, `k` per cell, as [`Model::cells`](crate::Model::cells)) with the vertex owners
     /// `owner` (one rank per vertex). A piece holds the cells whose lowest-numbered vertex
     /// its rank owns and the points they use, so the points of all pieces exceed the
     /// mesh's vertices by those on the pieces' borders. For a bound of the bytes the
@@ -253,90 +253,6 @@ impl VtuFrames {
 /// The name of rank `rank`'s piece of the frame of step `step`.
 fn piece_name(step: usize, rank: usize) -> String {
     format!("frame_{step:06}_r{rank:04}.vtu")
-}
-
-fn padded<const D: usize>(x: &[f64], n: usize) -> Vec<f64> {
-    let mut out = vec![0.0; 3 * n];
-    for p in 0..n {
-        for c in 0..D.min(3) {
-            out[3 * p + c] = x[D * p + c];
-        }
-    }
-    out
-}
-
-/// α = ln θ at the frictional nodes, NaN elsewhere (no state there; ParaView draws NaN
-/// in its "NaN colour"); all NaN when the friction law has no state.
-fn state_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
-    let mut out = vec![f64::NAN; n];
-    for (&p, &a) in s.model.frictional_boundary.nodes.iter().zip(&s.state.alpha) {
-        out[p] = a;
-    }
-    out
-}
-
-/// A node-major vector of the model in Cartesian components (nodal frames rotated back,
-/// an internal fault's two sides).
-fn global<const D: usize>(m: &Model<D>, x: &[f64]) -> Vec<f64> {
-    m.to_cartesian(x)
-        .expect("the state vectors match the model")
-}
-
-/// `f(k)` at the `k`-th frictional node, NaN elsewhere.
-fn fault_scalars<const D: usize>(
-    s: &StepView<'_, D>,
-    n: usize,
-    f: impl Fn(usize) -> f64,
-) -> Vec<f64> {
-    let mut out = vec![f64::NAN; n];
-    for (k, &p) in s.model.frictional_boundary.nodes.iter().enumerate() {
-        out[p] = f(k);
-    }
-    out
-}
-
-/// The slip (m, Cartesian 3-vectors, zero-padded) on Γ_F, NaN elsewhere.
-fn slip_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
-    let mut out = vec![f64::NAN; 3 * n];
-    for (k, &p) in s.model.frictional_boundary.nodes.iter().enumerate() {
-        let slip = s.slip(k);
-        for c in 0..3 {
-            out[3 * p + c] = if c < D { slip[c] } else { 0.0 };
-        }
-    }
-    out
-}
-
-/// A frame's point data at every mesh vertex: name, components (3: a vector, 1: a scalar)
-/// and values, vertex-major.
-fn point_fields<const D: usize>(s: &StepView<'_, D>) -> Vec<(&'static str, usize, Vec<f64>)> {
-    let m = s.model;
-    let n = m.vertices.len();
-    vec![
-        (
-            "displacement",
-            3,
-            padded::<D>(&global(m, &s.state.kinematics.u), n),
-        ),
-        (
-            "velocity",
-            3,
-            padded::<D>(&global(m, &s.state.kinematics.v), n),
-        ),
-        ("slip_rate", 1, fault_scalars(s, n, |k| s.slip_rate(k))),
-        ("state_alpha", 1, state_field(s, n)),
-        ("slip", 3, slip_field(s, n)),
-        (
-            "shear_traction",
-            1,
-            fault_scalars(s, n, |k| s.shear_traction(k)),
-        ),
-        (
-            "normal_traction",
-            1,
-            fault_scalars(s, n, |k| s.normal_traction(k).unwrap_or(f64::NAN)),
-        ),
-    ]
 }
 
 /// A data array of point data (vectors for 3 components, else scalars).

@@ -8,7 +8,7 @@ use rsf_time::{Kinematics, Newmark, StepControl, VelocityIntegrator};
 
 use crate::error::{invalid, Error, Result};
 use crate::fault_alone::{Elastic, FaultAlone};
-use crate::fault_ode::{FaultOde, FaultOdeOptions};
+use crate::fault_ode::{FaultOde, FaultOdeOptions, SchurOnlySetup};
 use crate::fault_operator::FaultOperator;
 use crate::method::fixed_point::FixedPointOptions;
 use crate::method::solver::{SolverKind, SolverOptions};
@@ -80,6 +80,8 @@ pub struct SimulationBuilder<const D: usize, L, S, I, const C: usize = D> {
     eta: Option<Vec<f64>>,
     /// How the fault's normal stress is found ([`normal_stress`](Self::normal_stress)).
     normal_stress: NormalStress,
+    /// The pore pressure ([`pore_pressure`](Self::pore_pressure)).
+    pore_pressure: Option<PressureField<D>>,
     method: MethodOptions<I>,
     /// The settings of the implicit method given explicitly (by their setters' names):
     /// a method that does not use one of them refuses to be built.
@@ -98,6 +100,7 @@ impl<const D: usize, const C: usize> SimulationBuilder<D, Unset, NoState, Newmar
             tau: None,
             eta: None,
             normal_stress: NormalStress::Fixed,
+            pore_pressure: None,
             implicit_settings: Vec::new(),
             method: MethodOptions {
                 integrator: Newmark,
@@ -131,8 +134,12 @@ struct Checked<const D: usize, I, const C: usize> {
     /// The problem's radiation damping η (Pa·s/m) of every frictional node.
     eta: Vec<f64>,
     normal_stress: NormalStress,
+    pore_pressure: Option<PressureField<D>>,
     implicit_settings: Vec<&'static str>,
 }
+
+/// A pore-pressure field as the builder holds it.
+type PressureField<const D: usize> = std::sync::Arc<dyn crate::pore_pressure::PorePressure<D>>;
 
 /// The parts of a builder whose types change with the laws and the integrator.
 type Laws<L, S, I> = (Result<Vec<L>>, Result<Vec<S>>, I);
@@ -151,6 +158,7 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
             tau,
             eta,
             normal_stress,
+            pore_pressure,
             method,
             implicit_settings,
         } = self;
@@ -172,6 +180,7 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
             tau,
             eta,
             normal_stress,
+            pore_pressure,
             method: MethodOptions {
                 integrator,
                 solver,
@@ -286,6 +295,29 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     /// laws without a state (no fixed point to iterate it in).
     pub fn normal_stress(mut self, choice: NormalStress) -> Self {
         self.normal_stress = choice;
+        self
+    }
+
+    /// A pore pressure `p(x, t)` on the fault (default none): every friction law is
+    /// evaluated at the effective normal stress `σ̄_n − p` of its node
+    /// ([`FrictionLaw::potential_at_normal_stress`]; `σ̄_n` the law's own or, with
+    /// [`NormalStress::FromSlip`], the one from slip) — in every evaluation of the fault ODE
+    /// (its stages: the step-size control sees the pressure's time dependence; steps end
+    /// at the field's [breakpoints](crate::pore_pressure::PorePressure::breakpoints)) and at the end of
+    /// every step of the implicit scheme (docs/seas-bp6.md). A constant pressure `p₀` gives
+    /// the bits of the laws built with `σ̄_n − p₀`.
+    ///
+    /// # Errors (at `build`, `build_fault_ode`)
+    /// [`Error::InvalidParameter`] named `pore_pressure` for a law without a normal stress
+    /// or one that cannot be evaluated at another; in a run,
+    /// [`Error::NormalStressNotPositive`](crate::Error::NormalStressNotPositive) (node and
+    /// time) where `σ̄_n − p ≤ 0` at an accepted time (a Runge–Kutta stage there only
+    /// rejects the step).
+    pub fn pore_pressure(
+        mut self,
+        field: impl crate::pore_pressure::PorePressure<D> + 'static,
+    ) -> Self {
+        self.pore_pressure = Some(std::sync::Arc::new(field));
         self
     }
 
@@ -430,6 +462,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             method: self.method,
             eta,
             normal_stress: self.normal_stress,
+            pore_pressure: self.pore_pressure,
             implicit_settings: self.implicit_settings,
         };
         Ok((this, friction, state_laws, alpha0, tau))
@@ -499,6 +532,17 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         work.normal =
             NormalReactions::new(this.normal_stress, &this.model, &friction, &kinematics)?
                 .map(|r| NormalWork::new(r, n, &friction, &this.model.frictional_boundary.weights));
+        let problem = Problem::new(this.model, friction, state_laws, this.eta)
+            .with_normal_stress(this.normal_stress)
+            .with_pore_pressure(this.pore_pressure)?;
+        if let Some(at_nodes) = problem.pore_pressure() {
+            let mut pw =
+                crate::pore_pressure::PressureWork::new(at_nodes.clone(), problem.friction_laws());
+            let base = work.normal.as_ref().map(|n| n.sigma.clone());
+            pw.lower_from(0.0, base.as_deref())?;
+            pw.tractions.sigma.copy_from_slice(&pw.sigma);
+            work.pressure = Some(pw);
+        }
         let state = SimulationState {
             step: 0,
             time: 0.0,
@@ -509,8 +553,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             controller,
         };
         Ok(Simulation {
-            problem: Problem::new(this.model, friction, state_laws, this.eta)
-                .with_normal_stress(this.normal_stress),
+            problem,
             method,
             state,
             work,
@@ -559,6 +602,31 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         self.fault_ode(options, Elastic::Condensed(Some(operator)))
     }
 
+    /// As [`build_fault_ode`](Self::build_fault_ode) without ever holding the volume's
+    /// whole factor (issue 70; docs/three-d.md, "The condensation without the whole
+    /// factor"): the Schur complement `S`, the condensed loads and the rows of
+    /// `setup.watch_vertices` come from one multifrontal elimination that drops each
+    /// front's factor once its update is passed on ([`rsf_direct::SchurOnly`]), so the
+    /// set-up's memory is its largest fronts and pending blocks, not the factor; it can be
+    /// checkpointed and resumed, bounded in memory and watched ([`SchurOnlySetup`]). The
+    /// same `S` as [`build_fault_ode`](Self::build_fault_ode)'s up to round-off (another
+    /// summation order: another trajectory at the level of round-off, so a run keeps one
+    /// set-up). What it gives up: observers read the fault and the watched vertices only
+    /// (one that [reads the volume](crate::Observer::reads_volume) ends the run with an
+    /// error), and the normal stress must be fixed.
+    ///
+    /// # Errors
+    /// As [`build_fault_ode`](Self::build_fault_ode); [`Error::InvalidParameter`] named
+    /// `normal_stress` for a normal stress from slip, `volume_vertices` for a vertex that
+    /// is not the model's; the elimination's ([`Error::Direct`]).
+    pub fn build_fault_ode_schur_only(
+        self,
+        options: FaultOdeOptions,
+        setup: SchurOnlySetup,
+    ) -> Result<FaultOde<D, L, S, C>> {
+        self.fault_ode(options, Elastic::SchurOnly(setup))
+    }
+
     /// As [`build_fault_ode`](Self::build_fault_ode) for a fault without a volume
     /// ([`Model::fault_only`]): the elastic operator and the plate motion that loads the
     /// fault by back slip are `alone`'s ([`FaultAlone`]: `g₀ − S (u_F − t v_pl)` on the
@@ -599,7 +667,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         }
         FaultOde::new(
             Problem::new(this.model, friction, state_laws, this.eta)
-                .with_normal_stress(this.normal_stress),
+                .with_normal_stress(this.normal_stress)
+                .with_pore_pressure(this.pore_pressure)?,
             alpha0,
             tau,
             options,

@@ -326,6 +326,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         self.state.kinematics.v.copy_from_slice(&k.v);
         self.state.kinematics.a.copy_from_slice(&k.a);
         self.state.alpha.copy_from_slice(&s.alpha);
+        if let Some(pw) = &mut self.work.pressure {
+            // The tractions observers see at the restored time.
+            let base = self.work.normal.as_ref().map(|n| &n.tractions.sigma[..]);
+            pw.lower_from(s.time, base)?;
+            pw.tractions.sigma.copy_from_slice(&pw.sigma);
+        }
         Ok(())
     }
 }
@@ -347,6 +353,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         &self.state
     }
     fn fault_tractions(&self) -> &dyn FaultTractions {
+        if let Some(pw) = &self.work.pressure {
+            return &pw.tractions;
+        }
         match &self.work.normal {
             Some(normal) => &normal.tractions,
             None => self.problem.fault_tractions(),

@@ -63,6 +63,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         if let Some(normal) = &mut self.work.normal {
             normal.tractions.sigma.copy_from_slice(&normal.sigma);
         }
+        if let Some(pw) = &mut self.work.pressure {
+            pw.tractions.sigma.copy_from_slice(&pw.sigma);
+        }
         if self.problem.uses_state() {
             self.state.alpha.copy_from_slice(&self.work.alpha_trial);
         }
@@ -147,6 +150,17 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             tau,
         };
         if !self.problem.uses_state() {
+            if let Some(pw) = &mut work.pressure {
+                // The bound of a rate-independent law at the end of the step: its normal
+                // stress less the pressure of t_n.
+                pw.lower_from(t, None)?;
+                crate::pore_pressure::potentials_at(
+                    laws,
+                    &state.alpha,
+                    &pw.sigma,
+                    &mut work.potentials,
+                );
+            }
             let r = solve(
                 solver,
                 &FrictionView::<L>::new(fb, &work.potentials),
@@ -189,14 +203,27 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                     },
                     _ => full,
                 };
-                evaluate_potentials(laws, &work.alpha_iter, &mut work.potentials);
-                let view = match &work.normal {
-                    None => FrictionView::<L>::new(fb, &work.potentials),
-                    Some(normal) => FrictionView::<L> {
-                        nodes: &fb.nodes,
-                        weights: &normal.weights,
-                        potentials: &work.potentials,
-                    },
+                let view = if let Some(pw) = &mut work.pressure {
+                    // σ̄_n − p(t_n), σ̄_n the laws' or the iterate's from slip; the laws
+                    // evaluated at it, the weights unscaled.
+                    pw.lower_from(t, work.normal.as_ref().map(|n| &n.sigma[..]))?;
+                    crate::pore_pressure::potentials_at(
+                        laws,
+                        &work.alpha_iter,
+                        &pw.sigma,
+                        &mut work.potentials,
+                    );
+                    FrictionView::<L>::new(fb, &work.potentials)
+                } else {
+                    evaluate_potentials(laws, &work.alpha_iter, &mut work.potentials);
+                    match &work.normal {
+                        None => FrictionView::<L>::new(fb, &work.potentials),
+                        Some(normal) => FrictionView::<L> {
+                            nodes: &fb.nodes,
+                            weights: &normal.weights,
+                            potentials: &work.potentials,
+                        },
+                    }
                 };
                 let r = solve(solver, &view, scaling, stopping)?;
                 report.solver_iterations += r.iterations;
@@ -264,6 +291,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                 &mut normal.sigma,
                 &mut normal.weights,
             )?;
+        }
+        if let Some(pw) = &mut work.pressure {
+            pw.lower_from(t, work.normal.as_ref().map(|n| &n.sigma[..]))?;
         }
         report.max_slip_rate = model
             .frictional_boundary

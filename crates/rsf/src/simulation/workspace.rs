@@ -39,6 +39,8 @@ pub(crate) struct Workspace<L: FrictionLaw> {
     pub accelerator: Accelerator,
     /// A normal stress from slip: its reactions and buffers (`None`: the laws' own).
     pub normal: Option<NormalWork<L>>,
+    /// A pore pressure: the effective normal stress and its tractions (`None`: none).
+    pub pressure: Option<crate::pore_pressure::PressureWork<L>>,
 }
 
 /// The buffers of a normal stress from slip in the implicit scheme.
@@ -104,6 +106,7 @@ impl<L: FrictionLaw> Workspace<L> {
             u_err: vec![0.0; n],
             accelerator: Accelerator::new(fixed_point.acceleration, weights),
             normal: None,
+            pressure: None,
         }
     }
 }

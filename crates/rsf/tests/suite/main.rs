@@ -17,6 +17,7 @@ mod fault_ode_ordering;
 mod fixed_point_schemes;
 #[cfg(feature = "halfspace")]
 mod halfspace_operator;
+mod hdf5_fields;
 mod internal_fault;
 mod internal_fault_3d;
 mod internal_fault_multigrid;

@@ -37,7 +37,10 @@ fn a_fault_ode_stuck_at_its_floor_ends_with_a_named_error() {
     else {
         panic!("{}", e.error)
     };
-    assert!(*tau <= 2.0 * 8e-3 && *time > 0.0 && *time < 2.0, "{time} {tau}");
+    assert!(
+        *tau <= 2.0 * 8e-3 && *time > 0.0 && *time < 2.0,
+        "{time} {tau}"
+    );
     let text = e.error.to_string();
     assert!(
         text.contains("floor") && text.contains("t = ") && text.contains("τ = "),

@@ -31,4 +31,17 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         self.body.with_mass = false;
         self
     }
+
+    /// `u₀ = 0`: no initial equilibrium `K u₀ = F` is solved. For a model whose load a
+    /// run carries in its own right-hand side, such as the fault ODE's condensed load of
+    /// the SEAS scenes (docs/math.md §12): the equilibrium's solve — a sparse Cholesky
+    /// factor of the whole `K` below
+    /// [`EQUILIBRIUM_DIRECT_MAX_DOFS_3D`](crate::model::EQUILIBRIUM_DIRECT_MAX_DOFS_3D)
+    /// dofs — is then never paid for (it was the peak of BP5's finite-element build,
+    /// docs/three-d.md, "The build's memory"). [`build_columns`](Self::build_columns)
+    /// takes its equilibrium from its caller and ignores this.
+    pub fn without_initial_equilibrium(mut self) -> Self {
+        self.body.equilibrium = false;
+        self
+    }
 }

@@ -9,6 +9,7 @@ mod faults;
 mod material;
 pub(crate) mod part;
 pub(crate) mod settings;
+mod stage;
 pub(crate) mod stages;
 
 use rsf_fem::{DofTransform, MeshHierarchy, SimplexMesh};
@@ -24,6 +25,8 @@ use stages::{fault_order, inputs, loads, matrices, prolongations};
 
 pub use part::{FacetPredicate, Part};
 pub use settings::DEFAULT_MAX_FAULT_KINK_DEGREES;
+pub use stage::BuildStage;
+use stage::StageObserver;
 
 /// Largest number of cells [`ModelBuilder::refined`] creates (the paper's slider at level 10
 /// has 10 · 4¹⁰ ≈ 1.0e7 triangles).
@@ -104,6 +107,8 @@ pub struct ModelBuilder<const D: usize, const C: usize = D> {
     boundary: Boundary<D, C>,
     /// Γ_F or a fault inside the body (`faults.rs`).
     fault: Faults<D>,
+    /// Told as each stage of `build` ends ([`on_stage`](Self::on_stage)).
+    observer: Option<StageObserver>,
 }
 
 impl<const D: usize> ModelBuilder<D> {
@@ -191,7 +196,17 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             body: Body::default(),
             boundary: Boundary::default(),
             fault: Faults::default(),
+            observer: None,
         }
+    }
+
+    /// Calls `observer` as each stage of [`build`](Self::build) ends, with the stage
+    /// ([`BuildStage`], in the order of [`BuildStage::ALL`]; a stage with nothing to do is
+    /// reported too): e.g. to read the process's peak memory stage by stage (docs/three-d.md,
+    /// "The build's memory"). Nothing else changes.
+    pub fn on_stage(mut self, observer: impl FnMut(BuildStage) + 'static) -> Self {
+        self.observer = Some(Box::new(observer));
+        self
     }
 
     /// The finest mesh (where parts are selected).
@@ -217,7 +232,11 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// the constraints; material and assembly errors ([`Error::Fem`](crate::Error::Fem)),
     /// e.g. a non-finite force or traction.
     pub fn build(self) -> Result<Model<D, C>> {
+        let equilibrium = self.body.equilibrium;
         self.build_on(None, |system| {
+            if !equilibrium {
+                return Ok(vec![0.0; system.load.len()]);
+            }
             super::equilibrium::solve::<D, C>(
                 system.stiffness,
                 system.fixed,
@@ -291,9 +310,16 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             body,
             boundary,
             fault: faults,
+            mut observer,
         } = self;
+        let mut ended = |stage| {
+            if let Some(f) = observer.as_mut() {
+                f(stage);
+            }
+        };
         // 1. The mesh, cut open along a fault inside the body.
         let (domain, fault) = Domain::cut(&hierarchy, faults.internal.as_ref(), faults.tangent)?;
+        ended(BuildStage::Domain);
         // 2. The settings that need no mesh data.
         let inputs = inputs::check(&body, &boundary, &faults, fault.as_ref())?;
         let (mesh, s) = (domain.mesh(), inputs.slip_factor);
@@ -305,6 +331,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             fault.as_ref(),
             &faults,
         )?;
+        ended(BuildStage::Constraints);
         // 4.–5. The matrices and the load, Cartesian, in u. On some columns: with frames,
         // also their neighbours' (the congruence's `½(B + Bᵀ)` reads the kept rows).
         let assembled = columns.map(|keep| {
@@ -322,7 +349,9 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             &constraints,
             assembled.as_deref(),
         )?;
+        ended(BuildStage::Matrices);
         let load = loads::load(mesh, inputs.material, &body, &boundary)?;
+        ended(BuildStage::Load);
         // 6. An antisymmetric fault: the unknown is s·u.
         let system = System { matrices, load }.scaled(s)?;
         // 7. A fault inside the body: the jump shared by the sides' stiffness, the
@@ -338,6 +367,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 )
             })
             .transpose()?;
+        ended(BuildStage::Pairs);
         // 8. The change of variables: everything in the nodal frames of slanted Γ_F nodes
         // (`Rᵀ A R`), or in an internal fault's mean–jump unknowns (`Tᵀ A T`).
         let transform: &dyn DofTransform = match &fault {
@@ -351,11 +381,14 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 matrices = matrices.node_columns(keep)?;
             }
         }
+        ended(BuildStage::Variables);
         // 9. Γ_F in the order of the fault indices.
         let frictional_boundary =
             fault_order::frictional_boundary(mesh, &constraints.gamma_f, s, fault.as_ref())?;
+        ended(BuildStage::FaultOrder);
         // 10. The prolongations, the finest onto the model's unknowns.
         let prolongations = prolongations::prolongations::<D, C>(&domain, transform)?;
+        ended(BuildStage::Prolongations);
         // Initial equilibrium (after the prolongations: a large 3-D model solves it by
         // multigrid on them).
         let u0 = equilibrium(&super::EquilibriumSystem {
@@ -375,12 +408,14 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 ),
             ));
         }
+        ended(BuildStage::Equilibrium);
 
+        let energy_norm = matrices.energy_norm_or_stiffness();
         let model = Model {
             vertices: mesh.vertices().to_vec(),
             mass: matrices.mass,
             stiffness: matrices.stiffness,
-            energy_norm: matrices.energy_norm,
+            energy_norm,
             load,
             fixed: constraints.fixed,
             dirichlet,

@@ -27,6 +27,8 @@ pub(crate) struct Body<const D: usize, const C: usize> {
     pub body_force: Option<VectorField<D, C>>,
     /// Assemble the mass matrix (default); `false` for quasistatic problems.
     pub with_mass: bool,
+    /// Solve the initial equilibrium `K u₀ = F` (default); `false`: `u₀ = 0`.
+    pub equilibrium: bool,
 }
 
 /// A Dirichlet part: the listed components of its nodes move with `velocity · g(t)`.
@@ -84,6 +86,7 @@ impl<const D: usize, const C: usize> Default for Body<D, C> {
             gravity: None,
             body_force: None,
             with_mass: true,
+            equilibrium: true,
         }
     }
 }

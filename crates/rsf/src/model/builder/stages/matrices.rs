@@ -17,8 +17,10 @@ pub(crate) struct Matrices {
     pub stiffness: SparseMatrix,
     /// `M`, with inertia.
     pub mass: Option<SparseMatrix>,
-    /// `K + M` (`K` without mass).
-    pub energy_norm: SparseMatrix,
+    /// `K + M` with mass; `None` without, where it is `K` (copied from the stiffness only
+    /// when the model is made, so that no stage transforms or holds it twice:
+    /// [`Matrices::energy_norm_or_stiffness`]).
+    pub energy_norm: Option<SparseMatrix>,
     /// The dashpots of absorbing parts, if any.
     pub absorbing: Option<AbsorbingBoundary>,
 }
@@ -58,6 +60,10 @@ pub(crate) fn assemble<const D: usize, const C: usize>(
     };
     let absorbing =
         absorbing::dashpots(absorbing, mesh, material, constraints, &stiffness, columns)?;
+    // Without mass the energy norm is the stiffness (Medium::assemble's contract): the
+    // copy is dropped here and made again from the final stiffness (the same bits: every
+    // later stage transforms both alike).
+    let energy_norm = mass.is_some().then_some(energy_norm);
     Ok(Matrices {
         stiffness,
         mass,
@@ -85,8 +91,15 @@ impl Matrices {
         Ok(Self {
             stiffness: columns(&self.stiffness)?,
             mass: self.mass.as_ref().map(columns).transpose()?,
-            energy_norm: columns(&self.energy_norm)?,
+            energy_norm: self.energy_norm.as_ref().map(columns).transpose()?,
             absorbing,
         })
+    }
+
+    /// The energy norm: `K + M`, or a copy of the stiffness `K` without mass.
+    pub fn energy_norm_or_stiffness(&mut self) -> SparseMatrix {
+        self.energy_norm
+            .take()
+            .unwrap_or_else(|| self.stiffness.clone())
     }
 }

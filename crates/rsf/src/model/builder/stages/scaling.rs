@@ -44,7 +44,7 @@ impl System {
             matrices: Matrices {
                 mass: mass.as_ref().map(scaled).transpose()?,
                 stiffness: scaled(&stiffness)?,
-                energy_norm: scaled(&energy_norm)?,
+                energy_norm: energy_norm.as_ref().map(scaled).transpose()?,
                 absorbing,
             },
             load,

@@ -45,7 +45,7 @@ impl System {
         let transformed = |a: rsf_fem::SparseMatrix| t.congruence(&a);
         let mass = mass.map(transformed).transpose()?;
         let stiffness = transformed(stiffness)?;
-        let energy_norm = transformed(energy_norm)?;
+        let energy_norm = energy_norm.map(transformed).transpose()?;
         Ok(Self {
             matrices: Matrices {
                 mass,

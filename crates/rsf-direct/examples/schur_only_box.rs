@@ -1,0 +1,253 @@
+//! The condensation without the whole factor against the one that keeps it, on a 3-D
+//! elasticity box (docs/three-d.md, "The condensation without the whole factor").
+//!
+//! A box of `c × c × c` unit cubes of Kuhn tetrahedra (P1 elasticity, λ = μ = 1), clamped
+//! at its bottom face `z = 0`, condensed onto a vertical patch: the nodes of the plane
+//! `x = c/2` in the upper half `z ≥ c/2` (reaching the free top face, as a strike-slip
+//! fault from the surface), two right-hand sides. One method per process, so that the
+//! process's peak memory (VmHWM) is the method's:
+//!
+//! ```text
+//! cargo run --release -p rsf-direct --example schur_only_box -- --cubes 24 --method schur-only
+//! cargo run --release -p rsf-direct --example schur_only_box -- --cubes 24 --method full
+//! cargo run --release -p rsf-direct --features metis --example schur_only_box -- \
+//!     --cubes 24 --method schur-only --ordering nested-dissection
+//! cargo run --release -p rsf-direct --example schur_only_box -- --cubes 12 --method both
+//! cargo run --release -p rsf-direct --example schur_only_box -- --cubes 32 \
+//!     --checkpoint /tmp/box.ckpt --every 500
+//! ```
+//!
+//! `full` is `Condensation::with_ordering` then `schur_entries` (what the fault ODE does
+//! for a 3-D fault); `schur-only` is `SchurOnly::new` then `eliminate`; `both` runs the
+//! two and prints their largest difference (its memory is not either's). Prints one
+//! Markdown table row: dofs, kept dofs, method, ordering, factor entries (full) or the
+//! plan's bytes (schur-only), wall times, peak resident memory, and trace(S) and ‖g‖ to
+//! compare the methods across runs. With `--checkpoint PATH` the Schur-only set-up writes
+//! its state every `--every` fronts (default 1000) and resumes from an existing file (kill
+//! it and run the same command again); it prints a checksum of the bits of `S` and `g` to
+//! compare a resumed run with an uninterrupted one.
+
+#[path = "../tests/suite/elasticity_box.rs"]
+mod elasticity_box;
+
+use std::time::Instant;
+
+use elasticity_box::ElasticityBox;
+use rsf_direct::{
+    CheckpointPolicy, Condensation, InteriorOrdering, RightHandSide, SchurOnly, SchurOnlyOptions,
+};
+
+/// The process's peak resident set (VmHWM, bytes) from /proc/self/status (0 elsewhere).
+fn peak_rss() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map_or(0, |kb| 1024 * kb)
+}
+
+fn gb(bytes: f64) -> String {
+    format!("{:.3}", bytes / 1e9)
+}
+
+struct Args {
+    cubes: usize,
+    method: String,
+    ordering: InteriorOrdering,
+    checkpoint: Option<String>,
+    every: usize,
+}
+
+fn parse() -> Result<Args, String> {
+    let mut args = Args {
+        cubes: 16,
+        method: "schur-only".into(),
+        ordering: InteriorOrdering::Amd,
+        checkpoint: None,
+        every: 1000,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
+        match a.as_str() {
+            "--cubes" => args.cubes = value()?.parse().map_err(|e| format!("--cubes: {e}"))?,
+            "--method" => args.method = value()?,
+            "--ordering" => {
+                args.ordering = value()?.parse().map_err(|e| format!("--ordering: {e}"))?
+            }
+            "--checkpoint" => args.checkpoint = Some(value()?),
+            "--every" => args.every = value()?.parse().map_err(|e| format!("--every: {e}"))?,
+            _ => return Err(format!("unknown argument {a}")),
+        }
+    }
+    if !["schur-only", "full", "both"].contains(&args.method.as_str()) {
+        return Err("--method schur-only | full | both".into());
+    }
+    Ok(args)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = parse()?;
+    let c = args.cubes;
+    let clock = Instant::now();
+    let bx = ElasticityBox::new(c, c, c);
+    let a = bx.stiffness();
+    let n = a.nrows();
+    let fixed: Vec<bool> = (0..n).map(|d| bx.coords(d / 3).2 == 0).collect();
+    let blocks: Vec<usize> = (0..bx.nodes())
+        .filter(|&p| {
+            let (i, _, k) = bx.coords(p);
+            i == c / 2 && k >= c / 2
+        })
+        .collect();
+    // A body force and a prescribed displacement of the bottom (both smooth).
+    let b: Vec<f64> = (0..n)
+        .map(|d| {
+            let (i, j, k) = bx.coords(d / 3);
+            1e-3 * ((i as f64 * 0.3).sin() + (j as f64 * 0.2).cos() + k as f64 * 0.01)
+        })
+        .collect();
+    let x: Vec<f64> = (0..n)
+        .map(|d| {
+            let (i, j, _) = bx.coords(d / 3);
+            if d % 3 == 0 {
+                0.01 * (i as f64 + 2.0 * j as f64) / c as f64
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let zeros = vec![0.0; n];
+    let model_s = clock.elapsed().as_secs_f64();
+    let model_peak = peak_rss();
+    eprintln!(
+        "box {c}³: {n} dofs, {} blocks, model {model_s:.2} s, peak {} GB",
+        blocks.len(),
+        gb(model_peak as f64)
+    );
+    let mut schur_only = None;
+    let mut full = None;
+    if args.method != "full" {
+        let t = Instant::now();
+        let elim = SchurOnly::<3>::new(a.as_ref(), &fixed, &blocks, &[], args.ordering)?;
+        let analyse = t.elapsed().as_secs_f64();
+        let plan = elim.plan();
+        eprintln!(
+            "analysis {analyse:.2} s, peak {} GB; plan: {plan:?}",
+            gb(peak_rss() as f64)
+        );
+        let rhs = [
+            RightHandSide { b: &b, x_fixed: &x },
+            RightHandSide {
+                b: &zeros,
+                x_fixed: &x,
+            },
+        ];
+        let options = SchurOnlyOptions {
+            checkpoint: args.checkpoint.as_ref().map(|path| CheckpointPolicy {
+                every_fronts: Some(args.every),
+                every_seconds: None,
+                ..CheckpointPolicy::new(path)
+            }),
+            ..Default::default()
+        };
+        let kept = elim.eliminate(&rhs, &options)?;
+        let total = t.elapsed().as_secs_f64();
+        eprintln!("report: {:?}", kept.report());
+        // FNV-1a over the bits of S and g: equal for equal bits.
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let bits = kept
+            .schur()
+            .packed_rows()
+            .iter()
+            .chain(kept.condensed_rhs().iter().flatten());
+        for v in bits {
+            for byte in v.to_bits().to_le_bytes() {
+                h = (h ^ byte as u64).wrapping_mul(0x100_0000_01b3);
+            }
+        }
+        eprintln!("checksum of the bits of S and g: {h:016x}");
+        schur_only = Some((kept, analyse, total, plan));
+    }
+    if args.method != "schur-only" {
+        let t = Instant::now();
+        let mut cond =
+            Condensation::<3>::with_ordering(a.as_ref(), &fixed, &blocks, args.ordering)?;
+        let factor = t.elapsed().as_secs_f64();
+        let entries = cond.schur_entries();
+        let mut g = vec![vec![0.0; cond.dim()]; 2];
+        cond.condense(&b, &x, &mut g[0])?;
+        cond.condense(&zeros, &x, &mut g[1])?;
+        let total = t.elapsed().as_secs_f64();
+        full = Some((cond.factor_nnz(), entries, g, factor, total));
+    }
+    let peak = peak_rss();
+    let m = schur_only
+        .as_ref()
+        .map(|s| s.0.dim())
+        .or(full.as_ref().map(|f| f.2[0].len()))
+        .unwrap_or(0);
+    let (trace, gnorm) = if let Some((kept, ..)) = &schur_only {
+        (
+            (0..m).map(|i| kept.schur().entry(i, i)).sum::<f64>(),
+            kept.condensed_rhs()[0]
+                .iter()
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt(),
+        )
+    } else {
+        let (_, entries, g, ..) = full.as_ref().expect("one method");
+        (
+            (0..m).map(|i| entries.entry(i, i)).sum::<f64>(),
+            g[0].iter().map(|v| v * v).sum::<f64>().sqrt(),
+        )
+    };
+    if let (Some((kept, ..)), Some((_, entries, g, ..))) = (&schur_only, &full) {
+        let mut worst: f64 = 0.0;
+        let mut scale: f64 = 0.0;
+        for i in 0..m {
+            for j in 0..=i {
+                let e = entries.entry(i, j);
+                scale = scale.max(e.abs());
+                worst = worst.max((kept.schur().entry(i, j) - e).abs());
+            }
+        }
+        let gerr = (0..2)
+            .flat_map(|k| (0..m).map(move |i| (k, i)))
+            .map(|(k, i)| (kept.condensed_rhs()[k][i] - g[k][i]).abs())
+            .fold(0.0, f64::max);
+        println!("max |ΔS| = {worst:.3e} (max |S| = {scale:.3e}), max |Δg| = {gerr:.3e}");
+        return Ok(());
+    }
+    let ordering = match args.ordering {
+        InteriorOrdering::Amd => "AMD",
+        _ => "nested dissection",
+    };
+    if let Some((kept, analyse, total, plan)) = &schur_only {
+        let r = kept.report();
+        println!(
+            "| {c}³ | {n} | {m} | Schur-only | {ordering} | {} fronts: largest {} GB, pending {} GB, S {} GB | {analyse:.1} | {total:.1} | {:.2e} | {} | {} | {trace:.12e} | {gnorm:.12e} |",
+            plan.fronts,
+            gb(r.largest_front_bytes as f64),
+            gb(r.peak_pending_bytes as f64),
+            gb(r.result_bytes as f64),
+            r.flops,
+            gb(model_peak as f64),
+            gb(peak as f64),
+        );
+    }
+    if let Some((nnz, _, _, factor, total)) = &full {
+        println!(
+            "| {c}³ | {n} | {m} | full factor | {ordering} | {nnz:.3e} entries ({} GB) | | {total:.1} (factor {factor:.1}) | | {} | {} | {trace:.12e} | {gnorm:.12e} |",
+            gb(8.0 * *nnz as f64),
+            gb(model_peak as f64),
+            gb(peak as f64),
+        );
+    }
+    Ok(())
+}

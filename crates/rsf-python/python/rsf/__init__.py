@@ -1,0 +1,55 @@
+"""rsf from Python: rate-and-state friction, earthquake cycles (docs/python.md).
+
+The scenes of the library with their parameters as keyword arguments
+(:func:`slider`, :func:`slider_3d`, :func:`seas_bp1`), a problem of your own
+(:class:`Mesh`, :class:`Model`, :class:`Friction`, :func:`simulate`), runs
+(:meth:`Simulation.advance`, :meth:`Simulation.run`; the GIL is released while
+stepping, Ctrl-C stops at a step boundary) with checkpoints, and the records as
+numpy arrays (:meth:`Simulation.series`, :meth:`Simulation.fault`,
+:meth:`Simulation.events`, :meth:`Simulation.fields`), as pandas/xarray objects
+where those packages are installed. Units are SI throughout.
+
+Every error of the library is an exception of a class derived from
+:class:`RsfError` carrying the library's message: :class:`InvalidParameterError`
+(naming the parameter), :class:`ModelError`, :class:`ConvergenceError`,
+:class:`CheckpointError`, :class:`RsfIOError`.
+
+Custom state laws stay Rust traits (``rsf::state::StateLaw``): a Python callback
+per node per stage of every step would cost more than the step itself.
+"""
+
+from ._rsf import (  # noqa: F401
+    HAS_HDF5,
+    CheckpointError,
+    ConvergenceError,
+    Friction,
+    InvalidParameterError,
+    Mesh,
+    Model,
+    ModelError,
+    RsfError,
+    RsfIOError,
+    Simulation,
+    seas_bp1,
+    simulate,
+    slider,
+    slider_3d,
+)
+
+__all__ = [
+    "HAS_HDF5",
+    "CheckpointError",
+    "ConvergenceError",
+    "Friction",
+    "InvalidParameterError",
+    "Mesh",
+    "Model",
+    "ModelError",
+    "RsfError",
+    "RsfIOError",
+    "Simulation",
+    "seas_bp1",
+    "simulate",
+    "slider",
+    "slider_3d",
+]

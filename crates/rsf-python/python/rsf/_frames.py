@@ -1,0 +1,36 @@
+"""pandas and xarray views of a simulation's records (imported on demand)."""
+
+
+def series_frame(series):
+    """The per-step series as a pandas DataFrame indexed by time ``t`` (s)."""
+    import pandas as pd
+
+    frame = pd.DataFrame({k: v for k, v in series.items() if k != "t"})
+    frame.index = pd.Index(series["t"], name="t")
+    return frame
+
+
+def events_frame(events):
+    """The event catalogue as a pandas DataFrame, one row per event."""
+    import pandas as pd
+
+    return pd.DataFrame(events)
+
+
+def fault_dataset(fault):
+    """The fault records as an xarray Dataset on dimensions (t, node[, component])."""
+    import xarray as xr
+
+    x = fault["x"]
+    coords = {"t": fault["t"], "node": range(x.shape[0])}
+    for i, name in enumerate("xyz"[: x.shape[1]]):
+        coords[name] = ("node", x[:, i])
+    data = {
+        "slip_rate": (("t", "node"), fault["slip_rate"], {"units": "m/s"}),
+        "alpha": (("t", "node"), fault["alpha"], {"units": "1", "long_name": "ln theta (theta in s)"}),
+        "slip": (("t", "node", "component"), fault["slip"], {"units": "m"}),
+        "shear_traction": (("t", "node"), fault["shear_traction"], {"units": "Pa"}),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds["t"].attrs["units"] = "s"
+    return ds

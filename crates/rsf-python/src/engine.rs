@@ -1,0 +1,269 @@
+//! A run of any method and dimension behind one object-safe trait ([`DynEngine`]), with
+//! what the package records in memory ([`Recording`]) and the observer that lets Ctrl-C
+//! stop a run at a step boundary ([`Interrupt`]).
+
+use std::time::{Duration, Instant};
+
+use pyo3::prelude::*;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::{Checkpointer, EventDetector, EventThresholds, Every, Interval, Progress};
+use rsf::{Checkpoint, Flow, Observer, RunError, RunSummary, StepView, Stepping, Until};
+
+/// One row per accepted step and the fault's fields every `fault_every` steps, in memory,
+/// and the event catalogue (the library's [`EventDetector`] on the largest slip rate).
+pub(crate) struct Recording {
+    /// Time after the step (s).
+    pub t: Vec<f64>,
+    /// The step's length (s).
+    pub tau: Vec<f64>,
+    /// The step's index (1-based, across resumes).
+    pub step: Vec<u64>,
+    /// The largest slip rate on the fault (m/s).
+    pub max_slip_rate: Vec<f64>,
+    /// Fixed point iterations of the step (0 for the Runge–Kutta runs).
+    pub fixed_point_iterations: Vec<u64>,
+    /// Record the fault's fields every this many steps (0: never).
+    pub fault_every: usize,
+    /// Times of the fault records (s).
+    pub fault_t: Vec<f64>,
+    /// Slip rate `|V|` per record and fault node (m/s), record-major.
+    pub slip_rate: Vec<f64>,
+    /// State α = ln θ (θ in s) per record and fault node.
+    pub alpha: Vec<f64>,
+    /// Slip per record, fault node and component (m).
+    pub slip: Vec<f64>,
+    /// Shear traction `σ̄_n μ(V, α)` per record and fault node (Pa).
+    pub shear_traction: Vec<f64>,
+    /// The event catalogue.
+    pub detector: EventDetector,
+}
+
+impl Recording {
+    /// Records the fault's fields every `fault_every` steps (0: never), events with the
+    /// library's default thresholds (onset 1e-3 m/s, end 1e-4 m/s).
+    pub fn new(fault_every: usize) -> rsf::Result<Self> {
+        Ok(Self {
+            t: Vec::new(),
+            tau: Vec::new(),
+            step: Vec::new(),
+            max_slip_rate: Vec::new(),
+            fixed_point_iterations: Vec::new(),
+            fault_every,
+            fault_t: Vec::new(),
+            slip_rate: Vec::new(),
+            alpha: Vec::new(),
+            slip: Vec::new(),
+            shear_traction: Vec::new(),
+            detector: EventDetector::new(EventThresholds::default())?,
+        })
+    }
+
+    /// Forgets the rows and records (the catalogue too): after a restore.
+    pub fn clear(&mut self) -> rsf::Result<()> {
+        *self = Self::new(self.fault_every)?;
+        Ok(())
+    }
+}
+
+impl<const D: usize, const C: usize> Observer<D, C> for Recording {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> rsf::Result<Flow> {
+        let n = s.model.frictional_boundary.len();
+        let max = (0..n).map(|k| s.slip_rate(k)).fold(0.0, f64::max);
+        let t = s.state.time;
+        self.t.push(t);
+        self.tau.push(s.report.tau);
+        self.step.push(s.report.step as u64);
+        self.max_slip_rate.push(max);
+        self.fixed_point_iterations
+            .push(s.report.fixed_point_iterations as u64);
+        self.detector.push(s.report.step, t, max, &[]);
+        if self.fault_every > 0 && s.report.step.is_multiple_of(self.fault_every) {
+            self.fault_t.push(t);
+            for k in 0..n {
+                self.slip_rate.push(s.slip_rate(k));
+                self.alpha.push(s.state.alpha[k]);
+                self.slip.extend(s.slip(k));
+                self.shear_traction.push(s.shear_traction(k));
+            }
+        }
+        Ok(Flow::Continue(()))
+    }
+
+    fn reads_volume(&self) -> bool {
+        false
+    }
+
+    fn name(&self) -> String {
+        "the package's recording".into()
+    }
+}
+
+/// Stops a run at the step boundary after Ctrl-C: every 50 ms of wall time it takes the
+/// GIL and runs Python's signal handlers; a raised exception (`KeyboardInterrupt`) is kept
+/// and breaks the run.
+pub(crate) struct Interrupt {
+    last: Instant,
+    /// The exception a signal handler raised.
+    pub raised: Option<PyErr>,
+}
+
+impl Interrupt {
+    pub fn new() -> Self {
+        Self {
+            last: Instant::now(),
+            raised: None,
+        }
+    }
+}
+
+impl<const D: usize, const C: usize> Observer<D, C> for Interrupt {
+    fn observe(&mut self, _: &StepView<'_, D, C>) -> rsf::Result<Flow> {
+        if self.last.elapsed() < Duration::from_millis(50) {
+            return Ok(Flow::Continue(()));
+        }
+        self.last = Instant::now();
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => Ok(Flow::Continue(())),
+            Err(e) => {
+                self.raised = Some(e);
+                Ok(Flow::Break(()))
+            }
+        }
+    }
+
+    fn reads_volume(&self) -> bool {
+        false
+    }
+
+    fn name(&self) -> String {
+        "Ctrl-C".into()
+    }
+}
+
+/// How one call of `advance` runs.
+pub(crate) struct Advance {
+    /// Where to stop.
+    pub until: Until,
+    /// A progress bar (stderr).
+    pub progress: bool,
+    /// A checkpoint every this many steps into `checkpoint` (0: none).
+    pub checkpoint_every: usize,
+    /// The checkpoint file (also written when Ctrl-C stops the run).
+    pub checkpoint: Option<std::path::PathBuf>,
+}
+
+/// A run of any method and dimension, its recording and its extra observers (files).
+pub(crate) trait DynEngine {
+    /// Steps until `how.until`, the GIL released by the caller.
+    fn advance(&mut self, how: &Advance, interrupt: &mut Interrupt)
+        -> Result<RunSummary, RunError>;
+    /// The state now.
+    fn state(&self) -> &rsf::SimulationState;
+    /// A checkpoint of the state now, with the run's fingerprint.
+    fn checkpoint(&self) -> Checkpoint;
+    /// Continues from `c` (its fingerprint checked against the run's).
+    fn restore(&mut self, c: &Checkpoint) -> rsf::Result<()>;
+    /// What was recorded.
+    fn recording(&self) -> &Recording;
+    /// Dimension, components and fault nodes' coordinates (fault-node-major, `D` each).
+    fn shape(&self) -> (usize, usize, Vec<f64>);
+    /// The mesh: vertex coordinates (`D` each) and cells (`D + 1` vertices each).
+    fn mesh(&self) -> (Vec<f64>, Vec<usize>);
+    /// The displacement and velocity at every vertex (Cartesian, `C` each).
+    fn fields(&self) -> (Vec<f64>, Vec<f64>);
+}
+
+/// A run `sim` of a `D`-dimensional model with `C` components.
+pub(crate) struct Engine<const D: usize, const C: usize, M> {
+    pub sim: M,
+    pub recording: Recording,
+    /// Observers writing files (SEAS output, HDF5 fields), after the recording.
+    pub files: Vec<Box<dyn Observer<D, C>>>,
+    pub fingerprint: Fingerprint,
+}
+
+impl<const D: usize, const C: usize, M: Stepping<D, C>> DynEngine for Engine<D, C, M> {
+    fn advance(
+        &mut self,
+        how: &Advance,
+        interrupt: &mut Interrupt,
+    ) -> Result<RunSummary, RunError> {
+        let mut progress = how.progress.then(|| match how.until {
+            Until::Steps(n) => Progress::steps(n, "rsf"),
+            Until::Time(t) | Until::TimeOrStepCap { time: t, .. } => {
+                Progress::time(self.sim.state().time, t, "rsf")
+            }
+        });
+        let mut checkpointer = match (&how.checkpoint, how.checkpoint_every) {
+            (Some(path), n) if n > 0 => Some(
+                Every::new(
+                    Interval::Steps(n),
+                    Checkpointer::new(path.clone()).fingerprint(self.fingerprint.clone()),
+                )
+                .map_err(|error| RunError {
+                    error,
+                    summary: Box::default(),
+                })?,
+            ),
+            _ => None,
+        };
+        let mut observers: Vec<&mut dyn Observer<D, C>> = vec![&mut self.recording];
+        for f in &mut self.files {
+            observers.push(f.as_mut());
+        }
+        if let Some(p) = &mut progress {
+            observers.push(p);
+        }
+        if let Some(c) = &mut checkpointer {
+            observers.push(c);
+        }
+        observers.push(interrupt);
+        rsf::run_until(&mut self.sim, how.until, &mut observers)
+    }
+
+    fn state(&self) -> &rsf::SimulationState {
+        self.sim.state()
+    }
+
+    fn checkpoint(&self) -> Checkpoint {
+        let mut c = self.sim.checkpoint();
+        c.fingerprint = self.fingerprint.clone();
+        c
+    }
+
+    fn restore(&mut self, c: &Checkpoint) -> rsf::Result<()> {
+        c.fingerprint.check(&self.fingerprint, &[])?;
+        self.sim.restore(c)?;
+        self.recording.clear()
+    }
+
+    fn recording(&self) -> &Recording {
+        &self.recording
+    }
+
+    fn shape(&self) -> (usize, usize, Vec<f64>) {
+        let m = self.sim.model();
+        let x = m
+            .frictional_boundary
+            .nodes
+            .iter()
+            .flat_map(|&p| m.vertices[p])
+            .collect();
+        (D, C, x)
+    }
+
+    fn mesh(&self) -> (Vec<f64>, Vec<usize>) {
+        let m = self.sim.model();
+        (
+            m.vertices.iter().flatten().copied().collect(),
+            m.cells.clone(),
+        )
+    }
+
+    fn fields(&self) -> (Vec<f64>, Vec<f64>) {
+        let m = self.sim.model();
+        let k = &self.sim.state().kinematics;
+        let cartesian = |x: &[f64]| m.to_cartesian(x).unwrap_or_else(|_| x.to_vec());
+        (cartesian(&k.u), cartesian(&k.v))
+    }
+}

@@ -1,0 +1,30 @@
+//! The Python package `rsf` (its native part, `rsf._rsf`): the library's scenes, your own
+//! problems, runs with the GIL released and Ctrl-C at step boundaries, checkpoints, and the
+//! records as numpy arrays (docs/python.md). Custom state laws stay Rust traits: a Python
+//! callback per node per stage would dominate the cost of a step.
+
+use pyo3::prelude::*;
+
+mod convert;
+mod engine;
+mod errors;
+mod fields;
+mod problem;
+mod scenes;
+mod simulation;
+
+/// The native module.
+#[pymodule]
+fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors::register(m)?;
+    m.add_class::<simulation::Simulation>()?;
+    m.add_class::<problem::Mesh>()?;
+    m.add_class::<problem::Model>()?;
+    m.add_class::<problem::Friction>()?;
+    m.add_function(wrap_pyfunction!(scenes::slider, m)?)?;
+    m.add_function(wrap_pyfunction!(scenes::slider_3d, m)?)?;
+    m.add_function(wrap_pyfunction!(scenes::seas_bp1, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::simulate, m)?)?;
+    m.add("HAS_HDF5", cfg!(feature = "hdf5"))?;
+    Ok(())
+}

@@ -1,0 +1,578 @@
+//! A problem of your own from Python: a mesh (numpy arrays, a structured rectangle or
+//! cuboid, or a Gmsh file), a model (`rsf::ModelBuilder`'s choices under its names) and a
+//! simulation (`rsf::SimulationBuilder`'s: friction, state law, initial state, step,
+//! integrator, solver), with friction parameters per fault node.
+
+use std::path::PathBuf;
+
+use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use rsf::checkpoint::Fingerprint;
+use rsf::fem::{Diagonal, SimplexMesh};
+use rsf::friction::{AsinhLaw, DieterichRuina, FrictionLaw, RateStateParams, Tresca};
+use rsf::state::BuiltinStateLaw;
+use rsf::{
+    Integrator, Material, ModelBuilder, Part, SimulationBuilder, SolverKind, StateLawKind,
+    TimeFunction,
+};
+
+use crate::convert::{per_node, PerNode};
+use crate::engine::{Engine, Recording};
+use crate::errors::{invalid, OrPy};
+use crate::simulation::{End, Simulation};
+
+/// A 2-D (triangles) or 3-D (tetrahedra) mesh.
+#[derive(Clone)]
+enum AnyMesh {
+    Two(SimplexMesh<2>),
+    Three(SimplexMesh<3>),
+}
+
+/// A simplicial mesh: triangles in 2-D, tetrahedra in 3-D (m). Build it from arrays
+/// (`Mesh(points, cells)`: shapes `(n, dim)` and `(m, dim + 1)`), as a structured
+/// rectangle or cuboid, or from a Gmsh MSH 4.1 file (`Mesh.read_gmsh`), whose physical
+/// groups of boundary facets name parts of the model.
+#[pyclass(module = "rsf._rsf", name = "Mesh")]
+#[derive(Clone)]
+pub struct Mesh {
+    mesh: AnyMesh,
+}
+
+fn points_of<const D: usize>(points: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; D]>> {
+    if points.shape()[1] != D {
+        return Err(invalid(
+            "points",
+            format!("shape (n, {D}), not {:?}", points.shape()),
+        ));
+    }
+    let a = points.as_array();
+    Ok(a.rows()
+        .into_iter()
+        .map(|r| std::array::from_fn(|c| r[c]))
+        .collect())
+}
+
+#[pymethods]
+impl Mesh {
+    /// A mesh of `points` (m, shape `(n, 2)` or `(n, 3)`) and `cells` (vertex indices, shape
+    /// `(m, 3)` triangles or `(m, 4)` tetrahedra).
+    #[new]
+    fn new(points: PyReadonlyArray2<'_, f64>, cells: PyReadonlyArray2<'_, i64>) -> PyResult<Self> {
+        let d = points.shape()[1];
+        if cells.shape()[1] != d + 1 {
+            return Err(invalid(
+                "cells",
+                format!(
+                    "shape (m, {}) for {d}-D points, not {:?}",
+                    d + 1,
+                    cells.shape()
+                ),
+            ));
+        }
+        let c: Vec<usize> = cells
+            .as_array()
+            .iter()
+            .map(|&i| usize::try_from(i).map_err(|_| invalid("cells", format!("index {i}"))))
+            .collect::<PyResult<_>>()?;
+        let mesh = match d {
+            2 => AnyMesh::Two(SimplexMesh::new(points_of::<2>(&points)?, c).py_fem()?),
+            3 => AnyMesh::Three(SimplexMesh::new(points_of::<3>(&points)?, c).py_fem()?),
+            _ => return Err(invalid("points", "2-D or 3-D points")),
+        };
+        Ok(Self { mesh })
+    }
+
+    /// The rectangle `origin + [0, size]` (m) in `nx × ny` vertices (each ≥ 2), every cell
+    /// cut along `diagonal` ("forward" or "backward").
+    #[staticmethod]
+    #[pyo3(signature = (origin, size, nx, ny, diagonal="forward"))]
+    fn rectangle(
+        origin: [f64; 2],
+        size: [f64; 2],
+        nx: usize,
+        ny: usize,
+        diagonal: &str,
+    ) -> PyResult<Self> {
+        let diagonal = match diagonal {
+            "forward" => Diagonal::Forward,
+            "backward" => Diagonal::Backward,
+            d => {
+                return Err(invalid(
+                    "diagonal",
+                    format!("`{d}`: \"forward\" or \"backward\""),
+                ))
+            }
+        };
+        Ok(Self {
+            mesh: AnyMesh::Two(rsf::fem::rectangle(origin, size, nx, ny, diagonal).py_fem()?),
+        })
+    }
+
+    /// The cuboid `origin + [0, size]` (m) in `n` vertices per direction (tetrahedra).
+    #[staticmethod]
+    fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> PyResult<Self> {
+        Ok(Self {
+            mesh: AnyMesh::Three(rsf::fem::cuboid(origin, size, n).py_fem()?),
+        })
+    }
+
+    /// A Gmsh MSH 4.1 file of dimension `dim` (2 or 3): its cells, and its physical groups
+    /// of boundary facets as tags (the names a model's parts refer to).
+    #[staticmethod]
+    #[pyo3(signature = (path, dim=2))]
+    fn read_gmsh(path: PathBuf, dim: usize) -> PyResult<Self> {
+        let mesh = match dim {
+            2 => AnyMesh::Two(rsf::fem::read_gmsh::<2>(&path).py_fem()?.mesh),
+            3 => AnyMesh::Three(rsf::fem::read_gmsh::<3>(&path).py_fem()?.mesh),
+            _ => return Err(invalid("dim", "2 or 3")),
+        };
+        Ok(Self { mesh })
+    }
+
+    /// Vertex coordinates (m), shape `(n, dim)`.
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (v, d) = match &self.mesh {
+            AnyMesh::Two(m) => (
+                m.vertices().iter().flatten().copied().collect::<Vec<_>>(),
+                2,
+            ),
+            AnyMesh::Three(m) => (m.vertices().iter().flatten().copied().collect(), 3),
+        };
+        numpy::IntoPyArray::into_pyarray(v, py).reshape([v_len(d, &self.mesh), d])
+    }
+
+    /// The space dimension, 2 or 3.
+    #[getter]
+    fn dim(&self) -> usize {
+        match self.mesh {
+            AnyMesh::Two(_) => 2,
+            AnyMesh::Three(_) => 3,
+        }
+    }
+}
+
+fn v_len(_d: usize, m: &AnyMesh) -> usize {
+    match m {
+        AnyMesh::Two(m) => m.vertices().len(),
+        AnyMesh::Three(m) => m.vertices().len(),
+    }
+}
+
+/// The mesh crate's result as Python's.
+trait OrPyFem<T> {
+    fn py_fem(self) -> PyResult<T>;
+}
+
+impl<T> OrPyFem<T> for Result<T, rsf::fem::Error> {
+    fn py_fem(self) -> PyResult<T> {
+        self.map_err(|e| crate::errors::to_py(e.into()))
+    }
+}
+
+/// A boundary part from Python: a tag (a Gmsh physical group's name) or `(name,
+/// predicate)`, the predicate a function of a facet's midpoint `x` (shape `(dim,)`, m)
+/// returning a bool.
+fn part<const D: usize>(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Part<D>> {
+    if let Ok(tag) = obj.extract::<String>() {
+        return Ok(Part::tag(tag));
+    }
+    let (name, predicate): (String, Py<PyAny>) = obj.extract().map_err(|_| {
+        invalid(
+            "part",
+            "a tag (str) or a (name, predicate) pair, the predicate a function of a facet's midpoint",
+        )
+    })?;
+    let _ = py;
+    Ok(Part::predicate(name, move |x: &[f64; D]| {
+        Python::attach(|py| {
+            let x = numpy::PyArray1::from_slice(py, x);
+            predicate
+                .call1(py, (x,))
+                .and_then(|r| r.extract::<bool>(py))
+                .unwrap_or(false)
+        })
+    }))
+}
+
+/// A model of a mesh: material, gravity, boundary conditions and the frictional part.
+#[pyclass(module = "rsf._rsf", name = "Model")]
+pub struct Model {
+    model: AnyModel,
+    description: String,
+}
+
+#[derive(Clone)]
+enum AnyModel {
+    Two(rsf::Model<2>),
+    Three(rsf::Model<3>),
+}
+
+/// The builder's choices for a `D`-dimensional model.
+#[allow(clippy::too_many_arguments)]
+fn build_model<const D: usize>(
+    py: Python<'_>,
+    mesh: SimplexMesh<D>,
+    refine: usize,
+    material: Material,
+    gravity: Option<Vec<f64>>,
+    dirichlet: &[(Bound<'_, PyAny>, Vec<f64>)],
+    frictional_boundary: Option<&Bound<'_, PyAny>>,
+    ramp: Option<f64>,
+) -> PyResult<rsf::Model<D>> {
+    let vector = |name: &str, v: &[f64]| -> PyResult<[f64; D]> {
+        <[f64; D]>::try_from(v)
+            .map_err(|_| invalid(name, format!("{D} components, not {}", v.len())))
+    };
+    let mut b = if refine > 0 {
+        ModelBuilder::refined(mesh, refine).py()?
+    } else {
+        ModelBuilder::new(mesh)
+    };
+    b = b.material(material);
+    if let Some(g) = gravity {
+        b = b.gravity(vector("gravity", &g)?);
+    }
+    for (p, v) in dirichlet {
+        b = b.dirichlet(part::<D>(py, p)?, vector("dirichlet", v)?);
+    }
+    if let Some(f) = frictional_boundary {
+        b = b.frictional_boundary(part::<D>(py, f)?);
+    }
+    if let Some(t) = ramp {
+        b = b.loading(TimeFunction::ramp(t));
+    }
+    b.build().py()
+}
+
+#[pymethods]
+impl Model {
+    /// The model of `mesh` refined `refine` times (a hierarchy for TNNMG), of a linear
+    /// elastic material (`youngs_modulus` Pa, `poisson_ratio`, `density` kg/m³; plane strain
+    /// in 2-D), with `gravity` (m/s², a vector), `dirichlet` parts (a list of `(part,
+    /// velocity)`: the part moves with `velocity · g(t)`, m/s), a `frictional_boundary`
+    /// part (bilateral contact with friction on a rigid base) and the loading `g(t) =
+    /// min(t / ramp, 1)` (s; constant 1 without `ramp`). A part is a tag (a Gmsh physical
+    /// group) or `(name, predicate)`, the predicate a function of a facet's midpoint. The
+    /// library's checks name the part or parameter at fault.
+    #[new]
+    #[pyo3(signature = (mesh, *, youngs_modulus, poisson_ratio, density, refine=0, gravity=None, dirichlet=Vec::new(), frictional_boundary=None, ramp=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        mesh: &Mesh,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        density: f64,
+        refine: usize,
+        gravity: Option<Vec<f64>>,
+        dirichlet: Vec<(Bound<'_, PyAny>, Vec<f64>)>,
+        frictional_boundary: Option<Bound<'_, PyAny>>,
+        ramp: Option<f64>,
+    ) -> PyResult<Self> {
+        let material = Material::new(youngs_modulus, poisson_ratio, density);
+        let description = format!(
+            "E {youngs_modulus:e} nu {poisson_ratio:e} rho {density:e} refine {refine} \
+             gravity {gravity:?} ramp {ramp:?} dirichlet {:?} friction {:?}",
+            dirichlet
+                .iter()
+                .map(|(p, v)| (p.to_string(), v.clone()))
+                .collect::<Vec<_>>(),
+            frictional_boundary.as_ref().map(|f| f.to_string())
+        );
+        let fb = frictional_boundary.as_ref();
+        let model = match &mesh.mesh {
+            AnyMesh::Two(m) => AnyModel::Two(build_model::<2>(
+                py,
+                m.clone(),
+                refine,
+                material,
+                gravity,
+                &dirichlet,
+                fb,
+                ramp,
+            )?),
+            AnyMesh::Three(m) => AnyModel::Three(build_model::<3>(
+                py,
+                m.clone(),
+                refine,
+                material,
+                gravity,
+                &dirichlet,
+                fb,
+                ramp,
+            )?),
+        };
+        Ok(Self { model, description })
+    }
+
+    /// Mesh vertices (after refinement and splitting).
+    #[getter]
+    fn num_nodes(&self) -> usize {
+        match &self.model {
+            AnyModel::Two(m) => m.num_nodes(),
+            AnyModel::Three(m) => m.num_nodes(),
+        }
+    }
+
+    /// Coordinates of the frictional nodes (m), shape `(n_fault, dim)`: the order of every
+    /// per-node parameter.
+    #[getter]
+    fn fault_coordinates<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (x, d) = match &self.model {
+            AnyModel::Two(m) => (coords(m), 2),
+            AnyModel::Three(m) => (coords(m), 3),
+        };
+        let n = x.len() / d;
+        numpy::IntoPyArray::into_pyarray(x, py).reshape([n, d])
+    }
+}
+
+fn coords<const D: usize>(m: &rsf::Model<D>) -> Vec<f64> {
+    m.on_frictional_nodes(|x| *x)
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+/// A friction law with its parameters, each a number, an array (one per fault node) or a
+/// function of the fault nodes' coordinates.
+#[pyclass(module = "rsf._rsf", name = "Friction")]
+pub struct Friction {
+    kind: FrictionKind,
+    params: Vec<(&'static str, Py<PyAny>)>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum FrictionKind {
+    DieterichRuina,
+    Regularised,
+    Tresca,
+}
+
+#[pymethods]
+impl Friction {
+    /// Dieterich–Ruina friction with the V_m cutoff (the paper's (2.9), (2.12)–(2.13)):
+    /// `mu0`, `a`, `b` (dimensionless), `v0` (m/s), `l` (m), `sigma_n` (Pa).
+    #[staticmethod]
+    fn dieterich_ruina(
+        mu0: Py<PyAny>,
+        a: Py<PyAny>,
+        b: Py<PyAny>,
+        v0: Py<PyAny>,
+        l: Py<PyAny>,
+        sigma_n: Py<PyAny>,
+    ) -> Self {
+        Self {
+            kind: FrictionKind::DieterichRuina,
+            params: vec![
+                ("mu0", mu0),
+                ("a", a),
+                ("b", b),
+                ("v0", v0),
+                ("l", l),
+                ("sigma_n", sigma_n),
+            ],
+        }
+    }
+
+    /// The regularised law `μ = a asinh(V/(2V0) exp((μ0 + b ln(V0 θ/L))/a))` (the SEAS
+    /// benchmarks'): the parameters of `dieterich_ruina`.
+    #[staticmethod]
+    fn regularised(
+        mu0: Py<PyAny>,
+        a: Py<PyAny>,
+        b: Py<PyAny>,
+        v0: Py<PyAny>,
+        l: Py<PyAny>,
+        sigma_n: Py<PyAny>,
+    ) -> Self {
+        Self {
+            kind: FrictionKind::Regularised,
+            params: vec![
+                ("mu0", mu0),
+                ("a", a),
+                ("b", b),
+                ("v0", v0),
+                ("l", l),
+                ("sigma_n", sigma_n),
+            ],
+        }
+    }
+
+    /// Tresca friction: a constant friction coefficient `mu` and normal stress `sigma_n`
+    /// (Pa); no state.
+    #[staticmethod]
+    fn tresca(mu: Py<PyAny>, sigma_n: Py<PyAny>) -> Self {
+        Self {
+            kind: FrictionKind::Tresca,
+            params: vec![("mu", mu), ("sigma_n", sigma_n)],
+        }
+    }
+}
+
+/// The method's choices of `rsf.simulate`.
+struct Choices {
+    state_law: StateLawKind,
+    integrator: Integrator,
+    solver: SolverKind,
+    tau: f64,
+    fault_every: usize,
+    end_time: Option<f64>,
+}
+
+/// Resolved parameters per fault node.
+type Resolved = Vec<(&'static str, PerNode)>;
+
+fn value(r: &Resolved, name: &str, k: usize) -> f64 {
+    r.iter()
+        .find(|(n, _)| *n == name)
+        .map_or(f64::NAN, |(_, v)| v.at(k))
+}
+
+fn params(r: &Resolved, k: usize) -> RateStateParams {
+    RateStateParams {
+        mu0: value(r, "mu0", k),
+        a: value(r, "a", k),
+        b: value(r, "b", k),
+        v0: value(r, "v0", k),
+        l: value(r, "l", k),
+        sigma_n: value(r, "sigma_n", k),
+    }
+}
+
+/// The simulation of `model` with friction laws `law(k)` per fault node.
+fn simulate_with<const D: usize, L: FrictionLaw + 'static>(
+    model: rsf::Model<D>,
+    friction: impl Fn(usize) -> rsf::Result<L>,
+    r: &Resolved,
+    alpha0: &PerNode,
+    c: &Choices,
+    fingerprint: Fingerprint,
+) -> PyResult<Simulation>
+where
+    rsf::Simulation<D, L, BuiltinStateLaw, Integrator>: rsf::Stepping<D, D>,
+{
+    let (mut kf, mut ks, mut ka) = (0, 0, 0);
+    let builder = SimulationBuilder::new(model)
+        .friction_at(|_x| {
+            kf += 1;
+            friction(kf - 1)
+        })
+        .state_law_at(|_x| {
+            ks += 1;
+            // The Tresca law has no `l`: any positive length (its state is unused).
+            let l = value(r, "l", ks - 1);
+            BuiltinStateLaw::new(c.state_law, if l.is_nan() { 1.0 } else { l })
+        })
+        .initial_state_at(|_x| {
+            ka += 1;
+            alpha0.at(ka - 1)
+        })
+        .time_step(c.tau)
+        .integrator(c.integrator)
+        .solver(c.solver);
+    let sim = builder.build().py()?;
+    let engine = Engine::<D, D, _> {
+        sim,
+        recording: Recording::new(c.fault_every).py()?,
+        files: Vec::new(),
+        fingerprint,
+    };
+    Ok(Simulation::new(
+        Box::new(engine),
+        c.end_time.map(End::Time),
+        "own problem",
+    ))
+}
+
+/// A simulation of `model`: `friction` (`rsf.Friction.dieterich_ruina(...)`,
+/// `.regularised(...)`, `.tresca(...)`), `state_law` ("aging", "slip", "discontinuous"),
+/// `alpha0` (the initial state α = ln θ; a number, an array or a function of the fault
+/// nodes' coordinates), the time step `tau` (s), `integrator` ("newmark",
+/// "backward-euler", "quasistatic"), `solver` ("auto", "tnnmg", "direct",
+/// "gauss-seidel"), `end_time` (s, the end of `run()`), `fault_every` (record the fault's
+/// fields every that many steps). The library's checks run here (a free normal velocity
+/// on the fault, a state law that does not fit the friction law, …).
+#[pyfunction]
+#[pyo3(signature = (model, *, friction, alpha0, tau, state_law="aging", integrator="newmark", solver="auto", end_time=None, fault_every=0))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn simulate(
+    py: Python<'_>,
+    model: &Model,
+    friction: &Friction,
+    alpha0: Bound<'_, PyAny>,
+    tau: f64,
+    state_law: &str,
+    integrator: &str,
+    solver: &str,
+    end_time: Option<f64>,
+    fault_every: usize,
+) -> PyResult<Simulation> {
+    let c = Choices {
+        state_law: state_law
+            .parse()
+            .map_err(|e: rsf::state::Error| crate::errors::to_py(e.into()))?,
+        integrator: integrator
+            .parse()
+            .map_err(|e: rsf::time::Error| crate::errors::to_py(e.into()))?,
+        solver: solver.parse::<SolverKind>().py()?,
+        tau,
+        fault_every,
+        end_time,
+    };
+    let (x, d) = match &model.model {
+        AnyModel::Two(m) => (coords(m), 2),
+        AnyModel::Three(m) => (coords(m), 3),
+    };
+    let mut r: Resolved = Vec::new();
+    let mut fingerprint = Fingerprint::default()
+        .with("model", &model.description)
+        .with("state_law", state_law)
+        .with("integrator", integrator)
+        .with("solver", solver)
+        .with("tau", tau);
+    for (name, obj) in &friction.params {
+        let v = per_node(py, name, obj.bind(py), &x, d)?;
+        fingerprint = fingerprint.with(name, v.describe());
+        r.push((name, v));
+    }
+    let alpha0 = per_node(py, "alpha0", &alpha0, &x, d)?;
+    fingerprint = fingerprint.with("alpha0", alpha0.describe());
+    macro_rules! run {
+        ($m:expr, $D:literal) => {
+            match friction.kind {
+                FrictionKind::DieterichRuina => simulate_with::<$D, DieterichRuina>(
+                    $m,
+                    |k| DieterichRuina::new(params(&r, k)).map_err(Into::into),
+                    &r,
+                    &alpha0,
+                    &c,
+                    fingerprint,
+                ),
+                FrictionKind::Regularised => simulate_with::<$D, AsinhLaw>(
+                    $m,
+                    |k| AsinhLaw::new(params(&r, k)).map_err(Into::into),
+                    &r,
+                    &alpha0,
+                    &c,
+                    fingerprint,
+                ),
+                FrictionKind::Tresca => simulate_with::<$D, Tresca>(
+                    $m,
+                    |k| {
+                        Tresca::new(value(&r, "mu", k), value(&r, "sigma_n", k)).map_err(Into::into)
+                    },
+                    &r,
+                    &alpha0,
+                    &c,
+                    fingerprint,
+                ),
+            }
+        };
+    }
+    match model.model.clone() {
+        AnyModel::Two(m) => run!(m, 2),
+        AnyModel::Three(m) => run!(m, 3),
+    }
+}

@@ -1,0 +1,327 @@
+//! The ready-made scenes of `rsf-scenes` as Python functions: the keyword arguments are
+//! the scenes' own fields (their TOML names, checked by the scenes), a few friction
+//! parameters may be given per fault node.
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::friction::{DieterichRuina, RateStateParams};
+use rsf::observe::FileMode;
+use rsf::run_folder::RunFolder;
+use rsf::SimulationBuilder;
+use rsf_scenes::{
+    SeasBp1, SeasBp1Grid, Slider3dScene, SliderScene, TimeStep, SEAS_BP1_STATION_DEPTHS,
+};
+use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use serde_json::Value;
+
+use crate::convert::{per_node, scene, to_json, PerNode};
+use crate::engine::{Engine, Recording};
+use crate::errors::{invalid, OrPy};
+use crate::simulation::{End, Simulation};
+
+/// The slider scenes' friction fields that may be given per fault node, with the
+/// [`RateStateParams`] field each sets.
+const PER_NODE: [(&str, &str); 4] = [
+    ("a", "a"),
+    ("b", "b"),
+    ("l_m", "l"),
+    ("sigma_n_pa", "sigma_n"),
+];
+
+/// Keyword arguments split into scene fields (JSON values) and per-node parameters.
+type Split<'py> = (Vec<(String, Value)>, Vec<(String, Bound<'py, PyAny>)>);
+
+/// The keyword arguments as scene fields, those of `per_node_names` that are not numbers
+/// (arrays, functions) set aside.
+fn split<'py>(
+    kwargs: Option<&Bound<'py, PyDict>>,
+    per_node_names: &[&str],
+) -> PyResult<Split<'py>> {
+    let mut fields = Vec::new();
+    let mut per = Vec::new();
+    if let Some(kw) = kwargs {
+        for (k, v) in kw.iter() {
+            let k: String = k.extract()?;
+            if per_node_names.contains(&k.as_str()) && v.extract::<f64>().is_err() {
+                per.push((k, v));
+            } else {
+                fields.push((k.clone(), to_json(&k, &v)?));
+            }
+        }
+    }
+    Ok((fields, per))
+}
+
+/// The builder with Dieterich–Ruina friction of `p` except the fields `per` per fault node;
+/// the fingerprint gains a hash of each.
+fn rate_state_per_node<const D: usize, S, I>(
+    py: Python<'_>,
+    builder: SimulationBuilder<D, DieterichRuina, S, I>,
+    p: RateStateParams,
+    per: &[(String, Bound<'_, PyAny>)],
+    mut fingerprint: Fingerprint,
+) -> PyResult<(SimulationBuilder<D, DieterichRuina, S, I>, Fingerprint)> {
+    if per.is_empty() {
+        return Ok((builder, fingerprint));
+    }
+    let coords: Vec<f64> = builder
+        .model()
+        .on_frictional_nodes(|x| *x)
+        .into_iter()
+        .flatten()
+        .collect();
+    let mut values: Vec<(&'static str, PerNode)> = Vec::new();
+    for (name, obj) in per {
+        let field = PER_NODE
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, f)| *f)
+            .expect("split sets aside only these names");
+        let v = per_node(py, name, obj, &coords, D)?;
+        fingerprint = fingerprint.with(name, v.describe());
+        values.push((field, v));
+    }
+    let mut k = 0;
+    let builder = builder.friction_at(move |_x| {
+        let mut q = p;
+        for (field, v) in &values {
+            let x = v.at(k);
+            match *field {
+                "a" => q.a = x,
+                "b" => q.b = x,
+                "l" => q.l = x,
+                _ => q.sigma_n = x,
+            }
+        }
+        k += 1;
+        DieterichRuina::new(q)
+    });
+    Ok((builder, fingerprint))
+}
+
+/// Where a slider scene ends.
+fn slider_end(s: &SliderScene) -> End {
+    match s.time_step {
+        TimeStep::Fixed {} => End::Steps(s.steps),
+        TimeStep::Adaptive(_) => End::Time(s.end_time_s),
+    }
+}
+
+/// The paper's slider (Pipping, Sander and Kornhuber §6.1, Table 6.1): a 5 m × 1 m block
+/// on a rigid base. Keyword arguments are the scene's fields (`level`, `steps`,
+/// `end_time_s`, `a`, `b`, `l_m`, `sigma_n_pa`, `state_law`, `integrator`, `solver`, …:
+/// docs/python.md); `a`, `b`, `l_m`, `sigma_n_pa` may be arrays (one value per fault node)
+/// or functions of the fault nodes' coordinates `x` (shape `(n, 2)`, m) called once.
+/// `fault_every` records the fault's fields every that many steps.
+#[pyfunction]
+#[pyo3(signature = (*, fault_every=0, **kwargs))]
+pub(crate) fn slider(
+    py: Python<'_>,
+    fault_every: usize,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Simulation> {
+    let names: Vec<&str> = PER_NODE.iter().map(|(n, _)| *n).collect();
+    let (fields, per) = split(kwargs, &names)?;
+    let s: SliderScene = scene(&SliderScene::default(), &fields, "the slider scene")?;
+    let builder = s.simulation_builder().py()?;
+    let (builder, fingerprint) =
+        rate_state_per_node(py, builder, s.rate_state_params(), &per, s.fingerprint())?;
+    let sim = builder.build().py()?;
+    let engine = Engine::<2, 2, _> {
+        sim,
+        recording: Recording::new(fault_every).py()?,
+        files: Vec::new(),
+        fingerprint,
+    };
+    Ok(Simulation::new(
+        Box::new(engine),
+        Some(slider_end(&s)),
+        "slider",
+    ))
+}
+
+/// The slider as a 3-D block (5 m × 1 m × `width_m`, tetrahedra; `lateral` "free" or
+/// "plane-strain"): the 2-D scene's fields and these two; `level` defaults to 2. As
+/// [`slider`] for `fault_every` and per-node parameters (coordinates of shape `(n, 3)`).
+/// `hdf5` writes the fields to an HDF5 file with an Xdmf index beside it every
+/// `hdf5_every` steps (the package built with the feature `hdf5`).
+#[pyfunction]
+#[pyo3(signature = (*, fault_every=0, hdf5=None, hdf5_every=1, **kwargs))]
+pub(crate) fn slider_3d(
+    py: Python<'_>,
+    fault_every: usize,
+    hdf5: Option<PathBuf>,
+    hdf5_every: usize,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Simulation> {
+    let names: Vec<&str> = PER_NODE.iter().map(|(n, _)| *n).collect();
+    let (fields, per) = split(kwargs, &names)?;
+    // The 3-D scene flattens the 2-D one into its fields, which serde cannot check for
+    // unknown names: the 2-D scene's (which refuses them) checks the rest.
+    let slider_fields: Vec<(String, Value)> = fields
+        .iter()
+        .filter(|(k, _)| k != "width_m" && k != "lateral")
+        .cloned()
+        .collect();
+    scene(
+        &SliderScene::default(),
+        &slider_fields,
+        "the 3-D slider scene",
+    )?;
+    let s: Slider3dScene = scene(&Slider3dScene::default(), &fields, "the 3-D slider scene")?;
+    let model = s.build_model().py()?;
+    let builder = s.simulation_builder_with_model(model).py()?;
+    let (builder, fingerprint) = rate_state_per_node(
+        py,
+        builder,
+        s.slider.rate_state_params(),
+        &per,
+        s.fingerprint(),
+    )?;
+    let sim = builder.build().py()?;
+    let files = crate::fields::hdf5_observer::<3>(hdf5, hdf5_every)?;
+    let engine = Engine::<3, 3, _> {
+        sim,
+        recording: Recording::new(fault_every).py()?,
+        files,
+        fingerprint,
+    };
+    Ok(Simulation::new(
+        Box::new(engine),
+        Some(slider_end(&s.slider)),
+        "slider_3d",
+    ))
+}
+
+/// The SCEC SEAS benchmark BP1-QD (docs/seas-bp1.md): the quasi-dynamic equations condensed
+/// onto the fault, Dormand–Prince 5(4), as the Rust program `seas_bp1` runs them with the
+/// same flags (`dz` = `--dz`, `domain_km`, `ratio`, `rk_tolerance`, `kernel`
+/// "hierarchical" or "dense", `kernel_epsilon`, `threads`, `end_years`, `every_step`,
+/// `modeler`, `date`). With `out`, the benchmark's files (`fltst_dp*`, `devol.dat`,
+/// `events.csv`) are written there as the program writes them (the folder refused if it
+/// holds another run's files, unless `overwrite`). Other keyword arguments are the
+/// scene's physical parameters (`a0`, `a_max`, `sigma_n`, …, SI units).
+#[pyfunction]
+#[pyo3(signature = (*, dz=25.0, domain_km=400.0, ratio=1.05, rk_tolerance=1e-6, kernel="hierarchical", kernel_epsilon=None, threads=None, end_years=3000.0, every_step=false, out=None, overwrite=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn seas_bp1(
+    dz: f64,
+    domain_km: f64,
+    ratio: f64,
+    rk_tolerance: f64,
+    kernel: &str,
+    kernel_epsilon: Option<f64>,
+    threads: Option<usize>,
+    end_years: f64,
+    every_step: bool,
+    out: Option<PathBuf>,
+    overwrite: bool,
+    modeler: &str,
+    date: Option<String>,
+    fault_every: usize,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Simulation> {
+    let (fields, _) = split(kwargs, &[])?;
+    let bp1: SeasBp1 = scene(&SeasBp1::default(), &fields, "the BP1 scene")?;
+    bp1.validate().py()?;
+    if !(end_years.is_finite() && end_years > 0.0) {
+        return Err(invalid(
+            "end_years",
+            format!("{end_years}: must be positive"),
+        ));
+    }
+    let grid = SeasBp1Grid {
+        dz,
+        domain: domain_km * 1e3,
+        ratio,
+    };
+    let kernel = match (kernel, kernel_epsilon) {
+        ("dense", None) => FaultKernel::Dense,
+        ("dense", Some(_)) => {
+            return Err(invalid("kernel_epsilon", "needs kernel=\"hierarchical\""))
+        }
+        ("hierarchical", None) => FaultKernel::matching(rk_tolerance),
+        ("hierarchical", Some(e)) if e > f64::EPSILON && e < 1.0 => FaultKernel::hierarchical(e),
+        ("hierarchical", Some(e)) => {
+            return Err(invalid(
+                "kernel_epsilon",
+                format!("{e:e}: must be in (2.2e-16, 1)"),
+            ))
+        }
+        (k, _) => {
+            return Err(invalid(
+                "kernel",
+                format!("`{k}`: \"hierarchical\" or \"dense\""),
+            ))
+        }
+    };
+    let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
+    if threads == 0 {
+        return Err(invalid("threads", "at least 1"));
+    }
+    let options = FaultOdeOptions {
+        kernel,
+        parallelism: rsf::Parallelism::rayon(threads),
+        ..bp1.fault_ode_options(rk_tolerance).py()?
+    };
+    options.validate().py()?;
+    let model = bp1.model(&grid, false).py()?;
+    let sim = bp1.fault_ode(model, options).py()?;
+    let sampling = SeasSampling {
+        every_step,
+        ..SeasSampling::default()
+    };
+    // The program's fingerprint (its defaults for the other flags), so that a checkpoint
+    // of either continues in the other.
+    let fingerprint = bp1
+        .fingerprint(&grid, false, &sampling)
+        .with("method", rsf::MethodKind::FaultOde)
+        .with("end_years", end_years)
+        .with("tolerance", 1e-3)
+        .with("state_change_cap", 0.5)
+        .with("fixed_point_tolerance", 1e-10)
+        .with("setup_per_time_step", false)
+        .with("rk_tolerance", rk_tolerance)
+        .with("kernel", kernel)
+        .with("dynamic_tau", "None")
+        .with("switch_to_dynamic", 1e-3)
+        .with("switch_to_quasi_dynamic", 1e-4)
+        .with("dynamic_fixed_point_tolerance", 1e-6);
+    let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
+    if let Some(out) = out {
+        let folder = RunFolder::new(&out, "seas_bp1", &[]);
+        let mode: FileMode = folder.prepare(false, overwrite).py()?;
+        let stations = SEAS_BP1_STATION_DEPTHS
+            .iter()
+            .map(|&d| (SeasBp1::station_name(d), d))
+            .collect();
+        let setup = SeasSetup {
+            modeler: modeler.to_owned(),
+            date: date.unwrap_or_else(rsf_seas::utc_date_today),
+            stations,
+            ..bp1.seas_setup(dz, false, sampling)
+        };
+        let model = rsf::Stepping::model(&sim);
+        let mut output =
+            SeasOutput::new(&out, model, sim.problem().friction_laws(), setup, mode).py()?;
+        output
+            .write_initial_state(model, rsf::Stepping::state(&sim))
+            .py()?;
+        files.push(Box::new(output));
+    }
+    let engine = Engine::<2, 1, _> {
+        sim,
+        recording: Recording::new(fault_every).py()?,
+        files,
+        fingerprint,
+    };
+    Ok(Simulation::new(
+        Box::new(engine),
+        Some(End::Time(end_years * SECONDS_PER_YEAR)),
+        "seas_bp1",
+    ))
+}

@@ -1,0 +1,57 @@
+"""HDF5 fields of the 3-D slider read back with h5py: the file's fault fields equal the
+records the run keeps in memory, its last frame the state, and the Xdmf index parses and
+references the file's datasets."""
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+import rsf
+
+SCENE = dict(level=0, steps=100, loading_velocity_m_per_s=2e-2)
+
+
+@pytest.mark.skipif(rsf.HAS_HDF5, reason="this build has HDF5 output")
+def test_without_the_feature_hdf5_is_a_named_error(tmp_path):
+    with pytest.raises(rsf.InvalidParameterError, match="hdf5"):
+        rsf.slider_3d(hdf5=tmp_path / "f.h5", **SCENE)
+
+
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_hdf5_fields_read_back_with_h5py_equal_the_run(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    path = tmp_path / "fields.h5"
+    sim = rsf.slider_3d(hdf5=path, hdf5_every=2, fault_every=2, **SCENE)
+    sim.advance(steps=6)
+    rec = sim.fault()
+    with h5py.File(path, "r") as f:
+        assert list(f["step"][:]) == [2, 4, 6]
+        np.testing.assert_array_equal(f["time"][:], rec["t"])
+        nodes = f["mesh/fault_nodes"][:]
+        np.testing.assert_array_equal(f["mesh/points"][:][nodes], rec["x"])
+        n = f["mesh/points"].shape[0]
+        assert f["fields/displacement"].shape == (3, n, 3)
+        assert f["fields/slip_rate"].shape == (3, n)
+        # On the fault: the records' values, bit for bit; off the fault NaN.
+        assert f["fields/slip_rate"][:, nodes].tobytes() == rec["slip_rate"].tobytes()
+        assert f["fields/state_alpha"][:, nodes].tobytes() == rec["alpha"].tobytes()
+        assert f["fields/slip"][:, nodes, :].tobytes() == rec["slip"].tobytes()
+        assert f["fields/shear_traction"][:, nodes].tobytes() == rec["shear_traction"].tobytes()
+        off = np.setdiff1d(np.arange(n), nodes)
+        assert np.all(np.isnan(f["fields/slip_rate"][:, off]))
+        # The last frame is the state now.
+        state = sim.fields()
+        assert f["fields/velocity"][-1].tobytes() == state["velocity"].tobytes()
+        assert np.any(rec["slip_rate"] > 0)
+        # The Xdmf index: XML whose every HDF reference is a dataset of the declared size.
+        root = ET.parse(path.with_suffix(".xmf")).getroot()
+        grids = root.findall(".//Grid[@GridType='Uniform']")
+        assert [float(g.find("Time").get("Value")) for g in grids] == list(f["time"][:])
+        refs = [d for d in root.iter("DataItem") if d.get("Format") == "HDF"]
+        assert len(refs) == 3 * 9
+        for d in refs:
+            name, dataset = d.text.strip().split(":")
+            assert name == path.name
+            dims = tuple(int(x) for x in d.get("Dimensions").split())
+            assert f[dataset].shape == dims, dataset

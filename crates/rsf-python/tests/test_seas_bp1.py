@@ -1,0 +1,62 @@
+"""BP1 from Python writes the benchmark's files byte for byte as the Rust program
+`seas_bp1` with the same flags."""
+
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import rsf
+
+from conftest import REPO
+
+FLAGS = dict(dz=200.0, domain_km=100.0, end_years=300.0, threads=1, date="2026-01-01")
+
+
+def program():
+    """The example `seas_bp1` built by the README's test command (or a release build)."""
+    given = os.environ.get("RSF_SEAS_BP1")
+    if given:
+        candidates = [pathlib.Path(given)]
+    else:
+        candidates = []
+        for profile in ("release", "debug"):
+            examples = REPO / "target" / profile / "examples"
+            candidates.append(examples / "seas_bp1")
+            # cargo test leaves the example under its hashed name.
+            candidates += [p for p in examples.glob("seas_bp1-*") if p.suffix == ""]
+    found = [c for c in candidates if c.exists() and os.access(c, os.X_OK)]
+    if not found:
+        pytest.fail(
+            "no seas_bp1 program: run `cargo test --workspace --all-features` (which builds "
+            "the examples) or set RSF_SEAS_BP1 to the program"
+        )
+    return max(found, key=lambda p: p.stat().st_mtime)
+
+
+def test_python_bp1_writes_the_rust_programs_files(tmp_path):
+    rust, py = tmp_path / "rust", tmp_path / "python"
+    args = [str(program()), "--out", str(rust)]
+    for k, v in FLAGS.items():
+        args += ["--" + k.replace("_", "-"), str(v)]
+    subprocess.run(args, check=True, capture_output=True)
+    sim = rsf.seas_bp1(out=py, **FLAGS)
+    sim.run()
+    names = sorted(p.name for p in rust.iterdir() if p.name.startswith("fltst_"))
+    assert len(names) == 12
+    for name in names + ["devol.dat", "events.csv"]:
+        assert (py / name).read_bytes() == (rust / name).read_bytes(), name
+    # The records in memory: the series reaches the end time (s), events are found.
+    s = sim.series()
+    assert s["t"][-1] == pytest.approx(300.0 * 365.25 * 24 * 3600, rel=1e-12)
+    ev = sim.events()
+    assert len(ev["onset"]) >= 2 and np.all(np.diff(ev["onset"]) > 0)
+    assert np.all(ev["peak_slip_rate"] > 1e-3)
+
+
+def test_the_folder_of_another_run_is_refused(tmp_path):
+    rsf.seas_bp1(out=tmp_path, **dict(FLAGS, end_years=1.0)).run()
+    with pytest.raises(rsf.RsfIOError):
+        rsf.seas_bp1(out=tmp_path, **FLAGS)

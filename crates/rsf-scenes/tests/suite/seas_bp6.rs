@@ -1,0 +1,414 @@
+//! SEAS BP6-QD (docs/seas-bp6.md) on coarse grids: a constant pore pressure is the laws at
+//! `σ̄_n − p₀` bit for bit (both engines), steps end at the shut-in, BP6-C stays exactly
+//! locked until the pressure frees it and then holds its complementarity at every node,
+//! the files' first rows are the description's values, and a pressure that would open
+//! the fault is a typed error.
+
+use std::sync::Arc;
+
+use rsf::fault_ode::FaultKernel;
+use rsf::pore_pressure::{PorePressure, PressureFn};
+use rsf::{Stepping, Until};
+use rsf_friction::{AsinhLaw, Tresca};
+use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid};
+
+const DAY: f64 = 86_400.0;
+
+/// BP6-A on `cells` of 400 m with the law built at `sigma_n` and the pressure `p`.
+fn bem_a(bp6: &SeasBp6, pressure: Arc<dyn PorePressure<2>>) -> rsf_scenes::SeasBp6FaultOde<2> {
+    let mut o = bp6.fault_ode_options(1e-6).unwrap();
+    o.parallelism = rsf::Parallelism::SEQ;
+    bp6.bem_fault_ode(400.0, Bp6Variant::A, FaultKernel::Dense, o, pressure)
+        .unwrap()
+}
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn a_constant_pressure_is_the_same_scene_at_the_lowered_normal_stress() {
+    let bp6 = SeasBp6::default();
+    let p0 = 5e6;
+    // The scene with σ̄₀ = 50 MPa and p ≡ p₀, against the laws built with 45 MPa (the
+    // prestress and θ₀ kept: only the laws' σ̄_n changes).
+    let mut with_p = bem_a(&bp6, Arc::new(PressureFn(move |_: &[f64; 2], _| p0)));
+    let lowered = SeasBp6 {
+        sigma_n: bp6.sigma_n - p0,
+        ..bp6
+    };
+    let model = bp6.bem_model(400.0, Bp6Variant::A).unwrap();
+    let n = model.vertices.len();
+    let law = AsinhLaw::new(lowered.params()).unwrap();
+    let op = rsf::whole_space::WholeSpaceAntiplane::new(
+        n,
+        400.0,
+        bp6.shear_modulus(),
+        FaultKernel::Dense,
+    )
+    .unwrap();
+    let mut o = bp6.fault_ode_options(1e-6).unwrap();
+    o.parallelism = rsf::Parallelism::SEQ;
+    let mut plain = rsf::SimulationBuilder::new(model)
+        .friction_at(move |_| Ok::<_, rsf_friction::Error>(law))
+        .state_law(rsf_state::BuiltinStateLaw::new(rsf::StateLawKind::Aging, bp6.d_rs).unwrap())
+        .initial_state(bp6.alpha0())
+        .integrator(rsf::Integrator::Quasistatic(rsf::time::Quasistatic::new()))
+        .radiation_damping(bp6.radiation_damping())
+        .time_step(1.0)
+        .build_fault_ode_alone(
+            o,
+            rsf::fault_alone::FaultAlone {
+                operator: Box::new(op),
+                plate_velocity: vec![0.0; n],
+            },
+        )
+        .unwrap();
+    let until = Until::Steps(150);
+    with_p.run_until(until, &mut []).unwrap();
+    plain.run_until(until, &mut []).unwrap();
+    let (a, b) = (with_p.state(), plain.state());
+    assert_eq!(a.time.to_bits(), b.time.to_bits());
+    assert_eq!(bits(&a.kinematics.u), bits(&b.kinematics.u));
+    assert_eq!(bits(&a.alpha), bits(&b.alpha));
+    // The observers' normal stress is σ̄₀ − p₀.
+    assert_eq!(with_p.fault_tractions().normal_traction(3), Some(45e6));
+    // p ≡ 0 is the run without a pressure.
+    let mut zero = bem_a(&bp6, Arc::new(PressureFn(|_: &[f64; 2], _| 0.0)));
+    let mut none = {
+        let model = bp6.bem_model(400.0, Bp6Variant::A).unwrap();
+        let law = AsinhLaw::new(bp6.params()).unwrap();
+        let op = rsf::whole_space::WholeSpaceAntiplane::new(
+            n,
+            400.0,
+            bp6.shear_modulus(),
+            FaultKernel::Dense,
+        )
+        .unwrap();
+        rsf::SimulationBuilder::new(model)
+            .friction_at(move |_| Ok::<_, rsf_friction::Error>(law))
+            .state_law(rsf_state::BuiltinStateLaw::new(rsf::StateLawKind::Aging, bp6.d_rs).unwrap())
+            .initial_state(bp6.alpha0())
+            .integrator(rsf::Integrator::Quasistatic(rsf::time::Quasistatic::new()))
+            .radiation_damping(bp6.radiation_damping())
+            .time_step(1.0)
+            .build_fault_ode_alone(
+                o,
+                rsf::fault_alone::FaultAlone {
+                    operator: Box::new(op),
+                    plate_velocity: vec![0.0; n],
+                },
+            )
+            .unwrap()
+    };
+    zero.run_until(until, &mut []).unwrap();
+    none.run_until(until, &mut []).unwrap();
+    assert_eq!(
+        bits(&zero.state().kinematics.u),
+        bits(&none.state().kinematics.u)
+    );
+}
+
+#[test]
+fn the_implicit_scheme_with_a_constant_pressure_is_the_lowered_bound() {
+    // BP6-C's model, a constant p₀: the Tresca bound f (σ̄₀ − p₀) bit for bit.
+    let bp6 = SeasBp6::default();
+    let grid = SeasBp6Grid {
+        dz: 1000.0,
+        domain: 60e3,
+        ratio: 1.3,
+    };
+    let p0 = 2e6;
+    let model = bp6.fe_model(&grid, Bp6Variant::C).unwrap();
+    // Fixed steps of 60 s: f (σ̄₀ − p₀) = 28.8 MPa < τ⁰ = 29.2 MPa, so the whole fault
+    // starts sliding at t = 0 (a jump of the slip rate no step control would accept).
+    let build = |law: Tresca, pressure: Option<f64>| {
+        let b = rsf::SimulationBuilder::new(model.clone())
+            .friction_at(move |_| Ok::<_, rsf_friction::Error>(law))
+            .integrator(rsf::Integrator::Quasistatic(rsf::time::Quasistatic::new()))
+            .radiation_damping(bp6.radiation_damping())
+            .solver(rsf::SolverKind::Direct)
+            .time_step(60.0);
+        match pressure {
+            Some(p) => b
+                .pore_pressure(PressureFn(move |_: &[f64; 2], _| p))
+                .build(),
+            None => b.build(),
+        }
+        .unwrap()
+    };
+    let mut with_p = build(Tresca::new(bp6.f_c, bp6.sigma_n).unwrap(), Some(p0));
+    let mut plain = build(Tresca::new(bp6.f_c, bp6.sigma_n - p0).unwrap(), None);
+    let until = Until::Steps(20);
+    with_p.run_until(until, &mut []).unwrap();
+    plain.run_until(until, &mut []).unwrap();
+    assert_eq!(
+        bits(&with_p.state().kinematics.u),
+        bits(&plain.state().kinematics.u)
+    );
+    // f (σ̄₀ − p₀) = 28.8 MPa < τ⁰ = 29.2 MPa: the fault slides.
+    assert!(with_p.state().kinematics.u.iter().any(|&u| u > 0.0));
+}
+
+#[test]
+fn steps_end_at_the_shut_in_and_the_files_start_at_the_descriptions_values() {
+    let bp6 = SeasBp6::default();
+    let pressure = bp6.pressure(Bp6Pressure::ClosedForm).unwrap();
+    let mut ode = bem_a(&bp6, pressure.clone());
+    let dir = std::env::temp_dir().join(format!("rsf_bp6_files_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let fault = bp6.output_fault(ode.model(), Bp6Variant::A);
+    let mut setup = bp6.seas_setup(Bp6Variant::A, 400.0);
+    setup.date = "2026-11-27".into();
+    let mut out = rsf_seas::SeasBp6Output::new(&dir, fault, pressure, setup).unwrap();
+    out.write_initial_state(ode.model(), ode.state(), ode.fault_tractions());
+    // Record the step times through the shut-in.
+    struct Times(Vec<f64>);
+    impl rsf::Observer<2, 2> for Times {
+        fn observe(&mut self, s: &rsf::StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
+            self.0.push(s.state.time);
+            Ok(rsf::Flow::Continue(()))
+        }
+    }
+    let mut times = Times(Vec::new());
+    ode.run_until(Until::Time(110.0 * DAY), &mut [&mut out, &mut times])
+        .unwrap();
+    assert!(
+        times
+            .0
+            .iter()
+            .any(|&t| t.to_bits() == (100.0 * DAY).to_bits()),
+        "no step ends at the shut-in"
+    );
+    // First rows: log10 V_init = −12, τ⁰ − ηV_init = 29.2 MPa, p = 0, log10 θ₀ = 10.6123
+    // (the description's eq. 24, evaluated in its restatement), M_t(0) = μ V_init 2 l_f.
+    let first = |name: &str| -> Vec<f64> {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap();
+        let line = text
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .nth(1)
+            .unwrap()
+            .to_owned();
+        line.split_whitespace()
+            .map(|x| x.parse().unwrap())
+            .collect()
+    };
+    for name in ["fltst_strk+00", "fltst_strk+25", "fltst_strk-15"] {
+        let row = first(name);
+        assert_eq!(row[0], 0.0);
+        assert_eq!(row[1], 0.0);
+        assert!((row[2] + 12.0).abs() < 1e-6, "{row:?}");
+        assert!((row[3] - 29.2).abs() < 1e-6, "{row:?}");
+        assert_eq!(row[4], 0.0);
+        assert!((row[6] - 10.6123).abs() < 5e-5, "{row:?}");
+    }
+    // μ V_init 2 l_f with μ = ρc_s² = 32.038 GPa (the restatement's 1281.6 N/s rounds μ
+    // to 32.04 GPa).
+    let global = first("global.dat");
+    let m0 = 2670.0 * 3464.0 * 3464.0 * 1e-12 * 40e3;
+    assert!(
+        (global[2] - m0).abs() < 1e-6 * m0,
+        "{global:?} against {m0}"
+    );
+    let slip = std::fs::read_to_string(dir.join("slip.dat")).unwrap();
+    let positions: Vec<&str> = slip
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .nth(2)
+        .unwrap()
+        .split_whitespace()
+        .collect();
+    assert_eq!(positions.len(), 203);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bp6_c_is_exactly_locked_until_the_pressure_frees_it_then_complementary() {
+    let bp6 = SeasBp6::default();
+    let grid = SeasBp6Grid {
+        dz: 500.0,
+        domain: 100e3,
+        ratio: 1.2,
+    };
+    let model = bp6.fe_model(&grid, Bp6Variant::C).unwrap();
+    let pressure = bp6.pressure(Bp6Pressure::ClosedForm).unwrap();
+    let mut sim = bp6
+        .constant_friction(
+            model,
+            pressure.clone(),
+            60.0,
+            bp6.step_control(1e-3).unwrap(),
+        )
+        .unwrap();
+    // τ⁰ + Δτ = τ⁰ < f (σ̄₀ − p) while p < σ̄₀ − τ⁰/f = 1.333 MPa: at z = 0 until about
+    // 4.1 days. Up to 3 days every node's slip and slip rate are exactly 0.
+    let t_free = {
+        let p = |t: f64| pressure.pressure(&[0.0, 0.0], t);
+        let threshold = bp6.sigma_n - bp6.tau_init / bp6.f_c;
+        assert!(p(3.0 * DAY) < threshold && p(5.0 * DAY) > threshold);
+        3.0 * DAY
+    };
+    sim.run_until(Until::Time(t_free), &mut []).unwrap();
+    let fb = sim.model().frictional_boundary.clone();
+    for &p in &fb.nodes {
+        assert_eq!(sim.state().kinematics.u[p], 0.0);
+        assert_eq!(sim.state().kinematics.v[p], 0.0);
+    }
+    // Then it slides; at every step: V ≥ 0, τ ≤ F, and τ = F where V > 0, with
+    // τ = (F_load − K u)_k/w_k − ηV_k (the elastic traction) and F = f (σ̄₀ − p(t)).
+    let eta = bp6.radiation_damping();
+    let mut worst: f64 = 0.0;
+    let mut sliding_seen = 0;
+    for _ in 0..40 {
+        sim.run_until(Until::Steps(1), &mut []).unwrap();
+        let s = sim.state();
+        let m = sim.model();
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            if m.fixed[p] {
+                continue;
+            }
+            let v = s.kinematics.v[p];
+            let ku: f64 = m
+                .stiffness
+                .row_idx_of_col(p)
+                .zip(m.stiffness.val_of_col(p))
+                .map(|(i, &a)| a * s.kinematics.u[i])
+                .sum();
+            let tau = (m.load[p] - ku) / fb.weights[k] - eta * v;
+            let bound = bp6.f_c * (bp6.sigma_n - pressure.pressure(&m.vertices[p], s.time));
+            assert!(v >= 0.0, "node {k}: V = {v}");
+            assert!(tau <= bound * (1.0 + 1e-9), "node {k}: τ {tau} > F {bound}");
+            if v > 0.0 {
+                sliding_seen += 1;
+                worst = worst.max((tau - bound).abs() / bound);
+            }
+        }
+    }
+    eprintln!("BP6-C: {sliding_seen} sliding node-steps, max |τ − F|/F = {worst:e}");
+    assert!(sliding_seen > 0);
+    assert!(worst < 1e-9, "{worst:e}");
+}
+
+#[test]
+fn a_pressure_that_opens_the_fault_is_a_typed_error() {
+    let bp6 = SeasBp6::default();
+    // p grows past σ̄₀ at t = 100 s.
+    let mut ode = bem_a(&bp6, Arc::new(PressureFn(|_: &[f64; 2], t: f64| 0.5e6 * t)));
+    let e = ode.run_until(Until::Time(1e3), &mut []).unwrap_err();
+    // The stages past t = 100 s are refused (outside the domain) until the step cannot
+    // shrink further: the Runge–Kutta pair's typed error, the run stopped before 100 s.
+    eprintln!("{:?}", e.error);
+    assert!(
+        matches!(
+            e.error,
+            rsf::Error::Time(
+                rsf::time::Error::TrialPointRefused { .. } | rsf::time::Error::StepTooSmall { .. }
+            ) | rsf::Error::NormalStressNotPositive { .. }
+        ),
+        "{:?}",
+        e.error
+    );
+    assert!(ode.state().time < 100.0 + 1e-6);
+}
+
+#[test]
+fn a_stopped_and_resumed_run_writes_the_same_files() {
+    let bp6 = SeasBp6::default();
+    let pressure = bp6.pressure(Bp6Pressure::ClosedForm).unwrap();
+    let base = std::env::temp_dir().join(format!("rsf_bp6_resume_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let end = Until::TimeOrStepCap {
+        time: 150.0 * DAY,
+        step_cap: usize::MAX,
+    };
+    let output = |dir: &std::path::Path, ode: &rsf_scenes::SeasBp6FaultOde<2>| {
+        let mut setup = bp6.seas_setup(Bp6Variant::A, 400.0);
+        setup.date = "2026-11-27".into();
+        rsf_seas::SeasBp6Output::new(
+            dir,
+            bp6.output_fault(ode.model(), Bp6Variant::A),
+            pressure.clone(),
+            setup,
+        )
+        .unwrap()
+        .with_resume_log(10)
+    };
+    // Uninterrupted.
+    let whole = base.join("whole");
+    let mut ode = bem_a(&bp6, pressure.clone());
+    let mut out = output(&whole, &ode);
+    out.write_initial_state(ode.model(), ode.state(), ode.fault_tractions());
+    ode.run_until(end, &mut [&mut out]).unwrap();
+    // Stopped at step 40 (a checkpoint there), then continued by a new run.
+    let parts = base.join("parts");
+    let cp_path = parts.join("checkpoint.bin");
+    let mut ode = bem_a(&bp6, pressure.clone());
+    let mut out = output(&parts, &ode);
+    out.write_initial_state(ode.model(), ode.state(), ode.fault_tractions());
+    let mut cp = rsf::observe::Checkpointer::new(cp_path.clone());
+    let cap = Until::TimeOrStepCap {
+        time: 150.0 * DAY,
+        step_cap: 40,
+    };
+    ode.run_until(cap, &mut [&mut out, &mut cp]).unwrap();
+    drop(out);
+    let checkpoint = rsf::Checkpoint::read(&cp_path).unwrap();
+    assert_eq!(checkpoint.state.step, 40);
+    let mut ode = bem_a(&bp6, pressure.clone());
+    ode.restore(&checkpoint).unwrap();
+    let mut out = output(&parts, &ode);
+    out.resume(40).unwrap();
+    ode.run_until(end, &mut [&mut out]).unwrap();
+    for name in rsf_seas::SeasBp6Output::file_names() {
+        let a = std::fs::read(whole.join(&name)).unwrap();
+        let b = std::fs::read(parts.join(&name)).unwrap();
+        assert!(a == b, "{name} differs after the resume");
+    }
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+#[test]
+fn in_3d_a_constant_pressure_is_the_lowered_normal_stress_too() {
+    // BP5 as a fault alone on 10 km cells (two slip components, Okada's operator), its
+    // prestress kept: p₀ on every cell against the laws built with σ̄_n − p₀.
+    use rsf_scenes::SeasBp5;
+    let bp5 = SeasBp5::default();
+    let p0 = 3e6;
+    let run = |laws: SeasBp5, pressure: Option<f64>| {
+        let model = bp5.model(10e3).unwrap();
+        let half_space = bp5.half_space(1e-6).unwrap();
+        let operator =
+            rsf::halfspace_operator::HalfSpaceOperator::fault_alone(&model, &half_space).unwrap();
+        let cells = model.vertices.len();
+        let alone = rsf::fault_alone::FaultAlone {
+            operator: Box::new(operator),
+            plate_velocity: (0..cells).flat_map(|_| [bp5.v_p, 0.0]).collect(),
+        };
+        let mut o = bp5.fault_ode_options(1e-6).unwrap();
+        o.parallelism = rsf::Parallelism::SEQ;
+        let b = laws.problem_builder(model);
+        let b = match pressure {
+            Some(p) => b.pore_pressure(PressureFn(move |_: &[f64; 3], _| p)),
+            None => b,
+        };
+        let mut ode = b.build_fault_ode_alone(o, alone).unwrap();
+        ode.run_until(Until::Steps(60), &mut []).unwrap();
+        (
+            bits(&ode.state().kinematics.u),
+            bits(&ode.state().alpha),
+            ode.state().time,
+        )
+    };
+    let with_p = run(bp5, Some(p0));
+    let plain = run(
+        SeasBp5 {
+            sigma_n: bp5.sigma_n - p0,
+            ..bp5
+        },
+        None,
+    );
+    assert_eq!(with_p.0.len(), 3 * 40);
+    assert!(with_p.2 > 0.0);
+    assert_eq!(with_p, plain);
+}

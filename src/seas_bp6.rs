@@ -1,0 +1,447 @@
+//! SEAS BP6-QD-A/S/C (fluid injection into a fault in an antiplane whole space;
+//! docs/seas-bp6.md): the pore pressure of the description's closed form (or its
+//! diffusion solved along the fault) lowers the effective normal stress and drives one
+//! aseismic slip transient.
+//!
+//! ```sh
+//! cargo run --release --example seas_bp6 -- --variant a --out out/bp6a          # 10 m, 2 years, BEM
+//! cargo run --release --example seas_bp6 -- --variant s --out out/bp6s
+//! cargo run --release --example seas_bp6 -- --variant c --dz 50 --out out/bp6c  # implicit, FE
+//! cargo run --release --example seas_bp6 -- --variant a --elastic fe --dz 50 --out out/bp6a_fe
+//! ```
+//!
+//! A and S run as a fault ODE (Dormand–Prince 5(4)) with the whole space's
+//! boundary-element kernel on `2 l_f/Δz` cells (`--elastic bem`, the default) or the
+//! finite-element half space condensed onto the fault (`--elastic fe`, `--domain-km`,
+//! `--ratio`). C (constant friction) runs on the finite-element model with the implicit
+//! scheme (backward Euler, the direct solver: the nonsmooth problem with the bound
+//! `f (σ̄₀ − p(t))` solved exactly at every step); a fault ODE cannot take it (its steps
+//! would be limited to milliseconds by the damping alone, docs/seas-bp6.md).
+//!
+//! Writes the benchmark's files to `--out` (`rsf_seas::SeasBp6Output`: nine stations,
+//! `global.dat`, four profiles). Runs: `--checkpoint-every N`, `--resume FILE`,
+//! `--max-steps N`, `--overwrite`, as every SEAS program.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::{cpu_seconds, machine};
+use clap::Parser;
+use rsf::checkpoint::Fingerprint;
+use rsf::pore_pressure::PorePressure;
+use rsf::run_folder::{read_checkpoint, step_cap_error, until};
+use rsf::{Observer, Stepping};
+use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid, BP6_SECONDS_PER_YEAR};
+use rsf_seas::{SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
+
+/// The elastic kernel.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum Elastic {
+    /// The whole space's boundary-element kernel on the fault alone.
+    Bem,
+    /// The finite-element half space condensed onto the fault (C: the implicit scheme).
+    Fe,
+}
+
+/// The pore pressure.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum PressureArg {
+    /// The description's closed form.
+    ClosedForm,
+    /// The diffusion solved on `--diffusion-cells` cells between no-flux ends at ±l_f.
+    Diffusion,
+}
+
+/// SEAS BP6-QD-A/S/C.
+#[derive(Parser)]
+#[command(version)]
+struct Args {
+    /// The variant: a (aging law), s (slip law), c (constant friction).
+    #[arg(long, default_value = "a")]
+    variant: String,
+    /// Output folder.
+    #[arg(long, default_value = "out/seas_bp6")]
+    out: PathBuf,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    overwrite: bool,
+    /// End time (years of 365 days).
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
+    end_years: f64,
+    /// Cell (BEM) or element (FE) size along the fault (m); must divide 20 km.
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    dz: f64,
+    /// The elastic kernel (default: bem for a and s, fe for c).
+    #[arg(long, value_enum)]
+    elastic: Option<Elastic>,
+    /// FE: the truncation of the half space, 0 ≤ x ≤ L, |z| ≤ L (km).
+    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true)]
+    domain_km: f64,
+    /// FE: growth of the elements away from the fault.
+    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true)]
+    ratio: f64,
+    /// Tolerance: of the fault ODE (a, s), of the implicit steps' slip error relative to
+    /// D_RS (c).
+    #[arg(long, allow_negative_numbers = true)]
+    tolerance: Option<f64>,
+    /// The pore pressure.
+    #[arg(long, value_enum, default_value = "closed-form")]
+    pressure: PressureArg,
+    /// Seconds between station and `global.dat` rows (0: a row at every accepted step,
+    /// the default — a transient of the slip law lasts minutes, D_RS/V).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    station_interval: f64,
+    /// Seconds between profile rows.
+    #[arg(long, default_value_t = 10_800.0, allow_negative_numbers = true)]
+    profile_interval: f64,
+    /// Cells of the diffusion along 2 l_f (`--pressure diffusion`).
+    #[arg(long, default_value_t = 800)]
+    diffusion_cells: usize,
+    #[command(flatten)]
+    kernel: crate::KernelArgs,
+    /// Threads of each evaluation (the same bits for every value).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    #[command(flatten)]
+    header: crate::SeasHeaderArgs,
+    #[command(flatten)]
+    run: crate::ResumeArgs,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Args {
+    fn variant(&self) -> Result<Bp6Variant, AnyError> {
+        self.variant
+            .parse()
+            .map_err(|_| refuse("--variant", &self.variant, "must be a, s or c"))
+    }
+    fn elastic(&self, v: Bp6Variant) -> Elastic {
+        self.elastic.unwrap_or(if v == Bp6Variant::C {
+            Elastic::Fe
+        } else {
+            Elastic::Bem
+        })
+    }
+    fn tolerance(&self, v: Bp6Variant) -> f64 {
+        self.tolerance
+            .unwrap_or(if v == Bp6Variant::C { 1e-3 } else { 1e-7 })
+    }
+    fn grid(&self) -> SeasBp6Grid {
+        SeasBp6Grid {
+            dz: self.dz,
+            domain: self.domain_km * 1e3,
+            ratio: self.ratio,
+        }
+    }
+    fn pressure_choice(&self) -> Bp6Pressure {
+        match self.pressure {
+            PressureArg::ClosedForm => Bp6Pressure::ClosedForm,
+            PressureArg::Diffusion => Bp6Pressure::Diffusion {
+                cells: self.diffusion_cells,
+            },
+        }
+    }
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut names = SeasBp6Output::file_names();
+    names.extend(["checkpoint.bin", SEAS_BP6_RESUME_LOG, "summary.json"].map(String::from));
+    names
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp6";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let variant = self.variant()?;
+        in_range("--end-years", self.end_years, (1e-9, 100.0), "years")?;
+        let bp6 = SeasBp6::default();
+        in_range("--dz", self.dz, (0.4, bp6.l_f / 2.0), "m")?;
+        let cells = 2.0 * bp6.l_f / self.dz;
+        if (cells - cells.round()).abs() > 1e-9 * cells {
+            return Err(refuse("--dz", number(self.dz), "must divide 2 l_f = 40 km"));
+        }
+        let elastic = self.elastic(variant);
+        if variant == Bp6Variant::C && elastic == Elastic::Bem {
+            return Err(refuse(
+                "--elastic",
+                "bem",
+                "BP6-C runs on the finite-element model with the implicit scheme (a fault \
+                 ODE's steps would be limited to milliseconds by the damping: \
+                 docs/seas-bp6.md)",
+            ));
+        }
+        if elastic == Elastic::Fe {
+            in_range(
+                "--domain-km",
+                self.domain_km,
+                (30.0, 1e5),
+                "km: beyond 1.5 l_f",
+            )?;
+            in_range(
+                "--ratio",
+                self.ratio,
+                (1.0, 2.0),
+                "the growth of the elements",
+            )?;
+        }
+        let tol = self.tolerance(variant);
+        in_range("--tolerance", tol, (1e-12, 1e-1), "")?;
+        in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
+        in_range(
+            "--profile-interval",
+            self.profile_interval,
+            (60.0, 1e7),
+            "s",
+        )?;
+        if self.pressure == PressureArg::Diffusion {
+            in_range(
+                "--diffusion-cells",
+                self.diffusion_cells as f64,
+                (2.0, rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64),
+                "cells",
+            )?;
+        }
+        self.kernel.kernel(tol.min(1e-2))?;
+        self.header.check()?;
+        let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
+        let (nodes, memory) = match elastic {
+            Elastic::Bem => (
+                cells,
+                crate::estimates::operator_bytes(cells, hierarchical) + 1e8,
+            ),
+            Elastic::Fe => {
+                let g = self.grid();
+                let nx = rsf::fem::geometric_grading_len(g.dz, 0.0, g.ratio, g.domain);
+                let nz = 2.0 * rsf::fem::geometric_grading_len(g.dz, bp6.l_f, g.ratio, g.domain);
+                let n = nx * nz;
+                let dense = variant == Bp6Variant::C;
+                (
+                    n,
+                    n * crate::estimates::SEAS_BYTES_PER_NODE
+                        + 3.0 * crate::estimates::operator_bytes(cells, hierarchical && !dense),
+                )
+            }
+        };
+        // Station rows (9 files of 7 columns, global.dat): at most one per step, the
+        // steps bounded by one per 10 minutes for this estimate (2 years of BP6-S at 10 m
+        // take about 10⁴); 4 profiles of 202 columns.
+        let seconds = self.end_years * BP6_SECONDS_PER_YEAR;
+        let rows = seconds / self.station_interval.max(600.0);
+        let output = rows * (10.0 * 110.0) + seconds / self.profile_interval * 4.0 * 202.0 * 15.0;
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dz, --elastic, --domain-km, --ratio",
+                format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(self.dz)),
+            )
+            .output(
+                output,
+                "--end-years",
+                format!("{} years of stations and profiles", self.end_years),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume(self.run.resume.is_some()),
+            ))
+    }
+}
+
+/// The program `seas_bp6`.
+pub fn main() -> ExitCode {
+    crate::guard::main(run)
+}
+
+fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
+    let variant = args.variant()?;
+    let elastic = args.elastic(variant);
+    let tol = args.tolerance(variant);
+    let bp6 = SeasBp6::default();
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let pressure = bp6.pressure(args.pressure_choice())?;
+    let setup = SeasSetup {
+        problem: format!("SEAS Benchmark BP6-QD-{}", variant.name()),
+        modeler: args.header.modeler.clone(),
+        date: args
+            .header
+            .date
+            .clone()
+            .unwrap_or_else(rsf_seas::utc_date_today),
+        element_size: args.dz,
+        ..bp6.seas_setup(variant, args.dz)
+    };
+    let fingerprint = Fingerprint::of_serialized(&bp6)
+        .with("variant", variant.name())
+        .with("dz", args.dz)
+        .with("elastic", format!("{elastic:?}"))
+        .with("domain_km", args.domain_km)
+        .with("ratio", args.ratio)
+        .with("tolerance", tol)
+        .with("pressure", format!("{:?}", args.pressure_choice()))
+        .with("kernel", args.kernel.kernel(tol.min(1e-2))?)
+        .with("end_years", args.end_years)
+        .with("station_interval", args.station_interval)
+        .with("profile_interval", args.profile_interval);
+    let common = Common {
+        args: &args,
+        folder,
+        setup,
+        fingerprint,
+        pressure: pressure.clone(),
+        clock,
+        cpu0,
+    };
+    println!(
+        "BP6-QD-{}, Δz = {} m, {:?} kernel, {:?} pore pressure; on {}",
+        variant.name(),
+        args.dz,
+        elastic,
+        args.pressure_choice(),
+        machine()
+    );
+    match (variant, elastic) {
+        (Bp6Variant::C, _) => {
+            let model = bp6.fe_model(&args.grid(), variant)?;
+            let fault = bp6.output_fault(&model, variant);
+            println!(
+                "{} nodes, {} on the fault",
+                model.vertices.len(),
+                fault.positions.len()
+            );
+            let mut sim = bp6.constant_friction(model, pressure, 60.0, bp6.step_control(tol)?)?;
+            common.drive(&mut sim, fault, |s| s.step_count_text())
+        }
+        (_, Elastic::Bem) => {
+            let mut options = bp6.fault_ode_options(tol)?;
+            options.parallelism = rsf::Parallelism::rayon(args.threads);
+            let kernel = args.kernel.kernel(tol.min(1e-2))?;
+            let mut ode = bp6.bem_fault_ode(args.dz, variant, kernel, options, pressure)?;
+            println!("S: {}", ode.kernel_report());
+            let fault = bp6.output_fault(ode.model(), variant);
+            common.drive(&mut ode, fault, |o| o.evaluations_text())
+        }
+        (_, Elastic::Fe) => {
+            let model = bp6.fe_model(&args.grid(), variant)?;
+            println!("{} nodes", model.vertices.len());
+            let mut options = bp6.fault_ode_options(tol)?;
+            options.parallelism = rsf::Parallelism::rayon(args.threads);
+            options.kernel = args.kernel.kernel(tol.min(1e-2))?;
+            let mut ode = bp6.fe_fault_ode(model, variant, options, pressure)?;
+            println!("S: {}", ode.kernel_report());
+            let fault = bp6.output_fault(ode.model(), variant);
+            common.drive(&mut ode, fault, |o| o.evaluations_text())
+        }
+    }
+}
+
+/// What every run of the program shares.
+struct Common<'a> {
+    args: &'a Args,
+    folder: Prepared,
+    setup: SeasSetup,
+    fingerprint: Fingerprint,
+    pressure: Arc<dyn PorePressure<2>>,
+    clock: Instant,
+    cpu0: f64,
+}
+
+/// A line of what a method counted.
+trait Counts {
+    fn evaluations_text(&self) -> String {
+        String::new()
+    }
+    fn step_count_text(&self) -> String {
+        String::new()
+    }
+}
+
+impl<L: rsf::friction::FrictionLaw, S: rsf::state::StateLaw, const C: usize> Counts
+    for rsf::FaultOde<2, L, S, C>
+{
+    fn evaluations_text(&self) -> String {
+        format!("{} evaluations", self.evaluations())
+    }
+}
+
+impl Counts for rsf_scenes::SeasBp6Implicit {}
+
+impl Common<'_> {
+    fn drive<const C: usize, R: Stepping<2, C>>(
+        self,
+        run: &mut R,
+        fault: rsf_seas::Bp6Fault,
+        counts: impl Fn(&R) -> String,
+    ) -> Result<(), AnyError> {
+        let args = self.args;
+        println!(
+            "set-up: wall {:.1} s, CPU {:.1} s",
+            self.clock.elapsed().as_secs_f64(),
+            cpu_seconds() - self.cpu0
+        );
+        // The folder's lock is held until the run ends.
+        let _folder = &self.folder;
+        let resumed = match &args.run.resume {
+            None => None,
+            Some(path) => {
+                let c = read_checkpoint(path, &self.fingerprint, &args.run.allow_change)?;
+                run.restore(&c)?;
+                Some(c)
+            }
+        };
+        let mut output = SeasBp6Output::new(&args.out, fault, self.pressure.clone(), self.setup)?
+            .with_intervals(args.station_interval, args.profile_interval);
+        if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+            output = output.with_resume_log(args.run.checkpoint_every);
+        }
+        match &resumed {
+            Some(c) => output.resume(c.state.step)?,
+            None => output.write_initial_state(run.model(), run.state(), run.fault_tractions()),
+        }
+        let end = until(args.end_years * BP6_SECONDS_PER_YEAR, args.run.max_steps);
+        let checkpoint = args.out.join("checkpoint.bin");
+        let mut checkpointer = args.run.checkpointer(
+            checkpoint.clone(),
+            self.fingerprint,
+            resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
+        )?;
+        let summary = {
+            let mut observers: Vec<&mut dyn Observer<2, C>> = vec![&mut output, &mut checkpointer];
+            rsf::run_until(run, end, &mut observers)?
+        };
+        if let Some(e) = step_cap_error(&summary, end, run.state(), &checkpoint) {
+            return Err(e.into());
+        }
+        let wall = self.clock.elapsed().as_secs_f64();
+        let cpu = cpu_seconds() - self.cpu0;
+        println!(
+            "{} steps ({} attempts rejected), {}; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+            summary.steps,
+            summary.rejected_attempts,
+            counts(run),
+            args.out.display()
+        );
+        let json = serde_json::json!({
+            "steps": summary.steps,
+            "rejected_attempts": summary.rejected_attempts,
+            "wall_s": wall,
+            "cpu_s": cpu,
+            "machine": machine(),
+        });
+        std::fs::write(args.out.join("summary.json"), json.to_string())?;
+        Ok(())
+    }
+}
