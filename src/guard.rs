@@ -204,9 +204,10 @@ impl Folder {
     }
 
     /// Continues the run in the folder without a checkpoint (`--reuse`): its own files
-    /// are kept.
-    pub fn resume(mut self, resume: bool) -> Self {
-        self.resume = resume;
+    /// are kept. A program with `--resume FILE` uses [`resume_from`](Self::resume_from)
+    /// instead, so that the checkpoint's run is compared with the folder's.
+    pub fn reuse(mut self, reuse: bool) -> Self {
+        self.resume = reuse;
         self
     }
 

@@ -293,14 +293,12 @@ impl Program for Args {
                 let (h, far) = (self.dx, domain_km * 1e3);
                 match self.mesh.unwrap_or(MeshArg::Graded) {
                     MeshArg::Tensor | MeshArg::TensorMirrored => {
-                        // The tensor grid in closed form; 35 kB per vertex as the 3-D
-                        // slider's direct factor, and the condensed operator.
-                        let len =
-                            |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                        // The tensor grid in closed form, its model and factor
+                        // (crate::estimates::fe_3d_memory: the constants fitted to measured
+                        // peaks, issue 74), and the condensed operator.
                         let vertices =
-                            (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
-                        vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE
-                            + operator_bytes(m, m > 4096.0)
+                            crate::estimates::fe_3d_box_vertices(h, bp5.l_f, bp5.w_f, ratio, far);
+                        crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
                         // The graded mesh itself (under a second at 1 km), and the set-up's

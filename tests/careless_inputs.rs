@@ -348,6 +348,32 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
         case("okada_anchor", &["--levels", "1,1"], "--levels"),
         case("okada_anchor", &["--far", "3,3"], "--far"),
         case("solver_memory", &["--levels", "4,4"], "--levels"),
+        // seas_bp6 (issue 71, after issue 74 was filed): the same rules.
+        case("seas_bp6", &["--tolerance", "1"], "--tolerance"),
+        case(
+            "seas_bp6",
+            &["--allow-change", "end_years"],
+            "--allow-change",
+        ),
+        case("seas_bp6", &["--dz", "3"], "--dz"),
+        case("seas_bp6", &["--dz", "1e300"], "--dz"),
+        case("seas_bp6", &["--variant", "x"], "--variant"),
+        case(
+            "seas_bp6",
+            &["--variant", "c", "--elastic", "bem"],
+            "--elastic",
+        ),
+        case("seas_bp6", &["--diffusion-cells", "5"], "--diffusion-cells"),
+        case(
+            "seas_bp6",
+            &["--pressure", "diffusion", "--diffusion-cells", "1"],
+            "--diffusion-cells",
+        ),
+        case(
+            "seas_bp6",
+            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+            "--overwrite",
+        ),
         case_not(
             "pipping_slider",
             &["--scene", "bad_end.toml"],
@@ -634,6 +660,7 @@ fn a_full_disk_is_reported_with_the_path_and_its_cause() {
         // Its files are written whole at the end; the space of their rows is held as they
         // grow (issue 74: a full disk was found only after the whole run).
         ("seas_bp5", &["--dx", "4000", "--threads", "1"]),
+        ("seas_bp6", &["--dz", "100", "--threads", "1"]),
     ];
     let mut failures = Vec::new();
     for (i, (program, args)) in cases.iter().enumerate() {
@@ -741,14 +768,14 @@ fn cracked_arc_mesh(dir: &Path) -> PathBuf {
 /// A run's checkpoint resumed into **another** finished run's folder of the same program
 /// is refused before anything is cut, that folder byte-identical, while the run's own
 /// folder resumes (issue 74: `seas_bp5 --out B --resume A/checkpoint.bin` cut B's finished
-/// files to step 500 and continued A's run in them). The three SEAS programs, through the
-/// guard; A stops at a step cap with a checkpoint, B is another configuration's whole run.
+/// files to step 500 and continued A's run in them). The SEAS programs with `--resume`,
+/// through the guard; A stops at a step cap with a checkpoint, B is another configuration's whole run.
 #[test]
 fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing() {
     let dir = std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let programs: [(&str, &[&str], &[&str]); 3] = [
+    let programs: [(&str, &[&str], &[&str]); 4] = [
         (
             "seas_bp5",
             &[
@@ -786,6 +813,18 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
                 "100",
             ],
             &["--rk-tolerance", "1e-7"],
+        ),
+        (
+            "seas_bp6",
+            &[
+                "--dz",
+                "200",
+                "--end-years",
+                "2",
+                "--checkpoint-every",
+                "100",
+            ],
+            &["--tolerance", "1e-8"],
         ),
     ];
     let failures = Mutex::new(Vec::new());

@@ -169,8 +169,6 @@ fn an_error_on_rank_0_ends_every_rank() {
     assert_eq!(std::fs::read(&file).unwrap(), b"a file");
 }
 
-/// BP3 (thrust, 60°) at Δx = 2 km for 300 years: its 26 files (with the figure) on 2 ranks
-/// have one process's bytes.
 /// Ranks started with different flags — an MPMD launch `mpirun -n 1 P A : -n 1 P B` with
 /// another `--end-years` (which hung) or another `--dx` (which crashed with a segmentation
 /// fault) on one rank — end, every one, before any work with one error naming the flag on
@@ -216,6 +214,8 @@ fn ranks_started_with_different_flags_end_with_one_named_error() {
     }
 }
 
+/// BP3 (thrust, 60°) at Δx = 2 km for 300 years: its 26 files (with the figure) on 2 ranks
+/// have one process's bytes.
 #[test]
 fn bp3_files_are_byte_identical_on_2_ranks() {
     let args = |out: &Path| -> Vec<String> {

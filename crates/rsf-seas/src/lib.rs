@@ -29,6 +29,7 @@
 mod along_dip;
 mod bp6;
 mod error;
+mod reserve;
 mod resume;
 mod setup;
 mod strike_dip;
@@ -41,12 +42,13 @@ pub use bp6::{
     SEAS_BP6_RESUME_LOG, SEAS_BP6_STATIONS,
 };
 pub use error::{Error, Result};
+pub use reserve::RESERVE_FILE;
 pub use setup::{
     SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
     SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,
 };
 pub use strike_dip::{
-    bp5_body_station_points, Bp5Event, SeasBp5Output, StrikeDipFault, NEVER_RUPTURED, RESERVE_FILE,
+    bp5_body_station_points, Bp5Event, SeasBp5Output, StrikeDipFault, NEVER_RUPTURED,
     RUPTURE_THRESHOLD, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
     SLIP_RATE_FLOOR,
 };

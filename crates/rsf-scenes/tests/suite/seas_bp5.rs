@@ -461,10 +461,22 @@ fn the_schur_only_set_up_follows_the_factors_trajectory() {
     let mut schur = bp5.fe_fault_ode_schur_only(model, options, setup).unwrap();
     assert_eq!(schur.factor_nnz(), 0);
     let (a, b) = (&mut with_factor, &mut schur);
-    a.run_until(Until::Time(100.0), &mut [&mut Stations(vertices.clone())])
-        .unwrap();
-    b.run_until(Until::Time(100.0), &mut [&mut Stations(vertices.clone())])
-        .unwrap();
+    a.run_until(
+        Until::TimeWithin {
+            time: 100.0,
+            max_steps: 100_000,
+        },
+        &mut [&mut Stations(vertices.clone())],
+    )
+    .unwrap();
+    b.run_until(
+        Until::TimeWithin {
+            time: 100.0,
+            max_steps: 100_000,
+        },
+        &mut [&mut Stations(vertices.clone())],
+    )
+    .unwrap();
     let (x, y) = (
         slip_and_stations(&with_factor, &vertices),
         slip_and_stations(&schur, &vertices),

@@ -16,16 +16,14 @@ use crate::text::{c_exp, is_iso_date, positions_row, write_row, FileLayout, Posi
 
 mod layout;
 mod mark;
-mod reserve;
 mod resume;
 mod stations;
 mod text;
 
+use crate::reserve::Reserve;
 use layout::{BodySource, FaultLayout, SlipMap};
 use mark::Mark;
 pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
-use reserve::Reserve;
-pub use reserve::RESERVE_FILE;
 pub use stations::{
     bp5_body_station_points, StrikeDipFault, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS,
 };
@@ -51,7 +49,7 @@ struct BodyStation {
 /// (an [`Observer`]). Rows are kept in memory and every file is written whole,
 /// atomically, by [`finish`](Observer::finish) (at the end of each run call), its header
 /// completed (time-step bounds, number of rows). The disk space of the rows is held as
-/// they grow — a file of zeros, [`RESERVE_FILE`], in the output folder, given back just
+/// they grow — a file of zeros, [`RESERVE_FILE`](crate::RESERVE_FILE), in the output folder, given back just
 /// before the files are written — so that a full disk stops the run when it happens, not
 /// after it.
 pub struct SeasBp5Output {

@@ -1,5 +1,5 @@
 //! Disk space held for the rows an output keeps in memory until it writes its files whole
-//! (issue 74): a file of zeros in the output folder, grown as the rows grow and removed
+//! (issue 74; BP5's and BP6's files): a file of zeros in the output folder, grown as the rows grow and removed
 //! just before the files are written, so that a full disk stops the run when it happens —
 //! naming the folder and the cause — not after the whole run, when the files are written.
 
@@ -17,7 +17,7 @@ const MARGIN: u64 = 1 << 20;
 
 /// A held reservation of disk space (removed when dropped).
 #[derive(Debug)]
-pub(super) struct Reserve {
+pub(crate) struct Reserve {
     path: PathBuf,
     file: Option<File>,
     bytes: u64,
@@ -25,7 +25,7 @@ pub(super) struct Reserve {
 
 impl Reserve {
     /// No space held yet, in the folder `dir`.
-    pub(super) fn new(dir: &Path) -> Self {
+    pub(crate) fn new(dir: &Path) -> Self {
         Self {
             path: dir.join(RESERVE_FILE),
             file: None,
@@ -39,7 +39,7 @@ impl Reserve {
     /// # Errors
     /// The write's error naming the reservation file (`No space left on device` where the
     /// disk cannot hold the rows).
-    pub(super) fn hold(&mut self, rows: u64) -> Result<()> {
+    pub(crate) fn hold(&mut self, rows: u64) -> Result<()> {
         let need = rows + MARGIN;
         if need <= self.bytes {
             return Ok(());
@@ -66,7 +66,7 @@ impl Reserve {
     ///
     /// # Errors
     /// The removal's error naming the file.
-    pub(super) fn release(&mut self) -> Result<()> {
+    pub(crate) fn release(&mut self) -> Result<()> {
         if self.file.take().is_some() {
             self.bytes = 0;
             std::fs::remove_file(&self.path).map_err(io_at("remove", &self.path))?;
