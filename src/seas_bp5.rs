@@ -301,14 +301,24 @@ impl Program for Args {
                         crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
-                        // The graded mesh itself (under a second at 1 km), and the set-up's
-                        // peak as measured on it (docs/three-d.md, "BP5 on the graded
-                        // mesh"): the volume's factor grows like vertices^1.9.
+                        // The graded mesh itself (about a second at 1 km), and the set-up's
+                        // peak as measured on it (docs/seas-bp5.md, "The volume at the
+                        // description's resolution"): the Schur-only elimination's grows
+                        // like vertices^1.6, the whole factor's like vertices^1.9.
                         let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
                             .mesh()
                             .num_vertices() as f64;
-                        GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
-                            + operator_bytes(m, m > 4096.0)
+                        let peak = match self.condensation() {
+                            Condensation::SchurOnly => {
+                                SCHUR_ONLY_PEAK_AT_1_KM
+                                    * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
+                            }
+                            Condensation::Factor => {
+                                GRADED_PEAK_AT_4_KM
+                                    * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                            }
+                        };
+                        peak + operator_bytes(m, m > 4096.0)
                     }
                 }
             }
@@ -347,6 +357,14 @@ impl Program for Args {
 const GRADED_PEAK_AT_4_KM: f64 = 287e6;
 /// See [`GRADED_PEAK_AT_4_KM`].
 const GRADED_VERTICES_AT_4_KM: f64 = 7701.0;
+
+/// The whole run's peak (bytes) of `--kernel fe` with the Schur-only elimination on the
+/// graded mesh (octree) at 1 km, 86 710 vertices: measured 7.3 GB (the elimination's
+/// stage, AMD EPYC; docs/seas-bp5.md), with a margin of 1.25 — the anchor of its estimate,
+/// which at 2 km (33 142 vertices) gives 1.96 GB against the measured 1.55 GB.
+const SCHUR_ONLY_PEAK_AT_1_KM: f64 = 1.25 * 7.30e9;
+/// See [`SCHUR_ONLY_PEAK_AT_1_KM`].
+const GRADED_VERTICES_AT_1_KM: f64 = 86_710.0;
 
 /// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
 /// kept: a `--resume` of the run reads it instead of eliminating again).

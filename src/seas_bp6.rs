@@ -184,20 +184,20 @@ impl Program for Args {
                  docs/seas-bp6.md)",
             ));
         }
-        if elastic == Elastic::Fe {
-            in_range(
-                "--domain-km",
-                self.domain_km,
-                (30.0, 1e5),
-                "km: beyond 1.5 l_f",
-            )?;
-            in_range(
-                "--ratio",
-                self.ratio,
-                (1.0, 2.0),
-                "the growth of the elements",
-            )?;
-        }
+        // The finite-element flags are checked whatever the kernel: a value that would be
+        // refused with `--elastic fe` is a careless input with the default kernel too.
+        in_range(
+            "--domain-km",
+            self.domain_km,
+            (30.0, 1e5),
+            "km: beyond 1.5 l_f",
+        )?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the elements",
+        )?;
         let tol = self.tolerance(variant);
         in_range("--tolerance", tol, (1e-12, 1e-1), "")?;
         in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
