@@ -314,8 +314,7 @@ impl Program for Args {
                                     * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
                             }
                             Condensation::Factor => {
-                                GRADED_PEAK_AT_4_KM
-                                    * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                                GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
                             }
                         };
                         peak + operator_bytes(m, m > 4096.0)
