@@ -165,7 +165,8 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
             .find(|(t, _)| (t - row[0]).abs() <= 1e-12 * row[0].abs().max(1.0))
             .unwrap_or_else(|| panic!("global.dat: no step at t = {}", row[0]));
         assert!(
-            (row[2] / rate - 1.0).abs() < 1e-9,
+            // The file's values have 7 significant digits (`%.6E`): rounding ≤ 5e-7.
+            (row[2] / rate - 1.0).abs() < 1e-6,
             "global.dat at t = {}: moment rate {} against μ Σ A|V| = {rate}",
             row[0],
             row[2]
