@@ -146,9 +146,10 @@ struct Cli {
     /// The slip imposed.
     #[arg(long, value_enum, default_value = "uniform")]
     slip: Slip,
-    /// Sine modes per direction along strike and dip with `--slip modes` (1 to 8).
-    #[arg(long, default_value_t = 2)]
-    modes: u32,
+    /// Sine modes per direction along strike and dip with `--slip modes` (1 to 8)
+    /// [default: 2].
+    #[arg(long)]
+    modes: Option<u32>,
     /// Growth of the cells per cell away from the fault, on the coarsest mesh.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
@@ -164,6 +165,8 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
+        rsf_examples::guard::distinct("--levels", &self.levels)?;
+        rsf_examples::guard::distinct("--far", &self.far)?;
         if !(self.h0 > 0.0 && self.h0 <= 0.5) {
             return Err(refuse(
                 "--h0",
@@ -194,8 +197,17 @@ impl Program for Cli {
                 "is for the buried cases (--cases buried,dip)",
             ));
         }
-        if !(1..=8).contains(&self.modes) {
-            return Err(refuse("--modes", self.modes, "must be in 1..=8"));
+        if let Some(m) = self.modes {
+            if self.slip != Slip::Modes {
+                return Err(refuse(
+                    "--modes",
+                    m,
+                    "a setting of --slip modes: without it, it would be ignored",
+                ));
+            }
+            if !(1..=8).contains(&m) {
+                return Err(refuse("--modes", m, "must be in 1..=8"));
+            }
         }
         // The coarsest mesh graded from h0 to the far faces (about 2 W of uniform cells
         // around the fault), every interval split into 2^k: per half-axis
@@ -299,7 +311,7 @@ fn run_modes(cli: Cli, _: Prepared) -> Result<(), AnyError> {
             for &level in &cli.levels {
                 let t = Instant::now();
                 let mesh = (cli.h0, level, cli.ratio);
-                let e = compare_modes(case.fault(), mesh, far, cli.modes)?;
+                let e = compare_modes(case.fault(), mesh, far, cli.modes.unwrap_or(2))?;
                 let wall = t.elapsed().as_secs_f64();
                 let order = previous.as_ref().map_or(String::new(), |p| {
                     format!("{:.2}", (p.operator / e.operator).ln() / (p.h / e.h).ln())

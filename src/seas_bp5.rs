@@ -61,7 +61,7 @@ use std::ops::ControlFlow;
 /// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
 #[derive(Parser)]
 #[command(version)]
-struct Args {
+pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp5")]
     out: PathBuf,
@@ -104,9 +104,9 @@ struct Args {
     stage_peaks: bool,
     /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
     /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
-    /// changes by round-off.
-    #[arg(long, default_value = "amd")]
-    ordering: rsf::fault_ode::InteriorOrdering,
+    /// changes by round-off [default: amd].
+    #[arg(long)]
+    ordering: Option<rsf::fault_ode::InteriorOrdering>,
     /// End time (years).
     #[arg(long, default_value_t = 1800.0)]
     end_years: f64,
@@ -153,6 +153,11 @@ impl Args {
     /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
     fn box_size(&self) -> (f64, f64) {
         (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+    }
+
+    /// `--ordering`, or its default.
+    fn ordering(&self) -> rsf::fault_ode::InteriorOrdering {
+        self.ordering.unwrap_or_default()
     }
 
     /// The scene: BP5, with the fault zone of `--fault-zone-width-km` and
@@ -230,6 +235,7 @@ impl Program for Args {
             for (flag, given) in [
                 ("--domain-km", self.domain_km.is_some()),
                 ("--ratio", self.ratio.is_some()),
+                ("--ordering", self.ordering.is_some()),
                 ("--mesh", self.mesh.is_some()),
                 ("--condensation", self.condensation.is_some()),
                 ("--stage-peaks", self.stage_peaks),
@@ -239,11 +245,20 @@ impl Program for Args {
                 if given {
                     return Err(format!(
                         "{flag}: a setting of the finite-element kernel: it needs --kernel fe \
-                         (the Okada kernel has no box), without it it would be ignored"
+                         (the Okada kernel has no volume), without it it would be ignored"
                     )
                     .into());
                 }
             }
+        }
+        if self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection
+            && !rsf_metis::is_available()
+        {
+            return Err(crate::guard::refuse(
+                "--ordering",
+                "nested-dissection",
+                "needs METIS, which this build lacks: build with `--features metis`",
+            ));
         }
         let memory = match self.kernel {
             // The fault alone: the operator (dense up to 4 096 unknowns, an ℋ-matrix
@@ -257,7 +272,15 @@ impl Program for Args {
                 } else {
                     0.0
                 };
-                operator_bytes(m, m > 4096.0) + table + 9.0 * 3.0 * 8.0 * m
+                // The ℋ-matrix of the half-space and its set-up: three times the generic
+                // budget of `operator_bytes` (measured: 163 MB peak at m = 8 000, Δx = 1 km;
+                // docs/reliability.md, "Memory estimates").
+                let operator = if m > 4096.0 {
+                    3.0 * operator_bytes(m, true)
+                } else {
+                    operator_bytes(m, false)
+                };
+                operator + table + 9.0 * 3.0 * 8.0 * m
             }
             Kernel::Fe => {
                 in_range(
@@ -270,14 +293,12 @@ impl Program for Args {
                 let (h, far) = (self.dx, domain_km * 1e3);
                 match self.mesh.unwrap_or(MeshArg::Graded) {
                     MeshArg::Tensor | MeshArg::TensorMirrored => {
-                        // The tensor grid in closed form; 35 kB per vertex as the 3-D
-                        // slider's direct factor, and the condensed operator.
-                        let len =
-                            |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                        // The tensor grid in closed form, its model and factor
+                        // (crate::estimates::fe_3d_memory: the constants fitted to measured
+                        // peaks, issue 74), and the condensed operator.
                         let vertices =
-                            (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
-                        vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE
-                            + operator_bytes(m, m > 4096.0)
+                            crate::estimates::fe_3d_box_vertices(h, bp5.l_f, bp5.w_f, ratio, far);
+                        crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
                         // The graded mesh itself (about a second at 1 km), and the set-up's
@@ -330,7 +351,8 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume(self.run.resume.is_some()),
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
             ))
     }
 }
@@ -477,7 +499,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
         .with("dx", args.dx)
         .with("domain_km", domain_km)
         .with("ratio", ratio)
-        .with("ordering", args.ordering)
+        .with("ordering", args.ordering())
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("epsilon", args.epsilon);
@@ -566,7 +588,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
             if m > 4096 {
                 options.kernel = FaultKernel::hierarchical(args.epsilon);
             }
-            options.ordering = args.ordering;
+            options.ordering = args.ordering();
             let output = if root {
                 Some(bp5.volume_output(&args.out, &model, args.dx, setup)?)
             } else {

@@ -164,7 +164,10 @@ impl SeasBp5 {
             return Err(invalid("f0", "must be finite"));
         }
         if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(invalid("nu", format!("{} must be in (-1, 0.5)", self.nu)));
+            return Err(invalid(
+                "nu",
+                format!("{} must be in (-1, 0.5)", rsf_numeric::number(self.nu)),
+            ));
         }
         if self.h_s + 2.0 * self.h_t + self.h > self.w_f || self.l_core + 2.0 * self.h_t > self.l_f
         {
@@ -303,12 +306,14 @@ impl SeasBp5 {
         self.validate()?;
         let count = |length: f64| -> Result<usize> {
             let n = length / dx;
-            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-9 * n {
+            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-12 * n {
                 return Err(invalid(
                     "dx",
                     format!(
-                        "{dx} m must divide l_f = {} m and W_f = {} m into whole cells",
-                        self.l_f, self.w_f
+                        "{} m must divide l_f = {} m and W_f = {} m into whole cells",
+                        rsf_numeric::number(dx),
+                        self.l_f,
+                        self.w_f
                     ),
                 ));
             }
@@ -319,8 +324,9 @@ impl SeasBp5 {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{dx} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
-                     grid)"
+                    "{} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
+                     grid)",
+                    rsf_numeric::number(dx)
                 ),
             ));
         }
@@ -604,7 +610,7 @@ impl SeasBp5 {
         let (h, far) = (grid.dx, grid.domain);
         let whole = |length: f64| {
             let n = length / h;
-            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-9 * n
+            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-12 * n
         };
         // The tensor grid is symmetric about x₂ = 0 (a line of nodes there); the graded
         // mesh's lattice is shifted along strike so that x₂ = ±l_f/2 are nodes.
@@ -616,7 +622,8 @@ impl SeasBp5 {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{h} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
+                    "{} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
+                    rsf_numeric::number(h),
                     match grid.mesh {
                         SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
                             "l_f/2 (the tensor grid)"
@@ -630,13 +637,16 @@ impl SeasBp5 {
         if !(far.is_finite() && far >= 1.5 * (0.5 * self.l_f).max(self.w_f)) {
             return Err(invalid(
                 "domain",
-                format!("{far} m must reach 1.5 times l_f/2 and W_f"),
+                format!(
+                    "{} m must reach 1.5 times l_f/2 and W_f",
+                    rsf_numeric::number(far)
+                ),
             ));
         }
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", grid.ratio),
+                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
             ));
         }
         let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
@@ -644,8 +654,9 @@ impl SeasBp5 {
             return Err(invalid(
                 "near_fault",
                 format!(
-                    "{} m must be 0 or a whole number of dx = {h} m",
-                    grid.near_fault
+                    "{} m must be 0 or a whole number of dx = {} m",
+                    rsf_numeric::number(grid.near_fault),
+                    rsf_numeric::number(h)
                 ),
             ));
         }
@@ -661,10 +672,12 @@ impl SeasBp5 {
                 return Err(invalid(
                     "fault_zone.half_width",
                     format!(
-                        "{} m must be a whole number of dx = {h} m and the graded mesh's \
+                        "{} m must be a whole number of dx = {} m and the graded mesh's \
                          near_fault ({} m) at least that, so that the zone is meshed cell \
                          for cell",
-                        zone.half_width, grid.near_fault
+                        rsf_numeric::number(zone.half_width),
+                        rsf_numeric::number(h),
+                        rsf_numeric::number(grid.near_fault)
                     ),
                 ));
             }

@@ -221,8 +221,14 @@ fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rat
     };
     check(&ode);
     // The creeping pairs slip at (V_p, 0) in their frame (t₁ along +y): u⁺ − u⁻ = V_p t e_y.
-    ode.run_until(Until::Time(10.0 * SECONDS_PER_YEAR), &mut [])
-        .unwrap();
+    ode.run_until(
+        Until::TimeWithin {
+            time: 10.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     let t = ode.state().time;
     let m = ode.model();
     let frames = &m.internal_fault.as_ref().unwrap().transform.frames;
@@ -553,10 +559,22 @@ fn the_schur_only_set_up_follows_the_factors_trajectory() {
     let mut schur = bp5.fe_fault_ode_schur_only(model, options, setup).unwrap();
     assert_eq!(schur.factor_nnz(), 0);
     let (a, b) = (&mut with_factor, &mut schur);
-    a.run_until(Until::Time(100.0), &mut [&mut Stations(vertices.clone())])
-        .unwrap();
-    b.run_until(Until::Time(100.0), &mut [&mut Stations(vertices.clone())])
-        .unwrap();
+    a.run_until(
+        Until::TimeWithin {
+            time: 100.0,
+            max_steps: 100_000,
+        },
+        &mut [&mut Stations(vertices.clone())],
+    )
+    .unwrap();
+    b.run_until(
+        Until::TimeWithin {
+            time: 100.0,
+            max_steps: 100_000,
+        },
+        &mut [&mut Stations(vertices.clone())],
+    )
+    .unwrap();
     let (x, y) = (
         slip_and_stations(&with_factor, &vertices),
         slip_and_stations(&schur, &vertices),

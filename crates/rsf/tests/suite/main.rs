@@ -46,6 +46,7 @@ mod spring_block;
 mod sprs_edge;
 mod stability;
 mod steady_sliding;
+mod step_collapse;
 mod step_invariants;
 mod time_convergence;
 mod tnnmg_ranks;
