@@ -308,8 +308,8 @@ impl Program for Args {
                         let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
                             .mesh()
                             .num_vertices() as f64;
-                        let nested =
-                            self.ordering == rsf::fault_ode::InteriorOrdering::NestedDissection;
+                        let nested = self.ordering
+                            == Some(rsf::fault_ode::InteriorOrdering::NestedDissection);
                         let peak = match self.condensation() {
                             Condensation::SchurOnly if nested => {
                                 SCHUR_ONLY_ND_PEAK_AT_500_M
