@@ -106,28 +106,7 @@ impl BisectionMesh {
     /// `upper − lower` is a whole number (to 1e-9) of at least one `root`, or if the grid
     /// has 2³² vertices or more.
     pub fn kuhn_box(lower: [f64; 3], upper: [f64; 3], root: f64) -> Result<Self> {
-        if !(root > 0.0 && root.is_finite()) {
-            return Err(Error::InvalidGrid(format!(
-                "the root cell size {root} m must be positive and finite"
-            )));
-        }
-        let mut n = [0usize; 3];
-        for a in 0..3 {
-            let cells = (upper[a] - lower[a]) / root;
-            let whole = lower[a].is_finite()
-                && upper[a].is_finite()
-                && cells >= 1.0 - 1e-9
-                && (cells - cells.round()).abs() <= 1e-9 * cells
-                && cells <= 1e6;
-            if !whole {
-                return Err(Error::InvalidGrid(format!(
-                    "side {a} of the box [{}, {}] m must be a whole number of root cells of \
-                     {root} m",
-                    lower[a], upper[a]
-                )));
-            }
-            n[a] = cells.round() as usize + 1;
-        }
+        let n = crate::structured::root_cells(lower, upper, root)?.map(|c| c as usize + 1);
         let count = n[0]
             .checked_mul(n[1])
             .and_then(|v| v.checked_mul(n[2]))

@@ -128,28 +128,7 @@ impl OctreeMesh {
     /// [`Error::InvalidGrid`] unless `root > 0`, every coordinate is finite and each side
     /// is a whole number (to 1e-9) of at least one and at most 10⁶ `root`.
     pub fn new(lower: [f64; 3], upper: [f64; 3], root: f64) -> Result<Self> {
-        if !(root > 0.0 && root.is_finite()) {
-            return Err(Error::InvalidGrid(format!(
-                "the root cell size {root} m must be positive and finite"
-            )));
-        }
-        let mut counts = [0u64; 3];
-        for a in 0..3 {
-            let cells = (upper[a] - lower[a]) / root;
-            let whole = lower[a].is_finite()
-                && upper[a].is_finite()
-                && cells >= 1.0 - 1e-9
-                && (cells - cells.round()).abs() <= 1e-9 * cells
-                && cells <= 1e6;
-            if !whole {
-                return Err(Error::InvalidGrid(format!(
-                    "side {a} of the box [{}, {}] m must be a whole number of root cells of \
-                     {root} m",
-                    lower[a], upper[a]
-                )));
-            }
-            counts[a] = cells.round() as u64;
-        }
+        let counts = crate::structured::root_cells(lower, upper, root)?;
         let unit = 1u64 << MAX_LEVEL;
         let mut leaves = HashSet::new();
         for k in 0..counts[2] {

@@ -142,6 +142,38 @@ pub fn rectangle_from_coordinates(
 
 /// Each named list of a tensor grid's coordinates: at least 2, finite, strictly
 /// increasing ([`Error::InvalidGrid`] naming the list otherwise).
+/// The number of cubes of edge `root` (m) along each side of the box `[lower, upper]`:
+/// the root grid of the graded meshes ([`crate::OctreeMesh`], [`crate::BisectionMesh`]).
+///
+/// # Errors
+/// [`Error::InvalidGrid`] unless `root > 0`, every coordinate is finite and each side is a
+/// whole number (to 1e-9) of at least one and at most 10⁶ `root`.
+pub(crate) fn root_cells(lower: [f64; 3], upper: [f64; 3], root: f64) -> Result<[u64; 3]> {
+    if !(root > 0.0 && root.is_finite()) {
+        return Err(Error::InvalidGrid(format!(
+            "the root cell size {root} m must be positive and finite"
+        )));
+    }
+    let mut counts = [0u64; 3];
+    for a in 0..3 {
+        let cells = (upper[a] - lower[a]) / root;
+        let whole = lower[a].is_finite()
+            && upper[a].is_finite()
+            && cells >= 1.0 - 1e-9
+            && (cells - cells.round()).abs() <= 1e-9 * cells
+            && cells <= 1e6;
+        if !whole {
+            return Err(Error::InvalidGrid(format!(
+                "side {a} of the box [{}, {}] m must be a whole number of root cells of \
+                 {root} m",
+                lower[a], upper[a]
+            )));
+        }
+        counts[a] = cells.round() as u64;
+    }
+    Ok(counts)
+}
+
 fn check_coordinates(lists: &[(&str, &[f64])]) -> Result<()> {
     for &(name, c) in lists {
         if c.len() < 2 {
