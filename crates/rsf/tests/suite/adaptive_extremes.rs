@@ -89,6 +89,9 @@ fn is_numerical_failure(e: &Error) -> bool {
         _ => matches!(
             e,
             Error::Time(TimeError::StepTooSmall { .. })
+                // A run whose step stays at its floor (issue 74: it cannot progress, and
+                // says so instead of crawling to the end time in 1e-9 s steps).
+                | Error::StepSizeCollapse { .. }
                 | Error::FixedPointNotConverged { .. }
                 | Error::Solver(_)
                 | Error::Direct(_)
