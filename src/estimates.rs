@@ -115,11 +115,7 @@ pub fn step_study_plan(
         .folder(folder)
 }
 
-/// Bytes of a program's process before its problem: the binary, its libraries, the
-/// thread pool's stacks, the font and figure buffers (measured as the peak of the
-/// smallest runs of docs/reliability.md's "Memory estimates" table), rounded up. Every
-/// plan's memory estimate includes it ([`Plan::memory_bytes`]).
-pub const PROCESS_BYTES: f64 = 64e6;
+pub use crate::guard::PROCESS_BYTES;
 
 // The 3-D finite-element fault models: `seas_bp5 --kernel fe` and `fault_setup_3d`.
 //

@@ -26,6 +26,13 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// Bytes of a program's process before its problem: the binary, its libraries, the
+/// thread pool's stacks, the font and figure buffers (measured as the peak of the
+/// smallest runs of docs/reliability.md's "Memory estimates" table), rounded up. Every
+/// plan's memory estimate includes it ([`Plan::memory_bytes`]); re-exported by
+/// the module `estimates`.
+pub const PROCESS_BYTES: f64 = 64e6;
+
 use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
@@ -306,9 +313,9 @@ impl Plan {
     }
 
     /// The run's memory estimate (bytes): the process itself
-    /// ([`PROCESS_BYTES`](crate::estimates::PROCESS_BYTES)) and every part of the plan.
+    /// ([`PROCESS_BYTES`]) and every part of the plan.
     pub fn memory_bytes(&self) -> f64 {
-        crate::estimates::PROCESS_BYTES + self.memory.iter().map(|e| e.bytes).sum::<f64>()
+        PROCESS_BYTES + self.memory.iter().map(|e| e.bytes).sum::<f64>()
     }
 
     /// Checks the threads and the estimates against `limits`.
