@@ -34,7 +34,7 @@ use crate::volume_probe::VolumeProbe;
 mod linger;
 mod options;
 mod rates;
-mod schur_only;
+pub(crate) mod schur_only;
 mod shared;
 
 pub use linger::LINGER;
