@@ -97,9 +97,9 @@ struct Args {
     /// Seconds between profile rows.
     #[arg(long, default_value_t = 10_800.0, allow_negative_numbers = true)]
     profile_interval: f64,
-    /// Cells of the diffusion along 2 l_f (`--pressure diffusion`).
-    #[arg(long, default_value_t = 800)]
-    diffusion_cells: usize,
+    /// Cells of the diffusion along 2 l_f (`--pressure diffusion`) [default: 800].
+    #[arg(long)]
+    diffusion_cells: Option<usize>,
     #[command(flatten)]
     kernel: crate::KernelArgs,
     /// Threads of each evaluation (the same bits for every value).
@@ -137,11 +137,15 @@ impl Args {
             ratio: self.ratio,
         }
     }
+    /// `--diffusion-cells`, or its default.
+    fn diffusion_cells(&self) -> usize {
+        self.diffusion_cells.unwrap_or(800)
+    }
     fn pressure_choice(&self) -> Bp6Pressure {
         match self.pressure {
             PressureArg::ClosedForm => Bp6Pressure::ClosedForm,
             PressureArg::Diffusion => Bp6Pressure::Diffusion {
-                cells: self.diffusion_cells,
+                cells: self.diffusion_cells(),
             },
         }
     }
@@ -180,20 +184,20 @@ impl Program for Args {
                  docs/seas-bp6.md)",
             ));
         }
-        if elastic == Elastic::Fe {
-            in_range(
-                "--domain-km",
-                self.domain_km,
-                (30.0, 1e5),
-                "km: beyond 1.5 l_f",
-            )?;
-            in_range(
-                "--ratio",
-                self.ratio,
-                (1.0, 2.0),
-                "the growth of the elements",
-            )?;
-        }
+        // The finite-element flags are checked whatever the kernel: a value that would be
+        // refused with `--elastic fe` is a careless input with the default kernel too.
+        in_range(
+            "--domain-km",
+            self.domain_km,
+            (30.0, 1e5),
+            "km: beyond 1.5 l_f",
+        )?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the elements",
+        )?;
         let tol = self.tolerance(variant);
         in_range("--tolerance", tol, (1e-12, 1e-1), "")?;
         in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
@@ -203,10 +207,19 @@ impl Program for Args {
             (60.0, 1e7),
             "s",
         )?;
-        if self.pressure == PressureArg::Diffusion {
+        if self.pressure != PressureArg::Diffusion {
+            if let Some(cells) = self.diffusion_cells {
+                return Err(refuse(
+                    "--diffusion-cells",
+                    cells.to_string(),
+                    "a setting of `--pressure diffusion`: with the closed form it would be \
+                     ignored",
+                ));
+            }
+        } else {
             in_range(
                 "--diffusion-cells",
-                self.diffusion_cells as f64,
+                self.diffusion_cells() as f64,
                 (2.0, rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64),
                 "cells",
             )?;
@@ -255,7 +268,8 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume(self.run.resume.is_some()),
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
             ))
     }
 }

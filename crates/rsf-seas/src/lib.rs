@@ -32,6 +32,7 @@ mod along_dip;
 mod bp6;
 mod error;
 mod read;
+mod reserve;
 mod resume;
 mod setup;
 mod strike_dip;
@@ -45,6 +46,7 @@ pub use bp6::{
 };
 pub use error::{Error, Result};
 pub use read::{is_seas_file, read_seas_file, SeasColumn, SeasFile, SEAS_FIRST_LINE};
+pub use reserve::RESERVE_FILE;
 pub use setup::{
     SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
     SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,

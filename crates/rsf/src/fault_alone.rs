@@ -55,7 +55,7 @@ pub(crate) enum Elastic {
     /// A fault alone.
     Alone(FaultAlone),
     /// Condensed from the model's body without its whole factor.
-    SchurOnly(crate::fault_ode::SchurOnlySetup),
+    SchurOnly(crate::fault_ode::schur_only::SchurOnlySetup),
 }
 
 /// Where a fault ODE's unknowns live: the condensed finite-element body, or the fault

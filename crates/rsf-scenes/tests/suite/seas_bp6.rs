@@ -171,8 +171,14 @@ fn steps_end_at_the_shut_in_and_the_files_start_at_the_descriptions_values() {
         }
     }
     let mut times = Times(Vec::new());
-    ode.run_until(Until::Time(110.0 * DAY), &mut [&mut out, &mut times])
-        .unwrap();
+    ode.run_until(
+        Until::TimeWithin {
+            time: 110.0 * DAY,
+            max_steps: 500_000,
+        },
+        &mut [&mut out, &mut times],
+    )
+    .unwrap();
     assert!(
         times
             .0
@@ -249,7 +255,14 @@ fn bp6_c_is_exactly_locked_until_the_pressure_frees_it_then_complementary() {
         assert!(p(3.0 * DAY) < threshold && p(5.0 * DAY) > threshold);
         3.0 * DAY
     };
-    sim.run_until(Until::Time(t_free), &mut []).unwrap();
+    sim.run_until(
+        Until::TimeWithin {
+            time: t_free,
+            max_steps: 100_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     let fb = sim.model().frictional_boundary.clone();
     for &p in &fb.nodes {
         assert_eq!(sim.state().kinematics.u[p], 0.0);
@@ -295,7 +308,15 @@ fn a_pressure_that_opens_the_fault_is_a_typed_error() {
     let bp6 = SeasBp6::default();
     // p grows past σ̄₀ at t = 100 s.
     let mut ode = bem_a(&bp6, Arc::new(PressureFn(|_: &[f64; 2], t: f64| 0.5e6 * t)));
-    let e = ode.run_until(Until::Time(1e3), &mut []).unwrap_err();
+    let e = ode
+        .run_until(
+            Until::TimeWithin {
+                time: 1e3,
+                max_steps: 100_000,
+            },
+            &mut [],
+        )
+        .unwrap_err();
     // The stages past t = 100 s are refused (outside the domain) until the step cannot
     // shrink further: the Runge–Kutta pair's typed error, the run stopped before 100 s.
     eprintln!("{:?}", e.error);
