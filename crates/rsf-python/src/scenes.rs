@@ -296,7 +296,10 @@ pub(crate) fn seas_bp1(
         .with("dynamic_fixed_point_tolerance", 1e-6);
     let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
     if hdf5 && out.is_none() {
-        return Err(invalid("hdf5", "needs `out`: the series are those of its files"));
+        return Err(invalid(
+            "hdf5",
+            "needs `out`: the series are those of its files",
+        ));
     }
     if let Some(out) = out {
         let folder = RunFolder::new(&out, "seas_bp1", &[]);

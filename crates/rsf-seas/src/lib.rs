@@ -45,7 +45,7 @@ pub use bp6::{
     SEAS_BP6_RESUME_LOG, SEAS_BP6_STATIONS,
 };
 pub use error::{Error, Result};
-pub use read::{is_seas_file, read_seas_file, SeasColumn, SeasFile, SEAS_FIRST_LINE};
+pub use read::{is_seas_file, read_seas_file, SeasColumn, SeasFile};
 pub use reserve::RESERVE_FILE;
 pub use setup::{
     SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
@@ -56,4 +56,4 @@ pub use strike_dip::{
     RUPTURE_THRESHOLD, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
     SLIP_RATE_FLOOR,
 };
-pub use text::{c_exp, common_header, is_iso_date, utc_date_today};
+pub use text::{c_exp, common_header, is_iso_date, utc_date_today, SEAS_FIRST_LINE};

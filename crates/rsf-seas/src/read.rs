@@ -5,10 +5,7 @@
 use std::path::Path;
 
 use crate::error::{io_at, show_path, Error, Result};
-use crate::text::{FIELD_LINE, PROFILE_FIELD_LINES};
-
-/// The first line of every SEAS file ([`common_header`](crate::common_header)).
-pub const SEAS_FIRST_LINE: &str = "# This is the file header:";
+use crate::text::{FIELD_LINE, PROFILE_FIELD_LINES, SEAS_FIRST_LINE};
 
 /// A column of a SEAS file: its field name (the field-list line's, e.g. `slip_rate`) and
 /// its description (the header's `# Column #k = …`, e.g. `Slip_rate (log10 m/s)`; empty
@@ -284,7 +281,7 @@ mod tests {
         );
         let f = read_seas_file(&file("devol.dat", &profile)).unwrap();
         assert_eq!(f.positions, Some(("z".to_owned(), vec![1.0, 2.0, 3.0])));
-        assert_eq!((f.rows(), f.width()), (1, 4));
+        assert_eq!((f.rows(), f.width()), (1, 5));
         assert_eq!(f.column(1), [-9.0]);
         assert_eq!(f.column(2), [0.1, 0.2, 0.3]);
     }

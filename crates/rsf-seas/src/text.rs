@@ -6,8 +6,10 @@
 
 use std::fmt::Write as _;
 
-use crate::read::SEAS_FIRST_LINE;
 use crate::setup::SeasSetup;
+
+/// The first line of every SEAS file ([`common_header`]).
+pub const SEAS_FIRST_LINE: &str = "# This is the file header:";
 
 /// What the header of one SEAS file says besides the lines every file shares: where the
 /// file is (the `location` line), its columns `(field name, description)`, and for a

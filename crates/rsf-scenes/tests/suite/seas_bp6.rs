@@ -385,6 +385,11 @@ fn a_stopped_and_resumed_run_writes_the_same_files() {
         let a = std::fs::read(whole.join(&name)).unwrap();
         let b = std::fs::read(parts.join(&name)).unwrap();
         assert!(a == b, "{name} differs after the resume");
+        // The library's reader (rsf_seas::read_seas_file, from which crates/rsf-hdf5
+        // writes a run's seas.h5) takes each of BP6's files: the rows its header counts.
+        let f = rsf_seas::read_seas_file(&parts.join(&name)).unwrap_or_else(|e| panic!("{e}"));
+        let rows = f.header_value("num_time_steps").map(|n| n.parse::<usize>());
+        assert_eq!(rows, Some(Ok(f.rows())), "{name}");
     }
     let _ = std::fs::remove_dir_all(&base);
 }

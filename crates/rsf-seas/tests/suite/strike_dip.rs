@@ -300,6 +300,26 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
         ruptured.len()
     );
     assert!(ruptured.iter().all(|&t| t >= ruptures[0].t_end.unwrap()));
+    // The library's reader (rsf_seas::read_seas_file, from which crates/rsf-hdf5 writes a
+    // run's seas.h5) takes every file of BP5's layout: the rows its header counts, and
+    // rupture.dat's times those read above line by line.
+    let mut read = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if !rsf_seas::is_seas_file(&path) {
+            continue;
+        }
+        let f = rsf_seas::read_seas_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        if let Some(n) = f.header_value("num_time_steps") {
+            assert_eq!(n.parse::<usize>().unwrap(), f.rows(), "{}", path.display());
+        }
+        if path.ends_with("rupture.dat") {
+            assert_eq!(f.column(2), times);
+        }
+        read += 1;
+    }
+    // The stations, global.dat, four profiles, rupture.dat: each of the layout's files.
+    assert_eq!(read, SeasBp5Output::file_names().len());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
