@@ -18,11 +18,16 @@ use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 const SEAS_BP1: &str = env!("CARGO_BIN_EXE_seas_bp1");
 const SEAS_HDF5: &str = env!("CARGO_BIN_EXE_seas_hdf5");
 
-/// A fresh folder for `name` under the target directory's tmp.
+/// A fresh path `name` under the target directory's tmp: the folder or file of an earlier
+/// run removed.
 fn folder(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    std::fs::remove_dir_all(&dir).ok();
-    dir
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    if path.is_dir() {
+        std::fs::remove_dir_all(&path).ok();
+    } else {
+        std::fs::remove_file(&path).ok();
+    }
+    path
 }
 
 /// A text file read by its lines: the `#` lines' `key=value` pairs, the field lines (those
@@ -273,4 +278,5 @@ fn the_program_writes_its_series_also_after_a_resume_and_never_on_a_refusal() {
     let none = Command::new(SEAS_HDF5).arg(&empty).output().unwrap();
     assert!(!none.status.success() && stderr(&none).contains("holds no SEAS file"));
     std::fs::remove_dir_all(&dir).ok();
+    std::fs::remove_file(&other).ok();
 }
