@@ -58,7 +58,8 @@ def test_hdf5_fields_read_back_with_h5py_equal_the_run(tmp_path):
             assert f[dataset].shape == dims, dataset
 
 
-BP1 = dict(dz=400.0, domain_km=100.0, end_years=200.0, threads=1, date="2026-01-01")
+# 300 years: at dz = 400 m the first event starts at about 214 years.
+BP1 = dict(dz=400.0, domain_km=100.0, end_years=300.0, threads=1, date="2026-01-01")
 
 
 @pytest.mark.skipif(rsf.HAS_HDF5, reason="this build has HDF5 output")
@@ -92,6 +93,13 @@ def test_bp1_series_in_hdf5_equal_its_text_files(tmp_path):
         assert f["devol.dat/z"][:].tobytes() == devol[0, 2:].tobytes()
         assert f["devol.dat/slip"][:].tobytes() == devol[1:, 2:].tobytes()
         assert f["devol.dat/slip"].shape == (devol.shape[0] - 1, devol.shape[1] - 2)
+        # The catalogue: numpy's reader of events.csv, column by column.
+        path = tmp_path / "events.csv"
+        names = path.read_text().splitlines()[0].split(",")
+        events = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        assert sorted(f["events"].keys()) == sorted(names)
+        for j, name in enumerate(names):
+            assert f["events"][name][:].tobytes() == events[:, j].tobytes(), name
         onsets = f["events/t_start_s"][:]
         assert len(onsets) >= 2 and np.all(np.diff(onsets) > 0)
 
