@@ -333,10 +333,10 @@ impl Program for Args {
                             Some(fewest) if peak(fewest) > limit => peak(fewest),
                             _ => {
                                 // The graded mesh itself (about a second at 1 km).
-                                let vertices =
-                                    flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
-                                        .mesh()
-                                        .num_vertices() as f64;
+                                let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
+                                    .mesh()
+                                    .num_vertices()
+                                    as f64;
                                 peak(vertices)
                             }
                         }
