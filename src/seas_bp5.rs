@@ -301,29 +301,45 @@ impl Program for Args {
                         crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
-                        // The graded mesh itself (about a second at 1 km), and the set-up's
-                        // peak as measured on it (docs/seas-bp5.md, "The volume at the
-                        // description's resolution"): the Schur-only elimination's grows
-                        // like vertices^1.6, the whole factor's like vertices^1.9.
-                        let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
-                            .mesh()
-                            .num_vertices() as f64;
+                        // The set-up's peak as measured on the graded mesh (docs/seas-bp5.md,
+                        // "The volume at the description's resolution"): the Schur-only
+                        // elimination's grows like vertices^1.6, the whole factor's like
+                        // vertices^1.9.
                         let nested = self.ordering
                             == Some(rsf::fault_ode::InteriorOrdering::NestedDissection);
-                        let peak = match self.condensation() {
-                            Condensation::SchurOnly if nested => {
-                                SCHUR_ONLY_ND_PEAK_AT_500_M
-                                    * (vertices / GRADED_VERTICES_AT_500_M).powf(1.5)
-                            }
-                            Condensation::SchurOnly => {
-                                SCHUR_ONLY_PEAK_AT_1_KM
-                                    * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
-                            }
-                            Condensation::Factor => {
-                                GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
-                            }
+                        let condensation = self.condensation();
+                        let peak = |vertices: f64| {
+                            let peak = match condensation {
+                                Condensation::SchurOnly if nested => {
+                                    SCHUR_ONLY_ND_PEAK_AT_500_M
+                                        * (vertices / GRADED_VERTICES_AT_500_M).powf(1.5)
+                                }
+                                Condensation::SchurOnly => {
+                                    SCHUR_ONLY_PEAK_AT_1_KM
+                                        * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
+                                }
+                                Condensation::Factor => {
+                                    GRADED_PEAK_AT_4_KM
+                                        * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                                }
+                            };
+                            peak + operator_bytes(m, m > 4096.0)
                         };
-                        peak + operator_bytes(m, m > 4096.0)
+                        // Below 1 km the mesh itself takes seconds (8 s at 500 m): a run
+                        // whose estimate from the fewest vertices its mesh can have is
+                        // already above the limit is refused on that bound, unmeshed.
+                        let limit = self.limits.max_memory_gb * 1e9;
+                        match graded_vertices_at_least(self.dx) {
+                            Some(fewest) if peak(fewest) > limit => peak(fewest),
+                            _ => {
+                                // The graded mesh itself (about a second at 1 km).
+                                let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
+                                    .mesh()
+                                    .num_vertices()
+                                    as f64;
+                                peak(vertices)
+                            }
+                        }
                     }
                 }
             }
@@ -355,6 +371,15 @@ impl Program for Args {
                     .allow_change(&self.run.allow_change),
             ))
     }
+}
+
+/// A lower bound of the graded mesh's vertices at `dx` (m) below 1 km (`None` above): the
+/// count at 1 km grown like `dx^-1.6`. Measured from 1 km to 500 m the count grows like
+/// `dx^-1.62` (86 710 to 266 764 vertices) and faster below, where the fine cells around
+/// the fault plane, a surface, take the larger share (`dx^-2` in the limit); a fault zone
+/// only adds vertices.
+fn graded_vertices_at_least(dx: f64) -> Option<f64> {
+    (dx < 1000.0).then(|| GRADED_VERTICES_AT_1_KM * (1000.0 / dx).powf(1.6))
 }
 
 /// The set-up's peak (bytes) of `--kernel fe` on the graded mesh at 4 km and its vertices
@@ -775,4 +800,20 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
     crate::seas_overview(&args.out, "slip_2_depth.dat", "depth (km)", ruptures.len())?;
     println!("wrote {}", args.out.join("overview.png").display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bound that refuses a run unmeshed stays below the vertices measured at 500 m
+    /// (the one size below 1 km with a measured count), so no run the mesh would admit is
+    /// refused on it there.
+    #[test]
+    fn the_unmeshed_bound_is_below_the_measured_count() {
+        let at_500_m = graded_vertices_at_least(500.0).unwrap();
+        assert!(at_500_m <= GRADED_VERTICES_AT_500_M, "{at_500_m}");
+        assert!(at_500_m > 0.95 * GRADED_VERTICES_AT_500_M, "{at_500_m}");
+        assert_eq!(graded_vertices_at_least(1000.0), None);
+    }
 }

@@ -26,6 +26,12 @@
 //! its state every `--every` fronts (default 1000) and resumes from an existing file (kill
 //! it and run the same command again); it prints a checksum of the bits of `S` and `g` to
 //! compare a resumed run with an uninterrupted one.
+//!
+//! Inputs are checked before any work: `--cubes` from 2 to 64 (at 64³ the box alone holds
+//! about 0.8 million dofs), `--every` at least 1, and `--max-memory-gb G` (default 16):
+//! the Schur-only elimination whose plan holds more is refused before it allocates
+//! (`rsf_direct::Error::TooLarge`); the whole factor's allocations are fallible (a typed
+//! error, not an abort, if the machine runs out).
 
 #[path = "../tests/suite/elasticity_box.rs"]
 mod elasticity_box;
@@ -60,6 +66,7 @@ struct Args {
     ordering: InteriorOrdering,
     checkpoint: Option<String>,
     every: usize,
+    max_memory_gb: f64,
 }
 
 fn parse() -> Result<Args, String> {
@@ -69,6 +76,7 @@ fn parse() -> Result<Args, String> {
         ordering: InteriorOrdering::Amd,
         checkpoint: None,
         every: 1000,
+        max_memory_gb: 16.0,
     };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
@@ -81,11 +89,28 @@ fn parse() -> Result<Args, String> {
             }
             "--checkpoint" => args.checkpoint = Some(value()?),
             "--every" => args.every = value()?.parse().map_err(|e| format!("--every: {e}"))?,
+            "--max-memory-gb" => {
+                args.max_memory_gb = value()?
+                    .parse()
+                    .map_err(|e| format!("--max-memory-gb: {e}"))?
+            }
             _ => return Err(format!("unknown argument {a}")),
         }
     }
     if !["schur-only", "full", "both"].contains(&args.method.as_str()) {
         return Err("--method schur-only | full | both".into());
+    }
+    if !(2..=64).contains(&args.cubes) {
+        return Err(format!("--cubes {}: from 2 to 64", args.cubes));
+    }
+    if args.every == 0 {
+        return Err("--every 0: at least one front between checkpoints".into());
+    }
+    if !(args.max_memory_gb > 0.0) {
+        return Err(format!(
+            "--max-memory-gb {}: a positive number of gigabytes (inf: no bound)",
+            args.max_memory_gb
+        ));
     }
     Ok(args)
 }
@@ -153,7 +178,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 every_seconds: None,
                 ..CheckpointPolicy::new(path)
             }),
-            ..Default::default()
+            max_bytes: Some((args.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
         };
         let kept = elim.eliminate(&rhs, &options)?;
         let total = t.elapsed().as_secs_f64();
