@@ -59,6 +59,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
+        rsf_examples::guard::distinct("--dz", &self.dz)?;
         let bp1 = SeasBp1::default();
         in_range(
             "--epsilon",

@@ -10,8 +10,8 @@
 //! evaluation of the fault ODE; then least-squares exponents against m.
 //!
 //! ```sh
-//! cargo run --release --example fault_setup_3d -- --dx 4,2,1
-//! cargo run --release --features metis --example fault_setup_3d -- --dx 4,2,1 --ordering nested-dissection
+//! cargo run --release --example fault_setup_3d -- --dx 10,5,2
+//! cargo run --release --features metis --example fault_setup_3d -- --dx 10,5,2 --ordering nested-dissection
 //! ```
 
 use std::time::Instant;
@@ -22,7 +22,8 @@ use rsf::fem::{cuboid_from_coordinates, geometric_grading};
 use rsf::friction::{AsinhLaw, RateStateParams};
 use rsf::state::Aging;
 use rsf::{Material, ModelBuilder, Part, SimulationBuilder, Until};
-use rsf_examples::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
+use rsf_examples::estimates::{fe_3d_box_vertices as box_vertices, fe_3d_memory};
+use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_examples::{cpu_seconds, fit_exponent};
 use std::process::ExitCode;
 
@@ -30,8 +31,9 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(version)]
 struct Cli {
-    /// Cell sizes on the fault (km), comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "4,2")]
+    /// Cell sizes on the fault (km), comma separated; each must divide the half-length
+    /// and the depth (the cells tile the fault).
+    #[arg(long, value_delimiter = ',', default_value = "10,5")]
     dx: Vec<f64>,
     /// Length of the fault along strike (km).
     #[arg(long, default_value_t = 100.0)]
@@ -62,10 +64,6 @@ struct Cli {
     limits: Limits,
 }
 
-/// Bytes per vertex of the set-up, assumed as the 3-D slider's measured 35 kB
-/// (`rsf_scenes::Slider3dScene::BYTES_PER_NODE`: the volume's factor dominates both).
-const BYTES_PER_VERTEX: f64 = rsf_scenes::Slider3dScene::BYTES_PER_NODE;
-
 impl Program for Cli {
     const NAME: &'static str = "fault_setup_3d";
 
@@ -74,6 +72,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
+        rsf_examples::guard::distinct("--dx", &self.dx)?;
         let (length, depth, far) = (
             self.length_km * 1e3,
             self.depth_km * 1e3,
@@ -83,7 +82,9 @@ impl Program for Cli {
             return Err(format!(
                 "--length-km {}, --depth-km {}, --domain-km {}: positive, the first two \
                  below --domain-km, at most 1e4 km",
-                self.length_km, self.depth_km, self.domain_km
+                number(self.length_km),
+                number(self.depth_km),
+                number(self.domain_km)
             )
             .into());
         }
@@ -100,25 +101,52 @@ impl Program for Cli {
             (0.0, 1e6),
             "steps timed after the set-up",
         )?;
-        let mut plan = Plan::new().threads("--threads", self.threads);
-        let mut worst = 0.0f64;
+        if self.ordering == InteriorOrdering::NestedDissection && !rsf_metis::is_available() {
+            return Err(refuse(
+                "--ordering",
+                "nested-dissection",
+                "needs METIS, which this build lacks: build with `--features metis`",
+            ));
+        }
+        // The sizes run one after the other: the largest one's estimate bounds the run.
+        let mut worst: Option<(f64, String)> = None;
         for &dx_km in &self.dx {
             let h = dx_km * 1e3;
             if !(h > 0.0 && h <= depth) {
-                return Err(format!("--dx {dx_km}: positive and at most --depth-km").into());
+                return Err(refuse(
+                    "--dx",
+                    number(dx_km),
+                    "must be positive and at most --depth-km",
+                ));
             }
-            // The graded box in closed form (rsf_fem::geometric_grading_len per axis).
-            let len = |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, self.ratio, far);
-            let vertices = (2.0 * len(h) - 1.0) * (2.0 * len(length / 2.0) - 1.0) * len(depth);
-            let bytes = vertices * BYTES_PER_VERTEX;
-            if bytes > worst {
-                worst = bytes;
-                plan = plan.memory(
-                    bytes,
-                    "--dx, --domain-km, --ratio",
-                    format!("the box at dx = {dx_km} km: about {vertices:.3e} vertices"),
+            // The cells must tile the fault: its half-length and its depth whole multiples
+            // of the cell size (else the mesh has no faces on the fault's edges).
+            let whole = |x: f64| (x / h - (x / h).round()).abs() <= 1e-9 * (x / h);
+            if !(whole(length / 2.0) && whole(depth)) {
+                return Err(refuse(
+                    "--dx",
+                    number(dx_km),
+                    &format!(
+                        "must divide the half-length --length-km/2 = {} km and the depth \
+                         --depth-km = {} km into whole cells (the cells tile the fault)",
+                        number(self.length_km / 2.0),
+                        number(self.depth_km)
+                    ),
+                ));
+            }
+            let vertices = box_vertices(h, length, depth, self.ratio, far);
+            let bytes = fe_3d_memory(vertices);
+            if worst.as_ref().is_none_or(|w| bytes > w.0) {
+                let what = format!(
+                    "the box at dx = {} km: {vertices:.3e} vertices",
+                    number(dx_km)
                 );
+                worst = Some((bytes, what));
             }
+        }
+        let mut plan = Plan::new().threads("--threads", self.threads);
+        if let Some((bytes, what)) = worst {
+            plan = plan.memory(bytes, "--dx, --domain-km, --ratio", what);
         }
         Ok(plan)
     }

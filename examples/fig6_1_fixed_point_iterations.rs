@@ -90,6 +90,7 @@ impl Program for Cli {
             "the paper's levels",
         )?;
         let levels = self.levels();
+        rsf_examples::guard::distinct("--levels", &levels)?;
         let mut plan = Plan::new();
         let mut worst = 0.0f64;
         for &level in &levels {

@@ -81,7 +81,7 @@ impl Program for Cli {
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let folder = Folder::new("--out", &self.out, &names)
             .overwrite(self.overwrite)
-            .resume(self.reuse);
+            .reuse(self.reuse);
         // Every run's series in memory until the figures are drawn; its file meanwhile.
         Ok(step_study_plan(&scene, &counts, 1.0, folder))
     }

@@ -99,7 +99,7 @@ impl Program for Cli {
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let folder = Folder::new("--out", &self.out, &names)
             .overwrite(self.overwrite)
-            .resume(self.reuse);
+            .reuse(self.reuse);
         // Both integrators' series of every N in memory until the figures are drawn.
         Ok(step_study_plan(&scene, &counts, 2.0, folder))
     }

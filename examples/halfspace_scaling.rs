@@ -49,6 +49,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
+        rsf_examples::guard::distinct("--dx", &self.dx)?;
         in_range(
             "--epsilon",
             self.epsilon,

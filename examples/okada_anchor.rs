@@ -1,12 +1,12 @@
 //! The 3-D finite-element model against Okada's half-space (issue 55, docs/three-d.md
 //! "Against Okada's half-space (issue 55)"): uniform slip on a vertical rectangle — buried
-//! strike slip, surface-breaking strike slip, buried dip slip — prescribed as the creep of
-//! every split pair of an internal fault, the static problem solved once (the direct
+//! strike slip, surface-breaking strike slip, buried dip slip — prescribed at every split
+//! pair of an internal fault (`ModelBuilder::internal_slip_at`), the static problem solved once (the direct
 //! solver on the finest mesh, or TNNMG's multigrid on a refinement hierarchy: `--method`),
 //! and the surface displacement and the on-fault traction compared with Okada
 //! (1992) as `rsf-halfspace` evaluates it (docs/halfspace.md). The same comparison as
 //! `tests/okada_anchor.rs` (the frame, the signs, the rim grown by h/2 and the traction
-//! from the nodal forces: `rsf_examples::okada_anchor`), here over finer
+//! from the nodal forces: the library's `rsf::okada_comparison`), here over finer
 //! cells and several domain sizes, with the far faces held at Okada's displacement or at
 //! rest. The mesh: spacing `h = h0 / 2^k` along the fault and one cell beyond its rim,
 //! then the coarsest mesh's cells graded from `h0` by `--ratio` per cell to the far faces
@@ -29,7 +29,7 @@
 //! With `--method multigrid` the coarsest mesh (spacing `h0` along the fault, whose
 //! rectangle lies on its lines) is refined `level` times and the reference is Okada's
 //! rectangle with the model's moment, shrunk by `h/2` on the inner edges
-//! (`rsf_examples::okada_anchor::compare_refined`); memory grows like the vertices.
+//! (`rsf::okada_comparison::compare_refined`); memory grows like the vertices.
 //! `--slip smooth` compares one smooth slip's fields with its boundary-element
 //! discretisation; `--slip modes --modes k` compares the finite-element and boundary-element
 //! fault operators in the operator norm on the span of the first `k × k` sine modes of the
@@ -42,11 +42,11 @@
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::okada_anchor::{
+use rsf::okada_comparison::{
     compare_held, compare_modes, compare_refined, compare_smooth, hierarchy_vertices, Errors,
     Fault, ModeComparison, Solver, SLIP,
 };
+use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 
 /// The rectangles compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -146,9 +146,10 @@ struct Cli {
     /// The slip imposed.
     #[arg(long, value_enum, default_value = "uniform")]
     slip: Slip,
-    /// Sine modes per direction along strike and dip with `--slip modes` (1 to 8).
-    #[arg(long, default_value_t = 2)]
-    modes: u32,
+    /// Sine modes per direction along strike and dip with `--slip modes` (1 to 8)
+    /// [default: 2].
+    #[arg(long)]
+    modes: Option<u32>,
     /// Growth of the cells per cell away from the fault, on the coarsest mesh.
     #[arg(long, default_value_t = 1.3)]
     ratio: f64,
@@ -164,6 +165,8 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
+        rsf_examples::guard::distinct("--levels", &self.levels)?;
+        rsf_examples::guard::distinct("--far", &self.far)?;
         if !(self.h0 > 0.0 && self.h0 <= 0.5) {
             return Err(refuse(
                 "--h0",
@@ -194,8 +197,17 @@ impl Program for Cli {
                 "is for the buried cases (--cases buried,dip)",
             ));
         }
-        if !(1..=8).contains(&self.modes) {
-            return Err(refuse("--modes", self.modes, "must be in 1..=8"));
+        if let Some(m) = self.modes {
+            if self.slip != Slip::Modes {
+                return Err(refuse(
+                    "--modes",
+                    m,
+                    "a setting of --slip modes: without it, it would be ignored",
+                ));
+            }
+            if !(1..=8).contains(&m) {
+                return Err(refuse("--modes", m, "must be in 1..=8"));
+            }
         }
         // The coarsest mesh graded from h0 to the far faces (about 2 W of uniform cells
         // around the fault), every interval split into 2^k: per half-axis
@@ -299,7 +311,7 @@ fn run_modes(cli: Cli, _: Prepared) -> Result<(), AnyError> {
             for &level in &cli.levels {
                 let t = Instant::now();
                 let mesh = (cli.h0, level, cli.ratio);
-                let e = compare_modes(case.fault(), mesh, far, cli.modes)?;
+                let e = compare_modes(case.fault(), mesh, far, cli.modes.unwrap_or(2))?;
                 let wall = t.elapsed().as_secs_f64();
                 let order = previous.as_ref().map_or(String::new(), |p| {
                     format!("{:.2}", (p.operator / e.operator).ln() / (p.h / e.h).ln())

@@ -56,6 +56,7 @@ impl Program for Cli {
         if let Some(gib) = self.memory_budget_gib {
             rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
         }
+        rsf_examples::guard::distinct("--levels", &self.levels)?;
         let k = self.levels.iter().copied().max().unwrap_or(0);
         let nodes = if self.dim == 2 {
             slider_nodes(k)

@@ -142,7 +142,11 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
+        if let Some(u) = &self.uniform {
+            rsf_examples::guard::distinct("--uniform", u)?;
+        }
         if let Some(t) = &self.tolerances {
+            rsf_examples::guard::distinct("--tolerances", t)?;
             for &tol in t {
                 in_range(
                     "--tolerances",

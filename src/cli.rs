@@ -92,11 +92,15 @@ impl SceneArgs {
         if self.absorbing_sides {
             scene.absorbing_sides = true;
         }
-        let checked = for_flag(
-            "--level",
-            "level",
-            for_flag("--end-time", "end_time_s", scene.validate()),
-        );
+        // A refused value is named as the user wrote it: the flag if it was given, the
+        // scene file's key (`--scene FILE: … end_time_s …`) if it came from the file.
+        let mut checked = scene.validate();
+        if self.end_time.is_some() {
+            checked = for_flag("--end-time", "end_time_s", checked);
+        }
+        if self.level.is_some() {
+            checked = for_flag("--level", "level", checked);
+        }
         self.named(checked)?;
         Ok(scene)
     }

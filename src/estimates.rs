@@ -114,3 +114,87 @@ pub fn step_study_plan(
         .output(output, "--steps", what)
         .folder(folder)
 }
+
+pub use crate::guard::PROCESS_BYTES;
+
+// The 3-D finite-element fault models: `seas_bp5 --kernel fe` and `fault_setup_3d`.
+//
+// Their constants are kept here, in one place, because the build of these models is
+// being rewritten (its memory: the assembly, the model builder, the initial equilibrium,
+// the condensation); they are fitted to the rows "3-D finite-element models" of
+// docs/reliability.md's "Memory estimates" table and must be re-fitted after any change of
+// that build. To re-measure, build the examples and run, for each row of the table,
+//
+//     RSF_MEMORY_REPORT=1 target/release/examples/seas_bp5 --kernel fe --dx DX \
+//         --domain-km KM --end-years 0.001 --threads 1 --out /tmp/m
+//     RSF_MEMORY_REPORT=1 target/release/examples/fault_setup_3d --dx DX_KM --steps 1
+//
+// (the guard prints `rsf-memory: … estimate_bytes=E peak_bytes=P` when the run ends, `P`
+// the process's `VmHWM`; `/usr/bin/time -v` reports the same peak), take `V` from
+// `fe_3d_box_vertices` (the table lists it), fit `FE_3D_BYTES_PER_VERTEX` and
+// `FE_3D_FACTOR_BYTES` to `P − PROCESS_BYTES` (check the exponent on the table's factor
+// sizes), round up, and commit the table; `tests/memory_estimates.rs` then checks the
+// small sizes against them on every CI run.
+
+/// Bytes per vertex of a 3-D finite-element fault model that grow linearly with the mesh:
+/// the mesh, the assembled matrices (81 blocks of 3 × 3 per vertex), the model's vectors,
+/// the condensation's index maps. Fitted with [`FE_3D_FACTOR_BYTES`] (docs/reliability.md,
+/// "Memory estimates"), rounded up.
+pub const FE_3D_BYTES_PER_VERTEX: f64 = 12e3;
+
+/// The part of a 3-D model's memory that grows faster than the mesh — the sparse Cholesky
+/// factors of the volume (the initial equilibrium's, the condensation's) —
+/// `FE_3D_FACTOR_BYTES · V^FE_3D_FACTOR_EXPONENT` bytes. Fitted to measured peaks at
+/// 6 669 to 44 689 vertices, rounded up.
+pub const FE_3D_FACTOR_BYTES: f64 = 26.0;
+
+/// See [`FE_3D_FACTOR_BYTES`]: the exponent of the factors' growth in the vertices `V`,
+/// 5/3 — the equilibrium factor's entries measured 9.0e6, 5.3e7, 3.0e8 and 3.0e9 at 8.5e3,
+/// 2.3e4, 6.6e4 and 3.1e5 vertices (BP5's box at Δx = 10, 5, 2.5 and 1 km): a local
+/// exponent of 1.5 to 1.8 (AMD's fill on a 3-D mesh; nested dissection would give 4/3).
+pub const FE_3D_FACTOR_EXPONENT: f64 = 5.0 / 3.0;
+
+/// Vertices of the graded box of a 3-D fault model (`rsf_scenes::SeasBp5::fe_model`,
+/// `fault_setup_3d`): a fault of `length × depth` (m) in the plane `x = 0`, spacing `h` on
+/// it, growing by `ratio` to the far faces at `far` (m) — `(2 n(h) − 1)(2 n(length/2) − 1)
+/// n(depth)` with `n(u) = rsf::fem::geometric_grading_len(h, u, ratio, far)` (an upper
+/// estimate: each `n` at most 2 above the mesh's count).
+pub fn fe_3d_box_vertices(h: f64, length: f64, depth: f64, ratio: f64, far: f64) -> f64 {
+    let n = |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+    (2.0 * n(h) - 1.0) * (2.0 * n(length / 2.0) - 1.0) * n(depth)
+}
+
+/// Bytes of a 3-D finite-element fault model of `vertices` vertices, built and condensed
+/// onto its fault: `FE_3D_BYTES_PER_VERTEX · V + FE_3D_FACTOR_BYTES · V^{5/3}` (the
+/// process itself and the fault operator condensed from it are the caller's:
+/// [`PROCESS_BYTES`], [`operator_bytes`]).
+pub fn fe_3d_memory(vertices: f64) -> f64 {
+    FE_3D_BYTES_PER_VERTEX * vertices
+        + FE_3D_FACTOR_BYTES * vertices.max(0.0).powf(FE_3D_FACTOR_EXPONENT)
+}
+
+/// Bytes of the direct solver of a 3-D slider run (`slider_3d`) beyond
+/// `Slider3dScene::BYTES_PER_NODE` — where its solver is the direct one (`--solver direct`,
+/// or `auto` with at most `rsf::method::AUTO_DIRECT_MAX_CONDENSED` condensed unknowns):
+/// the discrete harmonic extension of every condensed unknown (`8 · 3V · |F|` bytes, a
+/// bound: it is formed block by block when large) and the volume's sparse factor
+/// ([`FE_3D_FACTOR_BYTES`]` · V^{5/3}`). 0 for TNNMG. Measured: `slider_3d --level 3`
+/// (auto: direct, 738 condensed unknowns) peaks at 223 MB, above the 116 MB of 35 kB per
+/// node (docs/reliability.md, "Memory estimates").
+pub fn slider_3d_direct_bytes(scene: &rsf_scenes::Slider3dScene, nodes: f64) -> f64 {
+    let s = &scene.slider;
+    let k = 2f64.powi(s.level.min(1000) as i32);
+    let nz = scene.width_m.round().max(1.0);
+    // Two free components per node of the frictional face (bilateral contact).
+    let condensed = 2.0 * (5.0 * k + 1.0) * (nz * k + 1.0);
+    let direct = match s.solver {
+        rsf::SolverKind::Direct => true,
+        rsf::SolverKind::Auto => condensed <= rsf::method::AUTO_DIRECT_MAX_CONDENSED as f64,
+        _ => false,
+    };
+    if direct {
+        8.0 * 3.0 * nodes * condensed + FE_3D_FACTOR_BYTES * nodes.powf(FE_3D_FACTOR_EXPONENT)
+    } else {
+        0.0
+    }
+}

@@ -26,6 +26,13 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+/// Bytes of a program's process before its problem: the binary, its libraries, the
+/// thread pool's stacks, the font and figure buffers (measured as the peak of the
+/// smallest runs of docs/reliability.md's "Memory estimates" table), rounded up. Every
+/// plan's memory estimate includes it ([`Plan::memory_bytes`]); re-exported by
+/// the module `estimates`.
+pub const PROCESS_BYTES: f64 = 64e6;
+
 use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
@@ -118,19 +125,9 @@ fn excerpt(s: &str) -> String {
 }
 
 /// A number for a message as a user would write it: `300`, `0.025`, `1e300` (never 301
-/// digits), `NaN`.
+/// digits), `NaN` ([`rsf_numeric::number`]).
 pub fn number(x: f64) -> String {
-    let s = if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    };
-    // A computed bound (`0.007217090069284064`) with four digits.
-    if s.len() > 10 {
-        format!("{x:.3e}")
-    } else {
-        s
-    }
+    rsf_numeric::number(x)
 }
 
 /// Checks that `x` (the value of `flag`) lies in `[lo, hi]` (NaN is refused).
@@ -149,6 +146,33 @@ pub fn in_range(flag: &str, x: f64, (lo, hi): (f64, f64), why: &str) -> Result<f
     }
 }
 
+/// Checks that the values of the list flag `flag` are distinct: a size listed twice
+/// (`--dz 1000,1000`) runs the same case twice and leaves a fit of the cost against the
+/// size without two sizes (it printed `m^NaN`).
+///
+/// # Errors
+/// `--flag a,b,…: `x` is listed twice`.
+pub fn distinct<T: PartialEq + std::fmt::Display>(
+    flag: &str,
+    values: &[T],
+) -> Result<(), AnyError> {
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].contains(v) {
+            let all = values.iter().map(ToString::to_string).collect::<Vec<_>>();
+            return Err(refuse(
+                flag,
+                all.join(","),
+                &format!(
+                    "`{}` is listed twice: every value is a case of its own (a fit across \
+                     them needs distinct values)",
+                    excerpt(&v.to_string())
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// One output folder of a run: the flag that names it, the files the run writes there,
 /// whether the run continues an earlier one (`--resume`, `--reuse`) or replaces it
 /// (`--overwrite`).
@@ -158,6 +182,10 @@ pub struct Folder {
     dir: PathBuf,
     outputs: Vec<String>,
     resume: bool,
+    /// The checkpoint a resume continues from (`--resume FILE`).
+    checkpoint: Option<PathBuf>,
+    /// Whether `--allow-change` was given (it needs a checkpoint).
+    allow_change: bool,
     overwrite: bool,
 }
 
@@ -170,6 +198,8 @@ impl Folder {
             dir: dir.to_path_buf(),
             outputs: outputs.iter().map(|s| (*s).to_owned()).collect(),
             resume: false,
+            checkpoint: None,
+            allow_change: false,
             overwrite: false,
         }
     }
@@ -180,9 +210,29 @@ impl Folder {
         self
     }
 
-    /// Continues the run in the folder (`--resume`, `--reuse`): its own files are kept.
-    pub fn resume(mut self, resume: bool) -> Self {
-        self.resume = resume;
+    /// Continues the run in the folder without a checkpoint (`--reuse`): its own files
+    /// are kept. A program with `--resume FILE` uses [`resume_from`](Self::resume_from)
+    /// instead, so that the checkpoint's run is compared with the folder's.
+    pub fn reuse(mut self, reuse: bool) -> Self {
+        self.resume = reuse;
+        self
+    }
+
+    /// Continues the run in the folder from `checkpoint` (`--resume FILE`; `None`: a new
+    /// run): its files are kept, and a checkpoint of another run than the folder's is
+    /// refused unless [`overwrite`](Self::overwrite)
+    /// ([`RunFolder::prepare_resume`]).
+    pub fn resume_from(mut self, checkpoint: Option<&Path>) -> Self {
+        self.resume = checkpoint.is_some();
+        self.checkpoint = checkpoint.map(Path::to_path_buf);
+        self
+    }
+
+    /// The fields a resume may change (`--allow-change`): refused without a checkpoint
+    /// to resume (they would be ignored); the fields themselves are checked against the
+    /// checkpoint's fingerprint when it is read.
+    pub fn allow_change(mut self, fields: &[String]) -> Self {
+        self.allow_change = !fields.is_empty();
         self
     }
 }
@@ -220,6 +270,8 @@ impl Plan {
                 f.outputs.extend(folder.outputs);
                 f.overwrite |= folder.overwrite;
                 f.resume |= folder.resume;
+                f.checkpoint = f.checkpoint.take().or(folder.checkpoint);
+                f.allow_change |= folder.allow_change;
             }
             None => self.folders.push(folder),
         }
@@ -260,37 +312,65 @@ impl Plan {
         self
     }
 
+    /// The run's memory estimate (bytes): the process itself
+    /// ([`PROCESS_BYTES`]) and every part of the plan.
+    pub fn memory_bytes(&self) -> f64 {
+        PROCESS_BYTES + self.memory.iter().map(|e| e.bytes).sum::<f64>()
+    }
+
     /// Checks the threads and the estimates against `limits`.
     ///
     /// # Errors
     /// The first refused thread count or estimate, naming its flags.
     pub fn check(&self, limits: Limits) -> Result<(), AnyError> {
+        if let Some(f) = self
+            .folders
+            .iter()
+            .find(|f| f.allow_change && f.checkpoint.is_none())
+        {
+            return Err(format!(
+                "--allow-change: needs --resume (the fields a resume may change; a new run into \
+                 {} `{}` has nothing to change, it would be ignored)",
+                f.flag,
+                f.dir.display()
+            )
+            .into());
+        }
         for (flag, n) in &self.threads {
             check_threads(flag, *n)?;
         }
-        let total = |e: &[Estimate]| e.iter().map(|e| e.bytes).sum::<f64>();
-        for (estimates, limit, name) in [
-            (&self.memory, limits.max_memory_gb, "--max-memory-gb"),
-            (&self.output, limits.max_output_gb, "--max-output-gb"),
+        let output = self.output.iter().map(|e| e.bytes).sum::<f64>();
+        for (estimates, sum, limit, name) in [
+            (
+                &self.memory,
+                self.memory_bytes(),
+                limits.max_memory_gb,
+                "--max-memory-gb",
+            ),
+            (
+                &self.output,
+                output,
+                limits.max_output_gb,
+                "--max-output-gb",
+            ),
         ] {
-            let sum = total(estimates);
             if !(sum <= limit * 1e9) {
-                // Name the largest part.
-                let worst = estimates
-                    .iter()
-                    .max_by(|a, b| a.bytes.total_cmp(&b.bytes))
-                    .expect("a sum above a positive limit has a part");
                 let kind = if name == "--max-memory-gb" {
                     "memory"
                 } else {
                     "output"
                 };
+                // Name the largest part (or the process itself).
+                let (flags, what) = estimates
+                    .iter()
+                    .max_by(|a, b| a.bytes.total_cmp(&b.bytes))
+                    .map_or((name, "the process itself"), |w| {
+                        (w.flags.as_str(), w.what.as_str())
+                    });
                 return Err(format!(
-                    "{}: {}: an estimated {} GB of {kind}, above {name} {limit}: use a smaller \
-                     or shorter run, or raise {name} if the machine holds it",
-                    worst.flags,
-                    worst.what,
-                    gb(worst.bytes)
+                    "{flags}: {what}: an estimated {} GB of {kind}, above {name} {limit}: use a \
+                     smaller or shorter run, or raise {name} if the machine holds it",
+                    gb(sum)
                 )
                 .into());
             }
@@ -394,6 +474,8 @@ pub trait Program: clap::Parser + Send + 'static {
 pub struct Prepared {
     modes: Vec<FileMode>,
     pool: usize,
+    /// The plan's memory estimate (bytes), compared with the measured peak at the end.
+    memory: f64,
     _locks: Vec<File>,
 }
 
@@ -421,12 +503,13 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
     plan.check(program.limits())?;
     let mut modes = Vec::new();
     let mut locks = Vec::new();
+    let command = command_line();
     for f in &plan.folders {
-        if f.resume && f.overwrite {
+        if f.resume && f.overwrite && f.checkpoint.is_none() {
             return Err(format!(
-                "--overwrite: a run that continues the files in {} `{}` (--resume, --reuse) \
-                 cannot replace them: leave out --overwrite to continue them, or the flag \
-                 that continues them to start anew",
+                "--overwrite: a run that continues the files in {} `{}` (--reuse) cannot \
+                 replace them: leave out --overwrite to continue them, or the flag that \
+                 continues them to start anew",
                 f.flag,
                 f.dir.display()
             )
@@ -434,29 +517,178 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
         }
         let lock = flag(f.flag, lock(&f.dir))?;
         let outputs: Vec<&str> = f.outputs.iter().map(String::as_str).collect();
-        let folder = RunFolder::new(&f.dir, P::NAME, &outputs);
-        modes.push(flag(f.flag, folder.prepare(f.resume, f.overwrite))?);
+        let folder = RunFolder::new(&f.dir, P::NAME, &outputs).command(&command);
+        let mode = match &f.checkpoint {
+            // The checkpoint's run against the folder's (issue 74): a resume into another
+            // run's folder would cut that run's files and continue another run in them.
+            Some(checkpoint) => folder.prepare_resume(checkpoint, f.overwrite),
+            None => folder.prepare(f.resume, f.overwrite),
+        };
+        modes.push(flag(f.flag, mode)?);
         locks.push(lock);
     }
     Ok(Prepared {
         modes,
         pool: plan.pool,
+        memory: plan.memory_bytes(),
         _locks: locks,
     })
 }
 
-/// `P`'s flags from the command line (a negative number is a value); exits with clap's
-/// message on a parse error or `--help`.
-fn parse<P: Program>() -> P {
-    let command = P::command().mut_args(|a| {
+/// This process's command line as a run's manifest records it: the program's file name
+/// and its arguments, an argument with a space or a quote in single quotes.
+fn command_line() -> String {
+    let mut args = std::env::args_os();
+    let program = args
+        .next()
+        .map(|p| {
+            Path::new(&p)
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+        })
+        .unwrap_or_default();
+    std::iter::once(program)
+        .chain(args.map(|a| {
+            let a = a.to_string_lossy().into_owned();
+            if a.is_empty() || a.contains(|c: char| c.is_whitespace() || c == '\'' || c == '"') {
+                format!("'{}'", a.replace('\'', "'\\''"))
+            } else {
+                a
+            }
+        }))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `P`'s command with a negative number taken as a value.
+fn command<P: Program>() -> clap::Command {
+    P::command().mut_args(|a| {
         if a.get_action().takes_values() {
             a.allow_negative_numbers(true)
         } else {
             a
         }
-    });
-    P::from_arg_matches(&command.get_matches())
-        .unwrap_or_else(|e| e.format(&mut P::command()).exit())
+    })
+}
+
+/// `P`'s flags from the command line (a negative number is a value) and the flags as
+/// given ([`given_flags`]); exits with clap's message on a parse error or `--help`.
+fn parse<P: Program>() -> (P, String) {
+    let matches = command::<P>().get_matches();
+    let program =
+        P::from_arg_matches(&matches).unwrap_or_else(|e| e.format(&mut P::command()).exit());
+    (program, given_flags::<P>(&matches))
+}
+
+/// `P`'s flags from `args` (the first is the program's name; a negative number is a
+/// value) and the flags as given ([`given_flags`]).
+///
+/// # Errors
+/// clap's error (a malformed or unknown flag, `--help`, `--version`).
+pub fn parse_from<P: Program, I, T>(args: I) -> Result<(P, String), clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let matches = command::<P>().try_get_matches_from(args)?;
+    let program = P::from_arg_matches(&matches)?;
+    Ok((program, given_flags::<P>(&matches)))
+}
+
+/// The run's flags as the ranks of a job must agree on them ([`agree_on_flags`]): the
+/// program's name, then one line per flag given on the command line, as clap read it
+/// (`--end-years 5`, whatever the spelling: `--end-years=5` too), in the order of the
+/// program's flags. Defaults are not listed: every rank runs the same program, so they
+/// agree (but for those that depend on the machine, e.g. `--threads`, which change no
+/// bit).
+pub fn given_flags<P: Program>(matches: &clap::ArgMatches) -> String {
+    let mut lines = vec![format!("the program `{}`", P::NAME)];
+    for arg in P::command().get_arguments() {
+        let id = arg.get_id().as_str();
+        if matches.value_source(id) != Some(clap::parser::ValueSource::CommandLine) {
+            continue;
+        }
+        let name = arg
+            .get_long()
+            .map_or_else(|| id.to_owned(), |l| format!("--{l}"));
+        let values: Vec<String> = match matches.try_get_raw(id) {
+            Ok(Some(v)) if arg.get_action().takes_values() => {
+                v.map(|x| x.to_string_lossy().into_owned()).collect()
+            }
+            _ => Vec::new(),
+        };
+        lines.push(if values.is_empty() {
+            name
+        } else {
+            format!("{name} {}", values.join(","))
+        });
+    }
+    lines.join("\n")
+}
+
+/// Compares every rank's `flags` ([`given_flags`]) before any work (issue 74): ranks
+/// started with different flags (an MPMD launch `mpirun -n 1 P --end-years 5 : -n 1 P
+/// --end-years 50`, a different `--dx`, another program) would compute different runs
+/// and wait for each other in a collective that never matches — a hang or a crash. Two
+/// all-gathers of the group (each rank's length, then its text, a byte per value), so
+/// every rank sees every rank's flags and reaches the same verdict.
+///
+/// # Errors
+/// On every rank the same message: the ranks whose flags differ from rank 0's and the
+/// first differing flag, as the users wrote it on each.
+pub fn agree_on_flags(group: &mut dyn rsf::ranks::RankGroup, flags: &str) -> Result<(), String> {
+    let size = group.size();
+    if size <= 1 {
+        return Ok(());
+    }
+    let own: Vec<f64> = flags.bytes().map(f64::from).collect();
+    let mut lengths = vec![0.0; size];
+    group.all_gather(&[own.len() as f64], &vec![1; size], &mut lengths);
+    let counts: Vec<usize> = lengths.iter().map(|&l| l as usize).collect();
+    let mut all = vec![0.0; counts.iter().sum()];
+    group.all_gather(&own, &counts, &mut all);
+    let mut texts = Vec::with_capacity(size);
+    let mut at = 0;
+    for &c in &counts {
+        let bytes: Vec<u8> = all[at..at + c].iter().map(|&b| b as u8).collect();
+        texts.push(String::from_utf8_lossy(&bytes).into_owned());
+        at += c;
+    }
+    let differ: Vec<usize> = (1..size).filter(|&r| texts[r] != texts[0]).collect();
+    let Some(&first) = differ.first() else {
+        return Ok(());
+    };
+    let lines = |t: &str| t.lines().map(str::to_owned).collect::<Vec<_>>();
+    let (root, other) = (lines(&texts[0]), lines(&texts[first]));
+    let only = |a: &[String], b: &[String]| {
+        a.iter()
+            .filter(|l| !b.contains(l))
+            .map(|l| format!("`{}`", excerpt(l)))
+            .collect::<Vec<_>>()
+    };
+    let (theirs, ours) = (only(&other, &root), only(&root, &other));
+    let show = |v: &[String]| {
+        if v.is_empty() {
+            "nothing else".to_owned()
+        } else {
+            v.join(", ")
+        }
+    };
+    let ranks = differ
+        .iter()
+        .take(8)
+        .map(usize::to_string)
+        .collect::<Vec<_>>()
+        .join(", ");
+    let more = if differ.len() > 8 { ", …" } else { "" };
+    Err(format!(
+        "the ranks were started with different flags (rank{} {ranks}{more} of {size} differ \
+         from rank 0): rank {first} has {} where rank 0 has {}; start every rank with the \
+         same program and flags",
+        if differ.len() > 1 { "s" } else { "" },
+        show(&theirs),
+        show(&ours),
+    ))
 }
 
 /// Runs `P` as a program: parses its flags (a negative number is a value), [`prepare`]s its run and runs `body` (on a
@@ -465,36 +697,91 @@ fn parse<P: Program>() -> P {
 pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCode {
     // Negative numbers are values (`--end-years -1` is refused with the valid range, not
     // taken for a flag `-1`).
-    let program = parse::<P>();
+    let (program, _) = parse::<P>();
     let prepared = match prepare(&program) {
         Ok(p) => p,
         Err(e) => return main_with(|| Err(e)),
     };
-    match prepared.pool {
+    let estimate = prepared.memory;
+    let code = match prepared.pool {
         0 | 1 => main_with(|| body(program, prepared)),
         n => main_on_threads(n, move || body(program, prepared)),
+    };
+    report_memory(P::NAME, estimate, None);
+    code
+}
+
+/// The process's peak resident memory so far (bytes; Linux's `VmHWM` of
+/// `/proc/self/status`, what `/usr/bin/time -v` reports as its maximum resident set),
+/// `None` where the system does not say.
+pub fn peak_memory_bytes() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0)
+}
+
+/// The environment variable that makes a program print its memory estimate and its
+/// measured peak when it ends (`tests/memory_estimates.rs` reads them).
+pub const MEMORY_REPORT: &str = "RSF_MEMORY_REPORT";
+
+/// At the end of a run: with [`MEMORY_REPORT`] set, the line `rsf-memory: program=NAME
+/// estimate_bytes=E peak_bytes=P` on standard error; and a warning whenever the measured
+/// peak exceeded the plan's estimate (an estimate is a bound: docs/reliability.md,
+/// "Memory estimates" — a run above it is worth reporting). `rank`: the rank of a job's
+/// process, named in the warning.
+fn report_memory(program: &str, estimate: f64, rank: Option<usize>) {
+    let Some(peak) = peak_memory_bytes() else {
+        return;
+    };
+    if std::env::var_os(MEMORY_REPORT).is_some() {
+        eprintln!(
+            "rsf-memory: program={program} estimate_bytes={estimate:.0} peak_bytes={peak:.0}"
+        );
+    }
+    if estimate > 0.0 && peak > estimate {
+        eprintln!(
+            "warning: {}{program}'s peak memory, {} GB, exceeded its estimate of {} GB (the \
+             estimates are bounds, docs/reliability.md \"Memory estimates\": please report \
+             the flags of this run)",
+            rank.map_or(String::new(), |r| format!("rank {r}: ")),
+            gb(peak),
+            gb(estimate)
+        );
     }
 }
 
-/// [`main`] on the processes of a job (MPI ranks, `processes`): every rank parses and
+/// [`main`] on the processes of a job (MPI ranks, `processes`): every rank parses the
+/// flags, and the ranks compare them ([`agree_on_flags`]: ranks started with different
+/// flags end, every one, with one error naming the flag, before any work); every rank
 /// checks the flags and plans the run; rank 0 alone prepares the folders (creates, locks,
 /// checks them) — the others get a [`Prepared`] without folders, and a body writes its
 /// files on rank 0 only. `body` gets the processes. Any rank's error (its refusal, the
 /// body's error) is printed with the rank and ends every rank
-/// ([`Processes::end_all`]): a rank that returned would leave the others waiting. The one
-/// exception is the stop at `--max-steps`, which every rank reaches at the same step: each
-/// rank returns failure, rank 0 printing the message.
+/// ([`Processes::end_all`]): a rank that returned would leave the others waiting. The
+/// exceptions are the differing flags and the stop at `--max-steps`, which every rank
+/// reaches alike: each rank returns failure, rank 0 printing the message.
 pub fn main_on_ranks<P: Program>(
     processes: &dyn Processes,
     body: fn(P, Prepared, &dyn Processes) -> Result<(), AnyError>,
 ) -> ExitCode {
-    let program = parse::<P>();
+    let (program, flags) = parse::<P>();
+    // Before any work: ranks with different flags would run different runs (issue 74).
+    // Every rank reaches the same verdict, so each ends normally (rank 0 printing it):
+    // none is left waiting.
+    if let Err(e) = agree_on_flags(&mut *processes.group(), &flags) {
+        if processes.rank() == 0 {
+            eprintln!("rank 0 of {}: error: {e}", processes.size());
+        }
+        return ExitCode::FAILURE;
+    }
     let prepared = if processes.rank() == 0 {
         prepare(&program)
     } else {
         plan_only(&program)
     };
     let step_cap = std::sync::atomic::AtomicBool::new(false);
+    let estimate = prepared.as_ref().map_or(0.0, |p| p.memory);
     let outcome = match prepared {
         Ok(prepared) => on_threads(prepared.pool, || {
             body(program, prepared, processes).inspect_err(|e| {
@@ -505,6 +792,7 @@ pub fn main_on_ranks<P: Program>(
         }),
         Err(e) => Err(error_lines(&*e)),
     };
+    report_memory(P::NAME, estimate, Some(processes.rank()));
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         // Every rank stops at the step cap at the same step (the time stepping is the same
@@ -538,6 +826,7 @@ fn plan_only<P: Program>(program: &P) -> Result<Prepared, AnyError> {
     Ok(Prepared {
         modes: vec![FileMode::Create; plan.folders.len()],
         pool: plan.pool,
+        memory: plan.memory_bytes(),
         _locks: Vec::new(),
     })
 }
@@ -573,5 +862,130 @@ pub fn lock(dir: &Path) -> Result<File, AnyError> {
         Err(std::fs::TryLockError::Error(e)) => {
             Err(format!("cannot lock the output folder `{shown}`: {e}").into())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::{Arc, Barrier, Mutex};
+
+    use super::{agree_on_flags, parse_from, Limits, Plan, Program};
+
+    /// A program for the tests: two valued flags and a switch.
+    #[derive(clap::Parser)]
+    struct Toy {
+        #[arg(long, default_value_t = 1800.0)]
+        end_years: f64,
+        #[arg(long, default_value_t = 2000.0)]
+        dx: f64,
+        #[arg(long)]
+        overwrite: bool,
+    }
+
+    impl Program for Toy {
+        const NAME: &'static str = "toy";
+        fn limits(&self) -> Limits {
+            Limits::default()
+        }
+        fn plan(&self) -> Result<Plan, super::AnyError> {
+            Ok(Plan::new())
+        }
+    }
+
+    fn flags(args: &[&str]) -> String {
+        let args = std::iter::once("toy").chain(args.iter().copied());
+        parse_from::<Toy, _, _>(args).unwrap().1
+    }
+
+    /// The flags as given, whatever their spelling; the defaults are not listed.
+    #[test]
+    fn the_given_flags_are_those_of_the_command_line_as_read() {
+        assert_eq!(flags(&[]), "the program `toy`");
+        assert_eq!(
+            flags(&["--end-years", "5", "--overwrite"]),
+            flags(&["--overwrite", "--end-years=5"])
+        );
+        assert_eq!(
+            flags(&["--end-years", "5", "--overwrite"]),
+            "the program `toy`\n--end-years 5\n--overwrite"
+        );
+        assert_ne!(flags(&["--dx", "-1"]), flags(&["--dx", "1"]));
+    }
+
+    /// Threads as ranks: the all-gather through shared slots (a test double of MPI's).
+    struct ThreadRanks {
+        rank: usize,
+        size: usize,
+        slots: Arc<Mutex<Vec<Vec<f64>>>>,
+        barrier: Arc<Barrier>,
+    }
+
+    impl rsf::ranks::RankGroup for ThreadRanks {
+        fn rank(&self) -> usize {
+            self.rank
+        }
+        fn size(&self) -> usize {
+            self.size
+        }
+        fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]) {
+            self.slots.lock().unwrap()[self.rank] = own.to_vec();
+            self.barrier.wait();
+            let slots = self.slots.lock().unwrap().concat();
+            assert_eq!(slots.len(), counts.iter().sum::<usize>());
+            all.copy_from_slice(&slots);
+            self.barrier.wait();
+        }
+    }
+
+    /// Each rank's verdict on the flags `given[rank]`, computed on a thread per rank.
+    fn verdicts(given: &[String]) -> Vec<Result<(), String>> {
+        let size = given.len();
+        let slots = Arc::new(Mutex::new(vec![Vec::new(); size]));
+        let barrier = Arc::new(Barrier::new(size));
+        std::thread::scope(|s| {
+            let handles: Vec<_> = given
+                .iter()
+                .enumerate()
+                .map(|(rank, flags)| {
+                    let mut group = ThreadRanks {
+                        rank,
+                        size,
+                        slots: slots.clone(),
+                        barrier: barrier.clone(),
+                    };
+                    s.spawn(move || agree_on_flags(&mut group, flags))
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        })
+    }
+
+    /// Ranks started with the same flags agree; with different ones every rank gets the
+    /// same error, naming the rank and the flag on both sides (issue 74: an MPMD launch
+    /// with another `--end-years` on one rank hung, another `--dx` crashed).
+    #[test]
+    fn ranks_with_different_flags_end_every_one_with_the_same_named_error() {
+        let same = vec![flags(&["--end-years", "5"]); 3];
+        assert!(verdicts(&same).iter().all(Result::is_ok));
+        let mut given = same.clone();
+        given[2] = flags(&["--end-years", "50"]);
+        let v = verdicts(&given);
+        let e = v[0].clone().unwrap_err();
+        assert!(v.iter().all(|r| r.as_ref().err() == Some(&e)), "{v:?}");
+        assert!(
+            e.contains("rank 2 has `--end-years 50` where rank 0 has `--end-years 5`"),
+            "{e}"
+        );
+        // A flag given on one rank only, and another program.
+        given[1] = flags(&["--end-years", "5", "--dx", "1000"]);
+        let e = verdicts(&given)[1].clone().unwrap_err();
+        assert!(e.contains("ranks 1, 2 of 3"), "{e}");
+        assert!(
+            e.contains("rank 1 has `--dx 1000` where rank 0 has nothing else"),
+            "{e}"
+        );
+        let other = vec![same[0].clone(), same[0].replace("`toy`", "`seas_bp3`")];
+        let e = verdicts(&other)[0].clone().unwrap_err();
+        assert!(e.contains("the program `seas_bp3`"), "{e}");
     }
 }

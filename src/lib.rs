@@ -10,11 +10,12 @@ use plotters::prelude::*;
 
 pub mod cli;
 mod curved;
+pub mod distributed_sweep;
 pub mod estimates;
 pub mod guard;
 mod heat_map;
 pub mod memory;
-pub mod okada_anchor;
+pub mod on_ranks;
 mod own_model;
 mod panels;
 pub mod pipping_slider;

@@ -130,7 +130,8 @@ impl Program for Cli {
             .folder(
                 Folder::new("--out", &self.out, &OUTPUTS)
                     .overwrite(self.folder.overwrite)
-                    .resume(self.resume.is_some()),
+                    .resume_from(self.resume.as_deref())
+                    .allow_change(&self.folder.allow_change),
             ))
     }
 }

@@ -62,7 +62,7 @@ use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
 #[derive(Parser, Debug)]
 #[command(about = "SCEC SEAS benchmark BP1-QD (antiplane, 3000 years)")]
-struct Args {
+pub struct Args {
     /// Output folder.
     #[arg(long)]
     out: PathBuf,
@@ -272,13 +272,18 @@ impl Program for Args {
         }
         let crossing = self.dz / (bp1.shear_modulus() / bp1.rho).sqrt();
         if let Some(tau) = self.dynamic_tau {
+            // Below a thousandth of the crossing time a step resolves nothing more, and a
+            // dynamic phase of a minute would take hundreds of millions of steps (issue 74:
+            // `--dynamic-tau 1e-9` ran without bound).
             in_range(
                 "--dynamic-tau",
                 tau,
-                (1e-12, crossing),
+                (1e-3 * crossing, crossing),
                 &format!(
                     "s: at most the {crossing:.3e} s a shear wave takes to cross an element \
-                     of the fault (Δz/c_s); a longer step does not resolve the rupture"
+                     of the fault (Δz/c_s), a longer step does not resolve the rupture; at \
+                     least a thousandth of it, a shorter one resolves nothing more and an \
+                     event would take without bound"
                 ),
             )?;
         }
@@ -338,7 +343,8 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &outputs)
                     .overwrite(self.overwrite)
-                    .resume(self.run.resume.is_some()),
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
             ))
     }
 }

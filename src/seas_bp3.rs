@@ -47,7 +47,7 @@ use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
 #[command(version)]
-struct Args {
+pub struct Args {
     /// Dip ψ (degrees): 60 (thrust) or 30 (normal).
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     dip: f64,
@@ -208,7 +208,8 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume(self.run.resume.is_some()),
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
             ))
     }
 }

@@ -47,7 +47,7 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::direct::{CheckpointPolicy, Progress};
-use rsf::fault_ode::{FaultKernel, SchurOnlySetup};
+use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
 use rsf::observe::Observer;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
@@ -61,7 +61,7 @@ use std::ops::ControlFlow;
 /// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
 #[derive(Parser)]
 #[command(version)]
-struct Args {
+pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp5")]
     out: PathBuf,
@@ -79,7 +79,7 @@ struct Args {
     /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
     #[arg(long)]
     ratio: Option<f64>,
-    /// `fe`: the volume's mesh, `graded` (Kuhn cubes bisected towards the fault's
+    /// `fe`: the volume's mesh, `graded` (an octree of Kuhn cubes refined towards the fault's
     /// rate-and-state region and the stations, growing in every direction) or `tensor`
     /// (a tensor grid graded axis by axis) [default: graded].
     #[arg(long, value_enum)]
@@ -104,9 +104,9 @@ struct Args {
     stage_peaks: bool,
     /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
     /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
-    /// changes by round-off.
-    #[arg(long, default_value = "amd")]
-    ordering: rsf::fault_ode::InteriorOrdering,
+    /// changes by round-off [default: amd].
+    #[arg(long)]
+    ordering: Option<rsf::fault_ode::InteriorOrdering>,
     /// End time (years).
     #[arg(long, default_value_t = 1800.0)]
     end_years: f64,
@@ -153,6 +153,11 @@ impl Args {
     /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
     fn box_size(&self) -> (f64, f64) {
         (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+    }
+
+    /// `--ordering`, or its default.
+    fn ordering(&self) -> rsf::fault_ode::InteriorOrdering {
+        self.ordering.unwrap_or_default()
     }
 
     /// The scene: BP5, with the fault zone of `--fault-zone-width-km` and
@@ -230,6 +235,7 @@ impl Program for Args {
             for (flag, given) in [
                 ("--domain-km", self.domain_km.is_some()),
                 ("--ratio", self.ratio.is_some()),
+                ("--ordering", self.ordering.is_some()),
                 ("--mesh", self.mesh.is_some()),
                 ("--condensation", self.condensation.is_some()),
                 ("--stage-peaks", self.stage_peaks),
@@ -239,11 +245,20 @@ impl Program for Args {
                 if given {
                     return Err(format!(
                         "{flag}: a setting of the finite-element kernel: it needs --kernel fe \
-                         (the Okada kernel has no box), without it it would be ignored"
+                         (the Okada kernel has no volume), without it it would be ignored"
                     )
                     .into());
                 }
             }
+        }
+        if self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection
+            && !rsf_metis::is_available()
+        {
+            return Err(crate::guard::refuse(
+                "--ordering",
+                "nested-dissection",
+                "needs METIS, which this build lacks: build with `--features metis`",
+            ));
         }
         let memory = match self.kernel {
             // The fault alone: the operator (dense up to 4 096 unknowns, an ℋ-matrix
@@ -257,7 +272,15 @@ impl Program for Args {
                 } else {
                     0.0
                 };
-                operator_bytes(m, m > 4096.0) + table + 9.0 * 3.0 * 8.0 * m
+                // The ℋ-matrix of the half-space and its set-up: three times the generic
+                // budget of `operator_bytes` (measured: 163 MB peak at m = 8 000, Δx = 1 km;
+                // docs/reliability.md, "Memory estimates").
+                let operator = if m > 4096.0 {
+                    3.0 * operator_bytes(m, true)
+                } else {
+                    operator_bytes(m, false)
+                };
+                operator + table + 9.0 * 3.0 * 8.0 * m
             }
             Kernel::Fe => {
                 in_range(
@@ -270,24 +293,37 @@ impl Program for Args {
                 let (h, far) = (self.dx, domain_km * 1e3);
                 match self.mesh.unwrap_or(MeshArg::Graded) {
                     MeshArg::Tensor | MeshArg::TensorMirrored => {
-                        // The tensor grid in closed form; 35 kB per vertex as the 3-D
-                        // slider's direct factor, and the condensed operator.
-                        let len =
-                            |uniform: f64| rsf::fem::geometric_grading_len(h, uniform, ratio, far);
+                        // The tensor grid in closed form, its model and factor
+                        // (crate::estimates::fe_3d_memory: the constants fitted to measured
+                        // peaks, issue 74), and the condensed operator.
                         let vertices =
-                            (2.0 * len(h) - 1.0) * (2.0 * len(bp5.l_f / 2.0) - 1.0) * len(bp5.w_f);
-                        vertices * rsf_scenes::Slider3dScene::BYTES_PER_NODE
-                            + operator_bytes(m, m > 4096.0)
+                            crate::estimates::fe_3d_box_vertices(h, bp5.l_f, bp5.w_f, ratio, far);
+                        crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
-                        // The graded mesh itself (under a second at 1 km), and the set-up's
-                        // peak as measured on it (docs/three-d.md, "BP5 on the graded
-                        // mesh"): the volume's factor grows like vertices^1.9.
+                        // The graded mesh itself (about a second at 1 km), and the set-up's
+                        // peak as measured on it (docs/seas-bp5.md, "The volume at the
+                        // description's resolution"): the Schur-only elimination's grows
+                        // like vertices^1.6, the whole factor's like vertices^1.9.
                         let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
                             .mesh()
                             .num_vertices() as f64;
-                        GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
-                            + operator_bytes(m, m > 4096.0)
+                        let nested = self.ordering
+                            == Some(rsf::fault_ode::InteriorOrdering::NestedDissection);
+                        let peak = match self.condensation() {
+                            Condensation::SchurOnly if nested => {
+                                SCHUR_ONLY_ND_PEAK_AT_500_M
+                                    * (vertices / GRADED_VERTICES_AT_500_M).powf(1.5)
+                            }
+                            Condensation::SchurOnly => {
+                                SCHUR_ONLY_PEAK_AT_1_KM
+                                    * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
+                            }
+                            Condensation::Factor => {
+                                GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                            }
+                        };
+                        peak + operator_bytes(m, m > 4096.0)
                     }
                 }
             }
@@ -315,7 +351,8 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume(self.run.resume.is_some()),
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
             ))
     }
 }
@@ -325,6 +362,22 @@ impl Program for Args {
 const GRADED_PEAK_AT_4_KM: f64 = 287e6;
 /// See [`GRADED_PEAK_AT_4_KM`].
 const GRADED_VERTICES_AT_4_KM: f64 = 7701.0;
+
+/// The whole run's peak (bytes) of `--kernel fe` with the Schur-only elimination on the
+/// graded mesh (octree) at 1 km, 86 710 vertices: measured 7.3 GB (the elimination's
+/// stage, AMD EPYC; docs/seas-bp5.md), with a margin of 1.25 — the anchor of its estimate,
+/// which at 2 km (33 142 vertices) gives 1.96 GB against the measured 1.55 GB.
+const SCHUR_ONLY_PEAK_AT_1_KM: f64 = 1.25 * 7.30e9;
+/// See [`SCHUR_ONLY_PEAK_AT_1_KM`].
+const GRADED_VERTICES_AT_1_KM: f64 = 86_710.0;
+
+/// As [`SCHUR_ONLY_PEAK_AT_1_KM`] with `--ordering nested-dissection`: measured 11.49 GB at
+/// 500 m, 266 764 vertices (AMD EPYC), with a margin of 1.25; the exponent 1.5 keeps the
+/// estimate (2.7 GB at 1 km, 0.6 GB at 2 km) above the elimination's plan plus the model
+/// there (about 2.0 and 0.4 GB; docs/three-d.md, "On BP5's graded box").
+const SCHUR_ONLY_ND_PEAK_AT_500_M: f64 = 1.25 * 11.49e9;
+/// See [`SCHUR_ONLY_ND_PEAK_AT_500_M`].
+const GRADED_VERTICES_AT_500_M: f64 = 266_764.0;
 
 /// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
 /// kept: a `--resume` of the run reads it instead of eliminating again).
@@ -342,7 +395,7 @@ fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
 
 /// A line on standard error at every tenth of the elimination's work (flops), with the
 /// fronts done and the wall time.
-fn elimination_progress() -> Box<dyn FnMut(&Progress) -> ControlFlow<()>> {
+fn elimination_progress() -> SetupProgress {
     let mut next = 0.1;
     Box::new(move |p: &Progress| {
         let done = if p.flops > 0.0 {
@@ -379,7 +432,7 @@ enum Condensation {
 /// The finite-element kernel's mesh (`SeasBp5Mesh`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
 enum MeshArg {
-    /// Bisected towards the fault and the stations, graded in every direction.
+    /// An octree of Kuhn cubes refined towards the fault and the stations, graded in every direction.
     Graded,
     /// A tensor grid graded axis by axis.
     Tensor,
@@ -446,7 +499,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
         .with("dx", args.dx)
         .with("domain_km", domain_km)
         .with("ratio", ratio)
-        .with("ordering", args.ordering)
+        .with("ordering", args.ordering())
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("epsilon", args.epsilon);
@@ -535,7 +588,7 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
             if m > 4096 {
                 options.kernel = FaultKernel::hierarchical(args.epsilon);
             }
-            options.ordering = args.ordering;
+            options.ordering = args.ordering();
             let output = if root {
                 Some(bp5.volume_output(&args.out, &model, args.dx, setup)?)
             } else {

@@ -35,8 +35,8 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::pore_pressure::PorePressure;
-use rsf::whole_space::WholeSpaceKernel;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until};
+use rsf::whole_space::WholeSpaceKernel;
 use rsf::{Observer, Stepping};
 use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid, BP6_SECONDS_PER_YEAR};
 use rsf_seas::{SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
@@ -91,9 +91,9 @@ struct Args {
     /// The elastic kernel (default: bem for a and s, fe for c).
     #[arg(long, value_enum)]
     elastic: Option<Elastic>,
-    /// BEM: how the kernel's products are computed.
-    #[arg(long, value_enum, default_value = "fft")]
-    bem_product: BemProduct,
+    /// BEM: how the kernel's products are computed [default: fft].
+    #[arg(long, value_enum)]
+    bem_product: Option<BemProduct>,
     /// FE: the truncation of the half space, 0 ≤ x ≤ L, |z| ≤ L (km).
     #[arg(long, default_value_t = 400.0, allow_negative_numbers = true)]
     domain_km: f64,
@@ -114,9 +114,9 @@ struct Args {
     /// Seconds between profile rows.
     #[arg(long, default_value_t = 10_800.0, allow_negative_numbers = true)]
     profile_interval: f64,
-    /// Cells of the diffusion along 2 l_f (`--pressure diffusion`).
-    #[arg(long, default_value_t = 800)]
-    diffusion_cells: usize,
+    /// Cells of the diffusion along 2 l_f (`--pressure diffusion`) [default: 800].
+    #[arg(long)]
+    diffusion_cells: Option<usize>,
     #[command(flatten)]
     kernel: crate::KernelArgs,
     /// Threads of each evaluation (the same bits for every value).
@@ -156,16 +156,24 @@ impl Args {
     }
     /// The boundary-element kernel's product.
     fn bem_kernel(&self, tol: f64) -> Result<WholeSpaceKernel, AnyError> {
-        Ok(match self.bem_product {
+        Ok(match self.bem_product() {
             BemProduct::Fft => WholeSpaceKernel::Fft,
             BemProduct::Stored => WholeSpaceKernel::Stored(self.kernel.kernel(tol.min(1e-2))?),
         })
+    }
+    /// `--bem-product`, or its default.
+    fn bem_product(&self) -> BemProduct {
+        self.bem_product.unwrap_or(BemProduct::Fft)
+    }
+    /// `--diffusion-cells`, or its default.
+    fn diffusion_cells(&self) -> usize {
+        self.diffusion_cells.unwrap_or(800)
     }
     fn pressure_choice(&self) -> Bp6Pressure {
         match self.pressure {
             PressureArg::ClosedForm => Bp6Pressure::ClosedForm,
             PressureArg::Diffusion => Bp6Pressure::Diffusion {
-                cells: self.diffusion_cells,
+                cells: self.diffusion_cells(),
             },
         }
     }
@@ -203,20 +211,45 @@ impl Program for Args {
                  20 000 cells (Δz ≥ 2 m)",
             ));
         }
-        if elastic == Elastic::Fe {
-            in_range(
-                "--domain-km",
-                self.domain_km,
-                (30.0, 1e5),
-                "km: beyond 1.5 l_f",
-            )?;
-            in_range(
-                "--ratio",
-                self.ratio,
-                (1.0, 2.0),
-                "the growth of the elements",
-            )?;
+        // Settings the chosen kernel would ignore are careless inputs.
+        match elastic {
+            Elastic::Fe => {
+                if let Some(product) = self.bem_product {
+                    return Err(refuse(
+                        "--bem-product",
+                        format!("{product:?}").to_lowercase(),
+                        "a setting of `--elastic bem`: the finite-element model would ignore it",
+                    ));
+                }
+            }
+            Elastic::Bem => {
+                let stored = self.kernel.kernel != crate::KernelArg::Hierarchical
+                    || self.kernel.kernel_epsilon.is_some();
+                if stored && self.bem_product() == BemProduct::Fft {
+                    return Err(refuse(
+                        "--kernel",
+                        format!("{:?}", self.kernel.kernel).to_lowercase(),
+                        "`--kernel` and `--kernel-epsilon` set the stored kernel of \
+                         `--bem-product stored`: the FFT product (the default) would ignore \
+                         them",
+                    ));
+                }
+            }
         }
+        // The finite-element flags are checked whatever the kernel: a value that would be
+        // refused with `--elastic fe` is a careless input with the default kernel too.
+        in_range(
+            "--domain-km",
+            self.domain_km,
+            (30.0, 1e5),
+            "km: beyond 1.5 l_f",
+        )?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the elements",
+        )?;
         let tol = self.tolerance(variant);
         in_range("--tolerance", tol, (1e-12, 1e-1), "")?;
         in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
@@ -226,10 +259,19 @@ impl Program for Args {
             (60.0, 1e7),
             "s",
         )?;
-        if self.pressure == PressureArg::Diffusion {
+        if self.pressure != PressureArg::Diffusion {
+            if let Some(cells) = self.diffusion_cells {
+                return Err(refuse(
+                    "--diffusion-cells",
+                    cells.to_string(),
+                    "a setting of `--pressure diffusion`: with the closed form it would be \
+                     ignored",
+                ));
+            }
+        } else {
             in_range(
                 "--diffusion-cells",
-                self.diffusion_cells as f64,
+                self.diffusion_cells() as f64,
                 (2.0, rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64),
                 "cells",
             )?;
@@ -239,11 +281,12 @@ impl Program for Args {
         let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
         let (nodes, memory) = match elastic {
             // C: the dense stiffness as a sparse matrix (16 bytes an entry), its energy
-            // norm, the direct solver's copies and dense matrices (about 8 of them).
-            Elastic::Bem if variant == Bp6Variant::C => (cells, 8.0 * 16.0 * cells * cells + 1e8),
+            // norm, the direct solver's copies and dense matrices: measured 180 to 190
+            // bytes per entry of S (max RSS at 800, 2000 and 4000 cells), bounded by 256.
+            Elastic::Bem if variant == Bp6Variant::C => (cells, 256.0 * cells * cells + 1e8),
             Elastic::Bem => (
                 cells,
-                match self.bem_product {
+                match self.bem_product() {
                     BemProduct::Fft => 64.0 * cells,
                     BemProduct::Stored => crate::estimates::operator_bytes(cells, hierarchical),
                 } + 1e8,
@@ -284,7 +327,8 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume(self.run.resume.is_some()),
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
             ))
     }
 }
@@ -322,7 +366,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         .with("tolerance", tol)
         .with("pressure", format!("{:?}", args.pressure_choice()))
         .with("kernel", args.kernel.kernel(tol.min(1e-2))?)
-        .with("bem_product", format!("{:?}", args.bem_product))
+        .with("bem_product", format!("{:?}", args.bem_product()))
         .with("end_years", args.end_years)
         .with("station_interval", args.station_interval)
         .with("profile_interval", args.profile_interval);
@@ -474,11 +518,13 @@ impl Common<'_> {
         }
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
+        let counts = counts(run);
         println!(
-            "{} steps ({} attempts rejected), {}; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+            "{} steps ({} attempts rejected){}{counts}; wall {wall:.1} s, CPU {cpu:.1} s; \
+             wrote {}",
             summary.steps,
             summary.rejected_attempts,
-            counts(run),
+            if counts.is_empty() { "" } else { ", " },
             args.out.display()
         );
         let json = serde_json::json!({

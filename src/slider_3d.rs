@@ -68,7 +68,7 @@ const OUTPUTS: [&str; 5] = [
 /// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
 #[derive(Parser)]
 #[command(version)]
-struct Cli {
+pub struct Cli {
     #[command(flatten)]
     scene: SceneArgs,
     /// Number of time steps N (τ = T/N; `1e4` accepted).
@@ -162,6 +162,7 @@ impl Program for Cli {
         // vertex and cell (six tetrahedra per hexahedron) every --frame-every steps (frames
         // in pieces on ranks repeat their border points: `run` checks their exact sizes).
         let (nodes, bytes) = scene.estimated_bytes();
+        let bytes = bytes + crate::estimates::slider_3d_direct_bytes(&scene, nodes);
         let k = 2f64.powi(s.level.min(1000) as i32);
         let cells = 6.0 * 5.0 * k * k * scene.width_m.round().max(1.0) * k;
         let steps = steps_bound(s, (0.0, s.end_time_s))
@@ -187,7 +188,8 @@ impl Program for Cli {
             .folder(
                 Folder::new("--out", &self.out, &OUTPUTS)
                     .overwrite(self.folder.overwrite)
-                    .resume(self.resume.is_some()),
+                    .resume_from(self.resume.as_deref())
+                    .allow_change(&self.folder.allow_change),
             ))
     }
 }

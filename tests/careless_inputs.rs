@@ -193,12 +193,14 @@ const CARELESS: &[(&str, &[&str])] = &[
     ("--tolerances", &["nan"]),
 ];
 
-/// One case: a program, its arguments, what the error must name.
+/// One case: a program, its arguments, what the error must name (and what it must not:
+/// a flag the user did not write).
 #[derive(Debug, Clone)]
 struct Case {
     program: String,
     args: Vec<String>,
     names: String,
+    not: Option<String>,
 }
 
 fn case(program: &str, args: &[&str], names: &str) -> Case {
@@ -206,6 +208,15 @@ fn case(program: &str, args: &[&str], names: &str) -> Case {
         program: program.into(),
         args: args.iter().map(|s| (*s).to_owned()).collect(),
         names: names.into(),
+        not: None,
+    }
+}
+
+/// [`case`] whose error must not contain `not`.
+fn case_not(program: &str, args: &[&str], names: &str, not: &str) -> Case {
+    Case {
+        not: Some(not.into()),
+        ..case(program, args, names)
     }
 }
 
@@ -298,13 +309,99 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
             &["--max-level", "30"],
             "--max-level",
         ),
+        // Issue 74: nonsense that ran, lists that printed `m^NaN`, nameless errors.
+        case("seas_bp5", &["--tolerance", "1"], "--tolerance"),
+        case("seas_bp3", &["--tolerance", "1"], "--tolerance"),
+        case(
+            "seas_bp5",
+            &["--allow-change", "end_years"],
+            "--allow-change",
+        ),
+        case(
+            "seas_bp3",
+            &["--allow-change", "nonsense"],
+            "--allow-change",
+        ),
+        case(
+            "seas_bp1",
+            &["--allow-change", "end_years"],
+            "--allow-change",
+        ),
+        case(
+            "pipping_slider",
+            &["--allow-change", "steps"],
+            "--allow-change",
+        ),
+        case("slider_3d", &["--allow-change", "steps"], "--allow-change"),
+        case("seas_bp5", &["--ordering", "amd"], "--ordering"),
+        case("seas_bp5", &["--dx", "2000.0000001"], "--dx"),
+        case("okada_anchor", &["--modes", "3"], "--modes"),
+        case(
+            "seas_bp1",
+            &["--inertia", "--dynamic-tau", "1e-9"],
+            "--dynamic-tau",
+        ),
+        case("fault_kernel_scaling", &["--dz", "1000,1000"], "--dz"),
+        case("halfspace_scaling", &["--dx", "2000,2000"], "--dx"),
+        case("fault_setup_3d", &["--dx", "2,2"], "--dx"),
+        case("fault_setup_3d", &["--dx", "3"], "whole cells"),
+        case("okada_anchor", &["--levels", "1,1"], "--levels"),
+        case("okada_anchor", &["--far", "3,3"], "--far"),
+        case("solver_memory", &["--levels", "4,4"], "--levels"),
+        // seas_bp6 (issue 71, after issue 74 was filed): the same rules.
+        case("seas_bp6", &["--tolerance", "1"], "--tolerance"),
+        case(
+            "seas_bp6",
+            &["--allow-change", "end_years"],
+            "--allow-change",
+        ),
+        case("seas_bp6", &["--dz", "3"], "--dz"),
+        case("seas_bp6", &["--dz", "1e300"], "--dz"),
+        case("seas_bp6", &["--variant", "x"], "--variant"),
+        // BP6-C runs on the boundary-element kernel (its stiffness formed densely): more
+        // than 20 000 cells is refused before anything is built.
+        case(
+            "seas_bp6",
+            &["--variant", "c", "--elastic", "bem", "--dz", "1"],
+            "--dz",
+        ),
+        // Settings the chosen kernel would ignore.
+        case("seas_bp6", &["--kernel", "dense"], "--kernel"),
+        case(
+            "seas_bp6",
+            &["--elastic", "fe", "--bem-product", "fft"],
+            "--bem-product",
+        ),
+        case("seas_bp6", &["--diffusion-cells", "5"], "--diffusion-cells"),
+        case(
+            "seas_bp6",
+            &["--pressure", "diffusion", "--diffusion-cells", "1"],
+            "--diffusion-cells",
+        ),
+        case(
+            "seas_bp6",
+            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+            "--overwrite",
+        ),
+        case_not(
+            "pipping_slider",
+            &["--scene", "bad_end.toml"],
+            "end_time_s",
+            "--end-time",
+        ),
+        case_not(
+            "inclined_block",
+            &["--scene", "bad_end.toml"],
+            "end_time_s",
+            "--end-time",
+        ),
     ]
 }
 
 /// The scratch folder: another program's finished runs, a file, a folder whose lock is
 /// held, careless scene files.
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rsf-careless-{}", std::process::id()));
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rsf-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let main_job = dir.join("main_job");
     std::fs::create_dir_all(&main_job).unwrap();
@@ -331,6 +428,7 @@ fn scratch() -> PathBuf {
     std::fs::write(dir.join("huge.toml"), "level = 1e300\n").unwrap();
     std::fs::write(dir.join("huge_steps.toml"), "steps = 1000000000000\n").unwrap();
     std::fs::write(dir.join("huge_level.toml"), "level = 30\n").unwrap();
+    std::fs::write(dir.join("bad_end.toml"), "end_time_s = -1.0\n").unwrap();
     dir
 }
 
@@ -370,6 +468,13 @@ fn check(cases: &[Case], dir: &Path, has_out: &BTreeMap<String, bool>) -> Vec<St
                     Some(format!("{what}: a panic or a Debug dump:\n{err}"))
                 } else if err.len() > 2500 {
                     Some(format!("{what}: a {}-byte message", err.len()))
+                } else if c.not.as_ref().is_some_and(|n| err.contains(n.as_str())) {
+                    Some(format!(
+                        "{what}: the error names `{}`, which the user did not write:\n{err}",
+                        c.not.as_deref().unwrap_or_default()
+                    ))
+                } else if long_number(err) {
+                    Some(format!("{what}: a number of 30 digits or more:\n{err}"))
                 } else {
                     None
                 };
@@ -399,6 +504,18 @@ fn check(cases: &[Case], dir: &Path, has_out: &BTreeMap<String, bool>) -> Vec<St
     failures
 }
 
+/// Whether `text` holds a run of 30 digits or more (a `1e300` printed in full).
+fn long_number(text: &str) -> bool {
+    let mut run = 0;
+    for c in text.chars() {
+        run = if c.is_ascii_digit() { run + 1 } else { 0 };
+        if run >= 30 {
+            return true;
+        }
+    }
+    false
+}
+
 /// Holds the exclusive lock of `dir` as a running program does (the guard's lock: the
 /// folder's own `flock` on Unix).
 fn hold_lock(dir: &Path) -> std::fs::File {
@@ -417,7 +534,7 @@ fn hold_lock(dir: &Path) -> std::fs::File {
 
 #[test]
 fn every_program_refuses_careless_inputs_naming_them_and_changes_nothing() {
-    let dir = scratch();
+    let dir = scratch("careless");
     let mesh = cracked_arc_mesh(&dir);
     let _busy = hold_lock(&dir.join("busy"));
     let start = Instant::now();
@@ -433,6 +550,15 @@ fn every_program_refuses_careless_inputs_naming_them_and_changes_nothing() {
     for c in particular_cases(mesh.to_str().unwrap()) {
         assert!(programs.contains(&c.program), "{c:?}: no such program");
         cases.push(c);
+    }
+    // A build without METIS refuses its ordering at once (it was refused after 5.6 s of
+    // set-up); a build with it runs it.
+    if !rsf_metis::is_available() {
+        cases.push(case(
+            "seas_bp5",
+            &["--kernel", "fe", "--ordering", "nested-dissection"],
+            "--ordering",
+        ));
     }
     let failures = check(&cases, &dir, &has_out);
     println!(
@@ -540,6 +666,10 @@ fn a_full_disk_is_reported_with_the_path_and_its_cause() {
         ),
         ("inclined_block", &["--level", "2", "--frame-every", "1"]),
         ("spring_block", &["--steps-per-l", "2000"]),
+        // Its files are written whole at the end; the space of their rows is held as they
+        // grow (issue 74: a full disk was found only after the whole run).
+        ("seas_bp5", &["--dx", "4000", "--threads", "1"]),
+        ("seas_bp6", &["--dz", "100", "--threads", "1"]),
     ];
     let mut failures = Vec::new();
     for (i, (program, args)) in cases.iter().enumerate() {
@@ -642,4 +772,231 @@ fn cracked_arc_mesh(dir: &Path) -> PathBuf {
     let path = dir.join("cracked.msh");
     std::fs::write(&path, out.join("\n") + "\n").unwrap();
     path
+}
+
+/// A run's checkpoint resumed into **another** finished run's folder of the same program
+/// is refused before anything is cut, that folder byte-identical, while the run's own
+/// folder resumes (issue 74: `seas_bp5 --out B --resume A/checkpoint.bin` cut B's finished
+/// files to step 500 and continued A's run in them). The SEAS programs with `--resume`,
+/// through the guard; A stops at a step cap with a checkpoint, B is another configuration's whole run.
+#[test]
+fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing() {
+    let dir = std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let programs: [(&str, &[&str], &[&str]); 4] = [
+        (
+            "seas_bp5",
+            &[
+                "--dx",
+                "4000",
+                "--end-years",
+                "300",
+                "--checkpoint-every",
+                "100",
+            ],
+            &["--tolerance", "1e-7"],
+        ),
+        (
+            "seas_bp3",
+            &[
+                "--dx",
+                "2000",
+                "--end-years",
+                "100",
+                "--checkpoint-every",
+                "100",
+            ],
+            &["--tolerance", "1e-7"],
+        ),
+        (
+            "seas_bp1",
+            &[
+                "--dz",
+                "1000",
+                "--domain-km",
+                "60",
+                "--end-years",
+                "100",
+                "--checkpoint-every",
+                "100",
+            ],
+            &["--rk-tolerance", "1e-7"],
+        ),
+        (
+            "seas_bp6",
+            &[
+                "--dz",
+                "200",
+                "--end-years",
+                "2",
+                "--checkpoint-every",
+                "100",
+            ],
+            &["--tolerance", "1e-8"],
+        ),
+    ];
+    let failures = Mutex::new(Vec::new());
+    std::thread::scope(|scope| {
+        for (program, flags, other) in programs {
+            let (dir, failures) = (&dir, &failures);
+            scope.spawn(move || {
+                let args = |extra: &[&str]| -> Vec<String> {
+                    flags
+                        .iter()
+                        .chain(extra)
+                        .chain(&["--threads", "1"])
+                        .map(|s| (*s).to_owned())
+                        .collect()
+                };
+                let (a, b) = (format!("{program}_a"), format!("{program}_b"));
+                let limit = Duration::from_secs(300);
+                let first = run(
+                    program,
+                    &args(&["--out", &a, "--max-steps", "150"]),
+                    dir,
+                    limit,
+                );
+                let mut second = args(&["--out", &b]);
+                second.extend(other.iter().map(|s| (*s).to_owned()));
+                let second = run(program, &second, dir, limit);
+                let fail = |m: String| failures.lock().unwrap().push(format!("{program}: {m}"));
+                if first.ok || !first.stderr.contains("step cap") || !second.ok {
+                    return fail(format!("the two runs: {}\n{}", first.stderr, second.stderr));
+                }
+                let before = snapshot(&dir.join(&b));
+                let checkpoint = format!("{a}/checkpoint.bin");
+                let into_b = run(
+                    program,
+                    &args(&["--out", &b, "--resume", &checkpoint]),
+                    dir,
+                    limit,
+                );
+                if into_b.ok
+                    || !(into_b.stderr.contains("another run")
+                        && into_b.stderr.contains("--overwrite"))
+                {
+                    fail(format!("resumed into B: {}", into_b.stderr));
+                }
+                if snapshot(&dir.join(&b)) != before {
+                    fail("B's files were changed".into());
+                }
+                let into_a = run(
+                    program,
+                    &args(&["--out", &a, "--resume", &checkpoint]),
+                    dir,
+                    limit,
+                );
+                if !into_a.ok {
+                    fail(format!("resumed into its own folder: {}", into_a.stderr));
+                }
+            });
+        }
+    });
+    let failures = failures.into_inner().unwrap();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The programs of the MPI crate (`crates/rsf-mpi/src/bin/`) go through the guard like the
+/// examples: each binary is listed in `rsf_examples::on_ranks::programs` (a binary added
+/// later and not listed fails here), and the careless inputs of its flags are refused by
+/// its guard in this process — no MPI needed — naming the flag, folders untouched.
+#[test]
+fn the_mpi_programs_refuse_careless_inputs_without_mpi() {
+    let bin = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/rsf-mpi/src/bin");
+    let mut binaries: Vec<String> = std::fs::read_dir(bin)
+        .unwrap()
+        .map(|e| {
+            let p = e.unwrap().path();
+            let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
+            stem
+        })
+        .collect();
+    binaries.sort();
+    let listed = rsf_examples::on_ranks::programs();
+    for b in &binaries {
+        assert!(
+            listed.iter().any(|p| p.name == b),
+            "the MPI binary `{b}` is not under the guard: list it in rsf_examples::on_ranks"
+        );
+    }
+    assert!(
+        binaries.contains(&"distributed_sweep".to_owned()),
+        "{binaries:?}"
+    );
+    let dir = scratch("careless-mpi");
+    let _busy = hold_lock(&dir.join("busy"));
+    let before = snapshot(&dir);
+    let mut failures = Vec::new();
+    let mut count = 0;
+    for p in &listed {
+        let help = (p.command)().render_long_help().to_string();
+        let flags: BTreeSet<String> = help
+            .lines()
+            .filter_map(|l| {
+                let name = l.trim_start().strip_prefix("--")?;
+                let end = name
+                    .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+                    .unwrap_or(name.len());
+                Some(format!("--{}", &name[..end]))
+            })
+            .collect();
+        let mut cases = generic_cases(p.name, &flags);
+        if p.name == "distributed_sweep" {
+            cases.extend([
+                case(p.name, &["--sweeps", "1e12"], "--sweeps"),
+                case(p.name, &["--refinements", "12"], "--max-memory-gb"),
+                case(p.name, &["--levels", "2"], "--vcycle"),
+                case(p.name, &["--repetitions", "1e9"], "--repetitions"),
+                case(p.name, &["--out", "main_job"], "--overwrite"),
+            ]);
+        }
+        for (i, c) in cases.iter().enumerate() {
+            count += 1;
+            // Paths inside the scratch folder (this process's working folder is not it).
+            let mut args = vec![std::ffi::OsString::from(p.name)];
+            let mut follows_path = false;
+            for a in &c.args {
+                let path_flag = matches!(a.as_str(), "--out" | "--figures" | "--scene");
+                args.push(if follows_path {
+                    dir.join(a).into_os_string()
+                } else {
+                    a.into()
+                });
+                follows_path = path_flag;
+            }
+            if flags.contains("--out") && !c.args.iter().any(|a| a == "--out") {
+                args.extend([
+                    "--out".into(),
+                    dir.join(format!("fresh/mpi_{}_{i}", p.name)).into(),
+                ]);
+            }
+            match (p.prepare)(args.clone()) {
+                Ok(()) => failures.push(format!("{} {args:?}: accepted", p.name)),
+                Err(e) => {
+                    let mut text = e.to_string();
+                    let mut cause = e.source();
+                    while let Some(c) = cause {
+                        text.push_str(&format!("\n{c}"));
+                        cause = c.source();
+                    }
+                    if !text.contains(&c.names) {
+                        failures.push(format!(
+                            "{} {args:?}: the error does not name `{}`:\n{text}",
+                            p.name, c.names
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    for (path, bytes) in &before {
+        if snapshot(&dir).get(path) != Some(bytes) {
+            failures.push(format!("{} was changed", path.display()));
+        }
+    }
+    println!("{} MPI programs, {count} cases", listed.len());
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    std::fs::remove_dir_all(&dir).ok();
 }

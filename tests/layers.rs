@@ -32,6 +32,8 @@ const LAYERS: &[&[&str]] = &[
     &["rsf-scenes"],
     // Outside the default build (MPI); its programs are the root package's.
     &["rsf-mpi"],
+    // Outside the default build too (maturin): the Python package over the scenes.
+    &["rsf-python"],
 ];
 
 fn workspace() -> PathBuf {

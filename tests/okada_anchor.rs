@@ -3,12 +3,12 @@
 //! in an elastic half-space, Okada (1992) as `rsf-halfspace` evaluates it
 //! (docs/halfspace.md).
 //!
-//! The set-up, the frame, the signs, the rim and the tractions: `rsf_examples::
-//! okada_anchor` (shared with `examples/okada_anchor.rs`). The far faces are held at
+//! The set-up, the frame, the signs, the rim and the tractions: the library's
+//! `rsf::okada_comparison` (shared with `examples/okada_anchor.rs`). The far faces are held at
 //! Okada's own displacement, so that the truncation of the half-space is not part of the
 //! error measured here (the domain size is studied in the example).
 
-use rsf_examples::okada_anchor::{
+use rsf::okada_comparison::{
     compare_held, compare_modes, compare_refined, compare_smooth, Errors, Fault, ModeComparison,
     Solver, MULTIGRID_TOLERANCE, SLIP,
 };

@@ -272,7 +272,13 @@ fn bp1(label: &str, kernel: FaultKernel) {
             ..bp1.fault_ode_options(1e-6).unwrap()
         };
         let mut ode = bp1.fault_ode(model, options).unwrap();
-        hash_run(&mut ode, Until::Time(300.0 * SECONDS_PER_YEAR))
+        hash_run(
+            &mut ode,
+            Until::TimeWithin {
+                time: 300.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
+        )
     };
     let runs = [
         (1, run(Parallelism::SEQ)),
@@ -312,7 +318,13 @@ fn seas_bp3_dx_2000() {
         options.kernel = FaultKernel::Dense;
         options.parallelism = par;
         let mut ode = bp3.fault_ode(model, options).unwrap();
-        hash_run(&mut ode, Until::Time(150.0 * SECONDS_PER_YEAR))
+        hash_run(
+            &mut ode,
+            Until::TimeWithin {
+                time: 150.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
+        )
     };
     let runs = [
         (1, run(Parallelism::SEQ)),
@@ -335,7 +347,13 @@ fn seas_bp5_dx_4000() {
         let mut ode = bp5
             .fault_ode(model, options, &bp5.half_space(1e-6).unwrap())
             .unwrap();
-        hash_run(&mut ode, Until::Time(200.0 * SECONDS_PER_YEAR))
+        hash_run(
+            &mut ode,
+            Until::TimeWithin {
+                time: 200.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
+        )
     };
     let runs = [
         (1, run(Parallelism::SEQ)),

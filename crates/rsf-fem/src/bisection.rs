@@ -22,12 +22,29 @@
 //! neighbour) bisected until none is left gives a conforming mesh (Maubach, Theorem 5.1).
 //! Facets on a plane of the root grid stay on it: a plane of the grid (a fault, a free
 //! surface) is tiled by facets at every depth.
+//!
+//! **Which planes are resolved.** Bisection only subdivides: a face of a cell is cut into
+//! faces in its own plane, so every plane tiled by faces of the root's Kuhn tetrahedra
+//! stays tiled at any depth and any grading — the grid planes `x_i = lower_i + k · root`
+//! and the diagonal planes `x_i − x_j = lower_i − lower_j + k · root` through the root's
+//! vertices ([`cuboid`](crate::cuboid): each box's tetrahedra are the orderings of its
+//! local coordinates; never `x_i + x_j = const`). The finer grids' planes are another
+//! matter: the half-size boxes carry *reflected* Kuhn triangulations (each sub-box's main
+//! diagonal runs from its outer corner to the parent box's centre), so their diagonals
+//! alternate from box to box (`x_i − x_j` in one, `x_i + x_j` in its neighbour along
+//! `x_i`): a grid plane `x_i = lower_i + (k + ½) · root` is resolved where the boxes
+//! around it are bisected, a 45° plane that passes through the finer vertices only is
+//! not. A 45° fault goes on a root diagonal (or on a uniform
+//! [`cuboid`](crate::cuboid) / [`cuboid_from_coordinates`](crate::cuboid_from_coordinates)
+//! grid, whose red refinement keeps every diagonal of its cubes).
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::mesh::TetrahedronMesh;
 use crate::{Error, Result};
+
+mod levels;
 
 /// Most passes of [`BisectionMesh::refine`] (each bisects every cell that asks for it once):
 /// three per halving of the cell size, and the closure's; 64 halvings are far beyond `f64`.
@@ -57,6 +74,14 @@ pub struct BisectionMesh {
     tags: Vec<u8>,
     /// The midpoint vertex of every edge bisected so far, by [`edge_key`].
     midpoints: HashMap<u64, u32, BuildHasherDefault<EdgeHasher>>,
+    /// The ends of the edge each vertex after the root's is the midpoint of, in creation
+    /// order (vertex `roots + i` is the midpoint of `parents[i]`): the prolongations of a
+    /// hierarchy ([`hierarchy`](Self::hierarchy)).
+    parents: Vec<[u32; 2]>,
+    /// The root grid's vertices.
+    roots: usize,
+    /// The root cubes' edge (m).
+    root: f64,
 }
 
 /// What [`BisectionMesh::refine`] did.
@@ -81,28 +106,7 @@ impl BisectionMesh {
     /// `upper − lower` is a whole number (to 1e-9) of at least one `root`, or if the grid
     /// has 2³² vertices or more.
     pub fn kuhn_box(lower: [f64; 3], upper: [f64; 3], root: f64) -> Result<Self> {
-        if !(root > 0.0 && root.is_finite()) {
-            return Err(Error::InvalidGrid(format!(
-                "the root cell size {root} m must be positive and finite"
-            )));
-        }
-        let mut n = [0usize; 3];
-        for a in 0..3 {
-            let cells = (upper[a] - lower[a]) / root;
-            let whole = lower[a].is_finite()
-                && upper[a].is_finite()
-                && cells >= 1.0 - 1e-9
-                && (cells - cells.round()).abs() <= 1e-9 * cells
-                && cells <= 1e6;
-            if !whole {
-                return Err(Error::InvalidGrid(format!(
-                    "side {a} of the box [{}, {}] m must be a whole number of root cells of \
-                     {root} m",
-                    lower[a], upper[a]
-                )));
-            }
-            n[a] = cells.round() as usize + 1;
-        }
+        let n = crate::structured::root_cells(lower, upper, root)?.map(|c| c as usize + 1);
         let count = n[0]
             .checked_mul(n[1])
             .and_then(|v| v.checked_mul(n[2]))
@@ -147,11 +151,15 @@ impl BisectionMesh {
             }
         }
         let tags = vec![3; cells.len()];
+        let roots = vertices.len();
         Ok(Self {
             vertices,
             cells,
             tags,
             midpoints: HashMap::default(),
+            parents: Vec::new(),
+            roots,
+            root,
         })
     }
 
@@ -257,6 +265,7 @@ impl BisectionMesh {
                 let (p, q) = (self.vertices[a as usize], self.vertices[b as usize]);
                 self.vertices
                     .push([0, 1, 2].map(|i| 0.5 * p[i] + 0.5 * q[i]));
+                self.parents.push([a, b]);
                 self.midpoints.insert(key, z);
                 z
             }

@@ -66,6 +66,60 @@ impl<const D: usize> MeshHierarchy<D> {
 }
 
 impl<const D: usize> MeshHierarchy<D> {
+    /// A hierarchy of nested meshes made elsewhere (e.g. by bisection,
+    /// [`BisectionMesh::hierarchy`](crate::BisectionMesh::hierarchy)): `levels` coarsest
+    /// first, `prolongations[j − 1]` the scalar P1 prolongation from level `j − 1` to level
+    /// `j` (`n_j × n_{j−1}`, exact for linear functions on nested meshes); the vertices of
+    /// a level keep their indices on the finer levels, as in a uniform refinement.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`](crate::Error::DimensionMismatch) for no level, a
+    /// prolongation count other than `levels − 1`, or a prolongation whose shape is not
+    /// its two levels' vertex counts.
+    pub fn from_levels(
+        levels: Vec<SimplexMesh<D>>,
+        prolongations: Vec<SparseColMat<usize, f64>>,
+    ) -> Result<Self> {
+        let mismatch = |what, expected, got| crate::Error::DimensionMismatch {
+            what,
+            expected,
+            got,
+        };
+        if levels.is_empty() {
+            return Err(mismatch("hierarchy levels", 1, 0));
+        }
+        if prolongations.len() + 1 != levels.len() {
+            return Err(mismatch(
+                "hierarchy prolongations",
+                levels.len() - 1,
+                prolongations.len(),
+            ));
+        }
+        for (j, p) in prolongations.iter().enumerate() {
+            let (coarse, fine) = (levels[j].num_vertices(), levels[j + 1].num_vertices());
+            if p.ncols() != coarse {
+                return Err(mismatch(
+                    "prolongation columns (coarse vertices)",
+                    coarse,
+                    p.ncols(),
+                ));
+            }
+            if p.nrows() != fine {
+                return Err(mismatch(
+                    "prolongation rows (fine vertices)",
+                    fine,
+                    p.nrows(),
+                ));
+            }
+        }
+        let vector_prolongations = prolongations.iter().map(vectorize::<D>).collect();
+        Ok(Self {
+            levels,
+            prolongations,
+            vector_prolongations,
+        })
+    }
+
     /// Refines `coarse` uniformly `levels` times (so the hierarchy has `levels + 1` meshes),
     /// see [`refine_red`](crate::refine_red).
     ///

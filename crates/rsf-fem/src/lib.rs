@@ -55,6 +55,7 @@ mod gmsh;
 mod hierarchy;
 mod loads;
 mod mesh;
+mod octree;
 mod part;
 mod refine;
 mod split;
@@ -80,6 +81,7 @@ pub use loads::{
     traction_load_components,
 };
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
+pub use octree::{OctreeMesh, OctreeReport};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, quadratic_form, spmv_add, Cholesky, SparseMatrix};

@@ -142,6 +142,38 @@ pub fn rectangle_from_coordinates(
 
 /// Each named list of a tensor grid's coordinates: at least 2, finite, strictly
 /// increasing ([`Error::InvalidGrid`] naming the list otherwise).
+/// The number of cubes of edge `root` (m) along each side of the box `[lower, upper]`:
+/// the root grid of the graded meshes ([`crate::OctreeMesh`], [`crate::BisectionMesh`]).
+///
+/// # Errors
+/// [`Error::InvalidGrid`] unless `root > 0`, every coordinate is finite and each side is a
+/// whole number (to 1e-9) of at least one and at most 10⁶ `root`.
+pub(crate) fn root_cells(lower: [f64; 3], upper: [f64; 3], root: f64) -> Result<[u64; 3]> {
+    if !(root > 0.0 && root.is_finite()) {
+        return Err(Error::InvalidGrid(format!(
+            "the root cell size {root} m must be positive and finite"
+        )));
+    }
+    let mut counts = [0u64; 3];
+    for a in 0..3 {
+        let cells = (upper[a] - lower[a]) / root;
+        let whole = lower[a].is_finite()
+            && upper[a].is_finite()
+            && cells >= 1.0 - 1e-9
+            && (cells - cells.round()).abs() <= 1e-9 * cells
+            && cells <= 1e6;
+        if !whole {
+            return Err(Error::InvalidGrid(format!(
+                "side {a} of the box [{}, {}] m must be a whole number of root cells of \
+                 {root} m",
+                lower[a], upper[a]
+            )));
+        }
+        counts[a] = cells.round() as u64;
+    }
+    Ok(counts)
+}
+
 fn check_coordinates(lists: &[(&str, &[f64])]) -> Result<()> {
     for &(name, c) in lists {
         if c.len() < 2 {
@@ -310,6 +342,16 @@ pub fn pipping_slider_coarse(diagonal: Diagonal) -> TriangleMesh {
 /// oriented (see [`SimplexMesh::from_ordered_cells`]). All 6 tetrahedra of a cube are
 /// congruent. No tags are set.
 ///
+/// **Which planes it resolves.** The tetrahedron of the path `(a, b, c)` is the set
+/// `1 ≥ ξ_a ≥ ξ_b ≥ ξ_c ≥ 0` of the box's local coordinates `ξ = (x − p)/(cell size)`, so
+/// its faces lie on the planes `ξ_i = 0, 1` and `ξ_i = ξ_j`: a surface made of mesh faces
+/// (a fault inside the body, [`SimplexMesh::split_along_polygon`]) can be a plane
+/// `x_i = const` on a grid line, or — where the cells are cubes (equal spacing along
+/// `x_i` and `x_j`) — a diagonal plane `x_i − x_j = const` through grid vertices, i.e.
+/// dipping at 45° (e.g. `y − z = d`: Okada's 45° dip towards `−y`). The other diagonal,
+/// `x_i + x_j = const`, cuts through the cells and is not resolved; nor is any other dip.
+/// Red refinement keeps all of these planes resolved ([`MeshHierarchy`](crate::MeshHierarchy)).
+///
 /// # Errors
 /// [`Error::InvalidGrid`] if some `n < 2` or a size is not positive and finite;
 /// [`Error::NonFiniteCoordinate`] for a non-finite origin.
@@ -350,6 +392,11 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
 /// [`cuboid`] does (Kuhn's subdivision, conforming, refinable): with
 /// [`geometric_grading`] a 3-D mesh fine near a fault and coarsening geometrically to
 /// a far boundary hundreds of km away (docs/three-d.md). No tags are set.
+///
+/// The planes it resolves are [`cuboid`]'s: the grid planes `x_i = const`, and the
+/// diagonal planes `x_i − x_j = const` only where the boxes are cubes (`x_i` and `x_j`
+/// spaced equally around the plane: a 45° fault needs a band of equal spacing around
+/// it), never `x_i + x_j = const`.
 ///
 /// ```
 /// use rsf_fem::{cuboid_from_coordinates, geometric_grading};

@@ -181,7 +181,8 @@ impl Cholesky {
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
         let buffer = MemBuffer::try_new(req).map_err(faer_err)?;
-        let l_values = vec![0.0; symbolic.len_val()];
+        // The factor, the largest allocation of a 3-D model's build: fallible.
+        let l_values = crate::try_filled("a sparse Cholesky factor", symbolic.len_val(), 0.0)?;
         Ok(Self {
             symbolic,
             pattern: pattern.to_owned().map_err(faer_err)?,

@@ -52,6 +52,20 @@ pub enum Error {
         "invalid parallelism {0:?}: expected a thread count, 0 or `pool` (rayon's pool), or `seq`"
     )]
     InvalidParallelism(String),
+    /// An allocation the machine refused ([`try_filled`](crate::try_filled)): a run whose
+    /// memory estimate was below its need ends with this error, never an abort.
+    #[error(
+        "cannot allocate {:.3} GB for {what}: the machine does not hold it (lower the \
+         problem's size; the run's memory estimate was below its need, please report its \
+         flags)",
+        *bytes as f64 / 1e9
+    )]
+    OutOfMemory {
+        /// What was to be allocated.
+        what: &'static str,
+        /// How many bytes.
+        bytes: usize,
+    },
 }
 
 /// `Result` with this crate's [`Error`].
@@ -59,4 +73,28 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 pub(crate) fn faer_err(e: impl std::fmt::Debug) -> Error {
     Error::Faer(format!("{e:?}"))
+}
+
+/// A vector of `len` copies of `value`, its memory reserved fallibly (the large
+/// allocations of the factorisations): [`Error::OutOfMemory`] naming `what` where the
+/// allocator refuses it (a request above `isize::MAX` bytes included), where
+/// `vec![value; len]` would abort the process.
+///
+/// # Errors
+/// [`Error::OutOfMemory`].
+///
+/// ```
+/// let v = rsf_linalg::try_filled("a test", 3, 0.5).unwrap();
+/// assert_eq!(v, [0.5; 3]);
+/// let e = rsf_linalg::try_filled("a huge table", usize::MAX / 8, 0.0).unwrap_err();
+/// assert!(e.to_string().contains("a huge table"));
+/// ```
+pub fn try_filled<T: Clone>(what: &'static str, len: usize, value: T) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| Error::OutOfMemory {
+        what,
+        bytes: len.saturating_mul(std::mem::size_of::<T>()),
+    })?;
+    v.resize(len, value);
+    Ok(v)
 }

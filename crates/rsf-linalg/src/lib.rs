@@ -33,7 +33,7 @@ mod sprs_conversion;
 
 pub use cholesky::{Cholesky, FillOrdering};
 pub use csc::Csc;
-pub use error::{Error, Result};
+pub use error::{try_filled, Error, Result};
 pub use ops::{combine, quadratic_form, spmv_add, SparseMatrix};
 pub use parallelism::Parallelism;
 pub use reduce::{for_node_rows, ordered_sum, SUM_PARALLEL_MIN};

@@ -19,18 +19,18 @@ use common::mpirun;
 const BIN: &str = env!("CARGO_BIN_EXE_distributed_sweep");
 const D: usize = 3;
 
-/// A fresh file `name` under the target directory's tmp.
+/// A fresh output folder `name` under the target directory's tmp.
 fn file(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("halo");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(name);
-    std::fs::remove_file(&p).ok();
+    std::fs::remove_dir_all(&p).ok();
     p
 }
 
-/// The values a run wrote (little-endian f64).
-fn values(path: &Path) -> Vec<f64> {
-    std::fs::read(path)
+/// The values a run wrote into its folder `out` (`values.bin`, little-endian f64).
+fn values(out: &Path) -> Vec<f64> {
+    std::fs::read(out.join("values.bin"))
         .unwrap()
         .chunks_exact(8)
         .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
@@ -331,6 +331,52 @@ fn the_reference_refuses_two_ranks() {
     assert!(!run.status.success());
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(err.contains("--reference runs on one rank"), "{err}");
+}
+
+/// The program goes through the guard (issue 74): `--sweeps 1e12` (which aborted on a
+/// 1 TB allocation) and `--refinements 12` (which hung) are refused at once on every rank,
+/// and `--out` into another run's folder is refused, its file unchanged, unless
+/// `--overwrite`.
+#[test]
+fn the_program_refuses_careless_inputs_on_every_rank() {
+    for (args, names) in [
+        (&["--sweeps", "1e12"][..], "--sweeps"),
+        (&["--refinements", "12"][..], "--max-memory-gb"),
+    ] {
+        let t = std::time::Instant::now();
+        let run = mpirun(2).arg(BIN).args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{args:?}");
+        assert!(err.contains(names), "{args:?}: {err}");
+        assert!(
+            t.elapsed().as_secs_f64() < 30.0,
+            "{args:?}: {:?}",
+            t.elapsed()
+        );
+    }
+    let out = file("guarded");
+    run_program(1, &["--refinements", "0"], &out);
+    let before = std::fs::read(out.join("values.bin")).unwrap();
+    let again = mpirun(1)
+        .arg(BIN)
+        .args(["--refinements", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&again.stderr);
+    assert!(
+        !again.status.success() && err.contains("--overwrite"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(out.join("values.bin")).unwrap(), before);
+    let replaced = mpirun(1)
+        .arg(BIN)
+        .args(["--refinements", "1", "--overwrite", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(replaced.status.success());
+    assert!(values(&out).len() > before.len() / 8);
 }
 
 /// Set in the ranks' environment: run the body of the test (`mpi_ranks_exchange_in_order`,

@@ -169,6 +169,51 @@ fn an_error_on_rank_0_ends_every_rank() {
     assert_eq!(std::fs::read(&file).unwrap(), b"a file");
 }
 
+/// Ranks started with different flags — an MPMD launch `mpirun -n 1 P A : -n 1 P B` with
+/// another `--end-years` (which hung) or another `--dx` (which crashed with a segmentation
+/// fault) on one rank — end, every one, before any work with one error naming the flag on
+/// both ranks; nothing is written.
+#[test]
+fn ranks_started_with_different_flags_end_with_one_named_error() {
+    for (name, a, b, shown) in [
+        (
+            "end_years",
+            "--end-years=5",
+            "--end-years=50",
+            "--end-years 50",
+        ),
+        ("dx", "--dx=2000", "--dx=4000", "--dx 4000"),
+    ] {
+        let out = folder(&format!("mpmd_{name}"));
+        let common = ["--threads", "1", "--out", out.to_str().unwrap()];
+        let t = Instant::now();
+        let run = std::process::Command::new("mpirun")
+            .args(["--oversubscribe", "-n", "1", BP5, a])
+            .args(common)
+            .args([":", "-n", "1", BP5, b])
+            .args(common)
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .output()
+            .expect("mpirun");
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success(), "{name}: {err}");
+        assert!(
+            err.contains("different flags") && err.contains(shown),
+            "{name}: {err}"
+        );
+        assert!(
+            t.elapsed() < Duration::from_secs(60),
+            "{name}: {:?}",
+            t.elapsed()
+        );
+        assert!(
+            !out.exists(),
+            "{name}: the folder was made before the ranks agreed"
+        );
+    }
+}
+
 /// BP3 (thrust, 60°) at Δx = 2 km for 300 years: its 26 files (with the figure) on 2 ranks
 /// have one process's bytes.
 #[test]

@@ -64,8 +64,14 @@ fn bp1_bits(ranks: Option<rsf_mpi::MpiRanks>) -> Vec<Vec<u64>> {
         ode.share_evaluations(Box::new(r)).unwrap();
     }
     let mut bits = Bits::default();
-    ode.run_until(Until::Time(20.0 * SECONDS_PER_YEAR), &mut [&mut bits])
-        .unwrap();
+    ode.run_until(
+        Until::TimeWithin {
+            time: 20.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
+        &mut [&mut bits],
+    )
+    .unwrap();
     bits.0
 }
 

@@ -15,7 +15,8 @@
 //!   time step), with [`Stopping`] and [`SolveReport`]; [`FullStep`] turns any
 //!   `NonsmoothSolver` into a `StepSolver`;
 //! - the checks every solver makes: [`BlockedMatrix`] (the matrix and its fixed dofs) and
-//!   [`check_inputs`], with their [`Error`].
+//!   [`check_inputs`], with their [`Error`];
+//! - [`SolveWatch`]: progress reports and a wall-clock cap on a long solve.
 //!
 //! The solvers live in `rsf-tnnmg` (TNNMG, nonlinear Gauss–Seidel) and `rsf-direct` (exact
 //! condensation onto the nonsmooth blocks); each has its own error type
@@ -27,9 +28,11 @@ mod matrix;
 mod nonlinearity;
 mod solver;
 mod step;
+mod watch;
 
 pub use error::{Error, Result};
 pub use matrix::BlockedMatrix;
 pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity, Scaled};
 pub use solver::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
 pub use step::{FullStep, StepSolver};
+pub use watch::{SolveProgress, SolveWatch, WatchVerdict};

@@ -25,7 +25,7 @@ mod omega;
 mod root;
 
 pub use convention::{normal_component, StateVariable};
-pub use message::{excerpt, parse_name, UnknownName, EXCERPT_CHARS};
+pub use message::{excerpt, number, parse_name, UnknownName, EXCERPT_CHARS};
 pub use omega::{wright_omega, wright_omega_ln};
 pub use root::{
     safeguarded_newton, solve_increasing, solve_increasing_from, Bracket, IncreasingFunction,

@@ -17,6 +17,28 @@ pub fn excerpt(s: &str) -> String {
     }
 }
 
+/// A number for a message as a user would write it: `300`, `0.025`, `1e300` (never 301
+/// digits), `NaN`; four significant digits where the shortest form is longer (a computed
+/// bound `0.007217090069284064` as `7.217e-3`).
+///
+/// ```
+/// assert_eq!(rsf_numeric::number(2000.0), "2000");
+/// assert_eq!(rsf_numeric::number(1e300), "1e300");
+/// assert_eq!(rsf_numeric::number(0.007217090069284064), "7.217e-3");
+/// ```
+pub fn number(x: f64) -> String {
+    let s = if x != 0.0 && x.is_finite() && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    };
+    if s.len() > 10 {
+        format!("{x:.3e}")
+    } else {
+        s
+    }
+}
+
 /// A name that is not one of a choice's names (a state law, an integrator, a solver, …),
 /// as given on a command line or in a scene file. Every crate's error enum wraps this one
 /// type, so the message reads the same wherever the name was parsed.

@@ -190,9 +190,9 @@ impl<const D: usize, const C: usize, M: Stepping<D, C>> DynEngine for Engine<D, 
     ) -> Result<RunSummary, RunError> {
         let mut progress = how.progress.then(|| match how.until {
             Until::Steps(n) => Progress::steps(n, "rsf"),
-            Until::Time(t) | Until::TimeOrStepCap { time: t, .. } => {
-                Progress::time(self.sim.state().time, t, "rsf")
-            }
+            Until::Time(t)
+            | Until::TimeOrStepCap { time: t, .. }
+            | Until::TimeWithin { time: t, .. } => Progress::time(self.sim.state().time, t, "rsf"),
         });
         let mut checkpointer = match (&how.checkpoint, how.checkpoint_every) {
             (Some(path), n) if n > 0 => Some(

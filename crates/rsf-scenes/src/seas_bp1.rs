@@ -304,7 +304,7 @@ impl SeasBp1 {
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", grid.ratio),
+                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
             ));
         }
         Ok(())

@@ -105,7 +105,10 @@ impl SeasBp3 {
         if !(self.dip_degrees > 0.0 && self.dip_degrees < 90.0) {
             return Err(invalid(
                 "dip_degrees",
-                format!("{} must be in (0, 90)", self.dip_degrees),
+                format!(
+                    "{} must be in (0, 90)",
+                    rsf_numeric::number(self.dip_degrees)
+                ),
             ));
         }
         Ok(())
@@ -151,7 +154,10 @@ impl SeasBp3 {
         if !(grid.dx > 0.0 && grid.dx.is_finite() && 4.0 * grid.dx <= self.params.w_f) {
             return Err(invalid(
                 "dx",
-                format!("{} m must be positive and at most W_f/4", grid.dx),
+                format!(
+                    "{} m must be positive and at most W_f/4",
+                    rsf_numeric::number(grid.dx)
+                ),
             ));
         }
         if !(depth > self.params.w_f * s * 1.5 && grid.domain.is_finite()) {
@@ -166,7 +172,7 @@ impl SeasBp3 {
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", grid.ratio),
+                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
             ));
         }
         let side = geometric_grading(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain)?;
@@ -194,7 +200,15 @@ impl SeasBp3 {
     /// # Errors
     /// As [`mesh`](Self::mesh); model assembly errors.
     pub fn model(&self, grid: &SeasBp3Grid) -> Result<Model<2>> {
-        let mesh = self.mesh(grid)?;
+        self.model_on(self.mesh(grid)?, grid)
+    }
+
+    /// [`model`](Self::model) on `mesh`, a mesh of `grid`'s box ([`mesh`](Self::mesh)'s,
+    /// e.g. with its vertices numbered otherwise).
+    ///
+    /// # Errors
+    /// Model assembly errors (e.g. a mesh without the fault's line).
+    pub fn model_on(&self, mesh: TriangleMesh, grid: &SeasBp3Grid) -> Result<Model<2>> {
         let p = &self.params;
         let (s, c) = self.dip();
         let bottom = -grid.domain * s;

@@ -11,7 +11,7 @@
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_ode::{FaultOdeOptions, SchurOnlySetup};
 use rsf::fem::{
-    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, BisectionMesh,
+    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, OctreeMesh,
     TetrahedronMesh,
 };
 use rsf::halfspace::Medium;
@@ -164,7 +164,10 @@ impl SeasBp5 {
             return Err(invalid("f0", "must be finite"));
         }
         if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(invalid("nu", format!("{} must be in (-1, 0.5)", self.nu)));
+            return Err(invalid(
+                "nu",
+                format!("{} must be in (-1, 0.5)", rsf_numeric::number(self.nu)),
+            ));
         }
         if self.h_s + 2.0 * self.h_t + self.h > self.w_f || self.l_core + 2.0 * self.h_t > self.l_f
         {
@@ -303,12 +306,14 @@ impl SeasBp5 {
         self.validate()?;
         let count = |length: f64| -> Result<usize> {
             let n = length / dx;
-            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-9 * n {
+            if !(dx.is_finite() && dx > 0.0) || n < 1.0 || (n - n.round()).abs() > 1e-12 * n {
                 return Err(invalid(
                     "dx",
                     format!(
-                        "{dx} m must divide l_f = {} m and W_f = {} m into whole cells",
-                        self.l_f, self.w_f
+                        "{} m must divide l_f = {} m and W_f = {} m into whole cells",
+                        rsf_numeric::number(dx),
+                        self.l_f,
+                        self.w_f
                     ),
                 ));
             }
@@ -319,8 +324,9 @@ impl SeasBp5 {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{dx} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
-                     grid)"
+                    "{} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
+                     grid)",
+                    rsf_numeric::number(dx)
                 ),
             ));
         }
@@ -522,10 +528,11 @@ pub enum SeasBp5Mesh {
     /// diagonals on the tensor grid's boxes, to tell the effect of the pattern from that of
     /// the grading (docs/seas-bp5.md).
     TensorMirrored,
-    /// Kuhn cubes bisected towards the rate-and-state region and the off-fault stations
-    /// ([`BisectionMesh`], docs/fem.md "Graded meshes by bisection"): cells `dx` there,
-    /// growing with the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor
-    /// grid's growth), three shapes up to similarity.
+    /// An octree of Kuhn cubes refined towards the rate-and-state region and the off-fault
+    /// stations ([`OctreeMesh`], docs/fem.md "Graded meshes: octree of Kuhn cubes"): cells
+    /// `dx` there — the tensor grid's own Kuhn cells, with parallel diagonals — growing with
+    /// the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor grid's
+    /// growth) beyond the slab `near_fault`.
     #[default]
     Graded,
 }
@@ -603,7 +610,7 @@ impl SeasBp5 {
         let (h, far) = (grid.dx, grid.domain);
         let whole = |length: f64| {
             let n = length / h;
-            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-9 * n
+            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-12 * n
         };
         // The tensor grid is symmetric about x₂ = 0 (a line of nodes there); the graded
         // mesh's lattice is shifted along strike so that x₂ = ±l_f/2 are nodes.
@@ -615,7 +622,8 @@ impl SeasBp5 {
             return Err(invalid(
                 "dx",
                 format!(
-                    "{h} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
+                    "{} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
+                    rsf_numeric::number(h),
                     match grid.mesh {
                         SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
                             "l_f/2 (the tensor grid)"
@@ -629,13 +637,16 @@ impl SeasBp5 {
         if !(far.is_finite() && far >= 1.5 * (0.5 * self.l_f).max(self.w_f)) {
             return Err(invalid(
                 "domain",
-                format!("{far} m must reach 1.5 times l_f/2 and W_f"),
+                format!(
+                    "{} m must reach 1.5 times l_f/2 and W_f",
+                    rsf_numeric::number(far)
+                ),
             ));
         }
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", grid.ratio),
+                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
             ));
         }
         let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
@@ -643,8 +654,9 @@ impl SeasBp5 {
             return Err(invalid(
                 "near_fault",
                 format!(
-                    "{} m must be 0 or a whole number of dx = {h} m",
-                    grid.near_fault
+                    "{} m must be 0 or a whole number of dx = {} m",
+                    rsf_numeric::number(grid.near_fault),
+                    rsf_numeric::number(h)
                 ),
             ));
         }
@@ -660,10 +672,12 @@ impl SeasBp5 {
                 return Err(invalid(
                     "fault_zone.half_width",
                     format!(
-                        "{} m must be a whole number of dx = {h} m and the graded mesh's \
+                        "{} m must be a whole number of dx = {} m and the graded mesh's \
                          near_fault ({} m) at least that, so that the zone is meshed cell \
                          for cell",
-                        zone.half_width, grid.near_fault
+                        rsf_numeric::number(zone.half_width),
+                        rsf_numeric::number(h),
+                        rsf_numeric::number(grid.near_fault)
                     ),
                 ));
             }
@@ -768,11 +782,11 @@ impl SeasBp5 {
         Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
     }
 
-    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): Kuhn cubes of
-    /// edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
+    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): an octree of
+    /// Kuhn cubes of edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
     /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
     /// not below `domain` and `s` the shift (`l_f/2` modulo `dx`: 0 or `dx/2`) that puts
-    /// nodes at `x₂ = ±l_f/2`, bisected ([`BisectionMesh`]) until every cell is at most
+    /// nodes at `x₂ = ±l_f/2`, split ([`OctreeMesh`]) until every cell is at most
     /// `dx + (ratio − 1) d`, `d` the distance of its bounding box from the rate-and-state
     /// region (on the plane `x = 0`, thickened to `|x| ≤ near_fault`) or from the nearest
     /// off-fault station
@@ -805,11 +819,11 @@ impl SeasBp5 {
                 .fold(box_distance((lo, hi), region), f64::min);
             h + growth * closest
         };
-        let mut cells = BisectionMesh::kuhn_box(lo, hi, root)?;
-        cells
+        let mut cubes = OctreeMesh::new(lo, hi, root)?;
+        cubes
             .refine(size, GRADED_MAX_CELLS)
             .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
-        Ok((cells.into_mesh()?, [lo, hi]))
+        Ok((cubes.into_mesh()?, [lo, hi]))
     }
 
     /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))

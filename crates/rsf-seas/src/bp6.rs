@@ -13,6 +13,7 @@ use rsf::pore_pressure::PorePressure;
 use rsf::{Flow, Model, Observer, SimulationState, StepView};
 
 use crate::error::{invalid, io_at, show_path, Error, Result};
+use crate::reserve::Reserve;
 use crate::resume::kept_rows;
 use crate::setup::SeasSetup;
 use crate::text::{is_iso_date, positions_row, write_row, FileLayout, Positions};
@@ -173,7 +174,10 @@ struct Mark {
 /// `(F − K u)_k/w_k` of a locked node of a model with a stiffness), the pressure change
 /// `p` and the Darcy velocity of the run's pore-pressure field, `log10 θ` (0 without a
 /// state); the profiles' normal stress is `σ̄₀ − p`. Rows are kept in memory and every file
-/// is written whole, atomically, by [`finish`](Observer::finish).
+/// is written whole, atomically, by [`finish`](Observer::finish). The disk space of the
+/// rows is held as they grow — a file of zeros, [`RESERVE_FILE`](crate::RESERVE_FILE), in
+/// the output folder, given back just before the files are written — so that a full disk
+/// stops the run when it happens, not after it.
 pub struct SeasBp6Output {
     dir: PathBuf,
     setup: SeasSetup,
@@ -188,6 +192,8 @@ pub struct SeasBp6Output {
     persist_every: usize,
     resume_log: bool,
     log: Vec<Mark>,
+    /// The disk space held for the rows in memory.
+    reserve: Reserve,
 }
 
 impl SeasBp6Output {
@@ -284,6 +290,7 @@ impl SeasBp6Output {
             persist_every: 0,
             resume_log: false,
             log: Vec::new(),
+            reserve: Reserve::new(dir),
         })
     }
 
@@ -435,8 +442,15 @@ impl SeasBp6Output {
             .chain(self.profiles.iter().map(|p| &p.file))
     }
 
-    /// Writes every file whole (atomically).
-    fn write_files(&self) -> Result<()> {
+    /// Bytes of the rows held in memory (every file's).
+    fn held_bytes(&self) -> u64 {
+        self.files().map(|f| f.rows.len() as u64).sum()
+    }
+
+    /// Writes every file whole (atomically), into the space held for them (given back
+    /// first).
+    fn write_files(&mut self) -> Result<()> {
+        self.reserve.release()?;
         let steps = (self.mark.steps > 0).then_some(self.mark.tau);
         for f in self.files() {
             let rows = match f.layout.profile {
@@ -544,6 +558,7 @@ impl<const D: usize, const C: usize> Observer<D, C> for SeasBp6Output {
         if self.resume_log && self.persist_every > 0 && s.report.step % self.persist_every == 0 {
             self.persist()?;
         }
+        self.reserve.hold(self.held_bytes())?;
         Ok(Flow::Continue(()))
     }
 

@@ -29,6 +29,7 @@
 mod along_dip;
 mod bp6;
 mod error;
+mod reserve;
 mod resume;
 mod setup;
 mod strike_dip;
@@ -41,6 +42,7 @@ pub use bp6::{
     SEAS_BP6_RESUME_LOG, SEAS_BP6_STATIONS,
 };
 pub use error::{Error, Result};
+pub use reserve::RESERVE_FILE;
 pub use setup::{
     SeasEvent, SeasLayout, SeasSampling, SeasSetup, SeasSurfaceStation, SEAS_BP1_STATION_COLUMNS,
     SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,

@@ -222,6 +222,9 @@ pub struct RungeKuttaStep {
     pub refused: usize,
     /// Its scaled error estimate (≤ 1).
     pub error: f64,
+    /// The scaled error estimate of the last attempt rejected before it (∞ for an attempt
+    /// without a finite estimate: a non-finite or refused stage; 0 if none was rejected).
+    pub rejected_error: f64,
     /// Evaluations of `f` it took (rejected attempts included).
     pub evaluations: usize,
 }
@@ -376,6 +379,7 @@ impl EmbeddedRungeKutta {
         let exponent = 1.0 / f64::from(tab.error_order + 1) - 0.75 * o.beta;
         let mut rejected = 0;
         let mut refused = 0;
+        let mut rejected_error = 0.0;
         loop {
             let proposal = self.state.dt.min(o.dt_max);
             let (dt, landing) = match t_end {
@@ -416,6 +420,7 @@ impl EmbeddedRungeKutta {
                 // Outside the domain: a strong reduction, a typed error after too many.
                 rejected += 1;
                 refused += 1;
+                rejected_error = f64::INFINITY;
                 let next = dt * o.refusal_shrink;
                 if refused >= o.max_refusals || next < o.dt_min {
                     return Err(Error::TrialPointRefused {
@@ -461,10 +466,12 @@ impl EmbeddedRungeKutta {
                     rejected,
                     refused,
                     error,
+                    rejected_error,
                     evaluations,
                 });
             }
             rejected += 1;
+            rejected_error = if error.is_nan() { f64::INFINITY } else { error };
             let shrink = if error.is_finite() {
                 (error.powf(1.0 / f64::from(tab.error_order + 1)) / o.safety)
                     .clamp(1.0, 1.0 / o.max_shrink)

@@ -38,6 +38,28 @@ pub enum Error {
         /// The tolerance that was asked for.
         tolerance: f64,
     },
+    /// The solve reached the time limit of its [`SolveWatch`](rsf_nonsmooth::SolveWatch)
+    /// before the tolerance.
+    #[error(
+        "{solver} stopped at its time limit of {limit:.1} s after {iterations} iterations \
+         ({seconds:.1} s; last correction {correction:.3e} in the energy norm, tolerance \
+         {tolerance:.3e})"
+    )]
+    TimeLimit {
+        /// Solver name.
+        solver: &'static str,
+        /// Iterations performed.
+        iterations: usize,
+        /// Energy norm of the last correction.
+        correction: f64,
+        /// What the correction had to reach (`absolute + relative · ‖v‖` at the last
+        /// iterate).
+        tolerance: f64,
+        /// Wall time of the solve (s).
+        seconds: f64,
+        /// The limit (s).
+        limit: f64,
+    },
     /// Invalid solver option.
     #[error("invalid option: {0}")]
     InvalidOption(String),

@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::norm::EnergyNorm;
 use crate::problem::{ActiveBlocks, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
-use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
+use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, SolveWatch, Stopping};
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
 /// minimisations. Globally convergent for the convex problems of this crate but slow
@@ -20,6 +20,8 @@ pub struct NonlinearGaussSeidel<const D: usize> {
     v_old: Vec<f64>,
     /// Sweep scratch.
     w: Vec<f64>,
+    /// Progress reports and a time limit of every solve ([`with_watch`](Self::with_watch)).
+    watch: Option<SolveWatch>,
 }
 
 impl<const D: usize> NonlinearGaussSeidel<D> {
@@ -45,7 +47,18 @@ impl<const D: usize> NonlinearGaussSeidel<D> {
             active_of: Vec::new(),
             v_old: vec![0.0; n],
             w: vec![0.0; n],
+            watch: None,
         })
+    }
+
+    /// Watches every later solve ([`SolveWatch`]): progress reports as it goes and a
+    /// wall-clock limit, at which the solve stops with [`Error::TimeLimit`] (the
+    /// iterations done and the last correction); the iteration cap stays
+    /// [`Stopping::max_iterations`] ([`Error::NotConverged`]). The iterates do not depend
+    /// on it.
+    pub fn with_watch(mut self, watch: SolveWatch) -> Self {
+        self.watch = Some(watch);
+        self
     }
 }
 
@@ -117,6 +130,9 @@ impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
             stop: self.stopping,
             record_energy: self.record_energy,
         };
-        iterate_to_tolerance(self, run, b, nl, v)
+        let mut watch = self.watch.take();
+        let result = iterate_to_tolerance(self, run, b, nl, v, watch.as_mut());
+        self.watch = watch;
+        result
     }
 }

@@ -1,6 +1,8 @@
 //! The shared iteration loop of the iterative solvers.
 
-use rsf_nonsmooth::{check_inputs, BlockNonlinearity, SolveReport, Stopping};
+use rsf_nonsmooth::{
+    check_inputs, BlockNonlinearity, SolveProgress, SolveReport, SolveWatch, Stopping, WatchVerdict,
+};
 
 use crate::error::Result;
 
@@ -70,13 +72,16 @@ pub(crate) struct IterationRun {
 }
 
 /// Iterates until [`Stopping::met`] or the budget is exhausted
-/// ([`Error::NotConverged`](crate::Error::NotConverged)).
+/// ([`Error::NotConverged`](crate::Error::NotConverged)); with a `watch`, reports its
+/// progress and stops at its time limit ([`Error::TimeLimit`](crate::Error::TimeLimit)).
+/// The watch does not change the iterates.
 pub(crate) fn iterate_to_tolerance<const D: usize, S: Iteration<D>, N: BlockNonlinearity<D>>(
     solver: &mut S,
     run: IterationRun,
     b: &[f64],
     nl: &N,
     v: &mut [f64],
+    mut watch: Option<&mut SolveWatch>,
 ) -> Result<SolveReport> {
     let IterationRun {
         solver: name,
@@ -86,8 +91,20 @@ pub(crate) fn iterate_to_tolerance<const D: usize, S: Iteration<D>, N: BlockNonl
     let start = std::time::Instant::now();
     check_inputs(solver.dim(), b, v)?;
     solver.begin(b, nl, v)?;
+    if let Some(w) = watch.as_deref_mut() {
+        w.start();
+    }
     let mut energy = record_energy.then(|| vec![solver.energy(b, nl, v)]);
     let mut correction = f64::INFINITY;
+    let mut tolerance = stop.absolute;
+    let progress = |iteration, correction, tolerance| SolveProgress {
+        solver: name,
+        iteration,
+        max_iterations: stop.max_iterations,
+        correction,
+        tolerance,
+        seconds: 0.0,
+    };
     for it in 1..=stop.max_iterations {
         let step = solver.iterate(b, nl, v);
         correction = match step {
@@ -105,8 +122,12 @@ pub(crate) fn iterate_to_tolerance<const D: usize, S: Iteration<D>, N: BlockNonl
         } else {
             0.0
         };
+        tolerance = stop.absolute + stop.relative * norm_v;
         if stop.met(correction, norm_v) {
             solver.end(v);
+            if let Some(w) = watch {
+                w.finish(progress(it, correction, tolerance));
+            }
             return Ok(SolveReport {
                 iterations: it,
                 correction,
@@ -114,8 +135,25 @@ pub(crate) fn iterate_to_tolerance<const D: usize, S: Iteration<D>, N: BlockNonl
                 seconds: start.elapsed().as_secs_f64(),
             });
         }
+        if let Some(w) = watch.as_deref_mut() {
+            if w.after_iteration(progress(it, correction, tolerance)) == WatchVerdict::OutOfTime {
+                solver.end(v);
+                w.finish(progress(it, correction, tolerance));
+                return Err(crate::Error::TimeLimit {
+                    solver: name,
+                    iterations: it,
+                    correction,
+                    tolerance,
+                    seconds: w.elapsed(),
+                    limit: w.limit().unwrap_or(0.0),
+                });
+            }
+        }
     }
     solver.end(v);
+    if let Some(w) = watch {
+        w.finish(progress(stop.max_iterations, correction, tolerance));
+    }
     Err(crate::Error::NotConverged {
         solver: name,
         iterations: stop.max_iterations,

@@ -16,7 +16,9 @@ use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
 use crate::Parallelism;
 use rsf_linalg::Csc;
-use rsf_nonsmooth::{BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, Stopping};
+use rsf_nonsmooth::{
+    BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, SolveWatch, Stopping,
+};
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
 /// truncated in the linear correction (see [`is_rigid`]): at this contrast the
@@ -135,6 +137,8 @@ pub struct Tnnmg<const D: usize> {
     /// Per-node terms of the parallel quadratic forms (empty until used).
     sum_scratch: Vec<Option<[f64; D]>>,
     parallelism: Parallelism,
+    /// Progress reports and a time limit of every solve ([`Tnnmg::with_watch`]).
+    watch: Option<SolveWatch>,
 }
 
 impl<const D: usize> Tnnmg<D> {
@@ -206,6 +210,7 @@ impl<const D: usize> Tnnmg<D> {
             chunked,
             sum_scratch: Vec::new(),
             parallelism: Parallelism::SEQ,
+            watch: None,
             opts,
             active_of: Vec::new(),
             cached_active: None,
@@ -230,6 +235,21 @@ impl<const D: usize> Tnnmg<D> {
         self.parallelism = par;
         self.mg.set_parallelism(par);
         self
+    }
+
+    /// Watches every later solve ([`SolveWatch`]): progress reports as it goes and a
+    /// wall-clock limit, at which the solve stops with [`Error::TimeLimit`] (the
+    /// iterations done and the last correction); the iteration cap stays
+    /// [`Stopping::max_iterations`] ([`Error::NotConverged`]). The iterates do not depend
+    /// on it.
+    pub fn with_watch(mut self, watch: SolveWatch) -> Self {
+        self.watch = Some(watch);
+        self
+    }
+
+    /// Replaces the watch of later solves (`None`: unwatched), returning the old one.
+    pub fn set_watch(&mut self, watch: Option<SolveWatch>) -> Option<SolveWatch> {
+        std::mem::replace(&mut self.watch, watch)
     }
 
     /// The parallelism of [`with_parallelism`](Self::with_parallelism).
@@ -428,7 +448,10 @@ impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
             record_energy: self.opts.record_energy,
         };
         self.cycles = 0;
-        iterate_to_tolerance(self, run, b, nl, v)
+        let mut watch = self.watch.take();
+        let result = iterate_to_tolerance(self, run, b, nl, v, watch.as_mut());
+        self.watch = watch;
+        result
     }
 }
 

@@ -104,6 +104,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     fn reached(&self, t_end: f64) -> bool {
         dispatch!(self, m => m.reached(t_end))
     }
+    fn step_floor(&self) -> Option<f64> {
+        dispatch!(self, m => m.step_floor())
+    }
     fn checkpoint(&self) -> Checkpoint {
         dispatch!(self, m => Stepping::checkpoint(&**m))
     }

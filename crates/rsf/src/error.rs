@@ -147,6 +147,20 @@ pub enum Error {
         /// The mesh vertex id.
         node: usize,
     },
+    /// A model without frictional nodes — a fault inside the body whose every pair's slip
+    /// is prescribed ([`ModelBuilder::internal_slip_at`](crate::ModelBuilder::internal_slip_at)):
+    /// a static problem, solved when the model is built
+    /// ([`Model::initial_displacement`](crate::Model::initial_displacement)); what needs a
+    /// frictional node (a simulation, the fault ODE) refuses it by name.
+    #[error(
+        "{what} needs a frictional node, and the model has none: every pair of its fault \
+         inside the body has a prescribed slip (a kinematic source, whose static \
+         displacement is the model's initial_displacement)"
+    )]
+    NoFrictionalNode {
+        /// What needed one (e.g. "a simulation").
+        what: &'static str,
+    },
     /// The friction law and the state law disagree on what the state α is (e.g. the
     /// discontinuous law, α = θ, with Dieterich–Ruina friction, α = ln θ).
     #[error(
@@ -283,10 +297,30 @@ pub enum Error {
         /// What is required.
         requirement: &'static str,
     },
-    /// An output file cannot be continued from a checkpoint.
+    /// A run could not progress: its step size collapsed — it stayed at the method's
+    /// floor, or the run's stated number of steps did not reach its end time
+    /// ([`run_until`](crate::run_until)) — as an ODE solver reports a step-size underflow.
+    #[error(
+        "the run cannot progress at t = {time:e} s: {reason} (the last step τ = {tau:e} s, the \
+         last rejected attempt's scaled error estimate {rejected_error:e}; 1 is the \
+         tolerance): the step control cannot meet the tolerance there — check the model and \
+         the tolerance, or raise the bound if the steps are right"
+    )]
+    StepSizeCollapse {
+        /// Time of the last accepted step (s).
+        time: f64,
+        /// Its step size (s).
+        tau: f64,
+        /// The scaled error estimate of the last rejected attempt (∞ without a finite
+        /// estimate, 0 if none was rejected).
+        rejected_error: f64,
+        /// Which bound was met.
+        reason: String,
+    },
+    /// An output file (or a run folder) cannot be continued from a checkpoint.
     #[error("cannot resume `{path}`: {reason}")]
     Resume {
-        /// The output file.
+        /// The output file or folder.
         path: String,
         /// What is wrong.
         reason: String,

@@ -55,7 +55,7 @@ pub(crate) enum Elastic {
     /// A fault alone.
     Alone(FaultAlone),
     /// Condensed from the model's body without its whole factor.
-    SchurOnly(crate::fault_ode::SchurOnlySetup),
+    SchurOnly(crate::fault_ode::schur_only::SchurOnlySetup),
 }
 
 /// Where a fault ODE's unknowns live: the condensed finite-element body, or the fault
@@ -281,12 +281,12 @@ impl<const D: usize> Model<D, D> {
         }
         let dofs = free_fault_dofs(self);
         let m = dofs.len();
-        if operator.dim() != m || m > 20_000 {
+        if operator.dim() != m || m == 0 || m > 20_000 {
             return Err(invalid(
                 "fault_operator",
                 format!(
-                    "an operator of {} unknowns for a fault of {m} slip unknowns (at most \
-                     20 000 formed densely)",
+                    "an operator of {} unknowns for a fault of {m} slip unknowns (at least \
+                     one, at most 20 000 formed densely)",
                     operator.dim()
                 ),
             ));
@@ -307,8 +307,16 @@ impl<const D: usize> Model<D, D> {
         for (j, &d) in dofs.iter().enumerate() {
             column_of[d] = j;
         }
+        // A fixed component (the normal: no opening) gets a diagonal entry alone, the
+        // largest of S's (the matrix's scale; its value never enters a solve, which holds
+        // the component at its value, but the solvers ask for every diagonal entry).
+        let fixed_diagonal = (0..m).map(|i| -s[i * m + i]).fold(0.0_f64, f64::max);
         for c in 0..n {
-            if let Some(j) = Some(column_of[c]).filter(|&j| j != usize::MAX) {
+            if column_of[c] == usize::MAX {
+                row_idx.push(c);
+                values.push(fixed_diagonal);
+            } else {
+                let j = column_of[c];
                 for (i, &d) in dofs.iter().enumerate() {
                     let v = -0.5 * (s[j * m + i] + s[i * m + j]);
                     if !v.is_finite() || (i == j && v <= 0.0) {
@@ -323,11 +331,11 @@ impl<const D: usize> Model<D, D> {
             }
             col_ptr[c + 1] = row_idx.len();
         }
-        let symbolic = faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let symbolic =
+            faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let k = crate::fem::SparseMatrix::new(symbolic, values);
         self.energy_norm = k.clone();
         self.stiffness = k;
         Ok(())
     }
 }
-

@@ -62,6 +62,8 @@ pub mod model;
 mod node_solves;
 pub mod normal_stress;
 pub mod observe;
+#[cfg(feature = "halfspace")]
+pub mod okada_comparison;
 pub mod pore_pressure;
 mod problem;
 pub mod ranks;

@@ -41,6 +41,11 @@ pub struct StepReport {
     pub rejected_normal_stress: usize,
     /// Adaptive steps: the scaled local error estimate of the accepted step (≤ 1).
     pub error_estimate: f64,
+    /// Adaptive steps: the scaled local error estimate of the last attempt rejected before
+    /// this step (∞ for an attempt without a finite estimate — a failed or refused attempt;
+    /// 0 if none was rejected). A collapse of the step size names it
+    /// ([`Error::StepSizeCollapse`](crate::Error::StepSizeCollapse)).
+    pub rejected_error: f64,
     /// Wall time of the step (s; not part of any numerical output).
     pub seconds: f64,
 }

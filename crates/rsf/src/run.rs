@@ -51,6 +51,13 @@ pub trait Stepping<const D: usize, const C: usize = D> {
     /// The common state after the last step.
     fn state(&self) -> &SimulationState;
 
+    /// The smallest step the method's adaptive control may take now (s): its `tau_min`
+    /// or `dt_min`; `None` for fixed steps (default). A run whose accepted steps stay at
+    /// this floor has collapsed ([`run_until`], [`Error::StepSizeCollapse`]).
+    fn step_floor(&self) -> Option<f64> {
+        None
+    }
+
     /// The tractions of the friction laws, as observers see them.
     fn fault_tractions(&self) -> &dyn FaultTractions;
 
@@ -87,11 +94,17 @@ pub trait Stepping<const D: usize, const C: usize = D> {
 /// every observer's [`finish`](Observer::finish) — also when the run fails. The summary
 /// says why the run ended ([`Termination`]). The run loop of every method's `run_until`.
 ///
+/// A run that cannot progress ends with [`Error::StepSizeCollapse`], as an ODE solver
+/// reports a step-size underflow, instead of running on: when
+/// [`COLLAPSE_STEPS`] accepted steps in a row are at the method's floor
+/// ([`Stepping::step_floor`]: within a factor 2 of `tau_min`/`dt_min`), and when
+/// [`Until::TimeWithin`]'s stated number of steps is spent before its end time.
+///
 /// # Errors
 /// A [`RunError`] with the first step or observer error (or, after the steps, the first
 /// error of a `finish`) and the summary of the steps taken; the method keeps the state of
 /// the last successful step. [`Error::InvalidParameter`] named `until` for a non-finite end
-/// time.
+/// time; [`Error::StepSizeCollapse`] for a run that cannot progress (above).
 pub fn run_until<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
     method: &mut M,
     until: Until,
@@ -119,12 +132,15 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
     fpi_total: &mut usize,
 ) -> Result<()> {
     let t_end = match until {
-        Until::Time(t) | Until::TimeOrStepCap { time: t, .. } => {
+        Until::Time(t)
+        | Until::TimeOrStepCap { time: t, .. }
+        | Until::TimeWithin { time: t, .. } => {
             check_end_time(t)?;
             Some(t)
         }
         Until::Steps(_) => None,
     };
+    let mut progress = Progress::default();
     let volume = observers.iter().any(|o| o.reads_volume());
     if !volume {
         let mut watched: Vec<usize> = observers.iter().flat_map(|o| o.volume_vertices()).collect();
@@ -137,6 +153,24 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
         let reached = match until {
             Until::Steps(k) => (summary.steps >= k).then_some(Termination::StepCount),
             Until::Time(t) => method.reached(t).then_some(Termination::EndTime),
+            Until::TimeWithin { time, max_steps } => {
+                if method.reached(time) {
+                    Some(Termination::EndTime)
+                } else if summary.steps >= max_steps {
+                    let s = method.state();
+                    return Err(Error::StepSizeCollapse {
+                        time: s.time,
+                        tau: last.as_ref().map_or(s.tau, |r| r.tau),
+                        rejected_error: progress.rejected_error,
+                        reason: format!(
+                            "{max_steps} steps (the run's stated bound) did not reach the end \
+                             time {time:e} s"
+                        ),
+                    });
+                } else {
+                    None
+                }
+            }
             Until::TimeOrStepCap { time, step_cap } => {
                 if method.reached(time) {
                     Some(Termination::EndTime)
@@ -161,6 +195,7 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
         summary.rejected_attempts += report.rejected_attempts;
         summary.rejected_normal_stress += report.rejected_normal_stress;
         summary.steps += 1;
+        progress.check(&report, method.step_floor())?;
         let view = StepView {
             model: method.model(),
             state: method.state(),
@@ -173,6 +208,47 @@ fn run_loop<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
             return Ok(());
         }
         last = Some(report);
+    }
+}
+
+/// Accepted steps in a row at the method's floor ([`Stepping::step_floor`]) after which a
+/// run has collapsed ([`Error::StepSizeCollapse`]): a step control that cannot leave its
+/// floor for a hundred steps will not, and the run would take `T/τ_min` steps.
+pub const COLLAPSE_STEPS: usize = 100;
+
+/// What a run's progress check keeps ([`run_until`]): the accepted steps in a row at the
+/// floor and the last rejected error estimate.
+#[derive(Debug, Default)]
+struct Progress {
+    at_floor: usize,
+    rejected_error: f64,
+}
+
+impl Progress {
+    /// Counts the accepted step `report` against the method's `floor`.
+    ///
+    /// # Errors
+    /// [`Error::StepSizeCollapse`] after [`COLLAPSE_STEPS`] steps in a row at the floor.
+    fn check(&mut self, report: &StepReport, floor: Option<f64>) -> Result<()> {
+        if report.rejected_attempts > 0 {
+            self.rejected_error = report.rejected_error;
+        }
+        match floor {
+            Some(f) if report.tau <= 2.0 * f => self.at_floor += 1,
+            _ => self.at_floor = 0,
+        }
+        if self.at_floor >= COLLAPSE_STEPS {
+            return Err(Error::StepSizeCollapse {
+                time: report.time,
+                tau: report.tau,
+                rejected_error: self.rejected_error,
+                reason: format!(
+                    "the step size stayed at its floor of {:e} s for {COLLAPSE_STEPS} steps",
+                    floor.unwrap_or(0.0)
+                ),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -231,6 +307,17 @@ pub enum Until {
         time: f64,
         /// The step index to stop at (the state's [`step`](SimulationState::step)).
         step_cap: usize,
+    },
+    /// At the end time `time` (s, as [`Until::Time`]), which must be reached within
+    /// `max_steps` steps of this call: a stated bound, beyond which the run is taken to
+    /// have collapsed and ends with [`Error::StepSizeCollapse`] (naming the time, the step
+    /// and the last rejected error estimate) instead of running on — the run a test or a
+    /// driver that knows its scale should ask for.
+    TimeWithin {
+        /// The end time (s).
+        time: f64,
+        /// The most steps the run may take to reach it.
+        max_steps: usize,
     },
 }
 

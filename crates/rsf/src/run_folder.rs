@@ -27,8 +27,11 @@ use crate::observe::files::FileMode;
 use crate::run::{RunSummary, Termination, Until};
 use crate::simulation_state::SimulationState;
 
-/// Name of the manifest every run writes into its folder: `program=NAME` and one
-/// `output=FILE` line per file the run writes (paths relative to the folder).
+/// Name of the manifest every run writes into its folder: `program=NAME`, `run=ID` (the
+/// run's id: made when a run starts in the folder, kept by its resumes, carried by its
+/// checkpoints, [`Checkpoint::run_id`]), `command=…` (the command line that started or
+/// last resumed it, if given: [`RunFolder::command`]) and one `output=FILE` line per file
+/// the run writes (paths relative to the folder).
 pub const MANIFEST: &str = "rsf-run.txt";
 
 /// The output folder of a run: the program that writes it and the files it writes there.
@@ -40,18 +43,29 @@ pub struct RunFolder {
     pub program: String,
     /// The files (paths inside `dir`) the run writes.
     pub outputs: Vec<String>,
+    /// The command line of the run, as its manifest records it (empty: none recorded).
+    pub command: String,
 }
 
-/// A manifest's content: the program and its outputs.
+/// A manifest's content: the program, its run and outputs.
 #[derive(Debug, Clone, PartialEq, Eq)]
 struct Manifest {
     program: String,
+    /// Empty for a manifest of a version before run ids.
+    run_id: String,
+    command: String,
     outputs: Vec<String>,
 }
 
 impl Manifest {
     fn text(&self) -> String {
         let mut t = format!("program={}\n", self.program);
+        if !self.run_id.is_empty() {
+            t.push_str(&format!("run={}\n", self.run_id));
+        }
+        if !self.command.is_empty() {
+            t.push_str(&format!("command={}\n", self.command.replace('\n', " ")));
+        }
         for o in &self.outputs {
             t.push_str(&format!("output={o}\n"));
         }
@@ -68,11 +82,15 @@ impl Manifest {
         };
         let mut m = Manifest {
             program: String::new(),
+            run_id: String::new(),
+            command: String::new(),
             outputs: Vec::new(),
         };
         for line in text.lines() {
             match line.split_once('=') {
                 Some(("program", p)) => m.program = p.to_owned(),
+                Some(("run", r)) => m.run_id = r.to_owned(),
+                Some(("command", c)) => m.command = c.to_owned(),
                 Some(("output", o)) => m.outputs.push(o.to_owned()),
                 _ => {}
             }
@@ -83,6 +101,51 @@ impl Manifest {
         }
         Ok(Some(m))
     }
+
+    /// The run as a message names it: its id and command line.
+    fn describe(&self) -> String {
+        let id = if self.run_id.is_empty() {
+            "of unknown id".to_owned()
+        } else {
+            short_id(&self.run_id)
+        };
+        if self.command.is_empty() {
+            format!("run {id}")
+        } else {
+            format!("run {id}, `{}`", rsf_numeric::excerpt(&self.command))
+        }
+    }
+}
+
+/// The first 12 characters of a run id (enough to tell runs apart in a message).
+fn short_id(id: &str) -> String {
+    rsf_numeric::excerpt(&id.chars().take(12).collect::<String>())
+}
+
+/// A new run id: 32 hexadecimal digits from the operating system's randomness (the keys
+/// of [`std::hash::RandomState`]), the time and the process id — unique among the runs
+/// of any number of machines for all practical purposes.
+pub fn new_run_id() -> String {
+    use std::hash::{BuildHasher, Hasher};
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let word = || {
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_u128(nanos);
+        h.write_u32(std::process::id());
+        h.finish()
+    };
+    format!("{:016x}{:016x}", word(), word())
+}
+
+/// The run id of the run folder `dir` (its manifest's `run=`), if it has one.
+pub fn run_id(dir: &Path) -> Option<String> {
+    Manifest::read(dir)
+        .ok()
+        .flatten()
+        .map(|m| m.run_id)
+        .filter(|id| !id.is_empty())
 }
 
 impl RunFolder {
@@ -93,7 +156,15 @@ impl RunFolder {
             dir: dir.into(),
             program: program.to_owned(),
             outputs: outputs.iter().map(|s| (*s).to_owned()).collect(),
+            command: String::new(),
         }
+    }
+
+    /// The folder with the run's command line `command` recorded in its manifest (one
+    /// line: newlines become spaces).
+    pub fn command(mut self, command: &str) -> Self {
+        self.command = command.replace('\n', " ");
+        self
     }
 
     /// Path of the output `name`.
@@ -111,62 +182,21 @@ impl RunFolder {
     ///    unless `overwrite`: then the earlier checkpoint, summary and the files only the
     ///    earlier run's manifest lists are removed, so that nothing in the folder can be
     ///    mistaken for this run's;
-    /// 3. writes this run's manifest [`MANIFEST`] (atomically).
+    /// 3. writes this run's manifest [`MANIFEST`] (atomically): a new run gets a new run
+    ///    id ([`new_run_id`]), a continued one (`resume`) keeps the folder's.
     ///
     /// Returns the [`FileMode`] of new files ([`FileMode::Create`], or
     /// [`FileMode::Overwrite`] when an earlier run's files are replaced). A resume gets
     /// `Create` and must check the files itself (each writer's `check_resume`) before it
-    /// cuts any.
+    /// cuts any. A resume from a checkpoint is [`prepare_resume`](Self::prepare_resume),
+    /// which also checks that the checkpoint belongs to the folder's run.
     ///
     /// # Errors
     /// [`Error::File`] naming the folder (cannot create, not writable);
     /// [`Error::FileExists`] naming the files and the program of another run. Nothing in
     /// the folder is changed on error.
     pub fn prepare(&self, resume: bool, overwrite: bool) -> Result<FileMode> {
-        std::fs::create_dir_all(&self.dir).map_err(io_at("create the output folder", &self.dir))?;
-        let probe = self.dir.join(".rsf-write-probe");
-        std::fs::write(&probe, b"").map_err(io_at("write into the output folder", &self.dir))?;
-        std::fs::remove_file(&probe).map_err(io_at("remove the probe file of", &self.dir))?;
-        let manifest = Manifest::read(&self.dir)?;
-        let other = manifest.as_ref().filter(|m| m.program != self.program);
-        let mut names: Vec<&str> = self.outputs.iter().map(String::as_str).collect();
-        if let Some(m) = other {
-            names.extend(m.outputs.iter().map(String::as_str));
-        }
-        names.sort_unstable();
-        names.dedup();
-        let mut present = Vec::new();
-        for name in &names {
-            let path = self.path(name);
-            match std::fs::metadata(&path) {
-                Ok(m) if m.is_dir() && self.outputs.iter().any(|o| o == name) => {
-                    return Err(Error::FileExists {
-                        path: show_path(&path),
-                        reason: "it is a folder where the run writes a file".into(),
-                    })
-                }
-                Ok(m) if m.is_file() && m.len() > 0 => present.push(*name),
-                _ => {}
-            }
-        }
-        if let Some(m) = other {
-            if resume || !overwrite {
-                return Err(Error::FileExists {
-                    path: show_path(&self.dir),
-                    reason: format!(
-                        "it is the folder of a run of `{}` ({}), not of `{}`; {}",
-                        rsf_numeric::excerpt(&m.program),
-                        rsf_numeric::excerpt(&present.join(", ")),
-                        self.program,
-                        if resume {
-                            "resume into the folder of the interrupted run"
-                        } else {
-                            "pass --overwrite to replace it, or another --out"
-                        }
-                    ),
-                });
-            }
-        }
+        let (manifest, present) = self.survey(resume, overwrite)?;
         let mode = if resume || present.is_empty() {
             FileMode::Create
         } else if !overwrite {
@@ -191,14 +221,154 @@ impl RunFolder {
             }
             FileMode::Overwrite
         };
+        let kept = manifest
+            .filter(|m| resume && m.program == self.program)
+            .map(|m| m.run_id)
+            .filter(|id| !id.is_empty());
+        self.write_manifest(kept.unwrap_or_else(new_run_id))?;
+        Ok(mode)
+    }
+
+    /// Prepares the folder for a resume from the checkpoint `checkpoint`, before anything
+    /// is computed: as [`prepare`](Self::prepare) with `resume` (the folder created and
+    /// probed, another program's folder refused), and the checkpoint read (its checksum)
+    /// and its run compared with the folder's: a checkpoint of **another run** than the
+    /// one whose files the folder holds (both run ids known and different:
+    /// [`Checkpoint::run_id`], the manifest's `run=`) is refused unless `overwrite`, which
+    /// gives the folder to the checkpoint's run — its files are then continued from the
+    /// checkpoint's step if each writer's own check allows, the rows before it staying the
+    /// earlier run's. A folder without a manifest, or a manifest or checkpoint of a version
+    /// before run ids, cannot be told apart and is judged by the writers' checks alone.
+    /// The manifest then names the checkpoint's run (or keeps the folder's).
+    ///
+    /// Returns [`FileMode::Create`] (each writer checks its files before it cuts any).
+    ///
+    /// # Errors
+    /// Those of [`prepare`](Self::prepare); those of [`Checkpoint::read`]
+    /// ([`Error::File`], [`Error::CheckpointCorrupt`]); [`Error::Resume`] naming the folder,
+    /// both runs and how to go on, for a checkpoint of another run without `overwrite`,
+    /// and for `overwrite` where there is nothing to replace (the folder is the
+    /// checkpoint's own run, or cannot be told). Nothing in the folder is changed on error.
+    pub fn prepare_resume(&self, checkpoint: &Path, overwrite: bool) -> Result<FileMode> {
+        let (manifest, _) = self.survey(true, overwrite)?;
+        let folder_id = manifest.as_ref().map_or("", |m| m.run_id.as_str());
+        let shown = show_path(checkpoint);
+        let nothing_to_replace = |what: &str| Error::Resume {
+            path: show_path(&self.dir),
+            reason: format!(
+                "--overwrite: the checkpoint `{shown}` continues {what}: a resume continues the \
+                 run's own files and cannot replace them; leave out --overwrite to continue \
+                 them, or --resume to start anew"
+            ),
+        };
+        if overwrite && folder_id.is_empty() {
+            return Err(nothing_to_replace(
+                "the files in this folder, which name no other run",
+            ));
+        }
+        let c = Checkpoint::read(checkpoint)?;
+        let other = !folder_id.is_empty() && !c.run_id.is_empty() && folder_id != c.run_id;
+        if other && !overwrite {
+            let m = manifest.as_ref().expect("a run id is a manifest's");
+            return Err(Error::Resume {
+                path: show_path(&self.dir),
+                reason: format!(
+                    "the folder holds the files of another run ({}) than the one that wrote \
+                     the checkpoint `{shown}` (run {}, at step {}): continuing would cut that \
+                     run's files and continue another run in them; resume into the \
+                     checkpoint's own folder, or pass --overwrite to give this folder to the \
+                     checkpoint's run",
+                    m.describe(),
+                    short_id(&c.run_id),
+                    c.state.step
+                ),
+            });
+        }
+        if overwrite && !other {
+            return Err(nothing_to_replace(if c.run_id.is_empty() {
+                "the files in this folder (its run, of an earlier version, cannot be told apart)"
+            } else {
+                "this folder's own run"
+            }));
+        }
+        let id = if c.run_id.is_empty() {
+            Some(folder_id.to_owned()).filter(|id| !id.is_empty())
+        } else {
+            Some(c.run_id.clone())
+        };
+        self.write_manifest(id.unwrap_or_else(new_run_id))?;
+        Ok(FileMode::Create)
+    }
+
+    /// Steps 1 and 2 of [`prepare`](Self::prepare): the folder created and probed, an
+    /// output path that is a folder refused, another program's folder refused (unless a
+    /// new run that overwrites it); the folder's manifest and the non-empty files among
+    /// this run's outputs and the other program's.
+    fn survey(&self, resume: bool, overwrite: bool) -> Result<(Option<Manifest>, Vec<String>)> {
+        std::fs::create_dir_all(&self.dir).map_err(io_at("create the output folder", &self.dir))?;
+        let probe = self.dir.join(".rsf-write-probe");
+        std::fs::write(&probe, b"").map_err(io_at("write into the output folder", &self.dir))?;
+        std::fs::remove_file(&probe).map_err(io_at("remove the probe file of", &self.dir))?;
+        let manifest = Manifest::read(&self.dir)?;
+        let other = manifest.as_ref().filter(|m| m.program != self.program);
+        let mut names: Vec<&str> = self.outputs.iter().map(String::as_str).collect();
+        if let Some(m) = other {
+            names.extend(m.outputs.iter().map(String::as_str));
+        }
+        names.sort_unstable();
+        names.dedup();
+        let mut present = Vec::new();
+        for name in &names {
+            let path = self.path(name);
+            match std::fs::metadata(&path) {
+                Ok(m) if m.is_dir() && self.outputs.iter().any(|o| o == name) => {
+                    return Err(Error::FileExists {
+                        path: show_path(&path),
+                        reason: "it is a folder where the run writes a file".into(),
+                    })
+                }
+                Ok(m) if m.is_file() && m.len() > 0 => present.push((*name).to_owned()),
+                _ => {}
+            }
+        }
+        if let Some(m) = other {
+            if resume || !overwrite {
+                return Err(Error::FileExists {
+                    path: show_path(&self.dir),
+                    reason: format!(
+                        "it is the folder of a run of `{}` ({}), not of `{}`; {}",
+                        rsf_numeric::excerpt(&m.program),
+                        rsf_numeric::excerpt(&present.join(", ")),
+                        self.program,
+                        match (resume, overwrite) {
+                            (true, false) => "resume into the folder of the interrupted run",
+                            (true, true) => {
+                                "a resume continues a run of its own program (--overwrite \
+                                 cannot give it another program's folder): resume into the \
+                                 folder of the interrupted run"
+                            }
+                            _ => "pass --overwrite to replace it, or another --out",
+                        }
+                    ),
+                });
+            }
+        }
+        Ok((manifest, present))
+    }
+
+    /// Writes this run's manifest with the run id `run_id` (if it differs from the one
+    /// there).
+    fn write_manifest(&self, run_id: String) -> Result<()> {
         let mine = Manifest {
             program: self.program.clone(),
+            run_id,
+            command: self.command.clone(),
             outputs: self.outputs.clone(),
         };
-        if manifest.as_ref() != Some(&mine) {
+        if Manifest::read(&self.dir)?.as_ref() != Some(&mine) {
             write_atomically(&self.path(MANIFEST), mine.text().as_bytes())?;
         }
-        Ok(mode)
+        Ok(())
     }
 }
 

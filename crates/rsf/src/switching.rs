@@ -295,6 +295,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         }
         Ok(report)
     }
+    /// The active phase's floor (the dynamic phase's fixed steps have none).
+    fn step_floor(&self) -> Option<f64> {
+        match self.phase {
+            Phase::QuasiDynamic => self.quasi_dynamic.step_floor(),
+            Phase::Dynamic => self.dynamic.step_floor(),
+        }
+    }
     /// The quasi-dynamic phase computes the watched vertices; the dynamic phase (the
     /// implicit scheme) has the whole field.
     fn watch_vertices(&mut self, vertices: &[usize]) -> Result<()> {

@@ -199,12 +199,7 @@ impl WholeSpaceAntiplane {
                 }))),
                 KernelReport::dense(cells),
             ),
-            WholeSpaceKernel::Stored(
-                kernel @ FaultKernel::Hierarchical {
-                    epsilon,
-                    leaf_size,
-                },
-            ) => {
+            WholeSpaceKernel::Stored(kernel @ FaultKernel::Hierarchical { epsilon, leaf_size }) => {
                 let centres: Vec<[f64; 1]> = (0..cells).map(|i| [i as f64 * h]).collect();
                 let options = HOptions {
                     epsilon,
@@ -427,7 +422,11 @@ mod tests {
                 fft.subtract_product(&x, &mut b, Parallelism::rayon(2))
                     .unwrap();
                 let scale = (0..n)
-                    .map(|i| (0..n).map(|j| (entry(mu, h, i, j) * x[j]).abs()).sum::<f64>())
+                    .map(|i| {
+                        (0..n)
+                            .map(|j| (entry(mu, h, i, j) * x[j]).abs())
+                            .sum::<f64>()
+                    })
                     .fold(0.0_f64, f64::max);
                 let gap = a
                     .iter()
@@ -442,9 +441,65 @@ mod tests {
             fft.subtract_product(&x, &mut r, Parallelism::SEQ).unwrap();
             assert!(r.iter().all(|v| v.is_nan()));
             assert!(fft.split_rows(2, 0.0).is_err());
-            assert!(fft.subtract_product(&x[1..], &mut r, Parallelism::SEQ).is_err());
+            assert!(fft
+                .subtract_product(&x[1..], &mut r, Parallelism::SEQ)
+                .is_err());
         }
         assert!(WholeSpaceAntiplane::new(1, h, mu, WholeSpaceKernel::Fft).is_err());
         assert!(WholeSpaceAntiplane::new(4, -h, mu, WholeSpaceKernel::Fft).is_err());
+    }
+
+    /// `Model::set_fault_stiffness` with this operator: the fault alone's `K u` is `S u`
+    /// on the slip components (to the round-off of the symmetrisation, against the
+    /// operator's own product), `K` is symmetric, the fixed normal components have a
+    /// diagonal entry alone, and the energy norm is `K`; a second call (a stiffness
+    /// already), an operator of another size are typed errors.
+    #[test]
+    fn a_fault_alone_takes_the_kernel_as_its_stiffness() {
+        let (n, h, mu) = (9, 25.0, 32.04e9);
+        let centres: Vec<[f64; 2]> = (0..n).map(|i| [0.0, i as f64 * h]).collect();
+        let mut model = crate::Model::fault_only(centres.clone(), &vec![h; n], 0).unwrap();
+        let mut op = WholeSpaceAntiplane::new(n, h, mu, WholeSpaceKernel::Fft).unwrap();
+        model
+            .set_fault_stiffness(&mut op, Parallelism::SEQ)
+            .unwrap();
+        let k = &model.stiffness;
+        let dense = |i: usize, j: usize| {
+            k.row_idx_of_col(j)
+                .zip(k.val_of_col(j))
+                .find(|(r, _)| *r == i)
+                .map_or(0.0, |(_, &v)| v)
+        };
+        let x: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+        let mut sx = vec![0.0; n];
+        op.subtract_product(&x, &mut sx, Parallelism::SEQ).unwrap();
+        let scale = sx.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            // Slip component of cell i: dof 2i + 1.
+            let kx: f64 = (0..n).map(|j| dense(2 * i + 1, 2 * j + 1) * x[j]).sum();
+            assert!(
+                (kx + sx[i]).abs() <= 1e-12 * scale,
+                "row {i}: {kx} vs {}",
+                -sx[i]
+            );
+            for j in 0..2 * n {
+                assert_eq!(dense(2 * i + 1, j), dense(j, 2 * i + 1));
+            }
+            assert!(dense(2 * i, 2 * i) > 0.0);
+            for j in (0..2 * n).filter(|&j| j != 2 * i) {
+                assert_eq!(dense(2 * i, j), 0.0);
+            }
+        }
+        assert_eq!(model.energy_norm.val_of_col(1), k.val_of_col(1));
+        let again = model.set_fault_stiffness(&mut op, Parallelism::SEQ);
+        assert!(
+            matches!(again, Err(crate::Error::InvalidParameter { ref name, .. }) if name == "stiffness")
+        );
+        let mut fresh = crate::Model::fault_only(centres, &vec![h; n], 0).unwrap();
+        let mut small = WholeSpaceAntiplane::new(n - 1, h, mu, WholeSpaceKernel::Fft).unwrap();
+        let wrong = fresh.set_fault_stiffness(&mut small, Parallelism::SEQ);
+        assert!(
+            matches!(wrong, Err(crate::Error::InvalidParameter { ref name, .. }) if name == "fault_operator")
+        );
     }
 }

@@ -369,7 +369,8 @@ impl PartialCholesky {
         let req: StackReq =
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
         let mut mem = MemBuffer::try_new(req).map_err(faer_err)?;
-        let mut l_values = vec![0.0; symbolic.len_val()];
+        let mut l_values =
+            rsf_linalg::try_filled("the condensation's sparse factor", symbolic.len_val(), 0.0)?;
         symbolic
             .factorize_numeric_llt::<f64>(
                 &mut l_values,

@@ -138,8 +138,14 @@ fn absorbing_ends_take_the_ringing_out_of_the_block() {
         };
         let mut sim = scene.build().unwrap();
         let mut rows = Energies(Vec::new());
-        sim.run_until(rsf::Until::Time(11.0), &mut [&mut rows])
-            .unwrap();
+        sim.run_until(
+            rsf::Until::TimeWithin {
+                time: 11.0,
+                max_steps: 500_000,
+            },
+            &mut [&mut rows],
+        )
+        .unwrap();
         rows.0
     };
     let (free, absorbing) = (run(false), run(true));

@@ -55,7 +55,10 @@ fn first_event_by_the_fault_ode(bp3: &SeasBp3) -> (f64, (f64, f64)) {
         ..Watch::default()
     };
     ode.run_until(
-        rsf::Until::Time(400.0 * SECONDS_PER_YEAR),
+        rsf::Until::TimeWithin {
+            time: 400.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
         &mut [&mut watch],
     )
     .unwrap();
@@ -81,7 +84,10 @@ fn first_event_by_the_implicit_scheme(bp3: &SeasBp3, tolerance: f64) -> f64 {
         ..Watch::default()
     };
     sim.run_until(
-        rsf::Until::Time(400.0 * SECONDS_PER_YEAR),
+        rsf::Until::TimeWithin {
+            time: 400.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
         &mut [&mut watch],
     )
     .unwrap();
@@ -135,7 +141,13 @@ fn overshooting_stages_are_rejected_and_the_run_completes() {
     };
     let end = 80.0 * SECONDS_PER_YEAR;
     let summary = ode
-        .run_until(rsf::Until::Time(end), &mut [&mut watch])
+        .run_until(
+            rsf::Until::TimeWithin {
+                time: end,
+                max_steps: 500_000,
+            },
+            &mut [&mut watch],
+        )
         .unwrap();
     eprintln!(
         "{} steps, {} rejected, {} for σ̄_n ≤ 0; normal stress in [{:.3}, {:.3}] MPa",
@@ -160,8 +172,14 @@ fn the_two_engines_agree_on_a_coarse_bp3_before_its_first_event() {
     let options = bp3.params.fault_ode_options(1e-8).unwrap();
     let mut ode = bp3.fault_ode(model.clone(), options).unwrap();
     let mut a = Watch::default();
-    ode.run_until(rsf::Until::Time(t_end), &mut [&mut a])
-        .unwrap();
+    ode.run_until(
+        rsf::Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut a],
+    )
+    .unwrap();
     let mut sim = bp3
         .problem_builder(model)
         .unwrap()
@@ -171,8 +189,14 @@ fn the_two_engines_agree_on_a_coarse_bp3_before_its_first_event() {
         .build()
         .unwrap();
     let mut b = Watch::default();
-    sim.run_until(rsf::Until::Time(t_end), &mut [&mut b])
-        .unwrap();
+    sim.run_until(
+        rsf::Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut b],
+    )
+    .unwrap();
     let scale = a.slip.iter().fold(0.0f64, |m, x| m.max(*x));
     let d = a
         .slip
@@ -275,7 +299,10 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
     rsf::Stepping::watch_vertices(&mut ode, &out.surface_vertices()).unwrap();
     out.write_initial_state(ode.model(), ode.state()).unwrap();
     ode.run_until(
-        rsf::Until::Time(150.0 * SECONDS_PER_YEAR),
+        rsf::Until::TimeWithin {
+            time: 150.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
         &mut [&mut out, &mut values],
     )
     .unwrap();
@@ -517,7 +544,10 @@ fn a_resumed_bp3_run_writes_the_same_bytes() {
     use rsf_seas::SeasOutput;
     let bp3 = SeasBp3::thrust();
     let model = bp3.model(&GRID).unwrap();
-    let end = rsf::Until::Time(150.0 * SECONDS_PER_YEAR);
+    let end = rsf::Until::TimeWithin {
+        time: 150.0 * SECONDS_PER_YEAR,
+        max_steps: 500_000,
+    };
     let setup = test_setup(&bp3);
     let root = std::env::temp_dir().join(format!("rsf-seas-bp3-resume-{}", std::process::id()));
     std::fs::remove_dir_all(&root).ok();
@@ -597,7 +627,10 @@ fn compressed_kernels_match_the_dense_ones_through_the_first_event() {
             ..Watch::default()
         };
         ode.run_until(
-            rsf::Until::Time(200.0 * SECONDS_PER_YEAR),
+            rsf::Until::TimeWithin {
+                time: 200.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
             &mut [&mut watch],
         )
         .unwrap();
@@ -638,4 +671,75 @@ fn compressed_kernels_match_the_dense_ones_through_the_first_event() {
     );
     assert!((t_dense - t_h).abs() < 1e-3, "{t_dense} vs {t_h}");
     assert!(sigma_change < 1e3, "{sigma_change:e} Pa");
+}
+
+/// The run at t = 0 is the description's (docs/seas-bp3.md, "Initial conditions"), each
+/// value computed here from its formula and Table 1's numbers — not from the scene's code:
+/// radiation damping η = μ/(2c_s) = ρ c_s/2 at every frictional node, the slip rate
+/// V_init, the normal stress σ̄_n⁰ and the state θ(x_d, 0) of the formula (issue 74: an η
+/// of μ/c_s was caught only by the reference hashes; the thrust and the normal fault).
+#[test]
+fn the_run_at_t_0_is_the_descriptions() {
+    let (rho, c_s, sigma0) = (2670.0, 3464.0, 50e6);
+    let (a0, a_max, b0, l, v_init, v0, f0): (f64, f64, f64, f64, f64, f64, f64) =
+        (0.010, 0.025, 0.015, 0.008, 1e-9, 1e-6, 0.6);
+    let (h_top, h) = (15e3, 3e3);
+    let eta = rho * c_s * c_s / (2.0 * c_s);
+    // τ⁰ − η V_init: steady state at V_init with a_max.
+    let tau_f = sigma0
+        * a_max
+        * (v_init / (2.0 * v0) * ((f0 + b0 * (v0 / v_init).ln()) / a_max).exp()).asinh();
+    let a_of = |x_d: f64| {
+        if x_d < h_top {
+            a0
+        } else if x_d < h_top + h {
+            a0 + (a_max - a0) * (x_d - h_top) / h
+        } else {
+            a_max
+        }
+    };
+    let theta_of = |x_d: f64| {
+        let a = a_of(x_d);
+        (l / v0)
+            * ((a / b0) * ((2.0 * v0 / v_init) * (tau_f / (a * sigma0)).sinh()).ln() - f0 / b0)
+                .exp()
+    };
+    for bp3 in [SeasBp3::thrust(), SeasBp3::normal()] {
+        let model = bp3.model(&GRID).unwrap();
+        let options = bp3.params.fault_ode_options(1e-7).unwrap();
+        let ode = bp3.fault_ode(model, options).unwrap();
+        let fb = &ode.model().frictional_boundary;
+        let dampings = ode.problem().radiation_damping();
+        assert_eq!(dampings.len(), fb.len());
+        let state = ode.state();
+        let mut checked = 0;
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let x_d = bp3.x_d(&ode.model().vertices[p]);
+            assert!(
+                (dampings[k] / eta - 1.0).abs() < 1e-12,
+                "node {k}: η = {} Pa·s/m, μ/(2c_s) = {eta}",
+                dampings[k]
+            );
+            let theta = state.alpha[k].exp();
+            assert!(
+                (theta / theta_of(x_d) - 1.0).abs() < 1e-9,
+                "node {k} at x_d = {x_d}: θ = {theta:e}, the description's {:e}",
+                theta_of(x_d)
+            );
+            checked += 1;
+        }
+        assert!(checked > 10, "{checked} nodes");
+        // V = V_init and σ̄_n = σ̄_n⁰ on every node at t = 0.
+        let tractions = rsf::Stepping::fault_tractions(&ode);
+        let v = &state.kinematics.v;
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let speed = v[2 * p].hypot(v[2 * p + 1]);
+            assert!(
+                (speed / v_init - 1.0).abs() < 1e-9,
+                "node {k}: V = {speed:e}"
+            );
+            let sn = tractions.normal_traction(k).unwrap();
+            assert!((sn / sigma0 - 1.0).abs() < 1e-12, "node {k}: σ̄_n = {sn:e}");
+        }
+    }
 }

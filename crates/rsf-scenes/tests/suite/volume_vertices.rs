@@ -91,8 +91,14 @@ fn watched_vertices_equal_the_whole_fields_values() {
             nan_elsewhere: false,
             other,
         };
-        ode.run_until(rsf::Until::Time(150.0 * SECONDS_PER_YEAR), &mut [&mut obs])
-            .unwrap();
+        ode.run_until(
+            rsf::Until::TimeWithin {
+                time: 150.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
+            &mut [&mut obs],
+        )
+        .unwrap();
         obs
     };
     let watched = run(false);

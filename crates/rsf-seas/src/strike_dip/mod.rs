@@ -20,6 +20,7 @@ mod resume;
 mod stations;
 mod text;
 
+use crate::reserve::Reserve;
 use layout::{BodySource, FaultLayout, SlipMap};
 use mark::Mark;
 pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
@@ -47,7 +48,10 @@ struct BodyStation {
 /// The BP5 files of a run of `rsf_scenes::SeasBp5`, its fault alone or its volume model
 /// (an [`Observer`]). Rows are kept in memory and every file is written whole,
 /// atomically, by [`finish`](Observer::finish) (at the end of each run call), its header
-/// completed (time-step bounds, number of rows).
+/// completed (time-step bounds, number of rows). The disk space of the rows is held as
+/// they grow — a file of zeros, [`RESERVE_FILE`](crate::RESERVE_FILE), in the output folder, given back just
+/// before the files are written — so that a full disk stops the run when it happens, not
+/// after it.
 pub struct SeasBp5Output {
     dir: PathBuf,
     setup: SeasSetup,
@@ -68,6 +72,8 @@ pub struct SeasBp5Output {
     resume_log: bool,
     /// The resume log's marks so far.
     log: Vec<Mark>,
+    /// The disk space held for the rows in memory.
+    reserve: Reserve,
 }
 
 impl SeasBp5Output {
@@ -353,6 +359,7 @@ impl SeasBp5Output {
             persist_every: 0,
             resume_log: false,
             log: Vec::new(),
+            reserve: Reserve::new(dir),
         })
     }
 
@@ -425,8 +432,27 @@ impl SeasBp5Output {
         ((vmax, self.mu * sum), kmax)
     }
 
-    /// Writes every file whole (atomically) and the catalogue.
-    fn write_files(&self) -> Result<()> {
+    /// Bytes of the rows held in memory (every file's).
+    fn held_bytes(&self) -> u64 {
+        let files = self
+            .fault
+            .iter()
+            .map(|s| &s.file)
+            .chain(self.body.iter().map(|s| &s.file))
+            .chain(std::iter::once(&self.global))
+            .chain(self.profiles.iter().map(|p| &p.file));
+        files.map(|f| f.rows.len() as u64).sum::<u64>() + 100 * self.layout.positions.len() as u64
+    }
+
+    /// Writes every file whole (atomically) and the catalogue, into the space held for
+    /// them (given back first).
+    fn write_files(&mut self) -> Result<()> {
+        self.reserve.release()?;
+        self.write_all_files()
+    }
+
+    /// [`write_files`](Self::write_files)' writing.
+    fn write_all_files(&self) -> Result<()> {
         let files = self
             .fault
             .iter()
@@ -672,6 +698,7 @@ impl Observer<3, 3> for SeasBp5Output {
         if self.resume_log && self.persist_every > 0 && s.report.step % self.persist_every == 0 {
             self.persist()?;
         }
+        self.reserve.hold(self.held_bytes())?;
         Ok(Flow::Continue(()))
     }
 

@@ -135,8 +135,14 @@ fn run_with_output(
     recorder.record(rsf::Stepping::model(ode), ode.state());
     let mut rec = Recording(&mut recorder);
     let mut observers: [&mut dyn Observer<2, 1>; 2] = [&mut out, &mut rec];
-    ode.run_until(Until::Time(years * SECONDS_PER_YEAR), &mut observers)
-        .unwrap();
+    ode.run_until(
+        Until::TimeWithin {
+            time: years * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
+        &mut observers,
+    )
+    .unwrap();
     recorder
 }
 

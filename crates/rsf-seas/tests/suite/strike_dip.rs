@@ -27,6 +27,32 @@ fn with_stations(bp5: &SeasBp5, dx: f64) -> (rsf_scenes::SeasBp5FaultOde, Vec<Ve
     .unwrap()
 }
 
+/// The moment rate of every accepted step, computed here from the description: `μ Σ_k
+/// A_k |V_k|` with `μ = ρ c_s²` (ρ = 2670 kg/m³, c_s = 3464 m/s) and the cells' areas `dx²`
+/// — not from the output's code (issue 74: a moment rate with μ/2 went unnoticed).
+struct MomentRates {
+    area: f64,
+    rates: Vec<(f64, f64)>,
+}
+
+impl MomentRates {
+    fn push(&mut self, t: f64, v: &[f64]) {
+        let mu = 2670.0 * 3464.0 * 3464.0;
+        let speeds: f64 = v.chunks_exact(3).map(|c| c[1].hypot(c[2])).sum();
+        self.rates.push((t, mu * self.area * speeds));
+    }
+}
+
+impl Observer<3, 3> for MomentRates {
+    fn observe(&mut self, s: &rsf::StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
+        self.push(s.state.time, &s.state.kinematics.v);
+        Ok(rsf::Flow::Continue(()))
+    }
+    fn reads_volume(&self) -> bool {
+        false
+    }
+}
+
 fn setup(dx: f64) -> SeasSetup {
     SeasSetup {
         problem: "SEAS Benchmark BP5-QD".into(),
@@ -115,8 +141,39 @@ fn a_coarse_run_reaches_two_ruptures_and_writes_the_benchmarks_files() {
         ode.state(),
         rsf::Stepping::fault_tractions(&ode),
     );
-    ode.run_until(Until::Time(250.0 * SECONDS_PER_YEAR), &mut [&mut output])
-        .unwrap();
+    let mut moment = MomentRates {
+        area: dx * dx,
+        rates: Vec::new(),
+    };
+    moment.push(0.0, &ode.state().kinematics.v);
+    ode.run_until(
+        Until::TimeWithin {
+            time: 250.0 * SECONDS_PER_YEAR,
+            max_steps: 200_000,
+        },
+        &mut [&mut output, &mut moment],
+    )
+    .unwrap();
+    // global.dat's moment rate is μ ∫ |V| dA of the step its row was written at (the
+    // times to the file's 14 digits).
+    let global = parse(&dir.join("global.dat"), 3);
+    let mut compared = 0;
+    for row in &global {
+        let (_, rate) = moment
+            .rates
+            .iter()
+            .find(|(t, _)| (t - row[0]).abs() <= 1e-12 * row[0].abs().max(1.0))
+            .unwrap_or_else(|| panic!("global.dat: no step at t = {}", row[0]));
+        assert!(
+            // The file's values have 7 significant digits (`%.6E`): rounding ≤ 5e-7.
+            (row[2] / rate - 1.0).abs() < 1e-6,
+            "global.dat at t = {}: moment rate {} against μ Σ A|V| = {rate}",
+            row[0],
+            row[2]
+        );
+        compared += 1;
+    }
+    assert!(compared > 100, "{compared} rows");
     let ruptures: Vec<_> = output
         .events()
         .iter()
@@ -252,7 +309,10 @@ fn a_stopped_and_continued_run_writes_the_same_bytes() {
     let dx = 4000.0;
     let base = std::env::temp_dir().join(format!("rsf_bp5_resume_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&base);
-    let end = Until::Time(190.0 * SECONDS_PER_YEAR);
+    let end = Until::TimeWithin {
+        time: 190.0 * SECONDS_PER_YEAR,
+        max_steps: 500_000,
+    };
     let every = 200;
     let run = |dir: &Path, stop: Option<usize>, resume: Option<&rsf::Checkpoint>| {
         let (mut ode, columns) = with_stations(&bp5, dx);

@@ -545,7 +545,7 @@ impl<const D: usize> NonsmoothSolver<D> for DistributedTnnmg<D> {
             stop: self.opts.stopping,
             record_energy: self.opts.record_energy,
         };
-        iterate_to_tolerance(self, run, b, nl, v)
+        iterate_to_tolerance(self, run, b, nl, v, None)
     }
 
     /// `√(xᵀ E x)` with the ranks' rows of `E` (the energy-norm matrix, or `A` without

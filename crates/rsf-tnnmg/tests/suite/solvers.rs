@@ -297,6 +297,49 @@ fn budget_exhaustion_is_an_error_not_a_result() {
     }
 }
 
+/// A watched Gauss–Seidel solve reports its progress (every iteration here, then once at
+/// the end) and stops at its time limit with a typed error naming the iterations and the
+/// last correction; the reports do not change the iterates.
+#[test]
+fn a_watched_solve_reports_and_stops_at_its_time_limit() {
+    use std::sync::{Arc, Mutex};
+    let (m0, level) = (2, 2);
+    let m = m0 << level;
+    let a = square(m, 1.0);
+    let fixed = left_edge_fixed(m);
+    let b = stick_slip_load(m);
+    let stopping = Stopping {
+        absolute: 1e-10,
+        relative: 0.0,
+        max_iterations: 10_000,
+    };
+    let gs = || NonlinearGaussSeidel::<1>::new(a.as_ref(), &fixed, None, stopping, false).unwrap();
+    let mut plain = vec![0.0; b.len()];
+    let report = gs().solve(&b, &stick_slip_tresca(m), &mut plain).unwrap();
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    let s = seen.clone();
+    let mut watched = vec![0.0; b.len()];
+    gs().with_watch(SolveWatch::new().progress(0.0, move |p| s.lock().unwrap().push(p.iteration)))
+        .solve(&b, &stick_slip_tresca(m), &mut watched)
+        .unwrap();
+    assert_eq!(plain, watched, "the watch changed the iterates");
+    let seen = seen.lock().unwrap().clone();
+    assert_eq!(seen, (1..=report.iterations).collect::<Vec<_>>());
+    let mut v = vec![0.0; b.len()];
+    match gs().with_watch(SolveWatch::new().time_limit(0.0)).solve(
+        &b,
+        &stick_slip_tresca(m),
+        &mut v,
+    ) {
+        Err(Error::TimeLimit {
+            iterations: 1,
+            correction,
+            ..
+        }) => assert!(correction > 1e-10),
+        other => panic!("expected TimeLimit, got {other:?}"),
+    }
+}
+
 #[test]
 fn invalid_inputs_are_typed_errors() {
     let m = 4;

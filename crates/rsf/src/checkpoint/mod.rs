@@ -1,16 +1,18 @@
 //! Checkpoints: the complete dynamic state of a simulation in a small binary file that
 //! vouches for itself (docs/reliability.md).
 //!
-//! Format `RSFCKPT5`: the magic `RSFCKPT5`, then one serde value (the private `Payload`:
-//! dimension, step, time origin, time, τ, wall time, the [`Fingerprint`]'s pairs, `u`, `v`,
-//! `a`, `alpha`, the step controller's values, the method's tag and values) encoded by
+//! Format `RSFCKPT6`: the magic `RSFCKPT6`, then one serde value — the pair of the private
+//! `Payload` (dimension, step, time origin, time, τ, wall time, the [`Fingerprint`]'s
+//! pairs, `u`, `v`, `a`, `alpha`, the step controller's values, the method's tag and
+//! values) and the run's id ([`Checkpoint::run_id`]) — encoded by
 //! [postcard](https://docs.rs/postcard) — varint integers and lengths, every `f64` as its 8
 //! bytes, so a resumed run is bit-identical to an uninterrupted one — and last the CRC-32
-//! (IEEE, `u32` little endian) of every byte before it. Files of the earlier, hand-written
-//! formats (`RSFCKPT4`, `RSFCKPT3`: the same content, with a checksum; `RSFCKPT2`: no
-//! fingerprint, no checksum; `RSFCKPT1`: also no time, no controller) are still **read**
-//! (a run checkpointed by an earlier version resumes) and never written; those without a
-//! fingerprint get an empty one, which [`Fingerprint::check`] refuses.
+//! (IEEE, `u32` little endian) of every byte before it. `RSFCKPT5` is the same without the
+//! run's id. Files of `RSFCKPT5` and of the earlier, hand-written formats (`RSFCKPT4`,
+//! `RSFCKPT3`: the same content, with a checksum; `RSFCKPT2`: no fingerprint, no checksum;
+//! `RSFCKPT1`: also no time, no controller) are still **read** (a run checkpointed by an
+//! earlier version resumes; its run is unknown: an empty id) and never written; those
+//! without a fingerprint get an empty one, which [`Fingerprint::check`] refuses.
 
 use std::borrow::Cow;
 use std::io::Write;
@@ -31,7 +33,9 @@ pub use fingerprint::{Fingerprint, CHECKPOINT_FORMAT};
 use payload::Payload;
 
 /// The magic of the files this version writes.
-const MAGIC: &[u8; 8] = b"RSFCKPT5";
+const MAGIC: &[u8; 8] = b"RSFCKPT6";
+/// The magic of the previous format: the same content without the run's id.
+const MAGIC_V5: &[u8; 8] = b"RSFCKPT5";
 /// A [`SimulationState`] on disk: the state, the space dimension it belongs to, what it
 /// continues and the wall time spent so far.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,6 +54,12 @@ pub struct Checkpoint {
     /// The method's own state beyond `state` ([`MethodState::Implicit`] for the implicit
     /// simulation and for files of the earlier formats).
     pub method: MethodState,
+    /// The run the checkpoint belongs to: the run id of the run folder it was written into
+    /// ([`crate::run_folder::MANIFEST`]'s `run=`, set by the
+    /// [`Checkpointer`](crate::observe::Checkpointer)), so that a resume into another
+    /// run's folder is refused ([`RunFolder::prepare_resume`](crate::run_folder::RunFolder::prepare_resume)).
+    /// Empty if unknown: written outside a run folder, or by a version before `RSFCKPT6`.
+    pub run_id: String,
 }
 
 impl Checkpoint {
@@ -62,12 +72,14 @@ impl Checkpoint {
             fingerprint: Fingerprint::default(),
             wall_time_s: 0.0,
             method: MethodState::Implicit,
+            run_id: String::new(),
         }
     }
 
-    /// The bytes of the file (format `RSFCKPT5`, with its checksum: module docs).
+    /// The bytes of the file (format `RSFCKPT6`, with its checksum: module docs).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut b = postcard::to_extend(&self.payload(), MAGIC.to_vec())
+        let value = (self.payload(), self.run_id.as_str());
+        let mut b = postcard::to_extend(&value, MAGIC.to_vec())
             .expect("numbers, strings and vectors always serialise");
         let crc = crc32fast::hash(&b);
         b.extend_from_slice(&crc.to_le_bytes());
@@ -138,6 +150,7 @@ impl Checkpoint {
             fingerprint: Fingerprint(p.fingerprint.into_owned()),
             wall_time_s: p.wall_time_s,
             method,
+            run_id: String::new(),
         })
     }
 
@@ -165,14 +178,14 @@ impl Checkpoint {
         })
     }
 
-    /// Parses the bytes of a checkpoint file (`RSFCKPT5` or any earlier format).
+    /// Parses the bytes of a checkpoint file (`RSFCKPT6` or any earlier format).
     ///
     /// # Errors
     /// What is wrong, as text: not an rsf checkpoint, truncated or extended, a checksum
     /// mismatch (a changed bit anywhere), a malformed value, impossible sizes or times.
     pub fn from_bytes(bytes: &[u8]) -> std::result::Result<Self, String> {
         let magic = bytes.get(..8).ok_or("not an rsf checkpoint")?;
-        if magic != MAGIC {
+        if magic != MAGIC && magic != MAGIC_V5 {
             let version = legacy::version(magic).ok_or("not an rsf checkpoint")?;
             return Self::from_payload(legacy::parse(bytes, version)?);
         }
@@ -186,12 +199,24 @@ impl Checkpoint {
                 "checksum mismatch: the file was changed or cut after it was written".into(),
             );
         }
-        let (payload, rest) = postcard::take_from_bytes::<Payload<'_>>(&body[MAGIC.len()..])
-            .map_err(|e| format!("malformed: {e}"))?;
+        let content = &body[MAGIC.len()..];
+        let malformed = |e: postcard::Error| format!("malformed: {e}");
+        let (payload, run_id, rest) = if magic == MAGIC {
+            let ((payload, run_id), rest) =
+                postcard::take_from_bytes::<(Payload<'_>, String)>(content).map_err(malformed)?;
+            (payload, run_id, rest)
+        } else {
+            let (payload, rest) =
+                postcard::take_from_bytes::<Payload<'_>>(content).map_err(malformed)?;
+            (payload, String::new(), rest)
+        };
         if !rest.is_empty() {
             return Err("oversized: bytes after the checkpoint's content".into());
         }
-        Self::from_payload(payload)
+        Ok(Self {
+            run_id,
+            ..Self::from_payload(payload)?
+        })
     }
 }
 
@@ -281,6 +306,7 @@ mod tests {
             .with("law", "aging")
             .with("steps", 10);
         c.wall_time_s = 1.5;
+        c.run_id = "0123456789abcdef0123456789abcdef".into();
         c
     }
 
@@ -310,10 +336,10 @@ mod tests {
     #[test]
     fn method_states_round_trip_and_detect_every_bit_flip() {
         let implicit = sample().to_bytes();
-        assert_eq!(&implicit[..8], b"RSFCKPT5");
+        assert_eq!(&implicit[..8], b"RSFCKPT6");
         let c = switching_sample();
         let bytes = c.to_bytes();
-        assert_eq!(&bytes[..8], b"RSFCKPT5");
+        assert_eq!(&bytes[..8], b"RSFCKPT6");
         assert_eq!(Checkpoint::from_bytes(&bytes), Ok(c));
         assert_every_flip_and_cut_is_detected(&bytes);
     }
@@ -342,15 +368,40 @@ mod tests {
     }
 
     /// Files of the formats 3 and 4 (written by the versions before `RSFCKPT5`) are still
-    /// read, to the same checkpoint, and vouch for themselves as before.
+    /// read, to the same checkpoint (whose run is unknown), and vouch for themselves as
+    /// before.
     #[test]
     fn files_of_formats_3_and_4_are_still_read() {
         for (c, magic) in [(sample(), b"RSFCKPT3"), (switching_sample(), b"RSFCKPT4")] {
             let old = super::legacy::to_bytes(&c.payload());
             assert_eq!(&old[..8], magic);
-            assert_eq!(Checkpoint::from_bytes(&old), Ok(c));
+            let unknown = Checkpoint {
+                run_id: String::new(),
+                ..c
+            };
+            assert_eq!(Checkpoint::from_bytes(&old), Ok(unknown));
             assert_every_flip_and_cut_is_detected(&old);
         }
+    }
+
+    /// A file of format 5 (the payload alone, before the run's id) is still read, to the
+    /// same checkpoint with an unknown run; format 6 carries the run's id.
+    #[test]
+    fn files_of_format_5_are_still_read_without_a_run_id() {
+        let c = switching_sample();
+        let mut old = postcard::to_extend(&c.payload(), b"RSFCKPT5".to_vec()).unwrap();
+        let crc = crc32fast::hash(&old);
+        old.extend_from_slice(&crc.to_le_bytes());
+        let unknown = Checkpoint {
+            run_id: String::new(),
+            ..c.clone()
+        };
+        assert_eq!(Checkpoint::from_bytes(&old), Ok(unknown));
+        assert_every_flip_and_cut_is_detected(&old);
+        assert_eq!(
+            Checkpoint::from_bytes(&c.to_bytes()).unwrap().run_id,
+            c.run_id
+        );
     }
 
     #[test]

@@ -34,13 +34,13 @@ use crate::volume_probe::VolumeProbe;
 mod linger;
 mod options;
 mod rates;
-mod schur_only;
+pub(crate) mod schur_only;
 mod shared;
 
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
-pub use schur_only::SchurOnlySetup;
+pub use schur_only::{SchurOnlySetup, SetupProgress};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
@@ -87,7 +87,9 @@ pub use schur_only::SchurOnlySetup;
 /// let grid = rsf_scenes::SeasBp1Grid { dz: 500.0, domain: 20e3, ratio: 1.1 };
 /// let model = bp1.model(&grid, false)?;
 /// let mut ode = bp1.fault_ode(model, bp1.fault_ode_options(1e-6)?)?;
-/// let summary = ode.run_until(rsf::Until::Time(10.0 * rsf::observe::SECONDS_PER_YEAR), &mut [])?;
+/// // At most 10⁵ steps (a bound stated for this run: it takes a few hundred).
+/// let ten_years = rsf::Until::TimeWithin { time: 10.0 * rsf::observe::SECONDS_PER_YEAR, max_steps: 100_000 };
+/// let summary = ode.run_until(ten_years, &mut [])?;
 /// assert_eq!(ode.condensed_dim(), 20); // 21 fault nodes, the one at W_f creeps
 /// assert!(summary.steps > 0 && (ode.state().time / rsf::observe::SECONDS_PER_YEAR - 10.0).abs() < 1e-9);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -790,6 +792,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             rejected_attempts: taken.rejected,
             rejected_normal_stress: taken.refused,
             error_estimate: taken.error,
+            rejected_error: taken.rejected_error,
             seconds: clock.elapsed().as_secs_f64(),
             ..StepReport::default()
         })
@@ -801,6 +804,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> Stepping<D, C>
 {
     fn advance(&mut self, t_end: Option<f64>, reads_volume: bool) -> Result<StepReport> {
         self.advance_step(t_end, reads_volume)
+    }
+    /// The Runge–Kutta control's `dt_min`.
+    fn step_floor(&self) -> Option<f64> {
+        Some(self.options.runge_kutta.dt_min)
     }
     /// Precomputes the extension operator's rows at the vertices' dofs (one forward sweep
     /// per dof, kept while the same vertices are asked for) and fills them in the current

@@ -83,10 +83,16 @@ impl FaultOdeOptions {
     /// options' errors; the kernel's ([`FaultKernel::validate`]).
     pub fn validate(&self) -> Result<()> {
         let (lo, hi) = TOLERANCE_RANGE;
-        if !(self.tolerance >= lo && self.tolerance <= hi) {
+        // The open interval: a relative tolerance of 1 accepts any step (issue 74:
+        // `seas_bp5 --tolerance 1` ran).
+        if !(self.tolerance > lo && self.tolerance < hi) {
             return Err(invalid(
                 "tolerance",
-                format!("{} must be in {TOLERANCE_RANGE:?}", self.tolerance),
+                format!(
+                    "{} must be in ({lo:e}, {hi}) (open: a relative tolerance of 1 accepts \
+                     any step, one of ε can never be met)",
+                    self.tolerance
+                ),
             ));
         }
         if !(self.slip_scale > 0.0 && self.slip_scale.is_finite()) {

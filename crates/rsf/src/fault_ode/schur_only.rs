@@ -37,8 +37,11 @@ pub struct SchurOnlySetup {
     /// Told after every front with the elimination's progress (fronts, flops, time);
     /// [`ControlFlow::Break`] stops it with [`rsf_direct::Error::Stopped`] (the last
     /// checkpoint stays).
-    pub progress: Option<Box<dyn FnMut(&Progress) -> ControlFlow<()>>>,
+    pub progress: Option<SetupProgress>,
 }
+
+/// A watcher of the Schur-only elimination ([`SchurOnlySetup::progress`]).
+pub type SetupProgress = Box<dyn FnMut(&Progress) -> ControlFlow<()>>;
 
 impl std::fmt::Debug for SchurOnlySetup {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

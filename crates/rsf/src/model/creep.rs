@@ -50,24 +50,90 @@ impl<const D: usize> CreepRate<D> {
         frame: &[[f64; D]; D],
         x: &[f64; D],
     ) -> Result<[f64; C]> {
+        let jump = match *self {
+            Self::InFrame(v) => Jump::InFrame(v),
+            Self::Cartesian(v) => Jump::Cartesian(v),
+        };
+        jump.in_frame(frame, x, ("internal_creep", "creep rate", "m/s"))
+    }
+}
+
+/// The prescribed slip of a split pair of a fault inside the body (m): the jump `u⁺ − u⁻`
+/// of the displacement, set by
+/// [`internal_slip_at`](crate::ModelBuilder::internal_slip_at) — a kinematic source (a
+/// dislocation), in the pair's frame `(t₁, t₂, −n)` (2-D: `(t, −n)`; the scalar field: the
+/// one component) or as a Cartesian vector tangent to the fault. Every tangential component
+/// of such a pair is fixed: in the static problem (the model's initial equilibrium,
+/// [`Model::initial_displacement`](crate::Model::initial_displacement)) its jump is the
+/// slip, and it does not slip further (its slip rate is 0, or a creep rate of
+/// [`internal_creep_at`](crate::ModelBuilder::internal_creep_at) at the same pair).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PrescribedSlip<const D: usize> {
+    /// The components `(s₁, s₂)` along the pair's tangents `t₁`, `t₂` (m): in 2-D and for a
+    /// scalar field `s₂` must be 0; in 3-D `t₁` is the projection of
+    /// [`fault_tangent`](crate::ModelBuilder::fault_tangent) on the fault.
+    InFrame([f64; 2]),
+    /// The Cartesian slip vector `u⁺ − u⁻` (m) for a vector field; its part along the
+    /// pair's normal must be at most [`MAX_CREEP_NORMAL_FRACTION`] of its length (the
+    /// fault does not open); not for a scalar field.
+    Cartesian([f64; D]),
+}
+
+impl<const D: usize> PrescribedSlip<D> {
+    /// `slip` (m) along the direction at `rake_degrees` from `t₁` towards `t₂` (the
+    /// seismological rake when `t₁` is the strike and `t₂` the up-dip direction):
+    /// `InFrame([slip cos r, slip sin r])`.
+    pub fn rake(slip: f64, rake_degrees: f64) -> Self {
+        let r = rake_degrees.to_radians();
+        Self::InFrame([slip * r.cos(), slip * r.sin()])
+    }
+
+    /// The prescribed components of the jump in the pair's frame, as
+    /// [`CreepRate::in_frame`].
+    ///
+    /// # Errors
+    /// As [`CreepRate::in_frame`], named `internal_slip`.
+    pub(crate) fn in_frame<const C: usize>(
+        &self,
+        frame: &[[f64; D]; D],
+        x: &[f64; D],
+    ) -> Result<[f64; C]> {
+        let jump = match *self {
+            Self::InFrame(v) => Jump::InFrame(v),
+            Self::Cartesian(v) => Jump::Cartesian(v),
+        };
+        jump.in_frame(frame, x, ("internal_slip", "slip", "m"))
+    }
+}
+
+/// A prescribed jump (a creep rate or a slip) before it is written in a pair's frame.
+enum Jump<const D: usize> {
+    InFrame([f64; 2]),
+    Cartesian([f64; D]),
+}
+
+impl<const D: usize> Jump<D> {
+    /// The jump's components in `frame` (the first `C − 1` of a vector field, the one of
+    /// a scalar field); errors name `parameter` and speak of a `what` in `unit`.
+    fn in_frame<const C: usize>(
+        &self,
+        frame: &[[f64; D]; D],
+        x: &[f64; D],
+        (parameter, what, unit): (&str, &str, &str),
+    ) -> Result<[f64; C]> {
         let vector = C == D && C > 1;
         let tangential = if vector { C - 1 } else { 1 };
-        let refuse = |why: String| {
-            Err(invalid(
-                "internal_creep",
-                format!("the creep rate at {x:?} m {why}"),
-            ))
-        };
+        let refuse = |why: String| Err(invalid(parameter, format!("the {what} at {x:?} m {why}")));
         let mut j = [0.0; C];
         match *self {
             Self::InFrame(v) => {
                 if v.iter().any(|x| !x.is_finite()) {
-                    return refuse(format!("{v:?} m/s is not finite"));
+                    return refuse(format!("{v:?} {unit} is not finite"));
                 }
                 if tangential < 2 && v[1] != 0.0 {
                     return refuse(format!(
-                        "has a second tangential component {:e} m/s, but the fault has one \
-                         tangent",
+                        "has a second tangential component {:e} {unit}, but the fault has \
+                         one tangent",
                         v[1]
                     ));
                 }
@@ -75,13 +141,13 @@ impl<const D: usize> CreepRate<D> {
             }
             Self::Cartesian(v) => {
                 if !vector {
-                    return refuse(
-                        "is a Cartesian vector, but the field is scalar (give CreepRate::InFrame)"
-                            .into(),
-                    );
+                    return refuse(format!(
+                        "is a Cartesian vector, but the field is scalar (give the {what} \
+                         in the pair's frame, InFrame)"
+                    ));
                 }
                 if v.iter().any(|x| !x.is_finite()) {
-                    return refuse(format!("{v:?} m/s is not finite"));
+                    return refuse(format!("{v:?} {unit} is not finite"));
                 }
                 // j = Rᵀ v.
                 let local: [f64; D] =
@@ -89,8 +155,8 @@ impl<const D: usize> CreepRate<D> {
                 let length = v.iter().fold(0.0f64, |m, x| m.hypot(*x));
                 if local[D - 1].abs() > MAX_CREEP_NORMAL_FRACTION * length {
                     return refuse(format!(
-                        "{v:?} m/s has the normal part {:e} m/s: it would open or close the \
-                         fault (give a vector tangent to the fault)",
+                        "{v:?} {unit} has the normal part {:e} {unit}: it would open or \
+                         close the fault (give a vector tangent to the fault)",
                         -local[D - 1]
                     ));
                 }
@@ -100,6 +166,10 @@ impl<const D: usize> CreepRate<D> {
         Ok(j)
     }
 }
+
+/// Where and how much a fault inside the body's pairs are slipped by prescription: `None`
+/// where the pair at position `x` (m) is not.
+pub(crate) type SlipField<const D: usize> = Box<dyn Fn(&[f64; D]) -> Option<PrescribedSlip<D>>>;
 
 /// Where and how fast the creeping section of an internal fault slips: `None` where the
 /// pair at position `x` (m) slips by friction.

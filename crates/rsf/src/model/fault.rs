@@ -70,6 +70,20 @@ impl FrictionalBoundary {
         })
     }
 
+    /// No frictional node: the frictional boundary of a model whose fault inside the body
+    /// has every pair's slip prescribed (a kinematic source,
+    /// [`ModelBuilder::internal_slip_at`](crate::ModelBuilder::internal_slip_at)). Such a
+    /// model is a static problem; a simulation refuses it
+    /// ([`Error::NoFrictionalNode`](crate::Error::NoFrictionalNode)).
+    pub fn empty() -> Self {
+        Self {
+            nodes: Vec::new(),
+            weights: Vec::new(),
+            along: Vec::new(),
+            slip_factor: 1.0,
+        }
+    }
+
     /// The same boundary with slip factor `s` (see [`slip_factor`](Self::slip_factor)).
     ///
     /// # Errors
@@ -97,7 +111,8 @@ impl FrictionalBoundary {
         self.nodes.binary_search(&vertex).ok()
     }
 
-    /// Whether there are none (never true for a validated boundary).
+    /// Whether there are none: a model of a kinematic source only
+    /// ([`empty`](Self::empty)), which no simulation accepts.
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }

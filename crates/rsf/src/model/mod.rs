@@ -20,10 +20,10 @@ pub use builder::{
     BuildStage, FacetPredicate, ModelBuilder, Part, DEFAULT_MAX_FAULT_KINK_DEGREES, MAX_CELLS,
 };
 pub use conditioning::{representable_range, ProblemScales, ScaleFields, SLIP_RESOLUTION};
-pub use creep::{CreepRate, MAX_CREEP_NORMAL_FRACTION};
+pub use creep::{CreepRate, PrescribedSlip, MAX_CREEP_NORMAL_FRACTION};
 pub use equilibrium::{
-    equilibrium_on_ranks, EquilibriumSystem, EQUILIBRIUM_DIRECT_MAX_DOFS_3D,
-    EQUILIBRIUM_MULTIGRID_TOLERANCE,
+    equilibrium_on_ranks, EquilibriumSystem, StaticMethod, StaticOptions, StaticSolver,
+    EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE,
 };
 pub use fault::{block_norm, FrictionalBoundary};
 pub use internal::{FaultSide, InternalFault};

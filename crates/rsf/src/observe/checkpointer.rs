@@ -14,26 +14,44 @@ use super::{Flow, Observer, StepView};
 /// [`Every`](crate::observe::Every) to checkpoint every `n` steps). Put it after the observers that
 /// write files, so that a checkpoint never runs ahead of them.
 ///
-/// Each checkpoint carries the [`fingerprint`](Self::fingerprint) of the run and its wall
+/// Each checkpoint carries the [`fingerprint`](Self::fingerprint) of the run, its wall
 /// time so far ([`Checkpoint::wall_time_s`](crate::Checkpoint::wall_time_s): the wall
-/// time since this checkpointer was made, plus [`wall_time_before`](Self::wall_time_before)).
+/// time since this checkpointer was made, plus [`wall_time_before`](Self::wall_time_before))
+/// and the run's id ([`Checkpoint::run_id`](crate::Checkpoint::run_id): that of the run
+/// folder `path` is in, or [`run_id`](Self::run_id)'s).
 #[derive(Debug, Clone)]
 pub struct Checkpointer {
     path: PathBuf,
     fingerprint: Fingerprint,
     started: Instant,
     before_s: f64,
+    run_id: String,
 }
 
 impl Checkpointer {
-    /// Checkpoints to `path`, with an empty fingerprint.
+    /// Checkpoints to `path`, with an empty fingerprint and the run id of the run folder
+    /// that holds `path` (the `run=` line of its manifest
+    /// [`MANIFEST`](crate::run_folder::MANIFEST), read here once; empty if there is none):
+    /// so every checkpoint a run writes into its folder names the run it belongs to.
     pub fn new(path: impl Into<PathBuf>) -> Self {
+        let path = path.into();
+        let run_id = path
+            .parent()
+            .and_then(crate::run_folder::run_id)
+            .unwrap_or_default();
         Self {
-            path: path.into(),
+            path,
             fingerprint: Fingerprint::default(),
             started: Instant::now(),
             before_s: 0.0,
+            run_id,
         }
+    }
+
+    /// Writes `id` as the run's id into every checkpoint (instead of the folder's).
+    pub fn run_id(mut self, id: &str) -> Self {
+        self.run_id = id.to_owned();
+        self
     }
 
     /// Writes `fingerprint` (what the run is: physics and method) into every checkpoint.
@@ -53,12 +71,13 @@ impl Checkpointer {
 
 impl Checkpointer {
     /// Writes the checkpoint `c` (of any state, e.g. one a run starts from) as this
-    /// checkpointer writes those of its steps: with its fingerprint and wall time.
+    /// checkpointer writes those of its steps: with its fingerprint, wall time and run id.
     ///
     /// # Errors
     /// [`Error::File`](crate::Error::File) naming the file and the operation.
     pub fn write(&self, mut c: Checkpoint) -> Result<()> {
         c.fingerprint = self.fingerprint.clone();
+        c.run_id = self.run_id.clone();
         c.wall_time_s = self.before_s + self.started.elapsed().as_secs_f64();
         c.write(&self.path)
     }

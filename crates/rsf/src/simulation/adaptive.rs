@@ -43,6 +43,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         let control = *self.method.step_control().expect("adaptive");
         let mut rejected = 0;
         let mut refused = 0;
+        let mut rejected_error = 0.0;
         // A breakpoint closer than the round-off allowance is taken as reached (no sliver of
         // a step).
         let tau_now = self.controller().tau();
@@ -78,6 +79,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                         report.rejected_attempts = rejected;
                         report.rejected_normal_stress = refused;
                         report.error_estimate = err;
+                        report.rejected_error = rejected_error;
                         if control.state_extrapolation && self.problem.uses_state() {
                             self.work
                                 .alpha_trial
@@ -86,9 +88,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                         self.commit(&report);
                         return Ok(report);
                     }
+                    rejected_error = if err.is_nan() { f64::INFINITY } else { err };
                     control.reject(self.controller_mut(), err)?;
                 }
                 Err(e) if recoverable(&e) => {
+                    rejected_error = f64::INFINITY;
                     let opens = matches!(e, Error::NormalStressNotPositive { .. });
                     refused += usize::from(opens);
                     if control

@@ -42,7 +42,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     Parts<'_, D, L, S, I, C>
 {
     /// Checks every part and returns τ: τ set and valid (named `tau`), the model
-    /// ([`Model::validate`], including the fixed normal on Γ_F), a mass matrix for an
+    /// ([`Model::validate`], including the fixed normal on Γ_F; at least one frictional
+    /// node, [`Error::NoFrictionalNode`]), a mass matrix for an
     /// integrator with inertia, a finite initial velocity, the initial state (set and finite where the friction uses
     /// the state), a state law where the friction uses the state, per node that friction
     /// law and state law agree on the state variable and the state law's monotonicity
@@ -61,6 +62,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
         time_step(tau)?;
         let model = self.model;
         model.validate()?;
+        if model.frictional_boundary.is_empty() {
+            return Err(Error::NoFrictionalNode {
+                what: "a simulation (SimulationBuilder::build, build_fault_ode)",
+            });
+        }
         let method = self.method;
         if method.integrator.uses_mass() && model.mass.is_none() {
             return Err(invalid(

@@ -342,6 +342,10 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
     fn advance(&mut self, t_end: Option<f64>, _reads_volume: bool) -> Result<StepReport> {
         self.step_until(t_end)
     }
+    /// The adaptive step control's `tau_min` (`None` for fixed steps).
+    fn step_floor(&self) -> Option<f64> {
+        self.method.step_control().map(|c| c.tau_min)
+    }
     fn model(&self) -> &Model<D, C> {
         self.problem.model()
     }

@@ -527,7 +527,10 @@ fn small_bp1_fd_with_absorbing_boundaries_switching_and_implicit_agree_on_the_fi
         },
     )
     .unwrap();
-    let t_end = rsf::Until::Time(300.0 * rsf::observe::SECONDS_PER_YEAR);
+    let t_end = rsf::Until::TimeWithin {
+        time: 300.0 * rsf::observe::SECONDS_PER_YEAR,
+        max_steps: 500_000,
+    };
     let mut a = FirstEvent::default();
     rsf::run_until(&mut switching, t_end, &mut [&mut a]).unwrap();
     let mut implicit = dynamic(1e-2);

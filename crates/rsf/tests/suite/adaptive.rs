@@ -100,7 +100,14 @@ fn scaled_error(
 fn linear_elastodynamics_error_meets_the_tolerance() {
     let c = control(1e-4, 1e-9, 0.01);
     let mut sim = linear_sim(0.3 / 150.0);
-    sim.run_until(Until::Time(0.1), &mut []).unwrap();
+    sim.run_until(
+        Until::TimeWithin {
+            time: 0.1,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     sim.set_step_control(Some(c)).unwrap();
     let mut worst: f64 = 0.0;
     for _ in 0..12 {
@@ -123,14 +130,28 @@ fn linear_elastodynamics_error_meets_the_tolerance() {
     // Global error at t = 0.3 s against a fine uniform run shrinks with the tolerance.
     let reference = {
         let mut s = linear_sim(0.3 / 9600.0);
-        s.run_until(Until::Time(0.3), &mut []).unwrap();
+        s.run_until(
+            Until::TimeWithin {
+                time: 0.3,
+                max_steps: 500_000,
+            },
+            &mut [],
+        )
+        .unwrap();
         s.kinematics().u.clone()
     };
     let global = |tol: f64| {
         let mut s = linear_sim(0.3 / 150.0);
         s.set_step_control(Some(control(tol, 1e-9, 0.3 / 75.0)))
             .unwrap();
-        s.run_until(Until::Time(0.3), &mut []).unwrap();
+        s.run_until(
+            Until::TimeWithin {
+                time: 0.3,
+                max_steps: 500_000,
+            },
+            &mut [],
+        )
+        .unwrap();
         assert!((s.time() - 0.3).abs() < 1e-12, "ends at the requested time");
         let u = &s.kinematics().u;
         let num: f64 = u
@@ -161,13 +182,27 @@ fn steady_sliding_stays_steady_with_growing_steps() {
         ..SliderScene::default()
     };
     let mut sim = scene.build().unwrap();
-    sim.run_until(Until::Time(15.0), &mut []).unwrap();
+    sim.run_until(
+        Until::TimeWithin {
+            time: 15.0,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     let v_d = scene.loading_velocity_m_per_s;
     sim.set_step_control(Some(control(1e-4, 1e-9, 0.5)))
         .unwrap();
     let mut steps = Steps::default();
     let t0 = sim.time();
-    sim.run_until(Until::Time(20.0), &mut [&mut steps]).unwrap();
+    sim.run_until(
+        Until::TimeWithin {
+            time: 20.0,
+            max_steps: 500_000,
+        },
+        &mut [&mut steps],
+    )
+    .unwrap();
     assert_contiguous(&steps.0, t0);
     for &(t, _, _, v) in &steps.0 {
         assert!(
@@ -200,7 +235,14 @@ fn steps_end_at_the_end_of_the_loading_ramp() {
     sim.set_step_control(Some(control(1e-3, 1e-9, 0.05)))
         .unwrap();
     let mut steps = Steps::default();
-    sim.run_until(Until::Time(0.3), &mut [&mut steps]).unwrap();
+    sim.run_until(
+        Until::TimeWithin {
+            time: 0.3,
+            max_steps: 500_000,
+        },
+        &mut [&mut steps],
+    )
+    .unwrap();
     assert_contiguous(&steps.0, 0.0);
     assert!(
         steps.0.iter().any(|s| (s.0 - ramp_end).abs() <= 1e-12),
@@ -243,7 +285,15 @@ fn failing_steps_are_rejected_retried_and_never_observed() {
     sim.set_step_control(Some(control(1e-2, tau_min, tau_max)))
         .unwrap();
     let mut steps = Steps::default();
-    let summary = sim.run_until(Until::Time(10.6), &mut [&mut steps]).unwrap();
+    let summary = sim
+        .run_until(
+            Until::TimeWithin {
+                time: 10.6,
+                max_steps: 500_000,
+            },
+            &mut [&mut steps],
+        )
+        .unwrap();
     assert!(summary.rejected_attempts > 0, "some attempts failed");
     assert_eq!(
         summary.rejected_attempts,
@@ -442,7 +492,10 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
             Every::new(Interval::Steps(every), Checkpointer::new(&ckpt)).unwrap();
         let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
         sim.run_until(
-            Until::Time(scene.end_time_s),
+            Until::TimeWithin {
+                time: scene.end_time_s,
+                max_steps: 500_000,
+            },
             &mut [&mut series, &mut profile, &mut checkpointer, &mut stopper],
         )
         .unwrap();
@@ -519,7 +572,14 @@ fn healing_state_error_with_and_without_the_state_scale() {
         };
         let mut sim = scene.build().unwrap();
         let mut steps = Steps::default();
-        sim.run_until(Until::Time(end), &mut [&mut steps]).unwrap();
+        sim.run_until(
+            Until::TimeWithin {
+                time: end,
+                max_steps: 500_000,
+            },
+            &mut [&mut steps],
+        )
+        .unwrap();
         let v_max = steps.0.iter().map(|s| s.3).fold(0.0_f64, f64::max);
         assert!(v_max < 1e-15, "stuck: largest slip rate {v_max}");
         let exact = scene.alpha0.exp() + sim.time();

@@ -77,8 +77,14 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
         .unwrap()
         .build()
         .unwrap();
-    sim.run_until(rsf::Until::Time(3000.0 * SECONDS_PER_YEAR), &mut [])
-        .unwrap();
+    sim.run_until(
+        rsf::Until::TimeWithin {
+            time: 3000.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     let mut v = vec![0.0; sim.model().frictional_boundary.len()];
     sim.slip_rates(&mut v);
     let worst_v = v

@@ -144,7 +144,13 @@ fn run_until_a_time_and_until_an_observer_stops() {
     let tau = scene.tau();
     let mut sim = scene.build().unwrap();
     let s = sim
-        .run_until(rsf::Until::Time(10.0 * tau), &mut [])
+        .run_until(
+            rsf::Until::TimeWithin {
+                time: 10.0 * tau,
+                max_steps: 500_000,
+            },
+            &mut [],
+        )
         .unwrap();
     assert_eq!(s.steps, 10);
     assert!((sim.time() - 10.0 * tau).abs() < 1e-12);
@@ -155,7 +161,13 @@ fn run_until_a_time_and_until_an_observer_stops() {
     assert!(s.stopped_by_observer());
     // A non-finite end time is a typed error, not a hang.
     assert!(sim
-        .run_until(rsf::Until::Time(f64::INFINITY), &mut [])
+        .run_until(
+            rsf::Until::TimeWithin {
+                time: f64::INFINITY,
+                max_steps: 500_000
+            },
+            &mut []
+        )
         .is_err());
 }
 

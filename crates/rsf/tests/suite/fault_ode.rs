@@ -39,7 +39,13 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
     });
     let mut ode = fault_ode(&bp1, &grid, 1e-6);
     let summary = ode
-        .run_until(Until::Time(3000.0 * SECONDS_PER_YEAR), &mut [])
+        .run_until(
+            Until::TimeWithin {
+                time: 3000.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
+            &mut [],
+        )
         .unwrap();
     let v = slip_rates(ode.model(), ode.state());
     let worst_v = v
@@ -72,7 +78,14 @@ fn implicit_scheme_converges_to_the_runge_kutta_trajectory() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
     let t_end = 60.0 * SECONDS_PER_YEAR;
     let mut ode = fault_ode(&bp1, &grid, 1e-8);
-    ode.run_until(Until::Time(t_end), &mut []).unwrap();
+    ode.run_until(
+        Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap();
     let reference = slip_rates(ode.model(), ode.state());
     let mut diffs = Vec::new();
     for tol in [1e-2, 1e-3, 1e-4] {
@@ -82,7 +95,15 @@ fn implicit_scheme_converges_to_the_runge_kutta_trajectory() {
             .unwrap()
             .build()
             .unwrap();
-        let s = sim.run_until(Until::Time(t_end), &mut []).unwrap();
+        let s = sim
+            .run_until(
+                Until::TimeWithin {
+                    time: t_end,
+                    max_steps: 500_000,
+                },
+                &mut [],
+            )
+            .unwrap();
         let v = slip_rates(sim.model(), sim.state());
         let d = v
             .iter()
@@ -192,7 +213,10 @@ fn first_event_converges_with_the_tolerance() {
             }
         }
         ode.run_until(
-            Until::Time(500.0 * SECONDS_PER_YEAR),
+            Until::TimeWithin {
+                time: 500.0 * SECONDS_PER_YEAR,
+                max_steps: 500_000,
+            },
             &mut [&mut Onset(&mut onset)],
         )
         .unwrap();
@@ -269,7 +293,13 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     let dynamic_tau = run.options().dynamic_tau;
     let mut trace = Trace::default();
     let summary = run
-        .run_until(Until::Time(t_end), &mut [&mut trace])
+        .run_until(
+            Until::TimeWithin {
+                time: t_end,
+                max_steps: 500_000,
+            },
+            &mut [&mut trace],
+        )
         .unwrap();
     let stats = run.stats();
     eprintln!("{summary:?}\n{stats:?}");
@@ -371,7 +401,15 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
 ) {
     let mut whole = Trace::default();
     let mut m = make();
-    rsf::run_until(&mut m, Until::Time(t_end), &mut [&mut whole]).unwrap();
+    rsf::run_until(
+        &mut m,
+        Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut whole],
+    )
+    .unwrap();
     let path = dir.join("checkpoint.bin");
     let ks = kills(&whole.rows);
     assert!(!ks.is_empty());
@@ -413,14 +451,38 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
     let t_mid = whole.rows[whole.rows.len() / 2].0 * 0.999_999_7;
     let mut first = Trace::default();
     let mut m = make();
-    rsf::run_until(&mut m, Until::Time(t_mid), &mut [&mut first]).unwrap();
+    rsf::run_until(
+        &mut m,
+        Until::TimeWithin {
+            time: t_mid,
+            max_steps: 500_000,
+        },
+        &mut [&mut first],
+    )
+    .unwrap();
     let c = m.checkpoint();
     let mut tail_continued = Trace::default();
-    rsf::run_until(&mut m, Until::Time(t_end), &mut [&mut tail_continued]).unwrap();
+    rsf::run_until(
+        &mut m,
+        Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut tail_continued],
+    )
+    .unwrap();
     let mut resumed = make();
     resumed.restore(&c).unwrap();
     let mut tail_resumed = Trace::default();
-    rsf::run_until(&mut resumed, Until::Time(t_end), &mut [&mut tail_resumed]).unwrap();
+    rsf::run_until(
+        &mut resumed,
+        Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut tail_resumed],
+    )
+    .unwrap();
     assert_same_rows(
         &tail_resumed.rows,
         &tail_continued.rows,
@@ -509,7 +571,10 @@ fn first_event_time(ode: &mut rsf_scenes::SeasBp1FaultOde) -> f64 {
         }
     }
     ode.run_until(
-        Until::Time(500.0 * SECONDS_PER_YEAR),
+        Until::TimeWithin {
+            time: 500.0 * SECONDS_PER_YEAR,
+            max_steps: 500_000,
+        },
         &mut [&mut Onset(&mut onset)],
     )
     .unwrap();
@@ -669,8 +734,14 @@ fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
                         .fault_ode(model, kernel_options(&bp1, kernel, threads))
                         .unwrap();
                     let mut trace = Trace::default();
-                    ode.run_until(Until::Time(years * SECONDS_PER_YEAR), &mut [&mut trace])
-                        .unwrap();
+                    ode.run_until(
+                        Until::TimeWithin {
+                            time: years * SECONDS_PER_YEAR,
+                            max_steps: 500_000,
+                        },
+                        &mut [&mut trace],
+                    )
+                    .unwrap();
                     (trace, ode.evaluations())
                 })
             };

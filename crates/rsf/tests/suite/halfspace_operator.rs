@@ -512,7 +512,15 @@ fn first_event(bem: Option<f64>) -> (f64, usize) {
         time: None,
         steps: 0,
     };
-    rsf::run_until(&mut ode, rsf::Until::Time(1e8), &mut [&mut event]).unwrap();
+    rsf::run_until(
+        &mut ode,
+        rsf::Until::TimeWithin {
+            time: 1e8,
+            max_steps: 500_000,
+        },
+        &mut [&mut event],
+    )
+    .unwrap();
     (event.time.expect("an event before 1e8 s"), event.steps)
 }
 

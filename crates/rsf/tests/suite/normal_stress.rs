@@ -138,7 +138,15 @@ fn the_fault_odes_normal_stress_is_the_reaction_of_the_full_static_solution() {
     let weights = model.frictional_boundary.weights.clone();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
     let mut record = Record::default();
-    rsf::run_until(&mut ode, rsf::Until::Time(3.0), &mut [&mut record]).unwrap();
+    rsf::run_until(
+        &mut ode,
+        rsf::Until::TimeWithin {
+            time: 3.0,
+            max_steps: 500_000,
+        },
+        &mut [&mut record],
+    )
+    .unwrap();
     let r0 = normal_reactions(&model, &model.initial_displacement);
     let mut largest_change = 0.0f64;
     let mut worst = 0.0f64;
@@ -213,7 +221,15 @@ fn slip_on_a_plane_of_mirror_symmetry_leaves_the_normal_stress_unchanged() {
         .unwrap();
     let mut ode = fault_ode(model, NormalStress::FromSlip).unwrap();
     let mut record = Record::default();
-    rsf::run_until(&mut ode, rsf::Until::Time(3.0), &mut [&mut record]).unwrap();
+    rsf::run_until(
+        &mut ode,
+        rsf::Until::TimeWithin {
+            time: 3.0,
+            max_steps: 500_000,
+        },
+        &mut [&mut record],
+    )
+    .unwrap();
     let (_, u, _) = record.rows.last().unwrap();
     let slip = ode
         .model()
@@ -269,7 +285,15 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
     }
     let model = pulled_apart_block();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
-    let e = rsf::run_until(&mut ode, rsf::Until::Time(10.0), &mut []).unwrap_err();
+    let e = rsf::run_until(
+        &mut ode,
+        rsf::Until::TimeWithin {
+            time: 10.0,
+            max_steps: 500_000,
+        },
+        &mut [],
+    )
+    .unwrap_err();
     let text = format!("{e}: {}", e.error);
     eprintln!("fault ODE: {text}");
     match &e.error {
@@ -298,7 +322,15 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
         }
         .build()
         .unwrap();
-        let e = sim.run_until(rsf::Until::Time(10.0), &mut []).unwrap_err();
+        let e = sim
+            .run_until(
+                rsf::Until::TimeWithin {
+                    time: 10.0,
+                    max_steps: 500_000,
+                },
+                &mut [],
+            )
+            .unwrap_err();
         let text = format!("{e}: {}", e.error);
         eprintln!("implicit, adaptive {adaptive}: {text}");
         match &e.error {
@@ -333,7 +365,15 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
     let model = thrust_block();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
     let mut reference = Record::default();
-    rsf::run_until(&mut ode, rsf::Until::Time(t_end), &mut [&mut reference]).unwrap();
+    rsf::run_until(
+        &mut ode,
+        rsf::Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut reference],
+    )
+    .unwrap();
     let nodes = model.frictional_boundary.nodes.clone();
     let slip_of = |u: &[f64]| -> Vec<f64> {
         nodes
@@ -378,7 +418,15 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
     // far more than the implicit scheme's error.
     let mut fixed = fault_ode(model.clone(), NormalStress::Fixed).unwrap();
     let mut uncoupled = Record::default();
-    rsf::run_until(&mut fixed, rsf::Until::Time(t_end), &mut [&mut uncoupled]).unwrap();
+    rsf::run_until(
+        &mut fixed,
+        rsf::Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut uncoupled],
+    )
+    .unwrap();
     let effect = slip_of(&uncoupled.rows.last().unwrap().1)
         .iter()
         .zip(&slip_ref)
@@ -454,8 +502,14 @@ fn the_switching_run_carries_a_normal_stress_from_slip_through_both_phases() {
     let ode = fault_ode(thrust_block(), NormalStress::FromSlip).unwrap();
     let mut run = rsf::SwitchingRun::new(ode, dynamic(NormalStress::FromSlip), options).unwrap();
     let mut record = Record::default();
-    run.run_until(rsf::Until::Time(3.0), &mut [&mut record])
-        .unwrap();
+    run.run_until(
+        rsf::Until::TimeWithin {
+            time: 3.0,
+            max_steps: 500_000,
+        },
+        &mut [&mut record],
+    )
+    .unwrap();
     let stats = run.stats();
     let change = record
         .rows

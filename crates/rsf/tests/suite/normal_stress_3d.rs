@@ -181,7 +181,15 @@ fn normal_stress_at(ode: &mut FaultOde<3, AsinhLaw, Aging>, stops: &[f64]) -> Ve
     let mut rows = Vec::new();
     for &t in stops {
         let mut record = NormalStresses::default();
-        rsf::run_until(ode, Until::Time(t), &mut [&mut record]).unwrap();
+        rsf::run_until(
+            ode,
+            Until::TimeWithin {
+                time: t,
+                max_steps: 500_000,
+            },
+            &mut [&mut record],
+        )
+        .unwrap();
         rows.push(record.0.pop().unwrap());
     }
     rows

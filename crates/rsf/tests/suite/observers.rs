@@ -85,7 +85,10 @@ fn a_run_stops_at_the_end_of_the_first_event() {
     let mut fault = FaultRecorder::new(sim.model());
     let summary = sim
         .run_until(
-            Until::Time(scene.end_time_s),
+            Until::TimeWithin {
+                time: scene.end_time_s,
+                max_steps: 500_000,
+            },
             &mut [&mut events, &mut rec, &mut fault],
         )
         .unwrap();

@@ -144,7 +144,14 @@ fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
                 ..bp1.fault_ode_options(1e-6).unwrap()
             };
             let ode = bp1.fault_ode(model, options).unwrap();
-            run_shared(ode, ranks, Until::Time(20.0 * SECONDS_PER_YEAR))
+            run_shared(
+                ode,
+                ranks,
+                Until::TimeWithin {
+                    time: 20.0 * SECONDS_PER_YEAR,
+                    max_steps: 500_000,
+                },
+            )
         });
         eprintln!("BP1, m = 100, {kernel:?}: {steps} steps with the same bits on 1–4 ranks");
     }
@@ -166,7 +173,14 @@ fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
                 ..Default::default()
             })
             .unwrap();
-        run_shared(ode, ranks, Until::Time(3.0))
+        run_shared(
+            ode,
+            ranks,
+            Until::TimeWithin {
+                time: 3.0,
+                max_steps: 500_000,
+            },
+        )
     });
     eprintln!("3-D internal fault: {steps} steps with the same bits on 1–4 ranks");
 }
@@ -220,6 +234,62 @@ fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4
     }
 }
 
+/// The mesh of `bp3` on `grid` with its vertices numbered in a scrambled order (vertex
+/// `i` becomes `(i · 7919) mod n`): the frictional nodes, in vertex order, are then not in
+/// the order of their positions along the fault — nor in the ℋ-matrix's cluster order.
+fn scrambled_bp3_model(bp3: &rsf_scenes::SeasBp3, grid: &rsf_scenes::SeasBp3Grid) -> rsf::Model<2> {
+    let mesh = bp3.mesh(grid).unwrap();
+    let n = mesh.num_vertices();
+    assert!(n % 7919 != 0);
+    let new = |i: usize| (i * 7919) % n;
+    let mut vertices = vec![[0.0; 2]; n];
+    for (i, v) in mesh.vertices().iter().enumerate() {
+        vertices[new(i)] = *v;
+    }
+    let cells = mesh.cells().iter().map(|&i| new(i)).collect();
+    let mesh = rsf::fem::TriangleMesh::new(vertices, cells).unwrap();
+    bp3.model_on(mesh, grid).unwrap()
+}
+
+/// BP3's normal stress from slip shared by ranks where the frictional nodes are not in
+/// the ℋ-matrix's cluster order (the mesh numbered in a scrambled order): each rank's
+/// reactions read the loading at their own nodes (node order), not at their rows'
+/// positions in cluster order — the unshared bits on 1–4 ranks. (Issue 74: with the nodes
+/// in cluster order, as in the test above, reading the loading in cluster order went
+/// unnoticed.)
+#[test]
+fn bp3_with_its_nodes_out_of_cluster_order_has_the_same_bits_on_1_to_4_ranks() {
+    use rsf_scenes::{SeasBp3, SeasBp3Grid};
+    let bp3 = SeasBp3::thrust();
+    let grid = SeasBp3Grid {
+        dx: 2000.0,
+        domain: 100e3,
+        ratio: 1.2,
+    };
+    let model = scrambled_bp3_model(&bp3, &grid);
+    // The nodes out of order along the fault (not monotone in x_d): the ℋ-matrix's cluster
+    // order, by position, is not theirs.
+    let x_d: Vec<f64> = model
+        .frictional_boundary
+        .nodes
+        .iter()
+        .map(|&p| bp3.x_d(&model.vertices[p]))
+        .collect();
+    let ups = x_d.windows(2).filter(|w| w[1] > w[0]).count();
+    assert!(ups > 0 && ups + 1 < x_d.len(), "{x_d:?}");
+    let steps = same_bits_on_ranks(|ranks| {
+        let mut options = bp3.params.fault_ode_options(1e-7).unwrap();
+        options.runge_kutta.dt_min = 1e-8;
+        options.kernel = FaultKernel::Hierarchical {
+            epsilon: 1e-7,
+            leaf_size: 8,
+        };
+        let ode = bp3.fault_ode(model.clone(), options).unwrap();
+        run_shared(ode, ranks, Until::Steps(300))
+    });
+    eprintln!("BP3 thrust, scrambled nodes: {steps} steps with the same bits on 1–4 ranks");
+}
+
 /// A slip that opens the fault (the thrust block of `normal_stress` pulled apart, `S_N`
 /// dense): each rank sums its rows of `S_N`, every rank finds the same first node with
 /// σ̄_n ≤ 0, refuses the same stages and ends with the unshared run's error, after the
@@ -235,7 +305,13 @@ fn an_opening_fault_ends_every_rank_with_the_unshared_error() {
         }
         let mut bits = Bits::default();
         let e = ode
-            .run_until(Until::Time(10.0), &mut [&mut bits])
+            .run_until(
+                Until::TimeWithin {
+                    time: 10.0,
+                    max_steps: 500_000,
+                },
+                &mut [&mut bits],
+            )
             .unwrap_err();
         let text = format!("{e}: {}", e.error);
         (bits.0, text, ode.exchanges())

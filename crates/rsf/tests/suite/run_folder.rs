@@ -156,7 +156,13 @@ fn adaptive_output_bounds_are_honest() {
         let scene = adaptive(tol, tau_min);
         let bound = rsf_scenes::steps_bound(&scene, (0.0, scene.end_time_s));
         let mut sim = scene.build().unwrap();
-        let run = sim.run_until(rsf::Until::Time(scene.end_time_s), &mut []);
+        let run = sim.run_until(
+            rsf::Until::TimeWithin {
+                time: scene.end_time_s,
+                max_steps: 500_000,
+            },
+            &mut [],
+        );
         let steps = sim.state().step as f64;
         assert!(
             steps <= bound,
@@ -441,4 +447,104 @@ fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
             .len(),
         12
     );
+}
+
+/// A checkpoint names its run (the run id of the folder it was written into): a resume
+/// from a checkpoint of **another** run of the same program into a folder is refused —
+/// before anything is cut, the folder byte-identical — unless `--overwrite`, which gives
+/// the folder to the checkpoint's run; its own folder, a copy of the checkpoint, a fresh
+/// folder and a checkpoint of an earlier format (run unknown) resume as before (issue 74).
+#[test]
+fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
+    use rsf::observe::Checkpointer;
+    let dir = temp_dir("identity");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let checkpoint = |folder: &Path| {
+        let state = rsf::SimulationState {
+            step: 7,
+            time: 0.7,
+            tau: 0.1,
+            time_origin: (0, 0.0),
+            kinematics: rsf::time::Kinematics {
+                u: vec![0.0; 2],
+                v: vec![0.0; 2],
+                a: vec![0.0; 2],
+            },
+            alpha: vec![0.0],
+            controller: None,
+        };
+        let c = rsf::Checkpoint::new(2, state);
+        Checkpointer::new(folder.join("checkpoint.bin"))
+            .write(c)
+            .unwrap();
+        folder.join("checkpoint.bin")
+    };
+    // Two runs of one program, each with its files and checkpoint.
+    let run_a = RunFolder::new(&a, "test_program", &OUTPUTS).command("test_program --out a");
+    let run_b = RunFolder::new(&b, "test_program", &OUTPUTS).command("test_program --out b");
+    for (folder, dir) in [(&run_a, &a), (&run_b, &b)] {
+        assert_eq!(folder.prepare(false, false).unwrap(), FileMode::Create);
+        std::fs::write(dir.join("timeseries.csv"), "rows").unwrap();
+        checkpoint(dir);
+    }
+    let id_a = rsf::run_folder::run_id(&a).unwrap();
+    let id_b = rsf::run_folder::run_id(&b).unwrap();
+    assert_ne!(id_a, id_b);
+    assert_eq!(id_a.len(), 32);
+    let ckpt_a = a.join("checkpoint.bin");
+    assert_eq!(rsf::Checkpoint::read(&ckpt_a).unwrap().run_id, id_a);
+    // A's checkpoint into B: refused, naming B's run, and B untouched.
+    let before = snapshot(&b);
+    let e = run_b.prepare_resume(&ckpt_a, false).unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, Error::Resume { .. }), "{msg}");
+    assert!(
+        msg.contains("another run")
+            && msg.contains("test_program --out b")
+            && msg.contains(&id_b[..12])
+            && msg.contains(&id_a[..12])
+            && msg.contains("--overwrite"),
+        "{msg}"
+    );
+    assert_eq!(snapshot(&b), before);
+    // Into its own folder, and from a copy elsewhere: accepted, the run id kept.
+    assert_eq!(
+        run_a.prepare_resume(&ckpt_a, false).unwrap(),
+        FileMode::Create
+    );
+    let copy = dir.join("saved.bin");
+    std::fs::copy(&ckpt_a, &copy).unwrap();
+    assert_eq!(
+        run_a.prepare_resume(&copy, false).unwrap(),
+        FileMode::Create
+    );
+    assert_eq!(rsf::run_folder::run_id(&a).unwrap(), id_a);
+    // --overwrite where the checkpoint is the folder's own run: nothing to replace.
+    let e = run_a.prepare_resume(&ckpt_a, true).unwrap_err();
+    assert!(e.to_string().contains("--overwrite"), "{e}");
+    // A fresh folder takes the checkpoint's run.
+    let fresh = RunFolder::new(dir.join("c"), "test_program", &OUTPUTS);
+    assert_eq!(
+        fresh.prepare_resume(&ckpt_a, false).unwrap(),
+        FileMode::Create
+    );
+    assert_eq!(rsf::run_folder::run_id(&dir.join("c")).unwrap(), id_a);
+    // A checkpoint of an earlier format (no run id) cannot be told apart: accepted.
+    let mut unknown = rsf::Checkpoint::read(&ckpt_a).unwrap();
+    unknown.run_id.clear();
+    let old = dir.join("old.bin");
+    unknown.write(&old).unwrap();
+    assert_eq!(run_b.prepare_resume(&old, false).unwrap(), FileMode::Create);
+    assert_eq!(rsf::run_folder::run_id(&b).unwrap(), id_b);
+    // --overwrite gives B to A's run.
+    assert_eq!(
+        run_b.prepare_resume(&ckpt_a, true).unwrap(),
+        FileMode::Create
+    );
+    assert_eq!(rsf::run_folder::run_id(&b).unwrap(), id_a);
+    // A new run into a folder gets a new id.
+    std::fs::remove_file(a.join("timeseries.csv")).unwrap();
+    std::fs::remove_file(&ckpt_a).unwrap();
+    assert_eq!(run_a.prepare(false, false).unwrap(), FileMode::Create);
+    assert_ne!(rsf::run_folder::run_id(&a).unwrap(), id_a);
 }

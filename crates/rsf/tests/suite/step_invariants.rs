@@ -406,7 +406,10 @@ fn every_committed_step_through_two_slip_events_satisfies_the_invariants() {
         .stop(StopAt::End(2));
     let summary = sim
         .run_until(
-            Until::Time(scene.end_time_s),
+            Until::TimeWithin {
+                time: scene.end_time_s,
+                max_steps: 500_000,
+            },
             &mut [&mut checks, &mut events],
         )
         .expect("every step succeeds");

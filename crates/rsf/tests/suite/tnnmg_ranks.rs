@@ -424,8 +424,12 @@ fn the_initial_equilibrium_on_ranks_has_the_same_bits_and_is_choleskys() {
     let chol = &model.initial_displacement;
     let diff: Vec<f64> = chol.iter().zip(&reference).map(|(a, b)| a - b).collect();
     let rel = k_norm(&diff) / k_norm(chol);
+    eprintln!("‖u_ranks − u_chol‖_K / ‖u_chol‖_K = {rel:e}");
+    // Measured 1.5e-15 with the multigrid stopped at a relative correction of 1e-13
+    // (`EQUILIBRIUM_MULTIGRID_TOLERANCE`): the bound is that, with a margin of 6.5. A stop
+    // 10⁴ times looser passed the former bound of 1e-11 (issue 74).
     assert!(
-        rel > 0.0 && rel <= 1e-11,
+        rel > 0.0 && rel <= 1e-14,
         "‖u_ranks − u_chol‖_K / ‖u_chol‖_K = {rel:e}"
     );
 }

@@ -3,9 +3,14 @@
 //! partitioned by METIS, the halo exchanged by [`rsf_mpi::MpiExchange`].
 //!
 //! ```text
-//! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out FILE] [--reference]
+//! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out DIR] [--reference]
 //!                   [--vcycle [--levels L]] [--tnnmg [--cg] [--thread-ranks N]]
 //! ```
+//!
+//! The program goes through the guard (`rsf_examples::guard::main_on_ranks`: its flags and
+//! plan are `rsf_examples::distributed_sweep::Args`): the ranks compare their flags, every
+//! flag is checked and the memory estimated before any work, and `--out` is a run folder
+//! (locked, another run's refused unless `--overwrite`).
 //!
 //! Every rank builds the whole problem (the stiffness, the colouring, METIS's partition of
 //! the node graph: the same on every rank), keeps its rows and drops the rest, then runs K
@@ -13,8 +18,8 @@
 //! between two barriers. Each rank writes to standard error its owned and ghost nodes, its
 //! plan's halo per sweep and what it counted over the last repetition's sweeps, and its
 //! resident memory; rank 0 writes each repetition's time and the median to standard
-//! output, and with `--out` the owned values of every rank after the last repetition,
-//! gathered in global order (node-major, little-endian f64). `--reference` (one rank)
+//! output, and with `--out DIR` the owned values of every rank after the last repetition,
+//! gathered in global order (node-major, little-endian f64), into `DIR/values.bin`. `--reference` (one rank)
 //! runs the one-process coloured sweep (`rsf_tnnmg::distributed::ColouredGaussSeidel`)
 //! instead of the distributed one.
 //!
@@ -38,8 +43,9 @@ use std::time::Instant;
 use mpi::collective::{CommunicatorCollectives, Root};
 use mpi::datatype::PartitionMut;
 use mpi::topology::Communicator;
+use rsf_examples::guard::{AnyError, Prepared, Processes};
 use rsf_fem::ElasticBox;
-use rsf_mpi::{end_all_ranks, MpiExchange, MpiRanks};
+use rsf_mpi::MpiExchange;
 use rsf_tnnmg::distributed::{
     node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, HaloExchange, LocalRows,
 };
@@ -47,72 +53,9 @@ use rsf_tnnmg::Colouring;
 
 const D: usize = 3;
 
-/// The command line.
-struct Flags {
-    refinements: usize,
-    sweeps: usize,
-    repetitions: usize,
-    out: Option<std::path::PathBuf>,
-    reference: bool,
-    /// V-cycles instead of sweeps, on the `levels` finest levels (all if `None`).
-    vcycle: bool,
-    levels: Option<usize>,
-    /// TNNMG solves instead of sweeps; on `thread_ranks` threads of one process if given.
-    tnnmg: bool,
-    thread_ranks: Option<usize>,
-    /// TNNMG's linear correction by preconditioned CG (the one-process default).
-    cg: bool,
-}
-
-fn parse(args: impl Iterator<Item = String>) -> Result<Flags, String> {
-    let mut f = Flags {
-        refinements: 2,
-        sweeps: 6,
-        repetitions: 1,
-        out: None,
-        reference: false,
-        vcycle: false,
-        levels: None,
-        tnnmg: false,
-        thread_ranks: None,
-        cg: false,
-    };
-    let mut args = args.peekable();
-    while let Some(a) = args.next() {
-        let mut value = |name: &str| args.next().ok_or(format!("{name} needs a value"));
-        let number =
-            |name: &str, v: String| v.parse::<usize>().map_err(|e| format!("{name} {v}: {e}"));
-        match a.as_str() {
-            "--refinements" => f.refinements = number(&a, value(&a)?)?,
-            "--sweeps" => f.sweeps = number(&a, value(&a)?)?,
-            "--repetitions" => f.repetitions = number(&a, value(&a)?)?,
-            "--out" => f.out = Some(value(&a)?.into()),
-            "--reference" => f.reference = true,
-            "--vcycle" => f.vcycle = true,
-            "--levels" => f.levels = Some(number(&a, value(&a)?)?),
-            "--tnnmg" => f.tnnmg = true,
-            "--cg" => f.cg = true,
-            "--thread-ranks" => f.thread_ranks = Some(number(&a, value(&a)?)?),
-            _ => return Err(format!("unknown flag {a}")),
-        }
-    }
-    if f.repetitions == 0 {
-        return Err("--repetitions must be at least 1".into());
-    }
-    if f.levels.is_some() && !f.vcycle {
-        return Err("--levels needs --vcycle".into());
-    }
-    if (f.thread_ranks.is_some() || f.cg) && !f.tnnmg {
-        return Err("--thread-ranks and --cg need --tnnmg".into());
-    }
-    if f.thread_ranks == Some(0) {
-        return Err("--thread-ranks must be at least 1".into());
-    }
-    if f.tnnmg && (f.vcycle || f.reference) {
-        return Err("--tnnmg takes neither --vcycle nor --reference".into());
-    }
-    Ok(f)
-}
+/// The command line (the root package's, so that the guard judges it like every other
+/// program's and the careless-inputs test checks it without MPI).
+pub type Flags = rsf_examples::distributed_sweep::Args;
 
 /// This process's resident and peak resident memory in MB (`/proc/self/status`), or 0.
 fn memory_mb() -> (f64, f64) {
@@ -179,8 +122,8 @@ fn set_up(f: &Flags, halo: &MpiExchange) -> Result<Part, String> {
 }
 
 /// Forward, backward, forward, …: sweep `k` is backward when `k` is odd.
-fn directions(n: usize) -> Vec<bool> {
-    (0..n).map(|k| k % 2 == 1).collect()
+fn directions(n: usize) -> impl Iterator<Item = bool> {
+    (0..n).map(|k| k % 2 == 1)
 }
 
 /// The one-process reference on one rank: timed, its result written.
@@ -191,13 +134,12 @@ fn reference(f: &Flags) -> Result<(), String> {
     let x0 = bx.start();
     let mut gs = ColouredGaussSeidel::<D>::new(a, &bx.fixed, &bx.load(), &colouring)
         .map_err(|e| e.to_string())?;
-    let dirs = directions(f.sweeps);
     let mut times = Vec::new();
     let mut x = x0.clone();
     for k in 0..f.repetitions {
         x.copy_from_slice(&x0);
         let t = Instant::now();
-        for &reverse in &dirs {
+        for reverse in directions(f.sweeps) {
             gs.sweep(&mut x, reverse);
         }
         let s = t.elapsed().as_secs_f64();
@@ -207,8 +149,8 @@ fn reference(f: &Flags) -> Result<(), String> {
     let (rss, peak) = memory_mb();
     eprintln!("rank 0 of 1: one process, resident={rss:.1} MB peak={peak:.1} MB");
     report(f, bx.dofs(), colouring.num_colours(), 1, &mut times);
-    if let Some(out) = &f.out {
-        write_values(out, &x)?;
+    if let Some(out) = f.values_file() {
+        write_values(&out, &x)?;
     }
     Ok(())
 }
@@ -282,14 +224,13 @@ fn gather(halo: &MpiExchange, rows: &LocalRows<D>, x: &[f64]) -> Option<Vec<f64>
 }
 
 /// The distributed sweeps on every rank.
-fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
+fn distributed(f: &Flags, root: bool) -> Result<(), String> {
     let mut halo = MpiExchange::world();
     let (rank, size) = (halo.rank(), halo.size());
     let t = Instant::now();
     let mut part = set_up(f, &halo)?;
     let set_up_s = t.elapsed().as_secs_f64();
     let (rss, peak) = memory_mb();
-    let dirs = directions(f.sweeps);
     let mut x = part.x0.clone();
     let mut times = Vec::new();
     for k in 0..f.repetitions {
@@ -298,7 +239,7 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         part.sweep.reset_counters();
         halo.communicator().barrier();
         let t = Instant::now();
-        for &reverse in &dirs {
+        for reverse in directions(f.sweeps) {
             let gs = &part.gs;
             part.sweep.sweep(&mut x, reverse, &mut halo, |rows, p, x| {
                 gs.update(rows, p, x)
@@ -306,7 +247,7 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         }
         halo.communicator().barrier();
         let s = t.elapsed().as_secs_f64();
-        if ranks.is_root() {
+        if root {
             println!("repetition {k}: {} sweeps in {s:.6} s", f.sweeps);
         }
         times.push(s);
@@ -325,7 +266,7 @@ fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         rows.ghosts(),
     );
     write_line(&line)?;
-    if ranks.is_root() {
+    if root {
         report(f, part.dofs, part.colours, size, &mut times);
     }
     write_gathered(f, &halo, part.sweep.rows(), &x)
@@ -347,34 +288,25 @@ fn write_gathered(
     rows: &LocalRows<D>,
     x: &[f64],
 ) -> Result<(), String> {
-    match (gather(halo, rows, x), &f.out) {
-        (Some(global), Some(out)) => write_values(out, &global),
+    match (gather(halo, rows, x), f.values_file()) {
+        (Some(global), Some(out)) => write_values(&out, &global),
         _ => Ok(()),
     }
 }
 
-fn main() -> ExitCode {
-    let (_universe, ranks) = match rsf_mpi::initialize() {
-        Ok(u) => u,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    let flags = match parse(std::env::args().skip(1)) {
-        Ok(f) => f,
-        Err(e) => end_all_ranks(&ranks, &e),
-    };
-    let size = rsf::ranks::RankGroup::size(&ranks);
+/// The run on the ranks, after the guard: the flags agreed and checked, rank 0's `--out`
+/// prepared.
+fn run(flags: Flags, _prepared: Prepared, processes: &dyn Processes) -> Result<(), AnyError> {
+    let (size, root) = (processes.size(), processes.rank() == 0);
     let result = if flags.tnnmg {
         match flags.thread_ranks {
-            Some(_) if size != 1 => end_all_ranks(&ranks, &"--thread-ranks runs on one rank"),
+            Some(_) if size != 1 => Err("--thread-ranks runs on one rank".to_owned()),
             Some(n) => tnnmg::thread_ranks(&flags, n),
-            None => tnnmg::distributed(&flags, &ranks),
+            None => tnnmg::distributed(&flags, root),
         }
     } else if flags.reference {
         if size != 1 {
-            end_all_ranks(&ranks, &"--reference runs on one rank");
+            return Err("--reference runs on one rank".into());
         }
         if flags.vcycle {
             vcycle::reference(&flags)
@@ -382,12 +314,13 @@ fn main() -> ExitCode {
             reference(&flags)
         }
     } else if flags.vcycle {
-        vcycle::distributed(&flags, &ranks)
+        vcycle::distributed(&flags, root)
     } else {
-        distributed(&flags, &ranks)
+        distributed(&flags, root)
     };
-    if let Err(e) = result {
-        end_all_ranks(&ranks, &e);
-    }
-    ExitCode::SUCCESS
+    result.map_err(Into::into)
+}
+
+fn main() -> ExitCode {
+    rsf_mpi::main_on_ranks(|processes| rsf_examples::guard::main_on_ranks(processes, run))
 }

@@ -22,7 +22,7 @@ use std::time::Instant;
 use mpi::collective::CommunicatorCollectives;
 use mpi::topology::Communicator;
 use rsf_fem::ElasticBox;
-use rsf_mpi::{MpiExchange, MpiRanks};
+use rsf_mpi::MpiExchange;
 use rsf_nonsmooth::{NonsmoothSolver, Stopping};
 use rsf_tnnmg::distributed::{
     BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, HaloCounters, HaloExchange,
@@ -132,14 +132,14 @@ pub fn thread_ranks(f: &Flags, n: usize) -> Result<(), String> {
         eprintln!("thread rank {r} of {n}: iterations={iterations}");
         first.get_or_insert(v);
     }
-    if let (Some(out), Some(v)) = (&f.out, first) {
-        write_values(out, &v)?;
+    if let (Some(out), Some(v)) = (f.values_file(), first) {
+        write_values(&out, &v)?;
     }
     Ok(())
 }
 
 /// The solves on every MPI rank.
-pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
+pub fn distributed(f: &Flags, root: bool) -> Result<(), String> {
     let halo = MpiExchange::world();
     let (rank, size) = (halo.rank(), halo.size());
     let comm = halo.communicator().duplicate();
@@ -162,7 +162,7 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         comm.barrier();
         let s = t.elapsed().as_secs_f64();
         iterations = report.iterations;
-        if ranks.is_root() {
+        if root {
             println!("repetition {k}: {iterations} TNNMG iterations in {s:.6} s");
         }
         times.push(s);
@@ -193,7 +193,7 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         counts(counted.total()),
     );
     write_line(&line)?;
-    if ranks.is_root() {
+    if root {
         let m = median(&mut times);
         println!(
             "dofs={} frictional_nodes={} ranks={size} iterations={iterations} \
@@ -202,8 +202,8 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
             rsf_nonsmooth::BlockNonlinearity::<D>::active_blocks(&nl).len(),
             f.repetitions
         );
-        if let Some(out) = &f.out {
-            write_values(out, &v)?;
+        if let Some(out) = f.values_file() {
+            write_values(&out, &v)?;
         }
     }
     Ok(())

@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use mpi::collective::CommunicatorCollectives;
 use rsf_fem::ElasticBox;
-use rsf_mpi::{MpiExchange, MpiRanks};
+use rsf_mpi::MpiExchange;
 use rsf_tnnmg::distributed::{
     ColouredVCycle, DistributedVCycle, HaloExchange, VCycleHierarchy, VCycleShape,
 };
@@ -89,14 +89,14 @@ pub fn reference(f: &Flags) -> Result<(), String> {
     let (rss, peak) = memory_mb();
     eprintln!("rank 0 of 1: one process, resident={rss:.1} MB peak={peak:.1} MB");
     report(f, bx.dofs(), &sizes(&h), 1, &mut times);
-    if let Some(out) = &f.out {
-        write_values(out, &x)?;
+    if let Some(out) = f.values_file() {
+        write_values(&out, &x)?;
     }
     Ok(())
 }
 
 /// The distributed V-cycles on every rank.
-pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
+pub fn distributed(f: &Flags, root: bool) -> Result<(), String> {
     let mut halo = MpiExchange::world();
     let (rank, size) = (halo.rank(), halo.size());
     let t = Instant::now();
@@ -127,7 +127,7 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         }
         halo.communicator().barrier();
         let s = t.elapsed().as_secs_f64();
-        if ranks.is_root() {
+        if root {
             println!("repetition {k}: {} cycles in {s:.6} s", f.sweeps);
         }
         times.push(s);
@@ -146,7 +146,7 @@ pub fn distributed(f: &Flags, ranks: &MpiRanks) -> Result<(), String> {
         plan.bytes(),
     );
     write_line(&line)?;
-    if ranks.is_root() {
+    if root {
         report(f, dofs, &levels, size, &mut times);
     }
     write_gathered(f, &halo, vc.rows(), &x)

@@ -26,6 +26,64 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             part: part.into(),
             components: components.to_vec(),
             velocity,
+            displacement: None,
+        });
+        self
+    }
+
+    /// A Dirichlet part whose nodes are held at the displacement `u(x)` (m, Cartesian, all
+    /// components fixed, velocity 0): the data of the static problem the builder solves as
+    /// the initial equilibrium (`K u₀ = F` on the free dofs, `u₀ = u(x)` here; e.g. the far
+    /// faces of a box held at a half-space's field, docs/faults-inside.md "A prescribed
+    /// slip"). A node also in a [`dirichlet`](Self::dirichlet) part must have velocity 0
+    /// there; two displacement parts must agree where they meet. At a split pair of a
+    /// fault inside the body both sides must be held (their displacements give its mean
+    /// and jump, as clamped velocities do).
+    ///
+    /// ```
+    /// use rsf::fem::cuboid;
+    /// use rsf::model::PrescribedSlip;
+    /// use rsf::{Material, ModelBuilder, Part};
+    /// // A unit cube, its bottom clamped, its top shifted by 1 mm along x: simple shear.
+    /// let model = ModelBuilder::new(cuboid([0.0; 3], [1.0; 3], [5, 5, 5])?)
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .without_mass()
+    ///     .dirichlet(Part::predicate("bottom", |x| x[2] < 1e-9), [0.0; 3])
+    ///     .dirichlet_displacement(Part::predicate("top", |x| x[2] > 1.0 - 1e-9), |_| {
+    ///         [1e-3, 0.0, 0.0]
+    ///     })
+    ///     // A model needs a fault: a buried square with zero slip (the displacement stays
+    ///     // continuous across it).
+    ///     .internal_fault_polygon(
+    ///         "fault",
+    ///         &[[0.5, 0.25, 0.25], [0.5, 0.75, 0.25], [0.5, 0.75, 0.75], [0.5, 0.25, 0.75]],
+    ///     )
+    ///     .internal_slip_at(|_| Some(PrescribedSlip::InFrame([0.0, 0.0])))
+    ///     .build()?;
+    /// let u = &model.initial_displacement;
+    /// let top = model.nearest_node(&[0.5, 0.5, 1.0])?;
+    /// assert_eq!(u[3 * top], 1e-3);
+    /// // The middle layer moves, by about half as much.
+    /// let middle = model.nearest_node(&[0.25, 0.5, 0.5])?;
+    /// assert!((u[3 * middle] - 5e-4).abs() < 2e-4);
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    ///
+    /// # Errors (at `build`)
+    /// As [`dirichlet`](Self::dirichlet); [`Error::InvalidParameter`](crate::Error::InvalidParameter)
+    /// named `dirichlet` for a non-finite displacement or two parts holding a node at
+    /// different displacements, named `dirichlet_displacement` in
+    /// [`build_columns`](Self::build_columns) (its equilibrium starts from zero data).
+    pub fn dirichlet_displacement(
+        mut self,
+        part: impl Into<Part<D>>,
+        displacement: impl Fn(&[f64; D]) -> [f64; C] + 'static,
+    ) -> Self {
+        self.boundary.dirichlet.push(Dirichlet {
+            part: part.into(),
+            components: (0..C).collect(),
+            velocity: [0.0; C],
+            displacement: Some(Box::new(displacement)),
         });
         self
     }

@@ -6,7 +6,7 @@ use rsf_fem::MeshHierarchy;
 
 use super::part::Part;
 use super::ModelBuilder;
-use crate::model::creep::CreepRate;
+use crate::model::creep::{CreepRate, PrescribedSlip};
 use crate::model::internal::{faces_on_levels, split_hierarchy};
 
 impl<const D: usize> ModelBuilder<D> {
@@ -130,6 +130,71 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         self.fault.creep = Some(Box::new(rate));
         self
     }
+
+    /// A kinematic source on the fault inside the body: the split pairs at positions `x`
+    /// (m) where `slip(x)` is `Some` have their jump `u⁺ − u⁻` prescribed to that slip
+    /// (m; [`PrescribedSlip`]: in the pair's frame, a rake, or a Cartesian vector tangent
+    /// to the fault) — every tangential component fixed, a displacement, not a rate. The
+    /// builder's initial equilibrium is then the static problem of the dislocation:
+    /// `K u₀ = F` on the free dofs with these jumps and the Dirichlet data
+    /// ([`dirichlet_displacement`](Self::dirichlet_displacement) for held values), i.e.
+    /// [`Model::initial_displacement`](crate::Model::initial_displacement) is the
+    /// displacement of the slip (in the model's unknowns;
+    /// [`Model::to_cartesian`](crate::Model::to_cartesian) gives the sides' values).
+    /// Such pairs are not frictional nodes and do not slip further (velocity 0, or the
+    /// rate of [`internal_creep_at`](Self::internal_creep_at) where it also gives one).
+    ///
+    /// A fault whose every pair is prescribed builds a model without frictional nodes
+    /// (`model.frictional_boundary` empty): a static problem, which a simulation refuses
+    /// ([`Error::NoFrictionalNode`](crate::Error::NoFrictionalNode)).
+    ///
+    /// **The rim.** A rim of the fault inside the body is a shared tip (one vertex, no
+    /// jump): the slip of the model is the prescribed one at the pairs and ramps linearly
+    /// to 0 over the last cell before the rim — the fault's moment is that of the
+    /// rectangle shrunk by half a cell on each inner edge (docs/faults-inside.md,
+    /// "A prescribed slip"). Where the fault meets the outer boundary (a free surface) the
+    /// vertices are split and the slip reaches the edge.
+    ///
+    /// ```
+    /// use rsf::fem::cuboid;
+    /// use rsf::model::PrescribedSlip;
+    /// use rsf::{Material, ModelBuilder, Part};
+    /// // A unit cube cut through by the plane x = 0.5, every pair slipping 1 mm along y.
+    /// let cube = cuboid([0.0; 3], [1.0; 3], [5, 5, 5])?;
+    /// let model = ModelBuilder::new(cube)
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .without_mass()
+    ///     .dirichlet(Part::predicate("left", |x| x[0] < 1e-9), [0.0; 3])
+    ///     .internal_fault_polygon(
+    ///         "fault",
+    ///         &[[0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [0.5, 1.0, 1.0], [0.5, 0.0, 1.0]],
+    ///     )
+    ///     .internal_slip_at(|_| Some(PrescribedSlip::Cartesian([0.0, 1e-3, 0.0])))
+    ///     .build()?;
+    /// // A kinematic source only: no frictional node.
+    /// assert!(model.frictional_boundary.is_empty());
+    /// // The polygon's normal is +x (right-hand rule): the plus side x > 0.5 moves rigidly
+    /// // by the slip, the clamped left half not at all.
+    /// let u = model.to_cartesian(&model.initial_displacement)?;
+    /// let right = model.nearest_node(&[1.0, 0.5, 0.5])?;
+    /// let left = model.nearest_node(&[0.25, 0.5, 0.5])?;
+    /// assert!((u[3 * right + 1] - 1e-3).abs() < 1e-12 && u[3 * left + 1].abs() < 1e-12);
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    ///
+    /// # Errors (at `build`)
+    /// As [`internal_creep_at`](Self::internal_creep_at), named `internal_slip`: without
+    /// an internal fault, a slip [`PrescribedSlip`] refuses (a second tangential component
+    /// in 2-D, a Cartesian slip with a normal part or on a scalar field), naming the
+    /// position; a slip at a pair whose two sides are both held by Dirichlet parts (their
+    /// data give its jump).
+    pub fn internal_slip_at(
+        mut self,
+        slip: impl Fn(&[f64; D]) -> Option<PrescribedSlip<D>> + 'static,
+    ) -> Self {
+        self.fault.slip = Some(Box::new(slip));
+        self
+    }
 }
 
 impl<const C: usize> ModelBuilder<2, C> {
@@ -240,6 +305,20 @@ impl<const C: usize> ModelBuilder<3, C> {
     /// [`internal_creep`](ModelBuilder::internal_creep) prescribes its `t₁` component), the
     /// third is tied (no opening). Every coarser level of a hierarchy that resolves the
     /// polygon is split too, as in 2-D.
+    ///
+    /// **The mesh must resolve the polygon**: its faces must tile it. A Kuhn grid
+    /// ([`cuboid`](rsf_fem::cuboid), [`cuboid_from_coordinates`](rsf_fem::cuboid_from_coordinates))
+    /// resolves the grid planes `x_i = const` and, where its boxes are cubes, the 45°
+    /// planes `x_i − x_j = const` through its vertices (not `x_i + x_j = const`); a graded
+    /// [`BisectionMesh`](rsf_fem::BisectionMesh) those of its root grid; other dips need a
+    /// mesh made for them (Gmsh, [`internal_fault_faces`](Self::internal_fault_faces)).
+    ///
+    /// **The rim.** A rim inside the body is a shared tip (one vertex, no jump): the slip —
+    /// friction's or a prescribed one ([`internal_slip_at`](ModelBuilder::internal_slip_at))
+    /// — ramps linearly to 0 over the last cell before it, so the fault acts as the polygon
+    /// shrunk by half a cell on each buried edge (the same moment; docs/faults-inside.md
+    /// "A prescribed slip"). Where the polygon meets the outer boundary its vertices are
+    /// split and the slip reaches the edge.
     ///
     /// # Errors (at `build`)
     /// [`Error::Fem`](crate::Error::Fem) with the splitting's errors (a polygon the mesh

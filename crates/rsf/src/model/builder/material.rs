@@ -32,7 +32,8 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         self
     }
 
-    /// `u₀ = 0`: no initial equilibrium `K u₀ = F` is solved. For a model whose load a
+    /// `u₀ = 0` (on the free dofs; the fixed ones at their held values): no initial
+    /// equilibrium `K u₀ = F` is solved. For a model whose load a
     /// run carries in its own right-hand side, such as the fault ODE's condensed load of
     /// the SEAS scenes (docs/math.md §12): the equilibrium's solve — a sparse Cholesky
     /// factor of the whole `K` below
@@ -42,6 +43,24 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// takes its equilibrium from its caller and ignores this.
     pub fn without_initial_equilibrium(mut self) -> Self {
         self.body.equilibrium = false;
+        self
+    }
+
+    /// How the initial equilibrium — the static problem `K u₀ = F` with the held values
+    /// of Dirichlet parts and prescribed slips — is solved: the solver, multigrid's
+    /// stopping test, and a [`SolveWatch`](crate::nonsmooth::SolveWatch) for progress
+    /// reports and a time limit ([`StaticOptions`](crate::model::StaticOptions); default:
+    /// Cholesky, or multigrid for a 3-D model of more than
+    /// [`EQUILIBRIUM_DIRECT_MAX_DOFS_3D`](crate::model::EQUILIBRIUM_DIRECT_MAX_DOFS_3D)
+    /// dofs with a hierarchy, unwatched, at most 500 iterations).
+    ///
+    /// # Errors (at `build`)
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `static_solver`
+    /// for multigrid without a hierarchy; [`Error::Solver`](crate::Error::Solver) for
+    /// multigrid stopped by its iteration cap or time limit (the iterations and the last
+    /// correction).
+    pub fn equilibrium_solver(mut self, options: crate::model::StaticOptions) -> Self {
+        self.body.equilibrium_solver = options;
         self
     }
 }

@@ -20,7 +20,7 @@ use settings::{Body, Boundary, Faults};
 use stages::constraints::constrain;
 use stages::domain::Domain;
 use stages::matrices::System;
-use stages::pairs::share_and_prescribe;
+use stages::pairs::{share_and_prescribe, Kinematics};
 use stages::{fault_order, inputs, loads, matrices, prolongations};
 
 pub use part::{FacetPredicate, Part};
@@ -44,8 +44,11 @@ pub const MAX_CELLS: usize = 50_000_000;
 /// Dirichlet nodes, the normal component of every frictional node); the prescribed
 /// velocities `v_i(t) = w_i g(t)` with one loading history `g`
 /// ([`TimeFunction`](crate::model::TimeFunction)); the initial displacement `u₀` solving
-/// `K u₀ = F` under these constraints; lumped weights on Γ_F; the hierarchy's prolongations
-/// for multigrid; the cells for output.
+/// `K u₀ = F` under these constraints — the static problem, its fixed dofs at their held
+/// values (0, or a [`dirichlet_displacement`](Self::dirichlet_displacement), or a fault's
+/// prescribed slip, [`internal_slip_at`](Self::internal_slip_at)), solved as
+/// [`equilibrium_solver`](Self::equilibrium_solver) says; lumped weights on Γ_F; the
+/// hierarchy's prolongations for multigrid; the cells for output.
 ///
 /// Γ_F may have any orientation (docs/math.md §10, docs/design.md "Nodal frames"). At a
 /// node whose outer normal `n` (the facets' area-weighted mean) is along a coordinate axis
@@ -229,19 +232,26 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
     /// slanted fault node with only some Cartesian components fixed, `max_fault_kink` or
     /// `fault_tangent` out of range, `fault_tangent` in 1-D or 2-D;
     /// [`Error::Equilibrium`](crate::Error::Equilibrium) if `K u₀ = F` is singular under
-    /// the constraints; material and assembly errors ([`Error::Fem`](crate::Error::Fem)),
-    /// e.g. a non-finite force or traction.
-    pub fn build(self) -> Result<Model<D, C>> {
+    /// the constraints; [`Error::Solver`](crate::Error::Solver) if its multigrid stops at
+    /// its iteration cap or time limit ([`equilibrium_solver`](Self::equilibrium_solver));
+    /// material and assembly errors ([`Error::Fem`](crate::Error::Fem)), e.g. a non-finite
+    /// force or traction; those of a prescribed slip
+    /// ([`internal_slip_at`](Self::internal_slip_at)) or a held displacement
+    /// ([`dirichlet_displacement`](Self::dirichlet_displacement)).
+    pub fn build(mut self) -> Result<Model<D, C>> {
         let equilibrium = self.body.equilibrium;
-        self.build_on(None, |system| {
+        let options = std::mem::take(&mut self.body.equilibrium_solver);
+        self.build_on(None, |system, held| {
             if !equilibrium {
-                return Ok(vec![0.0; system.load.len()]);
+                return Ok(held.map_or_else(|| vec![0.0; system.load.len()], <[f64]>::to_vec));
             }
             super::equilibrium::solve::<D, C>(
                 system.stiffness,
                 system.fixed,
                 system.load,
                 system.prolongations,
+                held,
+                options,
             )
         })
     }
@@ -294,15 +304,29 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                  mean–jump transform mixes the columns of two nodes",
             ));
         }
-        self.build_on(Some(keep), equilibrium)
+        if self
+            .boundary
+            .dirichlet
+            .iter()
+            .any(|d| d.displacement.is_some())
+        {
+            return Err(invalid(
+                "dirichlet_displacement",
+                "a model of some columns (build_columns) solves its equilibrium with held \
+                 values 0: build the model whole (ModelBuilder::build)",
+            ));
+        }
+        self.build_on(Some(keep), |system, _| equilibrium(system))
     }
 
     /// [`build`](Self::build) on the columns of the nodes `columns` (whole for `None`),
     /// the initial equilibrium by `equilibrium`.
+    /// `equilibrium` gets the system and the held values of the fixed dofs (model
+    /// unknowns; `None`: all 0).
     fn build_on(
         self,
         columns: Option<&[bool]>,
-        equilibrium: impl FnOnce(&super::EquilibriumSystem<'_>) -> Result<Vec<f64>>,
+        equilibrium: impl FnOnce(&super::EquilibriumSystem<'_>, Option<&[f64]>) -> Result<Vec<f64>>,
     ) -> Result<Model<D, C>> {
         const { assert!(C == D || C == 1, "vector (C = D) or scalar (C = 1) fields") };
         let Self {
@@ -362,7 +386,10 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     f,
                     &system.matrices.stiffness,
                     mesh,
-                    faults.creep.as_ref(),
+                    Kinematics {
+                        creep: faults.creep.as_ref(),
+                        slip: faults.slip.as_ref(),
+                    },
                     &mut constraints,
                 )
             })
@@ -391,13 +418,18 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         ended(BuildStage::Prolongations);
         // Initial equilibrium (after the prolongations: a large 3-D model solves it by
         // multigrid on them).
-        let u0 = equilibrium(&super::EquilibriumSystem {
-            stiffness: &matrices.stiffness,
-            columns,
-            fixed: &constraints.fixed,
-            load: &load,
-            prolongations: &prolongations,
-        })?;
+        // The held displacements (Dirichlet parts, prescribed slips) of the unknown `s·u`.
+        let held = constraints.held_displacement(s);
+        let u0 = equilibrium(
+            &super::EquilibriumSystem {
+                stiffness: &matrices.stiffness,
+                columns,
+                fixed: &constraints.fixed,
+                load: &load,
+                prolongations: &prolongations,
+            },
+            held.as_deref(),
+        )?;
         if u0.len() != load.len() {
             return Err(invalid(
                 "equilibrium",

@@ -4,7 +4,8 @@
 //! stages of [`build`](crate::ModelBuilder::build) read them (`stages/`).
 
 use super::part::Part;
-use crate::model::creep::CreepField;
+use crate::model::creep::{CreepField, SlipField};
+use crate::model::equilibrium::StaticOptions;
 use crate::model::internal::SplitFault;
 use crate::model::loading::TimeFunction;
 use crate::model::medium::Medium;
@@ -29,6 +30,8 @@ pub(crate) struct Body<const D: usize, const C: usize> {
     pub with_mass: bool,
     /// Solve the initial equilibrium `K u₀ = F` (default); `false`: `u₀ = 0`.
     pub equilibrium: bool,
+    /// How the initial equilibrium is solved (default [`StaticOptions::default`]).
+    pub equilibrium_solver: StaticOptions,
 }
 
 /// A Dirichlet part: the listed components of its nodes move with `velocity · g(t)`.
@@ -39,6 +42,10 @@ pub(crate) struct Dirichlet<const D: usize, const C: usize> {
     pub components: Vec<usize>,
     /// The velocity factors `w` (m/s): component `c` moves with `w[c] · g(t)`.
     pub velocity: [f64; C],
+    /// The displacement (m) the part's nodes are held at in the initial equilibrium, by
+    /// position ([`dirichlet_displacement`](crate::ModelBuilder::dirichlet_displacement));
+    /// `None`: 0.
+    pub displacement: Option<VectorField<D, C>>,
 }
 
 /// An absorbing part: dashpots against the motion relative to `velocity · g(t)`.
@@ -77,6 +84,10 @@ pub(crate) struct Faults<const D: usize> {
     /// The creeping section of a fault inside the body: its slip rate (m/s, times `g(t)`)
     /// by a pair's position, `None` where the pair slips by friction.
     pub creep: Option<CreepField<D>>,
+    /// The prescribed slip (m) of a fault inside the body's pairs by position, `None` where
+    /// a pair's slip is not prescribed
+    /// ([`internal_slip_at`](crate::ModelBuilder::internal_slip_at)).
+    pub slip: Option<SlipField<D>>,
 }
 
 impl<const D: usize, const C: usize> Default for Body<D, C> {
@@ -87,6 +98,7 @@ impl<const D: usize, const C: usize> Default for Body<D, C> {
             body_force: None,
             with_mass: true,
             equilibrium: true,
+            equilibrium_solver: StaticOptions::default(),
         }
     }
 }
@@ -111,6 +123,7 @@ impl<const D: usize> Default for Faults<D> {
             tangent: None,
             internal: None,
             creep: None,
+            slip: None,
         }
     }
 }

@@ -20,6 +20,10 @@ pub(crate) struct Constraints<const D: usize, const C: usize> {
     /// its node's basis (a slanted fault node's frame, Cartesian elsewhere); `None` where
     /// nothing is prescribed (a fixed dof without data moves with velocity 0).
     pub velocity: Vec<Option<f64>>,
+    /// Per dof: the displacement (m) of a held dof in the initial equilibrium, in its node's
+    /// basis as `velocity` ([`ModelBuilder::dirichlet_displacement`](crate::ModelBuilder::dirichlet_displacement),
+    /// a prescribed slip); `None` where nothing is given (0).
+    pub displacement: Vec<Option<f64>>,
     /// Γ_F on the model's mesh.
     pub gamma_f: BoundaryPart<D>,
     /// The frames of Γ_F's nodes: a boundary fault's slanted nodes (the model's basis there),
@@ -43,7 +47,11 @@ pub(crate) fn constrain<const D: usize, const C: usize>(
     fault: Option<&InternalFault<D>>,
     faults: &Faults<D>,
 ) -> Result<Constraints<D, C>> {
-    let (mut fixed, mut velocity) = dirichlet_dofs(mesh, dirichlet)?;
+    let Held {
+        mut fixed,
+        mut velocity,
+        mut displacement,
+    } = dirichlet_dofs(mesh, dirichlet)?;
     let fpart = fault_part.part();
     let gamma_f = fpart.resolve(mesh)?;
     // A vector field slides tangentially (normal component fixed, nodal frames on
@@ -75,24 +83,39 @@ pub(crate) fn constrain<const D: usize, const C: usize>(
         }
     }
     if fault.is_none() {
-        in_frames(&frames, fpart.name(), &mut fixed, &mut velocity)?;
+        in_frames(
+            &frames,
+            fpart.name(),
+            &mut fixed,
+            [&mut velocity, &mut displacement],
+        )?;
     }
     Ok(Constraints {
         fixed,
         velocity,
+        displacement,
         gamma_f,
         frames,
     })
 }
 
-/// The Dirichlet parts resolved on `mesh`, in order: the fixed dofs and their velocities.
+/// The dofs the Dirichlet parts hold, with their data (Cartesian, per dof).
+struct Held {
+    fixed: Vec<bool>,
+    velocity: Vec<Option<f64>>,
+    displacement: Vec<Option<f64>>,
+}
+
+/// The Dirichlet parts resolved on `mesh`, in order: the fixed dofs, their velocities and
+/// held displacements.
 fn dirichlet_dofs<const D: usize, const C: usize>(
     mesh: &SimplexMesh<D>,
     dirichlet: &[Dirichlet<D, C>],
-) -> Result<(Vec<bool>, Vec<Option<f64>>)> {
+) -> Result<Held> {
     let n = C * mesh.num_vertices();
     let mut fixed = vec![false; n];
     let mut velocity: Vec<Option<f64>> = vec![None; n];
+    let mut displacement: Vec<Option<f64>> = vec![None; n];
     for d in dirichlet {
         let name = d.part.name();
         if d.components.is_empty() || d.components.iter().any(|&c| c >= C) {
@@ -112,7 +135,40 @@ fn dirichlet_dofs<const D: usize, const C: usize>(
         }
         let part = d.part.resolve(mesh)?;
         for &p in part.nodes() {
+            let held = match &d.displacement {
+                Some(u) => {
+                    let x = &mesh.vertices()[p];
+                    let u = u(x);
+                    if u.iter().any(|c| !c.is_finite()) {
+                        return Err(invalid(
+                            "dirichlet",
+                            format!(
+                                "part `{name}`: the displacement {u:?} m at {x:?} m must be \
+                                 finite"
+                            ),
+                        ));
+                    }
+                    Some(u)
+                }
+                None => None,
+            };
             for &c in &d.components {
+                if let Some(u) = held {
+                    let i = C * p + c;
+                    match displacement[i] {
+                        Some(old) if old != u[c] => {
+                            return Err(invalid(
+                                "dirichlet",
+                                format!(
+                                    "node {p} component {c}: part `{name}` holds it at {} m, \
+                                     an earlier part at {old} m",
+                                    u[c]
+                                ),
+                            ))
+                        }
+                        _ => displacement[i] = Some(u[c]),
+                    }
+                }
                 let i = C * p + c;
                 let w = d.velocity[c];
                 match velocity[i] {
@@ -131,12 +187,16 @@ fn dirichlet_dofs<const D: usize, const C: usize>(
             }
         }
     }
-    Ok((fixed, velocity))
+    Ok(Held {
+        fixed,
+        velocity,
+        displacement,
+    })
 }
 
 /// At every frame node of a boundary fault (Γ_F named `name`): bilateral contact fixes the
-/// normal component in the frame, or a fully clamped node gets its velocity in the frame
-/// (`Q_pᵀ w`).
+/// normal component in the frame, or a fully clamped node gets its velocity (or held
+/// displacement, the same way) in the frame (`Q_pᵀ w`).
 ///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `dirichlet` for a
@@ -145,7 +205,7 @@ fn in_frames<const C: usize>(
     frames: &NodalFrames<C>,
     name: &str,
     fixed: &mut [bool],
-    velocity: &mut [Option<f64>],
+    [velocity, displacement]: [&mut [Option<f64>]; 2],
 ) -> Result<()> {
     for (&p, q) in frames.nodes.iter().zip(&frames.rotations) {
         let dofs = C * p..C * p + C;
@@ -154,10 +214,9 @@ fn in_frames<const C: usize>(
             0 => fixed[C * p + normal_component(C)] = true,
             // A Dirichlet node on the slanted fault: its prescribed velocity in the frame.
             k if k == C => {
-                let w: Vec<f64> = dofs.map(|i| velocity[i].unwrap_or(0.0)).collect();
-                for c in 0..C {
-                    let wc: f64 = (0..C).map(|r| q[r][c] * w[r]).sum();
-                    velocity[C * p + c] = Some(wc);
+                rotate(q, p, velocity);
+                if dofs.clone().any(|i| displacement[i].is_some()) {
+                    rotate(q, p, displacement);
                 }
             }
             _ => {
@@ -175,7 +234,28 @@ fn in_frames<const C: usize>(
     Ok(())
 }
 
+/// Node `p`'s block of `values` (Cartesian, `None` read as 0) in its frame `q`: `Q_pᵀ w`.
+fn rotate<const C: usize>(q: &[[f64; C]; C], p: usize, values: &mut [Option<f64>]) {
+    let w: [f64; C] = std::array::from_fn(|c| values[C * p + c].unwrap_or(0.0));
+    for c in 0..C {
+        let wc: f64 = (0..C).map(|r| q[r][c] * w[r]).sum();
+        values[C * p + c] = Some(wc);
+    }
+}
+
 impl<const D: usize, const C: usize> Constraints<D, C> {
+    /// The held displacements of the model's unknown `s·u` (`s` the slip factor) on every
+    /// dof (0 where none is given), or `None` if none is given anywhere (every fixed dof
+    /// at 0, as before held displacements existed).
+    pub fn held_displacement(&self, s: f64) -> Option<Vec<f64>> {
+        self.displacement.iter().any(Option::is_some).then(|| {
+            self.displacement
+                .iter()
+                .map(|u| u.map_or(0.0, |u| s * u))
+                .collect()
+        })
+    }
+
     /// The prescribed velocities `v_i(t) = s w_i g(t)` of the model's unknown `s·u` (`s`
     /// the slip factor): the dofs with a non-zero velocity factor, in increasing order.
     pub fn dirichlet_velocity(&self, s: f64, history: TimeFunction) -> DirichletVelocity {

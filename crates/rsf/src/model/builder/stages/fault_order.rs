@@ -13,9 +13,12 @@ use crate::model::fault::FrictionalBoundary;
 /// vertices of the pairs whose slip is not prescribed, in the fault's order, with the
 /// minus face's weights.
 ///
+/// A fault inside the body whose every pair is prescribed (a kinematic source) has no
+/// frictional node: [`FrictionalBoundary::empty`].
+///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
-/// `frictional_boundary` for no free node; the weights' errors.
+/// `frictional_boundary` for no node on a boundary fault; the weights' errors.
 pub(crate) fn frictional_boundary<const D: usize>(
     mesh: &SimplexMesh<D>,
     gamma_f: &BoundaryPart<D>,
@@ -60,5 +63,8 @@ pub(crate) fn frictional_boundary<const D: usize>(
                 .unzip()
         }
     };
+    if nodes_along.is_empty() && fault.is_some() {
+        return Ok(FrictionalBoundary::empty());
+    }
     FrictionalBoundary::new(&nodes_along, &weights_along)?.with_slip_factor(s)
 }

@@ -36,14 +36,14 @@ pub(crate) struct Inputs<'b, const D: usize, const C: usize> {
     pub fault_part: FaultPart<'b, D>,
 }
 
-/// Checks the settings in the order of their errors: a creeping section without a fault
-/// inside the body, the medium, the slip factor, Γ_F (one of a frictional boundary and a
+/// Checks the settings in the order of their errors: a creeping section or a prescribed
+/// slip without a fault inside the body, the medium, the slip factor, Γ_F (one of a frictional boundary and a
 /// fault inside the body), the slip factor against a fault inside the body, the loading
 /// history, gravity.
 ///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `internal_creep`,
-/// `material`, `slip_factor`, `frictional_boundary`, `gravity`; the loading history's.
+/// `internal_slip`, `material`, `slip_factor`, `frictional_boundary`, `gravity`; the loading history's.
 pub(crate) fn check<'b, const D: usize, const C: usize>(
     body: &'b Body<D, C>,
     boundary: &Boundary<D, C>,
@@ -54,6 +54,12 @@ pub(crate) fn check<'b, const D: usize, const C: usize>(
         return Err(invalid(
             "internal_creep",
             "a creeping section needs an internal fault (ModelBuilder::internal_fault)",
+        ));
+    }
+    if faults.slip.is_some() && fault.is_none() {
+        return Err(invalid(
+            "internal_slip",
+            "a prescribed slip needs an internal fault (ModelBuilder::internal_fault)",
         ));
     }
     let material = body

@@ -10,7 +10,7 @@ use super::constraints::{constrain, Constraints};
 use super::domain::Domain;
 use super::inputs::{check, FaultPart};
 use super::matrices::{assemble, Matrices, System};
-use super::pairs::share_and_prescribe;
+use super::pairs::{share_and_prescribe, Kinematics};
 use super::{fault_order, loads, prolongations};
 use crate::model::medium::Material;
 use crate::Error;
@@ -357,7 +357,17 @@ fn a_clamped_pair_is_prescribed_and_the_free_pairs_are_the_fault() {
     .unwrap();
     let material = b.body.material.as_deref().unwrap();
     let m = assemble(mesh, material, true, &[], &c, None).unwrap();
-    let shared = share_and_prescribe(fault, &m.stiffness, mesh, None, &mut c).unwrap();
+    let shared = share_and_prescribe(
+        fault,
+        &m.stiffness,
+        mesh,
+        Kinematics {
+            creep: None,
+            slip: None,
+        },
+        &mut c,
+    )
+    .unwrap();
     let pairs = shared.fault.pairs().to_vec();
     let clamped: Vec<usize> = (0..pairs.len()).filter(|&k| shared.prescribed[k]).collect();
     assert_eq!(clamped.len(), 1, "the pair on the clamped bottom");

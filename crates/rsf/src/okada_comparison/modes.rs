@@ -1,7 +1,7 @@
 //! The finite-element and boundary-element fault operators compared in the operator norm on
 //! the slips both resolve (issue 55, docs/three-d.md "The operator norm on resolved
 //! slips"): the Galerkin matrices of the two operators on the first `k × k` sine modes of
-//! the buried rectangle, both tangential directions.
+//! the buried vertical rectangle, both tangential directions.
 //!
 //! The operator norm over all slips of the fault grid is the norm of the grid-scale waves,
 //! where the two discretisations differ by a constant factor at every h (docs/three-d.md
@@ -13,24 +13,29 @@
 //! Gram matrix in the same quadrature (the lumped weights of the fault nodes): the
 //! operators' norm on the span of the modes, in its L² orthonormal basis.
 //!
-//! The finite-element side: the modes' slips prescribed at every split pair of the model on
-//! the refinement hierarchy ([`super::compare_smooth`]'s model), solved by multigrid, and
-//! `G_ij = Σ_n φ_i(x_n) · f_j⁺(n)` with the plus copies' nodal forces (the consistent
-//! integral of `φ_i`'s hat functions against the traction). The boundary-element side: the
-//! same slips on square cells of side `h` centred on the pairs (`RectangularFault`'s
-//! discretisation), Okada's fields superposed, and `G_ij = Σ_n w_n φ_i(x_n) · σ_j(x_n) e_y`
-//! at the cells' centres with the lumped weights `w_n`. The far faces of the model are held
-//! at the boundary-element field of each mode.
+//! The finite-element side: one model on the refinement hierarchy with every pair's slip
+//! prescribed ([`compare_smooth`](super::compare_smooth)'s model), its static problem set
+//! up once ([`StaticSolver`], multigrid) and solved per mode with the mode's slips and far
+//! field as held values, and `G_ij = Σ_n φ_i(x_n) · f_j⁺(n)` with the plus copies' nodal
+//! forces (the consistent integral of `φ_i`'s hat functions against the traction). The
+//! boundary-element side: the same slips on square cells of side `h` centred on the pairs
+//! (`RectangularFault`'s discretisation), Okada's fields superposed, and
+//! `G_ij = Σ_n w_n φ_i(x_n) · σ_j(x_n) e_y` at the cells' centres with the lumped weights
+//! `w_n`. The far faces of the model are held at the boundary-element field of each mode.
 
-use nalgebra::DMatrix;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{Mat, Par, Side};
 use rayon::prelude::*;
-use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
-use rsf_halfspace::{Medium, Okada, Rectangle};
+use rsf_halfspace::{Deformation, Medium, Okada, Rectangle};
 
-use super::{fault_weights, multigrid, refined_model, AnyError, Fault, Solver, MU, NU};
+use super::common::{Solver, MU, NU};
+use super::error::{ComparisonError, Result};
+use super::measure::fault_weights;
+use super::vertical::{refined_model, Fault, Held};
+use crate::model::StaticSolver;
 
 /// The comparison of the two operators on one mesh.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ModeComparison {
     /// The cell size on the fault (m).
     pub h: f64,
@@ -98,8 +103,8 @@ impl Cells {
     fn at(
         &self,
         x: [f64; 3],
-        out: &mut [rsf_halfspace::Deformation],
-    ) -> Result<(), rsf_halfspace::Error> {
+        out: &mut [Deformation],
+    ) -> std::result::Result<(), rsf_halfspace::Error> {
         out.fill(Default::default());
         for (okada, slips) in self.okada.iter().zip(&self.slips) {
             let [strike, dip, _] = okada.unit_responses(x)?;
@@ -113,34 +118,45 @@ impl Cells {
 
 /// The two operators on the first `k × k` modes of the buried rectangle `fault` (both
 /// directions; its `slip` is not used), the model on the hierarchy of
-/// [`super::compare_refined`] (`mesh`, `far`), solved by multigrid.
+/// [`compare_refined`](super::compare_refined) (`mesh`, `far`), solved by multigrid.
 ///
 /// # Errors
-/// `k` zero or above 8, a surface-breaking `fault`, the errors of
-/// [`super::compare_refined`], a Gram matrix that is not positive definite (fewer nodes
-/// than modes) or a boundary-element Galerkin matrix of norm 0.
+/// [`ComparisonError::Setup`] for `k` zero or above 8, a surface-breaking `fault`, a Gram
+/// matrix that is not positive definite (fewer nodes than modes) or a boundary-element
+/// Galerkin matrix of norm 0; the errors of [`compare_refined`](super::compare_refined).
 pub fn compare_modes(
     fault: Fault,
     mesh: (f64, u32, f64),
     far: f64,
     k: u32,
-) -> Result<ModeComparison, AnyError> {
+) -> Result<ModeComparison> {
     if !(1..=8).contains(&k) {
-        return Err(format!("the modes per direction k = {k} must be in 1..=8").into());
+        return Err(ComparisonError::Setup(format!(
+            "the modes per direction k = {k} must be in 1..=8"
+        )));
     }
     if fault.top == 0.0 {
-        return Err("the modes need a buried fault".into());
+        return Err(ComparisonError::Setup(
+            "the modes need a buried fault".into(),
+        ));
     }
     let modes = modes(k);
     let n_modes = modes.len();
+    let h = mesh.0 / f64::from(1u32 << mesh.1);
     // Any slip builds the model: every pair's two tangential components are prescribed
-    // (overwritten per mode below), the probe pair's set by hand.
-    let (model, probe, h) =
-        refined_model(fault, mesh, far, Solver::Multigrid, |_| [1.0, 0.0, 1.0])?;
+    // (set per mode below); its own static problem is not solved.
+    let model = refined_model(
+        fault,
+        mesh,
+        far,
+        (Held::Zero, Solver::Multigrid),
+        |_| [1.0, 0.0, 1.0],
+        true,
+    )?;
     let f = model
         .internal_fault
         .as_ref()
-        .ok_or("the model has no internal fault")?;
+        .ok_or_else(|| ComparisonError::Setup("the model has no internal fault".into()))?;
     let medium = Medium::from_shear_poisson(MU, NU)?;
     let pairs = f.pairs();
     let at = |mi: usize| model.vertices[mi];
@@ -159,7 +175,7 @@ pub fn compare_modes(
                 )?;
                 Ok(Okada::new(medium.alpha(), rect)?)
             })
-            .collect::<Result<_, AnyError>>()?,
+            .collect::<Result<_>>()?,
         slips: pairs
             .iter()
             .map(|&(mi, _)| {
@@ -179,24 +195,24 @@ pub fn compare_modes(
     let tractions: Vec<Vec<[f64; 3]>> = pairs
         .par_iter()
         .map(|&(mi, _)| {
-            let mut d = vec![rsf_halfspace::Deformation::default(); n_modes];
+            let mut d = vec![Deformation::default(); n_modes];
             cells.at(at(mi), &mut d)?;
             Ok(d.iter()
                 .map(|d| rsf_halfspace::traction(&medium.stress(&d.grad), &[0.0, 1.0, 0.0]))
                 .collect())
         })
-        .collect::<Result<_, rsf_halfspace::Error>>()?;
+        .collect::<std::result::Result<_, rsf_halfspace::Error>>()?;
     let phi: Vec<Vec<[f64; 3]>> = pairs
         .iter()
         .map(|&(mi, _)| modes.iter().map(|m| m.slip(&fault, at(mi))).collect())
         .collect();
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let gram = DMatrix::from_fn(n_modes, n_modes, |i, j| {
+    let gram = Mat::from_fn(n_modes, n_modes, |i, j| {
         (0..pairs.len())
             .map(|n| weights[pairs[n].0] * dot(&phi[n][i], &phi[n][j]))
             .sum::<f64>()
     });
-    let g_bem = DMatrix::from_fn(n_modes, n_modes, |i, j| {
+    let g_bem = Mat::from_fn(n_modes, n_modes, |i, j| {
         (0..pairs.len())
             .map(|n| weights[pairs[n].0] * dot(&phi[n][i], &tractions[n][j]))
             .sum::<f64>()
@@ -214,25 +230,13 @@ pub fn compare_modes(
     let far_field: Vec<Vec<[f64; 3]>> = far_face
         .par_iter()
         .map(|&q| {
-            let mut d = vec![rsf_halfspace::Deformation::default(); n_modes];
+            let mut d = vec![Deformation::default(); n_modes];
             cells.at(model.vertices[q], &mut d)?;
             Ok(d.iter().map(|d| d.u).collect())
         })
-        .collect::<Result<_, rsf_halfspace::Error>>()?;
-    let mut fixed = model.fixed.clone();
-    for (k, &(mi, _)) in pairs.iter().enumerate() {
-        let x = at(mi);
-        let is_probe = (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9 * h);
-        let prescribed = fixed[3 * mi] && fixed[3 * mi + 1];
-        if !(is_probe || prescribed) {
-            return Err(format!("pair {k}'s slip is not prescribed").into());
-        }
-        fixed[3 * mi] = true;
-        fixed[3 * mi + 1] = true;
-    }
-    let mut solver = multigrid(&model, &fixed)?;
-    let zero = vec![0.0; model.num_dofs()];
-    let mut g_fe = DMatrix::zeros(n_modes, n_modes);
+        .collect::<std::result::Result<_, rsf_halfspace::Error>>()?;
+    let mut solver = StaticSolver::new(&model, Solver::Multigrid.options())?;
+    let mut g_fe = Mat::<f64>::zeros(n_modes, n_modes);
     let mut force = vec![0.0; model.num_dofs()];
     for (j, mode) in modes.iter().enumerate() {
         let mut v = vec![0.0; model.num_dofs()];
@@ -248,9 +252,9 @@ pub fn compare_modes(
                 v[3 * mi + a] = (0..3).map(|b| r[b][a] * s[b]).sum();
             }
         }
-        solver.solve(&zero, &NoNonlinearity, &mut v)?;
+        solver.solve(&mut v)?;
         force.fill(0.0);
-        rsf::fem::spmv_add(model.stiffness.as_ref(), 1.0, &v, &mut force);
+        rsf_fem::spmv_add(model.stiffness.as_ref(), 1.0, &v, &mut force);
         for (n, (k, &(mi, _))) in pairs.iter().enumerate().enumerate() {
             let r = f.transform.frames[k];
             let fj = [force[3 * mi], force[3 * mi + 1], force[3 * mi + 2]];
@@ -262,22 +266,29 @@ pub fn compare_modes(
     }
 
     // The operators' norms on the modes' span, in its orthonormal basis.
-    let l = gram
-        .cholesky()
-        .ok_or("the modes' Gram matrix is not positive definite")?
-        .l();
-    let orthonormal = |g: &DMatrix<f64>| -> Result<DMatrix<f64>, AnyError> {
-        let x = l.solve_lower_triangular(g).ok_or("singular Gram factor")?;
-        let y = l
-            .solve_lower_triangular(&x.transpose())
-            .ok_or("singular Gram factor")?;
-        Ok(y.transpose())
+    let llt = gram.llt(Side::Lower).map_err(|_| {
+        ComparisonError::Setup("the modes' Gram matrix is not positive definite".into())
+    })?;
+    let l = llt.L();
+    let orthonormal = |g: &Mat<f64>| -> Mat<f64> {
+        let mut x = g.clone();
+        solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
+        let mut y = x.transpose().to_owned();
+        solve_lower_triangular_in_place(l, y.as_mut(), Par::Seq);
+        y.transpose().to_owned()
     };
-    let (fe, bem) = (orthonormal(&g_fe)?, orthonormal(&g_bem)?);
-    let norm = |m: &DMatrix<f64>| m.singular_values().max();
-    let bem_norm = norm(&bem);
+    let (fe, bem) = (orthonormal(&g_fe), orthonormal(&g_bem));
+    let norm = |m: &Mat<f64>| -> Result<f64> {
+        let s = m.singular_values().map_err(|e| {
+            ComparisonError::Setup(format!("the singular values did not converge: {e:?}"))
+        })?;
+        Ok(s.iter().fold(0.0f64, |a, &b| a.max(b)))
+    };
+    let bem_norm = norm(&bem)?;
     if !(bem_norm > 0.0) {
-        return Err("the boundary-element Galerkin matrix has norm 0".into());
+        return Err(ComparisonError::Setup(
+            "the boundary-element Galerkin matrix has norm 0".into(),
+        ));
     }
     let worst_mode = (0..n_modes)
         .map(|i| ((g_fe[(i, i)] - g_bem[(i, i)]) / g_bem[(i, i)]).abs())
@@ -286,9 +297,9 @@ pub fn compare_modes(
         h,
         vertices: model.num_nodes(),
         modes: n_modes,
-        operator: norm(&(&fe - &bem)) / bem_norm,
-        norm_ratio: norm(&fe) / bem_norm,
+        operator: norm(&(&fe - &bem))? / bem_norm,
+        norm_ratio: norm(&fe)? / bem_norm,
         worst_mode,
-        asymmetry: norm(&(&fe - fe.transpose())) / norm(&fe),
+        asymmetry: norm(&(&fe - fe.transpose()))? / norm(&fe)?,
     })
 }
