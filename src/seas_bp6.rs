@@ -7,15 +7,18 @@
 //! cargo run --release --example seas_bp6 -- --variant a --out out/bp6a          # 10 m, 2 years, BEM
 //! cargo run --release --example seas_bp6 -- --variant s --out out/bp6s
 //! cargo run --release --example seas_bp6 -- --variant c --dz 50 --out out/bp6c  # implicit, FE
+//! cargo run --release --example seas_bp6 -- --variant c --elastic bem --out out/bp6c_bem
 //! cargo run --release --example seas_bp6 -- --variant a --elastic fe --dz 50 --out out/bp6a_fe
 //! ```
 //!
 //! A and S run as a fault ODE (Dormand–Prince 5(4)) with the whole space's
-//! boundary-element kernel on `2 l_f/Δz` cells (`--elastic bem`, the default) or the
-//! finite-element half space condensed onto the fault (`--elastic fe`, `--domain-km`,
-//! `--ratio`). C (constant friction) runs on the finite-element model with the implicit
-//! scheme (backward Euler, the direct solver: the nonsmooth problem with the bound
-//! `f (σ̄₀ − p(t))` solved exactly at every step); a fault ODE cannot take it (its steps
+//! boundary-element kernel on `2 l_f/Δz` cells (`--elastic bem`, the default; its product
+//! through FFTs, `--bem-product fft`, or stored as `--kernel` says) or the finite-element
+//! half space condensed onto the fault (`--elastic fe`, `--domain-km`, `--ratio`). C
+//! (constant friction) runs with the implicit scheme (backward Euler, the direct solver:
+//! the nonsmooth problem with the bound `f (σ̄₀ − p(t))` solved exactly at every step) on
+//! the finite-element model (the default) or on the fault alone with the boundary-element
+//! kernel as its dense stiffness (`--elastic bem`); a fault ODE cannot take it (its steps
 //! would be limited to milliseconds by the damping alone, docs/seas-bp6.md).
 //!
 //! Writes the benchmark's files to `--out` (`rsf_seas::SeasBp6Output`: nine stations,
@@ -33,6 +36,7 @@ use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::pore_pressure::PorePressure;
 use rsf::run_folder::{read_checkpoint, step_cap_error, until};
+use rsf::whole_space::WholeSpaceKernel;
 use rsf::{Observer, Stepping};
 use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid, BP6_SECONDS_PER_YEAR};
 use rsf_seas::{SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
@@ -44,6 +48,16 @@ enum Elastic {
     Bem,
     /// The finite-element half space condensed onto the fault (C: the implicit scheme).
     Fe,
+}
+
+/// How the boundary-element kernel is applied.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum BemProduct {
+    /// FFTs of the Toeplitz kernel's circulant embedding: exact up to round-off,
+    /// O(n log n) per product.
+    Fft,
+    /// The kernel stored as `--kernel` says (dense, or an ℋ-matrix).
+    Stored,
 }
 
 /// The pore pressure.
@@ -77,6 +91,9 @@ struct Args {
     /// The elastic kernel (default: bem for a and s, fe for c).
     #[arg(long, value_enum)]
     elastic: Option<Elastic>,
+    /// BEM: how the kernel's products are computed [default: fft].
+    #[arg(long, value_enum)]
+    bem_product: Option<BemProduct>,
     /// FE: the truncation of the half space, 0 ≤ x ≤ L, |z| ≤ L (km).
     #[arg(long, default_value_t = 400.0, allow_negative_numbers = true)]
     domain_km: f64,
@@ -137,6 +154,17 @@ impl Args {
             ratio: self.ratio,
         }
     }
+    /// The boundary-element kernel's product.
+    fn bem_kernel(&self, tol: f64) -> Result<WholeSpaceKernel, AnyError> {
+        Ok(match self.bem_product() {
+            BemProduct::Fft => WholeSpaceKernel::Fft,
+            BemProduct::Stored => WholeSpaceKernel::Stored(self.kernel.kernel(tol.min(1e-2))?),
+        })
+    }
+    /// `--bem-product`, or its default.
+    fn bem_product(&self) -> BemProduct {
+        self.bem_product.unwrap_or(BemProduct::Fft)
+    }
     /// `--diffusion-cells`, or its default.
     fn diffusion_cells(&self) -> usize {
         self.diffusion_cells.unwrap_or(800)
@@ -175,14 +203,38 @@ impl Program for Args {
             return Err(refuse("--dz", number(self.dz), "must divide 2 l_f = 40 km"));
         }
         let elastic = self.elastic(variant);
-        if variant == Bp6Variant::C && elastic == Elastic::Bem {
+        if variant == Bp6Variant::C && elastic == Elastic::Bem && cells > 20_000.0 {
             return Err(refuse(
-                "--elastic",
-                "bem",
-                "BP6-C runs on the finite-element model with the implicit scheme (a fault \
-                 ODE's steps would be limited to milliseconds by the damping: \
-                 docs/seas-bp6.md)",
+                "--dz",
+                number(self.dz),
+                "BP6-C on the boundary-element kernel forms its stiffness densely: at most \
+                 20 000 cells (Δz ≥ 2 m)",
             ));
+        }
+        // Settings the chosen kernel would ignore are careless inputs.
+        match elastic {
+            Elastic::Fe => {
+                if let Some(product) = self.bem_product {
+                    return Err(refuse(
+                        "--bem-product",
+                        format!("{product:?}").to_lowercase(),
+                        "a setting of `--elastic bem`: the finite-element model would ignore it",
+                    ));
+                }
+            }
+            Elastic::Bem => {
+                let stored = self.kernel.kernel != crate::KernelArg::Hierarchical
+                    || self.kernel.kernel_epsilon.is_some();
+                if stored && self.bem_product() == BemProduct::Fft {
+                    return Err(refuse(
+                        "--kernel",
+                        format!("{:?}", self.kernel.kernel).to_lowercase(),
+                        "`--kernel` and `--kernel-epsilon` set the stored kernel of \
+                         `--bem-product stored`: the FFT product (the default) would ignore \
+                         them",
+                    ));
+                }
+            }
         }
         // The finite-element flags are checked whatever the kernel: a value that would be
         // refused with `--elastic fe` is a careless input with the default kernel too.
@@ -228,9 +280,16 @@ impl Program for Args {
         self.header.check()?;
         let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
         let (nodes, memory) = match elastic {
+            // C: the dense stiffness as a sparse matrix (16 bytes an entry), its energy
+            // norm, the direct solver's copies and dense matrices: measured 180 to 190
+            // bytes per entry of S (max RSS at 800, 2000 and 4000 cells), bounded by 256.
+            Elastic::Bem if variant == Bp6Variant::C => (cells, 256.0 * cells * cells + 1e8),
             Elastic::Bem => (
                 cells,
-                crate::estimates::operator_bytes(cells, hierarchical) + 1e8,
+                match self.bem_product() {
+                    BemProduct::Fft => 64.0 * cells,
+                    BemProduct::Stored => crate::estimates::operator_bytes(cells, hierarchical),
+                } + 1e8,
             ),
             Elastic::Fe => {
                 let g = self.grid();
@@ -307,6 +366,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         .with("tolerance", tol)
         .with("pressure", format!("{:?}", args.pressure_choice()))
         .with("kernel", args.kernel.kernel(tol.min(1e-2))?)
+        .with("bem_product", format!("{:?}", args.bem_product()))
         .with("end_years", args.end_years)
         .with("station_interval", args.station_interval)
         .with("profile_interval", args.profile_interval);
@@ -328,7 +388,18 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         machine()
     );
     match (variant, elastic) {
-        (Bp6Variant::C, _) => {
+        (Bp6Variant::C, Elastic::Bem) => {
+            let model = bp6.bem_constant_friction_model(args.dz, args.bem_kernel(tol)?)?;
+            let fault = bp6.output_fault(&model, variant);
+            println!(
+                "{} cells, the kernel as a dense stiffness (set-up CPU {:.1} s)",
+                fault.positions.len(),
+                cpu_seconds() - cpu0
+            );
+            let mut sim = bp6.constant_friction(model, pressure, 60.0, bp6.step_control(tol)?)?;
+            common.drive(&mut sim, fault, |s| s.step_count_text())
+        }
+        (Bp6Variant::C, Elastic::Fe) => {
             let model = bp6.fe_model(&args.grid(), variant)?;
             let fault = bp6.output_fault(&model, variant);
             println!(
@@ -342,9 +413,15 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         (_, Elastic::Bem) => {
             let mut options = bp6.fault_ode_options(tol)?;
             options.parallelism = rsf::Parallelism::rayon(args.threads);
-            let kernel = args.kernel.kernel(tol.min(1e-2))?;
+            let kernel = args.bem_kernel(tol)?;
             let mut ode = bp6.bem_fault_ode(args.dz, variant, kernel, options, pressure)?;
-            println!("S: {}", ode.kernel_report());
+            match kernel {
+                WholeSpaceKernel::Fft => println!(
+                    "S: the FFT product of the Toeplitz kernel, m = {}",
+                    ode.kernel_report().dim
+                ),
+                WholeSpaceKernel::Stored(_) => println!("S: {}", ode.kernel_report()),
+            }
             let fault = bp6.output_fault(ode.model(), variant);
             common.drive(&mut ode, fault, |o| o.evaluations_text())
         }
@@ -391,7 +468,7 @@ impl<L: rsf::friction::FrictionLaw, S: rsf::state::StateLaw, const C: usize> Cou
     }
 }
 
-impl Counts for rsf_scenes::SeasBp6Implicit {}
+impl<const C: usize> Counts for rsf_scenes::SeasBp6Implicit<C> {}
 
 impl Common<'_> {
     fn drive<const C: usize, R: Stepping<2, C>>(
@@ -441,11 +518,13 @@ impl Common<'_> {
         }
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
+        let counts = counts(run);
         println!(
-            "{} steps ({} attempts rejected), {}; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+            "{} steps ({} attempts rejected){}{counts}; wall {wall:.1} s, CPU {cpu:.1} s; \
+             wrote {}",
             summary.steps,
             summary.rejected_attempts,
-            counts(run),
+            if counts.is_empty() { "" } else { ", " },
             args.out.display()
         );
         let json = serde_json::json!({

@@ -260,6 +260,20 @@ const SMALL: &[Case] = &[
         ],
         true,
     ),
+    (
+        "seas_bp6",
+        &[
+            "--variant",
+            "c",
+            "--elastic",
+            "bem",
+            "--dz",
+            "100",
+            "--end-years",
+            "0.001",
+        ],
+        true,
+    ),
     ("fault_setup_3d", &["--dx", "10", "--steps", "1"], false),
     (
         "okada_anchor",
@@ -433,6 +447,20 @@ fn estimates_bound_the_measured_peaks_of_the_table() {
         (
             "seas_bp6",
             &["--variant", "c", "--dz", "50", "--end-years", "0.001"],
+            true,
+        ),
+        (
+            "seas_bp6",
+            &[
+                "--variant",
+                "c",
+                "--elastic",
+                "bem",
+                "--dz",
+                "20",
+                "--end-years",
+                "0.001",
+            ],
             true,
         ),
         ("fault_setup_3d", &["--dx", "5", "--steps", "1"], false),

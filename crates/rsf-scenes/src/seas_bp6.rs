@@ -16,13 +16,13 @@
 use std::sync::Arc;
 
 use rsf::fault_alone::FaultAlone;
-use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{geometric_grading, rectangle_from_coordinates, symmetric_grading, Diagonal};
 use rsf::model::AntiplaneMaterial;
 use rsf::pore_pressure::{FaultDiffusion, Injection, InjectionPressure, PorePressure};
 use rsf::simulation::NoState;
 use rsf::time::{Quasistatic, StepControl};
-use rsf::whole_space::WholeSpaceAntiplane;
+use rsf::whole_space::{WholeSpaceAntiplane, WholeSpaceKernel};
 use rsf::{FaultOde, Integrator, Model, ModelBuilder, Part, Result, Simulation, SimulationBuilder};
 use rsf_friction::{AsinhLaw, RateStateParams, Tresca};
 use rsf_state::{BuiltinStateLaw, StateLawKind};
@@ -34,8 +34,9 @@ use crate::invalid;
 pub type SeasBp6FaultOde<const C: usize> = FaultOde<2, AsinhLaw, BuiltinStateLaw, C>;
 
 /// The implicit simulation of BP6-C (constant friction, Tresca with the bound
-/// `f (σ̄₀ − p(t))`) on the finite-element model.
-pub type SeasBp6Implicit = Simulation<2, Tresca, NoState, Integrator, 1>;
+/// `f (σ̄₀ − p(t))`) on the finite-element model (`C = 1`) or the fault alone with the
+/// boundary-element kernel (`C = 2`: the normal component fixed).
+pub type SeasBp6Implicit<const C: usize = 1> = Simulation<2, Tresca, NoState, Integrator, C>;
 
 /// Seconds in the benchmark's year (365 days, as tandem and hbi use: t_f = 63 072 000 s).
 pub const BP6_SECONDS_PER_YEAR: f64 = 365.0 * 86_400.0;
@@ -438,7 +439,8 @@ impl SeasBp6 {
     }
 
     /// BP6-A or -S on the fault alone of cells `dz` with the whole space's kernel
-    /// (`kernel`: dense or an ℋ-matrix), as a fault ODE with `options`.
+    /// (`kernel`: the FFT product, or stored dense or as an ℋ-matrix), as a fault ODE with
+    /// `options`.
     ///
     /// # Errors
     /// As [`rate_state_builder`](Self::rate_state_builder); the operator's and the
@@ -447,7 +449,7 @@ impl SeasBp6 {
         &self,
         dz: f64,
         variant: Bp6Variant,
-        kernel: FaultKernel,
+        kernel: impl Into<WholeSpaceKernel>,
         options: FaultOdeOptions,
         pressure: Arc<dyn PorePressure<2>>,
     ) -> Result<SeasBp6FaultOde<2>> {
@@ -460,6 +462,26 @@ impl SeasBp6 {
         };
         self.rate_state_builder(model, variant, pressure)?
             .build_fault_ode_alone(options, alone)
+    }
+
+    /// The fault alone of BP6-C on cells `dz` ([`bem_model`](Self::bem_model)) with the
+    /// whole space's kernel as its stiffness ([`Model::set_fault_stiffness`]: `S` formed
+    /// densely from `kernel`'s products and symmetrised), for the implicit scheme
+    /// ([`constant_friction`](Self::constant_friction)).
+    ///
+    /// # Errors
+    /// Those of [`bem_model`](Self::bem_model), of the operator and of the stiffness
+    /// (more than 20 000 cells).
+    pub fn bem_constant_friction_model(
+        &self,
+        dz: f64,
+        kernel: impl Into<WholeSpaceKernel>,
+    ) -> Result<Model<2, 2>> {
+        let mut model = self.bem_model(dz, Bp6Variant::C)?;
+        let n = model.vertices.len();
+        let mut operator = WholeSpaceAntiplane::new(n, dz, self.shear_modulus(), kernel)?;
+        model.set_fault_stiffness(&mut operator, rsf::Parallelism::SEQ)?;
+        Ok(model)
     }
 
     /// BP6-A or -S on the finite-element model `model` ([`fe_model`](Self::fe_model)) as
@@ -478,23 +500,24 @@ impl SeasBp6 {
             .build_fault_ode(options)
     }
 
-    /// BP6-C on the finite-element model `model` (from [`fe_model`](Self::fe_model) with
-    /// [`Bp6Variant::C`]) as the implicit scheme: Tresca friction `f_c (σ̄₀ − p(t))` (the
-    /// bound moves with the pressure; [`rsf_friction::TrescaPotential`]'s exact
-    /// minimiser), radiation damping η, quasi-static backward Euler (docs/math.md §11),
-    /// the direct solver (the model condensed onto the fault and the nonsmooth problem
-    /// solved there by Newton's method on the sliding nodes), adaptive steps of `control`
-    /// from `tau0` (s), `V_init = 0`.
+    /// BP6-C on `model` — the finite-element model ([`fe_model`](Self::fe_model) with
+    /// [`Bp6Variant::C`], `C = 1`) or the fault alone with the boundary-element kernel
+    /// ([`bem_constant_friction_model`](Self::bem_constant_friction_model), `C = 2`) — as
+    /// the implicit scheme: Tresca friction `f_c (σ̄₀ − p(t))` (the bound moves with the
+    /// pressure; [`rsf_friction::TrescaPotential`]'s exact minimiser), radiation damping η,
+    /// quasi-static backward Euler (docs/math.md §11), the direct solver (the model
+    /// condensed onto the fault and the nonsmooth problem solved there by Newton's method
+    /// on the sliding nodes), adaptive steps of `control` from `tau0` (s), `V_init = 0`.
     ///
     /// # Errors
     /// Invalid parameters; the simulation's set-up errors.
-    pub fn constant_friction(
+    pub fn constant_friction<const C: usize>(
         &self,
-        model: Model<2, 1>,
+        model: Model<2, C>,
         pressure: Arc<dyn PorePressure<2>>,
         tau0: f64,
         control: StepControl,
-    ) -> Result<SeasBp6Implicit> {
+    ) -> Result<SeasBp6Implicit<C>> {
         self.validate()?;
         let law = Tresca::new(self.f_c, self.sigma_n)?;
         SimulationBuilder::new(model)

@@ -243,3 +243,99 @@ impl<const D: usize> Model<D, D> {
         })
     }
 }
+
+impl<const D: usize> Model<D, D> {
+    /// Gives a fault alone ([`Model::fault_only`]) the stiffness of `operator` as its
+    /// stiffness matrix and energy norm, so that the **implicit scheme**
+    /// ([`Simulation`](crate::Simulation) with [`SolverKind::Direct`](crate::SolverKind::Direct))
+    /// runs it: the fault's balance `g₀ − S u_F = w (τ + ηV)` is then the model's
+    /// `K u = f` on the slip unknowns, and each step's nonsmooth problem is solved on the
+    /// fault by the direct solver (its condensation has no interior: the Schur complement is
+    /// `S` itself, the dense Newton iteration works on it). A rate-independent friction
+    /// (Tresca, SEAS BP6-C; docs/seas-bp6.md) needs this: the fault ODE's explicit steps
+    /// are limited by the damping alone there.
+    ///
+    /// `S` is formed densely, one product with `operator` per slip unknown (`m` products,
+    /// `m²` f64 stored as a sparse matrix with every entry, twice: the stiffness and the
+    /// energy norm), and symmetrised (`(S + Sᵀ)/2`, against the round-off of an FFT or an
+    /// ℋ-matrix product). Suited to faults of a few thousand unknowns (4 000: 2 × 256 MB).
+    /// The model is loaded by its [`load`](Model::load) only (no plate velocity: a back-slip
+    /// loading is a load rate the implicit scheme does not take).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `stiffness` for a
+    /// model with a stiffness already, `fault_operator` for an operator of another
+    /// dimension than the fault's slip unknowns, or more than 20 000 of them; the product's
+    /// errors; `stiffness` for a non-finite entry or an `S` that is not positive on the
+    /// diagonal.
+    pub fn set_fault_stiffness(
+        &mut self,
+        operator: &mut dyn FaultOperator,
+        par: Parallelism,
+    ) -> Result<()> {
+        if self.stiffness.compute_nnz() != 0 {
+            return Err(invalid(
+                "stiffness",
+                "the model has a stiffness already: a fault alone (Model::fault_only) has none",
+            ));
+        }
+        let dofs = free_fault_dofs(self);
+        let m = dofs.len();
+        if operator.dim() != m || m == 0 || m > 20_000 {
+            return Err(invalid(
+                "fault_operator",
+                format!(
+                    "an operator of {} unknowns for a fault of {m} slip unknowns (at least \
+                     one, at most 20 000 formed densely)",
+                    operator.dim()
+                ),
+            ));
+        }
+        // Column j of S: −(0 − S e_j).
+        let mut s = vec![0.0; m * m];
+        let mut e = vec![0.0; m];
+        for j in 0..m {
+            e[j] = 1.0;
+            operator.subtract_product(&e, &mut s[j * m..(j + 1) * m], par)?;
+            e[j] = 0.0;
+        }
+        let n = D * self.vertices.len();
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::with_capacity(m * m);
+        let mut values = Vec::with_capacity(m * m);
+        let mut column_of = vec![usize::MAX; n];
+        for (j, &d) in dofs.iter().enumerate() {
+            column_of[d] = j;
+        }
+        // A fixed component (the normal: no opening) gets a diagonal entry alone, the
+        // largest of S's (the matrix's scale; its value never enters a solve, which holds
+        // the component at its value, but the solvers ask for every diagonal entry).
+        let fixed_diagonal = (0..m).map(|i| -s[i * m + i]).fold(0.0_f64, f64::max);
+        for c in 0..n {
+            if column_of[c] == usize::MAX {
+                row_idx.push(c);
+                values.push(fixed_diagonal);
+            } else {
+                let j = column_of[c];
+                for (i, &d) in dofs.iter().enumerate() {
+                    let v = -0.5 * (s[j * m + i] + s[i * m + j]);
+                    if !v.is_finite() || (i == j && v <= 0.0) {
+                        return Err(invalid(
+                            "stiffness",
+                            format!("S[{i}, {j}] = {v} (a stiffness: finite, positive diagonal)"),
+                        ));
+                    }
+                    row_idx.push(d);
+                    values.push(v);
+                }
+            }
+            col_ptr[c + 1] = row_idx.len();
+        }
+        let symbolic =
+            faer::sparse::SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let k = crate::fem::SparseMatrix::new(symbolic, values);
+        self.energy_norm = k.clone();
+        self.stiffness = k;
+        Ok(())
+    }
+}
