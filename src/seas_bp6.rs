@@ -296,12 +296,20 @@ impl Program for Args {
                 let nx = rsf::fem::geometric_grading_len(g.dz, 0.0, g.ratio, g.domain);
                 let nz = 2.0 * rsf::fem::geometric_grading_len(g.dz, bp6.l_f, g.ratio, g.domain);
                 let n = nx * nz;
-                let dense = variant == Bp6Variant::C;
-                (
-                    n,
-                    n * crate::estimates::SEAS_BYTES_PER_NODE
-                        + 3.0 * crate::estimates::operator_bytes(cells, hierarchical && !dense),
-                )
+                if variant == Bp6Variant::C {
+                    // C: the implicit scheme's direct solver on the volume, whose fault
+                    // block is dense: fitted to the measured peaks (max RSS of 2-year runs,
+                    // `--domain-km` 400: 229, 624 and 1 941 MB at Δz = 200, 100, 50 m, for
+                    // 36 860, 67 140 and 128 400 nodes and 200, 400, 800 cells) as
+                    // 3 636 B a node + 2 375 B per (cell)², with a margin of 1.25.
+                    (n, 1.25 * (3636.0 * n + 2375.0 * cells * cells))
+                } else {
+                    (
+                        n,
+                        n * crate::estimates::SEAS_BYTES_PER_NODE
+                            + 3.0 * crate::estimates::operator_bytes(cells, hierarchical),
+                    )
+                }
             }
         };
         // Station rows (9 files of 7 columns, global.dat): at most one per step, the
