@@ -302,12 +302,21 @@ pub(crate) fn seas_bp1(
         ));
     }
     if let Some(out) = out {
-        let folder = RunFolder::new(&out, "seas_bp1", &[]);
-        let mode: FileMode = folder.prepare(false, overwrite).py()?;
-        let stations = SEAS_BP1_STATION_DEPTHS
+        let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
             .iter()
             .map(|&d| (SeasBp1::station_name(d), d))
             .collect();
+        // The files the run writes, so that `overwrite` replaces them and a folder holding
+        // them without it is refused by name (with none listed a second run found nothing
+        // to replace and failed on its first file).
+        let mut names: Vec<String> = stations.iter().map(|(name, _)| name.clone()).collect();
+        names.extend(["devol.dat", "events.csv"].map(String::from));
+        if hdf5 {
+            names.push("seas.h5".into());
+        }
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let folder = RunFolder::new(&out, "seas_bp1", &names);
+        let mode: FileMode = folder.prepare(false, overwrite).py()?;
         let setup = SeasSetup {
             modeler: modeler.to_owned(),
             date: date.unwrap_or_else(rsf_seas::utc_date_today),

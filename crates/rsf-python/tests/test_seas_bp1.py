@@ -56,6 +56,25 @@ def test_python_bp1_writes_the_rust_programs_files(tmp_path):
     assert np.all(ev["peak_slip_rate"] > 1e-3)
 
 
+def test_overwrite_replaces_the_runs_files(tmp_path):
+    """A second run into a folder with `overwrite` writes its files anew (the same flags:
+    the same bytes); without it the folder is refused."""
+    short = dict(FLAGS, end_years=1.0)
+
+    def files():
+        return {
+            p.name: p.read_bytes()
+            for p in tmp_path.iterdir()
+            if p.name.startswith("fltst_") or p.name in ("devol.dat", "events.csv")
+        }
+
+    rsf.seas_bp1(out=tmp_path, **short).run()
+    first = files()
+    assert len(first) == 14
+    rsf.seas_bp1(out=tmp_path, overwrite=True, **short).run()
+    assert files() == first
+
+
 def test_the_folder_of_another_run_is_refused(tmp_path):
     rsf.seas_bp1(out=tmp_path, **dict(FLAGS, end_years=1.0)).run()
     with pytest.raises(rsf.RsfIOError):
