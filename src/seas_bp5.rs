@@ -329,7 +329,7 @@ impl Program for Args {
                         // whose estimate from the fewest vertices its mesh can have is
                         // already above the limit is refused on that bound, unmeshed.
                         let limit = self.limits.max_memory_gb * 1e9;
-                        match graded_vertices_at_least(self.dx) {
+                        match graded_vertices_at_least(self.dx, domain_km, ratio) {
                             Some(fewest) if peak(fewest) > limit => peak(fewest),
                             _ => {
                                 // The graded mesh itself (about a second at 1 km).
@@ -373,13 +373,16 @@ impl Program for Args {
     }
 }
 
-/// A lower bound of the graded mesh's vertices at `dx` (m) below 1 km (`None` above): the
-/// count at 1 km grown like `dx^-1.6`. Measured from 1 km to 500 m the count grows like
-/// `dx^-1.62` (86 710 to 266 764 vertices) and faster below, where the fine cells around
-/// the fault plane, a surface, take the larger share (`dx^-2` in the limit); a fault zone
-/// only adds vertices.
-fn graded_vertices_at_least(dx: f64) -> Option<f64> {
-    (dx < 1000.0).then(|| GRADED_VERTICES_AT_1_KM * (1000.0 / dx).powf(1.6))
+/// A lower bound of the graded mesh's vertices at `dx` (m) below 1 km, for a box of at
+/// least the default half-width (400 km) graded by at most the default ratio (1.3), the
+/// sizes of the counts measured (`None` otherwise: a smaller box or a faster grading has
+/// fewer vertices): the count at 1 km grown like `dx^-1.6`. Measured from 1 km to 500 m the
+/// count grows like `dx^-1.62` (86 710 to 266 764 vertices) and faster below, where the
+/// fine cells around the fault plane, a surface, take the larger share (`dx^-2` in the
+/// limit); a fault zone only adds vertices.
+fn graded_vertices_at_least(dx: f64, domain_km: f64, ratio: f64) -> Option<f64> {
+    (dx < 1000.0 && domain_km >= 400.0 && ratio <= 1.3)
+        .then(|| GRADED_VERTICES_AT_1_KM * (1000.0 / dx).powf(1.6))
 }
 
 /// The set-up's peak (bytes) of `--kernel fe` on the graded mesh at 4 km and its vertices
@@ -811,9 +814,12 @@ mod tests {
     /// refused on it there.
     #[test]
     fn the_unmeshed_bound_is_below_the_measured_count() {
-        let at_500_m = graded_vertices_at_least(500.0).unwrap();
+        let at_500_m = graded_vertices_at_least(500.0, 400.0, 1.3).unwrap();
         assert!(at_500_m <= GRADED_VERTICES_AT_500_M, "{at_500_m}");
         assert!(at_500_m > 0.95 * GRADED_VERTICES_AT_500_M, "{at_500_m}");
-        assert_eq!(graded_vertices_at_least(1000.0), None);
+        assert_eq!(graded_vertices_at_least(1000.0, 400.0, 1.3), None);
+        // Boxes with fewer vertices than the measured ones have no bound.
+        assert_eq!(graded_vertices_at_least(500.0, 100.0, 1.3), None);
+        assert_eq!(graded_vertices_at_least(500.0, 400.0, 2.0), None);
     }
 }
