@@ -179,6 +179,17 @@ fn multigrid_on_the_hierarchy_agrees_with_the_direct_solver() {
     }
 }
 
+/// Level 0 — the coarsest mesh alone, no hierarchy — is solved directly whichever solver is
+/// asked: the same errors, bit for bit, as the direct solver's (the memory table's
+/// `okada_anchor --levels 0,1,2 --method multigrid` failed there: "multigrid needs a
+/// refinement hierarchy").
+#[test]
+fn level_0_needs_no_hierarchy() {
+    let fault = buried([0.0, 0.0, SLIP]);
+    let run = |solver| compare_refined(fault, (0.5, 0, RATIO), 2.0, true, solver).unwrap();
+    assert_eq!(run(Solver::Multigrid), run(Solver::Direct));
+}
+
 /// The finite-element and the boundary-element operators applied to one smooth slip
 /// (`compare_smooth`: `cos(π x / 2a) cos(π (z − z_c) / W)` strike slip on the buried
 /// rectangle; the model on the hierarchy against the same slip on `RectangularFault`'s

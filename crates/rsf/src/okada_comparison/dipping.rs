@@ -116,6 +116,8 @@ pub fn compare_dipping(
         zs.extend((1..=n_top).map(|i| band_top - band_top * i as f64 / n_top as f64));
     }
     let coarse = cuboid_from_coordinates(&xs, &ys, &zs)?;
+    // Level 0 is the coarsest mesh alone: no hierarchy for multigrid, a direct solve.
+    let solver = if level == 0 { Solver::Direct } else { solver };
     let builder = match solver {
         Solver::Multigrid => ModelBuilder::refined(coarse, level as usize)?,
         Solver::Direct => ModelBuilder::new(

@@ -235,7 +235,14 @@ pub fn compare_modes(
             Ok(d.iter().map(|d| d.u).collect())
         })
         .collect::<std::result::Result<_, rsf_halfspace::Error>>()?;
-    let mut solver = StaticSolver::new(&model, Solver::Multigrid.options())?;
+    // Level 0 is the coarsest mesh alone (no hierarchy): a direct solve, as in
+    // `refined_model`.
+    let method = if mesh.1 == 0 {
+        Solver::Direct
+    } else {
+        Solver::Multigrid
+    };
+    let mut solver = StaticSolver::new(&model, method.options())?;
     let mut g_fe = Mat::<f64>::zeros(n_modes, n_modes);
     let mut force = vec![0.0; model.num_dofs()];
     for (j, mode) in modes.iter().enumerate() {

@@ -217,7 +217,8 @@ pub fn compare_held(
 }
 
 /// The comparison on a refinement hierarchy, solved by [`Solver::Multigrid`] (or, to
-/// check it, [`Solver::Direct`] on the finest mesh): the coarsest mesh has spacing `h0`
+/// check it, [`Solver::Direct`] on the finest mesh; at `level` 0, the coarsest mesh alone,
+/// by the direct solver whichever is asked): the coarsest mesh has spacing `h0`
 /// along `fault` and one cell beyond its rim, then cells graded by `ratio` to the far
 /// faces; it is refined `level` times (each tetrahedron into eight), so every level's
 /// grid lines are the coarser level's and their midpoints. The model's polygon is
@@ -379,6 +380,8 @@ pub(crate) fn refined_model(
     }
     let [xs, ys, zs] = coarse_lines(fault, (h0, ratio), far)?;
     let coarse = cuboid_from_coordinates(&xs, &ys, &zs)?;
+    // Level 0 is the coarsest mesh alone: no hierarchy for multigrid, a direct solve.
+    let solver = if level == 0 { Solver::Direct } else { solver };
     let builder = match solver {
         Solver::Multigrid => ModelBuilder::refined(coarse, level as usize)?,
         Solver::Direct => ModelBuilder::new(refine(coarse, level)?),
