@@ -235,8 +235,10 @@ fn write_events(file: &File, path: &Path, err: &impl Fn(hdf5::Error) -> Error) -
 /// nothing per step (and reads nothing of the volume).
 ///
 /// ```no_run
-/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
-/// # let (mut ode, mut output): (rsf_scenes::SeasBp1FaultOde, rsf_seas::SeasOutput<rsf::friction::AsinhLaw>) = todo!();
+/// # fn run(
+/// #     mut ode: rsf_scenes::SeasBp1FaultOde,
+/// #     mut output: rsf_seas::SeasOutput<rsf::friction::AsinhLaw>,
+/// # ) -> Result<(), Box<dyn std::error::Error>> {
 /// use rsf::observe::FileMode;
 /// use rsf::{Observer, Until};
 /// let mut series = rsf_hdf5::SeasSeries::new("out/bp1", FileMode::Create)?;
