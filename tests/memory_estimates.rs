@@ -298,6 +298,11 @@ const SMALL: &[Case] = &[
     ),
     ("fault_kernel_scaling", &["--dz", "200,100"], false),
     ("solver_memory", &["--levels", "3"], false),
+    (
+        "schur_columns",
+        &["--levels", "1,2", "--columns", "8"],
+        false,
+    ),
 ];
 
 /// Every program that builds a volume at a few sizes, the small ones fast: a peak above

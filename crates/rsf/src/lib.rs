@@ -107,6 +107,7 @@ pub use rsf_fem as fem;
 pub use rsf_friction as friction;
 #[cfg(feature = "halfspace")]
 pub use rsf_halfspace as halfspace;
+pub use rsf_hmatrix as hmatrix;
 pub use rsf_nonsmooth as nonsmooth;
 pub use rsf_state as state;
 pub use rsf_time as time;

@@ -12,6 +12,7 @@ pub(crate) mod internal;
 pub(crate) mod loading;
 pub(crate) mod medium;
 pub(crate) mod regions;
+mod schur_columns;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 
@@ -30,6 +31,7 @@ pub use internal::{FaultSide, InternalFault};
 pub use loading::{DirichletVelocity, TimeFunction};
 pub use medium::{AntiplaneMaterial, Material, Medium, MediumMatrices};
 pub use regions::{CellPredicate, MaterialRegions};
+pub use schur_columns::{SchurColumns, SchurColumnsReport};
 
 use rsf_fem::{DofTransform, NodalFrames, SparseMatrix};
 

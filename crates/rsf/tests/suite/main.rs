@@ -38,6 +38,7 @@ mod ranks;
 mod reliability;
 mod resume;
 mod run_folder;
+mod schur_columns;
 mod slider_3d;
 mod slip_event;
 mod spring_block;
