@@ -34,7 +34,11 @@
 //! Features: `serde` (`Serialize`/`Deserialize` on states, checkpoints, slip events, event
 //! thresholds, materials and the friction and state crates' parameters), `clap`
 //! (`ValueEnum` on the choice enums), `progress` (the progress bar through `indicatif`),
-//! `vtk` (ParaView output), `sprs` (matrices in and out as `sprs` matrices).
+//! `vtk` (ParaView output), `sprs` (matrices in and out as `sprs` matrices), `halfspace`
+//! (the boundary-element fault operator of Okada's half-space, crate `rsf-halfspace`:
+//! `halfspace_operator`, and the re-export `halfspace`), `metis` (METIS's nested
+//! dissection for the condensation onto the fault, `InteriorOrdering::NestedDissection`;
+//! builds METIS's C sources).
 //!
 //! ```no_run
 //! use rsf_scenes::SliderScene;

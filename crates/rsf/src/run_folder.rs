@@ -435,30 +435,6 @@ pub fn check_output_size(estimate_bytes: f64, max_gb: f64, name: &str) -> Result
     }
 }
 
-/// Refuses a run whose memory is estimated above `max_gb` gigabytes, before anything is
-/// allocated: `what` says what was estimated (e.g. `"BP1 at dz = 25 m: 237558 nodes"`).
-///
-/// # Errors
-/// [`Error::InvalidParameter`] named `max_memory_gb` unless `max_gb` is a positive number;
-/// named `name` (the setting that makes the problem large, e.g. `dz`) with the estimate
-/// and how to override it.
-pub fn check_memory(estimate_bytes: f64, max_gb: f64, name: &str, what: &str) -> Result<()> {
-    check_gigabytes("max_memory_gb", max_gb)?;
-    if estimate_bytes <= max_gb * 1e9 {
-        Ok(())
-    } else {
-        Err(Error::InvalidParameter {
-            name: name.into(),
-            reason: format!(
-                "{what}: an estimated {:.3e} GB of memory, above the limit of {max_gb} GB: \
-                 use a coarser or smaller problem, or raise --max-memory-gb if the machine \
-                 holds it",
-                estimate_bytes / 1e9
-            ),
-        })
-    }
-}
-
 /// Checks a size limit in gigabytes named `name`: positive, not NaN (+∞: no limit).
 fn check_gigabytes(name: &str, gb: f64) -> Result<()> {
     if gb > 0.0 {
