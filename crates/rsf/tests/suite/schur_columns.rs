@@ -8,11 +8,10 @@ use rsf::model::{PrescribedSlip, SchurColumns, StaticMethod, StaticOptions};
 use rsf::nonsmooth::Stopping;
 use rsf::{Error, Material, Model, ModelBuilder, Part};
 
-/// A 2 m cube `[-1, 1]³` of 4³ boxes refined `levels` times (a hierarchy for multigrid),
-/// its bottom clamped, and the buried square `|y|, |z| ≤ 0.5` in the plane `x = 0`.
-fn model(levels: usize) -> Model<3> {
-    ModelBuilder::refined(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(), levels)
-        .unwrap()
+/// `builder` (a mesh of the 2 m cube `[-1, 1]³`) with its bottom clamped and the buried
+/// square `|y|, |z| ≤ 0.5` in the plane `x = 0` as a fault.
+fn with_fault(builder: ModelBuilder<3>) -> ModelBuilder<3> {
+    builder
         .material(Material::new(1e10, 0.25, 2700.0))
         .without_mass()
         .dirichlet(Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9), [0.0; 3])
@@ -25,8 +24,16 @@ fn model(levels: usize) -> Model<3> {
                 [0.0, -0.5, 0.5],
             ],
         )
-        .build()
-        .unwrap()
+}
+
+/// The cube of 4³ boxes refined `levels` times (a hierarchy for multigrid).
+fn refined(levels: usize) -> ModelBuilder<3> {
+    with_fault(ModelBuilder::refined(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(), levels).unwrap())
+}
+
+/// The cube of 4³ boxes refined `levels` times with its fault, built.
+fn model(levels: usize) -> Model<3> {
+    refined(levels).build().unwrap()
 }
 
 /// `S` of `model` by the Schur-only elimination, dense, and its slip unknowns.
@@ -171,21 +178,11 @@ fn columns_that_cannot_be_computed_are_refused_by_name() {
         Error::InvalidParameter { name, .. } => name,
         e => panic!("{e}"),
     };
-    let unrefined = ModelBuilder::new(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap())
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9), [0.0; 3])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
-        .build()
-        .unwrap();
+    let unrefined = with_fault(ModelBuilder::new(
+        cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(),
+    ))
+    .build()
+    .unwrap();
     let e =
         SchurColumns::new(&unrefined, StaticOptions::method(StaticMethod::Multigrid)).unwrap_err();
     assert_eq!(named(e), "static_solver");
@@ -196,20 +193,7 @@ fn columns_that_cannot_be_computed_are_refused_by_name() {
     assert_eq!(named(e), "cols");
     let e = columns.columns(&[0, 1], out.as_mut()).unwrap_err();
     assert_eq!(named(e), "cols");
-    let prescribed = ModelBuilder::refined(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(), 1)
-        .unwrap()
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9), [0.0; 3])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
+    let prescribed = refined(1)
         .internal_slip_at(|_| Some(PrescribedSlip::InFrame([0.0, 0.0])))
         .build()
         .unwrap();
