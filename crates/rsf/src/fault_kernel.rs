@@ -9,11 +9,12 @@ use std::time::Instant;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 use rsf_direct::Condensation;
-use rsf_hmatrix::{HMatrix, HOptions, Points};
+use rsf_hmatrix::{HMatrix, HOptions};
 use rsf_linalg::Parallelism;
 
 use crate::error::{Error, Result};
 use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, RowSplit};
+use crate::model::schur_columns::{components_per_node, interface_points};
 use crate::model::Model;
 
 /// The condensed finite-element operator `S` of a fault ODE: its kernel and the report of
@@ -174,33 +175,6 @@ pub(crate) fn condensed_operator<const D: usize, const C: usize>(
         report,
         rows: None,
     })
-}
-
-/// The number of condensed unknowns of every node if it is the same for all (the slip's
-/// two tangential components on a 3-D fault), else 1: the interleaved components the
-/// cross approximation treats block by block (rsf-hmatrix's `HOptions::components`, so
-/// that a component block that decouples is not missed).
-fn components_per_node(interface: &[usize], c: usize) -> usize {
-    let mut counts = interface
-        .chunk_by(|a, b| a / c == b / c)
-        .map(<[usize]>::len);
-    match counts.next() {
-        Some(first) if counts.all(|k| k == first) => first,
-        _ => 1,
-    }
-}
-
-/// One point per condensed unknown: its node's coordinates (m), so that a node's
-/// components are coincident points, never separated by the admissibility condition.
-fn interface_points<const D: usize, const C: usize>(
-    model: &Model<D, C>,
-    interface: &[usize],
-) -> Result<Points> {
-    let coords: Vec<[f64; D]> = interface
-        .iter()
-        .map(|&dof| model.vertices[dof / C])
-        .collect();
-    Ok(Points::from_array(&coords)?)
 }
 
 /// The operator of the right-hand side (and the normal-stress operator `S_N`).

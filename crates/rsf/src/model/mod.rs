@@ -12,7 +12,7 @@ pub(crate) mod internal;
 pub(crate) mod loading;
 pub(crate) mod medium;
 pub(crate) mod regions;
-mod schur_columns;
+pub(crate) mod schur_columns;
 #[cfg(feature = "sprs")]
 mod sprs_edge;
 

@@ -233,19 +233,9 @@ impl<'a, const D: usize, const C: usize> SchurColumns<'a, D, C> {
     /// As [`columns`](Self::columns) for a column's solve; [`Error::HMatrix`] for invalid
     /// options, a non-finite entry or an SVD that does not converge.
     pub fn hierarchical(&self, options: &HOptions) -> Result<HMatrix> {
-        let coords: Vec<[f64; D]> = self
-            .interface
-            .iter()
-            .map(|&dof| self.model.vertices[dof / C])
-            .collect();
-        let points = Points::from_array(&coords)?;
-        let per_node = self
-            .interface
-            .chunk_by(|a, b| a / C == b / C)
-            .map(<[usize]>::len);
-        let components = uniform(per_node).unwrap_or(1);
+        let points = interface_points(self.model, &self.interface)?;
         let options = HOptions {
-            components,
+            components: components_per_node(&self.interface, C),
             ..options.clone()
         };
         HMatrix::from_symmetric_columns(|cols, out| self.columns(cols, out), &points, &options)
@@ -257,10 +247,31 @@ impl<'a, const D: usize, const C: usize> SchurColumns<'a, D, C> {
     }
 }
 
-/// The common value of `counts`, if every one is the same (and there is one).
-fn uniform(mut counts: impl Iterator<Item = usize>) -> Option<usize> {
-    let first = counts.next()?;
-    counts.all(|k| k == first).then_some(first)
+/// The number of condensed unknowns of every node if it is the same for all (the slip's
+/// two tangential components on a 3-D fault), else 1: the interleaved components the
+/// cross approximation treats block by block (rsf-hmatrix's `HOptions::components`, so
+/// that a component block that decouples is not missed).
+pub(crate) fn components_per_node(interface: &[usize], c: usize) -> usize {
+    let mut counts = interface
+        .chunk_by(|a, b| a / c == b / c)
+        .map(<[usize]>::len);
+    match counts.next() {
+        Some(first) if counts.all(|k| k == first) => first,
+        _ => 1,
+    }
+}
+
+/// One point per condensed unknown: its node's coordinates (m), so that a node's
+/// components are coincident points, never separated by the admissibility condition.
+pub(crate) fn interface_points<const D: usize, const C: usize>(
+    model: &Model<D, C>,
+    interface: &[usize],
+) -> Result<Points> {
+    let coords: Vec<[f64; D]> = interface
+        .iter()
+        .map(|&dof| model.vertices[dof / C])
+        .collect();
+    Ok(Points::from_array(&coords)?)
 }
 
 /// `(K u)_i` for a symmetric `K` stored by columns: column `i`'s dot product with `u`.
