@@ -14,25 +14,10 @@ use rsf::{Error, Material, Model, ModelBuilder, Part};
 
 const SLIP: [f64; 3] = [0.0, 0.6e-3, 0.8e-3];
 
-/// A 2 m cube `[-1, 1]³` of `n³` boxes (refined `levels` times), its bottom clamped, and
-/// the buried square `|y|, |z| ≤ 0.5` in the plane `x = 0` (normal `+x`: the plus side is
-/// `x > 0`).
+/// The 2 m cube of `n³` boxes refined `levels` times with the buried square fault
+/// `|y|, |z| ≤ 0.5` in the plane `x = 0` (the plus side is `x > 0`), its bottom clamped.
 fn builder(n: usize, levels: usize) -> ModelBuilder<3> {
-    let mesh = cuboid([-1.0; 3], [2.0; 3], [n + 1; 3]).unwrap();
-    ModelBuilder::refined(mesh, levels)
-        .unwrap()
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9), [0.0; 3])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
+    crate::common::cube_with_buried_fault(n, levels)
 }
 
 /// The largest `|u⁺ − u⁻ − s|` over the pairs where `s(x)` is given.

@@ -6,29 +6,13 @@ use rsf::fem::cuboid;
 use rsf::hmatrix::HOptions;
 use rsf::model::{PrescribedSlip, SchurColumns, StaticMethod, StaticOptions};
 use rsf::nonsmooth::Stopping;
-use rsf::{Error, Material, Model, ModelBuilder, Part};
+use rsf::{Error, Model, ModelBuilder};
 
-/// `builder` (a mesh of the 2 m cube `[-1, 1]³`) with its bottom clamped and the buried
-/// square `|y|, |z| ≤ 0.5` in the plane `x = 0` as a fault.
-fn with_fault(builder: ModelBuilder<3>) -> ModelBuilder<3> {
-    builder
-        .material(Material::new(1e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9), [0.0; 3])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
-}
+use crate::common::{cube_with_buried_fault, with_buried_fault};
 
-/// The cube of 4³ boxes refined `levels` times (a hierarchy for multigrid).
+/// The cube of 4³ boxes refined `levels` times (a hierarchy for multigrid) with its fault.
 fn refined(levels: usize) -> ModelBuilder<3> {
-    with_fault(ModelBuilder::refined(cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(), levels).unwrap())
+    cube_with_buried_fault(4, levels)
 }
 
 /// The cube of 4³ boxes refined `levels` times with its fault, built.
@@ -178,7 +162,7 @@ fn columns_that_cannot_be_computed_are_refused_by_name() {
         Error::InvalidParameter { name, .. } => name,
         e => panic!("{e}"),
     };
-    let unrefined = with_fault(ModelBuilder::new(
+    let unrefined = with_buried_fault(ModelBuilder::new(
         cuboid([-1.0; 3], [2.0; 3], [5; 3]).unwrap(),
     ))
     .build()

@@ -416,3 +416,32 @@ pub fn small_bp1(bp1: &rsf_scenes::SeasBp1) -> (rsf_scenes::SeasBp1, rsf_scenes:
         },
     )
 }
+
+/// `builder` (a mesh of the 2 m cube `[-1, 1]³`) with its bottom clamped and the buried
+/// square `|y|, |z| ≤ 0.5` in the plane `x = 0` as a fault (normal `+x`: the plus side is
+/// `x > 0`).
+pub fn with_buried_fault(builder: rsf::ModelBuilder<3>) -> rsf::ModelBuilder<3> {
+    builder
+        .material(rsf::Material::new(1e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            rsf::Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9),
+            [0.0; 3],
+        )
+        .internal_fault_polygon(
+            "fault",
+            &[
+                [0.0, -0.5, -0.5],
+                [0.0, 0.5, -0.5],
+                [0.0, 0.5, 0.5],
+                [0.0, -0.5, 0.5],
+            ],
+        )
+}
+
+/// The 2 m cube `[-1, 1]³` of `n³` boxes refined `levels` times, with
+/// [`with_buried_fault`]'s clamped bottom and buried square fault.
+pub fn cube_with_buried_fault(n: usize, levels: usize) -> rsf::ModelBuilder<3> {
+    let mesh = rsf::fem::cuboid([-1.0; 3], [2.0; 3], [n + 1; 3]).unwrap();
+    with_buried_fault(rsf::ModelBuilder::refined(mesh, levels).unwrap())
+}
