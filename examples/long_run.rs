@@ -293,14 +293,12 @@ fn run(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
         (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),
     )?;
     if let Some((step, t)) = main.stopped {
-        return Err(rsf::Error::InvalidParameter {
-            name: "max_steps".into(),
-            reason: format!(
-                "the run reached its step cap of {step} steps at t = {t:.6e} s (of T = {:e} s); \
-                 its files describe the run up to there. Raise --max-steps or \
-                 --max-output-gb, or shorten --end-time",
-                scene.end_time_s
-            ),
+        return Err(rsf::Error::StepCapReached {
+            step_cap: step,
+            step,
+            time: t,
+            end_time: scene.end_time_s,
+            checkpoint: None,
         }
         .into());
     }

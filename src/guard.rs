@@ -814,7 +814,7 @@ pub fn main_on_ranks<P: Program>(
 fn is_step_cap(e: &(dyn std::error::Error + 'static)) -> bool {
     matches!(
         e.downcast_ref::<rsf::Error>(),
-        Some(rsf::Error::InvalidParameter { name, .. }) if name == "max_steps"
+        Some(rsf::Error::StepCapReached { .. })
     )
 }
 

@@ -53,7 +53,7 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::method::{FixedPointOptions, SolverOptions};
-use rsf::observe::{FileMode, Progress};
+use rsf::observe::{FileMode, Progress, TimeUnit};
 use rsf::run_folder::read_checkpoint;
 use rsf::run_folder::{step_cap_error, until, RunFolder};
 use rsf::{MethodKind, Observer};
@@ -632,7 +632,7 @@ fn run(args: Args, prepared: Prepared, processes: Option<&dyn Processes>) -> Res
         resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
     )?;
     let t0 = rsf::Stepping::state(&sim).time;
-    let mut progress = Progress::time(t0, t_end, "BP1");
+    let mut progress = Progress::time_in(t0, t_end, TimeUnit::year(SECONDS_PER_YEAR), "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());
     let run = {
         // The files first, the checkpoint after them: a checkpoint never runs ahead.

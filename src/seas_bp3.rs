@@ -37,7 +37,7 @@ use crate::guard::{
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::FileMode;
+use rsf::observe::{FileMode, Progress, TimeUnit};
 use rsf::run_folder::{read_checkpoint, step_cap_error, until};
 use rsf::{Observer, Stepping};
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
@@ -351,7 +351,14 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     )?;
     let summary = {
         // The files first, the checkpoint after them: a checkpoint never runs ahead.
-        let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut output, &mut checkpointer];
+        let mut progress = Progress::time_in(
+            ode.state().time,
+            args.end_years * SECONDS_PER_YEAR,
+            TimeUnit::year(SECONDS_PER_YEAR),
+            "BP3",
+        );
+        let mut observers: Vec<&mut dyn Observer<2>> =
+            vec![&mut output, &mut progress, &mut checkpointer];
         ode.run_until(end, &mut observers)?
     };
     if let Some(e) = step_cap_error(&summary, end, ode.state(), &checkpoint) {

@@ -48,7 +48,7 @@ use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::direct::{CheckpointPolicy, Progress};
 use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
-use rsf::observe::Observer;
+use rsf::observe::{Observer, TimeUnit};
 use rsf::run_folder::{read_checkpoint, step_cap_error, until, RunFolder};
 use rsf::Stepping;
 use rsf_scenes::{FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh};
@@ -720,7 +720,14 @@ fn run(args: Args, _prepared: Prepared, processes: Option<&dyn Processes>) -> Re
     )?;
     let run = {
         // The files first, the checkpoint after them: a checkpoint never runs ahead.
-        let mut observers: Vec<&mut dyn Observer<3, 3>> = vec![&mut output, &mut checkpointer];
+        let mut progress = rsf::observe::Progress::time_in(
+            ode.state().time,
+            args.end_years * SECONDS_PER_YEAR,
+            TimeUnit::year(SECONDS_PER_YEAR),
+            "BP5",
+        );
+        let mut observers: Vec<&mut dyn Observer<3, 3>> =
+            vec![&mut output, &mut progress, &mut checkpointer];
         ode.run_until(end, &mut observers)
     };
     let summary = match run {

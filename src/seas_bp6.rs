@@ -518,7 +518,14 @@ impl Common<'_> {
             resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
         )?;
         let summary = {
-            let mut observers: Vec<&mut dyn Observer<2, C>> = vec![&mut output, &mut checkpointer];
+            let mut progress = rsf::observe::Progress::time_in(
+                run.state().time,
+                args.end_years * BP6_SECONDS_PER_YEAR,
+                rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR),
+                "BP6",
+            );
+            let mut observers: Vec<&mut dyn Observer<2, C>> =
+                vec![&mut output, &mut progress, &mut checkpointer];
             rsf::run_until(run, end, &mut observers)?
         };
         if let Some(e) = step_cap_error(&summary, end, run.state(), &checkpoint) {

@@ -317,6 +317,35 @@ pub enum Error {
         /// Which bound was met.
         reason: String,
     },
+    /// A run stopped at its step cap (`--max-steps`, [`Until::TimeOrStepCap`](crate::Until))
+    /// before its end time: not a failure of the numerics but an outcome the caller asked
+    /// for. The run's files are complete up to the step, and with `checkpoint` it continues
+    /// from there (`--resume` with a larger cap).
+    #[error(
+        "the run reached its step cap of {step_cap} steps (`max_steps`) at step {step} \
+         (t = {time:.6e} s of T = {end_time:e} s): {}",
+        match checkpoint {
+            Some(path) => format!(
+                "its files and `{path}` are complete up to that step; continue with --resume \
+                 and a larger --max-steps (or output bound)"
+            ),
+            None => "its files describe the run up to there; raise --max-steps or \
+                     --max-output-gb, or shorten the end time"
+                .to_string(),
+        }
+    )]
+    StepCapReached {
+        /// The cap (steps in total, across resumes).
+        step_cap: usize,
+        /// The step the run stopped at.
+        step: usize,
+        /// Its time (s).
+        time: f64,
+        /// The end time the run did not reach (s).
+        end_time: f64,
+        /// The checkpoint written at that step to continue from, if any.
+        checkpoint: Option<String>,
+    },
     /// An output file (or a run folder) cannot be continued from a checkpoint.
     #[error("cannot resume `{path}`: {reason}")]
     Resume {

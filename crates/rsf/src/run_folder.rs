@@ -467,7 +467,7 @@ pub fn until(t_end: f64, step_cap: Option<u64>) -> Until {
     }
 }
 
-/// The error of a run that ended at the step cap of `until` ([`Termination::StepCap`] of
+/// The outcome ([`Error::StepCapReached`]) of a run that ended at the step cap of `until` ([`Termination::StepCap`] of
 /// an [`Until::TimeOrStepCap`]) before its end time, at the state `state`: names
 /// `--max-steps`, the cap, the step and time, and how to continue (the checkpoint
 /// `checkpoint` written there). `None` for a run that ended otherwise.
@@ -480,16 +480,12 @@ pub fn step_cap_error(
     let Until::TimeOrStepCap { time, step_cap } = until else {
         return None;
     };
-    (summary.termination == Termination::StepCap).then(|| Error::InvalidParameter {
-        name: "max_steps".into(),
-        reason: format!(
-            "the run reached its step cap of {step_cap} steps at step {} (t = {:.6e} s of \
-             T = {time:e} s): its files and `{}` are complete up to that step; continue \
-             with --resume and a larger --max-steps (or output bound)",
-            state.step,
-            state.time,
-            show_path(checkpoint)
-        ),
+    (summary.termination == Termination::StepCap).then(|| Error::StepCapReached {
+        step_cap,
+        step: state.step,
+        time: state.time,
+        end_time: time,
+        checkpoint: Some(show_path(checkpoint)),
     })
 }
 

@@ -19,7 +19,7 @@ pub use every::{Every, Interval};
 pub use fields::{point_fields, PointField, POINT_FIELDS};
 pub use files::{create_file, csv_lines, refuse_existing, CsvLine, FileMode};
 pub use profile::{FrictionalProfile, ProfileRow};
-pub use progress::Progress;
+pub use progress::{Progress, TimeUnit};
 pub use recorder::{FaultRecorder, Recorder};
 pub use series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
