@@ -215,7 +215,7 @@ impl FrameArgs {
         out: &Path,
         mode: FileMode,
         owner: Vec<usize>,
-        ranks: Box<dyn rsf::ranks::RankGroup>,
+        ranks: Box<dyn rsf::ranks::RankGroup + Send>,
     ) -> rsf::Result<Option<Every<VtuFrames>>> {
         self.every(default, || {
             VtuFrames::pieces(Self::dir(out), mode, owner, ranks)

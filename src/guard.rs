@@ -867,7 +867,6 @@ pub fn lock(dir: &Path) -> Result<File, AnyError> {
 
 #[cfg(test)]
 mod tests {
-    use std::sync::{Arc, Barrier, Mutex};
 
     use super::{agree_on_flags, parse_from, Limits, Plan, Program};
 
@@ -912,49 +911,13 @@ mod tests {
         assert_ne!(flags(&["--dx", "-1"]), flags(&["--dx", "1"]));
     }
 
-    /// Threads as ranks: the all-gather through shared slots (a test double of MPI's).
-    struct ThreadRanks {
-        rank: usize,
-        size: usize,
-        slots: Arc<Mutex<Vec<Vec<f64>>>>,
-        barrier: Arc<Barrier>,
-    }
-
-    impl rsf::ranks::RankGroup for ThreadRanks {
-        fn rank(&self) -> usize {
-            self.rank
-        }
-        fn size(&self) -> usize {
-            self.size
-        }
-        fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]) {
-            self.slots.lock().unwrap()[self.rank] = own.to_vec();
-            self.barrier.wait();
-            let slots = self.slots.lock().unwrap().concat();
-            assert_eq!(slots.len(), counts.iter().sum::<usize>());
-            all.copy_from_slice(&slots);
-            self.barrier.wait();
-        }
-    }
-
     /// Each rank's verdict on the flags `given[rank]`, computed on a thread per rank.
     fn verdicts(given: &[String]) -> Vec<Result<(), String>> {
-        let size = given.len();
-        let slots = Arc::new(Mutex::new(vec![Vec::new(); size]));
-        let barrier = Arc::new(Barrier::new(size));
         std::thread::scope(|s| {
             let handles: Vec<_> = given
                 .iter()
-                .enumerate()
-                .map(|(rank, flags)| {
-                    let mut group = ThreadRanks {
-                        rank,
-                        size,
-                        slots: slots.clone(),
-                        barrier: barrier.clone(),
-                    };
-                    s.spawn(move || agree_on_flags(&mut group, flags))
-                })
+                .zip(rsf::ranks::ThreadRanks::group(given.len()))
+                .map(|(flags, mut group)| s.spawn(move || agree_on_flags(&mut group, flags)))
                 .collect();
             handles.into_iter().map(|h| h.join().unwrap()).collect()
         })

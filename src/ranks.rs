@@ -14,7 +14,7 @@ pub trait Processes: Sync {
     /// The group that shares a fault ODE's evaluations
     /// ([`rsf::FaultOde::share_evaluations`]), or that writes VTU frames in pieces
     /// ([`rsf::observe::VtuFrames::pieces`]: one all-gather per frame).
-    fn group(&self) -> Box<dyn rsf::ranks::RankGroup>;
+    fn group(&self) -> Box<dyn rsf::ranks::RankGroup + Send>;
 
     /// The transports of TNNMG's solves on these processes
     /// ([`rsf::method::TnnmgOnRanks::transport`]): each call of the factory (collective:

@@ -482,7 +482,7 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
                     system.fixed,
                     system.load,
                     system.prolongations,
-                    &ranks,
+                    (&ranks.owner, (ranks.transport)()),
                 )
             })?;
             // The conditioning of the whole model: each rank's scales are of its columns.

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 /// The crates from the bottom up: a crate may depend only on crates before it.
 const LAYERS: &[&[&str]] = &[
-    &["rsf-numeric", "rsf-linalg", "rsf-metis"],
+    &["rsf-numeric", "rsf-linalg", "rsf-metis", "rsf-ranks"],
     &[
         "rsf-fem",
         "rsf-friction",
@@ -520,4 +520,160 @@ fn crates_depend_only_on_lower_layers() {
     assert_eq!(layer_of("rsf-friction"), layer_of("rsf-state"));
     // And TNNMG and the direct solver (with the condensation) do not know each other.
     assert_eq!(layer_of("rsf-tnnmg"), layer_of("rsf-direct"));
+}
+
+/// The top-level module (a file or folder of `src/`) of a file of the import graph:
+/// `model/builder/mod.rs` → `model`, `ranks.rs` → `ranks`, `lib.rs` → `lib`.
+fn top_module(file: &str) -> String {
+    let first = file.split('/').next().unwrap_or(file);
+    first.trim_end_matches(".rs").to_owned()
+}
+
+/// The import graph between the top-level modules of `src`: a module's imports of itself
+/// and of the facade `lib` (the names `lib.rs` itself defines or re-exports from other
+/// crates, e.g. `crate::fem`) dropped.
+fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for (file, targets) in import_graph(src) {
+        let here = top_module(&file);
+        let entry = graph.entry(here.clone()).or_default();
+        entry.extend(
+            targets
+                .iter()
+                .map(|t| top_module(t))
+                .filter(|t| *t != here && t != "lib"),
+        );
+    }
+    graph
+}
+
+/// The imports of `graph` (a [`module_graph`]) that point to a higher layer of `layers`
+/// (from the bottom up), as `from -> to` lines, and the modules in no layer.
+fn upward_imports(graph: &BTreeMap<String, BTreeSet<String>>, layers: &[&[&str]]) -> Vec<String> {
+    let layer_of = |m: &str| layers.iter().position(|l| l.contains(&m));
+    let mut found = Vec::new();
+    for (module, targets) in graph {
+        if module == "lib" {
+            continue;
+        }
+        let Some(own) = layer_of(module) else {
+            found.push(format!("{module} is in no layer"));
+            continue;
+        };
+        for t in targets {
+            match layer_of(t) {
+                Some(l) if l <= own => {}
+                Some(l) => found.push(format!("{module} (layer {own}) -> {t} (layer {l})")),
+                None => found.push(format!("{t} is in no layer")),
+            }
+        }
+    }
+    found
+}
+
+/// The top-level modules (files and folders of `src/`) of `rsf`, from the bottom up: a
+/// module imports only modules of its own layer or below (and the module graph has no
+/// circle, [`no_import_circles_between_the_folders_of_a_crate`]). docs/design.md,
+/// "Modules of crates/rsf/src".
+const RSF_MODULES: &[&[&str]] = &[
+    // Foundations: errors, reports, states and their files, the model, the fault operator.
+    &[
+        "error",
+        "report",
+        "method_state",
+        "simulation_state",
+        "checkpoint",
+        "run_manifest",
+        "fault_operator",
+        "model",
+    ],
+    // The model's parts: the methods' choices, the friction functional, the operators of
+    // a fault (condensed, whole space, half-space), the nodes' local solves, probes.
+    &[
+        "method",
+        "friction_blocks",
+        "volume_probe",
+        "okada_comparison",
+        "fault_kernel",
+        "whole_space",
+        "halfspace_operator",
+        "node_solves",
+    ],
+    // Observing and running: observers and files, run control and folders, the normal
+    // stress and the pore pressure (observed), the problem.
+    &[
+        "observe",
+        "run",
+        "run_folder",
+        "pore_pressure",
+        "normal_stress",
+        "problem",
+    ],
+    // Processes that share a fault ODE's evaluations.
+    &["ranks"],
+    // The engines: a fault alone, the fault ODE, the coupled simulation, switching
+    // between them, any run.
+    &[
+        "fault_alone",
+        "fault_ode",
+        "simulation",
+        "switching",
+        "any_run",
+    ],
+];
+
+#[test]
+fn no_import_circles_between_the_folders_of_a_crate() {
+    let mut found = Vec::new();
+    for dir in crates().into_iter().chain([workspace()]) {
+        if let Some(cycle) = find_cycle(&module_graph(&dir.join("src"))) {
+            found.push(format!("{}: {}", dir.display(), cycle.join(" -> ")));
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "import circles between modules:\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn rsf_modules_import_only_their_own_layer_or_below() {
+    let found = upward_imports(
+        &module_graph(&workspace().join("crates/rsf/src")),
+        RSF_MODULES,
+    );
+    assert!(found.is_empty(), "crates/rsf/src:\n{}", found.join("\n"));
+}
+
+/// The order check itself, on a temporary crate: an import from a folder to a higher
+/// layer's file is found, its removal passes, and a module no layer lists is named.
+#[test]
+fn the_order_check_sees_upward_imports() {
+    let dir = std::env::temp_dir().join(format!("rsf-order-{}", std::process::id()));
+    let src = dir.join("src");
+    std::fs::create_dir_all(src.join("low")).unwrap();
+    std::fs::write(src.join("lib.rs"), "mod low;\nmod high;\n").unwrap();
+    std::fs::write(src.join("low/mod.rs"), "pub(crate) mod part;\n").unwrap();
+    std::fs::write(
+        src.join("high.rs"),
+        "use crate::low::part::Thing;\npub struct Top;\n",
+    )
+    .unwrap();
+    let layers: &[&[&str]] = &[&["low"], &["high"]];
+    // The temporary violation: the low folder takes a name of the higher file.
+    std::fs::write(
+        src.join("low/part.rs"),
+        "use crate::high::Top;\npub struct Thing;\n",
+    )
+    .unwrap();
+    let found = upward_imports(&module_graph(&src), layers);
+    assert_eq!(found, ["low (layer 0) -> high (layer 1)"], "{found:?}");
+    std::fs::write(src.join("low/part.rs"), "pub struct Thing;\n").unwrap();
+    assert!(upward_imports(&module_graph(&src), layers).is_empty());
+    assert_eq!(
+        upward_imports(&module_graph(&src), &[&["low"]]),
+        ["high is in no layer"]
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

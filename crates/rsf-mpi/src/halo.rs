@@ -1,13 +1,14 @@
-//! The distributed smoother's halo exchanges over MPI: [`MpiExchange`], rsf-tnnmg's
-//! [`HaloExchange`] by nonblocking point-to-point messages on a communicator of its own,
-//! and its all-gathers by `MPI_Allgatherv`.
+//! The workspace's transport ([`RankGroup`]) over MPI: halo exchanges by nonblocking
+//! point-to-point messages ([`exchange_on`]) and all-gathers by `MPI_Allgatherv`, on a
+//! duplicate of the world communicator ([`MpiExchange`], TNNMG's solves) or on the world
+//! itself ([`MpiRanks`](crate::MpiRanks), the fault ODE's evaluations).
 
 use mpi::collective::CommunicatorCollectives;
 use mpi::point_to_point::{Destination, Source};
 use mpi::request::LocalScope;
 use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::Equivalence;
-use rsf_tnnmg::distributed::{check_all_gather, HaloExchange, HaloMessage};
+use rsf_ranks::{check_all_gather, HaloMessage, RankGroup};
 
 use crate::Partition;
 
@@ -68,7 +69,7 @@ impl MpiExchange {
     }
 }
 
-impl HaloExchange for MpiExchange {
+impl RankGroup for MpiExchange {
     fn rank(&self) -> usize {
         self.rank
     }
@@ -89,21 +90,7 @@ impl HaloExchange for MpiExchange {
         recvs: &[HaloMessage],
         recv: &mut [f64],
     ) {
-        for m in sends.iter().chain(recvs) {
-            assert!(
-                m.rank < self.size && m.rank != self.rank,
-                "rank {} cannot exchange with rank {} of {}",
-                self.rank,
-                m.rank,
-                self.size
-            );
-        }
-        let comm = &self.comm;
-        mpi::request::scope(|scope| {
-            receive(scope, comm, recvs, recv, 0, &|| {
-                post(scope, comm, sends, send)
-            })
-        });
+        exchange_on(&self.comm, sends, send, recvs, recv);
     }
 
     /// `MPI_Allgatherv` on the exchange's communicator: the trait's result, in one
@@ -118,6 +105,35 @@ impl HaloExchange for MpiExchange {
         let mut partition = self.partition.of(recv, counts);
         self.comm.all_gather_varcount_into(send, &mut partition);
     }
+}
+
+/// [`RankGroup::exchange`] on `comm`: one `MPI_Irecv` per received message and one
+/// `MPI_Isend` per sent message, then a wait for all of them (every rank posts all its
+/// messages before it waits, so no order of the ranks deadlocks; the requests live on the
+/// stack: nothing is allocated).
+///
+/// # Panics
+/// As [`MpiExchange`]'s `exchange`.
+pub(crate) fn exchange_on(
+    comm: &SimpleCommunicator,
+    sends: &[HaloMessage],
+    send: &[f64],
+    recvs: &[HaloMessage],
+    recv: &mut [f64],
+) {
+    let (rank, size) = (comm.rank() as usize, comm.size() as usize);
+    for m in sends.iter().chain(recvs) {
+        assert!(
+            m.rank < size && m.rank != rank,
+            "rank {rank} cannot exchange with rank {} of {size}",
+            m.rank
+        );
+    }
+    mpi::request::scope(|scope| {
+        receive(scope, comm, recvs, recv, 0, &|| {
+            post(scope, comm, sends, send)
+        })
+    });
 }
 
 /// Posts the receives of `recvs` (whose ranges start at or after `offset`, the start of

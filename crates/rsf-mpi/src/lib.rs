@@ -31,6 +31,7 @@ use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::{Communicator, CommunicatorCollectives};
 use mpi::Threading;
+use rsf_ranks::{HaloMessage, RankGroup};
 
 /// What can go wrong when MPI starts.
 #[derive(Debug, thiserror::Error)]
@@ -133,13 +134,27 @@ impl MpiRanks {
     }
 }
 
-impl rsf::ranks::RankGroup for MpiRanks {
+impl RankGroup for MpiRanks {
     fn rank(&self) -> usize {
         self.rank
     }
 
     fn size(&self) -> usize {
         self.size
+    }
+
+    /// Point-to-point messages over `MPI_COMM_WORLD` ([`halo::exchange_on`]).
+    ///
+    /// # Panics
+    /// As [`MpiExchange`]'s.
+    fn exchange(
+        &mut self,
+        sends: &[HaloMessage],
+        send: &[f64],
+        recvs: &[HaloMessage],
+        recv: &mut [f64],
+    ) {
+        halo::exchange_on(&SimpleCommunicator::world(), sends, send, recvs, recv);
     }
 
     /// `MPI_Allgatherv` over `MPI_COMM_WORLD`.
@@ -169,22 +184,20 @@ pub struct Job(pub MpiRanks);
 
 impl rsf_examples::ranks::Processes for Job {
     fn rank(&self) -> usize {
-        rsf::ranks::RankGroup::rank(&self.0)
+        self.0.rank
     }
 
     fn size(&self) -> usize {
-        rsf::ranks::RankGroup::size(&self.0)
+        self.0.size
     }
 
-    fn group(&self) -> Box<dyn rsf::ranks::RankGroup> {
+    fn group(&self) -> Box<dyn rsf::ranks::RankGroup + Send> {
         Box::new(self.0.clone())
     }
 
     /// A new [`MpiExchange::world`] (a duplicate of the world communicator) per call.
     fn transports(&self) -> rsf::method::TransportFactory {
-        std::sync::Arc::new(|| -> Box<dyn rsf_tnnmg::distributed::HaloExchange> {
-            Box::new(MpiExchange::world())
-        })
+        std::sync::Arc::new(|| -> Box<dyn RankGroup> { Box::new(MpiExchange::world()) })
     }
 
     fn end_all(&self, message: &str) -> ! {

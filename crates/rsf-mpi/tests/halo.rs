@@ -389,7 +389,7 @@ const CHILD: &str = "RSF_MPI_HALO_TEST_RANK";
 /// entry puts it, and a receive range left out keeps its value.
 #[test]
 fn mpi_ranks_exchange_in_order() {
-    use rsf_tnnmg::distributed::{HaloExchange, HaloMessage};
+    use rsf_tnnmg::distributed::{HaloMessage, RankGroup};
     if std::env::var_os(CHILD).is_some() {
         let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
         let mut halo = rsf_mpi::MpiExchange::world();
@@ -455,7 +455,7 @@ fn run_as_child(ranks: usize, name: &str) -> String {
 /// `MpiExchange`: a transport that only forwards `exchange`.
 struct ByExchange<'a>(&'a mut rsf_mpi::MpiExchange);
 
-impl rsf_tnnmg::distributed::HaloExchange for ByExchange<'_> {
+impl rsf_tnnmg::distributed::RankGroup for ByExchange<'_> {
     fn rank(&self) -> usize {
         self.0.rank()
     }
@@ -483,7 +483,7 @@ impl rsf_tnnmg::distributed::HaloExchange for ByExchange<'_> {
 /// up.
 #[test]
 fn mpi_all_gather_is_the_default_all_gather() {
-    use rsf_tnnmg::distributed::HaloExchange;
+    use rsf_tnnmg::distributed::RankGroup;
     if std::env::var_os(CHILD).is_some() {
         let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
         let mut halo = rsf_mpi::MpiExchange::world();

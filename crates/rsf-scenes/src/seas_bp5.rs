@@ -433,7 +433,7 @@ impl SeasBp5 {
         options: FaultOdeOptions,
         half_space: &HalfSpaceOptions,
         points: &[[f64; 3]],
-        ranks: Option<Box<dyn rsf::ranks::RankGroup>>,
+        ranks: Option<Box<dyn rsf::ranks::RankGroup + Send>>,
     ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
         self.validate()?;
         if self.fault_zone.is_some() {

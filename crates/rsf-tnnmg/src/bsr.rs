@@ -382,6 +382,25 @@ impl<const D: usize> BlockCsr<D> {
     }
 }
 
+/// A symmetric node pattern: the nodes and each node's neighbours in increasing order
+/// (what the colourings, the Galerkin patterns and the incremental updates' row sets
+/// are derived from; no values).
+pub(crate) trait NodePattern {
+    /// Number of nodes.
+    fn nodes(&self) -> usize;
+    /// The neighbours of node `p` (`q ≠ p` with a stored block), increasing.
+    fn node_neighbours(&self, p: usize) -> impl Iterator<Item = usize> + '_;
+}
+
+impl<const D: usize> NodePattern for BlockCsr<D> {
+    fn nodes(&self) -> usize {
+        BlockCsr::nodes(self)
+    }
+    fn node_neighbours(&self, p: usize) -> impl Iterator<Item = usize> + '_ {
+        self.neighbours(p).map(|(q, _)| q)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

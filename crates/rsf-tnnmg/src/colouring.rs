@@ -124,7 +124,7 @@ impl Colouring {
     }
 
     /// The colouring of a node pattern (greedy in increasing node order).
-    pub(crate) fn of_pattern(a: &impl crate::distributed::NodePattern) -> Self {
+    pub(crate) fn of_pattern(a: &impl crate::bsr::NodePattern) -> Self {
         let nodes = a.nodes();
         let mut colour_of = vec![u32::MAX; nodes];
         // forbidden[c] == p: colour c is taken by a neighbour of p.

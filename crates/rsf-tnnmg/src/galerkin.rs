@@ -409,10 +409,7 @@ impl<const D: usize> Pattern<D> {
     ///
     /// # Errors
     /// As [`Galerkin::new`].
-    pub(crate) fn new(
-        h: &impl crate::distributed::NodePattern,
-        p: &Csc,
-    ) -> Result<(Self, BlockCsr<D>)> {
+    pub(crate) fn new(h: &impl crate::bsr::NodePattern, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
         if p.ncols % D != 0 || p.nrows != D * h.nodes() {
             return Err(Error::InvalidMatrix(format!(
                 "prolongation is {}x{}: expected {} rows and a column count divisible by {D}",

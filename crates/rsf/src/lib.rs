@@ -74,6 +74,7 @@ pub mod ranks;
 mod report;
 pub mod run;
 pub mod run_folder;
+mod run_manifest;
 pub mod simulation;
 mod simulation_state;
 pub mod switching;

@@ -10,8 +10,8 @@
 //! (the Runge–Kutta stages, the error norm, the observers' data) is the same arithmetic on
 //! the same numbers on every rank.
 //!
-//! The transport is the caller's: [`RankGroup`] is what the fault ODE needs of one (an MPI
-//! communicator in the `rsf-mpi` crate; threads of one process in the tests).
+//! The transport is the caller's: a [`RankGroup`] (crate `rsf-ranks`: an MPI communicator
+//! in the `rsf-mpi` crate; threads of one process, `rsf_ranks::ThreadRanks`, in the tests).
 
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
@@ -24,33 +24,20 @@ use crate::normal_stress::parts::NormalGather;
 use crate::normal_stress::NormalCoupling;
 
 /// The processes ("ranks") that share a fault ODE's evaluations
-/// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations)).
-///
-/// Every rank holds the whole run (the model, the operator, the state) and calls the same
-/// collective operations in the same order; an implementation only moves numbers.
-pub trait RankGroup: Send {
-    /// This process's rank, in `0..size()`.
-    fn rank(&self) -> usize;
+/// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations)): the workspace's one
+/// transport (crate `rsf-ranks`). Every rank holds the whole run (the model, the operator,
+/// the state) and calls the same collective operations in the same order; the fault ODE
+/// uses its all-gather only, with the same counts at every call of one run.
+pub use rsf_ranks::RankGroup;
 
-    /// The number of ranks (≥ 1).
-    fn size(&self) -> usize;
-
-    /// Every rank's `own` to every rank: rank `r` gives `counts[r]` values (`own` has
-    /// length `counts[rank()]`), and `all` (length the sum of `counts`) receives them
-    /// concatenated in rank order, on every rank. Collective: every rank calls it with
-    /// the same `counts` (the same at every call of one run: an implementation may keep
-    /// what it derives from them).
-    ///
-    /// # Panics
-    /// May panic (or end the job) if the transport fails: a rank that cannot reach the
-    /// others has no answer to give.
-    fn all_gather(&mut self, own: &[f64], counts: &[usize], all: &mut [f64]);
-}
+/// The rest of the workspace's transport vocabulary (crate `rsf-ranks`): a halo message, the
+/// thread ranks of the tests and their fresh groups, the factory of a solver's groups.
+pub use rsf_ranks::{HaloMessage, ThreadGroups, ThreadRanks, TransportFactory};
 
 /// A fault ODE's evaluation shared by ranks: the group, the nodes of each rank's part and
 /// the exchange buffers (made when shared, then reused).
 pub(crate) struct SharedEvaluation {
-    ranks: Box<dyn RankGroup>,
+    ranks: Box<dyn RankGroup + Send>,
     parts: RankParts,
     exchanges: Exchanges,
     /// `S_N`'s rows split by ranks, with a normal stress from slip (`None` without, or
@@ -89,7 +76,7 @@ impl SharedEvaluation {
     /// The group `ranks` sharing the evaluations of a fault ODE whose operator's rows are
     /// split into one part per rank (`split`; `first` the nodes' first unknowns).
     pub(crate) fn new(
-        ranks: Box<dyn RankGroup>,
+        ranks: Box<dyn RankGroup + Send>,
         split: RowSplit,
         first: &[usize],
         normal: Option<&mut NormalCoupling>,

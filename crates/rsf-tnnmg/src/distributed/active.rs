@@ -4,8 +4,8 @@
 
 use super::halo::{AllGather, HaloCounters};
 use super::local_rows::LocalRows;
-use super::transport::HaloExchange;
 use crate::block::{load, store};
+use rsf_ranks::RankGroup;
 
 /// One rank's all-gather over the active blocks of a nonlinearity (`D` values per block).
 #[derive(Debug, Clone)]
@@ -60,7 +60,7 @@ impl<const D: usize> ActiveGather<D> {
     /// Gathers: every active block of the local vector `x` owned by some rank into its
     /// place in the global vector `global` (`D` per node; the other entries are left
     /// alone), on every rank. Collective.
-    pub fn gather<H: HaloExchange + ?Sized>(
+    pub fn gather<H: RankGroup + ?Sized>(
         &mut self,
         x: &[f64],
         global: &mut [f64],

@@ -3,8 +3,8 @@
 //! TNNMG on ranks, its inner products exact sums (the same bits at every rank count).
 
 use super::reduce::ExactSums;
-use super::transport::HaloExchange;
 use super::DistributedVCycle;
+use rsf_ranks::RankGroup;
 
 /// The work vectors and sums of [`DistributedCg::solve`]: owned values (`r`, `hp`, `q`) and
 /// local vectors with ghosts (`z`, `p`).
@@ -63,7 +63,7 @@ impl DistributedCg {
         clippy::too_many_arguments,
         reason = "one linear correction: the cycle, its transport, the system and the budget"
     )]
-    pub fn solve<const D: usize, H: HaloExchange + ?Sized>(
+    pub fn solve<const D: usize, H: RankGroup + ?Sized>(
         &mut self,
         vcycle: &mut DistributedVCycle<D>,
         halo: &mut H,

@@ -2,8 +2,8 @@
 //! ([`NodeAllGather`]).
 
 use super::halo::{AllGather, HaloCounters};
-use super::transport::HaloExchange;
 use crate::error::{Error, Result};
+use rsf_ranks::RankGroup;
 
 /// The all-gather of a global vector of `D` values per node whose node `p` is computed by
 /// rank `owner[p]`: after [`gather`](Self::gather) every rank holds every node's values as
@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 /// replicated (e.g. the integrator's right-hand side on ranks, each rank computing its
 /// owned rows). A collective object: every rank calls `gather` the same number of times.
 pub struct NodeAllGather<const D: usize> {
-    halo: Box<dyn HaloExchange>,
+    halo: Box<dyn RankGroup>,
     gather: AllGather,
     counters: HaloCounters,
 }
@@ -33,7 +33,7 @@ impl<const D: usize> NodeAllGather<D> {
     ///
     /// # Errors
     /// [`Error::InvalidPartition`] if an owner is not a rank of `halo`.
-    pub fn new(owner: &[usize], halo: Box<dyn HaloExchange>) -> Result<Self> {
+    pub fn new(owner: &[usize], halo: Box<dyn RankGroup>) -> Result<Self> {
         let size = halo.size();
         if let Some(p) = owner.iter().position(|&r| r >= size) {
             return Err(Error::InvalidPartition(format!(
@@ -50,12 +50,12 @@ impl<const D: usize> NodeAllGather<D> {
 
     /// Fills every node of `x` (`D` values per node, node-major, the owners' length) that
     /// this rank does not own with its owner's values; the owned nodes are sent as they
-    /// are. One collective ([`HaloExchange::all_gather`]: one `MPI_Allgatherv` on MPI).
+    /// are. One collective ([`RankGroup::all_gather`]: one `MPI_Allgatherv` on MPI).
     /// Allocates nothing (the transport may).
     ///
     /// # Panics
     /// If `x` is not `D` values per node of the owner vector (an internal invariant of
-    /// the caller), or as the transport's [`HaloExchange::exchange`].
+    /// the caller), or as the transport's [`RankGroup::exchange`].
     pub fn gather(&mut self, x: &mut [f64]) {
         assert_eq!(x.len() % D, 0, "D values per node");
         self.gather.gather(x, &mut *self.halo, &mut self.counters);
@@ -76,7 +76,7 @@ impl<const D: usize> NodeAllGather<D> {
 mod tests {
     use super::super::tests::on_thread_ranks;
     use super::*;
-    use crate::distributed::ThreadExchange;
+    use crate::distributed::ThreadRanks;
 
     /// The wrapper of `AllGather` (whose gathers halo.rs tests at 1–4 ranks): at 3 thread
     /// ranks, one owning nothing, every rank ends with every owner's values and counts
@@ -104,7 +104,7 @@ mod tests {
             assert_eq!(x, &want, "rank {r}");
             assert_eq!(*collectives, 1, "rank {r}");
         }
-        let halo = ThreadExchange::group(2).pop().unwrap();
+        let halo = ThreadRanks::group(2).pop().unwrap();
         assert!(matches!(
             NodeAllGather::<2>::new(&[0, 2], Box::new(halo)),
             Err(Error::InvalidPartition(_))

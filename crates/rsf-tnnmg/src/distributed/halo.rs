@@ -7,9 +7,9 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 
 use super::local_rows::LocalRows;
-use super::transport::{HaloExchange, HaloMessage};
 use crate::block::{load, store};
 use crate::colouring::Colouring;
+use rsf_ranks::{HaloMessage, RankGroup};
 
 /// What one rank has sent, counted by the sweep (or the transfers, gathers, reductions) as
 /// it hands the messages to the transport (the numbers a model of the communication cost
@@ -19,14 +19,14 @@ use crate::colouring::Colouring;
 pub struct HaloCounters {
     /// Sweeps ([`DistributedSweep::sweep`](super::DistributedSweep::sweep)).
     pub sweeps: u64,
-    /// Exchanges (calls of [`HaloExchange::exchange`], with or without messages of this
+    /// Exchanges (calls of [`RankGroup::exchange`], with or without messages of this
     /// rank: one per colour and sweep, one per ghost update, one per transfer).
     pub exchanges: u64,
     /// Point-to-point messages sent (none is empty).
     pub messages: u64,
     /// f64 values sent in point-to-point messages.
     pub values: u64,
-    /// Collectives (calls of [`HaloExchange::all_gather`]: the gathers of the active
+    /// Collectives (calls of [`RankGroup::all_gather`]: the gathers of the active
     /// blocks, of the coarsest level and of the solution, and the exact reductions).
     pub collectives: u64,
     /// f64 values this rank contributed to its collectives (its own count in each; it
@@ -274,7 +274,7 @@ fn add<'a>(
 /// One exchange of `round` on the local vector `x` (`D` values per local node): packs the
 /// values of its send nodes into `send`, exchanges, unpacks `recv` into its receive nodes;
 /// counts the exchange, its messages and values in `counters`.
-pub(crate) fn exchange_round<const D: usize, H: HaloExchange + ?Sized>(
+pub(crate) fn exchange_round<const D: usize, H: RankGroup + ?Sized>(
     round: &Round,
     x: &mut [f64],
     halo: &mut H,
@@ -295,7 +295,7 @@ pub(crate) fn exchange_round<const D: usize, H: HaloExchange + ?Sized>(
 }
 
 /// The all-gather of a vector of `values` f64 per node, node `i` owned by rank
-/// `owner[i]`, as one collective ([`HaloExchange::all_gather`]): each rank contributes
+/// `owner[i]`, as one collective ([`RankGroup::all_gather`]): each rank contributes
 /// its owned nodes' values (increasing nodes), and every rank scatters the rank-ordered
 /// concatenation into the nodes' places (a precomputed order). Pure data movement: every
 /// rank ends with the owners' bits. Allocation-free per gather (the transport may
@@ -357,8 +357,8 @@ impl AllGather {
     ///
     /// # Panics
     /// If `x` is shorter than the nodes' values, `halo` is another rank's, or as
-    /// [`HaloExchange::all_gather`].
-    pub fn gather<H: HaloExchange + ?Sized>(
+    /// [`RankGroup::all_gather`].
+    pub fn gather<H: RankGroup + ?Sized>(
         &mut self,
         x: &mut [f64],
         halo: &mut H,

@@ -9,7 +9,6 @@ use rsf_linalg::Csc;
 
 use super::local_rows::{blocks, LocalRows};
 use super::rank_hierarchy::RankHierarchy;
-use super::transport::HaloExchange;
 use super::ColouredGaussSeidel;
 use super::DistributedSweep;
 use crate::bsr::BlockCsr;
@@ -18,6 +17,7 @@ use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
+use rsf_ranks::RankGroup;
 
 /// Smoothing sweeps of a V-cycle on every level but the coarsest (solved exactly).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -168,7 +168,7 @@ pub(crate) trait LevelSource<const D: usize> {
     /// Level `l`'s node count.
     fn nodes(&self, l: usize) -> usize;
     /// Level `l`'s sweep of the rank of `halo`, the level's nodes owned by `owner`.
-    fn sweep<H: HaloExchange + ?Sized>(
+    fn sweep<H: RankGroup + ?Sized>(
         &self,
         l: usize,
         owner: &[usize],
@@ -198,7 +198,7 @@ impl<const D: usize> LevelSource<D> for VCycleHierarchy<D> {
     fn nodes(&self, l: usize) -> usize {
         self.levels[l].a.nodes()
     }
-    fn sweep<H: HaloExchange + ?Sized>(
+    fn sweep<H: RankGroup + ?Sized>(
         &self,
         l: usize,
         owner: &[usize],
@@ -264,7 +264,7 @@ impl<const D: usize> LevelSource<D> for RankLevels<'_, D> {
     fn nodes(&self, l: usize) -> usize {
         self.colourings[l].num_nodes()
     }
-    fn sweep<H: HaloExchange + ?Sized>(
+    fn sweep<H: RankGroup + ?Sized>(
         &self,
         l: usize,
         owner: &[usize],

@@ -7,7 +7,7 @@
 //! of ghost nodes ([`LocalRows`]), and sweeps colour by colour through a global
 //! [`Colouring`](crate::Colouring) ([`DistributedSweep`]): its owned nodes of a colour,
 //! then one halo exchange of that colour's values with the neighbour ranks through the
-//! caller's transport ([`HaloExchange`]: MPI in `rsf-mpi`, threads in [`ThreadExchange`]).
+//! caller's transport ([`RankGroup`]: MPI in `rsf-mpi`, threads in [`ThreadRanks`]).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
 //! the same node updates; [`HaloCounters`] counts the messages, collectives and values
 //! sent.
@@ -48,7 +48,6 @@ mod tnnmg;
 mod tnnmg_options;
 mod tnnmg_step;
 mod transfer;
-mod transport;
 mod tresca;
 mod vcycle;
 
@@ -66,11 +65,10 @@ pub use halo::HaloCounters;
 pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
-pub(crate) use node_graph::NodePattern;
+pub use rsf_ranks::{check_all_gather, HaloMessage, RankGroup, ThreadRanks};
 pub use sweep::DistributedSweep;
 pub use tnnmg::DistributedTnnmg;
 pub use tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 pub use transfer::DistributedTransfer;
-pub use transport::{check_all_gather, HaloExchange, HaloMessage, ThreadExchange};
 pub use tresca::BlockTresca;
 pub use vcycle::DistributedVCycle;

@@ -4,29 +4,10 @@
 
 use super::halo::{AllGather, HaloCounters};
 use super::local_rows::LocalRows;
-use super::transport::HaloExchange;
 use crate::block::Block;
-use crate::bsr::BlockCsr;
+use crate::bsr::NodePattern;
 use crate::error::{Error, Result};
-
-/// A symmetric node pattern: the nodes and each node's neighbours in increasing order
-/// (what the colourings, the Galerkin patterns and the incremental updates' row sets
-/// are derived from; no values).
-pub(crate) trait NodePattern {
-    /// Number of nodes.
-    fn nodes(&self) -> usize;
-    /// The neighbours of node `p` (`q ≠ p` with a stored block), increasing.
-    fn node_neighbours(&self, p: usize) -> impl Iterator<Item = usize> + '_;
-}
-
-impl<const D: usize> NodePattern for BlockCsr<D> {
-    fn nodes(&self) -> usize {
-        BlockCsr::nodes(self)
-    }
-    fn node_neighbours(&self, p: usize) -> impl Iterator<Item = usize> + '_ {
-        self.neighbours(p).map(|(q, _)| q)
-    }
-}
+use rsf_ranks::RankGroup;
 
 /// The node graph of a matrix, whole, without values: node `p`'s neighbours are
 /// `col[ptr[p]..ptr[p + 1]]`, increasing.
@@ -59,7 +40,7 @@ impl NodeGraph {
     pub(crate) fn gather<const D: usize>(
         rows: &LocalRows<D>,
         owner: &[usize],
-        halo: &mut dyn HaloExchange,
+        halo: &mut dyn RankGroup,
         counters: &mut HaloCounters,
     ) -> Result<(Self, Vec<Block<D>>)> {
         let (rank, size, nodes) = (halo.rank(), halo.size(), owner.len());

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use super::halo::HaloCounters;
-use super::transport::{HaloExchange, HaloMessage};
+use rsf_ranks::{HaloMessage, RankGroup};
 
 /// Per-node records sent from their owners to the ranks that need them: per peer rank
 /// (increasing) the nodes, in increasing order on both sides, each record
@@ -100,7 +100,7 @@ impl NodePlan {
     }
 
     /// The exchange of the packed records. Collective among the plan's peers.
-    pub(super) fn send(&mut self, halo: &mut dyn HaloExchange, counters: &mut HaloCounters) {
+    pub(super) fn send(&mut self, halo: &mut dyn RankGroup, counters: &mut HaloCounters) {
         halo.exchange(&self.sends, &self.send_buf, &self.recvs, &mut self.recv_buf);
         counters.exchanges += 1;
         counters.messages += self.sends.len() as u64;

@@ -6,16 +6,17 @@ use std::collections::BTreeMap;
 
 use super::halo::HaloCounters;
 use super::local_rows::LocalRows;
-use super::node_graph::{NodeGraph, NodePattern};
+use super::node_graph::NodeGraph;
 use super::node_plan::NodePlan;
-use super::transport::HaloExchange;
 use crate::block::Block;
 use crate::bsr::BlockCsr;
+use crate::bsr::NodePattern;
 use crate::coarse::excluded;
 use crate::error::Result;
 use crate::galerkin::Pattern;
 use crate::multigrid::NewtonHierarchy;
 use rsf_linalg::Csc;
+use rsf_ranks::RankGroup;
 
 /// One Galerkin product between level `l + 1` (fine) and level `l` on a rank: the whole
 /// structure, the values of `T`'s rows the rank computes (its owned fine nodes) or
@@ -253,7 +254,7 @@ impl<const D: usize> RankHierarchy<D> {
     /// read): see [`NewtonHierarchy`].
     pub(crate) fn with<'a>(
         &'a mut self,
-        halo: &'a mut dyn HaloExchange,
+        halo: &'a mut dyn RankGroup,
         fine_rows: &'a LocalRows<D>,
     ) -> RankUpdate<'a, D> {
         RankUpdate {
@@ -266,7 +267,7 @@ impl<const D: usize> RankHierarchy<D> {
     /// Recomputes the rank's rows of every coarse level (all of them when `full`, else
     /// those the variable nodes reach), exchanging `T` rows and ghost masks, and gathers
     /// the coarsest level. Collective.
-    fn update(&mut self, halo: &mut dyn HaloExchange, fine_rows: &LocalRows<D>, full: bool) {
+    fn update(&mut self, halo: &mut dyn RankGroup, fine_rows: &LocalRows<D>, full: bool) {
         let nl = self.num_levels();
         if full {
             for (f, &m) in self.fine_free.iter_mut().zip(&self.fine_mask) {
@@ -305,7 +306,7 @@ impl<const D: usize> RankHierarchy<D> {
     }
 
     /// Every rank's owned rows and masks of the coarsest level, in one all-gather.
-    fn gather_coarsest(&mut self, halo: &mut dyn HaloExchange) {
+    fn gather_coarsest(&mut self, halo: &mut dyn RankGroup) {
         let c = &mut self.coarse[0];
         let n = c.a.nodes();
         let mut at = 0;
@@ -500,7 +501,7 @@ impl<const D: usize> RankGalerkin<D> {
     /// them and receives those it needs (into `t_val` and `free`). Collective.
     fn exchange_t(
         &mut self,
-        halo: &mut dyn HaloExchange,
+        halo: &mut dyn RankGroup,
         free: &mut [f64],
         full: bool,
         counters: &mut HaloCounters,
@@ -622,7 +623,7 @@ impl<const D: usize> CoarseLevel<D> {
     /// ghosts' (all, or the incremental update's nodes). Collective.
     fn exchange_masks(
         &mut self,
-        halo: &mut dyn HaloExchange,
+        halo: &mut dyn RankGroup,
         full: bool,
         counters: &mut HaloCounters,
     ) {
@@ -700,7 +701,7 @@ fn read_record<const D: usize>(
 /// [`linearize_blocks`](crate::tnnmg::linearize_blocks) updates.
 pub(crate) struct RankUpdate<'a, const D: usize> {
     h: &'a mut RankHierarchy<D>,
-    halo: &'a mut dyn HaloExchange,
+    halo: &'a mut dyn RankGroup,
     fine_rows: &'a LocalRows<D>,
 }
 

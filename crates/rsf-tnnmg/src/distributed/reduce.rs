@@ -1,7 +1,7 @@
 //! Reproducible global sums: every rank adds its terms into exact accumulators (Neal's
 //! superaccumulators, the `xsum` crate), extracts each partial sum as an exact expansion
 //! (a few non-overlapping doubles), all-gathers them (one collective,
-//! [`HaloExchange::all_gather`]), and every rank adds all expansions exactly and rounds
+//! [`RankGroup::all_gather`]), and every rank adds all expansions exactly and rounds
 //! once. The total is the correctly rounded exact sum of all
 //! the terms: the same bits whatever the rank count, the partition and the order of the
 //! terms.
@@ -55,7 +55,7 @@ impl ExactAccumulator {
 }
 
 use super::halo::HaloCounters;
-use super::transport::HaloExchange;
+use rsf_ranks::RankGroup;
 
 /// Most doubles in the expansion of one exact sum of doubles: each term of
 /// [`expansion`] is at most half an ulp of the previous one, so its exponent is at least 53
@@ -180,8 +180,8 @@ impl ExactSums {
     ///
     /// # Panics
     /// If `halo` is another rank's or has another size, or as
-    /// [`HaloExchange::all_gather`].
-    pub fn reduce<H: HaloExchange + ?Sized>(&mut self, halo: &mut H) -> &[f64] {
+    /// [`RankGroup::all_gather`].
+    pub fn reduce<H: RankGroup + ?Sized>(&mut self, halo: &mut H) -> &[f64] {
         assert_eq!(halo.rank(), self.rank, "the transport of another rank");
         #[cfg(test)]
         if let Some(partial) = &mut self.naive {

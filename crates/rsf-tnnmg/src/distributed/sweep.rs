@@ -4,11 +4,11 @@ use faer::sparse::SparseColMatRef;
 
 use super::halo::{exchange_round, HaloCounters, HaloPlan};
 use super::local_rows::{blocks, LocalRows};
-use super::transport::HaloExchange;
 use crate::block::store;
 use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
+use rsf_ranks::RankGroup;
 
 /// One rank's part of a multi-colour block Gauss–Seidel sweep on distributed memory: its
 /// rows ([`LocalRows`]), its owned nodes of each colour, the halo plan and the exchange
@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 /// is the same arithmetic on the same numbers (rows summed in global column order, as
 /// [`LocalRows::neighbours`] gives them).
 ///
-/// Allocation-free after set-up (the transport may allocate: [`HaloExchange`]).
+/// Allocation-free after set-up (the transport may allocate: [`RankGroup`]).
 #[derive(Debug, Clone)]
 pub struct DistributedSweep<const D: usize> {
     rows: LocalRows<D>,
@@ -49,7 +49,7 @@ impl<const D: usize> DistributedSweep<D> {
     /// `owner` or `colouring` does not have one entry per node; [`Error::InvalidPartition`]
     /// if an owner is not a rank of `halo` or `colouring` gives two adjacent nodes the same
     /// colour (a colouring of another matrix).
-    pub fn new<H: HaloExchange + ?Sized>(
+    pub fn new<H: RankGroup + ?Sized>(
         a: SparseColMatRef<'_, usize, f64>,
         owner: &[usize],
         colouring: &Colouring,
@@ -59,7 +59,7 @@ impl<const D: usize> DistributedSweep<D> {
     }
 
     /// [`new`](Self::new) of a block matrix.
-    pub(crate) fn of_blocks<H: HaloExchange + ?Sized>(
+    pub(crate) fn of_blocks<H: RankGroup + ?Sized>(
         a: &BlockCsr<D>,
         owner: &[usize],
         colouring: &Colouring,
@@ -216,7 +216,7 @@ impl<const D: usize> DistributedSweep<D> {
     ///
     /// # Panics
     /// If `x` has the wrong length or `halo` is another rank's.
-    pub fn update_ghosts<H: HaloExchange + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
+    pub fn update_ghosts<H: RankGroup + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
         self.check(x, halo);
         let full = self.num_colours();
         exchange_round::<D, H>(
@@ -241,7 +241,7 @@ impl<const D: usize> DistributedSweep<D> {
     /// If `x` has the wrong length or `halo` is another rank's.
     pub fn sweep<H, F>(&mut self, x: &mut [f64], reverse: bool, halo: &mut H, mut update: F)
     where
-        H: HaloExchange + ?Sized,
+        H: RankGroup + ?Sized,
         F: FnMut(&LocalRows<D>, usize, &[f64]) -> [f64; D],
     {
         self.check(x, halo);
@@ -265,7 +265,7 @@ impl<const D: usize> DistributedSweep<D> {
     }
 
     /// Lengths and ranks agree with the set-up.
-    fn check<H: HaloExchange + ?Sized>(&self, x: &[f64], halo: &H) {
+    fn check<H: RankGroup + ?Sized>(&self, x: &[f64], halo: &H) {
         assert_eq!(x.len(), D * self.rows.len(), "local vector length");
         assert_eq!(
             halo.rank(),

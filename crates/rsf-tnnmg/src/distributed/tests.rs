@@ -74,7 +74,7 @@ fn on_ranks(
     sweeps: &[bool],
     dropped: Option<usize>,
 ) -> Vec<RankResult> {
-    let run = |mut halo: ThreadExchange| {
+    let run = |mut halo: ThreadRanks| {
         let mut ds = DistributedSweep::<D>::new(pb.a(), owner, colouring, &halo).unwrap();
         if let Some(g) = dropped {
             ds = ds.without_halo_node(colouring, g);
@@ -136,15 +136,15 @@ pub(super) fn split_along(mesh: &TetrahedronMesh, size: usize, axis: usize) -> V
     owner
 }
 
-/// `run` on `size` thread ranks (one thread each, a [`ThreadExchange`] group): every
+/// `run` on `size` thread ranks (one thread each, a [`ThreadRanks`] group): every
 /// rank's result in rank order.
 pub(super) fn on_thread_ranks<T: Send>(
     size: usize,
-    run: impl Fn(ThreadExchange) -> T + Sync,
+    run: impl Fn(ThreadRanks) -> T + Sync,
 ) -> Vec<T> {
     let run = &run;
     std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadExchange::group(size)
+        let handles: Vec<_> = ThreadRanks::group(size)
             .into_iter()
             .map(|halo| s.spawn(move || run(halo)))
             .collect();
@@ -335,7 +335,7 @@ fn set_up_refuses_wrong_owners_and_colourings() {
     let pb = cube(1);
     let colouring = Colouring::new::<D>(pb.a()).unwrap();
     let n = pb.mesh().num_vertices();
-    let halo = ThreadExchange::group(2).swap_remove(0);
+    let halo = ThreadRanks::group(2).swap_remove(0);
     let new = |owner: &[usize], colouring: &Colouring| {
         DistributedSweep::<D>::new(pb.a(), owner, colouring, &halo)
     };
@@ -397,7 +397,7 @@ fn halo_table() {
         for parts in [2, 4] {
             let owner = rsf_metis::part_graph_kway(&xadj, &adjncy, parts).unwrap();
             let rows: Vec<_> = std::thread::scope(|s| {
-                let handles: Vec<_> = ThreadExchange::group(parts)
+                let handles: Vec<_> = ThreadRanks::group(parts)
                     .into_iter()
                     .map(|mut halo| {
                         let (a, owner, colouring) = (&a, &owner, &colouring);

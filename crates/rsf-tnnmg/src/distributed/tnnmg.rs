@@ -14,7 +14,6 @@ use super::node_graph::NodeGraph;
 use super::rank_hierarchy::RankHierarchy;
 use super::reduce::ExactSums;
 use super::tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
-use super::transport::HaloExchange;
 use super::{DistributedSweep, DistributedVCycle};
 use crate::block::{load, masked_inverse, store, Block};
 use crate::colouring::Colouring;
@@ -23,6 +22,7 @@ use crate::linear_correction::LinearCorrection;
 use crate::multigrid::NewtonHierarchy;
 use crate::problem::active_map;
 use crate::report::{iterate_to_tolerance, IterationRun};
+use rsf_ranks::RankGroup;
 
 /// The energy-norm matrix's rows, their local columns mapped to the iterate's local nodes.
 #[derive(Debug, Clone)]
@@ -69,7 +69,7 @@ pub(super) struct NormRows<const D: usize> {
 /// per iteration after the first solve with a set of active blocks (the transport may
 /// allocate).
 pub struct DistributedTnnmg<const D: usize> {
-    pub(super) halo: Box<dyn HaloExchange>,
+    pub(super) halo: Box<dyn RankGroup>,
     pub(super) opts: DistributedTnnmgOptions,
     /// Global dofs.
     pub(super) n: usize,
@@ -174,7 +174,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: DistributedTnnmgOptions,
         owner: &[usize],
-        halo: Box<dyn HaloExchange>,
+        halo: Box<dyn RankGroup>,
     ) -> Result<Self> {
         let rows = |owner: &[usize], rank| owned_rows::<D>(a, owner, rank);
         Self::build(rows, fixed, prolongations, energy_norm, opts, owner, halo)
@@ -193,7 +193,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: DistributedTnnmgOptions,
         owner: &[usize],
-        halo: Box<dyn HaloExchange>,
+        halo: Box<dyn RankGroup>,
     ) -> Result<Self> {
         let rows = move |owner: &[usize], rank| owned_rows::<D>(a.as_ref(), owner, rank);
         Self::build(rows, fixed, prolongations, energy_norm, opts, owner, halo)
@@ -207,7 +207,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: DistributedTnnmgOptions,
         owner: &[usize],
-        mut halo: Box<dyn HaloExchange>,
+        mut halo: Box<dyn RankGroup>,
     ) -> Result<Self> {
         opts.stopping.validate()?;
         if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
@@ -607,11 +607,7 @@ fn check_rows<const D: usize>(rows: &LocalRows<D>, fixed: &[bool], n: usize) -> 
 
 /// Every rank's verdict on its part: this rank's error, or — if another rank failed —
 /// [`Error::InvalidPartition`] naming it, on every rank (one all-gather). Collective.
-fn agree<T>(
-    local: Result<T>,
-    halo: &mut dyn HaloExchange,
-    counters: &mut HaloCounters,
-) -> Result<T> {
+fn agree<T>(local: Result<T>, halo: &mut dyn RankGroup, counters: &mut HaloCounters) -> Result<T> {
     let size = halo.size();
     let mut all = vec![0.0; size];
     halo.all_gather(

@@ -51,6 +51,27 @@ impl Default for DistributedTnnmgOptions {
     }
 }
 
+impl DistributedTnnmgOptions {
+    /// The options that correspond to the one-process `tnnmg`: the same stopping test,
+    /// sweeps, cycles, linear correction, inexact-Newton factor, smoothing and energy
+    /// record (the smoother order is the distributed multi-colour one). `None` unless
+    /// `tnnmg.cycle_index` is 1: the distributed linear correction runs V-cycles.
+    pub fn from_tnnmg(tnnmg: &crate::TnnmgOptions) -> Option<Self> {
+        (tnnmg.cycle_index == 1).then_some(Self {
+            stopping: tnnmg.stopping,
+            nonlinear_sweeps: tnnmg.nonlinear_sweeps,
+            v_cycles: tnnmg.v_cycles,
+            linear_correction: tnnmg.linear_correction,
+            linear_reduction: tnnmg.linear_reduction,
+            smoothing: VCycleShape {
+                pre: tnnmg.smoothing.0,
+                post: tnnmg.smoothing.1,
+            },
+            record_energy: tnnmg.record_energy,
+        })
+    }
+}
+
 /// What one rank of [`DistributedTnnmg`](super::DistributedTnnmg) has sent, by part of the iteration (each counted
 /// as the messages are handed to the transport). Bytes are `8` per value.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -340,7 +340,7 @@ fn an_energy_norm_matrix_is_used() {
             assert_eq!(report.correction, 2.0 * reference.report.correction);
         }
     }
-    let halo = ThreadExchange::group(1).pop().unwrap();
+    let halo = ThreadRanks::group(1).pop().unwrap();
     let ps = prolongations(&pb);
     let small = SparseColMat::<usize, f64>::try_new_from_triplets(3, 3, &[]).unwrap();
     let wrong = DistributedTnnmg::<D>::new(
@@ -521,7 +521,7 @@ fn distributed_tnnmg_refuses_wrong_input() {
     let ps = prolongations(&pb);
     let make =
         |ps: &[SparseColMatRef<'_, usize, f64>], opts: DistributedTnnmgOptions, owner: &[usize]| {
-            let halo = ThreadExchange::group(1).pop().unwrap();
+            let halo = ThreadRanks::group(1).pop().unwrap();
             DistributedTnnmg::<D>::new(pb.a(), &pb.bx.fixed, ps, None, opts, owner, Box::new(halo))
         };
     let owner = vec![0; nodes];
@@ -562,7 +562,7 @@ fn a_rank_needs_only_its_own_columns() {
     let nl = friction(&pb, 1.0, 0.1);
     let nodes = pb.x0.len() / D;
     let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
-    let set_up = |owner: &[usize], halo: ThreadExchange, poison: Option<f64>| {
+    let set_up = |owner: &[usize], halo: ThreadRanks, poison: Option<f64>| {
         let rank = halo.rank();
         let a = columns(pb.a(), owner, rank, poison);
         let ps = prolongations(&pb);

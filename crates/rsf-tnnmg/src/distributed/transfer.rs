@@ -5,11 +5,11 @@
 use faer::sparse::SparseColMatRef;
 
 use super::halo::{exchange_round, HaloCounters, HaloPlan, Peer};
-use super::transport::HaloExchange;
 use crate::block::{load, store, Block};
 use crate::error::{Error, Result};
 use crate::galerkin::{masked, prolong_row, prolongation_blocks, restrict_row};
 use rsf_linalg::Csc;
+use rsf_ranks::RankGroup;
 
 /// Rows of one side of the transfer in local numbering: row `k`'s entries are
 /// `(col[e], val[e])` for `e` in `ptr[k]..ptr[k + 1]`, `col` indexing a buffer of owned
@@ -125,7 +125,7 @@ impl<const D: usize> Side<D> {
     }
 
     /// Fills the ghosts of `buf` (its owned values set) from their owners.
-    fn exchange<H: HaloExchange + ?Sized>(&mut self, halo: &mut H, counters: &mut HaloCounters) {
+    fn exchange<H: RankGroup + ?Sized>(&mut self, halo: &mut H, counters: &mut HaloCounters) {
         exchange_round::<D, H>(
             &self.plan.rounds[0],
             &mut self.buf,
@@ -179,7 +179,7 @@ impl<const D: usize> DistributedTransfer<D> {
     /// coarse than fine nodes, or a non-finite entry; [`Error::DimensionMismatch`] if
     /// `owner` does not have `n_f` entries; [`Error::InvalidPartition`] if an owner is not
     /// a rank of `halo`.
-    pub fn new<H: HaloExchange + ?Sized>(
+    pub fn new<H: RankGroup + ?Sized>(
         p: SparseColMatRef<'_, usize, f64>,
         owner: &[usize],
         halo: &H,
@@ -294,7 +294,7 @@ impl<const D: usize> DistributedTransfer<D> {
     ///
     /// # Panics
     /// If a vector is shorter than its owned values or `halo` is another rank's.
-    pub fn restrict<H: HaloExchange + ?Sized>(
+    pub fn restrict<H: RankGroup + ?Sized>(
         &mut self,
         fine: &[f64],
         free: &[f64],
@@ -323,7 +323,7 @@ impl<const D: usize> DistributedTransfer<D> {
     ///
     /// # Panics
     /// If a vector is shorter than its owned values or `halo` is another rank's.
-    pub fn prolong_add<H: HaloExchange + ?Sized>(
+    pub fn prolong_add<H: RankGroup + ?Sized>(
         &mut self,
         coarse: &[f64],
         free: &[f64],

@@ -83,7 +83,7 @@ fn on_ranks(pb: &Problem, re: &Reference, owner: &[usize], size: usize) -> Vec<R
     let colouring = Colouring::new::<D>(pb.a()).unwrap();
     let p = prolongation(pb);
     let nc = p.ncols() / D;
-    let run = |mut halo: ThreadExchange| {
+    let run = |mut halo: ThreadRanks| {
         let mut sweep = DistributedSweep::<D>::new(pb.a(), owner, &colouring, &halo).unwrap();
         let mut transfer = DistributedTransfer::<D>::new(p.as_ref(), owner, &halo).unwrap();
         let rows = sweep.rows().clone();
@@ -159,7 +159,7 @@ fn transfer_set_up_refuses_wrong_input() {
     let pb = cube(1);
     let p = prolongation(&pb);
     let nf = p.nrows() / D;
-    let halo = ThreadExchange::group(2).swap_remove(0);
+    let halo = ThreadRanks::group(2).swap_remove(0);
     let pt = p.as_ref().transpose().to_col_major().unwrap();
     assert!(matches!(
         DistributedTransfer::<D>::new(pt.as_ref(), &vec![0; p.ncols() / D], &halo),

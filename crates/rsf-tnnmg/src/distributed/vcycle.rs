@@ -6,11 +6,11 @@ use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::{LevelSource, VCycleHierarchy, VCycleShape};
 use super::local_rows::LocalRows;
 use super::rank_hierarchy::RankHierarchy;
-use super::transport::HaloExchange;
 use super::{BlockGaussSeidel, DistributedSweep, DistributedTransfer};
 use crate::block::{load, store};
 use crate::coarse::CoarseSolver;
 use crate::error::{Error, Result};
+use rsf_ranks::RankGroup;
 
 /// One rank's part of a level above the coarsest.
 #[derive(Debug, Clone)]
@@ -59,7 +59,7 @@ struct Coarsest {
 /// prolongation (one exchange), one ghost update (the owned values changed outside a
 /// sweep, and the post-sweeps and the next residual read the ghosts), `post` sweeps
 /// (decreasing colours). The coarsest level: an all-gather of the owned right-hand sides
-/// in one collective ([`HaloExchange::all_gather`]: every rank contributes its owned
+/// in one collective ([`RankGroup::all_gather`]: every rank contributes its owned
 /// values and receives every other rank's; the global vector is assembled by node index,
 /// so its bits do not depend on the rank count), then
 /// every rank that owns a coarsest node solves the whole coarsest problem with the same
@@ -92,7 +92,7 @@ impl<const D: usize> DistributedVCycle<D> {
     /// [`Error::DimensionMismatch`] if `owner` does not have one entry per fine node;
     /// [`Error::InvalidPartition`] if an owner is not a rank of `halo`;
     /// [`Error::NotPositiveDefinite`] as [`VCycleHierarchy::new`]'s factorisation.
-    pub fn new<H: HaloExchange + ?Sized>(
+    pub fn new<H: RankGroup + ?Sized>(
         h: &VCycleHierarchy<D>,
         owner: &[usize],
         shape: VCycleShape,
@@ -103,7 +103,7 @@ impl<const D: usize> DistributedVCycle<D> {
 
     /// As [`new`](Self::new), from any source of the levels (a [`VCycleHierarchy`], or a
     /// rank's hierarchy: [`RankLevels`](super::hierarchy::RankLevels)).
-    pub(crate) fn of_levels<H: HaloExchange + ?Sized>(
+    pub(crate) fn of_levels<H: RankGroup + ?Sized>(
         h: &impl LevelSource<D>,
         owner: &[usize],
         shape: VCycleShape,
@@ -299,7 +299,7 @@ impl<const D: usize> DistributedVCycle<D> {
     ///
     /// # Panics
     /// If `x` has the wrong length or `halo` is another rank's.
-    pub fn update_ghosts<H: HaloExchange + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
+    pub fn update_ghosts<H: RankGroup + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
         let fine = self.levels.last_mut().expect("two levels or more");
         fine.sweep.update_ghosts(x, halo);
     }
@@ -310,14 +310,14 @@ impl<const D: usize> DistributedVCycle<D> {
     ///
     /// # Panics
     /// If `x` has the wrong length or `halo` is another rank's.
-    pub fn cycle<H: HaloExchange + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
+    pub fn cycle<H: RankGroup + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
         assert_eq!(halo.rank(), self.rank, "the transport of another rank");
         let l = self.levels.len();
         self.level_cycle(l, x, false, halo);
     }
 
     /// One cycle on level `l ≥ 1` (the coarsest level is solved inside level 1's).
-    fn level_cycle<H: HaloExchange + ?Sized>(
+    fn level_cycle<H: RankGroup + ?Sized>(
         &mut self,
         l: usize,
         x: &mut [f64],
@@ -400,7 +400,7 @@ impl<const D: usize> DistributedVCycle<D> {
 
 impl<const D: usize> RankLevel<D> {
     /// `sweeps` sweeps of `x` (decreasing colours when `reverse`).
-    fn smooth<H: HaloExchange + ?Sized>(
+    fn smooth<H: RankGroup + ?Sized>(
         &mut self,
         x: &mut [f64],
         sweeps: usize,
@@ -418,7 +418,7 @@ impl<const D: usize> RankLevel<D> {
 impl Coarsest {
     /// Gathers the owned right-hand sides into the global vector, solves, keeps the owned
     /// values of the solution.
-    fn solve<const D: usize, H: HaloExchange + ?Sized>(&mut self, halo: &mut H) {
+    fn solve<const D: usize, H: RankGroup + ?Sized>(&mut self, halo: &mut H) {
         for (k, &i) in self.owned.iter().enumerate() {
             store(&mut self.global, i, &load::<D>(&self.rhs, k));
         }

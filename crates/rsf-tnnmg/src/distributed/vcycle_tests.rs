@@ -69,7 +69,7 @@ fn on_ranks(
     cycles: usize,
     skip_ghost_update: bool,
 ) -> Vec<RankResult> {
-    let run = |mut halo: ThreadExchange| {
+    let run = |mut halo: ThreadRanks| {
         let mut vc = DistributedVCycle::<D>::new(h, owner, SHAPE, &halo).unwrap();
         vc.skip_ghost_update = skip_ghost_update;
         let rows = vc.rows();
@@ -327,7 +327,7 @@ fn vcycle_set_up_refuses_wrong_input() {
     ));
     let h = hierarchy(&pb, 2);
     let nf = h.nodes(1);
-    let halo = ThreadExchange::group(2).swap_remove(0);
+    let halo = ThreadRanks::group(2).swap_remove(0);
     assert!(matches!(
         DistributedVCycle::<D>::new(&h, &vec![0; nf - 1], SHAPE, &halo),
         Err(Error::DimensionMismatch { .. })

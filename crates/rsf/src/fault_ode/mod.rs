@@ -27,7 +27,6 @@ use crate::observe::{FaultTractions, Observer};
 use crate::problem::Problem;
 use crate::report::StepReport;
 use crate::run::{run_until, RunError, RunSummary, Stepping, Until};
-use crate::simulation::step::impose_dirichlet_velocities;
 use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
@@ -37,10 +36,10 @@ mod rates;
 pub(crate) mod schur_only;
 mod shared;
 
+pub use crate::fault_alone::{SchurOnlySetup, SetupProgress};
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
-pub use schur_only::{SchurOnlySetup, SetupProgress};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
@@ -649,7 +648,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         for &i in &self.fixed {
             kin.v[i] = 0.0;
         }
-        impose_dirichlet_velocities(model, t, &mut kin.v);
+        model.dirichlet.impose(t, &mut kin.v);
         if volume {
             if let Body::Condensed { .. } = r.body {
                 return Err(invalid(

@@ -7,52 +7,14 @@
 //! vertices observers read are given before the set-up, [`SchurOnlySetup::watch_vertices`])
 //! and a normal stress from slip (`S_N` needs the factor's extension).
 
-use std::ops::ControlFlow;
-
-use rsf_direct::{CheckpointPolicy, Progress, RightHandSide, SchurOnly, SchurOnlyOptions};
+use rsf_direct::{RightHandSide, SchurOnly, SchurOnlyOptions};
 
 use super::options::FaultOdeOptions;
 use crate::error::{invalid, Result};
+use crate::fault_alone::SchurOnlySetup;
 use crate::fault_kernel::{condensed_operator, CondensedOperator, SchurSource};
 use crate::model::Model;
 use crate::volume_probe::{probe_dofs, VolumeProbe};
-
-/// What the set-up of a fault ODE condensed without the volume's whole factor needs before
-/// it starts ([`SimulationBuilder::build_fault_ode_schur_only`](crate::SimulationBuilder::build_fault_ode_schur_only)).
-#[derive(Default)]
-pub struct SchurOnlySetup {
-    /// The vertices (of the model's mesh) observers will read off the fault
-    /// ([`Observer::volume_vertices`](crate::Observer::volume_vertices), e.g. surface
-    /// stations): kept through the elimination, their displacement an affine function of
-    /// the fault's slip. Any order; repeats are ignored. Other vertices cannot be read
-    /// later.
-    pub watch_vertices: Vec<usize>,
-    /// Checkpoints of the elimination: a set-up killed and started again with the same
-    /// model resumes from its file and gives the same bits ([`CheckpointPolicy`]).
-    pub checkpoint: Option<CheckpointPolicy>,
-    /// The most bytes the elimination may hold (its plan, computed before any numeric
-    /// work, against this): a larger plan is refused with
-    /// [`rsf_direct::Error::TooLarge`] before anything is allocated. `None`: no bound.
-    pub max_bytes: Option<usize>,
-    /// Told after every front with the elimination's progress (fronts, flops, time);
-    /// [`ControlFlow::Break`] stops it with [`rsf_direct::Error::Stopped`] (the last
-    /// checkpoint stays).
-    pub progress: Option<SetupProgress>,
-}
-
-/// A watcher of the Schur-only elimination ([`SchurOnlySetup::progress`]).
-pub type SetupProgress = Box<dyn FnMut(&Progress) -> ControlFlow<()>>;
-
-impl std::fmt::Debug for SchurOnlySetup {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SchurOnlySetup")
-            .field("watch_vertices", &self.watch_vertices.len())
-            .field("checkpoint", &self.checkpoint)
-            .field("max_bytes", &self.max_bytes)
-            .field("progress", &self.progress.is_some())
-            .finish()
-    }
-}
 
 /// What the Schur-only set-up gives the fault ODE.
 pub(super) struct SchurOnlyBody {

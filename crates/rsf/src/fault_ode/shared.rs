@@ -28,7 +28,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// outside `0..size`, or an operator whose rows cannot be computed apart (the
     /// default of [`FaultOperator::split_rows`](crate::fault_operator::FaultOperator::split_rows);
     /// rsf's dense and ℋ kernels and the half-space operator can).
-    pub fn share_evaluations(&mut self, ranks: Box<dyn RankGroup>) -> Result<()> {
+    pub fn share_evaluations(&mut self, ranks: Box<dyn RankGroup + Send>) -> Result<()> {
         if ranks.size() == 0 || ranks.rank() >= ranks.size() {
             return Err(invalid(
                 "ranks",

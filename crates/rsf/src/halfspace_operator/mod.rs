@@ -19,7 +19,7 @@ use crate::fault_operator::{
     FaultKernel, FaultOperator, KernelReport, RowSplit, MAX_KERNEL_EPSILON,
 };
 use crate::model::Model;
-use crate::ranks::RankGroup;
+use rsf_ranks::RankGroup;
 
 mod error;
 mod parts;
@@ -296,7 +296,7 @@ impl HalfSpaceOperator {
     pub fn fault_alone_on_ranks(
         model: &Model<3, 3>,
         options: &HalfSpaceOptions,
-        ranks: Box<dyn RankGroup>,
+        ranks: Box<dyn RankGroup + Send>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         Self::fault_alone_part(model, options, Some(ranks))
     }
@@ -305,7 +305,7 @@ impl HalfSpaceOperator {
     fn fault_alone_part(
         model: &Model<3, 3>,
         options: &HalfSpaceOptions,
-        ranks: Option<Box<dyn RankGroup>>,
+        ranks: Option<Box<dyn RankGroup + Send>>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
         check_options(options)?;

@@ -6,13 +6,13 @@ use super::{HalfSpaceOperator, HalfSpaceOperatorError};
 use crate::error::{invalid, Result};
 use crate::fault_kernel::{no_split, KernelRows};
 use crate::fault_operator::{FaultOperator, RowSplit};
-use crate::ranks::RankGroup;
+use rsf_ranks::RankGroup;
 
 /// The ranks of an operator that holds only this rank's part of the rows
 /// ([`HalfSpaceOperator::fault_alone_on_ranks`]): the group, the split (one part per
 /// rank) and the buffers of the whole product's all-gather.
 pub(super) struct OnRanks {
-    group: Box<dyn RankGroup>,
+    group: Box<dyn RankGroup + Send>,
     split: RowSplit,
     /// Values per rank (its part's rows).
     counts: Vec<usize>,
@@ -163,7 +163,7 @@ impl HalfSpaceOperator {
     /// parts than ranks, or a part cuts an element.
     pub(super) fn share_rows(
         &mut self,
-        group: Box<dyn RankGroup>,
+        group: Box<dyn RankGroup + Send>,
     ) -> std::result::Result<(), HalfSpaceOperatorError> {
         let ranks = group.size();
         let refuse = |reason: String| HalfSpaceOperatorError::Ranks { ranks, reason };

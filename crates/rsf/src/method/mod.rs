@@ -423,7 +423,7 @@ impl StateShare {
     /// The share of the rank of `halo` with frictional node `k` on rank `owner[k]`.
     fn with_owner(
         owner: &[usize],
-        halo: Box<dyn rsf_tnnmg::distributed::HaloExchange>,
+        halo: Box<dyn rsf_tnnmg::distributed::RankGroup>,
     ) -> Result<Self> {
         let gather = NodeAllGather::<1>::new(owner, halo)?;
         let rank = gather.rank();
@@ -475,7 +475,7 @@ impl StateShare {
 #[cfg(test)]
 mod tests {
     use super::StateShare;
-    use rsf_tnnmg::distributed::ThreadExchange;
+    use rsf_tnnmg::distributed::ThreadRanks;
 
     /// The state update on 1–3 thread ranks: every rank gets every node's value (the
     /// owner's) with one collective; a node that fails on its rank (rank 1's node 4) ends
@@ -487,7 +487,7 @@ mod tests {
         for size in 1..=3 {
             let owner: Vec<usize> = owner.iter().map(|&r| r % size).collect();
             let results: Vec<_> = std::thread::scope(|s| {
-                let handles: Vec<_> = ThreadExchange::group(size)
+                let handles: Vec<_> = ThreadRanks::group(size)
                     .into_iter()
                     .map(|halo| {
                         let (owner, want) = (&owner, &want);

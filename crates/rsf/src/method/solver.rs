@@ -6,9 +6,7 @@ use std::sync::Arc;
 use rsf_direct::{DirectMemory, DirectOptions, DirectSolver};
 use rsf_fem::SparseMatrix;
 use rsf_nonsmooth::{BlockNonlinearity, FullStep, SolveReport, StepSolver, Stopping};
-use rsf_tnnmg::distributed::{
-    DistributedTnnmg, DistributedTnnmgOptions, HaloExchange, VCycleShape,
-};
+use rsf_tnnmg::distributed::{DistributedTnnmg, DistributedTnnmgOptions};
 use rsf_tnnmg::{NonlinearGaussSeidel, Parallelism, Tnnmg, TnnmgOptions};
 
 use crate::model::Model;
@@ -236,10 +234,9 @@ pub struct SolverOptions {
 /// The transport of one solver on ranks: called once per built method (the all-gather
 /// of the integrator's right-hand side, before its first solver) and once per built
 /// solver (every rank builds its methods and solvers in the same order, one solver per
-/// time-step size used), it returns this rank's
-/// end of a fresh group of the job's ranks ([`HaloExchange`]: e.g. a duplicated MPI
-/// communicator, or the next group of thread ranks).
-pub type TransportFactory = Arc<dyn Fn() -> Box<dyn HaloExchange> + Send + Sync>;
+/// time-step size used), it returns this rank's end of a fresh group of the job's ranks
+/// ([`RankGroup`]: e.g. a duplicated MPI communicator, or the next group of thread ranks).
+pub use rsf_ranks::TransportFactory;
 
 /// TNNMG on the ranks of a job (issue 57, docs/scaling.md "Phase 5"): replicated time
 /// stepping, distributed velocity solves. Every rank runs the same simulation (the same
@@ -286,26 +283,14 @@ impl TnnmgOnRanks {
     /// `tnnmg.cycle_index` unless it is 1 (the distributed linear correction runs
     /// V-cycles).
     pub fn options(tnnmg: &TnnmgOptions) -> crate::Result<DistributedTnnmgOptions> {
-        if tnnmg.cycle_index != 1 {
-            return Err(crate::error::invalid(
+        DistributedTnnmgOptions::from_tnnmg(tnnmg).ok_or_else(|| {
+            crate::error::invalid(
                 "tnnmg.cycle_index",
                 format!(
                     "TNNMG on ranks runs V-cycles (cycle index 1), not {}",
                     tnnmg.cycle_index
                 ),
-            ));
-        }
-        Ok(DistributedTnnmgOptions {
-            stopping: tnnmg.stopping,
-            nonlinear_sweeps: tnnmg.nonlinear_sweeps,
-            v_cycles: tnnmg.v_cycles,
-            linear_correction: tnnmg.linear_correction,
-            linear_reduction: tnnmg.linear_reduction,
-            smoothing: VCycleShape {
-                pre: tnnmg.smoothing.0,
-                post: tnnmg.smoothing.1,
-            },
-            record_energy: tnnmg.record_energy,
+            )
         })
     }
 }

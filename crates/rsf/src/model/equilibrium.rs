@@ -317,25 +317,26 @@ pub(crate) fn solve<const D: usize, const C: usize>(
 /// branch: the energy norm of the last correction at most
 /// [`EQUILIBRIUM_MULTIGRID_TOLERANCE`] times `‖u₀‖_K`, at most 500 iterations): what a
 /// model whose ranks hold only their own columns of `K` (`ModelBuilder` on ranks) solves,
-/// at every size (sparse Cholesky would need `K` whole). Of `stiffness` each rank reads
-/// only the columns of the nodes it owns (`ranks.owner`); `load` and `fixed` are whole
-/// (length `n`), and so is the result, with the same bits on every rank and at every rank
-/// count. It takes one transport from `ranks` (every rank calls this in the same order).
-/// Collective.
+/// at every size (sparse Cholesky would need `K` whole). `owner` is fine node `p`'s rank
+/// (length the node count; the owner vector of a
+/// [`TnnmgOnRanks`](crate::method::TnnmgOnRanks)) and `transport` this rank's end of a
+/// fresh group of the job's ranks (one call of its transport factory: every rank calls
+/// this in the same order). Of `stiffness` each rank reads only the columns of the nodes
+/// it owns; `load` and `fixed` are whole (length `n`), and so is the result, with the same
+/// bits on every rank and at every rank count. Collective.
 ///
 /// # Errors
 /// [`Error::Solver`] if the multigrid does not converge in 500 iterations, or as
-/// `DistributedTnnmg::new` for the matrix and the partition (on every rank);
-/// [`Error::InvalidParameter`] named `tnnmg.cycle_index` as
-/// [`TnnmgOnRanks::options`](crate::method::TnnmgOnRanks::options).
+/// `DistributedTnnmg::new` for the matrix and the partition (on every rank).
 pub fn equilibrium_on_ranks<const C: usize>(
     stiffness: &SparseMatrix,
     fixed: &[bool],
     load: &[f64],
     prolongations: &[SparseMatrix],
-    ranks: &crate::method::TnnmgOnRanks,
+    (owner, transport): (&[usize], Box<dyn rsf_ranks::RankGroup>),
 ) -> Result<Vec<f64>> {
-    let options = crate::method::TnnmgOnRanks::options(&multigrid_options())?;
+    let options = rsf_tnnmg::distributed::DistributedTnnmgOptions::from_tnnmg(&multigrid_options())
+        .expect("the multigrid branches run V-cycles");
     let ps: Vec<_> = prolongations.iter().map(|p| p.as_ref()).collect();
     let mut mg = rsf_tnnmg::distributed::DistributedTnnmg::<C>::new(
         stiffness.as_ref(),
@@ -343,8 +344,8 @@ pub fn equilibrium_on_ranks<const C: usize>(
         &ps,
         None,
         options,
-        &ranks.owner,
-        (ranks.transport)(),
+        owner,
+        transport,
     )?;
     let mut u0 = vec![0.0; load.len()];
     mg.solve(load, &NoNonlinearity, &mut u0)?;

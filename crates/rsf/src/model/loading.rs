@@ -188,6 +188,17 @@ impl DirichletVelocity {
     pub fn speed(&self, t: f64) -> f64 {
         self.history.value(t)
     }
+
+    /// The prescribed dofs' velocities at `t` into `v` (the other dofs untouched).
+    ///
+    /// # Panics
+    /// If a dof is out of range for `v`.
+    pub(crate) fn impose(&self, t: f64, v: &mut [f64]) {
+        let speed = self.speed(t);
+        for (&d, &f) in self.dofs.iter().zip(&self.factors) {
+            v[d] = f * speed;
+        }
+    }
 }
 
 #[cfg(test)]

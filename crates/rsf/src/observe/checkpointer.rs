@@ -31,13 +31,13 @@ pub struct Checkpointer {
 impl Checkpointer {
     /// Checkpoints to `path`, with an empty fingerprint and the run id of the run folder
     /// that holds `path` (the `run=` line of its manifest
-    /// [`MANIFEST`](crate::run_folder::MANIFEST), read here once; empty if there is none):
+    /// [`MANIFEST`](crate::run_manifest::MANIFEST), read here once; empty if there is none):
     /// so every checkpoint a run writes into its folder names the run it belongs to.
     pub fn new(path: impl Into<PathBuf>) -> Self {
         let path = path.into();
         let run_id = path
             .parent()
-            .and_then(crate::run_folder::run_id)
+            .and_then(crate::run_manifest::run_id)
             .unwrap_or_default();
         Self {
             path,

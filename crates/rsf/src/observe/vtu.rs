@@ -10,7 +10,7 @@ use vtkio::model::{
 };
 
 use crate::error::{io_at, show_path, Error, Result};
-use crate::ranks::RankGroup;
+use rsf_ranks::RankGroup;
 
 use super::fields::point_fields;
 use super::files::FileMode;
@@ -43,7 +43,7 @@ pub struct VtuFrames {
 struct Pieces {
     /// The owner rank of every mesh vertex.
     owner: Vec<usize>,
-    ranks: Box<dyn RankGroup>,
+    ranks: Box<dyn RankGroup + Send>,
     /// This rank's cells and their points, found at the first frame.
     share: Option<Share>,
 }
@@ -140,7 +140,7 @@ impl VtuFrames {
         dir: impl Into<PathBuf>,
         mode: FileMode,
         owner: Vec<usize>,
-        ranks: Box<dyn RankGroup>,
+        ranks: Box<dyn RankGroup + Send>,
     ) -> Result<Self> {
         let dir = dir.into();
         let root = ranks.rank() == 0;

@@ -337,19 +337,7 @@ pub(crate) fn impose_dirichlet<const D: usize, const C: usize>(
             *vi = 0.0;
         }
     }
-    impose_dirichlet_velocities(model, t, v);
-}
-
-/// The Dirichlet dofs' velocities at `t` into `v` (the other fixed dofs untouched).
-pub(crate) fn impose_dirichlet_velocities<const D: usize, const C: usize>(
-    model: &Model<D, C>,
-    t: f64,
-    v: &mut [f64],
-) {
-    let speed = model.dirichlet.speed(t);
-    for (&d, &f) in model.dirichlet.dofs.iter().zip(&model.dirichlet.factors) {
-        v[d] = f * speed;
-    }
+    model.dirichlet.impose(t, v);
 }
 
 /// `σ̄_n` of the solver's current iterate (a normal stress from slip): the whole iterate

@@ -1,53 +1,17 @@
 //! TNNMG on ranks as the velocity solver (`SolverOptions::ranks`, docs/scaling.md
 //! "Phase 5"): replicated time stepping with distributed velocity solves. The ranks here
-//! are threads of this process (`ThreadExchange`); the `rsf-mpi` crate's program tests run
+//! are threads of this process (`ThreadRanks`); the `rsf-mpi` crate's program tests run
 //! the 3-D slider on MPI processes.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
-use rsf::method::{SolverOptions, TnnmgOnRanks, TransportFactory};
-use rsf::tnnmg::distributed::{HaloExchange, ThreadExchange};
+use rsf::method::{SolverOptions, TnnmgOnRanks};
+use rsf::ranks::ThreadGroups;
 use rsf::{Flow, Model, Observer, SolverKind, StepView, Until};
 use rsf_scenes::Slider3dScene;
 
 /// Steps of every run (of 0.25 s: through the nucleation of the first event).
 const STEPS: usize = 48;
-
-/// The thread ranks' groups, made on demand and handed out in order: the `k`-th solver
-/// built on rank `r` takes rank `r`'s end of the `k`-th group (every rank builds its
-/// solvers in the same order, so the ends of one group meet in one solver).
-struct Groups {
-    size: usize,
-    made: Mutex<Vec<Vec<Option<ThreadExchange>>>>,
-}
-
-impl Groups {
-    fn new(size: usize) -> Arc<Self> {
-        Arc::new(Self {
-            size,
-            made: Mutex::new(Vec::new()),
-        })
-    }
-
-    /// Rank `rank`'s transport factory.
-    fn factory(self: &Arc<Self>, rank: usize) -> TransportFactory {
-        let (groups, next) = (self.clone(), AtomicUsize::new(0));
-        Arc::new(move || -> Box<dyn HaloExchange> {
-            let k = next.fetch_add(1, Ordering::Relaxed);
-            let mut made = groups.made.lock().unwrap();
-            while made.len() <= k {
-                made.push(
-                    ThreadExchange::group(groups.size)
-                        .into_iter()
-                        .map(Some)
-                        .collect(),
-                );
-            }
-            Box::new(made[k][rank].take().expect("each end is taken once"))
-        })
-    }
-}
 
 /// Slabs across x: fine node `p` belongs to rank `⌊size · x_p / 5 m⌋`.
 fn slabs(model: &Model<3>, size: usize) -> Vec<usize> {
@@ -87,7 +51,7 @@ impl Observer<3> for Trajectory {
 }
 
 /// The scene run for [`STEPS`] steps with `ranks` (if any) as its solver's ranks.
-fn run(scene: &Slider3dScene, ranks: Option<(usize, usize, &Arc<Groups>)>) -> Vec<Vec<u64>> {
+fn run(scene: &Slider3dScene, ranks: Option<(usize, usize, &Arc<ThreadGroups>)>) -> Vec<Vec<u64>> {
     let model = scene.build_model().unwrap();
     let mut options = scene.slider.solver_options();
     options.parallelism = rsf::Parallelism::SEQ;
@@ -102,7 +66,7 @@ fn run(scene: &Slider3dScene, ranks: Option<(usize, usize, &Arc<Groups>)>) -> Ve
 /// `rsf-mpi` program runs).
 fn run_on_columns(
     scene: &Slider3dScene,
-    (rank, size, groups): (usize, usize, &Arc<Groups>),
+    (rank, size, groups): (usize, usize, &Arc<ThreadGroups>),
 ) -> Vec<Vec<u64>> {
     let builder = scene.model_builder().unwrap();
     let owner = slabs_of(builder.mesh().vertices(), size);
@@ -115,7 +79,7 @@ fn run_on_columns(
                 s.fixed,
                 s.load,
                 s.prolongations,
-                &ranks,
+                (&ranks.owner, (ranks.transport)()),
             )
         })
         .unwrap();
@@ -153,7 +117,7 @@ fn on_ranks(scene: &Slider3dScene, size: usize) -> Vec<Vec<Vec<u64>>> {
 
 /// As [`on_ranks`], of a model each rank holds in columns with `columns`.
 fn on_thread_ranks(scene: &Slider3dScene, size: usize, columns: bool) -> Vec<Vec<Vec<u64>>> {
-    let groups = Groups::new(size);
+    let groups = ThreadGroups::new(size);
     std::thread::scope(|s| {
         let handles: Vec<_> = (0..size)
             .map(|rank| {
@@ -269,7 +233,7 @@ fn a_wrong_owner_vector_is_refused() {
         (vec![0; n + 1], "one entry too many"),
         (vec![1; n], "rank 1 of a one-rank group"),
     ] {
-        let groups = Groups::new(1);
+        let groups = ThreadGroups::new(1);
         let options = SolverOptions {
             ranks: Some(TnnmgOnRanks::new(owner, groups.factory(0))),
             ..scene.slider.solver_options()
@@ -298,7 +262,7 @@ fn on_ranks_auto_is_tnnmg_and_unshared_solvers_are_refused() {
         let options = SolverOptions {
             ranks: Some(TnnmgOnRanks::new(
                 slabs(&model, 1),
-                Groups::new(1).factory(0),
+                ThreadGroups::new(1).factory(0),
             )),
             ..scene.slider.solver_options()
         };
@@ -379,7 +343,7 @@ fn the_initial_equilibrium_on_ranks_has_the_same_bits_and_is_choleskys() {
     scene.slider.level = 2;
     let model = scene.build_model().unwrap();
     let solve = |size: usize, columns: bool| {
-        let groups = Groups::new(size);
+        let groups = ThreadGroups::new(size);
         let owner = slabs(&model, size);
         std::thread::scope(|s| {
             let handles: Vec<_> = (0..size)
@@ -396,7 +360,7 @@ fn the_initial_equilibrium_on_ranks_has_the_same_bits_and_is_choleskys() {
                             &model.fixed,
                             &model.load,
                             &model.prolongations,
-                            &ranks,
+                            (&ranks.owner, (ranks.transport)()),
                         )
                         .unwrap()
                     })

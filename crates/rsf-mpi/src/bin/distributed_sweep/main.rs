@@ -47,7 +47,7 @@ use rsf_examples::guard::{AnyError, Prepared, Processes};
 use rsf_fem::ElasticBox;
 use rsf_mpi::MpiExchange;
 use rsf_tnnmg::distributed::{
-    node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, HaloExchange, LocalRows,
+    node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, LocalRows, RankGroup,
 };
 use rsf_tnnmg::Colouring;
 

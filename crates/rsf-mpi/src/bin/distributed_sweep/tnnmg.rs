@@ -14,7 +14,7 @@
 //! hierarchy sends (a solve's first iteration), and what it counted over the last solve
 //! (including the solution's all-gather); rank 0 the median and, with `--out`, the
 //! solution (every rank holds it whole after the solve). `--thread-ranks N` (one MPI rank)
-//! runs the same solve on N threads as ranks (`ThreadExchange`, METIS's partition into N)
+//! runs the same solve on N threads as ranks (`ThreadRanks`, METIS's partition into N)
 //! and writes thread rank 0's solution: the reference the MPI runs must reproduce.
 
 use std::time::Instant;
@@ -25,8 +25,8 @@ use rsf_fem::ElasticBox;
 use rsf_mpi::MpiExchange;
 use rsf_nonsmooth::{NonsmoothSolver, Stopping};
 use rsf_tnnmg::distributed::{
-    BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, HaloCounters, HaloExchange,
-    ThreadExchange, VCycleShape,
+    BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, HaloCounters, RankGroup, ThreadRanks,
+    VCycleShape,
 };
 use rsf_tnnmg::LinearCorrection;
 
@@ -75,7 +75,7 @@ fn solver(
     f: &Flags,
     bx: &ElasticBox,
     owner: &[usize],
-    halo: Box<dyn HaloExchange>,
+    halo: Box<dyn RankGroup>,
 ) -> Result<DistributedTnnmg<D>, String> {
     let h = &bx.hierarchy;
     let ps: Vec<_> = (1..=h.finest_level())
@@ -107,7 +107,7 @@ pub fn thread_ranks(f: &Flags, n: usize) -> Result<(), String> {
     let owner = metis_owner(&bx, n)?;
     let (bx, nl, owner) = (&bx, &nl, &owner);
     let results: Vec<Result<(Vec<f64>, usize), String>> = std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadExchange::group(n)
+        let handles: Vec<_> = ThreadRanks::group(n)
             .into_iter()
             .map(|halo| {
                 s.spawn(move || {

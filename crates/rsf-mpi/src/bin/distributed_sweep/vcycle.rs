@@ -15,7 +15,7 @@ use mpi::collective::CommunicatorCollectives;
 use rsf_fem::ElasticBox;
 use rsf_mpi::MpiExchange;
 use rsf_tnnmg::distributed::{
-    ColouredVCycle, DistributedVCycle, HaloExchange, VCycleHierarchy, VCycleShape,
+    ColouredVCycle, DistributedVCycle, RankGroup, VCycleHierarchy, VCycleShape,
 };
 
 use super::{median, memory_mb, metis_owner, write_gathered, write_line, write_values, Flags, D};

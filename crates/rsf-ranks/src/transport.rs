@@ -1,11 +1,11 @@
-//! What a distributed sweep needs of its transport: one exchange of f64 buffers with the
-//! neighbour ranks ([`HaloExchange::exchange`]) and an all-gather of every rank's values
-//! ([`HaloExchange::all_gather`], by default made of one exchange), and an implementation
-//! over threads of one process ([`ThreadExchange`]).
+//! What processes that share work need of their transport: one exchange of f64 buffers
+//! with the neighbour ranks ([`RankGroup::exchange`]) and an all-gather of every rank's
+//! values ([`RankGroup::all_gather`], by default made of one exchange), and an
+//! implementation over threads of one process ([`ThreadRanks`]).
 
 use std::sync::mpsc::{channel, Receiver, Sender};
 
-/// One message of a [`HaloExchange::exchange`]: `len` values starting at `start` of the
+/// One message of a [`RankGroup::exchange`]: `len` values starting at `start` of the
 /// send (or receive) buffer, to (or from) rank `rank`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct HaloMessage {
@@ -24,9 +24,11 @@ impl HaloMessage {
     }
 }
 
-/// The ranks of a distributed sweep as its halo exchanges see them: an MPI communicator
-/// (to be implemented in the `rsf-mpi` crate), or threads of one process
-/// ([`ThreadExchange`]).
+/// A group of processes ("ranks") that share work, as its exchanges see them: an MPI
+/// communicator (in the `rsf-mpi` crate), or threads of one process ([`ThreadRanks`]).
+/// The one transport of the workspace: the fault ODE's shared evaluations and VTU pieces
+/// (all-gathers, crate `rsf`) and TNNMG's distributed solves (halo exchanges, all-gathers
+/// and exact sums, crate `rsf-tnnmg`) take it.
 ///
 /// Every rank calls [`exchange`](Self::exchange) the same number of times; the `k`-th
 /// calls of all ranks form one exchange, whose messages were agreed in advance (a halo
@@ -35,7 +37,7 @@ impl HaloMessage {
 /// entry from `s` of the same length. The same holds for [`all_gather`](Self::all_gather):
 /// every rank makes its `k`-th all-gather call with the same counts, in the same order
 /// relative to its exchanges. An implementation only moves numbers.
-pub trait HaloExchange {
+pub trait RankGroup {
     /// This process's rank, in `0..size()`.
     fn rank(&self) -> usize;
 
@@ -106,7 +108,7 @@ pub trait HaloExchange {
     }
 }
 
-/// Checks the shapes of rank `rank`'s [`all_gather`](HaloExchange::all_gather) among
+/// Checks the shapes of rank `rank`'s [`all_gather`](RankGroup::all_gather) among
 /// `size` ranks (for the trait's default and for transports that override it).
 ///
 /// # Panics
@@ -127,7 +129,7 @@ pub fn check_all_gather(rank: usize, size: usize, send: &[f64], counts: &[usize]
 /// distributed sweep on several ranks without MPI and compare with one process; it
 /// allocates one vector per message and is not meant for production runs, which use MPI.
 #[derive(Debug)]
-pub struct ThreadExchange {
+pub struct ThreadRanks {
     rank: usize,
     /// `to[r]` sends to rank `r`.
     to: Vec<Sender<Vec<f64>>>,
@@ -135,7 +137,7 @@ pub struct ThreadExchange {
     from: Vec<Receiver<Vec<f64>>>,
 }
 
-impl ThreadExchange {
+impl ThreadRanks {
     /// The `size` ranks of one group, in rank order: give each to its own thread.
     ///
     /// # Panics
@@ -172,7 +174,7 @@ impl ThreadExchange {
     }
 }
 
-impl HaloExchange for ThreadExchange {
+impl RankGroup for ThreadRanks {
     fn rank(&self) -> usize {
         self.rank
     }
@@ -221,7 +223,7 @@ mod tests {
     #[test]
     fn thread_ranks_exchange_in_order() {
         let results: Vec<Vec<f64>> = std::thread::scope(|s| {
-            let handles: Vec<_> = ThreadExchange::group(3)
+            let handles: Vec<_> = ThreadRanks::group(3)
                 .into_iter()
                 .map(|mut t| {
                     s.spawn(move || {
@@ -284,7 +286,7 @@ mod tests {
                 vec![0; size],
             ];
             let results: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
-                let handles: Vec<_> = ThreadExchange::group(size)
+                let handles: Vec<_> = ThreadRanks::group(size)
                     .into_iter()
                     .map(|mut t| {
                         let patterns = &patterns;
@@ -321,7 +323,7 @@ mod tests {
     #[test]
     #[should_panic(expected = "rank 0's count")]
     fn all_gather_checks_the_own_count() {
-        let mut t = ThreadExchange::group(1).pop().unwrap();
+        let mut t = ThreadRanks::group(1).pop().unwrap();
         t.all_gather(&[1.0], &[2], &mut [0.0; 2]);
     }
 }
