@@ -21,7 +21,6 @@
 //! careless inputs against each, so a program added later is covered without anyone
 //! editing the test.
 
-use std::error::Error;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -36,142 +35,14 @@ pub const PROCESS_BYTES: f64 = 64e6;
 use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
-use crate::process::{error_lines, main_on_threads, main_with, on_threads};
+use crate::process::{main_on_threads, main_with};
 pub use crate::ranks::Processes;
 
-/// The error type of the programs.
-pub type AnyError = Box<dyn Error>;
+mod flags;
+mod ranks;
 
-/// The bounds every program takes: `--max-memory-gb` and `--max-output-gb`.
-#[derive(Debug, Clone, Copy, PartialEq, clap::Args)]
-pub struct Limits {
-    /// Refuse, before anything is allocated, a run whose memory is estimated above this
-    /// many gigabytes (`inf`: no bound; docs/reliability.md lists each program's estimate).
-    #[arg(long, default_value_t = 16.0, value_name = "GB", value_parser = gigabytes)]
-    pub max_memory_gb: f64,
-    /// Refuse, before anything is written, a run whose files are estimated above this many
-    /// gigabytes (`inf`: no bound).
-    #[arg(long, default_value_t = 10.0, value_name = "GB", value_parser = gigabytes)]
-    pub max_output_gb: f64,
-}
-
-impl Default for Limits {
-    fn default() -> Self {
-        Self {
-            max_memory_gb: 16.0,
-            max_output_gb: 10.0,
-        }
-    }
-}
-
-/// Parses a size limit in gigabytes: a positive number, `inf` for none (a clap value
-/// parser: `nan`, 0 and negative values are refused where the flag is read).
-///
-/// # Errors
-/// A message naming the value.
-pub fn gigabytes(s: &str) -> Result<f64, String> {
-    match s.trim().parse::<f64>() {
-        Ok(x) if x > 0.0 => Ok(x),
-        Ok(_) => Err(format!(
-            "`{s}` GB must be a positive number (inf: no bound)"
-        )),
-        Err(e) => Err(format!("`{s}`: {e}")),
-    }
-}
-
-/// An error naming the flag the user wrote: `--out a_file: cannot create …`.
-#[derive(Debug)]
-pub struct FlagError {
-    /// The flag as written (`--out`) or the scene key.
-    pub flag: String,
-    /// What is wrong.
-    pub source: AnyError,
-}
-
-impl std::fmt::Display for FlagError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.flag, self.source)
-    }
-}
-
-impl Error for FlagError {
-    fn source(&self) -> Option<&(dyn Error + 'static)> {
-        // The wrapped error's own causes (its message is already in ours).
-        self.source.source()
-    }
-}
-
-/// `result`'s error named after `flag` (e.g. `--scene`).
-///
-/// # Errors
-/// The error of `result`, prefixed with `flag`.
-pub fn flag<T, E: Into<AnyError>>(flag: &str, result: Result<T, E>) -> Result<T, AnyError> {
-    result.map_err(|e| {
-        Box::new(FlagError {
-            flag: flag.to_owned(),
-            source: e.into(),
-        }) as AnyError
-    })
-}
-
-/// The message `--flag value: why` of a refused flag, as an error.
-pub fn refuse(flag: &str, value: impl std::fmt::Display, why: &str) -> AnyError {
-    format!("{flag} {}: {why}", excerpt(&value.to_string())).into()
-}
-
-/// A value as the user wrote it, at most about 100 characters (`1e300`, not 301 digits).
-fn excerpt(s: &str) -> String {
-    rsf_numeric::excerpt(s)
-}
-
-/// A number for a message as a user would write it: `300`, `0.025`, `1e300` (never 301
-/// digits), `NaN` ([`rsf_numeric::number`]).
-pub fn number(x: f64) -> String {
-    rsf_numeric::number(x)
-}
-
-/// Checks that `x` (the value of `flag`) lies in `[lo, hi]` (NaN is refused).
-///
-/// # Errors
-/// `--flag x: must be in [lo, hi] (why)`.
-pub fn in_range(flag: &str, x: f64, (lo, hi): (f64, f64), why: &str) -> Result<f64, AnyError> {
-    if x >= lo && x <= hi {
-        Ok(x)
-    } else {
-        Err(refuse(
-            flag,
-            number(x),
-            &format!("must be in [{}, {}] ({why})", number(lo), number(hi)),
-        ))
-    }
-}
-
-/// Checks that the values of the list flag `flag` are distinct: a size listed twice
-/// (`--dz 1000,1000`) runs the same case twice and leaves a fit of the cost against the
-/// size without two sizes (it printed `m^NaN`).
-///
-/// # Errors
-/// `--flag a,b,…: `x` is listed twice`.
-pub fn distinct<T: PartialEq + std::fmt::Display>(
-    flag: &str,
-    values: &[T],
-) -> Result<(), AnyError> {
-    for (i, v) in values.iter().enumerate() {
-        if values[..i].contains(v) {
-            let all = values.iter().map(ToString::to_string).collect::<Vec<_>>();
-            return Err(refuse(
-                flag,
-                all.join(","),
-                &format!(
-                    "`{}` is listed twice: every value is a case of its own (a fit across \
-                     them needs distinct values)",
-                    excerpt(&v.to_string())
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
+pub use flags::*;
+pub use ranks::{agree_on_flags, main_on_ranks};
 
 /// One output folder of a run: the flag that names it, the files the run writes there,
 /// whether the run continues an earlier one (`--resume`, `--reuse`) or replaces it
@@ -626,71 +497,6 @@ pub fn given_flags<P: Program>(matches: &clap::ArgMatches) -> String {
     lines.join("\n")
 }
 
-/// Compares every rank's `flags` ([`given_flags`]) before any work (issue 74): ranks
-/// started with different flags (an MPMD launch `mpirun -n 1 P --end-years 5 : -n 1 P
-/// --end-years 50`, a different `--dx`, another program) would compute different runs
-/// and wait for each other in a collective that never matches — a hang or a crash. Two
-/// all-gathers of the group (each rank's length, then its text, a byte per value), so
-/// every rank sees every rank's flags and reaches the same verdict.
-///
-/// # Errors
-/// On every rank the same message: the ranks whose flags differ from rank 0's and the
-/// first differing flag, as the users wrote it on each.
-pub fn agree_on_flags(group: &mut dyn rsf::ranks::RankGroup, flags: &str) -> Result<(), String> {
-    let size = group.size();
-    if size <= 1 {
-        return Ok(());
-    }
-    let own: Vec<f64> = flags.bytes().map(f64::from).collect();
-    let mut lengths = vec![0.0; size];
-    group.all_gather(&[own.len() as f64], &vec![1; size], &mut lengths);
-    let counts: Vec<usize> = lengths.iter().map(|&l| l as usize).collect();
-    let mut all = vec![0.0; counts.iter().sum()];
-    group.all_gather(&own, &counts, &mut all);
-    let mut texts = Vec::with_capacity(size);
-    let mut at = 0;
-    for &c in &counts {
-        let bytes: Vec<u8> = all[at..at + c].iter().map(|&b| b as u8).collect();
-        texts.push(String::from_utf8_lossy(&bytes).into_owned());
-        at += c;
-    }
-    let differ: Vec<usize> = (1..size).filter(|&r| texts[r] != texts[0]).collect();
-    let Some(&first) = differ.first() else {
-        return Ok(());
-    };
-    let lines = |t: &str| t.lines().map(str::to_owned).collect::<Vec<_>>();
-    let (root, other) = (lines(&texts[0]), lines(&texts[first]));
-    let only = |a: &[String], b: &[String]| {
-        a.iter()
-            .filter(|l| !b.contains(l))
-            .map(|l| format!("`{}`", excerpt(l)))
-            .collect::<Vec<_>>()
-    };
-    let (theirs, ours) = (only(&other, &root), only(&root, &other));
-    let show = |v: &[String]| {
-        if v.is_empty() {
-            "nothing else".to_owned()
-        } else {
-            v.join(", ")
-        }
-    };
-    let ranks = differ
-        .iter()
-        .take(8)
-        .map(usize::to_string)
-        .collect::<Vec<_>>()
-        .join(", ");
-    let more = if differ.len() > 8 { ", …" } else { "" };
-    Err(format!(
-        "the ranks were started with different flags (rank{} {ranks}{more} of {size} differ \
-         from rank 0): rank {first} has {} where rank 0 has {}; start every rank with the \
-         same program and flags",
-        if differ.len() > 1 { "s" } else { "" },
-        show(&theirs),
-        show(&ours),
-    ))
-}
-
 /// Runs `P` as a program: parses its flags (a negative number is a value), [`prepare`]s its run and runs `body` (on a
 /// pool of the plan's threads if it asks for more than one); prints `error: …` with its
 /// causes and exits with code 1 on any error.
@@ -749,86 +555,6 @@ fn report_memory(program: &str, estimate: f64, rank: Option<usize>) {
             gb(estimate)
         );
     }
-}
-
-/// [`main`] on the processes of a job (MPI ranks, `processes`): every rank parses the
-/// flags, and the ranks compare them ([`agree_on_flags`]: ranks started with different
-/// flags end, every one, with one error naming the flag, before any work); every rank
-/// checks the flags and plans the run; rank 0 alone prepares the folders (creates, locks,
-/// checks them) — the others get a [`Prepared`] without folders, and a body writes its
-/// files on rank 0 only. `body` gets the processes. Any rank's error (its refusal, the
-/// body's error) is printed with the rank and ends every rank
-/// ([`Processes::end_all`]): a rank that returned would leave the others waiting. The
-/// exceptions are the differing flags and the stop at `--max-steps`, which every rank
-/// reaches alike: each rank returns failure, rank 0 printing the message.
-pub fn main_on_ranks<P: Program>(
-    processes: &dyn Processes,
-    body: fn(P, Prepared, &dyn Processes) -> Result<(), AnyError>,
-) -> ExitCode {
-    let (program, flags) = parse::<P>();
-    // Before any work: ranks with different flags would run different runs (issue 74).
-    // Every rank reaches the same verdict, so each ends normally (rank 0 printing it):
-    // none is left waiting.
-    if let Err(e) = agree_on_flags(&mut *processes.group(), &flags) {
-        if processes.rank() == 0 {
-            eprintln!("rank 0 of {}: error: {e}", processes.size());
-        }
-        return ExitCode::FAILURE;
-    }
-    let prepared = if processes.rank() == 0 {
-        prepare(&program)
-    } else {
-        plan_only(&program)
-    };
-    let step_cap = std::sync::atomic::AtomicBool::new(false);
-    let estimate = prepared.as_ref().map_or(0.0, |p| p.memory);
-    let outcome = match prepared {
-        Ok(prepared) => on_threads(prepared.pool, || {
-            body(program, prepared, processes).inspect_err(|e| {
-                if is_step_cap(&**e) {
-                    step_cap.store(true, std::sync::atomic::Ordering::Relaxed);
-                }
-            })
-        }),
-        Err(e) => Err(error_lines(&*e)),
-    };
-    report_memory(P::NAME, estimate, Some(processes.rank()));
-    match outcome {
-        Ok(()) => ExitCode::SUCCESS,
-        // Every rank stops at the step cap at the same step (the time stepping is the same
-        // on every rank, and rank 0 wrote the checkpoint before): no rank is left waiting,
-        // so each ends normally, rank 0 with the message. Ending the job from every rank
-        // at once (`end_all`, MPI_Abort) could leave Open MPI's launcher hanging.
-        Err(lines) if step_cap.load(std::sync::atomic::Ordering::Relaxed) => {
-            if processes.rank() == 0 {
-                eprintln!("rank 0 of {}: {}", processes.size(), lines.join("\n"));
-            }
-            ExitCode::FAILURE
-        }
-        Err(lines) => processes.end_all(&lines.join("\n")),
-    }
-}
-
-/// Whether `e` is a run's stop at its step cap (`--max-steps`:
-/// [`step_cap_error`](rsf::run_folder::step_cap_error)'s error).
-fn is_step_cap(e: &(dyn std::error::Error + 'static)) -> bool {
-    matches!(
-        e.downcast_ref::<rsf::Error>(),
-        Some(rsf::Error::StepCapReached { .. })
-    )
-}
-
-/// The checks of [`prepare`] that touch no file: the plan and the estimates (the
-/// processes of a job other than rank 0, which prepares the folders).
-fn plan_only<P: Program>(program: &P) -> Result<Prepared, AnyError> {
-    let plan = program.plan()?;
-    plan.check(program.limits())?;
-    Ok(Prepared {
-        modes: vec![FileMode::Create; plan.folders.len()],
-        pool: plan.pool,
-        memory: plan.memory_bytes(),
-        _locks: Vec::new(),
-    })
 }
 
 /// Creates the folder `dir` and takes its exclusive lock (held while the returned file is
