@@ -90,7 +90,7 @@ impl RankGroup for MpiExchange {
         recvs: &[HaloMessage],
         recv: &mut [f64],
     ) {
-        exchange_on(&self.comm, sends, send, recvs, recv);
+        exchange_on(&self.comm, (self.rank, self.size), sends, send, recvs, recv);
     }
 
     /// `MPI_Allgatherv` on the exchange's communicator: the trait's result, in one
@@ -107,7 +107,8 @@ impl RankGroup for MpiExchange {
     }
 }
 
-/// [`RankGroup::exchange`] on `comm`: one `MPI_Irecv` per received message and one
+/// [`RankGroup::exchange`] on `comm`, whose rank and size the caller holds
+/// (`rank_size`: read once when it was made, not per exchange): one `MPI_Irecv` per received message and one
 /// `MPI_Isend` per sent message, then a wait for all of them (every rank posts all its
 /// messages before it waits, so no order of the ranks deadlocks; the requests live on the
 /// stack: nothing is allocated).
@@ -116,12 +117,12 @@ impl RankGroup for MpiExchange {
 /// As [`MpiExchange`]'s `exchange`.
 pub(crate) fn exchange_on(
     comm: &SimpleCommunicator,
+    (rank, size): (usize, usize),
     sends: &[HaloMessage],
     send: &[f64],
     recvs: &[HaloMessage],
     recv: &mut [f64],
 ) {
-    let (rank, size) = (comm.rank() as usize, comm.size() as usize);
     for m in sends.iter().chain(recvs) {
         assert!(
             m.rank < size && m.rank != rank,

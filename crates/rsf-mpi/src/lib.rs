@@ -154,7 +154,8 @@ impl RankGroup for MpiRanks {
         recvs: &[HaloMessage],
         recv: &mut [f64],
     ) {
-        halo::exchange_on(&SimpleCommunicator::world(), sends, send, recvs, recv);
+        let world = SimpleCommunicator::world();
+        halo::exchange_on(&world, (self.rank, self.size), sends, send, recvs, recv);
     }
 
     /// `MPI_Allgatherv` over `MPI_COMM_WORLD`.
