@@ -6,9 +6,9 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Col, Mat, Par};
-use rsf_examples::fit_exponent;
 use rsf_hmatrix::kernels::AntiplaneHalfSpace;
 use rsf_hmatrix::{HMatrix, HOptions};
+use rsf_programs::fit_exponent;
 use std::hint::black_box;
 
 fn products(c: &mut Criterion) {

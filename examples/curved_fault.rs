@@ -20,8 +20,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf_examples::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{
+use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{
     max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
 use rsf_scenes::{arc_block_model, ARC_BLOCK_MESH};
@@ -44,7 +44,7 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 impl Cli {

@@ -43,25 +43,25 @@ impl StateLaw for NoHealing {
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    limits: rsf_examples::guard::Limits,
+    limits: rsf_programs::guard::Limits,
 }
 
-impl rsf_examples::guard::Program for Cli {
+impl rsf_programs::guard::Program for Cli {
     const NAME: &'static str = "custom_state_law";
 
-    fn limits(&self) -> rsf_examples::guard::Limits {
+    fn limits(&self) -> rsf_programs::guard::Limits {
         self.limits
     }
 
-    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+    fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
         // A fixed problem: three scalar state updates; nothing written but the terminal's lines.
-        Ok(rsf_examples::guard::Plan::new().memory(1e6, "(none)", "three scalar state updates"))
+        Ok(rsf_programs::guard::Plan::new().memory(1e6, "(none)", "three scalar state updates"))
     }
 }
 
 fn main() -> std::process::ExitCode {
     // --help; rejects unknown flags; errors printed with Display, exit code 1.
-    rsf_examples::guard::main(|_: Cli, _| Ok(run()?))
+    rsf_programs::guard::main(|_: Cli, _| Ok(run()?))
 }
 
 fn run() -> Result<(), rsf_state::Error> {

@@ -14,9 +14,9 @@
 use clap::Parser;
 use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::Until;
-use rsf_examples::cli::for_flag;
-use rsf_examples::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{cpu_seconds, fit_exponent};
+use rsf_programs::cli::for_flag;
+use rsf_programs::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{cpu_seconds, fit_exponent};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 use std::process::ExitCode;
 
@@ -59,7 +59,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        rsf_examples::guard::distinct("--dz", &self.dz)?;
+        rsf_programs::guard::distinct("--dz", &self.dz)?;
         let bp1 = SeasBp1::default();
         in_range(
             "--epsilon",
@@ -108,7 +108,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {

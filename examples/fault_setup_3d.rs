@@ -22,9 +22,9 @@ use rsf::fem::{cuboid_from_coordinates, geometric_grading};
 use rsf::friction::{AsinhLaw, RateStateParams};
 use rsf::state::Aging;
 use rsf::{Material, ModelBuilder, Part, SimulationBuilder, Until};
-use rsf_examples::estimates::{fe_3d_box_vertices as box_vertices, fe_3d_memory};
-use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{cpu_seconds, fit_exponent};
+use rsf_programs::estimates::{fe_3d_box_vertices as box_vertices, fe_3d_memory};
+use rsf_programs::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{cpu_seconds, fit_exponent};
 use std::process::ExitCode;
 
 /// The fault operator of a BP5-like 3-D fault at several cell sizes.
@@ -72,7 +72,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        rsf_examples::guard::distinct("--dx", &self.dx)?;
+        rsf_programs::guard::distinct("--dx", &self.dx)?;
         let (length, depth, far) = (
             self.length_km * 1e3,
             self.depth_km * 1e3,
@@ -174,7 +174,7 @@ fn peak_gb() -> f64 {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {

@@ -25,11 +25,11 @@ use clap::Parser;
 use plotters::prelude::*;
 use rsf::method::FixedPointScheme;
 use rsf::{SolverKind, StateLawKind};
-use rsf_examples::cli::step_count;
-use rsf_examples::estimates::{slider_memory, slider_steps, slider_what};
-use rsf_examples::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
-use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{stats, SliderRun};
+use rsf_programs::cli::step_count;
+use rsf_programs::estimates::{slider_memory, slider_steps, slider_what};
+use rsf_programs::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_programs::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{stats, SliderRun};
 use rsf_scenes::SliderScene;
 
 /// Figure 6.1: fixed point iterations per time step against the refinement level.
@@ -90,7 +90,7 @@ impl Program for Cli {
             "the paper's levels",
         )?;
         let levels = self.levels();
-        rsf_examples::guard::distinct("--levels", &levels)?;
+        rsf_programs::guard::distinct("--levels", &levels)?;
         let mut plan = Plan::new();
         let mut worst = 0.0f64;
         for &level in &levels {
@@ -124,7 +124,7 @@ impl Program for Cli {
 type Row = (StateLawKind, usize, f64, usize);
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
@@ -137,7 +137,7 @@ fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
         "Figure 6.1: FPIs per step over N = {steps} steps, levels {levels:?}, {solver} solver \
          (tolerance 1e-10), {} fixed point, Newmark, on {}",
         cli.fixed_point,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     println!(
         "{:>10} {:>3} {:>7} {:>9} {:>8} {:>8} {:>11} {:>10} {:>10} {:>8}",
@@ -216,7 +216,7 @@ fn draw(
     rows: &[Row],
     steps: usize,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    rsf_examples::init_fonts();
+    rsf_programs::init_fonts();
     let root = BitMapBackend::new(path, (1000, 420)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(
@@ -275,7 +275,7 @@ fn draw(
                 .map(|r| TriangleMarker::new((r.1 as f64, r.3 as f64), 5, red.filled())),
         )?;
     }
-    rsf_examples::present(&root, path)?;
+    rsf_programs::present(&root, path)?;
     Ok(())
 }
 

@@ -23,10 +23,10 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::observe::PointSeries;
 use rsf::{Integrator, SolverKind};
-use rsf_examples::cli::StepCounts;
-use rsf_examples::estimates::step_study_plan;
-use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
+use rsf_programs::cli::StepCounts;
+use rsf_programs::estimates::step_study_plan;
+use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
 use rsf_scenes::SliderScene;
 
 /// Figures 6.2/6.3: displacement and slip rate at x0 for several time steps.
@@ -88,7 +88,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
@@ -103,7 +103,7 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
         scene.state_law,
         scene.solver,
         steps,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     let mut runs: Vec<(usize, SliderRun)> = Vec::new();
     let mut table = String::from(

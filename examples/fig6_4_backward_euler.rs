@@ -25,10 +25,10 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::observe::PointSeries;
 use rsf::{Integrator, SolverKind};
-use rsf_examples::cli::StepCounts;
-use rsf_examples::estimates::step_study_plan;
-use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
+use rsf_programs::cli::StepCounts;
+use rsf_programs::estimates::step_study_plan;
+use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
 use rsf_scenes::SliderScene;
 
 /// `(t, value)` samples.
@@ -106,7 +106,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
@@ -121,7 +121,7 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
         scene.state_law,
         scene.solver,
         steps,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     let mut table = String::from(
         "integrator,steps,tau_s,wall_s,fpi_mean,fpi_max,first_slip_event_s,slip_events,recurrence_interval_s,peak_slip_rate_x0_mps,peak_slip_rate_mps,u_x0_min_last_tenth_m,u_x0_max_last_tenth_m\n",

@@ -26,11 +26,11 @@ use clap::Parser;
 use plotters::prelude::*;
 use rsf::observe::{Every, FaultRecorder, FrictionalProfile, Interval, Progress, Recorder};
 use rsf::{Observer, SolverKind, Until};
-use rsf_examples::cli::{step_count, window};
-use rsf_examples::estimates::{slider_fault_nodes, slider_memory};
-use rsf_examples::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
-use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{SceneArgs, SliderRun};
+use rsf_programs::cli::{step_count, window};
+use rsf_programs::estimates::{slider_fault_nodes, slider_memory};
+use rsf_programs::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_programs::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{SceneArgs, SliderRun};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Figure 6.5: the slip rate along Γ_F during the first slip event.
@@ -140,7 +140,7 @@ impl Program for Cli {
 const SLIPPING: f64 = 1e-3;
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
@@ -173,7 +173,7 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
         scene.level,
         scene.state_law,
         scene.solver,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     let setup = std::time::Instant::now();
     let mut sim = scene.build()?;
@@ -360,7 +360,7 @@ fn draw_map(
     (t0, t1): (f64, f64),
     vmax: f64,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    rsf_examples::init_fonts();
+    rsf_programs::init_fonts();
     let colour = |v: f64| {
         let s = (v / vmax).clamp(0.0, 1.0);
         HSLColor((1.0 - s) * 0.66, 0.9, 0.5)
@@ -384,8 +384,8 @@ fn draw_map(
         .draw()?;
     chart.draw_series((0..times.len()).flat_map(|it| {
         (0..xs.len()).map(move |ix| {
-            let (ta, tb) = rsf_examples::cell_bounds(times, it);
-            let (xa, xb) = rsf_examples::cell_bounds(xs, ix);
+            let (ta, tb) = rsf_programs::cell_bounds(times, it);
+            let (xa, xb) = rsf_programs::cell_bounds(xs, ix);
             Rectangle::new([(xa, ta), (xb, tb)], colour(values[it][ix]).filled())
         })
     }))?;
@@ -410,6 +410,6 @@ fn draw_map(
         let b = vmax * (k + 1) as f64 / n as f64;
         Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
     }))?;
-    rsf_examples::present(&root, path)?;
+    rsf_programs::present(&root, path)?;
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! What nodal frames cost per time step (issue 24; docs/performance.md): the paper's slider
 //! with its axis-aligned fault (`--angle 0`, no frames) against the same slider turned so
 //! that every fault node has a frame. In 2-D the turned slider is the inclined one of
-//! `examples/inclined_block.rs` (`rsf_examples::inclined_slider_model`: mesh and loading
+//! `examples/inclined_block.rs` (`rsf_programs::inclined_slider_model`: mesh and loading
 //! turned by `--angle`, gravity vertical; its velocity problems are the unturned ones in
 //! other coordinates); in 3-D the block of `rsf_scenes::Slider3dScene` (W = 1 m, free lateral
 //! faces) turned by `--angle` about (1, 2, 3)/√14 with gravity
@@ -22,9 +22,9 @@ use std::time::Instant;
 
 use clap::Parser;
 use rsf::{Observer, StepView, Until};
-use rsf_examples::estimates::{slider_memory, slider_what};
-use rsf_examples::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{SceneArgs, TimeStepArgs};
+use rsf_programs::estimates::{slider_memory, slider_what};
+use rsf_programs::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{SceneArgs, TimeStepArgs};
 use rsf_scenes::inclined_slider_model;
 use rsf_scenes::{SceneSimulation, Slider3dScene, SliderScene};
 
@@ -107,7 +107,7 @@ impl<const D: usize> Observer<D> for Events {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {

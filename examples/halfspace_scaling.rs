@@ -19,9 +19,9 @@ use std::time::Instant;
 use clap::Parser;
 use rsf::fault_operator::FaultOperator;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
-use rsf_examples::estimates::operator_bytes;
-use rsf_examples::guard::{flag, in_range, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{cpu_seconds, fit_exponent, machine};
+use rsf_programs::estimates::operator_bytes;
+use rsf_programs::guard::{flag, in_range, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{cpu_seconds, fit_exponent, machine};
 use rsf_scenes::SeasBp5;
 
 /// Set-up and product cost of BP5's half-space operator against m.
@@ -49,7 +49,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        rsf_examples::guard::distinct("--dx", &self.dx)?;
+        rsf_programs::guard::distinct("--dx", &self.dx)?;
         in_range(
             "--epsilon",
             self.epsilon,
@@ -79,7 +79,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {

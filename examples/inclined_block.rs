@@ -38,8 +38,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
 use rsf::Model;
-use rsf_examples::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{
+use rsf_programs::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{
     max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
 };
 use rsf_scenes::SliderScene;
@@ -94,7 +94,7 @@ fn stuck_equilibrium(mut model: Model<2>) -> rsf::Result<Model<2>> {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 impl Cli {

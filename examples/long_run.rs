@@ -32,10 +32,10 @@ use rsf::observe::{EventThresholds, SlipEvent, SlipEvents};
 use rsf::run_folder::check_output_size;
 use rsf::run_folder::until;
 use rsf::{Flow, Observer, StepView, Termination};
-use rsf_examples::cli::{for_flag, positive_number, step_count};
-use rsf_examples::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
-use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
+use rsf_programs::cli::{for_flag, positive_number, step_count};
+use rsf_programs::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
+use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
 use rsf_scenes::step_cap;
 use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
 
@@ -179,7 +179,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 /// Every accepted step: `(t, τ, max slip rate, fixed point iterations)`.
@@ -247,9 +247,9 @@ fn run(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
         scene.state_law,
         cli.out.display()
     );
-    let cpu0 = rsf_examples::cpu_seconds();
+    let cpu0 = rsf_programs::cpu_seconds();
     let main = simulate(&scene, "long run", cap)?;
-    let cpu = rsf_examples::cpu_seconds() - cpu0;
+    let cpu = rsf_programs::cpu_seconds() - cpu0;
     print_catalogue(&main.events);
     let recurrence = recurrence(&main.events);
     let (tau_min, tau_max) = main
@@ -266,7 +266,7 @@ fn run(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
         main.steps.0.len(),
         main.rejected,
         main.seconds,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     if !recurrence.is_empty() {
         let r: Vec<f64> = recurrence.iter().map(|p| p.1).collect();
@@ -279,13 +279,13 @@ fn run(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
     write_files(&cli.out, &main)?;
     let json = serde_json::json!({
         "scene": scene,
-        "step_control": rsf_examples::step_control_json(&scene),
+        "step_control": rsf_programs::step_control_json(&scene),
         "events": main.events.len(),
         "accepted_steps": main.steps.0.len(),
         "rejected_steps": main.rejected,
         "wall_time_s": main.seconds,
         "cpu_time_s": cpu,
-        "machine": rsf_examples::machine(),
+        "machine": rsf_programs::machine(),
         "stopped_at_step_cap": main.stopped.map(|(step, t)| serde_json::json!({"step": step, "t_s": t})),
     });
     rsf::checkpoint::write_atomically(

@@ -46,7 +46,7 @@ use rsf::okada_comparison::{
     compare_held, compare_modes, compare_refined, compare_smooth, hierarchy_vertices, Errors,
     Fault, ModeComparison, Solver, SLIP,
 };
-use rsf_examples::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::guard::{in_range, number, refuse, AnyError, Limits, Plan, Prepared, Program};
 
 /// The rectangles compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -165,8 +165,8 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        rsf_examples::guard::distinct("--levels", &self.levels)?;
-        rsf_examples::guard::distinct("--far", &self.far)?;
+        rsf_programs::guard::distinct("--levels", &self.levels)?;
+        rsf_programs::guard::distinct("--far", &self.far)?;
         if !(self.h0 > 0.0 && self.h0 <= 0.5) {
             return Err(refuse(
                 "--h0",
@@ -246,7 +246,7 @@ impl Program for Cli {
 const MULTIGRID_BYTES_PER_VERTEX: f64 = 12e3;
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {

@@ -15,25 +15,25 @@ use rsf_scenes::ARC_BLOCK_MESH; // crates/rsf-fem/tests/fixtures/arc_block.msh
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    limits: rsf_examples::guard::Limits,
+    limits: rsf_programs::guard::Limits,
 }
 
-impl rsf_examples::guard::Program for Cli {
+impl rsf_programs::guard::Program for Cli {
     const NAME: &'static str = "own_mesh_paper_physics";
 
-    fn limits(&self) -> rsf_examples::guard::Limits {
+    fn limits(&self) -> rsf_programs::guard::Limits {
         self.limits
     }
 
-    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+    fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
         // A fixed problem: the arc block refined twice; nothing written but the terminal's lines.
-        Ok(rsf_examples::guard::Plan::new().memory(2e8, "(none)", "the arc block refined twice"))
+        Ok(rsf_programs::guard::Plan::new().memory(2e8, "(none)", "the arc block refined twice"))
     }
 }
 
 fn main() -> std::process::ExitCode {
     // --help; rejects unknown flags; errors printed with Display, exit code 1.
-    rsf_examples::guard::main(|_: Cli, _| run())
+    rsf_programs::guard::main(|_: Cli, _| run())
 }
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {

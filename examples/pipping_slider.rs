@@ -31,8 +31,8 @@
 
 use std::process::ExitCode;
 
-use rsf_examples::pipping_slider::{run_prepared, Cli};
+use rsf_programs::pipping_slider::{run_prepared, Cli};
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main::<Cli>(run_prepared)
+    rsf_programs::guard::main::<Cli>(run_prepared)
 }

@@ -22,9 +22,9 @@ use rsf::fem::cuboid;
 use rsf::model::{SchurColumns, StaticMethod, StaticOptions};
 use rsf::nonsmooth::Stopping;
 use rsf::{Material, Model, ModelBuilder, Parallelism, Part};
-use rsf_examples::estimates::fe_3d_memory;
-use rsf_examples::guard::{in_range, refuse, AnyError, Limits, Plan, Prepared, Program};
-use rsf_examples::{cpu_seconds, fit_exponent};
+use rsf_programs::estimates::fe_3d_memory;
+use rsf_programs::guard::{in_range, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::{cpu_seconds, fit_exponent};
 
 /// `S` by elimination, by Cholesky solves and by multigrid solves.
 #[derive(Parser)]
@@ -65,7 +65,7 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        rsf_examples::guard::distinct("--levels", &self.levels)?;
+        rsf_programs::guard::distinct("--levels", &self.levels)?;
         if let Some(&l) = self.levels.iter().find(|&&l| l > MAX_LEVEL) {
             return Err(refuse(
                 "--levels",
@@ -96,7 +96,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 /// The cube refined `level` times with its fault.

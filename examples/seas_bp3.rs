@@ -1,6 +1,6 @@
 //! A coarse SEAS BP3-QD (a thrust or normal fault dipping under a free surface, plane
 //! strain, quasi-dynamic; docs/seas-bp3.md). The program lives in
-//! [`rsf_examples::seas_bp3`] (its flags there and in `--help`), so that the `rsf-mpi`
+//! [`rsf_programs::seas_bp3`] (its flags there and in `--help`), so that the `rsf-mpi`
 //! crate runs the same program on MPI ranks.
 //!
 //! ```sh
@@ -9,5 +9,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::seas_bp3::main()
+    rsf_programs::seas_bp3::main()
 }

@@ -2,7 +2,7 @@
 //! docs/seas-bp5.md), integrated by the fault ODE with either kernel: `--kernel okada`
 //! (the default) a fault alone with Okada's half-space operator, loaded by back slip;
 //! `--kernel fe` the finite-element volume model condensed onto the fault. The program
-//! lives in [`rsf_examples::seas_bp5`] (its flags there and in `--help`), so that the
+//! lives in [`rsf_programs::seas_bp5`] (its flags there and in `--help`), so that the
 //! `rsf-mpi` crate runs the same program on MPI ranks.
 //!
 //! ```sh
@@ -12,5 +12,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::seas_bp5::main()
+    rsf_programs::seas_bp5::main()
 }

@@ -1,5 +1,5 @@
 //! SEAS BP6-QD-A/S/C: fluid injection into a fault in an antiplane whole space
-//! (docs/seas-bp6.md). The program lives in [`rsf_examples::seas_bp6`] (its flags there
+//! (docs/seas-bp6.md). The program lives in [`rsf_programs::seas_bp6`] (its flags there
 //! and in `--help`).
 //!
 //! ```sh
@@ -8,5 +8,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::seas_bp6::main()
+    rsf_programs::seas_bp6::main()
 }

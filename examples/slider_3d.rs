@@ -1,5 +1,5 @@
 //! The paper's slider extruded to three dimensions (issue 12; docs/math.md §10): the
-//! program `rsf_examples::slider_3d` (its flags and files are documented there).
+//! program `rsf_programs::slider_3d` (its flags and files are documented there).
 //!
 //! ```sh
 //! cargo run --release --example slider_3d                          # j = 2, W = 1 m, free faces
@@ -8,5 +8,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::slider_3d::main()
+    rsf_programs::slider_3d::main()
 }

@@ -24,11 +24,11 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::observe::StepView;
 use rsf::{Flow, Observer, Until};
-use rsf_examples::cli::window;
-use rsf_examples::estimates::FIGURE_BYTES;
-use rsf_examples::estimates::{csv_row_bytes, slider_memory, slider_steps, slider_what};
-use rsf_examples::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{line_plot, Labels, SceneArgs, Series};
+use rsf_programs::cli::window;
+use rsf_programs::estimates::FIGURE_BYTES;
+use rsf_programs::estimates::{csv_row_bytes, slider_memory, slider_steps, slider_what};
+use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{line_plot, Labels, SceneArgs, Series};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's slider with traction-free and with absorbing ends.
@@ -139,7 +139,7 @@ fn events(rows: &[[f64; 4]]) -> Vec<(f64, f64)> {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
@@ -151,7 +151,7 @@ fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
         base.end_time_s,
         base.state_law,
         base.integrator,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     let mut runs = Vec::new();
     for (name, absorbing) in [("traction-free ends", false), ("absorbing ends", true)] {

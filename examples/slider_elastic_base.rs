@@ -27,9 +27,9 @@ use rsf::model::MaterialRegions;
 use rsf::observe::StepView;
 use rsf::time::VelocityIntegrator;
 use rsf::{Flow, Material, ModelBuilder, Observer, Part, SolverKind, Until};
-use rsf_examples::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
-use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{line_plot, Labels, SceneArgs, Series};
+use rsf_programs::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
+use rsf_programs::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{line_plot, Labels, SceneArgs, Series};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's slider on an elastic base.
@@ -206,7 +206,7 @@ fn log_v_at(rows: &[[f64; 3]], t: f64) -> f64 {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
@@ -219,7 +219,7 @@ fn run(cli: Cli, _folder: Prepared) -> Result<(), AnyError> {
         scene.state_law,
         scene.integrator,
         scene.solver,
-        rsf_examples::machine()
+        rsf_programs::machine()
     );
     let mut runs = vec![run_scene(&scene, "rigid base (main job)".into(), None)?];
     for &e in &cli.base_e {

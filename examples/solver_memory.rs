@@ -19,8 +19,8 @@ use clap::Parser;
 use rsf::direct::{DirectMemory, DirectOptions};
 use rsf::method::SolverOptions;
 use rsf::{Model, SolverKind};
-use rsf_examples::estimates::slider_nodes;
-use rsf_examples::guard::{AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::estimates::slider_nodes;
+use rsf_programs::guard::{AnyError, Limits, Plan, Prepared, Program};
 use rsf_scenes::{Slider3dScene, SliderScene};
 
 /// The direct solver's memory estimate and the `auto` choice per refinement level.
@@ -54,9 +54,9 @@ impl Program for Cli {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         if let Some(gib) = self.memory_budget_gib {
-            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
+            rsf_programs::memory_budget_bytes("--memory-budget-gib", gib)?;
         }
-        rsf_examples::guard::distinct("--levels", &self.levels)?;
+        rsf_programs::guard::distinct("--levels", &self.levels)?;
         let k = self.levels.iter().copied().max().unwrap_or(0);
         let nodes = if self.dim == 2 {
             slider_nodes(k)
@@ -75,7 +75,7 @@ impl Program for Cli {
 }
 
 fn main() -> ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn mib(bytes: usize) -> f64 {
@@ -117,7 +117,7 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
     let mut options = SolverOptions::default();
     if let Some(gib) = cli.memory_budget_gib {
         options.memory_budget_bytes =
-            rsf_examples::memory_budget_bytes("--memory-budget-gib", gib)?;
+            rsf_programs::memory_budget_bytes("--memory-budget-gib", gib)?;
     }
     println!(
         "{}-D slider, budget {:.1} GiB",

@@ -38,8 +38,8 @@ use rsf::model::{DirichletVelocity, FrictionalBoundary};
 use rsf::state::Aging;
 use rsf::time::{Quasistatic, VelocityIntegrator};
 use rsf::{Integrator, Model, Simulation, SimulationBuilder, SolverKind, TimeFunction};
-use rsf_examples::cli::positive_number;
-use rsf_examples::guard::{in_range, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::cli::positive_number;
+use rsf_programs::guard::{in_range, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
 
 /// Physical parameters of the spring–block system (SI units, contact area 1 m²).
 #[derive(Debug, Clone, Copy)]
@@ -356,7 +356,7 @@ fn positive(name: &str, x: f64) -> Result<f64, AnyError> {
     } else {
         Err(refuse(
             name,
-            rsf_examples::guard::number(x),
+            rsf_programs::guard::number(x),
             "must be positive and finite",
         ))
     }
@@ -371,7 +371,7 @@ const OUTPUTS: [&str; 4] = [
 ];
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::guard::main(run_cli)
+    rsf_programs::guard::main(run_cli)
 }
 
 fn run_cli(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {

@@ -34,19 +34,19 @@ struct Cli {
     /// Run only the cases whose name contains one of these.
     filter: Vec<String>,
     #[command(flatten)]
-    limits: rsf_examples::guard::Limits,
+    limits: rsf_programs::guard::Limits,
 }
 
-impl rsf_examples::guard::Program for Cli {
+impl rsf_programs::guard::Program for Cli {
     const NAME: &'static str = "stability_table";
 
-    fn limits(&self) -> rsf_examples::guard::Limits {
+    fn limits(&self) -> rsf_programs::guard::Limits {
         self.limits
     }
 
-    fn plan(&self) -> Result<rsf_examples::guard::Plan, rsf_examples::guard::AnyError> {
+    fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
         // Fixed cases of the paper's slider at levels ≤ 3; the table goes to the terminal.
-        Ok(rsf_examples::guard::Plan::new().memory(
+        Ok(rsf_programs::guard::Plan::new().memory(
             1e9,
             "(none)",
             "the stability cases (levels ≤ 3)",
@@ -55,7 +55,7 @@ impl rsf_examples::guard::Program for Cli {
 }
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::guard::main(|cli: Cli, _| {
+    rsf_programs::guard::main(|cli: Cli, _| {
         table(&cli.filter);
         Ok(())
     })

@@ -46,10 +46,10 @@ use std::time::Instant;
 use clap::{Parser, ValueEnum};
 use rsf::observe::{EventDetector, EventThresholds};
 use rsf::{Integrator, SolverKind};
-use rsf_examples::cli::step_count;
-use rsf_examples::estimates::{slider_memory, FIGURE_BYTES, RECORDED_STEP_BYTES};
-use rsf_examples::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_examples::{machine, Labels, PanelLayout, Series};
+use rsf_programs::cli::step_count;
+use rsf_programs::estimates::{slider_memory, FIGURE_BYTES, RECORDED_STEP_BYTES};
+use rsf_programs::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
+use rsf_programs::{machine, Labels, PanelLayout, Series};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Which study to run.
@@ -143,10 +143,10 @@ impl Program for Cli {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         if let Some(u) = &self.uniform {
-            rsf_examples::guard::distinct("--uniform", u)?;
+            rsf_programs::guard::distinct("--uniform", u)?;
         }
         if let Some(t) = &self.tolerances {
-            rsf_examples::guard::distinct("--tolerances", t)?;
+            rsf_programs::guard::distinct("--tolerances", t)?;
             for &tol in t {
                 in_range(
                     "--tolerances",
@@ -342,7 +342,7 @@ impl Trace {
 /// Runs `scene` from t = 0 until `t ≥ t_min` and (if `until_slip`) the first slip event has
 /// happened, or `t ≥ t_max`.
 fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<Trace> {
-    let cpu0 = rsf_examples::cpu_seconds();
+    let cpu0 = rsf_programs::cpu_seconds();
     let t0 = Instant::now();
     let mut sim = scene.build()?;
     let mut tr = Trace {
@@ -383,7 +383,7 @@ fn trace(scene: &SliderScene, t_min: f64, t_max: f64, until_slip: bool) -> Res<T
             break;
         }
     }
-    tr.cpu_s = rsf_examples::cpu_seconds() - cpu0;
+    tr.cpu_s = rsf_programs::cpu_seconds() - cpu0;
     Ok(tr)
 }
 
@@ -978,7 +978,7 @@ fn tol_study(c: &Ctx) -> Res<()> {
 /// Frictionless shear mode at `level` with `steps` per period, run for 1.25 periods; returns (discrete energy
 /// error, interpolation error, both relative; CPU seconds; dofs).
 fn energy_run(level: usize, steps: usize, solver: SolverKind) -> Res<(f64, f64, f64, usize)> {
-    let cpu0 = rsf_examples::cpu_seconds();
+    let cpu0 = rsf_programs::cpu_seconds();
     let probe = SliderScene::default();
     let mu = probe.youngs_modulus_pa / (2.0 * (1.0 + probe.poisson_ratio));
     let rho = probe.density_kg_per_m2;
@@ -1081,7 +1081,7 @@ fn energy_run(level: usize, steps: usize, solver: SolverKind) -> Res<(f64, f64, 
     Ok((
         (err2.max(0.0) / exact2).sqrt(),
         (interp2 / exact2).sqrt(),
-        rsf_examples::cpu_seconds() - cpu0,
+        rsf_programs::cpu_seconds() - cpu0,
         n,
     ))
 }
@@ -1207,7 +1207,7 @@ fn energy_study(c: &Ctx) -> Res<Vec<Line>> {
 }
 
 fn main() -> std::process::ExitCode {
-    rsf_examples::guard::main(run)
+    rsf_programs::guard::main(run)
 }
 
 fn run(cli: Cli, _folders: Prepared) -> Res<()> {

@@ -7,7 +7,7 @@
 //! within seconds, print `error: …` naming the flag, key or path the user wrote (never a
 //! Debug dump or a panic), and leave every file of the scratch folder byte-identical. A
 //! program added later is covered without anyone editing this test: it goes through the
-//! guard (`rsf_examples::guard`) or fails here.
+//! guard (`rsf_programs::guard`) or fails here.
 //!
 //! The binaries are the examples `cargo test` builds beside this test
 //! (`target/<profile>/examples/`); the cases run two at a time. Two more tests: a second
@@ -899,7 +899,7 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
 }
 
 /// The programs of the MPI crate (`crates/rsf-mpi/src/bin/`) go through the guard like the
-/// examples: each binary is listed in `rsf_examples::on_ranks::programs` (a binary added
+/// examples: each binary is listed in `rsf_programs::on_ranks::programs` (a binary added
 /// later and not listed fails here), and the careless inputs of its flags are refused by
 /// its guard in this process — no MPI needed — naming the flag, folders untouched.
 #[test]
@@ -914,11 +914,11 @@ fn the_mpi_programs_refuse_careless_inputs_without_mpi() {
         })
         .collect();
     binaries.sort();
-    let listed = rsf_examples::on_ranks::programs();
+    let listed = rsf_programs::on_ranks::programs();
     for b in &binaries {
         assert!(
             listed.iter().any(|p| p.name == b),
-            "the MPI binary `{b}` is not under the guard: list it in rsf_examples::on_ranks"
+            "the MPI binary `{b}` is not under the guard: list it in rsf_programs::on_ranks"
         );
     }
     assert!(

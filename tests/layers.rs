@@ -30,7 +30,9 @@ const LAYERS: &[&[&str]] = &[
     // The SEAS output files: observers of rsf, set up by the scenes (docs/design.md).
     &["rsf-seas"],
     &["rsf-scenes"],
-    // Outside the default build (MPI, HDF5); their programs are the root package's.
+    // The programs (flags, run folders, the guard, figures), over the scenes.
+    &["rsf-programs"],
+    // Outside the default build (MPI, HDF5); they run the programs of rsf-programs.
     &["rsf-mpi", "rsf-hdf5"],
     // Outside the default build: the Python package, over the crates above (rsf-hdf5 behind
     // its feature `hdf5`).
@@ -451,7 +453,7 @@ fn crates() -> Vec<PathBuf> {
 #[test]
 fn no_import_circles_between_the_files_of_a_crate() {
     let mut checked = 0;
-    // The libraries and the root package (the examples' shared code in `src/`).
+    // The libraries, the programs and the root package (its `src/` is a stub).
     for dir in crates().into_iter().chain([workspace()]) {
         let graph = import_graph(&dir.join("src"));
         checked += graph.len();

@@ -2,7 +2,7 @@
 //! estimates"): every program that builds a volume runs at a few small sizes with
 //! `RSF_MEMORY_REPORT` set, so that the guard prints the plan's estimate and the measured
 //! peak resident memory (`VmHWM`) when the run ends; the test fails where a peak exceeds
-//! its estimate. The constants of the estimates (`src/estimates.rs`) were fitted to the
+//! its estimate. The constants of the estimates (`crates/rsf-programs/src/estimates.rs`) were fitted to the
 //! larger sizes of the committed table, which the ignored tests below measure and print.
 //!
 //! The binaries are the examples `cargo test` builds beside this test.
@@ -316,7 +316,7 @@ fn estimates_bound_the_measured_peaks_at_small_sizes() {
 /// The larger sizes of docs/reliability.md's "Memory estimates" table (minutes each, up to
 /// 1.8 GB; build the examples first, e.g. `cargo test --release --test memory_estimates`):
 /// `cargo test --release --test memory_estimates -- --ignored --nocapture` prints the table
-/// the constants of `src/estimates.rs` were fitted to, and fails where a peak exceeds its
+/// the constants of `crates/rsf-programs/src/estimates.rs` were fitted to, and fails where a peak exceeds its
 /// estimate. The 3-D finite-element rows (`seas_bp5 --kernel fe`, `fault_setup_3d`) are
 /// those to re-fit after a change of the 3-D build.
 #[test]

@@ -1,5 +1,5 @@
 //! The `pipping_slider` example end to end, through the function its `main` calls
-//! (`rsf_examples::pipping_slider::run` with the flags parsed as from a command line):
+//! (`rsf_programs::pipping_slider::run` with the flags parsed as from a command line):
 //!
 //! - a run stopped after N steps (`--max-steps`) and resumed writes files byte-identical
 //!   to an uninterrupted run's (every CSV and PNG; `summary.json` up to wall times);
@@ -15,7 +15,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use clap::Parser;
-use rsf_examples::pipping_slider::{run, Cli};
+use rsf_programs::pipping_slider::{run, Cli};
 
 /// A fresh temporary folder.
 fn temp_dir(name: &str) -> PathBuf {

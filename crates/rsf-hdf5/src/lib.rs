@@ -9,7 +9,7 @@
 //!   HDF5 file beside the benchmark's text files, `seas.h5`
 //!   ([`SEAS_SERIES_FILE`]);
 //! - the programs (feature `programs`, the default): `seas_bp1`, `seas_bp3`, `seas_bp5`,
-//!   `seas_bp6` — the root package's programs, the same flags and files, and `seas.h5` in
+//!   `seas_bp6` — the programs of `rsf-programs`, the same flags and files, and `seas.h5` in
 //!   their `--out` folder ([`programs::main_with_series`]) — and `seas_hdf5 DIR`, which
 //!   writes the `seas.h5` of any SEAS run's folder.
 //!

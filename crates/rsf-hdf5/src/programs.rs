@@ -1,4 +1,4 @@
-//! The root package's SEAS programs with their time series in one HDF5 file (feature
+//! The SEAS programs of `rsf-programs` with their time series in one HDF5 file (feature
 //! `programs`): [`main_with_series`] runs a program and writes `seas.h5` into its `--out`
 //! folder when it ends — the binaries `seas_bp1`, `seas_bp3`, `seas_bp5` and `seas_bp6` of
 //! this crate.
@@ -9,15 +9,15 @@ use std::process::ExitCode;
 
 use crate::series::{write_seas_series, SEAS_SERIES_FILE};
 
-/// Runs the root package's SEAS program `program` (its `main`: the same flags, guard and
-/// files, e.g. `rsf_examples::seas_bp1::main`) and, when it ends successfully, writes the
+/// Runs the SEAS program `program` (its `main`: the same flags, guard and
+/// files, e.g. `rsf_programs::seas_bp1::main`) and, when it ends successfully, writes the
 /// time series of its `--out` folder (`default_out` where the program has a default and
 /// the flag is not given) into `seas.h5` there ([`write_seas_series`]), holding the
 /// folder's lock while it does (as a run does: no other run writes into it meanwhile).
 ///
 /// A run that fails or stops at `--max-steps` (an error exit) leaves the folder's `seas.h5`
 /// as it was: the run resumed to its end writes it, or the program `seas_hdf5 DIR` at any
-/// time. So does a run of the root package's program itself in the folder (a resume,
+/// time. So does a run of the program itself in the folder (a resume,
 /// `--overwrite`), which knows nothing of `seas.h5`: `seas_hdf5 DIR` rebuilds it. Returns the program's exit code, or failure (the error printed) if the HDF5 file
 /// cannot be written.
 pub fn main_with_series(program: fn() -> ExitCode, default_out: Option<&str>) -> ExitCode {
@@ -40,7 +40,7 @@ pub fn main_with_series(program: fn() -> ExitCode, default_out: Option<&str>) ->
 /// # Errors
 /// Another run holds the folder's lock, or [`write_seas_series`]'s.
 pub fn write_series_locked(dir: &Path) -> Result<(), Box<dyn std::error::Error>> {
-    let _lock = rsf_examples::guard::lock(dir)?;
+    let _lock = rsf_programs::guard::lock(dir)?;
     let path = dir.join(SEAS_SERIES_FILE);
     let summary = write_seas_series(dir, &path)?;
     let rows: usize = summary.groups.iter().map(|g| g.1).sum();

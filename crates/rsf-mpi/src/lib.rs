@@ -4,7 +4,7 @@
 //! evaluation of the fault ODE's right-hand side (the rows of the fault operator's product
 //! — dense, ℋ or the half-space operator — and their nodes' friction solves) between the
 //! ranks and gathers the rates with one `MPI_Allgatherv`. The trajectory has the same bits
-//! at every rank count. Binaries: `seas_bp1`, `seas_bp3`, `seas_bp5` (the root package's
+//! at every rank count. Binaries: `seas_bp1`, `seas_bp3`, `seas_bp5` (`rsf-programs`'
 //! programs), and `slider_3d`, whose velocity solves are TNNMG on the ranks
 //! ([`rsf::method::TnnmgOnRanks`] over [`MpiExchange`]; docs/scaling.md, "Phase 5").
 //!
@@ -178,12 +178,12 @@ pub fn end_all_ranks(ranks: &MpiRanks, message: &dyn std::fmt::Display) -> ! {
     SimpleCommunicator::world().abort(1)
 }
 
-/// The ranks of `MPI_COMM_WORLD` as the processes of a program of the root package
-/// ([`rsf_examples::ranks::Processes`]): what `rsf_examples::seas_bp1::main_on_ranks` runs on.
+/// The ranks of `MPI_COMM_WORLD` as the processes of a program of `rsf-programs`
+/// ([`rsf_programs::ranks::Processes`]): what `rsf_programs::seas_bp1::main_on_ranks` runs on.
 #[derive(Debug, Clone)]
 pub struct Job(pub MpiRanks);
 
-impl rsf_examples::ranks::Processes for Job {
+impl rsf_programs::ranks::Processes for Job {
     fn rank(&self) -> usize {
         self.0.rank
     }
@@ -206,11 +206,11 @@ impl rsf_examples::ranks::Processes for Job {
     }
 }
 
-/// Starts MPI and runs a program of the root package on the world's ranks
-/// (`program`: e.g. `rsf_examples::seas_bp1::main_on_ranks`); MPI ends when the program
+/// Starts MPI and runs a program of `rsf-programs` on the world's ranks
+/// (`program`: e.g. `rsf_programs::seas_bp1::main_on_ranks`); MPI ends when the program
 /// returns. A failure to start MPI is printed as `error: …` with exit code 1.
 pub fn main_on_ranks(
-    program: fn(&dyn rsf_examples::ranks::Processes) -> std::process::ExitCode,
+    program: fn(&dyn rsf_programs::ranks::Processes) -> std::process::ExitCode,
 ) -> std::process::ExitCode {
     match initialize() {
         Ok((_universe, ranks)) => program(&Job(ranks)),

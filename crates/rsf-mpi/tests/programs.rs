@@ -1,5 +1,5 @@
 //! The programs `seas_bp1`, `seas_bp3` and `seas_bp5` on MPI ranks (this crate's binaries:
-//! the root package's programs with their evaluations shared): every file byte-identical to
+//! the programs of `rsf-programs` with their evaluations shared): every file byte-identical to
 //! one process's — BP1 at 1, 2 and 4 ranks, BP3 (a normal stress from slip) at 2, BP5 (the
 //! half-space operator) at 2 and 3, a run stopped at a step cap on 2 ranks and resumed on
 //! 3, and a job killed (`SIGKILL` to every process) and resumed on 2 ranks — and an error

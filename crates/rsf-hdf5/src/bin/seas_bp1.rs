@@ -1,5 +1,5 @@
 //! The SCEC SEAS benchmark BP1-QD (BP1-FD with `--inertia`) with its time series also in
-//! one HDF5 file: the root package's `seas_bp1` — the same flags, the same files,
+//! one HDF5 file: `rsf-programs`' `seas_bp1` — the same flags, the same files,
 //! byte-identical — and `seas.h5` in its `--out` folder when it ends
 //! (`rsf_hdf5::write_seas_series`).
 //!
@@ -9,5 +9,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_hdf5::programs::main_with_series(rsf_examples::seas_bp1::main, None)
+    rsf_hdf5::programs::main_with_series(rsf_programs::seas_bp1::main, None)
 }

@@ -1,5 +1,5 @@
 //! The SCEC SEAS benchmark BP6-QD-A/S/C (fluid injection into a fault) with its time series
-//! also in one HDF5 file: the root package's `seas_bp6` — the same flags, the same files,
+//! also in one HDF5 file: `rsf-programs`' `seas_bp6` — the same flags, the same files,
 //! byte-identical — and `seas.h5` in its `--out` folder when it ends
 //! (`rsf_hdf5::write_seas_series`).
 //!
@@ -10,5 +10,5 @@
 
 fn main() -> std::process::ExitCode {
     // The program's default `--out`.
-    rsf_hdf5::programs::main_with_series(rsf_examples::seas_bp6::main, Some("out/seas_bp6"))
+    rsf_hdf5::programs::main_with_series(rsf_programs::seas_bp6::main, Some("out/seas_bp6"))
 }

@@ -1,5 +1,5 @@
 //! The time series of a SEAS run's folder in one HDF5 file (`rsf_hdf5::write_seas_series`):
-//! for a folder written by the root package's programs (`cargo run --release --example
+//! for a folder written by the programs of `rsf-programs` (`cargo run --release --example
 //! seas_bp1 -- --out DIR`), which need no HDF5, or after a run stopped at `--max-steps`.
 //!
 //! ```text
@@ -41,7 +41,7 @@ fn run(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         rsf::observe::refuse_existing(output)
             .map_err(|e| format!("--output: {e}; pass --overwrite to replace it"))?;
     }
-    let _lock = rsf_examples::guard::lock(&args.dir)?;
+    let _lock = rsf_programs::guard::lock(&args.dir)?;
     let summary = write_seas_series(&args.dir, output)?;
     let rows: usize = summary.groups.iter().map(|g| g.1).sum();
     eprintln!(

@@ -1,4 +1,4 @@
-//! The SCEC SEAS benchmark BP1-QD on MPI ranks: the root package's `seas_bp1` (the same
+//! The SCEC SEAS benchmark BP1-QD on MPI ranks: `rsf-programs`' `seas_bp1` (the same
 //! flags, the same files, byte-identical) with every evaluation of its Runge–Kutta run
 //! shared by the ranks (docs/scaling.md, "Past one machine").
 //!
@@ -8,5 +8,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_mpi::main_on_ranks(rsf_examples::seas_bp1::main_on_ranks)
+    rsf_mpi::main_on_ranks(rsf_programs::seas_bp1::main_on_ranks)
 }

@@ -1,4 +1,4 @@
-//! SEAS BP3-QD on MPI ranks: the root package's `seas_bp3` (the same flags, the same files,
+//! SEAS BP3-QD on MPI ranks: `rsf-programs`' `seas_bp3` (the same flags, the same files,
 //! byte-identical) with every evaluation of its fault ODE shared by the ranks
 //! (docs/scaling.md, "The fault ODE on MPI ranks").
 //!
@@ -8,5 +8,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_mpi::main_on_ranks(rsf_examples::seas_bp3::main_on_ranks)
+    rsf_mpi::main_on_ranks(rsf_programs::seas_bp3::main_on_ranks)
 }

@@ -1,4 +1,4 @@
-//! SEAS BP5-QD on MPI ranks: the root package's `seas_bp5` (the same flags, the same files,
+//! SEAS BP5-QD on MPI ranks: `rsf-programs`' `seas_bp5` (the same flags, the same files,
 //! byte-identical) with every evaluation of its fault ODE shared by the ranks — the
 //! half-space operator's elements (`--kernel okada`) or the finite-element operator's rows
 //! (`--kernel fe`) split into one part per rank (docs/scaling.md, "The fault ODE on MPI
@@ -10,5 +10,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_mpi::main_on_ranks(rsf_examples::seas_bp5::main_on_ranks)
+    rsf_mpi::main_on_ranks(rsf_programs::seas_bp5::main_on_ranks)
 }

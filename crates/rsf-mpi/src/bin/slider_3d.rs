@@ -1,4 +1,4 @@
-//! The 3-D slider on MPI ranks: the root package's `slider_3d` (the same flags and files)
+//! The 3-D slider on MPI ranks: `rsf-programs`' `slider_3d` (the same flags and files)
 //! with every velocity problem solved by TNNMG on the ranks, every rank running the same
 //! time steps; rank 0 writes the files, byte-identical at every rank count, but for the
 //! VTU frames, which on more than one rank every rank writes in parallel pieces
@@ -11,5 +11,5 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_mpi::main_on_ranks(rsf_examples::slider_3d::main_on_ranks)
+    rsf_mpi::main_on_ranks(rsf_programs::slider_3d::main_on_ranks)
 }

@@ -7,8 +7,8 @@
 //!                   [--vcycle [--levels L]] [--tnnmg [--cg] [--thread-ranks N]]
 //! ```
 //!
-//! The program goes through the guard (`rsf_examples::guard::main_on_ranks`: its flags and
-//! plan are `rsf_examples::distributed_sweep::Args`): the ranks compare their flags, every
+//! The program goes through the guard (`rsf_programs::guard::main_on_ranks`: its flags and
+//! plan are `rsf_programs::distributed_sweep::Args`): the ranks compare their flags, every
 //! flag is checked and the memory estimated before any work, and `--out` is a run folder
 //! (locked, another run's refused unless `--overwrite`).
 //!
@@ -43,7 +43,7 @@ use std::time::Instant;
 use mpi::collective::{CommunicatorCollectives, Root};
 use mpi::datatype::PartitionMut;
 use mpi::topology::Communicator;
-use rsf_examples::guard::{AnyError, Prepared, Processes};
+use rsf_programs::guard::{AnyError, Prepared, Processes};
 use rsf_fem::ElasticBox;
 use rsf_mpi::MpiExchange;
 use rsf_tnnmg::distributed::{
@@ -53,9 +53,9 @@ use rsf_tnnmg::Colouring;
 
 const D: usize = 3;
 
-/// The command line (the root package's, so that the guard judges it like every other
+/// The command line (`rsf-programs`', so that the guard judges it like every other
 /// program's and the careless-inputs test checks it without MPI).
-pub type Flags = rsf_examples::distributed_sweep::Args;
+pub type Flags = rsf_programs::distributed_sweep::Args;
 
 /// This process's resident and peak resident memory in MB (`/proc/self/status`), or 0.
 fn memory_mb() -> (f64, f64) {
@@ -322,5 +322,5 @@ fn run(flags: Flags, _prepared: Prepared, processes: &dyn Processes) -> Result<(
 }
 
 fn main() -> ExitCode {
-    rsf_mpi::main_on_ranks(|processes| rsf_examples::guard::main_on_ranks(processes, run))
+    rsf_mpi::main_on_ranks(|processes| rsf_programs::guard::main_on_ranks(processes, run))
 }

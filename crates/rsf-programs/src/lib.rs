@@ -1,0 +1,259 @@
+//! Shared helpers for the examples and benches of the rsf workspace: command-line parsing
+//! ([`cli`], clap), the statistics and figures of slider runs (PNG via
+//! `plotters`). Not a library for users — the libraries are the `rsf*` crates; running,
+//! recording and event detection are theirs; plotting lives here so that they never
+//! depend on it.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+pub mod cli;
+mod curved;
+pub mod distributed_sweep;
+pub mod estimates;
+pub mod guard;
+mod heat_map;
+pub mod memory;
+pub mod on_ranks;
+mod own_model;
+mod panels;
+pub mod pipping_slider;
+mod process;
+pub mod ranks;
+mod run;
+pub mod run_folder;
+pub mod seas_bp1;
+pub mod seas_bp3;
+pub mod seas_bp5;
+pub mod seas_bp6;
+mod seas_overview;
+pub mod slider_3d;
+pub use cli::{
+    FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,
+};
+pub use curved::max_slip_rate_figure;
+pub use heat_map::{log_heat_map, HeatMapAxes};
+pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
+pub use panels::PanelLayout;
+pub use process::{main_on_threads, main_with};
+pub use run::{
+    cpu_seconds, fit_exponent, machine, old_wall_time, stats, step_control_json, write_summary,
+    SliderRun, SliderStats,
+};
+pub use run_folder::FolderArgs;
+pub use seas_overview::seas_overview;
+
+static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+
+/// Registers the bundled DejaVu Sans as plotters' "sans-serif" (no system fonts needed).
+pub fn init_fonts() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT)
+            .map_err(|_| ())
+            .expect("bundled font is valid");
+    });
+}
+
+/// One line of a plot.
+pub struct Series<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// Points `(x, y)`.
+    pub points: &'a [(f64, f64)],
+}
+
+impl<'a> Series<'a> {
+    /// A single unlabelled series, as a one-element list for the plot functions.
+    pub fn alone(points: &'a [(f64, f64)]) -> [Series<'a>; 1] {
+        [Series { label: "", points }]
+    }
+}
+
+const COLORS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(0, 0, 0),
+];
+
+type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Writes a figure drawn on `root` to its file `path` (plotters writes a bitmap when it is
+/// presented), the error naming the path (plotters' own names none).
+///
+/// # Errors
+/// The file cannot be written: `cannot write the figure `PATH`: …`.
+pub fn present(
+    root: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    path: &Path,
+) -> PlotResult {
+    root.present()
+        .map_err(|e| format!("cannot write the figure `{}`: {e}", path.display()).into())
+}
+
+fn range(points: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = points
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    if hi > lo {
+        (lo, hi)
+    } else {
+        (
+            lo - 0.5 * lo.abs().max(1e-300),
+            hi + 0.5 * hi.abs().max(1e-300),
+        )
+    }
+}
+
+/// The caption and axis labels of a figure.
+#[derive(Debug, Clone, Copy)]
+pub struct Labels<'a> {
+    /// Caption.
+    pub title: &'a str,
+    /// Label of the horizontal axis.
+    pub x: &'a str,
+    /// Label of the vertical axis.
+    pub y: &'a str,
+}
+
+/// Samples of a field on a rectangular grid: `values[iy][ix]` at the increasing
+/// coordinates `xs` (columns) and `ys` (rows).
+#[derive(Debug, Clone, Copy)]
+pub struct FieldMap<'a> {
+    /// Column coordinates.
+    pub xs: &'a [f64],
+    /// Row coordinates.
+    pub ys: &'a [f64],
+    /// One row of values per `ys` entry, one value per `xs` entry.
+    pub values: &'a [Vec<f64>],
+}
+
+/// Line plot (PNG, 1000×600). With `log_y` (`log_x`), y (x) is plotted as log10 and
+/// labelled so.
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn line_plot(
+    path: &Path,
+    labels: &Labels<'_>,
+    series: &[Series<'_>],
+    log_y: bool,
+    log_x: bool,
+) -> PlotResult {
+    let Labels {
+        title,
+        x: x_label,
+        y: y_label,
+    } = *labels;
+    init_fonts();
+    let tf = |v: f64, log: bool| if log { v.max(1e-300).log10() } else { v };
+    let (x0, x1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| tf(p.0, log_x))),
+    );
+    let (y0, y1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| tf(p.1, log_y))),
+    );
+    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    let xl = if log_x {
+        format!("log10 {x_label}")
+    } else {
+        x_label.to_string()
+    };
+    let yl = if log_y {
+        format!("log10 {y_label}")
+    } else {
+        y_label.to_string()
+    };
+    chart
+        .configure_mesh()
+        .x_desc(xl)
+        .y_desc(yl)
+        .label_style(("sans-serif", 15))
+        .draw()?;
+    for (i, s) in series.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        chart
+            .draw_series(LineSeries::new(
+                s.points.iter().map(|p| (tf(p.0, log_x), tf(p.1, log_y))),
+                color.stroke_width(2),
+            ))?
+            .label(s.label)
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+    }
+    if series.len() > 1 || !series[0].label.is_empty() {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .draw()?;
+    }
+    present(&root, path)
+}
+
+/// Edges `(a, b)` of the cell around sample `i` of the increasing coordinates `v`: the
+/// midpoints to its neighbours (the sample itself at either end).
+pub fn cell_bounds(v: &[f64], i: usize) -> (f64, f64) {
+    let a = if i > 0 { 0.5 * (v[i] + v[i - 1]) } else { v[0] };
+    let b = if i + 1 < v.len() {
+        0.5 * (v[i] + v[i + 1])
+    } else {
+        v[i]
+    };
+    (a, b)
+}
+
+/// Space–time map of `log10 value` (rows `map.ys`: times, columns `map.xs`: positions
+/// along the frictional boundary), PNG 1000×600, colour from blue (low) to red (high) over
+/// `[lo, hi]` in log10 units.
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn space_time_map(
+    path: &Path,
+    title: &str,
+    map: &FieldMap<'_>,
+    log10_range: (f64, f64),
+) -> PlotResult {
+    let axes = HeatMapAxes {
+        title,
+        x_label: "x on the frictional boundary (m)",
+        y_label: "t (s)",
+        log10_range,
+    };
+    log_heat_map(path, (1000, 600), &axes, map)
+}
+
+/// Bytes of a memory budget given in GiB by the command-line flag `flag` (for
+/// `rsf::method::SolverOptions::memory_budget_bytes`).
+///
+/// # Errors
+/// A message naming the flag if `gib` is not positive and finite.
+pub fn memory_budget_bytes(flag: &str, gib: f64) -> Result<usize, String> {
+    if !(gib.is_finite() && gib > 0.0) {
+        return Err(format!("{flag} must be positive and finite, got {gib}"));
+    }
+    Ok((gib * (1u64 << 30) as f64) as usize)
+}
