@@ -1,0 +1,396 @@
+//! BP5 as a finite-element volume model: the mesh of the box (a tensor grid or an octree
+//! graded towards the fault and the stations), the fault inside the body, and its fault ODE.
+
+use rsf::fault_ode::{FaultOdeOptions, SchurOnlySetup};
+use rsf::fem::{
+    cuboid_from_coordinates, cuboid_mirrored, geometric_grading, symmetric_grading, OctreeMesh,
+    TetrahedronMesh,
+};
+use rsf::model::{CreepRate, MaterialRegions};
+use rsf::{Material, Model, ModelBuilder, Part, Result};
+
+use super::{SeasBp5, SeasBp5FaultOde};
+use crate::invalid;
+
+/// Largest root cube of [`SeasBp5Mesh::Graded`] (m): cells at the far faces, 400 km
+/// from the fault, of at most 64 km (the tensor grid's there at ratio 1.3: about 90 km).
+pub const GRADED_ROOT_MAX: f64 = 64e3;
+
+/// Most cells of [`SeasBp5Mesh::Graded`]'s mesh (about 2.4 GB of mesh and a few times more
+/// of matrices).
+pub const GRADED_MAX_CELLS: usize = 20_000_000;
+
+/// The distance (m) between the boxes `a` and `b`, each `(lower, upper)` corners (0 where
+/// they meet).
+fn box_distance(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> f64 {
+    (0..3)
+        .map(|k| (a.0[k] - b.1[k]).max(b.0[k] - a.1[k]).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// How [`SeasBp5::fe_model`] meshes the volume.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SeasBp5Mesh {
+    /// A tensor grid of Kuhn boxes: uniform `dx` over the rate-and-state region along
+    /// strike and dip (and one cell either side of the fault), growing by `ratio` beyond,
+    /// axis by axis — the fault's fine spacing repeated in every layer of the box.
+    Tensor,
+    /// The tensor grid with the boxes mirrored by the parity of their position
+    /// (`round(x/dx)` odd along an axis): the graded mesh's "union jack" pattern of
+    /// diagonals on the tensor grid's boxes, to tell the effect of the pattern from that of
+    /// the grading (docs/seas-bp5.md).
+    TensorMirrored,
+    /// An octree of Kuhn cubes refined towards the rate-and-state region and the off-fault
+    /// stations ([`OctreeMesh`], docs/fem.md "Graded meshes: octree of Kuhn cubes"): cells
+    /// `dx` there — the tensor grid's own Kuhn cells, with parallel diagonals — growing with
+    /// the distance `d` in every direction as `dx + (ratio − 1) d` (the tensor grid's
+    /// growth) beyond the slab `near_fault`.
+    #[default]
+    Graded,
+}
+
+/// The finite-element grid of BP5's volume model ([`SeasBp5::fe_model`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SeasBp5Grid {
+    /// Spacing on the fault's rate-and-state region (m); must divide `l_f/2` and `W_f`.
+    pub dx: f64,
+    /// Distance from the fault to the box's far faces, and depth of the box (m).
+    pub domain: f64,
+    /// Growth of the spacing away from the rate-and-state region, in `[1, 2]`.
+    pub ratio: f64,
+    /// The tensor grid or the graded mesh (for the latter the box reaches the first
+    /// multiple of its root cube not below `domain`).
+    #[serde(default)]
+    pub mesh: SeasBp5Mesh,
+    /// The graded mesh's cells are `dx` in the slab `|x₁| ≤ near_fault` over the
+    /// rate-and-state region (m; 0: on the fault's own cells only), so that a fault zone of
+    /// that half-width is resolved cell for cell ([`FaultZone`]); a whole number of `dx`.
+    ///
+    /// [`FaultZone`]: super::FaultZone
+    #[serde(default)]
+    pub near_fault: f64,
+}
+
+impl Default for SeasBp5Grid {
+    /// 4 km on the fault, a box reaching 400 km from it, growth 1.3, the graded mesh.
+    fn default() -> Self {
+        Self {
+            dx: 4e3,
+            domain: 400e3,
+            ratio: 1.3,
+            mesh: SeasBp5Mesh::Graded,
+            near_fault: 0.0,
+        }
+    }
+}
+
+impl SeasBp5 {
+    /// The vertices of a volume model ([`fe_model`](Self::fe_model)) nearest the off-fault
+    /// stations ([`body_station_points`](Self::body_station_points)), sorted, without
+    /// repeats: those the output reads off the fault.
+    ///
+    /// # Errors
+    /// [`Model::nearest_node`]'s (a model without vertices).
+    pub fn station_vertices(&self, model: &Model<3, 3>) -> Result<Vec<usize>> {
+        let mut vertices = Self::body_station_points()
+            .iter()
+            .map(|x| model.nearest_node(x))
+            .collect::<Result<Vec<usize>>>()?;
+        vertices.sort_unstable();
+        vertices.dedup();
+        Ok(vertices)
+    }
+
+    /// The rate-and-state region `|x₂| ≤ l_f/2`, `x₃ ≤ W_f` (with a relative margin of
+    /// 1e-9 of `W_f`).
+    pub fn in_rate_state_region(&self, x2: f64, x3: f64) -> bool {
+        let eps = 1e-9 * self.w_f;
+        x2.abs() <= 0.5 * self.l_f + eps && x3 <= self.w_f + eps
+    }
+
+    /// BP5 as a finite-element volume model on `grid` (quasi-dynamic: no mass): the box
+    /// `|x|, |y| ≤ domain`, `−domain ≤ z ≤ 0` of Kuhn tetrahedra (`grid.mesh`: on a tensor
+    /// grid, uniform `dx` over the rate-and-state region and one cell across the fault and
+    /// growing by `ratio` beyond; or graded by bisection in every direction, `dx` at the
+    /// rate-and-state region and the off-fault stations, the box rounded up to whole root
+    /// cubes), isotropic (μ = ρc_s², ν); the whole plane `x = 0` a fault inside
+    /// the body ([`ModelBuilder::internal_fault_polygon`], `t₁` along strike): its pairs
+    /// outside the rate-and-state region creeping at `(V_p, 0)`
+    /// ([`ModelBuilder::internal_creep_at`]), those inside it frictional; the far faces
+    /// carrying each side's rigid motion `±V_p/2` along `y` (the fault's own vertices on
+    /// them only by the creep); the free surface `z = 0`; the prestress
+    /// [`tau0`](Self::tau0) as equal and opposite tractions `±τ⁰ e_y` on the fault's two
+    /// faces over the rate-and-state region; the initial displacement 0.
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `dx` (not dividing `l_f/2` and `W_f`),
+    /// `domain` (not beyond 1.5 l_f/2 and 1.5 W_f) or `ratio` (outside `[1, 2]`);
+    /// grading and assembly errors.
+    pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
+        self.fe_model_builder(grid)?.build()
+    }
+
+    /// The builder of [`fe_model`](Self::fe_model) (its mesh made, nothing assembled), e.g.
+    /// to watch the build's stages ([`ModelBuilder::on_stage`]); `build` it for the model.
+    ///
+    /// # Errors
+    /// As [`fe_model`](Self::fe_model) before its assembly.
+    pub fn fe_model_builder(&self, grid: &SeasBp5Grid) -> Result<ModelBuilder<3>> {
+        self.validate()?;
+        let (h, far) = (grid.dx, grid.domain);
+        let whole = |length: f64| {
+            let n = length / h;
+            h.is_finite() && h > 0.0 && n >= 1.0 && (n - n.round()).abs() <= 1e-12 * n
+        };
+        // The tensor grid is symmetric about x₂ = 0 (a line of nodes there); the graded
+        // mesh's lattice is shifted along strike so that x₂ = ±l_f/2 are nodes.
+        let along_strike = match grid.mesh {
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => 0.5 * self.l_f,
+            SeasBp5Mesh::Graded => self.l_f,
+        };
+        if !(whole(along_strike) && whole(self.w_f)) {
+            return Err(invalid(
+                "dx",
+                format!(
+                    "{} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
+                    rsf_numeric::number(h),
+                    match grid.mesh {
+                        SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
+                            "l_f/2 (the tensor grid)"
+                        }
+                        SeasBp5Mesh::Graded => "l_f",
+                    },
+                    self.w_f
+                ),
+            ));
+        }
+        if !(far.is_finite() && far >= 1.5 * (0.5 * self.l_f).max(self.w_f)) {
+            return Err(invalid(
+                "domain",
+                format!(
+                    "{} m must reach 1.5 times l_f/2 and W_f",
+                    rsf_numeric::number(far)
+                ),
+            ));
+        }
+        if !(1.0..=2.0).contains(&grid.ratio) {
+            return Err(invalid(
+                "ratio",
+                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
+            ));
+        }
+        let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
+        if !(grid.near_fault.is_finite() && multiple(grid.near_fault)) {
+            return Err(invalid(
+                "near_fault",
+                format!(
+                    "{} m must be 0 or a whole number of dx = {} m",
+                    rsf_numeric::number(grid.near_fault),
+                    rsf_numeric::number(h)
+                ),
+            ));
+        }
+        if grid.near_fault > 0.0 && grid.mesh != SeasBp5Mesh::Graded {
+            return Err(invalid(
+                "near_fault",
+                "a slab of cells dx is a setting of the graded mesh (the tensor grid grows \
+                 from the fault at once)",
+            ));
+        }
+        if let Some(zone) = self.fault_zone {
+            if !(multiple(zone.half_width) && grid.near_fault >= zone.half_width) {
+                return Err(invalid(
+                    "fault_zone.half_width",
+                    format!(
+                        "{} m must be a whole number of dx = {} m and the graded mesh's \
+                         near_fault ({} m) at least that, so that the zone is meshed cell \
+                         for cell",
+                        rsf_numeric::number(zone.half_width),
+                        rsf_numeric::number(h),
+                        rsf_numeric::number(grid.near_fault)
+                    ),
+                ));
+            }
+        }
+        let (mesh, [lo, hi]) = match grid.mesh {
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => (
+                self.tensor_mesh(grid)?,
+                [[-far, -far, -far], [far, far, 0.0]],
+            ),
+            SeasBp5Mesh::Graded => self.graded_mesh(grid)?,
+        };
+        let mu = self.shear_modulus();
+        let host = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let builder = ModelBuilder::new(mesh);
+        let builder = match self.fault_zone {
+            None => builder.material(host),
+            Some(zone) => {
+                let mu_fz = self.fault_shear_modulus();
+                let soft = Material::new(2.0 * mu_fz * (1.0 + self.nu), self.nu, self.rho);
+                let scene = *self;
+                builder.material(MaterialRegions::new(host).region(
+                    "fault zone",
+                    move |x| {
+                        x[0].abs() <= zone.half_width && scene.in_rate_state_region(x[1], -x[2])
+                    },
+                    soft,
+                ))
+            }
+        };
+        let eps = 1e-6 * h;
+        let side = 0.5 * self.v_p;
+        // Every face of the box but the free surface z = 0.
+        let far_face = move |x: &[f64; 3]| {
+            (0..2).any(|k| x[k] < lo[k] + eps || x[k] > hi[k] - eps) || x[2] < lo[2] + eps
+        };
+        let (a, b, c) = (*self, *self, *self);
+        // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
+        let builder = builder
+            .without_mass()
+            .without_initial_equilibrium()
+            .dirichlet(
+                Part::predicate("far minus", move |x| x[0] < -eps && far_face(x)),
+                [0.0, -side, 0.0],
+            )
+            .dirichlet(
+                Part::predicate("far plus", move |x| x[0] > eps && far_face(x)),
+                [0.0, side, 0.0],
+            )
+            .fault_tangent([0.0, 1.0, 0.0])
+            .internal_fault_polygon(
+                "fault",
+                &[
+                    [0.0, lo[1], lo[2]],
+                    [0.0, hi[1], lo[2]],
+                    [0.0, hi[1], 0.0],
+                    [0.0, lo[1], 0.0],
+                ],
+            )
+            .internal_creep_at(move |x| {
+                (!a.in_rate_state_region(x[1], -x[2])).then_some(CreepRate::InFrame([a.v_p, 0.0]))
+            })
+            .neumann(Part::from("fault_minus"), move |x| {
+                let t = if b.in_rate_state_region(x[1], -x[2]) {
+                    b.tau0(x[1], -x[2])
+                } else {
+                    0.0
+                };
+                [0.0, -t, 0.0]
+            })
+            .neumann(Part::from("fault_plus"), move |x| {
+                let t = if c.in_rate_state_region(x[1], -x[2]) {
+                    c.tau0(x[1], -x[2])
+                } else {
+                    0.0
+                };
+                [0.0, t, 0.0]
+            });
+        Ok(builder)
+    }
+
+    /// The tensor grid of [`SeasBp5Mesh::Tensor`] (box `±domain`).
+    fn tensor_mesh(&self, grid: &SeasBp5Grid) -> Result<TetrahedronMesh> {
+        let (h, far) = (grid.dx, grid.domain);
+        let xs = symmetric_grading(h, h, grid.ratio, far)?;
+        let ys = symmetric_grading(h, 0.5 * self.l_f, grid.ratio, far)?;
+        let mut zs: Vec<f64> = geometric_grading(h, self.w_f, grid.ratio, far)?
+            .iter()
+            .rev()
+            .map(|z| -z)
+            .collect();
+        *zs.last_mut().expect("a graded list is not empty") = 0.0;
+        if grid.mesh == SeasBp5Mesh::TensorMirrored {
+            let odd = |c: &[f64]| -> Vec<bool> {
+                c[..c.len() - 1]
+                    .iter()
+                    .map(|x| (x / h).round().rem_euclid(2.0) == 1.0)
+                    .collect()
+            };
+            let (fx, fy, fz) = (odd(&xs), odd(&ys), odd(&zs));
+            return Ok(cuboid_mirrored(&xs, &ys, &zs, [&fx, &fy, &fz])?);
+        }
+        Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
+    }
+
+    /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): an octree of
+    /// Kuhn cubes of edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
+    /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
+    /// not below `domain` and `s` the shift (`l_f/2` modulo `dx`: 0 or `dx/2`) that puts
+    /// nodes at `x₂ = ±l_f/2`, split ([`OctreeMesh`]) until every cell is at most
+    /// `dx + (ratio − 1) d`, `d` the distance of its bounding box from the rate-and-state
+    /// region (on the plane `x = 0`, thickened to `|x| ≤ near_fault`) or from the nearest
+    /// off-fault station
+    /// ([`body_station_points`](Self::body_station_points)).
+    fn graded_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
+        let h = grid.dx;
+        let doublings = (GRADED_ROOT_MAX / h).log2().floor().max(0.0);
+        let root = h * doublings.exp2();
+        let far = (grid.domain / root - 1e-9).ceil() * root;
+        let shift = {
+            let r = (0.5 * self.l_f / h).fract();
+            if r > 0.25 && r < 0.75 {
+                0.5 * h
+            } else {
+                0.0
+            }
+        };
+        let (lo, hi) = ([-far, shift - far, -far], [far, shift + far, 0.0]);
+        let growth = grid.ratio - 1.0;
+        let near = grid.near_fault;
+        let region = (
+            [-near, -0.5 * self.l_f, -self.w_f],
+            [near, 0.5 * self.l_f, 0.0],
+        );
+        let stations = Self::body_station_points();
+        let size = move |lo: [f64; 3], hi: [f64; 3]| {
+            let closest = stations
+                .iter()
+                .map(|&p| box_distance((lo, hi), (p, p)))
+                .fold(box_distance((lo, hi), region), f64::min);
+            h + growth * closest
+        };
+        let mut cubes = OctreeMesh::new(lo, hi, root)?;
+        cubes
+            .refine(size, GRADED_MAX_CELLS)
+            .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
+        Ok((cubes.into_mesh()?, [lo, hi]))
+    }
+
+    /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))
+    /// with the condensed finite-element operator (`options.kernel`): the laws, state and
+    /// damping of [`fault_ode`](Self::fault_ode).
+    ///
+    /// # Errors
+    /// Invalid parameters; the set-up errors of
+    /// [`build_fault_ode`](rsf::SimulationBuilder::build_fault_ode).
+    pub fn fe_fault_ode(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+    ) -> Result<SeasBp5FaultOde> {
+        self.validate()?;
+        self.problem_builder(model).build_fault_ode(options)
+    }
+
+    /// As [`fe_fault_ode`](Self::fe_fault_ode) without ever holding the volume's whole
+    /// factor ([`SimulationBuilder::build_fault_ode_schur_only`]: the same operator to
+    /// round-off; the stations' vertices, `setup.watch_vertices`, given before the set-up).
+    ///
+    /// # Errors
+    /// As [`fe_fault_ode`](Self::fe_fault_ode); the elimination's.
+    ///
+    /// [`SimulationBuilder::build_fault_ode_schur_only`]:
+    ///     rsf::SimulationBuilder::build_fault_ode_schur_only
+    pub fn fe_fault_ode_schur_only(
+        &self,
+        model: Model<3, 3>,
+        options: FaultOdeOptions,
+        setup: SchurOnlySetup,
+    ) -> Result<SeasBp5FaultOde> {
+        self.validate()?;
+        self.problem_builder(model)
+            .build_fault_ode_schur_only(options, setup)
+    }
+}
