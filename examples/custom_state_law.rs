@@ -38,30 +38,13 @@ impl StateLaw for NoHealing {
     }
 }
 
-/// The program's flags: only the bounds every program takes (no input changes its size).
-#[derive(clap::Parser)]
-#[command(version)]
-struct Cli {
-    #[command(flatten)]
-    limits: rsf_programs::guard::Limits,
-}
-
-impl rsf_programs::guard::Program for Cli {
-    const NAME: &'static str = "custom_state_law";
-
-    fn limits(&self) -> rsf_programs::guard::Limits {
-        self.limits
-    }
-
-    fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
-        // A fixed problem: three scalar state updates; nothing written but the terminal's lines.
-        Ok(rsf_programs::guard::Plan::new().memory(1e6, "(none)", "three scalar state updates"))
-    }
-}
-
-fn main() -> std::process::ExitCode {
-    // --help; rejects unknown flags; errors printed with Display, exit code 1.
-    rsf_programs::guard::main(|_: Cli, _| Ok(run()?))
+// The guard every program runs under (`--help`, `--max-memory-gb`; a fixed problem that
+// writes nothing but the terminal's lines).
+rsf_programs::fixed_size_program! {
+    name: "custom_state_law",
+    memory_bytes: 1e6,
+    what: "three scalar state updates",
+    run: run,
 }
 
 fn run() -> Result<(), rsf_state::Error> {

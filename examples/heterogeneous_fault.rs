@@ -26,34 +26,13 @@ impl StateLaw for HealingAging {
     }
 }
 
-/// The program's flags: only the bounds every program takes (no input changes its size).
-#[derive(clap::Parser)]
-#[command(version)]
-struct Cli {
-    #[command(flatten)]
-    limits: rsf_programs::guard::Limits,
-}
-
-impl rsf_programs::guard::Program for Cli {
-    const NAME: &'static str = "heterogeneous_fault";
-
-    fn limits(&self) -> rsf_programs::guard::Limits {
-        self.limits
-    }
-
-    fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
-        // A fixed problem: an 8 m × 1 m block at level 3 (585 nodes); nothing written but the terminal's lines.
-        Ok(rsf_programs::guard::Plan::new().memory(
-            2e8,
-            "(none)",
-            "an 8 m × 1 m block at level 3 (585 nodes)",
-        ))
-    }
-}
-
-fn main() -> std::process::ExitCode {
-    // --help; rejects unknown flags; errors printed with Display, exit code 1.
-    rsf_programs::guard::main(|_: Cli, _| run())
+// The guard every program runs under (`--help`, `--max-memory-gb`; a fixed problem that
+// writes nothing but the terminal's lines).
+rsf_programs::fixed_size_program! {
+    name: "heterogeneous_fault",
+    memory_bytes: 2e8,
+    what: "an 8 m × 1 m block at level 3 (585 nodes)",
+    run: run,
 }
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {

@@ -10,30 +10,13 @@ use rsf::{ModelBuilder, Until};
 use rsf_scenes::SliderScene;
 use rsf_scenes::ARC_BLOCK_MESH; // crates/rsf-fem/tests/fixtures/arc_block.msh
 
-/// The program's flags: only the bounds every program takes (no input changes its size).
-#[derive(clap::Parser)]
-#[command(version)]
-struct Cli {
-    #[command(flatten)]
-    limits: rsf_programs::guard::Limits,
-}
-
-impl rsf_programs::guard::Program for Cli {
-    const NAME: &'static str = "own_mesh_paper_physics";
-
-    fn limits(&self) -> rsf_programs::guard::Limits {
-        self.limits
-    }
-
-    fn plan(&self) -> Result<rsf_programs::guard::Plan, rsf_programs::guard::AnyError> {
-        // A fixed problem: the arc block refined twice; nothing written but the terminal's lines.
-        Ok(rsf_programs::guard::Plan::new().memory(2e8, "(none)", "the arc block refined twice"))
-    }
-}
-
-fn main() -> std::process::ExitCode {
-    // --help; rejects unknown flags; errors printed with Display, exit code 1.
-    rsf_programs::guard::main(|_: Cli, _| run())
+// The guard every program runs under (`--help`, `--max-memory-gb`; a fixed problem that
+// writes nothing but the terminal's lines).
+rsf_programs::fixed_size_program! {
+    name: "own_mesh_paper_physics",
+    memory_bytes: 2e8,
+    what: "the arc block refined twice",
+    run: run,
 }
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {

@@ -489,7 +489,8 @@ pub enum KernelArg {
 }
 
 /// `--checkpoint-every N`, `--resume FILE`, `--allow-change FIELD,…` and `--max-steps N`
-/// of the programs that checkpoint and continue their runs (SEAS BP1, BP5).
+/// of the programs that checkpoint and continue their runs (the SEAS programs; their
+/// session: [`crate::session::Session`]).
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct ResumeArgs {
     /// Write `checkpoint.bin` every N steps (0: never), and the benchmark files with their
@@ -507,29 +508,6 @@ pub struct ResumeArgs {
     /// the resume log to continue from with a larger value. 0 computes no step.
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
-}
-
-impl ResumeArgs {
-    /// The checkpointer of a run: `path` every `--checkpoint-every` steps (and where a
-    /// step cap stops the run) with `fingerprint`, counting `wall_before` seconds of the
-    /// invocations before a resume.
-    ///
-    /// # Errors
-    /// An invalid interval.
-    pub fn checkpointer(
-        &self,
-        path: std::path::PathBuf,
-        fingerprint: rsf::checkpoint::Fingerprint,
-        wall_before: f64,
-    ) -> rsf::Result<rsf::observe::Every<rsf::observe::Checkpointer>> {
-        let checkpointer = rsf::observe::Checkpointer::new(path)
-            .fingerprint(fingerprint)
-            .wall_time_before(wall_before);
-        rsf::observe::Every::new(
-            rsf::observe::Interval::steps_or_never(self.checkpoint_every),
-            checkpointer,
-        )
-    }
 }
 
 /// `--modeler NAME` and `--date YYYY-MM-DD` of the SEAS files' headers.

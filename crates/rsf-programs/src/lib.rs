@@ -28,6 +28,7 @@ pub mod seas_bp3;
 pub mod seas_bp5;
 pub mod seas_bp6;
 mod seas_overview;
+pub mod session;
 pub mod slider_3d;
 pub use cli::{
     FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,

@@ -9,14 +9,15 @@ use crate::cli::{for_flag, window};
 use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
 use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::run_folder::FolderArgs;
+use crate::session::{Session, SessionFlags};
 use crate::{
     line_plot, space_time_map, stats, write_summary, FieldMap, FrameArgs, Labels, SceneArgs,
     Series, SliderRun, TimeStepArgs,
 };
 use clap::Parser;
-use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
-use rsf::run_folder::{check_window, read_checkpoint};
-use rsf::run_folder::{step_cap_error, until, RunFolder};
+use rsf::observe::{Every, FrictionalProfile, Interval, PointSeries};
+use rsf::run_folder::check_window;
+use rsf::run_folder::RunFolder;
 use rsf::Observer;
 use rsf_scenes::plan_output;
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
@@ -213,34 +214,35 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
             plan.bytes / 1e9
         );
     }
-    // Everything is checked before any file is touched: folder (the guard), checkpoint,
-    // rows.
-    let fresh = prepared.mode();
     // Besides the scene, what changes the files: the profile window and the frame
     // spacing (a resume with another window would mix two windows in the profile).
     let fingerprint = scene
         .fingerprint()
         .with("window", format!("{w0:e},{w1:e}"))
         .with("frame_every", cli.frames.frame_every.unwrap_or(0));
-    let resumed = match &cli.resume {
-        Some(path) => {
-            let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
-            let step = c.state.step;
-            PointSeries::<2>::check_resume(&series_csv, step)?;
-            FrictionalProfile::<2>::check_resume(&profile_csv, step)?;
-            FrictionalProfile::<2>::check_resume(&map_csv, step)?;
-            PointSeries::<2>::check_checkpoint_row(&series_csv, &c, x0)?;
-            sim.restore(&c)?;
-            Some(c)
-        }
-        None => None,
-    };
-    let resumed_at = resumed.as_ref().map(|c| c.state.step);
-    let wall_time_before = resumed.as_ref().map_or(0.0, |c| c.wall_time_s);
-    let mode = match resumed_at {
-        None => fresh,
-        Some(step) => FileMode::Resume { step },
-    };
+    // Everything is checked before any file is touched: folder (the guard), checkpoint,
+    // rows.
+    let session = Session::start(
+        SessionFlags {
+            resume: cli.resume.as_deref(),
+            allow_change: &cli.folder.allow_change,
+            checkpoint_every: cli.checkpoint_every,
+            step_cap: plan.step_cap,
+        },
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        t_end,
+        &mut sim,
+    )?;
+    if let Some(c) = session.resumed() {
+        let step = c.state.step;
+        PointSeries::<2>::check_resume(&series_csv, step)?;
+        FrictionalProfile::<2>::check_resume(&profile_csv, step)?;
+        FrictionalProfile::<2>::check_resume(&map_csv, step)?;
+        PointSeries::<2>::check_checkpoint_row(&series_csv, c, x0)?;
+    }
+    let (resumed_at, wall_time_before) = (session.resumed_step(), session.wall_time_before());
+    let mode = session.mode(prepared.mode());
     // 600 samples of the map: every N/600 steps, or every T/600 s for adaptive steps.
     let map_every = match sim.method().step_control() {
         Some(_) => Interval::Time(t_end / 600.0),
@@ -254,28 +256,14 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         map_every,
         FrictionalProfile::new(&map_csv, (0.0, t_end), mode)?,
     )?;
-    let checkpoint = Checkpointer::new(folder.path("checkpoint.bin"))
-        .fingerprint(fingerprint)
-        .wall_time_before(wall_time_before);
-    // Every `--checkpoint-every` steps, and where a step cap stops the run (also a cap at
-    // or below the state's step: `--max-steps 0`, a resume at the cap, which computes no
-    // step).
-    let mut checkpointer = Every::new(Interval::steps_or_never(cli.checkpoint_every), checkpoint)?;
-    let mut progress = scene.progress(sim.time(), "slider");
-    // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
+    let progress = scene.progress(sim.time(), "slider");
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
-    observers.push(&mut checkpointer);
     if let Some(f) = frames.as_mut() {
         observers.push(f);
     }
-    observers.push(&mut progress);
     let setup_seconds = setup.elapsed().as_secs_f64();
-    let end = until(t_end, plan.step_cap);
-    let summary = sim.run_until(end, &mut observers)?;
+    let summary = session.run(&mut sim, &mut observers, Some(progress))?;
     drop(observers);
-    if let Some(e) = step_cap_error(&summary, end, sim.state(), &folder.path("checkpoint.bin")) {
-        return Err(e.into());
-    }
 
     // Everything below comes from the files: the whole run, also after a resume.
     let mut run = SliderRun::from_series(&PointSeries::<2>::read(&series_csv)?);
@@ -290,6 +278,36 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let st = stats(&run, t_end);
     write_summary(&out, &scene, &run, &st)?;
 
+    figures(&out, &run)?;
+    println!(
+        "{} dofs, {} steps ({} rejected; {} in this run{}) in {:.2} s (set-up {:.2} s) on {}",
+        run.dofs,
+        run.fpi.len(),
+        run.rejected_steps,
+        summary.steps,
+        resumed_at.map_or(String::new(), |n| format!(", resumed at step {n}")),
+        run.seconds,
+        run.setup_seconds,
+        crate::machine()
+    );
+    println!(
+        "fixed point iterations: mean {:.2}, max {}; solver iterations {}; relaxed steps {}",
+        st.fpi_mean, st.fpi_max, st.solver_iterations, st.relaxed_steps
+    );
+    println!(
+        "first slip event (time of the first step with max V > 1e-3 m/s): {}; slip events: {}; peak slip rate {:.3e} m/s; u_x0 over [0.9T, T]: {:.3e} … {:.3e} m",
+        st.first_slip_event_s.map_or("none".into(), |t| format!("{t:.3} s")),
+        st.slip_events,
+        st.peak_slip_rate_mps,
+        st.u_x0_range_last_tenth_m.0,
+        st.u_x0_range_last_tenth_m.1
+    );
+    Ok(())
+}
+
+/// The figures of a run: the displacement and the slip rate at x0 against time, the slip
+/// rate along the frictional boundary against time (PNG in `out`).
+fn figures(out: &std::path::Path, run: &SliderRun) -> Result<(), AnyError> {
     line_plot(
         &out.join("displacement_x0.png"),
         &Labels {
@@ -327,28 +345,5 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         },
         (-12.0, -2.0),
     )?;
-    println!(
-        "{} dofs, {} steps ({} rejected; {} in this run{}) in {:.2} s (set-up {:.2} s) on {}",
-        run.dofs,
-        run.fpi.len(),
-        run.rejected_steps,
-        summary.steps,
-        resumed_at.map_or(String::new(), |n| format!(", resumed at step {n}")),
-        run.seconds,
-        run.setup_seconds,
-        crate::machine()
-    );
-    println!(
-        "fixed point iterations: mean {:.2}, max {}; solver iterations {}; relaxed steps {}",
-        st.fpi_mean, st.fpi_max, st.solver_iterations, st.relaxed_steps
-    );
-    println!(
-        "first slip event (time of the first step with max V > 1e-3 m/s): {}; slip events: {}; peak slip rate {:.3e} m/s; u_x0 over [0.9T, T]: {:.3e} … {:.3e} m",
-        st.first_slip_event_s.map_or("none".into(), |t| format!("{t:.3} s")),
-        st.slip_events,
-        st.peak_slip_rate_mps,
-        st.u_x0_range_last_tenth_m.0,
-        st.u_x0_range_last_tenth_m.1
-    );
     Ok(())
 }

@@ -34,12 +34,12 @@ use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
 use crate::guard::{
     in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Processes, Program,
 };
+use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::{FileMode, Progress, TimeUnit};
-use rsf::run_folder::{read_checkpoint, step_cap_error, until};
-use rsf::{Observer, Stepping};
+use rsf::observe::{Progress, TimeUnit};
+use rsf::Stepping;
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
 use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
@@ -296,34 +296,24 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         .with("end_years", args.end_years)
         .with("tolerance", args.tolerance)
         .with("kernel", options.kernel);
-    // On resume everything is checked before any file is touched: the checkpoint (its
-    // checksum and fingerprint), then every file's rows up to the checkpoint's step.
-    let resumed = match &args.run.resume {
-        None => None,
-        Some(path) => {
-            let c = read_checkpoint(path, &fingerprint, &args.run.allow_change)?;
-            if root {
-                SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
-                    &args.out,
-                    ode.model(),
-                    &setup,
-                    c.state.step,
-                )?;
-            }
-            ode.restore(&c)?;
-            Some(c)
-        }
-    };
-    let mode = match &resumed {
-        Some(c) => FileMode::Resume { step: c.state.step },
-        None => folder.mode(),
-    };
-    let end = until(args.end_years * SECONDS_PER_YEAR, args.run.max_steps);
+    // The checkpoint is checked and restored before any file is touched, then the files'
+    // rows up to its step.
+    let session = Session::start(
+        args.run.session_flags(),
+        args.out.join("checkpoint.bin"),
+        fingerprint,
+        args.end_years * SECONDS_PER_YEAR,
+        &mut ode,
+    )?;
     if !root {
         // The same steps as rank 0, no files (no observer here ends a run).
-        ode.run_until(end, &mut [])?;
+        session.follow(&mut ode, &mut [])?;
         return Ok(());
     }
+    if let Some(step) = session.resumed_step() {
+        SeasOutput::<rsf::friction::AsinhLaw>::check_resume(&args.out, ode.model(), &setup, step)?;
+    }
+    let mode = session.mode(folder.mode());
     let mut output = SeasOutput::new(
         &args.out,
         ode.model(),
@@ -333,37 +323,22 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     )?;
     // A run that can stop before its end (checkpoints, a step cap) logs what its files
     // hold at each checkpoint.
-    if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+    if session.keeps_resume_log() {
         output = output.with_resume_log(mode)?;
     }
     // The fault ODE computes the surface stations' vertices (not the whole field) after
     // every step; their initial row needs them now.
     ode.watch_vertices(&output.surface_vertices())?;
-    if resumed.is_none() {
+    if session.resumed().is_none() {
         output.write_initial_state(ode.model(), ode.state())?;
     }
-    // Every `--checkpoint-every` steps, and where the step cap stops the run.
-    let checkpoint = args.out.join("checkpoint.bin");
-    let mut checkpointer = args.run.checkpointer(
-        checkpoint.clone(),
-        fingerprint,
-        resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
-    )?;
-    let summary = {
-        // The files first, the checkpoint after them: a checkpoint never runs ahead.
-        let mut progress = Progress::time_in(
-            ode.state().time,
-            args.end_years * SECONDS_PER_YEAR,
-            TimeUnit::year(SECONDS_PER_YEAR),
-            "BP3",
-        );
-        let mut observers: Vec<&mut dyn Observer<2>> =
-            vec![&mut output, &mut progress, &mut checkpointer];
-        ode.run_until(end, &mut observers)?
-    };
-    if let Some(e) = step_cap_error(&summary, end, ode.state(), &checkpoint) {
-        return Err(e.into());
-    }
+    let progress = Progress::time_in(
+        ode.state().time,
+        args.end_years * SECONDS_PER_YEAR,
+        TimeUnit::year(SECONDS_PER_YEAR),
+        "BP3",
+    );
+    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     for e in output.events() {

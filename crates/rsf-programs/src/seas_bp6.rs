@@ -31,13 +31,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::pore_pressure::PorePressure;
-use rsf::run_folder::{read_checkpoint, step_cap_error, until};
 use rsf::whole_space::WholeSpaceKernel;
-use rsf::{Observer, Stepping};
+use rsf::Stepping;
 use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid, BP6_SECONDS_PER_YEAR};
 use rsf_seas::{SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
 
@@ -493,44 +493,29 @@ impl Common<'_> {
         );
         // The folder's lock is held until the run ends.
         let _folder = &self.folder;
-        let resumed = match &args.run.resume {
-            None => None,
-            Some(path) => {
-                let c = read_checkpoint(path, &self.fingerprint, &args.run.allow_change)?;
-                run.restore(&c)?;
-                Some(c)
-            }
-        };
+        let session = Session::start(
+            args.run.session_flags(),
+            args.out.join("checkpoint.bin"),
+            self.fingerprint,
+            args.end_years * BP6_SECONDS_PER_YEAR,
+            run,
+        )?;
         let mut output = SeasBp6Output::new(&args.out, fault, self.pressure.clone(), self.setup)?
             .with_intervals(args.station_interval, args.profile_interval);
-        if args.run.checkpoint_every > 0 || args.run.max_steps.is_some() {
+        if session.keeps_resume_log() {
             output = output.with_resume_log(args.run.checkpoint_every);
         }
-        match &resumed {
-            Some(c) => output.resume(c.state.step)?,
+        match session.resumed_step() {
+            Some(step) => output.resume(step)?,
             None => output.write_initial_state(run.model(), run.state(), run.fault_tractions()),
         }
-        let end = until(args.end_years * BP6_SECONDS_PER_YEAR, args.run.max_steps);
-        let checkpoint = args.out.join("checkpoint.bin");
-        let mut checkpointer = args.run.checkpointer(
-            checkpoint.clone(),
-            self.fingerprint,
-            resumed.as_ref().map_or(0.0, |c| c.wall_time_s),
-        )?;
-        let summary = {
-            let mut progress = rsf::observe::Progress::time_in(
-                run.state().time,
-                args.end_years * BP6_SECONDS_PER_YEAR,
-                rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR),
-                "BP6",
-            );
-            let mut observers: Vec<&mut dyn Observer<2, C>> =
-                vec![&mut output, &mut progress, &mut checkpointer];
-            rsf::run_until(run, end, &mut observers)?
-        };
-        if let Some(e) = step_cap_error(&summary, end, run.state(), &checkpoint) {
-            return Err(e.into());
-        }
+        let progress = rsf::observe::Progress::time_in(
+            run.state().time,
+            args.end_years * BP6_SECONDS_PER_YEAR,
+            rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR),
+            "BP6",
+        );
+        let summary = session.run(run, &mut [&mut output], Some(progress))?;
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
         let counts = counts(run);

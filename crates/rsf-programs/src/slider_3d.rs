@@ -41,13 +41,14 @@ use std::process::ExitCode;
 use crate::cli::step_count;
 use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::ranks::Processes;
+use crate::session::{Session, SessionFlags};
 use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use clap::Parser;
 use rsf::fem::SimplexMesh;
 use rsf::model::ProblemScales;
-use rsf::observe::{Checkpointer, Every, FileMode, Interval, PointSeries, Progress};
-use rsf::run_folder::{check_output_size, read_checkpoint};
-use rsf::run_folder::{step_cap_error, until, RunFolder};
+use rsf::observe::{PointSeries, Progress};
+use rsf::run_folder::check_output_size;
+use rsf::run_folder::RunFolder;
 use rsf::{Flow, Model, Observer, StepView};
 use rsf_scenes::steps_bound;
 use rsf_scenes::{LateralBoundary, Slider3dScene};
@@ -422,6 +423,65 @@ impl Observer<3> for FaultSnapshot {
     }
 }
 
+/// The model on the processes of a job: the node owners (a partition of the finest mesh),
+/// which also share out the frames' cells; each rank assembles its own nodes' columns of
+/// the matrices and the ranks solve the initial equilibrium together (docs/scaling.md
+/// "Phase 7"). Returns the model and the ranks' TNNMG settings.
+fn model_on_ranks(
+    scene: &Slider3dScene,
+    p: &dyn Processes,
+) -> Result<(Model<3>, rsf::method::TnnmgOnRanks), AnyError> {
+    let builder = scene.model_builder()?;
+    let owner = partition(builder.mesh(), p.size())?;
+    let keep: Vec<bool> = owner.iter().map(|&r| r == p.rank()).collect();
+    let ranks = rsf::method::TnnmgOnRanks::new(owner, p.transports());
+    let model = builder.build_columns(&keep, |system| {
+        rsf::model::equilibrium_on_ranks::<3>(
+            system.stiffness,
+            system.fixed,
+            system.load,
+            system.prolongations,
+            (&ranks.owner, (ranks.transport)()),
+        )
+    })?;
+    // The conditioning of the whole model: each rank's scales are of its columns.
+    scene.slider.check_scales(&whole_scales(&model, p))?;
+    Ok((model, ranks))
+}
+
+/// The output bound, before any file: a series row per step, a frame of every vertex
+/// and cell every --frame-every steps. In pieces (on ranks, `frame_owner`): every piece's
+/// points and cells (the border points in more than one piece), the `.pvtu` (about 1.1 kB
+/// and 40 bytes per piece) counted as 8 more points (1.6 kB) per piece.
+fn check_output_bound(
+    cli: &Cli,
+    s: &rsf_scenes::SliderScene,
+    model: &Model<3>,
+    frame_owner: Option<&[usize]>,
+    owner_ranks: usize,
+) -> Result<(), AnyError> {
+    let steps = steps_bound(s, (0.0, s.end_time_s));
+    let (frame_points, frame_cells) = match frame_owner {
+        Some(owner) => {
+            let sizes = rsf::observe::VtuFrames::piece_sizes(&model.cells, 4, owner, owner_ranks);
+            sizes
+                .iter()
+                .fold((8 * sizes.len(), 0), |(p, c), s| (p + s.0, c + s.1))
+        }
+        None => (model.num_nodes(), model.cells.len() / 4),
+    };
+    let frames_bytes =
+        cli.frames
+            .bytes_bound(DEFAULT_FRAME_EVERY, steps, frame_points, frame_cells);
+    check_output_size(
+        steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
+            + frames_bytes,
+        cli.limits.max_output_gb,
+        "steps",
+    )?;
+    Ok(())
+}
+
 fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
     let mut scene = scene(&cli)?;
     let root = processes.is_none_or(|p| p.rank() == 0);
@@ -464,37 +524,18 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     if let Some(gib) = cli.memory_budget_gib {
         options.memory_budget_bytes = crate::memory_budget_bytes("--memory-budget-gib", gib)?;
     }
-    // On ranks: the node owners (a partition of the finest mesh), which also share out
-    // the frames' cells; each rank assembles its own nodes' columns of the matrices and
-    // the ranks solve the initial equilibrium together (docs/scaling.md "Phase 7").
-    let mut frame_owner = None;
+    // On ranks: each rank assembles its own nodes' columns ([`model_on_ranks`]).
     let owner_ranks = processes.map_or(1, |p| p.size());
-    let model = match processes {
-        None => scene.build_model()?,
+    let (model, frame_owner) = match processes {
+        None => (scene.build_model()?, None),
         Some(p) => {
-            let builder = scene.model_builder()?;
-            let owner = partition(builder.mesh(), p.size())?;
-            let keep: Vec<bool> = owner.iter().map(|&r| r == p.rank()).collect();
-            let ranks = rsf::method::TnnmgOnRanks::new(owner, p.transports());
-            let model = builder.build_columns(&keep, |system| {
-                rsf::model::equilibrium_on_ranks::<3>(
-                    system.stiffness,
-                    system.fixed,
-                    system.load,
-                    system.prolongations,
-                    (&ranks.owner, (ranks.transport)()),
-                )
-            })?;
-            // The conditioning of the whole model: each rank's scales are of its columns.
-            scene.slider.check_scales(&whole_scales(&model, p))?;
-            if p.size() > 1 {
-                frame_owner = Some(ranks.owner.to_vec());
-            }
+            let (model, ranks) = model_on_ranks(&scene, p)?;
+            let frame_owner = (p.size() > 1).then(|| ranks.owner.to_vec());
             options.ranks = Some(ranks);
             if root {
                 eprintln!("{} MPI ranks share every velocity solve", p.size());
             }
-            model
+            (model, frame_owner)
         }
     };
     let mut sim = scene
@@ -504,56 +545,29 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     let model = sim.model();
     let x0 = model.nearest_node(&scene.centre())?;
     let series_csv = out.join("timeseries.csv");
-    // The output bound, before any file: a series row per step, a frame of every vertex
-    // and cell every --frame-every steps. In pieces (on ranks): every piece's points and
-    // cells (the border points in more than one piece), the `.pvtu` (about 1.1 kB and 40
-    // bytes per piece) counted as 8 more points (1.6 kB) per piece.
-    let steps = steps_bound(s, (0.0, s.end_time_s));
-    let (frame_points, frame_cells) = match &frame_owner {
-        Some(owner) => {
-            let sizes = rsf::observe::VtuFrames::piece_sizes(&model.cells, 4, owner, owner_ranks);
-            sizes
-                .iter()
-                .fold((8 * sizes.len(), 0), |(p, c), s| (p + s.0, c + s.1))
-        }
-        None => (model.num_nodes(), model.cells.len() / 4),
-    };
-    let frames_bytes =
-        cli.frames
-            .bytes_bound(DEFAULT_FRAME_EVERY, steps, frame_points, frame_cells);
-    check_output_size(
-        steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
-            + frames_bytes,
-        cli.limits.max_output_gb,
-        "steps",
-    )?;
+    check_output_bound(&cli, s, model, frame_owner.as_deref(), owner_ranks)?;
     let frame_every = cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY);
     // What changes the files besides the scene: the frame spacing.
     let fingerprint = scene.fingerprint().with("frame_every", frame_every);
-    // Everything is checked before any file is touched: folder (the guard), checkpoint,
-    // rows.
-    let fresh = prepared.mode();
-    let resumed = match &cli.resume {
-        Some(path) => {
-            let c = read_checkpoint(path, &fingerprint, &cli.folder.allow_change)?;
-            // Rank 0 checks the files it continues; every rank restores the whole state.
-            if root {
-                PointSeries::<3>::check_resume(&series_csv, c.state.step)?;
-                PointSeries::<3>::check_checkpoint_row(&series_csv, &c, x0)?;
-            }
-            Some(c)
-        }
-        None => None,
-    };
-    if let Some(c) = &resumed {
-        sim.restore(c)?;
+    // Everything is checked before any file is touched: folder (the guard), checkpoint
+    // (every rank restores the whole state), then rank 0 the rows it continues.
+    let session = Session::start(
+        SessionFlags {
+            resume: cli.resume.as_deref(),
+            allow_change: &cli.folder.allow_change,
+            checkpoint_every: cli.checkpoint_every,
+            step_cap: cli.folder.max_steps,
+        },
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        s.end_time_s,
+        &mut sim,
+    )?;
+    if let (Some(c), true) = (session.resumed(), root) {
+        PointSeries::<3>::check_resume(&series_csv, c.state.step)?;
+        PointSeries::<3>::check_checkpoint_row(&series_csv, c, x0)?;
     }
-    let wall_time_before = resumed.as_ref().map_or(0.0, |c| c.wall_time_s);
-    let mode = match &resumed {
-        None => fresh,
-        Some(c) => FileMode::Resume { step: c.state.step },
-    };
-    let end = until(s.end_time_s, cli.folder.max_steps);
+    let mode = session.mode(prepared.mode());
     // Frames first: a missing index on resume is refused before the series is continued.
     // On more than one rank every rank writes its piece of each frame (the cells whose
     // lowest-numbered vertex it owns), rank 0 the `.pvtu` and the index; on one rank the
@@ -572,20 +586,12 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
         if let Some(f) = frames.as_mut() {
             observers.push(f);
         }
-        sim.run_until(end, &mut observers)?;
+        session.follow(&mut sim, &mut observers)?;
         return Ok(());
     }
     let model = sim.model();
     let mut series = PointSeries::new(&series_csv, model, x0, mode)?;
     let mut snapshot = FaultSnapshot::new(cli.snapshot_time, model.frictional_boundary.nodes.len());
-    let mut progress = Progress::steps(s.steps, "slider 3-D");
-    let checkpoint_path = folder.path("checkpoint.bin");
-    let checkpoint = Checkpointer::new(&checkpoint_path)
-        .fingerprint(fingerprint)
-        .wall_time_before(wall_time_before);
-    // Every `--checkpoint-every` steps, and where a step cap stops the run (also a cap at
-    // or below the state's step, `--max-steps 0`, which computes no step).
-    let mut checkpointer = Every::new(Interval::steps_or_never(cli.checkpoint_every), checkpoint)?;
     println(format!(
         "{} dofs, {} frictional nodes, {} solver; set-up {:.2} s",
         model.num_dofs(),
@@ -593,18 +599,13 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
         sim.method().solver_name(),
         setup.elapsed().as_secs_f64()
     ));
-    // Files first, the checkpoint after them: a checkpoint never runs ahead of the files.
     let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot];
     if let Some(f) = frames.as_mut() {
         observers.push(f);
     }
-    observers.push(&mut checkpointer);
-    observers.push(&mut progress);
-    let summary = sim.run_until(end, &mut observers)?;
+    let progress = Progress::steps(s.steps, "slider 3-D");
+    let summary = session.run(&mut sim, &mut observers, Some(progress))?;
     drop(observers);
-    if let Some(e) = step_cap_error(&summary, end, sim.state(), &checkpoint_path) {
-        return Err(e.into());
-    }
     snapshot.write(sim.model(), scene.width_m, &out)?;
 
     let rows = PointSeries::<3>::read(&series_csv)?;

@@ -38,6 +38,7 @@ use rsf::run_folder::RunFolder;
 use crate::process::{main_on_threads, main_with};
 pub use crate::ranks::Processes;
 
+mod fixed;
 mod flags;
 mod ranks;
 

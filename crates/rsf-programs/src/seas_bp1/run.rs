@@ -1,0 +1,454 @@
+//! The run of `seas_bp1`: the method the flags choose, the session, the summary.
+
+use std::time::Instant;
+
+use crate::cli::for_flag;
+use crate::guard::{AnyError, Prepared, Processes};
+use crate::session::Session;
+use crate::{cpu_seconds, machine};
+use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::FaultOdeOptions;
+use rsf::method::{FixedPointOptions, SolverOptions};
+use rsf::observe::{Progress, TimeUnit};
+use rsf::run_folder::RunFolder;
+use rsf::MethodKind;
+use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
+use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+
+use super::args::{Absorbing, Args, Bp1Run, DynamicIntegrator, Scheme};
+
+/// The choices a run makes from its flags: the method, the far boundary, the thresholds of
+/// the switch between the quasi-dynamic and the dynamic phases, the fault ODE's kernel.
+struct Choices {
+    method: MethodKind,
+    absorbing: Absorbing,
+    switch_to_dynamic: f64,
+    switch_to_quasi_dynamic: f64,
+    kernel: rsf::fault_ode::FaultKernel,
+}
+
+impl Choices {
+    fn of(args: &Args) -> Result<Self, AnyError> {
+        // BP1-FD's defaults: the converged set-up of docs/seas-bp1-fd.md. Without inertia
+        // the switching thresholds are unused; their old defaults keep BP1-QD's
+        // fingerprints.
+        let absorbing = args.absorbing.unwrap_or(if args.inertia {
+            Absorbing::All
+        } else {
+            Absorbing::None
+        });
+        let (to_dynamic, to_quasi_dynamic) = match args.inertia {
+            true => (1e-2, 1e-3),
+            false => (1e-3, 1e-4),
+        };
+        let method = match (args.scheme, args.inertia) {
+            (Scheme::Implicit, _) => MethodKind::Implicit,
+            (Scheme::RungeKutta, false) => MethodKind::FaultOde,
+            (Scheme::RungeKutta, true) => MethodKind::Switching,
+        };
+        Ok(Self {
+            method,
+            absorbing,
+            switch_to_dynamic: args.switch_to_dynamic.unwrap_or(to_dynamic),
+            switch_to_quasi_dynamic: args.switch_to_quasi_dynamic.unwrap_or(to_quasi_dynamic),
+            kernel: args.kernel.kernel(args.rk_tolerance)?,
+        })
+    }
+
+    /// The far boundary of the model with (`true`) or without absorbing faces.
+    fn far(absorbing: bool) -> SeasBp1Far {
+        if absorbing {
+            SeasBp1Far::Absorbing
+        } else {
+            SeasBp1Far::Dirichlet
+        }
+    }
+
+    /// What a checkpoint continues: the scene, grid, physics and sampling, and the options
+    /// of the method that change the trajectory.
+    fn fingerprint(
+        &self,
+        args: &Args,
+        bp1: &SeasBp1,
+        grid: &SeasBp1Grid,
+        sampling: &SeasSampling,
+    ) -> Fingerprint {
+        let fingerprint = bp1
+            .fingerprint(grid, args.inertia, sampling)
+            .with("method", self.method)
+            .with("end_years", args.end_years)
+            .with("tolerance", args.tolerance)
+            .with("state_change_cap", args.state_change_cap)
+            .with("fixed_point_tolerance", args.fixed_point_tolerance)
+            .with("setup_per_time_step", args.setup_per_time_step)
+            .with("rk_tolerance", args.rk_tolerance)
+            .with("kernel", self.kernel)
+            .with("dynamic_tau", format!("{:?}", args.dynamic_tau))
+            .with("switch_to_dynamic", self.switch_to_dynamic)
+            .with("switch_to_quasi_dynamic", self.switch_to_quasi_dynamic)
+            .with(
+                "dynamic_fixed_point_tolerance",
+                args.dynamic_fixed_point_tolerance,
+            );
+        // Only when set: checkpoints of runs without absorbing parts keep their fingerprint.
+        let fingerprint = match self.absorbing {
+            Absorbing::None => fingerprint,
+            a => fingerprint.with("absorbing", format!("{a:?}")),
+        };
+        match args.dynamic_integrator {
+            DynamicIntegrator::Newmark => fingerprint,
+            i => fingerprint.with("dynamic_integrator", format!("{i:?}")),
+        }
+    }
+}
+
+/// The run the flags ask for on BP1's model: the implicit scheme, the fault ODE, or the
+/// switch between the fault ODE and the dynamic implicit scheme.
+fn build_run(
+    args: &Args,
+    bp1: &SeasBp1,
+    grid: &SeasBp1Grid,
+    choices: &Choices,
+) -> Result<Bp1Run, AnyError> {
+    // The methods' settings (checked by the plan before any file was touched).
+    let mut control = bp1.step_control(args.tolerance)?;
+    control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
+    let rk_options = for_flag(
+        "rk_tolerance",
+        "tolerance",
+        bp1.fault_ode_options(args.rk_tolerance),
+    )?;
+    let model = bp1.model_with_far(
+        grid,
+        args.inertia,
+        Choices::far(choices.absorbing == Absorbing::All),
+    )?;
+    // The implicit scheme on `model`, with or without inertia, from τ₀ (s).
+    let implicit = |model, inertia, tau0, fixed_point_tolerance| {
+        let builder = bp1.simulation_builder(model, inertia, tau0, control)?;
+        let builder = match (inertia, args.dynamic_integrator) {
+            (true, DynamicIntegrator::BackwardEuler) => {
+                builder.integrator(rsf::Integrator::BackwardEuler)
+            }
+            _ => builder,
+        };
+        builder
+            .fixed_point(FixedPointOptions {
+                tolerance: fixed_point_tolerance,
+                ..FixedPointOptions::default()
+            })
+            .solver_options(SolverOptions {
+                setup_per_time_step: args.setup_per_time_step,
+                ..SolverOptions::default()
+            })
+            .build()
+    };
+    let fault_ode_options = FaultOdeOptions {
+        kernel: choices.kernel,
+        parallelism: rsf::Parallelism::rayon(args.threads),
+        ..rk_options
+    };
+    fault_ode_options.validate()?;
+    let fault_ode = |model| bp1.fault_ode(model, fault_ode_options);
+    Ok(match choices.method {
+        MethodKind::Implicit => {
+            implicit(model, args.inertia, 1e-2, args.fixed_point_tolerance)?.into()
+        }
+        MethodKind::FaultOde => fault_ode(model)?.into(),
+        MethodKind::Switching => {
+            let c_s = (bp1.shear_modulus() / bp1.rho).sqrt();
+            let dynamic_tau = args.dynamic_tau.unwrap_or(0.25 * args.dz / c_s);
+            let dynamic_model = match choices.absorbing {
+                Absorbing::Dynamic => bp1.model_with_far(grid, true, Choices::far(true))?,
+                _ => model.clone(),
+            };
+            let dynamic = implicit(dynamic_model, true, 1.0, args.dynamic_fixed_point_tolerance)?;
+            rsf::SwitchingRun::new(
+                fault_ode(model)?,
+                dynamic,
+                rsf::switching::SwitchingOptions {
+                    to_dynamic: choices.switch_to_dynamic,
+                    to_quasi_dynamic: choices.switch_to_quasi_dynamic,
+                    dynamic_tau,
+                    restart_dt: dynamic_tau,
+                },
+            )?
+            .into()
+        }
+    })
+}
+
+pub(super) fn run(
+    args: Args,
+    prepared: Prepared,
+    processes: Option<&dyn Processes>,
+) -> Result<(), AnyError> {
+    // Rank 0 (or the one process) writes the files and tells.
+    let root = processes.is_none_or(|p| p.rank() == 0);
+    let bp1 = SeasBp1::default();
+    let grid = args.grid();
+    // The folder was refused before anything was computed if it holds another run (of
+    // this or of any other rsf program, unless --overwrite) or cannot be written.
+    let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
+        .iter()
+        .map(|&d| (SeasBp1::station_name(d), d))
+        .collect();
+    let folder = RunFolder::new(&args.out, "seas_bp1", &[]);
+    let step_cap = args.step_cap();
+    if let (Some(cap), None) = (step_cap, args.run.max_steps) {
+        eprintln!(
+            "--every-step: at most {cap} steps (station rows within --max-output-gb {})",
+            args.limits.max_output_gb
+        );
+    }
+    let t_setup = Instant::now();
+    let choices = Choices::of(&args)?;
+    let mut sim = build_run(&args, &bp1, &grid, &choices)?;
+    let model = rsf::Stepping::model(&sim);
+    let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
+    if let Some(p) = processes {
+        match &mut sim {
+            rsf::Run::FaultOde(ode) => ode.share_evaluations(p.group())?,
+            _ => {
+                return Err("MPI ranks share the Runge–Kutta run of BP1-QD (--scheme \
+                            runge-kutta without --inertia)"
+                    .into())
+            }
+        }
+    }
+    let setup_s = t_setup.elapsed().as_secs_f64();
+    if root {
+        if let Some(r) = kernel_report(&sim) {
+            eprintln!("{r}");
+        }
+        if let Some(p) = processes {
+            eprintln!("{} MPI ranks share every evaluation", p.size());
+        }
+        eprintln!(
+            "BP1{} ({:?}): dz = {} m, domain {} km, {nodes} nodes, {fault_nodes} on the fault; \
+             set-up {setup_s:.1} s",
+            if args.inertia { "-FD" } else { "-QD" },
+            args.scheme,
+            args.dz,
+            args.domain_km
+        );
+    }
+    let sampling = SeasSampling {
+        every_step: args.every_step,
+        event_quiet_time: args.event_quiet_time.unwrap_or(
+            if args.inertia && choices.absorbing == Absorbing::None {
+                60.0
+            } else {
+                0.0
+            },
+        ),
+        ..SeasSampling::default()
+    };
+    let fingerprint = choices.fingerprint(&args, &bp1, &grid, &sampling);
+    let setup = SeasSetup {
+        modeler: args.header.modeler.clone(),
+        date: args
+            .header
+            .date
+            .clone()
+            .unwrap_or_else(rsf_seas::utc_date_today),
+        stations,
+        ..bp1.seas_setup(args.dz, args.inertia, sampling)
+    };
+    // The checkpoint is checked and restored before any file is touched, then the files'
+    // rows up to its step.
+    let t_end = args.end_years * SECONDS_PER_YEAR;
+    let session = Session::start(
+        args.run.session_flags_with_cap(step_cap),
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        t_end,
+        &mut sim,
+    )?;
+    if !root {
+        // The same steps as rank 0, no files (no observer here ends a run).
+        session.follow(&mut sim, &mut [])?;
+        return Ok(());
+    }
+    if let Some(step) = session.resumed_step() {
+        SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
+            &args.out,
+            rsf::Stepping::model(&sim),
+            &setup,
+            step,
+        )?;
+    }
+    let mode = session.mode(prepared.mode());
+    let mut output = SeasOutput::new(
+        &args.out,
+        rsf::Stepping::model(&sim),
+        sim.problem().friction_laws(),
+        setup,
+        mode,
+    )?;
+    // A run that can stop before its end (checkpoints, a step cap) logs what its
+    // benchmark files hold at each checkpoint.
+    if session.keeps_resume_log() {
+        output = output.with_resume_log(mode)?;
+    }
+    if session.resumed().is_none() {
+        // The benchmark's first row: the initial state at t = 0.
+        output.write_initial_state(rsf::Stepping::model(&sim), rsf::Stepping::state(&sim))?;
+    }
+    let t0 = rsf::Stepping::state(&sim).time;
+    let progress = Progress::time_in(t0, t_end, TimeUnit::year(SECONDS_PER_YEAR), "BP1");
+    let (wall, cpu) = (Instant::now(), cpu_seconds());
+    let summary = session.run(&mut sim, &mut [&mut output], Some(progress))?;
+    let facts = Facts {
+        nodes,
+        fault_nodes,
+        setup_s,
+        wall_s: wall.elapsed().as_secs_f64(),
+        cpu_s: cpu_seconds() - cpu,
+    };
+    let done = report(&args, &choices, &sim, &output, &summary, facts)?;
+    crate::seas_overview(&args.out, "devol.dat", "depth (km)", done)?;
+    Ok(())
+}
+
+/// The model's size and the set-up and this invocation's run times (s).
+#[derive(Clone, Copy)]
+struct Facts {
+    nodes: usize,
+    fault_nodes: usize,
+    setup_s: f64,
+    wall_s: f64,
+    cpu_s: f64,
+}
+
+/// The kernel of the fault ODE (the Runge–Kutta runs; `None` for the implicit scheme).
+fn kernel_report(sim: &Bp1Run) -> Option<&rsf::fault_ode::KernelReport> {
+    match sim {
+        rsf::Run::Implicit(_) => None,
+        rsf::Run::FaultOde(s) => Some(s.kernel_report()),
+        rsf::Run::Switching(s) => Some(s.quasi_dynamic().kernel_report()),
+    }
+}
+
+/// Writes `summary.json` and prints the run's line; returns the number of finished events.
+fn report(
+    args: &Args,
+    choices: &Choices,
+    sim: &Bp1Run,
+    output: &SeasOutput<rsf::friction::AsinhLaw>,
+    summary: &rsf::RunSummary,
+    facts: Facts,
+) -> Result<usize, AnyError> {
+    let events = output.events();
+    let done: Vec<_> = events.iter().filter(|e| e.t_end.is_finite()).collect();
+    let intervals: Vec<f64> = done
+        .windows(2)
+        .map(|w| (w[1].t_start - w[0].t_start) / SECONDS_PER_YEAR)
+        .collect();
+    let later: Vec<f64> = intervals.iter().skip(3).copied().collect();
+    let mean_recurrence = if later.is_empty() {
+        f64::NAN
+    } else {
+        later.iter().sum::<f64>() / later.len() as f64
+    };
+    let (tau_min, tau_max, _) = output.time_steps();
+    let json = serde_json::json!({
+        "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
+        "dz_m": args.dz,
+        "absorbing": format!("{:?}", choices.absorbing),
+        "dynamic_integrator": format!("{:?}", args.dynamic_integrator),
+        "event_start_years": events.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
+        "domain_km": args.domain_km,
+        "ratio": args.ratio,
+        "tolerance": args.tolerance,
+        "setup_per_time_step": args.setup_per_time_step,
+        "fixed_point_tolerance": args.fixed_point_tolerance,
+        "state_change_cap": args.state_change_cap,
+        "nodes": facts.nodes,
+        "fault_nodes": facts.fault_nodes,
+        "end_years": args.end_years,
+        // Steps of the whole run (across resumes); the counts and times below are this
+        // invocation's.
+        "accepted_steps": rsf::Stepping::state(sim).step,
+        "steps_this_invocation": summary.steps,
+        "rejected_attempts": summary.rejected_attempts,
+        "accepted_by_controller": match sim {
+            rsf::Run::Implicit(s) => s.state().controller.as_ref().map(|c| c.accepted()),
+            rsf::Run::FaultOde(_) | rsf::Run::Switching(_) => None,
+        },
+        "scheme": format!("{:?}", args.scheme),
+        "rk_tolerance": (args.scheme == Scheme::RungeKutta).then_some(args.rk_tolerance),
+        "rate_evaluations": match sim {
+            rsf::Run::Implicit(_) => None,
+            rsf::Run::FaultOde(s) => Some(s.evaluations()),
+            rsf::Run::Switching(s) => Some(s.quasi_dynamic().evaluations()),
+        },
+        "kernel": kernel_report(sim).map(|r| serde_json::json!({
+            "kernel": r.kernel.to_string(),
+            "dim": r.dim,
+            "relative_error_frobenius": r.relative_error,
+            "stored_entries": r.stored_entries,
+            "compression_ratio": r.compression_ratio(),
+            "dense_blocks": r.dense_blocks,
+            "low_rank_blocks": r.low_rank_blocks,
+            "max_rank": r.max_rank,
+            "setup_s": r.setup_seconds,
+        })),
+        "threads": args.threads,
+        // On MPI ranks: the processes and what they exchanged (counted by the code).
+        "ranks": match sim {
+            rsf::Run::FaultOde(s) => s.exchanges(),
+            _ => None,
+        }.map(|e| serde_json::json!({
+            "ranks": e.ranks,
+            "all_gathers": e.all_gathers,
+            "values_per_all_gather": e.values as f64 / e.all_gathers.max(1) as f64,
+            "bytes_received_per_rank": 8 * e.values,
+        })),
+        "switching": switching_json(sim, choices),
+        "tau_min_s": tau_min,
+        "tau_max_s": tau_max,
+        "fixed_point_iterations_mean": summary.fpi_mean,
+        "setup_s": facts.setup_s,
+        "wall_time_s": facts.wall_s,
+        "cpu_time_s": facts.cpu_s,
+        "machine": machine(),
+        "events": events.len(),
+        "first_event_years": events.first().map(|e| e.t_start / SECONDS_PER_YEAR),
+        "recurrence_intervals_years": intervals,
+        "mean_recurrence_from_4th_interval_years": mean_recurrence,
+        "peak_slip_rate_mps": done.iter().map(|e| e.peak_slip_rate).fold(0.0, f64::max),
+        "hypocentre_depths_m": done.iter().map(|e| e.hypocentre_depth).collect::<Vec<_>>(),
+        "surface_slip_m": done.iter().map(|e| e.surface_slip).collect::<Vec<_>>(),
+        "durations_s": done.iter().map(|e| e.t_end - e.t_start).collect::<Vec<_>>(),
+    });
+    let path = args.out.join("summary.json");
+    rsf::checkpoint::write_atomically(&path, serde_json::to_string_pretty(&json)?.as_bytes())?;
+    eprintln!(
+        "{} steps ({} rejected), {} events, mean recurrence (4th interval on) {mean_recurrence:.1} yr, \
+         wall {:.1} s, cpu {:.1} s",
+        summary.steps,
+        summary.rejected_attempts,
+        events.len(),
+        facts.wall_s,
+        facts.cpu_s
+    );
+    Ok(done.len())
+}
+
+/// The dynamic phases of a switching run (`None` for the other methods).
+fn switching_json(sim: &Bp1Run, choices: &Choices) -> Option<serde_json::Value> {
+    let rsf::Run::Switching(s) = sim else {
+        return None;
+    };
+    let st = s.stats();
+    Some(serde_json::json!({
+        "dynamic_phases": st.dynamic_phases,
+        "dynamic_steps": st.dynamic_steps,
+        "quasi_dynamic_steps": st.quasi_dynamic_steps,
+        "dynamic_time_s": st.dynamic_time,
+        "dynamic_tau_s": s.dynamic().tau(),
+        "switch_to_dynamic_mps": choices.switch_to_dynamic,
+        "switch_to_quasi_dynamic_mps": choices.switch_to_quasi_dynamic,
+    }))
+}

@@ -1,0 +1,428 @@
+//! The flags of `seas_bp5` and its plan (judged from the flags alone, before any work).
+
+use std::path::PathBuf;
+
+use crate::estimates::{operator_bytes, seas_output_bytes};
+use crate::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Program};
+use clap::Parser;
+use rsf_scenes::{FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh};
+use rsf_seas::{SeasBp5Output, SEAS_BP5_RESUME_LOG};
+
+/// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
+#[derive(Parser)]
+#[command(version)]
+pub struct Args {
+    /// Output folder.
+    #[arg(long, default_value = "out/seas_bp5")]
+    pub(super) out: PathBuf,
+    /// The elastic operator: `okada` (a fault alone in a half-space, boundary elements)
+    /// or `fe` (the finite-element volume model condensed onto the fault).
+    #[arg(long, value_enum, default_value_t = Kernel::Okada)]
+    pub(super) kernel: Kernel,
+    /// Cell size on the fault (m); must divide 100 km and 40 km (`fe`: 50 km and 40 km).
+    #[arg(long, default_value_t = 2000.0)]
+    pub(super) dx: f64,
+    /// `fe`: distance from the fault to the box's far faces, and its depth (km) [default:
+    /// 400].
+    #[arg(long)]
+    pub(super) domain_km: Option<f64>,
+    /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
+    #[arg(long)]
+    pub(super) ratio: Option<f64>,
+    /// `fe`: the volume's mesh, `graded` (an octree of Kuhn cubes refined towards the fault's
+    /// rate-and-state region and the stations, growing in every direction) or `tensor`
+    /// (a tensor grid graded axis by axis) [default: graded].
+    #[arg(long, value_enum)]
+    pub(super) mesh: Option<MeshArg>,
+    /// `fe`: a compliant fault zone of this total width (km) around the rate-and-state
+    /// region (`|x₁| ≤ width/2`; a whole number of `2 dx`), not part of the benchmark
+    /// (docs/seas-bp5.md, "A compliant fault zone"); needs `--fault-zone-rigidity`.
+    #[arg(long)]
+    pub(super) fault_zone_width_km: Option<f64>,
+    /// `fe`: the fault zone's shear modulus over the host's, in (0, 1].
+    #[arg(long)]
+    pub(super) fault_zone_rigidity: Option<f64>,
+    /// `fe`: how the volume is condensed onto the fault: `schur-only` (the Schur complement
+    /// alone, no factor kept; its elimination checkpointed in `--out`) or `factor` (the
+    /// volume's whole factor held through the run) [default: schur-only].
+    #[arg(long, value_enum)]
+    pub(super) condensation: Option<Condensation>,
+    /// `fe`: print each set-up stage's own peak memory (the process's peak is reset before
+    /// every stage, so `/usr/bin/time -v` then reports the last stage's) instead of the
+    /// peak so far.
+    #[arg(long)]
+    pub(super) stage_peaks: bool,
+    /// `fe`: fill-reducing ordering of the volume's factor, `amd` or `nested-dissection`
+    /// (METIS: build with `--features metis`). Part of the fingerprint: the operator
+    /// changes by round-off [default: amd].
+    #[arg(long)]
+    pub(super) ordering: Option<rsf::fault_ode::InteriorOrdering>,
+    /// End time (years).
+    #[arg(long, default_value_t = 1800.0)]
+    pub(super) end_years: f64,
+    /// Tolerance of the fault ODE (local error per step: tolerance · L in slip,
+    /// tolerance in ln θ).
+    #[arg(long, default_value_t = 1e-6)]
+    pub(super) tolerance: f64,
+    /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km).
+    #[arg(long, default_value_t = 1e-6)]
+    pub(super) epsilon: f64,
+    /// Threads of each evaluation (the same bits for every value). Default: every core
+    /// of the machine.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
+    pub(super) threads: usize,
+    #[command(flatten)]
+    pub(super) header: crate::SeasHeaderArgs,
+    #[command(flatten)]
+    pub(super) run: crate::ResumeArgs,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    pub(super) overwrite: bool,
+    #[command(flatten)]
+    pub(super) limits: Limits,
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut outputs = SeasBp5Output::file_names();
+    outputs.extend(
+        [
+            "events.csv",
+            SETUP_FILE,
+            "summary.json",
+            "overview.png",
+            "checkpoint.bin",
+            SEAS_BP5_RESUME_LOG,
+        ]
+        .map(String::from),
+    );
+    outputs
+}
+
+impl Args {
+    /// Refuses a setting of the finite-element kernel without `--kernel fe` (the Okada
+    /// kernel has no volume: it would be ignored).
+    pub(super) fn refuse_volume_flags_without_volume(&self) -> Result<(), AnyError> {
+        if self.kernel == Kernel::Okada {
+            for (flag, given) in [
+                ("--domain-km", self.domain_km.is_some()),
+                ("--ratio", self.ratio.is_some()),
+                ("--ordering", self.ordering.is_some()),
+                ("--mesh", self.mesh.is_some()),
+                ("--condensation", self.condensation.is_some()),
+                ("--stage-peaks", self.stage_peaks),
+                ("--fault-zone-width-km", self.fault_zone_width_km.is_some()),
+                ("--fault-zone-rigidity", self.fault_zone_rigidity.is_some()),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the finite-element kernel: it needs --kernel fe \
+                         (the Okada kernel has no volume), without it it would be ignored"
+                    )
+                    .into());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
+    pub(super) fn box_size(&self) -> (f64, f64) {
+        (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+    }
+
+    /// `--ordering`, or its default.
+    pub(super) fn ordering(&self) -> rsf::fault_ode::InteriorOrdering {
+        self.ordering.unwrap_or_default()
+    }
+
+    /// The scene: BP5, with the fault zone of `--fault-zone-width-km` and
+    /// `--fault-zone-rigidity` if given (both or neither).
+    ///
+    /// # Errors
+    /// One of the two flags without the other; the zone's values (the scene's checks).
+    pub(super) fn scene(&self) -> Result<SeasBp5, AnyError> {
+        let fault_zone = match (self.fault_zone_width_km, self.fault_zone_rigidity) {
+            (None, None) => None,
+            (Some(width), Some(rigidity_ratio)) => Some(FaultZone {
+                half_width: 0.5 * width * 1e3,
+                rigidity_ratio,
+            }),
+            _ => {
+                return Err(
+                    "--fault-zone-width-km and --fault-zone-rigidity go together: the \
+                            zone's width and its shear modulus over the host's"
+                        .into(),
+                )
+            }
+        };
+        let bp5 = SeasBp5 {
+            fault_zone,
+            ..SeasBp5::default()
+        };
+        flag(
+            "--fault-zone-width-km, --fault-zone-rigidity",
+            bp5.validate(),
+        )?;
+        Ok(bp5)
+    }
+
+    /// `--condensation` or its default.
+    pub(super) fn condensation(&self) -> Condensation {
+        self.condensation.unwrap_or(Condensation::SchurOnly)
+    }
+
+    /// The finite-element grid of the flags: the fault zone's slab meshed at `--dx`.
+    pub(super) fn grid(&self, bp5: &SeasBp5) -> SeasBp5Grid {
+        let (domain_km, ratio) = self.box_size();
+        SeasBp5Grid {
+            dx: self.dx,
+            domain: domain_km * 1e3,
+            ratio,
+            mesh: self.mesh.unwrap_or(MeshArg::Graded).mesh(),
+            near_fault: bp5.fault_zone.map_or(0.0, |z| z.half_width),
+        }
+    }
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp5";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        let bp5 = self.scene()?;
+        let cells = flag("--dx", bp5.cells(self.dx))?.len() as f64;
+        flag("--tolerance", bp5.fault_ode_options(self.tolerance))?;
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (f64::MIN_POSITIVE, 1e-2),
+            "a relative accuracy",
+        )?;
+        flag("--epsilon", bp5.half_space(self.epsilon))?;
+        self.header.check()?;
+        let m = 2.0 * cells;
+        let (domain_km, ratio) = self.box_size();
+        self.refuse_volume_flags_without_volume()?;
+        if self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection
+            && !rsf_metis::is_available()
+        {
+            return Err(crate::guard::refuse(
+                "--ordering",
+                "nested-dissection",
+                "needs METIS, which this build lacks: build with `--features metis`",
+            ));
+        }
+        let memory = match self.kernel {
+            // The fault alone: the operator (dense up to 4 096 unknowns, an ℋ-matrix
+            // beyond), the table of distinct source–receiver pairs it is built from (48
+            // bytes each, if tabulated) and the body stations' columns.
+            Kernel::Okada => {
+                let (ns, nd) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
+                let pairs = (2.0 * ns - 1.0) * nd * nd;
+                let table = if pairs <= rsf::halfspace::TABLE_MAX_PAIRS as f64 {
+                    48.0 * pairs
+                } else {
+                    0.0
+                };
+                // The ℋ-matrix of the half-space and its set-up: three times the generic
+                // budget of `operator_bytes` (measured: 163 MB peak at m = 8 000, Δx = 1 km;
+                // docs/reliability.md, "Memory estimates").
+                let operator = if m > 4096.0 {
+                    3.0 * operator_bytes(m, true)
+                } else {
+                    operator_bytes(m, false)
+                };
+                operator + table + 9.0 * 3.0 * 8.0 * m
+            }
+            Kernel::Fe => {
+                in_range(
+                    "--domain-km",
+                    domain_km,
+                    (75.0, 1e4),
+                    "km: 1.5 l_f/2 and more",
+                )?;
+                in_range("--ratio", ratio, (1.0, 2.0), "the growth of the spacing")?;
+                let (h, far) = (self.dx, domain_km * 1e3);
+                match self.mesh.unwrap_or(MeshArg::Graded) {
+                    MeshArg::Tensor | MeshArg::TensorMirrored => {
+                        // The tensor grid in closed form, its model and factor
+                        // (crate::estimates::fe_3d_memory: the constants fitted to measured
+                        // peaks, issue 74), and the condensed operator.
+                        let vertices =
+                            crate::estimates::fe_3d_box_vertices(h, bp5.l_f, bp5.w_f, ratio, far);
+                        crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
+                    }
+                    MeshArg::Graded => {
+                        // The set-up's peak as measured on the graded mesh (docs/seas-bp5.md,
+                        // "The volume at the description's resolution"): the Schur-only
+                        // elimination's grows like vertices^1.6, the whole factor's like
+                        // vertices^1.9.
+                        let nested = self.ordering
+                            == Some(rsf::fault_ode::InteriorOrdering::NestedDissection);
+                        let condensation = self.condensation();
+                        let peak = |vertices: f64| {
+                            let peak = match condensation {
+                                Condensation::SchurOnly if nested => {
+                                    SCHUR_ONLY_ND_PEAK_AT_500_M
+                                        * (vertices / GRADED_VERTICES_AT_500_M).powf(1.5)
+                                }
+                                Condensation::SchurOnly => {
+                                    SCHUR_ONLY_PEAK_AT_1_KM
+                                        * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
+                                }
+                                Condensation::Factor => {
+                                    GRADED_PEAK_AT_4_KM
+                                        * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
+                                }
+                            };
+                            peak + operator_bytes(m, m > 4096.0)
+                        };
+                        // Below 1 km the mesh itself takes seconds (8 s at 500 m): a run
+                        // whose estimate from the fewest vertices its mesh can have is
+                        // already above the limit is refused on that bound, unmeshed.
+                        let limit = self.limits.max_memory_gb * 1e9;
+                        match graded_vertices_at_least(self.dx, domain_km, ratio) {
+                            Some(fewest) if peak(fewest) > limit => peak(fewest),
+                            _ => {
+                                // The graded mesh itself (about a second at 1 km).
+                                let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
+                                    .mesh()
+                                    .num_vertices()
+                                    as f64;
+                                peak(vertices)
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        // Ten fault stations, nine body stations and global.dat; the four profiles (slip
+        // and stress along dip and along strike: a row holds a column or a row of the
+        // grid); rupture.dat (one row per cell, once).
+        let (along_strike, along_dip) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
+        let output = seas_output_bytes(self.end_years, 20.0, 13, 2.0 * (along_strike + along_dip))
+            + cells * rsf::run_folder::SERIES_ROW_BYTES;
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --kernel, --domain-km, --ratio",
+                format!("BP5 on dx = {:e} m: {cells} cells", self.dx),
+            )
+            .output(
+                output,
+                "--end-years, --dx",
+                format!("{} years of the benchmark's files", self.end_years),
+            )
+            .folder(
+                Folder::new("--out", &self.out, &names)
+                    .overwrite(self.overwrite)
+                    .resume_from(self.run.resume.as_deref())
+                    .allow_change(&self.run.allow_change),
+            ))
+    }
+}
+
+/// A lower bound of the graded mesh's vertices at `dx` (m) below 1 km, for a box of at
+/// least the default half-width (400 km) graded by at most the default ratio (1.3), the
+/// sizes of the counts measured (`None` otherwise: a smaller box or a faster grading has
+/// fewer vertices): the count at 1 km grown like `dx^-1.6`. Measured from 1 km to 500 m the
+/// count grows like `dx^-1.62` (86 710 to 266 764 vertices) and faster below, where the
+/// fine cells around the fault plane, a surface, take the larger share (`dx^-2` in the
+/// limit); a fault zone only adds vertices.
+fn graded_vertices_at_least(dx: f64, domain_km: f64, ratio: f64) -> Option<f64> {
+    (dx < 1000.0 && domain_km >= 400.0 && ratio <= 1.3)
+        .then(|| GRADED_VERTICES_AT_1_KM * (1000.0 / dx).powf(1.6))
+}
+
+/// The set-up's peak (bytes) of `--kernel fe` on the graded mesh at 4 km and its vertices
+/// (measured: docs/three-d.md, "BP5 on the graded mesh"), the anchor of its estimate.
+const GRADED_PEAK_AT_4_KM: f64 = 287e6;
+/// See [`GRADED_PEAK_AT_4_KM`].
+const GRADED_VERTICES_AT_4_KM: f64 = 7701.0;
+
+/// The whole run's peak (bytes) of `--kernel fe` with the Schur-only elimination on the
+/// graded mesh (octree) at 1 km, 86 710 vertices: measured 7.3 GB (the elimination's
+/// stage, AMD EPYC; docs/seas-bp5.md), with a margin of 1.25 — the anchor of its estimate,
+/// which at 2 km (33 142 vertices) gives 1.96 GB against the measured 1.55 GB.
+const SCHUR_ONLY_PEAK_AT_1_KM: f64 = 1.25 * 7.30e9;
+/// See [`SCHUR_ONLY_PEAK_AT_1_KM`].
+const GRADED_VERTICES_AT_1_KM: f64 = 86_710.0;
+
+/// As [`SCHUR_ONLY_PEAK_AT_1_KM`] with `--ordering nested-dissection`: measured 11.49 GB at
+/// 500 m, 266 764 vertices (AMD EPYC), with a margin of 1.25; the exponent 1.5 keeps the
+/// estimate (2.7 GB at 1 km, 0.6 GB at 2 km) above the elimination's plan plus the model
+/// there (about 2.0 and 0.4 GB; docs/three-d.md, "On BP5's graded box").
+const SCHUR_ONLY_ND_PEAK_AT_500_M: f64 = 1.25 * 11.49e9;
+/// See [`SCHUR_ONLY_ND_PEAK_AT_500_M`].
+const GRADED_VERTICES_AT_500_M: f64 = 266_764.0;
+
+/// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
+/// kept: a `--resume` of the run reads it instead of eliminating again).
+pub(super) const SETUP_FILE: &str = "setup.bin";
+
+/// How the finite-element kernel condenses the volume onto the fault.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub(super) enum Condensation {
+    /// The Schur complement alone, by an elimination that keeps no factor column
+    /// (checkpointed in `--out`).
+    SchurOnly,
+    /// The volume's whole sparse Cholesky factor, kept for the run.
+    Factor,
+}
+
+/// The finite-element kernel's mesh (`SeasBp5Mesh`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub(super) enum MeshArg {
+    /// An octree of Kuhn cubes refined towards the fault and the stations, graded in every direction.
+    Graded,
+    /// A tensor grid graded axis by axis.
+    Tensor,
+    /// The tensor grid with alternate boxes mirrored (the graded mesh's pattern of diagonals).
+    TensorMirrored,
+}
+
+impl MeshArg {
+    fn mesh(self) -> SeasBp5Mesh {
+        match self {
+            MeshArg::Graded => SeasBp5Mesh::Graded,
+            MeshArg::Tensor => SeasBp5Mesh::Tensor,
+            MeshArg::TensorMirrored => SeasBp5Mesh::TensorMirrored,
+        }
+    }
+}
+
+/// The elastic operator of the run.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub(super) enum Kernel {
+    /// Okada's half-space, a fault alone, back slip.
+    Okada,
+    /// The finite-element volume model.
+    Fe,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bound that refuses a run unmeshed stays below the vertices measured at 500 m
+    /// (the one size below 1 km with a measured count), so no run the mesh would admit is
+    /// refused on it there.
+    #[test]
+    fn the_unmeshed_bound_is_below_the_measured_count() {
+        let at_500_m = graded_vertices_at_least(500.0, 400.0, 1.3).unwrap();
+        assert!(at_500_m <= GRADED_VERTICES_AT_500_M, "{at_500_m}");
+        assert!(at_500_m > 0.95 * GRADED_VERTICES_AT_500_M, "{at_500_m}");
+        assert_eq!(graded_vertices_at_least(1000.0, 400.0, 1.3), None);
+        // Boxes with fewer vertices than the measured ones have no bound.
+        assert_eq!(graded_vertices_at_least(500.0, 100.0, 1.3), None);
+        assert_eq!(graded_vertices_at_least(500.0, 400.0, 2.0), None);
+    }
+}

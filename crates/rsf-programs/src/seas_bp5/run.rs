@@ -1,0 +1,427 @@
+//! The run of `seas_bp5`: the operator and files of either kernel, the session, the
+//! summary.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::time::Instant;
+
+use crate::guard::{AnyError, Prepared, Processes};
+use crate::memory::StageMemory;
+use crate::session::Session;
+use crate::{cpu_seconds, machine};
+use rsf::checkpoint::Fingerprint;
+use rsf::direct::{CheckpointPolicy, Progress};
+use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
+use rsf::observe::{Observer, TimeUnit};
+use rsf::run_folder::RunFolder;
+use rsf::Stepping;
+use rsf_scenes::{SeasBp5, SeasBp5Grid};
+use rsf_seas::{
+    utc_date_today, SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR,
+};
+use std::ops::ControlFlow;
+
+use super::args::{Args, Condensation, Kernel, SETUP_FILE};
+
+/// Removes `path` if it is there.
+fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(format!("{}: {e}", path.display()).into())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A line on standard error at every tenth of the elimination's work (flops), with the
+/// fronts done and the wall time.
+fn elimination_progress() -> SetupProgress {
+    let mut next = 0.1;
+    Box::new(move |p: &Progress| {
+        let done = if p.flops > 0.0 {
+            p.flops_done / p.flops
+        } else {
+            1.0
+        };
+        if done >= next {
+            eprintln!(
+                "set-up: {:.0} % of the elimination ({} of {} fronts, {:.0} s)",
+                100.0 * done,
+                p.fronts_done,
+                p.fronts,
+                p.seconds
+            );
+            while next <= done {
+                next += 0.1;
+            }
+        }
+        ControlFlow::Continue(())
+    })
+}
+
+/// The operator and the files of a run, set up for one kernel.
+struct SetUp<'a> {
+    args: &'a Args,
+    bp5: &'a SeasBp5,
+    /// Whether this process writes the files (rank 0, or the one process).
+    root: bool,
+    options: rsf::fault_ode::FaultOdeOptions,
+    half_space: &'a rsf::halfspace_operator::HalfSpaceOptions,
+    setup: SeasSetup,
+}
+
+/// The fault ODE and, on the process that writes them, its files.
+type OdeAndFiles = (rsf_scenes::SeasBp5FaultOde, Option<SeasBp5Output>);
+
+impl SetUp<'_> {
+    /// A fault alone with Okada's half-space operator (on ranks, each its rows).
+    fn okada(
+        self,
+        cells: usize,
+        processes: Option<&dyn Processes>,
+    ) -> Result<OdeAndFiles, AnyError> {
+        let Self {
+            args,
+            bp5,
+            root,
+            options,
+            half_space,
+            setup,
+        } = self;
+        let model = bp5.model(args.dx)?;
+        if root {
+            println!(
+                "BP5-QD, Okada, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
+                args.dx,
+                2 * cells,
+                machine()
+            );
+        }
+        // On ranks, each builds and holds its rows of the operator.
+        let (ode, columns) = bp5.fault_ode_on_ranks(
+            model,
+            options,
+            half_space,
+            &SeasBp5::body_station_points(),
+            processes.map(|p| p.group()),
+        )?;
+        let output = if root {
+            Some(bp5.output(&args.out, args.dx, columns, setup)?)
+        } else {
+            None
+        };
+        Ok((ode, output))
+    }
+
+    /// The finite-element volume condensed onto the fault (the build's stages with their
+    /// memory, docs/three-d.md, "The build's memory").
+    fn fe(
+        self,
+        grid: &SeasBp5Grid,
+        ratio: f64,
+        folder: &RunFolder,
+    ) -> Result<OdeAndFiles, AnyError> {
+        let Self {
+            args,
+            bp5,
+            root,
+            mut options,
+            setup,
+            ..
+        } = self;
+        // The build's stages, each with its peak memory (docs/three-d.md, "The build's
+        // memory").
+        let stages = Rc::new(RefCell::new(StageMemory::start(args.stage_peaks)));
+        let builder = bp5
+            .fe_model_builder(grid)
+            .map_err(|e| format!("--kernel fe: {e}"))?;
+        stages.borrow_mut().end("mesh");
+        let mesh = builder.mesh();
+        let mesh_line = format!(
+            "{:?} mesh: {} vertices, {} tetrahedra, smallest dihedral angle {:.2}°, box ±{} km",
+            grid.mesh,
+            mesh.num_vertices(),
+            mesh.num_cells(),
+            mesh.min_dihedral_angle().to_degrees(),
+            mesh.vertices().iter().map(|x| x[0]).fold(0.0, f64::max) / 1e3
+        );
+        let watch = Rc::clone(&stages);
+        let model = builder
+            .on_stage(move |stage| watch.borrow_mut().end(stage.name()))
+            .build()
+            .map_err(|e| format!("--kernel fe: {e}"))?;
+        let m = 2 * model.frictional_boundary.len();
+        if root {
+            println!(
+                "BP5-QD, finite elements, Δx = {} m, ratio {ratio}, {} vertices (the fault's \
+                 split), {m} slip unknowns; on {}",
+                args.dx,
+                model.vertices.len(),
+                machine()
+            );
+            println!("{mesh_line}");
+        }
+        if m > 4096 {
+            options.kernel = FaultKernel::hierarchical(args.epsilon);
+        }
+        options.ordering = args.ordering();
+        let output = if root {
+            Some(bp5.volume_output(&args.out, &model, args.dx, setup)?)
+        } else {
+            None
+        };
+        let mut ode = match args.condensation() {
+            Condensation::Factor => bp5.fe_fault_ode(model, options)?,
+            Condensation::SchurOnly => {
+                // The stations' vertices on every rank (the elimination keeps them).
+                let watch_vertices = bp5.station_vertices(&model)?;
+                let path = folder.path(SETUP_FILE);
+                if args.run.resume.is_none() {
+                    // Another run's elimination is not this one's to continue.
+                    remove_if_present(&path)?;
+                }
+                let checkpoint = CheckpointPolicy {
+                    // One process writes it; the others eliminate alike.
+                    every_seconds: root.then_some(600.0),
+                    ..CheckpointPolicy::new(path)
+                };
+                let setup = SchurOnlySetup {
+                    watch_vertices,
+                    checkpoint: root.then_some(checkpoint),
+                    max_bytes: Some(
+                        (args.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize
+                    ),
+                    progress: root.then(|| elimination_progress()),
+                };
+                bp5.fe_fault_ode_schur_only(model, options, setup)?
+            }
+        };
+        stages.borrow_mut().end("condensation and operator");
+        if root {
+            println!("the set-up's stages (memory of this process):");
+            print!("{}", stages.borrow().table());
+        }
+        if let Some(output) = &output {
+            ode.watch_vertices(&output.volume_vertices())?;
+            match args.condensation() {
+                Condensation::Factor => {
+                    println!("volume factor: {} entries", ode.factor_nnz())
+                }
+                Condensation::SchurOnly => {
+                    println!("volume: Schur complement only (no factor kept)")
+                }
+            }
+        }
+        Ok((ode, output))
+    }
+}
+
+/// What a checkpoint continues: the scene, the grid and what changes the trajectory.
+fn fingerprint(args: &Args, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
+    let (domain_km, ratio) = args.box_size();
+    let mut fingerprint = Fingerprint::of_serialized(&bp5)
+        .with("kernel", format!("{:?}", args.kernel))
+        .with("dx", args.dx)
+        .with("domain_km", domain_km)
+        .with("ratio", ratio)
+        .with("ordering", args.ordering())
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("epsilon", args.epsilon);
+    if args.kernel == Kernel::Fe {
+        // The volume's mesh (a field since the graded mesh; an older finite-element
+        // checkpoint, of the tensor grid, is then refused by its missing field).
+        fingerprint = fingerprint
+            .with("mesh", format!("{:?}", grid.mesh))
+            .with("condensation", format!("{:?}", args.condensation()));
+    }
+    fingerprint
+}
+
+/// The header facts of BP5's files.
+fn seas_setup(args: &Args, bp5: &SeasBp5) -> SeasSetup {
+    SeasSetup {
+        problem: "SEAS Benchmark BP5-QD".into(),
+        modeler: args.header.modeler.clone(),
+        date: args.header.date.clone().unwrap_or_else(utc_date_today),
+        element_size: args.dx,
+        stations: Vec::new(),
+        depth_axis: 2,
+        depth_down: false,
+        sigma_n: bp5.sigma_n,
+        profile_spacing: args.dx,
+        sampling: SeasSampling::default(),
+        layout: SeasLayout::default(),
+        surface_stations: Vec::new(),
+    }
+}
+
+pub(super) fn run(
+    args: Args,
+    _prepared: Prepared,
+    processes: Option<&dyn Processes>,
+) -> Result<(), AnyError> {
+    // Rank 0 (or the one process) writes the files and tells.
+    let root = processes.is_none_or(|p| p.rank() == 0);
+    let bp5 = args.scene()?;
+    let (_, ratio) = args.box_size();
+    // Checked before any file is touched.
+    let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
+    let grid = args.grid(&bp5);
+    let mut options = bp5
+        .fault_ode_options(args.tolerance)
+        .map_err(|e| format!("--tolerance: {e}"))?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    let half_space = bp5
+        .half_space(args.epsilon)
+        .map_err(|e| format!("--epsilon: {e}"))?;
+    // A folder of another run (unless --overwrite), one that cannot be written: refused
+    // by the guard before anything was computed.
+    let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
+    let fingerprint = fingerprint(&args, &bp5, &grid);
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let setup = seas_setup(&args, &bp5);
+    let set_up = SetUp {
+        args: &args,
+        bp5: &bp5,
+        root,
+        options,
+        half_space: &half_space,
+        setup,
+    };
+    let (mut ode, output) = match args.kernel {
+        Kernel::Okada => set_up.okada(cells, processes)?,
+        Kernel::Fe => set_up.fe(&grid, ratio, &folder)?,
+    };
+    if let Some(p) = processes {
+        ode.share_evaluations(p.group())?;
+    }
+    let setup_s = clock.elapsed().as_secs_f64();
+    // The checkpoint is checked and restored (on every rank) before any file is touched.
+    let session = Session::start(
+        args.run.session_flags(),
+        folder.path("checkpoint.bin"),
+        fingerprint,
+        args.end_years * SECONDS_PER_YEAR,
+        &mut ode,
+    )?;
+    let Some(mut output) = output else {
+        // The other ranks: the same steps as rank 0, no files (no observer here ends a
+        // run).
+        session.follow(&mut ode, &mut [])?;
+        return Ok(());
+    };
+    println!("S: {}", ode.kernel_report());
+    if let Some(p) = processes {
+        println!("{} MPI ranks share every evaluation", p.size());
+    }
+    println!(
+        "set-up: wall {setup_s:.1} s, CPU {:.1} s",
+        cpu_seconds() - cpu0
+    );
+    if session.keeps_resume_log() {
+        output = output.with_resume_log(args.run.checkpoint_every);
+    }
+    match session.resumed_step() {
+        Some(step) => output.resume(step)?,
+        None => output.write_initial_state(
+            ode.model(),
+            ode.state(),
+            rsf::Stepping::fault_tractions(&ode),
+        ),
+    }
+    let progress = rsf::observe::Progress::time_in(
+        ode.state().time,
+        args.end_years * SECONDS_PER_YEAR,
+        TimeUnit::year(SECONDS_PER_YEAR),
+        "BP5",
+    );
+    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
+    let times = (setup_s, clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
+    report(&args, &ode, &output, &summary, cells, times)?;
+    Ok(())
+}
+
+/// Prints the ruptures and the run's line, writes `summary.json` and the overview figure.
+/// `times`: the set-up's wall time, this invocation's wall and CPU times (s).
+fn report(
+    args: &Args,
+    ode: &rsf_scenes::SeasBp5FaultOde,
+    output: &SeasBp5Output,
+    summary: &rsf::RunSummary,
+    cells: usize,
+    times: (f64, f64, f64),
+) -> Result<(), AnyError> {
+    let (setup_s, wall, cpu) = times;
+    let (domain_km, ratio) = args.box_size();
+    let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
+    // Events with a peak above 0.1 m/s: the ruptures (the catalogue also holds the
+    // shallow afterslip that crosses 1 mm/s after some).
+    let ruptures: Vec<_> = output
+        .events()
+        .iter()
+        .filter(|e| e.peak_slip_rate >= 0.1)
+        .collect();
+    let mut previous: Option<f64> = None;
+    let mut intervals = Vec::new();
+    for e in &ruptures {
+        let years = e.t_start / SECONDS_PER_YEAR;
+        let interval = previous.map_or(String::new(), |p| {
+            intervals.push(years - p);
+            format!(", {:.3} yr after the previous", years - p)
+        });
+        println!(
+            "rupture at {years:.4} yr ({:.1} s): peak slip rate {:.3e} m/s at x₂ = {:.1} km, \
+             x₃ = {:.1} km, {:.1} s above 1 mm/s{interval}",
+            e.t_start,
+            e.peak_slip_rate,
+            e.hypocentre[0] / 1e3,
+            e.hypocentre[1] / 1e3,
+            e.t_end.map_or(f64::NAN, |t| t - e.t_start),
+        );
+        previous = Some(years);
+    }
+    println!(
+        "{} steps ({} attempts rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
+         wrote {}",
+        summary.steps,
+        summary.rejected_attempts,
+        ode.evaluations(),
+        args.out.display()
+    );
+    let json = serde_json::json!({
+        "problem": "BP5-QD",
+        "kernel": format!("{:?}", args.kernel),
+        "domain_km": (args.kernel == Kernel::Fe).then_some(domain_km),
+        "ratio": (args.kernel == Kernel::Fe).then_some(ratio),
+        "dx_m": args.dx,
+        "cells": cells,
+        "end_years": args.end_years,
+        "tolerance": args.tolerance,
+        "epsilon": args.epsilon,
+        "operator": ode.kernel_report().to_string(),
+        "volume_factor_entries": ode.factor_nnz(),
+        "accepted_steps": ode.state().step,
+        "steps_this_invocation": summary.steps,
+        "rejected_attempts": summary.rejected_attempts,
+        "rate_evaluations": ode.evaluations(),
+        "threads": args.threads,
+        "setup_s": setup_s,
+        "wall_time_s": wall,
+        "cpu_time_s": cpu,
+        "machine": machine(),
+        "rupture_start_years": ruptures.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
+        "recurrence_intervals_years": intervals,
+        "peak_slip_rates_mps": ruptures.iter().map(|e| e.peak_slip_rate).collect::<Vec<_>>(),
+        "catalogue_events": output.events().len(),
+    });
+    rsf::checkpoint::write_atomically(
+        &folder.path("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    // Slip₂ along dip at x₂ = 0 and the maximum slip rate against time.
+    crate::seas_overview(&args.out, "slip_2_depth.dat", "depth (km)", ruptures.len())?;
+    println!("wrote {}", args.out.join("overview.png").display());
+    Ok(())
+}
