@@ -2,7 +2,8 @@
 //! the step cap that keeps an adaptive run's files within a size, the output plan of the
 //! main job (docs/reliability.md).
 
-use rsf::run_folder::{check_output_size, PROFILE_ROW_BYTES, SERIES_ROW_BYTES};
+pub use rsf::run_folder::OutputPlan;
+use rsf::run_folder::{output_plan, OutputEstimate, PROFILE_ROW_BYTES, SERIES_ROW_BYTES};
 use rsf::{Error, Result};
 
 use crate::{SliderScene, TimeStep};
@@ -39,20 +40,20 @@ pub fn step_cap(
             reason: format!("{max_gb} GB: must be positive and finite"),
         });
     }
-    let bound = steps_bound(scene, (0.0, scene.end_time_s));
-    match max_steps {
-        Some(0) => Err(Error::InvalidParameter {
+    if max_steps == Some(0) {
+        return Err(Error::InvalidParameter {
             name: "max_steps".into(),
             reason: "0 steps: must be at least 1".into(),
-        }),
-        Some(m) => check_output_size(bound.min(m as f64) * bytes_per_step, max_gb, "max_steps")
-            .map(|()| Some(m)),
-        None if bound * bytes_per_step <= max_gb * 1e9 => Ok(None),
-        None if matches!(scene.time_step, TimeStep::Adaptive(_)) => Ok(Some(
-            ((max_gb * 1e9 / bytes_per_step).floor() as u64).max(1),
-        )),
-        None => check_output_size(bound * bytes_per_step, max_gb, "steps").map(|()| None),
+        });
     }
+    let bound = steps_bound(scene, (0.0, scene.end_time_s));
+    let estimate = OutputEstimate {
+        bytes: max_steps.map_or(bound, |m| bound.min(m as f64)) * bytes_per_step,
+        fixed_bytes: 0.0,
+        bytes_per_step,
+        adaptive: matches!(scene.time_step, TimeStep::Adaptive(_)),
+    };
+    Ok(output_plan(estimate, max_steps, max_gb)?.step_cap)
 }
 
 /// The limits a user puts on a run's output: at most `max_steps` steps in total (if
@@ -63,15 +64,6 @@ pub struct OutputLimits {
     pub max_steps: Option<u64>,
     /// Refuse a run whose output is estimated above this many gigabytes.
     pub max_gb: f64,
-}
-
-/// The output plan of a slider run: the bound on its output and the step cap to enforce.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OutputPlan {
-    /// Upper bound on the bytes the run writes (time series, profile window, map).
-    pub bytes: f64,
-    /// Stop after this many steps in total (a step cap: [`rsf::run_folder::until`]), if any.
-    pub step_cap: Option<u64>,
 }
 
 /// Plans the output of a slider run with `nodes` frictional nodes, the profile `window`,
@@ -96,29 +88,13 @@ pub fn plan_output(
     let cap = |rows: f64| max_steps.map_or(rows, |m| rows.min(m as f64));
     let nodes = nodes as f64;
     let map_rows = (map_samples + 1) as f64 * nodes;
-    let bytes = cap(steps_bound(scene, (0.0, scene.end_time_s))) * SERIES_ROW_BYTES
-        + (cap(steps_bound(scene, window)) * nodes + map_rows) * PROFILE_ROW_BYTES;
-    let budget = max_gb * 1e9;
-    let adaptive = matches!(scene.time_step, TimeStep::Adaptive(_));
-    if bytes > budget && adaptive && max_steps.is_none() {
-        // Every step in the window (the worst case): the largest count that fits.
-        let per_step = SERIES_ROW_BYTES + nodes * PROFILE_ROW_BYTES;
-        let fit = ((budget - map_rows * PROFILE_ROW_BYTES) / per_step).floor();
-        if fit >= 1.0 {
-            return Ok(OutputPlan {
-                bytes: fit * per_step + map_rows * PROFILE_ROW_BYTES,
-                step_cap: Some(fit as u64),
-            });
-        }
-    }
-    let name = if max_steps.is_some() {
-        "max_steps"
-    } else {
-        "steps"
+    let estimate = OutputEstimate {
+        bytes: cap(steps_bound(scene, (0.0, scene.end_time_s))) * SERIES_ROW_BYTES
+            + (cap(steps_bound(scene, window)) * nodes + map_rows) * PROFILE_ROW_BYTES,
+        fixed_bytes: map_rows * PROFILE_ROW_BYTES,
+        // Every step in the window (the worst case).
+        bytes_per_step: SERIES_ROW_BYTES + nodes * PROFILE_ROW_BYTES,
+        adaptive: matches!(scene.time_step, TimeStep::Adaptive(_)),
     };
-    check_output_size(bytes, max_gb, name)?;
-    Ok(OutputPlan {
-        bytes,
-        step_cap: max_steps,
-    })
+    output_plan(estimate, max_steps, max_gb)
 }

@@ -13,7 +13,8 @@
 //!   [`PointSeries::check_checkpoint_row`](crate::observe::PointSeries::check_checkpoint_row),
 //!   [`FrictionalProfile::check_resume`](crate::observe::FrictionalProfile::check_resume),
 //!   and `rsf_seas::SeasOutput::check_resume` of the SEAS files) before any file is cut.
-//! - Output bounds and step caps: [`check_output_size`]; a step cap is where a run ends
+//! - Output bounds and step caps: the one policy [`output_plan`] (refuse, or cap an adaptive
+//!   run at what fits) over [`check_output_size`]; a step cap is where a run ends
 //!   ([`until`]: [`Until::TimeOrStepCap`], whose stop a
 //!   [`Checkpointer`](crate::observe::Checkpointer) checkpoints), [`step_cap_error`] says
 //!   how to continue (the bounds of the slider scenes' runs are in `rsf_scenes::output`);
@@ -328,6 +329,78 @@ pub fn check_output_size(estimate_bytes: f64, max_gb: f64, name: &str) -> Result
             ),
         })
     }
+}
+
+/// What a run writes, estimated before it starts: the input of the one output policy,
+/// [`output_plan`]. Bytes; any of them may be `+∞` (an adaptive run's honest bound,
+/// `T / tau_min` steps, is often far above any disk).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputEstimate {
+    /// The bytes the run writes if it runs to its end (within `max_steps`, if given).
+    pub bytes: f64,
+    /// The bytes written whatever the number of steps (headers, samples at fixed times).
+    pub fixed_bytes: f64,
+    /// The most bytes one accepted step writes (the worst case: the cap is computed from
+    /// it).
+    pub bytes_per_step: f64,
+    /// Whether the steps are adaptive: a run that does not fit is then capped instead of
+    /// refused (a fixed-step run's count is its own, given by the user).
+    pub adaptive: bool,
+}
+
+/// The output plan of a run: the bound on what it writes and the step cap to enforce
+/// ([`until`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputPlan {
+    /// Upper bound on the bytes the run writes.
+    pub bytes: f64,
+    /// Stop after this many steps in total (across resumes), if any.
+    pub step_cap: Option<u64>,
+}
+
+/// The one output policy of every program (docs/reliability.md, "What every program promises"): with
+/// `max_steps` (`--max-steps`) the run is bounded by it and refused if even that does not
+/// fit in `max_gb` gigabytes (`--max-output-gb`); without it, a run whose bound fits runs
+/// to its end, an adaptive run that does not fit gets the step cap whose output fits (it
+/// stops there with a checkpoint, resumable with a larger `--max-steps`), and a fixed-step
+/// run that does not fit is refused.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `max_output_gb` unless `max_gb` is a positive number;
+/// named `max_steps` (given) or `steps` (not given) with the estimate and how to override
+/// it ([`check_output_size`]).
+pub fn output_plan(
+    estimate: OutputEstimate,
+    max_steps: Option<u64>,
+    max_gb: f64,
+) -> Result<OutputPlan> {
+    check_gigabytes("max_output_gb", max_gb)?;
+    let budget = max_gb * 1e9;
+    let OutputEstimate {
+        bytes,
+        fixed_bytes,
+        bytes_per_step,
+        adaptive,
+    } = estimate;
+    if !(bytes <= budget) && adaptive && max_steps.is_none() && bytes_per_step > 0.0 {
+        let fit = ((budget - fixed_bytes) / bytes_per_step).floor();
+        if fit >= 1.0 {
+            return Ok(OutputPlan {
+                bytes: fixed_bytes + fit * bytes_per_step,
+                step_cap: Some(fit.min(u64::MAX as f64) as u64),
+            });
+        }
+    }
+    let name = if max_steps.is_some() {
+        "max_steps"
+    } else {
+        "steps"
+    };
+    check_output_size(bytes, max_gb, name)?;
+    Ok(OutputPlan {
+        bytes,
+        step_cap: max_steps,
+    })
 }
 
 /// Checks a size limit in gigabytes named `name`: positive, not NaN (+∞: no limit).

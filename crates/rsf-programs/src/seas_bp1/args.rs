@@ -6,6 +6,7 @@ use crate::cli::for_flag;
 use crate::estimates::seas_output_bytes;
 use crate::guard::{flag, in_range, number, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
+use rsf::run_folder::{output_plan, OutputEstimate, OutputPlan};
 use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 
 #[derive(Parser, Debug)]
@@ -133,14 +134,41 @@ impl Args {
         }
     }
 
+    /// The output plan of `--every-step` (a station row at every step of an adaptive run
+    /// whose step count is unknown before it runs): the one output policy,
+    /// [`output_plan`] — `--max-steps` if it fits, else the steps whose rows fit in
+    /// `--max-output-gb`. `None` without `--every-step` (the benchmark's thinned rows,
+    /// bounded by `--end-years`).
+    ///
+    /// # Errors
+    /// A `--max-steps` whose rows do not fit in `--max-output-gb`.
+    pub(super) fn every_step_plan(&self) -> Result<Option<OutputPlan>, AnyError> {
+        if !self.every_step {
+            return Ok(None);
+        }
+        let estimate = OutputEstimate {
+            bytes: self
+                .run
+                .max_steps
+                .map_or(f64::INFINITY, |m| m as f64 * EVERY_STEP_BYTES),
+            fixed_bytes: 0.0,
+            bytes_per_step: EVERY_STEP_BYTES,
+            adaptive: true,
+        };
+        Ok(Some(output_plan(
+            estimate,
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )?))
+    }
+
     /// The step cap of the run: `--max-steps`, or with `--every-step` the steps whose
-    /// station rows fit in `--max-output-gb`.
+    /// station rows fit in `--max-output-gb` ([`every_step_plan`](Self::every_step_plan)).
     pub(super) fn step_cap(&self) -> Option<u64> {
-        self.run.max_steps.or_else(|| {
-            (self.every_step && self.limits.max_output_gb.is_finite()).then(|| {
-                ((self.limits.max_output_gb * 1e9 / EVERY_STEP_BYTES).floor() as u64).max(1)
-            })
-        })
+        match self.every_step_plan() {
+            Ok(Some(plan)) => plan.step_cap,
+            _ => self.run.max_steps,
+        }
     }
 }
 
@@ -248,9 +276,9 @@ impl Program for Args {
             in_range("--event-quiet-time", q, (0.0, 1e9), "s")?;
         }
         let stations = SEAS_BP1_STATION_DEPTHS.len() as f64;
-        let output = match (self.every_step, self.step_cap()) {
-            (true, Some(cap)) => cap as f64 * EVERY_STEP_BYTES,
-            _ => seas_output_bytes(self.end_years, stations, 7, size.fault_nodes),
+        let output = match self.every_step_plan()? {
+            Some(plan) => plan.bytes,
+            None => seas_output_bytes(self.end_years, stations, 7, size.fault_nodes),
         };
         let mut outputs: Vec<String> = SEAS_BP1_STATION_DEPTHS
             .iter()

@@ -291,6 +291,51 @@ fn per_step_records_are_bounded_before_the_run() {
     }
 }
 
+/// The one output policy: an adaptive run that does not fit is capped at the largest step
+/// count whose worst case fits (and one more step would not), a fixed-step run or a given
+/// `max_steps` that does not fit is refused by name, a budget below one step is refused, and
+/// an unbounded limit (`inf`) never caps.
+#[test]
+fn the_output_policy_caps_adaptive_runs_and_refuses_the_rest() {
+    use rsf::run_folder::{output_plan, OutputEstimate};
+    let estimate = |bytes, adaptive| OutputEstimate {
+        bytes,
+        fixed_bytes: 1e6,
+        bytes_per_step: 300.0,
+        adaptive,
+    };
+    // 1 GB: (1e9 − 1e6) / 300 = 3 330 000 steps fit.
+    let plan = output_plan(estimate(f64::INFINITY, true), None, 1.0).unwrap();
+    let cap = plan.step_cap.unwrap();
+    assert_eq!(cap, ((1e9 - 1e6) / 300.0) as u64);
+    assert!(1e6 + cap as f64 * 300.0 <= 1e9);
+    assert!(1e6 + (cap + 1) as f64 * 300.0 > 1e9);
+    assert_eq!(plan.bytes, 1e6 + cap as f64 * 300.0);
+    // What fits runs to its end, uncapped (or with the given cap).
+    let fits = output_plan(estimate(5e8, true), None, 1.0).unwrap();
+    assert_eq!((fits.bytes, fits.step_cap), (5e8, None));
+    assert_eq!(
+        output_plan(estimate(5e8, true), Some(7), 1.0)
+            .unwrap()
+            .step_cap,
+        Some(7)
+    );
+    // Refused by name: fixed steps, a given cap that does not fit, a budget below one step.
+    let e = output_plan(estimate(2e9, false), None, 1.0).unwrap_err();
+    assert!(e.to_string().contains("`steps`"), "{e}");
+    let e = output_plan(estimate(2e9, true), Some(10_000_000), 1.0).unwrap_err();
+    assert!(e.to_string().contains("`max_steps`"), "{e}");
+    let e = output_plan(estimate(f64::INFINITY, true), None, 1e-3).unwrap_err();
+    assert!(e.to_string().contains("`steps`"), "{e}");
+    // No limit: no cap, even for an unbounded estimate.
+    let free = output_plan(estimate(f64::INFINITY, true), None, f64::INFINITY).unwrap();
+    assert_eq!(free.step_cap, None);
+    for gb in [0.0, -1.0, f64::NAN] {
+        let e = output_plan(estimate(1.0, true), None, gb).unwrap_err();
+        assert!(e.to_string().contains("max_output_gb"), "{e}");
+    }
+}
+
 /// A folder written by another program is refused — by its manifest, even where no file
 /// name is shared — and left byte-identical; `--overwrite` replaces it.
 #[test]
