@@ -43,9 +43,9 @@ use std::time::Instant;
 use mpi::collective::{CommunicatorCollectives, Root};
 use mpi::datatype::PartitionMut;
 use mpi::topology::Communicator;
-use rsf_programs::guard::{AnyError, Prepared, Processes};
 use rsf_fem::ElasticBox;
 use rsf_mpi::MpiExchange;
+use rsf_programs::guard::{AnyError, Prepared, Processes};
 use rsf_tnnmg::distributed::{
     node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, LocalRows, RankGroup,
 };
