@@ -193,6 +193,19 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
     }
     rsf::checkpoint::write_atomically(&out.join("table.csv"), table.as_bytes())?;
 
+    figures(&out, &runs, t_end, scene.level)?;
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// The two figures of the runs `(N, backward Euler, Newmark)`: the slip rate at x0 over
+/// the last quarter and the displacement over the last tenth of `[0, t_end]`, a panel per N.
+fn figures(
+    out: &std::path::Path,
+    runs: &[(usize, SliderRun, Option<SliderRun>)],
+    t_end: f64,
+    level: usize,
+) -> Result<(), AnyError> {
     let labels: Vec<String> = runs
         .iter()
         .map(|(n, _, _)| format!("τ = T/{:.0e}", *n as f64))
@@ -269,7 +282,7 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
             &Labels {
                 title: &format!(
                     "Fig. 6.4 (ours): {what} at x0, Dieterich, j = {}, backward Euler vs Newmark",
-                    scene.level
+                    level
                 ),
                 x: "t (s)",
                 y: y_label,
@@ -283,7 +296,6 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
             },
         )?;
     }
-    println!("wrote {}", out.display());
     Ok(())
 }
 

@@ -206,29 +206,12 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
     }
     let (times, xs, values) = &run.map;
 
-    // The event: onset (first row with a node above the threshold), nucleation point,
-    // extent of the slipping region, peak slip rate and where/when it occurs.
-    let mut onset = None;
-    let (mut xmin_all, mut xmax_all) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut peak, mut peak_t, mut peak_x) = (0.0f64, f64::NAN, f64::NAN);
-    for (it, (t, row)) in times.iter().zip(values).enumerate() {
-        for (x, &v) in xs.iter().zip(row) {
-            if v > SLIPPING {
-                xmin_all = xmin_all.min(*x);
-                xmax_all = xmax_all.max(*x);
-                if onset.is_none() {
-                    let k = row
-                        .iter()
-                        .enumerate()
-                        .fold(0, |b, (k, &w)| if w > row[b] { k } else { b });
-                    onset = Some((it, k));
-                }
-            }
-            if v > peak {
-                (peak, peak_t, peak_x) = (v, *t, *x);
-            }
-        }
-    }
+    // The event: onset, extent of the slipping region, peak slip rate (when, where).
+    let EventFacts {
+        onset,
+        slipped: (xmin_all, xmax_all),
+        peak: (peak, peak_t, peak_x),
+    } = event_facts(times, xs, values);
     // The front: the space–time connected set of slipping cells grown from the onset.
     let front = onset.map(|(it, k)| connected(values, it, k));
     let x_lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
@@ -309,6 +292,45 @@ fn run(cli: Cli, folder: Prepared) -> Result<(), AnyError> {
     )?;
     println!("wrote {}", out.display());
     Ok(())
+}
+
+/// What the slip-rate map `values` (rows at `times`, nodes at `xs`) says of the event.
+struct EventFacts {
+    /// The first (row, node) above [`SLIPPING`]: the node of the largest rate in that row.
+    onset: Option<(usize, usize)>,
+    /// The x range of every node ever above [`SLIPPING`] (m).
+    slipped: (f64, f64),
+    /// The peak slip rate (m/s), its time (s) and its x (m).
+    peak: (f64, f64, f64),
+}
+
+fn event_facts(times: &[f64], xs: &[f64], values: &[Vec<f64>]) -> EventFacts {
+    let mut onset = None;
+    let (mut xmin_all, mut xmax_all) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut peak, mut peak_t, mut peak_x) = (0.0f64, f64::NAN, f64::NAN);
+    for (it, (t, row)) in times.iter().zip(values).enumerate() {
+        for (x, &v) in xs.iter().zip(row) {
+            if v > SLIPPING {
+                xmin_all = xmin_all.min(*x);
+                xmax_all = xmax_all.max(*x);
+                if onset.is_none() {
+                    let k = row
+                        .iter()
+                        .enumerate()
+                        .fold(0, |b, (k, &w)| if w > row[b] { k } else { b });
+                    onset = Some((it, k));
+                }
+            }
+            if v > peak {
+                (peak, peak_t, peak_x) = (v, *t, *x);
+            }
+        }
+    }
+    EventFacts {
+        onset,
+        slipped: (xmin_all, xmax_all),
+        peak: (peak, peak_t, peak_x),
+    }
 }
 
 /// The cells (row, node) above [`SLIPPING`] connected to `(it, k)` through row or node
