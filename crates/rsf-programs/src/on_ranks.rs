@@ -1,5 +1,5 @@
 //! The programs of the `rsf-mpi` crate (its binaries, `crates/rsf-mpi/src/bin/`) as the
-//! guard judges them, without MPI: their flags and [`prepare`](crate::guard::prepare) —
+//! guard judges them, without MPI: their flags and [`prepare`] —
 //! the plan, the limits, the folders — so that the careless-inputs test checks every one of
 //! them in the default build, where no MPI library is needed (issue 74). A binary added to
 //! the MPI crate must be listed here, or that test fails.

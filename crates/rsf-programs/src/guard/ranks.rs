@@ -9,7 +9,7 @@ use super::{parse, prepare, report_memory, AnyError, Prepared, Processes, Progra
 use crate::process::{error_lines, on_threads};
 use rsf::observe::FileMode;
 
-/// Compares every rank's `flags` ([`given_flags`]) before any work (issue 74): ranks
+/// Compares every rank's `flags` ([`given_flags`](super::given_flags)) before any work (issue 74): ranks
 /// started with different flags (an MPMD launch `mpirun -n 1 P --end-years 5 : -n 1 P
 /// --end-years 50`, a different `--dx`, another program) would compute different runs
 /// and wait for each other in a collective that never matches — a hang or a crash. Two
@@ -74,7 +74,7 @@ pub fn agree_on_flags(group: &mut dyn rsf::ranks::RankGroup, flags: &str) -> Res
     ))
 }
 
-/// [`main`] on the processes of a job (MPI ranks, `processes`): every rank parses the
+/// [`main`](super::main) on the processes of a job (MPI ranks, `processes`): every rank parses the
 /// flags, and the ranks compare them ([`agree_on_flags`]: ranks started with different
 /// flags end, every one, with one error naming the flag, before any work); every rank
 /// checks the flags and plans the run; rank 0 alone prepares the folders (creates, locks,
