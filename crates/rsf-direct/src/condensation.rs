@@ -7,9 +7,10 @@ use rsf_linalg::Parallelism;
 
 use super::ordering::InteriorOrdering;
 use super::partial_cholesky::PartialCholesky;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::BlockedMatrix;
+use rsf_nonsmooth::ProblemError;
 
 /// The condensation of `A` (`n × n`, symmetric, positive definite on its free dofs) onto
 /// the free components `F` of a set of blocks (nodes; `D` components each): with `R` the
@@ -64,9 +65,9 @@ impl<const D: usize> Condensation<D> {
     /// `n`) onto the free components of `blocks` (node indices, strictly increasing).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] / [`Error::DimensionMismatch`] for invalid shapes or
-    /// pattern; [`Error::InvalidOption`] for blocks out of range or not increasing;
-    /// [`Error::NotPositiveDefinite`] if `a` is not positive definite on the free dofs.
+    /// [`ProblemError::InvalidMatrix`] / [`ProblemError::DimensionMismatch`] for invalid shapes or
+    /// pattern; [`ProblemError::InvalidOption`] for blocks out of range or not increasing;
+    /// [`ProblemError::NotPositiveDefinite`] if `a` is not positive definite on the free dofs.
     pub fn new(
         a: SparseColMatRef<'_, usize, f64>,
         fixed: &[bool],
@@ -80,7 +81,7 @@ impl<const D: usize> Condensation<D> {
     /// memory). [`InteriorOrdering::Amd`] is [`new`](Self::new), bit for bit.
     ///
     /// # Errors
-    /// As [`new`](Self::new); [`Error::FeatureDisabled`] for
+    /// As [`new`](Self::new); [`Error::FeatureDisabled`](crate::Error::FeatureDisabled) for
     /// [`InteriorOrdering::NestedDissection`] in a build without the feature `metis`.
     pub fn with_ordering(
         a: SparseColMatRef<'_, usize, f64>,
@@ -207,7 +208,7 @@ impl<const D: usize> Condensation<D> {
     /// [`extend`](Self::extend) needs for the same `b` and `x_fixed`.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for lengths other than `n`, `n`, `m`.
+    /// [`ProblemError::DimensionMismatch`] for lengths other than `n`, `n`, `m`.
     pub fn condense(&mut self, b: &[f64], x: &[f64], g: &mut [f64]) -> Result<()> {
         let n = self.pos.len();
         check_len("right-hand side", n, b.len())?;
@@ -239,8 +240,8 @@ impl<const D: usize> Condensation<D> {
     /// into it (interface and fixed entries unchanged).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for a length other than `n`; [`Error::NonFinite`] if
-    /// the result is not finite.
+    /// [`ProblemError::DimensionMismatch`] for a length other than `n`; [`ProblemError::NonFinite`]
+    /// if the result is not finite.
     pub fn extend(&mut self, x: &mut [f64]) -> Result<()> {
         let n = self.pos.len();
         check_len("solution", n, x.len())?;
@@ -253,7 +254,7 @@ impl<const D: usize> Condensation<D> {
             x[i] = self.y[k];
         }
         if self.y[..nr].iter().any(|v| !v.is_finite()) {
-            return Err(Error::NonFinite("condensed solution's interior"));
+            return Err(ProblemError::NonFinite("condensed solution's interior").into());
         }
         Ok(())
     }
@@ -277,11 +278,12 @@ fn check_len(what: &'static str, expected: usize, got: usize) -> Result<()> {
     if expected == got {
         Ok(())
     } else {
-        Err(Error::DimensionMismatch {
+        Err(ProblemError::DimensionMismatch {
             what,
             expected,
             got,
-        })
+        }
+        .into())
     }
 }
 
@@ -289,17 +291,18 @@ fn check_len(what: &'static str, expected: usize, got: usize) -> Result<()> {
 /// blocks, block by block) of a condensation onto `blocks` of a problem with `n` dofs.
 ///
 /// # Errors
-/// [`Error::InvalidOption`] for blocks out of range or not strictly increasing.
+/// [`ProblemError::InvalidOption`] for blocks out of range or not strictly increasing.
 pub(super) fn split_dofs<const D: usize>(
     n: usize,
     fixed: &[bool],
     blocks: &[usize],
 ) -> Result<(Vec<usize>, Vec<usize>)> {
     if blocks.windows(2).any(|w| w[0] >= w[1]) || blocks.last().is_some_and(|&p| p >= n / D) {
-        return Err(Error::InvalidOption(format!(
+        return Err(ProblemError::InvalidOption(format!(
             "active blocks must be strictly increasing node indices below {}",
             n / D
-        )));
+        ))
+        .into());
     }
     let mut in_block = vec![false; n];
     for &p in blocks {

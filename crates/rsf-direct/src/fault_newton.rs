@@ -28,6 +28,7 @@ use super::dense::{
 };
 use super::norm_bounds::{euclidean, NormBounds, NORM_BOUNDS_MIN};
 use crate::error::{Error, Result};
+use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::{BlockNonlinearity, Linearization, SolveReport, Stopping};
 
 /// Dense condensed problem and the state of its iteration.
@@ -646,7 +647,7 @@ impl<const D: usize> DenseFault<D> {
             }
             self.x_old = x_old;
             if self.xb.iter().any(|x| !x.is_finite()) {
-                return Err(Error::NonFinite("condensed iterate"));
+                return Err(ProblemError::NonFinite("condensed iterate").into());
             }
             if certainly_not_met {
                 continue;

@@ -7,7 +7,8 @@ use faer::Mat;
 use rayon::prelude::*;
 
 use super::condensation::Condensation;
-use crate::error::{Error, Result};
+use crate::error::Result;
+use rsf_nonsmooth::ProblemError;
 
 /// Scratch of one thread: the block's extensions (row-major, `n × r`, elimination order)
 /// and the sweep's temporary.
@@ -34,8 +35,8 @@ impl<const D: usize> Condensation<D> {
     /// most 256 MiB of extensions per thread.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for a dof of `n` or more; [`Error::NonFinite`] if an
-    /// extension is not finite.
+    /// [`ProblemError::DimensionMismatch`] for a dof of `n` or more; [`ProblemError::NonFinite`] if
+    /// an extension is not finite.
     pub fn extension_functionals(&self, functionals: &[Vec<(usize, f64)>]) -> Result<Mat<f64>> {
         let block = (BLOCK_VALUES / self.factor.n.max(1)).clamp(1, MAX_BLOCK);
         let tasks = self.factor.interior_par().threads();
@@ -60,11 +61,12 @@ impl<const D: usize> Condensation<D> {
             let mut row = Vec::with_capacity(f.len());
             for &(dof, c) in f {
                 if dof >= dofs {
-                    return Err(Error::DimensionMismatch {
+                    return Err(ProblemError::DimensionMismatch {
                         what: "functional's dof",
                         expected: dofs,
                         got: dof,
-                    });
+                    }
+                    .into());
                 }
                 row.push((self.pos[dof], c));
             }
@@ -84,7 +86,7 @@ impl<const D: usize> Condensation<D> {
             }
             self.factor.backward_interior_rows(ext, r, tmp);
             if ext[..nr * r].iter().any(|v| !v.is_finite()) {
-                return Err(Error::NonFinite("condensed solution's interior"));
+                return Err(ProblemError::NonFinite("condensed solution's interior").into());
             }
             for (k, col) in cols.chunks_mut(nf).enumerate() {
                 for (o, row) in col.iter_mut().zip(&rows) {
@@ -173,7 +175,9 @@ mod tests {
         let bad = vec![vec![(a.nrows, 1.0)]];
         assert!(matches!(
             cond.extension_functionals(&bad),
-            Err(Error::DimensionMismatch { .. })
+            Err(crate::Error::Problem(
+                ProblemError::DimensionMismatch { .. }
+            ))
         ));
     }
 }

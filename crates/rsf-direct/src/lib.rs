@@ -51,6 +51,11 @@
 //! solver.solve(&b, &NoNonlinearity, &mut v).unwrap();
 //! assert!((v[2] - 2.0).abs() < 1e-12);
 //! ```
+//!
+//! Errors are [`Error`]: the failures of the input that every solver shares (dimensions, the
+//! matrix, non-finite values, options) are [`Error::Problem`], holding the workspace's one
+//! vocabulary [`ProblemError`](rsf_nonsmooth::ProblemError) (defined in `rsf-linalg`); the
+//! rest (non-convergence, limits, checkpoints, the factorisation) are this crate's own.
 #![warn(missing_docs)]
 
 mod condensation;

@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Result};
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 
 /// How the interior `R` of a [`Condensation`](crate::Condensation) is ordered for its
 /// sparse Cholesky factor (the interface `F` is always eliminated last, which makes the
@@ -52,9 +53,10 @@ impl std::str::FromStr for InteriorOrdering {
         match s.trim() {
             "amd" => Ok(Self::Amd),
             "nested-dissection" => Ok(Self::NestedDissection),
-            _ => Err(Error::InvalidOption(format!(
+            _ => Err(ProblemError::InvalidOption(format!(
                 "interior ordering `{s}`: expected amd or nested-dissection"
-            ))),
+            ))
+            .into()),
         }
     }
 }

@@ -16,6 +16,7 @@ use crate::fault_newton::DenseFault;
 use crate::harmonic::{harmonic_energy, harmonic_energy_by_blocks};
 use crate::options::DirectOptions;
 use crate::partial_cholesky::PartialCholesky;
+use rsf_nonsmooth::ProblemError;
 
 /// Block `k` of the node-major vector `v`.
 #[inline]
@@ -79,7 +80,7 @@ impl<const D: usize> DirectSolver<D> {
     ) -> Result<Self> {
         opts.stopping.validate()?;
         if !(opts.soft_ratio > 0.0) {
-            return Err(Error::InvalidOption("soft_ratio must be positive".into()));
+            return Err(ProblemError::InvalidOption("soft_ratio must be positive".into()).into());
         }
         let BlockedMatrix { a, fixed } = BlockedMatrix::<D>::new(Csc::from_faer(a)?, fixed)?;
         Ok(Self {
@@ -117,15 +118,16 @@ impl<const D: usize> DirectSolver<D> {
     /// semidefinite; the paper's `K + M`) instead of the norm of `A`.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
+    /// [`ProblemError::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
     pub fn with_energy_norm(mut self, e: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
         let e = Csc::from_faer(e)?;
         if e.nrows != self.a.nrows || e.ncols != self.a.ncols {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "energy-norm matrix",
                 expected: self.a.nrows,
                 got: e.nrows,
-            });
+            }
+            .into());
         }
         self.energy = Some(e);
         self.cache = None;
@@ -247,9 +249,10 @@ impl<const D: usize> StepSolver<D> for DirectSolver<D> {
         let cd = match self.cache.as_mut() {
             Some(cd) if self.in_step && cd.cond.blocks() == nl.active_blocks() => cd,
             _ => {
-                return Err(Error::InvalidOption(
+                return Err(ProblemError::InvalidOption(
                     "solve_step needs begin_step with the nonlinearity's active blocks".into(),
-                ))
+                )
+                .into())
             }
         };
         cd.fault.solve(nl, stopping)
@@ -285,18 +288,20 @@ impl<const D: usize> DirectSolver<D> {
     fn recover(&mut self, v: &mut [f64], in_place: bool) -> Result<()> {
         let n = self.a.nrows;
         if v.len() != n {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "iterate",
                 expected: n,
                 got: v.len(),
-            });
+            }
+            .into());
         }
         let cd = match self.cache.as_mut() {
             Some(cd) if self.in_step => cd,
             _ => {
-                return Err(Error::InvalidOption(
+                return Err(ProblemError::InvalidOption(
                     "finish_step or current_iterate without begin_step".into(),
-                ))
+                )
+                .into())
             }
         };
         let c = &mut cd.cond;
@@ -316,7 +321,7 @@ impl<const D: usize> DirectSolver<D> {
             v[i] = y[k];
         }
         if y.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite("direct solution"));
+            return Err(ProblemError::NonFinite("direct solution").into());
         }
         Ok(())
     }

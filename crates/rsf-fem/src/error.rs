@@ -320,11 +320,11 @@ impl From<rsf_linalg::Error> for Error {
     /// `rsf-linalg` (so that `Error::NotPositiveDefinite` still means a failed Cholesky).
     fn from(e: rsf_linalg::Error) -> Self {
         match e {
-            rsf_linalg::Error::DimensionMismatch {
+            rsf_linalg::Error::Problem(rsf_linalg::ProblemError::DimensionMismatch {
                 what,
                 expected,
                 got,
-            } => Error::DimensionMismatch {
+            }) => Error::DimensionMismatch {
                 what,
                 expected,
                 got,

@@ -11,7 +11,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use crate::error::{faer_err, Error, Result};
+use crate::error::{faer_err, Error, ProblemError, Result};
 
 /// The fill-reducing ordering of a [`Cholesky`] analysis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -145,18 +145,19 @@ impl Cholesky {
     /// sorted per column) with the given fill-reducing ordering.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for a non-square pattern; [`Error::Faer`] when faer's
+    /// [`ProblemError::DimensionMismatch`] for a non-square pattern; [`Error::Faer`] when faer's
     /// analysis fails (e.g. on allocation failure).
     pub fn analyze_with(
         pattern: SymbolicSparseColMatRef<'_, usize>,
         ordering: FillOrdering,
     ) -> Result<Self> {
         if pattern.nrows() != pattern.ncols() {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "Cholesky: square matrix",
                 expected: pattern.nrows(),
                 got: pattern.ncols(),
-            });
+            }
+            .into());
         }
         let symbolic = match ordering {
             FillOrdering::GroupedAmd => {
@@ -231,16 +232,17 @@ impl Cholesky {
     /// but the length, so this is the refactorisation of a hot loop.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `values.len()` differs from the pattern's number of
+    /// [`ProblemError::DimensionMismatch`] if `values.len()` differs from the pattern's number of
     /// entries; [`Error::NotPositiveDefinite`] if a pivot is not positive.
     pub fn factorize_values(&mut self, values: &[f64]) -> Result<()> {
         let nnz = self.pattern.row_idx().len();
         if values.len() != nnz {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "Cholesky values",
                 expected: nnz,
                 got: values.len(),
-            });
+            }
+            .into());
         }
         self.factorized = false;
         let a = SparseColMatRef::new(self.pattern.as_ref(), values);
@@ -252,16 +254,17 @@ impl Cholesky {
     /// Solves `A x = rhs` in place with the last successful factorisation.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `rhs.len() != dim()`;
+    /// [`ProblemError::DimensionMismatch`] if `rhs.len() != dim()`;
     /// [`Error::NotPositiveDefinite`] if there is no valid factorisation.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<()> {
         let n = self.dim();
         if rhs.len() != n {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "Cholesky right-hand side",
                 expected: n,
                 got: rhs.len(),
-            });
+            }
+            .into());
         }
         if !self.factorized {
             return Err(Error::NotPositiveDefinite {

@@ -5,7 +5,10 @@
 //! kernels (Gauss–Seidel, Galerkin products, the partial Cholesky's scatter) are simple,
 //! allocation-free loops over a fixed pattern.
 
-use crate::error::{Error, Result};
+use crate::error::ProblemError;
+
+/// The result of [`Csc`]'s checks: the shared vocabulary of the solvers' inputs.
+type Result<T> = std::result::Result<T, ProblemError>;
 use crate::parallelism::Parallelism;
 use crate::reduce::ordered_sum;
 use faer::sparse::SparseColMatRef;
@@ -30,7 +33,7 @@ impl Csc {
     /// Copies a faer matrix (any column storage; rows sorted and duplicates summed here).
     ///
     /// # Errors
-    /// [`Error::NonFinite`] for a non-finite entry.
+    /// [`ProblemError::NonFinite`] for a non-finite entry.
     pub fn from_faer(m: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
         let (nrows, ncols) = (m.nrows(), m.ncols());
         let mut col_ptr = Vec::with_capacity(ncols + 1);
@@ -47,7 +50,7 @@ impl Csc {
             entries.sort_by_key(|e| e.0);
             for &(i, v) in entries.iter() {
                 if !v.is_finite() {
-                    return Err(Error::NonFinite("matrix entries"));
+                    return Err(ProblemError::NonFinite("matrix entries"));
                 }
                 if row_idx.len() > col_ptr[j] && *row_idx.last().unwrap() == i {
                     *val.last_mut().unwrap() += v;
@@ -109,12 +112,12 @@ impl Csc {
     /// Positions of the diagonal entries.
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if one is missing.
+    /// [`ProblemError::InvalidMatrix`] if one is missing.
     pub fn diagonal_positions(&self) -> Result<Vec<usize>> {
         (0..self.ncols)
             .map(|j| {
                 self.position(j, j).ok_or_else(|| {
-                    Error::InvalidMatrix(format!("diagonal entry ({j}, {j}) missing"))
+                    ProblemError::InvalidMatrix(format!("diagonal entry ({j}, {j}) missing"))
                 })
             })
             .collect()
@@ -161,10 +164,10 @@ impl Csc {
     /// Checks that the matrix is square and structurally symmetric with a full diagonal.
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] naming the first entry that breaks it.
+    /// [`ProblemError::InvalidMatrix`] naming the first entry that breaks it.
     pub fn check_symmetric_pattern(&self) -> Result<()> {
         if self.nrows != self.ncols {
-            return Err(Error::InvalidMatrix(format!(
+            return Err(ProblemError::InvalidMatrix(format!(
                 "matrix is {}x{}, expected square",
                 self.nrows, self.ncols
             )));
@@ -176,13 +179,13 @@ impl Csc {
                     Some(p) => {
                         let w = self.val[p];
                         if (v - w).abs() > 1e-10 * (v.abs() + w.abs()) {
-                            return Err(Error::InvalidMatrix(format!(
+                            return Err(ProblemError::InvalidMatrix(format!(
                                 "not symmetric at ({i}, {j}): {v} vs {w}"
                             )));
                         }
                     }
                     None => {
-                        return Err(Error::InvalidMatrix(format!(
+                        return Err(ProblemError::InvalidMatrix(format!(
                             "pattern not symmetric at ({i}, {j})"
                         )))
                     }

@@ -1,19 +1,14 @@
 //! The errors of this crate.
 
-/// Errors of this crate.
+/// Errors of this crate: the shared failures of a solver's input ([`Error::Problem`]) and
+/// those of the factorisation, the conversions and the allocations.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A dimension or length does not match.
-    #[error("dimension mismatch in {what}: expected {expected}, got {got}")]
-    DimensionMismatch {
-        /// What was checked.
-        what: &'static str,
-        /// Expected size.
-        expected: usize,
-        /// Actual size.
-        got: usize,
-    },
+    /// A failure of a solver's input shared by every solver ([`ProblemError`]: a
+    /// dimension, the matrix, a non-finite number, an option).
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
     /// The sparsity pattern differs from the analysed one (or between two matrices that
     /// must share it).
     #[error("sparsity pattern differs from the one used for the symbolic analysis")]
@@ -36,13 +31,6 @@ pub enum Error {
         /// What is wrong.
         reason: &'static str,
     },
-    /// A matrix given to the solvers is not square, not symmetric (in pattern or values) or
-    /// misses a diagonal entry ([`Csc`](crate::Csc)'s checks).
-    #[error("invalid matrix: {0}")]
-    InvalidMatrix(String),
-    /// A non-finite number in a matrix given to the solvers.
-    #[error("non-finite value in {0}")]
-    NonFinite(&'static str),
     /// A sparse matrix is stored by rows (CSR) where columns (CSC) are expected.
     #[error("expected compressed sparse column (CSC) storage, got CSR")]
     RowStorage,
@@ -66,6 +54,42 @@ pub enum Error {
         /// How many bytes.
         bytes: usize,
     },
+}
+
+/// The failures of a solver's input that every solver of the workspace shares: the one
+/// vocabulary of the linear-algebra checks. [`Csc`](crate::Csc)'s checks return it, so do
+/// the checks of `rsf-nonsmooth` (the solvers' interface); the solvers' error types
+/// (`rsf_tnnmg::Error`, `rsf_direct::Error`) and this crate's [`Error`] hold it as one
+/// variant, `Problem`, with the same messages.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ProblemError {
+    /// Input arrays or matrices do not have matching lengths or shapes.
+    #[error("dimension mismatch in {what}: expected {expected}, got {got}")]
+    DimensionMismatch {
+        /// What was checked (the argument).
+        what: &'static str,
+        /// Expected size.
+        expected: usize,
+        /// Actual size.
+        got: usize,
+    },
+    /// A matrix given to the solvers is not square, not symmetric (in pattern or values) or
+    /// misses a diagonal entry ([`Csc`](crate::Csc)'s checks, the solvers' own).
+    #[error("invalid matrix: {0}")]
+    InvalidMatrix(String),
+    /// A non-finite number in the input (a matrix, a right-hand side, an initial iterate)
+    /// or in an iterate.
+    #[error("non-finite value in {0}")]
+    NonFinite(&'static str),
+    /// A (sub)matrix that must be positive definite is not (numerically): a solver's check
+    /// (a non-positive free diagonal, a failed block); the failed Cholesky factorisation of
+    /// this crate is [`Error::NotPositiveDefinite`].
+    #[error("matrix is not positive definite ({0})")]
+    NotPositiveDefinite(&'static str),
+    /// An invalid solver option (e.g. a stopping test), naming what is wrong.
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
 }
 
 /// `Result` with this crate's [`Error`].

@@ -18,6 +18,11 @@
 //! * [`ordered_sum`] and [`for_node_rows`] — work over rows on several threads with the
 //!   bits of one thread (the solvers' deterministic sums and row-by-row writes).
 //!
+//! * [`ProblemError`] — the one vocabulary of the failures of a solver's input (dimension
+//!   mismatch, invalid matrix, non-finite value, not positive definite, invalid option),
+//!   returned by [`Csc`]'s checks and held as the variant `Problem` by this crate's [`Error`]
+//!   and the solvers' errors (`rsf-nonsmooth` re-exports it).
+//!
 //! The factorisation and the products are sequential (`Par::Seq`); the parallel helpers
 //! keep the bits of one thread, so results are bit-for-bit reproducible.
 #![warn(missing_docs)]
@@ -33,7 +38,7 @@ mod sprs_conversion;
 
 pub use cholesky::{Cholesky, FillOrdering};
 pub use csc::Csc;
-pub use error::{try_filled, Error, Result};
+pub use error::{try_filled, Error, ProblemError, Result};
 pub use ops::{combine, quadratic_form, spmv_add, SparseMatrix};
 pub use parallelism::Parallelism;
 pub use reduce::{for_node_rows, ordered_sum, SUM_PARALLEL_MIN};

@@ -6,7 +6,7 @@ use std::ops::Deref;
 
 use sprs::{CsMat, CsMatBase};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, ProblemError, Result};
 use crate::ops::SparseMatrix;
 
 /// Checks a compressed sparse column structure: `col_ptr` of length `ncols + 1` starting
@@ -23,11 +23,12 @@ fn check_csc(nrows: usize, col_ptr: &[usize], row_idx: &[usize], values: &[f64])
     let nnz = col_ptr[ncols];
     for (what, len) in [("row indices", row_idx.len()), ("values", values.len())] {
         if len != nnz {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what,
                 expected: nnz,
                 got: len,
-            });
+            }
+            .into());
         }
     }
     for j in 0..ncols {
@@ -89,7 +90,7 @@ pub fn to_sprs(a: &SparseMatrix) -> Result<CsMat<f64>> {
 ///
 /// # Errors
 /// [`Error::RowStorage`] for a CSR matrix (convert it with `to_csc()` first);
-/// [`Error::InvalidStructure`] or [`Error::DimensionMismatch`] for an inconsistent
+/// [`Error::InvalidStructure`] or [`ProblemError::DimensionMismatch`] for an inconsistent
 /// structure (not expected from a valid `CsMat`).
 pub fn from_sprs<IptrStorage, IndStorage, DataStorage>(
     a: &CsMatBase<f64, usize, IptrStorage, IndStorage, DataStorage>,
@@ -107,11 +108,12 @@ where
     // values are already the view's own).
     let col_ptr: Vec<usize> = a.indptr().to_proper().to_vec();
     if col_ptr.len() != ncols + 1 {
-        return Err(Error::DimensionMismatch {
+        return Err(ProblemError::DimensionMismatch {
             what: "sprs column pointers",
             expected: ncols + 1,
             got: col_ptr.len(),
-        });
+        }
+        .into());
     }
     let (row_idx, values) = (a.indices().to_vec(), a.data().to_vec());
     check_csc(nrows, &col_ptr, &row_idx, &values)?;

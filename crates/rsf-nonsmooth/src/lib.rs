@@ -15,12 +15,14 @@
 //!   time step), with [`Stopping`] and [`SolveReport`]; [`FullStep`] turns any
 //!   `NonsmoothSolver` into a `StepSolver`;
 //! - the checks every solver makes: [`BlockedMatrix`] (the matrix and its fixed dofs) and
-//!   [`check_inputs`], with their [`Error`];
+//!   [`check_inputs`], with their error, [`ProblemError`] (the workspace's one
+//!   vocabulary for the failures of a solver's input, defined in `rsf-linalg`);
 //! - [`SolveWatch`]: progress reports and a wall-clock cap on a long solve.
 //!
 //! The solvers live in `rsf-tnnmg` (TNNMG, nonlinear Gauss–Seidel) and `rsf-direct` (exact
 //! condensation onto the nonsmooth blocks); each has its own error type
-//! ([`NonsmoothSolver::Error`], [`StepSolver::Error`]), which converts this crate's.
+//! ([`NonsmoothSolver::Error`], [`StepSolver::Error`]), which holds [`ProblemError`] as its
+//! variant `Problem` instead of repeating its variants.
 #![warn(missing_docs)]
 
 mod error;
@@ -30,7 +32,7 @@ mod solver;
 mod step;
 mod watch;
 
-pub use error::{Error, Result};
+pub use error::{ProblemError, Result};
 pub use matrix::BlockedMatrix;
 pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity, Scaled};
 pub use solver::{check_inputs, NonsmoothSolver, SolveReport, Stopping};

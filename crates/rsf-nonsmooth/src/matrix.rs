@@ -3,7 +3,7 @@
 
 use rsf_linalg::Csc;
 
-use crate::error::{Error, Result};
+use crate::error::{ProblemError, Result};
 
 /// A validated symmetric matrix with node-block structure and a fixed-dof mask, in scalar
 /// CSC storage (the direct solver's format; TNNMG blocks it after these checks).
@@ -25,12 +25,12 @@ impl<const D: usize> BlockedMatrix<D> {
         a.check_symmetric_pattern()?;
         let n = a.nrows;
         if n % D != 0 {
-            return Err(Error::InvalidMatrix(format!(
+            return Err(ProblemError::InvalidMatrix(format!(
                 "dimension {n} is not a multiple of the block size {D}"
             )));
         }
         if fixed.len() != n {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "fixed mask",
                 expected: n,
                 got: fixed.len(),
@@ -38,7 +38,7 @@ impl<const D: usize> BlockedMatrix<D> {
         }
         for (i, p) in a.diagonal_positions()?.into_iter().enumerate() {
             if !fixed[i] && a.val[p] <= 0.0 {
-                return Err(Error::NotPositiveDefinite(
+                return Err(ProblemError::NotPositiveDefinite(
                     "non-positive diagonal entry on a free dof",
                 ));
             }

@@ -1,6 +1,6 @@
 //! The stopping test, the report of a solve and the common solver trait.
 
-use crate::error::{Error, Result};
+use crate::error::{ProblemError, Result};
 use crate::nonlinearity::BlockNonlinearity;
 
 /// When an iterative solver stops.
@@ -31,20 +31,20 @@ impl Stopping {
     /// Checks the test: finite, non-negative tolerances, not both zero, a positive budget.
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] naming what is wrong.
+    /// [`ProblemError::InvalidOption`] naming what is wrong.
     pub fn validate(&self) -> Result<()> {
         let finite_non_negative = |x: f64| x.is_finite() && x >= 0.0;
         if !finite_non_negative(self.absolute)
             || !finite_non_negative(self.relative)
             || self.absolute + self.relative == 0.0
         {
-            return Err(Error::InvalidOption(format!(
+            return Err(ProblemError::InvalidOption(format!(
                 "tolerances must be finite, non-negative and not both zero (absolute {}, relative {})",
                 self.absolute, self.relative
             )));
         }
         if self.max_iterations == 0 {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "max_iterations must be positive".into(),
             ));
         }
@@ -75,8 +75,8 @@ pub struct SolveReport {
 /// A minimiser of `J(v) = ½ vᵀAv − bᵀv + Σ_k φ_k(v_{p_k})` for a matrix and a set of fixed
 /// dofs given at construction.
 pub trait NonsmoothSolver<const D: usize> {
-    /// The solver's error type; it converts the shared checks of this crate ([`Error`]).
-    type Error: std::error::Error + From<crate::Error>;
+    /// The solver's error type; it holds the shared checks of this crate ([`ProblemError`]).
+    type Error: std::error::Error + From<ProblemError>;
 
     /// Short name for reports ("tnnmg", "direct", "nonlinear-gauss-seidel").
     fn name(&self) -> &'static str;
@@ -91,7 +91,7 @@ pub trait NonsmoothSolver<const D: usize> {
     /// solve of a fixed point iteration).
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] (converted) for negative, non-finite or all-zero
+    /// [`ProblemError::InvalidOption`] (converted) for negative, non-finite or all-zero
     /// tolerances or a zero budget; the old test is kept then.
     fn set_stopping(&mut self, stopping: Stopping) -> std::result::Result<(), Self::Error>;
 
@@ -122,27 +122,27 @@ pub trait NonsmoothSolver<const D: usize> {
 /// and the iterate `v`, and that both are finite.
 ///
 /// # Errors
-/// [`Error::DimensionMismatch`], [`Error::NonFinite`].
+/// [`ProblemError::DimensionMismatch`], [`ProblemError::NonFinite`].
 pub fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
     if b.len() != n {
-        return Err(Error::DimensionMismatch {
+        return Err(ProblemError::DimensionMismatch {
             what: "right-hand side",
             expected: n,
             got: b.len(),
         });
     }
     if v.len() != n {
-        return Err(Error::DimensionMismatch {
+        return Err(ProblemError::DimensionMismatch {
             what: "iterate",
             expected: n,
             got: v.len(),
         });
     }
     if b.iter().any(|x| !x.is_finite()) {
-        return Err(Error::NonFinite("right-hand side"));
+        return Err(ProblemError::NonFinite("right-hand side"));
     }
     if v.iter().any(|x| !x.is_finite()) {
-        return Err(Error::NonFinite("initial iterate"));
+        return Err(ProblemError::NonFinite("initial iterate"));
     }
     Ok(())
 }

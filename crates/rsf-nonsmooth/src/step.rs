@@ -13,7 +13,7 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::error::Error;
+use crate::error::ProblemError;
 use crate::nonlinearity::BlockNonlinearity;
 use crate::solver::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
 use rsf_linalg::{Csc, Parallelism};
@@ -122,19 +122,16 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
     /// `None`: the Euclidean norm).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
+    /// [`ProblemError::DimensionMismatch`] if `E` is not `n × n`; non-finite entries.
     pub fn new(
         solver: S,
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
     ) -> Result<Self, S::Error> {
         let n = solver.dim();
-        let norm = energy_norm
-            .map(Csc::from_faer)
-            .transpose()
-            .map_err(Error::from)?;
+        let norm = energy_norm.map(Csc::from_faer).transpose()?;
         if let Some(e) = &norm {
             if e.nrows != n || e.ncols != n {
-                return Err(Error::DimensionMismatch {
+                return Err(ProblemError::DimensionMismatch {
                     what: "energy-norm matrix",
                     expected: n,
                     got: e.nrows,
@@ -230,7 +227,7 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
         stopping: Stopping,
     ) -> Result<SolveReport, S::Error> {
         if nl.active_blocks() != self.active.as_slice() {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "the nonlinearity's active blocks differ from those of begin_step".into(),
             )
             .into());
@@ -271,7 +268,7 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
 
     fn finish_step(&mut self, v: &mut [f64]) -> Result<(), S::Error> {
         if v.len() != self.v.len() {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "iterate",
                 expected: self.v.len(),
                 got: v.len(),

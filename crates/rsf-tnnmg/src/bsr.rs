@@ -14,10 +14,11 @@
 use std::sync::Arc;
 
 use crate::block::{load, mul_vec, store, sub_mul_t_vec, sub_mul_vec, Block};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_linalg::{for_node_rows, ordered_sum};
+use rsf_nonsmooth::ProblemError;
 
 /// Nodes below which [`BlockCsr::residual_rows`] stays on one thread.
 const RESIDUAL_PARALLEL_MIN: usize = 2048;
@@ -105,7 +106,7 @@ impl<const D: usize> BlockCsr<D> {
     /// (increasing, `p` excluded, symmetric pattern).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] with more than 2³² nodes.
+    /// [`ProblemError::InvalidMatrix`] with more than 2³² nodes.
     pub fn zeros(rows: impl Iterator<Item = Vec<usize>>) -> Result<Self> {
         let empty = || Triangle {
             ptr: vec![0],
@@ -119,7 +120,7 @@ impl<const D: usize> BlockCsr<D> {
                 debug_assert!(q != p);
                 let t = if q < p { &mut lower } else { &mut upper };
                 t.col.push(u32::try_from(q).map_err(|_| {
-                    Error::InvalidMatrix("more than 2^32 nodes are not supported".into())
+                    ProblemError::InvalidMatrix("more than 2^32 nodes are not supported".into())
                 })?);
             }
             lower.ptr.push(lower.col.len());
@@ -142,14 +143,15 @@ impl<const D: usize> BlockCsr<D> {
     /// (node-major).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if the matrix is not square or its dimension is not a
+    /// [`ProblemError::InvalidMatrix`] if the matrix is not square or its dimension is not a
     /// multiple of `D`.
     pub fn from_csc(a: &Csc) -> Result<Self> {
         if a.nrows != a.ncols || a.nrows % D != 0 {
-            return Err(Error::InvalidMatrix(format!(
+            return Err(ProblemError::InvalidMatrix(format!(
                 "matrix is {}x{}, expected square with a dimension divisible by the block size {D}",
                 a.nrows, a.ncols
-            )));
+            ))
+            .into());
         }
         let nodes = a.nrows / D;
         // Column j of A is read as row j (the entry (i, j) is stored as (j, i)): exact for

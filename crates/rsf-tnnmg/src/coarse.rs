@@ -8,6 +8,7 @@ use rsf_linalg::{Cholesky, Csc, FillOrdering};
 
 use crate::bsr::BlockCsr;
 use crate::error::{Error, Result};
+use rsf_nonsmooth::ProblemError;
 
 /// The coarsest-level solver: the pattern analysed once (AMD ordering), the values
 /// factorised after every change of the matrix or its mask.
@@ -49,7 +50,7 @@ impl CoarseSolver {
     /// rows and columns of the dofs of `mask` replaced by the identity.
     ///
     /// # Errors
-    /// [`Error::NotPositiveDefinite`] if the factorisation fails even after a relative
+    /// [`ProblemError::NotPositiveDefinite`] if the factorisation fails even after a relative
     /// diagonal shift of `1e-10`.
     pub fn factorize<const D: usize>(&mut self, a: &BlockCsr<D>, mask: &[bool]) -> Result<()> {
         let m = &mut self.csc;
@@ -82,9 +83,9 @@ impl CoarseSolver {
                         }
                     }
                 }
-                self.cholesky
-                    .factorize_values(&m.val)
-                    .map_err(|_| Error::NotPositiveDefinite("Cholesky factorisation"))
+                self.cholesky.factorize_values(&m.val).map_err(|_| {
+                    Error::Problem(ProblemError::NotPositiveDefinite("Cholesky factorisation"))
+                })
             }
         }
     }

@@ -15,6 +15,7 @@ use crate::bsr::BlockCsr;
 use crate::error::{Error, Result};
 use crate::Parallelism;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 
 /// Nodes of one colour below which a coloured sweep stays on one thread (a task costs a
 /// few microseconds; a node update a fraction of one).
@@ -83,9 +84,10 @@ impl std::str::FromStr for SmootherOrder {
             "lexicographic" => Ok(Self::Lexicographic),
             "multicolour" | "multicolor" => Ok(Self::MultiColour),
             "red-black-chunks" => Ok(Self::RedBlackChunks),
-            _ => Err(Error::InvalidOption(format!(
+            _ => Err(ProblemError::InvalidOption(format!(
                 "smoother order `{s}`: expected lexicographic, multicolour or red-black-chunks"
-            ))),
+            ))
+            .into()),
         }
     }
 }
@@ -110,7 +112,7 @@ impl Colouring {
     /// node-major: node `p` owns the dofs `D p .. D p + D`).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if `a` is not square, its dimension is not a multiple of
+    /// [`ProblemError::InvalidMatrix`] if `a` is not square, its dimension is not a multiple of
     /// `D`, or it has more than 2³² nodes; non-finite entries.
     pub fn new<const D: usize>(a: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
         let csc = Csc::from_faer(a)?;

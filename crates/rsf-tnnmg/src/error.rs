@@ -1,28 +1,17 @@
 //! Error type of the solvers.
 
+use rsf_nonsmooth::ProblemError;
+
 /// Errors returned by the solvers of this crate.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum Error {
-    /// Input arrays do not have matching lengths.
-    #[error("dimension mismatch in {what}: expected {expected}, got {got}")]
-    DimensionMismatch {
-        /// Which argument.
-        what: &'static str,
-        /// Expected length.
-        expected: usize,
-        /// Actual length.
-        got: usize,
-    },
-    /// The matrix is not square, not symmetric in pattern, or misses a diagonal entry.
-    #[error("invalid matrix: {0}")]
-    InvalidMatrix(String),
-    /// A non-finite number appeared in the input or in an iterate.
-    #[error("non-finite value in {0}")]
-    NonFinite(&'static str),
-    /// A (sub)matrix that must be positive definite is not (numerically).
-    #[error("matrix is not positive definite ({0})")]
-    NotPositiveDefinite(&'static str),
+    /// A failure of the input that every solver shares (the workspace's one vocabulary,
+    /// [`ProblemError`], defined in `rsf-linalg` and re-exported by `rsf-nonsmooth`): a
+    /// dimension mismatch, an invalid matrix, a non-finite number in the input or in an
+    /// iterate, a (sub)matrix that is not positive definite, an invalid option.
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
     /// The solver used its iteration budget without meeting the tolerance.
     #[error(
         "{solver} did not converge in {iterations} iterations \
@@ -60,9 +49,6 @@ pub enum Error {
         /// The limit (s).
         limit: f64,
     },
-    /// Invalid solver option.
-    #[error("invalid option: {0}")]
-    InvalidOption(String),
     /// The nodes' split into ranks does not fit the transport or the matrix (an owner that
     /// is not a rank, a colouring of another matrix).
     #[error("invalid partition: {0}")]
@@ -76,45 +62,12 @@ pub enum Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl From<rsf_linalg::Error> for Error {
-    /// The shared sparse matrix's checks ([`rsf_linalg::Csc`]) as this crate reported them
-    /// before it moved to `rsf-linalg`; anything else is a failure of the factorisation.
+    /// The shared checks ([`rsf_linalg::Error::Problem`]) as [`Error::Problem`]; anything
+    /// else is a failure of the factorisation.
     fn from(e: rsf_linalg::Error) -> Self {
         match e {
-            rsf_linalg::Error::InvalidMatrix(m) => Error::InvalidMatrix(m),
-            rsf_linalg::Error::NonFinite(what) => Error::NonFinite(what),
-            rsf_linalg::Error::DimensionMismatch {
-                what,
-                expected,
-                got,
-            } => Error::DimensionMismatch {
-                what,
-                expected,
-                got,
-            },
+            rsf_linalg::Error::Problem(p) => Error::Problem(p),
             other => Error::Factorisation(other.to_string()),
-        }
-    }
-}
-
-impl From<rsf_nonsmooth::Error> for Error {
-    /// The checks shared by the solvers (`rsf-nonsmooth`) as the same variants of this crate.
-    fn from(e: rsf_nonsmooth::Error) -> Self {
-        match e {
-            rsf_nonsmooth::Error::DimensionMismatch {
-                what,
-                expected,
-                got,
-            } => Error::DimensionMismatch {
-                what,
-                expected,
-                got,
-            },
-            rsf_nonsmooth::Error::InvalidMatrix(m) => Error::InvalidMatrix(m),
-            rsf_nonsmooth::Error::NonFinite(what) => Error::NonFinite(what),
-            rsf_nonsmooth::Error::NotPositiveDefinite(what) => Error::NotPositiveDefinite(what),
-            rsf_nonsmooth::Error::InvalidOption(m) => Error::InvalidOption(m),
-            rsf_nonsmooth::Error::Linalg(e) => e.into(),
-            other => Error::InvalidOption(other.to_string()),
         }
     }
 }

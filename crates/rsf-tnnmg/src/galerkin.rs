@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::Parallelism;
 use rsf_linalg::for_node_rows;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 
 /// Rows below which the Galerkin updates and the transfers stay on the calling thread.
 const GALERKIN_PARALLEL_MIN: usize = 512;
@@ -173,7 +174,8 @@ fn threads_for(rows: usize, par: Parallelism) -> usize {
 
 /// Node index as u32 (the block formats store node indices in 32 bits).
 fn node_u32(i: usize) -> Result<u32> {
-    u32::try_from(i).map_err(|_| Error::InvalidMatrix("more than 2^32 nodes".into()))
+    u32::try_from(i)
+        .map_err(|_| Error::Problem(ProblemError::InvalidMatrix("more than 2^32 nodes".into())))
 }
 
 /// The node blocks of a prolongation `p` (`D n_f × D n_c`, node-major on both sides;
@@ -257,7 +259,7 @@ impl<const D: usize> Galerkin<D> {
     /// operator (zero, with its pattern).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if the column count of `p` is not a multiple of `D` or the
+    /// [`ProblemError::InvalidMatrix`] if the column count of `p` is not a multiple of `D` or the
     /// row count is not `h`'s dimension.
     pub fn new(h: &BlockCsr<D>, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
         let (pattern, coarse) = Pattern::new(h, p)?;
@@ -411,12 +413,13 @@ impl<const D: usize> Pattern<D> {
     /// As [`Galerkin::new`].
     pub(crate) fn new(h: &impl crate::bsr::NodePattern, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
         if p.ncols % D != 0 || p.nrows != D * h.nodes() {
-            return Err(Error::InvalidMatrix(format!(
+            return Err(ProblemError::InvalidMatrix(format!(
                 "prolongation is {}x{}: expected {} rows and a column count divisible by {D}",
                 p.nrows,
                 p.ncols,
                 D * h.nodes()
-            )));
+            ))
+            .into());
         }
         let (nf, nc) = (h.nodes(), p.ncols / D);
         let (p_ptr, p_col, p_val) = prolongation_blocks::<D>(p)?;

@@ -6,6 +6,7 @@ use crate::error::{Error, Result};
 use crate::norm::EnergyNorm;
 use crate::problem::{ActiveBlocks, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
+use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, SolveWatch, Stopping};
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
@@ -89,7 +90,7 @@ impl<const D: usize> NodalIteration<D> for NonlinearGaussSeidel<D> {
                 .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, reverse);
         }
         if v.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite("Gauss–Seidel iterate"));
+            return Err(ProblemError::NonFinite("Gauss–Seidel iterate").into());
         }
         for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
             *o = x - *o;

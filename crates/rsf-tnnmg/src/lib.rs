@@ -43,7 +43,10 @@
 //! exact; each rank computes its own rows of the coarse operators).
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
-//! [`Error::NotConverged`] with the iteration count and the last correction.
+//! [`Error::NotConverged`] with the iteration count and the last correction. The failures of
+//! the input that every solver shares (dimensions, the matrix, non-finite values, options)
+//! are [`Error::Problem`], holding the workspace's one vocabulary
+//! [`ProblemError`](rsf_nonsmooth::ProblemError) (defined in `rsf-linalg`).
 //!
 //! ```
 //! use faer::sparse::{SparseColMat, Triplet};

@@ -6,10 +6,11 @@ use crate::block::{masked_inverse, mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedOrder, ChunkedSweep, Smoothing};
 use crate::coarse::{excluded, CoarseSolver};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 
 /// Shape of the multigrid cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -200,16 +201,18 @@ impl<const D: usize> LinearMultigrid<D> {
         let mut expected = fine.n();
         for (l, p) in prolongations.iter().enumerate().rev() {
             if p.nrows != expected {
-                return Err(Error::DimensionMismatch {
+                return Err(ProblemError::DimensionMismatch {
                     what: "prolongation rows",
                     expected,
                     got: p.nrows,
-                });
+                }
+                .into());
             }
             if p.ncols == 0 {
-                return Err(Error::InvalidMatrix(format!(
+                return Err(ProblemError::InvalidMatrix(format!(
                     "prolongation {l} has no columns"
-                )));
+                ))
+                .into());
             }
             expected = p.ncols;
         }

@@ -3,9 +3,10 @@
 use faer::sparse::SparseColMatRef;
 
 use crate::bsr::BlockCsr;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::Parallelism;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 
 /// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
 #[derive(Debug, Clone)]
@@ -18,11 +19,12 @@ impl<const D: usize> EnergyNorm<D> {
         let e = e.map(Csc::from_faer).transpose()?;
         if let Some(e) = &e {
             if e.nrows != n || e.ncols != n {
-                return Err(Error::DimensionMismatch {
+                return Err(ProblemError::DimensionMismatch {
                     what: "energy-norm matrix",
                     expected: n,
                     got: e.nrows,
-                });
+                }
+                .into());
             }
         }
         Ok(Self {

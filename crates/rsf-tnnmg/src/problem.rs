@@ -6,9 +6,10 @@ use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedSweep, Smoothing};
 use crate::colouring::Colouring;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::Parallelism;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::{BlockNonlinearity, BlockedMatrix};
 
 /// The chunked nonlinear smoother of TNNMG: the sweeper (its red–black chunked order), the
@@ -256,9 +257,10 @@ pub(crate) fn active_map<const D: usize, N: BlockNonlinearity<D>>(
     let mut last = None;
     for (k, &p) in nl.active_blocks().iter().enumerate() {
         if p >= nodes || last.is_some_and(|l| l >= p) {
-            return Err(Error::InvalidOption(format!(
+            return Err(ProblemError::InvalidOption(format!(
                 "active blocks must be strictly increasing node indices below {nodes} (got {p})"
-            )));
+            ))
+            .into());
         }
         last = Some(p);
         active_of[p] = k;

@@ -16,6 +16,7 @@ use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
 use crate::Parallelism;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::{
     BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, SolveWatch, Stopping,
 };
@@ -162,19 +163,21 @@ impl<const D: usize> Tnnmg<D> {
     ) -> Result<Self> {
         opts.stopping.validate()?;
         if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
-            return Err(Error::InvalidOption(
-                "linear_reduction must lie in (0, 1)".into(),
-            ));
+            return Err(
+                ProblemError::InvalidOption("linear_reduction must lie in (0, 1)".into()).into(),
+            );
         }
         if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "nonlinear_sweeps and v_cycles must be at least 1".into(),
-            ));
+            )
+            .into());
         }
         if !(1..=2).contains(&opts.cycle_index) {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "cycle_index must be 1 (V-cycle) or 2 (W-cycle)".into(),
-            ));
+            )
+            .into());
         }
         let m = NodalProblem::<D>::new(a, fixed)?;
         let prolongations = prolongations
@@ -381,7 +384,7 @@ impl<const D: usize> Tnnmg<D> {
             }
         }
         if v.iter().any(|x| !x.is_finite()) {
-            return Err(Error::NonFinite("TNNMG iterate"));
+            return Err(ProblemError::NonFinite("TNNMG iterate").into());
         }
         for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
             *o = x - *o;

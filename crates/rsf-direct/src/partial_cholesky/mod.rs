@@ -51,6 +51,7 @@ mod supernodes;
 pub(super) mod tests;
 
 use interior_order::{amd_order, bisect, faer_err};
+use rsf_nonsmooth::ProblemError;
 use supernodes::{SplitRows, Supernodes};
 
 /// `L` of `P A Pᵀ = L Lᵀ` for the ordering `[R₁, R₂, C, F]` (module docs).
@@ -141,7 +142,7 @@ impl PartialCholesky {
     /// `k` of `L`).
     ///
     /// # Errors
-    /// [`Error::NotPositiveDefinite`] if the submatrix is not numerically SPD;
+    /// [`ProblemError::NotPositiveDefinite`] if the submatrix is not numerically SPD;
     /// [`Error::Factorisation`] if faer or METIS fails (e.g. out of memory) or the factor
     /// has more than `u32::MAX` rows; [`Error::FeatureDisabled`] for nested dissection
     /// without the feature `metis`.
@@ -333,17 +334,18 @@ impl PartialCholesky {
     /// factorisation, only the numeric one is done again.
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if the pattern of `a` differs;
-    /// [`Error::NotPositiveDefinite`] as [`new`](Self::new).
+    /// [`ProblemError::InvalidMatrix`] if the pattern of `a` differs;
+    /// [`ProblemError::NotPositiveDefinite`] as [`new`](Self::new).
     pub(super) fn refactor(&self, a: &Csc) -> Result<Self> {
         let an = &self.analysis;
         if a.col_ptr != an.a_col_ptr
             || a.row_idx != an.a_row_idx
             || a.val.len() != an.a_row_idx.len()
         {
-            return Err(Error::InvalidMatrix(
+            return Err(ProblemError::InvalidMatrix(
                 "refactorisation of a matrix with another pattern".into(),
-            ));
+            )
+            .into());
         }
         Self::numeric(
             a,
@@ -381,7 +383,7 @@ impl PartialCholesky {
                 MemStack::new(&mut mem),
                 Default::default(),
             )
-            .map_err(|_| Error::NotPositiveDefinite("A on the free dofs"))?;
+            .map_err(|_| ProblemError::NotPositiveDefinite("A on the free dofs"))?;
         layout.val = l_values;
         let n = analysis.pattern.ncols();
         let ns = layout.len();

@@ -1,6 +1,7 @@
 //! Tests of the partial Cholesky factor (and the grid matrix other tests build on).
 
 use super::*;
+use rsf_nonsmooth::ProblemError;
 
 /// 5-point Laplacian plus identity on an `m × m` grid (node `i + m j`).
 pub(crate) fn grid(m: usize) -> Csc {
@@ -202,7 +203,10 @@ fn refactorisation_equals_a_fresh_factorisation_and_checks_the_pattern() {
     // Another pattern, or other interface dofs: no reuse.
     let c = grid(m + 1);
     assert!(!l.analysed_for(&c, &interior, &interface));
-    assert!(matches!(l.refactor(&c), Err(Error::InvalidMatrix(_))));
+    assert!(matches!(
+        l.refactor(&c),
+        Err(Error::Problem(ProblemError::InvalidMatrix(_)))
+    ));
     let other_interface: Vec<usize> = (1..=m).collect();
     assert!(!l.analysed_for(&b, &interior, &other_interface));
     let mut other_interior = interior.clone();
@@ -213,7 +217,10 @@ fn refactorisation_equals_a_fresh_factorisation_and_checks_the_pattern() {
     for v in d.val.iter_mut() {
         *v = -*v;
     }
-    assert!(matches!(l.refactor(&d), Err(Error::NotPositiveDefinite(_))));
+    assert!(matches!(
+        l.refactor(&d),
+        Err(Error::Problem(ProblemError::NotPositiveDefinite(_)))
+    ));
 }
 
 #[test]

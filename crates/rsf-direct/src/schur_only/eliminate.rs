@@ -11,6 +11,7 @@ use super::packed::{packed_len, try_zeros, PackedSymmetric};
 use super::resume::Log;
 use super::{KeptSchur, Progress, RightHandSide, SchurOnly, SchurOnlyOptions, SchurOnlyReport};
 use crate::error::{Error, Result};
+use rsf_nonsmooth::ProblemError;
 
 impl<const D: usize> SchurOnly<D> {
     /// [`eliminate_with`](Self::eliminate_with) without a monitor.
@@ -32,9 +33,9 @@ impl<const D: usize> SchurOnly<D> {
     /// more is written, and a later call resumes from the last checkpoint.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for a right-hand side of another length;
-    /// [`Error::NonFinite`] for a non-finite value read from one, or a non-finite result;
-    /// [`Error::InvalidOption`] for an invalid [`CheckpointPolicy`];
+    /// [`ProblemError::DimensionMismatch`] for a right-hand side of another length;
+    /// [`ProblemError::NonFinite`] for a non-finite value read from one, or a non-finite result;
+    /// [`ProblemError::InvalidOption`] for an invalid [`CheckpointPolicy`];
     /// [`Error::TooLarge`] if [`SchurOnlyPlan::total_bytes`] exceeds
     /// [`SchurOnlyOptions::max_bytes`] (before any allocation); [`Error::OutOfMemory`] if a
     /// large buffer cannot be allocated; [`Error::NonPositivePivot`] at the first dof whose
@@ -56,18 +57,19 @@ impl<const D: usize> SchurOnly<D> {
         for r in rhs {
             for (what, v) in [("right-hand side", r.b), ("fixed values", r.x_fixed)] {
                 if v.len() != n_all {
-                    return Err(Error::DimensionMismatch {
+                    return Err(ProblemError::DimensionMismatch {
                         what,
                         expected: n_all,
                         got: v.len(),
-                    });
+                    }
+                    .into());
                 }
             }
             if (0..n_all).any(|i| {
                 let v = if self.fixed[i] { r.x_fixed[i] } else { r.b[i] };
                 !v.is_finite()
             }) {
-                return Err(Error::NonFinite("right-hand side or fixed values"));
+                return Err(ProblemError::NonFinite("right-hand side or fixed values").into());
             }
         }
         if let Some(cp) = &options.checkpoint {
@@ -143,7 +145,7 @@ impl<const D: usize> SchurOnly<D> {
             .collect();
         drop(std::mem::take(&mut st.y));
         if !st.s.iter().all(|v| v.is_finite()) || !g.iter().flatten().all(|v| v.is_finite()) {
-            return Err(Error::NonFinite("the Schur complement on the kept set"));
+            return Err(ProblemError::NonFinite("the Schur complement on the kept set").into());
         }
         let seconds = log.clock.elapsed().as_secs_f64();
         let report = SchurOnlyReport {

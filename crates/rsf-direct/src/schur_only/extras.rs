@@ -12,6 +12,7 @@ use faer::{Mat, Par};
 use super::packed::{cholesky, cholesky_scratch, sub_gram_rows, try_zeros, PackedSymmetric, PANEL};
 use super::{KeptSchur, SchurOnlyReport};
 use crate::error::{Error, Result};
+use rsf_nonsmooth::ProblemError;
 
 /// The rows of the extension at the extra kept dofs: `x_P = o + E x_F` with
 /// `E = −S_PP⁻¹ S_PF` (`|P| × |F|`, row-major) and, per right-hand side, the offset
@@ -75,24 +76,28 @@ impl ExtraRows {
     /// interface values `x_f` (length `|F|`), `out` of length `|P|`.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] for other lengths, [`Error::InvalidOption`] for a `k`
-    /// out of range.
+    /// [`ProblemError::DimensionMismatch`] for other lengths, [`ProblemError::InvalidOption`] for a
+    /// `k` out of range.
     pub fn extend(&self, k: Option<usize>, x_f: &[f64], out: &mut [f64]) -> Result<()> {
         for (what, expected, got) in [
             ("interface values", self.nf, x_f.len()),
             ("extra values", self.len(), out.len()),
         ] {
             if expected != got {
-                return Err(Error::DimensionMismatch {
+                return Err(ProblemError::DimensionMismatch {
                     what,
                     expected,
                     got,
-                });
+                }
+                .into());
             }
         }
         let offset = match k {
             Some(k) => Some(self.offsets.get(k).ok_or_else(|| {
-                Error::InvalidOption(format!("right-hand side {k} of {}", self.offsets.len()))
+                ProblemError::InvalidOption(format!(
+                    "right-hand side {k} of {}",
+                    self.offsets.len()
+                ))
             })?),
             None => None,
         };
@@ -273,7 +278,7 @@ impl KeptSchur {
             }
         }
         if !s.packed_rows().iter().all(|v| v.is_finite()) || !matrix.iter().all(|v| v.is_finite()) {
-            return Err(Error::NonFinite("the Schur complement on the interface"));
+            return Err(ProblemError::NonFinite("the Schur complement on the interface").into());
         }
         Ok(InterfaceSchur {
             s,

@@ -25,6 +25,7 @@ use checkpoint::Checksum;
 use packed::packed_len;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::BlockedMatrix;
+use rsf_nonsmooth::ProblemError;
 use tree::{update_buffer, Tree};
 
 pub use extras::{ExtraRows, InterfaceSchur};
@@ -217,11 +218,11 @@ impl<const D: usize> SchurOnly<D> {
     /// work); [`plan`](Self::plan) says what [`eliminate`](Self::eliminate) will hold.
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] / [`Error::DimensionMismatch`] / [`Error::NonFinite`] for
-    /// invalid shapes, pattern or entries; [`Error::InvalidOption`] for blocks or extras
-    /// out of range, not increasing, fixed, or extras inside a block;
-    /// [`Error::FeatureDisabled`] for [`InteriorOrdering::NestedDissection`] without the
-    /// feature `metis`; [`Error::Factorisation`] if the ordering fails.
+    /// [`ProblemError::InvalidMatrix`] / [`ProblemError::DimensionMismatch`] /
+    /// [`ProblemError::NonFinite`] for invalid shapes, pattern or entries;
+    /// [`ProblemError::InvalidOption`] for blocks or extras out of range, not increasing, fixed, or
+    /// extras inside a block; [`Error::FeatureDisabled`] for [`InteriorOrdering::NestedDissection`]
+    /// without the feature `metis`; [`Error::Factorisation`] if the ordering fails.
     pub fn new(
         a: SparseColMatRef<'_, usize, f64>,
         fixed: &[bool],
@@ -234,9 +235,10 @@ impl<const D: usize> SchurOnly<D> {
         let (mut interior, mut kept) = split_dofs::<D>(n_all, &fixed, blocks)?;
         let nf = kept.len();
         if extras.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "extra kept dofs must be strictly increasing".into(),
-            ));
+            )
+            .into());
         }
         let mut in_block = vec![false; n_all];
         for &p in blocks {
@@ -253,9 +255,10 @@ impl<const D: usize> SchurOnly<D> {
                 None
             };
             if let Some(why) = why {
-                return Err(Error::InvalidOption(format!(
+                return Err(ProblemError::InvalidOption(format!(
                     "extra kept dof {e} is {why}: extras are free dofs outside the blocks"
-                )));
+                ))
+                .into());
             }
         }
         if !extras.is_empty() {

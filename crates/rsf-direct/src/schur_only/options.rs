@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
+use rsf_nonsmooth::ProblemError;
 
 /// When and where the elimination writes its state, to resume a set-up that was killed.
 ///
@@ -12,8 +13,8 @@ use crate::error::{Error, Result};
 /// `path.partial`, synced, and renamed over `path`. A call of
 /// [`SchurOnly::eliminate`] with the same inputs (matrix pattern and values, fixed dofs,
 /// blocks, extras, right-hand sides, ordering) and an existing `path` continues from it;
-/// a checkpoint of other inputs is refused ([`Error::CheckpointMismatch`]) and left
-/// alone.
+/// a checkpoint of other inputs is refused
+/// ([`Error::CheckpointMismatch`](crate::Error::CheckpointMismatch)) and left alone.
 ///
 /// [`SchurOnlyPlan::result_bytes`]: super::SchurOnlyPlan::result_bytes
 /// [`SchurOnly::eliminate`]: super::SchurOnly::eliminate
@@ -44,15 +45,17 @@ impl CheckpointPolicy {
 
     pub(super) fn validate(&self) -> Result<()> {
         if self.every_fronts == Some(0) {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "checkpoint every 0 fronts: give at least 1, or None".into(),
-            ));
+            )
+            .into());
         }
         if let Some(s) = self.every_seconds {
             if !(s > 0.0 && s.is_finite()) {
-                return Err(Error::InvalidOption(format!(
+                return Err(ProblemError::InvalidOption(format!(
                     "checkpoint every {s} s: give a positive finite interval, or None"
-                )));
+                ))
+                .into());
             }
         }
         Ok(())
@@ -64,8 +67,8 @@ impl CheckpointPolicy {
 /// [`SchurOnly::eliminate`]: super::SchurOnly::eliminate
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SchurOnlyOptions {
-    /// Refuse ([`Error::TooLarge`]) before allocating anything if the elimination would
-    /// hold more than this many bytes ([`SchurOnlyPlan::total_bytes`]).
+    /// Refuse ([`Error::TooLarge`](crate::Error::TooLarge)) before allocating anything if the
+    /// elimination would hold more than this many bytes ([`SchurOnlyPlan::total_bytes`]).
     ///
     /// [`SchurOnlyPlan::total_bytes`]: super::SchurOnlyPlan::total_bytes
     pub max_bytes: Option<usize>,

@@ -13,6 +13,7 @@ use rsf_direct::{
 
 use super::common::square;
 use super::elasticity_box::ElasticityBox;
+use rsf_nonsmooth::ProblemError;
 
 type Mat = SparseColMat<usize, f64>;
 
@@ -490,7 +491,10 @@ fn bad_inputs_are_refused() {
     };
     for extras in [&[40, 30][..], &[0], &[5], &[n]] {
         assert!(
-            matches!(new(extras), Err(Error::InvalidOption(_))),
+            matches!(
+                new(extras),
+                Err(Error::Problem(ProblemError::InvalidOption(_)))
+            ),
             "{extras:?}"
         );
     }
@@ -502,7 +506,7 @@ fn bad_inputs_are_refused() {
             &[],
             InteriorOrdering::Amd
         ),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     let elim = new(&[40]).unwrap();
     let short = RightHandSide {
@@ -511,7 +515,7 @@ fn bad_inputs_are_refused() {
     };
     assert!(matches!(
         elim.eliminate(&[short], &SchurOnlyOptions::default()),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     let mut bad = p.b[0].clone();
     bad[40] = f64::NAN;
@@ -521,7 +525,7 @@ fn bad_inputs_are_refused() {
     };
     assert!(matches!(
         elim.eliminate(&[nan], &SchurOnlyOptions::default()),
-        Err(Error::NonFinite(_))
+        Err(Error::Problem(ProblemError::NonFinite(_)))
     ));
     let plan = elim.plan();
     let need = plan.total_bytes(2);
@@ -548,7 +552,7 @@ fn bad_inputs_are_refused() {
     };
     assert!(matches!(
         elim.eliminate(&p.rhs(), &zero),
-        Err(Error::InvalidOption(_))
+        Err(Error::Problem(ProblemError::InvalidOption(_)))
     ));
 }
 

@@ -2,7 +2,7 @@
 //! matrix and from a value array agree bit for bit, and misuse gives typed errors.
 
 use faer::sparse::{SparseColMat, Triplet};
-use rsf_linalg::{spmv_add, Cholesky, Error, FillOrdering, SparseMatrix};
+use rsf_linalg::{spmv_add, Cholesky, Error, FillOrdering, ProblemError, SparseMatrix};
 
 /// A node-major 2-component field on a path of `n` nodes: `c·I + L ⊗ [[2, 1], [1, 2]]`
 /// with `L` the path Laplacian (SPD for `c > 0`; full `2 × 2` node blocks, both triangles).
@@ -72,11 +72,11 @@ fn typed_errors() {
     ch.factorize(a.as_ref()).unwrap();
     assert!(matches!(
         ch.solve(&rhs[1..]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         ch.factorize_values(&a.val()[1..]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     // The path Laplacian without shift is singular, with a negative shift indefinite.
     let indefinite = block_laplacian(5, -1.0);
@@ -94,6 +94,6 @@ fn typed_errors() {
         SparseColMat::try_new_from_triplets(3, 2, &[Triplet::new(0, 0, 1.0)]).unwrap();
     assert!(matches!(
         Cholesky::analyze(rectangular.symbolic()),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
 }

@@ -17,6 +17,7 @@ use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
+use rsf_nonsmooth::ProblemError;
 use rsf_ranks::RankGroup;
 
 /// Smoothing sweeps of a V-cycle on every level but the coarsest (solved exactly).
@@ -63,10 +64,10 @@ impl<const D: usize> VCycleHierarchy<D> {
     /// the last one into the fine level (`D n × D n_{L−1}`).
     ///
     /// # Errors
-    /// [`Error::InvalidOption`] without a prolongation (a V-cycle has two levels or more);
-    /// [`Error::InvalidMatrix`] as [`Colouring::new`] for `a`, or if a prolongation is not
-    /// `D n_{l+1} × D n_l` with `n_l ≤ n_{l+1}`; [`Error::DimensionMismatch`] if `fixed` is
-    /// not `D n` long; [`Error::NotPositiveDefinite`] if the coarsest operator cannot be
+    /// [`ProblemError::InvalidOption`] without a prolongation (a V-cycle has two levels or more);
+    /// [`ProblemError::InvalidMatrix`] as [`Colouring::new`] for `a`, or if a prolongation is not
+    /// `D n_{l+1} × D n_l` with `n_l ≤ n_{l+1}`; [`ProblemError::DimensionMismatch`] if `fixed` is
+    /// not `D n` long; [`ProblemError::NotPositiveDefinite`] if the coarsest operator cannot be
     /// factorised.
     pub fn new(
         a: SparseColMatRef<'_, usize, f64>,
@@ -74,27 +75,30 @@ impl<const D: usize> VCycleHierarchy<D> {
         prolongations: &[SparseColMatRef<'_, usize, f64>],
     ) -> Result<Self> {
         if prolongations.is_empty() {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "a V-cycle needs at least one prolongation (two levels)".into(),
-            ));
+            )
+            .into());
         }
         let fine = blocks::<D>(a)?;
         if fixed.len() != fine.n() {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "fixed (one flag per dof)",
                 expected: fine.n(),
                 got: fixed.len(),
-            });
+            }
+            .into());
         }
         let mut rows = fine.n();
         for (l, p) in prolongations.iter().enumerate().rev() {
             if p.nrows() != rows || p.ncols() % D != 0 || p.ncols() > p.nrows() {
-                return Err(Error::InvalidMatrix(format!(
+                return Err(ProblemError::InvalidMatrix(format!(
                     "prolongation {l} is {}x{}: expected {rows} rows and at most as many \
                      columns, a multiple of {D}",
                     p.nrows(),
                     p.ncols()
-                )));
+                ))
+                .into());
             }
             rows = p.ncols();
         }
@@ -308,7 +312,7 @@ fn owned_copies(
                 .and_then(|pt| pt.as_ref().transpose().to_col_major())
         })
         .collect::<std::result::Result<_, _>>()
-        .map_err(|e| Error::InvalidMatrix(format!("prolongation: {e:?}")))
+        .map_err(|e| Error::Problem(ProblemError::InvalidMatrix(format!("prolongation: {e:?}"))))
 }
 
 impl<const D: usize> Level<D> {
@@ -382,16 +386,17 @@ impl<const D: usize> ColouredVCycle<D> {
     /// Sets the fine right-hand side.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `b` does not have the fine level's `D n` values.
+    /// [`ProblemError::DimensionMismatch`] if `b` does not have the fine level's `D n` values.
     pub fn set_rhs(&mut self, b: &[f64]) -> Result<()> {
         let fine = self.smoothers.last_mut().expect("two levels or more");
         let rhs = fine.rhs_mut();
         if b.len() != rhs.len() {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "b (fine level)",
                 expected: rhs.len(),
                 got: b.len(),
-            });
+            }
+            .into());
         }
         rhs.copy_from_slice(b);
         Ok(())

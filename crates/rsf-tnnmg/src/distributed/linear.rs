@@ -8,8 +8,9 @@ use super::local_rows::{blocks, LocalRows};
 use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::Parallelism;
+use rsf_nonsmooth::ProblemError;
 
 /// The update of node `p` on its free components,
 /// `x_p + S_p (b − Σ_{q≠p} A_pq x_q − A_pp x_p)` with `S_p` the inverse of the free
@@ -58,16 +59,17 @@ impl<const D: usize> BlockGaussSeidel<D> {
     /// vector; ghost entries, if given, are not read).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `b` or `fixed` is shorter than `D · rows.owned()`.
+    /// [`ProblemError::DimensionMismatch`] if `b` or `fixed` is shorter than `D · rows.owned()`.
     pub fn new(rows: &LocalRows<D>, b: &[f64], fixed: &[bool]) -> Result<Self> {
         let owned = D * rows.owned();
         for (what, len) in [("b (local)", b.len()), ("fixed (local)", fixed.len())] {
             if len < owned {
-                return Err(Error::DimensionMismatch {
+                return Err(ProblemError::DimensionMismatch {
                     what,
                     expected: owned,
                     got: len,
-                });
+                }
+                .into());
             }
         }
         let inverse = (0..rows.owned())
@@ -135,8 +137,8 @@ impl<const D: usize> ColouredGaussSeidel<D> {
     /// `D n`) in the order of `colouring` (a colouring of `a`'s node graph).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] as [`Colouring::new`]; [`Error::DimensionMismatch`] if `b`,
-    /// `fixed` or `colouring` does not have the matrix's size.
+    /// [`ProblemError::InvalidMatrix`] as [`Colouring::new`]; [`ProblemError::DimensionMismatch`]
+    /// if `b`, `fixed` or `colouring` does not have the matrix's size.
     pub fn new(
         a: SparseColMatRef<'_, usize, f64>,
         fixed: &[bool],
@@ -160,11 +162,12 @@ impl<const D: usize> ColouredGaussSeidel<D> {
             ("colouring (one colour per node)", n, colouring.num_nodes()),
         ] {
             if got != expected {
-                return Err(Error::DimensionMismatch {
+                return Err(ProblemError::DimensionMismatch {
                     what,
                     expected,
                     got,
-                });
+                }
+                .into());
             }
         }
         let inverse = (0..n)

@@ -5,8 +5,9 @@ use faer::sparse::SparseColMatRef;
 
 use crate::block::{load, store, sub_mul_vec, Block};
 use crate::bsr::BlockCsr;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 
 /// The block rows of the nodes one rank owns, in local numbering.
 ///
@@ -44,8 +45,8 @@ impl<const D: usize> LocalRows<D> {
     /// `owner[p]` (length `n`).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new);
-    /// [`Error::DimensionMismatch`] if `owner` does not have one entry per node.
+    /// [`ProblemError::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new);
+    /// [`ProblemError::DimensionMismatch`] if `owner` does not have one entry per node.
     pub fn new(a: SparseColMatRef<'_, usize, f64>, owner: &[usize], rank: usize) -> Result<Self> {
         let a = blocks::<D>(a)?;
         Self::of_blocks(&a, owner, rank)
@@ -66,7 +67,7 @@ impl<const D: usize> LocalRows<D> {
     /// its rows of (the energy norm's).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `a` is not `D · owner.len()` square.
+    /// [`ProblemError::DimensionMismatch`] if `a` is not `D · owner.len()` square.
     pub(crate) fn of_columns(
         a: SparseColMatRef<'_, usize, f64>,
         owner: &[usize],
@@ -74,11 +75,12 @@ impl<const D: usize> LocalRows<D> {
     ) -> Result<Self> {
         let nodes = owner.len();
         if a.nrows() != D * nodes || a.ncols() != D * nodes {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "matrix (D rows per node of the owners)",
                 expected: D * nodes,
                 got: a.nrows(),
-            });
+            }
+            .into());
         }
         // slot[q] = (the call that placed A_pq, its position in the row); a row is read
         // twice (`build`), each call its own stamp.
@@ -117,11 +119,12 @@ impl<const D: usize> LocalRows<D> {
         mut row: impl FnMut(usize, &mut Vec<(usize, Block<D>)>) -> Block<D>,
     ) -> Result<Self> {
         if owner.len() != nodes {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "owner (one rank per node)",
                 expected: nodes,
                 got: owner.len(),
-            });
+            }
+            .into());
         }
         let mut global: Vec<usize> = (0..nodes).filter(|&p| owner[p] == rank).collect();
         let owned = global.len();
@@ -332,7 +335,7 @@ pub(crate) fn blocks<const D: usize>(a: SparseColMatRef<'_, usize, f64>) -> Resu
 /// self-loops.
 ///
 /// # Errors
-/// [`Error::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new).
+/// [`ProblemError::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new).
 pub fn node_graph<const D: usize>(
     a: SparseColMatRef<'_, usize, f64>,
 ) -> Result<(Vec<usize>, Vec<usize>)> {
@@ -384,7 +387,9 @@ mod tests {
         let n = pb.x0.len() / D;
         assert!(matches!(
             LocalRows::<D>::of_columns(a, &vec![0; n - 1], 0),
-            Err(Error::DimensionMismatch { .. })
+            Err(crate::Error::Problem(
+                ProblemError::DimensionMismatch { .. }
+            ))
         ));
     }
 }

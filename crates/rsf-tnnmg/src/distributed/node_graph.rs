@@ -6,7 +6,8 @@ use super::halo::{AllGather, HaloCounters};
 use super::local_rows::LocalRows;
 use crate::block::Block;
 use crate::bsr::NodePattern;
-use crate::error::{Error, Result};
+use crate::error::Result;
+use rsf_nonsmooth::ProblemError;
 use rsf_ranks::RankGroup;
 
 /// The node graph of a matrix, whole, without values: node `p`'s neighbours are
@@ -35,7 +36,7 @@ impl NodeGraph {
     /// checked symmetric. Collective.
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if the gathered pattern is not symmetric (the ranks'
+    /// [`ProblemError::InvalidMatrix`] if the gathered pattern is not symmetric (the ranks'
     /// columns are not the rows of one symmetric-pattern matrix).
     pub(crate) fn gather<const D: usize>(
         rows: &LocalRows<D>,
@@ -119,10 +120,11 @@ impl NodeGraph {
                         .is_ok()
                 };
                 if q >= self.nodes() || q == p || !back(q) {
-                    return Err(Error::InvalidMatrix(format!(
+                    return Err(ProblemError::InvalidMatrix(format!(
                         "the ranks' columns are not the rows of a symmetric pattern: node {p} \
                          couples node {q}, which does not couple it back"
-                    )));
+                    ))
+                    .into());
                 }
             }
         }

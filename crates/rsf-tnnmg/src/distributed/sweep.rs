@@ -8,6 +8,7 @@ use crate::block::store;
 use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
+use rsf_nonsmooth::ProblemError;
 use rsf_ranks::RankGroup;
 
 /// One rank's part of a multi-colour block Gauss–Seidel sweep on distributed memory: its
@@ -45,10 +46,10 @@ impl<const D: usize> DistributedSweep<D> {
     /// order of `colouring` (a colouring of `a`'s node graph, the same on every rank).
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] as [`Colouring::new`]; [`Error::DimensionMismatch`] if
-    /// `owner` or `colouring` does not have one entry per node; [`Error::InvalidPartition`]
-    /// if an owner is not a rank of `halo` or `colouring` gives two adjacent nodes the same
-    /// colour (a colouring of another matrix).
+    /// [`ProblemError::InvalidMatrix`] as [`Colouring::new`]; [`ProblemError::DimensionMismatch`]
+    /// if `owner` or `colouring` does not have one entry per node; [`Error::InvalidPartition`] if
+    /// an owner is not a rank of `halo` or `colouring` gives two adjacent nodes the same colour (a
+    /// colouring of another matrix).
     pub fn new<H: RankGroup + ?Sized>(
         a: SparseColMatRef<'_, usize, f64>,
         owner: &[usize],
@@ -73,11 +74,12 @@ impl<const D: usize> DistributedSweep<D> {
             )));
         }
         if colouring.num_nodes() != a.nodes() {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "colouring (one colour per node)",
                 expected: a.nodes(),
                 got: colouring.num_nodes(),
-            });
+            }
+            .into());
         }
         Self::of_rows(LocalRows::of_blocks(a, owner, halo.rank())?, colouring)
     }
@@ -86,7 +88,7 @@ impl<const D: usize> DistributedSweep<D> {
     /// nodes) in the order of `colouring`.
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `colouring` does not colour the rows' matrix;
+    /// [`ProblemError::DimensionMismatch`] if `colouring` does not colour the rows' matrix;
     /// [`Error::InvalidPartition`] if it gives two adjacent nodes the same colour.
     pub(crate) fn of_rows(rows: LocalRows<D>, colouring: &Colouring) -> Result<Self> {
         if rows
@@ -94,11 +96,12 @@ impl<const D: usize> DistributedSweep<D> {
             .iter()
             .any(|&p| p >= colouring.num_nodes())
         {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "colouring (one colour per node)",
                 expected: rows.global_nodes().iter().max().map_or(0, |&p| p + 1),
                 got: colouring.num_nodes(),
-            });
+            }
+            .into());
         }
         let global = rows.global_nodes();
         for p in 0..rows.owned() {

@@ -9,6 +9,7 @@ use super::*;
 use crate::block::load;
 use crate::colouring::Colouring;
 use crate::error::Error;
+use rsf_nonsmooth::ProblemError;
 
 const D: usize = 3;
 
@@ -341,7 +342,7 @@ fn set_up_refuses_wrong_owners_and_colourings() {
     };
     assert!(matches!(
         new(&vec![0; n - 1], &colouring),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     let mut owner = vec![0; n];
     owner[n / 2] = 2;

@@ -22,6 +22,7 @@ use crate::linear_correction::LinearCorrection;
 use crate::multigrid::NewtonHierarchy;
 use crate::problem::active_map;
 use crate::report::{iterate_to_tolerance, IterationRun};
+use rsf_nonsmooth::ProblemError;
 use rsf_ranks::RankGroup;
 
 /// The energy-norm matrix's rows, their local columns mapped to the iterate's local nodes.
@@ -156,12 +157,12 @@ impl<const D: usize> DistributedTnnmg<D> {
     /// # Errors
     /// As [`Tnnmg::new`](crate::Tnnmg::new) for the matrices (on the rank's columns: a
     /// non-finite entry or a non-positive diagonal entry on a free dof, the dimensions),
-    /// [`Error::InvalidMatrix`] if the gathered node graph is not symmetric;
-    /// [`Error::InvalidOption`] for options out of range or no prolongation;
-    /// [`Error::DimensionMismatch`] if `owner` does not have one entry per node;
+    /// [`ProblemError::InvalidMatrix`] if the gathered node graph is not symmetric;
+    /// [`ProblemError::InvalidOption`] for options out of range or no prolongation;
+    /// [`ProblemError::DimensionMismatch`] if `owner` does not have one entry per node;
     /// [`Error::InvalidPartition`] if an owner is not a rank of `halo`, or on every other
     /// rank when one rank's columns are refused (the ranks agree before going on: no rank
-    /// is left waiting); [`Error::InvalidMatrix`] if `energy_norm` couples nodes that `a`
+    /// is left waiting); [`ProblemError::InvalidMatrix`] if `energy_norm` couples nodes that `a`
     /// does not.
     #[expect(
         clippy::too_many_arguments,
@@ -211,19 +212,21 @@ impl<const D: usize> DistributedTnnmg<D> {
     ) -> Result<Self> {
         opts.stopping.validate()?;
         if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
-            return Err(Error::InvalidOption(
-                "linear_reduction must lie in (0, 1)".into(),
-            ));
+            return Err(
+                ProblemError::InvalidOption("linear_reduction must lie in (0, 1)".into()).into(),
+            );
         }
         if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "nonlinear_sweeps and v_cycles must be at least 1".into(),
-            ));
+            )
+            .into());
         }
         if prolongations.is_empty() {
-            return Err(Error::InvalidOption(
+            return Err(ProblemError::InvalidOption(
                 "TNNMG on ranks needs at least one prolongation (a V-cycle)".into(),
-            ));
+            )
+            .into());
         }
         let (rank, size) = (halo.rank(), halo.size());
         let nodes = owner.len();
@@ -480,11 +483,12 @@ fn norm_rows<const D: usize>(
     rows: &LocalRows<D>,
 ) -> Result<NormRows<D>> {
     if e.nrows() != n || e.ncols() != n {
-        return Err(Error::DimensionMismatch {
+        return Err(ProblemError::DimensionMismatch {
             what: "energy-norm matrix",
             expected: n,
             got: e.nrows(),
-        });
+        }
+        .into());
     }
     // Only the owned columns are read: no whole copy of `e` on any rank.
     let e_rows = LocalRows::<D>::of_columns(e, owner, rows.rank())?;
@@ -496,11 +500,12 @@ fn norm_rows<const D: usize>(
         .global_nodes()
         .iter()
         .map(|&p| match local[p] {
-            u32::MAX => Err(Error::InvalidMatrix(format!(
+            u32::MAX => Err(ProblemError::InvalidMatrix(format!(
                 "the energy-norm matrix couples node {p} to a node of rank {} that the \
                  matrix does not",
                 rows.rank()
-            ))),
+            ))
+            .into()),
             q => Ok(q),
         })
         .collect::<Result<_>>()?;
@@ -581,24 +586,27 @@ fn owned_rows<const D: usize>(
 /// dofs (the pattern's symmetry is checked on the gathered graph).
 fn check_rows<const D: usize>(rows: &LocalRows<D>, fixed: &[bool], n: usize) -> Result<()> {
     if fixed.len() != n {
-        return Err(Error::DimensionMismatch {
+        return Err(ProblemError::DimensionMismatch {
             what: "fixed mask",
             expected: n,
             got: fixed.len(),
-        });
+        }
+        .into());
     }
     for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
         let blocks = std::iter::once(rows.diag(q)).chain(rows.neighbours(q).map(|(_, b)| b));
         if blocks.flatten().flatten().any(|x| !x.is_finite()) {
-            return Err(Error::InvalidMatrix(format!(
+            return Err(ProblemError::InvalidMatrix(format!(
                 "a non-finite entry in the row of node {p}"
-            )));
+            ))
+            .into());
         }
         for c in 0..D {
             if !fixed[D * p + c] && rows.diag(q)[c][c] <= 0.0 {
-                return Err(Error::NotPositiveDefinite(
+                return Err(ProblemError::NotPositiveDefinite(
                     "non-positive diagonal entry on a free dof",
-                ));
+                )
+                .into());
             }
         }
     }

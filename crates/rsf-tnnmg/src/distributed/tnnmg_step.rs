@@ -6,12 +6,13 @@ use super::local_rows::LocalRows;
 use super::reduce::ExactSums;
 use super::tnnmg::DistributedTnnmg;
 use crate::block::{load, sub_mul_vec};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::line_search::exact_line_search;
 use crate::linear_correction::LinearCorrection;
 use crate::problem::{coupled_rhs, node_update, NodeBlocks};
 use crate::report::Iteration;
 use crate::tnnmg::{linearize_blocks, stop_at_kinks, QuadraticPart};
+use rsf_nonsmooth::ProblemError;
 
 /// Adds `xᵀ M x`'s terms of the owned rows of `rows` (`M`'s; `remap` maps their local
 /// nodes to `x`'s, `None` if they are `x`'s own) to sum `i`: per owned node `p` and
@@ -202,7 +203,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         }
         let correction = self.reduce_norms();
         if !correction.is_finite() {
-            return Err(Error::NonFinite("TNNMG iterate (on ranks)"));
+            return Err(ProblemError::NonFinite("TNNMG iterate (on ranks)").into());
         }
         self.counters.iterations += 1;
         Ok(correction.max(0.0).sqrt())

@@ -10,6 +10,7 @@ use super::*;
 use crate::colouring::SmootherOrder;
 use crate::error::Error;
 use crate::{Tnnmg, TnnmgOptions};
+use rsf_nonsmooth::ProblemError;
 
 const D: usize = 3;
 
@@ -352,7 +353,10 @@ fn an_energy_norm_matrix_is_used() {
         &vec![0; nodes],
         Box::new(halo),
     );
-    assert!(matches!(wrong, Err(Error::DimensionMismatch { .. })));
+    assert!(matches!(
+        wrong,
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
+    ));
 }
 
 /// No nonlinearity (a linear system, no active block: empty gathers): the same bits at
@@ -527,7 +531,7 @@ fn distributed_tnnmg_refuses_wrong_input() {
     let owner = vec![0; nodes];
     assert!(matches!(
         make(&[], options(false), &owner),
-        Err(Error::InvalidOption(_))
+        Err(Error::Problem(ProblemError::InvalidOption(_)))
     ));
     let zero_cycles = DistributedTnnmgOptions {
         v_cycles: 0,
@@ -535,11 +539,11 @@ fn distributed_tnnmg_refuses_wrong_input() {
     };
     assert!(matches!(
         make(&ps, zero_cycles, &owner),
-        Err(Error::InvalidOption(_))
+        Err(Error::Problem(ProblemError::InvalidOption(_)))
     ));
     assert!(matches!(
         make(&ps, options(false), &owner[1..]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     assert!(matches!(
         make(&ps, options(false), &vec![1; nodes]),
@@ -587,7 +591,10 @@ fn a_rank_needs_only_its_own_columns() {
         set_up(&owner, halo, poison).err()
     });
     assert!(
-        matches!(errors[1], Some(Error::InvalidMatrix(_))),
+        matches!(
+            errors[1],
+            Some(Error::Problem(ProblemError::InvalidMatrix(_)))
+        ),
         "{errors:?}"
     );
     assert!(

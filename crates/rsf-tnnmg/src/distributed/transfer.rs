@@ -9,6 +9,7 @@ use crate::block::{load, store, Block};
 use crate::error::{Error, Result};
 use crate::galerkin::{masked, prolong_row, prolongation_blocks, restrict_row};
 use rsf_linalg::Csc;
+use rsf_nonsmooth::ProblemError;
 use rsf_ranks::RankGroup;
 
 /// Rows of one side of the transfer in local numbering: row `k`'s entries are
@@ -175,8 +176,8 @@ impl<const D: usize> DistributedTransfer<D> {
     /// (length `n_f`), coarse node `j` by `owner[j]`.
     ///
     /// # Errors
-    /// [`Error::InvalidMatrix`] if a dimension of `p` is not a multiple of `D`, it has more
-    /// coarse than fine nodes, or a non-finite entry; [`Error::DimensionMismatch`] if
+    /// [`ProblemError::InvalidMatrix`] if a dimension of `p` is not a multiple of `D`, it has more
+    /// coarse than fine nodes, or a non-finite entry; [`ProblemError::DimensionMismatch`] if
     /// `owner` does not have `n_f` entries; [`Error::InvalidPartition`] if an owner is not
     /// a rank of `halo`.
     pub fn new<H: RankGroup + ?Sized>(
@@ -187,19 +188,21 @@ impl<const D: usize> DistributedTransfer<D> {
         let (rank, size) = (halo.rank(), halo.size());
         let p = Csc::from_faer(p)?;
         if p.nrows % D != 0 || p.ncols % D != 0 || p.ncols > p.nrows {
-            return Err(Error::InvalidMatrix(format!(
+            return Err(ProblemError::InvalidMatrix(format!(
                 "prolongation is {}x{}: expected dimensions divisible by {D}, at most as many \
                  columns as rows",
                 p.nrows, p.ncols
-            )));
+            ))
+            .into());
         }
         let (nf, nc) = (p.nrows / D, p.ncols / D);
         if owner.len() != nf {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "owner (one rank per fine node)",
                 expected: nf,
                 got: owner.len(),
-            });
+            }
+            .into());
         }
         if let Some(i) = owner.iter().position(|&r| r >= size) {
             return Err(Error::InvalidPartition(format!(

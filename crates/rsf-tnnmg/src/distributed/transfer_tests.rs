@@ -11,6 +11,7 @@ use crate::colouring::Colouring;
 use crate::error::Error;
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
+use rsf_nonsmooth::ProblemError;
 
 const D: usize = 3;
 
@@ -163,11 +164,11 @@ fn transfer_set_up_refuses_wrong_input() {
     let pt = p.as_ref().transpose().to_col_major().unwrap();
     assert!(matches!(
         DistributedTransfer::<D>::new(pt.as_ref(), &vec![0; p.ncols() / D], &halo),
-        Err(Error::InvalidMatrix(_))
+        Err(Error::Problem(ProblemError::InvalidMatrix(_)))
     ));
     assert!(matches!(
         DistributedTransfer::<D>::new(p.as_ref(), &vec![0; nf - 1], &halo),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     let mut owner = vec![1; nf];
     owner[3] = 2;

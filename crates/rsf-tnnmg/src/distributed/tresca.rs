@@ -4,6 +4,7 @@
 use rsf_nonsmooth::{BlockNonlinearity, Linearization};
 
 use crate::block::solve_spd_masked;
+use rsf_nonsmooth::ProblemError;
 
 /// `φ_k(x) = g_k |x| + ½ q_k |x|²` on the blocks `nodes[k]` (`|x|` the Euclidean norm of
 /// the whole block): Tresca friction of bound `g_k ≥ 0` with a viscous term `q_k ≥ 0` —
@@ -24,10 +25,14 @@ impl<const D: usize> BlockTresca<D> {
     /// quadratic weights `q` (one per node each, finite, ≥ 0).
     ///
     /// # Errors
-    /// [`Error::InvalidOption`](crate::Error::InvalidOption) if the lengths differ, the
-    /// nodes are not strictly increasing, or a weight is negative or not finite.
+    /// [`ProblemError::InvalidOption`](rsf_nonsmooth::ProblemError::InvalidOption) if the lengths
+    /// differ, the nodes are not strictly increasing, or a weight is negative or not finite.
     pub fn new(nodes: Vec<usize>, g: Vec<f64>, q: Vec<f64>) -> crate::Result<Self> {
-        let bad = |m: &str| Err(crate::Error::InvalidOption(format!("BlockTresca: {m}")));
+        let bad = |m: &str| {
+            Err(crate::Error::Problem(ProblemError::InvalidOption(format!(
+                "BlockTresca: {m}"
+            ))))
+        };
         if g.len() != nodes.len() || q.len() != nodes.len() {
             return bad("one g and one q per node");
         }

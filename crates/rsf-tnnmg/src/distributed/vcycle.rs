@@ -9,7 +9,8 @@ use super::rank_hierarchy::RankHierarchy;
 use super::{BlockGaussSeidel, DistributedSweep, DistributedTransfer};
 use crate::block::{load, store};
 use crate::coarse::CoarseSolver;
-use crate::error::{Error, Result};
+use crate::error::Result;
+use rsf_nonsmooth::ProblemError;
 use rsf_ranks::RankGroup;
 
 /// One rank's part of a level above the coarsest.
@@ -89,9 +90,9 @@ impl<const D: usize> DistributedVCycle<D> {
     /// side zero ([`set_rhs`](Self::set_rhs)).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `owner` does not have one entry per fine node;
-    /// [`Error::InvalidPartition`] if an owner is not a rank of `halo`;
-    /// [`Error::NotPositiveDefinite`] as [`VCycleHierarchy::new`]'s factorisation.
+    /// [`ProblemError::DimensionMismatch`] if `owner` does not have one entry per fine node;
+    /// [`Error::InvalidPartition`](crate::Error::InvalidPartition) if an owner is not a rank of
+    /// `halo`; [`ProblemError::NotPositiveDefinite`] as [`VCycleHierarchy::new`]'s factorisation.
     pub fn new<H: RankGroup + ?Sized>(
         h: &VCycleHierarchy<D>,
         owner: &[usize],
@@ -113,11 +114,12 @@ impl<const D: usize> DistributedVCycle<D> {
         let nl = h.num_levels();
         let fine_nodes = h.nodes(nl - 1);
         if owner.len() != fine_nodes {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "owner (one rank per fine node)",
                 expected: fine_nodes,
                 got: owner.len(),
-            });
+            }
+            .into());
         }
         let mut levels = Vec::with_capacity(nl - 1);
         for l in 1..nl {
@@ -200,7 +202,7 @@ impl<const D: usize> DistributedVCycle<D> {
     /// not read).
     ///
     /// # Errors
-    /// [`Error::DimensionMismatch`] if `b` is shorter than that.
+    /// [`ProblemError::DimensionMismatch`] if `b` is shorter than that.
     pub fn set_rhs(&mut self, b: &[f64]) -> Result<()> {
         let rhs = self
             .levels
@@ -209,11 +211,12 @@ impl<const D: usize> DistributedVCycle<D> {
             .gs
             .rhs_mut();
         if b.len() < rhs.len() {
-            return Err(Error::DimensionMismatch {
+            return Err(ProblemError::DimensionMismatch {
                 what: "b (owned fine values)",
                 expected: rhs.len(),
                 got: b.len(),
-            });
+            }
+            .into());
         }
         let n = rhs.len();
         rhs.copy_from_slice(&b[..n]);
@@ -255,7 +258,7 @@ impl<const D: usize> DistributedVCycle<D> {
     /// and the coarsest mask and factorisation. No communication.
     ///
     /// # Errors
-    /// [`Error::NotPositiveDefinite`] if the coarsest operator cannot be factorised.
+    /// [`ProblemError::NotPositiveDefinite`] if the coarsest operator cannot be factorised.
     pub(crate) fn refresh(&mut self, h: &RankHierarchy<D>, all: bool) -> Result<()> {
         let fine = self.levels.len();
         for (i, level) in self.levels.iter_mut().enumerate() {

@@ -11,6 +11,7 @@ use super::*;
 use crate::bsr::BlockCsr;
 use crate::error::Error;
 use crate::Parallelism;
+use rsf_nonsmooth::ProblemError;
 
 const D: usize = 3;
 
@@ -313,24 +314,24 @@ fn vcycle_set_up_refuses_wrong_input() {
     let p = pb.bx.hierarchy.vector_prolongation(1);
     assert!(matches!(
         VCycleHierarchy::<D>::new(pb.a(), &pb.bx.fixed, &[]),
-        Err(Error::InvalidOption(_))
+        Err(Error::Problem(ProblemError::InvalidOption(_)))
     ));
     assert!(matches!(
         VCycleHierarchy::<D>::new(pb.a(), &pb.bx.fixed[1..], &[p.as_ref()]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     // Two prolongations into the fine level: the first does not end at the second's
     // columns.
     assert!(matches!(
         VCycleHierarchy::<D>::new(pb.a(), &pb.bx.fixed, &[p.as_ref(), p.as_ref()]),
-        Err(Error::InvalidMatrix(_))
+        Err(Error::Problem(ProblemError::InvalidMatrix(_)))
     ));
     let h = hierarchy(&pb, 2);
     let nf = h.nodes(1);
     let halo = ThreadRanks::group(2).swap_remove(0);
     assert!(matches!(
         DistributedVCycle::<D>::new(&h, &vec![0; nf - 1], SHAPE, &halo),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     let mut owner = vec![0; nf];
     owner[nf / 2] = 2;
@@ -341,7 +342,7 @@ fn vcycle_set_up_refuses_wrong_input() {
     let mut vc = DistributedVCycle::<D>::new(&h, &vec![0; nf], SHAPE, &halo).unwrap();
     assert!(matches!(
         vc.set_rhs(&vec![0.0; D * nf - 1]),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     assert!(vc.set_rhs(&vec![0.0; D * nf]).is_ok());
 }

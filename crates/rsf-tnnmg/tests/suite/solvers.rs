@@ -3,6 +3,7 @@
 
 use crate::common::*;
 use rsf_direct::{DirectOptions, DirectSolver};
+use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::*;
 use rsf_tnnmg::Error;
 use rsf_tnnmg::*;
@@ -347,7 +348,7 @@ fn invalid_inputs_are_typed_errors() {
     let fixed = left_edge_fixed(m);
     assert!(matches!(
         Tnnmg::<1>::new(a.as_ref(), &fixed[1..], &[], None, TnnmgOptions::default()),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
     let bad = TnnmgOptions {
         stopping: Stopping {
@@ -358,7 +359,7 @@ fn invalid_inputs_are_typed_errors() {
     };
     assert!(matches!(
         Tnnmg::<1>::new(a.as_ref(), &fixed, &[], None, bad),
-        Err(Error::InvalidOption(_))
+        Err(Error::Problem(ProblemError::InvalidOption(_)))
     ));
     for cycle_index in [0, 3] {
         let bad = TnnmgOptions {
@@ -367,7 +368,7 @@ fn invalid_inputs_are_typed_errors() {
         };
         assert!(matches!(
             Tnnmg::<1>::new(a.as_ref(), &fixed, &[], None, bad),
-            Err(Error::InvalidOption(_))
+            Err(Error::Problem(ProblemError::InvalidOption(_)))
         ));
     }
     let mut tn = Tnnmg::<1>::new(a.as_ref(), &fixed, &[], None, TnnmgOptions::default()).unwrap();
@@ -376,11 +377,11 @@ fn invalid_inputs_are_typed_errors() {
     b[3] = f64::INFINITY;
     assert!(matches!(
         tn.solve(&b, &NoNonlinearity, &mut v),
-        Err(Error::NonFinite(_))
+        Err(Error::Problem(ProblemError::NonFinite(_)))
     ));
     assert!(matches!(
         tn.solve(&b[1..], &NoNonlinearity, &mut v),
-        Err(Error::DimensionMismatch { .. })
+        Err(Error::Problem(ProblemError::DimensionMismatch { .. }))
     ));
 }
 

@@ -21,7 +21,7 @@ pub use solver::{
 pub use state_integrator::StateIntegrator;
 
 use rsf_fem::{combine, SparseMatrix};
-use rsf_nonsmooth::{StepSolver, Stopping};
+use rsf_nonsmooth::{ProblemError, StepSolver, Stopping};
 use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
 use rsf_tnnmg::distributed::NodeAllGather;
 
@@ -103,11 +103,11 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
             // On ranks the solver is TNNMG's (or `resolve_within` below refuses).
             Some(ranks) => {
                 if ranks.owner.len() != model.num_nodes() {
-                    return Err(rsf_tnnmg::Error::DimensionMismatch {
+                    return Err(rsf_tnnmg::Error::from(ProblemError::DimensionMismatch {
                         what: "owner (one rank per node)",
                         expected: model.num_nodes(),
                         got: ranks.owner.len(),
-                    }
+                    })
                     .into());
                 }
                 let gather = NodeAllGather::<C>::new(&ranks.owner, (ranks.transport)())

@@ -2,6 +2,7 @@
 //! accepted, and the local error estimate that decides.
 
 use rsf_friction::FrictionLaw;
+use rsf_nonsmooth::ProblemError;
 use rsf_state::StateLaw;
 use rsf_time::VelocityIntegrator;
 
@@ -21,9 +22,9 @@ fn recoverable(e: &Error) -> bool {
         e,
         Error::FixedPointNotConverged { .. }
             | Error::Solver(rsf_tnnmg::Error::NotConverged { .. })
-            | Error::Solver(rsf_tnnmg::Error::NonFinite(_))
+            | Error::Solver(rsf_tnnmg::Error::Problem(ProblemError::NonFinite(_)))
             | Error::Direct(rsf_direct::Error::NotConverged { .. })
-            | Error::Direct(rsf_direct::Error::NonFinite(_))
+            | Error::Direct(rsf_direct::Error::Problem(ProblemError::NonFinite(_)))
             | Error::State(_)
             | Error::NormalStressNotPositive { .. }
     )

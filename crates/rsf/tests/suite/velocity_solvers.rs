@@ -13,7 +13,7 @@ use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, Tresca};
 use rsf::method::FrictionBlocks;
-use rsf::nonsmooth::{BlockNonlinearity, NoNonlinearity, NonsmoothSolver, Stopping};
+use rsf::nonsmooth::{BlockNonlinearity, NoNonlinearity, NonsmoothSolver, ProblemError, Stopping};
 use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{Error as SolverError, NonlinearGaussSeidel, Tnnmg, TnnmgOptions};
 use rsf::Model;
@@ -683,9 +683,9 @@ where
         }
         Err(
             e @ (rsf::Error::Solver(SolverError::NotConverged { .. })
-            | rsf::Error::Solver(SolverError::NonFinite(_))
+            | rsf::Error::Solver(SolverError::Problem(ProblemError::NonFinite(_)))
             | rsf::Error::Direct(rsf::direct::Error::NotConverged { .. })
-            | rsf::Error::Direct(rsf::direct::Error::NonFinite(_))),
+            | rsf::Error::Direct(rsf::direct::Error::Problem(ProblemError::NonFinite(_)))),
         ) => {
             eprintln!("{what}: {} typed error: {e}", solver.name());
             false
