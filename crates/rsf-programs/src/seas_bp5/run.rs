@@ -355,7 +355,6 @@ fn report(
 ) -> Result<(), AnyError> {
     let (setup_s, wall, cpu) = times;
     let (domain_km, ratio) = args.box_size();
-    let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
     // Events with a peak above 0.1 m/s: the ruptures (the catalogue also holds the
     // shallow afterslip that crosses 1 mm/s after some).
     let ruptures: Vec<_> = output
@@ -417,7 +416,7 @@ fn report(
         "catalogue_events": output.events().len(),
     });
     rsf::checkpoint::write_atomically(
-        &folder.path("summary.json"),
+        &args.out.join("summary.json"),
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
     // Slip₂ along dip at x₂ = 0 and the maximum slip rate against time.
