@@ -174,7 +174,10 @@ impl RankGroup for MpiRanks {
 /// `MPI_Abort` with exit code 1, which ends every process of the job — where returning
 /// would leave the other ranks waiting in their next collective.
 pub fn end_all_ranks(ranks: &MpiRanks, message: &dyn std::fmt::Display) -> ! {
-    eprintln!("rank {} of {}: {message}", ranks.rank, ranks.size);
+    // One write of the whole line: `eprintln!` writes its pieces one by one, and the
+    // launcher's abort banner (another process on the same stderr) can land between them.
+    let line = format!("rank {} of {}: {message}\n", ranks.rank, ranks.size);
+    let _ = std::io::Write::write_all(&mut std::io::stderr().lock(), line.as_bytes());
     SimpleCommunicator::world().abort(1)
 }
 
