@@ -8,7 +8,12 @@
 /// struct (clap derive: the caller's crate depends on `clap`), its
 /// [`Program`](crate::guard::Program) implementation and `fn main`.
 ///
-/// ```ignore
+/// ```no_run
+/// fn run() -> Result<(), std::io::Error> {
+///     println!("a fixed problem");
+///     Ok(())
+/// }
+///
 /// rsf_programs::fixed_size_program! {
 ///     name: "heterogeneous_fault",
 ///     memory_bytes: 2e8,
