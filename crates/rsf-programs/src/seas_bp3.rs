@@ -310,9 +310,8 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         session.follow(&mut ode, &mut [])?;
         return Ok(());
     }
-    if let Some(step) = session.resumed_step() {
-        SeasOutput::<rsf::friction::AsinhLaw>::check_resume(&args.out, ode.model(), &setup, step)?;
-    }
+    // On resume, `SeasOutput::new` checks every file's rows up to the checkpoint's step
+    // before it cuts any.
     let mode = session.mode(folder.mode());
     let mut output = SeasOutput::new(
         &args.out,

@@ -270,14 +270,8 @@ pub(super) fn run(
         session.follow(&mut sim, &mut [])?;
         return Ok(());
     }
-    if let Some(step) = session.resumed_step() {
-        SeasOutput::<rsf::friction::AsinhLaw>::check_resume(
-            &args.out,
-            rsf::Stepping::model(&sim),
-            &setup,
-            step,
-        )?;
-    }
+    // On resume, `SeasOutput::new` checks every file's rows up to the checkpoint's step
+    // before it cuts any.
     let mode = session.mode(prepared.mode());
     let mut output = SeasOutput::new(
         &args.out,
