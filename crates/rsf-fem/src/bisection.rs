@@ -184,7 +184,7 @@ impl BisectionMesh {
     /// # Errors
     /// [`Error::InvalidGrid`] if `size` returns a value that is not positive (or NaN),
     /// if the mesh would exceed `max_cells` cells (nothing is returned half refined: the
-    /// mesh is left as it was at the start of the pass), or after [`MAX_PASSES`] passes.
+    /// mesh is left as it was at the start of the pass), or after 400 passes (a size function that never settles).
     pub fn refine(
         &mut self,
         size: impl Fn([f64; 3], [f64; 3]) -> f64,

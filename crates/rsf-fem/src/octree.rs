@@ -165,7 +165,7 @@ impl OctreeMesh {
     /// # Errors
     /// [`Error::InvalidGrid`] if `size` gives a value that is not positive (or NaN), if
     /// the mesh would exceed `max_cells` tetrahedra (counted as 48 per cube, the most a
-    /// cube makes) or after [`MAX_PASSES`] passes.
+    /// cube makes) or after 120 passes (4 per level of the 30 below a root cube).
     pub fn refine(
         &mut self,
         size: impl Fn([f64; 3], [f64; 3]) -> f64,
