@@ -42,9 +42,9 @@ print(f"| `{name}` | {fmt(wall_s)} | {fmt(b)} | {user:.0f} s + {sys_:.0f} s | {r
 EOF
 }
 if [ "$ONLY" != tests ]; then
-  /usr/bin/time -v -o main.time cargo run --release --timings --example pipping_slider -- \
+  /usr/bin/time -v -o main.time cargo run --release --timings -- \
     --out "$CLONE/out/main_job" > main.log 2>&1
-  row "cargo run --release --example pipping_slider" main.time main.log
+  row "cargo run --release" main.time main.log
 fi
 if [ "$ONLY" != main ]; then
   /usr/bin/time -v -o tests.time cargo test --workspace --all-features --timings > tests.log 2>&1 || {

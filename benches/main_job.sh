@@ -17,8 +17,8 @@ LEVELS=${LEVELS:-"3 4 5 6"}
 SOLVERS=${SOLVERS:-"auto direct tnnmg"}
 STEPS=${STEPS:-10000}
 LAW=${LAW:-dieterich}
-cargo build --release --example pipping_slider >&2
-BIN=target/release/examples/pipping_slider
+cargo build --release --bin pipping_slider >&2
+BIN=target/release/pipping_slider
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)"

@@ -21,7 +21,7 @@ SOLVERS=${SOLVERS:-"direct tnnmg"}
 STEPS=${STEPS:-20}
 MEMORY_GB=${MEMORY_GB:-20}
 END=$(python3 -c "print($STEPS * 1.5e-3)")
-cargo build --release --example pipping_slider --example slider_3d >&2
+cargo build --release --bin pipping_slider --example slider_3d >&2
 OUT=$(mktemp -d)
 trap 'rm -rf "$OUT"' EXIT
 echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown); $STEPS steps of 1.5e-3 s"
@@ -59,7 +59,7 @@ EOF
 }
 for level in $LEVELS_2D; do
   for solver in $SOLVERS; do
-    run 2 "$level" "$solver" target/release/examples/pipping_slider
+    run 2 "$level" "$solver" target/release/pipping_slider
   done
 done
 for level in $LEVELS_3D; do

@@ -217,66 +217,66 @@ fn draw(
     steps: usize,
 ) -> Result<(), Box<dyn std::error::Error>> {
     rsf_programs::init_fonts();
-    let root = BitMapBackend::new(path, (1000, 420)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let root = root.titled(
-        &format!("Fig. 6.1 (ours): fixed point iterations per step over {steps} steps"),
-        ("sans-serif", 18),
-    )?;
-    let areas = root.split_evenly((1, laws.len().max(1)));
-    let jmin = rows.iter().map(|r| r.1).min().unwrap_or(2) as f64;
-    let jmax = rows.iter().map(|r| r.1).max().unwrap_or(8) as f64;
-    let avg_top = rows.iter().map(|r| r.2).fold(6.0, f64::max).ceil();
-    let max_top = (rows.iter().map(|r| r.3).max().unwrap_or(0) as f64).max(60.0);
-    let blue = RGBColor(31, 119, 180);
-    let red = RGBColor(214, 39, 40);
-    for (law, area) in laws.iter().zip(&areas) {
-        let pts: Vec<&Row> = rows.iter().filter(|r| r.0 == *law).collect();
-        let mut chart = ChartBuilder::on(area)
-            .caption(paper_name(*law), ("sans-serif", 16))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .right_y_label_area_size(50)
-            .build_cartesian_2d(jmin - 0.2..jmax + 0.2, 0.0..avg_top)?
-            .set_secondary_coord(jmin - 0.2..jmax + 0.2, 0.0..max_top);
-        chart
-            .configure_mesh()
-            .disable_x_mesh()
-            .x_labels((jmax - jmin) as usize + 1)
-            .x_label_formatter(&|j| format!("{j:.0}"))
-            .x_desc("grid refinements j")
-            .y_desc("average FPIs (solid)")
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .label_style(("sans-serif", 13))
-            .draw()?;
-        chart
-            .configure_secondary_axes()
-            .y_desc("maximum FPIs (dashed)")
-            .y_label_formatter(&|v| format!("{v:.0}"))
-            .label_style(("sans-serif", 13))
-            .draw()?;
-        chart.draw_series(LineSeries::new(
-            pts.iter().map(|r| (r.1 as f64, r.2)),
-            blue.stroke_width(2),
-        ))?;
-        chart.draw_series(
-            pts.iter()
-                .map(|r| Circle::new((r.1 as f64, r.2), 4, blue.filled())),
+    rsf_programs::draw_png(path, (1000, 420), |root| {
+        root.fill(&WHITE)?;
+        let root = root.titled(
+            &format!("Fig. 6.1 (ours): fixed point iterations per step over {steps} steps"),
+            ("sans-serif", 18),
         )?;
-        chart.draw_secondary_series(DashedLineSeries::new(
-            pts.iter().map(|r| (r.1 as f64, r.3 as f64)),
-            6,
-            4,
-            red.stroke_width(2),
-        ))?;
-        chart.draw_secondary_series(
-            pts.iter()
-                .map(|r| TriangleMarker::new((r.1 as f64, r.3 as f64), 5, red.filled())),
-        )?;
-    }
-    rsf_programs::present(&root, path)?;
-    Ok(())
+        let areas = root.split_evenly((1, laws.len().max(1)));
+        let jmin = rows.iter().map(|r| r.1).min().unwrap_or(2) as f64;
+        let jmax = rows.iter().map(|r| r.1).max().unwrap_or(8) as f64;
+        let avg_top = rows.iter().map(|r| r.2).fold(6.0, f64::max).ceil();
+        let max_top = (rows.iter().map(|r| r.3).max().unwrap_or(0) as f64).max(60.0);
+        let blue = RGBColor(31, 119, 180);
+        let red = RGBColor(214, 39, 40);
+        for (law, area) in laws.iter().zip(&areas) {
+            let pts: Vec<&Row> = rows.iter().filter(|r| r.0 == *law).collect();
+            let mut chart = ChartBuilder::on(area)
+                .caption(paper_name(*law), ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(50)
+                .right_y_label_area_size(50)
+                .build_cartesian_2d(jmin - 0.2..jmax + 0.2, 0.0..avg_top)?
+                .set_secondary_coord(jmin - 0.2..jmax + 0.2, 0.0..max_top);
+            chart
+                .configure_mesh()
+                .disable_x_mesh()
+                .x_labels((jmax - jmin) as usize + 1)
+                .x_label_formatter(&|j| format!("{j:.0}"))
+                .x_desc("grid refinements j")
+                .y_desc("average FPIs (solid)")
+                .y_label_formatter(&|v| format!("{v:.0}"))
+                .label_style(("sans-serif", 13))
+                .draw()?;
+            chart
+                .configure_secondary_axes()
+                .y_desc("maximum FPIs (dashed)")
+                .y_label_formatter(&|v| format!("{v:.0}"))
+                .label_style(("sans-serif", 13))
+                .draw()?;
+            chart.draw_series(LineSeries::new(
+                pts.iter().map(|r| (r.1 as f64, r.2)),
+                blue.stroke_width(2),
+            ))?;
+            chart.draw_series(
+                pts.iter()
+                    .map(|r| Circle::new((r.1 as f64, r.2), 4, blue.filled())),
+            )?;
+            chart.draw_secondary_series(DashedLineSeries::new(
+                pts.iter().map(|r| (r.1 as f64, r.3 as f64)),
+                6,
+                4,
+                red.stroke_width(2),
+            ))?;
+            chart.draw_secondary_series(
+                pts.iter()
+                    .map(|r| TriangleMarker::new((r.1 as f64, r.3 as f64), 5, red.filled())),
+            )?;
+        }
+        Ok(())
+    })
 }
 
 /// The law as the paper names it.

@@ -387,51 +387,51 @@ fn draw_map(
         let s = (v / vmax).clamp(0.0, 1.0);
         HSLColor((1.0 - s) * 0.66, 0.9, 0.5)
     };
-    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, bar) = root.split_horizontally(780);
-    let mut chart = ChartBuilder::on(&main)
-        .caption(title, ("sans-serif", 16))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(80)
-        .build_cartesian_2d(0.0..5.0, t0..t1)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc("horizontal coordinate (m)")
-        .y_desc("time (s)")
-        .y_label_formatter(&|t| format!("{t:.4}"))
-        .label_style(("sans-serif", 14))
-        .draw()?;
-    chart.draw_series((0..times.len()).flat_map(|it| {
-        (0..xs.len()).map(move |ix| {
-            let (ta, tb) = rsf_programs::cell_bounds(times, it);
-            let (xa, xb) = rsf_programs::cell_bounds(xs, ix);
-            Rectangle::new([(xa, ta), (xb, tb)], colour(values[it][ix]).filled())
-        })
-    }))?;
-    let mut cb = ChartBuilder::on(&bar)
-        .margin_top(40)
-        .margin_bottom(57)
-        .margin_right(50)
-        .y_label_area_size(0)
-        .right_y_label_area_size(50)
-        .build_cartesian_2d(0.0..1.0, 0.0..vmax)?;
-    cb.configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_labels(6)
-        .y_label_formatter(&|v| format!("{v:.3}"))
-        .y_desc("m/s")
-        .label_style(("sans-serif", 12))
-        .draw()?;
-    let n = 100;
-    cb.draw_series((0..n).map(|k| {
-        let a = vmax * k as f64 / n as f64;
-        let b = vmax * (k + 1) as f64 / n as f64;
-        Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
-    }))?;
-    rsf_programs::present(&root, path)?;
-    Ok(())
+    rsf_programs::draw_png(path, (900, 600), |root| {
+        root.fill(&WHITE)?;
+        let (main, bar) = root.split_horizontally(780);
+        let mut chart = ChartBuilder::on(&main)
+            .caption(title, ("sans-serif", 16))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..5.0, t0..t1)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc("horizontal coordinate (m)")
+            .y_desc("time (s)")
+            .y_label_formatter(&|t| format!("{t:.4}"))
+            .label_style(("sans-serif", 14))
+            .draw()?;
+        chart.draw_series((0..times.len()).flat_map(|it| {
+            (0..xs.len()).map(move |ix| {
+                let (ta, tb) = rsf_programs::cell_bounds(times, it);
+                let (xa, xb) = rsf_programs::cell_bounds(xs, ix);
+                Rectangle::new([(xa, ta), (xb, tb)], colour(values[it][ix]).filled())
+            })
+        }))?;
+        let mut cb = ChartBuilder::on(&bar)
+            .margin_top(40)
+            .margin_bottom(57)
+            .margin_right(50)
+            .y_label_area_size(0)
+            .right_y_label_area_size(50)
+            .build_cartesian_2d(0.0..1.0, 0.0..vmax)?;
+        cb.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_labels(6)
+            .y_label_formatter(&|v| format!("{v:.3}"))
+            .y_desc("m/s")
+            .label_style(("sans-serif", 12))
+            .draw()?;
+        let n = 100;
+        cb.draw_series((0..n).map(|k| {
+            let a = vmax * k as f64 / n as f64;
+            let b = vmax * (k + 1) as f64 / n as f64;
+            Rectangle::new([(0.0, a), (1.0, b)], colour(0.5 * (a + b)).filled())
+        }))?;
+        Ok(())
+    })
 }

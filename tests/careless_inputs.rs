@@ -1,5 +1,6 @@
 //! Every program against a careless user's inputs (issues 38, 58): the test lists every
-//! example binary (`examples/*.rs`), reads its flags from its `--help`, and runs the same
+//! example binary (`examples/*.rs`) and the main job (the package's binary
+//! `pipping_slider`), reads its flags from its `--help`, and runs the same
 //! careless inputs against each — another program's finished folder, a folder another run
 //! is writing (its lock held), an `--out` that is a file, a huge step count or end time, a
 //! huge or tiny size, `nan`, `-1`, `--threads 1000000`, absurd `--max-memory-gb` and
@@ -10,17 +11,20 @@
 //! guard (`rsf_programs::guard`) or fails here.
 //!
 //! The binaries are the examples `cargo test` builds beside this test
-//! (`target/<profile>/examples/`); the cases run two at a time. Two more tests: a second
+//! (`target/<profile>/examples/`) and the package's binary (Cargo's `CARGO_BIN_EXE_…`); the
+//! cases run two at a time. Two more tests: a second
 //! run into a running `seas_bp3`'s folder, and a full disk (a 1 MB tmpfs, where the
 //! machine allows mounting one).
 
+mod common;
+use common::{program_binary, MAIN_JOB};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// The programs: the stems of `examples/*.rs`.
+/// The programs: the stems of `examples/*.rs` and the main job.
 fn programs() -> Vec<String> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -30,21 +34,9 @@ fn programs() -> Vec<String> {
             (p.extension()? == "rs").then(|| p.file_stem().unwrap().to_string_lossy().into())
         })
         .collect();
+    names.push(MAIN_JOB.into());
     names.sort();
     names
-}
-
-/// The example binary `name`, built by `cargo test` beside this test's executable.
-fn example(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap().join("examples");
-    let path = dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(
-        path.is_file(),
-        "{} not built: run the tests with `cargo test` (which builds the examples)",
-        path.display()
-    );
-    path
 }
 
 /// Every file under `dir` (recursively) with its bytes.
@@ -78,7 +70,7 @@ struct Outcome {
 /// Runs `program` with `args` in `dir`, killed after `limit` (then `ok` is false and the
 /// time is the limit).
 fn run(program: &str, args: &[String], dir: &Path, limit: Duration) -> Outcome {
-    let mut child = Command::new(example(program))
+    let mut child = Command::new(program_binary(program))
         .args(args)
         .current_dir(dir)
         .stdin(Stdio::null())
@@ -586,7 +578,7 @@ fn a_second_run_into_a_running_folder_is_refused_at_once() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let args = ["--out", "run", "--dx", "2000", "--end-years", "1000"];
-    let mut first = Command::new(example("seas_bp3"))
+    let mut first = Command::new(program_binary("seas_bp3"))
         .args(args)
         .arg("--threads=1")
         .current_dir(&dir)

@@ -7,21 +7,10 @@
 //!
 //! The binaries are the examples `cargo test` builds beside this test.
 
-use std::path::{Path, PathBuf};
+mod common;
+use common::program_binary;
+use std::path::Path;
 use std::process::Command;
-
-/// The example binary `name`, built by `cargo test` beside this test's executable.
-fn example(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap().join("examples");
-    let path = dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(
-        path.is_file(),
-        "{} not built: run the tests with `cargo test` (which builds the examples)",
-        path.display()
-    );
-    path
-}
 
 /// One run's estimate and measured peak (bytes).
 #[derive(Debug, Clone, Copy)]
@@ -33,7 +22,7 @@ struct Reading {
 /// Runs `program` with `args` (and a fresh `--out` in `dir` if `out`) and reads the
 /// guard's `rsf-memory:` line; panics if the run fails or prints none.
 fn measure(program: &str, args: &[&str], dir: &Path, out: bool) -> Reading {
-    let mut c = Command::new(example(program));
+    let mut c = Command::new(program_binary(program));
     c.args(args).env("RSF_MEMORY_REPORT", "1").current_dir(dir);
     if out {
         let folder = dir.join(format!("{program}-{}", args.join("_").replace('/', "-")));

@@ -511,6 +511,7 @@ pub struct ResumeArgs {
 }
 
 /// `--modeler NAME` and `--date YYYY-MM-DD` of the SEAS files' headers.
+#[cfg(feature = "seas")]
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct SeasHeaderArgs {
     /// Modeler named in the benchmark files' headers (`# author=`).
@@ -521,6 +522,7 @@ pub struct SeasHeaderArgs {
     pub date: Option<String>,
 }
 
+#[cfg(feature = "seas")]
 impl SeasHeaderArgs {
     /// Checks the flags before any work: `--modeler` one non-empty line of at most 100
     /// characters, `--date` a calendar date `YYYY-MM-DD` (`2023-02-31` is not).

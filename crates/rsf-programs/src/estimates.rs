@@ -65,6 +65,7 @@ pub const FIGURE_BYTES: f64 = 3e6;
 
 /// Bytes per node of a SEAS model in a fault-ODE or implicit run: BP1's measured
 /// `rsf_scenes::SeasBp1::BYTES_PER_NODE` (6.5 kB, the larger of the two methods).
+#[cfg(feature = "seas")]
 pub const SEAS_BYTES_PER_NODE: f64 = rsf_scenes::SeasBp1::BYTES_PER_NODE;
 
 /// Bytes of a fault operator of `m` unknowns stored dense (`8 m²`) or as an ℋ-matrix

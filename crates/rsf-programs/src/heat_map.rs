@@ -39,38 +39,38 @@ pub fn log_heat_map(
     let FieldMap { xs, ys, values } = *map;
     init_fonts();
     let (lo, hi) = axes.log10_range;
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (x0, x1) = range(xs.iter().copied());
-    let (y0, y1) = range(ys.iter().copied());
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!(
-                "{} (colour: log10 slip rate, {lo:.0} … {hi:.0})",
-                axes.title
-            ),
-            ("sans-serif", 20),
-        )
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc(axes.x_label)
-        .y_desc(axes.y_label)
-        .label_style(("sans-serif", 15))
-        .draw()?;
-    chart.draw_series((0..ys.len()).flat_map(|iy| {
-        (0..xs.len()).map(move |ix| {
-            let (ya, yb) = cell_bounds(ys, iy);
-            let (xa, xb) = cell_bounds(xs, ix);
-            let v = values[iy][ix].max(1e-300).log10();
-            let s = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
-            let color = HSLColor((1.0 - s) * 0.66, 0.9, 0.5);
-            Rectangle::new([(xa, ya), (xb, yb)], color.filled())
-        })
-    }))?;
-    crate::present(&root, path)?;
-    Ok(())
+    crate::draw_png(path, size, |root| {
+        root.fill(&WHITE)?;
+        let (x0, x1) = range(xs.iter().copied());
+        let (y0, y1) = range(ys.iter().copied());
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!(
+                    "{} (colour: log10 slip rate, {lo:.0} … {hi:.0})",
+                    axes.title
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        chart
+            .configure_mesh()
+            .x_desc(axes.x_label)
+            .y_desc(axes.y_label)
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        chart.draw_series((0..ys.len()).flat_map(|iy| {
+            (0..xs.len()).map(move |ix| {
+                let (ya, yb) = cell_bounds(ys, iy);
+                let (xa, xb) = cell_bounds(xs, ix);
+                let v = values[iy][ix].max(1e-300).log10();
+                let s = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
+                let color = HSLColor((1.0 - s) * 0.66, 0.9, 0.5);
+                Rectangle::new([(xa, ya), (xb, yb)], color.filled())
+            })
+        }))?;
+        Ok(())
+    })
 }

@@ -1,8 +1,13 @@
-//! Shared helpers for the examples and benches of the rsf workspace: command-line parsing
-//! ([`cli`], clap), the statistics and figures of slider runs (PNG via
+//! The programs of the rsf workspace — the paper's slider in 2-D and 3-D, the SEAS
+//! benchmarks — and what they share: command-line parsing ([`cli`], clap), run folders,
+//! the guard every program runs under, the statistics and figures of slider runs (PNG via
 //! `plotters`). Not a library for users — the libraries are the `rsf*` crates; running,
 //! recording and event detection are theirs; plotting lives here so that they never
 //! depend on it.
+//!
+//! Features: `seas` (on by default) — the SEAS programs ([`seas_bp1`], [`seas_bp3`],
+//! [`seas_bp5`], [`seas_bp6`]); without it the crate builds the slider's programs alone
+//! (the workspace's main job does); `metis` — METIS's nested dissection.
 
 use std::path::Path;
 
@@ -23,16 +28,21 @@ mod process;
 pub mod ranks;
 mod run;
 pub mod run_folder;
+#[cfg(feature = "seas")]
 pub mod seas_bp1;
+#[cfg(feature = "seas")]
 pub mod seas_bp3;
+#[cfg(feature = "seas")]
 pub mod seas_bp5;
+#[cfg(feature = "seas")]
 pub mod seas_bp6;
+#[cfg(feature = "seas")]
 mod seas_overview;
 pub mod session;
 pub mod slider_3d;
-pub use cli::{
-    FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SeasHeaderArgs, TimeStepArgs,
-};
+#[cfg(feature = "seas")]
+pub use cli::SeasHeaderArgs;
+pub use cli::{FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, TimeStepArgs};
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
@@ -43,6 +53,7 @@ pub use run::{
     SliderRun, SliderStats,
 };
 pub use run_folder::FolderArgs;
+#[cfg(feature = "seas")]
 pub use seas_overview::seas_overview;
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
@@ -83,17 +94,45 @@ const COLORS: [RGBColor; 6] = [
 
 type PlotResult = Result<(), Box<dyn std::error::Error>>;
 
-/// Writes a figure drawn on `root` to its file `path` (plotters writes a bitmap when it is
-/// presented), the error naming the path (plotters' own names none).
+/// The drawing area of a figure: an RGB canvas in memory (plotters' bitmap backend).
+pub type Canvas<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// Draws a figure of `size` pixels (width, height) with `draw` on an RGB [`Canvas`] in
+/// memory and writes it to `path` as an 8-bit RGB PNG file (crate `png`: plotters' own file
+/// output pulls in the whole `image` crate, decoders included, which nothing else here
+/// uses).
 ///
 /// # Errors
-/// The file cannot be written: `cannot write the figure `PATH`: …`.
-pub fn present(
-    root: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+/// What `draw` returns; the file cannot be written: `cannot write the figure `PATH`: …`.
+pub fn draw_png(
     path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&Canvas<'_>) -> PlotResult,
 ) -> PlotResult {
-    root.present()
+    let (width, height) = size;
+    let mut rgb = vec![0u8; 3 * width as usize * height as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+        draw(&root)?;
+        root.present()?;
+    }
+    write_png(path, size, &rgb)
         .map_err(|e| format!("cannot write the figure `{}`: {e}", path.display()).into())
+}
+
+/// Writes `rgb` (`3 · width · height` bytes, rows from the top) to `path` as a PNG file.
+fn write_png(
+    path: &Path,
+    (width, height): (u32, u32),
+    rgb: &[u8],
+) -> Result<(), png::EncodingError> {
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut encoder = png::Encoder::new(file, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(rgb)?;
+    writer.finish()
 }
 
 fn range(points: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -167,51 +206,52 @@ pub fn line_plot(
             .iter()
             .flat_map(|s| s.points.iter().map(|p| tf(p.1, log_y))),
     );
-    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 22))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(80)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
-    let xl = if log_x {
-        format!("log10 {x_label}")
-    } else {
-        x_label.to_string()
-    };
-    let yl = if log_y {
-        format!("log10 {y_label}")
-    } else {
-        y_label.to_string()
-    };
-    chart
-        .configure_mesh()
-        .x_desc(xl)
-        .y_desc(yl)
-        .label_style(("sans-serif", 15))
-        .draw()?;
-    for (i, s) in series.iter().enumerate() {
-        let color = COLORS[i % COLORS.len()];
+    crate::draw_png(path, (1000, 600), |root| {
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 22))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        let xl = if log_x {
+            format!("log10 {x_label}")
+        } else {
+            x_label.to_string()
+        };
+        let yl = if log_y {
+            format!("log10 {y_label}")
+        } else {
+            y_label.to_string()
+        };
         chart
-            .draw_series(LineSeries::new(
-                s.points.iter().map(|p| (tf(p.0, log_x), tf(p.1, log_y))),
-                color.stroke_width(2),
-            ))?
-            .label(s.label)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
-    }
-    if series.len() > 1 || !series[0].label.is_empty() {
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
+            .configure_mesh()
+            .x_desc(xl)
+            .y_desc(yl)
+            .label_style(("sans-serif", 15))
             .draw()?;
-    }
-    present(&root, path)
+        for (i, s) in series.iter().enumerate() {
+            let color = COLORS[i % COLORS.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    s.points.iter().map(|p| (tf(p.0, log_x), tf(p.1, log_y))),
+                    color.stroke_width(2),
+                ))?
+                .label(s.label)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
+        if series.len() > 1 || !series[0].label.is_empty() {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 15))
+                .draw()?;
+        }
+        Ok(())
+    })
 }
 
 /// Edges `(a, b)` of the cell around sample `i` of the increasing coordinates `v`: the

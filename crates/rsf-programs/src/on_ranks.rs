@@ -37,8 +37,11 @@ fn program<P: Program>(name: &'static str) -> RankProgram {
 /// Every binary of the MPI crate, by name.
 pub fn programs() -> Vec<RankProgram> {
     vec![
+        #[cfg(feature = "seas")]
         program::<crate::seas_bp1::Args>("seas_bp1"),
+        #[cfg(feature = "seas")]
         program::<crate::seas_bp3::Args>("seas_bp3"),
+        #[cfg(feature = "seas")]
         program::<crate::seas_bp5::Args>("seas_bp5"),
         program::<crate::slider_3d::Cli>("slider_3d"),
         program::<crate::distributed_sweep::Args>("distributed_sweep"),

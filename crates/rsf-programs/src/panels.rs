@@ -89,65 +89,65 @@ impl crate::Series<'_> {
             },
             |(a, b)| (ty(a), ty(b)),
         );
-        let root = BitMapBackend::new(path, (w, h)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let root = root.titled(title, ("sans-serif", 20))?;
-        let areas = if columns {
-            root.split_evenly((1, n))
-        } else {
-            root.split_evenly((n, 1))
-        };
-        for (i, ((name, ss), area)) in panels.iter().zip(&areas).enumerate() {
-            let mut chart = ChartBuilder::on(area)
-                .caption(*name, ("sans-serif", 16))
-                .margin(8)
-                .x_label_area_size(if columns || i + 1 == n { 40 } else { 25 })
-                .y_label_area_size(70)
-                .build_cartesian_2d(x_range.0..x_range.1, y0..y1)?;
-            let yl = if log_y {
-                format!("log10 {y_label}")
+        crate::draw_png(path, (w, h), |root| {
+            root.fill(&WHITE)?;
+            let root = root.titled(title, ("sans-serif", 20))?;
+            let areas = if columns {
+                root.split_evenly((1, n))
             } else {
-                y_label.to_string()
+                root.split_evenly((n, 1))
             };
-            chart
-                .configure_mesh()
-                .x_desc(if columns || i + 1 == n { x_label } else { "" })
-                .y_desc(if columns && i > 0 { String::new() } else { yl })
-                .x_labels(6)
-                .y_labels(6)
-                .label_style(("sans-serif", 13))
-                .draw()?;
-            for (k, s) in ss.iter().enumerate() {
-                let color = colors[k % colors.len()];
+            for (i, ((name, ss), area)) in panels.iter().zip(&areas).enumerate() {
+                let mut chart = ChartBuilder::on(area)
+                    .caption(*name, ("sans-serif", 16))
+                    .margin(8)
+                    .x_label_area_size(if columns || i + 1 == n { 40 } else { 25 })
+                    .y_label_area_size(70)
+                    .build_cartesian_2d(x_range.0..x_range.1, y0..y1)?;
+                let yl = if log_y {
+                    format!("log10 {y_label}")
+                } else {
+                    y_label.to_string()
+                };
                 chart
-                    .draw_series(LineSeries::new(
-                        thinned[i][k].iter().copied(),
-                        color.stroke_width(1),
-                    ))?
-                    .label(s.label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
-                // Short series are measurements (one point per run): mark each point.
-                if thinned[i][k].len() <= MARKED_POINTS {
-                    chart.draw_series(
-                        thinned[i][k]
-                            .iter()
-                            .map(|&p| Circle::new(p, 2, color.filled())),
-                    )?;
+                    .configure_mesh()
+                    .x_desc(if columns || i + 1 == n { x_label } else { "" })
+                    .y_desc(if columns && i > 0 { String::new() } else { yl })
+                    .x_labels(6)
+                    .y_labels(6)
+                    .label_style(("sans-serif", 13))
+                    .draw()?;
+                for (k, s) in ss.iter().enumerate() {
+                    let color = colors[k % colors.len()];
+                    chart
+                        .draw_series(LineSeries::new(
+                            thinned[i][k].iter().copied(),
+                            color.stroke_width(1),
+                        ))?
+                        .label(s.label)
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                        });
+                    // Short series are measurements (one point per run): mark each point.
+                    if thinned[i][k].len() <= MARKED_POINTS {
+                        chart.draw_series(
+                            thinned[i][k]
+                                .iter()
+                                .map(|&p| Circle::new(p, 2, color.filled())),
+                        )?;
+                    }
+                }
+                if ss.len() > 1 {
+                    chart
+                        .configure_series_labels()
+                        .background_style(WHITE.mix(0.8))
+                        .border_style(BLACK)
+                        .label_font(("sans-serif", 13))
+                        .draw()?;
                 }
             }
-            if ss.len() > 1 {
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.8))
-                    .border_style(BLACK)
-                    .label_font(("sans-serif", 13))
-                    .draw()?;
-            }
-        }
-        crate::present(&root, path)?;
-        Ok(())
+            Ok(())
+        })
     }
 }
 

@@ -40,54 +40,54 @@ pub fn seas_overview(
         .flat_map(|r| r[2..].iter().map(|x| x.abs()))
         .fold(1e-3, f64::max);
     let path = dir.join("overview.png");
-    let root = BitMapBackend::new(&path, (1200, 600)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (left, right) = root.split_horizontally(600);
-    let mut chart = ChartBuilder::on(&left)
-        .caption(
-            "slip (blue: every 5 yr, red: every 1 s in events)",
-            ("sans-serif", 16),
-        )
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(50)
-        .build_cartesian_2d(
-            0.0..slip_max * 1.02,
-            -depths.last().copied().unwrap_or(40.0)..0.0,
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc("slip (m)")
-        .y_desc(axis)
-        .y_label_formatter(&|y| format!("{:.0}", -y))
-        .draw()?;
-    for r in &rows {
-        let colour = if r[1] >= (1e-3f64).log10() { RED } else { BLUE };
+    crate::draw_png(&path, (1200, 600), |root| {
+        root.fill(&WHITE)?;
+        let (left, right) = root.split_horizontally(600);
+        let mut chart = ChartBuilder::on(&left)
+            .caption(
+                "slip (blue: every 5 yr, red: every 1 s in events)",
+                ("sans-serif", 16),
+            )
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(
+                0.0..slip_max * 1.02,
+                -depths.last().copied().unwrap_or(40.0)..0.0,
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("slip (m)")
+            .y_desc(axis)
+            .y_label_formatter(&|y| format!("{:.0}", -y))
+            .draw()?;
+        for r in &rows {
+            let colour = if r[1] >= (1e-3f64).log10() { RED } else { BLUE };
+            chart.draw_series(LineSeries::new(
+                r[2..].iter().zip(&depths).map(|(&s, &z)| (s.abs(), -z)),
+                colour.stroke_width(1),
+            ))?;
+        }
+        let t_max = rows.last().map_or(1.0, |r| r[0] / SECONDS_PER_YEAR);
+        let mut chart = ChartBuilder::on(&right)
+            .caption(
+                format!("max slip rate; {events} events"),
+                ("sans-serif", 16),
+            )
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..t_max.max(1e-9), -13.0..1.0)?;
+        chart
+            .configure_mesh()
+            .x_desc("time (years)")
+            .y_desc("log10 max slip rate (m/s)")
+            .draw()?;
         chart.draw_series(LineSeries::new(
-            r[2..].iter().zip(&depths).map(|(&s, &z)| (s.abs(), -z)),
-            colour.stroke_width(1),
+            rows.iter()
+                .map(|r| (r[0] / SECONDS_PER_YEAR, r[1].max(-13.0))),
+            BLACK.stroke_width(1),
         ))?;
-    }
-    let t_max = rows.last().map_or(1.0, |r| r[0] / SECONDS_PER_YEAR);
-    let mut chart = ChartBuilder::on(&right)
-        .caption(
-            format!("max slip rate; {events} events"),
-            ("sans-serif", 16),
-        )
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(50)
-        .build_cartesian_2d(0.0..t_max.max(1e-9), -13.0..1.0)?;
-    chart
-        .configure_mesh()
-        .x_desc("time (years)")
-        .y_desc("log10 max slip rate (m/s)")
-        .draw()?;
-    chart.draw_series(LineSeries::new(
-        rows.iter()
-            .map(|r| (r[0] / SECONDS_PER_YEAR, r[1].max(-13.0))),
-        BLACK.stroke_width(1),
-    ))?;
-    crate::present(&root, &path)?;
-    Ok(())
+        Ok(())
+    })
 }

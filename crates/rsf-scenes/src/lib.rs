@@ -14,6 +14,12 @@
 //!   a Gmsh file ([`arc_block_model`]), with nodal frames;
 //! - [`output`]: bounds on a scene's output before it runs.
 //!
+//! Features: `seas` (on by default) — the SEAS scenes ([`SeasBp1`] … [`SeasBp6`]), with
+//! the crate `rsf-seas` and rsf's `halfspace`; `clap` and `progress` — through rsf's
+//! features of those names. A program of the slider alone builds with
+//! `default-features = false` (the workspace's main job does: docs/performance.md, "What a
+//! newcomer waits for").
+//!
 //! The scenes live apart from the library so that a program that builds its own problem
 //! pays for none of them (nor for the TOML reader they own). Their errors are
 //! [`rsf::Error`]s: every failure of a scene is a failure of the model or simulation it
@@ -34,10 +40,15 @@ mod curved;
 mod incline;
 pub mod output;
 mod scene_file;
+#[cfg(feature = "seas")]
 mod seas_bp1;
+#[cfg(feature = "seas")]
 mod seas_bp3;
+#[cfg(feature = "seas")]
 mod seas_bp5;
+#[cfg(feature = "seas")]
 mod seas_bp5_output;
+#[cfg(feature = "seas")]
 mod seas_bp6;
 mod slider;
 mod slider3d;
@@ -46,21 +57,26 @@ pub use curved::{arc_block_model, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADI
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
 
+#[cfg(feature = "seas")]
 pub use seas_bp1::{
     GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
     SEAS_BP1_BOTTOM, SEAS_BP1_FAR_SIDE, SEAS_BP1_STATION_DEPTHS,
 };
+#[cfg(feature = "seas")]
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
+#[cfg(feature = "seas")]
 pub use seas_bp5::{
     FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh, MAX_CELLS as SEAS_BP5_MAX_CELLS,
 };
+#[cfg(feature = "seas")]
 pub use seas_bp6::{
     Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,
     BP6_SECONDS_PER_YEAR,
 };
 // BP5's stations: their files are the output's (rsf-seas), their positions the scene's.
+#[cfg(feature = "seas")]
 pub use rsf_seas::{SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};
 pub use slider::{
     AdaptiveTimeStep, SceneSimulation, SceneSimulationBuilder, SliderScene, TimeStep, ALPHA_RANGE,
@@ -71,6 +87,7 @@ pub use slider3d::{skew_rotation, slider_3d_coarse, LateralBoundary, Slider3dSce
 /// Options of the fault ODE of the SEAS scenes: Dormand–Prince 5(4), local errors at most
 /// `tolerance · slip_scale` in slip and `tolerance` in ln θ per step, steps in
 /// [1e-6 s, 1 yr].
+#[cfg(feature = "seas")]
 fn seas_fault_ode_options(
     tolerance: f64,
     slip_scale: f64,

@@ -2,6 +2,7 @@
 //! "The build's memory"): a binary of its own, so that its allocator counts this one test's
 //! allocations and nothing else. The count is the process's heap as the allocator sees it
 //! (every allocation and release), read before and during the build, not an estimate.
+#![cfg(feature = "seas")]
 
 use peak_alloc::PeakAlloc;
 use rsf_scenes::{SeasBp5, SeasBp5Grid, SeasBp5Mesh};

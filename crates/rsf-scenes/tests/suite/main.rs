@@ -5,7 +5,11 @@
 mod absorbing_sides;
 mod columns;
 mod scene_values;
+#[cfg(feature = "seas")]
 mod seas_bp3;
+#[cfg(feature = "seas")]
 mod seas_bp5;
+#[cfg(feature = "seas")]
 mod seas_bp6;
+#[cfg(feature = "seas")]
 mod volume_vertices;

@@ -1,15 +1,16 @@
 //! The paper's model problem (Pipping, Sander & Kornhuber §6.1, Table 6.1): a 5 m × 1 m
 //! elastic block, sheared at its top with a ramped velocity, sliding on its rate-and-state
-//! frictional bottom. The main job of the workspace.
+//! frictional bottom. The main job of the workspace: the root package's binary (its
+//! build compiles the slider's programs alone, not the SEAS programs of the examples).
 //!
 //! ```sh
-//! cargo run --release --example pipping_slider                      # j = 4, N = 1e4, Dieterich, Newmark
-//! cargo run --release --example pipping_slider -- --level 3 --law ruina --solver direct
-//! cargo run --release --example pipping_slider -- --scene scenes/pipping_slider.toml
-//! cargo run --release --example pipping_slider -- --level 3 --adaptive 1e-3   # adaptive τ
-//! cargo run --release --example pipping_slider -- --level 3 --frame-every 50   # ParaView frames
-//! cargo run --release --example pipping_slider -- --checkpoint-every 1000   # then, after a kill:
-//! cargo run --release --example pipping_slider -- --checkpoint-every 1000 --resume out/pipping_slider/checkpoint.bin
+//! cargo run --release                       # j = 4, N = 1e4, Dieterich, Newmark
+//! cargo run --release -- --level 3 --law ruina --solver direct
+//! cargo run --release -- --scene scenes/pipping_slider.toml
+//! cargo run --release -- --level 3 --adaptive 1e-3   # adaptive τ
+//! cargo run --release -- --level 3 --frame-every 50   # ParaView frames
+//! cargo run --release -- --checkpoint-every 1000   # then, after a kill:
+//! cargo run --release -- --checkpoint-every 1000 --resume out/pipping_slider/checkpoint.bin
 //! ```
 //!
 //! Writes to `out/pipping_slider/` (or `--out DIR`): `timeseries.csv` (a
