@@ -42,7 +42,7 @@ use rsf::observe::{Progress, TimeUnit};
 use rsf::Stepping;
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
-use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_seas::{SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
@@ -310,21 +310,13 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         session.follow(&mut ode, &mut [])?;
         return Ok(());
     }
-    // On resume, `SeasOutput::new` checks every file's rows up to the checkpoint's step
-    // before it cuts any.
-    let mode = session.mode(folder.mode());
-    let mut output = SeasOutput::new(
+    let mut output = session.along_dip_output(
         &args.out,
         ode.model(),
         ode.problem().friction_laws(),
         setup,
-        mode,
+        folder.mode(),
     )?;
-    // A run that can stop before its end (checkpoints, a step cap) logs what its files
-    // hold at each checkpoint.
-    if session.keeps_resume_log() {
-        output = output.with_resume_log(mode)?;
-    }
     // The fault ODE computes the surface stations' vertices (not the whole field) after
     // every step; their initial row needs them now.
     ode.watch_vertices(&output.surface_vertices())?;

@@ -130,6 +130,33 @@ impl Session {
         self.checkpoint_every > 0 || self.step_cap.is_some()
     }
 
+    /// The along-dip SEAS files (BP1, BP3: `rsf_seas::SeasOutput`) of the run of `model`
+    /// in `out`, `laws` its frictional nodes' laws: opened in [`Self::mode`] of `fresh` (on
+    /// resume every file's rows are checked up to the checkpoint's step before any is cut),
+    /// with their resume log where the run can stop before its end
+    /// ([`Self::keeps_resume_log`]).
+    ///
+    /// # Errors
+    /// `rsf_seas::SeasOutput::new`'s and `with_resume_log`'s (invalid set-up, files that
+    /// exist, rows that do not match the checkpoint, I/O naming the file).
+    #[cfg(feature = "seas")]
+    pub fn along_dip_output<const D: usize, const C: usize, L: rsf::friction::FrictionLaw>(
+        &self,
+        out: &Path,
+        model: &rsf::Model<D, C>,
+        laws: &[L],
+        setup: rsf_seas::SeasSetup,
+        fresh: FileMode,
+    ) -> Result<rsf_seas::SeasOutput<L>, AnyError> {
+        let mode = self.mode(fresh);
+        let output = rsf_seas::SeasOutput::new(out, model, laws, setup, mode)?;
+        Ok(if self.keeps_resume_log() {
+            output.with_resume_log(mode)?
+        } else {
+            output
+        })
+    }
+
     /// Where the run stops: its end time, or the step cap first.
     pub fn end(&self) -> Until {
         self.end

@@ -270,21 +270,13 @@ pub(super) fn run(
         session.follow(&mut sim, &mut [])?;
         return Ok(());
     }
-    // On resume, `SeasOutput::new` checks every file's rows up to the checkpoint's step
-    // before it cuts any.
-    let mode = session.mode(prepared.mode());
-    let mut output = SeasOutput::new(
+    let mut output = session.along_dip_output(
         &args.out,
         rsf::Stepping::model(&sim),
         sim.problem().friction_laws(),
         setup,
-        mode,
+        prepared.mode(),
     )?;
-    // A run that can stop before its end (checkpoints, a step cap) logs what its
-    // benchmark files hold at each checkpoint.
-    if session.keeps_resume_log() {
-        output = output.with_resume_log(mode)?;
-    }
     if session.resumed().is_none() {
         // The benchmark's first row: the initial state at t = 0.
         output.write_initial_state(rsf::Stepping::model(&sim), rsf::Stepping::state(&sim))?;
