@@ -11,8 +11,12 @@ use std::path::{Path, PathBuf};
 
 /// The crates from the bottom up: a crate may depend only on crates before it.
 const LAYERS: &[&[&str]] = &[
-    &["rsf-numeric", "rsf-linalg", "rsf-metis", "rsf-ranks"],
+    &["rsf-numeric", "rsf-linalg", "rsf-metis"],
+    // Processes that share work (rsf-ranks: the transport and the distributed linear
+    // algebra over rsf-linalg's matrices) sit beside the finite elements and the solvers'
+    // interface, below TNNMG and rsf (docs/design.md, "Layers").
     &[
+        "rsf-ranks",
         "rsf-fem",
         "rsf-friction",
         "rsf-state",

@@ -1,6 +1,7 @@
 //! A small linear elasticity problem of fixed data on a refined box: the problem that the
-//! distributed solvers (rsf-tnnmg's `distributed` module, rsf-mpi's halo exchange) are
-//! tested and measured on, built in one place so that their tests and programs agree.
+//! distributed solvers (rsf-ranks' sweeps, rsf-tnnmg's `distributed` module, rsf-mpi's
+//! halo exchange) are tested and measured on, built in one place so that their tests and
+//! programs agree.
 
 use faer::sparse::SparseColMat;
 
@@ -87,6 +88,25 @@ impl ElasticBox {
             .map(|i| 0.5 * (1.3 * i as f64).cos())
             .collect()
     }
+
+    /// The owner of every vertex of the finest mesh among `parts` ranks: slabs of nearly
+    /// equal vertex counts along coordinate `axis` (the vertices sorted by that coordinate,
+    /// ties by index, the `k`-th of `n` to rank `⌊k · parts / n⌋`). The simple partition
+    /// that the distributed solvers' tests use besides a graph partitioner's.
+    ///
+    /// # Panics
+    /// If `axis ≥ 3` or `parts == 0`.
+    pub fn slabs(&self, parts: usize, axis: usize) -> Vec<usize> {
+        assert!(axis < 3 && parts > 0, "axis {axis}, {parts} parts");
+        let v = self.mesh().vertices();
+        let mut order: Vec<usize> = (0..v.len()).collect();
+        order.sort_by(|&p, &q| v[p][axis].total_cmp(&v[q][axis]).then(p.cmp(&q)));
+        let mut owner = vec![0; v.len()];
+        for (k, &p) in order.iter().enumerate() {
+            owner[p] = k * parts / v.len();
+        }
+        owner
+    }
 }
 
 #[cfg(test)]
@@ -111,5 +131,33 @@ mod tests {
         assert_eq!(b.load().len(), b.dofs());
         assert!(b.start().iter().any(|&x| x != 0.0));
         assert!(ElasticBox::new([2.0, 1.0, 1.0], [1, 4, 4], 0).is_err());
+    }
+
+    /// Slabs: every part has ⌊n / parts⌋ or ⌈n / parts⌉ vertices, and along the axis a
+    /// part's vertices lie at or below the next part's.
+    #[test]
+    fn slabs_split_the_vertices_evenly_along_the_axis() {
+        let b = ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], 1).unwrap();
+        let v = b.mesh().vertices();
+        let n = v.len();
+        for axis in 0..3 {
+            for parts in 1..=5 {
+                let owner = b.slabs(parts, axis);
+                let mut count = vec![0; parts];
+                let mut lo = vec![f64::INFINITY; parts];
+                let mut hi = vec![f64::NEG_INFINITY; parts];
+                for (p, &r) in owner.iter().enumerate() {
+                    count[r] += 1;
+                    lo[r] = lo[r].min(v[p][axis]);
+                    hi[r] = hi[r].max(v[p][axis]);
+                }
+                for r in 0..parts {
+                    assert!(count[r] == n / parts || count[r] == n.div_ceil(parts));
+                    if r + 1 < parts {
+                        assert!(hi[r] <= lo[r + 1], "axis {axis}, {parts} parts");
+                    }
+                }
+            }
+        }
     }
 }

@@ -59,8 +59,9 @@ pub enum Error {
 /// The failures of a solver's input that every solver of the workspace shares: the one
 /// vocabulary of the linear-algebra checks. [`Csc`](crate::Csc)'s checks return it, so do
 /// the checks of `rsf-nonsmooth` (the solvers' interface); the solvers' error types
-/// (`rsf_tnnmg::Error`, `rsf_direct::Error`) and this crate's [`Error`] hold it as one
-/// variant, `Problem`, with the same messages.
+/// (`rsf_tnnmg::Error`, `rsf_direct::Error`), that of the distributed linear algebra
+/// (`rsf_ranks::Error`) and this crate's [`Error`] hold it as one variant, `Problem`, with
+/// the same messages.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ProblemError {

@@ -17,7 +17,7 @@ use crate::Partition;
 const TAG: i32 = 57;
 
 /// The processes of `MPI_COMM_WORLD` as the ranks of a distributed sweep
-/// (`rsf_tnnmg::distributed::DistributedSweep`).
+/// (`rsf_ranks::DistributedSweep`).
 ///
 /// Each exchange posts one `MPI_Irecv` per received message and one `MPI_Isend` per sent
 /// message, then waits for all of them: every rank posts all its messages before it waits,

@@ -17,9 +17,10 @@
 //! This crate is outside the workspace's default build (it needs an MPI library and
 //! clang); `cargo build --release --manifest-path crates/rsf-mpi/Cargo.toml`.
 //!
-//! The implicit engine's distributed smoother (rsf-tnnmg's `distributed` module) runs its
-//! halo exchanges over MPI through [`MpiExchange`]; the binary `distributed_sweep` runs it
-//! on a refined elastic box and measures it (docs/scaling.md, "Phase 2").
+//! The implicit engine's distributed smoother (rsf-ranks' `DistributedSweep`, below
+//! rsf-tnnmg's V-cycle and TNNMG on ranks) runs its halo exchanges over MPI through
+//! [`MpiExchange`]; the binary `distributed_sweep` runs it on a refined elastic box and
+//! measures it (docs/scaling.md, "Phase 2").
 #![warn(missing_docs)]
 
 mod halo;

@@ -172,6 +172,27 @@ impl ThreadRanks {
             })
             .collect()
     }
+
+    /// Runs `run` on every rank of a new group of `size` ([`group`](Self::group)), each
+    /// rank on a scoped thread of its own, and returns the results in rank order: how a
+    /// test runs a computation on several ranks without MPI.
+    ///
+    /// # Panics
+    /// If `size == 0`; with the panic of a rank whose `run` panicked (the lowest such rank;
+    /// the other ranks' threads end when their partner's channels close).
+    pub fn run<T: Send>(size: usize, run: impl Fn(Self) -> T + Sync) -> Vec<T> {
+        let run = &run;
+        std::thread::scope(|s| {
+            let handles: Vec<_> = Self::group(size)
+                .into_iter()
+                .map(|ranks| s.spawn(move || run(ranks)))
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                .collect()
+        })
+    }
 }
 
 impl RankGroup for ThreadRanks {

@@ -13,7 +13,7 @@
 //! Gauss–Seidel in one fixed node order, so every thread count gives the same bits.
 //!
 //! Unlike a node colouring, which reads every node's full row in every sweep, each chunk is
-//! swept like the lexicographic sweep of [`BlockCsr::sweep`](crate::bsr::BlockCsr::sweep):
+//! swept like the lexicographic sweep of [`BlockCsr::sweep`](rsf_ranks::bsr::BlockCsr::sweep):
 //! the couplings inside the chunk are read once per sweep, from the triangle "ahead" of the
 //! sweep (forward) or "behind" it (backward), the already updated nodes' contributions
 //! being pushed through the transposed blocks; only couplings to the neighbouring chunks
@@ -24,10 +24,10 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::block::{load, store, sub_mul_t_vec, sub_mul_vec, Block};
-use crate::bsr::{BlockCsr, SweepOrder};
 use crate::Parallelism;
 use rsf_linalg::for_node_rows;
+use rsf_ranks::block::{load, store, sub_mul_t_vec, sub_mul_vec, Block};
+use rsf_ranks::bsr::{BlockCsr, SweepOrder};
 
 /// The most chunks (eight per colour: eight threads).
 const CHUNKS_MAX: usize = 16;
@@ -377,7 +377,7 @@ impl<const D: usize> ChunkedSweep<D> {
     /// `order.reverse`) in the chunked order, starting from `x = 0` when `order.zero_start`:
     /// for each node `p`, `local(p, b_p, s, x_p)` updates its block `x_p` in place from `s =
     /// rhs_p − Σ_{q≠p} A_pq x_q` (`b_p` is its local block, [`set_node_blocks`](Self::set_node_blocks)),
-    /// as in [`BlockCsr::sweep`](crate::bsr::BlockCsr::sweep).
+    /// as in [`BlockCsr::sweep`](rsf_ranks::bsr::BlockCsr::sweep).
     /// The chunks of one colour run on at most `par.threads()` threads. With `residual =
     /// Some(res)`, afterwards `res = rhs − A x` with the sweeper's diagonal blocks (every
     /// chunk on the threads; the couplings inside a chunk pushed as in a sweep).
@@ -491,8 +491,8 @@ fn gather<const D: usize>(dst: &mut [f64], src: &[f64], idx: &[u32], par: Parall
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::block::{masked_inverse, mul_vec};
     use rsf_linalg::Csc;
+    use rsf_ranks::block::{masked_inverse, mul_vec};
 
     /// A symmetric positive definite matrix with the 9-point pattern of an `m × m` grid
     /// and dense `D × D` blocks (nodes numbered row by row after a shuffle, so that the

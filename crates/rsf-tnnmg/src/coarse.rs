@@ -6,9 +6,9 @@
 use faer::sparse::SymbolicSparseColMatRef;
 use rsf_linalg::{Cholesky, Csc, FillOrdering};
 
-use crate::bsr::BlockCsr;
 use crate::error::{Error, Result};
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::bsr::BlockCsr;
 
 /// The coarsest-level solver: the pattern analysed once (AMD ordering), the values
 /// factorised after every change of the matrix or its mask.

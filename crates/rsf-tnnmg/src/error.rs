@@ -61,6 +61,20 @@ pub enum Error {
 /// Result alias of this crate.
 pub type Result<T> = std::result::Result<T, Error>;
 
+impl From<rsf_ranks::Error> for Error {
+    /// The distributed linear algebra's failures as the same variants: [`Error::Problem`]
+    /// and [`Error::InvalidPartition`].
+    fn from(e: rsf_ranks::Error) -> Self {
+        match e {
+            rsf_ranks::Error::Problem(p) => Error::Problem(p),
+            rsf_ranks::Error::InvalidPartition(s) => Error::InvalidPartition(s),
+            // `rsf_ranks::Error` is non-exhaustive: a variant added there is a failure of
+            // the input until it gets its own variant here.
+            other => Error::Problem(ProblemError::InvalidOption(other.to_string())),
+        }
+    }
+}
+
 impl From<rsf_linalg::Error> for Error {
     /// The shared checks ([`rsf_linalg::Error::Problem`]) as [`Error::Problem`]; anything
     /// else is a failure of the factorisation.

@@ -11,13 +11,13 @@
 //! into contiguous ranges, one per thread, each with its own dense accumulator, so the
 //! results have the same bits on any number of threads.
 
-use crate::block::{add_mul, add_mul_t, load, mul_vec, Block};
-use crate::bsr::BlockCsr;
 use crate::error::{Error, Result};
 use crate::Parallelism;
 use rsf_linalg::for_node_rows;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::block::{add_mul, add_mul_t, load, mul_vec, Block};
+use rsf_ranks::bsr::BlockCsr;
 
 /// Rows below which the Galerkin updates and the transfers stay on the calling thread.
 const GALERKIN_PARALLEL_MIN: usize = 512;
@@ -411,7 +411,10 @@ impl<const D: usize> Pattern<D> {
     ///
     /// # Errors
     /// As [`Galerkin::new`].
-    pub(crate) fn new(h: &impl crate::bsr::NodePattern, p: &Csc) -> Result<(Self, BlockCsr<D>)> {
+    pub(crate) fn new(
+        h: &impl rsf_ranks::bsr::NodePattern,
+        p: &Csc,
+    ) -> Result<(Self, BlockCsr<D>)> {
         if p.ncols % D != 0 || p.nrows != D * h.nodes() {
             return Err(ProblemError::InvalidMatrix(format!(
                 "prolongation is {}x{}: expected {} rows and a column count divisible by {D}",

@@ -37,10 +37,13 @@
 //! iterates for every thread count.
 //!
 //! On ranks with distributed memory (docs/scaling.md, "Past one machine"), the
-//! [`distributed`] module holds the multi-colour block Gauss–Seidel sweep of one rank with a
-//! halo exchange per colour, the linear V-cycle built on it, and TNNMG on ranks
+//! [`distributed`] module holds the linear V-cycle of one rank and TNNMG on ranks
 //! ([`distributed::DistributedTnnmg`]: the same bits at every rank count, its global sums
-//! exact; each rank computes its own rows of the coarse operators).
+//! exact; each rank computes its own rows of the coarse operators), built on the
+//! distributed linear algebra of `rsf-ranks` (the multi-colour block Gauss–Seidel sweep of
+//! one rank with a halo exchange per colour, exact sums, conjugate gradients), whose names
+//! it re-exports at their former paths. The node-block storage, its kernels and
+//! [`Colouring`] are `rsf-ranks`' too.
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction. The failures of
@@ -73,11 +76,8 @@
 //! ```
 #![warn(missing_docs)]
 
-mod block;
-mod bsr;
 mod chunks;
 mod coarse;
-mod colouring;
 pub mod distributed;
 mod error;
 mod galerkin;
@@ -88,12 +88,14 @@ mod multigrid;
 mod norm;
 mod problem;
 mod report;
+mod smoother_order;
 mod tnnmg;
 
-pub use block::solve_spd_masked;
-pub use colouring::{Colouring, SmootherOrder};
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;
 pub use rsf_linalg::Parallelism;
+pub use rsf_ranks::block::solve_spd_masked;
+pub use rsf_ranks::Colouring;
+pub use smoother_order::SmootherOrder;
 pub use tnnmg::{Tnnmg, TnnmgOptions};

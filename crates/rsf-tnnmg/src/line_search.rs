@@ -1,7 +1,7 @@
 //! Exact line search for the convex function `s ↦ J(v + s c)`.
 
-use crate::block::load;
 use rsf_nonsmooth::BlockNonlinearity;
+use rsf_ranks::block::load;
 
 /// One-sided derivatives `(ψ'⁻(s), ψ'⁺(s))` of `ψ(s) = J(v + s c)` where
 /// `ψ(s) = ψ(0) + s g0 + ½ s² h + Σ_k φ_k(v_k + s c_k)`.

@@ -2,8 +2,6 @@
 
 use std::sync::Arc;
 
-use crate::block::{masked_inverse, mul_vec, Block};
-use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedOrder, ChunkedSweep, Smoothing};
 use crate::coarse::{excluded, CoarseSolver};
 use crate::error::Result;
@@ -11,6 +9,8 @@ use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::block::{masked_inverse, mul_vec, Block};
+use rsf_ranks::bsr::{BlockCsr, SweepOrder};
 
 /// Shape of the multigrid cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

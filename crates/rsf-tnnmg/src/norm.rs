@@ -2,11 +2,11 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::bsr::BlockCsr;
 use crate::error::Result;
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::bsr::BlockCsr;
 
 /// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
 #[derive(Debug, Clone)]

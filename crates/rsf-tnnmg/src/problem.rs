@@ -2,15 +2,15 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
-use crate::bsr::{BlockCsr, SweepOrder};
 use crate::chunks::{ChunkedSweep, Smoothing};
-use crate::colouring::Colouring;
 use crate::error::Result;
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::{BlockNonlinearity, BlockedMatrix};
+use rsf_ranks::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
+use rsf_ranks::bsr::{BlockCsr, SweepOrder};
+use rsf_ranks::Colouring;
 
 /// The chunked nonlinear smoother of TNNMG: the sweeper (its red–black chunked order), the
 /// number of sweeps and the threads ([`NodalProblem::nonlinear_gauss_seidel_chunked`]).

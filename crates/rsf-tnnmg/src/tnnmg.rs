@@ -4,9 +4,7 @@ use std::sync::Arc;
 
 use faer::sparse::{SparseColMat, SparseColMatRef};
 
-use crate::block::{load, Block};
 use crate::chunks::{ChunkedOrder, ChunkedSweep};
-use crate::colouring::{Colouring, SmootherOrder};
 use crate::error::{Error, Result};
 use crate::line_search::exact_line_search;
 use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
@@ -14,12 +12,15 @@ use crate::multigrid::{CycleShape, LinearMultigrid, NewtonHierarchy};
 use crate::norm::EnergyNorm;
 use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
 use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
+use crate::smoother_order::SmootherOrder;
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
 use rsf_nonsmooth::{
     BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, SolveWatch, Stopping,
 };
+use rsf_ranks::block::{load, Block};
+use rsf_ranks::Colouring;
 
 /// Blocks whose nonlinearity's Hessian exceeds this multiple of `A`'s diagonal are
 /// truncated in the linear correction (see [`is_rigid`]): at this contrast the

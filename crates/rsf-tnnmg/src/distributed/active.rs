@@ -2,10 +2,9 @@
 //! owned active nodes to one collective, so that every rank holds the values of all active
 //! blocks (the fault is a surface: few values) in their places of a global vector.
 
-use super::halo::{AllGather, HaloCounters};
-use super::local_rows::LocalRows;
-use crate::block::{load, store};
-use rsf_ranks::RankGroup;
+use rsf_ranks::block::{load, store};
+use rsf_ranks::halo::{AllGather, HaloCounters};
+use rsf_ranks::{LocalRows, RankGroup};
 
 /// One rank's all-gather over the active blocks of a nonlinearity (`D` values per block).
 #[derive(Debug, Clone)]

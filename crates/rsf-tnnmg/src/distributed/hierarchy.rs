@@ -7,18 +7,14 @@
 use faer::sparse::{SparseColMat, SparseColMatRef};
 use rsf_linalg::Csc;
 
-use super::local_rows::{blocks, LocalRows};
 use super::rank_hierarchy::RankHierarchy;
-use super::ColouredGaussSeidel;
-use super::DistributedSweep;
-use crate::bsr::BlockCsr;
 use crate::coarse::{excluded, CoarseSolver};
-use crate::colouring::Colouring;
 use crate::error::{Error, Result};
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
-use rsf_ranks::RankGroup;
+use rsf_ranks::bsr::BlockCsr;
+use rsf_ranks::{ColouredGaussSeidel, Colouring, DistributedSweep, LocalRows, RankGroup};
 
 /// Smoothing sweeps of a V-cycle on every level but the coarsest (solved exactly).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -80,7 +76,7 @@ impl<const D: usize> VCycleHierarchy<D> {
             )
             .into());
         }
-        let fine = blocks::<D>(a)?;
+        let fine = BlockCsr::<D>::from_symmetric(a)?;
         if fixed.len() != fine.n() {
             return Err(ProblemError::DimensionMismatch {
                 what: "fixed (one flag per dof)",
@@ -208,7 +204,13 @@ impl<const D: usize> LevelSource<D> for VCycleHierarchy<D> {
         owner: &[usize],
         halo: &H,
     ) -> Result<DistributedSweep<D>> {
-        DistributedSweep::of_blocks(&self.levels[l].a, owner, &self.levels[l].colouring, halo)
+        let level = &self.levels[l];
+        Ok(DistributedSweep::of_blocks(
+            &level.a,
+            owner,
+            &level.colouring,
+            halo,
+        )?)
     }
     fn coarsest(&self) -> &BlockCsr<D> {
         &self.levels[0].a
@@ -274,11 +276,12 @@ impl<const D: usize> LevelSource<D> for RankLevels<'_, D> {
         owner: &[usize],
         halo: &H,
     ) -> Result<DistributedSweep<D>> {
-        if l + 1 == self.h.num_levels() {
-            DistributedSweep::of_rows(self.fine.clone(), &self.colourings[l])
+        let colouring = &self.colourings[l];
+        Ok(if l + 1 == self.h.num_levels() {
+            DistributedSweep::of_rows(self.fine.clone(), colouring)?
         } else {
-            DistributedSweep::of_blocks(self.h.coarse_matrix(l), owner, &self.colourings[l], halo)
-        }
+            DistributedSweep::of_blocks(self.h.coarse_matrix(l), owner, colouring, halo)?
+        })
     }
     fn coarsest(&self) -> &BlockCsr<D> {
         self.h.coarse_matrix(0)
@@ -369,7 +372,7 @@ impl<const D: usize> ColouredVCycle<D> {
                     &l.colouring,
                 )
             })
-            .collect::<Result<_>>()?;
+            .collect::<rsf_ranks::Result<_>>()?;
         let n = |l: &Level<D>| vec![0.0; l.a.n()];
         Ok(Self {
             shape,

@@ -1,18 +1,18 @@
 //! The implicit engine on ranks with distributed memory (issue 57, docs/scaling.md "Past
-//! one machine"): a multi-colour block Gauss–Seidel smoother, a linear multigrid cycle and
-//! TNNMG ([`DistributedTnnmg`]), whose iterates have the same bits at every rank count.
+//! one machine"): a linear multigrid cycle and TNNMG ([`DistributedTnnmg`]), whose iterates
+//! have the same bits at every rank count, built on the distributed linear algebra of
+//! `rsf-ranks` (re-exported here at its former paths).
 //!
-//! Every node of the matrix is owned by one rank (an owner vector, e.g. a graph partition
-//! of the node graph [`node_graph`]). A rank holds its owned nodes' block rows and one layer
-//! of ghost nodes ([`LocalRows`]), and sweeps colour by colour through a global
-//! [`Colouring`](crate::Colouring) ([`DistributedSweep`]): its owned nodes of a colour,
-//! then one halo exchange of that colour's values with the neighbour ranks through the
-//! caller's transport ([`RankGroup`]: MPI in `rsf-mpi`, threads in [`ThreadRanks`]).
+//! From `rsf-ranks`: every node of the matrix is owned by one rank (an owner vector, e.g.
+//! a graph partition of the node graph [`node_graph`]). A rank holds its owned nodes' block
+//! rows and one layer of ghost nodes ([`LocalRows`]), and sweeps colour by colour through a
+//! global [`Colouring`](crate::Colouring) ([`DistributedSweep`]): its owned nodes of a
+//! colour, then one halo exchange of that colour's values with the neighbour ranks through
+//! the caller's transport ([`RankGroup`]: MPI in `rsf-mpi`, threads in [`ThreadRanks`]).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
 //! the same node updates; [`HaloCounters`] counts the messages, collectives and values
-//! sent.
-//! [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows, and
-//! [`ColouredGaussSeidel`] its one-process reference (the tests' and measurements'
+//! sent. [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows,
+//! and [`ColouredGaussSeidel`] its one-process reference (the tests' and measurements'
 //! smoother).
 //!
 //! [`DistributedVCycle`] is one rank's linear V-cycle on a nested hierarchy: per level its
@@ -25,25 +25,17 @@
 //!
 //! [`DistributedTnnmg`] is TNNMG on ranks: the multi-colour nonlinear smoother on the owned
 //! nodes, the truncated linearisation on the active blocks gathered from their owners, the
-//! rank's rows of the Newton hierarchy computed by their owners and updated
-//! incrementally, [`DistributedVCycle`]s on the truncated
-//! Newton system, the kink rule and the exact line search; its global sums are exact and
-//! rounded once (a reproducible reduction), and [`TnnmgCounters`] counts what each part
-//! sends. [`BlockTresca`] is a closed-form nonsmooth nonlinearity for its tests and
-//! measurements.
+//! rank's rows of the Newton hierarchy computed by their owners and updated incrementally,
+//! [`DistributedVCycle`]s on the truncated Newton system (alone, or preconditioning the
+//! conjugate gradients of `rsf-ranks`, [`DistributedCg`](rsf_ranks::DistributedCg)), the
+//! kink rule and the exact line search; its global sums are exact and rounded once (a
+//! reproducible reduction, [`ExactSums`](rsf_ranks::ExactSums)), and [`TnnmgCounters`]
+//! counts what each part sends. [`BlockTresca`] is a closed-form nonsmooth nonlinearity for
+//! its tests and measurements.
 
 mod active;
-mod cg;
-mod gather;
-mod halo;
 mod hierarchy;
-mod linear;
-mod local_rows;
-mod node_graph;
-mod node_plan;
 mod rank_hierarchy;
-mod reduce;
-mod sweep;
 mod tnnmg;
 mod tnnmg_options;
 mod tnnmg_step;
@@ -52,7 +44,7 @@ mod tresca;
 mod vcycle;
 
 #[cfg(test)]
-mod tests;
+mod fixtures;
 #[cfg(test)]
 mod tnnmg_tests;
 #[cfg(test)]
@@ -60,13 +52,11 @@ mod transfer_tests;
 #[cfg(test)]
 mod vcycle_tests;
 
-pub use gather::NodeAllGather;
-pub use halo::HaloCounters;
 pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
-pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
-pub use local_rows::{node_graph, LocalRows};
-pub use rsf_ranks::{check_all_gather, HaloMessage, RankGroup, ThreadRanks};
-pub use sweep::DistributedSweep;
+pub use rsf_ranks::{
+    check_all_gather, node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep,
+    HaloCounters, HaloMessage, LocalRows, NodeAllGather, RankGroup, ThreadRanks,
+};
 pub use tnnmg::DistributedTnnmg;
 pub use tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 pub use transfer::DistributedTransfer;

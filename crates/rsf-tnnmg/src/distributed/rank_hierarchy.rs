@@ -4,19 +4,16 @@
 
 use std::collections::BTreeMap;
 
-use super::halo::HaloCounters;
-use super::local_rows::LocalRows;
-use super::node_graph::NodeGraph;
-use super::node_plan::NodePlan;
-use crate::block::Block;
-use crate::bsr::BlockCsr;
-use crate::bsr::NodePattern;
 use crate::coarse::excluded;
 use crate::error::Result;
 use crate::galerkin::Pattern;
 use crate::multigrid::NewtonHierarchy;
 use rsf_linalg::Csc;
-use rsf_ranks::RankGroup;
+use rsf_ranks::block::Block;
+use rsf_ranks::bsr::BlockCsr;
+use rsf_ranks::bsr::NodePattern;
+use rsf_ranks::halo::HaloCounters;
+use rsf_ranks::{LocalRows, NodeGraph, NodePlan, RankGroup};
 
 /// One Galerkin product between level `l + 1` (fine) and level `l` on a rank: the whole
 /// structure, the values of `T`'s rows the rank computes (its owned fine nodes) or
@@ -220,12 +217,7 @@ impl<const D: usize> RankHierarchy<D> {
     }
 
     fn per_update(&self, full: bool) -> HaloCounters {
-        let plan = |p: &NodePlan| HaloCounters {
-            exchanges: 1,
-            messages: p.sends.len() as u64,
-            values: p.send_buf.len() as u64,
-            ..HaloCounters::default()
-        };
+        let plan = NodePlan::per_send;
         let mut c = HaloCounters {
             collectives: 1,
             collective_values: self.coarsest_send.len() as u64,

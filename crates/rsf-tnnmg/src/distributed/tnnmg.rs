@@ -6,24 +6,21 @@ use rsf_linalg::Csc;
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
 use super::active::ActiveGather;
-use super::cg::DistributedCg;
-use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::RankLevels;
-use super::local_rows::LocalRows;
-use super::node_graph::NodeGraph;
 use super::rank_hierarchy::RankHierarchy;
-use super::reduce::ExactSums;
 use super::tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
-use super::{DistributedSweep, DistributedVCycle};
-use crate::block::{load, masked_inverse, store, Block};
-use crate::colouring::Colouring;
+use super::DistributedVCycle;
 use crate::error::{Error, Result};
 use crate::linear_correction::LinearCorrection;
 use crate::multigrid::NewtonHierarchy;
 use crate::problem::active_map;
 use crate::report::{iterate_to_tolerance, IterationRun};
 use rsf_nonsmooth::ProblemError;
-use rsf_ranks::RankGroup;
+use rsf_ranks::block::{load, masked_inverse, store, Block};
+use rsf_ranks::halo::{AllGather, HaloCounters};
+use rsf_ranks::{
+    Colouring, DistributedCg, DistributedSweep, ExactSums, LocalRows, NodeGraph, RankGroup,
+};
 
 /// The energy-norm matrix's rows, their local columns mapped to the iterate's local nodes.
 #[derive(Debug, Clone)]
@@ -427,7 +424,7 @@ impl<const D: usize> DistributedTnnmg<D> {
     /// for the test that must detect it.
     #[cfg(test)]
     pub(crate) fn with_naive_line_sums(mut self) -> Self {
-        self.line_sums.naive = Some(vec![0.0; 2]);
+        self.line_sums.use_naive_partial_sums();
         self
     }
 
@@ -578,7 +575,7 @@ fn owned_rows<const D: usize>(
     owner: &[usize],
     rank: usize,
 ) -> Result<LocalRows<D>> {
-    LocalRows::of_columns(a, owner, rank)
+    Ok(LocalRows::of_columns(a, owner, rank)?)
 }
 
 /// The checks of [`NodalProblem::new`](crate::problem::NodalProblem::new) that a rank can

@@ -3,9 +3,9 @@
 
 use rsf_nonsmooth::Stopping;
 
-use super::halo::HaloCounters;
 use super::hierarchy::VCycleShape;
 use crate::linear_correction::LinearCorrection;
+use rsf_ranks::halo::HaloCounters;
 
 /// Options of [`DistributedTnnmg`](super::DistributedTnnmg): the classical TNNMG iteration (docs/math.md §5) with
 /// the multi-colour smoother order.

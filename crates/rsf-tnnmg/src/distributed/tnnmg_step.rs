@@ -2,10 +2,7 @@
 
 use rsf_nonsmooth::BlockNonlinearity;
 
-use super::local_rows::LocalRows;
-use super::reduce::ExactSums;
 use super::tnnmg::DistributedTnnmg;
-use crate::block::{load, sub_mul_vec};
 use crate::error::Result;
 use crate::line_search::exact_line_search;
 use crate::linear_correction::LinearCorrection;
@@ -13,6 +10,8 @@ use crate::problem::{coupled_rhs, node_update, NodeBlocks};
 use crate::report::Iteration;
 use crate::tnnmg::{linearize_blocks, stop_at_kinks, QuadraticPart};
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::block::{load, sub_mul_vec};
+use rsf_ranks::{ExactSums, LocalRows};
 
 /// Adds `xᵀ M x`'s terms of the owned rows of `rows` (`M`'s; `remap` maps their local
 /// nodes to `x`'s, `None` if they are `x`'s own) to sum `i`: per owned node `p` and
@@ -214,7 +213,7 @@ impl<const D: usize> DistributedTnnmg<D> {
     /// the untruncated dofs fell by `linear_reduction` (the residual by the fine rows of
     /// the Newton matrix, its norm a reproducible sum: the same decision on every rank);
     /// or conjugate gradients preconditioned by them
-    /// ([`DistributedCg`](super::cg::DistributedCg)).
+    /// ([`DistributedCg`](rsf_ranks::DistributedCg)).
     fn linear_correction(&mut self) -> Result<()> {
         let r0 = match self.opts.linear_reduction {
             Some(_) => self.linear_residual_norm(false),

@@ -5,10 +5,10 @@
 use faer::sparse::SparseColMatRef;
 use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
 
-use super::tests::{cube, on_thread_ranks, owners, split_along, Problem};
+use super::fixtures::{cube, owners, Problem};
 use super::*;
-use crate::colouring::SmootherOrder;
 use crate::error::Error;
+use crate::smoother_order::SmootherOrder;
 use crate::{Tnnmg, TnnmgOptions};
 use rsf_nonsmooth::ProblemError;
 
@@ -80,7 +80,7 @@ fn solve_on_ranks_times(
     broken: bool,
     solves: usize,
 ) -> Vec<RankSolve> {
-    on_thread_ranks(size, |halo| {
+    ThreadRanks::run(size, |halo| {
         let ps = prolongations(pb);
         let mut s = DistributedTnnmg::<D>::new(
             pb.a(),
@@ -155,7 +155,7 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
     for size in 2..=4 {
         let mut partitions = owners(&pb, size);
         // Slabs along z: the frictional top face on the last rank only.
-        partitions.push(("z slabs", split_along(pb.bx.mesh(), size, 2)));
+        partitions.push(("z slabs", pb.bx.slabs(size, 2)));
         for (name, owner) in partitions {
             let ranks = solve_on_ranks(&pb, &nl, &owner, size, options(false), false);
             for (r, rank) in ranks.iter().enumerate() {
@@ -231,7 +231,7 @@ fn inexact_newton_on_ranks_has_the_same_bits() {
         "some iterations stop early"
     );
     for size in 2..=4 {
-        let owner = split_along(pb.bx.mesh(), size, 2);
+        let owner = pb.bx.slabs(size, 2);
         let ranks = solve_on_ranks_times(&pb, &nl, &owner, size, opts, false, 2);
         for (r, rank) in ranks.iter().enumerate() {
             assert_eq!(differing(&rank.v, &one.v), 0, "rank {r} of {size}");
@@ -278,10 +278,7 @@ fn cg_on_ranks_has_the_same_bits() {
         let (d, norm) = (a_norm(&pb, &diff), a_norm(&pb, &classical.v));
         assert!(d <= 1e-8 * norm, "{reduction:?}: distance {d}, norm {norm}");
         for size in 2..=4 {
-            for owner in [
-                split_along(pb.bx.mesh(), size, 0),
-                split_along(pb.bx.mesh(), size, 2),
-            ] {
+            for owner in [pb.bx.slabs(size, 0), pb.bx.slabs(size, 2)] {
                 let ranks = solve_on_ranks(&pb, &nl, &owner, size, opts, false);
                 for (r, rank) in ranks.iter().enumerate() {
                     let what = format!("{reduction:?}: rank {r} of {size}");
@@ -318,8 +315,8 @@ fn an_energy_norm_matrix_is_used() {
     let mut opts = options(false);
     opts.stopping.absolute = 2e-10;
     for size in [1, 3] {
-        let owner = split_along(pb.bx.mesh(), size, 0);
-        let ranks = on_thread_ranks(size, |halo| {
+        let owner = pb.bx.slabs(size, 0);
+        let ranks = ThreadRanks::run(size, |halo| {
             let ps = prolongations(&pb);
             let mut s = DistributedTnnmg::<D>::new(
                 a,
@@ -368,8 +365,8 @@ fn a_linear_problem_on_ranks() {
     let nl = rsf_nonsmooth::NoNonlinearity;
     let mut solutions = Vec::new();
     for size in [1, 3] {
-        let owner = split_along(pb.bx.mesh(), size, 0);
-        let ranks = on_thread_ranks(size, |halo| {
+        let owner = pb.bx.slabs(size, 0);
+        let ranks = ThreadRanks::run(size, |halo| {
             let ps = prolongations(&pb);
             let mut s = DistributedTnnmg::<D>::new(
                 pb.a(),
@@ -574,8 +571,8 @@ fn a_rank_needs_only_its_own_columns() {
         DistributedTnnmg::<D>::new_owned(a, fixed, &ps, None, opts, owner, Box::new(halo))
     };
     for size in 2..=4 {
-        let owner = split_along(pb.bx.mesh(), size, 0);
-        let solutions = on_thread_ranks(size, |halo| {
+        let owner = pb.bx.slabs(size, 0);
+        let solutions = ThreadRanks::run(size, |halo| {
             let mut s = set_up(&owner, halo, None).unwrap();
             let mut v = pb.x0.clone();
             s.solve(&pb.b, &nl, &mut v).unwrap();
@@ -585,8 +582,8 @@ fn a_rank_needs_only_its_own_columns() {
             assert_eq!(differing(v, &reference.v), 0, "rank {r} of {size}");
         }
     }
-    let owner = split_along(pb.bx.mesh(), 2, 0);
-    let errors = on_thread_ranks(2, |halo| {
+    let owner = pb.bx.slabs(2, 0);
+    let errors = ThreadRanks::run(2, |halo| {
         let poison = (halo.rank() == 1).then_some(f64::NAN);
         set_up(&owner, halo, poison).err()
     });
@@ -640,8 +637,8 @@ fn the_norm_of_a_whole_vector_has_the_same_bits_on_every_rank() {
     for (e, scale) in [(None, 1.0), (Some(e.as_ref()), 2.0)] {
         let mut one_rank: Option<f64> = None;
         for size in 1..=4 {
-            let owner = split_along(pb.bx.mesh(), size, 0);
-            let norms = on_thread_ranks(size, |halo| {
+            let owner = pb.bx.slabs(size, 0);
+            let norms = ThreadRanks::run(size, |halo| {
                 let ps = prolongations(&pb);
                 let mut s = DistributedTnnmg::<D>::new(
                     a,
@@ -680,7 +677,7 @@ fn a_full_step_on_ranks_measures_its_change_with_the_solvers_norm() {
     let nl = friction(&pb, 1.0, 0.1);
     let nodes = nl.active_blocks().to_vec();
     let solve = |owner: &[usize], size: usize, own_norm: bool| {
-        on_thread_ranks(size, |halo| {
+        ThreadRanks::run(size, |halo| {
             let ps = prolongations(&pb);
             let s = DistributedTnnmg::<D>::new(
                 pb.a(),
@@ -711,7 +708,7 @@ fn a_full_step_on_ranks_measures_its_change_with_the_solvers_norm() {
         "{reference} against {whole}"
     );
     for size in 2..=3 {
-        let owner = split_along(pb.bx.mesh(), size, 0);
+        let owner = pb.bx.slabs(size, 0);
         for (r, change) in solve(&owner, size, true).iter().enumerate() {
             assert_eq!(change.to_bits(), reference.to_bits(), "rank {r} of {size}");
         }

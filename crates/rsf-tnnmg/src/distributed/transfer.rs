@@ -4,12 +4,12 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::halo::{exchange_round, HaloCounters, HaloPlan, Peer};
-use crate::block::{load, store, Block};
 use crate::error::{Error, Result};
 use crate::galerkin::{masked, prolong_row, prolongation_blocks, restrict_row};
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::block::{load, store, Block};
+use rsf_ranks::halo::{exchange_round, HaloCounters, HaloPlan, Peer};
 use rsf_ranks::RankGroup;
 
 /// Rows of one side of the transfer in local numbering: row `k`'s entries are

@@ -4,14 +4,14 @@
 
 use rsf_linalg::Csc;
 
-use super::tests::{cube, on_thread_ranks, owners, Problem};
+use super::fixtures::{cube, owners, Problem};
 use super::*;
-use crate::bsr::BlockCsr;
-use crate::colouring::Colouring;
 use crate::error::Error;
 use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::bsr::BlockCsr;
+use rsf_ranks::Colouring;
 
 const D: usize = 3;
 
@@ -116,7 +116,7 @@ fn on_ranks(pb: &Problem, re: &Reference, owner: &[usize], size: usize) -> Vec<R
             counters: transfer.counters(),
         }
     };
-    on_thread_ranks(size, run)
+    ThreadRanks::run(size, run)
 }
 
 /// The residual on owned rows, the restriction and the prolongation between the two finest

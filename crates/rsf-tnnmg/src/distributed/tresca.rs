@@ -3,8 +3,8 @@
 
 use rsf_nonsmooth::{BlockNonlinearity, Linearization};
 
-use crate::block::solve_spd_masked;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::block::solve_spd_masked;
 
 /// `φ_k(x) = g_k |x| + ½ q_k |x|²` on the blocks `nodes[k]` (`|x|` the Euclidean norm of
 /// the whole block): Tresca friction of bound `g_k ≥ 0` with a viscous term `q_k ≥ 0` —

@@ -2,16 +2,15 @@
 //! block Gauss–Seidel sweep, the residual and the transfers; the coarsest problem gathered
 //! on every rank and solved there redundantly.
 
-use super::halo::{AllGather, HaloCounters};
 use super::hierarchy::{LevelSource, VCycleHierarchy, VCycleShape};
-use super::local_rows::LocalRows;
 use super::rank_hierarchy::RankHierarchy;
-use super::{BlockGaussSeidel, DistributedSweep, DistributedTransfer};
-use crate::block::{load, store};
+use super::DistributedTransfer;
 use crate::coarse::CoarseSolver;
 use crate::error::Result;
 use rsf_nonsmooth::ProblemError;
-use rsf_ranks::RankGroup;
+use rsf_ranks::block::{load, store};
+use rsf_ranks::halo::{AllGather, HaloCounters};
+use rsf_ranks::{BlockGaussSeidel, DistributedSweep, LocalRows, Preconditioner, RankGroup};
 
 /// One rank's part of a level above the coarsest.
 #[derive(Debug, Clone)]
@@ -398,6 +397,21 @@ impl<const D: usize> DistributedVCycle<D> {
                 + level.transfer.per_transfer_pair();
         }
         c
+    }
+}
+
+/// One V-cycle from zero on the right-hand side `r`: the preconditioner of the conjugate
+/// gradients on ranks ([`DistributedCg`](rsf_ranks::DistributedCg)), `H` the cycle's fine
+/// rows.
+impl<const D: usize> Preconditioner<D> for DistributedVCycle<D> {
+    fn rows(&self) -> &LocalRows<D> {
+        DistributedVCycle::rows(self)
+    }
+
+    fn apply<H: RankGroup + ?Sized>(&mut self, r: &[f64], z: &mut [f64], halo: &mut H) {
+        self.set_rhs(r)
+            .expect("the owned right-hand side has the rows' length");
+        self.cycle(z, halo);
     }
 }
 

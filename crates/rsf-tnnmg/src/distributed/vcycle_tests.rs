@@ -6,12 +6,12 @@
 use faer::sparse::SparseColMatRef;
 use rsf_linalg::Csc;
 
-use super::tests::{cube, on_thread_ranks, owners, Problem};
+use super::fixtures::{cube, owners, Problem};
 use super::*;
-use crate::bsr::BlockCsr;
 use crate::error::Error;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::bsr::BlockCsr;
 
 const D: usize = 3;
 
@@ -99,7 +99,7 @@ fn on_ranks(
             per_cycle: vc.per_cycle(),
         }
     };
-    on_thread_ranks(size, run)
+    ThreadRanks::run(size, run)
 }
 
 /// Values of a rank's local vector `x` (owned and ghosts) whose bits differ from the

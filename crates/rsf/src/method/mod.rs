@@ -111,7 +111,7 @@ impl<const D: usize, I: VelocityIntegrator, const C: usize> Method<D, I, C> {
                     .into());
                 }
                 let gather = NodeAllGather::<C>::new(&ranks.owner, (ranks.transport)())
-                    .map_err(crate::Error::from)?;
+                    .map_err(rsf_tnnmg::Error::from)?;
                 let rank = gather.rank();
                 let keep: Vec<bool> = (0..C * ranks.owner.len())
                     .map(|i| ranks.owner[i / C] == rank)
@@ -425,7 +425,7 @@ impl StateShare {
         owner: &[usize],
         halo: Box<dyn rsf_tnnmg::distributed::RankGroup>,
     ) -> Result<Self> {
-        let gather = NodeAllGather::<1>::new(owner, halo)?;
+        let gather = NodeAllGather::<1>::new(owner, halo).map_err(rsf_tnnmg::Error::from)?;
         let rank = gather.rank();
         let owned = (0..owner.len()).filter(|&k| owner[k] == rank).collect();
         Ok(Self { gather, owned })

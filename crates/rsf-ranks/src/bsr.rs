@@ -13,12 +13,11 @@
 
 use std::sync::Arc;
 
+use faer::sparse::SparseColMatRef;
+
 use crate::block::{load, mul_vec, store, sub_mul_t_vec, sub_mul_vec, Block};
 use crate::error::Result;
-use crate::Parallelism;
-use rsf_linalg::Csc;
-use rsf_linalg::{for_node_rows, ordered_sum};
-use rsf_nonsmooth::ProblemError;
+use rsf_linalg::{for_node_rows, ordered_sum, Csc, Parallelism, ProblemError};
 
 /// Nodes below which [`BlockCsr::residual_rows`] stays on one thread.
 const RESIDUAL_PARALLEL_MIN: usize = 2048;
@@ -33,15 +32,17 @@ fn take<const D: usize>(w: &mut [f64], p: usize) -> [f64; D] {
 
 /// One strictly triangular part of the off-diagonal blocks, by rows.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Triangle<const D: usize> {
+pub struct Triangle<const D: usize> {
     /// Row `p`'s blocks are `ptr[p]..ptr[p + 1]` (length `nodes + 1`).
     pub ptr: Vec<usize>,
     /// Column node of every block, increasing within a row.
     pub col: Vec<u32>,
+    /// The blocks, in the order of `col`.
     pub val: Vec<Block<D>>,
 }
 
 impl<const D: usize> Triangle<D> {
+    /// The positions of row `p`'s blocks in `col` and `val`.
     #[inline]
     pub fn range(&self, p: usize) -> std::ops::Range<usize> {
         self.ptr[p]..self.ptr[p + 1]
@@ -72,7 +73,7 @@ impl<const D: usize> Triangle<D> {
 /// Square symmetric block matrix (see the module documentation). Structurally absent
 /// entries inside a stored block are zeros.
 #[derive(Debug, Clone)]
-pub(crate) struct BlockCsr<const D: usize> {
+pub struct BlockCsr<const D: usize> {
     /// Blocks left of the diagonal, by rows.
     pub lower: Arc<Triangle<D>>,
     /// Blocks right of the diagonal, by rows.
@@ -137,6 +138,20 @@ impl<const D: usize> BlockCsr<D> {
             upper: Arc::new(upper),
             diag: vec![[[0.0; D]; D]; nodes],
         })
+    }
+
+    /// The block matrix of the symmetric-pattern faer matrix `a` (`D n × D n`, node-major),
+    /// checked: [`from_csc`](Self::from_csc) of its copy after
+    /// [`Csc::check_symmetric_pattern`].
+    ///
+    /// # Errors
+    /// [`ProblemError::InvalidMatrix`] if `a` is not square, its pattern is not symmetric,
+    /// its dimension is not a multiple of `D`, or it has more than 2³² nodes;
+    /// [`ProblemError::NonFinite`] for a non-finite entry.
+    pub fn from_symmetric(a: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
+        let csc = Csc::from_faer(a)?;
+        csc.check_symmetric_pattern()?;
+        Self::from_csc(&csc)
     }
 
     /// Blocks a square scalar matrix with symmetric pattern and dimension divisible by `D`
@@ -387,7 +402,7 @@ impl<const D: usize> BlockCsr<D> {
 /// A symmetric node pattern: the nodes and each node's neighbours in increasing order
 /// (what the colourings, the Galerkin patterns and the incremental updates' row sets
 /// are derived from; no values).
-pub(crate) trait NodePattern {
+pub trait NodePattern {
     /// Number of nodes.
     fn nodes(&self) -> usize;
     /// The neighbours of node `p` (`q ≠ p` with a stored block), increasing.

@@ -6,8 +6,7 @@ use faer::sparse::SparseColMatRef;
 use crate::block::{load, store, sub_mul_vec, Block};
 use crate::bsr::BlockCsr;
 use crate::error::Result;
-use rsf_linalg::Csc;
-use rsf_nonsmooth::ProblemError;
+use rsf_linalg::ProblemError;
 
 /// The block rows of the nodes one rank owns, in local numbering.
 ///
@@ -48,12 +47,12 @@ impl<const D: usize> LocalRows<D> {
     /// [`ProblemError::InvalidMatrix`] as [`Colouring::new`](crate::Colouring::new);
     /// [`ProblemError::DimensionMismatch`] if `owner` does not have one entry per node.
     pub fn new(a: SparseColMatRef<'_, usize, f64>, owner: &[usize], rank: usize) -> Result<Self> {
-        let a = blocks::<D>(a)?;
+        let a = BlockCsr::<D>::from_symmetric(a)?;
         Self::of_blocks(&a, owner, rank)
     }
 
     /// [`new`](Self::new) of a block matrix.
-    pub(crate) fn of_blocks(a: &BlockCsr<D>, owner: &[usize], rank: usize) -> Result<Self> {
+    pub fn of_blocks(a: &BlockCsr<D>, owner: &[usize], rank: usize) -> Result<Self> {
         Self::build(a.nodes(), owner, rank, |p, row| {
             row.extend(a.neighbours(p).map(|(q, blk)| (q, *blk)));
             a.diag[p]
@@ -68,7 +67,7 @@ impl<const D: usize> LocalRows<D> {
     ///
     /// # Errors
     /// [`ProblemError::DimensionMismatch`] if `a` is not `D · owner.len()` square.
-    pub(crate) fn of_columns(
+    pub fn of_columns(
         a: SparseColMatRef<'_, usize, f64>,
         owner: &[usize],
         rank: usize,
@@ -209,7 +208,7 @@ impl<const D: usize> LocalRows<D> {
     ///
     /// # Panics
     /// If the rank does not own `p`.
-    pub(crate) fn local_of_owned(&self, p: usize) -> usize {
+    pub fn local_of_owned(&self, p: usize) -> usize {
         self.global[..self.owned]
             .binary_search(&p)
             .unwrap_or_else(|_| panic!("node {p} is not owned by rank {}", self.rank))
@@ -248,7 +247,7 @@ impl<const D: usize> LocalRows<D> {
     ///
     /// # Panics
     /// If `p ≥ owned()`, or (debug builds) `off` does not have the row's length.
-    pub(crate) fn set_row<'a>(
+    pub fn set_row<'a>(
         &mut self,
         p: usize,
         diag: &Block<D>,
@@ -269,7 +268,7 @@ impl<const D: usize> LocalRows<D> {
     ///
     /// # Panics
     /// If `p ≥ owned()`.
-    pub(crate) fn set_diag(&mut self, p: usize, diag: &Block<D>) {
+    pub fn set_diag(&mut self, p: usize, diag: &Block<D>) {
         self.diag[p] = *diag;
     }
 
@@ -320,14 +319,6 @@ impl<const D: usize> LocalRows<D> {
     }
 }
 
-/// The block matrix of a symmetric-pattern scalar matrix (checked as
-/// [`Colouring::new`](crate::Colouring::new) checks it).
-pub(crate) fn blocks<const D: usize>(a: SparseColMatRef<'_, usize, f64>) -> Result<BlockCsr<D>> {
-    let csc = Csc::from_faer(a)?;
-    csc.check_symmetric_pattern()?;
-    BlockCsr::<D>::from_csc(&csc)
-}
-
 /// The node graph of the symmetric-pattern matrix `a` (`D n × D n`, node-major) in CSR
 /// form, as graph partitioners take it: the neighbours of node `p` are
 /// `adjncy[xadj[p]..xadj[p + 1]]`, increasing (the nodes `q ≠ p` with a stored block
@@ -339,7 +330,7 @@ pub(crate) fn blocks<const D: usize>(a: SparseColMatRef<'_, usize, f64>) -> Resu
 pub fn node_graph<const D: usize>(
     a: SparseColMatRef<'_, usize, f64>,
 ) -> Result<(Vec<usize>, Vec<usize>)> {
-    let a = blocks::<D>(a)?;
+    let a = BlockCsr::<D>::from_symmetric(a)?;
     let mut xadj = Vec::with_capacity(a.nodes() + 1);
     xadj.push(0);
     let mut adjncy = Vec::new();
@@ -352,8 +343,8 @@ pub fn node_graph<const D: usize>(
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{cube, owners};
     use super::*;
+    use crate::sweep_tests::{cube, owners};
 
     const D: usize = 3;
 
@@ -362,10 +353,10 @@ mod tests {
     /// and every tested partition; a matrix of the wrong size is refused.
     #[test]
     fn rows_from_the_owned_columns_are_the_rows_of_the_whole_matrix() {
-        let pb = cube(1);
-        let a = pb.a();
+        let bx = cube(1);
+        let a = bx.stiffness.as_ref();
         for size in 1..=4 {
-            for (name, owner) in owners(&pb, size) {
+            for (name, owner) in owners(&bx, size) {
                 for rank in 0..size {
                     let whole = LocalRows::<D>::new(a, &owner, rank).unwrap();
                     let part = LocalRows::<D>::of_columns(a, &owner, rank).unwrap();
@@ -384,7 +375,7 @@ mod tests {
                 }
             }
         }
-        let n = pb.x0.len() / D;
+        let n = bx.mesh().num_vertices();
         assert!(matches!(
             LocalRows::<D>::of_columns(a, &vec![0; n - 1], 0),
             Err(crate::Error::Problem(

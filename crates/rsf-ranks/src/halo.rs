@@ -6,10 +6,10 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use super::local_rows::LocalRows;
 use crate::block::{load, store};
 use crate::colouring::Colouring;
-use rsf_ranks::{HaloMessage, RankGroup};
+use crate::local_rows::LocalRows;
+use crate::transport::{HaloMessage, RankGroup};
 
 /// What one rank has sent, counted by the sweep (or the transfers, gathers, reductions) as
 /// it hands the messages to the transport (the numbers a model of the communication cost
@@ -17,7 +17,7 @@ use rsf_ranks::{HaloMessage, RankGroup};
 /// its collectives (all-gathers) apart. Bytes are `8 · values`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct HaloCounters {
-    /// Sweeps ([`DistributedSweep::sweep`](super::DistributedSweep::sweep)).
+    /// Sweeps ([`DistributedSweep::sweep`](crate::DistributedSweep::sweep)).
     pub sweeps: u64,
     /// Exchanges (calls of [`RankGroup::exchange`], with or without messages of this
     /// rank: one per colour and sweep, one per ghost update, one per transfer).
@@ -94,7 +94,8 @@ impl std::ops::AddAssign for HaloCounters {
 
 /// What one rank exchanges with one neighbour rank (local node indices).
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct Peer {
+pub struct Peer {
+    /// The neighbour rank.
     pub rank: usize,
     /// Owned nodes that are ghosts on `rank`, by (colour, global node).
     pub send: Vec<u32>,
@@ -105,10 +106,12 @@ pub(crate) struct Peer {
 /// The messages of one exchange: per neighbour rank (increasing) the nodes sent and
 /// received, their values `D` per node in the buffers in the same order.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub(crate) struct Round {
+pub struct Round {
+    /// The messages sent (in values of the send buffer).
     pub sends: Vec<HaloMessage>,
     /// Local nodes whose values fill the send buffer, in order.
     pub send_nodes: Vec<u32>,
+    /// The messages received (in values of the receive buffer).
     pub recvs: Vec<HaloMessage>,
     /// Local nodes that the receive buffer's values go to, in order.
     pub recv_nodes: Vec<u32>,
@@ -137,7 +140,8 @@ impl Round {
 /// colour `c` that are ghosts on each neighbour; the last round sends all of them (a full
 /// ghost update). Empty messages are left out.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct HaloPlan {
+pub struct HaloPlan {
+    /// The neighbour ranks, increasing.
     pub peers: Vec<Peer>,
     /// One round per colour, then the full update.
     pub rounds: Vec<Round>,
@@ -222,7 +226,7 @@ impl HaloPlan {
     /// Drops global node `node` from the plan (neither sent nor received any more): a
     /// wrong plan for the tests that must detect one.
     #[cfg(test)]
-    pub fn without_node<const D: usize>(
+    pub(crate) fn without_node<const D: usize>(
         &self,
         rows: &LocalRows<D>,
         colouring: &Colouring,
@@ -274,7 +278,7 @@ fn add<'a>(
 /// One exchange of `round` on the local vector `x` (`D` values per local node): packs the
 /// values of its send nodes into `send`, exchanges, unpacks `recv` into its receive nodes;
 /// counts the exchange, its messages and values in `counters`.
-pub(crate) fn exchange_round<const D: usize, H: RankGroup + ?Sized>(
+pub fn exchange_round<const D: usize, H: RankGroup + ?Sized>(
     round: &Round,
     x: &mut [f64],
     halo: &mut H,
@@ -301,7 +305,7 @@ pub(crate) fn exchange_round<const D: usize, H: RankGroup + ?Sized>(
 /// rank ends with the owners' bits. Allocation-free per gather (the transport may
 /// allocate).
 #[derive(Debug, Clone)]
-pub(crate) struct AllGather {
+pub struct AllGather {
     values: usize,
     rank: usize,
     /// Values per rank (`values` per owned node).
@@ -392,8 +396,8 @@ impl AllGather {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::on_thread_ranks;
     use super::*;
+    use crate::ThreadRanks;
 
     /// 11 nodes of 2 values owned out of order by 1–4 thread ranks (the last rank owns
     /// none at 3 and 4 ranks), two gathers in a row: every rank ends with every node's
@@ -407,7 +411,7 @@ mod tests {
             let owners = size.min(2).max(size.saturating_sub(1));
             let owner: Vec<usize> = (0..11).map(|p| (p * 7 + 3) % owners).collect();
             let owner = &owner;
-            let got = on_thread_ranks(size, |mut halo| {
+            let got = ThreadRanks::run(size, |mut halo| {
                 let rank = halo.rank();
                 let mut gather = AllGather::new(owner, rank, size, V);
                 let mut counters = HaloCounters::default();

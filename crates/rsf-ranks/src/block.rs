@@ -1,11 +1,13 @@
-//! Small dense helpers for node blocks.
+//! Small dense kernels of node blocks (`D` values of a node-major vector, `D × D` matrix
+//! blocks): the arithmetic that the block matrices, the rows of a rank and the Gauss–Seidel
+//! sweeps of this crate and of `rsf-tnnmg` share, each written once so that every caller
+//! has the same bits.
 
 /// Solves `A x = r` restricted to the `free` components (Cholesky of the free sub-block),
 /// writing the free components of `x`; fixed components of `x` are left unchanged and their
 /// coupling `A_{free,fixed} x_fixed` must already be in `r`. Returns `false` when the free
 /// sub-block is not positive definite (then `x` is unchanged). A helper for
-/// [`BlockNonlinearity::minimize_block`](rsf_nonsmooth::BlockNonlinearity::minimize_block)
-/// implementations.
+/// implementations of `rsf_nonsmooth::BlockNonlinearity::minimize_block`.
 pub fn solve_spd_masked<const D: usize>(
     a: &[[f64; D]; D],
     r: &[f64; D],
@@ -65,24 +67,32 @@ fn cholesky_solve<const D: usize>(l: &[[f64; D]; D], m: usize, y: &mut [f64; D])
     }
 }
 
+/// Block `p` of the node-major vector `v`: `v[D p .. D p + D]`.
+///
+/// # Panics
+/// If `v` is shorter than `D (p + 1)`.
 #[inline]
-pub(crate) fn load<const D: usize>(v: &[f64], p: usize) -> [f64; D] {
+pub fn load<const D: usize>(v: &[f64], p: usize) -> [f64; D] {
     let mut out = [0.0; D];
     out.copy_from_slice(&v[D * p..D * p + D]);
     out
 }
 
+/// Writes `x` into block `p` of the node-major vector `v`.
+///
+/// # Panics
+/// If `v` is shorter than `D (p + 1)`.
 #[inline]
-pub(crate) fn store<const D: usize>(v: &mut [f64], p: usize, x: &[f64; D]) {
+pub fn store<const D: usize>(v: &mut [f64], p: usize, x: &[f64; D]) {
     v[D * p..D * p + D].copy_from_slice(x);
 }
 
 /// A dense `D × D` node block, row-major (`b[r][c]`).
-pub(crate) type Block<const D: usize> = [[f64; D]; D];
+pub type Block<const D: usize> = [[f64; D]; D];
 
 /// `a x`.
 #[inline(always)]
-pub(crate) fn mul_vec<const D: usize>(a: &Block<D>, x: &[f64; D]) -> [f64; D] {
+pub fn mul_vec<const D: usize>(a: &Block<D>, x: &[f64; D]) -> [f64; D] {
     let mut y = [0.0; D];
     for r in 0..D {
         for c in 0..D {
@@ -94,7 +104,7 @@ pub(crate) fn mul_vec<const D: usize>(a: &Block<D>, x: &[f64; D]) -> [f64; D] {
 
 /// `y −= a x`.
 #[inline(always)]
-pub(crate) fn sub_mul_vec<const D: usize>(y: &mut [f64; D], a: &Block<D>, x: &[f64; D]) {
+pub fn sub_mul_vec<const D: usize>(y: &mut [f64; D], a: &Block<D>, x: &[f64; D]) {
     for r in 0..D {
         for c in 0..D {
             y[r] -= a[r][c] * x[c];
@@ -104,7 +114,7 @@ pub(crate) fn sub_mul_vec<const D: usize>(y: &mut [f64; D], a: &Block<D>, x: &[f
 
 /// `y −= aᵀ x`.
 #[inline(always)]
-pub(crate) fn sub_mul_t_vec<const D: usize>(y: &mut [f64; D], a: &Block<D>, x: &[f64; D]) {
+pub fn sub_mul_t_vec<const D: usize>(y: &mut [f64; D], a: &Block<D>, x: &[f64; D]) {
     for r in 0..D {
         for c in 0..D {
             y[c] -= a[r][c] * x[r];
@@ -114,7 +124,7 @@ pub(crate) fn sub_mul_t_vec<const D: usize>(y: &mut [f64; D], a: &Block<D>, x: &
 
 /// `acc += a b`.
 #[inline(always)]
-pub(crate) fn add_mul<const D: usize>(acc: &mut Block<D>, a: &Block<D>, b: &Block<D>) {
+pub fn add_mul<const D: usize>(acc: &mut Block<D>, a: &Block<D>, b: &Block<D>) {
     for r in 0..D {
         for k in 0..D {
             let ark = a[r][k];
@@ -127,7 +137,7 @@ pub(crate) fn add_mul<const D: usize>(acc: &mut Block<D>, a: &Block<D>, b: &Bloc
 
 /// `acc += aᵀ b`.
 #[inline(always)]
-pub(crate) fn add_mul_t<const D: usize>(acc: &mut Block<D>, a: &Block<D>, b: &Block<D>) {
+pub fn add_mul_t<const D: usize>(acc: &mut Block<D>, a: &Block<D>, b: &Block<D>) {
     for k in 0..D {
         for r in 0..D {
             let akr = a[k][r];
@@ -150,7 +160,7 @@ const PIVOT_TOLERANCE: f64 = 1e-12;
 /// diagonal entry, or a non-positive diagonal) are dropped like non-free ones: for a
 /// positive semidefinite matrix such a component is decoupled up to round-off, and `S s`
 /// is still a minimiser.
-pub(crate) fn masked_inverse<const D: usize>(a: &Block<D>, free: &[bool; D]) -> Block<D> {
+pub fn masked_inverse<const D: usize>(a: &Block<D>, free: &[bool; D]) -> Block<D> {
     let mut idx = [0usize; D];
     let mut l = [[0.0f64; D]; D];
     let mut m = 0;

@@ -4,13 +4,12 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::local_rows::{blocks, LocalRows};
 use crate::block::{load, masked_inverse, mul_vec, sub_mul_vec, Block};
 use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
 use crate::error::Result;
-use crate::Parallelism;
-use rsf_nonsmooth::ProblemError;
+use crate::local_rows::LocalRows;
+use rsf_linalg::{Parallelism, ProblemError};
 
 /// The update of node `p` on its free components,
 /// `x_p + S_p (b − Σ_{q≠p} A_pq x_q − A_pp x_p)` with `S_p` the inverse of the free
@@ -42,7 +41,7 @@ fn free<const D: usize>(fixed: &[bool], p: usize) -> [bool; D] {
 }
 
 /// Linear block Gauss–Seidel on one rank's owned rows: the node update to give
-/// [`DistributedSweep::sweep`](super::DistributedSweep::sweep), the same arithmetic as
+/// [`DistributedSweep::sweep`](crate::DistributedSweep::sweep), the same arithmetic as
 /// [`ColouredGaussSeidel`]'s (a node's row summed in global column order, as
 /// [`LocalRows::neighbours`] gives it), so that the distributed sweeps have its bits.
 #[derive(Debug, Clone)]
@@ -86,7 +85,7 @@ impl<const D: usize> BlockGaussSeidel<D> {
     ///
     /// # Panics
     /// If `p` is not an owned node of the rows this update was made for.
-    pub(crate) fn set_node(&mut self, p: usize, diag: &Block<D>, fixed: &[bool]) {
+    pub fn set_node(&mut self, p: usize, diag: &Block<D>, fixed: &[bool]) {
         self.inverse[p] = masked_inverse(diag, &free(fixed, 0));
     }
 
@@ -102,7 +101,7 @@ impl<const D: usize> BlockGaussSeidel<D> {
     }
 
     /// The new block of owned node `p` from the local vector `x` (its ghosts current), as
-    /// [`DistributedSweep::sweep`](super::DistributedSweep::sweep) calls it.
+    /// [`DistributedSweep::sweep`](crate::DistributedSweep::sweep) calls it.
     ///
     /// # Panics
     /// If `p ≥ rows.owned()`, `rows` are not the rows this update was made for (of fewer
@@ -145,11 +144,11 @@ impl<const D: usize> ColouredGaussSeidel<D> {
         b: &[f64],
         colouring: &Colouring,
     ) -> Result<Self> {
-        Self::of_blocks(blocks::<D>(a)?, fixed, b, colouring)
+        Self::of_blocks(BlockCsr::<D>::from_symmetric(a)?, fixed, b, colouring)
     }
 
     /// [`new`](Self::new) of a block matrix.
-    pub(crate) fn of_blocks(
+    pub fn of_blocks(
         a: BlockCsr<D>,
         fixed: &[bool],
         b: &[f64],

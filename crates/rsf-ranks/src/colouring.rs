@@ -1,5 +1,7 @@
 //! A multi-colouring of the node graph of a block matrix: the independent sets of the
-//! multi-colour block Gauss–Seidel smoother ([`SmootherOrder::MultiColour`]).
+//! multi-colour block Gauss–Seidel sweeps (of one process, [`Colouring::sweep`], and of
+//! ranks, [`DistributedSweep`](crate::DistributedSweep); TNNMG's smoother order
+//! `SmootherOrder::MultiColour` in `rsf-tnnmg`).
 //!
 //! Nodes `p` and `q ≠ p` are adjacent when the matrix has a stored block `A_pq` (explicit
 //! zeros count: the colouring depends on the pattern, i.e. on the mesh, never on values).
@@ -11,86 +13,13 @@ use faer::sparse::SparseColMatRef;
 use rayon::prelude::*;
 
 use crate::block::store;
-use crate::bsr::BlockCsr;
-use crate::error::{Error, Result};
-use crate::Parallelism;
-use rsf_linalg::Csc;
-use rsf_nonsmooth::ProblemError;
+use crate::bsr::{BlockCsr, NodePattern};
+use crate::error::Result;
+use rsf_linalg::Parallelism;
 
 /// Nodes of one colour below which a coloured sweep stays on one thread (a task costs a
 /// few microseconds; a node update a fraction of one).
-pub(crate) const COLOUR_PARALLEL_MIN: usize = 512;
-
-/// The order in which a nonlinear block Gauss–Seidel sweep visits the nodes.
-///
-/// With the `serde` feature it reads and writes as its [`Display`](std::fmt::Display)
-/// names (`"lexicographic"`, `"multicolour"`, `"red-black-chunks"`; `"multicolor"` is read
-/// too), as in scene files.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(rename_all = "kebab-case")
-)]
-pub enum SmootherOrder {
-    /// Node by node in increasing index order (decreasing for a backward sweep): the
-    /// classical sweep and the default; sequential, and its iterates are those of every
-    /// trajectory computed before this option existed.
-    #[default]
-    Lexicographic,
-    /// Colour by colour ([`Colouring`], greedy, computed once at set-up from the pattern);
-    /// within a colour the nodes are independent and are updated in parallel with the
-    /// solver's [`Parallelism`](crate::Parallelism). Each node's update is the same
-    /// arithmetic whatever the thread count, so the iterates are bit-identical for 1, 2, …
-    /// threads; they differ from [`Lexicographic`](Self::Lexicographic) ones (another
-    /// Gauss–Seidel order, the same minimiser). The linear multigrid's smoothers stay
-    /// lexicographic and sequential.
-    #[cfg_attr(feature = "serde", serde(rename = "multicolour", alias = "multicolor"))]
-    MultiColour,
-    /// Red–black chunks: the fine node graph's breadth-first levels (from a
-    /// pseudo-peripheral node, a function of the pattern alone) grouped into 2, 4, 8 or
-    /// 16 chunks of consecutive levels and nearly equal node counts, each coupled only to
-    /// the chunk before and after it; a forward sweep visits the even chunks, then the odd
-    /// ones, each chunk in increasing node order, and a backward sweep the reverse. The
-    /// chunks of one colour are
-    /// independent and run in parallel on the solver's
-    /// [`Parallelism`](crate::Parallelism); inside a chunk the sweep reads the couplings
-    /// once, as the lexicographic sweep does (half the matrix traffic of a node colouring,
-    /// which reads every row in full). Used by the nonlinear sweeps and by the linear
-    /// multigrid's fine-level smoother (the coarse levels stay lexicographic), and for the
-    /// residuals after them. One fixed Gauss–Seidel order: bit-identical for every thread
-    /// count; other iterates than [`Lexicographic`](Self::Lexicographic) ones (the same
-    /// minimiser).
-    RedBlackChunks,
-}
-
-impl std::fmt::Display for SmootherOrder {
-    /// `lexicographic`, `multicolour` or `red-black-chunks`.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::Lexicographic => "lexicographic",
-            Self::MultiColour => "multicolour",
-            Self::RedBlackChunks => "red-black-chunks",
-        })
-    }
-}
-
-impl std::str::FromStr for SmootherOrder {
-    type Err = Error;
-
-    /// `lexicographic`, `multicolour` (also `multicolor`) or `red-black-chunks`.
-    fn from_str(s: &str) -> Result<Self> {
-        match s.trim() {
-            "lexicographic" => Ok(Self::Lexicographic),
-            "multicolour" | "multicolor" => Ok(Self::MultiColour),
-            "red-black-chunks" => Ok(Self::RedBlackChunks),
-            _ => Err(ProblemError::InvalidOption(format!(
-                "smoother order `{s}`: expected lexicographic, multicolour or red-black-chunks"
-            ))
-            .into()),
-        }
-    }
-}
+pub const COLOUR_PARALLEL_MIN: usize = 512;
 
 /// A proper colouring of the node graph: colour `c` is the list of nodes
 /// [`colour(c)`](Self::colour), increasing; every node has exactly one colour.
@@ -112,21 +41,23 @@ impl Colouring {
     /// node-major: node `p` owns the dofs `D p .. D p + D`).
     ///
     /// # Errors
-    /// [`ProblemError::InvalidMatrix`] if `a` is not square, its dimension is not a multiple of
-    /// `D`, or it has more than 2³² nodes; non-finite entries.
+    /// As [`BlockCsr::from_symmetric`]: [`ProblemError::InvalidMatrix`] if `a` is not
+    /// square, its pattern is not symmetric, its dimension is not a multiple of `D`, or it
+    /// has more than 2³² nodes; [`ProblemError::NonFinite`] for a non-finite entry.
+    ///
+    /// [`ProblemError::InvalidMatrix`]: rsf_linalg::ProblemError::InvalidMatrix
+    /// [`ProblemError::NonFinite`]: rsf_linalg::ProblemError::NonFinite
     pub fn new<const D: usize>(a: SparseColMatRef<'_, usize, f64>) -> Result<Self> {
-        let csc = Csc::from_faer(a)?;
-        csc.check_symmetric_pattern()?;
-        Ok(Self::of_blocks(&BlockCsr::<D>::from_csc(&csc)?))
+        Ok(Self::of_blocks(&BlockCsr::<D>::from_symmetric(a)?))
     }
 
     /// The colouring of a block matrix's node graph.
-    pub(crate) fn of_blocks<const D: usize>(a: &BlockCsr<D>) -> Self {
+    pub fn of_blocks<const D: usize>(a: &BlockCsr<D>) -> Self {
         Self::of_pattern(a)
     }
 
     /// The colouring of a node pattern (greedy in increasing node order).
-    pub(crate) fn of_pattern(a: &impl crate::bsr::NodePattern) -> Self {
+    pub fn of_pattern(a: &impl NodePattern) -> Self {
         let nodes = a.nodes();
         let mut colour_of = vec![u32::MAX; nodes];
         // forbidden[c] == p: colour c is taken by a neighbour of p.
@@ -204,7 +135,7 @@ impl Colouring {
     ///
     /// # Panics
     /// If `x` has fewer than `D` values per coloured node or `scratch` is too short.
-    pub(crate) fn sweep<const D: usize, F>(
+    pub fn sweep<const D: usize, F>(
         &self,
         x: &mut [f64],
         reverse: bool,
@@ -242,7 +173,7 @@ impl Colouring {
     }
 
     /// The largest colour's size (scratch length of a coloured sweep).
-    pub(crate) fn max_colour_len(&self) -> usize {
+    pub fn max_colour_len(&self) -> usize {
         (0..self.num_colours())
             .map(|c| self.ptr[c + 1] - self.ptr[c])
             .max()

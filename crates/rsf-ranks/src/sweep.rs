@@ -2,14 +2,14 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::halo::{exchange_round, HaloCounters, HaloPlan};
-use super::local_rows::{blocks, LocalRows};
 use crate::block::store;
 use crate::bsr::BlockCsr;
 use crate::colouring::Colouring;
 use crate::error::{Error, Result};
-use rsf_nonsmooth::ProblemError;
-use rsf_ranks::RankGroup;
+use crate::halo::{exchange_round, HaloCounters, HaloPlan};
+use crate::local_rows::LocalRows;
+use crate::transport::RankGroup;
+use rsf_linalg::ProblemError;
 
 /// One rank's part of a multi-colour block Gauss–Seidel sweep on distributed memory: its
 /// rows ([`LocalRows`]), its owned nodes of each colour, the halo plan and the exchange
@@ -56,11 +56,11 @@ impl<const D: usize> DistributedSweep<D> {
         colouring: &Colouring,
         halo: &H,
     ) -> Result<Self> {
-        Self::of_blocks(&blocks::<D>(a)?, owner, colouring, halo)
+        Self::of_blocks(&BlockCsr::<D>::from_symmetric(a)?, owner, colouring, halo)
     }
 
     /// [`new`](Self::new) of a block matrix.
-    pub(crate) fn of_blocks<H: RankGroup + ?Sized>(
+    pub fn of_blocks<H: RankGroup + ?Sized>(
         a: &BlockCsr<D>,
         owner: &[usize],
         colouring: &Colouring,
@@ -90,7 +90,7 @@ impl<const D: usize> DistributedSweep<D> {
     /// # Errors
     /// [`ProblemError::DimensionMismatch`] if `colouring` does not colour the rows' matrix;
     /// [`Error::InvalidPartition`] if it gives two adjacent nodes the same colour.
-    pub(crate) fn of_rows(rows: LocalRows<D>, colouring: &Colouring) -> Result<Self> {
+    pub fn of_rows(rows: LocalRows<D>, colouring: &Colouring) -> Result<Self> {
         if rows
             .global_nodes()
             .iter()
@@ -159,7 +159,7 @@ impl<const D: usize> DistributedSweep<D> {
     }
 
     /// The rank's rows, to change their values (not their pattern).
-    pub(crate) fn rows_mut(&mut self) -> &mut LocalRows<D> {
+    pub fn rows_mut(&mut self) -> &mut LocalRows<D> {
         &mut self.rows
     }
 

@@ -2,18 +2,18 @@
 //! ([`NodeGraph`], gathered from the ranks' rows), and the node pattern the set-up's
 //! symbolic steps read ([`NodePattern`]).
 
-use super::halo::{AllGather, HaloCounters};
-use super::local_rows::LocalRows;
 use crate::block::Block;
 use crate::bsr::NodePattern;
 use crate::error::Result;
-use rsf_nonsmooth::ProblemError;
-use rsf_ranks::RankGroup;
+use crate::halo::{AllGather, HaloCounters};
+use crate::local_rows::LocalRows;
+use crate::transport::RankGroup;
+use rsf_linalg::ProblemError;
 
 /// The node graph of a matrix, whole, without values: node `p`'s neighbours are
 /// `col[ptr[p]..ptr[p + 1]]`, increasing.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub(crate) struct NodeGraph {
+pub struct NodeGraph {
     ptr: Vec<usize>,
     col: Vec<u32>,
 }
@@ -38,7 +38,7 @@ impl NodeGraph {
     /// # Errors
     /// [`ProblemError::InvalidMatrix`] if the gathered pattern is not symmetric (the ranks'
     /// columns are not the rows of one symmetric-pattern matrix).
-    pub(crate) fn gather<const D: usize>(
+    pub fn gather<const D: usize>(
         rows: &LocalRows<D>,
         owner: &[usize],
         halo: &mut dyn RankGroup,

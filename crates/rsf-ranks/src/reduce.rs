@@ -54,8 +54,8 @@ impl ExactAccumulator {
     }
 }
 
-use super::halo::HaloCounters;
-use rsf_ranks::RankGroup;
+use crate::halo::HaloCounters;
+use crate::transport::RankGroup;
 
 /// Most doubles in the expansion of one exact sum of doubles: each term of
 /// [`expansion`] is at most half an ulp of the previous one, so its exponent is at least 53
@@ -111,7 +111,7 @@ fn total<'a>(parts: impl Iterator<Item = &'a [f64]>) -> f64 {
 /// A fixed number of global sums reduced together in one all-gather (every rank
 /// contributes its partial expansions, `42 · sums` values, and receives every other
 /// rank's). Allocation-free after set-up (the transport may allocate).
-pub(crate) struct ExactSums {
+pub struct ExactSums {
     rank: usize,
     accs: Vec<ExactAccumulator>,
     /// Own slots (`SLOT` per sum), the rank's contribution.
@@ -123,10 +123,10 @@ pub(crate) struct ExactSums {
     totals: Vec<f64>,
     counters: HaloCounters,
     /// Rounds each rank's terms in floating point in the order added before the exact
-    /// combination (a reduction whose bits depend on the partition): for the test that
-    /// must detect it.
-    #[cfg(test)]
-    pub(crate) naive: Option<Vec<f64>>,
+    /// combination (a reduction whose bits depend on the partition): for the tests that
+    /// must detect it ([`use_naive_partial_sums`](Self::use_naive_partial_sums)).
+    #[cfg(feature = "naive-sums")]
+    naive: Option<Vec<f64>>,
 }
 
 impl std::fmt::Debug for ExactSums {
@@ -151,7 +151,7 @@ impl ExactSums {
             recv: vec![0.0; len * size],
             totals: vec![0.0; sums],
             counters: HaloCounters::default(),
-            #[cfg(test)]
+            #[cfg(feature = "naive-sums")]
             naive: None,
         }
     }
@@ -167,7 +167,7 @@ impl ExactSums {
     /// If `i` is not a sum of this reduction.
     #[inline]
     pub fn add(&mut self, i: usize, x: f64) {
-        #[cfg(test)]
+        #[cfg(feature = "naive-sums")]
         if let Some(partial) = &mut self.naive {
             partial[i] += x;
             return;
@@ -183,7 +183,7 @@ impl ExactSums {
     /// [`RankGroup::all_gather`].
     pub fn reduce<H: RankGroup + ?Sized>(&mut self, halo: &mut H) -> &[f64] {
         assert_eq!(halo.rank(), self.rank, "the transport of another rank");
-        #[cfg(test)]
+        #[cfg(feature = "naive-sums")]
         if let Some(partial) = &mut self.naive {
             for (acc, p) in self.accs.iter_mut().zip(partial.iter_mut()) {
                 acc.add(std::mem::take(p));
@@ -231,12 +231,21 @@ impl ExactSums {
     pub fn add_counters(&mut self, c: HaloCounters) {
         self.counters += c;
     }
+
+    /// From now on rounds each rank's terms in floating point, in the order added, before
+    /// the exact combination of the ranks' partial sums: a reduction whose bits depend on
+    /// the partition, for the tests that must detect one (crate feature `naive-sums`,
+    /// never on in a program's build).
+    #[cfg(feature = "naive-sums")]
+    pub fn use_naive_partial_sums(&mut self) {
+        self.naive = Some(vec![0.0; self.accs.len()]);
+    }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::on_thread_ranks;
     use super::*;
+    use crate::ThreadRanks;
 
     /// A deterministic generator (SplitMix64).
     struct Rng(u64);
@@ -253,7 +262,7 @@ mod tests {
     /// `terms` reduced on `size` thread ranks, term `j` on rank `split(j)`: every rank's
     /// totals (one sum, then the same terms negated as a second sum).
     fn reduced(terms: &[f64], size: usize, split: impl Fn(usize) -> usize + Sync) -> Vec<f64> {
-        let totals = on_thread_ranks(size, |mut halo| {
+        let totals = ThreadRanks::run(size, |mut halo| {
             let mut sums = ExactSums::new(2, halo.rank(), size);
             for (j, &x) in terms.iter().enumerate() {
                 if split(j) == halo.rank() {

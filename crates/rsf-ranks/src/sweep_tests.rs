@@ -2,41 +2,19 @@
 //! P1 elasticity stiffness of a refined cube with Dirichlet components: the same bits at
 //! 1–4 thread ranks, a wrong halo detected, the counters against an independent count.
 
-use faer::sparse::{SparseColMat, SparseColMatRef};
-use rsf_fem::{ElasticBox, TetrahedronMesh};
+use faer::sparse::SparseColMat;
+use rsf_fem::ElasticBox;
 
 use super::*;
 use crate::block::load;
-use crate::colouring::Colouring;
-use crate::error::Error;
-use rsf_nonsmooth::ProblemError;
+use rsf_linalg::ProblemError;
 
 const D: usize = 3;
 
-/// A cube's elasticity problem ([`ElasticBox`]: the face z = 0 clamped, the face x = 0 on
-/// rollers), its right-hand side and start.
-pub(super) struct Problem {
-    pub bx: ElasticBox,
-    pub b: Vec<f64>,
-    pub x0: Vec<f64>,
-}
-
-impl Problem {
-    pub fn a(&self) -> SparseColMatRef<'_, usize, f64> {
-        self.bx.stiffness.as_ref()
-    }
-
-    fn mesh(&self) -> &TetrahedronMesh {
-        self.bx.mesh()
-    }
-}
-
 /// The box [0, 1.5] × [0, 1] × [0, 1] of 3 × 2 × 2 Kuhn-split cubes, refined
-/// `refinements` times.
-pub(super) fn cube(refinements: usize) -> Problem {
-    let bx = ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], refinements).unwrap();
-    let (b, x0) = (bx.load(), bx.start());
-    Problem { bx, b, x0 }
+/// `refinements` times ([`ElasticBox`]: the face z = 0 clamped, the face x = 0 on rollers).
+pub(crate) fn cube(refinements: usize) -> ElasticBox {
+    ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], refinements).unwrap()
 }
 
 fn free(fixed: &[bool], p: usize) -> [bool; D] {
@@ -44,9 +22,10 @@ fn free(fixed: &[bool], p: usize) -> [bool; D] {
 }
 
 /// The one-process coloured sweeps (`reverse` of each) from `x0`.
-fn one_process(pb: &Problem, colouring: &Colouring, sweeps: &[bool]) -> Vec<f64> {
-    let mut gs = ColouredGaussSeidel::<D>::new(pb.a(), &pb.bx.fixed, &pb.b, colouring).unwrap();
-    let mut x = pb.x0.clone();
+fn one_process(bx: &ElasticBox, colouring: &Colouring, sweeps: &[bool]) -> Vec<f64> {
+    let a = bx.stiffness.as_ref();
+    let mut gs = ColouredGaussSeidel::<D>::new(a, &bx.fixed, &bx.load(), colouring).unwrap();
+    let mut x = bx.start();
     for &reverse in sweeps {
         gs.sweep(&mut x, reverse);
     }
@@ -68,15 +47,16 @@ struct RankResult {
 /// first set to NaN and refreshed by [`DistributedSweep::update_ghosts`]; with
 /// `dropped = Some(g)`, global node `g` is left out of every rank's halo plan.
 fn on_ranks(
-    pb: &Problem,
+    bx: &ElasticBox,
     colouring: &Colouring,
     owner: &[usize],
     size: usize,
     sweeps: &[bool],
     dropped: Option<usize>,
 ) -> Vec<RankResult> {
+    let (a, b_global, x0) = (bx.stiffness.as_ref(), bx.load(), bx.start());
     let run = |mut halo: ThreadRanks| {
-        let mut ds = DistributedSweep::<D>::new(pb.a(), owner, colouring, &halo).unwrap();
+        let mut ds = DistributedSweep::<D>::new(a, owner, colouring, &halo).unwrap();
         if let Some(g) = dropped {
             ds = ds.without_halo_node(colouring, g);
         }
@@ -85,9 +65,9 @@ fn on_ranks(
         let mut b = vec![0.0; D * len];
         let mut fixed = vec![false; D * len];
         let mut x = vec![0.0; D * len];
-        rows.gather(&pb.b, &mut b);
-        rows.gather(&pb.bx.fixed, &mut fixed);
-        rows.gather(&pb.x0, &mut x);
+        rows.gather(&b_global, &mut b);
+        rows.gather(&bx.fixed, &mut fixed);
+        rows.gather(&x0, &mut x);
         x[D * owned..].fill(f64::NAN);
         let gs = BlockGaussSeidel::new(rows, &b, &fixed).unwrap();
         let global = rows.global_nodes().to_vec();
@@ -106,7 +86,7 @@ fn on_ranks(
             per_sweep: ds.per_sweep(),
         }
     };
-    on_thread_ranks(size, run)
+    ThreadRanks::run(size, run)
 }
 
 /// Values of `rank`'s local vector (owned and ghosts) whose bits differ from the
@@ -120,45 +100,12 @@ fn differing_bits(rank: &RankResult, reference: &[f64]) -> usize {
         .count()
 }
 
-/// `size` slabs of nearly equal node counts along x (ties by node index).
-fn coordinate_split(mesh: &TetrahedronMesh, size: usize) -> Vec<usize> {
-    split_along(mesh, size, 0)
-}
-
-/// `size` slabs of nearly equal node counts along coordinate `axis` (ties by node index).
-pub(super) fn split_along(mesh: &TetrahedronMesh, size: usize, axis: usize) -> Vec<usize> {
-    let v = mesh.vertices();
-    let mut order: Vec<usize> = (0..v.len()).collect();
-    order.sort_by(|&p, &q| v[p][axis].total_cmp(&v[q][axis]).then(p.cmp(&q)));
-    let mut owner = vec![0; v.len()];
-    for (k, &p) in order.iter().enumerate() {
-        owner[p] = k * size / v.len();
-    }
-    owner
-}
-
-/// `run` on `size` thread ranks (one thread each, a [`ThreadRanks`] group): every
-/// rank's result in rank order.
-pub(super) fn on_thread_ranks<T: Send>(
-    size: usize,
-    run: impl Fn(ThreadRanks) -> T + Sync,
-) -> Vec<T> {
-    let run = &run;
-    std::thread::scope(|s| {
-        let handles: Vec<_> = ThreadRanks::group(size)
-            .into_iter()
-            .map(|halo| s.spawn(move || run(halo)))
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
-}
-
-/// The owner vectors tested at `size` ranks: the coordinate split, and METIS's partition
-/// of the node graph when the workspace is built with METIS.
-pub(super) fn owners(pb: &Problem, size: usize) -> Vec<(&'static str, Vec<usize>)> {
-    let mut out = vec![("coordinates", coordinate_split(pb.mesh(), size))];
+/// The owner vectors tested at `size` ranks: slabs along x, and METIS's partition of the
+/// node graph when the workspace is built with METIS.
+pub(crate) fn owners(bx: &ElasticBox, size: usize) -> Vec<(&'static str, Vec<usize>)> {
+    let mut out = vec![("coordinates", bx.slabs(size, 0))];
     if rsf_metis::is_available() {
-        let (xadj, adjncy) = node_graph::<D>(pb.a()).unwrap();
+        let (xadj, adjncy) = node_graph::<D>(bx.stiffness.as_ref()).unwrap();
         let part = rsf_metis::part_graph_kway(&xadj, &adjncy, size).unwrap();
         out.push(("metis", part));
     }
@@ -172,14 +119,14 @@ const SWEEPS: [bool; 6] = [false, true, false, false, true, true];
 /// rank of several owns nodes and has ghosts.
 #[test]
 fn distributed_sweeps_have_the_one_process_bits() {
-    let pb = cube(2);
-    let colouring = Colouring::new::<D>(pb.a()).unwrap();
-    let reference = one_process(&pb, &colouring, &SWEEPS);
-    assert!(reference.iter().zip(&pb.x0).any(|(a, b)| a != b));
+    let bx = cube(2);
+    let colouring = Colouring::new::<D>(bx.stiffness.as_ref()).unwrap();
+    let reference = one_process(&bx, &colouring, &SWEEPS);
+    assert!(reference.iter().zip(&bx.start()).any(|(a, b)| a != b));
     assert!(reference.iter().all(|v| v.is_finite()));
     for size in 1..=4 {
-        for (name, owner) in owners(&pb, size) {
-            let ranks = on_ranks(&pb, &colouring, &owner, size, &SWEEPS, None);
+        for (name, owner) in owners(&bx, size) {
+            let ranks = on_ranks(&bx, &colouring, &owner, size, &SWEEPS, None);
             let mut owned = 0;
             for (r, rank) in ranks.iter().enumerate() {
                 assert_eq!(
@@ -197,7 +144,7 @@ fn distributed_sweeps_have_the_one_process_bits() {
             }
             assert_eq!(
                 owned,
-                pb.mesh().num_vertices(),
+                bx.mesh().num_vertices(),
                 "{name}: every node owned once"
             );
         }
@@ -208,14 +155,11 @@ fn distributed_sweeps_have_the_one_process_bits() {
 /// part in every exchange without a message; the others keep the one-process bits.
 #[test]
 fn an_empty_rank_changes_nothing() {
-    let pb = cube(1);
-    let colouring = Colouring::new::<D>(pb.a()).unwrap();
-    let reference = one_process(&pb, &colouring, &SWEEPS);
-    let owner: Vec<usize> = coordinate_split(pb.mesh(), 2)
-        .into_iter()
-        .map(|r| 2 * r)
-        .collect();
-    let ranks = on_ranks(&pb, &colouring, &owner, 3, &SWEEPS, None);
+    let bx = cube(1);
+    let colouring = Colouring::new::<D>(bx.stiffness.as_ref()).unwrap();
+    let reference = one_process(&bx, &colouring, &SWEEPS);
+    let owner: Vec<usize> = bx.slabs(2, 0).into_iter().map(|r| 2 * r).collect();
+    let ranks = on_ranks(&bx, &colouring, &owner, 3, &SWEEPS, None);
     assert_eq!((ranks[1].owned, ranks[1].global.len()), (0, 0));
     let sweeps = SWEEPS.len() as u64;
     assert_eq!(
@@ -236,18 +180,18 @@ fn an_empty_rank_changes_nothing() {
 /// sent nor received): rank 1's values no longer have the one-process bits.
 #[test]
 fn a_wrong_halo_breaks_the_bits() {
-    let pb = cube(2);
-    let colouring = Colouring::new::<D>(pb.a()).unwrap();
-    let reference = one_process(&pb, &colouring, &SWEEPS);
-    for (name, owner) in owners(&pb, 2) {
-        let right = on_ranks(&pb, &colouring, &owner, 2, &SWEEPS, None);
+    let bx = cube(2);
+    let colouring = Colouring::new::<D>(bx.stiffness.as_ref()).unwrap();
+    let reference = one_process(&bx, &colouring, &SWEEPS);
+    for (name, owner) in owners(&bx, 2) {
+        let right = on_ranks(&bx, &colouring, &owner, 2, &SWEEPS, None);
         let rank1 = &right[1];
         let g = rank1.global[rank1.owned..]
             .iter()
             .copied()
-            .find(|&g| owner[g] == 0 && free(&pb.bx.fixed, g).iter().all(|&f| f))
+            .find(|&g| owner[g] == 0 && free(&bx.fixed, g).iter().all(|&f| f))
             .expect("a free ghost of rank 1");
-        let wrong = on_ranks(&pb, &colouring, &owner, 2, &SWEEPS, Some(g));
+        let wrong = on_ranks(&bx, &colouring, &owner, 2, &SWEEPS, Some(g));
         assert_eq!(differing_bits(&right[1], &reference), 0, "{name}");
         assert!(
             differing_bits(&wrong[1], &reference) > 0,
@@ -263,10 +207,10 @@ fn a_wrong_halo_breaks_the_bits() {
 /// one rank sends nothing; on two ranks the values sent are `D` per ghost of the other.
 #[test]
 fn counters_match_an_independent_count() {
-    let pb = cube(2);
-    let colouring = Colouring::new::<D>(pb.a()).unwrap();
-    let a = pb.a();
-    let nodes = pb.mesh().num_vertices();
+    let bx = cube(2);
+    let colouring = Colouring::new::<D>(bx.stiffness.as_ref()).unwrap();
+    let a = bx.stiffness.as_ref();
+    let nodes = bx.mesh().num_vertices();
     // Node adjacency from the scalar pattern: (p, q) for every entry (D p + ·, D q + ·).
     let mut pairs = Vec::new();
     for j in 0..a.ncols() {
@@ -280,8 +224,8 @@ fn counters_match_an_independent_count() {
     pairs.dedup();
     let sweeps = SWEEPS.len() as u64;
     for size in 1..=4 {
-        for (name, owner) in owners(&pb, size) {
-            let ranks = on_ranks(&pb, &colouring, &owner, size, &SWEEPS, None);
+        for (name, owner) in owners(&bx, size) {
+            let ranks = on_ranks(&bx, &colouring, &owner, size, &SWEEPS, None);
             // (sender, node, receiver) triples, deduplicated.
             let mut sent: Vec<(usize, usize, usize)> = pairs
                 .iter()
@@ -333,12 +277,12 @@ fn counters_match_an_independent_count() {
 /// colouring of another matrix.
 #[test]
 fn set_up_refuses_wrong_owners_and_colourings() {
-    let pb = cube(1);
-    let colouring = Colouring::new::<D>(pb.a()).unwrap();
-    let n = pb.mesh().num_vertices();
+    let bx = cube(1);
+    let colouring = Colouring::new::<D>(bx.stiffness.as_ref()).unwrap();
+    let n = bx.mesh().num_vertices();
     let halo = ThreadRanks::group(2).swap_remove(0);
     let new = |owner: &[usize], colouring: &Colouring| {
-        DistributedSweep::<D>::new(pb.a(), owner, colouring, &halo)
+        DistributedSweep::<D>::new(bx.stiffness.as_ref(), owner, colouring, &halo)
     };
     assert!(matches!(
         new(&vec![0; n - 1], &colouring),
@@ -372,8 +316,8 @@ fn set_up_refuses_wrong_owners_and_colourings() {
 /// distributed smoother"): per rank the owned and ghost nodes, the neighbour ranks and what
 /// one sweep sends, counted by the sweep on thread ranks (and checked against its plan).
 /// Not a check of numbers: run with
-/// `cargo test --release -p rsf-tnnmg --features rsf-metis/metis --lib
-/// distributed::tests::halo_table -- --ignored --nocapture`.
+/// `cargo test --release -p rsf-ranks --features rsf-metis/metis --lib
+/// sweep_tests::halo_table -- --ignored --nocapture`.
 #[test]
 #[ignore = "prints the halo table of docs/scaling.md; needs METIS"]
 fn halo_table() {

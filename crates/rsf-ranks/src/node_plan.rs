@@ -3,28 +3,31 @@
 
 use std::collections::BTreeMap;
 
-use super::halo::HaloCounters;
-use rsf_ranks::{HaloMessage, RankGroup};
+use crate::halo::HaloCounters;
+use crate::transport::{HaloMessage, RankGroup};
 
 /// Per-node records sent from their owners to the ranks that need them: per peer rank
 /// (increasing) the nodes, in increasing order on both sides, each record
 /// `len(node)` values long. Both sides derive their lists from the same global data.
 #[derive(Debug, Clone, Default)]
-pub(super) struct NodePlan {
+pub struct NodePlan {
     /// Per peer: `(rank, nodes)`.
     send: Vec<(usize, Vec<usize>)>,
     recv: Vec<(usize, Vec<usize>)>,
     /// The messages in values, and the nodes in buffer order.
-    pub sends: Vec<HaloMessage>,
+    sends: Vec<HaloMessage>,
     send_nodes: Vec<usize>,
     recvs: Vec<HaloMessage>,
     recv_nodes: Vec<usize>,
-    pub send_buf: Vec<f64>,
+    send_buf: Vec<f64>,
     recv_buf: Vec<f64>,
 }
 
 impl NodePlan {
-    pub(super) fn new(
+    /// The plan that sends to each rank of `send` its list of nodes and receives from each
+    /// rank of `recv` its list (each list increasing; the peer's matching list is the same
+    /// on its side), node `p`'s record `len(p)` values long.
+    pub fn new(
         send: BTreeMap<usize, Vec<usize>>,
         recv: BTreeMap<usize, Vec<usize>>,
         len: impl Fn(usize) -> usize,
@@ -40,7 +43,7 @@ impl NodePlan {
 
     /// Makes the messages carry only the nodes `keep` selects (both sides select with the
     /// same global rule).
-    pub(super) fn select(&mut self, keep: impl Fn(usize) -> bool, len: impl Fn(usize) -> usize) {
+    pub fn select(&mut self, keep: impl Fn(usize) -> bool, len: impl Fn(usize) -> usize) {
         fn messages(
             lists: &[(usize, Vec<usize>)],
             keep: &impl Fn(usize) -> bool,
@@ -86,11 +89,7 @@ impl NodePlan {
     }
 
     /// Fills each sent record with `pack(node, out)`.
-    pub(super) fn pack(
-        &mut self,
-        len: impl Fn(usize) -> usize,
-        mut pack: impl FnMut(usize, &mut [f64]),
-    ) {
+    pub fn pack(&mut self, len: impl Fn(usize) -> usize, mut pack: impl FnMut(usize, &mut [f64])) {
         let mut at = 0;
         for &p in &self.send_nodes {
             let n = len(p);
@@ -99,20 +98,25 @@ impl NodePlan {
         }
     }
 
-    /// The exchange of the packed records. Collective among the plan's peers.
-    pub(super) fn send(&mut self, halo: &mut dyn RankGroup, counters: &mut HaloCounters) {
+    /// The exchange of the packed records, counted in `counters`
+    /// ([`per_send`](Self::per_send)). Collective among the plan's peers.
+    pub fn send(&mut self, halo: &mut dyn RankGroup, counters: &mut HaloCounters) {
         halo.exchange(&self.sends, &self.send_buf, &self.recvs, &mut self.recv_buf);
-        counters.exchanges += 1;
-        counters.messages += self.sends.len() as u64;
-        counters.values += self.send_buf.len() as u64;
+        *counters += self.per_send();
+    }
+
+    /// What one [`send`](Self::send) sends: one exchange, its messages and values.
+    pub fn per_send(&self) -> HaloCounters {
+        HaloCounters {
+            exchanges: 1,
+            messages: self.sends.len() as u64,
+            values: self.send_buf.len() as u64,
+            ..HaloCounters::default()
+        }
     }
 
     /// Hands each received record to `unpack(node, values)`.
-    pub(super) fn unpack(
-        &self,
-        len: impl Fn(usize) -> usize,
-        mut unpack: impl FnMut(usize, &[f64]),
-    ) {
+    pub fn unpack(&self, len: impl Fn(usize) -> usize, mut unpack: impl FnMut(usize, &[f64])) {
         let mut at = 0;
         for &p in &self.recv_nodes {
             let n = len(p);

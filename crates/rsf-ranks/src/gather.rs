@@ -1,9 +1,9 @@
 //! The all-gather of a whole vector among the ranks that own its nodes
 //! ([`NodeAllGather`]).
 
-use super::halo::{AllGather, HaloCounters};
 use crate::error::{Error, Result};
-use rsf_ranks::RankGroup;
+use crate::halo::{AllGather, HaloCounters};
+use crate::transport::RankGroup;
 
 /// The all-gather of a global vector of `D` values per node whose node `p` is computed by
 /// rank `owner[p]`: after [`gather`](Self::gather) every rank holds every node's values as
@@ -74,9 +74,8 @@ impl<const D: usize> NodeAllGather<D> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::on_thread_ranks;
     use super::*;
-    use crate::distributed::ThreadRanks;
+    use crate::ThreadRanks;
 
     /// The wrapper of `AllGather` (whose gathers halo.rs tests at 1–4 ranks): at 3 thread
     /// ranks, one owning nothing, every rank ends with every owner's values and counts
@@ -84,7 +83,7 @@ mod tests {
     #[test]
     fn every_rank_gets_every_owners_values() {
         let owner: Vec<usize> = (0..11).map(|p| (7 * p) % 2).collect();
-        let got = on_thread_ranks(3, |halo| {
+        let got = ThreadRanks::run(3, |halo| {
             let rank = halo.rank();
             let mut g = NodeAllGather::<2>::new(&owner, Box::new(halo)).unwrap();
             let mut x: Vec<f64> = (0..22)

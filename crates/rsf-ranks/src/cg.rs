@@ -1,15 +1,29 @@
-//! Conjugate gradients on ranks preconditioned by one distributed V-cycle per step: the
-//! linear correction [`LinearCorrection::PreconditionedCg`](crate::LinearCorrection) of
-//! TNNMG on ranks, its inner products exact sums (the same bits at every rank count).
+//! Conjugate gradients on ranks preconditioned by one application of a [`Preconditioner`]
+//! per step (in `rsf-tnnmg`, one distributed V-cycle: the linear correction
+//! `LinearCorrection::PreconditionedCg` of TNNMG on ranks), its inner products exact sums
+//! (the same bits at every rank count).
 
-use super::reduce::ExactSums;
-use super::DistributedVCycle;
-use rsf_ranks::RankGroup;
+use crate::halo::HaloCounters;
+use crate::local_rows::LocalRows;
+use crate::reduce::ExactSums;
+use crate::transport::RankGroup;
+
+/// A preconditioner `B ≈ H⁻¹` of [`DistributedCg`] on one rank, and the rank's rows of the
+/// operator `H`.
+pub trait Preconditioner<const D: usize> {
+    /// The rank's rows of `H` (CG's products `H z` are [`LocalRows::residual`]s of them).
+    fn rows(&self) -> &LocalRows<D>;
+
+    /// `z = B r`: `r` holds the owned right-hand side (`D · rows().owned()` values), `z` is
+    /// a local vector (`D · rows().len()` values), zero on entry, that holds `B r` with its
+    /// ghosts current on return. Collective.
+    fn apply<H: RankGroup + ?Sized>(&mut self, r: &[f64], z: &mut [f64], halo: &mut H);
+}
 
 /// The work vectors and sums of [`DistributedCg::solve`]: owned values (`r`, `hp`, `q`) and
 /// local vectors with ghosts (`z`, `p`).
 #[derive(Debug)]
-pub(crate) struct DistributedCg {
+pub struct DistributedCg {
     r: Vec<f64>,
     z: Vec<f64>,
     p: Vec<f64>,
@@ -36,7 +50,7 @@ impl DistributedCg {
     }
 
     /// What the reductions have sent.
-    pub fn counters(&self) -> super::HaloCounters {
+    pub fn counters(&self) -> HaloCounters {
         self.pair.counters() + self.single.counters()
     }
 
@@ -48,24 +62,29 @@ impl DistributedCg {
 
     /// What one step's reductions send: two, and a third for the residual's norm when the
     /// solve may stop early (`checked`).
-    pub fn per_step(&self, checked: bool) -> super::HaloCounters {
+    pub fn per_step(&self, checked: bool) -> HaloCounters {
         self.pair.per_reduction() + self.single.per_reduction().times(1 + u64::from(checked))
     }
 
     /// `c ≈ H⁻¹ res` (`res` the owned right-hand side, 0 on the masked dofs; `free` the
     /// owned 0/1 factor of the unmasked dofs; `c` a local vector, overwritten, its ghosts
     /// current afterwards) by at most `max_steps` steps of conjugate gradients (the
-    /// Polak–Ribière form of the one-process correction) preconditioned by one V-cycle of
-    /// `vcycle` from zero per step, `H z` from the cycle's fine rows; stops early once the
-    /// free residual's norm fell by `reduction` (relative to `r0`, the right-hand side's).
+    /// Polak–Ribière form of `rsf-tnnmg`'s one-process correction) preconditioned by one
+    /// application of `precond` per step, `H z` from its rows; stops early once the free
+    /// residual's norm fell by `reduction` (relative to `r0`, the right-hand side's).
     /// Returns the steps taken. Collective: every decision is taken on exact global sums.
+    ///
+    /// # Panics
+    /// If a vector does not have the length of `precond`'s rows (as given above), or
+    /// `halo` is another rank's.
     #[expect(
         clippy::too_many_arguments,
-        reason = "one linear correction: the cycle, its transport, the system and the budget"
+        reason = "one linear correction: the preconditioner, its transport, the system and \
+                  the budget"
     )]
-    pub fn solve<const D: usize, H: RankGroup + ?Sized>(
+    pub fn solve<const D: usize, P: Preconditioner<D>, H: RankGroup + ?Sized>(
         &mut self,
-        vcycle: &mut DistributedVCycle<D>,
+        precond: &mut P,
         halo: &mut H,
         res: &[f64],
         free: &[f64],
@@ -77,13 +96,10 @@ impl DistributedCg {
         self.r.copy_from_slice(res);
         let (mut rz_old, mut alpha_old) = (0.0, 0.0);
         for k in 0..max_steps {
-            // z = B r: one cycle from zero; q = r − H z by the fine rows.
+            // z = B r from zero; q = r − H z by the rows.
             self.z.fill(0.0);
-            vcycle
-                .set_rhs(&self.r)
-                .expect("the owned right-hand side has the rows' length");
-            vcycle.cycle(&mut self.z, halo);
-            vcycle.rows().residual(&self.r, &self.z, &mut self.q);
+            precond.apply(&self.r, &mut self.z, halo);
+            precond.rows().residual(&self.r, &self.z, &mut self.q);
             for i in 0..self.r.len() {
                 self.pair.add(0, self.r[i] * self.z[i]);
                 if k > 0 {
