@@ -1,5 +1,7 @@
 //! The workspace's layering, read from the source: no import circles between the files of a
-//! crate, and crates depend on each other only downwards (docs/design.md, "Layers").
+//! crate, and crates depend on each other only downwards (docs/design.md, "Layers"); and,
+//! read from the manifests too, every crate of the workspace in the test profile's list of
+//! crates built at opt-level 1 (docs/performance.md, "What a newcomer waits for").
 //!
 //! A file `a` imports file `b` when `a` names a path `crate::…`, `super::…` or `self::…`
 //! that resolves to a module defined in `b` (the longest module prefix of the path that is a
@@ -526,6 +528,42 @@ fn crates_depend_only_on_lower_layers() {
     assert_eq!(layer_of("rsf-friction"), layer_of("rsf-state"));
     // And TNNMG and the direct solver (with the condensation) do not know each other.
     assert_eq!(layer_of("rsf-tnnmg"), layer_of("rsf-direct"));
+}
+
+/// Every package of the workspace (the root package and the members `crates/*` that are not
+/// excluded) is built at opt-level 1 in the test profile, and no other package is named
+/// there: a crate left out would be compiled at the dependencies' opt-level 2, where rustc
+/// shares no generic instance between crates (the root `Cargo.toml`'s comment).
+#[test]
+fn every_workspace_crate_is_in_the_test_profile() {
+    let root: toml::Table =
+        toml::from_str(&std::fs::read_to_string(workspace().join("Cargo.toml")).unwrap()).unwrap();
+    let excluded: Vec<&str> = root["workspace"]["exclude"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    let mut members = BTreeSet::from([root["package"]["name"].as_str().unwrap().to_owned()]);
+    for dir in crates() {
+        let rel = format!("crates/{}", dir.file_name().unwrap().to_string_lossy());
+        if excluded.contains(&rel.as_str()) {
+            continue;
+        }
+        let manifest: toml::Table =
+            toml::from_str(&std::fs::read_to_string(dir.join("Cargo.toml")).unwrap()).unwrap();
+        members.insert(manifest["package"]["name"].as_str().unwrap().to_owned());
+    }
+    let packages = root["profile"]["test"]["package"].as_table().unwrap();
+    let at_level_1: BTreeSet<String> = packages
+        .iter()
+        .filter(|(_, p)| p.get("opt-level").and_then(|l| l.as_integer()) == Some(1))
+        .map(|(name, _)| name.clone())
+        .collect();
+    assert_eq!(
+        at_level_1, members,
+        "[profile.test.package] names the workspace's packages at opt-level 1"
+    );
 }
 
 /// The top-level module (a file or folder of `src/`) of a file of the import graph:
