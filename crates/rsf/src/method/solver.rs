@@ -235,7 +235,7 @@ pub struct SolverOptions {
 /// of the integrator's right-hand side, before its first solver) and once per built
 /// solver (every rank builds its methods and solvers in the same order, one solver per
 /// time-step size used), it returns this rank's end of a fresh group of the job's ranks
-/// ([`RankGroup`]: e.g. a duplicated MPI communicator, or the next group of thread ranks).
+/// ([`RankGroup`](rsf_ranks::RankGroup): e.g. a duplicated MPI communicator, or the next group of thread ranks).
 pub use rsf_ranks::TransportFactory;
 
 /// TNNMG on the ranks of a job (issue 57, docs/scaling.md "Phase 5"): replicated time

@@ -14,7 +14,7 @@
 //!
 //! Where `σ̄_n − p ≤ 0` (the fluid would open the fault) a Runge–Kutta stage is outside
 //! the problem's domain and the step is retried smaller; at an accepted time, or in the
-//! implicit scheme, it is [`Error::NormalStressNotPositive`](crate::Error::NormalStressNotPositive)
+//! implicit scheme, it is [`Error::NormalStressNotPositive`]
 //! naming the node and the time.
 
 mod closed_form;
