@@ -524,6 +524,11 @@ pub struct SeasHeaderArgs {
 
 #[cfg(feature = "seas")]
 impl SeasHeaderArgs {
+    /// The files' date: `--date`, or today's (UTC).
+    pub fn date_or_today(&self) -> String {
+        self.date.clone().unwrap_or_else(rsf_seas::utc_date_today)
+    }
+
     /// Checks the flags before any work: `--modeler` one non-empty line of at most 100
     /// characters, `--date` a calendar date `YYYY-MM-DD` (`2023-02-31` is not).
     ///

@@ -208,8 +208,7 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume_from(self.run.resume.as_deref())
-                    .allow_change(&self.run.allow_change),
+                    .resuming(&self.run),
             ))
     }
 }
@@ -279,11 +278,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     }
     let setup = SeasSetup {
         modeler: args.header.modeler.clone(),
-        date: args
-            .header
-            .date
-            .clone()
-            .unwrap_or_else(rsf_seas::utc_date_today),
+        date: args.header.date_or_today(),
         ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.

@@ -335,8 +335,7 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &names)
                     .overwrite(self.overwrite)
-                    .resume_from(self.run.resume.as_deref())
-                    .allow_change(&self.run.allow_change),
+                    .resuming(&self.run),
             ))
     }
 }
@@ -357,11 +356,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let setup = SeasSetup {
         problem: format!("SEAS Benchmark BP6-QD-{}", variant.name()),
         modeler: args.header.modeler.clone(),
-        date: args
-            .header
-            .date
-            .clone()
-            .unwrap_or_else(rsf_seas::utc_date_today),
+        date: args.header.date_or_today(),
         element_size: args.dz,
         ..bp6.seas_setup(variant, args.dz)
     };

@@ -319,8 +319,7 @@ impl Program for Args {
             .folder(
                 Folder::new("--out", &self.out, &outputs)
                     .overwrite(self.overwrite)
-                    .resume_from(self.run.resume.as_deref())
-                    .allow_change(&self.run.allow_change),
+                    .resuming(&self.run),
             ))
     }
 }

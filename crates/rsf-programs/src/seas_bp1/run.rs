@@ -247,11 +247,7 @@ pub(super) fn run(
     let fingerprint = choices.fingerprint(&args, &bp1, &grid, &sampling);
     let setup = SeasSetup {
         modeler: args.header.modeler.clone(),
-        date: args
-            .header
-            .date
-            .clone()
-            .unwrap_or_else(rsf_seas::utc_date_today),
+        date: args.header.date_or_today(),
         stations,
         ..bp1.seas_setup(args.dz, args.inertia, sampling)
     };

@@ -16,9 +16,7 @@ use rsf::observe::{Observer, TimeUnit};
 use rsf::run_folder::RunFolder;
 use rsf::Stepping;
 use rsf_scenes::{SeasBp5, SeasBp5Grid};
-use rsf_seas::{
-    utc_date_today, SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR,
-};
+use rsf_seas::{SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 use std::ops::ControlFlow;
 
 use super::args::{Args, Condensation, Kernel, SETUP_FILE};
@@ -243,7 +241,7 @@ fn seas_setup(args: &Args, bp5: &SeasBp5) -> SeasSetup {
     SeasSetup {
         problem: "SEAS Benchmark BP5-QD".into(),
         modeler: args.header.modeler.clone(),
-        date: args.header.date.clone().unwrap_or_else(utc_date_today),
+        date: args.header.date_or_today(),
         element_size: args.dx,
         stations: Vec::new(),
         depth_axis: 2,
