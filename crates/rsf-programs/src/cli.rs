@@ -510,6 +510,16 @@ pub struct ResumeArgs {
     pub max_steps: Option<u64>,
 }
 
+impl ResumeArgs {
+    /// `folder` with these resume flags (`--resume FILE`, `--allow-change FIELD,…`):
+    /// [`Folder::resume_from`] and [`Folder::allow_change`].
+    pub fn folder(&self, folder: crate::guard::Folder) -> crate::guard::Folder {
+        folder
+            .resume_from(self.resume.as_deref())
+            .allow_change(&self.allow_change)
+    }
+}
+
 /// `--modeler NAME` and `--date YYYY-MM-DD` of the SEAS files' headers.
 #[cfg(feature = "seas")]
 #[derive(Debug, Clone, Default, clap::Args)]

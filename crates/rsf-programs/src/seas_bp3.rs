@@ -206,9 +206,8 @@ impl Program for Args {
                 ),
             )
             .folder(
-                Folder::new("--out", &self.out, &names)
-                    .overwrite(self.overwrite)
-                    .resuming(&self.run),
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
             ))
     }
 }

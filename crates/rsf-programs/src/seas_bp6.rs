@@ -333,9 +333,8 @@ impl Program for Args {
                 format!("{} years of stations and profiles", self.end_years),
             )
             .folder(
-                Folder::new("--out", &self.out, &names)
-                    .overwrite(self.overwrite)
-                    .resuming(&self.run),
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
             ))
     }
 }

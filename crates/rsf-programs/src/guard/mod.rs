@@ -100,14 +100,6 @@ impl Folder {
         self
     }
 
-    /// The resume flags of a checkpointing program (`--resume FILE`, `--allow-change
-    /// FIELD,…`): [`resume_from`](Self::resume_from) and [`allow_change`](Self::allow_change)
-    /// of [`ResumeArgs`](crate::cli::ResumeArgs).
-    pub fn resuming(self, run: &crate::cli::ResumeArgs) -> Self {
-        self.resume_from(run.resume.as_deref())
-            .allow_change(&run.allow_change)
-    }
-
     /// The fields a resume may change (`--allow-change`): refused without a checkpoint
     /// to resume (they would be ignored); the fields themselves are checked against the
     /// checkpoint's fingerprint when it is read.

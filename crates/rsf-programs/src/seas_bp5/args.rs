@@ -322,9 +322,8 @@ impl Program for Args {
                 format!("{} years of the benchmark's files", self.end_years),
             )
             .folder(
-                Folder::new("--out", &self.out, &names)
-                    .overwrite(self.overwrite)
-                    .resuming(&self.run),
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
             ))
     }
 }
