@@ -122,7 +122,9 @@ impl SeasBp5 {
     /// carrying each side's rigid motion `±V_p/2` along `y` (the fault's own vertices on
     /// them only by the creep); the free surface `z = 0`; the prestress
     /// [`tau0`](Self::tau0) as equal and opposite tractions `±τ⁰ e_y` on the fault's two
-    /// faces over the rate-and-state region; the initial displacement 0.
+    /// faces, over the whole plane (so that a frictional node on the region's rim carries
+    /// its full prestress: the creeping pairs' share goes into their reaction); the
+    /// initial displacement 0.
     ///
     /// # Errors
     /// [`rsf::Error::InvalidParameter`] named `dx` (not dividing `l_f/2` and `W_f`),
@@ -271,21 +273,14 @@ impl SeasBp5 {
             .internal_creep_at(move |x| {
                 (!a.in_rate_state_region(x[1], -x[2])).then_some(CreepRate::InFrame([a.v_p, 0.0]))
             })
+            // τ⁰ on the whole plane: a frictional node on the region's rim has half of its
+            // faces outside the region, and must carry its full prestress; the creeping
+            // pairs' slip is given, so their share goes into the reaction.
             .neumann(Part::from("fault_minus"), move |x| {
-                let t = if b.in_rate_state_region(x[1], -x[2]) {
-                    b.tau0(x[1], -x[2])
-                } else {
-                    0.0
-                };
-                [0.0, -t, 0.0]
+                [0.0, -b.tau0(x[1], -x[2]), 0.0]
             })
             .neumann(Part::from("fault_plus"), move |x| {
-                let t = if c.in_rate_state_region(x[1], -x[2]) {
-                    c.tau0(x[1], -x[2])
-                } else {
-                    0.0
-                };
-                [0.0, t, 0.0]
+                [0.0, c.tau0(x[1], -x[2]), 0.0]
             });
         Ok(builder)
     }

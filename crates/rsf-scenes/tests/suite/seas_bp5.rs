@@ -218,6 +218,24 @@ fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rat
             }
         }
         assert_eq!(checked, 5);
+        // The region's rim (|x₂| = l_f/2 or x₃ = W_f; a = a_max around it) too: half of
+        // a rim node's faces lie outside the region, and its prestress must be whole
+        // there as well (with τ⁰ on the region's faces only, the corner node at
+        // x₂ = −50 km, x₃ = 40 km started at V = 1.4e-13 m/s, locked).
+        let mut rim = 0;
+        for &p in &fb.nodes {
+            let x = m.vertices[p];
+            let (x2, x3) = (x[1], -x[2]);
+            if (x2.abs() - 50e3).abs() < 1.0 || (x3 - 40e3).abs() < 1.0 {
+                let v = &ode.state().kinematics.v[3 * p..3 * p + 3];
+                assert!(
+                    (v[0] / 1e-9 - 1.0).abs() < 1e-6,
+                    "rim node at {x:?}: V = {v:?}"
+                );
+                rim += 1;
+            }
+        }
+        assert_eq!(rim, 21 + 2 * 8);
     };
     check(&ode);
     // The creeping pairs slip at (V_p, 0) in their frame (t₁ along +y): u⁺ − u⁻ = V_p t e_y.
