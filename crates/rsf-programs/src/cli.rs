@@ -512,7 +512,8 @@ pub struct ResumeArgs {
 
 impl ResumeArgs {
     /// `folder` with these resume flags (`--resume FILE`, `--allow-change FIELD,…`):
-    /// [`Folder::resume_from`] and [`Folder::allow_change`].
+    /// [`Folder::resume_from`](crate::guard::Folder::resume_from) and
+    /// [`Folder::allow_change`](crate::guard::Folder::allow_change).
     pub fn folder(&self, folder: crate::guard::Folder) -> crate::guard::Folder {
         folder
             .resume_from(self.resume.as_deref())
