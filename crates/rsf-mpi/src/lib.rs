@@ -9,7 +9,10 @@
 //! ([`rsf::method::TnnmgOnRanks`] over [`MpiExchange`]; docs/scaling.md, "Phase 5").
 //!
 //! Every rank runs the whole program (the same scene, options and state); only the
-//! evaluations are shared. A program writes its files on rank 0 ([`MpiRanks::is_root`];
+//! evaluations are shared — and `seas_bp5 --kernel fe`'s elimination of the volume, which
+//! rank 0 does alone and the other ranks read from the run folder's `setup.bin` (so one
+//! process, not every one, holds its memory; the folder must be on a file system every
+//! rank sees). A program writes its files on rank 0 ([`MpiRanks::is_root`];
 //! `slider_3d`'s VTU frames are the exception: every rank writes its piece)
 //! and ends every rank on an error with [`end_all_ranks`] (an error on one rank must not
 //! leave the others waiting in a collective).

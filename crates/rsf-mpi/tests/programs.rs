@@ -1,7 +1,8 @@
 //! The programs `seas_bp1`, `seas_bp3` and `seas_bp5` on MPI ranks (this crate's binaries:
 //! the programs of `rsf-programs` with their evaluations shared): every file byte-identical to
 //! one process's — BP1 at 1, 2 and 4 ranks, BP3 (a normal stress from slip) at 2, BP5 (the
-//! half-space operator) at 2 and 3, a run stopped at a step cap on 2 ranks and resumed on
+//! half-space operator) at 2 and 3, BP5 with the finite-element volume at 2 (its elimination
+//! on rank 0 alone, read by the other rank), a run stopped at a step cap on 2 ranks and resumed on
 //! 3, and a job killed (`SIGKILL` to every process) and resumed on 2 ranks — and an error
 //! on rank 0 ends every rank at once. The program `slider_3d` (TNNMG's velocity solves on
 //! the ranks) writes the same bytes on 1, 2 and 4 ranks, also stopped and resumed, but for
@@ -91,6 +92,8 @@ fn same_files_but(a: &Path, b: &Path, what: &str, skip: &[&str]) -> usize {
             "checkpoint.bin",
             "seas_resume.csv",
             "bp5_resume.json",
+            // The elimination's kept result: its header holds its wall time.
+            "setup.bin",
         ]
         .contains(&name.as_str())
         {
@@ -347,6 +350,49 @@ fn bp5_with_the_operator_held_in_parts_is_byte_identical_on_2_ranks() {
         "{text}"
     );
     assert!(same_files(&one, &dir, "BP5 at 1 km on 2 ranks") >= 25);
+}
+
+/// BP5 with the finite-element volume (Δx = 5 km, the Schur-only elimination) for 40 years
+/// on 2 ranks: rank 0 eliminates and the other rank reads its result from the run folder
+/// (each says so), and every file has one process's bytes.
+#[test]
+fn bp5_with_the_volume_eliminated_on_rank_0_alone_is_byte_identical_on_2_ranks() {
+    let args = |out: &Path| -> Vec<String> {
+        let out = out.to_str().unwrap();
+        [
+            "--out",
+            out,
+            "--kernel",
+            "fe",
+            "--dx",
+            "5000",
+            "--end-years",
+            "40",
+            "--threads",
+            "1",
+            "--date",
+            "2026-11-28",
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let one = folder("bp5_fe_one_process");
+    let out = run_program(BP5, None, &args(&one));
+    succeeded(&out);
+    let dir = folder("bp5_fe_2_ranks");
+    let out = run_program(BP5, Some(2), &args(&dir));
+    succeeded(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        text.contains("eliminated on rank 0 alone; the other 1 ranks read"),
+        "{text}"
+    );
+    assert!(
+        err.contains("rank 1: the elimination read from rank 0's"),
+        "{err}"
+    );
+    assert!(same_files(&one, &dir, "BP5 with the volume on 2 ranks") >= 20);
 }
 
 /// The processes whose parent is `pid` (from `/proc`; Open MPI puts each rank in a process

@@ -25,4 +25,16 @@ pub trait Processes: Sync {
     /// Prints `message` (with this rank) and ends every process of the job with a failure
     /// code: an error on one rank must not leave the others waiting in a collective.
     fn end_all(&self, message: &str) -> !;
+
+    /// Returns when every process has called it: a collective, called once by every
+    /// process at the same point of the program (one value each through
+    /// [`group`](Self::group)'s `all_gather`, which no process can finish before every
+    /// other has contributed). What one process wrote before it (rank 0's set-up in the
+    /// run folder) is there for the others after it.
+    fn barrier(&self) {
+        let size = self.size();
+        let counts = vec![1; size];
+        let mut all = vec![0.0; size];
+        self.group().all_gather(&[1.0], &counts, &mut all);
+    }
 }

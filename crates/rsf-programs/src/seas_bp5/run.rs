@@ -31,6 +31,40 @@ fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
     }
 }
 
+/// On a rank other than 0: waits until rank 0 has eliminated (the collective rank 0 enters
+/// after its set-up), then the policy that reads its finished elimination from `path` and
+/// writes nothing.
+///
+/// # Errors
+/// If `path` is not there after the wait: the run folder is not on a file system this
+/// rank sees (every rank must see the same folder).
+fn read_rank_0s_setup(
+    processes: Option<&dyn Processes>,
+    path: &std::path::Path,
+) -> Result<CheckpointPolicy, AnyError> {
+    let p = processes.expect("only a job of several processes has a rank other than 0");
+    p.barrier();
+    if !path.is_file() {
+        return Err(format!(
+            "rank {} does not see rank 0's set-up {}: the run folder must be on a file \
+             system every rank sees",
+            p.rank(),
+            path.display()
+        )
+        .into());
+    }
+    eprintln!(
+        "rank {}: the elimination read from rank 0's {}",
+        p.rank(),
+        path.display()
+    );
+    Ok(CheckpointPolicy {
+        every_fronts: None,
+        every_seconds: None,
+        ..CheckpointPolicy::new(path)
+    })
+}
+
 /// A line on standard error at every tenth of the elimination's work (flops), with the
 /// fronts done and the wall time.
 fn elimination_progress() -> SetupProgress {
@@ -112,12 +146,14 @@ impl SetUp<'_> {
     }
 
     /// The finite-element volume condensed onto the fault (the build's stages with their
-    /// memory, docs/three-d.md, "The build's memory").
+    /// memory, docs/three-d.md, "The build's memory"); on ranks, the Schur-only
+    /// elimination on rank 0 alone, read by the others from the run folder.
     fn fe(
         self,
         grid: &SeasBp5Grid,
         ratio: f64,
         folder: &RunFolder,
+        processes: Option<&dyn Processes>,
     ) -> Result<OdeAndFiles, AnyError> {
         let Self {
             args,
@@ -174,24 +210,38 @@ impl SetUp<'_> {
                 // The stations' vertices on every rank (the elimination keeps them).
                 let watch_vertices = bp5.station_vertices(&model)?;
                 let path = folder.path(SETUP_FILE);
-                if args.run.resume.is_none() {
+                if root && args.run.resume.is_none() {
                     // Another run's elimination is not this one's to continue.
                     remove_if_present(&path)?;
                 }
-                let checkpoint = CheckpointPolicy {
-                    // One process writes it; the others eliminate alike.
-                    every_seconds: root.then_some(600.0),
-                    ..CheckpointPolicy::new(path)
+                // On ranks, rank 0 eliminates alone and keeps its result in the run
+                // folder; the others wait for it and read it (its checksum of the inputs
+                // checked: the same bits), so that one process holds the elimination's
+                // memory, not every one (docs/seas-bp5.md, "On MPI ranks").
+                let others = processes.filter(|p| p.size() > 1);
+                let checkpoint = if root {
+                    CheckpointPolicy::new(&path)
+                } else {
+                    read_rank_0s_setup(processes, &path)?
                 };
                 let setup = SchurOnlySetup {
                     watch_vertices,
-                    checkpoint: root.then_some(checkpoint),
+                    checkpoint: Some(checkpoint),
                     max_bytes: Some(
                         (args.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize
                     ),
                     progress: root.then(|| elimination_progress()),
                 };
-                bp5.fe_fault_ode_schur_only(model, options, setup)?
+                let ode = bp5.fe_fault_ode_schur_only(model, options, setup)?;
+                if let (true, Some(p)) = (root, others) {
+                    println!(
+                        "set-up: eliminated on rank 0 alone; the other {} ranks read {}",
+                        p.size() - 1,
+                        path.display()
+                    );
+                    p.barrier();
+                }
+                ode
             }
         };
         stages.borrow_mut().end("condensation and operator");
@@ -290,7 +340,7 @@ pub(super) fn run(
     };
     let (mut ode, output) = match args.kernel {
         Kernel::Okada => set_up.okada(cells, processes)?,
-        Kernel::Fe => set_up.fe(&grid, ratio, &folder)?,
+        Kernel::Fe => set_up.fe(&grid, ratio, &folder, processes)?,
     };
     if let Some(p) = processes {
         ode.share_evaluations(p.group())?;
