@@ -279,27 +279,23 @@ fn bp1_at_25_m_is_byte_identical_on_2_ranks() {
     assert!(same_files(&one, &two, "BP1 at 25 m on 2 ranks") >= 14);
 }
 
+/// BP5's flags: the output folder `out`, `flags`, one thread and the header's date fixed
+/// (the files of two runs compared byte by byte).
+fn bp5_args(out: &Path, flags: &[&str]) -> Vec<String> {
+    let out = out.to_str().unwrap();
+    ["--out", out]
+        .iter()
+        .chain(flags)
+        .chain(&["--threads", "1", "--date", "2026-11-26"])
+        .map(|s| s.to_string())
+        .collect()
+}
+
 /// BP5 at Δx = 4 km (500 cells, Okada's operator, dense: its rows in blocks of 8 per
 /// rank) for 300 years: every file on 2 and on 3 ranks has one process's bytes.
 #[test]
 fn bp5_files_are_byte_identical_on_2_and_3_ranks() {
-    let args = |out: &Path| -> Vec<String> {
-        let out = out.to_str().unwrap();
-        [
-            "--out",
-            out,
-            "--dx",
-            "4000",
-            "--end-years",
-            "300",
-            "--threads",
-            "1",
-            "--date",
-            "2026-11-26",
-        ]
-        .map(String::from)
-        .to_vec()
-    };
+    let args = |out: &Path| bp5_args(out, &["--dx", "4000", "--end-years", "300"]);
     let one = folder("bp5_one_process");
     let out = run_program(BP5, None, &args(&one));
     succeeded(&out);
@@ -321,23 +317,7 @@ fn bp5_files_are_byte_identical_on_2_and_3_ranks() {
 /// process's bytes (the whole operator), and rank 0 says that it holds part 0 of 2.
 #[test]
 fn bp5_with_the_operator_held_in_parts_is_byte_identical_on_2_ranks() {
-    let args = |out: &Path| -> Vec<String> {
-        let out = out.to_str().unwrap();
-        [
-            "--out",
-            out,
-            "--dx",
-            "1000",
-            "--end-years",
-            "1e-7",
-            "--threads",
-            "1",
-            "--date",
-            "2026-11-27",
-        ]
-        .map(String::from)
-        .to_vec()
-    };
+    let args = |out: &Path| bp5_args(out, &["--dx", "1000", "--end-years", "1e-7"]);
     let one = folder("bp5_1km_one_process");
     let out = run_program(BP5, None, &args(&one));
     succeeded(&out);
@@ -357,24 +337,11 @@ fn bp5_with_the_operator_held_in_parts_is_byte_identical_on_2_ranks() {
 /// (each says so), and every file has one process's bytes.
 #[test]
 fn bp5_with_the_volume_eliminated_on_rank_0_alone_is_byte_identical_on_2_ranks() {
-    let args = |out: &Path| -> Vec<String> {
-        let out = out.to_str().unwrap();
-        [
-            "--out",
+    let args = |out: &Path| {
+        bp5_args(
             out,
-            "--kernel",
-            "fe",
-            "--dx",
-            "5000",
-            "--end-years",
-            "40",
-            "--threads",
-            "1",
-            "--date",
-            "2026-11-28",
-        ]
-        .map(String::from)
-        .to_vec()
+            &["--kernel", "fe", "--dx", "5000", "--end-years", "40"],
+        )
     };
     let one = folder("bp5_fe_one_process");
     let out = run_program(BP5, None, &args(&one));
