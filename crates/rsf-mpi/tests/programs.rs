@@ -352,7 +352,8 @@ fn bp5_with_the_volume_eliminated_on_rank_0_alone_is_byte_identical_on_2_ranks()
     let text = String::from_utf8_lossy(&out.stdout);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        text.contains("eliminated on rank 0 alone; the other 1 ranks read"),
+        text.contains("eliminated on rank 0 alone, read from")
+            && text.contains("by the other ranks (1)"),
         "{text}"
     );
     assert!(

@@ -235,9 +235,10 @@ impl SetUp<'_> {
                 let ode = bp5.fe_fault_ode_schur_only(model, options, setup)?;
                 if let (true, Some(p)) = (root, others) {
                     println!(
-                        "set-up: eliminated on rank 0 alone; the other {} ranks read {}",
-                        p.size() - 1,
-                        path.display()
+                        "set-up: eliminated on rank 0 alone, read from {} by the other ranks \
+                         ({})",
+                        path.display(),
+                        p.size() - 1
                     );
                     p.barrier();
                 }
