@@ -39,10 +39,9 @@ fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
 /// If `path` is not there after the wait: the run folder is not on a file system this
 /// rank sees (every rank must see the same folder).
 fn read_rank_0s_setup(
-    processes: Option<&dyn Processes>,
+    p: &dyn Processes,
     path: &std::path::Path,
 ) -> Result<CheckpointPolicy, AnyError> {
-    let p = processes.expect("only a job of several processes has a rank other than 0");
     p.barrier();
     if !path.is_file() {
         return Err(format!(
@@ -219,10 +218,9 @@ impl SetUp<'_> {
                 // checked: the same bits), so that one process holds the elimination's
                 // memory, not every one (docs/seas-bp5.md, "On MPI ranks").
                 let others = processes.filter(|p| p.size() > 1);
-                let checkpoint = if root {
-                    CheckpointPolicy::new(&path)
-                } else {
-                    read_rank_0s_setup(processes, &path)?
+                let checkpoint = match others {
+                    Some(p) if !root => read_rank_0s_setup(p, &path)?,
+                    _ => CheckpointPolicy::new(&path),
                 };
                 let setup = SchurOnlySetup {
                     watch_vertices,
