@@ -383,7 +383,7 @@ pub(super) enum MeshArg {
     Graded,
     /// A tensor grid graded axis by axis.
     Tensor,
-    /// The tensor grid with alternate boxes mirrored (the graded mesh's pattern of diagonals).
+    /// The tensor grid with alternate boxes mirrored (a bisection mesh's pattern of diagonals: a test, not a mesh to run).
     TensorMirrored,
 }
 

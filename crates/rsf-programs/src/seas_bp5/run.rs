@@ -471,3 +471,88 @@ fn report(
     println!("wrote {}", args.out.join("overview.png").display());
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rsf::ranks::ThreadGroups;
+    use std::sync::Arc;
+
+    /// A rank of a job whose ranks are threads of this process (`ThreadGroups`).
+    struct ThreadProcess {
+        rank: usize,
+        groups: Arc<ThreadGroups>,
+    }
+
+    impl Processes for ThreadProcess {
+        fn rank(&self) -> usize {
+            self.rank
+        }
+        fn size(&self) -> usize {
+            self.groups.size()
+        }
+        fn group(&self) -> Box<dyn rsf::ranks::RankGroup + Send> {
+            Box::new(self.groups.take(self.rank))
+        }
+        fn transports(&self) -> rsf::method::TransportFactory {
+            self.groups.factory(self.rank)
+        }
+        fn end_all(&self, message: &str) -> ! {
+            panic!("rank {}: {message}", self.rank)
+        }
+    }
+
+    /// Two thread ranks: rank 0 writes `written` and enters the barrier; rank 1 enters it
+    /// and asks for `wanted`. Returns rank 1's answer.
+    fn rank_1_reads(written: &std::path::Path, wanted: &std::path::Path) -> Result<(), String> {
+        let groups = ThreadGroups::new(2);
+        let answers: Vec<Result<(), String>> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..2)
+                .map(|rank| {
+                    let p = ThreadProcess {
+                        rank,
+                        groups: Arc::clone(&groups),
+                    };
+                    s.spawn(move || {
+                        if rank == 0 {
+                            std::fs::write(written, b"rank 0's set-up").expect("writable");
+                            p.barrier();
+                            Ok(())
+                        } else {
+                            read_rank_0s_setup(&p, wanted)
+                                .map(|policy| {
+                                    assert_eq!(policy.path, wanted);
+                                    assert_eq!(
+                                        (policy.every_fronts, policy.every_seconds),
+                                        (None, None)
+                                    );
+                                })
+                                .map_err(|e| e.to_string())
+                        }
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        answers.into_iter().nth(1).expect("two ranks")
+    }
+
+    /// A rank that does not see rank 0's set-up after the barrier (its run folder on
+    /// another file system: here, another folder) fails with an error that names the file
+    /// and the rank, instead of eliminating again or waiting; where it sees the file, it
+    /// gets a policy that only reads.
+    #[test]
+    fn a_rank_that_does_not_see_rank_0s_setup_says_which_file() {
+        let dir = std::env::temp_dir().join(format!("rsf-rank-0-setup-{}", std::process::id()));
+        let (ours, theirs) = (dir.join("rank0"), dir.join("rank1"));
+        std::fs::create_dir_all(&ours).unwrap();
+        std::fs::create_dir_all(&theirs).unwrap();
+        let written = ours.join(SETUP_FILE);
+        assert_eq!(rank_1_reads(&written, &written), Ok(()));
+        let elsewhere = theirs.join(SETUP_FILE);
+        let e = rank_1_reads(&written, &elsewhere).expect_err("not on rank 1's file system");
+        assert!(e.contains("rank 1 does not see rank 0's set-up"), "{e}");
+        assert!(e.contains(&elsewhere.display().to_string()), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

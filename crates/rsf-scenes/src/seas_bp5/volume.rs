@@ -38,9 +38,11 @@ pub enum SeasBp5Mesh {
     /// axis by axis — the fault's fine spacing repeated in every layer of the box.
     Tensor,
     /// The tensor grid with the boxes mirrored by the parity of their position
-    /// (`round(x/dx)` odd along an axis): the graded mesh's "union jack" pattern of
-    /// diagonals on the tensor grid's boxes, to tell the effect of the pattern from that of
-    /// the grading (docs/seas-bp5.md).
+    /// (`round(x/dx)` odd along an axis): the "union jack" pattern of diagonals of a
+    /// bisection mesh (`rsf_fem::BisectionMesh`) on the tensor grid's boxes, whose fault
+    /// nodes' lumped weights alternate between 2/3 and 4/3 of `dx²` — a test of that
+    /// pattern apart from any grading (docs/fem.md, "Why not bisection for a fault"), not a
+    /// mesh to run.
     TensorMirrored,
     /// An octree of Kuhn cubes refined towards the rate-and-state region and the off-fault
     /// stations ([`OctreeMesh`], docs/fem.md "Graded meshes: octree of Kuhn cubes"): cells
