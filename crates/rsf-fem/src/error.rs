@@ -210,6 +210,44 @@ pub enum Error {
         /// Its vertices.
         vertices: [usize; 2],
     },
+    /// An edge (2-D) given for two faults of a network.
+    #[error(
+        "fault edge {edge} ({vertices:?}) of fault `{second}` is also an edge of fault `{first}`"
+    )]
+    FaultEdgeShared {
+        /// Index in the second fault's list of edges.
+        edge: usize,
+        /// Its vertices.
+        vertices: [usize; 2],
+        /// The fault that listed it first.
+        first: String,
+        /// The fault that listed it again.
+        second: String,
+    },
+    /// Two faults of a network have the same name (their side tags would collide).
+    #[error("two faults of the network are named `{name}`: names must be unique")]
+    FaultNameRepeated {
+        /// The name.
+        name: String,
+    },
+    /// Faults of a network meet at a vertex in a way the network does not support: in 2-D a
+    /// fault may end on another that goes on through the vertex (a branch) and two faults
+    /// may cross there (both going through), each inside the body; in 3-D faults may not
+    /// share a vertex (docs/math.md §16).
+    #[error(
+        "the faults {faults:?} meet at vertex {vertex} at {position:?} m in a way a fault \
+         network does not support: {reason}"
+    )]
+    FaultJunctionUnsupported {
+        /// The faults meeting there, in network order.
+        faults: Vec<String>,
+        /// The vertex (of the mesh given to the splitting).
+        vertex: usize,
+        /// Its position (m).
+        position: Vec<f64>,
+        /// What is not supported there.
+        reason: &'static str,
+    },
     /// More than two fault edges meet at a vertex: the fault branches or crosses itself.
     #[error("{edges} fault edges meet at vertex {vertex}: the fault branches or crosses itself")]
     FaultNotManifold {

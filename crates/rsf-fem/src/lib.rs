@@ -55,6 +55,7 @@ mod gmsh;
 mod hierarchy;
 mod loads;
 mod mesh;
+mod network;
 mod octree;
 mod part;
 mod refine;
@@ -81,13 +82,14 @@ pub use loads::{
     traction_load_components,
 };
 pub use mesh::{SimplexMesh, TetrahedronMesh, TriangleMesh};
+pub use network::{FaultNetwork, Junction, JunctionKind};
 pub use octree::{OctreeMesh, OctreeReport};
 pub use part::BoundaryPart;
 pub use refine::{refine_red, try_refine_red};
 pub use rsf_linalg::{combine, quadratic_form, spmv_add, Cholesky, SparseMatrix};
 pub use rsf_numeric::normal_component;
 pub use split::FaultSides;
-pub use split_transform::MeanJumpTransform;
+pub use split_transform::{JunctionBlocks, MeanJumpTransform, SectorBlocks};
 pub use structured::{
     cuboid, cuboid_from_coordinates, cuboid_mirrored, geometric_grading, geometric_grading_len,
     pipping_slider_coarse, rectangle, rectangle_from_coordinates, symmetric_grading, Diagonal,

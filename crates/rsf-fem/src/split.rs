@@ -40,6 +40,9 @@ pub struct FaultSides<const D: usize = 2> {
     pub(crate) minus_facets: Vec<usize>,
     pub(crate) plus_facets: Vec<usize>,
     pub(crate) normals: Vec<[f64; D]>,
+    /// Positions in `nodes` of the vertices where this fault meets another of a
+    /// [`FaultNetwork`](crate::FaultNetwork) (junctions; empty for a fault cut alone).
+    pub(crate) junction_nodes: Vec<usize>,
 }
 
 impl<const D: usize> FaultSides<D> {
@@ -61,10 +64,27 @@ impl<const D: usize> FaultSides<D> {
     pub fn nodes(&self) -> &[(usize, usize)] {
         &self.nodes
     }
-    /// The split pairs `(minus, plus)` in the order of [`FaultSides::nodes`] (tips left
-    /// out).
+    /// The split pairs `(minus, plus)` in the order of [`FaultSides::nodes`] (tips and
+    /// junctions left out).
     pub fn pairs(&self) -> Vec<(usize, usize)> {
-        self.nodes.iter().copied().filter(|(m, p)| m != p).collect()
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter(|&(i, (m, p))| m != p && !self.is_junction_node(i))
+            .map(|(_, &n)| n)
+            .collect()
+    }
+    /// Whether node `i` (a position in [`FaultSides::nodes`]) is a junction of a
+    /// [`FaultNetwork`](crate::FaultNetwork): a vertex this fault shares with another, cut
+    /// into one copy per sector ([`crate::Junction`]); its entry in `nodes` is the pair of
+    /// copies on the two sides of this fault's first edge at it.
+    pub fn is_junction_node(&self, i: usize) -> bool {
+        self.junction_nodes.binary_search(&i).is_ok()
+    }
+    /// The positions in [`FaultSides::nodes`] of this fault's junctions with other faults
+    /// of its [`FaultNetwork`](crate::FaultNetwork), increasing (none for a fault cut alone).
+    pub fn junction_nodes(&self) -> &[usize] {
+        &self.junction_nodes
     }
     /// The tips: fault nodes shared by both sides (2-D: a chain end inside the body; 3-D:
     /// the rim of the fault surface inside the body, including where the rim meets the
@@ -214,44 +234,7 @@ impl SimplexMesh<2> {
                 }
             }
         }
-        // Order the chain: walk forward from the first edge's end, backward from its start.
-        let other = |e: usize, v: usize| {
-            if edges[e][0] == v {
-                edges[e][1]
-            } else {
-                edges[e][0]
-            }
-        };
-        let walk = |start: usize, from_edge: usize, stop: usize| -> Result<Vec<usize>> {
-            let mut out = Vec::new();
-            let (mut v, mut e) = (start, from_edge);
-            while let Some(&next) = at_vertex[&v].iter().find(|&&x| x != e) {
-                let w = other(next, v);
-                if w == stop {
-                    return Err(Error::FaultClosed { vertex: stop });
-                }
-                out.push(w);
-                (v, e) = (w, next);
-            }
-            Ok(out)
-        };
-        let [a0, b0] = edges[0];
-        let forward = walk(b0, 0, a0)?;
-        let backward = walk(a0, 0, b0)?;
-        let chain: Vec<usize> = backward
-            .into_iter()
-            .rev()
-            .chain([a0, b0])
-            .chain(forward)
-            .collect();
-        if chain.len() - 1 != edges.len() {
-            let on_chain: std::collections::HashSet<usize> = chain.iter().copied().collect();
-            let stray = edges
-                .iter()
-                .find(|e| !on_chain.contains(&e[0]))
-                .map_or(edges[0][0], |e| e[0]);
-            return Err(Error::FaultDisconnected { vertex: stray });
-        }
+        let chain = ordered_chain(edges, &at_vertex)?;
         let mut on_boundary = vec![false; nv];
         for f in 0..self.num_boundary_facets() {
             for &v in self.boundary_facet(f) {
@@ -335,6 +318,7 @@ impl SimplexMesh<2> {
                 minus_facets,
                 plus_facets,
                 normals,
+                junction_nodes: Vec::new(),
             },
         ))
     }
@@ -372,6 +356,16 @@ impl SimplexMesh<2> {
         name: &str,
         points: &[[f64; 2]],
     ) -> Result<(Self, FaultSides)> {
+        let edges = self.edges_along_polyline(points)?;
+        self.split_along(name, &edges)
+    }
+
+    /// The mesh edges tiling the polyline `points` (m) in order, each directed along it.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] for fewer than two points; [`Error::FaultSegmentNotResolved`]
+    /// for a piece the mesh does not resolve.
+    pub(crate) fn edges_along_polyline(&self, points: &[[f64; 2]]) -> Result<Vec<[usize; 2]>> {
         if points.len() < 2 {
             return Err(Error::EmptyFault);
         }
@@ -379,7 +373,7 @@ impl SimplexMesh<2> {
         for piece in points.windows(2) {
             edges.extend(self.edges_along_segment(piece[0], piece[1])?);
         }
-        self.split_along(name, &edges)
+        Ok(edges)
     }
 
     /// The mesh edges tiling the segment `a → b` in order, each directed from `a` to `b`.
@@ -432,8 +426,58 @@ impl SimplexMesh<2> {
     }
 }
 
-/// The sorted vertices of a facet (`D ≤ 3` entries), padded with `usize::MAX`: a key equal
-/// for every vertex order.
+/// The vertices of the chain of fault edges `edges` in order, from the end before the
+/// first edge's start to the end after its end (the first edge's direction); `at_vertex`
+/// lists the (at most two) edges at every fault vertex.
+///
+/// # Errors
+/// [`Error::FaultClosed`] for a closed chain; [`Error::FaultDisconnected`] if the edges
+/// form more than one chain.
+pub(crate) fn ordered_chain(
+    edges: &[[usize; 2]],
+    at_vertex: &HashMap<usize, Vec<usize>>,
+) -> Result<Vec<usize>> {
+    // Order the chain: walk forward from the first edge's end, backward from its start.
+    let other = |e: usize, v: usize| {
+        if edges[e][0] == v {
+            edges[e][1]
+        } else {
+            edges[e][0]
+        }
+    };
+    let walk = |start: usize, from_edge: usize, stop: usize| -> Result<Vec<usize>> {
+        let mut out = Vec::new();
+        let (mut v, mut e) = (start, from_edge);
+        while let Some(&next) = at_vertex[&v].iter().find(|&&x| x != e) {
+            let w = other(next, v);
+            if w == stop {
+                return Err(Error::FaultClosed { vertex: stop });
+            }
+            out.push(w);
+            (v, e) = (w, next);
+        }
+        Ok(out)
+    };
+    let [a0, b0] = edges[0];
+    let forward = walk(b0, 0, a0)?;
+    let backward = walk(a0, 0, b0)?;
+    let chain: Vec<usize> = backward
+        .into_iter()
+        .rev()
+        .chain([a0, b0])
+        .chain(forward)
+        .collect();
+    if chain.len() - 1 != edges.len() {
+        let on_chain: std::collections::HashSet<usize> = chain.iter().copied().collect();
+        let stray = edges
+            .iter()
+            .find(|e| !on_chain.contains(&e[0]))
+            .map_or(edges[0][0], |e| e[0]);
+        return Err(Error::FaultDisconnected { vertex: stray });
+    }
+    Ok(chain)
+}
+
 /// Appends the plus copy `q` of fault vertex `p` (the same point) and renumbers `p` to
 /// `q` in the cells around it (`around`, each of `D + 1` vertices in the flat `cells`)
 /// whose `group` is `plus_group`; returns `q`.
@@ -480,6 +524,8 @@ impl<const D: usize> FaultSides<D> {
     }
 }
 
+/// The sorted vertices of a facet (`D ≤ 3` entries), padded with `usize::MAX`: a key equal
+/// for every vertex order.
 pub(crate) fn facet_key(vertices: &[usize]) -> [usize; 3] {
     let mut k = [usize::MAX; 3];
     k[..vertices.len()].copy_from_slice(vertices);
@@ -558,26 +604,56 @@ pub(crate) fn tag_split_facets<const D: usize>(
     fault: &HashMap<[usize; 3], usize>,
     plus_cells: &[usize],
 ) -> (Vec<usize>, Vec<usize>) {
-    let mut names = old.tag_names().to_vec();
-    let mut index_of = |tag: String| match names.iter().position(|t| *t == tag) {
+    let fault = fault.iter().map(|(&key, &k)| (key, (0, k))).collect();
+    let mut sides = tag_network_facets(
+        old,
+        split,
+        &[name],
+        original,
+        &fault,
+        &[plus_cells.to_vec()],
+    );
+    sides.pop().expect("one fault")
+}
+
+/// [`tag_split_facets`] for the faults `names` of a network: `fault` maps every fault
+/// face's [`facet_key`] to `(fault, k)`, whose plus side's cell is `plus_cells[fault][k]`;
+/// the tags `{name}_minus`, `{name}_plus` are added fault by fault. Returns the minus and
+/// plus facets of every fault's faces.
+pub(crate) fn tag_network_facets<const D: usize>(
+    old: &SimplexMesh<D>,
+    split: &mut SimplexMesh<D>,
+    names: &[&str],
+    original: &[usize],
+    fault: &HashMap<[usize; 3], (usize, usize)>,
+    plus_cells: &[Vec<usize>],
+) -> Vec<(Vec<usize>, Vec<usize>)> {
+    let mut tag_names = old.tag_names().to_vec();
+    let mut index_of = |tag: String| match tag_names.iter().position(|t| *t == tag) {
         Some(t) => t as u32,
         None => {
-            names.push(tag);
-            (names.len() - 1) as u32
+            tag_names.push(tag);
+            (tag_names.len() - 1) as u32
         }
     };
-    let (minus_tag, plus_tag) = (
-        index_of(format!("{name}_minus")),
-        index_of(format!("{name}_plus")),
-    );
+    let side_tags: Vec<(u32, u32)> = names
+        .iter()
+        .map(|name| {
+            (
+                index_of(format!("{name}_minus")),
+                index_of(format!("{name}_plus")),
+            )
+        })
+        .collect();
     let mut old_tag: HashMap<[usize; 3], Option<u32>> = HashMap::new();
     for f in 0..old.num_boundary_facets() {
         old_tag.insert(facet_key(old.boundary_facet(f)), old.raw_facet_tag(f));
     }
-    let m = plus_cells.len();
     let mut tags = Vec::with_capacity(split.num_boundary_facets());
-    let mut minus_facets = vec![usize::MAX; m];
-    let mut plus_facets = vec![usize::MAX; m];
+    let mut sides: Vec<(Vec<usize>, Vec<usize>)> = plus_cells
+        .iter()
+        .map(|cells| (vec![usize::MAX; cells.len()], vec![usize::MAX; cells.len()]))
+        .collect();
     for f in 0..split.num_boundary_facets() {
         let mut v = [0; 3];
         for (slot, &x) in v.iter_mut().zip(split.boundary_facet(f)) {
@@ -588,17 +664,17 @@ pub(crate) fn tag_split_facets<const D: usize>(
             tags.push(t);
             continue;
         }
-        let k = *fault
+        let (i, k) = *fault
             .get(&k0)
             .expect("a new boundary facet is a face of the fault");
-        if split.boundary_facet_cell(f) == plus_cells[k] {
-            plus_facets[k] = f;
-            tags.push(Some(plus_tag));
+        if split.boundary_facet_cell(f) == plus_cells[i][k] {
+            sides[i].1[k] = f;
+            tags.push(Some(side_tags[i].1));
         } else {
-            minus_facets[k] = f;
-            tags.push(Some(minus_tag));
+            sides[i].0[k] = f;
+            tags.push(Some(side_tags[i].0));
         }
     }
-    split.set_facet_tags(names, tags);
-    (minus_facets, plus_facets)
+    split.set_facet_tags(tag_names, tags);
+    sides
 }

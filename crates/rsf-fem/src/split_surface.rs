@@ -183,6 +183,7 @@ impl SimplexMesh<3> {
                 minus_facets,
                 plus_facets,
                 normals,
+                junction_nodes: Vec::new(),
             },
         ))
     }
@@ -215,7 +216,7 @@ impl SimplexMesh<3> {
     }
 
     /// The mesh faces tiling the planar polygon `corners`, oriented along its normal.
-    fn faces_in_polygon(&self, corners: &[[f64; 3]]) -> Result<Vec<[usize; 3]>> {
+    pub(crate) fn faces_in_polygon(&self, corners: &[[f64; 3]]) -> Result<Vec<[usize; 3]>> {
         if corners.len() < 3 {
             return Err(Error::EmptyFault);
         }

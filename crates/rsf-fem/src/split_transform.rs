@@ -7,7 +7,9 @@ use faer::Par;
 
 use crate::dof_transform::{check_len, symmetrized, DofTransform};
 use crate::frames::frame_from_normal;
-use crate::{spmv_add, Error, FaultSides, Result, SimplexMesh, SparseMatrix};
+use crate::{
+    spmv_add, Error, FaultNetwork, FaultSides, JunctionKind, Result, SimplexMesh, SparseMatrix,
+};
 
 /// The mean–jump change of variables `u = T u'` of [`FaultSides::mean_jump_transform`]: a
 /// [`DofTransform`] (`T` not orthogonal: vectors go back by `T⁻¹`) with the pair frames and
@@ -25,6 +27,78 @@ pub struct MeanJumpTransform<const D: usize = 2> {
     /// The share `β_p ∈ [0, 1]` of the jump the minus side takes at every split pair
     /// (`u⁻ = w − β_p R_p j`, `u⁺ = w + (1 − β_p) R_p j`); ½ for the mean.
     pub minus_share: Vec<f64>,
+    /// The junctions of a [`FaultNetwork`] (empty for a fault alone): the blocks of their
+    /// copies. [`frames`](Self::frames) and [`minus_share`](Self::minus_share) have the
+    /// network's split pairs first ([`FaultNetwork::pairs`]), then every junction's jumps
+    /// ([`JunctionBlocks::jumps`], junction after junction; share ½).
+    pub junctions: Vec<JunctionBlocks>,
+}
+
+/// The unknowns of a junction of a [`FaultNetwork`] in its mean–jump transform
+/// (docs/math.md §16): the sector copies `u_S` of the vertex are written as
+/// `u_S = w + Σ_f α_{S,f} R_f j_f + γ_S e` — a mean `w` (Cartesian), the jump `j_f` of every
+/// fault going on through the junction in its frame `R_f` (tangential slip, normal
+/// component tied: no opening), and a block `e` tied to 0 (all components: the ending
+/// fault's jump of a branch, the crossing's incompatibility `u₊₊ − u₊₋ − u₋₊ + u₋₋`), so
+/// that every fault's slip is single-valued at the junction and the jumps around it add up
+/// to zero.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JunctionBlocks {
+    /// The vertex whose block is the mean `w`.
+    pub mean: usize,
+    /// Every going-through fault's jump: `(fault, vertex whose block is j_f, index of its
+    /// frame in` [`MeanJumpTransform::frames`]`)`.
+    pub jumps: Vec<(usize, usize, usize)>,
+    /// The vertex whose block `e` is tied to 0.
+    pub tied: usize,
+    /// Per sector: its copy and the coefficients `α_{S,f}` (one per jump) and `γ_S` of
+    /// `u_S`, and the weights of `T⁻¹`: `w = Σ ω_S u_S`, `j_f = R_fᵀ Σ β_{S,f} u_S`,
+    /// `e = Σ δ_S u_S`.
+    pub sectors: Vec<SectorBlocks>,
+}
+
+/// One sector's row of a [`JunctionBlocks`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectorBlocks {
+    /// The copy of the junction's vertex in this sector.
+    pub copy: usize,
+    /// `α_{S,f}`, one per jump.
+    pub alpha: Vec<f64>,
+    /// `γ_S`.
+    pub gamma: f64,
+    /// `ω_S`.
+    pub omega: f64,
+    /// `β_{S,f}`, one per jump.
+    pub beta: Vec<f64>,
+    /// `δ_S`.
+    pub delta: f64,
+}
+
+impl JunctionBlocks {
+    /// The Cartesian block of sector copy `vertex` of the model vector `x` (`C` entries per
+    /// vertex, the transform's unknowns), `None` if `vertex` is no copy of this junction.
+    pub fn cartesian_block<const C: usize>(
+        &self,
+        vertex: usize,
+        x: &[f64],
+        frames: &[[[f64; C]; C]],
+    ) -> Option<[f64; C]> {
+        let s = self.sectors.iter().find(|s| s.copy == vertex)?;
+        let block = |v: usize| -> [f64; C] { std::array::from_fn(|c| x[C * v + c]) };
+        let mut out = block(self.mean);
+        for (&(_, v, k), &a) in self.jumps.iter().zip(&s.alpha) {
+            let j = block(v);
+            let r = &frames[k];
+            for (c, o) in out.iter_mut().enumerate() {
+                *o += a * (0..C).map(|d| r[c][d] * j[d]).sum::<f64>();
+            }
+        }
+        let e = block(self.tied);
+        for (o, e) in out.iter_mut().zip(e) {
+            *o += s.gamma * e;
+        }
+        Some(out)
+    }
 }
 
 impl FaultSides<2> {
@@ -61,30 +135,137 @@ impl FaultSides<2> {
         }
         let nv = mesh.num_vertices();
         self.check_split_mesh(nv)?;
-        let length = |k: usize| mesh.boundary_facet_measure(self.minus_facets()[k]);
-        let edges = self.normals().len();
         let mut frames = Vec::new();
         for (i, &(a, b)) in self.nodes().iter().enumerate() {
-            if a == b {
+            if a == b || self.is_junction_node(i) {
                 continue;
             }
-            let mut n = [0.0; 2];
-            for k in [i.wrapping_sub(1), i].into_iter().filter(|&k| k < edges) {
-                let w = length(k);
-                n[0] += w * self.normals()[k][0];
-                n[1] += w * self.normals()[k][1];
-            }
-            let l = n[0].hypot(n[1]);
-            if !(l > 1e-12 * length(i.min(edges - 1))) {
-                return Err(Error::UndefinedNormal { vertex: a });
-            }
-            frames.push(
-                frame_from_normal::<2>(&[n[0] / l, n[1] / l], None)
-                    .expect("a frame without a tangent always exists"),
-            );
+            frames.push(self.node_frame(mesh, i)?);
         }
         Ok(frames)
     }
+
+    /// The frame `R` (columns `(t, −n)`) at node `i` of [`FaultSides::nodes`]: `n` the
+    /// length-weighted mean of the normals of the fault edges at it.
+    fn node_frame(&self, mesh: &SimplexMesh<2>, i: usize) -> Result<[[f64; 2]; 2]> {
+        let length = |k: usize| mesh.boundary_facet_measure(self.minus_facets()[k]);
+        let edges = self.normals().len();
+        let mut n = [0.0; 2];
+        for k in [i.wrapping_sub(1), i].into_iter().filter(|&k| k < edges) {
+            let w = length(k);
+            n[0] += w * self.normals()[k][0];
+            n[1] += w * self.normals()[k][1];
+        }
+        let l = n[0].hypot(n[1]);
+        if !(l > 1e-12 * length(i.min(edges - 1))) {
+            return Err(Error::UndefinedNormal {
+                vertex: self.nodes()[i].0,
+            });
+        }
+        Ok(frame_from_normal::<2>(&[n[0] / l, n[1] / l], None)
+            .expect("a frame without a tangent always exists"))
+    }
+}
+
+impl FaultNetwork<2> {
+    /// The change of variables to mean and jump of a 2-D fault network (docs/math.md §16):
+    /// at every split pair of every fault as [`FaultSides::mean_jump_transform`], and at
+    /// every junction the blocks of [`JunctionBlocks`] — the mean of the sector copies, the
+    /// jump of each fault going on through the junction in its frame (its normal at the
+    /// junction the length-weighted mean of its two edges' normals there), and a block
+    /// tied to 0. A network of one fault is that fault's transform, to the bit.
+    ///
+    /// # Errors
+    /// As [`FaultSides::mean_jump_transform`]; [`Error::Unsupported`] for junctions of a
+    /// scalar field (`C = 1`).
+    pub fn mean_jump_transform<const C: usize>(
+        &self,
+        mesh: &SimplexMesh<2>,
+    ) -> Result<MeanJumpTransform> {
+        if let ([one], []) = (&self.faults[..], &self.junctions[..]) {
+            return one.mean_jump_transform::<C>(mesh);
+        }
+        let mut frames = Vec::new();
+        for f in &self.faults {
+            frames.extend(f.pair_frames::<C>(mesh)?);
+        }
+        let pairs = self.pairs();
+        let mut blocks = Vec::with_capacity(self.junctions.len());
+        for junction in &self.junctions {
+            let mut frame_of = |f: usize| -> Result<usize> {
+                let sides = &self.faults[f];
+                let copies: Vec<usize> = junction.sectors.iter().map(|s| s.0).collect();
+                let i = *sides
+                    .junction_nodes()
+                    .iter()
+                    .find(|&&i| copies.contains(&sides.nodes()[i].0))
+                    .expect("a junction's fault lists it");
+                frames.push(sides.node_frame(mesh, i)?);
+                Ok(frames.len() - 1)
+            };
+            blocks.push(junction_blocks(junction, &mut frame_of)?);
+        }
+        let shares = vec![0.5; frames.len()];
+        assemble_network::<2, C>(&pairs, blocks, mesh.num_vertices(), frames, &shares)
+    }
+}
+
+/// The blocks of `junction` (docs/math.md §16), the frame of a going-through fault `f` in
+/// the transform's frames at index `frame_of(f)`.
+fn junction_blocks(
+    junction: &crate::Junction,
+    frame_of: &mut dyn FnMut(usize) -> Result<usize>,
+) -> Result<JunctionBlocks> {
+    let copy = |k: usize| junction.sectors[k].0;
+    Ok(match junction.kind {
+        // u_ab = w + (a/2) R₁ j₁ + (b/2) R₂ j₂ + (ab/4) e; sectors (−−), (−+), (+−), (++).
+        JunctionKind::Crossing { first, second } => JunctionBlocks {
+            jumps: vec![
+                (first, copy(0), frame_of(first)?),
+                (second, copy(1), frame_of(second)?),
+            ],
+            mean: copy(2),
+            tied: copy(3),
+            sectors: junction
+                .sectors
+                .iter()
+                .map(|&(c, [a, b])| {
+                    let (a, b) = (f64::from(a), f64::from(b));
+                    SectorBlocks {
+                        copy: c,
+                        alpha: vec![a / 2.0, b / 2.0],
+                        gamma: a * b / 4.0,
+                        omega: 0.25,
+                        beta: vec![a / 2.0, b / 2.0],
+                        delta: a * b,
+                    }
+                })
+                .collect(),
+        },
+        // u_S = w + (σ/2) R j + (ε/2) e, σ the side of the going-through fault, ε that of
+        // the ending one (0 on the far side): w = ½ u_far + ¼ (u_near₁ + u_near₂).
+        JunctionKind::Branch { through, .. } => JunctionBlocks {
+            jumps: vec![(through, copy(0), frame_of(through)?)],
+            mean: copy(1),
+            tied: copy(2),
+            sectors: junction
+                .sectors
+                .iter()
+                .map(|&(c, [sigma, eps])| {
+                    let (sigma, e) = (f64::from(sigma), f64::from(eps));
+                    let far = eps == 0;
+                    SectorBlocks {
+                        copy: c,
+                        alpha: vec![sigma / 2.0],
+                        gamma: e / 2.0,
+                        omega: if far { 0.5 } else { 0.25 },
+                        beta: vec![if far { sigma } else { sigma / 2.0 }],
+                        delta: e,
+                    }
+                })
+                .collect(),
+        },
+    })
 }
 
 impl FaultSides<3> {
@@ -113,6 +294,19 @@ impl FaultSides<3> {
         mesh: &SimplexMesh<3>,
         tangent: Option<&[f64; 3]>,
     ) -> Result<MeanJumpTransform<3>> {
+        let frames = self.pair_frames_3d::<C>(mesh, tangent)?;
+        let pairs = self.pairs();
+        let half = vec![0.5; pairs.len()];
+        assemble_transform::<3, C>(&pairs, mesh.num_vertices(), frames, &half)
+    }
+
+    /// The pair frames `R_p` (columns `(t1, t2, −n)`) of every split pair, in order
+    /// (see `mean_jump_transform`).
+    fn pair_frames_3d<const C: usize>(
+        &self,
+        mesh: &SimplexMesh<3>,
+        tangent: Option<&[f64; 3]>,
+    ) -> Result<Vec<[[f64; 3]; 3]>> {
         if C != 1 && C != 3 {
             return Err(Error::Unsupported(
                 "mean-jump transform for C other than 1, 3",
@@ -168,23 +362,61 @@ impl FaultSides<3> {
                 }
             })?);
         }
+        Ok(frames)
+    }
+}
+
+impl FaultNetwork<3> {
+    /// The change of variables to mean and jump of a 3-D network of disjoint faults: every
+    /// fault's split pairs as `FaultSides::<3>::mean_jump_transform` (with the same
+    /// `tangent`), fault after fault. A network of one fault is that fault's transform, to
+    /// the bit.
+    ///
+    /// # Errors
+    /// As `FaultSides::<3>::mean_jump_transform`.
+    pub fn mean_jump_transform<const C: usize>(
+        &self,
+        mesh: &SimplexMesh<3>,
+        tangent: Option<&[f64; 3]>,
+    ) -> Result<MeanJumpTransform<3>> {
+        if let [one] = &self.faults[..] {
+            return one.mean_jump_transform::<C>(mesh, tangent);
+        }
+        let mut frames = Vec::new();
+        for f in &self.faults {
+            frames.extend(f.pair_frames_3d::<C>(mesh, tangent)?);
+        }
+        let pairs = self.pairs();
         let half = vec![0.5; pairs.len()];
-        assemble_transform::<3, C>(&pairs, nv, frames, &half)
+        assemble_transform::<3, C>(&pairs, mesh.num_vertices(), frames, &half)
     }
 }
 
 /// `T` and `T⁻¹` of the pairs `pairs` on `nv` vertices with their frames and the minus
-/// sides' shares of the jump.
+/// sides' shares of the jump (a fault alone, or a network without junctions).
 fn assemble_transform<const D: usize, const C: usize>(
     pairs: &[(usize, usize)],
     nv: usize,
     frames: Vec<[[f64; D]; D]>,
     minus_share: &[f64],
 ) -> Result<MeanJumpTransform<D>> {
-    if minus_share.len() != pairs.len() {
+    assemble_network::<D, C>(pairs, Vec::new(), nv, frames, minus_share)
+}
+
+/// `T` and `T⁻¹` of the pairs `pairs` and the junctions `junctions` on `nv` vertices, with
+/// the frames and the minus sides' shares of the pairs (then ½ for every junction jump).
+fn assemble_network<const D: usize, const C: usize>(
+    pairs: &[(usize, usize)],
+    junctions: Vec<JunctionBlocks>,
+    nv: usize,
+    frames: Vec<[[f64; D]; D]>,
+    minus_share: &[f64],
+) -> Result<MeanJumpTransform<D>> {
+    let jumps: usize = junctions.iter().map(|j| j.jumps.len()).sum();
+    if minus_share.len() != pairs.len() + jumps || frames.len() != pairs.len() + jumps {
         return Err(Error::DimensionMismatch {
-            what: "jump shares (one per split pair)",
-            expected: pairs.len(),
+            what: "jump shares (one per split pair and junction jump)",
+            expected: pairs.len() + jumps,
             got: minus_share.len(),
         });
     }
@@ -193,6 +425,12 @@ fn assemble_transform<const D: usize, const C: usize>(
     }
     // A vector field's jump is in the pair's frame; a scalar field's is the field's own.
     let rotated = C == D && C > 1;
+    if !junctions.is_empty() && !rotated {
+        return Err(Error::Unsupported(
+            "fault junctions of a scalar (antiplane) field: its slips at a junction are \
+             coupled, not one per fault",
+        ));
+    }
     let mut in_pair = vec![false; nv];
     let mut t = Vec::new();
     let mut ti = Vec::new();
@@ -225,6 +463,32 @@ fn assemble_transform<const D: usize, const C: usize>(
             }
         }
     }
+    for junction in &junctions {
+        for s in &junction.sectors {
+            in_pair[s.copy] = true;
+            let row = |x: usize| C * s.copy + x;
+            for x in 0..C {
+                t.push(Triplet::new(row(x), C * junction.mean + x, 1.0));
+                ti.push(Triplet::new(C * junction.mean + x, row(x), s.omega));
+                for ((&(_, v, k), &alpha), &beta) in
+                    junction.jumps.iter().zip(&s.alpha).zip(&s.beta)
+                {
+                    let r = &frames[k];
+                    for y in 0..C {
+                        // u_S ∋ α R j; j ∋ Rᵀ β u_S, (Rᵀ)_{yx} = R_{xy}.
+                        t.push(Triplet::new(row(x), C * v + y, alpha * r[x][y]));
+                        ti.push(Triplet::new(C * v + y, row(x), beta * r[x][y]));
+                    }
+                }
+                if s.gamma != 0.0 {
+                    t.push(Triplet::new(row(x), C * junction.tied + x, s.gamma));
+                }
+                if s.delta != 0.0 {
+                    ti.push(Triplet::new(C * junction.tied + x, row(x), s.delta));
+                }
+            }
+        }
+    }
     for p in (0..nv).filter(|&p| !in_pair[p]) {
         for x in 0..C {
             t.push(Triplet::new(C * p + x, C * p + x, 1.0));
@@ -240,6 +504,7 @@ fn assemble_transform<const D: usize, const C: usize>(
         t_inv: build(&ti)?,
         frames,
         minus_share: minus_share.to_vec(),
+        junctions,
     })
 }
 
@@ -271,6 +536,41 @@ impl<const D: usize> MeanJumpTransform<D> {
             self.t.nrows() / C,
             self.frames.clone(),
             minus_share,
+        )
+    }
+
+    /// [`reshared`](Self::reshared) for the transform of a [`FaultNetwork`]: `minus_share`
+    /// has one entry per split pair of the network ([`FaultNetwork::pairs`]); the
+    /// junctions keep their blocks (the mean of the sectors).
+    ///
+    /// # Errors
+    /// As [`reshared`](Self::reshared).
+    pub fn reshared_network<const C: usize>(
+        &self,
+        network: &FaultNetwork<D>,
+        minus_share: &[f64],
+    ) -> Result<MeanJumpTransform<D>> {
+        if C != 1 && C != D {
+            return Err(Error::Unsupported(
+                "mean-jump transform for C other than 1 and the dimension",
+            ));
+        }
+        let pairs = network.pairs();
+        if minus_share.len() != pairs.len() {
+            return Err(Error::DimensionMismatch {
+                what: "jump shares (one per split pair)",
+                expected: pairs.len(),
+                got: minus_share.len(),
+            });
+        }
+        let mut shares = minus_share.to_vec();
+        shares.resize(self.minus_share.len(), 0.5);
+        assemble_network::<D, C>(
+            &pairs,
+            self.junctions.clone(),
+            self.t.nrows() / C,
+            self.frames.clone(),
+            &shares,
         )
     }
 }

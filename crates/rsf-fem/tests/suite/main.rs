@@ -14,6 +14,7 @@ mod edge_dislocation;
 mod gmsh;
 mod mesh;
 mod mesh3d;
+mod network;
 mod octree;
 mod parts;
 mod scalar;

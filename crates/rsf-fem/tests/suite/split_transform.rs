@@ -5,7 +5,7 @@
 //! dislocation through it equals the one by elimination.
 use rsf_fem::*;
 
-fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
+pub(crate) fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
     let a = a.as_ref();
     let mut d = vec![vec![0.0; a.ncols()]; a.nrows()];
     for j in 0..a.ncols() {
@@ -16,7 +16,7 @@ fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
     d
 }
 
-fn matvec(a: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
+pub(crate) fn matvec(a: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
     a.iter()
         .map(|r| r.iter().zip(x).map(|(p, q)| p * q).sum())
         .collect()
@@ -24,7 +24,7 @@ fn matvec(a: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
 
 /// Solves `A x = 0` for the free entries (`fixed` entries of `x` hold the data), dense
 /// Gaussian elimination with partial pivoting.
-fn solve_fixed(a: &[Vec<f64>], fixed: &[bool], x: &mut [f64]) {
+pub(crate) fn solve_fixed(a: &[Vec<f64>], fixed: &[bool], x: &mut [f64]) {
     let free: Vec<usize> = (0..x.len()).filter(|&i| !fixed[i]).collect();
     let n = free.len();
     let mut m: Vec<Vec<f64>> = free
