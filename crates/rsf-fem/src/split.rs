@@ -360,12 +360,13 @@ impl SimplexMesh<2> {
         self.split_along(name, &edges)
     }
 
-    /// The mesh edges tiling the polyline `points` (m) in order, each directed along it.
+    /// The mesh edges tiling the polyline `points` (m) in order, each directed along it
+    /// (the edges [`split_along_polyline`](Self::split_along_polyline) cuts).
     ///
     /// # Errors
     /// [`Error::EmptyFault`] for fewer than two points; [`Error::FaultSegmentNotResolved`]
     /// for a piece the mesh does not resolve.
-    pub(crate) fn edges_along_polyline(&self, points: &[[f64; 2]]) -> Result<Vec<[usize; 2]>> {
+    pub fn edges_along_polyline(&self, points: &[[f64; 2]]) -> Result<Vec<[usize; 2]>> {
         if points.len() < 2 {
             return Err(Error::EmptyFault);
         }

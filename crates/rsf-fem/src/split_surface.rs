@@ -215,8 +215,13 @@ impl SimplexMesh<3> {
         self.split_along(name, &faces)
     }
 
-    /// The mesh faces tiling the planar polygon `corners`, oriented along its normal.
-    pub(crate) fn faces_in_polygon(&self, corners: &[[f64; 3]]) -> Result<Vec<[usize; 3]>> {
+    /// The mesh faces tiling the planar polygon `corners` (m), oriented along its normal
+    /// (the faces `split_along_polygon` cuts).
+    ///
+    /// # Errors
+    /// As `split_along_polygon`'s [`Error::EmptyFault`] and
+    /// [`Error::FaultSurfaceNotResolved`].
+    pub fn faces_in_polygon(&self, corners: &[[f64; 3]]) -> Result<Vec<[usize; 3]>> {
         if corners.len() < 3 {
             return Err(Error::EmptyFault);
         }

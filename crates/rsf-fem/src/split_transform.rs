@@ -77,11 +77,14 @@ pub struct SectorBlocks {
 impl JunctionBlocks {
     /// The Cartesian block of sector copy `vertex` of the model vector `x` (`C` entries per
     /// vertex, the transform's unknowns), `None` if `vertex` is no copy of this junction.
-    pub fn cartesian_block<const C: usize>(
+    ///
+    /// `frames` are the transform's ([`MeanJumpTransform::frames`]); junctions exist for
+    /// vector fields only (`C = D`).
+    pub fn cartesian_block<const D: usize, const C: usize>(
         &self,
         vertex: usize,
         x: &[f64],
-        frames: &[[[f64; C]; C]],
+        frames: &[[[f64; D]; D]],
     ) -> Option<[f64; C]> {
         let s = self.sectors.iter().find(|s| s.copy == vertex)?;
         let block = |v: usize| -> [f64; C] { std::array::from_fn(|c| x[C * v + c]) };

@@ -24,6 +24,14 @@ pub struct FrictionalBoundary {
     /// slip rate (docs/seas-bp1.md); divide the model's field by `s` for the displacement
     /// of the half that is modelled.
     pub slip_factor: f64,
+    /// The faults Γ_F is made of, by name: the frictional boundary's part, or every fault
+    /// inside the body in the order the builder was given them
+    /// ([`ModelBuilder::internal_fault`](crate::ModelBuilder::internal_fault), once per
+    /// fault). One unnamed fault (`""`) for a boundary built with [`new`](Self::new) alone.
+    pub fault_names: Vec<String>,
+    /// The fault of every node, by fault index `k` (same order as `nodes`): an index into
+    /// [`fault_names`](Self::fault_names).
+    pub fault_of: Vec<usize>,
 }
 
 impl FrictionalBoundary {
@@ -62,12 +70,68 @@ impl FrictionalBoundary {
         for (sorted_pos, &i) in order.iter().enumerate() {
             along[i] = sorted_pos;
         }
+        let n = nodes_along.len();
         Ok(Self {
             nodes,
             weights,
             along,
             slip_factor: 1.0,
+            fault_names: vec![String::new()],
+            fault_of: vec![0; n],
         })
+    }
+
+    /// The same boundary with its nodes' faults: `names` of the faults, and the fault of
+    /// every node in the order the nodes were given to [`new`](Self::new)
+    /// (`faults_along[i]` for `nodes_along[i]`, an index into `names`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
+    /// `frictional_boundary` for a length that differs from the nodes', a fault index out
+    /// of range, no name or a name given twice.
+    pub fn with_faults(mut self, names: Vec<String>, faults_along: &[usize]) -> Result<Self> {
+        if faults_along.len() != self.nodes.len() {
+            return Err(invalid(
+                "frictional_boundary",
+                "one fault per node is needed",
+            ));
+        }
+        if names.is_empty() || faults_along.iter().any(|&f| f >= names.len()) {
+            return Err(invalid(
+                "frictional_boundary",
+                "a node's fault is not one of the names",
+            ));
+        }
+        if names
+            .iter()
+            .enumerate()
+            .any(|(i, n)| names[..i].contains(n))
+        {
+            return Err(invalid(
+                "frictional_boundary",
+                "a fault name is given twice",
+            ));
+        }
+        for (i, &f) in faults_along.iter().enumerate() {
+            self.fault_of[self.along[i]] = f;
+        }
+        self.fault_names = names;
+        Ok(self)
+    }
+
+    /// The index (into [`fault_names`](Self::fault_names)) of the fault named `name`.
+    pub fn fault_named(&self, name: &str) -> Option<usize> {
+        self.fault_names.iter().position(|n| n == name)
+    }
+
+    /// The fault indices `k` of fault `fault`'s nodes in order along it (the
+    /// [`along`](Self::along) order restricted to the fault).
+    pub fn along_fault(&self, fault: usize) -> Vec<usize> {
+        self.along
+            .iter()
+            .copied()
+            .filter(|&k| self.fault_of[k] == fault)
+            .collect()
     }
 
     /// No frictional node: the frictional boundary of a model whose fault inside the body
@@ -81,6 +145,8 @@ impl FrictionalBoundary {
             weights: Vec::new(),
             along: Vec::new(),
             slip_factor: 1.0,
+            fault_names: vec![String::new()],
+            fault_of: Vec::new(),
         }
     }
 

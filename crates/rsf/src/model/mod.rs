@@ -27,7 +27,18 @@ pub use equilibrium::{
     EQUILIBRIUM_DIRECT_MAX_DOFS_3D, EQUILIBRIUM_MULTIGRID_TOLERANCE,
 };
 pub use fault::{block_norm, FrictionalBoundary};
-pub use internal::{FaultSide, InternalFault};
+pub use internal::{FaultSide, InternalFault, SlipNode};
+
+/// A frictional node as per-node settings see it ([`Model::on_fault_points`],
+/// [`SimulationBuilder::friction_on_faults`](crate::SimulationBuilder::friction_on_faults)):
+/// the name of its fault ([`FrictionalBoundary::fault_names`]) and its position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaultPoint<'a, const D: usize> {
+    /// The fault's name (a fault inside the body's, or the frictional boundary's part).
+    pub fault: &'a str,
+    /// The node's position (m).
+    pub x: &'a [f64; D],
+}
 pub use loading::{DirichletVelocity, TimeFunction};
 pub use medium::{AntiplaneMaterial, Material, Medium, MediumMatrices};
 pub use regions::{CellPredicate, MaterialRegions};
@@ -199,6 +210,24 @@ impl<const D: usize, const C: usize> Model<D, C> {
             .flat_map(|&p| (0..C).map(move |c| C * p + c))
             .filter(|&i| !self.fixed[i])
             .count()
+    }
+
+    /// `f(p)` for every frictional node `p` ([`FaultPoint`]: its fault's name and its
+    /// position), in `frictional_boundary.nodes` order: how each fault of a network gets its
+    /// own laws, parameters and state (two faults crossing share the junction's position;
+    /// their names tell them apart).
+    pub fn on_fault_points<T>(&self, mut f: impl FnMut(FaultPoint<'_, D>) -> T) -> Vec<T> {
+        let fb = &self.frictional_boundary;
+        fb.nodes
+            .iter()
+            .zip(&fb.fault_of)
+            .map(|(&p, &g)| {
+                f(FaultPoint {
+                    fault: &fb.fault_names[g],
+                    x: &self.vertices[p],
+                })
+            })
+            .collect()
     }
 
     /// `f(x_p)` for every frictional node, in `frictional_boundary.nodes` order: entry `k`

@@ -1,6 +1,7 @@
 //! What a run records. A scene that records nothing computes nothing extra: every observer
 //! does its own (cheap) extraction from the state it is shown.
 
+pub(crate) mod catalogue;
 pub(crate) mod checkpointer;
 pub(crate) mod events;
 pub(crate) mod every;
@@ -13,6 +14,7 @@ pub(crate) mod series;
 #[cfg(feature = "vtk")]
 pub(crate) mod vtu;
 
+pub use catalogue::{FaultCatalogue, NetworkEvent};
 pub use checkpointer::{Checkpointer, Reports};
 pub use events::{EventDetector, EventThresholds, SlipEvent, SlipEvents, StopAt, Transition};
 pub use every::{Every, Interval};

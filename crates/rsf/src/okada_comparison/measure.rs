@@ -143,7 +143,7 @@ fn traction_error(
 pub(crate) fn fault_weights(model: &Model<3>, f: &InternalFault<3>) -> Vec<f64> {
     let mut w = vec![0.0; model.num_nodes()];
     let (mut on_fault, mut minus) = (vec![false; w.len()], vec![false; w.len()]);
-    for &(m, p) in f.sides.nodes() {
+    for &(m, p) in f.faults().iter().flat_map(|s| s.nodes()) {
         on_fault[m] = true;
         minus[m] = m != p;
     }

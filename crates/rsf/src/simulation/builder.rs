@@ -126,6 +126,17 @@ fn per_node<const D: usize, const C: usize, T, E: Into<Error>>(
         .collect()
 }
 
+fn per_fault_point<const D: usize, const C: usize, T, E: Into<Error>>(
+    model: &Model<D, C>,
+    f: impl FnMut(crate::model::FaultPoint<'_, D>) -> std::result::Result<T, E>,
+) -> Result<Vec<T>> {
+    model
+        .on_fault_points(f)
+        .into_iter()
+        .map(|r| r.map_err(Into::into))
+        .collect()
+}
+
 /// What a checked builder passes on besides the laws.
 struct Checked<const D: usize, I, const C: usize> {
     model: Model<D, C>,
@@ -229,6 +240,69 @@ impl<const D: usize, L, S, I, const C: usize> SimulationBuilder<D, L, S, I, C> {
     ) -> SimulationBuilder<D, L2, S, I, C> {
         let laws = per_node(&self.model, law);
         self.retype(|(_, s, i)| (laws, s, i))
+    }
+
+    /// The friction law at each frictional node from its fault and position
+    /// ([`FaultPoint`](crate::model::FaultPoint)): each fault of a network its own law and
+    /// parameters (docs/fault-networks.md).
+    ///
+    /// ```
+    /// use rsf::fem::{rectangle, Diagonal};
+    /// use rsf::friction::{DieterichRuina, RateStateParams};
+    /// use rsf::{Material, ModelBuilder, Part, SimulationBuilder};
+    /// let block = rectangle([-2.0, -1.0], [4.0, 2.0], 17, 9, Diagonal::Forward)?;
+    /// let model = ModelBuilder::new(block)
+    ///     .material(Material::new(1e10, 0.25, 2700.0))
+    ///     .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-9, 0.0])
+    ///     .dirichlet(Part::predicate("bottom", |x| x[1] < -1.0 + 1e-9), [-1e-9, 0.0])
+    ///     .internal_fault("west", [-1.0, -0.5], [-1.0, 0.5])
+    ///     .internal_fault("east", [1.0, -0.5], [1.0, 0.5])
+    ///     .build()?;
+    /// let params = |b: f64| RateStateParams { mu0: 0.6, a: 0.01, b, v0: 1e-6, l: 1e-4, sigma_n: 5e7 };
+    /// // The west fault velocity weakening, the east one strengthening.
+    /// let sim = SimulationBuilder::new(model).friction_on_faults(|p| {
+    ///     DieterichRuina::new(params(if p.fault == "west" { 0.015 } else { 0.005 }))
+    /// });
+    /// # let _ = sim;
+    /// # Ok::<(), rsf::Error>(())
+    /// ```
+    pub fn friction_on_faults<L2: FrictionLaw, E: Into<Error>>(
+        self,
+        law: impl FnMut(crate::model::FaultPoint<'_, D>) -> std::result::Result<L2, E>,
+    ) -> SimulationBuilder<D, L2, S, I, C> {
+        let laws = per_fault_point(&self.model, law);
+        self.retype(|(_, s, i)| (laws, s, i))
+    }
+
+    /// The state law at each frictional node from its fault and position
+    /// ([`FaultPoint`](crate::model::FaultPoint)).
+    pub fn state_law_on_faults<S2: StateLaw, E: Into<Error>>(
+        self,
+        law: impl FnMut(crate::model::FaultPoint<'_, D>) -> std::result::Result<S2, E>,
+    ) -> SimulationBuilder<D, L, S2, I, C> {
+        let laws = per_fault_point(&self.model, law);
+        self.retype(|(f, _, i)| (f, laws, i))
+    }
+
+    /// The initial state α₀ at each frictional node from its fault and position
+    /// ([`FaultPoint`](crate::model::FaultPoint)).
+    pub fn initial_state_on_faults(
+        mut self,
+        alpha0: impl FnMut(crate::model::FaultPoint<'_, D>) -> f64,
+    ) -> Self {
+        self.alpha0 = Some(self.model.on_fault_points(alpha0));
+        self
+    }
+
+    /// The radiation damping η (Pa·s/m, ≥ 0) at each frictional node from its fault and
+    /// position ([`FaultPoint`](crate::model::FaultPoint)); as
+    /// [`radiation_damping_at`](Self::radiation_damping_at) otherwise.
+    pub fn radiation_damping_on_faults(
+        mut self,
+        eta: impl FnMut(crate::model::FaultPoint<'_, D>) -> f64,
+    ) -> Self {
+        self.eta = Some(self.model.on_fault_points(eta));
+        self
     }
 
     /// The same state law at every frictional node (not needed if the friction law does

@@ -258,7 +258,7 @@ impl rsf::Observer<2> for Slips {
             assert!((slip[0] - jump[0]).hypot(slip[1] - jump[1]) < 1e-9 * scale);
             assert_eq!(s.displacement(pl), [u[2 * pl], u[2 * pl + 1]]);
             // No opening: the jump is along the fault.
-            let normal = f.sides.normals()[k.min(f.sides.normals().len() - 1)];
+            let normal = f.faults()[0].normals()[k.min(f.faults()[0].normals().len() - 1)];
             let opening = (jump[0] * normal[0] + jump[1] * normal[1]).abs();
             assert!(opening < 1e-12 * scale, "opening {opening:e}");
             row.push(slip[0].hypot(slip[1]));

@@ -93,7 +93,7 @@ fn uniform_slip_on_a_fault_through_the_body_is_a_rigid_motion_of_the_two_blocks(
         let q = rotation(angle);
         let model = sheared_cube(q, 1.0).unwrap();
         let f = model.internal_fault.as_ref().unwrap();
-        assert!(f.sides.tips().is_empty(), "every fault vertex split");
+        assert!(f.faults()[0].tips().is_empty(), "every fault vertex split");
         assert_eq!(f.pairs().len(), 81, "9 × 9 fine fault vertices");
         // A slip of 1 mm along (0, 0.6, 0.8) in the fault's own coordinates.
         let s = rotate(&q, [0.0, 6e-4, 8e-4]);
@@ -497,7 +497,7 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
     eprintln!(
         "{} pairs, {} tips, {} frictional nodes",
         f.pairs().len(),
-        f.sides.tips().len(),
+        f.faults()[0].tips().len(),
         model.frictional_boundary.len()
     );
     let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());

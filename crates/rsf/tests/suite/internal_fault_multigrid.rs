@@ -265,7 +265,7 @@ fn tnnmg_on_a_fault_between_contrasting_sides_shares_the_jump_by_stiffness() {
     let cartesian = medium(1e4).assemble(&split, false).unwrap().stiffness;
     let mean = f
         .transform
-        .reshared::<2>(&f.sides, &vec![0.5; shares.len()])
+        .reshared::<2>(&f.faults()[0], &vec![0.5; shares.len()])
         .unwrap();
     let k_mean = mean.congruence(&cartesian).unwrap();
     let mut prolongations = model.prolongations.clone();

@@ -12,6 +12,7 @@ mod consistency;
 mod coupled;
 mod direct_extension;
 mod energy;
+mod fault_network;
 mod fault_ode;
 mod fault_ode_ordering;
 mod fixed_point_schemes;

@@ -2,12 +2,11 @@
 //! nodal frames where it is slanted, an antisymmetry plane) or a fault inside the body (the
 //! mesh split along it, mean and jump unknowns, a creeping section).
 
-use rsf_fem::MeshHierarchy;
-
 use super::part::Part;
 use super::ModelBuilder;
 use crate::model::creep::{CreepRate, PrescribedSlip};
-use crate::model::internal::{faces_on_levels, split_hierarchy};
+use crate::model::internal::cuts::{split_network_2d, split_network_3d};
+use crate::model::internal::FaultCut;
 
 impl<const D: usize> ModelBuilder<D> {
     /// In 3-D, the reference direction of the first tangent `t₁` of the nodal frames on
@@ -273,15 +272,8 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// # Ok::<(), rsf::Error>(())
     /// ```
     pub fn internal_fault_polyline(mut self, name: &str, points: &[[f64; 2]]) -> Self {
-        let name = name.to_string();
-        let points = points.to_vec();
-        self.fault.internal = Some(Box::new(move |hierarchy: &MeshHierarchy<2>, _| {
-            split_hierarchy(
-                hierarchy,
-                |_, mesh| mesh.split_along_polyline(&name, &points),
-                |sides, mesh| sides.mean_jump_transform::<C>(mesh),
-            )
-        }));
+        self.fault.internal.push(FaultCut::polyline(name, points));
+        self.fault.network_split = Some(split_network_2d::<C>);
         self
     }
 }
@@ -347,17 +339,8 @@ impl<const C: usize> ModelBuilder<3, C> {
     /// # Ok::<(), rsf::Error>(())
     /// ```
     pub fn internal_fault_polygon(mut self, name: &str, corners: &[[f64; 3]]) -> Self {
-        let name = name.to_string();
-        let corners = corners.to_vec();
-        self.fault.internal = Some(Box::new(
-            move |hierarchy: &MeshHierarchy<3>, tangent: Option<&[f64; 3]>| {
-                split_hierarchy(
-                    hierarchy,
-                    |_, mesh| mesh.split_along_polygon(&name, &corners),
-                    |sides, mesh| sides.mean_jump_transform::<C>(mesh, tangent),
-                )
-            },
-        ));
+        self.fault.internal.push(FaultCut::polygon(name, corners));
+        self.fault.network_split = Some(split_network_3d::<C>);
         self
     }
 
@@ -378,20 +361,8 @@ impl<const C: usize> ModelBuilder<3, C> {
     /// mesh or on its boundary, three faces at an edge, a non-orientable or disconnected
     /// set, sides not separated).
     pub fn internal_fault_faces(mut self, name: &str, faces: &[[usize; 3]]) -> Self {
-        let name = name.to_string();
-        let faces = faces.to_vec();
-        self.fault.internal = Some(Box::new(
-            move |hierarchy: &MeshHierarchy<3>, tangent: Option<&[f64; 3]>| {
-                // The given faces' own errors first (as faces of level 0).
-                hierarchy.level(0).split_along(&name, &faces)?;
-                let levels = faces_on_levels(hierarchy, &faces)?;
-                split_hierarchy(
-                    hierarchy,
-                    |j, mesh| mesh.split_along(&name, &levels[j]),
-                    |sides, mesh| sides.mean_jump_transform::<C>(mesh, tangent),
-                )
-            },
-        ));
+        self.fault.internal.push(FaultCut::faces(name, faces));
+        self.fault.network_split = Some(split_network_3d::<C>);
         self
     }
 }

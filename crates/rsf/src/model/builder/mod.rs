@@ -297,7 +297,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                 ),
             ));
         }
-        if self.fault.internal.is_some() {
+        if !self.fault.internal.is_empty() {
             return Err(invalid(
                 "internal_fault",
                 "a model of some columns (build_columns) has no fault inside the body: its \
@@ -342,7 +342,7 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
             }
         };
         // 1. The mesh, cut open along a fault inside the body.
-        let (domain, fault) = Domain::cut(&hierarchy, faults.internal.as_ref(), faults.tangent)?;
+        let (domain, fault) = Domain::cut(&hierarchy, &faults)?;
         ended(BuildStage::Domain);
         // 2. The settings that need no mesh data.
         let inputs = inputs::check(&body, &boundary, &faults, fault.as_ref())?;

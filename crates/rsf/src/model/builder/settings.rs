@@ -6,7 +6,7 @@
 use super::part::Part;
 use crate::model::creep::{CreepField, SlipField};
 use crate::model::equilibrium::StaticOptions;
-use crate::model::internal::SplitFault;
+use crate::model::internal::{FaultCut, NetworkSplit};
 use crate::model::loading::TimeFunction;
 use crate::model::medium::Medium;
 
@@ -79,8 +79,10 @@ pub(crate) struct Faults<const D: usize> {
     pub max_kink_degrees: f64,
     /// The reference direction of the first tangent of 3-D frames.
     pub tangent: Option<[f64; D]>,
-    /// How to cut the hierarchy open along a fault inside the body.
-    pub internal: Option<SplitFault<D>>,
+    /// The faults inside the body, in the order given (a network if several).
+    pub internal: Vec<FaultCut<D>>,
+    /// How to cut the hierarchy open along them (set with the first).
+    pub network_split: Option<NetworkSplit<D>>,
     /// The creeping section of a fault inside the body: its slip rate (m/s, times `g(t)`)
     /// by a pair's position, `None` where the pair slips by friction.
     pub creep: Option<CreepField<D>>,
@@ -121,7 +123,8 @@ impl<const D: usize> Default for Faults<D> {
             slip_factor: 1.0,
             max_kink_degrees: DEFAULT_MAX_FAULT_KINK_DEGREES,
             tangent: None,
-            internal: None,
+            internal: Vec::new(),
+            network_split: None,
             creep: None,
             slip: None,
         }

@@ -52,8 +52,7 @@ pub(crate) fn constrain<const D: usize, const C: usize>(
         mut velocity,
         mut displacement,
     } = dirichlet_dofs(mesh, dirichlet)?;
-    let fpart = fault_part.part();
-    let gamma_f = fpart.resolve(mesh)?;
+    let gamma_f = fault_part.resolve(mesh)?;
     // A vector field slides tangentially (normal component fixed, nodal frames on
     // slanted nodes); a scalar field's one component is tangential to any in-plane Γ_F.
     // An internal fault: the pair frames (kept for outputs; its matrices take `T`).
@@ -62,18 +61,22 @@ pub(crate) fn constrain<const D: usize, const C: usize>(
         None if C == D => same_block_size(fault_frames(
             mesh,
             &gamma_f,
-            fpart.name(),
+            &fault_part.name(),
             faults.max_kink_degrees,
             faults.tangent,
         )?),
         None => NodalFrames::default(),
     };
     if let Some(f) = fault {
-        // The normal jump is tied (no opening); a scalar field has only the slip.
+        // The normal jump is tied (no opening); a scalar field has only the slip. At a
+        // junction the block that keeps the slips single-valued is tied whole.
         if C == D {
-            for &(mi, _) in f.pairs() {
-                fixed[C * mi + normal_component(C)] = true;
+            for node in f.slip_nodes() {
+                fixed[C * node.vertex + normal_component(C)] = true;
             }
+        }
+        for blocks in &f.transform.junctions {
+            fixed[C * blocks.tied..C * blocks.tied + C].fill(true);
         }
     } else if C == D {
         for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
@@ -85,7 +88,7 @@ pub(crate) fn constrain<const D: usize, const C: usize>(
     if fault.is_none() {
         in_frames(
             &frames,
-            fpart.name(),
+            &fault_part.name(),
             &mut fixed,
             [&mut velocity, &mut displacement],
         )?;

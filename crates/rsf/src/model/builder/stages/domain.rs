@@ -3,8 +3,9 @@
 
 use rsf_fem::{MeshHierarchy, SimplexMesh, SparseMatrix};
 
+use super::super::settings::Faults;
 use crate::error::{invalid, Result};
-use crate::model::internal::{InternalFault, SplitFault};
+use crate::model::internal::InternalFault;
 
 /// The mesh of the model and, for a fault inside the body, the scalar prolongations between
 /// the levels cut open along it.
@@ -19,18 +20,18 @@ pub(crate) struct Domain<'h, const D: usize> {
 }
 
 impl<'h, const D: usize> Domain<'h, D> {
-    /// Cuts `hierarchy` open along the fault `split` (with the checked 3-D `tangent` of its
-    /// pair frames), or takes its finest level as it is; with the fault (its jump shared
-    /// half and half).
+    /// Cuts `hierarchy` open along the faults inside the body of `faults` (with the
+    /// checked 3-D tangent of their pair frames), or takes its finest level as it is; with
+    /// the faults (their jump shared half and half).
     ///
     /// # Errors
     /// [`checked_tangent`]'s; the splitting's (e.g. a fault the mesh does not resolve).
     pub fn cut(
         hierarchy: &'h MeshHierarchy<D>,
-        split: Option<&SplitFault<D>>,
-        tangent: Option<[f64; D]>,
+        faults: &Faults<D>,
     ) -> Result<(Self, Option<InternalFault<D>>)> {
-        let Some(split) = split else {
+        let tangent = faults.tangent;
+        let Some(split) = faults.network_split.filter(|_| !faults.internal.is_empty()) else {
             let domain = Self {
                 hierarchy,
                 split: None,
@@ -38,7 +39,11 @@ impl<'h, const D: usize> Domain<'h, D> {
             };
             return Ok((domain, None));
         };
-        let s = split(hierarchy, checked_tangent(tangent)?.as_ref())?;
+        let s = split(
+            hierarchy,
+            checked_tangent(tangent)?.as_ref(),
+            &faults.internal,
+        )?;
         let domain = Self {
             hierarchy,
             split: Some(s.mesh),
@@ -112,7 +117,11 @@ mod tests {
             rsf_fem::rectangle([0.0; 2], [1.0; 2], 2, 2, rsf_fem::Diagonal::Forward).unwrap();
         let hierarchy = MeshHierarchy::refine_uniformly(mesh, 1);
         // A tangent is not looked at without a fault inside the body (Γ_F's frames check it).
-        let (domain, fault) = Domain::cut(&hierarchy, None, Some([1.0, 0.0])).unwrap();
+        let faults = Faults {
+            tangent: Some([1.0, 0.0]),
+            ..Faults::default()
+        };
+        let (domain, fault) = Domain::cut(&hierarchy, &faults).unwrap();
         assert!(fault.is_none() && domain.split_prolongations.is_none());
         assert!(std::ptr::eq(domain.mesh(), hierarchy.finest()));
     }

@@ -31,19 +31,49 @@ pub(crate) fn frictional_boundary<const D: usize>(
             *w /= s;
         }
     }
+    let (names, faults_along): (Vec<String>, Vec<usize>) = match fault {
+        Some(SharedFault { fault, prescribed }) => (
+            fault.faults().iter().map(|f| f.name().to_owned()).collect(),
+            fault
+                .slip_nodes_along()
+                .into_iter()
+                .filter(|&(k, _)| !prescribed[k])
+                .map(|(k, _)| fault.slip_nodes()[k].fault)
+                .collect(),
+        ),
+        None => (
+            vec![gamma_f.name().to_owned()],
+            vec![0; gamma_f.num_nodes()],
+        ),
+    };
     let (nodes_along, weights_along): (Vec<usize>, Vec<f64>) = match fault {
-        // The pairs' minus nodes in order along the fault (a tip does not slip).
+        // The slip nodes in order along each fault (a tip does not slip), with the minus
+        // face's weights; a junction's jump with its fault's own edges' (half each).
         Some(SharedFault { fault, prescribed }) => {
             let mut weight_of = vec![f64::NAN; mesh.num_vertices()];
             for (&p, &w) in gamma_f.nodes().iter().zip(&weights) {
                 weight_of[p] = w;
             }
             fault
-                .pairs()
-                .iter()
-                .zip(prescribed)
-                .filter(|(_, &given)| !given)
-                .map(|(&(mi, _), _)| (mi, weight_of[mi]))
+                .slip_nodes_along()
+                .into_iter()
+                .filter(|&(k, _)| !prescribed[k])
+                .map(|(k, i)| {
+                    let node = fault.slip_nodes()[k];
+                    let w = match node.pair {
+                        Some(_) => weight_of[node.vertex],
+                        None => {
+                            let sides = &fault.faults()[node.fault];
+                            let facets = sides.minus_facets();
+                            [i.wrapping_sub(1), i]
+                                .into_iter()
+                                .filter(|&e| e < facets.len())
+                                .map(|e| 0.5 * mesh.boundary_facet_measure(facets[e]) / s)
+                                .sum()
+                        }
+                    };
+                    (node.vertex, w)
+                })
                 .unzip()
         }
         None => {
@@ -66,5 +96,7 @@ pub(crate) fn frictional_boundary<const D: usize>(
     if nodes_along.is_empty() && fault.is_some() {
         return Ok(FrictionalBoundary::empty());
     }
-    FrictionalBoundary::new(&nodes_along, &weights_along)?.with_slip_factor(s)
+    FrictionalBoundary::new(&nodes_along, &weights_along)?
+        .with_slip_factor(s)?
+        .with_faults(names, &faults_along)
 }

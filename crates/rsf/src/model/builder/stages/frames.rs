@@ -135,7 +135,7 @@ pub(crate) fn internal_fault_frames<const D: usize, const C: usize>(
     fault: &InternalFault<D>,
     fixed: &[bool],
 ) -> Result<NodalFrames<C>> {
-    for &(mi, pl) in fault.pairs() {
+    for (k, &(mi, pl)) in fault.pairs().iter().enumerate() {
         let count = [mi, pl]
             .iter()
             .map(|&p| (0..C).filter(|&c| fixed[C * p + c]).count())
@@ -152,7 +152,26 @@ pub(crate) fn internal_fault_frames<const D: usize, const C: usize>(
                     "node {p} is a split node of the internal fault `{}` and Dirichlet parts \
                      fix only some components of its two sides; fix every component of both \
                      sides (e.g. each side's far-field motion) or none",
-                    fault.sides.name()
+                    fault.fault_name(fault.pair_fault(k))
+                ),
+            ));
+        }
+    }
+    for (j, blocks) in fault.transform.junctions.iter().enumerate() {
+        if let Some(s) = blocks
+            .sectors
+            .iter()
+            .find(|s| (0..C).any(|c| fixed[C * s.copy + c]))
+        {
+            let [a, b] = fault.network.junctions()[j].kind().faults();
+            return Err(invalid(
+                "dirichlet",
+                format!(
+                    "node {} is a copy of the junction of the internal faults `{}` and `{}`, \
+                     which Dirichlet parts may not fix (keep junctions inside the body)",
+                    s.copy,
+                    fault.fault_name(a),
+                    fault.fault_name(b)
                 ),
             ));
         }
@@ -161,12 +180,12 @@ pub(crate) fn internal_fault_frames<const D: usize, const C: usize>(
         return Ok(NodalFrames::default());
     }
     let mut frames: Vec<(usize, [[f64; C]; C])> = fault
-        .pairs()
+        .slip_nodes()
         .iter()
-        .zip(&fault.transform.frames)
-        .map(|(&(mi, _), r)| {
+        .map(|node| {
+            let r = &fault.transform.frames[node.frame];
             (
-                mi,
+                node.vertex,
                 std::array::from_fn(|a| std::array::from_fn(|b| r[a][b])),
             )
         })

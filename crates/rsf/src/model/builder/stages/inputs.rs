@@ -1,27 +1,47 @@
 //! Stage 2: the settings that need no mesh data, checked — the medium, the slip factor,
 //! which part is Γ_F, the loading history, gravity.
 
+use rsf_fem::{BoundaryPart, FaultSides, SimplexMesh};
+
 use super::super::part::Part;
 use super::super::settings::{Body, Boundary, Faults};
 use crate::error::{invalid, Result};
 use crate::model::internal::InternalFault;
 use crate::model::medium::Medium;
 
-/// The part that is Γ_F: the caller's frictional boundary, or the minus face of a fault
-/// inside the body.
+/// The part that is Γ_F: the caller's frictional boundary, or the minus faces of the
+/// faults inside the body.
 pub(crate) enum FaultPart<'b, const D: usize> {
     /// [`ModelBuilder::frictional_boundary`](crate::ModelBuilder::frictional_boundary).
     Given(&'b Part<D>),
-    /// The faces tagged `{name}_minus` of the split mesh.
-    MinusFace(Part<D>),
+    /// The faces tagged `{name}_minus` of the split mesh, one tag per fault.
+    MinusFaces(Vec<String>),
 }
 
 impl<const D: usize> FaultPart<'_, D> {
-    /// The part.
-    pub fn part(&self) -> &Part<D> {
+    /// The part's name (for messages): the given part's, or the faults' minus tags.
+    pub fn name(&self) -> String {
         match self {
-            Self::Given(p) => p,
-            Self::MinusFace(p) => p,
+            Self::Given(p) => p.name().to_owned(),
+            Self::MinusFaces(tags) => tags.join(", "),
+        }
+    }
+
+    /// The part on `mesh` (the model's split mesh): the given part resolved, or every
+    /// fault's minus faces (one fault: [`BoundaryPart::from_tag`] of its tag).
+    ///
+    /// # Errors
+    /// As [`Part::resolve`](super::super::part::Part).
+    pub fn resolve(&self, mesh: &SimplexMesh<D>) -> Result<BoundaryPart<D>> {
+        match self {
+            Self::Given(p) => p.resolve(mesh),
+            Self::MinusFaces(tags) => match &tags[..] {
+                [one] => Part::from(one.as_str()).resolve(mesh),
+                _ => {
+                    let facets = tags.iter().flat_map(|t| mesh.facets_with_tag(t)).collect();
+                    Ok(BoundaryPart::from_facets(mesh, &self.name(), facets)?)
+                }
+            },
         }
     }
 }
@@ -75,7 +95,9 @@ pub(crate) fn check<'b, const D: usize, const C: usize>(
     }
     let fault_part = match (&faults.frictional_boundary, fault) {
         (Some(p), None) => FaultPart::Given(p),
-        (None, Some(f)) => FaultPart::MinusFace(Part::from(f.sides.minus_tag())),
+        (None, Some(f)) => {
+            FaultPart::MinusFaces(f.faults().iter().map(FaultSides::minus_tag).collect())
+        }
         (Some(_), Some(_)) => {
             return Err(invalid(
                 "frictional_boundary",

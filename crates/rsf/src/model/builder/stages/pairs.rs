@@ -16,7 +16,8 @@ pub(crate) struct SharedFault<const D: usize> {
     /// The fault, its jump shared by the sides' stiffness
     /// ([`InternalFault::shared_by_stiffness`]).
     pub fault: InternalFault<D>,
-    /// Per pair ([`InternalFault::pairs`]): its slip is prescribed (not a frictional node).
+    /// Per slip node ([`InternalFault::slip_nodes`]): its slip is prescribed (not a
+    /// frictional node).
     pub prescribed: Vec<bool>,
 }
 
@@ -70,19 +71,25 @@ fn prescribed_pairs<const D: usize, const C: usize>(
     } = constraints;
     let vector = C == D && C > 1;
     let tangential = if vector { C - 1 } else { 1 };
-    let mut prescribed = Vec::with_capacity(fault.pairs().len());
-    for (k, &(mi, pl)) in fault.pairs().iter().enumerate() {
+    let mut prescribed = Vec::with_capacity(fault.slip_nodes().len());
+    for node in fault.slip_nodes() {
+        let mi = node.vertex;
         let x = &mesh.vertices()[mi];
         let slip = kinematics.slip.and_then(|slip| slip(x));
-        if fixed[C * mi] {
-            // Both sides fully fixed (checked by internal_fault_frames).
+        // Both sides fully fixed (checked by internal_fault_frames; a junction's copies
+        // never are).
+        if let Some((k, pl)) = node
+            .pair
+            .filter(|_| fixed[C * mi])
+            .map(|k| (k, fault.pairs()[k].1))
+        {
             if slip.is_some() {
                 return Err(invalid(
                     "internal_slip",
                     format!(
                         "the pair at {x:?} m of the internal fault `{}` has both sides held \
                          by Dirichlet parts, whose data give its jump: no prescribed slip there",
-                        fault.sides.name()
+                        fault.fault_name(node.fault)
                     ),
                 ));
             }
@@ -102,7 +109,7 @@ fn prescribed_pairs<const D: usize, const C: usize>(
             prescribed.push(false);
             continue;
         }
-        let frame = &fault.transform.frames[k];
+        let frame = &fault.transform.frames[node.frame];
         let j_rate = match rate {
             Some(rate) => Some(rate.in_frame::<C>(frame, x)?),
             None => None,
@@ -161,7 +168,7 @@ fn in_mean_and_jump<const D: usize, const C: usize>(
             format!(
                 "the Dirichlet parts at split node {mi} of the internal fault `{}` open or \
                  close it (normal jump {:e} {unit}): the fault's normal jump is tied",
-                fault.sides.name(),
+                fault.fault_name(fault.pair_fault(k)),
                 j[normal_component(C)]
             ),
         ));

@@ -73,8 +73,7 @@ fn square_with_fault() -> ModelBuilder<2> {
 
 /// Stages 1–3 of `b`.
 fn constraints_of(b: &ModelBuilder<2>) -> (Domain<'_, 2>, Constraints<2, 2>) {
-    let (domain, fault) =
-        Domain::cut(&b.hierarchy, b.fault.internal.as_ref(), b.fault.tangent).unwrap();
+    let (domain, fault) = Domain::cut(&b.hierarchy, &b.fault).unwrap();
     let inputs = check(&b.body, &b.boundary, &b.fault, fault.as_ref()).unwrap();
     let c = constrain(
         domain.mesh(),
@@ -118,8 +117,7 @@ fn inputs_are_checked_in_order() {
         e => panic!("{e}"),
     };
     let run = |b: &ModelBuilder<2>| {
-        let (_, fault) =
-            Domain::cut(&b.hierarchy, b.fault.internal.as_ref(), b.fault.tangent).unwrap();
+        let (_, fault) = Domain::cut(&b.hierarchy, &b.fault).unwrap();
         check(&b.body, &b.boundary, &b.fault, fault.as_ref()).map(|i| i.slip_factor)
     };
     let mut b = square_with_fault();
@@ -136,11 +134,9 @@ fn inputs_are_checked_in_order() {
     assert_eq!(name(run(&b).unwrap_err()), "frictional_boundary");
     assert_eq!(run(&slanted_block().antisymmetric_fault(2.0)).unwrap(), 2.0);
     let b = square_with_fault();
-    let (_, fault) = Domain::cut(&b.hierarchy, b.fault.internal.as_ref(), None).unwrap();
+    let (_, fault) = Domain::cut(&b.hierarchy, &b.fault).unwrap();
     let inputs = check(&b.body, &b.boundary, &b.fault, fault.as_ref()).unwrap();
-    assert!(
-        matches!(inputs.fault_part, FaultPart::MinusFace(Part::Tag(ref t)) if t == "fault_minus")
-    );
+    assert!(matches!(inputs.fault_part, FaultPart::MinusFaces(ref t) if t == &["fault_minus"]));
 }
 
 /// Stage 3 on a slanted Γ_F: every frictional node has a frame whose last column is the
@@ -209,7 +205,7 @@ fn constraints_turn_clamped_fault_nodes_into_their_frame_and_refuse_contradictio
         &[0],
         w,
     );
-    let (d, f) = Domain::cut(&partly.hierarchy, None, None).unwrap();
+    let (d, f) = Domain::cut(&partly.hierarchy, &Default::default()).unwrap();
     let inputs = check(&partly.body, &partly.boundary, &partly.fault, f.as_ref()).unwrap();
     let e = constrain(
         d.mesh(),
@@ -225,7 +221,7 @@ fn constraints_turn_clamped_fault_nodes_into_their_frame_and_refuse_contradictio
         Part::predicate("top again", move |x| back(x)[1] > 1.0 - 1e-9),
         [0.0, 0.0],
     );
-    let (d, f) = Domain::cut(&contradicting.hierarchy, None, None).unwrap();
+    let (d, f) = Domain::cut(&contradicting.hierarchy, &Default::default()).unwrap();
     let inputs = check(
         &contradicting.body,
         &contradicting.boundary,
@@ -342,8 +338,7 @@ fn a_clamped_pair_is_prescribed_and_the_free_pairs_are_the_fault() {
     // minus down.
     let (vp, vm) = ([0.0, 1e-4], [0.0, -1e-4]);
     let b = square_with_fault_moving(vp, vm);
-    let (domain, fault) =
-        Domain::cut(&b.hierarchy, b.fault.internal.as_ref(), b.fault.tangent).unwrap();
+    let (domain, fault) = Domain::cut(&b.hierarchy, &b.fault).unwrap();
     let fault = fault.unwrap();
     let inputs = check(&b.body, &b.boundary, &b.fault, Some(&fault)).unwrap();
     let mesh = domain.mesh();

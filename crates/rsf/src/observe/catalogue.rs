@@ -1,0 +1,263 @@
+//! The event catalogue of a fault network: every event with its onset, where it nucleated,
+//! which faults it ruptured and, per fault, its moment and peak slip rate
+//! (docs/fault-networks.md, "The catalogue").
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::error::{invalid, io_at, Result};
+use crate::model::fault::block_norm;
+use crate::model::Model;
+
+use super::events::EventThresholds;
+use super::{Flow, Observer, StepView};
+
+/// One event of a [`FaultCatalogue`]: an interval of time during which the largest slip
+/// rate of the whole network stays above the end threshold once it has crossed the onset
+/// threshold (the hysteresis of [`EventThresholds`]) — the faults it ruptured are those
+/// whose largest slip rate crossed the onset threshold during it ("connected in time").
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct NetworkEvent {
+    /// Step of the onset (the first step whose largest slip rate exceeds the onset
+    /// threshold).
+    pub onset_step: usize,
+    /// Time of the onset step (s).
+    pub onset_s: f64,
+    /// Step and time (s) where the event ended; `None` while it lasts.
+    pub end: Option<(usize, f64)>,
+    /// The fault where it nucleated: that of the node with the largest slip rate at the
+    /// onset step (an index into [`FaultCatalogue::fault_names`]).
+    pub nucleation_fault: usize,
+    /// That node's position (m; `D` coordinates).
+    pub nucleation_x: Vec<f64>,
+    /// Per fault: whether its slip rate crossed the onset threshold during the event.
+    pub ruptured: Vec<bool>,
+    /// Per fault: its largest slip rate during the event (m/s).
+    pub peak_slip_rate: Vec<f64>,
+    /// Per fault: the time of its first crossing of the onset threshold (s); `None` where it
+    /// did not rupture.
+    pub rupture_s: Vec<Option<f64>>,
+    /// Per fault: the event's seismic moment `Σ_k μ_k w_k |δ_k(end) − δ_k(onset⁻)|` over the
+    /// fault's nodes (N·m in 3-D; N·m per metre of the third dimension in 2-D), `δ` the slip
+    /// vector, `onset⁻` the step before the onset, `w` the node's weight.
+    pub moment: Vec<f64>,
+}
+
+impl NetworkEvent {
+    /// The names of the faults it ruptured, in network order, joined by `;`.
+    pub fn ruptured_names(&self, names: &[String]) -> String {
+        names
+            .iter()
+            .zip(&self.ruptured)
+            .filter(|(_, &r)| r)
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(";")
+    }
+}
+
+/// An observer building the event catalogue of a fault network: the faults of Γ_F
+/// ([`FrictionalBoundary::fault_names`](crate::model::FrictionalBoundary::fault_names),
+/// one or several), events detected on the largest slip rate of the whole network with the
+/// hysteresis of [`EventThresholds`], each event's nucleation fault and place, the faults it
+/// ruptured, and per fault its moment and peak slip rate. [`write_csv`](Self::write_csv)
+/// writes it as `catalogue.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaultCatalogue<const D: usize, const C: usize = D> {
+    thresholds: EventThresholds,
+    names: Vec<String>,
+    /// Per frictional node: its fault, `μ_k w_k` (N/m in 2-D, N/m² · m² in 3-D → N/m).
+    fault_of: Vec<usize>,
+    mu_w: Vec<f64>,
+    /// Per node: the slip at the previous step, at this step and at the onset (`C` per
+    /// node).
+    previous: Vec<f64>,
+    current: Vec<f64>,
+    at_onset: Vec<f64>,
+    /// Per fault: its largest slip rate at this step.
+    fastest: Vec<f64>,
+    events: Vec<NetworkEvent>,
+    slipping: bool,
+}
+
+impl<const D: usize, const C: usize> FaultCatalogue<D, C> {
+    /// A catalogue of the faults of `model` with the shear modulus `rigidity(x)` (Pa) at
+    /// every frictional node (the moment's `μ`), events detected with `thresholds`.
+    ///
+    /// # Errors
+    /// As [`EventThresholds::validate`]; [`Error::InvalidParameter`](crate::Error::InvalidParameter)
+    /// named `rigidity` for a value that is not finite and positive.
+    pub fn new(
+        model: &Model<D, C>,
+        thresholds: EventThresholds,
+        rigidity: impl Fn(&[f64; D]) -> f64,
+    ) -> Result<Self> {
+        thresholds.validate()?;
+        let fb = &model.frictional_boundary;
+        let mut mu_w = Vec::with_capacity(fb.len());
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let mu = rigidity(&model.vertices[p]);
+            if !(mu.is_finite() && mu > 0.0) {
+                return Err(invalid(
+                    "rigidity",
+                    format!(
+                        "{mu} Pa at {:?} m must be finite and positive",
+                        model.vertices[p]
+                    ),
+                ));
+            }
+            mu_w.push(mu * fb.weights[k] * fb.slip_factor);
+        }
+        let zero = vec![0.0; C * fb.len()];
+        Ok(Self {
+            thresholds,
+            names: fb.fault_names.clone(),
+            fault_of: fb.fault_of.clone(),
+            mu_w,
+            previous: zero.clone(),
+            current: zero.clone(),
+            at_onset: zero,
+            fastest: vec![0.0; fb.fault_names.len()],
+            events: Vec::new(),
+            slipping: false,
+        })
+    }
+
+    /// The faults' names (the catalogue's per-fault entries are in this order).
+    pub fn fault_names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The events so far (the last may still last).
+    pub fn events(&self) -> &[NetworkEvent] {
+        &self.events
+    }
+
+    /// Writes the catalogue as CSV to `path` (created or replaced): a header, then one row
+    /// per event — `event, onset_s, end_s, duration_s, nucleation_fault, nucleation_x,
+    /// nucleation_y[, nucleation_z], ruptured` (the faults' names joined by `;`), then per
+    /// fault `peak_slip_rate_{name}` (m/s), `moment_{name}` (N·m, per metre in 2-D) and
+    /// `rupture_s_{name}` (empty where it did not rupture). Numbers in Rust's shortest
+    /// round-trip form (`{:e}`), an event still under way with empty end and duration.
+    ///
+    /// # Errors
+    /// [`Error::File`](crate::Error::File) naming the file.
+    pub fn write_csv(&self, path: &Path) -> Result<()> {
+        let io = io_at("write", path);
+        let mut out =
+            std::io::BufWriter::new(std::fs::File::create(path).map_err(io_at("create", path))?);
+        let axes = ["x", "y", "z"];
+        let mut header = vec![
+            "event".to_owned(),
+            "onset_s".into(),
+            "end_s".into(),
+            "duration_s".into(),
+            "nucleation_fault".into(),
+        ];
+        header.extend(axes[..D].iter().map(|a| format!("nucleation_{a}")));
+        header.push("ruptured".into());
+        for n in &self.names {
+            header.push(format!("peak_slip_rate_{n}"));
+            header.push(format!("moment_{n}"));
+            header.push(format!("rupture_s_{n}"));
+        }
+        writeln!(out, "{}", header.join(",")).map_err(&io)?;
+        for (i, e) in self.events.iter().enumerate() {
+            let mut row = vec![
+                (i + 1).to_string(),
+                format!("{:e}", e.onset_s),
+                e.end.map_or(String::new(), |(_, t)| format!("{t:e}")),
+                e.end
+                    .map_or(String::new(), |(_, t)| format!("{:e}", t - e.onset_s)),
+                self.names[e.nucleation_fault].clone(),
+            ];
+            row.extend(e.nucleation_x.iter().map(|x| format!("{x:e}")));
+            row.push(e.ruptured_names(&self.names));
+            for f in 0..self.names.len() {
+                row.push(format!("{:e}", e.peak_slip_rate[f]));
+                row.push(format!("{:e}", e.moment[f]));
+                row.push(e.rupture_s[f].map_or(String::new(), |t| format!("{t:e}")));
+            }
+            writeln!(out, "{}", row.join(",")).map_err(&io)?;
+        }
+        out.flush().map_err(&io)
+    }
+}
+
+/// The slip vector (`C` components, the model's unknown: `s·u` on an antisymmetric fault)
+/// of every frictional node of `u` into `out`, node after node.
+fn slips<const D: usize, const C: usize>(model: &Model<D, C>, u: &[f64], out: &mut [f64]) {
+    for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
+        for c in 0..C {
+            out[C * k + c] = u[C * p + c] - model.initial_displacement[C * p + c];
+        }
+    }
+}
+
+impl<const D: usize, const C: usize> Observer<D, C> for FaultCatalogue<D, C> {
+    fn observe(&mut self, s: &StepView<'_, D, C>) -> Result<Flow> {
+        let fb = &s.model.frictional_boundary;
+        let (step, t) = (s.report.step, s.report.time);
+        let v = &s.state.kinematics.v;
+        // The fastest node of the network, and per fault.
+        let mut fastest = (0, 0.0f64);
+        let per_fault = &mut self.fastest;
+        per_fault.fill(0.0);
+        for k in 0..fb.len() {
+            let rate = block_norm::<C>(v, fb.nodes[k]);
+            let f = self.fault_of[k];
+            per_fault[f] = per_fault[f].max(rate);
+            if rate > fastest.1 {
+                fastest = (k, rate);
+            }
+        }
+        let (onset, end) = (self.thresholds.onset, self.thresholds.end);
+        if !self.slipping && fastest.1 > onset {
+            self.slipping = true;
+            self.at_onset.clone_from(&self.previous);
+            let nf = self.names.len();
+            self.events.push(NetworkEvent {
+                onset_step: step,
+                onset_s: t,
+                end: None,
+                nucleation_fault: self.fault_of[fastest.0],
+                nucleation_x: s.model.vertices[fb.nodes[fastest.0]].to_vec(),
+                ruptured: vec![false; nf],
+                peak_slip_rate: vec![0.0; nf],
+                rupture_s: vec![None; nf],
+                moment: vec![0.0; nf],
+            });
+        }
+        let ended = self.slipping && fastest.1 < end;
+        slips(s.model, &s.state.kinematics.u, &mut self.current);
+        let slip = &self.current;
+        if self.slipping {
+            let e = self.events.last_mut().expect("an event under way");
+            for (f, &rate) in self.fastest.iter().enumerate() {
+                e.peak_slip_rate[f] = e.peak_slip_rate[f].max(rate);
+                if rate > onset && !e.ruptured[f] {
+                    e.ruptured[f] = true;
+                    e.rupture_s[f] = Some(t);
+                }
+            }
+            e.moment.iter_mut().for_each(|m| *m = 0.0);
+            for k in 0..fb.len() {
+                let d: f64 = (0..C)
+                    .map(|c| {
+                        let x = slip[C * k + c] - self.at_onset[C * k + c];
+                        x * x
+                    })
+                    .sum::<f64>()
+                    .sqrt();
+                e.moment[self.fault_of[k]] += self.mu_w[k] * d;
+            }
+            if ended {
+                e.end = Some((step, t));
+                self.slipping = false;
+            }
+        }
+        std::mem::swap(&mut self.previous, &mut self.current);
+        Ok(Flow::Continue(()))
+    }
+}
