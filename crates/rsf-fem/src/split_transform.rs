@@ -578,6 +578,47 @@ impl<const D: usize> MeanJumpTransform<D> {
     }
 }
 
+impl<const D: usize> MeanJumpTransform<D> {
+    /// The same change of variables with the nodal frames `frames` at vertices off the
+    /// faults (a frictional boundary beside faults inside the body): `T R` and `Rᵀ T⁻¹`,
+    /// `R = blockdiag(Q_p)` at the frames' nodes (whose blocks of `T` are the identity), so
+    /// that those nodes' blocks are in their frames as on a boundary fault.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for a frame at a vertex of a split pair or a junction;
+    /// the frames' errors ([`NodalFrames`]).
+    pub fn with_nodal_frames<const C: usize>(&self, frames: &crate::NodalFrames<C>) -> Result<Self> {
+        if frames.nodes.is_empty() {
+            return Ok(self.clone());
+        }
+        // A frame node's block of T is the identity: its column block has one entry per
+        // component, on the diagonal.
+        for &p in &frames.nodes {
+            let identity = (C * p..C * p + C).all(|j| {
+                let rows: Vec<usize> = self.t.row_idx_of_col(j).collect();
+                rows == [j]
+            });
+            if !identity {
+                return Err(Error::Unsupported(
+                    "a nodal frame at a vertex of a fault inside the body",
+                ));
+            }
+        }
+        let faer = |e: faer::sparse::FaerError| Error::Faer(format!("{e:?}"));
+        let transpose = |a: &SparseMatrix| -> Result<SparseMatrix> {
+            a.as_ref().transpose().to_col_major().map_err(faer)
+        };
+        // T R = (Rᵀ Tᵀ)ᵀ.
+        let t = transpose(&frames.rotate_rows(transpose(&self.t)?.as_ref())?)?;
+        let t_inv = frames.rotate_rows(self.t_inv.as_ref())?;
+        Ok(Self {
+            t,
+            t_inv,
+            ..self.clone()
+        })
+    }
+}
+
 /// `u = T u'`: the mean and jump at every split pair, the identity elsewhere.
 impl<const D: usize> DofTransform for MeanJumpTransform<D> {
     /// No split pair.

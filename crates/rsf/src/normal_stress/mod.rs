@@ -48,6 +48,17 @@ fn initial_normal_stress<const D: usize, const C: usize, L: FrictionLaw>(
     if choice == NormalStress::Fixed {
         return Ok(None);
     }
+    let beside_a_boundary = model
+        .internal_fault
+        .as_ref()
+        .is_some_and(|f| model.frictional_boundary.fault_names.len() > f.faults().len());
+    if beside_a_boundary {
+        return Err(invalid(
+            "normal_stress",
+            "NormalStress::FromSlip with a frictional boundary beside the faults inside the \
+             body: the boundary fault's normal stress is prescribed; keep the faults alone",
+        ));
+    }
     if model.internal_fault.is_none() || C != D || C == 1 {
         return Err(invalid(
             "normal_stress",

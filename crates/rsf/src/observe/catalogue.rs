@@ -2,22 +2,23 @@
 //! which faults it ruptured and, per fault, its moment and peak slip rate
 //! (docs/fault-networks.md, "The catalogue").
 
-use std::io::Write;
-use std::path::Path;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
 
-use crate::error::{invalid, io_at, Result};
+use crate::error::{invalid, io_at, show_path, Result};
 use crate::model::fault::block_norm;
 use crate::model::Model;
 
 use super::events::EventThresholds;
+use super::files::{self, FileMode};
 use super::{Flow, Observer, StepView};
 
 /// One event of a [`FaultCatalogue`]: an interval of time during which the largest slip
 /// rate of the whole network stays above the end threshold once it has crossed the onset
 /// threshold (the hysteresis of [`EventThresholds`]) — the faults it ruptured are those
 /// whose largest slip rate crossed the onset threshold during it ("connected in time").
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct NetworkEvent {
     /// Step of the onset (the first step whose largest slip rate exceeds the onset
     /// threshold).
@@ -63,7 +64,11 @@ impl NetworkEvent {
 /// hysteresis of [`EventThresholds`], each event's nucleation fault and place, the faults it
 /// ruptured, and per fault its moment and peak slip rate. [`write_csv`](Self::write_csv)
 /// writes it as `catalogue.csv`.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// A run that may stop before its end (checkpoints, a step cap) keeps the catalogue's state
+/// in a resume log ([`with_resume_log`](Self::with_resume_log)) at the checkpoints' steps,
+/// so that a resumed run's catalogue is the uninterrupted run's.
+#[derive(Debug)]
 pub struct FaultCatalogue<const D: usize, const C: usize = D> {
     thresholds: EventThresholds,
     names: Vec<String>,
@@ -79,7 +84,30 @@ pub struct FaultCatalogue<const D: usize, const C: usize = D> {
     fastest: Vec<f64>,
     events: Vec<NetworkEvent>,
     slipping: bool,
+    log: Option<ResumeLog>,
 }
+
+/// The resume log of a [`FaultCatalogue`]: its state at the checkpoints' steps.
+#[derive(Debug)]
+struct ResumeLog {
+    out: BufWriter<File>,
+    path: PathBuf,
+    /// The checkpoint interval (0: none) and the step cap.
+    every: usize,
+    cap: Option<usize>,
+}
+
+/// What a [`FaultCatalogue`] needs to continue after a checkpoint.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct CatalogueState {
+    previous: Vec<f64>,
+    at_onset: Vec<f64>,
+    events: Vec<NetworkEvent>,
+    slipping: bool,
+}
+
+/// The header of a catalogue's resume log.
+const LOG_HEADER: &str = "step,catalogue_state_json";
 
 impl<const D: usize, const C: usize> FaultCatalogue<D, C> {
     /// A catalogue of the faults of `model` with the shear modulus `rigidity(x)` (Pa) at
@@ -121,7 +149,83 @@ impl<const D: usize, const C: usize> FaultCatalogue<D, C> {
             fastest: vec![0.0; fb.fault_names.len()],
             events: Vec::new(),
             slipping: false,
+            log: None,
         })
+    }
+
+    /// Keeps the catalogue's state in the resume log `path` (one line per step: the step,
+    /// then the state as JSON) at the steps a checkpoint is written — every `every` steps
+    /// (0: none) and at the step cap `cap` — new, or continued after a checkpoint
+    /// ([`FileMode::Resume`]: the state of the checkpoint's step restored, later lines
+    /// removed).
+    ///
+    /// # Errors
+    /// [`Error::Resume`](crate::Error::Resume) naming the log if it has no state of the
+    /// checkpoint's step, or one of another network; the file's errors.
+    pub fn with_resume_log(
+        mut self,
+        path: &Path,
+        every: usize,
+        cap: Option<usize>,
+        mode: FileMode,
+    ) -> Result<Self> {
+        if let FileMode::Resume { step } = mode {
+            let fail = |reason: String| crate::Error::Resume {
+                path: show_path(path),
+                reason,
+            };
+            let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
+            let prefix = format!("{step},");
+            let json = text
+                .lines()
+                .skip(1)
+                .find_map(|l| l.strip_prefix(&prefix))
+                .ok_or_else(|| fail(format!("it has no state of the checkpoint's step {step}")))?;
+            let state: CatalogueState = serde_json::from_str(json)
+                .map_err(|e| fail(format!("the state of step {step}: {e}")))?;
+            if state.previous.len() != self.previous.len()
+                || state.events.iter().any(|e| e.moment.len() != self.names.len())
+            {
+                return Err(fail(format!(
+                    "the state of step {step} is of another network (its sizes differ)"
+                )));
+            }
+            self.previous = state.previous;
+            self.at_onset = state.at_onset;
+            self.events = state.events;
+            self.slipping = state.slipping;
+        }
+        let out = files::open(path, LOG_HEADER, 0, mode.start(false))?;
+        self.log = Some(ResumeLog {
+            out,
+            path: path.to_path_buf(),
+            every,
+            cap,
+        });
+        Ok(self)
+    }
+
+    /// Appends the state after step `step` to the resume log where a checkpoint is
+    /// written.
+    fn log_state(&mut self, step: usize) -> Result<()> {
+        let Some(log) = self.log.as_mut() else {
+            return Ok(());
+        };
+        if !((log.every > 0 && step % log.every == 0) || log.cap == Some(step)) {
+            return Ok(());
+        }
+        let state = CatalogueState {
+            previous: self.previous.clone(),
+            at_onset: self.at_onset.clone(),
+            events: self.events.clone(),
+            slipping: self.slipping,
+        };
+        let json = serde_json::to_string(&state)
+            .map_err(|e| invalid("catalogue", format!("its state as JSON: {e}")))?;
+        let out = &mut log.out;
+        writeln!(out, "{step},{json}")
+            .and_then(|()| out.flush())
+            .map_err(io_at("write", &log.path))
     }
 
     /// The faults' names (the catalogue's per-fault entries are in this order).
@@ -258,6 +362,7 @@ impl<const D: usize, const C: usize> Observer<D, C> for FaultCatalogue<D, C> {
             }
         }
         std::mem::swap(&mut self.previous, &mut self.current);
+        self.log_state(step)?;
         Ok(Flow::Continue(()))
     }
 }

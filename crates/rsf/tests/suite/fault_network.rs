@@ -243,3 +243,55 @@ fn a_rigid_motion_slips_no_fault_of_a_network() {
         assert!(worst < 1e-14, "crossing {crossing}: {worst:e} m");
     }
 }
+
+/// A frictional boundary (the bottom of a block on a rigid base) beside a fault inside the
+/// block: both are Γ_F, each node with its fault, the boundary's nodes in coordinate order
+/// after the fault's; the fault ODE and the implicit scheme (the direct solver) agree on
+/// it, and NormalStress::FromSlip is refused by name.
+#[test]
+fn a_fault_inside_the_body_beside_a_frictional_boundary() {
+    let build = || {
+        let mesh = rectangle([-2.0, 0.0], [4.0, 2.0], 17, 9, Diagonal::Forward).unwrap();
+        ModelBuilder::new(mesh)
+            .material(Material::new(3e10, 0.25, 2700.0))
+            .without_mass()
+            .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-9, 0.0])
+            .frictional_boundary(Part::predicate("base", |x| x[1] < 1e-9))
+            .internal_fault("inside", [-1.0, 0.25], [0.5, 1.75])
+            .build()
+            .unwrap()
+    };
+    let model = build();
+    let fb = &model.frictional_boundary;
+    assert_eq!(fb.fault_names, ["inside", "base"]);
+    assert_eq!(fb.along_fault(1).len(), 17);
+    assert_eq!(fb.along_fault(0).len(), 5);
+    // The base's nodes in order of x, after the fault's.
+    let xs: Vec<f64> = fb
+        .along_fault(1)
+        .iter()
+        .map(|&k| model.vertices[fb.nodes[k]][0])
+        .collect();
+    assert!(xs.windows(2).all(|w| w[0] < w[1]));
+    assert!(fb.along[..5].iter().all(|&k| fb.fault_of[k] == 0));
+    let refused = quasi_dynamic(model)
+        .normal_stress(rsf::normal_stress::NormalStress::FromSlip)
+        .time_step(1.0)
+        .build_fault_ode(FaultOdeOptions::default())
+        .unwrap_err();
+    assert!(refused.to_string().contains("frictional boundary beside"), "{refused}");
+    // Both engines on it.
+    let ode = slip_after(build(), 1e7);
+    let mut implicit = quasi_dynamic(build())
+        .time_step(1e5)
+        .solver(rsf::SolverKind::Direct)
+        .build()
+        .unwrap();
+    let mut last = LastSlip::default();
+    rsf::run_until(&mut implicit, rsf::Until::Time(1e7), &mut [&mut last]).unwrap();
+    let scale = ode.iter().fold(0.0f64, |m, s| m.max(s.1.abs()));
+    assert!(scale > 1e-4, "{scale:e}");
+    for ((x, a), (_, b)) in ode.iter().zip(&last.slip) {
+        assert!((a - b).abs() < 0.05 * scale, "{x:?}: {a:e} vs {b:e}");
+    }
+}

@@ -197,8 +197,8 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
 }
 
 impl<const C: usize> ModelBuilder<2, C> {
-    /// A fault inside the body along the straight segment `from` → `to` (m) instead of a
-    /// frictional boundary: at [`build`](Self::build) the finest mesh is cut open along its
+    /// A fault inside the body along the straight segment `from` → `to` (m), named `name`:
+    /// at [`build`](Self::build) the finest mesh is cut open along its
     /// edges on the segment
     /// ([`SimplexMesh::split_along_segment`](rsf_fem::SimplexMesh::split_along_segment): a
     /// node inside the body at an end is a shared tip, an end on the outer boundary is
@@ -215,10 +215,24 @@ impl<const C: usize> ModelBuilder<2, C> {
     /// ([`StepView::displacement`](crate::observe::StepView::displacement), VTU frames) are
     /// Cartesian.
     ///
+    /// **Several faults.** Call it (or [`internal_fault_polyline`](Self::internal_fault_polyline))
+    /// once per fault, each with its own name: the faults form a network cut at once
+    /// ([`SimplexMesh::split_along_network`](rsf_fem::SimplexMesh::split_along_network)) —
+    /// disjoint (stepovers, parallel strands), one ending on another that goes on through
+    /// the vertex (a branch), or two crossing — and Γ_F is every fault's slip nodes, each
+    /// knowing its fault ([`FrictionalBoundary::fault_names`](crate::model::FrictionalBoundary::fault_names));
+    /// per-fault laws and states through
+    /// [`SimulationBuilder::friction_on_faults`](crate::SimulationBuilder::friction_on_faults)
+    /// and its siblings (docs/fault-networks.md, docs/math.md §16). A
+    /// [`frictional_boundary`](Self::frictional_boundary) may be given beside them (e.g.
+    /// the base of a block cut by faults): its nodes are frictional too, after the faults'.
+    ///
     /// # Errors (at `build`)
     /// The splitting's errors (e.g. a segment the mesh does not resolve, one lying on the
-    /// outer boundary); [`Error::InvalidParameter`](crate::Error::InvalidParameter) with a
-    /// frictional boundary as well, an [`antisymmetric_fault`](Self::antisymmetric_fault),
+    /// outer boundary; faults meeting otherwise than in a branch or a crossing,
+    /// [`rsf_fem::Error::FaultJunctionUnsupported`]);
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) with a frictional
+    /// boundary touching a fault, an [`antisymmetric_fault`](Self::antisymmetric_fault),
     /// Dirichlet parts fixing only some components of a split pair's two sides (their
     /// Cartesian data would mix the mean and the jump), or fixing both sides with
     /// velocities that open the fault. A pair whose two sides are fully fixed is prescribed
@@ -280,7 +294,9 @@ impl<const C: usize> ModelBuilder<2, C> {
 
 impl<const C: usize> ModelBuilder<3, C> {
     /// A fault inside a 3-D body on the convex planar polygon `corners` (m, at least three,
-    /// in order around it) instead of a frictional boundary: at [`build`](Self::build) the
+    /// in order around it), named `name` — once per fault: several disjoint faults form a
+    /// network, as in 2-D ([`internal_fault`](ModelBuilder::internal_fault); in 3-D faults
+    /// may not share a vertex, [`rsf_fem::Error::FaultJunctionUnsupported`]): at [`build`](Self::build) the
     /// finest mesh is cut open along its faces on the polygon
     /// ([`SimplexMesh::split_along_polygon`](rsf_fem::SimplexMesh::split_along_polygon): a
     /// fault vertex whose cells the fault does not separate — its rim inside the body — is

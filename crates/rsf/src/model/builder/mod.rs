@@ -20,7 +20,7 @@ use settings::{Body, Boundary, Faults};
 use stages::constraints::constrain;
 use stages::domain::Domain;
 use stages::matrices::System;
-use stages::pairs::{share_and_prescribe, Kinematics};
+use stages::pairs::{share_and_prescribe, Kinematics, SharedFault};
 use stages::{fault_order, inputs, loads, matrices, prolongations};
 
 pub use part::{FacetPredicate, Part};
@@ -393,6 +393,14 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
                     &mut constraints,
                 )
             })
+            .transpose()?
+            // A frictional boundary beside them: its slanted nodes in their frames too.
+            .map(|f| -> Result<_> {
+                Ok(SharedFault {
+                    fault: f.fault.with_boundary_frames(&constraints.boundary_frames)?,
+                    ..f
+                })
+            })
             .transpose()?;
         ended(BuildStage::Pairs);
         // 8. The change of variables: everything in the nodal frames of slanted Γ_F nodes
@@ -410,8 +418,13 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         }
         ended(BuildStage::Variables);
         // 9. Γ_F in the order of the fault indices.
-        let frictional_boundary =
-            fault_order::frictional_boundary(mesh, &constraints.gamma_f, s, fault.as_ref())?;
+        let frictional_boundary = fault_order::frictional_boundary(
+            mesh,
+            &constraints.gamma_f,
+            s,
+            fault.as_ref(),
+            constraints.boundary.as_ref(),
+        )?;
         ended(BuildStage::FaultOrder);
         // 10. The prolongations, the finest onto the model's unknowns.
         let prolongations = prolongations::prolongations::<D, C>(&domain, transform)?;

@@ -215,6 +215,19 @@ impl<const D: usize> InternalFault<D> {
         )
     }
 
+    /// The faults with the nodal frames `frames` of a frictional boundary beside them in
+    /// their transform ([`MeanJumpTransform::with_nodal_frames`]).
+    ///
+    /// # Errors
+    /// The transform's.
+    pub(crate) fn with_boundary_frames<const C: usize>(
+        mut self,
+        frames: &rsf_fem::NodalFrames<C>,
+    ) -> crate::Result<Self> {
+        self.transform = self.transform.with_nodal_frames(frames)?;
+        Ok(self)
+    }
+
     /// The split pairs `(p⁻, p⁺)` of every fault, fault after fault (tips and junctions
     /// excluded).
     pub fn pairs(&self) -> &[(usize, usize)] {

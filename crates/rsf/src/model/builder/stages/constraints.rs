@@ -26,9 +26,15 @@ pub(crate) struct Constraints<const D: usize, const C: usize> {
     pub displacement: Vec<Option<f64>>,
     /// Γ_F on the model's mesh.
     pub gamma_f: BoundaryPart<D>,
-    /// The frames of Γ_F's nodes: a boundary fault's slanted nodes (the model's basis there),
-    /// or a fault inside the body's pair frames at the minus vertices (of the jump blocks).
+    /// The frames of Γ_F's nodes: a boundary fault's slanted nodes (the model's basis there)
+    /// and the faults inside the body's pair frames at the jump blocks.
     pub frames: NodalFrames<C>,
+    /// The frames of the frictional boundary's slanted nodes alone (the part of
+    /// [`frames`](Self::frames) the faults' transform takes besides its own).
+    pub boundary_frames: NodalFrames<C>,
+    /// The frictional boundary alone (beside faults inside the body; `gamma_f` without
+    /// their faces), if one was given.
+    pub boundary: Option<BoundaryPart<D>>,
 }
 
 /// The constraints on `mesh` of the Dirichlet parts `dirichlet` (in order), of bilateral
@@ -53,53 +59,109 @@ pub(crate) fn constrain<const D: usize, const C: usize>(
         mut displacement,
     } = dirichlet_dofs(mesh, dirichlet)?;
     let gamma_f = fault_part.resolve(mesh)?;
-    // A vector field slides tangentially (normal component fixed, nodal frames on
-    // slanted nodes); a scalar field's one component is tangential to any in-plane Γ_F.
-    // An internal fault: the pair frames (kept for outputs; its matrices take `T`).
-    let frames: NodalFrames<C> = match fault {
-        Some(f) => internal_fault_frames(f, &fixed)?,
-        None if C == D => same_block_size(fault_frames(
-            mesh,
-            &gamma_f,
-            &fault_part.name(),
-            faults.max_kink_degrees,
-            faults.tangent,
-        )?),
-        None => NodalFrames::default(),
-    };
-    if let Some(f) = fault {
-        // The normal jump is tied (no opening); a scalar field has only the slip. At a
-        // junction the block that keeps the slips single-valued is tied whole.
-        if C == D {
-            for node in f.slip_nodes() {
-                fixed[C * node.vertex + normal_component(C)] = true;
+    let boundary = fault_part.boundary(mesh)?;
+    // A fault on the boundary: a vector field slides tangentially (normal component fixed,
+    // nodal frames on slanted nodes); a scalar field's one component is tangential to any
+    // in-plane Γ_F.
+    let boundary_frames: NodalFrames<C> = match &boundary {
+        Some(part) if C == D => {
+            if let Some(f) = fault {
+                disjoint_from_faults(part, f)?;
             }
+            let name = part.name().to_owned();
+            same_block_size(fault_frames(
+                mesh,
+                part,
+                &name,
+                faults.max_kink_degrees,
+                faults.tangent,
+            )?)
         }
-        for blocks in &f.transform.junctions {
-            fixed[C * blocks.tied..C * blocks.tied + C].fill(true);
-        }
-    } else if C == D {
-        for (&p, nrm) in gamma_f.nodes().iter().zip(&gamma_f.normals(mesh)?) {
+        _ => NodalFrames::default(),
+    };
+    if let (Some(part), true) = (&boundary, C == D) {
+        for (&p, nrm) in part.nodes().iter().zip(&part.normals(mesh)?) {
             if let Some(c) = normal_axis(nrm) {
                 fixed[C * p + c] = true;
             }
         }
     }
-    if fault.is_none() {
+    if let Some(part) = &boundary {
         in_frames(
-            &frames,
-            &fault_part.name(),
+            &boundary_frames,
+            part.name(),
             &mut fixed,
             [&mut velocity, &mut displacement],
         )?;
     }
+    // Faults inside the body: the pair frames (kept for outputs; the matrices take `T`).
+    let frames = match fault {
+        Some(f) => {
+            let pairs: NodalFrames<C> = internal_fault_frames(f, &fixed)?;
+            // The normal jump is tied (no opening); a scalar field has only the slip. At a
+            // junction the block that keeps the slips single-valued is tied whole.
+            if C == D {
+                for node in f.slip_nodes() {
+                    fixed[C * node.vertex + normal_component(C)] = true;
+                }
+            }
+            for blocks in &f.transform.junctions {
+                fixed[C * blocks.tied..C * blocks.tied + C].fill(true);
+            }
+            merged(pairs, &boundary_frames)
+        }
+        None => boundary_frames.clone(),
+    };
     Ok(Constraints {
         fixed,
         velocity,
         displacement,
         gamma_f,
         frames,
+        boundary_frames,
+        boundary,
     })
+}
+
+/// Refuses a frictional boundary that shares a vertex with a fault inside the body.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `frictional_boundary`.
+fn disjoint_from_faults<const D: usize>(
+    part: &BoundaryPart<D>,
+    fault: &InternalFault<D>,
+) -> Result<()> {
+    for &p in part.nodes() {
+        if fault.pair_of(p).is_some() || fault.junction_of(p).is_some() {
+            return Err(invalid(
+                "frictional_boundary",
+                format!(
+                    "node {p} of the frictional boundary `{}` is a split node of a fault \
+                     inside the body: a fault may not end on the frictional boundary",
+                    part.name()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The frames of `a` and `b` (on disjoint nodes) in increasing node order.
+fn merged<const C: usize>(a: NodalFrames<C>, b: &NodalFrames<C>) -> NodalFrames<C> {
+    if b.nodes.is_empty() {
+        return a;
+    }
+    let mut all: Vec<(usize, [[f64; C]; C])> = a
+        .nodes
+        .into_iter()
+        .zip(a.rotations)
+        .chain(b.nodes.iter().copied().zip(b.rotations.iter().copied()))
+        .collect();
+    all.sort_by_key(|f| f.0);
+    NodalFrames {
+        nodes: all.iter().map(|f| f.0).collect(),
+        rotations: all.into_iter().map(|f| f.1).collect(),
+    }
 }
 
 /// The dofs the Dirichlet parts hold, with their data (Cartesian, per dof).

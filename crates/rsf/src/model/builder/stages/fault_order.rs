@@ -1,6 +1,7 @@
 //! Stage 9: Γ_F in the order of the fault indices, with the lumped weights of its nodes —
-//! a boundary fault's nodes sorted by their coordinates (lexicographically), a fault
-//! inside the body's free pairs' minus vertices in order along it.
+//! the faults inside the body's free slip nodes in order along each (fault after fault),
+//! then a boundary fault's nodes sorted by their coordinates (lexicographically); each
+//! node with its fault's name.
 
 use rsf_fem::{BoundaryPart, SimplexMesh};
 
@@ -8,13 +9,15 @@ use super::pairs::SharedFault;
 use crate::error::Result;
 use crate::model::fault::FrictionalBoundary;
 
-/// The frictional boundary of Γ_F `gamma_f` on `mesh` with slip factor `s` (weights `w/s`):
-/// every node of `gamma_f` by its coordinates, or, for a fault inside the body, the minus
-/// vertices of the pairs whose slip is not prescribed, in the fault's order, with the
-/// minus face's weights.
+/// The frictional boundary of Γ_F `gamma_f` (every frictional facet) on `mesh` with slip
+/// factor `s` (weights `w/s`): for faults inside the body `fault`, the slip nodes whose slip
+/// is not prescribed in order along each fault, with the minus faces' weights (a junction's
+/// jump with its fault's own two edges', half each); for a frictional boundary `boundary`
+/// (alone, or beside faults inside the body), its nodes by their coordinates. Each node
+/// carries its fault: the faults inside the body by name, then the boundary by its part's.
 ///
-/// A fault inside the body whose every pair is prescribed (a kinematic source) has no
-/// frictional node: [`FrictionalBoundary::empty`].
+/// Faults inside the body whose every slip node is prescribed (a kinematic source), with
+/// no frictional boundary, have no frictional node: [`FrictionalBoundary::empty`].
 ///
 /// # Errors
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
@@ -24,6 +27,7 @@ pub(crate) fn frictional_boundary<const D: usize>(
     gamma_f: &BoundaryPart<D>,
     s: f64,
     fault: Option<&SharedFault<D>>,
+    boundary: Option<&BoundaryPart<D>>,
 ) -> Result<FrictionalBoundary> {
     let mut weights = gamma_f.weights(mesh)?;
     if s != 1.0 {
@@ -31,69 +35,56 @@ pub(crate) fn frictional_boundary<const D: usize>(
             *w /= s;
         }
     }
-    let (names, faults_along): (Vec<String>, Vec<usize>) = match fault {
-        Some(SharedFault { fault, prescribed }) => (
-            fault.faults().iter().map(|f| f.name().to_owned()).collect(),
-            fault
-                .slip_nodes_along()
-                .into_iter()
-                .filter(|&(k, _)| !prescribed[k])
-                .map(|(k, _)| fault.slip_nodes()[k].fault)
-                .collect(),
-        ),
-        None => (
-            vec![gamma_f.name().to_owned()],
-            vec![0; gamma_f.num_nodes()],
-        ),
-    };
-    let (nodes_along, weights_along): (Vec<usize>, Vec<f64>) = match fault {
-        // The slip nodes in order along each fault (a tip does not slip), with the minus
-        // face's weights; a junction's jump with its fault's own edges' (half each).
-        Some(SharedFault { fault, prescribed }) => {
-            let mut weight_of = vec![f64::NAN; mesh.num_vertices()];
-            for (&p, &w) in gamma_f.nodes().iter().zip(&weights) {
-                weight_of[p] = w;
+    let mut weight_of = vec![f64::NAN; mesh.num_vertices()];
+    for (&p, &w) in gamma_f.nodes().iter().zip(&weights) {
+        weight_of[p] = w;
+    }
+    let mut names = Vec::new();
+    let (mut nodes_along, mut weights_along, mut faults_along) = (vec![], vec![], vec![]);
+    // The slip nodes in order along each fault (a tip does not slip).
+    if let Some(SharedFault { fault, prescribed }) = fault {
+        names.extend(fault.faults().iter().map(|f| f.name().to_owned()));
+        for (k, i) in fault.slip_nodes_along() {
+            if prescribed[k] {
+                continue;
             }
-            fault
-                .slip_nodes_along()
-                .into_iter()
-                .filter(|&(k, _)| !prescribed[k])
-                .map(|(k, i)| {
-                    let node = fault.slip_nodes()[k];
-                    let w = match node.pair {
-                        Some(_) => weight_of[node.vertex],
-                        None => {
-                            let sides = &fault.faults()[node.fault];
-                            let facets = sides.minus_facets();
-                            [i.wrapping_sub(1), i]
-                                .into_iter()
-                                .filter(|&e| e < facets.len())
-                                .map(|e| 0.5 * mesh.boundary_facet_measure(facets[e]) / s)
-                                .sum()
-                        }
-                    };
-                    (node.vertex, w)
-                })
-                .unzip()
+            let node = fault.slip_nodes()[k];
+            let w = match node.pair {
+                Some(_) => weight_of[node.vertex],
+                None => {
+                    let facets = fault.faults()[node.fault].minus_facets();
+                    [i.wrapping_sub(1), i]
+                        .into_iter()
+                        .filter(|&e| e < facets.len())
+                        .map(|e| 0.5 * mesh.boundary_facet_measure(facets[e]) / s)
+                        .sum()
+                }
+            };
+            nodes_along.push(node.vertex);
+            weights_along.push(w);
+            faults_along.push(node.fault);
         }
-        None => {
-            let vertices = mesh.vertices();
-            let mut order: Vec<usize> = (0..gamma_f.num_nodes()).collect();
-            order.sort_by(|&a, &b| {
-                let (xa, xb) = (&vertices[gamma_f.nodes()[a]], &vertices[gamma_f.nodes()[b]]);
-                xa.iter()
-                    .zip(xb)
-                    .map(|(u, v)| u.total_cmp(v))
-                    .find(|o| o.is_ne())
-                    .unwrap_or(std::cmp::Ordering::Equal)
-            });
-            order
+    }
+    if let Some(part) = boundary {
+        let f = names.len();
+        names.push(part.name().to_owned());
+        let vertices = mesh.vertices();
+        let mut order: Vec<usize> = part.nodes().to_vec();
+        order.sort_by(|&a, &b| {
+            vertices[a]
                 .iter()
-                .map(|&k| (gamma_f.nodes()[k], weights[k]))
-                .unzip()
+                .zip(&vertices[b])
+                .map(|(u, v)| u.total_cmp(v))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        for p in order {
+            nodes_along.push(p);
+            weights_along.push(weight_of[p]);
+            faults_along.push(f);
         }
-    };
-    if nodes_along.is_empty() && fault.is_some() {
+    }
+    if nodes_along.is_empty() && fault.is_some() && boundary.is_none() {
         return Ok(FrictionalBoundary::empty());
     }
     FrictionalBoundary::new(&nodes_along, &weights_along)?

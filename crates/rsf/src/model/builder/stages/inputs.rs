@@ -9,40 +9,50 @@ use crate::error::{invalid, Result};
 use crate::model::internal::InternalFault;
 use crate::model::medium::Medium;
 
-/// The part that is Γ_F: the caller's frictional boundary, or the minus faces of the
-/// faults inside the body.
-pub(crate) enum FaultPart<'b, const D: usize> {
+/// The parts that are Γ_F: the caller's frictional boundary, the minus faces of the faults
+/// inside the body, or both.
+pub(crate) struct FaultPart<'b, const D: usize> {
     /// [`ModelBuilder::frictional_boundary`](crate::ModelBuilder::frictional_boundary).
-    Given(&'b Part<D>),
-    /// The faces tagged `{name}_minus` of the split mesh, one tag per fault.
-    MinusFaces(Vec<String>),
+    pub given: Option<&'b Part<D>>,
+    /// The faces tagged `{name}_minus` of the split mesh, one tag per fault inside the body.
+    pub minus_faces: Vec<String>,
 }
 
 impl<const D: usize> FaultPart<'_, D> {
-    /// The part's name (for messages): the given part's, or the faults' minus tags.
+    /// The parts' names (for messages): the given part's and the faults' minus tags.
     pub fn name(&self) -> String {
-        match self {
-            Self::Given(p) => p.name().to_owned(),
-            Self::MinusFaces(tags) => tags.join(", "),
-        }
+        let mut names: Vec<&str> = self.given.iter().map(|p| p.name()).collect();
+        names.extend(self.minus_faces.iter().map(String::as_str));
+        names.join(", ")
     }
 
-    /// The part on `mesh` (the model's split mesh): the given part resolved, or every
-    /// fault's minus faces (one fault: [`BoundaryPart::from_tag`] of its tag).
+    /// Γ_F on `mesh` (the model's split mesh): the given part and every fault's minus faces
+    /// (the given part alone: resolved as it is; one fault alone: [`BoundaryPart::from_tag`]
+    /// of its tag).
     ///
     /// # Errors
     /// As [`Part::resolve`](super::super::part::Part).
     pub fn resolve(&self, mesh: &SimplexMesh<D>) -> Result<BoundaryPart<D>> {
-        match self {
-            Self::Given(p) => p.resolve(mesh),
-            Self::MinusFaces(tags) => match &tags[..] {
-                [one] => Part::from(one.as_str()).resolve(mesh),
-                _ => {
-                    let facets = tags.iter().flat_map(|t| mesh.facets_with_tag(t)).collect();
-                    Ok(BoundaryPart::from_facets(mesh, &self.name(), facets)?)
-                }
-            },
+        match (self.given, &self.minus_faces[..]) {
+            (Some(p), []) => p.resolve(mesh),
+            (None, [one]) => Part::from(one.as_str()).resolve(mesh),
+            _ => {
+                let mut facets: Vec<usize> = match self.given {
+                    Some(p) => p.resolve(mesh)?.facets().to_vec(),
+                    None => Vec::new(),
+                };
+                facets.extend(self.minus_faces.iter().flat_map(|t| mesh.facets_with_tag(t)));
+                Ok(BoundaryPart::from_facets(mesh, &self.name(), facets)?)
+            }
         }
+    }
+
+    /// The given frictional boundary on `mesh`, if there is one.
+    ///
+    /// # Errors
+    /// As [`Part::resolve`](super::super::part::Part).
+    pub fn boundary(&self, mesh: &SimplexMesh<D>) -> Result<Option<BoundaryPart<D>>> {
+        self.given.map(|p| p.resolve(mesh)).transpose()
     }
 }
 
@@ -93,24 +103,18 @@ pub(crate) fn check<'b, const D: usize, const C: usize>(
             format!("{s} must be finite and positive"),
         ));
     }
-    let fault_part = match (&faults.frictional_boundary, fault) {
-        (Some(p), None) => FaultPart::Given(p),
-        (None, Some(f)) => {
-            FaultPart::MinusFaces(f.faults().iter().map(FaultSides::minus_tag).collect())
-        }
-        (Some(_), Some(_)) => {
-            return Err(invalid(
-                "frictional_boundary",
-                "given besides an internal fault (whose minus face is Γ_F): give one",
-            ))
-        }
-        (None, None) => {
-            return Err(invalid(
-                "frictional_boundary",
-                "not set (ModelBuilder::frictional_boundary or internal_fault)",
-            ))
-        }
+    let fault_part = FaultPart {
+        given: faults.frictional_boundary.as_ref(),
+        minus_faces: fault.map_or_else(Vec::new, |f| {
+            f.faults().iter().map(FaultSides::minus_tag).collect()
+        }),
     };
+    if fault_part.given.is_none() && fault_part.minus_faces.is_empty() {
+        return Err(invalid(
+            "frictional_boundary",
+            "not set (ModelBuilder::frictional_boundary or internal_fault)",
+        ));
+    }
     if fault.is_some() && s != 1.0 {
         return Err(invalid(
             "slip_factor",

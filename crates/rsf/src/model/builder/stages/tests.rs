@@ -8,7 +8,7 @@ use super::super::part::Part;
 use super::super::ModelBuilder;
 use super::constraints::{constrain, Constraints};
 use super::domain::Domain;
-use super::inputs::{check, FaultPart};
+use super::inputs::check;
 use super::matrices::{assemble, Matrices, System};
 use super::pairs::{share_and_prescribe, Kinematics};
 use super::{fault_order, loads, prolongations};
@@ -125,8 +125,9 @@ fn inputs_are_checked_in_order() {
     assert_eq!(name(run(&b).unwrap_err()), "material");
     let b = square_with_fault().antisymmetric_fault(2.0);
     assert_eq!(name(run(&b).unwrap_err()), "slip_factor");
+    // A frictional boundary beside a fault inside the body is Γ_F with it.
     let b = square_with_fault().frictional_boundary("bottom");
-    assert_eq!(name(run(&b).unwrap_err()), "frictional_boundary");
+    assert_eq!(run(&b).unwrap(), 1.0);
     let mut b = slanted_block().internal_creep(|_| true, 1e-9);
     assert_eq!(name(run(&b).unwrap_err()), "internal_creep");
     b.fault.creep = None;
@@ -136,7 +137,7 @@ fn inputs_are_checked_in_order() {
     let b = square_with_fault();
     let (_, fault) = Domain::cut(&b.hierarchy, &b.fault).unwrap();
     let inputs = check(&b.body, &b.boundary, &b.fault, fault.as_ref()).unwrap();
-    assert!(matches!(inputs.fault_part, FaultPart::MinusFaces(ref t) if t == &["fault_minus"]));
+    assert!(inputs.fault_part.given.is_none() && inputs.fault_part.minus_faces == ["fault_minus"]);
 }
 
 /// Stage 3 on a slanted Γ_F: every frictional node has a frame whose last column is the
@@ -376,7 +377,7 @@ fn a_clamped_pair_is_prescribed_and_the_free_pairs_are_the_fault() {
     assert_eq!(c.velocity[2 * mi..2 * mi + 2], [Some(slip), Some(0.0)]);
     assert_eq!(c.velocity[2 * pl..2 * pl + 2], [Some(0.0), Some(0.0)]);
     assert!((0..2).all(|k| c.fixed[2 * mi + k] && c.fixed[2 * pl + k]));
-    let fb = fault_order::frictional_boundary(mesh, &c.gamma_f, 1.0, Some(&shared)).unwrap();
+    let fb = fault_order::frictional_boundary(mesh, &c.gamma_f, 1.0, Some(&shared), None).unwrap();
     let free: Vec<usize> = pairs
         .iter()
         .zip(&shared.prescribed)
@@ -403,7 +404,7 @@ fn a_clamped_pair_is_prescribed_and_the_free_pairs_are_the_fault() {
 fn a_boundary_fault_is_in_coordinate_order_with_weights_over_s() {
     let b = slanted_block();
     let (domain, c) = constraints_of(&b);
-    let fb = fault_order::frictional_boundary(domain.mesh(), &c.gamma_f, 2.0, None).unwrap();
+    let fb = fault_order::frictional_boundary(domain.mesh(), &c.gamma_f, 2.0, None, c.boundary.as_ref()).unwrap();
     let xs: Vec<[f64; 2]> = fb
         .along
         .iter()
