@@ -10,6 +10,8 @@
 //!   injection, docs/seas-bp6.md); their output files (the
 //!   SCEC format) are the crate `rsf-seas`'s, which the scenes set up
 //!   ([`SeasBp1::seas_setup`], [`SeasBp5::output`]);
+//! - [`Stepover`]: two parallel strike-slip strands in map view with BP1's friction, a
+//!   fault network whose ruptures may jump the step (docs/fault-networks.md);
 //! - the slider on an inclined base ([`inclined_slider_model`]) and on a curved one read from
 //!   a Gmsh file ([`arc_block_model`]), with nodal frames;
 //! - [`output`]: bounds on a scene's output before it runs.
@@ -52,6 +54,8 @@ mod seas_bp5_output;
 mod seas_bp6;
 mod slider;
 mod slider3d;
+#[cfg(feature = "seas")]
+mod stepover;
 
 pub use curved::{arc_block_model, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
@@ -74,6 +78,10 @@ pub use seas_bp5::{
 pub use seas_bp6::{
     Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,
     BP6_SECONDS_PER_YEAR,
+};
+#[cfg(feature = "seas")]
+pub use stepover::{
+    Stepover, StepoverFaultOde, StepoverGrid, STEPOVER_FAULTS, STEPOVER_STATION_DISTANCES,
 };
 // BP5's stations: their files are the output's (rsf-seas), their positions the scene's.
 #[cfg(feature = "seas")]

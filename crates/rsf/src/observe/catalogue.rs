@@ -365,4 +365,9 @@ impl<const D: usize, const C: usize> Observer<D, C> for FaultCatalogue<D, C> {
         self.log_state(step)?;
         Ok(Flow::Continue(()))
     }
+
+    /// Only Γ_F: a run condensed onto it need not extend the field.
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }

@@ -142,4 +142,9 @@ impl<const D: usize, const C: usize> Observer<D, C> for FaultStations<D, C> {
         }
         Ok(Flow::Continue(()))
     }
+
+    /// Only Γ_F: a run condensed onto it need not extend the field.
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }

@@ -245,7 +245,7 @@ pub trait Observer<const D: usize, const C: usize = D> {
     /// otherwise: the library's observers of the fault ([`SlipEvents`],
     /// [`FrictionalProfile`],
     /// [`FaultRecorder`], [`Reports`],
-    /// [`Checkpointer`], [`Progress`];
+    /// [`Checkpointer`], [`Progress`], [`FaultStations`], [`FaultCatalogue`];
     /// and the SEAS outputs of the crate `rsf-seas`) return `false`.
     fn reads_volume(&self) -> bool {
         true

@@ -1,0 +1,404 @@
+//! A stepover between two strike-slip strands in map view (plane strain, quasi-dynamic;
+//! docs/fault-networks.md): the fault network `rsf_scenes::Stepover` — two parallel
+//! strands with SEAS BP1's friction along strike from their tips, loaded by creep beyond
+//! their far ends and by the box's plate motion — integrated by the fault ODE over many
+//! cycles, with the catalogue of which strand each event ruptured.
+//!
+//! ```sh
+//! cargo run --release --example stepover -- --gap-km 1 --overlap-km 2 --out out/stepover
+//! cargo run --release --example stepover -- --gap-km 4 --dx 50 --end-years 1500 --out out/stepover_4km
+//! ```
+//!
+//! Writes to `--out`: a station file per strand and distance from its tip
+//! (`{south,north}_sNN.Nkm.csv`: step, time, slip, slip rate, shear traction, state;
+//! rsf::observe::FaultStations), the catalogue `catalogue.csv` (every event: onset, end,
+//! the strand and place where it nucleated, the strands it ruptured, per strand its peak
+//! slip rate, moment and rupture time; rsf::observe::FaultCatalogue), `summary.json` (the
+//! scene, the run, the events, how many jumped the step), and the figure `catalogue.png`
+//! (each event's strands against time).
+//!
+//! Runs: `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N` as the
+//! SEAS programs (the files and the catalogue continue byte for byte), `--overwrite`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
+use crate::guard::{in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::session::Session;
+use crate::{cpu_seconds, machine};
+use clap::Parser;
+use plotters::prelude::*;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::{EventThresholds, FaultCatalogue, FaultStations, NetworkEvent, Progress, TimeUnit};
+use rsf_scenes::{SeasBp1, Stepover, StepoverGrid, STEPOVER_FAULTS};
+use rsf_seas::SECONDS_PER_YEAR;
+
+/// A stepover between two strike-slip strands (map view, plane strain).
+#[derive(Parser)]
+#[command(version)]
+pub struct Args {
+    /// Output folder.
+    #[arg(long, default_value = "out/stepover")]
+    out: PathBuf,
+    /// Replace the files of an earlier run in `--out` (without it, a folder holding any
+    /// rsf program's run is refused and left untouched).
+    #[arg(long)]
+    overwrite: bool,
+    /// End time (years).
+    #[arg(long, default_value_t = 3000.0, allow_negative_numbers = true)]
+    end_years: f64,
+    /// Element size along the strands and next to them (m); must divide half the gap,
+    /// half the overlap and the strands' frictional length into whole cells.
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
+    dx: f64,
+    /// Distance between the strands across strike (km).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    gap_km: f64,
+    /// Overlap of the strands along strike (km; negative: an underlap, the tips apart).
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
+    overlap_km: f64,
+    /// Length of each strand's frictional part (km), from its tip: velocity weakening over
+    /// 15 km, the transition to 18 km, velocity strengthening to this, creep beyond.
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
+    strand_km: f64,
+    /// How far the box reaches beyond the strands (km), along and across strike.
+    #[arg(long, default_value_t = 50.0, allow_negative_numbers = true)]
+    domain_km: f64,
+    /// Growth of the elements away from the strands.
+    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true)]
+    ratio: f64,
+    /// The normal stress changes with slip (a releasing or restraining step); default the
+    /// laws' fixed σ_n.
+    #[arg(long)]
+    normal_stress_from_slip: bool,
+    /// Tolerance of the fault ODE.
+    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
+    tolerance: f64,
+    #[command(flatten)]
+    kernel: crate::KernelArgs,
+    /// Threads of each evaluation (the same bits for every value). Default: every core.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
+    threads: usize,
+    /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
+    #[command(flatten)]
+    run: crate::ResumeArgs,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The scene and grid of the flags.
+fn scene(args: &Args) -> (Stepover, StepoverGrid) {
+    let stepover = Stepover {
+        params: SeasBp1 {
+            w_f: args.strand_km * 1e3,
+            ..SeasBp1::default()
+        },
+        gap: args.gap_km * 1e3,
+        overlap: args.overlap_km * 1e3,
+        normal_stress_from_slip: args.normal_stress_from_slip,
+    };
+    let grid = StepoverGrid {
+        dx: args.dx,
+        domain: args.domain_km * 1e3,
+        ratio: args.ratio,
+    };
+    (stepover, grid)
+}
+
+/// The files a run writes into `--out`.
+fn outputs(stepover: &Stepover) -> Vec<String> {
+    let mut names: Vec<String> = stepover
+        .stations()
+        .iter()
+        .map(|s| format!("{}_{}.csv", s.fault, s.label))
+        .collect();
+    names.extend(
+        [
+            "catalogue.csv",
+            CATALOGUE_LOG,
+            "summary.json",
+            "catalogue.png",
+            "checkpoint.bin",
+        ]
+        .map(String::from),
+    );
+    names
+}
+
+/// The catalogue's resume log.
+const CATALOGUE_LOG: &str = "catalogue_resume.csv";
+
+/// Bytes per station row (step, time, slip, slip rate, traction, state).
+fn station_row_bytes() -> f64 {
+    csv_row_bytes(6)
+}
+
+impl Program for Args {
+    const NAME: &'static str = "stepover";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        in_range("--strand-km", self.strand_km, (1.0, 1e4), "km")?;
+        in_range("--gap-km", self.gap_km, (1e-3, 1e3), "km")?;
+        in_range(
+            "--overlap-km",
+            self.overlap_km,
+            (-0.9 * self.strand_km, 0.9 * self.strand_km),
+            "km: shorter than a strand either way",
+        )?;
+        in_range("--dx", self.dx, (1.0, 15e3 / 8.0), "m: at most H/8")?;
+        in_range(
+            "--domain-km",
+            self.domain_km,
+            (self.strand_km, 1e5),
+            "km: at least a strand's length",
+        )?;
+        in_range("--ratio", self.ratio, (1.0, 2.0), "the growth of the elements")?;
+        let (stepover, grid) = scene(self);
+        stepover
+            .check_grid(&grid)
+            .map_err(|e| format!("--dx {}: {e}", number(self.dx)))?;
+        crate::cli::for_flag(
+            "--tolerance",
+            "tolerance",
+            stepover.params.fault_ode_options(self.tolerance),
+        )?;
+        self.kernel.kernel(self.tolerance)?;
+        // The graded mesh in closed form (as Stepover::mesh grades it).
+        let [x_half, _] = stepover.box_half(&grid);
+        let reach = x_half - grid.domain;
+        let len = rsf::fem::geometric_grading_len;
+        let nx = 2.0 * len(grid.dx, reach, grid.ratio, x_half) - 1.0;
+        let g = 0.5 * stepover.gap;
+        let ny = 2.0 * len(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain)
+            + 2.0 * len(grid.dx, (2.0 * grid.dx).min(g), grid.ratio, g)
+            - 3.0;
+        let nodes = nx * ny;
+        // Both strands' slip nodes across the box.
+        let fault_nodes = 2.0 * (x_half + x_half) / grid.dx;
+        let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
+        let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(fault_nodes, hierarchical);
+        // Rows: every step, a few hundred steps per year with events (the BP1 programs'
+        // rate is an upper bound for the stations written at every step).
+        let stations = stepover.stations().len() as f64;
+        let rows = self.end_years * 400.0 + 1e4;
+        let names = outputs(&stepover);
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --domain-km, --ratio, --strand-km",
+                format!(
+                    "the stepover on dx = {} m: about {nodes:.3e} nodes, {fault_nodes:.3e} on \
+                     the strands",
+                    number(self.dx)
+                ),
+            )
+            .output(
+                stations * rows * station_row_bytes() + FIGURE_BYTES + 1e7,
+                "--end-years",
+                format!("{} years of {stations} station files", self.end_years),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+            ))
+    }
+}
+
+/// The program `stepover` (`cargo run --release --example stepover -- --out DIR …`).
+pub fn main() -> ExitCode {
+    crate::guard::main(run)
+}
+
+fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
+    let (stepover, grid) = scene(&args);
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let model = stepover.model(&grid)?;
+    println!(
+        "stepover: gap {} km, overlap {} km, strands {} km, Δx = {} m, {} nodes, {} frictional \
+         nodes ({} on the south strand); on {}",
+        args.gap_km,
+        args.overlap_km,
+        args.strand_km,
+        args.dx,
+        model.vertices.len(),
+        model.frictional_boundary.len(),
+        model.frictional_boundary.along_fault(0).len(),
+        machine()
+    );
+    let mut options = stepover.params.fault_ode_options(args.tolerance)?;
+    options.kernel = args.kernel.kernel(args.tolerance)?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    let mut ode = stepover.fault_ode(model, options)?;
+    println!("S: {}", ode.kernel_report());
+    println!(
+        "set-up: wall {:.1} s, CPU {:.1} s",
+        clock.elapsed().as_secs_f64(),
+        cpu_seconds() - cpu0
+    );
+    let fingerprint = Fingerprint::of_serialized(&stepover)
+        .with("dx", args.dx)
+        .with("domain_km", args.domain_km)
+        .with("ratio", args.ratio)
+        .with("end_years", args.end_years)
+        .with("tolerance", args.tolerance)
+        .with("kernel", options.kernel);
+    let session = Session::start(
+        args.run.session_flags(),
+        args.out.join("checkpoint.bin"),
+        fingerprint,
+        args.end_years * SECONDS_PER_YEAR,
+        &mut ode,
+    )?;
+    let mode = session.mode(folder.mode());
+    let mut stations = FaultStations::new(&args.out, ode.model(), &stepover.stations(), mode)?;
+    let mu = stepover.params.shear_modulus();
+    let mut catalogue = FaultCatalogue::new(ode.model(), EventThresholds::default(), |_| mu)?;
+    if session.keeps_resume_log() {
+        catalogue = catalogue.with_resume_log(
+            &args.out.join(CATALOGUE_LOG),
+            args.run.checkpoint_every,
+            args.run.max_steps.map(|s| s as usize),
+            mode,
+        )?;
+    }
+    let progress = Progress::time_in(
+        ode.state().time,
+        args.end_years * SECONDS_PER_YEAR,
+        TimeUnit::year(SECONDS_PER_YEAR),
+        "stepover",
+    );
+    let summary = session.run(&mut ode, &mut [&mut stations, &mut catalogue], Some(progress))?;
+    let wall = clock.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    catalogue.write_csv(&args.out.join("catalogue.csv"))?;
+    let names = catalogue.fault_names().to_vec();
+    let events = catalogue.events();
+    let jumped = events.iter().filter(|e| e.ruptured.iter().all(|&r| r)).count();
+    for e in events {
+        println!(
+            "event at {:.3} yr: nucleated on {} at x = {:.2} km, ruptured {}, peak slip rate {}",
+            e.onset_s / SECONDS_PER_YEAR,
+            names[e.nucleation_fault],
+            e.nucleation_x[0] / 1e3,
+            e.ruptured_names(&names),
+            e.peak_slip_rate
+                .iter()
+                .map(|v| format!("{v:.2e}"))
+                .collect::<Vec<_>>()
+                .join("/")
+        );
+    }
+    println!(
+        "{} events, {jumped} of them ruptured both strands; {} steps ({} rejected), {} \
+         evaluations; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+        events.len(),
+        summary.steps,
+        summary.rejected_attempts,
+        ode.evaluations(),
+        args.out.display()
+    );
+    let json = serde_json::json!({
+        "program": "stepover",
+        "scene": stepover,
+        "grid": grid,
+        "run": {
+            "end_years": args.end_years,
+            "tolerance": args.tolerance,
+            "steps": summary.steps,
+            "rejected_attempts": summary.rejected_attempts,
+            "evaluations": ode.evaluations(),
+            "wall_seconds": wall,
+            "cpu_seconds": cpu,
+            "machine": machine(),
+        },
+        "faults": names,
+        "events": events,
+        "stats": {
+            "events": events.len(),
+            "ruptured_both": jumped,
+            "nucleated_on": STEPOVER_FAULTS.iter().enumerate().map(|(f, name)| {
+                (name.to_string(), events.iter().filter(|e| e.nucleation_fault == f).count())
+            }).collect::<std::collections::BTreeMap<_, _>>(),
+        },
+    });
+    rsf::checkpoint::write_atomically(
+        &args.out.join("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    catalogue_figure(&args.out.join("catalogue.png"), &names, events)?;
+    println!("wrote {}", args.out.join("catalogue.png").display());
+    Ok(())
+}
+
+/// The catalogue's figure: one row per strand, every event a mark at its onset (years) on
+/// each strand it ruptured — filled on the strand where it nucleated — the marks of one
+/// event joined by a line when it ruptured more than one.
+fn catalogue_figure(
+    path: &std::path::Path,
+    names: &[String],
+    events: &[NetworkEvent],
+) -> Result<(), Box<dyn std::error::Error>> {
+    crate::init_fonts();
+    let t_end = events
+        .iter()
+        .map(|e| e.onset_s / SECONDS_PER_YEAR)
+        .fold(1.0f64, f64::max);
+    let rows = names.len() as f64;
+    crate::draw_png(path, (1000, 400), |root| {
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption("stepover: events by strand", ("sans-serif", 22))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..1.05 * t_end, -0.5..rows - 0.5)?;
+        let labels = names.to_vec();
+        chart
+            .configure_mesh()
+            .x_desc("onset (years)")
+            .y_desc("strand")
+            .y_labels(names.len())
+            .y_label_formatter(&move |y| {
+                labels
+                    .get(y.round() as usize)
+                    .cloned()
+                    .unwrap_or_default()
+            })
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        let blue = RGBColor(31, 119, 180);
+        for e in events {
+            let t = e.onset_s / SECONDS_PER_YEAR;
+            let hit: Vec<f64> = (0..names.len())
+                .filter(|&f| e.ruptured[f])
+                .map(|f| f as f64)
+                .collect();
+            if hit.len() > 1 {
+                chart.draw_series(LineSeries::new(
+                    [(t, hit[0]), (t, hit[hit.len() - 1])],
+                    blue.stroke_width(1),
+                ))?;
+            }
+            for &f in &hit {
+                let nucleated = f as usize == e.nucleation_fault;
+                let style = if nucleated {
+                    blue.filled()
+                } else {
+                    blue.stroke_width(2)
+                };
+                chart.draw_series(std::iter::once(Circle::new((t, f), 5, style)))?;
+            }
+        }
+        Ok(())
+    })
+}
