@@ -51,6 +51,14 @@ pub trait PorePressure<const D: usize>: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// The Darcy velocity `q = −(k/η_f) ∇p` at `(x, t)` as a vector of the model's
+    /// coordinates (m/s, tangent to the fault), if the field knows it (for output files:
+    /// SEAS BP8's `darcy_vel_2`, `darcy_vel_3`). Default `None`.
+    fn darcy_velocity_vector(&self, x: &[f64; D], t: f64) -> Option<[f64; D]> {
+        let _ = (x, t);
+        None
+    }
+
     /// Times (s, increasing) where `p` is not smooth in time (the start and end of an
     /// injection): the fault ODE ends a step there rather than step over them. Default
     /// none.
@@ -69,6 +77,9 @@ impl<const D: usize, P: PorePressure<D> + ?Sized> PorePressure<D> for std::sync:
     }
     fn darcy_velocity(&self, x: &[f64; D], t: f64) -> Option<f64> {
         (**self).darcy_velocity(x, t)
+    }
+    fn darcy_velocity_vector(&self, x: &[f64; D], t: f64) -> Option<[f64; D]> {
+        (**self).darcy_velocity_vector(x, t)
     }
     fn breakpoints(&self) -> Vec<f64> {
         (**self).breakpoints()
