@@ -8,8 +8,11 @@
 //! A field is a [`PorePressure`]: the closed form of fluid injected at a point of a
 //! fault with flow along it only ([`InjectionPressure`], Lambert & Dunham's SEAS BP6
 //! description, eqs. 26–27), the same diffusion solved numerically on a grid along the
-//! fault with no-flux ends ([`FaultDiffusion`]), or a user's own (any type implementing
-//! the trait, or a closure through [`PressureFn`]). Give it to
+//! fault with no-flux ends ([`FaultDiffusion`]), the diffusion in two dimensions over a
+//! rectangle of a 3-D model's fault plane (SEAS BP8: [`SurfaceDiffusion`], from a
+//! Gaussian source or a Peaceman well, and the unbounded closed forms
+//! [`SurfaceInjectionPressure`]; docs/pore-pressure.md), or a user's own (any type
+//! implementing the trait, or a closure through [`PressureFn`]). Give it to
 //! [`SimulationBuilder::pore_pressure`](crate::SimulationBuilder::pore_pressure).
 //!
 //! Where `σ̄_n − p ≤ 0` (the fluid would open the fault) a Runge–Kutta stage is outside
@@ -19,9 +22,19 @@
 
 mod closed_form;
 mod diffusion;
+mod exp_integral;
+mod surface;
+mod surface_closed_form;
+mod surface_diffusion;
+mod surface_well;
 
 pub use closed_form::{Injection, InjectionPressure};
 pub use diffusion::{FaultDiffusion, MAX_DIFFUSION_CELLS};
+pub use surface::{
+    FaultPlane, FaultZone, PeacemanWell, SurfaceGrid, SurfaceInjection, SurfaceSource,
+};
+pub use surface_closed_form::SurfaceInjectionPressure;
+pub use surface_diffusion::{SurfaceDiffusion, MAX_SURFACE_CELLS, MAX_WELL_MODES};
 
 use crate::error::{Error, Result};
 use rsf_friction::{ConvexPotential, FrictionLaw};
@@ -275,5 +288,7 @@ pub(crate) fn potentials_at<L: FrictionLaw>(
     }
 }
 
+#[cfg(test)]
+mod surface_tests;
 #[cfg(test)]
 mod tests;
