@@ -262,19 +262,4 @@ impl SurfaceGrid {
             self.lower[1] + j as f64 * h[1],
         ]
     }
-
-    /// `(i, f)`: coordinate `x` along axis `a` lies a fraction `f ∈ [0, 1]` of the way
-    /// from node `i` to node `i + 1` (clamped to the grid).
-    pub(super) fn locate(&self, a: usize, x: f64) -> (usize, f64) {
-        let n = self.cells[a];
-        let s = (x - self.lower[a]) / self.spacing()[a];
-        if !(s > 0.0) {
-            (0, 0.0)
-        } else if s >= n as f64 {
-            (n - 1, 1.0)
-        } else {
-            let i = (s.floor() as usize).min(n - 1);
-            (i, s - i as f64)
-        }
-    }
 }

@@ -60,9 +60,12 @@ pub struct SurfaceDiffusion {
     plane: FaultPlane,
     grid: SurfaceGrid,
     initial: f64,
+    /// `(h_u, h_v)` (m).
+    spacing: [f64; 2],
     /// `cos(πki/N)` per axis: `(k, i)`.
     basis: [Mat<f64>; 2],
-    /// `λ_kl` (1/s).
+    /// `λ_k` per axis and `λ_kl`, their sums (1/s).
+    axis_rates: [Vec<f64>; 2],
     rates: Mat<f64>,
     /// The modes' amplitudes per unit rate and unit response (Pa per m³/s per s) of a
     /// source on the nodes; zero with a well that stores.
@@ -81,8 +84,12 @@ struct Cache {
     time: Option<u64>,
     amplitudes: Mat<f64>,
     half: Mat<f64>,
-    /// `p_ij − p₀` (Pa).
     nodes: Mat<f64>,
+    /// `p_ij − p₀` (Pa) at `i + n_u j`.
+    values: Vec<f64>,
+    /// `e^{−λ_k end}` and `e^{−λ_k after}` per axis.
+    decay_end: [Vec<f64>; 2],
+    decay_after: [Vec<f64>; 2],
     /// `p_w − p₀` (Pa).
     well: f64,
     scratch: Option<WellScratch>,
@@ -96,7 +103,9 @@ impl Clone for SurfaceDiffusion {
             plane: self.plane,
             grid: self.grid,
             initial: self.initial,
+            spacing: self.spacing,
             basis: self.basis.clone(),
+            axis_rates: self.axis_rates.clone(),
             rates: self.rates.clone(),
             weights: self.weights.clone(),
             well: self.well.clone(),
@@ -260,7 +269,9 @@ impl SurfaceDiffusion {
             plane,
             grid,
             initial: 0.0,
+            spacing: h,
             basis,
+            axis_rates,
             rates,
             weights,
             well,
@@ -270,6 +281,9 @@ impl SurfaceDiffusion {
                 amplitudes: Mat::zeros(0, 0),
                 half: Mat::zeros(0, 0),
                 nodes: Mat::zeros(0, 0),
+                values: Vec::new(),
+                decay_end: [Vec::new(), Vec::new()],
+                decay_after: [Vec::new(), Vec::new()],
                 well: 0.0,
                 scratch: None,
             }),
@@ -301,6 +315,9 @@ impl SurfaceDiffusion {
             amplitudes: Mat::zeros(nu, nv),
             half: Mat::zeros(nu, nv),
             nodes: Mat::zeros(nu, nv),
+            values: vec![0.0; nu * nv],
+            decay_end: [vec![0.0; nu], vec![0.0; nv]],
+            decay_after: [vec![0.0; nu], vec![0.0; nv]],
             well: 0.0,
             scratch: self
                 .well
@@ -339,16 +356,7 @@ impl SurfaceDiffusion {
     /// The nodes' pressures `p_ij(t)` (Pa), node `(i, j)` at index `i + n_u j` (`n_u =
     /// cells[0] + 1`; positions [`SurfaceGrid::node`]).
     pub fn nodes(&self, t: f64) -> Vec<f64> {
-        self.with_nodes(t, |c| {
-            let [nu, nv] = self.grid.nodes();
-            let mut out = Vec::with_capacity(nu * nv);
-            for j in 0..nv {
-                for i in 0..nu {
-                    out.push(self.initial + c.nodes[(i, j)]);
-                }
-            }
-            out
-        })
+        self.with_nodes(t, |c| c.values.iter().map(|p| self.initial + p).collect())
     }
 
     /// The well's pressure `p_w(t)` (Pa), with a well: with storage the extra unknown;
@@ -359,7 +367,8 @@ impl SurfaceDiffusion {
             let rise = if modes.is_some() {
                 c.well
             } else {
-                c.nodes[(node[0], node[1])] + self.injection.injection.rate_at(t) / index
+                c.values[node[0] + (self.grid.cells[0] + 1) * node[1]]
+                    + self.injection.injection.rate_at(t) / index
             };
             self.initial + rise
         }))
@@ -367,15 +376,15 @@ impl SurfaceDiffusion {
 
     /// `p(u, v, t)` (Pa) at the plane's coordinates `uv` (m).
     pub fn at(&self, uv: [f64; 2], t: f64) -> f64 {
-        self.with_nodes(t, |c| self.initial + self.interpolate(&c.nodes, uv))
+        self.with_nodes(t, |c| self.initial + self.interpolate(&c.values, uv))
     }
 
     /// The Darcy velocity `(q_u, q_v)` (m/s) at `uv` (m).
     pub fn darcy_at(&self, uv: [f64; 2], t: f64) -> [f64; 2] {
         self.with_nodes(t, |c| {
-            let (i, fu) = self.grid.locate(0, uv[0]);
-            let (j, fv) = self.grid.locate(1, uv[1]);
-            let g = |a, b| self.node_gradient(&c.nodes, a, b);
+            let (i, fu) = self.locate(0, uv[0]);
+            let (j, fv) = self.locate(1, uv[1]);
+            let g = |a, b| self.node_gradient(&c.values, a, b);
             let (g00, g10, g01, g11) = (g(i, j), g(i + 1, j), g(i, j + 1), g(i + 1, j + 1));
             let m = self.zone.mobility();
             [0, 1].map(|d| -m * bilinear([g00[d], g10[d], g01[d], g11[d]], fu, fv))
@@ -383,30 +392,45 @@ impl SurfaceDiffusion {
     }
 
     /// `∇p` at node `(i, j)` (Pa/m): central differences, zero normal to an edge.
-    fn node_gradient(&self, p: &Mat<f64>, i: usize, j: usize) -> [f64; 2] {
-        let h = self.grid.spacing();
+    fn node_gradient(&self, p: &[f64], i: usize, j: usize) -> [f64; 2] {
+        let h = self.spacing;
         let [cu, cv] = self.grid.cells;
+        let nu = cu + 1;
+        let at = |i: usize, j: usize| p[i + nu * j];
         let du = if i == 0 || i == cu {
             0.0
         } else {
-            (p[(i + 1, j)] - p[(i - 1, j)]) / (2.0 * h[0])
+            (at(i + 1, j) - at(i - 1, j)) / (2.0 * h[0])
         };
         let dv = if j == 0 || j == cv {
             0.0
         } else {
-            (p[(i, j + 1)] - p[(i, j - 1)]) / (2.0 * h[1])
+            (at(i, j + 1) - at(i, j - 1)) / (2.0 * h[1])
         };
         [du, dv]
     }
 
-    fn interpolate(&self, p: &Mat<f64>, uv: [f64; 2]) -> f64 {
-        let (i, fu) = self.grid.locate(0, uv[0]);
-        let (j, fv) = self.grid.locate(1, uv[1]);
-        bilinear(
-            [p[(i, j)], p[(i + 1, j)], p[(i, j + 1)], p[(i + 1, j + 1)]],
-            fu,
-            fv,
-        )
+    /// `(i, f)`: coordinate `x` along axis `a` lies a fraction `f ∈ [0, 1]` of the way
+    /// from node `i` to node `i + 1` (clamped to the grid).
+    fn locate(&self, a: usize, x: f64) -> (usize, f64) {
+        let n = self.grid.cells[a];
+        let s = (x - self.grid.lower[a]) / self.spacing[a];
+        if !(s > 0.0) {
+            (0, 0.0)
+        } else if s >= n as f64 {
+            (n - 1, 1.0)
+        } else {
+            let i = (s as usize).min(n - 1);
+            (i, s - i as f64)
+        }
+    }
+
+    fn interpolate(&self, p: &[f64], uv: [f64; 2]) -> f64 {
+        let (i, fu) = self.locate(0, uv[0]);
+        let (j, fv) = self.locate(1, uv[1]);
+        let k = i + (self.grid.cells[0] + 1) * j;
+        let up = k + self.grid.cells[0] + 1;
+        bilinear([p[k], p[k + 1], p[up], p[up + 1]], fu, fv)
     }
 
     /// Runs `f` on the nodes at `t` (computed if `t` is not the last time).
@@ -429,13 +453,26 @@ impl SurfaceDiffusion {
         let after = (t - end).max(0.0);
         let q = inj.rate;
         let [nu, nv] = self.grid.nodes();
+        // e^{−λ_kl s} = e^{−λ_k s} e^{−λ_l s}: per-axis exponentials, and `expm1` where
+        // λ_kl end is small (below 1/4; above, 1 − e^{−x} from the product of two
+        // exponentials is within 8 ulps).
+        for a in 0..2 {
+            for (k, &lambda) in self.axis_rates[a].iter().enumerate() {
+                c.decay_end[a][k] = (-lambda * end).exp();
+                c.decay_after[a][k] = (-lambda * after).exp();
+            }
+        }
         for l in 0..nv {
             for k in 0..nu {
                 let w = self.weights[(k, l)];
+                let mu = self.rates[(k, l)];
                 c.amplitudes[(k, l)] = if w == 0.0 {
                     0.0
+                } else if mu * end >= 0.25 {
+                    let kept = c.decay_after[0][k] * c.decay_after[1][l];
+                    w * q * ((1.0 - c.decay_end[0][k] * c.decay_end[1][l]) / mu * kept)
                 } else {
-                    w * q * response(self.rates[(k, l)], end, after)
+                    w * q * response(mu, end, after)
                 };
             }
         }
@@ -462,6 +499,11 @@ impl SurfaceDiffusion {
             1.0,
             Par::Seq,
         );
+        for j in 0..nv {
+            for i in 0..nu {
+                c.values[i + nu * j] = c.nodes[(i, j)];
+            }
+        }
     }
 }
 
@@ -553,7 +595,7 @@ impl PorePressure<3> for SurfaceDiffusion {
     fn pressures(&self, t: f64, points: &[[f64; 3]], out: &mut [f64]) {
         self.with_nodes(t, |c| {
             for (o, x) in out.iter_mut().zip(points) {
-                *o = self.initial + self.interpolate(&c.nodes, self.plane.coordinates(x));
+                *o = self.initial + self.interpolate(&c.values, self.plane.coordinates(x));
             }
         });
     }
