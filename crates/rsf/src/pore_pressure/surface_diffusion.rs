@@ -19,7 +19,7 @@ pub const MAX_SURFACE_CELLS: usize = 1024;
 
 /// Largest dimension `D` of a well's coupled system (docs/pore-pressure.md, "The well"):
 /// its set-up costs `O(D³)`, each evaluation `D²` multiply-adds. A well at the centre
-/// node of an `N × N` grid has `D ≈ N²/8`: 861 at BP8's 80 × 80 cells.
+/// node of an `N × N` grid has `D ≈ N²/8`: 842 at BP8's 80 × 80 cells.
 pub const MAX_WELL_MODES: usize = 4000;
 
 /// `∂p/∂t = α ∇²p + Q(t) S(u, v)/(φβL_fwid)` on a rectangle of a fault plane with no flux
@@ -345,6 +345,15 @@ impl SurfaceDiffusion {
     /// The well index `WI` (m³/(Pa·s)), with a well.
     pub fn well_index(&self) -> Option<f64> {
         self.well.as_ref().map(|w| w.1)
+    }
+
+    /// The dimension `D` of a storing well's coupled system (docs/pore-pressure.md, "The
+    /// well"): its set-up costs `O(D³)`, each evaluation `D²` multiply-adds.
+    pub fn well_dimension(&self) -> Option<usize> {
+        self.well
+            .as_ref()
+            .and_then(|w| w.2.as_ref())
+            .map(WellModes::dimension)
     }
 
     /// The storage `φβL_fwid |rectangle| + S_well` (m³/Pa): the injected volume per unit

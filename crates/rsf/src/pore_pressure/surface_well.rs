@@ -152,6 +152,11 @@ impl WellModes {
         })
     }
 
+    /// `D`.
+    pub(super) fn dimension(&self) -> usize {
+        self.values.len()
+    }
+
     /// Scratch for [`add`](Self::add).
     pub(super) fn scratch(&self) -> WellScratch {
         let d = self.values.len();
