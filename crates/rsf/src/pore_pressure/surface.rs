@@ -139,6 +139,16 @@ pub(super) fn positive(name: &str, v: f64, unit: &str) -> Result<()> {
     }
 }
 
+/// `∫₀^{end} e^{−μ(end + after − s)} ds` (s): a mode of rate `μ` (1/s) under a unit rate
+/// on `[0, end)`, `after` seconds past its end.
+pub(super) fn response(mu: f64, end: f64, after: f64) -> f64 {
+    if mu == 0.0 {
+        end
+    } else {
+        -(-mu * end).exp_m1() / mu * (-mu * after).exp()
+    }
+}
+
 /// A Peaceman well (SEAS BP8 description §2.1.2, eqs. 22–23): the injection enters a well
 /// of pressure `p_w` and storage `S_well`, from which the volume rate
 /// `WI (p_w − p_e)` flows into the fault at the well's node, whose pressure is `p_e`;

@@ -7,7 +7,9 @@ use std::sync::Mutex;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 
-use super::surface::{FaultPlane, FaultZone, SurfaceGrid, SurfaceInjection, SurfaceSource};
+use super::surface::{
+    response, FaultPlane, FaultZone, SurfaceGrid, SurfaceInjection, SurfaceSource,
+};
 use super::surface_well::{WellModes, WellScratch, WellSetup};
 use super::PorePressure;
 use crate::error::{invalid, Result};
@@ -112,16 +114,6 @@ impl Clone for SurfaceDiffusion {
             total_storage: self.total_storage,
             cache: Mutex::new(self.fresh_cache()),
         }
-    }
-}
-
-/// `∫₀^{end} e^{−μ(end + after − s)} ds` (s): a mode of rate `μ` (1/s) under a unit rate
-/// on `[0, end)`, `after` seconds past its end.
-pub(super) fn response(mu: f64, end: f64, after: f64) -> f64 {
-    if mu == 0.0 {
-        end
-    } else {
-        -(-mu * end).exp_m1() / mu * (-mu * after).exp()
     }
 }
 

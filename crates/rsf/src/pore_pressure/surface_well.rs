@@ -181,7 +181,7 @@ impl WellModes {
             .zip(&self.values)
             .zip(&self.drive)
         {
-            *w = rate * r * super::surface_diffusion::response(mu, end, after);
+            *w = rate * r * super::surface::response(mu, end, after);
         }
         matmul(
             scratch.coefficients.as_mat_mut(),
