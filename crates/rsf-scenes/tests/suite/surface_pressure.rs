@@ -27,11 +27,12 @@ fn bp5_plane() -> FaultPlane {
     }
 }
 
-/// BP8's fault zone (α = 0.05 m²/s).
+/// A fault zone 10 m thick, k = 1e-13 m², φ = 0.1, β = 1e-8 /Pa, η_f = 1e-3 Pa·s
+/// (α = 0.1 m²/s, BP6's).
 fn zone() -> FaultZone {
     FaultZone {
-        thickness: 1.0,
-        permeability: 5e-14,
+        thickness: 10.0,
+        permeability: 1e-13,
         porosity: 0.1,
         compressibility: 1e-8,
         viscosity: 1e-3,
@@ -59,11 +60,12 @@ fn field(rate: f64, shut_in: f64, p0: f64) -> Arc<SurfaceDiffusion> {
     )
 }
 
-/// BP5's fault alone on 10 km cells, the laws of `laws`, run for 60 steps with `pressure`.
-fn fault_alone(
+/// BP5's fault alone on 10 km cells (Okada's operator, two slip components) with the laws
+/// of `laws` and the pore pressure `pressure`, on one thread.
+pub(crate) fn bp5_fault_alone(
     laws: SeasBp5,
     pressure: Option<Arc<dyn PorePressure<3>>>,
-) -> (Vec<u64>, Vec<u64>, f64) {
+) -> rsf_scenes::SeasBp5FaultOde {
     let bp5 = SeasBp5::default();
     let model = bp5.model(10e3).unwrap();
     let half_space = bp5.half_space(1e-6).unwrap();
@@ -81,7 +83,15 @@ fn fault_alone(
         Some(p) => b.pore_pressure(p),
         None => b,
     };
-    let mut ode = b.build_fault_ode_alone(o, alone).unwrap();
+    b.build_fault_ode_alone(o, alone).unwrap()
+}
+
+/// 60 steps of [`bp5_fault_alone`]: the slip's and the state's bits, and the time.
+pub(crate) fn fault_alone(
+    laws: SeasBp5,
+    pressure: Option<Arc<dyn PorePressure<3>>>,
+) -> (Vec<u64>, Vec<u64>, f64) {
+    let mut ode = bp5_fault_alone(laws, pressure);
     ode.run_until(Until::Steps(60), &mut []).unwrap();
     (
         bits(&ode.state().kinematics.u),
@@ -162,26 +172,11 @@ fn a_uniform_surface_pressure_is_the_lowered_normal_stress_in_a_volume_on_both_e
 
 #[test]
 fn the_fault_ode_ends_a_step_at_the_shut_in() {
-    // Fluid injected for 1000 s into BP5's fault alone (1 m³/s: the pressure it adds, a few
-    // kPa, changes the run): some step ends at 1000 s exactly.
+    // Fluid injected for 1000 s into BP5's fault alone (1 m³/s: the pressure it adds, some
+    // 100 Pa, changes the run): some step ends at 1000 s exactly.
     let bp5 = SeasBp5::default();
-    let model = bp5.model(10e3).unwrap();
-    let half_space = bp5.half_space(1e-6).unwrap();
-    let operator =
-        rsf::halfspace_operator::HalfSpaceOperator::fault_alone(&model, &half_space).unwrap();
-    let cells = model.vertices.len();
-    let alone = rsf::fault_alone::FaultAlone {
-        operator: Box::new(operator),
-        plate_velocity: (0..cells).flat_map(|_| [bp5.v_p, 0.0]).collect(),
-    };
     let pressure = field(1.0, 1000.0, 0.0);
-    let mut o = bp5.fault_ode_options(1e-6).unwrap();
-    o.parallelism = rsf::Parallelism::SEQ;
-    let mut ode = bp5
-        .problem_builder(model)
-        .pore_pressure(pressure.clone())
-        .build_fault_ode_alone(o, alone)
-        .unwrap();
+    let mut ode = bp5_fault_alone(bp5, Some(pressure.clone()));
     struct Times(Vec<f64>);
     impl rsf::Observer<3, 3> for Times {
         fn observe(&mut self, s: &rsf::StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
@@ -202,9 +197,14 @@ fn the_fault_ode_ends_a_step_at_the_shut_in() {
         times.0.iter().any(|&t| t.to_bits() == 1000f64.to_bits()),
         "no step ends at the shut-in"
     );
-    // The observers' normal stress is σ̄_n − p at the cells' centres.
-    let k = 7;
-    let x = ode.model().vertices[k];
+    // The observers' normal stress is σ̄_n − p at the cells' centres: at the cell nearest
+    // the source (x₂ = 0, 10 km deep).
+    let vertices = &ode.model().vertices;
+    let distance = |x: &[f64; 3]| x[1].hypot(x[2] + 10e3);
+    let k = (0..vertices.len())
+        .min_by(|&a, &b| distance(&vertices[a]).total_cmp(&distance(&vertices[b])))
+        .unwrap();
+    let x = vertices[k];
     let t = ode.state().time;
     let want = bp5.sigma_n - pressure.pressure(&x, t);
     assert!(want < bp5.sigma_n);

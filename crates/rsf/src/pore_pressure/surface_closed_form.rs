@@ -118,39 +118,37 @@ impl SurfaceInjectionPressure {
         d[0] * d[0] + d[1] * d[1]
     }
 
-    /// `(p − p₀)/C` of the injection switched on at 0 and never off, at `r²` and `t`.
+    /// `(4αt, 2w²)` of the injection switched on at 0, at `t > 0` (m²): `w = 0` for the
+    /// point source, the Gaussian of width 0.
+    fn spreads(&self, t: f64) -> Option<(f64, f64)> {
+        let w2 = match self.injection.source {
+            SurfaceSource::Gaussian { width } => 2.0 * width * width,
+            SurfaceSource::Well(_) => 0.0,
+        };
+        (t > 0.0).then(|| (4.0 * self.zone.diffusivity() * t, w2))
+    }
+
+    /// `(p − p₀)/C` of the injection switched on at 0 and never off, at `r²` and `t`:
+    /// `E₁(r²/(2w² + 4αt)) − E₁(r²/(2w²))`.
     fn on(&self, r2: f64, t: f64) -> f64 {
-        if !(t > 0.0) {
+        let Some((spread, w2)) = self.spreads(t) else {
             return 0.0;
-        }
-        let spread = 4.0 * self.zone.diffusivity() * t;
-        match self.injection.source {
-            SurfaceSource::Gaussian { width } => {
-                let w2 = 2.0 * width * width;
-                if r2 == 0.0 {
-                    (spread / w2).ln_1p()
-                } else {
-                    exp_integral_e1_difference(r2 / (w2 + spread), r2 / w2)
-                }
-            }
-            SurfaceSource::Well(_) => exp_integral_e1(r2 / spread),
+        };
+        match (r2 == 0.0, w2 == 0.0) {
+            (true, true) => f64::INFINITY,
+            (true, false) => (spread / w2).ln_1p(),
+            (false, true) => exp_integral_e1(r2 / spread),
+            (false, false) => exp_integral_e1_difference(r2 / (w2 + spread), r2 / w2),
         }
     }
 
-    /// `r ∂/∂r` of [`on`](Self::on) (1), for `r > 0`.
+    /// `r ∂/∂r` of [`on`](Self::on) (1), for `r > 0`: `r d/dr E₁(r²/s) = −2 e^{−r²/s}`.
     fn radial_gradient(&self, r2: f64, t: f64) -> f64 {
-        if !(t > 0.0) {
+        let Some((spread, w2)) = self.spreads(t) else {
             return 0.0;
-        }
-        let spread = 4.0 * self.zone.diffusivity() * t;
-        // r d/dr E₁(r²/s) = −2 e^{−r²/s}.
-        match self.injection.source {
-            SurfaceSource::Gaussian { width } => {
-                let w2 = 2.0 * width * width;
-                -2.0 * (-r2 / (w2 + spread)).exp() + 2.0 * (-r2 / w2).exp()
-            }
-            SurfaceSource::Well(_) => -2.0 * (-r2 / spread).exp(),
-        }
+        };
+        // e^{−r²/0} = 0 for the point source.
+        -2.0 * (-r2 / (w2 + spread)).exp() + 2.0 * (-r2 / w2).exp()
     }
 }
 
