@@ -12,4 +12,6 @@ mod seas_bp5;
 #[cfg(feature = "seas")]
 mod seas_bp6;
 #[cfg(feature = "seas")]
+mod surface_pressure;
+#[cfg(feature = "seas")]
 mod volume_vertices;

@@ -494,29 +494,9 @@ fn in_3d_a_constant_pressure_is_the_lowered_normal_stress_too() {
     let bp5 = SeasBp5::default();
     let p0 = 3e6;
     let run = |laws: SeasBp5, pressure: Option<f64>| {
-        let model = bp5.model(10e3).unwrap();
-        let half_space = bp5.half_space(1e-6).unwrap();
-        let operator =
-            rsf::halfspace_operator::HalfSpaceOperator::fault_alone(&model, &half_space).unwrap();
-        let cells = model.vertices.len();
-        let alone = rsf::fault_alone::FaultAlone {
-            operator: Box::new(operator),
-            plate_velocity: (0..cells).flat_map(|_| [bp5.v_p, 0.0]).collect(),
-        };
-        let mut o = bp5.fault_ode_options(1e-6).unwrap();
-        o.parallelism = rsf::Parallelism::SEQ;
-        let b = laws.problem_builder(model);
-        let b = match pressure {
-            Some(p) => b.pore_pressure(PressureFn(move |_: &[f64; 3], _| p)),
-            None => b,
-        };
-        let mut ode = b.build_fault_ode_alone(o, alone).unwrap();
-        ode.run_until(Until::Steps(60), &mut []).unwrap();
-        (
-            bits(&ode.state().kinematics.u),
-            bits(&ode.state().alpha),
-            ode.state().time,
-        )
+        let field = pressure
+            .map(|p| Arc::new(PressureFn(move |_: &[f64; 3], _| p)) as Arc<dyn PorePressure<3>>);
+        super::surface_pressure::fault_alone(laws, field)
     };
     let with_p = run(bp5, Some(p0));
     let plain = run(

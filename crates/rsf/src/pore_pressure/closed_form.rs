@@ -168,6 +168,10 @@ impl<const D: usize> PorePressure<D> for InjectionPressure<D> {
     fn darcy_velocity(&self, x: &[f64; D], t: f64) -> Option<f64> {
         Some(self.darcy_at(self.along(x), t))
     }
+    fn darcy_velocity_vector(&self, x: &[f64; D], t: f64) -> Option<[f64; D]> {
+        let q = self.darcy_at(self.along(x), t);
+        Some(self.direction.map(|d| q * d))
+    }
     fn breakpoints(&self) -> Vec<f64> {
         vec![self.injection.shut_in]
     }

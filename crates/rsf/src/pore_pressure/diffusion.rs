@@ -257,6 +257,10 @@ impl<const D: usize> PorePressure<D> for FaultDiffusion<D> {
         let (i, _) = self.locate(s);
         Some(self.with_cells(t, |p| -self.mobility * (p[i + 1] - p[i]) / self.h))
     }
+    fn darcy_velocity_vector(&self, x: &[f64; D], t: f64) -> Option<[f64; D]> {
+        let q = self.darcy_velocity(x, t)?;
+        Some(self.direction.map(|d| q * d))
+    }
     fn breakpoints(&self) -> Vec<f64> {
         vec![self.injection.shut_in]
     }

@@ -8,8 +8,11 @@
 //! A field is a [`PorePressure`]: the closed form of fluid injected at a point of a
 //! fault with flow along it only ([`InjectionPressure`], Lambert & Dunham's SEAS BP6
 //! description, eqs. 26–27), the same diffusion solved numerically on a grid along the
-//! fault with no-flux ends ([`FaultDiffusion`]), or a user's own (any type implementing
-//! the trait, or a closure through [`PressureFn`]). Give it to
+//! fault with no-flux ends ([`FaultDiffusion`]), the diffusion in two dimensions over a
+//! rectangle of a 3-D model's fault plane (SEAS BP8: [`SurfaceDiffusion`], from a
+//! Gaussian source or a Peaceman well, and the unbounded closed forms
+//! [`SurfaceInjectionPressure`]; docs/pore-pressure.md), or a user's own (any type
+//! implementing the trait, or a closure through [`PressureFn`]). Give it to
 //! [`SimulationBuilder::pore_pressure`](crate::SimulationBuilder::pore_pressure).
 //!
 //! Where `σ̄_n − p ≤ 0` (the fluid would open the fault) a Runge–Kutta stage is outside
@@ -19,9 +22,19 @@
 
 mod closed_form;
 mod diffusion;
+mod exp_integral;
+mod surface;
+mod surface_closed_form;
+mod surface_diffusion;
+mod surface_well;
 
 pub use closed_form::{Injection, InjectionPressure};
 pub use diffusion::{FaultDiffusion, MAX_DIFFUSION_CELLS};
+pub use surface::{
+    FaultPlane, FaultZone, PeacemanWell, SurfaceGrid, SurfaceInjection, SurfaceSource,
+};
+pub use surface_closed_form::SurfaceInjectionPressure;
+pub use surface_diffusion::{SurfaceDiffusion, MAX_SURFACE_CELLS, MAX_WELL_MODES};
 
 use crate::error::{Error, Result};
 use rsf_friction::{ConvexPotential, FrictionLaw};
@@ -51,6 +64,14 @@ pub trait PorePressure<const D: usize>: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// The Darcy velocity `q = −(k/η_f) ∇p` at `(x, t)` as a vector of the model's
+    /// coordinates (m/s, tangent to the fault), if the field knows it (for output files:
+    /// SEAS BP8's `darcy_vel_2`, `darcy_vel_3`). Default `None`.
+    fn darcy_velocity_vector(&self, x: &[f64; D], t: f64) -> Option<[f64; D]> {
+        let _ = (x, t);
+        None
+    }
+
     /// Times (s, increasing) where `p` is not smooth in time (the start and end of an
     /// injection): the fault ODE ends a step there rather than step over them. Default
     /// none.
@@ -69,6 +90,9 @@ impl<const D: usize, P: PorePressure<D> + ?Sized> PorePressure<D> for std::sync:
     }
     fn darcy_velocity(&self, x: &[f64; D], t: f64) -> Option<f64> {
         (**self).darcy_velocity(x, t)
+    }
+    fn darcy_velocity_vector(&self, x: &[f64; D], t: f64) -> Option<[f64; D]> {
+        (**self).darcy_velocity_vector(x, t)
     }
     fn breakpoints(&self) -> Vec<f64> {
         (**self).breakpoints()
@@ -264,5 +288,7 @@ pub(crate) fn potentials_at<L: FrictionLaw>(
     }
 }
 
+#[cfg(test)]
+mod surface_tests;
 #[cfg(test)]
 mod tests;

@@ -1,0 +1,212 @@
+//! The pressure diffusing over a fault surface (`rsf::pore_pressure::SurfaceDiffusion`,
+//! docs/pore-pressure.md) through the `PorePressure` seam of a 3-D model: a uniform
+//! pressure `p₀` of the field is the laws at `σ̄_n − p₀` bit for bit — a fault alone
+//! (BP5's cells and Okada's operator) and BP5's finite-element volume with its internal
+//! fault, both by the fault ODE, and the volume by the implicit scheme — and the fault
+//! ODE ends a step at the injection's shut-in.
+
+use std::sync::Arc;
+
+use rsf::pore_pressure::{
+    FaultPlane, FaultZone, Injection, PorePressure, SurfaceDiffusion, SurfaceGrid,
+    SurfaceInjection, SurfaceSource,
+};
+use rsf::{Stepping, Until};
+use rsf_scenes::SeasBp5;
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+/// BP5's fault plane `x = 0`, `(u, v) = (x₂, depth)`.
+fn bp5_plane() -> FaultPlane {
+    FaultPlane {
+        origin: [0.0; 3],
+        axis_u: [0.0, 1.0, 0.0],
+        axis_v: [0.0, 0.0, -1.0],
+    }
+}
+
+/// A fault zone 10 m thick, k = 1e-13 m², φ = 0.1, β = 1e-8 /Pa, η_f = 1e-3 Pa·s
+/// (α = 0.1 m²/s, BP6's).
+fn zone() -> FaultZone {
+    FaultZone {
+        thickness: 10.0,
+        permeability: 1e-13,
+        porosity: 0.1,
+        compressibility: 1e-8,
+        viscosity: 1e-3,
+    }
+}
+
+/// The field on BP5's fault (±50 km along strike, 0–40 km deep, 5 km cells) from `rate`
+/// (m³/s) through a well at 10 km depth until `shut_in`, from the uniform `p0`.
+fn field(rate: f64, shut_in: f64, p0: f64) -> Arc<SurfaceDiffusion> {
+    let injection = SurfaceInjection {
+        injection: Injection { rate, shut_in },
+        source: SurfaceSource::Gaussian { width: 5e3 },
+        position: [0.0, 10e3],
+    };
+    let grid = SurfaceGrid {
+        lower: [-50e3, 0.0],
+        upper: [50e3, 40e3],
+        cells: [20, 8],
+    };
+    Arc::new(
+        SurfaceDiffusion::new(zone(), injection, bp5_plane(), grid)
+            .unwrap()
+            .with_initial_pressure(p0)
+            .unwrap(),
+    )
+}
+
+/// BP5's fault alone on 10 km cells (Okada's operator, two slip components) with the laws
+/// of `laws` and the pore pressure `pressure`, on one thread.
+pub(crate) fn bp5_fault_alone(
+    laws: SeasBp5,
+    pressure: Option<Arc<dyn PorePressure<3>>>,
+) -> rsf_scenes::SeasBp5FaultOde {
+    let bp5 = SeasBp5::default();
+    let model = bp5.model(10e3).unwrap();
+    let half_space = bp5.half_space(1e-6).unwrap();
+    let operator =
+        rsf::halfspace_operator::HalfSpaceOperator::fault_alone(&model, &half_space).unwrap();
+    let cells = model.vertices.len();
+    let alone = rsf::fault_alone::FaultAlone {
+        operator: Box::new(operator),
+        plate_velocity: (0..cells).flat_map(|_| [bp5.v_p, 0.0]).collect(),
+    };
+    let mut o = bp5.fault_ode_options(1e-6).unwrap();
+    o.parallelism = rsf::Parallelism::SEQ;
+    let b = laws.problem_builder(model);
+    let b = match pressure {
+        Some(p) => b.pore_pressure(p),
+        None => b,
+    };
+    b.build_fault_ode_alone(o, alone).unwrap()
+}
+
+/// 60 steps of [`bp5_fault_alone`]: the slip's and the state's bits, and the time.
+pub(crate) fn fault_alone(
+    laws: SeasBp5,
+    pressure: Option<Arc<dyn PorePressure<3>>>,
+) -> (Vec<u64>, Vec<u64>, f64) {
+    let mut ode = bp5_fault_alone(laws, pressure);
+    ode.run_until(Until::Steps(60), &mut []).unwrap();
+    (
+        bits(&ode.state().kinematics.u),
+        bits(&ode.state().alpha),
+        ode.state().time,
+    )
+}
+
+#[test]
+fn a_uniform_surface_pressure_is_the_lowered_normal_stress_on_a_fault_alone() {
+    let bp5 = SeasBp5::default();
+    let p0 = 3e6;
+    let with_p = fault_alone(bp5, Some(field(0.0, 1e9, p0)));
+    let plain = fault_alone(
+        SeasBp5 {
+            sigma_n: bp5.sigma_n - p0,
+            ..bp5
+        },
+        None,
+    );
+    assert!(with_p.2 > 0.0);
+    assert_eq!(with_p, plain);
+}
+
+/// BP5's volume with its internal fault on 10 km cells (the fault zone's test grid).
+fn volume_grid() -> rsf_scenes::SeasBp5Grid {
+    rsf_scenes::SeasBp5Grid {
+        dx: 10e3,
+        near_fault: 10e3,
+        ..rsf_scenes::SeasBp5Grid::default()
+    }
+}
+
+#[test]
+fn a_uniform_surface_pressure_is_the_lowered_normal_stress_in_a_volume_on_both_engines() {
+    let bp5 = SeasBp5::default();
+    let p0 = 3e6;
+    let lowered = SeasBp5 {
+        sigma_n: bp5.sigma_n - p0,
+        ..bp5
+    };
+    let model = bp5.fe_model(&volume_grid()).unwrap();
+    // The fault ODE, 40 steps.
+    let ode = |laws: &SeasBp5, pressure: Option<Arc<dyn PorePressure<3>>>| {
+        let mut o = bp5.fault_ode_options(1e-6).unwrap();
+        o.parallelism = rsf::Parallelism::SEQ;
+        let b = laws.problem_builder(model.clone());
+        let b = match pressure {
+            Some(p) => b.pore_pressure(p),
+            None => b,
+        };
+        let mut ode = b.build_fault_ode(o).unwrap();
+        ode.run_until(Until::Steps(40), &mut []).unwrap();
+        (bits(&ode.state().kinematics.u), bits(&ode.state().alpha))
+    };
+    assert_eq!(ode(&bp5, Some(field(0.0, 1e9, p0))), ode(&lowered, None));
+    // The implicit scheme, 5 steps of 1 s.
+    let implicit = |laws: &SeasBp5, pressure: Option<Arc<dyn PorePressure<3>>>| {
+        let b = laws
+            .problem_builder(model.clone())
+            .solver(rsf::SolverKind::Direct)
+            .time_step(1.0);
+        let b = match pressure {
+            Some(p) => b.pore_pressure(p),
+            None => b,
+        };
+        let mut sim = b.build().unwrap();
+        sim.run_until(Until::Steps(5), &mut []).unwrap();
+        (bits(&sim.state().kinematics.u), bits(&sim.state().alpha))
+    };
+    let (a, b) = (
+        implicit(&bp5, Some(field(0.0, 1e9, p0))),
+        implicit(&lowered, None),
+    );
+    assert!(a.0.iter().any(|&u| u != 0));
+    assert_eq!(a, b);
+}
+
+#[test]
+fn the_fault_ode_ends_a_step_at_the_shut_in() {
+    // Fluid injected for 1000 s into BP5's fault alone (1 m³/s: the pressure it adds, some
+    // 100 Pa, changes the run): some step ends at 1000 s exactly.
+    let bp5 = SeasBp5::default();
+    let pressure = field(1.0, 1000.0, 0.0);
+    let mut ode = bp5_fault_alone(bp5, Some(pressure.clone()));
+    struct Times(Vec<f64>);
+    impl rsf::Observer<3, 3> for Times {
+        fn observe(&mut self, s: &rsf::StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
+            self.0.push(s.state.time);
+            Ok(rsf::Flow::Continue(()))
+        }
+    }
+    let mut times = Times(Vec::new());
+    ode.run_until(
+        Until::TimeWithin {
+            time: 2000.0,
+            max_steps: 100_000,
+        },
+        &mut [&mut times],
+    )
+    .unwrap();
+    assert!(
+        times.0.iter().any(|&t| t.to_bits() == 1000f64.to_bits()),
+        "no step ends at the shut-in"
+    );
+    // The observers' normal stress is σ̄_n − p at the cells' centres: at the cell nearest
+    // the source (x₂ = 0, 10 km deep).
+    let vertices = &ode.model().vertices;
+    let distance = |x: &[f64; 3]| x[1].hypot(x[2] + 10e3);
+    let k = (0..vertices.len())
+        .min_by(|&a, &b| distance(&vertices[a]).total_cmp(&distance(&vertices[b])))
+        .unwrap();
+    let x = vertices[k];
+    let t = ode.state().time;
+    let want = bp5.sigma_n - pressure.pressure(&x, t);
+    assert!(want < bp5.sigma_n);
+    assert_eq!(ode.fault_tractions().normal_traction(k), Some(want));
+}
