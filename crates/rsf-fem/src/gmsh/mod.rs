@@ -407,6 +407,27 @@ impl GmshMesh<2> {
         self.mesh.split_along(group, edges)
     }
 
+    /// Cuts the mesh open along the interior facets of several physical curves at once, a
+    /// fault each ([`SimplexMesh::split_along_network`]: disjoint, a branch or a crossing),
+    /// in the order given.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] for a group without interior facets; as
+    /// [`SimplexMesh::split_along_network`].
+    pub fn split_along_groups(
+        &self,
+        groups: &[&str],
+    ) -> Result<(SimplexMesh<2>, crate::FaultNetwork<2>)> {
+        let faults = groups
+            .iter()
+            .map(|&g| {
+                let edges = self.interior_facets.get(g).ok_or(Error::EmptyFault)?;
+                Ok((g, &edges[..]))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        self.mesh.split_along_network(&faults)
+    }
+
     /// The vertices (m) of the physical curve `group`'s interior facets in order along the
     /// fault ([`FaultSides::nodes`](crate::FaultSides::nodes) of
     /// [`split_along_group`](Self::split_along_group)): the polyline to give a model
@@ -438,6 +459,27 @@ impl GmshMesh<3> {
     pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<3>, crate::FaultSides<3>)> {
         let faces = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
         self.mesh.split_along(group, faces)
+    }
+
+    /// Cuts the mesh open along the interior facets of several physical surfaces at once, a
+    /// fault each (`SimplexMesh::<3>::split_along_network`: disjoint surfaces), in the
+    /// order given.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] for a group without interior facets; as
+    /// `SimplexMesh::<3>::split_along_network`.
+    pub fn split_along_groups(
+        &self,
+        groups: &[&str],
+    ) -> Result<(SimplexMesh<3>, crate::FaultNetwork<3>)> {
+        let faults = groups
+            .iter()
+            .map(|&g| {
+                let faces = self.interior_facets.get(g).ok_or(Error::EmptyFault)?;
+                Ok((g, &faces[..]))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        self.mesh.split_along_network(&faults)
     }
 }
 

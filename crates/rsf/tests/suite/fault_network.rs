@@ -295,3 +295,61 @@ fn a_fault_inside_the_body_beside_a_frictional_boundary() {
         assert!((a - b).abs() < 0.05 * scale, "{x:?}: {a:e} vs {b:e}");
     }
 }
+
+/// Faults from Gmsh physical groups — a curve per fault in 2-D, a surface per fault in
+/// 3-D, embedded in unstructured meshes gmsh wrote (crates/rsf-fem/tests/fixtures) — build
+/// a network each fault of which is its group, cut as the mesh's own network cut is, and
+/// both engines slip it.
+#[test]
+fn faults_from_gmsh_physical_groups() {
+    use rsf::fem::{parse_gmsh_with, GmshOptions};
+    let options = GmshOptions {
+        interior_facets: true,
+        ..GmshOptions::default()
+    };
+    let msh = include_bytes!("../../../rsf-fem/tests/fixtures/stepover.msh");
+    let g = parse_gmsh_with::<2>(msh, options).unwrap();
+    let (split, network) = g.split_along_groups(&["south", "north"]).unwrap();
+    let mut b = ModelBuilder::new(g.mesh.clone())
+        .material(Material::new(3e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(Part::tag("top"), [1e-9, 0.0])
+        .dirichlet(Part::tag("bottom"), [-1e-9, 0.0]);
+    for group in ["south", "north"] {
+        b = b.internal_fault_polyline(group, &g.interior_polyline(group).unwrap());
+    }
+    let model = b.build().unwrap();
+    assert_eq!(model.vertices.len(), split.num_vertices());
+    let fb = &model.frictional_boundary;
+    assert_eq!(fb.fault_names, ["south", "north"]);
+    for (f, sides) in network.faults().iter().enumerate() {
+        // Both strands buried: every node but the two tips slips.
+        assert_eq!(fb.along_fault(f).len(), sides.nodes().len() - 2);
+        assert_eq!(sides.pairs().len(), sides.nodes().len() - 2);
+    }
+    let slip = slip_after(model, 1e7);
+    assert!(slip.iter().any(|s| s.1.abs() > 1e-5), "the strands slip");
+
+    let msh = include_bytes!("../../../rsf-fem/tests/fixtures/two_faults.msh");
+    let g = parse_gmsh_with::<3>(msh, options).unwrap();
+    let (split, network) = g.split_along_groups(&["west", "east"]).unwrap();
+    let edge = |x: &[f64; 3]| x[0] < 1e-9 || x[0] > 2.0 - 1e-9;
+    let mut b = ModelBuilder::new(g.mesh.clone())
+        .material(Material::new(3e10, 0.25, 2700.0))
+        .without_mass()
+        .dirichlet(
+            Part::predicate("ends", move |x| edge(x)),
+            [0.0, 1e-9, 0.0],
+        );
+    for group in ["west", "east"] {
+        b = b.internal_fault_faces(group, &g.interior_facets[group]);
+    }
+    let model = b.build().unwrap();
+    assert_eq!(model.vertices.len(), split.num_vertices());
+    let fb = &model.frictional_boundary;
+    assert_eq!(fb.fault_names, ["west", "east"]);
+    for (f, sides) in network.faults().iter().enumerate() {
+        assert_eq!(fb.along_fault(f).len(), sides.pairs().len());
+        assert!(!sides.pairs().is_empty());
+    }
+}
