@@ -254,6 +254,10 @@ pub struct EmbeddedRungeKutta {
     /// Whether `k[0]` holds `f(t, y)` of the current point (FSAL).
     fsal: bool,
     state: RungeKuttaState,
+    /// The stiffness test's copy of the second-last stage's point (empty when off).
+    ysti: Vec<f64>,
+    /// `h |λ|` of the last accepted step by the stiffness test (NaN when off).
+    stiffness: f64,
 }
 
 impl EmbeddedRungeKutta {
@@ -283,7 +287,40 @@ impl EmbeddedRungeKutta {
                 dt: dt0,
                 previous_error: 1e-4,
             },
+            ysti: Vec::new(),
+            stiffness: f64::NAN,
         })
+    }
+
+    /// Turns on the stiffness test of DOPRI5 (Hairer & Wanner, *Solving Ordinary
+    /// Differential Equations II*, §IV.2): after every accepted step
+    /// `h |λ| ≈ h ‖k_s − k_{s−1}‖ / ‖y_{n+1} − g_{s−1}‖` from the last two stages, which
+    /// share `c = 1` (`g` a stage's point), read by [`stiffness`](Self::stiffness). Costs a
+    /// copy of one stage per attempt.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `tableau` for a pair whose last two stages do not
+    /// share `c = 1` (Bogacki–Shampine 3(2)).
+    pub fn detect_stiffness(&mut self) -> Result<()> {
+        let c = self.tableau.c;
+        let s = self.tableau.stages;
+        if !(s >= 2 && c[s - 1] == 1.0 && c[s - 2] == 1.0) {
+            return Err(Error::InvalidParameter {
+                name: "tableau",
+                value: s as f64,
+                requirement: "the stiffness test needs the last two stages at c = 1 \
+                              (Dormand–Prince 5(4))",
+            });
+        }
+        self.ysti = vec![0.0; self.stage.len()];
+        Ok(())
+    }
+
+    /// `h |λ|` of the last accepted step by the stiffness test (DOPRI5's `HLAMB`: its pair
+    /// is stable on the negative real axis up to about 3.3); NaN unless
+    /// [`detect_stiffness`](Self::detect_stiffness) is on or before the first step.
+    pub fn stiffness(&self) -> f64 {
+        self.stiffness
     }
 
     /// The pair in use.
@@ -397,6 +434,9 @@ impl EmbeddedRungeKutta {
             let mut finite = true;
             let mut refusal = None;
             for i in 1..tab.stages {
+                if i == tab.stages - 1 && !self.ysti.is_empty() {
+                    self.ysti.copy_from_slice(&self.stage);
+                }
                 combine(&mut self.stage, tab.a[i - 1], &self.k);
                 for (s, &yj) in self.stage.iter_mut().zip(y.iter()) {
                     *s = yj + dt * *s;
@@ -460,6 +500,18 @@ impl EmbeddedRungeKutta {
                     *t + dt
                 };
                 let last = tab.stages - 1;
+                if !self.ysti.is_empty() {
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for i in 0..n {
+                        num += (self.k[last][i] - self.k[last - 1][i]).powi(2);
+                        den += (self.y_new[i] - self.ysti[i]).powi(2);
+                    }
+                    self.stiffness = if den > 0.0 {
+                        dt * (num / den).sqrt()
+                    } else {
+                        0.0
+                    };
+                }
                 self.k.swap(0, last);
                 return Ok(RungeKuttaStep {
                     dt,
