@@ -73,7 +73,11 @@ impl RkcOptions {
             })
         };
         if self.max_stages < 2 || self.max_stages > 10_000 {
-            return bad("max_stages", self.max_stages as f64, "must be in [2, 10000]");
+            return bad(
+                "max_stages",
+                self.max_stages as f64,
+                "must be in [2, 10000]",
+            );
         }
         if !(self.radius_safety >= 1.0 && self.radius_safety.is_finite()) {
             return bad(
@@ -620,11 +624,7 @@ impl Rkc2 {
             }
             Err(e) => return Err(e),
         }
-        let finite = self
-            .f_new
-            .iter()
-            .chain(&self.yj)
-            .all(|x| x.is_finite());
+        let finite = self.f_new.iter().chain(&self.yj).all(|x| x.is_finite());
         Ok(Stages {
             evaluations,
             finite,
@@ -737,8 +737,8 @@ mod tests {
         }
         for s in [2usize, 3, 5, 10, 40, 250] {
             let beta = (s * s - 1) as f64 / 1.54;
-            let mut rkc = Rkc2::new(RungeKuttaOptions::default(), RkcOptions::default(), 1, 1.0)
-                .unwrap();
+            let mut rkc =
+                Rkc2::new(RungeKuttaOptions::default(), RkcOptions::default(), 1, 1.0).unwrap();
             let mut worst = 0.0_f64;
             for k in 0..=400 {
                 let z = -beta * k as f64 / 400.0;
@@ -784,7 +784,10 @@ mod tests {
         }
         for w in errors.windows(2) {
             let order = (w[0] / w[1]).log2();
-            assert!((order - 2.0).abs() < 0.3, "observed order {order} ({errors:?})");
+            assert!(
+                (order - 2.0).abs() < 0.3,
+                "observed order {order} ({errors:?})"
+            );
         }
     }
 
@@ -825,7 +828,10 @@ mod tests {
             rk.step(&mut sys, &mut t, &mut y, Some(t_end)).unwrap();
             steps += 1;
         }
-        println!("Dormand–Prince 5(4): {steps} steps, error {:e}", error_at(&y, t));
+        println!(
+            "Dormand–Prince 5(4): {steps} steps, error {:e}",
+            error_at(&y, t)
+        );
         assert!(steps >= 100 * n_stiff, "{steps} against RKC2's {n_stiff}");
     }
 
@@ -864,11 +870,17 @@ mod tests {
     #[test]
     fn the_spectral_radius_estimate_bounds_the_largest_eigenvalue() {
         for (n, c) in [(10, 1.0), (40, 1e3), (100, 1e6)] {
-            let exact = 4.0 * c * (n as f64 * std::f64::consts::PI / (2.0 * (n + 1) as f64)).sin().powi(2);
+            let exact = 4.0
+                * c
+                * (n as f64 * std::f64::consts::PI / (2.0 * (n + 1) as f64))
+                    .sin()
+                    .powi(2);
             let mut sys = Heat { c, n };
             let mut rkc =
                 Rkc2::new(RungeKuttaOptions::default(), RkcOptions::default(), n, 1e-3).unwrap();
-            let y: Vec<f64> = (0..n).map(|i| StiffLinear::v(i) + 0.01 * (i as f64).sin()).collect();
+            let y: Vec<f64> = (0..n)
+                .map(|i| StiffLinear::v(i) + 0.01 * (i as f64).sin())
+                .collect();
             sys.rate(0.3, &y, &mut rkc.f0).unwrap();
             let cold = rkc.estimate(&mut sys, 0.3, &y).unwrap();
             let rho_cold = rkc.state.spectral_radius;
@@ -879,9 +891,102 @@ mod tests {
                  evaluations, {rho:e} warm in {warm}"
             );
             for r in [rho_cold, rho] {
-                assert!(r >= 0.98 * exact && r <= 1.2 * 1.01 * exact, "{r} for {exact}");
+                assert!(
+                    r >= 0.98 * exact && r <= 1.2 * 1.01 * exact,
+                    "{r} for {exact}"
+                );
             }
             assert!(warm <= cold, "{warm} {cold}");
+        }
+    }
+
+    /// The quasi-static spring–slider of docs/spring-block.md without radiation damping:
+    /// `τ = k (V_L t − δ) + τ₀ = σ̄_n (μ₀ + a ln(V/V₀) + b ln(V₀θ/L))`, so
+    /// `V = V₀ exp((τ/σ̄_n − μ₀ − b ln(V₀θ/L))/a)`, `δ̇ = V`, `α̇ = e^{−α} − V/L` (aging,
+    /// `α = ln θ`); the docs' parameters, `V_L = 1e-6 m/s`, `k = 1.2 k_c` (a decaying
+    /// oscillation after a kick of the state by −0.5 from steady sliding).
+    struct SpringSlider {
+        tol: f64,
+    }
+
+    impl SpringSlider {
+        const SIGMA: f64 = 1e6;
+        const A: f64 = 0.010;
+        const B: f64 = 0.015;
+        const L: f64 = 1e-5;
+        const V0: f64 = 1e-6;
+        const MU0: f64 = 0.6;
+        const VL: f64 = 1e-6;
+        fn k() -> f64 {
+            1.2 * Self::SIGMA * (Self::B - Self::A) / Self::L
+        }
+        /// `τ₀` of steady sliding at `V_L` with `δ = 0` at `t = 0`.
+        fn tau0() -> f64 {
+            Self::SIGMA * Self::MU0
+        }
+        fn start() -> [f64; 2] {
+            [0.0, (Self::L / Self::VL).ln() - 0.5]
+        }
+    }
+
+    impl OdeSystem for SpringSlider {
+        type Error = Error;
+        fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+            let tau = Self::k() * (Self::VL * t - y[0]) + Self::tau0();
+            let psi = Self::MU0 + Self::B * (Self::V0 * y[1].exp() / Self::L).ln();
+            let v = Self::V0 * ((tau / Self::SIGMA - psi) / Self::A).exp();
+            dy[0] = v;
+            dy[1] = (-y[1]).exp() - v / Self::L;
+            Ok(())
+        }
+        fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+            (err[0].abs() / (self.tol * Self::L)).max(err[1].abs() / self.tol)
+        }
+    }
+
+    /// Second order on the spring–slider: RKC2 at fixed steps `h = 0.4, 0.2, 0.1 s` (a
+    /// tolerance no step fails, `dt_max = h`) against Dormand–Prince 5(4) at tolerance
+    /// 1e-12 (docs/spring-block.md has no Radau reference; the tight pair is the
+    /// independent reference): the error in slip and state at `t = 60 s` (six `L/V_L`)
+    /// falls by 4 per halving.
+    #[test]
+    fn second_order_on_the_spring_slider() {
+        let t_end = 60.0;
+        let mut reference = SpringSlider { tol: 1e-12 };
+        let mut rk =
+            EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 2, 1e-3)
+                .unwrap();
+        let (mut t, mut exact) = (0.0, SpringSlider::start());
+        while t < t_end {
+            rk.step(&mut reference, &mut t, &mut exact, Some(t_end))
+                .unwrap();
+        }
+        let mut errors = Vec::new();
+        for h in [0.4, 0.2, 0.1] {
+            let options = RungeKuttaOptions {
+                dt_max: h,
+                ..RungeKuttaOptions::default()
+            };
+            let mut rkc = Rkc2::new(options, RkcOptions::default(), 2, h).unwrap();
+            let mut sys = SpringSlider { tol: 1e3 };
+            let (mut t, mut y) = (0.0, SpringSlider::start());
+            let mut steps = 0;
+            while t < t_end {
+                rkc.step(&mut sys, &mut t, &mut y, Some(t_end)).unwrap();
+                steps += 1;
+            }
+            let e = ((y[0] - exact[0]) / SpringSlider::L)
+                .abs()
+                .max((y[1] - exact[1]).abs());
+            println!("h = {h} s: {steps} steps, error {e:e} (slip in L, state in ln θ)");
+            errors.push(e);
+        }
+        for w in errors.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            assert!(
+                (order - 2.0).abs() < 0.3,
+                "observed order {order} ({errors:?})"
+            );
         }
     }
 
@@ -903,7 +1008,10 @@ mod tests {
                 }
                 rkc.step(&mut sys, &mut t, &mut y, None).unwrap();
             }
-            (t.to_bits(), y.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+            (
+                t.to_bits(),
+                y.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            )
         };
         assert_eq!(run(None), run(Some(37)));
     }

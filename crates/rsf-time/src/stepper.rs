@@ -95,7 +95,9 @@ impl clap::ValueEnum for OdeIntegrator {
     }
     fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
         let help = match self {
-            Self::Auto => "Dormand–Prince 5(4) where accuracy sets the step, RKC2 where stability would",
+            Self::Auto => {
+                "Dormand–Prince 5(4) where accuracy sets the step, RKC2 where stability would"
+            }
             Self::Rkc => "RKC2, stabilised explicit Runge–Kutta–Chebyshev (stiff)",
             Self::DormandPrince => "Dormand–Prince 5(4) explicit pair",
             Self::BogackiShampine => "Bogacki–Shampine 3(2) explicit pair",
@@ -612,12 +614,20 @@ mod tests {
                 }
                 modes.push(s.step(&mut sys, &mut t, &mut y, None).unwrap().mode);
             }
-            (t.to_bits(), y.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), modes)
+            (
+                t.to_bits(),
+                y.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                modes,
+            )
         };
         let whole = go(None);
         assert!(whole.2.contains(&StepperMode::Explicit));
         assert!(whole.2.contains(&StepperMode::Stabilized));
-        let first_stiff = whole.2.iter().position(|m| *m == StepperMode::Stabilized).unwrap();
+        let first_stiff = whole
+            .2
+            .iter()
+            .position(|m| *m == StepperMode::Stabilized)
+            .unwrap();
         for split in [first_stiff / 2, first_stiff + 3, 350] {
             assert_eq!(go(Some(split)), whole, "split at {split}");
         }
