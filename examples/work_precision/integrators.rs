@@ -14,6 +14,9 @@ use rsf_programs::{Labels, PanelLayout, Series};
 
 use crate::common::{log, Res};
 
+/// A panel: its title and one line per integrator, `(log10 CPU s, log10 error)`.
+type Panel = (String, BTreeMap<String, Vec<(f64, f64)>>);
+
 /// What a run's `summary.json` says (BP1's or BP5's names).
 struct Run {
     integrator: String,
@@ -101,8 +104,7 @@ pub(crate) fn integrator_study(runs: &Path, out: &Path, figures: &Path) -> Res<(
     let mut csv = String::from(
         "problem,integrator,tolerance,steps,evaluations,cpu_s,events,event_time_error,peak_slip_rate_error\n",
     );
-    // (panel title, [(integrator, [(log10 cpu, log10 error)])]).
-    let mut panels: Vec<(String, BTreeMap<String, Vec<(f64, f64)>>)> = Vec::new();
+    let mut panels: Vec<Panel> = Vec::new();
     for (problem, runs) in &mut problems {
         runs.sort_by(|a, b| {
             (&a.integrator, a.tolerance)
