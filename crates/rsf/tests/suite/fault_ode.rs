@@ -925,3 +925,63 @@ fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
         std::fs::remove_dir_all(&dir).ok();
     }
 }
+
+/// RKC2 and `auto` (its threshold lowered so that it changes method) on the fine small
+/// BP1 (Δz = 100 m, 101 nodes: the per-node solves split over threads) with the
+/// ℋ-kernel: the same bits and evaluations at 1, 2 and 4 threads.
+#[test]
+fn stabilized_integrators_give_the_same_bits_at_1_2_and_4_threads() {
+    let (bp1, coarse) = small_bp1(&SeasBp1::default());
+    let fine = SeasBp1Grid {
+        dz: 100.0,
+        ..coarse
+    };
+    let h = FaultKernel::Hierarchical {
+        epsilon: 1e-6,
+        leaf_size: 8,
+    };
+    for integrator in [OdeIntegrator::Rkc, OdeIntegrator::Auto] {
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let model = bp1.model(&fine, false).unwrap();
+                let options = rsf::fault_ode::FaultOdeOptions {
+                    integrator,
+                    auto: rsf::fault_ode::AutoOptions {
+                        stiff_above: 0.3,
+                        ..rsf::fault_ode::AutoOptions::default()
+                    },
+                    ..kernel_options(&bp1, h, threads)
+                };
+                let mut ode = bp1.fault_ode(model, options).unwrap();
+                let mut trace = Trace::default();
+                ode.run_until(
+                    Until::TimeWithin {
+                        time: 20.0 * SECONDS_PER_YEAR,
+                        max_steps: 500_000,
+                    },
+                    &mut [&mut trace],
+                )
+                .unwrap();
+                (trace, ode.evaluations(), ode.integrator_stats())
+            })
+        };
+        let (one, evaluations, stats) = run(1);
+        assert!(
+            one.rows.len() > 10 && stats.stabilized_steps > 0,
+            "{stats:?}"
+        );
+        for threads in [2, 4] {
+            let (other, e, _) = run(threads);
+            assert_eq!(e, evaluations, "{integrator}, {threads} threads");
+            assert_same_rows(
+                &other.rows,
+                &one.rows,
+                &format!("{integrator}, {threads} threads"),
+            );
+        }
+    }
+}
