@@ -60,6 +60,17 @@ fn read(dir: &Path) -> Res<Option<(String, Run)>> {
         )
     };
     let num = |key: &str| j[key].as_f64().unwrap_or(f64::NAN);
+    // BP5's `cpu_time_s` includes the set-up, whose CPU time its log (`DIR.log`, the
+    // program's output) states as `set-up: wall W s, CPU C s`: the run's is the rest.
+    let setup_cpu = std::fs::read_to_string(format!("{}.log", dir.display()))
+        .ok()
+        .and_then(|log| {
+            log.lines()
+                .find_map(|l| l.strip_prefix("set-up: wall "))
+                .and_then(|l| l.split("CPU ").nth(1))
+                .and_then(|c| c.trim_end_matches(" s").trim().parse::<f64>().ok())
+        })
+        .unwrap_or(0.0);
     Ok(Some((
         parts[0].to_owned(),
         Run {
@@ -67,7 +78,7 @@ fn read(dir: &Path) -> Res<Option<(String, Run)>> {
             tolerance,
             events,
             peak,
-            cpu_s: num("cpu_time_s"),
+            cpu_s: num("cpu_time_s") - setup_cpu,
             steps: num("accepted_steps"),
             evaluations: num("rate_evaluations"),
         },
@@ -149,6 +160,17 @@ pub(crate) fn integrator_study(runs: &Path, out: &Path, figures: &Path) -> Res<(
         panels.push((format!("{problem}: peak slip rate"), peaks));
     }
     std::fs::write(out.join("integrators.csv"), &csv)?;
+    // Every panel lists every integrator (an empty line where it was not run), so that an
+    // integrator has one colour throughout.
+    let all: Vec<String> = panels
+        .iter()
+        .flat_map(|(_, lines)| lines.keys().cloned())
+        .collect();
+    for (_, lines) in &mut panels {
+        for name in &all {
+            lines.entry(name.clone()).or_default();
+        }
+    }
     let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
     for (_, lines) in &panels {
         for p in lines.values().flatten() {
