@@ -387,24 +387,7 @@ impl EmbeddedRungeKutta {
         t_end: Option<f64>,
     ) -> std::result::Result<RungeKuttaStep, S::Error> {
         let n = self.stage.len();
-        if y.len() != n {
-            return Err(Error::DimensionMismatch {
-                what: "ODE state",
-                expected: n,
-                got: y.len(),
-            }
-            .into());
-        }
-        if let Some(te) = t_end {
-            if !(te > *t) {
-                return Err(Error::InvalidParameter {
-                    name: "t_end",
-                    value: te,
-                    requirement: "must be after the current time",
-                }
-                .into());
-            }
-        }
+        check_step(n, y, *t, t_end)?;
         let tab = self.tableau;
         let o = self.options;
         let mut evaluations = 0;
@@ -419,10 +402,7 @@ impl EmbeddedRungeKutta {
         let mut rejected_error = 0.0;
         loop {
             let proposal = self.state.dt.min(o.dt_max);
-            let (dt, landing) = match t_end {
-                Some(te) if *t + proposal >= te - 1e-12 * proposal => (te - *t, true),
-                _ => (proposal, false),
-            };
+            let (dt, landing) = landing_step(*t, proposal, t_end);
             if !(dt >= o.dt_min) && !landing {
                 return Err(Error::StepTooSmall {
                     tau: dt,
@@ -461,17 +441,7 @@ impl EmbeddedRungeKutta {
                 rejected += 1;
                 refused += 1;
                 rejected_error = f64::INFINITY;
-                let next = dt * o.refusal_shrink;
-                if refused >= o.max_refusals || next < o.dt_min {
-                    return Err(Error::TrialPointRefused {
-                        time: *t,
-                        dt,
-                        refusals: refused,
-                        reason: e.to_string(),
-                    }
-                    .into());
-                }
-                self.state.dt = next;
+                self.state.dt = after_refusal(&o, (*t, dt), refused, &e)?;
                 continue;
             }
             let error = if finite {
@@ -540,6 +510,58 @@ impl EmbeddedRungeKutta {
             }
         }
     }
+}
+
+/// The checks at the start of an adaptive step of either integrator: `y` of length `n`,
+/// `t_end` (if any) after `t`.
+pub(crate) fn check_step(n: usize, y: &[f64], t: f64, t_end: Option<f64>) -> Result<()> {
+    if y.len() != n {
+        return Err(Error::DimensionMismatch {
+            what: "ODE state",
+            expected: n,
+            got: y.len(),
+        });
+    }
+    if let Some(te) = t_end {
+        if !(te > t) {
+            return Err(Error::InvalidParameter {
+                name: "t_end",
+                value: te,
+                requirement: "must be after the current time",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The step to try from `t` with the controller's `proposal`, and whether it lands on
+/// `t_end` (a proposal within 1e-12 of it is stretched to land).
+pub(crate) fn landing_step(t: f64, proposal: f64, t_end: Option<f64>) -> (f64, bool) {
+    match t_end {
+        Some(te) if t + proposal >= te - 1e-12 * proposal => (te - t, true),
+        _ => (proposal, false),
+    }
+}
+
+/// The next step after the `refused`-th refused attempt of a step `dt` from `time`
+/// (`refusal_shrink`), or [`Error::TrialPointRefused`] after `max_refusals` or below
+/// `dt_min`.
+pub(crate) fn after_refusal(
+    o: &RungeKuttaOptions,
+    (time, dt): (f64, f64),
+    refused: usize,
+    reason: &dyn std::fmt::Display,
+) -> Result<f64> {
+    let next = dt * o.refusal_shrink;
+    if refused >= o.max_refusals || next < o.dt_min {
+        return Err(Error::TrialPointRefused {
+            time,
+            dt,
+            refusals: refused,
+            reason: reason.to_string(),
+        });
+    }
+    Ok(next)
 }
 
 /// `out = Σ_l c_l k_l` over the nonzero `c_l`, summed in the order of `l` from `0.0`

@@ -23,7 +23,9 @@
 //! the spectral radius of the whole Jacobian `∂f/∂y` (every block of it), which the
 //! stage count needs; it costs a few evaluations per estimate.
 
-use crate::runge_kutta::{OdeSystem, RungeKuttaOptions, RungeKuttaStep};
+use crate::runge_kutta::{
+    after_refusal, check_step, landing_step, OdeSystem, RungeKuttaOptions, RungeKuttaStep,
+};
 use crate::{Error, Result};
 
 /// Options of [`Rkc2`] beyond the step limits ([`RungeKuttaOptions`]).
@@ -378,25 +380,7 @@ impl Rkc2 {
         y: &mut [f64],
         t_end: Option<f64>,
     ) -> std::result::Result<RkcStep, S::Error> {
-        let n = self.f0.len();
-        if y.len() != n {
-            return Err(Error::DimensionMismatch {
-                what: "ODE state",
-                expected: n,
-                got: y.len(),
-            }
-            .into());
-        }
-        if let Some(te) = t_end {
-            if !(te > *t) {
-                return Err(Error::InvalidParameter {
-                    name: "t_end",
-                    value: te,
-                    requirement: "must be after the current time",
-                }
-                .into());
-            }
-        }
+        check_step(self.f0.len(), y, *t, t_end)?;
         let o = self.options;
         let mut evaluations = 0;
         if !self.fsal {
@@ -416,10 +400,7 @@ impl Rkc2 {
             }
             let rho = self.state.spectral_radius;
             let proposal = self.state.dt.min(o.dt_max);
-            let (mut dt, mut landing) = match t_end {
-                Some(te) if *t + proposal >= te - 1e-12 * proposal => (te - *t, true),
-                _ => (proposal, false),
-            };
+            let (mut dt, mut landing) = landing_step(*t, proposal, t_end);
             let mut s = rkc_stages(dt, rho);
             if s > self.rkc.max_stages {
                 s = self.rkc.max_stages;
@@ -439,17 +420,7 @@ impl Rkc2 {
                 rejected += 1;
                 refused += 1;
                 rejected_error = f64::INFINITY;
-                let next = dt * o.refusal_shrink;
-                if refused >= o.max_refusals || next < o.dt_min {
-                    return Err(Error::TrialPointRefused {
-                        time: *t,
-                        dt,
-                        refusals: refused,
-                        reason: e.to_string(),
-                    }
-                    .into());
-                }
-                self.state.dt = next;
+                self.state.dt = after_refusal(&o, (*t, dt), refused, &e)?;
                 self.state.estimate_due = true;
                 continue;
             }
