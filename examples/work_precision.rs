@@ -8,6 +8,8 @@
 //! target/release/examples/work_precision --study time         # one study: time|mesh|tol|energy
 //! target/release/examples/work_precision --study time --big    # adds N = 1e6 (reference 2e6)
 //! target/release/examples/work_precision --study adaptive     # adaptive τ against uniform N
+//! target/release/examples/work_precision --study integrators --runs DIR  # the fault ODE's
+//!     # integrators from seas_bp1/seas_bp5 run folders DIR/PROBLEM_INTEGRATOR_TOL
 //! target/release/examples/work_precision --study mesh --big    # adds j = 6 (reference)
 //! perf record -o /tmp/perf.data target/release/examples/work_precision --study profile \
 //!     --level 3 --steps 10000 [--solver direct]                # one run to 0.6 T, phases
@@ -45,6 +47,8 @@
 mod common;
 #[path = "work_precision/errors.rs"]
 mod errors;
+#[path = "work_precision/integrators.rs"]
+mod integrators;
 #[path = "work_precision/mesh.rs"]
 mod mesh;
 #[path = "work_precision/plot.rs"]
@@ -89,6 +93,10 @@ enum Study {
     Adaptive,
     /// One run for `perf record`.
     Profile,
+    /// The fault ODE's integrators (issue 84): reads the `seas_bp1`/`seas_bp5` run folders
+    /// under `--runs` (named `PROBLEM_INTEGRATOR_TOLERANCE`), writes `integrators.csv` and
+    /// its figure.
+    Integrators,
 }
 
 /// Work–precision studies of the slider (docs/work-precision.md).
@@ -110,6 +118,9 @@ struct Cli {
     /// Include the large cases.
     #[arg(long)]
     big: bool,
+    /// The folder of the run folders of `--study integrators`.
+    #[arg(long, default_value = "out/integrators")]
+    runs: PathBuf,
     /// Output folder of the tables.
     #[arg(long, default_value = "docs/work-precision")]
     out: PathBuf,
@@ -199,6 +210,10 @@ impl Program for Cli {
         }
         if has(&[Study::Energy]) {
             csv.push("energy.csv");
+        }
+        if has(&[Study::Integrators]) {
+            csv.push("integrators.csv");
+            png.push("work_precision_integrators.png");
         }
         // The finest level any run takes (the mesh study's reference: j = 5, or 6 with
         // --big) and the longest run's every step in memory (the reference at --ref-n,
@@ -325,6 +340,9 @@ fn run(cli: Cli, _folders: Prepared) -> Res<()> {
     }
     if study == Study::Adaptive {
         adaptive_study(&c)?;
+    }
+    if study == Study::Integrators {
+        integrators::integrator_study(&cli.runs, &c.out, &c.figures)?;
     }
     if matches!(study, Study::All | Study::Mesh) {
         mesh_study(&c)?;

@@ -568,6 +568,71 @@ impl SeasHeaderArgs {
     }
 }
 
+/// `--integrator auto|rkc|dormand-prince|bogacki-shampine` of the fault-ODE programs
+/// (docs/math.md §12, "Stiff steps").
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct IntegratorArgs {
+    /// The fault ODE's integrator: `auto` (the default: Dormand–Prince 5(4) while accuracy
+    /// sets its step, the stabilised RKC2 while stability would), `rkc` (RKC2
+    /// throughout), `dormand-prince` (the pair every run used before issue 84) or
+    /// `bogacki-shampine`. Part of a checkpoint's fingerprint unless `dormand-prince`
+    /// (so the checkpoints written before the flag resume with `--integrator
+    /// dormand-prince`, or continue with another integrator under `--allow-change
+    /// integrator`).
+    #[arg(long, value_enum, default_value_t = rsf::fault_ode::OdeIntegrator::Auto)]
+    pub integrator: rsf::fault_ode::OdeIntegrator,
+}
+
+impl IntegratorArgs {
+    /// `fingerprint` with the integrator, unless it is `dormand-prince` (the fingerprint
+    /// of the runs before the flag).
+    pub fn fingerprint(
+        &self,
+        fingerprint: rsf::checkpoint::Fingerprint,
+    ) -> rsf::checkpoint::Fingerprint {
+        match self.integrator {
+            rsf::fault_ode::OdeIntegrator::DormandPrince => fingerprint,
+            i => fingerprint.with("integrator", i),
+        }
+    }
+
+    /// What `summary.json` says of the integrator: the choice, the steps, simulated time
+    /// and evaluations of each method, `auto`'s changes and why it chose as it did.
+    pub fn summary(&self, stats: Option<rsf::fault_ode::StepperStats>) -> serde_json::Value {
+        use rsf::fault_ode::OdeIntegrator;
+        let why = match self.integrator {
+            OdeIntegrator::Auto => {
+                "auto: Dormand–Prince 5(4) while its step is set by accuracy; RKC2 after 15 \
+                 steps in a row whose h|λ| (DOPRI5's stiffness test) exceeded 3.25, the \
+                 pair's stability limit, and back once RKC2's step h had h ρ ≤ 1.1 (ρ its \
+                 spectral radius estimate) in 15 steps in a row"
+            }
+            OdeIntegrator::Rkc => "rkc: RKC2 throughout (asked for)",
+            OdeIntegrator::DormandPrince => "dormand-prince: the explicit pair (asked for)",
+            OdeIntegrator::BogackiShampine => "bogacki-shampine: the explicit pair (asked for)",
+        };
+        serde_json::json!({
+            "integrator": self.integrator.name(),
+            "why": why,
+            // This invocation's counts (a resumed run starts them again).
+            "this_invocation": stats.map(|s| serde_json::json!({
+                "explicit_steps": s.explicit_steps,
+                "stabilized_steps": s.stabilized_steps,
+                "explicit_time_years": s.explicit_time / rsf::observe::SECONDS_PER_YEAR,
+                "stabilized_time_years": s.stabilized_time / rsf::observe::SECONDS_PER_YEAR,
+                "explicit_evaluations": s.explicit_evaluations,
+                "stabilized_evaluations": s.stabilized_evaluations,
+                "switches": s.switches,
+                "spectral_radius_estimates": s.estimates,
+                "estimate_evaluations": s.estimate_evaluations,
+                "max_stages": s.max_stages,
+                "last_spectral_radius_per_s": s.spectral_radius,
+                "max_spectral_radius_per_s": s.max_spectral_radius,
+            })),
+        })
+    }
+}
+
 /// `--kernel dense|hierarchical` and `--kernel-epsilon E` of the fault-ODE examples.
 #[derive(Debug, Clone, Copy, Default, clap::Args)]
 pub struct KernelArgs {

@@ -44,7 +44,9 @@ pub mod slider_3d;
 pub mod stepover;
 #[cfg(feature = "seas")]
 pub use cli::SeasHeaderArgs;
-pub use cli::{FrameArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, TimeStepArgs};
+pub use cli::{
+    FrameArgs, IntegratorArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, TimeStepArgs,
+};
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};
 pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};

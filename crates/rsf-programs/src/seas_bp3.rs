@@ -78,6 +78,8 @@ pub struct Args {
     tolerance: f64,
     #[command(flatten)]
     kernel: crate::KernelArgs,
+    #[command(flatten)]
+    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the operator products and the per-node friction
     /// solves; the same bits for every value). Default: every core of the machine.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
@@ -256,6 +258,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     let mut options = bp3.params.fault_ode_options(args.tolerance)?;
     options.runge_kutta.dt_min = 1e-8;
     options.kernel = args.kernel.kernel(args.tolerance)?;
+    options.integrator = args.integrator.integrator;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     let mut ode = bp3.fault_ode(model, options)?;
     if let Some(p) = processes {
@@ -281,15 +284,17 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
     // What a checkpoint continues: the scene, the grid and what changes the trajectory.
-    let fingerprint = Fingerprint::of_serialized(&bp3.params)
-        .with("dip_degrees", args.dip)
-        .with("normal_faulting", bp3.normal_faulting)
-        .with("dx", args.dx)
-        .with("domain_km", args.domain_km)
-        .with("ratio", args.ratio)
-        .with("end_years", args.end_years)
-        .with("tolerance", args.tolerance)
-        .with("kernel", options.kernel);
+    let fingerprint = args.integrator.fingerprint(
+        Fingerprint::of_serialized(&bp3.params)
+            .with("dip_degrees", args.dip)
+            .with("normal_faulting", bp3.normal_faulting)
+            .with("dx", args.dx)
+            .with("domain_km", args.domain_km)
+            .with("ratio", args.ratio)
+            .with("end_years", args.end_years)
+            .with("tolerance", args.tolerance)
+            .with("kernel", options.kernel),
+    );
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
     let session = Session::start(
@@ -342,6 +347,10 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         summary.rejected_normal_stress,
         ode.evaluations(),
         args.out.display()
+    );
+    println!(
+        "integrator: {}",
+        args.integrator.summary(Some(ode.integrator_stats()))
     );
     crate::seas_overview(
         &args.out,

@@ -119,6 +119,8 @@ struct Args {
     diffusion_cells: Option<usize>,
     #[command(flatten)]
     kernel: crate::KernelArgs,
+    #[command(flatten)]
+    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the same bits for every value).
     #[arg(long, default_value_t = 1)]
     threads: usize,
@@ -372,6 +374,13 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         .with("end_years", args.end_years)
         .with("station_interval", args.station_interval)
         .with("profile_interval", args.profile_interval);
+    // The integrator of the fault ODE runs (the implicit ones take none).
+    let fingerprint = match elastic {
+        Elastic::Bem | Elastic::Fe if variant != Bp6Variant::C => {
+            args.integrator.fingerprint(fingerprint)
+        }
+        _ => fingerprint,
+    };
     let common = Common {
         args: &args,
         folder,
@@ -399,7 +408,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 cpu_seconds() - cpu0
             );
             let mut sim = bp6.constant_friction(model, pressure, 60.0, bp6.step_control(tol)?)?;
-            common.drive(&mut sim, fault, |s| s.step_count_text())
+            common.drive(&mut sim, fault, |s| (s.step_count_text(), None))
         }
         (Bp6Variant::C, Elastic::Fe) => {
             let model = bp6.fe_model(&args.grid(), variant)?;
@@ -410,11 +419,12 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 fault.positions.len()
             );
             let mut sim = bp6.constant_friction(model, pressure, 60.0, bp6.step_control(tol)?)?;
-            common.drive(&mut sim, fault, |s| s.step_count_text())
+            common.drive(&mut sim, fault, |s| (s.step_count_text(), None))
         }
         (_, Elastic::Bem) => {
             let mut options = bp6.fault_ode_options(tol)?;
             options.parallelism = rsf::Parallelism::rayon(args.threads);
+            options.integrator = args.integrator.integrator;
             let kernel = args.bem_kernel(tol)?;
             let mut ode = bp6.bem_fault_ode(args.dz, variant, kernel, options, pressure)?;
             match kernel {
@@ -425,18 +435,23 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 WholeSpaceKernel::Stored(_) => println!("S: {}", ode.kernel_report()),
             }
             let fault = bp6.output_fault(ode.model(), variant);
-            common.drive(&mut ode, fault, |o| o.evaluations_text())
+            common.drive(&mut ode, fault, |o| {
+                (o.evaluations_text(), Some(o.integrator_stats()))
+            })
         }
         (_, Elastic::Fe) => {
             let model = bp6.fe_model(&args.grid(), variant)?;
             println!("{} nodes", model.vertices.len());
             let mut options = bp6.fault_ode_options(tol)?;
             options.parallelism = rsf::Parallelism::rayon(args.threads);
+            options.integrator = args.integrator.integrator;
             options.kernel = args.kernel.kernel(tol.min(1e-2))?;
             let mut ode = bp6.fe_fault_ode(model, variant, options, pressure)?;
             println!("S: {}", ode.kernel_report());
             let fault = bp6.output_fault(ode.model(), variant);
-            common.drive(&mut ode, fault, |o| o.evaluations_text())
+            common.drive(&mut ode, fault, |o| {
+                (o.evaluations_text(), Some(o.integrator_stats()))
+            })
         }
     }
 }
@@ -477,7 +492,7 @@ impl Common<'_> {
         self,
         run: &mut R,
         fault: rsf_seas::Bp6Fault,
-        counts: impl Fn(&R) -> String,
+        counts: impl Fn(&R) -> (String, Option<rsf::fault_ode::StepperStats>),
     ) -> Result<(), AnyError> {
         let args = self.args;
         println!(
@@ -512,7 +527,7 @@ impl Common<'_> {
         let summary = session.run(run, &mut [&mut output], Some(progress))?;
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
-        let counts = counts(run);
+        let (counts, integrator) = counts(run);
         println!(
             "{} steps ({} attempts rejected){}{counts}; wall {wall:.1} s, CPU {cpu:.1} s; \
              wrote {}",
@@ -527,6 +542,7 @@ impl Common<'_> {
             "wall_s": wall,
             "cpu_s": cpu,
             "machine": machine(),
+            "integrator": integrator.map(|st| args.integrator.summary(Some(st))),
         });
         std::fs::write(args.out.join("summary.json"), json.to_string())?;
         Ok(())

@@ -26,12 +26,18 @@
 pub mod adaptive;
 mod choice;
 pub mod runge_kutta;
+pub mod stabilized;
+pub mod stepper;
 
 pub use adaptive::{ControllerState, StepControl, TAU_MIN_FLOOR, TOLERANCE_RANGE};
 pub use choice::Integrator;
 pub use runge_kutta::{
     EmbeddedRungeKutta, OdeSystem, RungeKuttaOptions, RungeKuttaState, RungeKuttaStep, Tableau,
     BOGACKI_SHAMPINE_32, DORMAND_PRINCE_54,
+};
+pub use stabilized::{rkc_stages, Rkc2, RkcOptions, RkcState, RkcStep};
+pub use stepper::{
+    AutoOptions, OdeIntegrator, OdeStep, OdeStepper, StabilizedMemory, StepperMode, StepperStats,
 };
 
 pub use rsf_linalg::Parallelism;

@@ -254,6 +254,10 @@ pub struct EmbeddedRungeKutta {
     /// Whether `k[0]` holds `f(t, y)` of the current point (FSAL).
     fsal: bool,
     state: RungeKuttaState,
+    /// The stiffness test's copy of the second-last stage's point (empty when off).
+    ysti: Vec<f64>,
+    /// `h |λ|` of the last accepted step by the stiffness test (NaN when off).
+    stiffness: f64,
 }
 
 impl EmbeddedRungeKutta {
@@ -283,7 +287,40 @@ impl EmbeddedRungeKutta {
                 dt: dt0,
                 previous_error: 1e-4,
             },
+            ysti: Vec::new(),
+            stiffness: f64::NAN,
         })
+    }
+
+    /// Turns on the stiffness test of DOPRI5 (Hairer & Wanner, *Solving Ordinary
+    /// Differential Equations II*, §IV.2): after every accepted step
+    /// `h |λ| ≈ h ‖k_s − k_{s−1}‖ / ‖y_{n+1} − g_{s−1}‖` from the last two stages, which
+    /// share `c = 1` (`g` a stage's point), read by [`stiffness`](Self::stiffness). Costs a
+    /// copy of one stage per attempt.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `tableau` for a pair whose last two stages do not
+    /// share `c = 1` (Bogacki–Shampine 3(2)).
+    pub fn detect_stiffness(&mut self) -> Result<()> {
+        let c = self.tableau.c;
+        let s = self.tableau.stages;
+        if !(s >= 2 && c[s - 1] == 1.0 && c[s - 2] == 1.0) {
+            return Err(Error::InvalidParameter {
+                name: "tableau",
+                value: s as f64,
+                requirement: "the stiffness test needs the last two stages at c = 1 \
+                              (Dormand–Prince 5(4))",
+            });
+        }
+        self.ysti = vec![0.0; self.stage.len()];
+        Ok(())
+    }
+
+    /// `h |λ|` of the last accepted step by the stiffness test (DOPRI5's `HLAMB`: its pair
+    /// is stable on the negative real axis up to about 3.3); NaN unless
+    /// [`detect_stiffness`](Self::detect_stiffness) is on or before the first step.
+    pub fn stiffness(&self) -> f64 {
+        self.stiffness
     }
 
     /// The pair in use.
@@ -350,24 +387,7 @@ impl EmbeddedRungeKutta {
         t_end: Option<f64>,
     ) -> std::result::Result<RungeKuttaStep, S::Error> {
         let n = self.stage.len();
-        if y.len() != n {
-            return Err(Error::DimensionMismatch {
-                what: "ODE state",
-                expected: n,
-                got: y.len(),
-            }
-            .into());
-        }
-        if let Some(te) = t_end {
-            if !(te > *t) {
-                return Err(Error::InvalidParameter {
-                    name: "t_end",
-                    value: te,
-                    requirement: "must be after the current time",
-                }
-                .into());
-            }
-        }
+        check_step(n, y, *t, t_end)?;
         let tab = self.tableau;
         let o = self.options;
         let mut evaluations = 0;
@@ -382,10 +402,7 @@ impl EmbeddedRungeKutta {
         let mut rejected_error = 0.0;
         loop {
             let proposal = self.state.dt.min(o.dt_max);
-            let (dt, landing) = match t_end {
-                Some(te) if *t + proposal >= te - 1e-12 * proposal => (te - *t, true),
-                _ => (proposal, false),
-            };
+            let (dt, landing) = landing_step(*t, proposal, t_end);
             if !(dt >= o.dt_min) && !landing {
                 return Err(Error::StepTooSmall {
                     tau: dt,
@@ -397,6 +414,9 @@ impl EmbeddedRungeKutta {
             let mut finite = true;
             let mut refusal = None;
             for i in 1..tab.stages {
+                if i == tab.stages - 1 && !self.ysti.is_empty() {
+                    self.ysti.copy_from_slice(&self.stage);
+                }
                 combine(&mut self.stage, tab.a[i - 1], &self.k);
                 for (s, &yj) in self.stage.iter_mut().zip(y.iter()) {
                     *s = yj + dt * *s;
@@ -421,17 +441,7 @@ impl EmbeddedRungeKutta {
                 rejected += 1;
                 refused += 1;
                 rejected_error = f64::INFINITY;
-                let next = dt * o.refusal_shrink;
-                if refused >= o.max_refusals || next < o.dt_min {
-                    return Err(Error::TrialPointRefused {
-                        time: *t,
-                        dt,
-                        refusals: refused,
-                        reason: e.to_string(),
-                    }
-                    .into());
-                }
-                self.state.dt = next;
+                self.state.dt = after_refusal(&o, (*t, dt), refused, &e)?;
                 continue;
             }
             let error = if finite {
@@ -460,6 +470,18 @@ impl EmbeddedRungeKutta {
                     *t + dt
                 };
                 let last = tab.stages - 1;
+                if !self.ysti.is_empty() {
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for i in 0..n {
+                        num += (self.k[last][i] - self.k[last - 1][i]).powi(2);
+                        den += (self.y_new[i] - self.ysti[i]).powi(2);
+                    }
+                    self.stiffness = if den > 0.0 {
+                        dt * (num / den).sqrt()
+                    } else {
+                        0.0
+                    };
+                }
                 self.k.swap(0, last);
                 return Ok(RungeKuttaStep {
                     dt,
@@ -488,6 +510,58 @@ impl EmbeddedRungeKutta {
             }
         }
     }
+}
+
+/// The checks at the start of an adaptive step of either integrator: `y` of length `n`,
+/// `t_end` (if any) after `t`.
+pub(crate) fn check_step(n: usize, y: &[f64], t: f64, t_end: Option<f64>) -> Result<()> {
+    if y.len() != n {
+        return Err(Error::DimensionMismatch {
+            what: "ODE state",
+            expected: n,
+            got: y.len(),
+        });
+    }
+    if let Some(te) = t_end {
+        if !(te > t) {
+            return Err(Error::InvalidParameter {
+                name: "t_end",
+                value: te,
+                requirement: "must be after the current time",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The step to try from `t` with the controller's `proposal`, and whether it lands on
+/// `t_end` (a proposal within 1e-12 of it is stretched to land).
+pub(crate) fn landing_step(t: f64, proposal: f64, t_end: Option<f64>) -> (f64, bool) {
+    match t_end {
+        Some(te) if t + proposal >= te - 1e-12 * proposal => (te - t, true),
+        _ => (proposal, false),
+    }
+}
+
+/// The next step after the `refused`-th refused attempt of a step `dt` from `time`
+/// (`refusal_shrink`), or [`Error::TrialPointRefused`] after `max_refusals` or below
+/// `dt_min`.
+pub(crate) fn after_refusal(
+    o: &RungeKuttaOptions,
+    (time, dt): (f64, f64),
+    refused: usize,
+    reason: &dyn std::fmt::Display,
+) -> Result<f64> {
+    let next = dt * o.refusal_shrink;
+    if refused >= o.max_refusals || next < o.dt_min {
+        return Err(Error::TrialPointRefused {
+            time,
+            dt,
+            refusals: refused,
+            reason: reason.to_string(),
+        });
+    }
+    Ok(next)
 }
 
 /// `out = Σ_l c_l k_l` over the nonzero `c_l`, summed in the order of `l` from `0.0`

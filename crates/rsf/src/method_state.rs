@@ -4,7 +4,7 @@
 //! A [`Checkpoint`](crate::Checkpoint) saves it beside the common state, so that every
 //! method resumes bit-identically (docs/reliability.md).
 
-use rsf_time::RungeKuttaState;
+use rsf_time::{RkcState, RungeKuttaState, StabilizedMemory, StepperMode};
 
 /// The state of a [`FaultOde`](crate::FaultOde) beyond the common state.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,6 +20,122 @@ pub struct FaultOdeState {
     pub rate: Vec<f64>,
     /// Right-hand-side evaluations so far (each one product with the condensed operator).
     pub evaluations: u64,
+    /// With RKC2 (`rkc`, `auto`): the method in use, `auto`'s test counts and RKC2's
+    /// memory (its controller, the spectral radius estimate and its eigenvector); `None`
+    /// for an explicit pair alone, whose checkpoints keep the format of the runs before
+    /// issue 84.
+    pub stabilized: Option<StabilizedMemory>,
+}
+
+/// Values of a [`StabilizedMemory`] before its eigenvector.
+const STABILIZED_HEADER: usize = 9;
+
+impl FaultOdeState {
+    /// `[dt, previous error, evaluations, rate…]`, or with RKC2's memory
+    /// `[dt, previous error, evaluations, k, memory (k values), rate…]`.
+    fn push_values(&self, out: &mut Vec<f64>) {
+        out.push(self.controller.dt);
+        out.push(self.controller.previous_error);
+        out.push(self.evaluations as f64);
+        if let Some(m) = &self.stabilized {
+            let r = &m.rkc;
+            out.push((STABILIZED_HEADER + r.eigenvector.len()) as f64);
+            out.extend_from_slice(&[
+                match m.mode {
+                    StepperMode::Explicit => 0.0,
+                    StepperMode::Stabilized => 1.0,
+                },
+                f64::from(m.streak),
+                f64::from(m.calm),
+                r.dt,
+                r.previous_error,
+                r.previous_dt,
+                r.spectral_radius,
+                r.since_estimate as f64,
+                if r.estimate_due { 1.0 } else { 0.0 },
+            ]);
+            out.extend_from_slice(&r.eigenvector);
+        }
+        out.extend_from_slice(&self.rate);
+    }
+
+    /// The state written by [`push_values`](Self::push_values) (`stabilized`: with
+    /// RKC2's memory).
+    fn from_values(v: &[f64], stabilized: bool) -> std::result::Result<Self, String> {
+        if v.len() < 3 {
+            return Err("fault ODE state: fewer than 3 values".into());
+        }
+        let (dt, previous_error) = (v[0], v[1]);
+        if !(dt > 0.0 && dt.is_finite() && previous_error > 0.0 && previous_error.is_finite()) {
+            return Err(format!(
+                "fault ODE controller: step {dt} s, previous error {previous_error}"
+            ));
+        }
+        let evaluations = count(v[2], "evaluations")? as u64;
+        let (memory, rate) = if stabilized {
+            let k = count(*v.get(3).ok_or("RKC2 memory: no length")?, "RKC2 values")?;
+            if k < STABILIZED_HEADER || v.len() < 4 + k {
+                return Err(format!("RKC2 memory of {k} values in {} values", v.len()));
+            }
+            let m = &v[4..4 + k];
+            let mode = match m[0] {
+                0.0 => StepperMode::Explicit,
+                1.0 => StepperMode::Stabilized,
+                x => return Err(format!("integrator mode {x}")),
+            };
+            let small = |x: f64, what: &str| {
+                count(x, what)
+                    .and_then(|c| u32::try_from(c).map_err(|_| format!("{what} {x} too large")))
+            };
+            let rkc = RkcState {
+                dt: m[3],
+                previous_error: m[4],
+                previous_dt: m[5],
+                spectral_radius: m[6],
+                since_estimate: count(m[7], "steps since the estimate")?,
+                estimate_due: match m[8] {
+                    0.0 => false,
+                    1.0 => true,
+                    x => return Err(format!("estimate due {x}")),
+                },
+                eigenvector: m[STABILIZED_HEADER..].to_vec(),
+            };
+            let finite_non_negative = [rkc.previous_error, rkc.previous_dt, rkc.spectral_radius]
+                .iter()
+                .all(|x| x.is_finite() && *x >= 0.0);
+            if !(rkc.dt > 0.0 && rkc.dt.is_finite() && finite_non_negative) {
+                return Err(format!(
+                    "RKC2 controller: step {} s, previous error {}, previous step {} s, \
+                     spectral radius {} 1/s",
+                    rkc.dt, rkc.previous_error, rkc.previous_dt, rkc.spectral_radius
+                ));
+            }
+            let memory = StabilizedMemory {
+                mode,
+                streak: small(m[1], "streak")?,
+                calm: small(m[2], "calm")?,
+                rkc,
+            };
+            (Some(memory), &v[4 + k..])
+        } else {
+            (None, &v[3..])
+        };
+        Ok(FaultOdeState {
+            controller: RungeKuttaState { dt, previous_error },
+            evaluations,
+            rate: rate.to_vec(),
+            stabilized: memory,
+        })
+    }
+}
+
+/// `x` as a count (exact below 2⁵³).
+fn count(x: f64, what: &str) -> std::result::Result<usize, String> {
+    if x >= 0.0 && x.fract() == 0.0 && x < 2f64.powi(53) {
+        Ok(x as usize)
+    } else {
+        Err(format!("{what} {x} is not a count"))
+    }
 }
 
 /// Which method of a [`SwitchingRun`](crate::SwitchingRun) is active.
@@ -91,20 +207,17 @@ impl MethodState {
     }
 
     /// The state as a tag and a list of values (exact: counts below 2⁵³ are exact in
-    /// `f64`), for the checkpoint file.
+    /// `f64`), for the checkpoint file. Tags: 0 implicit, 1 fault ODE, 2 switching; 3 and
+    /// 4 the fault ODE and the switching run whose fault ODE holds RKC2's memory
+    /// ([`FaultOdeState::stabilized`]; since issue 84).
     pub(crate) fn to_values(&self) -> (u64, Vec<f64>) {
-        fn ode(s: &FaultOdeState, out: &mut Vec<f64>) {
-            out.push(s.controller.dt);
-            out.push(s.controller.previous_error);
-            out.push(s.evaluations as f64);
-            out.extend_from_slice(&s.rate);
-        }
+        let with_rkc = |s: &FaultOdeState| u64::from(s.stabilized.is_some()) * 2;
         match self {
             MethodState::Implicit => (0, Vec::new()),
             MethodState::FaultOde(s) => {
                 let mut out = Vec::with_capacity(3 + s.rate.len());
-                ode(s, &mut out);
-                (1, out)
+                s.push_values(&mut out);
+                (1 + with_rkc(s), out)
             }
             MethodState::Switching {
                 phase,
@@ -122,9 +235,9 @@ impl MethodState {
                     stats.dynamic_time,
                 ];
                 if let Some(s) = fault_ode {
-                    ode(s, &mut out);
+                    s.push_values(&mut out);
                 }
-                (2, out)
+                (2 + fault_ode.as_ref().map_or(0, with_rkc), out)
             }
         }
     }
@@ -135,34 +248,14 @@ impl MethodState {
     /// What is wrong, as text (an unknown tag, too few values, a count that is not a
     /// non-negative integer, a non-finite controller value).
     pub(crate) fn from_values(tag: u64, values: &[f64]) -> std::result::Result<Self, String> {
-        fn count(x: f64, what: &str) -> std::result::Result<usize, String> {
-            if x >= 0.0 && x.fract() == 0.0 && x < 2f64.powi(53) {
-                Ok(x as usize)
-            } else {
-                Err(format!("{what} {x} is not a count"))
-            }
-        }
-        fn ode(v: &[f64]) -> std::result::Result<FaultOdeState, String> {
-            if v.len() < 3 {
-                return Err("fault ODE state: fewer than 3 values".into());
-            }
-            let (dt, previous_error) = (v[0], v[1]);
-            if !(dt > 0.0 && dt.is_finite() && previous_error > 0.0 && previous_error.is_finite()) {
-                return Err(format!(
-                    "fault ODE controller: step {dt} s, previous error {previous_error}"
-                ));
-            }
-            Ok(FaultOdeState {
-                controller: RungeKuttaState { dt, previous_error },
-                evaluations: count(v[2], "evaluations")? as u64,
-                rate: v[3..].to_vec(),
-            })
-        }
         match tag {
             0 if values.is_empty() => Ok(MethodState::Implicit),
             0 => Err("implicit method with method values".into()),
-            1 => Ok(MethodState::FaultOde(ode(values)?)),
-            2 => {
+            1 | 3 => Ok(MethodState::FaultOde(FaultOdeState::from_values(
+                values,
+                tag == 3,
+            )?)),
+            2 | 4 => {
                 if values.len() < 5 {
                     return Err("switching state: fewer than 5 values".into());
                 }
@@ -182,8 +275,8 @@ impl MethodState {
                 }
                 let rest = &values[5..];
                 let fault_ode = match phase {
-                    Phase::QuasiDynamic => Some(ode(rest)?),
-                    Phase::Dynamic if rest.is_empty() => None,
+                    Phase::QuasiDynamic => Some(FaultOdeState::from_values(rest, tag == 4)?),
+                    Phase::Dynamic if rest.is_empty() && tag == 2 => None,
                     Phase::Dynamic => return Err("dynamic phase with fault ODE values".into()),
                 };
                 Ok(MethodState::Switching {
@@ -210,9 +303,33 @@ mod tests {
             },
             rate: vec![1.0, -2.5e-300, 3.0],
             evaluations: 12345,
+            stabilized: None,
+        };
+        let with_rkc = FaultOdeState {
+            stabilized: Some(StabilizedMemory {
+                mode: StepperMode::Stabilized,
+                streak: 3,
+                calm: 1,
+                rkc: RkcState {
+                    dt: 2.5,
+                    previous_error: 0.3,
+                    previous_dt: 1.5,
+                    spectral_radius: 1.25e-6,
+                    since_estimate: 7,
+                    estimate_due: false,
+                    eigenvector: vec![0.5, -1e-300, 2.0],
+                },
+            }),
+            ..ode.clone()
         };
         for s in [
             MethodState::Implicit,
+            MethodState::FaultOde(with_rkc.clone()),
+            MethodState::Switching {
+                phase: Phase::QuasiDynamic,
+                stats: SwitchingStats::default(),
+                fault_ode: Some(with_rkc),
+            },
             MethodState::FaultOde(ode.clone()),
             MethodState::Switching {
                 phase: Phase::QuasiDynamic,

@@ -95,7 +95,7 @@ pub struct Args {
     #[arg(long)]
     pub(super) setup_per_time_step: bool,
     /// Time integration: `runge-kutta` (quasi-dynamic equations condensed onto the fault,
-    /// Dormand–Prince 5(4), the default) or `implicit` (the paper's scheme: backward Euler
+    /// `--integrator`'s, the default) or `implicit` (the paper's scheme: backward Euler
     /// with the fixed point of velocity and state, the only one with `--inertia`).
     #[arg(long, value_enum, default_value_t = Scheme::RungeKutta)]
     pub(super) scheme: Scheme,
@@ -105,6 +105,8 @@ pub struct Args {
     pub(super) rk_tolerance: f64,
     #[command(flatten)]
     pub(super) kernel: crate::KernelArgs,
+    #[command(flatten)]
+    pub(super) integrator: crate::IntegratorArgs,
     /// Threads of each evaluation of the Runge–Kutta run: the product with the condensed
     /// operator and the per-node friction solves (rayon; the same bits for every value).
     /// Default: every core of the machine.

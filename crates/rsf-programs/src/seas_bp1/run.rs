@@ -73,8 +73,9 @@ impl Choices {
         grid: &SeasBp1Grid,
         sampling: &SeasSampling,
     ) -> Fingerprint {
-        let fingerprint = bp1
-            .fingerprint(grid, args.inertia, sampling)
+        let fingerprint = args
+            .integrator
+            .fingerprint(bp1.fingerprint(grid, args.inertia, sampling))
             .with("method", self.method)
             .with("end_years", args.end_years)
             .with("tolerance", args.tolerance)
@@ -145,6 +146,7 @@ fn build_run(
     };
     let fault_ode_options = FaultOdeOptions {
         kernel: choices.kernel,
+        integrator: args.integrator.integrator,
         parallelism: rsf::Parallelism::rayon(args.threads),
         ..rk_options
     };
@@ -360,6 +362,11 @@ fn report(
         },
         "scheme": format!("{:?}", args.scheme),
         "rk_tolerance": (args.scheme == Scheme::RungeKutta).then_some(args.rk_tolerance),
+        "integrator": (args.scheme == Scheme::RungeKutta).then(|| args.integrator.summary(match sim {
+            rsf::Run::Implicit(_) => None,
+            rsf::Run::FaultOde(s) => Some(s.integrator_stats()),
+            rsf::Run::Switching(s) => Some(s.quasi_dynamic().integrator_stats()),
+        })),
         "rate_evaluations": match sim {
             rsf::Run::Implicit(_) => None,
             rsf::Run::FaultOde(s) => Some(s.evaluations()),

@@ -64,6 +64,8 @@ pub struct Args {
     /// tolerance in ln θ).
     #[arg(long, default_value_t = 1e-6)]
     pub(super) tolerance: f64,
+    #[command(flatten)]
+    pub(super) integrator: crate::IntegratorArgs,
     /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km).
     #[arg(long, default_value_t = 1e-6)]
     pub(super) epsilon: f64,

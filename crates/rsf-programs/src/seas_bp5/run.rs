@@ -282,7 +282,7 @@ fn fingerprint(args: &Args, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
             .with("mesh", format!("{:?}", grid.mesh))
             .with("condensation", format!("{:?}", args.condensation()));
     }
-    fingerprint
+    args.integrator.fingerprint(fingerprint)
 }
 
 /// The header facts of BP5's files.
@@ -319,6 +319,7 @@ pub(super) fn run(
         .fault_ode_options(args.tolerance)
         .map_err(|e| format!("--tolerance: {e}"))?;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
+    options.integrator = args.integrator.integrator;
     let half_space = bp5
         .half_space(args.epsilon)
         .map_err(|e| format!("--epsilon: {e}"))?;
@@ -452,6 +453,7 @@ fn report(
         "steps_this_invocation": summary.steps,
         "rejected_attempts": summary.rejected_attempts,
         "rate_evaluations": ode.evaluations(),
+        "integrator": args.integrator.summary(Some(ode.integrator_stats())),
         "threads": args.threads,
         "setup_s": setup_s,
         "wall_time_s": wall,

@@ -58,7 +58,8 @@ impl SeasBp5 {
 
     /// The fault alone on the grid of size `dx` ([`Model::fault_only`]): one vertex per
     /// cell at `(0, x₂, −x₃)`, `x` (the fault normal) fixed, the prestress
-    /// [`tau0`](Self::tau0) along `+y` as the load (times the cell's area).
+    /// [`tau0_in_cell`](Self::tau0_in_cell) along `+y` as the load (times the cell's area:
+    /// a cell on the nucleation patch's edge takes its share of the patch's prestress).
     ///
     /// # Errors
     /// Those of [`cells`](Self::cells).
@@ -68,7 +69,7 @@ impl SeasBp5 {
         let areas = vec![dx * dx; cells.len()];
         let mut model = Model::fault_only(centres, &areas, 0)?;
         for (k, c) in cells.iter().enumerate() {
-            model.load[3 * k + 1] = dx * dx * self.tau0(c[0], c[1]);
+            model.load[3 * k + 1] = dx * dx * self.tau0_in_cell(c[0], c[1], dx);
         }
         Ok(model)
     }

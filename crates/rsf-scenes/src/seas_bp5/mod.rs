@@ -246,6 +246,68 @@ impl SeasBp5 {
         (x2_lo..=x2_lo + self.w).contains(&x2) && (x3_lo..=x3_lo + self.h).contains(&x3)
     }
 
+    /// The share of the square of side `dx` centred at `(x₂, x₃)` — a node's dual cell
+    /// on the fault's grid, or a boundary element's cell — that lies in the nucleation
+    /// patch, in `[0, 1]` (exact: the overlap of two intervals along each axis, the dual
+    /// cell clipped to the half-space `x₃ ≥ 0`). A node or cell on the patch's edge takes
+    /// its share of the patch's L and prestress ([`l_in_cell`](Self::l_in_cell),
+    /// [`tau0_in_cell`](Self::tau0_in_cell)), so that the patch's weights on the fault sum
+    /// to its area `w × H` exactly (docs/seas-bp5.md, "The nucleation patch's weights").
+    pub fn patch_share(&self, x2: f64, x3: f64, dx: f64) -> f64 {
+        let overlap = |lo: f64, hi: f64, a: f64, b: f64| (hi.min(b) - lo.max(a)).max(0.0);
+        let x2_lo = -0.5 * self.l_core;
+        let x3_lo = self.h_s + self.h_t;
+        let h = 0.5 * dx;
+        let (d_lo, d_hi) = ((x3 - h).max(0.0), x3 + h);
+        let along = overlap(x2 - h, x2 + h, x2_lo, x2_lo + self.w) / dx;
+        let down = overlap(d_lo, d_hi, x3_lo, x3_lo + self.h) / (d_hi - d_lo);
+        (along * down).clamp(0.0, 1.0)
+    }
+
+    /// L of the node or cell of side `dx` at `(x₂, x₃)` (m): the share-weighted mean of
+    /// the patch's and the rest's ([`patch_share`](Self::patch_share)).
+    pub fn l_in_cell(&self, x2: f64, x3: f64, dx: f64) -> f64 {
+        let s = self.patch_share(x2, x3, dx);
+        if s == 0.0 {
+            self.l
+        } else if s == 1.0 {
+            self.l_nucleation
+        } else {
+            s * self.l_nucleation + (1.0 - s) * self.l
+        }
+    }
+
+    /// The prestress of the node or cell of side `dx` at `(x₂, x₃)` (Pa): the
+    /// share-weighted mean of [`tau0`](Self::tau0) with the patch's `V_i` and with
+    /// `V_init` ([`patch_share`](Self::patch_share)).
+    pub fn tau0_in_cell(&self, x2: f64, x3: f64, dx: f64) -> f64 {
+        let s = self.patch_share(x2, x3, dx);
+        let at = |v: f64| {
+            let a = self.a(x2, x3);
+            let psi = self.f0 + self.b0 * (self.v0 / self.v_init).ln();
+            self.sigma_n * a * (v / (2.0 * self.v0) * (psi / a).exp()).asinh()
+                + self.radiation_damping() * v
+        };
+        if s == 0.0 {
+            at(self.v_init)
+        } else if s == 1.0 {
+            at(self.v_i)
+        } else {
+            s * at(self.v_i) + (1.0 - s) * at(self.v_init)
+        }
+    }
+
+    /// The spacing of the fault's grid of frictional nodes (the smallest distance between
+    /// two of their distinct `x₂`; m): `Δx` on BP5's grids, of cells or of nodes.
+    pub fn grid_spacing(model: &Model<3, 3>) -> f64 {
+        let mut x2: Vec<f64> = model.on_frictional_nodes(|x| x[1]);
+        x2.sort_by(f64::total_cmp);
+        x2.dedup();
+        x2.windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// L at `(x₂, x₃)` (m).
     pub fn l_at(&self, x2: f64, x3: f64) -> f64 {
         if self.in_nucleation_patch(x2, x3) {
@@ -304,14 +366,23 @@ impl SeasBp5 {
     /// The problem of BP5 on `model` (a fault alone or the volume model): the regularised
     /// law with [`params`](Self::params), the aging law with the local L, θ₀ of
     /// [`alpha0`](Self::alpha0), quasi-dynamic with η = μ/(2c_s), first trial step 1 ms.
+    /// L (and so θ₀) is each node's or cell's share of the nucleation patch's
+    /// ([`l_in_cell`](Self::l_in_cell) on the grid of [`grid_spacing`](Self::grid_spacing)).
     pub fn problem_builder(
         &self,
         model: Model<3, 3>,
     ) -> SimulationBuilder<3, AsinhLaw, Aging, rsf::Integrator, 3> {
+        let dx = Self::grid_spacing(&model);
+        let l = move |x: &[f64; 3]| self.l_in_cell(x[1], -x[2], dx);
         SimulationBuilder::new(model)
-            .friction_at(|x| AsinhLaw::new(self.params(x[1], -x[2])))
-            .state_law_at(|x| Aging::new(self.l_at(x[1], -x[2])))
-            .initial_state_at(|x| self.alpha0(x[1], -x[2]))
+            .friction_at(move |x| {
+                AsinhLaw::new(RateStateParams {
+                    l: l(x),
+                    ..self.params(x[1], -x[2])
+                })
+            })
+            .state_law_at(move |x| Aging::new(l(x)))
+            .initial_state_at(move |x| (l(x) / self.v_init).ln())
             .integrator(rsf::Integrator::Quasistatic(rsf_time::Quasistatic::new()))
             .radiation_damping(self.radiation_damping())
             .time_step(1e-3)

@@ -755,3 +755,56 @@ fn bp5_elimination_plan() {
         );
     }
 }
+
+/// The nucleation patch's weights are exact (issue 84): the sum over the fault's nodes
+/// (or cells) of weight × share of the patch equals the patch's area `w × H` = 144 km² to
+/// round-off, for the boundary-element cells at 2.5, 2 and 1 km and the finite-element
+/// nodes at 10 and 5 km (where the patch's edges at x₂ = −18 km and x₃ = 4, 16 km cut
+/// the dual cells), whatever the grid; and each node's L is the share-weighted mean. With
+/// closed intervals (a node on the edge taking the patch's L with its whole dual cell),
+/// the same sums give the larger areas the issue counted (36 % at 2 km).
+#[test]
+fn the_nucleation_patchs_weights_sum_to_its_area() {
+    let bp5 = SeasBp5::default();
+    let area = bp5.w * bp5.h;
+    let sums = |model: &rsf::Model<3, 3>| {
+        let dx = SeasBp5::grid_spacing(model);
+        let fb = &model.frictional_boundary;
+        let (mut exact, mut closed) = (0.0, 0.0);
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let x = model.vertices[p];
+            let (x2, x3) = (x[1], -x[2]);
+            exact += fb.weights[k] * bp5.patch_share(x2, x3, dx);
+            if bp5.in_nucleation_patch(x2, x3) {
+                closed += fb.weights[k];
+            }
+            let s = bp5.patch_share(x2, x3, dx);
+            let l = bp5.l_in_cell(x2, x3, dx);
+            assert!((l - (s * bp5.l_nucleation + (1.0 - s) * bp5.l)).abs() <= 1e-15);
+        }
+        (dx, exact, closed)
+    };
+    for dx in [2500.0, 2000.0, 1000.0] {
+        let (spacing, exact, closed) = sums(&bp5.model(dx).unwrap());
+        println!("cells, Δx = {dx}: {exact:e} m² (closed intervals {closed:e})");
+        assert_eq!(spacing, dx);
+        assert!(
+            (exact - area).abs() <= 1e-12 * area,
+            "{exact} against {area}"
+        );
+    }
+    for dx in [10e3, 5e3] {
+        let grid = rsf_scenes::SeasBp5Grid {
+            dx,
+            ..rsf_scenes::SeasBp5Grid::default()
+        };
+        let (spacing, exact, closed) = sums(&bp5.fe_model(&grid).unwrap());
+        println!("nodes, Δx = {dx}: {exact:e} m² (closed intervals {closed:e})");
+        assert_eq!(spacing, dx);
+        assert!(
+            (exact - area).abs() <= 1e-12 * area,
+            "{exact} against {area}"
+        );
+        assert!(closed > area, "{closed}");
+    }
+}

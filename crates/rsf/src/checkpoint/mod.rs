@@ -362,6 +362,7 @@ mod tests {
                 },
                 rate: vec![1.0, 2.0, -3.0],
                 evaluations: 99,
+                stabilized: None,
             }),
         };
         c

@@ -8,7 +8,7 @@
 pub use rsf_direct::InteriorOrdering;
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{EmbeddedRungeKutta, RungeKuttaState};
+use rsf_time::{OdeStepper, RungeKuttaState};
 
 use crate::checkpoint::Checkpoint;
 pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
@@ -34,6 +34,7 @@ pub use crate::fault_alone::{SchurOnlySetup, SetupProgress};
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
+pub use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, StepperStats};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).
@@ -92,7 +93,7 @@ use rates::{FaultRates, Rates};
 pub struct FaultOde<const D: usize, L, S, const C: usize = D> {
     problem: Problem<D, L, S, C>,
     rates: FaultRates<C>,
-    rk: EmbeddedRungeKutta,
+    rk: OdeStepper,
     /// `[u_F (m free components); α (one per frictional node)]`.
     y: Vec<f64>,
     state: SimulationState,
@@ -198,15 +199,23 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// evaluations so far (what a checkpoint saves besides the common state).
     pub fn fault_ode_state(&self) -> FaultOdeState {
         FaultOdeState {
-            controller: self.rk.state(),
+            controller: self.rk.explicit_state(),
             rate: self.dy.clone(),
             evaluations: self.evaluations as u64,
+            stabilized: self.rk.stabilized_memory(),
         }
     }
 
-    /// The step controller's state (next step, PI memory).
+    /// The step controller's state of the method in use (next step, error memory).
     pub fn controller(&self) -> RungeKuttaState {
-        self.rk.state()
+        self.rk.controller()
+    }
+
+    /// What the integrator did in this process: steps, simulated time and evaluations of
+    /// the explicit pair and of RKC2, `auto`'s changes of method, the spectral radius
+    /// estimates and the largest stage count (docs/math.md §12, "Stiff steps").
+    pub fn integrator_stats(&self) -> StepperStats {
+        self.rk.stats()
     }
 
     /// Runs until `until`, showing every accepted step to the observers: the one run loop

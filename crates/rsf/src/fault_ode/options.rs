@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use rsf_direct::InteriorOrdering;
 use rsf_linalg::Parallelism;
-use rsf_time::{RungeKuttaOptions, Tableau, DORMAND_PRINCE_54, TOLERANCE_RANGE};
+use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, RungeKuttaOptions, TOLERANCE_RANGE};
 
 use crate::error::{invalid, Result};
 use crate::fault_operator::FaultKernel;
@@ -13,8 +13,17 @@ use crate::fault_operator::FaultKernel;
 /// Options of a [`FaultOde`](super::FaultOde).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaultOdeOptions {
-    /// The embedded pair (default [`DORMAND_PRINCE_54`]).
-    pub tableau: Tableau,
+    /// The integrator (default [`OdeIntegrator::DormandPrince`], the pair every run used
+    /// before issue 84, so that their trajectories keep their bits; the programs default
+    /// to [`OdeIntegrator::Auto`]): an explicit embedded pair, the stabilised RKC2, or
+    /// `auto`, the pair while accuracy sets its step and RKC2 while stability would
+    /// (docs/math.md §12, "Stiff steps"). A checkpoint of one integrator continues with
+    /// another only as a new trajectory (the programs put it in their fingerprint).
+    pub integrator: OdeIntegrator,
+    /// RKC2's stage limit and spectral radius estimates (used by `rkc` and `auto`).
+    pub rkc: RkcOptions,
+    /// `auto`'s tests of when to change method.
+    pub auto: AutoOptions,
     /// Error tolerance per step: the local error of every slip component is at most
     /// `tolerance · slip_scale` (m) and of every state `α` at most `tolerance` (absolute:
     /// a relative error of θ). In [`TOLERANCE_RANGE`]; default 1e-6.
@@ -63,7 +72,9 @@ pub struct FaultOdeOptions {
 impl Default for FaultOdeOptions {
     fn default() -> Self {
         Self {
-            tableau: DORMAND_PRINCE_54,
+            integrator: OdeIntegrator::DormandPrince,
+            rkc: RkcOptions::default(),
+            auto: AutoOptions::default(),
             tolerance: 1e-6,
             slip_scale: 1e-3,
             runge_kutta: RungeKuttaOptions::default(),
@@ -80,7 +91,7 @@ impl FaultOdeOptions {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `tolerance` or `slip_scale`; the Runge–Kutta
-    /// options' errors; the kernel's ([`FaultKernel::validate`]).
+    /// options', RKC2's and `auto`'s errors; the kernel's ([`FaultKernel::validate`]).
     pub fn validate(&self) -> Result<()> {
         let (lo, hi) = TOLERANCE_RANGE;
         // The open interval: a relative tolerance of 1 accepts any step (issue 74:
@@ -102,6 +113,8 @@ impl FaultOdeOptions {
             ));
         }
         self.runge_kutta.validate()?;
+        self.rkc.validate()?;
+        self.auto.validate()?;
         self.kernel.validate()
     }
 }

@@ -2,7 +2,7 @@
 
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{OdeSystem, RungeKuttaState};
+use rsf_time::OdeSystem;
 
 use super::FaultOde;
 use crate::checkpoint::{bad_value, check_size, Checkpoint};
@@ -65,11 +65,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         self.y = y;
         self.dy.copy_from_slice(&memory.rate);
-        self.rk.restore(memory.controller, &memory.rate)?;
+        self.rk
+            .restore(memory.controller, memory.stabilized.as_ref(), &memory.rate)?;
         self.evaluations = usize::try_from(memory.evaluations).unwrap_or(usize::MAX);
         self.state.time = state.time;
         self.state.step = state.step;
-        self.state.tau = dt;
+        self.state.tau = self.rk.controller().dt;
         self.state.time_origin = state.time_origin;
         self.state.controller = None;
         self.state.kinematics.u.copy_from_slice(&state.kinematics.u);
@@ -131,10 +132,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         }
         self.y = y;
         self.dy = dy;
-        self.rk.set_state(RungeKuttaState {
-            dt,
-            previous_error: 1e-4,
-        });
+        self.rk.restart(dt);
         self.state.time = state.time;
         self.state.step = state.step;
         self.state.tau = dt;

@@ -4,7 +4,7 @@
 use rsf_direct::Condensation;
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{EmbeddedRungeKutta, Kinematics, OdeSystem};
+use rsf_time::{Kinematics, OdeStepper, OdeSystem};
 
 use super::rates::{FaultRates, PressureRates};
 use super::schur_only;
@@ -249,7 +249,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 });
         let mut kinematics = Kinematics::zeros(n);
         kinematics.u.copy_from_slice(&model.initial_displacement);
-        let rk = EmbeddedRungeKutta::new(options.tableau, options.runge_kutta, y.len(), dt0)?;
+        let rk = OdeStepper::new(
+            options.integrator,
+            (options.runge_kutta, options.rkc, options.auto),
+            y.len(),
+            dt0,
+        )?;
         let state = SimulationState {
             step: 0,
             time: 0.0,

@@ -121,14 +121,14 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
             };
-            self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?
+            self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?.step
         };
         self.dy
             .copy_from_slice(self.rk.current_rate().expect("set by an accepted step"));
         self.evaluations += taken.evaluations;
         self.state.time = t;
         self.state.step += 1;
-        self.state.tau = self.rk.state().dt;
+        self.state.tau = self.rk.controller().dt;
         self.fill_state(volume)?;
         let fb = &self.problem.model().frictional_boundary;
         let max_slip_rate = fb
