@@ -587,7 +587,10 @@ impl<const D: usize> MeanJumpTransform<D> {
     /// # Errors
     /// [`Error::Unsupported`] for a frame at a vertex of a split pair or a junction;
     /// the frames' errors ([`NodalFrames`]).
-    pub fn with_nodal_frames<const C: usize>(&self, frames: &crate::NodalFrames<C>) -> Result<Self> {
+    pub fn with_nodal_frames<const C: usize>(
+        &self,
+        frames: &crate::NodalFrames<C>,
+    ) -> Result<Self> {
         if frames.nodes.is_empty() {
             return Ok(self.clone());
         }

@@ -31,7 +31,9 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use plotters::prelude::*;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::{EventThresholds, FaultCatalogue, FaultStations, NetworkEvent, Progress, TimeUnit};
+use rsf::observe::{
+    EventThresholds, FaultCatalogue, FaultStations, NetworkEvent, Progress, TimeUnit,
+};
 use rsf_scenes::{SeasBp1, Stepover, StepoverGrid, STEPOVER_FAULTS};
 use rsf_seas::SECONDS_PER_YEAR;
 
@@ -78,6 +80,8 @@ pub struct Args {
     tolerance: f64,
     #[command(flatten)]
     kernel: crate::KernelArgs,
+    #[command(flatten)]
+    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the same bits for every value). Default: every core.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
@@ -159,7 +163,12 @@ impl Program for Args {
             (self.strand_km, 1e5),
             "km: at least a strand's length",
         )?;
-        in_range("--ratio", self.ratio, (1.0, 2.0), "the growth of the elements")?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the elements",
+        )?;
         let (stepover, grid) = scene(self);
         stepover
             .check_grid(&grid)
@@ -237,6 +246,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     );
     let mut options = stepover.params.fault_ode_options(args.tolerance)?;
     options.kernel = args.kernel.kernel(args.tolerance)?;
+    options.integrator = args.integrator.integrator;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     let mut ode = stepover.fault_ode(model, options)?;
     println!("S: {}", ode.kernel_report());
@@ -245,13 +255,15 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         clock.elapsed().as_secs_f64(),
         cpu_seconds() - cpu0
     );
-    let fingerprint = Fingerprint::of_serialized(&stepover)
-        .with("dx", args.dx)
-        .with("domain_km", args.domain_km)
-        .with("ratio", args.ratio)
-        .with("end_years", args.end_years)
-        .with("tolerance", args.tolerance)
-        .with("kernel", options.kernel);
+    let fingerprint = args.integrator.fingerprint(
+        Fingerprint::of_serialized(&stepover)
+            .with("dx", args.dx)
+            .with("domain_km", args.domain_km)
+            .with("ratio", args.ratio)
+            .with("end_years", args.end_years)
+            .with("tolerance", args.tolerance)
+            .with("kernel", options.kernel),
+    );
     let session = Session::start(
         args.run.session_flags(),
         args.out.join("checkpoint.bin"),
@@ -277,13 +289,20 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         TimeUnit::year(SECONDS_PER_YEAR),
         "stepover",
     );
-    let summary = session.run(&mut ode, &mut [&mut stations, &mut catalogue], Some(progress))?;
+    let summary = session.run(
+        &mut ode,
+        &mut [&mut stations, &mut catalogue],
+        Some(progress),
+    )?;
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     catalogue.write_csv(&args.out.join("catalogue.csv"))?;
     let names = catalogue.fault_names().to_vec();
     let events = catalogue.events();
-    let jumped = events.iter().filter(|e| e.ruptured.iter().all(|&r| r)).count();
+    let jumped = events
+        .iter()
+        .filter(|e| e.ruptured.iter().all(|&r| r))
+        .count();
     for e in events {
         println!(
             "event at {:.3} yr: nucleated on {} at x = {:.2} km, ruptured {}, peak slip rate {}",
@@ -320,6 +339,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             "wall_seconds": wall,
             "cpu_seconds": cpu,
             "machine": machine(),
+            "integrator": args.integrator.summary(Some(ode.integrator_stats())),
         },
         "faults": names,
         "events": events,
@@ -369,10 +389,7 @@ fn catalogue_figure(
             .y_desc("strand")
             .y_labels(names.len())
             .y_label_formatter(&move |y| {
-                labels
-                    .get(y.round() as usize)
-                    .cloned()
-                    .unwrap_or_default()
+                labels.get(y.round() as usize).cloned().unwrap_or_default()
             })
             .label_style(("sans-serif", 15))
             .draw()?;

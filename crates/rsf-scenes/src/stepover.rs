@@ -150,7 +150,9 @@ impl Stepover {
     /// The half-extents `[X, Y]` (m) of the box of `grid`: `X` the frictional parts' reach
     /// along strike plus `grid.domain`, `Y` half the gap plus `grid.domain`.
     pub fn box_half(&self, grid: &StepoverGrid) -> [f64; 2] {
-        let reach = (0.5 * self.overlap).abs().max(self.params.w_f - 0.5 * self.overlap);
+        let reach = (0.5 * self.overlap)
+            .abs()
+            .max(self.params.w_f - 0.5 * self.overlap);
         [reach + grid.domain, 0.5 * self.gap + grid.domain]
     }
 
@@ -263,14 +265,24 @@ impl Stepover {
         ModelBuilder::new(mesh)
             .material(material)
             .without_mass()
-            .dirichlet(Part::predicate("north side", move |x| x[1] > y_half - eps), [h, 0.0])
-            .dirichlet(Part::predicate("south side", move |x| x[1] < -y_half + eps), [-h, 0.0])
             .dirichlet(
-                Part::predicate("west side, north", move |x| x[0] < -x_half + eps && x[1] > -g),
+                Part::predicate("north side", move |x| x[1] > y_half - eps),
                 [h, 0.0],
             )
             .dirichlet(
-                Part::predicate("west side, south", move |x| x[0] < -x_half + eps && x[1] < -g),
+                Part::predicate("south side", move |x| x[1] < -y_half + eps),
+                [-h, 0.0],
+            )
+            .dirichlet(
+                Part::predicate("west side, north", move |x| {
+                    x[0] < -x_half + eps && x[1] > -g
+                }),
+                [h, 0.0],
+            )
+            .dirichlet(
+                Part::predicate("west side, south", move |x| {
+                    x[0] < -x_half + eps && x[1] < -g
+                }),
                 [-h, 0.0],
             )
             .dirichlet(
@@ -348,11 +360,13 @@ impl Stepover {
         STEPOVER_FAULTS
             .iter()
             .flat_map(|&fault| {
-                STEPOVER_STATION_DISTANCES.iter().map(move |&s| FaultStation {
-                    fault: fault.to_owned(),
-                    near: self.point(fault, s),
-                    label: format!("s{:04.1}km", s / 1e3),
-                })
+                STEPOVER_STATION_DISTANCES
+                    .iter()
+                    .map(move |&s| FaultStation {
+                        fault: fault.to_owned(),
+                        near: self.point(fault, s),
+                        label: format!("s{:04.1}km", s / 1e3),
+                    })
             })
             .collect()
     }

@@ -184,7 +184,10 @@ impl<const D: usize, const C: usize> FaultCatalogue<D, C> {
             let state: CatalogueState = serde_json::from_str(json)
                 .map_err(|e| fail(format!("the state of step {step}: {e}")))?;
             if state.previous.len() != self.previous.len()
-                || state.events.iter().any(|e| e.moment.len() != self.names.len())
+                || state
+                    .events
+                    .iter()
+                    .any(|e| e.moment.len() != self.names.len())
             {
                 return Err(fail(format!(
                     "the state of step {step} is of another network (its sizes differ)"

@@ -96,7 +96,10 @@ impl<const D: usize, const C: usize> FaultStations<D, C> {
                 .into_iter()
                 .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
                 .ok_or_else(|| {
-                    invalid("station", format!("fault `{}` has no frictional node", s.fault))
+                    invalid(
+                        "station",
+                        format!("fault `{}` has no frictional node", s.fault),
+                    )
                 })?;
             let path = dir.join(format!("{}_{}.csv", s.fault, s.label));
             let out = files::open(&path, &Self::header(), 0, mode.start(true))?;

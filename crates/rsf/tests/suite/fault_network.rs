@@ -279,7 +279,10 @@ fn a_fault_inside_the_body_beside_a_frictional_boundary() {
         .time_step(1.0)
         .build_fault_ode(FaultOdeOptions::default())
         .unwrap_err();
-    assert!(refused.to_string().contains("frictional boundary beside"), "{refused}");
+    assert!(
+        refused.to_string().contains("frictional boundary beside"),
+        "{refused}"
+    );
     // Both engines on it.
     let ode = slip_after(build(), 1e7);
     let mut implicit = quasi_dynamic(build())
@@ -337,10 +340,7 @@ fn faults_from_gmsh_physical_groups() {
     let mut b = ModelBuilder::new(g.mesh.clone())
         .material(Material::new(3e10, 0.25, 2700.0))
         .without_mass()
-        .dirichlet(
-            Part::predicate("ends", move |x| edge(x)),
-            [0.0, 1e-9, 0.0],
-        );
+        .dirichlet(Part::predicate("ends", move |x| edge(x)), [0.0, 1e-9, 0.0]);
     for group in ["west", "east"] {
         b = b.internal_fault_faces(group, &g.interior_facets[group]);
     }

@@ -380,7 +380,10 @@ fn tnnmg_on_a_fault_network_cut_on_every_level_agrees_with_the_direct_solver() {
                  {:.0}% of the slip nodes slip",
                 100.0 * slipping
             );
-            assert!(slipping > 0.0 && slipping < 1.0, "part of the network slips");
+            assert!(
+                slipping > 0.0 && slipping < 1.0,
+                "part of the network slips"
+            );
             assert!(es < 1e-8 && ec < 1e-8, "{es:e} {ec:e}");
             assert!(s <= c, "split {s}, continuous {c}");
             split.push(s);

@@ -41,7 +41,11 @@ impl<const D: usize> FaultPart<'_, D> {
                     Some(p) => p.resolve(mesh)?.facets().to_vec(),
                     None => Vec::new(),
                 };
-                facets.extend(self.minus_faces.iter().flat_map(|t| mesh.facets_with_tag(t)));
+                facets.extend(
+                    self.minus_faces
+                        .iter()
+                        .flat_map(|t| mesh.facets_with_tag(t)),
+                );
                 Ok(BoundaryPart::from_facets(mesh, &self.name(), facets)?)
             }
         }

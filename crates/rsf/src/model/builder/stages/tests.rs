@@ -404,7 +404,9 @@ fn a_clamped_pair_is_prescribed_and_the_free_pairs_are_the_fault() {
 fn a_boundary_fault_is_in_coordinate_order_with_weights_over_s() {
     let b = slanted_block();
     let (domain, c) = constraints_of(&b);
-    let fb = fault_order::frictional_boundary(domain.mesh(), &c.gamma_f, 2.0, None, c.boundary.as_ref()).unwrap();
+    let fb =
+        fault_order::frictional_boundary(domain.mesh(), &c.gamma_f, 2.0, None, c.boundary.as_ref())
+            .unwrap();
     let xs: Vec<[f64; 2]> = fb
         .along
         .iter()
