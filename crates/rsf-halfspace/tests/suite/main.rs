@@ -5,4 +5,5 @@
 mod bem;
 mod okada_fixture;
 mod okada_properties;
+mod triangle;
 mod two_d;
