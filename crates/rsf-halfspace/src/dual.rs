@@ -111,6 +111,7 @@ impl Sub for Dual3 {
 
 impl Mul for Dual3 {
     type Output = Self;
+    #[expect(clippy::suspicious_arithmetic_impl, reason = "the product rule")]
     fn mul(self, o: Self) -> Self {
         Self {
             v: self.v * o.v,
@@ -121,6 +122,7 @@ impl Mul for Dual3 {
 
 impl Div for Dual3 {
     type Output = Self;
+    #[expect(clippy::suspicious_arithmetic_impl, reason = "the quotient rule")]
     fn div(self, o: Self) -> Self {
         let q = self.v / o.v;
         Self {

@@ -271,7 +271,11 @@ impl Element for Triangle {
     }
 
     fn check_space(&self, space: Space) -> Result<(), Error> {
-        let z_top = self.vertices().iter().map(|v| v[2]).fold(f64::MIN, f64::max);
+        let z_top = self
+            .vertices()
+            .iter()
+            .map(|v| v[2])
+            .fold(f64::MIN, f64::max);
         if space == Space::HalfSpace && z_top > 0.0 {
             return Err(Error::SourceAboveSurface { z_top });
         }

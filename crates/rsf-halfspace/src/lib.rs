@@ -49,6 +49,8 @@
 
 mod bem;
 mod dual;
+mod element_set;
+mod elements;
 mod error;
 pub mod okada;
 mod stress;
@@ -79,6 +81,8 @@ impl Space {
 }
 
 pub use bem::{Component, RectangularFault, TABLE_MAX_PAIRS};
+pub use element_set::{ElementSet, MAX_ELEMENTS};
+pub use elements::{Element, RectangleElement};
 pub use error::Error;
 pub use okada::{Deformation, Okada, Rectangle};
 pub use stress::{traction, Medium};

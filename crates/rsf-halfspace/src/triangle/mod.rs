@@ -160,7 +160,7 @@ impl Local {
         ];
         let mut out = [[T::cst(0.0); 3]; 3];
         for (alpha, vertex, side) in sides {
-            let g = setup(x, y, z, alpha, vertex, side, nu);
+            let g = setup([x, y, z], alpha, vertex, side, nu);
             for b in 0..3 {
                 for i in 0..3 {
                     out[b][i] = out[b][i] + g[b][i];
@@ -191,9 +191,7 @@ impl Local {
 /// TDCS, angle `alpha`, its side `(y, z)` components; the response in the TDCS to the
 /// unit slips `(t, s, d)`.
 fn setup<T: Real>(
-    x: T,
-    y: T,
-    z: T,
+    [x, y, z]: [T; 3],
     alpha: f64,
     vertex: [f64; 2],
     side: [f64; 2],

@@ -167,8 +167,11 @@ struct Plan<'a> {
     options: &'a HOptions,
     tree: ClusterTree,
     shapes: Vec<BlockShape>,
-    held: Option<(RowPart, (Vec<usize>, Range<usize>))>,
+    held: Option<(RowPart, PartRows)>,
 }
+
+/// A part's split of the leaf clusters ([`part_bounds`]) and its rows (cluster order).
+type PartRows = (Vec<usize>, Range<usize>);
 
 /// `entry(i, j)`, a non-finite value as [`Error::NonFiniteEntry`].
 fn checked<F: FnMut(usize, usize) -> f64>(entry: &mut F, i: usize, j: usize) -> Result<f64, Error> {
@@ -339,7 +342,7 @@ fn part_bounds(
     tree: &ClusterTree,
     shapes: &[BlockShape],
     row_part: RowPart,
-) -> Result<(Vec<usize>, Range<usize>), Error> {
+) -> Result<PartRows, Error> {
     let refuse = |expected| Error::Option {
         name: "part",
         value: row_part.part as f64,
