@@ -252,9 +252,14 @@ impl<E: Element> ElementSet<E> {
     /// # Errors
     /// The kernel's errors (of the failing entries, one is reported).
     pub fn dense_both(&self) -> Result<(Mat<f64>, Mat<f64>), Error> {
+        self.dense_rows(true)
+    }
+
+    /// `K` (and `K_N` if `normal`, else an empty `0 × 2n` matrix).
+    fn dense_rows(&self, normal: bool) -> Result<(Mat<f64>, Mat<f64>), Error> {
         let (m, n) = (self.n_elements(), self.len());
         let mut k = Mat::<f64>::zeros(n, n);
-        let mut kn = Mat::<f64>::zeros(m, n);
+        let mut kn = Mat::<f64>::zeros(if normal { m } else { 0 }, n);
         k.as_mut()
             .par_col_chunks_mut(2)
             .zip(kn.as_mut().par_col_chunks_mut(2))
@@ -265,7 +270,9 @@ impl<E: Element> ElementSet<E> {
                     for d in 0..2 {
                         kc[(2 * e, d)] = -t[3 * d];
                         kc[(2 * e + 1, d)] = -t[3 * d + 1];
-                        knc[(e, d)] = -t[3 * d + 2];
+                        if normal {
+                            knc[(e, d)] = -t[3 * d + 2];
+                        }
                     }
                 }
                 Ok(())
@@ -273,12 +280,13 @@ impl<E: Element> ElementSet<E> {
         Ok((k, kn))
     }
 
-    /// The stiffness `K` (`2n × 2n`, Pa/m), dense ([`dense_both`](Self::dense_both)).
+    /// The stiffness `K` (`2n × 2n`, Pa/m), dense, as [`dense_both`](Self::dense_both)
+    /// without `K_N`.
     ///
     /// # Errors
     /// As [`dense_both`](Self::dense_both).
     pub fn dense(&self) -> Result<Mat<f64>, Error> {
-        Ok(self.dense_both()?.0)
+        Ok(self.dense_rows(false)?.0)
     }
 
     /// The normal operator `K_N` (`n × 2n`, Pa/m), dense ([`dense_both`](Self::dense_both)).

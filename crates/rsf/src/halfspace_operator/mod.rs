@@ -19,11 +19,15 @@ use crate::fault_operator::{
     FaultKernel, FaultOperator, KernelReport, RowSplit, MAX_KERNEL_EPSILON,
 };
 use crate::model::Model;
+use nodes::{alone_nodes, internal_fault_nodes, Node};
 use rsf_ranks::RankGroup;
 
+mod elements;
 mod error;
+mod nodes;
 mod parts;
 
+pub use elements::{fault_alone_model, ElementOperator, ElementOptions};
 pub use error::HalfSpaceOperatorError;
 
 /// Relative tolerance (times the grid's spacing) of "at an element centre" and "in the
@@ -96,9 +100,6 @@ impl OkadaFrame {
         std::array::from_fn(|i| (0..3).map(|a| self.axes[a][i] * v[a]).sum())
     }
 }
-
-/// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
-type Node = ([f64; 3], [f64; 3], [f64; 3], [f64; 3]);
 
 /// The checks of [`HalfSpaceOptions`].
 fn check_options(options: &HalfSpaceOptions) -> std::result::Result<(), HalfSpaceOperatorError> {
@@ -223,34 +224,10 @@ impl HalfSpaceOperator {
         model: &Model<3, 3>,
         options: &HalfSpaceOptions,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
-        use HalfSpaceOperatorError as E;
         check_options(options)?;
         let clock = Instant::now();
-        let fault = model.internal_fault.as_ref().ok_or(E::NoInternalFault)?;
+        let nodes = internal_fault_nodes(model)?;
         let fb = &model.frictional_boundary;
-        let pairs = fault.pairs();
-        let mut pair_index = std::collections::HashMap::with_capacity(pairs.len());
-        for (i, &(minus, _)) in pairs.iter().enumerate() {
-            pair_index.insert(minus, i);
-        }
-        // Per node: position, t₁, t₂, n (the minus side's outward normal, into the plus side).
-        let mut nodes = Vec::with_capacity(fb.len());
-        for (k, &p) in fb.nodes.iter().enumerate() {
-            let i = *pair_index
-                .get(&p)
-                .ok_or(E::NotAPair { node: k, vertex: p })?;
-            let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
-            if free != [true, true, false] {
-                return Err(E::Components {
-                    node: k,
-                    vertex: p,
-                    free,
-                });
-            }
-            let r = fault.transform.frames[i];
-            let col = |c: usize| [r[0][c], r[1][c], r[2][c]];
-            nodes.push((model.vertices[p], col(0), col(1), col(2).map(|x| -x)));
-        }
         Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock, None)
     }
 
@@ -307,39 +284,10 @@ impl HalfSpaceOperator {
         options: &HalfSpaceOptions,
         ranks: Option<Box<dyn RankGroup + Send>>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
-        use HalfSpaceOperatorError as E;
         check_options(options)?;
-        if model.stiffness.compute_nnz() != 0
-            || model.internal_fault.is_some()
-            || !model.frames.nodes.is_empty()
-        {
-            return Err(E::NotAlone);
-        }
         let clock = Instant::now();
+        let nodes = alone_nodes(model)?;
         let fb = &model.frictional_boundary;
-        let axis = |c: usize| {
-            let mut e = [0.0; 3];
-            e[c] = 1.0;
-            e
-        };
-        let mut nodes = Vec::with_capacity(fb.len());
-        for (k, &p) in fb.nodes.iter().enumerate() {
-            let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
-            let tangential: Vec<usize> = (0..3).filter(|&c| free[c]).collect();
-            let Some(normal) = (0..3).find(|&c| !free[c]).filter(|_| tangential.len() == 2) else {
-                return Err(E::Components {
-                    node: k,
-                    vertex: p,
-                    free,
-                });
-            };
-            nodes.push((
-                model.vertices[p],
-                axis(tangential[0]),
-                axis(tangential[1]),
-                axis(normal),
-            ));
-        }
         let ranks = ranks.filter(|r| r.size() > 1 && 2 * nodes.len() > options.dense_max);
         let row_part = ranks.as_ref().map(|r| RowPart {
             parts: r.size(),

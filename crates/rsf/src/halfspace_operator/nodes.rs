@@ -1,0 +1,90 @@
+//! The frictional nodes of a model as the half-space operators see them: position, the
+//! two slip directions of the model's unknowns and the normal into the plus side.
+
+use super::error::HalfSpaceOperatorError;
+use crate::model::Model;
+
+/// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
+pub(super) type Node = ([f64; 3], [f64; 3], [f64; 3], [f64; 3]);
+
+/// The frictional nodes of `model`'s internal fault: position, `t₁`, `t₂` (the pair
+/// frame's tangents) and the normal into the plus side, in `frictional_boundary` order.
+///
+/// # Errors
+/// [`HalfSpaceOperatorError::NoInternalFault`], [`HalfSpaceOperatorError::NotAPair`],
+/// [`HalfSpaceOperatorError::Components`] (not exactly the two tangential components free).
+pub(super) fn internal_fault_nodes(
+    model: &Model<3, 3>,
+) -> std::result::Result<Vec<Node>, HalfSpaceOperatorError> {
+    use HalfSpaceOperatorError as E;
+    let fault = model.internal_fault.as_ref().ok_or(E::NoInternalFault)?;
+    let fb = &model.frictional_boundary;
+    let pairs = fault.pairs();
+    let mut pair_index = std::collections::HashMap::with_capacity(pairs.len());
+    for (i, &(minus, _)) in pairs.iter().enumerate() {
+        pair_index.insert(minus, i);
+    }
+    // Per node: position, t₁, t₂, n (the minus side's outward normal, into the plus side).
+    let mut nodes = Vec::with_capacity(fb.len());
+    for (k, &p) in fb.nodes.iter().enumerate() {
+        let i = *pair_index
+            .get(&p)
+            .ok_or(E::NotAPair { node: k, vertex: p })?;
+        let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
+        if free != [true, true, false] {
+            return Err(E::Components {
+                node: k,
+                vertex: p,
+                free,
+            });
+        }
+        let r = fault.transform.frames[i];
+        let col = |c: usize| [r[0][c], r[1][c], r[2][c]];
+        nodes.push((model.vertices[p], col(0), col(1), col(2).map(|x| -x)));
+    }
+    Ok(nodes)
+}
+
+/// The frictional nodes of a fault alone ([`Model::fault_only`]): position, the two free
+/// Cartesian axes in increasing order and the fixed one (the normal).
+///
+/// # Errors
+/// [`HalfSpaceOperatorError::NotAlone`] for a model with a stiffness, an internal fault
+/// or nodal frames; [`HalfSpaceOperatorError::Components`] for a node without exactly one
+/// fixed component.
+pub(super) fn alone_nodes(
+    model: &Model<3, 3>,
+) -> std::result::Result<Vec<Node>, HalfSpaceOperatorError> {
+    use HalfSpaceOperatorError as E;
+    if model.stiffness.compute_nnz() != 0
+        || model.internal_fault.is_some()
+        || !model.frames.nodes.is_empty()
+    {
+        return Err(E::NotAlone);
+    }
+    let fb = &model.frictional_boundary;
+    let axis = |c: usize| {
+        let mut e = [0.0; 3];
+        e[c] = 1.0;
+        e
+    };
+    let mut nodes = Vec::with_capacity(fb.len());
+    for (k, &p) in fb.nodes.iter().enumerate() {
+        let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
+        let tangential: Vec<usize> = (0..3).filter(|&c| free[c]).collect();
+        let Some(normal) = (0..3).find(|&c| !free[c]).filter(|_| tangential.len() == 2) else {
+            return Err(E::Components {
+                node: k,
+                vertex: p,
+                free,
+            });
+        };
+        nodes.push((
+            model.vertices[p],
+            axis(tangential[0]),
+            axis(tangential[1]),
+            axis(normal),
+        ));
+    }
+    Ok(nodes)
+}
