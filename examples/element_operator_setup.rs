@@ -1,7 +1,7 @@
 //! Set-up, memory and product cost of the boundary-element operator of an element set
 //! (`rsf::halfspace::ElementSet` behind `rsf::halfspace_operator::ElementOperator`; issue
 //! 83 item 3, issue 85 item 2) at SEAS BP8's size: the square fault `x = 0` of side
-//! `cells × dx` (BP8: 80 × 10 m) in the whole space (or buried in a half-space), as
+//! `cells × 10 m` (BP8: 80 cells) in the whole space (or buried in a half-space), as
 //! `cells²` squares (rectangle elements, Okada's full-space term) or `2 cells²` triangles
 //! (Nikkhoo & Walter), each split along a diagonal. The operator is a fault alone
 //! (`fault_alone_model`) with `ElementOptions::default()`: dense up to 4 096 unknowns, an
@@ -25,6 +25,10 @@ use rsf::halfspace_operator::{fault_alone_model, ElementOperator, ElementOptions
 use rsf_programs::estimates::operator_bytes;
 use rsf_programs::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{cpu_seconds, machine};
+
+/// BP8's cell size (m); the operator's cost does not depend on it (the kernels are
+/// scale-free), the number of cells does.
+const DX: f64 = 10.0;
 
 /// The elements the fault is cut into.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -54,9 +58,6 @@ struct Cli {
     /// Cells along each side of the square fault.
     #[arg(long, default_value_t = 80)]
     cells: usize,
-    /// Cell size (m).
-    #[arg(long, default_value_t = 10.0)]
-    dx: f64,
     /// Whole space or half-space.
     #[arg(long, value_enum, default_value_t = Around::Whole)]
     space: Around,
@@ -91,8 +92,12 @@ impl Program for Cli {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--cells", self.cells as f64, (1.0, 2048.0), "cells per side")?;
-        in_range("--dx", self.dx, (1e-3, 1e5), "a cell size (m)")?;
+        in_range(
+            "--cells",
+            self.cells as f64,
+            (1.0, 2048.0),
+            "cells per side",
+        )?;
         in_range("--depth", self.depth, (0.0, 1e8), "a depth (m)")?;
         in_range(
             "--epsilon",
@@ -106,9 +111,9 @@ impl Program for Cli {
             (1.0, 1e5),
             "products timed",
         )?;
-        if self.space == Around::Half && self.depth < 0.5 * self.cells as f64 * self.dx {
+        if self.space == Around::Half && self.depth < 0.5 * self.cells as f64 * DX {
             return Err(
-                "--depth: the fault's top must be below the surface (depth ≥ cells · dx / 2)"
+                "--depth: the fault's top must be below the surface (depth ≥ cells · 10 m / 2)"
                     .into(),
             );
         }
@@ -179,12 +184,13 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
         Around::Whole => (Space::WholeSpace, 0.0),
         Around::Half => (Space::HalfSpace, -cli.depth),
     };
-    let (n, dx) = (cli.cells, cli.dx);
+    let (n, dx) = (cli.cells, DX);
     let side = n as f64 * dx;
     // The fault x = 0: strike along +y (φ = 90°), vertical; x₂ = y, x₃ = −z.
     match cli.elements {
         Elements::Rectangles => {
-            let elements = RectangleElement::grid([0.0, 0.0, z0], 90.0, 90.0, [side, side], [n, n])?;
+            let elements =
+                RectangleElement::grid([0.0, 0.0, z0], 90.0, 90.0, [side, side], [n, n])?;
             measure(&cli, elements, space)
         }
         Elements::Triangles => {

@@ -27,7 +27,7 @@ mod error;
 mod nodes;
 mod parts;
 
-pub use elements::{fault_alone_model, ElementOperator, ElementOptions};
+pub use elements::{fault_alone_model, ElementOperator, ElementOptions, CENTRE_TOLERANCE};
 pub use error::HalfSpaceOperatorError;
 
 /// Relative tolerance (times the grid's spacing) of "at an element centre" and "in the
