@@ -106,6 +106,35 @@ def test_triangles_against_cutde(space):
     assert worst_u < TOL and worst_s < TOL
 
 
+@pytest.mark.parametrize("space", ["half", "whole"])
+def test_stress_in_the_triangles_plane_against_cutde(space):
+    """In the triangle's own plane — at its centroid (a boundary-element operator's self
+    term) and at points outside it — the stress is regular (the displacement jumps across
+    the triangle, so only the stress is compared)."""
+    rng = np.random.default_rng(7)
+    worst = 0.0
+    module = cutde_hs if space == "half" else cutde_fs
+    for tri in TRIANGLES:
+        centre = tri.mean(axis=0)
+        a, b = tri[1] - tri[0], tri[2] - tri[0]
+        w = rng.uniform(-1.5, 2.5, (40, 2))
+        # Barycentric coordinates away from the edges' lines (10 % at least).
+        bary = np.stack([1 - w.sum(axis=1), w[:, 0], w[:, 1]], axis=1)
+        w = w[np.abs(bary).min(axis=1) > 0.1]
+        pts = np.concatenate([centre[None], tri[0] + w[:, :1] * a + w[:, 1:] * b])
+        if space == "half":
+            pts = pts[pts[:, 2] <= 0.0]
+        tris = np.repeat(tri[None], len(pts), axis=0)
+        for slip in SLIPS:
+            _, s = rsf.triangle_deformation(pts, tri, slip, MU, NU, space=space)
+            _, sw = rsf.triangle_deformation(pts, tri, slip, MU, NU, space="whole")
+            slips = np.repeat(slip[None], len(pts), axis=0)
+            cs = cutde_fs.strain_to_stress(module.strain(pts, tris, slips, NU), MU, NU)
+            worst = max(worst, relative(stress6(s), cs, stress6(sw)))
+    print(f"\ntriangles' planes, {space}: against cutde, stress {worst:.1e}")
+    assert worst < TOL
+
+
 def dislocs_stress(s6):
     """dislocs' (xx, xy, xz, yy, yz, zz) as cutde's order."""
     return s6[:, [0, 3, 5, 1, 2, 4]]
