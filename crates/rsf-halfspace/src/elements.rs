@@ -5,9 +5,9 @@
 
 use crate::error::Error;
 use crate::okada::{Deformation, Okada, Rectangle};
+use crate::space::Space;
 use crate::stress::Medium;
 use crate::triangle::Triangle;
-use crate::Space;
 
 /// A planar element of constant slip: where it is, its frame, and the deformation its
 /// unit slips cause anywhere. Coordinates as Okada's (`z` up; the half-space `z ≤ 0`).

@@ -73,37 +73,16 @@ mod element_set;
 mod elements;
 mod error;
 pub mod okada;
+mod space;
 mod stress;
 pub mod triangle;
 pub mod two_d;
-
-/// Where the elastic medium is: a half-space `z ≤ 0` with its free surface `z = 0`, or
-/// the whole space (no surface; SEAS BP7 and BP8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Space {
-    /// `z ≤ 0`, traction-free at `z = 0` (Okada's DC3D; Nikkhoo & Walter's half-space
-    /// triangles).
-    #[default]
-    HalfSpace,
-    /// The unbounded medium (Okada's full-space term alone; Nikkhoo & Walter's full-space
-    /// triangles).
-    WholeSpace,
-}
-
-impl Space {
-    /// `"half-space"` or `"whole space"`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Space::HalfSpace => "half-space",
-            Space::WholeSpace => "whole space",
-        }
-    }
-}
 
 pub use bem::{Component, RectangularFault, TABLE_MAX_PAIRS};
 pub use element_set::{ElementSet, MAX_ELEMENTS};
 pub use elements::{Element, RectangleElement};
 pub use error::Error;
 pub use okada::{Deformation, Okada, Rectangle};
+pub use space::Space;
 pub use stress::{traction, Medium};
 pub use triangle::Triangle;

@@ -38,7 +38,7 @@ mod geometry;
 mod parts;
 
 use crate::error::Error;
-use crate::Space;
+use crate::space::Space;
 use geometry::{Corner, DipConsts};
 use parts::{part_a, part_b, part_c, Part};
 

@@ -27,7 +27,7 @@ mod angular;
 use crate::dual::{Dual3, Real};
 use crate::error::Error;
 use crate::okada::Deformation;
-use crate::Space;
+use crate::space::Space;
 
 /// A triangle in space (m): three vertices, not on a line.
 #[derive(Debug, Clone, Copy, PartialEq)]
