@@ -60,14 +60,9 @@ fn evaluate<'py>(
             let r = element
                 .unit_responses(&medium, space, *x)
                 .map_err(|e| format!("point {p} {x:?}: {e}"))?;
-            let mut grad = [[0.0; 3]; 3];
-            for (k, d) in r.iter().enumerate() {
-                for i in 0..3 {
-                    for j in 0..3 {
-                        grad[i][j] += slip[k] * d.grad[i][j];
-                    }
-                }
-            }
+            let grad: [[f64; 3]; 3] = std::array::from_fn(|i| {
+                std::array::from_fn(|j| (0..3).map(|k| slip[k] * r[k].grad[i][j]).sum())
+            });
             u.extend((0..3).map(|i| (0..3).map(|k| slip[k] * r[k].u[i]).sum::<f64>()));
             s.extend(medium.stress(&grad).iter().flatten());
         }
@@ -124,6 +119,10 @@ pub(crate) fn rectangle_deformation<'py>(
 /// shear modulus `mu` (Pa) and Poisson's ratio `nu`, in `space` "half" or "whole".
 #[pyfunction]
 #[pyo3(signature = (points, vertices, slip, mu, nu, space = "half"))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "a Python function's keyword arguments (and the interpreter's token)"
+)]
 pub(crate) fn triangle_deformation<'py>(
     py: Python<'py>,
     points: PyReadonlyArray2<'_, f64>,

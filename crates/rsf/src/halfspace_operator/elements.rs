@@ -14,7 +14,7 @@ use rsf_hmatrix::HOptions;
 use rsf_linalg::Parallelism;
 
 use super::error::HalfSpaceOperatorError;
-use super::nodes::{alone_nodes, internal_fault_nodes, Node};
+use super::nodes::{alone_nodes, dense_of, gather, internal_fault_nodes, scatter, Node};
 use crate::error::Result;
 use crate::fault_kernel::Kernel;
 use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, MAX_KERNEL_EPSILON};
@@ -314,20 +314,7 @@ impl ElementOperator {
     /// # Errors
     /// Those of the product.
     pub fn dense(&mut self) -> Result<Mat<f64>> {
-        let m = self.dim();
-        let mut out = Mat::zeros(m, m);
-        let mut x = vec![0.0; m];
-        let mut r = vec![0.0; m];
-        for j in 0..m {
-            x[j] = 1.0;
-            r.fill(0.0);
-            self.subtract_product(&x, &mut r, Parallelism::SEQ)?;
-            for i in 0..m {
-                out[(i, j)] = -r[i];
-            }
-            x[j] = 0.0;
-        }
-        Ok(out)
+        dense_of(self)
     }
 }
 
@@ -337,20 +324,11 @@ impl FaultOperator for ElementOperator {
     }
 
     fn subtract_product(&mut self, x: &[f64], r: &mut [f64], par: Parallelism) -> Result<()> {
-        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
-            let j = [x[2 * k], x[2 * k + 1]];
-            self.s[2 * e] = a[0][0] * j[0] + a[0][1] * j[1];
-            self.s[2 * e + 1] = a[1][0] * j[0] + a[1][1] * j[1];
-        }
+        scatter(&self.element, &self.map, x, &mut self.s);
         self.y.fill(0.0);
         self.kernel.subtract_product(&self.s, &mut self.y, par)?;
         // y = −K s: r_k += w_k A_kᵀ y_e.
-        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
-            let w = self.weights[k];
-            let y = [self.y[2 * e], self.y[2 * e + 1]];
-            r[2 * k] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
-            r[2 * k + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
-        }
+        gather(&self.element, &self.map, &self.weights, &self.y, r);
         Ok(())
     }
 

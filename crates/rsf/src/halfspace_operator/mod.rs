@@ -615,11 +615,7 @@ impl HalfSpaceOperator {
     }
 
     fn scatter(&self, x: &[f64], s: &mut [f64]) {
-        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
-            let j = [x[2 * k], x[2 * k + 1]];
-            s[2 * e] = a[0][0] * j[0] + a[0][1] * j[1];
-            s[2 * e + 1] = a[1][0] * j[0] + a[1][1] * j[1];
-        }
+        nodes::scatter(&self.element, &self.map, x, s);
     }
 
     /// The displacement at `points` (model coordinates, in the half-space, off the
@@ -671,20 +667,7 @@ impl HalfSpaceOperator {
     /// # Errors
     /// Those of the product.
     pub fn dense(&mut self) -> Result<Mat<f64>> {
-        let m = self.dim();
-        let mut out = Mat::zeros(m, m);
-        let mut x = vec![0.0; m];
-        let mut r = vec![0.0; m];
-        for j in 0..m {
-            x[j] = 1.0;
-            r.fill(0.0);
-            self.subtract_product(&x, &mut r, Parallelism::SEQ)?;
-            for i in 0..m {
-                out[(i, j)] = -r[i];
-            }
-            x[j] = 0.0;
-        }
-        Ok(out)
+        nodes::dense_of(self)
     }
 }
 
@@ -704,12 +687,7 @@ impl FaultOperator for HalfSpaceOperator {
         self.s = s;
         result?;
         // y = −K s: r_k += w_k (σ A_k)ᵀ y_e.
-        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
-            let w = self.weights[k];
-            let y = [self.y[2 * e], self.y[2 * e + 1]];
-            r[2 * k] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
-            r[2 * k + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
-        }
+        nodes::gather(&self.element, &self.map, &self.weights, &self.y, r);
         Ok(())
     }
 

@@ -1,7 +1,12 @@
 //! The frictional nodes of a model as the half-space operators see them: position, the
 //! two slip directions of the model's unknowns and the normal into the plus side.
 
+use faer::Mat;
+use rsf_linalg::Parallelism;
+
 use super::error::HalfSpaceOperatorError;
+use crate::error::Result;
+use crate::fault_operator::FaultOperator;
 use crate::model::Model;
 
 /// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
@@ -87,4 +92,51 @@ pub(super) fn alone_nodes(
         ));
     }
     Ok(nodes)
+}
+
+/// `s_e = A_k j_k` for every node `k` (its element `element[k]`, `A_k = map[k]`; `j_k` the
+/// node's two slip unknowns in `x`): the elements' strike and dip slip.
+pub(super) fn scatter(element: &[usize], map: &[[[f64; 2]; 2]], x: &[f64], s: &mut [f64]) {
+    for (k, (&e, a)) in element.iter().zip(map).enumerate() {
+        let j = [x[2 * k], x[2 * k + 1]];
+        s[2 * e] = a[0][0] * j[0] + a[0][1] * j[1];
+        s[2 * e + 1] = a[1][0] * j[0] + a[1][1] * j[1];
+    }
+}
+
+/// `r_k += w_k A_kᵀ y_e` for every node `k`, with `y = −K s` by element.
+pub(super) fn gather(
+    element: &[usize],
+    map: &[[[f64; 2]; 2]],
+    weights: &[f64],
+    y: &[f64],
+    r: &mut [f64],
+) {
+    for (k, (&e, a)) in element.iter().zip(map).enumerate() {
+        let w = weights[k];
+        let y = [y[2 * e], y[2 * e + 1]];
+        r[2 * k] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
+        r[2 * k + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
+    }
+}
+
+/// The dense `S` of `op` (`m × m`, N/m), one product per column.
+///
+/// # Errors
+/// Those of the product.
+pub(super) fn dense_of(op: &mut dyn FaultOperator) -> Result<Mat<f64>> {
+    let m = op.dim();
+    let mut out = Mat::zeros(m, m);
+    let mut x = vec![0.0; m];
+    let mut r = vec![0.0; m];
+    for j in 0..m {
+        x[j] = 1.0;
+        r.fill(0.0);
+        op.subtract_product(&x, &mut r, Parallelism::SEQ)?;
+        for i in 0..m {
+            out[(i, j)] = -r[i];
+        }
+        x[j] = 0.0;
+    }
+    Ok(out)
 }
