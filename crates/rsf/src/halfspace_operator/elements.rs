@@ -14,10 +14,12 @@ use rsf_hmatrix::HOptions;
 use rsf_linalg::Parallelism;
 
 use super::error::HalfSpaceOperatorError;
-use super::nodes::{alone_nodes, dense_of, gather, internal_fault_nodes, scatter, Node};
+use super::nodes::{
+    alone_nodes, check_kernel, dense_of, gather, internal_fault_nodes, scatter, Node,
+};
 use crate::error::Result;
 use crate::fault_kernel::Kernel;
-use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, MAX_KERNEL_EPSILON};
+use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport};
 use crate::model::Model;
 
 /// Relative tolerance (times an element's size, `√area`) of "at the element's centre";
@@ -31,7 +33,7 @@ pub struct ElementOptions {
     /// accuracy [`epsilon`](Self::epsilon), at or below it dense. Default 4 096 (128 MB
     /// dense).
     pub dense_max: usize,
-    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`]`]` (default
+    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`](crate::fault_operator::MAX_KERNEL_EPSILON)`]` (default
     /// 1e-6).
     pub epsilon: f64,
     /// Largest leaf cluster of the ℋ-matrix (default rsf-hmatrix's, 48).
@@ -108,22 +110,7 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 }
 
 fn check_options(options: &ElementOptions) -> std::result::Result<(), HalfSpaceOperatorError> {
-    use HalfSpaceOperatorError as E;
-    if !(options.epsilon > 0.0 && options.epsilon <= MAX_KERNEL_EPSILON) {
-        return Err(E::Options {
-            name: "epsilon",
-            value: options.epsilon,
-            expected: "in (0, 1e-2]",
-        });
-    }
-    if options.leaf_size == 0 {
-        return Err(E::Options {
-            name: "leaf_size",
-            value: 0.0,
-            expected: "at least 1",
-        });
-    }
-    Ok(())
+    check_kernel(options.epsilon, options.leaf_size)
 }
 
 /// `A_k` of `node` on an element of frame `frame`, or the angle between their normals.

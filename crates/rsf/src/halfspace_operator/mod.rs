@@ -15,9 +15,7 @@ use rsf_linalg::Parallelism;
 
 use crate::error::Result;
 use crate::fault_kernel::Kernel;
-use crate::fault_operator::{
-    FaultKernel, FaultOperator, KernelReport, RowSplit, MAX_KERNEL_EPSILON,
-};
+use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, RowSplit};
 use crate::model::Model;
 use nodes::{alone_nodes, internal_fault_nodes, Node};
 use rsf_ranks::RankGroup;
@@ -49,7 +47,7 @@ pub struct HalfSpaceOptions {
     /// accuracy [`epsilon`](Self::epsilon) ([`RectangularFault::hmatrix`]), at or below
     /// it dense ([`RectangularFault::dense`]). Default 4 096 (128 MB dense).
     pub dense_max: usize,
-    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`]`]`
+    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`](crate::fault_operator::MAX_KERNEL_EPSILON)`]`
     /// (default 1e-6).
     pub epsilon: f64,
     /// Largest leaf cluster of the ℋ-matrix (default rsf-hmatrix's, 48).
@@ -104,20 +102,7 @@ impl OkadaFrame {
 /// The checks of [`HalfSpaceOptions`].
 fn check_options(options: &HalfSpaceOptions) -> std::result::Result<(), HalfSpaceOperatorError> {
     use HalfSpaceOperatorError as E;
-    if !(options.epsilon > 0.0 && options.epsilon <= MAX_KERNEL_EPSILON) {
-        return Err(E::Options {
-            name: "epsilon",
-            value: options.epsilon,
-            expected: "in (0, 1e-2]",
-        });
-    }
-    if options.leaf_size == 0 {
-        return Err(E::Options {
-            name: "leaf_size",
-            value: 0.0,
-            expected: "at least 1",
-        });
-    }
+    nodes::check_kernel(options.epsilon, options.leaf_size)?;
     if !options.surface.is_finite() {
         return Err(E::Options {
             name: "surface",

@@ -6,7 +6,7 @@ use rsf_linalg::Parallelism;
 
 use super::error::HalfSpaceOperatorError;
 use crate::error::Result;
-use crate::fault_operator::FaultOperator;
+use crate::fault_operator::{FaultOperator, MAX_KERNEL_EPSILON};
 use crate::model::Model;
 
 /// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
@@ -139,4 +139,31 @@ pub(super) fn dense_of(op: &mut dyn FaultOperator) -> Result<Mat<f64>> {
         x[j] = 0.0;
     }
     Ok(out)
+}
+
+/// The ℋ-kernel's options of either operator: `epsilon` in `(0, MAX_KERNEL_EPSILON]`,
+/// `leaf_size` at least 1.
+///
+/// # Errors
+/// [`HalfSpaceOperatorError::Options`] naming the option.
+pub(super) fn check_kernel(
+    epsilon: f64,
+    leaf_size: usize,
+) -> std::result::Result<(), HalfSpaceOperatorError> {
+    use HalfSpaceOperatorError as E;
+    if !(epsilon > 0.0 && epsilon <= MAX_KERNEL_EPSILON) {
+        return Err(E::Options {
+            name: "epsilon",
+            value: epsilon,
+            expected: "in (0, 1e-2]",
+        });
+    }
+    if leaf_size == 0 {
+        return Err(E::Options {
+            name: "leaf_size",
+            value: 0.0,
+            expected: "at least 1",
+        });
+    }
+    Ok(())
 }
