@@ -65,6 +65,15 @@ pub enum Error {
         /// Elements along dip.
         n_dip: usize,
     },
+    /// Two elements of a set have the same centre (their rows of the operator would be
+    /// equal).
+    #[error("elements {first} and {second} have the same centre")]
+    CoincidentCentres {
+        /// The first element.
+        first: usize,
+        /// The second.
+        second: usize,
+    },
     /// An ℋ-matrix could not be built.
     #[error("ℋ-matrix: {0}")]
     HMatrix(#[from] rsf_hmatrix::Error),

@@ -14,6 +14,15 @@
 //!   constant-slip rectangles, and its boundary-element operators: the stiffness `K`
 //!   (`Δτ = −K s`) and the slip-to-normal-traction operator `K_N`, dense (on rayon) or as
 //!   an ℋ-matrix ([`rsf_hmatrix`]).
+//! - [`triangle`]: the triangular dislocation of Nikkhoo & Walter (2015, GJI 201,
+//!   1119–1141, "Triangular dislocation: an analytical, artefact-free solution"):
+//!   displacement and gradient of a [`Triangle`] of constant slip in a full space or a
+//!   half-space.
+//! - [`Space`]: a half-space or the whole space (Okada's part A alone,
+//!   [`Okada::unit_responses_in`]; the triangle without image and harmonic terms).
+//! - [`ElementSet`]: the same operators for any set of [`Element`]s — rectangles of any
+//!   strike, dip and position ([`RectangleElement`]) or triangles — several faults or a
+//!   non-planar one, in either space.
 //!
 //! Units are SI (m, Pa) throughout; the kernels are linear, so any consistent units work.
 //! The conventions — Okada's frame, the hanging wall and the signs of slip and traction,
@@ -43,17 +52,37 @@
 //! let k = fault.dense().unwrap();
 //! // Slip on an element lowers the shear traction there: K's diagonal is positive.
 //! assert!(k[(0, 0)] > 0.0 && k[(1, 1)] > 0.0);
+//!
+//! use rsf_halfspace::{ElementSet, RectangleElement, Space, Triangle};
+//! // Two faults in the whole space: a vertical one of 4 squares striking along y, a
+//! // dipping triangle beside it.
+//! let squares = RectangleElement::grid([0.0, 0.0, 0.0], 90.0, 90.0, [2e3, 2e3], [2, 2]).unwrap();
+//! let set = ElementSet::new(medium, Space::WholeSpace, squares).unwrap();
+//! assert_eq!(set.len(), 8);
+//! assert!(set.dense().unwrap()[(0, 0)] > 0.0);
+//! let tri = Triangle::new([[3e3, 0.0, 0.0], [4e3, 0.0, 0.0], [3.5e3, 500.0, 800.0]]).unwrap();
+//! let d = tri.unit_responses(0.25, [0.0, 0.0, 0.0], Space::WholeSpace).unwrap();
+//! assert!(d[0].u.iter().all(|u| u.is_finite()));
 //! ```
 
 #![warn(missing_docs)]
 
 mod bem;
+mod dual;
+mod element_set;
+mod elements;
 mod error;
 pub mod okada;
+mod space;
 mod stress;
+pub mod triangle;
 pub mod two_d;
 
 pub use bem::{Component, RectangularFault, TABLE_MAX_PAIRS};
+pub use element_set::{ElementSet, MAX_ELEMENTS};
+pub use elements::{Element, RectangleElement};
 pub use error::Error;
 pub use okada::{Deformation, Okada, Rectangle};
+pub use space::Space;
 pub use stress::{traction, Medium};
+pub use triangle::Triangle;

@@ -8,7 +8,8 @@
 //! - [`HMatrix::from_dense`]: from a dense matrix, admissible blocks by truncated SVD.
 //! - [`HMatrix::from_entries`]: from an entry function, admissible blocks by adaptive
 //!   cross approximation (only `O(k (m + n))` entries of an `m × n` block) and
-//!   recompression; for matrices too large to form. [`HOptions::components`] for vector
+//!   recompression; for matrices too large to form ([`HMatrix::from_entries_par`]: the
+//!   blocks on rayon's threads, the same bits). [`HOptions::components`] for vector
 //!   kernels (interleaved components per point).
 //! - [`HMatrix::from_symmetric_columns`]: from batches of whole columns of a symmetric
 //!   matrix (each column one solve, as for a Schur complement), every column asked for

@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod convert;
+mod dislocations;
 mod engine;
 mod errors;
 mod fields;
@@ -25,6 +26,8 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenes::slider_3d, m)?)?;
     m.add_function(wrap_pyfunction!(scenes::seas_bp1, m)?)?;
     m.add_function(wrap_pyfunction!(problem::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(dislocations::rectangle_deformation, m)?)?;
+    m.add_function(wrap_pyfunction!(dislocations::triangle_deformation, m)?)?;
     m.add("HAS_HDF5", cfg!(feature = "hdf5"))?;
     Ok(())
 }

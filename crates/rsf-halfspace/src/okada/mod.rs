@@ -38,6 +38,7 @@ mod geometry;
 mod parts;
 
 use crate::error::Error;
+use crate::space::Space;
 use geometry::{Corner, DipConsts};
 use parts::{part_a, part_b, part_c, Part};
 
@@ -286,6 +287,23 @@ impl Okada {
     /// [`Error::OnEdge`] on an edge of the rectangle; [`Error::NonFinite`] if the result
     /// overflows.
     pub fn unit_responses(&self, point: [f64; 3]) -> Result<[Deformation; 3], Error> {
+        self.unit_responses_in(point, Space::HalfSpace)
+    }
+
+    /// As [`unit_responses`](Self::unit_responses) in a half-space, or in a whole space:
+    /// then the real source's part A alone (Okada 1992, §3: the full-space term of his
+    /// solution, without the image and the surface terms B and C), at any `z` — the
+    /// rectangle and the point moved together vertically give the same result, so the
+    /// rectangle's `depth` only places it.
+    ///
+    /// # Errors
+    /// As [`unit_responses`](Self::unit_responses) ([`Error::AboveSurface`] only in a
+    /// half-space).
+    pub fn unit_responses_in(
+        &self,
+        point: [f64; 3],
+        space: Space,
+    ) -> Result<[Deformation; 3], Error> {
         let [x, y, z] = point;
         for (name, value) in [("x", x), ("y", y), ("z", z)] {
             if !value.is_finite() {
@@ -296,9 +314,13 @@ impl Okada {
                 });
             }
         }
-        if z > 0.0 {
+        if z > 0.0 && space == Space::HalfSpace {
             return Err(Error::AboveSurface { z });
         }
+        let images: &[bool] = match space {
+            Space::HalfSpace => &[false, true],
+            Space::WholeSpace => &[false],
+        };
         let k = &self.consts;
         let eps = self.eps;
         let snap = |v: f64| if v.abs() < eps { 0.0 } else { v };
@@ -306,7 +328,7 @@ impl Okada {
         let xi = [snap(x - al1), snap(x - al2)];
         let mut total: Part = [[0.0; 12]; 3];
 
-        for image in [false, true] {
+        for &image in images {
             let d = if image {
                 self.rect.depth - z
             } else {

@@ -3,6 +3,8 @@
 //! `cargo test -p rsf-halfspace --test suite [module::test]`.
 
 mod bem;
+mod element_set;
 mod okada_fixture;
 mod okada_properties;
+mod triangle;
 mod two_d;

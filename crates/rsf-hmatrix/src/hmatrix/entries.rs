@@ -81,6 +81,45 @@ impl HMatrix {
         Self::from_entries_in(entry, points, options, Some(row_part))
     }
 
+    /// As [`from_entries`](Self::from_entries), the blocks built on rayon's current pool:
+    /// `make_entry()` gives each block (and the error's sample) an entry function of its
+    /// own, which may keep its own cache (e.g. a kernel that computes several entries at
+    /// once). Every block and the report have the bits
+    /// [`from_entries`](Self::from_entries) gives with the same entries, on any number of
+    /// threads: a block's cross approximation depends on its entries and its position only.
+    ///
+    /// # Errors
+    /// As [`from_entries`](Self::from_entries) (of the failing blocks, one is reported).
+    pub fn from_entries_par<M, F>(
+        make_entry: M,
+        points: &Points,
+        options: &HOptions,
+    ) -> Result<Self, Error>
+    where
+        M: Fn() -> F + Sync,
+        F: FnMut(usize, usize) -> f64,
+    {
+        Self::from_entries_par_in(make_entry, points, options, None)
+    }
+
+    /// [`from_entries_par`](Self::from_entries_par) of one part's rows, as
+    /// [`from_entries_part`](Self::from_entries_part).
+    ///
+    /// # Errors
+    /// As [`from_entries_part`](Self::from_entries_part).
+    pub fn from_entries_part_par<M, F>(
+        make_entry: M,
+        points: &Points,
+        options: &HOptions,
+        row_part: RowPart,
+    ) -> Result<Self, Error>
+    where
+        M: Fn() -> F + Sync,
+        F: FnMut(usize, usize) -> f64,
+    {
+        Self::from_entries_par_in(make_entry, points, options, Some(row_part))
+    }
+
     /// [`from_entries`](Self::from_entries) of every block, or of those of one part's rows.
     fn from_entries_in<F>(
         mut entry: F,
@@ -91,6 +130,65 @@ impl HMatrix {
     where
         F: FnMut(usize, usize) -> f64,
     {
+        let plan = Plan::new(points, options, row_part)?;
+        let blocks = plan
+            .held_shapes()
+            .map(|shape| plan.block(shape, &mut entry))
+            .collect::<Result<Vec<_>, _>>()?;
+        plan.finish(blocks, &mut entry)
+    }
+
+    /// [`from_entries_par`](Self::from_entries_par) of every block, or of one part's rows.
+    fn from_entries_par_in<M, F>(
+        make_entry: M,
+        points: &Points,
+        options: &HOptions,
+        row_part: Option<RowPart>,
+    ) -> Result<Self, Error>
+    where
+        M: Fn() -> F + Sync,
+        F: FnMut(usize, usize) -> f64,
+    {
+        use rayon::prelude::*;
+        let plan = Plan::new(points, options, row_part)?;
+        let shapes: Vec<BlockShape> = plan.held_shapes().collect();
+        let blocks = shapes
+            .into_par_iter()
+            .map(|shape| plan.block(shape, &mut make_entry()))
+            .collect::<Result<Vec<_>, _>>()?;
+        plan.finish(blocks, &mut make_entry())
+    }
+}
+
+/// What the set-up from entries decides before any entry is asked for: the cluster tree,
+/// the blocks, and the part's rows if one part is built.
+struct Plan<'a> {
+    n: usize,
+    options: &'a HOptions,
+    tree: ClusterTree,
+    shapes: Vec<BlockShape>,
+    held: Option<(RowPart, PartRows)>,
+}
+
+/// A part's split of the leaf clusters ([`part_bounds`]) and its rows (cluster order).
+type PartRows = (Vec<usize>, Range<usize>);
+
+/// `entry(i, j)`, a non-finite value as [`Error::NonFiniteEntry`].
+fn checked<F: FnMut(usize, usize) -> f64>(entry: &mut F, i: usize, j: usize) -> Result<f64, Error> {
+    let v = entry(i, j);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::NonFiniteEntry { row: i, col: j })
+    }
+}
+
+impl<'a> Plan<'a> {
+    fn new(
+        points: &Points,
+        options: &'a HOptions,
+        row_part: Option<RowPart>,
+    ) -> Result<Self, Error> {
         let n = points.len();
         options.validate_for(n)?;
         let tree = ClusterTree::new(points, options.leaf_size);
@@ -99,68 +197,91 @@ impl HMatrix {
             Some(rp) => Some((rp, part_bounds(&tree, &shapes, rp)?)),
             None => None,
         };
-        let perm = tree.perm.clone();
+        Ok(Self {
+            n,
+            options,
+            tree,
+            shapes,
+            held,
+        })
+    }
+
+    /// The blocks that reach the rows held, in the block tree's order.
+    fn held_shapes(&self) -> impl Iterator<Item = BlockShape> + '_ {
+        self.shapes
+            .iter()
+            .copied()
+            .filter(move |shape| match &self.held {
+                Some((_, (_, rows))) => {
+                    shape.row < rows.end && rows.start < shape.row + shape.nrows
+                }
+                None => true,
+            })
+    }
+
+    /// One block: its cross approximation, recompressed, if admissible and worth it, else
+    /// its entries.
+    fn block<F: FnMut(usize, usize) -> f64>(
+        &self,
+        shape: BlockShape,
+        entry: &mut F,
+    ) -> Result<Block, Error> {
+        let perm = &self.tree.perm;
+        let options = self.options;
         let c = options.components;
-        let mut checked = |i: usize, j: usize| -> Result<f64, Error> {
-            let v = entry(i, j);
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(Error::NonFiniteEntry { row: i, col: j })
+        let mut local =
+            |i: usize, j: usize| checked(entry, perm[shape.row + i], perm[shape.col + j]);
+        let lr = if shape.admissible {
+            let row_comp: Vec<usize> = (0..shape.nrows).map(|i| perm[shape.row + i] % c).collect();
+            let col_comp: Vec<usize> = (0..shape.ncols).map(|j| perm[shape.col + j] % c).collect();
+            let params = AcaParams {
+                eps: options.epsilon / 10.0,
+                components: c,
+                seed: options.seed ^ ((shape.row as u64) << 32 | shape.col as u64),
+            };
+            compress_block(
+                shape.nrows,
+                shape.ncols,
+                &row_comp,
+                &col_comp,
+                &mut local,
+                params,
+            )?
+        } else {
+            None
+        };
+        let data = match lr {
+            Some(lr) => {
+                let lr = recompress(&lr, shape.nrows, shape.ncols, 0.9 * options.epsilon)?;
+                Data::LowRank(lr)
+            }
+            None => {
+                let mut d = Vec::with_capacity(shape.nrows * shape.ncols);
+                for j in 0..shape.ncols {
+                    for i in 0..shape.nrows {
+                        d.push(local(i, j)?);
+                    }
+                }
+                Data::Dense(d)
             }
         };
-        let mut blocks = Vec::new();
-        for shape in shapes {
-            if let Some((_, (_, rows))) = &held {
-                if !(shape.row < rows.end && rows.start < shape.row + shape.nrows) {
-                    continue;
-                }
-            }
-            let mut local = |i: usize, j: usize| checked(perm[shape.row + i], perm[shape.col + j]);
-            let lr = if shape.admissible {
-                let row_comp: Vec<usize> =
-                    (0..shape.nrows).map(|i| perm[shape.row + i] % c).collect();
-                let col_comp: Vec<usize> =
-                    (0..shape.ncols).map(|j| perm[shape.col + j] % c).collect();
-                let params = AcaParams {
-                    eps: options.epsilon / 10.0,
-                    components: c,
-                    seed: options.seed ^ ((shape.row as u64) << 32 | shape.col as u64),
-                };
-                compress_block(
-                    shape.nrows,
-                    shape.ncols,
-                    &row_comp,
-                    &col_comp,
-                    &mut local,
-                    params,
-                )?
-            } else {
-                None
-            };
-            let data = match lr {
-                Some(lr) => {
-                    let lr = recompress(&lr, shape.nrows, shape.ncols, 0.9 * options.epsilon)?;
-                    Data::LowRank(lr)
-                }
-                None => {
-                    let mut d = Vec::with_capacity(shape.nrows * shape.ncols);
-                    for j in 0..shape.ncols {
-                        for i in 0..shape.nrows {
-                            d.push(local(i, j)?);
-                        }
-                    }
-                    Data::Dense(d)
-                }
-            };
-            blocks.push(Block {
-                shape,
-                data,
-                t_offset: 0,
-            });
-        }
-        let mut h = Self::assemble(tree, blocks, 0.0, ErrorMeasure::Exact);
-        let rows = match &held {
+        Ok(Block {
+            shape,
+            data,
+            t_offset: 0,
+        })
+    }
+
+    /// The matrix of `blocks`, its split for a part, and the error estimated on a sample
+    /// of `entry`'s entries (of the rows held).
+    fn finish<F: FnMut(usize, usize) -> f64>(
+        self,
+        blocks: Vec<Block>,
+        entry: &mut F,
+    ) -> Result<HMatrix, Error> {
+        let (n, options) = (self.n, self.options);
+        let mut h = HMatrix::assemble(self.tree, blocks, 0.0, ErrorMeasure::Exact);
+        let rows = match &self.held {
             Some((rp, (bounds, rows))) => {
                 h.split = Split::from_bounds(bounds, rp.parts, &h.segments, &h.blocks, h.t_len);
                 h.held = Some((rp.part, bounds.len() - 1));
@@ -182,7 +303,7 @@ impl HMatrix {
                 return Ok(());
             }
             used += 1;
-            let exact = checked(i, j)?;
+            let exact = checked(entry, i, j)?;
             let approx = h.entry_in_cluster_order(iperm[i], iperm[j]);
             e2 += (exact - approx).powi(2);
             s2 += exact * exact;
@@ -221,7 +342,7 @@ fn part_bounds(
     tree: &ClusterTree,
     shapes: &[BlockShape],
     row_part: RowPart,
-) -> Result<(Vec<usize>, Range<usize>), Error> {
+) -> Result<PartRows, Error> {
     let refuse = |expected| Error::Option {
         name: "part",
         value: row_part.part as f64,

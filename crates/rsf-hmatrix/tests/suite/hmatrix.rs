@@ -2,7 +2,7 @@
 
 use faer::{Mat, Par};
 use rsf_hmatrix::kernels::AntiplaneHalfSpace;
-use rsf_hmatrix::{Error, ErrorMeasure, HMatrix, HOptions, Points};
+use rsf_hmatrix::{Error, ErrorMeasure, HMatrix, HOptions, Points, RowPart};
 use std::num::NonZeroUsize;
 
 /// BP1's shear modulus (Pa) and a 40 km fault.
@@ -470,5 +470,55 @@ fn from_dense_has_the_same_bits_in_pools_of_any_size() {
     let one = build(1);
     for threads in [2, 4] {
         assert!(build(threads) == one, "{threads} threads");
+    }
+}
+
+/// The set-up from entries on rayon's threads (`from_entries_par`, each block its own
+/// entry function) gives the blocks and the report of the sequential `from_entries`, bit
+/// for bit, in pools of 1, 2 and 4 threads, whole and for one part of the rows.
+#[test]
+fn from_entries_par_has_the_bits_of_from_entries() {
+    let n = 900;
+    let xy: Vec<[f64; 2]> = (0..n)
+        .map(|i| [(i % 30) as f64 + 0.1 * (i / 30) as f64, (i / 30) as f64])
+        .collect();
+    let points = Points::from_array(&xy).unwrap();
+    let f = |i: usize, j: usize| {
+        let d = ((xy[i][0] - xy[j][0]).powi(2) + (xy[i][1] - xy[j][1]).powi(2)).sqrt();
+        1.0 / (d + 0.5)
+    };
+    let options = HOptions::with_epsilon(1e-7);
+    let bits = |h: &HMatrix| {
+        let d = h.to_dense();
+        (0..n * n)
+            .map(|i| d[(i % n, i / n)].to_bits())
+            .collect::<Vec<u64>>()
+    };
+    let sequential = HMatrix::from_entries(f, &points, &options).unwrap();
+    let part = RowPart { parts: 3, part: 1 };
+    let sequential_part = HMatrix::from_entries_part(f, &points, &options, part).unwrap();
+    let mut x = vec![0.0; n];
+    x[17] = 1.0;
+    x[500] = -2.0;
+    let product = |h: &mut HMatrix| {
+        let mut y = vec![0.0; n];
+        h.apply_add(&x, &mut y, 1.0, Par::Seq).unwrap();
+        y.iter().map(|v| v.to_bits()).collect::<Vec<u64>>()
+    };
+    for threads in [1, 2, 4] {
+        let (mut whole, one_part) = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                (
+                    HMatrix::from_entries_par(|| f, &points, &options).unwrap(),
+                    HMatrix::from_entries_part_par(|| f, &points, &options, part).unwrap(),
+                )
+            });
+        assert!(bits(&whole) == bits(&sequential), "{threads} threads");
+        assert_eq!(whole.report(), sequential.report());
+        assert_eq!(one_part.report(), sequential_part.report());
+        assert_eq!(product(&mut whole), product(&mut sequential.clone()));
     }
 }

@@ -9,6 +9,10 @@ numpy arrays (:meth:`Simulation.series`, :meth:`Simulation.fault`,
 :meth:`Simulation.events`, :meth:`Simulation.fields`), as pandas/xarray objects
 where those packages are installed. Units are SI throughout.
 
+The dislocation kernels at points (:func:`rectangle_deformation`, Okada's
+rectangle; :func:`triangle_deformation`, Nikkhoo & Walter's triangle; each in a
+half-space or the whole space) give displacement and stress as numpy arrays.
+
 Every error of the library is an exception of a class derived from
 :class:`RsfError` carrying the library's message: :class:`InvalidParameterError`
 (naming the parameter), :class:`ModelError`, :class:`ConvergenceError`,
@@ -30,10 +34,12 @@ from ._rsf import (  # noqa: F401
     RsfError,
     RsfIOError,
     Simulation,
+    rectangle_deformation,
     seas_bp1,
     simulate,
     slider,
     slider_3d,
+    triangle_deformation,
 )
 
 __all__ = [
@@ -48,8 +54,10 @@ __all__ = [
     "RsfError",
     "RsfIOError",
     "Simulation",
+    "rectangle_deformation",
     "seas_bp1",
     "simulate",
     "slider",
     "slider_3d",
+    "triangle_deformation",
 ]

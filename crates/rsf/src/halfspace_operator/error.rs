@@ -130,6 +130,58 @@ pub enum HalfSpaceOperatorError {
         /// How far the top of the node's cell is above it (m).
         above: f64,
     },
+    /// A fault alone with another number of frictional nodes than the element set has
+    /// elements ([`ElementOperator::fault_alone`](super::ElementOperator::fault_alone)).
+    #[error(
+        "the fault alone has {nodes} frictional nodes and the element set {elements} \
+         elements: one node per element, in element order (fault_alone_model)"
+    )]
+    ElementCount {
+        /// Frictional nodes.
+        nodes: usize,
+        /// Elements.
+        elements: usize,
+    },
+    /// A frictional node is not at the centre of an element (of its own, for a fault
+    /// alone), or at one that has a node already (`offset` 0).
+    #[error(
+        "frictional node {node} (vertex {vertex}) at {position:?} is {offset:e} m from the \
+         nearest free element centre: every node must sit at the centre of one element"
+    )]
+    NotAtElement {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+        /// Its position (m).
+        position: [f64; 3],
+        /// Distance to the nearest element centre (m; infinite if none is near, 0 if that
+        /// element has a node already).
+        offset: f64,
+    },
+    /// An element has no frictional node at its centre.
+    #[error("element {element} (centre {centre:?} m) has no frictional node at its centre")]
+    NoNodeAt {
+        /// The element.
+        element: usize,
+        /// Its centre (m).
+        centre: [f64; 3],
+    },
+    /// A frictional node's normal is not its element's (either sign).
+    #[error(
+        "frictional node {node} (vertex {vertex}): its normal is {angle:e} rad from element \
+         {element}'s; the element must lie in the node's tangent plane"
+    )]
+    NotAligned {
+        /// Fault index.
+        node: usize,
+        /// Vertex id.
+        vertex: usize,
+        /// The element at its position.
+        element: usize,
+        /// The angle between the normals (rad).
+        angle: f64,
+    },
     /// Invalid options.
     #[error("HalfSpaceOptions::{name} = {value}: {expected}")]
     Options {

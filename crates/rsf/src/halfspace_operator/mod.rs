@@ -15,15 +15,17 @@ use rsf_linalg::Parallelism;
 
 use crate::error::Result;
 use crate::fault_kernel::Kernel;
-use crate::fault_operator::{
-    FaultKernel, FaultOperator, KernelReport, RowSplit, MAX_KERNEL_EPSILON,
-};
+use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, RowSplit};
 use crate::model::Model;
+use nodes::{alone_nodes, internal_fault_nodes, Node};
 use rsf_ranks::RankGroup;
 
+mod elements;
 mod error;
+mod nodes;
 mod parts;
 
+pub use elements::{fault_alone_model, ElementOperator, ElementOptions, CENTRE_TOLERANCE};
 pub use error::HalfSpaceOperatorError;
 
 /// Relative tolerance (times the grid's spacing) of "at an element centre" and "in the
@@ -45,7 +47,7 @@ pub struct HalfSpaceOptions {
     /// accuracy [`epsilon`](Self::epsilon) ([`RectangularFault::hmatrix`]), at or below
     /// it dense ([`RectangularFault::dense`]). Default 4 096 (128 MB dense).
     pub dense_max: usize,
-    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`]`]`
+    /// Relative accuracy ε of the ℋ-matrix, in `(0, `[`MAX_KERNEL_EPSILON`](crate::fault_operator::MAX_KERNEL_EPSILON)`]`
     /// (default 1e-6).
     pub epsilon: f64,
     /// Largest leaf cluster of the ℋ-matrix (default rsf-hmatrix's, 48).
@@ -97,26 +99,10 @@ impl OkadaFrame {
     }
 }
 
-/// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
-type Node = ([f64; 3], [f64; 3], [f64; 3], [f64; 3]);
-
 /// The checks of [`HalfSpaceOptions`].
 fn check_options(options: &HalfSpaceOptions) -> std::result::Result<(), HalfSpaceOperatorError> {
     use HalfSpaceOperatorError as E;
-    if !(options.epsilon > 0.0 && options.epsilon <= MAX_KERNEL_EPSILON) {
-        return Err(E::Options {
-            name: "epsilon",
-            value: options.epsilon,
-            expected: "in (0, 1e-2]",
-        });
-    }
-    if options.leaf_size == 0 {
-        return Err(E::Options {
-            name: "leaf_size",
-            value: 0.0,
-            expected: "at least 1",
-        });
-    }
+    nodes::check_kernel(options.epsilon, options.leaf_size)?;
     if !options.surface.is_finite() {
         return Err(E::Options {
             name: "surface",
@@ -223,34 +209,10 @@ impl HalfSpaceOperator {
         model: &Model<3, 3>,
         options: &HalfSpaceOptions,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
-        use HalfSpaceOperatorError as E;
         check_options(options)?;
         let clock = Instant::now();
-        let fault = model.internal_fault.as_ref().ok_or(E::NoInternalFault)?;
+        let nodes = internal_fault_nodes(model)?;
         let fb = &model.frictional_boundary;
-        let pairs = fault.pairs();
-        let mut pair_index = std::collections::HashMap::with_capacity(pairs.len());
-        for (i, &(minus, _)) in pairs.iter().enumerate() {
-            pair_index.insert(minus, i);
-        }
-        // Per node: position, t₁, t₂, n (the minus side's outward normal, into the plus side).
-        let mut nodes = Vec::with_capacity(fb.len());
-        for (k, &p) in fb.nodes.iter().enumerate() {
-            let i = *pair_index
-                .get(&p)
-                .ok_or(E::NotAPair { node: k, vertex: p })?;
-            let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
-            if free != [true, true, false] {
-                return Err(E::Components {
-                    node: k,
-                    vertex: p,
-                    free,
-                });
-            }
-            let r = fault.transform.frames[i];
-            let col = |c: usize| [r[0][c], r[1][c], r[2][c]];
-            nodes.push((model.vertices[p], col(0), col(1), col(2).map(|x| -x)));
-        }
         Self::from_nodes(&nodes, &fb.nodes, &fb.weights, options, clock, None)
     }
 
@@ -307,39 +269,10 @@ impl HalfSpaceOperator {
         options: &HalfSpaceOptions,
         ranks: Option<Box<dyn RankGroup + Send>>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
-        use HalfSpaceOperatorError as E;
         check_options(options)?;
-        if model.stiffness.compute_nnz() != 0
-            || model.internal_fault.is_some()
-            || !model.frames.nodes.is_empty()
-        {
-            return Err(E::NotAlone);
-        }
         let clock = Instant::now();
+        let nodes = alone_nodes(model)?;
         let fb = &model.frictional_boundary;
-        let axis = |c: usize| {
-            let mut e = [0.0; 3];
-            e[c] = 1.0;
-            e
-        };
-        let mut nodes = Vec::with_capacity(fb.len());
-        for (k, &p) in fb.nodes.iter().enumerate() {
-            let free: [bool; 3] = std::array::from_fn(|c| !model.fixed[3 * p + c]);
-            let tangential: Vec<usize> = (0..3).filter(|&c| free[c]).collect();
-            let Some(normal) = (0..3).find(|&c| !free[c]).filter(|_| tangential.len() == 2) else {
-                return Err(E::Components {
-                    node: k,
-                    vertex: p,
-                    free,
-                });
-            };
-            nodes.push((
-                model.vertices[p],
-                axis(tangential[0]),
-                axis(tangential[1]),
-                axis(normal),
-            ));
-        }
         let ranks = ranks.filter(|r| r.size() > 1 && 2 * nodes.len() > options.dense_max);
         let row_part = ranks.as_ref().map(|r| RowPart {
             parts: r.size(),
@@ -667,11 +600,7 @@ impl HalfSpaceOperator {
     }
 
     fn scatter(&self, x: &[f64], s: &mut [f64]) {
-        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
-            let j = [x[2 * k], x[2 * k + 1]];
-            s[2 * e] = a[0][0] * j[0] + a[0][1] * j[1];
-            s[2 * e + 1] = a[1][0] * j[0] + a[1][1] * j[1];
-        }
+        nodes::scatter(&self.element, &self.map, x, s);
     }
 
     /// The displacement at `points` (model coordinates, in the half-space, off the
@@ -723,20 +652,7 @@ impl HalfSpaceOperator {
     /// # Errors
     /// Those of the product.
     pub fn dense(&mut self) -> Result<Mat<f64>> {
-        let m = self.dim();
-        let mut out = Mat::zeros(m, m);
-        let mut x = vec![0.0; m];
-        let mut r = vec![0.0; m];
-        for j in 0..m {
-            x[j] = 1.0;
-            r.fill(0.0);
-            self.subtract_product(&x, &mut r, Parallelism::SEQ)?;
-            for i in 0..m {
-                out[(i, j)] = -r[i];
-            }
-            x[j] = 0.0;
-        }
-        Ok(out)
+        nodes::dense_of(self)
     }
 }
 
@@ -756,12 +672,7 @@ impl FaultOperator for HalfSpaceOperator {
         self.s = s;
         result?;
         // y = −K s: r_k += w_k (σ A_k)ᵀ y_e.
-        for (k, (&e, a)) in self.element.iter().zip(&self.map).enumerate() {
-            let w = self.weights[k];
-            let y = [self.y[2 * e], self.y[2 * e + 1]];
-            r[2 * k] += w * (a[0][0] * y[0] + a[1][0] * y[1]);
-            r[2 * k + 1] += w * (a[0][1] * y[0] + a[1][1] * y[1]);
-        }
+        nodes::gather(&self.element, &self.map, &self.weights, &self.y, r);
         Ok(())
     }
 

@@ -41,7 +41,7 @@ fn symmetric(h: f64, uniform: f64, ratio: f64, far: f64) -> Vec<f64> {
 /// the top `z = 0` free; the faces `x = ±far` held (`v = 0`)
 /// or moving `±v` along `y` (simple shear, right-lateral on the fault), the other faces
 /// free (`sheared`) or held (not `sheared`). Strike along `y` (`fault_tangent`).
-fn model(n: usize, far: f64, ratio: f64, v: Option<f64>) -> Model<3> {
+pub(crate) fn model(n: usize, far: f64, ratio: f64, v: Option<f64>) -> Model<3> {
     let h = 2.0 * A / n as f64;
     let xs = symmetric(h, A, ratio, far);
     let ys = symmetric(h, A, ratio, far);

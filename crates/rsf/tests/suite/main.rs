@@ -11,12 +11,13 @@ mod antiplane;
 mod consistency;
 mod coupled;
 mod direct_extension;
+#[cfg(feature = "halfspace")]
+mod element_operator;
 mod energy;
 mod fault_network;
 mod fault_ode;
 mod fault_ode_ordering;
 mod fixed_point_schemes;
-#[cfg(feature = "halfspace")]
 mod halfspace_operator;
 mod internal_fault;
 mod internal_fault_3d;
