@@ -463,9 +463,9 @@ impl<'a> Cut2d<'a> {
                     nodes[f].push(self.cut_alone(f, i, &mut copies)?);
                     continue;
                 }
-                if !junction_at.contains_key(&p) {
+                if let std::collections::hash_map::Entry::Vacant(e) = junction_at.entry(p) {
                     junctions.push(self.cut_junction(p, here, &mut copies)?);
-                    junction_at.insert(p, junctions.len() - 1);
+                    e.insert(junctions.len() - 1);
                 }
                 // This fault's sides at its first edge at p.
                 let (a, b) = self.half_edges(f, i)[0];

@@ -13,6 +13,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+#[cfg(feature = "seas")]
+pub mod bp5_pair;
 pub mod cli;
 mod curved;
 pub mod distributed_sweep;
@@ -20,6 +22,8 @@ pub mod estimates;
 pub mod guard;
 mod heat_map;
 pub mod memory;
+#[cfg(feature = "seas")]
+pub mod network;
 pub mod on_ranks;
 mod own_model;
 mod panels;

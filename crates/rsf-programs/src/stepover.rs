@@ -26,16 +26,10 @@ use std::time::Instant;
 
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
 use crate::guard::{in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
-use plotters::prelude::*;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::{
-    EventThresholds, FaultCatalogue, FaultStations, NetworkEvent, Progress, TimeUnit,
-};
-use rsf_scenes::{SeasBp1, Stepover, StepoverGrid, STEPOVER_FAULTS};
-use rsf_seas::SECONDS_PER_YEAR;
+use rsf_scenes::{SeasBp1, Stepover, StepoverGrid};
 
 /// A stepover between two strike-slip strands (map view, plane strain).
 #[derive(Parser)]
@@ -118,21 +112,9 @@ fn outputs(stepover: &Stepover) -> Vec<String> {
         .iter()
         .map(|s| format!("{}_{}.csv", s.fault, s.label))
         .collect();
-    names.extend(
-        [
-            "catalogue.csv",
-            CATALOGUE_LOG,
-            "summary.json",
-            "catalogue.png",
-            "checkpoint.bin",
-        ]
-        .map(String::from),
-    );
+    names.extend(crate::network::NETWORK_FILES.map(String::from));
     names
 }
-
-/// The catalogue's resume log.
-const CATALOGUE_LOG: &str = "catalogue_resume.csv";
 
 /// Bytes per station row (step, time, slip, slip rate, traction, state).
 fn station_row_bytes() -> f64 {
@@ -264,59 +246,26 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             .with("tolerance", args.tolerance)
             .with("kernel", options.kernel),
     );
-    let session = Session::start(
-        args.run.session_flags(),
-        args.out.join("checkpoint.bin"),
+    let outcome = crate::network::run_network(
+        &mut ode,
+        &stepover.stations(),
         fingerprint,
-        args.end_years * SECONDS_PER_YEAR,
-        &mut ode,
-    )?;
-    let mode = session.mode(folder.mode());
-    let mut stations = FaultStations::new(&args.out, ode.model(), &stepover.stations(), mode)?;
-    let mu = stepover.params.shear_modulus();
-    let mut catalogue = FaultCatalogue::new(ode.model(), EventThresholds::default(), |_| mu)?;
-    if session.keeps_resume_log() {
-        catalogue = catalogue.with_resume_log(
-            &args.out.join(CATALOGUE_LOG),
-            args.run.checkpoint_every,
-            args.run.max_steps.map(|s| s as usize),
-            mode,
-        )?;
-    }
-    let progress = Progress::time_in(
-        ode.state().time,
-        args.end_years * SECONDS_PER_YEAR,
-        TimeUnit::year(SECONDS_PER_YEAR),
-        "stepover",
-    );
-    let summary = session.run(
-        &mut ode,
-        &mut [&mut stations, &mut catalogue],
-        Some(progress),
+        crate::network::NetworkRun {
+            out: &args.out,
+            fresh: folder.mode(),
+            end_years: args.end_years,
+            resume: &args.run,
+            label: "stepover",
+            rigidity: stepover.params.shear_modulus(),
+        },
     )?;
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
-    catalogue.write_csv(&args.out.join("catalogue.csv"))?;
-    let names = catalogue.fault_names().to_vec();
-    let events = catalogue.events();
+    let (summary, names, events) = (&outcome.summary, &outcome.names, &outcome.events);
     let jumped = events
         .iter()
         .filter(|e| e.ruptured.iter().all(|&r| r))
         .count();
-    for e in events {
-        println!(
-            "event at {:.3} yr: nucleated on {} at x = {:.2} km, ruptured {}, peak slip rate {}",
-            e.onset_s / SECONDS_PER_YEAR,
-            names[e.nucleation_fault],
-            e.nucleation_x[0] / 1e3,
-            e.ruptured_names(&names),
-            e.peak_slip_rate
-                .iter()
-                .map(|v| format!("{v:.2e}"))
-                .collect::<Vec<_>>()
-                .join("/")
-        );
-    }
     println!(
         "{} events, {jumped} of them ruptured both strands; {} steps ({} rejected), {} \
          evaluations; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
@@ -343,79 +292,12 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         },
         "faults": names,
         "events": events,
-        "stats": {
-            "events": events.len(),
-            "ruptured_both": jumped,
-            "nucleated_on": STEPOVER_FAULTS.iter().enumerate().map(|(f, name)| {
-                (name.to_string(), events.iter().filter(|e| e.nucleation_fault == f).count())
-            }).collect::<std::collections::BTreeMap<_, _>>(),
-        },
+        "stats": crate::network::catalogue_stats(names, events),
     });
     rsf::checkpoint::write_atomically(
         &args.out.join("summary.json"),
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
-    catalogue_figure(&args.out.join("catalogue.png"), &names, events)?;
     println!("wrote {}", args.out.join("catalogue.png").display());
     Ok(())
-}
-
-/// The catalogue's figure: one row per strand, every event a mark at its onset (years) on
-/// each strand it ruptured — filled on the strand where it nucleated — the marks of one
-/// event joined by a line when it ruptured more than one.
-fn catalogue_figure(
-    path: &std::path::Path,
-    names: &[String],
-    events: &[NetworkEvent],
-) -> Result<(), Box<dyn std::error::Error>> {
-    crate::init_fonts();
-    let t_end = events
-        .iter()
-        .map(|e| e.onset_s / SECONDS_PER_YEAR)
-        .fold(1.0f64, f64::max);
-    let rows = names.len() as f64;
-    crate::draw_png(path, (1000, 400), |root| {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption("stepover: events by strand", ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(80)
-            .build_cartesian_2d(0.0..1.05 * t_end, -0.5..rows - 0.5)?;
-        let labels = names.to_vec();
-        chart
-            .configure_mesh()
-            .x_desc("onset (years)")
-            .y_desc("strand")
-            .y_labels(names.len())
-            .y_label_formatter(&move |y| {
-                labels.get(y.round() as usize).cloned().unwrap_or_default()
-            })
-            .label_style(("sans-serif", 15))
-            .draw()?;
-        let blue = RGBColor(31, 119, 180);
-        for e in events {
-            let t = e.onset_s / SECONDS_PER_YEAR;
-            let hit: Vec<f64> = (0..names.len())
-                .filter(|&f| e.ruptured[f])
-                .map(|f| f as f64)
-                .collect();
-            if hit.len() > 1 {
-                chart.draw_series(LineSeries::new(
-                    [(t, hit[0]), (t, hit[hit.len() - 1])],
-                    blue.stroke_width(1),
-                ))?;
-            }
-            for &f in &hit {
-                let nucleated = f as usize == e.nucleation_fault;
-                let style = if nucleated {
-                    blue.filled()
-                } else {
-                    blue.stroke_width(2)
-                };
-                chart.draw_series(std::iter::once(Circle::new((t, f), 5, style)))?;
-            }
-        }
-        Ok(())
-    })
 }

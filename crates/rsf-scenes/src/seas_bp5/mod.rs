@@ -18,9 +18,11 @@ use crate::invalid;
 use rsf_seas::bp5_body_station_points;
 
 mod half_space;
+mod pair;
 mod volume;
 
 pub use half_space::MAX_CELLS;
+pub use pair::{Bp5Pair, BP5_PAIR_FAULTS, BP5_PAIR_STATIONS};
 pub use volume::{SeasBp5Grid, SeasBp5Mesh};
 
 /// The fault ODE of BP5 (the regularised law, the aging law, a 3-D fault alone).

@@ -142,6 +142,82 @@ impl SeasBp5 {
     /// # Errors
     /// As [`fe_model`](Self::fe_model) before its assembly.
     pub fn fe_model_builder(&self, grid: &SeasBp5Grid) -> Result<ModelBuilder<3>> {
+        self.check_fe_grid(grid)?;
+        let (h, far) = (grid.dx, grid.domain);
+        let (mesh, [lo, hi]) = match grid.mesh {
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => (
+                self.tensor_mesh(grid)?,
+                [[-far, -far, -far], [far, far, 0.0]],
+            ),
+            SeasBp5Mesh::Graded => self.graded_mesh(grid, &[0.0])?,
+        };
+        let mu = self.shear_modulus();
+        let host = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let builder = ModelBuilder::new(mesh);
+        let builder = match self.fault_zone {
+            None => builder.material(host),
+            Some(zone) => {
+                let mu_fz = self.fault_shear_modulus();
+                let soft = Material::new(2.0 * mu_fz * (1.0 + self.nu), self.nu, self.rho);
+                let scene = *self;
+                builder.material(MaterialRegions::new(host).region(
+                    "fault zone",
+                    move |x| {
+                        x[0].abs() <= zone.half_width && scene.in_rate_state_region(x[1], -x[2])
+                    },
+                    soft,
+                ))
+            }
+        };
+        let eps = 1e-6 * h;
+        let side = 0.5 * self.v_p;
+        // Every face of the box but the free surface z = 0.
+        let far_face = move |x: &[f64; 3]| {
+            (0..2).any(|k| x[k] < lo[k] + eps || x[k] > hi[k] - eps) || x[2] < lo[2] + eps
+        };
+        let (a, b, c) = (*self, *self, *self);
+        // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
+        let builder = builder
+            .without_mass()
+            .without_initial_equilibrium()
+            .dirichlet(
+                Part::predicate("far minus", move |x| x[0] < -eps && far_face(x)),
+                [0.0, -side, 0.0],
+            )
+            .dirichlet(
+                Part::predicate("far plus", move |x| x[0] > eps && far_face(x)),
+                [0.0, side, 0.0],
+            )
+            .fault_tangent([0.0, 1.0, 0.0])
+            .internal_fault_polygon(
+                "fault",
+                &[
+                    [0.0, lo[1], lo[2]],
+                    [0.0, hi[1], lo[2]],
+                    [0.0, hi[1], 0.0],
+                    [0.0, lo[1], 0.0],
+                ],
+            )
+            .internal_creep_at(move |x| {
+                (!a.in_rate_state_region(x[1], -x[2])).then_some(CreepRate::InFrame([a.v_p, 0.0]))
+            })
+            // τ⁰ on the whole plane: a frictional node on the region's rim has half of its
+            // faces outside the region, and must carry its full prestress; the creeping
+            // pairs' slip is given, so their share goes into the reaction.
+            .neumann(Part::from("fault_minus"), move |x| {
+                [0.0, -b.tau0(x[1], -x[2]), 0.0]
+            })
+            .neumann(Part::from("fault_plus"), move |x| {
+                [0.0, c.tau0(x[1], -x[2]), 0.0]
+            });
+        Ok(builder)
+    }
+
+    /// Checks `grid` for the volume model ([`fe_model`](Self::fe_model)): as its errors say.
+    ///
+    /// # Errors
+    /// As [`fe_model`](Self::fe_model) before its mesh is made.
+    pub(crate) fn check_fe_grid(&self, grid: &SeasBp5Grid) -> Result<()> {
         self.validate()?;
         let (h, far) = (grid.dx, grid.domain);
         let whole = |length: f64| {
@@ -218,73 +294,7 @@ impl SeasBp5 {
                 ));
             }
         }
-        let (mesh, [lo, hi]) = match grid.mesh {
-            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => (
-                self.tensor_mesh(grid)?,
-                [[-far, -far, -far], [far, far, 0.0]],
-            ),
-            SeasBp5Mesh::Graded => self.graded_mesh(grid)?,
-        };
-        let mu = self.shear_modulus();
-        let host = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
-        let builder = ModelBuilder::new(mesh);
-        let builder = match self.fault_zone {
-            None => builder.material(host),
-            Some(zone) => {
-                let mu_fz = self.fault_shear_modulus();
-                let soft = Material::new(2.0 * mu_fz * (1.0 + self.nu), self.nu, self.rho);
-                let scene = *self;
-                builder.material(MaterialRegions::new(host).region(
-                    "fault zone",
-                    move |x| {
-                        x[0].abs() <= zone.half_width && scene.in_rate_state_region(x[1], -x[2])
-                    },
-                    soft,
-                ))
-            }
-        };
-        let eps = 1e-6 * h;
-        let side = 0.5 * self.v_p;
-        // Every face of the box but the free surface z = 0.
-        let far_face = move |x: &[f64; 3]| {
-            (0..2).any(|k| x[k] < lo[k] + eps || x[k] > hi[k] - eps) || x[2] < lo[2] + eps
-        };
-        let (a, b, c) = (*self, *self, *self);
-        // u₀ = 0: the fault ODE carries the load in its condensed right-hand side.
-        let builder = builder
-            .without_mass()
-            .without_initial_equilibrium()
-            .dirichlet(
-                Part::predicate("far minus", move |x| x[0] < -eps && far_face(x)),
-                [0.0, -side, 0.0],
-            )
-            .dirichlet(
-                Part::predicate("far plus", move |x| x[0] > eps && far_face(x)),
-                [0.0, side, 0.0],
-            )
-            .fault_tangent([0.0, 1.0, 0.0])
-            .internal_fault_polygon(
-                "fault",
-                &[
-                    [0.0, lo[1], lo[2]],
-                    [0.0, hi[1], lo[2]],
-                    [0.0, hi[1], 0.0],
-                    [0.0, lo[1], 0.0],
-                ],
-            )
-            .internal_creep_at(move |x| {
-                (!a.in_rate_state_region(x[1], -x[2])).then_some(CreepRate::InFrame([a.v_p, 0.0]))
-            })
-            // τ⁰ on the whole plane: a frictional node on the region's rim has half of its
-            // faces outside the region, and must carry its full prestress; the creeping
-            // pairs' slip is given, so their share goes into the reaction.
-            .neumann(Part::from("fault_minus"), move |x| {
-                [0.0, -b.tau0(x[1], -x[2]), 0.0]
-            })
-            .neumann(Part::from("fault_plus"), move |x| {
-                [0.0, c.tau0(x[1], -x[2]), 0.0]
-            });
-        Ok(builder)
+        Ok(())
     }
 
     /// The tensor grid of [`SeasBp5Mesh::Tensor`] (box `±domain`).
@@ -320,7 +330,14 @@ impl SeasBp5 {
     /// region (on the plane `x = 0`, thickened to `|x| ≤ near_fault`) or from the nearest
     /// off-fault station
     /// ([`body_station_points`](Self::body_station_points)).
-    fn graded_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
+    ///
+    /// `planes` are the `x` (m) of the faults whose rate-and-state regions the mesh is
+    /// refined towards (BP5: `[0]`; two parallel strands: both).
+    pub(crate) fn graded_mesh(
+        &self,
+        grid: &SeasBp5Grid,
+        planes: &[f64],
+    ) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
         let h = grid.dx;
         let doublings = (GRADED_ROOT_MAX / h).log2().floor().max(0.0);
         let root = h * doublings.exp2();
@@ -336,16 +353,36 @@ impl SeasBp5 {
         let (lo, hi) = ([-far, shift - far, -far], [far, shift + far, 0.0]);
         let growth = grid.ratio - 1.0;
         let near = grid.near_fault;
-        let region = (
-            [-near, -0.5 * self.l_f, -self.w_f],
-            [near, 0.5 * self.l_f, 0.0],
-        );
+        let regions: Vec<([f64; 3], [f64; 3])> = planes
+            .iter()
+            .map(|&x| {
+                (
+                    [x - near, -0.5 * self.l_f, -self.w_f],
+                    [x + near, 0.5 * self.l_f, 0.0],
+                )
+            })
+            .collect();
         let stations = Self::body_station_points();
+        let planes = planes.to_vec();
         let size = move |lo: [f64; 3], hi: [f64; 3]| {
+            // A cube a fault plane cuts through (not on its faces) is split until the
+            // plane is a face: every fault runs across the whole box (creeping beyond its
+            // rate-and-state region), on faces of the mesh.
+            let edge = hi[0] - lo[0];
+            if planes
+                .iter()
+                .any(|&x| x > lo[0] + 1e-9 * edge && x < hi[0] - 1e-9 * edge)
+            {
+                return 0.5 * edge;
+            }
+            let region = regions
+                .iter()
+                .map(|&r| box_distance((lo, hi), r))
+                .fold(f64::INFINITY, f64::min);
             let closest = stations
                 .iter()
                 .map(|&p| box_distance((lo, hi), (p, p)))
-                .fold(box_distance((lo, hi), region), f64::min);
+                .fold(region, f64::min);
             h + growth * closest
         };
         let mut cubes = OctreeMesh::new(lo, hi, root)?;

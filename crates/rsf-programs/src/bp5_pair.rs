@@ -1,0 +1,353 @@
+//! Two parallel strike-slip faults with SEAS BP5's physics (not a benchmark;
+//! docs/fault-networks.md, "Two parallel faults in 3-D"): `rsf_scenes::Bp5Pair`, BP5's fault
+//! repeated `--separation-km` apart across strike, each strand loaded at the plate rate, run
+//! over many cycles with the boundary-element kernel (`--kernel okada`: both strands' cells
+//! in one operator in Okada's half-space) or the finite-element volume (`--kernel fe`: both
+//! planes in one graded box), with the catalogue of which strand each event ruptured.
+//!
+//! ```sh
+//! cargo run --release --example bp5_pair -- --kernel okada --dx 2000 --out out/bp5_pair_okada
+//! cargo run --release --example bp5_pair -- --kernel fe --dx 2000 --out out/bp5_pair_fe
+//! ```
+//!
+//! Writes to `--out`: a station file per strand and point (`{west,east}_st{x₂}dp{x₃}.csv`:
+//! step, time, the two slip components, slip rate, shear traction, state), `catalogue.csv`,
+//! `summary.json` and `catalogue.png`, as `stepover` does. Runs: `--checkpoint-every N`,
+//! `--resume FILE`, `--allow-change`, `--max-steps N`, `--overwrite`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::estimates::{csv_row_bytes, fe_3d_memory, operator_bytes, FIGURE_BYTES};
+use crate::guard::{in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::{cpu_seconds, machine};
+use clap::Parser;
+use rsf::checkpoint::Fingerprint;
+use rsf::halfspace_operator::ElementOptions;
+use rsf_scenes::{Bp5Pair, SeasBp5, SeasBp5Grid};
+
+/// The elastic operator of a two-strand run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PairKernel {
+    /// Both strands alone in Okada's half-space (boundary elements).
+    Okada,
+    /// Both strands inside a finite-element box, condensed onto them.
+    Fe,
+}
+
+impl std::fmt::Display for PairKernel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            PairKernel::Okada => "okada",
+            PairKernel::Fe => "fe",
+        })
+    }
+}
+
+/// Two parallel strike-slip faults with SEAS BP5's physics.
+#[derive(Parser)]
+#[command(version)]
+pub struct Args {
+    /// Output folder.
+    #[arg(long, default_value = "out/bp5_pair")]
+    out: PathBuf,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    overwrite: bool,
+    /// The elastic operator: `okada` or `fe`.
+    #[arg(long, value_enum, default_value_t = PairKernel::Okada)]
+    kernel: PairKernel,
+    /// Cell size on the strands (m); must divide 100 km and 40 km, and half the separation.
+    #[arg(long, default_value_t = 2000.0, allow_negative_numbers = true)]
+    dx: f64,
+    /// Distance between the strands across strike (km); `fe`: half of it a whole number of
+    /// `--dx`.
+    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
+    separation_km: f64,
+    /// `fe`: distance from the strands to the box's far faces, and its depth (km).
+    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true)]
+    domain_km: f64,
+    /// `fe`: growth of the spacing away from the strands' rate-and-state regions.
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    ratio: f64,
+    /// `fe`: fill-reducing ordering of the volume's elimination, `nested-dissection`
+    /// (METIS; the default where it is built, as in the examples: with two planes through
+    /// the box AMD's fill is ten times larger — 37 GB against 2.7 GB at 4 km) or `amd`.
+    #[arg(long, default_value = DEFAULT_ORDERING)]
+    ordering: rsf::fault_ode::InteriorOrdering,
+    /// End time (years).
+    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
+    end_years: f64,
+    /// Tolerance of the fault ODE (local error per step: tolerance · L in slip, tolerance in
+    /// ln θ).
+    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
+    tolerance: f64,
+    #[command(flatten)]
+    integrator: crate::IntegratorArgs,
+    /// Relative accuracy ε of the ℋ-matrices (above 4 096 unknowns).
+    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
+    epsilon: f64,
+    /// Threads of each evaluation (the same bits for every value). Default: every core.
+    #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
+    threads: usize,
+    /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
+    #[command(flatten)]
+    run: crate::ResumeArgs,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+/// The scene and the volume's grid of the flags.
+fn scene(args: &Args) -> (Bp5Pair, SeasBp5Grid) {
+    let pair = Bp5Pair {
+        bp5: SeasBp5::default(),
+        separation: args.separation_km * 1e3,
+    };
+    let grid = SeasBp5Grid {
+        dx: args.dx,
+        domain: args.domain_km * 1e3,
+        ratio: args.ratio,
+        ..SeasBp5Grid::default()
+    };
+    (pair, grid)
+}
+
+/// The default ordering: METIS's nested dissection where it is built.
+const DEFAULT_ORDERING: &str = if cfg!(feature = "metis") {
+    "nested-dissection"
+} else {
+    "amd"
+};
+
+/// The elimination's checkpoint (`--kernel fe`).
+const SETUP_FILE: &str = "setup.bin";
+
+/// The files a run writes into `--out`.
+fn outputs(pair: &Bp5Pair) -> Vec<String> {
+    let mut names: Vec<String> = pair
+        .stations()
+        .iter()
+        .map(|s| format!("{}_{}.csv", s.fault, s.label))
+        .collect();
+    names.extend(crate::network::NETWORK_FILES.map(String::from));
+    names.push(SETUP_FILE.into());
+    names
+}
+
+impl Program for Args {
+    const NAME: &'static str = "bp5_pair";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        in_range("--dx", self.dx, (250.0, 20e3), "m")?;
+        in_range("--separation-km", self.separation_km, (1e-3, 1e3), "km")?;
+        in_range("--domain-km", self.domain_km, (75.0, 1e4), "km")?;
+        in_range(
+            "--ratio",
+            self.ratio,
+            (1.0, 2.0),
+            "the growth of the spacing",
+        )?;
+        in_range(
+            "--epsilon",
+            self.epsilon,
+            (1e-14, 0.1),
+            "a relative accuracy",
+        )?;
+        let (pair, grid) = scene(self);
+        pair.bp5
+            .cells(self.dx)
+            .map_err(|e| format!("--dx {}: {e}", number(self.dx)))?;
+        pair.validate()
+            .map_err(|e| format!("--separation-km {}: {e}", number(self.separation_km)))?;
+        crate::cli::for_flag(
+            "--tolerance",
+            "tolerance",
+            pair.bp5.fault_ode_options(self.tolerance),
+        )?;
+        let cells = 2.0 * (pair.bp5.l_f / self.dx) * (pair.bp5.w_f / self.dx);
+        let unknowns = 2.0 * cells;
+        let hierarchical = unknowns > 4096.0;
+        let memory = match self.kernel {
+            PairKernel::Okada => operator_bytes(unknowns, hierarchical) + cells * 2e3,
+            PairKernel::Fe => {
+                let half = 0.5 * self.separation_km * 1e3 / self.dx;
+                if (half - half.round()).abs() > 1e-9 * half.max(1.0) || half < 1.0 {
+                    return Err(format!(
+                        "--separation-km {}: half of it must be a whole number (≥ 1) of --dx",
+                        number(self.separation_km)
+                    )
+                    .into());
+                }
+                // The graded box refined towards two planes: about twice BP5's vertices.
+                let vertices = 2.0
+                    * crate::estimates::fe_3d_box_vertices(
+                        self.dx,
+                        pair.bp5.l_f,
+                        pair.bp5.w_f,
+                        self.ratio,
+                        grid.domain,
+                    );
+                fe_3d_memory(vertices) + 2.0 * operator_bytes(unknowns, hierarchical)
+            }
+        };
+        let stations = pair.stations().len() as f64;
+        let rows = self.end_years * 100.0 + 1e4;
+        let names = outputs(&pair);
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --kernel, --domain-km, --ratio",
+                format!(
+                    "two strands of {cells:.3e} cells at dx = {} m ({})",
+                    number(self.dx),
+                    self.kernel
+                ),
+            )
+            .output(
+                stations * rows * csv_row_bytes(7) + FIGURE_BYTES + 1e7,
+                "--end-years",
+                format!("{} years of {stations} station files", self.end_years),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+            ))
+    }
+}
+
+/// The program `bp5_pair` (`cargo run --release --example bp5_pair -- --out DIR …`).
+pub fn main() -> ExitCode {
+    crate::guard::main(run)
+}
+
+fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
+    let (pair, grid) = scene(&args);
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let mut options = pair.bp5.fault_ode_options(args.tolerance)?;
+    options.integrator = args.integrator.integrator;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    options.kernel = rsf::fault_ode::FaultKernel::matching(args.epsilon);
+    let mut ode = match args.kernel {
+        PairKernel::Okada => {
+            let element_options = ElementOptions {
+                epsilon: args.epsilon,
+                ..ElementOptions::default()
+            };
+            pair.bem_fault_ode(args.dx, options, &element_options)?
+        }
+        PairKernel::Fe => {
+            let model = pair.fe_model(&grid)?;
+            println!(
+                "the box: {} vertices, {} frictional nodes",
+                model.vertices.len(),
+                model.frictional_boundary.len()
+            );
+            options.ordering = args.ordering;
+            // The Schur complement alone (no factor kept), its elimination checkpointed in
+            // the run folder (as seas_bp5's).
+            let path = args.out.join(SETUP_FILE);
+            if args.run.resume.is_none() {
+                match std::fs::remove_file(&path) {
+                    Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e.into()),
+                    _ => {}
+                }
+            }
+            let setup = rsf::fault_ode::SchurOnlySetup {
+                watch_vertices: Vec::new(),
+                checkpoint: Some(rsf::direct::CheckpointPolicy::new(&path)),
+                max_bytes: Some((args.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
+                progress: None,
+            };
+            pair.fe_fault_ode_schur_only(model, options, setup)?
+        }
+    };
+    let fb = &ode.model().frictional_boundary;
+    println!(
+        "two BP5 strands {} km apart, {} kernel, Δx = {} m, {} + {} frictional nodes; on {}",
+        args.separation_km,
+        args.kernel,
+        args.dx,
+        fb.along_fault(0).len(),
+        fb.along_fault(1).len(),
+        machine()
+    );
+    println!("S: {}", ode.kernel_report());
+    let setup = (clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
+    println!("set-up: wall {:.1} s, CPU {:.1} s", setup.0, setup.1);
+    let fingerprint = args.integrator.fingerprint(
+        Fingerprint::of_serialized(&pair)
+            .with("kernel", args.kernel)
+            .with("dx", args.dx)
+            .with("domain_km", args.domain_km)
+            .with("ratio", args.ratio)
+            .with("end_years", args.end_years)
+            .with("tolerance", args.tolerance)
+            .with("epsilon", args.epsilon)
+            .with("ordering", args.ordering),
+    );
+    let outcome = crate::network::run_network(
+        &mut ode,
+        &pair.stations(),
+        fingerprint,
+        crate::network::NetworkRun {
+            out: &args.out,
+            fresh: folder.mode(),
+            end_years: args.end_years,
+            resume: &args.run,
+            label: "bp5_pair",
+            rigidity: pair.bp5.shear_modulus(),
+        },
+    )?;
+    let wall = clock.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    let s = &outcome.summary;
+    println!(
+        "{} events; {} steps ({} rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
+         wrote {}",
+        outcome.events.len(),
+        s.steps,
+        s.rejected_attempts,
+        ode.evaluations(),
+        args.out.display()
+    );
+    let json = serde_json::json!({
+        "program": "bp5_pair",
+        "scene": pair,
+        "kernel": args.kernel,
+        "grid": grid,
+        "run": {
+            "end_years": args.end_years,
+            "tolerance": args.tolerance,
+            "epsilon": args.epsilon,
+            "steps": s.steps,
+            "rejected_attempts": s.rejected_attempts,
+            "evaluations": ode.evaluations(),
+            "setup_wall_seconds": setup.0,
+            "setup_cpu_seconds": setup.1,
+            "wall_seconds": wall,
+            "cpu_seconds": cpu,
+            "machine": machine(),
+            "integrator": args.integrator.summary(Some(ode.integrator_stats())),
+            "kernel_report": ode.kernel_report().to_string(),
+        },
+        "faults": outcome.names,
+        "events": outcome.events,
+        "stats": crate::network::catalogue_stats(&outcome.names, &outcome.events),
+    });
+    rsf::checkpoint::write_atomically(
+        &args.out.join("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    println!("wrote {}", args.out.join("catalogue.png").display());
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! What the programs of fault networks share (`stepover`, `bp5_pair`;
+//! docs/fault-networks.md): the catalogue's statistics, its lines on the terminal and its
+//! figure (each event's faults against time).
+
+use std::path::Path;
+
+use plotters::prelude::*;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::{
+    EventThresholds, FaultCatalogue, FaultStation, FaultStations, FileMode, NetworkEvent, Progress,
+    TimeUnit, SECONDS_PER_YEAR,
+};
+use rsf::{RunSummary, Stepping};
+
+use crate::guard::AnyError;
+use crate::session::Session;
+
+/// The catalogue's resume log in a run folder.
+pub const CATALOGUE_LOG: &str = "catalogue_resume.csv";
+
+/// The files every network run writes besides its stations.
+pub const NETWORK_FILES: [&str; 5] = [
+    "catalogue.csv",
+    CATALOGUE_LOG,
+    "summary.json",
+    "catalogue.png",
+    "checkpoint.bin",
+];
+
+/// How a network program runs: its folder, end, resume flags and the catalogue's rigidity.
+pub struct NetworkRun<'a> {
+    /// The run folder.
+    pub out: &'a Path,
+    /// The folder's mode for a fresh run (the guard's).
+    pub fresh: FileMode,
+    /// End time (years).
+    pub end_years: f64,
+    /// `--checkpoint-every`, `--resume`, `--allow-change`, `--max-steps`.
+    pub resume: &'a crate::ResumeArgs,
+    /// The progress bar's label and the figure's caption.
+    pub label: &'a str,
+    /// The shear modulus of the catalogue's moments (Pa).
+    pub rigidity: f64,
+}
+
+/// What a network run ends with.
+pub struct NetworkOutcome {
+    /// The run's summary.
+    pub summary: RunSummary,
+    /// The faults' names.
+    pub names: Vec<String>,
+    /// The catalogue.
+    pub events: Vec<NetworkEvent>,
+}
+
+/// Runs `method` (a fault network's fault ODE) as its program does: the session (a
+/// checkpoint checked and restored before any file is touched), the station files of
+/// `stations` and the catalogue (with its resume log where the run can stop before its
+/// end), the progress in years; then writes `catalogue.csv` and `catalogue.png` and prints
+/// the events.
+///
+/// # Errors
+/// The session's, the files', the run's.
+pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
+    method: &mut M,
+    stations: &[FaultStation<D>],
+    fingerprint: Fingerprint,
+    run: NetworkRun<'_>,
+) -> Result<NetworkOutcome, AnyError> {
+    let end = run.end_years * SECONDS_PER_YEAR;
+    let session = Session::start(
+        run.resume.session_flags(),
+        run.out.join("checkpoint.bin"),
+        fingerprint,
+        end,
+        method,
+    )?;
+    let mode = session.mode(run.fresh);
+    let model = method.model();
+    let mut files = FaultStations::new(run.out, model, stations, mode)?;
+    let mu = run.rigidity;
+    let mut catalogue = FaultCatalogue::new(model, EventThresholds::default(), |_| mu)?;
+    if session.keeps_resume_log() {
+        catalogue = catalogue.with_resume_log(
+            &run.out.join(CATALOGUE_LOG),
+            run.resume.checkpoint_every,
+            run.resume.max_steps.map(|s| s as usize),
+            mode,
+        )?;
+    }
+    let progress = Progress::time_in(
+        method.state().time,
+        end,
+        TimeUnit::year(SECONDS_PER_YEAR),
+        run.label,
+    );
+    let summary = session.run(method, &mut [&mut files, &mut catalogue], Some(progress))?;
+    catalogue.write_csv(&run.out.join("catalogue.csv"))?;
+    let names = catalogue.fault_names().to_vec();
+    let events = catalogue.events().to_vec();
+    print_events(&names, &events);
+    catalogue_figure(
+        &run.out.join("catalogue.png"),
+        &format!("{}: events by fault", run.label),
+        &names,
+        &events,
+    )?;
+    Ok(NetworkOutcome {
+        summary,
+        names,
+        events,
+    })
+}
+
+/// Prints every event of a network's catalogue: its onset (years), the fault and place
+/// where it nucleated, the faults it ruptured and each fault's peak slip rate.
+pub fn print_events(names: &[String], events: &[NetworkEvent]) {
+    for e in events {
+        let at: Vec<String> = e
+            .nucleation_x
+            .iter()
+            .map(|x| format!("{:.2}", x / 1e3))
+            .collect();
+        println!(
+            "event at {:.3} yr: nucleated on {} at ({}) km, ruptured {}, peak slip rate {} m/s",
+            e.onset_s / SECONDS_PER_YEAR,
+            names[e.nucleation_fault],
+            at.join(", "),
+            e.ruptured_names(names),
+            e.peak_slip_rate
+                .iter()
+                .map(|v| format!("{v:.2e}"))
+                .collect::<Vec<_>>()
+                .join("/")
+        );
+    }
+}
+
+/// The catalogue's statistics for `summary.json`: the number of events, how many
+/// ruptured every fault (and more than one), and per fault how many nucleated on it and
+/// how many it took part in.
+pub fn catalogue_stats(names: &[String], events: &[NetworkEvent]) -> serde_json::Value {
+    let per_fault = |count: &dyn Fn(usize, &NetworkEvent) -> bool| {
+        names
+            .iter()
+            .enumerate()
+            .map(|(f, name)| (name.clone(), events.iter().filter(|e| count(f, e)).count()))
+            .collect::<std::collections::BTreeMap<_, _>>()
+    };
+    serde_json::json!({
+        "events": events.len(),
+        "ruptured_every_fault": events.iter().filter(|e| e.ruptured.iter().all(|&r| r)).count(),
+        "ruptured_several_faults": events
+            .iter()
+            .filter(|e| e.ruptured.iter().filter(|&&r| r).count() > 1)
+            .count(),
+        "nucleated_on": per_fault(&|f, e| e.nucleation_fault == f),
+        "ruptured": per_fault(&|f, e| e.ruptured[f]),
+    })
+}
+
+/// The catalogue's figure (PNG, 1000 × 400, caption `title`): one row per fault, every
+/// event a mark at its onset (years) on each fault it ruptured — filled on the fault where
+/// it nucleated — the marks of one event joined by a line when it ruptured more than one.
+///
+/// # Errors
+/// Drawing or file errors.
+pub fn catalogue_figure(
+    path: &Path,
+    title: &str,
+    names: &[String],
+    events: &[NetworkEvent],
+) -> Result<(), Box<dyn std::error::Error>> {
+    crate::init_fonts();
+    let t_end = events
+        .iter()
+        .map(|e| e.onset_s / SECONDS_PER_YEAR)
+        .fold(1.0f64, f64::max);
+    let rows = names.len() as f64;
+    crate::draw_png(path, (1000, 400), |root| {
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 22))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..1.05 * t_end, -0.5..rows - 0.5)?;
+        let labels = names.to_vec();
+        chart
+            .configure_mesh()
+            .x_desc("onset (years)")
+            .y_desc("fault")
+            .y_labels(names.len())
+            .y_label_formatter(&move |y| {
+                labels.get(y.round() as usize).cloned().unwrap_or_default()
+            })
+            .label_style(("sans-serif", 15))
+            .draw()?;
+        let blue = RGBColor(31, 119, 180);
+        for e in events {
+            let t = e.onset_s / SECONDS_PER_YEAR;
+            let hit: Vec<f64> = (0..names.len())
+                .filter(|&f| e.ruptured[f])
+                .map(|f| f as f64)
+                .collect();
+            if hit.len() > 1 {
+                chart.draw_series(LineSeries::new(
+                    [(t, hit[0]), (t, hit[hit.len() - 1])],
+                    blue.stroke_width(1),
+                ))?;
+            }
+            for &f in &hit {
+                let nucleated = f as usize == e.nucleation_fault;
+                let style = if nucleated {
+                    blue.filled()
+                } else {
+                    blue.stroke_width(2)
+                };
+                chart.draw_series(std::iter::once(Circle::new((t, f), 5, style)))?;
+            }
+        }
+        Ok(())
+    })
+}
