@@ -13,6 +13,10 @@ The dislocation kernels at points (:func:`rectangle_deformation`, Okada's
 rectangle; :func:`triangle_deformation`, Nikkhoo & Walter's triangle; each in a
 half-space or the whole space) give displacement and stress as numpy arrays.
 
+A fault network's event catalogue, ``catalogue.csv`` of the programs ``stepover``
+and ``bp5_pair`` (docs/fault-networks.md), reads as numpy arrays with
+:func:`read_catalogue`.
+
 Every error of the library is an exception of a class derived from
 :class:`RsfError` carrying the library's message: :class:`InvalidParameterError`
 (naming the parameter), :class:`ModelError`, :class:`ConvergenceError`,
@@ -22,6 +26,7 @@ Custom state laws stay Rust traits (``rsf::state::StateLaw``): a Python callback
 per node per stage of every step would cost more than the step itself.
 """
 
+from ._catalogue import read_catalogue  # noqa: F401
 from ._rsf import (  # noqa: F401
     HAS_HDF5,
     CheckpointError,
@@ -54,6 +59,7 @@ __all__ = [
     "RsfError",
     "RsfIOError",
     "Simulation",
+    "read_catalogue",
     "rectangle_deformation",
     "seas_bp1",
     "simulate",
