@@ -15,12 +15,12 @@ use rsf::halfspace::{Medium, Okada};
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOperatorError, HalfSpaceOptions};
 use rsf::{Material, Model, ModelBuilder, Parallelism, Part};
 
-const MU: f64 = 30e9;
-const NU: f64 = 0.25;
+pub(crate) const MU: f64 = 30e9;
+pub(crate) const NU: f64 = 0.25;
 /// Half the fault's side (m).
-const A: f64 = 1000.0;
+pub(crate) const A: f64 = 1000.0;
 /// Depth of the fault's centre (m): its top edge `A` below the surface.
-const DEPTH: f64 = 2.0 * A;
+pub(crate) const DEPTH: f64 = 2.0 * A;
 
 fn medium() -> Medium {
     Medium::from_shear_poisson(MU, NU).unwrap()
@@ -28,7 +28,7 @@ fn medium() -> Medium {
 
 /// Coordinates `-far … far` (m): spacing `h` over `[-uniform, uniform]`, growing by
 /// `ratio` beyond.
-fn symmetric(h: f64, uniform: f64, ratio: f64, far: f64) -> Vec<f64> {
+pub(crate) fn symmetric(h: f64, uniform: f64, ratio: f64, far: f64) -> Vec<f64> {
     let half = geometric_grading(h, uniform, ratio, far).unwrap();
     let mut c: Vec<f64> = half.iter().rev().map(|x| -x).collect();
     c.extend_from_slice(&half[1..]);
@@ -87,7 +87,7 @@ fn options() -> HalfSpaceOptions {
 }
 
 /// The finite-element `S` (dense, column-major → faer).
-fn fe_operator(model: &Model<3>) -> Mat<f64> {
+pub(crate) fn fe_operator(model: &Model<3>) -> Mat<f64> {
     let fb = &model.frictional_boundary;
     let cond = Condensation::<3>::new(model.stiffness.as_ref(), &model.fixed, &fb.nodes).unwrap();
     let m = cond.dim();
@@ -96,7 +96,7 @@ fn fe_operator(model: &Model<3>) -> Mat<f64> {
 }
 
 /// `‖M‖₂` by power iteration on `MᵀM` (a few hundred steps: 3 digits at least).
-fn norm2(m: &Mat<f64>) -> f64 {
+pub(crate) fn norm2(m: &Mat<f64>) -> f64 {
     let n = m.ncols();
     let mut x = Mat::<f64>::from_fn(n, 1, |i, _| 1.0 + (i % 7) as f64 * 0.1);
     let mut lambda = 0.0;
