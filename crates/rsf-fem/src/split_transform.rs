@@ -586,7 +586,7 @@ impl<const D: usize> MeanJumpTransform<D> {
     ///
     /// # Errors
     /// [`Error::Unsupported`] for a frame at a vertex of a split pair or a junction;
-    /// the frames' errors ([`NodalFrames`]).
+    /// the frames' errors ([`NodalFrames`](crate::NodalFrames)).
     pub fn with_nodal_frames<const C: usize>(
         &self,
         frames: &crate::NodalFrames<C>,

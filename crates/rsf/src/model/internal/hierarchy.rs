@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use faer::sparse::{SparseColMat, Triplet};
 use rsf_fem::{FaultNetwork, MeanJumpTransform, MeshHierarchy, SimplexMesh, SparseMatrix};
 
-use super::InternalFault;
+use super::fault::InternalFault;
 
 /// A refinement hierarchy cut open along the faults: the split finest mesh, the faults on
 /// it and the scalar prolongations between the levels (each level split where it resolves
