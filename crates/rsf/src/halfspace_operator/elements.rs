@@ -325,7 +325,7 @@ impl FaultOperator for ElementOperator {
 
     /// From the kernel's 2 × 2 element blocks.
     fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
-        super::nodes::diagonal_of(&self.kernel, (&self.element, &self.map, &self.weights), out)
+        super::nodes::diagonal_of(&self.kernel, &self.element, &self.map, &self.weights, out)
     }
 }
 

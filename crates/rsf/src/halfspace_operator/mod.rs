@@ -686,7 +686,7 @@ impl FaultOperator for HalfSpaceOperator {
         if self.on_ranks.is_some() {
             return crate::fault_operator::diagonal_by_products(self, out);
         }
-        nodes::diagonal_of(&self.kernel, (&self.element, &self.map, &self.weights), out)
+        nodes::diagonal_of(&self.kernel, &self.element, &self.map, &self.weights, out)
     }
 
     /// `K`'s rows split by its kernel, by element (docs/scaling.md, "The fault ODE on MPI

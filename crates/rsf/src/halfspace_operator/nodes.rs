@@ -127,7 +127,9 @@ pub(super) fn gather(
 /// The kernel's ([`Kernel::diagonal_blocks`]); an `out` of another length.
 pub(super) fn diagonal_of(
     kernel: &crate::fault_kernel::Kernel,
-    (element, map, weights): (&[usize], &[[[f64; 2]; 2]], &[f64]),
+    element: &[usize],
+    map: &[[[f64; 2]; 2]],
+    weights: &[f64],
     out: &mut [f64],
 ) -> Result<()> {
     crate::fault_operator::check_diagonal(2 * element.len(), out)?;
