@@ -47,7 +47,13 @@ fn read(dir: &Path) -> Res<Option<(String, Run)>> {
             .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect())
             .unwrap_or_default()
     };
-    let (events, peak) = if j.get("rupture_start_years").is_some() {
+    let (events, peak) = if j.get("peak_time_years").is_some() {
+        // BP6: no events; the time of the fault's peak slip rate stands for them.
+        (
+            vec![j["peak_time_years"].as_f64().unwrap_or(f64::NAN)],
+            j["peak_slip_rate_mps"].as_f64().unwrap_or(f64::NAN),
+        )
+    } else if j.get("rupture_start_years").is_some() {
         let peaks = list("peak_slip_rates_mps");
         (
             list("rupture_start_years"),

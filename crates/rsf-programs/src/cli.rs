@@ -568,13 +568,14 @@ impl SeasHeaderArgs {
     }
 }
 
-/// `--integrator auto|rkc|dormand-prince|bogacki-shampine` of the fault-ODE programs
+/// `--integrator auto|rkc|rosenbrock|dormand-prince|bogacki-shampine` of the fault-ODE programs
 /// (docs/math.md §12, "Stiff steps").
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct IntegratorArgs {
     /// The fault ODE's integrator: `auto` (the default: Dormand–Prince 5(4) while accuracy
     /// sets its step, the stabilised RKC2 while stability would), `rkc` (RKC2
-    /// throughout), `dormand-prince` (the pair every run used before issue 84) or
+    /// throughout), `rosenbrock` (the linearly implicit ROS34PW2 throughout),
+    /// `dormand-prince` (the pair every run used before issue 84) or
     /// `bogacki-shampine`. Part of a checkpoint's fingerprint unless `dormand-prince`
     /// (so the checkpoints written before the flag resume with `--integrator
     /// dormand-prince`, or continue with another integrator under `--allow-change
@@ -608,6 +609,10 @@ impl IntegratorArgs {
                  spectral radius estimate) in 15 steps in a row"
             }
             OdeIntegrator::Rkc => "rkc: RKC2 throughout (asked for)",
+            OdeIntegrator::Rosenbrock => {
+                "rosenbrock: ROS34PW2 throughout (asked for), its stage solves by GMRES \
+                 preconditioned by the nodes' local Jacobians"
+            }
             OdeIntegrator::DormandPrince => "dormand-prince: the explicit pair (asked for)",
             OdeIntegrator::BogackiShampine => "bogacki-shampine: the explicit pair (asked for)",
         };
@@ -628,6 +633,20 @@ impl IntegratorArgs {
                 "max_stages": s.max_stages,
                 "last_spectral_radius_per_s": s.spectral_radius,
                 "max_spectral_radius_per_s": s.max_spectral_radius,
+                "implicit_steps": s.implicit_steps,
+                "implicit_time_years": s.implicit_time / rsf::observe::SECONDS_PER_YEAR,
+                "implicit_evaluations": s.implicit_evaluations,
+                "krylov_iterations": s.krylov_iterations,
+                "linear_failures": s.linear_failures,
+                // DOPRI5's stiffness test on the pair's steps (auto): the time-weighted
+                // mean of h|λ| (the pair is stable to ≈ 3.3) and the time held above 3.25.
+                "stiffness_tested_years": s.tested_time / rsf::observe::SECONDS_PER_YEAR,
+                "mean_h_lambda_time_weighted": if s.tested_time > 0.0 {
+                    serde_json::json!(s.stiffness_integral / s.tested_time)
+                } else {
+                    serde_json::Value::Null
+                },
+                "held_by_stability_years": s.held_time / rsf::observe::SECONDS_PER_YEAR,
             })),
         })
     }

@@ -524,7 +524,8 @@ impl Common<'_> {
             rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR),
             "BP6",
         );
-        let summary = session.run(run, &mut [&mut output], Some(progress))?;
+        let mut peak = Peak::default();
+        let summary = session.run(run, &mut [&mut output, &mut peak], Some(progress))?;
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
         let (counts, integrator) = counts(run);
@@ -543,8 +544,38 @@ impl Common<'_> {
             "cpu_s": cpu,
             "machine": machine(),
             "integrator": integrator.map(|st| args.integrator.summary(Some(st))),
+            // For the integrators' work–precision study (docs/work-precision.md): the run's
+            // (this invocation's) largest fault-wide slip rate at an accepted step and its
+            // time, the steps and the evaluations of this invocation.
+            "peak_slip_rate_mps": peak.rate,
+            "peak_time_years": peak.time / BP6_SECONDS_PER_YEAR,
+            "accepted_steps": run.state().step,
+            "rate_evaluations": integrator.map(|st| {
+                st.explicit_evaluations + st.stabilized_evaluations + st.implicit_evaluations
+            }),
+            "cpu_time_s": cpu,
         });
         std::fs::write(args.out.join("summary.json"), json.to_string())?;
         Ok(())
+    }
+}
+
+/// The fault's largest slip rate at an accepted step and its time (s).
+#[derive(Debug, Default)]
+struct Peak {
+    rate: f64,
+    time: f64,
+}
+
+impl<const C: usize> rsf::Observer<2, C> for Peak {
+    fn observe(&mut self, step: &rsf::StepView<'_, 2, C>) -> rsf::Result<rsf::Flow> {
+        if step.report.max_slip_rate > self.rate {
+            self.rate = step.report.max_slip_rate;
+            self.time = step.state.time;
+        }
+        Ok(rsf::Flow::Continue(()))
+    }
+    fn reads_volume(&self) -> bool {
+        false
     }
 }

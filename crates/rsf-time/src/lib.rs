@@ -25,12 +25,18 @@
 
 pub mod adaptive;
 mod choice;
+pub mod krylov;
+pub mod rosenbrock;
 pub mod runge_kutta;
 pub mod stabilized;
 pub mod stepper;
+#[cfg(test)]
+mod test_systems;
 
 pub use adaptive::{ControllerState, StepControl, TAU_MIN_FLOOR, TOLERANCE_RANGE};
 pub use choice::Integrator;
+pub use krylov::JacobianBlocks;
+pub use rosenbrock::{Rosenbrock, RosenbrockOptions, RosenbrockStep};
 pub use runge_kutta::{
     EmbeddedRungeKutta, OdeSystem, RungeKuttaOptions, RungeKuttaState, RungeKuttaStep, Tableau,
     BOGACKI_SHAMPINE_32, DORMAND_PRINCE_54,
@@ -97,6 +103,26 @@ pub enum Error {
         refusals: usize,
         /// The last refusal's message (the system's error).
         reason: String,
+    },
+    /// A linear solve of an implicit step ([`Rosenbrock`]) did not reach its tolerance
+    /// within its iterations, and the step cannot shrink further (a smaller step makes
+    /// the system easier: this says the problem's Jacobian is beyond the solver at any
+    /// step the options allow).
+    #[error(
+        "the linear solve of an implicit step from t = {time:e} s with dt = {dt:e} s did not \
+         converge: residual {residual:e} (in units of the error tolerance) after {iterations} \
+         GMRES iterations, and the step cannot shrink below dt_min; raise \
+         max_krylov_iterations or lower dt_min"
+    )]
+    LinearSolveFailed {
+        /// Time of the step's start (s).
+        time: f64,
+        /// The last step tried (s).
+        dt: f64,
+        /// GMRES iterations of the failed solve.
+        iterations: usize,
+        /// Its last residual norm (weighted Euclidean, in units of the tolerance).
+        residual: f64,
     },
     /// Invalid parameter (e.g. negative radiation damping).
     #[error("invalid parameter {name} = {value}: {requirement}")]

@@ -125,6 +125,38 @@ pub trait OdeSystem {
     /// system's tolerances: a step with a value ≤ 1 is accepted. Must return a value ≥ 0
     /// (non-finite for non-finite input).
     fn scaled_error(&self, y: &[f64], y_new: &[f64], err: &[f64]) -> f64;
+
+    /// The weights `w_i` of the error norm into `w` (the length of `y`): a
+    /// [`scaled_error`](Self::scaled_error) of `max_i w_i |e_i|` (or a norm as strong).
+    /// Implicit steps ([`Rosenbrock`](crate::Rosenbrock)) measure their linear solves and
+    /// their finite differences in these weights. Returns `false` if the system does not
+    /// give them (the default): every component is then weighed alike, by
+    /// `scaled_error` of a vector of ones.
+    fn error_weights(&self, _y: &[f64], _w: &mut [f64]) -> bool {
+        false
+    }
+
+    /// An approximation of the Jacobian `∂f/∂y` at `(t, y)` by independent dense blocks
+    /// (the cheap, local part of it: e.g. a node's slip and state with the elastic
+    /// operator's diagonal), which implicit steps ([`Rosenbrock`](crate::Rosenbrock))
+    /// precondition their linear solves with; `f` is `f(t, y)`. On the first call
+    /// `blocks` is empty and the system sets its structure
+    /// ([`JacobianBlocks::push_block`](crate::JacobianBlocks::push_block)); at every call
+    /// it writes the entries. Returns the evaluations of `f` (or their equivalent in
+    /// cost) it took, or `None` if the system gives none (the default: the solves go
+    /// unpreconditioned).
+    ///
+    /// # Errors
+    /// The system's errors.
+    fn local_jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _f: &[f64],
+        _blocks: &mut crate::JacobianBlocks,
+    ) -> std::result::Result<Option<usize>, Self::Error> {
+        Ok(None)
+    }
 }
 
 /// Options of [`EmbeddedRungeKutta`].
@@ -396,7 +428,6 @@ impl EmbeddedRungeKutta {
             evaluations += 1;
             self.fsal = true;
         }
-        let exponent = 1.0 / f64::from(tab.error_order + 1) - 0.75 * o.beta;
         let mut rejected = 0;
         let mut refused = 0;
         let mut rejected_error = 0.0;
@@ -455,11 +486,7 @@ impl EmbeddedRungeKutta {
                 f64::INFINITY
             };
             if error <= 1.0 {
-                // Accepted: PI controller, DOPRI5's form.
-                let fac = error.max(1e-300).powf(exponent) / self.state.previous_error.powf(o.beta);
-                let fac = (fac / o.safety).clamp(1.0 / o.max_growth, 1.0 / o.max_shrink);
-                let next = (dt / fac).min(o.dt_max);
-                self.state.previous_error = error.max(1e-4);
+                let next = accepted_next(&o, &mut self.state, (dt, error), tab.error_order);
                 if !landing || next < self.state.dt {
                     self.state.dt = next;
                 }
@@ -494,13 +521,7 @@ impl EmbeddedRungeKutta {
             }
             rejected += 1;
             rejected_error = if error.is_nan() { f64::INFINITY } else { error };
-            let shrink = if error.is_finite() {
-                (error.powf(1.0 / f64::from(tab.error_order + 1)) / o.safety)
-                    .clamp(1.0, 1.0 / o.max_shrink)
-            } else {
-                10.0
-            };
-            self.state.dt = dt / shrink;
+            self.state.dt = rejected_next(&o, dt, error, tab.error_order);
             if self.state.dt < o.dt_min {
                 return Err(Error::StepTooSmall {
                     tau: self.state.dt,
@@ -510,6 +531,33 @@ impl EmbeddedRungeKutta {
             }
         }
     }
+}
+
+/// The next step after an accepted one of `dt` with scaled error `error` (DOPRI5's PI
+/// controller, exponents from the embedded solution's order `error_order`); updates the
+/// controller's memory.
+pub(crate) fn accepted_next(
+    o: &RungeKuttaOptions,
+    state: &mut RungeKuttaState,
+    (dt, error): (f64, f64),
+    error_order: u32,
+) -> f64 {
+    let exponent = 1.0 / f64::from(error_order + 1) - 0.75 * o.beta;
+    let fac = error.max(1e-300).powf(exponent) / state.previous_error.powf(o.beta);
+    let fac = (fac / o.safety).clamp(1.0 / o.max_growth, 1.0 / o.max_shrink);
+    state.previous_error = error.max(1e-4);
+    (dt / fac).min(o.dt_max)
+}
+
+/// The step after a rejected attempt of `dt` with scaled error `error` (∞ or NaN for a
+/// failed attempt: a tenth).
+pub(crate) fn rejected_next(o: &RungeKuttaOptions, dt: f64, error: f64, error_order: u32) -> f64 {
+    let shrink = if error.is_finite() {
+        (error.powf(1.0 / f64::from(error_order + 1)) / o.safety).clamp(1.0, 1.0 / o.max_shrink)
+    } else {
+        10.0
+    };
+    dt / shrink
 }
 
 /// The checks at the start of an adaptive step of either integrator: `y` of length `n`,

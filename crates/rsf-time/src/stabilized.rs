@@ -617,53 +617,7 @@ struct Stages<E> {
 mod tests {
     use super::*;
     use crate::runge_kutta::{EmbeddedRungeKutta, DORMAND_PRINCE_54};
-
-    /// `y' = −D (y − v cos t) − v sin t` with `D = diag(λ_i)` and `y(0) = v`: the exact
-    /// solution `y = v cos t` whatever the stiffness; `λ_i` spread geometrically over
-    /// `[1, λ_max]`. Error: max |e_i| / tol.
-    struct StiffLinear {
-        lambda: Vec<f64>,
-        tol: f64,
-        evaluations: usize,
-    }
-
-    impl StiffLinear {
-        fn new(n: usize, lambda_max: f64, tol: f64) -> Self {
-            let lambda = (0..n)
-                .map(|i| lambda_max.powf(i as f64 / (n - 1) as f64))
-                .collect();
-            Self {
-                lambda,
-                tol,
-                evaluations: 0,
-            }
-        }
-        fn v(i: usize) -> f64 {
-            1.0 + 0.1 * i as f64
-        }
-    }
-
-    impl OdeSystem for StiffLinear {
-        type Error = Error;
-        fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
-            self.evaluations += 1;
-            for (i, (d, &yi)) in dy.iter_mut().zip(y).enumerate() {
-                let v = Self::v(i);
-                *d = -self.lambda[i] * (yi - v * t.cos()) - v * t.sin();
-            }
-            Ok(())
-        }
-        fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
-            err.iter().fold(0.0_f64, |m, e| m.max(e.abs())) / self.tol
-        }
-    }
-
-    fn error_at(y: &[f64], t: f64) -> f64 {
-        y.iter()
-            .enumerate()
-            .map(|(i, &yi)| (yi - StiffLinear::v(i) * t.cos()).abs())
-            .fold(0.0, f64::max)
-    }
+    use crate::test_systems::{error_at, Heat, SpringSlider, StiffLinear};
 
     /// RKC2 to `t_end` on `sys`: the error at the end, accepted steps, the largest stage
     /// count. Steps at most `dt_max`.
@@ -806,34 +760,6 @@ mod tests {
         assert!(steps >= 100 * n_stiff, "{steps} against RKC2's {n_stiff}");
     }
 
-    /// `y' = −c L y + g(t)` with `L` the 1-D Laplacian stencil `[−1, 2, −1]` on `n`
-    /// points (eigenvalues `4c sin²(kπ/(2(n + 1)))`, not diagonal in the unknowns) and `g`
-    /// such that `y = v cos t`.
-    struct Heat {
-        c: f64,
-        n: usize,
-    }
-
-    impl OdeSystem for Heat {
-        type Error = Error;
-        fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
-            let lap = |x: &dyn Fn(usize) -> f64, i: usize| {
-                let left = if i > 0 { x(i - 1) } else { 0.0 };
-                let right = if i + 1 < self.n { x(i + 1) } else { 0.0 };
-                2.0 * x(i) - left - right
-            };
-            for i in 0..self.n {
-                let lv = lap(&|j| StiffLinear::v(j), i);
-                let ly = lap(&|j| y[j], i);
-                dy[i] = -self.c * (ly - lv * t.cos()) - StiffLinear::v(i) * t.sin();
-            }
-            Ok(())
-        }
-        fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
-            err.iter().fold(0.0_f64, |m, e| m.max(e.abs())) / 1e-6
-        }
-    }
-
     /// The power iteration finds the spectral radius of the Laplacian's Jacobian from a
     /// cold start and from its own eigenvector (warm, as between steps): between 1× and
     /// `radius_safety` = 1.2× (+ its 1 % tolerance) of the true value, the warm start in
@@ -846,7 +772,12 @@ mod tests {
                 * (n as f64 * std::f64::consts::PI / (2.0 * (n + 1) as f64))
                     .sin()
                     .powi(2);
-            let mut sys = Heat { c, n };
+            let mut sys = Heat {
+                c,
+                n,
+                tol: 1e-6,
+                forced: true,
+            };
             let mut rkc =
                 Rkc2::new(RungeKuttaOptions::default(), RkcOptions::default(), n, 1e-3).unwrap();
             let y: Vec<f64> = (0..n)
@@ -868,50 +799,6 @@ mod tests {
                 );
             }
             assert!(warm <= cold, "{warm} {cold}");
-        }
-    }
-
-    /// The quasi-static spring–slider of docs/spring-block.md without radiation damping:
-    /// `τ = k (V_L t − δ) + τ₀ = σ̄_n (μ₀ + a ln(V/V₀) + b ln(V₀θ/L))`, so
-    /// `V = V₀ exp((τ/σ̄_n − μ₀ − b ln(V₀θ/L))/a)`, `δ̇ = V`, `α̇ = e^{−α} − V/L` (aging,
-    /// `α = ln θ`); the docs' parameters, `V_L = 1e-6 m/s`, `k = 1.2 k_c` (a decaying
-    /// oscillation after a kick of the state by −0.5 from steady sliding).
-    struct SpringSlider {
-        tol: f64,
-    }
-
-    impl SpringSlider {
-        const SIGMA: f64 = 1e6;
-        const A: f64 = 0.010;
-        const B: f64 = 0.015;
-        const L: f64 = 1e-5;
-        const V0: f64 = 1e-6;
-        const MU0: f64 = 0.6;
-        const VL: f64 = 1e-6;
-        fn k() -> f64 {
-            1.2 * Self::SIGMA * (Self::B - Self::A) / Self::L
-        }
-        /// `τ₀` of steady sliding at `V_L` with `δ = 0` at `t = 0`.
-        fn tau0() -> f64 {
-            Self::SIGMA * Self::MU0
-        }
-        fn start() -> [f64; 2] {
-            [0.0, (Self::L / Self::VL).ln() - 0.5]
-        }
-    }
-
-    impl OdeSystem for SpringSlider {
-        type Error = Error;
-        fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
-            let tau = Self::k() * (Self::VL * t - y[0]) + Self::tau0();
-            let psi = Self::MU0 + Self::B * (Self::V0 * y[1].exp() / Self::L).ln();
-            let v = Self::V0 * ((tau / Self::SIGMA - psi) / Self::A).exp();
-            dy[0] = v;
-            dy[1] = (-y[1]).exp() - v / Self::L;
-            Ok(())
-        }
-        fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
-            (err[0].abs() / (self.tol * Self::L)).max(err[1].abs() / self.tol)
         }
     }
 

@@ -1,5 +1,6 @@
 //! One adaptive integrator of `y' = f(t, y)` chosen at run time ([`OdeIntegrator`]): an
-//! explicit embedded pair, the stabilised RKC2 ([`Rkc2`]), or `auto`, which steps with
+//! explicit embedded pair, the stabilised RKC2 ([`Rkc2`]), the linearly implicit
+//! ROS34PW2 ([`Rosenbrock`]), or `auto`, which steps with
 //! Dormand–Prince 5(4) while its step is set by accuracy and with RKC2 while the step
 //! would be set by stability (docs/math.md §12, "Stiff steps").
 //!
@@ -17,6 +18,7 @@
 //! Each switch hands over the current point's rate (no evaluation is repeated) and the
 //! step the other method proposed.
 
+use crate::rosenbrock::{Rosenbrock, RosenbrockOptions};
 use crate::runge_kutta::{
     EmbeddedRungeKutta, OdeSystem, RungeKuttaOptions, RungeKuttaState, RungeKuttaStep,
     BOGACKI_SHAMPINE_32, DORMAND_PRINCE_54,
@@ -24,8 +26,8 @@ use crate::runge_kutta::{
 use crate::stabilized::{Rkc2, RkcOptions, RkcState};
 use crate::{Error, Result};
 
-/// The integrator of an ODE system, chosen by name: `auto`, `rkc`, `dormand-prince`,
-/// `bogacki-shampine` (`name`, `FromStr`, serde, clap).
+/// The integrator of an ODE system, chosen by name: `auto`, `rkc`, `rosenbrock`,
+/// `dormand-prince`, `bogacki-shampine` (`name`, `FromStr`, serde, clap).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
@@ -35,6 +37,9 @@ pub enum OdeIntegrator {
     Auto,
     /// The stabilised RKC2 ([`Rkc2`]) throughout.
     Rkc,
+    /// The Rosenbrock-W method ROS34PW2 ([`Rosenbrock`]: order 3, L-stable, matrix-free
+    /// GMRES solves preconditioned by the system's local Jacobian) throughout.
+    Rosenbrock,
     /// The Dormand–Prince 5(4) pair ([`DORMAND_PRINCE_54`]) throughout.
     #[default]
     DormandPrince,
@@ -44,18 +49,20 @@ pub enum OdeIntegrator {
 
 impl OdeIntegrator {
     /// Every choice, in declaration order.
-    pub const ALL: [OdeIntegrator; 4] = [
+    pub const ALL: [OdeIntegrator; 5] = [
         Self::Auto,
         Self::Rkc,
+        Self::Rosenbrock,
         Self::DormandPrince,
         Self::BogackiShampine,
     ];
 
-    /// The name: `auto`, `rkc`, `dormand-prince`, `bogacki-shampine`.
+    /// The name: `auto`, `rkc`, `rosenbrock`, `dormand-prince`, `bogacki-shampine`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Auto => "auto",
             Self::Rkc => "rkc",
+            Self::Rosenbrock => "rosenbrock",
             Self::DormandPrince => "dormand-prince",
             Self::BogackiShampine => "bogacki-shampine",
         }
@@ -76,7 +83,7 @@ impl std::fmt::Display for OdeIntegrator {
 impl std::str::FromStr for OdeIntegrator {
     type Err = Error;
 
-    /// `auto`, `rkc`, `dormand-prince` or `bogacki-shampine`.
+    /// `auto`, `rkc`, `rosenbrock`, `dormand-prince` or `bogacki-shampine`.
     fn from_str(s: &str) -> Result<Self> {
         Ok(rsf_numeric::parse_name(
             "integrator",
@@ -99,6 +106,9 @@ impl clap::ValueEnum for OdeIntegrator {
                 "Dormand–Prince 5(4) where accuracy sets the step, RKC2 where stability would"
             }
             Self::Rkc => "RKC2, stabilised explicit Runge–Kutta–Chebyshev (stiff)",
+            Self::Rosenbrock => {
+                "ROS34PW2, Rosenbrock-W (order 3, L-stable) with matrix-free GMRES (stiff)"
+            }
             Self::DormandPrince => "Dormand–Prince 5(4) explicit pair",
             Self::BogackiShampine => "Bogacki–Shampine 3(2) explicit pair",
         };
@@ -169,6 +179,8 @@ pub enum StepperMode {
     Explicit,
     /// RKC2.
     Stabilized,
+    /// ROS34PW2.
+    Implicit,
 }
 
 /// The memory of the RKC2 part of an [`OdeStepper`] (`rkc` and `auto`): with the explicit
@@ -215,6 +227,26 @@ pub struct StepperStats {
     pub spectral_radius: f64,
     /// The largest spectral radius estimate (1/s).
     pub max_spectral_radius: f64,
+    /// Accepted steps of ROS34PW2.
+    pub implicit_steps: usize,
+    /// Simulated time stepped by ROS34PW2 (s).
+    pub implicit_time: f64,
+    /// Evaluations of ROS34PW2's steps (GMRES iterations included).
+    pub implicit_evaluations: usize,
+    /// GMRES iterations of ROS34PW2's steps.
+    pub krylov_iterations: usize,
+    /// ROS34PW2's attempts rejected for a linear solve that did not converge.
+    pub linear_failures: usize,
+    /// Simulated time of the explicit pair's steps that ran DOPRI5's stiffness test
+    /// (`auto`; s).
+    pub tested_time: f64,
+    /// `∫ h|λ| dt` over those steps (s): divided by `tested_time`, the time-weighted mean
+    /// of `h|λ|`, whose ratio to the pair's stability limit ≈ 3.3 says how close to it the
+    /// steps that take the simulated time ran.
+    pub stiffness_integral: f64,
+    /// Simulated time of the tested steps with `h|λ|` above `stiff_above` (3.25: held by
+    /// stability; s).
+    pub held_time: f64,
 }
 
 /// What one accepted step of an [`OdeStepper`] did.
@@ -236,6 +268,7 @@ pub struct OdeStepper {
     auto: AutoOptions,
     explicit: EmbeddedRungeKutta,
     rkc: Option<Rkc2>,
+    rosenbrock: Option<Rosenbrock>,
     mode: StepperMode,
     streak: u32,
     calm: u32,
@@ -243,19 +276,26 @@ pub struct OdeStepper {
 }
 
 impl OdeStepper {
-    /// The integrator `choice` for systems of dimension `n`, first step `dt0` (s).
+    /// The integrator `choice` for systems of dimension `n`, first step `dt0` (s); the
+    /// options of the pairs' steps, RKC2's, `auto`'s and ROS34PW2's linear solves.
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid options or a `dt0` outside
     /// `[dt_min, dt_max]`.
     pub fn new(
         choice: OdeIntegrator,
-        options: (RungeKuttaOptions, RkcOptions, AutoOptions),
+        options: (
+            RungeKuttaOptions,
+            RkcOptions,
+            AutoOptions,
+            RosenbrockOptions,
+        ),
         n: usize,
         dt0: f64,
     ) -> Result<Self> {
-        let (rk, rkc, auto) = options;
+        let (rk, rkc, auto, ros) = options;
         auto.validate()?;
+        ros.validate()?;
         let tableau = match choice {
             OdeIntegrator::BogackiShampine => BOGACKI_SHAMPINE_32,
             _ => DORMAND_PRINCE_54,
@@ -268,15 +308,17 @@ impl OdeStepper {
             true => Some(Rkc2::new(rk, rkc, n, dt0)?),
             false => None,
         };
+        let rosenbrock = match choice {
+            OdeIntegrator::Rosenbrock => Some(Rosenbrock::new(rk, ros, n, dt0)?),
+            _ => None,
+        };
         Ok(Self {
             choice,
             auto,
             explicit,
             rkc,
-            mode: match choice {
-                OdeIntegrator::Rkc => StepperMode::Stabilized,
-                _ => StepperMode::Explicit,
-            },
+            rosenbrock,
+            mode: Self::first_mode(choice),
             streak: 0,
             calm: 0,
             stats: StepperStats::default(),
@@ -298,9 +340,21 @@ impl OdeStepper {
         self.stats
     }
 
+    /// The method a run of `choice` starts with.
+    fn first_mode(choice: OdeIntegrator) -> StepperMode {
+        match choice {
+            OdeIntegrator::Rkc => StepperMode::Stabilized,
+            OdeIntegrator::Rosenbrock => StepperMode::Implicit,
+            _ => StepperMode::Explicit,
+        }
+    }
+
     /// The step controller's state of the method in use: the next step (s) and its last
     /// error (RKC2's `previous_error` where it has none yet: 1e-4, as the pair's start).
     pub fn controller(&self) -> RungeKuttaState {
+        if let Some(r) = &self.rosenbrock {
+            return r.state();
+        }
         match (self.mode, &self.rkc) {
             (StepperMode::Stabilized, Some(r)) => RungeKuttaState {
                 dt: r.state().dt,
@@ -314,9 +368,13 @@ impl OdeStepper {
         }
     }
 
-    /// The explicit pair's controller state (for checkpoints).
+    /// The controller state a checkpoint keeps: the explicit pair's, or ROS34PW2's for
+    /// [`OdeIntegrator::Rosenbrock`] (its whole memory: [`Rosenbrock`]).
     pub fn explicit_state(&self) -> RungeKuttaState {
-        self.explicit.state()
+        match &self.rosenbrock {
+            Some(r) => r.state(),
+            None => self.explicit.state(),
+        }
     }
 
     /// RKC2's memory and `auto`'s (for checkpoints; `None` for an explicit pair alone).
@@ -331,6 +389,9 @@ impl OdeStepper {
 
     /// `f(t, y)` of the current point, if known.
     pub fn current_rate(&self) -> Option<&[f64]> {
+        if let Some(r) = &self.rosenbrock {
+            return r.current_rate();
+        }
         match (self.mode, &self.rkc) {
             (StepperMode::Stabilized, Some(r)) => r.current_rate(),
             _ => self.explicit.current_rate(),
@@ -355,6 +416,11 @@ impl OdeStepper {
         self.explicit.restore(explicit, rate)?;
         self.streak = 0;
         self.calm = 0;
+        if let Some(r) = &mut self.rosenbrock {
+            r.restore(explicit, rate)?;
+            self.mode = StepperMode::Implicit;
+            return Ok(());
+        }
         let Some(rkc) = &mut self.rkc else {
             self.mode = StepperMode::Explicit;
             return Ok(());
@@ -387,19 +453,22 @@ impl OdeStepper {
         if let Some(r) = &mut self.rkc {
             r.set_state(RkcState::starting(dt));
         }
+        if let Some(r) = &mut self.rosenbrock {
+            r.set_state(RungeKuttaState {
+                dt,
+                previous_error: 1e-4,
+            });
+        }
         self.streak = 0;
         self.calm = 0;
-        self.mode = match self.choice {
-            OdeIntegrator::Rkc => StepperMode::Stabilized,
-            _ => StepperMode::Explicit,
-        };
+        self.mode = Self::first_mode(self.choice);
     }
 
     /// One accepted step from `(t, y)`, at most up to `t_end`, by the method in use; then
     /// `auto`'s tests.
     ///
     /// # Errors
-    /// Those of [`EmbeddedRungeKutta::step`] and [`Rkc2::step`].
+    /// Those of [`EmbeddedRungeKutta::step`], [`Rkc2::step`] and [`Rosenbrock::step`].
     pub fn step<S: OdeSystem>(
         &mut self,
         sys: &mut S,
@@ -408,6 +477,20 @@ impl OdeStepper {
         t_end: Option<f64>,
     ) -> std::result::Result<OdeStep, S::Error> {
         let t0 = *t;
+        if let Some(ros) = &mut self.rosenbrock {
+            let r = ros.step(sys, t, y, t_end)?;
+            let st = &mut self.stats;
+            st.implicit_steps += 1;
+            st.implicit_time += *t - t0;
+            st.implicit_evaluations += r.step.evaluations;
+            st.krylov_iterations += r.krylov_iterations;
+            st.linear_failures += r.linear_failures;
+            return Ok(OdeStep {
+                step: r.step,
+                mode: StepperMode::Implicit,
+                stages: 0,
+            });
+        }
         let taken = match (self.mode, &mut self.rkc) {
             (StepperMode::Stabilized, Some(rkc)) => {
                 let r = rkc.step(sys, t, y, t_end)?;
@@ -432,6 +515,14 @@ impl OdeStepper {
                 st.explicit_steps += 1;
                 st.explicit_time += *t - t0;
                 st.explicit_evaluations += r.evaluations;
+                let h_lambda = self.explicit.stiffness();
+                if h_lambda.is_finite() {
+                    st.tested_time += *t - t0;
+                    st.stiffness_integral += h_lambda * (*t - t0);
+                    if h_lambda > self.auto.stiff_above {
+                        st.held_time += *t - t0;
+                    }
+                }
                 OdeStep {
                     step: r,
                     mode: StepperMode::Explicit,
@@ -482,6 +573,7 @@ impl OdeStepper {
                     self.stats.switches += 1;
                 }
             }
+            StepperMode::Implicit => {}
             StepperMode::Stabilized => {
                 let st = rkc.state();
                 let h_rho = taken.step.dt * st.spectral_radius;
@@ -545,6 +637,7 @@ mod tests {
             RungeKuttaOptions::default(),
             RkcOptions::default(),
             AutoOptions::default(),
+            RosenbrockOptions::default(),
         );
         let mut stepper = OdeStepper::new(choice, options, n, 1e-4).unwrap();
         let (mut t, mut y) = (0.0, vec![1.5; n]);
@@ -594,6 +687,7 @@ mod tests {
             RungeKuttaOptions::default(),
             RkcOptions::default(),
             AutoOptions::default(),
+            RosenbrockOptions::default(),
         );
         let go = |split: Option<usize>| {
             let mut sys = Relaxation {

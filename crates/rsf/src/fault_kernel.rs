@@ -43,6 +43,12 @@ impl FaultOperator for CondensedOperator {
         &self.report
     }
 
+    fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
+        crate::fault_operator::check_diagonal(self.report.dim, out)?;
+        out.copy_from_slice(&self.kernel.diagonal_blocks(1)?);
+        Ok(())
+    }
+
     fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {
         let rows = self.kernel.split_rows(parts, work_per_row);
         let split = rows.split.clone();
@@ -292,6 +298,37 @@ impl Kernel {
     }
 
     /// The ℋ-matrix of a hierarchical kernel.
+    /// The `b × b` blocks on the diagonal (row-major, block after block; `b` divides the
+    /// dimension): the dense matrix's entries, or the ℋ-matrix's
+    /// ([`HMatrix::diagonal_blocks`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `block` unless `b` divides the dimension; the
+    /// ℋ-matrix's (a matrix holding one part's rows).
+    pub(crate) fn diagonal_blocks(&self, b: usize) -> Result<Vec<f64>> {
+        match self {
+            Self::Dense(s) => {
+                let n = s.nrows();
+                if b == 0 || n % b != 0 {
+                    return Err(crate::error::invalid(
+                        "block",
+                        format!("{b} does not divide the dimension {n}"),
+                    ));
+                }
+                let mut out = Vec::with_capacity(n * b);
+                for k in 0..n / b {
+                    for r in 0..b {
+                        for c in 0..b {
+                            out.push(s[(b * k + r, b * k + c)]);
+                        }
+                    }
+                }
+                Ok(out)
+            }
+            Self::Hierarchical(h) => Ok(h.diagonal_blocks(b)?),
+        }
+    }
+
     pub(crate) fn hierarchical_mut(&mut self) -> Option<&mut HMatrix> {
         match self {
             Self::Dense(_) => None,

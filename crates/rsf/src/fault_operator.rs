@@ -42,6 +42,19 @@ pub trait FaultOperator: Send {
     /// What the set-up stored and measured.
     fn report(&self) -> &KernelReport;
 
+    /// The diagonal of `S` (N/m, length [`dim`](Self::dim)) into `out`: the cheap part
+    /// of the fault ODE's Jacobian that its implicit steps precondition with
+    /// (docs/math.md §12, "Implicit steps"). The default takes one product per unknown
+    /// (`dim` products, exact); the stored kernels (dense, ℋ, the half-space and element
+    /// operators) read their entries instead.
+    ///
+    /// # Errors
+    /// The product's errors; [`Error::InvalidParameter`](crate::Error::InvalidParameter)
+    /// named `diagonal` for an `out` of another length.
+    fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
+        diagonal_by_products(self, out)
+    }
+
     /// Splits the rows of `S` into at most `parts` (≥ 1) parts of about equal work — each
     /// row's multiply-adds plus `work_per_row` (what the caller does per row, in
     /// multiply-adds) — for processes that share a fault ODE's evaluations
@@ -76,6 +89,44 @@ pub trait FaultOperator: Send {
         Err(invalid(
             "ranks",
             "this fault operator cannot compute its rows apart (FaultOperator::part_subtract)",
+        ))
+    }
+}
+
+/// The diagonal of `op`'s `S` by one product per unknown (exact; [`FaultOperator::diagonal`]'s
+/// default).
+///
+/// # Errors
+/// The product's errors; an `out` of another length.
+pub(crate) fn diagonal_by_products<O: FaultOperator + ?Sized>(
+    op: &mut O,
+    out: &mut [f64],
+) -> Result<()> {
+    let m = op.dim();
+    check_diagonal(m, out)?;
+    let mut x = vec![0.0; m];
+    let mut r = vec![0.0; m];
+    for j in 0..m {
+        x[j] = 1.0;
+        r.fill(0.0);
+        op.subtract_product(&x, &mut r, Parallelism::default())?;
+        out[j] = -r[j];
+        x[j] = 0.0;
+    }
+    Ok(())
+}
+
+/// [`FaultOperator::diagonal`]'s check of its output's length.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `diagonal`.
+pub(crate) fn check_diagonal(m: usize, out: &[f64]) -> Result<()> {
+    if out.len() == m {
+        Ok(())
+    } else {
+        Err(invalid(
+            "diagonal",
+            format!("{} entries for an operator of {m} unknowns", out.len()),
         ))
     }
 }

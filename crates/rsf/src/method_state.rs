@@ -41,8 +41,9 @@ impl FaultOdeState {
             let r = &m.rkc;
             out.push((STABILIZED_HEADER + r.eigenvector.len()) as f64);
             out.extend_from_slice(&[
+                // RKC2's memory is never in ROS34PW2's mode (`rosenbrock` keeps none).
                 match m.mode {
-                    StepperMode::Explicit => 0.0,
+                    StepperMode::Explicit | StepperMode::Implicit => 0.0,
                     StepperMode::Stabilized => 1.0,
                 },
                 f64::from(m.streak),

@@ -81,7 +81,12 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> NodeSolves<'_, L, S, C> {
     /// Node `k`: its free components' slip rates into `out` from its rows `r` of
     /// `g(t) − S u_F`; returns its state rate.
     fn solve_node(&self, k: usize, r: &[f64], out: &mut [f64]) -> f64 {
-        let alpha = self.alpha[k];
+        self.solve_node_at(k, self.alpha[k], r, out)
+    }
+
+    /// [`solve_node`](Self::solve_node) at the state `alpha` instead of node `k`'s (the
+    /// local Jacobian's differences).
+    pub fn solve_node_at(&self, k: usize, alpha: f64, r: &[f64], out: &mut [f64]) -> f64 {
         let inv_w = 1.0 / self.weights[k];
         let mut traction = [0.0; C];
         for (tr, r) in traction.iter_mut().zip(r) {

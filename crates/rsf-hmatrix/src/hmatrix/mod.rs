@@ -552,6 +552,39 @@ impl HMatrix {
         }
     }
 
+    /// The `b × b` blocks on the diagonal of `S_H` (original numbering): block `k` holds
+    /// the entries `(b k + r, b k + c)`, `r, c < b`, row-major, block after block (length
+    /// `n b`); e.g. `b = 1` the diagonal. For preconditioners (docs/math.md §12,
+    /// "Implicit steps"); costs `O(n b²)` entry look-ups, each a search of its row's leaf
+    /// blocks.
+    ///
+    /// # Errors
+    /// [`Error::PartOnly`] if only one part's rows are held; [`Error::Option`] named
+    /// `block` unless `b` divides `n`.
+    pub fn diagonal_blocks(&self, b: usize) -> Result<Vec<f64>, Error> {
+        self.whole()?;
+        if b == 0 || self.n % b != 0 {
+            return Err(Error::Option {
+                name: "block",
+                value: b as f64,
+                expected: "a positive divisor of the matrix's dimension",
+            });
+        }
+        let mut iperm = vec![0; self.n];
+        for (p, &i) in self.perm.iter().enumerate() {
+            iperm[i] = p;
+        }
+        let mut out = Vec::with_capacity(self.n * b);
+        for k in 0..self.n / b {
+            for r in 0..b {
+                for c in 0..b {
+                    out.push(self.entry_in_cluster_order(iperm[b * k + r], iperm[b * k + c]));
+                }
+            }
+        }
+        Ok(out)
+    }
+
     /// `S_H` as a dense matrix (original numbering), for checks; `n²` memory.
     ///
     /// # Panics

@@ -34,7 +34,7 @@ pub use crate::fault_alone::{SchurOnlySetup, SetupProgress};
 pub use linger::LINGER;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
-pub use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, StepperStats};
+pub use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, RosenbrockOptions, StepperStats};
 
 /// A quasi-dynamic run condensed onto the frictional boundary Γ_F and integrated in time
 /// by an explicit embedded Runge–Kutta pair (docs/math.md §12).

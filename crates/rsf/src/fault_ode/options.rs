@@ -5,7 +5,9 @@ use std::time::Duration;
 
 use rsf_direct::InteriorOrdering;
 use rsf_linalg::Parallelism;
-use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, RungeKuttaOptions, TOLERANCE_RANGE};
+use rsf_time::{
+    AutoOptions, OdeIntegrator, RkcOptions, RosenbrockOptions, RungeKuttaOptions, TOLERANCE_RANGE,
+};
 
 use crate::error::{invalid, Result};
 use crate::fault_operator::FaultKernel;
@@ -15,8 +17,8 @@ use crate::fault_operator::FaultKernel;
 pub struct FaultOdeOptions {
     /// The integrator (default [`OdeIntegrator::DormandPrince`], the pair every run used
     /// before issue 84, so that their trajectories keep their bits; the programs default
-    /// to [`OdeIntegrator::Auto`]): an explicit embedded pair, the stabilised RKC2, or
-    /// `auto`, the pair while accuracy sets its step and RKC2 while stability would
+    /// to [`OdeIntegrator::Auto`]): an explicit embedded pair, the stabilised RKC2, the
+    /// linearly implicit ROS34PW2 (`rosenbrock`), or `auto`, the pair while accuracy sets its step and RKC2 while stability would
     /// (docs/math.md §12, "Stiff steps"). A checkpoint of one integrator continues with
     /// another only as a new trajectory (the programs put it in their fingerprint).
     pub integrator: OdeIntegrator,
@@ -24,6 +26,8 @@ pub struct FaultOdeOptions {
     pub rkc: RkcOptions,
     /// `auto`'s tests of when to change method.
     pub auto: AutoOptions,
+    /// ROS34PW2's linear solves (used by `rosenbrock`).
+    pub rosenbrock: RosenbrockOptions,
     /// Error tolerance per step: the local error of every slip component is at most
     /// `tolerance · slip_scale` (m) and of every state `α` at most `tolerance` (absolute:
     /// a relative error of θ). In [`TOLERANCE_RANGE`]; default 1e-6.
@@ -75,6 +79,7 @@ impl Default for FaultOdeOptions {
             integrator: OdeIntegrator::DormandPrince,
             rkc: RkcOptions::default(),
             auto: AutoOptions::default(),
+            rosenbrock: RosenbrockOptions::default(),
             tolerance: 1e-6,
             slip_scale: 1e-3,
             runge_kutta: RungeKuttaOptions::default(),
@@ -115,6 +120,7 @@ impl FaultOdeOptions {
         self.runge_kutta.validate()?;
         self.rkc.validate()?;
         self.auto.validate()?;
+        self.rosenbrock.validate()?;
         self.kernel.validate()
     }
 }

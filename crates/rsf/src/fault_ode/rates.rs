@@ -6,7 +6,7 @@ use std::time::Duration;
 use rsf_friction::FrictionLaw;
 use rsf_linalg::Parallelism;
 use rsf_state::StateLaw;
-use rsf_time::OdeSystem;
+use rsf_time::{JacobianBlocks, OdeSystem};
 
 use crate::error::{Error, Result};
 use crate::fault_alone::Body;
@@ -50,6 +50,8 @@ pub(super) struct FaultRates<const C: usize> {
     /// A pore pressure: the field at the nodes, the laws' own `σ̄_n`, the effective normal
     /// stress `σ̄_n − p` of the evaluation and scratch (one per node each).
     pub(super) pressure: Option<PressureRates>,
+    /// The diagonal of `S` (N/m; empty until the first local Jacobian asks for it).
+    pub(super) diagonal: Vec<f64>,
 }
 
 /// A pore pressure in the fault ODE's evaluations.
@@ -180,6 +182,104 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
     /// and retried smaller (docs/reliability.md, "Trial points outside the domain").
     fn outside_domain(&self, error: &Error) -> bool {
         matches!(error, Error::NormalStressNotPositive { .. })
+    }
+
+    /// Slip components `1/(tolerance · slip_scale)`, states `1/tolerance`: the weights of
+    /// [`scaled_error`](Self::scaled_error)'s maximum.
+    fn error_weights(&self, _y: &[f64], w: &mut [f64]) -> bool {
+        let d = &*self.data;
+        let m = d.first[d.first.len() - 1];
+        let (slip, state) = (1.0 / (d.tolerance * d.slip_scale), 1.0 / d.tolerance);
+        for (i, wi) in w.iter_mut().enumerate() {
+            *wi = if i < m { slip } else { state };
+        }
+        true
+    }
+
+    /// Node by node, the Jacobian of the node's slip rates and state rate with respect to
+    /// its slip and state, with `S` replaced by its diagonal (docs/math.md §12, "Implicit
+    /// steps"): forward differences of the node's own solve (its traction moved by
+    /// `S_ii δu_i`, its state by `δα`), at `g(t) − S u_F` of one product. The first call
+    /// also takes `S`'s diagonal ([`FaultOperator::diagonal`]). The normal stress's
+    /// dependence on slip and the pore pressure's on time are left out (the blocks only
+    /// precondition).
+    fn local_jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        _f: &[f64],
+        blocks: &mut JacobianBlocks,
+    ) -> Result<Option<usize>> {
+        let d = &mut *self.data;
+        let nodes = d.first.len() - 1;
+        let m = d.first[nodes];
+        if d.diagonal.len() != m {
+            d.diagonal.resize(m, 0.0);
+            d.operator.diagonal(&mut d.diagonal)?;
+        }
+        if blocks.is_empty() {
+            let mut comps = Vec::with_capacity(C + 1);
+            for k in 0..nodes {
+                comps.clear();
+                comps.extend(d.first[k]..d.first[k + 1]);
+                comps.push(m + k);
+                blocks.push_block(&comps);
+            }
+        }
+        let big_g = d
+            .history
+            .integral(t)
+            .expect("checked at construction: a loading history with a closed-form integral");
+        let (u, alpha) = y.split_at(m);
+        if let Some(normal) = &mut d.normal {
+            normal.evaluate(t, big_g, u, &mut d.sigma, d.par)?;
+        }
+        if let Some(pr) = &mut d.pressure {
+            pr.lower(t, d.normal.as_ref().map(|_| &d.sigma[..]))?;
+        }
+        for ((r, g0), g1) in d.r.iter_mut().zip(&d.g0).zip(&d.g1) {
+            *r = g0 + big_g * g1;
+        }
+        d.operator.subtract_product(u, &mut d.r, d.par)?;
+        let solves = NodeSolves {
+            friction: self.friction,
+            state_laws: self.state_laws,
+            uses_state: self.uses_state,
+            first: &d.first,
+            weights: &d.weights,
+            fixed_velocity: &d.fixed_velocity,
+            eta: &d.eta,
+            speed: d.history.value(t),
+            alpha,
+            scale: d.normal.as_ref().map(|n| (&d.sigma[..], n.initial())),
+            effective: d.pressure.as_ref().map(|p| &p.effective[..]),
+        };
+        let root = f64::EPSILON.sqrt();
+        for k in 0..nodes {
+            let (a, b) = (d.first[k], d.first[k + 1]);
+            let nc = b - a;
+            let width = nc + 1;
+            let block = blocks.block_mut(k);
+            let (mut v0, mut v1, mut rr) = ([0.0; C], [0.0; C], [0.0; C]);
+            let a0 = solves.solve_node_at(k, alpha[k], &d.r[a..b], &mut v0[..nc]);
+            for i in 0..nc {
+                let du = root * u[a + i].abs().max(d.slip_scale);
+                rr[..nc].copy_from_slice(&d.r[a..b]);
+                rr[i] -= d.diagonal[a + i] * du;
+                let a1 = solves.solve_node_at(k, alpha[k], &rr[..nc], &mut v1[..nc]);
+                for j in 0..nc {
+                    block[j * width + i] = (v1[j] - v0[j]) / du;
+                }
+                block[nc * width + i] = (a1 - a0) / du;
+            }
+            let da = root * alpha[k].abs().max(1.0);
+            let a1 = solves.solve_node_at(k, alpha[k] + da, &d.r[a..b], &mut v1[..nc]);
+            for j in 0..nc {
+                block[j * width + nc] = (v1[j] - v0[j]) / da;
+            }
+            block[nc * width + nc] = (a1 - a0) / da;
+        }
+        Ok(Some(1))
     }
 
     fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {

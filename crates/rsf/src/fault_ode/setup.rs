@@ -225,6 +225,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
             normal,
             parts: None,
             shared: None,
+            diagonal: Vec::new(),
             pressure: problem.pore_pressure().map(|at_nodes| {
                 let sigma_laws: Vec<f64> = problem
                     .friction_laws()
@@ -251,7 +252,12 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         kinematics.u.copy_from_slice(&model.initial_displacement);
         let rk = OdeStepper::new(
             options.integrator,
-            (options.runge_kutta, options.rkc, options.auto),
+            (
+                options.runge_kutta,
+                options.rkc,
+                options.auto,
+                options.rosenbrock,
+            ),
             y.len(),
             dt0,
         )?;

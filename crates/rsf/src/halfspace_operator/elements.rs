@@ -322,6 +322,11 @@ impl FaultOperator for ElementOperator {
     fn report(&self) -> &KernelReport {
         &self.report
     }
+
+    /// From the kernel's 2 × 2 element blocks.
+    fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
+        super::nodes::diagonal_of(&self.kernel, &self.element, &self.map, &self.weights, out)
+    }
 }
 
 /// The element whose centre is nearest a point, on a hash grid of cells of the smallest

@@ -680,6 +680,15 @@ impl FaultOperator for HalfSpaceOperator {
         &self.report
     }
 
+    /// From the kernel's 2 × 2 element blocks (on ranks, whose kernel is split: one
+    /// product per unknown).
+    fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
+        if self.on_ranks.is_some() {
+            return crate::fault_operator::diagonal_by_products(self, out);
+        }
+        nodes::diagonal_of(&self.kernel, &self.element, &self.map, &self.weights, out)
+    }
+
     /// `K`'s rows split by its kernel, by element (docs/scaling.md, "The fault ODE on MPI
     /// ranks"; `parts.rs`).
     fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {

@@ -120,6 +120,35 @@ pub(super) fn gather(
     }
 }
 
+/// The diagonal of `S = W Aᵀ K A` from the kernel's 2 × 2 element blocks: entry `2k + i`
+/// is `w_k Σ_ab A_k[a][i] K_ee[a][b] A_k[b][i]`, `e` node `k`'s element.
+///
+/// # Errors
+/// The kernel's ([`Kernel::diagonal_blocks`]); an `out` of another length.
+pub(super) fn diagonal_of(
+    kernel: &crate::fault_kernel::Kernel,
+    element: &[usize],
+    map: &[[[f64; 2]; 2]],
+    weights: &[f64],
+    out: &mut [f64],
+) -> Result<()> {
+    crate::fault_operator::check_diagonal(2 * element.len(), out)?;
+    let blocks = kernel.diagonal_blocks(2)?;
+    for (k, ((&e, a), &w)) in element.iter().zip(map).zip(weights).enumerate() {
+        let kb = &blocks[4 * e..4 * e + 4];
+        for i in 0..2 {
+            let mut s = 0.0;
+            for p in 0..2 {
+                for q in 0..2 {
+                    s += a[p][i] * kb[2 * p + q] * a[q][i];
+                }
+            }
+            out[2 * k + i] = w * s;
+        }
+    }
+    Ok(())
+}
+
 /// The dense `S` of `op` (`m × m`, N/m), one product per column.
 ///
 /// # Errors

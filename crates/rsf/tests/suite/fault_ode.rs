@@ -845,7 +845,11 @@ fn stabilized_integrators_agree_with_the_pair_within_its_tolerance_spread() {
             t.iter().map(|x| x / SECONDS_PER_YEAR).collect::<Vec<_>>()
         );
     }
-    for (integrator, tol) in [(OdeIntegrator::Auto, 1e-6), (OdeIntegrator::Rkc, 1e-7)] {
+    for (integrator, tol) in [
+        (OdeIntegrator::Auto, 1e-6),
+        (OdeIntegrator::Rkc, 1e-7),
+        (OdeIntegrator::Rosenbrock, 1e-6),
+    ] {
         let (t, steps) = run(tol, integrator);
         eprintln!(
             "{integrator} {tol:e}: {:?} yr, {steps} steps",
@@ -876,7 +880,11 @@ fn stabilized_integrators_agree_with_the_pair_within_its_tolerance_spread() {
 #[test]
 fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
-    for integrator in [OdeIntegrator::Rkc, OdeIntegrator::Auto] {
+    for integrator in [
+        OdeIntegrator::Rkc,
+        OdeIntegrator::Auto,
+        OdeIntegrator::Rosenbrock,
+    ] {
         let dir = std::env::temp_dir().join(format!(
             "rsf-fault-ode-{integrator}-resume-{}",
             std::process::id()
@@ -906,7 +914,8 @@ fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
             .unwrap();
         let st = whole.integrator_stats();
         eprintln!("{integrator}: {st:?}");
-        assert!(st.stabilized_steps > 0);
+        assert!(st.stabilized_steps > 0 || integrator == OdeIntegrator::Rosenbrock);
+        assert!(st.implicit_steps > 0 || integrator != OdeIntegrator::Rosenbrock);
         if integrator == OdeIntegrator::Auto {
             assert!(st.switches >= 2 && st.explicit_steps > 0, "{st:?}");
         }
@@ -941,7 +950,11 @@ fn stabilized_integrators_give_the_same_bits_at_1_2_and_4_threads() {
         epsilon: 1e-6,
         leaf_size: 8,
     };
-    for integrator in [OdeIntegrator::Rkc, OdeIntegrator::Auto] {
+    for integrator in [
+        OdeIntegrator::Rkc,
+        OdeIntegrator::Auto,
+        OdeIntegrator::Rosenbrock,
+    ] {
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -973,7 +986,7 @@ fn stabilized_integrators_give_the_same_bits_at_1_2_and_4_threads() {
         };
         let (one, evaluations, stats) = run(1);
         assert!(
-            one.rows.len() > 10 && stats.stabilized_steps > 0,
+            one.rows.len() > 10 && stats.stabilized_steps + stats.implicit_steps > 0,
             "{stats:?}"
         );
         for threads in [2, 4] {

@@ -1,0 +1,206 @@
+//! ODE systems with known solutions or independent references, shared by the tests of
+//! the stiff integrators (RKC2, ROS34PW2).
+
+use crate::{Error, JacobianBlocks, OdeSystem, Result};
+
+/// `y' = −D (y − v cos t) − v sin t` with `D = diag(λ_i)` and `y(0) = v`: the exact
+/// solution `y = v cos t` whatever the stiffness; `λ_i` spread geometrically over
+/// `[1, λ_max]`. Error: max |e_i| / tol.
+pub(crate) struct StiffLinear {
+    pub(crate) lambda: Vec<f64>,
+    pub(crate) tol: f64,
+    pub(crate) evaluations: usize,
+    /// Whether it gives its (diagonal, exact) Jacobian as blocks.
+    pub(crate) blocks: bool,
+}
+
+impl StiffLinear {
+    pub(crate) fn new(n: usize, lambda_max: f64, tol: f64) -> Self {
+        let lambda = (0..n)
+            .map(|i| lambda_max.powf(i as f64 / (n - 1) as f64))
+            .collect();
+        Self {
+            lambda,
+            tol,
+            evaluations: 0,
+            blocks: false,
+        }
+    }
+    pub(crate) fn v(i: usize) -> f64 {
+        1.0 + 0.1 * i as f64
+    }
+}
+
+impl OdeSystem for StiffLinear {
+    type Error = Error;
+    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        self.evaluations += 1;
+        for (i, (d, &yi)) in dy.iter_mut().zip(y).enumerate() {
+            let v = Self::v(i);
+            *d = -self.lambda[i] * (yi - v * t.cos()) - v * t.sin();
+        }
+        Ok(())
+    }
+    fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+        err.iter().fold(0.0_f64, |m, e| m.max(e.abs())) / self.tol
+    }
+    fn local_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        _f: &[f64],
+        blocks: &mut JacobianBlocks,
+    ) -> Result<Option<usize>> {
+        if !self.blocks {
+            return Ok(None);
+        }
+        if blocks.is_empty() {
+            for i in 0..y.len() {
+                blocks.push_block(&[i]);
+            }
+        }
+        for (i, l) in self.lambda.iter().enumerate() {
+            blocks.block_mut(i)[0] = -l;
+        }
+        Ok(Some(0))
+    }
+}
+
+/// The largest error of `y` against `v cos t` (the exact solution of [`StiffLinear`] and
+/// [`Heat`]).
+pub(crate) fn error_at(y: &[f64], t: f64) -> f64 {
+    y.iter()
+        .enumerate()
+        .map(|(i, &yi)| (yi - StiffLinear::v(i) * t.cos()).abs())
+        .fold(0.0, f64::max)
+}
+
+/// `y' = −c L y + g(t)` with `L` the 1-D Laplacian stencil `[−1, 2, −1]` on `n`
+/// points (eigenvalues `4c sin²(kπ/(2(n + 1)))`, not diagonal in the unknowns) and `g`
+/// such that `y = v cos t`.
+pub(crate) struct Heat {
+    pub(crate) c: f64,
+    pub(crate) n: usize,
+    /// The error tolerance (absolute).
+    pub(crate) tol: f64,
+    /// With the source `g(t)` (solution `v cos t`), or without (`y' = −c L y`, solution
+    /// [`Heat::modal`] from [`Heat::modal`] at 0).
+    pub(crate) forced: bool,
+}
+
+impl Heat {
+    /// The solution of the unforced system from `s₁ + ½ s₂ + 0.1 s_n` (`s_k` the sine
+    /// modes `sin(kπ(i + 1)/(n + 1))`, eigenvalues `λ_k = 4c sin²(kπ/(2(n + 1)))`): the
+    /// two smoothest modes and the stiffest.
+    pub(crate) fn modal(&self, t: f64) -> Vec<f64> {
+        let n = self.n;
+        let np1 = (n + 1) as f64;
+        let mode =
+            |k: usize, i: usize| (k as f64 * std::f64::consts::PI * (i + 1) as f64 / np1).sin();
+        let lambda = |k: usize| {
+            4.0 * self.c
+                * (k as f64 * std::f64::consts::PI / (2.0 * np1))
+                    .sin()
+                    .powi(2)
+        };
+        (0..n)
+            .map(|i| {
+                [(1, 1.0), (2, 0.5), (n, 0.1)]
+                    .iter()
+                    .map(|&(k, a)| a * (-lambda(k) * t).exp() * mode(k, i))
+                    .sum()
+            })
+            .collect()
+    }
+}
+
+impl OdeSystem for Heat {
+    type Error = Error;
+    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        let lap = |x: &dyn Fn(usize) -> f64, i: usize| {
+            let left = if i > 0 { x(i - 1) } else { 0.0 };
+            let right = if i + 1 < self.n { x(i + 1) } else { 0.0 };
+            2.0 * x(i) - left - right
+        };
+        for i in 0..self.n {
+            let ly = lap(&|j| y[j], i);
+            dy[i] = if self.forced {
+                let lv = lap(&|j| StiffLinear::v(j), i);
+                -self.c * (ly - lv * t.cos()) - StiffLinear::v(i) * t.sin()
+            } else {
+                -self.c * ly
+            };
+        }
+        Ok(())
+    }
+    fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+        err.iter().fold(0.0_f64, |m, e| m.max(e.abs())) / self.tol
+    }
+    /// The diagonal of `−c L` (a Jacobi preconditioner: `L` is not diagonal).
+    fn local_jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        _f: &[f64],
+        blocks: &mut JacobianBlocks,
+    ) -> Result<Option<usize>> {
+        if blocks.is_empty() {
+            for i in 0..y.len() {
+                blocks.push_block(&[i]);
+            }
+        }
+        for i in 0..y.len() {
+            blocks.block_mut(i)[0] = -2.0 * self.c;
+        }
+        Ok(Some(0))
+    }
+}
+
+/// The quasi-static spring–slider of docs/spring-block.md without radiation damping:
+/// `τ = k (V_L t − δ) + τ₀ = σ̄_n (μ₀ + a ln(V/V₀) + b ln(V₀θ/L))`, so
+/// `V = V₀ exp((τ/σ̄_n − μ₀ − b ln(V₀θ/L))/a)`, `δ̇ = V`, `α̇ = e^{−α} − V/L` (aging,
+/// `α = ln θ`); the docs' parameters, `V_L = 1e-6 m/s`, `k = 1.2 k_c` (a decaying
+/// oscillation after a kick of the state by −0.5 from steady sliding).
+pub(crate) struct SpringSlider {
+    pub(crate) tol: f64,
+}
+
+impl SpringSlider {
+    pub(crate) const SIGMA: f64 = 1e6;
+    pub(crate) const A: f64 = 0.010;
+    pub(crate) const B: f64 = 0.015;
+    pub(crate) const L: f64 = 1e-5;
+    pub(crate) const V0: f64 = 1e-6;
+    pub(crate) const MU0: f64 = 0.6;
+    pub(crate) const VL: f64 = 1e-6;
+    pub(crate) fn k() -> f64 {
+        1.2 * Self::SIGMA * (Self::B - Self::A) / Self::L
+    }
+    /// `τ₀` of steady sliding at `V_L` with `δ = 0` at `t = 0`.
+    pub(crate) fn tau0() -> f64 {
+        Self::SIGMA * Self::MU0
+    }
+    pub(crate) fn start() -> [f64; 2] {
+        [0.0, (Self::L / Self::VL).ln() - 0.5]
+    }
+}
+
+impl OdeSystem for SpringSlider {
+    type Error = Error;
+    fn rate(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        let tau = Self::k() * (Self::VL * t - y[0]) + Self::tau0();
+        let psi = Self::MU0 + Self::B * (Self::V0 * y[1].exp() / Self::L).ln();
+        let v = Self::V0 * ((tau / Self::SIGMA - psi) / Self::A).exp();
+        dy[0] = v;
+        dy[1] = (-y[1]).exp() - v / Self::L;
+        Ok(())
+    }
+    fn scaled_error(&self, _y: &[f64], _y_new: &[f64], err: &[f64]) -> f64 {
+        (err[0].abs() / (self.tol * Self::L)).max(err[1].abs() / self.tol)
+    }
+    fn error_weights(&self, _y: &[f64], w: &mut [f64]) -> bool {
+        w[0] = 1.0 / (self.tol * Self::L);
+        w[1] = 1.0 / self.tol;
+        true
+    }
+}
