@@ -173,10 +173,13 @@ impl BlockToeplitz2 {
     }
 }
 
+/// The two 1-D forward transforms (along `u`, along `v`) and their scratch.
+type Forward2d<'a> = (&'a [Arc<dyn Fft<f64>>; 2], &'a mut [Complex<f64>]);
+
 /// The 2-D forward transform of `rows` (`L_v` rows of `L_u`, only the first `filled` rows
 /// non-zero) into `columns` (`L_u` rows of `L_v`: the transposed layout).
 fn transform_2d(
-    (forward, scratch): (&[Arc<dyn Fft<f64>>; 2], &mut [Complex<f64>]),
+    (forward, scratch): Forward2d<'_>,
     len: [usize; 2],
     filled: usize,
     rows: &mut [Complex<f64>],
