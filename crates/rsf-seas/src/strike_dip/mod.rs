@@ -124,21 +124,7 @@ impl SeasBp5Output {
         body_columns: Vec<Vec<f64>>,
         setup: SeasSetup,
     ) -> Result<Self> {
-        let n = [
-            (region.length / dx).round() as usize,
-            (region.width / dx).round() as usize,
-        ];
-        if cells.is_empty() || cells.len() != n[0] * n[1] {
-            return Err(invalid(
-                "cells",
-                format!(
-                    "{} cells, the grid of {dx} m over the fault has {} × {}",
-                    cells.len(),
-                    n[0],
-                    n[1]
-                ),
-            ));
-        }
+        let n = cell_grid(region, dx, &cells)?;
         if body_columns.len() != SEAS_BP5_BODY_STATIONS.len() {
             return Err(invalid(
                 "body_columns",
@@ -727,7 +713,8 @@ impl SeasBp5Output {
                     ),
                     None => (0.0, [0.0; 3]),
                 };
-                values.extend([p / 1e6, q[1], self.z_sign * q[2]]);
+                // (`+ 0.0`: no `-0` where the field has no flow.)
+                values.extend([p / 1e6 + 0.0, q[1] + 0.0, self.z_sign * q[2] + 0.0]);
             }
             values.push(x[6] / std::f64::consts::LN_10);
             write_row(&mut self.fault[i].file.rows, t, &values);
@@ -804,6 +791,16 @@ fn bp5_spec(layout: &FaultLayout) -> Spec {
 /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `cells` for another
 /// number of cells than the grid has.
 fn square_layout(region: &StrikeDipFault, dx: f64, cells: Vec<[f64; 2]>) -> Result<FaultLayout> {
+    let n = cell_grid(region, dx, &cells)?;
+    Ok(FaultLayout::of_cells(cells, dx, n, 1.0))
+}
+
+/// The cells per side of the grid of size `dx` over `region`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `cells` unless
+/// `cells` has one cell per grid cell.
+fn cell_grid(region: &StrikeDipFault, dx: f64, cells: &[[f64; 2]]) -> Result<[usize; 2]> {
     let n = [
         (region.length / dx).round() as usize,
         (region.width / dx).round() as usize,
@@ -819,7 +816,7 @@ fn square_layout(region: &StrikeDipFault, dx: f64, cells: Vec<[f64; 2]>) -> Resu
             ),
         ));
     }
-    Ok(FaultLayout::of_cells(cells, dx, n, 1.0))
+    Ok(n)
 }
 
 impl SeasBp5Output {
