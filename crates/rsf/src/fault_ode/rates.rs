@@ -50,6 +50,8 @@ pub(super) struct FaultRates<const C: usize> {
     /// A pore pressure: the field at the nodes, the laws' own `σ̄_n`, the effective normal
     /// stress `σ̄_n − p` of the evaluation and scratch (one per node each).
     pub(super) pressure: Option<PressureRates>,
+    /// A prescribed change of the load in time ([`super::LoadChange`]).
+    pub(super) load_change: Option<super::load_change::LoadChangeRates>,
 }
 
 /// A pore pressure in the fault ODE's evaluations.
@@ -103,6 +105,9 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             .integral(t)
             .expect("checked at construction: a loading history with a closed-form integral");
         let speed = d.history.value(t);
+        if let Some(change) = &d.load_change {
+            change.apply(t, &mut d.g0);
+        }
         let (u, alpha) = y.split_at(m);
         let (dyu, dya) = dy.split_at_mut(m);
         let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {
