@@ -172,11 +172,12 @@ impl Program for Args {
         // the well, dense in its D directions (one per distinct eigenvalue of the cosine
         // modes: D = 3 283 at 5 m, docs/pore-pressure.md; estimated here as
         // (n/2 + 1)(n/2 + 2)/2 for n cells a side, 3 321 at 5 m), its
-        // eigendecomposition's copies counted three times; 100 MB for the rest.
+        // eigendecomposition's copies counted four times (PW at 5 m: 419 MB of max RSS,
+        // this estimate 504 MB); 100 MB for the rest.
         let n = cells.sqrt();
         let modes = (0.5 * n + 1.0) * (0.5 * n + 2.0) / 2.0;
         let well = if self.source()? == Bp8Source::Well {
-            3.0 * 8.0 * modes * modes
+            4.0 * 8.0 * modes * modes
         } else {
             0.0
         };
