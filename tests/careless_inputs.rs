@@ -375,6 +375,30 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
             &["--resume", "main_job/checkpoint.bin", "--overwrite"],
             "--overwrite",
         ),
+        // seas_bp8 (issue 85): the same rules.
+        case("seas_bp8", &["--tolerance", "1"], "--tolerance"),
+        case("seas_bp8", &["--dx", "3"], "--dx"),
+        case("seas_bp8", &["--dx", "30"], "--dx"),
+        case("seas_bp8", &["--dx", "1e300"], "--dx"),
+        case("seas_bp8", &["--source", "x"], "--source"),
+        case("seas_bp8", &["--end-days", "0"], "--end-days"),
+        case("seas_bp8", &["--sigma-min", "20"], "--sigma-min"),
+        // A setting of the floor that `refuse` would ignore.
+        case(
+            "seas_bp8",
+            &["--overpressure", "refuse", "--sigma-min", "1"],
+            "--sigma-min",
+        ),
+        case(
+            "seas_bp8",
+            &["--profile-interval", "1"],
+            "--profile-interval",
+        ),
+        case(
+            "seas_bp8",
+            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+            "--overwrite",
+        ),
         case_not(
             "pipping_slider",
             &["--scene", "bad_end.toml"],
@@ -776,7 +800,7 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
     let dir = std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let programs: [(&str, &[&str], &[&str]); 4] = [
+    let programs: [(&str, &[&str], &[&str]); 5] = [
         (
             "seas_bp5",
             &[
@@ -825,6 +849,11 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
                 "--checkpoint-every",
                 "100",
             ],
+            &["--tolerance", "1e-8"],
+        ),
+        (
+            "seas_bp8",
+            &["--dx", "80", "--end-days", "8", "--checkpoint-every", "100"],
             &["--tolerance", "1e-8"],
         ),
     ];

@@ -279,6 +279,12 @@ const SMALL: &[Case] = &[
         ],
         true,
     ),
+    ("seas_bp8", &["--dx", "40", "--end-days", "0.5"], true),
+    (
+        "seas_bp8",
+        &["--source", "pw", "--dx", "10", "--end-days", "0.1"],
+        true,
+    ),
     ("fault_setup_3d", &["--dx", "10", "--steps", "1"], false),
     (
         "okada_anchor",

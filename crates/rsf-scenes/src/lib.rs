@@ -52,8 +52,12 @@ mod seas_bp5;
 mod seas_bp5_output;
 #[cfg(feature = "seas")]
 mod seas_bp6;
+#[cfg(feature = "seas")]
+mod seas_bp8;
 mod slider;
 mod slider3d;
+#[cfg(feature = "seas")]
+pub mod square_fault;
 #[cfg(feature = "seas")]
 mod stepover;
 
@@ -80,6 +84,8 @@ pub use seas_bp6::{
     Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,
     BP6_SECONDS_PER_YEAR,
 };
+#[cfg(feature = "seas")]
+pub use seas_bp8::{Bp8Overpressure, Bp8Source, SeasBp8, SeasBp8FaultOde, BP8_SECONDS_PER_DAY};
 #[cfg(feature = "seas")]
 pub use stepover::{
     Stepover, StepoverFaultOde, StepoverGrid, STEPOVER_FAULTS, STEPOVER_STATION_DISTANCES,

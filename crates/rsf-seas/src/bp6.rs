@@ -258,6 +258,7 @@ impl SeasBp6Output {
                 f.layout.profile = Some(Positions {
                     words: "positions z".into(),
                     coordinate: "z".into(),
+                    name_per_line: false,
                 });
                 f.rows = positions_row(positions.iter().copied());
                 f.rows.push('\n');

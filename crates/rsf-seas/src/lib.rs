@@ -8,9 +8,10 @@
 //! - along dip, the 2-D benchmarks BP1 and BP3 ([`SeasOutput`], [`SeasLayout`]): stations by
 //!   depth or down-dip distance (`fltst_dpXXX`), stations off the fault (`srfst_fn…`),
 //!   profiles (`devol.dat`, `slip.dat`, the stresses), the event catalogue `events.csv`;
-//! - on a strike–dip grid, the 3-D benchmark BP5 ([`SeasBp5Output`]): stations
-//!   `fltst_strk±XXdp±YY` and `blkst_strk±XXfn±YYdp±ZZ`, `global.dat`, profiles along
-//!   strike and dip, `rupture.dat`, the catalogue;
+//! - on a strike–dip grid, the 3-D benchmarks BP5, BP7 and BP8 ([`SeasBp5Output`]):
+//!   stations `fltst_strk±XXdp±YY` and `blkst_strk±XXfn±YYdp±ZZ` (BP5, km; BP7 and BP8
+//!   in m, three digits, BP8's with the pore pressure and Darcy velocity), `global.dat`,
+//!   profiles along strike and dip, `rupture.dat`, the catalogue;
 //! - along strike, BP6 (fluid injection, [`SeasBp6Output`]): stations with pore pressure
 //!   and Darcy velocity, `global.dat`, four profiles;
 //! - the files read back ([`read_seas_file`]): header, columns, a profile's positions, the
@@ -52,8 +53,9 @@ pub use setup::{
     SEAS_BP3_STATION_COLUMNS, SECONDS_PER_YEAR,
 };
 pub use strike_dip::{
-    bp5_body_station_points, Bp5Event, SeasBp5Output, StrikeDipFault, NEVER_RUPTURED,
-    RUPTURE_THRESHOLD, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP5_RESUME_LOG,
-    SLIP_RATE_FLOOR,
+    bp5_body_station_points, bp7_body_station_points, Bp5Event, SeasBp5Output, StrikeDipFault,
+    NEVER_RUPTURED, RUPTURE_THRESHOLD, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS,
+    SEAS_BP5_RESUME_LOG, SEAS_BP7_BODY_STATIONS, SEAS_BP7_FAULT_STATIONS, SEAS_BP7_RESUME_LOG,
+    SEAS_BP8_FAULT_STATIONS, SEAS_BP8_RESUME_LOG, SLIP_RATE_FLOOR,
 };
 pub use text::{c_exp, common_header, is_iso_date, utc_date_today, SEAS_FIRST_LINE};

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use crate::error::{io_at, show_path, Error, Result};
-use crate::text::{FIELD_LINE, PROFILE_FIELD_LINES, SEAS_FIRST_LINE};
+use crate::text::{FIELD_LINE, PROFILE_FIELD_LINES, PROFILE_NAME_LINES, SEAS_FIRST_LINE};
 
 /// A column of a SEAS file: its field name (the field-list line's, e.g. `slip_rate`) and
 /// its description (the header's `# Column #k = …`, e.g. `Slip_rate (log10 m/s)`; empty
@@ -141,13 +141,18 @@ pub fn read_seas_file(path: &Path) -> Result<SeasFile> {
         .map(|l| (*l).to_owned())
         .collect();
     let mut at = header.len();
-    let profile = match header.last().map(String::as_str) {
-        Some(FIELD_LINE) => false,
-        Some(PROFILE_FIELD_LINES) => true,
+    // (a profile, one name a line)
+    let (profile, name_per_line) = match header.last().map(String::as_str) {
+        Some(FIELD_LINE) => (false, false),
+        Some(PROFILE_FIELD_LINES) => (true, false),
+        Some(PROFILE_NAME_LINES) => (true, true),
         _ => {
             return Err(fail(
                 at - 1,
-                format!("the header does not end with `{FIELD_LINE}` or `{PROFILE_FIELD_LINES}`"),
+                format!(
+                    "the header does not end with `{FIELD_LINE}`, `{PROFILE_FIELD_LINES}` or \
+                     `{PROFILE_NAME_LINES}`"
+                ),
             ))
         }
     };
@@ -163,12 +168,21 @@ pub fn read_seas_file(path: &Path) -> Result<SeasFile> {
     } else {
         None
     };
-    let names: Vec<&str> = next("field-list line")?.split_whitespace().collect();
     let descriptions: Vec<&str> = header
         .iter()
         .filter_map(|l| l.strip_prefix("# Column #"))
         .filter_map(|l| l.split_once(" = ").map(|(_, d)| d))
         .collect();
+    let names: Vec<&str> = if name_per_line {
+        // One line per `# Column` line (at least two: the time and the quantity).
+        let mut names = Vec::with_capacity(descriptions.len());
+        for _ in 0..descriptions.len().max(2) {
+            names.push(next("field-list lines")?.trim());
+        }
+        names
+    } else {
+        next("field-list line")?.split_whitespace().collect()
+    };
     if !descriptions.is_empty() && descriptions.len() != names.len() {
         return Err(fail(
             at - 1,

@@ -31,6 +31,10 @@ pub(crate) struct Positions {
     pub(crate) words: String,
     /// Their field name, the first field-list line (`z`, `xd`, `x2`, `x3`).
     pub(crate) coordinate: String,
+    /// Whether each column's field name has a line of its own (SEAS BP7's and BP8's
+    /// profiles: `x2`, `t`, `max_slip_rate`, the quantity, four lines) rather than one
+    /// line for all of them (BP1, BP3, BP5, BP6).
+    pub(crate) name_per_line: bool,
 }
 
 impl FileLayout {
@@ -49,12 +53,13 @@ impl FileLayout {
     /// The field-list lines: a profile's coordinate, then the columns' names joined by
     /// spaces.
     pub(crate) fn field_lines(&self) -> Vec<String> {
-        let names: Vec<&str> = self.columns.iter().map(|(n, _)| n.as_str()).collect();
-        self.profile
-            .iter()
-            .map(|p| p.coordinate.clone())
-            .chain([names.join(" ")])
-            .collect()
+        let names: Vec<String> = self.columns.iter().map(|(n, _)| n.clone()).collect();
+        let coordinate = self.profile.iter().map(|p| p.coordinate.clone());
+        if self.profile.as_ref().is_some_and(|p| p.name_per_line) {
+            coordinate.chain(names).collect()
+        } else {
+            coordinate.chain([names.join(" ")]).collect()
+        }
     }
 
     /// The header (no newline at its end): the shared lines of `setup` ([`common_header`];
@@ -76,8 +81,13 @@ impl FileLayout {
                 let _ = write!(
                     h,
                     "\n# The first data row is 0 0 followed by the {} (m); every other row is a \
-                     time.\n{PROFILE_FIELD_LINES}",
-                    p.words
+                     time.\n{}",
+                    p.words,
+                    if p.name_per_line {
+                        PROFILE_NAME_LINES
+                    } else {
+                        PROFILE_FIELD_LINES
+                    }
                 );
             }
             None => {
@@ -96,7 +106,14 @@ impl FileLayout {
 /// The header's last line in a file with one field-list line.
 pub(crate) const FIELD_LINE: &str = "# The line below lists the names of the data fields:";
 
-/// The header's last line in a profile (two field-list lines: the coordinate, the columns).
+/// The header's last line in a profile whose field names have a line each
+/// ([`Positions::name_per_line`]).
+pub(crate) const PROFILE_NAME_LINES: &str =
+    "# The lines below list the names of the data fields, one a line: the positions', then the \
+     columns':";
+
+/// The header's last line in a profile with two field-list lines (the coordinate, the
+/// columns).
 pub(crate) const PROFILE_FIELD_LINES: &str =
     "# The two lines below list the names of the data fields:";
 

@@ -4,6 +4,8 @@
 
 mod absorbing_sides;
 mod columns;
+#[cfg(feature = "seas")]
+mod load_change;
 mod scene_values;
 #[cfg(feature = "seas")]
 mod seas_bp3;

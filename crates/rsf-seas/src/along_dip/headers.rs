@@ -50,6 +50,7 @@ pub(super) fn profile(setup: &SeasSetup, quantity: ProfileQuantity) -> FileLayou
         profile: Some(Positions {
             words: format!("{plural} {symbol}"),
             coordinate: symbol.into(),
+            name_per_line: false,
         }),
     }
 }

@@ -40,9 +40,33 @@ pub(super) struct FaultLayout {
     pub(super) spacing: f64,
     pub(super) n: [usize; 2],
     pub(super) index: Vec<usize>,
+    /// `+1` where the model's `z` is the benchmark's `x₃`, `−1` where it is `−x₃`.
+    pub(super) z_sign: f64,
 }
 
 impl FaultLayout {
+    /// A fault alone's cells (one vertex per cell, the normal `x` fixed, in the order of
+    /// `cells`: centres `(x₂, x₃)`, m, `x₂` fastest) on a grid of `n` cells of side `dx`,
+    /// the model's `z` being `z_sign x₃`.
+    pub(super) fn of_cells(cells: Vec<[f64; 2]>, dx: f64, n: [usize; 2], z_sign: f64) -> Self {
+        Self {
+            areas: vec![dx * dx; cells.len()],
+            slip: (0..cells.len())
+                .map(|k| SlipMap {
+                    dof: 3 * k,
+                    e2: [0.0, 1.0, 0.0],
+                    e3: [0.0, 0.0, z_sign],
+                })
+                .collect(),
+            origin: cells[0],
+            spacing: dx,
+            n,
+            index: (0..cells.len()).collect(),
+            positions: cells,
+            z_sign,
+        }
+    }
+
     /// The four grid points around the point `x = (x₂, x₃)` (m) and their bilinear
     /// weights (constant beyond the outer points), as fault indices.
     pub(super) fn bilinear(&self, x: [f64; 2]) -> [(usize, f64); 4] {

@@ -1,13 +1,18 @@
-//! The files of SEAS BP5-QD (docs/seas-bp5.md, "Output"): the ten on-fault stations
-//! `fltst_strk±XXdp±YY` (8 columns), the nine off-fault stations `blkst_strk±XXfn±YYdp±ZZ`
-//! (7 columns), `global.dat` (maximum slip rate and moment rate) and the event catalogue
-//! `events.csv`, with the SCEC header conventions of BP1 and BP3: the stations on a
-//! strike–dip grid of the fault.
+//! The files of the 3-D benchmarks on a strike–dip grid of the fault, with the SCEC
+//! header conventions of BP1 and BP3: BP5-QD (docs/seas-bp5.md, "Output": the ten on-fault
+//! stations `fltst_strk±XXdp±YY` (8 columns), the nine off-fault stations
+//! `blkst_strk±XXfn±YYdp±ZZ` (7 columns), `global.dat`, profiles, `rupture.dat` and the
+//! event catalogue `events.csv`), BP7-QD (docs/seas-bp7.md: thirteen and six stations in
+//! metres, `global.dat` of four columns) and BP8-QD (docs/seas-bp8.md: nine stations with
+//! the pore pressure and Darcy velocity columns, `global.dat`, ten profiles) — one output,
+//! described per benchmark by its `Spec`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use rsf::checkpoint::write_atomically;
+use rsf::pore_pressure::PorePressure;
 use rsf::{Flow, Model, Observer, StepView};
 
 use crate::error::{invalid, io_at, Result};
@@ -17,6 +22,7 @@ use crate::text::{c_exp, is_iso_date, positions_row, write_row, FileLayout, Posi
 mod layout;
 mod mark;
 mod resume;
+mod spec;
 mod stations;
 mod text;
 
@@ -24,19 +30,30 @@ use crate::reserve::Reserve;
 use layout::{BodySource, FaultLayout, SlipMap};
 use mark::Mark;
 pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
+use spec::{GlobalSpec, Quantity, Spec};
 pub use stations::{
-    bp5_body_station_points, StrikeDipFault, SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS,
+    bp5_body_station_points, bp7_body_station_points, StrikeDipFault, SEAS_BP5_BODY_STATIONS,
+    SEAS_BP5_FAULT_STATIONS, SEAS_BP7_BODY_STATIONS, SEAS_BP7_FAULT_STATIONS,
+    SEAS_BP8_FAULT_STATIONS,
 };
 use text::{
-    body_station_name, fault_station_name, File, Profile, BODY_COLUMNS, FAULT_COLUMNS,
-    GLOBAL_COLUMNS, SLIP_PROFILE_COLUMNS, STRESS_PROFILE_COLUMNS,
+    body_station_name, fault_station_name, profile_columns, File, Profile, BODY_COLUMNS,
+    FAULT_COLUMNS, GLOBAL_COLUMNS, PRESSURE_FAULT_COLUMNS,
 };
 pub use text::{NEVER_RUPTURED, RUPTURE_THRESHOLD, SLIP_RATE_FLOOR};
 
-/// An on-fault station: the cells around it and their bilinear weights.
+/// Name of the resume log of a BP7 output ([`SeasBp5Output::bp7`]).
+pub const SEAS_BP7_RESUME_LOG: &str = "bp7_resume.json";
+
+/// Name of the resume log of a BP8 output ([`SeasBp5Output::bp8`]).
+pub const SEAS_BP8_RESUME_LOG: &str = "bp8_resume.json";
+
+/// An on-fault station: the cells around it and their bilinear weights, and its model
+/// point (for the pressure field).
 struct FaultStation {
     file: File,
     cells: [(usize, f64); 4],
+    point: [f64; 3],
 }
 
 /// An off-fault station: its file and where its displacement comes from.
@@ -45,21 +62,30 @@ struct BodyStation {
     source: BodySource,
 }
 
-/// The BP5 files of a run of `rsf_scenes::SeasBp5`, its fault alone or its volume model
-/// (an [`Observer`]). Rows are kept in memory and every file is written whole,
-/// atomically, by [`finish`](Observer::finish) (at the end of each run call), its header
-/// completed (time-step bounds, number of rows). The disk space of the rows is held as
-/// they grow — a file of zeros, [`RESERVE_FILE`](crate::RESERVE_FILE), in the output folder, given back just
-/// before the files are written — so that a full disk stops the run when it happens, not
-/// after it.
+/// The files of a run of BP5 (`rsf_scenes::SeasBp5`: its fault alone or its volume
+/// model), BP7 or BP8 (a square fault in a whole space: [`bp7`](Self::bp7),
+/// [`bp8`](Self::bp8)) — an [`Observer`]. Rows are kept in memory and every file is
+/// written whole, atomically, by [`finish`](Observer::finish) (at the end of each run
+/// call), its header completed (time-step bounds, number of rows). The disk space of the
+/// rows is held as they grow — a file of zeros, [`RESERVE_FILE`](crate::RESERVE_FILE), in
+/// the output folder, given back just before the files are written — so that a full disk
+/// stops the run when it happens, not after it.
 pub struct SeasBp5Output {
     dir: PathBuf,
     setup: SeasSetup,
+    spec: Spec,
     fault: Vec<FaultStation>,
     body: Vec<BodyStation>,
     global: File,
     profiles: Vec<Profile>,
     layout: FaultLayout,
+    /// `+1` where the model's `z` is the benchmark's `x₃` (a square fault), `−1` where it
+    /// is `−x₃` (BP5: `z` up from the free surface).
+    z_sign: f64,
+    /// The pressure field of the station and profile columns (BP8).
+    pressure: Option<Arc<dyn PorePressure<3>>>,
+    /// The resume log's file name.
+    log_name: &'static str,
     mu: f64,
     /// Radiation damping η (Pa·s/m): the shear stress written is `friction + ηV`.
     eta: f64,
@@ -98,21 +124,7 @@ impl SeasBp5Output {
         body_columns: Vec<Vec<f64>>,
         setup: SeasSetup,
     ) -> Result<Self> {
-        let n = [
-            (region.length / dx).round() as usize,
-            (region.width / dx).round() as usize,
-        ];
-        if cells.is_empty() || cells.len() != n[0] * n[1] {
-            return Err(invalid(
-                "cells",
-                format!(
-                    "{} cells, the grid of {dx} m over the fault has {} × {}",
-                    cells.len(),
-                    n[0],
-                    n[1]
-                ),
-            ));
-        }
+        let n = cell_grid(region, dx, &cells)?;
         if body_columns.len() != SEAS_BP5_BODY_STATIONS.len() {
             return Err(invalid(
                 "body_columns",
@@ -123,21 +135,7 @@ impl SeasBp5Output {
                 ),
             ));
         }
-        let layout = FaultLayout {
-            areas: vec![dx * dx; cells.len()],
-            slip: (0..cells.len())
-                .map(|k| SlipMap {
-                    dof: 3 * k,
-                    e2: [0.0, 1.0, 0.0],
-                    e3: [0.0, 0.0, -1.0],
-                })
-                .collect(),
-            origin: cells[0],
-            spacing: dx,
-            n,
-            index: (0..cells.len()).collect(),
-            positions: cells,
-        };
+        let layout = FaultLayout::of_cells(cells, dx, n, -1.0);
         let body = SEAS_BP5_BODY_STATIONS
             .iter()
             .zip(body_columns)
@@ -146,7 +144,80 @@ impl SeasBp5Output {
                 columns,
             })
             .collect();
-        Self::build(dir, region, layout, body, setup)
+        let spec = bp5_spec(&layout);
+        Self::build(dir, region, layout, (body, spec), setup)
+    }
+
+    /// BP8's files (docs/seas-bp8.md, "Output") of a square fault alone `|x₂|, |x₃| ≤
+    /// region.length/2` on the grid of size `dx` into `dir` (created if missing): `cells`
+    /// the cells' centres `(x₂, x₃)` (m), `x₂` fastest, from `x₃ = −l_f` on
+    /// (`rsf_scenes::SeasBp8::cells`; the model's `z` the benchmark's `x₃`), `pressure`
+    /// the field whose pressure and Darcy velocity the files report (the diffusion's, not
+    /// a floor's), `setup` the headers' problem, modeler, date and element size and the
+    /// sampling. Nine stations `fltst_strk±XXXdp±YYY` of eleven columns, `global.dat`,
+    /// ten profiles on the description's 81 positions (slip and shear stress of both
+    /// components interpolated from the cells, constant beyond the outermost centres; the
+    /// pressure the field's at each position); the resume log [`SEAS_BP8_RESUME_LOG`].
+    ///
+    /// # Errors
+    /// As [`new`](Self::new) for `cells` and `date`; I/O errors creating `dir`.
+    pub fn bp8(
+        dir: &Path,
+        region: &StrikeDipFault,
+        dx: f64,
+        cells: Vec<[f64; 2]>,
+        pressure: Arc<dyn PorePressure<3>>,
+        setup: SeasSetup,
+    ) -> Result<Self> {
+        let layout = square_layout(region, dx, cells)?;
+        let mut out = Self::build(dir, region, layout, (Vec::new(), spec::bp8()), setup)?;
+        out.pressure = Some(pressure);
+        out.log_name = SEAS_BP8_RESUME_LOG;
+        Ok(out)
+    }
+
+    /// BP7's files (docs/seas-bp7.md, "Output") of a square fault alone on the grid of
+    /// size `dx` into `dir`, as [`bp8`](Self::bp8) for `region`, `cells` and `setup`:
+    /// thirteen stations on the fault, six off it (`body_columns` their displacement per
+    /// unit slip of every slip unknown, three rows of `m` each, the model's `(x₁, x₂, x₃)`
+    /// components: `rsf_scenes::SeasBp7::body_columns`), `global.dat` with the maximum
+    /// slip rate and the moment rate over the disc of radius `1.5 r_vw` and the moment
+    /// rate over the velocity-weakening disc `r_vw` (m), slip and shear stress profiles,
+    /// `rupture.dat` from the start, the catalogue; the resume log
+    /// [`SEAS_BP7_RESUME_LOG`].
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn bp7(
+        dir: &Path,
+        region: &StrikeDipFault,
+        (dx, r_vw): (f64, f64),
+        cells: Vec<[f64; 2]>,
+        body_columns: Vec<Vec<f64>>,
+        setup: SeasSetup,
+    ) -> Result<Self> {
+        if body_columns.len() != SEAS_BP7_BODY_STATIONS.len() {
+            return Err(invalid(
+                "body_columns",
+                format!(
+                    "{} for {} stations",
+                    body_columns.len(),
+                    SEAS_BP7_BODY_STATIONS.len()
+                ),
+            ));
+        }
+        let layout = square_layout(region, dx, cells)?;
+        let body = SEAS_BP7_BODY_STATIONS
+            .iter()
+            .zip(body_columns)
+            .map(|(&(_, n, _), columns)| BodySource::Columns {
+                side: n.signum(),
+                columns,
+            })
+            .collect();
+        let mut out = Self::build(dir, region, layout, (body, spec::bp7(r_vw)), setup)?;
+        out.log_name = SEAS_BP7_RESUME_LOG;
+        Ok(out)
     }
 
     /// The output of the fault `region` on its finite-element volume model `model`
@@ -192,6 +263,7 @@ impl SeasBp5Output {
             spacing: dx,
             n,
             index: Vec::new(),
+            z_sign: -1.0,
         };
         for (k, &p) in fb.nodes.iter().enumerate() {
             let x = model.vertices[p];
@@ -237,14 +309,15 @@ impl SeasBp5Output {
             .iter()
             .map(|x| model.nearest_node(x).map(BodySource::Vertex))
             .collect::<rsf::Result<_>>()?;
-        Self::build(dir, region, layout, body, setup)
+        let spec = bp5_spec(&layout);
+        Self::build(dir, region, layout, (body, spec), setup)
     }
 
     fn build(
         dir: &Path,
         region: &StrikeDipFault,
         layout: FaultLayout,
-        body: Vec<BodySource>,
+        (body, spec): (Vec<BodySource>, Spec),
         setup: SeasSetup,
     ) -> Result<Self> {
         if !is_iso_date(&setup.date) {
@@ -259,89 +332,91 @@ impl SeasBp5Output {
             layout: FileLayout::new(location, columns),
             rows: String::new(),
         };
-        // Profiles along dip at x₂ = 0 and along strike at x₃ = 10 km, at the grid's
-        // rows and columns.
-        let g = &layout;
-        let along_dip: Vec<f64> = (0..g.n[1])
-            .map(|j| g.origin[1] + j as f64 * g.spacing)
-            .collect();
-        let along_strike: Vec<f64> = (0..g.n[0])
-            .map(|i| g.origin[0] + i as f64 * g.spacing)
-            .collect();
-        let mut profiles = Vec::new();
-        for slip in [true, false] {
-            for dip in [true, false] {
-                let (name, quantity) = if slip {
-                    ("slip_2", &SLIP_PROFILE_COLUMNS)
-                } else {
-                    ("stress_2", &STRESS_PROFILE_COLUMNS)
-                };
-                let (positions, coordinate, location) = if dip {
-                    (&along_dip, "x3", format!("{name} along dip at x2 = 0 km"))
-                } else {
-                    (
-                        &along_strike,
-                        "x2",
-                        format!("{name} along strike at x3 = 10 km"),
-                    )
-                };
-                let points = positions
-                    .iter()
-                    .map(|&x| g.bilinear(if dip { [0.0, x] } else { [x, 10e3] }))
-                    .collect();
-                let mut f = file(
-                    &format!("{name}_{}.dat", if dip { "depth" } else { "strike" }),
-                    location,
-                    quantity,
-                );
-                f.layout.profile = Some(Positions {
-                    words: format!("positions {coordinate}"),
-                    coordinate: coordinate.into(),
-                });
-                // The benchmark's first data row: `0 0` and the positions.
-                f.rows = positions_row(positions.iter().copied());
-                f.rows.push('\n');
-                profiles.push(Profile {
-                    file: f,
-                    slip,
-                    points,
-                });
-            }
-        }
-        let nodes = g.positions.len();
-        let fault = SEAS_BP5_FAULT_STATIONS
+        let z_sign = layout.z_sign;
+        let model_point = |x: [f64; 2]| [0.0, x[0], z_sign * x[1]];
+        let profiles = spec
+            .profiles
             .iter()
-            .map(|&(s, d)| FaultStation {
-                file: file(
-                    &fault_station_name(s, d),
-                    format!("on fault, {s} km along strike, {d} km down-dip"),
-                    &FAULT_COLUMNS,
-                ),
-                cells: layout.bilinear([s * 1e3, d * 1e3]),
+            .map(|p| {
+                let mut f = File {
+                    path: dir.join(&p.file),
+                    layout: FileLayout {
+                        location: p.location.clone(),
+                        columns: profile_columns(p.quantity).to_vec(),
+                        profile: Some(Positions {
+                            words: format!("positions {}", p.coordinate),
+                            coordinate: p.coordinate.into(),
+                            name_per_line: spec.name_per_line,
+                        }),
+                    },
+                    rows: positions_row(p.positions.iter().copied()),
+                };
+                // The benchmark's first data row: `0 0` and the positions.
+                f.rows.push('\n');
+                Profile {
+                    file: f,
+                    quantity: p.quantity,
+                    points: p.points.iter().map(|&x| layout.bilinear(x)).collect(),
+                    model_points: p.points.iter().map(|&x| model_point(x)).collect(),
+                }
             })
             .collect();
-        let body = SEAS_BP5_BODY_STATIONS
+        let columns: &[(&str, &str)] = if spec.pressure_columns {
+            &PRESSURE_FAULT_COLUMNS
+        } else {
+            &FAULT_COLUMNS
+        };
+        let fault = spec
+            .fault_stations
+            .iter()
+            .map(|st| FaultStation {
+                file: file(&st.name, st.location.clone(), columns),
+                cells: layout.bilinear(st.at),
+                point: model_point(st.at),
+            })
+            .collect();
+        let body = spec
+            .body_stations
             .iter()
             .zip(body)
-            .map(|(&(s, n, d), source)| BodyStation {
-                file: file(
-                    &body_station_name(s, n, d),
-                    format!(
-                        "off fault, {s} km along strike, {n} km normal to the fault, {d} km depth"
-                    ),
-                    &BODY_COLUMNS,
-                ),
+            .map(|(st, source)| BodyStation {
+                file: file(&st.name, st.location.clone(), &BODY_COLUMNS),
                 source,
             })
             .collect();
+        let global = match spec.global {
+            GlobalSpec::Whole => file("global.dat", "global".into(), &GLOBAL_COLUMNS),
+            GlobalSpec::Discs { outer, inner } => file(
+                "global.dat",
+                format!(
+                    "global: the maximum slip rate and the moment rate over the disc of radius \
+                     {outer} m about the fault's centre, the moment rate over the \
+                     velocity-weakening disc of radius {inner} m"
+                ),
+                &[
+                    GLOBAL_COLUMNS[0],
+                    GLOBAL_COLUMNS[1],
+                    GLOBAL_COLUMNS[2],
+                    (
+                        "moment_rate_VW",
+                        "Moment rate of the velocity-weakening disc (N-m/s)",
+                    ),
+                ],
+            ),
+        };
+        let nodes = layout.positions.len();
         Ok(Self {
             dir: dir.to_path_buf(),
             setup,
+            spec,
             fault,
             body,
-            global: file("global.dat", "global".into(), &GLOBAL_COLUMNS),
+            global,
             profiles,
             layout,
+            z_sign,
+            pressure: None,
+            log_name: SEAS_BP5_RESUME_LOG,
             mu: region.shear_modulus,
             eta: region.radiation_damping,
             v_p: region.plate_rate,
@@ -371,9 +446,39 @@ impl SeasBp5Output {
         state: &rsf::SimulationState,
         friction: &dyn rsf::observe::FaultTractions,
     ) {
-        let (vmax, moment_rate) = self.max_and_moment_rate(&state.kinematics.v).0;
-        self.write_rows(model, state, friction, (vmax, moment_rate));
-        self.write_profiles(state, friction, vmax);
+        let global = self.global_values(&state.kinematics.v).0;
+        self.write_rows(model, state, friction, &global);
+        self.write_profiles(state, friction, global[0]);
+    }
+
+    /// Node `k`'s slip₂, slip₃, V₂, V₃, τ₂, τ₃ and α (benchmark components: `x₃` as the
+    /// layout's sign says) at `state`; the shear stress `τ⁰ + Δτ = friction + ηV`.
+    fn node_values(
+        &self,
+        k: usize,
+        state: &rsf::SimulationState,
+        friction: &dyn rsf::observe::FaultTractions,
+    ) -> [f64; 7] {
+        let map = &self.layout.slip[k];
+        let (s2, s3) = map.of(&state.kinematics.u);
+        let (v2, v3) = map.of(&state.kinematics.v);
+        let speed = v2.hypot(v3);
+        let alpha = state.alpha[k];
+        let shear = friction.shear_traction(k, speed, alpha);
+        let (t2, t3) = if speed > 0.0 {
+            (shear * v2 / speed, shear * v3 / speed)
+        } else {
+            (0.0, 0.0)
+        };
+        [
+            s2,
+            s3,
+            v2,
+            v3,
+            t2 + self.eta * v2,
+            t3 + self.eta * v3,
+            alpha,
+        ]
     }
 
     /// A row of every profile at `state` (max slip rate `vmax`, m/s).
@@ -386,62 +491,88 @@ impl SeasBp5Output {
         let t = state.time;
         self.mark.last_profile_t = t;
         self.mark.profile_written += 1;
-        let (u, v) = (&state.kinematics.u, &state.kinematics.v);
-        let slip = &self.layout.slip;
-        let eta = self.eta;
-        let value = |k: usize, want_slip: bool| -> f64 {
-            if want_slip {
-                return slip[k].of(u).0;
-            }
-            let (v2, v3) = slip[k].of(v);
-            let speed = v2.hypot(v3);
-            let friction_2 = if speed > 0.0 {
-                friction.shear_traction(k, speed, state.alpha[k]) * v2 / speed
-            } else {
-                0.0
-            };
-            (friction_2 + eta * v2) / 1e6
-        };
         let mut values = Vec::new();
-        for p in &mut self.profiles {
+        for i in 0..self.profiles.len() {
+            let p = &self.profiles[i];
             values.clear();
             values.push(vmax.max(SLIP_RATE_FLOOR).log10());
-            for cells in &p.points {
-                let x: f64 = cells
-                    .iter()
-                    .filter(|(_, w)| *w != 0.0)
-                    .map(|&(k, w)| w * value(k, p.slip))
-                    .sum();
-                values.push(x);
+            for (cells, x) in p.points.iter().zip(&p.model_points) {
+                let value = match (p.quantity, &self.pressure) {
+                    (Quantity::Pressure, Some(field)) => field.pressure(x, t) / 1e6,
+                    (Quantity::Pressure, None) => 0.0,
+                    (q, _) => {
+                        let c = match q {
+                            Quantity::Slip2 => 0,
+                            Quantity::Slip3 => 1,
+                            Quantity::Stress2 => 4,
+                            _ => 5,
+                        };
+                        // A stress in MPa node by node, then weighted.
+                        let unit = if c >= 4 { 1e6 } else { 1.0 };
+                        cells
+                            .iter()
+                            .filter(|(_, w)| *w != 0.0)
+                            .map(|&(k, w)| w * (self.node_values(k, state, friction)[c] / unit))
+                            .sum::<f64>()
+                    }
+                };
+                values.push(value);
             }
-            write_row(&mut p.file.rows, t, &values);
+            write_row(&mut self.profiles[i].file.rows, t, &values);
         }
     }
 
-    /// `((max |V|, moment rate), fastest cell)`.
-    fn max_and_moment_rate(&self, v: &[f64]) -> ((f64, f64), usize) {
-        let (mut vmax, mut kmax, mut sum) = (0.0_f64, 0, 0.0);
+    /// `global.dat`'s values but the time (max |V|, the moment rate, and a second moment
+    /// rate for BP7) and the fastest node over the whole fault.
+    fn global_values(&self, v: &[f64]) -> (Vec<f64>, usize) {
+        let (mut vmax, mut kmax) = (0.0_f64, 0);
+        let (mut v_disc, mut sum, mut sum_inner) = (0.0_f64, 0.0, 0.0);
+        let discs = match self.spec.global {
+            GlobalSpec::Whole => None,
+            GlobalSpec::Discs { outer, inner } => Some((outer, inner)),
+        };
         for (k, (map, area)) in self.layout.slip.iter().zip(&self.layout.areas).enumerate() {
             let (v2, v3) = map.of(v);
             let speed = v2.hypot(v3);
-            sum += area * speed;
             if speed > vmax {
                 (vmax, kmax) = (speed, k);
             }
+            match discs {
+                None => sum += area * speed,
+                Some((outer, inner)) => {
+                    let x = self.layout.positions[k];
+                    let r = x[0].hypot(x[1]);
+                    if r <= outer {
+                        sum += area * speed;
+                        v_disc = v_disc.max(speed);
+                    }
+                    if r <= inner {
+                        sum_inner += area * speed;
+                    }
+                }
+            }
         }
-        ((vmax, self.mu * sum), kmax)
+        let values = match discs {
+            None => vec![vmax, self.mu * sum],
+            Some(_) => vec![v_disc, self.mu * sum, self.mu * sum_inner],
+        };
+        (values, kmax)
     }
 
     /// Bytes of the rows held in memory (every file's).
     fn held_bytes(&self) -> u64 {
-        let files = self
-            .fault
+        self.files().map(|f| f.rows.len() as u64).sum::<u64>()
+            + 100 * self.layout.positions.len() as u64
+    }
+
+    /// Every file of rows: stations on and off the fault, `global.dat`, the profiles.
+    fn files(&self) -> impl Iterator<Item = &File> {
+        self.fault
             .iter()
             .map(|s| &s.file)
             .chain(self.body.iter().map(|s| &s.file))
             .chain(std::iter::once(&self.global))
-            .chain(self.profiles.iter().map(|p| &p.file));
-        files.map(|f| f.rows.len() as u64).sum::<u64>() + 100 * self.layout.positions.len() as u64
+            .chain(self.profiles.iter().map(|p| &p.file))
     }
 
     /// Writes every file whole (atomically) and the catalogue, into the space held for
@@ -453,14 +584,7 @@ impl SeasBp5Output {
 
     /// [`write_files`](Self::write_files)' writing.
     fn write_all_files(&self) -> Result<()> {
-        let files = self
-            .fault
-            .iter()
-            .map(|s| &s.file)
-            .chain(self.body.iter().map(|s| &s.file))
-            .chain(std::iter::once(&self.global))
-            .chain(self.profiles.iter().map(|p| &p.file));
-        for f in files {
+        for f in self.files() {
             let steps = (self.mark.steps > 0).then_some(self.mark.tau);
             let rows = match f.layout.profile {
                 Some(_) => self.mark.profile_written,
@@ -469,7 +593,12 @@ impl SeasBp5Output {
             let text = format!("{}{}", f.header(&self.setup, steps, rows), f.rows);
             write_atomically(&f.path, text.as_bytes())?;
         }
-        self.write_rupture()?;
+        if self.spec.rupture.is_some() {
+            self.write_rupture()?;
+        }
+        if !self.spec.catalogue {
+            return Ok(());
+        }
         let mut csv = String::from(
             "event,t_start_s,t_end_s,peak_slip_rate_mps,hypocentre_x2_m,hypocentre_x3_m\n",
         );
@@ -491,9 +620,9 @@ impl SeasBp5Output {
         )?)
     }
 
-    /// The names of the benchmark files this output writes (stations and `global.dat`;
-    /// besides them `events.csv` and, with [`with_resume_log`](Self::with_resume_log),
-    /// [`SEAS_BP5_RESUME_LOG`]).
+    /// The names of the benchmark files BP5's output writes (stations, `global.dat`, the
+    /// profiles and `rupture.dat`; besides them `events.csv` and, with
+    /// [`with_resume_log`](Self::with_resume_log), [`SEAS_BP5_RESUME_LOG`]).
     pub fn file_names() -> Vec<String> {
         let mut names: Vec<String> = SEAS_BP5_FAULT_STATIONS
             .iter()
@@ -514,6 +643,20 @@ impl SeasBp5Output {
         names
     }
 
+    /// The names of the files BP8's output writes ([`bp8`](Self::bp8): the 20 files of
+    /// the description; besides them, with [`with_resume_log`](Self::with_resume_log),
+    /// [`SEAS_BP8_RESUME_LOG`]).
+    pub fn bp8_file_names() -> Vec<String> {
+        names_of(&spec::bp8())
+    }
+
+    /// The names of the files BP7's output writes ([`bp7`](Self::bp7): stations,
+    /// `global.dat`, the profiles, `rupture.dat`, `events.csv`; besides them, with
+    /// [`with_resume_log`](Self::with_resume_log), [`SEAS_BP7_RESUME_LOG`]).
+    pub fn bp7_file_names() -> Vec<String> {
+        names_of(&spec::bp7(200.0))
+    }
+
     /// The events so far.
     pub fn events(&self) -> &[Bp5Event] {
         &self.mark.events
@@ -524,57 +667,57 @@ impl SeasBp5Output {
         &self.setup.sampling
     }
 
-    /// Writes a row of every file at the state of `s` (max slip rate `vmax`, m/s).
+    /// Writes a row of every file at the state of `s` (`global` the values of
+    /// `global.dat` but the time: the maximum slip rate first, m/s).
     fn write_rows(
         &mut self,
         model: &Model<3, 3>,
         state: &rsf::SimulationState,
         friction: &dyn rsf::observe::FaultTractions,
-        (vmax, moment_rate): (f64, f64),
+        global: &[f64],
     ) {
         let t = state.time;
         self.mark.last_station_t = t;
         self.mark.written += 1;
         let (u, v) = (&state.kinematics.u, &state.kinematics.v);
         let n = model.vertices.len();
-        let slip = &self.layout.slip;
-        let eta = self.eta;
-        // Per node: slip₂, slip₃, V₂, V₃, τ₂, τ₃, α (benchmark components: x₃ down); the
-        // shear stress τ⁰ + Δτ = friction + ηV.
-        let cell = |k: usize| -> [f64; 7] {
-            let (s2, s3) = slip[k].of(u);
-            let (v2, v3) = slip[k].of(v);
-            let speed = v2.hypot(v3);
-            let alpha = state.alpha[k];
-            let shear = friction.shear_traction(k, speed, alpha);
-            let (t2, t3) = if speed > 0.0 {
-                (shear * v2 / speed, shear * v3 / speed)
-            } else {
-                (0.0, 0.0)
-            };
-            [s2, s3, v2, v3, t2 + eta * v2, t3 + eta * v3, alpha]
-        };
-        for st in &mut self.fault {
+        let log_rate = |r: f64| r.abs().max(SLIP_RATE_FLOOR).log10();
+        let mut values = Vec::with_capacity(10);
+        for i in 0..self.fault.len() {
+            let st = &self.fault[i];
             let mut x = [0.0; 7];
             for &(k, w) in &st.cells {
                 if w != 0.0 {
-                    let c = cell(k);
+                    let c = self.node_values(k, state, friction);
                     for (xi, ci) in x.iter_mut().zip(c) {
                         *xi += w * ci;
                     }
                 }
             }
-            let log_rate = |r: f64| r.abs().max(SLIP_RATE_FLOOR).log10();
-            let values = [
+            values.clear();
+            values.extend([
                 x[0],
                 x[1],
                 log_rate(x[2]),
                 log_rate(x[3]),
                 x[4] / 1e6,
                 x[5] / 1e6,
-                x[6] / std::f64::consts::LN_10,
-            ];
-            write_row(&mut st.file.rows, t, &values);
+            ]);
+            if self.spec.pressure_columns {
+                let (p, q) = match &self.pressure {
+                    Some(field) => (
+                        field.pressure(&st.point, t),
+                        field
+                            .darcy_velocity_vector(&st.point, t)
+                            .unwrap_or([0.0; 3]),
+                    ),
+                    None => (0.0, [0.0; 3]),
+                };
+                // (`+ 0.0`: no `-0` where the field has no flow.)
+                values.extend([p / 1e6 + 0.0, q[1] + 0.0, self.z_sign * q[2] + 0.0]);
+            }
+            values.push(x[6] / std::f64::consts::LN_10);
+            write_row(&mut self.fault[i].file.rows, t, &values);
         }
         let m = 2 * n;
         for st in &mut self.body {
@@ -600,23 +743,96 @@ impl SeasBp5Output {
                     vel.copy_from_slice(&v[3 * p..3 * p + 3]);
                 }
             }
-            let values = [d[0], d[1], -d[2], vel[0], vel[1], -vel[2]];
+            let z = self.z_sign;
+            let values = [d[0], d[1], z * d[2], vel[0], vel[1], z * vel[2]];
             write_row(&mut st.file.rows, t, &values);
         }
-        let values = [vmax.max(SLIP_RATE_FLOOR).log10(), moment_rate];
+        let mut values = vec![global[0].max(SLIP_RATE_FLOOR).log10()];
+        values.extend_from_slice(&global[1..]);
         write_row(&mut self.global.rows, t, &values);
     }
 }
 
+/// The names of the files of `spec`'s output.
+fn names_of(spec: &Spec) -> Vec<String> {
+    let mut names: Vec<String> = spec
+        .fault_stations
+        .iter()
+        .map(|s| s.name.clone())
+        .chain(spec.body_stations.iter().map(|s| s.name.clone()))
+        .collect();
+    names.push("global.dat".into());
+    names.extend(spec.profiles.iter().map(|p| p.file.clone()));
+    if spec.rupture.is_some() {
+        names.push("rupture.dat".into());
+    }
+    if spec.catalogue {
+        names.push("events.csv".into());
+    }
+    names
+}
+
+/// BP5's description on `layout`'s grid: the profiles at its rows and columns.
+fn bp5_spec(layout: &FaultLayout) -> Spec {
+    let g = layout;
+    let along_dip: Vec<f64> = (0..g.n[1])
+        .map(|j| g.origin[1] + j as f64 * g.spacing)
+        .collect();
+    let along_strike: Vec<f64> = (0..g.n[0])
+        .map(|i| g.origin[0] + i as f64 * g.spacing)
+        .collect();
+    spec::bp5(&along_dip, &along_strike)
+}
+
+/// The layout of a square fault alone `|x₂|, |x₃| ≤ region.length/2` on its cells of
+/// side `dx` (the model's `z` the benchmark's `x₃`).
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `cells` for another
+/// number of cells than the grid has.
+fn square_layout(region: &StrikeDipFault, dx: f64, cells: Vec<[f64; 2]>) -> Result<FaultLayout> {
+    let n = cell_grid(region, dx, &cells)?;
+    Ok(FaultLayout::of_cells(cells, dx, n, 1.0))
+}
+
+/// The cells per side of the grid of size `dx` over `region`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `cells` unless
+/// `cells` has one cell per grid cell.
+fn cell_grid(region: &StrikeDipFault, dx: f64, cells: &[[f64; 2]]) -> Result<[usize; 2]> {
+    let n = [
+        (region.length / dx).round() as usize,
+        (region.width / dx).round() as usize,
+    ];
+    if cells.is_empty() || cells.len() != n[0] * n[1] {
+        return Err(invalid(
+            "cells",
+            format!(
+                "{} cells, the grid of {dx} m over the fault has {} × {}",
+                cells.len(),
+                n[0],
+                n[1]
+            ),
+        ));
+    }
+    Ok(n)
+}
+
 impl SeasBp5Output {
-    /// `rupture.dat`: per fault node `x2 x3 t` (m, m, s), the first time after the first
-    /// event that its slip rate reached [`RUPTURE_THRESHOLD`] ([`NEVER_RUPTURED`] if it
-    /// did not).
+    /// `rupture.dat`: per fault node `x2 x3 t` (m, m, s), the first time (after the first
+    /// event for BP5) that its slip rate reached [`RUPTURE_THRESHOLD`] ([`NEVER_RUPTURED`]
+    /// if it did not).
     fn write_rupture(&self) -> Result<()> {
         let steps = (self.mark.steps > 0).then_some(self.mark.tau);
+        let after = if self.spec.rupture == Some(true) {
+            " after the first event"
+        } else {
+            ""
+        };
         let location = format!(
-            "on fault, the first time after the first event that each node's slip rate \
-             reached {RUPTURE_THRESHOLD:e} m/s ({NEVER_RUPTURED:e} s: never)"
+            "on fault, the first time{after} that each node's slip rate reached \
+             {RUPTURE_THRESHOLD:e} m/s ({NEVER_RUPTURED:e} s: never)"
         );
         let columns = [("x2", "x2 (m)"), ("x3", "x3 (m)"), ("t", "t (s)")];
         let mut text = FileLayout::new(location, &columns).header(
@@ -648,7 +864,12 @@ impl Observer<3, 3> for SeasBp5Output {
         m.step = s.report.step;
         m.steps += 1;
         m.tau = (m.tau.0.min(s.report.tau), m.tau.1.max(s.report.tau));
-        let ((vmax, moment_rate), kmax) = self.max_and_moment_rate(&s.state.kinematics.v);
+        let (global, kmax) = self.global_values(&s.state.kinematics.v);
+        let vmax = {
+            let map = &self.layout.slip[kmax];
+            let (v2, v3) = map.of(&s.state.kinematics.v);
+            v2.hypot(v3)
+        };
         let sampling = *self.sampling();
         let in_event = vmax >= sampling.event_threshold;
         let hypocentre = self.layout.positions[kmax];
@@ -673,7 +894,7 @@ impl Observer<3, 3> for SeasBp5Output {
             sampling.station_quiet
         };
         if sampling.every_step || t - self.mark.last_station_t >= dt * (1.0 - 1e-12) {
-            self.write_rows(s.model, s.state, s.friction, (vmax, moment_rate));
+            self.write_rows(s.model, s.state, s.friction, &global);
         }
         let profile_dt = if in_event {
             sampling.profile_event
@@ -681,10 +902,16 @@ impl Observer<3, 3> for SeasBp5Output {
             sampling.profile_quiet
         };
         if t - self.mark.last_profile_t >= profile_dt * (1.0 - 1e-12) {
-            self.write_profiles(s.state, s.friction, vmax);
+            self.write_profiles(s.state, s.friction, global[0]);
         }
-        // After the first event (the patch's): each node's first time at the threshold.
-        if self.mark.events.first().is_some_and(|e| e.t_end.is_some()) {
+        // Each node's first time at the threshold: after the first event (BP5's patch),
+        // or from the start (BP7).
+        let counting = match self.spec.rupture {
+            Some(true) => self.mark.events.first().is_some_and(|e| e.t_end.is_some()),
+            Some(false) => true,
+            None => false,
+        };
+        if counting {
             let v = &s.state.kinematics.v;
             for (map, first) in self.layout.slip.iter().zip(&mut self.mark.rupture) {
                 if first.is_none() {
@@ -714,7 +941,7 @@ impl Observer<3, 3> for SeasBp5Output {
     }
 
     fn name(&self) -> String {
-        "SEAS BP5 output".into()
+        self.spec.name.into()
     }
 
     fn reads_volume(&self) -> bool {

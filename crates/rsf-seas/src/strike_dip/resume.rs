@@ -4,13 +4,14 @@
 
 use rsf::checkpoint::write_atomically;
 
-use super::mark::{Mark, SEAS_BP5_RESUME_LOG};
+use super::mark::Mark;
 use super::SeasBp5Output;
 use crate::error::{invalid, io_at, show_path, Error, Result};
 use crate::resume::kept_rows;
 
 impl SeasBp5Output {
-    /// Keeps the resume log [`SEAS_BP5_RESUME_LOG`]: writes every file, the catalogue and
+    /// Keeps the resume log ([`SEAS_BP5_RESUME_LOG`](crate::SEAS_BP5_RESUME_LOG), BP7's
+    /// or BP8's): writes every file, the catalogue and
     /// a mark of the log every `steps` steps (0: never) and where a step cap stops the run,
     /// so that a run continued from a checkpoint written at such a step continues its
     /// files ([`resume`](Self::resume)) — checkpoint at multiples of `steps`, with the
@@ -30,7 +31,7 @@ impl SeasBp5Output {
         let log = serde_json::to_string(&self.log)
             .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
         Ok(write_atomically(
-            &self.dir.join(SEAS_BP5_RESUME_LOG),
+            &self.dir.join(self.log_name),
             log.as_bytes(),
         )?)
     }
@@ -47,7 +48,7 @@ impl SeasBp5Output {
     /// `step` or cannot be read back, or the file that cannot be continued (missing,
     /// another layout, rows missing or damaged); read errors naming the file.
     pub fn resume(&mut self, step: usize) -> Result<()> {
-        let path = self.dir.join(SEAS_BP5_RESUME_LOG);
+        let path = self.dir.join(self.log_name);
         let fail = |reason: String| Error::Resume {
             path: show_path(&path),
             reason,

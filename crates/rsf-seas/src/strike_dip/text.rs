@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use super::spec::Quantity;
 use crate::setup::SeasSetup;
 use crate::text::FileLayout;
 
@@ -14,6 +15,21 @@ pub(super) const FAULT_COLUMNS: [(&str, &str); 8] = [
     ("slip_rate_3", "Slip_rate_3 (log10 m/s)"),
     ("shear_stress_2", "Shear_stress_2 (MPa)"),
     ("shear_stress_3", "Shear_stress_3 (MPa)"),
+    ("state", "State (log10 s)"),
+];
+
+/// BP8's station columns: BP5's and the pressure's before the state.
+pub(super) const PRESSURE_FAULT_COLUMNS: [(&str, &str); 11] = [
+    ("t", "Time (s)"),
+    ("slip_2", "Slip_2 (m)"),
+    ("slip_3", "Slip_3 (m)"),
+    ("slip_rate_2", "Slip_rate_2 (log10 m/s)"),
+    ("slip_rate_3", "Slip_rate_3 (log10 m/s)"),
+    ("shear_stress_2", "Shear_stress_2 (MPa)"),
+    ("shear_stress_3", "Shear_stress_3 (MPa)"),
+    ("pore_pressure", "Pore_pressure (MPa)"),
+    ("darcy_vel_2", "Darcy_vel_2 (m/s)"),
+    ("darcy_vel_3", "Darcy_vel_3 (m/s)"),
     ("state", "State (log10 s)"),
 ];
 
@@ -45,32 +61,28 @@ pub(super) struct File {
     pub(super) rows: String,
 }
 
-/// A slip or shear-stress profile (component 2) along dip or strike.
+/// A profile along dip or strike.
 pub(super) struct Profile {
     pub(super) file: File,
-    /// `true`: slip₂ (m); `false`: shear stress₂ (MPa).
-    pub(super) slip: bool,
+    pub(super) quantity: Quantity,
     /// The nodes around every point and their bilinear weights.
     pub(super) points: Vec<[(usize, f64); 4]>,
+    /// The points as model points (for the pressure field).
+    pub(super) model_points: Vec<[f64; 3]>,
 }
 
-pub(super) const SLIP_PROFILE_COLUMNS: [(&str, &str); 3] = [
-    ("t", "Time (s)"),
-    ("max_slip_rate", "Max slip rate (log10 m/s)"),
-    (
-        "slip_2",
-        "Slip_2 (m) at the positions (m) of the first data row, one column each",
-    ),
-];
-
-pub(super) const STRESS_PROFILE_COLUMNS: [(&str, &str); 3] = [
-    ("t", "Time (s)"),
-    ("max_slip_rate", "Max slip rate (log10 m/s)"),
-    (
-        "shear_stress_2",
-        "Shear_stress_2 (MPa) at the positions (m) of the first data row, one column each",
-    ),
-];
+/// A profile's columns: the time, the maximum slip rate and the quantity at the positions.
+pub(super) fn profile_columns(quantity: Quantity) -> [(String, String); 3] {
+    let (name, description) = quantity.column();
+    [
+        ("t".into(), "Time (s)".into()),
+        ("max_slip_rate".into(), "Max slip rate (log10 m/s)".into()),
+        (
+            name.into(),
+            format!("{description} at the positions (m) of the first data row, one column each"),
+        ),
+    ]
+}
 
 /// The slip rate (m/s) from which a node counts as rupturing in `rupture.dat`.
 pub const RUPTURE_THRESHOLD: f64 = 1e-3;
@@ -91,6 +103,15 @@ pub(super) fn body_station_name(strike: f64, normal: f64, depth: f64) -> String 
         signed(strike),
         signed(normal),
         signed(depth)
+    )
+}
+
+/// `+000`, `-200`, `+050`: BP7's and BP8's signed three-digit metres.
+pub(super) fn metre_name(m: f64) -> String {
+    format!(
+        "{}{:03}",
+        if m < 0.0 { '-' } else { '+' },
+        m.abs().round() as i64
     )
 }
 

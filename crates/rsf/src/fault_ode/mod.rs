@@ -8,7 +8,7 @@
 pub use rsf_direct::InteriorOrdering;
 use rsf_friction::FrictionLaw;
 use rsf_state::StateLaw;
-use rsf_time::{OdeStepper, RungeKuttaState};
+use rsf_time::{OdeStepper, OdeSystem, RungeKuttaState};
 
 use crate::checkpoint::Checkpoint;
 pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
@@ -22,6 +22,7 @@ use crate::simulation_state::SimulationState;
 use crate::volume_probe::VolumeProbe;
 
 mod linger;
+mod load_change;
 mod options;
 mod rates;
 mod resume;
@@ -32,6 +33,7 @@ mod step;
 
 pub use crate::fault_alone::{SchurOnlySetup, SetupProgress};
 pub use linger::LINGER;
+pub use load_change::LoadChange;
 pub use options::FaultOdeOptions;
 use rates::{FaultRates, Rates};
 pub use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, RosenbrockOptions, StepperStats};
@@ -241,6 +243,36 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
     /// [`restore`](Self::restore).
     pub fn checkpoint(&self) -> Checkpoint {
         Stepping::checkpoint(self)
+    }
+
+    /// The run with the load of its slip unknowns changed by `h(t) f` from now on
+    /// ([`LoadChange`]; it replaces an earlier one): the rate at the current point is
+    /// evaluated again with it, and the steps end at its breakpoints; after steps were
+    /// taken the integrator starts afresh (as [`restart_from`](Self::restart_from)).
+    /// Give a resumed run the same change before [`restore`](Self::restore).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named
+    /// `load_change.forces` (not one finite force per slip unknown),
+    /// `load_change.history` (`h` not finite at the current time) or
+    /// `load_change.breakpoints`; the evaluation's errors.
+    pub fn with_load_change(mut self, change: LoadChange) -> crate::Result<Self> {
+        let base = match self.rates.load_change.take() {
+            Some(old) => old.base,
+            None => self.rates.g0.clone(),
+        };
+        let t = self.state.time;
+        self.rates.load_change = Some(load_change::LoadChangeRates::new(base, change, t)?);
+        let y = self.y.clone();
+        let mut dy = vec![0.0; y.len()];
+        self.system().rate(t, &y, &mut dy)?;
+        self.dy = dy;
+        if self.state.step > 0 {
+            // The integrator's rate at the current point is the old load's: start afresh.
+            self.rk.restart(self.state.tau);
+        }
+        self.fill_state(false)?;
+        Ok(self)
     }
 }
 

@@ -52,6 +52,8 @@ pub(super) struct FaultRates<const C: usize> {
     pub(super) pressure: Option<PressureRates>,
     /// The diagonal of `S` (N/m; empty until the first local Jacobian asks for it).
     pub(super) diagonal: Vec<f64>,
+    /// A prescribed change of the load in time ([`super::LoadChange`]).
+    pub(super) load_change: Option<super::load_change::LoadChangeRates>,
 }
 
 /// A pore pressure in the fault ODE's evaluations.
@@ -105,6 +107,9 @@ impl<L: FrictionLaw, S: StateLaw, const C: usize> OdeSystem for Rates<'_, L, S, 
             .integral(t)
             .expect("checked at construction: a loading history with a closed-form integral");
         let speed = d.history.value(t);
+        if let Some(change) = &d.load_change {
+            change.apply(t, &mut d.g0);
+        }
         let (u, alpha) = y.split_at(m);
         let (dyu, dya) = dy.split_at_mut(m);
         let pieces = if d.par.is_parallel() && self.friction.len() >= PARALLEL_NODES_MIN {

@@ -239,6 +239,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                     sigma_laws,
                 }
             }),
+            load_change: None,
         };
         let effective_tractions =
             rates

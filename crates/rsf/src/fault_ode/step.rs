@@ -109,18 +109,23 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
                 uses_state: self.problem.uses_state(),
                 data: &mut self.rates,
             };
-            // A step ends at the pore pressure's next breakpoint (a shut-in) rather than
-            // step over it.
-            let t_end = match (
-                t_end,
-                sys.data
-                    .pressure
-                    .as_ref()
-                    .and_then(|p| p.at_nodes.next_breakpoint(t)),
-            ) {
+            // A step ends at the pore pressure's next breakpoint (a shut-in) and at the
+            // load change's rather than step over them.
+            let earliest = |a: Option<f64>, b: Option<f64>| match (a, b) {
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
             };
+            let pressure = sys
+                .data
+                .pressure
+                .as_ref()
+                .and_then(|p| p.at_nodes.next_breakpoint(t));
+            let change = sys
+                .data
+                .load_change
+                .as_ref()
+                .and_then(|c| c.next_breakpoint(t));
+            let t_end = earliest(t_end, earliest(pressure, change));
             self.rk.step(&mut sys, &mut t, &mut self.y, t_end)?.step
         };
         self.dy

@@ -20,13 +20,16 @@ use crate::model::Model;
 use nodes::{alone_nodes, internal_fault_nodes, Node};
 use rsf_ranks::RankGroup;
 
+mod bttb;
 mod elements;
 mod error;
+mod grid_fft;
 mod nodes;
 mod parts;
 
 pub use elements::{fault_alone_model, ElementOperator, ElementOptions, CENTRE_TOLERANCE};
 pub use error::HalfSpaceOperatorError;
+pub use grid_fft::{WholeSpaceGrid, MAX_GRID_CELLS};
 
 /// Relative tolerance (times the grid's spacing) of "at an element centre" and "in the
 /// fault's plane".

@@ -18,11 +18,13 @@
 //! Where `σ̄_n − p ≤ 0` (the fluid would open the fault) a Runge–Kutta stage is outside
 //! the problem's domain and the step is retried smaller; at an accepted time, or in the
 //! implicit scheme, it is [`Error::NormalStressNotPositive`]
-//! naming the node and the time.
+//! naming the node and the time — unless the field holds the effective stress above a
+//! floor ([`EffectiveStressFloor`], SEAS BP8-PW's policy).
 
 mod closed_form;
 mod diffusion;
 mod exp_integral;
+mod floor;
 mod surface;
 mod surface_closed_form;
 mod surface_diffusion;
@@ -30,6 +32,7 @@ mod surface_well;
 
 pub use closed_form::{Injection, InjectionPressure};
 pub use diffusion::{FaultDiffusion, MAX_DIFFUSION_CELLS};
+pub use floor::EffectiveStressFloor;
 pub use surface::{
     FaultPlane, FaultZone, PeacemanWell, SurfaceGrid, SurfaceInjection, SurfaceSource,
 };

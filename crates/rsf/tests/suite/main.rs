@@ -54,3 +54,4 @@ mod time_convergence;
 mod tnnmg_ranks;
 mod velocity_solvers;
 mod vtu;
+mod whole_space_grid;

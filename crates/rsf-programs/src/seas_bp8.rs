@@ -1,0 +1,331 @@
+//! SEAS BP8-QD-GS / BP8-QD-PW (fluid injection into a velocity-strengthening square of a
+//! planar fault in a whole space; docs/seas-bp8.md): the pore pressure diffusing in the
+//! fault plane from a Gaussian source (GS) or a Peaceman well (PW) lowers the effective
+//! normal stress and drives one aseismic slip transient.
+//!
+//! ```sh
+//! cargo run --release --example seas_bp8 -- --source gs --out out/bp8gs   # 10 m, 30 days
+//! cargo run --release --example seas_bp8 -- --source pw --dx 20 --out out/bp8pw
+//! ```
+//!
+//! The fault ODE (`--integrator`, Dormand–Prince 5(4) while accuracy sets the step) on the
+//! `(800 m/Δx)²` square cells of the frictional square, the whole space's boundary-element
+//! operator applied by FFTs (`rsf::halfspace_operator::WholeSpaceGrid`: exact up to
+//! round-off, the locked exterior contributing nothing); the pressure the diffusion on the
+//! square's nodes, exact in time (`rsf::pore_pressure::SurfaceDiffusion`), read at the
+//! cells' centres. Where the pressure would reach the normal stress (PW, the cells next to
+//! the well) `--overpressure floor` (the default) holds the effective normal stress above
+//! `--sigma-min` MPa (`rsf::pore_pressure::EffectiveStressFloor`); `--overpressure refuse`
+//! stops the run there with the cell and the time.
+//!
+//! Writes the benchmark's 20 files to `--out` (`rsf_seas::SeasBp5Output::bp8`: nine
+//! stations `fltst_strk±XXXdp±YYY`, `global.dat`, ten profiles on the description's 81
+//! positions), `summary.json`. Runs: `--checkpoint-every N`, `--resume FILE`,
+//! `--max-steps N`, `--overwrite`, as every SEAS program.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::session::Session;
+use crate::{cpu_seconds, machine};
+use clap::Parser;
+use rsf::checkpoint::Fingerprint;
+use rsf::observe::TimeUnit;
+use rsf::Stepping;
+use rsf_scenes::{Bp8Overpressure, Bp8Source, SeasBp8, BP8_SECONDS_PER_DAY};
+use rsf_seas::{SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP8_RESUME_LOG};
+
+/// The policy where the pressure would reach the normal stress.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum Overpressure {
+    /// The effective normal stress held above `--sigma-min` by a smooth floor.
+    Floor,
+    /// The run stops where the effective normal stress would reach 0.
+    Refuse,
+}
+
+/// SEAS BP8-QD-GS / BP8-QD-PW.
+#[derive(Parser)]
+#[command(version)]
+struct Args {
+    /// The injection's source: gs (a Gaussian) or pw (a Peaceman well).
+    #[arg(long, default_value = "gs")]
+    source: String,
+    /// Output folder.
+    #[arg(long, default_value = "out/seas_bp8")]
+    out: PathBuf,
+    /// Replace the files of an earlier run in `--out`.
+    #[arg(long)]
+    overwrite: bool,
+    /// End time (days).
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    end_days: f64,
+    /// Cell size on the fault (m); must divide 800 m into 2 to 160 cells.
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    dx: f64,
+    /// Tolerance of the fault ODE (local error per step: tolerance · D_RS in slip,
+    /// tolerance in ln θ).
+    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
+    tolerance: f64,
+    /// Where the pressure would reach the normal stress (docs/seas-bp8.md).
+    #[arg(long, value_enum, default_value_t = Overpressure::Floor)]
+    overpressure: Overpressure,
+    /// `--overpressure floor`: the least effective normal stress (MPa); the floor acts
+    /// below twice this [default: 1].
+    #[arg(long, allow_negative_numbers = true)]
+    sigma_min: Option<f64>,
+    /// Seconds between station and `global.dat` rows (0: a row at every accepted step,
+    /// the default).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    station_interval: f64,
+    /// Seconds between profile rows (the description's hourly by default).
+    #[arg(long, default_value_t = 3600.0, allow_negative_numbers = true)]
+    profile_interval: f64,
+    #[command(flatten)]
+    integrator: crate::IntegratorArgs,
+    /// Threads of each evaluation (the same bits for every value).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    #[command(flatten)]
+    header: crate::SeasHeaderArgs,
+    #[command(flatten)]
+    run: crate::ResumeArgs,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Args {
+    fn source(&self) -> Result<Bp8Source, AnyError> {
+        self.source
+            .parse()
+            .map_err(|_| refuse("--source", &self.source, "must be gs or pw"))
+    }
+    /// The policy (σ_min in Pa).
+    fn overpressure(&self) -> Bp8Overpressure {
+        match self.overpressure {
+            Overpressure::Refuse => Bp8Overpressure::Refuse,
+            Overpressure::Floor => Bp8Overpressure::Floor {
+                sigma_min: self.sigma_min.unwrap_or(1.0) * 1e6,
+            },
+        }
+    }
+    fn end_seconds(&self) -> f64 {
+        self.end_days * BP8_SECONDS_PER_DAY
+    }
+}
+
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut names = SeasBp5Output::bp8_file_names();
+    names.extend(["checkpoint.bin", SEAS_BP8_RESUME_LOG, "summary.json"].map(String::from));
+    names
+}
+
+impl Program for Args {
+    const NAME: &'static str = "seas_bp8";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        self.source()?;
+        in_range("--end-days", self.end_days, (1e-6, 3650.0), "days")?;
+        let bp8 = SeasBp8::default();
+        in_range("--dx", self.dx, (5.0, bp8.l_f), "m")?;
+        let cells = bp8
+            .cells(self.dx)
+            .map_err(|_| refuse("--dx", number(self.dx), "must divide 2 l_f = 800 m"))?
+            .len() as f64;
+        in_range("--tolerance", self.tolerance, (1e-12, 1e-1), "")?;
+        match (self.overpressure, self.sigma_min) {
+            (Overpressure::Refuse, Some(s)) => {
+                return Err(refuse(
+                    "--sigma-min",
+                    number(s),
+                    "a setting of `--overpressure floor`: with `refuse` it would be ignored",
+                ))
+            }
+            (Overpressure::Floor, Some(s)) => {
+                in_range(
+                    "--sigma-min",
+                    s,
+                    (1e-3, 0.5 * bp8.sigma_n / 1e6),
+                    "MPa, at most half of σ̄₀",
+                )?;
+            }
+            _ => {}
+        }
+        in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
+        in_range(
+            "--profile-interval",
+            self.profile_interval,
+            (60.0, 1e7),
+            "s",
+        )?;
+        self.header.check()?;
+        // The fault ODE's vectors, the FFT operator's circulant (4 times the cells, a
+        // 2 × 2 block of complex entries each) and the pressure's nodes: 2 kB per cell
+        // (measured: 27 MB of max RSS for GS at 10 m, 6 400 cells); PW's modal system of
+        // the well, dense in its D directions (one per distinct eigenvalue of the cosine
+        // modes: D = 3 283 at 5 m, docs/pore-pressure.md; estimated here as
+        // (n/2 + 1)(n/2 + 2)/2 for n cells a side, 3 321 at 5 m), its
+        // eigendecomposition's copies counted four times (PW at 5 m: 419 MB of max RSS,
+        // this estimate 504 MB); 100 MB for the rest.
+        let n = cells.sqrt();
+        let modes = (0.5 * n + 1.0) * (0.5 * n + 2.0) / 2.0;
+        let well = if self.source()? == Bp8Source::Well {
+            4.0 * 8.0 * modes * modes
+        } else {
+            0.0
+        };
+        let memory = 2000.0 * cells + well + 1e8;
+        // Station rows (9 files of 11 columns and global.dat) at most one per step, the
+        // steps bounded by one per minute for this estimate (30 days at 10 m take a few
+        // thousand); 10 profiles of 83 columns.
+        let seconds = self.end_seconds();
+        let rows = seconds / self.station_interval.max(60.0);
+        let output = rows * (10.0 * 170.0) + seconds / self.profile_interval * 10.0 * 83.0 * 15.0;
+        let names = outputs();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        Ok(Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx",
+                format!("BP8 on Δx = {} m: {cells} cells", number(self.dx)),
+            )
+            .output(
+                output,
+                "--end-days",
+                format!("{} days of stations and profiles", self.end_days),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+            ))
+    }
+}
+
+/// The program `seas_bp8`.
+pub fn main() -> ExitCode {
+    crate::guard::main(run)
+}
+
+fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
+    let source = args.source()?;
+    let policy = args.overpressure();
+    let bp8 = SeasBp8::default();
+    let clock = Instant::now();
+    let cpu0 = cpu_seconds();
+    let field = bp8.pressure(source, args.dx)?;
+    let friction_pressure = bp8.friction_pressure(field.clone(), policy)?;
+    let setup = SeasSetup {
+        problem: format!("SEAS Benchmark BP8-QD-{}", source.name()),
+        modeler: args.header.modeler.clone(),
+        date: args.header.date_or_today(),
+        element_size: args.dx,
+        stations: Vec::new(),
+        depth_axis: 2,
+        depth_down: true,
+        sigma_n: bp8.sigma_n,
+        profile_spacing: args.dx,
+        sampling: SeasSampling {
+            every_step: args.station_interval == 0.0,
+            station_quiet: args.station_interval,
+            station_event: args.station_interval,
+            profile_quiet: args.profile_interval,
+            profile_event: args.profile_interval,
+            ..SeasSampling::default()
+        },
+        layout: SeasLayout::default(),
+        surface_stations: Vec::new(),
+    };
+    let fingerprint = Fingerprint::of_serialized(&bp8)
+        .with("source", source.name())
+        .with("dx", args.dx)
+        .with("tolerance", args.tolerance)
+        .with("overpressure", format!("{policy:?}"))
+        .with("end_days", args.end_days)
+        .with("station_interval", args.station_interval)
+        .with("profile_interval", args.profile_interval);
+    let fingerprint = args.integrator.fingerprint(fingerprint);
+    println!(
+        "BP8-QD-{}, Δx = {} m, whole space (FFT boundary elements), {policy:?}; on {}",
+        source.name(),
+        args.dx,
+        machine()
+    );
+    let mut options = bp8.fault_ode_options(args.tolerance)?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    options.integrator = args.integrator.integrator;
+    let mut ode = bp8.fault_ode(args.dx, options, friction_pressure)?;
+    let cells = ode.model().vertices.len();
+    println!(
+        "{cells} cells ({} slip unknowns); set-up: wall {:.1} s, CPU {:.1} s",
+        2 * cells,
+        clock.elapsed().as_secs_f64(),
+        cpu_seconds() - cpu0
+    );
+    // The folder's lock is held until the run ends.
+    let _folder = &folder;
+    let session = Session::start(
+        args.run.session_flags(),
+        args.out.join("checkpoint.bin"),
+        fingerprint,
+        args.end_seconds(),
+        &mut ode,
+    )?;
+    let mut output = bp8.output(&args.out, args.dx, field, setup)?;
+    if session.keeps_resume_log() {
+        output = output.with_resume_log(args.run.checkpoint_every);
+    }
+    match session.resumed_step() {
+        Some(step) => output.resume(step)?,
+        None => output.write_initial_state(ode.model(), ode.state(), ode.fault_tractions()),
+    }
+    let progress = rsf::observe::Progress::time_in(
+        ode.state().time,
+        args.end_seconds(),
+        TimeUnit {
+            seconds: BP8_SECONDS_PER_DAY,
+            symbol: "d",
+        },
+        "BP8",
+    );
+    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
+    let wall = clock.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    println!(
+        "{} steps ({} attempts rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
+         wrote {}",
+        summary.steps,
+        summary.rejected_attempts,
+        ode.evaluations(),
+        args.out.display()
+    );
+    let json = serde_json::json!({
+        "problem": format!("BP8-QD-{}", source.name()),
+        "dx_m": args.dx,
+        "cells": cells,
+        "end_days": args.end_days,
+        "tolerance": args.tolerance,
+        "overpressure": format!("{policy:?}"),
+        "accepted_steps": ode.state().step,
+        "steps_this_invocation": summary.steps,
+        "rejected_attempts": summary.rejected_attempts,
+        "rate_evaluations": ode.evaluations(),
+        "integrator": args.integrator.summary(Some(ode.integrator_stats())),
+        "threads": args.threads,
+        "wall_time_s": wall,
+        "cpu_time_s": cpu,
+        "machine": machine(),
+    });
+    rsf::checkpoint::write_atomically(
+        &args.out.join("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    Ok(())
+}

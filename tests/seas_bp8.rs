@@ -1,0 +1,225 @@
+//! The `seas_bp8` program (SEAS BP8-QD-GS, docs/seas-bp8.md) end to end through its
+//! binary, on a coarse grid (Δx = 80 m: 100 cells, seconds in a test build):
+//!
+//! - the t = 0 row of every file holds the description's initial values (§3: τ_init and
+//!   V_init kept, θ₀ from eq. 12), computed here from Table 1 alone;
+//! - the run's physics: the pressure's mass balance after shut-in (1.6875 MPa uniform),
+//!   the symmetries of slip (s₂ even, s₃ odd in x₂ and in x₃), the in-plane direction
+//!   slipping more than the anti-plane one;
+//! - a run stopped with `--max-steps` and resumed writes every file byte-identical to an
+//!   uninterrupted run's.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::program_binary;
+
+/// A fresh temporary folder.
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rsf-bp8-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs `seas_bp8 --dx 80` into `out` with `extra` flags.
+fn seas_bp8(out: &Path, extra: &[&str]) {
+    let o = Command::new(program_binary("seas_bp8"))
+        .args(["--dx", "80", "--date", "2026-11-29", "--out"])
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap();
+    let capped = extra.contains(&"--max-steps");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() != capped && (!capped || stderr.contains("step cap")),
+        "seas_bp8 {extra:?}: {}{stderr}",
+        String::from_utf8_lossy(&o.stdout),
+    );
+}
+
+/// The data rows of a station file or `global.dat` (a profile's first row is its
+/// positions).
+fn rows(path: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter(|l| {
+            l.trim_start()
+                .starts_with(|c: char| c.is_ascii_digit() || c == '-')
+        })
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+/// Table 1 of the description (2026-08-12).
+const RHO: f64 = 2670.0;
+const C_S: f64 = 3464.0;
+const SIGMA: f64 = 25e6;
+const TAU_INIT: f64 = 14.6e6;
+const A: f64 = 0.016;
+const B: f64 = 0.010;
+const D_RS: f64 = 5e-4;
+const V_STAR: f64 = 1e-6;
+const F_STAR: f64 = 0.6;
+const V_INIT: f64 = 1e-12;
+const V_ZERO: f64 = 1e-20;
+
+/// `|x − y| ≤ tol · max(|y|, floor)`.
+fn close(x: f64, y: f64, tol: f64, floor: f64, what: &str) {
+    assert!(
+        (x - y).abs() <= tol * y.abs().max(floor),
+        "{what}: {x} against {y}"
+    );
+}
+
+#[test]
+fn the_first_rows_are_the_descriptions_initial_values_and_the_run_keeps_its_symmetries() {
+    let out = temp_dir("t0");
+    seas_bp8(&out, &[]);
+    // §3: θ₀ from eq. 12 at τ = τ_init − η|V(0)|, σ̄₀, |V(0)|; 4.0188e11 s
+    // (docs/seas-bp8.md, "Initial conditions").
+    let mu = RHO * C_S * C_S;
+    let eta = mu / (2.0 * C_S);
+    let v = V_INIT.hypot(V_ZERO);
+    let tau = TAU_INIT - eta * v;
+    let theta0 = (D_RS / V_STAR)
+        * (((2.0 * V_STAR / v) * (tau / (A * SIGMA)).sinh()).ln() * A / B - F_STAR / B).exp();
+    close(theta0, 4.0188e11, 1e-4, 0.0, "θ₀ against the description's");
+    let mut stations = BTreeMap::new();
+    for x2 in [-200, 0, 200] {
+        for x3 in [-200, 0, 200] {
+            let name = format!("fltst_strk{x2:+04}dp{x3:+04}");
+            let r = rows(&out.join(&name));
+            let first = &r[0];
+            // t slip₂ slip₃ log V₂ log V₃ τ₂ τ₃ p q₂ q₃ log θ (printed with 7 digits).
+            let expected = [
+                0.0,
+                0.0,
+                0.0,
+                V_INIT.log10(),
+                V_ZERO.log10(),
+                TAU_INIT * V_INIT / v / 1e6,
+                TAU_INIT * V_ZERO / v / 1e6,
+                0.0,
+                0.0,
+                0.0,
+                theta0.log10(),
+            ];
+            assert_eq!(first.len(), expected.len(), "{name}");
+            for (k, (x, y)) in first.iter().zip(expected).enumerate() {
+                close(*x, y, 1e-6, 1e-30, &format!("{name} column {}", k + 1));
+            }
+            stations.insert((x2, x3), r);
+        }
+    }
+    let global = rows(&out.join("global.dat"));
+    // log10 V_max, and M₀ = μ |V(0)| |Ω_f| (|Ω_f| = 0.64 km²).
+    close(global[0][1], v.log10(), 1e-6, 0.0, "global max slip rate");
+    close(
+        global[0][2],
+        mu * v * 0.64e6,
+        1e-6,
+        0.0,
+        "global moment rate",
+    );
+    // The profiles' t = 0 rows: zero slip and pressure, τ₂ = τ_init.
+    for (file, value) in [
+        ("slip_2_depth.dat", 0.0),
+        ("slip_2_strike.dat", 0.0),
+        ("shear_stress_2_depth.dat", TAU_INIT / 1e6),
+        ("pore_pressure_strike.dat", 0.0),
+    ] {
+        let r = rows(&out.join(file));
+        assert_eq!(r[0].len(), 83, "{file}: `0 0` and 81 positions");
+        close(r[0][2], -400.0, 0.0, 1.0, file);
+        close(r[0][82], 400.0, 0.0, 1.0, file);
+        assert_eq!(r[1][0], 0.0, "{file}");
+        for x in &r[1][2..] {
+            close(*x, value, 1e-6, 1e-30, file);
+        }
+    }
+    // At 30 days the pressure has spread uniform: the injected 1080 m³ over the square's
+    // storage, 1080/(0.64e6 · 1 · 1e-9) Pa = 1.6875 MPa (±0.25 % at t_f, docs/seas-bp8.md).
+    let last = |x: (i32, i32)| stations[&x].last().unwrap().clone();
+    for x in stations.keys() {
+        close(last(*x)[7], 1.6875, 3e-3, 0.0, "late pore pressure");
+    }
+    // Symmetry: s₂ even in x₂ and x₃, s₃ odd in each.
+    for (a, b) in [
+        ((200, 0), (-200, 0)),
+        ((0, 200), (0, -200)),
+        ((200, 200), (-200, -200)),
+        ((200, -200), (-200, 200)),
+        ((200, 200), (200, -200)),
+    ] {
+        close(last(a)[1], last(b)[1], 1e-6, 0.0, "s₂ symmetric");
+    }
+    // (s₃ odd up to the uniform part of the start's V₃ = V_zero, about 3e-10 m of the
+    // corners' 2e-4 m: hence 1e-4.)
+    for (a, b) in [((200, 200), (-200, 200)), ((200, 200), (200, -200))] {
+        close(last(a)[2], -last(b)[2], 1e-4, 0.0, "s₃ antisymmetric");
+    }
+    // In-plane (along x₂) more slip than anti-plane (along x₃), slip at the centre the most.
+    assert!(last((200, 0))[1] > last((0, 200))[1]);
+    assert!(last((0, 0))[1] > last((200, 0))[1]);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// Every file of `dir` but the checkpoint, the resume log, the manifest and the summary.
+fn outputs(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|n| {
+            ![
+                "checkpoint.bin",
+                rsf_seas::SEAS_BP8_RESUME_LOG,
+                "rsf-run.txt",
+                "summary.json",
+            ]
+            .contains(&n.as_str())
+        })
+        .map(|n| {
+            let bytes = std::fs::read(dir.join(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect()
+}
+
+#[test]
+fn a_stopped_and_resumed_run_writes_the_uninterrupted_runs_files() {
+    let end = ["--end-days", "8"];
+    let whole = temp_dir("whole");
+    seas_bp8(&whole, &end);
+    let reference = outputs(&whole);
+    assert_eq!(reference.len(), 20, "the description's 20 files");
+    let parts = temp_dir("parts");
+    let every = ["--checkpoint-every", "40"];
+    // Stopped during the injection (about 300 steps in all), then continued.
+    seas_bp8(
+        &parts,
+        &[end.as_slice(), &every, &["--max-steps", "130"]].concat(),
+    );
+    let resume = parts.join("checkpoint.bin").display().to_string();
+    seas_bp8(
+        &parts,
+        &[end.as_slice(), &every, &["--resume", &resume]].concat(),
+    );
+    let resumed = outputs(&parts);
+    assert_eq!(
+        resumed.keys().collect::<Vec<_>>(),
+        reference.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &reference {
+        assert!(bytes == &resumed[name], "{name} differs after the resume");
+    }
+    let _ = std::fs::remove_dir_all(&whole);
+    let _ = std::fs::remove_dir_all(&parts);
+}
