@@ -30,14 +30,14 @@ use crate::reserve::Reserve;
 use layout::{BodySource, FaultLayout, SlipMap};
 use mark::Mark;
 pub use mark::{Bp5Event, SEAS_BP5_RESUME_LOG};
-use spec::{GlobalSpec, Quantity, Spec};
+use spec::{GlobalSpec, Spec};
 pub use stations::{
     bp5_body_station_points, bp7_body_station_points, StrikeDipFault, SEAS_BP5_BODY_STATIONS,
     SEAS_BP5_FAULT_STATIONS, SEAS_BP7_BODY_STATIONS, SEAS_BP7_FAULT_STATIONS,
     SEAS_BP8_FAULT_STATIONS,
 };
 use text::{
-    body_station_name, fault_station_name, profile_columns, File, Profile, BODY_COLUMNS,
+    body_station_name, fault_station_name, profile_columns, File, Profile, Quantity, BODY_COLUMNS,
     FAULT_COLUMNS, GLOBAL_COLUMNS, PRESSURE_FAULT_COLUMNS,
 };
 pub use text::{NEVER_RUPTURED, RUPTURE_THRESHOLD, SLIP_RATE_FLOOR};

@@ -7,35 +7,8 @@ use super::stations::{
     SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS, SEAS_BP7_BODY_STATIONS,
     SEAS_BP7_FAULT_STATIONS, SEAS_BP8_FAULT_STATIONS,
 };
+use super::text::Quantity;
 use super::text::{body_station_name, fault_station_name, metre_name};
-
-/// What a profile or a station column holds at a fault node.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Quantity {
-    /// `slip_2` (m).
-    Slip2,
-    /// `slip_3` (m).
-    Slip3,
-    /// `shear_stress_2` (MPa).
-    Stress2,
-    /// `shear_stress_3` (MPa).
-    Stress3,
-    /// `pore_pressure` (MPa): the run's pressure field at the position.
-    Pressure,
-}
-
-impl Quantity {
-    /// The column's field name and description.
-    pub(super) fn column(self) -> (&'static str, &'static str) {
-        match self {
-            Self::Slip2 => ("slip_2", "Slip_2 (m)"),
-            Self::Slip3 => ("slip_3", "Slip_3 (m)"),
-            Self::Stress2 => ("shear_stress_2", "Shear_stress_2 (MPa)"),
-            Self::Stress3 => ("shear_stress_3", "Shear_stress_3 (MPa)"),
-            Self::Pressure => ("pore_pressure", "Pore_pressure (MPa)"),
-        }
-    }
-}
 
 /// A station on the fault: its file, position `(x₂, x₃)` (m, `x₃` down) and location line.
 #[derive(Debug, Clone)]
