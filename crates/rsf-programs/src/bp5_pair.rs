@@ -308,46 +308,27 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             rigidity: pair.bp5.shear_modulus(),
         },
     )?;
-    let wall = clock.elapsed().as_secs_f64();
-    let cpu = cpu_seconds() - cpu0;
-    let s = &outcome.summary;
-    println!(
-        "{} events; {} steps ({} rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
-         wrote {}",
-        outcome.events.len(),
-        s.steps,
-        s.rejected_attempts,
-        ode.evaluations(),
-        args.out.display()
-    );
-    let json = serde_json::json!({
-        "program": "bp5_pair",
-        "scene": pair,
-        "kernel": args.kernel,
-        "grid": grid,
-        "run": {
+    crate::network::finish(
+        crate::network::NetworkEnd {
+            out: &args.out,
+            outcome: &outcome,
+            evaluations: ode.evaluations(),
+            integrator: args.integrator.summary(Some(ode.integrator_stats())),
+            started: (clock, cpu0),
+        },
+        serde_json::json!({
+            "program": "bp5_pair",
+            "scene": pair,
+            "kernel": args.kernel,
+            "grid": grid,
+        }),
+        serde_json::json!({
             "end_years": args.end_years,
             "tolerance": args.tolerance,
             "epsilon": args.epsilon,
-            "steps": s.steps,
-            "rejected_attempts": s.rejected_attempts,
-            "evaluations": ode.evaluations(),
             "setup_wall_seconds": setup.0,
             "setup_cpu_seconds": setup.1,
-            "wall_seconds": wall,
-            "cpu_seconds": cpu,
-            "machine": machine(),
-            "integrator": args.integrator.summary(Some(ode.integrator_stats())),
             "kernel_report": ode.kernel_report().to_string(),
-        },
-        "faults": outcome.names,
-        "events": outcome.events,
-        "stats": crate::network::catalogue_stats(&outcome.names, &outcome.events),
-    });
-    rsf::checkpoint::write_atomically(
-        &args.out.join("summary.json"),
-        serde_json::to_string_pretty(&json)?.as_bytes(),
-    )?;
-    println!("wrote {}", args.out.join("catalogue.png").display());
-    Ok(())
+        }),
+    )
 }

@@ -222,3 +222,81 @@ pub fn catalogue_figure(
         Ok(())
     })
 }
+
+/// What a network program's run ended with, for its last line and `summary.json`
+/// ([`finish`]).
+pub struct NetworkEnd<'a> {
+    /// The run folder.
+    pub out: &'a Path,
+    /// The run's outcome.
+    pub outcome: &'a NetworkOutcome,
+    /// The fault ODE's rate evaluations.
+    pub evaluations: usize,
+    /// The integrator's summary (`IntegratorArgs::summary`).
+    pub integrator: serde_json::Value,
+    /// The wall clock and the CPU seconds at the program's start.
+    pub started: (std::time::Instant, f64),
+}
+
+/// Prints a network run's last lines and writes its `summary.json`: the program's own keys
+/// `head` (an object: program, scene, grid, …), then `run` — `run_keys` (an object: the
+/// program's flags and set-up figures) with the steps, rejected attempts, evaluations,
+/// wall and CPU seconds, machine and integrator added — and the faults' names, the events
+/// and their statistics ([`catalogue_stats`]).
+///
+/// # Errors
+/// Writing the file.
+pub fn finish(
+    end: NetworkEnd<'_>,
+    head: serde_json::Value,
+    run_keys: serde_json::Value,
+) -> Result<(), AnyError> {
+    let wall = end.started.0.elapsed().as_secs_f64();
+    let cpu = crate::cpu_seconds() - end.started.1;
+    let (summary, names, events) = (
+        &end.outcome.summary,
+        &end.outcome.names,
+        &end.outcome.events,
+    );
+    let every = events
+        .iter()
+        .filter(|e| e.ruptured.iter().all(|&r| r))
+        .count();
+    println!(
+        "{} events, {every} of them ruptured every fault; {} steps ({} rejected), {} \
+         evaluations; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
+        events.len(),
+        summary.steps,
+        summary.rejected_attempts,
+        end.evaluations,
+        end.out.display()
+    );
+    let mut run = run_keys;
+    let keys = serde_json::json!({
+        "steps": summary.steps,
+        "rejected_attempts": summary.rejected_attempts,
+        "evaluations": end.evaluations,
+        "wall_seconds": wall,
+        "cpu_seconds": cpu,
+        "machine": crate::machine(),
+        "integrator": end.integrator,
+    });
+    let mut json = head;
+    if let (Some(run), Some(keys), Some(json)) =
+        (run.as_object_mut(), keys.as_object(), json.as_object_mut())
+    {
+        run.extend(keys.clone());
+        json.insert("run".into(), serde_json::Value::Object(run.clone()));
+        json.insert("faults".into(), serde_json::json!(names));
+        json.insert("events".into(), serde_json::json!(events));
+        json.insert("stats".into(), catalogue_stats(names, events));
+    } else {
+        return Err("summary.json: the program's keys must be objects".into());
+    }
+    rsf::checkpoint::write_atomically(
+        &end.out.join("summary.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    println!("wrote {}", end.out.join("catalogue.png").display());
+    Ok(())
+}

@@ -259,45 +259,15 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             rigidity: stepover.params.shear_modulus(),
         },
     )?;
-    let wall = clock.elapsed().as_secs_f64();
-    let cpu = cpu_seconds() - cpu0;
-    let (summary, names, events) = (&outcome.summary, &outcome.names, &outcome.events);
-    let jumped = events
-        .iter()
-        .filter(|e| e.ruptured.iter().all(|&r| r))
-        .count();
-    println!(
-        "{} events, {jumped} of them ruptured both strands; {} steps ({} rejected), {} \
-         evaluations; wall {wall:.1} s, CPU {cpu:.1} s; wrote {}",
-        events.len(),
-        summary.steps,
-        summary.rejected_attempts,
-        ode.evaluations(),
-        args.out.display()
-    );
-    let json = serde_json::json!({
-        "program": "stepover",
-        "scene": stepover,
-        "grid": grid,
-        "run": {
-            "end_years": args.end_years,
-            "tolerance": args.tolerance,
-            "steps": summary.steps,
-            "rejected_attempts": summary.rejected_attempts,
-            "evaluations": ode.evaluations(),
-            "wall_seconds": wall,
-            "cpu_seconds": cpu,
-            "machine": machine(),
-            "integrator": args.integrator.summary(Some(ode.integrator_stats())),
+    crate::network::finish(
+        crate::network::NetworkEnd {
+            out: &args.out,
+            outcome: &outcome,
+            evaluations: ode.evaluations(),
+            integrator: args.integrator.summary(Some(ode.integrator_stats())),
+            started: (clock, cpu0),
         },
-        "faults": names,
-        "events": events,
-        "stats": crate::network::catalogue_stats(names, events),
-    });
-    rsf::checkpoint::write_atomically(
-        &args.out.join("summary.json"),
-        serde_json::to_string_pretty(&json)?.as_bytes(),
-    )?;
-    println!("wrote {}", args.out.join("catalogue.png").display());
-    Ok(())
+        serde_json::json!({ "program": "stepover", "scene": stepover, "grid": grid }),
+        serde_json::json!({ "end_years": args.end_years, "tolerance": args.tolerance }),
+    )
 }
