@@ -9,7 +9,8 @@
 use std::collections::HashMap;
 
 use crate::split::{
-    add_plus_copy, cell_groups_around, facet_key, ordered_chain, tag_network_facets,
+    add_plus_copy, cell_groups_around, edge_and_vertex_cells, facet_key, ordered_chain,
+    tag_network_facets,
 };
 use crate::{Error, FaultSides, Result, SimplexMesh};
 
@@ -325,18 +326,7 @@ impl<'a> Cut2d<'a> {
     fn new(mesh: &'a SimplexMesh<2>, faults: &[(&'a str, &[[usize; 2]])]) -> Result<Self> {
         let nv = mesh.num_vertices();
         let key = |a: usize, b: usize| (a.min(b), a.max(b));
-        let mut edge_cells: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
-        let mut vertex_cells: Vec<Vec<usize>> = vec![Vec::new(); nv];
-        for c in 0..mesh.num_cells() {
-            let cell = mesh.cell(c);
-            for k in 0..3 {
-                edge_cells
-                    .entry(key(cell[k], cell[(k + 1) % 3]))
-                    .or_default()
-                    .push(c);
-                vertex_cells[cell[k]].push(c);
-            }
-        }
+        let (edge_cells, vertex_cells) = edge_and_vertex_cells(mesh);
         let names: Vec<&str> = faults.iter().map(|f| f.0).collect();
         let mut fault_edge: HashMap<(usize, usize), usize> = HashMap::new();
         let mut chains = Vec::with_capacity(faults.len());

@@ -180,19 +180,7 @@ impl SimplexMesh<2> {
         }
         let nv = self.num_vertices();
         let key = |a: usize, b: usize| (a.min(b), a.max(b));
-        // Every mesh edge with its cells.
-        let mut edge_cells: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
-        let mut vertex_cells: Vec<Vec<usize>> = vec![Vec::new(); nv];
-        for c in 0..self.num_cells() {
-            let cell = self.cell(c);
-            for k in 0..3 {
-                edge_cells
-                    .entry(key(cell[k], cell[(k + 1) % 3]))
-                    .or_default()
-                    .push(c);
-                vertex_cells[cell[k]].push(c);
-            }
-        }
+        let (edge_cells, vertex_cells) = edge_and_vertex_cells(self);
         // Validate the edges and collect the fault's adjacency.
         let mut fault_edge: HashMap<(usize, usize), usize> = HashMap::new();
         let mut at_vertex: HashMap<usize, Vec<usize>> = HashMap::new();
@@ -678,4 +666,23 @@ pub(crate) fn tag_network_facets<const D: usize>(
     }
     split.set_facet_tags(tag_names, tags);
     sides
+}
+
+/// The cells of every edge (its vertices in increasing order) of a triangle mesh.
+pub(crate) type EdgeCells = HashMap<(usize, usize), Vec<usize>>;
+
+/// Every edge of a triangle mesh with the cells that hold it, and every vertex with its
+/// cells.
+pub(crate) fn edge_and_vertex_cells(mesh: &SimplexMesh<2>) -> (EdgeCells, Vec<Vec<usize>>) {
+    let mut edge_cells = EdgeCells::new();
+    let mut vertex_cells: Vec<Vec<usize>> = vec![Vec::new(); mesh.num_vertices()];
+    for c in 0..mesh.num_cells() {
+        let cell = mesh.cell(c);
+        for k in 0..3 {
+            let (a, b) = (cell[k], cell[(k + 1) % 3]);
+            edge_cells.entry((a.min(b), a.max(b))).or_default().push(c);
+            vertex_cells[cell[k]].push(c);
+        }
+    }
+    (edge_cells, vertex_cells)
 }
