@@ -385,6 +385,44 @@ fn a_compliant_fault_zone_softens_the_condensed_operator() {
     }
 }
 
+/// The compliant zone is exactly what its documentation states: the slab `|x₁| ≤
+/// half_width` over the rate-and-state region (`|x₂| ≤ l_f/2`, depth `−x₃ ≤ W_f`) of shear
+/// modulus `rigidity_ratio · μ`, the host elsewhere. The slab is written here from that
+/// statement, given to the homogeneous scene's builder as its material, and the scene's
+/// stiffness must be that model's, bit for bit; a slab of half the width gives another
+/// stiffness (cells of 10 km, so the half-width's plane cuts between centroids at 2.5 and
+/// 7.5 km), so the comparison can tell.
+#[test]
+fn the_compliant_zone_is_the_slab_of_its_width_over_the_rate_state_region() {
+    use rsf::model::MaterialRegions;
+    let (half_width, ratio) = (10e3, 0.5);
+    let host = SeasBp5::default();
+    let zone = SeasBp5 {
+        fault_zone: Some(rsf_scenes::FaultZone {
+            half_width,
+            rigidity_ratio: ratio,
+        }),
+        ..host
+    };
+    let scene = zone.fe_model(&zone_grid()).unwrap();
+    let (l_f, w_f, nu, rho) = (host.l_f, host.w_f, host.nu, host.rho);
+    let material = |mu: f64| rsf::Material::new(2.0 * mu * (1.0 + nu), nu, rho);
+    let mu = host.shear_modulus();
+    let with_slab = |width: f64| {
+        let slab =
+            move |x: &[f64; 3]| x[0].abs() <= width && x[1].abs() <= 0.5 * l_f && -x[2] <= w_f;
+        host.fe_model_builder(&zone_grid())
+            .unwrap()
+            .material(MaterialRegions::new(material(mu)).region("slab", slab, material(ratio * mu)))
+            .build()
+            .unwrap()
+    };
+    let bits =
+        |m: &rsf::Model<3>| -> Vec<u64> { m.stiffness.val().iter().map(|x| x.to_bits()).collect() };
+    assert_eq!(bits(&scene), bits(&with_slab(half_width)));
+    assert_ne!(bits(&scene), bits(&with_slab(0.5 * half_width)));
+}
+
 /// The graded mesh (an octree of Kuhn cubes) against the tensor grid at the same fault
 /// spacing: at Δx = 2 km its smallest dihedral angle is the octree's bound,
 /// arctan(1/(2√2)) = 19.47°, and it has less than half the tensor grid's vertices; its
