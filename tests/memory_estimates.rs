@@ -462,7 +462,16 @@ fn estimates_bound_the_measured_peaks_of_the_table() {
         ),
         (
             "seas_bp6",
-            &["--variant", "c", "--dz", "50", "--end-years", "0.001"],
+            &[
+                "--variant",
+                "c",
+                "--elastic",
+                "fe",
+                "--dz",
+                "50",
+                "--end-years",
+                "0.001",
+            ],
             true,
         ),
         (

@@ -6,8 +6,8 @@
 //! ```sh
 //! cargo run --release --example seas_bp6 -- --variant a --out out/bp6a          # 10 m, 2 years, BEM
 //! cargo run --release --example seas_bp6 -- --variant s --out out/bp6s
-//! cargo run --release --example seas_bp6 -- --variant c --dz 50 --out out/bp6c  # implicit, FE
-//! cargo run --release --example seas_bp6 -- --variant c --elastic bem --out out/bp6c_bem
+//! cargo run --release --example seas_bp6 -- --variant c --out out/bp6c          # implicit, BEM
+//! cargo run --release --example seas_bp6 -- --variant c --elastic fe --dz 50 --out out/bp6c_fe
 //! cargo run --release --example seas_bp6 -- --variant a --elastic fe --dz 50 --out out/bp6a_fe
 //! ```
 //!
@@ -17,9 +17,11 @@
 //! half space condensed onto the fault (`--elastic fe`, `--domain-km`, `--ratio`). C
 //! (constant friction) runs with the implicit scheme (backward Euler, the direct solver:
 //! the nonsmooth problem with the bound `f (σ̄₀ − p(t))` solved exactly at every step) on
-//! the finite-element model (the default) or on the fault alone with the boundary-element
-//! kernel as its dense stiffness (`--elastic bem`); a fault ODE cannot take it (its steps
-//! would be limited to milliseconds by the damping alone, docs/seas-bp6.md).
+//! the fault alone with the boundary-element kernel as its dense stiffness (`--elastic
+//! bem`, the default: the description's 10 m in 2 min of CPU and 3 GB) or on the
+//! finite-element model (`--elastic fe`: 50 m in 36 s and 1.9 GB, finer cells beyond
+//! this machine's memory); a fault ODE cannot take it (its steps would be limited to
+//! milliseconds by the damping alone, docs/seas-bp6.md).
 //!
 //! Writes the benchmark's files to `--out` (`rsf_seas::SeasBp6Output`: nine stations,
 //! `global.dat`, four profiles). Runs: `--checkpoint-every N`, `--resume FILE`,
@@ -72,7 +74,7 @@ enum PressureArg {
 /// SEAS BP6-QD-A/S/C.
 #[derive(Parser)]
 #[command(version)]
-struct Args {
+pub(crate) struct Args {
     /// The variant: a (aging law), s (slip law), c (constant friction).
     #[arg(long, default_value = "a")]
     variant: String,
@@ -88,7 +90,8 @@ struct Args {
     /// Cell (BEM) or element (FE) size along the fault (m); must divide 20 km.
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     dz: f64,
-    /// The elastic kernel (default: bem for a and s, fe for c).
+    /// The elastic kernel [default: bem; for c too, whose finite-element model at the
+    /// default 10 m would need about 50 GB].
     #[arg(long, value_enum)]
     elastic: Option<Elastic>,
     /// BEM: how the kernel's products are computed [default: fft].
@@ -138,12 +141,8 @@ impl Args {
             .parse()
             .map_err(|_| refuse("--variant", &self.variant, "must be a, s or c"))
     }
-    fn elastic(&self, v: Bp6Variant) -> Elastic {
-        self.elastic.unwrap_or(if v == Bp6Variant::C {
-            Elastic::Fe
-        } else {
-            Elastic::Bem
-        })
+    fn elastic(&self) -> Elastic {
+        self.elastic.unwrap_or(Elastic::Bem)
     }
     fn tolerance(&self, v: Bp6Variant) -> f64 {
         self.tolerance
@@ -204,7 +203,7 @@ impl Program for Args {
         if (cells - cells.round()).abs() > 1e-9 * cells {
             return Err(refuse("--dz", number(self.dz), "must divide 2 l_f = 40 km"));
         }
-        let elastic = self.elastic(variant);
+        let elastic = self.elastic();
         if variant == Bp6Variant::C && elastic == Elastic::Bem && cells > 20_000.0 {
             return Err(refuse(
                 "--dz",
@@ -348,7 +347,7 @@ pub fn main() -> ExitCode {
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let variant = args.variant()?;
-    let elastic = args.elastic(variant);
+    let elastic = args.elastic();
     let tol = args.tolerance(variant);
     let bp6 = SeasBp6::default();
     let clock = Instant::now();
