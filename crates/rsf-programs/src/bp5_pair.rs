@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::estimates::{csv_row_bytes, fe_3d_memory, operator_bytes, FIGURE_BYTES};
+use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES};
 use crate::guard::{in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -121,6 +121,30 @@ const DEFAULT_ORDERING: &str = if cfg!(feature = "metis") {
     "amd"
 };
 
+/// The run's peak (bytes) of `--kernel fe` with nested dissection, the anchor of its
+/// estimate: measured 3.3 GB at 2 km (the ℋ-matrix of `S` included; AMD EPYC,
+/// docs/fault-networks.md) with a margin of 1.25, at 192 825 vertices of the graded mesh
+/// before the strands split it (`Bp5Pair::fe_mesh_vertices`; 245 907 after), growing like
+/// `vertices^1.5` (BP5's graded box with nested dissection; `crate::seas_bp5`): at 4 km,
+/// 171 071 vertices, that gives 3.45 GB against the measured 2.7 GB. The estimate before it
+/// (the tensor grid's closed form, twice) gave 19.3 GB at 2 km and refused the defaults.
+const PAIR_ND_PEAK_AT_2_KM: f64 = 1.25 * 3.3e9;
+/// See [`PAIR_ND_PEAK_AT_2_KM`].
+const PAIR_VERTICES_AT_2_KM: f64 = 192_825.0;
+/// AMD's fill over nested dissection's on the pair's box: 37 GB against 2.7 GB at 4 km
+/// (measured; the `--ordering` flag's documentation), rounded up.
+const PAIR_AMD_OVER_ND: f64 = 14.0;
+
+/// The set-up's and run's peak (bytes) of `--kernel fe` on a graded mesh of `vertices`
+/// vertices with `ordering` (the fault operator's storage is the caller's).
+fn pair_fe_peak(vertices: f64, ordering: rsf::fault_ode::InteriorOrdering) -> f64 {
+    let nd = PAIR_ND_PEAK_AT_2_KM * (vertices / PAIR_VERTICES_AT_2_KM).powf(1.5);
+    match ordering {
+        rsf::fault_ode::InteriorOrdering::NestedDissection => nd,
+        _ => PAIR_AMD_OVER_ND * nd,
+    }
+}
+
 /// The elimination's checkpoint (`--kernel fe`).
 const SETUP_FILE: &str = "setup.bin";
 
@@ -185,16 +209,21 @@ impl Program for Args {
                     )
                     .into());
                 }
-                // The graded box refined towards two planes: about twice BP5's vertices.
-                let vertices = 2.0
-                    * crate::estimates::fe_3d_box_vertices(
-                        self.dx,
-                        pair.bp5.l_f,
-                        pair.bp5.w_f,
-                        self.ratio,
-                        grid.domain,
-                    );
-                fe_3d_memory(vertices) + 2.0 * operator_bytes(unknowns, hierarchical)
+                let peak = |vertices: f64| {
+                    pair_fe_peak(vertices, self.ordering) + operator_bytes(unknowns, hierarchical)
+                };
+                // Refused unmeshed where even BP5's one-plane mesh (fewer vertices than
+                // the pair's) would be too large; else the pair's graded mesh counted.
+                let limit = self.limits.max_memory_gb * 1e9;
+                match crate::seas_bp5::graded_vertices_at_least(self.dx, self.domain_km, self.ratio)
+                {
+                    Some(fewest) if peak(fewest) > limit => peak(fewest),
+                    _ => peak(
+                        pair.fe_mesh_vertices(&grid)
+                            .map_err(|e| format!("--dx {}: {e}", number(self.dx)))?
+                            as f64,
+                    ),
+                }
             }
         };
         let stations = pair.stations().len() as f64;

@@ -17,6 +17,7 @@ use plotters::prelude::*;
 pub mod bp5_pair;
 pub mod cli;
 mod curved;
+mod defaults;
 pub mod distributed_sweep;
 pub mod estimates;
 pub mod guard;

@@ -49,7 +49,7 @@ enum Overpressure {
 /// SEAS BP8-QD-GS / BP8-QD-PW.
 #[derive(Parser)]
 #[command(version)]
-struct Args {
+pub(crate) struct Args {
     /// The injection's source: gs (a Gaussian) or pw (a Peaceman well).
     #[arg(long, default_value = "gs")]
     source: String,

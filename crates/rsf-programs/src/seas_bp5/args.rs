@@ -337,7 +337,7 @@ impl Program for Args {
 /// count grows like `dx^-1.62` (86 710 to 266 764 vertices) and faster below, where the
 /// fine cells around the fault plane, a surface, take the larger share (`dx^-2` in the
 /// limit); a fault zone only adds vertices.
-fn graded_vertices_at_least(dx: f64, domain_km: f64, ratio: f64) -> Option<f64> {
+pub(crate) fn graded_vertices_at_least(dx: f64, domain_km: f64, ratio: f64) -> Option<f64> {
     (dx < 1000.0 && domain_km >= 400.0 && ratio <= 1.3)
         .then(|| GRADED_VERTICES_AT_1_KM * (1000.0 / dx).powf(1.6))
 }

@@ -41,6 +41,7 @@ use crate::guard::Processes;
 mod args;
 mod run;
 
+pub(crate) use args::graded_vertices_at_least;
 pub use args::Args;
 use run::run;
 

@@ -8,6 +8,7 @@
 
 use rsf::fault_alone::FaultAlone;
 use rsf::fault_ode::FaultOdeOptions;
+use rsf::fem::TetrahedronMesh;
 use rsf::halfspace::{ElementSet, RectangleElement, Space};
 use rsf::halfspace_operator::{fault_alone_model, ElementOperator, ElementOptions};
 use rsf::model::CreepRate;
@@ -170,21 +171,19 @@ impl Bp5Pair {
             .build_fault_ode_alone(options, alone)
     }
 
-    /// The two strands as faults inside a finite-element box on `grid` (the graded mesh,
-    /// refined towards both strands' rate-and-state regions; quasi-dynamic): the planes
-    /// `x = ∓separation/2` across the whole box, each creeping at `V_p` along strike
-    /// outside its rate-and-state region and frictional inside it; the far faces moving
-    /// with their slab's plate motion — `−V_p` west of the west strand, 0 between the
-    /// strands, `+V_p` east of the east strand (each strand slips `V_p`, as the
-    /// boundary-element model's back slip) — the free surface `z = 0`; the prestress as
-    /// equal and opposite tractions on each strand's faces (as
-    /// [`SeasBp5::fe_model_builder`]).
+    /// The vertices of [`fe_model`](Self::fe_model)'s graded mesh on `grid` (the mesh
+    /// alone, no model assembled: about a second at 2 km) — what a plan's memory estimate
+    /// needs.
     ///
     /// # Errors
-    /// As [`SeasBp5::fe_model_builder`]; [`rsf::Error::InvalidParameter`] named `mesh`
-    /// for another mesh than the graded one, `separation` unless `separation/2` is a whole
-    /// number of `dx` (the strands on the mesh's planes); assembly errors.
-    pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
+    /// As [`fe_model`](Self::fe_model) before its assembly.
+    pub fn fe_mesh_vertices(&self, grid: &SeasBp5Grid) -> Result<usize> {
+        Ok(self.fe_mesh(grid)?.0.num_vertices())
+    }
+
+    /// The checks of [`fe_model`](Self::fe_model) and its graded mesh with the box's
+    /// corners.
+    fn fe_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
         self.validate()?;
         // BP5's own checks of the grid.
         self.bp5.check_fe_grid(grid)?;
@@ -205,8 +204,26 @@ impl Bp5Pair {
                 ),
             ));
         }
+        self.bp5.graded_mesh(grid, &[self.x_of(0), self.x_of(1)])
+    }
+
+    /// The two strands as faults inside a finite-element box on `grid` (the graded mesh,
+    /// refined towards both strands' rate-and-state regions; quasi-dynamic): the planes
+    /// `x = ∓separation/2` across the whole box, each creeping at `V_p` along strike
+    /// outside its rate-and-state region and frictional inside it; the far faces moving
+    /// with their slab's plate motion — `−V_p` west of the west strand, 0 between the
+    /// strands, `+V_p` east of the east strand (each strand slips `V_p`, as the
+    /// boundary-element model's back slip) — the free surface `z = 0`; the prestress as
+    /// equal and opposite tractions on each strand's faces (as
+    /// [`SeasBp5::fe_model_builder`]).
+    ///
+    /// # Errors
+    /// As [`SeasBp5::fe_model_builder`]; [`rsf::Error::InvalidParameter`] named `mesh`
+    /// for another mesh than the graded one, `separation` unless `separation/2` is a whole
+    /// number of `dx` (the strands on the mesh's planes); assembly errors.
+    pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
+        let (mesh, [lo, hi]) = self.fe_mesh(grid)?;
         let planes = [self.x_of(0), self.x_of(1)];
-        let (mesh, [lo, hi]) = self.bp5.graded_mesh(grid, &planes)?;
         let p = self.bp5;
         let mu = p.shear_modulus();
         let eps = 1e-6 * grid.dx;
