@@ -126,7 +126,28 @@ fn hdf5_fields_equal_the_vtu_frames_and_the_xdmf_index_references_them() {
     assert!(nonzero > 0, "the fields are not all zero");
     // The index: every HDF reference names an existing dataset with its dimensions.
     let xmf = std::fs::read_to_string(dir.join("fields.xmf")).expect("the Xdmf index");
-    assert_eq!(xmf.matches("<Time Value=").count(), 3);
+    // The index's times are `/time`'s, bit for bit and in order (ParaView orders the
+    // frames by them), and frame i reads slab i of every field.
+    let index_times: Vec<f64> = xmf
+        .split("<Time Value=\"")
+        .skip(1)
+        .map(|r| r.split_once('"').expect("a quoted time").0.parse().unwrap())
+        .collect();
+    assert_eq!(bits(&index_times), bits(&times));
+    for (i, frame) in xmf.split("<Grid Name=\"frame ").skip(1).enumerate() {
+        let (number, rest) = frame.split_once('"').expect("a frame number");
+        assert_eq!(number.parse::<usize>().unwrap(), i);
+        let slabs: Vec<&str> = rest
+            .split("Format=\"XML\">")
+            .skip(1)
+            .map(|s| s.split_once(' ').expect("a slab start").0)
+            .collect();
+        assert_eq!(slabs.len(), FIELDS.len(), "frame {i}");
+        assert!(
+            slabs.iter().all(|s| s.parse::<usize>() == Ok(i)),
+            "frame {i} reads slabs {slabs:?}"
+        );
+    }
     let mut references = 0;
     for item in xmf.split("<DataItem").skip(1) {
         let Some((_, rest)) = item.split_once("Format=\"HDF\">") else {
