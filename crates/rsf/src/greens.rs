@@ -10,6 +10,52 @@
 //! and [`FaultOde::fault_operator_mut`](crate::FaultOde::fault_operator_mut), or one a
 //! program built) and is applied matrix-free ([`GreensFunctions::apply`]) or written out
 //! by columns ([`GreensFunctions::dense`], `m` products, behind a size limit).
+//!
+//! Two faults 2 m apart in a 4 m box:
+//!
+//! ```rust
+//! use rsf::fault_ode::FaultOdeOptions;
+//! use rsf::fem::{rectangle, Diagonal};
+//! use rsf::friction::{AsinhLaw, RateStateParams};
+//! use rsf::greens::asymmetry;
+//! use rsf::state::Aging;
+//! use rsf::time::Quasistatic;
+//! use rsf::{Material, ModelBuilder, Part, SimulationBuilder};
+//! let mesh = rectangle([-2.0, -2.0], [4.0, 4.0], 33, 33, Diagonal::Forward)?;
+//! let model = ModelBuilder::new(mesh)
+//!     .material(Material::new(3e10, 0.25, 2700.0))
+//!     .without_mass()
+//!     .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-9, 0.0])
+//!     .dirichlet(Part::predicate("bottom", |x| x[1] < -2.0 + 1e-9), [-1e-9, 0.0])
+//!     .internal_fault("west", [-1.0, -0.5], [-1.0, 0.5])
+//!     .internal_fault("east", [1.0, -0.5], [1.0, 0.5])
+//!     .build()?;
+//! let p = RateStateParams { mu0: 0.6, a: 0.015, b: 0.01, v0: 1e-6, l: 1e-4, sigma_n: 5e6 };
+//! let mut ode = SimulationBuilder::new(model)
+//!     .friction(AsinhLaw::new(p)?)
+//!     .state_law(Aging::new(p.l)?)
+//!     .initial_state((p.l / 1e-9f64).ln())
+//!     .integrator(Quasistatic::new())
+//!     .radiation_damping(5e6)
+//!     .time_step(1.0)
+//!     .build_fault_ode(FaultOdeOptions::default())?;
+//! let greens = ode.greens_functions()?;
+//! let m = greens.dim();
+//! // 1 mm of slip on the west fault, matrix-free: the traction change on the east one (Pa).
+//! let mut x = vec![0.0; m];
+//! for j in greens.unknowns_of("west") {
+//!     x[j] = 1e-3;
+//! }
+//! let force = greens.apply(ode.fault_operator_mut(), &x)?;
+//! let east: Vec<f64> = greens.unknowns_of("east").iter()
+//!     .map(|&i| -force[i] / greens.weights[i])
+//!     .collect();
+//! assert!(east.iter().any(|t| *t != 0.0));
+//! // The dense S (m products), symmetric to its accuracy; into HDF5 with rsf_hdf5::write_greens.
+//! let s = greens.dense(ode.fault_operator_mut(), 2_000)?;
+//! assert!(asymmetry(&s, m) <= greens.accuracy.tolerance());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use crate::error::{invalid, Error, Result};
 use crate::fault_operator::{FaultKernel, FaultOperator, KernelReport, OperatorOrigin};
