@@ -10,7 +10,7 @@ use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::fault_operator::OperatorOrigin;
 use rsf::fem::{rectangle, Diagonal};
 use rsf::friction::{AsinhLaw, RateStateParams};
-use rsf::greens::asymmetry;
+use rsf::greens::{asymmetry, GreensFunctions};
 use rsf::state::Aging;
 use rsf::time::Quasistatic;
 use rsf::{FaultOde, Material, Model, ModelBuilder, Part, SimulationBuilder};
@@ -233,4 +233,75 @@ fn the_hierarchical_export_differs_from_the_dense_one_by_its_measured_error() {
         "{error:e} {reported:e}"
     );
     assert!(asymmetry(&sh, m) <= 2.0 * gh.accuracy.tolerance());
+}
+
+/// Two square faults of 4 × 4 cells of 1 km in a whole space, vertical and striking
+/// along y, centred `d` km apart along x: the boundary-element operator's Green's
+/// functions.
+#[cfg(feature = "halfspace")]
+fn element_pair(d: f64) -> (GreensFunctions, Vec<f64>) {
+    use rsf::halfspace::{ElementSet, Medium, RectangleElement, Space};
+    use rsf::halfspace_operator::{fault_alone_model, ElementOperator, ElementOptions};
+    let mut elements = Vec::new();
+    for x in [-d / 2.0, d / 2.0] {
+        elements.extend(
+            RectangleElement::grid([x * 1e3, 0.0, -50e3], 90.0, 90.0, [4e3, 4e3], [4, 4]).unwrap(),
+        );
+    }
+    let medium = Medium::from_shear_poisson(3.2e10, 0.25).unwrap();
+    let set = ElementSet::new(medium, Space::WholeSpace, elements).unwrap();
+    let mut model = fault_alone_model(&set).unwrap();
+    let faults: Vec<usize> = (0..32).map(|e| usize::from(e >= 16)).collect();
+    model.frictional_boundary = model
+        .frictional_boundary
+        .clone()
+        .with_faults(vec!["west".into(), "east".into()], &faults)
+        .unwrap();
+    let mut op = ElementOperator::fault_alone(&model, &set, &ElementOptions::default()).unwrap();
+    // The operator's components: each element's strike, then up-dip direction.
+    let directions = set.frames().iter().flat_map(|f| [f[0], f[1]]).collect();
+    let g = GreensFunctions::new(&model, &op)
+        .unwrap()
+        .with_directions(directions)
+        .unwrap();
+    let s = g.dense(&mut op, 100).unwrap();
+    (g, s)
+}
+
+/// The boundary-element operator of two faults: described as such (origin, the elements'
+/// strike and dip as the unknowns' directions), symmetric, its cross block falling as a
+/// dislocation's far-field stress in 3-D, `1/d³` (a factor 8 per doubling).
+#[cfg(feature = "halfspace")]
+#[test]
+fn the_boundary_element_cross_block_falls_as_the_cube_of_the_distance() {
+    let mut ratios = Vec::new();
+    for d in [16.0, 32.0, 64.0] {
+        let (g, s) = element_pair(d);
+        let m = g.dim();
+        assert_eq!((m, g.origin), (64, OperatorOrigin::BoundaryElements));
+        assert_eq!(g.units_s(), "N/m");
+        for j in 0..m {
+            // Vertical planes striking along y: strike slip along ±y, dip slip along ±z.
+            let axis = if g.component[j] == 0 { 1 } else { 2 };
+            assert!(
+                (g.directions[j][axis].abs() - 1.0).abs() < 1e-12,
+                "{:?}",
+                g.directions[j]
+            );
+        }
+        let (west, east) = (g.unknowns_of("west"), g.unknowns_of("east"));
+        let cross = frobenius(&s, m, &west, &east);
+        let own = frobenius(&s, m, &west, &west);
+        let asym = asymmetry(&s, m);
+        eprintln!(
+            "elements, d = {d} km: ‖S_we‖/‖S_ww‖ = {:e}, asymmetry {asym:e}",
+            cross / own
+        );
+        assert!(asym < 1e-12, "{asym:e}");
+        ratios.push(cross / own);
+    }
+    for w in ratios.windows(2) {
+        let r = w[0] / w[1];
+        assert!((6.0..10.0).contains(&r), "{ratios:?}");
+    }
 }
