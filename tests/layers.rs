@@ -639,6 +639,7 @@ const RSF_MODULES: &[&[&str]] = &[
         "volume_probe",
         "okada_comparison",
         "fault_kernel",
+        "greens",
         "whole_space",
         "halfspace_operator",
         "node_solves",

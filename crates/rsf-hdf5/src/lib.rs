@@ -8,6 +8,9 @@
 //!   benchmark run (the stations, `global.dat`, the profiles, the event catalogue) in one
 //!   HDF5 file beside the benchmark's text files, `seas.h5`
 //!   ([`SEAS_SERIES_FILE`]);
+//! - [`write_greens`] and [`read_greens`]: the Green's functions of a model's faults
+//!   ([`rsf::greens::GreensFunctions`]) with the dense fault operator `S`, its geometry,
+//!   components, units and accuracy;
 //! - the programs (feature `programs`, the default): `seas_bp1`, `seas_bp3`, `seas_bp5`,
 //!   `seas_bp6` — the programs of `rsf-programs`, the same flags and files, and `seas.h5` in
 //!   their `--out` folder ([`programs::main_with_series`]) — and `seas_hdf5 DIR`, which
@@ -23,10 +26,12 @@
 mod attributes;
 mod error;
 mod fields;
+mod greens;
 #[cfg(feature = "programs")]
 pub mod programs;
 mod series;
 
 pub use error::{Error, Result};
 pub use fields::Hdf5Fields;
+pub use greens::{read_greens, write_greens, GREENS_FORMAT};
 pub use series::{seas_files, write_seas_series, SeasSeries, SeriesSummary, SEAS_SERIES_FILE};

@@ -87,13 +87,27 @@ pub fn write_seas_series(dir: &Path, path: &Path) -> Result<SeriesSummary> {
             ),
         });
     }
+    replace_atomically(path, |partial| {
+        write_file(&files, &dir.join(EVENTS), partial)
+    })
+}
+
+/// What `write` makes of the file `path`, written beside it (`.{name}.partial`) and
+/// renamed over it once complete: a reader never sees a half-written file, and `path` is
+/// unchanged if `write` fails (the partial file is removed).
+///
+/// # Errors
+/// `write`'s; [`rsf::Error::File`] if the rename fails.
+pub(crate) fn replace_atomically<T>(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<T>,
+) -> Result<T> {
     let name = path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     let partial = path.with_file_name(format!(".{name}.partial"));
-    let written = write_file(&files, &dir.join(EVENTS), &partial);
-    let summary = match written {
-        Ok(s) => s,
+    let written = match write(&partial) {
+        Ok(w) => w,
         Err(e) => {
             std::fs::remove_file(&partial).ok();
             return Err(e);
@@ -104,7 +118,7 @@ pub fn write_seas_series(dir: &Path, path: &Path) -> Result<SeriesSummary> {
         action: "rename the written HDF5 file to",
         source,
     })?;
-    Ok(summary)
+    Ok(written)
 }
 
 /// The HDF5 file `path` of the SEAS `files` and the catalogue `events` (if it exists).

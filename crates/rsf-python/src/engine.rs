@@ -171,6 +171,46 @@ pub(crate) trait DynEngine {
     fn mesh(&self) -> (Vec<f64>, Vec<usize>);
     /// The displacement and velocity at every vertex (Cartesian, `C` each).
     fn fields(&self) -> (Vec<f64>, Vec<f64>);
+    /// The Green's functions of the run's fault operator and the operator, `None` for a
+    /// run without one (the implicit scheme's).
+    fn greens(&mut self) -> Option<rsf::Result<Greens<'_>>>;
+}
+
+/// The Green's functions of a run and its operator (a fault ODE's).
+pub(crate) type Greens<'a> = (
+    rsf::greens::GreensFunctions,
+    &'a mut dyn rsf::fault_operator::FaultOperator,
+);
+
+/// A run that may have a fault operator `S` (a fault ODE's) whose Green's functions
+/// Python reads ([`DynEngine::greens`]).
+pub(crate) trait WithFaultOperator {
+    /// The Green's functions and the operator, `None` without one.
+    fn greens(&mut self) -> Option<rsf::Result<Greens<'_>>>;
+}
+
+impl<const D: usize, L, S, const C: usize> WithFaultOperator for rsf::FaultOde<D, L, S, C>
+where
+    L: rsf::friction::FrictionLaw,
+    S: rsf::state::StateLaw,
+{
+    fn greens(&mut self) -> Option<rsf::Result<Greens<'_>>> {
+        Some(
+            self.greens_functions()
+                .map(|g| (g, self.fault_operator_mut())),
+        )
+    }
+}
+
+impl<const D: usize, L, S, I, const C: usize> WithFaultOperator for rsf::Simulation<D, L, S, I, C>
+where
+    L: rsf::friction::FrictionLaw,
+    S: rsf::state::StateLaw,
+    I: rsf::time::VelocityIntegrator,
+{
+    fn greens(&mut self) -> Option<rsf::Result<Greens<'_>>> {
+        None
+    }
 }
 
 /// A run `sim` of a `D`-dimensional model with `C` components.
@@ -182,7 +222,9 @@ pub(crate) struct Engine<const D: usize, const C: usize, M> {
     pub fingerprint: Fingerprint,
 }
 
-impl<const D: usize, const C: usize, M: Stepping<D, C>> DynEngine for Engine<D, C, M> {
+impl<const D: usize, const C: usize, M: Stepping<D, C> + WithFaultOperator> DynEngine
+    for Engine<D, C, M>
+{
     fn advance(
         &mut self,
         how: &Advance,
@@ -265,5 +307,9 @@ impl<const D: usize, const C: usize, M: Stepping<D, C>> DynEngine for Engine<D, 
         let k = &self.sim.state().kinematics;
         let cartesian = |x: &[f64]| m.to_cartesian(x).unwrap_or_else(|_| x.to_vec());
         (cartesian(&k.u), cartesian(&k.v))
+    }
+
+    fn greens(&mut self) -> Option<rsf::Result<Greens<'_>>> {
+        self.sim.greens()
     }
 }

@@ -62,6 +62,7 @@ pub(crate) fn to_py(e: rsf::Error) -> PyErr {
         | E::StateVariableMismatch { .. }
         | E::StateLaw { .. }
         | E::MemoryBudget { .. }
+        | E::GreensTooLarge { .. }
         | E::SceneFile(_) => InvalidParameterError::new_err(message),
         E::FixedPointNotConverged { .. }
         | E::Solver(_)

@@ -4,13 +4,13 @@
 
 use std::path::PathBuf;
 
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rsf::{Checkpoint, Termination, Until};
 
-use crate::engine::{Advance, DynEngine, Interrupt};
+use crate::engine::{Advance, DynEngine, Greens, Interrupt};
 use crate::errors::{invalid, OrPy};
 
 /// Where a scene's run ends.
@@ -118,6 +118,56 @@ impl<'a> OnThisThread<'a> {
 #[allow(unsafe_code)]
 unsafe impl Send for OnThisThread<'_> {}
 
+impl Simulation {
+    /// The run's Green's functions and operator, or an error naming `greens_functions`.
+    fn greens_of(&mut self) -> PyResult<Greens<'_>> {
+        match self.engine.greens() {
+            Some(g) => g.py(),
+            None => Err(invalid(
+                "greens_functions",
+                "the run has no fault operator: only runs condensed onto the fault (the \
+                 fault ODE, seas_bp1) have one",
+            )),
+        }
+    }
+}
+
+/// The description of `g` as a dict of numpy arrays and numbers (`rsf.GreensFunctions`'s
+/// fields).
+fn greens_dict<'py>(
+    py: Python<'py>,
+    g: &rsf::greens::GreensFunctions,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let flat = |v: &[[f64; 3]]| v.iter().flatten().copied().collect::<Vec<f64>>();
+    let (epsilon, leaf_size) = match g.accuracy.kernel {
+        rsf::fault_operator::FaultKernel::Dense => (0.0, 0),
+        rsf::fault_operator::FaultKernel::Hierarchical { epsilon, leaf_size } => {
+            (epsilon, leaf_size)
+        }
+    };
+    d.set_item("dimension", g.dimension)?;
+    d.set_item("fault_names", g.fault_names.clone())?;
+    d.set_item("fault", array1(py, g.fault.clone()))?;
+    d.set_item("node", array1(py, g.node.clone()))?;
+    d.set_item("component", array1(py, g.component.clone()))?;
+    d.set_item("positions", array2(py, &flat(&g.positions), 3)?)?;
+    d.set_item("directions", array2(py, &flat(&g.directions), 3)?)?;
+    d.set_item("weights", array1(py, g.weights.clone()))?;
+    d.set_item("origin", g.origin.code())?;
+    d.set_item("kernel", g.accuracy.kernel.name())?;
+    d.set_item("epsilon", epsilon)?;
+    d.set_item("leaf_size", leaf_size)?;
+    d.set_item("relative_error", g.accuracy.relative_error)?;
+    d.set_item("error_samples", g.accuracy.error_samples)?;
+    d.set_item("max_rank", g.accuracy.max_rank)?;
+    d.set_item("low_rank_blocks", g.accuracy.low_rank_blocks)?;
+    d.set_item("tolerance", g.accuracy.tolerance())?;
+    d.set_item("unit_S", g.units_s())?;
+    d.set_item("rsf_version", rsf::greens::RSF_VERSION)?;
+    Ok(d)
+}
+
 fn array1<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray1<T>> {
     v.into_pyarray(py)
 }
@@ -214,6 +264,48 @@ impl Simulation {
     fn resume(&mut self, path: PathBuf) -> PyResult<()> {
         let c = Checkpoint::read(&path).py()?;
         self.engine.restore(&c).py()
+    }
+
+    /// The Green's functions of the run's fault operator `S` (a run condensed onto the
+    /// fault, `seas_bp1`'s), as `rsf.GreensFunctions`: the description of the slip
+    /// unknowns, the operator applied matrix-free by the run (docs/fault-networks.md,
+    /// "Green's functions").
+    fn greens_functions<'py>(
+        mut slf: PyRefMut<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let d = {
+            let (g, _) = slf.greens_of()?;
+            greens_dict(py, &g)?
+        };
+        py.import("rsf._greens")?
+            .getattr("GreensFunctions")?
+            .call_method1("_of_simulation", (slf.into_pyobject(py)?, d))
+    }
+
+    /// `S x` (N, or N/m in 2-D) for the slip `x` (m, one per unknown): one product with the
+    /// run's operator (what `GreensFunctions.apply` calls).
+    fn _greens_apply<'py>(
+        &mut self,
+        py: Python<'py>,
+        x: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let x = x.as_slice()?.to_vec();
+        let (g, op) = self.greens_of()?;
+        Ok(array1(py, g.apply(op, &x).py()?))
+    }
+
+    /// The dense `S` (m × m), column by column (`m` products), refused above
+    /// `max_unknowns` (what `GreensFunctions.matrix` calls).
+    fn _greens_dense<'py>(
+        &mut self,
+        py: Python<'py>,
+        max_unknowns: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (g, op) = self.greens_of()?;
+        let m = g.dim();
+        let s = g.dense(op, max_unknowns).py()?;
+        array2(py, &s, m)
     }
 
     /// One row per accepted step: `t` (s, after the step), `tau` (s, the step's length),

@@ -106,6 +106,21 @@ pub enum Error {
         /// What to change.
         remedy: &'static str,
     },
+    /// The dense Green's functions of a fault operator were asked for above the caller's
+    /// limit ([`GreensFunctions::dense`](crate::greens::GreensFunctions::dense)).
+    #[error(
+        "the dense Green's functions of {unknowns} slip unknowns ({bytes:.3e} bytes, \
+         {unknowns} products with the operator) exceed the limit of {limit} unknowns; \
+         apply the operator matrix-free (GreensFunctions::apply) or raise the limit"
+    )]
+    GreensTooLarge {
+        /// The operator's unknowns `m`.
+        unknowns: usize,
+        /// The caller's limit.
+        limit: usize,
+        /// Bytes of the dense matrix, `8 m²`.
+        bytes: f64,
+    },
     /// An invalid parameter, named (a field of a scene or builder, an argument).
     #[error("invalid parameter `{name}`: {reason}")]
     InvalidParameter {

@@ -43,6 +43,10 @@ impl FaultOperator for CondensedOperator {
         &self.report
     }
 
+    fn operator_origin(&self) -> crate::fault_operator::OperatorOrigin {
+        crate::fault_operator::OperatorOrigin::FiniteElement
+    }
+
     fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
         crate::fault_operator::check_diagonal(self.report.dim, out)?;
         out.copy_from_slice(&self.kernel.diagonal_blocks(1)?);

@@ -42,6 +42,13 @@ pub trait FaultOperator: Send {
     /// What the set-up stored and measured.
     fn report(&self) -> &KernelReport;
 
+    /// Where the operator comes from (what its entries are the Green's functions of,
+    /// [`GreensFunctions`](crate::greens::GreensFunctions)). Default
+    /// [`OperatorOrigin::Other`].
+    fn operator_origin(&self) -> OperatorOrigin {
+        OperatorOrigin::Other
+    }
+
     /// The diagonal of `S` (N/m, length [`dim`](Self::dim)) into `out`: the cheap part
     /// of the fault ODE's Jacobian that its implicit steps precondition with
     /// (docs/math.md §12, "Implicit steps"). The default takes one product per unknown
@@ -90,6 +97,69 @@ pub trait FaultOperator: Send {
             "ranks",
             "this fault operator cannot compute its rows apart (FaultOperator::part_subtract)",
         ))
+    }
+}
+
+/// What a [`FaultOperator`] is the operator of ([`FaultOperator::operator_origin`]): the medium
+/// and method whose slip → force map it is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OperatorOrigin {
+    /// The finite-element body condensed exactly onto the fault (any heterogeneous
+    /// volume the model holds; docs/math.md §12).
+    FiniteElement,
+    /// Okada's rectangles on a planar grid in a half-space
+    /// ([`HalfSpaceOperator`](crate::halfspace_operator::HalfSpaceOperator)).
+    OkadaGrid,
+    /// Boundary elements of any set (rectangles of any orientation, triangles; a
+    /// half-space or the whole space;
+    /// [`ElementOperator`](crate::halfspace_operator::ElementOperator)).
+    BoundaryElements,
+    /// A homogeneous whole space in closed form (antiplane, or a planar grid).
+    WholeSpace,
+    /// An operator that does not say (a user's own).
+    Other,
+}
+
+impl OperatorOrigin {
+    /// Every origin, in the order of [`code`](Self::code).
+    pub const ALL: [Self; 5] = [
+        Self::FiniteElement,
+        Self::OkadaGrid,
+        Self::BoundaryElements,
+        Self::WholeSpace,
+        Self::Other,
+    ];
+
+    /// `finite_element`, `okada_grid`, `boundary_elements`, `whole_space` or `other`: the
+    /// text files hold.
+    pub fn code(&self) -> &'static str {
+        match self {
+            Self::FiniteElement => "finite_element",
+            Self::OkadaGrid => "okada_grid",
+            Self::BoundaryElements => "boundary_elements",
+            Self::WholeSpace => "whole_space",
+            Self::Other => "other",
+        }
+    }
+
+    /// The origin of a [`code`](Self::code).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `origin` for
+    /// another text.
+    pub fn from_code(code: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|o| o.code() == code)
+            .ok_or_else(|| {
+                invalid(
+                    "origin",
+                    format!(
+                        "`{code}` is none of {}",
+                        Self::ALL.map(|o| o.code()).join(", ")
+                    ),
+                )
+            })
     }
 }
 

@@ -58,6 +58,7 @@ mod fault_kernel;
 pub mod fault_ode;
 pub mod fault_operator;
 mod friction_blocks;
+pub mod greens;
 #[cfg(feature = "halfspace")]
 pub mod halfspace_operator;
 pub mod method;

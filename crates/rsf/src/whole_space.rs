@@ -302,6 +302,10 @@ impl FaultOperator for WholeSpaceAntiplane {
         &self.report
     }
 
+    fn operator_origin(&self) -> crate::fault_operator::OperatorOrigin {
+        crate::fault_operator::OperatorOrigin::WholeSpace
+    }
+
     fn split_rows(&mut self, parts: usize, work_per_row: f64) -> Result<RowSplit> {
         let Product::Stored(kernel) = &mut self.product else {
             return Err(fft_rows());

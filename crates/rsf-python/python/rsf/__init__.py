@@ -17,6 +17,11 @@ A fault network's event catalogue, ``catalogue.csv`` of the programs ``stepover`
 and ``bp5_pair`` (docs/fault-networks.md), reads as numpy arrays with
 :func:`read_catalogue`.
 
+The fault operator of a run condensed onto the fault (its Green's functions:
+slip on every fault unknown to the force on every one) is
+:meth:`Simulation.greens_functions`, a :class:`GreensFunctions` applied
+matrix-free as a ``scipy.sparse.linalg.LinearOperator``, written to ``.npz``.
+
 Every error of the library is an exception of a class derived from
 :class:`RsfError` carrying the library's message: :class:`InvalidParameterError`
 (naming the parameter), :class:`ModelError`, :class:`ConvergenceError`,
@@ -27,6 +32,7 @@ per node per stage of every step would cost more than the step itself.
 """
 
 from ._catalogue import read_catalogue  # noqa: F401
+from ._greens import GreensFunctions  # noqa: F401
 from ._rsf import (  # noqa: F401
     HAS_HDF5,
     CheckpointError,
@@ -52,6 +58,7 @@ __all__ = [
     "CheckpointError",
     "ConvergenceError",
     "Friction",
+    "GreensFunctions",
     "InvalidParameterError",
     "Mesh",
     "Model",

@@ -173,6 +173,32 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         self.rates.operator.report()
     }
 
+    /// The elastic operator `S` of the run ([`FaultOperator`]: slip unknowns → forces),
+    /// to apply it from outside — as [`GreensFunctions`] do. Its products do not change
+    /// the run (the operator keeps no state between products but scratch space).
+    ///
+    /// [`FaultOperator`]: crate::fault_operator::FaultOperator
+    /// [`GreensFunctions`]: crate::greens::GreensFunctions
+    pub fn fault_operator_mut(&mut self) -> &mut dyn crate::fault_operator::FaultOperator {
+        &mut *self.rates.operator
+    }
+
+    /// The Green's functions of the run's faults ([`GreensFunctions`]): the slip unknowns
+    /// of its operator `S` — faults, positions, weights, slip directions — its origin
+    /// (the finite-element condensation or a boundary-element operator) and accuracy.
+    /// Apply `S` with [`GreensFunctions::apply`] on
+    /// [`fault_operator_mut`](Self::fault_operator_mut).
+    ///
+    /// # Errors
+    /// Those of [`GreensFunctions::new`] (a run sharing its rows among ranks).
+    ///
+    /// [`GreensFunctions`]: crate::greens::GreensFunctions
+    /// [`GreensFunctions::apply`]: crate::greens::GreensFunctions::apply
+    /// [`GreensFunctions::new`]: crate::greens::GreensFunctions::new
+    pub fn greens_functions(&self) -> crate::Result<crate::greens::GreensFunctions> {
+        crate::greens::GreensFunctions::new(self.model(), &*self.rates.operator)
+    }
+
     /// With a normal stress from slip ([`NormalStress::FromSlip`])
     /// and a hierarchical [`FaultOdeOptions::kernel`]: what the compression of the
     /// slip → normal-traction operator `S_N` (`nodes × m`, N/m) measured (the same

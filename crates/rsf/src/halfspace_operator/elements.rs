@@ -323,6 +323,10 @@ impl FaultOperator for ElementOperator {
         &self.report
     }
 
+    fn operator_origin(&self) -> crate::fault_operator::OperatorOrigin {
+        crate::fault_operator::OperatorOrigin::BoundaryElements
+    }
+
     /// From the kernel's 2 × 2 element blocks.
     fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {
         super::nodes::diagonal_of(&self.kernel, &self.element, &self.map, &self.weights, out)

@@ -284,4 +284,8 @@ impl FaultOperator for WholeSpaceGrid {
     fn report(&self) -> &KernelReport {
         &self.report
     }
+
+    fn operator_origin(&self) -> crate::fault_operator::OperatorOrigin {
+        crate::fault_operator::OperatorOrigin::WholeSpace
+    }
 }

@@ -683,6 +683,10 @@ impl FaultOperator for HalfSpaceOperator {
         &self.report
     }
 
+    fn operator_origin(&self) -> crate::fault_operator::OperatorOrigin {
+        crate::fault_operator::OperatorOrigin::OkadaGrid
+    }
+
     /// From the kernel's 2 × 2 element blocks (on ranks, whose kernel is split: one
     /// product per unknown).
     fn diagonal(&mut self, out: &mut [f64]) -> Result<()> {

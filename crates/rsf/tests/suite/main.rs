@@ -18,6 +18,7 @@ mod fault_network;
 mod fault_ode;
 mod fault_ode_ordering;
 mod fixed_point_schemes;
+mod greens;
 mod halfspace_operator;
 mod internal_fault;
 mod internal_fault_3d;
