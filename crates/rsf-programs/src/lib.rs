@@ -49,6 +49,8 @@ mod seas_overview;
 pub mod session;
 pub mod slider_3d;
 #[cfg(feature = "seas")]
+mod square_fault;
+#[cfg(feature = "seas")]
 pub mod stepover;
 #[cfg(feature = "seas")]
 pub use cli::SeasHeaderArgs;

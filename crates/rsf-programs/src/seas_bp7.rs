@@ -25,12 +25,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::session::Session;
+use crate::square_fault::{run_square_fault, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::observe::TimeUnit;
-use rsf::Stepping;
 use rsf_scenes::{Bp7Law, SeasBp7};
 use rsf_seas::{
     SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP7_RESUME_LOG, SECONDS_PER_YEAR,
@@ -209,73 +208,32 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     options.integrator = args.integrator.integrator;
     let (mut ode, body_columns) = bp7.fault_ode(args.dx, law, options)?;
-    let cells = ode.model().vertices.len();
-    println!(
-        "{cells} cells ({} slip unknowns); set-up: wall {:.1} s, CPU {:.1} s",
-        2 * cells,
-        clock.elapsed().as_secs_f64(),
-        cpu_seconds() - cpu0
-    );
     // The folder's lock is held until the run ends.
     let _folder = &folder;
-    let session = Session::start(
-        args.run.session_flags(),
-        args.out.join("checkpoint.bin"),
+    let settings = SquareRun {
+        run: &args.run,
+        integrator: &args.integrator,
+        threads: args.threads,
+        out: &args.out,
         fingerprint,
-        args.end_seconds(),
-        &mut ode,
-    )?;
-    let mut output = bp7.output(&args.out, args.dx, body_columns, setup)?;
-    if session.keeps_resume_log() {
-        output = output.with_resume_log(args.run.checkpoint_every);
-    }
-    match session.resumed_step() {
-        Some(step) => output.resume(step)?,
-        None => output.write_initial_state(ode.model(), ode.state(), ode.fault_tractions()),
-    }
-    let progress = rsf::observe::Progress::time_in(
-        ode.state().time,
-        args.end_seconds(),
-        TimeUnit {
-            seconds: SECONDS_PER_YEAR,
-            symbol: "yr",
-        },
-        "BP7",
-    );
-    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
-    let wall = clock.elapsed().as_secs_f64();
-    let cpu = cpu_seconds() - cpu0;
-    let events = output.events();
-    println!(
-        "{} steps ({} attempts rejected), {} evaluations, {} events; wall {wall:.1} s, CPU \
-         {cpu:.1} s; wrote {}",
-        summary.steps,
-        summary.rejected_attempts,
-        ode.evaluations(),
-        events.len(),
-        args.out.display()
-    );
-    let json = serde_json::json!({
+        end: args.end_seconds(),
+        unit: (
+            TimeUnit {
+                seconds: SECONDS_PER_YEAR,
+                symbol: "yr",
+            },
+            "BP7",
+        ),
+        started: (clock, cpu0),
+    };
+    let output = || Ok(bp7.output(&args.out, args.dx, body_columns, setup)?);
+    let keys = serde_json::json!({
         "problem": format!("BP7-QD-{}", law.name()),
         "dx_m": args.dx,
         "d_rs_mm": args.d_rs,
-        "cells": cells,
         "end_years": args.end_years,
         "tolerance": args.tolerance,
-        "events": events.len(),
-        "accepted_steps": ode.state().step,
-        "steps_this_invocation": summary.steps,
-        "rejected_attempts": summary.rejected_attempts,
-        "rate_evaluations": ode.evaluations(),
-        "integrator": args.integrator.summary(Some(ode.integrator_stats())),
-        "threads": args.threads,
-        "wall_time_s": wall,
-        "cpu_time_s": cpu,
-        "machine": machine(),
     });
-    rsf::checkpoint::write_atomically(
-        &args.out.join("summary.json"),
-        serde_json::to_string_pretty(&json)?.as_bytes(),
-    )?;
+    run_square_fault(settings, &mut ode, output, keys)?;
     Ok(())
 }
