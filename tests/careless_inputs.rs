@@ -399,6 +399,21 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
             &["--resume", "main_job/checkpoint.bin", "--overwrite"],
             "--overwrite",
         ),
+        // seas_bp7 (issue 85): the same rules, and D_RS.
+        case("seas_bp7", &["--dx", "0"], "--dx"),
+        case("seas_bp7", &["--dx", "-10"], "--dx"),
+        case("seas_bp7", &["--dx", "NaN"], "--dx"),
+        case("seas_bp7", &["--dx", "30"], "--dx"),
+        case("seas_bp7", &["--dx", "1e300"], "--dx"),
+        case("seas_bp7", &["--law", "x"], "--law"),
+        case("seas_bp7", &["--end-years", "0"], "--end-years"),
+        case("seas_bp7", &["--d-rs", "0"], "--d-rs"),
+        case("seas_bp7", &["--tolerance", "1"], "--tolerance"),
+        case(
+            "seas_bp7",
+            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+            "--overwrite",
+        ),
         case_not(
             "pipping_slider",
             &["--scene", "bad_end.toml"],
@@ -800,7 +815,7 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
     let dir = std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let programs: [(&str, &[&str], &[&str]); 5] = [
+    let programs: [(&str, &[&str], &[&str]); 6] = [
         (
             "seas_bp5",
             &[
@@ -854,6 +869,18 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
         (
             "seas_bp8",
             &["--dx", "80", "--end-days", "8", "--checkpoint-every", "100"],
+            &["--tolerance", "1e-8"],
+        ),
+        (
+            "seas_bp7",
+            &[
+                "--dx",
+                "80",
+                "--end-years",
+                "0.002",
+                "--checkpoint-every",
+                "100",
+            ],
             &["--tolerance", "1e-8"],
         ),
     ];

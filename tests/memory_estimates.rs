@@ -279,6 +279,8 @@ const SMALL: &[Case] = &[
         ],
         true,
     ),
+    ("seas_bp7", &["--dx", "40", "--end-years", "0.001"], true),
+    ("seas_bp7", &["--dx", "10", "--end-years", "1e-7"], true),
     ("seas_bp8", &["--dx", "40", "--end-days", "0.5"], true),
     (
         "seas_bp8",

@@ -13,47 +13,22 @@ mod common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use common::program_binary;
+use common::{close, fresh_dir, run_files, run_to_end_or_cap, seas_rows as rows};
 
 /// A fresh temporary folder.
 fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rsf-bp8-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir("bp8", name)
 }
 
 /// Runs `seas_bp8 --dx 80` into `out` with `extra` flags.
 fn seas_bp8(out: &Path, extra: &[&str]) {
-    let o = Command::new(program_binary("seas_bp8"))
-        .args(["--dx", "80", "--date", "2026-11-29", "--out"])
-        .arg(out)
-        .args(extra)
-        .output()
-        .unwrap();
-    let capped = extra.contains(&"--max-steps");
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        o.status.success() != capped && (!capped || stderr.contains("step cap")),
-        "seas_bp8 {extra:?}: {}{stderr}",
-        String::from_utf8_lossy(&o.stdout),
+    run_to_end_or_cap(
+        "seas_bp8",
+        &["--dx", "80", "--date", "2026-11-29"],
+        out,
+        extra,
     );
-}
-
-/// The data rows of a station file or `global.dat` (a profile's first row is its
-/// positions).
-fn rows(path: &Path) -> Vec<Vec<f64>> {
-    let text = std::fs::read_to_string(path).unwrap();
-    text.lines()
-        .filter(|l| !l.starts_with('#'))
-        .filter(|l| {
-            l.trim_start()
-                .starts_with(|c: char| c.is_ascii_digit() || c == '-')
-        })
-        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
-        .collect()
 }
 
 /// Table 1 of the description (2026-08-12).
@@ -68,14 +43,6 @@ const V_STAR: f64 = 1e-6;
 const F_STAR: f64 = 0.6;
 const V_INIT: f64 = 1e-12;
 const V_ZERO: f64 = 1e-20;
-
-/// `|x − y| ≤ tol · max(|y|, floor)`.
-fn close(x: f64, y: f64, tol: f64, floor: f64, what: &str) {
-    assert!(
-        (x - y).abs() <= tol * y.abs().max(floor),
-        "{what}: {x} against {y}"
-    );
-}
 
 #[test]
 fn the_first_rows_are_the_descriptions_initial_values_and_the_run_keeps_its_symmetries() {
@@ -172,25 +139,7 @@ fn the_first_rows_are_the_descriptions_initial_values_and_the_run_keeps_its_symm
 
 /// Every file of `dir` but the checkpoint, the resume log, the manifest and the summary.
 fn outputs(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.is_file())
-        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
-        .filter(|n| {
-            ![
-                "checkpoint.bin",
-                rsf_seas::SEAS_BP8_RESUME_LOG,
-                "rsf-run.txt",
-                "summary.json",
-            ]
-            .contains(&n.as_str())
-        })
-        .map(|n| {
-            let bytes = std::fs::read(dir.join(&n)).unwrap();
-            (n, bytes)
-        })
-        .collect()
+    run_files(dir, rsf_seas::SEAS_BP8_RESUME_LOG)
 }
 
 #[test]

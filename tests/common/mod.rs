@@ -27,3 +27,68 @@ pub fn program_binary(name: &str) -> PathBuf {
     );
     path
 }
+
+/// A fresh temporary folder `rsf-{prefix}-{name}-{pid}`.
+pub fn fresh_dir(prefix: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rsf-{prefix}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The data rows of a SEAS station file, `global.dat` or profile (the lines that start
+/// with a number; a profile's first row is its positions).
+pub fn seas_rows(path: &std::path::Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter(|l| {
+            l.trim_start()
+                .starts_with(|c: char| c.is_ascii_digit() || c == '-')
+        })
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+/// Asserts `|x − y| ≤ tol · max(|y|, floor)`.
+pub fn close(x: f64, y: f64, tol: f64, floor: f64, what: &str) {
+    assert!(
+        (x - y).abs() <= tol * y.abs().max(floor),
+        "{what}: {x} against {y}"
+    );
+}
+
+/// Every file of a run folder `dir` by name, with its bytes, but the checkpoint, the
+/// manifest, the summary and `also` (a resume log).
+pub fn run_files(dir: &std::path::Path, also: &str) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|n| !["checkpoint.bin", also, "rsf-run.txt", "summary.json"].contains(&n.as_str()))
+        .map(|n| {
+            let bytes = std::fs::read(dir.join(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect()
+}
+
+/// Runs `program` with `args`, `--out out` and `extra`: it must succeed, or, with
+/// `--max-steps` in `extra`, stop at its step cap.
+pub fn run_to_end_or_cap(program: &str, args: &[&str], out: &std::path::Path, extra: &[&str]) {
+    let o = std::process::Command::new(program_binary(program))
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap();
+    let capped = extra.contains(&"--max-steps");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() != capped && (!capped || stderr.contains("step cap")),
+        "{program} {extra:?}: {}{stderr}",
+        String::from_utf8_lossy(&o.stdout),
+    );
+}

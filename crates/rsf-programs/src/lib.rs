@@ -6,7 +6,7 @@
 //! depend on it.
 //!
 //! Features: `seas` (on by default) — the SEAS programs ([`seas_bp1`], [`seas_bp3`],
-//! [`seas_bp5`], [`seas_bp6`], [`seas_bp8`]) and the fault network of [`stepover`]; without it the crate builds the slider's programs alone
+//! [`seas_bp5`], [`seas_bp6`], [`seas_bp7`], [`seas_bp8`]) and the fault network of [`stepover`]; without it the crate builds the slider's programs alone
 //! (the workspace's main job does); `metis` — METIS's nested dissection.
 
 use std::path::Path;
@@ -42,11 +42,15 @@ pub mod seas_bp5;
 #[cfg(feature = "seas")]
 pub mod seas_bp6;
 #[cfg(feature = "seas")]
+pub mod seas_bp7;
+#[cfg(feature = "seas")]
 pub mod seas_bp8;
 #[cfg(feature = "seas")]
 mod seas_overview;
 pub mod session;
 pub mod slider_3d;
+#[cfg(feature = "seas")]
+mod square_fault;
 #[cfg(feature = "seas")]
 pub mod stepover;
 #[cfg(feature = "seas")]

@@ -28,12 +28,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::session::Session;
+use crate::square_fault::{run_square_fault, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::observe::TimeUnit;
-use rsf::Stepping;
 use rsf_scenes::{Bp8Overpressure, Bp8Source, SeasBp8, BP8_SECONDS_PER_DAY};
 use rsf_seas::{SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP8_RESUME_LOG};
 
@@ -262,70 +261,32 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     options.integrator = args.integrator.integrator;
     let mut ode = bp8.fault_ode(args.dx, options, friction_pressure)?;
-    let cells = ode.model().vertices.len();
-    println!(
-        "{cells} cells ({} slip unknowns); set-up: wall {:.1} s, CPU {:.1} s",
-        2 * cells,
-        clock.elapsed().as_secs_f64(),
-        cpu_seconds() - cpu0
-    );
     // The folder's lock is held until the run ends.
     let _folder = &folder;
-    let session = Session::start(
-        args.run.session_flags(),
-        args.out.join("checkpoint.bin"),
+    let settings = SquareRun {
+        run: &args.run,
+        integrator: &args.integrator,
+        threads: args.threads,
+        out: &args.out,
         fingerprint,
-        args.end_seconds(),
-        &mut ode,
-    )?;
-    let mut output = bp8.output(&args.out, args.dx, field, setup)?;
-    if session.keeps_resume_log() {
-        output = output.with_resume_log(args.run.checkpoint_every);
-    }
-    match session.resumed_step() {
-        Some(step) => output.resume(step)?,
-        None => output.write_initial_state(ode.model(), ode.state(), ode.fault_tractions()),
-    }
-    let progress = rsf::observe::Progress::time_in(
-        ode.state().time,
-        args.end_seconds(),
-        TimeUnit {
-            seconds: BP8_SECONDS_PER_DAY,
-            symbol: "d",
-        },
-        "BP8",
-    );
-    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
-    let wall = clock.elapsed().as_secs_f64();
-    let cpu = cpu_seconds() - cpu0;
-    println!(
-        "{} steps ({} attempts rejected), {} evaluations; wall {wall:.1} s, CPU {cpu:.1} s; \
-         wrote {}",
-        summary.steps,
-        summary.rejected_attempts,
-        ode.evaluations(),
-        args.out.display()
-    );
-    let json = serde_json::json!({
+        end: args.end_seconds(),
+        unit: (
+            TimeUnit {
+                seconds: BP8_SECONDS_PER_DAY,
+                symbol: "d",
+            },
+            "BP8",
+        ),
+        started: (clock, cpu0),
+    };
+    let output = || Ok(bp8.output(&args.out, args.dx, field, setup)?);
+    let keys = serde_json::json!({
         "problem": format!("BP8-QD-{}", source.name()),
         "dx_m": args.dx,
-        "cells": cells,
         "end_days": args.end_days,
         "tolerance": args.tolerance,
         "overpressure": format!("{policy:?}"),
-        "accepted_steps": ode.state().step,
-        "steps_this_invocation": summary.steps,
-        "rejected_attempts": summary.rejected_attempts,
-        "rate_evaluations": ode.evaluations(),
-        "integrator": args.integrator.summary(Some(ode.integrator_stats())),
-        "threads": args.threads,
-        "wall_time_s": wall,
-        "cpu_time_s": cpu,
-        "machine": machine(),
     });
-    rsf::checkpoint::write_atomically(
-        &args.out.join("summary.json"),
-        serde_json::to_string_pretty(&json)?.as_bytes(),
-    )?;
+    run_square_fault(settings, &mut ode, output, keys)?;
     Ok(())
 }

@@ -53,6 +53,8 @@ mod seas_bp5_output;
 #[cfg(feature = "seas")]
 mod seas_bp6;
 #[cfg(feature = "seas")]
+mod seas_bp7;
+#[cfg(feature = "seas")]
 mod seas_bp8;
 mod slider;
 mod slider3d;
@@ -84,6 +86,8 @@ pub use seas_bp6::{
     Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,
     BP6_SECONDS_PER_YEAR,
 };
+#[cfg(feature = "seas")]
+pub use seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};
 #[cfg(feature = "seas")]
 pub use seas_bp8::{Bp8Overpressure, Bp8Source, SeasBp8, SeasBp8FaultOde, BP8_SECONDS_PER_DAY};
 #[cfg(feature = "seas")]

@@ -55,6 +55,9 @@ pub struct WholeSpaceGrid {
     spacing: [f64; 2],
     /// The grid's first cell centre `(u, v)` (m).
     origin: [f64; 2],
+    /// The model's axes `u`, `v` and the plane's normal `n`, and the plane's `x · n` (m).
+    axes: [[f64; 3]; 3],
+    plane: f64,
     x: Vec<f64>,
     y: Vec<f64>,
     report: KernelReport,
@@ -225,6 +228,8 @@ impl WholeSpaceGrid {
             weights: fb.weights.clone(),
             spacing: [hu, hv],
             origin: [u0, v0],
+            axes: [u_axis, v_axis, normal],
+            plane,
             x: vec![0.0; m],
             y: vec![0.0; m],
             report,
@@ -249,6 +254,71 @@ impl WholeSpaceGrid {
     /// The cell (`i + n_u j`) of every frictional node, by fault index.
     pub fn cell_of_nodes(&self) -> &[usize] {
         &self.cell
+    }
+
+    /// The whole space's displacement (m) at each of `points` (model coordinates, m) per
+    /// unit slip of every slip unknown, for stations off the fault: per point `3 m` values
+    /// (`m` = [`dim`](FaultOperator::dim)), the model's `x`, `y`, `z` components in blocks
+    /// of `m`, a block's entry `2k + t` the response to a unit slip `t` (along `u`, `v`)
+    /// of node `k` — the layout of
+    /// [`HalfSpaceOperator::displacement_columns`](super::HalfSpaceOperator::displacement_columns).
+    /// Slip is the motion of the side the normal points to relative to the other
+    /// (checked: the jump of the displacement across a cell's centre is its slip). Okada's
+    /// full-space rectangle (DC3D's term A) in `medium`, one evaluation per cell and point.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `points` for a
+    /// point that is not finite or lies on a cell's edge in the fault's plane; the kernel's
+    /// errors.
+    pub fn displacement_columns(
+        &self,
+        medium: &Medium,
+        points: &[[f64; 3]],
+    ) -> Result<Vec<Vec<f64>>> {
+        let [nu, _] = self.cells();
+        let [hu, hv] = self.spacing;
+        let source = RectangleElement::new([0.0; 3], 0.0, 90.0, hu, hv)
+            .map_err(|e| crate::error::invalid("points", e.to_string()))?;
+        let [es, ed, n_okada] = source.frame();
+        let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let [u_axis, v_axis, normal] = self.axes;
+        let m = self.dim();
+        let mut out = Vec::with_capacity(points.len());
+        for (p, x) in points.iter().enumerate() {
+            let refuse =
+                |why: String| crate::error::invalid("points", format!("point {p} at {x:?}: {why}"));
+            if !x.iter().all(|c| c.is_finite()) {
+                return Err(refuse("not finite".into()));
+            }
+            let (pu, pv, pn) = (
+                dot(x, &u_axis),
+                dot(x, &v_axis),
+                dot(x, &normal) - self.plane,
+            );
+            let mut row = vec![0.0; 3 * m];
+            for (k, &e) in self.cell.iter().enumerate() {
+                let (i, j) = ((e % nu) as f64, (e / nu) as f64);
+                let du = pu - (self.origin[0] + i * hu);
+                let dv = pv - (self.origin[1] + j * hv);
+                // The model's plus side (where `normal` points) is the side `n_okada`
+                // points to: Okada's unit slip moves it along `+es`, `+ed` relative to the
+                // other (tested: the jump across a cell's centre).
+                let o = [0, 1, 2].map(|c| du * es[c] + dv * ed[c] + pn * n_okada[c]);
+                let r = source
+                    .unit_responses(medium, Space::WholeSpace, o)
+                    .map_err(|e| refuse(e.to_string()))?;
+                for (t, resp) in r[..2].iter().enumerate() {
+                    let along = [dot(&resp.u, &es), dot(&resp.u, &ed), dot(&resp.u, &n_okada)];
+                    for c in 0..3 {
+                        let model =
+                            along[0] * u_axis[c] + along[1] * v_axis[c] + along[2] * normal[c];
+                        row[c * m + 2 * k + t] = model;
+                    }
+                }
+            }
+            out.push(row);
+        }
+        Ok(out)
     }
 
     /// The dense `S` (`m × m`, N/m), one product per column.

@@ -138,3 +138,51 @@ fn grids_that_are_not_grids_are_refused() {
         "{e}"
     );
 }
+
+/// The displacement columns: across a cell's centre the displacement jumps by the cell's
+/// own slip (the plus side, where the fixed axis points, moving along `+u` or `+v`
+/// relative to the other), in each coordinate plane; a point off the fault sees the
+/// slip's field odd across the plane in the in-plane components.
+#[test]
+fn displacement_jumps_by_the_slip_across_a_cell() {
+    let medium = Medium::from_shear_poisson(32.04e9, 0.25).unwrap();
+    let (n, h) = ([6, 5], [10.0, 12.5]);
+    for fixed in 0..3 {
+        let c = centres(fixed, n, h);
+        let model = Model::fault_only(c.clone(), &vec![h[0] * h[1]; c.len()], fixed).unwrap();
+        let grid = WholeSpaceGrid::fault_alone(&model, medium).unwrap();
+        let m = grid.dim();
+        let axes: Vec<usize> = (0..3).filter(|&a| a != fixed).collect();
+        let k = 11;
+        // (Okada's DC3D snaps coordinates below 1e-6 m to 0: the plane itself.)
+        let eps = 1e-4;
+        let mut plus = c[k];
+        plus[fixed] += eps;
+        let mut minus = c[k];
+        minus[fixed] -= eps;
+        let cols = grid.displacement_columns(&medium, &[plus, minus]).unwrap();
+        for t in 0..2 {
+            for comp in 0..3 {
+                let jump = cols[0][comp * m + 2 * k + t] - cols[1][comp * m + 2 * k + t];
+                let expected = if comp == axes[t] { 1.0 } else { 0.0 };
+                assert!(
+                    (jump - expected).abs() < 1e-4,
+                    "plane ⟂ {fixed}, slip {t}, component {comp}: jump {jump}"
+                );
+            }
+        }
+        // Off the fault, mirror points: in-plane components odd, the normal one even.
+        let mut a = c[3];
+        a[fixed] += 17.0;
+        let mut b = c[3];
+        b[fixed] -= 17.0;
+        let cols = grid.displacement_columns(&medium, &[a, b]).unwrap();
+        for j in 0..m {
+            for comp in 0..3 {
+                let (x, y) = (cols[0][comp * m + j], cols[1][comp * m + j]);
+                let d = if comp == fixed { x - y } else { x + y };
+                assert!(d.abs() < 1e-12, "plane ⟂ {fixed}: {comp} {j}: {x} {y}");
+            }
+        }
+    }
+}

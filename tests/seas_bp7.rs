@@ -1,0 +1,161 @@
+//! The `seas_bp7` program (SEAS BP7-QD-A and -S, docs/seas-bp7.md) end to end through its
+//! binary, on a coarse grid (Δx = 80 m: 100 cells) for a few seconds:
+//!
+//! - the t = 0 row of every on-fault station holds the description's initial values
+//!   (θ₀ = D_RS/V_init, τ⁰ the steady state at V_init with the local a, V = (V_init,
+//!   V_zero)), computed here from the parameters alone, for both laws;
+//! - the bump acts where it is put: during its rise (0.4 s of T = 1 s) the station nearest
+//!   its centre, (−100, −100) m, slips a hundred times faster than its mirror image
+//!   (100, 100) m (without the bump the problem is symmetric under `x₂, x₃ → −x₂, −x₃`);
+//! - a run stopped with `--max-steps` and resumed writes every file byte-identical to an
+//!   uninterrupted run's.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use common::{close, fresh_dir, run_files, run_to_end_or_cap, seas_rows as rows};
+
+/// A fresh temporary folder.
+fn temp_dir(name: &str) -> PathBuf {
+    fresh_dir("bp7", name)
+}
+
+/// Runs `seas_bp7 --dx 80` into `out` with `extra` flags.
+fn seas_bp7(out: &Path, extra: &[&str]) {
+    run_to_end_or_cap(
+        "seas_bp7",
+        &["--dx", "80", "--date", "2026-11-29"],
+        out,
+        extra,
+    );
+}
+
+/// Table 1 as the implementations use it (the restatement `benchmarks/seas-bp7.md`).
+const RHO: f64 = 2670.0;
+const C_S: f64 = 3464.0;
+const SIGMA: f64 = 25e6;
+const A0: f64 = 0.004;
+const A_MAX: f64 = 0.016;
+const B: f64 = 0.01;
+const D_RS: f64 = 5e-4;
+const V0: f64 = 1e-6;
+const F0: f64 = 0.6;
+const V_INIT: f64 = 1e-9;
+const V_ZERO: f64 = 1e-20;
+
+/// Years of 365.25 days of `seconds`, as the `--end-years` argument.
+fn years(seconds: f64) -> String {
+    format!("{}", seconds / 31_557_600.0)
+}
+
+#[test]
+fn the_first_rows_are_the_descriptions_initial_values_and_the_bump_acts_at_its_centre() {
+    let eta = RHO * C_S * C_S / (2.0 * C_S);
+    // ψ₀ = f₀ + b ln(V₀/V_init) = 0.66908; τ⁰ = σ̄ a asinh(V_init/(2V₀) e^{ψ₀/a}) + ηV_init:
+    // 16.036 MPa in the disc, 13.964 MPa outside (the restatement's derived values).
+    let psi0 = F0 + B * (V0 / V_INIT).ln();
+    close(psi0, 0.66908, 1e-5, 0.0, "ψ₀");
+    let tau0 = |a: f64| SIGMA * a * (V_INIT / (2.0 * V0) * (psi0 / a).exp()).asinh() + eta * V_INIT;
+    close(tau0(A0), 16.036e6, 1e-4, 0.0, "τ⁰ in the disc");
+    close(tau0(A_MAX), 13.964e6, 1e-4, 0.0, "τ⁰ outside");
+    let theta0 = D_RS / V_INIT;
+    for law in ["aging", "slip"] {
+        let out = temp_dir(&format!("t0-{law}"));
+        seas_bp7(&out, &["--law", law, "--end-years", &years(0.4)]);
+        let stations = [
+            (0, 0),
+            (-100, 0),
+            (0, 100),
+            (100, 0),
+            (0, -100),
+            (-100, -100),
+            (-100, 100),
+            (100, -100),
+            (100, 100),
+            (-300, 0),
+            (0, 300),
+            (300, 0),
+            (0, -300),
+        ];
+        let mut last = BTreeMap::new();
+        for (x2, x3) in stations {
+            let name = format!("fltst_strk{x2:+04}dp{x3:+04}");
+            let r = rows(&out.join(&name));
+            // The stations at 300 m read cells outside the disc only, the others cells
+            // inside it only (80 m cells).
+            let a = if x2.max(x3) == 300 || x2.min(x3) == -300 {
+                A_MAX
+            } else {
+                A0
+            };
+            // t slip₂ slip₃ log V₂ log V₃ τ₂ τ₃ log θ (printed with 7 digits).
+            let expected = [
+                0.0,
+                0.0,
+                0.0,
+                V_INIT.log10(),
+                V_ZERO.log10(),
+                tau0(a) / 1e6,
+                tau0(a) * V_ZERO / V_INIT / 1e6,
+                theta0.log10(),
+            ];
+            assert_eq!(r[0].len(), expected.len(), "{name}");
+            for (k, (x, y)) in r[0].iter().zip(expected).enumerate() {
+                close(
+                    *x,
+                    y,
+                    1e-6,
+                    1e-30,
+                    &format!("{law} {name} column {}", k + 1),
+                );
+            }
+            last.insert((x2, x3), r.last().unwrap().clone());
+        }
+        // During the rise (0.4 s): the bump's side slips faster, by orders of magnitude.
+        let (near, far) = (&last[&(-100, -100)], &last[&(100, 100)]);
+        assert!(near[0] >= 0.4 - 1e-9, "{law}: the run ends at {}", near[0]);
+        assert!(
+            near[3] > far[3] + 2.0,
+            "{law}: log10 V₂ {} at (−100, −100) against {} at (100, 100)",
+            near[3],
+            far[3]
+        );
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
+/// Every file of `dir` but the checkpoint, the resume log, the manifest and the summary.
+fn outputs(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    run_files(dir, rsf_seas::SEAS_BP7_RESUME_LOG)
+}
+
+#[test]
+fn a_stopped_and_resumed_run_writes_the_uninterrupted_runs_files() {
+    let end = ["--end-years", "0.002"];
+    let whole = temp_dir("whole");
+    seas_bp7(&whole, &end);
+    let reference = outputs(&whole);
+    let parts = temp_dir("parts");
+    let every = ["--checkpoint-every", "40"];
+    seas_bp7(
+        &parts,
+        &[end.as_slice(), &every, &["--max-steps", "130"]].concat(),
+    );
+    let resume = parts.join("checkpoint.bin").display().to_string();
+    seas_bp7(
+        &parts,
+        &[end.as_slice(), &every, &["--resume", &resume]].concat(),
+    );
+    let resumed = outputs(&parts);
+    assert_eq!(
+        resumed.keys().collect::<Vec<_>>(),
+        reference.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &reference {
+        assert!(bytes == &resumed[name], "{name} differs after the resume");
+    }
+    let _ = std::fs::remove_dir_all(&whole);
+    let _ = std::fs::remove_dir_all(&parts);
+}
