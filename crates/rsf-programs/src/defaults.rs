@@ -50,6 +50,8 @@ mod tests {
         for variant in ["a", "s", "c"] {
             fits::<crate::seas_bp6::Args>(&["--variant", variant]);
         }
+        fits::<crate::seas_bp7::Args>(&[]);
+        fits::<crate::seas_bp7::Args>(&["--law", "slip"]);
         fits::<crate::seas_bp8::Args>(&[]);
         fits::<crate::seas_bp8::Args>(&["--source", "pw"]);
     }

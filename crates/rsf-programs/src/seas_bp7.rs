@@ -38,7 +38,7 @@ use rsf_seas::{
 /// SEAS BP7-QD-A / BP7-QD-S.
 #[derive(Parser)]
 #[command(version)]
-struct Args {
+pub(crate) struct Args {
     /// The state law: aging (BP7-QD-A) or slip (BP7-QD-S).
     #[arg(long, default_value = "aging")]
     law: String,
