@@ -60,6 +60,7 @@ pub mod fault_operator;
 mod friction_blocks;
 #[cfg(feature = "halfspace")]
 pub mod halfspace_operator;
+pub mod input_file;
 pub mod method;
 mod method_state;
 pub mod model;

@@ -387,6 +387,12 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
             )
             .into());
         }
+        if let Some(checkpoint) = &f.checkpoint {
+            // Checks before reads (issue 87): a file of another kind (a device, a FIFO, a
+            // large data file) is refused by its type and first bytes, before any folder
+            // is made.
+            flag("--resume", rsf::Checkpoint::check_file(checkpoint))?;
+        }
         let lock = flag(f.flag, lock(&f.dir))?;
         let outputs: Vec<&str> = f.outputs.iter().map(String::as_str).collect();
         let folder = RunFolder::new(&f.dir, P::NAME, &outputs).command(&command);
