@@ -184,17 +184,6 @@ impl Checkpoint {
         })
     }
 
-    /// Checks, reading at most 8 bytes, that `path` is a regular file that begins with a
-    /// checkpoint's magic (a format this version reads): what [`read`](Self::read) checks
-    /// first, for a program to refuse a file of another kind before it does anything else.
-    ///
-    /// # Errors
-    /// As [`read`](Self::read): [`Error::File`] (not a regular file, cannot be read),
-    /// [`Error::CheckpointCorrupt`] (not an rsf checkpoint).
-    pub fn check_file(path: &Path) -> Result<()> {
-        Self::open(path).map(|_| ())
-    }
-
     /// Opens the checkpoint `path` and reads its magic (checks before reads, issue 87): a
     /// regular file only (not `/dev/zero`, not a FIFO), its first 8 bytes a known format's
     /// magic — so that a large file of another kind is refused after 8 bytes, not read
