@@ -149,7 +149,7 @@ const CARELESS: &[(&str, &[&str])] = &[
     ("--tolerance", &["nan", "-1"]),
     ("--rk-tolerance", &["nan", "0"]),
     ("--epsilon", &["nan", "-1"]),
-    ("--kernel-epsilon", &["nan"]),
+    ("--kernel-epsilon", &["nan", "0.5"]),
     ("--adaptive", &["nan", "2"]),
     ("--coarse", &["1e12"]),
     ("--fine", &["1e12"]),
@@ -270,6 +270,16 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
         ),
         case("seas_bp1", &["--dz", "1e-300"], "--dz"),
         case("seas_bp1", &["--date", "2023-02-31"], "--date"),
+        // Issue 87: a flag the default scheme ignores, a device as a checkpoint, a box whose
+        // octree's root cubes alone exceed the mesh's limit (refused by arithmetic, before
+        // anything is built: it built 62.5 million cubes in 54 s).
+        case("seas_bp1", &["--tolerance", "1e-8"], "--tolerance"),
+        case("seas_bp1", &["--resume", "/dev/zero"], "--resume"),
+        case(
+            "seas_bp5",
+            &["--kernel", "fe", "--domain-km", "1e4"],
+            "--domain-km",
+        ),
         case(
             "seas_bp1",
             &["--resume", "main_job/checkpoint.bin", "--overwrite"],
@@ -805,145 +815,175 @@ fn cracked_arc_mesh(dir: &Path) -> PathBuf {
     path
 }
 
+/// The files under `dir` by their path inside it, but those that name a run or its time
+/// (`rsf-run.txt`, `summary.json`, `checkpoint.bin`: the command line, wall times).
+fn run_files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    snapshot(dir)
+        .into_iter()
+        .map(|(p, b)| (p.strip_prefix(dir).unwrap().to_path_buf(), b))
+        .filter(|(p, _)| {
+            !["rsf-run.txt", "summary.json", "checkpoint.bin"]
+                .iter()
+                .any(|n| p == Path::new(n))
+        })
+        .collect()
+}
+
 /// A run's checkpoint resumed into **another** finished run's folder of the same program
 /// is refused before anything is cut, that folder byte-identical, while the run's own
 /// folder resumes (issue 74: `seas_bp5 --out B --resume A/checkpoint.bin` cut B's finished
-/// files to step 500 and continued A's run in them). The SEAS programs with `--resume`,
-/// through the guard; A stops at a step cap with a checkpoint, B is another configuration's whole run.
+/// files to step 500 and continued A's run in them). And two runs are never spliced into
+/// one folder (issue 87): the same checkpoint into B **whose `rsf-run.txt` was deleted** is
+/// refused by B's own files (the resume log's state of the checkpoint's step is not the
+/// checkpoint's), B's files byte-identical and no run id written — or, where B's files up
+/// to the step are A's bytes (B diverges later), continued into A's run whole; and
+/// `--resume A/checkpoint.bin --overwrite` into a copy of B (its manifest naming B's run)
+/// gives that folder to A's run whole — at the end every file byte-identical to A's own
+/// folder resumed to the end, none of B's left. Every program with `--resume` but the sliders (whose series row of the step is
+/// checked, `crates/rsf/tests/suite/run_folder.rs`): BP1, BP3, BP5 with both kernels, BP6
+/// A and C, BP7, BP8 and the two network programs, through the guard; A stops at a step cap
+/// with a checkpoint at a step where B (another tolerance, the same checkpoint interval)
+/// has its resume log's state too.
 #[test]
 fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing() {
     let dir = std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let programs: [(&str, &[&str], &[&str]); 6] = [
-        (
-            "seas_bp5",
-            &[
-                "--dx",
-                "4000",
-                "--end-years",
-                "300",
-                "--checkpoint-every",
-                "100",
-            ],
-            &["--tolerance", "1e-7"],
-        ),
-        (
-            "seas_bp3",
-            &[
-                "--dx",
-                "2000",
-                "--end-years",
-                "100",
-                "--checkpoint-every",
-                "100",
-            ],
-            &["--tolerance", "1e-7"],
-        ),
-        (
-            "seas_bp1",
-            &[
-                "--dz",
-                "1000",
-                "--domain-km",
-                "60",
-                "--end-years",
-                "100",
-                "--checkpoint-every",
-                "100",
-            ],
-            &["--rk-tolerance", "1e-7"],
-        ),
-        (
-            "seas_bp6",
-            &[
-                "--dz",
-                "200",
-                "--end-years",
-                "2",
-                "--checkpoint-every",
-                "100",
-            ],
-            &["--tolerance", "1e-8"],
-        ),
-        (
-            "seas_bp8",
-            &["--dx", "80", "--end-days", "8", "--checkpoint-every", "100"],
-            &["--tolerance", "1e-8"],
-        ),
-        (
-            "seas_bp7",
-            &[
-                "--dx",
-                "80",
-                "--end-years",
-                "0.002",
-                "--checkpoint-every",
-                "100",
-            ],
-            &["--tolerance", "1e-8"],
-        ),
+    let every = ["--checkpoint-every", "100"];
+    // Program and variant; A's flags; B's other flag (another trajectory from the first
+    // steps).
+    let table = [
+        "seas_bp5 okada; --dx 4000 --end-years 300; --tolerance 1e-7",
+        "seas_bp5 fe; --kernel fe --dx 10000 --end-years 20; --tolerance 1e-7",
+        "seas_bp3 ; --dx 2000 --end-years 300; --tolerance 1e-6",
+        "seas_bp1 ; --dz 1000 --domain-km 60 --end-years 300; --rk-tolerance 1e-7",
+        "seas_bp6 a; --dz 200 --end-years 2; --tolerance 1e-8",
+        "seas_bp6 c; --variant c --elastic fe --dz 500 --domain-km 40 --end-years 2; --tolerance 1e-8",
+        "seas_bp8 ; --dx 80 --end-days 8; --tolerance 1e-8",
+        "seas_bp7 ; --dx 80 --end-years 0.002; --tolerance 1e-8",
+        "stepover ; --dx 500 --end-years 300; --tolerance 1e-7",
+        "bp5_pair ; --dx 4000 --end-years 300; --tolerance 1e-7",
     ];
+    let programs: Vec<(&str, &str, Vec<&str>, Vec<&str>)> = table
+        .iter()
+        .map(|row| {
+            let parts: Vec<&str> = row.split("; ").collect();
+            let (program, variant) = parts[0].split_once(' ').unwrap();
+            let flags = |i: usize| parts[i].split(' ').collect::<Vec<_>>();
+            (program, variant, flags(1), flags(2))
+        })
+        .collect();
     let failures = Mutex::new(Vec::new());
-    std::thread::scope(|scope| {
-        for (program, flags, other) in programs {
-            let (dir, failures) = (&dir, &failures);
-            scope.spawn(move || {
-                let args = |extra: &[&str]| -> Vec<String> {
-                    flags
-                        .iter()
-                        .chain(extra)
-                        .chain(&["--threads", "1"])
-                        .map(|s| (*s).to_owned())
-                        .collect()
-                };
-                let (a, b) = (format!("{program}_a"), format!("{program}_b"));
-                let limit = Duration::from_secs(300);
-                let first = run(
-                    program,
-                    &args(&["--out", &a, "--max-steps", "150"]),
-                    dir,
-                    limit,
-                );
-                let mut second = args(&["--out", &b]);
-                second.extend(other.iter().map(|s| (*s).to_owned()));
-                let second = run(program, &second, dir, limit);
-                let fail = |m: String| failures.lock().unwrap().push(format!("{program}: {m}"));
-                if first.ok || !first.stderr.contains("step cap") || !second.ok {
-                    return fail(format!("the two runs: {}\n{}", first.stderr, second.stderr));
-                }
-                let before = snapshot(&dir.join(&b));
-                let checkpoint = format!("{a}/checkpoint.bin");
-                let into_b = run(
-                    program,
-                    &args(&["--out", &b, "--resume", &checkpoint]),
-                    dir,
-                    limit,
-                );
-                if into_b.ok
-                    || !(into_b.stderr.contains("another run")
-                        && into_b.stderr.contains("--overwrite"))
-                {
-                    fail(format!("resumed into B: {}", into_b.stderr));
-                }
-                if snapshot(&dir.join(&b)) != before {
-                    fail("B's files were changed".into());
-                }
-                let into_a = run(
-                    program,
-                    &args(&["--out", &a, "--resume", &checkpoint]),
-                    dir,
-                    limit,
-                );
-                if !into_a.ok {
-                    fail(format!("resumed into its own folder: {}", into_a.stderr));
-                }
-            });
-        }
-    });
+    // Two programs at a time (the machine's cores are shared).
+    for pair in programs.chunks(2) {
+        std::thread::scope(|scope| {
+            for (program, variant, flags, other) in pair {
+                let (dir, failures, every) = (&dir, &failures, &every);
+                scope.spawn(move || {
+                    let args = |extra: &[&str]| -> Vec<String> {
+                        flags
+                            .iter()
+                            .chain(every)
+                            .chain(extra)
+                            .chain(&["--threads", "1"])
+                            .map(|s| (*s).to_owned())
+                            .collect()
+                    };
+                    let name = format!("{program}{variant}");
+                    let [a, b, b2] = ["a", "b", "b2"].map(|x| format!("{name}_{x}"));
+                    let limit = Duration::from_secs(300);
+                    let go = |extra: &[&str]| run(program, &args(extra), dir, limit);
+                    let first = go(&["--out", &a, "--max-steps", "200"]);
+                    let mut second = args(&["--out", &b]);
+                    second.extend(other.iter().map(|s| (*s).to_owned()));
+                    let second = run(program, &second, dir, limit);
+                    let fail = |m: String| failures.lock().unwrap().push(format!("{name}: {m}"));
+                    if first.ok || !first.stderr.contains("step cap") || !second.ok {
+                        return fail(format!("the two runs: {}\n{}", first.stderr, second.stderr));
+                    }
+                    let before = snapshot(&dir.join(&b));
+                    let checkpoint = format!("{a}/checkpoint.bin");
+                    let into_b = go(&["--out", &b, "--resume", &checkpoint]);
+                    if into_b.ok
+                        || !(into_b.stderr.contains("another run")
+                            && into_b.stderr.contains("--overwrite"))
+                    {
+                        fail(format!("resumed into B: {}", into_b.stderr));
+                    }
+                    if snapshot(&dir.join(&b)) != before {
+                        fail("B's files were changed".into());
+                    }
+                    // A copy of B with its manifest; then B without it.
+                    copy_folder(&dir.join(&b), &dir.join(&b2));
+                    std::fs::remove_file(dir.join(&b).join("rsf-run.txt")).unwrap();
+                    let before = run_files(&dir.join(&b));
+                    let spliced = go(&["--out", &b, "--resume", &checkpoint]);
+                    // Refused by B's files, B unchanged — or, where B's files up to the
+                    // step are A's bytes (a run that diverges later), continued into A's
+                    // run whole (compared with A's own folder below).
+                    if !spliced.ok {
+                        if !spliced.stderr.contains("splice") {
+                            fail(format!(
+                                "resumed into B without its manifest: {}",
+                                spliced.stderr
+                            ));
+                        }
+                        if run_files(&dir.join(&b)) != before {
+                            fail("B's files were changed by the refused resume".into());
+                        }
+                        let manifest = std::fs::read_to_string(dir.join(&b).join("rsf-run.txt"))
+                            .unwrap_or_default();
+                        if manifest.contains("run=") {
+                            fail(format!("the refused resume left a run id in B: {manifest}"));
+                        }
+                    }
+                    let overwrite = go(&["--out", &b2, "--resume", &checkpoint, "--overwrite"]);
+                    if !overwrite.ok {
+                        fail(format!("--overwrite into B: {}", overwrite.stderr));
+                    }
+                    let into_a = go(&["--out", &a, "--resume", &checkpoint]);
+                    if !into_a.ok {
+                        return fail(format!("resumed into its own folder: {}", into_a.stderr));
+                    }
+                    let whole = run_files(&dir.join(&a));
+                    let mut given = vec![("--overwrite", &b2)];
+                    if spliced.ok {
+                        given.push(("a resume without B's manifest", &b));
+                    }
+                    for (how, folder) in given {
+                        let given = run_files(&dir.join(folder));
+                        if whole != given {
+                            let differ: Vec<_> = whole
+                                .keys()
+                                .chain(given.keys())
+                                .filter(|k| whole.get(*k) != given.get(*k))
+                                .collect();
+                            fail(format!(
+                                "the folder continued by {how} is not A's run whole: {differ:?}"
+                            ));
+                        }
+                    }
+                });
+            }
+        });
+    }
     let failures = failures.into_inner().unwrap();
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Copies the folder `from` (files and folders in it) to `to`.
+fn copy_folder(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let p = e.unwrap().path();
+        let target = to.join(p.file_name().unwrap());
+        if p.is_dir() {
+            copy_folder(&p, &target);
+        } else {
+            std::fs::copy(&p, &target).unwrap();
+        }
+    }
 }
 
 /// The programs of the MPI crate (`crates/rsf-mpi/src/bin/`) go through the guard like the

@@ -628,6 +628,7 @@ const RSF_MODULES: &[&[&str]] = &[
         "simulation_state",
         "checkpoint",
         "run_manifest",
+        "input_file",
         "fault_operator",
         "model",
     ],

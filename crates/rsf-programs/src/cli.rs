@@ -662,7 +662,8 @@ pub struct KernelArgs {
     /// `hierarchical` resumes with `--kernel dense`).
     #[arg(long, value_enum, default_value_t = KernelArg::Hierarchical)]
     pub kernel: KernelArg,
-    /// Relative accuracy ε of the hierarchical kernel (default: the Runge–Kutta tolerance).
+    /// Relative accuracy ε of the hierarchical kernel, in (0, 1e-2] (default: the
+    /// Runge–Kutta tolerance, at most 1e-2).
     #[arg(long)]
     pub kernel_epsilon: Option<f64>,
 }
@@ -671,22 +672,31 @@ impl KernelArgs {
     /// The kernel for a run of Runge–Kutta `tolerance`.
     ///
     /// # Errors
-    /// `--kernel-epsilon` without `--kernel hierarchical`.
+    /// `--kernel-epsilon` without `--kernel hierarchical`, or outside the kernel's range
+    /// `(0, MAX_KERNEL_EPSILON]` (the range [`FaultKernel::validate`] applies: one source
+    /// for both, issue 87 — `0.5` passed `(ε, 1)` here and was refused after the folder
+    /// was made).
+    ///
+    /// [`FaultKernel::validate`]: rsf::fault_ode::FaultKernel::validate
     pub fn kernel(&self, tolerance: f64) -> Result<rsf::fault_ode::FaultKernel, String> {
-        use rsf::fault_ode::FaultKernel;
+        use rsf::fault_ode::{FaultKernel, MAX_KERNEL_EPSILON};
         match (self.kernel, self.kernel_epsilon) {
             (KernelArg::Dense, None) => Ok(FaultKernel::Dense),
             (KernelArg::Dense, Some(_)) => {
                 Err("--kernel-epsilon needs --kernel hierarchical".into())
             }
             (KernelArg::Hierarchical, None) => Ok(FaultKernel::matching(tolerance)),
-            (KernelArg::Hierarchical, Some(e)) if e > f64::EPSILON && e < 1.0 => {
-                Ok(FaultKernel::hierarchical(e))
+            (KernelArg::Hierarchical, Some(e)) => {
+                let kernel = FaultKernel::hierarchical(e);
+                kernel.validate().map_err(|_| {
+                    format!(
+                        "--kernel-epsilon {}: must be in (0, {}] (a relative accuracy)",
+                        rsf_numeric::number(e),
+                        rsf_numeric::number(MAX_KERNEL_EPSILON)
+                    )
+                })?;
+                Ok(kernel)
             }
-            (KernelArg::Hierarchical, Some(e)) => Err(format!(
-                "--kernel-epsilon {e:e}: must be in ({:e}, 1) (a relative accuracy)",
-                f64::EPSILON
-            )),
         }
     }
 }

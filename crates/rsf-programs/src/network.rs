@@ -77,9 +77,14 @@ pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
     )?;
     let mode = session.mode(run.fresh);
     let model = method.model();
-    let mut files = FaultStations::new(run.out, model, stations, mode)?;
     let mu = run.rigidity;
     let mut catalogue = FaultCatalogue::new(model, EventThresholds::default(), |_| mu)?;
+    if let Some(c) = session.resumed() {
+        // The folder's files are the checkpoint's run's (its manifest may be missing):
+        // proven by the catalogue's state of the step before any file is cut.
+        catalogue.check_checkpoint_state(&run.out.join(CATALOGUE_LOG), model, c)?;
+    }
+    let mut files = FaultStations::new(run.out, model, stations, mode)?;
     if session.keeps_resume_log() {
         catalogue = catalogue.with_resume_log(
             &run.out.join(CATALOGUE_LOG),

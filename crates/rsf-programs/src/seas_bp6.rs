@@ -513,8 +513,8 @@ impl Common<'_> {
         if session.keeps_resume_log() {
             output = output.with_resume_log(args.run.checkpoint_every);
         }
-        match session.resumed_step() {
-            Some(step) => output.resume(step)?,
+        match session.resumed() {
+            Some(c) => output.resume(c.state.step, c.state.time)?,
             None => output.write_initial_state(run.model(), run.state(), run.fault_tractions()),
         }
         let progress = rsf::observe::Progress::time_in(

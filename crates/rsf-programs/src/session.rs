@@ -78,7 +78,8 @@ impl Session {
     ///
     /// # Errors
     /// The checkpoint's: unreadable, a checksum or fingerprint that differs (beyond
-    /// `--allow-change`), a state of another method or model
+    /// `--allow-change`), an end time before the checkpoint's time, a state of another
+    /// method or model
     /// ([`rsf::run_folder::read_checkpoint`], [`Stepping::restore`]).
     pub fn start<const D: usize, const C: usize, M: Stepping<D, C> + ?Sized>(
         flags: SessionFlags<'_>,
@@ -91,6 +92,19 @@ impl Session {
             None => None,
             Some(path) => {
                 let c = read_checkpoint(path, &fingerprint, flags.allow_change)?;
+                if end_time < c.state.time {
+                    // Issue 87: `--allow-change end_years` to an end before the checkpoint
+                    // exited 0 with "0 steps".
+                    return Err(format!(
+                        "the run's end, t = {} s, is before the checkpoint's time t = {} s (step \
+                         {}): a resume continues a run forward; give an end time after the \
+                         checkpoint's",
+                        rsf_numeric::number(end_time),
+                        rsf_numeric::number(c.state.time),
+                        c.state.step
+                    )
+                    .into());
+                }
                 method.restore(&c)?;
                 Some(c)
             }
@@ -132,7 +146,9 @@ impl Session {
 
     /// The along-dip SEAS files (BP1, BP3: `rsf_seas::SeasOutput`) of the run of `model`
     /// in `out`, `laws` its frictional nodes' laws: opened in [`Self::mode`] of `fresh` (on
-    /// resume every file's rows are checked up to the checkpoint's step before any is cut),
+    /// resume the resume log's line of the checkpoint's step must show the checkpoint's
+    /// time — the files are its run's — and every file's rows are checked up to that step
+    /// before any is cut),
     /// with their resume log where the run can stop before its end
     /// ([`Self::keeps_resume_log`]).
     ///
@@ -148,6 +164,9 @@ impl Session {
         setup: rsf_seas::SeasSetup,
         fresh: FileMode,
     ) -> Result<rsf_seas::SeasOutput<L>, AnyError> {
+        if let Some(c) = self.resumed() {
+            rsf_seas::SeasOutput::<L>::check_checkpoint_time(out, c.state.step, c.state.time)?;
+        }
         let mode = self.mode(fresh);
         let output = rsf_seas::SeasOutput::new(out, model, laws, setup, mode)?;
         Ok(if self.keeps_resume_log() {
@@ -179,6 +198,11 @@ impl Session {
         files: &mut [&mut dyn Observer<D, C>],
         progress: Option<Progress>,
     ) -> Result<RunSummary, AnyError> {
+        if let (Some(c), Some(dir)) = (&self.resumed, self.checkpoint_path.parent()) {
+            // Every file is checked by now: a folder whose manifest named no run is the
+            // checkpoint's run's (issue 87).
+            rsf::run_folder::adopt_run_id(dir, &c.run_id)?;
+        }
         let checkpointer = Checkpointer::new(self.checkpoint_path.clone())
             .fingerprint(self.fingerprint.clone())
             .wall_time_before(self.wall_time_before());

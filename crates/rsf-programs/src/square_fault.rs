@@ -67,8 +67,8 @@ pub(crate) fn run_square_fault(
     if session.keeps_resume_log() {
         output = output.with_resume_log(settings.run.checkpoint_every);
     }
-    match session.resumed_step() {
-        Some(step) => output.resume(step)?,
+    match session.resumed() {
+        Some(c) => output.resume(c.state.step, c.state.time)?,
         None => output.write_initial_state(ode.model(), ode.state(), ode.fault_tractions()),
     }
     let (unit, label) = settings.unit;

@@ -15,8 +15,17 @@ const EXCERPT: usize = 100;
 /// [`Error::SceneFile`] naming the path: it cannot be read, or `parse`'s error (with line
 /// and column).
 pub(crate) fn read<T>(path: &Path, parse: impl FnOnce(&str) -> Result<T>) -> Result<T> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::SceneFile(format!("cannot read `{}`: {e}", path.display())))?;
+    let cannot = |e: &dyn std::fmt::Display| {
+        Error::SceneFile(format!("cannot read `{}`: {e}", path.display()))
+    };
+    // A regular file only (a FIFO would block forever, a device never end).
+    let (mut file, len) =
+        rsf::input_file::open_regular(path, "read the scene file").map_err(|e| match e {
+            Error::File { source, .. } => cannot(&source),
+            e => e,
+        })?;
+    let bytes = rsf::input_file::read_at_most(&mut file, len, path, "read the scene file")?;
+    let text = String::from_utf8(bytes).map_err(|e| cannot(&e))?;
     parse(&text).map_err(|e| match e {
         Error::SceneFile(m) => Error::SceneFile(format!("`{}`, {m}", path.display())),
         e => e,

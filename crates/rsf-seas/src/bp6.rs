@@ -14,7 +14,7 @@ use rsf::{Flow, Model, Observer, SimulationState, StepView};
 
 use crate::error::{invalid, io_at, show_path, Error, Result};
 use crate::reserve::Reserve;
-use crate::resume::kept_rows;
+use crate::resume::{check_logged_time, kept_rows};
 use crate::setup::SeasSetup;
 use crate::text::{is_iso_date, positions_row, write_row, FileLayout, Positions};
 
@@ -154,6 +154,9 @@ struct Profile {
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Mark {
     step: usize,
+    /// The run's time after the step (s; `None` in a log of a version before issue 87).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    t: Option<f64>,
     written: usize,
     last_station_t: f64,
     tau: (f64, f64),
@@ -281,6 +284,7 @@ impl SeasBp6Output {
             profile_interval: 3.0 * 3600.0,
             mark: Mark {
                 step: 0,
+                t: None,
                 written: 0,
                 last_station_t: f64::NEG_INFINITY,
                 tau: (f64::INFINITY, 0.0),
@@ -487,14 +491,15 @@ impl SeasBp6Output {
     }
 
     /// Continues the files of the run in this folder at its persisted step `step` (the
-    /// checkpoint's): each file keeps its rows up to that step, checked as every SEAS
+    /// checkpoint's, at time `time`, s; the log's mark of the step must be at exactly that
+    /// time: the files are the checkpoint's run's, issue 87): each file keeps its rows up to that step, checked as every SEAS
     /// file is (field-list lines, the profile's positions, the rows complete, the last
     /// at the mark's time).
     ///
     /// # Errors
     /// [`Error::Resume`](crate::Error::Resume) naming the resume log (no mark at `step`,
-    /// unreadable) or the file that cannot be continued.
-    pub fn resume(&mut self, step: usize) -> Result<()> {
+    /// a mark at another time, unreadable) or the file that cannot be continued.
+    pub fn resume(&mut self, step: usize, time: f64) -> Result<()> {
         let path = self.dir.join(SEAS_BP6_RESUME_LOG);
         let fail = |reason: String| Error::Resume {
             path: show_path(&path),
@@ -509,6 +514,7 @@ impl SeasBp6Output {
             )));
         };
         let mark = log[i].clone();
+        check_logged_time(&path, step, mark.t, time)?;
         let files = self
             .stations
             .iter_mut()
@@ -543,6 +549,7 @@ impl<const D: usize, const C: usize> Observer<D, C> for SeasBp6Output {
         let t = s.state.time;
         let m = &mut self.mark;
         m.step = s.report.step;
+        m.t = Some(s.state.time);
         m.steps += 1;
         m.tau = (m.tau.0.min(s.report.tau), m.tau.1.max(s.report.tau));
         let station = t - self.mark.last_station_t >= self.station_interval * (1.0 - 1e-12);

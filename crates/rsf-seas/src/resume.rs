@@ -120,3 +120,35 @@ pub(crate) fn kept_rows(
         keep,
     })
 }
+
+/// Checks that the files of an output and a checkpoint of step `step` at time `time` (s)
+/// are of the same run: the time `logged` that the output's resume log `log` holds for
+/// that step (bit for bit: the log keeps every `f64` exactly) is the checkpoint's. A run of
+/// the same scene and method (the checkpoint's fingerprint, checked before) that reached
+/// the same step at the same time is the same trajectory; another run's files — a folder
+/// whose manifest is missing or of an earlier version — are refused before anything is
+/// cut, instead of being cut at the step and continued with the checkpoint's run (issue
+/// 87). `None`: a log of a version before issue 87, which holds no time (judged by the
+/// run folder's manifest alone). A checkpoint at step 0 has nothing to compare.
+///
+/// # Errors
+/// [`Error::Resume`] naming the log if the times differ.
+pub(crate) fn check_logged_time(
+    log: &Path,
+    step: usize,
+    logged: Option<f64>,
+    time: f64,
+) -> Result<()> {
+    match logged {
+        Some(t) if step > 0 && t.to_bits() != time.to_bits() => Err(Error::Resume {
+            path: show_path(log),
+            reason: format!(
+                "its state of the checkpoint's step {step} is at t = {t:e} s, the checkpoint at \
+                 t = {time:e} s: the files in this folder are of another run than the \
+                 checkpoint's, and continuing would splice the two; resume into the \
+                 checkpoint's own folder"
+            ),
+        }),
+        _ => Ok(()),
+    }
+}

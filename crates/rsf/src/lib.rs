@@ -61,6 +61,7 @@ mod friction_blocks;
 pub mod greens;
 #[cfg(feature = "halfspace")]
 pub mod halfspace_operator;
+pub mod input_file;
 pub mod method;
 mod method_state;
 pub mod model;

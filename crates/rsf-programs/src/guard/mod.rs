@@ -393,10 +393,21 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
         let mode = match &f.checkpoint {
             // The checkpoint's run against the folder's (issue 74): a resume into another
             // run's folder would cut that run's files and continue another run in them.
-            Some(checkpoint) => folder.prepare_resume(checkpoint, f.overwrite),
-            None => folder.prepare(f.resume, f.overwrite),
+            // A checkpoint that cannot be read — of another kind, refused by its type and
+            // first bytes (issue 87) — is named by --resume, not by the folder's flag.
+            Some(checkpoint) => match folder.prepare_resume(checkpoint, f.overwrite) {
+                Err(
+                    e @ (rsf::Error::CheckpointCorrupt { .. }
+                    | rsf::Error::File {
+                        action: "read the checkpoint",
+                        ..
+                    }),
+                ) => flag("--resume", Err(e)),
+                mode => flag(f.flag, mode),
+            },
+            None => flag(f.flag, folder.prepare(f.resume, f.overwrite)),
         };
-        modes.push(flag(f.flag, mode)?);
+        modes.push(mode?);
         locks.push(lock);
     }
     Ok(Prepared {

@@ -245,6 +245,29 @@ impl Program for Args {
                 }
             }
         }
+        // The settings of the implicit scheme are ignored by the default one (the fault
+        // ODE's Runge–Kutta run without --inertia): refused when given (issue 87:
+        // `--tolerance 1e-8` gave byte-identical files while summary.json recorded it).
+        if self.scheme == Scheme::RungeKutta && !self.inertia {
+            for (flag, given) in [
+                ("--tolerance", self.tolerance != 1e-3),
+                ("--state-change-cap", self.state_change_cap != 0.5),
+                (
+                    "--fixed-point-tolerance",
+                    self.fixed_point_tolerance != 1e-10,
+                ),
+                ("--setup-per-time-step", self.setup_per_time_step),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the implicit scheme (`--scheme implicit`, or the \
+                         dynamic phases with --inertia); the default scheme, the fault ODE's \
+                         Runge–Kutta run, would ignore it — its tolerance is --rk-tolerance"
+                    )
+                    .into());
+                }
+            }
+        }
         if self.absorbing == Some(Absorbing::Dynamic) && self.scheme == Scheme::Implicit {
             return Err("--absorbing dynamic: the implicit scheme has one model (use all)".into());
         }

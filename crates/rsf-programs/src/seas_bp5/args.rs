@@ -265,6 +265,24 @@ impl Program for Args {
                         crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
+                        // The octree's root cubes by arithmetic before anything is built
+                        // (issue 87: `--domain-km 1e4` built 62.5 million cubes in 54 s).
+                        let cubes = SeasBp5::graded_root_cubes(&self.grid(&bp5));
+                        let most = rsf_scenes::SEAS_BP5_GRADED_MAX_CELLS as f64;
+                        if 48.0 * cubes > most {
+                            return Err(crate::guard::refuse(
+                                "--domain-km",
+                                crate::guard::number(domain_km),
+                                &format!(
+                                    "the graded mesh's box holds {cubes:.3e} root cubes at --dx \
+                                     {}, up to {:.3e} cells before any refinement, above the \
+                                     mesh's limit of {most:e}: a smaller --domain-km (or a \
+                                     larger --dx)",
+                                    crate::guard::number(self.dx),
+                                    48.0 * cubes
+                                ),
+                            ));
+                        }
                         // The set-up's peak as measured on the graded mesh (docs/seas-bp5.md,
                         // "The volume at the description's resolution"): the Schur-only
                         // elimination's grows like vertices^1.6, the whole factor's like
@@ -289,12 +307,17 @@ impl Program for Args {
                             };
                             peak + operator_bytes(m, m > 4096.0)
                         };
-                        // Below 1 km the mesh itself takes seconds (8 s at 500 m): a run
-                        // whose estimate from the fewest vertices its mesh can have is
-                        // already above the limit is refused on that bound, unmeshed.
+                        // Below 1 km, or in a large box, the mesh itself takes seconds (8 s
+                        // at 500 m; 13 s for a 2 900 km box at 2 km): a run whose estimate
+                        // from the fewest vertices its mesh can have is already above the
+                        // limit is refused on that bound, unmeshed. The root cubes' grid
+                        // alone has at least as many vertices as cubes.
                         let limit = self.limits.max_memory_gb * 1e9;
-                        match graded_vertices_at_least(self.dx, domain_km, ratio) {
-                            Some(fewest) if peak(fewest) > limit => peak(fewest),
+                        let fewest = graded_vertices_at_least(self.dx, domain_km, ratio)
+                            .unwrap_or(0.0)
+                            .max(cubes);
+                        match fewest {
+                            fewest if peak(fewest) > limit => peak(fewest),
                             _ => {
                                 // The graded mesh itself (about a second at 1 km).
                                 let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?

@@ -371,8 +371,8 @@ pub(super) fn run(
     if session.keeps_resume_log() {
         output = output.with_resume_log(args.run.checkpoint_every);
     }
-    match session.resumed_step() {
-        Some(step) => output.resume(step)?,
+    match session.resumed() {
+        Some(c) => output.resume(c.state.step, c.state.time)?,
         None => output.write_initial_state(
             ode.model(),
             ode.state(),

@@ -23,7 +23,7 @@ mod volume;
 
 pub use half_space::MAX_CELLS;
 pub use pair::{Bp5Pair, BP5_PAIR_FAULTS, BP5_PAIR_STATIONS};
-pub use volume::{SeasBp5Grid, SeasBp5Mesh};
+pub use volume::{SeasBp5Grid, SeasBp5Mesh, GRADED_MAX_CELLS};
 
 /// The fault ODE of BP5 (the regularised law, the aging law, a 3-D fault alone).
 pub type SeasBp5FaultOde = FaultOde<3, AsinhLaw, Aging, 3>;

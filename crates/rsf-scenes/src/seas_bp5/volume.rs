@@ -20,6 +20,15 @@ pub const GRADED_ROOT_MAX: f64 = 64e3;
 /// of matrices).
 pub const GRADED_MAX_CELLS: usize = 20_000_000;
 
+/// The edge (m) of the graded mesh's root cubes at `grid` and the half-width `far` (m) of
+/// its box ([`SeasBp5::graded_root_cubes`]).
+fn graded_root(grid: &SeasBp5Grid) -> (f64, f64) {
+    let h = grid.dx;
+    let doublings = (GRADED_ROOT_MAX / h).log2().floor().max(0.0);
+    let root = h * doublings.exp2();
+    (root, (grid.domain / root - 1e-9).ceil() * root)
+}
+
 /// The distance (m) between the boxes `a` and `b`, each `(lower, upper)` corners (0 where
 /// they meet).
 fn box_distance(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> f64 {
@@ -321,6 +330,18 @@ impl SeasBp5 {
         Ok(cuboid_from_coordinates(&xs, &ys, &zs)?)
     }
 
+    /// The root cubes of [`SeasBp5Mesh::Graded`]'s octree at the grid `grid`, counted by
+    /// arithmetic before anything is built (the mesh's octree: edge `root = dx·2^k` at
+    /// most 64 km, `2 far / root` of them along strike and
+    /// across, `far / root` in depth). Each makes up to 48 cells before any refinement:
+    /// a box whose root cubes alone exceed [`GRADED_MAX_CELLS`] cannot be meshed (issue 87:
+    /// `--domain-km 1e4` built 62.5 million cubes, 54 s and 6.3 GB, before a refusal).
+    pub fn graded_root_cubes(grid: &SeasBp5Grid) -> f64 {
+        let (root, far) = graded_root(grid);
+        let per_side = 2.0 * far / root;
+        per_side * per_side * (far / root)
+    }
+
     /// The mesh of [`SeasBp5Mesh::Graded`] and the corners of its box (m): an octree of
     /// Kuhn cubes of edge `root = dx·2^k` (the largest at most [`GRADED_ROOT_MAX`]) on the box
     /// `|x| ≤ far`, `|y − s| ≤ far`, `−far ≤ z ≤ 0`, `far` the smallest multiple of `root`
@@ -339,9 +360,20 @@ impl SeasBp5 {
         planes: &[f64],
     ) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
         let h = grid.dx;
-        let doublings = (GRADED_ROOT_MAX / h).log2().floor().max(0.0);
-        let root = h * doublings.exp2();
-        let far = (grid.domain / root - 1e-9).ceil() * root;
+        let (root, far) = graded_root(grid);
+        let cubes = Self::graded_root_cubes(grid);
+        if 48.0 * cubes > GRADED_MAX_CELLS as f64 {
+            return Err(invalid(
+                "domain",
+                format!(
+                    "{} m: the graded mesh's {cubes:.3e} root cubes of {root:e} m alone make \
+                     up to {:.3e} cells, above its {GRADED_MAX_CELLS} (a smaller box, or a \
+                     larger dx)",
+                    rsf_numeric::number(grid.domain),
+                    48.0 * cubes
+                ),
+            ));
+        }
         let shift = {
             let r = (0.5 * self.l_f / h).fract();
             if r > 0.25 && r < 0.75 {

@@ -471,7 +471,15 @@ fn a_stopped_and_resumed_run_writes_the_same_files() {
     let mut ode = bem_a(&bp6, pressure.clone());
     ode.restore(&checkpoint).unwrap();
     let mut out = output(&parts, &ode);
-    out.resume(40).unwrap();
+    // A checkpoint of step 40 at another time (another run's, one ulp away) is refused
+    // by the log's mark of that step, naming the log (issue 87: no splice of two runs).
+    let elsewhen = f64::from_bits(checkpoint.state.time.to_bits() + 1);
+    let e = out.resume(40, elsewhen).unwrap_err().to_string();
+    assert!(
+        e.contains("bp6_resume.json") && e.contains("another run"),
+        "{e}"
+    );
+    out.resume(40, checkpoint.state.time).unwrap();
     ode.run_until(end, &mut [&mut out]).unwrap();
     for name in rsf_seas::SeasBp6Output::file_names() {
         let a = std::fs::read(whole.join(&name)).unwrap();

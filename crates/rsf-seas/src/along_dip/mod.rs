@@ -303,6 +303,19 @@ impl<L: FrictionLaw> SeasOutput<L> {
         plan_resume(dir, setup, &Layout::new(model, setup)?, step).map(|_| ())
     }
 
+    /// Checks, without changing anything, that the files of a [`SeasOutput`] in `dir` are
+    /// of the run of a checkpoint of step `step` at time `time` (s): the resume log's line
+    /// of that step shows exactly that time — so that a folder whose manifest is missing
+    /// cannot take another run's checkpoint and splice the two runs (issue 87). Call it
+    /// before [`new`](Self::new) with [`FileMode::Resume`].
+    ///
+    /// # Errors
+    /// [`Error::Resume`](crate::Error::Resume) naming the resume log (missing, without the
+    /// step's line, at another time); I/O errors.
+    pub fn check_checkpoint_time(dir: &Path, step: usize, time: f64) -> Result<()> {
+        resume::check_log_time(&dir.join(SEAS_RESUME_LOG), step, time)
+    }
+
     /// Appends the state after step `step` (time `t`) to the resume log, if written.
     fn write_log_line(&mut self, step: usize, t: f64) -> Result<()> {
         let Some(log) = self.log.as_mut() else {

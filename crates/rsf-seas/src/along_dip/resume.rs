@@ -8,7 +8,7 @@ use super::layout::Layout;
 use crate::error::{show_path, Error, Result};
 use rsf::observe::csv_lines;
 
-use crate::resume::{complete_lines, kept_rows, read_for_resume};
+use crate::resume::{check_logged_time, complete_lines, kept_rows, read_for_resume};
 use crate::setup::{SeasEvent, SeasSetup};
 
 /// Name of the resume log of a [`SeasOutput`](crate::SeasOutput) in its folder
@@ -25,6 +25,8 @@ hypocentre_depth_m,peak_slip_rate_mps,surface_slip_m";
 /// The state of a [`SeasOutput`](super::SeasOutput) after a step, as its resume log holds it.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct LogState {
+    /// The time after the step (s; NaN before the first line).
+    pub(super) t: f64,
     pub(super) steps: usize,
     pub(super) tau_min: f64,
     pub(super) tau_max: f64,
@@ -40,6 +42,7 @@ pub(super) struct LogState {
 impl Default for LogState {
     fn default() -> Self {
         Self {
+            t: f64::NAN,
             steps: 0,
             tau_min: f64::INFINITY,
             tau_max: 0.0,
@@ -177,6 +180,7 @@ pub(super) fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usi
         }
         let pending = (x(10)?, x(11)?);
         state = LogState {
+            t: x(1)?,
             steps: n(2)?,
             tau_min: x(3)?,
             tau_max: x(4)?,
@@ -197,4 +201,18 @@ pub(super) fn read_log(path: &Path, step: usize) -> Result<(LogState, usize, usi
         )));
     }
     Ok((state, keep, text.len()))
+}
+
+/// Checks that the resume log `path` and the checkpoint of step `step` at time `time` (s)
+/// are of the same run: the log's line of that step shows exactly that time
+/// ([`check_logged_time`]). Changes nothing.
+///
+/// # Errors
+/// [`Error::Resume`] naming the log if the times differ; as [`read_log`].
+pub(super) fn check_log_time(path: &Path, step: usize, time: f64) -> Result<()> {
+    if step == 0 {
+        return Ok(());
+    }
+    let (state, _, _) = read_log(path, step)?;
+    check_logged_time(path, step, Some(state.t), time)
 }

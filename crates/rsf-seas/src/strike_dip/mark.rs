@@ -23,6 +23,9 @@ pub const SEAS_BP5_RESUME_LOG: &str = "bp5_resume.json";
 pub(super) struct Mark {
     /// The run's step.
     pub(super) step: usize,
+    /// The run's time after the step (s; `None` in a log of a version before issue 87).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) t: Option<f64>,
     /// Rows in every file.
     pub(super) written: usize,
     /// Time of the last row (s).

@@ -422,6 +422,7 @@ impl SeasBp5Output {
             v_p: region.plate_rate,
             mark: Mark {
                 step: 0,
+                t: None,
                 written: 0,
                 last_station_t: f64::NEG_INFINITY,
                 tau: (f64::INFINITY, 0.0),
@@ -862,6 +863,7 @@ impl Observer<3, 3> for SeasBp5Output {
         let t = s.state.time;
         let m = &mut self.mark;
         m.step = s.report.step;
+        m.t = Some(s.state.time);
         m.steps += 1;
         m.tau = (m.tau.0.min(s.report.tau), m.tau.1.max(s.report.tau));
         let (global, kmax) = self.global_values(&s.state.kinematics.v);

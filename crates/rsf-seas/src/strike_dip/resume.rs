@@ -7,7 +7,7 @@ use rsf::checkpoint::write_atomically;
 use super::mark::Mark;
 use super::SeasBp5Output;
 use crate::error::{invalid, io_at, show_path, Error, Result};
-use crate::resume::kept_rows;
+use crate::resume::{check_logged_time, kept_rows};
 
 impl SeasBp5Output {
     /// Keeps the resume log ([`SEAS_BP5_RESUME_LOG`](crate::SEAS_BP5_RESUME_LOG), BP7's
@@ -37,7 +37,9 @@ impl SeasBp5Output {
     }
 
     /// Continues the files of the run in this folder at its persisted step `step` (the
-    /// checkpoint's): reads the resume log and keeps each file's rows up to that step
+    /// checkpoint's, at time `time`, s): reads the resume log, checks that its mark of the
+    /// step is at exactly that time (the files are the checkpoint's run's, not another
+    /// run's whose manifest is missing: issue 87), and keeps each file's rows up to that step
     /// (the files are rewritten at the next persisted step or the end of the run call).
     /// Each file is checked as the files along dip are: its field-list lines (and a
     /// profile's positions) after its `#` lines, then the mark's rows, complete, of the
@@ -45,9 +47,9 @@ impl SeasBp5Output {
     ///
     /// # Errors
     /// [`Error::Resume`](crate::Error::Resume) naming the resume log if it has no mark at
-    /// `step` or cannot be read back, or the file that cannot be continued (missing,
+    /// `step`, one at another time, or cannot be read back, or the file that cannot be continued (missing,
     /// another layout, rows missing or damaged); read errors naming the file.
-    pub fn resume(&mut self, step: usize) -> Result<()> {
+    pub fn resume(&mut self, step: usize, time: f64) -> Result<()> {
         let path = self.dir.join(self.log_name);
         let fail = |reason: String| Error::Resume {
             path: show_path(&path),
@@ -63,6 +65,7 @@ impl SeasBp5Output {
             )));
         };
         let mark = log[i].clone();
+        check_logged_time(&path, step, mark.t, time)?;
         let files = self
             .fault
             .iter_mut()

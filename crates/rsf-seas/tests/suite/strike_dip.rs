@@ -342,7 +342,18 @@ fn a_stopped_and_continued_run_writes_the_same_bytes() {
             .with_resume_log(every);
         match resume {
             Some(c) => {
-                output.resume(c.state.step).unwrap();
+                // The mark of the step at another time (another run's: one ulp away) is
+                // refused, naming the log (issue 87: no splice of two runs).
+                let elsewhen = f64::from_bits(c.state.time.to_bits() + 1);
+                let e = output
+                    .resume(c.state.step, elsewhen)
+                    .unwrap_err()
+                    .to_string();
+                assert!(
+                    e.contains("bp5_resume.json") && e.contains("another run"),
+                    "{e}"
+                );
+                output.resume(c.state.step, c.state.time).unwrap();
                 ode.restore(c).unwrap();
             }
             None => output.write_initial_state(

@@ -171,11 +171,36 @@ impl Checkpoint {
     /// rsf checkpoint, is truncated or extended, its checksum does not match (a changed
     /// bit anywhere) or its sizes or time origin are impossible.
     pub fn read(path: &Path) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(io_at("read the checkpoint", path))?;
+        let (mut file, len, mut bytes) = Self::open(path)?;
+        bytes.extend(crate::input_file::read_at_most(
+            &mut file,
+            len.saturating_sub(8),
+            path,
+            READ_ACTION,
+        )?);
         Self::from_bytes(&bytes).map_err(|reason| Error::CheckpointCorrupt {
             path: show_path(path),
             reason,
         })
+    }
+
+    /// Opens the checkpoint `path` and reads its magic (checks before reads, issue 87): a
+    /// regular file only (not `/dev/zero`, not a FIFO), its first 8 bytes a known format's
+    /// magic — so that a large file of another kind is refused after 8 bytes, not read
+    /// whole. Returns the file, its length and the magic.
+    fn open(path: &Path) -> Result<(std::fs::File, u64, Vec<u8>)> {
+        let (mut file, len) = crate::input_file::open_regular(path, READ_ACTION)?;
+        let magic = crate::input_file::read_at_most(&mut file, 8, path, READ_ACTION)?;
+        if magic.len() < 8 || !known_magic(&magic) {
+            return Err(Error::CheckpointCorrupt {
+                path: show_path(path),
+                reason: format!(
+                    "not an rsf checkpoint (its first bytes are not a checkpoint's magic \
+                     `RSFCKPTn`; {len} bytes)"
+                ),
+            });
+        }
+        Ok((file, len, magic))
     }
 
     /// Parses the bytes of a checkpoint file (`RSFCKPT6` or any earlier format).
@@ -218,6 +243,14 @@ impl Checkpoint {
             ..Self::from_payload(payload)?
         })
     }
+}
+
+/// The action of a checkpoint's read, as an error names it.
+const READ_ACTION: &str = "read the checkpoint";
+
+/// Whether `magic` (8 bytes) is the magic of a checkpoint format this version reads.
+fn known_magic(magic: &[u8]) -> bool {
+    magic == MAGIC || magic == MAGIC_V5 || legacy::version(magic).is_some()
 }
 
 /// [`Error::CheckpointSize`] naming `what` unless the checkpoint's size equals the

@@ -6,6 +6,7 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+use crate::checkpoint::Checkpoint;
 use crate::error::{invalid, io_at, show_path, Result};
 use crate::model::fault::block_norm;
 use crate::model::Model;
@@ -170,29 +171,7 @@ impl<const D: usize, const C: usize> FaultCatalogue<D, C> {
         mode: FileMode,
     ) -> Result<Self> {
         if let FileMode::Resume { step } = mode {
-            let fail = |reason: String| crate::Error::Resume {
-                path: show_path(path),
-                reason,
-            };
-            let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
-            let prefix = format!("{step},");
-            let json = text
-                .lines()
-                .skip(1)
-                .find_map(|l| l.strip_prefix(&prefix))
-                .ok_or_else(|| fail(format!("it has no state of the checkpoint's step {step}")))?;
-            let state: CatalogueState = serde_json::from_str(json)
-                .map_err(|e| fail(format!("the state of step {step}: {e}")))?;
-            if state.previous.len() != self.previous.len()
-                || state
-                    .events
-                    .iter()
-                    .any(|e| e.moment.len() != self.names.len())
-            {
-                return Err(fail(format!(
-                    "the state of step {step} is of another network (its sizes differ)"
-                )));
-            }
+            let state = self.logged_state(path, step)?;
             self.previous = state.previous;
             self.at_onset = state.at_onset;
             self.events = state.events;
@@ -206,6 +185,84 @@ impl<const D: usize, const C: usize> FaultCatalogue<D, C> {
             cap,
         });
         Ok(self)
+    }
+
+    /// The state of step `step` in the resume log `path`, of this network's sizes.
+    fn logged_state(&self, path: &Path, step: usize) -> Result<CatalogueState> {
+        let fail = |reason: String| crate::Error::Resume {
+            path: show_path(path),
+            reason,
+        };
+        let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
+        let prefix = format!("{step},");
+        let json = text
+            .lines()
+            .skip(1)
+            .find_map(|l| l.strip_prefix(&prefix))
+            .ok_or_else(|| fail(format!("it has no state of the checkpoint's step {step}")))?;
+        let state: CatalogueState = serde_json::from_str(json)
+            .map_err(|e| fail(format!("the state of step {step}: {e}")))?;
+        if state.previous.len() != self.previous.len()
+            || state
+                .events
+                .iter()
+                .any(|e| e.moment.len() != self.names.len())
+        {
+            return Err(fail(format!(
+                "the state of step {step} is of another network (its sizes differ)"
+            )));
+        }
+        Ok(state)
+    }
+
+    /// Checks, without changing anything, that the resume log `path` and the checkpoint
+    /// `c` of a run of `model` are of the same run: the log's state of the checkpoint's
+    /// step holds the slip of every frictional node of the checkpoint's displacement, bit
+    /// for bit — so that a folder whose manifest is missing cannot take another run's
+    /// checkpoint and splice the two runs (issue 87). A checkpoint at step 0 has nothing
+    /// to compare (every run of a scene starts at the same state).
+    ///
+    /// # Errors
+    /// [`Error::Resume`](crate::Error::Resume) naming the log if it has no state of the
+    /// step, one of another network, or another slip; [`Error::File`](crate::Error::File).
+    pub fn check_checkpoint_state(
+        &self,
+        path: &Path,
+        model: &Model<D, C>,
+        c: &Checkpoint,
+    ) -> Result<()> {
+        let step = c.state.step;
+        if step == 0 {
+            return Ok(());
+        }
+        let state = self.logged_state(path, step)?;
+        let mut slip = vec![0.0; self.previous.len()];
+        if c.state.kinematics.u.len() != model.initial_displacement.len() {
+            return Err(crate::Error::Resume {
+                path: show_path(path),
+                reason: "the checkpoint's displacement is of another model".into(),
+            });
+        }
+        slips(model, &c.state.kinematics.u, &mut slip);
+        let differs = slip
+            .iter()
+            .zip(&state.previous)
+            .position(|(a, b)| a.to_bits() != b.to_bits());
+        match differs {
+            None => Ok(()),
+            Some(i) => Err(crate::Error::Resume {
+                path: show_path(path),
+                reason: format!(
+                    "its state of the checkpoint's step {step} has the slip {:e} m at \
+                     frictional node {}, the checkpoint {:e} m: the files in this folder are \
+                     of another run than the checkpoint's, and continuing would splice the \
+                     two; resume into the checkpoint's own folder",
+                    state.previous[i],
+                    i / C,
+                    slip[i]
+                ),
+            }),
+        }
     }
 
     /// Appends the state after step `step` to the resume log where a checkpoint is

@@ -682,3 +682,96 @@ fn a_row_that_cannot_be_written_names_the_file() {
         }
     }
 }
+
+/// The peak resident set of this process (`VmHWM`, bytes).
+fn peak_resident_bytes() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        .unwrap();
+    kb * 1024
+}
+
+/// Checks before reads (issue 87: a 2 GB data file was read whole before "not an rsf
+/// checkpoint"). A 2 GB file that is not a checkpoint (sparse: `File::set_len`, no disk
+/// used) is refused after its first bytes with the process's resident set below 100 MB —
+/// measured in a child process that runs only this test (this binary re-run with
+/// `--exact`), so that no other test's memory counts.
+#[test]
+fn a_large_file_of_another_kind_is_refused_as_a_checkpoint_without_reading_it() {
+    const CHILD: &str = "RSF_TEST_LARGE_NOT_A_CHECKPOINT";
+    let dir = temp_dir(&format!("large-{}", std::env::var_os(CHILD).is_some()));
+    let big = dir.join("data.bin");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len(2 << 30)
+        .unwrap();
+    if std::env::var_os(CHILD).is_some() {
+        let e = Checkpoint::read(&big).unwrap_err();
+        println!("refused: {e}");
+        println!("peak_resident_bytes={}", peak_resident_bytes());
+        return;
+    }
+    let out = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "reliability::a_large_file_of_another_kind_is_refused_as_a_checkpoint_without_reading_it",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .env(CHILD, "1")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("not an rsf checkpoint") && stdout.contains("data.bin"),
+        "{stdout}"
+    );
+    let peak: f64 = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("peak_resident_bytes="))
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no peak in {stdout}"));
+    assert!(peak < 100e6, "peak resident set {peak} B");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Non-files where a file is read whole are refused by their type, at once (issue 87:
+/// `--resume /dev/zero` grew to 8.2 GB before "out of memory"; a FIFO where a file was
+/// expected blocked forever): a checkpoint or a scene file that is a device, a FIFO or a
+/// folder.
+#[cfg(unix)]
+#[test]
+fn a_device_a_fifo_or_a_folder_is_refused_where_a_file_is_read() {
+    let dir = temp_dir("not-files");
+    let fifo = dir.join("fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    let mut cases = vec![
+        (Path::new("/dev/zero").to_path_buf(), "a device"),
+        (dir.clone(), "a folder"),
+    ];
+    if made {
+        cases.push((fifo, "a FIFO"));
+    }
+    for (path, kind) in cases {
+        let e = Checkpoint::read(&path).unwrap_err().to_string();
+        assert!(e.contains(kind) && e.contains("not a regular file"), "{e}");
+        let e = SliderScene::read(&path).unwrap_err().to_string();
+        assert!(
+            e.contains(kind) && e.contains(&path.display().to_string()),
+            "{e}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

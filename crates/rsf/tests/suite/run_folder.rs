@@ -529,7 +529,11 @@ fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
     let run_b = RunFolder::new(&b, "test_program", &OUTPUTS).command("test_program --out b");
     for (folder, dir) in [(&run_a, &a), (&run_b, &b)] {
         assert_eq!(folder.prepare(false, false).unwrap(), FileMode::Create);
-        std::fs::write(dir.join("timeseries.csv"), "rows").unwrap();
+        std::fs::write(
+            dir.join("timeseries.csv"),
+            format!("rows of {}", dir.display()),
+        )
+        .unwrap();
         checkpoint(dir);
     }
     let id_a = rsf::run_folder::run_id(&a).unwrap();
@@ -573,6 +577,10 @@ fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
         fresh.prepare_resume(&ckpt_a, false).unwrap(),
         FileMode::Create
     );
+    // It names the run once the run has checked its files (issue 87: a refused resume
+    // leaves no claim).
+    assert_eq!(rsf::run_folder::run_id(&dir.join("c")), None);
+    rsf::run_folder::adopt_run_id(&dir.join("c"), &id_a).unwrap();
     assert_eq!(rsf::run_folder::run_id(&dir.join("c")).unwrap(), id_a);
     // A checkpoint of an earlier format (no run id) cannot be told apart: accepted.
     let mut unknown = rsf::Checkpoint::read(&ckpt_a).unwrap();
@@ -581,12 +589,28 @@ fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
     unknown.write(&old).unwrap();
     assert_eq!(run_b.prepare_resume(&old, false).unwrap(), FileMode::Create);
     assert_eq!(rsf::run_folder::run_id(&b).unwrap(), id_b);
-    // --overwrite gives B to A's run.
+    // --overwrite with a checkpoint away from its run's folder: B cannot be rewritten from
+    // A's files, so it is refused, naming why, B untouched (issue 87: never a mix).
+    let before = snapshot(&b);
+    let e = run_b.prepare_resume(&copy, true).unwrap_err().to_string();
+    assert!(
+        e.contains("only whole") && e.contains("no run manifest"),
+        "{e}"
+    );
+    assert_eq!(snapshot(&b), before);
+    // --overwrite gives B to A's run whole: B's files are A's (its checkpoint and summary
+    // not copied), none of B's run is left.
+    std::fs::write(b.join("summary.json"), "b's summary").unwrap();
     assert_eq!(
         run_b.prepare_resume(&ckpt_a, true).unwrap(),
         FileMode::Create
     );
     assert_eq!(rsf::run_folder::run_id(&b).unwrap(), id_a);
+    assert_eq!(
+        std::fs::read(b.join("timeseries.csv")).unwrap(),
+        std::fs::read(a.join("timeseries.csv")).unwrap()
+    );
+    assert!(!b.join("checkpoint.bin").exists() && !b.join("summary.json").exists());
     // A new run into a folder gets a new id.
     std::fs::remove_file(a.join("timeseries.csv")).unwrap();
     std::fs::remove_file(&ckpt_a).unwrap();

@@ -20,6 +20,8 @@
 //!   how to continue (the bounds of the slider scenes' runs are in `rsf_scenes::output`);
 //!   [`check_window`] for recording windows.
 
+mod handover;
+
 use std::path::{Path, PathBuf};
 
 use crate::checkpoint::{write_atomically, Checkpoint, Fingerprint};
@@ -131,11 +133,16 @@ impl RunFolder {
     /// and its run compared with the folder's: a checkpoint of **another run** than the
     /// one whose files the folder holds (both run ids known and different:
     /// [`Checkpoint::run_id`], the manifest's `run=`) is refused unless `overwrite`, which
-    /// gives the folder to the checkpoint's run — its files are then continued from the
-    /// checkpoint's step if each writer's own check allows, the rows before it staying the
-    /// earlier run's. A folder without a manifest, or a manifest or checkpoint of a version
-    /// before run ids, cannot be told apart and is judged by the writers' checks alone.
-    /// The manifest then names the checkpoint's run (or keeps the folder's).
+    /// gives the folder to the checkpoint's run **whole**: the folder's run's files are
+    /// removed and those of the checkpoint's run copied from the checkpoint's own folder
+    /// (whose manifest must name that run; refused otherwise, nothing changed), to be
+    /// continued from the checkpoint's step by each writer's own check — never the rows
+    /// of one run followed by another's (issue 87). A folder without a manifest, or a
+    /// manifest or checkpoint of a version before run ids, cannot be told apart by its
+    /// manifest: each writer then proves by its files that they are the checkpoint's run's
+    /// (the row or resume-log line of the checkpoint's step at the checkpoint's time and
+    /// state), or refuses. The manifest then names the checkpoint's run (or keeps the
+    /// folder's).
     ///
     /// Returns [`FileMode::Create`] (each writer checks its files before it cuts any).
     ///
@@ -143,8 +150,10 @@ impl RunFolder {
     /// Those of [`prepare`](Self::prepare); those of [`Checkpoint::read`]
     /// ([`Error::File`], [`Error::CheckpointCorrupt`]); [`Error::Resume`] naming the folder,
     /// both runs and how to go on, for a checkpoint of another run without `overwrite`,
-    /// and for `overwrite` where there is nothing to replace (the folder is the
-    /// checkpoint's own run, or cannot be told). Nothing in the folder is changed on error.
+    /// for `overwrite` where there is nothing to replace (the folder is the checkpoint's
+    /// own run, or cannot be told) and where the checkpoint's run's files are not beside
+    /// it. Nothing in the folder is changed on these errors; an [`Error::File`] while
+    /// the files are replaced names the file.
     pub fn prepare_resume(&self, checkpoint: &Path, overwrite: bool) -> Result<FileMode> {
         let (manifest, _) = self.survey(true, overwrite)?;
         let folder_id = manifest.as_ref().map_or("", |m| m.run_id.as_str());
@@ -187,8 +196,17 @@ impl RunFolder {
                 "this folder's own run"
             }));
         }
+        if other {
+            let m = manifest.as_ref().expect("a run id is a manifest's");
+            self.take_over(checkpoint, &c, m)?;
+        }
         let id = if c.run_id.is_empty() {
             Some(folder_id.to_owned()).filter(|id| !id.is_empty())
+        } else if folder_id.is_empty() {
+            // The folder's files are not yet proven the checkpoint's run's (its writers
+            // check them): the manifest names no run until the run adopts the
+            // checkpoint's ([`adopt_run_id`]), so that a refused resume leaves no claim.
+            Some(String::new())
         } else {
             Some(c.run_id.clone())
         };
@@ -265,6 +283,26 @@ impl RunFolder {
             write_atomically(&self.path(MANIFEST), mine.text().as_bytes())?;
         }
         Ok(())
+    }
+}
+
+/// Gives the run folder `dir` the run id `id` of the checkpoint a run continues, where its
+/// manifest names no run (a folder whose manifest was missing or of an earlier version:
+/// [`RunFolder::prepare_resume`] leaves the id out until the folder's files are proven to
+/// be the checkpoint's run's by their writers' checks). Call it after those checks, before
+/// the first checkpoint is written ([`Checkpointer::new`](crate::observe::Checkpointer::new)
+/// reads the id). Nothing is done where the manifest is missing, names a run already, or
+/// `id` is empty.
+///
+/// # Errors
+/// [`Error::File`] naming the manifest.
+pub fn adopt_run_id(dir: &Path, id: &str) -> Result<()> {
+    match Manifest::read(dir)? {
+        Some(mut m) if m.run_id.is_empty() && !id.is_empty() => {
+            m.run_id = id.to_owned();
+            write_atomically(&dir.join(MANIFEST), m.text().as_bytes())
+        }
+        _ => Ok(()),
     }
 }
 
