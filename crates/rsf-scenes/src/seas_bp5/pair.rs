@@ -172,8 +172,8 @@ impl Bp5Pair {
     }
 
     /// The vertices of [`fe_model`](Self::fe_model)'s graded mesh on `grid` (the mesh
-    /// alone, no model assembled: about a second at 2 km) — what a plan's memory estimate
-    /// needs.
+    /// alone, no model assembled; 22 s and 0.24 GB at 2 km in the unoptimised test build) —
+    /// what a plan's memory estimate needs.
     ///
     /// # Errors
     /// As [`fe_model`](Self::fe_model) before its assembly.
