@@ -212,31 +212,11 @@ impl Program for Args {
                 let peak = |vertices: f64| {
                     pair_fe_peak(vertices, self.ordering) + operator_bytes(unknowns, hierarchical)
                 };
-                // The octree's root cubes by arithmetic before anything is built (as
-                // seas_bp5: a box too large for the mesh is refused naming --domain-km).
-                let cubes = SeasBp5::graded_root_cubes(&grid);
-                let most = rsf_scenes::SEAS_BP5_GRADED_MAX_CELLS as f64;
-                if 48.0 * cubes > most {
-                    return Err(crate::guard::refuse(
-                        "--domain-km",
-                        number(self.domain_km),
-                        &format!(
-                            "the graded mesh's box holds {cubes:.3e} root cubes at --dx {}, up \
-                             to {:.3e} cells before any refinement, above the mesh's limit of \
-                             {most:e}: a smaller --domain-km (or a larger --dx)",
-                            number(self.dx),
-                            48.0 * cubes
-                        ),
-                    ));
-                }
-                // Refused unmeshed where a lower bound of the pair's vertices — BP5's
-                // one-plane mesh below 1 km, the root cubes' count — is already too
-                // large; else the pair's graded mesh counted.
+                // Refused unmeshed where a lower bound of the pair's vertices (BP5's
+                // one-plane mesh's, by arithmetic; an oversize octree refused naming
+                // --domain-km) is already too large; else the pair's graded mesh counted.
+                let fewest = crate::seas_bp5::graded_mesh_fewest_vertices(&grid, self.domain_km)?;
                 let limit = self.limits.max_memory_gb * 1e9;
-                let fewest =
-                    crate::seas_bp5::graded_vertices_at_least(self.dx, self.domain_km, self.ratio)
-                        .unwrap_or(0.0)
-                        .max(cubes);
                 if peak(fewest) > limit {
                     peak(fewest)
                 } else {

@@ -265,24 +265,10 @@ impl Program for Args {
                         crate::estimates::fe_3d_memory(vertices) + operator_bytes(m, m > 4096.0)
                     }
                     MeshArg::Graded => {
-                        // The octree's root cubes by arithmetic before anything is built
-                        // (issue 87: `--domain-km 1e4` built 62.5 million cubes in 54 s).
-                        let cubes = SeasBp5::graded_root_cubes(&self.grid(&bp5));
-                        let most = rsf_scenes::SEAS_BP5_GRADED_MAX_CELLS as f64;
-                        if 48.0 * cubes > most {
-                            return Err(crate::guard::refuse(
-                                "--domain-km",
-                                crate::guard::number(domain_km),
-                                &format!(
-                                    "the graded mesh's box holds {cubes:.3e} root cubes at --dx \
-                                     {}, up to {:.3e} cells before any refinement, above the \
-                                     mesh's limit of {most:e}: a smaller --domain-km (or a \
-                                     larger --dx)",
-                                    crate::guard::number(self.dx),
-                                    48.0 * cubes
-                                ),
-                            ));
-                        }
+                        // The fewest vertices the mesh can have, by arithmetic before
+                        // anything is built (issue 87: `--domain-km 1e4` built 62.5 million
+                        // cubes in 54 s).
+                        let fewest = graded_mesh_fewest_vertices(&self.grid(&bp5), domain_km)?;
                         // The set-up's peak as measured on the graded mesh (docs/seas-bp5.md,
                         // "The volume at the description's resolution"): the Schur-only
                         // elimination's grows like vertices^1.6, the whole factor's like
@@ -313,9 +299,6 @@ impl Program for Args {
                         // limit is refused on that bound, unmeshed. The root cubes' grid
                         // alone has at least as many vertices as cubes.
                         let limit = self.limits.max_memory_gb * 1e9;
-                        let fewest = graded_vertices_at_least(self.dx, domain_km, ratio)
-                            .unwrap_or(0.0)
-                            .max(cubes);
                         match fewest {
                             fewest if peak(fewest) > limit => peak(fewest),
                             _ => {
@@ -356,6 +339,38 @@ impl Program for Args {
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
             ))
     }
+}
+
+/// The fewest vertices the graded mesh of `grid` (`domain_km` its `--domain-km`) can have,
+/// by arithmetic alone, nothing built: the octree's root cubes
+/// ([`SeasBp5::graded_root_cubes`]; its grid has at least as many vertices as cubes) and,
+/// below 1 km, [`graded_vertices_at_least`]. Shared by the plans of `seas_bp5` and
+/// `bp5_pair` (whose mesh, refined towards two planes, has more).
+///
+/// # Errors
+/// `--domain-km` refused when the root cubes alone exceed the mesh's cell limit.
+pub(crate) fn graded_mesh_fewest_vertices(
+    grid: &SeasBp5Grid,
+    domain_km: f64,
+) -> Result<f64, AnyError> {
+    let cubes = SeasBp5::graded_root_cubes(grid);
+    let most = rsf_scenes::SEAS_BP5_GRADED_MAX_CELLS as f64;
+    if 48.0 * cubes > most {
+        return Err(crate::guard::refuse(
+            "--domain-km",
+            crate::guard::number(domain_km),
+            &format!(
+                "the graded mesh's box holds {cubes:.3e} root cubes at --dx {}, up to {:.3e} \
+                 cells before any refinement, above the mesh's limit of {most:e}: a smaller \
+                 --domain-km (or a larger --dx)",
+                crate::guard::number(grid.dx),
+                48.0 * cubes
+            ),
+        ));
+    }
+    Ok(graded_vertices_at_least(grid.dx, domain_km, grid.ratio)
+        .unwrap_or(0.0)
+        .max(cubes))
 }
 
 /// A lower bound of the graded mesh's vertices at `dx` (m) below 1 km, for a box of at

@@ -41,7 +41,7 @@ use crate::guard::Processes;
 mod args;
 mod run;
 
-pub(crate) use args::graded_vertices_at_least;
+pub(crate) use args::graded_mesh_fewest_vertices;
 pub use args::Args;
 use run::run;
 
