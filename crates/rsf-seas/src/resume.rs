@@ -128,11 +128,15 @@ pub(crate) fn kept_rows(
 /// the same step at the same time is the same trajectory; another run's files — a folder
 /// whose manifest is missing or of an earlier version — are refused before anything is
 /// cut, instead of being cut at the step and continued with the checkpoint's run (issue
-/// 87). `None`: a log of a version before issue 87, which holds no time (judged by the
-/// run folder's manifest alone). A checkpoint at step 0 has nothing to compare.
+/// 87). `None`: a log of a version before issue 87, which holds no time: it proves
+/// nothing, so the run folder's manifest must (its run id, which
+/// `rsf::run_folder::RunFolder::prepare_resume` has compared with the checkpoint's); a
+/// folder whose manifest names no run is refused. A checkpoint at step 0 has nothing to
+/// compare.
 ///
 /// # Errors
-/// [`Error::Resume`] naming the log if the times differ.
+/// [`Error::Resume`] naming the log if the times differ, or if the log holds no time and
+/// the folder's manifest names no run.
 pub(crate) fn check_logged_time(
     log: &Path,
     step: usize,
@@ -149,6 +153,22 @@ pub(crate) fn check_logged_time(
                  checkpoint's own folder"
             ),
         }),
+        None if step > 0
+            && rsf::run_folder::run_id(log.parent().unwrap_or(Path::new("."))).is_none() =>
+        {
+            Err(Error::Resume {
+                path: show_path(log),
+                reason: format!(
+                    "its mark of step {step} holds no time (a log written before issue 87) \
+                     and the folder's manifest `{}` names no run: nothing proves that the \
+                     files here are the checkpoint's run's, and continuing another run's \
+                     would splice the two; restore the folder's `{}`, or start the run anew \
+                     in an empty folder",
+                    rsf::run_folder::MANIFEST,
+                    rsf::run_folder::MANIFEST
+                ),
+            })
+        }
         _ => Ok(()),
     }
 }

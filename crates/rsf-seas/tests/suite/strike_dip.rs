@@ -353,6 +353,34 @@ fn a_stopped_and_continued_run_writes_the_same_bytes() {
                     e.contains("bp5_resume.json") && e.contains("another run"),
                     "{e}"
                 );
+                // A log written before issue 87 (its marks without `t`) proves nothing: in a
+                // folder whose manifest names no run it is refused; with a manifest naming a
+                // run (compared with the checkpoint's by the run folder) it is taken.
+                let log = dir.join("bp5_resume.json");
+                let written = std::fs::read_to_string(&log).unwrap();
+                let mut marks: Vec<serde_json::Value> = serde_json::from_str(&written).unwrap();
+                for m in &mut marks {
+                    assert!(m.as_object_mut().unwrap().remove("t").is_some());
+                }
+                std::fs::write(&log, serde_json::to_string(&marks).unwrap()).unwrap();
+                let e = output
+                    .resume(c.state.step, c.state.time)
+                    .unwrap_err()
+                    .to_string();
+                assert!(
+                    e.contains("holds no time") && e.contains(rsf::run_folder::MANIFEST),
+                    "{e}"
+                );
+                let manifest = dir.join(rsf::run_folder::MANIFEST);
+                std::fs::write(
+                    &manifest,
+                    format!("program=seas_bp5\nrun={}\n", rsf::run_folder::new_run_id()),
+                )
+                .unwrap();
+                assert!(rsf::run_folder::run_id(dir).is_some());
+                output.resume(c.state.step, c.state.time).unwrap();
+                std::fs::write(&log, &written).unwrap();
+                std::fs::remove_file(&manifest).unwrap();
                 output.resume(c.state.step, c.state.time).unwrap();
                 ode.restore(c).unwrap();
             }
