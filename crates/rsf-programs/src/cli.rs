@@ -379,8 +379,10 @@ pub fn positive_number(s: &str) -> Result<f64, String> {
 
 /// The error of a library call on a user's flag, named after the flag: an
 /// [`rsf::Error::InvalidParameter`] named `field` (the library's name) becomes one named
-/// `flag` (what the user wrote, e.g. `rk_tolerance` for the fault ODE's `tolerance`);
-/// other errors pass unchanged.
+/// `flag` (what the user wrote, e.g. `rk_tolerance` for the fault ODE's `tolerance`), and
+/// an [`rsf::Error::IllConditioned`] that lists `field` among the fields to change lists
+/// `flag` there instead (`--end-time 1e-300` named `end_time_s`, the scene file's key, which
+/// the user never wrote); other errors pass unchanged.
 ///
 /// # Errors
 /// The error of `result`, renamed.
@@ -392,6 +394,13 @@ pub fn for_flag<T>(flag: &str, field: &str, result: rsf::Result<T>) -> rsf::Resu
                 reason,
             }
         }
+        rsf::Error::IllConditioned { fields, reason } => rsf::Error::IllConditioned {
+            fields: fields
+                .into_iter()
+                .map(|f| if f == field { flag.to_owned() } else { f })
+                .collect(),
+            reason,
+        },
         e => e,
     })
 }
