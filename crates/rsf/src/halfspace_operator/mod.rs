@@ -23,6 +23,7 @@ use rsf_ranks::RankGroup;
 mod bttb;
 mod elements;
 mod error;
+mod grid;
 mod grid_fft;
 mod nodes;
 mod parts;
@@ -289,7 +290,10 @@ impl HalfSpaceOperator {
     }
 
     /// The operator on `nodes` (position, `t₁`, `t₂`, normal into the plus side) of the
-    /// frictional vertices `vertices` with weights `weights`.
+    /// frictional vertices `vertices` with weights `weights`: Okada's axes from the
+    /// normal ([`grid::PlaneAxes`]), the grid the nodes are the centres of
+    /// ([`grid::NodeGrid`]), the rectangle and its elements, every node checked at its
+    /// element's centre in Okada's frame, and the kernel ([`Self::kernel_of`]).
     fn from_nodes(
         nodes: &[Node],
         vertices: &[usize],
@@ -299,183 +303,91 @@ impl HalfSpaceOperator {
         row_part: Option<RowPart>,
     ) -> std::result::Result<Self, HalfSpaceOperatorError> {
         use HalfSpaceOperatorError as E;
-        let fb_nodes = vertices;
         if nodes.len() < 2 {
             return Err(E::TooFewNodes { nodes: nodes.len() });
         }
         let (x0, _, _, n_fe) = nodes[0];
-        // Okada's normal: n_fe or −n_fe, pointing up (z ≥ 0); a vertical fault keeps n_fe.
-        let vertical = n_fe[2].abs() < 1e-12;
-        let sign = if vertical || n_fe[2] > 0.0 { 1.0 } else { -1.0 };
-        let n_ok = if vertical {
-            [n_fe[0], n_fe[1], 0.0]
-        } else {
-            n_fe.map(|x| sign * x)
-        };
-        let n_ok = unit(n_ok);
-        let (up_dip, strike) = if n_ok[2] > 1.0 - 1e-12 {
-            // Horizontal: strike along the model's x, up dip along y.
-            ([0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
-        } else {
-            let ez = [0.0, 0.0, 1.0];
-            let d = if vertical {
-                ez
-            } else {
-                unit([0, 1, 2].map(|i| ez[i] - n_ok[2] * n_ok[i]))
-            };
-            (d, unit(cross(&d, &n_ok)))
-        };
-        let dip_deg = if vertical {
-            90.0
-        } else {
-            n_ok[2].clamp(-1.0, 1.0).acos().to_degrees()
-        };
-        let axis_y = cross(&[0.0, 0.0, 1.0], &strike);
-        let axis_y = if dot(&axis_y, &axis_y) > 0.5 {
-            axis_y
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        // Fault coordinates (ξ along strike, η up dip) from node 0.
-        let coords: Vec<[f64; 2]> = nodes
-            .iter()
-            .map(|(x, ..)| {
-                let d = [0, 1, 2].map(|i| x[i] - x0[i]);
-                [dot(&strike, &d), dot(&up_dip, &d)]
-            })
-            .collect();
-        let spacing = |c: usize| -> Option<f64> {
-            let mut v: Vec<f64> = coords.iter().map(|x| x[c]).collect();
-            v.sort_by(f64::total_cmp);
-            let extent = v[v.len() - 1] - v[0];
-            // The median gap between distinct values: the spacing of a regular grid, and
-            // still its spacing with a few nodes off it (reported below, by name).
-            let mut gaps: Vec<f64> = v
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .filter(|&g| g > 1e-9 * extent)
-                .collect();
-            gaps.sort_by(f64::total_cmp);
-            gaps.get(gaps.len() / 2).copied()
-        };
-        let (hs, hd) = match (spacing(0), spacing(1)) {
-            (Some(a), Some(b)) => (a, b),
-            (Some(a), None) => (a, a),
-            (None, Some(b)) => (b, b),
-            (None, None) => return Err(E::TooFewNodes { nodes: nodes.len() }),
-        };
-        let tol = GRID_TOLERANCE * hs.min(hd);
-        for (k, (x, _, _, n)) in nodes.iter().enumerate() {
-            let d = [0, 1, 2].map(|i| x[i] - x0[i]);
-            let off = dot(&n_fe, &d).abs();
-            let turn = dot(&cross(n, &n_fe), &cross(n, &n_fe)).sqrt();
-            if off > tol || turn > GRID_TOLERANCE || dot(n, &n_fe) < 0.0 {
-                return Err(E::NotPlanar {
-                    node: k,
-                    vertex: fb_nodes[k],
-                    position: *x,
-                    normal: n_fe,
-                    distance: if off > tol { off } else { turn },
-                });
-            }
-        }
-        let min = |c: usize| coords.iter().map(|x| x[c]).fold(f64::INFINITY, f64::min);
-        let max = |c: usize| {
-            coords
-                .iter()
-                .map(|x| x[c])
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
-        let (xi0, eta1) = (min(0), max(1));
-        let n_strike = ((max(0) - xi0) / hs).round() as usize + 1;
-        let n_dip = ((eta1 - min(1)) / hd).round() as usize + 1;
-        let mut node_of = std::collections::HashMap::with_capacity(nodes.len());
-        let mut element = vec![0; nodes.len()];
-        for (k, c) in coords.iter().enumerate() {
-            let fs = (c[0] - xi0) / hs;
-            let fd = (eta1 - c[1]) / hd;
-            let (is, id) = (fs.round(), fd.round());
-            let offset = ((fs - is) * hs).hypot((fd - id) * hd);
-            let e = id as usize * n_strike + is as usize;
-            let taken = node_of.contains_key(&e);
-            if offset > tol || taken {
-                return Err(E::NotAtCentre {
-                    node: k,
-                    vertex: fb_nodes[k],
-                    position: nodes[k].0,
-                    spacing: [hs, hd],
-                    offset: if offset > tol { offset } else { 0.0 },
-                });
-            }
-            node_of.insert(e, k);
-            element[k] = e;
-        }
+        let axes = grid::PlaneAxes::of_normal(n_fe);
+        let grid = grid::NodeGrid::of_nodes(nodes, vertices, &axes)?;
+        let (hs, hd, tol) = (grid.hs, grid.hd, grid.tol);
         // The origin: on the surface above node 0 along Okada's z.
         let depth = options.surface - x0[2];
         let origin = [x0[0], x0[1], options.surface];
-        // At most one more element than nodes to look at: the first without a node.
-        if let Some(e) = (0..n_strike.saturating_mul(n_dip)).find(|e| !node_of.contains_key(e)) {
-            let (i_strike, i_dip) = (e % n_strike, e / n_strike);
-            let xi = xi0 + i_strike as f64 * hs;
-            let eta = eta1 - i_dip as f64 * hd;
-            return Err(E::ElementWithoutNode {
-                i_strike,
-                i_dip,
-                n_strike,
-                n_dip,
-                centre: [0, 1, 2].map(|i| x0[i] + xi * strike[i] + eta * up_dip[i]),
-            });
-        }
-        // A node whose cell reaches above the surface (a surface-breaking fault).
-        let sin_dip = up_dip[2];
-        for (k, (x, ..)) in nodes.iter().enumerate() {
-            let above = x[2] + 0.5 * hd * sin_dip - options.surface;
-            if above > tol {
-                return Err(E::SurfaceBreaking {
-                    node: k,
-                    vertex: fb_nodes[k],
-                    position: *x,
-                    surface: options.surface,
-                    above,
-                });
-            }
-        }
+        grid.check_below(nodes, vertices, options.surface, axes.up_dip[2])?;
         let rect = Rectangle::new(
             depth,
-            dip_deg,
-            [xi0 - 0.5 * hs, xi0 + (n_strike as f64 - 0.5) * hs],
-            [eta1 - (n_dip as f64 - 0.5) * hd, eta1 + 0.5 * hd],
+            axes.dip_deg,
+            [
+                grid.xi0 - 0.5 * hs,
+                grid.xi0 + (grid.n_strike as f64 - 0.5) * hs,
+            ],
+            [
+                grid.eta1 - (grid.n_dip as f64 - 0.5) * hd,
+                grid.eta1 + 0.5 * hd,
+            ],
         )?;
-        let bem = RectangularFault::from_rectangle(options.medium, rect, n_strike, n_dip)?;
+        let bem =
+            RectangularFault::from_rectangle(options.medium, rect, grid.n_strike, grid.n_dip)?;
         let frame = OkadaFrame {
             origin,
-            axes: [strike, axis_y, [0.0, 0.0, 1.0]],
-            up_dip,
-            normal: n_ok,
-            dip_deg,
-            plus_is_hanging_wall: sign,
+            axes: [axes.strike, axes.axis_y, [0.0, 0.0, 1.0]],
+            up_dip: axes.up_dip,
+            normal: axes.normal,
+            dip_deg: axes.dip_deg,
+            plus_is_hanging_wall: axes.sign,
         };
         // Every node at its element's centre, in Okada's frame.
         for (k, (x, ..)) in nodes.iter().enumerate() {
-            let c = bem.centres()[element[k]];
+            let c = bem.centres()[grid.element[k]];
             let o = frame.to_okada(*x);
             let offset = (0..3).map(|i| (c[i] - o[i]).powi(2)).sum::<f64>().sqrt();
             if offset > tol {
                 return Err(E::NotAtCentre {
                     node: k,
-                    vertex: fb_nodes[k],
+                    vertex: vertices[k],
                     position: *x,
                     spacing: [hs, hd],
                     offset,
                 });
             }
         }
+        let sign = axes.sign;
         let map = nodes
             .iter()
             .map(|(_, t1, t2, _)| {
-                [strike, up_dip].map(|e| [sign * dot(&e, t1), sign * dot(&e, t2)])
+                [axes.strike, axes.up_dip].map(|e| [sign * dot(&e, t1), sign * dot(&e, t2)])
             })
             .collect();
+        let len = bem.len();
+        let (kernel, report) = Self::kernel_of(&bem, options, row_part, &grid, clock)?;
+        Ok(Self {
+            kernel,
+            element: grid.element,
+            map,
+            weights: weights.to_vec(),
+            frame,
+            fault: bem,
+            s: vec![0.0; len],
+            y: vec![0.0; len],
+            report,
+            rows: None,
+            on_ranks: None,
+        })
+    }
+
+    /// The kernel of the elements `bem` on `grid` (dense up to
+    /// [`HalfSpaceOptions::dense_max`] unknowns, an ℋ-matrix beyond, of this rank's
+    /// `row_part` if given) and its report, the set-up timed from `clock`.
+    ///
+    /// # Errors
+    /// The kernel's assembly or compression.
+    fn kernel_of(
+        bem: &RectangularFault,
+        options: &HalfSpaceOptions,
+        row_part: Option<RowPart>,
+        grid: &grid::NodeGrid,
+        clock: Instant,
+    ) -> std::result::Result<(Kernel, KernelReport), HalfSpaceOperatorError> {
         let len = bem.len();
         let (kernel, kind, relative_error, error_samples, stored, blocks) =
             if len <= options.dense_max {
@@ -515,9 +427,10 @@ impl HalfSpaceOperator {
                     (r.dense_blocks, r.low_rank_blocks, r.max_rank),
                 )
             };
+        let (n_strike, n_dip) = (grid.n_strike, grid.n_dip);
         let report = KernelReport {
             kernel: kind,
-            dim: 2 * nodes.len(),
+            dim: grid.element.len() * 2,
             relative_error,
             error_samples,
             // The dense K, or the table of distinct source–receiver pairs (48 bytes each)
@@ -543,19 +456,7 @@ impl HalfSpaceOperator {
                 Kernel::Dense(_) => None,
             },
         };
-        Ok(Self {
-            kernel,
-            element,
-            map,
-            weights: weights.to_vec(),
-            frame,
-            fault: bem,
-            s: vec![0.0; len],
-            y: vec![0.0; len],
-            report,
-            rows: None,
-            on_ranks: None,
-        })
+        Ok((kernel, report))
     }
 
     /// The boundary-element fault (Okada's frame: [`frame`](Self::frame)).

@@ -32,7 +32,7 @@ use super::common::{Solver, MU, NU};
 use super::error::{ComparisonError, Result};
 use super::measure::fault_weights;
 use super::vertical::{refined_model, Fault, Held};
-use crate::model::StaticSolver;
+use crate::model::{InternalFault, Model, StaticSolver};
 
 /// The comparison of the two operators on one mesh.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,7 +118,11 @@ impl Cells {
 
 /// The two operators on the first `k × k` modes of the buried rectangle `fault` (both
 /// directions; its `slip` is not used), the model on the hierarchy of
-/// [`compare_refined`](super::compare_refined) (`mesh`, `far`), solved by multigrid.
+/// [`compare_refined`](super::compare_refined) (`mesh`, `far`), solved by multigrid. Its
+/// stages: the cells of the boundary elements with the modes' slips
+/// ([`Cells::of_pairs`]), the boundary-element Galerkin matrix and the modes' Gram matrix
+/// ([`bem_galerkin`]), the finite-element one ([`fe_galerkin`]), and their norms on the
+/// modes' span ([`compared`]).
 ///
 /// # Errors
 /// [`ComparisonError::Setup`] for `k` zero or above 8, a surface-breaking `fault`, a Gram
@@ -141,7 +145,6 @@ pub fn compare_modes(
         ));
     }
     let modes = modes(k);
-    let n_modes = modes.len();
     let h = mesh.0 / f64::from(1u32 << mesh.1);
     // Any slip builds the model: every pair's two tangential components are prescribed
     // (set per mode below); its own static problem is not solved.
@@ -158,55 +161,118 @@ pub fn compare_modes(
         .as_ref()
         .ok_or_else(|| ComparisonError::Setup("the model has no internal fault".into()))?;
     let medium = Medium::from_shear_poisson(MU, NU)?;
-    let pairs = f.pairs();
-    let at = |mi: usize| model.vertices[mi];
-
-    // The cells on the pairs, each with its slips.
-    let cells = Cells {
-        okada: pairs
-            .iter()
-            .map(|&(mi, _)| {
-                let x = at(mi);
-                let rect = Rectangle::new(
-                    -x[2] + h / 2.0,
-                    90.0,
-                    [x[0] - h / 2.0, x[0] + h / 2.0],
-                    [0.0, h],
-                )?;
-                Ok(Okada::new(medium.alpha(), rect)?)
-            })
-            .collect::<Result<_>>()?,
-        slips: pairs
-            .iter()
-            .map(|&(mi, _)| {
-                modes
-                    .iter()
-                    .map(|m| {
-                        let s = m.slip(&fault, at(mi));
-                        [s[0], s[2]]
-                    })
-                    .collect()
-            })
-            .collect(),
+    let on = ModesOnPairs {
+        model: &model,
+        fault: &fault,
+        pairs: f.pairs(),
+        modes: &modes,
     };
+    let cells = Cells::of_pairs(&on, &medium, h)?;
+    let phi: Vec<Vec<[f64; 3]>> = on
+        .pairs
+        .iter()
+        .map(|&(mi, _)| modes.iter().map(|m| m.slip(&fault, on.at(mi))).collect())
+        .collect();
+    let (gram, g_bem) = bem_galerkin(&on, f, &cells, &medium, &phi)?;
+    // Level 0 is the coarsest mesh alone (no hierarchy): a direct solve, as in
+    // `refined_model`.
+    let method = if mesh.1 == 0 {
+        Solver::Direct
+    } else {
+        Solver::Multigrid
+    };
+    let g_fe = fe_galerkin(&on, f, &cells, &phi, far, method)?;
+    let mut c = compared(&gram, &g_fe, &g_bem)?;
+    c.h = h;
+    c.vertices = model.num_nodes();
+    Ok(c)
+}
 
-    // Boundary elements: σ e_y of every mode at every pair (the cells' centres).
-    let weights = fault_weights(&model, f);
+/// The modes at the fault's pairs (plus copy, minus copy) of `model`.
+struct ModesOnPairs<'a> {
+    model: &'a Model<3>,
+    fault: &'a Fault,
+    pairs: &'a [(usize, usize)],
+    modes: &'a [Mode],
+}
+
+impl ModesOnPairs<'_> {
+    /// The position (m) of vertex `mi`.
+    fn at(&self, mi: usize) -> [f64; 3] {
+        self.model.vertices[mi]
+    }
+}
+
+impl Cells {
+    /// The square cells of side `h` centred on the pairs of `on` (vertical, Okada's
+    /// rectangles in `medium`), each with its slips of every mode (strike, dip).
+    ///
+    /// # Errors
+    /// A rectangle Okada refuses (above the surface).
+    fn of_pairs(on: &ModesOnPairs<'_>, medium: &Medium, h: f64) -> Result<Self> {
+        Ok(Self {
+            okada: on
+                .pairs
+                .iter()
+                .map(|&(mi, _)| {
+                    let x = on.at(mi);
+                    let rect = Rectangle::new(
+                        -x[2] + h / 2.0,
+                        90.0,
+                        [x[0] - h / 2.0, x[0] + h / 2.0],
+                        [0.0, h],
+                    )?;
+                    Ok(Okada::new(medium.alpha(), rect)?)
+                })
+                .collect::<Result<_>>()?,
+            slips: on
+                .pairs
+                .iter()
+                .map(|&(mi, _)| {
+                    on.modes
+                        .iter()
+                        .map(|m| {
+                            let s = m.slip(on.fault, on.at(mi));
+                            [s[0], s[2]]
+                        })
+                        .collect()
+                })
+                .collect(),
+        })
+    }
+}
+
+/// `a · b`.
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The modes' Gram matrix `M_ij = Σ_n w_n φ_i · φ_j` and the boundary-element Galerkin
+/// matrix `G_ij = Σ_n w_n φ_i · σ_j e_y` at the pairs (the cells' centres; `phi[n][i]`
+/// mode `i`'s slip at pair `n`, `w_n` the lumped weights of the fault `f`).
+///
+/// # Errors
+/// Okada's at a centre.
+fn bem_galerkin(
+    on: &ModesOnPairs<'_>,
+    f: &InternalFault<3>,
+    cells: &Cells,
+    medium: &Medium,
+    phi: &[Vec<[f64; 3]>],
+) -> Result<(Mat<f64>, Mat<f64>)> {
+    let n_modes = on.modes.len();
+    let pairs = on.pairs;
+    let weights = fault_weights(on.model, f);
     let tractions: Vec<Vec<[f64; 3]>> = pairs
         .par_iter()
         .map(|&(mi, _)| {
             let mut d = vec![Deformation::default(); n_modes];
-            cells.at(at(mi), &mut d)?;
+            cells.at(on.at(mi), &mut d)?;
             Ok(d.iter()
                 .map(|d| rsf_halfspace::traction(&medium.stress(&d.grad), &[0.0, 1.0, 0.0]))
                 .collect())
         })
         .collect::<std::result::Result<_, rsf_halfspace::Error>>()?;
-    let phi: Vec<Vec<[f64; 3]>> = pairs
-        .iter()
-        .map(|&(mi, _)| modes.iter().map(|m| m.slip(&fault, at(mi))).collect())
-        .collect();
-    let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let gram = Mat::from_fn(n_modes, n_modes, |i, j| {
         (0..pairs.len())
             .map(|n| weights[pairs[n].0] * dot(&phi[n][i], &phi[n][j]))
@@ -217,9 +283,24 @@ pub fn compare_modes(
             .map(|n| weights[pairs[n].0] * dot(&phi[n][i], &tractions[n][j]))
             .sum::<f64>()
     });
+    Ok((gram, g_bem))
+}
 
-    // Finite elements: per mode, the far faces at the cells' field, every pair's jump the
-    // mode's slip, one multigrid solve; the plus copies' forces.
+/// The finite-element Galerkin matrix `G_ij = Σ_n φ_i(x_n) · f_j⁺(n)`: per mode `j`, the
+/// far faces (beyond `far`) held at the cells' field, every pair's jump the mode's slip,
+/// one static solve by `method`, the plus copies' nodal forces.
+///
+/// # Errors
+/// Okada's on the far faces; the static solver's.
+fn fe_galerkin(
+    on: &ModesOnPairs<'_>,
+    f: &InternalFault<3>,
+    cells: &Cells,
+    phi: &[Vec<[f64; 3]>],
+    far: f64,
+    method: Solver,
+) -> Result<Mat<f64>> {
+    let (model, pairs, n_modes) = (on.model, on.pairs, on.modes.len());
     let tol = 1e-9 * far;
     let far_face: Vec<usize> = (0..model.num_nodes())
         .filter(|&q| {
@@ -235,17 +316,10 @@ pub fn compare_modes(
             Ok(d.iter().map(|d| d.u).collect())
         })
         .collect::<std::result::Result<_, rsf_halfspace::Error>>()?;
-    // Level 0 is the coarsest mesh alone (no hierarchy): a direct solve, as in
-    // `refined_model`.
-    let method = if mesh.1 == 0 {
-        Solver::Direct
-    } else {
-        Solver::Multigrid
-    };
-    let mut solver = StaticSolver::new(&model, method.options())?;
+    let mut solver = StaticSolver::new(model, method.options())?;
     let mut g_fe = Mat::<f64>::zeros(n_modes, n_modes);
     let mut force = vec![0.0; model.num_dofs()];
-    for (j, mode) in modes.iter().enumerate() {
+    for (j, mode) in on.modes.iter().enumerate() {
         let mut v = vec![0.0; model.num_dofs()];
         for (idx, &q) in far_face.iter().enumerate() {
             for c in 0..3 {
@@ -254,7 +328,7 @@ pub fn compare_modes(
         }
         for (k, &(mi, _)) in pairs.iter().enumerate() {
             let r = f.transform.frames[k];
-            let s = mode.slip(&fault, at(mi));
+            let s = mode.slip(on.fault, on.at(mi));
             for a in 0..2 {
                 v[3 * mi + a] = (0..3).map(|b| r[b][a] * s[b]).sum();
             }
@@ -271,8 +345,19 @@ pub fn compare_modes(
             }
         }
     }
+    Ok(g_fe)
+}
 
-    // The operators' norms on the modes' span, in its orthonormal basis.
+/// The operators' norms on the modes' span, in its orthonormal basis (`Ĝ = L⁻¹ G L⁻ᵀ`,
+/// `M = L Lᵀ` the Gram matrix): the relative difference, the ratio of norms, the worst
+/// diagonal entry and the finite-element side's asymmetry (`h` and `vertices` left 0 for
+/// the caller).
+///
+/// # Errors
+/// [`ComparisonError::Setup`] for a Gram matrix that is not positive definite, singular
+/// values that did not converge, a boundary-element matrix of norm 0.
+fn compared(gram: &Mat<f64>, g_fe: &Mat<f64>, g_bem: &Mat<f64>) -> Result<ModeComparison> {
+    let n_modes = gram.nrows();
     let llt = gram.llt(Side::Lower).map_err(|_| {
         ComparisonError::Setup("the modes' Gram matrix is not positive definite".into())
     })?;
@@ -284,7 +369,7 @@ pub fn compare_modes(
         solve_lower_triangular_in_place(l, y.as_mut(), Par::Seq);
         y.transpose().to_owned()
     };
-    let (fe, bem) = (orthonormal(&g_fe), orthonormal(&g_bem));
+    let (fe, bem) = (orthonormal(g_fe), orthonormal(g_bem));
     let norm = |m: &Mat<f64>| -> Result<f64> {
         let s = m.singular_values().map_err(|e| {
             ComparisonError::Setup(format!("the singular values did not converge: {e:?}"))
@@ -301,8 +386,8 @@ pub fn compare_modes(
         .map(|i| ((g_fe[(i, i)] - g_bem[(i, i)]) / g_bem[(i, i)]).abs())
         .fold(0.0f64, f64::max);
     Ok(ModeComparison {
-        h,
-        vertices: model.num_nodes(),
+        h: 0.0,
+        vertices: 0,
         modes: n_modes,
         operator: norm(&(&fe - &bem))? / bem_norm,
         norm_ratio: norm(&fe)? / bem_norm,

@@ -7,8 +7,8 @@ use rsf_state::StateLaw;
 use rsf_time::VelocityIntegrator;
 
 use crate::error::{Error, Result};
-use crate::friction_blocks::{evaluate_potentials, FrictionView};
-use crate::method::fixed_point::Predictor;
+use crate::friction_blocks::FrictionView;
+use crate::method::fixed_point::{FixedPointOptions, Predictor};
 use crate::method::solver::VelocitySolver;
 use crate::method::state_integrator::StateIntegrator;
 use crate::method::{Method, StateShare, StepParts};
@@ -75,6 +75,9 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
 
     /// Solves the coupled problem of the next step at the current τ, leaving the new state
     /// in the workspace (`next`: kinematics, `alpha_trial`: state) without committing it.
+    /// Its stages: the velocity problem's right-hand side and predictor
+    /// ([`begin_velocity_problem`]), one solve for a law without state or the fixed point
+    /// iteration with the state update, then the step's end ([`end_of_step`]).
     ///
     /// # Errors
     /// [`Error::FixedPointNotConverged`] with the correction history; solver and state
@@ -93,41 +96,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             tau,
             ..Default::default()
         };
-        method.integrator().load_combinations(
-            tau,
-            &state.kinematics,
-            &mut work.w_mass,
-            &mut work.w_stiffness,
-        )?;
-        method.apply_load(&model.load, &work.w_mass, &work.w_stiffness, &mut work.rhs);
-        if let Some(absorbing) = &model.absorbing {
-            // The dashpots act on v − v_far: the far field's force g(t_n) C w.
-            if !absorbing.far_field_force.is_empty() {
-                let g = model.dirichlet.speed(t);
-                for (r, f) in work.rhs.iter_mut().zip(&absorbing.far_field_force) {
-                    *r += g * f;
-                }
-            }
-        }
-        // Predictor v⁰ with the Dirichlet data of t_n.
+        begin_velocity_problem(method, model, state, work)?;
         let fixed_point = *method.fixed_point();
-        let mut v = std::mem::take(&mut work.v);
-        v.copy_from_slice(&state.kinematics.v);
-        if fixed_point.predictor == Predictor::Extrapolated {
-            for (vi, ai) in v.iter_mut().zip(&state.kinematics.a) {
-                *vi += tau * ai;
-            }
-        }
-        impose_dirichlet(model, t, &mut v);
-        let (solver, scaling) = method.solver_and_scaling(tau);
-        if let Some((s, _)) = scaling {
-            for r in &mut work.rhs {
-                *r *= s;
-            }
-        }
-        let begun = solver.begin_step(&work.rhs, &v, &model.frictional_boundary.nodes);
-        work.v = v;
-        begun?;
         // A normal stress from slip needs the iterates' kinematics.
         let integrator = work.normal.as_ref().map(|_| method.integrator().clone());
         work.history.clear();
@@ -140,12 +110,11 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             state_share: mut share,
         } = method.step_parts(tau);
         let laws = self.problem.friction_laws();
-        let state_laws = self.problem.state_laws();
         let fb = &model.frictional_boundary;
         // α = S(α_{n−1}, V) of this step, for the iterates and the commit.
         let update = StateUpdate {
             integrator: state_integrator,
-            laws: state_laws,
+            laws: self.problem.state_laws(),
             alpha_prev: &state.alpha,
             tau,
         };
@@ -191,40 +160,8 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             let mut last = f64::INFINITY;
             let mut previous = f64::INFINITY;
             for nu in 0..fixed_point.max_iterations {
-                let stopping = match inexact {
-                    Some((kappa, _)) if nu > 0 => Stopping {
-                        absolute: full.absolute.max(kappa * last),
-                        ..full
-                    },
-                    // One solver iteration: any finite correction passes.
-                    Some((_, true)) => Stopping {
-                        absolute: f64::MAX,
-                        ..full
-                    },
-                    _ => full,
-                };
-                let view = if let Some(pw) = &mut work.pressure {
-                    // σ̄_n − p(t_n), σ̄_n the laws' or the iterate's from slip; the laws
-                    // evaluated at it, the weights unscaled.
-                    pw.lower_from(t, work.normal.as_ref().map(|n| &n.sigma[..]))?;
-                    crate::pore_pressure::potentials_at(
-                        laws,
-                        &work.alpha_iter,
-                        &pw.sigma,
-                        &mut work.potentials,
-                    );
-                    FrictionView::<L>::new(fb, &work.potentials)
-                } else {
-                    evaluate_potentials(laws, &work.alpha_iter, &mut work.potentials);
-                    match &work.normal {
-                        None => FrictionView::<L>::new(fb, &work.potentials),
-                        Some(normal) => FrictionView::<L> {
-                            nodes: &fb.nodes,
-                            weights: &normal.weights,
-                            potentials: &work.potentials,
-                        },
-                    }
-                };
+                let stopping = inner_stopping(inexact, nu, last, full);
+                let view = work.friction_view(laws, fb, t)?;
                 let r = solve(solver, &view, scaling, stopping)?;
                 report.solver_iterations += r.iterations;
                 report.fixed_point_iterations += 1;
@@ -233,21 +170,13 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
                 report.correction = c;
                 last = c;
                 let exact = stopping.absolute <= full.absolute;
-                let tol = fixed_point.tolerance;
-                let theta = c / previous;
-                let estimate = if fixed_point.error_estimate
-                    && nu > 0
-                    && theta <= 0.5
-                    && c <= ESTIMATE_GUARD * tol
-                {
-                    theta / (1.0 - theta) * c
-                } else {
-                    c
-                };
+                let estimate = error_estimate(&fixed_point, nu, c, previous);
                 report.fixed_point_error = estimate;
-                let small = estimate <= tol;
                 previous = c;
-                if small && exact && !(nu == 0 && fixed_point.paper_first_iteration) {
+                if estimate <= fixed_point.tolerance
+                    && exact
+                    && !(nu == 0 && fixed_point.paper_first_iteration)
+                {
                     converged = true;
                     break;
                 }
@@ -280,32 +209,125 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, I: VelocityIntegrator, const C
             read_slip_rates(solver, &mut work.slip);
             update.apply(&work.slip, &mut work.alpha_trial, share)?;
         }
-        method
-            .integrator()
-            .advance(tau, &state.kinematics, &work.v, &mut work.next);
-        if let Some(normal) = &mut work.normal {
-            normal.reactions.evaluate(
-                model,
-                &work.next,
-                t,
-                &mut normal.sigma,
-                &mut normal.weights,
-            )?;
-        }
-        if let Some(pw) = &mut work.pressure {
-            pw.lower_from(t, work.normal.as_ref().map(|n| &n.sigma[..]))?;
-        }
-        report.max_slip_rate = model
-            .frictional_boundary
-            .nodes
-            .iter()
-            .map(|&p| block_norm::<C>(&work.next.v, p))
-            .fold(0.0, f64::max);
+        report.max_slip_rate = end_of_step(method.integrator(), model, state, work)?;
         Ok(report)
     }
 }
 
-/// `v` with the Dirichlet data of time `t`: fixed dofs 0, prescribed ones `factor · g(t)`.
+/// The velocity problem of the step after `state`: the integrator's mass and stiffness
+/// combinations at τ, the right-hand side (the absorbing boundaries' far-field force
+/// added, scaled where one set-up of the solver serves every τ), the predictor `v⁰` (the
+/// last velocity, extrapolated by `τ a` if asked) with the Dirichlet data of `t_n`, and
+/// the solver begun on them.
+///
+/// # Errors
+/// The integrator's and the solver's.
+fn begin_velocity_problem<const D: usize, L: FrictionLaw, I: VelocityIntegrator, const C: usize>(
+    method: &mut Method<D, I, C>,
+    model: &Model<D, C>,
+    state: &SimulationState,
+    work: &mut Workspace<L>,
+) -> Result<()> {
+    let t = state.time_of(state.step + 1);
+    let tau = state.tau;
+    method.integrator().load_combinations(
+        tau,
+        &state.kinematics,
+        &mut work.w_mass,
+        &mut work.w_stiffness,
+    )?;
+    method.apply_load(&model.load, &work.w_mass, &work.w_stiffness, &mut work.rhs);
+    if let Some(absorbing) = &model.absorbing {
+        // The dashpots act on v − v_far: the far field's force g(t_n) C w.
+        if !absorbing.far_field_force.is_empty() {
+            let g = model.dirichlet.speed(t);
+            for (r, f) in work.rhs.iter_mut().zip(&absorbing.far_field_force) {
+                *r += g * f;
+            }
+        }
+    }
+    // Predictor v⁰ with the Dirichlet data of t_n.
+    let mut v = std::mem::take(&mut work.v);
+    v.copy_from_slice(&state.kinematics.v);
+    if method.fixed_point().predictor == Predictor::Extrapolated {
+        for (vi, ai) in v.iter_mut().zip(&state.kinematics.a) {
+            *vi += tau * ai;
+        }
+    }
+    impose_dirichlet(model, t, &mut v);
+    let (solver, scaling) = method.solver_and_scaling(tau);
+    if let Some((s, _)) = scaling {
+        for r in &mut work.rhs {
+            *r *= s;
+        }
+    }
+    let begun = solver.begin_step(&work.rhs, &v, &model.frictional_boundary.nodes);
+    work.v = v;
+    begun
+}
+
+/// The stopping rule of the inner solve of fixed point iteration `nu` (`last` the
+/// previous correction): the full rule, or with inexact inner solves (`inexact`: the
+/// factor κ, and whether the first iteration takes one solver iteration) an absolute
+/// tolerance of `κ · last` from the second iteration on.
+fn inner_stopping(inexact: Option<(f64, bool)>, nu: usize, last: f64, full: Stopping) -> Stopping {
+    match inexact {
+        Some((kappa, _)) if nu > 0 => Stopping {
+            absolute: full.absolute.max(kappa * last),
+            ..full
+        },
+        // One solver iteration: any finite correction passes.
+        Some((_, true)) => Stopping {
+            absolute: f64::MAX,
+            ..full
+        },
+        _ => full,
+    }
+}
+
+/// The fixed point test's error after iteration `nu` with correction `c` (`previous` the
+/// one before): with the error estimate on, `θ/(1 − θ) c` for a contraction ratio
+/// `θ = c/previous ≤ ½` while `c` is at most [`ESTIMATE_GUARD`] tolerances; otherwise `c`.
+fn error_estimate(fixed_point: &FixedPointOptions, nu: usize, c: f64, previous: f64) -> f64 {
+    let tol = fixed_point.tolerance;
+    let theta = c / previous;
+    if fixed_point.error_estimate && nu > 0 && theta <= 0.5 && c <= ESTIMATE_GUARD * tol {
+        theta / (1.0 - theta) * c
+    } else {
+        c
+    }
+}
+
+/// The end of the step from its velocity `work.v`: the kinematics `(u, v, a)` advanced
+/// by the integrator, the normal stress of the new state from slip (if any) and the
+/// effective normal stress at `t_n`. Returns the largest slip rate on Γ_F (m/s).
+///
+/// # Errors
+/// The normal stress's and the pressure's.
+fn end_of_step<const D: usize, L: FrictionLaw, I: VelocityIntegrator, const C: usize>(
+    integrator: &I,
+    model: &Model<D, C>,
+    state: &SimulationState,
+    work: &mut Workspace<L>,
+) -> Result<f64> {
+    let t = state.time_of(state.step + 1);
+    integrator.advance(state.tau, &state.kinematics, &work.v, &mut work.next);
+    if let Some(normal) = &mut work.normal {
+        normal
+            .reactions
+            .evaluate(model, &work.next, t, &mut normal.sigma, &mut normal.weights)?;
+    }
+    if let Some(pw) = &mut work.pressure {
+        pw.lower_from(t, work.normal.as_ref().map(|n| &n.sigma[..]))?;
+    }
+    Ok(model
+        .frictional_boundary
+        .nodes
+        .iter()
+        .map(|&p| block_norm::<C>(&work.next.v, p))
+        .fold(0.0, f64::max))
+}
+
 /// One solve of the velocity problem with the friction `nl`, scaled when one set-up of the
 /// solver serves every τ (see `Method::solver_and_scaling`).
 fn solve<const C: usize, N: BlockNonlinearity<C>>(
@@ -327,6 +349,7 @@ fn solve<const C: usize, N: BlockNonlinearity<C>>(
     }
 }
 
+/// `v` with the Dirichlet data of time `t`: fixed dofs 0, prescribed ones `factor · g(t)`.
 pub(crate) fn impose_dirichlet<const D: usize, const C: usize>(
     model: &Model<D, C>,
     t: f64,

@@ -4,8 +4,9 @@
 use rsf_friction::FrictionLaw;
 use rsf_time::Kinematics;
 
-use crate::friction_blocks::evaluate_potentials;
+use crate::friction_blocks::{evaluate_potentials, FrictionView};
 use crate::method::fixed_point::{Accelerator, FixedPointOptions};
+use crate::model::fault::FrictionalBoundary;
 use crate::normal_stress::{NormalReactions, ScaledTractions};
 
 /// The fixed point history's capacity allocated up front (it grows beyond, if ever).
@@ -77,6 +78,40 @@ impl<L: FrictionLaw> NormalWork<L> {
 }
 
 impl<L: FrictionLaw> Workspace<L> {
+    /// The friction of Γ_F (`fb`, its `laws`) at the state iterate `alpha_iter`: with a
+    /// pore pressure the laws at `σ̄_n − p(t)` (`σ̄_n` the laws' or the iterate's from
+    /// slip), the weights unscaled; with a normal stress from slip the iterate's scaled
+    /// weights; otherwise the laws' potentials with `fb`'s weights.
+    ///
+    /// # Errors
+    /// The pressure's at `t`.
+    pub fn friction_view<'a>(
+        &'a mut self,
+        laws: &[L],
+        fb: &'a FrictionalBoundary,
+        t: f64,
+    ) -> crate::error::Result<FrictionView<'a, L>> {
+        if let Some(pw) = &mut self.pressure {
+            pw.lower_from(t, self.normal.as_ref().map(|n| &n.sigma[..]))?;
+            crate::pore_pressure::potentials_at(
+                laws,
+                &self.alpha_iter,
+                &pw.sigma,
+                &mut self.potentials,
+            );
+            return Ok(FrictionView::<L>::new(fb, &self.potentials));
+        }
+        evaluate_potentials(laws, &self.alpha_iter, &mut self.potentials);
+        Ok(match &self.normal {
+            None => FrictionView::<L>::new(fb, &self.potentials),
+            Some(normal) => FrictionView::<L> {
+                nodes: &fb.nodes,
+                weights: &normal.weights,
+                potentials: &self.potentials,
+            },
+        })
+    }
+
     /// Buffers for `n` dofs, the frictional nodes' `laws` at state `alpha` and weights
     /// `weights` (of the accelerator's norm).
     pub fn new(

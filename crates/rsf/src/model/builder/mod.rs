@@ -20,7 +20,7 @@ use settings::{Body, Boundary, Faults};
 use stages::constraints::constrain;
 use stages::domain::Domain;
 use stages::matrices::System;
-use stages::pairs::{share_and_prescribe, Kinematics, SharedFault};
+use stages::pairs::{share_fault, Kinematics};
 use stages::{fault_order, inputs, loads, matrices, prolongations};
 
 pub use part::{FacetPredicate, Part};
@@ -380,28 +380,16 @@ impl<const D: usize, const C: usize> ModelBuilder<D, C> {
         let system = System { matrices, load }.scaled(s)?;
         // 7. A fault inside the body: the jump shared by the sides' stiffness, the
         // prescribed pairs' data in the mean–jump unknowns (they do not slip freely).
-        let fault = fault
-            .map(|f| {
-                share_and_prescribe(
-                    f,
-                    &system.matrices.stiffness,
-                    mesh,
-                    Kinematics {
-                        creep: faults.creep.as_ref(),
-                        slip: faults.slip.as_ref(),
-                    },
-                    &mut constraints,
-                )
-            })
-            .transpose()?
-            // A frictional boundary beside them: its slanted nodes in their frames too.
-            .map(|f| -> Result<_> {
-                Ok(SharedFault {
-                    fault: f.fault.with_boundary_frames(&constraints.boundary_frames)?,
-                    ..f
-                })
-            })
-            .transpose()?;
+        let fault = share_fault(
+            fault,
+            &system.matrices.stiffness,
+            mesh,
+            Kinematics {
+                creep: faults.creep.as_ref(),
+                slip: faults.slip.as_ref(),
+            },
+            &mut constraints,
+        )?;
         ended(BuildStage::Pairs);
         // 8. The change of variables: everything in the nodal frames of slanted Γ_F nodes
         // (`Rᵀ A R`), or in an internal fault's mean–jump unknowns (`Tᵀ A T`).

@@ -51,6 +51,29 @@ pub(crate) fn share_and_prescribe<const D: usize, const C: usize>(
     Ok(SharedFault { fault, prescribed })
 }
 
+/// Stage 7 of the build: a fault inside the body (if any) shared by the sides'
+/// stiffness with its prescribed pairs ([`share_and_prescribe`]), and the slanted nodes
+/// of a frictional boundary beside it in their frames.
+///
+/// # Errors
+/// Those of [`share_and_prescribe`]; a boundary frame the fault's transform refuses.
+pub(crate) fn share_fault<const D: usize, const C: usize>(
+    fault: Option<InternalFault<D>>,
+    stiffness: &SparseMatrix,
+    mesh: &SimplexMesh<D>,
+    kinematics: Kinematics<'_, D>,
+    constraints: &mut Constraints<D, C>,
+) -> Result<Option<SharedFault<D>>> {
+    let Some(fault) = fault else {
+        return Ok(None);
+    };
+    let f = share_and_prescribe(fault, stiffness, mesh, kinematics, constraints)?;
+    Ok(Some(SharedFault {
+        fault: f.fault.with_boundary_frames(&constraints.boundary_frames)?,
+        ..f
+    }))
+}
+
 /// Per pair of the internal fault `fault`: whether its slip is prescribed. A pair whose
 /// two sides are fully fixed by Dirichlet parts gets their velocities (and held
 /// displacements) in its mean–jump unknowns (`j = Rᵀ(v⁺ − v⁻)`, `w = (1 − β) v⁻ + β v⁺`;
