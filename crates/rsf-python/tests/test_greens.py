@@ -34,6 +34,13 @@ def test_the_linear_operator_is_the_dense_matrix():
     op = g.as_linear_operator()
     assert isinstance(op, LinearOperator) and op.shape == (m, m)
     S = g.matrix()
+    # A fault's block from its source columns alone: the matrix's entries, bit for bit.
+    name = g.fault_names[0]
+    np.testing.assert_array_equal(g.block(name, name), S)
+    with pytest.raises(ValueError, match="north"):
+        g.block(name, "north")
+    with pytest.raises(ValueError, match="max_unknowns"):
+        g.block(name, name, max_unknowns=m - 1)
     scale = np.abs(S).sum(axis=1).max()
     rng = np.random.default_rng(83)
     X = rng.standard_normal((m, 3))

@@ -106,19 +106,20 @@ pub enum Error {
         /// What to change.
         remedy: &'static str,
     },
-    /// The dense Green's functions of a fault operator were asked for above the caller's
-    /// limit ([`GreensFunctions::dense`](crate::greens::GreensFunctions::dense)).
+    /// The dense Green's functions of a fault operator (or a block of them) were asked
+    /// for above the caller's limit ([`GreensFunctions::dense`](crate::greens::GreensFunctions::dense),
+    /// [`GreensFunctions::block`](crate::greens::GreensFunctions::block)).
     #[error(
-        "the dense Green's functions of {unknowns} slip unknowns ({bytes:.3e} bytes, \
+        "the dense Green's functions of {unknowns} source slip unknowns ({bytes:.3e} bytes, \
          {unknowns} products with the operator) exceed the limit of {limit} unknowns; \
          apply the operator matrix-free (GreensFunctions::apply) or raise the limit"
     )]
     GreensTooLarge {
-        /// The operator's unknowns `m`.
+        /// The source unknowns asked for (the columns: `m` for the whole matrix).
         unknowns: usize,
         /// The caller's limit.
         limit: usize,
-        /// Bytes of the dense matrix, `8 m²`.
+        /// Bytes of the dense matrix or block (`8 m²`, `8 m_r m_s`).
         bytes: f64,
     },
     /// An invalid parameter, named (a field of a scene or builder, an argument).

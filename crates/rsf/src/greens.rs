@@ -363,22 +363,72 @@ impl GreensFunctions {
     /// [`Error::GreensTooLarge`] for `m > max_unknowns` (before any product); the errors
     /// of [`apply`](Self::apply).
     pub fn dense(&self, operator: &mut dyn FaultOperator, max_unknowns: usize) -> Result<Vec<f64>> {
-        let m = self.dim();
-        if m > max_unknowns {
+        let all: Vec<usize> = (0..self.dim()).collect();
+        self.columns(operator, &all, &all, max_unknowns)
+    }
+
+    /// The block of `S` from the slip of the fault `source` to the forces on the fault
+    /// `receiver` (row-major, `m_r × m_s`: entry `i·m_s + j` is `S` at the `i`-th unknown
+    /// of [`unknowns_of`](Self::unknowns_of)`(receiver)` and the `j`-th of `source`'s):
+    /// `m_s` products with `operator`, `8 m_r m_s` bytes — the interaction of two faults
+    /// of a network (docs/fault-networks.md, "Green's functions"), without the whole
+    /// `m × m` matrix. Each column is the operator's product, so the block equals the
+    /// corresponding entries of [`dense`](Self::dense) bit for bit.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] named `receiver` or `source` for a name the model's
+    /// faults do not have (the names listed); [`Error::GreensTooLarge`] for `m_s >
+    /// max_unknowns` (before any product); the errors of [`apply`](Self::apply).
+    pub fn block(
+        &self,
+        operator: &mut dyn FaultOperator,
+        (receiver, source): (&str, &str),
+        max_unknowns: usize,
+    ) -> Result<Vec<f64>> {
+        let unknowns = |which: &str, name: &str| {
+            let u = self.unknowns_of(name);
+            if u.is_empty() {
+                Err(invalid(
+                    which,
+                    format!(
+                        "`{}` is none of the faults {:?}",
+                        rsf_numeric::excerpt(name),
+                        self.fault_names
+                    ),
+                ))
+            } else {
+                Ok(u)
+            }
+        };
+        let rows = unknowns("receiver", receiver)?;
+        let cols = unknowns("source", source)?;
+        self.columns(operator, &rows, &cols, max_unknowns)
+    }
+
+    /// The entries `S[rows, cols]` (row-major), column `j` as the rows of `S e_j`.
+    fn columns(
+        &self,
+        operator: &mut dyn FaultOperator,
+        rows: &[usize],
+        cols: &[usize],
+        max_unknowns: usize,
+    ) -> Result<Vec<f64>> {
+        let (m, n) = (self.dim(), cols.len());
+        if n > max_unknowns {
             return Err(Error::GreensTooLarge {
-                unknowns: m,
+                unknowns: n,
                 limit: max_unknowns,
-                bytes: 8.0 * (m as f64) * (m as f64),
+                bytes: 8.0 * (rows.len() as f64) * (n as f64),
             });
         }
-        let mut s = vec![0.0; m * m];
+        let mut s = vec![0.0; rows.len() * n];
         let mut e = vec![0.0; m];
-        for j in 0..m {
+        for (jj, &j) in cols.iter().enumerate() {
             e[j] = 1.0;
             let column = self.apply(operator, &e)?;
             e[j] = 0.0;
-            for (i, v) in column.into_iter().enumerate() {
-                s[i * m + j] = v;
+            for (ii, &i) in rows.iter().enumerate() {
+                s[ii * n + jj] = column[i];
             }
         }
         Ok(s)

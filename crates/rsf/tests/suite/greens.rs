@@ -169,6 +169,30 @@ fn the_dense_export_is_the_operator_symmetric_and_described() {
         }
         other => panic!("{:?}", other.map(|s| s.len())),
     }
+    // A fault pair's block is the matrix's entries, bit for bit, from the source's
+    // columns alone; names the model has not are refused by name.
+    for (r, c) in [("west", "east"), ("east", "west"), ("west", "west")] {
+        let (rows, cols) = (g.unknowns_of(r), g.unknowns_of(c));
+        let b = g
+            .block(ode.fault_operator_mut(), (r, c), cols.len())
+            .unwrap();
+        assert_eq!(b.len(), rows.len() * cols.len());
+        for (ii, &i) in rows.iter().enumerate() {
+            for (jj, &j) in cols.iter().enumerate() {
+                assert_eq!(b[ii * cols.len() + jj].to_bits(), s[i * m + j].to_bits());
+            }
+        }
+    }
+    match g.block(ode.fault_operator_mut(), ("west", "north"), m) {
+        Err(rsf::Error::InvalidParameter { name, reason }) => {
+            assert!(name == "source" && reason.contains("north"), "{reason}")
+        }
+        other => panic!("{:?}", other.map(|s| s.len())),
+    }
+    assert!(matches!(
+        g.block(ode.fault_operator_mut(), ("west", "east"), east.len() - 1),
+        Err(rsf::Error::GreensTooLarge { .. })
+    ));
     assert!(g.apply(ode.fault_operator_mut(), &x[1..]).is_err());
     let mut nan = x.clone();
     nan[3] = f64::NAN;
