@@ -230,6 +230,12 @@ impl Hdf5Fields {
             let d = frames_dataset::<f64>(&file, &name, &tail).map_err(&err)?;
             if frame == 0 {
                 crate::attributes::text(&d, "unit", unit).map_err(&err)?;
+                if f.name == "fault" {
+                    // The names the field's values index, as a JSON list of strings.
+                    let names = serde_json::to_string(&s.model.frictional_boundary.fault_names)
+                        .map_err(|e| err(hdf5::Error::from(e.to_string())))?;
+                    crate::attributes::text(&d, "fault_names", &names).map_err(&err)?;
+                }
             }
             append(&d, frame, &f.values, &tail).map_err(&err)?;
         }

@@ -10,7 +10,7 @@ use rsf_scenes::{Slider3dScene, SliderScene};
 
 /// The fields and their components, written out here (the writers take them from
 /// `rsf::observe::POINT_FIELDS`).
-const FIELDS: [(&str, usize); 7] = [
+const FIELDS: [(&str, usize); 8] = [
     ("displacement", 3),
     ("velocity", 3),
     ("slip_rate", 1),
@@ -18,6 +18,7 @@ const FIELDS: [(&str, usize); 7] = [
     ("slip", 3),
     ("shear_traction", 1),
     ("normal_traction", 1),
+    ("fault", 1),
 ];
 
 /// A fresh folder for `name` under the target directory's tmp.
@@ -124,6 +125,22 @@ fn hdf5_fields_equal_the_vtu_frames_and_the_xdmf_index_references_them() {
         }
     }
     assert!(nonzero > 0, "the fields are not all zero");
+    // The names the field `fault` indexes: the model's, as a JSON list (the slider's one
+    // frictional boundary).
+    let names: hdf5::types::VarLenUnicode = file
+        .dataset("fields/fault")
+        .unwrap()
+        .attr("fault_names")
+        .unwrap()
+        .read_scalar()
+        .unwrap();
+    let want: Vec<String> = m
+        .frictional_boundary
+        .fault_names
+        .iter()
+        .map(|n| format!("\"{n}\""))
+        .collect();
+    assert_eq!(names.as_str(), format!("[{}]", want.join(",")));
     // The index: every HDF reference names an existing dataset with its dimensions.
     let xmf = std::fs::read_to_string(dir.join("fields.xmf")).expect("the Xdmf index");
     // The index's times are `/time`'s, bit for bit and in order (ParaView orders the

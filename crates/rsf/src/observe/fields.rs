@@ -69,8 +69,11 @@ fn slip_field<const D: usize>(s: &StepView<'_, D>, n: usize) -> Vec<f64> {
 ///   `state_alpha` (α = ln θ, θ in s; NaN everywhere for a law without state), `slip` (m,
 ///   a 3-vector, [`StepView::slip`]), `shear_traction` and `normal_traction` (Pa,
 ///   [`StepView::shear_traction`], [`StepView::normal_traction`]; NaN where the law has no
-///   `σ̄_n`).
-pub const POINT_FIELDS: [(&str, usize, &str); 7] = [
+///   `σ̄_n`), and `fault`: the vertex's fault, an index into the model's
+///   `frictional_boundary.fault_names` (0 for a model of one fault; a network's faults
+///   told apart by value, their names in the frame index: `frames.pvd`'s comment, the
+///   HDF5 dataset's attribute `fault_names`).
+pub const POINT_FIELDS: [(&str, usize, &str); 8] = [
     ("displacement", 3, "m"),
     ("velocity", 3, "m/s"),
     ("slip_rate", 1, "m/s"),
@@ -78,6 +81,7 @@ pub const POINT_FIELDS: [(&str, usize, &str); 7] = [
     ("slip", 3, "m"),
     ("shear_traction", 1, "Pa"),
     ("normal_traction", 1, "Pa"),
+    ("fault", 1, "1"),
 ];
 
 /// One point field of a frame at every mesh vertex ([`point_fields`]).
@@ -110,6 +114,7 @@ pub fn point_fields<const D: usize>(s: &StepView<'_, D>) -> Vec<PointField> {
         slip_field(s, n),
         fault_scalars(s, n, |k| s.shear_traction(k)),
         fault_scalars(s, n, |k| s.normal_traction(k).unwrap_or(f64::NAN)),
+        fault_scalars(s, n, |k| m.frictional_boundary.fault_of[k] as f64),
     ];
     POINT_FIELDS
         .iter()

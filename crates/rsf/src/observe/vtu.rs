@@ -35,6 +35,9 @@ use super::{Flow, Observer, StepView};
 pub struct VtuFrames {
     dir: PathBuf,
     frames: Vec<(f64, String)>,
+    /// The model's fault names (the values of the point field `fault` index them), set at
+    /// the first frame written.
+    fault_names: Vec<String>,
     /// On ranks: this rank's share of the frames.
     pieces: Option<Pieces>,
 }
@@ -98,6 +101,7 @@ impl VtuFrames {
         let mut frames = Self {
             dir,
             frames: Vec::new(),
+            fault_names: Vec::new(),
             pieces: None,
         };
         frames.read_index(mode)?;
@@ -147,6 +151,7 @@ impl VtuFrames {
         let mut frames = Self {
             dir,
             frames: Vec::new(),
+            fault_names: Vec::new(),
             pieces: Some(Pieces {
                 owner,
                 ranks,
@@ -240,7 +245,15 @@ impl VtuFrames {
             return Ok(());
         }
         let mut f = String::from("<?xml version=\"1.0\"?>\n");
-        f.push_str("<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
+        f.push_str("<VTKFile type=\"Collection\" version=\"0.1\">\n");
+        // The names of the values of the point field `fault` (ParaView shows the index;
+        // XML comments are what a collection file can carry besides its data sets).
+        let named = self.fault_names.iter().any(|n| !n.is_empty());
+        for (i, name) in self.fault_names.iter().enumerate().filter(|_| named) {
+            let name = name.replace("--", "- -");
+            let _ = writeln!(f, "  <!-- fault {i}: {name} -->");
+        }
+        f.push_str("  <Collection>\n");
         for (t, name) in &self.frames {
             // Writing into a String cannot fail.
             let _ = writeln!(f, "    <DataSet timestep=\"{t:.9e}\" file=\"{name}\"/>");
@@ -456,6 +469,9 @@ impl<const D: usize> Observer<D> for VtuFrames {
             2 => CellType::Triangle,
             _ => CellType::Tetra,
         };
+        if self.fault_names.is_empty() {
+            self.fault_names = s.model.frictional_boundary.fault_names.clone();
+        }
         if self.pieces.is_some() {
             self.write_piece(s, cell_type)?;
             return Ok(Flow::Continue(()));

@@ -17,7 +17,7 @@ use rsf::{FaultOde, Material, Model, ModelBuilder, Part, SimulationBuilder};
 
 /// A `2 half × 2 half` m box in 0.25 m cells, top and bottom held, with two vertical
 /// faults 1 m long at `x = ∓d/2`, "west" and "east".
-fn two_faults(d: f64, half: f64) -> Model<2> {
+pub(crate) fn two_faults(d: f64, half: f64) -> Model<2> {
     box_with_faults(d, half, 4.0)
 }
 
@@ -49,9 +49,9 @@ fn box_with_faults(d: f64, half: f64, per_m: f64) -> Model<2> {
         .unwrap()
 }
 
-type Ode = FaultOde<2, AsinhLaw, Aging>;
+pub(crate) type Ode = FaultOde<2, AsinhLaw, Aging>;
 
-fn fault_ode(model: Model<2>, kernel: FaultKernel) -> Ode {
+pub(crate) fn fault_ode(model: Model<2>, kernel: FaultKernel) -> Ode {
     let p = RateStateParams {
         mu0: 0.6,
         a: 0.015,

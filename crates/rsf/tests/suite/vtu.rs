@@ -133,3 +133,43 @@ fn frames_hold_the_state_of_their_step() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A network's frames tell its faults apart (issue 83): the point field `fault` holds each
+/// frictional vertex's fault index (0 west, 1 east, from their positions), NaN off the
+/// faults, and `frames.pvd` names the indices.
+#[test]
+fn a_networks_frames_carry_each_vertexs_fault_and_the_names() {
+    use crate::greens::{fault_ode, two_faults};
+    let dir = temp_dir("vtu_network");
+    let mut ode = fault_ode(two_faults(2.0, 4.0), rsf::fault_ode::FaultKernel::Dense);
+    let mut frames = VtuFrames::new(&dir, FileMode::Create).expect("frame folder");
+    rsf::run_until(&mut ode, rsf::Until::Steps(1), &mut [&mut frames]).unwrap();
+    let model = rsf::Stepping::model(&ode);
+    let vtk = vtkio::Vtk::import(dir.join("frame_000001.vtu")).expect("frame is valid VTK XML");
+    let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let piece = pieces[0].load_piece_data(None).expect("inline piece");
+    let fault = point_vectors(&piece, "fault");
+    let on: std::collections::HashSet<usize> =
+        model.frictional_boundary.nodes.iter().copied().collect();
+    let (mut west, mut east) = (0, 0);
+    for (p, x) in model.vertices.iter().enumerate() {
+        if !on.contains(&p) {
+            assert!(fault[p].is_nan(), "vertex {p} off the faults: {}", fault[p]);
+        } else if x[0] < 0.0 {
+            assert_eq!(fault[p], 0.0, "{x:?}");
+            west += 1;
+        } else {
+            assert_eq!(fault[p], 1.0, "{x:?}");
+            east += 1;
+        }
+    }
+    assert!(west > 0 && east > 0);
+    let index = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+    assert!(
+        index.contains("<!-- fault 0: west -->") && index.contains("<!-- fault 1: east -->"),
+        "{index}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
