@@ -600,10 +600,7 @@ impl IntegratorArgs {
         &self,
         fingerprint: rsf::checkpoint::Fingerprint,
     ) -> rsf::checkpoint::Fingerprint {
-        match self.integrator {
-            rsf::fault_ode::OdeIntegrator::DormandPrince => fingerprint,
-            i => fingerprint.with("integrator", i),
-        }
+        rsf::fault_ode::integrator_fingerprint(fingerprint, self.integrator)
     }
 
     /// What `summary.json` says of the integrator: the choice, the steps, simulated time

@@ -309,7 +309,8 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         session.follow(&mut ode, &mut [])?;
         return Ok(());
     }
-    let mut output = session.along_dip_output(
+    let mut output = rsf_seas::SeasOutput::for_session(
+        &session,
         &args.out,
         ode.model(),
         ode.problem().friction_laws(),

@@ -112,16 +112,19 @@ impl PerNode {
         match self {
             PerNode::Uniform(x) => format!("{x:e}"),
             PerNode::Values(v) => {
-                let h = v
-                    .iter()
-                    .flat_map(|x| x.to_bits().to_le_bytes())
-                    .fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
-                        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
-                    });
+                let h = fnv1a(v.iter().flat_map(|x| x.to_bits().to_le_bytes()));
                 format!("per node {h:016x}")
             }
         }
     }
+}
+
+/// The 64-bit FNV-1a hash of `bytes`: a value's fingerprint that is the same in every
+/// process (a function's address is not).
+pub(crate) fn fnv1a(bytes: impl IntoIterator<Item = u8>) -> u64 {
+    bytes.into_iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 /// Parameter `name` from a number, an array of one value per fault node (shape `(n,)`) or

@@ -152,6 +152,31 @@ pub(crate) struct Advance {
     pub checkpoint: Option<std::path::PathBuf>,
 }
 
+/// The folder a simulation writes its files in (`out`) and the run id its manifest
+/// names: every checkpoint of the run carries the id, so that a resume proves the folder
+/// the checkpoint's run's (docs/reliability.md, "Round 5").
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Files {
+    /// The run folder (`None`: the simulation writes no run folder).
+    pub folder: Option<std::path::PathBuf>,
+    /// The run id of the folder's manifest (empty: none).
+    pub run_id: String,
+    /// A file the simulation writes outside a run folder (`slider_3d`'s `hdf5`), which no
+    /// resume continues yet.
+    pub file: Option<std::path::PathBuf>,
+}
+
+impl Files {
+    /// The folder `out`'s run, its id read from its manifest.
+    pub fn of_folder(out: &std::path::Path) -> Self {
+        Self {
+            folder: Some(out.to_owned()),
+            run_id: rsf::run_folder::run_id(out).unwrap_or_default(),
+            file: None,
+        }
+    }
+}
+
 /// A run of any method and dimension, its recording and its extra observers (files).
 pub(crate) trait DynEngine {
     /// Steps until `how.until`, the GIL released by the caller.
@@ -163,6 +188,8 @@ pub(crate) trait DynEngine {
     fn checkpoint(&self) -> Checkpoint;
     /// Continues from `c` (its fingerprint checked against the run's).
     fn restore(&mut self, c: &Checkpoint) -> rsf::Result<()>;
+    /// The folder the run writes its files in and its run id.
+    fn files(&self) -> &Files;
     /// What was recorded.
     fn recording(&self) -> &Recording;
     /// Dimension, components and fault nodes' coordinates (fault-node-major, `D` each).
@@ -220,6 +247,8 @@ pub(crate) struct Engine<const D: usize, const C: usize, M> {
     /// Observers writing files (SEAS output, HDF5 fields), after the recording.
     pub files: Vec<Box<dyn Observer<D, C>>>,
     pub fingerprint: Fingerprint,
+    /// The folder of the files and its run id.
+    pub folder: Files,
 }
 
 impl<const D: usize, const C: usize, M: Stepping<D, C> + WithFaultOperator> DynEngine
@@ -240,7 +269,9 @@ impl<const D: usize, const C: usize, M: Stepping<D, C> + WithFaultOperator> DynE
             (Some(path), n) if n > 0 => Some(
                 Every::new(
                     Interval::Steps(n),
-                    Checkpointer::new(path.clone()).fingerprint(self.fingerprint.clone()),
+                    Checkpointer::new(path.clone())
+                        .fingerprint(self.fingerprint.clone())
+                        .run_id(&self.folder.run_id),
                 )
                 .map_err(|error| RunError {
                     error,
@@ -270,7 +301,12 @@ impl<const D: usize, const C: usize, M: Stepping<D, C> + WithFaultOperator> DynE
     fn checkpoint(&self) -> Checkpoint {
         let mut c = self.sim.checkpoint();
         c.fingerprint = self.fingerprint.clone();
+        c.run_id.clone_from(&self.folder.run_id);
         c
+    }
+
+    fn files(&self) -> &Files {
+        &self.folder
     }
 
     fn restore(&mut self, c: &Checkpoint) -> rsf::Result<()> {

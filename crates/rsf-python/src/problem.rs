@@ -16,8 +16,8 @@ use rsf::{
     TimeFunction,
 };
 
-use crate::convert::{per_node, PerNode};
-use crate::engine::{Engine, Recording};
+use crate::convert::{fnv1a, per_node, PerNode};
+use crate::engine::{Engine, Files, Recording};
 use crate::errors::{invalid, OrPy};
 use crate::simulation::{End, Simulation};
 
@@ -195,6 +195,46 @@ fn part<const D: usize>(py: Python<'_>, obj: &Bound<'_, PyAny>) -> PyResult<Part
     }))
 }
 
+/// A part as a checkpoint's fingerprint names it: a tag as written, `(name, predicate)`
+/// by its name and `predicate` (the nodes it selects are described by value, [`describe`]).
+fn part_label(obj: &Bound<'_, PyAny>) -> String {
+    match obj.extract::<String>() {
+        Ok(tag) => tag,
+        Err(_) => match obj.extract::<(String, Bound<'_, PyAny>)>() {
+            Ok((name, _)) => format!("('{name}', predicate)"),
+            Err(_) => obj.to_string(),
+        },
+    }
+}
+
+/// The model's description for a checkpoint's fingerprint: `head` (material, refinement,
+/// gravity, ramp), the parts' labels (Dirichlet parts with their velocities, the
+/// frictional part) and — where a part is a predicate — what it selected, by value: a hash
+/// of the frictional nodes' indices and of the fixed degrees of freedom (issue 86: the
+/// description held the predicate's repr, its address, so that a checkpoint never
+/// resumed in a new process). A model of tags only is described as before.
+fn describe(
+    head: &str,
+    parts: (Vec<(String, Vec<f64>)>, Option<String>),
+    model: &AnyModel,
+) -> String {
+    let (dirichlet, friction) = parts;
+    let mut text = format!("{head} dirichlet {dirichlet:?} friction {friction:?}");
+    let predicates = dirichlet.iter().map(|(l, _)| l).chain(&friction);
+    if predicates.into_iter().any(|l| l.ends_with(", predicate)")) {
+        let (nodes, fixed) = match model {
+            AnyModel::Two(m) => (&m.frictional_boundary.nodes, &m.fixed),
+            AnyModel::Three(m) => (&m.frictional_boundary.nodes, &m.fixed),
+        };
+        let nodes = fnv1a(nodes.iter().flat_map(|&i| (i as u64).to_le_bytes()));
+        let fixed = fnv1a(fixed.iter().map(|&f| u8::from(f)));
+        text.push_str(&format!(
+            " selected: frictional nodes {nodes:016x} fixed dofs {fixed:016x}"
+        ));
+    }
+    text
+}
+
 /// A model of a mesh: material, gravity, boundary conditions and the frictional part.
 #[pyclass(module = "rsf._rsf", name = "Model")]
 pub struct Model {
@@ -271,14 +311,16 @@ impl Model {
         ramp: Option<f64>,
     ) -> PyResult<Self> {
         let material = Material::new(youngs_modulus, poisson_ratio, density);
-        let description = format!(
+        let head = format!(
             "E {youngs_modulus:e} nu {poisson_ratio:e} rho {density:e} refine {refine} \
-             gravity {gravity:?} ramp {ramp:?} dirichlet {:?} friction {:?}",
+             gravity {gravity:?} ramp {ramp:?}"
+        );
+        let parts = (
             dirichlet
                 .iter()
-                .map(|(p, v)| (p.to_string(), v.clone()))
+                .map(|(p, v)| (part_label(p), v.clone()))
                 .collect::<Vec<_>>(),
-            frictional_boundary.as_ref().map(|f| f.to_string())
+            frictional_boundary.as_ref().map(part_label),
         );
         let fb = frictional_boundary.as_ref();
         let model = match &mesh.mesh {
@@ -303,6 +345,7 @@ impl Model {
                 ramp,
             )?),
         };
+        let description = describe(&head, parts, &model);
         Ok(Self { model, description })
     }
 
@@ -478,6 +521,7 @@ where
         recording: Recording::new(c.fault_every).py()?,
         files: Vec::new(),
         fingerprint,
+        folder: Files::default(),
     };
     Ok(Simulation::new(
         Box::new(engine),

@@ -7,10 +7,10 @@ use std::path::PathBuf;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rsf::checkpoint::Fingerprint;
-use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::fault_ode::{integrator_fingerprint, FaultKernel, FaultOdeOptions, OdeIntegrator};
 use rsf::friction::{DieterichRuina, RateStateParams};
 use rsf::observe::FileMode;
-use rsf::run_folder::RunFolder;
+use rsf::run_folder::{FrontEnd, RunFolder, Session, SessionFlags};
 use rsf::SimulationBuilder;
 use rsf_scenes::{
     SeasBp1, SeasBp1Grid, Slider3dScene, SliderScene, TimeStep, SEAS_BP1_STATION_DEPTHS,
@@ -19,7 +19,7 @@ use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 use serde_json::Value;
 
 use crate::convert::{per_node, scene, to_json, PerNode};
-use crate::engine::{Engine, Recording};
+use crate::engine::{Engine, Files, Recording};
 use crate::errors::{invalid, OrPy};
 use crate::simulation::{End, Simulation};
 
@@ -136,6 +136,7 @@ pub(crate) fn slider(
         recording: Recording::new(fault_every).py()?,
         files: Vec::new(),
         fingerprint,
+        folder: Files::default(),
     };
     Ok(Simulation::new(
         Box::new(engine),
@@ -183,12 +184,16 @@ pub(crate) fn slider_3d(
         s.fingerprint(),
     )?;
     let sim = builder.build().py()?;
-    let files = crate::fields::hdf5_observer::<3>(hdf5, hdf5_every)?;
+    let files = crate::fields::hdf5_observer::<3>(hdf5.clone(), hdf5_every)?;
     let engine = Engine::<3, 3, _> {
         sim,
         recording: Recording::new(fault_every).py()?,
         files,
         fingerprint,
+        folder: Files {
+            file: hdf5,
+            ..Files::default()
+        },
     };
     Ok(Simulation::new(
         Box::new(engine),
@@ -200,15 +205,24 @@ pub(crate) fn slider_3d(
 /// The SCEC SEAS benchmark BP1-QD (docs/seas-bp1.md): the quasi-dynamic equations condensed
 /// onto the fault, Dormand–Prince 5(4), as the Rust program `seas_bp1` runs them with the
 /// same flags (`dz` = `--dz`, `domain_km`, `ratio`, `rk_tolerance`, `kernel`
-/// "hierarchical" or "dense", `kernel_epsilon`, `threads`, `end_years`, `every_step`,
-/// `modeler`, `date`). With `out`, the benchmark's files (`fltst_dp*`, `devol.dat`,
-/// `events.csv`) are written there as the program writes them (the folder refused if it
-/// holds another run's files, unless `overwrite`); with `hdf5` also their series in one
-/// HDF5 file, `seas.h5` in `out`, at the end of every `run`/`advance` (the package built
-/// with the feature `hdf5`, as `crates/rsf-hdf5`'s program `seas_bp1`). Other keyword
-/// arguments are the scene's physical parameters (`a0`, `a_max`, `sigma_n`, …, SI units).
+/// "hierarchical" or "dense", `kernel_epsilon`, `integrator` — "auto", the program's
+/// default, "rkc", "rosenbrock", "dormand-prince" or "bogacki-shampine" —, `threads`,
+/// `end_years`, `every_step`, `modeler`, `date`). With `out`, the benchmark's files (`fltst_dp*`, `devol.dat`,
+/// `events.csv`, and their resume log `seas_resume.csv`) are written there as the program
+/// writes them (the folder refused if it holds another run's files, unless `overwrite`);
+/// with `hdf5` also their series in one HDF5 file, `seas.h5` in `out`, at the end of every
+/// `run`/`advance` (the package built with the feature `hdf5`, as `crates/rsf-hdf5`'s
+/// program `seas_bp1`). `resume` continues the run of a checkpoint (the program's or this
+/// package's: the same fingerprint) and, with `out`, its files there by the programs' rule
+/// (docs/reliability.md, "Round 5"): the checkpoint's fingerprint checked (`allow_change`
+/// names fields that may differ), the folder proven the checkpoint's run's (its manifest's
+/// run id, or its files where the manifest is missing), the files continued at the
+/// checkpoint's step; with `overwrite=True` the folder of another run is given to the
+/// checkpoint's run whole (its files copied from the checkpoint's own folder) or refused.
+/// Other keyword arguments are the scene's physical parameters (`a0`, `a_max`, `sigma_n`,
+/// …, SI units).
 #[pyfunction]
-#[pyo3(signature = (*, dz=25.0, domain_km=400.0, ratio=1.05, rk_tolerance=1e-6, kernel="hierarchical", kernel_epsilon=None, threads=None, end_years=3000.0, every_step=false, out=None, overwrite=false, hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[pyo3(signature = (*, dz=25.0, domain_km=400.0, ratio=1.05, rk_tolerance=1e-6, kernel="hierarchical", kernel_epsilon=None, integrator="auto", threads=None, end_years=3000.0, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn seas_bp1(
     dz: f64,
@@ -217,11 +231,14 @@ pub(crate) fn seas_bp1(
     rk_tolerance: f64,
     kernel: &str,
     kernel_epsilon: Option<f64>,
+    integrator: &str,
     threads: Option<usize>,
     end_years: f64,
     every_step: bool,
     out: Option<PathBuf>,
     overwrite: bool,
+    resume: Option<PathBuf>,
+    allow_change: Vec<String>,
     hdf5: bool,
     modeler: &str,
     date: Option<String>,
@@ -242,46 +259,165 @@ pub(crate) fn seas_bp1(
         domain: domain_km * 1e3,
         ratio,
     };
-    let kernel = match (kernel, kernel_epsilon) {
-        ("dense", None) => FaultKernel::Dense,
-        ("dense", Some(_)) => {
-            return Err(invalid("kernel_epsilon", "needs kernel=\"hierarchical\""))
-        }
-        ("hierarchical", None) => FaultKernel::matching(rk_tolerance),
-        ("hierarchical", Some(e)) if e > f64::EPSILON && e < 1.0 => FaultKernel::hierarchical(e),
-        ("hierarchical", Some(e)) => {
-            return Err(invalid(
-                "kernel_epsilon",
-                format!("{e:e}: must be in (2.2e-16, 1)"),
-            ))
-        }
-        (k, _) => {
-            return Err(invalid(
-                "kernel",
-                format!("`{k}`: \"hierarchical\" or \"dense\""),
-            ))
-        }
-    };
+    let kernel = bp1_kernel(kernel, kernel_epsilon, rk_tolerance)?;
     let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
     if threads == 0 {
         return Err(invalid("threads", "at least 1"));
     }
+    if !allow_change.is_empty() && resume.is_none() {
+        return Err(invalid(
+            "allow_change",
+            "needs `resume` (the fields a resume may change; a new run has nothing to change)",
+        ));
+    }
+    if hdf5 && out.is_none() {
+        return Err(invalid(
+            "hdf5",
+            "needs `out`: the series are those of its files",
+        ));
+    }
+    let integrator: OdeIntegrator = integrator
+        .parse()
+        .map_err(|e: rsf::time::Error| invalid("integrator", e))?;
     let options = FaultOdeOptions {
         kernel,
+        integrator,
         parallelism: rsf::Parallelism::rayon(threads),
         ..bp1.fault_ode_options(rk_tolerance).py()?
     };
     options.validate().py()?;
-    let model = bp1.model(&grid, false).py()?;
-    let sim = bp1.fault_ode(model, options).py()?;
     let sampling = SeasSampling {
         every_step,
         ..SeasSampling::default()
     };
-    // The program's fingerprint (its defaults for the other flags), so that a checkpoint
-    // of either continues in the other.
-    let fingerprint = bp1
-        .fingerprint(&grid, false, &sampling)
+    let fingerprint = bp1_fingerprint(
+        &bp1,
+        &grid,
+        &sampling,
+        (end_years, rk_tolerance, kernel, integrator),
+    );
+    // The folder first (another run's refused before anything is computed), as the
+    // program's guard does.
+    let folder = out.as_ref().map(|out| {
+        let mut names = SeasBp1::file_names();
+        names.push("checkpoint.bin".into());
+        if hdf5 {
+            names.push("seas.h5".into());
+        }
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        RunFolder::new(out, "seas_bp1", &names).front_end(FrontEnd::Python)
+    });
+    let fresh = match (&folder, &resume) {
+        (Some(f), Some(checkpoint)) => f.prepare_resume(checkpoint, overwrite).py()?,
+        (Some(f), None) => f.prepare(false, overwrite).py()?,
+        (None, _) if overwrite => return Err(invalid("overwrite", "needs `out`")),
+        (None, _) => FileMode::Create,
+    };
+    let model = bp1.model(&grid, false).py()?;
+    let mut sim = bp1.fault_ode(model, options).py()?;
+    let t_end = end_years * SECONDS_PER_YEAR;
+    let checkpoint_path = match (&out, &resume) {
+        (Some(out), _) => out.join("checkpoint.bin"),
+        (None, Some(r)) => r.clone(),
+        (None, None) => PathBuf::from("checkpoint.bin"),
+    };
+    let flags = SessionFlags {
+        resume: resume.as_deref(),
+        allow_change: &allow_change,
+        ..SessionFlags::default()
+    };
+    let session = Session::start(flags, checkpoint_path, fingerprint.clone(), t_end, &mut sim)
+        .py()?
+        .checkpoints_anywhere();
+    let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
+    let mut written = Files::default();
+    if let Some(out) = out {
+        let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
+            .iter()
+            .map(|&d| (SeasBp1::station_name(d), d))
+            .collect();
+        let setup = SeasSetup {
+            modeler: modeler.to_owned(),
+            date: date.unwrap_or_else(rsf_seas::utc_date_today),
+            stations,
+            ..bp1.seas_setup(dz, false, sampling)
+        };
+        let model = rsf::Stepping::model(&sim);
+        let mut output = SeasOutput::for_session(
+            &session,
+            &out,
+            model,
+            sim.problem().friction_laws(),
+            setup,
+            fresh,
+        )
+        .py()?;
+        if session.resumed().is_none() {
+            output
+                .write_initial_state(model, rsf::Stepping::state(&sim))
+                .py()?;
+        }
+        files.push(Box::new(output));
+        if hdf5 {
+            // After the output, whose files it reads.
+            files.push(crate::fields::seas_series_observer(
+                &out,
+                session.mode(fresh),
+            )?);
+        }
+        // Every file is checked: a folder whose manifest named no run is the checkpoint's.
+        session.adopt_folder().py()?;
+        written = Files::of_folder(&out);
+    }
+    let engine = Engine::<2, 1, _> {
+        sim,
+        recording: Recording::new(fault_every).py()?,
+        files,
+        fingerprint,
+        folder: written,
+    };
+    Ok(Simulation::new(
+        Box::new(engine),
+        Some(End::Time(t_end)),
+        "seas_bp1",
+    ))
+}
+
+/// The fault ODE's kernel of `kernel` ("hierarchical" or "dense") and `kernel_epsilon`
+/// (the hierarchical kernel's tolerance; default: matching `rk_tolerance`).
+fn bp1_kernel(
+    kernel: &str,
+    kernel_epsilon: Option<f64>,
+    rk_tolerance: f64,
+) -> PyResult<FaultKernel> {
+    match (kernel, kernel_epsilon) {
+        ("dense", None) => Ok(FaultKernel::Dense),
+        ("dense", Some(_)) => Err(invalid("kernel_epsilon", "needs kernel=\"hierarchical\"")),
+        ("hierarchical", None) => Ok(FaultKernel::matching(rk_tolerance)),
+        ("hierarchical", Some(e)) if e > f64::EPSILON && e < 1.0 => {
+            Ok(FaultKernel::hierarchical(e))
+        }
+        ("hierarchical", Some(e)) => Err(invalid(
+            "kernel_epsilon",
+            format!("{e:e}: must be in (2.2e-16, 1)"),
+        )),
+        (k, _) => Err(invalid(
+            "kernel",
+            format!("`{k}`: \"hierarchical\" or \"dense\""),
+        )),
+    }
+}
+
+/// The program's fingerprint of BP1-QD's Runge–Kutta run (its defaults for the flags this
+/// function has no keyword for), so that a checkpoint of either continues in the other;
+/// `(end_years, rk_tolerance, kernel, integrator)` the run's.
+fn bp1_fingerprint(
+    bp1: &SeasBp1,
+    grid: &SeasBp1Grid,
+    sampling: &SeasSampling,
+    (end_years, rk_tolerance, kernel, integrator): (f64, f64, FaultKernel, OdeIntegrator),
+) -> Fingerprint {
+    integrator_fingerprint(bp1.fingerprint(grid, false, sampling), integrator)
         .with("method", rsf::MethodKind::FaultOde)
         .with("end_years", end_years)
         .with("tolerance", 1e-3)
@@ -293,57 +429,5 @@ pub(crate) fn seas_bp1(
         .with("dynamic_tau", "None")
         .with("switch_to_dynamic", 1e-3)
         .with("switch_to_quasi_dynamic", 1e-4)
-        .with("dynamic_fixed_point_tolerance", 1e-6);
-    let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
-    if hdf5 && out.is_none() {
-        return Err(invalid(
-            "hdf5",
-            "needs `out`: the series are those of its files",
-        ));
-    }
-    if let Some(out) = out {
-        let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
-            .iter()
-            .map(|&d| (SeasBp1::station_name(d), d))
-            .collect();
-        // The files the run writes, so that `overwrite` replaces them and a folder holding
-        // them without it is refused by name (with none listed a second run found nothing
-        // to replace and failed on its first file).
-        let mut names: Vec<String> = stations.iter().map(|(name, _)| name.clone()).collect();
-        names.extend(["devol.dat", "events.csv"].map(String::from));
-        if hdf5 {
-            names.push("seas.h5".into());
-        }
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let folder = RunFolder::new(&out, "seas_bp1", &names);
-        let mode: FileMode = folder.prepare(false, overwrite).py()?;
-        let setup = SeasSetup {
-            modeler: modeler.to_owned(),
-            date: date.unwrap_or_else(rsf_seas::utc_date_today),
-            stations,
-            ..bp1.seas_setup(dz, false, sampling)
-        };
-        let model = rsf::Stepping::model(&sim);
-        let mut output =
-            SeasOutput::new(&out, model, sim.problem().friction_laws(), setup, mode).py()?;
-        output
-            .write_initial_state(model, rsf::Stepping::state(&sim))
-            .py()?;
-        files.push(Box::new(output));
-        if hdf5 {
-            // After the output, whose files it reads.
-            files.push(crate::fields::seas_series_observer(&out, mode)?);
-        }
-    }
-    let engine = Engine::<2, 1, _> {
-        sim,
-        recording: Recording::new(fault_every).py()?,
-        files,
-        fingerprint,
-    };
-    Ok(Simulation::new(
-        Box::new(engine),
-        Some(End::Time(end_years * SECONDS_PER_YEAR)),
-        "seas_bp1",
-    ))
+        .with("dynamic_fixed_point_tolerance", 1e-6)
 }

@@ -231,10 +231,17 @@ impl Simulation {
             (None, Some(n)) => Until::Steps(n),
             (None, None) => self.end_until()?,
         };
+        // A run writing files in `out` checkpoints into `out/checkpoint.bin` by default,
+        // as the programs do: where a resume finds the folder of its run.
+        let checkpoint = checkpoint.or_else(|| {
+            let folder = self.engine.files().folder.as_ref()?;
+            (checkpoint_every > 0).then(|| folder.join("checkpoint.bin"))
+        });
         if checkpoint_every > 0 && checkpoint.is_none() {
             return Err(invalid(
                 "checkpoint_every",
-                "needs `checkpoint`, the file to write",
+                "needs `checkpoint`, the file to write (a simulation with `out` writes \
+                 `out/checkpoint.bin` by default)",
             ));
         }
         self.go(py, until, progress, checkpoint, checkpoint_every)
@@ -260,8 +267,39 @@ impl Simulation {
 
     /// Continues from the checkpoint `path` of this same scene or problem (its fingerprint
     /// is checked: a checkpoint of another run raises `CheckpointError` naming the
-    /// differing field). The records start anew from the checkpoint's step.
+    /// differing field). The records start anew from the checkpoint's step. A simulation
+    /// that writes files (`out`, `hdf5`) is not resumed here — its files, written from its
+    /// own start, would be continued from another step (issue 87: 494 years missing from
+    /// every file): it raises `InvalidParameterError` naming the constructor's `resume=`
+    /// keyword, which continues the files at the checkpoint's step.
     fn resume(&mut self, path: PathBuf) -> PyResult<()> {
+        if let Some(file) = &self.engine.files().file {
+            return Err(invalid(
+                "resume",
+                format!(
+                    "this simulation writes `{}` from its own start, which a resume cannot \
+                     continue yet: resume a simulation built without it (and write the \
+                     fields of the resumed run to a new file)",
+                    file.display()
+                ),
+            ));
+        }
+        if let Some(folder) = &self.engine.files().folder {
+            return Err(invalid(
+                "resume",
+                format!(
+                    "this simulation writes its files in `{}` from its own start: resuming \
+                     it from `{}` would continue them at another step; build it with the \
+                     checkpoint instead — rsf.{}(out=…, resume=\"{}\", …) — which checks \
+                     that the folder holds the checkpoint's run and continues its files at \
+                     the checkpoint's step",
+                    folder.display(),
+                    path.display(),
+                    self.label,
+                    path.display()
+                ),
+            ));
+        }
         let c = Checkpoint::read(&path).py()?;
         self.engine.restore(&c).py()
     }

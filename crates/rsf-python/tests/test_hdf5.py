@@ -62,6 +62,18 @@ def test_hdf5_fields_read_back_with_h5py_equal_the_run(tmp_path):
 BP1 = dict(dz=400.0, domain_km=100.0, end_years=300.0, threads=1, date="2026-01-01")
 
 
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_a_simulation_writing_hdf5_is_not_resumed_behind_its_file(tmp_path):
+    """`Simulation.resume` on a simulation whose HDF5 file was written from its own start
+    raises naming `resume` (issue 86: the file would be continued from another step)."""
+    sim = rsf.slider_3d(**SCENE)
+    sim.advance(steps=3)
+    sim.checkpoint(tmp_path / "c.bin")
+    writing = rsf.slider_3d(hdf5=tmp_path / "f.h5", **SCENE)
+    with pytest.raises(rsf.InvalidParameterError, match="resume"):
+        writing.resume(tmp_path / "c.bin")
+
+
 @pytest.mark.skipif(rsf.HAS_HDF5, reason="this build has HDF5 output")
 def test_without_the_feature_seas_series_are_a_named_error(tmp_path):
     with pytest.raises(rsf.InvalidParameterError, match="hdf5"):

@@ -556,6 +556,20 @@ impl SeasBp1 {
         }
     }
 
+    /// The files a BP1 run writes in its folder, those of the program `seas_bp1` and of
+    /// the Python package's `rsf.seas_bp1(out=…)` alike: the station files
+    /// ([`SEAS_BP1_STATION_DEPTHS`]), `devol.dat`, `events.csv` and their resume log
+    /// ([`rsf_seas::SEAS_RESUME_LOG`]). Each front end adds its own (the checkpoint, the
+    /// program's summary and figure).
+    pub fn file_names() -> Vec<String> {
+        let mut names: Vec<String> = SEAS_BP1_STATION_DEPTHS
+            .iter()
+            .map(|&d| Self::station_name(d))
+            .collect();
+        names.extend(["devol.dat", "events.csv", rsf_seas::SEAS_RESUME_LOG].map(String::from));
+        names
+    }
+
     /// Name of the station file at `depth` (m): `fltst_dp` and the depth in hundreds of
     /// metres, three digits (`fltst_dp025` for 2.5 km).
     pub fn station_name(depth: f64) -> String {

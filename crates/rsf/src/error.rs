@@ -362,6 +362,34 @@ pub enum Error {
         /// The checkpoint written at that step to continue from, if any.
         checkpoint: Option<String>,
     },
+    /// A run ([`run_folder::Session::run`](crate::run_folder::Session::run)) failed after
+    /// `steps` steps; the cause is its source (the [`RunError`](crate::RunError) of the
+    /// steps, as an [`Error`]).
+    #[error("the run failed after {steps} steps")]
+    RunFailed {
+        /// The steps taken before the failure (this invocation's).
+        steps: usize,
+        /// What failed.
+        #[source]
+        source: Box<Error>,
+    },
+    /// A resume whose end time lies before the checkpoint's time
+    /// ([`run_folder::Session::start`](crate::run_folder::Session::start)): a resume
+    /// continues a run forward (issue 87: such a resume exited with "0 steps").
+    #[error(
+        "the run's end, t = {} s, is before the checkpoint's time t = {} s (step {step}): a \
+         resume continues a run forward; give an end time after the checkpoint's",
+        rsf_numeric::number(*end_time),
+        rsf_numeric::number(*time)
+    )]
+    EndBeforeCheckpoint {
+        /// The run's end time (s).
+        end_time: f64,
+        /// The checkpoint's time (s).
+        time: f64,
+        /// The checkpoint's step.
+        step: usize,
+    },
     /// An output file (or a run folder) cannot be continued from a checkpoint.
     #[error("cannot resume `{path}`: {reason}")]
     Resume {

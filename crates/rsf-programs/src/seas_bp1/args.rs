@@ -305,21 +305,8 @@ impl Program for Args {
             Some(plan) => plan.bytes,
             None => seas_output_bytes(self.end_years, stations, 7, size.fault_nodes),
         };
-        let mut outputs: Vec<String> = SEAS_BP1_STATION_DEPTHS
-            .iter()
-            .map(|&d| SeasBp1::station_name(d))
-            .collect();
-        outputs.extend(
-            [
-                "devol.dat",
-                "events.csv",
-                "summary.json",
-                "overview.png",
-                "checkpoint.bin",
-                rsf_seas::SEAS_RESUME_LOG,
-            ]
-            .map(String::from),
-        );
+        let mut outputs = SeasBp1::file_names();
+        outputs.extend(["summary.json", "overview.png", "checkpoint.bin"].map(String::from));
         let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
         Ok(Plan::new()
             .pool(self.threads)

@@ -268,7 +268,8 @@ pub(super) fn run(
         session.follow(&mut sim, &mut [])?;
         return Ok(());
     }
-    let mut output = session.along_dip_output(
+    let mut output = rsf_seas::SeasOutput::for_session(
+        &session,
         &args.out,
         rsf::Stepping::model(&sim),
         sim.problem().friction_laws(),

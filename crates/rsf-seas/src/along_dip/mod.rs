@@ -267,6 +267,38 @@ impl<L: FrictionLaw> SeasOutput<L> {
         })
     }
 
+    /// The along-dip SEAS files (BP1, BP3) of the run of `model` in `out` under `session`
+    /// (the library's run session, shared by the programs and the Python package), `laws`
+    /// its frictional nodes' laws: opened in the session's [`mode`](rsf::run_folder::Session::mode)
+    /// of `fresh` — on resume the resume log's line of the checkpoint's step must show the
+    /// checkpoint's time (the files are its run's) and every file's rows are checked up to
+    /// that step before any is cut — with their resume log where the run can stop before
+    /// its end ([`keeps_resume_log`](rsf::run_folder::Session::keeps_resume_log)).
+    ///
+    /// # Errors
+    /// [`new`](Self::new)'s, [`check_checkpoint_time`](Self::check_checkpoint_time)'s and
+    /// [`with_resume_log`](Self::with_resume_log)'s (invalid set-up, files that exist, rows
+    /// that do not match the checkpoint, I/O naming the file).
+    pub fn for_session<const D: usize, const C: usize>(
+        session: &rsf::run_folder::Session,
+        out: &Path,
+        model: &Model<D, C>,
+        laws: &[L],
+        setup: SeasSetup,
+        fresh: FileMode,
+    ) -> Result<Self> {
+        if let Some(c) = session.resumed() {
+            Self::check_checkpoint_time(out, c.state.step, c.state.time)?;
+        }
+        let mode = session.mode(fresh);
+        let output = Self::new(out, model, laws, setup, mode)?;
+        if session.keeps_resume_log() {
+            output.with_resume_log(mode)
+        } else {
+            Ok(output)
+        }
+    }
+
     /// Writes the resume log [`SEAS_RESUME_LOG`] (a line of this output's state after
     /// every step, about 350 bytes) and flushes every file after each step that writes
     /// to it, so that a checkpoint of any step can be resumed with

@@ -34,7 +34,7 @@ mod step;
 pub use crate::fault_alone::{SchurOnlySetup, SetupProgress};
 pub use linger::LINGER;
 pub use load_change::LoadChange;
-pub use options::FaultOdeOptions;
+pub use options::{integrator_fingerprint, FaultOdeOptions};
 use rates::{FaultRates, Rates};
 pub use rsf_time::{AutoOptions, OdeIntegrator, RkcOptions, RosenbrockOptions, StepperStats};
 

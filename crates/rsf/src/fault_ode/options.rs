@@ -9,6 +9,7 @@ use rsf_time::{
     AutoOptions, OdeIntegrator, RkcOptions, RosenbrockOptions, RungeKuttaOptions, TOLERANCE_RANGE,
 };
 
+use crate::checkpoint::Fingerprint;
 use crate::error::{invalid, Result};
 use crate::fault_operator::FaultKernel;
 
@@ -71,6 +72,18 @@ pub struct FaultOdeOptions {
     /// 3-D models (docs/three-d.md, "The operator at scale") and changes `S`, so the
     /// trajectory, by round-off only: bit-identical runs keep one ordering.
     pub ordering: InteriorOrdering,
+}
+
+/// `fingerprint` with the fault ODE's integrator `integrator` (field `integrator`), unless
+/// it is Dormand–Prince — the fingerprint of the runs before the choice existed (issue 84),
+/// whose checkpoints keep resuming. One rule for every front end (a program's
+/// `--integrator`, the Python package's `integrator=`), so that a checkpoint of either
+/// continues in the other.
+pub fn integrator_fingerprint(fingerprint: Fingerprint, integrator: OdeIntegrator) -> Fingerprint {
+    match integrator {
+        OdeIntegrator::DormandPrince => fingerprint,
+        i => fingerprint.with("integrator", i),
+    }
 }
 
 impl Default for FaultOdeOptions {

@@ -20,7 +20,9 @@
 //!   how to continue (the bounds of the slider scenes' runs are in `rsf_scenes::output`);
 //!   [`check_window`] for recording windows.
 
+mod front_end;
 mod handover;
+mod session;
 
 use std::path::{Path, PathBuf};
 
@@ -32,6 +34,8 @@ use crate::simulation_state::SimulationState;
 
 pub use crate::run_manifest::{new_run_id, run_id, MANIFEST};
 use crate::run_manifest::{short_id, Manifest};
+pub use front_end::FrontEnd;
+pub use session::{Session, SessionFlags};
 
 /// The output folder of a run: the program that writes it and the files it writes there.
 #[derive(Debug, Clone)]
@@ -44,6 +48,9 @@ pub struct RunFolder {
     pub outputs: Vec<String>,
     /// The command line of the run, as its manifest records it (empty: none recorded).
     pub command: String,
+    /// How the front end names the folder's settings in its errors (the command line's
+    /// flags by default).
+    pub front_end: FrontEnd,
 }
 
 impl RunFolder {
@@ -55,7 +62,15 @@ impl RunFolder {
             program: program.to_owned(),
             outputs: outputs.iter().map(|s| (*s).to_owned()).collect(),
             command: String::new(),
+            front_end: FrontEnd::CommandLine,
         }
+    }
+
+    /// The folder of a run started from `front_end`, whose errors name its settings
+    /// (Python's `overwrite=True`, `resume=`, `out` instead of the command line's flags).
+    pub fn front_end(mut self, front_end: FrontEnd) -> Self {
+        self.front_end = front_end;
+        self
     }
 
     /// The folder with the run's command line `command` recorded in its manifest (one
@@ -94,6 +109,12 @@ impl RunFolder {
     /// [`Error::FileExists`] naming the files and the program of another run. Nothing in
     /// the folder is changed on error.
     pub fn prepare(&self, resume: bool, overwrite: bool) -> Result<FileMode> {
+        self.prepare_new(resume, overwrite)
+            .map_err(|e| self.front_end.spell(e))
+    }
+
+    /// [`prepare`](Self::prepare), its errors in the command line's terms.
+    fn prepare_new(&self, resume: bool, overwrite: bool) -> Result<FileMode> {
         let (manifest, present) = self.survey(resume, overwrite)?;
         let mode = if resume || present.is_empty() {
             FileMode::Create
@@ -155,6 +176,12 @@ impl RunFolder {
     /// it. Nothing in the folder is changed on these errors; an [`Error::File`] while
     /// the files are replaced names the file.
     pub fn prepare_resume(&self, checkpoint: &Path, overwrite: bool) -> Result<FileMode> {
+        self.prepare_continued(checkpoint, overwrite)
+            .map_err(|e| self.front_end.spell(e))
+    }
+
+    /// [`prepare_resume`](Self::prepare_resume), its errors in the command line's terms.
+    fn prepare_continued(&self, checkpoint: &Path, overwrite: bool) -> Result<FileMode> {
         let (manifest, _) = self.survey(true, overwrite)?;
         let folder_id = manifest.as_ref().map_or("", |m| m.run_id.as_str());
         let shown = show_path(checkpoint);
