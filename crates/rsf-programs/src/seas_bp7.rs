@@ -29,6 +29,7 @@ use crate::guard::{
     Program,
 };
 use crate::square_fault::{run_square_fault, SquareRun};
+use crate::square_fault::{DX, DX_HELP, TOLERANCE, TOLERANCE_HELP};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -44,19 +45,9 @@ flag_range!(
     [1e-9, 1000]
 );
 flag_range!(
-    DX,
-    DX_HELP = "Cell size on the fault (m), dividing 2 l_f = 800 m into whole cells (2 to 160 cells a side); at most l_f",
-    [5, 400]
-);
-flag_range!(
     D_RS,
     D_RS_HELP = "Characteristic slip distance D_RS (mm; docs/seas-bp7.md: 0.50 or 0.53)",
     [0.01, 100]
-);
-flag_range!(
-    TOLERANCE,
-    TOLERANCE_HELP = "Tolerance of the fault ODE (local error per step: tolerance · D_RS in slip, tolerance in ln θ)",
-    [1e-12, 0.1]
 );
 flag_range!(
     STATION_INTERVAL,

@@ -32,6 +32,7 @@ use crate::guard::{
     Program,
 };
 use crate::square_fault::{run_square_fault, SquareRun};
+use crate::square_fault::{DX, DX_HELP, TOLERANCE, TOLERANCE_HELP};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -49,16 +50,6 @@ enum Overpressure {
 }
 
 flag_range!(END_DAYS, END_DAYS_HELP = "End time (days)", [1e-6, 3650]);
-flag_range!(
-    DX,
-    DX_HELP = "Cell size on the fault (m), dividing 2 l_f = 800 m into whole cells (2 to 160 cells a side); at most l_f",
-    [5, 400]
-);
-flag_range!(
-    TOLERANCE,
-    TOLERANCE_HELP = "Tolerance of the fault ODE (local error per step: tolerance · D_RS in slip, tolerance in ln θ)",
-    [1e-12, 0.1]
-);
 flag_range!(
     SIGMA_MIN,
     SIGMA_MIN_HELP = "`--overpressure floor`: the least effective normal stress (MPa; at most half of σ̄₀ = 25 MPa); the floor acts below twice this [default: 1]",

@@ -167,11 +167,11 @@ pub fn distinct<T: PartialEq + std::fmt::Display>(
 /// `#[arg(help = END_YEARS_HELP)]` (the test `flag_ranges` reads the range back from
 /// `--help` and probes the check at its bounds).
 macro_rules! flag_range {
-    ($range:ident, $help:ident = $text:literal, [$lo:literal, $hi:literal]) => {
+    ($vis:vis $range:ident, $help:ident = $text:literal, [$lo:literal, $hi:literal]) => {
         #[doc = concat!("The range of the flag of [`", stringify!($help), "`].")]
-        const $range: (f64, f64) = ($lo as f64, $hi as f64);
+        $vis const $range: (f64, f64) = ($lo as f64, $hi as f64);
         #[doc = concat!("`--help` of a flag: ", $text, ", in [", stringify!($lo), ", ", stringify!($hi), "].")]
-        const $help: &str = concat!($text, ", in [", stringify!($lo), ", ", stringify!($hi), "].");
+        $vis const $help: &str = concat!($text, ", in [", stringify!($lo), ", ", stringify!($hi), "].");
     };
 }
 pub(crate) use flag_range;
