@@ -53,6 +53,7 @@ mod frames;
 mod geometry;
 mod gmsh;
 mod hierarchy;
+pub mod input_file;
 mod loads;
 mod mesh;
 mod network;

@@ -13,7 +13,7 @@
 //! * [`normal_component`] — the convention for which component of a nodal frame is the
 //!   normal (the last), shared by the meshes' frames and the models built on them.
 //! * [`excerpt`] — what an error message quotes of a user's value (at most 100
-//!   characters).
+//!   characters); [`written`] — a user's number as written (up to notation).
 //!
 //! No function here can fail on its own: they return NaN only for NaN input, and the
 //! root finder passes on the errors of the function it is given.
@@ -25,7 +25,7 @@ mod omega;
 mod root;
 
 pub use convention::{normal_component, StateVariable};
-pub use message::{excerpt, number, parse_name, UnknownName, EXCERPT_CHARS};
+pub use message::{excerpt, number, parse_name, written, UnknownName, EXCERPT_CHARS};
 pub use omega::{wright_omega, wright_omega_ln};
 pub use root::{
     safeguarded_newton, solve_increasing, solve_increasing_from, Bracket, IncreasingFunction,

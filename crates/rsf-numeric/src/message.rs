@@ -39,6 +39,28 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// A user's value for a message exactly as parsed: the shorter of the shortest
+/// round-trip texts `{x}` and `{x:e}` — what the user wrote up to notation (`1e-300`, never
+/// 300 digits; `2000.0000001`, never rounded so that a refused value looks like its
+/// bound), `NaN`, `inf`. [`number`] rounds to four digits: for computed quantities.
+///
+/// ```
+/// assert_eq!(rsf_numeric::written(1e-300), "1e-300");
+/// assert_eq!(rsf_numeric::written(2000.0000001), "2000.0000001");
+/// assert_eq!(rsf_numeric::written(0.5), "0.5");
+/// assert_eq!(rsf_numeric::written(1e300), "1e300");
+/// assert_eq!(rsf_numeric::written(f64::NAN), "NaN");
+/// assert_eq!("2000.0000001".parse::<f64>().unwrap(), 2000.0000001);
+/// ```
+pub fn written(x: f64) -> String {
+    let (plain, exp) = (format!("{x}"), format!("{x:e}"));
+    if exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
+}
+
 /// A name that is not one of a choice's names (a state law, an integrator, a solver, …),
 /// as given on a command line or in a scene file. Every crate's error enum wraps this one
 /// type, so the message reads the same wherever the name was parsed.

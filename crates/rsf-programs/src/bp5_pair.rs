@@ -20,7 +20,9 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES};
-use crate::guard::{in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{
+    flag_range, in_range, number, written, AnyError, Folder, Limits, Plan, Prepared, Program,
+};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -46,6 +48,33 @@ impl std::fmt::Display for PairKernel {
     }
 }
 
+flag_range!(
+    DX,
+    DX_HELP = "Cell size on the strands (m); must divide l_f = 100 km and W_f = 40 km (`fe`: and half the separation)",
+    [250, 20e3]
+);
+flag_range!(
+    SEPARATION_KM,
+    SEPARATION_KM_HELP = "Distance between the strands across strike (km); `fe`: half of it a whole number of `--dx`",
+    [1e-3, 1e3]
+);
+flag_range!(
+    DOMAIN_KM,
+    DOMAIN_KM_HELP = "`fe`: distance from the strands to the box's far faces, and its depth (km); the graded box's root cubes (edge dx·2^k ≤ 64 km) within the mesh's cell limit too (about 3000 km at --dx 2000: a larger box is refused naming --domain-km)",
+    [75, 1e4]
+);
+flag_range!(
+    RATIO,
+    RATIO_HELP = "`fe`: growth of the spacing away from the strands' rate-and-state regions",
+    [1, 2]
+);
+flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
+flag_range!(
+    EPSILON,
+    EPSILON_HELP = "Relative accuracy ε of the ℋ-matrices (above 4 096 unknowns)",
+    [1e-14, 0.1]
+);
+
 /// Two parallel strike-slip faults with SEAS BP5's physics.
 #[derive(Parser)]
 #[command(version)]
@@ -59,35 +88,28 @@ pub struct Args {
     /// The elastic operator: `okada` or `fe`.
     #[arg(long, value_enum, default_value_t = PairKernel::Okada)]
     kernel: PairKernel,
-    /// Cell size on the strands (m); must divide 100 km and 40 km, and half the separation.
-    #[arg(long, default_value_t = 2000.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2000.0, allow_negative_numbers = true, help = DX_HELP)]
     dx: f64,
-    /// Distance between the strands across strike (km); `fe`: half of it a whole number of
-    /// `--dx`.
-    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true, help = SEPARATION_KM_HELP)]
     separation_km: f64,
-    /// `fe`: distance from the strands to the box's far faces, and its depth (km).
-    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
     domain_km: f64,
-    /// `fe`: growth of the spacing away from the strands' rate-and-state regions.
-    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true, help = RATIO_HELP)]
     ratio: f64,
     /// `fe`: fill-reducing ordering of the volume's elimination, `nested-dissection`
     /// (METIS; the default where it is built, as in the examples: with two planes through
     /// the box AMD's fill is ten times larger — 37 GB against 2.7 GB at 4 km) or `amd`.
     #[arg(long, default_value = DEFAULT_ORDERING)]
     ordering: rsf::fault_ode::InteriorOrdering,
-    /// End time (years).
-    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
     /// Tolerance of the fault ODE (local error per step: tolerance · L in slip, tolerance in
-    /// ln θ).
+    /// ln θ), in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1).
     #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
     tolerance: f64,
     #[command(flatten)]
     integrator: crate::IntegratorArgs,
-    /// Relative accuracy ε of the ℋ-matrices (above 4 096 unknowns).
-    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true, help = EPSILON_HELP)]
     epsilon: f64,
     /// Threads of each evaluation (the same bits for every value). Default: every core.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
@@ -168,28 +190,18 @@ impl Program for Args {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
-        in_range("--dx", self.dx, (250.0, 20e3), "m")?;
-        in_range("--separation-km", self.separation_km, (1e-3, 1e3), "km")?;
-        in_range("--domain-km", self.domain_km, (75.0, 1e4), "km")?;
-        in_range(
-            "--ratio",
-            self.ratio,
-            (1.0, 2.0),
-            "the growth of the spacing",
-        )?;
-        in_range(
-            "--epsilon",
-            self.epsilon,
-            (1e-14, 0.1),
-            "a relative accuracy",
-        )?;
+        in_range("--end-years", self.end_years, END_YEARS, "years")?;
+        in_range("--dx", self.dx, DX, "m")?;
+        in_range("--separation-km", self.separation_km, SEPARATION_KM, "km")?;
+        in_range("--domain-km", self.domain_km, DOMAIN_KM, "km")?;
+        in_range("--ratio", self.ratio, RATIO, "the growth of the spacing")?;
+        in_range("--epsilon", self.epsilon, EPSILON, "a relative accuracy")?;
         let (pair, grid) = scene(self);
         pair.bp5
             .cells(self.dx)
-            .map_err(|e| format!("--dx {}: {e}", number(self.dx)))?;
+            .map_err(|e| format!("--dx {}: {e}", written(self.dx)))?;
         pair.validate()
-            .map_err(|e| format!("--separation-km {}: {e}", number(self.separation_km)))?;
+            .map_err(|e| format!("--separation-km {}: {e}", written(self.separation_km)))?;
         crate::cli::for_flag(
             "--tolerance",
             "tolerance",
@@ -205,7 +217,7 @@ impl Program for Args {
                 if (half - half.round()).abs() > 1e-9 * half.max(1.0) || half < 1.0 {
                     return Err(format!(
                         "--separation-km {}: half of it must be a whole number (≥ 1) of --dx",
-                        number(self.separation_km)
+                        written(self.separation_km)
                     )
                     .into());
                 }
@@ -220,9 +232,10 @@ impl Program for Args {
                 if peak(fewest) > limit {
                     peak(fewest)
                 } else {
-                    let vertices = pair
-                        .fe_mesh_vertices(&grid)
-                        .map_err(|e| format!("--dx {}: {e}", number(self.dx)))?;
+                    let vertices = crate::cli::for_fields(
+                        &crate::cli::FE_GRID_FLAGS,
+                        pair.fe_mesh_vertices(&grid),
+                    )?;
                     peak(vertices as f64)
                 }
             }
@@ -245,7 +258,10 @@ impl Program for Args {
             .output(
                 stations * rows * csv_row_bytes(7) + FIGURE_BYTES + 1e7,
                 "--end-years",
-                format!("{} years of {stations} station files", self.end_years),
+                format!(
+                    "{} years of {stations} station files",
+                    written(self.end_years)
+                ),
             )
             .folder(
                 self.run
@@ -298,7 +314,8 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 max_bytes: Some((args.limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
                 progress: None,
             };
-            pair.fe_fault_ode_schur_only(model, options, setup)?
+            pair.fe_fault_ode_schur_only(model, options, setup)
+                .map_err(|e| crate::run_folder::kept_setup_hint(e, &path, &args.run.allow_change))?
         }
     };
     let fb = &ode.model().frictional_boundary;

@@ -15,10 +15,12 @@ pub struct SceneArgs {
     /// Scene file (TOML, fields of `rsf_scenes::SliderScene`); flags override it.
     #[arg(long, value_name = "FILE.toml")]
     pub scene: Option<PathBuf>,
-    /// Refinement level j of the coarse 2 × 6-vertex grid.
+    /// Refinement level j of the coarse 2 × 6-vertex grid, in [0, 10] (beyond, the mesh
+    /// does not fit in memory).
     #[arg(long, value_name = "J")]
     pub level: Option<usize>,
-    /// Final time T (s).
+    /// Final time T (s): positive, at most 1e10 (beyond, the time loses the digits of the
+    /// steps); the step T/N must give finite coefficients of the step's matrix.
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub end_time: Option<f64>,
     /// State law.
@@ -243,8 +245,9 @@ pub struct TimeStepArgs {
     /// is T/N.
     #[arg(long, value_parser = step_count)]
     pub steps: Option<usize>,
-    /// Adaptive time steps with this relative tolerance (docs/math.md §9); other adaptive
-    /// options from the scene file's `time_step` if it is adaptive, else their defaults.
+    /// Adaptive time steps with this relative tolerance (docs/math.md §9), in
+    /// (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1); other adaptive options
+    /// from the scene file's `time_step` if it is adaptive, else their defaults.
     #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
     pub adaptive: Option<f64>,
 }
@@ -403,6 +406,41 @@ pub fn for_flag<T>(flag: &str, field: &str, result: rsf::Result<T>) -> rsf::Resu
         },
         e => e,
     })
+}
+
+/// The fields of the finite-element grid of BP5's volume (`SeasBp5Grid`, the scene's
+/// fault zone) and the flags of `seas_bp5 --kernel fe` and `bp5_pair --kernel fe` that set
+/// them; `grading` is the graded mesh's cell count, which all three size flags set.
+pub const FE_GRID_FLAGS: [(&str, &str); 7] = [
+    ("dx", "--dx"),
+    ("domain", "--domain-km"),
+    ("ratio", "--ratio"),
+    ("near_fault", "--fault-zone-width-km"),
+    ("fault_zone.half_width", "--fault-zone-width-km"),
+    ("fault_zone.rigidity_ratio", "--fault-zone-rigidity"),
+    ("grading", "--dx, --ratio, --domain-km"),
+];
+
+/// `result`'s error named after the flag that sets the refused field (`fields`: pairs of
+/// a field and its flag, e.g. [`FE_GRID_FLAGS`]), so that a refusal of `--ratio 1` or
+/// `--fault-zone-width-km 10` does not blame `--dx` (issue 87); other errors unchanged.
+///
+/// # Errors
+/// The error of `result`, named.
+pub fn for_fields<T>(
+    fields: &[(&str, &str)],
+    result: rsf::Result<T>,
+) -> Result<T, Box<dyn std::error::Error>> {
+    match result {
+        Ok(t) => Ok(t),
+        Err(rsf::Error::InvalidParameter { name, reason }) => {
+            match fields.iter().find(|(field, _)| *field == name) {
+                Some((_, flag)) => Err(format!("{flag}: {reason}").into()),
+                None => Err(rsf::Error::InvalidParameter { name, reason }.into()),
+            }
+        }
+        Err(e) => Err(e.into()),
+    }
 }
 
 #[cfg(test)]
@@ -697,7 +735,7 @@ impl KernelArgs {
                 kernel.validate().map_err(|_| {
                     format!(
                         "--kernel-epsilon {}: must be in (0, {}] (a relative accuracy)",
-                        rsf_numeric::number(e),
+                        rsf_numeric::written(e),
                         rsf_numeric::number(MAX_KERNEL_EPSILON)
                     )
                 })?;

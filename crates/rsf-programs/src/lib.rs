@@ -20,6 +20,7 @@ mod curved;
 mod defaults;
 pub mod distributed_sweep;
 pub mod estimates;
+mod flag_ranges;
 pub mod guard;
 mod heat_map;
 pub mod memory;
@@ -309,7 +310,10 @@ pub fn space_time_map(
 /// A message naming the flag if `gib` is not positive and finite.
 pub fn memory_budget_bytes(flag: &str, gib: f64) -> Result<usize, String> {
     if !(gib.is_finite() && gib > 0.0) {
-        return Err(format!("{flag} must be positive and finite, got {gib}"));
+        return Err(format!(
+            "{flag} must be positive and finite, got {}",
+            rsf_numeric::written(gib)
+        ));
     }
     Ok((gib * (1u64 << 30) as f64) as usize)
 }

@@ -23,3 +23,57 @@ pub struct FolderArgs {
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
 }
+
+/// The error of a resumed Schur-only set-up whose kept elimination, `path` (`setup.bin`
+/// in the run folder), is of another problem than the changed flags give (`--allow-change
+/// ordering|mesh|fault_zone|…`), with what to do: delete the file to rebuild the set-up
+/// (issue 87: the refusal named no way out). Other errors pass unchanged.
+pub(crate) fn kept_setup_hint(
+    e: rsf::Error,
+    path: &std::path::Path,
+    allow_change: &[String],
+) -> Box<dyn std::error::Error> {
+    match e {
+        rsf::Error::Direct(rsf::direct::Error::CheckpointMismatch { .. }) => format!(
+            "{e}. It is the elimination kept by the run before the change{}: delete `{}` to \
+             rebuild the set-up from this run's flags (the resume eliminates again), or \
+             resume without the change",
+            if allow_change.is_empty() {
+                String::new()
+            } else {
+                format!(" (--allow-change {})", allow_change.join(","))
+            },
+            rsf_numeric::excerpt(&path.display().to_string())
+        )
+        .into(),
+        e => e.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kept_setup_hint;
+    use std::path::Path;
+
+    /// A kept elimination of another problem (the ordering changed by `--allow-change`) is
+    /// refused naming the file to delete; any other error passes as it was.
+    #[test]
+    fn a_kept_setup_of_another_problem_names_the_file_to_delete() {
+        let path = Path::new("out/run/setup.bin");
+        let mismatch = rsf::Error::Direct(rsf::direct::Error::CheckpointMismatch {
+            path: path.display().to_string(),
+            reason: "another ordering".into(),
+        });
+        let e = kept_setup_hint(mismatch, path, &["ordering".into()]).to_string();
+        assert!(
+            e.contains("delete `out/run/setup.bin`") && e.contains("--allow-change ordering"),
+            "{e}"
+        );
+        let other = rsf::Error::InvalidParameter {
+            name: "dx".into(),
+            reason: "r".into(),
+        };
+        let shown = other.to_string();
+        assert_eq!(kept_setup_hint(other, path, &[]).to_string(), shown);
+    }
+}

@@ -32,7 +32,8 @@ use std::time::Instant;
 
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
 use crate::guard::{
-    in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Processes, Program,
+    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
+    Processes, Program,
 };
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
@@ -44,11 +45,28 @@ use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
 use rsf_seas::{SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
+flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
+flag_range!(
+    DX,
+    DX_HELP = "Element size along the fault (m); at most W_f/4 = 10 km",
+    [1e-3, 1e4]
+);
+flag_range!(
+    DOMAIN_KM,
+    DOMAIN_KM_HELP = "Half-width L of the box across the fault (km); its depth is L sin ψ, which must reach beyond 1.5 W_f = 60 km. The default moves the first event by < 0.1 yr against a box twice as large (docs/seas-bp3.md)",
+    [60.00006, 1e5]
+);
+flag_range!(
+    RATIO,
+    RATIO_HELP = "Growth of the elements away from the fault and below W_f. The default is within 0.2 yr of a ratio of 1.0125 in the first event; 1.1 puts the normal fault's 2.9 yr early (docs/seas-bp3.md, \"Mesh grading\")",
+    [1, 2]
+);
+
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
 #[command(version)]
 pub struct Args {
-    /// Dip ψ (degrees): 60 (thrust) or 30 (normal).
+    /// Dip ψ (degrees): 60 (thrust) or 30 (normal); in (0, 90).
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     dip: f64,
     /// Output folder.
@@ -58,22 +76,16 @@ pub struct Args {
     /// rsf program's run is refused and left untouched).
     #[arg(long)]
     overwrite: bool,
-    /// End time (years).
-    #[arg(long, default_value_t = 300.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 300.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
-    /// Element size along the fault (m).
-    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true, help = DX_HELP)]
     dx: f64,
-    /// Half-width L of the box across the fault (km); its depth is L sin ψ. The default
-    /// moves the first event by < 0.1 yr against a box twice as large (docs/seas-bp3.md).
-    #[arg(long, default_value_t = 1600.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1600.0, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
     domain_km: f64,
-    /// Growth of the elements away from the fault and below W_f. The default is within
-    /// 0.2 yr of a ratio of 1.0125 in the first event; 1.1 puts the normal fault's 2.9 yr
-    /// early (docs/seas-bp3.md, "Mesh grading").
-    #[arg(long, default_value_t = 1.025, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.025, allow_negative_numbers = true, help = RATIO_HELP)]
     ratio: f64,
-    /// Tolerance of the fault ODE.
+    /// Tolerance of the fault ODE, in (2.220446049250313e-16, 1) (open: from f64::EPSILON
+    /// to 1).
     #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
     tolerance: f64,
     #[command(flatten)]
@@ -144,29 +156,24 @@ impl Program for Args {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        in_range("--end-years", self.end_years, END_YEARS, "years")?;
         if !(self.dip > 0.0 && self.dip < 90.0) {
             return Err(refuse(
                 "--dip",
-                number(self.dip),
+                written(self.dip),
                 "must be in (0, 90) degrees",
             ));
         }
         let (bp3, grid) = scene(self);
         let w_f = bp3.params.w_f;
-        in_range("--dx", self.dx, (1e-3, w_f / 4.0), "m: at most W_f/4")?;
+        in_range("--dx", self.dx, DX, "m: at most W_f/4")?;
         in_range(
             "--domain-km",
             self.domain_km,
-            (1.5 * w_f / 1e3 * 1.000001, 1e5),
+            DOMAIN_KM,
             "km: the box must reach 1.5 W_f down the fault",
         )?;
-        in_range(
-            "--ratio",
-            self.ratio,
-            (1.0, 2.0),
-            "the growth of the elements",
-        )?;
+        in_range("--ratio", self.ratio, RATIO, "the growth of the elements")?;
         crate::cli::for_flag(
             "--tolerance",
             "tolerance",
@@ -361,4 +368,17 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     )?;
     println!("wrote {}", args.out.join("overview.png").display());
     Ok(())
+}
+
+#[cfg(test)]
+mod flag_tests {
+    /// `--dx`'s and `--domain-km`'s bounds are the scene's W_f/4 and just beyond
+    /// 1.5 W_f (the flags' ranges are written as literals, for `--help`).
+    #[test]
+    fn the_bounds_are_the_scenes() {
+        let w_f = rsf_scenes::SeasBp1::default().w_f;
+        assert_eq!(super::DX.1, w_f / 4.0);
+        let least = 1.5 * w_f / 1e3;
+        assert!(super::DOMAIN_KM.0 > least && super::DOMAIN_KM.0 < least * 1.00001);
+    }
 }

@@ -32,7 +32,10 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{
+    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
+    Program,
+};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -71,6 +74,52 @@ enum PressureArg {
     Diffusion,
 }
 
+flag_range!(
+    END_YEARS,
+    END_YEARS_HELP = "End time (years of 365 days)",
+    [1e-9, 100]
+);
+flag_range!(
+    DZ,
+    DZ_HELP = "Cell (BEM) or element (FE) size along the fault (m), dividing 2 l_f = 40 km \
+               into whole cells; at most l_f/2",
+    [0.4, 10e3]
+);
+flag_range!(
+    DOMAIN_KM,
+    DOMAIN_KM_HELP = "FE: the truncation of the half space, 0 ≤ x ≤ L, |z| ≤ L (km)",
+    [30, 1e5]
+);
+flag_range!(
+    RATIO,
+    RATIO_HELP = "FE: growth of the elements away from the fault",
+    [1, 2]
+);
+flag_range!(
+    TOLERANCE,
+    TOLERANCE_HELP = "Tolerance: of the fault ODE (a, s), of the implicit steps' slip error \
+                      relative to D_RS (c)",
+    [1e-12, 0.1]
+);
+flag_range!(
+    STATION_INTERVAL,
+    STATION_INTERVAL_HELP = "Seconds between station and `global.dat` rows (0: a row at every \
+                             accepted step, the default — a transient of the slip law lasts \
+                             minutes, D_RS/V)",
+    [0, 1e7]
+);
+flag_range!(
+    PROFILE_INTERVAL,
+    PROFILE_INTERVAL_HELP = "Seconds between profile rows",
+    [60, 1e7]
+);
+flag_range!(
+    DIFFUSION_CELLS,
+    DIFFUSION_CELLS_HELP = "Cells of the diffusion along 2 l_f (`--pressure diffusion`) \
+                            [default: 800]; at most rsf::pore_pressure::MAX_DIFFUSION_CELLS",
+    [2, 20000]
+);
+
 /// SEAS BP6-QD-A/S/C.
 #[derive(Parser)]
 #[command(version)]
@@ -84,11 +133,9 @@ pub(crate) struct Args {
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    /// End time (years of 365 days).
-    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
-    /// Cell (BEM) or element (FE) size along the fault (m); must divide 20 km.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = DZ_HELP)]
     dz: f64,
     /// The elastic kernel [default: bem; for c too, whose finite-element model at the
     /// default 10 m would need about 50 GB].
@@ -97,28 +144,20 @@ pub(crate) struct Args {
     /// BEM: how the kernel's products are computed [default: fft].
     #[arg(long, value_enum)]
     bem_product: Option<BemProduct>,
-    /// FE: the truncation of the half space, 0 ≤ x ≤ L, |z| ≤ L (km).
-    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
     domain_km: f64,
-    /// FE: growth of the elements away from the fault.
-    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true, help = RATIO_HELP)]
     ratio: f64,
-    /// Tolerance: of the fault ODE (a, s), of the implicit steps' slip error relative to
-    /// D_RS (c).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, help = TOLERANCE_HELP)]
     tolerance: Option<f64>,
     /// The pore pressure.
     #[arg(long, value_enum, default_value = "closed-form")]
     pressure: PressureArg,
-    /// Seconds between station and `global.dat` rows (0: a row at every accepted step,
-    /// the default — a transient of the slip law lasts minutes, D_RS/V).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
     station_interval: f64,
-    /// Seconds between profile rows.
-    #[arg(long, default_value_t = 10_800.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10_800.0, allow_negative_numbers = true, help = PROFILE_INTERVAL_HELP)]
     profile_interval: f64,
-    /// Cells of the diffusion along 2 l_f (`--pressure diffusion`) [default: 800].
-    #[arg(long)]
+    #[arg(long, help = DIFFUSION_CELLS_HELP)]
     diffusion_cells: Option<usize>,
     #[command(flatten)]
     kernel: crate::KernelArgs,
@@ -196,18 +235,22 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let variant = self.variant()?;
-        in_range("--end-years", self.end_years, (1e-9, 100.0), "years")?;
+        in_range("--end-years", self.end_years, END_YEARS, "years")?;
         let bp6 = SeasBp6::default();
-        in_range("--dz", self.dz, (0.4, bp6.l_f / 2.0), "m")?;
+        in_range("--dz", self.dz, DZ, "m")?;
         let cells = 2.0 * bp6.l_f / self.dz;
         if (cells - cells.round()).abs() > 1e-9 * cells {
-            return Err(refuse("--dz", number(self.dz), "must divide 2 l_f = 40 km"));
+            return Err(refuse(
+                "--dz",
+                written(self.dz),
+                "must divide 2 l_f = 40 km",
+            ));
         }
         let elastic = self.elastic();
         if variant == Bp6Variant::C && elastic == Elastic::Bem && cells > 20_000.0 {
             return Err(refuse(
                 "--dz",
-                number(self.dz),
+                written(self.dz),
                 "BP6-C on the boundary-element kernel forms its stiffness densely: at most \
                  20 000 cells (Δz ≥ 2 m)",
             ));
@@ -242,22 +285,22 @@ impl Program for Args {
         in_range(
             "--domain-km",
             self.domain_km,
-            (30.0, 1e5),
+            DOMAIN_KM,
             "km: beyond 1.5 l_f",
         )?;
-        in_range(
-            "--ratio",
-            self.ratio,
-            (1.0, 2.0),
-            "the growth of the elements",
-        )?;
+        in_range("--ratio", self.ratio, RATIO, "the growth of the elements")?;
         let tol = self.tolerance(variant);
-        in_range("--tolerance", tol, (1e-12, 1e-1), "")?;
-        in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
+        in_range("--tolerance", tol, TOLERANCE, "")?;
+        in_range(
+            "--station-interval",
+            self.station_interval,
+            STATION_INTERVAL,
+            "s",
+        )?;
         in_range(
             "--profile-interval",
             self.profile_interval,
-            (60.0, 1e7),
+            PROFILE_INTERVAL,
             "s",
         )?;
         if self.pressure != PressureArg::Diffusion {
@@ -273,7 +316,7 @@ impl Program for Args {
             in_range(
                 "--diffusion-cells",
                 self.diffusion_cells() as f64,
-                (2.0, rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64),
+                DIFFUSION_CELLS,
                 "cells",
             )?;
         }
@@ -331,7 +374,7 @@ impl Program for Args {
             .output(
                 output,
                 "--end-years",
-                format!("{} years of stations and profiles", self.end_years),
+                format!("{} years of stations and profiles", written(self.end_years)),
             )
             .folder(
                 self.run
@@ -576,5 +619,17 @@ impl<const C: usize> rsf::Observer<2, C> for Peak {
     }
     fn reads_volume(&self) -> bool {
         false
+    }
+}
+
+const _: () = assert!(DIFFUSION_CELLS.1 == rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64);
+
+#[cfg(test)]
+mod tests {
+    /// `--dz`'s upper bound is the scene's `l_f/2` (the flag's range is written as a
+    /// literal, for `--help`).
+    #[test]
+    fn the_dz_bound_is_half_the_fault() {
+        assert_eq!(super::DZ.1, rsf_scenes::SeasBp6::default().l_f / 2.0);
     }
 }

@@ -24,8 +24,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{
+    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
+    Program,
+};
 use crate::square_fault::{run_square_fault, SquareRun};
+use crate::square_fault::{DX, DX_HELP, TOLERANCE, TOLERANCE_HELP};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -34,6 +38,23 @@ use rsf_scenes::{Bp7Law, SeasBp7};
 use rsf_seas::{
     SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP7_RESUME_LOG, SECONDS_PER_YEAR,
 };
+
+flag_range!(
+    END_YEARS,
+    END_YEARS_HELP = "End time (years of 365.25 days)",
+    [1e-9, 1000]
+);
+flag_range!(
+    D_RS,
+    D_RS_HELP = "Characteristic slip distance D_RS (mm; docs/seas-bp7.md: 0.50 or 0.53)",
+    [0.01, 100]
+);
+flag_range!(
+    STATION_INTERVAL,
+    STATION_INTERVAL_HELP =
+        "Station interval between events (s; 0: a station row at every accepted step)",
+    [0, 1e7]
+);
 
 /// SEAS BP7-QD-A / BP7-QD-S.
 #[derive(Parser)]
@@ -48,21 +69,15 @@ pub(crate) struct Args {
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    /// End time (years of 365.25 days).
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
-    /// Cell size on the fault (m); must divide 800 m into 2 to 160 cells.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = DX_HELP)]
     dx: f64,
-    /// Characteristic slip distance D_RS (mm; docs/seas-bp7.md: 0.50 or 0.53).
-    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true, help = D_RS_HELP)]
     d_rs: f64,
-    /// Tolerance of the fault ODE (local error per step: tolerance · D_RS in slip,
-    /// tolerance in ln θ).
-    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true, help = TOLERANCE_HELP)]
     tolerance: f64,
-    /// Station interval between events (s; 0: a station row at every accepted step).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
     station_interval: f64,
     #[command(flatten)]
     integrator: crate::IntegratorArgs,
@@ -110,16 +125,21 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         self.law()?;
-        in_range("--end-years", self.end_years, (1e-9, 1000.0), "years")?;
-        in_range("--d-rs", self.d_rs, (0.01, 100.0), "mm")?;
+        in_range("--end-years", self.end_years, END_YEARS, "years")?;
+        in_range("--d-rs", self.d_rs, D_RS, "mm")?;
         let bp7 = self.scene();
-        in_range("--dx", self.dx, (5.0, bp7.l_f), "m")?;
+        in_range("--dx", self.dx, DX, "m")?;
         let cells = bp7
             .cells(self.dx)
-            .map_err(|_| refuse("--dx", number(self.dx), "must divide 2 l_f = 800 m"))?
+            .map_err(|_| refuse("--dx", written(self.dx), "must divide 2 l_f = 800 m"))?
             .len() as f64;
-        in_range("--tolerance", self.tolerance, (1e-12, 1e-1), "")?;
-        in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
+        in_range("--tolerance", self.tolerance, TOLERANCE, "")?;
+        in_range(
+            "--station-interval",
+            self.station_interval,
+            STATION_INTERVAL,
+            "s",
+        )?;
         self.header.check()?;
         // Station rows (19 files of 8 columns and global.dat, 130 B a row each) at most
         // one per accepted step, the steps bounded by 10 000 a year for this estimate
@@ -146,7 +166,7 @@ impl Program for Args {
             .output(
                 output,
                 "--end-years",
-                format!("{} years of stations and profiles", self.end_years),
+                format!("{} years of stations and profiles", written(self.end_years)),
             )
             .folder(
                 self.run
@@ -236,4 +256,14 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     });
     run_square_fault(settings, &mut ode, output, keys)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod flag_tests {
+    /// `--dx`'s upper bound is the scene's `l_f` (the flag's range is written as a
+    /// literal, for `--help`).
+    #[test]
+    fn the_dx_bound_is_the_half_width() {
+        assert_eq!(super::DX.1, rsf_scenes::SeasBp7::default().l_f);
+    }
 }

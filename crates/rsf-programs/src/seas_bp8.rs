@@ -27,8 +27,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::guard::{in_range, number, refuse, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{
+    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
+    Program,
+};
 use crate::square_fault::{run_square_fault, SquareRun};
+use crate::square_fault::{DX, DX_HELP, TOLERANCE, TOLERANCE_HELP};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -45,6 +49,23 @@ enum Overpressure {
     Refuse,
 }
 
+flag_range!(END_DAYS, END_DAYS_HELP = "End time (days)", [1e-6, 3650]);
+flag_range!(
+    SIGMA_MIN,
+    SIGMA_MIN_HELP = "`--overpressure floor`: the least effective normal stress (MPa; at most half of σ̄₀ = 25 MPa); the floor acts below twice this [default: 1]",
+    [1e-3, 12.5]
+);
+flag_range!(
+    STATION_INTERVAL,
+    STATION_INTERVAL_HELP = "Seconds between station and `global.dat` rows (0: a row at every accepted step, the default)",
+    [0, 1e7]
+);
+flag_range!(
+    PROFILE_INTERVAL,
+    PROFILE_INTERVAL_HELP = "Seconds between profile rows (the description's hourly by default)",
+    [60, 1e7]
+);
+
 /// SEAS BP8-QD-GS / BP8-QD-PW.
 #[derive(Parser)]
 #[command(version)]
@@ -58,29 +79,20 @@ pub(crate) struct Args {
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    /// End time (days).
-    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true, help = END_DAYS_HELP)]
     end_days: f64,
-    /// Cell size on the fault (m); must divide 800 m into 2 to 160 cells.
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = DX_HELP)]
     dx: f64,
-    /// Tolerance of the fault ODE (local error per step: tolerance · D_RS in slip,
-    /// tolerance in ln θ).
-    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true, help = TOLERANCE_HELP)]
     tolerance: f64,
     /// Where the pressure would reach the normal stress (docs/seas-bp8.md).
     #[arg(long, value_enum, default_value_t = Overpressure::Floor)]
     overpressure: Overpressure,
-    /// `--overpressure floor`: the least effective normal stress (MPa); the floor acts
-    /// below twice this [default: 1].
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, help = SIGMA_MIN_HELP)]
     sigma_min: Option<f64>,
-    /// Seconds between station and `global.dat` rows (0: a row at every accepted step,
-    /// the default).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
     station_interval: f64,
-    /// Seconds between profile rows (the description's hourly by default).
-    #[arg(long, default_value_t = 3600.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 3600.0, allow_negative_numbers = true, help = PROFILE_INTERVAL_HELP)]
     profile_interval: f64,
     #[command(flatten)]
     integrator: crate::IntegratorArgs,
@@ -131,37 +143,37 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         self.source()?;
-        in_range("--end-days", self.end_days, (1e-6, 3650.0), "days")?;
+        in_range("--end-days", self.end_days, END_DAYS, "days")?;
         let bp8 = SeasBp8::default();
-        in_range("--dx", self.dx, (5.0, bp8.l_f), "m")?;
+        in_range("--dx", self.dx, DX, "m")?;
         let cells = bp8
             .cells(self.dx)
-            .map_err(|_| refuse("--dx", number(self.dx), "must divide 2 l_f = 800 m"))?
+            .map_err(|_| refuse("--dx", written(self.dx), "must divide 2 l_f = 800 m"))?
             .len() as f64;
-        in_range("--tolerance", self.tolerance, (1e-12, 1e-1), "")?;
+        in_range("--tolerance", self.tolerance, TOLERANCE, "")?;
         match (self.overpressure, self.sigma_min) {
             (Overpressure::Refuse, Some(s)) => {
                 return Err(refuse(
                     "--sigma-min",
-                    number(s),
+                    written(s),
                     "a setting of `--overpressure floor`: with `refuse` it would be ignored",
                 ))
             }
             (Overpressure::Floor, Some(s)) => {
-                in_range(
-                    "--sigma-min",
-                    s,
-                    (1e-3, 0.5 * bp8.sigma_n / 1e6),
-                    "MPa, at most half of σ̄₀",
-                )?;
+                in_range("--sigma-min", s, SIGMA_MIN, "MPa, at most half of σ̄₀")?;
             }
             _ => {}
         }
-        in_range("--station-interval", self.station_interval, (0.0, 1e7), "s")?;
+        in_range(
+            "--station-interval",
+            self.station_interval,
+            STATION_INTERVAL,
+            "s",
+        )?;
         in_range(
             "--profile-interval",
             self.profile_interval,
-            (60.0, 1e7),
+            PROFILE_INTERVAL,
             "s",
         )?;
         self.header.check()?;
@@ -199,7 +211,7 @@ impl Program for Args {
             .output(
                 output,
                 "--end-days",
-                format!("{} days of stations and profiles", self.end_days),
+                format!("{} days of stations and profiles", written(self.end_days)),
             )
             .folder(
                 self.run
@@ -289,4 +301,16 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     });
     run_square_fault(settings, &mut ode, output, keys)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod flag_tests {
+    /// `--dx`'s and `--sigma-min`'s upper bounds are the scene's `l_f` and half its
+    /// `σ̄₀` (the flags' ranges are written as literals, for `--help`).
+    #[test]
+    fn the_bounds_are_the_scenes() {
+        let bp8 = rsf_scenes::SeasBp8::default();
+        assert_eq!(super::DX.1, bp8.l_f);
+        assert_eq!(super::SIGMA_MIN.1, 0.5 * bp8.sigma_n / 1e6);
+    }
 }

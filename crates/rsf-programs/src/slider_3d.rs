@@ -148,7 +148,7 @@ impl Program for Cli {
             if !(t.is_finite() && (0.0..=s.end_time_s).contains(&t)) {
                 return Err(crate::guard::refuse(
                     "--snapshot-time",
-                    crate::guard::number(t),
+                    crate::guard::written(t),
                     &format!(
                         "must be a finite time inside [0, T] = [0, {:e}] s",
                         s.end_time_s

@@ -25,11 +25,36 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
-use crate::guard::{in_range, number, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{
+    flag_range, in_range, number, written, AnyError, Folder, Limits, Plan, Prepared, Program,
+};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf_scenes::{SeasBp1, Stepover, StepoverGrid};
+
+flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
+flag_range!(
+    DX,
+    DX_HELP = "Element size along the strands and next to them (m); must divide half the gap, half the overlap and the strands' frictional length into whole cells; at most H/8 = 1875 m",
+    [1, 1875]
+);
+flag_range!(
+    GAP_KM,
+    GAP_KM_HELP = "Distance between the strands across strike (km); half of it at least the \
+                   smallest --dx, 1 m",
+    [2e-3, 1e3]
+);
+flag_range!(
+    STRAND_KM,
+    STRAND_KM_HELP = "Length of each strand's frictional part (km), from its tip: velocity weakening over 15 km, the transition to 18 km, velocity strengthening to this, creep beyond",
+    [1, 1e4]
+);
+flag_range!(
+    RATIO,
+    RATIO_HELP = "Growth of the elements away from the strands",
+    [1, 2]
+);
 
 /// A stepover between two strike-slip strands (map view, plane strain).
 #[derive(Parser)]
@@ -42,34 +67,30 @@ pub struct Args {
     /// rsf program's run is refused and left untouched).
     #[arg(long)]
     overwrite: bool,
-    /// End time (years).
-    #[arg(long, default_value_t = 3000.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 3000.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
-    /// Element size along the strands and next to them (m); must divide half the gap,
-    /// half the overlap and the strands' frictional length into whole cells.
-    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, help = DX_HELP)]
     dx: f64,
-    /// Distance between the strands across strike (km).
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true, help = GAP_KM_HELP)]
     gap_km: f64,
-    /// Overlap of the strands along strike (km; negative: an underlap, the tips apart).
+    /// Overlap of the strands along strike (km; negative: an underlap, the tips apart);
+    /// shorter than 0.9 of a strand either way.
     #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     overlap_km: f64,
-    /// Length of each strand's frictional part (km), from its tip: velocity weakening over
-    /// 15 km, the transition to 18 km, velocity strengthening to this, creep beyond.
-    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, help = STRAND_KM_HELP)]
     strand_km: f64,
-    /// How far the box reaches beyond the strands (km), along and across strike.
+    /// How far the box reaches beyond the strands (km), along and across strike: at least
+    /// `--strand-km`, at most 1e5.
     #[arg(long, default_value_t = 50.0, allow_negative_numbers = true)]
     domain_km: f64,
-    /// Growth of the elements away from the strands.
-    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true, help = RATIO_HELP)]
     ratio: f64,
     /// The normal stress changes with slip (a releasing or restraining step); default the
     /// laws' fixed σ_n.
     #[arg(long)]
     normal_stress_from_slip: bool,
-    /// Tolerance of the fault ODE.
+    /// Tolerance of the fault ODE, in (2.220446049250313e-16, 1) (open: from f64::EPSILON
+    /// to 1).
     #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
     tolerance: f64,
     #[command(flatten)]
@@ -129,32 +150,27 @@ impl Program for Args {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
-        in_range("--strand-km", self.strand_km, (1.0, 1e4), "km")?;
-        in_range("--gap-km", self.gap_km, (1e-3, 1e3), "km")?;
+        in_range("--end-years", self.end_years, END_YEARS, "years")?;
+        in_range("--strand-km", self.strand_km, STRAND_KM, "km")?;
+        in_range("--gap-km", self.gap_km, GAP_KM, "km")?;
         in_range(
             "--overlap-km",
             self.overlap_km,
             (-0.9 * self.strand_km, 0.9 * self.strand_km),
             "km: shorter than a strand either way",
         )?;
-        in_range("--dx", self.dx, (1.0, 15e3 / 8.0), "m: at most H/8")?;
+        in_range("--dx", self.dx, DX, "m: at most H/8")?;
         in_range(
             "--domain-km",
             self.domain_km,
             (self.strand_km, 1e5),
             "km: at least a strand's length",
         )?;
-        in_range(
-            "--ratio",
-            self.ratio,
-            (1.0, 2.0),
-            "the growth of the elements",
-        )?;
+        in_range("--ratio", self.ratio, RATIO, "the growth of the elements")?;
         let (stepover, grid) = scene(self);
         stepover
             .check_grid(&grid)
-            .map_err(|e| format!("--dx {}: {e}", number(self.dx)))?;
+            .map_err(|e| format!("--dx {}: {e}", written(self.dx)))?;
         crate::cli::for_flag(
             "--tolerance",
             "tolerance",
@@ -195,7 +211,10 @@ impl Program for Args {
             .output(
                 stations * rows * station_row_bytes() + FIGURE_BYTES + 1e7,
                 "--end-years",
-                format!("{} years of {stations} station files", self.end_years),
+                format!(
+                    "{} years of {stations} station files",
+                    written(self.end_years)
+                ),
             )
             .folder(
                 self.run
@@ -270,4 +289,14 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         serde_json::json!({ "program": "stepover", "scene": stepover, "grid": grid }),
         serde_json::json!({ "end_years": args.end_years, "tolerance": args.tolerance }),
     )
+}
+
+#[cfg(test)]
+mod flag_tests {
+    /// `--dx`'s upper bound is H/8 of the scene's `H` (the flag's range is written as a
+    /// literal, for `--help`).
+    #[test]
+    fn the_dx_bound_is_an_eighth_of_h() {
+        assert_eq!(super::DX.1, rsf_scenes::SeasBp1::default().h_top / 8.0);
+    }
 }

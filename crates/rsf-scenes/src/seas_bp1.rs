@@ -290,21 +290,26 @@ impl SeasBp1 {
             return Err(invalid(
                 "dz",
                 format!(
-                    "{:e} m must divide W_f = {} m into whole cells",
-                    grid.dz, self.w_f
+                    "{} m must divide W_f = {} m into whole cells",
+                    rsf_numeric::written(grid.dz),
+                    self.w_f
                 ),
             ));
         }
         if !(grid.domain > self.w_f && grid.domain.is_finite()) {
             return Err(invalid(
                 "domain",
-                format!("{:e} m must exceed W_f = {} m", grid.domain, self.w_f),
+                format!(
+                    "{} m must exceed W_f = {} m",
+                    rsf_numeric::written(grid.domain),
+                    self.w_f
+                ),
             ));
         }
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
+                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
             ));
         }
         Ok(())

@@ -107,7 +107,7 @@ impl SeasBp3 {
                 "dip_degrees",
                 format!(
                     "{} must be in (0, 90)",
-                    rsf_numeric::number(self.dip_degrees)
+                    rsf_numeric::written(self.dip_degrees)
                 ),
             ));
         }
@@ -156,7 +156,7 @@ impl SeasBp3 {
                 "dx",
                 format!(
                     "{} m must be positive and at most W_f/4",
-                    rsf_numeric::number(grid.dx)
+                    rsf_numeric::written(grid.dx)
                 ),
             ));
         }
@@ -172,7 +172,7 @@ impl SeasBp3 {
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
+                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
             ));
         }
         let side = geometric_grading(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain)?;

@@ -32,7 +32,7 @@ pub fn square_cells(half: f64, dx: f64) -> Result<Vec<[f64; 2]>> {
             "dx",
             format!(
                 "{} m must divide 2 l_f = {} m into 2 to {MAX_SQUARE_CELLS} whole cells",
-                rsf_numeric::number(dx),
+                rsf_numeric::written(dx),
                 rsf_numeric::number(2.0 * half)
             ),
         ));

@@ -99,7 +99,7 @@ impl Stepover {
         if !(self.gap > 0.0 && self.gap.is_finite()) {
             return Err(invalid(
                 "gap",
-                format!("{} m must be positive", rsf_numeric::number(self.gap)),
+                format!("{} m must be positive", rsf_numeric::written(self.gap)),
             ));
         }
         if !(self.overlap.is_finite() && self.overlap.abs() < self.params.w_f) {
@@ -107,7 +107,7 @@ impl Stepover {
                 "overlap",
                 format!(
                     "{} m must be finite and shorter than a strand ({} m)",
-                    rsf_numeric::number(self.overlap),
+                    rsf_numeric::written(self.overlap),
                     rsf_numeric::number(self.params.w_f)
                 ),
             ));
@@ -174,7 +174,7 @@ impl Stepover {
                 "dx",
                 format!(
                     "{} m must be positive and at most H/8 = {} m",
-                    rsf_numeric::number(dx),
+                    rsf_numeric::written(dx),
                     rsf_numeric::number(self.params.h_top / 8.0)
                 ),
             ));
@@ -185,7 +185,7 @@ impl Stepover {
                 format!(
                     "{} m must divide half the gap ({} m), half the overlap ({} m) and W_f \
                      ({} m) into whole cells",
-                    rsf_numeric::number(dx),
+                    rsf_numeric::written(dx),
                     rsf_numeric::number(0.5 * self.gap),
                     rsf_numeric::number(0.5 * self.overlap),
                     rsf_numeric::number(self.params.w_f)
@@ -197,7 +197,7 @@ impl Stepover {
                 "domain",
                 format!(
                     "{} m must be at least W_f ({} m)",
-                    rsf_numeric::number(grid.domain),
+                    rsf_numeric::written(grid.domain),
                     rsf_numeric::number(self.params.w_f)
                 ),
             ));
@@ -205,7 +205,7 @@ impl Stepover {
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
+                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
             ));
         }
         Ok(())

@@ -5,7 +5,10 @@
 #[non_exhaustive]
 pub enum Error {
     /// A law parameter is outside its admissible range (e.g. `L ≤ 0`).
-    #[error("invalid state-law parameter {name} = {value}: {requirement}")]
+    #[error(
+        "invalid state-law parameter {name} = {}: {requirement}",
+        rsf_numeric::written(*value)
+    )]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,
@@ -15,7 +18,7 @@ pub enum Error {
         requirement: &'static str,
     },
     /// An argument of [`StateLaw::update`](crate::StateLaw::update) is inadmissible (non-finite `α`, `V < 0`, `τ < 0`).
-    #[error("invalid input {name} = {value}: {requirement}")]
+    #[error("invalid input {name} = {}: {requirement}", rsf_numeric::written(*value))]
     InvalidInput {
         /// Argument name.
         name: &'static str,

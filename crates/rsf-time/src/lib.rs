@@ -125,7 +125,7 @@ pub enum Error {
         residual: f64,
     },
     /// Invalid parameter (e.g. negative radiation damping).
-    #[error("invalid parameter {name} = {value}: {requirement}")]
+    #[error("invalid parameter {name} = {}: {requirement}", rsf_numeric::written(*value))]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,

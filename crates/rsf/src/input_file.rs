@@ -10,28 +10,14 @@ use crate::error::{io_at, Result};
 
 /// Opens `path` for reading where it is a regular file (a symbolic link to one too) and
 /// returns it with its length in bytes. The type is checked before the file is opened:
-/// opening a FIFO for reading waits for a writer, forever if none comes.
+/// opening a FIFO for reading waits for a writer, forever if none comes
+/// ([`rsf_fem::input_file::open_regular`], the one check, shared with the Gmsh reader).
 ///
 /// # Errors
 /// [`Error::File`](crate::Error::File) naming `path` and `action`: it cannot be opened, or
 /// it is not a regular file (a FIFO, a device such as `/dev/zero`, a socket, a folder).
 pub fn open_regular(path: &Path, action: &'static str) -> Result<(File, u64)> {
-    let not_regular = |kind: &str| {
-        io_at(action, path)(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!("it is {kind}, not a regular file"),
-        ))
-    };
-    let meta = std::fs::metadata(path).map_err(io_at(action, path))?;
-    if !meta.is_file() {
-        return Err(not_regular(kind_of(&meta)));
-    }
-    let file = File::open(path).map_err(io_at(action, path))?;
-    let meta = file.metadata().map_err(io_at(action, path))?;
-    if !meta.is_file() {
-        return Err(not_regular(kind_of(&meta)));
-    }
-    Ok((file, meta.len()))
+    rsf_fem::input_file::open_regular(path).map_err(io_at(action, path))
 }
 
 /// Reads at most `limit` bytes of `file` (opened from `path`) from where it is.
@@ -49,27 +35,4 @@ pub fn read_at_most(
         .read_to_end(&mut bytes)
         .map_err(io_at(action, path))?;
     Ok(bytes)
-}
-
-/// What a file that is not a regular one is, as a message names it.
-fn kind_of(meta: &std::fs::Metadata) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        let t = meta.file_type();
-        if t.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if t.is_char_device() || t.is_block_device() {
-            return "a device";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    if meta.is_dir() {
-        "a folder"
-    } else {
-        "not a file"
-    }
 }

@@ -67,7 +67,8 @@ pub struct GmshOptions {
 /// Reads a Gmsh MSH 4.1 ASCII file; see [`parse_gmsh`].
 ///
 /// # Errors
-/// [`Error::Io`] if the file cannot be read; as [`parse_gmsh`], inside
+/// [`Error::Io`] if the file cannot be read or is not a regular file (a FIFO, a device, a
+/// folder: [`crate::input_file::open_regular`]); as [`parse_gmsh`], inside
 /// [`Error::InFile`] naming the path.
 pub fn read_gmsh<const D: usize>(path: impl AsRef<Path>) -> Result<GmshMesh<D>> {
     read_gmsh_with(path, GmshOptions::default())
@@ -76,17 +77,23 @@ pub fn read_gmsh<const D: usize>(path: impl AsRef<Path>) -> Result<GmshMesh<D>> 
 /// Reads a Gmsh MSH 4.1 ASCII file with `options`; see [`parse_gmsh_with`].
 ///
 /// # Errors
-/// [`Error::Io`] if the file cannot be read; as [`parse_gmsh_with`], inside
+/// [`Error::Io`] if the file cannot be read or is not a regular file (a FIFO, a device, a
+/// folder: [`crate::input_file::open_regular`]); as [`parse_gmsh_with`], inside
 /// [`Error::InFile`] naming the path.
 pub fn read_gmsh_with<const D: usize>(
     path: impl AsRef<Path>,
     options: GmshOptions,
 ) -> Result<GmshMesh<D>> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
+    let io = |e: std::io::Error| Error::Io {
+        path: rsf_numeric::excerpt(&path.display().to_string()),
         message: e.to_string(),
-    })?;
+    };
+    // A regular file only, read no further than its length when opened (a FIFO would
+    // block, a device such as /dev/zero would be read until memory runs out).
+    let (file, len) = crate::input_file::open_regular(path).map_err(io)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    std::io::Read::read_to_end(&mut std::io::Read::take(file, len), &mut bytes).map_err(io)?;
     parse_gmsh_with(&bytes, options).map_err(|e| Error::InFile {
         path: path.display().to_string(),
         inner: Box::new(e),

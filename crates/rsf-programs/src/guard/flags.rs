@@ -11,11 +11,12 @@ pub type AnyError = Box<dyn Error>;
 #[derive(Debug, Clone, Copy, PartialEq, clap::Args)]
 pub struct Limits {
     /// Refuse, before anything is allocated, a run whose memory is estimated above this
-    /// many gigabytes (`inf`: no bound; docs/reliability.md lists each program's estimate).
+    /// many gigabytes, in (0, inf] (`inf`: no bound; docs/reliability.md lists each
+    /// program's estimate).
     #[arg(long, default_value_t = 16.0, value_name = "GB", value_parser = gigabytes)]
     pub max_memory_gb: f64,
     /// Refuse, before anything is written, a run whose files are estimated above this many
-    /// gigabytes (`inf`: no bound).
+    /// gigabytes, in (0, inf] (`inf`: no bound).
     #[arg(long, default_value_t = 10.0, value_name = "GB", value_parser = gigabytes)]
     pub max_output_gb: f64,
 }
@@ -89,25 +90,46 @@ pub(super) fn excerpt(s: &str) -> String {
     rsf_numeric::excerpt(s)
 }
 
-/// A number for a message as a user would write it: `300`, `0.025`, `1e300` (never 301
-/// digits), `NaN` ([`rsf_numeric::number`]).
+/// A computed number for a message as a user would write it: `300`, `0.025`, `1e300`
+/// (never 301 digits), `NaN`, four digits where the shortest form is longer
+/// ([`rsf_numeric::number`]). A flag's value is shown by [`written`] instead.
 pub fn number(x: f64) -> String {
     rsf_numeric::number(x)
+}
+
+/// A flag's value as the user wrote it, up to notation: the shorter of the shortest
+/// round-trip texts `{x}` and `{x:e}` ([`rsf_numeric::written`]: `1e-300`, never 300
+/// digits; `2000.0000001`, never rounded to look like its bound `2000`).
+pub fn written(x: f64) -> String {
+    rsf_numeric::written(x)
 }
 
 /// Checks that `x` (the value of `flag`) lies in `[lo, hi]` (NaN is refused).
 ///
 /// # Errors
-/// `--flag x: must be in [lo, hi] (why)`.
+/// `--flag x: must be in [lo, hi] (why)`, `x` as written ([`written`]), the bounds as
+/// [`bound`] shows them.
 pub fn in_range(flag: &str, x: f64, (lo, hi): (f64, f64), why: &str) -> Result<f64, AnyError> {
     if x >= lo && x <= hi {
         Ok(x)
     } else {
         Err(refuse(
             flag,
-            number(x),
-            &format!("must be in [{}, {}] ({why})", number(lo), number(hi)),
+            written(x),
+            &format!("must be in [{}, {}] ({why})", bound(lo), bound(hi)),
         ))
+    }
+}
+
+/// A bound of a range for a message: [`number`]'s short form where it is the bound
+/// exactly (`2000`, `1e-9`, `0.025`), else the bound's every digit ([`written`]), so that
+/// a value refused for lying just beyond it never reads as the bound itself.
+pub fn bound(x: f64) -> String {
+    let short = number(x);
+    if short.parse::<f64>() == Ok(x) {
+        short
+    } else {
+        written(x)
     }
 }
 
@@ -137,3 +159,19 @@ pub fn distinct<T: PartialEq + std::fmt::Display>(
     }
     Ok(())
 }
+
+/// A flag's range and its `--help` text from one pair of literals, so that the two cannot
+/// drift: `flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 100])`
+/// defines `const END_YEARS: (f64, f64) = (1e-9, 100.0)` for [`in_range`] and `const
+/// END_YEARS_HELP: &str = "End time (years), in [1e-9, 100]."` for the flag's
+/// `#[arg(help = END_YEARS_HELP)]` (the test `flag_ranges` reads the range back from
+/// `--help` and probes the check at its bounds).
+macro_rules! flag_range {
+    ($vis:vis $range:ident, $help:ident = $text:literal, [$lo:literal, $hi:literal]) => {
+        #[doc = concat!("The range of the flag of [`", stringify!($help), "`].")]
+        $vis const $range: (f64, f64) = ($lo as f64, $hi as f64);
+        #[doc = concat!("`--help` of a flag: ", $text, ", in [", stringify!($lo), ", ", stringify!($hi), "].")]
+        $vis const $help: &str = concat!($text, ", in [", stringify!($lo), ", ", stringify!($hi), "].");
+    };
+}
+pub(crate) use flag_range;

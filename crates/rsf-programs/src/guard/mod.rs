@@ -240,9 +240,10 @@ impl Plan {
                         (w.flags.as_str(), w.what.as_str())
                     });
                 return Err(format!(
-                    "{flags}: {what}: an estimated {} GB of {kind}, above {name} {limit}: use a \
+                    "{flags}: {what}: an estimated {} GB of {kind}, above {name} {}: use a \
                      smaller or shorter run, or raise {name} if the machine holds it",
-                    gb(sum)
+                    gb(sum),
+                    written(limit)
                 )
                 .into());
             }

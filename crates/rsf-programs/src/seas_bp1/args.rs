@@ -4,10 +4,53 @@ use std::path::PathBuf;
 
 use crate::cli::for_flag;
 use crate::estimates::seas_output_bytes;
-use crate::guard::{flag, in_range, number, AnyError, Folder, Limits, Plan, Program};
+use crate::guard::{
+    flag, flag_range, in_range, number, written, AnyError, Folder, Limits, Plan, Program,
+};
 use clap::Parser;
 use rsf::run_folder::{output_plan, OutputEstimate, OutputPlan};
 use rsf_scenes::{SeasBp1, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
+
+flag_range!(
+    END_YEARS,
+    END_YEARS_HELP = "Simulated time (years)",
+    [1e-9, 1e5]
+);
+flag_range!(
+    RATIO,
+    RATIO_HELP = "Growth ratio of the mesh spacing away from the fault",
+    [1, 2]
+);
+flag_range!(
+    STATE_CHANGE_CAP,
+    STATE_CHANGE_CAP_HELP = "Largest state change per step ξ (τ ≲ ξ D_c / V in slip); 0 for none",
+    [0, 1e3]
+);
+flag_range!(
+    FIXED_POINT_TOLERANCE,
+    FIXED_POINT_TOLERANCE_HELP = "Tolerance of the fixed point iteration of each step (energy norm of the velocity correction; the paper's 1e-10 by default)",
+    [1e-300, 1e3]
+);
+flag_range!(
+    DYNAMIC_FIXED_POINT_TOLERANCE,
+    DYNAMIC_FIXED_POINT_TOLERANCE_HELP = "Fixed point tolerance of the dynamic phases (energy norm of K + M, absolute): during an event ‖v‖ is about 1e6 in this norm, so 1e-6 is 1e-12 relative; the paper's 1e-10 lies below the round-off of the corrections (they stagnate near 1e-9)",
+    [1e-300, 1e3]
+);
+flag_range!(
+    EVENT_QUIET_TIME,
+    EVENT_QUIET_TIME_HELP = "An event ends when the largest slip rate has stayed below 1e-3 m/s for this long (s); default 0 (the benchmark's definition), 60 with `--inertia` and reflecting far boundaries (`--absorbing none`: waves reflected by the domain's boundaries lift the slip rate over the threshold for fractions of a second after a rupture)",
+    [0, 1e9]
+);
+flag_range!(
+    SWITCH_TO_DYNAMIC,
+    SWITCH_TO_DYNAMIC_HELP = "Switch to the dynamic method when the largest slip rate reaches this (m/s); default 1e-2 (docs/seas-bp1-fd.md: with absorbing boundaries 1e-3 / 1e-4 left the afterslip below a rupture to the dynamic step for hours). Needs `--inertia`",
+    [1e-12, 1e2]
+);
+flag_range!(
+    SWITCH_TO_QUASI_DYNAMIC,
+    SWITCH_TO_QUASI_DYNAMIC_HELP = "Switch back to the quasi-dynamic method when it falls below this (m/s); default 1e-3 (docs/seas-bp1-fd.md). Needs `--inertia`",
+    [1e-12, 1e2]
+);
 
 #[derive(Parser, Debug)]
 #[command(about = "SCEC SEAS benchmark BP1-QD (antiplane, 3000 years)")]
@@ -18,8 +61,7 @@ pub struct Args {
     /// Replace the files of an earlier run in the output folder.
     #[arg(long)]
     pub(super) overwrite: bool,
-    /// Simulated time (years).
-    #[arg(long, default_value_t = 3000.0)]
+    #[arg(long, default_value_t = 3000.0, help = END_YEARS_HELP)]
     pub(super) end_years: f64,
     /// Element size on the fault (m).
     #[arg(long, default_value_t = 25.0)]
@@ -27,10 +69,11 @@ pub struct Args {
     /// Side of the square domain (km).
     #[arg(long, default_value_t = 400.0)]
     pub(super) domain_km: f64,
-    /// Growth ratio of the mesh spacing away from the fault.
-    #[arg(long, default_value_t = 1.05)]
+    #[arg(long, default_value_t = 1.05, help = RATIO_HELP)]
     pub(super) ratio: f64,
-    /// Relative tolerance of the adaptive steps.
+    /// Relative tolerance of the adaptive steps (`--scheme implicit`, or the dynamic phases
+    /// with `--inertia`), in (2.220446049250313e-16, 1) (open: from f64::EPSILON, which
+    /// can never be met, to 1, which accepts any step).
     #[arg(long, default_value_t = 1e-3)]
     pub(super) tolerance: f64,
     /// Fully dynamic (BP1-FD): with the default scheme, Newmark with inertia and no
@@ -59,36 +102,20 @@ pub struct Args {
     /// gets the first event but not the recurrence).
     #[arg(long)]
     pub(super) dynamic_tau: Option<f64>,
-    /// Switch to the dynamic method when the largest slip rate reaches this (m/s);
-    /// default 1e-2 (docs/seas-bp1-fd.md: with absorbing boundaries 1e-3 / 1e-4 left the
-    /// afterslip below a rupture to the dynamic step for hours). Without `--inertia`
-    /// unused (1e-3, as in checkpoints before issue 59).
-    #[arg(long)]
+    #[arg(long, help = SWITCH_TO_DYNAMIC_HELP)]
     pub(super) switch_to_dynamic: Option<f64>,
-    /// An event ends when the largest slip rate has stayed below 1e-3 m/s for this long
-    /// (s); default 0 (the benchmark's definition), 60 with `--inertia` and reflecting far
-    /// boundaries (`--absorbing none`: waves reflected by the domain's boundaries lift
-    /// the slip rate over the threshold for fractions of a second after a rupture).
-    #[arg(long)]
+    #[arg(long, help = EVENT_QUIET_TIME_HELP)]
     pub(super) event_quiet_time: Option<f64>,
-    /// Switch back to the quasi-dynamic method when it falls below this (m/s); default
-    /// 1e-3 (docs/seas-bp1-fd.md). Without `--inertia` unused (1e-4).
-    #[arg(long)]
+    #[arg(long, help = SWITCH_TO_QUASI_DYNAMIC_HELP)]
     pub(super) switch_to_quasi_dynamic: Option<f64>,
-    /// Fixed point tolerance of the dynamic phases (energy norm of K + M, absolute): during
-    /// an event ‖v‖ is about 1e6 in this norm, so 1e-6 is 1e-12 relative; the paper's 1e-10
-    /// lies below the round-off of the corrections (they stagnate near 1e-9).
-    #[arg(long, default_value_t = 1e-6)]
+    #[arg(long, default_value_t = 1e-6, help = DYNAMIC_FIXED_POINT_TOLERANCE_HELP)]
     pub(super) dynamic_fixed_point_tolerance: f64,
     /// A station row at every accepted step (default: thinned as the benchmark suggests).
     #[arg(long)]
     pub(super) every_step: bool,
-    /// Largest state change per step ξ (τ ≲ ξ D_c / V in slip); 0 for none.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, help = STATE_CHANGE_CAP_HELP)]
     pub(super) state_change_cap: f64,
-    /// Tolerance of the fixed point iteration of each step (energy norm of the velocity
-    /// correction; the paper's 1e-10 by default).
-    #[arg(long, default_value_t = 1e-10)]
+    #[arg(long, default_value_t = 1e-10, help = FIXED_POINT_TOLERANCE_HELP)]
     pub(super) fixed_point_tolerance: f64,
     /// Set up the solver for every step size (default: once, the quasistatic problem
     /// scaled by 1/τ).
@@ -100,7 +127,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Scheme::RungeKutta)]
     pub(super) scheme: Scheme,
     /// Tolerance of the Runge–Kutta steps (local error per step relative to D_c in slip,
-    /// absolute in ln θ).
+    /// absolute in ln θ), in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1).
     #[arg(long, default_value_t = 1e-6)]
     pub(super) rk_tolerance: f64,
     #[command(flatten)]
@@ -183,22 +210,26 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let bp1 = SeasBp1::default();
-        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        in_range("--end-years", self.end_years, END_YEARS, "years")?;
         in_range(
             "--state-change-cap",
             self.state_change_cap,
-            (0.0, 1e3),
+            STATE_CHANGE_CAP,
             "0: no cap",
         )?;
-        for (flag, tol) in [
-            ("--fixed-point-tolerance", self.fixed_point_tolerance),
-            (
-                "--dynamic-fixed-point-tolerance",
-                self.dynamic_fixed_point_tolerance,
-            ),
-        ] {
-            in_range(flag, tol, (1e-300, 1e3), "an absolute tolerance")?;
-        }
+        in_range(
+            "--fixed-point-tolerance",
+            self.fixed_point_tolerance,
+            FIXED_POINT_TOLERANCE,
+            "an absolute tolerance",
+        )?;
+        in_range(
+            "--dynamic-fixed-point-tolerance",
+            self.dynamic_fixed_point_tolerance,
+            DYNAMIC_FIXED_POINT_TOLERANCE,
+            "an absolute tolerance",
+        )?;
+        in_range("--ratio", self.ratio, RATIO, "the growth of the spacing")?;
         // The model's size, before anything is allocated.
         let size = for_flag(
             "--ratio",
@@ -289,16 +320,24 @@ impl Program for Args {
             )?;
         }
         let thresholds = [
-            ("--switch-to-dynamic", self.switch_to_dynamic),
-            ("--switch-to-quasi-dynamic", self.switch_to_quasi_dynamic),
+            (
+                "--switch-to-dynamic",
+                self.switch_to_dynamic,
+                SWITCH_TO_DYNAMIC,
+            ),
+            (
+                "--switch-to-quasi-dynamic",
+                self.switch_to_quasi_dynamic,
+                SWITCH_TO_QUASI_DYNAMIC,
+            ),
         ];
-        for (flag, v) in thresholds {
+        for (flag, v, range) in thresholds {
             if let Some(v) = v {
-                in_range(flag, v, (1e-12, 1e2), "m/s: a slip rate")?;
+                in_range(flag, v, range, "m/s: a slip rate")?;
             }
         }
         if let Some(q) = self.event_quiet_time {
-            in_range("--event-quiet-time", q, (0.0, 1e9), "s")?;
+            in_range("--event-quiet-time", q, EVENT_QUIET_TIME, "s")?;
         }
         let stations = SEAS_BP1_STATION_DEPTHS.len() as f64;
         let output = match self.every_step_plan()? {
@@ -326,7 +365,7 @@ impl Program for Args {
             .output(
                 output,
                 "--end-years, --every-step, --max-steps",
-                format!("{} years of the benchmark's files", self.end_years),
+                format!("{} years of the benchmark's files", written(self.end_years)),
             )
             .folder(
                 self.run

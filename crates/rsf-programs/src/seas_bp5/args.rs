@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use crate::estimates::{operator_bytes, seas_output_bytes};
-use crate::guard::{flag, in_range, AnyError, Folder, Limits, Plan, Program};
+use crate::guard::{flag, in_range, written, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
 use rsf_scenes::{FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh};
 use rsf_seas::{SeasBp5Output, SEAS_BP5_RESUME_LOG};
@@ -19,14 +19,19 @@ pub struct Args {
     /// or `fe` (the finite-element volume model condensed onto the fault).
     #[arg(long, value_enum, default_value_t = Kernel::Okada)]
     pub(super) kernel: Kernel,
-    /// Cell size on the fault (m); must divide 100 km and 40 km (`fe`: 50 km and 40 km).
+    /// Cell size on the fault (m); must divide l_f = 100 km and W_f = 40 km (both kernels:
+    /// the graded mesh puts nodes at x₂ = ±l_f/2 as the cells do).
     #[arg(long, default_value_t = 2000.0)]
     pub(super) dx: f64,
     /// `fe`: distance from the fault to the box's far faces, and its depth (km) [default:
-    /// 400].
+    /// 400], in [75, 1e4]; the graded box's root cubes (edge dx·2^k ≤ 64 km) within the
+    /// mesh's cell limit too (about 3000 km at --dx 2000: a larger box is refused naming
+    /// --domain-km).
     #[arg(long)]
     pub(super) domain_km: Option<f64>,
-    /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3].
+    /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3], in
+    /// [1, 2] (the graded mesh at 1 grows nowhere: its cells are refused naming --dx,
+    /// --ratio and --domain-km).
     #[arg(long)]
     pub(super) ratio: Option<f64>,
     /// `fe`: the volume's mesh, `graded` (an octree of Kuhn cubes refined towards the fault's
@@ -58,16 +63,17 @@ pub struct Args {
     /// METIS). Part of the fingerprint: the operator changes by round-off.
     #[arg(long)]
     pub(super) ordering: Option<rsf::fault_ode::InteriorOrdering>,
-    /// End time (years).
+    /// End time (years), in [1e-9, 1e5].
     #[arg(long, default_value_t = 1800.0)]
     pub(super) end_years: f64,
     /// Tolerance of the fault ODE (local error per step: tolerance · L in slip,
-    /// tolerance in ln θ).
+    /// tolerance in ln θ), in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1).
     #[arg(long, default_value_t = 1e-6)]
     pub(super) tolerance: f64,
     #[command(flatten)]
     pub(super) integrator: crate::IntegratorArgs,
-    /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km).
+    /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km), in
+    /// [2.2250738585072014e-308, 1e-2] (from f64::MIN_POSITIVE).
     #[arg(long, default_value_t = 1e-6)]
     pub(super) epsilon: f64,
     /// Threads of each evaluation (the same bits for every value). Default: every core
@@ -167,10 +173,7 @@ impl Args {
             fault_zone,
             ..SeasBp5::default()
         };
-        flag(
-            "--fault-zone-width-km, --fault-zone-rigidity",
-            bp5.validate(),
-        )?;
+        crate::cli::for_fields(&crate::cli::FE_GRID_FLAGS, bp5.validate())?;
         Ok(bp5)
     }
 
@@ -303,9 +306,12 @@ impl Program for Args {
                             fewest if peak(fewest) > limit => peak(fewest),
                             _ => {
                                 // The graded mesh itself (about a second at 1 km).
-                                let vertices = flag("--dx", bp5.fe_model_builder(&self.grid(&bp5)))?
-                                    .mesh()
-                                    .num_vertices()
+                                let vertices = crate::cli::for_fields(
+                                    &crate::cli::FE_GRID_FLAGS,
+                                    bp5.fe_model_builder(&self.grid(&bp5)),
+                                )?
+                                .mesh()
+                                .num_vertices()
                                     as f64;
                                 peak(vertices)
                             }
@@ -332,7 +338,7 @@ impl Program for Args {
             .output(
                 output,
                 "--end-years, --dx",
-                format!("{} years of the benchmark's files", self.end_years),
+                format!("{} years of the benchmark's files", written(self.end_years)),
             )
             .folder(
                 self.run

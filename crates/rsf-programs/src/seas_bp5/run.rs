@@ -230,7 +230,11 @@ impl SetUp<'_> {
                     ),
                     progress: root.then(|| elimination_progress()),
                 };
-                let ode = bp5.fe_fault_ode_schur_only(model, options, setup)?;
+                let ode = bp5
+                    .fe_fault_ode_schur_only(model, options, setup)
+                    .map_err(|e| {
+                        crate::run_folder::kept_setup_hint(e, &path, &args.run.allow_change)
+                    })?;
                 if let (true, Some(p)) = (root, others) {
                     println!(
                         "set-up: eliminated on rank 0 alone, read from {} by the other ranks \

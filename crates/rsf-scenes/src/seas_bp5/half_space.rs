@@ -25,7 +25,7 @@ impl SeasBp5 {
                     "dx",
                     format!(
                         "{} m must divide l_f = {} m and W_f = {} m into whole cells",
-                        rsf_numeric::number(dx),
+                        rsf_numeric::written(dx),
                         self.l_f,
                         self.w_f
                     ),
@@ -40,7 +40,7 @@ impl SeasBp5 {
                 format!(
                     "{} m gives {n_strike} × {n_dip} cells, more than {MAX_CELLS} (a 250 m \
                      grid)",
-                    rsf_numeric::number(dx)
+                    rsf_numeric::written(dx)
                 ),
             ));
         }

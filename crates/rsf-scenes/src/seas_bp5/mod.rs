@@ -158,7 +158,10 @@ impl SeasBp5 {
         ];
         for (name, v) in fields {
             if !(v.is_finite() && v > 0.0) {
-                return Err(invalid(name, format!("{v} must be positive and finite")));
+                return Err(invalid(
+                    name,
+                    format!("{} must be positive and finite", rsf_numeric::written(v)),
+                ));
             }
         }
         if !self.f0.is_finite() {
@@ -167,7 +170,7 @@ impl SeasBp5 {
         if !(self.nu > -1.0 && self.nu < 0.5) {
             return Err(invalid(
                 "nu",
-                format!("{} must be in (-1, 0.5)", rsf_numeric::number(self.nu)),
+                format!("{} must be in (-1, 0.5)", rsf_numeric::written(self.nu)),
             ));
         }
         if self.h_s + 2.0 * self.h_t + self.h > self.w_f || self.l_core + 2.0 * self.h_t > self.l_f
@@ -182,13 +185,19 @@ impl SeasBp5 {
             if !(zone.half_width.is_finite() && zone.half_width > 0.0) {
                 return Err(invalid(
                     "fault_zone.half_width",
-                    format!("{} m must be positive and finite", zone.half_width),
+                    format!(
+                        "{} m must be positive and finite",
+                        rsf_numeric::written(zone.half_width)
+                    ),
                 ));
             }
             if !(zone.rigidity_ratio > 0.0 && zone.rigidity_ratio <= 1.0) {
                 return Err(invalid(
                     "fault_zone.rigidity_ratio",
-                    format!("{} must be in (0, 1]", zone.rigidity_ratio),
+                    format!(
+                        "{} must be in (0, 1]",
+                        rsf_numeric::written(zone.rigidity_ratio)
+                    ),
                 ));
             }
         }

@@ -69,7 +69,7 @@ impl Bp5Pair {
                 "separation",
                 format!(
                     "{} m must be positive",
-                    rsf_numeric::number(self.separation)
+                    rsf_numeric::written(self.separation)
                 ),
             ));
         }
@@ -199,8 +199,8 @@ impl Bp5Pair {
                 "separation",
                 format!(
                     "{} m: half of it must be a whole number (≥ 1) of dx = {} m",
-                    rsf_numeric::number(self.separation),
-                    rsf_numeric::number(grid.dx)
+                    rsf_numeric::written(self.separation),
+                    rsf_numeric::written(grid.dx)
                 ),
             ));
         }

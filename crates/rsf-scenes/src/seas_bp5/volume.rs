@@ -139,8 +139,9 @@ impl SeasBp5 {
     ///
     /// # Errors
     /// [`rsf::Error::InvalidParameter`] named `dx` (not dividing `l_f/2` and `W_f`),
-    /// `domain` (not beyond 1.5 l_f/2 and 1.5 W_f) or `ratio` (outside `[1, 2]`);
-    /// grading and assembly errors.
+    /// `domain` (not beyond 1.5 l_f/2 and 1.5 W_f) or `ratio` (outside `[1, 2]`), named
+    /// `grading` where the graded mesh of `dx`, `ratio` and `domain` exceeds its cell
+    /// limit; grading and assembly errors.
     pub fn fe_model(&self, grid: &SeasBp5Grid) -> Result<Model<3, 3>> {
         self.fe_model_builder(grid)?.build()
     }
@@ -244,7 +245,7 @@ impl SeasBp5 {
                 "dx",
                 format!(
                     "{} m must divide {} = {along_strike} m and W_f = {} m into whole cells",
-                    rsf_numeric::number(h),
+                    rsf_numeric::written(h),
                     match grid.mesh {
                         SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
                             "l_f/2 (the tensor grid)"
@@ -260,14 +261,14 @@ impl SeasBp5 {
                 "domain",
                 format!(
                     "{} m must reach 1.5 times l_f/2 and W_f",
-                    rsf_numeric::number(far)
+                    rsf_numeric::written(far)
                 ),
             ));
         }
         if !(1.0..=2.0).contains(&grid.ratio) {
             return Err(invalid(
                 "ratio",
-                format!("{} must be in [1, 2]", rsf_numeric::number(grid.ratio)),
+                format!("{} must be in [1, 2]", rsf_numeric::written(grid.ratio)),
             ));
         }
         let multiple = |x: f64| x == 0.0 || (x > 0.0 && whole(x));
@@ -276,8 +277,8 @@ impl SeasBp5 {
                 "near_fault",
                 format!(
                     "{} m must be 0 or a whole number of dx = {} m",
-                    rsf_numeric::number(grid.near_fault),
-                    rsf_numeric::number(h)
+                    rsf_numeric::written(grid.near_fault),
+                    rsf_numeric::written(h)
                 ),
             ));
         }
@@ -296,9 +297,9 @@ impl SeasBp5 {
                         "{} m must be a whole number of dx = {} m and the graded mesh's \
                          near_fault ({} m) at least that, so that the zone is meshed cell \
                          for cell",
-                        rsf_numeric::number(zone.half_width),
-                        rsf_numeric::number(h),
-                        rsf_numeric::number(grid.near_fault)
+                        rsf_numeric::written(zone.half_width),
+                        rsf_numeric::written(h),
+                        rsf_numeric::written(grid.near_fault)
                     ),
                 ));
             }
@@ -369,7 +370,7 @@ impl SeasBp5 {
                     "{} m: the graded mesh's {cubes:.3e} root cubes of {root:e} m alone make \
                      up to {:.3e} cells, above its {GRADED_MAX_CELLS} (a smaller box, or a \
                      larger dx)",
-                    rsf_numeric::number(grid.domain),
+                    rsf_numeric::written(grid.domain),
                     48.0 * cubes
                 ),
             ));
@@ -418,9 +419,17 @@ impl SeasBp5 {
             h + growth * closest
         };
         let mut cubes = OctreeMesh::new(lo, hi, root)?;
-        cubes
-            .refine(size, GRADED_MAX_CELLS)
-            .map_err(|e| invalid("dx", format!("the graded mesh: {e}")))?;
+        cubes.refine(size, GRADED_MAX_CELLS).map_err(|e| {
+            invalid(
+                "grading",
+                format!(
+                    "the graded mesh of dx = {} m, ratio {} in a box of {} m: {e}",
+                    rsf_numeric::written(h),
+                    rsf_numeric::written(grid.ratio),
+                    rsf_numeric::written(grid.domain)
+                ),
+            )
+        })?;
         Ok((cubes.into_mesh()?, [lo, hi]))
     }
 

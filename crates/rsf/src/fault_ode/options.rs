@@ -120,14 +120,17 @@ impl FaultOdeOptions {
                 format!(
                     "{} must be in ({lo:e}, {hi}) (open: a relative tolerance of 1 accepts \
                      any step, one of ε can never be met)",
-                    self.tolerance
+                    rsf_numeric::written(self.tolerance)
                 ),
             ));
         }
         if !(self.slip_scale > 0.0 && self.slip_scale.is_finite()) {
             return Err(invalid(
                 "slip_scale",
-                format!("{} m must be positive and finite", self.slip_scale),
+                format!(
+                    "{} m must be positive and finite",
+                    rsf_numeric::written(self.slip_scale)
+                ),
             ));
         }
         self.runge_kutta.validate()?;

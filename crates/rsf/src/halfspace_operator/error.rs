@@ -183,7 +183,7 @@ pub enum HalfSpaceOperatorError {
         angle: f64,
     },
     /// Invalid options.
-    #[error("HalfSpaceOptions::{name} = {value}: {expected}")]
+    #[error("HalfSpaceOptions::{name} = {}: {expected}", rsf_numeric::written(*value))]
     Options {
         /// The option.
         name: &'static str,

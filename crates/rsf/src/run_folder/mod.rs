@@ -388,9 +388,10 @@ pub fn check_output_size(estimate_bytes: f64, max_gb: f64, name: &str) -> Result
         Err(Error::InvalidParameter {
             name: name.into(),
             reason: format!(
-                "the output of this run is estimated at {:.3} GB, above the limit of {max_gb} \
-                 GB: use fewer steps, or raise --max-output-gb if the disk holds it",
-                estimate_bytes / 1e9
+                "the output of this run is estimated at {:.3} GB, above the limit of {} GB: \
+                 use fewer steps, or raise --max-output-gb if the disk holds it",
+                estimate_bytes / 1e9,
+                rsf_numeric::written(max_gb)
             ),
         })
     }
@@ -475,7 +476,7 @@ fn check_gigabytes(name: &str, gb: f64) -> Result<()> {
     } else {
         Err(Error::InvalidParameter {
             name: name.into(),
-            reason: format!("{gb} GB must be a positive number"),
+            reason: format!("{} GB must be a positive number", rsf_numeric::written(gb)),
         })
     }
 }

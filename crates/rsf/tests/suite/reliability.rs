@@ -772,6 +772,20 @@ fn a_device_a_fifo_or_a_folder_is_refused_where_a_file_is_read() {
             e.contains(kind) && e.contains(&path.display().to_string()),
             "{e}"
         );
+        // A Gmsh mesh (`--mesh FILE.msh` of the programs, `Mesh.read_gmsh` in Python)
+        // goes through the same open: the FIFO must not block, /dev/zero not be read.
+        for e in [
+            rsf::fem::read_gmsh::<2>(&path).map(|_| ()),
+            rsf::fem::read_gmsh::<3>(&path).map(|_| ()),
+        ] {
+            let e = e.unwrap_err().to_string();
+            assert!(
+                e.contains(kind)
+                    && e.contains("not a regular file")
+                    && e.contains(&path.display().to_string()),
+                "{e}"
+            );
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
