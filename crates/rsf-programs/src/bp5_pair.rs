@@ -70,9 +70,9 @@ flag_range!(
 );
 flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
 flag_range!(
-    EPSILON,
+    pub(crate) EPSILON,
     EPSILON_HELP = "Relative accuracy ε of the ℋ-matrices (above 4 096 unknowns)",
-    [1e-14, 0.1]
+    [1e-14, 1e-2]
 );
 
 /// Two parallel strike-slip faults with SEAS BP5's physics.

@@ -706,8 +706,8 @@ pub struct KernelArgs {
     /// `hierarchical` resumes with `--kernel dense`).
     #[arg(long, value_enum, default_value_t = KernelArg::Hierarchical)]
     pub kernel: KernelArg,
-    /// Relative accuracy ε of the hierarchical kernel, in (0, 1e-2] (default: the
-    /// Runge–Kutta tolerance, at most 1e-2).
+    /// Relative accuracy ε of the hierarchical kernel, in [1e-14, 1e-2] (default: the
+    /// Runge–Kutta tolerance, within that range).
     #[arg(long)]
     pub kernel_epsilon: Option<f64>,
 }
@@ -723,7 +723,7 @@ impl KernelArgs {
     ///
     /// [`FaultKernel::validate`]: rsf::fault_ode::FaultKernel::validate
     pub fn kernel(&self, tolerance: f64) -> Result<rsf::fault_ode::FaultKernel, String> {
-        use rsf::fault_ode::{FaultKernel, MAX_KERNEL_EPSILON};
+        use rsf::fault_ode::{FaultKernel, MAX_KERNEL_EPSILON, MIN_KERNEL_EPSILON};
         match (self.kernel, self.kernel_epsilon) {
             (KernelArg::Dense, None) => Ok(FaultKernel::Dense),
             (KernelArg::Dense, Some(_)) => {
@@ -734,8 +734,10 @@ impl KernelArgs {
                 let kernel = FaultKernel::hierarchical(e);
                 kernel.validate().map_err(|_| {
                     format!(
-                        "--kernel-epsilon {}: must be in (0, {}] (a relative accuracy)",
+                        "--kernel-epsilon {}: must be in [{}, {}] (a relative accuracy: \
+                         below, the entries' round-off cannot meet it)",
                         rsf_numeric::written(e),
+                        rsf_numeric::number(MIN_KERNEL_EPSILON),
                         rsf_numeric::number(MAX_KERNEL_EPSILON)
                     )
                 })?;

@@ -563,4 +563,17 @@ mod tests {
         }
         report(wrong);
     }
+
+    /// The ℋ-matrices' relative accuracy: `bp5_pair --epsilon`'s stated range is the library's
+    /// (`rsf::fault_ode::MIN_KERNEL_EPSILON`, `MAX_KERNEL_EPSILON`), which every kernel checks.
+    #[test]
+    fn the_pairs_epsilon_range_is_the_librarys() {
+        assert_eq!(
+            crate::bp5_pair::EPSILON,
+            (
+                rsf::fault_ode::MIN_KERNEL_EPSILON,
+                rsf::fault_ode::MAX_KERNEL_EPSILON
+            )
+        );
+    }
 }

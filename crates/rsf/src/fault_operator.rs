@@ -250,6 +250,14 @@ impl RowSplit {
 /// than 1 % no longer describes the elastic medium.
 pub const MAX_KERNEL_EPSILON: f64 = 1e-2;
 
+/// Smallest relative accuracy ε of a [`FaultKernel::Hierarchical`] (and of the half-space
+/// operators' ℋ-matrices): about 50 ulps. The entries themselves carry round-off of that
+/// order (Okada's closed forms, the Schur complement's elimination), so a smaller ε cannot
+/// be met by the compression's test and takes every admissible block to full rank at full
+/// cost — `--kernel-epsilon 1e-300` was accepted and ran as a dense kernel stored in blocks
+/// (issue 87's probe).
+pub const MIN_KERNEL_EPSILON: f64 = 1e-14;
+
 /// How a [`FaultOde`](crate::FaultOde) stores and applies the Schur complement `S` of its right-hand side.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum FaultKernel {
@@ -265,7 +273,7 @@ pub enum FaultKernel {
     /// ([`FaultOde::kernel_report`](crate::FaultOde::kernel_report)).
     Hierarchical {
         /// Relative accuracy ε of every admissible block (Frobenius norm), in
-        /// `(0, `[`MAX_KERNEL_EPSILON`]`]`. [`FaultKernel::matching`] ties it to the
+        /// `[`[`MIN_KERNEL_EPSILON`]`, `[`MAX_KERNEL_EPSILON`]`]`. [`FaultKernel::matching`] ties it to the
         /// integrator's tolerance.
         epsilon: f64,
         /// Largest number of unknowns in a leaf cluster (≥ 1; 48 in
@@ -285,15 +293,15 @@ impl FaultKernel {
     }
 
     /// The hierarchical kernel whose accuracy matches a run of Runge–Kutta `tolerance`
-    /// ([`FaultOdeOptions::tolerance`](crate::fault_ode::FaultOdeOptions::tolerance)): `ε = tolerance` (capped at
-    /// [`MAX_KERNEL_EPSILON`]). The operator's error then perturbs the stress by at most
+    /// ([`FaultOdeOptions::tolerance`](crate::fault_ode::FaultOdeOptions::tolerance)): `ε = tolerance` (clamped to
+    /// [`MIN_KERNEL_EPSILON`], [`MAX_KERNEL_EPSILON`]). The operator's error then perturbs the stress by at most
     /// `ε ‖S‖_F ‖u_F‖`, a relative change of the right-hand side no larger than the
     /// relative local error each step is allowed, and in practice far smaller: ε bounds
     /// each far-field block against its own norm, and the measured `‖S − S_H‖_F/‖S‖_F` is
     /// about three orders of magnitude below ε on BP1 (docs/scaling.md, "Compressed fault
     /// operator"; docs/work-precision.md, "BP1: compressed kernel").
     pub fn matching(tolerance: f64) -> Self {
-        Self::hierarchical(tolerance.min(MAX_KERNEL_EPSILON))
+        Self::hierarchical(tolerance.clamp(MIN_KERNEL_EPSILON, MAX_KERNEL_EPSILON))
     }
 
     /// `"dense"` or `"hierarchical"`.
@@ -308,13 +316,16 @@ impl FaultKernel {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `kernel.epsilon` unless ε is in
-    /// `(0, `[`MAX_KERNEL_EPSILON`]`]`, named `kernel.leaf_size` for a leaf size of 0.
+    /// `[`[`MIN_KERNEL_EPSILON`]`, `[`MAX_KERNEL_EPSILON`]`]`, named `kernel.leaf_size` for a leaf size of 0.
     pub fn validate(&self) -> Result<()> {
         if let Self::Hierarchical { epsilon, leaf_size } = *self {
-            if !(epsilon > 0.0 && epsilon <= MAX_KERNEL_EPSILON) {
+            if !(MIN_KERNEL_EPSILON..=MAX_KERNEL_EPSILON).contains(&epsilon) {
                 return Err(invalid(
                     "kernel.epsilon",
-                    format!("{epsilon} must be in (0, {MAX_KERNEL_EPSILON}]"),
+                    format!(
+                        "{} must be in [{MIN_KERNEL_EPSILON:e}, {MAX_KERNEL_EPSILON}]",
+                        rsf_numeric::written(epsilon)
+                    ),
                 ));
             }
             if leaf_size == 0 {

@@ -73,7 +73,7 @@ pub struct Args {
     #[command(flatten)]
     pub(super) integrator: crate::IntegratorArgs,
     /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km), in
-    /// [2.2250738585072014e-308, 1e-2] (from f64::MIN_POSITIVE).
+    /// [1e-14, 1e-2] (below, the entries' round-off cannot meet it).
     #[arg(long, default_value_t = 1e-6)]
     pub(super) epsilon: f64,
     /// Threads of each evaluation (the same bits for every value). Default: every core
@@ -210,7 +210,10 @@ impl Program for Args {
         in_range(
             "--epsilon",
             self.epsilon,
-            (f64::MIN_POSITIVE, 1e-2),
+            (
+                rsf::fault_ode::MIN_KERNEL_EPSILON,
+                rsf::fault_ode::MAX_KERNEL_EPSILON,
+            ),
             "a relative accuracy",
         )?;
         flag("--epsilon", bp5.half_space(self.epsilon))?;

@@ -203,11 +203,16 @@ def seas_bp1(
     rk_tolerance: float = 1e-06,
     kernel: Literal["hierarchical", "dense"] = "hierarchical",
     kernel_epsilon: float | None = None,
+    integrator: Literal[
+        "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
+    ] = "auto",
     threads: int | None = None,
     end_years: float = 3000.0,
     every_step: bool = False,
     out: _Path | None = None,
     overwrite: bool = False,
+    resume: _Path | None = None,
+    allow_change: Sequence[str] = ...,
     hdf5: bool = False,
     modeler: str = "rsf",
     date: str | None = None,

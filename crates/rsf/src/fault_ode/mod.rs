@@ -11,7 +11,9 @@ use rsf_state::StateLaw;
 use rsf_time::{OdeStepper, OdeSystem, RungeKuttaState};
 
 use crate::checkpoint::Checkpoint;
-pub use crate::fault_operator::{FaultKernel, KernelReport, MAX_KERNEL_EPSILON};
+pub use crate::fault_operator::{
+    FaultKernel, KernelReport, MAX_KERNEL_EPSILON, MIN_KERNEL_EPSILON,
+};
 use crate::method_state::FaultOdeState;
 use crate::model::Model;
 use crate::normal_stress::ScaledTractions;

@@ -6,7 +6,7 @@ use rsf_linalg::Parallelism;
 
 use super::error::HalfSpaceOperatorError;
 use crate::error::Result;
-use crate::fault_operator::{FaultOperator, MAX_KERNEL_EPSILON};
+use crate::fault_operator::{FaultOperator, MAX_KERNEL_EPSILON, MIN_KERNEL_EPSILON};
 use crate::model::Model;
 
 /// A frictional node: its position, `t₁`, `t₂` and the normal into the plus side.
@@ -170,7 +170,8 @@ pub(super) fn dense_of(op: &mut dyn FaultOperator) -> Result<Mat<f64>> {
     Ok(out)
 }
 
-/// The ℋ-kernel's options of either operator: `epsilon` in `(0, MAX_KERNEL_EPSILON]`,
+/// The ℋ-kernel's options of either operator: `epsilon` in
+/// `[MIN_KERNEL_EPSILON, MAX_KERNEL_EPSILON]`,
 /// `leaf_size` at least 1.
 ///
 /// # Errors
@@ -180,11 +181,11 @@ pub(super) fn check_kernel(
     leaf_size: usize,
 ) -> std::result::Result<(), HalfSpaceOperatorError> {
     use HalfSpaceOperatorError as E;
-    if !(epsilon > 0.0 && epsilon <= MAX_KERNEL_EPSILON) {
+    if !(MIN_KERNEL_EPSILON..=MAX_KERNEL_EPSILON).contains(&epsilon) {
         return Err(E::Options {
             name: "epsilon",
             value: epsilon,
-            expected: "in (0, 1e-2]",
+            expected: "in [1e-14, 1e-2]",
         });
     }
     if leaf_size == 0 {
