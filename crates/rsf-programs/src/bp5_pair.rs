@@ -210,6 +210,8 @@ impl Program for Args {
         let cells = 2.0 * (pair.bp5.l_f / self.dx) * (pair.bp5.w_f / self.dx);
         let unknowns = 2.0 * cells;
         let hierarchical = unknowns > 4096.0;
+        // setup.bin, the elimination kept in --out (0 without it).
+        let mut setup_file = 0.0;
         let memory = match self.kernel {
             PairKernel::Okada => operator_bytes(unknowns, hierarchical) + cells * 2e3,
             PairKernel::Fe => {
@@ -229,15 +231,19 @@ impl Program for Args {
                 // --domain-km) is already too large; else the pair's graded mesh counted.
                 let fewest = crate::seas_bp5::graded_mesh_fewest_vertices(&grid, self.domain_km)?;
                 let limit = self.limits.max_memory_gb * 1e9;
-                if peak(fewest) > limit {
-                    peak(fewest)
+                let vertices = if peak(fewest) > limit {
+                    fewest
                 } else {
-                    let vertices = crate::cli::for_fields(
+                    crate::cli::for_fields(
                         &crate::cli::FE_GRID_FLAGS,
                         pair.fe_mesh_vertices(&grid),
-                    )?;
-                    peak(vertices as f64)
-                }
+                    )? as f64
+                };
+                // Each strand's nodes (its rate-and-state region's grid, edges included),
+                // two slip unknowns each; no watched vertex.
+                let nodes = (pair.bp5.l_f / self.dx + 1.0) * (pair.bp5.w_f / self.dx + 1.0);
+                setup_file = crate::estimates::setup_file_bytes(4.0 * nodes, vertices);
+                peak(vertices)
             }
         };
         let stations = pair.stations().len() as f64;
@@ -262,6 +268,11 @@ impl Program for Args {
                     "{} years of {stations} station files",
                     written(self.end_years)
                 ),
+            )
+            .output(
+                setup_file,
+                "--dx, --domain-km, --ratio",
+                format!("the elimination kept in {SETUP_FILE}"),
             )
             .folder(
                 self.run
@@ -378,4 +389,17 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             "kernel_report": ode.kernel_report().to_string(),
         }),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    /// The plans of the largest boxes (`--domain-km` 1e4, the range's end, and the largest
+    /// the octree's root cubes admit) at every `--dx` whose half separation (4 km) it
+    /// divides: each returns, refused naming the flag or admitted within `--max-memory-gb`;
+    /// the time of each is printed, not asserted (as `seas_bp5`'s).
+    #[test]
+    fn the_plans_of_the_largest_boxes_return_with_their_estimates() {
+        let dx = [250.0, 500.0, 1000.0, 2000.0, 4000.0];
+        crate::seas_bp5::plans_of_the_largest_boxes::<super::Args>(&dx);
+    }
 }

@@ -174,6 +174,19 @@ pub fn fe_3d_memory(vertices: f64) -> f64 {
         + FE_3D_FACTOR_BYTES * vertices.max(0.0).powf(FE_3D_FACTOR_EXPONENT)
 }
 
+/// Bytes of `setup.bin`, the finished Schur-only elimination a run keeps in its folder
+/// (`seas_bp5 --kernel fe`, `bp5_pair --kernel fe`; its disk space is held before the
+/// elimination, `rsf::direct::CheckpointPolicy`): the file of
+/// [`SchurOnlyPlan::checkpoint_bytes_of`](rsf::direct::SchurOnlyPlan::checkpoint_bytes_of)
+/// — its packed `S_KK` of the `kept` dofs (the fault's slip unknowns and the watched
+/// vertices' dofs) and two carried right-hand sides (the load and the plate velocity) of
+/// at most `3 · 2V` free dofs, `vertices` the mesh's before the fault's split duplicates
+/// its plane (each vertex at most twice). Measured on BP5's graded box: 2.11 MB at 4 km
+/// (this bound 2.83 MB), 20.4 MB at 2 km (22.0 MB; docs/reliability.md, "Round 5").
+pub fn setup_file_bytes(kept: f64, vertices: f64) -> f64 {
+    rsf::direct::SchurOnlyPlan::checkpoint_bytes_of(kept, 6.0 * vertices, 2.0)
+}
+
 /// Bytes of the direct solver of a 3-D slider run (`slider_3d`) beyond
 /// `Slider3dScene::BYTES_PER_NODE` — where its solver is the direct one (`--solver direct`,
 /// or `auto` with at most `rsf::method::AUTO_DIRECT_MAX_CONDENSED` condensed unknowns):

@@ -214,6 +214,57 @@ pub(super) fn write(path: &Path, header: &Header, arrays: [&[f64]; 3]) -> Result
     Ok(())
 }
 
+/// Bytes of a checkpoint file holding `words` 64-bit words of arrays: the header, the
+/// arrays and the 16-byte checksum.
+pub(super) fn file_bytes(words: f64) -> f64 {
+    8.0 * (HEADER_WORDS as f64 + words) + 16.0
+}
+
+/// The disk space of a checkpoint of `bytes`, held before the work it will record: a file
+/// of zeros at `path`'s temporary name ([`write`]'s, which truncates it and writes the
+/// checkpoint into the space it gave back), removed when dropped if it is still there.
+pub(super) struct Held {
+    tmp: PathBuf,
+}
+
+/// Holds `bytes` of disk space for the checkpoint at `path` ([`Held`]).
+///
+/// # Errors
+/// [`Error::Checkpoint`] naming the temporary file and the write's error (`No space left
+/// on device` where the disk cannot hold it); nothing is left behind.
+pub(super) fn hold(path: &Path, bytes: u64) -> Result<Held> {
+    let held = Held {
+        tmp: partial_path(path),
+    };
+    let fail = |e: std::io::Error| {
+        io_err(
+            &held.tmp,
+            format!(
+                "{e} (holding the {bytes} bytes of the finished checkpoint before the \
+                 elimination)"
+            ),
+        )
+    };
+    let mut file = File::create(&held.tmp).map_err(fail)?;
+    // Zeros written, not a sparse `set_len`: the filesystem allocates them.
+    let zeros = vec![0u8; 8 * CHUNK];
+    let mut left = bytes;
+    while left > 0 {
+        let n = left.min(zeros.len() as u64) as usize;
+        file.write_all(&zeros[..n]).map_err(fail)?;
+        left -= n as u64;
+    }
+    file.sync_all().map_err(fail)?;
+    Ok(held)
+}
+
+impl Drop for Held {
+    fn drop(&mut self) {
+        // The checkpoint's writes rename the file away; what is left is the zeros.
+        let _ = std::fs::remove_file(&self.tmp);
+    }
+}
+
 /// An opened checkpoint whose header has been read.
 pub(super) struct Reader {
     path: PathBuf,

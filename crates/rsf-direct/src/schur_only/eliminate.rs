@@ -41,11 +41,15 @@ impl<const D: usize> SchurOnly<D> {
     /// large buffer cannot be allocated; [`Error::NonPositivePivot`] at the first dof whose
     /// pivot is not positive (`A` not positive definite on the interior);
     /// [`Error::Checkpoint`] for a checkpoint that cannot be written or read, or is
-    /// damaged; [`Error::CheckpointMismatch`] for a checkpoint of other inputs;
-    /// [`Error::Stopped`] if `monitor` stopped it.
+    /// damaged, and — with [`CheckpointPolicy::keep_result`], before any numeric work —
+    /// for a disk that cannot hold the finished checkpoint
+    /// ([`SchurOnlyPlan::finished_checkpoint_bytes`]); [`Error::CheckpointMismatch`] for a
+    /// checkpoint of other inputs; [`Error::Stopped`] if `monitor` stopped it.
     ///
     /// [`CheckpointPolicy`]: super::CheckpointPolicy
     /// [`SchurOnlyPlan::total_bytes`]: super::SchurOnlyPlan::total_bytes
+    /// [`SchurOnlyPlan::finished_checkpoint_bytes`]: super::SchurOnlyPlan::finished_checkpoint_bytes
+    /// [`CheckpointPolicy::keep_result`]: super::CheckpointPolicy::keep_result
     pub fn eliminate_with(
         &self,
         rhs: &[RightHandSide<'_>],
@@ -103,6 +107,16 @@ impl<const D: usize> SchurOnly<D> {
             None => None,
         };
         let resumed_at = resumed.as_ref().map(|st| st.done);
+        let total = self.tree.fronts.len();
+        // The disk space of the finished checkpoint, held before any numeric work (issue
+        // 87: a disk too small for it was found after the elimination).
+        let _held = match log.policy {
+            Some((cp, _)) if cp.keep_result && resumed_at != Some(total) => Some(checkpoint::hold(
+                &cp.path,
+                plan.finished_checkpoint_bytes(rhs.len()),
+            )?),
+            _ => None,
+        };
         let mut st = match resumed {
             Some(st) => st,
             None => self.fresh(rhs)?,
@@ -113,7 +127,6 @@ impl<const D: usize> SchurOnly<D> {
             pos: &self.pos,
             order: &self.order,
         };
-        let total = self.tree.fronts.len();
         let flops_all = plan.flops + rhs.len() as f64 * plan.flops_per_rhs;
         while st.done < total {
             front::eliminate(st.done, &self.tree, &ordered, &mut st, &mut ws)?;

@@ -16,6 +16,16 @@ use rsf_nonsmooth::ProblemError;
 /// a checkpoint of other inputs is refused
 /// ([`Error::CheckpointMismatch`](crate::Error::CheckpointMismatch)) and left alone.
 ///
+/// With [`keep_result`](Self::keep_result), the disk space of the finished checkpoint
+/// ([`SchurOnlyPlan::finished_checkpoint_bytes`]) is held before the first front, as zeros
+/// in `path.partial` (the first write truncates them and writes into the space they gave
+/// back): a disk too small for it is found before any numeric work. A checkpoint written
+/// during the elimination also holds the pending blocks, and the old one stays until the
+/// new one replaces it: a disk that holds the finished file may still fill then, named
+/// by the error.
+///
+/// [`SchurOnlyPlan::finished_checkpoint_bytes`]: super::SchurOnlyPlan::finished_checkpoint_bytes
+///
 /// [`SchurOnlyPlan::result_bytes`]: super::SchurOnlyPlan::result_bytes
 /// [`SchurOnly::eliminate`]: super::SchurOnly::eliminate
 #[derive(Debug, Clone, PartialEq)]

@@ -56,6 +56,28 @@ impl SchurOnlyPlan {
             + nrhs as u128 * (self.bytes_per_rhs as u128 + 8 * self.kept as u128)
             + 4 * n
     }
+
+    /// Bytes of the file of the finished elimination's checkpoint with `nrhs` right-hand
+    /// sides ([`CheckpointPolicy::keep_result`]): `8 (15 + |K|(|K| + 1)/2 + nrhs (|R| +
+    /// |K|)) + 16` — the header's 15 words, `S_KK` packed, the carried right-hand sides
+    /// and the checksum ([`checkpoint_bytes_of`](Self::checkpoint_bytes_of)).
+    ///
+    /// [`CheckpointPolicy::keep_result`]: super::CheckpointPolicy::keep_result
+    pub fn finished_checkpoint_bytes(&self, nrhs: usize) -> u64 {
+        Self::checkpoint_bytes_of(
+            self.kept as f64,
+            (self.eliminated + self.kept) as f64,
+            nrhs as f64,
+        ) as u64
+    }
+
+    /// [`finished_checkpoint_bytes`](Self::finished_checkpoint_bytes) of an elimination
+    /// keeping `kept` dofs of `free` free dofs (`|R| + |K|`) with `nrhs` right-hand sides,
+    /// from the sizes alone (a caller's bound before anything is built: bounds of `kept`
+    /// and `free` give a bound). An `f64`, exact below 2⁵³ bytes.
+    pub fn checkpoint_bytes_of(kept: f64, free: f64, nrhs: f64) -> f64 {
+        super::checkpoint::file_bytes(0.5 * kept * (kept + 1.0) + nrhs * free)
+    }
 }
 
 /// A progress report of a running elimination, given to the monitor of

@@ -360,6 +360,14 @@ fn killed_and_resumed_gives_the_same_bits() {
     // The finished state is kept: read back, nothing eliminated.
     let again = elim.eliminate(&p.rhs(), &options).unwrap();
     assert_eq!(again.report().resumed_at, Some(total));
+    // Its file is the plan's size to the byte, and the space held for it is gone.
+    let bytes = std::fs::metadata(&path).unwrap().len();
+    assert_eq!(
+        bytes,
+        elim.plan().finished_checkpoint_bytes(p.rhs().len()),
+        "{bytes} bytes"
+    );
+    assert!(!dir.join("box.ckpt.partial").exists());
     assert!(same_bits(&whole, &again));
     // Its post-step too.
     let (x, y) = (

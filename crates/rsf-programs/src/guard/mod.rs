@@ -190,6 +190,11 @@ impl Plan {
         PROCESS_BYTES + self.memory.iter().map(|e| e.bytes).sum::<f64>()
     }
 
+    /// The run's output estimate (bytes): every part of the plan.
+    pub fn output_bytes(&self) -> f64 {
+        self.output.iter().map(|e| e.bytes).sum()
+    }
+
     /// Checks the threads and the estimates against `limits`.
     ///
     /// # Errors
@@ -211,7 +216,7 @@ impl Plan {
         for (flag, n) in &self.threads {
             check_threads(flag, *n)?;
         }
-        let output = self.output.iter().map(|e| e.bytes).sum::<f64>();
+        let output = self.output_bytes();
         for (estimates, sum, limit, name) in [
             (
                 &self.memory,

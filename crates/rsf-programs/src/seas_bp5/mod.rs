@@ -42,6 +42,8 @@ mod args;
 mod run;
 
 pub(crate) use args::graded_mesh_fewest_vertices;
+#[cfg(test)]
+pub(crate) use args::plans_of_the_largest_boxes;
 pub use args::Args;
 use run::run;
 
