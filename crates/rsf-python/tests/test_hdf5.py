@@ -50,7 +50,8 @@ def test_hdf5_fields_read_back_with_h5py_equal_the_run(tmp_path):
         grids = root.findall(".//Grid[@GridType='Uniform']")
         assert [float(g.find("Time").get("Value")) for g in grids] == list(f["time"][:])
         refs = [d for d in root.iter("DataItem") if d.get("Format") == "HDF"]
-        assert len(refs) == 3 * 9
+        # Per frame: the cells, the points and the 8 point fields (rsf::observe::POINT_FIELDS).
+        assert len(refs) == 3 * 10
         for d in refs:
             name, dataset = d.text.strip().split(":")
             assert name == path.name
