@@ -96,15 +96,26 @@ impl SceneArgs {
         }
         // A refused value is named as the user wrote it: the flag if it was given, the
         // scene file's key (`--scene FILE: … end_time_s …`) if it came from the file.
-        let mut checked = scene.validate();
+        self.named(self.for_flags(scene.validate()))?;
+        Ok(scene)
+    }
+
+    /// `result`'s error named after the flags given (`--end-time` for the scene's
+    /// `end_time_s`, `--level` for `level`) where it names their scene keys: the scene's
+    /// validation, and the model's conditioning check when the model is built (`--end-time
+    /// 1e-300` was refused naming `end_time_s`, a key the user never wrote).
+    ///
+    /// # Errors
+    /// The error of `result`, renamed.
+    pub fn for_flags<T>(&self, result: rsf::Result<T>) -> rsf::Result<T> {
+        let mut checked = result;
         if self.end_time.is_some() {
             checked = for_flag("--end-time", "end_time_s", checked);
         }
         if self.level.is_some() {
             checked = for_flag("--level", "level", checked);
         }
-        self.named(checked)?;
-        Ok(scene)
+        checked
     }
 
     /// Refuses a scene file that sets `steps` (to other than the default's) for a program

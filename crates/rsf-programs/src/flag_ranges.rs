@@ -252,6 +252,7 @@ mod tests {
                 ("--fixed-point-tolerance", implicit),
                 ("--switch-to-dynamic", inertia),
                 ("--switch-to-quasi-dynamic", inertia),
+                ("--dynamic-fixed-point-tolerance", inertia),
             ],
             &[
                 SHARED_NONE,

@@ -184,8 +184,9 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let setup = std::time::Instant::now();
     let mut options = scene.solver_options();
     options.parallelism = cli.threads;
-    let mut sim = scene
-        .simulation_builder()?
+    let mut sim = cli
+        .scene
+        .for_flags(scene.simulation_builder())?
         .solver_options(options)
         .build()?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;

@@ -66,7 +66,8 @@ flag_range!(
 #[derive(Parser)]
 #[command(version)]
 pub struct Args {
-    /// Dip ψ (degrees): 60 (thrust) or 30 (normal); in (0, 90).
+    /// Dip ψ (degrees): 60 (thrust) or 30 (normal); in [1, 90) (below 1°, a flat
+    /// detachment, the mesh's cells along the fault thin towards degenerate).
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     dip: f64,
     /// Output folder.
@@ -157,11 +158,15 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         in_range("--end-years", self.end_years, END_YEARS, "years")?;
-        if !(self.dip > 0.0 && self.dip < 90.0) {
+        // Issue 87: `--dip 1e-300` ended in "cell 0 is degenerate" (measured: 1e-5°
+        // degenerates, 1e-3° still meshes at the default --dx; 1° keeps a margin for
+        // every --dx and BP3's dips, 30° and 60°, well inside).
+        if !(self.dip >= 1.0 && self.dip < 90.0) {
             return Err(refuse(
                 "--dip",
                 written(self.dip),
-                "must be in (0, 90) degrees",
+                "must be in [1, 90) degrees: below 1° the fault is a flat detachment, whose \
+                 cells along the fault thin towards degenerate",
             ));
         }
         let (bp3, grid) = scene(self);

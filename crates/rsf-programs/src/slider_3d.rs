@@ -527,7 +527,7 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     // On ranks: each rank assembles its own nodes' columns ([`model_on_ranks`]).
     let owner_ranks = processes.map_or(1, |p| p.size());
     let (model, frame_owner) = match processes {
-        None => (scene.build_model()?, None),
+        None => (cli.scene.for_flags(scene.build_model())?, None),
         Some(p) => {
             let (model, ranks) = model_on_ranks(&scene, p)?;
             let frame_owner = (p.size() > 1).then(|| ranks.owner.to_vec());

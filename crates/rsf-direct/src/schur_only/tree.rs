@@ -117,27 +117,7 @@ impl Tree {
             });
         }
         // The assembly-tree property: a child's update rows are rows of its parent's front.
-        for s in 0..ns {
-            let t = parent[s];
-            if t == u32::MAX {
-                continue;
-            }
-            let t = t as usize;
-            let (pc0, pc1) = (start[t], start[t + 1]);
-            let mut theirs = rows[fronts[t].rows.clone()].iter().peekable();
-            for &g in &rows[fronts[s].rows.clone()] {
-                let g = g as usize;
-                if (pc0..pc1).contains(&g) {
-                    continue;
-                }
-                while theirs.next_if(|&&h| (h as usize) < g).is_some() {}
-                if theirs.peek().map(|&&h| h as usize) != Some(g) {
-                    return Err(Error::Factorisation(format!(
-                        "internal: row {g} of supernode {s} is not in its parent {t}'s front"
-                    )));
-                }
-            }
-        }
+        check_assembly_tree(&fronts, &rows, &parent, start)?;
         // Children lists; the peak of each subtree's stack, bottom-up (a child's index is
         // below its parent's), children ordered by decreasing peak − block (Liu 1986). A
         // front is assembled on top of its children's blocks, which it then replaces by its
@@ -276,4 +256,41 @@ pub(super) fn front_flops(f: &Front, p: usize, nrhs: usize) -> f64 {
 /// [`PANEL`], at most `order`, or the right-hand sides carried at once).
 pub(super) fn update_buffer(order: usize, nrhs: usize) -> usize {
     order * PANEL.min(order.max(nrhs))
+}
+
+/// The assembly-tree property of the supernodes' `fronts` (update rows in `rows`, each
+/// one's `parent` or `u32::MAX` for a root, `start` the supernodes' first columns): every
+/// update row of a child outside its parent's own columns is a row of the parent's front.
+///
+/// # Errors
+/// [`Error::Factorisation`] naming the first row that is not (an internal error of the
+/// symbolic analysis).
+fn check_assembly_tree(
+    fronts: &[Front],
+    rows: &[u32],
+    parent: &[u32],
+    start: &[usize],
+) -> Result<()> {
+    for s in 0..fronts.len() {
+        let t = parent[s];
+        if t == u32::MAX {
+            continue;
+        }
+        let t = t as usize;
+        let (pc0, pc1) = (start[t], start[t + 1]);
+        let mut theirs = rows[fronts[t].rows.clone()].iter().peekable();
+        for &g in &rows[fronts[s].rows.clone()] {
+            let g = g as usize;
+            if (pc0..pc1).contains(&g) {
+                continue;
+            }
+            while theirs.next_if(|&&h| (h as usize) < g).is_some() {}
+            if theirs.peek().map(|&&h| h as usize) != Some(g) {
+                return Err(Error::Factorisation(format!(
+                    "internal: row {g} of supernode {s} is not in its parent {t}'s front"
+                )));
+            }
+        }
+    }
+    Ok(())
 }
