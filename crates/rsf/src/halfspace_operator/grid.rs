@@ -221,7 +221,7 @@ impl NodeGrid {
 /// The median gap between the distinct values of coordinate `c` of `coords`: the spacing
 /// of a regular grid, and still its spacing with a few nodes off it (reported by name
 /// where the nodes are matched to elements). `None` for a single value.
-fn spacing(coords: &[[f64; 2]], c: usize) -> Option<f64> {
+pub(super) fn spacing(coords: &[[f64; 2]], c: usize) -> Option<f64> {
     let mut v: Vec<f64> = coords.iter().map(|x| x[c]).collect();
     v.sort_by(f64::total_cmp);
     let extent = v[v.len() - 1] - v[0];

@@ -136,19 +136,16 @@ impl WholeSpaceGrid {
             .collect();
         // The grid along each axis: its first centre, spacing and count.
         let axis = |a: usize| -> Option<(f64, f64, usize)> {
-            let mut v: Vec<f64> = coords.iter().map(|c| c[a]).collect();
-            v.sort_by(f64::total_cmp);
-            let extent = v[v.len() - 1] - v[0];
-            // The median gap between distinct values: the spacing of a regular grid, and
-            // still its spacing with a few nodes off it (reported below, by name).
-            let mut gaps: Vec<f64> = v
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .filter(|&g| g > 1e-9 * extent)
-                .collect();
-            gaps.sort_by(f64::total_cmp);
-            let h = *gaps.get(gaps.len() / 2)?;
-            Some((v[0], h, (extent / h).round() as usize + 1))
+            // The median gap between distinct values (super::grid::spacing): the spacing
+            // of a regular grid, and still its spacing with a few nodes off it (reported
+            // below, by name).
+            let h = super::grid::spacing(&coords, a)?;
+            let lo = coords.iter().map(|c| c[a]).fold(f64::INFINITY, f64::min);
+            let hi = coords
+                .iter()
+                .map(|c| c[a])
+                .fold(f64::NEG_INFINITY, f64::max);
+            Some((lo, h, ((hi - lo) / h).round() as usize + 1))
         };
         let (Some((u0, hu, nu)), Some((v0, hv, nv))) = (axis(0), axis(1)) else {
             return Err(E::TooFewNodes { nodes: nodes.len() });
