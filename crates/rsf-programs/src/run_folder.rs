@@ -28,6 +28,7 @@ pub struct FolderArgs {
 /// in the run folder), is of another problem than the changed flags give (`--allow-change
 /// ordering|mesh|fault_zone|…`), with what to do: delete the file to rebuild the set-up
 /// (issue 87: the refusal named no way out). Other errors pass unchanged.
+#[cfg(feature = "seas")]
 pub(crate) fn kept_setup_hint(
     e: rsf::Error,
     path: &std::path::Path,

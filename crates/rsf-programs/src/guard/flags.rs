@@ -165,7 +165,8 @@ pub fn distinct<T: PartialEq + std::fmt::Display>(
 /// defines `const END_YEARS: (f64, f64) = (1e-9, 100.0)` for [`in_range`] and `const
 /// END_YEARS_HELP: &str = "End time (years), in [1e-9, 100]."` for the flag's
 /// `#[arg(help = END_YEARS_HELP)]` (the test `flag_ranges` reads the range back from
-/// `--help` and probes the check at its bounds).
+/// `--help` and probes the check at its bounds). The SEAS programs' (feature `seas`).
+#[cfg_attr(not(feature = "seas"), allow(unused_macros))]
 macro_rules! flag_range {
     ($vis:vis $range:ident, $help:ident = $text:literal, [$lo:literal, $hi:literal]) => {
         #[doc = concat!("The range of the flag of [`", stringify!($help), "`].")]
@@ -174,4 +175,5 @@ macro_rules! flag_range {
         $vis const $help: &str = concat!($text, ", in [", stringify!($lo), ", ", stringify!($hi), "].");
     };
 }
+#[cfg_attr(not(feature = "seas"), allow(unused_imports))]
 pub(crate) use flag_range;

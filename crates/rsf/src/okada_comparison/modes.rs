@@ -120,9 +120,9 @@ impl Cells {
 /// directions; its `slip` is not used), the model on the hierarchy of
 /// [`compare_refined`](super::compare_refined) (`mesh`, `far`), solved by multigrid. Its
 /// stages: the cells of the boundary elements with the modes' slips
-/// ([`Cells::of_pairs`]), the boundary-element Galerkin matrix and the modes' Gram matrix
-/// ([`bem_galerkin`]), the finite-element one ([`fe_galerkin`]), and their norms on the
-/// modes' span ([`compared`]).
+/// (`Cells::of_pairs`), the boundary-element Galerkin matrix and the modes' Gram matrix
+/// (`bem_galerkin`), the finite-element one (`fe_galerkin`), and their norms on the
+/// modes' span (`compared`).
 ///
 /// # Errors
 /// [`ComparisonError::Setup`] for `k` zero or above 8, a surface-breaking `fault`, a Gram
