@@ -367,6 +367,20 @@ mod tests {
             &[("--adaptive", &["--steps", "1000"])],
             &[SHARED_NONE, slider_none].concat(),
         ));
+        wrong.extend(check::<crate::slider_3d::Cli>(
+            &[],
+            &[],
+            &[
+                SHARED_NONE,
+                slider_none,
+                &[(
+                    "--snapshot-time",
+                    "inside [0, T], T the run's end time (--end-time or the scene's), stated in \
+                     the refusal",
+                )],
+            ]
+            .concat(),
+        ));
         let probes = PROBES.load(std::sync::atomic::Ordering::Relaxed);
         eprintln!("{probes} values planned at the stated bounds");
         assert!(probes >= 150, "only {probes} probes");

@@ -75,7 +75,7 @@ pub struct Cli {
     /// Number of time steps N (τ = T/N; `1e4` accepted).
     #[arg(long, value_parser = step_count)]
     steps: Option<usize>,
-    /// Width W of the block in z (m).
+    /// Width W of the block in z (m), in [1e-3, 1000] (the scene's `width_m`).
     #[arg(long, value_name = "W")]
     width: Option<f64>,
     /// `u_z = 0` on both lateral faces (plane strain) instead of traction-free faces.
@@ -119,7 +119,8 @@ pub struct Cli {
     #[arg(long, value_name = "ORDER")]
     smoother: Option<rsf::tnnmg::SmootherOrder>,
     /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
-    /// fit, else TNNMG; docs/scaling.md). Default: `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
+    /// fit, else TNNMG; docs/scaling.md), in (0, inf). Default:
+    /// `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
     #[arg(long)]
     memory_budget_gib: Option<f64>,
     /// `--max-memory-gb` (nodes estimated before anything is allocated; 35 kB per node,

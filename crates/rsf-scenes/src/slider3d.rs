@@ -149,7 +149,10 @@ pub fn slider_3d_coarse(width_m: f64) -> Result<TetrahedronMesh> {
     if !(width_m.is_finite() && (1e-3..=1000.0).contains(&width_m)) {
         return Err(invalid(
             "width_m",
-            format!("{width_m:e} m must be in [1e-3, 1000] m"),
+            format!(
+                "{} m must be in [1e-3, 1000] m",
+                rsf_numeric::written(width_m)
+            ),
         ));
     }
     let nz = (width_m.round() as usize).max(1);
