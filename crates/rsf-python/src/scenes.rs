@@ -394,13 +394,23 @@ fn bp1_kernel(
         ("dense", None) => Ok(FaultKernel::Dense),
         ("dense", Some(_)) => Err(invalid("kernel_epsilon", "needs kernel=\"hierarchical\"")),
         ("hierarchical", None) => Ok(FaultKernel::matching(rk_tolerance)),
-        ("hierarchical", Some(e)) if e > f64::EPSILON && e < 1.0 => {
-            Ok(FaultKernel::hierarchical(e))
+        // The library's range (FaultKernel::validate), named as the keyword: it was
+        // (2.2e-16, 1) here, and 0.5 was refused later as `kernel.epsilon`.
+        ("hierarchical", Some(e)) => {
+            let k = FaultKernel::hierarchical(e);
+            k.validate().map_err(|_| {
+                invalid(
+                    "kernel_epsilon",
+                    format!(
+                        "{}: must be in [{}, {}] (a relative accuracy)",
+                        rsf_numeric::written(e),
+                        rsf_numeric::number(rsf::fault_ode::MIN_KERNEL_EPSILON),
+                        rsf_numeric::number(rsf::fault_ode::MAX_KERNEL_EPSILON)
+                    ),
+                )
+            })?;
+            Ok(k)
         }
-        ("hierarchical", Some(e)) => Err(invalid(
-            "kernel_epsilon",
-            format!("{e:e}: must be in (2.2e-16, 1)"),
-        )),
         (k, _) => Err(invalid(
             "kernel",
             format!("`{k}`: \"hierarchical\" or \"dense\""),

@@ -79,3 +79,12 @@ def test_the_folder_of_another_run_is_refused(tmp_path):
     rsf.seas_bp1(out=tmp_path, **dict(FLAGS, end_years=1.0)).run()
     with pytest.raises(rsf.RsfIOError):
         rsf.seas_bp1(out=tmp_path, **FLAGS)
+
+
+@pytest.mark.parametrize("epsilon", [0.5, 1e-300])
+def test_kernel_epsilon_outside_the_librarys_range_is_refused_by_its_keyword(epsilon):
+    # The library's range [1e-14, 1e-2] (rsf::fault_ode::MIN_KERNEL_EPSILON and
+    # MAX_KERNEL_EPSILON), named as the keyword: 0.5 passed a range of (2.2e-16, 1) here
+    # and was refused later as `kernel.epsilon`; 1e-300 took every block to full rank.
+    with pytest.raises(rsf.InvalidParameterError, match="kernel_epsilon"):
+        rsf.seas_bp1(dz=1000.0, domain_km=60.0, kernel_epsilon=epsilon, threads=1)
