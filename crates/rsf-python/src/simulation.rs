@@ -346,6 +346,21 @@ impl Simulation {
         array2(py, &s, m)
     }
 
+    /// The block of `S` from the fault `source`'s slip to the fault `receiver`'s forces
+    /// (`m_r × m_s`), from the source's columns alone, refused above `max_unknowns` source
+    /// unknowns (what `GreensFunctions.block` calls: `rsf::greens::GreensFunctions::block`).
+    fn _greens_block<'py>(
+        &mut self,
+        py: Python<'py>,
+        receiver: &str,
+        source: &str,
+        max_unknowns: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (g, op) = self.greens_of()?;
+        let b = g.block(op, (receiver, source), max_unknowns).py()?;
+        array2(py, &b, g.unknowns_of(source).len())
+    }
+
     /// One row per accepted step: `t` (s, after the step), `tau` (s, the step's length),
     /// `step` (index), `max_slip_rate` (m/s, the largest on the fault),
     /// `fixed_point_iterations` — each an array of shape `(steps,)`.

@@ -39,7 +39,7 @@ def test_the_linear_operator_is_the_dense_matrix():
     np.testing.assert_array_equal(g.block(name, name), S)
     with pytest.raises(ValueError, match="north"):
         g.block(name, "north")
-    with pytest.raises(ValueError, match="max_unknowns"):
+    with pytest.raises(rsf.InvalidParameterError, match="exceed the limit"):
         g.block(name, name, max_unknowns=m - 1)
     scale = np.abs(S).sum(axis=1).max()
     rng = np.random.default_rng(83)

@@ -199,6 +199,72 @@ impl Args {
             _ => self.run.max_steps,
         }
     }
+
+    /// Refuses the flags the chosen scheme would ignore: the fully dynamic run's without
+    /// `--inertia`, the implicit scheme's with the default fault ODE (issue 87: a flag
+    /// that does nothing is refused naming the flag that would use it).
+    ///
+    /// # Errors
+    /// The first such flag, named with the flag it needs.
+    fn refuse_ignored_flags(&self) -> Result<(), AnyError> {
+        // The fully dynamic flags need --inertia; their values are physical.
+        if !self.inertia {
+            for (flag, given) in [
+                (
+                    "--absorbing",
+                    self.absorbing.is_some_and(|a| a != Absorbing::None),
+                ),
+                ("--dynamic-tau", self.dynamic_tau.is_some()),
+                ("--switch-to-dynamic", self.switch_to_dynamic.is_some()),
+                (
+                    "--switch-to-quasi-dynamic",
+                    self.switch_to_quasi_dynamic.is_some(),
+                ),
+                (
+                    "--dynamic-integrator",
+                    self.dynamic_integrator != DynamicIntegrator::Newmark,
+                ),
+                // Issue 87's probe: `--dynamic-fixed-point-tolerance 1e-300` ran without
+                // --inertia, the value never used.
+                (
+                    "--dynamic-fixed-point-tolerance",
+                    self.dynamic_fixed_point_tolerance != 1e-6,
+                ),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the fully dynamic run: it needs --inertia \
+                         (BP1-FD), without it it would be ignored"
+                    )
+                    .into());
+                }
+            }
+        }
+        // The settings of the implicit scheme are ignored by the default one (the fault
+        // ODE's Runge–Kutta run without --inertia): refused when given (issue 87:
+        // `--tolerance 1e-8` gave byte-identical files while summary.json recorded it).
+        if self.scheme == Scheme::RungeKutta && !self.inertia {
+            for (flag, given) in [
+                ("--tolerance", self.tolerance != 1e-3),
+                ("--state-change-cap", self.state_change_cap != 0.5),
+                (
+                    "--fixed-point-tolerance",
+                    self.fixed_point_tolerance != 1e-10,
+                ),
+                ("--setup-per-time-step", self.setup_per_time_step),
+            ] {
+                if given {
+                    return Err(format!(
+                        "{flag}: a setting of the implicit scheme (`--scheme implicit`, or the \
+                         dynamic phases with --inertia); the default scheme, the fault ODE's \
+                         Runge–Kutta run, would ignore it — its tolerance is --rk-tolerance"
+                    )
+                    .into());
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Program for Args {
@@ -348,71 +414,3 @@ pub(super) enum Scheme {
 /// latter with fully dynamic events.
 pub(super) type Bp1Run =
     rsf::Run<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::Integrator, 1>;
-
-impl Args {
-    /// Refuses the flags the chosen scheme would ignore: the fully dynamic run's without
-    /// `--inertia`, the implicit scheme's with the default fault ODE (issue 87: a flag
-    /// that does nothing is refused naming the flag that would use it).
-    ///
-    /// # Errors
-    /// The first such flag, named with the flag it needs.
-    fn refuse_ignored_flags(&self) -> Result<(), AnyError> {
-        // The fully dynamic flags need --inertia; their values are physical.
-        if !self.inertia {
-            for (flag, given) in [
-                (
-                    "--absorbing",
-                    self.absorbing.is_some_and(|a| a != Absorbing::None),
-                ),
-                ("--dynamic-tau", self.dynamic_tau.is_some()),
-                ("--switch-to-dynamic", self.switch_to_dynamic.is_some()),
-                (
-                    "--switch-to-quasi-dynamic",
-                    self.switch_to_quasi_dynamic.is_some(),
-                ),
-                (
-                    "--dynamic-integrator",
-                    self.dynamic_integrator != DynamicIntegrator::Newmark,
-                ),
-                // Issue 87's probe: `--dynamic-fixed-point-tolerance 1e-300` ran without
-                // --inertia, the value never used.
-                (
-                    "--dynamic-fixed-point-tolerance",
-                    self.dynamic_fixed_point_tolerance != 1e-6,
-                ),
-            ] {
-                if given {
-                    return Err(format!(
-                        "{flag}: a setting of the fully dynamic run: it needs --inertia \
-                         (BP1-FD), without it it would be ignored"
-                    )
-                    .into());
-                }
-            }
-        }
-        // The settings of the implicit scheme are ignored by the default one (the fault
-        // ODE's Runge–Kutta run without --inertia): refused when given (issue 87:
-        // `--tolerance 1e-8` gave byte-identical files while summary.json recorded it).
-        if self.scheme == Scheme::RungeKutta && !self.inertia {
-            for (flag, given) in [
-                ("--tolerance", self.tolerance != 1e-3),
-                ("--state-change-cap", self.state_change_cap != 0.5),
-                (
-                    "--fixed-point-tolerance",
-                    self.fixed_point_tolerance != 1e-10,
-                ),
-                ("--setup-per-time-step", self.setup_per_time_step),
-            ] {
-                if given {
-                    return Err(format!(
-                        "{flag}: a setting of the implicit scheme (`--scheme implicit`, or the \
-                         dynamic phases with --inertia); the default scheme, the fault ODE's \
-                         Runge–Kutta run, would ignore it — its tolerance is --rk-tolerance"
-                    )
-                    .into());
-                }
-            }
-        }
-        Ok(())
-    }
-}

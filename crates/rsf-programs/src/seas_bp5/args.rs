@@ -193,6 +193,29 @@ impl Args {
             near_fault: bp5.fault_zone.map_or(0.0, |z| z.half_width),
         }
     }
+
+    /// The memory (bytes) of Okada's kernel on `bp5`'s fault of `m` slip unknowns: the
+    /// operator (dense up to 4 096 unknowns, an ℋ-matrix beyond), the table of distinct
+    /// source–receiver pairs it is built from (48 bytes each, if tabulated) and the body
+    /// stations' columns.
+    fn okada_memory(&self, bp5: &SeasBp5, m: f64) -> f64 {
+        let (ns, nd) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
+        let pairs = (2.0 * ns - 1.0) * nd * nd;
+        let table = if pairs <= rsf::halfspace::TABLE_MAX_PAIRS as f64 {
+            48.0 * pairs
+        } else {
+            0.0
+        };
+        // The ℋ-matrix of the half-space and its set-up: three times the generic
+        // budget of `operator_bytes` (measured: 163 MB peak at m = 8 000, Δx = 1 km;
+        // docs/reliability.md, "Memory estimates").
+        let operator = if m > 4096.0 {
+            3.0 * operator_bytes(m, true)
+        } else {
+            operator_bytes(m, false)
+        };
+        operator + table + 9.0 * 3.0 * 8.0 * m
+    }
 }
 
 impl Program for Args {
@@ -676,30 +699,5 @@ pub(crate) fn plans_of_the_largest_boxes<P: Program>(dxs: &[f64]) {
                 )
             );
         }
-    }
-}
-
-impl Args {
-    /// The memory (bytes) of Okada's kernel on `bp5`'s fault of `m` slip unknowns: the
-    /// operator (dense up to 4 096 unknowns, an ℋ-matrix beyond), the table of distinct
-    /// source–receiver pairs it is built from (48 bytes each, if tabulated) and the body
-    /// stations' columns.
-    fn okada_memory(&self, bp5: &SeasBp5, m: f64) -> f64 {
-        let (ns, nd) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
-        let pairs = (2.0 * ns - 1.0) * nd * nd;
-        let table = if pairs <= rsf::halfspace::TABLE_MAX_PAIRS as f64 {
-            48.0 * pairs
-        } else {
-            0.0
-        };
-        // The ℋ-matrix of the half-space and its set-up: three times the generic
-        // budget of `operator_bytes` (measured: 163 MB peak at m = 8 000, Δx = 1 km;
-        // docs/reliability.md, "Memory estimates").
-        let operator = if m > 4096.0 {
-            3.0 * operator_bytes(m, true)
-        } else {
-            operator_bytes(m, false)
-        };
-        operator + table + 9.0 * 3.0 * 8.0 * m
     }
 }

@@ -109,25 +109,16 @@ class GreensFunctions:
         """The block of S from the slip of fault ``source`` to the forces on fault
         ``receiver``, shape ``(len(unknowns_of(receiver)), len(unknowns_of(source)))``:
         one product per source unknown (matrix-free; a file's matrix sliced), the
-        entries of :meth:`matrix` bit for bit. Refused (``ValueError``) for a name the
-        faults do not have or more source unknowns than ``max_unknowns``."""
+        entries of :meth:`matrix` bit for bit (the library's ``GreensFunctions::block``).
+        Refused (``ValueError``) for a name the faults do not have; like :meth:`matrix`
+        (``InvalidParameterError``) for more source unknowns than ``max_unknowns``."""
         rows, cols = self.unknowns_of(receiver), self.unknowns_of(source)
         for which, name, u in (("receiver", receiver, rows), ("source", source, cols)):
             if u.size == 0:
                 raise ValueError(f"{which}: {name!r} is none of the faults {self.fault_names}")
         if self._matrix is not None:
             return self._matrix[np.ix_(rows, cols)]
-        if cols.size > max_unknowns:
-            raise ValueError(
-                f"{cols.size} source unknowns exceed max_unknowns = {max_unknowns}"
-            )
-        out = np.empty((rows.size, cols.size))
-        e = np.zeros(self.dim)
-        for jj, j in enumerate(cols):
-            e[j] = 1.0
-            out[:, jj] = self.apply(e)[rows]
-            e[j] = 0.0
-        return out
+        return np.asarray(self._sim._greens_block(receiver, source, int(max_unknowns)))
 
     def to_npz(self, path, max_unknowns=4096):
         """Writes the description and the dense S (:meth:`matrix`) into the ``.npz`` file

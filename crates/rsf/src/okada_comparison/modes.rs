@@ -182,10 +182,7 @@ pub fn compare_modes(
         Solver::Multigrid
     };
     let g_fe = fe_galerkin(&on, f, &cells, &phi, far, method)?;
-    let mut c = compared(&gram, &g_fe, &g_bem)?;
-    c.h = h;
-    c.vertices = model.num_nodes();
-    Ok(c)
+    compared(&gram, &g_fe, &g_bem, h, model.num_nodes())
 }
 
 /// The modes at the fault's pairs (plus copy, minus copy) of `model`.
@@ -350,13 +347,19 @@ fn fe_galerkin(
 
 /// The operators' norms on the modes' span, in its orthonormal basis (`Ĝ = L⁻¹ G L⁻ᵀ`,
 /// `M = L Lᵀ` the Gram matrix): the relative difference, the ratio of norms, the worst
-/// diagonal entry and the finite-element side's asymmetry (`h` and `vertices` left 0 for
-/// the caller).
+/// diagonal entry and the finite-element side's asymmetry, on the mesh of cell size `h`
+/// with `vertices` vertices.
 ///
 /// # Errors
 /// [`ComparisonError::Setup`] for a Gram matrix that is not positive definite, singular
 /// values that did not converge, a boundary-element matrix of norm 0.
-fn compared(gram: &Mat<f64>, g_fe: &Mat<f64>, g_bem: &Mat<f64>) -> Result<ModeComparison> {
+fn compared(
+    gram: &Mat<f64>,
+    g_fe: &Mat<f64>,
+    g_bem: &Mat<f64>,
+    h: f64,
+    vertices: usize,
+) -> Result<ModeComparison> {
     let n_modes = gram.nrows();
     let llt = gram.llt(Side::Lower).map_err(|_| {
         ComparisonError::Setup("the modes' Gram matrix is not positive definite".into())
@@ -386,8 +389,8 @@ fn compared(gram: &Mat<f64>, g_fe: &Mat<f64>, g_bem: &Mat<f64>) -> Result<ModeCo
         .map(|i| ((g_fe[(i, i)] - g_bem[(i, i)]) / g_bem[(i, i)]).abs())
         .fold(0.0f64, f64::max);
     Ok(ModeComparison {
-        h: 0.0,
-        vertices: 0,
+        h,
+        vertices,
         modes: n_modes,
         operator: norm(&(&fe - &bem))? / bem_norm,
         norm_ratio: norm(&fe)? / bem_norm,
