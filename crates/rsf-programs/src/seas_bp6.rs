@@ -175,6 +175,37 @@ pub(crate) struct Args {
 }
 
 impl Args {
+    /// What a checkpoint continues: the scene, the variant, the cell and what changes the
+    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
+    /// changes).
+    ///
+    /// # Errors
+    /// The variant's and the kernel's (as the plan names them).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let (variant, elastic) = (self.variant()?, self.elastic());
+        let tol = self.tolerance(variant);
+        let fingerprint = Fingerprint::of_serialized(&SeasBp6::default())
+            .with("variant", variant.name())
+            .with("dz", self.dz)
+            .with("elastic", format!("{elastic:?}"))
+            .with("domain_km", self.domain_km)
+            .with("ratio", self.ratio)
+            .with("tolerance", tol)
+            .with("pressure", format!("{:?}", self.pressure_choice()))
+            .with("kernel", self.kernel.kernel(tol.min(1e-2))?)
+            .with("bem_product", format!("{:?}", self.bem_product()))
+            .with("end_years", self.end_years)
+            .with("station_interval", self.station_interval)
+            .with("profile_interval", self.profile_interval);
+        // The integrator of the fault ODE runs (the implicit ones take none).
+        Ok(match elastic {
+            Elastic::Bem | Elastic::Fe if variant != Bp6Variant::C => {
+                self.integrator.fingerprint(fingerprint)
+            }
+            _ => fingerprint,
+        })
+    }
+
     fn variant(&self) -> Result<Bp6Variant, AnyError> {
         self.variant
             .parse()
@@ -378,7 +409,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -403,26 +435,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         element_size: args.dz,
         ..bp6.seas_setup(variant, args.dz)
     };
-    let fingerprint = Fingerprint::of_serialized(&bp6)
-        .with("variant", variant.name())
-        .with("dz", args.dz)
-        .with("elastic", format!("{elastic:?}"))
-        .with("domain_km", args.domain_km)
-        .with("ratio", args.ratio)
-        .with("tolerance", tol)
-        .with("pressure", format!("{:?}", args.pressure_choice()))
-        .with("kernel", args.kernel.kernel(tol.min(1e-2))?)
-        .with("bem_product", format!("{:?}", args.bem_product()))
-        .with("end_years", args.end_years)
-        .with("station_interval", args.station_interval)
-        .with("profile_interval", args.profile_interval);
-    // The integrator of the fault ODE runs (the implicit ones take none).
-    let fingerprint = match elastic {
-        Elastic::Bem | Elastic::Fe if variant != Bp6Variant::C => {
-            args.integrator.fingerprint(fingerprint)
-        }
-        _ => fingerprint,
-    };
+    let fingerprint = args.fingerprint()?;
     let common = Common {
         args: &args,
         folder,

@@ -305,7 +305,9 @@ pub(crate) fn seas_bp1(
             names.push("seas.h5".into());
         }
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        RunFolder::new(out, "seas_bp1", &names).front_end(FrontEnd::Python)
+        RunFolder::new(out, "seas_bp1", &names)
+            .front_end(FrontEnd::Python)
+            .expecting(fingerprint.clone(), &allow_change)
     });
     let fresh = match (&folder, &resume) {
         (Some(f), Some(checkpoint)) => f.prepare_resume(checkpoint, overwrite).py()?,

@@ -365,7 +365,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(super::run::fingerprint(self, &bp5, &self.grid(&bp5))),
             ))
     }
 }
