@@ -105,6 +105,20 @@ def test_a_3d_pair_of_polygons():
         np.testing.assert_array_equal(model.fault_coordinates[model.fault_nodes(name), 0], x0)
 
 
+def test_refined_strands_and_a_3d_polygon_the_mesh_does_not_resolve():
+    # Refined once: 16 edges per strand, 15 split pairs each.
+    model = stepover(refine=1)
+    assert np.bincount(model.fault_index).tolist() == [15, 15]
+    # A plane between the grid's planes x = 0.25 and 0.375 (h = 0.125): the second fault
+    # is named, the first is fine alone.
+    cube = rsf.Mesh.cuboid((0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (9, 9, 9))
+    square = lambda x: [(x, 0.25, 0.25), (x, 0.75, 0.25), (x, 0.75, 0.75), (x, 0.25, 0.75)]
+    with pytest.raises(rsf.ModelError, match=r"`faults`: fault `b`: "):
+        rsf.Model(cube, **MATERIAL,
+                  dirichlet=[(("left", lambda x: x[0] < 1e-9), (0.0, -V, 0.0))],
+                  faults=[("a", square(0.25)), ("b", square(0.3))])
+
+
 @pytest.mark.parametrize(
     "faults, error, match",
     [
