@@ -96,11 +96,8 @@ impl NetworkBuilder<2> for ModelBuilder<2> {
     }
 
     fn fault_alone(mesh: &SimplexMesh<2>, f: &FaultSpec) -> Option<rsf::fem::Error> {
-        let edges = match mesh.edges_along_polyline(&fixed::<2>(&f.points)) {
-            Ok(e) => e,
-            Err(e) => return Some(e),
-        };
-        mesh.split_along_network(&[(f.name.as_str(), &edges[..])])
+        mesh.edges_along_polyline(&fixed::<2>(&f.points))
+            .and_then(|e| mesh.split_along_network(&[(f.name.as_str(), &e[..])]))
             .err()
     }
 }
@@ -113,11 +110,8 @@ impl NetworkBuilder<3> for ModelBuilder<3> {
     }
 
     fn fault_alone(mesh: &SimplexMesh<3>, f: &FaultSpec) -> Option<rsf::fem::Error> {
-        let faces = match mesh.faces_in_polygon(&fixed::<3>(&f.points)) {
-            Ok(e) => e,
-            Err(e) => return Some(e),
-        };
-        mesh.split_along_network(&[(f.name.as_str(), &faces[..])])
+        mesh.faces_in_polygon(&fixed::<3>(&f.points))
+            .and_then(|e| mesh.split_along_network(&[(f.name.as_str(), &e[..])]))
             .err()
     }
 }
