@@ -321,3 +321,26 @@ def test_the_catalogue_names_the_fault_that_ruptured():
 def test_a_scene_has_no_network_catalogue():
     with pytest.raises(rsf.InvalidParameterError, match="`catalogue`"):
         rsf.seas_bp1(dz=1000.0, domain_km=100.0, threads=1, end_years=1.0).catalogue()
+
+
+@pytest.mark.parametrize("method", ["fault-ode", "implicit"])
+def test_a_network_run_resumes_bit_for_bit(method, tmp_path):
+    """A checkpoint of the stepover resumes into a new simulation of the same model (its
+    fingerprint holds the faults) and continues bit for bit; a model with another fault
+    geometry is refused."""
+    kw = dict(fault_every=1)
+    if method == "implicit":
+        kw.update(method="implicit", integrator="quasistatic", solver="direct", tau=86400.0)
+    first = ode(stepover(), **kw)
+    first.advance(steps=15)
+    first.checkpoint(tmp_path / "c.bin")
+    first.advance(steps=15)
+    second = ode(stepover(), **kw)
+    second.resume(tmp_path / "c.bin")
+    second.advance(steps=15)
+    a, b = first.fault(), second.fault()
+    np.testing.assert_array_equal(a["slip_rate"][-15:], b["slip_rate"])
+    np.testing.assert_array_equal(a["alpha"][-15:], b["alpha"])
+    other = ode(stepover(gap=1.0), **kw)
+    with pytest.raises(rsf.CheckpointError, match="model"):
+        other.resume(tmp_path / "c.bin")
