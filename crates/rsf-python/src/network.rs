@@ -35,7 +35,6 @@ pub(crate) fn fault_specs(obj: Option<&Bound<'_, PyAny>>, dim: usize) -> PyResul
         let (name, points): (String, Bound<'_, PyAny>) = item
             .extract()
             .map_err(|_| invalid("faults", format!("entry {i} is not {what}")))?;
-        let name = name.trim().to_owned();
         let fail = |reason: String| invalid("faults", format!("fault `{name}`: {reason}"));
         if name.is_empty() {
             return Err(invalid("faults", format!("entry {i} has an empty name")));
