@@ -10,6 +10,7 @@ mod dislocations;
 mod engine;
 mod errors;
 mod fields;
+mod network;
 mod problem;
 mod scenes;
 mod simulation;
