@@ -195,8 +195,8 @@ pub(crate) struct Files {
     pub folder: Option<std::path::PathBuf>,
     /// The run id of the folder's manifest (empty: none).
     pub run_id: String,
-    /// A file the simulation writes outside a run folder (`slider_3d`'s `hdf5`), which no
-    /// resume continues yet.
+    /// A file the simulation writes outside a run folder (`slider_3d`'s `hdf5`), which only
+    /// the constructor's `resume=` continues (the file proving the checkpoint's run).
     pub file: Option<std::path::PathBuf>,
 }
 

@@ -271,16 +271,22 @@ impl Simulation {
     /// that writes files (`out`, `hdf5`) is not resumed here — its files, written from its
     /// own start, would be continued from another step (issue 87: 494 years missing from
     /// every file): it raises `InvalidParameterError` naming the constructor's `resume=`
-    /// keyword, which continues the files at the checkpoint's step.
+    /// keyword, which continues the files at the checkpoint's step (`rsf.seas_bp1(out=…,
+    /// resume=…)`, `rsf.slider_3d(hdf5=…, resume=…)`).
     fn resume(&mut self, path: PathBuf) -> PyResult<()> {
         if let Some(file) = &self.engine.files().file {
             return Err(invalid(
                 "resume",
                 format!(
-                    "this simulation writes `{}` from its own start, which a resume cannot \
-                     continue yet: resume a simulation built without it (and write the \
-                     fields of the resumed run to a new file)",
-                    file.display()
+                    "this simulation writes `{}` from its own start: resuming it from `{}` \
+                     would continue that file at another step; build it with the checkpoint \
+                     instead — rsf.{}(hdf5=\"{}\", resume=\"{}\", …) — which checks that the \
+                     file holds the checkpoint's run and continues it at the checkpoint's step",
+                    file.display(),
+                    path.display(),
+                    self.label,
+                    file.display(),
+                    path.display()
                 ),
             ));
         }

@@ -75,6 +75,38 @@ def test_a_simulation_writing_hdf5_is_not_resumed_behind_its_file(tmp_path):
         writing.resume(tmp_path / "c.bin")
 
 
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_an_hdf5_run_resumed_from_its_checkpoint_writes_the_uninterrupted_file(tmp_path):
+    """`rsf.slider_3d(hdf5=…, resume=…)` continues the fields file at the checkpoint's step
+    once the file shows it holds the checkpoint's run (issue 87): a run stopped after its
+    checkpoint (two frames past it) and resumed in a new simulation ends with the
+    uninterrupted run's datasets, bit for bit; the file of another run (another loading
+    velocity) is refused, unchanged, and `allow_change` without `resume` is refused."""
+    h5py = pytest.importorskip("h5py")
+    whole, part, other = (tmp_path / n for n in ("whole.h5", "part.h5", "other.h5"))
+    rsf.slider_3d(hdf5=whole, hdf5_every=2, **SCENE).advance(steps=8)
+    first = rsf.slider_3d(hdf5=part, hdf5_every=2, **SCENE)
+    first.advance(steps=4)
+    first.checkpoint(tmp_path / "c.bin")
+    first.advance(steps=2)
+    del first
+    faster = dict(SCENE, loading_velocity_m_per_s=3e-2)
+    rsf.slider_3d(hdf5=other, hdf5_every=2, **faster).advance(steps=6)
+    before = other.read_bytes()
+    with pytest.raises(rsf.CheckpointError, match="another run"):
+        rsf.slider_3d(hdf5=other, hdf5_every=2, resume=tmp_path / "c.bin", **SCENE)
+    assert other.read_bytes() == before
+    with pytest.raises(rsf.InvalidParameterError, match="allow_change"):
+        rsf.slider_3d(allow_change=["end_time_s"], **SCENE)
+    resumed = rsf.slider_3d(hdf5=part, hdf5_every=2, resume=tmp_path / "c.bin", **SCENE)
+    resumed.advance(steps=4)
+    with h5py.File(whole, "r") as a, h5py.File(part, "r") as b:
+        assert list(b["step"][:]) == [2, 4, 6, 8]
+        names = ["step", "time"] + [f"fields/{n}" for n in a["fields"]]
+        for name in names:
+            assert a[name][:].tobytes() == b[name][:].tobytes(), name
+
+
 @pytest.mark.skipif(rsf.HAS_HDF5, reason="this build has HDF5 output")
 def test_without_the_feature_seas_series_are_a_named_error(tmp_path):
     with pytest.raises(rsf.InvalidParameterError, match="hdf5"):

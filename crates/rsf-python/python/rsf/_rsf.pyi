@@ -206,7 +206,13 @@ class Simulation:
 
 def slider(*, fault_every: int = 0, **kwargs: Any) -> Simulation: ...
 def slider_3d(
-    *, fault_every: int = 0, hdf5: _Path | None = None, hdf5_every: int = 1, **kwargs: Any
+    *,
+    fault_every: int = 0,
+    hdf5: _Path | None = None,
+    hdf5_every: int = 1,
+    resume: _Path | None = None,
+    allow_change: Sequence[str] = ...,
+    **kwargs: Any,
 ) -> Simulation: ...
 def seas_bp1(
     *,
