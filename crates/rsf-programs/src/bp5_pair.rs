@@ -192,15 +192,14 @@ impl Args {
     fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
         let (pair, _) = scene(self);
         Ok(self.integrator.fingerprint(
-            Fingerprint::of_serialized(&pair)
-                .with("kernel", self.kernel)
-                .with("dx", self.dx)
-                .with("domain_km", self.domain_km)
-                .with("ratio", self.ratio)
-                .with("end_years", self.end_years)
-                .with("tolerance", self.tolerance)
-                .with("epsilon", self.epsilon)
-                .with("ordering", self.ordering),
+            crate::cli::with_box_and_end(
+                Fingerprint::of_serialized(&pair).with("kernel", self.kernel),
+                (self.dx, self.domain_km, self.ratio),
+                self.end_years,
+                self.tolerance,
+            )
+            .with("epsilon", self.epsilon)
+            .with("ordering", self.ordering),
         ))
     }
 }

@@ -158,15 +158,15 @@ impl Args {
     fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
         let (bp3, _) = scene(self);
         Ok(self.integrator.fingerprint(
-            Fingerprint::of_serialized(&bp3.params)
-                .with("dip_degrees", self.dip)
-                .with("normal_faulting", bp3.normal_faulting)
-                .with("dx", self.dx)
-                .with("domain_km", self.domain_km)
-                .with("ratio", self.ratio)
-                .with("end_years", self.end_years)
-                .with("tolerance", self.tolerance)
-                .with("kernel", self.kernel.kernel(self.tolerance)?),
+            crate::cli::with_box_and_end(
+                Fingerprint::of_serialized(&bp3.params)
+                    .with("dip_degrees", self.dip)
+                    .with("normal_faulting", bp3.normal_faulting),
+                (self.dx, self.domain_km, self.ratio),
+                self.end_years,
+                self.tolerance,
+            )
+            .with("kernel", self.kernel.kernel(self.tolerance)?),
         ))
     }
 }

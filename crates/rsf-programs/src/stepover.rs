@@ -152,13 +152,13 @@ impl Args {
     fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
         let (stepover, _) = scene(self);
         Ok(self.integrator.fingerprint(
-            Fingerprint::of_serialized(&stepover)
-                .with("dx", self.dx)
-                .with("domain_km", self.domain_km)
-                .with("ratio", self.ratio)
-                .with("end_years", self.end_years)
-                .with("tolerance", self.tolerance)
-                .with("kernel", self.kernel.kernel(self.tolerance)?),
+            crate::cli::with_box_and_end(
+                Fingerprint::of_serialized(&stepover),
+                (self.dx, self.domain_km, self.ratio),
+                self.end_years,
+                self.tolerance,
+            )
+            .with("kernel", self.kernel.kernel(self.tolerance)?),
         ))
     }
 }
