@@ -5,7 +5,8 @@
 
 use std::path::PathBuf;
 
-use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::ndarray::Array2;
+use numpy::{PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultOdeOptions;
@@ -42,46 +43,39 @@ pub struct Mesh {
     mesh: AnyMesh,
 }
 
-fn points_of<const D: usize>(points: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; D]>> {
-    if points.shape()[1] != D {
-        return Err(invalid(
-            "points",
-            format!("shape (n, {D}), not {:?}", points.shape()),
-        ));
-    }
-    let a = points.as_array();
-    Ok(a.rows()
+/// The rows of `points` as `D`-vectors (its columns checked by the caller).
+fn points_of<const D: usize>(points: &Array2<f64>) -> Vec<[f64; D]> {
+    points
+        .rows()
         .into_iter()
         .map(|r| std::array::from_fn(|c| r[c]))
-        .collect())
+        .collect()
 }
 
 #[pymethods]
 impl Mesh {
     /// A mesh of `points` (m, shape `(n, 2)` or `(n, 3)`) and `cells` (vertex indices, shape
-    /// `(m, 3)` triangles or `(m, 4)` tetrahedra).
+    /// `(m, 3)` triangles or `(m, 4)` tetrahedra). Each may be any array-like numpy converts
+    /// (nested lists, `float32` points, `int32` or whole-float cells); the rest is refused
+    /// naming `points` or `cells`.
     #[new]
-    fn new(points: PyReadonlyArray2<'_, f64>, cells: PyReadonlyArray2<'_, i64>) -> PyResult<Self> {
-        let d = points.shape()[1];
-        if cells.shape()[1] != d + 1 {
+    fn new(points: &Bound<'_, PyAny>, cells: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let points = crate::arrays::reals_2d("points", points, None)?;
+        let d = points.ncols();
+        if !(2..=3).contains(&d) {
             return Err(invalid(
-                "cells",
+                "points",
                 format!(
-                    "shape (m, {}) for {d}-D points, not {:?}",
-                    d + 1,
-                    cells.shape()
+                    "2-D or 3-D points: shape (n, 2) or (n, 3), not {:?}",
+                    points.dim()
                 ),
             ));
         }
-        let c: Vec<usize> = cells
-            .as_array()
-            .iter()
-            .map(|&i| usize::try_from(i).map_err(|_| invalid("cells", format!("index {i}"))))
-            .collect::<PyResult<_>>()?;
+        let c = crate::arrays::indices_2d("cells", cells, d + 1)?;
+        let c: Vec<usize> = c.iter().copied().collect();
         let mesh = match d {
-            2 => AnyMesh::Two(SimplexMesh::new(points_of::<2>(&points)?, c).py_fem()?),
-            3 => AnyMesh::Three(SimplexMesh::new(points_of::<3>(&points)?, c).py_fem()?),
-            _ => return Err(invalid("points", "2-D or 3-D points")),
+            2 => AnyMesh::Two(SimplexMesh::new(points_of::<2>(&points), c).py_fem()?),
+            _ => AnyMesh::Three(SimplexMesh::new(points_of::<3>(&points), c).py_fem()?),
         };
         Ok(Self { mesh })
     }
