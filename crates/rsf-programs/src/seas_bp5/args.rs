@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use crate::estimates::{operator_bytes, seas_output_bytes};
 use crate::guard::{flag, in_range, written, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
+use rsf::checkpoint::Fingerprint;
 use rsf_scenes::{FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh};
 use rsf_seas::{SeasBp5Output, SEAS_BP5_RESUME_LOG};
 
@@ -138,6 +139,29 @@ impl Args {
     /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
     pub(super) fn box_size(&self) -> (f64, f64) {
         (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+    }
+
+    /// What a checkpoint continues: the scene, the grid and what changes the trajectory (the
+    /// plan's too: a checkpoint is checked against it before the folder changes).
+    pub(super) fn fingerprint(&self, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
+        let (domain_km, ratio) = self.box_size();
+        let mut fingerprint = Fingerprint::of_serialized(&bp5)
+            .with("kernel", format!("{:?}", self.kernel))
+            .with("dx", self.dx)
+            .with("domain_km", domain_km)
+            .with("ratio", ratio)
+            .with("ordering", self.ordering())
+            .with("end_years", self.end_years)
+            .with("tolerance", self.tolerance)
+            .with("epsilon", self.epsilon);
+        if self.kernel == Kernel::Fe {
+            // The volume's mesh (a field since the graded mesh; an older finite-element
+            // checkpoint, of the tensor grid, is then refused by its missing field).
+            fingerprint = fingerprint
+                .with("mesh", format!("{:?}", grid.mesh))
+                .with("condensation", format!("{:?}", self.condensation()));
+        }
+        self.integrator.fingerprint(fingerprint)
     }
 
     /// `--ordering`, or its default.
@@ -366,7 +390,7 @@ impl Program for Args {
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(super::run::fingerprint(self, &bp5, &self.grid(&bp5))),
+                    .fingerprint(self.fingerprint(&bp5, &self.grid(&bp5))),
             ))
     }
 }

@@ -9,7 +9,6 @@ use crate::guard::{AnyError, Prepared, Processes};
 use crate::memory::StageMemory;
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
-use rsf::checkpoint::Fingerprint;
 use rsf::direct::{CheckpointPolicy, Progress};
 use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
 use rsf::observe::{Observer, TimeUnit};
@@ -267,29 +266,6 @@ impl SetUp<'_> {
     }
 }
 
-/// What a checkpoint continues: the scene, the grid and what changes the trajectory (the
-/// plan's too: a checkpoint is checked against it before the folder changes).
-pub(super) fn fingerprint(args: &Args, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
-    let (domain_km, ratio) = args.box_size();
-    let mut fingerprint = Fingerprint::of_serialized(&bp5)
-        .with("kernel", format!("{:?}", args.kernel))
-        .with("dx", args.dx)
-        .with("domain_km", domain_km)
-        .with("ratio", ratio)
-        .with("ordering", args.ordering())
-        .with("end_years", args.end_years)
-        .with("tolerance", args.tolerance)
-        .with("epsilon", args.epsilon);
-    if args.kernel == Kernel::Fe {
-        // The volume's mesh (a field since the graded mesh; an older finite-element
-        // checkpoint, of the tensor grid, is then refused by its missing field).
-        fingerprint = fingerprint
-            .with("mesh", format!("{:?}", grid.mesh))
-            .with("condensation", format!("{:?}", args.condensation()));
-    }
-    args.integrator.fingerprint(fingerprint)
-}
-
 /// The header facts of BP5's files.
 fn seas_setup(args: &Args, bp5: &SeasBp5) -> SeasSetup {
     SeasSetup {
@@ -331,7 +307,7 @@ pub(super) fn run(
     // A folder of another run (unless --overwrite), one that cannot be written: refused
     // by the guard before anything was computed.
     let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
-    let fingerprint = fingerprint(&args, &bp5, &grid);
+    let fingerprint = args.fingerprint(&bp5, &grid);
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
     let setup = seas_setup(&args, &bp5);
