@@ -848,7 +848,8 @@ fn run_files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
 /// to the step are A's bytes (B diverges later), continued into A's run whole; and
 /// `--resume A/checkpoint.bin --overwrite` into a copy of B (its manifest naming B's run)
 /// gives that folder to A's run whole — at the end every file byte-identical to A's own
-/// folder resumed to the end, none of B's left. Every program with `--resume` but the sliders (whose series row of the step is
+/// folder resumed to the end, none of B's left — while a checkpoint of other parameters
+/// (B's tolerance) is refused before that folder changes. Every program with `--resume` but the sliders (whose series row of the step is
 /// checked, `crates/rsf/tests/suite/run_folder.rs`): BP1, BP3, BP5 with both kernels, BP6
 /// A and C, BP7, BP8 and the two network programs, through the guard; A stops at a step cap
 /// with a checkpoint at a step where B (another tolerance, the same checkpoint interval)
@@ -945,6 +946,23 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
                         if manifest.contains("run=") {
                             fail(format!("the refused resume left a run id in B: {manifest}"));
                         }
+                    }
+                    // With a flag that changes the trajectory (B's, a field of the
+                    // fingerprint): refused by that field before B's copy changes (the
+                    // plan's fingerprint; the folder was given to A's run first, then
+                    // refused, before).
+                    let before = snapshot(&dir.join(&b2));
+                    let mut changed = args(&["--out", &b2, "--resume", &checkpoint, "--overwrite"]);
+                    changed.extend(other.iter().map(|s| (*s).to_owned()));
+                    let changed = run(program, &changed, dir, limit);
+                    if changed.ok || !changed.stderr.contains("tolerance") {
+                        fail(format!(
+                            "--overwrite with another tolerance: {}",
+                            changed.stderr
+                        ));
+                    }
+                    if snapshot(&dir.join(&b2)) != before {
+                        fail("B's copy was changed by a checkpoint of other parameters".into());
                     }
                     let overwrite = go(&["--out", &b2, "--resume", &checkpoint, "--overwrite"]);
                     if !overwrite.ok {

@@ -105,7 +105,9 @@ def run_case(exe, prog, flag, value, idx):
             "stderr": err[-600:], "nan_files": nan_files}
 
 def main():
-    bindir, mainjob, outpath = sys.argv[1], sys.argv[2], sys.argv[3]
+    # Absolute paths: each case runs in a folder of its own.
+    bindir, mainjob = (os.path.abspath(p) for p in sys.argv[1:3])
+    outpath = sys.argv[3]
     only = sys.argv[4:] or PROGRAMS
     bindir = bindir.rstrip("/") + "/"
     results = []; idx = 0

@@ -32,7 +32,7 @@
 //! not unions of its children's), so an octree mesh is not a multigrid hierarchy:
 //! [`BisectionMesh::hierarchy`](crate::BisectionMesh::hierarchy) is.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use crate::mesh::TetrahedronMesh;
 use crate::{Error, Result};
@@ -130,7 +130,7 @@ impl OctreeMesh {
     pub fn new(lower: [f64; 3], upper: [f64; 3], root: f64) -> Result<Self> {
         let counts = crate::structured::root_cells(lower, upper, root)?;
         let unit = 1u64 << MAX_LEVEL;
-        let mut leaves = HashSet::new();
+        let mut leaves = HashSet::default();
         for k in 0..counts[2] {
             for j in 0..counts[1] {
                 for i in 0..counts[0] {
@@ -211,7 +211,7 @@ impl OctreeMesh {
                     "octree balancing did not end after {MAX_PASSES} passes"
                 )));
             }
-            let mut split = HashSet::new();
+            let mut split = HashSet::default();
             for cube in self.sorted_leaves() {
                 for neighbour in self.coarse_neighbours(&cube) {
                     split.insert(neighbour);
@@ -294,6 +294,25 @@ impl OctreeMesh {
         out
     }
 
+    /// The number of vertices [`into_mesh`](Self::into_mesh) makes, counted without making
+    /// the mesh: every leaf's corners, and the centre of each transition cube (a cube with a
+    /// finer neighbour's vertex on its boundary). Its cost is the corners' set and one pass
+    /// of the face rule, with no tetrahedra, index or orientation; a plan counts a large
+    /// graded box's vertices so (issue 87: the largest BP5 box at 20 km meshed for 2.4 s).
+    pub fn num_vertices(&self) -> usize {
+        let leaves = self.sorted_leaves();
+        let lattice = corners(&leaves);
+        let mut triangles: Vec<[[u64; 3]; 3]> = Vec::with_capacity(48);
+        let transitions = leaves
+            .iter()
+            .filter(|cube| {
+                triangles.clear();
+                cube_faces(cube.xyz(), cube.size(), &lattice, &mut triangles)
+            })
+            .count();
+        lattice.len() + transitions
+    }
+
     /// The conforming mesh (module docs; [`TetrahedronMesh::from_ordered_cells`]: each
     /// cell stored positively oriented; no tags). Vertices are numbered as the leaves are
     /// visited (corners `z`, `y`, `x` increasing), so the mesh is the same on every machine.
@@ -302,19 +321,9 @@ impl OctreeMesh {
     /// Those of [`TetrahedronMesh::from_ordered_cells`] (none for a mesh made here).
     pub fn into_mesh(self) -> Result<TetrahedronMesh> {
         let leaves = self.sorted_leaves();
-        // Every leaf corner is a vertex of the mesh; a transition cube's centre is too.
-        let mut lattice: HashSet<[u64; 3]> = HashSet::with_capacity(2 * leaves.len());
-        for cube in &leaves {
-            let (c, h) = (cube.xyz(), cube.size());
-            for n in 0..8u64 {
-                lattice.insert([
-                    c[0] + h * (n & 1),
-                    c[1] + h * ((n >> 1) & 1),
-                    c[2] + h * (n >> 2),
-                ]);
-            }
-        }
-        let mut index: HashMap<[u64; 3], usize> = HashMap::with_capacity(lattice.len());
+        let lattice = corners(&leaves);
+        let mut index: HashMap<[u64; 3], usize> =
+            HashMap::with_capacity_and_hasher(lattice.len(), Default::default());
         let mut vertices: Vec<[f64; 3]> = Vec::with_capacity(lattice.len());
         let mut vertex = |p: [u64; 3], vertices: &mut Vec<[f64; 3]>| -> usize {
             *index.entry(p).or_insert_with(|| {
@@ -358,6 +367,24 @@ impl OctreeMesh {
         }
         TetrahedronMesh::from_ordered_cells(vertices, cells)
     }
+}
+
+/// The corners of `leaves`: every one is a vertex of the mesh (a transition cube's centre
+/// is one too).
+fn corners(leaves: &[Cube]) -> HashSet<[u64; 3]> {
+    let mut lattice: HashSet<[u64; 3]> =
+        HashSet::with_capacity_and_hasher(2 * leaves.len(), Default::default());
+    for cube in leaves {
+        let (c, h) = (cube.xyz(), cube.size());
+        for n in 0..8u64 {
+            lattice.insert([
+                c[0] + h * (n & 1),
+                c[1] + h * ((n >> 1) & 1),
+                c[2] + h * (n >> 2),
+            ]);
+        }
+    }
+    lattice
 }
 
 /// The triangles of the six faces of the cube at `c` with edge `h` by the face rule (module

@@ -17,3 +17,12 @@ pub(crate) fn text(at: &Location, name: &str, value: &str) -> hdf5::Result<()> {
         .create(name)?
         .write_scalar(&value)
 }
+
+/// The text attribute `name` of `at`, if it has one.
+pub(crate) fn read_text(at: &Location, name: &str) -> hdf5::Result<Option<String>> {
+    if !at.attr_names()?.iter().any(|n| n == name) {
+        return Ok(None);
+    }
+    let value: VarLenUnicode = at.attr(name)?.read_scalar()?;
+    Ok(Some(value.as_str().to_owned()))
+}

@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use hdf5::{Dataset, Extent, File};
+use rsf::checkpoint::Fingerprint;
 use rsf::observe::{point_fields, refuse_existing, FileMode, POINT_FIELDS};
 use rsf::{Flow, Observer, StepView};
 
@@ -46,6 +47,8 @@ use crate::error::{h5_at, show_path, Error, Result};
 pub struct Hdf5Fields {
     path: PathBuf,
     mode: FileMode,
+    /// The run's fingerprint, recorded in a new file ([`fingerprint`](Self::fingerprint)).
+    fingerprint: Option<Fingerprint>,
     /// Whether the file holds the mesh (created, or continued after a checkpoint).
     started: bool,
     frames: usize,
@@ -77,6 +80,7 @@ impl Hdf5Fields {
         let mut fields = Self {
             path,
             mode,
+            fingerprint: None,
             started: false,
             frames: 0,
         };
@@ -84,6 +88,42 @@ impl Hdf5Fields {
             fields.resume(step)?;
         }
         Ok(fields)
+    }
+
+    /// The fields file of a run whose checkpoints carry `fingerprint`: a new file records
+    /// it (the attribute `fingerprint` of `/`, JSON pairs `[field, value]`), so that a
+    /// resume can tell the file's run ([`continue_run`](Self::continue_run)).
+    pub fn fingerprint(mut self, fingerprint: Fingerprint) -> Self {
+        self.fingerprint = Some(fingerprint);
+        self
+    }
+
+    /// Fields continued in `path` after the checkpoint `c`, once the file itself shows that
+    /// it holds the checkpoint's run (a file has no manifest naming its run): the run's
+    /// fingerprint it recorded ([`fingerprint`](Self::fingerprint)) is the checkpoint's
+    /// (fields in `allowed` may differ), and its frame of the checkpoint's step is at the
+    /// checkpoint's time and holds the checkpoint's state `α` on Γ_F, bit for bit — then
+    /// the frames after that step are cut, as [`FileMode::Resume`] does, so that the file
+    /// ends as the uninterrupted run's. A checkpoint of step 0 keeps no frame and needs no
+    /// proof. The continued file records `c`'s fingerprint. (Issue 87: a file of another
+    /// run, continued, would hold two runs' frames.)
+    ///
+    /// # Errors
+    /// [`Error::Resume`] naming the file: missing or not such a file; another run's
+    /// fingerprint; no frame at the checkpoint's step (write checkpoints at frame steps); a
+    /// frame of another time or state (another run's file) — nothing in the file changed
+    /// then.
+    pub fn continue_run(
+        path: impl Into<PathBuf>,
+        c: &rsf::Checkpoint,
+        allowed: &[&str],
+    ) -> Result<Self> {
+        let path = path.into();
+        let step = c.state.step;
+        if step > 0 {
+            prove_run(&path, c, allowed)?;
+        }
+        Ok(Self::new(path, FileMode::Resume { step })?.fingerprint(c.fingerprint.clone()))
     }
 
     /// The Xdmf index's path: the file's with the extension `.xmf`.
@@ -146,6 +186,11 @@ impl Hdf5Fields {
         write(&file, "mesh/cells", &cells, &[cells.len() / (D + 1), D + 1]).map_err(&err)?;
         write(&file, "mesh/fault_nodes", &fault, &[fault.len()]).map_err(&err)?;
         file.create_group("fields").map_err(&err)?;
+        if let Some(fingerprint) = &self.fingerprint {
+            let pairs = serde_json::to_string(&fingerprint.0)
+                .map_err(|e| err(hdf5::Error::from(e.to_string())))?;
+            crate::attributes::text(&file, "fingerprint", &pairs).map_err(&err)?;
+        }
         self.started = true;
         Ok(file)
     }
@@ -246,6 +291,75 @@ impl Hdf5Fields {
         self.frames += 1;
         Ok(times)
     }
+}
+
+/// Checks that the fields file `path` holds the run of the checkpoint `c` (step > 0): its
+/// frame of `c`'s step at `c`'s time with `c`'s state on Γ_F (`fields/state_alpha` at
+/// `mesh/fault_nodes`), bit for bit ([`Hdf5Fields::continue_run`]).
+fn prove_run(path: &std::path::Path, c: &rsf::Checkpoint, allowed: &[&str]) -> Result<()> {
+    let refuse = |reason: String| Error::Resume {
+        path: show_path(path),
+        reason,
+    };
+    let fail_h5 = |e: hdf5::Error| refuse(e.to_string());
+    let (step, time) = (c.state.step, c.state.time);
+    let file = File::open(path).map_err(fail_h5)?;
+    if let Some(text) = crate::attributes::read_text(&file, "fingerprint").map_err(fail_h5)? {
+        let pairs: Vec<(String, String)> = serde_json::from_str(&text)
+            .map_err(|e| refuse(format!("its attribute `fingerprint`: {e}")))?;
+        if let Err(e) = c.fingerprint.check(&Fingerprint(pairs), allowed) {
+            return Err(refuse(format!(
+                "it holds the fields of another run than the checkpoint's ({e}); write the \
+                 resumed run's fields to a new file"
+            )));
+        }
+    }
+    let steps: Vec<u64> = file
+        .dataset("step")
+        .and_then(|d| d.read_raw())
+        .map_err(fail_h5)?;
+    let Some(frame) = steps.iter().position(|&s| s as usize == step) else {
+        return Err(refuse(format!(
+            "it has no frame of the checkpoint's step {step} (its frames: {} of steps {}–{}),              so it cannot show that it holds the checkpoint's run: resume from a checkpoint              written at a frame's step (a multiple of the frame interval)",
+            steps.len(),
+            steps.first().copied().unwrap_or(0),
+            steps.last().copied().unwrap_or(0)
+        )));
+    };
+    let times: Vec<f64> = file
+        .dataset("time")
+        .and_then(|d| d.read_raw())
+        .map_err(fail_h5)?;
+    let at = times.get(frame).copied().unwrap_or(f64::NAN);
+    if at.to_bits() != time.to_bits() {
+        return Err(refuse(format!(
+            "its frame of step {step} is at t = {at:e} s, the checkpoint's at t = {time:e} s:              the file holds another run; write the resumed run's fields to a new file"
+        )));
+    }
+    let nodes: Vec<u64> = file
+        .dataset("mesh/fault_nodes")
+        .and_then(|d| d.read_raw())
+        .map_err(fail_h5)?;
+    let alpha: Vec<f64> = file
+        .dataset("fields/state_alpha")
+        .and_then(|d| {
+            let row: Vec<hdf5::SliceOrIndex> = vec![frame.into(), (..).into()];
+            d.read_slice_1d(hdf5::Hyperslab::from(row))
+        })
+        .map_err(fail_h5)?
+        .to_vec();
+    let same = nodes.len() == c.state.alpha.len()
+        && nodes.iter().zip(&c.state.alpha).all(|(&n, a)| {
+            alpha
+                .get(n as usize)
+                .is_some_and(|x| x.to_bits() == a.to_bits())
+        });
+    if !same {
+        return Err(refuse(format!(
+            "its frame of step {step} holds another state on the fault than the checkpoint:              the file holds another run; write the resumed run's fields to a new file"
+        )));
+    }
+    Ok(())
 }
 
 /// Writes `data` (of `shape`) as the new dataset `name` of `file`.

@@ -2,7 +2,7 @@
 //! back (vtkio, hdf5-metno) the file's mesh and every frame's fields equal the VTU frames'
 //! values bit for bit, the time axis is the frames', each field names its unit, and the
 //! Xdmf index references datasets that exist with the dimensions it declares. A resume cuts
-//! the frames after the checkpoint.
+//! the frames after the checkpoint, once the file shows it holds the checkpoint's run.
 
 use rsf::observe::{Every, FileMode, Interval, VtuFrames};
 use rsf_hdf5::Hdf5Fields;
@@ -202,7 +202,9 @@ fn a_resumed_hdf5_file_equals_the_uninterrupted_runs() {
     drop(fields);
     // A run checkpointed at step 2 and stopped after step 3, resumed from the checkpoint.
     let mut first = scene().build().unwrap();
-    let mut fields = Hdf5Fields::new(&part, FileMode::Create).unwrap();
+    let mut fields = Hdf5Fields::new(&part, FileMode::Create)
+        .unwrap()
+        .fingerprint(scene().fingerprint());
     first.run(2, &mut [&mut fields]).unwrap();
     let checkpoint = rsf::Stepping::checkpoint(&first);
     first.run(1, &mut [&mut fields]).unwrap();
@@ -212,9 +214,55 @@ fn a_resumed_hdf5_file_equals_the_uninterrupted_runs() {
         f.dataset("step").unwrap().read_raw().unwrap()
     };
     assert_eq!(steps(&part), [1, 2, 3]);
+    // The file proves it holds the checkpoint's run (issue 87), the file byte-identical
+    // after each refusal: a checkpoint of another run's parameters (faster loading) by the
+    // fingerprint the file recorded; one of another state at the same step and time (the
+    // run's own fingerprint, another α) by the frame's state; one of a step without a frame.
+    let bytes = std::fs::read(&part).unwrap();
+    let other_scene = Slider3dScene {
+        slider: SliderScene {
+            loading_velocity_m_per_s: 3e-2,
+            ..scene().slider
+        },
+        ..scene()
+    };
+    let mut other = other_scene.build().unwrap();
+    other.run(2, &mut []).unwrap();
+    let mut other = rsf::Stepping::checkpoint(&other);
+    other.fingerprint = other_scene.fingerprint();
+    let e = Hdf5Fields::continue_run(&part, &other, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("another run") && e.contains("loading_velocity"),
+        "{e}"
+    );
+    let mut shifted = checkpoint.clone();
+    shifted.fingerprint = scene().fingerprint();
+    shifted.state.alpha[0] += 1e-9;
+    let e = Hdf5Fields::continue_run(&part, &shifted, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("another state"), "{e}");
+    let mut early = shifted.clone();
+    early.state.step = 7;
+    let e = Hdf5Fields::continue_run(&part, &early, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no frame of the checkpoint's step 7"), "{e}");
+    let mut later = checkpoint.clone();
+    later.fingerprint = scene().fingerprint();
+    later.state.time *= 1.0 + 1e-12;
+    let e = Hdf5Fields::continue_run(&part, &later, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("another run") && e.contains("t = "), "{e}");
+    assert_eq!(std::fs::read(&part).unwrap(), bytes);
+    let mut checkpoint = checkpoint;
+    checkpoint.fingerprint = scene().fingerprint();
     let mut resumed = scene().build().unwrap();
     rsf::Stepping::restore(&mut resumed, &checkpoint).unwrap();
-    let mut fields = Hdf5Fields::new(&part, FileMode::Resume { step: 2 }).unwrap();
+    let mut fields = Hdf5Fields::continue_run(&part, &checkpoint, &[]).unwrap();
     resumed.run(2, &mut [&mut fields]).unwrap();
     drop(fields);
     let (a, b) = (

@@ -182,6 +182,28 @@ fn outputs(pair: &Bp5Pair) -> Vec<String> {
     names
 }
 
+impl Args {
+    /// What a checkpoint continues: the two strands, the grid and what changes the
+    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
+    /// changes).
+    ///
+    /// # Errors
+    /// None today; a `Result` as the other programs' (the plan's `?`).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let (pair, _) = scene(self);
+        Ok(self.integrator.fingerprint(
+            crate::cli::with_box_and_end(
+                Fingerprint::of_serialized(&pair).with("kernel", self.kernel),
+                (self.dx, self.domain_km, self.ratio),
+                self.end_years,
+                self.tolerance,
+            )
+            .with("epsilon", self.epsilon)
+            .with("ordering", self.ordering),
+        ))
+    }
+}
+
 impl Program for Args {
     const NAME: &'static str = "bp5_pair";
 
@@ -276,7 +298,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -342,17 +365,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     println!("S: {}", ode.kernel_report());
     let setup = (clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
     println!("set-up: wall {:.1} s, CPU {:.1} s", setup.0, setup.1);
-    let fingerprint = args.integrator.fingerprint(
-        Fingerprint::of_serialized(&pair)
-            .with("kernel", args.kernel)
-            .with("dx", args.dx)
-            .with("domain_km", args.domain_km)
-            .with("ratio", args.ratio)
-            .with("end_years", args.end_years)
-            .with("tolerance", args.tolerance)
-            .with("epsilon", args.epsilon)
-            .with("ordering", args.ordering),
-    );
+    let fingerprint = args.fingerprint()?;
     let outcome = crate::network::run_network(
         &mut ode,
         &pair.stations(),

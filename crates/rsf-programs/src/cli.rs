@@ -757,3 +757,21 @@ impl KernelArgs {
         }
     }
 }
+
+/// `fingerprint` with the fields a run in a graded box shares (`seas_bp3`, `stepover`,
+/// `bp5_pair`), in this order: `dx`, `domain_km`, `ratio` (the box's flags), `end_years`
+/// and `tolerance`.
+#[cfg(feature = "seas")]
+pub fn with_box_and_end(
+    fingerprint: rsf::checkpoint::Fingerprint,
+    (dx, domain_km, ratio): (f64, f64, f64),
+    end_years: f64,
+    tolerance: f64,
+) -> rsf::checkpoint::Fingerprint {
+    fingerprint
+        .with("dx", dx)
+        .with("domain_km", domain_km)
+        .with("ratio", ratio)
+        .with("end_years", end_years)
+        .with("tolerance", tolerance)
+}

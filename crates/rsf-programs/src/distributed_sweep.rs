@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 
 use crate::cli::step_count;
-use crate::guard::{refuse, AnyError, Folder, Limits, Plan, Program};
+use crate::guard::{in_range, refuse, AnyError, Folder, Limits, Plan, Program};
 
 /// The file a run writes into `--out`: the solution's values after the last repetition
 /// (every rank's owned values gathered in global order, node-major, little-endian f64).
@@ -23,11 +23,18 @@ pub const BOX_BYTES_PER_VERTEX: f64 = 6e3;
 /// Bytes of a process before any model: the MPI library, the program and its threads.
 pub const PROCESS_BYTES: f64 = 100e6;
 
-/// The most sweeps (or cycles) per repetition and repetitions of a run: it is a timing
-/// run (seconds to minutes), and more is a typo.
-pub const MAX_SWEEPS: usize = 1_000_000;
-/// See [`MAX_SWEEPS`].
-pub const MAX_REPETITIONS: usize = 10_000;
+// The sweeps (or cycles) per repetition and the repetitions of a run: it is a timing run
+// (seconds to minutes), and more is a typo. One pair of literals for the help and the check.
+crate::guard::flag_range!(
+    pub SWEEPS,
+    SWEEPS_HELP = "Sweeps per repetition (`--vcycle`: V(1,1)-cycles)",
+    [1, 1e6]
+);
+crate::guard::flag_range!(
+    pub REPETITIONS,
+    REPETITIONS_HELP = "Repetitions from the same start, each timed",
+    [1, 1e4]
+);
 
 /// The distributed smoother on MPI ranks: linear block Gauss–Seidel sweeps (or V-cycles,
 /// or TNNMG solves) of a refined elastic box partitioned by METIS.
@@ -37,11 +44,9 @@ pub struct Args {
     /// Refinements of the 5 × 3 × 3 box of cubes (`ElasticBox::bar`).
     #[arg(long, default_value_t = 2)]
     pub refinements: usize,
-    /// Sweeps per repetition (`--vcycle`: V(1,1)-cycles); at most 1e6.
-    #[arg(long, default_value = "6", value_parser = step_count)]
+    #[arg(long, default_value = "6", value_parser = step_count, help = SWEEPS_HELP)]
     pub sweeps: usize,
-    /// Repetitions from the same start, each timed; at most 1e4.
-    #[arg(long, default_value = "1", value_parser = step_count)]
+    #[arg(long, default_value = "1", value_parser = step_count, help = REPETITIONS_HELP)]
     pub repetitions: usize,
     /// Output folder: the solution after the last repetition (`values.bin`, node-major
     /// little-endian f64) and the run's manifest.
@@ -115,20 +120,18 @@ impl Program for Args {
         if self.tnnmg && (self.vcycle || self.reference) {
             return Err("--tnnmg: takes neither --vcycle nor --reference".into());
         }
-        if self.sweeps > MAX_SWEEPS {
-            return Err(refuse(
-                "--sweeps",
-                self.sweeps,
-                "at most 1e6 per repetition (a timing run)",
-            ));
-        }
-        if self.repetitions > MAX_REPETITIONS {
-            return Err(refuse(
-                "--repetitions",
-                self.repetitions,
-                "at most 1e4 (a timing run)",
-            ));
-        }
+        in_range(
+            "--sweeps",
+            self.sweeps as f64,
+            SWEEPS,
+            "per repetition (a timing run)",
+        )?;
+        in_range(
+            "--repetitions",
+            self.repetitions as f64,
+            REPETITIONS,
+            "(a timing run)",
+        )?;
         if let Some(l) = self.levels {
             if l == 0 || l > self.refinements.saturating_add(1) {
                 return Err(refuse(

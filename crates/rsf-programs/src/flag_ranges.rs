@@ -381,6 +381,29 @@ mod tests {
             ]
             .concat(),
         ));
+        wrong.extend(check::<crate::distributed_sweep::Args>(
+            &[],
+            &[],
+            &[
+                SHARED_NONE,
+                &[
+                    (
+                        "--refinements",
+                        "any count: bounded by the memory estimate (--max-memory-gb), which \
+                         states it",
+                    ),
+                    (
+                        "--levels",
+                        "in [1, R + 1], R the --refinements, stated in the refusal",
+                    ),
+                    (
+                        "--thread-ranks",
+                        "a thread count, checked against the machine as --threads",
+                    ),
+                ],
+            ]
+            .concat(),
+        ));
         let probes = PROBES.load(std::sync::atomic::Ordering::Relaxed);
         eprintln!("{probes} values planned at the stated bounds");
         assert!(probes >= 150, "only {probes} probes");

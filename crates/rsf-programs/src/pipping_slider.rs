@@ -132,8 +132,23 @@ impl Program for Cli {
                 Folder::new("--out", &self.out, &OUTPUTS)
                     .overwrite(self.folder.overwrite)
                     .resume_from(self.resume.as_deref())
-                    .allow_change(&self.folder.allow_change),
+                    .allow_change(&self.folder.allow_change)
+                    .fingerprint(self.fingerprint(&scene)),
             ))
+    }
+}
+
+impl Cli {
+    /// What a checkpoint continues: the scene and, besides it, what changes the files —
+    /// the profile window and the frame spacing (a resume with another window would mix
+    /// two windows in the profile). The plan's too: a checkpoint is checked against it
+    /// before the folder changes.
+    fn fingerprint(&self, scene: &SliderScene) -> rsf::checkpoint::Fingerprint {
+        let (w0, w1) = self.window(scene.end_time_s);
+        scene
+            .fingerprint()
+            .with("window", format!("{w0:e},{w1:e}"))
+            .with("frame_every", self.frames.frame_every.unwrap_or(0))
     }
 }
 
@@ -217,10 +232,7 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     }
     // Besides the scene, what changes the files: the profile window and the frame
     // spacing (a resume with another window would mix two windows in the profile).
-    let fingerprint = scene
-        .fingerprint()
-        .with("window", format!("{w0:e},{w1:e}"))
-        .with("frame_every", cli.frames.frame_every.unwrap_or(0));
+    let fingerprint = cli.fingerprint(&scene);
     // Everything is checked before any file is touched: folder (the guard), checkpoint,
     // rows.
     let session = Session::start(

@@ -149,6 +149,28 @@ fn outputs() -> Vec<String> {
     names
 }
 
+impl Args {
+    /// What a checkpoint continues: the scene, the grid and what changes the trajectory
+    /// (the plan's too: a checkpoint is checked against it before the folder changes).
+    ///
+    /// # Errors
+    /// The kernel's (`--kernel-epsilon`).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let (bp3, _) = scene(self);
+        Ok(self.integrator.fingerprint(
+            crate::cli::with_box_and_end(
+                Fingerprint::of_serialized(&bp3.params)
+                    .with("dip_degrees", self.dip)
+                    .with("normal_faulting", bp3.normal_faulting),
+                (self.dx, self.domain_km, self.ratio),
+                self.end_years,
+                self.tolerance,
+            )
+            .with("kernel", self.kernel.kernel(self.tolerance)?),
+        ))
+    }
+}
+
 impl Program for Args {
     const NAME: &'static str = "seas_bp3";
 
@@ -221,7 +243,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -295,18 +318,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         date: args.header.date_or_today(),
         ..bp3.seas_setup(args.dx, SeasSampling::default())
     };
-    // What a checkpoint continues: the scene, the grid and what changes the trajectory.
-    let fingerprint = args.integrator.fingerprint(
-        Fingerprint::of_serialized(&bp3.params)
-            .with("dip_degrees", args.dip)
-            .with("normal_faulting", bp3.normal_faulting)
-            .with("dx", args.dx)
-            .with("domain_km", args.domain_km)
-            .with("ratio", args.ratio)
-            .with("end_years", args.end_years)
-            .with("tolerance", args.tolerance)
-            .with("kernel", options.kernel),
-    );
+    let fingerprint = args.fingerprint()?;
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
     let session = Session::start(

@@ -178,6 +178,18 @@ pub(crate) struct Args {
 }
 
 impl Args {
+    /// What a checkpoint continues: the scene, the variant, the cell and what changes the
+    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
+    /// changes).
+    ///
+    /// # Errors
+    /// The variant's and the kernel's (as the plan names them).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        // The scene's fingerprint of the run's settings (the integrator of the fault ODE
+        // runs only), which the Python package's `rsf.seas_bp6` computes too.
+        Ok(self.settings()?.fingerprint(&SeasBp6::default()))
+    }
+
     fn variant(&self) -> Result<Bp6Variant, AnyError> {
         self.variant
             .parse()
@@ -410,7 +422,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -435,9 +448,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         element_size: args.dz,
         ..bp6.seas_setup(variant, args.dz)
     };
-    // The scene's fingerprint of the run (the integrator of the fault ODE runs only),
-    // which the Python package's `rsf.seas_bp6` computes too.
-    let fingerprint = args.settings()?.fingerprint(&bp6);
+    let fingerprint = args.fingerprint()?;
     let common = Common {
         args: &args,
         folder,

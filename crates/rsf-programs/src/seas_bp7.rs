@@ -93,6 +93,22 @@ pub(crate) struct Args {
 }
 
 impl Args {
+    /// What a checkpoint continues: the scene, the law, the cell and what changes the
+    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
+    /// changes).
+    ///
+    /// # Errors
+    /// The law's (`--law`).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let fingerprint = Fingerprint::of_serialized(&self.scene())
+            .with("law", self.law()?.name())
+            .with("dx", self.dx)
+            .with("tolerance", self.tolerance)
+            .with("end_years", self.end_years)
+            .with("station_interval", self.station_interval);
+        Ok(self.integrator.fingerprint(fingerprint))
+    }
+
     fn law(&self) -> Result<Bp7Law, AnyError> {
         self.law
             .parse()
@@ -170,7 +186,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -210,13 +227,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         layout: SeasLayout::default(),
         surface_stations: Vec::new(),
     };
-    let fingerprint = Fingerprint::of_serialized(&bp7)
-        .with("law", law.name())
-        .with("dx", args.dx)
-        .with("tolerance", args.tolerance)
-        .with("end_years", args.end_years)
-        .with("station_interval", args.station_interval);
-    let fingerprint = args.integrator.fingerprint(fingerprint);
+    let fingerprint = args.fingerprint()?;
     println!(
         "BP7-QD-{}, Δx = {} m, D_RS = {} mm, whole space (FFT boundary elements); on {}",
         law.name(),

@@ -108,6 +108,24 @@ pub(crate) struct Args {
 }
 
 impl Args {
+    /// What a checkpoint continues: the scene, the source, the cell and what changes the
+    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
+    /// changes).
+    ///
+    /// # Errors
+    /// The source's (`--source`).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let fingerprint = Fingerprint::of_serialized(&SeasBp8::default())
+            .with("source", self.source()?.name())
+            .with("dx", self.dx)
+            .with("tolerance", self.tolerance)
+            .with("overpressure", format!("{:?}", self.overpressure()))
+            .with("end_days", self.end_days)
+            .with("station_interval", self.station_interval)
+            .with("profile_interval", self.profile_interval);
+        Ok(self.integrator.fingerprint(fingerprint))
+    }
+
     fn source(&self) -> Result<Bp8Source, AnyError> {
         self.source
             .parse()
@@ -215,7 +233,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -254,15 +273,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         layout: SeasLayout::default(),
         surface_stations: Vec::new(),
     };
-    let fingerprint = Fingerprint::of_serialized(&bp8)
-        .with("source", source.name())
-        .with("dx", args.dx)
-        .with("tolerance", args.tolerance)
-        .with("overpressure", format!("{policy:?}"))
-        .with("end_days", args.end_days)
-        .with("station_interval", args.station_interval)
-        .with("profile_interval", args.profile_interval);
-    let fingerprint = args.integrator.fingerprint(fingerprint);
+    let fingerprint = args.fingerprint()?;
     println!(
         "BP8-QD-{}, Δx = {} m, whole space (FFT boundary elements), {policy:?}; on {}",
         source.name(),

@@ -142,6 +142,27 @@ fn station_row_bytes() -> f64 {
     csv_row_bytes(6)
 }
 
+impl Args {
+    /// What a checkpoint continues: the two strands, the grid and what changes the
+    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
+    /// changes).
+    ///
+    /// # Errors
+    /// The kernel's (`--kernel-epsilon`).
+    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let (stepover, _) = scene(self);
+        Ok(self.integrator.fingerprint(
+            crate::cli::with_box_and_end(
+                Fingerprint::of_serialized(&stepover),
+                (self.dx, self.domain_km, self.ratio),
+                self.end_years,
+                self.tolerance,
+            )
+            .with("kernel", self.kernel.kernel(self.tolerance)?),
+        ))
+    }
+}
+
 impl Program for Args {
     const NAME: &'static str = "stepover";
 
@@ -218,7 +239,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }
@@ -256,15 +278,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         clock.elapsed().as_secs_f64(),
         cpu_seconds() - cpu0
     );
-    let fingerprint = args.integrator.fingerprint(
-        Fingerprint::of_serialized(&stepover)
-            .with("dx", args.dx)
-            .with("domain_km", args.domain_km)
-            .with("ratio", args.ratio)
-            .with("end_years", args.end_years)
-            .with("tolerance", args.tolerance)
-            .with("kernel", options.kernel),
-    );
+    let fingerprint = args.fingerprint()?;
     let outcome = crate::network::run_network(
         &mut ode,
         &stepover.stations(),

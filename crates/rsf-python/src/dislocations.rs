@@ -3,24 +3,15 @@
 //! triangle, each in a half-space or the whole space — for checks against other
 //! implementations and for Green's functions of your own.
 
-use numpy::{
-    IntoPyArray, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods,
-};
+use numpy::{IntoPyArray, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::prelude::*;
 use rsf::halfspace::{Element, Medium, RectangleElement, Space, Triangle};
 
 use crate::errors::invalid;
 
-/// The points of an `(n, 3)` array.
-fn points(points: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 3]>> {
-    if points.shape()[1] != 3 {
-        return Err(invalid(
-            "points",
-            format!("shape (n, 3), not {:?}", points.shape()),
-        ));
-    }
-    Ok(points
-        .as_array()
+/// The points of an `(n, 3)` array-like, refused naming `name` otherwise.
+fn points(name: &str, points: &Bound<'_, PyAny>) -> PyResult<Vec<[f64; 3]>> {
+    Ok(crate::arrays::reals_2d(name, points, Some(3))?
         .rows()
         .into_iter()
         .map(|r| [r[0], r[1], r[2]])
@@ -91,7 +82,7 @@ fn evaluate<'py>(
 )]
 pub(crate) fn rectangle_deformation<'py>(
     py: Python<'py>,
-    points: PyReadonlyArray2<'_, f64>,
+    points: &Bound<'_, PyAny>,
     centre: [f64; 3],
     strike: f64,
     dip: f64,
@@ -108,7 +99,14 @@ pub(crate) fn rectangle_deformation<'py>(
     element
         .check_space(space)
         .map_err(|e| invalid("rectangle", e))?;
-    evaluate(py, &element, &self::points(&points)?, slip, (mu, nu), space)
+    evaluate(
+        py,
+        &element,
+        &self::points("points", points)?,
+        slip,
+        (mu, nu),
+        space,
+    )
 }
 
 /// Displacement (m, shape `(n, 3)`) and stress (Pa, shape `(n, 3, 3)`, tension
@@ -125,14 +123,14 @@ pub(crate) fn rectangle_deformation<'py>(
 )]
 pub(crate) fn triangle_deformation<'py>(
     py: Python<'py>,
-    points: PyReadonlyArray2<'_, f64>,
-    vertices: PyReadonlyArray2<'_, f64>,
+    points: &Bound<'_, PyAny>,
+    vertices: &Bound<'_, PyAny>,
     slip: [f64; 3],
     mu: f64,
     nu: f64,
     space: &str,
 ) -> PyResult<Arrays<'py>> {
-    let v = self::points(&vertices)?;
+    let v = self::points("vertices", vertices)?;
     let v: [[f64; 3]; 3] = v
         .try_into()
         .map_err(|_| invalid("vertices", "shape (3, 3)"))?;
@@ -144,7 +142,7 @@ pub(crate) fn triangle_deformation<'py>(
     evaluate(
         py,
         &triangle,
-        &self::points(&points)?,
+        &self::points("points", points)?,
         slip,
         (mu, nu),
         space,

@@ -2,11 +2,15 @@
 //! what the package records in memory ([`Recording`]) and the observer that lets Ctrl-C
 //! stop a run at a step boundary ([`Interrupt`]).
 
+use std::any::Any;
 use std::time::{Duration, Instant};
 
 use pyo3::prelude::*;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::{Checkpointer, EventDetector, EventThresholds, Every, Interval, Progress};
+use rsf::observe::{
+    Checkpointer, EventDetector, EventThresholds, Every, FaultCatalogue, Interval, NetworkEvent,
+    Progress,
+};
 use rsf::{Checkpoint, Flow, Observer, RunError, RunSummary, StepView, Stepping, Until};
 
 /// One row per accepted step and the fault's fields every `fault_every` steps, in memory,
@@ -36,6 +40,13 @@ pub(crate) struct Recording {
     pub shear_traction: Vec<f64>,
     /// The event catalogue.
     pub detector: EventDetector,
+    /// The shear modulus (Pa) of the catalogue across the faults of a network (moments),
+    /// `None` for a run without one.
+    pub network_rigidity: Option<f64>,
+    /// The catalogue across the faults ([`FaultCatalogue`] of the run's dimension and
+    /// components, kept as `Any`: the recording is not generic), started by
+    /// [`Engine::start_network`].
+    pub network: Option<Box<dyn Any>>,
 }
 
 impl Recording {
@@ -55,12 +66,26 @@ impl Recording {
             slip: Vec::new(),
             shear_traction: Vec::new(),
             detector: EventDetector::new(EventThresholds::default())?,
+            network_rigidity: None,
+            network: None,
         })
     }
 
-    /// Forgets the rows and records (the catalogue too): after a restore.
+    /// The same recording with the catalogue across the faults of a network, its moments
+    /// weighed by the shear modulus `rigidity` (Pa), its events detected with the same
+    /// thresholds as [`detector`](Self::detector)'s (started by
+    /// [`Engine::start_network`]).
+    pub fn with_network(mut self, rigidity: f64) -> Self {
+        self.network_rigidity = Some(rigidity);
+        self
+    }
+
+    /// Forgets the rows and records (the catalogues too, the network's to be started
+    /// again by [`Engine::start_network`]): after a restore.
     pub fn clear(&mut self) -> rsf::Result<()> {
+        let rigidity = self.network_rigidity;
         *self = Self::new(self.fault_every)?;
+        self.network_rigidity = rigidity;
         Ok(())
     }
 }
@@ -77,6 +102,15 @@ impl<const D: usize, const C: usize> Observer<D, C> for Recording {
         self.fixed_point_iterations
             .push(s.report.fixed_point_iterations as u64);
         self.detector.push(s.report.step, t, max, &[]);
+        if let Some(c) = self.network.as_mut() {
+            let c = c
+                .downcast_mut::<FaultCatalogue<D, C>>()
+                .expect("the network catalogue of the run's dimension");
+            let flow = c.observe(s)?;
+            if flow.is_break() {
+                return Ok(flow);
+            }
+        }
         if self.fault_every > 0 && s.report.step.is_multiple_of(self.fault_every) {
             self.fault_t.push(t);
             for k in 0..n {
@@ -161,8 +195,8 @@ pub(crate) struct Files {
     pub folder: Option<std::path::PathBuf>,
     /// The run id of the folder's manifest (empty: none).
     pub run_id: String,
-    /// A file the simulation writes outside a run folder (`slider_3d`'s `hdf5`), which no
-    /// resume continues yet.
+    /// A file the simulation writes outside a run folder (`slider_3d`'s `hdf5`), which only
+    /// the constructor's `resume=` continues (the file proving the checkpoint's run).
     pub file: Option<std::path::PathBuf>,
 }
 
@@ -194,6 +228,11 @@ pub(crate) trait DynEngine {
     fn recording(&self) -> &Recording;
     /// Dimension, components and fault nodes' coordinates (fault-node-major, `D` each).
     fn shape(&self) -> (usize, usize, Vec<f64>);
+    /// The faults' names and the fault of every fault node (an index into the names).
+    fn faults(&self) -> (Vec<String>, Vec<usize>);
+    /// The catalogue across the faults: their names and the events, `None` for a run
+    /// without one.
+    fn network(&self) -> Option<(&[String], &[NetworkEvent])>;
     /// The mesh: vertex coordinates (`D` each) and cells (`D + 1` vertices each).
     fn mesh(&self) -> (Vec<f64>, Vec<usize>);
     /// The displacement and velocity at every vertex (Cartesian, `C` each).
@@ -237,6 +276,22 @@ where
 {
     fn greens(&mut self) -> Option<rsf::Result<Greens<'_>>> {
         None
+    }
+}
+
+impl<const D: usize, const C: usize, M: Stepping<D, C>> Engine<D, C, M> {
+    /// Starts the recording's catalogue across the faults anew (no events) where it keeps
+    /// one ([`Recording::with_network`]): at the start and after a restore.
+    ///
+    /// # Errors
+    /// [`FaultCatalogue::new`]'s (a shear modulus that is not finite and positive).
+    pub fn start_network(&mut self) -> rsf::Result<()> {
+        if let Some(mu) = self.recording.network_rigidity {
+            let c =
+                FaultCatalogue::<D, C>::new(self.sim.model(), EventThresholds::default(), |_| mu)?;
+            self.recording.network = Some(Box::new(c));
+        }
+        Ok(())
     }
 }
 
@@ -312,7 +367,8 @@ impl<const D: usize, const C: usize, M: Stepping<D, C> + WithFaultOperator> DynE
     fn restore(&mut self, c: &Checkpoint) -> rsf::Result<()> {
         c.fingerprint.check(&self.fingerprint, &[])?;
         self.sim.restore(c)?;
-        self.recording.clear()
+        self.recording.clear()?;
+        self.start_network()
     }
 
     fn recording(&self) -> &Recording {
@@ -328,6 +384,20 @@ impl<const D: usize, const C: usize, M: Stepping<D, C> + WithFaultOperator> DynE
             .flat_map(|&p| m.vertices[p])
             .collect();
         (D, C, x)
+    }
+
+    fn faults(&self) -> (Vec<String>, Vec<usize>) {
+        let fb = &self.sim.model().frictional_boundary;
+        (fb.fault_names.clone(), fb.fault_of.clone())
+    }
+
+    fn network(&self) -> Option<(&[String], &[NetworkEvent])> {
+        let c = self
+            .recording
+            .network
+            .as_ref()?
+            .downcast_ref::<FaultCatalogue<D, C>>()?;
+        Some((c.fault_names(), c.events()))
     }
 
     fn mesh(&self) -> (Vec<f64>, Vec<usize>) {

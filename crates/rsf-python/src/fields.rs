@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use pyo3::prelude::*;
+use rsf::checkpoint::Fingerprint;
 use rsf::observe::FileMode;
 
 use crate::errors::invalid;
@@ -14,6 +15,8 @@ use crate::errors::invalid;
 pub(crate) fn hdf5_observer<const D: usize>(
     path: Option<PathBuf>,
     every: usize,
+    fingerprint: &Fingerprint,
+    resumed: Option<(&rsf::Checkpoint, &[String])>,
 ) -> PyResult<Vec<Box<dyn rsf::Observer<D>>>> {
     use crate::errors::OrPy;
     use rsf::observe::{Every, Interval};
@@ -23,7 +26,16 @@ pub(crate) fn hdf5_observer<const D: usize>(
     if every == 0 {
         return Err(invalid("hdf5_every", "at least 1 (steps)"));
     }
-    let fields = rsf_hdf5::Hdf5Fields::new(&path, FileMode::Create).py()?;
+    let fields = match resumed {
+        // The file proves it holds the checkpoint's run before it is cut (issue 87).
+        Some((c, allowed)) => {
+            let allowed: Vec<&str> = allowed.iter().map(String::as_str).collect();
+            rsf_hdf5::Hdf5Fields::continue_run(&path, c, &allowed).py()?
+        }
+        None => rsf_hdf5::Hdf5Fields::new(&path, FileMode::Create)
+            .py()?
+            .fingerprint(fingerprint.clone()),
+    };
     Ok(vec![Box::new(
         Every::new(Interval::Steps(every), fields).py()?,
     )])
@@ -55,8 +67,10 @@ fn no_hdf5(argument: &str) -> PyErr {
 pub(crate) fn hdf5_observer<const D: usize>(
     path: Option<PathBuf>,
     every: usize,
+    fingerprint: &Fingerprint,
+    resumed: Option<(&rsf::Checkpoint, &[String])>,
 ) -> PyResult<Vec<Box<dyn rsf::Observer<D>>>> {
-    let _ = every;
+    let _ = (every, fingerprint, resumed);
     match path {
         None => Ok(Vec::new()),
         Some(_) => Err(no_hdf5("hdf5")),

@@ -5,11 +5,13 @@
 
 use pyo3::prelude::*;
 
+mod arrays;
 mod convert;
 mod dislocations;
 mod engine;
 mod errors;
 mod fields;
+mod network;
 mod problem;
 mod run_folder;
 mod scenes;

@@ -5,9 +5,11 @@
 
 use std::path::PathBuf;
 
-use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::ndarray::Array2;
+use numpy::{PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{Diagonal, SimplexMesh};
 use rsf::friction::{AsinhLaw, DieterichRuina, FrictionLaw, RateStateParams, Tresca};
 use rsf::state::BuiltinStateLaw;
@@ -16,9 +18,12 @@ use rsf::{
     TimeFunction,
 };
 
-use crate::convert::{fnv1a, per_node, PerNode};
-use crate::engine::{Engine, Files, Recording};
+use crate::convert::{fnv1a, PerNode};
+use crate::engine::{Engine, Files, Recording, WithFaultOperator};
 use crate::errors::{invalid, OrPy};
+use crate::network::{
+    explain, fault_nodes, fault_specs, faults_of, per_fault_node, FaultSpec, NetworkBuilder,
+};
 use crate::simulation::{End, Simulation};
 
 /// A 2-D (triangles) or 3-D (tetrahedra) mesh.
@@ -38,46 +43,39 @@ pub struct Mesh {
     mesh: AnyMesh,
 }
 
-fn points_of<const D: usize>(points: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; D]>> {
-    if points.shape()[1] != D {
-        return Err(invalid(
-            "points",
-            format!("shape (n, {D}), not {:?}", points.shape()),
-        ));
-    }
-    let a = points.as_array();
-    Ok(a.rows()
+/// The rows of `points` as `D`-vectors (its columns checked by the caller).
+fn points_of<const D: usize>(points: &Array2<f64>) -> Vec<[f64; D]> {
+    points
+        .rows()
         .into_iter()
         .map(|r| std::array::from_fn(|c| r[c]))
-        .collect())
+        .collect()
 }
 
 #[pymethods]
 impl Mesh {
     /// A mesh of `points` (m, shape `(n, 2)` or `(n, 3)`) and `cells` (vertex indices, shape
-    /// `(m, 3)` triangles or `(m, 4)` tetrahedra).
+    /// `(m, 3)` triangles or `(m, 4)` tetrahedra). Each may be any array-like numpy converts
+    /// (nested lists, `float32` points, `int32` or whole-float cells); the rest is refused
+    /// naming `points` or `cells`.
     #[new]
-    fn new(points: PyReadonlyArray2<'_, f64>, cells: PyReadonlyArray2<'_, i64>) -> PyResult<Self> {
-        let d = points.shape()[1];
-        if cells.shape()[1] != d + 1 {
+    fn new(points: &Bound<'_, PyAny>, cells: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let points = crate::arrays::reals_2d("points", points, None)?;
+        let d = points.ncols();
+        if !(2..=3).contains(&d) {
             return Err(invalid(
-                "cells",
+                "points",
                 format!(
-                    "shape (m, {}) for {d}-D points, not {:?}",
-                    d + 1,
-                    cells.shape()
+                    "2-D or 3-D points: shape (n, 2) or (n, 3), not {:?}",
+                    points.dim()
                 ),
             ));
         }
-        let c: Vec<usize> = cells
-            .as_array()
-            .iter()
-            .map(|&i| usize::try_from(i).map_err(|_| invalid("cells", format!("index {i}"))))
-            .collect::<PyResult<_>>()?;
+        let c = crate::arrays::indices_2d("cells", cells, d + 1)?;
+        let c: Vec<usize> = c.iter().copied().collect();
         let mesh = match d {
-            2 => AnyMesh::Two(SimplexMesh::new(points_of::<2>(&points)?, c).py_fem()?),
-            3 => AnyMesh::Three(SimplexMesh::new(points_of::<3>(&points)?, c).py_fem()?),
-            _ => return Err(invalid("points", "2-D or 3-D points")),
+            2 => AnyMesh::Two(SimplexMesh::new(points_of::<2>(&points), c).py_fem()?),
+            _ => AnyMesh::Three(SimplexMesh::new(points_of::<3>(&points), c).py_fem()?),
         };
         Ok(Self { mesh })
     }
@@ -240,6 +238,8 @@ fn describe(
 pub struct Model {
     model: AnyModel,
     description: String,
+    /// The material's shear modulus `E / (2 (1 + ν))` (Pa): the moments of the catalogue.
+    rigidity: f64,
 }
 
 #[derive(Clone)]
@@ -257,9 +257,14 @@ fn build_model<const D: usize>(
     material: Material,
     gravity: Option<Vec<f64>>,
     dirichlet: &[(Bound<'_, PyAny>, Vec<f64>)],
-    frictional_boundary: Option<&Bound<'_, PyAny>>,
+    fault: (Option<&Bound<'_, PyAny>>, &[FaultSpec]),
     ramp: Option<f64>,
-) -> PyResult<rsf::Model<D>> {
+) -> PyResult<rsf::Model<D>>
+where
+    ModelBuilder<D>: NetworkBuilder<D>,
+{
+    let (frictional_boundary, faults) = fault;
+    let coarse = (!faults.is_empty()).then(|| mesh.clone());
     let vector = |name: &str, v: &[f64]| -> PyResult<[f64; D]> {
         <[f64; D]>::try_from(v)
             .map_err(|_| invalid(name, format!("{D} components, not {}", v.len())))
@@ -279,10 +284,14 @@ fn build_model<const D: usize>(
     if let Some(f) = frictional_boundary {
         b = b.frictional_boundary(part::<D>(py, f)?);
     }
+    b = b.with_faults(faults);
     if let Some(t) = ramp {
         b = b.loading(TimeFunction::ramp(t));
     }
-    b.build().py()
+    b.build().map_err(|e| match coarse {
+        Some(mesh) => explain(e, mesh, refine, faults),
+        None => crate::errors::to_py(e),
+    })
 }
 
 #[pymethods]
@@ -295,8 +304,19 @@ impl Model {
     /// min(t / ramp, 1)` (s; constant 1 without `ramp`). A part is a tag (a Gmsh physical
     /// group) or `(name, predicate)`, the predicate a function of a facet's midpoint. The
     /// library's checks name the part or parameter at fault.
+    ///
+    /// `faults`: faults inside the body (a network: a stepover, parallel strands, a branch
+    /// or a crossing in 2-D; disjoint faults in 3-D), a list of `(name, points)` — in 2-D
+    /// `points` of shape `(k, 2)`, `k ≥ 2` (m): a segment or a polyline resolved by mesh
+    /// edges (`rsf::ModelBuilder::internal_fault_polyline`; the slip's direction from
+    /// `points[0]`, the plus side on its left); in 3-D `(k, 3)`, `k ≥ 3`: a convex planar
+    /// polygon's corners tiled by mesh faces (`internal_fault_polygon`). Beside or without a
+    /// `frictional_boundary` (its nodes after the faults'). Names are unique; a name, a
+    /// shape or a coordinate refused raises `InvalidParameterError`, a fault the mesh cannot
+    /// be cut along (not resolved, on the outer boundary, faults meeting in a junction the
+    /// network does not support) `ModelError` — both naming `faults` and the fault.
     #[new]
-    #[pyo3(signature = (mesh, *, youngs_modulus, poisson_ratio, density, refine=0, gravity=None, dirichlet=Vec::new(), frictional_boundary=None, ramp=None))]
+    #[pyo3(signature = (mesh, *, youngs_modulus, poisson_ratio, density, refine=0, gravity=None, dirichlet=Vec::new(), frictional_boundary=None, ramp=None, faults=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -309,7 +329,9 @@ impl Model {
         dirichlet: Vec<(Bound<'_, PyAny>, Vec<f64>)>,
         frictional_boundary: Option<Bound<'_, PyAny>>,
         ramp: Option<f64>,
+        faults: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let faults = fault_specs(faults.as_ref(), mesh.dim())?;
         let material = Material::new(youngs_modulus, poisson_ratio, density);
         let head = format!(
             "E {youngs_modulus:e} nu {poisson_ratio:e} rho {density:e} refine {refine} \
@@ -322,7 +344,7 @@ impl Model {
                 .collect::<Vec<_>>(),
             frictional_boundary.as_ref().map(part_label),
         );
-        let fb = frictional_boundary.as_ref();
+        let fb = (frictional_boundary.as_ref(), &faults[..]);
         let model = match &mesh.mesh {
             AnyMesh::Two(m) => AnyModel::Two(build_model::<2>(
                 py,
@@ -345,8 +367,16 @@ impl Model {
                 ramp,
             )?),
         };
-        let description = describe(&head, parts, &model);
-        Ok(Self { model, description })
+        let mut description = describe(&head, parts, &model);
+        if !faults.is_empty() {
+            description.push_str(&format!(" faults {faults:?}"));
+        }
+        let rigidity = youngs_modulus / (2.0 * (1.0 + poisson_ratio));
+        Ok(Self {
+            model,
+            description,
+            rigidity,
+        })
     }
 
     /// Mesh vertices (after refinement and splitting).
@@ -368,6 +398,48 @@ impl Model {
         };
         let n = x.len() / d;
         numpy::IntoPyArray::into_pyarray(x, py).reshape([n, d])
+    }
+
+    /// The names of the model's faults, in the order `faults` gave them (then the
+    /// frictional boundary's part, if any); one name for a model with a frictional boundary
+    /// only (its part's).
+    #[getter]
+    fn fault_names(&self) -> Vec<String> {
+        self.faults().0
+    }
+
+    /// The fault of every frictional node: an index into `fault_names`, shape `(n_fault,)`
+    /// (int64), in the order of `fault_coordinates` and of every per-node parameter.
+    #[getter]
+    fn fault_index<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<i64>> {
+        let of: Vec<i64> = self.faults().1.iter().map(|&f| f as i64).collect();
+        numpy::IntoPyArray::into_pyarray(of, py)
+    }
+
+    /// The frictional nodes of the fault `name` (positions in `fault_coordinates`, int64)
+    /// in order along the fault. `InvalidParameterError` naming `name` for a name the model
+    /// does not have.
+    fn fault_nodes<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<i64>>> {
+        let k = match &self.model {
+            AnyModel::Two(m) => fault_nodes(m, name)?,
+            AnyModel::Three(m) => fault_nodes(m, name)?,
+        };
+        let k: Vec<i64> = k.into_iter().map(|k| k as i64).collect();
+        Ok(numpy::IntoPyArray::into_pyarray(k, py))
+    }
+}
+
+impl Model {
+    /// The faults' names and the fault of every frictional node.
+    fn faults(&self) -> (Vec<String>, Vec<usize>) {
+        match &self.model {
+            AnyModel::Two(m) => faults_of(m),
+            AnyModel::Three(m) => faults_of(m),
+        }
     }
 }
 
@@ -462,6 +534,12 @@ struct Choices {
     tau: f64,
     fault_every: usize,
     end_time: Option<f64>,
+    /// The radiation damping η (Pa·s/m) per fault node, if given.
+    radiation_damping: Option<PerNode>,
+    /// The fault ODE (`method="fault-ode"`) instead of the implicit scheme.
+    fault_ode: bool,
+    /// The shear modulus of the catalogue's moments (Pa).
+    rigidity: f64,
 }
 
 /// Resolved parameters per fault node.
@@ -484,7 +562,8 @@ fn params(r: &Resolved, k: usize) -> RateStateParams {
     }
 }
 
-/// The simulation of `model` with friction laws `law(k)` per fault node.
+/// The simulation of `model` with friction laws `law(k)` per fault node: the implicit
+/// scheme's, or the fault ODE's (`c.method`).
 fn simulate_with<const D: usize, L: FrictionLaw + 'static>(
     model: rsf::Model<D>,
     friction: impl Fn(usize) -> rsf::Result<L>,
@@ -495,9 +574,10 @@ fn simulate_with<const D: usize, L: FrictionLaw + 'static>(
 ) -> PyResult<Simulation>
 where
     rsf::Simulation<D, L, BuiltinStateLaw, Integrator>: rsf::Stepping<D, D>,
+    rsf::FaultOde<D, L, BuiltinStateLaw>: rsf::Stepping<D, D>,
 {
-    let (mut kf, mut ks, mut ka) = (0, 0, 0);
-    let builder = SimulationBuilder::new(model)
+    let (mut kf, mut ks, mut ka, mut ke) = (0, 0, 0, 0);
+    let mut builder = SimulationBuilder::new(model)
         .friction_at(|_x| {
             kf += 1;
             friction(kf - 1)
@@ -513,21 +593,43 @@ where
             alpha0.at(ka - 1)
         })
         .time_step(c.tau)
-        .integrator(c.integrator)
-        .solver(c.solver);
-    let sim = builder.build().py()?;
-    let engine = Engine::<D, D, _> {
+        .integrator(c.integrator);
+    if let Some(eta) = &c.radiation_damping {
+        builder = builder.radiation_damping_at(|_x| {
+            ke += 1;
+            eta.at(ke - 1)
+        });
+    }
+    let recording = Recording::new(c.fault_every).py()?.with_network(c.rigidity);
+    let end = c.end_time.map(End::Time);
+    if c.fault_ode {
+        let sim = builder.build_fault_ode(FaultOdeOptions::default()).py()?;
+        return own_problem(sim, recording, fingerprint, end);
+    }
+    let sim = builder.solver(c.solver).build().py()?;
+    own_problem(sim, recording, fingerprint, end)
+}
+
+/// The Python simulation of the run `sim` of an own problem: its recording (with the
+/// catalogue across the faults, started here) and its fingerprint.
+fn own_problem<const D: usize, M>(
+    sim: M,
+    recording: Recording,
+    fingerprint: Fingerprint,
+    end: Option<End>,
+) -> PyResult<Simulation>
+where
+    M: rsf::Stepping<D, D> + WithFaultOperator + 'static,
+{
+    let mut engine = Engine::<D, D, M> {
         sim,
-        recording: Recording::new(c.fault_every).py()?,
+        recording,
         files: Vec::new(),
         fingerprint,
         folder: Files::default(),
     };
-    Ok(Simulation::new(
-        Box::new(engine),
-        c.end_time.map(End::Time),
-        "own problem",
-    ))
+    engine.start_network().py()?;
+    Ok(Simulation::new(Box::new(engine), end, "own problem"))
 }
 
 /// A simulation of `model`: `friction` (`rsf.Friction.dieterich_ruina(...)`,
@@ -538,8 +640,18 @@ where
 /// "gauss-seidel"), `end_time` (s, the end of `run()`), `fault_every` (record the fault's
 /// fields every that many steps). The library's checks run here (a free normal velocity
 /// on the fault, a state law that does not fit the friction law, …).
+///
+/// `method`: "implicit" (the default: the implicit step, `integrator` default "newmark",
+/// `solver` default "auto") or "fault-ode" (quasi-dynamic, condensed onto the fault and
+/// integrated by an adaptive Runge–Kutta pair, `tau` its first trial step; `integrator`
+/// "quasistatic", the only one it takes, `solver` refused; it needs `radiation_damping`;
+/// its `greens_functions()` are the model's). `radiation_damping`: η (Pa·s/m) per fault
+/// node. Every per-node parameter (friction's, `alpha0`, `radiation_damping`) may also be
+/// a dict from every fault's name (`model.fault_names`) to a number, an array of that
+/// fault's nodes (in `fault_coordinates` order restricted to it) or a function of their
+/// coordinates.
 #[pyfunction]
-#[pyo3(signature = (model, *, friction, alpha0, tau, state_law="aging", integrator="newmark", solver="auto", end_time=None, fault_every=0))]
+#[pyo3(signature = (model, *, friction, alpha0, tau, state_law="aging", integrator=None, solver=None, end_time=None, fault_every=0, method="implicit", radiation_damping=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate(
     py: Python<'_>,
@@ -548,12 +660,38 @@ pub(crate) fn simulate(
     alpha0: Bound<'_, PyAny>,
     tau: f64,
     state_law: &str,
-    integrator: &str,
-    solver: &str,
+    integrator: Option<&str>,
+    solver: Option<&str>,
     end_time: Option<f64>,
     fault_every: usize,
+    method: &str,
+    radiation_damping: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Simulation> {
-    let c = Choices {
+    let fault_ode = match method {
+        "implicit" => false,
+        "fault-ode" => true,
+        m => {
+            return Err(invalid(
+                "method",
+                format!(
+                    "`{}`: \"implicit\" or \"fault-ode\"",
+                    rsf_numeric::excerpt(m)
+                ),
+            ))
+        }
+    };
+    if let (true, Some(s)) = (fault_ode, solver) {
+        return Err(invalid(
+            "solver",
+            format!(
+                "`{}` is a setting of the implicit method, which method=\"fault-ode\" does not use",
+                rsf_numeric::excerpt(s)
+            ),
+        ));
+    }
+    let integrator = integrator.unwrap_or(if fault_ode { "quasistatic" } else { "newmark" });
+    let solver = solver.unwrap_or("auto");
+    let mut c = Choices {
         state_law: state_law
             .parse()
             .map_err(|e: rsf::state::Error| crate::errors::to_py(e.into()))?,
@@ -564,6 +702,9 @@ pub(crate) fn simulate(
         tau,
         fault_every,
         end_time,
+        radiation_damping: None,
+        fault_ode,
+        rigidity: model.rigidity,
     };
     let (x, d) = match &model.model {
         AnyModel::Two(m) => (coords(m), 2),
@@ -576,13 +717,23 @@ pub(crate) fn simulate(
         .with("integrator", integrator)
         .with("solver", solver)
         .with("tau", tau);
+    let (names, of) = model.faults();
+    let faults = (&names[..], &of[..]);
     for (name, obj) in &friction.params {
-        let v = per_node(py, name, obj.bind(py), &x, d)?;
+        let v = per_fault_node(py, name, obj.bind(py), &x, d, faults)?;
         fingerprint = fingerprint.with(name, v.describe());
         r.push((name, v));
     }
-    let alpha0 = per_node(py, "alpha0", &alpha0, &x, d)?;
+    let alpha0 = per_fault_node(py, "alpha0", &alpha0, &x, d, faults)?;
     fingerprint = fingerprint.with("alpha0", alpha0.describe());
+    if let Some(eta) = &radiation_damping {
+        let eta = per_fault_node(py, "radiation_damping", eta, &x, d, faults)?;
+        fingerprint = fingerprint.with("radiation_damping", eta.describe());
+        c.radiation_damping = Some(eta);
+    }
+    if fault_ode {
+        fingerprint = fingerprint.with("method", method);
+    }
     macro_rules! run {
         ($m:expr, $D:literal) => {
             match friction.kind {

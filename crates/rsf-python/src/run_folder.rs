@@ -50,18 +50,27 @@ impl FolderKeywords {
     /// The folder `out` prepared for `program`'s files `names` (and `checkpoint.bin`), as
     /// the program's guard prepares it — first, so that another run's folder is refused
     /// before anything is computed; on resume, proven the checkpoint's run's. The mode of
-    /// a fresh run's files ([`FileMode::Create`] without `out`).
+    /// a fresh run's files ([`FileMode::Create`] without `out`). A checkpoint to resume
+    /// is checked against the run's `fingerprint` (and `allow_change`) before anything in
+    /// the folder changes ([`RunFolder::expecting`]).
     ///
     /// # Errors
     /// The folder's refusal (`RsfIOError`), the checkpoint's.
-    pub fn prepare(&self, program: &str, mut names: Vec<String>) -> PyResult<FileMode> {
+    pub fn prepare(
+        &self,
+        program: &str,
+        mut names: Vec<String>,
+        fingerprint: &Fingerprint,
+    ) -> PyResult<FileMode> {
         self.check()?;
         let Some(out) = &self.out else {
             return Ok(FileMode::Create);
         };
         names.push("checkpoint.bin".into());
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        let folder = RunFolder::new(out, program, &names).front_end(FrontEnd::Python);
+        let folder = RunFolder::new(out, program, &names)
+            .front_end(FrontEnd::Python)
+            .expecting(fingerprint.clone(), &self.allow_change);
         match &self.resume {
             Some(checkpoint) => folder.prepare_resume(checkpoint, self.overwrite).py(),
             None => folder.prepare(false, self.overwrite).py(),

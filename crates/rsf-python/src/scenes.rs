@@ -148,14 +148,21 @@ pub(crate) fn slider(
 /// "plane-strain"): the 2-D scene's fields and these two; `level` defaults to 2. As
 /// [`slider`] for `fault_every` and per-node parameters (coordinates of shape `(n, 3)`).
 /// `hdf5` writes the fields to an HDF5 file with an Xdmf index beside it every
-/// `hdf5_every` steps (the package built with the feature `hdf5`).
+/// `hdf5_every` steps (the package built with the feature `hdf5`). `resume` continues from
+/// a checkpoint of this scene (`allow_change`: fingerprint fields that may differ), and
+/// with `hdf5` continues that file at the checkpoint's step once the file shows it holds
+/// the checkpoint's run (the fingerprint it recorded, the frame of that step at its time
+/// and state), or raises with the file unchanged.
 #[pyfunction]
-#[pyo3(signature = (*, fault_every=0, hdf5=None, hdf5_every=1, **kwargs))]
+#[pyo3(signature = (*, fault_every=0, hdf5=None, hdf5_every=1, resume=None, allow_change=Vec::new(), **kwargs))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn slider_3d(
     py: Python<'_>,
     fault_every: usize,
     hdf5: Option<PathBuf>,
     hdf5_every: usize,
+    resume: Option<PathBuf>,
+    allow_change: Vec<String>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
     let names: Vec<&str> = PER_NODE.iter().map(|(n, _)| *n).collect();
@@ -182,8 +189,27 @@ pub(crate) fn slider_3d(
         &per,
         s.fingerprint(),
     )?;
-    let sim = builder.build().py()?;
-    let files = crate::fields::hdf5_observer::<3>(hdf5.clone(), hdf5_every)?;
+    let mut sim = builder.build().py()?;
+    let resumed = match &resume {
+        None if !allow_change.is_empty() => {
+            return Err(invalid(
+                "allow_change",
+                "needs `resume` (a checkpoint to continue)",
+            ))
+        }
+        None => None,
+        Some(path) => {
+            let c = rsf::run_folder::read_checkpoint(path, &fingerprint, &allow_change).py()?;
+            rsf::Stepping::restore(&mut sim, &c).py()?;
+            Some(c)
+        }
+    };
+    let files = crate::fields::hdf5_observer::<3>(
+        hdf5.clone(),
+        hdf5_every,
+        &fingerprint,
+        resumed.as_ref().map(|c| (c, allow_change.as_slice())),
+    )?;
     let engine = Engine::<3, 3, _> {
         sim,
         recording: Recording::new(fault_every).py()?,
@@ -302,7 +328,7 @@ pub(crate) fn seas_bp1(
     if hdf5 {
         names.push("seas.h5".into());
     }
-    let fresh = folder.prepare("seas_bp1", names)?;
+    let fresh = folder.prepare("seas_bp1", names, &fingerprint)?;
     let model = bp1.model(&grid, false).py()?;
     let mut sim = bp1.fault_ode(model, options).py()?;
     let t_end = end_years * SECONDS_PER_YEAR;

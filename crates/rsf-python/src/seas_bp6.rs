@@ -112,7 +112,8 @@ pub(crate) fn seas_bp6(
     // stops: they take no mode.)
     let mut names = SeasBp6Output::file_names();
     names.push(SEAS_BP6_RESUME_LOG.into());
-    folder.prepare("seas_bp6", names)?;
+    let fingerprint = run.fingerprint(&bp6);
+    folder.prepare("seas_bp6", names, &fingerprint)?;
     let setup = SeasSetup {
         modeler: modeler.to_owned(),
         date: date.unwrap_or_else(rsf_seas::utc_date_today),
@@ -120,7 +121,7 @@ pub(crate) fn seas_bp6(
     };
     let drive = Drive {
         folder,
-        fingerprint: run.fingerprint(&bp6),
+        fingerprint,
         pressure: bp6.pressure(run.pressure).py()?,
         setup,
         run,

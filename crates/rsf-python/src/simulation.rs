@@ -271,16 +271,22 @@ impl Simulation {
     /// that writes files (`out`, `hdf5`) is not resumed here — its files, written from its
     /// own start, would be continued from another step (issue 87: 494 years missing from
     /// every file): it raises `InvalidParameterError` naming the constructor's `resume=`
-    /// keyword, which continues the files at the checkpoint's step.
+    /// keyword, which continues the files at the checkpoint's step (`rsf.seas_bp1(out=…,
+    /// resume=…)`, `rsf.slider_3d(hdf5=…, resume=…)`).
     fn resume(&mut self, path: PathBuf) -> PyResult<()> {
         if let Some(file) = &self.engine.files().file {
             return Err(invalid(
                 "resume",
                 format!(
-                    "this simulation writes `{}` from its own start, which a resume cannot \
-                     continue yet: resume a simulation built without it (and write the \
-                     fields of the resumed run to a new file)",
-                    file.display()
+                    "this simulation writes `{}` from its own start: resuming it from `{}` \
+                     would continue that file at another step; build it with the checkpoint \
+                     instead — rsf.{}(hdf5=\"{}\", resume=\"{}\", …) — which checks that the \
+                     file holds the checkpoint's run and continues it at the checkpoint's step",
+                    file.display(),
+                    path.display(),
+                    self.label,
+                    file.display(),
+                    path.display()
                 ),
             ));
         }
@@ -381,7 +387,9 @@ impl Simulation {
     /// The fault's fields every `fault_every` steps (the simulation's setting): `t` (s,
     /// shape `(records,)`), `x` (m, `(n_fault, dim)`), `slip_rate` (m/s, `(records,
     /// n_fault)`), `alpha` (α = ln θ, θ in s, `(records, n_fault)`), `slip` (m, Cartesian,
-    /// `(records, n_fault, components)`), `shear_traction` (Pa, `(records, n_fault)`).
+    /// `(records, n_fault, components)`), `shear_traction` (Pa, `(records, n_fault)`),
+    /// `fault_names` (the faults' names, a list) and `fault` (the fault of every node, an
+    /// index into `fault_names`, int64 `(n_fault,)`).
     fn fault<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let r = self.engine.recording();
         let (d, c, x) = self.engine.shape();
@@ -397,6 +405,10 @@ impl Simulation {
             r.slip.clone().into_pyarray(py).reshape([records, n, c])?,
         )?;
         out.set_item("shear_traction", array2(py, &r.shear_traction, n)?)?;
+        let (names, of) = self.engine.faults();
+        out.set_item("fault_names", names)?;
+        let of: Vec<i64> = of.into_iter().map(|f| f as i64).collect();
+        out.set_item("fault", array1(py, of))?;
         Ok(out)
     }
 
@@ -424,6 +436,66 @@ impl Simulation {
             ),
         )?;
         Ok(d)
+    }
+
+    /// The event catalogue across the faults of a problem of your own (`rsf.simulate`;
+    /// docs/fault-networks.md, "The catalogue"): events on the largest slip rate of the
+    /// whole network with the thresholds of `events()` (onset 1e-3 m/s, end 1e-4 m/s), in
+    /// the arrays of `rsf.read_catalogue` — `faults` (the names, `F`), `onset`, `end`,
+    /// `duration` (s, `(n,)`; NaN while an event lasts), `nucleation_fault` (the name of
+    /// the fault of the fastest node at the onset, `(n,)`), `nucleation_x` (m, `(n, dim)`),
+    /// and per event and fault `ruptured` (bool: its slip rate crossed the onset threshold
+    /// during the event), `peak_slip_rate` (m/s), `moment` (N·m, per metre in 2-D: the
+    /// material's shear modulus times the fault's weighted slip) and `rupture` (s, its
+    /// first crossing; NaN where it did not rupture), each `(n, F)`. `InvalidParameterError`
+    /// for a scene's run (its programs write `catalogue.csv` instead).
+    fn catalogue<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let Some((names, events)) = self.engine.network() else {
+            return Err(invalid(
+                "catalogue",
+                "only a problem of your own (rsf.simulate) keeps the catalogue across faults",
+            ));
+        };
+        let (d, _, _) = self.engine.shape();
+        let (n, nf) = (events.len(), names.len());
+        let col = |f: &dyn Fn(&rsf::observe::NetworkEvent) -> f64| {
+            array1(py, events.iter().map(f).collect::<Vec<f64>>())
+        };
+        let per_fault = |f: &dyn Fn(&rsf::observe::NetworkEvent, usize) -> f64| {
+            let v: Vec<f64> = events
+                .iter()
+                .flat_map(|e| (0..nf).map(move |j| f(e, j)))
+                .collect();
+            array2(py, &v, nf)
+        };
+        let out = PyDict::new(py);
+        out.set_item("faults", names.to_vec())?;
+        out.set_item("onset", col(&|e| e.onset_s))?;
+        out.set_item("end", col(&|e| e.end.map_or(f64::NAN, |(_, t)| t)))?;
+        out.set_item(
+            "duration",
+            col(&|e| e.end.map_or(f64::NAN, |(_, t)| t - e.onset_s)),
+        )?;
+        let nucleation: Vec<String> = events
+            .iter()
+            .map(|e| names[e.nucleation_fault].clone())
+            .collect();
+        let np = py.import("numpy")?;
+        out.set_item(
+            "nucleation_fault",
+            np.call_method1("array", (nucleation, "object"))?,
+        )?;
+        let x: Vec<f64> = events.iter().flat_map(|e| e.nucleation_x.clone()).collect();
+        out.set_item("nucleation_x", x.into_pyarray(py).reshape([n, d])?)?;
+        let ruptured: Vec<bool> = events.iter().flat_map(|e| e.ruptured.clone()).collect();
+        out.set_item("ruptured", ruptured.into_pyarray(py).reshape([n, nf])?)?;
+        out.set_item("peak_slip_rate", per_fault(&|e, j| e.peak_slip_rate[j])?)?;
+        out.set_item("moment", per_fault(&|e, j| e.moment[j])?)?;
+        out.set_item(
+            "rupture",
+            per_fault(&|e, j| e.rupture_s[j].unwrap_or(f64::NAN))?,
+        )?;
+        Ok(out)
     }
 
     /// The state now on the whole mesh: `points` (m, `(vertices, dim)`), `cells` (vertex

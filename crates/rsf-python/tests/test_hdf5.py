@@ -75,6 +75,76 @@ def test_a_simulation_writing_hdf5_is_not_resumed_behind_its_file(tmp_path):
         writing.resume(tmp_path / "c.bin")
 
 
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_an_hdf5_run_resumed_from_its_checkpoint_writes_the_uninterrupted_file(tmp_path):
+    """`rsf.slider_3d(hdf5=…, resume=…)` continues the fields file at the checkpoint's step
+    once the file shows it holds the checkpoint's run (issue 87): a run stopped after its
+    checkpoint (two frames past it) and resumed in a new simulation ends with the
+    uninterrupted run's datasets, bit for bit; the file of another run (another loading
+    velocity) is refused, unchanged, and `allow_change` without `resume` is refused."""
+    h5py = pytest.importorskip("h5py")
+    whole, part, other = (tmp_path / n for n in ("whole.h5", "part.h5", "other.h5"))
+    rsf.slider_3d(hdf5=whole, hdf5_every=2, **SCENE).advance(steps=8)
+    first = rsf.slider_3d(hdf5=part, hdf5_every=2, **SCENE)
+    first.advance(steps=4)
+    first.checkpoint(tmp_path / "c.bin")
+    first.advance(steps=2)
+    del first
+    faster = dict(SCENE, loading_velocity_m_per_s=3e-2)
+    rsf.slider_3d(hdf5=other, hdf5_every=2, **faster).advance(steps=6)
+    before = other.read_bytes()
+    with pytest.raises(rsf.CheckpointError, match="another run"):
+        rsf.slider_3d(hdf5=other, hdf5_every=2, resume=tmp_path / "c.bin", **SCENE)
+    assert other.read_bytes() == before
+    with pytest.raises(rsf.InvalidParameterError, match="allow_change"):
+        rsf.slider_3d(allow_change=["end_time_s"], **SCENE)
+    resumed = rsf.slider_3d(hdf5=part, hdf5_every=2, resume=tmp_path / "c.bin", **SCENE)
+    resumed.advance(steps=4)
+    with h5py.File(whole, "r") as a, h5py.File(part, "r") as b:
+        assert list(b["step"][:]) == [2, 4, 6, 8]
+        names = ["step", "time"] + [f"fields/{n}" for n in a["fields"]]
+        for name in names:
+            assert a[name][:].tobytes() == b[name][:].tobytes(), name
+
+
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_read_fields_names_the_dimensions_and_gives_cf_units(tmp_path):
+    """`rsf.read_fields` gives the file as an xarray Dataset on named dimensions (xarray's
+    own engines see `phony_dim_N`), its values the file's bit for bit, CF `units` on every
+    field and coordinate, the fault's nodes marked."""
+    h5py = pytest.importorskip("h5py")
+    pytest.importorskip("xarray")
+    path = tmp_path / "fields.h5"
+    sim = rsf.slider_3d(hdf5=path, hdf5_every=2, fault_every=2, **SCENE)
+    sim.advance(steps=6)
+    ds = rsf.read_fields(path)
+    with h5py.File(path, "r") as f:
+        n = f["mesh/points"].shape[0]
+        assert dict(ds.sizes) == {
+            "time": 3, "vertex": n, "component": 3,
+            "cell": f["mesh/cells"].shape[0], "corner": 4,
+        }
+        assert ds["displacement"].dims == ("time", "vertex", "component")
+        assert ds["slip_rate"].dims == ("time", "vertex")
+        for name in f["fields"]:
+            assert ds[name].values.tobytes() == f[f"fields/{name}"][:].tobytes(), name
+        assert ds["time"].values.tobytes() == f["time"][:].tobytes()
+        assert list(ds["step"].values) == [2, 4, 6]
+        assert ds["on_fault"].values.sum() == f["mesh/fault_nodes"].shape[0]
+    units = {name: ds[name].attrs["units"] for name in ds.data_vars if name != "cells"}
+    assert units == {
+        "displacement": "m", "velocity": "m/s", "slip_rate": "m/s", "state_alpha": "1",
+        "slip": "m", "shear_traction": "Pa", "normal_traction": "Pa", "fault": "1",
+    }
+    assert ds["time"].attrs["units"] == "s" and ds["x"].attrs["units"] == "m"
+    assert "fingerprint" in ds.attrs
+    # On the fault: the records' slip rates.
+    rec = sim.fault()
+    on = ds["slip_rate"].isel(vertex=np.flatnonzero(ds["on_fault"].values))
+    assert np.isnan(ds["slip_rate"].where(~ds["on_fault"]).values).all()
+    assert np.sort(on.values, axis=1).tobytes() == np.sort(rec["slip_rate"], axis=1).tobytes()
+
+
 @pytest.mark.skipif(rsf.HAS_HDF5, reason="this build has HDF5 output")
 def test_without_the_feature_seas_series_are_a_named_error(tmp_path):
     with pytest.raises(rsf.InvalidParameterError, match="hdf5"):

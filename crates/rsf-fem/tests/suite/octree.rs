@@ -43,6 +43,7 @@ fn uniform_refinement_is_the_tensor_grids_kuhn_box() {
     let mut o = OctreeMesh::new([0.0; 3], [2.0, 1.0, 1.0], 1.0).unwrap();
     let report = o.refine(|_, _| 0.25, 100_000).unwrap();
     assert_eq!(report.by_balance, 0);
+    assert_eq!(o.num_vertices(), 9 * 5 * 5);
     let m = o.into_mesh().unwrap();
     let kuhn = cuboid([0.0; 3], [2.0, 1.0, 1.0], [9, 5, 5]).unwrap();
     assert_eq!(m.num_cells(), kuhn.num_cells());
@@ -73,7 +74,10 @@ fn refinement_towards_a_corner_is_conforming_balanced_and_keeps_the_kuhn_cells_t
     let mut o = OctreeMesh::new([-1.0; 3], [1.0; 3], 1.0).unwrap();
     let report = o.refine(size, 10_000_000).unwrap();
     assert!(report.by_size > 0);
+    let counted = o.num_vertices();
     let m = o.into_mesh().unwrap();
+    // The count without the mesh is the mesh's (transition cubes' centres included).
+    assert_eq!(counted, m.num_vertices());
     assert!(
         (boundary_area(&m) - 24.0).abs() < 1e-9,
         "{}",
@@ -118,7 +122,9 @@ fn a_plane_at_the_finest_level_is_tiled_with_parallel_diagonals() {
     };
     let mut o = OctreeMesh::new([-2.0; 3], [2.0; 3], 1.0).unwrap();
     o.refine(size, 10_000_000).unwrap();
+    let counted = o.num_vertices();
     let m = o.into_mesh().unwrap();
+    assert_eq!(counted, m.num_vertices());
     let facets = plane_facets(&m);
     let total: f64 = facets.iter().map(|f| f.1).sum();
     assert!((total - 16.0).abs() < 1e-12, "the plane is tiled: {total}");

@@ -32,6 +32,7 @@ use std::process::ExitCode;
 /// the module `estimates`.
 pub const PROCESS_BYTES: f64 = 64e6;
 
+use rsf::checkpoint::Fingerprint;
 use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
@@ -56,8 +57,11 @@ pub struct Folder {
     resume: bool,
     /// The checkpoint a resume continues from (`--resume FILE`).
     checkpoint: Option<PathBuf>,
-    /// Whether `--allow-change` was given (it needs a checkpoint).
-    allow_change: bool,
+    /// The fields of `--allow-change` (they need a checkpoint).
+    allow_change: Vec<String>,
+    /// The fingerprint of the run's checkpoints, where the plan knows it: a checkpoint is
+    /// checked against it before the folder changes.
+    fingerprint: Option<Fingerprint>,
     overwrite: bool,
 }
 
@@ -71,7 +75,8 @@ impl Folder {
             outputs: outputs.iter().map(|s| (*s).to_owned()).collect(),
             resume: false,
             checkpoint: None,
-            allow_change: false,
+            allow_change: Vec::new(),
+            fingerprint: None,
             overwrite: false,
         }
     }
@@ -104,7 +109,16 @@ impl Folder {
     /// to resume (they would be ignored); the fields themselves are checked against the
     /// checkpoint's fingerprint when it is read.
     pub fn allow_change(mut self, fields: &[String]) -> Self {
-        self.allow_change = !fields.is_empty();
+        self.allow_change = fields.to_vec();
+        self
+    }
+
+    /// The fingerprint the run's checkpoints carry, where the plan knows it from the flags
+    /// (one function for the plan and the run): a resume checks the checkpoint against it
+    /// (and `--allow-change`) before the folder changes — with `--overwrite`, before it is
+    /// given to the checkpoint's run ([`RunFolder::expecting`]).
+    pub fn fingerprint(mut self, fingerprint: Fingerprint) -> Self {
+        self.fingerprint = Some(fingerprint);
         self
     }
 }
@@ -143,7 +157,8 @@ impl Plan {
                 f.overwrite |= folder.overwrite;
                 f.resume |= folder.resume;
                 f.checkpoint = f.checkpoint.take().or(folder.checkpoint);
-                f.allow_change |= folder.allow_change;
+                f.allow_change.extend(folder.allow_change);
+                f.fingerprint = f.fingerprint.take().or(folder.fingerprint);
             }
             None => self.folders.push(folder),
         }
@@ -203,7 +218,7 @@ impl Plan {
         if let Some(f) = self
             .folders
             .iter()
-            .find(|f| f.allow_change && f.checkpoint.is_none())
+            .find(|f| !f.allow_change.is_empty() && f.checkpoint.is_none())
         {
             return Err(format!(
                 "--allow-change: needs --resume (the fields a resume may change; a new run into \
@@ -395,15 +410,20 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
         }
         let lock = flag(f.flag, lock(&f.dir))?;
         let outputs: Vec<&str> = f.outputs.iter().map(String::as_str).collect();
-        let folder = RunFolder::new(&f.dir, P::NAME, &outputs).command(&command);
+        let mut folder = RunFolder::new(&f.dir, P::NAME, &outputs).command(&command);
+        if let Some(fingerprint) = &f.fingerprint {
+            folder = folder.expecting(fingerprint.clone(), &f.allow_change);
+        }
         let mode = match &f.checkpoint {
             // The checkpoint's run against the folder's (issue 74): a resume into another
             // run's folder would cut that run's files and continue another run in them.
             // A checkpoint that cannot be read — of another kind, refused by its type and
             // first bytes (issue 87) — is named by --resume, not by the folder's flag.
             Some(checkpoint) => match folder.prepare_resume(checkpoint, f.overwrite) {
+                Err(e @ rsf::Error::InvalidParameter { .. }) => flag("--allow-change", Err(e)),
                 Err(
                     e @ (rsf::Error::CheckpointCorrupt { .. }
+                    | rsf::Error::CheckpointMismatch { .. }
                     | rsf::Error::File {
                         action: "read the checkpoint",
                         ..

@@ -386,7 +386,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &outputs).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &outputs).overwrite(self.overwrite))
+                    .fingerprint(self.fingerprint()?),
             ))
     }
 }

@@ -180,6 +180,39 @@ fn build_run(
     })
 }
 
+impl Args {
+    /// The files' sampling: every step or the benchmark's, and the quiet time that ends
+    /// an event.
+    fn sampling(&self, choices: &Choices) -> SeasSampling {
+        SeasSampling {
+            every_step: self.every_step,
+            event_quiet_time: self.event_quiet_time.unwrap_or(
+                if self.inertia && choices.absorbing == Absorbing::None {
+                    60.0
+                } else {
+                    0.0
+                },
+            ),
+            ..SeasSampling::default()
+        }
+    }
+
+    /// The fingerprint of the run's checkpoints, from the flags alone (the plan's: a
+    /// checkpoint is checked against it before the folder changes; the run's is the same).
+    ///
+    /// # Errors
+    /// The kernel's (`--kernel-epsilon`).
+    pub(super) fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        let choices = Choices::of(self)?;
+        Ok(choices.fingerprint(
+            self,
+            &SeasBp1::default(),
+            &self.grid(),
+            &self.sampling(&choices),
+        ))
+    }
+}
+
 pub(super) fn run(
     args: Args,
     prepared: Prepared,
@@ -235,17 +268,7 @@ pub(super) fn run(
             args.domain_km
         );
     }
-    let sampling = SeasSampling {
-        every_step: args.every_step,
-        event_quiet_time: args.event_quiet_time.unwrap_or(
-            if args.inertia && choices.absorbing == Absorbing::None {
-                60.0
-            } else {
-                0.0
-            },
-        ),
-        ..SeasSampling::default()
-    };
+    let sampling = args.sampling(&choices);
     let fingerprint = choices.fingerprint(&args, &bp1, &grid, &sampling);
     let setup = SeasSetup {
         modeler: args.header.modeler.clone(),

@@ -321,14 +321,12 @@ impl Program for Args {
                         match fewest {
                             fewest if peak(fewest) > limit => (peak(fewest), fewest),
                             _ => {
-                                // The graded mesh itself (about a second at 1 km).
+                                // The graded mesh's vertices, counted from its octree
+                                // without making the mesh.
                                 let vertices = crate::cli::for_fields(
                                     &crate::cli::FE_GRID_FLAGS,
-                                    bp5.fe_model_builder(&self.grid(&bp5)),
-                                )?
-                                .mesh()
-                                .num_vertices()
-                                    as f64;
+                                    bp5.fe_mesh_vertices(&self.grid(&bp5)),
+                                )? as f64;
                                 (peak(vertices), vertices)
                             }
                         }
@@ -367,7 +365,8 @@ impl Program for Args {
             )
             .folder(
                 self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite)),
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(super::run::fingerprint(self, &bp5, &self.grid(&bp5))),
             ))
     }
 }

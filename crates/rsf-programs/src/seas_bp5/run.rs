@@ -267,8 +267,9 @@ impl SetUp<'_> {
     }
 }
 
-/// What a checkpoint continues: the scene, the grid and what changes the trajectory.
-fn fingerprint(args: &Args, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
+/// What a checkpoint continues: the scene, the grid and what changes the trajectory (the
+/// plan's too: a checkpoint is checked against it before the folder changes).
+pub(super) fn fingerprint(args: &Args, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
     let (domain_km, ratio) = args.box_size();
     let mut fingerprint = Fingerprint::of_serialized(&bp5)
         .with("kernel", format!("{:?}", args.kernel))

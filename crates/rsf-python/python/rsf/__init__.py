@@ -15,7 +15,8 @@ half-space or the whole space) give displacement and stress as numpy arrays.
 
 A fault network's event catalogue, ``catalogue.csv`` of the programs ``stepover``
 and ``bp5_pair`` (docs/fault-networks.md), reads as numpy arrays with
-:func:`read_catalogue`.
+:func:`read_catalogue`; an HDF5 fields file (``slider_3d(hdf5=...)``) as an xarray
+Dataset with named dimensions and CF units with :func:`read_fields`.
 
 The fault operator of a run condensed onto the fault (its Green's functions:
 slip on every fault unknown to the force on every one) is
@@ -32,6 +33,7 @@ per node per stage of every step would cost more than the step itself.
 """
 
 from ._catalogue import read_catalogue  # noqa: F401
+from ._fields import read_fields  # noqa: F401
 from ._greens import GreensFunctions  # noqa: F401
 from ._rsf import (  # noqa: F401
     HAS_HDF5,
@@ -69,6 +71,7 @@ __all__ = [
     "RsfIOError",
     "Simulation",
     "read_catalogue",
+    "read_fields",
     "rectangle_deformation",
     "seas_bp1",
     "seas_bp6",

@@ -18,13 +18,18 @@ def events_frame(events):
 
 
 def fault_dataset(fault):
-    """The fault records as an xarray Dataset on dimensions (t, node[, component])."""
+    """The fault records as an xarray Dataset on dimensions (t, node[, component]), each
+    node's fault name a coordinate ``fault``."""
     import xarray as xr
 
     x = fault["x"]
     coords = {"t": fault["t"], "node": range(x.shape[0])}
     for i, name in enumerate("xyz"[: x.shape[1]]):
         coords[name] = ("node", x[:, i])
+    if "fault" in fault:
+        # The fault of every node by name (a network's: rsf.Model(faults=...)).
+        names = list(fault["fault_names"])
+        coords["fault"] = ("node", [names[i] for i in fault["fault"]])
     data = {
         "slip_rate": (("t", "node"), fault["slip_rate"], {"units": "m/s"}),
         "alpha": (("t", "node"), fault["alpha"], {"units": "1", "long_name": "ln theta (theta in s)"}),

@@ -5,7 +5,7 @@ mypy on the documentation's examples (``crates/rsf-python/tests/test_stubs.py``)
 Units are SI throughout; array shapes are given in each docstring.
 """
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from typing import Any, Literal, Union, final
 
@@ -16,11 +16,13 @@ _Path = Union[str, "PathLike[str]"]
 _Array = npt.NDArray[np.float64]
 _ArrayLike = npt.ArrayLike
 # A per-node parameter: one number, one value per fault node, or a function of the fault
-# nodes' coordinates (shape `(n, dim)`, m) called once.
-_PerNode = Union[float, _ArrayLike, Callable[[_Array], _ArrayLike]]
-# A part of the boundary: a Gmsh physical group's name, or a predicate of a facet's
-# vertices' coordinates.
-_Part = Union[str, Callable[[_Array], bool]]
+# nodes' coordinates (shape `(n, dim)`, m) called once; or per fault, a dict from every
+# fault's name (`Model.fault_names`) to such a value for that fault's nodes.
+_PerValue = Union[float, _ArrayLike, Callable[[_Array], _ArrayLike]]
+_PerNode = Union[_PerValue, Mapping[str, _PerValue]]
+# A part of the boundary: a Gmsh physical group's name, or `(name, predicate)`, the
+# predicate a function of a facet's midpoint (shape `(dim,)`, m) returning a bool.
+_Part = Union[str, tuple[str, Callable[[_Array], bool]]]
 
 __all__ = [
     "RsfError",
@@ -125,10 +127,19 @@ class Model:
         dirichlet: Sequence[tuple[_Part, Sequence[float]]] = ...,
         frictional_boundary: _Part | None = None,
         ramp: float | None = None,
+        faults: Sequence[tuple[str, _ArrayLike]] | None = None,
     ) -> Model: ...
     @property
     def fault_coordinates(self) -> _Array:
         """Coordinates of the frictional nodes (m), shape `(n_fault, dim)`."""
+    @property
+    def fault_names(self) -> list[str]:
+        """The faults' names: `faults`' in order, then the frictional boundary's part."""
+    @property
+    def fault_index(self) -> npt.NDArray[np.int64]:
+        """The fault of every frictional node (an index into `fault_names`), `(n_fault,)`."""
+    def fault_nodes(self, name: str) -> npt.NDArray[np.int64]:
+        """The frictional nodes of fault `name` (positions in `fault_coordinates`), along it."""
     @property
     def num_nodes(self) -> int:
         """Mesh vertices (after refinement and splitting)."""
@@ -188,15 +199,22 @@ class Simulation:
     def _greens_dense(self, max_unknowns: int) -> _Array: ...
     def _greens_block(self, receiver: str, source: str, max_unknowns: int) -> _Array: ...
     def series(self) -> dict[str, npt.NDArray[Any]]: ...
-    def fault(self) -> dict[str, _Array]: ...
+    def fault(self) -> dict[str, Any]: ...
     def events(self) -> dict[str, npt.NDArray[Any]]: ...
+    def catalogue(self) -> dict[str, Any]: ...
     def fields(self) -> dict[str, npt.NDArray[Any]]: ...
     def to_pandas(self) -> Any: ...
     def to_xarray(self) -> Any: ...
 
 def slider(*, fault_every: int = 0, **kwargs: Any) -> Simulation: ...
 def slider_3d(
-    *, fault_every: int = 0, hdf5: _Path | None = None, hdf5_every: int = 1, **kwargs: Any
+    *,
+    fault_every: int = 0,
+    hdf5: _Path | None = None,
+    hdf5_every: int = 1,
+    resume: _Path | None = None,
+    allow_change: Sequence[str] = ...,
+    **kwargs: Any,
 ) -> Simulation: ...
 def seas_bp1(
     *,
@@ -266,10 +284,12 @@ def simulate(
     alpha0: _PerNode,
     tau: float,
     state_law: Literal["aging", "slip", "discontinuous"] = "aging",
-    integrator: Literal["newmark", "backward-euler", "quasistatic"] = "newmark",
-    solver: Literal["auto", "tnnmg", "direct", "gauss-seidel"] = "auto",
+    integrator: Literal["newmark", "backward-euler", "quasistatic"] | None = None,
+    solver: Literal["auto", "tnnmg", "direct", "gauss-seidel"] | None = None,
     end_time: float | None = None,
     fault_every: int = 0,
+    method: Literal["implicit", "fault-ode"] = "implicit",
+    radiation_damping: _PerNode | None = None,
 ) -> Simulation: ...
 def rectangle_deformation(
     points: _ArrayLike,

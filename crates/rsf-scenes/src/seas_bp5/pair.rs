@@ -171,19 +171,27 @@ impl Bp5Pair {
             .build_fault_ode_alone(options, alone)
     }
 
-    /// The vertices of [`fe_model`](Self::fe_model)'s graded mesh on `grid` (the mesh
-    /// alone, no model assembled; 22 s and 0.24 GB at 2 km in the unoptimised test build) —
-    /// what a plan's memory estimate needs.
+    /// The vertices of [`fe_model`](Self::fe_model)'s graded mesh on `grid`, counted from
+    /// its octree without making the mesh (no tetrahedra, no model) — what a plan's memory
+    /// estimate needs.
     ///
     /// # Errors
     /// As [`fe_model`](Self::fe_model) before its assembly.
     pub fn fe_mesh_vertices(&self, grid: &SeasBp5Grid) -> Result<usize> {
-        Ok(self.fe_mesh(grid)?.0.num_vertices())
+        self.check_pair_grid(grid)?;
+        self.bp5
+            .graded_mesh_vertices(grid, &[self.x_of(0), self.x_of(1)])
     }
 
     /// The checks of [`fe_model`](Self::fe_model) and its graded mesh with the box's
     /// corners.
     fn fe_mesh(&self, grid: &SeasBp5Grid) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
+        self.check_pair_grid(grid)?;
+        self.bp5.graded_mesh(grid, &[self.x_of(0), self.x_of(1)])
+    }
+
+    /// The checks of [`fe_mesh`](Self::fe_mesh) before its mesh is made.
+    fn check_pair_grid(&self, grid: &SeasBp5Grid) -> Result<()> {
         self.validate()?;
         // BP5's own checks of the grid.
         self.bp5.check_fe_grid(grid)?;
@@ -204,7 +212,7 @@ impl Bp5Pair {
                 ),
             ));
         }
-        self.bp5.graded_mesh(grid, &[self.x_of(0), self.x_of(1)])
+        Ok(())
     }
 
     /// The two strands as faults inside a finite-element box on `grid` (the graded mesh,
@@ -323,5 +331,24 @@ impl Bp5Pair {
                 })
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The plans' count of the pair's vertices, from the octree without the mesh, is the
+    /// mesh's (the box refined towards two planes has transition cubes on both sides).
+    #[test]
+    fn the_counted_vertices_are_the_meshs() {
+        let pair = Bp5Pair::default();
+        let grid = SeasBp5Grid {
+            dx: 4e3,
+            domain: 100e3,
+            ..SeasBp5Grid::default()
+        };
+        let (mesh, _) = pair.fe_mesh(&grid).unwrap();
+        assert_eq!(pair.fe_mesh_vertices(&grid).unwrap(), mesh.num_vertices());
     }
 }

@@ -223,6 +223,23 @@ impl SeasBp5 {
         Ok(builder)
     }
 
+    /// The vertices of the volume's mesh on `grid` before the fault's split (the mesh of
+    /// [`fe_model`](Self::fe_model)): the graded mesh's counted from its octree without
+    /// making it, in a fraction of the time the mesh takes (a plan's estimate; issue 87);
+    /// the tensor grid's made and counted.
+    ///
+    /// # Errors
+    /// As [`fe_model_builder`](Self::fe_model_builder).
+    pub fn fe_mesh_vertices(&self, grid: &SeasBp5Grid) -> Result<usize> {
+        self.check_fe_grid(grid)?;
+        match grid.mesh {
+            SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
+                Ok(self.tensor_mesh(grid)?.num_vertices())
+            }
+            SeasBp5Mesh::Graded => self.graded_mesh_vertices(grid, &[0.0]),
+        }
+    }
+
     /// Checks `grid` for the volume model ([`fe_model`](Self::fe_model)): as its errors say.
     ///
     /// # Errors
@@ -360,6 +377,25 @@ impl SeasBp5 {
         grid: &SeasBp5Grid,
         planes: &[f64],
     ) -> Result<(TetrahedronMesh, [[f64; 3]; 2])> {
+        let (cubes, corners) = self.graded_octree(grid, planes)?;
+        Ok((cubes.into_mesh()?, corners))
+    }
+
+    /// The vertices of [`graded_mesh`](Self::graded_mesh) (before any fault's split),
+    /// counted from its octree without making the mesh ([`OctreeMesh::num_vertices`]).
+    ///
+    /// # Errors
+    /// As [`graded_mesh`](Self::graded_mesh).
+    pub(crate) fn graded_mesh_vertices(&self, grid: &SeasBp5Grid, planes: &[f64]) -> Result<usize> {
+        Ok(self.graded_octree(grid, planes)?.0.num_vertices())
+    }
+
+    /// The refined octree of [`graded_mesh`](Self::graded_mesh) and the corners of its box.
+    fn graded_octree(
+        &self,
+        grid: &SeasBp5Grid,
+        planes: &[f64],
+    ) -> Result<(OctreeMesh, [[f64; 3]; 2])> {
         let h = grid.dx;
         let (root, far) = graded_root(grid);
         let cubes = Self::graded_root_cubes(grid);
@@ -430,7 +466,7 @@ impl SeasBp5 {
                 ),
             )
         })?;
-        Ok((cubes.into_mesh()?, [lo, hi]))
+        Ok((cubes, [lo, hi]))
     }
 
     /// The fault ODE of BP5 on the volume model `model` ([`fe_model`](Self::fe_model))

@@ -461,6 +461,17 @@ fn the_graded_mesh_is_sound_small_and_condenses_as_the_tensor_grid() {
         bound.to_degrees()
     );
     let (n_g, n_t) = (graded.num_vertices(), tensor.num_vertices());
+    // The plans' count, from the octree without the mesh, is the mesh's.
+    assert_eq!(
+        bp5.fe_mesh_vertices(&grid(2e3, SeasBp5Mesh::Graded))
+            .unwrap(),
+        n_g
+    );
+    assert_eq!(
+        bp5.fe_mesh_vertices(&grid(2e3, SeasBp5Mesh::Tensor))
+            .unwrap(),
+        n_t
+    );
     assert!(
         (n_g as f64) < 0.5 * n_t as f64,
         "graded {n_g} vertices against the tensor grid's {n_t}"

@@ -51,6 +51,9 @@ pub struct RunFolder {
     /// How the front end names the folder's settings in its errors (the command line's
     /// flags by default).
     pub front_end: FrontEnd,
+    /// The fingerprint the run's checkpoints carry and the fields a resume may change,
+    /// when the front end knows them before the work ([`expecting`](Self::expecting)).
+    pub expected: Option<(Fingerprint, Vec<String>)>,
 }
 
 impl RunFolder {
@@ -63,7 +66,18 @@ impl RunFolder {
             outputs: outputs.iter().map(|s| (*s).to_owned()).collect(),
             command: String::new(),
             front_end: FrontEnd::CommandLine,
+            expected: None,
         }
+    }
+
+    /// The folder of a run whose checkpoints carry `fingerprint`, a resume allowed to
+    /// change the fields `allow_change`: [`prepare_resume`](Self::prepare_resume) then
+    /// checks the checkpoint against it before anything in the folder changes (issue 87:
+    /// with `--overwrite` the folder was given to the checkpoint's run before a checkpoint
+    /// of other parameters was refused by the session).
+    pub fn expecting(mut self, fingerprint: Fingerprint, allow_change: &[String]) -> Self {
+        self.expected = Some((fingerprint, allow_change.to_vec()));
+        self
     }
 
     /// The folder of a run started from `front_end`, whose errors name its settings
@@ -169,7 +183,10 @@ impl RunFolder {
     ///
     /// # Errors
     /// Those of [`prepare`](Self::prepare); those of [`Checkpoint::read`]
-    /// ([`Error::File`], [`Error::CheckpointCorrupt`]); [`Error::Resume`] naming the folder,
+    /// ([`Error::File`], [`Error::CheckpointCorrupt`]); with [`expecting`](Self::expecting),
+    /// those of [`read_checkpoint`] ([`Error::CheckpointMismatch`] naming the field that
+    /// differs, [`Error::InvalidParameter`] for an unknown field allowed to change);
+    /// [`Error::Resume`] naming the folder,
     /// both runs and how to go on, for a checkpoint of another run without `overwrite`,
     /// for `overwrite` where there is nothing to replace (the folder is the checkpoint's
     /// own run, or cannot be told) and where the checkpoint's run's files are not beside
@@ -198,7 +215,10 @@ impl RunFolder {
                 "the files in this folder, which name no other run",
             ));
         }
-        let c = Checkpoint::read(checkpoint)?;
+        let c = match &self.expected {
+            Some((fingerprint, allowed)) => read_checkpoint(checkpoint, fingerprint, allowed)?,
+            None => Checkpoint::read(checkpoint)?,
+        };
         let other = !folder_id.is_empty() && !c.run_id.is_empty() && folder_id != c.run_id;
         if other && !overwrite {
             let m = manifest.as_ref().expect("a run id is a manifest's");

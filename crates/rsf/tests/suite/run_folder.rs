@@ -502,6 +502,11 @@ fn a_3d_slider_resumed_from_a_checkpoint_writes_byte_identical_files() {
 #[test]
 fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
     use rsf::observe::Checkpointer;
+    let fingerprint = |dx: f64| {
+        rsf::checkpoint::Fingerprint::default()
+            .with("format", rsf::checkpoint::CHECKPOINT_FORMAT)
+            .with("dx", dx)
+    };
     let dir = temp_dir("identity");
     let (a, b) = (dir.join("a"), dir.join("b"));
     let checkpoint = |folder: &Path| {
@@ -520,6 +525,7 @@ fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
         };
         let c = rsf::Checkpoint::new(2, state);
         Checkpointer::new(folder.join("checkpoint.bin"))
+            .fingerprint(fingerprint(1.0))
             .write(c)
             .unwrap();
         folder.join("checkpoint.bin")
@@ -598,11 +604,35 @@ fn a_resume_into_another_runs_folder_is_refused_unless_overwritten() {
         "{e}"
     );
     assert_eq!(snapshot(&b), before);
+    // --overwrite with a checkpoint of other parameters than the run's (a front end that
+    // knows its fingerprint before the work): refused by the field that differs before B
+    // changes (issue 87: B was given to A's run, then the session refused the checkpoint).
+    std::fs::write(b.join("summary.json"), "b's summary").unwrap();
+    let before = snapshot(&b);
+    let e = run_b
+        .clone()
+        .expecting(fingerprint(2.0), &[])
+        .prepare_resume(&ckpt_a, true)
+        .unwrap_err();
+    assert!(matches!(e, Error::CheckpointMismatch { .. }), "{e}");
+    assert!(e.to_string().contains("dx"), "{e}");
+    assert_eq!(snapshot(&b), before);
+    // A field allowed to change that the run has not: refused as well, B untouched.
+    let unknown = run_b
+        .clone()
+        .expecting(fingerprint(1.0), &["no_such_field".to_owned()])
+        .prepare_resume(&ckpt_a, true)
+        .unwrap_err();
+    assert!(unknown.to_string().contains("no_such_field"), "{unknown}");
+    assert_eq!(snapshot(&b), before);
     // --overwrite gives B to A's run whole: B's files are A's (its checkpoint and summary
     // not copied), none of B's run is left.
-    std::fs::write(b.join("summary.json"), "b's summary").unwrap();
     assert_eq!(
-        run_b.prepare_resume(&ckpt_a, true).unwrap(),
+        run_b
+            .clone()
+            .expecting(fingerprint(1.0), &[])
+            .prepare_resume(&ckpt_a, true)
+            .unwrap(),
         FileMode::Create
     );
     assert_eq!(rsf::run_folder::run_id(&b).unwrap(), id_a);

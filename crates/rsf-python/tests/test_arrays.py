@@ -1,0 +1,74 @@
+"""Array-likes where the package takes arrays (issue 86, "Python at par"): nested lists,
+`float32` points and integer or whole-float cells of any width give the same mesh and the
+same kernels' values as `float64`/`int64` arrays, bit for bit; what is not an array of
+numbers of the stated shape is refused naming the keyword."""
+
+import numpy as np
+import pytest
+
+import rsf
+
+POINTS = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]
+CELLS = [[0, 1, 2], [1, 3, 2]]
+
+
+def model_bits(mesh):
+    """The model built on `mesh`: its size and its fault's coordinates."""
+    model = rsf.Model(
+        mesh,
+        youngs_modulus=1e9,
+        poisson_ratio=0.25,
+        density=2.5e3,
+        gravity=(0.0, -9.81),
+        dirichlet=[(("top", lambda x: x[1] > 1.0 - 1e-9), (1e-4, 0.0))],
+        frictional_boundary=("bottom", lambda x: x[1] < 1e-9),
+    )
+    return model.num_nodes, model.fault_coordinates.tobytes()
+
+
+def test_lists_and_other_dtypes_give_the_same_mesh():
+    reference = rsf.Mesh(np.array(POINTS), np.array(CELLS, dtype=np.int64))
+    for points, cells in [
+        (POINTS, CELLS),
+        (tuple(map(tuple, POINTS)), tuple(map(tuple, CELLS))),
+        (np.array(POINTS, dtype=np.float32), np.array(CELLS, dtype=np.int32)),
+        (np.array(POINTS, dtype=np.int64), np.array(CELLS, dtype=np.uint16)),
+        (np.array(POINTS), np.array(CELLS, dtype=np.float64)),
+    ]:
+        mesh = rsf.Mesh(points, cells)
+        assert mesh.dim == 2
+        assert mesh.points.tobytes() == reference.points.tobytes()
+        assert model_bits(mesh) == model_bits(reference)
+
+
+@pytest.mark.parametrize(
+    "points, cells, name",
+    [
+        (POINTS, [[0, 1, 2.5], [1, 3, 2]], "cells"),
+        (POINTS, [[0, 1, -2], [1, 3, 2]], "cells"),
+        (POINTS, [[0, 1, np.nan], [1, 3, 2]], "cells"),
+        (POINTS, [[True, False, True]], "cells"),
+        (POINTS, [[0, 1], [1, 3]], "cells"),
+        (POINTS, [["a", "b", "c"]], "cells"),
+        (np.array(POINTS) + 1j, CELLS, "points"),
+        ([["x", "y"]], CELLS, "points"),
+        ([[0.0, 0.0, 0.0, 0.0]], [[0, 0, 0, 0, 0]], "points"),
+        ([0.0, 1.0], CELLS, "points"),
+    ],
+)
+def test_what_is_not_an_array_of_numbers_is_refused_by_its_keyword(points, cells, name):
+    with pytest.raises(rsf.InvalidParameterError, match=f"`{name}`"):
+        rsf.Mesh(points, cells)
+
+
+def test_the_kernels_take_array_likes():
+    at = [[100.0, 200.0, -300.0], [-50.0, 20.0, -10.0]]
+    vertices = [[0.0, 0.0, -1000.0], [1000.0, 0.0, -1000.0], [0.0, 1000.0, -1500.0]]
+    args = dict(slip=[1.0, 0.0, 0.0], mu=3e10, nu=0.25)
+    u, s = rsf.triangle_deformation(at, vertices, **args)
+    u_ref, s_ref = rsf.triangle_deformation(
+        np.array(at), np.array(vertices, dtype=np.float32).astype(np.float64), **args
+    )
+    assert u.tobytes() == u_ref.tobytes() and s.tobytes() == s_ref.tobytes()
+    with pytest.raises(rsf.InvalidParameterError, match="`vertices`"):
+        rsf.triangle_deformation(at, vertices[:2] + [[0.0, 1.0]], **args)
