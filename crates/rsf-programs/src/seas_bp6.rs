@@ -43,7 +43,10 @@ use rsf::checkpoint::Fingerprint;
 use rsf::pore_pressure::PorePressure;
 use rsf::whole_space::WholeSpaceKernel;
 use rsf::Stepping;
-use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid, BP6_SECONDS_PER_YEAR};
+use rsf_scenes::{
+    bp6_ranges, Bp6BemProduct, Bp6Elastic, Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid,
+    SeasBp6Run, BP6_C_FIRST_STEP, BP6_DIFFUSION_CELLS, BP6_SECONDS_PER_YEAR,
+};
 use rsf_seas::{SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
 
 /// The elastic kernel.
@@ -133,9 +136,9 @@ pub(crate) struct Args {
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
+    #[arg(long, default_value_t = SeasBp6Run::default().end_years, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = DZ_HELP)]
+    #[arg(long, default_value_t = SeasBp6Run::default().dz, allow_negative_numbers = true, help = DZ_HELP)]
     dz: f64,
     /// The elastic kernel [default: bem; for c too, whose finite-element model at the
     /// default 10 m would need about 50 GB].
@@ -144,18 +147,18 @@ pub(crate) struct Args {
     /// BEM: how the kernel's products are computed [default: fft].
     #[arg(long, value_enum)]
     bem_product: Option<BemProduct>,
-    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
+    #[arg(long, default_value_t = SeasBp6Run::default().domain_km, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
     domain_km: f64,
-    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true, help = RATIO_HELP)]
+    #[arg(long, default_value_t = SeasBp6Run::default().ratio, allow_negative_numbers = true, help = RATIO_HELP)]
     ratio: f64,
     #[arg(long, allow_negative_numbers = true, help = TOLERANCE_HELP)]
     tolerance: Option<f64>,
     /// The pore pressure.
     #[arg(long, value_enum, default_value = "closed-form")]
     pressure: PressureArg,
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
+    #[arg(long, default_value_t = SeasBp6Run::default().station_interval, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
     station_interval: f64,
-    #[arg(long, default_value_t = 10_800.0, allow_negative_numbers = true, help = PROFILE_INTERVAL_HELP)]
+    #[arg(long, default_value_t = SeasBp6Run::default().profile_interval, allow_negative_numbers = true, help = PROFILE_INTERVAL_HELP)]
     profile_interval: f64,
     #[arg(long, help = DIFFUSION_CELLS_HELP)]
     diffusion_cells: Option<usize>,
@@ -182,28 +185,9 @@ impl Args {
     /// # Errors
     /// The variant's and the kernel's (as the plan names them).
     fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        let (variant, elastic) = (self.variant()?, self.elastic());
-        let tol = self.tolerance(variant);
-        let fingerprint = Fingerprint::of_serialized(&SeasBp6::default())
-            .with("variant", variant.name())
-            .with("dz", self.dz)
-            .with("elastic", format!("{elastic:?}"))
-            .with("domain_km", self.domain_km)
-            .with("ratio", self.ratio)
-            .with("tolerance", tol)
-            .with("pressure", format!("{:?}", self.pressure_choice()))
-            .with("kernel", self.kernel.kernel(tol.min(1e-2))?)
-            .with("bem_product", format!("{:?}", self.bem_product()))
-            .with("end_years", self.end_years)
-            .with("station_interval", self.station_interval)
-            .with("profile_interval", self.profile_interval);
-        // The integrator of the fault ODE runs (the implicit ones take none).
-        Ok(match elastic {
-            Elastic::Bem | Elastic::Fe if variant != Bp6Variant::C => {
-                self.integrator.fingerprint(fingerprint)
-            }
-            _ => fingerprint,
-        })
+        // The scene's fingerprint of the run's settings (the integrator of the fault ODE
+        // runs only), which the Python package's `rsf.seas_bp6` computes too.
+        Ok(self.settings()?.fingerprint(&SeasBp6::default()))
     }
 
     fn variant(&self) -> Result<Bp6Variant, AnyError> {
@@ -215,8 +199,7 @@ impl Args {
         self.elastic.unwrap_or(Elastic::Bem)
     }
     fn tolerance(&self, v: Bp6Variant) -> f64 {
-        self.tolerance
-            .unwrap_or(if v == Bp6Variant::C { 1e-3 } else { 1e-7 })
+        self.tolerance.unwrap_or(v.default_tolerance())
     }
     fn grid(&self) -> SeasBp6Grid {
         SeasBp6Grid {
@@ -238,7 +221,34 @@ impl Args {
     }
     /// `--diffusion-cells`, or its default.
     fn diffusion_cells(&self) -> usize {
-        self.diffusion_cells.unwrap_or(800)
+        self.diffusion_cells.unwrap_or(BP6_DIFFUSION_CELLS)
+    }
+    /// The run's settings as the scene states them (its fingerprint's source, shared with
+    /// the Python package's `rsf.seas_bp6`).
+    fn settings(&self) -> Result<SeasBp6Run, AnyError> {
+        let variant = self.variant()?;
+        let tolerance = self.tolerance(variant);
+        Ok(SeasBp6Run {
+            variant,
+            dz: self.dz,
+            elastic: match self.elastic() {
+                Elastic::Bem => Bp6Elastic::Bem,
+                Elastic::Fe => Bp6Elastic::Fe,
+            },
+            bem_product: match self.bem_product() {
+                BemProduct::Fft => Bp6BemProduct::Fft,
+                BemProduct::Stored => Bp6BemProduct::Stored,
+            },
+            domain_km: self.domain_km,
+            ratio: self.ratio,
+            tolerance,
+            pressure: self.pressure_choice(),
+            kernel: self.kernel.kernel(tolerance.min(1e-2))?,
+            integrator: self.integrator.integrator,
+            end_years: self.end_years,
+            station_interval: self.station_interval,
+            profile_interval: self.profile_interval,
+        })
     }
     fn pressure_choice(&self) -> Bp6Pressure {
         match self.pressure {
@@ -278,7 +288,10 @@ impl Program for Args {
             ));
         }
         let elastic = self.elastic();
-        if variant == Bp6Variant::C && elastic == Elastic::Bem && cells > 20_000.0 {
+        if variant == Bp6Variant::C
+            && elastic == Elastic::Bem
+            && cells > bp6_ranges::C_BEM_MAX_CELLS
+        {
             return Err(refuse(
                 "--dz",
                 written(self.dz),
@@ -462,7 +475,8 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 fault.positions.len(),
                 cpu_seconds() - cpu0
             );
-            let mut sim = bp6.constant_friction(model, pressure, 60.0, bp6.step_control(tol)?)?;
+            let mut sim =
+                bp6.constant_friction(model, pressure, BP6_C_FIRST_STEP, bp6.step_control(tol)?)?;
             common.drive(&mut sim, fault, |s| (s.step_count_text(), None))
         }
         (Bp6Variant::C, Elastic::Fe) => {
@@ -473,7 +487,8 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 model.vertices.len(),
                 fault.positions.len()
             );
-            let mut sim = bp6.constant_friction(model, pressure, 60.0, bp6.step_control(tol)?)?;
+            let mut sim =
+                bp6.constant_friction(model, pressure, BP6_C_FIRST_STEP, bp6.step_control(tol)?)?;
             common.drive(&mut sim, fault, |s| (s.step_count_text(), None))
         }
         (_, Elastic::Bem) => {
@@ -636,6 +651,25 @@ impl<const C: usize> rsf::Observer<2, C> for Peak {
 }
 
 const _: () = assert!(DIFFUSION_CELLS.1 == rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64);
+// The flags' ranges (written as literals for `--help`) are the scene's, which the Python
+// keywords of the same names check.
+const _: () = {
+    let pairs = [
+        (END_YEARS, bp6_ranges::END_YEARS),
+        (DZ, bp6_ranges::DZ),
+        (DOMAIN_KM, bp6_ranges::DOMAIN_KM),
+        (RATIO, bp6_ranges::RATIO),
+        (TOLERANCE, bp6_ranges::TOLERANCE),
+        (STATION_INTERVAL, bp6_ranges::STATION_INTERVAL),
+        (PROFILE_INTERVAL, bp6_ranges::PROFILE_INTERVAL),
+        (DIFFUSION_CELLS, bp6_ranges::DIFFUSION_CELLS),
+    ];
+    let mut i = 0;
+    while i < pairs.len() {
+        assert!(pairs[i].0 .0 == pairs[i].1 .0 && pairs[i].0 .1 == pairs[i].1 .1);
+        i += 1;
+    }
+};
 
 #[cfg(test)]
 mod tests {

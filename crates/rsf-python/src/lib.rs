@@ -13,7 +13,9 @@ mod errors;
 mod fields;
 mod network;
 mod problem;
+mod run_folder;
 mod scenes;
+mod seas_bp6;
 mod simulation;
 
 /// The native module.
@@ -27,6 +29,8 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenes::slider, m)?)?;
     m.add_function(wrap_pyfunction!(scenes::slider_3d, m)?)?;
     m.add_function(wrap_pyfunction!(scenes::seas_bp1, m)?)?;
+    m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6, m)?)?;
+    m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6_pore_pressure, m)?)?;
     m.add_function(wrap_pyfunction!(problem::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(dislocations::rectangle_deformation, m)?)?;
     m.add_function(wrap_pyfunction!(dislocations::triangle_deformation, m)?)?;

@@ -9,8 +9,6 @@ use pyo3::types::PyDict;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::{integrator_fingerprint, FaultKernel, FaultOdeOptions, OdeIntegrator};
 use rsf::friction::{DieterichRuina, RateStateParams};
-use rsf::observe::FileMode;
-use rsf::run_folder::{FrontEnd, RunFolder, Session, SessionFlags};
 use rsf::SimulationBuilder;
 use rsf_scenes::{
     SeasBp1, SeasBp1Grid, Slider3dScene, SliderScene, TimeStep, SEAS_BP1_STATION_DEPTHS,
@@ -21,6 +19,7 @@ use serde_json::Value;
 use crate::convert::{per_node, scene, to_json, PerNode};
 use crate::engine::{Engine, Files, Recording};
 use crate::errors::{invalid, OrPy};
+use crate::run_folder::FolderKeywords;
 use crate::simulation::{End, Simulation};
 
 /// The slider scenes' friction fields that may be given per fault node, with the
@@ -37,7 +36,7 @@ type Split<'py> = (Vec<(String, Value)>, Vec<(String, Bound<'py, PyAny>)>);
 
 /// The keyword arguments as scene fields, those of `per_node_names` that are not numbers
 /// (arrays, functions) set aside.
-fn split<'py>(
+pub(crate) fn split<'py>(
     kwargs: Option<&Bound<'py, PyDict>>,
     per_node_names: &[&str],
 ) -> PyResult<Split<'py>> {
@@ -285,17 +284,18 @@ pub(crate) fn seas_bp1(
         domain: domain_km * 1e3,
         ratio,
     };
-    let kernel = bp1_kernel(kernel, kernel_epsilon, rk_tolerance)?;
+    let kernel = fault_kernel(kernel, kernel_epsilon, rk_tolerance)?;
     let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
     if threads == 0 {
         return Err(invalid("threads", "at least 1"));
     }
-    if !allow_change.is_empty() && resume.is_none() {
-        return Err(invalid(
-            "allow_change",
-            "needs `resume` (the fields a resume may change; a new run has nothing to change)",
-        ));
-    }
+    let folder = FolderKeywords {
+        out: out.clone(),
+        overwrite,
+        resume,
+        allow_change,
+    };
+    folder.check()?;
     if hdf5 && out.is_none() {
         return Err(invalid(
             "hdf5",
@@ -324,41 +324,16 @@ pub(crate) fn seas_bp1(
     );
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does.
-    let folder = out.as_ref().map(|out| {
-        let mut names = SeasBp1::file_names();
-        names.push("checkpoint.bin".into());
-        if hdf5 {
-            names.push("seas.h5".into());
-        }
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        RunFolder::new(out, "seas_bp1", &names)
-            .front_end(FrontEnd::Python)
-            .expecting(fingerprint.clone(), &allow_change)
-    });
-    let fresh = match (&folder, &resume) {
-        (Some(f), Some(checkpoint)) => f.prepare_resume(checkpoint, overwrite).py()?,
-        (Some(f), None) => f.prepare(false, overwrite).py()?,
-        (None, _) if overwrite => return Err(invalid("overwrite", "needs `out`")),
-        (None, _) => FileMode::Create,
-    };
+    let mut names = SeasBp1::file_names();
+    if hdf5 {
+        names.push("seas.h5".into());
+    }
+    let fresh = folder.prepare("seas_bp1", names, &fingerprint)?;
     let model = bp1.model(&grid, false).py()?;
     let mut sim = bp1.fault_ode(model, options).py()?;
     let t_end = end_years * SECONDS_PER_YEAR;
-    let checkpoint_path = match (&out, &resume) {
-        (Some(out), _) => out.join("checkpoint.bin"),
-        (None, Some(r)) => r.clone(),
-        (None, None) => PathBuf::from("checkpoint.bin"),
-    };
-    let flags = SessionFlags {
-        resume: resume.as_deref(),
-        allow_change: &allow_change,
-        ..SessionFlags::default()
-    };
-    let session = Session::start(flags, checkpoint_path, fingerprint.clone(), t_end, &mut sim)
-        .py()?
-        .checkpoints_anywhere();
+    let session = folder.session(fingerprint.clone(), t_end, &mut sim)?;
     let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
-    let mut written = Files::default();
     if let Some(out) = out {
         let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
             .iter()
@@ -393,16 +368,14 @@ pub(crate) fn seas_bp1(
                 session.mode(fresh),
             )?);
         }
-        // Every file is checked: a folder whose manifest named no run is the checkpoint's.
-        session.adopt_folder().py()?;
-        written = Files::of_folder(&out);
     }
     let engine = Engine::<2, 1, _> {
         sim,
         recording: Recording::new(fault_every).py()?,
         files,
         fingerprint,
-        folder: written,
+        // Every file is checked: a folder whose manifest named no run is the checkpoint's.
+        folder: folder.files(&session)?,
     };
     Ok(Simulation::new(
         Box::new(engine),
@@ -413,7 +386,7 @@ pub(crate) fn seas_bp1(
 
 /// The fault ODE's kernel of `kernel` ("hierarchical" or "dense") and `kernel_epsilon`
 /// (the hierarchical kernel's tolerance; default: matching `rk_tolerance`).
-fn bp1_kernel(
+pub(crate) fn fault_kernel(
     kernel: &str,
     kernel_epsilon: Option<f64>,
     rk_tolerance: f64,

@@ -3,8 +3,6 @@ program's catalogue.csv as arrays that agree with the events the program put in 
 summary.json (written from the same events by serde, independently of the CSV)."""
 
 import json
-import os
-import pathlib
 import subprocess
 
 import numpy as np
@@ -12,24 +10,7 @@ import pytest
 
 import rsf
 
-from conftest import REPO
-
-
-def program(name):
-    """The example `name` built by the README's test command (or a release build)."""
-    candidates = []
-    for profile in ("release", "debug"):
-        examples = REPO / "target" / profile / "examples"
-        candidates.append(examples / name)
-        # cargo test leaves the example under its hashed name.
-        candidates += [p for p in examples.glob(name + "-*") if p.suffix == ""]
-    found = [c for c in candidates if c.exists() and os.access(c, os.X_OK)]
-    if not found:
-        pytest.fail(
-            f"no {name} program: run `cargo test --workspace --all-features` (which builds "
-            "the examples)"
-        )
-    return max(found, key=lambda p: p.stat().st_mtime)
+from conftest import program
 
 
 def test_the_stepover_catalogue_reads_as_its_summarys_events(tmp_path):

@@ -14,7 +14,7 @@ import pytest
 
 import rsf
 
-from test_seas_bp1 import program
+from conftest import program
 
 # Coarse and short: 2 s of stepping per run on this machine.
 FLAGS = dict(dz=1000.0, domain_km=60.0, end_years=150.0, threads=1, date="2026-01-01")
@@ -150,7 +150,7 @@ def test_a_checkpoint_of_the_program_resumes_from_python_and_back(tmp_path, whol
         flags += ["--" + k.replace("_", "-"), str(v)]
     rust = tmp_path / "rust"
     stopped = subprocess.run(
-        [str(program()), "--out", str(rust), "--max-steps", str(STOP)] + flags,
+        [str(program("seas_bp1")), "--out", str(rust), "--max-steps", str(STOP)] + flags,
         capture_output=True,
         text=True,
     )
@@ -160,7 +160,7 @@ def test_a_checkpoint_of_the_program_resumes_from_python_and_back(tmp_path, whol
     py = tmp_path / "python"
     checkpoint = interrupted(py)
     done = subprocess.run(
-        [str(program()), "--out", str(py), "--resume", str(checkpoint)] + flags,
+        [str(program("seas_bp1")), "--out", str(py), "--resume", str(checkpoint)] + flags,
         capture_output=True,
         text=True,
     )

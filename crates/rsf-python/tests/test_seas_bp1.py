@@ -1,8 +1,6 @@
 """BP1 from Python writes the benchmark's files byte for byte as the Rust program
 `seas_bp1` with the same flags."""
 
-import os
-import pathlib
 import subprocess
 
 import numpy as np
@@ -10,35 +8,14 @@ import pytest
 
 import rsf
 
-from conftest import REPO
+from conftest import program
 
 FLAGS = dict(dz=200.0, domain_km=100.0, end_years=300.0, threads=1, date="2026-01-01")
 
 
-def program():
-    """The example `seas_bp1` built by the README's test command (or a release build)."""
-    given = os.environ.get("RSF_SEAS_BP1")
-    if given:
-        candidates = [pathlib.Path(given)]
-    else:
-        candidates = []
-        for profile in ("release", "debug"):
-            examples = REPO / "target" / profile / "examples"
-            candidates.append(examples / "seas_bp1")
-            # cargo test leaves the example under its hashed name.
-            candidates += [p for p in examples.glob("seas_bp1-*") if p.suffix == ""]
-    found = [c for c in candidates if c.exists() and os.access(c, os.X_OK)]
-    if not found:
-        pytest.fail(
-            "no seas_bp1 program: run `cargo test --workspace --all-features` (which builds "
-            "the examples) or set RSF_SEAS_BP1 to the program"
-        )
-    return max(found, key=lambda p: p.stat().st_mtime)
-
-
 def test_python_bp1_writes_the_rust_programs_files(tmp_path):
     rust, py = tmp_path / "rust", tmp_path / "python"
-    args = [str(program()), "--out", str(rust)]
+    args = [str(program("seas_bp1")), "--out", str(rust)]
     for k, v in FLAGS.items():
         args += ["--" + k.replace("_", "-"), str(v)]
     subprocess.run(args, check=True, capture_output=True)

@@ -53,6 +53,8 @@ mod seas_bp5_output;
 #[cfg(feature = "seas")]
 mod seas_bp6;
 #[cfg(feature = "seas")]
+mod seas_bp6_run;
+#[cfg(feature = "seas")]
 mod seas_bp7;
 #[cfg(feature = "seas")]
 mod seas_bp8;
@@ -86,6 +88,10 @@ pub use seas_bp5::{
 pub use seas_bp6::{
     Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,
     BP6_SECONDS_PER_YEAR,
+};
+#[cfg(feature = "seas")]
+pub use seas_bp6_run::{
+    bp6_ranges, Bp6BemProduct, Bp6Elastic, SeasBp6Run, BP6_C_FIRST_STEP, BP6_DIFFUSION_CELLS,
 };
 #[cfg(feature = "seas")]
 pub use seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};

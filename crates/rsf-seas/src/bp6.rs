@@ -194,6 +194,8 @@ pub struct SeasBp6Output {
     mark: Mark,
     persist_every: usize,
     resume_log: bool,
+    /// A mark also where every run ends ([`Self::with_marks_where_runs_end`]).
+    mark_at_finish: bool,
     log: Vec<Mark>,
     /// The disk space held for the rows in memory.
     reserve: Reserve,
@@ -294,6 +296,7 @@ impl SeasBp6Output {
             },
             persist_every: 0,
             resume_log: false,
+            mark_at_finish: false,
             log: Vec::new(),
             reserve: Reserve::new(dir),
         })
@@ -477,6 +480,17 @@ impl SeasBp6Output {
         self
     }
 
+    /// Keeps the resume log with a mark also where every run ends (its
+    /// [`finish`](Observer::finish): the end time, an observer's break, Ctrl-C), so that a
+    /// front end that writes a checkpoint where a run stopped — the Python package's
+    /// `Simulation.checkpoint` after `advance`, its checkpoint when Ctrl-C stops a run —
+    /// continues the files from it. The marks of [`with_resume_log`](Self::with_resume_log)
+    /// every `steps` steps are kept.
+    pub fn with_marks_where_runs_end(mut self, steps: usize) -> Self {
+        self.mark_at_finish = true;
+        self.with_resume_log(steps)
+    }
+
     fn persist(&mut self) -> Result<()> {
         self.write_files()?;
         if self.log.last().map(|m| m.step) != Some(self.mark.step) {
@@ -578,6 +592,9 @@ impl<const D: usize, const C: usize> Observer<D, C> for SeasBp6Output {
     }
 
     fn finish(&mut self) -> rsf::Result<()> {
+        if self.resume_log && self.mark_at_finish {
+            return Ok(self.persist()?);
+        }
         Ok(self.write_files()?)
     }
 

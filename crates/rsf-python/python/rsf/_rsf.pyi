@@ -38,6 +38,8 @@ __all__ = [
     "slider",
     "slider_3d",
     "seas_bp1",
+    "seas_bp6",
+    "seas_bp6_pore_pressure",
     "simulate",
     "rectangle_deformation",
     "triangle_deformation",
@@ -238,6 +240,43 @@ def seas_bp1(
     fault_every: int = 0,
     **kwargs: Any,
 ) -> Simulation: ...
+def seas_bp6(
+    *,
+    variant: Literal["a", "s", "c"] = "a",
+    dz: float = ...,
+    elastic: Literal["bem", "fe"] = "bem",
+    bem_product: Literal["fft", "stored"] | None = None,
+    domain_km: float = ...,
+    ratio: float = ...,
+    tolerance: float | None = None,
+    pressure: Literal["closed-form", "diffusion"] = "closed-form",
+    diffusion_cells: int | None = None,
+    kernel: Literal["hierarchical", "dense"] = "hierarchical",
+    kernel_epsilon: float | None = None,
+    integrator: Literal[
+        "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
+    ] = "auto",
+    threads: int = 1,
+    end_years: float = ...,
+    station_interval: float = ...,
+    profile_interval: float = ...,
+    out: _Path | None = None,
+    overwrite: bool = False,
+    resume: _Path | None = None,
+    allow_change: Sequence[str] = ...,
+    modeler: str = "rsf",
+    date: str | None = None,
+    fault_every: int = 0,
+    **kwargs: Any,
+) -> Simulation: ...
+def seas_bp6_pore_pressure(
+    z: _ArrayLike,
+    t: _ArrayLike,
+    *,
+    pressure: Literal["closed-form", "diffusion"] = "closed-form",
+    diffusion_cells: int | None = None,
+    **kwargs: Any,
+) -> dict[str, _Array]: ...
 def simulate(
     model: Model,
     *,
