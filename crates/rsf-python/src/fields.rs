@@ -86,3 +86,39 @@ pub(crate) fn seas_series_observer<const D: usize, const C: usize>(
     let _ = (dir, mode);
     Err(no_hdf5("hdf5"))
 }
+
+/// `rsf_hdf5::write_greens` of `g` and its dense `s` into `path`.
+#[cfg(feature = "hdf5")]
+pub(crate) fn write_greens(
+    path: &Path,
+    g: &rsf::greens::GreensFunctions,
+    s: &[f64],
+) -> PyResult<()> {
+    use crate::errors::OrPy;
+    rsf_hdf5::write_greens(path, g, s).py()
+}
+
+/// `rsf_hdf5::read_greens` of `path`.
+#[cfg(feature = "hdf5")]
+pub(crate) fn read_greens(path: &Path) -> PyResult<(rsf::greens::GreensFunctions, Vec<f64>)> {
+    use crate::errors::OrPy;
+    rsf_hdf5::read_greens(path).py()
+}
+
+/// Without the feature `hdf5`: an error.
+#[cfg(not(feature = "hdf5"))]
+pub(crate) fn write_greens(
+    path: &Path,
+    g: &rsf::greens::GreensFunctions,
+    s: &[f64],
+) -> PyResult<()> {
+    let _ = (path, g, s);
+    Err(no_hdf5("path"))
+}
+
+/// Without the feature `hdf5`: an error.
+#[cfg(not(feature = "hdf5"))]
+pub(crate) fn read_greens(path: &Path) -> PyResult<(rsf::greens::GreensFunctions, Vec<f64>)> {
+    let _ = path;
+    Err(no_hdf5("path"))
+}

@@ -32,6 +32,7 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6, m)?)?;
     m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6_pore_pressure, m)?)?;
     m.add_function(wrap_pyfunction!(problem::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulation::_read_greens_hdf5, m)?)?;
     m.add_function(wrap_pyfunction!(dislocations::rectangle_deformation, m)?)?;
     m.add_function(wrap_pyfunction!(dislocations::triangle_deformation, m)?)?;
     m.add("HAS_HDF5", cfg!(feature = "hdf5"))?;

@@ -132,6 +132,17 @@ impl Simulation {
     }
 }
 
+/// The description and the dense `S` of a Green's functions file written by
+/// `GreensFunctions.to_hdf5` (`rsf_hdf5::read_greens`), for `GreensFunctions.from_hdf5`.
+#[pyfunction]
+pub(crate) fn _read_greens_hdf5<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyArray2<f64>>)> {
+    let (g, s) = crate::fields::read_greens(&path)?;
+    Ok((greens_dict(py, &g)?, array2(py, &s, g.dim())?))
+}
+
 /// The description of `g` as a dict of numpy arrays and numbers (`rsf.GreensFunctions`'s
 /// fields).
 fn greens_dict<'py>(
@@ -350,6 +361,15 @@ impl Simulation {
         let m = g.dim();
         let s = g.dense(op, max_unknowns).py()?;
         array2(py, &s, m)
+    }
+
+    /// Writes the Green's functions and the dense `S` (refused above `max_unknowns`) into
+    /// the HDF5 file `path` (`rsf_hdf5::write_greens`; what `GreensFunctions.to_hdf5`
+    /// calls; the package built with the feature `hdf5`).
+    fn _greens_to_hdf5(&mut self, path: PathBuf, max_unknowns: usize) -> PyResult<()> {
+        let (g, op) = self.greens_of()?;
+        let s = g.dense(op, max_unknowns).py()?;
+        crate::fields::write_greens(&path, &g, &s)
     }
 
     /// The block of `S` from the fault `source`'s slip to the fault `receiver`'s forces

@@ -344,3 +344,31 @@ def test_a_network_run_resumes_bit_for_bit(method, tmp_path):
     other = ode(stepover(gap=1.0), **kw)
     with pytest.raises(rsf.CheckpointError, match="model"):
         other.resume(tmp_path / "c.bin")
+
+
+@pytest.mark.skipif(not rsf.HAS_HDF5, reason="built without the feature hdf5")
+def test_greens_functions_of_two_faults_round_trip_through_hdf5(tmp_path):
+    """A two-fault run's Green's functions written to HDF5 by the library's writer and read
+    back by its reader: the matrix and the description bit for bit, the blocks per pair by
+    name the run's; h5py sees S and the fault names; the npz file of the same run equal."""
+    h5py = pytest.importorskip("h5py")
+    g = ode(stepover()).greens_functions()
+    path = tmp_path / "greens.h5"
+    g.to_hdf5(path)
+    back = rsf.GreensFunctions.from_hdf5(path)
+    assert back.matrix().tobytes() == g.matrix().tobytes()
+    assert back.fault_names == g.fault_names == ["west", "east"]
+    for k in ("fault", "node", "component", "positions", "directions", "weights"):
+        assert getattr(back, k).tobytes() == getattr(g, k).tobytes(), k
+    for k in ("origin", "kernel", "relative_error", "tolerance", "unit_S", "dimension"):
+        assert getattr(back, k) == getattr(g, k), k
+    for pair in [("west", "east"), ("east", "west"), ("east", "east")]:
+        assert back.block(*pair).tobytes() == g.block(*pair).tobytes(), pair
+    with h5py.File(path, "r") as f:
+        assert f["S"][:].tobytes() == g.matrix().tobytes()
+        assert [n.decode() for n in f["fault_names"][:]] == ["west", "east"]
+    g.to_npz(tmp_path / "greens.npz")
+    npz = rsf.GreensFunctions.from_npz(tmp_path / "greens.npz")
+    assert npz.matrix().tobytes() == back.matrix().tobytes()
+    with pytest.raises(ValueError, match="to_npz"):
+        back.to_hdf5(tmp_path / "again.h5")

@@ -27,7 +27,7 @@ _SCALARS = (
 
 class GreensFunctions:
     """The fault operator S of a run (``Simulation.greens_functions()``) or of a file
-    (:meth:`from_npz`).
+    (:meth:`from_npz`, :meth:`from_hdf5`).
 
     ``S`` maps slip (m) on the ``dim`` slip unknowns to forces (N in 3-D, N/m per unit
     thickness in 2-D; ``unit_S``): unit slip on unknown ``j`` changes the traction on
@@ -134,6 +134,29 @@ class GreensFunctions:
             **arrays,
             **scalars,
         )
+
+    def to_hdf5(self, path, max_unknowns=4096):
+        """Writes the description and the dense S (refused above ``max_unknowns``) into the
+        HDF5 file ``path`` by the library's writer (``rsf_hdf5::write_greens``: ``S``, the
+        per-unknown datasets with their ``unit``, the accuracy and origin as attributes;
+        a package built with the feature ``hdf5``). Only Green's functions of a run: a
+        file's are copied by :meth:`to_npz`."""
+        if self._sim is None:
+            raise ValueError(
+                "to_hdf5 writes the Green's functions of a run (Simulation.greens_functions()); "
+                "these were read from a file: use to_npz"
+            )
+        self._sim._greens_to_hdf5(path, int(max_unknowns))
+
+    @classmethod
+    def from_hdf5(cls, path):
+        """The Green's functions an HDF5 file of :meth:`to_hdf5` (or of the Rust
+        ``rsf_hdf5::write_greens``) holds, read by the library's reader (applied with its
+        matrix)."""
+        from ._rsf import _read_greens_hdf5
+
+        description, matrix = _read_greens_hdf5(path)
+        return cls(description, matrix=matrix)
 
     @classmethod
     def from_npz(cls, path):

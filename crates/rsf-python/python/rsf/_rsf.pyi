@@ -43,26 +43,7 @@ __all__ = [
     "simulate",
     "rectangle_deformation",
     "triangle_deformation",
-    "HAS_HDF5",
-]
-
-__all__ = [
-    "RsfError",
-    "InvalidParameterError",
-    "ModelError",
-    "ConvergenceError",
-    "CheckpointError",
-    "RsfIOError",
-    "Simulation",
-    "Mesh",
-    "Model",
-    "Friction",
-    "slider",
-    "slider_3d",
-    "seas_bp1",
-    "simulate",
-    "rectangle_deformation",
-    "triangle_deformation",
+    "_read_greens_hdf5",
     "HAS_HDF5",
 ]
 
@@ -198,6 +179,7 @@ class Simulation:
     def _greens_apply(self, x: _ArrayLike) -> _Array: ...
     def _greens_dense(self, max_unknowns: int) -> _Array: ...
     def _greens_block(self, receiver: str, source: str, max_unknowns: int) -> _Array: ...
+    def _greens_to_hdf5(self, path: _Path, max_unknowns: int) -> None: ...
     def series(self) -> dict[str, npt.NDArray[Any]]: ...
     def fault(self) -> dict[str, Any]: ...
     def events(self) -> dict[str, npt.NDArray[Any]]: ...
@@ -207,6 +189,7 @@ class Simulation:
     def to_xarray(self) -> Any: ...
 
 def slider(*, fault_every: int = 0, **kwargs: Any) -> Simulation: ...
+def _read_greens_hdf5(path: _Path) -> tuple[dict[str, Any], _Array]: ...
 def slider_3d(
     *,
     fault_every: int = 0,
