@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod convert;
+mod counts;
 mod dislocations;
 mod engine;
 mod errors;

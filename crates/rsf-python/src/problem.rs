@@ -87,10 +87,14 @@ impl Mesh {
     fn rectangle(
         origin: [f64; 2],
         size: [f64; 2],
-        nx: usize,
-        ny: usize,
+        nx: i128,
+        ny: i128,
         diagonal: &str,
     ) -> PyResult<Self> {
+        let (nx, ny) = (
+            crate::counts::count(nx, "nx")?,
+            crate::counts::count(ny, "ny")?,
+        );
         let diagonal = match diagonal {
             "forward" => Diagonal::Forward,
             "backward" => Diagonal::Backward,
@@ -108,7 +112,12 @@ impl Mesh {
 
     /// The cuboid `origin + [0, size]` (m) in `n` vertices per direction (tetrahedra).
     #[staticmethod]
-    fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> PyResult<Self> {
+    fn cuboid(origin: [f64; 3], size: [f64; 3], n: [i128; 3]) -> PyResult<Self> {
+        let n = [
+            crate::counts::count(n[0], "n")?,
+            crate::counts::count(n[1], "n")?,
+            crate::counts::count(n[2], "n")?,
+        ];
         Ok(Self {
             mesh: AnyMesh::Three(rsf::fem::cuboid(origin, size, n).py_fem()?),
         })
@@ -324,13 +333,14 @@ impl Model {
         youngs_modulus: f64,
         poisson_ratio: f64,
         density: f64,
-        refine: usize,
+        refine: i128,
         gravity: Option<Vec<f64>>,
         dirichlet: Vec<(Bound<'_, PyAny>, Vec<f64>)>,
         frictional_boundary: Option<Bound<'_, PyAny>>,
         ramp: Option<f64>,
         faults: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let refine = crate::counts::count(refine, "refine")?;
         let faults = fault_specs(faults.as_ref(), mesh.dim())?;
         let material = Material::new(youngs_modulus, poisson_ratio, density);
         let head = format!(
@@ -663,10 +673,11 @@ pub(crate) fn simulate(
     integrator: Option<&str>,
     solver: Option<&str>,
     end_time: Option<f64>,
-    fault_every: usize,
+    fault_every: i128,
     method: &str,
     radiation_damping: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Simulation> {
+    let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let fault_ode = match method {
         "implicit" => false,
         "fault-ode" => true,

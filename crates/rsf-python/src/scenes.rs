@@ -120,9 +120,10 @@ fn slider_end(s: &SliderScene) -> End {
 #[pyo3(signature = (*, fault_every=0, **kwargs))]
 pub(crate) fn slider(
     py: Python<'_>,
-    fault_every: usize,
+    fault_every: i128,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
+    let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let names: Vec<&str> = PER_NODE.iter().map(|(n, _)| *n).collect();
     let (fields, per) = split(kwargs, &names)?;
     let s: SliderScene = scene(&SliderScene::default(), &fields, "the slider scene")?;
@@ -158,13 +159,15 @@ pub(crate) fn slider(
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn slider_3d(
     py: Python<'_>,
-    fault_every: usize,
+    fault_every: i128,
     hdf5: Option<PathBuf>,
-    hdf5_every: usize,
+    hdf5_every: i128,
     resume: Option<PathBuf>,
     allow_change: Vec<String>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
+    let fault_every = crate::counts::count(fault_every, "fault_every")?;
+    let hdf5_every = crate::counts::count(hdf5_every, "hdf5_every")?;
     let names: Vec<&str> = PER_NODE.iter().map(|(n, _)| *n).collect();
     let (fields, per) = split(kwargs, &names)?;
     // The 3-D scene flattens the 2-D one into its fields, which serde cannot check for
@@ -257,7 +260,7 @@ pub(crate) fn seas_bp1(
     kernel: &str,
     kernel_epsilon: Option<f64>,
     integrator: &str,
-    threads: Option<usize>,
+    threads: Option<i128>,
     end_years: f64,
     every_step: bool,
     out: Option<PathBuf>,
@@ -267,9 +270,11 @@ pub(crate) fn seas_bp1(
     hdf5: bool,
     modeler: &str,
     date: Option<String>,
-    fault_every: usize,
+    fault_every: i128,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
+    let threads = crate::counts::optional(threads, "threads")?;
+    let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let (fields, _) = split(kwargs, &[])?;
     let bp1: SeasBp1 = scene(&SeasBp1::default(), &fields, "the BP1 scene")?;
     bp1.validate().py()?;

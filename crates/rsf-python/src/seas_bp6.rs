@@ -55,11 +55,11 @@ pub(crate) fn seas_bp6(
     ratio: f64,
     tolerance: Option<f64>,
     pressure: &str,
-    diffusion_cells: Option<usize>,
+    diffusion_cells: Option<i128>,
     kernel: &str,
     kernel_epsilon: Option<f64>,
     integrator: &str,
-    threads: usize,
+    threads: i128,
     end_years: f64,
     station_interval: f64,
     profile_interval: f64,
@@ -69,9 +69,12 @@ pub(crate) fn seas_bp6(
     allow_change: Vec<String>,
     modeler: &str,
     date: Option<String>,
-    fault_every: usize,
+    fault_every: i128,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
+    let diffusion_cells = crate::counts::optional(diffusion_cells, "diffusion_cells")?;
+    let threads = crate::counts::count(threads, "threads")?;
+    let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let bp6 = bp6_scene(kwargs)?;
     let variant = variant.parse::<Bp6Variant>().py()?;
     let tolerance = tolerance.unwrap_or(variant.default_tolerance());
@@ -321,9 +324,10 @@ pub(crate) fn seas_bp6_pore_pressure<'py>(
     z: PyArrayLike1<'py, f64, AllowTypeChange>,
     t: PyArrayLike1<'py, f64, AllowTypeChange>,
     pressure: &str,
-    diffusion_cells: Option<usize>,
+    diffusion_cells: Option<i128>,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let diffusion_cells = crate::counts::optional(diffusion_cells, "diffusion_cells")?;
     let bp6 = bp6_scene(kwargs)?;
     let how = pressure_of(pressure, diffusion_cells)?;
     how.validate().py()?;

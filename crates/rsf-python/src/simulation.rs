@@ -120,6 +120,40 @@ unsafe impl Send for OnThisThread<'_> {}
 
 impl Simulation {
     /// The run's Green's functions and operator, or an error naming `greens_functions`.
+    /// `advance` with its keywords checked: `until` (s) or `steps` (or neither: the
+    /// scene's end), the checkpoint file and interval.
+    fn advance_by(
+        &mut self,
+        py: Python<'_>,
+        (until, steps): (Option<f64>, Option<usize>),
+        progress: bool,
+        checkpoint: Option<PathBuf>,
+        checkpoint_every: usize,
+    ) -> PyResult<Py<PyDict>> {
+        let until = match (until, steps) {
+            (Some(_), Some(_)) => {
+                return Err(invalid("until", "give `until` (s) or `steps`, not both"))
+            }
+            (Some(t), None) => Until::Time(t),
+            (None, Some(n)) => Until::Steps(n),
+            (None, None) => self.end_until()?,
+        };
+        // A run writing files in `out` checkpoints into `out/checkpoint.bin` by default,
+        // as the programs do: where a resume finds the folder of its run.
+        let checkpoint = checkpoint.or_else(|| {
+            let folder = self.engine.files().folder.as_ref()?;
+            (checkpoint_every > 0).then(|| folder.join("checkpoint.bin"))
+        });
+        if checkpoint_every > 0 && checkpoint.is_none() {
+            return Err(invalid(
+                "checkpoint_every",
+                "needs `checkpoint`, the file to write (a simulation with `out` writes \
+                 `out/checkpoint.bin` by default)",
+            ));
+        }
+        self.go(py, until, progress, checkpoint, checkpoint_every)
+    }
+
     fn greens_of(&mut self) -> PyResult<Greens<'_>> {
         match self.engine.greens() {
             Some(g) => g.py(),
@@ -229,33 +263,14 @@ impl Simulation {
         &mut self,
         py: Python<'_>,
         until: Option<f64>,
-        steps: Option<usize>,
+        steps: Option<i128>,
         progress: bool,
         checkpoint: Option<PathBuf>,
-        checkpoint_every: usize,
+        checkpoint_every: i128,
     ) -> PyResult<Py<PyDict>> {
-        let until = match (until, steps) {
-            (Some(_), Some(_)) => {
-                return Err(invalid("until", "give `until` (s) or `steps`, not both"))
-            }
-            (Some(t), None) => Until::Time(t),
-            (None, Some(n)) => Until::Steps(n),
-            (None, None) => self.end_until()?,
-        };
-        // A run writing files in `out` checkpoints into `out/checkpoint.bin` by default,
-        // as the programs do: where a resume finds the folder of its run.
-        let checkpoint = checkpoint.or_else(|| {
-            let folder = self.engine.files().folder.as_ref()?;
-            (checkpoint_every > 0).then(|| folder.join("checkpoint.bin"))
-        });
-        if checkpoint_every > 0 && checkpoint.is_none() {
-            return Err(invalid(
-                "checkpoint_every",
-                "needs `checkpoint`, the file to write (a simulation with `out` writes \
-                 `out/checkpoint.bin` by default)",
-            ));
-        }
-        self.go(py, until, progress, checkpoint, checkpoint_every)
+        let steps = crate::counts::optional(steps, "steps")?;
+        let checkpoint_every = crate::counts::count(checkpoint_every, "checkpoint_every")?;
+        self.advance_by(py, (until, steps), progress, checkpoint, checkpoint_every)
     }
 
     /// Steps to the scene's end (its step count or end time): `advance()` with no bound.
@@ -265,9 +280,10 @@ impl Simulation {
         py: Python<'_>,
         progress: bool,
         checkpoint: Option<PathBuf>,
-        checkpoint_every: usize,
+        checkpoint_every: i128,
     ) -> PyResult<Py<PyDict>> {
-        self.advance(py, None, None, progress, checkpoint, checkpoint_every)
+        let checkpoint_every = crate::counts::count(checkpoint_every, "checkpoint_every")?;
+        self.advance_by(py, (None, None), progress, checkpoint, checkpoint_every)
     }
 
     /// Writes a checkpoint of the state now to `path` (the library's format, with a
@@ -355,8 +371,9 @@ impl Simulation {
     fn _greens_dense<'py>(
         &mut self,
         py: Python<'py>,
-        max_unknowns: usize,
+        max_unknowns: i128,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let max_unknowns = crate::counts::count(max_unknowns, "max_unknowns")?;
         let (g, op) = self.greens_of()?;
         let m = g.dim();
         let s = g.dense(op, max_unknowns).py()?;
@@ -366,7 +383,8 @@ impl Simulation {
     /// Writes the Green's functions and the dense `S` (refused above `max_unknowns`) into
     /// the HDF5 file `path` (`rsf_hdf5::write_greens`; what `GreensFunctions.to_hdf5`
     /// calls; the package built with the feature `hdf5`).
-    fn _greens_to_hdf5(&mut self, path: PathBuf, max_unknowns: usize) -> PyResult<()> {
+    fn _greens_to_hdf5(&mut self, path: PathBuf, max_unknowns: i128) -> PyResult<()> {
+        let max_unknowns = crate::counts::count(max_unknowns, "max_unknowns")?;
         let (g, op) = self.greens_of()?;
         let s = g.dense(op, max_unknowns).py()?;
         crate::fields::write_greens(&path, &g, &s)
@@ -380,8 +398,9 @@ impl Simulation {
         py: Python<'py>,
         receiver: &str,
         source: &str,
-        max_unknowns: usize,
+        max_unknowns: i128,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let max_unknowns = crate::counts::count(max_unknowns, "max_unknowns")?;
         let (g, op) = self.greens_of()?;
         let b = g.block(op, (receiver, source), max_unknowns).py()?;
         array2(py, &b, g.unknowns_of(source).len())

@@ -72,3 +72,31 @@ def test_the_kernels_take_array_likes():
     assert u.tobytes() == u_ref.tobytes() and s.tobytes() == s_ref.tobytes()
     with pytest.raises(rsf.InvalidParameterError, match="`vertices`"):
         rsf.triangle_deformation(at, vertices[:2] + [[0.0, 1.0]], **args)
+
+
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: rsf.slider(fault_every=-1), "fault_every"),
+        (lambda: rsf.slider_3d(hdf5_every=-1, level=0), "hdf5_every"),
+        (lambda: rsf.seas_bp1(threads=-1), "threads"),
+        (lambda: rsf.seas_bp6(threads=-2), "threads"),
+        (lambda: rsf.seas_bp6(diffusion_cells=-800, pressure="diffusion"), "diffusion_cells"),
+        (lambda: rsf.Mesh.rectangle((0.0, 0.0), (1.0, 1.0), -1, 3), "nx"),
+        (lambda: rsf.Mesh.cuboid((0.0,) * 3, (1.0,) * 3, (2, -2, 2)), "n"),
+        (lambda: rsf.slider(level=0).advance(steps=-1), "steps"),
+        (lambda: rsf.slider(level=0).run(checkpoint_every=-5), "checkpoint_every"),
+        (lambda: rsf.slider(level=0).advance(steps=2**70), "steps"),
+    ],
+)
+def test_negative_or_oversized_counts_are_refused_by_their_keyword(call, name):
+    """Whole-number keywords (steps, threads, intervals, cell counts) refuse a negative or
+    oversized int as `InvalidParameterError` naming the keyword (issue 86: a bare
+    `OverflowError: can't convert negative int to unsigned`, naming nothing)."""
+    with pytest.raises(rsf.InvalidParameterError, match=f"`{name}`"):
+        call()
+
+
+def test_a_count_that_is_not_an_int_is_a_type_error_naming_it():
+    with pytest.raises(TypeError, match="fault_every"):
+        rsf.slider(fault_every=1.5)
