@@ -23,7 +23,7 @@ pub use fault_stations::{FaultStation, FaultStations};
 pub use fields::{point_fields, PointField, POINT_FIELDS};
 pub use files::{create_file, csv_lines, refuse_existing, CsvLine, FileMode};
 pub use profile::{FrictionalProfile, ProfileRow};
-pub use progress::{Progress, TimeUnit};
+pub use progress::{Progress, TimeUnit, PROGRESS_LINE_SECONDS};
 pub use recorder::{FaultRecorder, Recorder};
 pub use series::{PointSeries, SeriesRow};
 #[cfg(feature = "vtk")]
