@@ -127,6 +127,9 @@ pub(crate) fn slider(
     let names: Vec<&str> = PER_NODE.iter().map(|(n, _)| *n).collect();
     let (fields, per) = split(kwargs, &names)?;
     let s: SliderScene = scene(&SliderScene::default(), &fields, "the slider scene")?;
+    if s.state_law == rsf::StateLawKind::Discontinuous {
+        return Err(crate::problem::discontinuous_needs_theta());
+    }
     let builder = s.simulation_builder().py()?;
     let (builder, fingerprint) =
         rate_state_per_node(py, builder, s.rate_state_params(), &per, s.fingerprint())?;
@@ -183,6 +186,9 @@ pub(crate) fn slider_3d(
         "the 3-D slider scene",
     )?;
     let s: Slider3dScene = scene(&Slider3dScene::default(), &fields, "the 3-D slider scene")?;
+    if s.slider.state_law == rsf::StateLawKind::Discontinuous {
+        return Err(crate::problem::discontinuous_needs_theta());
+    }
     let model = s.build_model().py()?;
     let builder = s.simulation_builder_with_model(model).py()?;
     let (builder, fingerprint) = rate_state_per_node(

@@ -100,3 +100,33 @@ def test_negative_or_oversized_counts_are_refused_by_their_keyword(call, name):
 def test_a_count_that_is_not_an_int_is_a_type_error_naming_it():
     with pytest.raises(TypeError, match="fault_every"):
         rsf.slider(fault_every=1.5)
+
+
+def test_the_discontinuous_law_with_a_rate_and_state_law_is_refused_by_state_law():
+    """The discontinuous state law evolves θ itself, which the rate-and-state laws read as
+    ln θ: refused naming `state_law` (issue 86: documented, then refused by the library
+    naming a frictional node), from the sliders and from a problem of one's own; with
+    Tresca friction, which does not read the state, it runs."""
+    for call in (
+        lambda: rsf.slider(level=0, state_law="discontinuous"),
+        lambda: rsf.slider_3d(level=0, state_law="discontinuous"),
+    ):
+        with pytest.raises(rsf.InvalidParameterError, match="`state_law`.*ln θ"):
+            call()
+    mesh = rsf.Mesh(POINTS, CELLS)
+    model = rsf.Model(
+        mesh,
+        youngs_modulus=1e9,
+        poisson_ratio=0.25,
+        density=2.5e3,
+        gravity=(0.0, -9.81),
+        dirichlet=[(("top", lambda x: x[1] > 1.0 - 1e-9), (1e-4, 0.0))],
+        frictional_boundary=("bottom", lambda x: x[1] < 1e-9),
+    )
+    args = dict(alpha0=-10.0, tau=1e-3, end_time=5e-3, state_law="discontinuous")
+    laws = dict(mu0=0.6, a=0.01, b=0.015, v0=1e-6, l=1e-5, sigma_n=5e4)
+    for friction in (rsf.Friction.dieterich_ruina(**laws), rsf.Friction.regularised(**laws)):
+        with pytest.raises(rsf.InvalidParameterError, match="`state_law`"):
+            rsf.simulate(model, friction=friction, **args)
+    sim = rsf.simulate(model, friction=rsf.Friction.tresca(mu=0.6, sigma_n=5e4), **args)
+    assert sim.run()["steps"] == 5
