@@ -110,6 +110,20 @@ impl<T> OrPy<T> for Result<T, rsf_hdf5::Error> {
     }
 }
 
+/// The refusal of `state_law="discontinuous"` with a rate-and-state law: that law evolves
+/// θ itself (docs/math.md, "Discontinuous": α = θ), which Dieterich–Ruina's and the
+/// regularised law read as ln θ.
+pub(crate) fn discontinuous_needs_theta() -> PyErr {
+    invalid(
+        "state_law",
+        "\"discontinuous\" evolves the state θ itself (α = θ, docs/math.md), while the \
+         rate-and-state laws (dieterich_ruina, regularised, the sliders' law) read α as \
+         ln θ: use \"aging\" or \"slip\" with them; the discontinuous law pairs with a \
+         friction coefficient μ(θ) of the state (the Rust API's StateDependentTresca), or \
+         with rsf.Friction.tresca, which does not use the state",
+    )
+}
+
 /// Registers the classes on the module.
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

@@ -642,20 +642,6 @@ where
     Ok(Simulation::new(Box::new(engine), end, "own problem"))
 }
 
-/// The refusal of `state_law="discontinuous"` with a rate-and-state law: that law evolves
-/// θ itself (docs/math.md, "Discontinuous": α = θ), which Dieterich–Ruina's and the
-/// regularised law read as ln θ.
-pub(crate) fn discontinuous_needs_theta() -> PyErr {
-    invalid(
-        "state_law",
-        "\"discontinuous\" evolves the state θ itself (α = θ, docs/math.md), while the \
-         rate-and-state laws (dieterich_ruina, regularised, the sliders' law) read α as \
-         ln θ: use \"aging\" or \"slip\" with them; the discontinuous law pairs with a \
-         friction coefficient μ(θ) of the state (the Rust API's StateDependentTresca), or \
-         with rsf.Friction.tresca, which does not use the state",
-    )
-}
-
 /// A simulation of `model`: `friction` (`rsf.Friction.dieterich_ruina(...)`,
 /// `.regularised(...)`, `.tresca(...)`), `state_law` ("aging", "slip"; "discontinuous", which
 /// evolves θ itself, only with `.tresca(...)`),
@@ -733,7 +719,7 @@ pub(crate) fn simulate(
         rigidity: model.rigidity,
     };
     if c.state_law == StateLawKind::Discontinuous && friction.kind != FrictionKind::Tresca {
-        return Err(discontinuous_needs_theta());
+        return Err(crate::errors::discontinuous_needs_theta());
     }
     let (x, d) = match &model.model {
         AnyModel::Two(m) => (coords(m), 2),

@@ -128,7 +128,7 @@ pub(crate) fn slider(
     let (fields, per) = split(kwargs, &names)?;
     let s: SliderScene = scene(&SliderScene::default(), &fields, "the slider scene")?;
     if s.state_law == rsf::StateLawKind::Discontinuous {
-        return Err(crate::problem::discontinuous_needs_theta());
+        return Err(crate::errors::discontinuous_needs_theta());
     }
     let builder = s.simulation_builder().py()?;
     let (builder, fingerprint) =
@@ -187,7 +187,7 @@ pub(crate) fn slider_3d(
     )?;
     let s: Slider3dScene = scene(&Slider3dScene::default(), &fields, "the 3-D slider scene")?;
     if s.slider.state_law == rsf::StateLawKind::Discontinuous {
-        return Err(crate::problem::discontinuous_needs_theta());
+        return Err(crate::errors::discontinuous_needs_theta());
     }
     let model = s.build_model().py()?;
     let builder = s.simulation_builder_with_model(model).py()?;

@@ -12,9 +12,10 @@ POINTS = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]]
 CELLS = [[0, 1, 2], [1, 3, 2]]
 
 
-def model_bits(mesh):
-    """The model built on `mesh`: its size and its fault's coordinates."""
-    model = rsf.Model(
+def plate(mesh):
+    """A unit square on `mesh` pressed by gravity, dragged at its top, frictional at its
+    base."""
+    return rsf.Model(
         mesh,
         youngs_modulus=1e9,
         poisson_ratio=0.25,
@@ -23,6 +24,11 @@ def model_bits(mesh):
         dirichlet=[(("top", lambda x: x[1] > 1.0 - 1e-9), (1e-4, 0.0))],
         frictional_boundary=("bottom", lambda x: x[1] < 1e-9),
     )
+
+
+def model_bits(mesh):
+    """The model built on `mesh`: its size and its fault's coordinates."""
+    model = plate(mesh)
     return model.num_nodes, model.fault_coordinates.tobytes()
 
 
@@ -113,16 +119,7 @@ def test_the_discontinuous_law_with_a_rate_and_state_law_is_refused_by_state_law
     ):
         with pytest.raises(rsf.InvalidParameterError, match="`state_law`.*ln θ"):
             call()
-    mesh = rsf.Mesh(POINTS, CELLS)
-    model = rsf.Model(
-        mesh,
-        youngs_modulus=1e9,
-        poisson_ratio=0.25,
-        density=2.5e3,
-        gravity=(0.0, -9.81),
-        dirichlet=[(("top", lambda x: x[1] > 1.0 - 1e-9), (1e-4, 0.0))],
-        frictional_boundary=("bottom", lambda x: x[1] < 1e-9),
-    )
+    model = plate(rsf.Mesh(POINTS, CELLS))
     args = dict(alpha0=-10.0, tau=1e-3, end_time=5e-3, state_law="discontinuous")
     laws = dict(mu0=0.6, a=0.01, b=0.015, v0=1e-6, l=1e-5, sigma_n=5e4)
     for friction in (rsf.Friction.dieterich_ruina(**laws), rsf.Friction.regularised(**laws)):
