@@ -245,6 +245,23 @@ fn generic_cases(program: &str, flags: &BTreeSet<String>) -> Vec<Case> {
         cases.push(case(program, &["--scene", "huge_level.toml"], "level"));
         cases.push(case(program, &["--scene", "missing.toml"], "missing.toml"));
     }
+    // A run configuration's file (docs/design.md, "One run configuration"): missing, a
+    // key that is no setting, a value of the wrong type, a value out of its range — each
+    // named as written.
+    if flags.contains("--config") {
+        cases.push(case(program, &["--config", "missing.toml"], "missing.toml"));
+        cases.push(case(
+            program,
+            &["--config", "unknown_key.toml"],
+            "no_such_setting",
+        ));
+        cases.push(case(program, &["--config", "typed_dx.toml"], "`dx`"));
+        cases.push(case(
+            program,
+            &["--config", "bad_dx.toml"],
+            "key `dx` = -10",
+        ));
+    }
     cases
 }
 
@@ -470,6 +487,9 @@ fn scratch(name: &str) -> PathBuf {
     std::fs::write(dir.join("huge_steps.toml"), "steps = 1000000000000\n").unwrap();
     std::fs::write(dir.join("huge_level.toml"), "level = 30\n").unwrap();
     std::fs::write(dir.join("bad_end.toml"), "end_time_s = -1.0\n").unwrap();
+    std::fs::write(dir.join("unknown_key.toml"), "no_such_setting = 1\n").unwrap();
+    std::fs::write(dir.join("typed_dx.toml"), "dx = \"ten\"\n").unwrap();
+    std::fs::write(dir.join("bad_dx.toml"), "dx = -10\n").unwrap();
     dir
 }
 
@@ -1073,7 +1093,8 @@ fn the_mpi_programs_refuse_careless_inputs_without_mpi() {
             let mut args = vec![std::ffi::OsString::from(p.name)];
             let mut follows_path = false;
             for a in &c.args {
-                let path_flag = matches!(a.as_str(), "--out" | "--figures" | "--scene");
+                let path_flag =
+                    matches!(a.as_str(), "--out" | "--figures" | "--scene" | "--config");
                 args.push(if follows_path {
                     dir.join(a).into_os_string()
                 } else {

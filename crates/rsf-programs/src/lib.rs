@@ -16,6 +16,7 @@ use plotters::prelude::*;
 #[cfg(feature = "seas")]
 pub mod bp5_pair;
 pub mod cli;
+pub mod config;
 mod curved;
 mod defaults;
 pub mod distributed_sweep;

@@ -24,63 +24,32 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::guard::{
-    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
-    Program,
-};
+use crate::config::ConfigArgs;
+use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::square_fault::{run_square_fault, SquareRun};
-use crate::square_fault::{DX, DX_HELP, TOLERANCE, TOLERANCE_HELP};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
-use rsf::checkpoint::Fingerprint;
 use rsf::observe::TimeUnit;
-use rsf_scenes::{Bp7Law, SeasBp7};
+use rsf_scenes::{RunConfig, SeasBp7Run};
 use rsf_seas::{
     SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP7_RESUME_LOG, SECONDS_PER_YEAR,
 };
-
-flag_range!(
-    END_YEARS,
-    END_YEARS_HELP = "End time (years of 365.25 days)",
-    [1e-9, 1000]
-);
-flag_range!(
-    D_RS,
-    D_RS_HELP = "Characteristic slip distance D_RS (mm; docs/seas-bp7.md: 0.50 or 0.53)",
-    [0.01, 100]
-);
-flag_range!(
-    STATION_INTERVAL,
-    STATION_INTERVAL_HELP =
-        "Station interval between events (s; 0: a station row at every accepted step)",
-    [0, 1e7]
-);
 
 /// SEAS BP7-QD-A / BP7-QD-S.
 #[derive(Parser)]
 #[command(version)]
 pub(crate) struct Args {
-    /// The state law: aging (BP7-QD-A) or slip (BP7-QD-S).
-    #[arg(long, default_value = "aging")]
-    law: String,
+    /// The run's settings (`rsf_scenes::SeasBp7Run`: these flags, or `--config`'s keys).
+    #[command(flatten)]
+    pub(crate) settings: SeasBp7Run,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp7")]
     out: PathBuf,
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
-    end_years: f64,
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, help = DX_HELP)]
-    dx: f64,
-    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true, help = D_RS_HELP)]
-    d_rs: f64,
-    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true, help = TOLERANCE_HELP)]
-    tolerance: f64,
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
-    station_interval: f64,
-    #[command(flatten)]
-    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the same bits for every value).
     #[arg(long, default_value_t = 1)]
     threads: usize,
@@ -90,39 +59,6 @@ pub(crate) struct Args {
     run: crate::ResumeArgs,
     #[command(flatten)]
     limits: Limits,
-}
-
-impl Args {
-    /// What a checkpoint continues: the scene, the law, the cell and what changes the
-    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
-    /// changes).
-    ///
-    /// # Errors
-    /// The law's (`--law`).
-    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        let fingerprint = Fingerprint::of_serialized(&self.scene())
-            .with("law", self.law()?.name())
-            .with("dx", self.dx)
-            .with("tolerance", self.tolerance)
-            .with("end_years", self.end_years)
-            .with("station_interval", self.station_interval);
-        Ok(self.integrator.fingerprint(fingerprint))
-    }
-
-    fn law(&self) -> Result<Bp7Law, AnyError> {
-        self.law
-            .parse()
-            .map_err(|_| refuse("--law", &self.law, "must be aging or slip"))
-    }
-    fn end_seconds(&self) -> f64 {
-        self.end_years * SECONDS_PER_YEAR
-    }
-    fn scene(&self) -> SeasBp7 {
-        SeasBp7 {
-            d_rs: self.d_rs * 1e-3,
-            ..SeasBp7::default()
-        }
-    }
 }
 
 /// The files a run writes into `--out`.
@@ -139,30 +75,22 @@ impl Program for Args {
         self.limits
     }
 
+    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
+        self.settings = self.config.merged(self.settings, matches)?;
+        Ok(self)
+    }
+
     fn plan(&self) -> Result<Plan, AnyError> {
-        self.law()?;
-        in_range("--end-years", self.end_years, END_YEARS, "years")?;
-        in_range("--d-rs", self.d_rs, D_RS, "mm")?;
-        let bp7 = self.scene();
-        in_range("--dx", self.dx, DX, "m")?;
-        let cells = bp7
-            .cells(self.dx)
-            .map_err(|_| refuse("--dx", written(self.dx), "must divide 2 l_f = 800 m"))?
-            .len() as f64;
-        in_range("--tolerance", self.tolerance, TOLERANCE, "")?;
-        in_range(
-            "--station-interval",
-            self.station_interval,
-            STATION_INTERVAL,
-            "s",
-        )?;
+        self.config.validate(&self.settings)?;
+        let run = &self.settings;
+        let cells = run.cells().map_err(|e| self.config.named(e))? as f64;
         self.header.check()?;
         // Station rows (19 files of 8 columns and global.dat, 130 B a row each) at most
         // one per accepted step, the steps bounded by 10 000 a year for this estimate
         // (measured at 20 m: 1 318 a year with the aging law, 3 459 with the slip law;
         // docs/seas-bp7.md; fewer with `--station-interval`); profile rows (4 files of
         // 83 columns) one per second of events, 2 000 a year.
-        let years = self.end_years;
+        let years = run.end_years;
         let rows = years * 1e4;
         let output = rows * 20.0 * 130.0 + years * 2000.0 * 4.0 * 83.0 * 15.0;
         // The fault ODE's vectors and the FFT operator's circulant, 2 kB per cell as BP8
@@ -177,17 +105,17 @@ impl Program for Args {
             .memory(
                 memory,
                 "--dx",
-                format!("BP7 on Δx = {} m: {cells} cells", number(self.dx)),
+                format!("BP7 on Δx = {} m: {cells} cells", number(run.dx)),
             )
             .output(
                 output,
                 "--end-years",
-                format!("{} years of stations and profiles", written(self.end_years)),
+                format!("{} years of stations and profiles", written(run.end_years)),
             )
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint()?),
+                    .fingerprint(run.fingerprint()),
             ))
     }
 }
@@ -198,18 +126,19 @@ pub fn main() -> ExitCode {
 }
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
-    let law = args.law()?;
-    let bp7 = args.scene();
+    let run = args.settings;
+    let law = run.law;
+    let bp7 = run.scene();
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let sampling = if args.station_interval == 0.0 {
+    let sampling = if run.station_interval == 0.0 {
         SeasSampling {
             every_step: true,
             ..SeasSampling::default()
         }
     } else {
         SeasSampling {
-            station_quiet: args.station_interval,
+            station_quiet: run.station_interval,
             ..SeasSampling::default()
         }
     };
@@ -217,37 +146,39 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         problem: format!("SEAS Benchmark BP7-QD-{}", law.name()),
         modeler: args.header.modeler.clone(),
         date: args.header.date_or_today(),
-        element_size: args.dx,
+        element_size: run.dx,
         stations: Vec::new(),
         depth_axis: 2,
         depth_down: true,
         sigma_n: bp7.sigma_n,
-        profile_spacing: args.dx,
+        profile_spacing: run.dx,
         sampling,
         layout: SeasLayout::default(),
         surface_stations: Vec::new(),
     };
-    let fingerprint = args.fingerprint()?;
+    let fingerprint = run.fingerprint();
     println!(
         "BP7-QD-{}, Δx = {} m, D_RS = {} mm, whole space (FFT boundary elements); on {}",
         law.name(),
-        args.dx,
-        args.d_rs,
+        run.dx,
+        run.d_rs,
         machine()
     );
-    let mut options = bp7.fault_ode_options(args.tolerance)?;
+    let mut options = bp7.fault_ode_options(run.tolerance)?;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
-    options.integrator = args.integrator.integrator;
-    let (mut ode, body_columns) = bp7.fault_ode(args.dx, law, options)?;
+    options.integrator = run.integrator;
+    let (mut ode, body_columns) = bp7.fault_ode(run.dx, law, options)?;
     // The folder's lock is held until the run ends.
     let _folder = &folder;
     let settings = SquareRun {
         run: &args.run,
-        integrator: &args.integrator,
+        integrator: &crate::IntegratorArgs {
+            integrator: run.integrator,
+        },
         threads: args.threads,
         out: &args.out,
         fingerprint,
-        end: args.end_seconds(),
+        end: run.end_seconds(),
         unit: (
             TimeUnit {
                 seconds: SECONDS_PER_YEAR,
@@ -257,24 +188,11 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         ),
         started: (clock, cpu0),
     };
-    let output = || Ok(bp7.output(&args.out, args.dx, body_columns, setup)?);
+    let output = || Ok(bp7.output(&args.out, run.dx, body_columns, setup)?);
     let keys = serde_json::json!({
         "problem": format!("BP7-QD-{}", law.name()),
-        "dx_m": args.dx,
-        "d_rs_mm": args.d_rs,
-        "end_years": args.end_years,
-        "tolerance": args.tolerance,
+        "settings": run.summary(),
     });
     run_square_fault(settings, &mut ode, output, keys)?;
     Ok(())
-}
-
-#[cfg(test)]
-mod flag_tests {
-    /// `--dx`'s upper bound is the scene's `l_f` (the flag's range is written as a
-    /// literal, for `--help`).
-    #[test]
-    fn the_dx_bound_is_the_half_width() {
-        assert_eq!(super::DX.1, rsf_scenes::SeasBp7::default().l_f);
-    }
 }

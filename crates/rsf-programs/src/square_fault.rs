@@ -12,21 +12,9 @@ use rsf::Stepping;
 use rsf_scenes::SeasBp8FaultOde;
 use rsf_seas::SeasBp5Output;
 
-use crate::guard::{flag_range, AnyError};
+use crate::guard::AnyError;
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
-
-// The flags of the square's cells and the fault ODE's tolerance, the same for BP7 and BP8.
-flag_range!(
-    pub(crate) DX,
-    DX_HELP = "Cell size on the fault (m), dividing 2 l_f = 800 m into whole cells (2 to 160 cells a side); at most l_f",
-    [5, 400]
-);
-flag_range!(
-    pub(crate) TOLERANCE,
-    TOLERANCE_HELP = "Tolerance of the fault ODE (local error per step: tolerance · D_RS in slip, tolerance in ln θ)",
-    [1e-12, 0.1]
-);
 
 /// A run's settings: its flags, fingerprint, end and the bar's unit.
 pub(crate) struct SquareRun<'a> {

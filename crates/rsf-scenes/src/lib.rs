@@ -41,6 +41,7 @@
 mod curved;
 mod incline;
 pub mod output;
+pub mod run_config;
 mod scene_file;
 #[cfg(feature = "seas")]
 mod seas_bp1;
@@ -58,6 +59,8 @@ mod seas_bp6_run;
 mod seas_bp7;
 #[cfg(feature = "seas")]
 mod seas_bp8;
+#[cfg(feature = "seas")]
+mod seas_square_run;
 mod slider;
 mod slider3d;
 #[cfg(feature = "seas")]
@@ -68,6 +71,7 @@ mod stepover;
 pub use curved::{arc_block_model, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
+pub use run_config::{check_ranges, RunConfig};
 
 #[cfg(feature = "seas")]
 pub use seas_bp1::{
@@ -97,6 +101,10 @@ pub use seas_bp6_run::{
 pub use seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};
 #[cfg(feature = "seas")]
 pub use seas_bp8::{Bp8Overpressure, Bp8Source, SeasBp8, SeasBp8FaultOde, BP8_SECONDS_PER_DAY};
+#[cfg(feature = "seas")]
+pub use seas_square_run::{
+    square_ranges, Bp8OverpressureRule, SeasBp7Run, SeasBp8Run, INTEGRATOR_HELP,
+};
 #[cfg(feature = "seas")]
 pub use stepover::{
     Stepover, StepoverFaultOde, StepoverGrid, STEPOVER_FAULTS, STEPOVER_STATION_DISTANCES,

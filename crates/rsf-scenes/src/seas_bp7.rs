@@ -29,10 +29,13 @@ use crate::square_fault::{square_cells, square_model, square_operator};
 /// alone).
 pub type SeasBp7FaultOde = FaultOde<3, AsinhLaw, BuiltinStateLaw, 3>;
 
-/// The state law of a BP7 variant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+/// The state law of a BP7 variant (`aging`, `slip` in files, flags and Python).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Bp7Law {
     /// BP7-QD-A: the aging law `θ̇ = 1 − Vθ/D_RS`.
+    #[default]
     Aging,
     /// BP7-QD-S: the slip law `θ̇ = −(Vθ/D_RS) ln(Vθ/D_RS)`.
     Slip,

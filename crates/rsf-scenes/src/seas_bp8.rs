@@ -35,12 +35,18 @@ pub type SeasBp8FaultOde = FaultOde<3, AsinhLaw, BuiltinStateLaw, 3>;
 /// Seconds per day.
 pub const BP8_SECONDS_PER_DAY: f64 = 86_400.0;
 
-/// How the injection enters the fault.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+/// How the injection enters the fault (`gs`, `pw` in files, flags and Python).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Bp8Source {
     /// GS: a Gaussian of width `L_gauss` (description eq. 19).
+    #[default]
+    #[serde(rename = "gs")]
+    #[cfg_attr(feature = "clap", value(name = "gs"))]
     Gaussian,
     /// PW: a Peaceman well with storage (eqs. 22–23).
+    #[serde(rename = "pw")]
+    #[cfg_attr(feature = "clap", value(name = "pw"))]
     Well,
 }
 

@@ -125,12 +125,7 @@ pub fn in_range(flag: &str, x: f64, (lo, hi): (f64, f64), why: &str) -> Result<f
 /// exactly (`2000`, `1e-9`, `0.025`), else the bound's every digit ([`written`]), so that
 /// a value refused for lying just beyond it never reads as the bound itself.
 pub fn bound(x: f64) -> String {
-    let short = number(x);
-    if short.parse::<f64>() == Ok(x) {
-        short
-    } else {
-        written(x)
-    }
+    rsf_scenes::run_config::bound(x)
 }
 
 /// Checks that the values of the list flag `flag` are distinct: a size listed twice
@@ -165,15 +160,7 @@ pub fn distinct<T: PartialEq + std::fmt::Display>(
 /// defines `const END_YEARS: (f64, f64) = (1e-9, 100.0)` for [`in_range`] and `const
 /// END_YEARS_HELP: &str = "End time (years), in [1e-9, 100]."` for the flag's
 /// `#[arg(help = END_YEARS_HELP)]` (the test `flag_ranges` reads the range back from
-/// `--help` and probes the check at its bounds). The SEAS programs' (feature `seas`).
-#[cfg_attr(not(feature = "seas"), allow(unused_macros))]
-macro_rules! flag_range {
-    ($vis:vis $range:ident, $help:ident = $text:literal, [$lo:literal, $hi:literal]) => {
-        #[doc = concat!("The range of the flag of [`", stringify!($help), "`].")]
-        $vis const $range: (f64, f64) = ($lo as f64, $hi as f64);
-        #[doc = concat!("`--help` of a flag: ", $text, ", in [", stringify!($lo), ", ", stringify!($hi), "].")]
-        $vis const $help: &str = concat!($text, ", in [", stringify!($lo), ", ", stringify!($hi), "].");
-    };
-}
+/// `--help` and probes the check at its bounds): the run configurations' macro
+/// ([`rsf_scenes::setting_range`]). The SEAS programs' (feature `seas`).
 #[cfg_attr(not(feature = "seas"), allow(unused_imports))]
-pub(crate) use flag_range;
+pub(crate) use rsf_scenes::setting_range as flag_range;

@@ -359,6 +359,21 @@ pub trait Program: clap::Parser + Send + 'static {
     /// # Errors
     /// The first refused flag.
     fn plan(&self) -> Result<Plan, AnyError>;
+
+    /// The program after its flags are parsed, given what clap read (`matches`): a
+    /// program with a run configuration reads its `--config` file here, the flags given on
+    /// the command line taking precedence over the file's keys
+    /// ([`crate::config::ConfigArgs::merged`]). The default keeps the flags as parsed.
+    ///
+    /// # Errors
+    /// The configuration file's (unreadable, malformed, an unknown key).
+    fn configure(self, matches: &clap::ArgMatches) -> Result<Self, AnyError>
+    where
+        Self: Sized,
+    {
+        let _ = matches;
+        Ok(self)
+    }
 }
 
 /// What the guard prepared: the file mode of each folder of the plan (in order) and their
@@ -482,11 +497,11 @@ fn command<P: Program>() -> clap::Command {
 
 /// `P`'s flags from the command line (a negative number is a value) and the flags as
 /// given ([`given_flags`]); exits with clap's message on a parse error or `--help`.
-fn parse<P: Program>() -> (P, String) {
+fn parse<P: Program>() -> (Result<P, AnyError>, String) {
     let matches = command::<P>().get_matches();
     let program =
         P::from_arg_matches(&matches).unwrap_or_else(|e| e.format(&mut P::command()).exit());
-    (program, given_flags::<P>(&matches))
+    (program.configure(&matches), given_flags::<P>(&matches))
 }
 
 /// `P`'s flags from `args` (the first is the program's name; a negative number is a
@@ -500,7 +515,9 @@ where
     T: Into<std::ffi::OsString> + Clone,
 {
     let matches = command::<P>().try_get_matches_from(args)?;
-    let program = P::from_arg_matches(&matches)?;
+    let program = P::from_arg_matches(&matches)?
+        .configure(&matches)
+        .map_err(|e| clap::Error::raw(clap::error::ErrorKind::ValueValidation, format!("{e}\n")))?;
     Ok((program, given_flags::<P>(&matches)))
 }
 
@@ -542,6 +559,10 @@ pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCo
     // Negative numbers are values (`--end-years -1` is refused with the valid range, not
     // taken for a flag `-1`).
     let (program, _) = parse::<P>();
+    let program = match program {
+        Ok(p) => p,
+        Err(e) => return main_with(|| Err(e)),
+    };
     let prepared = match prepare(&program) {
         Ok(p) => p,
         Err(e) => return main_with(|| Err(e)),

@@ -98,6 +98,17 @@ pub fn main_on_ranks<P: Program>(
         }
         return ExitCode::FAILURE;
     }
+    // A `--config` file every rank reads (the same file on a shared disk: each reaches the
+    // same verdict).
+    let program = match program {
+        Ok(p) => p,
+        Err(e) => {
+            if processes.rank() == 0 {
+                eprintln!("rank 0 of {}: error: {e}", processes.size());
+            }
+            return ExitCode::FAILURE;
+        }
+    };
     let prepared = if processes.rank() == 0 {
         prepare(&program)
     } else {

@@ -1,0 +1,177 @@
+//! A program's run configuration as one typed value (docs/reliability.md, "One run
+//! configuration"): a struct of settings whose field names are at once the command line's
+//! flags (`dx` is `--dx`; clap derives the flags from the struct under the feature
+//! `clap`), the keys of a TOML file (`dx = 20`), Python's keyword arguments (`dx=20`),
+//! the fields of a checkpoint's fingerprint and the keys of `summary.json`'s `settings`.
+//! Nothing is listed twice: the defaults are the struct's [`Default`], the ranges and
+//! rules its [`RunConfig::validate`], the fingerprint and the summary its serde
+//! serialisation.
+//!
+//! ```
+//! # #[cfg(feature = "seas")] {
+//! use rsf_scenes::{RunConfig, SeasBp7Run};
+//! let run = SeasBp7Run::from_toml("law = \"slip\"\ndx = 20")?;
+//! assert_eq!(run.dx, 20.0);
+//! assert_eq!(run.end_years, SeasBp7Run::default().end_years);
+//! assert_eq!(SeasBp7Run::from_toml(&run.to_toml())?, run);
+//! assert!(SeasBp7Run::from_toml("dx = 3").is_err()); // 800 m is not a whole number of cells
+//! # }
+//! # Ok::<(), rsf::Error>(())
+//! ```
+
+use rsf::checkpoint::Fingerprint;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+use crate::invalid;
+
+/// The range of a numeric setting and its help text, written once: `$range` (a closed
+/// interval `(lo, hi)`) and `$help` (`"text, in [lo, hi]."`, what clap's `--help` shows
+/// and what the programs' range test reads back).
+#[macro_export]
+macro_rules! setting_range {
+    ($vis:vis $range:ident, $help:ident = $text:literal, [$lo:literal, $hi:literal]) => {
+        #[doc = concat!("The range of the setting of [`", stringify!($help), "`].")]
+        $vis const $range: (f64, f64) = ($lo as f64, $hi as f64);
+        #[doc = concat!("`--help` of a setting: ", $text, ", in [", stringify!($lo), ", ", stringify!($hi), "].")]
+        $vis const $help: &str = concat!($text, ", in [", stringify!($lo), ", ", stringify!($hi), "].");
+    };
+}
+
+/// A run configuration: the settings of one program's run (module docs).
+///
+/// Implementors derive `serde::Serialize` and `serde::Deserialize` with
+/// `#[serde(default, deny_unknown_fields)]` (a file sets some keys, the others keep their
+/// defaults; an unknown key is refused by name).
+pub trait RunConfig: Serialize + DeserializeOwned + Default + Clone + PartialEq {
+    /// Checks every setting against its range and the rules between settings.
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named by the setting's field (the TOML key and
+    /// the Python keyword; the flag is `--` and the name with dashes).
+    fn validate(&self) -> rsf::Result<()>;
+
+    /// The fingerprint of a checkpoint of the run: every setting by value
+    /// ([`Fingerprint::of_serialized`]), after the scene's parameters where the run has a
+    /// scene.
+    fn fingerprint(&self) -> Fingerprint {
+        Fingerprint::of_serialized(self)
+    }
+
+    /// The settings as `summary.json` records them (a JSON object of the fields).
+    fn summary(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
+    }
+
+    /// The settings of a TOML text (keys the fields; a missing key keeps its default),
+    /// validated.
+    ///
+    /// # Errors
+    /// [`rsf::Error::SceneFile`] for a text that does not parse, an unknown key or a
+    /// value of the wrong type (line, column and key); [`validate`](Self::validate)'s.
+    fn from_toml(text: &str) -> rsf::Result<Self> {
+        let run: Self =
+            toml::from_str(text).map_err(|e| crate::scene_file::toml_error(text, &e))?;
+        run.validate()?;
+        Ok(run)
+    }
+
+    /// The settings as a TOML text that [`from_toml`](Self::from_toml) reads back to the
+    /// same value (every field; an unset optional one left out).
+    fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+}
+
+/// The settings `flags` with the keys of the TOML file `path` where `given` says the
+/// setting was not given on the command line (a flag given wins over the file, the file
+/// over the defaults), and the keys the file set that no flag overrode, sorted. Not
+/// validated (the caller names a refused setting as its flag or the file's key).
+///
+/// # Errors
+/// [`rsf::Error::SceneFile`] naming the path: it cannot be read, does not parse, has a key
+/// that is no setting or a value of the wrong type.
+pub fn merge_file<C: RunConfig>(
+    path: &std::path::Path,
+    flags: &C,
+    given: impl Fn(&str) -> bool,
+) -> rsf::Result<(C, Vec<String>)> {
+    crate::scene_file::read(path, |text| {
+        let toml_error = |e: toml::de::Error| crate::scene_file::toml_error(text, &e);
+        // The file alone as the settings, for its errors' line, column and key (an
+        // unknown key, a value of the wrong type).
+        toml::from_str::<C>(text).map_err(toml_error)?;
+        let mut table: toml::Table = toml::from_str(text).map_err(toml_error)?;
+        let mut from_file: Vec<String> = table.keys().cloned().collect();
+        let flags = toml::Table::try_from(flags)
+            .map_err(|e| rsf::Error::SceneFile(format!("the flags as TOML: {e}")))?;
+        for (key, value) in flags {
+            if given(&key) || !table.contains_key(&key) {
+                from_file.retain(|k| *k != key);
+                table.insert(key, value);
+            }
+        }
+        let run = toml::Value::Table(table)
+            .try_into::<C>()
+            .map_err(|e| rsf::Error::SceneFile(crate::scene_file::excerpt(e.message().trim())))?;
+        from_file.sort();
+        Ok((run, from_file))
+    })
+}
+
+/// Checks settings against their closed ranges: each `(name, value, (lo, hi), unit)`.
+///
+/// # Errors
+/// [`rsf::Error::InvalidParameter`] named by the first setting outside its range (NaN is
+/// outside every range): `VALUE: must be in [lo, hi] (unit)`, the value as written.
+pub fn check_ranges(settings: &[(&str, f64, (f64, f64), &str)]) -> rsf::Result<()> {
+    for &(name, value, (lo, hi), unit) in settings {
+        if !(value >= lo && value <= hi) {
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" ({unit})")
+            };
+            return Err(invalid(
+                name,
+                format!(
+                    "{}: must be in [{}, {}]{unit}",
+                    rsf_numeric::written(value),
+                    bound(lo),
+                    bound(hi)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A bound of a range for a message: the short form where it is the bound exactly, else
+/// every digit (a value refused for lying just beyond it never reads as the bound).
+pub fn bound(x: f64) -> String {
+    let short = rsf_numeric::number(x);
+    if short.parse::<f64>() == Ok(x) {
+        short
+    } else {
+        rsf_numeric::written(x)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_ranges;
+
+    #[test]
+    fn a_range_refuses_nan_and_names_the_setting() {
+        assert!(check_ranges(&[("dx", 5.0, (5.0, 400.0), "m")]).is_ok());
+        for x in [f64::NAN, 4.999, 401.0, f64::INFINITY] {
+            match check_ranges(&[("end", 1.0, (0.0, 2.0), ""), ("dx", x, (5.0, 400.0), "m")]) {
+                Err(rsf::Error::InvalidParameter { name, reason }) => {
+                    assert_eq!(name, "dx");
+                    assert!(reason.ends_with("must be in [5, 400] (m)"), "{reason}");
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+    }
+}
