@@ -31,9 +31,7 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::observe::TimeUnit;
 use rsf_scenes::{RunConfig, SeasBp7Run};
-use rsf_seas::{
-    SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP7_RESUME_LOG, SECONDS_PER_YEAR,
-};
+use rsf_seas::{SeasBp5Output, SEAS_BP7_RESUME_LOG, SECONDS_PER_YEAR};
 
 /// SEAS BP7-QD-A / BP7-QD-S.
 #[derive(Parser)]
@@ -131,31 +129,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let bp7 = run.scene();
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let sampling = if run.station_interval == 0.0 {
-        SeasSampling {
-            every_step: true,
-            ..SeasSampling::default()
-        }
-    } else {
-        SeasSampling {
-            station_quiet: run.station_interval,
-            ..SeasSampling::default()
-        }
-    };
-    let setup = SeasSetup {
-        problem: format!("SEAS Benchmark BP7-QD-{}", law.name()),
-        modeler: args.header.modeler.clone(),
-        date: args.header.date_or_today(),
-        element_size: run.dx,
-        stations: Vec::new(),
-        depth_axis: 2,
-        depth_down: true,
-        sigma_n: bp7.sigma_n,
-        profile_spacing: run.dx,
-        sampling,
-        layout: SeasLayout::default(),
-        surface_stations: Vec::new(),
-    };
+    let setup = run.seas_setup(args.header.modeler.clone(), args.header.date_or_today());
     let fingerprint = run.fingerprint();
     println!(
         "BP7-QD-{}, Δx = {} m, D_RS = {} mm, whole space (FFT boundary elements); on {}",

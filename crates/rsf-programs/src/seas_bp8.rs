@@ -34,7 +34,7 @@ use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::observe::TimeUnit;
 use rsf_scenes::{Bp8Source, RunConfig, SeasBp8, SeasBp8Run, BP8_SECONDS_PER_DAY};
-use rsf_seas::{SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SEAS_BP8_RESUME_LOG};
+use rsf_seas::{SeasBp5Output, SEAS_BP8_RESUME_LOG};
 
 /// SEAS BP8-QD-GS / BP8-QD-PW.
 #[derive(Parser)]
@@ -144,27 +144,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let cpu0 = cpu_seconds();
     let field = bp8.pressure(source, run.dx)?;
     let friction_pressure = bp8.friction_pressure(field.clone(), policy)?;
-    let setup = SeasSetup {
-        problem: format!("SEAS Benchmark BP8-QD-{}", source.name()),
-        modeler: args.header.modeler.clone(),
-        date: args.header.date_or_today(),
-        element_size: run.dx,
-        stations: Vec::new(),
-        depth_axis: 2,
-        depth_down: true,
-        sigma_n: bp8.sigma_n,
-        profile_spacing: run.dx,
-        sampling: SeasSampling {
-            every_step: run.station_interval == 0.0,
-            station_quiet: run.station_interval,
-            station_event: run.station_interval,
-            profile_quiet: run.profile_interval,
-            profile_event: run.profile_interval,
-            ..SeasSampling::default()
-        },
-        layout: SeasLayout::default(),
-        surface_stations: Vec::new(),
-    };
+    let setup = run.seas_setup(args.header.modeler.clone(), args.header.date_or_today());
     let fingerprint = run.fingerprint();
     println!(
         "BP8-QD-{}, Δx = {} m, whole space (FFT boundary elements), {policy:?}; on {}",

@@ -17,6 +17,7 @@ mod problem;
 mod run_folder;
 mod scenes;
 mod seas_bp6;
+mod seas_square;
 mod simulation;
 
 /// The native module.
@@ -32,6 +33,8 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenes::seas_bp1, m)?)?;
     m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6, m)?)?;
     m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6_pore_pressure, m)?)?;
+    m.add_function(wrap_pyfunction!(seas_square::seas_bp7, m)?)?;
+    m.add_function(wrap_pyfunction!(seas_square::seas_bp8, m)?)?;
     m.add_function(wrap_pyfunction!(problem::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::_read_greens_hdf5, m)?)?;
     m.add_function(wrap_pyfunction!(dislocations::rectangle_deformation, m)?)?;

@@ -5,6 +5,7 @@
 
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::OdeIntegrator;
+use rsf_seas::{SeasLayout, SeasSampling, SeasSetup};
 
 use crate::invalid;
 use crate::run_config::{check_ranges, RunConfig};
@@ -135,6 +136,29 @@ impl SeasBp7Run {
         self.end_years * SECONDS_PER_YEAR
     }
 
+    /// The files' headers and sampling of this run, by `modeler` on `date`
+    /// (`YYYY-MM-DD`): a station row at every accepted step, or every
+    /// `station_interval` seconds.
+    pub fn seas_setup(&self, modeler: String, date: String) -> SeasSetup {
+        let sampling = if self.station_interval == 0.0 {
+            SeasSampling {
+                every_step: true,
+                ..SeasSampling::default()
+            }
+        } else {
+            SeasSampling {
+                station_quiet: self.station_interval,
+                ..SeasSampling::default()
+            }
+        };
+        square_setup(
+            format!("SEAS Benchmark BP7-QD-{}", self.law.name()),
+            (modeler, date),
+            (self.dx, self.scene().sigma_n),
+            sampling,
+        )
+    }
+
     /// The fault's cells (the rule `dx` divides `2 l_f`).
     ///
     /// # Errors
@@ -167,6 +191,31 @@ impl RunConfig for SeasBp7Run {
     /// Every setting, then the scene's parameters as `scene.NAME`.
     fn fingerprint(&self) -> Fingerprint {
         with_scene(Fingerprint::of_serialized(self), &self.scene())
+    }
+}
+
+/// The headers of a square's files: `problem`, `(modeler, date)`, the cell `dx` (m) as
+/// the element size and the profiles' spacing, `sigma_n` (Pa), `sampling`; the strike–dip
+/// layout (depth along x₃, downwards), no stations along dip.
+fn square_setup(
+    problem: String,
+    (modeler, date): (String, String),
+    (dx, sigma_n): (f64, f64),
+    sampling: SeasSampling,
+) -> SeasSetup {
+    SeasSetup {
+        problem,
+        modeler,
+        date,
+        element_size: dx,
+        stations: Vec::new(),
+        depth_axis: 2,
+        depth_down: true,
+        sigma_n,
+        profile_spacing: dx,
+        sampling,
+        layout: SeasLayout::default(),
+        surface_stations: Vec::new(),
     }
 }
 
@@ -258,6 +307,25 @@ impl SeasBp8Run {
     /// The end time (s).
     pub fn end_seconds(&self) -> f64 {
         self.end_days * BP8_SECONDS_PER_DAY
+    }
+
+    /// The files' headers and sampling of this run, by `modeler` on `date`
+    /// (`YYYY-MM-DD`): station rows every `station_interval` seconds (0: every accepted
+    /// step), profile rows every `profile_interval` seconds.
+    pub fn seas_setup(&self, modeler: String, date: String) -> SeasSetup {
+        square_setup(
+            format!("SEAS Benchmark BP8-QD-{}", self.source.name()),
+            (modeler, date),
+            (self.dx, SeasBp8::default().sigma_n),
+            SeasSampling {
+                every_step: self.station_interval == 0.0,
+                station_quiet: self.station_interval,
+                station_event: self.station_interval,
+                profile_quiet: self.profile_interval,
+                profile_event: self.profile_interval,
+                ..SeasSampling::default()
+            },
+        )
     }
 
     /// The fault's cells (the rule `dx` divides `2 l_f`).

@@ -40,6 +40,8 @@ __all__ = [
     "seas_bp1",
     "seas_bp6",
     "seas_bp6_pore_pressure",
+    "seas_bp7",
+    "seas_bp8",
     "simulate",
     "rectangle_deformation",
     "triangle_deformation",
@@ -251,6 +253,48 @@ def seas_bp6(
     date: str | None = None,
     fault_every: int = 0,
     **kwargs: Any,
+) -> Simulation: ...
+def seas_bp7(
+    *,
+    out: _Path | None = None,
+    overwrite: bool = False,
+    resume: _Path | None = None,
+    allow_change: Sequence[str] = ...,
+    threads: int = 1,
+    modeler: str = "rsf",
+    date: str | None = None,
+    fault_every: int = 0,
+    law: Literal["aging", "slip"] = ...,
+    end_years: float = ...,
+    dx: float = ...,
+    d_rs: float = ...,
+    tolerance: float = ...,
+    station_interval: float = ...,
+    integrator: Literal[
+        "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
+    ] = ...,
+) -> Simulation: ...
+def seas_bp8(
+    *,
+    out: _Path | None = None,
+    overwrite: bool = False,
+    resume: _Path | None = None,
+    allow_change: Sequence[str] = ...,
+    threads: int = 1,
+    modeler: str = "rsf",
+    date: str | None = None,
+    fault_every: int = 0,
+    source: Literal["gs", "pw"] = ...,
+    end_days: float = ...,
+    dx: float = ...,
+    tolerance: float = ...,
+    overpressure: Literal["floor", "refuse"] = ...,
+    sigma_min: float | None = ...,
+    station_interval: float = ...,
+    profile_interval: float = ...,
+    integrator: Literal[
+        "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
+    ] = ...,
 ) -> Simulation: ...
 def seas_bp6_pore_pressure(
     z: _ArrayLike,

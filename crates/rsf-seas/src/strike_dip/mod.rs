@@ -94,6 +94,9 @@ pub struct SeasBp5Output {
     /// Persist the files and the resume log every this many steps (0: only at a step
     /// cap), if the log is kept.
     persist_every: usize,
+    /// Whether [`finish`](Observer::finish) persists a mark too
+    /// ([`with_marks_where_runs_end`](Self::with_marks_where_runs_end)).
+    mark_at_finish: bool,
     /// Whether the resume log is kept.
     resume_log: bool,
     /// The resume log's marks so far.
@@ -433,6 +436,7 @@ impl SeasBp5Output {
                 rupture: vec![None; nodes],
             },
             persist_every: 0,
+            mark_at_finish: false,
             resume_log: false,
             log: Vec::new(),
             reserve: Reserve::new(dir),
@@ -939,6 +943,9 @@ impl Observer<3, 3> for SeasBp5Output {
     }
 
     fn finish(&mut self) -> rsf::Result<()> {
+        if self.resume_log && self.mark_at_finish {
+            return Ok(self.persist()?);
+        }
         Ok(self.write_files()?)
     }
 

@@ -22,6 +22,17 @@ impl SeasBp5Output {
         self
     }
 
+    /// Keeps the resume log with a mark also where every run ends (its
+    /// [`finish`](rsf::Observer::finish): the end time, an observer's break, Ctrl-C), so
+    /// that a front end that writes a checkpoint where a run stopped — the Python
+    /// package's `Simulation.checkpoint` after `advance` — continues the files from it.
+    /// The marks of [`with_resume_log`](Self::with_resume_log) every `steps` steps are
+    /// kept.
+    pub fn with_marks_where_runs_end(mut self, steps: usize) -> Self {
+        self.mark_at_finish = true;
+        self.with_resume_log(steps)
+    }
+
     /// Writes the files and a mark of the resume log at the current step.
     pub(super) fn persist(&mut self) -> Result<()> {
         self.write_files()?;

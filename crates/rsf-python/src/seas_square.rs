@@ -1,0 +1,202 @@
+//! SEAS BP7-QD and BP8-QD from Python (docs/seas-bp7.md, docs/seas-bp8.md): the runs of the
+//! programs `seas_bp7` and `seas_bp8`, their settings the programs' run configurations
+//! ([`SeasBp7Run`], [`SeasBp8Run`]: the keyword arguments are the struct's fields, read
+//! through its serde form — the same names, defaults, ranges and fingerprint as the flags
+//! and a `--config` file), their files and their run folder ([`FolderKeywords`]).
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rsf::checkpoint::Fingerprint;
+use rsf::Observer;
+use rsf_scenes::{RunConfig, SeasBp7Run, SeasBp8, SeasBp8Run};
+use rsf_seas::{SeasBp5Output, SEAS_BP7_RESUME_LOG, SEAS_BP8_RESUME_LOG};
+
+use crate::engine::{Engine, Recording};
+use crate::errors::{invalid, OrPy};
+use crate::run_folder::FolderKeywords;
+use crate::scenes::split;
+use crate::simulation::{End, Simulation};
+
+/// The run's keywords beside its settings: the folder, threads, the files' headers and
+/// the recording.
+struct Common {
+    folder: FolderKeywords,
+    threads: usize,
+    modeler: String,
+    date: String,
+    fault_every: usize,
+}
+
+/// The run configuration `C` of the keyword arguments `settings` (its fields; defaults
+/// `C::default()`), validated: an unknown keyword, a value of the wrong type or out of
+/// its range refused naming the keyword.
+fn settings_of<C: RunConfig>(settings: Option<&Bound<'_, PyDict>>, what: &str) -> PyResult<C> {
+    let (fields, _) = split(settings, &[])?;
+    let run: C = crate::convert::scene(&C::default(), &fields, what)?;
+    run.validate().py()?;
+    Ok(run)
+}
+
+/// SEAS BP7-QD-A/S (docs/seas-bp7.md, docs/python.md): the run of the Rust program
+/// `seas_bp7`. The settings are keyword arguments with the program's names, defaults and
+/// ranges (`rsf_scenes::SeasBp7Run`): `law` "aging" or "slip", `end_years` (years of
+/// 365.25 days, default 10), `dx` (m, dividing 800 m; default 10), `d_rs` (mm, default
+/// 0.5), `tolerance` (default 1e-7), `station_interval` (s; 0, the default: a row every
+/// accepted step), `integrator` ("auto", "rkc", "rosenbrock", "dormand-prince",
+/// "bogacki-shampine"). `threads`, `modeler`, `date` (`YYYY-MM-DD`, default today);
+/// `fault_every` records the fault's fields every N steps. With `out`, the benchmark's
+/// files are written there as the program writes them, at the end of every
+/// `run`/`advance` call; `overwrite`, `resume`, `allow_change` as for `seas_bp1` (a
+/// checkpoint of the program resumes here and the other way round, where its files were
+/// written at the checkpoint's step).
+#[pyfunction]
+#[pyo3(signature = (*, out=None, overwrite=false, resume=None, allow_change=Vec::new(), threads=1, modeler="rsf", date=None, fault_every=0, **settings))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments
+pub(crate) fn seas_bp7(
+    out: Option<PathBuf>,
+    overwrite: bool,
+    resume: Option<PathBuf>,
+    allow_change: Vec<String>,
+    threads: i128,
+    modeler: &str,
+    date: Option<String>,
+    fault_every: i128,
+    settings: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Simulation> {
+    let run: SeasBp7Run = settings_of(settings, "the BP7 settings")?;
+    let common = Common::new(
+        FolderKeywords {
+            out,
+            overwrite,
+            resume,
+            allow_change,
+        },
+        (threads, fault_every),
+        (modeler, date),
+    )?;
+    let mut names = SeasBp5Output::bp7_file_names();
+    names.push(SEAS_BP7_RESUME_LOG.into());
+    let fingerprint = run.fingerprint();
+    common.folder.prepare("seas_bp7", names, &fingerprint)?;
+    let bp7 = run.scene();
+    let mut options = bp7.fault_ode_options(run.tolerance).py()?;
+    options.parallelism = rsf::Parallelism::rayon(common.threads);
+    options.integrator = run.integrator;
+    let (ode, body_columns) = bp7.fault_ode(run.dx, run.law, options).py()?;
+    let setup = run.seas_setup(common.modeler.clone(), common.date.clone());
+    let output = |out: &std::path::Path| bp7.output(out, run.dx, body_columns, setup).py();
+    common.simulation(ode, (fingerprint, run.end_seconds()), output, "seas_bp7")
+}
+
+/// SEAS BP8-QD-GS/PW (docs/seas-bp8.md, docs/python.md): the run of the Rust program
+/// `seas_bp8`. The settings are keyword arguments with the program's names, defaults and
+/// ranges (`rsf_scenes::SeasBp8Run`): `source` "gs" (a Gaussian) or "pw" (a Peaceman
+/// well), `end_days` (default 30), `dx` (m, dividing 800 m; default 10), `tolerance`
+/// (default 1e-7), `overpressure` "floor" or "refuse", `sigma_min` (MPa, the floor's; 1
+/// if unset), `station_interval` (s; 0, the default: a row every accepted step),
+/// `profile_interval` (s, default 3600), `integrator`. The other keywords as for
+/// [`seas_bp7`].
+#[pyfunction]
+#[pyo3(signature = (*, out=None, overwrite=false, resume=None, allow_change=Vec::new(), threads=1, modeler="rsf", date=None, fault_every=0, **settings))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments
+pub(crate) fn seas_bp8(
+    out: Option<PathBuf>,
+    overwrite: bool,
+    resume: Option<PathBuf>,
+    allow_change: Vec<String>,
+    threads: i128,
+    modeler: &str,
+    date: Option<String>,
+    fault_every: i128,
+    settings: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Simulation> {
+    let run: SeasBp8Run = settings_of(settings, "the BP8 settings")?;
+    let common = Common::new(
+        FolderKeywords {
+            out,
+            overwrite,
+            resume,
+            allow_change,
+        },
+        (threads, fault_every),
+        (modeler, date),
+    )?;
+    let mut names = SeasBp5Output::bp8_file_names();
+    names.push(SEAS_BP8_RESUME_LOG.into());
+    let fingerprint = run.fingerprint();
+    common.folder.prepare("seas_bp8", names, &fingerprint)?;
+    let bp8 = SeasBp8::default();
+    let field = bp8.pressure(run.source, run.dx).py()?;
+    let friction_pressure = bp8
+        .friction_pressure(field.clone(), run.overpressure())
+        .py()?;
+    let mut options = bp8.fault_ode_options(run.tolerance).py()?;
+    options.parallelism = rsf::Parallelism::rayon(common.threads);
+    options.integrator = run.integrator;
+    let ode = bp8.fault_ode(run.dx, options, friction_pressure).py()?;
+    let setup = run.seas_setup(common.modeler.clone(), common.date.clone());
+    let output = |out: &std::path::Path| bp8.output(out, run.dx, field, setup).py();
+    common.simulation(ode, (fingerprint, run.end_seconds()), output, "seas_bp8")
+}
+
+impl Common {
+    /// The keywords checked: `threads` at least 1, counts whole, the folder's keywords
+    /// together.
+    fn new(
+        folder: FolderKeywords,
+        (threads, fault_every): (i128, i128),
+        (modeler, date): (&str, Option<String>),
+    ) -> PyResult<Self> {
+        let threads = crate::counts::count(threads, "threads")?;
+        if threads == 0 {
+            return Err(invalid("threads", "at least 1"));
+        }
+        Ok(Self {
+            folder,
+            threads,
+            modeler: modeler.to_owned(),
+            date: date.unwrap_or_else(rsf_seas::utc_date_today),
+            fault_every: crate::counts::count(fault_every, "fault_every")?,
+        })
+    }
+
+    /// The simulation of `ode` until `end` (s) with `fingerprint` through the session: on
+    /// resume the checkpoint restored and the files of `out` (made by `output`) continued
+    /// at its step, else their first rows written; the files keep a mark where every
+    /// `run`/`advance` call stops, from which a checkpoint written there resumes.
+    fn simulation(
+        self,
+        mut ode: rsf_scenes::SeasBp8FaultOde,
+        (fingerprint, end): (Fingerprint, f64),
+        output: impl FnOnce(&std::path::Path) -> PyResult<SeasBp5Output>,
+        program: &str,
+    ) -> PyResult<Simulation> {
+        let session = self.folder.session(fingerprint.clone(), end, &mut ode)?;
+        let mut files: Vec<Box<dyn Observer<3, 3>>> = Vec::new();
+        if let Some(out) = &self.folder.out {
+            let mut output = output(out)?.with_marks_where_runs_end(0);
+            match session.resumed() {
+                Some(c) => output.resume(c.state.step, c.state.time).py()?,
+                None => {
+                    use rsf::Stepping;
+                    output.write_initial_state(ode.model(), ode.state(), ode.fault_tractions())
+                }
+            }
+            files.push(Box::new(output));
+        }
+        let engine = Engine::<3, 3, _> {
+            sim: ode,
+            recording: Recording::new(self.fault_every).py()?,
+            files,
+            fingerprint,
+            folder: self.folder.files(&session)?,
+        };
+        Ok(Simulation::new(
+            Box::new(engine),
+            Some(End::Time(end)),
+            program,
+        ))
+    }
+}
