@@ -876,7 +876,9 @@ fn run_files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
 /// has its resume log's state too.
 #[test]
 fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing() {
-    let dir = std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id()));
+    let scratch =
+        Scratch(std::env::temp_dir().join(format!("rsf-identity-{}", std::process::id())));
+    let dir = scratch.0.clone();
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let every = ["--checkpoint-every", "100"];
@@ -1016,7 +1018,16 @@ fn a_checkpoint_resumed_into_another_runs_folder_is_refused_and_changes_nothing(
     }
     let failures = failures.into_inner().unwrap();
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
-    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A scratch folder removed when dropped, also when the test fails (its runs' folders
+/// hold about 240 MB).
+struct Scratch(std::path::PathBuf);
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 /// Copies the folder `from` (files and folders in it) to `to`.

@@ -535,16 +535,8 @@ mod tests {
 }
 
 /// How a Runge–Kutta run stores its operators condensed onto the fault (`S`, and `S_N` with
-/// a normal stress from slip).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum KernelArg {
-    /// Dense (m² entries).
-    Dense,
-    /// ℋ-matrices (rsf-hmatrix): the default of the examples since issue 59 (the same
-    /// events as the dense kernel at its accuracy, in a fraction of the time and memory).
-    #[default]
-    Hierarchical,
-}
+/// a normal stress from slip): the run configurations' choice.
+pub use rsf_scenes::KernelChoice as KernelArg;
 
 /// `--checkpoint-every N`, `--resume FILE`, `--allow-change FIELD,…` and `--max-steps N`
 /// of the programs that checkpoint and continue their runs (the SEAS programs; their
@@ -734,27 +726,12 @@ impl KernelArgs {
     ///
     /// [`FaultKernel::validate`]: rsf::fault_ode::FaultKernel::validate
     pub fn kernel(&self, tolerance: f64) -> Result<rsf::fault_ode::FaultKernel, String> {
-        use rsf::fault_ode::{FaultKernel, MAX_KERNEL_EPSILON, MIN_KERNEL_EPSILON};
-        match (self.kernel, self.kernel_epsilon) {
-            (KernelArg::Dense, None) => Ok(FaultKernel::Dense),
-            (KernelArg::Dense, Some(_)) => {
-                Err("--kernel-epsilon needs --kernel hierarchical".into())
+        rsf_scenes::fault_kernel(self.kernel, self.kernel_epsilon, tolerance).map_err(|e| match e {
+            rsf::Error::InvalidParameter { name, reason } => {
+                format!("--{} {reason}", name.replace('_', "-"))
             }
-            (KernelArg::Hierarchical, None) => Ok(FaultKernel::matching(tolerance)),
-            (KernelArg::Hierarchical, Some(e)) => {
-                let kernel = FaultKernel::hierarchical(e);
-                kernel.validate().map_err(|_| {
-                    format!(
-                        "--kernel-epsilon {}: must be in [{}, {}] (a relative accuracy: \
-                         below, the entries' round-off cannot meet it)",
-                        rsf_numeric::written(e),
-                        rsf_numeric::number(MIN_KERNEL_EPSILON),
-                        rsf_numeric::number(MAX_KERNEL_EPSILON)
-                    )
-                })?;
-                Ok(kernel)
-            }
-        }
+            e => e.to_string(),
+        })
     }
 }
 

@@ -89,7 +89,10 @@ impl ConfigArgs {
 mod tests {
     use proptest::prelude::*;
     use rsf::fault_ode::OdeIntegrator;
-    use rsf_scenes::{Bp7Law, Bp8OverpressureRule, Bp8Source, RunConfig, SeasBp7Run, SeasBp8Run};
+    use rsf_scenes::{
+        Bp7Law, Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp7Run, SeasBp8Run,
+        StepoverRun,
+    };
 
     use crate::guard::{parse_from, Program};
 
@@ -99,12 +102,18 @@ mod tests {
         let table: toml::Table = toml::from_str(&run.to_toml()).unwrap();
         let mut args = vec![program.to_owned()];
         for (key, value) in table {
-            args.push(format!("--{}", key.replace('_', "-")));
-            args.push(match value {
-                toml::Value::String(s) => s,
-                toml::Value::Float(x) => format!("{x}"),
-                v => v.to_string(),
-            });
+            let flag = format!("--{}", key.replace('_', "-"));
+            match value {
+                // A switch: given when true.
+                toml::Value::Boolean(b) => {
+                    if b {
+                        args.push(flag);
+                    }
+                }
+                toml::Value::String(s) => args.extend([flag, s]),
+                toml::Value::Float(x) => args.extend([flag, format!("{x}")]),
+                v => args.extend([flag, v.to_string()]),
+            }
         }
         args
     }
@@ -180,8 +189,64 @@ mod tests {
             )
     }
 
+    fn stepover_run() -> impl Strategy<Value = StepoverRun> {
+        (
+            (
+                1e-9f64..1e5,
+                prop_oneof![Just(25.0), Just(50.0), Just(250.0)],
+            ),
+            (
+                prop_oneof![Just(1.0), Just(4.0)],
+                prop_oneof![Just(-2.0), Just(0.0), Just(2.0)],
+            ),
+            (25.0f64..1e5, 1.0f64..2.0, any::<bool>()),
+            1e-10f64..0.1,
+            prop_oneof![
+                Just((KernelChoice::Dense, None)),
+                Just((KernelChoice::Hierarchical, None)),
+                (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
+            ],
+            proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+        )
+            .prop_map(
+                |(
+                    (end_years, dx),
+                    (gap_km, overlap_km),
+                    (domain_km, ratio, nsfs),
+                    tolerance,
+                    (kernel, kernel_epsilon),
+                    integrator,
+                )| {
+                    StepoverRun {
+                        end_years,
+                        dx,
+                        gap_km,
+                        overlap_km,
+                        strand_km: 25.0,
+                        domain_km,
+                        ratio,
+                        normal_stress_from_slip: nsfs,
+                        tolerance,
+                        kernel,
+                        kernel_epsilon,
+                        integrator,
+                    }
+                },
+            )
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
+
+        #[test]
+        fn stepover_settings_round_trip(run in stepover_run()) {
+            prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
+            let (args, _) = parse_from::<crate::stepover::Args, _, _>(command_line("stepover", &run)).unwrap();
+            prop_assert_eq!(args.settings, run);
+            let back = StepoverRun::from_toml(&run.to_toml()).unwrap();
+            prop_assert_eq!(back, run);
+            prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        }
 
         /// A configuration → its command line → the configuration the program parses: the
         /// same value; and through TOML: the same value and the same fingerprint, which

@@ -24,42 +24,22 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
-use crate::guard::{
-    flag_range, in_range, number, written, AnyError, Folder, Limits, Plan, Prepared, Program,
-};
+use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
-use rsf::checkpoint::Fingerprint;
-use rsf_scenes::{SeasBp1, Stepover, StepoverGrid};
-
-flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
-flag_range!(
-    DX,
-    DX_HELP = "Element size along the strands and next to them (m); must divide half the gap, half the overlap and the strands' frictional length into whole cells; at most H/8 = 1875 m",
-    [1, 1875]
-);
-flag_range!(
-    GAP_KM,
-    GAP_KM_HELP = "Distance between the strands across strike (km); half of it at least the \
-                   smallest --dx, 1 m",
-    [2e-3, 1e3]
-);
-flag_range!(
-    STRAND_KM,
-    STRAND_KM_HELP = "Length of each strand's frictional part (km), from its tip: velocity weakening over 15 km, the transition to 18 km, velocity strengthening to this, creep beyond",
-    [1, 1e4]
-);
-flag_range!(
-    RATIO,
-    RATIO_HELP = "Growth of the elements away from the strands",
-    [1, 2]
-);
+use rsf_scenes::{KernelChoice, RunConfig, Stepover, StepoverRun};
 
 /// A stepover between two strike-slip strands (map view, plane strain).
 #[derive(Parser)]
 #[command(version)]
 pub struct Args {
+    /// The run's settings (`rsf_scenes::StepoverRun`: these flags, or `--config`'s keys).
+    #[command(flatten)]
+    pub(crate) settings: StepoverRun,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// Output folder.
     #[arg(long, default_value = "out/stepover")]
     out: PathBuf,
@@ -67,36 +47,6 @@ pub struct Args {
     /// rsf program's run is refused and left untouched).
     #[arg(long)]
     overwrite: bool,
-    #[arg(long, default_value_t = 3000.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
-    end_years: f64,
-    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, help = DX_HELP)]
-    dx: f64,
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true, help = GAP_KM_HELP)]
-    gap_km: f64,
-    /// Overlap of the strands along strike (km; negative: an underlap, the tips apart);
-    /// shorter than 0.9 of a strand either way.
-    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
-    overlap_km: f64,
-    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, help = STRAND_KM_HELP)]
-    strand_km: f64,
-    /// How far the box reaches beyond the strands (km), along and across strike: at least
-    /// `--strand-km`, at most 1e5.
-    #[arg(long, default_value_t = 50.0, allow_negative_numbers = true)]
-    domain_km: f64,
-    #[arg(long, default_value_t = 1.05, allow_negative_numbers = true, help = RATIO_HELP)]
-    ratio: f64,
-    /// The normal stress changes with slip (a releasing or restraining step); default the
-    /// laws' fixed σ_n.
-    #[arg(long)]
-    normal_stress_from_slip: bool,
-    /// Tolerance of the fault ODE, in (2.220446049250313e-16, 1) (open: from f64::EPSILON
-    /// to 1).
-    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
-    tolerance: f64,
-    #[command(flatten)]
-    kernel: crate::KernelArgs,
-    #[command(flatten)]
-    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the same bits for every value). Default: every core.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
@@ -105,25 +55,6 @@ pub struct Args {
     run: crate::ResumeArgs,
     #[command(flatten)]
     limits: Limits,
-}
-
-/// The scene and grid of the flags.
-fn scene(args: &Args) -> (Stepover, StepoverGrid) {
-    let stepover = Stepover {
-        params: SeasBp1 {
-            w_f: args.strand_km * 1e3,
-            ..SeasBp1::default()
-        },
-        gap: args.gap_km * 1e3,
-        overlap: args.overlap_km * 1e3,
-        normal_stress_from_slip: args.normal_stress_from_slip,
-    };
-    let grid = StepoverGrid {
-        dx: args.dx,
-        domain: args.domain_km * 1e3,
-        ratio: args.ratio,
-    };
-    (stepover, grid)
 }
 
 /// The files a run writes into `--out`.
@@ -142,27 +73,6 @@ fn station_row_bytes() -> f64 {
     csv_row_bytes(6)
 }
 
-impl Args {
-    /// What a checkpoint continues: the two strands, the grid and what changes the
-    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
-    /// changes).
-    ///
-    /// # Errors
-    /// The kernel's (`--kernel-epsilon`).
-    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        let (stepover, _) = scene(self);
-        Ok(self.integrator.fingerprint(
-            crate::cli::with_box_and_end(
-                Fingerprint::of_serialized(&stepover),
-                (self.dx, self.domain_km, self.ratio),
-                self.end_years,
-                self.tolerance,
-            )
-            .with("kernel", self.kernel.kernel(self.tolerance)?),
-        ))
-    }
-}
-
 impl Program for Args {
     const NAME: &'static str = "stepover";
 
@@ -170,34 +80,15 @@ impl Program for Args {
         self.limits
     }
 
+    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
+        self.settings = self.config.merged(self.settings, matches)?;
+        Ok(self)
+    }
+
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, END_YEARS, "years")?;
-        in_range("--strand-km", self.strand_km, STRAND_KM, "km")?;
-        in_range("--gap-km", self.gap_km, GAP_KM, "km")?;
-        in_range(
-            "--overlap-km",
-            self.overlap_km,
-            (-0.9 * self.strand_km, 0.9 * self.strand_km),
-            "km: shorter than a strand either way",
-        )?;
-        in_range("--dx", self.dx, DX, "m: at most H/8")?;
-        in_range(
-            "--domain-km",
-            self.domain_km,
-            (self.strand_km, 1e5),
-            "km: at least a strand's length",
-        )?;
-        in_range("--ratio", self.ratio, RATIO, "the growth of the elements")?;
-        let (stepover, grid) = scene(self);
-        stepover
-            .check_grid(&grid)
-            .map_err(|e| format!("--dx {}: {e}", written(self.dx)))?;
-        crate::cli::for_flag(
-            "--tolerance",
-            "tolerance",
-            stepover.params.fault_ode_options(self.tolerance),
-        )?;
-        self.kernel.kernel(self.tolerance)?;
+        self.config.validate(&self.settings)?;
+        let run = &self.settings;
+        let (stepover, grid) = (run.scene(), run.grid());
         // The graded mesh in closed form (as Stepover::mesh grades it).
         let [x_half, _] = stepover.box_half(&grid);
         let reach = x_half - grid.domain;
@@ -210,12 +101,12 @@ impl Program for Args {
         let nodes = nx * ny;
         // Both strands' slip nodes across the box.
         let fault_nodes = 2.0 * (x_half + x_half) / grid.dx;
-        let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
+        let hierarchical = run.kernel == KernelChoice::Hierarchical;
         let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(fault_nodes, hierarchical);
         // Rows: every step, a few hundred steps per year with events (the BP1 programs'
         // rate is an upper bound for the stations written at every step).
         let stations = stepover.stations().len() as f64;
-        let rows = self.end_years * 400.0 + 1e4;
+        let rows = run.end_years * 400.0 + 1e4;
         let names = outputs(&stepover);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()
@@ -226,7 +117,7 @@ impl Program for Args {
                 format!(
                     "the stepover on dx = {} m: about {nodes:.3e} nodes, {fault_nodes:.3e} on \
                      the strands",
-                    number(self.dx)
+                    number(run.dx)
                 ),
             )
             .output(
@@ -234,13 +125,13 @@ impl Program for Args {
                 "--end-years",
                 format!(
                     "{} years of {stations} station files",
-                    written(self.end_years)
+                    written(run.end_years)
                 ),
             )
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint()?),
+                    .fingerprint(run.fingerprint()),
             ))
     }
 }
@@ -251,25 +142,26 @@ pub fn main() -> ExitCode {
 }
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
-    let (stepover, grid) = scene(&args);
+    let run = args.settings;
+    let (stepover, grid) = (run.scene(), run.grid());
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
     let model = stepover.model(&grid)?;
     println!(
         "stepover: gap {} km, overlap {} km, strands {} km, Δx = {} m, {} nodes, {} frictional \
          nodes ({} on the south strand); on {}",
-        args.gap_km,
-        args.overlap_km,
-        args.strand_km,
-        args.dx,
+        run.gap_km,
+        run.overlap_km,
+        run.strand_km,
+        run.dx,
         model.vertices.len(),
         model.frictional_boundary.len(),
         model.frictional_boundary.along_fault(0).len(),
         machine()
     );
-    let mut options = stepover.params.fault_ode_options(args.tolerance)?;
-    options.kernel = args.kernel.kernel(args.tolerance)?;
-    options.integrator = args.integrator.integrator;
+    let mut options = stepover.params.fault_ode_options(run.tolerance)?;
+    options.kernel = run.fault_kernel()?;
+    options.integrator = run.integrator;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     let mut ode = stepover.fault_ode(model, options)?;
     println!("S: {}", ode.kernel_report());
@@ -278,7 +170,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         clock.elapsed().as_secs_f64(),
         cpu_seconds() - cpu0
     );
-    let fingerprint = args.fingerprint()?;
+    let fingerprint = run.fingerprint();
     let outcome = crate::network::run_network(
         &mut ode,
         &stepover.stations(),
@@ -286,7 +178,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         crate::network::NetworkRun {
             out: &args.out,
             fresh: folder.mode(),
-            end_years: args.end_years,
+            end_years: run.end_years,
             resume: &args.run,
             label: "stepover",
             rigidity: stepover.params.shear_modulus(),
@@ -297,20 +189,13 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             out: &args.out,
             outcome: &outcome,
             evaluations: ode.evaluations(),
-            integrator: args.integrator.summary(Some(ode.integrator_stats())),
+            integrator: crate::IntegratorArgs {
+                integrator: run.integrator,
+            }
+            .summary(Some(ode.integrator_stats())),
             started: (clock, cpu0),
         },
         serde_json::json!({ "program": "stepover", "scene": stepover, "grid": grid }),
-        serde_json::json!({ "end_years": args.end_years, "tolerance": args.tolerance }),
+        serde_json::json!({ "settings": run.summary() }),
     )
-}
-
-#[cfg(test)]
-mod flag_tests {
-    /// `--dx`'s upper bound is H/8 of the scene's `H` (the flag's range is written as a
-    /// literal, for `--help`).
-    #[test]
-    fn the_dx_bound_is_an_eighth_of_h() {
-        assert_eq!(super::DX.1, rsf_scenes::SeasBp1::default().h_top / 8.0);
-    }
 }

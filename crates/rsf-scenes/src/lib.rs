@@ -67,11 +67,13 @@ mod slider3d;
 pub mod square_fault;
 #[cfg(feature = "seas")]
 mod stepover;
+#[cfg(feature = "seas")]
+mod stepover_run;
 
 pub use curved::{arc_block_model, onto_arc, ARC_BLOCK_MESH, ARC_CENTRE, ARC_RADIUS_M};
 pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
-pub use run_config::{check_ranges, RunConfig};
+pub use run_config::{check_ranges, fault_kernel, KernelChoice, RunConfig};
 
 #[cfg(feature = "seas")]
 pub use seas_bp1::{
@@ -109,6 +111,8 @@ pub use seas_square_run::{
 pub use stepover::{
     Stepover, StepoverFaultOde, StepoverGrid, STEPOVER_FAULTS, STEPOVER_STATION_DISTANCES,
 };
+#[cfg(feature = "seas")]
+pub use stepover_run::{stepover_ranges, StepoverRun};
 // BP5's stations: their files are the output's (rsf-seas), their positions the scene's.
 #[cfg(feature = "seas")]
 pub use rsf_seas::{SEAS_BP5_BODY_STATIONS, SEAS_BP5_FAULT_STATIONS};

@@ -119,6 +119,73 @@ pub fn merge_file<C: RunConfig>(
     })
 }
 
+/// How a fault-ODE run stores its operators condensed onto the fault (`S`, and `S_N` with a
+/// normal stress from slip): `dense` or `hierarchical` in flags, files and Python.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum KernelChoice {
+    /// Dense (m² entries).
+    Dense,
+    /// ℋ-matrices (rsf-hmatrix): the default of the programs since issue 59 (the same
+    /// events as the dense kernel at its accuracy, in a fraction of the time and memory).
+    #[default]
+    Hierarchical,
+}
+
+/// The fault kernel of `choice` with the hierarchical kernel's relative accuracy
+/// `epsilon` (default: `tolerance`, the run's, within the kernel's range:
+/// [`FaultKernel::matching`](rsf::fault_ode::FaultKernel::matching)).
+///
+/// # Errors
+/// [`rsf::Error::InvalidParameter`] named `kernel_epsilon`: given with the dense kernel, or
+/// outside `[MIN_KERNEL_EPSILON, MAX_KERNEL_EPSILON]` (the range
+/// [`FaultKernel::validate`](rsf::fault_ode::FaultKernel::validate) applies).
+pub fn fault_kernel(
+    choice: KernelChoice,
+    epsilon: Option<f64>,
+    tolerance: f64,
+) -> rsf::Result<rsf::fault_ode::FaultKernel> {
+    use rsf::fault_ode::{FaultKernel, MAX_KERNEL_EPSILON, MIN_KERNEL_EPSILON};
+    match (choice, epsilon) {
+        (KernelChoice::Dense, None) => Ok(FaultKernel::Dense),
+        (KernelChoice::Dense, Some(e)) => Err(invalid(
+            "kernel_epsilon",
+            format!(
+                "{}: a setting of the hierarchical kernel: the dense kernel would ignore it",
+                rsf_numeric::written(e)
+            ),
+        )),
+        (KernelChoice::Hierarchical, None) => Ok(FaultKernel::matching(tolerance)),
+        (KernelChoice::Hierarchical, Some(e)) => {
+            let kernel = FaultKernel::hierarchical(e);
+            kernel.validate().map_err(|_| {
+                invalid(
+                    "kernel_epsilon",
+                    format!(
+                        "{}: must be in [{}, {}] (a relative accuracy: below, the entries' \
+                         round-off cannot meet it)",
+                        rsf_numeric::written(e),
+                        rsf_numeric::number(MIN_KERNEL_EPSILON),
+                        rsf_numeric::number(MAX_KERNEL_EPSILON)
+                    ),
+                )
+            })?;
+            Ok(kernel)
+        }
+    }
+}
+
+/// `fingerprint` followed by `scene`'s fields, each named `scene.NAME` (a run
+/// configuration's fingerprint: its settings, then its scene's parameters).
+pub fn with_scene(mut fingerprint: Fingerprint, scene: &impl Serialize) -> Fingerprint {
+    let scene = Fingerprint::of_serialized(scene).0;
+    fingerprint
+        .0
+        .extend(scene.into_iter().map(|(k, v)| (format!("scene.{k}"), v)));
+    fingerprint
+}
+
 /// Checks settings against their closed ranges: each `(name, value, (lo, hi), unit)`.
 ///
 /// # Errors

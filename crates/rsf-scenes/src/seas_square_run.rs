@@ -190,7 +190,7 @@ impl RunConfig for SeasBp7Run {
 
     /// Every setting, then the scene's parameters as `scene.NAME`.
     fn fingerprint(&self) -> Fingerprint {
-        with_scene(Fingerprint::of_serialized(self), &self.scene())
+        crate::run_config::with_scene(Fingerprint::of_serialized(self), &self.scene())
     }
 }
 
@@ -217,15 +217,6 @@ fn square_setup(
         layout: SeasLayout::default(),
         surface_stations: Vec::new(),
     }
-}
-
-/// `fingerprint` followed by `scene`'s fields, each named `scene.NAME`.
-fn with_scene(mut fingerprint: Fingerprint, scene: &impl serde::Serialize) -> Fingerprint {
-    let scene = Fingerprint::of_serialized(scene).0;
-    fingerprint
-        .0
-        .extend(scene.into_iter().map(|(k, v)| (format!("scene.{k}"), v)));
-    fingerprint
 }
 
 /// Where BP8's pore pressure would reach the normal stress (docs/seas-bp8.md).
@@ -380,7 +371,7 @@ impl RunConfig for SeasBp8Run {
 
     /// Every setting, then the scene's parameters as `scene.NAME`.
     fn fingerprint(&self) -> Fingerprint {
-        with_scene(Fingerprint::of_serialized(self), &SeasBp8::default())
+        crate::run_config::with_scene(Fingerprint::of_serialized(self), &SeasBp8::default())
     }
 }
 
