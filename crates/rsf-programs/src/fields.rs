@@ -250,3 +250,91 @@ impl<'a> FieldsRun<'a> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::{FieldWriters, FieldsTarget, NoFieldWriter};
+    use crate::guard::{parse_from, Program};
+    use rsf::Observer;
+
+    /// Writers that make nothing (the plan does not call them).
+    struct Nothing;
+
+    /// The refusal of a writer asked for.
+    fn none<T>() -> rsf::Result<T> {
+        Err(rsf::Error::InvalidParameter {
+            name: "writers".into(),
+            reason: "none in this test".into(),
+        })
+    }
+
+    impl FieldWriters for Nothing {
+        fn volume_2d(&self, _: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2>>> {
+            none()
+        }
+        fn volume_3d(&self, _: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<3>>> {
+            none()
+        }
+        fn fault_antiplane(&self, _: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2, 1>>> {
+            none()
+        }
+        fn fault_2d(&self, _: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2>>> {
+            none()
+        }
+        fn fault_3d(&self, _: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<3>>> {
+            none()
+        }
+    }
+
+    /// `P` with `flags`: `--help` documents `--hdf5`; without writers `--hdf5 3` is refused
+    /// by the plan naming the flag and crates/rsf-hdf5's binary `name`, `--hdf5 0` is not;
+    /// with writers (`supply`) the plan accepts it.
+    fn refused_without_writers<P: Program>(name: &str, flags: &[&str], supply: fn(&mut P)) {
+        let help = P::command().render_long_help().to_string();
+        assert!(help.contains("--hdf5 <N>"), "{name}: {help}");
+        let args = |n: &'static str| {
+            let mut a = vec![name, "--hdf5", n];
+            a.extend_from_slice(flags);
+            a
+        };
+        let (p, _) = parse_from::<P, _, _>(args("3")).unwrap();
+        let e = p.plan().err().unwrap_or_else(|| panic!("{name}: accepted"));
+        let refusal = e
+            .downcast_ref::<NoFieldWriter>()
+            .unwrap_or_else(|| panic!("{name}: {e}"));
+        assert_eq!(refusal.program, name);
+        let text = e.to_string();
+        assert!(
+            text.starts_with("--hdf5") && text.contains("crates/rsf-hdf5/target/release/"),
+            "{text}"
+        );
+        let (p, _) = parse_from::<P, _, _>(args("0")).unwrap();
+        p.plan().unwrap_or_else(|e| panic!("{name} --hdf5 0: {e}"));
+        let (mut p, _) = parse_from::<P, _, _>(args("3")).unwrap();
+        supply(&mut p);
+        p.plan()
+            .unwrap_or_else(|e| panic!("{name} with writers: {e}"));
+    }
+
+    #[test]
+    fn hdf5_is_refused_by_a_build_without_writers_naming_the_flag_and_the_binary() {
+        refused_without_writers::<crate::slider_3d::Cli>("slider_3d", &[], |p| {
+            p.frames.fields.supply(Arc::new(Nothing))
+        });
+        refused_without_writers::<crate::pipping_slider::Cli>("pipping_slider", &[], |p| {
+            p.frames.fields.supply(Arc::new(Nothing))
+        });
+        let out = ["--out", "out/seas_bp1"];
+        refused_without_writers::<crate::seas_bp1::Args>("seas_bp1", &out, |p| {
+            p.fields.supply(Arc::new(Nothing))
+        });
+        refused_without_writers::<crate::seas_bp3::Args>("seas_bp3", &[], |p| {
+            p.fields.supply(Arc::new(Nothing))
+        });
+        refused_without_writers::<crate::seas_bp5::Args>("seas_bp5", &[], |p| {
+            p.fields.supply(Arc::new(Nothing))
+        });
+    }
+}

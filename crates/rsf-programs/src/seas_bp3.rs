@@ -107,7 +107,7 @@ pub struct Args {
     run: crate::ResumeArgs,
     /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp3`).
     #[command(flatten)]
-    fields: crate::fields::FieldArgs,
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }

@@ -86,7 +86,7 @@ pub struct Cli {
     plane_strain: bool,
     /// VTU frames (this example's default: every 100 steps).
     #[command(flatten)]
-    frames: FrameArgs,
+    pub(crate) frames: FrameArgs,
     /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
     #[arg(long, value_name = "T")]
     snapshot_time: Option<f64>,

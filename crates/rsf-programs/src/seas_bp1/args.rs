@@ -145,7 +145,7 @@ pub struct Args {
     pub(super) run: crate::ResumeArgs,
     /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp1`).
     #[command(flatten)]
-    pub(super) fields: crate::fields::FieldArgs,
+    pub(crate) fields: crate::fields::FieldArgs,
     /// `--max-memory-gb` (nodes and fault operators estimated before anything is
     /// allocated), `--max-output-gb` (the station files: with `--every-step` and without
     /// `--max-steps`, the run stops at the step count whose rows fit, with a checkpoint).

@@ -87,7 +87,7 @@ pub struct Args {
     pub(super) run: crate::ResumeArgs,
     /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp5`).
     #[command(flatten)]
-    pub(super) fields: crate::fields::FieldArgs,
+    pub(crate) fields: crate::fields::FieldArgs,
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     pub(super) overwrite: bool,
