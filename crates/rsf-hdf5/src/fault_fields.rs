@@ -180,8 +180,8 @@ impl Hdf5FaultFields {
     }
 }
 
-/// The fault's cells as indices into its nodes (fault indices): the Xdmf topology (with
-/// its `NodesPerElement`), the vertices per cell and the cells ([`Hdf5FaultFields`]).
+/// The fault's cells as indices into its nodes (fault indices): the Xdmf topology type,
+/// the vertices per cell and the cells ([`Hdf5FaultFields`]).
 fn fault_cells<const D: usize, const C: usize>(m: &Model<D, C>) -> (String, usize, Vec<u64>) {
     let fb = &m.frictional_boundary;
     if D == 2 {
@@ -192,7 +192,7 @@ fn fault_cells<const D: usize, const C: usize>(m: &Model<D, C>) -> (String, usiz
             .filter(|w| fb.fault_of[w[0]] == fb.fault_of[w[1]])
             .flat_map(|w| [w[0] as u64, w[1] as u64])
             .collect();
-        return ("Polyline\" NodesPerElement=\"2".into(), 2, cells);
+        return ("Polyline".into(), 2, cells);
     }
     if D == 3 && !m.cells.is_empty() {
         // The faces of the tetrahedra whose three vertices are on Γ_F.
@@ -222,7 +222,7 @@ fn fault_cells<const D: usize, const C: usize>(m: &Model<D, C>) -> (String, usiz
     }
     // A fault alone: its nodes are its elements' centres.
     let cells = (0..fb.nodes.len() as u64).collect();
-    ("Polyvertex\" NodesPerElement=\"1".into(), 1, cells)
+    ("Polyvertex".into(), 1, cells)
 }
 
 impl<const D: usize, const C: usize> Observer<D, C> for Hdf5FaultFields {

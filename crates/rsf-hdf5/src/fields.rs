@@ -114,7 +114,7 @@ impl Hdf5Fields {
         let m = s.model;
         let topology = Topology {
             kind: match D {
-                1 => "Polyline\" NodesPerElement=\"2",
+                1 => "Polyline",
                 2 => "Triangle",
                 _ => "Tetrahedron",
             },

@@ -158,7 +158,7 @@ impl FramesFile {
 /// The cells of a fields file's mesh as its Xdmf index names them.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Topology<'a> {
-    /// The Xdmf `TopologyType` (with `NodesPerElement` where the type needs it).
+    /// The Xdmf `TopologyType` (`Polyline` and `Polyvertex` with `corners` points per cell).
     pub kind: &'a str,
     /// Number of cells.
     pub cells: usize,
@@ -187,6 +187,12 @@ pub(crate) fn write_index(
         cells,
         corners,
     } = *topology;
+    // Poly-lines and poly-vertices say how many points each cell has.
+    let per_cell = if kind.starts_with("Poly") {
+        format!("\" NodesPerElement=\"{corners}")
+    } else {
+        String::new()
+    };
     let mut x = String::from(
         "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    \
          <Grid Name=\"rsf\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
@@ -196,7 +202,7 @@ pub(crate) fn write_index(
             x,
             "      <Grid Name=\"frame {i}\" GridType=\"Uniform\">\n        \
              <Time Value=\"{t:.17e}\"/>\n        \
-             <Topology TopologyType=\"{kind}\" NumberOfElements=\"{cells}\">\n          \
+             <Topology TopologyType=\"{kind}{per_cell}\" NumberOfElements=\"{cells}\">\n          \
              <DataItem Dimensions=\"{cells} {corners}\" NumberType=\"UInt\" Precision=\"8\" \
              Format=\"HDF\">{h5}:/mesh/cells</DataItem>\n        </Topology>\n        \
              <Geometry GeometryType=\"XYZ\">\n          \

@@ -111,14 +111,17 @@ impl std::fmt::Debug for Supplied {
     }
 }
 
-/// Bytes per vertex (or fault node) and frame of a fields file: 14 doubles of the volume
-/// fields (two 3-vectors, slip as a 3-vector, five scalars; the fault files hold fewer),
-/// rounded up for the chunks' index.
+/// Bytes per vertex (or fault node) and frame of a fields file: 14 doubles of the body's
+/// fields (two 3-vectors, slip as a 3-vector, five scalars; the fault's files hold fewer),
+/// rounded up.
 pub const FIELDS_VERTEX_BYTES: f64 = 128.0;
-/// Bytes per frame of the Xdmf index, which lists every frame's eight attributes (a
-/// frame's entry measured 3 166 bytes at 12 frames; rounded up, its length grows with the
-/// frame's number).
-pub const FIELDS_INDEX_FRAME_BYTES: f64 = 4096.0;
+/// Bytes per frame besides the values: the chunks' index of the file's ten datasets and the
+/// frame's entry in the Xdmf index (measured on `slider_3d --level 2`, 525 vertices: 4.8 kB
+/// and 3.7 kB per frame; rounded up).
+pub const FIELDS_FRAME_BYTES: f64 = 12_288.0;
+/// Bytes of a fields file's own structure (superblock, groups, attributes: 20 kB measured on
+/// a 24-vertex mesh; rounded up).
+pub const FIELDS_FILE_BYTES: f64 = 32_768.0;
 
 /// The flag `--hdf5 N`: the run's fields every N steps into one HDF5 file `OUT/fields.h5`
 /// with an Xdmf index `OUT/fields.xmf` (ParaView, meshio), written by the writers a binary
@@ -179,7 +182,9 @@ impl FieldArgs {
             n => (steps / n as f64).ceil(),
         };
         let mesh = 32.0 * points as f64 + 8.0 * (cells * corners) as f64;
-        mesh + frames * (FIELDS_VERTEX_BYTES * points as f64 + FIELDS_INDEX_FRAME_BYTES)
+        FIELDS_FILE_BYTES
+            + mesh
+            + frames * (FIELDS_VERTEX_BYTES * points as f64 + FIELDS_FRAME_BYTES)
     }
 
     /// The fields file of a run writing into `out`.
