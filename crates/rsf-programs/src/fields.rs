@@ -57,12 +57,13 @@ pub trait FieldWriters: Send + Sync {
     /// As [`volume_2d`](Self::volume_2d).
     fn volume_3d(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<3>>>;
     /// The fault's fields of an antiplane model (one displacement component: `seas_bp1`,
-    /// `seas_bp6`).
+    /// `seas_bp6`'s antiplane runs).
     ///
     /// # Errors
     /// As [`volume_2d`](Self::volume_2d).
     fn fault_antiplane(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2, 1>>>;
-    /// The fault's fields of a 2-D plane-strain model (`seas_bp3`).
+    /// The fault's fields of a 2-D plane-strain model (`seas_bp3`, `seas_bp6`'s in-plane
+    /// runs).
     ///
     /// # Errors
     /// As [`volume_2d`](Self::volume_2d).
@@ -72,6 +73,41 @@ pub trait FieldWriters: Send + Sync {
     /// # Errors
     /// As [`volume_2d`](Self::volume_2d).
     fn fault_3d(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<3>>>;
+}
+
+/// The writer of the fault's fields of a 2-D model of `C` displacement components
+/// ([`FieldWriters::fault_antiplane`] for 1, [`FieldWriters::fault_2d`] for 2), for a
+/// program generic in `C` (`seas_bp6`).
+pub struct Fault2d<const C: usize>;
+
+/// How [`Fault2d`] makes the fault's fields of a model of `C` components.
+pub trait FaultFields2d<const C: usize> {
+    /// The fault's fields for `target`, by the method of `writers` for `C` components.
+    ///
+    /// # Errors
+    /// The writer's.
+    fn make(
+        writers: &dyn FieldWriters,
+        target: &FieldsTarget<'_>,
+    ) -> rsf::Result<Box<dyn Observer<2, C>>>;
+}
+
+impl FaultFields2d<1> for Fault2d<1> {
+    fn make(
+        writers: &dyn FieldWriters,
+        target: &FieldsTarget<'_>,
+    ) -> rsf::Result<Box<dyn Observer<2, 1>>> {
+        writers.fault_antiplane(target)
+    }
+}
+
+impl FaultFields2d<2> for Fault2d<2> {
+    fn make(
+        writers: &dyn FieldWriters,
+        target: &FieldsTarget<'_>,
+    ) -> rsf::Result<Box<dyn Observer<2>>> {
+        writers.fault_2d(target)
+    }
 }
 
 /// `--hdf5 N` asked of a program built without a writer of fields (the workspace's
@@ -339,6 +375,9 @@ mod tests {
             p.fields.supply(Arc::new(Nothing))
         });
         refused_without_writers::<crate::seas_bp5::Args>("seas_bp5", &[], |p| {
+            p.fields.supply(Arc::new(Nothing))
+        });
+        refused_without_writers::<crate::seas_bp6::Args>("seas_bp6", &["--variant", "a"], |p| {
             p.fields.supply(Arc::new(Nothing))
         });
     }

@@ -100,34 +100,28 @@ def check_index(h5, names, cell_type, corners):
         assert np.nanmax(f["fields/slip_rate"][:]) > 0
 
 
-def test_slider_3d_binary(tmp_path):
-    run("slider_3d", "--level", "0", "--steps", "20", "--threads", "1", "--hdf5", "5",
-        "--out", tmp_path)
-    check_index(tmp_path / "fields.h5", VOLUME, "tetra", 4)
+# Each binary on a tiny run: its flags, the fields it writes, meshio's cell type and the
+# vertices per cell.
+RUNS = {
+    "slider_3d": (["--level", "0", "--steps", "20", "--hdf5", "5"], VOLUME, "tetra", 4),
+    "pipping_slider": (["--level", "1", "--steps", "40", "--hdf5", "10"], VOLUME,
+                       "triangle", 3),
+    # The fault's segments.
+    "seas_bp1": (["--dz", "400", "--end-years", "2", "--hdf5", "5"], FAULT, "line", 2),
+    "seas_bp3": (["--dx", "4000", "--end-years", "1", "--hdf5", "10"], FAULT, "line", 2),
+    # Antiplane with pore pressure on the BEM kernel: the fault's segments.
+    "seas_bp6": (["--variant", "a", "--dz", "400", "--end-years", "0.2", "--hdf5", "2"],
+                 FAULT, "line", 2),
+    # A fault alone on Okada's kernel: a poly-vertex per element's centre.
+    "seas_bp5": (["--dx", "4000", "--end-years", "1", "--hdf5", "50"], FAULT, "vertex", 1),
+}
 
 
-def test_pipping_slider_binary(tmp_path):
-    run("pipping_slider", "--level", "1", "--steps", "40", "--threads", "1", "--hdf5", "10",
-        "--out", tmp_path)
-    check_index(tmp_path / "fields.h5", VOLUME, "triangle", 3)
-
-
-def test_seas_bp1_binary_fault_fields(tmp_path):
-    run("seas_bp1", "--dz", "400", "--end-years", "2", "--threads", "1", "--hdf5", "5",
-        "--out", tmp_path)
-    check_index(tmp_path / "fields.h5", FAULT, "line", 2)
-
-
-def test_seas_bp3_binary_fault_fields(tmp_path):
-    run("seas_bp3", "--dx", "4000", "--end-years", "1", "--threads", "1", "--hdf5", "10",
-        "--out", tmp_path)
-    check_index(tmp_path / "fields.h5", FAULT, "line", 2)
-
-
-def test_seas_bp5_binary_fault_fields_of_the_okada_fault(tmp_path):
-    run("seas_bp5", "--dx", "4000", "--end-years", "1", "--threads", "1", "--hdf5", "50",
-        "--out", tmp_path)
-    check_index(tmp_path / "fields.h5", FAULT, "vertex", 1)
+@pytest.mark.parametrize("name", sorted(RUNS))
+def test_binary(tmp_path, name):
+    flags, fields, cell_type, corners = RUNS[name]
+    run(name, *flags, "--threads", "1", "--out", tmp_path)
+    check_index(tmp_path / "fields.h5", fields, cell_type, corners)
 
 
 def test_python_slider_3d_hdf5(tmp_path):
