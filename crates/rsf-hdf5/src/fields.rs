@@ -90,7 +90,7 @@ impl Hdf5Fields {
     /// run, continued, would hold two runs' frames.)
     ///
     /// # Errors
-    /// [`Error::Resume`] naming the file: missing or not such a file; another run's
+    /// [`Error::Resume`](crate::Error::Resume) naming the file: missing or not such a file; another run's
     /// fingerprint; no frame at the checkpoint's step (write checkpoints at frame steps); a
     /// frame of another time or state (another run's file) — nothing in the file changed
     /// then.

@@ -440,7 +440,7 @@ pub fn main() -> ExitCode {
 }
 
 /// The program `seas_bp6` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`Fault2d`](crate::fields::Fault2d): antiplane or in-plane as the run's model; the binary
+/// [`Fault2d`]: antiplane or in-plane as the run's model; the binary
 /// `seas_bp6` of crates/rsf-hdf5).
 pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
     crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
