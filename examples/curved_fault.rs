@@ -96,7 +96,7 @@ impl Program for Cli {
             }),
         )?;
         let out = self.out();
-        Ok(self.own(&out).plan(&scene))
+        self.own(&out).plan(&scene)
     }
 }
 

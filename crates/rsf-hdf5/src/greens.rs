@@ -11,7 +11,7 @@ use rsf::greens::{GreensAccuracy, GreensFunctions};
 
 use crate::attributes::text;
 use crate::error::{h5_at, show_path, Error, Result};
-use crate::fields::view;
+use crate::frames::view;
 use crate::series::replace_atomically;
 
 /// The file's `format` attribute: the layout this module writes and reads.

@@ -25,13 +25,16 @@
 
 mod attributes;
 mod error;
+mod fault_fields;
 mod fields;
+pub(crate) mod frames;
 mod greens;
 #[cfg(feature = "programs")]
 pub mod programs;
 mod series;
 
 pub use error::{Error, Result};
+pub use fault_fields::{Hdf5FaultFields, FAULT_FIELDS};
 pub use fields::Hdf5Fields;
 pub use greens::{read_greens, write_greens, GREENS_FORMAT};
 pub use series::{seas_files, write_seas_series, SeasSeries, SeriesSummary, SEAS_SERIES_FILE};

@@ -1,13 +1,108 @@
-//! The SEAS programs of `rsf-programs` with their time series in one HDF5 file (feature
-//! `programs`): [`main_with_series`] runs a program and writes `seas.h5` into its `--out`
-//! folder when it ends — the binaries `seas_bp1`, `seas_bp3`, `seas_bp5` and `seas_bp6` of
-//! this crate.
+//! The programs of `rsf-programs` with HDF5 output (feature `programs`): their fields with
+//! `--hdf5 N` ([`Hdf5Writers`], the writers these binaries supply through
+//! `rsf_programs::fields::FieldWriters`) — the binaries `slider_3d` and `pipping_slider`
+//! (the body's fields, [`Hdf5Fields`]) and `seas_bp1`, `seas_bp3`, `seas_bp5` (the fault's
+//! fields, [`Hdf5FaultFields`]) — and the SEAS programs' time series in one HDF5 file:
+//! [`main_with_series`] runs a program and writes `seas.h5` into its `--out` folder when it
+//! ends (`seas_bp1`, `seas_bp3`, `seas_bp5`, `seas_bp6`).
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+
+use rsf::observe::{Every, Interval};
+use rsf::Observer;
+use rsf_programs::fields::{FieldWriters, FieldsTarget};
 
 use crate::series::{write_seas_series, SEAS_SERIES_FILE};
+use crate::{Hdf5FaultFields, Hdf5Fields};
+
+/// The HDF5 writers of `--hdf5 N`: the body's fields of the sliders ([`Hdf5Fields`]) and
+/// the fault's fields of the SEAS programs ([`Hdf5FaultFields`]) into `OUT/fields.h5` with
+/// the index `OUT/fields.xmf`, a frame every N steps. A new file records the run's
+/// fingerprint and N; a resumed run continues the file once it shows that it holds the
+/// checkpoint's run, with the same N.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Hdf5Writers;
+
+impl Hdf5Writers {
+    /// The writers, as the programs' `main_with_fields` take them.
+    pub fn shared() -> Arc<dyn FieldWriters> {
+        Arc::new(Self)
+    }
+}
+
+/// `fields` (the body's or the fault's, new or continued) for `target`, a frame every
+/// `target.every` steps.
+fn sampled<const D: usize, const C: usize, O: Observer<D, C> + 'static>(
+    target: &FieldsTarget<'_>,
+    new: impl FnOnce() -> crate::Result<O>,
+    resumed: impl FnOnce(&rsf::Checkpoint, &[&str]) -> crate::Result<O>,
+) -> rsf::Result<Box<dyn Observer<D, C>>> {
+    let fields = match target.resumed {
+        Some(c) => {
+            crate::frames::check_every(target.path, target.every)?;
+            let allowed: Vec<&str> = target.allow_change.iter().map(String::as_str).collect();
+            resumed(c, &allowed)?
+        }
+        None => new()?,
+    };
+    Ok(Box::new(Every::new(Interval::Steps(target.every), fields)?))
+}
+
+/// The body's fields for `target`.
+fn volume<const D: usize>(target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<D>>>
+where
+    Hdf5Fields: Observer<D>,
+{
+    sampled(
+        target,
+        || {
+            Ok(Hdf5Fields::new(target.path, target.mode)?
+                .fingerprint(target.fingerprint.clone())
+                .every(target.every))
+        },
+        |c, allowed| Hdf5Fields::continue_run(target.path, c, allowed),
+    )
+}
+
+/// The fault's fields for `target`.
+fn fault<const D: usize, const C: usize>(
+    target: &FieldsTarget<'_>,
+) -> rsf::Result<Box<dyn Observer<D, C>>> {
+    sampled(
+        target,
+        || {
+            Ok(Hdf5FaultFields::new(target.path, target.mode)?
+                .fingerprint(target.fingerprint.clone())
+                .every(target.every))
+        },
+        |c, allowed| Hdf5FaultFields::continue_run(target.path, c, allowed),
+    )
+}
+
+impl FieldWriters for Hdf5Writers {
+    fn volume_2d(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2>>> {
+        volume(target)
+    }
+
+    fn volume_3d(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<3>>> {
+        volume(target)
+    }
+
+    fn fault_antiplane(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2, 1>>> {
+        fault(target)
+    }
+
+    fn fault_2d(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<2>>> {
+        fault(target)
+    }
+
+    fn fault_3d(&self, target: &FieldsTarget<'_>) -> rsf::Result<Box<dyn Observer<3>>> {
+        fault(target)
+    }
+}
 
 /// Runs the SEAS program `program` (its `main`: the same flags, guard and
 /// files, e.g. `rsf_programs::seas_bp1::main`) and, when it ends successfully, writes the

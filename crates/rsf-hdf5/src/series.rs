@@ -13,7 +13,7 @@ use rsf_seas::{is_seas_file, read_seas_file, SeasFile};
 
 use crate::attributes::text;
 use crate::error::{h5_at, show_path, Error, Result};
-use crate::fields::view;
+use crate::frames::view;
 
 /// The name of the series file in a SEAS run's folder (`out/seas_bp1/seas.h5`).
 pub const SEAS_SERIES_FILE: &str = "seas.h5";

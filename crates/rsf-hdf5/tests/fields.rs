@@ -8,6 +8,9 @@ use rsf::observe::{Every, FileMode, Interval, VtuFrames};
 use rsf_hdf5::Hdf5Fields;
 use rsf_scenes::{Slider3dScene, SliderScene};
 
+mod common;
+use common::{bits, temp_dir, vtu_field};
+
 /// The fields and their components, written out here (the writers take them from
 /// `rsf::observe::POINT_FIELDS`).
 const FIELDS: [(&str, usize); 8] = [
@@ -21,14 +24,6 @@ const FIELDS: [(&str, usize); 8] = [
     ("fault", 1),
 ];
 
-/// A fresh folder for `name` under the target directory's tmp.
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    std::fs::remove_dir_all(&dir).ok();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 fn scene() -> Slider3dScene {
     Slider3dScene {
         slider: SliderScene {
@@ -40,30 +35,6 @@ fn scene() -> Slider3dScene {
         },
         ..Slider3dScene::default()
     }
-}
-
-/// The point data `name` of a VTU frame.
-fn vtu_field(path: &std::path::Path, name: &str) -> Vec<f64> {
-    let vtk = vtkio::Vtk::import(path).expect("valid VTK XML");
-    let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        panic!("not an unstructured grid")
-    };
-    let piece = pieces[0].load_piece_data(None).expect("inline piece");
-    let attr = piece
-        .data
-        .point
-        .iter()
-        .find(|a| a.name() == name)
-        .unwrap_or_else(|| panic!("no point data `{name}`"));
-    let vtkio::model::Attribute::DataArray(array) = attr else {
-        panic!("`{name}` is not a data array")
-    };
-    array.data.clone().cast_into::<f64>().expect("numbers")
-}
-
-/// Bits, so that NaN (off the fault) compares equal to NaN.
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|x| x.to_bits()).collect()
 }
 
 #[test]

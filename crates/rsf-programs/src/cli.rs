@@ -170,6 +170,10 @@ pub struct FrameArgs {
     /// 0: none) [default: the example's, 0 unless it says otherwise].
     #[arg(long, value_name = "N")]
     pub frame_every: Option<usize>,
+    /// `--hdf5 N`: the fields in one HDF5 file with an Xdmf index (the binaries of
+    /// crates/rsf-hdf5).
+    #[command(flatten)]
+    pub fields: crate::fields::FieldArgs,
 }
 
 /// Bytes per vertex of a VTU frame: 16 doubles of coordinates and point data (171 bytes

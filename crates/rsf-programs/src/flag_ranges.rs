@@ -218,6 +218,11 @@ mod tests {
         ),
         ("--max-steps", "any count; 0 computes no step"),
         ("--checkpoint-every", "any count; 0: never"),
+        (
+            "--hdf5",
+            "any count; 0: no fields file (without crates/rsf-hdf5's writers any other is \
+             refused, NoFieldWriter)",
+        ),
     ];
 
     fn report(wrong: Vec<String>) {

@@ -21,6 +21,7 @@ mod curved;
 mod defaults;
 pub mod distributed_sweep;
 pub mod estimates;
+pub mod fields;
 mod flag_ranges;
 pub mod guard;
 mod heat_map;

@@ -63,7 +63,12 @@ impl OwnRun<'_> {
     /// the frames) and the folder ([`Plan`], which the guard checks and prepares before
     /// anything is computed: another run's files are refused unless `--overwrite`, the
     /// folder is locked and probed writable, no output path may be a folder).
-    pub fn plan(&self, scene: &SliderScene) -> Plan {
+    ///
+    /// # Errors
+    /// `--hdf5 N`: these examples have no build with a writer of fields
+    /// ([`NoFieldWriter`](crate::fields::NoFieldWriter)).
+    pub fn plan(&self, scene: &SliderScene) -> Result<Plan, crate::guard::AnyError> {
+        self.args.frames.fields.check(self.program)?;
         let steps = steps_bound(scene, (0.0, scene.end_time_s));
         let k = 2f64.powi(scene.level.min(1000) as i32);
         let nodes = crate::estimates::slider_nodes(scene.level);
@@ -74,7 +79,7 @@ impl OwnRun<'_> {
             (10.0 * k * k).min(1e18) as usize,
         );
         let what = crate::estimates::slider_what(scene);
-        Plan::new()
+        Ok(Plan::new()
             .memory(
                 crate::estimates::slider_memory(scene),
                 "--level (or --scene)",
@@ -85,7 +90,7 @@ impl OwnRun<'_> {
                 "--steps, --end-time, --frame-every (or --scene)",
                 what,
             )
-            .folder(Folder::new("--out", self.out, &self.outputs()).overwrite(self.args.overwrite))
+            .folder(Folder::new("--out", self.out, &self.outputs()).overwrite(self.args.overwrite)))
     }
 }
 

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use crate::cli::{for_flag, window};
 use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
+use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::run_folder::FolderArgs;
 use crate::session::{Session, SessionFlags};
@@ -123,11 +124,25 @@ impl Program for Cli {
             .min(output.step_cap.map_or(f64::INFINITY, |c| c as f64))
             .min(self.folder.max_steps.map_or(f64::INFINITY, |c| c as f64));
         let memory = slider_memory(&scene) + rows * RECORDED_STEP_BYTES;
+        self.frames.fields.check(Self::NAME)?;
+        let fields = self.frames.fields.bytes_bound(
+            rows,
+            crate::estimates::slider_nodes(scene.level).min(1e18) as usize,
+            // Two triangles per square of the 5·2ʲ × 2ʲ grid.
+            (
+                (10.0 * 4f64.powi(scene.level.min(500) as i32)).min(1e18) as usize,
+                3,
+            ),
+        );
         let what = slider_what(&scene);
         Ok(Plan::new()
             .threads("--threads", self.threads.threads())
             .memory(memory, "--level, --steps (or --scene)", what.clone())
-            .output(output.bytes, "--steps, --window (or --scene)", what)
+            .output(
+                output.bytes + fields,
+                "--steps, --window, --hdf5 (or --scene)",
+                what,
+            )
             .folder(
                 Folder::new("--out", &self.out, &OUTPUTS)
                     .overwrite(self.folder.overwrite)
@@ -145,15 +160,19 @@ impl Cli {
     /// before the folder changes.
     fn fingerprint(&self, scene: &SliderScene) -> rsf::checkpoint::Fingerprint {
         let (w0, w1) = self.window(scene.end_time_s);
-        scene
-            .fingerprint()
-            .with("window", format!("{w0:e},{w1:e}"))
-            .with("frame_every", self.frames.frame_every.unwrap_or(0))
+        self.frames.fields.fingerprint(
+            scene
+                .fingerprint()
+                .with("window", format!("{w0:e},{w1:e}"))
+                .with("frame_every", self.frames.frame_every.unwrap_or(0)),
+        )
     }
 }
 
 /// The files a run writes into its folder.
-const OUTPUTS: [&str; 9] = [
+const OUTPUTS: [&str; 11] = [
+    crate::fields::FIELDS_FILE,
+    crate::fields::FIELDS_INDEX,
     "timeseries.csv",
     "frictional_profile.csv",
     "slip_rate_map.csv",
@@ -164,6 +183,18 @@ const OUTPUTS: [&str; 9] = [
     "slip_rate_map.png",
     "frames/frames.pvd",
 ];
+
+/// The program `pipping_slider` with `writers` of its fields (`--hdf5 N`: the fields of
+/// the body, [`FieldWriters::volume_2d`](crate::fields::FieldWriters::volume_2d); the binary
+/// `pipping_slider` of crates/rsf-hdf5).
+pub fn main_with_fields(
+    writers: std::sync::Arc<dyn crate::fields::FieldWriters>,
+) -> std::process::ExitCode {
+    crate::guard::main_supplied(
+        |cli: &mut Cli| cli.frames.fields.supply(writers),
+        run_prepared,
+    )
+}
 
 /// Runs the example with the flags `cli` (what `main` does).
 ///
@@ -262,6 +293,13 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         None => Interval::Steps((scene.steps / 600).max(1)),
     };
     // Frames first: a missing index on resume is refused before the CSVs are continued.
+    // The fields file (`--hdf5 N`) before them: it proves it holds the checkpoint's run
+    // before anything is cut.
+    let mut fields = cli.frames.fields.observer(
+        ("pipping_slider", &out),
+        FieldsRun::of(&session, prepared.mode(), &cli.folder.allow_change),
+        |w, target| w.volume_2d(target),
+    )?;
     let mut frames = cli.frames.observer(0, &out, mode)?;
     let mut series = PointSeries::new(&series_csv, sim.model(), x0, mode)?;
     let mut profile = FrictionalProfile::new(&profile_csv, (w0, w1), mode)?;
@@ -273,6 +311,9 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let mut observers: Vec<&mut dyn Observer<2>> = vec![&mut series, &mut profile, &mut map];
     if let Some(f) = frames.as_mut() {
         observers.push(f);
+    }
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
     }
     let setup_seconds = setup.elapsed().as_secs_f64();
     let summary = session.run(&mut sim, &mut observers, Some(progress))?;

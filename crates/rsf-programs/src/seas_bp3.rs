@@ -105,6 +105,9 @@ pub struct Args {
     /// is cut), `--allow-change`, `--max-steps N`.
     #[command(flatten)]
     run: crate::ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp3`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -146,6 +149,7 @@ fn outputs() -> Vec<String> {
         ]
         .map(String::from),
     );
+    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
 
@@ -218,6 +222,7 @@ impl Program for Args {
         let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(nz, hierarchical);
         let profile = grid.domain / 500.0 + 1.0;
         let stations = (SEAS_BP3_STATION_DISTANCES.len() + SEAS_BP3_SURFACE_STATIONS.len()) as f64;
+        self.fields.check("seas_bp3")?;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()
@@ -253,6 +258,16 @@ impl Program for Args {
 pub fn main() -> ExitCode {
     // With threads, the whole run on the pool (no hand-over per parallel region).
     crate::guard::main(|args, folder| run(args, folder, None))
+}
+
+/// The program `seas_bp3` with `writers` of the fault's fields (`--hdf5 N`,
+/// [`FieldWriters::fault_2d`](crate::fields::FieldWriters::fault_2d); the binary `seas_bp3`
+/// of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(
+        |args: &mut Args| args.fields.supply(writers),
+        |args, folder| run(args, folder, None),
+    )
 }
 
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp3`):
@@ -333,6 +348,13 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         session.follow(&mut ode, &mut [])?;
         return Ok(());
     }
+    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
+    // before any file is cut.
+    let mut fields = args.fields.observer(
+        ("seas_bp3", &args.out),
+        crate::fields::FieldsRun::of(&session, folder.mode(), &args.run.allow_change),
+        |w, target| w.fault_2d(target),
+    )?;
     let mut output = rsf_seas::SeasOutput::for_session(
         &session,
         &args.out,
@@ -353,7 +375,12 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         TimeUnit::year(SECONDS_PER_YEAR),
         "BP3",
     );
-    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
+    let mut observers: Vec<&mut dyn rsf::Observer<2>> = vec![&mut output];
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
+    }
+    let summary = session.run(&mut ode, &mut observers, Some(progress))?;
+    drop(observers);
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     for e in output.events() {

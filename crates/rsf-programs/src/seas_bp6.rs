@@ -32,6 +32,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::fields::{Fault2d, FaultFields2d, FieldsRun};
 use crate::guard::{
     flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
     Program,
@@ -173,6 +174,9 @@ pub(crate) struct Args {
     header: crate::SeasHeaderArgs,
     #[command(flatten)]
     run: crate::ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp6`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -264,6 +268,7 @@ impl Args {
 fn outputs() -> Vec<String> {
     let mut names = SeasBp6Output::file_names();
     names.extend(["checkpoint.bin", SEAS_BP6_RESUME_LOG, "summary.json"].map(String::from));
+    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
 
@@ -277,6 +282,7 @@ impl Program for Args {
     fn plan(&self) -> Result<Plan, AnyError> {
         let variant = self.variant()?;
         in_range("--end-years", self.end_years, END_YEARS, "years")?;
+        self.fields.check(Self::NAME)?;
         let bp6 = SeasBp6::default();
         in_range("--dz", self.dz, DZ, "m")?;
         let cells = 2.0 * bp6.l_f / self.dz;
@@ -433,6 +439,13 @@ pub fn main() -> ExitCode {
     crate::guard::main(run)
 }
 
+/// The program `seas_bp6` with `writers` of the fault's fields (`--hdf5 N`,
+/// [`Fault2d`]: antiplane or in-plane as the run's model; the binary
+/// `seas_bp6` of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
+}
+
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let variant = args.variant()?;
     let elastic = args.elastic();
@@ -563,7 +576,10 @@ impl Common<'_> {
         run: &mut R,
         fault: rsf_seas::Bp6Fault,
         counts: impl Fn(&R) -> (String, Option<rsf::fault_ode::StepperStats>),
-    ) -> Result<(), AnyError> {
+    ) -> Result<(), AnyError>
+    where
+        Fault2d<C>: FaultFields2d<C>,
+    {
         let args = self.args;
         println!(
             "set-up: wall {:.1} s, CPU {:.1} s",
@@ -578,6 +594,13 @@ impl Common<'_> {
             self.fingerprint,
             args.end_years * BP6_SECONDS_PER_YEAR,
             run,
+        )?;
+        // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
+        // before any file is cut.
+        let mut fields = args.fields.observer(
+            ("seas_bp6", &args.out),
+            FieldsRun::of(&session, self.folder.mode(), &args.run.allow_change),
+            Fault2d::<C>::make,
         )?;
         let mut output = SeasBp6Output::new(&args.out, fault, self.pressure.clone(), self.setup)?
             .with_intervals(args.station_interval, args.profile_interval);
@@ -595,7 +618,12 @@ impl Common<'_> {
             "BP6",
         );
         let mut peak = Peak::default();
-        let summary = session.run(run, &mut [&mut output, &mut peak], Some(progress))?;
+        let mut observers: Vec<&mut dyn rsf::Observer<2, C>> = vec![&mut output, &mut peak];
+        if let Some(f) = fields.as_mut() {
+            observers.push(f.as_mut());
+        }
+        let summary = session.run(run, &mut observers, Some(progress))?;
+        drop(observers);
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
         let (counts, integrator) = counts(run);

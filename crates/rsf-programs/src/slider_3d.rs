@@ -39,6 +39,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use crate::cli::step_count;
+use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::ranks::Processes;
 use crate::session::{Session, SessionFlags};
@@ -58,12 +59,14 @@ const DEFAULT_FRAME_EVERY: usize = 100;
 /// Bytes of a 3-D time series row (13 columns; 160 bytes measured at level 1; rounded up).
 const SERIES_ROW_BYTES_3D: f64 = 250.0;
 /// The files a run writes into its folder.
-const OUTPUTS: [&str; 5] = [
+const OUTPUTS: [&str; 7] = [
     "timeseries.csv",
     "checkpoint.bin",
     "fault_snapshot.csv",
     "fault_slip_rate.png",
     "frames/frames.pvd",
+    crate::fields::FIELDS_FILE,
+    crate::fields::FIELDS_INDEX,
 ];
 
 /// The 3-D slider: time series at x0, VTU frames, a fault-plane slip-rate snapshot.
@@ -83,7 +86,7 @@ pub struct Cli {
     plane_strain: bool,
     /// VTU frames (this example's default: every 100 steps).
     #[command(flatten)]
-    frames: FrameArgs,
+    pub(crate) frames: FrameArgs,
     /// Time of the fault snapshot (s) [default: the step of the largest slip rate].
     #[arg(long, value_name = "T")]
     snapshot_time: Option<f64>,
@@ -175,6 +178,12 @@ impl Program for Cli {
             nodes.min(1e18) as usize,
             cells.min(1e18) as usize,
         );
+        self.frames.fields.check(Self::NAME)?;
+        let fields = self.frames.fields.bytes_bound(
+            steps,
+            nodes.min(1e18) as usize,
+            (cells.min(1e18) as usize, 4),
+        );
         let what = format!(
             "the 3-D slider at level {} and width {} m: about {nodes:.3e} nodes, {steps:.3e} steps",
             s.level, scene.width_m
@@ -183,8 +192,8 @@ impl Program for Cli {
             .pool(self.threads.threads())
             .memory(bytes, "--level, --width (or --scene)", what.clone())
             .output(
-                steps * SERIES_ROW_BYTES_3D + frames,
-                "--steps, --frame-every, --max-steps",
+                steps * SERIES_ROW_BYTES_3D + frames + fields,
+                "--steps, --frame-every, --hdf5, --max-steps",
                 what,
             )
             .folder(
@@ -200,6 +209,16 @@ impl Program for Cli {
 pub fn main() -> ExitCode {
     // With threads, the whole run on the pool (no hand-over per parallel region).
     crate::guard::main(|cli, prepared| run(cli, prepared, None))
+}
+
+/// The program `slider_3d` in one process with `writers` of its fields (`--hdf5 N`: the
+/// fields of the body, [`FieldWriters::volume_3d`](crate::fields::FieldWriters::volume_3d);
+/// the binary `slider_3d` of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(
+        |cli: &mut Cli| cli.frames.fields.supply(writers),
+        |cli, prepared| run(cli, prepared, None),
+    )
 }
 
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `slider_3d`;
@@ -473,7 +492,11 @@ fn check_output_bound(
     };
     let frames_bytes =
         cli.frames
-            .bytes_bound(DEFAULT_FRAME_EVERY, steps, frame_points, frame_cells);
+            .bytes_bound(DEFAULT_FRAME_EVERY, steps, frame_points, frame_cells)
+            + cli
+                .frames
+                .fields
+                .bytes_bound(steps, model.num_nodes(), (model.cells.len() / 4, 4));
     check_output_size(
         steps.min(cli.folder.max_steps.map_or(f64::INFINITY, |m| m as f64)) * SERIES_ROW_BYTES_3D
             + frames_bytes,
@@ -549,7 +572,10 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     check_output_bound(&cli, s, model, frame_owner.as_deref(), owner_ranks)?;
     let frame_every = cli.frames.frame_every.unwrap_or(DEFAULT_FRAME_EVERY);
     // What changes the files besides the scene: the frame spacing.
-    let fingerprint = scene.fingerprint().with("frame_every", frame_every);
+    let fingerprint = cli
+        .frames
+        .fields
+        .fingerprint(scene.fingerprint().with("frame_every", frame_every));
     // Everything is checked before any file is touched: folder (the guard), checkpoint
     // (every rank restores the whole state), then rank 0 the rows it continues.
     let session = Session::start(
@@ -569,7 +595,17 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
         PointSeries::<3>::check_checkpoint_row(&series_csv, c, x0)?;
     }
     let mode = session.mode(prepared.mode());
-    // Frames first: a missing index on resume is refused before the series is continued.
+    // The fields file (`--hdf5 N`, rank 0) first: it proves it holds the checkpoint's run
+    // before anything is cut.
+    let mut fields = match root {
+        true => cli.frames.fields.observer(
+            ("slider_3d", &out),
+            FieldsRun::of(&session, prepared.mode(), &cli.folder.allow_change),
+            |w, target| w.volume_3d(target),
+        )?,
+        false => None,
+    };
+    // Frames next: a missing index on resume is refused before the series is continued.
     // On more than one rank every rank writes its piece of each frame (the cells whose
     // lowest-numbered vertex it owns), rank 0 the `.pvtu` and the index; on one rank the
     // one-process files.
@@ -603,6 +639,9 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut series, &mut snapshot];
     if let Some(f) = frames.as_mut() {
         observers.push(f);
+    }
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
     }
     let progress = Progress::steps(s.steps, "slider 3-D");
     let summary = session.run(&mut sim, &mut observers, Some(progress))?;

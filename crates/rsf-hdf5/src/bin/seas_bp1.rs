@@ -9,5 +9,8 @@
 //! ```
 
 fn main() -> std::process::ExitCode {
-    rsf_hdf5::programs::main_with_series(rsf_programs::seas_bp1::main, None)
+    rsf_hdf5::programs::main_with_series(
+        || rsf_programs::seas_bp1::main_with_fields(rsf_hdf5::programs::Hdf5Writers::shared()),
+        None,
+    )
 }

@@ -10,5 +10,8 @@
 
 fn main() -> std::process::ExitCode {
     // The program's default `--out`.
-    rsf_hdf5::programs::main_with_series(rsf_programs::seas_bp3::main, Some("out/seas_bp3"))
+    rsf_hdf5::programs::main_with_series(
+        || rsf_programs::seas_bp3::main_with_fields(rsf_hdf5::programs::Hdf5Writers::shared()),
+        Some("out/seas_bp3"),
+    )
 }

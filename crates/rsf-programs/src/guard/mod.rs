@@ -556,13 +556,24 @@ pub fn given_flags<P: Program>(matches: &clap::ArgMatches) -> String {
 /// pool of the plan's threads if it asks for more than one); prints `error: …` with its
 /// causes and exits with code 1 on any error.
 pub fn main<P: Program>(body: fn(P, Prepared) -> Result<(), AnyError>) -> ExitCode {
+    main_supplied(|_| {}, body)
+}
+
+/// [`main`] with `supply` applied to the flags once parsed, before the plan: what the
+/// binary supplies beyond the flags (the writers of `--hdf5`,
+/// [`FieldArgs::supply`](crate::fields::FieldArgs::supply)).
+pub fn main_supplied<P: Program>(
+    supply: impl FnOnce(&mut P),
+    body: fn(P, Prepared) -> Result<(), AnyError>,
+) -> ExitCode {
     // Negative numbers are values (`--end-years -1` is refused with the valid range, not
     // taken for a flag `-1`).
     let (program, _) = parse::<P>();
-    let program = match program {
+    let mut program = match program {
         Ok(p) => p,
         Err(e) => return main_with(|| Err(e)),
     };
+    supply(&mut program);
     let prepared = match prepare(&program) {
         Ok(p) => p,
         Err(e) => return main_with(|| Err(e)),

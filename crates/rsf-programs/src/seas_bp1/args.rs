@@ -143,6 +143,9 @@ pub struct Args {
     pub(super) header: crate::SeasHeaderArgs,
     #[command(flatten)]
     pub(super) run: crate::ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp1`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     /// `--max-memory-gb` (nodes and fault operators estimated before anything is
     /// allocated), `--max-output-gb` (the station files: with `--every-step` and without
     /// `--max-steps`, the run stops at the step count whose rows fit, with a checkpoint).
@@ -362,7 +365,9 @@ impl Program for Args {
             None => seas_output_bytes(self.end_years, stations, 7, size.fault_nodes),
         };
         let mut outputs = SeasBp1::file_names();
+        self.fields.check("seas_bp1")?;
         outputs.extend(["summary.json", "overview.png", "checkpoint.bin"].map(String::from));
+        outputs.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
         let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
         Ok(Plan::new()
             .pool(self.threads)

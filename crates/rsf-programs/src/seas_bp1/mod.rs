@@ -56,6 +56,16 @@ pub fn main() -> ExitCode {
     crate::guard::main(|args, prepared| run(args, prepared, None))
 }
 
+/// The program `seas_bp1` with `writers` of the fault's fields (`--hdf5 N`,
+/// [`FieldWriters::fault_antiplane`](crate::fields::FieldWriters::fault_antiplane); the
+/// binary `seas_bp1` of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(
+        |args: &mut Args| args.fields.supply(writers),
+        |args, prepared| run(args, prepared, None),
+    )
+}
+
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp1`):
 /// the Runge–Kutta run of BP1-QD with every evaluation shared by the ranks
 /// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel), the files written by

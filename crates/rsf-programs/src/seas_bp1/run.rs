@@ -3,6 +3,7 @@
 use std::time::Instant;
 
 use crate::cli::for_flag;
+use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Prepared, Processes};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
@@ -291,6 +292,13 @@ pub(super) fn run(
         session.follow(&mut sim, &mut [])?;
         return Ok(());
     }
+    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
+    // before any file is cut.
+    let mut fields = args.fields.observer(
+        ("seas_bp1", &args.out),
+        FieldsRun::of(&session, prepared.mode(), &args.run.allow_change),
+        |w, target| w.fault_antiplane(target),
+    )?;
     let mut output = rsf_seas::SeasOutput::for_session(
         &session,
         &args.out,
@@ -306,7 +314,12 @@ pub(super) fn run(
     let t0 = rsf::Stepping::state(&sim).time;
     let progress = Progress::time_in(t0, t_end, TimeUnit::year(SECONDS_PER_YEAR), "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());
-    let summary = session.run(&mut sim, &mut [&mut output], Some(progress))?;
+    let mut observers: Vec<&mut dyn rsf::Observer<2, 1>> = vec![&mut output];
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
+    }
+    let summary = session.run(&mut sim, &mut observers, Some(progress))?;
+    drop(observers);
     let facts = Facts {
         nodes,
         fault_nodes,

@@ -85,6 +85,9 @@ pub struct Args {
     pub(super) header: crate::SeasHeaderArgs,
     #[command(flatten)]
     pub(super) run: crate::ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp5`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     pub(super) overwrite: bool,
@@ -103,6 +106,8 @@ fn outputs() -> Vec<String> {
             "overview.png",
             "checkpoint.bin",
             SEAS_BP5_RESUME_LOG,
+            crate::fields::FIELDS_FILE,
+            crate::fields::FIELDS_INDEX,
         ]
         .map(String::from),
     );
@@ -368,6 +373,7 @@ impl Program for Args {
         let (along_strike, along_dip) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
         let output = seas_output_bytes(self.end_years, 20.0, 13, 2.0 * (along_strike + along_dip))
             + cells * rsf::run_folder::SERIES_ROW_BYTES;
+        self.fields.check("seas_bp5")?;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()

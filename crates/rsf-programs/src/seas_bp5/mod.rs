@@ -52,6 +52,16 @@ pub fn main() -> ExitCode {
     crate::guard::main(|args, folder| run(args, folder, None))
 }
 
+/// The program `seas_bp5` with `writers` of the fault's fields (`--hdf5 N`,
+/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d), with either kernel;
+/// the binary `seas_bp5` of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(
+        |args: &mut Args| args.fields.supply(writers),
+        |args, folder| run(args, folder, None),
+    )
+}
+
 /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp5`):
 /// every evaluation of the fault ODE shared by the ranks
 /// ([`rsf::FaultOde::share_evaluations`]: the half-space operator's elements, or the

@@ -286,7 +286,7 @@ fn seas_setup(args: &Args, bp5: &SeasBp5) -> SeasSetup {
 
 pub(super) fn run(
     args: Args,
-    _prepared: Prepared,
+    prepared: Prepared,
     processes: Option<&dyn Processes>,
 ) -> Result<(), AnyError> {
     // Rank 0 (or the one process) writes the files and tells.
@@ -349,6 +349,13 @@ pub(super) fn run(
         "set-up: wall {setup_s:.1} s, CPU {:.1} s",
         cpu_seconds() - cpu0
     );
+    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
+    // before any file is cut.
+    let mut fields = args.fields.observer(
+        ("seas_bp5", &args.out),
+        crate::fields::FieldsRun::of(&session, prepared.mode(), &args.run.allow_change),
+        |w, target| w.fault_3d(target),
+    )?;
     if session.keeps_resume_log() {
         output = output.with_resume_log(args.run.checkpoint_every);
     }
@@ -366,7 +373,12 @@ pub(super) fn run(
         TimeUnit::year(SECONDS_PER_YEAR),
         "BP5",
     );
-    let summary = session.run(&mut ode, &mut [&mut output], Some(progress))?;
+    let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut output];
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
+    }
+    let summary = session.run(&mut ode, &mut observers, Some(progress))?;
+    drop(observers);
     let times = (setup_s, clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
     report(&args, &ode, &output, &summary, cells, times)?;
     Ok(())
