@@ -32,35 +32,26 @@ use std::time::Instant;
 
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
 use crate::guard::{
-    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
-    Processes, Program,
+    in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared, Processes, Program,
 };
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::FaultKernel;
 use rsf::observe::{Progress, TimeUnit};
 use rsf::Stepping;
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
-use rsf_scenes::{SeasBp1, SeasBp3, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES};
+use rsf_scenes::{
+    bp3_ranges, SeasBp1, SeasBp3, SeasBp3Grid, SeasBp3Run, SEAS_BP3_STATION_DISTANCES,
+};
 use rsf_seas::{SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 
-flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
-flag_range!(
-    DX,
-    DX_HELP = "Element size along the fault (m); at most W_f/4 = 10 km",
-    [1e-3, 1e4]
-);
-flag_range!(
-    DOMAIN_KM,
-    DOMAIN_KM_HELP = "Half-width L of the box across the fault (km); its depth is L sin ψ, which must reach beyond 1.5 W_f = 60 km. The default moves the first event by < 0.1 yr against a box twice as large (docs/seas-bp3.md)",
-    [60.00006, 1e5]
-);
-flag_range!(
-    RATIO,
-    RATIO_HELP = "Growth of the elements away from the fault and below W_f. The default is within 0.2 yr of a ratio of 1.0125 in the first event; 1.1 puts the normal fault's 2.9 yr early (docs/seas-bp3.md, \"Mesh grading\")",
-    [1, 2]
-);
+// The flags' ranges and help texts are the scene's, which the Python keywords of the same
+// names check.
+use bp3_ranges::{
+    DOMAIN_KM, DOMAIN_KM_HELP, DX, DX_HELP, END_YEARS, END_YEARS_HELP, RATIO, RATIO_HELP,
+};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
@@ -68,7 +59,7 @@ flag_range!(
 pub struct Args {
     /// Dip ψ (degrees): 60 (thrust) or 30 (normal); in [1, 90) (below 1°, a flat
     /// detachment, the mesh's cells along the fault thin towards degenerate).
-    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = SeasBp3Run::default().dip, allow_negative_numbers = true)]
     dip: f64,
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp3")]
@@ -77,17 +68,17 @@ pub struct Args {
     /// rsf program's run is refused and left untouched).
     #[arg(long)]
     overwrite: bool,
-    #[arg(long, default_value_t = 300.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
+    #[arg(long, default_value_t = SeasBp3Run::default().end_years, allow_negative_numbers = true, help = END_YEARS_HELP)]
     end_years: f64,
-    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true, help = DX_HELP)]
+    #[arg(long, default_value_t = SeasBp3Run::default().dx, allow_negative_numbers = true, help = DX_HELP)]
     dx: f64,
-    #[arg(long, default_value_t = 1600.0, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
+    #[arg(long, default_value_t = SeasBp3Run::default().domain_km, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
     domain_km: f64,
-    #[arg(long, default_value_t = 1.025, allow_negative_numbers = true, help = RATIO_HELP)]
+    #[arg(long, default_value_t = SeasBp3Run::default().ratio, allow_negative_numbers = true, help = RATIO_HELP)]
     ratio: f64,
     /// Tolerance of the fault ODE, in (2.220446049250313e-16, 1) (open: from f64::EPSILON
     /// to 1).
-    #[arg(long, default_value_t = 1e-7, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = SeasBp3Run::default().tolerance, allow_negative_numbers = true)]
     tolerance: f64,
     #[command(flatten)]
     kernel: crate::KernelArgs,
@@ -112,43 +103,16 @@ pub struct Args {
     limits: Limits,
 }
 
-/// The scene and grid of the flags.
+/// The scene and grid of the flags (the scene's parameters BP1's table).
 fn scene(args: &Args) -> (SeasBp3, SeasBp3Grid) {
-    let bp3 = SeasBp3 {
-        dip_degrees: args.dip,
-        ..if args.dip < 45.0 {
-            SeasBp3::normal()
-        } else {
-            SeasBp3::thrust()
-        }
-    };
-    let grid = SeasBp3Grid {
-        dx: args.dx,
-        domain: args.domain_km * 1e3,
-        ratio: args.ratio,
-    };
-    (bp3, grid)
+    let run = args.settings_with(FaultKernel::Dense);
+    (run.scene(SeasBp1::default()), run.grid())
 }
 
 /// The files a run writes into `--out`.
 fn outputs() -> Vec<String> {
-    let mut names: Vec<String> = SEAS_BP3_STATION_DISTANCES
-        .iter()
-        .map(|&d| SeasBp1::station_name(d))
-        .collect();
-    names.extend(SEAS_BP3_SURFACE_STATIONS.iter().map(|s| s.0.to_owned()));
-    names.extend(
-        [
-            "slip.dat",
-            "shear_stress.dat",
-            "normal_stress.dat",
-            "events.csv",
-            "overview.png",
-            "checkpoint.bin",
-            rsf_seas::SEAS_RESUME_LOG,
-        ]
-        .map(String::from),
-    );
+    let mut names = SeasBp3::file_names();
+    names.extend(["overview.png", "checkpoint.bin"].map(String::from));
     names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
@@ -160,18 +124,33 @@ impl Args {
     /// # Errors
     /// The kernel's (`--kernel-epsilon`).
     fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
+        // The scene's fingerprint of the run's settings, which the Python package's
+        // `rsf.seas_bp3` computes too.
         let (bp3, _) = scene(self);
-        Ok(self.integrator.fingerprint(
-            crate::cli::with_box_and_end(
-                Fingerprint::of_serialized(&bp3.params)
-                    .with("dip_degrees", self.dip)
-                    .with("normal_faulting", bp3.normal_faulting),
-                (self.dx, self.domain_km, self.ratio),
-                self.end_years,
-                self.tolerance,
-            )
-            .with("kernel", self.kernel.kernel(self.tolerance)?),
-        ))
+        Ok(self.settings()?.fingerprint(&bp3))
+    }
+
+    /// The run's settings as the scene states them (shared with the Python package's
+    /// `rsf.seas_bp3`).
+    ///
+    /// # Errors
+    /// The kernel's (`--kernel-epsilon`).
+    fn settings(&self) -> Result<SeasBp3Run, AnyError> {
+        Ok(self.settings_with(self.kernel.kernel(self.tolerance)?))
+    }
+
+    /// The settings with `kernel`.
+    fn settings_with(&self, kernel: FaultKernel) -> SeasBp3Run {
+        SeasBp3Run {
+            dip: self.dip,
+            dx: self.dx,
+            domain_km: self.domain_km,
+            ratio: self.ratio,
+            tolerance: self.tolerance,
+            kernel,
+            integrator: self.integrator.integrator,
+            end_years: self.end_years,
+        }
     }
 }
 
@@ -187,7 +166,7 @@ impl Program for Args {
         // Issue 87: `--dip 1e-300` ended in "cell 0 is degenerate" (measured: 1e-5°
         // degenerates, 1e-3° still meshes at the default --dx; 1° keeps a margin for
         // every --dx and BP3's dips, 30° and 60°, well inside).
-        if !(self.dip >= 1.0 && self.dip < 90.0) {
+        if !(self.dip >= bp3_ranges::DIP.0 && self.dip < bp3_ranges::DIP.1) {
             return Err(refuse(
                 "--dip",
                 written(self.dip),
@@ -305,11 +284,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
             machine()
         );
     }
-    let mut options = bp3.params.fault_ode_options(args.tolerance)?;
-    options.runge_kutta.dt_min = 1e-8;
-    options.kernel = args.kernel.kernel(args.tolerance)?;
-    options.integrator = args.integrator.integrator;
-    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    let options = args.settings()?.fault_ode_options(&bp3, args.threads)?;
     let mut ode = bp3.fault_ode(model, options)?;
     if let Some(p) = processes {
         ode.share_evaluations(p.group())?;
@@ -417,7 +392,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
 #[cfg(test)]
 mod flag_tests {
     /// `--dx`'s and `--domain-km`'s bounds are the scene's W_f/4 and just beyond
-    /// 1.5 W_f (the flags' ranges are written as literals, for `--help`).
+    /// 1.5 W_f (the ranges are written as literals, for `--help`).
     #[test]
     fn the_bounds_are_the_scenes() {
         let w_f = rsf_scenes::SeasBp1::default().w_f;

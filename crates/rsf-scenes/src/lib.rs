@@ -48,9 +48,13 @@ mod seas_bp1;
 #[cfg(feature = "seas")]
 mod seas_bp3;
 #[cfg(feature = "seas")]
+mod seas_bp3_run;
+#[cfg(feature = "seas")]
 mod seas_bp5;
 #[cfg(feature = "seas")]
 mod seas_bp5_output;
+#[cfg(feature = "seas")]
+mod seas_bp5_run;
 #[cfg(feature = "seas")]
 mod seas_bp6;
 #[cfg(feature = "seas")]
@@ -85,11 +89,15 @@ pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
 };
 #[cfg(feature = "seas")]
+pub use seas_bp3_run::{bp3_ranges, SeasBp3Run, BP3_DT_MIN};
+#[cfg(feature = "seas")]
 pub use seas_bp5::{
     Bp5Pair, FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh, BP5_PAIR_FAULTS,
     BP5_PAIR_STATIONS, GRADED_MAX_CELLS as SEAS_BP5_GRADED_MAX_CELLS,
     MAX_CELLS as SEAS_BP5_MAX_CELLS,
 };
+#[cfg(feature = "seas")]
+pub use seas_bp5_run::{bp5_ranges, Bp5Condensation, Bp5Kernel, SeasBp5Run, BP5_SETUP_FILE};
 #[cfg(feature = "seas")]
 pub use seas_bp6::{
     Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6FaultOde, SeasBp6Grid, SeasBp6Implicit,

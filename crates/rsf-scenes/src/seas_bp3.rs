@@ -317,6 +317,30 @@ impl SeasBp3 {
         }
     }
 
+    /// The names of a BP3 run's benchmark files: the on-fault stations
+    /// ([`SEAS_BP3_STATION_DISTANCES`]), the surface stations
+    /// ([`SEAS_BP3_SURFACE_STATIONS`]), the three profiles, `events.csv` and their resume
+    /// log ([`rsf_seas::SEAS_RESUME_LOG`]). Each front end adds its own (the checkpoint,
+    /// the program's figure).
+    pub fn file_names() -> Vec<String> {
+        let mut names: Vec<String> = SEAS_BP3_STATION_DISTANCES
+            .iter()
+            .map(|&d| SeasBp1::station_name(d))
+            .collect();
+        names.extend(SEAS_BP3_SURFACE_STATIONS.iter().map(|s| s.0.to_owned()));
+        names.extend(
+            [
+                "slip.dat",
+                "shear_stress.dat",
+                "normal_stress.dat",
+                "events.csv",
+                rsf_seas::SEAS_RESUME_LOG,
+            ]
+            .map(String::from),
+        );
+        names
+    }
+
     /// BP3-QD on `model` as a run condensed onto the fault (first trial step 0.01 s).
     ///
     /// # Errors

@@ -7,8 +7,8 @@
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::{integrator_fingerprint, FaultKernel, OdeIntegrator};
 
-use crate::invalid;
 use crate::seas_bp6::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid};
+use crate::{check_ranges, invalid};
 
 /// The elastic kernel of a BP6 run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -68,17 +68,12 @@ impl Bp6Pressure {
     /// [`rsf::Error::InvalidParameter`] named `diffusion_cells`.
     pub fn validate(&self) -> rsf::Result<()> {
         if let Self::Diffusion { cells } = *self {
-            let (lo, hi) = bp6_ranges::DIFFUSION_CELLS;
-            if !(cells as f64 >= lo && cells as f64 <= hi) {
-                return Err(invalid(
-                    "diffusion_cells",
-                    format!(
-                        "{cells}: must be in [{}, {}]",
-                        rsf_numeric::number(lo),
-                        rsf_numeric::number(hi)
-                    ),
-                ));
-            }
+            check_ranges(&[(
+                "diffusion_cells",
+                cells as f64,
+                bp6_ranges::DIFFUSION_CELLS,
+                "",
+            )])?;
         }
         Ok(())
     }
@@ -196,35 +191,25 @@ impl SeasBp6Run {
     pub fn validate(&self, bp6: &SeasBp6) -> rsf::Result<()> {
         use bp6_ranges as r;
         let ranged = [
-            ("end_years", self.end_years, r::END_YEARS),
-            ("dz", self.dz, r::DZ),
-            ("domain_km", self.domain_km, r::DOMAIN_KM),
-            ("ratio", self.ratio, r::RATIO),
-            ("tolerance", self.tolerance, r::TOLERANCE),
+            ("end_years", self.end_years, r::END_YEARS, ""),
+            ("dz", self.dz, r::DZ, ""),
+            ("domain_km", self.domain_km, r::DOMAIN_KM, ""),
+            ("ratio", self.ratio, r::RATIO, ""),
+            ("tolerance", self.tolerance, r::TOLERANCE, ""),
             (
                 "station_interval",
                 self.station_interval,
                 r::STATION_INTERVAL,
+                "",
             ),
             (
                 "profile_interval",
                 self.profile_interval,
                 r::PROFILE_INTERVAL,
+                "",
             ),
         ];
-        for (name, v, (lo, hi)) in ranged {
-            if !(v >= lo && v <= hi) {
-                return Err(invalid(
-                    name,
-                    format!(
-                        "{}: must be in [{}, {}]",
-                        rsf_numeric::written(v),
-                        rsf_numeric::number(lo),
-                        rsf_numeric::number(hi)
-                    ),
-                ));
-            }
-        }
+        check_ranges(&ranged)?;
         let cells = self.cells(bp6);
         if (cells - cells.round()).abs() > 1e-9 * cells {
             return Err(invalid(

@@ -6,7 +6,10 @@ use crate::estimates::{operator_bytes, seas_output_bytes};
 use crate::guard::{flag, in_range, written, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
-use rsf_scenes::{FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh};
+use rsf_scenes::{
+    bp5_ranges, Bp5Condensation, Bp5Kernel, FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh,
+    SeasBp5Run, BP5_SETUP_FILE,
+};
 use rsf_seas::{SeasBp5Output, SEAS_BP5_RESUME_LOG};
 
 /// SEAS BP5-QD with the boundary-element (Okada) half-space operator.
@@ -22,7 +25,7 @@ pub struct Args {
     pub(super) kernel: Kernel,
     /// Cell size on the fault (m); must divide l_f = 100 km and W_f = 40 km (both kernels:
     /// the graded mesh puts nodes at x₂ = ±l_f/2 as the cells do).
-    #[arg(long, default_value_t = 2000.0)]
+    #[arg(long, default_value_t = SeasBp5Run::default().dx)]
     pub(super) dx: f64,
     /// `fe`: distance from the fault to the box's far faces, and its depth (km) [default:
     /// 400], in [75, 1e4]; the graded box's root cubes (edge dx·2^k ≤ 64 km) within the
@@ -65,17 +68,17 @@ pub struct Args {
     #[arg(long)]
     pub(super) ordering: Option<rsf::fault_ode::InteriorOrdering>,
     /// End time (years), in [1e-9, 1e5].
-    #[arg(long, default_value_t = 1800.0)]
+    #[arg(long, default_value_t = SeasBp5Run::default().end_years)]
     pub(super) end_years: f64,
     /// Tolerance of the fault ODE (local error per step: tolerance · L in slip,
     /// tolerance in ln θ), in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1).
-    #[arg(long, default_value_t = 1e-6)]
+    #[arg(long, default_value_t = SeasBp5Run::default().tolerance)]
     pub(super) tolerance: f64,
     #[command(flatten)]
     pub(super) integrator: crate::IntegratorArgs,
     /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km), in
     /// [1e-14, 1e-2] (below, the entries' round-off cannot meet it).
-    #[arg(long, default_value_t = 1e-6)]
+    #[arg(long, default_value_t = SeasBp5Run::default().epsilon)]
     pub(super) epsilon: f64,
     /// Threads of each evaluation (the same bits for every value). Default: every core
     /// of the machine.
@@ -143,30 +146,44 @@ impl Args {
 
     /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
     pub(super) fn box_size(&self) -> (f64, f64) {
-        (self.domain_km.unwrap_or(400.0), self.ratio.unwrap_or(1.3))
+        let d = SeasBp5Run::default();
+        (
+            self.domain_km.unwrap_or(d.domain_km),
+            self.ratio.unwrap_or(d.ratio),
+        )
     }
 
-    /// What a checkpoint continues: the scene, the grid and what changes the trajectory (the
-    /// plan's too: a checkpoint is checked against it before the folder changes).
-    pub(super) fn fingerprint(&self, bp5: &SeasBp5, grid: &SeasBp5Grid) -> Fingerprint {
+    /// What a checkpoint continues: the scene and what changes the trajectory (the plan's
+    /// too: a checkpoint is checked against it before the folder changes) — the scene's
+    /// fingerprint of the run's settings, which the Python package's `rsf.seas_bp5`
+    /// computes too.
+    pub(super) fn fingerprint(&self, bp5: &SeasBp5) -> Fingerprint {
+        self.settings().fingerprint(bp5)
+    }
+
+    /// The run's settings as the scene states them (shared with the Python package's
+    /// `rsf.seas_bp5`): the flags, or their defaults.
+    pub(super) fn settings(&self) -> SeasBp5Run {
         let (domain_km, ratio) = self.box_size();
-        let mut fingerprint = Fingerprint::of_serialized(&bp5)
-            .with("kernel", format!("{:?}", self.kernel))
-            .with("dx", self.dx)
-            .with("domain_km", domain_km)
-            .with("ratio", ratio)
-            .with("ordering", self.ordering())
-            .with("end_years", self.end_years)
-            .with("tolerance", self.tolerance)
-            .with("epsilon", self.epsilon);
-        if self.kernel == Kernel::Fe {
-            // The volume's mesh (a field since the graded mesh; an older finite-element
-            // checkpoint, of the tensor grid, is then refused by its missing field).
-            fingerprint = fingerprint
-                .with("mesh", format!("{:?}", grid.mesh))
-                .with("condensation", format!("{:?}", self.condensation()));
+        SeasBp5Run {
+            kernel: match self.kernel {
+                Kernel::Okada => Bp5Kernel::Okada,
+                Kernel::Fe => Bp5Kernel::Fe,
+            },
+            dx: self.dx,
+            domain_km,
+            ratio,
+            mesh: self.mesh.unwrap_or(MeshArg::Graded).mesh(),
+            condensation: match self.condensation() {
+                Condensation::SchurOnly => Bp5Condensation::SchurOnly,
+                Condensation::Factor => Bp5Condensation::Factor,
+            },
+            ordering: self.ordering(),
+            end_years: self.end_years,
+            tolerance: self.tolerance,
+            epsilon: self.epsilon,
+            integrator: self.integrator.integrator,
         }
-        self.integrator.fingerprint(fingerprint)
     }
 
     /// `--ordering`, or its default.
@@ -213,14 +230,7 @@ impl Args {
 
     /// The finite-element grid of the flags: the fault zone's slab meshed at `--dx`.
     pub(super) fn grid(&self, bp5: &SeasBp5) -> SeasBp5Grid {
-        let (domain_km, ratio) = self.box_size();
-        SeasBp5Grid {
-            dx: self.dx,
-            domain: domain_km * 1e3,
-            ratio,
-            mesh: self.mesh.unwrap_or(MeshArg::Graded).mesh(),
-            near_fault: bp5.fault_zone.map_or(0.0, |z| z.half_width),
-        }
+        self.settings().grid(bp5)
     }
 
     /// The memory (bytes) of Okada's kernel on `bp5`'s fault of `m` slip unknowns: the
@@ -255,17 +265,19 @@ impl Program for Args {
     }
 
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, (1e-9, 1e5), "years")?;
+        in_range(
+            "--end-years",
+            self.end_years,
+            bp5_ranges::END_YEARS,
+            "years",
+        )?;
         let bp5 = self.scene()?;
         let cells = flag("--dx", bp5.cells(self.dx))?.len() as f64;
         flag("--tolerance", bp5.fault_ode_options(self.tolerance))?;
         in_range(
             "--epsilon",
             self.epsilon,
-            (
-                rsf::fault_ode::MIN_KERNEL_EPSILON,
-                rsf::fault_ode::MAX_KERNEL_EPSILON,
-            ),
+            bp5_ranges::EPSILON,
             "a relative accuracy",
         )?;
         flag("--epsilon", bp5.half_space(self.epsilon))?;
@@ -291,10 +303,15 @@ impl Program for Args {
                 in_range(
                     "--domain-km",
                     domain_km,
-                    (75.0, 1e4),
+                    bp5_ranges::DOMAIN_KM,
                     "km: 1.5 l_f/2 and more",
                 )?;
-                in_range("--ratio", ratio, (1.0, 2.0), "the growth of the spacing")?;
+                in_range(
+                    "--ratio",
+                    ratio,
+                    bp5_ranges::RATIO,
+                    "the growth of the spacing",
+                )?;
                 let (h, far) = (self.dx, domain_km * 1e3);
                 // The dofs the elimination keeps: the fault's nodes (the rate-and-state
                 // region's grid, edges included), two slip unknowns each, and the off-fault
@@ -396,7 +413,7 @@ impl Program for Args {
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint(&bp5, &self.grid(&bp5))),
+                    .fingerprint(self.fingerprint(&bp5)),
             ))
     }
 }
@@ -496,7 +513,7 @@ const GRADED_ND_BYTES_PER_KEPT_SQUARED: f64 = 12.0;
 
 /// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
 /// kept: a `--resume` of the run reads it instead of eliminating again).
-pub(super) const SETUP_FILE: &str = "setup.bin";
+pub(super) const SETUP_FILE: &str = BP5_SETUP_FILE;
 
 /// How the finite-element kernel condenses the volume onto the fault.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]

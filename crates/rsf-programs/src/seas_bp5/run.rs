@@ -10,12 +10,12 @@ use crate::memory::StageMemory;
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use rsf::direct::{CheckpointPolicy, Progress};
-use rsf::fault_ode::{FaultKernel, SchurOnlySetup, SetupProgress};
+use rsf::fault_ode::{SchurOnlySetup, SetupProgress};
 use rsf::observe::{Observer, TimeUnit};
 use rsf::run_folder::RunFolder;
 use rsf::Stepping;
 use rsf_scenes::{SeasBp5, SeasBp5Grid};
-use rsf_seas::{SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_seas::{SeasBp5Output, SeasSetup, SECONDS_PER_YEAR};
 use std::ops::ControlFlow;
 
 use super::args::{Args, Condensation, Kernel, SETUP_FILE};
@@ -157,7 +157,7 @@ impl SetUp<'_> {
             args,
             bp5,
             root,
-            mut options,
+            options,
             setup,
             ..
         } = self;
@@ -193,10 +193,7 @@ impl SetUp<'_> {
             );
             println!("{mesh_line}");
         }
-        if m > 4096 {
-            options.kernel = FaultKernel::hierarchical(args.epsilon);
-        }
-        options.ordering = args.ordering();
+        let options = args.settings().volume_options(options, m);
         let output = if root {
             Some(bp5.volume_output(&args.out, &model, args.dx, setup)?)
         } else {
@@ -266,24 +263,6 @@ impl SetUp<'_> {
     }
 }
 
-/// The header facts of BP5's files.
-fn seas_setup(args: &Args, bp5: &SeasBp5) -> SeasSetup {
-    SeasSetup {
-        problem: "SEAS Benchmark BP5-QD".into(),
-        modeler: args.header.modeler.clone(),
-        date: args.header.date_or_today(),
-        element_size: args.dx,
-        stations: Vec::new(),
-        depth_axis: 2,
-        depth_down: false,
-        sigma_n: bp5.sigma_n,
-        profile_spacing: args.dx,
-        sampling: SeasSampling::default(),
-        layout: SeasLayout::default(),
-        surface_stations: Vec::new(),
-    }
-}
-
 pub(super) fn run(
     args: Args,
     prepared: Prepared,
@@ -296,21 +275,24 @@ pub(super) fn run(
     // Checked before any file is touched.
     let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
     let grid = args.grid(&bp5);
-    let mut options = bp5
-        .fault_ode_options(args.tolerance)
+    let options = args
+        .settings()
+        .fault_ode_options(&bp5, args.threads)
         .map_err(|e| format!("--tolerance: {e}"))?;
-    options.parallelism = rsf::Parallelism::rayon(args.threads);
-    options.integrator = args.integrator.integrator;
     let half_space = bp5
         .half_space(args.epsilon)
         .map_err(|e| format!("--epsilon: {e}"))?;
     // A folder of another run (unless --overwrite), one that cannot be written: refused
     // by the guard before anything was computed.
     let folder = RunFolder::new(&args.out, "seas_bp5", &[]);
-    let fingerprint = args.fingerprint(&bp5, &grid);
+    let fingerprint = args.fingerprint(&bp5);
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let setup = seas_setup(&args, &bp5);
+    let setup = args.settings().seas_setup(
+        &bp5,
+        args.header.modeler.clone(),
+        args.header.date_or_today(),
+    );
     let set_up = SetUp {
         args: &args,
         bp5: &bp5,
