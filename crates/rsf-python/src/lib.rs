@@ -16,6 +16,8 @@ mod network;
 mod problem;
 mod run_folder;
 mod scenes;
+mod seas_bp3;
+mod seas_bp5;
 mod seas_bp6;
 mod seas_square;
 mod simulation;
@@ -31,6 +33,8 @@ fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenes::slider, m)?)?;
     m.add_function(wrap_pyfunction!(scenes::slider_3d, m)?)?;
     m.add_function(wrap_pyfunction!(scenes::seas_bp1, m)?)?;
+    m.add_function(wrap_pyfunction!(seas_bp3::seas_bp3, m)?)?;
+    m.add_function(wrap_pyfunction!(seas_bp5::seas_bp5, m)?)?;
     m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6, m)?)?;
     m.add_function(wrap_pyfunction!(seas_bp6::seas_bp6_pore_pressure, m)?)?;
     m.add_function(wrap_pyfunction!(seas_square::seas_bp7, m)?)?;

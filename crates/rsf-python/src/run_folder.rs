@@ -8,12 +8,13 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use rsf::checkpoint::Fingerprint;
-use rsf::observe::FileMode;
+use rsf::observe::{FaultTractions, FileMode};
 use rsf::run_folder::{FrontEnd, RunFolder, Session, SessionFlags};
-use rsf::Stepping;
+use rsf::{Model, Observer, SimulationState, Stepping};
 
-use crate::engine::Files;
+use crate::engine::{Engine, Files, Recording, WithFaultOperator};
 use crate::errors::{invalid, OrPy};
+use crate::simulation::{End, Simulation};
 
 /// The keywords of a run folder.
 #[derive(Debug, Clone)]
@@ -120,5 +121,104 @@ impl FolderKeywords {
             }
             None => Ok(Files::default()),
         }
+    }
+}
+
+/// A program's files that a session continues at a checkpoint's step, or starts with the
+/// initial state's rows (BP5's and BP6's, written whole where a run stops).
+pub(crate) trait SessionFiles<const D: usize, const C: usize>:
+    Observer<D, C> + 'static
+{
+    /// Continues the files of the run's folder at the checkpoint's `step` and `time`.
+    ///
+    /// # Errors
+    /// The files' (not the checkpoint's run's, rows missing).
+    fn resume_at(&mut self, step: usize, time: f64) -> rsf::Result<()>;
+    /// The rows of the initial state.
+    fn write_initial(
+        &mut self,
+        model: &Model<D, C>,
+        state: &SimulationState,
+        f: &dyn FaultTractions,
+    );
+}
+
+impl SessionFiles<3, 3> for rsf_seas::SeasBp5Output {
+    fn resume_at(&mut self, step: usize, time: f64) -> rsf::Result<()> {
+        Ok(self.resume(step, time)?)
+    }
+    fn write_initial(
+        &mut self,
+        model: &Model<3, 3>,
+        state: &SimulationState,
+        f: &dyn FaultTractions,
+    ) {
+        self.write_initial_state(model, state, f)
+    }
+}
+
+impl<const C: usize> SessionFiles<2, C> for rsf_seas::SeasBp6Output {
+    fn resume_at(&mut self, step: usize, time: f64) -> rsf::Result<()> {
+        Ok(self.resume(step, time)?)
+    }
+    fn write_initial(
+        &mut self,
+        model: &Model<2, C>,
+        state: &SimulationState,
+        f: &dyn FaultTractions,
+    ) {
+        self.write_initial_state(model, state, f)
+    }
+}
+
+/// What a run through a session is: its fingerprint, its end time (s), the fault's
+/// recording every `fault_every` steps, the program's name (the simulation's label).
+pub(crate) struct SessionRun {
+    pub fingerprint: Fingerprint,
+    pub end: f64,
+    pub fault_every: usize,
+    pub program: &'static str,
+}
+
+impl FolderKeywords {
+    /// The simulation of `sim` through the session of `run`: on resume, the checkpoint
+    /// restored and the files `output` makes (of the session's method; `None` without
+    /// `out`) continued at its step; else their first rows written.
+    ///
+    /// # Errors
+    /// The checkpoint's, the files'.
+    pub fn simulation<const D: usize, const C: usize, M, O>(
+        self,
+        run: SessionRun,
+        mut sim: M,
+        output: impl FnOnce(&M) -> PyResult<Option<O>>,
+    ) -> PyResult<Simulation>
+    where
+        M: Stepping<D, C> + WithFaultOperator + 'static,
+        O: SessionFiles<D, C>,
+    {
+        let session = self.session(run.fingerprint.clone(), run.end, &mut sim)?;
+        let mut files: Vec<Box<dyn Observer<D, C>>> = Vec::new();
+        if let Some(mut output) = output(&sim)? {
+            match session.resumed() {
+                Some(c) => output.resume_at(c.state.step, c.state.time).py()?,
+                None => output.write_initial(sim.model(), sim.state(), sim.fault_tractions()),
+            }
+            files.push(Box::new(output));
+        }
+        let engine = Engine::<D, C, M> {
+            sim,
+            recording: Recording::new(run.fault_every).py()?,
+            files,
+            fingerprint: run.fingerprint,
+            // Every file is checked: a folder whose manifest named no run is the
+            // checkpoint's.
+            folder: self.files(&session)?,
+        };
+        Ok(Simulation::new(
+            Box::new(engine),
+            Some(End::Time(run.end)),
+            run.program,
+        ))
     }
 }

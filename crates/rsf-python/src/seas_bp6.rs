@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use rsf::checkpoint::Fingerprint;
 use rsf::pore_pressure::PorePressure;
 use rsf::whole_space::WholeSpaceKernel;
-use rsf::{Observer, Stepping};
+use rsf::Stepping;
 use rsf_scenes::{
     Bp6BemProduct, Bp6Elastic, Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Run, BP6_C_FIRST_STEP,
     BP6_DIFFUSION_CELLS, BP6_SECONDS_PER_YEAR,
@@ -21,11 +21,11 @@ use rsf_scenes::{
 use rsf_seas::{Bp6Fault, SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
 
 use crate::convert::scene;
-use crate::engine::{Engine, Recording, WithFaultOperator};
+use crate::engine::WithFaultOperator;
 use crate::errors::{invalid, OrPy};
-use crate::run_folder::FolderKeywords;
+use crate::run_folder::{FolderKeywords, SessionRun};
 use crate::scenes::{fault_kernel, split};
-use crate::simulation::{End, Simulation};
+use crate::simulation::Simulation;
 
 /// SEAS BP6-QD (docs/seas-bp6.md, docs/python.md): the run of the Rust program
 /// `seas_bp6` with the same settings and defaults (`rsf_scenes::SeasBp6Run`): `variant`
@@ -274,40 +274,27 @@ impl Drive {
     /// the files of `out` continued at its step; else their first rows written. The files
     /// keep a mark of where every `run`/`advance` call stops, from which a checkpoint
     /// written there resumes.
-    fn simulation<const C: usize, M>(self, mut sim: M, fault: Bp6Fault) -> PyResult<Simulation>
+    fn simulation<const C: usize, M>(self, sim: M, fault: Bp6Fault) -> PyResult<Simulation>
     where
         M: Stepping<2, C> + WithFaultOperator + 'static,
     {
-        let end = self.run.end_years * BP6_SECONDS_PER_YEAR;
-        let session = self
-            .folder
-            .session(self.fingerprint.clone(), end, &mut sim)?;
-        let mut files: Vec<Box<dyn Observer<2, C>>> = Vec::new();
-        if let Some(out) = &self.folder.out {
-            let mut output = SeasBp6Output::new(out, fault, self.pressure, self.setup)
-                .py()?
-                .with_intervals(self.run.station_interval, self.run.profile_interval)
-                .with_marks_where_runs_end(0);
-            match session.resumed() {
-                Some(c) => output.resume(c.state.step, c.state.time).py()?,
-                None => output.write_initial_state(sim.model(), sim.state(), sim.fault_tractions()),
-            }
-            files.push(Box::new(output));
-        }
-        let engine = Engine::<2, C, M> {
-            sim,
-            recording: Recording::new(self.fault_every).py()?,
-            files,
+        let run = SessionRun {
             fingerprint: self.fingerprint,
-            // Every file is checked: a folder whose manifest named no run is the
-            // checkpoint's.
-            folder: self.folder.files(&session)?,
+            end: self.run.end_years * BP6_SECONDS_PER_YEAR,
+            fault_every: self.fault_every,
+            program: "seas_bp6",
         };
-        Ok(Simulation::new(
-            Box::new(engine),
-            Some(End::Time(end)),
-            "seas_bp6",
-        ))
+        let out = self.folder.out.clone();
+        let (pressure, setup, settings) = (self.pressure, self.setup, self.run);
+        self.folder.simulation(run, sim, move |_| {
+            out.map(|out| {
+                Ok(SeasBp6Output::new(&out, fault, pressure, setup)
+                    .py()?
+                    .with_intervals(settings.station_interval, settings.profile_interval)
+                    .with_marks_where_runs_end(0))
+            })
+            .transpose()
+        })
     }
 }
 

@@ -2,6 +2,7 @@
 
 import os
 import pathlib
+import subprocess
 
 import pytest
 
@@ -34,3 +35,29 @@ def program(name):
             f"the examples) or set RSF_{name.upper()} to the program"
         )
     return max(found, key=lambda p: p.stat().st_mtime)
+
+
+def run_program(name, out, check=True, **flags):
+    """Runs the program `name` into `out` with `flags` (Python's keyword names: `--` and
+    dashes for underscores); its completed process (text). `check`: a failure raises."""
+    args = [str(program(name)), "--out", str(out)]
+    for k, v in flags.items():
+        args += ["--" + k.replace("_", "-"), str(v)]
+    return subprocess.run(args, check=check, capture_output=True, text=True)
+
+
+def benchmark_files(folder):
+    """The benchmark's files of a run's folder by name — the stations (`fltst_`, `srfst_`,
+    `blkst_`), the `.dat` series and profiles, `events.csv` — not the run's manifest, its
+    checkpoint or resume log (which name the run and its stops), nor a program's own
+    summary and figure."""
+    return {
+        p.name: p.read_bytes()
+        for p in sorted(pathlib.Path(folder).iterdir())
+        if p.is_file()
+        and (
+            p.name.startswith(("fltst_", "srfst_", "blkst_"))
+            or p.suffix == ".dat"
+            or p.name == "events.csv"
+        )
+    }

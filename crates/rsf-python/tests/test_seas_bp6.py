@@ -3,15 +3,13 @@ as the Rust program `seas_bp6` with the same settings, resumes its own folder to
 uninterrupted run's bytes, refuses bad settings by their keyword, and its pore pressure
 is the description's at its check values and the files' column."""
 
-import pathlib
-import subprocess
-
 import numpy as np
 import pytest
 
 import rsf
 
-from conftest import program
+from conftest import benchmark_files
+from conftest import run_program as conftest_run_program
 
 # Coarse and short: 100 cells of 400 m, half a year (the injection, the slip transient
 # to 8e-7 m/s and its decay: about 360 steps, a row at every step); 0.2 s per run here.
@@ -22,21 +20,11 @@ STOP = 150
 DAY = 86_400.0
 
 
-def files(folder):
-    """The benchmark's files of a run's folder by name (not the run's manifest, its
-    checkpoint or the resume log, which name the run and its stops)."""
-    return {
-        p.name: p.read_bytes()
-        for p in sorted(pathlib.Path(folder).iterdir())
-        if p.is_file() and (p.name.startswith("fltst_") or p.suffix == ".dat")
-    }
+files = benchmark_files
 
 
 def run_program(out, **flags):
-    args = [str(program("seas_bp6")), "--out", str(out)]
-    for k, v in flags.items():
-        args += ["--" + k.replace("_", "-"), str(v)]
-    subprocess.run(args, check=True, capture_output=True)
+    conftest_run_program("seas_bp6", out, **flags)
 
 
 @pytest.fixture(scope="module")

@@ -1,8 +1,8 @@
 """rsf from Python: rate-and-state friction, earthquake cycles (docs/python.md).
 
 The scenes of the library with their parameters as keyword arguments
-(:func:`slider`, :func:`slider_3d`, :func:`seas_bp1`, :func:`seas_bp6`, :func:`seas_bp7`,
-:func:`seas_bp8`), a problem of your own
+(:func:`slider`, :func:`slider_3d`, :func:`seas_bp1`, :func:`seas_bp3`, :func:`seas_bp5`,
+:func:`seas_bp6`, :func:`seas_bp7`, :func:`seas_bp8`), a problem of your own
 (:class:`Mesh`, :class:`Model`, :class:`Friction`, :func:`simulate`), runs
 (:meth:`Simulation.advance`, :meth:`Simulation.run`; the GIL is released while
 stepping, Ctrl-C stops at a step boundary) with checkpoints, and the records as
@@ -50,6 +50,8 @@ from ._rsf import (  # noqa: F401
     Simulation,
     rectangle_deformation,
     seas_bp1,
+    seas_bp3,
+    seas_bp5,
     seas_bp6,
     seas_bp6_pore_pressure,
     seas_bp7,
@@ -77,6 +79,8 @@ __all__ = [
     "read_fields",
     "rectangle_deformation",
     "seas_bp1",
+    "seas_bp3",
+    "seas_bp5",
     "seas_bp6",
     "seas_bp6_pore_pressure",
     "seas_bp7",

@@ -1,0 +1,315 @@
+//! SEAS BP5-QD from Python (docs/seas-bp5.md): a vertical strike-slip fault in a
+//! half-space, two slip components — the run of the program `seas_bp5` with either kernel
+//! and its settings ([`SeasBp5Run`]: the same defaults, ranges, options and
+//! fingerprint), its files and its run folder ([`FolderKeywords`]).
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rsf::direct::CheckpointPolicy;
+use rsf::fault_ode::SchurOnlySetup;
+use rsf::{Observer, Stepping};
+use rsf_scenes::{
+    Bp5Condensation, Bp5Kernel, FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Mesh, SeasBp5Run,
+    BP5_SETUP_FILE,
+};
+use rsf_seas::{SeasBp5Output, SeasSetup, SEAS_BP5_RESUME_LOG, SECONDS_PER_YEAR};
+
+use crate::convert::scene;
+use crate::errors::{invalid, OrPy};
+use crate::run_folder::{FolderKeywords, SessionRun};
+use crate::scenes::split;
+use crate::simulation::Simulation;
+
+/// The finite-element kernel's keywords (`None` where not given): refused with Okada's
+/// kernel, which has no volume.
+struct Volume<'a> {
+    domain_km: Option<f64>,
+    ratio: Option<f64>,
+    mesh: Option<&'a str>,
+    condensation: Option<&'a str>,
+    ordering: Option<&'a str>,
+    fault_zone_width_km: Option<f64>,
+    fault_zone_rigidity: Option<f64>,
+}
+
+impl Volume<'_> {
+    /// The settings of `run` with these keywords for `kernel`.
+    ///
+    /// # Errors
+    /// `InvalidParameterError` naming a keyword given with `kernel="okada"`, or an unknown
+    /// name.
+    fn settings(&self, kernel: Bp5Kernel, run: SeasBp5Run) -> PyResult<SeasBp5Run> {
+        if kernel == Bp5Kernel::Okada {
+            let given = [
+                ("domain_km", self.domain_km.is_some()),
+                ("ratio", self.ratio.is_some()),
+                ("mesh", self.mesh.is_some()),
+                ("condensation", self.condensation.is_some()),
+                ("ordering", self.ordering.is_some()),
+                ("fault_zone_width_km", self.fault_zone_width_km.is_some()),
+                ("fault_zone_rigidity", self.fault_zone_rigidity.is_some()),
+            ];
+            if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(invalid(
+                    name,
+                    "a setting of kernel=\"fe\": the Okada kernel has no volume, it would be \
+                     ignored",
+                ));
+            }
+        }
+        let mesh = match self.mesh {
+            None | Some("graded") => SeasBp5Mesh::Graded,
+            Some("tensor") => SeasBp5Mesh::Tensor,
+            Some(m) => return Err(invalid("mesh", format!("`{m}`: \"graded\" or \"tensor\""))),
+        };
+        let condensation = match self.condensation {
+            None | Some("schur-only") => Bp5Condensation::SchurOnly,
+            Some("factor") => Bp5Condensation::Factor,
+            Some(c) => {
+                return Err(invalid(
+                    "condensation",
+                    format!("`{c}`: \"schur-only\" or \"factor\""),
+                ))
+            }
+        };
+        let ordering = match self.ordering {
+            None => run.ordering,
+            Some(o) => o.parse().map_err(|e| invalid("ordering", e))?,
+        };
+        Ok(SeasBp5Run {
+            kernel,
+            domain_km: self.domain_km.unwrap_or(run.domain_km),
+            ratio: self.ratio.unwrap_or(run.ratio),
+            mesh,
+            condensation,
+            ordering,
+            ..run
+        })
+    }
+
+    /// The compliant fault zone of `fault_zone_width_km` (km) and `fault_zone_rigidity`
+    /// (both or neither).
+    fn fault_zone(&self) -> PyResult<Option<FaultZone>> {
+        match (self.fault_zone_width_km, self.fault_zone_rigidity) {
+            (None, None) => Ok(None),
+            (Some(width), Some(rigidity_ratio)) => Ok(Some(FaultZone {
+                half_width: 0.5 * width * 1e3,
+                rigidity_ratio,
+            })),
+            (Some(_), None) => Err(invalid(
+                "fault_zone_rigidity",
+                "needed with fault_zone_width_km: the zone's shear modulus over the host's",
+            )),
+            (None, Some(_)) => Err(invalid(
+                "fault_zone_width_km",
+                "needed with fault_zone_rigidity: the zone's total width (km)",
+            )),
+        }
+    }
+}
+
+/// SEAS BP5-QD (docs/seas-bp5.md, docs/python.md): the run of the Rust program `seas_bp5`
+/// with the same settings and defaults (`rsf_scenes::SeasBp5Run`): `kernel` "okada" (a
+/// fault alone in a half-space, boundary elements) or "fe" (the finite-element volume
+/// condensed onto the fault), `dx` (m, dividing l_f = 100 km and W_f = 40 km),
+/// `end_years`, `tolerance`, `epsilon` (the ℋ-matrix's accuracy above 4 096 unknowns),
+/// `integrator`, `threads` (default: every core; the same bits for every value),
+/// `modeler`, `date`; with `kernel="fe"` also `domain_km` (default 400), `ratio` (1.3),
+/// `mesh` "graded" or "tensor", `condensation` "schur-only" (its elimination kept as
+/// `setup.bin` in `out`) or "factor", `ordering` "amd" (this package's default: it is
+/// built without METIS) or "nested-dissection", `fault_zone_width_km` with
+/// `fault_zone_rigidity`. With `out`, the benchmark's files (ten on-fault and nine
+/// off-fault stations, `global.dat`, the profiles, `rupture.dat`, `events.csv` and their
+/// resume log) are written there as the program writes them, at the end of every
+/// `run`/`advance` call; `overwrite`, `resume`, `allow_change` as for `seas_bp1` (a
+/// checkpoint of the program resumes here and the other way round). Other keyword
+/// arguments are the scene's parameters, friction included (`a0`, `a_max`, `b0`, `l`,
+/// `l_nucleation`, `sigma_n`, `v_init`, `v_i`, `h_s`, `h_t`, `h`, `l_core`, `w`, …, SI
+/// units).
+#[pyfunction]
+#[pyo3(signature = (*, kernel="okada", dx=SeasBp5Run::default().dx, domain_km=None, ratio=None, mesh=None, condensation=None, ordering=None, fault_zone_width_km=None, fault_zone_rigidity=None, end_years=SeasBp5Run::default().end_years, tolerance=SeasBp5Run::default().tolerance, epsilon=SeasBp5Run::default().epsilon, integrator="auto", threads=None, out=None, overwrite=false, resume=None, allow_change=Vec::new(), modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments
+pub(crate) fn seas_bp5(
+    kernel: &str,
+    dx: f64,
+    domain_km: Option<f64>,
+    ratio: Option<f64>,
+    mesh: Option<&str>,
+    condensation: Option<&str>,
+    ordering: Option<&str>,
+    fault_zone_width_km: Option<f64>,
+    fault_zone_rigidity: Option<f64>,
+    end_years: f64,
+    tolerance: f64,
+    epsilon: f64,
+    integrator: &str,
+    threads: Option<i128>,
+    out: Option<PathBuf>,
+    overwrite: bool,
+    resume: Option<PathBuf>,
+    allow_change: Vec<String>,
+    modeler: &str,
+    date: Option<String>,
+    fault_every: i128,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Simulation> {
+    let threads = crate::counts::optional(threads, "threads")?;
+    let fault_every = crate::counts::count(fault_every, "fault_every")?;
+    let kernel = match kernel {
+        "okada" => Bp5Kernel::Okada,
+        "fe" => Bp5Kernel::Fe,
+        k => return Err(invalid("kernel", format!("`{k}`: \"okada\" or \"fe\""))),
+    };
+    let volume = Volume {
+        domain_km,
+        ratio,
+        mesh,
+        condensation,
+        ordering,
+        fault_zone_width_km,
+        fault_zone_rigidity,
+    };
+    let run = volume.settings(
+        kernel,
+        SeasBp5Run {
+            dx,
+            end_years,
+            tolerance,
+            epsilon,
+            integrator: integrator
+                .parse()
+                .map_err(|e: rsf::time::Error| invalid("integrator", e))?,
+            ..SeasBp5Run::default()
+        },
+    )?;
+    let (fields, _) = split(kwargs, &[])?;
+    let bp5 = SeasBp5 {
+        fault_zone: volume.fault_zone()?,
+        ..scene(&SeasBp5::default(), &fields, "the BP5 scene")?
+    };
+    bp5.validate().py()?;
+    run.validate(&bp5).py()?;
+    let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
+    if threads == 0 {
+        return Err(invalid("threads", "at least 1"));
+    }
+    let folder = FolderKeywords {
+        out,
+        overwrite,
+        resume,
+        allow_change,
+    };
+    let fingerprint = run.fingerprint(&bp5);
+    // The folder first (another run's refused before anything is computed), as the
+    // program's guard does.
+    let mut names = SeasBp5Output::file_names();
+    names.extend(["events.csv", SEAS_BP5_RESUME_LOG].map(String::from));
+    if kernel == Bp5Kernel::Fe && run.condensation == Bp5Condensation::SchurOnly {
+        names.push(BP5_SETUP_FILE.into());
+    }
+    folder.prepare("seas_bp5", names, &fingerprint)?;
+    let setup = run.seas_setup(
+        &bp5,
+        modeler.to_owned(),
+        date.unwrap_or_else(rsf_seas::utc_date_today),
+    );
+    let options = run.fault_ode_options(&bp5, threads).py()?;
+    let (ode, output) = match kernel {
+        Bp5Kernel::Okada => okada(&bp5, &run, options, (folder.out.as_ref(), setup))?,
+        Bp5Kernel::Fe => volume_run(&bp5, &run, options, (&folder, setup))?,
+    };
+    let session = SessionRun {
+        fingerprint,
+        end: end_years * SECONDS_PER_YEAR,
+        fault_every,
+        program: "seas_bp5",
+    };
+    folder.simulation(session, ode, move |_| {
+        Ok(output.map(|o| o.with_marks_where_runs_end(0)))
+    })
+}
+
+/// The fault ODE and files (`None` without `out`) of a run.
+type OdeAndFiles = (SeasBp5FaultOde, Option<SeasBp5Output>);
+
+/// A fault alone with Okada's half-space operator, as the program runs it on one process;
+/// its files in `out` (the body stations' displacement columns of the operator's).
+fn okada(
+    bp5: &SeasBp5,
+    run: &SeasBp5Run,
+    options: rsf::fault_ode::FaultOdeOptions,
+    (out, setup): (Option<&PathBuf>, SeasSetup),
+) -> PyResult<OdeAndFiles> {
+    let model = bp5.model(run.dx).py()?;
+    let half_space = bp5.half_space(run.epsilon).py()?;
+    let (ode, columns) = bp5
+        .fault_ode_on_ranks(
+            model,
+            options,
+            &half_space,
+            &SeasBp5::body_station_points(),
+            None,
+        )
+        .py()?;
+    let output = out
+        .map(|out| bp5.output(out, run.dx, columns, setup).py())
+        .transpose()?;
+    Ok((ode, output))
+}
+
+/// The finite-element volume condensed onto the fault, as the program runs it on one
+/// process: the Schur-only elimination kept in `out` (another run's removed first, a
+/// resume's read), or the whole factor.
+fn volume_run(
+    bp5: &SeasBp5,
+    run: &SeasBp5Run,
+    options: rsf::fault_ode::FaultOdeOptions,
+    (folder, setup): (&FolderKeywords, SeasSetup),
+) -> PyResult<OdeAndFiles> {
+    let model = bp5.fe_model(&run.grid(bp5)).py()?;
+    let options = run.volume_options(options, 2 * model.frictional_boundary.len());
+    let output = folder
+        .out
+        .as_ref()
+        .map(|out| bp5.volume_output(out, &model, run.dx, setup).py())
+        .transpose()?;
+    let mut ode = match run.condensation {
+        Bp5Condensation::Factor => bp5.fe_fault_ode(model, options).py()?,
+        Bp5Condensation::SchurOnly => {
+            let watch_vertices = bp5.station_vertices(&model).py()?;
+            let checkpoint = match &folder.out {
+                Some(out) => {
+                    let path = out.join(BP5_SETUP_FILE);
+                    if folder.resume.is_none() {
+                        // Another run's elimination is not this one's to continue.
+                        match std::fs::remove_file(&path) {
+                            Err(source) if source.kind() != std::io::ErrorKind::NotFound => {
+                                return Err(crate::errors::to_py(rsf::Error::File {
+                                    path: path.display().to_string(),
+                                    action: "remove",
+                                    source,
+                                }))
+                            }
+                            _ => {}
+                        }
+                    }
+                    Some(CheckpointPolicy::new(&path))
+                }
+                None => None,
+            };
+            let setup = SchurOnlySetup {
+                watch_vertices,
+                checkpoint,
+                max_bytes: None,
+                progress: None,
+            };
+            bp5.fe_fault_ode_schur_only(model, options, setup).py()?
+        }
+    };
+    if let Some(output) = &output {
+        ode.watch_vertices(&output.volume_vertices()).py()?;
+    }
+    Ok((ode, output))
+}
