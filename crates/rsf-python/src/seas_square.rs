@@ -9,15 +9,13 @@ use std::path::PathBuf;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rsf::checkpoint::Fingerprint;
-use rsf::Observer;
 use rsf_scenes::{RunConfig, SeasBp7Run, SeasBp8, SeasBp8Run};
 use rsf_seas::{SeasBp5Output, SEAS_BP7_RESUME_LOG, SEAS_BP8_RESUME_LOG};
 
-use crate::engine::{Engine, Recording};
 use crate::errors::{invalid, OrPy};
-use crate::run_folder::FolderKeywords;
+use crate::run_folder::{FolderKeywords, SessionRun};
 use crate::scenes::split;
-use crate::simulation::{End, Simulation};
+use crate::simulation::Simulation;
 
 /// The run's keywords beside its settings: the folder, threads, the files' headers and
 /// the recording.
@@ -168,35 +166,21 @@ impl Common {
     /// `run`/`advance` call stops, from which a checkpoint written there resumes.
     fn simulation(
         self,
-        mut ode: rsf_scenes::SeasBp8FaultOde,
+        ode: rsf_scenes::SeasBp8FaultOde,
         (fingerprint, end): (Fingerprint, f64),
         output: impl FnOnce(&std::path::Path) -> PyResult<SeasBp5Output>,
-        program: &str,
+        program: &'static str,
     ) -> PyResult<Simulation> {
-        let session = self.folder.session(fingerprint.clone(), end, &mut ode)?;
-        let mut files: Vec<Box<dyn Observer<3, 3>>> = Vec::new();
-        if let Some(out) = &self.folder.out {
-            let mut output = output(out)?.with_marks_where_runs_end(0);
-            match session.resumed() {
-                Some(c) => output.resume(c.state.step, c.state.time).py()?,
-                None => {
-                    use rsf::Stepping;
-                    output.write_initial_state(ode.model(), ode.state(), ode.fault_tractions())
-                }
-            }
-            files.push(Box::new(output));
-        }
-        let engine = Engine::<3, 3, _> {
-            sim: ode,
-            recording: Recording::new(self.fault_every).py()?,
-            files,
+        let run = SessionRun {
             fingerprint,
-            folder: self.folder.files(&session)?,
-        };
-        Ok(Simulation::new(
-            Box::new(engine),
-            Some(End::Time(end)),
+            end,
+            fault_every: self.fault_every,
             program,
-        ))
+        };
+        let out = self.folder.out.clone();
+        self.folder.simulation(run, ode, move |_| {
+            out.map(|out| Ok(output(&out)?.with_marks_where_runs_end(0)))
+                .transpose()
+        })
     }
 }
