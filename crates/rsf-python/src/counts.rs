@@ -25,3 +25,16 @@ pub(crate) fn count(value: i128, name: &str) -> PyResult<usize> {
 pub(crate) fn optional(value: Option<i128>, name: &str) -> PyResult<Option<usize>> {
     value.map(|v| count(v, name)).transpose()
 }
+
+/// The keyword `threads` (`None`: every core of the machine), at least 1.
+///
+/// # Errors
+/// `InvalidParameterError` naming `threads` for 0, a negative value or one beyond
+/// `usize`.
+pub(crate) fn threads(value: Option<i128>) -> PyResult<usize> {
+    let threads = optional(value, "threads")?.unwrap_or_else(rsf::Parallelism::available_cores);
+    if threads == 0 {
+        return Err(invalid("threads", "at least 1"));
+    }
+    Ok(threads)
+}

@@ -279,7 +279,7 @@ pub(crate) fn seas_bp1(
     fault_every: i128,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
-    let threads = crate::counts::optional(threads, "threads")?;
+    let threads = crate::counts::threads(threads)?;
     let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let (fields, _) = split(kwargs, &[])?;
     let bp1: SeasBp1 = scene(&SeasBp1::default(), &fields, "the BP1 scene")?;
@@ -296,10 +296,6 @@ pub(crate) fn seas_bp1(
         ratio,
     };
     let kernel = fault_kernel(kernel, kernel_epsilon, rk_tolerance)?;
-    let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
-    if threads == 0 {
-        return Err(invalid("threads", "at least 1"));
-    }
     let folder = FolderKeywords {
         out: out.clone(),
         overwrite,

@@ -54,7 +54,7 @@ pub(crate) fn seas_bp3(
     fault_every: i128,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
-    let threads = crate::counts::optional(threads, "threads")?;
+    let threads = crate::counts::threads(threads)?;
     let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let (fields, _) = split(kwargs, &[])?;
     let params: SeasBp1 = scene(&SeasBp1::default(), &fields, "the BP3 scene")?;
@@ -73,10 +73,6 @@ pub(crate) fn seas_bp3(
     };
     let bp3 = run.scene(params);
     run.validate(&bp3).py()?;
-    let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
-    if threads == 0 {
-        return Err(invalid("threads", "at least 1"));
-    }
     let folder = FolderKeywords {
         out,
         overwrite,

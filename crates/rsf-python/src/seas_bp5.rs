@@ -155,7 +155,7 @@ pub(crate) fn seas_bp5(
     fault_every: i128,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
-    let threads = crate::counts::optional(threads, "threads")?;
+    let threads = crate::counts::threads(threads)?;
     let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let kernel = match kernel {
         "okada" => Bp5Kernel::Okada,
@@ -191,10 +191,6 @@ pub(crate) fn seas_bp5(
     };
     bp5.validate().py()?;
     run.validate(&bp5).py()?;
-    let threads = threads.unwrap_or_else(rsf::Parallelism::available_cores);
-    if threads == 0 {
-        return Err(invalid("threads", "at least 1"));
-    }
     let folder = FolderKeywords {
         out,
         overwrite,
