@@ -287,6 +287,7 @@ pub(crate) fn record_every(file: &File, every: usize) -> hdf5::Result<()> {
 ///
 /// # Errors
 /// [`Error::Resume`] naming the file and both intervals; the file cannot be read.
+#[cfg_attr(not(feature = "programs"), allow(dead_code))]
 pub(crate) fn check_every(path: &Path, every: usize) -> Result<()> {
     let fail_h5 = |e: hdf5::Error| Error::Resume {
         path: show_path(path),

@@ -17,6 +17,8 @@ use plotters::prelude::*;
 pub mod bp5_pair;
 pub mod cli;
 pub mod config;
+#[cfg(all(test, feature = "seas"))]
+mod config_tests;
 mod curved;
 mod defaults;
 pub mod distributed_sweep;

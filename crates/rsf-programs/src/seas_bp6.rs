@@ -272,6 +272,42 @@ fn outputs() -> Vec<String> {
     names
 }
 
+impl Args {
+    /// Refuses the settings the chosen kernel `elastic` would ignore (careless inputs):
+    /// `--bem-product` with the finite elements, `--kernel` or `--kernel-epsilon` with the
+    /// boundary elements' FFT product.
+    ///
+    /// # Errors
+    /// The first such flag, named.
+    fn check_ignored_by(&self, elastic: Elastic) -> Result<(), AnyError> {
+        match elastic {
+            Elastic::Fe => {
+                if let Some(product) = self.bem_product {
+                    return Err(refuse(
+                        "--bem-product",
+                        format!("{product:?}").to_lowercase(),
+                        "a setting of `--elastic bem`: the finite-element model would ignore it",
+                    ));
+                }
+            }
+            Elastic::Bem => {
+                let stored = self.kernel.kernel != crate::KernelArg::Hierarchical
+                    || self.kernel.kernel_epsilon.is_some();
+                if stored && self.bem_product() == BemProduct::Fft {
+                    return Err(refuse(
+                        "--kernel",
+                        format!("{:?}", self.kernel.kernel).to_lowercase(),
+                        "`--kernel` and `--kernel-epsilon` set the stored kernel of \
+                         `--bem-product stored`: the FFT product (the default) would ignore \
+                         them",
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Program for Args {
     const NAME: &'static str = "seas_bp6";
 
@@ -305,31 +341,7 @@ impl Program for Args {
                  20 000 cells (Δz ≥ 2 m)",
             ));
         }
-        // Settings the chosen kernel would ignore are careless inputs.
-        match elastic {
-            Elastic::Fe => {
-                if let Some(product) = self.bem_product {
-                    return Err(refuse(
-                        "--bem-product",
-                        format!("{product:?}").to_lowercase(),
-                        "a setting of `--elastic bem`: the finite-element model would ignore it",
-                    ));
-                }
-            }
-            Elastic::Bem => {
-                let stored = self.kernel.kernel != crate::KernelArg::Hierarchical
-                    || self.kernel.kernel_epsilon.is_some();
-                if stored && self.bem_product() == BemProduct::Fft {
-                    return Err(refuse(
-                        "--kernel",
-                        format!("{:?}", self.kernel.kernel).to_lowercase(),
-                        "`--kernel` and `--kernel-epsilon` set the stored kernel of \
-                         `--bem-product stored`: the FFT product (the default) would ignore \
-                         them",
-                    ));
-                }
-            }
-        }
+        self.check_ignored_by(elastic)?;
         // The finite-element flags are checked whatever the kernel: a value that would be
         // refused with `--elastic fe` is a careless input with the default kernel too.
         in_range(

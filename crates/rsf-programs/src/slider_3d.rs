@@ -506,21 +506,57 @@ fn check_output_bound(
     Ok(())
 }
 
+/// The solver of a run on MPI ranks: TNNMG, which the ranks share (`auto` chooses it).
+///
+/// # Errors
+/// Another solver asked for by `--solver`.
+fn solver_on_ranks(solver: rsf::SolverKind) -> Result<rsf::SolverKind, AnyError> {
+    match solver {
+        rsf::SolverKind::Auto | rsf::SolverKind::Tnnmg => Ok(rsf::SolverKind::Tnnmg),
+        other => Err(format!(
+            "on MPI ranks the velocity problems are solved by TNNMG on the ranks: \
+             --solver {other} is not shared (use --solver tnnmg or auto)"
+        )
+        .into()),
+    }
+}
+
+/// The run's last lines: steps and time, the mean iterations per step, the first slip
+/// event and the snapshot (from the series file `series_csv`).
+///
+/// # Errors
+/// Reading the series.
+fn report(
+    series_csv: &std::path::Path,
+    summary: &rsf::RunSummary,
+    snapshot: &FaultSnapshot,
+) -> Result<(), AnyError> {
+    let rows = PointSeries::<3>::read(series_csv)?;
+    let steps = rows.len().max(1) as f64;
+    let fpi = rows.iter().map(|r| r.fixed_point_iterations).sum::<usize>() as f64 / steps;
+    let its = rows.iter().map(|r| r.solver_iterations).sum::<usize>() as f64 / steps;
+    let first_event = rows.iter().find(|r| r.max_slip_rate > 1e-3).map(|r| r.time);
+    println!(
+        "{} steps in {:.2} s ({:.3} s per step) on {}",
+        summary.steps,
+        summary.seconds,
+        summary.seconds / summary.steps.max(1) as f64,
+        crate::machine()
+    );
+    println!(
+        "per step: fixed point iterations {fpi:.2}, solver iterations {its:.2}; first slip event (max V > 1e-3 m/s): {}; snapshot at t = {:.4} s (max V {:.3e} m/s)",
+        first_event.map_or("none".into(), |t| format!("{t:.4} s")),
+        snapshot.time,
+        snapshot.peak
+    );
+    Ok(())
+}
+
 fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
     let mut scene = scene(&cli)?;
     let root = processes.is_none_or(|p| p.rank() == 0);
     if processes.is_some() {
-        match scene.slider.solver {
-            rsf::SolverKind::Auto => scene.slider.solver = rsf::SolverKind::Tnnmg,
-            rsf::SolverKind::Tnnmg => {}
-            other => {
-                return Err(format!(
-                    "on MPI ranks the velocity problems are solved by TNNMG on the ranks: \
-                     --solver {other} is not shared (use --solver tnnmg or auto)"
-                )
-                .into())
-            }
-        }
+        scene.slider.solver = solver_on_ranks(scene.slider.solver)?;
     }
     let s = &scene.slider;
     let out = cli.out.clone();
@@ -648,23 +684,5 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     drop(observers);
     snapshot.write(sim.model(), scene.width_m, &out)?;
 
-    let rows = PointSeries::<3>::read(&series_csv)?;
-    let steps = rows.len().max(1) as f64;
-    let fpi = rows.iter().map(|r| r.fixed_point_iterations).sum::<usize>() as f64 / steps;
-    let its = rows.iter().map(|r| r.solver_iterations).sum::<usize>() as f64 / steps;
-    let first_event = rows.iter().find(|r| r.max_slip_rate > 1e-3).map(|r| r.time);
-    println!(
-        "{} steps in {:.2} s ({:.3} s per step) on {}",
-        summary.steps,
-        summary.seconds,
-        summary.seconds / summary.steps.max(1) as f64,
-        crate::machine()
-    );
-    println!(
-        "per step: fixed point iterations {fpi:.2}, solver iterations {its:.2}; first slip event (max V > 1e-3 m/s): {}; snapshot at t = {:.4} s (max V {:.3e} m/s)",
-        first_event.map_or("none".into(), |t| format!("{t:.4} s")),
-        snapshot.time,
-        snapshot.peak
-    );
-    Ok(())
+    report(&series_csv, &summary, &snapshot)
 }

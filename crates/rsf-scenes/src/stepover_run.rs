@@ -7,6 +7,7 @@ use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::{FaultKernel, OdeIntegrator};
 
 use crate::run_config::{check_ranges, fault_kernel, KernelChoice, RunConfig};
+#[cfg(feature = "clap")]
 use crate::seas_square_run::INTEGRATOR_HELP;
 use crate::stepover::{Stepover, StepoverGrid};
 use crate::{invalid, SeasBp1};

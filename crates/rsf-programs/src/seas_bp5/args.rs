@@ -257,6 +257,25 @@ impl Args {
     }
 }
 
+impl Args {
+    /// Refuses `--ordering nested-dissection` in a build without METIS.
+    ///
+    /// # Errors
+    /// `--ordering`, naming the feature that builds METIS.
+    fn check_ordering_built(&self) -> Result<(), AnyError> {
+        if self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection
+            && !rsf_metis::is_available()
+        {
+            return Err(crate::guard::refuse(
+                "--ordering",
+                "nested-dissection",
+                "needs METIS, which this build lacks: build with `--features metis`",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Program for Args {
     const NAME: &'static str = "seas_bp5";
 
@@ -285,15 +304,7 @@ impl Program for Args {
         let m = 2.0 * cells;
         let (domain_km, ratio) = self.box_size();
         self.refuse_volume_flags_without_volume()?;
-        if self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection
-            && !rsf_metis::is_available()
-        {
-            return Err(crate::guard::refuse(
-                "--ordering",
-                "nested-dissection",
-                "needs METIS, which this build lacks: build with `--features metis`",
-            ));
-        }
+        self.check_ordering_built()?;
         // setup.bin, the Schur-only elimination kept in --out (0 without it).
         let mut setup_file = 0.0;
         let memory = match self.kernel {

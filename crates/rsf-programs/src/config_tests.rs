@@ -1,0 +1,289 @@
+//! Tests of the run configurations through the programs (docs/design.md, "One run
+//! configuration"): random configurations round-trip through each program's command line
+//! and through TOML; every setting is in the fingerprint; a `--config` file's keys, the
+//! flags over them, the defaults under both; the refusals named as written. Apart from
+//! `config.rs`, which the programs import.
+
+use proptest::prelude::*;
+use rsf::fault_ode::OdeIntegrator;
+use rsf_scenes::{
+    Bp7Law, Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp7Run, SeasBp8Run,
+    StepoverRun,
+};
+
+use crate::guard::{parse_from, Program};
+
+/// The command line of `run`: every setting as its flag (`--end-years 5`), from the
+/// settings' TOML keys.
+fn command_line<C: RunConfig>(program: &str, run: &C) -> Vec<String> {
+    let table: toml::Table = toml::from_str(&run.to_toml()).unwrap();
+    let mut args = vec![program.to_owned()];
+    for (key, value) in table {
+        let flag = format!("--{}", key.replace('_', "-"));
+        match value {
+            // A switch: given when true.
+            toml::Value::Boolean(b) => {
+                if b {
+                    args.push(flag);
+                }
+            }
+            toml::Value::String(s) => args.extend([flag, s]),
+            toml::Value::Float(x) => args.extend([flag, format!("{x}")]),
+            v => args.extend([flag, v.to_string()]),
+        }
+    }
+    args
+}
+
+/// A folder of its own with the file `name` holding `text`.
+fn file(name: &str, text: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("rsf-config-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn bp7_run() -> impl Strategy<Value = SeasBp7Run> {
+    (
+        prop_oneof![Just(Bp7Law::Aging), Just(Bp7Law::Slip)],
+        1e-9f64..1000.0,
+        prop_oneof![Just(5.0), Just(10.0), Just(20.0), Just(80.0), Just(400.0)],
+        0.01f64..100.0,
+        1e-12f64..0.1,
+        0.0f64..1e7,
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(law, end_years, dx, d_rs, tolerance, station_interval, integrator)| SeasBp7Run {
+                law,
+                end_years,
+                dx,
+                d_rs,
+                tolerance,
+                station_interval,
+                integrator,
+            },
+        )
+}
+
+fn bp8_run() -> impl Strategy<Value = SeasBp8Run> {
+    (
+        prop_oneof![Just(Bp8Source::Gaussian), Just(Bp8Source::Well)],
+        1e-6f64..3650.0,
+        prop_oneof![Just(5.0), Just(10.0), Just(40.0)],
+        1e-12f64..0.1,
+        prop_oneof![
+            Just((Bp8OverpressureRule::Refuse, None)),
+            Just((Bp8OverpressureRule::Floor, None)),
+            (1e-3f64..12.5).prop_map(|s| (Bp8OverpressureRule::Floor, Some(s))),
+        ],
+        (0.0f64..1e7, 60.0f64..1e7),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(source, end_days, dx, tolerance, (overpressure, sigma_min), (si, pi), integrator)| {
+                SeasBp8Run {
+                    source,
+                    end_days,
+                    dx,
+                    tolerance,
+                    overpressure,
+                    sigma_min,
+                    station_interval: si,
+                    profile_interval: pi,
+                    integrator,
+                }
+            },
+        )
+}
+
+fn stepover_run() -> impl Strategy<Value = StepoverRun> {
+    (
+        (
+            1e-9f64..1e5,
+            prop_oneof![Just(25.0), Just(50.0), Just(250.0)],
+        ),
+        (
+            prop_oneof![Just(1.0), Just(4.0)],
+            prop_oneof![Just(-2.0), Just(0.0), Just(2.0)],
+        ),
+        (25.0f64..1e5, 1.0f64..2.0, any::<bool>()),
+        1e-10f64..0.1,
+        prop_oneof![
+            Just((KernelChoice::Dense, None)),
+            Just((KernelChoice::Hierarchical, None)),
+            (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
+        ],
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(
+                (end_years, dx),
+                (gap_km, overlap_km),
+                (domain_km, ratio, nsfs),
+                tolerance,
+                (kernel, kernel_epsilon),
+                integrator,
+            )| {
+                StepoverRun {
+                    end_years,
+                    dx,
+                    gap_km,
+                    overlap_km,
+                    strand_km: 25.0,
+                    domain_km,
+                    ratio,
+                    normal_stress_from_slip: nsfs,
+                    tolerance,
+                    kernel,
+                    kernel_epsilon,
+                    integrator,
+                }
+            },
+        )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn stepover_settings_round_trip(run in stepover_run()) {
+        prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
+        let (args, _) = parse_from::<crate::stepover::Args, _, _>(command_line("stepover", &run)).unwrap();
+        prop_assert_eq!(args.settings, run);
+        let back = StepoverRun::from_toml(&run.to_toml()).unwrap();
+        prop_assert_eq!(back, run);
+        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+    }
+
+    /// A configuration → its command line → the configuration the program parses: the
+    /// same value; and through TOML: the same value and the same fingerprint, which
+    /// the program's plan admits.
+    #[test]
+    fn bp7_settings_round_trip(run in bp7_run()) {
+        let (args, _) = parse_from::<crate::seas_bp7::Args, _, _>(command_line("seas_bp7", &run)).unwrap();
+        prop_assert_eq!(args.settings, run);
+        let back = SeasBp7Run::from_toml(&run.to_toml()).unwrap();
+        prop_assert_eq!(back, run);
+        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+    }
+
+    #[test]
+    fn bp8_settings_round_trip(run in bp8_run()) {
+        let (args, _) = parse_from::<crate::seas_bp8::Args, _, _>(command_line("seas_bp8", &run)).unwrap();
+        prop_assert_eq!(args.settings, run);
+        let back = SeasBp8Run::from_toml(&run.to_toml()).unwrap();
+        prop_assert_eq!(back, run);
+        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+    }
+}
+
+/// Every setting changes the fingerprint (none is left out of it).
+#[test]
+fn every_setting_is_in_the_fingerprint() {
+    let base = SeasBp8Run::default();
+    let changed = [
+        SeasBp8Run {
+            source: Bp8Source::Well,
+            ..base
+        },
+        SeasBp8Run {
+            end_days: 2.0,
+            ..base
+        },
+        SeasBp8Run { dx: 20.0, ..base },
+        SeasBp8Run {
+            tolerance: 1e-8,
+            ..base
+        },
+        SeasBp8Run {
+            overpressure: Bp8OverpressureRule::Refuse,
+            ..base
+        },
+        SeasBp8Run {
+            sigma_min: Some(2.0),
+            ..base
+        },
+        SeasBp8Run {
+            station_interval: 60.0,
+            ..base
+        },
+        SeasBp8Run {
+            profile_interval: 60.0,
+            ..base
+        },
+        SeasBp8Run {
+            integrator: OdeIntegrator::Rkc,
+            ..base
+        },
+    ];
+    for run in changed {
+        assert_ne!(run.fingerprint(), base.fingerprint(), "{run:?}");
+    }
+}
+
+/// `--config`: the file's keys over the defaults, a flag given over the file's key; an
+/// unknown key, a mistyped value and a refused value named as written.
+#[test]
+fn a_config_file_sets_what_no_flag_gives() {
+    let path = file("bp7.toml", "law = \"slip\"\ndx = 20\nend_years = 2.5\n");
+    let p = path.to_str().unwrap();
+    let (args, _) =
+        parse_from::<crate::seas_bp7::Args, _, _>(["seas_bp7", "--config", p, "--dx", "40"])
+            .unwrap();
+    let run = args.settings;
+    assert_eq!(run.law, Bp7Law::Slip);
+    assert_eq!(run.dx, 40.0, "the flag wins");
+    assert_eq!(run.end_years, 2.5, "the file's key");
+    assert_eq!(run.d_rs, SeasBp7Run::default().d_rs, "the default");
+    args.plan().unwrap();
+
+    let unknown = file("unknown.toml", "dx = 20\nd_c = 1\n");
+    let e = parse_from::<crate::seas_bp7::Args, _, _>([
+        "seas_bp7",
+        "--config",
+        unknown.to_str().unwrap(),
+    ])
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("d_c") && e.contains("--config"), "{e}");
+
+    let typed = file("typed.toml", "dx = \"ten\"\n");
+    let e = parse_from::<crate::seas_bp7::Args, _, _>([
+        "seas_bp7",
+        "--config",
+        typed.to_str().unwrap(),
+    ])
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("dx") && e.contains("typed.toml"), "{e}");
+
+    let refused = file("refused.toml", "dx = 30\n");
+    let (args, _) = parse_from::<crate::seas_bp7::Args, _, _>([
+        "seas_bp7",
+        "--config",
+        refused.to_str().unwrap(),
+    ])
+    .unwrap();
+    let e = args.plan().err().unwrap().to_string();
+    assert!(
+        e.contains("refused.toml: key `dx` = 30: must divide"),
+        "{e}"
+    );
+    let (args, _) = parse_from::<crate::seas_bp7::Args, _, _>([
+        "seas_bp7",
+        "--config",
+        refused.to_str().unwrap(),
+        "--dx",
+        "3",
+    ])
+    .unwrap();
+    let e = args.plan().err().unwrap().to_string();
+    assert!(e.starts_with("--dx 3: must be in [5, 400]"), "{e}");
+    for f in [path, unknown, typed, refused] {
+        let _ = std::fs::remove_dir_all(f.parent().unwrap());
+    }
+}
