@@ -322,8 +322,7 @@ fn seas_bp5_fault_fields_of_the_okada_fault_are_its_cells_and_equal_a_station_fi
     );
     let file = hdf5::File::open(dir.join("fields.h5")).unwrap();
     // 25 × 10 cells of 4 km, a poly-vertex at each centre (no volume mesh).
-    let n = file.dataset("mesh/points").unwrap().shape()[0];
-    assert_eq!(n, 250);
+    assert_eq!(file.dataset("mesh/points").unwrap().shape()[0], 250);
     assert_eq!(file.dataset("mesh/cells").unwrap().shape(), [250, 1]);
     let topology: hdf5::types::VarLenUnicode = file
         .dataset("mesh/cells")
@@ -334,20 +333,73 @@ fn seas_bp5_fault_fields_of_the_okada_fault_are_its_cells_and_equal_a_station_fi
         .unwrap();
     assert_eq!(topology.as_str(), "Polyvertex");
     // The station 24 km along strike (−x₂), 10 km down-dip: a cell's centre.
-    let k = node_at(&file, [0.0, -24e3, -10e3]);
-    let (slip, alpha) = (
-        read(&file, "fields/slip"),
-        read(&file, "fields/state_alpha"),
-    );
     let station = dir.join("fltst_strk-24dp+10");
-    for (i, row) in frames_of_rows(&file, &station, 10) {
+    fault_fields_equal_station(&file, &station, [0.0, -24e3, -10e3], 7, 10);
+    drop(file);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The fault's fields of `file` at the cell centred at `point` equal the strike–dip
+/// station file `station` at every frame of its rows (at least `least`): `slip_2` to the
+/// files' 7 digits, `log10 θ` (the file's column `state_column`) to 6.
+fn fault_fields_equal_station(
+    file: &hdf5::File,
+    station: &Path,
+    point: [f64; 3],
+    state_column: usize,
+    least: usize,
+) {
+    let n = file.dataset("mesh/points").unwrap().shape()[0];
+    let k = node_at(file, point);
+    let (slip, alpha) = (read(file, "fields/slip"), read(file, "fields/state_alpha"));
+    for (i, row) in frames_of_rows(file, station, least) {
         assert!(digits7(slip[3 * (i * n + k) + 1], row[1]), "slip_2 {row:?}");
         let state = alpha[i * n + k] / std::f64::consts::LN_10;
+        let expected = row[state_column];
         assert!(
-            (state - row[7]).abs() <= 5.01e-6 * row[7].abs(),
+            (state - expected).abs() <= 5.01e-6 * expected.abs(),
             "state {row:?}"
         );
     }
-    drop(file);
-    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn seas_bp7_and_bp8_fault_fields_are_the_squares_cells_and_equal_a_station_file() {
+    // BP7 on 40 m cells (its stations ±100 m are centres), BP8 on 80 m (±200 m).
+    for (bin, dx, end, (station, at)) in [
+        (
+            env!("CARGO_BIN_EXE_seas_bp7"),
+            40.0,
+            ["--end-years", "3e-8"],
+            ("fltst_strk+100dp-100", 100.0),
+        ),
+        (
+            env!("CARGO_BIN_EXE_seas_bp8"),
+            80.0,
+            ["--end-days", "2"],
+            ("fltst_strk+200dp-200", 200.0),
+        ),
+    ] {
+        let dir = temp_dir("seas-square-hdf5");
+        let dx_flag = dx.to_string();
+        let mut args = vec!["--dx", &dx_flag, "--date", "2026-11-29", "--hdf5", "1"];
+        args.extend(end);
+        args.extend(["--out", arg(&dir)]);
+        run_ok(bin, &args);
+        let file = hdf5::File::open(dir.join("fields.h5")).unwrap();
+        // The square of 800 m in cells of dx, a poly-vertex at each centre (the fault
+        // alone).
+        let cells = (800.0 / dx) as usize;
+        assert_eq!(
+            file.dataset("mesh/cells").unwrap().shape(),
+            [cells * cells, 1]
+        );
+        // The station `at` along strike (x₂) and at `dp = −at` (x₃ = dp in these
+        // benchmarks' names, unlike BP5's depth): a cell's centre.
+        let station = dir.join(station);
+        let state_column = station_rows(&station)[0].len() - 1;
+        fault_fields_equal_station(&file, &station, [0.0, at, -at], state_column, 5);
+        drop(file);
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

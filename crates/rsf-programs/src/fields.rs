@@ -380,5 +380,11 @@ mod tests {
         refused_without_writers::<crate::seas_bp6::Args>("seas_bp6", &["--variant", "a"], |p| {
             p.fields.supply(Arc::new(Nothing))
         });
+        refused_without_writers::<crate::seas_bp7::Args>("seas_bp7", &[], |p| {
+            p.fields.supply(Arc::new(Nothing))
+        });
+        refused_without_writers::<crate::seas_bp8::Args>("seas_bp8", &[], |p| {
+            p.fields.supply(Arc::new(Nothing))
+        });
     }
 }

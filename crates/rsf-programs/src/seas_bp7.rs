@@ -55,6 +55,9 @@ pub(crate) struct Args {
     header: crate::SeasHeaderArgs,
     #[command(flatten)]
     run: crate::ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp7`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -62,7 +65,16 @@ pub(crate) struct Args {
 /// The files a run writes into `--out`.
 fn outputs() -> Vec<String> {
     let mut names = SeasBp5Output::bp7_file_names();
-    names.extend(["checkpoint.bin", SEAS_BP7_RESUME_LOG, "summary.json"].map(String::from));
+    names.extend(
+        [
+            "checkpoint.bin",
+            SEAS_BP7_RESUME_LOG,
+            "summary.json",
+            crate::fields::FIELDS_FILE,
+            crate::fields::FIELDS_INDEX,
+        ]
+        .map(String::from),
+    );
     names
 }
 
@@ -83,6 +95,7 @@ impl Program for Args {
         let run = &self.settings;
         let cells = run.cells().map_err(|e| self.config.named(e))? as f64;
         self.header.check()?;
+        self.fields.check(Self::NAME)?;
         // Station rows (19 files of 8 columns and global.dat, 130 B a row each) at most
         // one per accepted step, the steps bounded by 10 000 a year for this estimate
         // (measured at 20 m: 1 318 a year with the aging law, 3 459 with the slip law;
@@ -123,6 +136,13 @@ pub fn main() -> ExitCode {
     crate::guard::main(run)
 }
 
+/// The program `seas_bp7` with `writers` of the fault's fields (`--hdf5 N`,
+/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d): a poly-vertex at
+/// each cell's centre; the binary `seas_bp7` of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
+}
+
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.settings;
     let law = run.law;
@@ -146,6 +166,8 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let _folder = &folder;
     let settings = SquareRun {
         run: &args.run,
+        program: "seas_bp7",
+        fields: (&args.fields, folder.mode()),
         integrator: &crate::IntegratorArgs {
             integrator: run.integrator,
         },

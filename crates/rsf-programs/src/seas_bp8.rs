@@ -58,6 +58,9 @@ pub(crate) struct Args {
     header: crate::SeasHeaderArgs,
     #[command(flatten)]
     run: crate::ResumeArgs,
+    /// `--hdf5 N`: the fault's fields (crates/rsf-hdf5's `seas_bp8`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -65,7 +68,16 @@ pub(crate) struct Args {
 /// The files a run writes into `--out`.
 fn outputs() -> Vec<String> {
     let mut names = SeasBp5Output::bp8_file_names();
-    names.extend(["checkpoint.bin", SEAS_BP8_RESUME_LOG, "summary.json"].map(String::from));
+    names.extend(
+        [
+            "checkpoint.bin",
+            SEAS_BP8_RESUME_LOG,
+            "summary.json",
+            crate::fields::FIELDS_FILE,
+            crate::fields::FIELDS_INDEX,
+        ]
+        .map(String::from),
+    );
     names
 }
 
@@ -86,6 +98,7 @@ impl Program for Args {
         let run = &self.settings;
         let cells = run.cells().map_err(|e| self.config.named(e))? as f64;
         self.header.check()?;
+        self.fields.check(Self::NAME)?;
         // The fault ODE's vectors, the FFT operator's circulant (4 times the cells, a
         // 2 × 2 block of complex entries each) and the pressure's nodes: 2 kB per cell
         // (measured: 27 MB of max RSS for GS at 10 m, 6 400 cells); PW's modal system of
@@ -135,6 +148,13 @@ pub fn main() -> ExitCode {
     crate::guard::main(run)
 }
 
+/// The program `seas_bp8` with `writers` of the fault's fields (`--hdf5 N`,
+/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d): a poly-vertex at
+/// each cell's centre; the binary `seas_bp8` of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
+}
+
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.settings;
     let source = run.source;
@@ -160,6 +180,8 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let _folder = &folder;
     let settings = SquareRun {
         run: &args.run,
+        program: "seas_bp8",
+        fields: (&args.fields, folder.mode()),
         integrator: &crate::IntegratorArgs {
             integrator: run.integrator,
         },

@@ -20,6 +20,10 @@ use crate::{cpu_seconds, machine};
 pub(crate) struct SquareRun<'a> {
     /// `--checkpoint-every`, `--resume`, `--max-steps`.
     pub(crate) run: &'a crate::ResumeArgs,
+    /// The program (`seas_bp7`, `seas_bp8`), as `--hdf5`'s refusal names it.
+    pub(crate) program: &'static str,
+    /// `--hdf5` and the mode of a fresh run's files.
+    pub(crate) fields: (&'a crate::fields::FieldArgs, rsf::observe::FileMode),
     /// `--integrator`.
     pub(crate) integrator: &'a crate::IntegratorArgs,
     /// `--threads`.
@@ -63,6 +67,14 @@ pub(crate) fn run_square_fault(
         settings.end,
         ode,
     )?;
+    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
+    // before any file is cut.
+    let (field_args, fresh) = settings.fields;
+    let mut fields = field_args.observer(
+        (settings.program, settings.out),
+        crate::fields::FieldsRun::of(&session, fresh, &settings.run.allow_change),
+        |w, target| w.fault_3d(target),
+    )?;
     let mut output = output()?;
     if session.keeps_resume_log() {
         output = output.with_resume_log(settings.run.checkpoint_every);
@@ -73,7 +85,12 @@ pub(crate) fn run_square_fault(
     }
     let (unit, label) = settings.unit;
     let progress = rsf::observe::Progress::time_in(ode.state().time, settings.end, unit, label);
-    let summary = session.run(ode, &mut [&mut output], Some(progress))?;
+    let mut observers: Vec<&mut dyn rsf::Observer<3>> = vec![&mut output];
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
+    }
+    let summary = session.run(ode, &mut observers, Some(progress))?;
+    drop(observers);
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     println!(

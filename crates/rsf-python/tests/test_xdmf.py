@@ -114,6 +114,9 @@ RUNS = {
                  FAULT, "line", 2),
     # A fault alone on Okada's kernel: a poly-vertex per element's centre.
     "seas_bp5": (["--dx", "4000", "--end-years", "1", "--hdf5", "50"], FAULT, "vertex", 1),
+    # The square fault alone in a whole space (BP7, BP8): a poly-vertex per cell's centre.
+    "seas_bp7": (["--dx", "80", "--end-years", "3e-8", "--hdf5", "2"], FAULT, "vertex", 1),
+    "seas_bp8": (["--dx", "80", "--end-days", "2", "--hdf5", "2"], FAULT, "vertex", 1),
 }
 
 
