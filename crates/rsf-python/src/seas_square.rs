@@ -12,7 +12,7 @@ use rsf::checkpoint::Fingerprint;
 use rsf_scenes::{RunConfig, SeasBp7Run, SeasBp8, SeasBp8Run};
 use rsf_seas::{SeasBp5Output, SEAS_BP7_RESUME_LOG, SEAS_BP8_RESUME_LOG};
 
-use crate::errors::{invalid, OrPy};
+use crate::errors::OrPy;
 use crate::run_folder::{FolderKeywords, SessionRun};
 use crate::scenes::split;
 use crate::simulation::Simulation;
@@ -63,7 +63,6 @@ pub(crate) fn seas_bp7(
     fault_every: i128,
     settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
-    let run: SeasBp7Run = settings_of(settings, "the BP7 settings")?;
     let common = Common::new(
         FolderKeywords {
             out,
@@ -74,14 +73,13 @@ pub(crate) fn seas_bp7(
         (threads, fault_every),
         (modeler, date),
     )?;
-    let mut names = SeasBp5Output::bp7_file_names();
-    names.push(SEAS_BP7_RESUME_LOG.into());
-    let fingerprint = run.fingerprint();
-    common.folder.prepare("seas_bp7", names, &fingerprint)?;
+    let (run, fingerprint): (SeasBp7Run, _) = common.prepare(
+        (settings, "the BP7 settings"),
+        "seas_bp7",
+        (SeasBp5Output::bp7_file_names(), SEAS_BP7_RESUME_LOG),
+    )?;
     let bp7 = run.scene();
-    let mut options = bp7.fault_ode_options(run.tolerance).py()?;
-    options.parallelism = rsf::Parallelism::rayon(common.threads);
-    options.integrator = run.integrator;
+    let options = common.options(bp7.fault_ode_options(run.tolerance), run.integrator)?;
     let (ode, body_columns) = bp7.fault_ode(run.dx, run.law, options).py()?;
     let setup = run.seas_setup(common.modeler.clone(), common.date.clone());
     let output = |out: &std::path::Path| bp7.output(out, run.dx, body_columns, setup).py();
@@ -110,7 +108,6 @@ pub(crate) fn seas_bp8(
     fault_every: i128,
     settings: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Simulation> {
-    let run: SeasBp8Run = settings_of(settings, "the BP8 settings")?;
     let common = Common::new(
         FolderKeywords {
             out,
@@ -121,18 +118,17 @@ pub(crate) fn seas_bp8(
         (threads, fault_every),
         (modeler, date),
     )?;
-    let mut names = SeasBp5Output::bp8_file_names();
-    names.push(SEAS_BP8_RESUME_LOG.into());
-    let fingerprint = run.fingerprint();
-    common.folder.prepare("seas_bp8", names, &fingerprint)?;
+    let (run, fingerprint): (SeasBp8Run, _) = common.prepare(
+        (settings, "the BP8 settings"),
+        "seas_bp8",
+        (SeasBp5Output::bp8_file_names(), SEAS_BP8_RESUME_LOG),
+    )?;
     let bp8 = SeasBp8::default();
     let field = bp8.pressure(run.source, run.dx).py()?;
     let friction_pressure = bp8
         .friction_pressure(field.clone(), run.overpressure())
         .py()?;
-    let mut options = bp8.fault_ode_options(run.tolerance).py()?;
-    options.parallelism = rsf::Parallelism::rayon(common.threads);
-    options.integrator = run.integrator;
+    let options = common.options(bp8.fault_ode_options(run.tolerance), run.integrator)?;
     let ode = bp8.fault_ode(run.dx, options, friction_pressure).py()?;
     let setup = run.seas_setup(common.modeler.clone(), common.date.clone());
     let output = |out: &std::path::Path| bp8.output(out, run.dx, field, setup).py();
@@ -147,16 +143,48 @@ impl Common {
         (threads, fault_every): (i128, i128),
         (modeler, date): (&str, Option<String>),
     ) -> PyResult<Self> {
-        let threads = crate::counts::count(threads, "threads")?;
-        if threads == 0 {
-            return Err(invalid("threads", "at least 1"));
-        }
         Ok(Self {
             folder,
-            threads,
+            threads: crate::counts::threads(Some(threads))?,
             modeler: modeler.to_owned(),
             date: date.unwrap_or_else(rsf_seas::utc_date_today),
             fault_every: crate::counts::count(fault_every, "fault_every")?,
+        })
+    }
+
+    /// The run configuration `C` of the keyword arguments `settings` (`what` in messages,
+    /// [`settings_of`]) and the folder prepared for `program`'s `files` and its resume log
+    /// with the run's fingerprint ([`FolderKeywords::prepare`]: another run's folder
+    /// refused before anything is computed).
+    ///
+    /// # Errors
+    /// A refused setting, named by its keyword; the folder's refusal.
+    fn prepare<C: RunConfig>(
+        &self,
+        (settings, what): (Option<&Bound<'_, PyDict>>, &str),
+        program: &str,
+        (mut files, resume_log): (Vec<String>, &str),
+    ) -> PyResult<(C, Fingerprint)> {
+        let run: C = settings_of(settings, what)?;
+        let fingerprint = run.fingerprint();
+        files.push(resume_log.into());
+        self.folder.prepare(program, files, &fingerprint)?;
+        Ok((run, fingerprint))
+    }
+
+    /// The scene's fault-ODE `options` on this run's threads with `integrator`.
+    ///
+    /// # Errors
+    /// The options' (a refused tolerance).
+    fn options(
+        &self,
+        options: rsf::Result<rsf::fault_ode::FaultOdeOptions>,
+        integrator: rsf::fault_ode::OdeIntegrator,
+    ) -> PyResult<rsf::fault_ode::FaultOdeOptions> {
+        Ok(rsf::fault_ode::FaultOdeOptions {
+            parallelism: rsf::Parallelism::rayon(self.threads),
+            integrator,
+            ..options.py()?
         })
     }
 
