@@ -398,32 +398,19 @@ pub(crate) fn fault_kernel(
     kernel_epsilon: Option<f64>,
     rk_tolerance: f64,
 ) -> PyResult<FaultKernel> {
-    match (kernel, kernel_epsilon) {
-        ("dense", None) => Ok(FaultKernel::Dense),
-        ("dense", Some(_)) => Err(invalid("kernel_epsilon", "needs kernel=\"hierarchical\"")),
-        ("hierarchical", None) => Ok(FaultKernel::matching(rk_tolerance)),
-        // The library's range (FaultKernel::validate), named as the keyword: it was
-        // (2.2e-16, 1) here, and 0.5 was refused later as `kernel.epsilon`.
-        ("hierarchical", Some(e)) => {
-            let k = FaultKernel::hierarchical(e);
-            k.validate().map_err(|_| {
-                invalid(
-                    "kernel_epsilon",
-                    format!(
-                        "{}: must be in [{}, {}] (a relative accuracy)",
-                        rsf_numeric::written(e),
-                        rsf_numeric::number(rsf::fault_ode::MIN_KERNEL_EPSILON),
-                        rsf_numeric::number(rsf::fault_ode::MAX_KERNEL_EPSILON)
-                    ),
-                )
-            })?;
-            Ok(k)
+    // The library's range (FaultKernel::validate), named as the keyword: it was
+    // (2.2e-16, 1) here, and 0.5 was refused later as `kernel.epsilon`.
+    let choice = match kernel {
+        "dense" => rsf_scenes::KernelChoice::Dense,
+        "hierarchical" => rsf_scenes::KernelChoice::Hierarchical,
+        k => {
+            return Err(invalid(
+                "kernel",
+                format!("`{k}`: \"hierarchical\" or \"dense\""),
+            ))
         }
-        (k, _) => Err(invalid(
-            "kernel",
-            format!("`{k}`: \"hierarchical\" or \"dense\""),
-        )),
-    }
+    };
+    rsf_scenes::fault_kernel(choice, kernel_epsilon, rk_tolerance).py()
 }
 
 /// The program's fingerprint of BP1-QD's Runge–Kutta run (its defaults for the flags this
