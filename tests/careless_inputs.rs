@@ -435,6 +435,18 @@ fn particular_cases(mesh: &str) -> Vec<Case> {
         case("seas_bp7", &["--law", "x"], "--law"),
         case("seas_bp7", &["--end-years", "0"], "--end-years"),
         case("seas_bp7", &["--d-rs", "0"], "--d-rs"),
+        // The finite-element box (issue 85 item 5): its settings without `--kernel fe`,
+        // out of range, or a box smaller than 2 l_f.
+        case("seas_bp7", &["--domain-km", "3"], "--domain-km"),
+        case("seas_bp8", &["--ratio", "1.1"], "--ratio"),
+        case("seas_bp7", &["--kernel", "fe", "--ratio", "1"], "--ratio"),
+        case("seas_bp8", &["--kernel", "fe", "--ratio", "NaN"], "--ratio"),
+        case(
+            "seas_bp8",
+            &["--kernel", "fe", "--domain-km", "0.5"],
+            "--domain-km",
+        ),
+        case("seas_bp7", &["--kernel", "x"], "--kernel"),
         case("seas_bp7", &["--tolerance", "1"], "--tolerance"),
         case(
             "seas_bp7",

@@ -284,6 +284,16 @@ const SMALL: &[Case] = &[
     ("seas_bp8", &["--dx", "40", "--end-days", "0.5"], true),
     (
         "seas_bp8",
+        &["--kernel", "fe", "--dx", "80", "--end-days", "0.5"],
+        true,
+    ),
+    (
+        "seas_bp7",
+        &["--kernel", "fe", "--dx", "80", "--end-years", "1e-7"],
+        true,
+    ),
+    (
+        "seas_bp8",
         &["--source", "pw", "--dx", "10", "--end-days", "0.1"],
         true,
     ),

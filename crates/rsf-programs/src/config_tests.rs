@@ -8,7 +8,7 @@ use proptest::prelude::*;
 use rsf::fault_ode::OdeIntegrator;
 use rsf_scenes::{
     Bp7Law, Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp7Run, SeasBp8Run,
-    StepoverRun,
+    SquareKernel, StepoverRun,
 };
 
 use crate::guard::{parse_from, Program};
@@ -44,8 +44,21 @@ fn file(name: &str, text: &str) -> std::path::PathBuf {
     path
 }
 
+/// A square's kernel and, with `fe`, its box's settings (each set or left to its default).
+fn square_kernel() -> impl Strategy<Value = (SquareKernel, Option<f64>, Option<f64>)> {
+    prop_oneof![
+        Just((SquareKernel::Bem, None, None)),
+        (
+            proptest::option::of(0.8f64..1000.0),
+            proptest::option::of(1.01f64..2.0)
+        )
+            .prop_map(|(d, r)| (SquareKernel::Fe, d, r)),
+    ]
+}
+
 fn bp7_run() -> impl Strategy<Value = SeasBp7Run> {
     (
+        square_kernel(),
         prop_oneof![Just(Bp7Law::Aging), Just(Bp7Law::Slip)],
         1e-9f64..1000.0,
         prop_oneof![Just(5.0), Just(10.0), Just(20.0), Just(80.0), Just(400.0)],
@@ -55,7 +68,19 @@ fn bp7_run() -> impl Strategy<Value = SeasBp7Run> {
         proptest::sample::select(OdeIntegrator::ALL.to_vec()),
     )
         .prop_map(
-            |(law, end_years, dx, d_rs, tolerance, station_interval, integrator)| SeasBp7Run {
+            |(
+                (kernel, domain_km, ratio),
+                law,
+                end_years,
+                dx,
+                d_rs,
+                tolerance,
+                station_interval,
+                integrator,
+            )| SeasBp7Run {
+                kernel,
+                domain_km,
+                ratio,
                 law,
                 end_years,
                 dx,
@@ -69,6 +94,7 @@ fn bp7_run() -> impl Strategy<Value = SeasBp7Run> {
 
 fn bp8_run() -> impl Strategy<Value = SeasBp8Run> {
     (
+        square_kernel(),
         prop_oneof![Just(Bp8Source::Gaussian), Just(Bp8Source::Well)],
         1e-6f64..3650.0,
         prop_oneof![Just(5.0), Just(10.0), Just(40.0)],
@@ -82,8 +108,20 @@ fn bp8_run() -> impl Strategy<Value = SeasBp8Run> {
         proptest::sample::select(OdeIntegrator::ALL.to_vec()),
     )
         .prop_map(
-            |(source, end_days, dx, tolerance, (overpressure, sigma_min), (si, pi), integrator)| {
+            |(
+                (kernel, domain_km, ratio),
+                source,
+                end_days,
+                dx,
+                tolerance,
+                (overpressure, sigma_min),
+                (si, pi),
+                integrator,
+            )| {
                 SeasBp8Run {
+                    kernel,
+                    domain_km,
+                    ratio,
                     source,
                     end_days,
                     dx,

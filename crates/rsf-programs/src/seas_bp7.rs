@@ -26,7 +26,7 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::square_fault::{run_square_fault, SquareRun};
+use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::observe::TimeUnit;
@@ -108,7 +108,16 @@ impl Program for Args {
         // (docs/seas-bp8.md), the six off-fault stations' displacement columns (3 × 2
         // values a cell each) 300 B per cell; the rows, kept in memory until the files
         // are written; 100 MB for the rest.
-        let memory = 2300.0 * cells + output + 1e8;
+        let memory = match run.volume_grid().map_err(|e| self.config.named(e))? {
+            None => 2300.0 * cells + output + 1e8,
+            // The square's grid with its rim: (√cells + 1)² frictional nodes.
+            Some(grid) => {
+                let stations = rsf_seas::bp7_body_station_points();
+                let pairs = (cells.sqrt() + 1.0).powi(2);
+                let l_f = run.scene().l_f;
+                volume_memory(&grid, (l_f, &stations), pairs)? + output
+            }
+        };
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()
@@ -151,8 +160,12 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let cpu0 = cpu_seconds();
     let setup = run.seas_setup(args.header.modeler.clone(), args.header.date_or_today());
     let fingerprint = run.fingerprint();
+    let kernel = match run.volume_grid()? {
+        None => "whole space (FFT boundary elements)",
+        Some(_) => "finite elements",
+    };
     println!(
-        "BP7-QD-{}, Δx = {} m, D_RS = {} mm, whole space (FFT boundary elements); on {}",
+        "BP7-QD-{}, Δx = {} m, D_RS = {} mm, {kernel}; on {}",
         law.name(),
         run.dx,
         run.d_rs,
@@ -161,7 +174,10 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let mut options = bp7.fault_ode_options(run.tolerance)?;
     options.parallelism = rsf::Parallelism::rayon(args.threads);
     options.integrator = run.integrator;
-    let (mut ode, body_columns) = bp7.fault_ode(run.dx, law, options)?;
+    let (mut ode, body) = run.fault_ode(options, elimination(&args.limits))?;
+    if let Some(grid) = run.volume_grid()? {
+        print_volume(&ode, &grid);
+    }
     // The folder's lock is held until the run ends.
     let _folder = &folder;
     let settings = SquareRun {
@@ -184,7 +200,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         ),
         started: (clock, cpu0),
     };
-    let output = || Ok(bp7.output(&args.out, run.dx, body_columns, setup)?);
+    let output = |model: &rsf::Model<3, 3>| Ok(run.output(&args.out, model, body, setup)?);
     let keys = serde_json::json!({
         "problem": format!("BP7-QD-{}", law.name()),
         "settings": run.summary(),

@@ -29,7 +29,7 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::square_fault::{run_square_fault, SquareRun};
+use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::observe::TimeUnit;
@@ -114,7 +114,15 @@ impl Program for Args {
         } else {
             0.0
         };
-        let memory = 2000.0 * cells + well + 1e8;
+        let memory = match run.volume_grid().map_err(|e| self.config.named(e))? {
+            None => 2000.0 * cells + well + 1e8,
+            // The square's inner grid: (√cells − 1)² frictional nodes.
+            Some(grid) => {
+                let pairs = (n - 1.0).powi(2);
+                let l_f = SeasBp8::default().l_f;
+                volume_memory(&grid, (l_f, &[]), pairs)? + well
+            }
+        };
         // Station rows (9 files of 11 columns and global.dat) at most one per step, the
         // steps bounded by one per minute for this estimate (30 days at 10 m take a few
         // thousand); 10 profiles of 83 columns.
@@ -166,16 +174,24 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let friction_pressure = bp8.friction_pressure(field.clone(), policy)?;
     let setup = run.seas_setup(args.header.modeler.clone(), args.header.date_or_today());
     let fingerprint = run.fingerprint();
+    let mut options = bp8.fault_ode_options(run.tolerance)?;
+    options.parallelism = rsf::Parallelism::rayon(args.threads);
+    options.integrator = run.integrator;
+    let kernel = match run.volume_grid()? {
+        None => "whole space (FFT boundary elements)",
+        Some(_) => "finite elements",
+    };
     println!(
-        "BP8-QD-{}, Δx = {} m, whole space (FFT boundary elements), {policy:?}; on {}",
+        "BP8-QD-{}, Δx = {} m, {kernel}, {policy:?}; on {}",
         source.name(),
         run.dx,
         machine()
     );
-    let mut options = bp8.fault_ode_options(run.tolerance)?;
-    options.parallelism = rsf::Parallelism::rayon(args.threads);
-    options.integrator = run.integrator;
-    let mut ode = bp8.fault_ode(run.dx, options, friction_pressure)?;
+    let mut ode = run.fault_ode(options, friction_pressure, elimination(&args.limits))?;
+    let volume = run.volume_grid()?;
+    if let Some(grid) = volume {
+        print_volume(&ode, &grid);
+    }
     // The folder's lock is held until the run ends.
     let _folder = &folder;
     let settings = SquareRun {
@@ -198,11 +214,12 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         ),
         started: (clock, cpu0),
     };
-    let output = || Ok(bp8.output(&args.out, run.dx, field, setup)?);
+    let output = |model: &rsf::Model<3, 3>| Ok(run.output(&args.out, model, field, setup)?);
     let keys = serde_json::json!({
         "problem": format!("BP8-QD-{}", source.name()),
         "settings": run.summary(),
         "overpressure": format!("{policy:?}"),
+        "fe_box_half_width_m": volume.map(|g| g.root_and_far().1),
     });
     run_square_fault(settings, &mut ode, output, keys)?;
     Ok(())

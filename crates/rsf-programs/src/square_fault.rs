@@ -41,7 +41,7 @@ pub(crate) struct SquareRun<'a> {
 }
 
 /// Runs `ode` (the fault ODE of BP7 or BP8, set up) to `settings.end` into the output
-/// `output` makes, then writes `summary.json`: the program's `keys` (a JSON object) and
+/// `output` makes of `ode`'s model, then writes `summary.json`: the program's `keys` (a JSON object) and
 /// the run's figures. Returns the output.
 ///
 /// # Errors
@@ -49,13 +49,13 @@ pub(crate) struct SquareRun<'a> {
 pub(crate) fn run_square_fault(
     settings: SquareRun<'_>,
     ode: &mut SeasBp8FaultOde,
-    output: impl FnOnce() -> Result<SeasBp5Output, AnyError>,
+    output: impl FnOnce(&rsf::Model<3, 3>) -> Result<SeasBp5Output, AnyError>,
     keys: serde_json::Value,
 ) -> Result<SeasBp5Output, AnyError> {
     let (clock, cpu0) = settings.started;
-    let cells = ode.model().vertices.len();
+    let cells = ode.model().frictional_boundary.len();
     println!(
-        "{cells} cells ({} slip unknowns); set-up: wall {:.1} s, CPU {:.1} s",
+        "{cells} fault nodes ({} slip unknowns); set-up: wall {:.1} s, CPU {:.1} s",
         2 * cells,
         clock.elapsed().as_secs_f64(),
         cpu_seconds() - cpu0
@@ -75,7 +75,7 @@ pub(crate) fn run_square_fault(
         crate::fields::FieldsRun::of(&session, fresh, &settings.run.allow_change),
         |w, target| w.fault_3d(target),
     )?;
-    let mut output = output()?;
+    let mut output = output(ode.model())?;
     if session.keeps_resume_log() {
         output = output.with_resume_log(settings.run.checkpoint_every);
     }
@@ -124,4 +124,49 @@ pub(crate) fn run_square_fault(
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
     Ok(output)
+}
+
+/// How a square's `--kernel fe` eliminates its volume here: nested dissection where METIS
+/// is built (the fastest ordering of a 3-D volume's factor, docs/three-d.md), bounded by
+/// `--max-memory-gb`.
+pub(crate) fn elimination(limits: &crate::guard::Limits) -> rsf_scenes::VolumeElimination {
+    rsf_scenes::VolumeElimination {
+        nested_dissection: rsf_metis::is_available(),
+        max_bytes: Some((limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
+    }
+}
+
+/// Prints the volume of a square's `--kernel fe` run (`ode` set up on `grid`) and its
+/// condensed operator.
+pub(crate) fn print_volume(ode: &SeasBp8FaultOde, grid: &rsf_scenes::SquareVolumeGrid) {
+    let model = ode.model();
+    println!(
+        "finite elements in the box ±{} km (ratio {}): {} vertices (the fault's split), {} \
+         slip unknowns",
+        grid.root_and_far().1 / 1e3,
+        grid.ratio,
+        model.vertices.len(),
+        2 * model.frictional_boundary.len(),
+    );
+    println!("S: {}", ode.kernel_report());
+}
+
+/// The peak memory (bytes) of a square's `--kernel fe` run on `grid` (the box graded
+/// towards the square of half-width `half` and `stations`), `pairs` frictional nodes:
+/// the Schur-only elimination with nested dissection, `2.5e4 V (V/1e5)^{1/3}` bytes for
+/// `V` mesh vertices (counted from the octree, without making the mesh; measured with
+/// `/usr/bin/time -v`: BP8-GS at 40 m, 48 272 vertices, 0.70 GB; at 20 m, 93 698
+/// vertices, 1.92 GB — a factor's fill growing like `V^{4/3}`), the condensed operator's
+/// dense `S` and two copies (`3 · 8 m²` for `m = 2 pairs` unknowns), 100 MB for the rest.
+///
+/// # Errors
+/// The grid's ([`rsf_scenes::SquareVolumeGrid::mesh_vertices`]).
+pub(crate) fn volume_memory(
+    grid: &rsf_scenes::SquareVolumeGrid,
+    (half, stations): (f64, &[[f64; 3]]),
+    pairs: f64,
+) -> rsf::Result<f64> {
+    let vertices = grid.mesh_vertices(half, stations)? as f64;
+    let m = 2.0 * pairs;
+    Ok(2.5e4 * vertices * (vertices / 1e5).cbrt() + 24.0 * m * m + 1e8)
 }

@@ -39,7 +39,9 @@ fn settings_of<C: RunConfig>(settings: Option<&Bound<'_, PyDict>>, what: &str) -
 
 /// SEAS BP7-QD-A/S (docs/seas-bp7.md, docs/python.md): the run of the Rust program
 /// `seas_bp7`. The settings are keyword arguments with the program's names, defaults and
-/// ranges (`rsf_scenes::SeasBp7Run`): `law` "aging" or "slip", `end_years` (years of
+/// ranges (`rsf_scenes::SeasBp7Run`): `kernel` "bem" (the whole space's boundary
+/// elements, the default) or "fe" (a finite-element box: `domain_km`, its half-width, km,
+/// default 6.4; `ratio`, its grading, default 1.2; eliminated with AMD), `law` "aging" or "slip", `end_years` (years of
 /// 365.25 days, default 10), `dx` (m, dividing 800 m; default 10), `d_rs` (mm, default
 /// 0.5), `tolerance` (default 1e-7), `station_interval` (s; 0, the default: a row every
 /// accepted step), `integrator` ("auto", "rkc", "rosenbrock", "dormand-prince",
@@ -80,15 +82,17 @@ pub(crate) fn seas_bp7(
     )?;
     let bp7 = run.scene();
     let options = common.options(bp7.fault_ode_options(run.tolerance), run.integrator)?;
-    let (ode, body_columns) = bp7.fault_ode(run.dx, run.law, options).py()?;
+    let (ode, body) = run.fault_ode(options, elimination()).py()?;
     let setup = run.seas_setup(common.modeler.clone(), common.date.clone());
-    let output = |out: &std::path::Path| bp7.output(out, run.dx, body_columns, setup).py();
+    let output =
+        |out: &std::path::Path, model: &rsf::Model<3, 3>| run.output(out, model, body, setup).py();
     common.simulation(ode, (fingerprint, run.end_seconds()), output, "seas_bp7")
 }
 
 /// SEAS BP8-QD-GS/PW (docs/seas-bp8.md, docs/python.md): the run of the Rust program
 /// `seas_bp8`. The settings are keyword arguments with the program's names, defaults and
-/// ranges (`rsf_scenes::SeasBp8Run`): `source` "gs" (a Gaussian) or "pw" (a Peaceman
+/// ranges (`rsf_scenes::SeasBp8Run`): `kernel`, `domain_km`, `ratio` as for
+/// [`seas_bp7`], `source` "gs" (a Gaussian) or "pw" (a Peaceman
 /// well), `end_days` (default 30), `dx` (m, dividing 800 m; default 10), `tolerance`
 /// (default 1e-7), `overpressure` "floor" or "refuse", `sigma_min` (MPa, the floor's; 1
 /// if unset), `station_interval` (s; 0, the default: a row every accepted step),
@@ -129,10 +133,19 @@ pub(crate) fn seas_bp8(
         .friction_pressure(field.clone(), run.overpressure())
         .py()?;
     let options = common.options(bp8.fault_ode_options(run.tolerance), run.integrator)?;
-    let ode = bp8.fault_ode(run.dx, options, friction_pressure).py()?;
+    let ode = run
+        .fault_ode(options, friction_pressure, elimination())
+        .py()?;
     let setup = run.seas_setup(common.modeler.clone(), common.date.clone());
-    let output = |out: &std::path::Path| bp8.output(out, run.dx, field, setup).py();
+    let output =
+        |out: &std::path::Path, model: &rsf::Model<3, 3>| run.output(out, model, field, setup).py();
     common.simulation(ode, (fingerprint, run.end_seconds()), output, "seas_bp8")
+}
+
+/// How `kernel = "fe"` eliminates its volume from Python: AMD (this package is built
+/// without METIS), no memory bound.
+fn elimination() -> rsf_scenes::VolumeElimination {
+    rsf_scenes::VolumeElimination::default()
 }
 
 impl Common {
@@ -196,7 +209,7 @@ impl Common {
         self,
         ode: rsf_scenes::SeasBp8FaultOde,
         (fingerprint, end): (Fingerprint, f64),
-        output: impl FnOnce(&std::path::Path) -> PyResult<SeasBp5Output>,
+        output: impl FnOnce(&std::path::Path, &rsf::Model<3, 3>) -> PyResult<SeasBp5Output>,
         program: &'static str,
     ) -> PyResult<Simulation> {
         let run = SessionRun {
@@ -206,8 +219,8 @@ impl Common {
             program,
         };
         let out = self.folder.out.clone();
-        self.folder.simulation(run, ode, move |_| {
-            out.map(|out| Ok(output(&out)?.with_marks_where_runs_end(0)))
+        self.folder.simulation(run, ode, move |ode| {
+            out.map(|out| Ok(output(&out, ode.model())?.with_marks_where_runs_end(0)))
                 .transpose()
         })
     }

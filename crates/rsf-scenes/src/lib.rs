@@ -62,13 +62,19 @@ mod seas_bp6_run;
 #[cfg(feature = "seas")]
 mod seas_bp7;
 #[cfg(feature = "seas")]
+mod seas_bp7_volume;
+#[cfg(feature = "seas")]
 mod seas_bp8;
+#[cfg(feature = "seas")]
+mod seas_bp8_volume;
 #[cfg(feature = "seas")]
 mod seas_square_run;
 mod slider;
 mod slider3d;
 #[cfg(feature = "seas")]
 pub mod square_fault;
+#[cfg(feature = "seas")]
+mod square_volume;
 #[cfg(feature = "seas")]
 mod stepover;
 #[cfg(feature = "seas")]
@@ -110,11 +116,16 @@ pub use seas_bp6_run::{
 #[cfg(feature = "seas")]
 pub use seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};
 #[cfg(feature = "seas")]
+pub use seas_bp7_volume::Bp7BodyColumns;
+#[cfg(feature = "seas")]
 pub use seas_bp8::{Bp8Overpressure, Bp8Source, SeasBp8, SeasBp8FaultOde, BP8_SECONDS_PER_DAY};
 #[cfg(feature = "seas")]
 pub use seas_square_run::{
-    square_ranges, Bp8OverpressureRule, SeasBp7Run, SeasBp8Run, INTEGRATOR_HELP,
+    square_ranges, Bp8OverpressureRule, SeasBp7Run, SeasBp8Run, SquareKernel, INTEGRATOR_HELP,
+    SQUARE_FE_DOMAIN_KM, SQUARE_FE_RATIO,
 };
+#[cfg(feature = "seas")]
+pub use square_volume::{SquareVolumeGrid, VolumeElimination, SQUARE_VOLUME_MAX_CELLS};
 #[cfg(feature = "seas")]
 pub use stepover::{
     Stepover, StepoverFaultOde, StepoverGrid, STEPOVER_FAULTS, STEPOVER_STATION_DISTANCES,

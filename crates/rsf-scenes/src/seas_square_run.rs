@@ -57,6 +57,16 @@ pub mod square_ranges {
         [1e-3, 12.5]
     );
     setting_range!(
+        pub FE_DOMAIN_KM,
+        FE_DOMAIN_KM_HELP = "`kernel = fe`: half-width of the clamped box (km; at least 2 l_f = 0.8 km, rounded up to whole root cubes) [default: 6.4]",
+        [0.8, 1000]
+    );
+    setting_range!(
+        pub FE_RATIO,
+        FE_RATIO_HELP = "`kernel = fe`: growth of the cells away from the square, dx + (ratio − 1)·distance [default: 1.2]",
+        [1.01, 2]
+    );
+    setting_range!(
         pub BP8_PROFILE_INTERVAL,
         BP8_PROFILE_INTERVAL_HELP = "Seconds between profile rows (the description's hourly by default)",
         [60, 1e7]
@@ -85,6 +95,19 @@ fn check_cells(cells: rsf::Result<Vec<[f64; 2]>>, dx: f64, l_f: f64) -> rsf::Res
 #[serde(default, deny_unknown_fields)]
 #[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct SeasBp7Run {
+    /// The elastic operator: bem (the whole space's boundary elements) or fe (a
+    /// finite-element box).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SeasBp7Run::default().kernel))]
+    #[serde(skip_serializing_if = "SquareKernel::is_bem")]
+    pub kernel: SquareKernel,
+    /// `kernel = fe`: the box's half-width (km; [`SQUARE_FE_DOMAIN_KM`] if unset).
+    #[cfg_attr(feature = "clap", arg(long, allow_negative_numbers = true, help = r::FE_DOMAIN_KM_HELP))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub domain_km: Option<f64>,
+    /// `kernel = fe`: the cells' growth ([`SQUARE_FE_RATIO`] if unset).
+    #[cfg_attr(feature = "clap", arg(long, allow_negative_numbers = true, help = r::FE_RATIO_HELP))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ratio: Option<f64>,
     /// The state law: aging (BP7-QD-A) or slip (BP7-QD-S).
     #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SeasBp7Run::default().law))]
     pub law: Bp7Law,
@@ -111,6 +134,9 @@ pub struct SeasBp7Run {
 impl Default for SeasBp7Run {
     fn default() -> Self {
         Self {
+            kernel: SquareKernel::Bem,
+            domain_km: None,
+            ratio: None,
             law: Bp7Law::Aging,
             end_years: 10.0,
             dx: 10.0,
@@ -167,6 +193,19 @@ impl SeasBp7Run {
         let bp7 = self.scene();
         check_cells(bp7.cells(self.dx), self.dx, bp7.l_f)
     }
+
+    /// The finite-element box with `kernel = fe` (`None` with the boundary elements).
+    ///
+    /// # Errors
+    /// As [`SeasBp8Run::volume_grid`].
+    pub fn volume_grid(&self) -> rsf::Result<Option<crate::SquareVolumeGrid>> {
+        square_volume_grid(
+            self.kernel,
+            self.dx,
+            (self.domain_km, self.ratio),
+            self.scene().l_f,
+        )
+    }
 }
 
 impl RunConfig for SeasBp7Run {
@@ -177,6 +216,7 @@ impl RunConfig for SeasBp7Run {
             ("dx", self.dx, r::DX, "m"),
         ])?;
         self.cells()?;
+        self.volume_grid()?;
         check_ranges(&[
             ("tolerance", self.tolerance, r::TOLERANCE, ""),
             (
@@ -219,6 +259,73 @@ fn square_setup(
     }
 }
 
+/// The elastic operator of a square fault in a whole space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum SquareKernel {
+    /// The whole space's boundary elements on square cells, applied by FFTs
+    /// (`rsf::halfspace_operator::WholeSpaceGrid`): exact up to round-off.
+    #[default]
+    Bem,
+    /// A finite-element box condensed onto the fault's nodes
+    /// ([`SquareVolumeGrid`](crate::SquareVolumeGrid): clamped faces, graded towards the
+    /// square; docs/seas-bp8.md "The finite-element volume").
+    Fe,
+}
+
+impl SquareKernel {
+    /// Whether this is the default (left out of the fingerprint and TOML, so that the
+    /// boundary-element runs keep theirs).
+    fn is_bem(&self) -> bool {
+        *self == Self::Bem
+    }
+}
+
+/// The finite-element box of a square's run: `kernel`, `domain_km`, `ratio` as set;
+/// refuses the box's settings without `kernel = fe`.
+fn square_volume_grid(
+    kernel: SquareKernel,
+    dx: f64,
+    (domain_km, ratio): (Option<f64>, Option<f64>),
+    l_f: f64,
+) -> rsf::Result<Option<crate::SquareVolumeGrid>> {
+    if kernel == SquareKernel::Bem {
+        for (name, value) in [("domain_km", domain_km), ("ratio", ratio)] {
+            if let Some(v) = value {
+                return Err(invalid(
+                    name,
+                    format!(
+                        "{}: a setting of `kernel = fe` (the finite-element box): with the \
+                         boundary elements it would be ignored",
+                        rsf_numeric::written(v)
+                    ),
+                ));
+            }
+        }
+        return Ok(None);
+    }
+    let domain_km = domain_km.unwrap_or(SQUARE_FE_DOMAIN_KM);
+    let ratio = ratio.unwrap_or(SQUARE_FE_RATIO);
+    check_ranges(&[
+        ("domain_km", domain_km, r::FE_DOMAIN_KM, "km"),
+        ("ratio", ratio, r::FE_RATIO, ""),
+    ])?;
+    let grid = crate::SquareVolumeGrid {
+        dx,
+        domain: domain_km * 1e3,
+        ratio,
+    };
+    grid.check(l_f)?;
+    Ok(Some(grid))
+}
+
+/// `domain_km`'s default: 6.4 km, 16 l_f (docs/seas-bp8.md, "The finite-element volume").
+pub const SQUARE_FE_DOMAIN_KM: f64 = 6.4;
+
+/// `ratio`'s default (docs/seas-bp8.md, "The finite-element volume").
+pub const SQUARE_FE_RATIO: f64 = 1.2;
+
 /// Where BP8's pore pressure would reach the normal stress (docs/seas-bp8.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -238,6 +345,19 @@ pub enum Bp8OverpressureRule {
 #[serde(default, deny_unknown_fields)]
 #[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct SeasBp8Run {
+    /// The elastic operator: bem (the whole space's boundary elements) or fe (a
+    /// finite-element box).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SeasBp8Run::default().kernel))]
+    #[serde(skip_serializing_if = "SquareKernel::is_bem")]
+    pub kernel: SquareKernel,
+    /// `kernel = fe`: the box's half-width (km; [`SQUARE_FE_DOMAIN_KM`] if unset).
+    #[cfg_attr(feature = "clap", arg(long, allow_negative_numbers = true, help = r::FE_DOMAIN_KM_HELP))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub domain_km: Option<f64>,
+    /// `kernel = fe`: the cells' growth ([`SQUARE_FE_RATIO`] if unset).
+    #[cfg_attr(feature = "clap", arg(long, allow_negative_numbers = true, help = r::FE_RATIO_HELP))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ratio: Option<f64>,
     /// The injection's source: gs (a Gaussian) or pw (a Peaceman well).
     #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SeasBp8Run::default().source))]
     pub source: Bp8Source,
@@ -271,6 +391,9 @@ pub struct SeasBp8Run {
 impl Default for SeasBp8Run {
     fn default() -> Self {
         Self {
+            kernel: SquareKernel::Bem,
+            domain_km: None,
+            ratio: None,
             source: Bp8Source::Gaussian,
             end_days: 30.0,
             dx: 10.0,
@@ -327,6 +450,20 @@ impl SeasBp8Run {
         let bp8 = SeasBp8::default();
         check_cells(bp8.cells(self.dx), self.dx, bp8.l_f)
     }
+
+    /// The finite-element box with `kernel = fe` (`None` with the boundary elements).
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `domain_km` or `ratio`: out of range, or set
+    /// without `kernel = fe`; as [`SquareVolumeGrid::check`](crate::SquareVolumeGrid::check).
+    pub fn volume_grid(&self) -> rsf::Result<Option<crate::SquareVolumeGrid>> {
+        square_volume_grid(
+            self.kernel,
+            self.dx,
+            (self.domain_km, self.ratio),
+            SeasBp8::default().l_f,
+        )
+    }
 }
 
 impl RunConfig for SeasBp8Run {
@@ -336,6 +473,7 @@ impl RunConfig for SeasBp8Run {
             ("dx", self.dx, r::DX, "m"),
         ])?;
         self.cells()?;
+        self.volume_grid()?;
         check_ranges(&[("tolerance", self.tolerance, r::TOLERANCE, "")])?;
         match (self.overpressure, self.sigma_min) {
             (Bp8OverpressureRule::Refuse, Some(s)) => {

@@ -92,3 +92,101 @@ impl FaultLayout {
         ]
     }
 }
+
+/// A regular grid of a volume model's fault nodes: its first point `(x₂, x₃)` (m), spacing
+/// (m), points along strike and dip, and the sign of `x₃` in the model's `z`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct NodeGrid {
+    pub(super) origin: [f64; 2],
+    pub(super) spacing: f64,
+    pub(super) n: [usize; 2],
+    pub(super) z_sign: f64,
+}
+
+impl FaultLayout {
+    /// The frictional nodes of a volume model `model` (split pairs of its fault inside the
+    /// body, in the order of `model.frictional_boundary`), which must fill `grid` point
+    /// for point: positions `(y, z_sign z)`, areas the lumped weights, slip the jump of each
+    /// pair in its frame (`slip₂` along `t₁`, `slip₃` along `z_sign · t₂`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `model` for a
+    /// model without an internal fault, a frictional node that is not a pair or off the
+    /// grid, or a grid point without a node.
+    pub(super) fn of_volume(
+        model: &rsf::Model<3, 3>,
+        grid: NodeGrid,
+    ) -> crate::error::Result<Self> {
+        use crate::error::invalid;
+        let fault = model
+            .internal_fault
+            .as_ref()
+            .ok_or_else(|| invalid("model", "has no fault inside the body"))?;
+        let fb = &model.frictional_boundary;
+        let pair_of: std::collections::HashMap<usize, usize> = fault
+            .pairs()
+            .iter()
+            .enumerate()
+            .map(|(i, &(minus, _))| (minus, i))
+            .collect();
+        let NodeGrid {
+            origin,
+            spacing: dx,
+            n,
+            z_sign,
+        } = grid;
+        let mut index = vec![usize::MAX; n[0] * n[1]];
+        let mut layout = FaultLayout {
+            positions: Vec::with_capacity(fb.len()),
+            areas: fb.weights.clone(),
+            slip: Vec::with_capacity(fb.len()),
+            origin,
+            spacing: dx,
+            n,
+            index: Vec::new(),
+            z_sign,
+        };
+        for (k, &p) in fb.nodes.iter().enumerate() {
+            let x = model.vertices[p];
+            let i = *pair_of
+                .get(&p)
+                .ok_or_else(|| invalid("model", format!("frictional node {k} is not a pair")))?;
+            let r = fault.transform.frames[i];
+            let along = [x[1], z_sign * x[2]];
+            layout.positions.push(along);
+            layout.slip.push(SlipMap {
+                dof: 3 * p,
+                e2: r[1],
+                e3: r[2].map(|c| z_sign * c),
+            });
+            let (fi, fj) = ((along[0] - origin[0]) / dx, (along[1] - origin[1]) / dx);
+            let (i, j) = (fi.round(), fj.round());
+            if (fi - i).abs() > 1e-6 || (fj - j).abs() > 1e-6 || i < 0.0 || j < 0.0 {
+                return Err(invalid(
+                    "model",
+                    format!("frictional node {k} at {x:?} is off the {dx} m grid"),
+                ));
+            }
+            let (i, j) = (i as usize, j as usize);
+            if i >= n[0] || j >= n[1] {
+                return Err(invalid(
+                    "model",
+                    format!("frictional node {k} at {x:?} is outside the fault's grid"),
+                ));
+            }
+            index[j * n[0] + i] = k;
+        }
+        if let Some(g) = index.iter().position(|&k| k == usize::MAX) {
+            return Err(invalid(
+                "model",
+                format!(
+                    "no frictional node at grid point ({}, {}) of the fault",
+                    g % n[0],
+                    g / n[0]
+                ),
+            ));
+        }
+        layout.index = index;
+        Ok(layout)
+    }
+}
