@@ -14,7 +14,9 @@ mod common;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use common::{close, fresh_dir, run_files, run_to_end_or_cap, seas_rows as rows};
+use common::{
+    assert_resumed_run_is_identical, close, fresh_dir, run_to_end_or_cap, seas_rows as rows,
+};
 
 /// A fresh temporary folder.
 fn temp_dir(name: &str) -> PathBuf {
@@ -142,40 +144,18 @@ fn the_first_rows_are_the_descriptions_initial_values_and_the_run_keeps_its_symm
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// Every file of `dir` but the checkpoint, the resume log, the manifest and the summary.
-fn outputs(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    run_files(dir, rsf_seas::SEAS_BP8_RESUME_LOG)
-}
-
 #[test]
 fn a_stopped_and_resumed_run_writes_the_uninterrupted_runs_files() {
-    let end = ["--end-days", "8"];
-    let whole = temp_dir("whole");
-    seas_bp8(&whole, &end);
-    let reference = outputs(&whole);
-    assert_eq!(reference.len(), 20, "the description's 20 files");
-    let parts = temp_dir("parts");
-    let every = ["--checkpoint-every", "40"];
-    // Stopped during the injection (about 300 steps in all), then continued.
-    seas_bp8(
-        &parts,
-        &[end.as_slice(), &every, &["--max-steps", "130"]].concat(),
+    assert_resumed_run_is_identical(
+        ("seas_bp8", "bp8"),
+        &[
+            &["--dx", "80", "--date", "2026-11-29"][..],
+            &["--end-days", "8"],
+        ]
+        .concat(),
+        "130",
+        (rsf_seas::SEAS_BP8_RESUME_LOG, Some(20)),
     );
-    let resume = parts.join("checkpoint.bin").display().to_string();
-    seas_bp8(
-        &parts,
-        &[end.as_slice(), &every, &["--resume", &resume]].concat(),
-    );
-    let resumed = outputs(&parts);
-    assert_eq!(
-        resumed.keys().collect::<Vec<_>>(),
-        reference.keys().collect::<Vec<_>>()
-    );
-    for (name, bytes) in &reference {
-        assert!(bytes == &resumed[name], "{name} differs after the resume");
-    }
-    let _ = std::fs::remove_dir_all(&whole);
-    let _ = std::fs::remove_dir_all(&parts);
 }
 
 /// The central station's final slip₂ (m) of the run in `dir`.
@@ -227,26 +207,14 @@ fn the_volume_converges_to_the_boundary_elements() {
 
 #[test]
 fn a_stopped_and_resumed_volume_run_writes_the_uninterrupted_runs_files() {
-    let flags = ["--end-days", "8", "--kernel", "fe", "--domain-km", "1.6"];
-    let whole = temp_dir("fe-whole");
-    seas_bp8(&whole, &flags);
-    let reference = outputs(&whole);
-    assert_eq!(reference.len(), 20, "the description's 20 files");
-    let parts = temp_dir("fe-parts");
-    let every = ["--checkpoint-every", "40"];
-    seas_bp8(
-        &parts,
-        &[flags.as_slice(), &every, &["--max-steps", "130"]].concat(),
+    assert_resumed_run_is_identical(
+        ("seas_bp8", "bp8-fe"),
+        &[
+            &["--dx", "80", "--date", "2026-11-29"][..],
+            &["--end-days", "8", "--kernel", "fe", "--domain-km", "1.6"],
+        ]
+        .concat(),
+        "130",
+        (rsf_seas::SEAS_BP8_RESUME_LOG, Some(20)),
     );
-    let resume = parts.join("checkpoint.bin").display().to_string();
-    seas_bp8(
-        &parts,
-        &[flags.as_slice(), &every, &["--resume", &resume]].concat(),
-    );
-    let resumed = outputs(&parts);
-    for (name, bytes) in &reference {
-        assert!(bytes == &resumed[name], "{name} differs after the resume");
-    }
-    let _ = std::fs::remove_dir_all(&whole);
-    let _ = std::fs::remove_dir_all(&parts);
 }

@@ -92,3 +92,47 @@ pub fn run_to_end_or_cap(program: &str, args: &[&str], out: &std::path::Path, ex
         String::from_utf8_lossy(&o.stdout),
     );
 }
+
+/// Runs `program` with `args` (its flags but `--out` and the run's stops) into a fresh
+/// folder `rsf-{prefix}-whole…` to its end, and into `rsf-{prefix}-parts…` stopped after
+/// `max_steps` steps (checkpoints every 40) and resumed; asserts that both folders hold
+/// the same files with the same bytes (but the checkpoint, the manifest, the summary and
+/// the resume log `resume_log`), `files` of them if given.
+pub fn assert_resumed_run_is_identical(
+    (program, prefix): (&str, &str),
+    args: &[&str],
+    max_steps: &str,
+    (resume_log, files): (&str, Option<usize>),
+) {
+    let whole = fresh_dir(prefix, "whole");
+    run_to_end_or_cap(program, args, &whole, &[]);
+    let reference = run_files(&whole, resume_log);
+    if let Some(n) = files {
+        assert_eq!(reference.len(), n, "{program}'s files");
+    }
+    let parts = fresh_dir(prefix, "parts");
+    let every = ["--checkpoint-every", "40"];
+    run_to_end_or_cap(
+        program,
+        args,
+        &parts,
+        &[&every[..], &["--max-steps", max_steps]].concat(),
+    );
+    let resume = parts.join("checkpoint.bin").display().to_string();
+    run_to_end_or_cap(
+        program,
+        args,
+        &parts,
+        &[&every[..], &["--resume", &resume]].concat(),
+    );
+    let resumed = run_files(&parts, resume_log);
+    assert_eq!(
+        resumed.keys().collect::<Vec<_>>(),
+        reference.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &reference {
+        assert!(bytes == &resumed[name], "{name} differs after the resume");
+    }
+    let _ = std::fs::remove_dir_all(&whole);
+    let _ = std::fs::remove_dir_all(&parts);
+}

@@ -161,6 +161,25 @@ fn seas_fault_ode_options(
 }
 
 /// [`rsf::Error::InvalidParameter`] named `name` with `reason`.
+/// The vertices of `model` nearest `points` (m), sorted, without repeats: the off-fault
+/// stations' vertices a volume's output reads.
+///
+/// # Errors
+/// [`rsf::Model::nearest_node`]'s (a model without vertices).
+#[cfg(feature = "seas")]
+pub(crate) fn nearest_vertices(
+    model: &rsf::Model<3, 3>,
+    points: &[[f64; 3]],
+) -> rsf::Result<Vec<usize>> {
+    let mut vertices = points
+        .iter()
+        .map(|x| model.nearest_node(x))
+        .collect::<rsf::Result<Vec<usize>>>()?;
+    vertices.sort_unstable();
+    vertices.dedup();
+    Ok(vertices)
+}
+
 pub(crate) fn invalid(name: &str, reason: impl Into<String>) -> rsf::Error {
     rsf::Error::InvalidParameter {
         name: name.to_string(),

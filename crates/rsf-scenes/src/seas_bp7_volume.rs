@@ -3,14 +3,14 @@
 //! ([`SquareVolumeGrid::creeping_plane_builder`]): the plane `x₁ = 0` across the box,
 //! frictional on the square (rim included), creeping at `V_p` outside it, the box's faces
 //! carried with each side's rigid motion — the back slip of the boundary elements — the
-//! prestress as equal and opposite tractions on the plane's faces, the bump `Δτ₀ G₁ G₂`
-//! a load change of the fault ODE on the frictional nodes; and a run's fault ODE and
+//! prestress node by node and the bump `Δτ₀ G₁ G₂` a load change of the fault ODE on the
+//! frictional nodes; and a run's fault ODE and
 //! files with either kernel ([`SeasBp7Run`]: the programs' and Python's one path).
 
 use std::sync::Arc;
 
 use rsf::fault_ode::{FaultOdeOptions, LoadChange, SchurOnlySetup};
-use rsf::{Material, Model, ModelBuilder, Part, Result};
+use rsf::{Material, Model, ModelBuilder, Result};
 use rsf_seas::{bp7_body_station_points, SeasBp5Output, SeasSetup};
 
 use crate::seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};
@@ -26,31 +26,60 @@ impl SeasBp7 {
 
     /// The builder of BP7's volume model on `grid`
     /// ([`SquareVolumeGrid::creeping_plane_builder`] for the square `|x₂|, |x₃| ≤ l_f`,
-    /// refined towards the off-fault stations, creeping at `V_p`), the prestress
-    /// [`tau0_at`](Self::tau0_at) as the tractions `±(0, τ⁰₂, τ⁰₃)` on the plane's plus
-    /// and minus faces (Pa) over the whole plane (a frictional node on the square's rim
-    /// carries its full prestress; the creeping pairs' share goes into their reaction).
+    /// refined towards the off-fault stations, creeping at `V_p`). The prestress is not
+    /// a traction of the builder's: it is given node by node to the fault ODE
+    /// ([`fe_prestress`](Self::fe_prestress)).
     ///
     /// # Errors
     /// Invalid parameters; [`SquareVolumeGrid::creeping_plane_builder`]'s.
     pub fn fe_model_builder(&self, grid: &SquareVolumeGrid) -> Result<ModelBuilder<3>> {
         self.validate()?;
-        let (a, b) = (*self, *self);
-        Ok(grid
-            .creeping_plane_builder(
-                self.l_f,
-                self.material(),
-                &bp7_body_station_points(),
-                self.v_p,
-            )?
-            .neumann(Part::from("fault_minus"), move |x| {
-                let [t2, t3] = a.tau0_at(x[1], x[2]);
-                [0.0, -t2, -t3]
-            })
-            .neumann(Part::from("fault_plus"), move |x| {
-                let [t2, t3] = b.tau0_at(x[1], x[2]);
-                [0.0, t2, t3]
-            }))
+        grid.creeping_plane_builder(
+            self.l_f,
+            self.material(),
+            &bp7_body_station_points(),
+            self.v_p,
+        )
+    }
+
+    /// The prestress [`tau0_at`](Self::tau0_at) of every frictional node of the volume
+    /// model `model` as forces on its slip unknowns: `w τ⁰(x_k)` (N) in the pair's frame,
+    /// so that every node starts at the steady state of its own `a` as the cells do (as
+    /// tractions on the faces the assembly would integrate `τ⁰` against the hat
+    /// functions, and a node within a cell of the disc's rim, where `τ⁰` jumps by
+    /// 2.07 MPa, would start off its steady state).
+    ///
+    /// # Errors
+    /// [`rsf::Error::InvalidParameter`] named `model` for a model without an internal
+    /// fault or a frictional node that is not a pair.
+    pub fn fe_prestress(&self, model: &Model<3, 3>) -> Result<Vec<f64>> {
+        let fault = model
+            .internal_fault
+            .as_ref()
+            .ok_or_else(|| crate::invalid("model", "has no fault inside the body"))?;
+        let pair_of: std::collections::HashMap<usize, usize> = fault
+            .pairs()
+            .iter()
+            .enumerate()
+            .map(|(i, &(minus, _))| (minus, i))
+            .collect();
+        let fb = &model.frictional_boundary;
+        let mut forces = Vec::with_capacity(2 * fb.len());
+        for (k, (&p, &w)) in fb.nodes.iter().zip(&fb.weights).enumerate() {
+            let i = *pair_of.get(&p).ok_or_else(|| {
+                crate::invalid("model", format!("frictional node {k} is not a pair"))
+            })?;
+            let x = model.vertices[p];
+            let [t2, t3] = self.tau0_at(x[1], x[2]);
+            // The pair frame `Q` turns frame components into the Cartesian jump (its
+            // row k the Cartesian component k): the force w (0, τ₂, τ₃) is `Qᵀ` of it in
+            // the frame, whose components 0 and 1 (the tangents; 2 the normal) are the
+            // slip unknowns.
+            let q = fault.transform.frames[i];
+            let frame = |j: usize| w * (t2 * q[1][j] + t3 * q[2][j]);
+            forces.extend([frame(0), frame(1)]);
+        }
+        Ok(forces)
     }
 
     /// BP7's volume model on `grid` ([`fe_model_builder`](Self::fe_model_builder),
@@ -105,8 +134,10 @@ impl SeasBp7 {
         (options, setup): (FaultOdeOptions, SchurOnlySetup),
     ) -> Result<SeasBp7FaultOde> {
         let bump = self.fe_perturbation(&model);
+        let prestress = self.fe_prestress(&model)?;
         self.problem_builder(model, law)?
             .build_fault_ode_schur_only(options, setup)?
+            .with_load_added(&prestress)?
             .with_load_change(bump)
     }
 
@@ -116,13 +147,7 @@ impl SeasBp7 {
     /// # Errors
     /// [`Model::nearest_node`]'s.
     pub fn station_vertices(&self, model: &Model<3, 3>) -> Result<Vec<usize>> {
-        let mut vertices = bp7_body_station_points()
-            .iter()
-            .map(|x| model.nearest_node(x))
-            .collect::<Result<Vec<usize>>>()?;
-        vertices.sort_unstable();
-        vertices.dedup();
-        Ok(vertices)
+        crate::nearest_vertices(model, &bp7_body_station_points())
     }
 
     /// BP7's files ([`SeasBp5Output::bp7_volume`]) of a run on the volume model `model`

@@ -105,13 +105,7 @@ impl SeasBp5 {
     /// # Errors
     /// [`Model::nearest_node`]'s (a model without vertices).
     pub fn station_vertices(&self, model: &Model<3, 3>) -> Result<Vec<usize>> {
-        let mut vertices = Self::body_station_points()
-            .iter()
-            .map(|x| model.nearest_node(x))
-            .collect::<Result<Vec<usize>>>()?;
-        vertices.sort_unstable();
-        vertices.dedup();
-        Ok(vertices)
+        crate::nearest_vertices(model, &Self::body_station_points())
     }
 
     /// The rate-and-state region `|x₂| ≤ l_f/2`, `x₃ ≤ W_f` (with a relative margin of

@@ -86,6 +86,13 @@ impl LoadChangeRates {
         Ok(Self { base, change })
     }
 
+    /// Adds `forces` to the load without the change (`FaultOde::with_load_added`).
+    pub(super) fn add_to_base(&mut self, forces: &[f64]) {
+        for (b, f) in self.base.iter_mut().zip(forces) {
+            *b += f;
+        }
+    }
+
     /// `g₀ + h(t) f` into `g0`.
     pub(super) fn apply(&self, t: f64, g0: &mut [f64]) {
         let h = (self.change.history)(t);

@@ -273,6 +273,48 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         Stepping::checkpoint(self)
     }
 
+    /// The run with the constant forces `forces` added to the load of its slip unknowns
+    /// (N, one per slip unknown in its own component, as [`LoadChange::forces`]): the
+    /// balance of every node becomes `g(t) + f − S u_F = w (τ(V, α) + η V)`, e.g. a
+    /// prestress given node by node, `f = w τ⁰(x_k)`, rather than as tractions the
+    /// assembly integrates against the hat functions (which mixes a node's prestress with
+    /// its neighbours' where `τ⁰` jumps). Adds to a [`LoadChange`]'s base too, whichever
+    /// comes first. Physics, not state: a checkpoint holds none of it, and a resumed run
+    /// must be given the same forces (the programs put what makes them in their
+    /// fingerprint).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `forces` for
+    /// another length or a non-finite force; the evaluation's errors.
+    pub fn with_load_added(mut self, forces: &[f64]) -> crate::Result<Self> {
+        if forces.len() != self.rates.g0.len() || !forces.iter().all(|f| f.is_finite()) {
+            return Err(crate::error::invalid(
+                "forces",
+                format!(
+                    "{} forces for {} slip unknowns, every one finite",
+                    forces.len(),
+                    self.rates.g0.len()
+                ),
+            ));
+        }
+        for (g, f) in self.rates.g0.iter_mut().zip(forces) {
+            *g += f;
+        }
+        if let Some(change) = self.rates.load_change.as_mut() {
+            change.add_to_base(forces);
+        }
+        let t = self.state.time;
+        let y = self.y.clone();
+        let mut dy = vec![0.0; y.len()];
+        self.system().rate(t, &y, &mut dy)?;
+        self.dy = dy;
+        if self.state.step > 0 {
+            self.rk.restart(self.state.tau);
+        }
+        self.fill_state(false)?;
+        Ok(self)
+    }
+
     /// The run with the load of its slip unknowns changed by `h(t) f` from now on
     /// ([`LoadChange`]; it replaces an earlier one): the rate at the current point is
     /// evaluated again with it, and the steps end at its breakpoints; after steps were
