@@ -194,6 +194,8 @@ fn tnnmg_and_the_direct_solver_agree_on_a_velocity_step_with_an_internal_fault()
 // ---------------------------------------------------------------------------------------
 // The internal fault inside the model (`ModelBuilder::internal_fault`).
 
+use crate::common::{assert_first_order, implicit_slip_errors, LastSlip, QuasiDynamic};
+use rsf::normal_stress::NormalStress;
 use rsf::simulation::NoState;
 use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
 
@@ -377,41 +379,12 @@ fn an_internal_fault_refuses_what_does_not_fit() {
     ));
 }
 
-/// The last step's slip of every frictional node (m).
-#[derive(Default)]
-struct LastSlip(Vec<f64>);
-
-impl rsf::Observer<2> for LastSlip {
-    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
-        self.0 = (0..s.model.frictional_boundary.len())
-            .map(|k| s.slip(k)[0].hypot(s.slip(k)[1]))
-            .collect();
-        Ok(rsf::Flow::Continue(()))
-    }
-}
-
 /// The quasi-dynamic problem on the sheared block's internal fault (velocity
 /// strengthening, a = 0.015 > b = 0.01, f₀ = 0.1 so that the loading reaches the friction
 /// after about 1.3 s, the regularised law, aging law, radiation damping μ/(2c_s)) as a
-/// builder, the state steady at 1e-4 m/s.
-fn quasi_dynamic(
-) -> SimulationBuilder<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::time::Quasistatic, 2> {
-    let model = sheared_block(0.0).unwrap();
-    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
-    let params = rsf::friction::RateStateParams {
-        mu0: 0.1,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: 5e6,
-    };
-    SimulationBuilder::new(model)
-        .friction(rsf::friction::AsinhLaw::new(params).unwrap())
-        .state_law(rsf::state::Aging::new(params.l).unwrap())
-        .initial_state((params.l / 1e-4f64).ln())
-        .integrator(rsf::time::Quasistatic::new())
-        .radiation_damping(mu / (2.0 * c_s))
+/// builder, the state steady at 1e-4 m/s: `normal_stress`'s with the laws' σ̄_n.
+fn quasi_dynamic() -> QuasiDynamic<2> {
+    crate::normal_stress::quasi_dynamic(sheared_block(0.0).unwrap(), NormalStress::Fixed)
 }
 
 /// The two engines on an internal fault: the fault ODE (the volume condensed onto the
@@ -437,31 +410,6 @@ fn the_fault_ode_and_the_implicit_scheme_agree_on_an_internal_fault() {
         &mut [&mut reference],
     )
     .unwrap();
-    let scale = reference.0.iter().fold(0.0f64, |m, &x| m.max(x));
-    assert!(scale > 0.0);
-    let mut errors = Vec::new();
-    for steps in [25, 50, 100, 200] {
-        let mut sim = quasi_dynamic()
-            .time_step(t_end / steps as f64)
-            .solver(SolverKind::Direct)
-            .build()
-            .unwrap();
-        let mut last = LastSlip::default();
-        sim.run(steps, &mut [&mut last]).unwrap();
-        let e = last
-            .0
-            .iter()
-            .zip(&reference.0)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            / scale;
-        eprintln!(
-            "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
-        );
-        errors.push(e);
-    }
-    for w in errors.windows(2) {
-        let rate = (w[0] / w[1]).log2();
-        eprintln!("rate {rate:.3}");
-        assert!(rate > 0.8, "{errors:?}");
-    }
+    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference.0);
+    assert_first_order(&errors);
 }

@@ -428,15 +428,7 @@ pub fn with_buried_fault(builder: rsf::ModelBuilder<3>) -> rsf::ModelBuilder<3> 
             rsf::Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9),
             [0.0; 3],
         )
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(0.5, (-0.5, 0.5)))
 }
 
 /// The 2 m cube `[-1, 1]³` of `n³` boxes refined `levels` times, with
@@ -444,4 +436,137 @@ pub fn with_buried_fault(builder: rsf::ModelBuilder<3>) -> rsf::ModelBuilder<3> 
 pub fn cube_with_buried_fault(n: usize, levels: usize) -> rsf::ModelBuilder<3> {
     let mesh = rsf::fem::cuboid([-1.0; 3], [2.0; 3], [n + 1; 3]).unwrap();
     with_buried_fault(rsf::ModelBuilder::refined(mesh, levels).unwrap())
+}
+
+/// The quasi-dynamic builder of the internal-fault tests (`normal_stress::quasi_dynamic`).
+pub type QuasiDynamic<const D: usize> = rsf::SimulationBuilder<
+    D,
+    rsf::friction::AsinhLaw,
+    rsf::state::Aging,
+    rsf::time::Quasistatic,
+    D,
+>;
+
+/// The last step's slip length (m) of every frictional node: the hypotenuse of its slip
+/// components, taken one component at a time.
+#[derive(Default)]
+pub struct LastSlip(pub Vec<f64>);
+
+impl<const D: usize> Observer<D> for LastSlip {
+    fn observe(&mut self, s: &StepView<'_, D, D>) -> rsf::Result<rsf::Flow> {
+        self.0 = (0..s.model.frictional_boundary.len())
+            .map(|k| s.slip(k).iter().fold(0.0f64, |h, &c| h.hypot(c)))
+            .collect();
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// The largest `|a_i − b_i|`.
+pub fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The last slip lengths ([`LastSlip`]) of `builder`'s implicit scheme (its integrator,
+/// the direct solver) run to `t_end` in `steps` fixed steps.
+pub fn implicit_last_slip<const D: usize>(
+    builder: QuasiDynamic<D>,
+    t_end: f64,
+    steps: usize,
+) -> Vec<f64> {
+    let mut sim = builder
+        .time_step(t_end / steps as f64)
+        .solver(SolverKind::Direct)
+        .build()
+        .unwrap();
+    let mut last = LastSlip::default();
+    sim.run(steps, &mut [&mut last]).unwrap();
+    last.0
+}
+
+/// [`implicit_last_slip`] of `builder()` for each number of steps of `steps`: its largest
+/// distance from `reference`, relative to `reference`'s largest slip, one per count.
+pub fn implicit_slip_errors<const D: usize>(
+    builder: impl Fn() -> QuasiDynamic<D>,
+    t_end: f64,
+    steps: &[usize],
+    reference: &[f64],
+) -> Vec<f64> {
+    let scale = reference.iter().fold(0.0f64, |m, &x| m.max(x));
+    assert!(scale > 0.0);
+    steps
+        .iter()
+        .map(|&steps| {
+            let slip = implicit_last_slip(builder(), t_end, steps);
+            let e = largest_difference(&slip, reference) / scale;
+            eprintln!(
+                "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
+            );
+            e
+        })
+        .collect()
+}
+
+/// Asserts that `errors`, one per halving of τ, fall at an observed order above 0.8.
+pub fn assert_first_order(errors: &[f64]) {
+    for w in errors.windows(2) {
+        let rate = (w[0] / w[1]).log2();
+        eprintln!("rate {rate:.3}");
+        assert!(rate > 0.8, "{errors:?}");
+    }
+}
+
+/// Every file under `dir` (recursively) with its bytes.
+pub fn snapshot(dir: &Path) -> std::collections::BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(snapshot(&p));
+        } else {
+            out.insert(p.clone(), std::fs::read(&p).unwrap());
+        }
+    }
+    out
+}
+
+/// The observers of a resumable run of the slider into `dir`: the series at x0
+/// (`x0.csv`), the frictional profile over `window` every 3 steps (`profile.csv`) and a
+/// checkpoint every `every` steps (`checkpoint.bin`). With `resume`, `sim` is first
+/// restored from that checkpoint and both files are continued from its step.
+pub fn resumable_observers(
+    sim: &mut Sim,
+    dir: &Path,
+    window: (f64, f64),
+    every: usize,
+    resume: bool,
+) -> (
+    PointSeries<2>,
+    Every<FrictionalProfile<2>>,
+    Every<Checkpointer>,
+) {
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
+    let ckpt = dir.join("checkpoint.bin");
+    let mode = if resume {
+        let c = rsf::Checkpoint::read(&ckpt).unwrap();
+        sim.restore(&c).unwrap();
+        FileMode::Resume { step: c.state.step }
+    } else {
+        FileMode::Create
+    };
+    let series = PointSeries::new(&dir.join("x0.csv"), sim.model(), x0, mode).unwrap();
+    let profile = Every::new(
+        Interval::Steps(3),
+        FrictionalProfile::new(&dir.join("profile.csv"), window, mode).unwrap(),
+    )
+    .unwrap();
+    let checkpointer = Every::new(Interval::Steps(every), Checkpointer::new(&ckpt)).unwrap();
+    (series, profile, checkpointer)
+}
+
+/// The rectangle `|y| ≤ y`, `z0 ≤ z ≤ z1` of the plane `x = 0` (m), its corners in the
+/// order `internal_fault_polygon` takes: `(−y, z0)`, `(y, z0)`, `(y, z1)`, `(−y, z1)`.
+pub fn plane_x0(y: f64, (z0, z1): (f64, f64)) -> [[f64; 3]; 4] {
+    [[0.0, -y, z0], [0.0, y, z0], [0.0, y, z1], [0.0, -y, z1]]
 }
