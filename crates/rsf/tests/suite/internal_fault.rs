@@ -194,7 +194,10 @@ fn tnnmg_and_the_direct_solver_agree_on_a_velocity_step_with_an_internal_fault()
 // ---------------------------------------------------------------------------------------
 // The internal fault inside the model (`ModelBuilder::internal_fault`).
 
-use crate::common::{assert_first_order, implicit_slip_errors, LastSlip, QuasiDynamic};
+use crate::common::{
+    assert_first_order, fault_ode_last_slip, history_difference, implicit_slip_errors,
+    partly_stuck_history, QuasiDynamic,
+};
 use rsf::normal_stress::NormalStress;
 use rsf::simulation::NoState;
 use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
@@ -300,28 +303,8 @@ fn slip_history(theta: f64, solver: SolverKind) -> Vec<Vec<f64>> {
 #[test]
 fn a_model_with_an_internal_fault_slips_the_same_with_both_solvers_and_turned() {
     let direct = slip_history(0.0, SolverKind::Direct);
-    let largest = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
-    // The slipping pairs per step: the slip starts somewhere along the fault and spreads.
-    let slipping: Vec<usize> = direct
-        .iter()
-        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
-        .collect();
-    eprintln!(
-        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
-        direct[0].len()
-    );
-    assert!(largest > 0.0);
-    assert!(
-        slipping.iter().any(|&k| k > 0 && k < direct[0].len()),
-        "partly stuck at some step"
-    );
-    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| {
-        a.iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-            / largest
-    };
+    let largest = partly_stuck_history(&direct);
+    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| history_difference(a, b) / largest;
     let tnnmg = slip_history(0.0, SolverKind::Tnnmg);
     let d = differs(&direct, &tnnmg);
     eprintln!("TNNMG against direct: {d:e} of the largest slip");
@@ -393,23 +376,11 @@ fn quasi_dynamic() -> QuasiDynamic<2> {
 #[test]
 fn the_fault_ode_and_the_implicit_scheme_agree_on_an_internal_fault() {
     let t_end = 3.0;
-    let mut ode = quasi_dynamic()
-        .time_step(1e-3)
-        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
-            tolerance: 1e-9,
-            ..Default::default()
-        })
-        .unwrap();
-    let mut reference = LastSlip::default();
-    rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut reference],
-    )
-    .unwrap();
-    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference.0);
+    let until = rsf::Until::TimeWithin {
+        time: t_end,
+        max_steps: 500_000,
+    };
+    let (reference, _) = fault_ode_last_slip(quasi_dynamic(), until);
+    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference);
     assert_first_order(&errors);
 }

@@ -6,8 +6,9 @@
 //! fault, the fault never opens, and the same problem turned by a rotation slips the same;
 //! the fault ODE (condensed onto the jumps) and the implicit scheme agree.
 use crate::common::{
-    assert_first_order, implicit_last_slip, implicit_slip_errors, largest_difference, LastSlip,
-    QuasiDynamic,
+    assert_first_order, assert_first_order_with_normal_stress, fault_ode_last_slip,
+    history_difference, implicit_last_slip, implicit_slip_errors, largest_difference,
+    partly_stuck_history, QuasiDynamic,
 };
 use rsf::fem::{cuboid, SimplexMesh};
 use rsf::friction::Tresca;
@@ -221,32 +222,13 @@ fn slip_history(angle: f64, solver: SolverKind) -> Vec<Vec<f64>> {
 #[test]
 fn a_buried_3d_fault_slips_the_same_with_both_solvers_and_turned() {
     let direct = slip_history(0.0, SolverKind::Direct);
-    let largest = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
-    let slipping: Vec<usize> = direct
-        .iter()
-        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
-        .collect();
-    eprintln!(
-        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
-        direct[0].len()
-    );
+    let largest = partly_stuck_history(&direct);
     assert_eq!(
         direct[0].len(),
         9,
         "3 × 3 inner vertices split, the rim's 16 tips"
     );
-    assert!(largest > 0.0);
-    assert!(
-        slipping.iter().any(|&k| k > 0 && k < direct[0].len()),
-        "partly stuck at some step"
-    );
-    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| {
-        a.iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-            / largest
-    };
+    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| history_difference(a, b) / largest;
     let tnnmg = slip_history(0.0, SolverKind::Tnnmg);
     let d = differs(&direct, &tnnmg);
     eprintln!("TNNMG against direct: {d:e} of the largest slip");
@@ -320,19 +302,9 @@ pub(crate) fn quasi_dynamic() -> QuasiDynamic<3> {
 #[test]
 fn the_fault_ode_and_the_implicit_scheme_agree_on_a_3d_internal_fault() {
     let t_end = 3.0;
-    let mut ode = quasi_dynamic()
-        .time_step(1e-3)
-        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
-            tolerance: 1e-9,
-            ..Default::default()
-        })
-        .unwrap();
-    let mut reference = LastSlip::default();
-    let steps = rsf::run_until(&mut ode, within(t_end), &mut [&mut reference])
-        .unwrap()
-        .steps;
+    let (reference, steps) = fault_ode_last_slip(quasi_dynamic(), within(t_end));
     eprintln!("the fault ODE: {steps} steps");
-    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference.0);
+    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference);
     assert_first_order(&errors);
 }
 
@@ -352,12 +324,7 @@ fn radiation_damping_per_node_is_the_same_physics_in_both_engines() {
         tolerance: 1e-9,
         ..Default::default()
     };
-    let ode_slip = |builder: SimulationBuilder<3, _, _, _, 3>| {
-        let mut ode = builder.time_step(1e-3).build_fault_ode(options).unwrap();
-        let mut last = LastSlip::default();
-        rsf::run_until(&mut ode, within(t_end), &mut [&mut last]).unwrap();
-        last.0
-    };
+    let ode_slip = |builder| fault_ode_last_slip(builder, within(t_end)).0;
     let reference = ode_slip(quasi_dynamic().radiation_damping_at(varying));
     let uniform = ode_slip(quasi_dynamic().radiation_damping(eta0));
     let scale = reference.iter().fold(0.0f64, |m, &x| m.max(x));
@@ -482,14 +449,7 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
     let effect = largest_difference(&uncoupled.0, &reference.0) / slip_scale;
     eprintln!("fixed σ̄_n against σ̄_n from slip (fault ODE): slip differs by {effect:.3e}");
     assert!(effect > 100.0 * errors[3].0, "{effect:e}");
-    for w in errors.windows(2) {
-        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
-        eprintln!(
-            "rates {:.3} (slip), {:.3} (normal stress)",
-            rates.0, rates.1
-        );
-        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
-    }
+    assert_first_order_with_normal_stress(&errors);
 }
 
 /// The faces of `mesh` whose three vertices satisfy `on` (a convex piece of a plane).

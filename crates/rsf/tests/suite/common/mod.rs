@@ -570,3 +570,65 @@ pub fn resumable_observers(
 pub fn plane_x0(y: f64, (z0, z1): (f64, f64)) -> [[f64; 3]; 4] {
     [[0.0, -y, z0], [0.0, y, z0], [0.0, y, z1], [0.0, -y, z1]]
 }
+
+/// The largest slip (m) of a slip history (per step a row of the frictional nodes' slip
+/// lengths), once the fault is seen to slip and, at some step, to be partly stuck (some
+/// but not all nodes above 1e-9 of that largest slip); the slipping nodes per step printed.
+pub fn partly_stuck_history(history: &[Vec<f64>]) -> f64 {
+    let largest = history.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    let slipping: Vec<usize> = history
+        .iter()
+        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
+        .collect();
+    eprintln!(
+        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
+        history[0].len()
+    );
+    assert!(largest > 0.0);
+    assert!(
+        slipping.iter().any(|&k| k > 0 && k < history[0].len()),
+        "partly stuck at some step"
+    );
+    largest
+}
+
+/// The largest `|a − b|` of two slip histories, step by step and node by node.
+pub fn history_difference(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The last slip lengths ([`LastSlip`]) of `builder`'s fault ODE (first step 1e-3 s,
+/// tolerance 1e-9) run until `until`, and its number of steps.
+pub fn fault_ode_last_slip<const D: usize>(
+    builder: QuasiDynamic<D>,
+    until: rsf::Until,
+) -> (Vec<f64>, usize) {
+    let mut ode = builder
+        .time_step(1e-3)
+        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
+            tolerance: 1e-9,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut last = LastSlip::default();
+    let steps = rsf::run_until(&mut ode, until, &mut [&mut last])
+        .unwrap()
+        .steps;
+    (last.0, steps)
+}
+
+/// Asserts that `errors` (slip, normal stress), one pair per halving of τ, both fall at an
+/// observed order above 0.8.
+pub fn assert_first_order_with_normal_stress(errors: &[(f64, f64)]) {
+    for w in errors.windows(2) {
+        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
+        eprintln!(
+            "rates {:.3} (slip), {:.3} (normal stress)",
+            rates.0, rates.1
+        );
+        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
+    }
+}
