@@ -106,6 +106,16 @@ pub fn build(scene: &SliderScene) -> Sim {
     scene.build().expect("the scene builds")
 }
 
+/// The simulation of `scene` with the solver `options` instead of the scene's.
+pub fn build_with_options(scene: &SliderScene, options: rsf::method::SolverOptions) -> Sim {
+    scene
+        .simulation_builder()
+        .unwrap()
+        .solver_options(options)
+        .build()
+        .unwrap()
+}
+
 /// The friction law of Γ_F of a scene (uniform fault).
 pub fn friction_law(scene: &SliderScene) -> DieterichRuina {
     DieterichRuina::new(scene.rate_state_params()).expect("valid parameters")
@@ -630,5 +640,73 @@ pub fn assert_first_order_with_normal_stress(errors: &[(f64, f64)]) {
             rates.0, rates.1
         );
         assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
+    }
+}
+
+/// `f` run in a rayon pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// Whether two sparse matrices are the same to the bit: shape, pattern and values.
+pub fn same_bits(a: &SparseMatrix, b: &SparseMatrix) -> bool {
+    a.nrows() == b.nrows()
+        && a.ncols() == b.ncols()
+        && a.symbolic().col_ptr() == b.symbolic().col_ptr()
+        && a.symbolic().row_idx() == b.symbolic().row_idx()
+        && a.val()
+            .iter()
+            .zip(b.val())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// The small BP1 ([`small_bp1`]) made velocity strengthening everywhere (a = 0.025 >
+/// b = 0.015) and started off steady state (V_init = V_p/10).
+pub fn creeping_bp1() -> (rsf_scenes::SeasBp1, rsf_scenes::SeasBp1Grid) {
+    small_bp1(&rsf_scenes::SeasBp1 {
+        a0: 0.025,
+        v_init: 1e-10,
+        ..rsf_scenes::SeasBp1::default()
+    })
+}
+
+/// How far the fault of `model` (antiplane) is from steady creep at the plate rate: the largest
+/// `|V/V_p − 1|` of the slip rates `v`, and the largest `|μ/μ_ss − 1|` of the friction
+/// coefficients of `laws` at `v` and the states `alpha` against each node's steady-state
+/// friction at V_p (`bp1`'s law at the node's depth).
+pub fn steady_creep_errors(
+    bp1: &rsf_scenes::SeasBp1,
+    model: &rsf::Model<2, 1>,
+    v: &[f64],
+    alpha: &[f64],
+    laws: &[rsf::friction::AsinhLaw],
+) -> (f64, f64) {
+    let worst_v = v
+        .iter()
+        .map(|v| (v / bp1.v_p - 1.0).abs())
+        .fold(0.0, f64::max);
+    let mut worst_tau: f64 = 0.0;
+    for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
+        let law = rsf::friction::AsinhLaw::new(bp1.params(model.vertices[p][1])).unwrap();
+        let steady = law.friction_coefficient(bp1.v_p, (bp1.d_c / bp1.v_p).ln());
+        let now = laws[k].friction_coefficient(v[k], alpha[k]);
+        worst_tau = worst_tau.max((now / steady - 1.0).abs());
+    }
+    (worst_v, worst_tau)
+}
+
+/// TNNMG as the paper runs it but tighter: relative 1e-12 in the energy norm.
+pub fn tight_tnnmg() -> rsf::tnnmg::TnnmgOptions {
+    rsf::tnnmg::TnnmgOptions {
+        stopping: rsf::nonsmooth::Stopping {
+            absolute: 0.0,
+            relative: 1e-12,
+            max_iterations: 200,
+        },
+        ..rsf::tnnmg::TnnmgOptions::default()
     }
 }
