@@ -22,7 +22,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{
-    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
+    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SliderArgs, TimeStepArgs,
 };
 use rsf_scenes::{arc_block_model, ARC_BLOCK_MESH};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
@@ -32,9 +32,7 @@ use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
-    #[command(flatten)]
-    time_step: TimeStepArgs,
+    slider: SliderArgs,
     /// The Gmsh MSH 4.1 mesh of the block (physical groups `frictional` on the arc of
     /// radius 10 m about (2.5, 10), `dirichlet` on top, `neumann` on the sides).
     #[arg(long, default_value = ARC_BLOCK_MESH)]
@@ -50,9 +48,7 @@ fn main() -> ExitCode {
 impl Cli {
     /// The scene of the flags.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        Ok(self
-            .time_step
-            .apply(self.scene.scene(SliderScene::default())?)?)
+        self.slider.scene(SliderScene::default())
     }
 
     /// The output folder.

@@ -24,7 +24,7 @@ use clap::Parser;
 use rsf::{Observer, StepView, Until};
 use rsf_programs::estimates::{slider_memory, slider_what};
 use rsf_programs::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
-use rsf_programs::{SceneArgs, TimeStepArgs};
+use rsf_programs::SliderArgs;
 use rsf_scenes::inclined_slider_model;
 use rsf_scenes::{SceneSimulation, Slider3dScene, SliderScene};
 
@@ -33,9 +33,7 @@ use rsf_scenes::{SceneSimulation, Slider3dScene, SliderScene};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
-    #[command(flatten)]
-    time_step: TimeStepArgs,
+    slider: SliderArgs,
     /// Spatial dimension: 2 (the paper's slider) or 3 (the 3-D slider).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
     dim: u8,
@@ -49,9 +47,7 @@ struct Cli {
 impl Cli {
     /// The scene of the flags.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        Ok(self
-            .time_step
-            .apply(self.scene.scene(SliderScene::default())?)?)
+        self.slider.scene(SliderScene::default())
     }
 }
 

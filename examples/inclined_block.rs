@@ -40,7 +40,7 @@ use rsf::fem::ConstrainedSystem;
 use rsf::Model;
 use rsf_programs::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{
-    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SceneArgs, TimeStepArgs,
+    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SliderArgs, TimeStepArgs,
 };
 use rsf_scenes::SliderScene;
 use rsf_scenes::{inclined_centre, inclined_slider_model};
@@ -50,9 +50,7 @@ use rsf_scenes::{inclined_centre, inclined_slider_model};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
-    #[command(flatten)]
-    time_step: TimeStepArgs,
+    slider: SliderArgs,
     /// Dip of the base (degrees, |dip| < 90; positive: descending in the loading direction).
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     dip: f64,
@@ -100,9 +98,7 @@ fn main() -> ExitCode {
 impl Cli {
     /// The scene of the flags.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        Ok(self
-            .time_step
-            .apply(self.scene.scene(SliderScene::default())?)?)
+        self.slider.scene(SliderScene::default())
     }
 
     /// The output folder.

@@ -35,7 +35,7 @@ use rsf::{Flow, Observer, StepView, Termination};
 use rsf_programs::cli::{for_flag, positive_number, step_count};
 use rsf_programs::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
 use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{line_plot, Labels, PanelLayout, SceneArgs, Series, TimeStepArgs};
+use rsf_programs::{line_plot, Labels, PanelLayout, Series, SliderArgs, TimeStepArgs};
 use rsf_scenes::step_cap;
 use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
 
@@ -44,9 +44,7 @@ use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
-    #[command(flatten)]
-    time_step: TimeStepArgs,
+    slider: SliderArgs,
     /// Also run fixed τ = T_ref/N (T_ref = `--compare-until`) and compare the catalogues.
     #[arg(long, value_parser = step_count, value_name = "N")]
     reference_steps: Option<usize>,
@@ -102,7 +100,7 @@ impl Cli {
             end_time_s: 200.0,
             ..SliderScene::default()
         };
-        let mut scene = self.time_step.apply(self.scene.scene(base)?)?;
+        let mut scene = self.slider.scene(base)?;
         if scene.time_step == (TimeStep::Fixed {}) {
             scene.time_step = TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep {
                 slip_rate_floor_mps: f64::INFINITY,
@@ -110,7 +108,7 @@ impl Cli {
             });
         }
         scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
-        self.scene.named(scene.validate())?;
+        self.slider.scene.named(scene.validate())?;
         // The first step T/N of the adaptive steps below their smallest step (e.g.
         // `steps = 1e12`) would be refused by the controller only after the set-up.
         if let TimeStep::Adaptive(a) = scene.time_step {

@@ -42,7 +42,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::mesh::TetrahedronMesh;
-use crate::{Error, Result};
+use crate::{Error, Result, KUHN_PATHS};
 
 mod levels;
 
@@ -125,20 +125,12 @@ impl BisectionMesh {
             }
         }
         let stride = [1, n[0], n[0] * n[1]];
-        const PATHS: [[usize; 3]; 6] = [
-            [0, 1, 2],
-            [0, 2, 1],
-            [1, 0, 2],
-            [1, 2, 0],
-            [2, 0, 1],
-            [2, 1, 0],
-        ];
         let mut cells = Vec::with_capacity(6 * (n[0] - 1) * (n[1] - 1) * (n[2] - 1));
         for k in 0..n[2] - 1 {
             for j in 0..n[1] - 1 {
                 for i in 0..n[0] - 1 {
                     let p = i + n[0] * (j + n[1] * k);
-                    for path in PATHS {
+                    for path in KUHN_PATHS {
                         let mut cell = [p as u32; 4];
                         let mut v = p;
                         for (s, axis) in path.into_iter().enumerate() {

@@ -94,5 +94,5 @@ pub use split_transform::{JunctionBlocks, MeanJumpTransform, SectorBlocks};
 pub use structured::{
     cuboid, cuboid_from_coordinates, cuboid_mirrored, geometric_grading, geometric_grading_len,
     pipping_slider_coarse, rectangle, rectangle_from_coordinates, symmetric_grading, Diagonal,
-    MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
+    KUHN_PATHS, MAX_GRADED_COORDINATES, TAG_DIRICHLET, TAG_FRICTIONAL, TAG_NEUMANN,
 };

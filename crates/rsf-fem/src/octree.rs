@@ -35,7 +35,7 @@
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use crate::mesh::TetrahedronMesh;
-use crate::{Error, Result};
+use crate::{Error, Result, KUHN_PATHS};
 
 /// Levels below a root cube: integer coordinates are in units of `root / 2^MAX_LEVEL`.
 const MAX_LEVEL: u32 = 30;
@@ -339,15 +339,7 @@ impl OctreeMesh {
             let transition = cube_faces(c, h, &lattice, &mut triangles);
             if !transition {
                 // The six Kuhn paths from the lowest corner, as `cuboid`'s.
-                const PATHS: [[usize; 3]; 6] = [
-                    [0, 1, 2],
-                    [0, 2, 1],
-                    [1, 0, 2],
-                    [1, 2, 0],
-                    [2, 0, 1],
-                    [2, 1, 0],
-                ];
-                for path in PATHS {
+                for path in KUHN_PATHS {
                     let mut p = c;
                     cells.push(vertex(p, &mut vertices));
                     for axis in path {

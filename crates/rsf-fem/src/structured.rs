@@ -461,6 +461,18 @@ pub fn cuboid_mirrored(
     SimplexMesh::from_ordered_cells(mesh.vertices().to_vec(), cells)
 }
 
+/// Kuhn's subdivision of a box into six tetrahedra: the orders in which the paths from the
+/// box's first corner to its last step along the axes (0, 1, 2 = x, y, z), one tetrahedron
+/// per path (its vertices the corners the path visits).
+pub const KUHN_PATHS: [[usize; 3]; 6] = [
+    [0, 1, 2],
+    [0, 2, 1],
+    [1, 0, 2],
+    [1, 2, 0],
+    [2, 0, 1],
+    [2, 1, 0],
+];
+
 /// The six tetrahedra of each box of an `nx × ny × nz` vertex grid (vertex
 /// `i + nx (j + ny k)`), four vertex indices each: one per path from the box's first to its
 /// last corner along the axes (Kuhn's subdivision).
@@ -478,14 +490,6 @@ fn kuhn_cells(nx: usize, ny: usize, nz: usize) -> Vec<usize> {
 /// down it.
 fn kuhn_cells_mirrored(nx: usize, ny: usize, nz: usize, mirror: [&[bool]; 3]) -> Vec<usize> {
     let stride = [1, nx, nx * ny];
-    const PERMUTATIONS: [[usize; 3]; 6] = [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ];
     let mut cells = Vec::with_capacity(24 * (nx - 1) * (ny - 1) * (nz - 1));
     for k in 0..nz - 1 {
         for j in 0..ny - 1 {
@@ -497,7 +501,7 @@ fn kuhn_cells_mirrored(nx: usize, ny: usize, nz: usize, mirror: [&[bool]; 3]) ->
                         p += stride[a];
                     }
                 }
-                for perm in PERMUTATIONS {
+                for perm in KUHN_PATHS {
                     let mut v = p;
                     cells.push(v);
                     for axis in perm {

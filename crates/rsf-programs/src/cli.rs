@@ -325,6 +325,29 @@ impl TimeStepArgs {
     }
 }
 
+/// The flags of a slider run's scene and its time steps: [`SceneArgs`] (`--scene`,
+/// `--level`, …) and [`TimeStepArgs`] (`--steps`, `--adaptive`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SliderArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub time_step: TimeStepArgs,
+}
+
+impl SliderArgs {
+    /// `base` (or the `--scene` file) with the scene flags, then the time-step flags
+    /// applied, validated.
+    ///
+    /// # Errors
+    /// As [`SceneArgs::scene`] and [`TimeStepArgs::apply`].
+    pub fn scene(&self, base: SliderScene) -> Result<SliderScene, Box<dyn std::error::Error>> {
+        Ok(self.time_step.apply(self.scene.scene(base)?)?)
+    }
+}
+
 /// The step counts N (τ = T/N) of a time-step study.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepCounts {

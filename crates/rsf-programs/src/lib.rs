@@ -61,7 +61,8 @@ pub mod stepover;
 #[cfg(feature = "seas")]
 pub use cli::SeasHeaderArgs;
 pub use cli::{
-    FrameArgs, IntegratorArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, TimeStepArgs,
+    FrameArgs, IntegratorArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SliderArgs,
+    TimeStepArgs,
 };
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};

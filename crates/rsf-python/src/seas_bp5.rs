@@ -75,7 +75,9 @@ impl Volume<'_> {
             }
         };
         let ordering = match self.ordering {
-            None => run.ordering,
+            // The program's default: nested dissection where METIS is built (this
+            // package's default feature `metis`), else AMD.
+            None => rsf::fault_ode::InteriorOrdering::fastest_built(),
             Some(o) => o.parse().map_err(|e| invalid("ordering", e))?,
         };
         Ok(SeasBp5Run {
@@ -118,9 +120,9 @@ impl Volume<'_> {
 /// `integrator`, `threads` (default: every core; the same bits for every value),
 /// `modeler`, `date`; with `kernel="fe"` also `domain_km` (default 400), `ratio` (1.3),
 /// `mesh` "graded" or "tensor", `condensation` "schur-only" (its elimination kept as
-/// `setup.bin` in `out`) or "factor", `ordering` "amd" (this package's default: it is
-/// built without METIS) or "nested-dissection", `fault_zone_width_km` with
-/// `fault_zone_rigidity`. With `out`, the benchmark's files (ten on-fault and nine
+/// `setup.bin` in `out`) or "factor", `ordering` "amd" or "nested-dissection" (the
+/// default where METIS is built, as this package is by default: feature `metis`),
+/// `fault_zone_width_km` with `fault_zone_rigidity`. With `out`, the benchmark's files (ten on-fault and nine
 /// off-fault stations, `global.dat`, the profiles, `rupture.dat`, `events.csv` and their
 /// resume log) are written there as the program writes them, at the end of every
 /// `run`/`advance` call; `overwrite`, `resume`, `allow_change` as for `seas_bp1` (a

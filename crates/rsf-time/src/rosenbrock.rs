@@ -34,7 +34,7 @@
 
 use crate::krylov::{BlockFactors, Gmres, JacobianBlocks, LinearOperator};
 use crate::runge_kutta::{
-    accepted_next, after_refusal, check_step, landing_step, rejected_next, OdeSystem,
+    accepted_next, after_refusal, check_step, next_attempt, rejected_next, OdeSystem,
     RungeKuttaOptions, RungeKuttaState, RungeKuttaStep,
 };
 use crate::{Error, Result};
@@ -387,15 +387,7 @@ impl Rosenbrock {
         let mut krylov_iterations = 0;
         let mut rejected_error = 0.0;
         loop {
-            let proposal = self.state.dt.min(o.dt_max);
-            let (dt, landing) = landing_step(*t, proposal, t_end);
-            if !(dt >= o.dt_min) && !landing {
-                return Err(Error::StepTooSmall {
-                    tau: dt,
-                    tau_min: o.dt_min,
-                }
-                .into());
-            }
+            let (dt, landing) = next_attempt(&o, *t, self.state.dt, t_end)?;
             let attempt = self.attempt(sys, (*t, dt), y)?;
             evaluations += attempt.evaluations;
             krylov_iterations += attempt.krylov_iterations;

@@ -432,15 +432,7 @@ impl EmbeddedRungeKutta {
         let mut refused = 0;
         let mut rejected_error = 0.0;
         loop {
-            let proposal = self.state.dt.min(o.dt_max);
-            let (dt, landing) = landing_step(*t, proposal, t_end);
-            if !(dt >= o.dt_min) && !landing {
-                return Err(Error::StepTooSmall {
-                    tau: dt,
-                    tau_min: o.dt_min,
-                }
-                .into());
-            }
+            let (dt, landing) = next_attempt(&o, *t, self.state.dt, t_end)?;
             // Stages 2..s; the last stage's argument is the new solution (FSAL).
             let mut finite = true;
             let mut refusal = None;
@@ -589,6 +581,33 @@ pub(crate) fn landing_step(t: f64, proposal: f64, t_end: Option<f64>) -> (f64, b
         Some(te) if t + proposal >= te - 1e-12 * proposal => (te - t, true),
         _ => (proposal, false),
     }
+}
+
+/// The step to attempt from `t`: the controller's `proposal` capped at `dt_max` and
+/// [`landing_step`]'s, with whether it lands on `t_end`.
+///
+/// # Errors
+/// [`Error::StepTooSmall`] for a step below `dt_min` that does not land on `t_end`.
+pub(crate) fn next_attempt(
+    o: &RungeKuttaOptions,
+    t: f64,
+    proposal: f64,
+    t_end: Option<f64>,
+) -> Result<(f64, bool)> {
+    let (dt, landing) = landing_step(t, proposal.min(o.dt_max), t_end);
+    check_step_size(o, dt, landing)?;
+    Ok((dt, landing))
+}
+
+/// [`Error::StepTooSmall`] for a step `dt` below `dt_min` that does not land on `t_end`.
+pub(crate) fn check_step_size(o: &RungeKuttaOptions, dt: f64, landing: bool) -> Result<()> {
+    if !(dt >= o.dt_min) && !landing {
+        return Err(Error::StepTooSmall {
+            tau: dt,
+            tau_min: o.dt_min,
+        });
+    }
+    Ok(())
 }
 
 /// The next step after the `refused`-th refused attempt of a step `dt` from `time`

@@ -24,7 +24,8 @@
 //! stage count needs; it costs a few evaluations per estimate.
 
 use crate::runge_kutta::{
-    after_refusal, check_step, landing_step, OdeSystem, RungeKuttaOptions, RungeKuttaStep,
+    after_refusal, check_step, check_step_size, landing_step, OdeSystem, RungeKuttaOptions,
+    RungeKuttaStep,
 };
 use crate::{Error, Result};
 
@@ -407,13 +408,7 @@ impl Rkc2 {
                 dt = ((s * s - 1) as f64 / (1.54 * rho)).min(dt);
                 landing = false;
             }
-            if !(dt >= o.dt_min) && !landing {
-                return Err(Error::StepTooSmall {
-                    tau: dt,
-                    tau_min: o.dt_min,
-                }
-                .into());
-            }
+            check_step_size(&o, dt, landing)?;
             let outcome = self.stages(sys, (*t, dt), y, s)?;
             evaluations += outcome.evaluations;
             if let Some(e) = outcome.refusal {

@@ -1,6 +1,7 @@
 //! Graded meshes by newest-vertex bisection of a Kuhn box (`BisectionMesh`). Expected values
 //! are closed forms of the geometry (volumes, areas, the Kuhn grid of half the size),
 //! never the code's own output.
+use crate::common::plane_facets;
 use rsf_fem::*;
 
 /// Sorted edge lengths divided by the longest: equal for similar tetrahedra.
@@ -148,24 +149,7 @@ fn a_plane_of_the_root_grid_stays_tiled_by_facets() {
     let mut b = BisectionMesh::kuhn_box([-1.0, -1.0, -1.0], [1.0, 1.0, 0.0], 0.5).unwrap();
     b.refine(size, 10_000_000).unwrap();
     let m = b.into_mesh().unwrap();
-    let area: f64 = m
-        .facets()
-        .iter()
-        .filter(|f| f.iter().all(|&v| m.vertices()[v][0] == 0.0))
-        .map(|f| {
-            let [p, q, r] = f.map(|v| m.vertices()[v]);
-            let (u, w) = (
-                [0, 1, 2].map(|a| q[a] - p[a]),
-                [0, 1, 2].map(|a| r[a] - p[a]),
-            );
-            let n = [
-                u[1] * w[2] - u[2] * w[1],
-                u[2] * w[0] - u[0] * w[2],
-                u[0] * w[1] - u[1] * w[0],
-            ];
-            0.5 * n.iter().map(|c| c * c).sum::<f64>().sqrt()
-        })
-        .sum();
+    let area: f64 = plane_facets(&m).iter().map(|(_, a)| a).sum();
     assert!((area - 2.0).abs() < 1e-12, "{area}");
 }
 

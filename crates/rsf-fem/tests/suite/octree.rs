@@ -1,6 +1,7 @@
 //! Graded meshes from an octree of Kuhn cubes (`OctreeMesh`). Expected values are closed
 //! forms of the geometry (volumes, areas, the tensor grid's Kuhn cells, lumped weights of
 //! a uniform grid), never the code's own output.
+use crate::common::plane_facets;
 use rsf_fem::*;
 
 /// Total area of the boundary facets: the box's surface for a conforming mesh.
@@ -15,27 +16,6 @@ fn distance_to_origin(lo: [f64; 3], hi: [f64; 3]) -> f64 {
         .map(|a| (lo[a].max(0.0) - hi[a].min(0.0)).max(0.0).powi(2))
         .sum::<f64>()
         .sqrt()
-}
-
-/// The facets in the plane `x = 0` (vertex triples) with their areas.
-fn plane_facets(m: &TetrahedronMesh) -> Vec<([usize; 3], f64)> {
-    m.facets()
-        .into_iter()
-        .filter(|f| f.iter().all(|&v| m.vertices()[v][0] == 0.0))
-        .map(|f| {
-            let [p, q, r] = f.map(|v| m.vertices()[v]);
-            let (u, w) = (
-                [0, 1, 2].map(|a| q[a] - p[a]),
-                [0, 1, 2].map(|a| r[a] - p[a]),
-            );
-            let n = [
-                u[1] * w[2] - u[2] * w[1],
-                u[2] * w[0] - u[0] * w[2],
-                u[0] * w[1] - u[1] * w[0],
-            ];
-            (f, 0.5 * n.iter().map(|c| c * c).sum::<f64>().sqrt())
-        })
-        .collect()
 }
 
 #[test]

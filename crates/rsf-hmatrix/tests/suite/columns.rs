@@ -257,14 +257,7 @@ fn stored_entries_grow_like_n_log_n() {
         assert!(h.report().columns.as_ref().unwrap().error_bound <= 1e-6);
         logs.push(((n as f64).ln(), (h.stored_entries() as f64).ln()));
     }
-    let m = logs.len() as f64;
-    let (mx, my) = logs
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / m, b + y / m));
-    let (num, den) = logs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-        (a + (x - mx) * (y - my), b + (x - mx).powi(2))
-    });
-    let slope = num / den;
+    let slope = crate::log_log_slope(&logs);
     assert!(slope < 1.3 && slope > 0.9, "stored entries ~ n^{slope}");
 }
 

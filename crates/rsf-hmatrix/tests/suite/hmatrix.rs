@@ -134,17 +134,25 @@ fn aca_meets_the_tolerance_and_agrees_with_svd() {
     }
 }
 
+/// `n` points of the plane in rows of 30, each row shifted by 0.1 against the last.
+fn sheared_grid(n: usize) -> Vec<[f64; 2]> {
+    (0..n)
+        .map(|i| [(i % 30) as f64 + 0.1 * (i / 30) as f64, (i / 30) as f64])
+        .collect()
+}
+
+/// A smooth kernel of the distance d between `x` and `y`: `1 / (d + 0.5)`.
+fn smooth_kernel(x: [f64; 2], y: [f64; 2]) -> f64 {
+    let d = ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2)).sqrt();
+    1.0 / (d + 0.5)
+}
+
 #[test]
 fn two_dimensional_points_with_a_smooth_kernel() {
     let n = 900;
-    let xy: Vec<[f64; 2]> = (0..n)
-        .map(|i| [(i % 30) as f64 + 0.1 * (i / 30) as f64, (i / 30) as f64])
-        .collect();
+    let xy = sheared_grid(n);
     let points = Points::from_array(&xy).unwrap();
-    let f = |i: usize, j: usize| {
-        let d = ((xy[i][0] - xy[j][0]).powi(2) + (xy[i][1] - xy[j][1]).powi(2)).sqrt();
-        1.0 / (d + 0.5)
-    };
+    let f = |i: usize, j: usize| smooth_kernel(xy[i], xy[j]);
     let s = Mat::from_fn(n, n, f);
     let eps = 1e-6;
     let options = HOptions::with_epsilon(eps);
@@ -175,14 +183,7 @@ fn stored_entries_grow_like_n_log_n() {
         assert!(h.report().relative_error <= 1e-6);
         logs.push(((n as f64).ln(), (h.stored_entries() as f64).ln()));
     }
-    let m = logs.len() as f64;
-    let (mx, my) = logs
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / m, b + y / m));
-    let (num, den) = logs.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
-        (a + (x - mx) * (y - my), b + (x - mx).powi(2))
-    });
-    let slope = num / den;
+    let slope = crate::log_log_slope(&logs);
     assert!(slope < 1.3 && slope > 0.9, "stored entries ~ N^{slope}");
 }
 
@@ -479,14 +480,9 @@ fn from_dense_has_the_same_bits_in_pools_of_any_size() {
 #[test]
 fn from_entries_par_has_the_bits_of_from_entries() {
     let n = 900;
-    let xy: Vec<[f64; 2]> = (0..n)
-        .map(|i| [(i % 30) as f64 + 0.1 * (i / 30) as f64, (i / 30) as f64])
-        .collect();
+    let xy = sheared_grid(n);
     let points = Points::from_array(&xy).unwrap();
-    let f = |i: usize, j: usize| {
-        let d = ((xy[i][0] - xy[j][0]).powi(2) + (xy[i][1] - xy[j][1]).powi(2)).sqrt();
-        1.0 / (d + 0.5)
-    };
+    let f = |i: usize, j: usize| smooth_kernel(xy[i], xy[j]);
     let options = HOptions::with_epsilon(1e-7);
     let bits = |h: &HMatrix| {
         let d = h.to_dense();

@@ -52,18 +52,10 @@ fn tetrahedra(m: usize) -> (usize, Vec<Vec<usize>>) {
     let n1 = m + 1;
     let id = |i: usize, j: usize, k: usize| (k * n1 + j) * n1 + i;
     let mut e = Vec::new();
-    let perms = [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ];
     for k in 0..m {
         for j in 0..m {
             for i in 0..m {
-                for perm in perms {
+                for perm in rsf_fem::KUHN_PATHS {
                     let mut x = [i, j, k];
                     let mut tet = vec![id(x[0], x[1], x[2])];
                     for axis in perm {

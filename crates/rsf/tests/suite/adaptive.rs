@@ -3,7 +3,7 @@
 //! rejects and retries failing steps without showing them to observers, stays within its
 //! bounds, and checkpoints bit-identically.
 
-use crate::common::{temp_dir, StopAt};
+use crate::common::{resumable_observers, temp_dir, StopAt};
 use rsf::friction::Tresca;
 use rsf::simulation::NoState;
 use rsf::time::{Newmark, StepControl};
@@ -448,7 +448,7 @@ fn scene_time_step_parses_defaults_and_rejects_unknown_fields() {
 /// rows carry the adaptive τ of each step).
 #[test]
 fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
-    use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
+    use rsf::observe::PointSeries;
     use rsf_scenes::{AdaptiveTimeStep, TimeStep};
     use std::path::Path;
 
@@ -466,30 +466,8 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
     let (every, stop) = (40, 130);
     let run = |dir: &Path, stop: Option<usize>, resume: bool| {
         let mut sim = scene.build().unwrap();
-        let x0 = sim
-            .model()
-            .nearest_node(&rsf_scenes::SLIDER_CENTRE)
-            .unwrap();
-        let (series_path, profile_path, ckpt) = (
-            dir.join("x0.csv"),
-            dir.join("profile.csv"),
-            dir.join("checkpoint.bin"),
-        );
-        let mode = if resume {
-            let c = Checkpoint::read(&ckpt).unwrap();
-            sim.restore(&c).unwrap();
-            FileMode::Resume { step: c.state.step }
-        } else {
-            FileMode::Create
-        };
-        let mut series = PointSeries::new(&series_path, sim.model(), x0, mode).unwrap();
-        let mut profile = Every::new(
-            Interval::Steps(3),
-            FrictionalProfile::new(&profile_path, (0.1, 0.5), mode).unwrap(),
-        )
-        .unwrap();
-        let mut checkpointer =
-            Every::new(Interval::Steps(every), Checkpointer::new(&ckpt)).unwrap();
+        let (mut series, mut profile, mut checkpointer) =
+            resumable_observers(&mut sim, dir, (0.1, 0.5), every, resume);
         let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
         sim.run_until(
             Until::TimeWithin {

@@ -3,14 +3,12 @@
 //! its first event with the benchmark's files is a test of the crate rsf-seas.
 
 use rsf::fem::{rectangle, Diagonal};
-use rsf::friction::{AsinhLaw, FrictionLaw};
 use rsf::model::AntiplaneMaterial;
 use rsf::{ModelBuilder, Part};
-use rsf_scenes::SeasBp1;
 
 use rsf::observe::SECONDS_PER_YEAR;
 
-use crate::common::small_bp1;
+use crate::common::{creeping_bp1, steady_creep_errors};
 
 /// The antisymmetric fault scales the model's unknown to s·u: K/s², F/s, w/s, velocities
 /// s·v — checked against the same model without it, entry by entry.
@@ -66,11 +64,7 @@ fn antisymmetric_fault_scales_the_model_to_slip() {
 /// law, independent of the model and the solver.
 #[test]
 fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
-    let (bp1, grid) = small_bp1(&SeasBp1 {
-        a0: 0.025,
-        v_init: 1e-10,
-        ..SeasBp1::default()
-    });
+    let (bp1, grid) = creeping_bp1();
     let model = bp1.model(&grid, false).unwrap();
     let mut sim = bp1
         .simulation_builder(model, false, 1e-2, bp1.step_control(1e-4).unwrap())
@@ -87,19 +81,13 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
     .unwrap();
     let mut v = vec![0.0; sim.model().frictional_boundary.len()];
     sim.slip_rates(&mut v);
-    let worst_v = v
-        .iter()
-        .map(|v| (v / bp1.v_p - 1.0).abs())
-        .fold(0.0, f64::max);
-    let laws = sim.problem().friction_laws();
-    let mut worst_tau: f64 = 0.0;
-    for (k, &p) in sim.model().frictional_boundary.nodes.iter().enumerate() {
-        let z = sim.model().vertices[p][1];
-        let law = AsinhLaw::new(bp1.params(z)).unwrap();
-        let steady = law.friction_coefficient(bp1.v_p, (bp1.d_c / bp1.v_p).ln());
-        let now = laws[k].friction_coefficient(v[k], sim.alpha()[k]);
-        worst_tau = worst_tau.max((now / steady - 1.0).abs());
-    }
+    let (worst_v, worst_tau) = steady_creep_errors(
+        &bp1,
+        sim.model(),
+        &v,
+        sim.alpha(),
+        sim.problem().friction_laws(),
+    );
     eprintln!("steady creep: max |V/V_p − 1| = {worst_v:e}, max stress error {worst_tau:e}");
     assert!(worst_v < 1e-3, "slip rate {worst_v}");
     assert!(worst_tau < 1e-4, "stress {worst_tau}");

@@ -12,12 +12,7 @@ fn track(max_extension_bytes: usize) -> Recorder {
     let scene = paper(3, SolverKind::Direct);
     let mut options = scene.solver_options();
     options.direct.max_extension_bytes = max_extension_bytes;
-    let mut sim = scene
-        .simulation_builder()
-        .unwrap()
-        .solver_options(options)
-        .build()
-        .unwrap();
+    let mut sim = build_with_options(&scene, options);
     let mut rec = Recorder::new(&sim);
     run_until(&mut sim, end_time(&scene), &mut [&mut rec]);
     rec

@@ -4,12 +4,12 @@
 //! shrinks), the volume's equilibrium when an observer reads it, and typed errors.
 
 use rsf::fault_ode::{FaultKernel, OdeIntegrator};
-use rsf::friction::{AsinhLaw, FrictionLaw};
+use rsf::friction::AsinhLaw;
 use rsf::observe::{Checkpointer, Every, Interval, SECONDS_PER_YEAR};
 use rsf::{Flow, Integrator, Observer, StepView, Termination, TimeFunction, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
-use crate::common::small_bp1;
+use crate::common::{creeping_bp1, small_bp1, steady_creep_errors};
 
 fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf_scenes::SeasBp1FaultOde {
     let model = bp1.model(grid, false).unwrap();
@@ -32,11 +32,7 @@ fn slip_rates(model: &rsf::Model<2, 1>, state: &rsf::SimulationState) -> Vec<f64
 /// law — a closed form independent of the model and the integrator.
 #[test]
 fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
-    let (bp1, grid) = small_bp1(&SeasBp1 {
-        a0: 0.025,
-        v_init: 1e-10,
-        ..SeasBp1::default()
-    });
+    let (bp1, grid) = creeping_bp1();
     let mut ode = fault_ode(&bp1, &grid, 1e-6);
     let summary = ode
         .run_until(
@@ -48,17 +44,13 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
         )
         .unwrap();
     let v = slip_rates(ode.model(), ode.state());
-    let worst_v = v
-        .iter()
-        .map(|v| (v / bp1.v_p - 1.0).abs())
-        .fold(0.0, f64::max);
-    let mut worst_tau: f64 = 0.0;
-    for (k, &p) in ode.model().frictional_boundary.nodes.iter().enumerate() {
-        let law = AsinhLaw::new(bp1.params(ode.model().vertices[p][1])).unwrap();
-        let steady = law.friction_coefficient(bp1.v_p, (bp1.d_c / bp1.v_p).ln());
-        let now = ode.problem().friction_laws()[k].friction_coefficient(v[k], ode.state().alpha[k]);
-        worst_tau = worst_tau.max((now / steady - 1.0).abs());
-    }
+    let (worst_v, worst_tau) = steady_creep_errors(
+        &bp1,
+        ode.model(),
+        &v,
+        &ode.state().alpha,
+        ode.problem().friction_laws(),
+    );
     eprintln!(
         "steady creep ({} steps): max |V/V_p − 1| = {worst_v:e}, max stress error {worst_tau:e}",
         summary.steps
@@ -196,32 +188,7 @@ fn the_volume_is_in_equilibrium_when_an_observer_reads_it() {
 #[test]
 fn first_event_converges_with_the_tolerance() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
-    let first_event = |tol: f64| {
-        let mut ode = fault_ode(&bp1, &grid, tol);
-        let mut onset = None;
-        struct Onset<'a>(&'a mut Option<f64>);
-        impl Observer<2, 1> for Onset<'_> {
-            fn observe(&mut self, s: &StepView<'_, 2, 1>) -> rsf::Result<Flow> {
-                if s.report.max_slip_rate >= 1e-3 {
-                    *self.0 = Some(s.state.time);
-                    return Ok(Flow::Break(()));
-                }
-                Ok(Flow::Continue(()))
-            }
-            fn reads_volume(&self) -> bool {
-                false
-            }
-        }
-        ode.run_until(
-            Until::TimeWithin {
-                time: 500.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-            &mut [&mut Onset(&mut onset)],
-        )
-        .unwrap();
-        onset.expect("an event within 500 years")
-    };
+    let first_event = |tol: f64| first_event_time(&mut fault_ode(&bp1, &grid, tol));
     let t = [first_event(1e-4), first_event(1e-6), first_event(1e-8)];
     eprintln!("first event at {:?} yr", t.map(|x| x / SECONDS_PER_YEAR));
     assert!(((t[1] - t[2]) / t[2]).abs() < 1e-6, "{t:?}");
@@ -724,11 +691,7 @@ fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
     for (grid, years) in [(coarse, 150.0), (fine, 20.0)] {
         for kernel in [FaultKernel::Dense, h] {
             let run = |threads: usize| {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                pool.install(|| {
+                crate::common::on_threads(threads, || {
                     let model = bp1.model(&grid, false).unwrap();
                     let mut ode = bp1
                         .fault_ode(model, kernel_options(&bp1, kernel, threads))
@@ -956,11 +919,7 @@ fn stabilized_integrators_give_the_same_bits_at_1_2_and_4_threads() {
         OdeIntegrator::Rosenbrock,
     ] {
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            crate::common::on_threads(threads, || {
                 let model = bp1.model(&fine, false).unwrap();
                 let options = rsf::fault_ode::FaultOdeOptions {
                     integrator,

@@ -2,6 +2,7 @@
 //! dissection (feature `metis`) gives a short run of AMD's to round-off with another
 //! factor; without the feature it is a typed error.
 
+use crate::common::plane_x0;
 use rsf::fault_ode::{FaultOdeOptions, InteriorOrdering};
 use rsf::fem::cuboid_from_coordinates;
 use rsf::friction::{AsinhLaw, RateStateParams};
@@ -34,15 +35,7 @@ fn fault_ode(ordering: InteriorOrdering) -> rsf::Result<rsf::FaultOde<3, AsinhLa
             [0.0, -V, 0.0],
         )
         .fault_tangent([0.0, 1.0, 0.0])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -2e3, -2e3],
-                [0.0, 2e3, -2e3],
-                [0.0, 2e3, 0.0],
-                [0.0, -2e3, 0.0],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(2e3, (-2e3, 0.0)))
         .build()?;
     let params = RateStateParams {
         mu0: 0.6,

@@ -232,12 +232,10 @@ fn the_half_space_operator_maps_the_fault_nodes_onto_okada_cells() {
     let mut r = [vec![0.0; m], vec![0.0; m]];
     op.subtract_product(&x, &mut r[0], Parallelism::SEQ)
         .unwrap();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .build()
-        .unwrap();
-    pool.install(|| op.subtract_product(&x, &mut r[1], Parallelism::rayon(2)))
-        .unwrap();
+    crate::common::on_threads(2, || {
+        op.subtract_product(&x, &mut r[1], Parallelism::rayon(2))
+    })
+    .unwrap();
     assert!(r[0]
         .iter()
         .zip(&r[1])

@@ -194,6 +194,11 @@ fn tnnmg_and_the_direct_solver_agree_on_a_velocity_step_with_an_internal_fault()
 // ---------------------------------------------------------------------------------------
 // The internal fault inside the model (`ModelBuilder::internal_fault`).
 
+use crate::common::{
+    assert_first_order, fault_ode_last_slip, history_difference, implicit_slip_errors,
+    partly_stuck_history, QuasiDynamic,
+};
+use rsf::normal_stress::NormalStress;
 use rsf::simulation::NoState;
 use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
 
@@ -298,28 +303,8 @@ fn slip_history(theta: f64, solver: SolverKind) -> Vec<Vec<f64>> {
 #[test]
 fn a_model_with_an_internal_fault_slips_the_same_with_both_solvers_and_turned() {
     let direct = slip_history(0.0, SolverKind::Direct);
-    let largest = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
-    // The slipping pairs per step: the slip starts somewhere along the fault and spreads.
-    let slipping: Vec<usize> = direct
-        .iter()
-        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
-        .collect();
-    eprintln!(
-        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
-        direct[0].len()
-    );
-    assert!(largest > 0.0);
-    assert!(
-        slipping.iter().any(|&k| k > 0 && k < direct[0].len()),
-        "partly stuck at some step"
-    );
-    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| {
-        a.iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-            / largest
-    };
+    let largest = partly_stuck_history(&direct);
+    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| history_difference(a, b) / largest;
     let tnnmg = slip_history(0.0, SolverKind::Tnnmg);
     let d = differs(&direct, &tnnmg);
     eprintln!("TNNMG against direct: {d:e} of the largest slip");
@@ -377,41 +362,12 @@ fn an_internal_fault_refuses_what_does_not_fit() {
     ));
 }
 
-/// The last step's slip of every frictional node (m).
-#[derive(Default)]
-struct LastSlip(Vec<f64>);
-
-impl rsf::Observer<2> for LastSlip {
-    fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
-        self.0 = (0..s.model.frictional_boundary.len())
-            .map(|k| s.slip(k)[0].hypot(s.slip(k)[1]))
-            .collect();
-        Ok(rsf::Flow::Continue(()))
-    }
-}
-
 /// The quasi-dynamic problem on the sheared block's internal fault (velocity
 /// strengthening, a = 0.015 > b = 0.01, f₀ = 0.1 so that the loading reaches the friction
 /// after about 1.3 s, the regularised law, aging law, radiation damping μ/(2c_s)) as a
-/// builder, the state steady at 1e-4 m/s.
-fn quasi_dynamic(
-) -> SimulationBuilder<2, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::time::Quasistatic, 2> {
-    let model = sheared_block(0.0).unwrap();
-    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
-    let params = rsf::friction::RateStateParams {
-        mu0: 0.1,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: 5e6,
-    };
-    SimulationBuilder::new(model)
-        .friction(rsf::friction::AsinhLaw::new(params).unwrap())
-        .state_law(rsf::state::Aging::new(params.l).unwrap())
-        .initial_state((params.l / 1e-4f64).ln())
-        .integrator(rsf::time::Quasistatic::new())
-        .radiation_damping(mu / (2.0 * c_s))
+/// builder, the state steady at 1e-4 m/s: `normal_stress`'s with the laws' σ̄_n.
+fn quasi_dynamic() -> QuasiDynamic<2> {
+    crate::normal_stress::quasi_dynamic(sheared_block(0.0).unwrap(), NormalStress::Fixed)
 }
 
 /// The two engines on an internal fault: the fault ODE (the volume condensed onto the
@@ -420,48 +376,11 @@ fn quasi_dynamic(
 #[test]
 fn the_fault_ode_and_the_implicit_scheme_agree_on_an_internal_fault() {
     let t_end = 3.0;
-    let mut ode = quasi_dynamic()
-        .time_step(1e-3)
-        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
-            tolerance: 1e-9,
-            ..Default::default()
-        })
-        .unwrap();
-    let mut reference = LastSlip::default();
-    rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut reference],
-    )
-    .unwrap();
-    let scale = reference.0.iter().fold(0.0f64, |m, &x| m.max(x));
-    assert!(scale > 0.0);
-    let mut errors = Vec::new();
-    for steps in [25, 50, 100, 200] {
-        let mut sim = quasi_dynamic()
-            .time_step(t_end / steps as f64)
-            .solver(SolverKind::Direct)
-            .build()
-            .unwrap();
-        let mut last = LastSlip::default();
-        sim.run(steps, &mut [&mut last]).unwrap();
-        let e = last
-            .0
-            .iter()
-            .zip(&reference.0)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            / scale;
-        eprintln!(
-            "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
-        );
-        errors.push(e);
-    }
-    for w in errors.windows(2) {
-        let rate = (w[0] / w[1]).log2();
-        eprintln!("rate {rate:.3}");
-        assert!(rate > 0.8, "{errors:?}");
-    }
+    let until = rsf::Until::TimeWithin {
+        time: t_end,
+        max_steps: 500_000,
+    };
+    let (reference, _) = fault_ode_last_slip(quasi_dynamic(), until);
+    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference);
+    assert_first_order(&errors);
 }

@@ -5,8 +5,14 @@
 //! hierarchy and the direct solver give the same slip history of a partly stuck buried
 //! fault, the fault never opens, and the same problem turned by a rotation slips the same;
 //! the fault ODE (condensed onto the jumps) and the implicit scheme agree.
+use crate::common::{
+    assert_first_order, assert_first_order_with_normal_stress, fault_ode_last_slip,
+    history_difference, implicit_last_slip, implicit_slip_errors, largest_difference,
+    partly_stuck_history, QuasiDynamic,
+};
 use rsf::fem::{cuboid, SimplexMesh};
 use rsf::friction::Tresca;
+use rsf::normal_stress::NormalStress;
 use rsf::simulation::NoState;
 use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
 
@@ -216,32 +222,13 @@ fn slip_history(angle: f64, solver: SolverKind) -> Vec<Vec<f64>> {
 #[test]
 fn a_buried_3d_fault_slips_the_same_with_both_solvers_and_turned() {
     let direct = slip_history(0.0, SolverKind::Direct);
-    let largest = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
-    let slipping: Vec<usize> = direct
-        .iter()
-        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
-        .collect();
-    eprintln!(
-        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
-        direct[0].len()
-    );
+    let largest = partly_stuck_history(&direct);
     assert_eq!(
         direct[0].len(),
         9,
         "3 × 3 inner vertices split, the rim's 16 tips"
     );
-    assert!(largest > 0.0);
-    assert!(
-        slipping.iter().any(|&k| k > 0 && k < direct[0].len()),
-        "partly stuck at some step"
-    );
-    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| {
-        a.iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-            / largest
-    };
+    let differs = |a: &[Vec<f64>], b: &[Vec<f64>]| history_difference(a, b) / largest;
     let tnnmg = slip_history(0.0, SolverKind::Tnnmg);
     let d = differs(&direct, &tnnmg);
     eprintln!("TNNMG against direct: {d:e} of the largest slip");
@@ -287,19 +274,6 @@ fn a_3d_internal_fault_refuses_what_does_not_fit() {
     }
 }
 
-/// The last step's slip length of every frictional node (m).
-#[derive(Default)]
-struct LastSlip(Vec<f64>);
-
-impl rsf::Observer<3> for LastSlip {
-    fn observe(&mut self, s: &StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
-        self.0 = (0..s.model.frictional_boundary.len())
-            .map(|k| s.slip(k).iter().map(|c| c * c).sum::<f64>().sqrt())
-            .collect();
-        Ok(rsf::Flow::Continue(()))
-    }
-}
-
 /// The end of a fault ODE's run on the buried 3-D fault to `t_end`, within a stated
 /// number of steps: a run that cannot progress (a wrong block minimiser made one take over
 /// 16 minutes) ends with `Error::StepSizeCollapse` in seconds. The run of
@@ -313,25 +287,12 @@ fn within(t_end: f64) -> rsf::Until {
 
 /// The quasi-dynamic problem on the buried 3-D fault (velocity strengthening,
 /// a = 0.015 > b = 0.01, f₀ = 0.1, the regularised law, aging law, radiation damping
-/// μ/(2c_s)), the state steady at 1e-4 m/s.
-pub(crate) fn quasi_dynamic(
-) -> SimulationBuilder<3, rsf::friction::AsinhLaw, rsf::state::Aging, rsf::time::Quasistatic, 3> {
-    let model = sheared_cube(rotation(0.0), 0.5).unwrap();
-    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
-    let params = rsf::friction::RateStateParams {
-        mu0: 0.1,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: 5e6,
-    };
-    SimulationBuilder::new(model)
-        .friction(rsf::friction::AsinhLaw::new(params).unwrap())
-        .state_law(rsf::state::Aging::new(params.l).unwrap())
-        .initial_state((params.l / 1e-4f64).ln())
-        .integrator(rsf::time::Quasistatic::new())
-        .radiation_damping(mu / (2.0 * c_s))
+/// μ/(2c_s)), the state steady at 1e-4 m/s: `normal_stress`'s with the laws' σ̄_n.
+pub(crate) fn quasi_dynamic() -> QuasiDynamic<3> {
+    crate::normal_stress::quasi_dynamic(
+        sheared_cube(rotation(0.0), 0.5).unwrap(),
+        NormalStress::Fixed,
+    )
 }
 
 /// The two engines on a 3-D internal fault: the fault ODE (the volume condensed onto the
@@ -341,45 +302,10 @@ pub(crate) fn quasi_dynamic(
 #[test]
 fn the_fault_ode_and_the_implicit_scheme_agree_on_a_3d_internal_fault() {
     let t_end = 3.0;
-    let mut ode = quasi_dynamic()
-        .time_step(1e-3)
-        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
-            tolerance: 1e-9,
-            ..Default::default()
-        })
-        .unwrap();
-    let mut reference = LastSlip::default();
-    let steps = rsf::run_until(&mut ode, within(t_end), &mut [&mut reference])
-        .unwrap()
-        .steps;
+    let (reference, steps) = fault_ode_last_slip(quasi_dynamic(), within(t_end));
     eprintln!("the fault ODE: {steps} steps");
-    let scale = reference.0.iter().fold(0.0f64, |m, &x| m.max(x));
-    assert!(scale > 0.0);
-    let mut errors = Vec::new();
-    for steps in [25, 50, 100, 200] {
-        let mut sim = quasi_dynamic()
-            .time_step(t_end / steps as f64)
-            .solver(SolverKind::Direct)
-            .build()
-            .unwrap();
-        let mut last = LastSlip::default();
-        sim.run(steps, &mut [&mut last]).unwrap();
-        let e = last
-            .0
-            .iter()
-            .zip(&reference.0)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            / scale;
-        eprintln!(
-            "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
-        );
-        errors.push(e);
-    }
-    for w in errors.windows(2) {
-        let rate = (w[0] / w[1]).log2();
-        eprintln!("rate {rate:.3}");
-        assert!(rate > 0.8, "{errors:?}");
-    }
+    let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference);
+    assert_first_order(&errors);
 }
 
 /// Radiation damping that varies along the fault (`SimulationBuilder::radiation_damping_at`:
@@ -398,32 +324,13 @@ fn radiation_damping_per_node_is_the_same_physics_in_both_engines() {
         tolerance: 1e-9,
         ..Default::default()
     };
-    let ode_slip = |builder: SimulationBuilder<3, _, _, _, 3>| {
-        let mut ode = builder.time_step(1e-3).build_fault_ode(options).unwrap();
-        let mut last = LastSlip::default();
-        rsf::run_until(&mut ode, within(t_end), &mut [&mut last]).unwrap();
-        last.0
-    };
+    let ode_slip = |builder| fault_ode_last_slip(builder, within(t_end)).0;
     let reference = ode_slip(quasi_dynamic().radiation_damping_at(varying));
     let uniform = ode_slip(quasi_dynamic().radiation_damping(eta0));
     let scale = reference.iter().fold(0.0f64, |m, &x| m.max(x));
-    let max_diff = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-            / scale
-    };
+    let max_diff = |a: &[f64], b: &[f64]| largest_difference(a, b) / scale;
     let effect = max_diff(&reference, &uniform);
-    let implicit_slip = |builder: SimulationBuilder<3, _, _, _, 3>, steps: usize| {
-        let mut sim = builder
-            .time_step(t_end / steps as f64)
-            .solver(SolverKind::Direct)
-            .build()
-            .unwrap();
-        let mut last = LastSlip::default();
-        sim.run(steps, &mut [&mut last]).unwrap();
-        last.0
-    };
+    let implicit_slip = |builder, steps| implicit_last_slip(builder, t_end, steps);
     // Per τ: the implicit scheme's distance from the fault ODE, and the change that the
     // varying η makes in the implicit scheme against the change it makes in the fault ODE.
     let (mut errors, mut effect_errors) = (Vec::new(), Vec::new());
@@ -490,7 +397,6 @@ impl rsf::Observer<3> for SlipAndNormalStress {
 /// changes the slip by far more than that error.
 #[test]
 fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_engines() {
-    use rsf::normal_stress::NormalStress;
     let t_end = 3.0;
     let model = thrust_block_3d();
     let f = model.internal_fault.as_ref().unwrap();
@@ -500,24 +406,8 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
         f.faults()[0].tips().len(),
         model.frictional_boundary.len()
     );
-    let (mu, c_s) = (1e10 / 2.5, (1e10 / 2.5 / 2700.0f64).sqrt());
-    let params = rsf::friction::RateStateParams {
-        mu0: 0.1,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: 5e6,
-    };
-    let builder = |normal_stress| {
-        SimulationBuilder::new(model.clone())
-            .friction(rsf::friction::AsinhLaw::new(params).unwrap())
-            .state_law(rsf::state::Aging::new(params.l).unwrap())
-            .initial_state((params.l / 1e-4f64).ln())
-            .integrator(rsf::time::Quasistatic::new())
-            .radiation_damping(mu / (2.0 * c_s))
-            .normal_stress(normal_stress)
-    };
+    let params = crate::normal_stress::params();
+    let builder = |normal_stress| crate::normal_stress::quasi_dynamic(model.clone(), normal_stress);
     let ode = |normal_stress| {
         let mut ode = builder(normal_stress)
             .time_step(1e-3)
@@ -538,11 +428,6 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
         .fold(0.0f64, |m, s| m.max((s - params.sigma_n).abs()));
     eprintln!("largest slip {slip_scale:e} m, largest change of σ̄_n {sigma_change:e} Pa");
     assert!(slip_scale > 0.0 && sigma_change > 1e-3 * params.sigma_n);
-    let largest_difference = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-    };
     let mut errors = Vec::new();
     for steps in [25, 50, 100, 200] {
         let mut sim = builder(NormalStress::FromSlip)
@@ -564,14 +449,7 @@ fn a_dipping_3d_fault_under_a_free_surface_changes_its_normal_stress_in_both_eng
     let effect = largest_difference(&uncoupled.0, &reference.0) / slip_scale;
     eprintln!("fixed σ̄_n against σ̄_n from slip (fault ODE): slip differs by {effect:.3e}");
     assert!(effect > 100.0 * errors[3].0, "{effect:e}");
-    for w in errors.windows(2) {
-        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
-        eprintln!(
-            "rates {:.3} (slip), {:.3} (normal stress)",
-            rates.0, rates.1
-        );
-        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
-    }
+    assert_first_order_with_normal_stress(&errors);
 }
 
 /// The faces of `mesh` whose three vertices satisfy `on` (a convex piece of a plane).

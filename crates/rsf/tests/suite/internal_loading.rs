@@ -3,6 +3,7 @@
 //! both copies of a split node), a creeping section with a prescribed slip rate
 //! (`ModelBuilder::internal_creep`); uniform slip on a through-going fault is then a rigid
 //! motion of the two sides, with no stress change.
+use crate::common::plane_x0;
 use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::{rectangle, Diagonal};
 use rsf::nonsmooth::{NoNonlinearity, NonsmoothSolver};
@@ -144,15 +145,7 @@ fn creeping_cube(rake_degrees: f64) -> (Model<3>, Vec<Vec<[f64; 3]>>) {
         .without_mass()
         .dirichlet(Part::predicate("held", |x| x[0] < -1.0 + 1e-9), [0.0; 3])
         .fault_tangent([0.0, 1.0, 0.0])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -1.0, -1.0],
-                [0.0, 1.0, -1.0],
-                [0.0, 1.0, 1.0],
-                [0.0, -1.0, 1.0],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(1.0, (-1.0, 1.0)))
         .internal_creep_at(move |x| {
             (x[2] > 0.4).then_some(rsf::model::CreepRate::Cartesian(direction.map(|d| V * d)))
         })
@@ -233,15 +226,7 @@ fn a_creep_rate_off_the_fault_plane_is_refused() {
         .unwrap()
         .material(Material::new(1e10, 0.25, 2700.0))
         .dirichlet(Part::predicate("held", |x| x[0] < -1.0 + 1e-9), [0.0; 3])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -1.0, -1.0],
-                [0.0, 1.0, -1.0],
-                [0.0, 1.0, 1.0],
-                [0.0, -1.0, 1.0],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(1.0, (-1.0, 1.0)))
         .internal_creep_at(|_| Some(rsf::model::CreepRate::Cartesian([1e-9, 1e-9, 0.0])))
         .build()
         .expect_err("refused");

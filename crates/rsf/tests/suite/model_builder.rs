@@ -20,16 +20,6 @@ const ROCK: Material = Material {
     density: 5e3,
 };
 
-fn same_matrix(a: &SparseMatrix, b: &SparseMatrix) -> bool {
-    a.nrows() == b.nrows()
-        && a.symbolic().col_ptr() == b.symbolic().col_ptr()
-        && a.symbolic().row_idx() == b.symbolic().row_idx()
-        && a.val()
-            .iter()
-            .zip(b.val())
-            .all(|(x, y)| x.to_bits() == y.to_bits())
-}
-
 fn bits(x: &[f64]) -> Vec<u64> {
     x.iter().map(|v| v.to_bits()).collect()
 }
@@ -116,15 +106,24 @@ fn the_paper_slider_is_the_hand_assembled_model_bit_for_bit() {
         let hand = by_hand(&scene);
         let (vertices, k, m, e, load) = &hand.model_parts;
         assert_eq!(&model.vertices, vertices);
-        assert!(same_matrix(&model.stiffness, k), "stiffness, level {level}");
-        assert!(same_matrix(model.mass.as_ref().unwrap(), m), "mass");
-        assert!(same_matrix(&model.energy_norm, e), "energy norm");
+        assert!(
+            crate::common::same_bits(&model.stiffness, k),
+            "stiffness, level {level}"
+        );
+        assert!(
+            crate::common::same_bits(model.mass.as_ref().unwrap(), m),
+            "mass"
+        );
+        assert!(
+            crate::common::same_bits(&model.energy_norm, e),
+            "energy norm"
+        );
         assert_eq!(bits(&model.load), bits(load), "load");
         assert_eq!(model.fixed, hand.fixed, "constraints");
         assert_eq!(bits(&model.initial_displacement), bits(&hand.u0), "u0");
         assert_eq!(model.prolongations.len(), hand.prolongations.len());
         for (a, b) in model.prolongations.iter().zip(&hand.prolongations) {
-            assert!(same_matrix(a, b), "prolongation");
+            assert!(crate::common::same_bits(a, b), "prolongation");
         }
         assert_eq!(
             model.frictional_boundary.nodes,

@@ -5,6 +5,7 @@
 //! TNNMG without nonlinearity in a number of iterations that does not grow with the levels
 //! or the grading; on a tensor grid of anisotropic boxes (the same refinement, cells 20
 //! times longer along the fault than across it) the same solver stalls.
+use crate::common::plane_x0;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -37,15 +38,7 @@ fn model(hierarchy: MeshHierarchy<3>, half: [f64; 3], patch: f64) -> Model<3> {
             [0.0; 3],
         )
         .fault_tangent([0.0, 1.0, 0.0])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -patch, -patch],
-                [0.0, patch, -patch],
-                [0.0, patch, patch],
-                [0.0, -patch, patch],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(patch, (-patch, patch)))
         .internal_slip_at(|_| Some(PrescribedSlip::InFrame([1.0, 0.0])))
         .build()
         .unwrap()

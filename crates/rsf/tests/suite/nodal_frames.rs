@@ -38,9 +38,9 @@ use rsf::fem::{
 };
 use rsf::friction::DieterichRuina;
 use rsf::method::FrictionBlocks;
-use rsf::nonsmooth::{NonsmoothSolver, Stopping};
+use rsf::nonsmooth::NonsmoothSolver;
 use rsf::time::{Kinematics, Newmark, SystemMatrices, VelocityIntegrator};
-use rsf::tnnmg::{Tnnmg, TnnmgOptions};
+use rsf::tnnmg::Tnnmg;
 use rsf::{Error, Model, ModelBuilder, Observer, Part, SolverKind, StateLawKind, StepView};
 use rsf_scenes::{
     onto_arc, skew_rotation, slider_3d_coarse, Slider3dScene, SliderScene, ARC_BLOCK_MESH,
@@ -291,14 +291,7 @@ fn tnnmg_against_direct<const D: usize>(
         &model.fixed,
         &model.prolongations,
         Some(model.energy_norm.as_ref()),
-        TnnmgOptions {
-            stopping: Stopping {
-                absolute: 0.0,
-                relative: 1e-12,
-                max_iterations: 200,
-            },
-            ..TnnmgOptions::default()
-        },
+        crate::common::tight_tnnmg(),
     )
     .unwrap()
     .solve(&b, &blocks, &mut v_tnnmg)

@@ -3,6 +3,7 @@
 //! the fault ODE's normal stress against a full static solve at the same slip, zero change
 //! on a fault that is a plane of mirror symmetry, the implicit scheme converging to the
 //! fault ODE, and typed refusals.
+use crate::common::assert_first_order_with_normal_stress;
 use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{rectangle, Diagonal, SimplexMesh, SparseMatrix};
@@ -56,6 +57,21 @@ pub(crate) fn fault_ode(
             tolerance: 1e-9,
             ..Default::default()
         })
+}
+
+/// The rows ([`Record`]) of the fault ODE `ode` run to `t_end` (s).
+fn record_to(ode: &mut rsf::FaultOde<2, AsinhLaw, Aging>, t_end: f64) -> Record {
+    let mut record = Record::default();
+    rsf::run_until(
+        ode,
+        rsf::Until::TimeWithin {
+            time: t_end,
+            max_steps: 500_000,
+        },
+        &mut [&mut record],
+    )
+    .unwrap();
+    record
 }
 
 /// Per step: time, the model's displacement (fixed dofs and the fault's unknowns), and the
@@ -137,16 +153,7 @@ fn the_fault_odes_normal_stress_is_the_reaction_of_the_full_static_solution() {
     let model = thrust_block();
     let weights = model.frictional_boundary.weights.clone();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
-    let mut record = Record::default();
-    rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: 3.0,
-            max_steps: 500_000,
-        },
-        &mut [&mut record],
-    )
-    .unwrap();
+    let record = record_to(&mut ode, 3.0);
     let r0 = normal_reactions(&model, &model.initial_displacement);
     let mut largest_change = 0.0f64;
     let mut worst = 0.0f64;
@@ -220,16 +227,7 @@ fn slip_on_a_plane_of_mirror_symmetry_leaves_the_normal_stress_unchanged() {
         .build()
         .unwrap();
     let mut ode = fault_ode(model, NormalStress::FromSlip).unwrap();
-    let mut record = Record::default();
-    rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: 3.0,
-            max_steps: 500_000,
-        },
-        &mut [&mut record],
-    )
-    .unwrap();
+    let record = record_to(&mut ode, 3.0);
     let (_, u, _) = record.rows.last().unwrap();
     let slip = ode
         .model()
@@ -364,16 +362,7 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
     let t_end = 3.0;
     let model = thrust_block();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
-    let mut reference = Record::default();
-    rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut reference],
-    )
-    .unwrap();
+    let reference = record_to(&mut ode, t_end);
     let nodes = model.frictional_boundary.nodes.clone();
     let slip_of = |u: &[f64]| -> Vec<f64> {
         nodes
@@ -417,16 +406,7 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
     // The coupling matters: with the laws' fixed σ̄_n the fault ODE slips differently, by
     // far more than the implicit scheme's error.
     let mut fixed = fault_ode(model.clone(), NormalStress::Fixed).unwrap();
-    let mut uncoupled = Record::default();
-    rsf::run_until(
-        &mut fixed,
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut uncoupled],
-    )
-    .unwrap();
+    let uncoupled = record_to(&mut fixed, t_end);
     let effect = slip_of(&uncoupled.rows.last().unwrap().1)
         .iter()
         .zip(&slip_ref)
@@ -434,14 +414,7 @@ fn the_implicit_scheme_converges_to_the_fault_ode_with_a_normal_stress_from_slip
         / slip_scale;
     eprintln!("fixed σ̄_n against σ̄_n from slip (fault ODE): slip differs by {effect:.3e}");
     assert!(effect > 100.0 * errors[3].0, "{effect:e}");
-    for w in errors.windows(2) {
-        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
-        eprintln!(
-            "rates {:.3} (slip), {:.3} (normal stress)",
-            rates.0, rates.1
-        );
-        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
-    }
+    assert_first_order_with_normal_stress(&errors);
     // TNNMG (through its current iterate each fixed point iteration) gives the same steps.
     let run = |solver| {
         let mut sim = quasi_dynamic(model.clone(), NormalStress::FromSlip)

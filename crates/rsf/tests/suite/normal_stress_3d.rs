@@ -239,11 +239,7 @@ fn the_dense_3d_normal_stress_has_the_same_bits_at_1_2_and_4_threads() {
     assert!(nodes * 2 * nodes >= 4096, "{nodes}");
     let stops = [0.5, 1.0];
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        crate::common::on_threads(threads, || {
             let mut ode = fault_ode(model.clone(), FaultKernel::Dense, threads);
             let rows = normal_stress_at(&mut ode, &stops);
             (rows, ode.evaluations())

@@ -24,12 +24,7 @@ fn the_parallelism_reaches_the_solver_and_the_integrator() {
             ..scene.solver_options()
         };
         options.tnnmg.smoother = smoother;
-        let mut sim = scene
-            .simulation_builder()
-            .unwrap()
-            .solver_options(options)
-            .build()
-            .unwrap();
+        let mut sim = build_with_options(&scene, options);
         let method = sim.method();
         assert_eq!(method.options().solver_options.parallelism, par);
         assert_eq!(method.parallelism(), par);

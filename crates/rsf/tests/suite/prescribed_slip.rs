@@ -4,6 +4,7 @@
 //! the builder solves as the initial equilibrium; a fault whose every pair is prescribed
 //! builds a model without frictional nodes, which a simulation refuses by name; the static
 //! problem is solved again by `StaticSolver`, watched (progress, a time limit) if asked.
+use crate::common::plane_x0;
 use std::sync::{Arc, Mutex};
 
 use rsf::direct::{DirectOptions, DirectSolver};
@@ -135,15 +136,7 @@ fn an_affine_field_held_on_the_boundary_is_the_static_solution() {
         .material(Material::new(1e10, 0.25, 2700.0))
         .without_mass()
         .dirichlet_displacement(Part::predicate("all", boundary), field)
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(0.5, (-0.5, 0.5)))
         .internal_slip_at(|_| Some(PrescribedSlip::InFrame([0.0, 0.0])))
         .build()
         .unwrap();
@@ -194,15 +187,7 @@ fn a_slip_or_a_held_displacement_the_model_cannot_take_is_refused_by_name() {
         .material(Material::new(1e10, 0.25, 2700.0))
         .without_mass()
         .dirichlet(Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9), [0.0; 3])
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -1.0, -1.0],
-                [0.0, 1.0, -1.0],
-                [0.0, 1.0, 1.0],
-                [0.0, -1.0, 1.0],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(1.0, (-1.0, 1.0)))
         .internal_slip_at(|_| Some(PrescribedSlip::rake(1e-3, 90.0)))
         .build()
         .unwrap_err();

@@ -2,30 +2,15 @@
 //! leaves every file byte-identical; corrupted checkpoints are refused, untouched ones
 //! resume bit-identically; implausible scenes are refused naming the field.
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
 
-use crate::common::temp_dir;
+use crate::common::{snapshot, temp_dir};
 use proptest::prelude::*;
 use rsf::checkpoint::{write_atomically, Fingerprint};
 use rsf::observe::{FileMode, FrictionalProfile, PointSeries};
 use rsf::{Checkpoint, Error, StateLawKind};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
-
-/// Every file under `dir` with its bytes.
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            out.extend(snapshot(&p));
-        } else {
-            out.insert(p.clone(), std::fs::read(&p).unwrap());
-        }
-    }
-    out
-}
 
 fn scene() -> SliderScene {
     SliderScene {

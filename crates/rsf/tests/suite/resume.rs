@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use crate::common::{temp_dir, StopAt};
+use crate::common::{resumable_observers, temp_dir, StopAt};
 use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
 use rsf::{Checkpoint, SolverKind};
 use rsf_scenes::{SceneSimulation, SliderScene, SLIDER_CENTRE};
@@ -30,28 +30,8 @@ fn scene(solver: SolverKind) -> SliderScene {
 /// `dir`; with `resume`, continues from the checkpoint in `dir`.
 fn run(scene: &SliderScene, dir: &Path, stop: Option<usize>, resume: bool) -> SceneSimulation<2> {
     let mut sim = scene.build().unwrap();
-    let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
-    let (series_path, profile_path, ckpt) = (
-        dir.join("x0.csv"),
-        dir.join("profile.csv"),
-        dir.join("checkpoint.bin"),
-    );
-    let window = (0.1, 0.25);
-    let mode = if resume {
-        let c = Checkpoint::read(&ckpt).unwrap();
-        sim.restore(&c).unwrap();
-        FileMode::Resume { step: c.state.step }
-    } else {
-        FileMode::Create
-    };
-    let mut series = PointSeries::new(&series_path, sim.model(), x0, mode).unwrap();
-    let mut profile = Every::new(
-        Interval::Steps(3),
-        FrictionalProfile::new(&profile_path, window, mode).unwrap(),
-    )
-    .unwrap();
-    let mut checkpointer =
-        Every::new(Interval::Steps(CHECKPOINT_EVERY), Checkpointer::new(&ckpt)).unwrap();
+    let (mut series, mut profile, mut checkpointer) =
+        resumable_observers(&mut sim, dir, (0.1, 0.25), CHECKPOINT_EVERY, resume);
     let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
     let remaining = STEPS - sim.step_index();
     sim.run(

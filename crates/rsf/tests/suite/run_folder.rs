@@ -4,9 +4,9 @@
 //! bounds and step caps; resumes of the 3-D slider byte-identical to uninterrupted runs
 //! (the SEAS output's: the crate rsf-seas's tests).
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use crate::common::snapshot;
 use rsf::observe::{FileMode, PointSeries};
 use rsf::run_folder::RunFolder;
 use rsf::run_folder::{check_output_size, check_window, read_checkpoint};
@@ -20,20 +20,6 @@ fn temp_dir(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-/// Every file under `dir` (recursively) with its bytes.
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            out.extend(snapshot(&p));
-        } else {
-            out.insert(p.clone(), std::fs::read(&p).unwrap());
-        }
-    }
-    out
 }
 
 #[test]

@@ -17,17 +17,6 @@ fn slider() -> Model<2> {
     .unwrap()
 }
 
-fn same_bits(a: &SparseMatrix, b: &SparseMatrix) -> bool {
-    a.nrows() == b.nrows()
-        && a.ncols() == b.ncols()
-        && a.symbolic().col_ptr() == b.symbolic().col_ptr()
-        && a.symbolic().row_idx() == b.symbolic().row_idx()
-        && a.val()
-            .iter()
-            .zip(b.val())
-            .all(|(x, y)| x.to_bits() == y.to_bits())
-}
-
 /// Largest entry of `|a − b|` relative to the largest entry of `|a|`, over the union of
 /// both patterns (through dense columns: the matrices here are small).
 fn relative_difference(a: &SparseMatrix, b: &SparseMatrix) -> f64 {
@@ -57,8 +46,8 @@ fn round_trip_keeps_every_entry() {
     assert!(k.is_csc() && m.is_csc());
     let mut back = model.clone();
     back.set_matrices_sprs(k.view(), Some(m.view())).unwrap();
-    assert!(same_bits(&back.stiffness, &model.stiffness));
-    assert!(same_bits(
+    assert!(crate::common::same_bits(&back.stiffness, &model.stiffness));
+    assert!(crate::common::same_bits(
         back.mass.as_ref().unwrap(),
         model.mass.as_ref().unwrap()
     ));
@@ -75,7 +64,10 @@ fn without_mass_the_energy_norm_is_the_stiffness() {
     let k = model.stiffness_sprs().unwrap();
     model.set_matrices_sprs(k.view(), None).unwrap();
     assert!(model.mass.is_none() && model.mass_sprs().unwrap().is_none());
-    assert!(same_bits(&model.energy_norm, &model.stiffness));
+    assert!(crate::common::same_bits(
+        &model.energy_norm,
+        &model.stiffness
+    ));
 }
 
 #[test]
@@ -90,8 +82,11 @@ fn bad_matrices_are_typed_errors_and_leave_the_model_unchanged() {
             Err(Error::Fem(_)) if name == "csr" => {}
             other => panic!("{name}: expected a typed error, got {other:?}"),
         }
-        assert!(same_bits(&after.stiffness, &model.stiffness));
-        assert!(same_bits(&after.energy_norm, &model.energy_norm));
+        assert!(crate::common::same_bits(&after.stiffness, &model.stiffness));
+        assert!(crate::common::same_bits(
+            &after.energy_norm,
+            &model.energy_norm
+        ));
         assert!(after.mass.is_some());
     };
     let mut m = model.clone();

@@ -250,18 +250,6 @@ fn alpha_with_cutoff(scene: &SliderScene, v: f64) -> f64 {
     ((p.v0.ln() - v.ln()) * p.a - p.mu0) / p.b - (p.v0 / p.l).ln()
 }
 
-/// TNNMG as the paper runs it but tighter: relative 1e-12 in the energy norm.
-fn tight_tnnmg() -> TnnmgOptions {
-    TnnmgOptions {
-        stopping: Stopping {
-            absolute: 0.0,
-            relative: 1e-12,
-            max_iterations: 200,
-        },
-        ..TnnmgOptions::default()
-    }
-}
-
 /// The paper's stopping test: 1e-10 absolute in the energy norm (§6.2).
 fn paper_tnnmg() -> TnnmgOptions {
     TnnmgOptions {
@@ -414,7 +402,7 @@ fn solvers_agree_on_the_slider() {
         let s = Slider::new(level);
         let mut solvers = Solvers {
             direct: s.direct(),
-            tn: s.tnnmg(tight_tnnmg()),
+            tn: s.tnnmg(crate::common::tight_tnnmg()),
             gs: (level <= GS_MAX_LEVEL).then(|| s.gauss_seidel(gs_stopping())),
         };
         for case in cases(&s.scene) {
@@ -486,7 +474,7 @@ fn energy_decreases_monotonically_along_tnnmg_iterates() {
     let s = Slider::new(5);
     let mut tn = s.tnnmg(TnnmgOptions {
         record_energy: true,
-        ..tight_tnnmg()
+        ..crate::common::tight_tnnmg()
     });
     let mut direct = s.direct();
     for case in cases(&s.scene) {
@@ -729,7 +717,7 @@ fn extreme_cases_converge_or_fail_typed() {
     for level in [4, 6] {
         let s = Slider::new(level);
         let mut direct = s.direct();
-        let mut tn = s.tnnmg(tight_tnnmg());
+        let mut tn = s.tnnmg(crate::common::tight_tnnmg());
         let mut run = |what: String, v_slide: f64, alpha: f64, kink: bool| {
             let b = s.rhs(v_slide);
             let nl = s.dieterich_ruina(alpha);

@@ -49,3 +49,24 @@ pub fn check_frames<const D: usize>(k: &SparseMatrix, frames: &NodalFrames<D>) {
         assert!((a - b).abs() < 1e-14);
     }
 }
+
+/// The facets in the plane `x = 0` (vertex triples) with their areas.
+pub fn plane_facets(m: &rsf_fem::TetrahedronMesh) -> Vec<([usize; 3], f64)> {
+    m.facets()
+        .into_iter()
+        .filter(|f| f.iter().all(|&v| m.vertices()[v][0] == 0.0))
+        .map(|f| {
+            let [p, q, r] = f.map(|v| m.vertices()[v]);
+            let (u, w) = (
+                [0, 1, 2].map(|a| q[a] - p[a]),
+                [0, 1, 2].map(|a| r[a] - p[a]),
+            );
+            let n = [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ];
+            (f, 0.5 * n.iter().map(|c| c * c).sum::<f64>().sqrt())
+        })
+        .collect()
+}

@@ -106,6 +106,16 @@ pub fn build(scene: &SliderScene) -> Sim {
     scene.build().expect("the scene builds")
 }
 
+/// The simulation of `scene` with the solver `options` instead of the scene's.
+pub fn build_with_options(scene: &SliderScene, options: rsf::method::SolverOptions) -> Sim {
+    scene
+        .simulation_builder()
+        .unwrap()
+        .solver_options(options)
+        .build()
+        .unwrap()
+}
+
 /// The friction law of Γ_F of a scene (uniform fault).
 pub fn friction_law(scene: &SliderScene) -> DieterichRuina {
     DieterichRuina::new(scene.rate_state_params()).expect("valid parameters")
@@ -428,15 +438,7 @@ pub fn with_buried_fault(builder: rsf::ModelBuilder<3>) -> rsf::ModelBuilder<3> 
             rsf::Part::predicate("bottom", |x| x[2] < -1.0 + 1e-9),
             [0.0; 3],
         )
-        .internal_fault_polygon(
-            "fault",
-            &[
-                [0.0, -0.5, -0.5],
-                [0.0, 0.5, -0.5],
-                [0.0, 0.5, 0.5],
-                [0.0, -0.5, 0.5],
-            ],
-        )
+        .internal_fault_polygon("fault", &plane_x0(0.5, (-0.5, 0.5)))
 }
 
 /// The 2 m cube `[-1, 1]³` of `n³` boxes refined `levels` times, with
@@ -444,4 +446,267 @@ pub fn with_buried_fault(builder: rsf::ModelBuilder<3>) -> rsf::ModelBuilder<3> 
 pub fn cube_with_buried_fault(n: usize, levels: usize) -> rsf::ModelBuilder<3> {
     let mesh = rsf::fem::cuboid([-1.0; 3], [2.0; 3], [n + 1; 3]).unwrap();
     with_buried_fault(rsf::ModelBuilder::refined(mesh, levels).unwrap())
+}
+
+/// The quasi-dynamic builder of the internal-fault tests (`normal_stress::quasi_dynamic`).
+pub type QuasiDynamic<const D: usize> = rsf::SimulationBuilder<
+    D,
+    rsf::friction::AsinhLaw,
+    rsf::state::Aging,
+    rsf::time::Quasistatic,
+    D,
+>;
+
+/// The last step's slip length (m) of every frictional node: the hypotenuse of its slip
+/// components, taken one component at a time.
+#[derive(Default)]
+pub struct LastSlip(pub Vec<f64>);
+
+impl<const D: usize> Observer<D> for LastSlip {
+    fn observe(&mut self, s: &StepView<'_, D, D>) -> rsf::Result<rsf::Flow> {
+        self.0 = (0..s.model.frictional_boundary.len())
+            .map(|k| s.slip(k).iter().fold(0.0f64, |h, &c| h.hypot(c)))
+            .collect();
+        Ok(rsf::Flow::Continue(()))
+    }
+}
+
+/// The largest `|a_i − b_i|`.
+pub fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The last slip lengths ([`LastSlip`]) of `builder`'s implicit scheme (its integrator,
+/// the direct solver) run to `t_end` in `steps` fixed steps.
+pub fn implicit_last_slip<const D: usize>(
+    builder: QuasiDynamic<D>,
+    t_end: f64,
+    steps: usize,
+) -> Vec<f64> {
+    let mut sim = builder
+        .time_step(t_end / steps as f64)
+        .solver(SolverKind::Direct)
+        .build()
+        .unwrap();
+    let mut last = LastSlip::default();
+    sim.run(steps, &mut [&mut last]).unwrap();
+    last.0
+}
+
+/// [`implicit_last_slip`] of `builder()` for each number of steps of `steps`: its largest
+/// distance from `reference`, relative to `reference`'s largest slip, one per count.
+pub fn implicit_slip_errors<const D: usize>(
+    builder: impl Fn() -> QuasiDynamic<D>,
+    t_end: f64,
+    steps: &[usize],
+    reference: &[f64],
+) -> Vec<f64> {
+    let scale = reference.iter().fold(0.0f64, |m, &x| m.max(x));
+    assert!(scale > 0.0);
+    steps
+        .iter()
+        .map(|&steps| {
+            let slip = implicit_last_slip(builder(), t_end, steps);
+            let e = largest_difference(&slip, reference) / scale;
+            eprintln!(
+                "τ = T/{steps}: implicit against the fault ODE {e:e} of the largest slip {scale:e} m"
+            );
+            e
+        })
+        .collect()
+}
+
+/// Asserts that `errors`, one per halving of τ, fall at an observed order above 0.8.
+pub fn assert_first_order(errors: &[f64]) {
+    for w in errors.windows(2) {
+        let rate = (w[0] / w[1]).log2();
+        eprintln!("rate {rate:.3}");
+        assert!(rate > 0.8, "{errors:?}");
+    }
+}
+
+/// Every file under `dir` (recursively) with its bytes.
+pub fn snapshot(dir: &Path) -> std::collections::BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(snapshot(&p));
+        } else {
+            out.insert(p.clone(), std::fs::read(&p).unwrap());
+        }
+    }
+    out
+}
+
+/// The observers of a resumable run of the slider into `dir`: the series at x0
+/// (`x0.csv`), the frictional profile over `window` every 3 steps (`profile.csv`) and a
+/// checkpoint every `every` steps (`checkpoint.bin`). With `resume`, `sim` is first
+/// restored from that checkpoint and both files are continued from its step.
+pub fn resumable_observers(
+    sim: &mut Sim,
+    dir: &Path,
+    window: (f64, f64),
+    every: usize,
+    resume: bool,
+) -> (
+    PointSeries<2>,
+    Every<FrictionalProfile<2>>,
+    Every<Checkpointer>,
+) {
+    let x0 = sim.model().nearest_node(&SLIDER_CENTRE).unwrap();
+    let ckpt = dir.join("checkpoint.bin");
+    let mode = if resume {
+        let c = rsf::Checkpoint::read(&ckpt).unwrap();
+        sim.restore(&c).unwrap();
+        FileMode::Resume { step: c.state.step }
+    } else {
+        FileMode::Create
+    };
+    let series = PointSeries::new(&dir.join("x0.csv"), sim.model(), x0, mode).unwrap();
+    let profile = Every::new(
+        Interval::Steps(3),
+        FrictionalProfile::new(&dir.join("profile.csv"), window, mode).unwrap(),
+    )
+    .unwrap();
+    let checkpointer = Every::new(Interval::Steps(every), Checkpointer::new(&ckpt)).unwrap();
+    (series, profile, checkpointer)
+}
+
+/// The rectangle `|y| ≤ y`, `z0 ≤ z ≤ z1` of the plane `x = 0` (m), its corners in the
+/// order `internal_fault_polygon` takes: `(−y, z0)`, `(y, z0)`, `(y, z1)`, `(−y, z1)`.
+pub fn plane_x0(y: f64, (z0, z1): (f64, f64)) -> [[f64; 3]; 4] {
+    [[0.0, -y, z0], [0.0, y, z0], [0.0, y, z1], [0.0, -y, z1]]
+}
+
+/// The largest slip (m) of a slip history (per step a row of the frictional nodes' slip
+/// lengths), once the fault is seen to slip and, at some step, to be partly stuck (some
+/// but not all nodes above 1e-9 of that largest slip); the slipping nodes per step printed.
+pub fn partly_stuck_history(history: &[Vec<f64>]) -> f64 {
+    let largest = history.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    let slipping: Vec<usize> = history
+        .iter()
+        .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
+        .collect();
+    eprintln!(
+        "largest slip {largest:e} m; slipping pairs per step {slipping:?} of {}",
+        history[0].len()
+    );
+    assert!(largest > 0.0);
+    assert!(
+        slipping.iter().any(|&k| k > 0 && k < history[0].len()),
+        "partly stuck at some step"
+    );
+    largest
+}
+
+/// The largest `|a − b|` of two slip histories, step by step and node by node.
+pub fn history_difference(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The last slip lengths ([`LastSlip`]) of `builder`'s fault ODE (first step 1e-3 s,
+/// tolerance 1e-9) run until `until`, and its number of steps.
+pub fn fault_ode_last_slip<const D: usize>(
+    builder: QuasiDynamic<D>,
+    until: rsf::Until,
+) -> (Vec<f64>, usize) {
+    let mut ode = builder
+        .time_step(1e-3)
+        .build_fault_ode(rsf::fault_ode::FaultOdeOptions {
+            tolerance: 1e-9,
+            ..Default::default()
+        })
+        .unwrap();
+    let mut last = LastSlip::default();
+    let steps = rsf::run_until(&mut ode, until, &mut [&mut last])
+        .unwrap()
+        .steps;
+    (last.0, steps)
+}
+
+/// Asserts that `errors` (slip, normal stress), one pair per halving of τ, both fall at an
+/// observed order above 0.8.
+pub fn assert_first_order_with_normal_stress(errors: &[(f64, f64)]) {
+    for w in errors.windows(2) {
+        let rates = ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2());
+        eprintln!(
+            "rates {:.3} (slip), {:.3} (normal stress)",
+            rates.0, rates.1
+        );
+        assert!(rates.0 > 0.8 && rates.1 > 0.8, "{errors:?}");
+    }
+}
+
+/// `f` run in a rayon pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// Whether two sparse matrices are the same to the bit: shape, pattern and values.
+pub fn same_bits(a: &SparseMatrix, b: &SparseMatrix) -> bool {
+    a.nrows() == b.nrows()
+        && a.ncols() == b.ncols()
+        && a.symbolic().col_ptr() == b.symbolic().col_ptr()
+        && a.symbolic().row_idx() == b.symbolic().row_idx()
+        && a.val()
+            .iter()
+            .zip(b.val())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// The small BP1 ([`small_bp1`]) made velocity strengthening everywhere (a = 0.025 >
+/// b = 0.015) and started off steady state (V_init = V_p/10).
+pub fn creeping_bp1() -> (rsf_scenes::SeasBp1, rsf_scenes::SeasBp1Grid) {
+    small_bp1(&rsf_scenes::SeasBp1 {
+        a0: 0.025,
+        v_init: 1e-10,
+        ..rsf_scenes::SeasBp1::default()
+    })
+}
+
+/// How far the fault of `model` (antiplane) is from steady creep at the plate rate: the largest
+/// `|V/V_p − 1|` of the slip rates `v`, and the largest `|μ/μ_ss − 1|` of the friction
+/// coefficients of `laws` at `v` and the states `alpha` against each node's steady-state
+/// friction at V_p (`bp1`'s law at the node's depth).
+pub fn steady_creep_errors(
+    bp1: &rsf_scenes::SeasBp1,
+    model: &rsf::Model<2, 1>,
+    v: &[f64],
+    alpha: &[f64],
+    laws: &[rsf::friction::AsinhLaw],
+) -> (f64, f64) {
+    let worst_v = v
+        .iter()
+        .map(|v| (v / bp1.v_p - 1.0).abs())
+        .fold(0.0, f64::max);
+    let mut worst_tau: f64 = 0.0;
+    for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
+        let law = rsf::friction::AsinhLaw::new(bp1.params(model.vertices[p][1])).unwrap();
+        let steady = law.friction_coefficient(bp1.v_p, (bp1.d_c / bp1.v_p).ln());
+        let now = laws[k].friction_coefficient(v[k], alpha[k]);
+        worst_tau = worst_tau.max((now / steady - 1.0).abs());
+    }
+    (worst_v, worst_tau)
+}
+
+/// TNNMG as the paper runs it but tighter: relative 1e-12 in the energy norm.
+pub fn tight_tnnmg() -> rsf::tnnmg::TnnmgOptions {
+    rsf::tnnmg::TnnmgOptions {
+        stopping: rsf::nonsmooth::Stopping {
+            absolute: 0.0,
+            relative: 1e-12,
+            max_iterations: 200,
+        },
+        ..rsf::tnnmg::TnnmgOptions::default()
+    }
 }
