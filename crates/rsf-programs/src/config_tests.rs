@@ -7,11 +7,38 @@
 use proptest::prelude::*;
 use rsf::fault_ode::OdeIntegrator;
 use rsf_scenes::{
-    Bp7Law, Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp7Run, SeasBp8Run,
-    StepoverRun,
+    Bp7Law, Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp3Run, SeasBp7Run,
+    SeasBp8Run, StepoverRun,
 };
 
 use crate::guard::{parse_from, Program};
+
+/// The round trips of `run` through the program `P`'s command line (the settings it
+/// parses, `settings` of the parsed program: the same value) and through TOML (the same
+/// value, the same fingerprint).
+fn round_trip<P: Program, C: RunConfig + std::fmt::Debug>(
+    run: &C,
+    settings: impl Fn(P) -> C,
+) -> Result<(), TestCaseError> {
+    prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
+    let (program, _) = parse_from::<P, _, _>(command_line(P::NAME, run))
+        .map_err(|e| TestCaseError::fail(e.to_string()))?;
+    prop_assert_eq!(&settings(program), run);
+    let back = C::from_toml(&run.to_toml()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    prop_assert_eq!(&back, run);
+    prop_assert_eq!(back.fingerprint(), run.fingerprint());
+    Ok(())
+}
+
+/// The kernel and its accuracy: dense, hierarchical at the tolerance's accuracy or at a
+/// given one.
+fn kernel() -> impl Strategy<Value = (KernelChoice, Option<f64>)> {
+    prop_oneof![
+        Just((KernelChoice::Dense, None)),
+        Just((KernelChoice::Hierarchical, None)),
+        (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
+    ]
+}
 
 /// The command line of `run`: every setting as its flag (`--end-years 5`), from the
 /// settings' TOML keys.
@@ -110,11 +137,7 @@ fn stepover_run() -> impl Strategy<Value = StepoverRun> {
         ),
         (25.0f64..1e5, 1.0f64..2.0, any::<bool>()),
         1e-10f64..0.1,
-        prop_oneof![
-            Just((KernelChoice::Dense, None)),
-            Just((KernelChoice::Hierarchical, None)),
-            (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
-        ],
+        kernel(),
         proptest::sample::select(OdeIntegrator::ALL.to_vec()),
     )
         .prop_map(
@@ -144,39 +167,108 @@ fn stepover_run() -> impl Strategy<Value = StepoverRun> {
         )
 }
 
+fn bp3_run() -> impl Strategy<Value = SeasBp3Run> {
+    (
+        (1.0f64..90.0, 1e-9f64..1e5),
+        (1e-3f64..1e4, 60.00006f64..1e5, 1.0f64..2.0),
+        1e-10f64..0.1,
+        kernel(),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(
+                (dip, end_years),
+                (dx, domain_km, ratio),
+                tolerance,
+                (kernel, kernel_epsilon),
+                integrator,
+            )| SeasBp3Run {
+                dip,
+                end_years,
+                dx,
+                domain_km,
+                ratio,
+                tolerance,
+                kernel,
+                kernel_epsilon,
+                integrator,
+            },
+        )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
+    /// A configuration → its command line → the configuration the program parses: the
+    /// same value; and through TOML: the same value and the same fingerprint.
     #[test]
     fn stepover_settings_round_trip(run in stepover_run()) {
-        prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
-        let (args, _) = parse_from::<crate::stepover::Args, _, _>(command_line("stepover", &run)).unwrap();
-        prop_assert_eq!(args.settings, run);
-        let back = StepoverRun::from_toml(&run.to_toml()).unwrap();
-        prop_assert_eq!(back, run);
-        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        round_trip(&run, |p: crate::stepover::Args| p.settings)?;
     }
 
-    /// A configuration → its command line → the configuration the program parses: the
-    /// same value; and through TOML: the same value and the same fingerprint, which
-    /// the program's plan admits.
     #[test]
     fn bp7_settings_round_trip(run in bp7_run()) {
-        let (args, _) = parse_from::<crate::seas_bp7::Args, _, _>(command_line("seas_bp7", &run)).unwrap();
-        prop_assert_eq!(args.settings, run);
-        let back = SeasBp7Run::from_toml(&run.to_toml()).unwrap();
-        prop_assert_eq!(back, run);
-        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        round_trip(&run, |p: crate::seas_bp7::Args| p.settings)?;
     }
 
     #[test]
     fn bp8_settings_round_trip(run in bp8_run()) {
-        let (args, _) = parse_from::<crate::seas_bp8::Args, _, _>(command_line("seas_bp8", &run)).unwrap();
-        prop_assert_eq!(args.settings, run);
-        let back = SeasBp8Run::from_toml(&run.to_toml()).unwrap();
-        prop_assert_eq!(back, run);
-        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        round_trip(&run, |p: crate::seas_bp8::Args| p.settings)?;
     }
+
+    #[test]
+    fn bp3_settings_round_trip(run in bp3_run()) {
+        round_trip(&run, |p: crate::seas_bp3::Args| p.settings)?;
+    }
+}
+
+/// Each of `changed` (the base with one setting changed) has a fingerprint other than
+/// `base`'s.
+fn each_changes_the_fingerprint<C: RunConfig + std::fmt::Debug>(base: &C, changed: &[C]) {
+    for run in changed {
+        assert_ne!(run.fingerprint(), base.fingerprint(), "{run:?}");
+    }
+}
+
+/// Every setting of BP3 changes the fingerprint.
+#[test]
+fn every_bp3_setting_is_in_the_fingerprint() {
+    let base = SeasBp3Run::default();
+    each_changes_the_fingerprint(
+        &base,
+        &[
+            SeasBp3Run { dip: 30.0, ..base },
+            SeasBp3Run {
+                end_years: 2.0,
+                ..base
+            },
+            SeasBp3Run { dx: 250.0, ..base },
+            SeasBp3Run {
+                domain_km: 800.0,
+                ..base
+            },
+            SeasBp3Run {
+                ratio: 1.05,
+                ..base
+            },
+            SeasBp3Run {
+                tolerance: 1e-8,
+                ..base
+            },
+            SeasBp3Run {
+                kernel: KernelChoice::Dense,
+                ..base
+            },
+            SeasBp3Run {
+                kernel_epsilon: Some(1e-6),
+                ..base
+            },
+            SeasBp3Run {
+                integrator: OdeIntegrator::Rkc,
+                ..base
+            },
+        ],
+    );
 }
 
 /// Every setting changes the fingerprint (none is left out of it).
@@ -218,9 +310,7 @@ fn every_setting_is_in_the_fingerprint() {
             ..base
         },
     ];
-    for run in changed {
-        assert_ne!(run.fingerprint(), base.fingerprint(), "{run:?}");
-    }
+    each_changes_the_fingerprint(&base, &changed);
 }
 
 /// `--config`: the file's keys over the defaults, a flag given over the file's key; an
