@@ -146,6 +146,9 @@ macro_rules! friction {
                 }
             }
 
+            /// The names of the friction's settings (fields of the scene too).
+            const FRICTION: &[&str] = &[$(stringify!($field)),*];
+
             /// The friction's settings against their ranges.
             fn check_friction(&self) -> rsf::Result<()> {
                 check_ranges(&[$((stringify!($field), self.$field, $range, "")),*])
@@ -530,10 +533,21 @@ impl SeasBp5Run {
     /// The fingerprint of a checkpoint of this run of `bp5` (the scene of
     /// [`scene_with`](Self::scene_with)): every setting, those of the volume resolved
     /// with the finite-element kernel (Okada's has none: a checkpoint of a build with
-    /// METIS resumes in one without), then the scene's parameters as `scene.NAME`.
+    /// METIS resumes in one without), then the scene's other parameters as `scene.NAME`
+    /// (the friction is the run's settings, named once).
     /// `ordering` is the front end's default.
     pub fn fingerprint_with(&self, bp5: &SeasBp5, ordering: InteriorOrdering) -> Fingerprint {
-        crate::run_config::with_scene(Fingerprint::of_serialized(&self.resolved(ordering)), bp5)
+        let mut f = crate::run_config::with_scene(
+            Fingerprint::of_serialized(&self.resolved(ordering)),
+            bp5,
+        );
+        // The friction once, as the run's settings (`b0`, not `scene.b0` too: one name for
+        // `--allow-change`).
+        f.0.retain(|(k, _)| {
+            k.strip_prefix("scene.")
+                .is_none_or(|field| !Self::FRICTION.contains(&field))
+        });
+        f
     }
 }
 
@@ -660,5 +674,15 @@ mod tests {
         let weaker = SeasBp5Run { b0: 0.02, ..okada };
         assert_ne!(weaker.fingerprint(), okada.fingerprint());
         assert_eq!(weaker.scene().b0, 0.02);
+        // The friction is named once (`--allow-change b0` allows the change whole).
+        let differing: Vec<_> = weaker
+            .fingerprint()
+            .0
+            .into_iter()
+            .zip(okada.fingerprint().0)
+            .filter(|(a, b)| a != b)
+            .map(|(a, _)| a.0)
+            .collect();
+        assert_eq!(differing, ["b0"]);
     }
 }
