@@ -255,12 +255,14 @@ fn generic_cases(program: &str, flags: &BTreeSet<String>) -> Vec<Case> {
             &["--config", "unknown_key.toml"],
             "no_such_setting",
         ));
-        cases.push(case(program, &["--config", "typed_dx.toml"], "`dx`"));
-        cases.push(case(
-            program,
-            &["--config", "bad_dx.toml"],
-            "key `dx` = -10",
-        ));
+        // The cell size's key: `dx`, or `dz` where the program's flag is `--dz`.
+        let (typed, bad, named) = if flags.contains("--dx") {
+            ("typed_dx.toml", "bad_dx.toml", ["`dx`", "key `dx` = -10"])
+        } else {
+            ("typed_dz.toml", "bad_dz.toml", ["`dz`", "key `dz` = -10"])
+        };
+        cases.push(case(program, &["--config", typed], named[0]));
+        cases.push(case(program, &["--config", bad], named[1]));
     }
     cases
 }
@@ -502,6 +504,8 @@ fn scratch(name: &str) -> PathBuf {
     std::fs::write(dir.join("unknown_key.toml"), "no_such_setting = 1\n").unwrap();
     std::fs::write(dir.join("typed_dx.toml"), "dx = \"ten\"\n").unwrap();
     std::fs::write(dir.join("bad_dx.toml"), "dx = -10\n").unwrap();
+    std::fs::write(dir.join("typed_dz.toml"), "dz = \"ten\"\n").unwrap();
+    std::fs::write(dir.join("bad_dz.toml"), "dz = -10\n").unwrap();
     dir
 }
 

@@ -5,13 +5,42 @@
 //! `config.rs`, which the programs import.
 
 use proptest::prelude::*;
+use rsf::fault_ode::InteriorOrdering;
 use rsf::fault_ode::OdeIntegrator;
 use rsf_scenes::{
-    Bp7Law, Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp7Run, SeasBp8Run,
-    SquareKernel, StepoverRun,
+    Bp5Condensation, Bp5Kernel, Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law,
+    Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp3Run, SeasBp5Mesh, SeasBp5Run,
+    SeasBp6Run, SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
 };
 
 use crate::guard::{parse_from, Program};
+
+/// The round trips of `run` through the program `P`'s command line (the settings it
+/// parses, `settings` of the parsed program: the same value) and through TOML (the same
+/// value, the same fingerprint).
+fn round_trip<P: Program, C: RunConfig + std::fmt::Debug>(
+    run: &C,
+    settings: impl Fn(P) -> C,
+) -> Result<(), TestCaseError> {
+    prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
+    let (program, _) = parse_from::<P, _, _>(command_line(P::NAME, run))
+        .map_err(|e| TestCaseError::fail(e.to_string()))?;
+    prop_assert_eq!(&settings(program), run);
+    let back = C::from_toml(&run.to_toml()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    prop_assert_eq!(&back, run);
+    prop_assert_eq!(back.fingerprint(), run.fingerprint());
+    Ok(())
+}
+
+/// The kernel and its accuracy: dense, hierarchical at the tolerance's accuracy or at a
+/// given one.
+fn kernel() -> impl Strategy<Value = (KernelChoice, Option<f64>)> {
+    prop_oneof![
+        Just((KernelChoice::Dense, None)),
+        Just((KernelChoice::Hierarchical, None)),
+        (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
+    ]
+}
 
 /// The command line of `run`: every setting as its flag (`--end-years 5`), from the
 /// settings' TOML keys.
@@ -148,11 +177,7 @@ fn stepover_run() -> impl Strategy<Value = StepoverRun> {
         ),
         (25.0f64..1e5, 1.0f64..2.0, any::<bool>()),
         1e-10f64..0.1,
-        prop_oneof![
-            Just((KernelChoice::Dense, None)),
-            Just((KernelChoice::Hierarchical, None)),
-            (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
-        ],
+        kernel(),
         proptest::sample::select(OdeIntegrator::ALL.to_vec()),
     )
         .prop_map(
@@ -182,39 +207,422 @@ fn stepover_run() -> impl Strategy<Value = StepoverRun> {
         )
 }
 
+fn bp3_run() -> impl Strategy<Value = SeasBp3Run> {
+    (
+        (1.0f64..90.0, 1e-9f64..1e5),
+        (1e-3f64..1e4, 60.00006f64..1e5, 1.0f64..2.0),
+        1e-10f64..0.1,
+        kernel(),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(
+                (dip, end_years),
+                (dx, domain_km, ratio),
+                tolerance,
+                (kernel, kernel_epsilon),
+                integrator,
+            )| SeasBp3Run {
+                dip,
+                end_years,
+                dx,
+                domain_km,
+                ratio,
+                tolerance,
+                kernel,
+                kernel_epsilon,
+                integrator,
+            },
+        )
+}
+
+fn bp6_run() -> impl Strategy<Value = SeasBp6Run> {
+    (
+        (
+            prop_oneof![
+                Just(Bp6Variant::A),
+                Just(Bp6Variant::S),
+                Just(Bp6Variant::C)
+            ],
+            1e-9f64..100.0,
+            prop_oneof![Just(2.0), Just(10.0), Just(50.0), Just(1000.0), Just(1e4)],
+        ),
+        (
+            prop_oneof![Just(Bp6Elastic::Bem), Just(Bp6Elastic::Fe)],
+            prop_oneof![
+                Just(None),
+                Just(Some(Bp6BemProduct::Fft)),
+                Just(Some(Bp6BemProduct::Stored))
+            ],
+            kernel(),
+        ),
+        (
+            30.0f64..1e5,
+            1.0f64..2.0,
+            proptest::option::of(1e-12f64..0.1),
+        ),
+        prop_oneof![
+            Just((Bp6PressureChoice::ClosedForm, None)),
+            Just((Bp6PressureChoice::Diffusion, None)),
+            (2usize..20_000).prop_map(|n| (Bp6PressureChoice::Diffusion, Some(n))),
+        ],
+        (0.0f64..1e7, 60.0f64..1e7),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(
+                (variant, end_years, dz),
+                (elastic, bem_product, (kernel, kernel_epsilon)),
+                (domain_km, ratio, tolerance),
+                (pressure, diffusion_cells),
+                (station_interval, profile_interval),
+                integrator,
+            )| {
+                // The settings the run would ignore left unset (they are refused).
+                let bem_product = bem_product.filter(|_| elastic == Bp6Elastic::Bem);
+                let stored =
+                    elastic == Bp6Elastic::Fe || bem_product == Some(Bp6BemProduct::Stored);
+                let (kernel, kernel_epsilon) = if stored {
+                    (kernel, kernel_epsilon)
+                } else {
+                    (KernelChoice::Hierarchical, None)
+                };
+                SeasBp6Run {
+                    variant,
+                    end_years,
+                    dz,
+                    elastic,
+                    bem_product,
+                    domain_km,
+                    ratio,
+                    tolerance,
+                    pressure,
+                    station_interval,
+                    profile_interval,
+                    diffusion_cells,
+                    kernel,
+                    kernel_epsilon,
+                    integrator,
+                }
+            },
+        )
+}
+
+fn bp5_run() -> impl Strategy<Value = SeasBp5Run> {
+    let volume = (
+        proptest::option::of(75.0f64..1e4),
+        proptest::option::of(1.0f64..2.0),
+        proptest::option::of(proptest::sample::select(vec![
+            SeasBp5Mesh::Graded,
+            SeasBp5Mesh::Tensor,
+            SeasBp5Mesh::TensorMirrored,
+        ])),
+        proptest::option::of((0.1f64..10.0, 0.01f64..1.0)),
+        proptest::option::of(prop_oneof![
+            Just(Bp5Condensation::SchurOnly),
+            Just(Bp5Condensation::Factor)
+        ]),
+        proptest::option::of(prop_oneof![
+            Just(InteriorOrdering::Amd),
+            Just(InteriorOrdering::NestedDissection)
+        ]),
+    );
+    let friction = (
+        (1e3f64..1e10, 1e-5f64..1.0, 1e-5f64..1.0, 1e-5f64..1.0),
+        (1e-6f64..1e3, 1e-6f64..1e3, 0.0f64..10.0, 1e-15f64..1e3),
+        (1e-15f64..1.0, 1e-20f64..10.0, 1e-20f64..10.0),
+    );
+    (
+        prop_oneof![Just(Bp5Kernel::Okada), Just(Bp5Kernel::Fe)],
+        prop_oneof![Just(2000.0), Just(4000.0), Just(5000.0), Just(2e4)],
+        volume,
+        (1e-9f64..1e5, 1e-10f64..0.1, 1e-14f64..1e-2),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+        friction,
+    )
+        .prop_map(
+            |(
+                kernel,
+                dx,
+                (domain_km, ratio, mesh, zone, condensation, ordering),
+                (end_years, tolerance, epsilon),
+                integrator,
+                ((sigma_n, a0, a_max, b0), (l, l_nucleation, f0, v0), (v_p, v_init, v_i)),
+            )| {
+                // The volume's settings only with the finite-element kernel (refused with
+                // Okada's).
+                let fe = kernel == Bp5Kernel::Fe;
+                let zone = zone.filter(|_| fe);
+                SeasBp5Run {
+                    kernel,
+                    dx,
+                    domain_km: domain_km.filter(|_| fe),
+                    ratio: ratio.filter(|_| fe),
+                    mesh: mesh.filter(|_| fe),
+                    fault_zone_width_km: zone.map(|z| z.0),
+                    fault_zone_rigidity: zone.map(|z| z.1),
+                    condensation: condensation.filter(|_| fe),
+                    ordering: ordering.filter(|_| fe),
+                    end_years,
+                    tolerance,
+                    integrator,
+                    epsilon,
+                    sigma_n,
+                    a0,
+                    a_max,
+                    b0,
+                    l,
+                    l_nucleation,
+                    f0,
+                    v0,
+                    v_p,
+                    v_init,
+                    v_i,
+                }
+            },
+        )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
+    /// A configuration → its command line → the configuration the program parses: the
+    /// same value; and through TOML: the same value and the same fingerprint.
     #[test]
     fn stepover_settings_round_trip(run in stepover_run()) {
-        prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
-        let (args, _) = parse_from::<crate::stepover::Args, _, _>(command_line("stepover", &run)).unwrap();
-        prop_assert_eq!(args.settings, run);
-        let back = StepoverRun::from_toml(&run.to_toml()).unwrap();
-        prop_assert_eq!(back, run);
-        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        round_trip(&run, |p: crate::stepover::Args| p.settings)?;
     }
 
-    /// A configuration → its command line → the configuration the program parses: the
-    /// same value; and through TOML: the same value and the same fingerprint, which
-    /// the program's plan admits.
     #[test]
     fn bp7_settings_round_trip(run in bp7_run()) {
-        let (args, _) = parse_from::<crate::seas_bp7::Args, _, _>(command_line("seas_bp7", &run)).unwrap();
-        prop_assert_eq!(args.settings, run);
-        let back = SeasBp7Run::from_toml(&run.to_toml()).unwrap();
-        prop_assert_eq!(back, run);
-        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        round_trip(&run, |p: crate::seas_bp7::Args| p.settings)?;
     }
 
     #[test]
     fn bp8_settings_round_trip(run in bp8_run()) {
-        let (args, _) = parse_from::<crate::seas_bp8::Args, _, _>(command_line("seas_bp8", &run)).unwrap();
-        prop_assert_eq!(args.settings, run);
-        let back = SeasBp8Run::from_toml(&run.to_toml()).unwrap();
-        prop_assert_eq!(back, run);
-        prop_assert_eq!(back.fingerprint(), run.fingerprint());
+        round_trip(&run, |p: crate::seas_bp8::Args| p.settings)?;
     }
+
+    #[test]
+    fn bp3_settings_round_trip(run in bp3_run()) {
+        round_trip(&run, |p: crate::seas_bp3::Args| p.settings)?;
+    }
+
+    #[test]
+    fn bp5_settings_round_trip(run in bp5_run()) {
+        round_trip(&run, |p: crate::seas_bp5::Args| p.settings)?;
+    }
+
+    #[test]
+    fn bp6_settings_round_trip(run in bp6_run()) {
+        round_trip(&run, |p: crate::seas_bp6::Args| p.settings)?;
+    }
+}
+
+/// Each of `changed` (the base with one setting changed) has a fingerprint other than
+/// `base`'s.
+fn each_changes_the_fingerprint<C: RunConfig + std::fmt::Debug>(base: &C, changed: &[C]) {
+    for run in changed {
+        assert_ne!(run.fingerprint(), base.fingerprint(), "{run:?}");
+    }
+}
+
+/// Every setting of BP3 changes the fingerprint.
+#[test]
+fn every_bp3_setting_is_in_the_fingerprint() {
+    let base = SeasBp3Run::default();
+    each_changes_the_fingerprint(
+        &base,
+        &[
+            SeasBp3Run { dip: 30.0, ..base },
+            SeasBp3Run {
+                end_years: 2.0,
+                ..base
+            },
+            SeasBp3Run { dx: 250.0, ..base },
+            SeasBp3Run {
+                domain_km: 800.0,
+                ..base
+            },
+            SeasBp3Run {
+                ratio: 1.05,
+                ..base
+            },
+            SeasBp3Run {
+                tolerance: 1e-8,
+                ..base
+            },
+            SeasBp3Run {
+                kernel: KernelChoice::Dense,
+                ..base
+            },
+            SeasBp3Run {
+                kernel_epsilon: Some(1e-6),
+                ..base
+            },
+            SeasBp3Run {
+                integrator: OdeIntegrator::Rkc,
+                ..base
+            },
+        ],
+    );
+}
+
+/// Every setting of BP6 changes the fingerprint (those the run uses: the integrator of
+/// A and S, the diffusion's cells with the diffusion).
+#[test]
+fn every_bp6_setting_is_in_the_fingerprint() {
+    let base = SeasBp6Run::default();
+    let diffusion = SeasBp6Run {
+        pressure: Bp6PressureChoice::Diffusion,
+        ..base
+    };
+    each_changes_the_fingerprint(
+        &base,
+        &[
+            SeasBp6Run {
+                variant: Bp6Variant::S,
+                ..base
+            },
+            SeasBp6Run {
+                end_years: 1.0,
+                ..base
+            },
+            SeasBp6Run { dz: 20.0, ..base },
+            SeasBp6Run {
+                elastic: Bp6Elastic::Fe,
+                ..base
+            },
+            SeasBp6Run {
+                bem_product: Some(Bp6BemProduct::Stored),
+                ..base
+            },
+            SeasBp6Run {
+                domain_km: 40.0,
+                ..base
+            },
+            SeasBp6Run { ratio: 1.1, ..base },
+            SeasBp6Run {
+                tolerance: Some(1e-8),
+                ..base
+            },
+            diffusion,
+            SeasBp6Run {
+                station_interval: 60.0,
+                ..base
+            },
+            SeasBp6Run {
+                profile_interval: 60.0,
+                ..base
+            },
+            SeasBp6Run {
+                kernel: KernelChoice::Dense,
+                ..base
+            },
+            SeasBp6Run {
+                kernel_epsilon: Some(1e-6),
+                ..base
+            },
+            SeasBp6Run {
+                integrator: OdeIntegrator::Rkc,
+                ..base
+            },
+        ],
+    );
+    each_changes_the_fingerprint(
+        &diffusion,
+        &[SeasBp6Run {
+            diffusion_cells: Some(400),
+            ..diffusion
+        }],
+    );
+}
+
+/// Every setting of BP5 changes the fingerprint (the volume's with the finite-element
+/// kernel), the friction among them.
+#[test]
+fn every_bp5_setting_is_in_the_fingerprint() {
+    let base = SeasBp5Run::default();
+    let fe = SeasBp5Run {
+        kernel: Bp5Kernel::Fe,
+        ..base
+    };
+    each_changes_the_fingerprint(
+        &base,
+        &[
+            fe,
+            SeasBp5Run { dx: 4000.0, ..base },
+            SeasBp5Run {
+                end_years: 1.0,
+                ..base
+            },
+            SeasBp5Run {
+                tolerance: 1e-7,
+                ..base
+            },
+            SeasBp5Run {
+                integrator: OdeIntegrator::Rkc,
+                ..base
+            },
+            SeasBp5Run {
+                epsilon: 1e-5,
+                ..base
+            },
+            SeasBp5Run {
+                sigma_n: 30e6,
+                ..base
+            },
+            SeasBp5Run { a0: 0.005, ..base },
+            SeasBp5Run {
+                a_max: 0.03,
+                ..base
+            },
+            SeasBp5Run { b0: 0.02, ..base },
+            SeasBp5Run { l: 0.1, ..base },
+            SeasBp5Run {
+                l_nucleation: 0.1,
+                ..base
+            },
+            SeasBp5Run { f0: 0.5, ..base },
+            SeasBp5Run { v0: 1e-5, ..base },
+            SeasBp5Run { v_p: 2e-9, ..base },
+            SeasBp5Run {
+                v_init: 2e-9,
+                ..base
+            },
+            SeasBp5Run { v_i: 0.01, ..base },
+        ],
+    );
+    each_changes_the_fingerprint(
+        &fe,
+        &[
+            SeasBp5Run {
+                domain_km: Some(200.0),
+                ..fe
+            },
+            SeasBp5Run {
+                ratio: Some(1.1),
+                ..fe
+            },
+            SeasBp5Run {
+                mesh: Some(SeasBp5Mesh::Tensor),
+                ..fe
+            },
+            SeasBp5Run {
+                fault_zone_width_km: Some(4.0),
+                fault_zone_rigidity: Some(0.5),
+                ..fe
+            },
+            SeasBp5Run {
+                condensation: Some(Bp5Condensation::Factor),
+                ..fe
+            },
+            SeasBp5Run {
+                ordering: Some(InteriorOrdering::NestedDissection),
+                ..fe
+            },
+        ],
+    );
 }
 
 /// Every setting changes the fingerprint (none is left out of it).
@@ -256,9 +664,7 @@ fn every_setting_is_in_the_fingerprint() {
             ..base
         },
     ];
-    for run in changed {
-        assert_ne!(run.fingerprint(), base.fingerprint(), "{run:?}");
-    }
+    each_changes_the_fingerprint(&base, &changed);
 }
 
 /// `--config`: the file's keys over the defaults, a flag given over the file's key; an

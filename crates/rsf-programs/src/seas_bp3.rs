@@ -30,37 +30,30 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
-use crate::guard::{
-    in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared, Processes, Program,
-};
+use crate::guard::{number, AnyError, Folder, Limits, Plan, Prepared, Processes, Program};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
-use rsf::checkpoint::Fingerprint;
-use rsf::fault_ode::FaultKernel;
 use rsf::observe::{Progress, TimeUnit};
 use rsf::Stepping;
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{
-    bp3_ranges, SeasBp1, SeasBp3, SeasBp3Grid, SeasBp3Run, SEAS_BP3_STATION_DISTANCES,
+    KernelChoice, RunConfig, SeasBp1, SeasBp3, SeasBp3Run, SEAS_BP3_STATION_DISTANCES,
 };
 use rsf_seas::{SeasSampling, SeasSetup, SECONDS_PER_YEAR};
-
-// The flags' ranges and help texts are the scene's, which the Python keywords of the same
-// names check.
-use bp3_ranges::{
-    DOMAIN_KM, DOMAIN_KM_HELP, DX, DX_HELP, END_YEARS, END_YEARS_HELP, RATIO, RATIO_HELP,
-};
 
 /// A coarse SEAS BP3-QD.
 #[derive(Parser)]
 #[command(version)]
 pub struct Args {
-    /// Dip ψ (degrees): 60 (thrust) or 30 (normal); in [1, 90) (below 1°, a flat
-    /// detachment, the mesh's cells along the fault thin towards degenerate).
-    #[arg(long, default_value_t = SeasBp3Run::default().dip, allow_negative_numbers = true)]
-    dip: f64,
+    /// The run's settings (`rsf_scenes::SeasBp3Run`: these flags, or `--config`'s keys;
+    /// Python's `rsf.seas_bp3` keywords).
+    #[command(flatten)]
+    pub(crate) settings: SeasBp3Run,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp3")]
     out: PathBuf,
@@ -68,22 +61,6 @@ pub struct Args {
     /// rsf program's run is refused and left untouched).
     #[arg(long)]
     overwrite: bool,
-    #[arg(long, default_value_t = SeasBp3Run::default().end_years, allow_negative_numbers = true, help = END_YEARS_HELP)]
-    end_years: f64,
-    #[arg(long, default_value_t = SeasBp3Run::default().dx, allow_negative_numbers = true, help = DX_HELP)]
-    dx: f64,
-    #[arg(long, default_value_t = SeasBp3Run::default().domain_km, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
-    domain_km: f64,
-    #[arg(long, default_value_t = SeasBp3Run::default().ratio, allow_negative_numbers = true, help = RATIO_HELP)]
-    ratio: f64,
-    /// Tolerance of the fault ODE, in (2.220446049250313e-16, 1) (open: from f64::EPSILON
-    /// to 1).
-    #[arg(long, default_value_t = SeasBp3Run::default().tolerance, allow_negative_numbers = true)]
-    tolerance: f64,
-    #[command(flatten)]
-    kernel: crate::KernelArgs,
-    #[command(flatten)]
-    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the operator products and the per-node friction
     /// solves; the same bits for every value). Default: every core of the machine.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
@@ -103,10 +80,9 @@ pub struct Args {
     limits: Limits,
 }
 
-/// The scene and grid of the flags (the scene's parameters BP1's table).
-fn scene(args: &Args) -> (SeasBp3, SeasBp3Grid) {
-    let run = args.settings_with(FaultKernel::Dense);
-    (run.scene(SeasBp1::default()), run.grid())
+/// The scene of the settings (its parameters BP1's table).
+fn scene(run: &SeasBp3Run) -> SeasBp3 {
+    run.scene(SeasBp1::default())
 }
 
 /// The files a run writes into `--out`.
@@ -117,43 +93,6 @@ fn outputs() -> Vec<String> {
     names
 }
 
-impl Args {
-    /// What a checkpoint continues: the scene, the grid and what changes the trajectory
-    /// (the plan's too: a checkpoint is checked against it before the folder changes).
-    ///
-    /// # Errors
-    /// The kernel's (`--kernel-epsilon`).
-    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        // The scene's fingerprint of the run's settings, which the Python package's
-        // `rsf.seas_bp3` computes too.
-        let (bp3, _) = scene(self);
-        Ok(self.settings()?.fingerprint(&bp3))
-    }
-
-    /// The run's settings as the scene states them (shared with the Python package's
-    /// `rsf.seas_bp3`).
-    ///
-    /// # Errors
-    /// The kernel's (`--kernel-epsilon`).
-    fn settings(&self) -> Result<SeasBp3Run, AnyError> {
-        Ok(self.settings_with(self.kernel.kernel(self.tolerance)?))
-    }
-
-    /// The settings with `kernel`.
-    fn settings_with(&self, kernel: FaultKernel) -> SeasBp3Run {
-        SeasBp3Run {
-            dip: self.dip,
-            dx: self.dx,
-            domain_km: self.domain_km,
-            ratio: self.ratio,
-            tolerance: self.tolerance,
-            kernel,
-            integrator: self.integrator.integrator,
-            end_years: self.end_years,
-        }
-    }
-}
-
 impl Program for Args {
     const NAME: &'static str = "seas_bp3";
 
@@ -161,43 +100,27 @@ impl Program for Args {
         self.limits
     }
 
+    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
+        self.settings = self.config.merged(self.settings, matches)?;
+        Ok(self)
+    }
+
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, END_YEARS, "years")?;
         // Issue 87: `--dip 1e-300` ended in "cell 0 is degenerate" (measured: 1e-5°
         // degenerates, 1e-3° still meshes at the default --dx; 1° keeps a margin for
         // every --dx and BP3's dips, 30° and 60°, well inside).
-        if !(self.dip >= bp3_ranges::DIP.0 && self.dip < bp3_ranges::DIP.1) {
-            return Err(refuse(
-                "--dip",
-                written(self.dip),
-                "must be in [1, 90) degrees: below 1° the fault is a flat detachment, whose \
-                 cells along the fault thin towards degenerate",
-            ));
-        }
-        let (bp3, grid) = scene(self);
+        self.config.validate(&self.settings)?;
+        let run = &self.settings;
+        let (bp3, grid) = (scene(run), run.grid());
         let w_f = bp3.params.w_f;
-        in_range("--dx", self.dx, DX, "m: at most W_f/4")?;
-        in_range(
-            "--domain-km",
-            self.domain_km,
-            DOMAIN_KM,
-            "km: the box must reach 1.5 W_f down the fault",
-        )?;
-        in_range("--ratio", self.ratio, RATIO, "the growth of the elements")?;
-        crate::cli::for_flag(
-            "--tolerance",
-            "tolerance",
-            bp3.params.fault_ode_options(self.tolerance),
-        )?;
-        self.kernel.kernel(self.tolerance)?;
         self.header.check()?;
         // The graded mesh in closed form (rsf_fem::geometric_grading_len, as SeasBp3::mesh
         // grades it), before anything is allocated.
-        let (s, _) = self.dip.to_radians().sin_cos();
+        let (s, _) = run.dip.to_radians().sin_cos();
         let side = rsf::fem::geometric_grading_len(grid.dx, 2.0 * grid.dx, grid.ratio, grid.domain);
         let nz = rsf::fem::geometric_grading_len(grid.dx * s, w_f * s, grid.ratio, grid.domain * s);
         let nodes = (2.0 * side - 1.0) * nz + nz;
-        let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
+        let hierarchical = run.kernel == KernelChoice::Hierarchical;
         let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(nz, hierarchical);
         let profile = grid.domain / 500.0 + 1.0;
         let stations = (SEAS_BP3_STATION_DISTANCES.len() + SEAS_BP3_SURFACE_STATIONS.len()) as f64;
@@ -212,23 +135,23 @@ impl Program for Args {
                 format!(
                     "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
                      {nz:.3e} on the fault",
-                    number(self.dx),
-                    number(self.domain_km),
-                    number(self.ratio)
+                    number(run.dx),
+                    number(run.domain_km),
+                    number(run.ratio)
                 ),
             )
             .output(
-                seas_output_bytes(self.end_years, stations, 8, 3.0 * profile),
+                seas_output_bytes(run.end_years, stations, 8, 3.0 * profile),
                 "--end-years, --domain-km",
                 format!(
                     "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
-                    self.end_years
+                    run.end_years
                 ),
             )
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint()?),
+                    .fingerprint(run.fingerprint()),
             ))
     }
 }
@@ -263,7 +186,8 @@ pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
 fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
     // Rank 0 (or the one process) writes the files and tells.
     let root = processes.is_none_or(|p| p.rank() == 0);
-    let (bp3, grid) = scene(&args);
+    let settings = args.settings;
+    let (bp3, grid) = (scene(&settings), settings.grid());
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
     let model = bp3.model(&grid)?;
@@ -271,20 +195,20 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     if root {
         println!(
             "BP3-QD, dip {}° ({}), Δx = {} m, box ±{} km, {} nodes, {} frictional nodes; on {}",
-            args.dip,
+            settings.dip,
             if bp3.normal_faulting {
                 "normal"
             } else {
                 "thrust"
             },
-            args.dx,
-            args.domain_km,
+            settings.dx,
+            settings.domain_km,
             model.vertices.len(),
             fb.len(),
             machine()
         );
     }
-    let options = args.settings()?.fault_ode_options(&bp3, args.threads)?;
+    let options = settings.fault_ode_options(&bp3, args.threads)?;
     let mut ode = bp3.fault_ode(model, options)?;
     if let Some(p) = processes {
         ode.share_evaluations(p.group())?;
@@ -306,16 +230,16 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     let setup = SeasSetup {
         modeler: args.header.modeler.clone(),
         date: args.header.date_or_today(),
-        ..bp3.seas_setup(args.dx, SeasSampling::default())
+        ..bp3.seas_setup(settings.dx, SeasSampling::default())
     };
-    let fingerprint = args.fingerprint()?;
+    let fingerprint = settings.fingerprint();
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
     let session = Session::start(
         args.run.session_flags(),
         args.out.join("checkpoint.bin"),
         fingerprint,
-        args.end_years * SECONDS_PER_YEAR,
+        settings.end_years * SECONDS_PER_YEAR,
         &mut ode,
     )?;
     if !root {
@@ -346,7 +270,7 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     }
     let progress = Progress::time_in(
         ode.state().time,
-        args.end_years * SECONDS_PER_YEAR,
+        settings.end_years * SECONDS_PER_YEAR,
         TimeUnit::year(SECONDS_PER_YEAR),
         "BP3",
     );
@@ -377,7 +301,10 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     );
     println!(
         "integrator: {}",
-        args.integrator.summary(Some(ode.integrator_stats()))
+        crate::IntegratorArgs {
+            integrator: settings.integrator
+        }
+        .summary(Some(ode.integrator_stats()))
     );
     crate::seas_overview(
         &args.out,
@@ -387,17 +314,4 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     )?;
     println!("wrote {}", args.out.join("overview.png").display());
     Ok(())
-}
-
-#[cfg(test)]
-mod flag_tests {
-    /// `--dx`'s and `--domain-km`'s bounds are the scene's W_f/4 and just beyond
-    /// 1.5 W_f (the ranges are written as literals, for `--help`).
-    #[test]
-    fn the_bounds_are_the_scenes() {
-        let w_f = rsf_scenes::SeasBp1::default().w_f;
-        assert_eq!(super::DX.1, w_f / 4.0);
-        let least = 1.5 * w_f / 1e3;
-        assert!(super::DOMAIN_KM.0 > least && super::DOMAIN_KM.0 < least * 1.00001);
-    }
 }

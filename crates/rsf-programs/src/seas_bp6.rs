@@ -32,11 +32,9 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::config::ConfigArgs;
 use crate::fields::{Fault2d, FaultFields2d, FieldsRun};
-use crate::guard::{
-    flag_range, in_range, number, refuse, written, AnyError, Folder, Limits, Plan, Prepared,
-    Program,
-};
+use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -45,128 +43,27 @@ use rsf::pore_pressure::PorePressure;
 use rsf::whole_space::WholeSpaceKernel;
 use rsf::Stepping;
 use rsf_scenes::{
-    bp6_ranges, Bp6BemProduct, Bp6Elastic, Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid,
-    SeasBp6Run, BP6_C_FIRST_STEP, BP6_DIFFUSION_CELLS, BP6_SECONDS_PER_YEAR,
+    Bp6BemProduct, Bp6Elastic, Bp6Variant, KernelChoice, RunConfig, SeasBp6, SeasBp6Run,
+    BP6_C_FIRST_STEP, BP6_SECONDS_PER_YEAR,
 };
 use rsf_seas::{SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
-
-/// The elastic kernel.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-enum Elastic {
-    /// The whole space's boundary-element kernel on the fault alone.
-    Bem,
-    /// The finite-element half space condensed onto the fault (C: the implicit scheme).
-    Fe,
-}
-
-/// How the boundary-element kernel is applied.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-enum BemProduct {
-    /// FFTs of the Toeplitz kernel's circulant embedding: exact up to round-off,
-    /// O(n log n) per product.
-    Fft,
-    /// The kernel stored as `--kernel` says (dense, or an ℋ-matrix).
-    Stored,
-}
-
-/// The pore pressure.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-enum PressureArg {
-    /// The description's closed form.
-    ClosedForm,
-    /// The diffusion solved on `--diffusion-cells` cells between no-flux ends at ±l_f.
-    Diffusion,
-}
-
-flag_range!(
-    END_YEARS,
-    END_YEARS_HELP = "End time (years of 365 days)",
-    [1e-9, 100]
-);
-flag_range!(
-    DZ,
-    DZ_HELP = "Cell (BEM) or element (FE) size along the fault (m), dividing 2 l_f = 40 km \
-               into whole cells; at most l_f/2",
-    [0.4, 10e3]
-);
-flag_range!(
-    DOMAIN_KM,
-    DOMAIN_KM_HELP = "FE: the truncation of the half space, 0 ≤ x ≤ L, |z| ≤ L (km)",
-    [30, 1e5]
-);
-flag_range!(
-    RATIO,
-    RATIO_HELP = "FE: growth of the elements away from the fault",
-    [1, 2]
-);
-flag_range!(
-    TOLERANCE,
-    TOLERANCE_HELP = "Tolerance: of the fault ODE (a, s), of the implicit steps' slip error \
-                      relative to D_RS (c)",
-    [1e-12, 0.1]
-);
-flag_range!(
-    STATION_INTERVAL,
-    STATION_INTERVAL_HELP = "Seconds between station and `global.dat` rows (0: a row at every \
-                             accepted step, the default — a transient of the slip law lasts \
-                             minutes, D_RS/V)",
-    [0, 1e7]
-);
-flag_range!(
-    PROFILE_INTERVAL,
-    PROFILE_INTERVAL_HELP = "Seconds between profile rows",
-    [60, 1e7]
-);
-flag_range!(
-    DIFFUSION_CELLS,
-    DIFFUSION_CELLS_HELP = "Cells of the diffusion along 2 l_f (`--pressure diffusion`) \
-                            [default: 800]; at most rsf::pore_pressure::MAX_DIFFUSION_CELLS",
-    [2, 20000]
-);
 
 /// SEAS BP6-QD-A/S/C.
 #[derive(Parser)]
 #[command(version)]
 pub(crate) struct Args {
-    /// The variant: a (aging law), s (slip law), c (constant friction).
-    #[arg(long, default_value = "a")]
-    variant: String,
+    /// The run's settings (`rsf_scenes::SeasBp6Run`: these flags, or `--config`'s keys;
+    /// Python's `rsf.seas_bp6` keywords).
+    #[command(flatten)]
+    pub(crate) settings: SeasBp6Run,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp6")]
     out: PathBuf,
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    #[arg(long, default_value_t = SeasBp6Run::default().end_years, allow_negative_numbers = true, help = END_YEARS_HELP)]
-    end_years: f64,
-    #[arg(long, default_value_t = SeasBp6Run::default().dz, allow_negative_numbers = true, help = DZ_HELP)]
-    dz: f64,
-    /// The elastic kernel [default: bem; for c too, whose finite-element model at the
-    /// default 10 m would need about 50 GB].
-    #[arg(long, value_enum)]
-    elastic: Option<Elastic>,
-    /// BEM: how the kernel's products are computed [default: fft].
-    #[arg(long, value_enum)]
-    bem_product: Option<BemProduct>,
-    #[arg(long, default_value_t = SeasBp6Run::default().domain_km, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
-    domain_km: f64,
-    #[arg(long, default_value_t = SeasBp6Run::default().ratio, allow_negative_numbers = true, help = RATIO_HELP)]
-    ratio: f64,
-    #[arg(long, allow_negative_numbers = true, help = TOLERANCE_HELP)]
-    tolerance: Option<f64>,
-    /// The pore pressure.
-    #[arg(long, value_enum, default_value = "closed-form")]
-    pressure: PressureArg,
-    #[arg(long, default_value_t = SeasBp6Run::default().station_interval, allow_negative_numbers = true, help = STATION_INTERVAL_HELP)]
-    station_interval: f64,
-    #[arg(long, default_value_t = SeasBp6Run::default().profile_interval, allow_negative_numbers = true, help = PROFILE_INTERVAL_HELP)]
-    profile_interval: f64,
-    #[arg(long, help = DIFFUSION_CELLS_HELP)]
-    diffusion_cells: Option<usize>,
-    #[command(flatten)]
-    kernel: crate::KernelArgs,
-    #[command(flatten)]
-    integrator: crate::IntegratorArgs,
     /// Threads of each evaluation (the same bits for every value).
     #[arg(long, default_value_t = 1)]
     threads: usize,
@@ -181,131 +78,12 @@ pub(crate) struct Args {
     limits: Limits,
 }
 
-impl Args {
-    /// What a checkpoint continues: the scene, the variant, the cell and what changes the
-    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
-    /// changes).
-    ///
-    /// # Errors
-    /// The variant's and the kernel's (as the plan names them).
-    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        // The scene's fingerprint of the run's settings (the integrator of the fault ODE
-        // runs only), which the Python package's `rsf.seas_bp6` computes too.
-        Ok(self.settings()?.fingerprint(&SeasBp6::default()))
-    }
-
-    fn variant(&self) -> Result<Bp6Variant, AnyError> {
-        self.variant
-            .parse()
-            .map_err(|_| refuse("--variant", &self.variant, "must be a, s or c"))
-    }
-    fn elastic(&self) -> Elastic {
-        self.elastic.unwrap_or(Elastic::Bem)
-    }
-    fn tolerance(&self, v: Bp6Variant) -> f64 {
-        self.tolerance.unwrap_or(v.default_tolerance())
-    }
-    fn grid(&self) -> SeasBp6Grid {
-        SeasBp6Grid {
-            dz: self.dz,
-            domain: self.domain_km * 1e3,
-            ratio: self.ratio,
-        }
-    }
-    /// The boundary-element kernel's product.
-    fn bem_kernel(&self, tol: f64) -> Result<WholeSpaceKernel, AnyError> {
-        Ok(match self.bem_product() {
-            BemProduct::Fft => WholeSpaceKernel::Fft,
-            BemProduct::Stored => WholeSpaceKernel::Stored(self.kernel.kernel(tol.min(1e-2))?),
-        })
-    }
-    /// `--bem-product`, or its default.
-    fn bem_product(&self) -> BemProduct {
-        self.bem_product.unwrap_or(BemProduct::Fft)
-    }
-    /// `--diffusion-cells`, or its default.
-    fn diffusion_cells(&self) -> usize {
-        self.diffusion_cells.unwrap_or(BP6_DIFFUSION_CELLS)
-    }
-    /// The run's settings as the scene states them (its fingerprint's source, shared with
-    /// the Python package's `rsf.seas_bp6`).
-    fn settings(&self) -> Result<SeasBp6Run, AnyError> {
-        let variant = self.variant()?;
-        let tolerance = self.tolerance(variant);
-        Ok(SeasBp6Run {
-            variant,
-            dz: self.dz,
-            elastic: match self.elastic() {
-                Elastic::Bem => Bp6Elastic::Bem,
-                Elastic::Fe => Bp6Elastic::Fe,
-            },
-            bem_product: match self.bem_product() {
-                BemProduct::Fft => Bp6BemProduct::Fft,
-                BemProduct::Stored => Bp6BemProduct::Stored,
-            },
-            domain_km: self.domain_km,
-            ratio: self.ratio,
-            tolerance,
-            pressure: self.pressure_choice(),
-            kernel: self.kernel.kernel(tolerance.min(1e-2))?,
-            integrator: self.integrator.integrator,
-            end_years: self.end_years,
-            station_interval: self.station_interval,
-            profile_interval: self.profile_interval,
-        })
-    }
-    fn pressure_choice(&self) -> Bp6Pressure {
-        match self.pressure {
-            PressureArg::ClosedForm => Bp6Pressure::ClosedForm,
-            PressureArg::Diffusion => Bp6Pressure::Diffusion {
-                cells: self.diffusion_cells(),
-            },
-        }
-    }
-}
-
 /// The files a run writes into `--out`.
 fn outputs() -> Vec<String> {
     let mut names = SeasBp6Output::file_names();
     names.extend(["checkpoint.bin", SEAS_BP6_RESUME_LOG, "summary.json"].map(String::from));
     names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
-}
-
-impl Args {
-    /// Refuses the settings the chosen kernel `elastic` would ignore (careless inputs):
-    /// `--bem-product` with the finite elements, `--kernel` or `--kernel-epsilon` with the
-    /// boundary elements' FFT product.
-    ///
-    /// # Errors
-    /// The first such flag, named.
-    fn check_ignored_by(&self, elastic: Elastic) -> Result<(), AnyError> {
-        match elastic {
-            Elastic::Fe => {
-                if let Some(product) = self.bem_product {
-                    return Err(refuse(
-                        "--bem-product",
-                        format!("{product:?}").to_lowercase(),
-                        "a setting of `--elastic bem`: the finite-element model would ignore it",
-                    ));
-                }
-            }
-            Elastic::Bem => {
-                let stored = self.kernel.kernel != crate::KernelArg::Hierarchical
-                    || self.kernel.kernel_epsilon.is_some();
-                if stored && self.bem_product() == BemProduct::Fft {
-                    return Err(refuse(
-                        "--kernel",
-                        format!("{:?}", self.kernel.kernel).to_lowercase(),
-                        "`--kernel` and `--kernel-epsilon` set the stored kernel of \
-                         `--bem-product stored`: the FFT product (the default) would ignore \
-                         them",
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
 }
 
 impl Program for Args {
@@ -315,90 +93,34 @@ impl Program for Args {
         self.limits
     }
 
+    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
+        self.settings = self.config.merged(self.settings, matches)?;
+        Ok(self)
+    }
+
     fn plan(&self) -> Result<Plan, AnyError> {
-        let variant = self.variant()?;
-        in_range("--end-years", self.end_years, END_YEARS, "years")?;
         self.fields.check(Self::NAME)?;
-        let bp6 = SeasBp6::default();
-        in_range("--dz", self.dz, DZ, "m")?;
-        let cells = 2.0 * bp6.l_f / self.dz;
-        if (cells - cells.round()).abs() > 1e-9 * cells {
-            return Err(refuse(
-                "--dz",
-                written(self.dz),
-                "must divide 2 l_f = 40 km",
-            ));
-        }
-        let elastic = self.elastic();
-        if variant == Bp6Variant::C
-            && elastic == Elastic::Bem
-            && cells > bp6_ranges::C_BEM_MAX_CELLS
-        {
-            return Err(refuse(
-                "--dz",
-                written(self.dz),
-                "BP6-C on the boundary-element kernel forms its stiffness densely: at most \
-                 20 000 cells (Δz ≥ 2 m)",
-            ));
-        }
-        self.check_ignored_by(elastic)?;
-        // The finite-element flags are checked whatever the kernel: a value that would be
-        // refused with `--elastic fe` is a careless input with the default kernel too.
-        in_range(
-            "--domain-km",
-            self.domain_km,
-            DOMAIN_KM,
-            "km: beyond 1.5 l_f",
-        )?;
-        in_range("--ratio", self.ratio, RATIO, "the growth of the elements")?;
-        let tol = self.tolerance(variant);
-        in_range("--tolerance", tol, TOLERANCE, "")?;
-        in_range(
-            "--station-interval",
-            self.station_interval,
-            STATION_INTERVAL,
-            "s",
-        )?;
-        in_range(
-            "--profile-interval",
-            self.profile_interval,
-            PROFILE_INTERVAL,
-            "s",
-        )?;
-        if self.pressure != PressureArg::Diffusion {
-            if let Some(cells) = self.diffusion_cells {
-                return Err(refuse(
-                    "--diffusion-cells",
-                    cells.to_string(),
-                    "a setting of `--pressure diffusion`: with the closed form it would be \
-                     ignored",
-                ));
-            }
-        } else {
-            in_range(
-                "--diffusion-cells",
-                self.diffusion_cells() as f64,
-                DIFFUSION_CELLS,
-                "cells",
-            )?;
-        }
-        self.kernel.kernel(tol.min(1e-2))?;
+        self.config.validate(&self.settings)?;
         self.header.check()?;
-        let hierarchical = self.kernel.kernel == crate::KernelArg::Hierarchical;
+        let run = &self.settings;
+        let (variant, elastic) = (run.variant, run.elastic);
+        let bp6 = SeasBp6::default();
+        let cells = run.cells(&bp6);
+        let hierarchical = run.kernel == KernelChoice::Hierarchical;
         let (nodes, memory) = match elastic {
             // C: the dense stiffness as a sparse matrix (16 bytes an entry), its energy
             // norm, the direct solver's copies and dense matrices: measured 180 to 190
             // bytes per entry of S (max RSS at 800, 2000 and 4000 cells), bounded by 256.
-            Elastic::Bem if variant == Bp6Variant::C => (cells, 256.0 * cells * cells + 1e8),
-            Elastic::Bem => (
+            Bp6Elastic::Bem if variant == Bp6Variant::C => (cells, 256.0 * cells * cells + 1e8),
+            Bp6Elastic::Bem => (
                 cells,
-                match self.bem_product() {
-                    BemProduct::Fft => 64.0 * cells,
-                    BemProduct::Stored => crate::estimates::operator_bytes(cells, hierarchical),
+                match run.bem_product() {
+                    Bp6BemProduct::Fft => 64.0 * cells,
+                    Bp6BemProduct::Stored => crate::estimates::operator_bytes(cells, hierarchical),
                 } + 1e8,
             ),
-            Elastic::Fe => {
-                let g = self.grid();
+            Bp6Elastic::Fe => {
+                let g = run.grid();
                 let nx = rsf::fem::geometric_grading_len(g.dz, 0.0, g.ratio, g.domain);
                 let nz = 2.0 * rsf::fem::geometric_grading_len(g.dz, bp6.l_f, g.ratio, g.domain);
                 let n = nx * nz;
@@ -421,9 +143,9 @@ impl Program for Args {
         // Station rows (9 files of 7 columns, global.dat): at most one per step, the
         // steps bounded by one per 10 minutes for this estimate (2 years of BP6-S at 10 m
         // take about 10⁴); 4 profiles of 202 columns.
-        let seconds = self.end_years * BP6_SECONDS_PER_YEAR;
-        let rows = seconds / self.station_interval.max(600.0);
-        let output = rows * (10.0 * 110.0) + seconds / self.profile_interval * 4.0 * 202.0 * 15.0;
+        let seconds = run.end_years * BP6_SECONDS_PER_YEAR;
+        let rows = seconds / run.station_interval.max(600.0);
+        let output = rows * (10.0 * 110.0) + seconds / run.profile_interval * 4.0 * 202.0 * 15.0;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()
@@ -431,17 +153,17 @@ impl Program for Args {
             .memory(
                 memory,
                 "--dz, --elastic, --domain-km, --ratio",
-                format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(self.dz)),
+                format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(run.dz)),
             )
             .output(
                 output,
                 "--end-years",
-                format!("{} years of stations and profiles", written(self.end_years)),
+                format!("{} years of stations and profiles", written(run.end_years)),
             )
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint()?),
+                    .fingerprint(run.fingerprint()),
             ))
     }
 }
@@ -459,21 +181,21 @@ pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>
 }
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
-    let variant = args.variant()?;
-    let elastic = args.elastic();
-    let tol = args.tolerance(variant);
+    let settings = args.settings;
+    let (variant, elastic) = (settings.variant, settings.elastic);
+    let tol = settings.tolerance();
     let bp6 = SeasBp6::default();
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let pressure = bp6.pressure(args.pressure_choice())?;
+    let pressure = bp6.pressure(settings.pressure())?;
     let setup = SeasSetup {
         problem: format!("SEAS Benchmark BP6-QD-{}", variant.name()),
         modeler: args.header.modeler.clone(),
         date: args.header.date_or_today(),
-        element_size: args.dz,
-        ..bp6.seas_setup(variant, args.dz)
+        element_size: settings.dz,
+        ..bp6.seas_setup(variant, settings.dz)
     };
-    let fingerprint = args.fingerprint()?;
+    let fingerprint = settings.fingerprint();
     let common = Common {
         args: &args,
         folder,
@@ -486,14 +208,14 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     println!(
         "BP6-QD-{}, Δz = {} m, {:?} kernel, {:?} pore pressure; on {}",
         variant.name(),
-        args.dz,
+        settings.dz,
         elastic,
-        args.pressure_choice(),
+        settings.pressure(),
         machine()
     );
     match (variant, elastic) {
-        (Bp6Variant::C, Elastic::Bem) => {
-            let model = bp6.bem_constant_friction_model(args.dz, args.bem_kernel(tol)?)?;
+        (Bp6Variant::C, Bp6Elastic::Bem) => {
+            let model = bp6.bem_constant_friction_model(settings.dz, settings.bem_kernel()?)?;
             let fault = bp6.output_fault(&model, variant);
             println!(
                 "{} cells, the kernel as a dense stiffness (set-up CPU {:.1} s)",
@@ -504,8 +226,8 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 bp6.constant_friction(model, pressure, BP6_C_FIRST_STEP, bp6.step_control(tol)?)?;
             common.drive(&mut sim, fault, |s| (s.step_count_text(), None))
         }
-        (Bp6Variant::C, Elastic::Fe) => {
-            let model = bp6.fe_model(&args.grid(), variant)?;
+        (Bp6Variant::C, Bp6Elastic::Fe) => {
+            let model = bp6.fe_model(&settings.grid(), variant)?;
             let fault = bp6.output_fault(&model, variant);
             println!(
                 "{} nodes, {} on the fault",
@@ -516,12 +238,12 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 bp6.constant_friction(model, pressure, BP6_C_FIRST_STEP, bp6.step_control(tol)?)?;
             common.drive(&mut sim, fault, |s| (s.step_count_text(), None))
         }
-        (_, Elastic::Bem) => {
+        (_, Bp6Elastic::Bem) => {
             let mut options = bp6.fault_ode_options(tol)?;
             options.parallelism = rsf::Parallelism::rayon(args.threads);
-            options.integrator = args.integrator.integrator;
-            let kernel = args.bem_kernel(tol)?;
-            let mut ode = bp6.bem_fault_ode(args.dz, variant, kernel, options, pressure)?;
+            options.integrator = settings.integrator;
+            let kernel = settings.bem_kernel()?;
+            let mut ode = bp6.bem_fault_ode(settings.dz, variant, kernel, options, pressure)?;
             match kernel {
                 WholeSpaceKernel::Fft => println!(
                     "S: the FFT product of the Toeplitz kernel, m = {}",
@@ -534,13 +256,13 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
                 (o.evaluations_text(), Some(o.integrator_stats()))
             })
         }
-        (_, Elastic::Fe) => {
-            let model = bp6.fe_model(&args.grid(), variant)?;
+        (_, Bp6Elastic::Fe) => {
+            let model = bp6.fe_model(&settings.grid(), variant)?;
             println!("{} nodes", model.vertices.len());
             let mut options = bp6.fault_ode_options(tol)?;
             options.parallelism = rsf::Parallelism::rayon(args.threads);
-            options.integrator = args.integrator.integrator;
-            options.kernel = args.kernel.kernel(tol.min(1e-2))?;
+            options.integrator = settings.integrator;
+            options.kernel = settings.fault_kernel()?;
             let mut ode = bp6.fe_fault_ode(model, variant, options, pressure)?;
             println!("S: {}", ode.kernel_report());
             let fault = bp6.output_fault(ode.model(), variant);
@@ -604,7 +326,7 @@ impl Common<'_> {
             args.run.session_flags(),
             args.out.join("checkpoint.bin"),
             self.fingerprint,
-            args.end_years * BP6_SECONDS_PER_YEAR,
+            args.settings.end_years * BP6_SECONDS_PER_YEAR,
             run,
         )?;
         // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
@@ -615,7 +337,10 @@ impl Common<'_> {
             Fault2d::<C>::make,
         )?;
         let mut output = SeasBp6Output::new(&args.out, fault, self.pressure.clone(), self.setup)?
-            .with_intervals(args.station_interval, args.profile_interval);
+            .with_intervals(
+                args.settings.station_interval,
+                args.settings.profile_interval,
+            );
         if session.keeps_resume_log() {
             output = output.with_resume_log(args.run.checkpoint_every);
         }
@@ -625,7 +350,7 @@ impl Common<'_> {
         }
         let progress = rsf::observe::Progress::time_in(
             run.state().time,
-            args.end_years * BP6_SECONDS_PER_YEAR,
+            args.settings.end_years * BP6_SECONDS_PER_YEAR,
             rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR),
             "BP6",
         );
@@ -653,7 +378,12 @@ impl Common<'_> {
             "wall_s": wall,
             "cpu_s": cpu,
             "machine": machine(),
-            "integrator": integrator.map(|st| args.integrator.summary(Some(st))),
+            "integrator": integrator.map(|st| {
+                crate::IntegratorArgs {
+                    integrator: args.settings.integrator,
+                }
+                .summary(Some(st))
+            }),
             // For the integrators' work–precision study (docs/work-precision.md): the run's
             // (this invocation's) largest fault-wide slip rate at an accepted step and its
             // time, the steps and the evaluations of this invocation.
@@ -664,6 +394,7 @@ impl Common<'_> {
                 st.explicit_evaluations + st.stabilized_evaluations + st.implicit_evaluations
             }),
             "cpu_time_s": cpu,
+            "settings": args.settings.summary(),
         });
         std::fs::write(args.out.join("summary.json"), json.to_string())?;
         Ok(())
@@ -687,36 +418,5 @@ impl<const C: usize> rsf::Observer<2, C> for Peak {
     }
     fn reads_volume(&self) -> bool {
         false
-    }
-}
-
-const _: () = assert!(DIFFUSION_CELLS.1 == rsf::pore_pressure::MAX_DIFFUSION_CELLS as f64);
-// The flags' ranges (written as literals for `--help`) are the scene's, which the Python
-// keywords of the same names check.
-const _: () = {
-    let pairs = [
-        (END_YEARS, bp6_ranges::END_YEARS),
-        (DZ, bp6_ranges::DZ),
-        (DOMAIN_KM, bp6_ranges::DOMAIN_KM),
-        (RATIO, bp6_ranges::RATIO),
-        (TOLERANCE, bp6_ranges::TOLERANCE),
-        (STATION_INTERVAL, bp6_ranges::STATION_INTERVAL),
-        (PROFILE_INTERVAL, bp6_ranges::PROFILE_INTERVAL),
-        (DIFFUSION_CELLS, bp6_ranges::DIFFUSION_CELLS),
-    ];
-    let mut i = 0;
-    while i < pairs.len() {
-        assert!(pairs[i].0 .0 == pairs[i].1 .0 && pairs[i].0 .1 == pairs[i].1 .1);
-        i += 1;
-    }
-};
-
-#[cfg(test)]
-mod tests {
-    /// `--dz`'s upper bound is the scene's `l_f/2` (the flag's range is written as a
-    /// literal, for `--help`).
-    #[test]
-    fn the_dz_bound_is_half_the_fault() {
-        assert_eq!(super::DZ.1, rsf_scenes::SeasBp6::default().l_f / 2.0);
     }
 }

@@ -126,13 +126,12 @@ pub(crate) fn run_square_fault(
     Ok(output)
 }
 
-/// How a square's `--kernel fe` eliminates its volume here: nested dissection where METIS
-/// is built (the fastest ordering of a 3-D volume's factor, docs/three-d.md), bounded by
-/// `--max-memory-gb`.
+/// How a square's `--kernel fe` eliminates its volume here: the fastest ordering built
+/// (nested dissection where METIS is), bounded by `--max-memory-gb`.
 pub(crate) fn elimination(limits: &crate::guard::Limits) -> rsf_scenes::VolumeElimination {
     rsf_scenes::VolumeElimination {
-        nested_dissection: rsf_metis::is_available(),
         max_bytes: Some((limits.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
+        ..Default::default()
     }
 }
 

@@ -172,3 +172,10 @@ pub(crate) fn per_node(
         array.to_vec().map_err(|e| invalid(name, e))?,
     ))
 }
+
+/// The value of the keyword `name` that names a choice (`"bem"`, `"closed-form"`): the
+/// choice's serde name, as flags and `--config` files spell it.
+pub(crate) fn choice<T: DeserializeOwned>(name: &str, value: &str) -> PyResult<T> {
+    serde_json::from_value(Value::String(value.to_owned()))
+        .map_err(|e| invalid(name, format!("`{value}`: {e}")))
+}

@@ -400,17 +400,19 @@ pub(crate) fn fault_kernel(
 ) -> PyResult<FaultKernel> {
     // The library's range (FaultKernel::validate), named as the keyword: it was
     // (2.2e-16, 1) here, and 0.5 was refused later as `kernel.epsilon`.
-    let choice = match kernel {
-        "dense" => rsf_scenes::KernelChoice::Dense,
-        "hierarchical" => rsf_scenes::KernelChoice::Hierarchical,
-        k => {
-            return Err(invalid(
-                "kernel",
-                format!("`{k}`: \"hierarchical\" or \"dense\""),
-            ))
-        }
-    };
-    rsf_scenes::fault_kernel(choice, kernel_epsilon, rk_tolerance).py()
+    rsf_scenes::fault_kernel(kernel_choice(kernel)?, kernel_epsilon, rk_tolerance).py()
+}
+
+/// The kernel keyword `kernel`: "hierarchical" or "dense".
+pub(crate) fn kernel_choice(kernel: &str) -> PyResult<rsf_scenes::KernelChoice> {
+    match kernel {
+        "dense" => Ok(rsf_scenes::KernelChoice::Dense),
+        "hierarchical" => Ok(rsf_scenes::KernelChoice::Hierarchical),
+        k => Err(invalid(
+            "kernel",
+            format!("`{k}`: \"hierarchical\" or \"dense\""),
+        )),
+    }
 }
 
 /// The program's fingerprint of BP1-QD's Runge–Kutta run (its defaults for the flags this

@@ -15,7 +15,7 @@ use crate::convert::scene;
 use crate::engine::{Engine, Recording};
 use crate::errors::{invalid, OrPy};
 use crate::run_folder::FolderKeywords;
-use crate::scenes::{fault_kernel, split};
+use crate::scenes::{kernel_choice, split};
 use crate::simulation::{End, Simulation};
 
 /// SEAS BP3-QD (docs/seas-bp3.md, docs/python.md): the run of the Rust program `seas_bp3`
@@ -61,25 +61,26 @@ pub(crate) fn seas_bp3(
     params.validate().py()?;
     let run = SeasBp3Run {
         dip,
+        end_years,
         dx,
         domain_km,
         ratio,
         tolerance,
-        kernel: fault_kernel(kernel, kernel_epsilon, tolerance)?,
+        kernel: kernel_choice(kernel)?,
+        kernel_epsilon,
         integrator: integrator
             .parse()
             .map_err(|e: rsf::time::Error| invalid("integrator", e))?,
-        end_years,
     };
+    run.validate_with(&params).py()?;
     let bp3 = run.scene(params);
-    run.validate(&bp3).py()?;
     let folder = FolderKeywords {
         out,
         overwrite,
         resume,
         allow_change,
     };
-    let fingerprint = run.fingerprint(&bp3);
+    let fingerprint = run.fingerprint_with(&bp3.params);
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does.
     let fresh = folder.prepare("seas_bp3", SeasBp3::file_names(), &fingerprint)?;

@@ -8,109 +8,18 @@ use std::path::PathBuf;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rsf::direct::CheckpointPolicy;
-use rsf::fault_ode::SchurOnlySetup;
+use rsf::fault_ode::{InteriorOrdering, SchurOnlySetup};
 use rsf::{Observer, Stepping};
 use rsf_scenes::{
-    Bp5Condensation, Bp5Kernel, FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Mesh, SeasBp5Run,
-    BP5_SETUP_FILE,
+    Bp5Condensation, Bp5Kernel, SeasBp5, SeasBp5FaultOde, SeasBp5Run, BP5_SETUP_FILE,
 };
 use rsf_seas::{SeasBp5Output, SeasSetup, SEAS_BP5_RESUME_LOG, SECONDS_PER_YEAR};
 
-use crate::convert::scene;
+use crate::convert::{choice, scene};
 use crate::errors::{invalid, OrPy};
 use crate::run_folder::{FolderKeywords, SessionRun};
 use crate::scenes::split;
 use crate::simulation::Simulation;
-
-/// The finite-element kernel's keywords (`None` where not given): refused with Okada's
-/// kernel, which has no volume.
-struct Volume<'a> {
-    domain_km: Option<f64>,
-    ratio: Option<f64>,
-    mesh: Option<&'a str>,
-    condensation: Option<&'a str>,
-    ordering: Option<&'a str>,
-    fault_zone_width_km: Option<f64>,
-    fault_zone_rigidity: Option<f64>,
-}
-
-impl Volume<'_> {
-    /// The settings of `run` with these keywords for `kernel`.
-    ///
-    /// # Errors
-    /// `InvalidParameterError` naming a keyword given with `kernel="okada"`, or an unknown
-    /// name.
-    fn settings(&self, kernel: Bp5Kernel, run: SeasBp5Run) -> PyResult<SeasBp5Run> {
-        if kernel == Bp5Kernel::Okada {
-            let given = [
-                ("domain_km", self.domain_km.is_some()),
-                ("ratio", self.ratio.is_some()),
-                ("mesh", self.mesh.is_some()),
-                ("condensation", self.condensation.is_some()),
-                ("ordering", self.ordering.is_some()),
-                ("fault_zone_width_km", self.fault_zone_width_km.is_some()),
-                ("fault_zone_rigidity", self.fault_zone_rigidity.is_some()),
-            ];
-            if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
-                return Err(invalid(
-                    name,
-                    "a setting of kernel=\"fe\": the Okada kernel has no volume, it would be \
-                     ignored",
-                ));
-            }
-        }
-        let mesh = match self.mesh {
-            None | Some("graded") => SeasBp5Mesh::Graded,
-            Some("tensor") => SeasBp5Mesh::Tensor,
-            Some(m) => return Err(invalid("mesh", format!("`{m}`: \"graded\" or \"tensor\""))),
-        };
-        let condensation = match self.condensation {
-            None | Some("schur-only") => Bp5Condensation::SchurOnly,
-            Some("factor") => Bp5Condensation::Factor,
-            Some(c) => {
-                return Err(invalid(
-                    "condensation",
-                    format!("`{c}`: \"schur-only\" or \"factor\""),
-                ))
-            }
-        };
-        let ordering = match self.ordering {
-            // The program's default: nested dissection where METIS is built (this
-            // package's default feature `metis`), else AMD.
-            None => rsf::fault_ode::InteriorOrdering::fastest_built(),
-            Some(o) => o.parse().map_err(|e| invalid("ordering", e))?,
-        };
-        Ok(SeasBp5Run {
-            kernel,
-            domain_km: self.domain_km.unwrap_or(run.domain_km),
-            ratio: self.ratio.unwrap_or(run.ratio),
-            mesh,
-            condensation,
-            ordering,
-            ..run
-        })
-    }
-
-    /// The compliant fault zone of `fault_zone_width_km` (km) and `fault_zone_rigidity`
-    /// (both or neither).
-    fn fault_zone(&self) -> PyResult<Option<FaultZone>> {
-        match (self.fault_zone_width_km, self.fault_zone_rigidity) {
-            (None, None) => Ok(None),
-            (Some(width), Some(rigidity_ratio)) => Ok(Some(FaultZone {
-                half_width: 0.5 * width * 1e3,
-                rigidity_ratio,
-            })),
-            (Some(_), None) => Err(invalid(
-                "fault_zone_rigidity",
-                "needed with fault_zone_width_km: the zone's shear modulus over the host's",
-            )),
-            (None, Some(_)) => Err(invalid(
-                "fault_zone_width_km",
-                "needed with fault_zone_rigidity: the zone's total width (km)",
-            )),
-        }
-    }
-}
 
 /// SEAS BP5-QD (docs/seas-bp5.md, docs/python.md): the run of the Rust program `seas_bp5`
 /// with the same settings and defaults (`rsf_scenes::SeasBp5Run`): `kernel` "okada" (a
@@ -159,52 +68,51 @@ pub(crate) fn seas_bp5(
 ) -> PyResult<Simulation> {
     let threads = crate::counts::threads(threads)?;
     let fault_every = crate::counts::count(fault_every, "fault_every")?;
-    let kernel = match kernel {
-        "okada" => Bp5Kernel::Okada,
-        "fe" => Bp5Kernel::Fe,
-        k => return Err(invalid("kernel", format!("`{k}`: \"okada\" or \"fe\""))),
-    };
-    let volume = Volume {
+    let run = SeasBp5Run {
+        kernel: choice("kernel", kernel)?,
+        dx,
         domain_km,
         ratio,
-        mesh,
-        condensation,
-        ordering,
+        mesh: mesh.map(|m| choice("mesh", m)).transpose()?,
         fault_zone_width_km,
         fault_zone_rigidity,
+        condensation: condensation
+            .map(|c| choice("condensation", c))
+            .transpose()?,
+        ordering: ordering
+            .map(|o| o.parse().map_err(|e| invalid("ordering", e)))
+            .transpose()?,
+        end_years,
+        tolerance,
+        epsilon,
+        integrator: integrator
+            .parse()
+            .map_err(|e: rsf::time::Error| invalid("integrator", e))?,
+        ..SeasBp5Run::default()
     };
-    let run = volume.settings(
-        kernel,
-        SeasBp5Run {
-            dx,
-            end_years,
-            tolerance,
-            epsilon,
-            integrator: integrator
-                .parse()
-                .map_err(|e: rsf::time::Error| invalid("integrator", e))?,
-            ..SeasBp5Run::default()
-        },
-    )?;
+    // The scene's keywords (SI units), the friction among them, which are the run's
+    // settings too.
     let (fields, _) = split(kwargs, &[])?;
-    let bp5 = SeasBp5 {
-        fault_zone: volume.fault_zone()?,
-        ..scene(&SeasBp5::default(), &fields, "the BP5 scene")?
-    };
-    bp5.validate().py()?;
-    run.validate(&bp5).py()?;
+    let base: SeasBp5 = scene(&SeasBp5::default(), &fields, "the BP5 scene")?;
+    let run = run.with_friction_of(&base);
+    run.validate_with(base).py()?;
+    let bp5 = run.scene_with(base);
+    // The program's default where `ordering` is not given: nested dissection where METIS
+    // is built (this package's default feature `metis`), else AMD.
+    let run = run.resolved(InteriorOrdering::fastest_built());
+    let kernel = run.kernel;
     let folder = FolderKeywords {
         out,
         overwrite,
         resume,
         allow_change,
     };
-    let fingerprint = run.fingerprint(&bp5);
+    let fingerprint = run.fingerprint_with(&bp5, InteriorOrdering::fastest_built());
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does.
     let mut names = SeasBp5Output::file_names();
     names.extend(["events.csv", SEAS_BP5_RESUME_LOG].map(String::from));
-    if kernel == Bp5Kernel::Fe && run.condensation == Bp5Condensation::SchurOnly {
+    if kernel == Bp5Kernel::Fe && run.condensation() == Bp5Condensation::SchurOnly {
         names.push(BP5_SETUP_FILE.into());
     }
     folder.prepare("seas_bp5", names, &fingerprint)?;
@@ -273,7 +181,7 @@ fn volume_run(
         .as_ref()
         .map(|out| bp5.volume_output(out, &model, run.dx, setup).py())
         .transpose()?;
-    let mut ode = match run.condensation {
+    let mut ode = match run.condensation() {
         Bp5Condensation::Factor => bp5.fe_fault_ode(model, options).py()?,
         Bp5Condensation::SchurOnly => {
             let watch_vertices = bp5.station_vertices(&model).py()?;

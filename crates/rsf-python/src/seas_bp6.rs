@@ -12,19 +12,18 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rsf::checkpoint::Fingerprint;
 use rsf::pore_pressure::PorePressure;
-use rsf::whole_space::WholeSpaceKernel;
 use rsf::Stepping;
 use rsf_scenes::{
-    Bp6BemProduct, Bp6Elastic, Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Run, BP6_C_FIRST_STEP,
+    Bp6Elastic, Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Run, BP6_C_FIRST_STEP,
     BP6_DIFFUSION_CELLS, BP6_SECONDS_PER_YEAR,
 };
 use rsf_seas::{Bp6Fault, SeasBp6Output, SeasSetup, SEAS_BP6_RESUME_LOG};
 
-use crate::convert::scene;
+use crate::convert::{choice, scene};
 use crate::engine::WithFaultOperator;
 use crate::errors::{invalid, OrPy};
 use crate::run_folder::{FolderKeywords, SessionRun};
-use crate::scenes::{fault_kernel, split};
+use crate::scenes::{kernel_choice, split};
 use crate::simulation::Simulation;
 
 /// SEAS BP6-QD (docs/seas-bp6.md, docs/python.md): the run of the Rust program
@@ -76,31 +75,27 @@ pub(crate) fn seas_bp6(
     let threads = crate::counts::count(threads, "threads")?;
     let fault_every = crate::counts::count(fault_every, "fault_every")?;
     let bp6 = bp6_scene(kwargs)?;
-    let variant = variant.parse::<Bp6Variant>().py()?;
-    let tolerance = tolerance.unwrap_or(variant.default_tolerance());
-    let elastic = match elastic {
-        "bem" => Bp6Elastic::Bem,
-        "fe" => Bp6Elastic::Fe,
-        e => return Err(invalid("elastic", format!("`{e}`: \"bem\" or \"fe\""))),
-    };
     let run = SeasBp6Run {
-        variant,
+        variant: choice("variant", variant)?,
+        end_years,
         dz,
-        elastic,
-        bem_product: bem_product_of(elastic, bem_product, (kernel, kernel_epsilon))?,
+        elastic: choice("elastic", elastic)?,
+        bem_product: bem_product.map(|p| choice("bem_product", p)).transpose()?,
         domain_km,
         ratio,
         tolerance,
-        pressure: pressure_of(pressure, diffusion_cells)?,
-        kernel: fault_kernel(kernel, kernel_epsilon, tolerance.min(1e-2))?,
+        pressure: choice("pressure", pressure)?,
+        station_interval,
+        profile_interval,
+        diffusion_cells,
+        kernel: kernel_choice(kernel)?,
+        kernel_epsilon,
         integrator: integrator
             .parse()
             .map_err(|e: rsf::time::Error| invalid("integrator", e))?,
-        end_years,
-        station_interval,
-        profile_interval,
     };
-    run.validate(&bp6).py()?;
+    run.validate_with(&bp6).py()?;
+    let (variant, elastic) = (run.variant, run.elastic);
     if threads == 0 {
         return Err(invalid("threads", "at least 1"));
     }
@@ -115,7 +110,7 @@ pub(crate) fn seas_bp6(
     // stops: they take no mode.)
     let mut names = SeasBp6Output::file_names();
     names.push(SEAS_BP6_RESUME_LOG.into());
-    let fingerprint = run.fingerprint(&bp6);
+    let fingerprint = run.fingerprint_with(&bp6);
     folder.prepare("seas_bp6", names, &fingerprint)?;
     let setup = SeasSetup {
         modeler: modeler.to_owned(),
@@ -125,15 +120,12 @@ pub(crate) fn seas_bp6(
     let drive = Drive {
         folder,
         fingerprint,
-        pressure: bp6.pressure(run.pressure).py()?,
+        pressure: bp6.pressure(run.pressure()).py()?,
         setup,
         run,
         fault_every,
     };
-    let bem = match run.bem_product {
-        Bp6BemProduct::Fft => WholeSpaceKernel::Fft,
-        Bp6BemProduct::Stored => WholeSpaceKernel::Stored(run.kernel),
-    };
+    let bem = run.bem_kernel().py()?;
     match (variant, elastic) {
         (Bp6Variant::C, Bp6Elastic::Bem) => {
             let model = bp6.bem_constant_friction_model(dz, bem).py()?;
@@ -154,7 +146,7 @@ pub(crate) fn seas_bp6(
         (_, Bp6Elastic::Fe) => {
             let model = bp6.fe_model(&run.grid(), variant).py()?;
             let options = rsf::fault_ode::FaultOdeOptions {
-                kernel: run.kernel,
+                kernel: run.fault_kernel().py()?,
                 ..fault_ode_options(&bp6, &run, threads)?
             };
             let ode = bp6
@@ -181,47 +173,10 @@ fn fault_ode_options(
     run: &SeasBp6Run,
     threads: usize,
 ) -> PyResult<rsf::fault_ode::FaultOdeOptions> {
-    let mut options = bp6.fault_ode_options(run.tolerance).py()?;
+    let mut options = bp6.fault_ode_options(run.tolerance()).py()?;
     options.parallelism = rsf::Parallelism::rayon(threads);
     options.integrator = run.integrator;
     Ok(options)
-}
-
-/// The boundary-element product of `bem_product` (default "fft"), refused where the run
-/// would ignore it (`elastic="fe"`) or would ignore the stored kernel's `kernel` and
-/// `kernel_epsilon` (the FFT product), as the program refuses its flags.
-fn bem_product_of(
-    elastic: Bp6Elastic,
-    bem_product: Option<&str>,
-    (kernel, kernel_epsilon): (&str, Option<f64>),
-) -> PyResult<Bp6BemProduct> {
-    let product = match bem_product {
-        None | Some("fft") => Bp6BemProduct::Fft,
-        Some("stored") => Bp6BemProduct::Stored,
-        Some(p) => {
-            return Err(invalid(
-                "bem_product",
-                format!("`{p}`: \"fft\" or \"stored\""),
-            ))
-        }
-    };
-    match elastic {
-        Bp6Elastic::Fe if bem_product.is_some() => Err(invalid(
-            "bem_product",
-            "a setting of elastic=\"bem\": the finite-element model would ignore it",
-        )),
-        Bp6Elastic::Bem
-            if product == Bp6BemProduct::Fft
-                && (kernel != "hierarchical" || kernel_epsilon.is_some()) =>
-        {
-            Err(invalid(
-                "kernel",
-                "`kernel` and `kernel_epsilon` set the stored kernel of bem_product=\"stored\": \
-                 the FFT product (the default) would ignore them",
-            ))
-        }
-        _ => Ok(product),
-    }
 }
 
 /// The pore pressure of `pressure` ("closed-form" or "diffusion") and `diffusion_cells`
@@ -263,7 +218,7 @@ impl Drive {
         model: rsf::Model<2, C>,
     ) -> PyResult<Simulation> {
         let fault = bp6.output_fault(&model, Bp6Variant::C);
-        let control = bp6.step_control(self.run.tolerance).py()?;
+        let control = bp6.step_control(self.run.tolerance()).py()?;
         let sim = bp6
             .constant_friction(model, self.pressure.clone(), BP6_C_FIRST_STEP, control)
             .py()?;

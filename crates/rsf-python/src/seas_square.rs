@@ -41,7 +41,7 @@ fn settings_of<C: RunConfig>(settings: Option<&Bound<'_, PyDict>>, what: &str) -
 /// `seas_bp7`. The settings are keyword arguments with the program's names, defaults and
 /// ranges (`rsf_scenes::SeasBp7Run`): `kernel` "bem" (the whole space's boundary
 /// elements, the default) or "fe" (a finite-element box: `domain_km`, its half-width, km,
-/// default 6.4; `ratio`, its grading, default 1.2; eliminated with AMD), `law` "aging" or "slip", `end_years` (years of
+/// default 6.4; `ratio`, its grading, default 1.2), `law` "aging" or "slip", `end_years` (years of
 /// 365.25 days, default 10), `dx` (m, dividing 800 m; default 10), `d_rs` (mm, default
 /// 0.5), `tolerance` (default 1e-7), `station_interval` (s; 0, the default: a row every
 /// accepted step), `integrator` ("auto", "rkc", "rosenbrock", "dormand-prince",
@@ -142,8 +142,8 @@ pub(crate) fn seas_bp8(
     common.simulation(ode, (fingerprint, run.end_seconds()), output, "seas_bp8")
 }
 
-/// How `kernel = "fe"` eliminates its volume from Python: AMD (this package is built
-/// without METIS), no memory bound.
+/// How `kernel = "fe"` eliminates its volume from Python: as the programs (nested
+/// dissection where METIS is built, this package's default feature), no memory bound.
 fn elimination() -> rsf_scenes::VolumeElimination {
     rsf_scenes::VolumeElimination::default()
 }

@@ -111,7 +111,8 @@ pub use seas_bp6::{
 };
 #[cfg(feature = "seas")]
 pub use seas_bp6_run::{
-    bp6_ranges, Bp6BemProduct, Bp6Elastic, SeasBp6Run, BP6_C_FIRST_STEP, BP6_DIFFUSION_CELLS,
+    bp6_ranges, Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, SeasBp6Run, BP6_C_FIRST_STEP,
+    BP6_DIFFUSION_CELLS,
 };
 #[cfg(feature = "seas")]
 pub use seas_bp7::{bp7_g1, bp7_g2, Bp7Law, SeasBp7, SeasBp7FaultOde};

@@ -119,6 +119,28 @@ pub fn merge_file<C: RunConfig>(
     })
 }
 
+/// `--help` of a fault-ODE run's tolerance (its range the fault ODE's options check).
+pub const TOLERANCE_HELP: &str =
+    "Tolerance of the fault ODE, in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1)";
+
+/// `--help` of a fault-ODE run's kernel ([`KernelChoice`]).
+pub const KERNEL_HELP: &str = "The operators condensed onto the fault: hierarchical (ℋ-matrices, rsf-hmatrix; the default) or dense (m² entries). Part of a checkpoint's fingerprint: a run checkpointed with one kernel is refused on --resume with the other";
+
+/// `--help` of the hierarchical kernel's accuracy (`kernel_epsilon`, [`fault_kernel`]).
+pub const KERNEL_EPSILON_HELP: &str = "Relative accuracy ε of the hierarchical kernel, in [1e-14, 1e-2] (default: the fault ODE's tolerance, within that range)";
+
+/// `result` with a refusal named `name` (a setting that a library function checks under
+/// its own parameter's name: the run's `tolerance` as the fault ODE options' `rtol`).
+///
+/// # Errors
+/// `result`'s, an [`rsf::Error::InvalidParameter`] renamed `name`.
+pub fn as_setting<T>(name: &str, result: rsf::Result<T>) -> rsf::Result<T> {
+    result.map_err(|e| match e {
+        rsf::Error::InvalidParameter { reason, .. } => invalid(name, reason),
+        e => e,
+    })
+}
+
 /// How a fault-ODE run stores its operators condensed onto the fault (`S`, and `S_N` with a
 /// normal stress from slip): `dense` or `hierarchical` in flags, files and Python.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]

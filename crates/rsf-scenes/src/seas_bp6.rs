@@ -41,14 +41,19 @@ pub type SeasBp6Implicit<const C: usize = 1> = Simulation<2, Tresca, NoState, In
 /// Seconds in the benchmark's year (365 days, as tandem and hbi use: t_f = 63 072 000 s).
 pub const BP6_SECONDS_PER_YEAR: f64 = 365.0 * 86_400.0;
 
-/// The three friction variants of BP6.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The three friction variants of BP6: `a`, `s`, `c` in flags, files and Python (`A`,
+/// `S`, `C` read too).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Bp6Variant {
     /// Rate and state, aging law.
+    #[serde(rename = "a", alias = "A")]
     A,
     /// Rate and state, slip law.
+    #[serde(rename = "s", alias = "S")]
     S,
     /// Constant friction `f = 0.6`, locked/sliding complementarity with radiation damping.
+    #[serde(rename = "c", alias = "C")]
     C,
 }
 

@@ -211,20 +211,31 @@ impl SquareVolumeGrid {
 }
 
 /// How a run's `kernel = fe` eliminates its volume (the front end's choices).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VolumeElimination {
-    /// Nested dissection (METIS, where the front end is built with it: the fastest
-    /// ordering of a 3-D volume's factor, docs/three-d.md) rather than AMD.
-    pub nested_dissection: bool,
-    /// The most bytes the elimination may hold (`--max-memory-gb`), `None` for no bound.
+    /// The volume's fill-reducing ordering (default
+    /// [`InteriorOrdering::fastest_built`]: nested dissection where METIS is built, the
+    /// fastest for a 3-D volume, docs/three-d.md).
+    pub ordering: InteriorOrdering,
+    /// The most bytes the elimination may hold (`--max-memory-gb`), `None` (the default)
+    /// for no bound.
     pub max_bytes: Option<usize>,
+}
+
+impl Default for VolumeElimination {
+    fn default() -> Self {
+        Self {
+            ordering: InteriorOrdering::fastest_built(),
+            max_bytes: None,
+        }
+    }
 }
 
 impl VolumeElimination {
     /// `options` for a volume of `pairs` frictional nodes (`m = 2 pairs` slip unknowns):
     /// the condensed operator dense up to 4 096 unknowns and an ℋ-matrix of the
     /// tolerance's accuracy above ([`FaultKernel::matching`], as BP5's volume), the
-    /// ordering chosen; and the Schur-only elimination's set-up (the volume's factor never
+    /// ordering [`ordering`](Self::ordering); and the Schur-only elimination's set-up (the volume's factor never
     /// held whole) keeping `watch_vertices`.
     pub fn options(
         &self,
@@ -235,9 +246,7 @@ impl VolumeElimination {
         if 2 * pairs > 4096 {
             options.kernel = FaultKernel::matching(options.tolerance);
         }
-        if self.nested_dissection {
-            options.ordering = InteriorOrdering::NestedDissection;
-        }
+        options.ordering = self.ordering;
         SchurOnlySetup {
             watch_vertices,
             checkpoint: None,

@@ -38,7 +38,7 @@ pub mod stepover_ranges {
         [1, 2]
     );
     /// `--help` of the hierarchical kernel's accuracy.
-    pub const KERNEL_EPSILON_HELP: &str = "Relative accuracy ε of the hierarchical kernel, in [1e-14, 1e-2] (default: the fault ODE's tolerance, within that range)";
+    pub use crate::run_config::KERNEL_EPSILON_HELP;
 }
 use stepover_ranges as r;
 
@@ -173,13 +173,7 @@ impl RunConfig for StepoverRun {
         scene
             .check_grid(&self.grid())
             .map_err(|e| invalid("dx", format!("{}: {e}", rsf_numeric::written(self.dx))))?;
-        scene
-            .params
-            .fault_ode_options(self.tolerance)
-            .map_err(|e| match e {
-                rsf::Error::InvalidParameter { reason, .. } => invalid("tolerance", reason),
-                e => e,
-            })?;
+        crate::run_config::as_setting("tolerance", scene.params.fault_ode_options(self.tolerance))?;
         self.fault_kernel().map(|_| ())
     }
 

@@ -2,13 +2,14 @@
 
 use std::path::PathBuf;
 
+use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes};
-use crate::guard::{flag, in_range, written, AnyError, Folder, Limits, Plan, Program};
+use crate::guard::{written, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::InteriorOrdering;
 use rsf_scenes::{
-    bp5_ranges, Bp5Condensation, Bp5Kernel, FaultZone, SeasBp5, SeasBp5Grid, SeasBp5Mesh,
-    SeasBp5Run, BP5_SETUP_FILE,
+    Bp5Condensation, Bp5Kernel, SeasBp5, SeasBp5Grid, SeasBp5Mesh, SeasBp5Run, BP5_SETUP_FILE,
 };
 use rsf_seas::{SeasBp5Output, SEAS_BP5_RESUME_LOG};
 
@@ -19,67 +20,17 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "out/seas_bp5")]
     pub(super) out: PathBuf,
-    /// The elastic operator: `okada` (a fault alone in a half-space, boundary elements)
-    /// or `fe` (the finite-element volume model condensed onto the fault).
-    #[arg(long, value_enum, default_value_t = Kernel::Okada)]
-    pub(super) kernel: Kernel,
-    /// Cell size on the fault (m); must divide l_f = 100 km and W_f = 40 km (both kernels:
-    /// the graded mesh puts nodes at x₂ = ±l_f/2 as the cells do).
-    #[arg(long, default_value_t = SeasBp5Run::default().dx)]
-    pub(super) dx: f64,
-    /// `fe`: distance from the fault to the box's far faces, and its depth (km) [default:
-    /// 400], in [75, 1e4]; the graded box's root cubes (edge dx·2^k ≤ 64 km) within the
-    /// mesh's cell limit too (about 3000 km at --dx 2000: a larger box is refused naming
-    /// --domain-km).
-    #[arg(long)]
-    pub(super) domain_km: Option<f64>,
-    /// `fe`: growth of the spacing away from the rate-and-state region [default: 1.3], in
-    /// [1, 2] (the graded mesh at 1 grows nowhere: its cells are refused naming --dx,
-    /// --ratio and --domain-km).
-    #[arg(long)]
-    pub(super) ratio: Option<f64>,
-    /// `fe`: the volume's mesh, `graded` (an octree of Kuhn cubes refined towards the fault's
-    /// rate-and-state region and the stations, growing in every direction) or `tensor`
-    /// (a tensor grid graded axis by axis) [default: graded].
-    #[arg(long, value_enum)]
-    pub(super) mesh: Option<MeshArg>,
-    /// `fe`: a compliant fault zone of this total width (km) around the rate-and-state
-    /// region (`|x₁| ≤ width/2`; a whole number of `2 dx`), not part of the benchmark
-    /// (docs/seas-bp5.md, "A compliant fault zone"); needs `--fault-zone-rigidity`.
-    #[arg(long)]
-    pub(super) fault_zone_width_km: Option<f64>,
-    /// `fe`: the fault zone's shear modulus over the host's, in (0, 1].
-    #[arg(long)]
-    pub(super) fault_zone_rigidity: Option<f64>,
-    /// `fe`: how the volume is condensed onto the fault: `schur-only` (the Schur complement
-    /// alone, no factor kept; its elimination checkpointed in `--out`) or `factor` (the
-    /// volume's whole factor held through the run) [default: schur-only].
-    #[arg(long, value_enum)]
-    pub(super) condensation: Option<Condensation>,
+    /// The run's settings (`rsf_scenes::SeasBp5Run`: these flags, or `--config`'s keys;
+    /// Python's `rsf.seas_bp5` keywords), the description's friction among them.
+    #[command(flatten)]
+    pub(crate) settings: SeasBp5Run,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// `fe`: print each set-up stage's own peak memory (the process's peak is reset before
     /// every stage, so `/usr/bin/time -v` then reports the last stage's) instead of the
     /// peak so far.
     #[arg(long)]
     pub(super) stage_peaks: bool,
-    /// `fe`: fill-reducing ordering of the volume's factor, `nested-dissection` (METIS;
-    /// the default where it is built, as in the examples: at 1 km a set-up of 53 s and
-    /// 1.9 GB against AMD's 412 s and 7.3 GB) or `amd` (the default of a build without
-    /// METIS). Part of the fingerprint: the operator changes by round-off.
-    #[arg(long)]
-    pub(super) ordering: Option<rsf::fault_ode::InteriorOrdering>,
-    /// End time (years), in [1e-9, 1e5].
-    #[arg(long, default_value_t = SeasBp5Run::default().end_years)]
-    pub(super) end_years: f64,
-    /// Tolerance of the fault ODE (local error per step: tolerance · L in slip,
-    /// tolerance in ln θ), in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1).
-    #[arg(long, default_value_t = SeasBp5Run::default().tolerance)]
-    pub(super) tolerance: f64,
-    #[command(flatten)]
-    pub(super) integrator: crate::IntegratorArgs,
-    /// Relative accuracy ε of the ℋ-matrix (used above 4 096 unknowns, Δx < 2 km), in
-    /// [1e-14, 1e-2] (below, the entries' round-off cannot meet it).
-    #[arg(long, default_value_t = SeasBp5Run::default().epsilon)]
-    pub(super) epsilon: f64,
     /// Threads of each evaluation (the same bits for every value). Default: every core
     /// of the machine.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
@@ -117,120 +68,74 @@ fn outputs() -> Vec<String> {
     outputs
 }
 
+/// The volume's ordering where `--ordering` is not given: nested dissection where METIS
+/// is built (this program's choice, `rsf_metis::is_available`, which rsf-scenes cannot
+/// see: the settings hold `None`, "the front end's default"), else AMD.
+pub(super) fn default_ordering() -> InteriorOrdering {
+    if rsf_metis::is_available() {
+        InteriorOrdering::NestedDissection
+    } else {
+        InteriorOrdering::Amd
+    }
+}
+
 impl Args {
-    /// Refuses a setting of the finite-element kernel without `--kernel fe` (the Okada
-    /// kernel has no volume: it would be ignored).
+    /// Refuses `--stage-peaks` without `--kernel fe` (the Okada kernel has no volume: it
+    /// would be ignored; the settings' own are refused by their check).
     pub(super) fn refuse_volume_flags_without_volume(&self) -> Result<(), AnyError> {
-        if self.kernel == Kernel::Okada {
-            for (flag, given) in [
-                ("--domain-km", self.domain_km.is_some()),
-                ("--ratio", self.ratio.is_some()),
-                ("--ordering", self.ordering.is_some()),
-                ("--mesh", self.mesh.is_some()),
-                ("--condensation", self.condensation.is_some()),
-                ("--stage-peaks", self.stage_peaks),
-                ("--fault-zone-width-km", self.fault_zone_width_km.is_some()),
-                ("--fault-zone-rigidity", self.fault_zone_rigidity.is_some()),
-            ] {
-                if given {
-                    return Err(format!(
-                        "{flag}: a setting of the finite-element kernel: it needs --kernel fe \
-                         (the Okada kernel has no volume), without it it would be ignored"
-                    )
-                    .into());
-                }
-            }
+        if self.settings.kernel == Bp5Kernel::Okada && self.stage_peaks {
+            return Err(
+                "--stage-peaks: a setting of the finite-element kernel: it needs \
+                        --kernel fe (the Okada kernel has no volume), without it it would be \
+                        ignored"
+                    .into(),
+            );
         }
         Ok(())
     }
 
     /// `--domain-km` (km) and `--ratio` of the finite-element kernel, or their defaults.
     pub(super) fn box_size(&self) -> (f64, f64) {
-        let d = SeasBp5Run::default();
-        (
-            self.domain_km.unwrap_or(d.domain_km),
-            self.ratio.unwrap_or(d.ratio),
-        )
+        (self.settings.domain_km(), self.settings.ratio())
     }
 
     /// What a checkpoint continues: the scene and what changes the trajectory (the plan's
-    /// too: a checkpoint is checked against it before the folder changes) — the scene's
-    /// fingerprint of the run's settings, which the Python package's `rsf.seas_bp5`
-    /// computes too.
+    /// too: a checkpoint is checked against it before the folder changes) — the
+    /// settings' fingerprint, which the Python package's `rsf.seas_bp5` computes too.
     pub(super) fn fingerprint(&self, bp5: &SeasBp5) -> Fingerprint {
-        self.settings().fingerprint(bp5)
+        self.settings.fingerprint_with(bp5, default_ordering())
     }
 
-    /// The run's settings as the scene states them (shared with the Python package's
-    /// `rsf.seas_bp5`): the flags, or their defaults.
-    pub(super) fn settings(&self) -> SeasBp5Run {
-        let (domain_km, ratio) = self.box_size();
-        SeasBp5Run {
-            kernel: match self.kernel {
-                Kernel::Okada => Bp5Kernel::Okada,
-                Kernel::Fe => Bp5Kernel::Fe,
-            },
-            dx: self.dx,
-            domain_km,
-            ratio,
-            mesh: self.mesh.unwrap_or(MeshArg::Graded).mesh(),
-            condensation: match self.condensation() {
-                Condensation::SchurOnly => Bp5Condensation::SchurOnly,
-                Condensation::Factor => Bp5Condensation::Factor,
-            },
-            ordering: self.ordering(),
-            end_years: self.end_years,
-            tolerance: self.tolerance,
-            epsilon: self.epsilon,
-            integrator: self.integrator.integrator,
-        }
+    /// The run's settings as it runs (the volume's defaults and the ordering resolved,
+    /// [`SeasBp5Run::resolved`]).
+    pub(super) fn resolved(&self) -> SeasBp5Run {
+        self.settings.resolved(default_ordering())
     }
 
     /// `--ordering`, or its default.
-    pub(super) fn ordering(&self) -> rsf::fault_ode::InteriorOrdering {
-        self.ordering.unwrap_or(if rsf_metis::is_available() {
-            rsf::fault_ode::InteriorOrdering::NestedDissection
-        } else {
-            rsf::fault_ode::InteriorOrdering::Amd
-        })
+    pub(super) fn ordering(&self) -> InteriorOrdering {
+        self.settings.ordering_or(default_ordering())
     }
 
-    /// The scene: BP5, with the fault zone of `--fault-zone-width-km` and
-    /// `--fault-zone-rigidity` if given (both or neither).
+    /// The scene: BP5 with the friction of the flags and the fault zone of
+    /// `--fault-zone-width-km` and `--fault-zone-rigidity` if given (checked by the plan).
     ///
     /// # Errors
-    /// One of the two flags without the other; the zone's values (the scene's checks).
+    /// The scene's checks.
     pub(super) fn scene(&self) -> Result<SeasBp5, AnyError> {
-        let fault_zone = match (self.fault_zone_width_km, self.fault_zone_rigidity) {
-            (None, None) => None,
-            (Some(width), Some(rigidity_ratio)) => Some(FaultZone {
-                half_width: 0.5 * width * 1e3,
-                rigidity_ratio,
-            }),
-            _ => {
-                return Err(
-                    "--fault-zone-width-km and --fault-zone-rigidity go together: the \
-                            zone's width and its shear modulus over the host's"
-                        .into(),
-                )
-            }
-        };
-        let bp5 = SeasBp5 {
-            fault_zone,
-            ..SeasBp5::default()
-        };
+        let bp5 = self.settings.scene();
         crate::cli::for_fields(&crate::cli::FE_GRID_FLAGS, bp5.validate())?;
         Ok(bp5)
     }
 
     /// `--condensation` or its default.
-    pub(super) fn condensation(&self) -> Condensation {
-        self.condensation.unwrap_or(Condensation::SchurOnly)
+    pub(super) fn condensation(&self) -> Bp5Condensation {
+        self.settings.condensation()
     }
 
     /// The finite-element grid of the flags: the fault zone's slab meshed at `--dx`.
     pub(super) fn grid(&self, bp5: &SeasBp5) -> SeasBp5Grid {
-        self.settings().grid(bp5)
+        self.settings.grid(bp5)
     }
 
     /// The memory (bytes) of Okada's kernel on `bp5`'s fault of `m` slip unknowns: the
@@ -238,7 +143,8 @@ impl Args {
     /// source–receiver pairs it is built from (48 bytes each, if tabulated) and the body
     /// stations' columns.
     fn okada_memory(&self, bp5: &SeasBp5, m: f64) -> f64 {
-        let (ns, nd) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
+        let dx = self.settings.dx;
+        let (ns, nd) = (bp5.l_f / dx, bp5.w_f / dx);
         let pairs = (2.0 * ns - 1.0) * nd * nd;
         let table = if pairs <= rsf::halfspace::TABLE_MAX_PAIRS as f64 {
             48.0 * pairs
@@ -255,17 +161,13 @@ impl Args {
         };
         operator + table + 9.0 * 3.0 * 8.0 * m
     }
-}
 
-impl Args {
     /// Refuses `--ordering nested-dissection` in a build without METIS.
     ///
     /// # Errors
     /// `--ordering`, naming the feature that builds METIS.
     fn check_ordering_built(&self) -> Result<(), AnyError> {
-        if self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection
-            && !rsf_metis::is_available()
-        {
+        if self.ordering() == InteriorOrdering::NestedDissection && !rsf_metis::is_available() {
             return Err(crate::guard::refuse(
                 "--ordering",
                 "nested-dissection",
@@ -283,23 +185,16 @@ impl Program for Args {
         self.limits
     }
 
+    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
+        self.settings = self.config.merged(self.settings, matches)?;
+        Ok(self)
+    }
+
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range(
-            "--end-years",
-            self.end_years,
-            bp5_ranges::END_YEARS,
-            "years",
-        )?;
+        self.config.validate(&self.settings)?;
+        let run = &self.settings;
         let bp5 = self.scene()?;
-        let cells = flag("--dx", bp5.cells(self.dx))?.len() as f64;
-        flag("--tolerance", bp5.fault_ode_options(self.tolerance))?;
-        in_range(
-            "--epsilon",
-            self.epsilon,
-            bp5_ranges::EPSILON,
-            "a relative accuracy",
-        )?;
-        flag("--epsilon", bp5.half_space(self.epsilon))?;
+        let cells = bp5.cells(run.dx).map_err(|e| self.config.named(e))?.len() as f64;
         self.header.check()?;
         let m = 2.0 * cells;
         let (domain_km, ratio) = self.box_size();
@@ -307,30 +202,18 @@ impl Program for Args {
         self.check_ordering_built()?;
         // setup.bin, the Schur-only elimination kept in --out (0 without it).
         let mut setup_file = 0.0;
-        let memory = match self.kernel {
+        let memory = match run.kernel {
             // The fault alone (Args::okada_memory).
-            Kernel::Okada => self.okada_memory(&bp5, m),
-            Kernel::Fe => {
-                in_range(
-                    "--domain-km",
-                    domain_km,
-                    bp5_ranges::DOMAIN_KM,
-                    "km: 1.5 l_f/2 and more",
-                )?;
-                in_range(
-                    "--ratio",
-                    ratio,
-                    bp5_ranges::RATIO,
-                    "the growth of the spacing",
-                )?;
-                let (h, far) = (self.dx, domain_km * 1e3);
+            Bp5Kernel::Okada => self.okada_memory(&bp5, m),
+            Bp5Kernel::Fe => {
+                let (h, far) = (run.dx, domain_km * 1e3);
                 // The dofs the elimination keeps: the fault's nodes (the rate-and-state
                 // region's grid, edges included), two slip unknowns each, and the off-fault
                 // stations' vertices, three dofs each.
-                let nodes = (bp5.l_f / self.dx + 1.0) * (bp5.w_f / self.dx + 1.0);
+                let nodes = (bp5.l_f / run.dx + 1.0) * (bp5.w_f / run.dx + 1.0);
                 let kept = 2.0 * nodes + 3.0 * SeasBp5::body_station_points().len() as f64;
-                let (memory, vertices) = match self.mesh.unwrap_or(MeshArg::Graded) {
-                    MeshArg::Tensor | MeshArg::TensorMirrored => {
+                let (memory, vertices) = match run.mesh() {
+                    SeasBp5Mesh::Tensor | SeasBp5Mesh::TensorMirrored => {
                         // The tensor grid in closed form, its model and factor
                         // (crate::estimates::fe_3d_memory: the constants fitted to measured
                         // peaks, issue 74), and the condensed operator.
@@ -342,7 +225,7 @@ impl Program for Args {
                             vertices,
                         )
                     }
-                    MeshArg::Graded => {
+                    SeasBp5Mesh::Graded => {
                         // The fewest vertices the mesh can have, by arithmetic before
                         // anything is built (issue 87: `--domain-km 1e4` built 62.5 million
                         // cubes in 54 s).
@@ -352,19 +235,18 @@ impl Program for Args {
                         // (graded_schur_only_nd_peak); AMD's Schur-only elimination grows like
                         // vertices^1.6, the whole factor like vertices^1.9 (docs/seas-bp5.md,
                         // "The volume at the description's resolution").
-                        let nested =
-                            self.ordering() == rsf::fault_ode::InteriorOrdering::NestedDissection;
+                        let nested = self.ordering() == InteriorOrdering::NestedDissection;
                         let condensation = self.condensation();
                         let peak = |vertices: f64| match condensation {
-                            Condensation::SchurOnly if nested => {
+                            Bp5Condensation::SchurOnly if nested => {
                                 graded_schur_only_nd_peak(vertices, kept)
                             }
-                            Condensation::SchurOnly => {
+                            Bp5Condensation::SchurOnly => {
                                 SCHUR_ONLY_PEAK_AT_1_KM
                                     * (vertices / GRADED_VERTICES_AT_1_KM).powf(1.6)
                                     + operator_bytes(m, m > 4096.0)
                             }
-                            Condensation::Factor => {
+                            Bp5Condensation::Factor => {
                                 GRADED_PEAK_AT_4_KM * (vertices / GRADED_VERTICES_AT_4_KM).powf(1.9)
                                     + operator_bytes(m, m > 4096.0)
                             }
@@ -389,7 +271,7 @@ impl Program for Args {
                         }
                     }
                 };
-                if self.condensation() == Condensation::SchurOnly {
+                if self.condensation() == Bp5Condensation::SchurOnly {
                     setup_file = crate::estimates::setup_file_bytes(kept, vertices);
                 }
                 memory
@@ -398,8 +280,8 @@ impl Program for Args {
         // Ten fault stations, nine body stations and global.dat; the four profiles (slip
         // and stress along dip and along strike: a row holds a column or a row of the
         // grid); rupture.dat (one row per cell, once).
-        let (along_strike, along_dip) = (bp5.l_f / self.dx, bp5.w_f / self.dx);
-        let output = seas_output_bytes(self.end_years, 20.0, 13, 2.0 * (along_strike + along_dip))
+        let (along_strike, along_dip) = (bp5.l_f / run.dx, bp5.w_f / run.dx);
+        let output = seas_output_bytes(run.end_years, 20.0, 13, 2.0 * (along_strike + along_dip))
             + cells * rsf::run_folder::SERIES_ROW_BYTES;
         self.fields.check("seas_bp5")?;
         let names = outputs();
@@ -409,12 +291,12 @@ impl Program for Args {
             .memory(
                 memory,
                 "--dx, --kernel, --domain-km, --ratio",
-                format!("BP5 on dx = {:e} m: {cells} cells", self.dx),
+                format!("BP5 on dx = {:e} m: {cells} cells", run.dx),
             )
             .output(
                 output,
                 "--end-years, --dx",
-                format!("{} years of the benchmark's files", written(self.end_years)),
+                format!("{} years of the benchmark's files", written(run.end_years)),
             )
             .output(
                 setup_file,
@@ -525,46 +407,6 @@ const GRADED_ND_BYTES_PER_KEPT_SQUARED: f64 = 12.0;
 /// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
 /// kept: a `--resume` of the run reads it instead of eliminating again).
 pub(super) const SETUP_FILE: &str = BP5_SETUP_FILE;
-
-/// How the finite-element kernel condenses the volume onto the fault.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
-pub(super) enum Condensation {
-    /// The Schur complement alone, by an elimination that keeps no factor column
-    /// (checkpointed in `--out`).
-    SchurOnly,
-    /// The volume's whole sparse Cholesky factor, kept for the run.
-    Factor,
-}
-
-/// The finite-element kernel's mesh (`SeasBp5Mesh`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
-pub(super) enum MeshArg {
-    /// An octree of Kuhn cubes refined towards the fault and the stations, graded in every direction.
-    Graded,
-    /// A tensor grid graded axis by axis.
-    Tensor,
-    /// The tensor grid with alternate boxes mirrored (a bisection mesh's pattern of diagonals: a test, not a mesh to run).
-    TensorMirrored,
-}
-
-impl MeshArg {
-    fn mesh(self) -> SeasBp5Mesh {
-        match self {
-            MeshArg::Graded => SeasBp5Mesh::Graded,
-            MeshArg::Tensor => SeasBp5Mesh::Tensor,
-            MeshArg::TensorMirrored => SeasBp5Mesh::TensorMirrored,
-        }
-    }
-}
-
-/// The elastic operator of the run.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
-pub(super) enum Kernel {
-    /// Okada's half-space, a fault alone, back slip.
-    Okada,
-    /// The finite-element volume model.
-    Fe,
-}
 
 #[cfg(test)]
 mod tests {

@@ -18,7 +18,8 @@ use rsf_scenes::{SeasBp5, SeasBp5Grid};
 use rsf_seas::{SeasBp5Output, SeasSetup, SECONDS_PER_YEAR};
 use std::ops::ControlFlow;
 
-use super::args::{Args, Condensation, Kernel, SETUP_FILE};
+use super::args::{Args, SETUP_FILE};
+use rsf_scenes::{Bp5Condensation as Condensation, Bp5Kernel as Kernel, RunConfig};
 
 /// Removes `path` if it is there.
 fn remove_if_present(path: &std::path::Path) -> Result<(), AnyError> {
@@ -118,11 +119,11 @@ impl SetUp<'_> {
             half_space,
             setup,
         } = self;
-        let model = bp5.model(args.dx)?;
+        let model = bp5.model(args.settings.dx)?;
         if root {
             println!(
                 "BP5-QD, Okada, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
-                args.dx,
+                args.settings.dx,
                 2 * cells,
                 machine()
             );
@@ -136,7 +137,7 @@ impl SetUp<'_> {
             processes.map(|p| p.group()),
         )?;
         let output = if root {
-            Some(bp5.output(&args.out, args.dx, columns, setup)?)
+            Some(bp5.output(&args.out, args.settings.dx, columns, setup)?)
         } else {
             None
         };
@@ -187,15 +188,15 @@ impl SetUp<'_> {
             println!(
                 "BP5-QD, finite elements, Δx = {} m, ratio {ratio}, {} vertices (the fault's \
                  split), {m} slip unknowns; on {}",
-                args.dx,
+                args.settings.dx,
                 model.vertices.len(),
                 machine()
             );
             println!("{mesh_line}");
         }
-        let options = args.settings().volume_options(options, m);
+        let options = args.resolved().volume_options(options, m);
         let output = if root {
-            Some(bp5.volume_output(&args.out, &model, args.dx, setup)?)
+            Some(bp5.volume_output(&args.out, &model, args.settings.dx, setup)?)
         } else {
             None
         };
@@ -273,14 +274,17 @@ pub(super) fn run(
     let bp5 = args.scene()?;
     let (_, ratio) = args.box_size();
     // Checked before any file is touched.
-    let cells = bp5.cells(args.dx).map_err(|e| format!("--dx: {e}"))?.len();
+    let cells = bp5
+        .cells(args.settings.dx)
+        .map_err(|e| format!("--dx: {e}"))?
+        .len();
     let grid = args.grid(&bp5);
     let options = args
-        .settings()
+        .resolved()
         .fault_ode_options(&bp5, args.threads)
         .map_err(|e| format!("--tolerance: {e}"))?;
     let half_space = bp5
-        .half_space(args.epsilon)
+        .half_space(args.settings.epsilon)
         .map_err(|e| format!("--epsilon: {e}"))?;
     // A folder of another run (unless --overwrite), one that cannot be written: refused
     // by the guard before anything was computed.
@@ -288,7 +292,7 @@ pub(super) fn run(
     let fingerprint = args.fingerprint(&bp5);
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let setup = args.settings().seas_setup(
+    let setup = args.resolved().seas_setup(
         &bp5,
         args.header.modeler.clone(),
         args.header.date_or_today(),
@@ -301,7 +305,7 @@ pub(super) fn run(
         half_space: &half_space,
         setup,
     };
-    let (mut ode, output) = match args.kernel {
+    let (mut ode, output) = match args.settings.kernel {
         Kernel::Okada => set_up.okada(cells, processes)?,
         Kernel::Fe => set_up.fe(&grid, ratio, &folder, processes)?,
     };
@@ -314,7 +318,7 @@ pub(super) fn run(
         args.run.session_flags(),
         folder.path("checkpoint.bin"),
         fingerprint,
-        args.end_years * SECONDS_PER_YEAR,
+        args.settings.end_years * SECONDS_PER_YEAR,
         &mut ode,
     )?;
     let Some(mut output) = output else {
@@ -351,7 +355,7 @@ pub(super) fn run(
     }
     let progress = rsf::observe::Progress::time_in(
         ode.state().time,
-        args.end_years * SECONDS_PER_YEAR,
+        args.settings.end_years * SECONDS_PER_YEAR,
         TimeUnit::year(SECONDS_PER_YEAR),
         "BP5",
     );
@@ -414,26 +418,30 @@ fn report(
     );
     let json = serde_json::json!({
         "problem": "BP5-QD",
-        "kernel": format!("{:?}", args.kernel),
-        "domain_km": (args.kernel == Kernel::Fe).then_some(domain_km),
-        "ratio": (args.kernel == Kernel::Fe).then_some(ratio),
-        "dx_m": args.dx,
+        "kernel": format!("{:?}", args.settings.kernel),
+        "domain_km": (args.settings.kernel == Kernel::Fe).then_some(domain_km),
+        "ratio": (args.settings.kernel == Kernel::Fe).then_some(ratio),
+        "dx_m": args.settings.dx,
         "cells": cells,
-        "end_years": args.end_years,
-        "tolerance": args.tolerance,
-        "epsilon": args.epsilon,
+        "end_years": args.settings.end_years,
+        "tolerance": args.settings.tolerance,
+        "epsilon": args.settings.epsilon,
         "operator": ode.kernel_report().to_string(),
         "volume_factor_entries": ode.factor_nnz(),
         "accepted_steps": ode.state().step,
         "steps_this_invocation": summary.steps,
         "rejected_attempts": summary.rejected_attempts,
         "rate_evaluations": ode.evaluations(),
-        "integrator": args.integrator.summary(Some(ode.integrator_stats())),
+        "integrator": crate::IntegratorArgs {
+            integrator: args.settings.integrator,
+        }
+        .summary(Some(ode.integrator_stats())),
         "threads": args.threads,
         "setup_s": setup_s,
         "wall_time_s": wall,
         "cpu_time_s": cpu,
         "machine": machine(),
+        "settings": args.resolved().summary(),
         "rupture_start_years": ruptures.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
         "recurrence_intervals_years": intervals,
         "peak_slip_rates_mps": ruptures.iter().map(|e| e.peak_slip_rate).collect::<Vec<_>>(),

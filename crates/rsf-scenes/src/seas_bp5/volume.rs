@@ -41,6 +41,7 @@ fn box_distance(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> f64 {
 /// How [`SeasBp5::fe_model`] meshes the volume.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum SeasBp5Mesh {
     /// A tensor grid of Kuhn boxes: uniform `dx` over the rate-and-state region along
     /// strike and dip (and one cell either side of the fault), growing by `ratio` beyond,
