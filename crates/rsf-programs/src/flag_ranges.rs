@@ -246,7 +246,11 @@ mod tests {
             ],
             SHARED_NONE,
         ));
-        wrong.extend(check::<crate::seas_bp7::Args>(&[], &[], SHARED_NONE));
+        // The finite-element box's flags need `--kernel fe`; with `--max-memory-gb` far
+        // below any estimate the plan stops at its bound before the box is meshed.
+        let square_fe: &[&str] = &["--kernel", "fe", "--max-memory-gb", "1e-6"];
+        let square_box: &[(&str, &[&str])] = &[("--domain-km", square_fe), ("--ratio", square_fe)];
+        wrong.extend(check::<crate::seas_bp7::Args>(&[], square_box, SHARED_NONE));
         let implicit: &[&str] = &["--scheme", "implicit"];
         let inertia: &[&str] = &["--inertia"];
         wrong.extend(check::<crate::seas_bp1::Args>(
@@ -281,7 +285,7 @@ mod tests {
             ]
             .concat(),
         ));
-        wrong.extend(check::<crate::seas_bp8::Args>(&[], &[], SHARED_NONE));
+        wrong.extend(check::<crate::seas_bp8::Args>(&[], square_box, SHARED_NONE));
         let dx_fits: &[&str] = &[
             "--gap-km",
             "3.75",

@@ -115,7 +115,12 @@ impl Program for Args {
                 let stations = rsf_seas::bp7_body_station_points();
                 let pairs = (cells.sqrt() + 1.0).powi(2);
                 let l_f = run.scene().l_f;
-                volume_memory(&grid, (l_f, &stations), pairs)? + output
+                volume_memory(
+                    &grid,
+                    (l_f, &stations),
+                    pairs,
+                    self.limits.max_memory_gb * 1e9,
+                )? + output
             }
         };
         let names = outputs();

@@ -120,7 +120,7 @@ impl Program for Args {
             Some(grid) => {
                 let pairs = (n - 1.0).powi(2);
                 let l_f = SeasBp8::default().l_f;
-                volume_memory(&grid, (l_f, &[]), pairs)? + well
+                volume_memory(&grid, (l_f, &[]), pairs, self.limits.max_memory_gb * 1e9)? + well
             }
         };
         // Station rows (9 files of 11 columns and global.dat) at most one per step, the

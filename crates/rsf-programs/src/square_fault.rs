@@ -155,8 +155,11 @@ pub(crate) fn print_volume(ode: &SeasBp8FaultOde, grid: &rsf_scenes::SquareVolum
 /// the Schur-only elimination with nested dissection, `2.5e4 V (V/1e5)^{1/3}` bytes for
 /// `V` mesh vertices (counted from the octree, without making the mesh; measured with
 /// `/usr/bin/time -v`: BP8-GS at 40 m, 48 272 vertices, 0.70 GB; at 20 m, 93 698
-/// vertices, 1.92 GB — a factor's fill growing like `V^{4/3}`), the condensed operator's
-/// dense `S` and two copies (`3 · 8 m²` for `m = 2 pairs` unknowns), 100 MB for the rest.
+/// vertices, 1.92 GB; BP7-A at 20 m, 114 161 vertices, 2.65 GB — a factor's fill growing
+/// like `V^{4/3}`), the condensed operator's dense `S` and two copies (`3 · 8 m²` for
+/// `m = 2 pairs` unknowns), 100 MB for the rest. Where `S` and the rest alone exceed
+/// `max_bytes` (`--max-memory-gb`), that lower bound, the box not counted (the guard
+/// refuses it, unmeshed).
 ///
 /// # Errors
 /// The grid's ([`rsf_scenes::SquareVolumeGrid::mesh_vertices`]).
@@ -164,8 +167,13 @@ pub(crate) fn volume_memory(
     grid: &rsf_scenes::SquareVolumeGrid,
     (half, stations): (f64, &[[f64; 3]]),
     pairs: f64,
+    max_bytes: f64,
 ) -> rsf::Result<f64> {
-    let vertices = grid.mesh_vertices(half, stations)? as f64;
     let m = 2.0 * pairs;
-    Ok(2.5e4 * vertices * (vertices / 1e5).cbrt() + 24.0 * m * m + 1e8)
+    let least = 24.0 * m * m + 1e8;
+    if least > max_bytes {
+        return Ok(least);
+    }
+    let vertices = grid.mesh_vertices(half, stations)? as f64;
+    Ok(2.5e4 * vertices * (vertices / 1e5).cbrt() + least)
 }
