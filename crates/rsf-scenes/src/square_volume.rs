@@ -119,7 +119,8 @@ impl SquareVolumeGrid {
     /// octree without making the mesh (a plan's estimate).
     ///
     /// # Errors
-    /// As [`octree`](Self::octree).
+    /// As [`check`](Self::check); [`rsf::Error::InvalidParameter`] named `grading` where
+    /// the mesh would exceed [`SQUARE_VOLUME_MAX_CELLS`].
     pub fn mesh_vertices(&self, half: f64, stations: &[[f64; 3]]) -> Result<usize> {
         Ok(self.octree(half, stations)?.num_vertices())
     }
@@ -147,7 +148,8 @@ impl SquareVolumeGrid {
     /// as equal and opposite tractions), its rim a shared tip.
     ///
     /// # Errors
-    /// As [`octree`](Self::octree); the mesh's.
+    /// As [`check`](Self::check); named `grading` where the mesh would exceed
+    /// [`SQUARE_VOLUME_MAX_CELLS`]; the mesh's.
     pub fn builder(&self, half: f64, material: Material) -> Result<ModelBuilder<3>> {
         let (_, far) = self.root_and_far();
         let eps = 1e-6 * self.dx;
@@ -175,7 +177,8 @@ impl SquareVolumeGrid {
     /// the square feels the back slip of a fault alone (`rsf::fault_alone::FaultAlone`).
     ///
     /// # Errors
-    /// As [`octree`](Self::octree); the mesh's.
+    /// As [`check`](Self::check); named `grading` where the mesh would exceed
+    /// [`SQUARE_VOLUME_MAX_CELLS`]; the mesh's.
     pub fn creeping_plane_builder(
         &self,
         half: f64,
