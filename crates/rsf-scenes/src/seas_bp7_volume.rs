@@ -57,16 +57,10 @@ impl SeasBp7 {
             .internal_fault
             .as_ref()
             .ok_or_else(|| crate::invalid("model", "has no fault inside the body"))?;
-        let pair_of: std::collections::HashMap<usize, usize> = fault
-            .pairs()
-            .iter()
-            .enumerate()
-            .map(|(i, &(minus, _))| (minus, i))
-            .collect();
         let fb = &model.frictional_boundary;
         let mut forces = Vec::with_capacity(2 * fb.len());
         for (k, (&p, &w)) in fb.nodes.iter().zip(&fb.weights).enumerate() {
-            let i = *pair_of.get(&p).ok_or_else(|| {
+            let i = fault.pair_index(p).ok_or_else(|| {
                 crate::invalid("model", format!("frictional node {k} is not a pair"))
             })?;
             let x = model.vertices[p];

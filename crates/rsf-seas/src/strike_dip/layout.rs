@@ -123,12 +123,6 @@ impl FaultLayout {
             .as_ref()
             .ok_or_else(|| invalid("model", "has no fault inside the body"))?;
         let fb = &model.frictional_boundary;
-        let pair_of: std::collections::HashMap<usize, usize> = fault
-            .pairs()
-            .iter()
-            .enumerate()
-            .map(|(i, &(minus, _))| (minus, i))
-            .collect();
         let NodeGrid {
             origin,
             spacing: dx,
@@ -148,8 +142,8 @@ impl FaultLayout {
         };
         for (k, &p) in fb.nodes.iter().enumerate() {
             let x = model.vertices[p];
-            let i = *pair_of
-                .get(&p)
+            let i = fault
+                .pair_index(p)
                 .ok_or_else(|| invalid("model", format!("frictional node {k} is not a pair")))?;
             let r = fault.transform.frames[i];
             let along = [x[1], z_sign * x[2]];

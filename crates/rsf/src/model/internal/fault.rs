@@ -272,6 +272,12 @@ impl<const D: usize> InternalFault<D> {
         Some(self.pairs[k])
     }
 
+    /// The index of the pair `vertex` belongs to (into [`pairs`](Self::pairs) and the
+    /// transform's pair frames), `None` for a vertex off the split pairs.
+    pub fn pair_index(&self, vertex: usize) -> Option<usize> {
+        self.pair_of.get(vertex).copied().flatten().map(|(k, _)| k)
+    }
+
     /// The junction (index into [`rsf_fem::FaultNetwork::junctions`]) `vertex` is a copy
     /// of, `None` for any other vertex.
     pub fn junction_of(&self, vertex: usize) -> Option<usize> {
