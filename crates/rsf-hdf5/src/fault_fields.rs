@@ -243,4 +243,11 @@ impl<const D: usize, const C: usize> Observer<D, C> for Hdf5FaultFields {
     fn name(&self) -> String {
         format!("HDF5 fault fields {}", self.file.path.display())
     }
+
+    /// The fault's own fields only (slip, slip rate, state): a run condensed onto the
+    /// fault without the volume's factor (the Schur-only elimination of BP5's, BP7's and
+    /// BP8's volumes) can be observed.
+    fn reads_volume(&self) -> bool {
+        false
+    }
 }

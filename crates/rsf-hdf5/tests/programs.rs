@@ -403,3 +403,36 @@ fn seas_bp7_and_bp8_fault_fields_are_the_squares_cells_and_equal_a_station_file(
         std::fs::remove_dir_all(&dir).ok();
     }
 }
+
+#[test]
+fn seas_bp8_volume_fault_fields_are_the_square_s_pairs_and_equal_a_station_file() {
+    // BP8 with `--kernel fe` at 80 m: the fault's faces between the (800/80 − 1)² split
+    // pairs inside the square (the rim a tip), two triangles in each of the 8 × 8 squares
+    // of pairs, read off the Schur-only elimination (the writer reads the fault alone);
+    // the central station is a node (the well's, the injection's centre).
+    let dir = temp_dir("seas-bp8-fe-hdf5");
+    let args = [
+        "--kernel",
+        "fe",
+        "--domain-km",
+        "1.6",
+        "--dx",
+        "80",
+        "--date",
+        "2026-11-29",
+        "--hdf5",
+        "1",
+        "--end-days",
+        "2",
+        "--out",
+        arg(&dir),
+    ];
+    run_ok(env!("CARGO_BIN_EXE_seas_bp8"), &args);
+    let file = hdf5::File::open(dir.join("fields.h5")).unwrap();
+    assert_eq!(file.dataset("mesh/cells").unwrap().shape(), [128, 3]);
+    let station = dir.join("fltst_strk+000dp+000");
+    let state_column = station_rows(&station)[0].len() - 1;
+    fault_fields_equal_station(&file, &station, [0.0; 3], state_column, 5);
+    drop(file);
+    std::fs::remove_dir_all(&dir).ok();
+}
