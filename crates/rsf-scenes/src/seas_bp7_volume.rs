@@ -20,8 +20,7 @@ use crate::square_volume::{SquareVolumeGrid, VolumeElimination};
 impl SeasBp7 {
     /// The isotropic medium of the volume: μ = ρc_s², ν, ρ.
     pub fn material(&self) -> Material {
-        let mu = self.shear_modulus();
-        Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho)
+        Material::from_shear_modulus(self.shear_modulus(), self.nu, self.rho)
     }
 
     /// The builder of BP7's volume model on `grid`

@@ -241,7 +241,7 @@ impl Bp5Pair {
         };
         let [west, east] = planes;
         let mut b = ModelBuilder::new(mesh)
-            .material(Material::new(2.0 * mu * (1.0 + p.nu), p.nu, p.rho))
+            .material(Material::from_shear_modulus(mu, p.nu, p.rho))
             .without_mass()
             .without_initial_equilibrium()
             .dirichlet(

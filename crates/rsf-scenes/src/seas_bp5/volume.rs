@@ -157,13 +157,13 @@ impl SeasBp5 {
             SeasBp5Mesh::Graded => self.graded_mesh(grid, &[0.0])?,
         };
         let mu = self.shear_modulus();
-        let host = Material::new(2.0 * mu * (1.0 + self.nu), self.nu, self.rho);
+        let host = Material::from_shear_modulus(mu, self.nu, self.rho);
         let builder = ModelBuilder::new(mesh);
         let builder = match self.fault_zone {
             None => builder.material(host),
             Some(zone) => {
                 let mu_fz = self.fault_shear_modulus();
-                let soft = Material::new(2.0 * mu_fz * (1.0 + self.nu), self.nu, self.rho);
+                let soft = Material::from_shear_modulus(mu_fz, self.nu, self.rho);
                 let scene = *self;
                 builder.material(MaterialRegions::new(host).region(
                     "fault zone",

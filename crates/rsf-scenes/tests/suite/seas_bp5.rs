@@ -406,7 +406,7 @@ fn the_compliant_zone_is_the_slab_of_its_width_over_the_rate_state_region() {
     };
     let scene = zone.fe_model(&zone_grid()).unwrap();
     let (l_f, w_f, nu, rho) = (host.l_f, host.w_f, host.nu, host.rho);
-    let material = |mu: f64| rsf::Material::new(2.0 * mu * (1.0 + nu), nu, rho);
+    let material = |mu: f64| rsf::Material::from_shear_modulus(mu, nu, rho);
     let mu = host.shear_modulus();
     let with_slab = |width: f64| {
         let slab =

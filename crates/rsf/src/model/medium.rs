@@ -29,6 +29,17 @@ impl Material {
         }
     }
 
+    /// The material of shear modulus μ (Pa), Poisson's ratio ν and density ρ: Young's
+    /// modulus `E = 2μ(1 + ν)` (the SEAS descriptions give μ = ρc_s² and ν). Checked where
+    /// [`new`](Self::new)'s values are ([`elasticity`](Self::elasticity)).
+    pub fn from_shear_modulus(shear_modulus: f64, poisson_ratio: f64, density: f64) -> Self {
+        Self::new(
+            2.0 * shear_modulus * (1.0 + poisson_ratio),
+            poisson_ratio,
+            density,
+        )
+    }
+
     /// The elasticity tensor: [`LinearElasticity::isotropic`] (plane strain in 2D).
     ///
     /// # Errors
