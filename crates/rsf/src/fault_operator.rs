@@ -49,6 +49,18 @@ pub trait FaultOperator: Send {
         OperatorOrigin::Other
     }
 
+    /// The unit slip direction (Cartesian) each unknown measures, one per unknown, where
+    /// the operator defines its own components rather than the model's frames — a fault
+    /// alone on boundary elements
+    /// ([`ElementOperator::fault_alone`](crate::halfspace_operator::ElementOperator::fault_alone):
+    /// each element's strike, then up-dip direction) — so that
+    /// [`GreensFunctions`](crate::greens::GreensFunctions) describes them without being
+    /// told. Default `None`: the unknowns are the model's components (its pair frames or
+    /// Cartesian axes).
+    fn slip_directions(&self) -> Option<&[[f64; 3]]> {
+        None
+    }
+
     /// The diagonal of `S` (N/m, length [`dim`](Self::dim)) into `out`: the cheap part
     /// of the fault ODE's Jacobian that its implicit steps precondition with
     /// (docs/math.md §12, "Implicit steps"). The default takes one product per unknown

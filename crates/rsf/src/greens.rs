@@ -138,10 +138,10 @@ impl GreensAccuracy {
 /// of the slip the unknown measures — the node's frame axis `component[j]` (for an
 /// internal fault the jump across it, plus side minus minus side); the antiplane
 /// component of a scalar model is `(0, 0, 1)`. A fault alone (a
-/// [`Model::fault_only`] with a boundary-element operator) has the operator's components,
-/// which its model does not know: give them with
-/// [`with_directions`](Self::with_directions) (Okada's and the element operators': along
-/// strike, then up dip).
+/// [`Model::fault_only`]) whose operator defines its own components takes them from the
+/// operator ([`FaultOperator::slip_directions`]: the element operator's, each element's
+/// strike, then up dip); [`with_directions`](Self::with_directions) replaces them for an
+/// operator of one's own that does not say.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GreensFunctions {
     /// The model's spatial dimension (2 or 3).
@@ -173,7 +173,9 @@ impl GreensFunctions {
     /// # Errors
     /// [`Error::InvalidParameter`] named `greens` for an operator of another dimension
     /// than the model's slip unknowns, one that holds only some of its rows (a rank's
-    /// share) or a model whose components are neither its dimension nor one.
+    /// share) or a model whose components are neither its dimension nor one; named
+    /// `directions` for an operator's [`FaultOperator::slip_directions`] that are not one
+    /// unit vector per unknown.
     pub fn new<const D: usize, const C: usize>(
         model: &Model<D, C>,
         operator: &dyn FaultOperator,
@@ -230,7 +232,10 @@ impl GreensFunctions {
                 ),
             ));
         }
-        Ok(g)
+        match operator.slip_directions() {
+            Some(directions) => g.with_directions(directions.to_vec()),
+            None => Ok(g),
+        }
     }
 
     /// The same with the slip directions given (one unit vector per unknown, Cartesian):

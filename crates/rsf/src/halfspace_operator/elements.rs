@@ -94,6 +94,9 @@ pub struct ElementOperator {
     s: Vec<f64>,
     y: Vec<f64>,
     report: KernelReport,
+    /// A fault alone's unknowns' slip directions: each element's strike, then up dip
+    /// (`None` on a model's fault, whose pair frames give them).
+    directions: Option<Vec<[f64; 3]>>,
 }
 
 impl std::fmt::Debug for ElementOperator {
@@ -166,7 +169,9 @@ impl ElementOperator {
         }
         let element = (0..nodes.len()).collect();
         let map = vec![[[1.0, 0.0], [0.0, 1.0]]; nodes.len()];
-        Self::build(set, element, map, &fb.weights, options, clock)
+        let mut op = Self::build(set, element, map, &fb.weights, options, clock)?;
+        op.directions = Some(set.frames().iter().flat_map(|f| [f[0], f[1]]).collect());
+        Ok(op)
     }
 
     /// The operator on the frictional nodes of `model`'s internal fault: every node at
@@ -283,6 +288,7 @@ impl ElementOperator {
             s: vec![0.0; len],
             y: vec![0.0; len],
             report,
+            directions: None,
         })
     }
 
@@ -325,6 +331,10 @@ impl FaultOperator for ElementOperator {
 
     fn operator_origin(&self) -> crate::fault_operator::OperatorOrigin {
         crate::fault_operator::OperatorOrigin::BoundaryElements
+    }
+
+    fn slip_directions(&self) -> Option<&[[f64; 3]]> {
+        self.directions.as_deref()
     }
 
     /// From the kernel's 2 × 2 element blocks.

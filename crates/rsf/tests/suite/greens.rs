@@ -282,12 +282,11 @@ fn element_pair(d: f64) -> (GreensFunctions, Vec<f64>) {
         .with_faults(vec!["west".into(), "east".into()], &faults)
         .unwrap();
     let mut op = ElementOperator::fault_alone(&model, &set, &ElementOptions::default()).unwrap();
-    // The operator's components: each element's strike, then up-dip direction.
-    let directions = set.frames().iter().flat_map(|f| [f[0], f[1]]).collect();
-    let g = GreensFunctions::new(&model, &op)
-        .unwrap()
-        .with_directions(directions)
-        .unwrap();
+    // The operator's components: each element's strike, then up-dip direction — filled in
+    // from the operator (the model's Cartesian labels are not its components).
+    let directions: Vec<[f64; 3]> = set.frames().iter().flat_map(|f| [f[0], f[1]]).collect();
+    let g = GreensFunctions::new(&model, &op).unwrap();
+    assert_eq!(g.directions, directions);
     let s = g.dense(&mut op, 100).unwrap();
     (g, s)
 }
