@@ -13,21 +13,74 @@ use crate::convert::{per_node, PerNode};
 use crate::errors::{invalid, to_py};
 
 /// One fault as the user gave it: its name and its points (m; a polyline's vertices in
-/// 2-D, a convex planar polygon's corners in 3-D), checked for shape and finiteness.
+/// 2-D, a convex planar polygon's corners in 3-D), checked for shape and finiteness; or,
+/// for a Gmsh physical group inside the body, its polyline (2-D, as points) or its faces
+/// (3-D: vertex indices of the mesh as read).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct FaultSpec {
     pub name: String,
     pub points: Vec<Vec<f64>>,
+    /// A 3-D group's faces (then `points` is empty).
+    pub faces: Option<Vec<[usize; 3]>>,
+}
+
+/// The physical groups of a Gmsh mesh that lie inside the body (read with
+/// `GmshOptions::interior_facets`): faults a model may name (`faults=[(name, "group")]`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct InteriorGroups {
+    /// 2-D: each curve's polyline from one end to the other (m), or why it is not one.
+    pub polylines: std::collections::BTreeMap<String, Result<Vec<Vec<f64>>, String>>,
+    /// 3-D: each surface's faces (vertex indices).
+    pub faces: std::collections::BTreeMap<String, Vec<[usize; 3]>>,
+}
+
+impl InteriorGroups {
+    /// The groups inside the body of a 2-D Gmsh mesh.
+    pub(crate) fn of_2d(g: &rsf::fem::GmshMesh<2>) -> Self {
+        let polylines = g
+            .interior_facets
+            .keys()
+            .map(|name| {
+                let line = g
+                    .interior_polyline(name)
+                    .map(|p| p.iter().map(|x| x.to_vec()).collect())
+                    .map_err(|e| e.to_string());
+                (name.clone(), line)
+            })
+            .collect();
+        Self {
+            polylines,
+            faces: Default::default(),
+        }
+    }
+
+    /// The groups inside the body of a 3-D Gmsh mesh.
+    pub(crate) fn of_3d(g: &rsf::fem::GmshMesh<3>) -> Self {
+        Self {
+            polylines: Default::default(),
+            faces: g.interior_facets.clone(),
+        }
+    }
+
+    fn names(&self) -> Vec<&String> {
+        self.polylines.keys().chain(self.faces.keys()).collect()
+    }
 }
 
 /// The keyword `faults` of `rsf.Model`: a list of `(name, points)` pairs, `points` of shape
 /// `(k, dim)` (m) with `k ≥ 2` in 2-D (a segment or polyline) and `k ≥ 3` in 3-D (a
-/// polygon's corners). Names are non-empty and unique; every coordinate is finite.
-pub(crate) fn fault_specs(obj: Option<&Bound<'_, PyAny>>, dim: usize) -> PyResult<Vec<FaultSpec>> {
+/// polygon's corners), or the name of one of `groups` (a Gmsh physical group inside the
+/// body). Names are non-empty and unique; every coordinate is finite.
+pub(crate) fn fault_specs(
+    obj: Option<&Bound<'_, PyAny>>,
+    dim: usize,
+    groups: &InteriorGroups,
+) -> PyResult<Vec<FaultSpec>> {
     let Some(obj) = obj else {
         return Ok(Vec::new());
     };
-    let what = "a list of (name, points) pairs, points of shape (k, dim) in m";
+    let what = "a list of (name, points) pairs, points of shape (k, dim) in m or a Gmsh \
+                physical group's name";
     let items: Vec<Bound<'_, PyAny>> = obj.extract().map_err(|_| invalid("faults", what))?;
     let min = if dim == 2 { 2 } else { 3 };
     let mut out: Vec<FaultSpec> = Vec::with_capacity(items.len());
@@ -41,6 +94,10 @@ pub(crate) fn fault_specs(obj: Option<&Bound<'_, PyAny>>, dim: usize) -> PyResul
         }
         if out.iter().any(|f| f.name == name) {
             return Err(fail("the name is given twice: names must be unique".into()));
+        }
+        if let Ok(group) = points.extract::<String>() {
+            out.push(group_fault(name.clone(), &group, groups).map_err(fail)?);
+            continue;
         }
         let points: Vec<Vec<f64>> = points
             .extract()
@@ -65,9 +122,40 @@ pub(crate) fn fault_specs(obj: Option<&Bound<'_, PyAny>>, dim: usize) -> PyResul
         if let Some(p) = points.iter().find(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(fail(format!("the point {p:?} is not finite")));
         }
-        out.push(FaultSpec { name, points });
+        out.push(FaultSpec {
+            name,
+            points,
+            faces: None,
+        });
     }
     Ok(out)
+}
+
+/// The fault `name` along the Gmsh physical group `group` inside the body.
+fn group_fault(name: String, group: &str, groups: &InteriorGroups) -> Result<FaultSpec, String> {
+    if let Some(line) = groups.polylines.get(group) {
+        let points = line
+            .clone()
+            .map_err(|e| format!("the group `{group}` is not one polyline: {e}"))?;
+        return Ok(FaultSpec {
+            name,
+            points,
+            faces: None,
+        });
+    }
+    match groups.faces.get(group) {
+        Some(faces) => Ok(FaultSpec {
+            name,
+            points: Vec::new(),
+            faces: Some(faces.clone()),
+        }),
+        None => Err(format!(
+            "`{}` is no physical group inside the body of the mesh (those of a mesh read by \
+             Mesh.read_gmsh: {:?})",
+            rsf_numeric::excerpt(group),
+            groups.names()
+        )),
+    }
 }
 
 /// A model builder of dimension `D` that takes the faults of a network: the builder's
@@ -103,13 +191,18 @@ impl NetworkBuilder<2> for ModelBuilder<2> {
 
 impl NetworkBuilder<3> for ModelBuilder<3> {
     fn with_faults(self, faults: &[FaultSpec]) -> Self {
-        faults.iter().fold(self, |b, f| {
-            b.internal_fault_polygon(&f.name, &fixed::<3>(&f.points))
+        faults.iter().fold(self, |b, f| match &f.faces {
+            Some(faces) => b.internal_fault_faces(&f.name, faces),
+            None => b.internal_fault_polygon(&f.name, &fixed::<3>(&f.points)),
         })
     }
 
     fn fault_alone(mesh: &SimplexMesh<3>, f: &FaultSpec) -> Option<rsf::fem::Error> {
-        mesh.faces_in_polygon(&fixed::<3>(&f.points))
+        let faces = match &f.faces {
+            Some(faces) => Ok(faces.clone()),
+            None => mesh.faces_in_polygon(&fixed::<3>(&f.points)),
+        };
+        faces
             .and_then(|e| mesh.split_along_network(&[(f.name.as_str(), &e[..])]))
             .err()
     }

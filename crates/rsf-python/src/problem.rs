@@ -22,7 +22,8 @@ use crate::convert::{fnv1a, PerNode};
 use crate::engine::{Engine, Files, Recording, WithFaultOperator};
 use crate::errors::{invalid, OrPy};
 use crate::network::{
-    explain, fault_nodes, fault_specs, faults_of, per_fault_node, FaultSpec, NetworkBuilder,
+    explain, fault_nodes, fault_specs, faults_of, per_fault_node, FaultSpec, InteriorGroups,
+    NetworkBuilder,
 };
 use crate::simulation::{End, Simulation};
 
@@ -36,11 +37,14 @@ enum AnyMesh {
 /// A simplicial mesh: triangles in 2-D, tetrahedra in 3-D (m). Build it from arrays
 /// (`Mesh(points, cells)`: shapes `(n, dim)` and `(m, dim + 1)`), as a structured
 /// rectangle or cuboid, or from a Gmsh MSH 4.1 file (`Mesh.read_gmsh`), whose physical
-/// groups of boundary facets name parts of the model.
+/// groups of boundary facets name parts of the model and whose groups inside the body
+/// name faults (`Model(faults=[(name, "group")])`).
 #[pyclass(module = "rsf._rsf", name = "Mesh")]
 #[derive(Clone)]
 pub struct Mesh {
     mesh: AnyMesh,
+    /// A Gmsh mesh's physical groups inside the body (empty for the others).
+    interior: InteriorGroups,
 }
 
 /// The rows of `points` as `D`-vectors (its columns checked by the caller).
@@ -77,7 +81,10 @@ impl Mesh {
             2 => AnyMesh::Two(SimplexMesh::new(points_of::<2>(&points), c).py_fem()?),
             _ => AnyMesh::Three(SimplexMesh::new(points_of::<3>(&points), c).py_fem()?),
         };
-        Ok(Self { mesh })
+        Ok(Self {
+            mesh,
+            interior: InteriorGroups::default(),
+        })
     }
 
     /// The rectangle `origin + [0, size]` (m) in `nx × ny` vertices (each ≥ 2), every cell
@@ -107,6 +114,7 @@ impl Mesh {
         };
         Ok(Self {
             mesh: AnyMesh::Two(rsf::fem::rectangle(origin, size, nx, ny, diagonal).py_fem()?),
+            interior: InteriorGroups::default(),
         })
     }
 
@@ -120,20 +128,38 @@ impl Mesh {
         ];
         Ok(Self {
             mesh: AnyMesh::Three(rsf::fem::cuboid(origin, size, n).py_fem()?),
+            interior: InteriorGroups::default(),
         })
     }
 
-    /// A Gmsh MSH 4.1 file of dimension `dim` (2 or 3): its cells, and its physical groups
-    /// of boundary facets as tags (the names a model's parts refer to).
+    /// A Gmsh MSH 4.1 file of dimension `dim` (2 or 3): its cells, its physical groups of
+    /// boundary facets as tags (the names a model's parts refer to), and its physical
+    /// groups of facets inside the body (a curve in 2-D, a surface in 3-D) as the faults a
+    /// model may name (`Model(faults=[(name, "group")])`).
     #[staticmethod]
     #[pyo3(signature = (path, dim=2))]
     fn read_gmsh(path: PathBuf, dim: usize) -> PyResult<Self> {
-        let mesh = match dim {
-            2 => AnyMesh::Two(rsf::fem::read_gmsh::<2>(&path).py_fem()?.mesh),
-            3 => AnyMesh::Three(rsf::fem::read_gmsh::<3>(&path).py_fem()?.mesh),
-            _ => return Err(invalid("dim", "2 or 3")),
+        let options = rsf::fem::GmshOptions {
+            interior_facets: true,
+            ..rsf::fem::GmshOptions::default()
         };
-        Ok(Self { mesh })
+        Ok(match dim {
+            2 => {
+                let g = rsf::fem::read_gmsh_with::<2>(&path, options).py_fem()?;
+                Self {
+                    interior: InteriorGroups::of_2d(&g),
+                    mesh: AnyMesh::Two(g.mesh),
+                }
+            }
+            3 => {
+                let g = rsf::fem::read_gmsh_with::<3>(&path, options).py_fem()?;
+                Self {
+                    interior: InteriorGroups::of_3d(&g),
+                    mesh: AnyMesh::Three(g.mesh),
+                }
+            }
+            _ => return Err(invalid("dim", "2 or 3")),
+        })
     }
 
     /// Vertex coordinates (m), shape `(n, dim)`.
@@ -319,7 +345,10 @@ impl Model {
     /// `points` of shape `(k, 2)`, `k ≥ 2` (m): a segment or a polyline resolved by mesh
     /// edges (`rsf::ModelBuilder::internal_fault_polyline`; the slip's direction from
     /// `points[0]`, the plus side on its left); in 3-D `(k, 3)`, `k ≥ 3`: a convex planar
-    /// polygon's corners tiled by mesh faces (`internal_fault_polygon`). Beside or without a
+    /// polygon's corners tiled by mesh faces (`internal_fault_polygon`). Instead of points,
+    /// the name of a Gmsh physical group inside the body of a mesh read by
+    /// `Mesh.read_gmsh`: a curve in 2-D (its polyline), a surface in 3-D (its faces, any
+    /// shape: `internal_fault_faces`). Beside or without a
     /// `frictional_boundary` (its nodes after the faults'). Names are unique; a name, a
     /// shape or a coordinate refused raises `InvalidParameterError`, a fault the mesh cannot
     /// be cut along (not resolved, on the outer boundary, faults meeting in a junction the
@@ -341,7 +370,7 @@ impl Model {
         faults: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let refine = crate::counts::count(refine, "refine")?;
-        let faults = fault_specs(faults.as_ref(), mesh.dim())?;
+        let faults = fault_specs(faults.as_ref(), mesh.dim(), &mesh.interior)?;
         let material = Material::new(youngs_modulus, poisson_ratio, density);
         let head = format!(
             "E {youngs_modulus:e} nu {poisson_ratio:e} rho {density:e} refine {refine} \
@@ -536,9 +565,61 @@ impl Friction {
     }
 }
 
+/// `rsf.simulate`'s `state_law`: one law's name, or a dict from every fault's name to one.
+#[derive(FromPyObject)]
+pub(crate) enum StateLawArg {
+    /// One law for every frictional node.
+    One(String),
+    /// A law per fault.
+    PerFault(std::collections::BTreeMap<String, String>),
+}
+
+impl StateLawArg {
+    /// The law of every fault (in `names`' order) and the fingerprint's text: the name, or
+    /// `fault=law` per fault in `names`' order.
+    ///
+    /// # Errors
+    /// `InvalidParameterError` named `state_law`: an unknown law, a dict without one of
+    /// the faults or with a name that is none of them.
+    fn per_fault(&self, names: &[String]) -> PyResult<(Vec<StateLawKind>, String)> {
+        let parse = |law: &str| {
+            law.parse::<StateLawKind>()
+                .map_err(|e: rsf::state::Error| crate::errors::to_py(e.into()))
+        };
+        match self {
+            Self::One(law) => Ok((vec![parse(law)?; names.len().max(1)], law.clone())),
+            Self::PerFault(laws) => {
+                if let Some(other) = laws.keys().find(|k| !names.contains(k)) {
+                    return Err(invalid(
+                        "state_law",
+                        format!(
+                            "`{}` is none of the model's faults {names:?}",
+                            rsf_numeric::excerpt(other)
+                        ),
+                    ));
+                }
+                let mut kinds = Vec::with_capacity(names.len());
+                let mut text = Vec::with_capacity(names.len());
+                for name in names {
+                    let law = laws.get(name).ok_or_else(|| {
+                        invalid("state_law", format!("no law for the fault `{name}`"))
+                    })?;
+                    kinds.push(parse(law)?);
+                    text.push(format!("{name}={law}"));
+                }
+                Ok((kinds, text.join(",")))
+            }
+        }
+    }
+}
+
 /// The method's choices of `rsf.simulate`.
 struct Choices {
-    state_law: StateLawKind,
+    /// The state law of every fault (an index of `fault_of`'s), one entry for a model of
+    /// one unnamed frictional part.
+    state_laws: Vec<StateLawKind>,
+    /// The fault of every frictional node.
+    fault_of: Vec<usize>,
     integrator: Integrator,
     solver: SolverKind,
     tau: f64,
@@ -596,7 +677,9 @@ where
             ks += 1;
             // The Tresca law has no `l`: any positive length (its state is unused).
             let l = value(r, "l", ks - 1);
-            BuiltinStateLaw::new(c.state_law, if l.is_nan() { 1.0 } else { l })
+            let fault = c.fault_of.get(ks - 1).copied().unwrap_or(0);
+            let kind = c.state_laws[fault.min(c.state_laws.len() - 1)];
+            BuiltinStateLaw::new(kind, if l.is_nan() { 1.0 } else { l })
         })
         .initial_state_at(|_x| {
             ka += 1;
@@ -644,7 +727,7 @@ where
 
 /// A simulation of `model`: `friction` (`rsf.Friction.dieterich_ruina(...)`,
 /// `.regularised(...)`, `.tresca(...)`), `state_law` ("aging", "slip"; "discontinuous", which
-/// evolves θ itself, only with `.tresca(...)`),
+/// evolves θ itself, only with `.tresca(...)`; or a dict from every fault's name to one),
 /// `alpha0` (the initial state α = ln θ; a number, an array or a function of the fault
 /// nodes' coordinates), the time step `tau` (s), `integrator` ("newmark",
 /// "backward-euler", "quasistatic"), `solver` ("auto", "tnnmg", "direct",
@@ -662,7 +745,7 @@ where
 /// fault's nodes (in `fault_coordinates` order restricted to it) or a function of their
 /// coordinates.
 #[pyfunction]
-#[pyo3(signature = (model, *, friction, alpha0, tau, state_law="aging", integrator=None, solver=None, end_time=None, fault_every=0, method="implicit", radiation_damping=None))]
+#[pyo3(signature = (model, *, friction, alpha0, tau, state_law=StateLawArg::One("aging".into()), integrator=None, solver=None, end_time=None, fault_every=0, method="implicit", radiation_damping=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate(
     py: Python<'_>,
@@ -670,7 +753,7 @@ pub(crate) fn simulate(
     friction: &Friction,
     alpha0: Bound<'_, PyAny>,
     tau: f64,
-    state_law: &str,
+    state_law: StateLawArg,
     integrator: Option<&str>,
     solver: Option<&str>,
     end_time: Option<f64>,
@@ -703,10 +786,11 @@ pub(crate) fn simulate(
     }
     let integrator = integrator.unwrap_or(if fault_ode { "quasistatic" } else { "newmark" });
     let solver = solver.unwrap_or("auto");
+    let (names, of) = model.faults();
+    let (state_laws, state_law) = state_law.per_fault(&names)?;
     let mut c = Choices {
-        state_law: state_law
-            .parse()
-            .map_err(|e: rsf::state::Error| crate::errors::to_py(e.into()))?,
+        state_laws,
+        fault_of: of.clone(),
         integrator: integrator
             .parse()
             .map_err(|e: rsf::time::Error| crate::errors::to_py(e.into()))?,
@@ -718,7 +802,8 @@ pub(crate) fn simulate(
         fault_ode,
         rigidity: model.rigidity,
     };
-    if c.state_law == StateLawKind::Discontinuous && friction.kind != FrictionKind::Tresca {
+    if c.state_laws.contains(&StateLawKind::Discontinuous) && friction.kind != FrictionKind::Tresca
+    {
         return Err(crate::errors::discontinuous_needs_theta());
     }
     let (x, d) = match &model.model {
@@ -728,11 +813,10 @@ pub(crate) fn simulate(
     let mut r: Resolved = Vec::new();
     let mut fingerprint = Fingerprint::default()
         .with("model", &model.description)
-        .with("state_law", state_law)
+        .with("state_law", &state_law)
         .with("integrator", integrator)
         .with("solver", solver)
         .with("tau", tau);
-    let (names, of) = model.faults();
     let faults = (&names[..], &of[..]);
     for (name, obj) in &friction.params {
         let v = per_fault_node(py, name, obj.bind(py), &x, d, faults)?;

@@ -23,6 +23,9 @@ _PerNode = Union[_PerValue, Mapping[str, _PerValue]]
 # A part of the boundary: a Gmsh physical group's name, or `(name, predicate)`, the
 # predicate a function of a facet's midpoint (shape `(dim,)`, m) returning a bool.
 _Part = Union[str, tuple[str, Callable[[_Array], bool]]]
+# A state law's name ("discontinuous" only with `Friction.tresca`); `simulate` also takes
+# a dict from every fault's name to one.
+_StateLaw = Literal["aging", "slip", "discontinuous"]
 
 __all__ = [
     "RsfError",
@@ -112,7 +115,7 @@ class Model:
         dirichlet: Sequence[tuple[_Part, Sequence[float]]] = ...,
         frictional_boundary: _Part | None = None,
         ramp: float | None = None,
-        faults: Sequence[tuple[str, _ArrayLike]] | None = None,
+        faults: Sequence[tuple[str, _ArrayLike | str]] | None = None,
     ) -> Model: ...
     @property
     def fault_coordinates(self) -> _Array:
@@ -368,7 +371,7 @@ def simulate(
     friction: Friction,
     alpha0: _PerNode,
     tau: float,
-    state_law: Literal["aging", "slip", "discontinuous"] = "aging",
+    state_law: _StateLaw | Mapping[str, _StateLaw] = ...,
     integrator: Literal["newmark", "backward-euler", "quasistatic"] | None = None,
     solver: Literal["auto", "tnnmg", "direct", "gauss-seidel"] | None = None,
     end_time: float | None = None,
