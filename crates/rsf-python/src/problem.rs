@@ -678,7 +678,7 @@ where
             // The Tresca law has no `l`: any positive length (its state is unused).
             let l = value(r, "l", ks - 1);
             let fault = c.fault_of.get(ks - 1).copied().unwrap_or(0);
-            let kind = c.state_laws[fault.min(c.state_laws.len() - 1)];
+            let kind = c.state_laws[fault];
             BuiltinStateLaw::new(kind, if l.is_nan() { 1.0 } else { l })
         })
         .initial_state_at(|_x| {
