@@ -11,6 +11,7 @@ use crate::error::Error;
 use crate::smoother_order::SmootherOrder;
 use crate::{Tnnmg, TnnmgOptions};
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::{HaloCounters, RankGroup, ThreadRanks};
 
 const D: usize = 3;
 

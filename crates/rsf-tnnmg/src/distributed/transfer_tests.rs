@@ -11,7 +11,7 @@ use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
 use rsf_ranks::bsr::BlockCsr;
-use rsf_ranks::Colouring;
+use rsf_ranks::{Colouring, DistributedSweep, HaloCounters, ThreadRanks};
 
 const D: usize = 3;
 

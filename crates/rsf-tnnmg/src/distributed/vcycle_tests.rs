@@ -12,6 +12,7 @@ use crate::error::Error;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
 use rsf_ranks::bsr::BlockCsr;
+use rsf_ranks::{HaloCounters, ThreadRanks};
 
 const D: usize = 3;
 
