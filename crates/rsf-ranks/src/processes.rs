@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use crate::transport::on_threads;
 use crate::{RankGroup, ThreadGroups, TransportFactory};
 
 /// The processes of a job (MPI ranks in the `rsf-mpi` crate, threads of one process in
@@ -82,17 +83,7 @@ impl ThreadProcess {
     /// # Panics
     /// If `size == 0`; with the panic of a rank whose `run` panicked (the lowest such rank).
     pub fn run<T: Send>(size: usize, run: impl Fn(Self) -> T + Sync) -> Vec<T> {
-        let run = &run;
-        std::thread::scope(|s| {
-            let handles: Vec<_> = Self::job(size)
-                .into_iter()
-                .map(|p| s.spawn(move || run(p)))
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-                .collect()
-        })
+        on_threads(Self::job(size), run)
     }
 }
 
