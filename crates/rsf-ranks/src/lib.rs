@@ -29,7 +29,7 @@
 //!   a one-process row sum in the same order; [`node_graph`] — the node graph a partitioner
 //!   splits; [`NodeGraph`] — the whole graph gathered from the ranks' rows.
 //! * [`halo`] — the halo plans (which owned nodes each neighbour needs, one round per
-//!   colour), their exchanges, the all-gathers, and [`HaloCounters`], what a rank sent;
+//!   colour), their exchanges, the all-gathers, and [`halo::HaloCounters`], what a rank sent;
 //!   [`NodeAllGather`] — a whole vector gathered from the nodes' owners; [`NodePlan`] —
 //!   per-node records sent to the ranks that need them.
 //! * [`ExactSums`] — global sums correctly rounded from exact partial sums: the same bits
@@ -79,7 +79,6 @@ pub use colouring::{Colouring, COLOUR_PARALLEL_MIN};
 pub use error::{Error, Result};
 pub use gather::NodeAllGather;
 pub use groups::ThreadGroups;
-pub use halo::HaloCounters;
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
 pub use node_graph::NodeGraph;

@@ -10,7 +10,7 @@
 //! colour, then one halo exchange of that colour's values with the neighbour ranks through
 //! the caller's transport ([`RankGroup`](rsf_ranks::RankGroup): MPI in `rsf-mpi`, threads in [`ThreadRanks`](rsf_ranks::ThreadRanks)).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
-//! the same node updates; [`HaloCounters`](rsf_ranks::HaloCounters) counts the messages, collectives and values
+//! the same node updates; [`HaloCounters`](rsf_ranks::halo::HaloCounters) counts the messages, collectives and values
 //! sent. [`BlockGaussSeidel`](rsf_ranks::BlockGaussSeidel) is linear block Gauss–Seidel's node update on a rank's rows,
 //! and [`ColouredGaussSeidel`](rsf_ranks::ColouredGaussSeidel) its one-process reference (the tests' and measurements'
 //! smoother).

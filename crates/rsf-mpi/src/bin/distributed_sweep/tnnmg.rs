@@ -24,7 +24,8 @@ use mpi::topology::Communicator;
 use rsf_fem::ElasticBox;
 use rsf_mpi::MpiRanks;
 use rsf_nonsmooth::{NonsmoothSolver, Stopping};
-use rsf_ranks::{HaloCounters, RankGroup, ThreadRanks};
+use rsf_ranks::halo::HaloCounters;
+use rsf_ranks::{RankGroup, ThreadRanks};
 use rsf_tnnmg::distributed::{BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, VCycleShape};
 use rsf_tnnmg::LinearCorrection;
 
