@@ -4,14 +4,14 @@
 //! every rank's counted halo equals its plan's; with `--vcycle`, the linear V-cycle at
 //! `mpirun -n 1, 2` gives the bits of the one-process `ColouredVCycle`; with `--tnnmg`,
 //! TNNMG on `mpirun -n 1, 2, 4` gives the bits of its solve on 1 and 3 thread ranks.
-//! `MpiExchange` alone: its exchanges arrive in order, and its all-gather
+//! `MpiRanks` alone: its exchanges arrive in order, and its all-gather
 //! (`MPI_Allgatherv`) has the bits of rsf-tnnmg's default over point-to-point messages.
 
 use std::path::{Path, PathBuf};
 
 use rsf_fem::ElasticBox;
-use rsf_tnnmg::distributed::{ColouredGaussSeidel, ColouredVCycle, VCycleHierarchy, VCycleShape};
-use rsf_tnnmg::Colouring;
+use rsf_ranks::{ColouredGaussSeidel, Colouring};
+use rsf_tnnmg::distributed::{ColouredVCycle, VCycleHierarchy, VCycleShape};
 
 mod common;
 use common::mpirun;
@@ -383,16 +383,16 @@ fn the_program_refuses_careless_inputs_on_every_rank() {
 /// `mpi_all_gather_is_the_default_all_gather`).
 const CHILD: &str = "RSF_MPI_HALO_TEST_RANK";
 
-/// `MpiExchange` alone on 3 MPI ranks in a ring: five exchanges of different lengths, no
+/// `MpiRanks` alone on 3 MPI ranks in a ring: five exchanges of different lengths, no
 /// wait between them (a rank may run ahead by any number of exchanges), rank 1 sending
 /// nothing in the third: every message arrives at its rank, in order, where its receive
 /// entry puts it, and a receive range left out keeps its value.
 #[test]
 fn mpi_ranks_exchange_in_order() {
-    use rsf_tnnmg::distributed::{HaloMessage, RankGroup};
+    use rsf_ranks::{HaloMessage, RankGroup};
     if std::env::var_os(CHILD).is_some() {
         let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
-        let mut halo = rsf_mpi::MpiExchange::world();
+        let mut halo = rsf_mpi::MpiRanks::world().duplicate();
         let (r, n) = (halo.rank(), halo.size());
         let (next, prev) = ((r + 1) % n, (r + n - 1) % n);
         for round in 0..5 {
@@ -452,10 +452,10 @@ fn run_as_child(ranks: usize, name: &str) -> String {
 }
 
 /// rsf-tnnmg's default all-gather (one exchange of point-to-point messages) on an
-/// `MpiExchange`: a transport that only forwards `exchange`.
-struct ByExchange<'a>(&'a mut rsf_mpi::MpiExchange);
+/// `MpiRanks`: a transport that only forwards `exchange`.
+struct ByExchange<'a>(&'a mut rsf_mpi::MpiRanks);
 
-impl rsf_tnnmg::distributed::RankGroup for ByExchange<'_> {
+impl rsf_ranks::RankGroup for ByExchange<'_> {
     fn rank(&self) -> usize {
         self.0.rank()
     }
@@ -466,16 +466,16 @@ impl rsf_tnnmg::distributed::RankGroup for ByExchange<'_> {
 
     fn exchange(
         &mut self,
-        sends: &[rsf_tnnmg::distributed::HaloMessage],
+        sends: &[rsf_ranks::HaloMessage],
         send: &[f64],
-        recvs: &[rsf_tnnmg::distributed::HaloMessage],
+        recvs: &[rsf_ranks::HaloMessage],
         recv: &mut [f64],
     ) {
         self.0.exchange(sends, send, recvs, recv);
     }
 }
 
-/// `MpiExchange::all_gather` (`MPI_Allgatherv`) at 2 and 4 MPI ranks, under five count
+/// `MpiRanks::all_gather` (`MPI_Allgatherv`) at 2 and 4 MPI ranks, under five count
 /// patterns (uneven, some zero, the caller's own zero, all zero, one rank only) with
 /// values of every kind (negative zero, NaN payloads, subnormals): the bits of the
 /// default all-gather over point-to-point messages on the same ranks, and the
@@ -483,10 +483,10 @@ impl rsf_tnnmg::distributed::RankGroup for ByExchange<'_> {
 /// up.
 #[test]
 fn mpi_all_gather_is_the_default_all_gather() {
-    use rsf_tnnmg::distributed::RankGroup;
+    use rsf_ranks::RankGroup;
     if std::env::var_os(CHILD).is_some() {
         let (_universe, _ranks) = rsf_mpi::initialize().unwrap();
-        let mut halo = rsf_mpi::MpiExchange::world();
+        let mut halo = rsf_mpi::MpiRanks::world().duplicate();
         let (r, n) = (halo.rank(), halo.size());
         let value = |s: usize, round: usize, k: usize| match k % 4 {
             0 => -0.0,

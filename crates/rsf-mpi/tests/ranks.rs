@@ -5,7 +5,6 @@
 
 use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::observe::SECONDS_PER_YEAR;
-use rsf::ranks::RankGroup;
 use rsf::{Flow, Observer, StepView, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
@@ -80,7 +79,7 @@ fn a_bp1_fault_has_the_same_bits_on_1_2_and_4_mpi_ranks() {
     if std::env::var_os(CHILD).is_some() {
         let (_universe, ranks) = rsf_mpi::initialize().unwrap();
         let alone = bp1_bits(None);
-        let shared = bp1_bits(Some(ranks.clone()));
+        let shared = bp1_bits(Some(ranks.duplicate()));
         assert!(alone.len() > 10);
         assert_eq!(shared.len(), alone.len(), "rank {}: steps", ranks.rank());
         for (k, (a, b)) in shared.iter().zip(&alone).enumerate() {

@@ -232,7 +232,7 @@ impl FrameArgs {
         out: &Path,
         mode: FileMode,
         owner: Vec<usize>,
-        ranks: Box<dyn rsf::ranks::RankGroup + Send>,
+        ranks: Box<dyn rsf_ranks::RankGroup + Send>,
     ) -> rsf::Result<Option<Every<VtuFrames>>> {
         self.every(default, || {
             VtuFrames::pieces(Self::dir(out), mode, owner, ranks)

@@ -35,7 +35,6 @@ mod own_model;
 mod panels;
 pub mod pipping_slider;
 mod process;
-pub mod ranks;
 mod run;
 pub mod run_folder;
 #[cfg(feature = "seas")]

@@ -32,12 +32,13 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
-use crate::guard::{number, AnyError, Folder, Limits, Plan, Prepared, Processes, Program};
+use crate::guard::{number, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::observe::{Progress, TimeUnit};
 use rsf::Stepping;
+use rsf_ranks::Processes;
 use rsf_scenes::SEAS_BP3_SURFACE_STATIONS;
 use rsf_scenes::{
     KernelChoice, RunConfig, SeasBp1, SeasBp3, SeasBp3Run, SEAS_BP3_STATION_DISTANCES,

@@ -41,7 +41,6 @@ use std::process::ExitCode;
 use crate::cli::step_count;
 use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::ranks::Processes;
 use crate::session::{Session, SessionFlags};
 use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
 use clap::Parser;
@@ -51,6 +50,7 @@ use rsf::observe::{PointSeries, Progress};
 use rsf::run_folder::check_output_size;
 use rsf::run_folder::RunFolder;
 use rsf::{Flow, Model, Observer, StepView};
+use rsf_ranks::Processes;
 use rsf_scenes::steps_bound;
 use rsf_scenes::{LateralBoundary, Slider3dScene};
 

@@ -16,6 +16,9 @@
 //! * [`TransportFactory`] — fresh groups of the same ranks, one per solver (what a method
 //!   on ranks builds its solvers' transports with); [`ThreadGroups`] makes them for thread
 //!   ranks.
+//! * [`Processes`] — the processes of a job as a program sees them: its rank, its groups
+//!   and transports, a barrier, and how an error ends them all (`end_all`); MPI's job is
+//!   the `rsf-mpi` crate's, [`ThreadProcess`] the tests' (threads of one process).
 //!
 //! The distributed linear algebra (docs/scaling.md, "Past one machine"), on symmetric
 //! matrices of `D × D` node blocks (node-major: node `p` owns the dofs `D p .. D p + D`):
@@ -26,7 +29,7 @@
 //!   a one-process row sum in the same order; [`node_graph`] — the node graph a partitioner
 //!   splits; [`NodeGraph`] — the whole graph gathered from the ranks' rows.
 //! * [`halo`] — the halo plans (which owned nodes each neighbour needs, one round per
-//!   colour), their exchanges, the all-gathers, and [`HaloCounters`], what a rank sent;
+//!   colour), their exchanges, the all-gathers, and [`halo::HaloCounters`], what a rank sent;
 //!   [`NodeAllGather`] — a whole vector gathered from the nodes' owners; [`NodePlan`] —
 //!   per-node records sent to the ranks that need them.
 //! * [`ExactSums`] — global sums correctly rounded from exact partial sums: the same bits
@@ -63,6 +66,7 @@ mod linear;
 mod local_rows;
 mod node_graph;
 mod node_plan;
+mod processes;
 mod reduce;
 mod sweep;
 mod transport;
@@ -75,11 +79,11 @@ pub use colouring::{Colouring, COLOUR_PARALLEL_MIN};
 pub use error::{Error, Result};
 pub use gather::NodeAllGather;
 pub use groups::ThreadGroups;
-pub use halo::HaloCounters;
 pub use linear::{BlockGaussSeidel, ColouredGaussSeidel};
 pub use local_rows::{node_graph, LocalRows};
 pub use node_graph::NodeGraph;
 pub use node_plan::NodePlan;
+pub use processes::{Processes, ThreadProcess};
 pub use reduce::ExactSums;
 pub use sweep::DistributedSweep;
 pub use transport::{check_all_gather, HaloMessage, RankGroup, ThreadRanks};

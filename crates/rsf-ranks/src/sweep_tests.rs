@@ -7,6 +7,7 @@ use rsf_fem::ElasticBox;
 
 use super::*;
 use crate::block::load;
+use crate::halo::HaloCounters;
 use rsf_linalg::ProblemError;
 
 const D: usize = 3;

@@ -181,18 +181,28 @@ impl ThreadRanks {
     /// If `size == 0`; with the panic of a rank whose `run` panicked (the lowest such rank;
     /// the other ranks' threads end when their partner's channels close).
     pub fn run<T: Send>(size: usize, run: impl Fn(Self) -> T + Sync) -> Vec<T> {
-        let run = &run;
-        std::thread::scope(|s| {
-            let handles: Vec<_> = Self::group(size)
-                .into_iter()
-                .map(|ranks| s.spawn(move || run(ranks)))
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-                .collect()
-        })
+        on_threads(Self::group(size), run)
     }
+}
+
+/// Runs `run` on every one of `ranks`, each on a scoped thread of its own, and returns the
+/// results in the order of `ranks` ([`ThreadRanks::run`],
+/// [`ThreadProcess::run`](crate::ThreadProcess::run)).
+///
+/// # Panics
+/// With the panic of a rank whose `run` panicked (the first such rank in order).
+pub(crate) fn on_threads<R: Send, T: Send>(ranks: Vec<R>, run: impl Fn(R) -> T + Sync) -> Vec<T> {
+    let run = &run;
+    std::thread::scope(|s| {
+        let handles: Vec<_> = ranks
+            .into_iter()
+            .map(|rank| s.spawn(move || run(rank)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    })
 }
 
 impl RankGroup for ThreadRanks {
@@ -243,36 +253,28 @@ mod tests {
     /// at its rank, in order, where its receive entry puts it.
     #[test]
     fn thread_ranks_exchange_in_order() {
-        let results: Vec<Vec<f64>> = std::thread::scope(|s| {
-            let handles: Vec<_> = ThreadRanks::group(3)
-                .into_iter()
-                .map(|mut t| {
-                    s.spawn(move || {
-                        let (r, n) = (t.rank(), t.size());
-                        let (next, prev) = ((r + 1) % n, (r + n - 1) % n);
-                        let mut got = Vec::new();
-                        for round in 0..3 {
-                            let send = [r as f64, round as f64, 7.0];
-                            let len = 1 + round;
-                            let mut recv = [-1.0; 4];
-                            let to = [HaloMessage {
-                                rank: next,
-                                start: 0,
-                                len,
-                            }];
-                            let from = [HaloMessage {
-                                rank: prev,
-                                start: 1,
-                                len,
-                            }];
-                            t.exchange(&to, &send, &from, &mut recv);
-                            got.extend_from_slice(&recv);
-                        }
-                        got
-                    })
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        let results: Vec<Vec<f64>> = ThreadRanks::run(3, |mut t| {
+            let (r, n) = (t.rank(), t.size());
+            let (next, prev) = ((r + 1) % n, (r + n - 1) % n);
+            let mut got = Vec::new();
+            for round in 0..3 {
+                let send = [r as f64, round as f64, 7.0];
+                let len = 1 + round;
+                let mut recv = [-1.0; 4];
+                let to = [HaloMessage {
+                    rank: next,
+                    start: 0,
+                    len,
+                }];
+                let from = [HaloMessage {
+                    rank: prev,
+                    start: 1,
+                    len,
+                }];
+                t.exchange(&to, &send, &from, &mut recv);
+                got.extend_from_slice(&recv);
+            }
+            got
         });
         for (r, got) in results.iter().enumerate() {
             let p = ((r + 2) % 3) as f64;
@@ -306,28 +308,18 @@ mod tests {
                 (0..size).map(|r| usize::from(r + 1 == size) * 5).collect(),
                 vec![0; size],
             ];
-            let results: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
-                let handles: Vec<_> = ThreadRanks::group(size)
-                    .into_iter()
-                    .map(|mut t| {
-                        let patterns = &patterns;
-                        s.spawn(move || {
-                            let r = t.rank();
-                            let mut got = Vec::new();
-                            for (round, counts) in patterns.iter().enumerate() {
-                                let send: Vec<f64> =
-                                    (0..counts[r]).map(|k| value(r, round, k)).collect();
-                                let mut recv = vec![7.0; counts.iter().sum()];
-                                t.all_gather(&send, counts, &mut recv);
-                                got.push(recv.iter().map(|x| x.to_bits()).collect());
-                                // An exchange with no messages between the gathers.
-                                t.exchange(&[], &[], &[], &mut []);
-                            }
-                            got
-                        })
-                    })
-                    .collect();
-                handles.into_iter().map(|h| h.join().unwrap()).collect()
+            let results: Vec<Vec<Vec<u64>>> = ThreadRanks::run(size, |mut t| {
+                let r = t.rank();
+                let mut got = Vec::new();
+                for (round, counts) in patterns.iter().enumerate() {
+                    let send: Vec<f64> = (0..counts[r]).map(|k| value(r, round, k)).collect();
+                    let mut recv = vec![7.0; counts.iter().sum()];
+                    t.all_gather(&send, counts, &mut recv);
+                    got.push(recv.iter().map(|x| x.to_bits()).collect());
+                    // An exchange with no messages between the gathers.
+                    t.exchange(&[], &[], &[], &mut []);
+                }
+                got
             });
             for (round, counts) in patterns.iter().enumerate() {
                 let want: Vec<u64> = (0..size)

@@ -31,7 +31,7 @@
 //! 32-bit node indices, the upper and the lower triangle in separate arrays so that each
 //! Gauss–Seidel sweep streams half the matrix); results are deterministic (fixed
 //! summation order). TNNMG's nonlinear smoother runs node by node (the default), colour
-//! by colour ([`SmootherOrder::MultiColour`], [`Colouring`]) or by red–black chunks of
+//! by colour ([`SmootherOrder::MultiColour`], [`Colouring`](rsf_ranks::Colouring)) or by red–black chunks of
 //! breadth-first levels ([`SmootherOrder::RedBlackChunks`], also the linear multigrid's
 //! fine-level smoother); the parallel orders run on several threads with bit-identical
 //! iterates for every thread count.
@@ -41,9 +41,9 @@
 //! ([`distributed::DistributedTnnmg`]: the same bits at every rank count, its global sums
 //! exact; each rank computes its own rows of the coarse operators), built on the
 //! distributed linear algebra of `rsf-ranks` (the multi-colour block Gauss–Seidel sweep of
-//! one rank with a halo exchange per colour, exact sums, conjugate gradients), whose names
-//! it re-exports at their former paths. The node-block storage, its kernels and
-//! [`Colouring`] are `rsf-ranks`' too.
+//! one rank with a halo exchange per colour, exact sums, conjugate gradients), named by its
+//! paths there (this crate re-exports none of them). The node-block storage, its kernels
+//! and [`Colouring`](rsf_ranks::Colouring) are `rsf-ranks`' too.
 //!
 //! No solver returns an unconverged iterate as success: exhausting the budget is
 //! [`Error::NotConverged`] with the iteration count and the last correction. The failures of
@@ -95,7 +95,5 @@ pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;
 pub use rsf_linalg::Parallelism;
-pub use rsf_ranks::block::solve_spd_masked;
-pub use rsf_ranks::Colouring;
 pub use smoother_order::SmootherOrder;
 pub use tnnmg::{Tnnmg, TnnmgOptions};

@@ -1,5 +1,5 @@
 //! The order of TNNMG's nonlinear block Gauss–Seidel sweeps ([`SmootherOrder`]): a choice of
-//! this crate's solvers, over the colouring of `rsf-ranks` ([`Colouring`](crate::Colouring)).
+//! this crate's solvers, over the colouring of `rsf-ranks` ([`Colouring`](rsf_ranks::Colouring)).
 
 use crate::error::{Error, Result};
 use rsf_nonsmooth::ProblemError;
@@ -21,7 +21,7 @@ pub enum SmootherOrder {
     /// trajectory computed before this option existed.
     #[default]
     Lexicographic,
-    /// Colour by colour ([`Colouring`](crate::Colouring), greedy, computed once at set-up from the pattern);
+    /// Colour by colour ([`Colouring`](rsf_ranks::Colouring), greedy, computed once at set-up from the pattern);
     /// within a colour the nodes are independent and are updated in parallel with the
     /// solver's [`Parallelism`](crate::Parallelism). Each node's update is the same
     /// arithmetic whatever the thread count, so the iterates are bit-identical for 1, 2, …

@@ -298,7 +298,7 @@ fn minimize_anisotropic<const D: usize, P: ConvexPotential>(
             f[..m].fill(true);
             f
         };
-        let ok = rsf_tnnmg::solve_spd_masked(&a, r, &free, &mut x);
+        let ok = rsf_ranks::block::solve_spd_masked(&a, r, &free, &mut x);
         debug_assert!(ok);
         x
     };

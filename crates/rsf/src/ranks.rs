@@ -23,16 +23,7 @@ use crate::node_solves::{Loading, NodeSolves, PartNodes, RatesOut};
 use crate::normal_stress::parts::NormalGather;
 use crate::normal_stress::NormalCoupling;
 
-/// The processes ("ranks") that share a fault ODE's evaluations
-/// ([`FaultOde::share_evaluations`](crate::FaultOde::share_evaluations)): the workspace's one
-/// transport (crate `rsf-ranks`). Every rank holds the whole run (the model, the operator,
-/// the state) and calls the same collective operations in the same order; the fault ODE
-/// uses its all-gather only, with the same counts at every call of one run.
-pub use rsf_ranks::RankGroup;
-
-/// The rest of the workspace's transport vocabulary (crate `rsf-ranks`): a halo message, the
-/// thread ranks of the tests and their fresh groups, the factory of a solver's groups.
-pub use rsf_ranks::{HaloMessage, ThreadGroups, ThreadRanks, TransportFactory};
+pub(crate) use rsf_ranks::RankGroup;
 
 /// A fault ODE's evaluation shared by ranks: the group, the nodes of each rank's part and
 /// the exchange buffers (made when shared, then reused).

@@ -1,5 +1,5 @@
-//! A synthetic test problem of the direct solver (as in rsf-tnnmg's tests): the P1
-//! Laplacian on the unit square with Tresca-like friction on its bottom edge.
+//! A synthetic test problem of the direct solver and TNNMG (rsf-tnnmg's tests include this
+//! file): the P1 Laplacian on the unit square with Tresca-like friction on its bottom edge.
 
 use faer::sparse::{SparseColMat, Triplet};
 use rsf_nonsmooth::{BlockNonlinearity, Linearization};

@@ -1,7 +1,7 @@
 //! Graded meshes by newest-vertex bisection of a Kuhn box (`BisectionMesh`). Expected values
 //! are closed forms of the geometry (volumes, areas, the Kuhn grid of half the size),
 //! never the code's own output.
-use crate::common::plane_facets;
+use crate::common::{boundary_area, distance_to_origin, plane_facets};
 use rsf_fem::*;
 
 /// Sorted edge lengths divided by the longest: equal for similar tetrahedra.
@@ -36,21 +36,6 @@ fn classes(m: &TetrahedronMesh) -> usize {
         }
     }
     reps.len()
-}
-
-/// Total area of the boundary facets: the box's surface for a conforming mesh (a hanging
-/// vertex leaves facets inside the body that belong to one cell only).
-fn boundary_area(m: &TetrahedronMesh) -> f64 {
-    (0..m.num_boundary_facets())
-        .map(|f| m.boundary_facet_measure(f))
-        .sum()
-}
-
-fn distance_to_origin(lo: [f64; 3], hi: [f64; 3]) -> f64 {
-    (0..3)
-        .map(|a| (lo[a].max(0.0) - hi[a].min(0.0)).max(0.0).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 #[test]

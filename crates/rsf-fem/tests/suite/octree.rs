@@ -1,22 +1,8 @@
 //! Graded meshes from an octree of Kuhn cubes (`OctreeMesh`). Expected values are closed
 //! forms of the geometry (volumes, areas, the tensor grid's Kuhn cells, lumped weights of
 //! a uniform grid), never the code's own output.
-use crate::common::plane_facets;
+use crate::common::{boundary_area, distance_to_origin, plane_facets};
 use rsf_fem::*;
-
-/// Total area of the boundary facets: the box's surface for a conforming mesh.
-fn boundary_area(m: &TetrahedronMesh) -> f64 {
-    (0..m.num_boundary_facets())
-        .map(|f| m.boundary_facet_measure(f))
-        .sum()
-}
-
-fn distance_to_origin(lo: [f64; 3], hi: [f64; 3]) -> f64 {
-    (0..3)
-        .map(|a| (lo[a].max(0.0) - hi[a].min(0.0)).max(0.0).powi(2))
-        .sum::<f64>()
-        .sqrt()
-}
 
 #[test]
 fn uniform_refinement_is_the_tensor_grids_kuhn_box() {

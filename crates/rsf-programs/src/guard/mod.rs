@@ -37,7 +37,6 @@ use rsf::observe::FileMode;
 use rsf::run_folder::RunFolder;
 
 use crate::process::{main_on_threads, main_with};
-pub use crate::ranks::Processes;
 
 mod fixed;
 mod flags;
@@ -712,7 +711,7 @@ mod tests {
         std::thread::scope(|s| {
             let handles: Vec<_> = given
                 .iter()
-                .zip(rsf::ranks::ThreadRanks::group(given.len()))
+                .zip(rsf_ranks::ThreadRanks::group(given.len()))
                 .map(|(flags, mut group)| s.spawn(move || agree_on_flags(&mut group, flags)))
                 .collect();
             handles.into_iter().map(|h| h.join().unwrap()).collect()

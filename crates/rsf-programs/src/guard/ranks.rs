@@ -5,9 +5,10 @@
 use std::process::ExitCode;
 
 use super::flags::excerpt;
-use super::{parse, prepare, report_memory, AnyError, Prepared, Processes, Program};
+use super::{parse, prepare, report_memory, AnyError, Prepared, Program};
 use crate::process::{error_lines, on_threads};
 use rsf::observe::FileMode;
+use rsf_ranks::{Processes, RankGroup};
 
 /// Compares every rank's `flags` ([`given_flags`](super::given_flags)) before any work (issue 74): ranks
 /// started with different flags (an MPMD launch `mpirun -n 1 P --end-years 5 : -n 1 P
@@ -19,7 +20,7 @@ use rsf::observe::FileMode;
 /// # Errors
 /// On every rank the same message: the ranks whose flags differ from rank 0's and the
 /// first differing flag, as the users wrote it on each.
-pub fn agree_on_flags(group: &mut dyn rsf::ranks::RankGroup, flags: &str) -> Result<(), String> {
+pub fn agree_on_flags(group: &mut dyn RankGroup, flags: &str) -> Result<(), String> {
     let size = group.size();
     if size <= 1 {
         return Ok(());

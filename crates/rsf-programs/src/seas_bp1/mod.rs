@@ -42,7 +42,7 @@
 
 use std::process::ExitCode;
 
-use crate::guard::Processes;
+use rsf_ranks::Processes;
 
 mod args;
 mod run;

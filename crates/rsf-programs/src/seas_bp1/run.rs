@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use crate::cli::for_flag;
 use crate::fields::FieldsRun;
-use crate::guard::{AnyError, Prepared, Processes};
+use crate::guard::{AnyError, Prepared};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
 use rsf::checkpoint::Fingerprint;
@@ -13,6 +13,7 @@ use rsf::method::{FixedPointOptions, SolverOptions};
 use rsf::observe::{Progress, TimeUnit};
 use rsf::run_folder::RunFolder;
 use rsf::MethodKind;
+use rsf_ranks::Processes;
 use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
 use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
 

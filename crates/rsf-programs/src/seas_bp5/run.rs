@@ -5,7 +5,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 use std::time::Instant;
 
-use crate::guard::{AnyError, Prepared, Processes};
+use crate::guard::{AnyError, Prepared};
 use crate::memory::StageMemory;
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
@@ -14,6 +14,7 @@ use rsf::fault_ode::{SchurOnlySetup, SetupProgress};
 use rsf::observe::{Observer, TimeUnit};
 use rsf::run_folder::RunFolder;
 use rsf::Stepping;
+use rsf_ranks::Processes;
 use rsf_scenes::{SeasBp5, SeasBp5Grid};
 use rsf_seas::{SeasBp5Output, SeasSetup, SECONDS_PER_YEAR};
 use std::ops::ControlFlow;
@@ -460,64 +461,24 @@ fn report(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rsf::ranks::ThreadGroups;
-    use std::sync::Arc;
-
-    /// A rank of a job whose ranks are threads of this process (`ThreadGroups`).
-    struct ThreadProcess {
-        rank: usize,
-        groups: Arc<ThreadGroups>,
-    }
-
-    impl Processes for ThreadProcess {
-        fn rank(&self) -> usize {
-            self.rank
-        }
-        fn size(&self) -> usize {
-            self.groups.size()
-        }
-        fn group(&self) -> Box<dyn rsf::ranks::RankGroup + Send> {
-            Box::new(self.groups.take(self.rank))
-        }
-        fn transports(&self) -> rsf::method::TransportFactory {
-            self.groups.factory(self.rank)
-        }
-        fn end_all(&self, message: &str) -> ! {
-            panic!("rank {}: {message}", self.rank)
-        }
-    }
+    use rsf_ranks::ThreadProcess;
 
     /// Two thread ranks: rank 0 writes `written` and enters the barrier; rank 1 enters it
     /// and asks for `wanted`. Returns rank 1's answer.
     fn rank_1_reads(written: &std::path::Path, wanted: &std::path::Path) -> Result<(), String> {
-        let groups = ThreadGroups::new(2);
-        let answers: Vec<Result<(), String>> = std::thread::scope(|s| {
-            let handles: Vec<_> = (0..2)
-                .map(|rank| {
-                    let p = ThreadProcess {
-                        rank,
-                        groups: Arc::clone(&groups),
-                    };
-                    s.spawn(move || {
-                        if rank == 0 {
-                            std::fs::write(written, b"rank 0's set-up").expect("writable");
-                            p.barrier();
-                            Ok(())
-                        } else {
-                            read_rank_0s_setup(&p, wanted)
-                                .map(|policy| {
-                                    assert_eq!(policy.path, wanted);
-                                    assert_eq!(
-                                        (policy.every_fronts, policy.every_seconds),
-                                        (None, None)
-                                    );
-                                })
-                                .map_err(|e| e.to_string())
-                        }
+        let answers = ThreadProcess::run(2, |p| {
+            if p.rank() == 0 {
+                std::fs::write(written, b"rank 0's set-up").expect("writable");
+                p.barrier();
+                Ok(())
+            } else {
+                read_rank_0s_setup(&p, wanted)
+                    .map(|policy| {
+                        assert_eq!(policy.path, wanted);
+                        assert_eq!((policy.every_fronts, policy.every_seconds), (None, None));
                     })
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().unwrap()).collect()
+                    .map_err(|e| e.to_string())
+            }
         });
         answers.into_iter().nth(1).expect("two ranks")
     }

@@ -126,7 +126,7 @@ impl SeasBp5 {
         options: FaultOdeOptions,
         half_space: &HalfSpaceOptions,
         points: &[[f64; 3]],
-        ranks: Option<Box<dyn rsf::ranks::RankGroup + Send>>,
+        ranks: Option<Box<dyn rsf_ranks::RankGroup + Send>>,
     ) -> Result<(SeasBp5FaultOde, Vec<Vec<f64>>)> {
         self.validate()?;
         if self.fault_zone.is_some() {

@@ -1,18 +1,18 @@
 //! The implicit engine on ranks with distributed memory (issue 57, docs/scaling.md "Past
 //! one machine"): a linear multigrid cycle and TNNMG ([`DistributedTnnmg`]), whose iterates
 //! have the same bits at every rank count, built on the distributed linear algebra of
-//! `rsf-ranks` (re-exported here at its former paths).
+//! `rsf-ranks` (named by its paths there: this module re-exports none of it).
 //!
 //! From `rsf-ranks`: every node of the matrix is owned by one rank (an owner vector, e.g.
-//! a graph partition of the node graph [`node_graph`]). A rank holds its owned nodes' block
-//! rows and one layer of ghost nodes ([`LocalRows`]), and sweeps colour by colour through a
-//! global [`Colouring`](crate::Colouring) ([`DistributedSweep`]): its owned nodes of a
+//! a graph partition of the node graph [`node_graph`](rsf_ranks::node_graph)). A rank holds its owned nodes' block
+//! rows and one layer of ghost nodes ([`LocalRows`](rsf_ranks::LocalRows)), and sweeps colour by colour through a
+//! global [`Colouring`](rsf_ranks::Colouring) ([`DistributedSweep`](rsf_ranks::DistributedSweep)): its owned nodes of a
 //! colour, then one halo exchange of that colour's values with the neighbour ranks through
-//! the caller's transport ([`RankGroup`]: MPI in `rsf-mpi`, threads in [`ThreadRanks`]).
+//! the caller's transport ([`RankGroup`](rsf_ranks::RankGroup): MPI in `rsf-mpi`, threads in [`ThreadRanks`](rsf_ranks::ThreadRanks)).
 //! The iterate has the same bits at every rank count as the one-process coloured sweep with
-//! the same node updates; [`HaloCounters`] counts the messages, collectives and values
-//! sent. [`BlockGaussSeidel`] is linear block Gauss–Seidel's node update on a rank's rows,
-//! and [`ColouredGaussSeidel`] its one-process reference (the tests' and measurements'
+//! the same node updates; [`HaloCounters`](rsf_ranks::halo::HaloCounters) counts the messages, collectives and values
+//! sent. [`BlockGaussSeidel`](rsf_ranks::BlockGaussSeidel) is linear block Gauss–Seidel's node update on a rank's rows,
+//! and [`ColouredGaussSeidel`](rsf_ranks::ColouredGaussSeidel) its one-process reference (the tests' and measurements'
 //! smoother).
 //!
 //! [`DistributedVCycle`] is one rank's linear V-cycle on a nested hierarchy: per level its
@@ -53,10 +53,6 @@ mod transfer_tests;
 mod vcycle_tests;
 
 pub use hierarchy::{ColouredVCycle, VCycleHierarchy, VCycleShape};
-pub use rsf_ranks::{
-    check_all_gather, node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep,
-    HaloCounters, HaloMessage, LocalRows, NodeAllGather, RankGroup, ThreadRanks,
-};
 pub use tnnmg::DistributedTnnmg;
 pub use tnnmg_options::{DistributedTnnmgOptions, TnnmgCounters};
 pub use transfer::DistributedTransfer;

@@ -11,6 +11,8 @@ use crate::error::Error;
 use crate::smoother_order::SmootherOrder;
 use crate::{Tnnmg, TnnmgOptions};
 use rsf_nonsmooth::ProblemError;
+use rsf_ranks::halo::HaloCounters;
+use rsf_ranks::{RankGroup, ThreadRanks};
 
 const D: usize = 3;
 

@@ -157,7 +157,7 @@ impl<const D: usize> Side<D> {
 /// part of a local vector of the level's rows is what the transfers read and write.
 /// Allocation-free after set-up (the transport may allocate).
 ///
-/// [`LocalRows`]: super::LocalRows
+/// [`LocalRows`]: rsf_ranks::LocalRows
 #[derive(Debug, Clone)]
 pub struct DistributedTransfer<const D: usize> {
     rank: usize,

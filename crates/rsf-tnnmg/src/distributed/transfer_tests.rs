@@ -11,7 +11,8 @@ use crate::galerkin::Galerkin;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
 use rsf_ranks::bsr::BlockCsr;
-use rsf_ranks::Colouring;
+use rsf_ranks::halo::HaloCounters;
+use rsf_ranks::{Colouring, DistributedSweep, ThreadRanks};
 
 const D: usize = 3;
 

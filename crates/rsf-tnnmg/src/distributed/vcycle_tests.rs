@@ -12,6 +12,8 @@ use crate::error::Error;
 use crate::Parallelism;
 use rsf_nonsmooth::ProblemError;
 use rsf_ranks::bsr::BlockCsr;
+use rsf_ranks::halo::HaloCounters;
+use rsf_ranks::ThreadRanks;
 
 const D: usize = 3;
 

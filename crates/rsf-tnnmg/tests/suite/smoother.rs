@@ -7,6 +7,7 @@ use crate::common::*;
 use faer::sparse::Triplet;
 use rsf_direct::{DirectOptions, DirectSolver};
 use rsf_nonsmooth::*;
+use rsf_ranks::Colouring;
 use rsf_tnnmg::*;
 
 /// A symmetric matrix with the node pattern of P1 on a simplicial mesh given by its

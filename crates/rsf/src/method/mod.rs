@@ -15,15 +15,14 @@ pub use rsf_time::{Integrator, Parallelism};
 #[allow(deprecated)]
 pub use solver::AUTO_DIRECT_MAX_EXTENSION;
 pub use solver::{
-    SolverKind, SolverOptions, TnnmgOnRanks, TransportFactory, AUTO_DIRECT_MAX_CONDENSED,
-    DEFAULT_MEMORY_BUDGET_BYTES,
+    SolverKind, SolverOptions, TnnmgOnRanks, AUTO_DIRECT_MAX_CONDENSED, DEFAULT_MEMORY_BUDGET_BYTES,
 };
 pub use state_integrator::StateIntegrator;
 
 use rsf_fem::{combine, SparseMatrix};
 use rsf_nonsmooth::{ProblemError, StepSolver, Stopping};
+use rsf_ranks::NodeAllGather;
 use rsf_time::{LoadOperator, StepControl, VelocityIntegrator};
-use rsf_tnnmg::distributed::NodeAllGather;
 
 use crate::error::{invalid, Result};
 use crate::model::Model;
@@ -421,10 +420,7 @@ impl StateShare {
     }
 
     /// The share of the rank of `halo` with frictional node `k` on rank `owner[k]`.
-    fn with_owner(
-        owner: &[usize],
-        halo: Box<dyn rsf_tnnmg::distributed::RankGroup>,
-    ) -> Result<Self> {
+    fn with_owner(owner: &[usize], halo: Box<dyn rsf_ranks::RankGroup>) -> Result<Self> {
         let gather = NodeAllGather::<1>::new(owner, halo).map_err(rsf_tnnmg::Error::from)?;
         let rank = gather.rank();
         let owned = (0..owner.len()).filter(|&k| owner[k] == rank).collect();
@@ -475,7 +471,7 @@ impl StateShare {
 #[cfg(test)]
 mod tests {
     use super::StateShare;
-    use rsf_tnnmg::distributed::ThreadRanks;
+    use rsf_ranks::ThreadRanks;
 
     /// The state update on 1–3 thread ranks: every rank gets every node's value (the
     /// owner's) with one collective; a node that fails on its rank (rank 1's node 4) ends

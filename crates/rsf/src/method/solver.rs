@@ -6,6 +6,7 @@ use std::sync::Arc;
 use rsf_direct::{DirectMemory, DirectOptions, DirectSolver};
 use rsf_fem::SparseMatrix;
 use rsf_nonsmooth::{BlockNonlinearity, FullStep, SolveReport, StepSolver, Stopping};
+use rsf_ranks::TransportFactory;
 use rsf_tnnmg::distributed::{DistributedTnnmg, DistributedTnnmgOptions};
 use rsf_tnnmg::{NonlinearGaussSeidel, Parallelism, Tnnmg, TnnmgOptions};
 
@@ -231,13 +232,6 @@ pub struct SolverOptions {
     pub ranks: Option<TnnmgOnRanks>,
 }
 
-/// The transport of one solver on ranks: called once per built method (the all-gather
-/// of the integrator's right-hand side, before its first solver) and once per built
-/// solver (every rank builds its methods and solvers in the same order, one solver per
-/// time-step size used), it returns this rank's end of a fresh group of the job's ranks
-/// ([`RankGroup`](rsf_ranks::RankGroup): e.g. a duplicated MPI communicator, or the next group of thread ranks).
-pub use rsf_ranks::TransportFactory;
-
 /// TNNMG on the ranks of a job (issue 57, docs/scaling.md "Phase 5"): replicated time
 /// stepping, distributed velocity solves. Every rank runs the same simulation (the same
 /// model, steps and state updates on whole vectors); only TNNMG's solves are shared, by
@@ -260,7 +254,12 @@ pub struct TnnmgOnRanks {
     /// transport's rank count); the coarse levels' node `p` has the same owner (nested
     /// hierarchies number the coarse nodes first). The same on every rank.
     pub owner: Arc<[usize]>,
-    /// This rank's transports, one per built method and one per built solver.
+    /// This rank's transports ([`rsf_ranks::TransportFactory`]): called once per built
+    /// method (the all-gather of the integrator's right-hand side, before its first
+    /// solver) and once per built solver (every rank builds its methods and solvers in the
+    /// same order, one solver per time-step size used), it returns this rank's end of a
+    /// fresh group of the job's ranks (e.g. a duplicated MPI communicator, or the next
+    /// group of thread ranks: `rsf_ranks::Processes::transports`).
     pub transport: TransportFactory,
 }
 

@@ -51,7 +51,7 @@ impl NormalRows {
 }
 
 /// The ranks' all-gather, `(own, counts, all)` as
-/// [`RankGroup::all_gather`](crate::ranks::RankGroup::all_gather)'s arguments.
+/// [`RankGroup::all_gather`](rsf_ranks::RankGroup::all_gather)'s arguments.
 pub(crate) type AllGather<'a> = &'a mut dyn FnMut(&[f64], &[usize], &mut [f64]);
 
 /// What the ranks exchange for `σ̄_n` (made by [`NormalGather::new`], then reused): the
@@ -87,7 +87,7 @@ impl NormalGather {
     /// The reactions `r_k` (N) at integrated loading `big_g` and finite condensed unknowns
     /// `u_f` (length `m`) into `sigma` (one per frictional node, node order): this
     /// rank's, then one all-gather (`all_gather(own, counts, all)`, the ranks'
-    /// [`RankGroup::all_gather`](crate::ranks::RankGroup::all_gather)). Returns whether it
+    /// [`RankGroup::all_gather`](rsf_ranks::RankGroup::all_gather)). Returns whether it
     /// exchanged: not where `u_F − u_F⁰` is not finite — the same on every rank, each then
     /// writing NaN, which [`NormalCoupling::finish`] refuses as the whole evaluation does.
     ///

@@ -3,45 +3,13 @@
 //! are threads of this process with an all-gather through shared memory (a test double of
 //! an MPI communicator; the `rsf-mpi` crate's tests run the same on MPI processes).
 
-use std::sync::Arc;
-
 use rsf::fault_ode::FaultKernel;
 use rsf::observe::SECONDS_PER_YEAR;
-use rsf::ranks::{RankGroup, ThreadGroups, ThreadRanks};
 use rsf::{Flow, Observer, StepView, Until};
+use rsf_ranks::{Processes, ThreadProcess};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
 use crate::common::small_bp1;
-
-/// One thread's rank: its ends of fresh groups of the same thread ranks, one per
-/// [`group`](Self::group) call (every rank calls in the same order).
-#[derive(Clone)]
-struct ThreadRank {
-    groups: Arc<ThreadGroups>,
-    rank: usize,
-}
-
-impl ThreadRank {
-    fn rank(&self) -> usize {
-        self.rank
-    }
-    fn size(&self) -> usize {
-        self.groups.size()
-    }
-    fn group(&self) -> ThreadRanks {
-        self.groups.take(self.rank)
-    }
-}
-
-fn thread_ranks(size: usize) -> Vec<ThreadRank> {
-    let groups = ThreadGroups::new(size);
-    (0..size)
-        .map(|rank| ThreadRank {
-            groups: groups.clone(),
-            rank,
-        })
-        .collect()
-}
 
 /// Every accepted step's time, step size and the bits of the fault's slip and state.
 #[derive(Default)]
@@ -65,7 +33,7 @@ impl<const D: usize, const C: usize> Observer<D, C> for Bits {
 /// `ode` shared by `ranks` (if any) run to `until`: every accepted step's bits.
 fn run_shared<const D: usize, L, S, const C: usize>(
     mut ode: rsf::FaultOde<D, L, S, C>,
-    ranks: Option<ThreadRank>,
+    ranks: Option<ThreadProcess>,
     until: Until,
 ) -> Vec<Vec<u64>>
 where
@@ -74,7 +42,7 @@ where
 {
     if let Some(ranks) = ranks {
         let (rank, size) = (ranks.rank(), ranks.size());
-        ode.share_evaluations(Box::new(ranks.group())).unwrap();
+        ode.share_evaluations(ranks.group()).unwrap();
         assert_eq!(ode.rank_and_size(), (rank, size));
     }
     let mut bits = Bits::default();
@@ -84,12 +52,12 @@ where
 
 /// Runs `run` unshared, then on 1, 2, 3 and 4 thread ranks (each rank its own run), and
 /// checks that every rank's rows have the unshared bits; returns the unshared rows.
-fn same_bits_on_ranks(run: impl Fn(Option<ThreadRank>) -> Vec<Vec<u64>> + Sync) -> usize {
+fn same_bits_on_ranks(run: impl Fn(Option<ThreadProcess>) -> Vec<Vec<u64>> + Sync) -> usize {
     let alone = run(None);
     assert!(alone.len() > 10, "{} steps", alone.len());
     for size in 1..=4 {
         let rows: Vec<Vec<Vec<u64>>> = std::thread::scope(|s| {
-            let handles: Vec<_> = thread_ranks(size)
+            let handles: Vec<_> = ThreadProcess::job(size)
                 .into_iter()
                 .map(|ranks| s.spawn(|| run(Some(ranks))))
                 .collect();
@@ -197,7 +165,7 @@ fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4
                 return run_shared(ode, None, Until::Steps(1500));
             };
             let size = ranks.size();
-            ode.share_evaluations(Box::new(ranks.group())).unwrap();
+            ode.share_evaluations(ranks.group()).unwrap();
             let mut bits = Bits::default();
             ode.run_until(Until::Steps(1500), &mut [&mut bits]).unwrap();
             let e = ode.exchanges().unwrap();
@@ -279,11 +247,11 @@ fn bp3_with_its_nodes_out_of_cluster_order_has_the_same_bits_on_1_to_4_ranks() {
 #[test]
 fn an_opening_fault_ends_every_rank_with_the_unshared_error() {
     use rsf::normal_stress::NormalStress;
-    let run = |ranks: Option<ThreadRank>| {
+    let run = |ranks: Option<ThreadProcess>| {
         let model = crate::normal_stress::pulled_apart_block();
         let mut ode = crate::normal_stress::fault_ode(model, NormalStress::FromSlip).unwrap();
         if let Some(ranks) = ranks {
-            ode.share_evaluations(Box::new(ranks.group())).unwrap();
+            ode.share_evaluations(ranks.group()).unwrap();
         }
         let mut bits = Bits::default();
         let e = ode
@@ -302,7 +270,7 @@ fn an_opening_fault_ends_every_rank_with_the_unshared_error() {
     assert!(error.contains("normal stress"), "{error}");
     for size in 1..=4 {
         let runs: Vec<_> = std::thread::scope(|s| {
-            let handles: Vec<_> = thread_ranks(size)
+            let handles: Vec<_> = ThreadProcess::job(size)
                 .into_iter()
                 .map(|ranks| s.spawn(|| run(Some(ranks))))
                 .collect();
@@ -366,9 +334,7 @@ fn a_bp5_operator_held_in_parts_by_the_ranks_has_the_same_bits_as_one_process() 
     let steps = same_bits_on_ranks(|ranks| {
         let model = bp5.model(4000.0).unwrap();
         let options = bp5.fault_ode_options(1e-6).unwrap();
-        let group = ranks
-            .as_ref()
-            .map(|r| Box::new(r.group()) as Box<dyn RankGroup + Send>);
+        let group = ranks.as_ref().map(|r| r.group());
         let (ode, _) = bp5
             .fault_ode_on_ranks(model, options, &half_space, &[], group)
             .unwrap();
@@ -424,8 +390,8 @@ fn an_operator_without_parts_is_refused() {
         .problem_builder(model)
         .build_fault_ode_alone(bp5.fault_ode_options(1e-6).unwrap(), alone)
         .unwrap();
-    let ranks = thread_ranks(1).pop().unwrap();
-    match ode.share_evaluations(Box::new(ranks.group())) {
+    let ranks = ThreadProcess::job(1).pop().unwrap();
+    match ode.share_evaluations(ranks.group()) {
         Err(rsf::Error::InvalidParameter { name, .. }) => assert_eq!(name, "ranks"),
         other => panic!("expected a refusal, got {other:?}"),
     }

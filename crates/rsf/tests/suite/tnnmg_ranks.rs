@@ -6,8 +6,8 @@
 use std::sync::Arc;
 
 use rsf::method::{SolverOptions, TnnmgOnRanks};
-use rsf::ranks::ThreadGroups;
 use rsf::{Flow, Model, Observer, SolverKind, StepView, Until};
+use rsf_ranks::ThreadGroups;
 use rsf_scenes::Slider3dScene;
 
 /// Steps of every run (of 0.25 s: through the nucleation of the first event).

@@ -70,3 +70,19 @@ pub fn plane_facets(m: &rsf_fem::TetrahedronMesh) -> Vec<([usize; 3], f64)> {
         })
         .collect()
 }
+
+/// Total area of the boundary facets: the box's surface for a conforming mesh (a hanging
+/// vertex leaves facets inside the body that belong to one cell only).
+pub fn boundary_area(m: &rsf_fem::TetrahedronMesh) -> f64 {
+    (0..m.num_boundary_facets())
+        .map(|f| m.boundary_facet_measure(f))
+        .sum()
+}
+
+/// The distance from the origin to the box `[lo, hi]` (0 inside it).
+pub fn distance_to_origin(lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|a| (lo[a].max(0.0) - hi[a].min(0.0)).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}

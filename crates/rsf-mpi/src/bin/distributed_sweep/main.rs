@@ -1,6 +1,6 @@
 //! The distributed smoother on MPI ranks (docs/scaling.md, "Phase 2"): linear block
 //! Gauss–Seidel sweeps of a refined elastic box (`rsf_fem::ElasticBox`, 5 × 3 × 3 cubes)
-//! partitioned by METIS, the halo exchanged by [`rsf_mpi::MpiExchange`].
+//! partitioned by METIS, the halo exchanged by [`rsf_mpi::MpiRanks`] (a duplicate of the world communicator).
 //!
 //! ```text
 //! distributed_sweep [--refinements R] [--sweeps N] [--repetitions K] [--out DIR] [--reference]
@@ -44,12 +44,12 @@ use mpi::collective::{CommunicatorCollectives, Root};
 use mpi::datatype::PartitionMut;
 use mpi::topology::Communicator;
 use rsf_fem::ElasticBox;
-use rsf_mpi::MpiExchange;
-use rsf_programs::guard::{AnyError, Prepared, Processes};
-use rsf_tnnmg::distributed::{
-    node_graph, BlockGaussSeidel, ColouredGaussSeidel, DistributedSweep, LocalRows, RankGroup,
+use rsf_mpi::MpiRanks;
+use rsf_programs::guard::{AnyError, Prepared};
+use rsf_ranks::{
+    node_graph, BlockGaussSeidel, ColouredGaussSeidel, Colouring, DistributedSweep, LocalRows,
+    Processes,
 };
-use rsf_tnnmg::Colouring;
 
 const D: usize = 3;
 
@@ -98,7 +98,7 @@ fn metis_owner(bx: &ElasticBox, parts: usize) -> Result<Vec<usize>, String> {
 }
 
 /// Builds the whole problem, partitions it, keeps this rank's part.
-fn set_up(f: &Flags, halo: &MpiExchange) -> Result<Part, String> {
+fn set_up(f: &Flags, halo: &MpiRanks) -> Result<Part, String> {
     let bx = ElasticBox::bar(f.refinements).map_err(|e| e.to_string())?;
     let a = bx.stiffness.as_ref();
     let colouring = Colouring::new::<D>(a).map_err(|e| e.to_string())?;
@@ -173,7 +173,7 @@ fn write_values(path: &std::path::Path, x: &[f64]) -> Result<(), String> {
 
 /// Gathers every rank's owned values of the local vector `x` of `rows` into global order
 /// on rank 0 (`None` elsewhere).
-fn gather(halo: &MpiExchange, rows: &LocalRows<D>, x: &[f64]) -> Option<Vec<f64>> {
+fn gather(halo: &MpiRanks, rows: &LocalRows<D>, x: &[f64]) -> Option<Vec<f64>> {
     let comm = halo.communicator();
     let root = comm.process_at_rank(0);
     let owned = rows.owned();
@@ -225,7 +225,7 @@ fn gather(halo: &MpiExchange, rows: &LocalRows<D>, x: &[f64]) -> Option<Vec<f64>
 
 /// The distributed sweeps on every rank.
 fn distributed(f: &Flags, root: bool) -> Result<(), String> {
-    let mut halo = MpiExchange::world();
+    let mut halo = MpiRanks::world().duplicate();
     let (rank, size) = (halo.rank(), halo.size());
     let t = Instant::now();
     let mut part = set_up(f, &halo)?;
@@ -284,7 +284,7 @@ fn write_line(line: &str) -> Result<(), String> {
 /// `--out` there (if given).
 fn write_gathered(
     f: &Flags,
-    halo: &MpiExchange,
+    halo: &MpiRanks,
     rows: &LocalRows<D>,
     x: &[f64],
 ) -> Result<(), String> {

@@ -22,12 +22,11 @@ use std::time::Instant;
 use mpi::collective::CommunicatorCollectives;
 use mpi::topology::Communicator;
 use rsf_fem::ElasticBox;
-use rsf_mpi::MpiExchange;
+use rsf_mpi::MpiRanks;
 use rsf_nonsmooth::{NonsmoothSolver, Stopping};
-use rsf_tnnmg::distributed::{
-    BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, HaloCounters, RankGroup, ThreadRanks,
-    VCycleShape,
-};
+use rsf_ranks::halo::HaloCounters;
+use rsf_ranks::{RankGroup, ThreadRanks};
+use rsf_tnnmg::distributed::{BlockTresca, DistributedTnnmg, DistributedTnnmgOptions, VCycleShape};
 use rsf_tnnmg::LinearCorrection;
 
 use super::{median, memory_mb, metis_owner, write_line, write_values, Flags, D};
@@ -140,7 +139,7 @@ pub fn thread_ranks(f: &Flags, n: usize) -> Result<(), String> {
 
 /// The solves on every MPI rank.
 pub fn distributed(f: &Flags, root: bool) -> Result<(), String> {
-    let halo = MpiExchange::world();
+    let halo = MpiRanks::world().duplicate();
     let (rank, size) = (halo.rank(), halo.size());
     let comm = halo.communicator().duplicate();
     let t = Instant::now();

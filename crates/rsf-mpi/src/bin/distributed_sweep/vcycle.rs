@@ -13,10 +13,8 @@ use std::time::Instant;
 
 use mpi::collective::CommunicatorCollectives;
 use rsf_fem::ElasticBox;
-use rsf_mpi::MpiExchange;
-use rsf_tnnmg::distributed::{
-    ColouredVCycle, DistributedVCycle, RankGroup, VCycleHierarchy, VCycleShape,
-};
+use rsf_mpi::MpiRanks;
+use rsf_tnnmg::distributed::{ColouredVCycle, DistributedVCycle, VCycleHierarchy, VCycleShape};
 
 use super::{median, memory_mb, metis_owner, write_gathered, write_line, write_values, Flags, D};
 
@@ -97,7 +95,7 @@ pub fn reference(f: &Flags) -> Result<(), String> {
 
 /// The distributed V-cycles on every rank.
 pub fn distributed(f: &Flags, root: bool) -> Result<(), String> {
-    let mut halo = MpiExchange::world();
+    let mut halo = MpiRanks::world().duplicate();
     let (rank, size) = (halo.rank(), halo.size());
     let t = Instant::now();
     let (mut vc, x0, dofs, levels) = {
