@@ -46,6 +46,8 @@ mod scene_file;
 #[cfg(feature = "seas")]
 mod seas_bp1;
 #[cfg(feature = "seas")]
+mod seas_bp1_run;
+#[cfg(feature = "seas")]
 mod seas_bp3;
 #[cfg(feature = "seas")]
 mod seas_bp3_run;
@@ -90,6 +92,8 @@ pub use seas_bp1::{
     GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
     SEAS_BP1_BOTTOM, SEAS_BP1_FAR_SIDE, SEAS_BP1_STATION_DEPTHS,
 };
+#[cfg(feature = "seas")]
+pub use seas_bp1_run::{bp1_ranges, Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, SeasBp1Run};
 #[cfg(feature = "seas")]
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,
