@@ -8,10 +8,10 @@ use proptest::prelude::*;
 use rsf::fault_ode::InteriorOrdering;
 use rsf::fault_ode::OdeIntegrator;
 use rsf_scenes::{
-    Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, Bp5Condensation, Bp5Kernel, Bp6BemProduct,
-    Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law, Bp8OverpressureRule, Bp8Source,
-    KernelChoice, RunConfig, SeasBp1Run, SeasBp3Run, SeasBp5Mesh, SeasBp5Run, SeasBp6Run,
-    SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
+    Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, Bp5Condensation, Bp5Kernel, Bp5PairRun,
+    Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law, Bp8OverpressureRule,
+    Bp8Source, KernelChoice, RunConfig, SeasBp1Run, SeasBp3Run, SeasBp5Mesh, SeasBp5Run,
+    SeasBp6Run, SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
 };
 
 use crate::guard::{parse_from, Program};
@@ -521,8 +521,51 @@ fn bp1_run() -> impl Strategy<Value = SeasBp1Run> {
     )
 }
 
+fn bp5_pair_run() -> impl Strategy<Value = Bp5PairRun> {
+    (
+        prop_oneof![Just(Bp5Kernel::Okada), Just(Bp5Kernel::Fe)],
+        prop_oneof![Just(1000.0), Just(2000.0), Just(4000.0), Just(20e3)],
+        // The separation: half of it a whole number of cells (needed by `fe`).
+        1u32..5,
+        (75.0f64..1e4, 1.0f64..2.0),
+        proptest::option::of(prop_oneof![
+            Just(InteriorOrdering::Amd),
+            Just(InteriorOrdering::NestedDissection)
+        ]),
+        (1e-9f64..1e5, 1e-10f64..0.1, 1e-14f64..1e-2),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(
+                kernel,
+                dx,
+                half_cells,
+                (domain_km, ratio),
+                ordering,
+                (end_years, tolerance, epsilon),
+                integrator,
+            )| Bp5PairRun {
+                kernel,
+                dx,
+                separation_km: 2.0 * f64::from(half_cells) * dx / 1e3,
+                domain_km,
+                ratio,
+                ordering,
+                end_years,
+                tolerance,
+                integrator,
+                epsilon,
+            },
+        )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn bp5_pair_settings_round_trip(run in bp5_pair_run()) {
+        round_trip(&run, |p: crate::bp5_pair::Args| p.settings)?;
+    }
 
     #[test]
     fn bp1_settings_round_trip(run in bp1_run()) {
@@ -655,6 +698,61 @@ fn every_bp1_setting_is_in_the_fingerprint() {
     );
     // A setting left unset and set to its resolved value are one run.
     assert_eq!(fd.fingerprint(), fd.resolved().fingerprint());
+}
+
+/// Every setting of the two strands changes the fingerprint; an ordering left unset is
+/// the front end's default.
+#[test]
+fn every_bp5_pair_setting_is_in_the_fingerprint() {
+    let base = Bp5PairRun::default();
+    each_changes_the_fingerprint(
+        &base,
+        &[
+            Bp5PairRun {
+                kernel: Bp5Kernel::Fe,
+                ..base
+            },
+            Bp5PairRun { dx: 4000.0, ..base },
+            Bp5PairRun {
+                separation_km: 16.0,
+                ..base
+            },
+            Bp5PairRun {
+                domain_km: 500.0,
+                ..base
+            },
+            Bp5PairRun { ratio: 1.2, ..base },
+            Bp5PairRun {
+                ordering: Some(InteriorOrdering::NestedDissection),
+                ..base
+            },
+            Bp5PairRun {
+                end_years: 2.0,
+                ..base
+            },
+            Bp5PairRun {
+                tolerance: 1e-7,
+                ..base
+            },
+            Bp5PairRun {
+                integrator: OdeIntegrator::Rkc,
+                ..base
+            },
+            Bp5PairRun {
+                epsilon: 1e-5,
+                ..base
+            },
+        ],
+    );
+    let nd = InteriorOrdering::NestedDissection;
+    assert_eq!(
+        base.fingerprint_with(nd),
+        Bp5PairRun {
+            ordering: Some(nd),
+            ..base
+        }
+        .fingerprint()
+    );
 }
 
 /// Every setting of BP3 changes the fingerprint.

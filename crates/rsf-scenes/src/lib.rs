@@ -38,6 +38,8 @@
 //! ```
 #![warn(missing_docs)]
 
+#[cfg(feature = "seas")]
+mod bp5_pair_run;
 mod curved;
 mod incline;
 pub mod output;
@@ -87,6 +89,8 @@ pub use incline::{dip_point, inclined_centre, inclined_slider_model};
 pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
 pub use run_config::{check_ranges, fault_kernel, KernelChoice, RunConfig};
 
+#[cfg(feature = "seas")]
+pub use bp5_pair_run::{bp5_pair_ranges, Bp5PairRun};
 #[cfg(feature = "seas")]
 pub use seas_bp1::{
     GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
