@@ -13,67 +13,27 @@
 //! Writes to `--out`: a station file per strand and point (`{west,east}_st{x₂}dp{x₃}.csv`:
 //! step, time, the two slip components, slip rate, shear traction, state), `catalogue.csv`,
 //! `summary.json` and `catalogue.png`, as `stepover` does. Runs: `--checkpoint-every N`,
-//! `--resume FILE`, `--allow-change`, `--max-steps N`, `--overwrite`.
+//! `--resume FILE`, `--allow-change`, `--max-steps N`, `--overwrite`. The settings are one
+//! struct, `rsf_scenes::Bp5PairRun` (docs/design.md, "One run configuration"): the flags,
+//! the keys of `--config FILE.toml`, the checkpoint's fingerprint and `summary.json`'s
+//! `settings`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES};
-use crate::guard::{
-    flag_range, in_range, number, written, AnyError, Folder, Limits, Plan, Prepared, Program,
-};
+use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
-use rsf::checkpoint::Fingerprint;
+use rsf::fault_ode::InteriorOrdering;
 use rsf::halfspace_operator::ElementOptions;
-use rsf_scenes::{Bp5Pair, SeasBp5, SeasBp5Grid};
+use rsf_scenes::{Bp5Kernel, Bp5Pair, Bp5PairRun, RunConfig};
 
-/// The elastic operator of a two-strand run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum PairKernel {
-    /// Both strands alone in Okada's half-space (boundary elements).
-    Okada,
-    /// Both strands inside a finite-element box, condensed onto them.
-    Fe,
-}
-
-impl std::fmt::Display for PairKernel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            PairKernel::Okada => "okada",
-            PairKernel::Fe => "fe",
-        })
-    }
-}
-
-flag_range!(
-    DX,
-    DX_HELP = "Cell size on the strands (m); must divide l_f = 100 km and W_f = 40 km (`fe`: and half the separation)",
-    [250, 20e3]
-);
-flag_range!(
-    SEPARATION_KM,
-    SEPARATION_KM_HELP = "Distance between the strands across strike (km); `fe`: half of it a whole number of `--dx`",
-    [1e-3, 1e3]
-);
-flag_range!(
-    DOMAIN_KM,
-    DOMAIN_KM_HELP = "`fe`: distance from the strands to the box's far faces, and its depth (km); the graded box's root cubes (edge dx·2^k ≤ 64 km) within the mesh's cell limit too (about 3000 km at --dx 2000: a larger box is refused naming --domain-km)",
-    [75, 1e4]
-);
-flag_range!(
-    RATIO,
-    RATIO_HELP = "`fe`: growth of the spacing away from the strands' rate-and-state regions",
-    [1, 2]
-);
-flag_range!(END_YEARS, END_YEARS_HELP = "End time (years)", [1e-9, 1e5]);
-flag_range!(
-    pub(crate) EPSILON,
-    EPSILON_HELP = "Relative accuracy ε of the ℋ-matrices (above 4 096 unknowns)",
-    [1e-14, 1e-2]
-);
+/// `--epsilon`'s range ([`bp5_pair_ranges::EPSILON`](rsf_scenes::bp5_pair_ranges::EPSILON)).
+#[cfg(test)]
+pub(crate) const EPSILON: (f64, f64) = rsf_scenes::bp5_pair_ranges::EPSILON;
 
 /// Two parallel strike-slip faults with SEAS BP5's physics.
 #[derive(Parser)]
@@ -85,32 +45,11 @@ pub struct Args {
     /// Replace the files of an earlier run in `--out`.
     #[arg(long)]
     overwrite: bool,
-    /// The elastic operator: `okada` or `fe`.
-    #[arg(long, value_enum, default_value_t = PairKernel::Okada)]
-    kernel: PairKernel,
-    #[arg(long, default_value_t = 2000.0, allow_negative_numbers = true, help = DX_HELP)]
-    dx: f64,
-    #[arg(long, default_value_t = 8.0, allow_negative_numbers = true, help = SEPARATION_KM_HELP)]
-    separation_km: f64,
-    #[arg(long, default_value_t = 400.0, allow_negative_numbers = true, help = DOMAIN_KM_HELP)]
-    domain_km: f64,
-    #[arg(long, default_value_t = 1.3, allow_negative_numbers = true, help = RATIO_HELP)]
-    ratio: f64,
-    /// `fe`: fill-reducing ordering of the volume's elimination, `nested-dissection`
-    /// (METIS; the default where it is built, as in the examples: with two planes through
-    /// the box AMD's fill is ten times larger — 37 GB against 2.7 GB at 4 km) or `amd`.
-    #[arg(long, default_value = DEFAULT_ORDERING)]
-    ordering: rsf::fault_ode::InteriorOrdering,
-    #[arg(long, default_value_t = 1800.0, allow_negative_numbers = true, help = END_YEARS_HELP)]
-    end_years: f64,
-    /// Tolerance of the fault ODE (local error per step: tolerance · L in slip, tolerance in
-    /// ln θ), in (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1).
-    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true)]
-    tolerance: f64,
+    /// The run's settings (`rsf_scenes::Bp5PairRun`: these flags, or `--config`'s keys).
     #[command(flatten)]
-    integrator: crate::IntegratorArgs,
-    #[arg(long, default_value_t = 1e-6, allow_negative_numbers = true, help = EPSILON_HELP)]
-    epsilon: f64,
+    pub(crate) settings: Bp5PairRun,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// Threads of each evaluation (the same bits for every value). Default: every core.
     #[arg(long, default_value_t = rsf::Parallelism::available_cores())]
     threads: usize,
@@ -120,28 +59,6 @@ pub struct Args {
     #[command(flatten)]
     limits: Limits,
 }
-
-/// The scene and the volume's grid of the flags.
-fn scene(args: &Args) -> (Bp5Pair, SeasBp5Grid) {
-    let pair = Bp5Pair {
-        bp5: SeasBp5::default(),
-        separation: args.separation_km * 1e3,
-    };
-    let grid = SeasBp5Grid {
-        dx: args.dx,
-        domain: args.domain_km * 1e3,
-        ratio: args.ratio,
-        ..SeasBp5Grid::default()
-    };
-    (pair, grid)
-}
-
-/// The default ordering: METIS's nested dissection where it is built.
-const DEFAULT_ORDERING: &str = if cfg!(feature = "metis") {
-    "nested-dissection"
-} else {
-    "amd"
-};
 
 /// The run's peak (bytes) of `--kernel fe` with nested dissection, the anchor of its
 /// estimate: measured 3.3 GB at 2 km (the ℋ-matrix of `S` included; AMD EPYC,
@@ -183,24 +100,10 @@ fn outputs(pair: &Bp5Pair) -> Vec<String> {
 }
 
 impl Args {
-    /// What a checkpoint continues: the two strands, the grid and what changes the
-    /// trajectory (the plan's too: a checkpoint is checked against it before the folder
-    /// changes).
-    ///
-    /// # Errors
-    /// None today; a `Result` as the other programs' (the plan's `?`).
-    fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        let (pair, _) = scene(self);
-        Ok(self.integrator.fingerprint(
-            crate::cli::with_box_and_end(
-                Fingerprint::of_serialized(&pair).with("kernel", self.kernel),
-                (self.dx, self.domain_km, self.ratio),
-                self.end_years,
-                self.tolerance,
-            )
-            .with("epsilon", self.epsilon)
-            .with("ordering", self.ordering),
-        ))
+    /// The settings as the run uses them: the ordering the build's fastest where unset
+    /// (nested dissection where METIS is built, `InteriorOrdering::fastest_built`).
+    fn resolved(&self) -> Bp5PairRun {
+        self.settings.resolved(InteriorOrdering::fastest_built())
     }
 }
 
@@ -211,47 +114,31 @@ impl Program for Args {
         self.limits
     }
 
+    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
+        self.settings = self.config.merged(self.settings, matches)?;
+        Ok(self)
+    }
+
     fn plan(&self) -> Result<Plan, AnyError> {
-        in_range("--end-years", self.end_years, END_YEARS, "years")?;
-        in_range("--dx", self.dx, DX, "m")?;
-        in_range("--separation-km", self.separation_km, SEPARATION_KM, "km")?;
-        in_range("--domain-km", self.domain_km, DOMAIN_KM, "km")?;
-        in_range("--ratio", self.ratio, RATIO, "the growth of the spacing")?;
-        in_range("--epsilon", self.epsilon, EPSILON, "a relative accuracy")?;
-        let (pair, grid) = scene(self);
-        pair.bp5
-            .cells(self.dx)
-            .map_err(|e| format!("--dx {}: {e}", written(self.dx)))?;
-        pair.validate()
-            .map_err(|e| format!("--separation-km {}: {e}", written(self.separation_km)))?;
-        crate::cli::for_flag(
-            "--tolerance",
-            "tolerance",
-            pair.bp5.fault_ode_options(self.tolerance),
-        )?;
-        let cells = 2.0 * (pair.bp5.l_f / self.dx) * (pair.bp5.w_f / self.dx);
+        self.config.validate(&self.settings)?;
+        let run = self.resolved();
+        let (pair, grid) = (run.scene(), run.grid());
+        let cells = 2.0 * (pair.bp5.l_f / run.dx) * (pair.bp5.w_f / run.dx);
         let unknowns = 2.0 * cells;
         let hierarchical = unknowns > 4096.0;
         // setup.bin, the elimination kept in --out (0 without it).
         let mut setup_file = 0.0;
-        let memory = match self.kernel {
-            PairKernel::Okada => operator_bytes(unknowns, hierarchical) + cells * 2e3,
-            PairKernel::Fe => {
-                let half = 0.5 * self.separation_km * 1e3 / self.dx;
-                if (half - half.round()).abs() > 1e-9 * half.max(1.0) || half < 1.0 {
-                    return Err(format!(
-                        "--separation-km {}: half of it must be a whole number (≥ 1) of --dx",
-                        written(self.separation_km)
-                    )
-                    .into());
-                }
+        let memory = match run.kernel {
+            Bp5Kernel::Okada => operator_bytes(unknowns, hierarchical) + cells * 2e3,
+            Bp5Kernel::Fe => {
+                let ordering = run.ordering.unwrap_or(InteriorOrdering::Amd);
                 let peak = |vertices: f64| {
-                    pair_fe_peak(vertices, self.ordering) + operator_bytes(unknowns, hierarchical)
+                    pair_fe_peak(vertices, ordering) + operator_bytes(unknowns, hierarchical)
                 };
                 // Refused unmeshed where a lower bound of the pair's vertices (BP5's
                 // one-plane mesh's, by arithmetic; an oversize octree refused naming
                 // --domain-km) is already too large; else the pair's graded mesh counted.
-                let fewest = crate::seas_bp5::graded_mesh_fewest_vertices(&grid, self.domain_km)?;
+                let fewest = crate::seas_bp5::graded_mesh_fewest_vertices(&grid, run.domain_km)?;
                 let limit = self.limits.max_memory_gb * 1e9;
                 let vertices = if peak(fewest) > limit {
                     fewest
@@ -263,13 +150,13 @@ impl Program for Args {
                 };
                 // Each strand's nodes (its rate-and-state region's grid, edges included),
                 // two slip unknowns each; no watched vertex.
-                let nodes = (pair.bp5.l_f / self.dx + 1.0) * (pair.bp5.w_f / self.dx + 1.0);
+                let nodes = (pair.bp5.l_f / run.dx + 1.0) * (pair.bp5.w_f / run.dx + 1.0);
                 setup_file = crate::estimates::setup_file_bytes(4.0 * nodes, vertices);
                 peak(vertices)
             }
         };
         let stations = pair.stations().len() as f64;
-        let rows = self.end_years * 100.0 + 1e4;
+        let rows = run.end_years * 100.0 + 1e4;
         let names = outputs(&pair);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         Ok(Plan::new()
@@ -279,8 +166,8 @@ impl Program for Args {
                 "--dx, --kernel, --domain-km, --ratio",
                 format!(
                     "two strands of {cells:.3e} cells at dx = {} m ({})",
-                    number(self.dx),
-                    self.kernel
+                    number(run.dx),
+                    kernel_name(run.kernel)
                 ),
             )
             .output(
@@ -288,7 +175,7 @@ impl Program for Args {
                 "--end-years",
                 format!(
                     "{} years of {stations} station files",
-                    written(self.end_years)
+                    written(run.end_years)
                 ),
             )
             .output(
@@ -299,8 +186,16 @@ impl Program for Args {
             .folder(
                 self.run
                     .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint()?),
+                    .fingerprint(run.fingerprint()),
             ))
+    }
+}
+
+/// The kernel as its flag's value (`okada`, `fe`).
+fn kernel_name(kernel: Bp5Kernel) -> &'static str {
+    match kernel {
+        Bp5Kernel::Okada => "okada",
+        Bp5Kernel::Fe => "fe",
     }
 }
 
@@ -310,29 +205,26 @@ pub fn main() -> ExitCode {
 }
 
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
-    let (pair, grid) = scene(&args);
+    let run = args.resolved();
+    let (pair, grid) = (run.scene(), run.grid());
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
-    let mut options = pair.bp5.fault_ode_options(args.tolerance)?;
-    options.integrator = args.integrator.integrator;
-    options.parallelism = rsf::Parallelism::rayon(args.threads);
-    options.kernel = rsf::fault_ode::FaultKernel::matching(args.epsilon);
-    let mut ode = match args.kernel {
-        PairKernel::Okada => {
+    let options = run.fault_ode_options(args.threads)?;
+    let mut ode = match run.kernel {
+        Bp5Kernel::Okada => {
             let element_options = ElementOptions {
-                epsilon: args.epsilon,
+                epsilon: run.epsilon,
                 ..ElementOptions::default()
             };
-            pair.bem_fault_ode(args.dx, options, &element_options)?
+            pair.bem_fault_ode(run.dx, options, &element_options)?
         }
-        PairKernel::Fe => {
+        Bp5Kernel::Fe => {
             let model = pair.fe_model(&grid)?;
             println!(
                 "the box: {} vertices, {} frictional nodes",
                 model.vertices.len(),
                 model.frictional_boundary.len()
             );
-            options.ordering = args.ordering;
             // The Schur complement alone (no factor kept), its elimination checkpointed in
             // the run folder (as seas_bp5's).
             let path = args.out.join(SETUP_FILE);
@@ -355,9 +247,9 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let fb = &ode.model().frictional_boundary;
     println!(
         "two BP5 strands {} km apart, {} kernel, Δx = {} m, {} + {} frictional nodes; on {}",
-        args.separation_km,
-        args.kernel,
-        args.dx,
+        run.separation_km,
+        kernel_name(run.kernel),
+        run.dx,
         fb.along_fault(0).len(),
         fb.along_fault(1).len(),
         machine()
@@ -365,7 +257,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     println!("S: {}", ode.kernel_report());
     let setup = (clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
     println!("set-up: wall {:.1} s, CPU {:.1} s", setup.0, setup.1);
-    let fingerprint = args.fingerprint()?;
+    let fingerprint = run.fingerprint();
     let outcome = crate::network::run_network(
         &mut ode,
         &pair.stations(),
@@ -373,7 +265,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         crate::network::NetworkRun {
             out: &args.out,
             fresh: folder.mode(),
-            end_years: args.end_years,
+            end_years: run.end_years,
             resume: &args.run,
             label: "bp5_pair",
             rigidity: pair.bp5.shear_modulus(),
@@ -384,19 +276,19 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             out: &args.out,
             outcome: &outcome,
             evaluations: ode.evaluations(),
-            integrator: args.integrator.summary(Some(ode.integrator_stats())),
+            integrator: crate::IntegratorArgs {
+                integrator: run.integrator,
+            }
+            .summary(Some(ode.integrator_stats())),
             started: (clock, cpu0),
         },
         serde_json::json!({
             "program": "bp5_pair",
             "scene": pair,
-            "kernel": args.kernel,
             "grid": grid,
         }),
         serde_json::json!({
-            "end_years": args.end_years,
-            "tolerance": args.tolerance,
-            "epsilon": args.epsilon,
+            "settings": run.summary(),
             "setup_wall_seconds": setup.0,
             "setup_cpu_seconds": setup.1,
             "kernel_report": ode.kernel_report().to_string(),

@@ -8,8 +8,9 @@ use proptest::prelude::*;
 use rsf::fault_ode::InteriorOrdering;
 use rsf::fault_ode::OdeIntegrator;
 use rsf_scenes::{
-    Bp5Condensation, Bp5Kernel, Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law,
-    Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp3Run, SeasBp5Mesh, SeasBp5Run,
+    Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, Bp5Condensation, Bp5Kernel, Bp5PairRun,
+    Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law, Bp8OverpressureRule,
+    Bp8Source, KernelChoice, RunConfig, SeasBp1Run, SeasBp3Run, SeasBp5Mesh, SeasBp5Run,
     SeasBp6Run, SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
 };
 
@@ -22,9 +23,21 @@ fn round_trip<P: Program, C: RunConfig + std::fmt::Debug>(
     run: &C,
     settings: impl Fn(P) -> C,
 ) -> Result<(), TestCaseError> {
+    round_trip_with(&[], run, settings)
+}
+
+/// [`round_trip`] with the program's flags that are no settings `base` (a required
+/// `--out`) after the settings' flags.
+fn round_trip_with<P: Program, C: RunConfig + std::fmt::Debug>(
+    base: &[&str],
+    run: &C,
+    settings: impl Fn(P) -> C,
+) -> Result<(), TestCaseError> {
     prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
-    let (program, _) = parse_from::<P, _, _>(command_line(P::NAME, run))
-        .map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let mut args = command_line(P::NAME, run);
+    args.extend(base.iter().map(|s| (*s).to_owned()));
+    let (program, _) =
+        parse_from::<P, _, _>(args).map_err(|e| TestCaseError::fail(e.to_string()))?;
     prop_assert_eq!(&settings(program), run);
     let back = C::from_toml(&run.to_toml()).map_err(|e| TestCaseError::fail(e.to_string()))?;
     prop_assert_eq!(&back, run);
@@ -383,8 +396,181 @@ fn bp5_run() -> impl Strategy<Value = SeasBp5Run> {
         )
 }
 
+fn bp1_run() -> impl Strategy<Value = SeasBp1Run> {
+    let scene = (
+        (1e3f64..1e4, 1e3f64..1e4, 1e3f64..1e10, 1e-5f64..1.0),
+        (1e-5f64..1.0, 1e-5f64..1.0, 1e-6f64..1e3, 1e-15f64..1.0),
+        (1e-20f64..10.0, 1e-15f64..1e3, 0.0f64..10.0),
+        (
+            1.0f64..1e6,
+            1.0f64..1e6,
+            prop_oneof![Just(20e3), Just(40e3)],
+        ),
+    );
+    let method = prop_oneof![
+        Just((Bp1Scheme::RungeKutta, false)),
+        Just((Bp1Scheme::RungeKutta, true)),
+        Just((Bp1Scheme::Implicit, false)),
+        Just((Bp1Scheme::Implicit, true)),
+    ];
+    // The implicit scheme's: tolerance, state change cap, fixed point tolerance, set-up.
+    let implicit = (1e-8f64..0.1, 0.0f64..1e3, 1e-14f64..1.0, any::<bool>());
+    // The fully dynamic run's: far boundary, integrator, step (a fraction of the
+    // crossing time), thresholds, fixed point tolerance.
+    let dynamic = (
+        proptest::option::of(prop_oneof![
+            Just(Bp1Absorbing::None),
+            Just(Bp1Absorbing::Dynamic),
+            Just(Bp1Absorbing::All)
+        ]),
+        prop_oneof![
+            Just(Bp1DynamicIntegrator::Newmark),
+            Just(Bp1DynamicIntegrator::BackwardEuler)
+        ],
+        proptest::option::of(2e-3f64..0.99),
+        proptest::option::of((1e-12f64..1e2, 1e-12f64..1e2)),
+        1e-12f64..1.0,
+    );
+    let grid = (
+        1e-9f64..1e5,
+        prop_oneof![Just(25.0), Just(100.0), Just(1000.0)],
+        50.0f64..1e3,
+        1.0f64..2.0,
+    );
+    let fault_ode = (
+        proptest::option::of(0.0f64..1e9),
+        any::<bool>(),
+        1e-10f64..0.1,
+        kernel(),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    );
+    (scene, method, implicit, dynamic, grid, fault_ode).prop_map(
+        |(
+            (
+                (rho, c_s, sigma_n, a0),
+                (a_max, b0, d_c, v_p),
+                (v_init, v0, f0),
+                (h_top, h_transition, w_f),
+            ),
+            (scheme, inertia),
+            (tolerance, state_change_cap, fixed_point_tolerance, setup_per_time_step),
+            (absorbing, dynamic_integrator, tau, thresholds, dynamic_fixed_point_tolerance),
+            (end_years, dz, domain_km, ratio),
+            (event_quiet_time, every_step, rk_tolerance, (kernel, kernel_epsilon), integrator),
+        )| {
+            let mut run = SeasBp1Run {
+                end_years,
+                dz,
+                domain_km,
+                ratio,
+                tolerance,
+                inertia,
+                absorbing,
+                dynamic_integrator,
+                dynamic_tau: tau.map(|f| f * dz / c_s),
+                switch_to_dynamic: thresholds.map(|t| t.0),
+                event_quiet_time,
+                switch_to_quasi_dynamic: thresholds.map(|t| t.1),
+                dynamic_fixed_point_tolerance,
+                every_step,
+                state_change_cap,
+                fixed_point_tolerance,
+                setup_per_time_step,
+                scheme,
+                rk_tolerance,
+                kernel,
+                kernel_epsilon,
+                integrator,
+                rho,
+                c_s,
+                sigma_n,
+                a0,
+                a_max,
+                b0,
+                d_c,
+                v_p,
+                v_init,
+                v0,
+                f0,
+                h_top,
+                h_transition,
+                w_f,
+            };
+            // The settings the chosen method would ignore left at their defaults (they
+            // are refused).
+            let d = SeasBp1Run::default();
+            if scheme == Bp1Scheme::RungeKutta && !inertia {
+                run.tolerance = d.tolerance;
+                run.state_change_cap = d.state_change_cap;
+                run.fixed_point_tolerance = d.fixed_point_tolerance;
+                run.setup_per_time_step = d.setup_per_time_step;
+            }
+            if !inertia {
+                run.absorbing = absorbing.filter(|a| *a == Bp1Absorbing::None);
+                run.dynamic_integrator = d.dynamic_integrator;
+                run.dynamic_tau = None;
+                run.switch_to_dynamic = None;
+                run.switch_to_quasi_dynamic = None;
+                run.dynamic_fixed_point_tolerance = d.dynamic_fixed_point_tolerance;
+            }
+            if scheme == Bp1Scheme::Implicit && run.absorbing == Some(Bp1Absorbing::Dynamic) {
+                run.absorbing = Some(Bp1Absorbing::All);
+            }
+            run
+        },
+    )
+}
+
+fn bp5_pair_run() -> impl Strategy<Value = Bp5PairRun> {
+    (
+        prop_oneof![Just(Bp5Kernel::Okada), Just(Bp5Kernel::Fe)],
+        prop_oneof![Just(1000.0), Just(2000.0), Just(4000.0), Just(20e3)],
+        // The separation: half of it a whole number of cells (needed by `fe`).
+        1u32..5,
+        (75.0f64..1e4, 1.0f64..2.0),
+        proptest::option::of(prop_oneof![
+            Just(InteriorOrdering::Amd),
+            Just(InteriorOrdering::NestedDissection)
+        ]),
+        (1e-9f64..1e5, 1e-10f64..0.1, 1e-14f64..1e-2),
+        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+    )
+        .prop_map(
+            |(
+                kernel,
+                dx,
+                half_cells,
+                (domain_km, ratio),
+                ordering,
+                (end_years, tolerance, epsilon),
+                integrator,
+            )| Bp5PairRun {
+                kernel,
+                dx,
+                separation_km: 2.0 * f64::from(half_cells) * dx / 1e3,
+                domain_km,
+                ratio,
+                ordering,
+                end_years,
+                tolerance,
+                integrator,
+                epsilon,
+            },
+        )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn bp5_pair_settings_round_trip(run in bp5_pair_run()) {
+        round_trip(&run, |p: crate::bp5_pair::Args| p.settings)?;
+    }
+
+    #[test]
+    fn bp1_settings_round_trip(run in bp1_run()) {
+        round_trip_with(&["--out", "out/seas_bp1"], &run, |p: crate::seas_bp1::Args| p.settings)?;
+    }
 
     /// A configuration → its command line → the configuration the program parses: the
     /// same value; and through TOML: the same value and the same fingerprint.
@@ -425,6 +611,148 @@ fn each_changes_the_fingerprint<C: RunConfig + std::fmt::Debug>(base: &C, change
     for run in changed {
         assert_ne!(run.fingerprint(), base.fingerprint(), "{run:?}");
     }
+}
+
+/// Every setting of BP1 changes the fingerprint: those of BP1-QD's run and the scene's on
+/// its defaults, the fully dynamic run's on BP1-FD's.
+#[test]
+fn every_bp1_setting_is_in_the_fingerprint() {
+    let qd = SeasBp1Run::default();
+    let changed = |base: SeasBp1Run, changes: &[fn(&mut SeasBp1Run)]| -> Vec<SeasBp1Run> {
+        changes
+            .iter()
+            .map(|change| {
+                let mut run = base;
+                change(&mut run);
+                run
+            })
+            .collect()
+    };
+    each_changes_the_fingerprint(
+        &qd,
+        &changed(
+            qd,
+            &[
+                |r| r.end_years = 2.0,
+                |r| r.dz = 50.0,
+                |r| r.domain_km = 500.0,
+                |r| r.ratio = 1.1,
+                |r| r.inertia = true,
+                |r| r.event_quiet_time = Some(1.0),
+                |r| r.every_step = true,
+                |r| r.scheme = Bp1Scheme::Implicit,
+                |r| r.rk_tolerance = 1e-7,
+                |r| r.kernel = KernelChoice::Dense,
+                |r| r.kernel_epsilon = Some(1e-5),
+                |r| r.integrator = OdeIntegrator::Rkc,
+                |r| r.rho = 2700.0,
+                |r| r.c_s = 3500.0,
+                |r| r.sigma_n = 4e7,
+                |r| r.a0 = 0.011,
+                |r| r.a_max = 0.02,
+                |r| r.b0 = 0.016,
+                |r| r.d_c = 0.01,
+                |r| r.v_p = 2e-9,
+                |r| r.v_init = 2e-9,
+                |r| r.v0 = 2e-6,
+                |r| r.f0 = 0.5,
+                |r| r.h_top = 14e3,
+                |r| r.h_transition = 2e3,
+                |r| r.w_f = 30e3,
+            ],
+        ),
+    );
+    let implicit = SeasBp1Run {
+        scheme: Bp1Scheme::Implicit,
+        ..qd
+    };
+    each_changes_the_fingerprint(
+        &implicit,
+        &changed(
+            implicit,
+            &[
+                |r| r.tolerance = 1e-4,
+                |r| r.state_change_cap = 0.0,
+                |r| r.fixed_point_tolerance = 1e-9,
+                |r| r.setup_per_time_step = true,
+            ],
+        ),
+    );
+    let fd = SeasBp1Run {
+        inertia: true,
+        ..qd
+    };
+    each_changes_the_fingerprint(
+        &fd,
+        &changed(
+            fd,
+            &[
+                |r| r.absorbing = Some(Bp1Absorbing::Dynamic),
+                |r| r.dynamic_integrator = Bp1DynamicIntegrator::BackwardEuler,
+                |r| r.dynamic_tau = Some(1e-3),
+                |r| r.switch_to_dynamic = Some(1e-1),
+                |r| r.switch_to_quasi_dynamic = Some(1e-4),
+                |r| r.dynamic_fixed_point_tolerance = 1e-7,
+            ],
+        ),
+    );
+    // A setting left unset and set to its resolved value are one run.
+    assert_eq!(fd.fingerprint(), fd.resolved().fingerprint());
+}
+
+/// Every setting of the two strands changes the fingerprint; an ordering left unset is
+/// the front end's default.
+#[test]
+fn every_bp5_pair_setting_is_in_the_fingerprint() {
+    let base = Bp5PairRun::default();
+    each_changes_the_fingerprint(
+        &base,
+        &[
+            Bp5PairRun {
+                kernel: Bp5Kernel::Fe,
+                ..base
+            },
+            Bp5PairRun { dx: 4000.0, ..base },
+            Bp5PairRun {
+                separation_km: 16.0,
+                ..base
+            },
+            Bp5PairRun {
+                domain_km: 500.0,
+                ..base
+            },
+            Bp5PairRun { ratio: 1.2, ..base },
+            Bp5PairRun {
+                ordering: Some(InteriorOrdering::NestedDissection),
+                ..base
+            },
+            Bp5PairRun {
+                end_years: 2.0,
+                ..base
+            },
+            Bp5PairRun {
+                tolerance: 1e-7,
+                ..base
+            },
+            Bp5PairRun {
+                integrator: OdeIntegrator::Rkc,
+                ..base
+            },
+            Bp5PairRun {
+                epsilon: 1e-5,
+                ..base
+            },
+        ],
+    );
+    let nd = InteriorOrdering::NestedDissection;
+    assert_eq!(
+        base.fingerprint_with(nd),
+        Bp5PairRun {
+            ordering: Some(nd),
+            ..base
+        }
+        .fingerprint()
+    );
 }
 
 /// Every setting of BP3 changes the fingerprint.

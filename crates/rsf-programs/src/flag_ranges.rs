@@ -281,6 +281,11 @@ mod tests {
                         "a range of the element's crossing time Δz/c_s, [1e-3, 1] of it, \
                          stated in the refusal (it depends on --dz)",
                     ),
+                    (
+                        "--w-f",
+                        "a whole number of --dz cells, less than the domain (--domain-km): \
+                         its range depends on both, stated in the refusal",
+                    ),
                 ],
             ]
             .concat(),

@@ -7,16 +7,15 @@ use std::path::PathBuf;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rsf::checkpoint::Fingerprint;
-use rsf::fault_ode::{integrator_fingerprint, FaultKernel, FaultOdeOptions, OdeIntegrator};
 use rsf::friction::{DieterichRuina, RateStateParams};
 use rsf::SimulationBuilder;
 use rsf_scenes::{
-    SeasBp1, SeasBp1Grid, Slider3dScene, SliderScene, TimeStep, SEAS_BP1_STATION_DEPTHS,
+    RunConfig, SeasBp1, SeasBp1Run, Slider3dScene, SliderScene, TimeStep, SEAS_BP1_STATION_DEPTHS,
 };
-use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_seas::{SeasOutput, SeasSetup, SECONDS_PER_YEAR};
 use serde_json::Value;
 
-use crate::convert::{per_node, scene, to_json, PerNode};
+use crate::convert::{choice, per_node, scene, to_json, PerNode};
 use crate::engine::{Engine, Files, Recording};
 use crate::errors::{invalid, OrPy};
 use crate::run_folder::FolderKeywords;
@@ -253,10 +252,12 @@ pub(crate) fn slider_3d(
 /// run id, or its files where the manifest is missing), the files continued at the
 /// checkpoint's step; with `overwrite=True` the folder of another run is given to the
 /// checkpoint's run whole (its files copied from the checkpoint's own folder) or refused.
-/// Other keyword arguments are the scene's physical parameters (`a0`, `a_max`, `sigma_n`,
-/// …, SI units).
+/// Other keyword arguments are the run's other settings (`rsf_scenes::SeasBp1Run`, the
+/// program's flags of the same names): the description's parameters (`rho`, `c_s`,
+/// `sigma_n`, `a0`, `a_max`, `b0`, `d_c`, `v_p`, `v_init`, `v0`, `f0`, `h_top`,
+/// `h_transition`, `w_f`; SI units), each checked against its range.
 #[pyfunction]
-#[pyo3(signature = (*, dz=25.0, domain_km=400.0, ratio=1.05, rk_tolerance=1e-6, kernel="hierarchical", kernel_epsilon=None, integrator="auto", threads=None, end_years=3000.0, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
+#[pyo3(signature = (*, dz=SeasBp1Run::default().dz, domain_km=SeasBp1Run::default().domain_km, ratio=SeasBp1Run::default().ratio, rk_tolerance=SeasBp1Run::default().rk_tolerance, kernel="hierarchical", kernel_epsilon=None, integrator="auto", threads=None, end_years=SeasBp1Run::default().end_years, every_step=false, out=None, overwrite=false, resume=None, allow_change=Vec::new(), hdf5=false, modeler="rsf", date=None, fault_every=0, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn seas_bp1(
     dz: f64,
@@ -281,21 +282,32 @@ pub(crate) fn seas_bp1(
 ) -> PyResult<Simulation> {
     let threads = crate::counts::threads(threads)?;
     let fault_every = crate::counts::count(fault_every, "fault_every")?;
+    // The run's settings (rsf_scenes::SeasBp1Run, the program's): the keywords above,
+    // then the others — the scene's parameters (`sigma_n`, `a0`, `d_c`, …, SI units) —
+    // read through serde by their names.
+    let keywords = SeasBp1Run {
+        dz,
+        domain_km,
+        ratio,
+        rk_tolerance,
+        kernel: kernel_choice(kernel)?,
+        kernel_epsilon,
+        integrator: choice("integrator", integrator)?,
+        end_years,
+        every_step,
+        ..SeasBp1Run::default()
+    };
     let (fields, _) = split(kwargs, &[])?;
-    let bp1: SeasBp1 = scene(&SeasBp1::default(), &fields, "the BP1 scene")?;
-    bp1.validate().py()?;
-    if !(end_years.is_finite() && end_years > 0.0) {
+    let run: SeasBp1Run = scene(&keywords, &fields, "the BP1 run")?;
+    run.validate().py()?;
+    if run.method() != rsf::MethodKind::FaultOde {
+        let name = if run.inertia { "inertia" } else { "scheme" };
         return Err(invalid(
-            "end_years",
-            format!("{end_years}: must be positive"),
+            name,
+            "the Python package runs BP1-QD's Runge–Kutta run (the program `seas_bp1` runs \
+             the implicit scheme and BP1-FD)",
         ));
     }
-    let grid = SeasBp1Grid {
-        dz,
-        domain: domain_km * 1e3,
-        ratio,
-    };
-    let kernel = fault_kernel(kernel, kernel_epsilon, rk_tolerance)?;
     let folder = FolderKeywords {
         out: out.clone(),
         overwrite,
@@ -309,26 +321,10 @@ pub(crate) fn seas_bp1(
             "needs `out`: the series are those of its files",
         ));
     }
-    let integrator: OdeIntegrator = integrator
-        .parse()
-        .map_err(|e: rsf::time::Error| invalid("integrator", e))?;
-    let options = FaultOdeOptions {
-        kernel,
-        integrator,
-        parallelism: rsf::Parallelism::rayon(threads),
-        ..bp1.fault_ode_options(rk_tolerance).py()?
-    };
-    options.validate().py()?;
-    let sampling = SeasSampling {
-        every_step,
-        ..SeasSampling::default()
-    };
-    let fingerprint = bp1_fingerprint(
-        &bp1,
-        &grid,
-        &sampling,
-        (end_years, rk_tolerance, kernel, integrator),
-    );
+    let (bp1, grid) = (run.scene(), run.grid());
+    let options = run.fault_ode_options(threads).py()?;
+    let sampling = run.sampling();
+    let fingerprint = run.fingerprint();
     // The folder first (another run's refused before anything is computed), as the
     // program's guard does.
     let mut names = SeasBp1::file_names();
@@ -338,7 +334,7 @@ pub(crate) fn seas_bp1(
     let fresh = folder.prepare("seas_bp1", names, &fingerprint)?;
     let model = bp1.model(&grid, false).py()?;
     let mut sim = bp1.fault_ode(model, options).py()?;
-    let t_end = end_years * SECONDS_PER_YEAR;
+    let t_end = run.end_years * SECONDS_PER_YEAR;
     let session = folder.session(fingerprint.clone(), t_end, &mut sim)?;
     let mut files: Vec<Box<dyn rsf::Observer<2, 1>>> = Vec::new();
     if let Some(out) = out {
@@ -350,7 +346,7 @@ pub(crate) fn seas_bp1(
             modeler: modeler.to_owned(),
             date: date.unwrap_or_else(rsf_seas::utc_date_today),
             stations,
-            ..bp1.seas_setup(dz, false, sampling)
+            ..bp1.seas_setup(run.dz, false, sampling)
         };
         let model = rsf::Stepping::model(&sim);
         let mut output = SeasOutput::for_session(
@@ -391,18 +387,6 @@ pub(crate) fn seas_bp1(
     ))
 }
 
-/// The fault ODE's kernel of `kernel` ("hierarchical" or "dense") and `kernel_epsilon`
-/// (the hierarchical kernel's tolerance; default: matching `rk_tolerance`).
-pub(crate) fn fault_kernel(
-    kernel: &str,
-    kernel_epsilon: Option<f64>,
-    rk_tolerance: f64,
-) -> PyResult<FaultKernel> {
-    // The library's range (FaultKernel::validate), named as the keyword: it was
-    // (2.2e-16, 1) here, and 0.5 was refused later as `kernel.epsilon`.
-    rsf_scenes::fault_kernel(kernel_choice(kernel)?, kernel_epsilon, rk_tolerance).py()
-}
-
 /// The kernel keyword `kernel`: "hierarchical" or "dense".
 pub(crate) fn kernel_choice(kernel: &str) -> PyResult<rsf_scenes::KernelChoice> {
     match kernel {
@@ -413,28 +397,4 @@ pub(crate) fn kernel_choice(kernel: &str) -> PyResult<rsf_scenes::KernelChoice> 
             format!("`{k}`: \"hierarchical\" or \"dense\""),
         )),
     }
-}
-
-/// The program's fingerprint of BP1-QD's Runge–Kutta run (its defaults for the flags this
-/// function has no keyword for), so that a checkpoint of either continues in the other;
-/// `(end_years, rk_tolerance, kernel, integrator)` the run's.
-fn bp1_fingerprint(
-    bp1: &SeasBp1,
-    grid: &SeasBp1Grid,
-    sampling: &SeasSampling,
-    (end_years, rk_tolerance, kernel, integrator): (f64, f64, FaultKernel, OdeIntegrator),
-) -> Fingerprint {
-    integrator_fingerprint(bp1.fingerprint(grid, false, sampling), integrator)
-        .with("method", rsf::MethodKind::FaultOde)
-        .with("end_years", end_years)
-        .with("tolerance", 1e-3)
-        .with("state_change_cap", 0.5)
-        .with("fixed_point_tolerance", 1e-10)
-        .with("setup_per_time_step", false)
-        .with("rk_tolerance", rk_tolerance)
-        .with("kernel", kernel)
-        .with("dynamic_tau", "None")
-        .with("switch_to_dynamic", 1e-3)
-        .with("switch_to_quasi_dynamic", 1e-4)
-        .with("dynamic_fixed_point_tolerance", 1e-6)
 }

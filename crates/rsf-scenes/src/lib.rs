@@ -38,6 +38,8 @@
 //! ```
 #![warn(missing_docs)]
 
+#[cfg(feature = "seas")]
+mod bp5_pair_run;
 mod curved;
 mod incline;
 pub mod output;
@@ -45,6 +47,8 @@ pub mod run_config;
 mod scene_file;
 #[cfg(feature = "seas")]
 mod seas_bp1;
+#[cfg(feature = "seas")]
+mod seas_bp1_run;
 #[cfg(feature = "seas")]
 mod seas_bp3;
 #[cfg(feature = "seas")]
@@ -86,10 +90,14 @@ pub use output::{plan_output, step_cap, steps_bound, OutputLimits, OutputPlan};
 pub use run_config::{check_ranges, fault_kernel, KernelChoice, RunConfig};
 
 #[cfg(feature = "seas")]
+pub use bp5_pair_run::{bp5_pair_ranges, Bp5PairRun};
+#[cfg(feature = "seas")]
 pub use seas_bp1::{
     GridEstimate, SeasBp1, SeasBp1Far, SeasBp1FaultOde, SeasBp1Grid, SeasBp1Simulation,
     SEAS_BP1_BOTTOM, SEAS_BP1_FAR_SIDE, SEAS_BP1_STATION_DEPTHS,
 };
+#[cfg(feature = "seas")]
+pub use seas_bp1_run::{bp1_ranges, Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, SeasBp1Run};
 #[cfg(feature = "seas")]
 pub use seas_bp3::{
     SeasBp3, SeasBp3FaultOde, SeasBp3Grid, SEAS_BP3_STATION_DISTANCES, SEAS_BP3_SURFACE_STATIONS,

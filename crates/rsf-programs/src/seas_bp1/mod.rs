@@ -35,7 +35,13 @@
 //! `--kernel-epsilon E` (the ℋ-matrix's accuracy; default the `--rk-tolerance`,
 //! `FaultKernel::matching`), `--threads N` (threads of each evaluation: the product with
 //! the operator and the per-node friction solves; default every core of the machine; the
-//! same bits for every N).
+//! same bits for every N), `--rho`, `--c-s`, `--sigma-n`, `--a0`, `--a-max`, `--b0`,
+//! `--d-c`, `--v-p`, `--v-init`, `--v0`, `--f0`, `--h-top`, `--h-transition`, `--w-f` (the
+//! description's parameters, SI units; default its values), `--config FILE.toml` (the
+//! settings as a TOML file, keys the flags' names with underscores; a flag given wins).
+//! The settings are one struct, `rsf_scenes::SeasBp1Run` (docs/design.md, "One run
+//! configuration"): the flags, the file's keys, Python's `rsf.seas_bp1` keywords, the
+//! checkpoint's fingerprint and `summary.json`'s `settings`.
 //!
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).

@@ -2,135 +2,41 @@
 
 use std::time::Instant;
 
-use crate::cli::for_flag;
 use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Prepared};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
-use rsf::checkpoint::Fingerprint;
-use rsf::fault_ode::FaultOdeOptions;
 use rsf::method::{FixedPointOptions, SolverOptions};
 use rsf::observe::{Progress, TimeUnit};
 use rsf::run_folder::RunFolder;
 use rsf::MethodKind;
 use rsf_ranks::Processes;
-use rsf_scenes::{SeasBp1, SeasBp1Far, SeasBp1Grid, SEAS_BP1_STATION_DEPTHS};
-use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_scenes::{
+    Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, RunConfig, SeasBp1, SeasBp1Run,
+    SEAS_BP1_STATION_DEPTHS,
+};
+use rsf_seas::{SeasOutput, SeasSetup, SECONDS_PER_YEAR};
 
-use super::args::{Absorbing, Args, Bp1Run, DynamicIntegrator, Scheme};
+use super::args::{Args, Bp1Run};
 
-/// The choices a run makes from its flags: the method, the far boundary, the thresholds of
-/// the switch between the quasi-dynamic and the dynamic phases, the fault ODE's kernel.
-struct Choices {
-    method: MethodKind,
-    absorbing: Absorbing,
-    switch_to_dynamic: f64,
-    switch_to_quasi_dynamic: f64,
-    kernel: rsf::fault_ode::FaultKernel,
-}
-
-impl Choices {
-    fn of(args: &Args) -> Result<Self, AnyError> {
-        // BP1-FD's defaults: the converged set-up of docs/seas-bp1-fd.md. Without inertia
-        // the switching thresholds are unused; their old defaults keep BP1-QD's
-        // fingerprints.
-        let absorbing = args.absorbing.unwrap_or(if args.inertia {
-            Absorbing::All
-        } else {
-            Absorbing::None
-        });
-        let (to_dynamic, to_quasi_dynamic) = match args.inertia {
-            true => (1e-2, 1e-3),
-            false => (1e-3, 1e-4),
-        };
-        let method = match (args.scheme, args.inertia) {
-            (Scheme::Implicit, _) => MethodKind::Implicit,
-            (Scheme::RungeKutta, false) => MethodKind::FaultOde,
-            (Scheme::RungeKutta, true) => MethodKind::Switching,
-        };
-        Ok(Self {
-            method,
-            absorbing,
-            switch_to_dynamic: args.switch_to_dynamic.unwrap_or(to_dynamic),
-            switch_to_quasi_dynamic: args.switch_to_quasi_dynamic.unwrap_or(to_quasi_dynamic),
-            kernel: args.kernel.kernel(args.rk_tolerance)?,
-        })
-    }
-
-    /// The far boundary of the model with (`true`) or without absorbing faces.
-    fn far(absorbing: bool) -> SeasBp1Far {
-        if absorbing {
-            SeasBp1Far::Absorbing
-        } else {
-            SeasBp1Far::Dirichlet
-        }
-    }
-
-    /// What a checkpoint continues: the scene, grid, physics and sampling, and the options
-    /// of the method that change the trajectory.
-    fn fingerprint(
-        &self,
-        args: &Args,
-        bp1: &SeasBp1,
-        grid: &SeasBp1Grid,
-        sampling: &SeasSampling,
-    ) -> Fingerprint {
-        let fingerprint = args
-            .integrator
-            .fingerprint(bp1.fingerprint(grid, args.inertia, sampling))
-            .with("method", self.method)
-            .with("end_years", args.end_years)
-            .with("tolerance", args.tolerance)
-            .with("state_change_cap", args.state_change_cap)
-            .with("fixed_point_tolerance", args.fixed_point_tolerance)
-            .with("setup_per_time_step", args.setup_per_time_step)
-            .with("rk_tolerance", args.rk_tolerance)
-            .with("kernel", self.kernel)
-            .with("dynamic_tau", format!("{:?}", args.dynamic_tau))
-            .with("switch_to_dynamic", self.switch_to_dynamic)
-            .with("switch_to_quasi_dynamic", self.switch_to_quasi_dynamic)
-            .with(
-                "dynamic_fixed_point_tolerance",
-                args.dynamic_fixed_point_tolerance,
-            );
-        // Only when set: checkpoints of runs without absorbing parts keep their fingerprint.
-        let fingerprint = match self.absorbing {
-            Absorbing::None => fingerprint,
-            a => fingerprint.with("absorbing", format!("{a:?}")),
-        };
-        match args.dynamic_integrator {
-            DynamicIntegrator::Newmark => fingerprint,
-            i => fingerprint.with("dynamic_integrator", format!("{i:?}")),
-        }
-    }
-}
-
-/// The run the flags ask for on BP1's model: the implicit scheme, the fault ODE, or the
-/// switch between the fault ODE and the dynamic implicit scheme.
-fn build_run(
-    args: &Args,
-    bp1: &SeasBp1,
-    grid: &SeasBp1Grid,
-    choices: &Choices,
-) -> Result<Bp1Run, AnyError> {
+/// The run the settings ask for on BP1's model (`run` resolved): the implicit scheme,
+/// the fault ODE, or the switch between the fault ODE and the dynamic implicit scheme.
+fn build_run(run: &SeasBp1Run, threads: usize) -> Result<Bp1Run, AnyError> {
+    let (bp1, grid) = (run.scene(), run.grid());
+    let absorbing = run.absorbing.unwrap_or(Bp1Absorbing::None);
     // The methods' settings (checked by the plan before any file was touched).
-    let mut control = bp1.step_control(args.tolerance)?;
-    control.state_change_cap = (args.state_change_cap > 0.0).then_some(args.state_change_cap);
-    let rk_options = for_flag(
-        "rk_tolerance",
-        "tolerance",
-        bp1.fault_ode_options(args.rk_tolerance),
-    )?;
+    let mut control = bp1.step_control(run.tolerance)?;
+    control.state_change_cap = (run.state_change_cap > 0.0).then_some(run.state_change_cap);
     let model = bp1.model_with_far(
-        grid,
-        args.inertia,
-        Choices::far(choices.absorbing == Absorbing::All),
+        &grid,
+        run.inertia,
+        SeasBp1Run::far(absorbing == Bp1Absorbing::All),
     )?;
     // The implicit scheme on `model`, with or without inertia, from τ₀ (s).
     let implicit = |model, inertia, tau0, fixed_point_tolerance| {
         let builder = bp1.simulation_builder(model, inertia, tau0, control)?;
-        let builder = match (inertia, args.dynamic_integrator) {
-            (true, DynamicIntegrator::BackwardEuler) => {
+        let builder = match (inertia, run.dynamic_integrator) {
+            (true, Bp1DynamicIntegrator::BackwardEuler) => {
                 builder.integrator(rsf::Integrator::BackwardEuler)
             }
             _ => builder,
@@ -141,38 +47,31 @@ fn build_run(
                 ..FixedPointOptions::default()
             })
             .solver_options(SolverOptions {
-                setup_per_time_step: args.setup_per_time_step,
+                setup_per_time_step: run.setup_per_time_step,
                 ..SolverOptions::default()
             })
             .build()
     };
-    let fault_ode_options = FaultOdeOptions {
-        kernel: choices.kernel,
-        integrator: args.integrator.integrator,
-        parallelism: rsf::Parallelism::rayon(args.threads),
-        ..rk_options
-    };
-    fault_ode_options.validate()?;
+    let fault_ode_options = run.fault_ode_options(threads)?;
     let fault_ode = |model| bp1.fault_ode(model, fault_ode_options);
-    Ok(match choices.method {
+    Ok(match run.method() {
         MethodKind::Implicit => {
-            implicit(model, args.inertia, 1e-2, args.fixed_point_tolerance)?.into()
+            implicit(model, run.inertia, 1e-2, run.fixed_point_tolerance)?.into()
         }
         MethodKind::FaultOde => fault_ode(model)?.into(),
         MethodKind::Switching => {
-            let c_s = (bp1.shear_modulus() / bp1.rho).sqrt();
-            let dynamic_tau = args.dynamic_tau.unwrap_or(0.25 * args.dz / c_s);
-            let dynamic_model = match choices.absorbing {
-                Absorbing::Dynamic => bp1.model_with_far(grid, true, Choices::far(true))?,
+            let dynamic_tau = run.dynamic_tau.unwrap_or(0.25 * run.crossing_time());
+            let dynamic_model = match absorbing {
+                Bp1Absorbing::Dynamic => bp1.model_with_far(&grid, true, SeasBp1Run::far(true))?,
                 _ => model.clone(),
             };
-            let dynamic = implicit(dynamic_model, true, 1.0, args.dynamic_fixed_point_tolerance)?;
+            let dynamic = implicit(dynamic_model, true, 1.0, run.dynamic_fixed_point_tolerance)?;
             rsf::SwitchingRun::new(
                 fault_ode(model)?,
                 dynamic,
                 rsf::switching::SwitchingOptions {
-                    to_dynamic: choices.switch_to_dynamic,
-                    to_quasi_dynamic: choices.switch_to_quasi_dynamic,
+                    to_dynamic: run.switch_to_dynamic.unwrap_or(1e-2),
+                    to_quasi_dynamic: run.switch_to_quasi_dynamic.unwrap_or(1e-3),
                     dynamic_tau,
                     restart_dt: dynamic_tau,
                 },
@@ -182,39 +81,6 @@ fn build_run(
     })
 }
 
-impl Args {
-    /// The files' sampling: every step or the benchmark's, and the quiet time that ends
-    /// an event.
-    fn sampling(&self, choices: &Choices) -> SeasSampling {
-        SeasSampling {
-            every_step: self.every_step,
-            event_quiet_time: self.event_quiet_time.unwrap_or(
-                if self.inertia && choices.absorbing == Absorbing::None {
-                    60.0
-                } else {
-                    0.0
-                },
-            ),
-            ..SeasSampling::default()
-        }
-    }
-
-    /// The fingerprint of the run's checkpoints, from the flags alone (the plan's: a
-    /// checkpoint is checked against it before the folder changes; the run's is the same).
-    ///
-    /// # Errors
-    /// The kernel's (`--kernel-epsilon`).
-    pub(super) fn fingerprint(&self) -> Result<Fingerprint, AnyError> {
-        let choices = Choices::of(self)?;
-        Ok(choices.fingerprint(
-            self,
-            &SeasBp1::default(),
-            &self.grid(),
-            &self.sampling(&choices),
-        ))
-    }
-}
-
 pub(super) fn run(
     args: Args,
     prepared: Prepared,
@@ -222,8 +88,8 @@ pub(super) fn run(
 ) -> Result<(), AnyError> {
     // Rank 0 (or the one process) writes the files and tells.
     let root = processes.is_none_or(|p| p.rank() == 0);
-    let bp1 = SeasBp1::default();
-    let grid = args.grid();
+    let settings = args.settings.resolved();
+    let bp1 = settings.scene();
     // The folder was refused before anything was computed if it holds another run (of
     // this or of any other rsf program, unless --overwrite) or cannot be written.
     let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
@@ -239,8 +105,7 @@ pub(super) fn run(
         );
     }
     let t_setup = Instant::now();
-    let choices = Choices::of(&args)?;
-    let mut sim = build_run(&args, &bp1, &grid, &choices)?;
+    let mut sim = build_run(&settings, args.threads)?;
     let model = rsf::Stepping::model(&sim);
     let (nodes, fault_nodes) = (model.num_nodes(), model.frictional_boundary.len());
     if let Some(p) = processes {
@@ -264,23 +129,23 @@ pub(super) fn run(
         eprintln!(
             "BP1{} ({:?}): dz = {} m, domain {} km, {nodes} nodes, {fault_nodes} on the fault; \
              set-up {setup_s:.1} s",
-            if args.inertia { "-FD" } else { "-QD" },
-            args.scheme,
-            args.dz,
-            args.domain_km
+            if settings.inertia { "-FD" } else { "-QD" },
+            settings.scheme,
+            settings.dz,
+            settings.domain_km
         );
     }
-    let sampling = args.sampling(&choices);
-    let fingerprint = choices.fingerprint(&args, &bp1, &grid, &sampling);
+    let sampling = settings.sampling();
+    let fingerprint = settings.fingerprint();
     let setup = SeasSetup {
         modeler: args.header.modeler.clone(),
         date: args.header.date_or_today(),
         stations,
-        ..bp1.seas_setup(args.dz, args.inertia, sampling)
+        ..bp1.seas_setup(settings.dz, settings.inertia, sampling)
     };
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
-    let t_end = args.end_years * SECONDS_PER_YEAR;
+    let t_end = settings.end_years * SECONDS_PER_YEAR;
     let session = Session::start(
         args.run.session_flags_with_cap(step_cap),
         folder.path("checkpoint.bin"),
@@ -328,7 +193,7 @@ pub(super) fn run(
         wall_s: wall.elapsed().as_secs_f64(),
         cpu_s: cpu_seconds() - cpu,
     };
-    let done = report(&args, &choices, &sim, &output, &summary, facts)?;
+    let done = report(&args, &sim, &output, &summary, facts)?;
     crate::seas_overview(&args.out, "devol.dat", "depth (km)", done)?;
     Ok(())
 }
@@ -355,7 +220,6 @@ fn kernel_report(sim: &Bp1Run) -> Option<&rsf::fault_ode::KernelReport> {
 /// Writes `summary.json` and prints the run's line; returns the number of finished events.
 fn report(
     args: &Args,
-    choices: &Choices,
     sim: &Bp1Run,
     output: &SeasOutput<rsf::friction::AsinhLaw>,
     summary: &rsf::RunSummary,
@@ -374,21 +238,14 @@ fn report(
         later.iter().sum::<f64>() / later.len() as f64
     };
     let (tau_min, tau_max, _) = output.time_steps();
+    let runge_kutta = args.settings.scheme == Bp1Scheme::RungeKutta;
     let json = serde_json::json!({
-        "problem": if args.inertia { "BP1-FD" } else { "BP1-QD" },
-        "dz_m": args.dz,
-        "absorbing": format!("{:?}", choices.absorbing),
-        "dynamic_integrator": format!("{:?}", args.dynamic_integrator),
+        "problem": if args.settings.inertia { "BP1-FD" } else { "BP1-QD" },
+        // Every setting as the run resolved it (rsf_scenes::SeasBp1Run).
+        "settings": args.settings.summary(),
         "event_start_years": events.iter().map(|e| e.t_start / SECONDS_PER_YEAR).collect::<Vec<_>>(),
-        "domain_km": args.domain_km,
-        "ratio": args.ratio,
-        "tolerance": args.tolerance,
-        "setup_per_time_step": args.setup_per_time_step,
-        "fixed_point_tolerance": args.fixed_point_tolerance,
-        "state_change_cap": args.state_change_cap,
         "nodes": facts.nodes,
         "fault_nodes": facts.fault_nodes,
-        "end_years": args.end_years,
         // Steps of the whole run (across resumes); the counts and times below are this
         // invocation's.
         "accepted_steps": rsf::Stepping::state(sim).step,
@@ -398,9 +255,7 @@ fn report(
             rsf::Run::Implicit(s) => s.state().controller.as_ref().map(|c| c.accepted()),
             rsf::Run::FaultOde(_) | rsf::Run::Switching(_) => None,
         },
-        "scheme": format!("{:?}", args.scheme),
-        "rk_tolerance": (args.scheme == Scheme::RungeKutta).then_some(args.rk_tolerance),
-        "integrator": (args.scheme == Scheme::RungeKutta).then(|| args.integrator.summary(match sim {
+        "integrator": runge_kutta.then(|| crate::IntegratorArgs { integrator: args.settings.integrator }.summary(match sim {
             rsf::Run::Implicit(_) => None,
             rsf::Run::FaultOde(s) => Some(s.integrator_stats()),
             rsf::Run::Switching(s) => Some(s.quasi_dynamic().integrator_stats()),
@@ -432,7 +287,7 @@ fn report(
             "values_per_all_gather": e.values as f64 / e.all_gathers.max(1) as f64,
             "bytes_received_per_rank": 8 * e.values,
         })),
-        "switching": switching_json(sim, choices),
+        "switching": switching_json(sim),
         "tau_min_s": tau_min,
         "tau_max_s": tau_max,
         "fixed_point_iterations_mean": summary.fpi_mean,
@@ -464,7 +319,7 @@ fn report(
 }
 
 /// The dynamic phases of a switching run (`None` for the other methods).
-fn switching_json(sim: &Bp1Run, choices: &Choices) -> Option<serde_json::Value> {
+fn switching_json(sim: &Bp1Run) -> Option<serde_json::Value> {
     let rsf::Run::Switching(s) = sim else {
         return None;
     };
@@ -475,7 +330,5 @@ fn switching_json(sim: &Bp1Run, choices: &Choices) -> Option<serde_json::Value> 
         "quasi_dynamic_steps": st.quasi_dynamic_steps,
         "dynamic_time_s": st.dynamic_time,
         "dynamic_tau_s": s.dynamic().tau(),
-        "switch_to_dynamic_mps": choices.switch_to_dynamic,
-        "switch_to_quasi_dynamic_mps": choices.switch_to_quasi_dynamic,
     }))
 }

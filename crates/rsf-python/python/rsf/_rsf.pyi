@@ -208,17 +208,17 @@ def slider_3d(
 ) -> Simulation: ...
 def seas_bp1(
     *,
-    dz: float = 25.0,
-    domain_km: float = 400.0,
-    ratio: float = 1.05,
-    rk_tolerance: float = 1e-06,
+    dz: float = ...,
+    domain_km: float = ...,
+    ratio: float = ...,
+    rk_tolerance: float = ...,
     kernel: Literal["hierarchical", "dense"] = "hierarchical",
     kernel_epsilon: float | None = None,
     integrator: Literal[
         "auto", "rkc", "rosenbrock", "dormand-prince", "bogacki-shampine"
     ] = "auto",
     threads: int | None = None,
-    end_years: float = 3000.0,
+    end_years: float = ...,
     every_step: bool = False,
     out: _Path | None = None,
     overwrite: bool = False,
