@@ -853,11 +853,11 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
         "rsf-ranks",
         &[
             &["block", "error", "transport"],
-            &["bsr", "groups", "sweep_tests"],
+            &["bsr", "groups"],
             &["colouring", "local_rows", "processes"],
             &["halo", "linear"],
             &["gather", "node_graph", "node_plan", "reduce", "sweep"],
-            &["cg"],
+            &["cg", "sweep_tests"],
         ],
     ),
     (
@@ -882,7 +882,9 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
             ],
             &["incline", "output", "seas_square_run", "slider3d"],
             &[
+                "bp5_pair_run",
                 "curved",
+                "seas_bp1_run",
                 "seas_bp3_run",
                 "seas_bp5_run",
                 "seas_bp6_run",

@@ -341,12 +341,32 @@ pub fn node_graph<const D: usize>(
     Ok((xadj, adjncy))
 }
 
+/// The test boxes of the distributed pieces (here, below the sweep's tests that use them
+/// too: the layers of tests/layers.rs).
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use crate::sweep_tests::{cube, owners};
+    use rsf_fem::ElasticBox;
 
     const D: usize = 3;
+
+    /// The box [0, 1.5] × [0, 1] × [0, 1] of 3 × 2 × 2 Kuhn-split cubes, refined
+    /// `refinements` times ([`ElasticBox`]: the face z = 0 clamped, the face x = 0 on rollers).
+    pub(crate) fn cube(refinements: usize) -> ElasticBox {
+        ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], refinements).unwrap()
+    }
+
+    /// The owner vectors tested at `size` ranks: slabs along x, and METIS's partition of the
+    /// node graph when the workspace is built with METIS.
+    pub(crate) fn owners(bx: &ElasticBox, size: usize) -> Vec<(&'static str, Vec<usize>)> {
+        let mut out = vec![("coordinates", bx.slabs(size, 0))];
+        if rsf_metis::is_available() {
+            let (xadj, adjncy) = node_graph::<D>(bx.stiffness.as_ref()).unwrap();
+            let part = rsf_metis::part_graph_kway(&xadj, &adjncy, size).unwrap();
+            out.push(("metis", part));
+        }
+        out
+    }
 
     /// A rank's rows read from the owned columns alone have the same local numbering,
     /// ghosts, pattern and bits as those cut from the whole block matrix, at 1 to 4 ranks

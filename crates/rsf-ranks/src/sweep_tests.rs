@@ -8,15 +8,10 @@ use rsf_fem::ElasticBox;
 use super::*;
 use crate::block::load;
 use crate::halo::HaloCounters;
+use crate::local_rows::tests::{cube, owners};
 use rsf_linalg::ProblemError;
 
 const D: usize = 3;
-
-/// The box [0, 1.5] × [0, 1] × [0, 1] of 3 × 2 × 2 Kuhn-split cubes, refined
-/// `refinements` times ([`ElasticBox`]: the face z = 0 clamped, the face x = 0 on rollers).
-pub(crate) fn cube(refinements: usize) -> ElasticBox {
-    ElasticBox::new([1.5, 1.0, 1.0], [4, 3, 3], refinements).unwrap()
-}
 
 fn free(fixed: &[bool], p: usize) -> [bool; D] {
     std::array::from_fn(|c| !fixed[D * p + c])
@@ -99,18 +94,6 @@ fn differing_bits(rank: &RankResult, reference: &[f64]) -> usize {
         .flat_map(|(l, &g)| (0..D).map(move |c| (D * l + c, D * g + c)))
         .filter(|&(l, g)| rank.x[l].to_bits() != reference[g].to_bits())
         .count()
-}
-
-/// The owner vectors tested at `size` ranks: slabs along x, and METIS's partition of the
-/// node graph when the workspace is built with METIS.
-pub(crate) fn owners(bx: &ElasticBox, size: usize) -> Vec<(&'static str, Vec<usize>)> {
-    let mut out = vec![("coordinates", bx.slabs(size, 0))];
-    if rsf_metis::is_available() {
-        let (xadj, adjncy) = node_graph::<D>(bx.stiffness.as_ref()).unwrap();
-        let part = rsf_metis::part_graph_kway(&xadj, &adjncy, size).unwrap();
-        out.push(("metis", part));
-    }
-    out
 }
 
 const SWEEPS: [bool; 6] = [false, true, false, false, true, true];
