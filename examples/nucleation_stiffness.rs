@@ -21,33 +21,102 @@
 //!
 //! ```sh
 //! cargo run --release --example nucleation_stiffness              # R = 50, 100, 200 m
-//! cargo run --release --example nucleation_stiffness -- 100 40,20 40,20,10,5
+//! cargo run --release --example nucleation_stiffness -- --radii 50,100,200,400 \
+//!     --fe-dx 40,20 --bem-dx 40,20,10,5 --ratios 1.2,1.1
 //! ```
 //!
-//! Arguments: the radii `R` (m, comma-separated), the finite elements' `Δx` (m), the
-//! boundary elements' `Δx` (m), the finite elements' grading ratios (default 1.2). Each line prints the kernel, `Δx`, `R`, `Δx/R`, `k`, `k R/μ`,
-//! the centre's stress drop and the set-up's CPU seconds.
+//! Each line prints the kernel (with the grading ratio), `Δx`, `R`, `Δx/R`, `k`, `kR/μ`,
+//! the centre's stress drop and the operator's set-up time (s).
 
-use std::process::ExitCode;
 use std::time::Instant;
 
+use clap::Parser;
 use rsf::fault_operator::FaultOperator;
 use rsf::Parallelism;
+use rsf_programs::guard::{in_range, number, AnyError, Limits, Plan, Prepared, Program};
 use rsf_scenes::{Bp7Law, SeasBp7, SquareVolumeGrid, VolumeElimination};
 
-type AnyError = Box<dyn std::error::Error>;
+/// The box of the finite elements (m, its half-width): the bump's support is within
+/// 400 m of the centre, the box's clamped faces 3.2 km away.
+const DOMAIN: f64 = 3200.0;
 
-fn list(arg: Option<String>, default: &[f64]) -> Result<Vec<f64>, AnyError> {
-    match arg {
-        None => Ok(default.to_vec()),
-        Some(s) => s
-            .split(',')
-            .map(|x| {
-                x.trim()
-                    .parse::<f64>()
-                    .map_err(|e| format!("`{x}`: {e}").into())
+/// Both kernels' stiffness of BP7's square at the nucleation scale.
+#[derive(Parser)]
+#[command(version)]
+struct Cli {
+    /// The bumps' radii R (m, comma-separated), each in [10, 400].
+    #[arg(long, value_delimiter = ',', default_values_t = [50.0, 100.0, 200.0])]
+    radii: Vec<f64>,
+    /// The finite elements' cell sizes on the square (m, comma-separated; each divides
+    /// 800 m into 2 to 160 cells).
+    #[arg(long, value_delimiter = ',', default_values_t = [40.0, 20.0])]
+    fe_dx: Vec<f64>,
+    /// The boundary elements' cell sizes (m, comma-separated; each divides 800 m into 2 to
+    /// 160 cells).
+    #[arg(long, value_delimiter = ',', default_values_t = [40.0, 20.0, 10.0, 5.0])]
+    bem_dx: Vec<f64>,
+    /// The finite elements' grading ratios (comma-separated, each in [1.01, 2]): cells
+    /// `Δx + (ratio − 1) d` at distance `d` from the square.
+    #[arg(long, value_delimiter = ',', default_values_t = [1.2])]
+    ratios: Vec<f64>,
+    #[command(flatten)]
+    limits: Limits,
+}
+
+impl Cli {
+    /// The finite elements' grids, every cell size with every ratio.
+    fn grids(&self) -> Vec<SquareVolumeGrid> {
+        self.fe_dx
+            .iter()
+            .flat_map(|&dx| {
+                self.ratios.iter().map(move |&ratio| SquareVolumeGrid {
+                    dx,
+                    domain: DOMAIN,
+                    ratio,
+                })
             })
-            .collect(),
+            .collect()
+    }
+}
+
+impl Program for Cli {
+    const NAME: &'static str = "nucleation_stiffness";
+
+    fn limits(&self) -> Limits {
+        self.limits
+    }
+
+    fn plan(&self) -> Result<Plan, AnyError> {
+        let bp7 = SeasBp7::default();
+        for &r in &self.radii {
+            in_range("--radii", r, (10.0, bp7.l_f), "m")?;
+        }
+        for &ratio in &self.ratios {
+            in_range("--ratios", ratio, (1.01, 2.0), "the grading ratio")?;
+        }
+        for (flag, cells) in [("--bem-dx", &self.bem_dx), ("--fe-dx", &self.fe_dx)] {
+            for &dx in cells {
+                bp7.cells(dx)
+                    .map_err(|e| format!("{flag} {}: {e}", number(dx)))?;
+            }
+        }
+        // The runs one after another: the largest finite-element volume bounds the peak.
+        let mut bytes: f64 = 1e8;
+        for grid in self.grids() {
+            let pairs = (2.0 * bp7.l_f / grid.dx - 1.0).powi(2);
+            let max = self.limits.max_memory_gb * 1e9;
+            bytes = bytes.max(rsf_programs::volume_memory(
+                &grid,
+                (bp7.l_f, &[]),
+                pairs,
+                max,
+            )?);
+        }
+        Ok(Plan::new().memory(
+            bytes,
+            "--fe-dx, --ratios",
+            "the largest finite-element volume",
+        ))
     }
 }
 
@@ -79,6 +148,7 @@ fn stiffness(
     Ok((energy / norm, drop))
 }
 
+/// One line per radius of the operator `op` (`kernel`, cell size `dx`, set-up seconds).
 fn report(
     (kernel, dx, setup): (&str, f64, f64),
     radii: &[f64],
@@ -96,19 +166,18 @@ fn report(
     Ok(())
 }
 
-fn run() -> Result<(), AnyError> {
-    let mut args = std::env::args().skip(1);
-    let radii = list(args.next(), &[50.0, 100.0, 200.0])?;
-    let fe_dx = list(args.next(), &[40.0, 20.0])?;
-    let bem_dx = list(args.next(), &[40.0, 20.0, 10.0, 5.0])?;
-    let ratio = list(args.next(), &[1.2])?;
+fn main() -> std::process::ExitCode {
+    rsf_programs::guard::main(run)
+}
+
+fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
     let bp7 = SeasBp7::default();
     let mu = bp7.shear_modulus();
     println!(
         "BP7's square (l_f {} m), parabolic slip bumps; mu {mu:.4e} Pa",
         bp7.l_f
     );
-    for &dx in &bem_dx {
+    for &dx in &cli.bem_dx {
         let clock = Instant::now();
         let (mut ode, _) = bp7.fault_ode(dx, Bp7Law::Aging, bp7.fault_ode_options(1e-7)?)?;
         let setup = clock.elapsed().as_secs_f64();
@@ -124,13 +193,11 @@ fn run() -> Result<(), AnyError> {
             })
             .collect();
         // The four cells around the centre, a quarter each.
+        let near = |c: f64| (c.abs() - 0.5 * dx).abs() < 1e-6 * dx;
         let centre: Vec<(usize, f64)> = nodes
             .iter()
             .enumerate()
-            .filter(|(_, (p, ..))| {
-                (p[0].abs() - 0.5 * dx).abs() < 1e-6 * dx
-                    && (p[1].abs() - 0.5 * dx).abs() < 1e-6 * dx
-            })
+            .filter(|(_, (p, ..))| near(p[0]) && near(p[1]))
             .map(|(k, _)| (k, 0.25))
             .collect();
         if centre.len() != 4 {
@@ -141,23 +208,17 @@ fn run() -> Result<(), AnyError> {
             .into());
         }
         let op = ode.fault_operator_mut();
-        report(("bem", dx, setup), &radii, mu, |r| {
+        report(("bem", dx, setup), &cli.radii, mu, |r| {
             stiffness(op, &nodes, r, &centre)
         })?;
     }
-    for (&dx, &ratio) in fe_dx
-        .iter()
-        .flat_map(|dx| ratio.iter().map(move |r| (dx, r)))
-    {
+    for grid in cli.grids() {
         let clock = Instant::now();
-        let grid = SquareVolumeGrid {
-            dx,
-            domain: 3200.0,
-            ratio,
-        };
         let model = grid.builder(bp7.l_f, bp7.material())?.build()?;
         println!(
-            "finite elements, dx {dx} m, ratio {ratio}: {} vertices",
+            "finite elements, dx {} m, ratio {}: {} vertices",
+            grid.dx,
+            grid.ratio,
             model.vertices.len()
         );
         let mut options = bp7.fault_ode_options(1e-7)?;
@@ -186,26 +247,22 @@ fn run() -> Result<(), AnyError> {
         let centre: Vec<(usize, f64)> = nodes
             .iter()
             .enumerate()
-            .filter(|(_, (p, ..))| p[0].abs() < 1e-6 * dx && p[1].abs() < 1e-6 * dx)
+            .filter(|(_, (p, ..))| p[0].abs() < 1e-6 * grid.dx && p[1].abs() < 1e-6 * grid.dx)
             .map(|(k, _)| (k, 1.0))
             .collect();
         if centre.len() != 1 {
-            return Err(format!("Δx = {dx} m: {} nodes at the centre, not 1", centre.len()).into());
+            return Err(format!(
+                "Δx = {} m: {} nodes at the centre, not 1",
+                grid.dx,
+                centre.len()
+            )
+            .into());
         }
         let op = ode.fault_operator_mut();
-        report((&format!("fe ({ratio})"), dx, setup), &radii, mu, |r| {
+        let kernel = format!("fe ({})", grid.ratio);
+        report((&kernel, grid.dx, setup), &cli.radii, mu, |r| {
             stiffness(op, &nodes, r, &centre)
         })?;
     }
     Ok(())
-}
-
-fn main() -> ExitCode {
-    match run() {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("nucleation_stiffness: {e}");
-            ExitCode::FAILURE
-        }
-    }
 }

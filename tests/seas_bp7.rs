@@ -231,7 +231,14 @@ fn a_stopped_and_resumed_volume_run_writes_the_uninterrupted_runs_files() {
 #[test]
 fn the_volume_is_stiff_at_the_nucleation_scale_and_converges() {
     let out = std::process::Command::new(common::program_binary("nucleation_stiffness"))
-        .args(["100,200,400", "40", "40,20,10,5", "1.2"])
+        .args([
+            "--radii",
+            "100,200,400",
+            "--fe-dx",
+            "40",
+            "--bem-dx",
+            "40,20,10,5",
+        ])
         .output()
         .expect("nucleation_stiffness runs");
     let text = String::from_utf8_lossy(&out.stdout);

@@ -163,7 +163,7 @@ pub(crate) fn print_volume(ode: &SeasBp8FaultOde, grid: &rsf_scenes::SquareVolum
 ///
 /// # Errors
 /// The grid's ([`rsf_scenes::SquareVolumeGrid::mesh_vertices`]).
-pub(crate) fn volume_memory(
+pub fn volume_memory(
     grid: &rsf_scenes::SquareVolumeGrid,
     (half, stations): (f64, &[[f64; 3]]),
     pairs: f64,
