@@ -75,6 +75,7 @@ pub use run::{
 pub use run_folder::FolderArgs;
 #[cfg(feature = "seas")]
 pub use seas_overview::seas_overview;
+#[cfg(feature = "seas")]
 pub use square_fault::volume_memory;
 
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
