@@ -12,6 +12,7 @@ mod dislocations;
 mod engine;
 mod errors;
 mod fields;
+mod mesh;
 mod network;
 mod problem;
 mod run_folder;
@@ -27,7 +28,7 @@ mod simulation;
 fn _rsf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<simulation::Simulation>()?;
-    m.add_class::<problem::Mesh>()?;
+    m.add_class::<mesh::Mesh>()?;
     m.add_class::<problem::Model>()?;
     m.add_class::<problem::Friction>()?;
     m.add_function(wrap_pyfunction!(scenes::slider, m)?)?;
