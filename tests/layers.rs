@@ -844,6 +844,7 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
             &["engine", "errors"],
             &["arrays", "convert", "counts", "fields"],
             &["dislocations", "network", "simulation"],
+            &["mesh"],
             &["problem", "run_folder"],
             &["scenes"],
             &["seas_bp3", "seas_bp5", "seas_bp6", "seas_square"],
