@@ -436,3 +436,91 @@ fn seas_bp8_volume_fault_fields_are_the_square_s_pairs_and_equal_a_station_file(
     drop(file);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `a` equals `b` to the 13 significant digits of the network station files (`{:.12e}`).
+fn digits13(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 5.01e-13 * b.abs().max(1e-300) + 1e-300
+}
+
+/// The network program `bin` run into a fresh folder with `args` and `--hdf5 1`: every
+/// point of its fields file is a frictional node of one of the two faults (the field
+/// `fault` names both), and at the first and the last of `stations` (`near` points, m) the
+/// slip's magnitude and the state α of every frame equal the station files' rows of the
+/// same step (`{fault}_{label}.csv`: `step,t_s,slip…,slip_rate,traction,state`).
+fn network_fields_equal_station_files(
+    bin: &str,
+    args: &[&str],
+    stations: &[(String, String, [f64; 3])],
+) {
+    let dir = temp_dir("network-hdf5");
+    let mut all = args.to_vec();
+    all.extend(["--threads", "1", "--hdf5", "1", "--out", arg(&dir)]);
+    run_ok(bin, &all);
+    let file = hdf5::File::open(dir.join("fields.h5")).unwrap();
+    let n = file.dataset("mesh/points").unwrap().shape()[0];
+    let steps: Vec<u64> = file.dataset("step").unwrap().read_raw().unwrap();
+    let fault = read(&file, "fields/fault");
+    let faults: std::collections::BTreeSet<u64> = fault[..n].iter().map(|&f| f as u64).collect();
+    assert_eq!(faults, [0, 1].into());
+    let (slip, alpha) = (
+        read(&file, "fields/slip"),
+        read(&file, "fields/state_alpha"),
+    );
+    for (name, label, near) in [&stations[0], &stations[stations.len() - 1]] {
+        let k = node_at(&file, *near);
+        let path = dir.join(format!("{name}_{label}.csv"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert!(rows.len() > 10, "{} rows in {path:?}", rows.len());
+        for row in &rows {
+            let i = steps
+                .iter()
+                .position(|&st| st as f64 == row[0])
+                .unwrap_or_else(|| panic!("no frame of step {}", row[0]));
+            let u = &slip[3 * (i * n + k)..3 * (i * n + k) + 3];
+            let magnitude = u.iter().map(|x| x * x).sum::<f64>().sqrt();
+            // The station's slip components: all but the last three columns after t.
+            let components = &row[2..row.len() - 3];
+            let expected = components.iter().map(|x| x * x).sum::<f64>().sqrt();
+            assert!(digits13(magnitude, expected), "slip {magnitude} {row:?}");
+            assert!(
+                digits13(alpha[i * n + k], row[row.len() - 1]),
+                "state {row:?}"
+            );
+        }
+    }
+    drop(file);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn network_fault_fields_are_both_faults_and_equal_the_station_files() {
+    // The stepover (2-D, the strands' segments) at 500 m for 5 years, and the pair of BP5
+    // strands on Okada's cells (3-D, a poly-vertex at each cell) at 4 km for 5 years.
+    let stepover: Vec<(String, String, [f64; 3])> = rsf_scenes::StepoverRun::default()
+        .scene()
+        .stations()
+        .into_iter()
+        .map(|s| (s.fault, s.label, [s.near[0], s.near[1], 0.0]))
+        .collect();
+    network_fields_equal_station_files(
+        env!("CARGO_BIN_EXE_stepover"),
+        &["--dx", "500", "--end-years", "5"],
+        &stepover,
+    );
+    let pair: Vec<(String, String, [f64; 3])> = rsf_scenes::Bp5PairRun::default()
+        .scene()
+        .stations()
+        .into_iter()
+        .map(|s| (s.fault, s.label, s.near))
+        .collect();
+    network_fields_equal_station_files(
+        env!("CARGO_BIN_EXE_bp5_pair"),
+        &["--dx", "4000", "--end-years", "5"],
+        &pair,
+    );
+}

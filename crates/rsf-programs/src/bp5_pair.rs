@@ -56,6 +56,9 @@ pub struct Args {
     /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
     #[command(flatten)]
     run: crate::ResumeArgs,
+    /// `--hdf5 N`: the faults' fields (crates/rsf-hdf5's `bp5_pair`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -95,6 +98,7 @@ fn outputs(pair: &Bp5Pair) -> Vec<String> {
         .map(|s| format!("{}_{}.csv", s.fault, s.label))
         .collect();
     names.extend(crate::network::NETWORK_FILES.map(String::from));
+    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names.push(SETUP_FILE.into());
     names
 }
@@ -121,6 +125,7 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         self.config.validate(&self.settings)?;
+        self.fields.check(Self::NAME)?;
         let run = self.resolved();
         let (pair, grid) = (run.scene(), run.grid());
         let cells = 2.0 * (pair.bp5.l_f / run.dx) * (pair.bp5.w_f / run.dx);
@@ -204,6 +209,13 @@ pub fn main() -> ExitCode {
     crate::guard::main(run)
 }
 
+/// The program `bp5_pair` with `writers` of the faults' fields (`--hdf5 N`,
+/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d); the binary `bp5_pair`
+/// of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
+}
+
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.resolved();
     let (pair, grid) = (run.scene(), run.grid());
@@ -268,8 +280,10 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             end_years: run.end_years,
             resume: &args.run,
             label: "bp5_pair",
+            fields: &args.fields,
             rigidity: pair.bp5.shear_modulus(),
         },
+        |w, target| w.fault_3d(target),
     )?;
     crate::network::finish(
         crate::network::NetworkEnd {

@@ -12,6 +12,7 @@ use rsf::observe::{
 };
 use rsf::{RunSummary, Stepping};
 
+use crate::fields::{FieldArgs, FieldWriters, FieldsRun, FieldsTarget};
 use crate::guard::AnyError;
 use crate::session::Session;
 
@@ -37,11 +38,18 @@ pub struct NetworkRun<'a> {
     pub end_years: f64,
     /// `--checkpoint-every`, `--resume`, `--allow-change`, `--max-steps`.
     pub resume: &'a crate::ResumeArgs,
-    /// The progress bar's label and the figure's caption.
+    /// The progress bar's label and the figure's caption; the program's name.
     pub label: &'a str,
     /// The shear modulus of the catalogue's moments (Pa).
     pub rigidity: f64,
+    /// `--hdf5 N`: the faults' fields.
+    pub fields: &'a FieldArgs,
 }
+
+/// The writer of a network's fault fields in `D` dimensions
+/// ([`FieldWriters::fault_2d`] or [`FieldWriters::fault_3d`]).
+pub type FaultFieldsMaker<const D: usize> =
+    fn(&dyn FieldWriters, &FieldsTarget<'_>) -> rsf::Result<Box<dyn rsf::Observer<D>>>;
 
 /// What a network run ends with.
 pub struct NetworkOutcome {
@@ -56,8 +64,9 @@ pub struct NetworkOutcome {
 /// Runs `method` (a fault network's fault ODE) as its program does: the session (a
 /// checkpoint checked and restored before any file is touched), the station files of
 /// `stations` and the catalogue (with its resume log where the run can stop before its
-/// end), the progress in years; then writes `catalogue.csv` and `catalogue.png` and prints
-/// the events.
+/// end), with `--hdf5 N` the faults' fields (`fault_fields` the writer's method), the
+/// progress in years; then writes `catalogue.csv` and `catalogue.png` and prints the
+/// events.
 ///
 /// # Errors
 /// The session's, the files', the run's.
@@ -66,6 +75,7 @@ pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
     stations: &[FaultStation<D>],
     fingerprint: Fingerprint,
     run: NetworkRun<'_>,
+    fault_fields: FaultFieldsMaker<D>,
 ) -> Result<NetworkOutcome, AnyError> {
     let end = run.end_years * SECONDS_PER_YEAR;
     let session = Session::start(
@@ -84,6 +94,13 @@ pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
         // proven by the catalogue's state of the step before any file is cut.
         catalogue.check_checkpoint_state(&run.out.join(CATALOGUE_LOG), model, c)?;
     }
+    // The faults' fields (`--hdf5 N`): the file proves it holds the checkpoint's run
+    // before any file is cut.
+    let mut fields = run.fields.observer(
+        (run.label, run.out),
+        FieldsRun::of(&session, run.fresh, &run.resume.allow_change),
+        fault_fields,
+    )?;
     let mut files = FaultStations::new(run.out, model, stations, mode)?;
     if session.keeps_resume_log() {
         catalogue = catalogue.with_resume_log(
@@ -99,7 +116,12 @@ pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
         TimeUnit::year(SECONDS_PER_YEAR),
         run.label,
     );
-    let summary = session.run(method, &mut [&mut files, &mut catalogue], Some(progress))?;
+    let mut observers: Vec<&mut dyn rsf::Observer<D>> = vec![&mut files, &mut catalogue];
+    if let Some(f) = fields.as_mut() {
+        observers.push(f.as_mut());
+    }
+    let summary = session.run(method, &mut observers, Some(progress))?;
+    drop(observers);
     catalogue.write_csv(&run.out.join("catalogue.csv"))?;
     let names = catalogue.fault_names().to_vec();
     let events = catalogue.events().to_vec();

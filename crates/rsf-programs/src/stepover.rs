@@ -53,6 +53,9 @@ pub struct Args {
     /// `--checkpoint-every N`, `--resume FILE`, `--allow-change`, `--max-steps N`.
     #[command(flatten)]
     run: crate::ResumeArgs,
+    /// `--hdf5 N`: the faults' fields (crates/rsf-hdf5's `stepover`).
+    #[command(flatten)]
+    pub(crate) fields: crate::fields::FieldArgs,
     #[command(flatten)]
     limits: Limits,
 }
@@ -65,6 +68,7 @@ fn outputs(stepover: &Stepover) -> Vec<String> {
         .map(|s| format!("{}_{}.csv", s.fault, s.label))
         .collect();
     names.extend(crate::network::NETWORK_FILES.map(String::from));
+    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
 
@@ -87,6 +91,7 @@ impl Program for Args {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         self.config.validate(&self.settings)?;
+        self.fields.check(Self::NAME)?;
         let run = &self.settings;
         let (stepover, grid) = (run.scene(), run.grid());
         // The graded mesh in closed form (as Stepover::mesh grades it).
@@ -141,6 +146,13 @@ pub fn main() -> ExitCode {
     crate::guard::main(run)
 }
 
+/// The program `stepover` with `writers` of the faults' fields (`--hdf5 N`,
+/// [`FieldWriters::fault_2d`](crate::fields::FieldWriters::fault_2d); the binary `stepover`
+/// of crates/rsf-hdf5).
+pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
+    crate::guard::main_supplied(|args: &mut Args| args.fields.supply(writers), run)
+}
+
 fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let run = args.settings;
     let (stepover, grid) = (run.scene(), run.grid());
@@ -181,8 +193,10 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             end_years: run.end_years,
             resume: &args.run,
             label: "stepover",
+            fields: &args.fields,
             rigidity: stepover.params.shear_modulus(),
         },
+        |w, target| w.fault_2d(target),
     )?;
     crate::network::finish(
         crate::network::NetworkEnd {
