@@ -303,16 +303,7 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         if let Some(change) = self.rates.load_change.as_mut() {
             change.add_to_base(forces);
         }
-        let t = self.state.time;
-        let y = self.y.clone();
-        let mut dy = vec![0.0; y.len()];
-        self.system().rate(t, &y, &mut dy)?;
-        self.dy = dy;
-        if self.state.step > 0 {
-            self.rk.restart(self.state.tau);
-        }
-        self.fill_state(false)?;
-        Ok(self)
+        self.reloaded()
     }
 
     /// The run with the load of its slip unknowns changed by `h(t) f` from now on
@@ -333,12 +324,18 @@ impl<const D: usize, L: FrictionLaw, S: StateLaw, const C: usize> FaultOde<D, L,
         };
         let t = self.state.time;
         self.rates.load_change = Some(load_change::LoadChangeRates::new(base, change, t)?);
-        let y = self.y.clone();
+        self.reloaded()
+    }
+
+    /// After a change of the load: the rate at the current point evaluated again, and
+    /// after steps were taken the integrator started afresh (its rate at the current point
+    /// is the old load's).
+    fn reloaded(mut self) -> crate::Result<Self> {
+        let (t, y) = (self.state.time, self.y.clone());
         let mut dy = vec![0.0; y.len()];
         self.system().rate(t, &y, &mut dy)?;
         self.dy = dy;
         if self.state.step > 0 {
-            // The integrator's rate at the current point is the old load's: start afresh.
             self.rk.restart(self.state.tau);
         }
         self.fill_state(false)?;
