@@ -751,7 +751,7 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
             ],
         ],
     ),
-    ("rsf-friction", &[&["potentials"]]),
+    ("rsf-friction", &[&["potentials"], &["asinh"]]),
     (
         "rsf-halfspace",
         &[

@@ -49,11 +49,13 @@
 // `!(x > 0.0)` is used deliberately: it is also true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod asinh;
 mod potentials;
 
+pub use asinh::{AsinhLaw, AsinhPotential};
 pub use potentials::{
-    AsinhLaw, AsinhPotential, DieterichRuina, DieterichRuinaPotential, RateStateParams, SlipScaled,
-    StateDependentTresca, Tresca, TrescaPotential,
+    DieterichRuina, DieterichRuinaPotential, RateStateParams, SlipScaled, StateDependentTresca,
+    Tresca, TrescaPotential,
 };
 pub use rsf_numeric::{wright_omega_ln, StateVariable};
 

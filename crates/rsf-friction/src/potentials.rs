@@ -1,9 +1,9 @@
 //! The friction laws and their potentials.
 
 use crate::{ConvexPotential, Error, FrictionLaw, Result};
-use rsf_numeric::{solve_increasing, solve_increasing_from, wright_omega_ln, StateVariable};
+use rsf_numeric::{solve_increasing, wright_omega_ln, StateVariable};
 
-const LN_2: f64 = std::f64::consts::LN_2;
+pub(crate) const LN_2: f64 = std::f64::consts::LN_2;
 
 fn check(name: &'static str, value: f64, ok: bool, requirement: &'static str) -> Result<()> {
     if ok {
@@ -18,12 +18,12 @@ fn check(name: &'static str, value: f64, ok: bool, requirement: &'static str) ->
 }
 
 /// Saturates `+∞` to `f64::MAX` (keeps results finite).
-fn sat(x: f64) -> f64 {
+pub(crate) fn sat(x: f64) -> f64 {
     x.min(f64::MAX)
 }
 
 /// `r/a` for the unconstrained quadratic, saturated to stay finite.
-fn linear_solution(a: f64, r: f64) -> f64 {
+pub(crate) fn linear_solution(a: f64, r: f64) -> f64 {
     sat(r / a)
 }
 
@@ -285,7 +285,7 @@ impl RateStateParams {
     }
 
     /// `κ = a σ̄_n` (Pa), the scale of the rate-state potentials.
-    fn kappa(&self) -> f64 {
+    pub(crate) fn kappa(&self) -> f64 {
         self.a * self.sigma_n
     }
 }
@@ -293,27 +293,27 @@ impl RateStateParams {
 /// `ln V0` and `ln L` of a law's parameters, taken once when the law is made: the cutoff
 /// `ln V_m(α)` is needed at every friction solve (the same values as computed each time).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct ParamLogs {
+pub(crate) struct ParamLogs {
     ln_v0: f64,
     ln_l: f64,
 }
 
 impl ParamLogs {
-    fn of(p: &RateStateParams) -> Self {
+    pub(crate) fn of(p: &RateStateParams) -> Self {
         Self {
             ln_v0: p.v0.ln(),
             ln_l: p.l.ln(),
         }
     }
     /// [`RateStateParams::ln_cutoff_velocity`] of `p` (whose logs these are).
-    fn ln_cutoff_velocity(&self, p: &RateStateParams, alpha: f64) -> f64 {
+    pub(crate) fn ln_cutoff_velocity(&self, p: &RateStateParams, alpha: f64) -> f64 {
         let lv0 = self.ln_v0;
         lv0 - (p.mu0 + p.b * (alpha + (lv0 - self.ln_l))) / p.a
     }
 }
 
 /// Clamps `ln V_m` to a finite range (non-finite `α` would give `±∞`/NaN).
-fn finite_ln_vm(l: f64) -> f64 {
+pub(crate) fn finite_ln_vm(l: f64) -> f64 {
     if l.is_nan() {
         // Documented: NaN state means "no cutoff information"; treat as V_m = 1 m/s.
         0.0
@@ -526,212 +526,6 @@ impl FrictionLaw for DieterichRuina {
         }
         let lv0 = self.logs.ln_v0;
         sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - self.logs.ln_l)))
-    }
-    fn normal_stress(&self) -> Option<f64> {
-        Some(self.params.sigma_n)
-    }
-    fn proportional_to_normal_stress(&self) -> bool {
-        true
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Regularised (asinh) law
-// ---------------------------------------------------------------------------------------
-
-/// `asinh(e^q)` without overflow.
-fn asinh_exp(q: f64) -> f64 {
-    if q <= 0.0 {
-        q.exp().asinh()
-    } else {
-        q + (1.0 + (1.0 + (-2.0 * q).exp()).sqrt()).ln()
-    }
-}
-
-/// `y/(√(1+y²)+1)` with `y = e^q`, without overflow.
-fn half_ratio(q: f64) -> f64 {
-    if q <= 0.0 {
-        let y = q.exp();
-        y / ((1.0 + y * y).sqrt() + 1.0)
-    } else {
-        1.0 / ((1.0 + (-2.0 * q).exp()).sqrt() + (-q).exp())
-    }
-}
-
-/// `1/√(1 + e^{−2q})` without overflow.
-fn inv_sqrt_one_plus_exp_m2q(q: f64) -> f64 {
-    if q >= 0.0 {
-        1.0 / (1.0 + (-2.0 * q).exp()).sqrt()
-    } else {
-        let y = q.exp();
-        y / (1.0 + y * y).sqrt()
-    }
-}
-
-/// Regularised rate-state potential (SEAS benchmarks):
-/// `ϕ(V) = κ [V asinh(V/(2V_m)) − √(V² + 4V_m²) + 2V_m]`, `κ = a σ̄_n`,
-/// `ϕ'(V) = κ asinh(V/(2V_m))`, `ϕ''(V) = κ/√(V² + 4V_m²)`. Smooth and strictly convex;
-/// evaluated in log space (`ln V_m` stored).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AsinhPotential {
-    ln_vm: f64,
-    kappa: f64,
-}
-
-impl AsinhPotential {
-    /// From `ln V_m` and `κ = a σ̄_n` (Pa); sanitised as in [`DieterichRuinaPotential::new`].
-    pub fn new(ln_vm: f64, kappa: f64) -> Self {
-        Self {
-            ln_vm: finite_ln_vm(ln_vm),
-            kappa: if kappa >= 0.0 { sat(kappa) } else { 0.0 },
-        }
-    }
-    /// `ln V_m` (V_m in m/s).
-    pub fn ln_cutoff_velocity(&self) -> f64 {
-        self.ln_vm
-    }
-    /// `κ = a σ̄_n` (Pa).
-    pub fn kappa(&self) -> f64 {
-        self.kappa
-    }
-    /// `q = ln(V/(2V_m))`.
-    fn q(&self, v: f64) -> f64 {
-        v.ln() - LN_2 - self.ln_vm
-    }
-}
-
-impl ConvexPotential for AsinhPotential {
-    /// Evaluated as `κ V [asinh(y) − y/(√(1+y²)+1)]`, `y = V/(2V_m)`, which equals the
-    /// formula above and never forms `V_m`.
-    fn value(&self, v: f64) -> f64 {
-        if !(v > 0.0) {
-            return 0.0;
-        }
-        let q = self.q(v);
-        sat(self.kappa * v * (asinh_exp(q) - half_ratio(q)))
-    }
-    fn slope(&self, v: f64) -> f64 {
-        if !(v > 0.0) {
-            return 0.0;
-        }
-        sat(self.kappa * asinh_exp(self.q(v)))
-    }
-    /// Saturated at `f64::MAX` where `κ/(2V_m)` overflows (`V_m` below ~1e-308).
-    fn curvature(&self, v: f64) -> Option<f64> {
-        // κ/√(V² + 4V_m²) = κ/(2V_m) · 1/√(1+y²)
-        let q = if v > 0.0 {
-            self.q(v)
-        } else {
-            f64::NEG_INFINITY
-        };
-        let c = if q > 0.0 {
-            self.kappa / v * inv_sqrt_one_plus_exp_m2q(q)
-        } else {
-            let y = q.exp();
-            // ln(κ/(2 V_m)) − ln √(1+y²)
-            (self.kappa.ln() - LN_2 - self.ln_vm - 0.5 * (y * y).ln_1p()).exp()
-        };
-        Some(sat(c))
-    }
-    /// Solves `a s + wκ asinh(s/(2V_m)) = r` in `x = ln s` by safeguarded Newton on the
-    /// bracket `[ln(r/(a + wκ/(2V_m))), min(ln(r/a), x_DR)]`, where `x_DR` is the
-    /// Wright-omega solution of the Dieterich–Ruina equation (an upper bound because
-    /// `asinh(y) ≥ ln(2y)`).
-    fn minimize(&self, a: f64, r: f64, w: f64) -> f64 {
-        if !(r > 0.0) {
-            // A NaN traction is not "stuck": it propagates (docs/reliability.md).
-            return if r.is_nan() { r } else { 0.0 };
-        }
-        let c = sat(w.max(0.0) * self.kappa);
-        if c == 0.0 {
-            return linear_solution(a, r);
-        }
-        let l = self.ln_vm;
-        let (la, lc, lr) = (a.ln(), c.ln(), r.ln());
-        let mut hi = lr - la;
-        // ln(a + c/(2 V_m)) = logaddexp(ln a, ln c − ln 2 − l)
-        let lb = lc - LN_2 - l;
-        let (m, n) = if la > lb { (la, lb) } else { (lb, la) };
-        let lo = lr - (m + (n - m).exp().ln_1p());
-        let z = r / c + l + la - lc;
-        if z.is_finite() {
-            let x_dr = lc - la + wright_omega_ln(z);
-            if x_dr < hi {
-                hi = x_dr;
-            }
-        }
-        let g = |x: f64| {
-            let e = a * x.exp();
-            let q = x - LN_2 - l;
-            (
-                (e - r) + c * asinh_exp(q),
-                e + c * inv_sqrt_one_plus_exp_m2q(q),
-            )
-        };
-        if !(lo < hi) {
-            return sat(lo.min(hi).exp());
-        }
-        let (glo, ghi) = (g(lo), g(hi));
-        let (x0, start) = if glo.0.abs() < ghi.0.abs() {
-            (lo, glo)
-        } else {
-            (hi, ghi)
-        };
-        sat(solve_increasing_from(g, lo, hi, x0, start).exp())
-    }
-}
-
-/// Regularised rate-and-state law (SEAS benchmark form):
-/// `μ(V, θ) = a asinh(V/(2V_m(θ)))` with `V_m` from (2.13), i.e.
-/// `μ = a asinh(V/(2V0) exp((μ0 + b ln(V0 θ/L))/a))`; `α = ln θ`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AsinhLaw {
-    params: RateStateParams,
-    logs: ParamLogs,
-}
-
-impl AsinhLaw {
-    /// Validated law.
-    ///
-    /// # Errors
-    /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
-    pub fn new(params: RateStateParams) -> Result<Self> {
-        params.validate()?;
-        Ok(Self {
-            params,
-            logs: ParamLogs::of(&params),
-        })
-    }
-    /// The parameters.
-    pub fn params(&self) -> &RateStateParams {
-        &self.params
-    }
-}
-
-impl FrictionLaw for AsinhLaw {
-    type Potential = AsinhPotential;
-    fn potential(&self, alpha: f64) -> AsinhPotential {
-        AsinhPotential::new(
-            self.logs.ln_cutoff_velocity(&self.params, alpha),
-            self.params.kappa(),
-        )
-    }
-    /// `κ = a σ` with the given `σ` (`V_m` does not depend on it).
-    fn potential_at_normal_stress(&self, alpha: f64, sigma_n: f64) -> Option<AsinhPotential> {
-        Some(AsinhPotential::new(
-            self.logs.ln_cutoff_velocity(&self.params, alpha),
-            self.params.a * sigma_n,
-        ))
-    }
-    fn uses_state(&self) -> bool {
-        true
-    }
-    fn friction_coefficient(&self, v: f64, alpha: f64) -> f64 {
-        if !(v > 0.0) {
-            return 0.0;
-        }
-        let l = finite_ln_vm(self.logs.ln_cutoff_velocity(&self.params, alpha));
-        sat(self.params.a * asinh_exp(v.ln() - LN_2 - l))
     }
     fn normal_stress(&self) -> Option<f64> {
         Some(self.params.sigma_n)

@@ -28,6 +28,6 @@ pub use convention::{normal_component, StateVariable};
 pub use message::{excerpt, number, parse_name, written, UnknownName, EXCERPT_CHARS};
 pub use omega::{wright_omega, wright_omega_ln};
 pub use root::{
-    safeguarded_newton, solve_increasing, solve_increasing_from, Bracket, IncreasingFunction,
-    RootOutcome, Start, Stopping,
+    safeguarded_newton, solve_increasing, solve_increasing_from, solve_increasing_from_upper_end,
+    Bracket, IncreasingFunction, RootOutcome, Start, Stopping,
 };

@@ -81,18 +81,46 @@ pub fn safeguarded_newton<G: IncreasingFunction>(
     start: Start,
     stopping: Stopping,
 ) -> Result<RootOutcome, G::Error> {
-    let Bracket { mut lo, mut hi } = bracket;
+    match iterate(g, LowerEnd::Known(bracket.lo), bracket.hi, start, stopping)? {
+        Some(outcome) => Ok(outcome),
+        None => unreachable!("a known lower end is never asked for"),
+    }
+}
+
+/// The bracket's left end: known, or known only to lie at or below a floor.
+#[derive(Debug, Clone, Copy)]
+enum LowerEnd {
+    Known(f64),
+    AtMost(f64),
+}
+
+/// [`safeguarded_newton`]'s iteration, with the left end possibly known only by a floor:
+/// then every decision is taken from the floor where the floor decides it (rounding is
+/// monotone: `hi − lo ≥ hi − floor` and `(hi − lo)·g' ≥ (hi − floor)·g'` in floating point
+/// too), and `None` is returned where it does not (the caller forms the left end and
+/// solves again). With a known left end the result is always `Some`.
+fn iterate<G: IncreasingFunction>(
+    g: &mut G,
+    mut lo: LowerEnd,
+    mut hi: f64,
+    start: Start,
+    stopping: Stopping,
+) -> Result<Option<RootOutcome>, G::Error> {
     let Start {
         mut x,
         value: mut fx,
     } = start;
-    let mut dx_old = hi - lo;
+    // The first step's bound `hi − lo`: exact, or a lower bound of it.
+    let (mut dx_old, mut dx_exact) = match lo {
+        LowerEnd::Known(lo) => (hi - lo, true),
+        LowerEnd::AtMost(floor) => (hi - floor, false),
+    };
     for _ in 0..stopping.max_iterations {
         if fx == 0.0 {
-            return Ok(RootOutcome::Converged(x));
+            return Ok(Some(RootOutcome::Converged(x)));
         }
         if fx < 0.0 {
-            lo = x;
+            lo = LowerEnd::Known(x);
         } else {
             hi = x;
         }
@@ -100,24 +128,46 @@ pub fn safeguarded_newton<G: IncreasingFunction>(
         let newton = x - fx / df;
         if (newton - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(1.0) {
             // Converged: the Newton correction is at rounding level.
-            return Ok(RootOutcome::Converged(newton));
+            return Ok(Some(RootOutcome::Converged(newton)));
         }
-        let accept = newton.is_finite()
-            && newton > lo
-            && newton < hi
-            && (2.0 * fx).abs() <= (dx_old * df).abs();
-        let x_new = if accept { newton } else { 0.5 * (lo + hi) };
+        let halves = (2.0 * fx).abs() <= (dx_old * df).abs();
+        if !halves && !dx_exact {
+            return Ok(None);
+        }
+        let above_lo = match lo {
+            LowerEnd::Known(lo) => newton > lo,
+            LowerEnd::AtMost(floor) if newton > floor => true,
+            LowerEnd::AtMost(_) => return Ok(None),
+        };
+        let accept = newton.is_finite() && above_lo && newton < hi && halves;
+        let x_new = if accept {
+            newton
+        } else {
+            match lo {
+                LowerEnd::Known(lo) => 0.5 * (lo + hi),
+                LowerEnd::AtMost(_) => return Ok(None),
+            }
+        };
         dx_old = (x_new - x).abs();
+        dx_exact = true;
         x = x_new;
         fx = g.value(x)?;
         let tol = stopping.tolerance * f64::EPSILON * x.abs().max(1.0);
-        if dx_old <= tol || hi - lo <= tol {
-            return Ok(RootOutcome::Converged(x));
+        let narrow = match lo {
+            LowerEnd::Known(lo) => hi - lo <= tol,
+            LowerEnd::AtMost(floor) if hi - floor > tol => false,
+            LowerEnd::AtMost(_) => return Ok(None),
+        };
+        if dx_old <= tol || narrow {
+            return Ok(Some(RootOutcome::Converged(x)));
         }
     }
-    Ok(RootOutcome::IterationLimit {
-        last: x,
-        width: hi - lo,
+    Ok(match lo {
+        LowerEnd::Known(lo) => Some(RootOutcome::IterationLimit {
+            last: x,
+            width: hi - lo,
+        }),
+        LowerEnd::AtMost(_) => None,
     })
 }
 
@@ -193,6 +243,12 @@ pub fn solve_increasing_from(
 
 /// [`safeguarded_newton`] with [`solve_increasing`]'s stopping rule from `x` in the bracket,
 /// `value = g(x)` and `g.slope` its slope.
+/// [`solve_increasing`]'s stopping rule: `2ε·max(1, |x|)`, at most 300 iterations.
+const SOLVE_STOPPING: Stopping = Stopping {
+    tolerance: 2.0,
+    max_iterations: 300,
+};
+
 fn newton_from<F: Fn(f64) -> (f64, f64)>(
     mut g: ValueAndSlope<F>,
     lo: f64,
@@ -200,12 +256,40 @@ fn newton_from<F: Fn(f64) -> (f64, f64)>(
     x: f64,
     value: f64,
 ) -> f64 {
-    let stopping = Stopping {
-        tolerance: 2.0,
-        max_iterations: 300,
-    };
-    match safeguarded_newton(&mut g, Bracket { lo, hi }, Start { x, value }, stopping) {
+    match safeguarded_newton(
+        &mut g,
+        Bracket { lo, hi },
+        Start { x, value },
+        SOLVE_STOPPING,
+    ) {
         Ok(RootOutcome::Converged(x) | RootOutcome::IterationLimit { last: x, .. }) => x,
+    }
+}
+
+/// [`solve_increasing_from`] started at the bracket's right end `hi` (`known = (g(hi),
+/// g'(hi))`), when only a floor of its left end is known (`lo ≤ floor < hi`, `g(lo) ≤ 0`,
+/// and `|g(hi)| ≤ |g(lo)|`, so that the full solve would start at `hi` too): the same
+/// iterates and the same result, bit for bit, where the floor suffices for every decision
+/// of the iteration; `None` where one needs the left end itself (form it, then call
+/// [`solve_increasing_from`]). For solves whose left end costs more than the iteration
+/// (the friction solves' lower end takes an exponential and a logarithm).
+pub fn solve_increasing_from_upper_end(
+    g: impl Fn(f64) -> (f64, f64),
+    floor: f64,
+    hi: f64,
+    known: (f64, f64),
+) -> Option<f64> {
+    if !(floor < hi) {
+        return None;
+    }
+    let (value, slope) = known;
+    let mut g = ValueAndSlope { g, slope };
+    let start = Start { x: hi, value };
+    match iterate(&mut g, LowerEnd::AtMost(floor), hi, start, SOLVE_STOPPING) {
+        Ok(Some(RootOutcome::Converged(x) | RootOutcome::IterationLimit { last: x, .. })) => {
+            Some(x)
+        }
+        Ok(None) => None,
     }
 }
 
@@ -274,6 +358,39 @@ mod tests {
             solve_increasing_from(g, 0.0, 1.0, 7.0, (f64::NAN, f64::NAN)),
             0.25
         );
+    }
+
+    #[test]
+    fn a_floor_of_the_left_end_gives_the_same_iterates_or_none() {
+        // Started at the right end: with a floor far below the root the iteration never
+        // needs the left end (Some, the same bits for every left end below the floor); with
+        // a floor near the root a decision does (None), never a different number.
+        type ValueAndSlopeFn = fn(f64) -> (f64, f64);
+        let cases: [(ValueAndSlopeFn, f64); 3] = [
+            (|x| (x.exp() + x - 3.0, x.exp() + 1.0), 1.2),
+            (|x| (x.sinh() + 0.3 * x - 0.2, x.cosh() + 0.3), 0.5),
+            (|x| ((5.0 * x).exp() - 7.0, 5.0 * (5.0 * x).exp()), 0.45),
+        ];
+        let (mut some, mut none) = (0, 0);
+        for (f, hi) in cases {
+            for floor in [-50.0, -5.0, -1.0, 0.0, 0.2, 0.35, 0.38] {
+                if !(floor < hi) {
+                    continue;
+                }
+                match solve_increasing_from_upper_end(f, floor, hi, f(hi)) {
+                    Some(x) => {
+                        some += 1;
+                        for lo in [floor, floor - 1.0, floor - 30.0] {
+                            let full = solve_increasing_from(f, lo, hi, hi, f(hi));
+                            assert_eq!(x.to_bits(), full.to_bits(), "{hi} {floor} {lo}");
+                        }
+                    }
+                    None => none += 1,
+                }
+            }
+        }
+        assert!(some >= 8 && none >= 1, "{some} {none}");
+        assert_eq!(solve_increasing_from_upper_end(|x| (x.exp(), x.exp()), 1.0, 1.0, (1.0, 1.0)), None);
     }
 
     #[test]
