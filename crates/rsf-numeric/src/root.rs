@@ -390,7 +390,10 @@ mod tests {
             }
         }
         assert!(some >= 8 && none >= 1, "{some} {none}");
-        assert_eq!(solve_increasing_from_upper_end(|x| (x.exp(), x.exp()), 1.0, 1.0, (1.0, 1.0)), None);
+        assert_eq!(
+            solve_increasing_from_upper_end(|x| (x.exp(), x.exp()), 1.0, 1.0, (1.0, 1.0)),
+            None
+        );
     }
 
     #[test]

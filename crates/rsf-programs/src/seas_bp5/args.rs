@@ -391,7 +391,7 @@ const GRADED_VERTICES_AT_500_M: f64 = 266_764.0;
 /// above the 11.49 GB measured at 500 m (17.1 GB: `--dx 500` now needs `--max-memory-gb
 /// 18`). Boxes beyond 400 km are an extrapolation. Where the fit and the tests below
 /// disagree after a change of the build, re-measure the table.
-pub(crate) fn graded_schur_only_nd_peak(vertices: f64, kept: f64) -> f64 {
+pub fn graded_schur_only_nd_peak(vertices: f64, kept: f64) -> f64 {
     GRADED_ND_BYTES_PER_VERTEX * vertices + GRADED_ND_BYTES_PER_KEPT_SQUARED * kept * kept
 }
 

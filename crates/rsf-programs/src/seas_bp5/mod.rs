@@ -42,6 +42,7 @@ mod args;
 mod run;
 
 pub(crate) use args::graded_mesh_fewest_vertices;
+pub use args::graded_schur_only_nd_peak;
 #[cfg(test)]
 pub(crate) use args::plans_of_the_largest_boxes;
 pub use args::Args;
