@@ -281,7 +281,12 @@ fn stiffness_lines(out: &std::process::Output) -> BTreeMap<(String, i64, String,
         let after = |key: &str| -> f64 { words[at(key) + 1].parse().expect(key) };
         let bump = words[at("R") - 1].to_string();
         k.insert(
-            (words[0].to_string(), after("dx") as i64, bump, after("R") as i64),
+            (
+                words[0].to_string(),
+                after("dx") as i64,
+                bump,
+                after("R") as i64,
+            ),
             after("kR/mu"),
         );
     }
