@@ -50,5 +50,5 @@ for p in $PROBLEMS; do
 done
 echo "$(wc -l <"$jobs_file") runs to do in $DIR, $JOBS at a time"
 xargs -P "$JOBS" -I{} sh -c '{}' <"$jobs_file"
-"$bin/work_precision" --study integrators --runs "$DIR" --out docs/work-precision \
+"$bin/work_precision" --study integrators --runs "$DIR" --out docs/work-precision --overwrite \
     --figures docs/figures

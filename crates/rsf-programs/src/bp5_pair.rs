@@ -164,35 +164,42 @@ impl Program for Args {
         let rows = run.end_years * 100.0 + 1e4;
         let names = outputs(&pair);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        Ok(Plan::new()
-            .pool(self.threads)
-            .memory(
-                memory,
-                "--dx, --kernel, --domain-km, --ratio",
-                format!(
-                    "two strands of {cells:.3e} cells at dx = {} m ({})",
-                    number(run.dx),
-                    kernel_name(run.kernel)
+        // The faults' fields (--hdf5): both strands' grids with their rims, their quadrilaterals.
+        self.fields.adaptive_output(
+            Plan::new()
+                .pool(self.threads)
+                .memory(
+                    memory,
+                    "--dx, --kernel, --domain-km, --ratio",
+                    format!(
+                        "two strands of {cells:.3e} cells at dx = {} m ({})",
+                        number(run.dx),
+                        kernel_name(run.kernel)
+                    ),
+                )
+                .output(
+                    stations * rows * csv_row_bytes(7) + FIGURE_BYTES + 1e7,
+                    "--end-years",
+                    format!(
+                        "{} years of {stations} station files",
+                        written(run.end_years)
+                    ),
+                )
+                .output(
+                    setup_file,
+                    "--dx, --domain-km, --ratio",
+                    format!("the elimination kept in {SETUP_FILE}"),
+                )
+                .folder(
+                    self.run
+                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                        .fingerprint(run.fingerprint()),
                 ),
-            )
-            .output(
-                stations * rows * csv_row_bytes(7) + FIGURE_BYTES + 1e7,
-                "--end-years",
-                format!(
-                    "{} years of {stations} station files",
-                    written(run.end_years)
-                ),
-            )
-            .output(
-                setup_file,
-                "--dx, --domain-km, --ratio",
-                format!("the elimination kept in {SETUP_FILE}"),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
-            ))
+            cells + 2.0 * (pair.bp5.l_f / run.dx + pair.bp5.w_f / run.dx + 1.0),
+            (cells, 4.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )
     }
 }
 
@@ -279,6 +286,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             fresh: folder.mode(),
             end_years: run.end_years,
             resume: &args.run,
+            step_cap: folder.step_cap(args.run.max_steps),
             label: "bp5_pair",
             fields: &args.fields,
             rigidity: pair.bp5.shear_modulus(),

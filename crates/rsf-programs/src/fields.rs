@@ -7,9 +7,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use crate::guard::{written, AnyError, Plan};
 use rsf::checkpoint::{Checkpoint, Fingerprint};
 use rsf::observe::FileMode;
-use rsf::run_folder::Session;
+use rsf::run_folder::{output_plan, OutputEstimate, Session};
 use rsf::Observer;
 
 /// The fields file of a run in its folder (`OUT/fields.h5`; its Xdmf index `OUT/fields.xmf`).
@@ -223,6 +224,75 @@ impl FieldArgs {
             + frames * (FIELDS_VERTEX_BYTES * points as f64 + FIELDS_FRAME_BYTES)
     }
 
+    /// `plan` with the fields file of an adaptive run (its steps unknown before it runs: the
+    /// SEAS programs and the fault networks) of `points` fault nodes and `cells` cells of
+    /// `corners` vertices (bounds), within what `--max-output-gb` (`max_gb`) leaves beside
+    /// the plan's other output: with `--max-steps` (`max_steps`) the file of that many
+    /// steps, refused if it does not fit; without, the step cap whose frames fit
+    /// ([`rsf::run_folder::output_plan`]; [`Plan::cap_steps`]: the run stops there with a
+    /// checkpoint). `plan` unchanged without `--hdf5`.
+    ///
+    /// # Errors
+    /// The output bound, naming `--hdf5` and `--max-steps` or `--max-output-gb`.
+    pub fn adaptive_output(
+        &self,
+        plan: Plan,
+        points: f64,
+        (cells, corners): (f64, f64),
+        max_steps: Option<u64>,
+        max_gb: f64,
+    ) -> Result<Plan, AnyError> {
+        let n = match self.every() {
+            0 => return Ok(plan),
+            n => n as f64,
+        };
+        let frame = FIELDS_VERTEX_BYTES * points + FIELDS_FRAME_BYTES;
+        // A frame every n steps: s steps write at most s/n + 1 frames.
+        let fixed = FIELDS_FILE_BYTES + 32.0 * points + 8.0 * cells * corners + frame;
+        let estimate = OutputEstimate {
+            bytes: max_steps.map_or(f64::INFINITY, |m| fixed + m as f64 / n * frame),
+            fixed_bytes: fixed,
+            bytes_per_step: frame / n,
+            adaptive: true,
+        };
+        let left = max_gb - plan.output_bytes() / 1e9;
+        let named = |e: rsf::Error| -> AnyError {
+            format!(
+                "--hdf5 {}: the fields file ({:.3e} bytes a frame) with {} GB of \
+                 --max-output-gb {} left beside the run's other files: {e}",
+                self.every(),
+                frame,
+                written(left.max(0.0)),
+                written(max_gb)
+            )
+            .into()
+        };
+        let fields = if left > 0.0 {
+            output_plan(estimate, max_steps, left).map_err(named)?
+        } else {
+            return Err(named(rsf::Error::InvalidParameter {
+                name: "max_output_gb".into(),
+                reason: "the other files fill it".into(),
+            }));
+        };
+        let plan = plan.output(
+            fields.bytes,
+            "--hdf5, --max-steps, --max-output-gb",
+            format!("the fields file, a frame every {} steps", self.every()),
+        );
+        Ok(match (fields.step_cap, max_steps) {
+            (Some(cap), None) => plan.cap_steps(
+                cap,
+                format!(
+                    "the frames of --hdf5 {} within --max-output-gb {}",
+                    self.every(),
+                    written(max_gb)
+                ),
+            ),
+            _ => plan,
+        })
+    }
+
     /// The fields file of a run writing into `out`.
     pub fn path(out: &Path) -> PathBuf {
         out.join(FIELDS_FILE)
@@ -357,6 +427,119 @@ mod tests {
         supply(&mut p);
         p.plan()
             .unwrap_or_else(|e| panic!("{name} with writers: {e}"));
+    }
+
+    /// `P` with writers, `flags` and `--hdf5 N` (the default `--max-output-gb`, 10): the
+    /// plan.
+    fn planned<P: Program>(
+        name: &str,
+        flags: &[&str],
+        n: &str,
+        supply: fn(&mut P),
+    ) -> crate::guard::Plan {
+        let mut a = vec![name, "--hdf5", n];
+        a.extend_from_slice(flags);
+        let (mut p, _) = parse_from::<P, _, _>(a).unwrap();
+        supply(&mut p);
+        p.plan()
+            .unwrap_or_else(|e| panic!("{name} --hdf5 {n}: {e}"))
+    }
+
+    /// An adaptive program's plan counts its fields file and, without `--max-steps`, caps
+    /// the steps at what `--max-output-gb` leaves: with a frame at every step the planned
+    /// output is within the limit and one more frame would pass it (BP5 at 1 km: 101 × 41
+    /// nodes, a frame of 128 B a node and 12 kB); a frame every 10⁶ steps gives 10⁶ times
+    /// the steps; `--max-steps` whose frames do not fit is refused naming `--hdf5`;
+    /// without `--hdf5` no cap.
+    #[test]
+    fn an_adaptive_runs_fields_are_planned_within_the_output_limit() {
+        type Supply<P> = fn(&mut P);
+        fn check<P: Program>(name: &str, flags: &[&str], supply: Supply<P>, frame: Option<f64>) {
+            let every = planned::<P>(name, flags, "1", supply);
+            let cap = every.step_cap().unwrap_or_else(|| panic!("{name}: no cap"));
+            assert!(
+                cap >= 1 && every.output_bytes() <= 10e9,
+                "{name}: {cap}, {}",
+                every.output_bytes()
+            );
+            if let Some(frame) = frame {
+                assert!(
+                    every.output_bytes() + frame > 10e9,
+                    "{name}: {}",
+                    every.output_bytes()
+                );
+            }
+            let sparse = planned::<P>(name, flags, "1000000", supply);
+            assert!(
+                sparse.step_cap().is_none_or(|c| c >= 1_000_000 * cap),
+                "{name}: {:?} against {cap}",
+                sparse.step_cap()
+            );
+            let none = planned::<P>(name, flags, "0", supply);
+            assert_eq!(none.step_cap(), None, "{name}");
+            let mut a = vec![name, "--hdf5", "1", "--max-steps", "1000000000"];
+            a.extend_from_slice(flags);
+            let (mut p, _) = parse_from::<P, _, _>(a).unwrap();
+            supply(&mut p);
+            let e = p
+                .plan()
+                .err()
+                .unwrap_or_else(|| panic!("{name}: accepted"))
+                .to_string();
+            assert!(
+                e.starts_with("--hdf5 1:") && e.contains("max_steps"),
+                "{name}: {e}"
+            );
+        }
+        let frame_1km = super::FIELDS_VERTEX_BYTES * 101.0 * 41.0 + super::FIELDS_FRAME_BYTES;
+        check::<crate::seas_bp5::Args>(
+            "seas_bp5",
+            &["--dx", "1000"],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            Some(frame_1km),
+        );
+        check::<crate::seas_bp1::Args>(
+            "seas_bp1",
+            &["--out", "out/seas_bp1"],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
+        check::<crate::seas_bp3::Args>(
+            "seas_bp3",
+            &[],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
+        check::<crate::seas_bp6::Args>(
+            "seas_bp6",
+            &["--variant", "a"],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
+        check::<crate::seas_bp7::Args>(
+            "seas_bp7",
+            &[],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
+        check::<crate::seas_bp8::Args>(
+            "seas_bp8",
+            &[],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
+        check::<crate::stepover::Args>(
+            "stepover",
+            &[],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
+        check::<crate::bp5_pair::Args>(
+            "bp5_pair",
+            &[],
+            |p| p.fields.supply(Arc::new(Nothing)),
+            None,
+        );
     }
 
     #[test]

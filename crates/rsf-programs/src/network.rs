@@ -38,6 +38,8 @@ pub struct NetworkRun<'a> {
     pub end_years: f64,
     /// `--checkpoint-every`, `--resume`, `--allow-change`, `--max-steps`.
     pub resume: &'a crate::ResumeArgs,
+    /// The run's step cap (`--max-steps`, or the plan's: `Prepared::step_cap`).
+    pub step_cap: Option<u64>,
     /// The progress bar's label and the figure's caption; the program's name.
     pub label: &'a str,
     /// The shear modulus of the catalogue's moments (Pa).
@@ -79,7 +81,7 @@ pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
 ) -> Result<NetworkOutcome, AnyError> {
     let end = run.end_years * SECONDS_PER_YEAR;
     let session = Session::start(
-        run.resume.session_flags(),
+        run.resume.session_flags_with_cap(run.step_cap),
         run.out.join("checkpoint.bin"),
         fingerprint,
         end,

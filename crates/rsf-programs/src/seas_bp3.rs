@@ -128,32 +128,39 @@ impl Program for Args {
         self.fields.check("seas_bp3")?;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        Ok(Plan::new()
-            .pool(self.threads)
-            .memory(
-                memory,
-                "--dx, --domain-km, --ratio",
-                format!(
-                    "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
+        // The fault's fields (--hdf5): its nodes and the segments between them.
+        self.fields.adaptive_output(
+            Plan::new()
+                .pool(self.threads)
+                .memory(
+                    memory,
+                    "--dx, --domain-km, --ratio",
+                    format!(
+                        "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
                      {nz:.3e} on the fault",
-                    number(run.dx),
-                    number(run.domain_km),
-                    number(run.ratio)
+                        number(run.dx),
+                        number(run.domain_km),
+                        number(run.ratio)
+                    ),
+                )
+                .output(
+                    seas_output_bytes(run.end_years, stations, 8, 3.0 * profile),
+                    "--end-years, --domain-km",
+                    format!(
+                        "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
+                        run.end_years
+                    ),
+                )
+                .folder(
+                    self.run
+                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                        .fingerprint(run.fingerprint()),
                 ),
-            )
-            .output(
-                seas_output_bytes(run.end_years, stations, 8, 3.0 * profile),
-                "--end-years, --domain-km",
-                format!(
-                    "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
-                    run.end_years
-                ),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
-            ))
+            nz + 1.0,
+            (nz, 2.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )
     }
 }
 
@@ -237,7 +244,8 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
     let session = Session::start(
-        args.run.session_flags(),
+        args.run
+            .session_flags_with_cap(folder.step_cap(args.run.max_steps)),
         args.out.join("checkpoint.bin"),
         fingerprint,
         settings.end_years * SECONDS_PER_YEAR,

@@ -148,23 +148,30 @@ impl Program for Args {
         let output = rows * (10.0 * 110.0) + seconds / run.profile_interval * 4.0 * 202.0 * 15.0;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        Ok(Plan::new()
-            .pool(self.threads)
-            .memory(
-                memory,
-                "--dz, --elastic, --domain-km, --ratio",
-                format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(run.dz)),
-            )
-            .output(
-                output,
-                "--end-years",
-                format!("{} years of stations and profiles", written(run.end_years)),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
-            ))
+        // The fault's fields (--hdf5): its nodes and the segments between them.
+        self.fields.adaptive_output(
+            Plan::new()
+                .pool(self.threads)
+                .memory(
+                    memory,
+                    "--dz, --elastic, --domain-km, --ratio",
+                    format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(run.dz)),
+                )
+                .output(
+                    output,
+                    "--end-years",
+                    format!("{} years of stations and profiles", written(run.end_years)),
+                )
+                .folder(
+                    self.run
+                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                        .fingerprint(run.fingerprint()),
+                ),
+            cells + 1.0,
+            (cells, 2.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )
     }
 }
 
@@ -323,7 +330,8 @@ impl Common<'_> {
         // The folder's lock is held until the run ends.
         let _folder = &self.folder;
         let session = Session::start(
-            args.run.session_flags(),
+            args.run
+                .session_flags_with_cap(self.folder.step_cap(args.run.max_steps)),
             args.out.join("checkpoint.bin"),
             self.fingerprint,
             args.settings.end_years * BP6_SECONDS_PER_YEAR,

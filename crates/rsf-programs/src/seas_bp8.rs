@@ -131,23 +131,30 @@ impl Program for Args {
         let output = rows * (10.0 * 170.0) + seconds / run.profile_interval * 10.0 * 83.0 * 15.0;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        Ok(Plan::new()
-            .pool(self.threads)
-            .memory(
-                memory,
-                "--dx",
-                format!("BP8 on Δx = {} m: {cells} cells", number(run.dx)),
-            )
-            .output(
-                output,
-                "--end-days",
-                format!("{} days of stations and profiles", written(run.end_days)),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
-            ))
+        // The fault's fields (--hdf5): the square's grid with its rim, its quadrilaterals.
+        self.fields.adaptive_output(
+            Plan::new()
+                .pool(self.threads)
+                .memory(
+                    memory,
+                    "--dx",
+                    format!("BP8 on Δx = {} m: {cells} cells", number(run.dx)),
+                )
+                .output(
+                    output,
+                    "--end-days",
+                    format!("{} days of stations and profiles", written(run.end_days)),
+                )
+                .folder(
+                    self.run
+                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                        .fingerprint(run.fingerprint()),
+                ),
+            (cells.sqrt() + 1.0).powi(2),
+            (cells, 4.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )
     }
 }
 
@@ -196,6 +203,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     let _folder = &folder;
     let settings = SquareRun {
         run: &args.run,
+        step_cap: folder.step_cap(args.run.max_steps),
         program: "seas_bp8",
         fields: (&args.fields, folder.mode()),
         integrator: &crate::IntegratorArgs {

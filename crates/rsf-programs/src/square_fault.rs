@@ -20,6 +20,8 @@ use crate::{cpu_seconds, machine};
 pub(crate) struct SquareRun<'a> {
     /// `--checkpoint-every`, `--resume`, `--max-steps`.
     pub(crate) run: &'a crate::ResumeArgs,
+    /// The run's step cap (`--max-steps`, or the plan's: `Prepared::step_cap`).
+    pub(crate) step_cap: Option<u64>,
     /// The program (`seas_bp7`, `seas_bp8`), as `--hdf5`'s refusal names it.
     pub(crate) program: &'static str,
     /// `--hdf5` and the mode of a fresh run's files.
@@ -61,7 +63,7 @@ pub(crate) fn run_square_fault(
         cpu_seconds() - cpu0
     );
     let session = Session::start(
-        settings.run.session_flags(),
+        settings.run.session_flags_with_cap(settings.step_cap),
         settings.out.join("checkpoint.bin"),
         settings.fingerprint,
         settings.end,

@@ -114,30 +114,37 @@ impl Program for Args {
         let rows = run.end_years * 400.0 + 1e4;
         let names = outputs(&stepover);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        Ok(Plan::new()
-            .pool(self.threads)
-            .memory(
-                memory,
-                "--dx, --domain-km, --ratio, --strand-km",
-                format!(
-                    "the stepover on dx = {} m: about {nodes:.3e} nodes, {fault_nodes:.3e} on \
+        // The faults' fields (--hdf5): both strands' nodes across the box, the segments between them.
+        self.fields.adaptive_output(
+            Plan::new()
+                .pool(self.threads)
+                .memory(
+                    memory,
+                    "--dx, --domain-km, --ratio, --strand-km",
+                    format!(
+                        "the stepover on dx = {} m: about {nodes:.3e} nodes, {fault_nodes:.3e} on \
                      the strands",
-                    number(run.dx)
+                        number(run.dx)
+                    ),
+                )
+                .output(
+                    stations * rows * station_row_bytes() + FIGURE_BYTES + 1e7,
+                    "--end-years",
+                    format!(
+                        "{} years of {stations} station files",
+                        written(run.end_years)
+                    ),
+                )
+                .folder(
+                    self.run
+                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                        .fingerprint(run.fingerprint()),
                 ),
-            )
-            .output(
-                stations * rows * station_row_bytes() + FIGURE_BYTES + 1e7,
-                "--end-years",
-                format!(
-                    "{} years of {stations} station files",
-                    written(run.end_years)
-                ),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
-            ))
+            fault_nodes,
+            (fault_nodes, 2.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )
     }
 }
 
@@ -192,6 +199,7 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
             fresh: folder.mode(),
             end_years: run.end_years,
             resume: &args.run,
+            step_cap: folder.step_cap(args.run.max_steps),
             label: "stepover",
             fields: &args.fields,
             rigidity: stepover.params.shear_modulus(),

@@ -139,6 +139,9 @@ pub struct Plan {
     pool: usize,
     memory: Vec<Estimate>,
     output: Vec<Estimate>,
+    /// The step cap the plan's output bound needs (an adaptive run whose output would not
+    /// fit otherwise), and what it is for.
+    step_cap: Option<(u64, String)>,
 }
 
 impl Plan {
@@ -196,6 +199,21 @@ impl Plan {
             what: what.into(),
         });
         self
+    }
+
+    /// The run stops after `cap` steps in total (across resumes), for `why` (an output
+    /// bound of an adaptive run, [`rsf::run_folder::output_plan`]); the smallest of the caps
+    /// asked for holds ([`Prepared::step_cap`]).
+    pub fn cap_steps(mut self, cap: u64, why: impl Into<String>) -> Self {
+        if self.step_cap.as_ref().is_none_or(|(c, _)| cap < *c) {
+            self.step_cap = Some((cap, why.into()));
+        }
+        self
+    }
+
+    /// The plan's step cap ([`cap_steps`](Self::cap_steps)), `None` without one.
+    pub fn step_cap(&self) -> Option<u64> {
+        self.step_cap.as_ref().map(|(cap, _)| *cap)
     }
 
     /// The run's memory estimate (bytes): the process itself
@@ -383,6 +401,8 @@ pub struct Prepared {
     pool: usize,
     /// The plan's memory estimate (bytes), compared with the measured peak at the end.
     memory: f64,
+    /// The plan's step cap and what it is for ([`Plan::cap_steps`]).
+    step_cap: Option<(u64, String)>,
     _locks: Vec<File>,
 }
 
@@ -392,6 +412,22 @@ impl Prepared {
     /// [`FileMode::Create`] on resume, whose files are checked by their writers).
     pub fn mode(&self) -> FileMode {
         self.modes.first().copied().unwrap_or(FileMode::Create)
+    }
+
+    /// The run's step cap: the smaller of `max_steps` (`--max-steps`) and the plan's
+    /// ([`Plan::cap_steps`]), `None` without either. Where the plan's is the smaller, says
+    /// so on standard error (how many steps, what for, how to go on).
+    pub fn step_cap(&self, max_steps: Option<u64>) -> Option<u64> {
+        match (&self.step_cap, max_steps) {
+            (Some((cap, why)), given) if given.is_none_or(|m| *cap < m) => {
+                eprintln!(
+                    "at most {cap} steps: {why} (the run stops there with a checkpoint; \
+                     resume it with a larger --max-steps or --max-output-gb)"
+                );
+                Some(*cap)
+            }
+            (_, given) => given,
+        }
     }
 
     /// The file modes of the folders, in the plan's order.
@@ -454,6 +490,7 @@ pub fn prepare<P: Program>(program: &P) -> Result<Prepared, AnyError> {
         modes,
         pool: plan.pool,
         memory: plan.memory_bytes(),
+        step_cap: plan.step_cap,
         _locks: locks,
     })
 }

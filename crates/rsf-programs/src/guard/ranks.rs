@@ -162,6 +162,7 @@ fn plan_only<P: Program>(program: &P) -> Result<Prepared, AnyError> {
         modes: vec![FileMode::Create; plan.folders.len()],
         pool: plan.pool,
         memory: plan.memory_bytes(),
+        step_cap: plan.step_cap,
         _locks: Vec::new(),
     })
 }

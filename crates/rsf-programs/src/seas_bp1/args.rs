@@ -115,7 +115,7 @@ impl Program for Args {
         outputs.extend(["summary.json", "overview.png", "checkpoint.bin"].map(String::from));
         outputs.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
         let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
-        Ok(Plan::new()
+        let plan = Plan::new()
             .pool(self.threads)
             .memory(
                 size.bytes,
@@ -134,12 +134,20 @@ impl Program for Args {
                 output,
                 "--end-years, --every-step, --max-steps",
                 format!("{} years of the benchmark's files", written(run.end_years)),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &outputs).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
-            ))
+            );
+        // The fault's fields (--hdf5): its nodes, the segments between them.
+        let plan = self.fields.adaptive_output(
+            plan,
+            size.fault_nodes,
+            (size.fault_nodes - 1.0, 2.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )?;
+        Ok(plan.folder(
+            self.run
+                .folder(Folder::new("--out", &self.out, &outputs).overwrite(self.overwrite))
+                .fingerprint(run.fingerprint()),
+        ))
     }
 }
 

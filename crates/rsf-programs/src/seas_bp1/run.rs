@@ -147,7 +147,7 @@ pub(super) fn run(
     // rows up to its step.
     let t_end = settings.end_years * SECONDS_PER_YEAR;
     let session = Session::start(
-        args.run.session_flags_with_cap(step_cap),
+        args.run.session_flags_with_cap(prepared.step_cap(step_cap)),
         folder.path("checkpoint.bin"),
         fingerprint,
         t_end,

@@ -286,7 +286,7 @@ impl Program for Args {
         self.fields.check("seas_bp5")?;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        Ok(Plan::new()
+        let plan = Plan::new()
             .pool(self.threads)
             .memory(
                 memory,
@@ -302,12 +302,21 @@ impl Program for Args {
                 setup_file,
                 "--dx, --domain-km, --ratio",
                 format!("the elimination kept in {SETUP_FILE}"),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(self.fingerprint(&bp5)),
-            ))
+            );
+        // The fault's fields (--hdf5): a node per grid point of the rate-and-state region,
+        // its cells quadrilaterals (a bound for both kernels).
+        let plan = self.fields.adaptive_output(
+            plan,
+            (along_strike + 1.0) * (along_dip + 1.0),
+            (along_strike * along_dip, 4.0),
+            self.run.max_steps,
+            self.limits.max_output_gb,
+        )?;
+        Ok(plan.folder(
+            self.run
+                .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                .fingerprint(self.fingerprint(&bp5)),
+        ))
     }
 }
 

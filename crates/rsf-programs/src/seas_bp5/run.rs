@@ -316,7 +316,8 @@ pub(super) fn run(
     let setup_s = clock.elapsed().as_secs_f64();
     // The checkpoint is checked and restored (on every rank) before any file is touched.
     let session = Session::start(
-        args.run.session_flags(),
+        args.run
+            .session_flags_with_cap(prepared.step_cap(args.run.max_steps)),
         folder.path("checkpoint.bin"),
         fingerprint,
         args.settings.end_years * SECONDS_PER_YEAR,
