@@ -74,11 +74,25 @@ pub fn initialize() -> Result<(Universe, MpiRanks), Error> {
     Ok((universe, MpiRanks::world()))
 }
 
+/// The writers of `--hdf5 N` for the SEAS programs on ranks: crates/rsf-hdf5's with this
+/// crate's feature `hdf5` (rank 0 writes the fault's fields), none without it (the programs'
+/// plans then refuse `--hdf5 N`, naming the feature).
+pub fn field_writers() -> Option<std::sync::Arc<dyn rsf_programs::fields::FieldWriters>> {
+    #[cfg(feature = "hdf5")]
+    {
+        Some(rsf_hdf5::programs::Hdf5Writers::shared())
+    }
+    #[cfg(not(feature = "hdf5"))]
+    {
+        None
+    }
+}
+
 /// Starts MPI and runs a program of `rsf-programs` on the world's ranks ([`MpiRanks::world`])
 /// (`program`: e.g. `rsf_programs::seas_bp1::main_on_ranks`); MPI ends when the program
 /// returns. A failure to start MPI is printed as `error: …` with exit code 1.
 pub fn main_on_ranks(
-    program: fn(&dyn Processes) -> std::process::ExitCode,
+    program: impl FnOnce(&dyn Processes) -> std::process::ExitCode,
 ) -> std::process::ExitCode {
     match initialize() {
         // The world's handle and every duplicate made from it are dropped (freed) before

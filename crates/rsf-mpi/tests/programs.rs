@@ -312,6 +312,52 @@ fn bp5_files_are_byte_identical_on_2_and_3_ranks() {
     }
 }
 
+/// With the feature `hdf5`, `--hdf5 N` on ranks: rank 0 writes the fault's fields, and on
+/// 2 ranks `fields.h5` and `fields.xmf` have one process's bytes with every other file —
+/// BP1 at 400 m for 300 years, a frame every 20 steps (344 frames), and BP5 on Okada's
+/// 4 km cells, a frame every 10 steps.
+#[cfg(feature = "hdf5")]
+#[test]
+fn fault_fields_on_2_ranks_are_one_processs_bytes() {
+    let with_fields = |mut args: Vec<String>, n: &str| {
+        args.extend(["--hdf5".to_string(), n.to_string()]);
+        args
+    };
+    let bp1 = |out: &Path| with_fields(flags(out), "20");
+    let bp5 =
+        |out: &Path| with_fields(bp5_args(out, &["--dx", "4000", "--end-years", "300"]), "10");
+    for (name, bin, args, files) in [
+        ("bp1", BIN, &bp1 as &dyn Fn(&Path) -> Vec<String>, 16),
+        ("bp5", BP5, &bp5, 25),
+    ] {
+        let one = folder(&format!("{name}_fields_one_process"));
+        succeeded(&run_program(bin, None, &args(&one)));
+        let two = folder(&format!("{name}_fields_2_ranks"));
+        succeeded(&run_program(bin, Some(2), &args(&two)));
+        for file in ["fields.h5", "fields.xmf"] {
+            assert!(two.join(file).is_file(), "{name}: no {file}");
+        }
+        let same = same_files(&one, &two, &format!("{name} with --hdf5 on 2 ranks"));
+        assert!(same >= files, "{name}: {same} files");
+    }
+}
+
+/// Without the feature `hdf5` the programs on ranks refuse `--hdf5 N` before any work,
+/// naming the feature.
+#[cfg(not(feature = "hdf5"))]
+#[test]
+fn hdf5_on_ranks_needs_the_feature() {
+    let out = folder("bp1_fields_refused");
+    let mut args = flags(&out);
+    args.extend(["--hdf5".to_string(), "20".to_string()]);
+    let run = run(Some(2), &args);
+    let text = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        !run.status.success() && text.contains("--features hdf5"),
+        "{text}"
+    );
+}
+
 /// BP5 at Δx = 1 km (8 000 slip unknowns: Okada's operator an ℋ-matrix) for its first
 /// 3 s (15 steps of the initial rupture) on 2 ranks, each building and holding only the blocks of its rows: every file has one
 /// process's bytes (the whole operator), and rank 0 says that it holds part 0 of 2.

@@ -126,7 +126,8 @@ impl std::fmt::Display for NoFieldWriter {
             "--hdf5: this build of `{p}` writes no HDF5 (the workspace's programs are built \
              without the HDF5 library); the binary `{p}` of crates/rsf-hdf5 writes the fields \
              (cargo build --release --manifest-path crates/rsf-hdf5/Cargo.toml, then \
-             crates/rsf-hdf5/target/release/{p} with the same flags; needs libhdf5-dev)",
+             crates/rsf-hdf5/target/release/{p} with the same flags; needs libhdf5-dev; on \
+             MPI ranks, the SEAS programs of crates/rsf-mpi built with --features hdf5)",
             p = self.program
         )
     }

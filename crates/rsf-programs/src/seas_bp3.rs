@@ -185,10 +185,22 @@ pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>
 /// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel, the normal stress
 /// evaluated whole on every rank), the files written by rank 0 — byte-identical to one
 /// process's (docs/scaling.md, "The fault ODE on MPI ranks").
-pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
-    crate::guard::main_on_ranks(processes, |args, folder, processes| {
-        run(args, folder, Some(processes))
-    })
+///
+/// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N` writes
+/// the fault's fields from rank 0, as [`main_with_fields`] does in one process.
+pub fn main_on_ranks(
+    processes: &dyn Processes,
+    writers: Option<std::sync::Arc<dyn crate::fields::FieldWriters>>,
+) -> ExitCode {
+    crate::guard::main_on_ranks_supplied(
+        processes,
+        |args: &mut Args| {
+            if let Some(writers) = writers {
+                args.fields.supply(writers)
+            }
+        },
+        |args, folder, processes| run(args, folder, Some(processes)),
+    )
 }
 
 fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {

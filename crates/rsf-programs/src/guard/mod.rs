@@ -43,7 +43,7 @@ mod flags;
 mod ranks;
 
 pub use flags::*;
-pub use ranks::{agree_on_flags, main_on_ranks};
+pub use ranks::{agree_on_flags, main_on_ranks, main_on_ranks_supplied};
 
 /// One output folder of a run: the flag that names it, the files the run writes there,
 /// whether the run continues an earlier one (`--resume`, `--reuse`) or replaces it

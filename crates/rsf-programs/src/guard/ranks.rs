@@ -89,6 +89,17 @@ pub fn main_on_ranks<P: Program>(
     processes: &dyn Processes,
     body: fn(P, Prepared, &dyn Processes) -> Result<(), AnyError>,
 ) -> ExitCode {
+    main_on_ranks_supplied(processes, |_| {}, body)
+}
+
+/// [`main_on_ranks`] with `supply` applied to every rank's flags once parsed, before the
+/// plan: what the binary supplies beyond the flags (the writers of `--hdf5`,
+/// [`FieldArgs::supply`](crate::fields::FieldArgs::supply); rank 0 writes the file).
+pub fn main_on_ranks_supplied<P: Program>(
+    processes: &dyn Processes,
+    supply: impl FnOnce(&mut P),
+    body: fn(P, Prepared, &dyn Processes) -> Result<(), AnyError>,
+) -> ExitCode {
     let (program, flags) = parse::<P>();
     // Before any work: ranks with different flags would run different runs (issue 74).
     // Every rank reaches the same verdict, so each ends normally (rank 0 printing it):
@@ -101,7 +112,7 @@ pub fn main_on_ranks<P: Program>(
     }
     // A `--config` file every rank reads (the same file on a shared disk: each reaches the
     // same verdict).
-    let program = match program {
+    let mut program = match program {
         Ok(p) => p,
         Err(e) => {
             if processes.rank() == 0 {
@@ -110,6 +121,7 @@ pub fn main_on_ranks<P: Program>(
             return ExitCode::FAILURE;
         }
     };
+    supply(&mut program);
     let prepared = if processes.rank() == 0 {
         prepare(&program)
     } else {
