@@ -258,6 +258,29 @@ fn stiffness(
     Ok((energy / norm, drop))
 }
 
+/// The frictional pairs of a fault inside the body of `model`, in the operator's order: each
+/// pair's position on the fault (`at` of its vertex, m), weight (m²) and a unit Cartesian
+/// slip along `x₂` in the pair's frame (`Qᵀ e₂`).
+fn pair_nodes(
+    model: &rsf::Model<3, 3>,
+    at: impl Fn([f64; 3]) -> [f64; 2],
+) -> Result<Vec<([f64; 2], f64, [f64; 2])>, AnyError> {
+    let fault = model
+        .internal_fault
+        .as_ref()
+        .ok_or("no fault inside the body")?;
+    let fb = &model.frictional_boundary;
+    let mut nodes = Vec::with_capacity(fb.len());
+    for (&p, &w) in fb.nodes.iter().zip(&fb.weights) {
+        let i = fault
+            .pair_index(p)
+            .ok_or("a frictional node that is not a pair")?;
+        let q = fault.transform.frames[i];
+        nodes.push((at(model.vertices[p]), w, [q[1][0], q[1][1]]));
+    }
+    Ok(nodes)
+}
+
 /// The parabolic bump `(1 − (Δx₂/a)² − (Δx₃/b)²)₊` centred at `c` with semi-axes `(a, b)`.
 fn bump(c: [f64; 2], (a, b): (f64, f64)) -> impl Fn([f64; 2]) -> f64 {
     move |p: [f64; 2]| {
@@ -358,22 +381,7 @@ fn run_bp7(cli: &Cli) -> Result<(), AnyError> {
             .problem_builder(model, Bp7Law::Aging)?
             .build_fault_ode_schur_only(options, setup)?;
         let setup = clock.elapsed().as_secs_f64();
-        let model = ode.model();
-        let fault = model
-            .internal_fault
-            .as_ref()
-            .ok_or("no fault inside the body")?;
-        let fb = &model.frictional_boundary;
-        let mut nodes = Vec::with_capacity(fb.len());
-        for (&p, &w) in fb.nodes.iter().zip(&fb.weights) {
-            let i = fault
-                .pair_index(p)
-                .ok_or("a frictional node that is not a pair")?;
-            let q = fault.transform.frames[i];
-            let x = model.vertices[p];
-            // A unit Cartesian slip along x₂ in the pair's frame: Qᵀ e₂.
-            nodes.push(([x[1], x[2]], w, [q[1][0], q[1][1]]));
-        }
+        let nodes = pair_nodes(ode.model(), |x| [x[1], x[2]])?;
         let centre: Vec<(usize, f64)> = nodes
             .iter()
             .enumerate()
@@ -445,21 +453,8 @@ fn run_bp5(cli: &Cli) -> Result<(), AnyError> {
         options.ordering = InteriorOrdering::NestedDissection;
         let mut ode = bp5.fe_fault_ode_schur_only(model, options, SchurOnlySetup::default())?;
         let setup = clock.elapsed().as_secs_f64();
-        let model = ode.model();
-        let fault = model
-            .internal_fault
-            .as_ref()
-            .ok_or("no fault inside the body")?;
-        let fb = &model.frictional_boundary;
-        let mut nodes = Vec::with_capacity(fb.len());
-        for (&p, &w) in fb.nodes.iter().zip(&fb.weights) {
-            let i = fault
-                .pair_index(p)
-                .ok_or("a frictional node that is not a pair")?;
-            let q = fault.transform.frames[i];
-            let x = model.vertices[p];
-            nodes.push(([x[1], -x[2]], w, [q[1][0], q[1][1]]));
-        }
+        // Depth x₃ = −z.
+        let nodes = pair_nodes(ode.model(), |x| [x[1], -x[2]])?;
         let op = ode.fault_operator_mut();
         let kernel = format!("fe ({})", grid.ratio);
         report((&kernel, grid.dx, setup), &bumps, mu, |i| {

@@ -188,6 +188,13 @@ impl FieldArgs {
         self.writers = Supplied(Some(writers));
     }
 
+    /// These flags with `writers` if there are any (a binary built with or without them).
+    pub fn supply_if(&mut self, writers: Option<Arc<dyn FieldWriters>>) {
+        if let Some(writers) = writers {
+            self.supply(writers);
+        }
+    }
+
     /// Refuses `--hdf5 N` (N ≥ 1) in a build without writers — in the plan, before any work.
     ///
     /// # Errors

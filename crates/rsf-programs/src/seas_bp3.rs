@@ -194,11 +194,7 @@ pub fn main_on_ranks(
 ) -> ExitCode {
     crate::guard::main_on_ranks_supplied(
         processes,
-        |args: &mut Args| {
-            if let Some(writers) = writers {
-                args.fields.supply(writers)
-            }
-        },
+        |args: &mut Args| args.fields.supply_if(writers),
         |args, folder, processes| run(args, folder, Some(processes)),
     )
 }

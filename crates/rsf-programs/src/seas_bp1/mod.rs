@@ -85,11 +85,7 @@ pub fn main_on_ranks(
 ) -> ExitCode {
     crate::guard::main_on_ranks_supplied(
         processes,
-        |args: &mut Args| {
-            if let Some(writers) = writers {
-                args.fields.supply(writers)
-            }
-        },
+        |args: &mut Args| args.fields.supply_if(writers),
         |args, prepared, processes| run(args, prepared, Some(processes)),
     )
 }
