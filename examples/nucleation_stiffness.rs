@@ -233,7 +233,7 @@ impl Program for Cli {
 /// the drop is not read, NaN).
 fn stiffness(
     op: &mut dyn FaultOperator,
-    nodes: &[([f64; 2], f64, [f64; 2])],
+    nodes: &[Node],
     bump: &dyn Fn([f64; 2]) -> f64,
     centre: &[(usize, f64)],
 ) -> Result<(f64, f64), AnyError> {
@@ -258,13 +258,17 @@ fn stiffness(
     Ok((energy / norm, drop))
 }
 
+/// A frictional node as [`stiffness`] takes it: its position `(x₂, x₃)` (m), weight `w` (m²)
+/// and the components of a unit slip along `x₂` in its two slip unknowns.
+type Node = ([f64; 2], f64, [f64; 2]);
+
 /// The frictional pairs of a fault inside the body of `model`, in the operator's order: each
 /// pair's position on the fault (`at` of its vertex, m), weight (m²) and a unit Cartesian
 /// slip along `x₂` in the pair's frame (`Qᵀ e₂`).
 fn pair_nodes(
     model: &rsf::Model<3, 3>,
     at: impl Fn([f64; 3]) -> [f64; 2],
-) -> Result<Vec<([f64; 2], f64, [f64; 2])>, AnyError> {
+) -> Result<Vec<Node>, AnyError> {
     let fault = model
         .internal_fault
         .as_ref()
@@ -336,7 +340,7 @@ fn run_bp7(cli: &Cli) -> Result<(), AnyError> {
         let setup = clock.elapsed().as_secs_f64();
         let model = ode.model();
         let fb = &model.frictional_boundary;
-        let nodes: Vec<([f64; 2], f64, [f64; 2])> = fb
+        let nodes: Vec<Node> = fb
             .nodes
             .iter()
             .zip(&fb.weights)
@@ -426,7 +430,7 @@ fn run_bp5(cli: &Cli) -> Result<(), AnyError> {
         let model = ode.model();
         let fb = &model.frictional_boundary;
         // Cell centres at (0, x₂, −x₃); the first slip unknown along strike (+x₂).
-        let nodes: Vec<([f64; 2], f64, [f64; 2])> = fb
+        let nodes: Vec<Node> = fb
             .nodes
             .iter()
             .zip(&fb.weights)
