@@ -38,8 +38,10 @@ const LAYERS: &[&[&str]] = &[
     &["rsf-scenes"],
     // The programs (flags, run folders, the guard, figures), over the scenes.
     &["rsf-programs"],
-    // Outside the default build (MPI, HDF5); they run the programs of rsf-programs.
-    &["rsf-mpi", "rsf-hdf5"],
+    // Outside the default build (HDF5, MPI); they run the programs of rsf-programs, the
+    // MPI programs with rsf-hdf5's writers behind their feature `hdf5`.
+    &["rsf-hdf5"],
+    &["rsf-mpi"],
     // Outside the default build: the Python package, over the crates above (rsf-hdf5 behind
     // its feature `hdf5`).
     &["rsf-python"],

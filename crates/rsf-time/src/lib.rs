@@ -46,7 +46,7 @@ pub use stepper::{
     AutoOptions, OdeIntegrator, OdeStep, OdeStepper, StabilizedMemory, StepperMode, StepperStats,
 };
 
-pub use rsf_linalg::Parallelism;
+use rsf_linalg::Parallelism;
 use rsf_linalg::SparseMatrix;
 
 /// Fewest rows for which [`LoadOperator::apply`] splits its rows in two halves on two

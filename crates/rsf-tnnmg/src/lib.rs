@@ -94,6 +94,6 @@ mod tnnmg;
 pub use error::{Error, Result};
 pub use gauss_seidel::NonlinearGaussSeidel;
 pub use linear_correction::LinearCorrection;
-pub use rsf_linalg::Parallelism;
+use rsf_linalg::Parallelism;
 pub use smoother_order::SmootherOrder;
 pub use tnnmg::{Tnnmg, TnnmgOptions};

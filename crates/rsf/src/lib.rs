@@ -101,9 +101,10 @@ pub mod prelude {
 pub use checkpoint::{Checkpoint, SimulationState};
 pub use error::{Error, Result};
 pub use fault_ode::FaultOde;
-pub use method::{Integrator, MethodKind, Parallelism, SolverKind, StateLawKind};
+pub use method::{Integrator, MethodKind, SolverKind, StateLawKind};
 pub use model::{Material, Model, ModelBuilder, Part, TimeFunction};
 pub use observe::{Flow, Observer, StepView};
+pub use rsf_linalg::Parallelism;
 pub use run::{run_until, RunError, RunSummary, StepReport, Stepping, Termination, Until};
 pub use simulation::{Problem, Run, Simulation, SimulationBuilder};
 pub use switching::SwitchingRun;

@@ -6,6 +6,7 @@
 use crate::common::*;
 use faer::sparse::Triplet;
 use rsf_direct::{DirectOptions, DirectSolver};
+use rsf_linalg::Parallelism;
 use rsf_nonsmooth::*;
 use rsf_ranks::Colouring;
 use rsf_tnnmg::*;

@@ -10,8 +10,9 @@ pub(crate) mod state_integrator;
 pub use crate::friction_blocks::FrictionBlocks;
 pub use fixed_point::{Acceleration, FixedPointOptions, FixedPointScheme, InnerSolves, Predictor};
 pub use kind::MethodKind;
+use rsf_linalg::Parallelism;
 pub use rsf_state::{BuiltinStateLaw, StateLawKind};
-pub use rsf_time::{Integrator, Parallelism};
+pub use rsf_time::Integrator;
 #[allow(deprecated)]
 pub use solver::AUTO_DIRECT_MAX_EXTENSION;
 pub use solver::{

@@ -5,10 +5,11 @@ use std::sync::Arc;
 
 use rsf_direct::{DirectMemory, DirectOptions, DirectSolver};
 use rsf_fem::SparseMatrix;
+use rsf_linalg::Parallelism;
 use rsf_nonsmooth::{BlockNonlinearity, FullStep, SolveReport, StepSolver, Stopping};
 use rsf_ranks::TransportFactory;
 use rsf_tnnmg::distributed::{DistributedTnnmg, DistributedTnnmgOptions};
-use rsf_tnnmg::{NonlinearGaussSeidel, Parallelism, Tnnmg, TnnmgOptions};
+use rsf_tnnmg::{NonlinearGaussSeidel, Tnnmg, TnnmgOptions};
 
 use crate::model::Model;
 
