@@ -8,10 +8,10 @@ use proptest::prelude::*;
 use rsf::fault_ode::InteriorOrdering;
 use rsf::fault_ode::OdeIntegrator;
 use rsf_scenes::{
-    Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, Bp5Condensation, Bp5Kernel, Bp5PairRun,
-    Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law, Bp8OverpressureRule,
-    Bp8Source, KernelChoice, RunConfig, SeasBp1Run, SeasBp3Run, SeasBp5Mesh, SeasBp5Run,
-    SeasBp6Run, SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
+    Bp1Absorbing, Bp1DynamicIntegrator, Bp1Scheme, Bp5Condensation, Bp5Kernel, Bp5PairPatch,
+    Bp5PairRun, Bp6BemProduct, Bp6Elastic, Bp6PressureChoice, Bp6Variant, Bp7Law,
+    Bp8OverpressureRule, Bp8Source, KernelChoice, RunConfig, SeasBp1Run, SeasBp3Run, SeasBp5Mesh,
+    SeasBp5Run, SeasBp6Run, SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
 };
 
 use crate::guard::{parse_from, Program};
@@ -533,7 +533,10 @@ fn bp5_pair_run() -> impl Strategy<Value = Bp5PairRun> {
             Just(InteriorOrdering::NestedDissection)
         ]),
         (1e-9f64..1e5, 1e-10f64..0.1, 1e-14f64..1e-2),
-        proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+        (
+            proptest::sample::select(OdeIntegrator::ALL.to_vec()),
+            prop_oneof![Just(Bp5PairPatch::Both), Just(Bp5PairPatch::West)],
+        ),
     )
         .prop_map(
             |(
@@ -543,7 +546,7 @@ fn bp5_pair_run() -> impl Strategy<Value = Bp5PairRun> {
                 (domain_km, ratio),
                 ordering,
                 (end_years, tolerance, epsilon),
-                integrator,
+                (integrator, patch),
             )| Bp5PairRun {
                 kernel,
                 dx,
@@ -555,6 +558,7 @@ fn bp5_pair_run() -> impl Strategy<Value = Bp5PairRun> {
                 tolerance,
                 integrator,
                 epsilon,
+                patch,
             },
         )
 }

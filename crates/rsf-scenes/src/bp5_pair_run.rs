@@ -11,7 +11,7 @@ use crate::run_config::TOLERANCE_HELP;
 use crate::run_config::{as_setting, check_ranges, RunConfig};
 #[cfg(feature = "clap")]
 use crate::seas_square_run::INTEGRATOR_HELP;
-use crate::{invalid, Bp5Kernel, Bp5Pair, SeasBp5, SeasBp5Grid};
+use crate::{invalid, Bp5Kernel, Bp5Pair, Bp5PairPatch, SeasBp5, SeasBp5Grid};
 
 /// The ranges of a two-strand run's settings and the flags' help texts.
 pub mod bp5_pair_ranges {
@@ -90,6 +90,11 @@ pub struct Bp5PairRun {
     /// Relative accuracy ε of the ℋ-matrices.
     #[cfg_attr(feature = "clap", arg(long, default_value_t = Bp5PairRun::default().epsilon, allow_negative_numbers = true, help = r::EPSILON_HELP))]
     pub epsilon: f64,
+    /// Where BP5's nucleation patch is: on `both` strands (mirror images) or on the `west`
+    /// one only (the strands differ: the west one leads; docs/fault-networks.md).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = Bp5PairPatch::Both))]
+    #[serde(default, skip_serializing_if = "is_both")]
+    pub patch: Bp5PairPatch,
 }
 
 impl Default for Bp5PairRun {
@@ -106,16 +111,19 @@ impl Default for Bp5PairRun {
             tolerance: 1e-6,
             integrator: OdeIntegrator::Auto,
             epsilon: 1e-6,
+            patch: Bp5PairPatch::Both,
         }
     }
 }
 
 impl Bp5PairRun {
-    /// The scene: BP5's parameters, the strands `separation_km` apart.
+    /// The scene: BP5's parameters, the strands `separation_km` apart, the patch where
+    /// `patch` says.
     pub fn scene(&self) -> Bp5Pair {
         Bp5Pair {
             bp5: SeasBp5::default(),
             separation: self.separation_km * 1e3,
+            patch: self.patch,
         }
     }
 
@@ -163,6 +171,12 @@ impl Bp5PairRun {
             &self.scene().bp5,
         )
     }
+}
+
+/// Whether the patch is on both strands (the default, left out of the fingerprint and the
+/// TOML: the runs before the setting keep theirs).
+fn is_both(patch: &Bp5PairPatch) -> bool {
+    *patch == Bp5PairPatch::Both
 }
 
 impl RunConfig for Bp5PairRun {

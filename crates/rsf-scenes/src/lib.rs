@@ -106,8 +106,8 @@ pub use seas_bp3::{
 pub use seas_bp3_run::{bp3_ranges, SeasBp3Run, BP3_DT_MIN};
 #[cfg(feature = "seas")]
 pub use seas_bp5::{
-    Bp5Pair, FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh, BP5_PAIR_FAULTS,
-    BP5_PAIR_STATIONS, GRADED_MAX_CELLS as SEAS_BP5_GRADED_MAX_CELLS,
+    Bp5Pair, Bp5PairPatch, FaultZone, SeasBp5, SeasBp5FaultOde, SeasBp5Grid, SeasBp5Mesh,
+    BP5_PAIR_FAULTS, BP5_PAIR_STATIONS, GRADED_MAX_CELLS as SEAS_BP5_GRADED_MAX_CELLS,
     MAX_CELLS as SEAS_BP5_MAX_CELLS,
 };
 #[cfg(feature = "seas")]

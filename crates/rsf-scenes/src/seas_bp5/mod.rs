@@ -22,7 +22,7 @@ mod pair;
 mod volume;
 
 pub use half_space::MAX_CELLS;
-pub use pair::{Bp5Pair, BP5_PAIR_FAULTS, BP5_PAIR_STATIONS};
+pub use pair::{Bp5Pair, Bp5PairPatch, BP5_PAIR_FAULTS, BP5_PAIR_STATIONS};
 pub use volume::{SeasBp5Grid, SeasBp5Mesh, GRADED_MAX_CELLS};
 
 /// The fault ODE of BP5 (the regularised law, the aging law, a 3-D fault alone).
@@ -383,17 +383,29 @@ impl SeasBp5 {
         &self,
         model: Model<3, 3>,
     ) -> SimulationBuilder<3, AsinhLaw, Aging, rsf::Integrator, 3> {
+        self.problem_builder_by(model, |_| *self)
+    }
+
+    /// [`problem_builder`](Self::problem_builder) with the parameters of `scene(x)` at each
+    /// node `x` (model coordinates) — faults whose parameters differ, as
+    /// [`Bp5Pair`](super::Bp5Pair)'s strands with [`Bp5PairPatch::West`](super::Bp5PairPatch);
+    /// the radiation damping is `self`'s.
+    pub fn problem_builder_by(
+        &self,
+        model: Model<3, 3>,
+        scene: impl Fn(&[f64; 3]) -> SeasBp5 + Copy,
+    ) -> SimulationBuilder<3, AsinhLaw, Aging, rsf::Integrator, 3> {
         let dx = Self::grid_spacing(&model);
-        let l = move |x: &[f64; 3]| self.l_in_cell(x[1], -x[2], dx);
+        let l = move |x: &[f64; 3]| scene(x).l_in_cell(x[1], -x[2], dx);
         SimulationBuilder::new(model)
             .friction_at(move |x| {
                 AsinhLaw::new(RateStateParams {
                     l: l(x),
-                    ..self.params(x[1], -x[2])
+                    ..scene(x).params(x[1], -x[2])
                 })
             })
             .state_law_at(move |x| Aging::new(l(x)))
-            .initial_state_at(move |x| (l(x) / self.v_init).ln())
+            .initial_state_at(move |x| (l(x) / scene(x).v_init).ln())
             .integrator(rsf::Integrator::Quasistatic(rsf_time::Quasistatic::new()))
             .radiation_damping(self.radiation_damping())
             .time_step(1e-3)

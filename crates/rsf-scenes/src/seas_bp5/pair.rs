@@ -31,6 +31,26 @@ pub const BP5_PAIR_STATIONS: [(f64, f64); 5] = [
     (0.0, 0.0),
 ];
 
+/// Where BP5's nucleation patch is on the pair.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Bp5PairPatch {
+    /// On both strands (mirror images of each other): which one leads is decided by
+    /// round-off and the mesh's asymmetry.
+    #[default]
+    Both,
+    /// On the west strand only: the east strand's L and initial slip rate are the rest of
+    /// the region's (`L`, `V_init`), so the strands differ and the west one leads.
+    West,
+}
+
+impl Bp5PairPatch {
+    fn is_both(&self) -> bool {
+        *self == Self::Both
+    }
+}
+
 /// BP5's physics on two parallel strands (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Bp5Pair {
@@ -38,6 +58,10 @@ pub struct Bp5Pair {
     pub bp5: SeasBp5,
     /// The distance between the strands across strike (m), > 0.
     pub separation: f64,
+    /// Where the nucleation patch is (serialised only when not on both strands: the
+    /// fingerprints of the runs before it stand).
+    #[serde(default, skip_serializing_if = "Bp5PairPatch::is_both")]
+    pub patch: Bp5PairPatch,
 }
 
 impl Default for Bp5Pair {
@@ -47,6 +71,7 @@ impl Default for Bp5Pair {
         Self {
             bp5: SeasBp5::default(),
             separation: 8e3,
+            patch: Bp5PairPatch::Both,
         }
     }
 }
@@ -74,6 +99,20 @@ impl Bp5Pair {
             ));
         }
         Ok(())
+    }
+
+    /// The parameters of the strand at `x` (m, across strike; the west strand for `x < 0`):
+    /// BP5's, or on the east strand with [`Bp5PairPatch::West`] BP5's without the patch
+    /// (its L and initial slip rate those of the rest of the region).
+    pub fn strand(&self, x: f64) -> SeasBp5 {
+        match self.patch {
+            Bp5PairPatch::West if x > 0.0 => SeasBp5 {
+                l_nucleation: self.bp5.l,
+                v_i: self.bp5.v_init,
+                ..self.bp5
+            },
+            _ => self.bp5,
+        }
     }
 
     /// The `x` (m) of strand `f` (0: west, 1: east).
@@ -127,7 +166,7 @@ impl Bp5Pair {
         let areas: Vec<f64> = model.frictional_boundary.weights.clone();
         for (k, c) in set.centres().iter().enumerate() {
             // The element's first slip component is along strike (+y).
-            model.load[3 * k] = areas[k] * self.bp5.tau0_in_cell(c[1], -c[2], dx);
+            model.load[3 * k] = areas[k] * self.strand(c[0]).tau0_in_cell(c[1], -c[2], dx);
         }
         let half = set.n_elements() / 2;
         let faults: Vec<usize> = (0..set.n_elements())
@@ -167,7 +206,7 @@ impl Bp5Pair {
             plate_velocity,
         };
         self.bp5
-            .problem_builder(model)
+            .problem_builder_by(model, |x| self.strand(x[0]))
             .build_fault_ode_alone(options, alone)
     }
 
@@ -261,6 +300,7 @@ impl Bp5Pair {
             .fault_tangent([0.0, 1.0, 0.0]);
         for (f, name) in BP5_PAIR_FAULTS.iter().enumerate() {
             let x = self.x_of(f);
+            let p = self.strand(x);
             b = b
                 .internal_fault_polygon(
                     name,
@@ -297,7 +337,9 @@ impl Bp5Pair {
         options: FaultOdeOptions,
     ) -> Result<SeasBp5FaultOde> {
         self.validate()?;
-        self.bp5.problem_builder(model).build_fault_ode(options)
+        self.bp5
+            .problem_builder_by(model, |x| self.strand(x[0]))
+            .build_fault_ode(options)
     }
 
     /// As [`fe_fault_ode`](Self::fe_fault_ode) without ever holding the volume's whole
@@ -313,7 +355,7 @@ impl Bp5Pair {
     ) -> Result<SeasBp5FaultOde> {
         self.validate()?;
         self.bp5
-            .problem_builder(model)
+            .problem_builder_by(model, |x| self.strand(x[0]))
             .build_fault_ode_schur_only(options, setup)
     }
 
@@ -350,5 +392,53 @@ mod tests {
         };
         let (mesh, _) = pair.fe_mesh(&grid).unwrap();
         assert_eq!(pair.fe_mesh_vertices(&grid).unwrap(), mesh.num_vertices());
+    }
+    /// With the patch on the west strand only, the east strand's cells carry the rest of
+    /// the region's prestress and L everywhere (what BP5's scene gives outside its patch),
+    /// the west strand's the patch's where it lies; with the patch on both, the strands are
+    /// the same cell for cell. Okada's 4 km cells: 250 per strand, 9 of them on the patch.
+    #[test]
+    fn the_patch_is_where_the_setting_puts_it() {
+        let dx = 4e3;
+        let loads_and_l = |patch| {
+            let pair = Bp5Pair {
+                patch,
+                ..Bp5Pair::default()
+            };
+            let set = pair.element_set(dx).unwrap();
+            let model = pair.bem_model(&set, dx).unwrap();
+            let half = set.n_elements() / 2;
+            let per_strand = |s: std::ops::Range<usize>| -> Vec<(f64, f64)> {
+                s.map(|k| {
+                    let c = set.centres()[k];
+                    (
+                        model.load[3 * k],
+                        pair.strand(c[0]).l_in_cell(c[1], -c[2], dx),
+                    )
+                })
+                .collect()
+            };
+            (per_strand(0..half), per_strand(half..2 * half))
+        };
+        let (west, east) = loads_and_l(Bp5PairPatch::Both);
+        assert_eq!(west, east);
+        let bp5 = SeasBp5::default();
+        let on_patch = west.iter().filter(|(_, l)| *l != bp5.l).count();
+        assert_eq!(on_patch, 9);
+        let (west_only, east_alone) = loads_and_l(Bp5PairPatch::West);
+        assert_eq!(west_only, west);
+        assert!(east_alone.iter().all(|(_, l)| *l == bp5.l));
+        let set = Bp5Pair::default().element_set(dx).unwrap();
+        let differ = east_alone
+            .iter()
+            .zip(&east)
+            .enumerate()
+            .filter(|(_, (a, b))| a != b)
+            .map(|(k, _)| set.centres()[k])
+            .collect::<Vec<_>>();
+        assert_eq!(differ.len(), on_patch);
+        assert!(differ
+            .iter()
+            .all(|c| bp5.patch_share(c[1], -c[2], dx) > 0.0));
     }
 }
