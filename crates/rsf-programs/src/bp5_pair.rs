@@ -24,6 +24,7 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES};
+use crate::fields::FaultSize;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -164,41 +165,44 @@ impl Program for Args {
         let rows = run.end_years * 100.0 + 1e4;
         let names = outputs(&pair);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let plan = Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --kernel, --domain-km, --ratio",
+                format!(
+                    "two strands of {cells:.3e} cells at dx = {} m ({})",
+                    number(run.dx),
+                    kernel_name(run.kernel)
+                ),
+            )
+            .output(
+                stations * rows * csv_row_bytes(7) + FIGURE_BYTES + 1e7,
+                "--end-years",
+                format!(
+                    "{} years of {stations} station files",
+                    written(run.end_years)
+                ),
+            )
+            .output(
+                setup_file,
+                "--dx, --domain-km, --ratio",
+                format!("the elimination kept in {SETUP_FILE}"),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(run.fingerprint()),
+            );
         // The faults' fields (--hdf5): both strands' grids with their rims, their quadrilaterals.
         self.fields.adaptive_output(
-            Plan::new()
-                .pool(self.threads)
-                .memory(
-                    memory,
-                    "--dx, --kernel, --domain-km, --ratio",
-                    format!(
-                        "two strands of {cells:.3e} cells at dx = {} m ({})",
-                        number(run.dx),
-                        kernel_name(run.kernel)
-                    ),
-                )
-                .output(
-                    stations * rows * csv_row_bytes(7) + FIGURE_BYTES + 1e7,
-                    "--end-years",
-                    format!(
-                        "{} years of {stations} station files",
-                        written(run.end_years)
-                    ),
-                )
-                .output(
-                    setup_file,
-                    "--dx, --domain-km, --ratio",
-                    format!("the elimination kept in {SETUP_FILE}"),
-                )
-                .folder(
-                    self.run
-                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                        .fingerprint(run.fingerprint()),
-                ),
-            cells + 2.0 * (pair.bp5.l_f / run.dx + pair.bp5.w_f / run.dx + 1.0),
-            (cells, 4.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            plan,
+            FaultSize::of(
+                cells + 2.0 * (pair.bp5.l_f / run.dx + pair.bp5.w_f / run.dx + 1.0),
+                (cells, 4.0),
+            ),
+            &self.run,
+            self.limits,
         )
     }
 }

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::guard::{written, AnyError, Plan};
+use crate::guard::{written, AnyError, Limits, Plan};
 use rsf::checkpoint::{Checkpoint, Fingerprint};
 use rsf::observe::FileMode;
 use rsf::run_folder::{output_plan, OutputEstimate, Session};
@@ -161,6 +161,29 @@ pub const FIELDS_FRAME_BYTES: f64 = 12_288.0;
 /// a 24-vertex mesh; rounded up).
 pub const FIELDS_FILE_BYTES: f64 = 32_768.0;
 
+/// The size of a fault's fields (bounds from a program's flags, for its plan): its points
+/// and its cells of `corners` vertices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaultSize {
+    /// Points (fault nodes or cell centres).
+    pub points: f64,
+    /// Cells.
+    pub cells: f64,
+    /// Vertices of a cell (2 for segments, 4 for quadrilaterals).
+    pub corners: f64,
+}
+
+impl FaultSize {
+    /// `points` points and `(cells, corners)`.
+    pub fn of(points: f64, (cells, corners): (f64, f64)) -> Self {
+        Self {
+            points,
+            cells,
+            corners,
+        }
+    }
+}
+
 /// The flag `--hdf5 N`: the run's fields every N steps into one HDF5 file `OUT/fields.h5`
 /// with an Xdmf index `OUT/fields.xmf` (ParaView, meshio), written by the writers a binary
 /// supplies ([`FieldWriters`]; the binaries of `crates/rsf-hdf5`).
@@ -233,10 +256,10 @@ impl FieldArgs {
     }
 
     /// `plan` with the fields file of an adaptive run (its steps unknown before it runs: the
-    /// SEAS programs and the fault networks) of `points` fault nodes and `cells` cells of
-    /// `corners` vertices (bounds), within what `--max-output-gb` (`max_gb`) leaves beside
-    /// the plan's other output: with `--max-steps` (`max_steps`) the file of that many
-    /// steps, refused if it does not fit; without, the step cap whose frames fit
+    /// SEAS programs and the fault networks) on `fault`, within what `limits`'
+    /// `--max-output-gb` leaves beside the plan's other output: with `run`'s `--max-steps`
+    /// the file of that many steps, refused if it does not fit; without, the step cap whose
+    /// frames fit
     /// ([`rsf::run_folder::output_plan`]; [`Plan::cap_steps`]: the run stops there with a
     /// checkpoint). `plan` unchanged without `--hdf5`.
     ///
@@ -245,11 +268,16 @@ impl FieldArgs {
     pub fn adaptive_output(
         &self,
         plan: Plan,
-        points: f64,
-        (cells, corners): (f64, f64),
-        max_steps: Option<u64>,
-        max_gb: f64,
+        fault: FaultSize,
+        run: &crate::ResumeArgs,
+        limits: Limits,
     ) -> Result<Plan, AnyError> {
+        let FaultSize {
+            points,
+            cells,
+            corners,
+        } = fault;
+        let (max_steps, max_gb) = (run.max_steps, limits.max_output_gb);
         let n = match self.every() {
             0 => return Ok(plan),
             n => n as f64,

@@ -32,6 +32,7 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
+use crate::fields::FaultSize;
 use crate::guard::{number, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::session::Session;
 use crate::{cpu_seconds, machine};
@@ -128,38 +129,38 @@ impl Program for Args {
         self.fields.check("seas_bp3")?;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let plan = Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --domain-km, --ratio",
+                format!(
+                    "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
+                     {nz:.3e} on the fault",
+                    number(run.dx),
+                    number(run.domain_km),
+                    number(run.ratio)
+                ),
+            )
+            .output(
+                seas_output_bytes(run.end_years, stations, 8, 3.0 * profile),
+                "--end-years, --domain-km",
+                format!(
+                    "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
+                    run.end_years
+                ),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(run.fingerprint()),
+            );
         // The fault's fields (--hdf5): its nodes and the segments between them.
         self.fields.adaptive_output(
-            Plan::new()
-                .pool(self.threads)
-                .memory(
-                    memory,
-                    "--dx, --domain-km, --ratio",
-                    format!(
-                        "BP3 on dx = {} m, domain = {} km, ratio = {}: about {nodes:.3e} nodes, \
-                     {nz:.3e} on the fault",
-                        number(run.dx),
-                        number(run.domain_km),
-                        number(run.ratio)
-                    ),
-                )
-                .output(
-                    seas_output_bytes(run.end_years, stations, 8, 3.0 * profile),
-                    "--end-years, --domain-km",
-                    format!(
-                        "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
-                        run.end_years
-                    ),
-                )
-                .folder(
-                    self.run
-                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                        .fingerprint(run.fingerprint()),
-                ),
-            nz + 1.0,
-            (nz, 2.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            plan,
+            FaultSize::of(nz + 1.0, (nz, 2.0)),
+            &self.run,
+            self.limits,
         )
     }
 }

@@ -33,6 +33,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
+use crate::fields::FaultSize;
 use crate::fields::{Fault2d, FaultFields2d, FieldsRun};
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::session::Session;
@@ -148,29 +149,29 @@ impl Program for Args {
         let output = rows * (10.0 * 110.0) + seconds / run.profile_interval * 4.0 * 202.0 * 15.0;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let plan = Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dz, --elastic, --domain-km, --ratio",
+                format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(run.dz)),
+            )
+            .output(
+                output,
+                "--end-years",
+                format!("{} years of stations and profiles", written(run.end_years)),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(run.fingerprint()),
+            );
         // The fault's fields (--hdf5): its nodes and the segments between them.
         self.fields.adaptive_output(
-            Plan::new()
-                .pool(self.threads)
-                .memory(
-                    memory,
-                    "--dz, --elastic, --domain-km, --ratio",
-                    format!("BP6 on Δz = {} m: about {nodes:.3e} nodes", number(run.dz)),
-                )
-                .output(
-                    output,
-                    "--end-years",
-                    format!("{} years of stations and profiles", written(run.end_years)),
-                )
-                .folder(
-                    self.run
-                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                        .fingerprint(run.fingerprint()),
-                ),
-            cells + 1.0,
-            (cells, 2.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            plan,
+            FaultSize::of(cells + 1.0, (cells, 2.0)),
+            &self.run,
+            self.limits,
         )
     }
 }

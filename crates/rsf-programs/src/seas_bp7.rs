@@ -25,6 +25,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
+use crate::fields::FaultSize;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
@@ -125,29 +126,29 @@ impl Program for Args {
         };
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let plan = Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx",
+                format!("BP7 on Δx = {} m: {cells} cells", number(run.dx)),
+            )
+            .output(
+                output,
+                "--end-years",
+                format!("{} years of stations and profiles", written(run.end_years)),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(run.fingerprint()),
+            );
         // The fault's fields (--hdf5): the square's grid with its rim, its quadrilaterals.
         self.fields.adaptive_output(
-            Plan::new()
-                .pool(self.threads)
-                .memory(
-                    memory,
-                    "--dx",
-                    format!("BP7 on Δx = {} m: {cells} cells", number(run.dx)),
-                )
-                .output(
-                    output,
-                    "--end-years",
-                    format!("{} years of stations and profiles", written(run.end_years)),
-                )
-                .folder(
-                    self.run
-                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                        .fingerprint(run.fingerprint()),
-                ),
-            (cells.sqrt() + 1.0).powi(2),
-            (cells, 4.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            plan,
+            FaultSize::of((cells.sqrt() + 1.0).powi(2), (cells, 4.0)),
+            &self.run,
+            self.limits,
         )
     }
 }

@@ -28,6 +28,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
+use crate::fields::FaultSize;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
@@ -131,29 +132,29 @@ impl Program for Args {
         let output = rows * (10.0 * 170.0) + seconds / run.profile_interval * 10.0 * 83.0 * 15.0;
         let names = outputs();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let plan = Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx",
+                format!("BP8 on Δx = {} m: {cells} cells", number(run.dx)),
+            )
+            .output(
+                output,
+                "--end-days",
+                format!("{} days of stations and profiles", written(run.end_days)),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(run.fingerprint()),
+            );
         // The fault's fields (--hdf5): the square's grid with its rim, its quadrilaterals.
         self.fields.adaptive_output(
-            Plan::new()
-                .pool(self.threads)
-                .memory(
-                    memory,
-                    "--dx",
-                    format!("BP8 on Δx = {} m: {cells} cells", number(run.dx)),
-                )
-                .output(
-                    output,
-                    "--end-days",
-                    format!("{} days of stations and profiles", written(run.end_days)),
-                )
-                .folder(
-                    self.run
-                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                        .fingerprint(run.fingerprint()),
-                ),
-            (cells.sqrt() + 1.0).powi(2),
-            (cells, 4.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            plan,
+            FaultSize::of((cells.sqrt() + 1.0).powi(2), (cells, 4.0)),
+            &self.run,
+            self.limits,
         )
     }
 }

@@ -26,6 +26,7 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
+use crate::fields::FaultSize;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -114,36 +115,36 @@ impl Program for Args {
         let rows = run.end_years * 400.0 + 1e4;
         let names = outputs(&stepover);
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let plan = Plan::new()
+            .pool(self.threads)
+            .memory(
+                memory,
+                "--dx, --domain-km, --ratio, --strand-km",
+                format!(
+                    "the stepover on dx = {} m: about {nodes:.3e} nodes, {fault_nodes:.3e} on \
+                     the strands",
+                    number(run.dx)
+                ),
+            )
+            .output(
+                stations * rows * station_row_bytes() + FIGURE_BYTES + 1e7,
+                "--end-years",
+                format!(
+                    "{} years of {stations} station files",
+                    written(run.end_years)
+                ),
+            )
+            .folder(
+                self.run
+                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
+                    .fingerprint(run.fingerprint()),
+            );
         // The faults' fields (--hdf5): both strands' nodes across the box, the segments between them.
         self.fields.adaptive_output(
-            Plan::new()
-                .pool(self.threads)
-                .memory(
-                    memory,
-                    "--dx, --domain-km, --ratio, --strand-km",
-                    format!(
-                        "the stepover on dx = {} m: about {nodes:.3e} nodes, {fault_nodes:.3e} on \
-                     the strands",
-                        number(run.dx)
-                    ),
-                )
-                .output(
-                    stations * rows * station_row_bytes() + FIGURE_BYTES + 1e7,
-                    "--end-years",
-                    format!(
-                        "{} years of {stations} station files",
-                        written(run.end_years)
-                    ),
-                )
-                .folder(
-                    self.run
-                        .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                        .fingerprint(run.fingerprint()),
-                ),
-            fault_nodes,
-            (fault_nodes, 2.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            plan,
+            FaultSize::of(fault_nodes, (fault_nodes, 2.0)),
+            &self.run,
+            self.limits,
         )
     }
 }

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use crate::config::ConfigArgs;
 use crate::estimates::seas_output_bytes;
+use crate::fields::FaultSize;
 use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
 use rsf::run_folder::{output_plan, OutputEstimate, OutputPlan};
@@ -138,10 +139,9 @@ impl Program for Args {
         // The fault's fields (--hdf5): its nodes, the segments between them.
         let plan = self.fields.adaptive_output(
             plan,
-            size.fault_nodes,
-            (size.fault_nodes - 1.0, 2.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            FaultSize::of(size.fault_nodes, (size.fault_nodes - 1.0, 2.0)),
+            &self.run,
+            self.limits,
         )?;
         Ok(plan.folder(
             self.run

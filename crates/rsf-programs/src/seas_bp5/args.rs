@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes};
+use crate::fields::FaultSize;
 use crate::guard::{written, AnyError, Folder, Limits, Plan, Program};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -307,10 +308,12 @@ impl Program for Args {
         // its cells quadrilaterals (a bound for both kernels).
         let plan = self.fields.adaptive_output(
             plan,
-            (along_strike + 1.0) * (along_dip + 1.0),
-            (along_strike * along_dip, 4.0),
-            self.run.max_steps,
-            self.limits.max_output_gb,
+            FaultSize::of(
+                (along_strike + 1.0) * (along_dip + 1.0),
+                (along_strike * along_dip, 4.0),
+            ),
+            &self.run,
+            self.limits,
         )?;
         Ok(plan.folder(
             self.run
