@@ -262,6 +262,18 @@ fn stiffness(
 /// and the components of a unit slip along `x₂` in its two slip unknowns.
 type Node = ([f64; 2], f64, [f64; 2]);
 
+/// The cells of a fault alone (boundary elements) of `model`, in the operator's order: each
+/// cell's position (`at` of its centre, m), area (m²) and its first slip unknown along `x₂`
+/// (the elements' strike).
+fn cell_nodes(model: &rsf::Model<3, 3>, at: impl Fn([f64; 3]) -> [f64; 2]) -> Vec<Node> {
+    let fb = &model.frictional_boundary;
+    fb.nodes
+        .iter()
+        .zip(&fb.weights)
+        .map(|(&p, &w)| (at(model.vertices[p]), w, [1.0, 0.0]))
+        .collect()
+}
+
 /// The frictional pairs of a fault inside the body of `model`, in the operator's order: each
 /// pair's position on the fault (`at` of its vertex, m), weight (m²) and a unit Cartesian
 /// slip along `x₂` in the pair's frame (`Qᵀ e₂`).
@@ -338,17 +350,7 @@ fn run_bp7(cli: &Cli) -> Result<(), AnyError> {
         let clock = Instant::now();
         let (mut ode, _) = bp7.fault_ode(dx, Bp7Law::Aging, bp7.fault_ode_options(1e-7)?)?;
         let setup = clock.elapsed().as_secs_f64();
-        let model = ode.model();
-        let fb = &model.frictional_boundary;
-        let nodes: Vec<Node> = fb
-            .nodes
-            .iter()
-            .zip(&fb.weights)
-            .map(|(&p, &w)| {
-                let x = model.vertices[p];
-                ([x[1], x[2]], w, [1.0, 0.0])
-            })
-            .collect();
+        let nodes = cell_nodes(ode.model(), |x| [x[1], x[2]]);
         // The four cells around the centre, a quarter each.
         let near = |c: f64| (c.abs() - 0.5 * dx).abs() < 1e-6 * dx;
         let centre: Vec<(usize, f64)> = nodes
@@ -427,18 +429,8 @@ fn run_bp5(cli: &Cli) -> Result<(), AnyError> {
         let clock = Instant::now();
         let mut ode = bp5.fault_ode(bp5.model(dx)?, options()?, &bp5.half_space(1e-8)?)?;
         let setup = clock.elapsed().as_secs_f64();
-        let model = ode.model();
-        let fb = &model.frictional_boundary;
-        // Cell centres at (0, x₂, −x₃); the first slip unknown along strike (+x₂).
-        let nodes: Vec<Node> = fb
-            .nodes
-            .iter()
-            .zip(&fb.weights)
-            .map(|(&p, &w)| {
-                let x = model.vertices[p];
-                ([x[1], -x[2]], w, [1.0, 0.0])
-            })
-            .collect();
+        // Cell centres at (0, x₂, −x₃).
+        let nodes = cell_nodes(ode.model(), |x| [x[1], -x[2]]);
         let op = ode.fault_operator_mut();
         report(("okada", dx, setup), &bumps, mu, |i| {
             stiffness(op, &nodes, &shapes[i], &[])

@@ -77,7 +77,7 @@ pub fn initialize() -> Result<(Universe, MpiRanks), Error> {
 /// The writers of `--hdf5 N` for the SEAS programs on ranks: crates/rsf-hdf5's with this
 /// crate's feature `hdf5` (rank 0 writes the fault's fields), none without it (the programs'
 /// plans then refuse `--hdf5 N`, naming the feature).
-pub fn field_writers() -> Option<std::sync::Arc<dyn rsf_programs::fields::FieldWriters>> {
+pub fn field_writers() -> rsf_programs::fields::Writers {
     #[cfg(feature = "hdf5")]
     {
         Some(rsf_hdf5::programs::Hdf5Writers::shared())

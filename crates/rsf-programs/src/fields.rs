@@ -161,6 +161,10 @@ pub const FIELDS_FRAME_BYTES: f64 = 12_288.0;
 /// a 24-vertex mesh; rounded up).
 pub const FIELDS_FILE_BYTES: f64 = 32_768.0;
 
+/// The writers of `--hdf5` a binary supplies, if it has any (the MPI programs: with the
+/// `rsf-mpi` crate's feature `hdf5`).
+pub type Writers = Option<Arc<dyn FieldWriters>>;
+
 /// The size of a fault's fields (bounds from a program's flags, for its plan): its points
 /// and its cells of `corners` vertices.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -212,7 +216,7 @@ impl FieldArgs {
     }
 
     /// These flags with `writers` if there are any (a binary built with or without them).
-    pub fn supply_if(&mut self, writers: Option<Arc<dyn FieldWriters>>) {
+    pub fn supply_if(&mut self, writers: Writers) {
         if let Some(writers) = writers {
             self.supply(writers);
         }

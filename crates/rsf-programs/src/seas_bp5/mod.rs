@@ -71,13 +71,7 @@ pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>
 ///
 /// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N` writes
 /// the fault's fields from rank 0, as [`main_with_fields`] does in one process.
-pub fn main_on_ranks(
-    processes: &dyn Processes,
-    writers: Option<std::sync::Arc<dyn crate::fields::FieldWriters>>,
-) -> ExitCode {
-    crate::guard::main_on_ranks_supplied(
-        processes,
-        |args: &mut Args| args.fields.supply_if(writers),
-        |args, folder, processes| run(args, folder, Some(processes)),
-    )
+pub fn main_on_ranks(processes: &dyn Processes, writers: crate::fields::Writers) -> ExitCode {
+    let supply = |args: &mut Args| args.fields.supply_if(writers);
+    crate::guard::main_on_ranks_supplied(processes, supply, |a, f, p| run(a, f, Some(p)))
 }
