@@ -201,7 +201,7 @@ impl Program for Args {
                 cells + 2.0 * (pair.bp5.l_f / run.dx + pair.bp5.w_f / run.dx + 1.0),
                 (cells, 4.0),
             ),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )
     }

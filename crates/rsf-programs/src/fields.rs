@@ -261,9 +261,9 @@ impl FieldArgs {
 
     /// `plan` with the fields file of an adaptive run (its steps unknown before it runs: the
     /// SEAS programs and the fault networks) on `fault`, within what `limits`'
-    /// `--max-output-gb` leaves beside the plan's other output: with `run`'s `--max-steps`
-    /// the file of that many steps, refused if it does not fit; without, the step cap whose
-    /// frames fit
+    /// `--max-output-gb` leaves beside the plan's other output: with `--max-steps`
+    /// (`max_steps`) the file of that many steps, refused if it does not fit; without, the
+    /// step cap whose frames fit
     /// ([`rsf::run_folder::output_plan`]; [`Plan::cap_steps`]: the run stops there with a
     /// checkpoint). `plan` unchanged without `--hdf5`.
     ///
@@ -273,7 +273,7 @@ impl FieldArgs {
         &self,
         plan: Plan,
         fault: FaultSize,
-        run: &crate::ResumeArgs,
+        max_steps: Option<u64>,
         limits: Limits,
     ) -> Result<Plan, AnyError> {
         let FaultSize {
@@ -281,7 +281,7 @@ impl FieldArgs {
             cells,
             corners,
         } = fault;
-        let (max_steps, max_gb) = (run.max_steps, limits.max_output_gb);
+        let max_gb = limits.max_output_gb;
         let n = match self.every() {
             0 => return Ok(plan),
             n => n as f64,

@@ -159,7 +159,7 @@ impl Program for Args {
         self.fields.adaptive_output(
             plan,
             FaultSize::of(nz + 1.0, (nz, 2.0)),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )
     }

@@ -170,7 +170,7 @@ impl Program for Args {
         self.fields.adaptive_output(
             plan,
             FaultSize::of(cells + 1.0, (cells, 2.0)),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )
     }

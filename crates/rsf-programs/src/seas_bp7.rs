@@ -147,7 +147,7 @@ impl Program for Args {
         self.fields.adaptive_output(
             plan,
             FaultSize::of((cells.sqrt() + 1.0).powi(2), (cells, 4.0)),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )
     }

@@ -143,7 +143,7 @@ impl Program for Args {
         self.fields.adaptive_output(
             plan,
             FaultSize::of(fault_nodes, (fault_nodes, 2.0)),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )
     }

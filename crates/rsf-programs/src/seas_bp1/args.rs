@@ -140,7 +140,7 @@ impl Program for Args {
         let plan = self.fields.adaptive_output(
             plan,
             FaultSize::of(size.fault_nodes, (size.fault_nodes - 1.0, 2.0)),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )?;
         Ok(plan.folder(

@@ -312,7 +312,7 @@ impl Program for Args {
                 (along_strike + 1.0) * (along_dip + 1.0),
                 (along_strike * along_dip, 4.0),
             ),
-            &self.run,
+            self.run.max_steps,
             self.limits,
         )?;
         Ok(plan.folder(
