@@ -44,7 +44,7 @@ pub struct AsinhPotential {
 }
 
 impl AsinhPotential {
-    /// From `ln V_m` and `κ = a σ̄_n` (Pa); sanitised as in [`DieterichRuinaPotential::new`].
+    /// From `ln V_m` and `κ = a σ̄_n` (Pa); sanitised as in [`DieterichRuinaPotential::new`](crate::DieterichRuinaPotential::new).
     pub fn new(ln_vm: f64, kappa: f64) -> Self {
         Self {
             ln_vm: finite_ln_vm(ln_vm),
@@ -203,7 +203,7 @@ impl AsinhLaw {
     /// Validated law.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) if [`RateStateParams::validate`] fails.
     pub fn new(params: RateStateParams) -> Result<Self> {
         params.validate()?;
         Ok(Self {

@@ -409,12 +409,12 @@ pub fn graded_schur_only_nd_peak(vertices: f64, kept: f64) -> f64 {
 
 /// See [`graded_schur_only_nd_peak`]: bytes per vertex, fitted to the 4 km runs (kept
 /// dofs 599: 14.9 kB per vertex from 3 926 to 82 530 vertices), rounded up.
-const GRADED_ND_BYTES_PER_VERTEX: f64 = 16e3;
+pub const GRADED_ND_BYTES_PER_VERTEX: f64 = 16e3;
 /// See [`graded_schur_only_nd_peak`]: bytes per kept dof squared, the largest of the 2 km
 /// and 1 km runs' residuals above the vertices' share (4.7 to 12.3; 7.1 at 500 m), rounded
 /// up — the packed `S` (4 bytes) and the dense operator built from it (8 bytes, up to
 /// 4 096 unknowns) are 12 on their own.
-const GRADED_ND_BYTES_PER_KEPT_SQUARED: f64 = 12.0;
+pub const GRADED_ND_BYTES_PER_KEPT_SQUARED: f64 = 12.0;
 
 /// The file of the Schur-only elimination's checkpoints in `--out` (its finished state
 /// kept: a `--resume` of the run reads it instead of eliminating again).

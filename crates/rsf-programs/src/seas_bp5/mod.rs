@@ -42,10 +42,12 @@ mod args;
 mod run;
 
 pub(crate) use args::graded_mesh_fewest_vertices;
-pub use args::graded_schur_only_nd_peak;
 #[cfg(test)]
 pub(crate) use args::plans_of_the_largest_boxes;
 pub use args::Args;
+pub use args::{
+    graded_schur_only_nd_peak, GRADED_ND_BYTES_PER_KEPT_SQUARED, GRADED_ND_BYTES_PER_VERTEX,
+};
 use run::run;
 
 /// The program `seas_bp5` (`cargo run --release --example seas_bp5 -- --out DIR …`).
