@@ -93,7 +93,7 @@ pub struct Bp5PairRun {
     /// Where BP5's nucleation patch is: on `both` strands (mirror images) or on the `west`
     /// one only (the strands differ: the west one leads; docs/fault-networks.md).
     #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = Bp5PairPatch::Both))]
-    #[serde(default, skip_serializing_if = "is_both")]
+    #[serde(default, skip_serializing_if = "Bp5PairPatch::is_both")]
     pub patch: Bp5PairPatch,
 }
 
@@ -171,12 +171,6 @@ impl Bp5PairRun {
             &self.scene().bp5,
         )
     }
-}
-
-/// Whether the patch is on both strands (the default, left out of the fingerprint and the
-/// TOML: the runs before the setting keep theirs).
-fn is_both(patch: &Bp5PairPatch) -> bool {
-    *patch == Bp5PairPatch::Both
 }
 
 impl RunConfig for Bp5PairRun {

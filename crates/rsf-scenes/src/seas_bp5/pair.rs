@@ -46,7 +46,9 @@ pub enum Bp5PairPatch {
 }
 
 impl Bp5PairPatch {
-    fn is_both(&self) -> bool {
+    /// Whether the patch is on both strands (the default: left out of fingerprints and TOML,
+    /// so that the runs before the setting keep theirs).
+    pub(crate) fn is_both(&self) -> bool {
         *self == Self::Both
     }
 }
