@@ -259,6 +259,25 @@ impl FieldArgs {
             + frames * (FIELDS_VERTEX_BYTES * points as f64 + FIELDS_FRAME_BYTES)
     }
 
+    /// The fields file of an adaptive run on `fault`: `(fixed, per step)` bytes — the file's
+    /// structure, the mesh and one frame, then a frame every N steps (s steps write at most
+    /// s/N + 1 frames); `None` without `--hdf5`. For a program that caps its steps for
+    /// another output too (`seas_bp1 --every-step`): one cap for both.
+    pub fn adaptive_bytes(&self, fault: FaultSize) -> Option<(f64, f64)> {
+        let n = match self.every() {
+            0 => return None,
+            n => n as f64,
+        };
+        let FaultSize {
+            points,
+            cells,
+            corners,
+        } = fault;
+        let frame = FIELDS_VERTEX_BYTES * points + FIELDS_FRAME_BYTES;
+        let fixed = FIELDS_FILE_BYTES + 32.0 * points + 8.0 * cells * corners + frame;
+        Some((fixed, frame / n))
+    }
+
     /// `plan` with the fields file of an adaptive run (its steps unknown before it runs: the
     /// SEAS programs and the fault networks) on `fault`, within what `limits`'
     /// `--max-output-gb` leaves beside the plan's other output: with `--max-steps`
@@ -276,23 +295,16 @@ impl FieldArgs {
         max_steps: Option<u64>,
         limits: Limits,
     ) -> Result<Plan, AnyError> {
-        let FaultSize {
-            points,
-            cells,
-            corners,
-        } = fault;
+        let points = fault.points;
         let max_gb = limits.max_output_gb;
-        let n = match self.every() {
-            0 => return Ok(plan),
-            n => n as f64,
+        let Some((fixed, per_step)) = self.adaptive_bytes(fault) else {
+            return Ok(plan);
         };
         let frame = FIELDS_VERTEX_BYTES * points + FIELDS_FRAME_BYTES;
-        // A frame every n steps: s steps write at most s/n + 1 frames.
-        let fixed = FIELDS_FILE_BYTES + 32.0 * points + 8.0 * cells * corners + frame;
         let estimate = OutputEstimate {
-            bytes: max_steps.map_or(f64::INFINITY, |m| fixed + m as f64 / n * frame),
+            bytes: max_steps.map_or(f64::INFINITY, |m| fixed + m as f64 * per_step),
             fixed_bytes: fixed,
-            bytes_per_step: frame / n,
+            bytes_per_step: per_step,
             adaptive: true,
         };
         let left = max_gb - plan.output_bytes() / 1e9;

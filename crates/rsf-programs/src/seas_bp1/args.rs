@@ -59,13 +59,19 @@ impl Args {
         if !self.settings.every_step {
             return Ok(None);
         }
+        // With --hdf5 its frames too: one cap for both (FieldArgs::adaptive_bytes).
+        let (fixed, fields) = self
+            .fields
+            .adaptive_bytes(self.fault_size()?)
+            .unwrap_or((0.0, 0.0));
+        let per_step = EVERY_STEP_BYTES + fields;
         let estimate = OutputEstimate {
             bytes: self
                 .run
                 .max_steps
-                .map_or(f64::INFINITY, |m| m as f64 * EVERY_STEP_BYTES),
-            fixed_bytes: 0.0,
-            bytes_per_step: EVERY_STEP_BYTES,
+                .map_or(f64::INFINITY, |m| fixed + m as f64 * per_step),
+            fixed_bytes: fixed,
+            bytes_per_step: per_step,
             adaptive: true,
         };
         Ok(Some(output_plan(
@@ -73,6 +79,19 @@ impl Args {
             self.run.max_steps,
             self.limits.max_output_gb,
         )?))
+    }
+
+    /// The fault's fields' size (`--hdf5`): its nodes and the segments between them.
+    fn fault_size(&self) -> Result<FaultSize, AnyError> {
+        let run = &self.settings;
+        let size = run
+            .scene()
+            .estimate(&run.grid())
+            .map_err(|e| self.config.named(e))?;
+        Ok(FaultSize::of(
+            size.fault_nodes,
+            (size.fault_nodes - 1.0, 2.0),
+        ))
     }
 
     /// The step cap of the run: `--max-steps`, or with `--every-step` the steps whose
@@ -133,16 +152,20 @@ impl Program for Args {
             )
             .output(
                 output,
-                "--end-years, --every-step, --max-steps",
+                "--end-years, --every-step, --max-steps, --hdf5",
                 format!("{} years of the benchmark's files", written(run.end_years)),
             );
-        // The fault's fields (--hdf5): its nodes, the segments between them.
-        let plan = self.fields.adaptive_output(
-            plan,
-            FaultSize::of(size.fault_nodes, (size.fault_nodes - 1.0, 2.0)),
-            self.run.max_steps,
-            self.limits,
-        )?;
+        // The fault's fields (--hdf5), in the station rows' cap with --every-step.
+        let plan = if run.every_step {
+            plan
+        } else {
+            self.fields.adaptive_output(
+                plan,
+                self.fault_size()?,
+                self.run.max_steps,
+                self.limits,
+            )?
+        };
         Ok(plan.folder(
             self.run
                 .folder(Folder::new("--out", &self.out, &outputs).overwrite(self.overwrite))
