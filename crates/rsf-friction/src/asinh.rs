@@ -1,6 +1,6 @@
 //! The regularised rate-and-state law (the SEAS benchmarks' form) and its potential.
 
-use crate::potentials::{finite_ln_vm, linear_solution, sat, ParamLogs, RateStateParams, LN_2};
+use crate::potentials::{finite_ln_vm, linear_solution, sat, LawParams, RateStateParams, LN_2};
 use crate::{ConvexPotential, FrictionLaw, Result};
 use rsf_numeric::{solve_increasing_from, solve_increasing_from_upper_end, wright_omega_ln};
 
@@ -195,8 +195,7 @@ impl AsinhPotential {
 /// `μ = a asinh(V/(2V0) exp((μ0 + b ln(V0 θ/L))/a))`; `α = ln θ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AsinhLaw {
-    params: RateStateParams,
-    logs: ParamLogs,
+    law: LawParams,
 }
 
 impl AsinhLaw {
@@ -205,31 +204,26 @@ impl AsinhLaw {
     /// # Errors
     /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) if [`RateStateParams::validate`] fails.
     pub fn new(params: RateStateParams) -> Result<Self> {
-        params.validate()?;
         Ok(Self {
-            params,
-            logs: ParamLogs::of(&params),
+            law: LawParams::new(params)?,
         })
     }
     /// The parameters.
     pub fn params(&self) -> &RateStateParams {
-        &self.params
+        &self.law.params
     }
 }
 
 impl FrictionLaw for AsinhLaw {
     type Potential = AsinhPotential;
     fn potential(&self, alpha: f64) -> AsinhPotential {
-        AsinhPotential::new(
-            self.logs.ln_cutoff_velocity(&self.params, alpha),
-            self.params.kappa(),
-        )
+        AsinhPotential::new(self.law.ln_cutoff_velocity(alpha), self.law.params.kappa())
     }
     /// `κ = a σ` with the given `σ` (`V_m` does not depend on it).
     fn potential_at_normal_stress(&self, alpha: f64, sigma_n: f64) -> Option<AsinhPotential> {
         Some(AsinhPotential::new(
-            self.logs.ln_cutoff_velocity(&self.params, alpha),
-            self.params.a * sigma_n,
+            self.law.ln_cutoff_velocity(alpha),
+            self.law.params.a * sigma_n,
         ))
     }
     fn uses_state(&self) -> bool {
@@ -239,11 +233,11 @@ impl FrictionLaw for AsinhLaw {
         if !(v > 0.0) {
             return 0.0;
         }
-        let l = finite_ln_vm(self.logs.ln_cutoff_velocity(&self.params, alpha));
-        sat(self.params.a * asinh_exp(v.ln() - LN_2 - l))
+        let l = finite_ln_vm(self.law.ln_cutoff_velocity(alpha));
+        sat(self.law.params.a * asinh_exp(v.ln() - LN_2 - l))
     }
     fn normal_stress(&self) -> Option<f64> {
-        Some(self.params.sigma_n)
+        Some(self.law.params.sigma_n)
     }
     fn proportional_to_normal_stress(&self) -> bool {
         true

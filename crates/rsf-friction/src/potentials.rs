@@ -312,6 +312,30 @@ impl ParamLogs {
     }
 }
 
+/// A rate-and-state law's validated parameters with their logarithms (the state of
+/// [`DieterichRuina`] and [`AsinhLaw`](crate::AsinhLaw)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LawParams {
+    pub(crate) params: RateStateParams,
+    pub(crate) logs: ParamLogs,
+}
+
+impl LawParams {
+    /// # Errors
+    /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
+    pub(crate) fn new(params: RateStateParams) -> Result<Self> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            logs: ParamLogs::of(&params),
+        })
+    }
+    /// `ln V_m(α)` ([`RateStateParams::ln_cutoff_velocity`], the logarithms taken once).
+    pub(crate) fn ln_cutoff_velocity(&self, alpha: f64) -> f64 {
+        self.logs.ln_cutoff_velocity(&self.params, alpha)
+    }
+}
+
 /// Clamps `ln V_m` to a finite range (non-finite `α` would give `±∞`/NaN).
 pub(crate) fn finite_ln_vm(l: f64) -> f64 {
     if l.is_nan() {
@@ -473,8 +497,7 @@ impl ConvexPotential for DieterichRuinaPotential {
 /// `μ = μ0 + a ln(V/V0) + b ln(V0 θ/L)` for `V ≥ V_m(θ)`, 0 below; `α = ln θ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DieterichRuina {
-    params: RateStateParams,
-    logs: ParamLogs,
+    law: LawParams,
 }
 
 impl DieterichRuina {
@@ -483,15 +506,13 @@ impl DieterichRuina {
     /// # Errors
     /// [`Error::InvalidParameter`] if [`RateStateParams::validate`] fails.
     pub fn new(params: RateStateParams) -> Result<Self> {
-        params.validate()?;
         Ok(Self {
-            params,
-            logs: ParamLogs::of(&params),
+            law: LawParams::new(params)?,
         })
     }
     /// The parameters.
     pub fn params(&self) -> &RateStateParams {
-        &self.params
+        &self.law.params
     }
 }
 
@@ -499,10 +520,7 @@ impl FrictionLaw for DieterichRuina {
     type Potential = DieterichRuinaPotential;
     /// `ϕ(·, α)` with `ln V_m(α)` from (2.13).
     fn potential(&self, alpha: f64) -> DieterichRuinaPotential {
-        DieterichRuinaPotential::new(
-            self.logs.ln_cutoff_velocity(&self.params, alpha),
-            self.params.kappa(),
-        )
+        DieterichRuinaPotential::new(self.law.ln_cutoff_velocity(alpha), self.law.params.kappa())
     }
     /// `κ = a σ` with the given `σ` (`V_m` does not depend on it).
     fn potential_at_normal_stress(
@@ -511,8 +529,8 @@ impl FrictionLaw for DieterichRuina {
         sigma_n: f64,
     ) -> Option<DieterichRuinaPotential> {
         Some(DieterichRuinaPotential::new(
-            self.logs.ln_cutoff_velocity(&self.params, alpha),
-            self.params.a * sigma_n,
+            self.law.ln_cutoff_velocity(alpha),
+            self.law.params.a * sigma_n,
         ))
     }
     fn uses_state(&self) -> bool {
@@ -520,15 +538,15 @@ impl FrictionLaw for DieterichRuina {
     }
     /// (2.12): `μ0 + a ln(V/V0) + b(α + ln(V0/L))` for `V ≥ V_m(α)`, else 0.
     fn friction_coefficient(&self, v: f64, alpha: f64) -> f64 {
-        let p = &self.params;
-        if !(v > 0.0) || v.ln() <= self.logs.ln_cutoff_velocity(p, alpha) {
+        let p = &self.law.params;
+        if !(v > 0.0) || v.ln() <= self.law.ln_cutoff_velocity(alpha) {
             return 0.0;
         }
-        let lv0 = self.logs.ln_v0;
-        sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - self.logs.ln_l)))
+        let lv0 = self.law.logs.ln_v0;
+        sat(p.mu0 + p.a * (v.ln() - lv0) + p.b * (alpha + (lv0 - self.law.logs.ln_l)))
     }
     fn normal_stress(&self) -> Option<f64> {
-        Some(self.params.sigma_n)
+        Some(self.law.params.sigma_n)
     }
     fn proportional_to_normal_stress(&self) -> bool {
         true
