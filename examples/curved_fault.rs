@@ -22,7 +22,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{
-    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SliderArgs, TimeStepArgs,
+    describe_time_step, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
+    SliderArgs,
 };
 use rsf_scenes::{arc_block_model, ARC_BLOCK_MESH};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
@@ -48,7 +49,7 @@ fn main() -> ExitCode {
 impl Cli {
     /// The scene of the flags.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        self.slider.scene(SliderScene::default())
+        self.slider.scene()
     }
 
     /// The output folder.
@@ -106,7 +107,7 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     println!(
         "curved_fault: level {}, {}, {} law, {}, {} solver, mesh {} → {}",
         scene.level,
-        TimeStepArgs::describe(&scene),
+        describe_time_step(&scene),
         scene.state_law,
         scene.integrator,
         scene.solver,

@@ -22,11 +22,12 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::observe::PointSeries;
-use rsf::{Integrator, SolverKind};
 use rsf_programs::cli::StepCounts;
 use rsf_programs::estimates::step_study_plan;
 use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
+use rsf_programs::{
+    old_wall_time, stats, Labels, PanelLayout, PaperFigures, Series, SliderArgs, SliderRun,
+};
 use rsf_scenes::SliderScene;
 
 /// Figures 6.2/6.3: displacement and slip rate at x0 for several time steps.
@@ -34,7 +35,7 @@ use rsf_scenes::SliderScene;
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
+    slider: SliderArgs<PaperFigures>,
     #[command(flatten)]
     steps: StepCounts,
     /// Output folder.
@@ -53,12 +54,7 @@ struct Cli {
 
 /// The scene of the flags (level 4, Newmark, the direct solver unless they say otherwise).
 fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
-    cli.scene.scene(SliderScene {
-        level: 4,
-        integrator: Integrator::Newmark,
-        solver: SolverKind::Direct,
-        ..SliderScene::default()
-    })
+    cli.slider.scene()
 }
 
 impl Program for Cli {
@@ -70,7 +66,7 @@ impl Program for Cli {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;
-        self.scene.steps_ignored(&scene, "--steps")?;
+        self.slider.steps_ignored("--steps")?;
         let counts = self.steps.counts();
         let mut names = vec![
             "table.csv".to_owned(),

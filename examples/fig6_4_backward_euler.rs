@@ -24,11 +24,13 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use rsf::observe::PointSeries;
-use rsf::{Integrator, SolverKind};
+use rsf::Integrator;
 use rsf_programs::cli::StepCounts;
 use rsf_programs::estimates::step_study_plan;
 use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{old_wall_time, stats, Labels, PanelLayout, SceneArgs, Series, SliderRun};
+use rsf_programs::{
+    old_wall_time, stats, Labels, PanelLayout, PaperFigures, Series, SliderArgs, SliderRun,
+};
 use rsf_scenes::SliderScene;
 
 /// `(t, value)` samples.
@@ -43,7 +45,7 @@ type Panel = Vec<(&'static str, Points)>;
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
+    slider: SliderArgs<PaperFigures>,
     #[command(flatten)]
     steps: StepCounts,
     /// Folder with the Newmark series `centre_N{N}.csv` of fig6_2_6_3_centre.
@@ -68,11 +70,7 @@ struct Cli {
 
 /// The scene of the flags (level 4, the direct solver unless they say otherwise).
 fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
-    cli.scene.scene(SliderScene {
-        level: 4,
-        solver: SolverKind::Direct,
-        ..SliderScene::default()
-    })
+    cli.slider.scene()
 }
 
 impl Program for Cli {
@@ -84,7 +82,7 @@ impl Program for Cli {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;
-        self.scene.steps_ignored(&scene, "--steps")?;
+        self.slider.steps_ignored("--steps")?;
         let counts = self.steps.counts();
         let mut names = vec![
             "table.csv".to_owned(),

@@ -25,12 +25,12 @@ use std::process::ExitCode;
 use clap::Parser;
 use plotters::prelude::*;
 use rsf::observe::{Every, FaultRecorder, FrictionalProfile, Interval, Progress, Recorder};
-use rsf::{Observer, SolverKind, Until};
+use rsf::{Observer, Until};
 use rsf_programs::cli::{step_count, window};
 use rsf_programs::estimates::{slider_fault_nodes, slider_memory};
 use rsf_programs::estimates::{FIGURE_BYTES, RECORDED_STEP_BYTES};
 use rsf_programs::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{SceneArgs, SliderRun};
+use rsf_programs::{PaperFigures, SliderArgs, SliderRun};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Figure 6.5: the slip rate along Γ_F during the first slip event.
@@ -38,7 +38,7 @@ use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
+    slider: SliderArgs<PaperFigures>,
     /// Steps N of the coarse τ = T/N before the switch (`1e4` accepted).
     #[arg(long, value_parser = step_count, default_value = "10000")]
     coarse: usize,
@@ -75,11 +75,7 @@ struct Cli {
 
 /// The scene of the flags (level 4, the direct solver unless they say otherwise).
 fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
-    cli.scene.scene(SliderScene {
-        level: 4,
-        solver: SolverKind::Direct,
-        ..SliderScene::default()
-    })
+    cli.slider.scene()
 }
 
 impl Program for Cli {
@@ -91,7 +87,7 @@ impl Program for Cli {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = base(self)?;
-        self.scene.steps_ignored(&scene, "--coarse and --fine")?;
+        self.slider.steps_ignored("--coarse and --fine")?;
         let (f0, f1) = self.window;
         if !(f0 >= 0.0 && f1 <= 1.0) {
             return Err(format!("--window {f0},{f1}: fractions of T inside [0, 1]").into());

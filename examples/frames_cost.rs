@@ -47,7 +47,7 @@ struct Cli {
 impl Cli {
     /// The scene of the flags.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        self.slider.scene(SliderScene::default())
+        self.slider.scene()
     }
 }
 

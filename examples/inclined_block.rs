@@ -40,7 +40,8 @@ use rsf::fem::ConstrainedSystem;
 use rsf::Model;
 use rsf_programs::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{
-    max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs, SliderArgs, TimeStepArgs,
+    describe_time_step, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
+    SliderArgs,
 };
 use rsf_scenes::SliderScene;
 use rsf_scenes::{inclined_centre, inclined_slider_model};
@@ -98,7 +99,7 @@ fn main() -> ExitCode {
 impl Cli {
     /// The scene of the flags.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        self.slider.scene(SliderScene::default())
+        self.slider.scene()
     }
 
     /// The output folder.
@@ -154,7 +155,7 @@ fn run(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
         "inclined_block: dip {}°, level {}, {}, {} law, {}, {} solver → {}",
         cli.dip,
         scene.level,
-        TimeStepArgs::describe(&scene),
+        describe_time_step(&scene),
         scene.state_law,
         scene.integrator,
         scene.solver,

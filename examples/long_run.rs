@@ -35,16 +35,40 @@ use rsf::{Flow, Observer, StepView, Termination};
 use rsf_programs::cli::{for_flag, positive_number, step_count};
 use rsf_programs::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
 use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{line_plot, Labels, PanelLayout, Series, SliderArgs, TimeStepArgs};
+use rsf_programs::{
+    describe_time_step, line_plot, Labels, PanelLayout, ProgramScene, Series, SliderArgs,
+};
 use rsf_scenes::step_cap;
 use rsf_scenes::{SliderScene, TimeStep, SLIDER_CENTRE};
+
+/// The scene of a long run: the paper's slider for 200 s with adaptive steps (tolerance
+/// `DEFAULT_TOLERANCE`, no slip-rate floor) and a ramp of `RAMP_S`, unless the flags or the
+/// scene file say otherwise.
+#[derive(Debug, Clone, Copy)]
+struct LongRun;
+
+impl ProgramScene for LongRun {
+    type Scene = SliderScene;
+
+    fn base() -> SliderScene {
+        SliderScene {
+            end_time_s: 200.0,
+            time_step: TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep {
+                slip_rate_floor_mps: f64::INFINITY,
+                ..rsf_scenes::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
+            }),
+            ramp_fraction: (RAMP_S / 200.0_f64).min(1.0),
+            ..SliderScene::default()
+        }
+    }
+}
 
 /// The paper's slider for many cycles with adaptive time steps: event catalogue and plots.
 #[derive(Parser)]
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    slider: SliderArgs,
+    slider: SliderArgs<LongRun>,
     /// Also run fixed τ = T_ref/N (T_ref = `--compare-until`) and compare the catalogues.
     #[arg(long, value_parser = step_count, value_name = "N")]
     reference_steps: Option<usize>,
@@ -93,22 +117,14 @@ const RAMP_S: f64 = 3.75;
 const DEFAULT_TOLERANCE: f64 = 1e-3;
 
 impl Cli {
-    /// The scene of the flags: the paper's slider for 200 s, adaptive steps unless the
-    /// flags or the scene file say otherwise.
+    /// The scene of the flags ([`LongRun`]), its ramp `RAMP_S` long unless a flag or the
+    /// scene file sets `ramp_fraction`.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        let base = SliderScene {
-            end_time_s: 200.0,
-            ..SliderScene::default()
-        };
-        let mut scene = self.slider.scene(base)?;
-        if scene.time_step == (TimeStep::Fixed {}) {
-            scene.time_step = TimeStep::Adaptive(rsf_scenes::AdaptiveTimeStep {
-                slip_rate_floor_mps: f64::INFINITY,
-                ..rsf_scenes::AdaptiveTimeStep::new(DEFAULT_TOLERANCE)
-            });
+        let mut scene = self.slider.scene()?;
+        if scene.ramp_fraction == LongRun::base().ramp_fraction {
+            scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
         }
-        scene.ramp_fraction = (RAMP_S / scene.end_time_s).min(1.0);
-        self.slider.scene.named(scene.validate())?;
+        self.slider.named(scene.validate())?;
         // The first step T/N of the adaptive steps below their smallest step (e.g.
         // `steps = 1e12`) would be refused by the controller only after the set-up.
         if let TimeStep::Adaptive(a) = scene.time_step {
@@ -241,7 +257,7 @@ fn run(cli: Cli, _prepared: Prepared) -> Result<(), AnyError> {
         "long_run: level {}, T = {} s, {}, {} law → {}",
         scene.level,
         scene.end_time_s,
-        TimeStepArgs::describe(&scene),
+        describe_time_step(&scene),
         scene.state_law,
         cli.out.display()
     );

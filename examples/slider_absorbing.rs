@@ -28,7 +28,7 @@ use rsf_programs::cli::window;
 use rsf_programs::estimates::FIGURE_BYTES;
 use rsf_programs::estimates::{csv_row_bytes, slider_memory, slider_steps, slider_what};
 use rsf_programs::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{line_plot, Labels, SceneArgs, Series};
+use rsf_programs::{line_plot, Labels, PaperSliderAt, Series, SliderArgs};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's slider with traction-free and with absorbing ends.
@@ -36,7 +36,7 @@ use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
+    slider: SliderArgs<PaperSliderAt<3>>,
     /// Figure window T0,T1 (s) [default: around the first event].
     #[arg(long, value_parser = window, value_name = "T0,T1", allow_hyphen_values = true)]
     window: Option<(f64, f64)>,
@@ -54,10 +54,7 @@ struct Cli {
 
 /// The scene of the flags (level 3 unless they say otherwise).
 fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
-    cli.scene.scene(SliderScene {
-        level: 3,
-        ..SliderScene::default()
-    })
+    cli.slider.scene()
 }
 
 /// Bytes of a `series.csv` row (7 numbers of 24 characters).

@@ -29,7 +29,7 @@ use rsf::time::VelocityIntegrator;
 use rsf::{Flow, Material, ModelBuilder, Observer, Part, SolverKind, Until};
 use rsf_programs::estimates::{slider_memory, slider_steps, slider_what, FIGURE_BYTES};
 use rsf_programs::guard::{in_range, AnyError, Folder, Limits, Plan, Prepared, Program};
-use rsf_programs::{line_plot, Labels, SceneArgs, Series};
+use rsf_programs::{line_plot, Labels, PaperSliderAt, Series, SliderArgs};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// The paper's slider on an elastic base.
@@ -37,7 +37,7 @@ use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 #[command(version)]
 struct Cli {
     #[command(flatten)]
-    scene: SceneArgs,
+    slider: SliderArgs<PaperSliderAt<3>>,
     /// Young's moduli of the base (Pa), comma-separated (the block's is the scene's, 5e7).
     #[arg(
         long,
@@ -63,10 +63,7 @@ struct Cli {
 
 /// The scene of the flags (level 3 unless they say otherwise).
 fn base(cli: &Cli) -> Result<SliderScene, AnyError> {
-    cli.scene.scene(SliderScene {
-        level: 3,
-        ..SliderScene::default()
-    })
+    cli.slider.scene()
 }
 
 impl Program for Cli {

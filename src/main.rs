@@ -7,6 +7,7 @@
 //! cargo run --release                       # j = 4, N = 1e4, Dieterich, Newmark
 //! cargo run --release -- --level 3 --law ruina --solver direct
 //! cargo run --release -- --scene scenes/pipping_slider.toml
+//! cargo run --release -- --mu0 0.5 --sigma-n-pa 1e5   # every field of the scene is a flag
 //! cargo run --release -- --level 3 --adaptive 1e-3   # adaptive τ
 //! cargo run --release -- --level 3 --frame-every 50   # ParaView frames
 //! cargo run --release -- --checkpoint-every 1000   # then, after a kill:

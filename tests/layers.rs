@@ -837,6 +837,7 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
                 "square_fault",
             ],
             &["bp5_pair", "on_ranks", "seas_bp7", "seas_bp8", "stepover"],
+            &["config_round_trip"],
             &["config_tests"],
         ],
     ),

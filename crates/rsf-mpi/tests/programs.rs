@@ -342,6 +342,29 @@ fn fault_fields_on_2_ranks_are_one_processs_bytes() {
     }
 }
 
+/// With the feature `hdf5`, `slider_3d --hdf5 N` on ranks: rank 0 writes the body's
+/// fields, and on 2 ranks `fields.h5` and `fields.xmf` have the bytes of the run on one rank
+/// (the reference of the solver on ranks), as every other file but the frames' pieces.
+#[cfg(feature = "hdf5")]
+#[test]
+fn slider_3d_fields_on_2_ranks_are_one_ranks_bytes() {
+    let args = |out: &Path| {
+        let mut args = slider_args(out);
+        args.extend(["--hdf5".to_string(), "6".to_string()]);
+        args
+    };
+    let one = folder("slider_3d_fields_1_rank");
+    succeeded(&run_program(SLIDER_3D, Some(1), &args(&one)));
+    let two = folder("slider_3d_fields_2_ranks");
+    succeeded(&run_program(SLIDER_3D, Some(2), &args(&two)));
+    for file in ["fields.h5", "fields.xmf"] {
+        assert!(two.join(file).is_file(), "no {file}");
+    }
+    let same = same_files_but(&one, &two, "slider_3d with --hdf5 on 2 ranks", &["frames"]);
+    // The series, the snapshot, its figure and the two field files.
+    assert!(same >= 5, "{same} files");
+}
+
 /// Without the feature `hdf5` the programs on ranks refuse `--hdf5 N` before any work,
 /// naming the feature.
 #[cfg(not(feature = "hdf5"))]

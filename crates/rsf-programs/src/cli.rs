@@ -3,161 +3,255 @@
 
 use std::path::{Path, PathBuf};
 
-use rsf::fem::Diagonal;
-use rsf::method::{FixedPointScheme, StateIntegrator};
 use rsf::observe::{Every, FileMode, Interval, VtuFrames};
-use rsf::{Integrator, SolverKind, StateLawKind};
 use rsf_scenes::{AdaptiveTimeStep, SliderScene, TimeStep};
 
-/// The scene flags every slider example accepts; unset flags keep the scene's value.
-#[derive(Debug, Clone, Default, clap::Args)]
-pub struct SceneArgs {
-    /// Scene file (TOML, fields of `rsf_scenes::SliderScene`); flags override it.
-    #[arg(long, value_name = "FILE.toml")]
-    pub scene: Option<PathBuf>,
-    /// Refinement level j of the coarse 2 × 6-vertex grid, in [0, 10] (beyond, the mesh
-    /// does not fit in memory).
-    #[arg(long, value_name = "J")]
-    pub level: Option<usize>,
-    /// Final time T (s): positive, at most 1e10 (beyond, the time loses the digits of the
-    /// steps); the step T/N must give finite coefficients of the step's matrix.
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
-    pub end_time: Option<f64>,
-    /// State law.
-    #[arg(long, value_enum)]
-    pub law: Option<StateLawKind>,
-    /// State update (docs/friction-state.md).
-    #[arg(long, value_enum)]
-    pub state_integrator: Option<StateIntegrator>,
-    /// Velocity integrator.
-    #[arg(long, value_enum)]
-    pub integrator: Option<Integrator>,
-    /// Velocity solver.
-    #[arg(long, value_enum)]
-    pub solver: Option<SolverKind>,
-    /// Fixed point scheme.
-    #[arg(long, value_enum)]
-    pub fixed_point: Option<FixedPointScheme>,
-    /// Triangulation diagonal of the coarse grid.
-    #[arg(long, value_enum)]
-    pub diagonal: Option<Diagonal>,
-    /// The block's ends x = 0 and x = 5 m absorb waves (Lysmer–Kuhlemeyer dashpots,
-    /// `SliderScene::absorbing_sides`) instead of being traction-free.
-    #[arg(long)]
-    pub absorbing_sides: bool,
+use rsf_scenes::RunConfig;
+
+use crate::config::ConfigArgs;
+use crate::guard::AnyError;
+
+/// The scene a slider program starts from: its type (whose fields are the flags) and its
+/// value where no flag or file sets a field (the flags' defaults).
+pub trait ProgramScene {
+    /// The scene: [`SliderScene`] or [`Slider3dScene`](rsf_scenes::Slider3dScene).
+    type Scene: RunConfig
+        + std::fmt::Debug
+        + clap::Args
+        + clap::FromArgMatches
+        + AsRef<SliderScene>
+        + AsMut<SliderScene>;
+
+    /// Whether the program takes its step counts from flags of its own (a time-step
+    /// study's `--steps N1,N2,…`): then the scene's `steps` is no flag of it (clap reads it
+    /// as the hidden `--scene-steps`), and a scene file that sets it is refused
+    /// ([`SliderArgs::steps_ignored`]).
+    const OWN_STEP_FLAGS: bool = false;
+
+    /// The scene where no flag or file sets a field.
+    fn base() -> Self::Scene;
 }
 
-impl SceneArgs {
-    /// `base` (or the `--scene` file) with the given flags applied, validated.
+/// The paper's slider ([`SliderScene::default`], Table 6.1) as a program's scene.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PaperSlider;
+
+impl ProgramScene for PaperSlider {
+    type Scene = SliderScene;
+
+    fn base() -> SliderScene {
+        SliderScene::default()
+    }
+}
+
+/// The paper's slider at level `J` ([`SliderScene::default`] otherwise) as a program's
+/// scene.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PaperSliderAt<const J: usize>;
+
+impl<const J: usize> ProgramScene for PaperSliderAt<J> {
+    type Scene = SliderScene;
+
+    fn base() -> SliderScene {
+        SliderScene {
+            level: J,
+            ..SliderScene::default()
+        }
+    }
+}
+
+/// The scene of the paper's figures 6.2–6.5 (the programs `fig6_*`): level 4 and the
+/// direct solver ([`SliderScene::default`] otherwise), the step counts from the programs'
+/// own flags.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PaperFigures;
+
+impl ProgramScene for PaperFigures {
+    type Scene = SliderScene;
+
+    const OWN_STEP_FLAGS: bool = true;
+
+    fn base() -> SliderScene {
+        SliderScene {
+            level: 4,
+            solver: rsf::SolverKind::Direct,
+            ..SliderScene::default()
+        }
+    }
+}
+
+/// The 3-D slider ([`Slider3dScene::default`](rsf_scenes::Slider3dScene::default): the
+/// paper's parameters at level 2, W = 1 m, free lateral faces, inexact inner solves,
+/// red–black smoothers) as a program's scene.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PaperSlider3d;
+
+impl ProgramScene for PaperSlider3d {
+    type Scene = rsf_scenes::Slider3dScene;
+
+    fn base() -> rsf_scenes::Slider3dScene {
+        rsf_scenes::Slider3dScene::default()
+    }
+}
+
+/// The flags of a slider run (docs/design.md, "One run configuration"): every field of
+/// the scene `P::Scene` ([`SliderScene`]; with the 3-D slider's also `width_m` and
+/// `lateral`) is a flag of its name (`level` is `--level`, `sigma_n_pa` `--sigma-n-pa`;
+/// `end_time_s` also `--end-time`, `state_law` also `--law`, `tnnmg_smoother` also
+/// `--smoother`), its default `P::base()`'s value; the scene file `--scene FILE.toml`
+/// (also `--config`) sets the keys no flag gave; `--adaptive TOL` is a shortcut for an
+/// adaptive `time_step`. The file is read when the flags are (`clap::FromArgMatches`; its
+/// error reported by [`SliderArgs::scene`]), so a program needs nothing but the field.
+#[derive(Debug, Clone)]
+pub struct SliderArgs<P: ProgramScene = PaperSlider> {
+    /// The scene of the flags and the file (not validated: [`scene`](Self::scene)).
+    pub scene: P::Scene,
+    /// `--scene FILE.toml`, and the keys it set.
+    pub config: ConfigArgs,
+    /// Adaptive time steps with this relative tolerance.
+    pub adaptive: Option<f64>,
+    /// The scene file's error, reported by [`scene`](Self::scene) (so that a program
+    /// reports it as its other refusals: once, on rank 0 of a run on ranks).
+    file_error: Option<String>,
+}
+
+impl<P: ProgramScene> Default for SliderArgs<P> {
+    fn default() -> Self {
+        Self {
+            scene: P::base(),
+            config: ConfigArgs::default(),
+            adaptive: None,
+            file_error: None,
+        }
+    }
+}
+
+/// The flags of [`SliderArgs`] besides the scene's and the file's.
+#[derive(clap::Args)]
+struct Shortcuts {
+    /// Adaptive time steps with this relative tolerance (docs/math.md §9), in
+    /// (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1); other adaptive options
+    /// from `time_step` (flag or file) if it is adaptive, else their defaults. With it,
+    /// the initial step is T/N.
+    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
+    adaptive: Option<f64>,
+}
+
+impl<P: ProgramScene> clap::Args for SliderArgs<P> {
+    fn augment_args(command: clap::Command) -> clap::Command {
+        let mut command = ConfigArgs::augment_args(P::Scene::augment_args(command))
+            .mut_arg("config", |a| a.long("scene").visible_alias("config"));
+        if P::OWN_STEP_FLAGS {
+            command = command.mut_arg("steps", |a| a.long("scene-steps").hide(true));
+        }
+        crate::config::with_defaults(Shortcuts::augment_args(command), &P::base())
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        Self::augment_args(command)
+    }
+}
+
+impl<P: ProgramScene> clap::FromArgMatches for SliderArgs<P> {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut config = ConfigArgs::from_arg_matches(matches)?;
+        let flags = P::Scene::from_arg_matches(matches)?;
+        let (scene, file_error) = match config.merged(flags.clone(), matches) {
+            Ok(scene) => (scene, None),
+            Err(e) => (flags, Some(e.to_string())),
+        };
+        let Shortcuts { adaptive } = Shortcuts::from_arg_matches(matches)?;
+        Ok(Self {
+            scene,
+            config,
+            adaptive,
+            file_error,
+        })
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(matches)?;
+        Ok(())
+    }
+}
+
+impl<P: ProgramScene> SliderArgs<P> {
+    /// The scene of the flags and the file, with `--adaptive`, validated; a refused value
+    /// named as the user wrote it (the flag, or the file's key).
     ///
     /// # Errors
-    /// I/O and scene-file errors; invalid parameters.
-    pub fn scene(&self, base: SliderScene) -> Result<SliderScene, Box<dyn std::error::Error>> {
-        let mut scene = match &self.scene {
-            Some(path) => SliderScene::read(path)?,
-            None => base,
-        };
-        if let Some(t) = self.end_time {
-            // Also refused by the scene's validation (as `end_time_s`); here named as
-            // written, with the range.
-            crate::guard::in_range(
-                "--end-time",
-                t,
-                (f64::MIN_POSITIVE, 1e10),
-                "seconds; beyond 1e10 s the time loses the digits of the steps",
-            )?;
+    /// The first refused setting.
+    pub fn scene(&self) -> Result<P::Scene, AnyError> {
+        if let Some(e) = &self.file_error {
+            return Err(e.clone().into());
         }
-        if let Some(j) = self.level {
-            scene.level = j;
+        let mut scene = self.scene.clone();
+        let slider: &mut SliderScene = scene.as_mut();
+        if let Some(tol) = self.adaptive {
+            // A relative tolerance ≥ 1 accepts anything and one at the machine epsilon can
+            // never be met (the library refuses them too, `StepControl::validate`; here
+            // the message names the flag).
+            if !(tol > f64::EPSILON && tol < 1.0) {
+                return Err(crate::guard::refuse(
+                    "--adaptive",
+                    crate::guard::written(tol),
+                    &format!(
+                        "is outside the admissible range ({:e}, 1): a relative tolerance \
+                         ≥ 1 accepts any step, one ≤ the machine epsilon can never be met",
+                        f64::EPSILON
+                    ),
+                ));
+            }
+            slider.time_step = TimeStep::Adaptive(match slider.time_step {
+                TimeStep::Adaptive(a) => AdaptiveTimeStep {
+                    tolerance: tol,
+                    ..a
+                },
+                TimeStep::Fixed {} => AdaptiveTimeStep::new(tol),
+            });
         }
-        if let Some(t) = self.end_time {
-            scene.end_time_s = t;
-        }
-        if let Some(l) = self.law {
-            scene.state_law = l;
-        }
-        if let Some(s) = self.state_integrator {
-            scene.state_integrator = s;
-        }
-        if let Some(i) = self.integrator {
-            scene.integrator = i;
-        }
-        if let Some(s) = self.solver {
-            scene.solver = s;
-        }
-        if let Some(f) = self.fixed_point {
-            scene.fixed_point = f;
-        }
-        if let Some(d) = self.diagonal {
-            scene.diagonal = d;
-        }
-        if self.absorbing_sides {
-            scene.absorbing_sides = true;
-        }
-        // A refused value is named as the user wrote it: the flag if it was given, the
-        // scene file's key (`--scene FILE: … end_time_s …`) if it came from the file.
-        self.named(self.for_flags(scene.validate()))?;
+        self.config.validate(&scene)?;
         Ok(scene)
     }
 
-    /// `result`'s error named after the flags given (`--end-time` for the scene's
-    /// `end_time_s`, `--level` for `level`) where it names their scene keys: the scene's
-    /// validation, and the model's conditioning check when the model is built (`--end-time
-    /// 1e-300` was refused naming `end_time_s`, a key the user never wrote).
-    ///
-    /// # Errors
-    /// The error of `result`, renamed.
-    pub fn for_flags<T>(&self, result: rsf::Result<T>) -> rsf::Result<T> {
-        let mut checked = result;
-        if self.end_time.is_some() {
-            checked = for_flag("--end-time", "end_time_s", checked);
-        }
-        if self.level.is_some() {
-            checked = for_flag("--level", "level", checked);
-        }
-        checked
-    }
-
-    /// Refuses a scene file that sets `steps` (to other than the default's) for a program
-    /// that takes its step counts from its own flags (`flags`, e.g. `--steps`): the key
-    /// would be ignored.
-    ///
-    /// # Errors
-    /// A message naming the key, the file and the flags.
-    pub fn steps_ignored(
-        &self,
-        scene: &SliderScene,
-        flags: &str,
-    ) -> Result<(), Box<dyn std::error::Error>> {
-        match &self.scene {
-            Some(path) if scene.steps != SliderScene::default().steps => Err(format!(
-                "--scene {}: `steps = {}`: this program takes its step counts from {flags}, \
-                 the key would be ignored",
-                rsf_numeric::excerpt(&path.display().to_string()),
-                scene.steps
-            )
-            .into()),
-            _ => Ok(()),
-        }
-    }
-
-    /// `result`'s error named after the scene file when one was given and the error
-    /// names none of the flags (`--scene FILE: steps …`).
+    /// `result`'s error named as the user wrote the setting it names
+    /// ([`ConfigArgs::named`]): the model's conditioning check names `end_time_s`.
     ///
     /// # Errors
     /// The error of `result`, named.
-    pub fn named<T>(&self, result: rsf::Result<T>) -> Result<T, Box<dyn std::error::Error>> {
-        match (&self.scene, result) {
-            (_, Ok(t)) => Ok(t),
-            (Some(path), Err(e)) if !e.to_string().contains("--") => crate::guard::flag(
-                &format!(
-                    "--scene {}",
-                    rsf_numeric::excerpt(&path.display().to_string())
-                ),
-                Err::<T, _>(e),
-            ),
-            (_, Err(e)) => Err(e.into()),
+    pub fn named<T>(&self, result: rsf::Result<T>) -> Result<T, AnyError> {
+        result.map_err(|e| self.config.named(e))
+    }
+
+    /// Refuses a scene file that sets `steps` for a program that takes its step counts
+    /// from its own flags (`flags`, e.g. `--steps`): the key would be ignored.
+    ///
+    /// # Errors
+    /// A message naming the key, the file and the flags.
+    pub fn steps_ignored(&self, flags: &str) -> Result<(), AnyError> {
+        if self.config.from_file().iter().any(|k| k == "steps") {
+            return Err(format!(
+                "--scene: `steps = {}`: this program takes its step counts from {flags}, \
+                 the key would be ignored",
+                self.scene.as_ref().steps
+            )
+            .into());
         }
+        Ok(())
+    }
+}
+
+/// A one-line description of the time steps of `scene`.
+pub fn describe_time_step(scene: &SliderScene) -> String {
+    match scene.time_step {
+        TimeStep::Fixed {} => format!("N = {} (τ = {:.3e} s)", scene.steps, scene.tau()),
+        TimeStep::Adaptive(a) => format!(
+            "adaptive τ (tolerance {:e}, τ0 = {:.3e} s, τ in [{:e}, {:e}] s)",
+            a.tolerance,
+            scene.initial_tau(),
+            a.tau_min_s,
+            a.tau_max_s
+        ),
     }
 }
 
@@ -252,107 +346,11 @@ impl FrameArgs {
     }
 }
 
-/// The time-step flags of a slider run: `--steps N` (fixed τ = T/N, or the initial step of
-/// adaptive steps) and `--adaptive TOL`.
-#[derive(Debug, Clone, Default, clap::Args)]
-pub struct TimeStepArgs {
-    /// Number of time steps N (τ = T/N; `1e4` accepted); with `--adaptive`, the initial step
-    /// is T/N.
-    #[arg(long, value_parser = step_count)]
-    pub steps: Option<usize>,
-    /// Adaptive time steps with this relative tolerance (docs/math.md §9), in
-    /// (2.220446049250313e-16, 1) (open: from f64::EPSILON to 1); other adaptive options
-    /// from the scene file's `time_step` if it is adaptive, else their defaults.
-    #[arg(long, value_name = "TOL", allow_negative_numbers = true)]
-    pub adaptive: Option<f64>,
-}
-
-impl TimeStepArgs {
-    /// `scene` with the flags applied, validated.
-    ///
-    /// # Errors
-    /// Invalid parameters (e.g. a non-positive tolerance).
-    pub fn apply(&self, mut scene: SliderScene) -> Result<SliderScene, rsf::Error> {
-        if let Some(n) = self.steps {
-            scene.steps = n;
-        }
-        if let Some(tol) = self.adaptive {
-            // A relative tolerance ≥ 1 accepts anything and one at the machine epsilon can
-            // never be met (the library refuses them too, `StepControl::validate`; here
-            // the message names the flag).
-            if !(tol > f64::EPSILON && tol < 1.0) && tol.is_finite() && tol > 0.0 {
-                return Err(rsf::Error::InvalidParameter {
-                    name: "--adaptive".into(),
-                    reason: format!(
-                        "--adaptive {tol:e} is outside the admissible range ({:e}, 1): a \
-                         relative tolerance ≥ 1 accepts any step, one ≤ the machine epsilon \
-                         can never be met",
-                        f64::EPSILON
-                    ),
-                });
-            }
-            scene.time_step = TimeStep::Adaptive(match scene.time_step {
-                TimeStep::Adaptive(a) => AdaptiveTimeStep {
-                    tolerance: tol,
-                    ..a
-                },
-                TimeStep::Fixed {} => AdaptiveTimeStep::new(tol),
-            });
-        }
-        let checked = match self.steps {
-            Some(_) => for_flag("--steps", "steps", scene.validate()),
-            None => scene.validate(),
-        };
-        match self.adaptive {
-            Some(_) => for_flag("--adaptive", "time_step.tolerance", checked)?,
-            None => checked?,
-        }
-        Ok(scene)
-    }
-
-    /// A one-line description of the time steps of `scene`.
-    pub fn describe(scene: &SliderScene) -> String {
-        match scene.time_step {
-            TimeStep::Fixed {} => format!("N = {} (τ = {:.3e} s)", scene.steps, scene.tau()),
-            TimeStep::Adaptive(a) => format!(
-                "adaptive τ (tolerance {:e}, τ0 = {:.3e} s, τ in [{:e}, {:e}] s)",
-                a.tolerance,
-                scene.initial_tau(),
-                a.tau_min_s,
-                a.tau_max_s
-            ),
-        }
-    }
-}
-
-/// The flags of a slider run's scene and its time steps: [`SceneArgs`] (`--scene`,
-/// `--level`, …) and [`TimeStepArgs`] (`--steps`, `--adaptive`).
-#[derive(Debug, Clone, Default, clap::Args)]
-pub struct SliderArgs {
-    #[command(flatten)]
-    #[allow(missing_docs)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    #[allow(missing_docs)]
-    pub time_step: TimeStepArgs,
-}
-
-impl SliderArgs {
-    /// `base` (or the `--scene` file) with the scene flags, then the time-step flags
-    /// applied, validated.
-    ///
-    /// # Errors
-    /// As [`SceneArgs::scene`] and [`TimeStepArgs::apply`].
-    pub fn scene(&self, base: SliderScene) -> Result<SliderScene, Box<dyn std::error::Error>> {
-        Ok(self.time_step.apply(self.scene.scene(base)?)?)
-    }
-}
-
 /// The step counts N (τ = T/N) of a time-step study.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepCounts {
     /// Step counts N (τ = T/N; comma separated, `1e5` accepted).
-    #[arg(long, value_delimiter = ',', value_parser = step_count, default_value = "10000,100000")]
+    #[arg(id = "step_counts", long = "steps", value_delimiter = ',', value_parser = step_count, default_value = "10000,100000")]
     pub steps: Vec<usize>,
     /// Add N = 10⁶ (hours).
     #[arg(long)]
@@ -376,18 +374,7 @@ impl StepCounts {
 #[command(version)]
 pub struct NoArgs {}
 
-/// A step count written as an integer or in scientific notation (`1e5`).
-///
-/// # Errors
-/// A message for anything that is not a positive whole number.
-pub fn step_count(s: &str) -> Result<usize, String> {
-    let x: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
-    if x >= 1.0 && x.fract() == 0.0 && x <= 1e12 {
-        Ok(x as usize)
-    } else {
-        Err(format!("`{s}` is not a positive whole number of steps"))
-    }
-}
+pub use rsf_scenes::run_config::step_count;
 
 /// A window `A,B` of two increasing numbers.
 ///
@@ -485,52 +472,49 @@ pub fn for_fields<T>(
 mod tests {
     use clap::Parser;
 
-    use super::{step_count, window, SceneArgs, TimeStepArgs};
-    use rsf_scenes::{AdaptiveTimeStep, SliderScene, TimeStep};
+    use super::{describe_time_step, step_count, window, SliderArgs};
+    use rsf_scenes::{AdaptiveTimeStep, TimeStep};
 
     #[derive(Parser)]
     struct Cli {
         #[command(flatten)]
-        scene: SceneArgs,
-        #[command(flatten)]
-        time_step: TimeStepArgs,
+        slider: SliderArgs,
     }
 
     #[test]
     fn adaptive_flag_selects_adaptive_steps() {
         let cli = Cli::try_parse_from(["x", "--level", "3", "--adaptive", "1e-3"]).unwrap();
-        let scene = cli.scene.scene(SliderScene::default()).unwrap();
-        let scene = cli.time_step.apply(scene).unwrap();
+        let scene = cli.slider.scene().unwrap();
         assert_eq!(
             scene.time_step,
             TimeStep::Adaptive(AdaptiveTimeStep::new(1e-3))
         );
-        assert!(TimeStepArgs::describe(&scene).contains("adaptive"));
+        assert!(describe_time_step(&scene).contains("adaptive"));
         // Without the flag the steps stay fixed; `--steps` sets N (the initial step).
         let cli = Cli::try_parse_from(["x", "--steps", "1e5"]).unwrap();
-        let scene = cli.time_step.apply(SliderScene::default()).unwrap();
+        let scene = cli.slider.scene().unwrap();
         assert_eq!(
             (scene.steps, scene.time_step),
             (100_000, TimeStep::Fixed {})
         );
-        // The flag sets the tolerance of an adaptive scene and keeps its other options.
-        let base = SliderScene {
-            time_step: TimeStep::Adaptive(AdaptiveTimeStep {
-                tau_max_s: 0.01,
-                ..AdaptiveTimeStep::new(1e-2)
-            }),
-            ..SliderScene::default()
-        };
-        let cli = Cli::try_parse_from(["x", "--adaptive", "1e-4"]).unwrap();
-        let scene = cli.time_step.apply(base).unwrap();
-        let TimeStep::Adaptive(a) = scene.time_step else {
+        // The flag sets the tolerance of an adaptive `time_step` and keeps its other
+        // options.
+        let cli = Cli::try_parse_from([
+            "x",
+            "--time-step",
+            "{ kind = \"adaptive\", tolerance = 1e-2, tau_max_s = 0.01 }",
+            "--adaptive",
+            "1e-4",
+        ])
+        .unwrap();
+        let TimeStep::Adaptive(a) = cli.slider.scene().unwrap().time_step else {
             panic!("adaptive")
         };
         assert_eq!((a.tolerance, a.tau_max_s), (1e-4, 0.01));
-        // Invalid tolerances are errors naming the field.
+        // Invalid tolerances are errors naming the flag.
         for bad in ["0", "-1e-3", "nan"] {
             let cli = Cli::try_parse_from(["x".into(), format!("--adaptive={bad}")]).unwrap();
-            let e = cli.time_step.apply(SliderScene::default()).unwrap_err();
+            let e = cli.slider.scene().unwrap_err();
             assert!(e.to_string().contains("--adaptive"), "{bad}: {e}");
         }
         assert!(Cli::try_parse_from(["x", "--adaptive", "x"]).is_err());
@@ -546,10 +530,12 @@ mod tests {
             .unwrap();
         assert!(e.to_string().contains("aging"), "{e}");
         let cli = Cli::try_parse_from(["x", "--level", "2", "--law", "slip"]).unwrap();
-        let scene = cli.scene.scene(rsf_scenes::SliderScene::default()).unwrap();
+        let scene = cli.slider.scene().unwrap();
         assert_eq!((scene.level, scene.state_law), (2, rsf::StateLawKind::Slip));
-        let cli = Cli::try_parse_from(["x", "--end-time", "-1"]).unwrap();
-        assert!(cli.scene.scene(rsf_scenes::SliderScene::default()).is_err());
+        // A refused value is named as its flag (the scene's key with dashes).
+        let cli = Cli::try_parse_from(["x", "--end-time=-1"]).unwrap();
+        let e = cli.slider.scene().unwrap_err().to_string();
+        assert!(e.contains("--end-time-s"), "{e}");
     }
 
     #[test]

@@ -56,7 +56,8 @@ impl ConfigArgs {
         run.validate().map_err(|e| self.named(e))
     }
 
-    /// `e` named as the user wrote the setting it names.
+    /// `e` named as the user wrote the setting it names: a refused value as its file key
+    /// or flag; an ill-conditioned model's fields to change likewise.
     pub fn named(&self, e: rsf::Error) -> AnyError {
         match e {
             rsf::Error::InvalidParameter { name, reason } => {
@@ -66,8 +67,28 @@ impl ConfigArgs {
                     format!("--{} {reason}", name.replace('_', "-")).into()
                 }
             }
+            rsf::Error::IllConditioned { fields, reason } => rsf::Error::IllConditioned {
+                fields: fields
+                    .into_iter()
+                    .map(|f| {
+                        if self.from_file.contains(&f) {
+                            format!("`{f}` of {}", self.file_name())
+                        } else {
+                            format!("--{}", f.replace('_', "-"))
+                        }
+                    })
+                    .collect(),
+                reason,
+            }
+            .into(),
             e => e.into(),
         }
+    }
+
+    /// The keys the file set that no flag overrode (after
+    /// [`merged`](Self::merged)), sorted.
+    pub fn from_file(&self) -> &[String] {
+        &self.from_file
     }
 
     /// `--config FILE` as messages show it.
@@ -83,4 +104,24 @@ impl ConfigArgs {
     fn on_file(&self, e: rsf::Error) -> AnyError {
         format!("--config: {e}").into()
     }
+}
+
+/// `command` with the defaults of the flags named by `settings`' fields (their TOML keys)
+/// set to `settings`' values ([`rsf_scenes::run_config::flag_defaults`]): a program whose
+/// settings start from another value than the struct's [`Default`] (the 3-D slider's scene
+/// over the 2-D slider's, a figure's scene) shows and parses its own defaults. Keys
+/// without a flag are left alone.
+pub fn with_defaults(command: clap::Command, settings: &impl serde::Serialize) -> clap::Command {
+    rsf_scenes::run_config::flag_defaults(settings)
+        .into_iter()
+        .fold(command, |command, (key, value)| {
+            let has_flag = command
+                .get_arguments()
+                .any(|a| a.get_id().as_str() == key.as_str());
+            if has_flag {
+                command.mut_arg(key, |a| a.default_value(value))
+            } else {
+                command
+            }
+        })
 }

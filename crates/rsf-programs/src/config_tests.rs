@@ -14,36 +14,8 @@ use rsf_scenes::{
     SeasBp5Run, SeasBp6Run, SeasBp7Run, SeasBp8Run, SquareKernel, StepoverRun,
 };
 
+use crate::config_round_trip::{round_trip, round_trip_with};
 use crate::guard::{parse_from, Program};
-
-/// The round trips of `run` through the program `P`'s command line (the settings it
-/// parses, `settings` of the parsed program: the same value) and through TOML (the same
-/// value, the same fingerprint).
-fn round_trip<P: Program, C: RunConfig + std::fmt::Debug>(
-    run: &C,
-    settings: impl Fn(P) -> C,
-) -> Result<(), TestCaseError> {
-    round_trip_with(&[], run, settings)
-}
-
-/// [`round_trip`] with the program's flags that are no settings `base` (a required
-/// `--out`) after the settings' flags.
-fn round_trip_with<P: Program, C: RunConfig + std::fmt::Debug>(
-    base: &[&str],
-    run: &C,
-    settings: impl Fn(P) -> C,
-) -> Result<(), TestCaseError> {
-    prop_assert!(run.validate().is_ok(), "{:?}: {:?}", run, run.validate());
-    let mut args = command_line(P::NAME, run);
-    args.extend(base.iter().map(|s| (*s).to_owned()));
-    let (program, _) =
-        parse_from::<P, _, _>(args).map_err(|e| TestCaseError::fail(e.to_string()))?;
-    prop_assert_eq!(&settings(program), run);
-    let back = C::from_toml(&run.to_toml()).map_err(|e| TestCaseError::fail(e.to_string()))?;
-    prop_assert_eq!(&back, run);
-    prop_assert_eq!(back.fingerprint(), run.fingerprint());
-    Ok(())
-}
 
 /// The kernel and its accuracy: dense, hierarchical at the tolerance's accuracy or at a
 /// given one.
@@ -53,28 +25,6 @@ fn kernel() -> impl Strategy<Value = (KernelChoice, Option<f64>)> {
         Just((KernelChoice::Hierarchical, None)),
         (1e-14f64..1e-2).prop_map(|e| (KernelChoice::Hierarchical, Some(e))),
     ]
-}
-
-/// The command line of `run`: every setting as its flag (`--end-years 5`), from the
-/// settings' TOML keys.
-fn command_line<C: RunConfig>(program: &str, run: &C) -> Vec<String> {
-    let table: toml::Table = toml::from_str(&run.to_toml()).unwrap();
-    let mut args = vec![program.to_owned()];
-    for (key, value) in table {
-        let flag = format!("--{}", key.replace('_', "-"));
-        match value {
-            // A switch: given when true.
-            toml::Value::Boolean(b) => {
-                if b {
-                    args.push(flag);
-                }
-            }
-            toml::Value::String(s) => args.extend([flag, s]),
-            toml::Value::Float(x) => args.extend([flag, format!("{x}")]),
-            v => args.extend([flag, v.to_string()]),
-        }
-    }
-    args
 }
 
 /// A folder of its own with the file `name` holding `text`.

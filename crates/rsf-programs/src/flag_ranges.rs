@@ -370,10 +370,14 @@ mod tests {
             ),
             ("--frame-every", "any count; 0: no frames"),
             (
-                "--end-time",
+                "--end-time-s",
                 "positive and at most 1e10 s, stated so in the help; its least value depends on \
                  --steps (the step T/N must give finite coefficients: 2.2e-308 s is refused \
                  naming steps)",
+            ),
+            (
+                "--fixed-point-max-iterations",
+                "any count from 1, stated so in the help",
             ),
         ];
         wrong.extend(check::<crate::pipping_slider::Cli>(

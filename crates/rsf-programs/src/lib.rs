@@ -17,6 +17,8 @@ use plotters::prelude::*;
 pub mod bp5_pair;
 pub mod cli;
 pub mod config;
+#[cfg(test)]
+mod config_round_trip;
 #[cfg(all(test, feature = "seas"))]
 mod config_tests;
 mod curved;
@@ -60,8 +62,8 @@ pub mod stepover;
 #[cfg(feature = "seas")]
 pub use cli::SeasHeaderArgs;
 pub use cli::{
-    FrameArgs, IntegratorArgs, KernelArg, KernelArgs, ResumeArgs, SceneArgs, SliderArgs,
-    TimeStepArgs,
+    describe_time_step, FrameArgs, IntegratorArgs, KernelArg, KernelArgs, PaperFigures,
+    PaperSlider, PaperSlider3d, PaperSliderAt, ProgramScene, ResumeArgs, SliderArgs,
 };
 pub use curved::max_slip_rate_figure;
 pub use heat_map::{log_heat_map, HeatMapAxes};

@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 
+use crate::cli::describe_time_step;
 use crate::cli::{for_flag, window};
 use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
 use crate::fields::FieldsRun;
@@ -12,8 +13,8 @@ use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::run_folder::FolderArgs;
 use crate::session::{Session, SessionFlags};
 use crate::{
-    line_plot, space_time_map, stats, write_summary, FieldMap, FrameArgs, Labels, SceneArgs,
-    Series, SliderRun, TimeStepArgs,
+    line_plot, space_time_map, stats, write_summary, FieldMap, FrameArgs, Labels, Series,
+    SliderArgs, SliderRun,
 };
 use clap::Parser;
 use rsf::observe::{Every, FrictionalProfile, Interval, PointSeries};
@@ -27,10 +28,9 @@ use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 #[derive(Parser, Debug, Clone)]
 #[command(name = "pipping_slider", version)]
 pub struct Cli {
+    /// The scene's fields as flags, `--scene FILE.toml`, `--adaptive TOL`.
     #[command(flatten)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    pub time_step: TimeStepArgs,
+    pub slider: SliderArgs,
     /// Profile window T0,T1 (s) [default: 0.6725T,0.6775T].
     #[arg(long, value_parser = window, value_name = "T0,T1")]
     pub window: Option<(f64, f64)>,
@@ -50,31 +50,20 @@ pub struct Cli {
     pub frames: FrameArgs,
     /// Threads of every parallel part of a step (`rsf::method::SolverOptions::parallelism`):
     /// a count, `0` or `pool` for rayon's pool, `seq` for one; default every core of the
-    /// machine. The output does not depend on it.
+    /// machine. The output does not depend on it. (The node order of TNNMG's smoothers is
+    /// the scene's `--tnnmg-smoother`: `lexicographic`, the default and the paper's
+    /// figures, sequential; `multicolour` or `red-black-chunks` on these threads, the same
+    /// bits for every thread count, other round-off than lexicographic.)
     #[arg(long, default_value_t = rsf::Parallelism::default(), value_name = "N")]
     pub threads: rsf::Parallelism,
-    /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
-    /// `rsf::tnnmg::SmootherOrder`): `lexicographic` (the scene's default: the paper's
-    /// figures, sequential sweeps), `multicolour` (the nonlinear sweeps on `--threads`) or
-    /// `red-black-chunks` (the nonlinear sweeps and the fine level's linear smoother on
-    /// `--threads`); every order gives the same bits for every thread count, the parallel
-    /// ones other round-off than lexicographic.
-    #[arg(long, value_name = "ORDER")]
-    pub smoother: Option<rsf::tnnmg::SmootherOrder>,
     #[command(flatten)]
     pub limits: Limits,
 }
 
 impl Cli {
-    /// The scene of the flags, validated.
+    /// The scene of the flags and the scene file, validated.
     fn scene(&self) -> Result<SliderScene, AnyError> {
-        let mut scene = self
-            .time_step
-            .apply(self.scene.scene(SliderScene::default())?)?;
-        if let Some(order) = self.smoother {
-            scene.tnnmg_smoother = order;
-        }
-        Ok(scene)
+        self.slider.scene()
     }
 
     /// The profile window (s) of the flags or the scene's default.
@@ -220,7 +209,7 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     println!(
         "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
         scene.level,
-        TimeStepArgs::describe(&scene),
+        describe_time_step(&scene),
         scene.state_law,
         scene.integrator,
         scene.solver,
@@ -231,8 +220,8 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let mut options = scene.solver_options();
     options.parallelism = cli.threads;
     let mut sim = cli
-        .scene
-        .for_flags(scene.simulation_builder())?
+        .slider
+        .named(scene.simulation_builder())?
         .solver_options(options)
         .build()?;
     let x0 = sim.model().nearest_node(&SLIDER_CENTRE)?;

@@ -12,8 +12,10 @@
 //! cargo run --release --example slider_3d -- --scene my_3d_scene.toml --steps 2e3
 //! ```
 //!
-//! `--scene` reads a TOML file with the fields of `rsf_scenes::Slider3dScene` (those of
-//! `rsf_scenes::SliderScene` plus `width_m` and `lateral`); the other flags override it.
+//! Every field of `rsf_scenes::Slider3dScene` (those of `rsf_scenes::SliderScene` plus
+//! `width_m` and `lateral`) is a flag of its name (`--mu0 0.5`, `--width-m 2`, `--lateral
+//! plane-strain`), its default the 3-D scene's; `--scene` reads a TOML file with those
+//! fields as keys, and the flags given override it.
 //!
 //! Writes to `out/slider_3d/` (or `--out DIR`): `timeseries.csv` (a `rsf::observe::PointSeries` at
 //! x0 = (2.5, 0, W/2): the 2-D main job's columns, then the y and z components),
@@ -38,11 +40,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use crate::cli::step_count;
+use crate::cli::{PaperSlider3d, SliderArgs};
 use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
 use crate::session::{Session, SessionFlags};
-use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes, SceneArgs};
+use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes};
 use clap::Parser;
 use rsf::fem::SimplexMesh;
 use rsf::model::ProblemScales;
@@ -73,15 +75,12 @@ const OUTPUTS: [&str; 7] = [
 #[derive(Parser)]
 #[command(version)]
 pub struct Cli {
+    /// The scene's fields as flags (`rsf_scenes::Slider3dScene`: those of the 2-D scene,
+    /// `--width-m` (also `--width`) and `--lateral`, with the 3-D scene's defaults),
+    /// `--scene FILE.toml`, `--adaptive TOL`.
     #[command(flatten)]
-    scene: SceneArgs,
-    /// Number of time steps N (τ = T/N; `1e4` accepted).
-    #[arg(long, value_parser = step_count)]
-    steps: Option<usize>,
-    /// Width W of the block in z (m), in [1e-3, 1000] (the scene's `width_m`).
-    #[arg(long, value_name = "W")]
-    width: Option<f64>,
-    /// `u_z = 0` on both lateral faces (plane strain) instead of traction-free faces.
+    pub(crate) slider: SliderArgs<PaperSlider3d>,
+    /// `u_z = 0` on both lateral faces (plane strain): `--lateral plane-strain`.
     #[arg(long)]
     plane_strain: bool,
     /// VTU frames (this example's default: every 100 steps).
@@ -113,14 +112,6 @@ pub struct Cli {
     /// this flag.)
     #[arg(long, default_value_t = rsf::Parallelism::default(), alias = "dense-threads", value_name = "N")]
     threads: rsf::Parallelism,
-    /// Node order of TNNMG's smoothers (the scene's `tnnmg_smoother`,
-    /// `rsf::tnnmg::SmootherOrder`): `red-black-chunks` (the 3-D scene's default: the
-    /// nonlinear sweeps and the linear multigrid's fine level on `--threads`),
-    /// `multicolour` (the nonlinear sweeps on `--threads`) or `lexicographic` (sequential,
-    /// the 3-D trajectories before 2026-11-26); both parallel orders are bit-identical for
-    /// every thread count, with other round-off than lexicographic.
-    #[arg(long, value_name = "ORDER")]
-    smoother: Option<rsf::tnnmg::SmootherOrder>,
     /// Memory (GiB) the `auto` solver choice may give the direct solver (its estimate must
     /// fit, else TNNMG; docs/scaling.md), in (0, inf). Default:
     /// `rsf::method::DEFAULT_MEMORY_BUDGET_BYTES`.
@@ -132,7 +123,7 @@ pub struct Cli {
     limits: Limits,
     /// Solve every fixed point iteration's velocity problem to the solver's tolerance (the
     /// paper's rule) instead of the scene's (3-D default: `by-solver`, inexact solves for
-    /// TNNMG; docs/scaling.md).
+    /// TNNMG; docs/scaling.md): `--fixed-point-inner-solves exact`.
     #[arg(long)]
     exact_inner_solves: bool,
 }
@@ -244,8 +235,12 @@ pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>
 /// solver is refused). A checkpoint holds the whole replicated state, so a run resumes on
 /// any rank count; the frames after the checkpoint are then in the new count's pieces
 /// (each `.pvtu` names its own), and `frames.pvd` may list `.vtu` and `.pvtu` frames.
-pub fn main_on_ranks(processes: &dyn Processes) -> ExitCode {
-    crate::guard::main_on_ranks(processes, |cli, prepared, processes| {
+/// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N` has rank
+/// 0 write the body's fields (`fields.h5` and its Xdmf index), one process's bytes; without,
+/// `--hdf5 N` is refused before any work.
+pub fn main_on_ranks(processes: &dyn Processes, writers: crate::fields::Writers) -> ExitCode {
+    let supply = |cli: &mut Cli| cli.frames.fields.supply_if(writers);
+    crate::guard::main_on_ranks_supplied(processes, supply, |cli, prepared, processes| {
         run(cli, prepared, Some(processes))
     })
 }
@@ -318,36 +313,15 @@ fn whole_scales(model: &Model<3>, processes: &dyn Processes) -> ProblemScales {
     ProblemScales::combined(&parts)
 }
 
-/// The scene from `--scene` (or the default) with the flags applied, validated.
+/// The scene of the flags and `--scene` with the shortcuts (`--plane-strain`,
+/// `--exact-inner-solves`) applied, validated.
 fn scene(cli: &Cli) -> Result<Slider3dScene, Box<dyn std::error::Error>> {
-    let mut scene = match &cli.scene.scene {
-        Some(path) => Slider3dScene::read(path)?,
-        None => Slider3dScene::default(),
-    };
-    let flags = SceneArgs {
-        scene: None,
-        ..cli.scene.clone()
-    };
-    scene.slider = flags.scene(scene.slider)?;
-    if let Some(n) = cli.steps {
-        scene.slider.steps = n;
-    }
-    if let Some(w) = cli.width {
-        scene.width_m = w;
-    }
+    let mut scene = cli.slider.scene()?;
     if cli.plane_strain {
         scene.lateral = LateralBoundary::PlaneStrain;
     }
     if cli.exact_inner_solves {
         scene.slider.fixed_point_inner_solves = rsf::method::InnerSolves::Exact;
-    }
-    if let Some(order) = cli.smoother {
-        scene.slider.tnnmg_smoother = order;
-    }
-    // A width from the flag is named as the flag (`width`), from the file as its key.
-    match cli.width {
-        Some(_) => crate::cli::for_flag("--width", "width_m", scene.validate())?,
-        None => scene.validate()?,
     }
     Ok(scene)
 }
@@ -587,7 +561,7 @@ fn run(cli: Cli, prepared: Prepared, processes: Option<&dyn Processes>) -> Resul
     // On ranks: each rank assembles its own nodes' columns ([`model_on_ranks`]).
     let owner_ranks = processes.map_or(1, |p| p.size());
     let (model, frame_owner) = match processes {
-        None => (cli.scene.for_flags(scene.build_model())?, None),
+        None => (cli.slider.named(scene.build_model())?, None),
         Some(p) => {
             let (model, ranks) = model_on_ranks(&scene, p)?;
             let frame_owner = (p.size() > 1).then(|| ranks.owner.to_vec());

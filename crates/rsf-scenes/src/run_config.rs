@@ -70,10 +70,20 @@ pub trait RunConfig: Serialize + DeserializeOwned + Default + Clone + PartialEq 
     /// [`rsf::Error::SceneFile`] for a text that does not parse, an unknown key or a
     /// value of the wrong type (line, column and key); [`validate`](Self::validate)'s.
     fn from_toml(text: &str) -> rsf::Result<Self> {
-        let run: Self =
-            toml::from_str(text).map_err(|e| crate::scene_file::toml_error(text, &e))?;
+        let run = Self::parse_toml(text)?;
         run.validate()?;
         Ok(run)
+    }
+
+    /// The settings of a TOML text, not validated: serde's reading of the struct (a key
+    /// left out keeps its default). A configuration whose defaults are not those of its
+    /// parts (the 3-D slider's over the 2-D slider's) reads its own way.
+    ///
+    /// # Errors
+    /// [`rsf::Error::SceneFile`] for a text that does not parse, an unknown key or a
+    /// value of the wrong type (line, column and key).
+    fn parse_toml(text: &str) -> rsf::Result<Self> {
+        toml::from_str(text).map_err(|e| crate::scene_file::toml_error(text, &e))
     }
 
     /// The settings as a TOML text that [`from_toml`](Self::from_toml) reads back to the
@@ -100,7 +110,7 @@ pub fn merge_file<C: RunConfig>(
         let toml_error = |e: toml::de::Error| crate::scene_file::toml_error(text, &e);
         // The file alone as the settings, for its errors' line, column and key (an
         // unknown key, a value of the wrong type).
-        toml::from_str::<C>(text).map_err(toml_error)?;
+        C::parse_toml(text)?;
         let mut table: toml::Table = toml::from_str(text).map_err(toml_error)?;
         let mut from_file: Vec<String> = table.keys().cloned().collect();
         let flags = toml::Table::try_from(flags)
@@ -117,6 +127,58 @@ pub fn merge_file<C: RunConfig>(
         from_file.sort();
         Ok((run, from_file))
     })
+}
+
+/// A setting's value written on a command line, read as its TOML value: a number, a
+/// boolean, an inline table (`{ kind = "adaptive", tolerance = 1e-6 }`), and a bare word
+/// as a string (`by-solver`) — the same values a TOML file gives the setting (a clap value
+/// parser for the settings whose type has no `FromStr`).
+///
+/// # Errors
+/// serde's message for a value the setting's type does not take.
+pub fn toml_setting<T: DeserializeOwned>(text: &str) -> Result<T, String> {
+    let value = toml::from_str::<toml::Table>(&format!("v = {text}"))
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(text.to_owned()));
+    value
+        .try_into()
+        .map_err(|e: toml::de::Error| format!("`{text}`: {}", e.message().trim()))
+}
+
+/// The fields of `settings` (their TOML keys) and their values as a command line writes
+/// them (read back by the flags' parsers, [`toml_setting`] among them; a string without
+/// quotes, a table inline): the defaults of the flags of a program whose settings start
+/// from `settings`. Fields serde leaves out (an unset option, a switch that is off) are not
+/// listed.
+pub fn flag_defaults(settings: &impl Serialize) -> Vec<(String, String)> {
+    let Ok(table) = toml::Table::try_from(settings) else {
+        return Vec::new();
+    };
+    table
+        .into_iter()
+        .map(|(key, value)| {
+            let value = match value {
+                toml::Value::String(s) => s,
+                v => v.to_string(),
+            };
+            (key, value)
+        })
+        .collect()
+}
+
+/// A step count written as an integer or in scientific notation (`1e5`): a whole number
+/// in `[1, 1e12]` (a clap value parser).
+///
+/// # Errors
+/// A message for anything else.
+pub fn step_count(s: &str) -> Result<usize, String> {
+    let x: f64 = s.parse().map_err(|e| format!("`{s}`: {e}"))?;
+    if x >= 1.0 && x.fract() == 0.0 && x <= 1e12 {
+        Ok(x as usize)
+    } else {
+        Err(format!("`{s}` is not a positive whole number of steps"))
+    }
 }
 
 /// `--help` of a fault-ODE run's tolerance (its range the fault ODE's options check).

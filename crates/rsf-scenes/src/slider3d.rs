@@ -26,6 +26,7 @@ pub const TAG_LATERAL: &str = "lateral";
 /// Boundary condition on the lateral faces z = 0 and z = W of the 3-D slider.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum LateralBoundary {
     /// Traction-free (Neumann): the block may bulge sideways (Poisson effect).
     #[default]
@@ -59,13 +60,17 @@ pub enum LateralBoundary {
 /// # Ok::<(), rsf::Error>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct Slider3dScene {
     /// The 2-D scene's parameters (Table 6.1), shared.
     #[serde(flatten)]
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub slider: SliderScene,
-    /// Width W of the block in z (m).
+    /// Width W of the block in z (m), in [1e-3, 1000].
+    #[cfg_attr(feature = "clap", arg(long, visible_alias = "width", default_value_t = Slider3dScene::default().width_m, value_name = "W"))]
     pub width_m: f64,
     /// Boundary condition on the lateral faces z = 0 and z = W.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = Slider3dScene::default().lateral))]
     pub lateral: LateralBoundary,
 }
 
@@ -471,6 +476,38 @@ impl Slider3dScene {
     /// As [`build`](Self::build).
     pub fn build_with_model(&self, model: Model<3>) -> Result<SceneSimulation<3>> {
         self.simulation_builder_with_model(model)?.build()
+    }
+}
+
+/// The 3-D slider's run configuration (docs/design.md, "One run configuration"): the
+/// fields of [`SliderScene`] and `width_m` (also `--width`), `lateral`, as flags of the
+/// program `slider_3d` (whose defaults are [`Slider3dScene::default`]'s), keys of its
+/// `--scene` file and Python's keywords of `rsf.slider_3d`.
+impl crate::RunConfig for Slider3dScene {
+    fn validate(&self) -> Result<()> {
+        Slider3dScene::validate(self)
+    }
+
+    fn fingerprint(&self) -> Fingerprint {
+        Slider3dScene::fingerprint(self)
+    }
+
+    fn parse_toml(text: &str) -> Result<Self> {
+        Slider3dScene::from_toml(text)
+    }
+}
+
+/// The 2-D scene's parameters ([`Slider3dScene::slider`]).
+impl AsRef<SliderScene> for Slider3dScene {
+    fn as_ref(&self) -> &SliderScene {
+        &self.slider
+    }
+}
+
+/// The 2-D scene's parameters ([`Slider3dScene::slider`]).
+impl AsMut<SliderScene> for Slider3dScene {
+    fn as_mut(&mut self) -> &mut SliderScene {
+        &mut self.slider
     }
 }
 

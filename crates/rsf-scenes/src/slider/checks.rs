@@ -7,6 +7,7 @@ use rsf_time::VelocityIntegrator;
 
 use crate::invalid;
 use rsf::Result;
+use rsf_numeric::written;
 
 impl SliderScene {
     /// Checks every parameter, naming the first invalid one.
@@ -40,13 +41,19 @@ impl SliderScene {
             ));
         }
         if !(self.gravity_m_per_s2.is_finite() && self.gravity_m_per_s2 >= 0.0) {
-            return Err(invalid("gravity_m_per_s2", "must be finite and >= 0"));
+            return Err(invalid(
+                "gravity_m_per_s2",
+                format!("{} must be finite and >= 0", written(self.gravity_m_per_s2)),
+            ));
         }
         if !self.loading_velocity_m_per_s.is_finite() {
             return Err(invalid("loading_velocity_m_per_s", "must be finite"));
         }
         if !(self.ramp_fraction >= 0.0 && self.ramp_fraction <= 1.0) {
-            return Err(invalid("ramp_fraction", "must be in [0, 1]"));
+            return Err(invalid(
+                "ramp_fraction",
+                format!("{} must be in [0, 1]", written(self.ramp_fraction)),
+            ));
         }
         if !self.alpha0.is_finite() {
             return Err(invalid("alpha0", "must be finite"));
@@ -105,7 +112,10 @@ impl SliderScene {
             } else {
                 Err(invalid(
                     name,
-                    format!("{v:e} is outside the admissible range [{lo:e}, {hi:e}]: {reason}"),
+                    format!(
+                        "{} is outside the admissible range [{lo:e}, {hi:e}]: {reason}",
+                        written(v)
+                    ),
                 ))
             }
         };
@@ -156,10 +166,9 @@ impl SliderScene {
         )?;
         in_range(
             "loading_velocity_m_per_s",
-            self.loading_velocity_m_per_s.abs(),
-            (0.0, 1e3),
-            "the magnitude of the loading velocity: beyond 1 km/s the quasi-static \
-             shear of the scene is meaningless",
+            self.loading_velocity_m_per_s,
+            (-1e3, 1e3),
+            "beyond 1 km/s either way the quasi-static shear of the scene is meaningless",
         )?;
         let eps = f64::EPSILON;
         for (name, tol) in [

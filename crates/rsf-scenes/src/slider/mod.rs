@@ -162,31 +162,46 @@ impl AdaptiveTimeStep {
 /// a TOML scene file may set any subset. Unknown fields are rejected with their name.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 pub struct SliderScene {
-    /// Uniform refinement level j of the 2 × 6-vertex coarse grid (paper: 2…8; 4 for the
-    /// time series).
+    /// Uniform refinement level j of the 2 × 6-vertex coarse grid, in [0, 10] (paper:
+    /// 2…8; 4 for the time series; beyond 10, the mesh does not fit in memory).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().level, value_name = "J"))]
     pub level: usize,
     /// Number of time steps N (τ = T/N); with adaptive steps, τ = T/N is the initial step.
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().steps, value_parser = crate::run_config::step_count, value_name = "N"))]
     pub steps: usize,
     /// Fixed (default) or adaptive time steps.
+    #[cfg_attr(feature = "clap", arg(long, default_value = "{ kind = \"fixed\" }", value_parser = crate::run_config::toml_setting::<TimeStep>, value_name = "TABLE"))]
     pub time_step: TimeStep,
-    /// Final time T (s).
+    /// Final time T (s): positive, at most 1e10 (beyond, the time loses the digits of the
+    /// steps); the step T/N must give finite coefficients of the step's matrix.
+    #[cfg_attr(feature = "clap", arg(long, visible_alias = "end-time", default_value_t = SliderScene::default().end_time_s, value_name = "T"))]
     pub end_time_s: f64,
-    /// Density ρ (kg/m², per unit thickness).
+    /// Density ρ (kg/m², per unit thickness), in [1e-3, 1e7].
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().density_kg_per_m2))]
     pub density_kg_per_m2: f64,
-    /// Young's modulus E (Pa = N/m² ; the paper's N/m per unit thickness).
+    /// Young's modulus E (Pa = N/m² ; the paper's N/m per unit thickness), in [1e3, 1e13].
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().youngs_modulus_pa))]
     pub youngs_modulus_pa: f64,
-    /// Poisson ratio ν (plane strain).
+    /// Poisson ratio ν (plane strain), in (-1, 0.5).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().poisson_ratio))]
     pub poisson_ratio: f64,
-    /// Gravitational acceleration g (m/s² = N/kg); body force (0, −ρ g).
+    /// Gravitational acceleration g (m/s² = N/kg), in [0, inf); body force (0, −ρ g).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().gravity_m_per_s2))]
     pub gravity_m_per_s2: f64,
-    /// Prescribed normal stress σ̄_n on Γ_F (Pa).
+    /// Prescribed normal stress σ̄_n on Γ_F (Pa), in (0, inf).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().sigma_n_pa))]
     pub sigma_n_pa: f64,
-    /// Reference friction coefficient μ0.
+    /// Reference friction coefficient μ0, in [0, inf).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().mu0))]
     pub mu0: f64,
-    /// Direct-effect parameter a.
+    /// Direct-effect parameter a, in (0, inf).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().a))]
     pub a: f64,
-    /// Evolution-effect parameter b (≥ 0 unless `allow_negative_b`).
+    /// Evolution-effect parameter b, in [0, inf) (any finite value with
+    /// `allow_negative_b`).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().b))]
     pub b: f64,
     /// Accept a negative `b` (`allow_negative_b = true` in TOML; default `false`). A
     /// negative evolution effect has no physical meaning in rate-and-state friction, and
@@ -195,37 +210,51 @@ pub struct SliderScene {
     /// [`fingerprint`](Self::fingerprint)) only when `true`: scenes and checkpoints of
     /// earlier versions, without the field, keep their fingerprint.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub allow_negative_b: bool,
-    /// Reference slip rate V0 (m/s).
+    /// Reference slip rate V0 (m/s), in (0, inf).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().v0_m_per_s))]
     pub v0_m_per_s: f64,
-    /// Characteristic slip distance L (m).
+    /// Characteristic slip distance L (m), in (0, inf).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().l_m))]
     pub l_m: f64,
-    /// Loading velocity of Γ_D after the ramp (m/s).
+    /// Loading velocity of Γ_D after the ramp (m/s), in [-1000, 1000].
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().loading_velocity_m_per_s))]
     pub loading_velocity_m_per_s: f64,
-    /// Ramp duration as a fraction of T (paper: ¼).
+    /// Ramp duration as a fraction of T, in [0, 1] (paper: ¼).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().ramp_fraction))]
     pub ramp_fraction: f64,
-    /// Initial state α_0 = ln θ_0 (θ in s) on Γ_F.
+    /// Initial state α_0 = ln θ_0 (θ in s) on Γ_F, in [-708, 709] (θ₀ a normal double).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().alpha0))]
     pub alpha0: f64,
     /// State law (`aging` or `slip`; the aliases `dieterich` and `ruina` are accepted).
+    #[cfg_attr(feature = "clap", arg(long, visible_alias = "law", value_enum, default_value_t = SliderScene::default().state_law))]
     pub state_law: StateLawKind,
     /// How a step advances the state: `"backward-euler"` (default, the paper's) or
     /// `"constant-slip-rate"` ([`StateIntegrator`]).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SliderScene::default().state_integrator))]
     pub state_integrator: StateIntegrator,
     /// Velocity integrator.
+    #[cfg_attr(feature = "clap", arg(long, default_value = "newmark", value_parser = crate::run_config::toml_setting::<Integrator>, value_name = "INTEGRATOR"))]
     pub integrator: Integrator,
     /// Velocity solver.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SliderScene::default().solver))]
     pub solver: SolverKind,
     /// Fixed point scheme.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SliderScene::default().fixed_point))]
     pub fixed_point: FixedPointScheme,
-    /// Fixed point tolerance (energy norm, paper 1e-10).
+    /// Fixed point tolerance (energy norm, paper 1e-10), in (2.220446049250313e-16, 1).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().fixed_point_tolerance))]
     pub fixed_point_tolerance: f64,
-    /// Fixed point iteration budget per step.
+    /// Fixed point iteration budget per step (at least 1).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().fixed_point_max_iterations))]
     pub fixed_point_max_iterations: usize,
     /// How accurately each fixed point iteration's velocity problem is solved
     /// ([`InnerSolves`]; default `"exact"`, the paper's; the 3-D slider's default is
     /// `"by-solver"`). Written only when not `"exact"`: scenes and checkpoints without the
     /// field keep their fingerprint.
     #[serde(default, skip_serializing_if = "InnerSolves::is_exact")]
+    #[cfg_attr(feature = "clap", arg(long, default_value = "exact", value_parser = crate::run_config::toml_setting::<InnerSolves>, value_name = "RULE"))]
     pub fixed_point_inner_solves: InnerSolves,
     /// The node order of TNNMG's smoothers ([`SmootherOrder`]: `"lexicographic"`,
     /// `"multicolour"` or `"red-black-chunks"`; the other solvers ignore it). Default
@@ -235,10 +264,14 @@ pub struct SliderScene {
     /// other round-off than lexicographic; docs/scaling.md). Written only when not
     /// `"lexicographic"`: scenes and checkpoints without the field keep their fingerprint.
     #[serde(default, skip_serializing_if = "is_lexicographic")]
+    #[cfg_attr(feature = "clap", arg(long, visible_alias = "smoother", default_value_t = SliderScene::default().tnnmg_smoother, value_name = "ORDER"))]
     pub tnnmg_smoother: SmootherOrder,
-    /// Velocity solver tolerance (energy norm, absolute; paper 1e-10).
+    /// Velocity solver tolerance (energy norm, absolute; paper 1e-10), in
+    /// (2.220446049250313e-16, 1).
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = SliderScene::default().solver_tolerance))]
     pub solver_tolerance: f64,
     /// Coarse grid diagonal.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = SliderScene::default().diagonal))]
     pub diagonal: Diagonal,
     /// The block's ends `x = 0` and `x = 5` m ([`TAG_NEUMANN`](rsf_fem::TAG_NEUMANN), traction-free in the paper)
     /// absorb waves instead of reflecting them: Lysmer–Kuhlemeyer dashpots of impedance
@@ -250,6 +283,7 @@ pub struct SliderScene {
     /// 3-D slider; on a mesh of one's own, add `absorbing_boundary(part)` to the builder
     /// [`physics`](Self::physics) returns.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    #[cfg_attr(feature = "clap", arg(long))]
     pub absorbing_sides: bool,
 }
 
@@ -523,5 +557,34 @@ impl SliderScene {
             other => other,
         };
         invalid(key, format!("{value:e}: {requirement}"))
+    }
+}
+
+/// The slider's run configuration (docs/design.md, "One run configuration"): the scene's
+/// fields are at once the flags of the slider programs (`level` is `--level`;
+/// `end_time_s` also `--end-time`, `state_law` also `--law`, `tnnmg_smoother` also
+/// `--smoother`), the keys of their `--scene`/`--config` file and Python's keywords of
+/// `rsf.slider`; the fingerprint is [`SliderScene::fingerprint`].
+impl crate::RunConfig for SliderScene {
+    fn validate(&self) -> Result<()> {
+        SliderScene::validate(self)
+    }
+
+    fn fingerprint(&self) -> Fingerprint {
+        SliderScene::fingerprint(self)
+    }
+}
+
+/// The scene itself (what the slider programs' flags read and change, whichever scene).
+impl AsRef<SliderScene> for SliderScene {
+    fn as_ref(&self) -> &SliderScene {
+        self
+    }
+}
+
+/// The scene itself.
+impl AsMut<SliderScene> for SliderScene {
+    fn as_mut(&mut self) -> &mut SliderScene {
+        self
     }
 }
