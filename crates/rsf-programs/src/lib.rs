@@ -37,6 +37,7 @@ pub mod pipping_slider;
 mod process;
 mod run;
 pub mod run_folder;
+mod seas_args;
 #[cfg(feature = "seas")]
 pub mod seas_bp1;
 #[cfg(feature = "seas")]
