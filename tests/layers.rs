@@ -825,7 +825,7 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
             &["curved", "guard"],
             &["config", "estimates", "fields"],
             &["cli"],
-            &["distributed_sweep", "own_model", "session"],
+            &["distributed_sweep", "own_model", "seas_args", "session"],
             &[
                 "network",
                 "pipping_slider",

@@ -25,7 +25,8 @@ use std::time::Instant;
 use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES};
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
+use crate::network::{run_network, NetworkRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::fault_ode::InteriorOrdering;
@@ -99,7 +100,6 @@ fn outputs(pair: &Bp5Pair) -> Vec<String> {
         .map(|s| format!("{}_{}.csv", s.fault, s.label))
         .collect();
     names.extend(crate::network::NETWORK_FILES.map(String::from));
-    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names.push(SETUP_FILE.into());
     names
 }
@@ -112,21 +112,11 @@ impl Args {
     }
 }
 
-impl Program for Args {
-    const NAME: &'static str = "bp5_pair";
+crate::seas_args::configured_program!(Args, "bp5_pair");
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        self.config.validate(&self.settings)?;
-        self.fields.check(Self::NAME)?;
+impl Args {
+    /// The plan of the checked settings.
+    fn planned(&self) -> Result<Plan, AnyError> {
         let run = self.resolved();
         let (pair, grid) = (run.scene(), run.grid());
         let cells = 2.0 * (pair.bp5.l_f / run.dx) * (pair.bp5.w_f / run.dx);
@@ -163,10 +153,7 @@ impl Program for Args {
         };
         let stations = pair.stations().len() as f64;
         let rows = run.end_years * 100.0 + 1e4;
-        let names = outputs(&pair);
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 memory,
                 "--dx, --kernel, --domain-km, --ratio",
@@ -188,22 +175,12 @@ impl Program for Args {
                 setup_file,
                 "--dx, --domain-km, --ratio",
                 format!("the elimination kept in {SETUP_FILE}"),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
             );
         // The faults' fields (--hdf5): both strands' grids with their rims, their quadrilaterals.
-        self.fields.adaptive_output(
-            plan,
-            FaultSize::of(
-                cells + 2.0 * (pair.bp5.l_f / run.dx + pair.bp5.w_f / run.dx + 1.0),
-                (cells, 4.0),
-            ),
-            self.run.max_steps,
-            self.limits,
-        )
+        let rims = 2.0 * (pair.bp5.l_f / run.dx + pair.bp5.w_f / run.dx + 1.0);
+        let fault = FaultSize::of(cells + rims, (cells, 4.0));
+        self.flags()
+            .plan(plan, outputs(&pair), run.fingerprint(), fault)
     }
 }
 
@@ -280,23 +257,16 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
     println!("S: {}", ode.kernel_report());
     let setup = (clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
     println!("set-up: wall {:.1} s, CPU {:.1} s", setup.0, setup.1);
-    let fingerprint = run.fingerprint();
-    let outcome = crate::network::run_network(
-        &mut ode,
-        &pair.stations(),
-        fingerprint,
-        crate::network::NetworkRun {
-            out: &args.out,
-            fresh: folder.mode(),
-            end_years: run.end_years,
-            resume: &args.run,
-            step_cap: folder.step_cap(args.run.max_steps),
-            label: "bp5_pair",
-            fields: &args.fields,
-            rigidity: pair.bp5.shear_modulus(),
-        },
-        |w, target| w.fault_3d(target),
-    )?;
+    let network = NetworkRun::of(
+        args.flags(),
+        &folder,
+        run.end_years,
+        pair.bp5.shear_modulus(),
+    );
+    let stations = pair.stations();
+    let outcome = run_network(&mut ode, &stations, run.fingerprint(), network, |w, t| {
+        w.fault_3d(t)
+    })?;
     crate::network::finish(
         crate::network::NetworkEnd {
             out: &args.out,

@@ -39,6 +39,7 @@ pub mod pipping_slider;
 mod process;
 mod run;
 pub mod run_folder;
+mod seas_args;
 #[cfg(feature = "seas")]
 pub mod seas_bp1;
 #[cfg(feature = "seas")]
@@ -201,6 +202,75 @@ pub struct FieldMap<'a> {
     pub values: &'a [Vec<f64>],
 }
 
+/// A chart of plain coordinates (x and y in f64) on a [`Canvas`].
+type PlainChart<'a, 'b> = ChartContext<
+    'a,
+    BitMapBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// The chart of a one-panel figure on `root` (filled white first): `title` in 22 px, a
+/// margin of 15 px, 45 px below for the x labels and 80 px left for the y labels, over
+/// `x` × `y`.
+///
+/// # Errors
+/// Drawing errors.
+fn titled_chart<'a, 'b>(
+    root: &'a Canvas<'b>,
+    title: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+) -> Result<PlainChart<'a, 'b>, Box<dyn std::error::Error>> {
+    root.fill(&WHITE)?;
+    Ok(ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x, y)?)
+}
+
+/// An axis's label `label`, `log10 label` where it is plotted as log10 (`log`).
+fn axis_label(label: &str, log: bool) -> String {
+    if log {
+        format!("log10 {label}")
+    } else {
+        label.to_string()
+    }
+}
+
+/// Draws `points` into `chart` as a line of `color`, `width` px wide, named `label` in the
+/// legend (a stroke of 20 px, 2 px wide).
+///
+/// # Errors
+/// Drawing errors.
+fn draw_line(
+    chart: &mut PlainChart<'_, '_>,
+    points: impl IntoIterator<Item = (f64, f64)>,
+    (color, width): (RGBColor, u32),
+    label: &str,
+) -> PlotResult {
+    chart
+        .draw_series(LineSeries::new(points, color.stroke_width(width)))?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    Ok(())
+}
+
+/// Draws the legend of `chart`: white at 80 %, a black border, labels in `size` px.
+///
+/// # Errors
+/// Drawing errors.
+fn draw_legend<'a, 'b: 'a>(chart: &mut PlainChart<'a, 'b>, size: u32) -> PlotResult {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", size))
+        .draw()?;
+    Ok(())
+}
+
 /// Line plot (PNG, 1000×600). With `log_y` (`log_x`), y (x) is plotted as log10 and
 /// labelled so.
 ///
@@ -231,48 +301,19 @@ pub fn line_plot(
             .flat_map(|s| s.points.iter().map(|p| tf(p.1, log_y))),
     );
     crate::draw_png(path, (1000, 600), |root| {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(80)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        let xl = if log_x {
-            format!("log10 {x_label}")
-        } else {
-            x_label.to_string()
-        };
-        let yl = if log_y {
-            format!("log10 {y_label}")
-        } else {
-            y_label.to_string()
-        };
+        let mut chart = titled_chart(root, title, x0..x1, y0..y1)?;
         chart
             .configure_mesh()
-            .x_desc(xl)
-            .y_desc(yl)
+            .x_desc(axis_label(x_label, log_x))
+            .y_desc(axis_label(y_label, log_y))
             .label_style(("sans-serif", 15))
             .draw()?;
         for (i, s) in series.iter().enumerate() {
-            let color = COLORS[i % COLORS.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    s.points.iter().map(|p| (tf(p.0, log_x), tf(p.1, log_y))),
-                    color.stroke_width(2),
-                ))?
-                .label(s.label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
+            let points = s.points.iter().map(|p| (tf(p.0, log_x), tf(p.1, log_y)));
+            draw_line(&mut chart, points, (COLORS[i % COLORS.len()], 2), s.label)?;
         }
         if series.len() > 1 || !series[0].label.is_empty() {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 15))
-                .draw()?;
+            draw_legend(&mut chart, 15)?;
         }
         Ok(())
     })

@@ -13,7 +13,8 @@ use rsf::observe::{
 use rsf::{RunSummary, Stepping};
 
 use crate::fields::{FieldArgs, FieldWriters, FieldsRun, FieldsTarget};
-use crate::guard::AnyError;
+use crate::guard::{AnyError, Prepared};
+use crate::seas_args::{run_observed, RunFlags};
 use crate::session::Session;
 
 /// The catalogue's resume log in a run folder.
@@ -46,6 +47,29 @@ pub struct NetworkRun<'a> {
     pub rigidity: f64,
     /// `--hdf5 N`: the faults' fields.
     pub fields: &'a FieldArgs,
+}
+
+impl<'a> NetworkRun<'a> {
+    /// The run of a network program's `flags` into the guard's `folder` (its step cap and a
+    /// fresh run's mode) to `end_years`, the catalogue's moments of `rigidity` (Pa); the
+    /// program's name its label.
+    pub(crate) fn of(
+        flags: RunFlags<'a>,
+        folder: &Prepared,
+        end_years: f64,
+        rigidity: f64,
+    ) -> Self {
+        Self {
+            out: flags.out,
+            fresh: folder.mode(),
+            end_years,
+            resume: flags.run,
+            step_cap: folder.step_cap(flags.run.max_steps),
+            label: flags.program,
+            rigidity,
+            fields: flags.fields,
+        }
+    }
 }
 
 /// The writer of a network's fault fields in `D` dimensions
@@ -112,18 +136,10 @@ pub fn run_network<const D: usize, M: Stepping<D, D> + ?Sized>(
             mode,
         )?;
     }
-    let progress = Progress::time_in(
-        method.state().time,
-        end,
-        TimeUnit::year(SECONDS_PER_YEAR),
-        run.label,
-    );
-    let mut observers: Vec<&mut dyn rsf::Observer<D>> = vec![&mut files, &mut catalogue];
-    if let Some(f) = fields.as_mut() {
-        observers.push(f.as_mut());
-    }
-    let summary = session.run(method, &mut observers, Some(progress))?;
-    drop(observers);
+    let year = TimeUnit::year(SECONDS_PER_YEAR);
+    let progress = Progress::time_in(method.state().time, end, year, run.label);
+    let observers: Vec<&mut dyn rsf::Observer<D>> = vec![&mut files, &mut catalogue];
+    let summary = run_observed(session, method, observers, &mut fields, progress)?;
     catalogue.write_csv(&run.out.join("catalogue.csv"))?;
     let names = catalogue.fault_names().to_vec();
     let events = catalogue.events().to_vec();
@@ -207,13 +223,7 @@ pub fn catalogue_figure(
         .fold(1.0f64, f64::max);
     let rows = names.len() as f64;
     crate::draw_png(path, (1000, 400), |root| {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(80)
-            .build_cartesian_2d(0.0..1.05 * t_end, -0.5..rows - 0.5)?;
+        let mut chart = crate::titled_chart(root, title, 0.0..1.05 * t_end, -0.5..rows - 0.5)?;
         let labels = names.to_vec();
         chart
             .configure_mesh()

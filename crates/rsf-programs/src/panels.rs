@@ -104,11 +104,7 @@ impl crate::Series<'_> {
                     .x_label_area_size(if columns || i + 1 == n { 40 } else { 25 })
                     .y_label_area_size(70)
                     .build_cartesian_2d(x_range.0..x_range.1, y0..y1)?;
-                let yl = if log_y {
-                    format!("log10 {y_label}")
-                } else {
-                    y_label.to_string()
-                };
+                let yl = crate::axis_label(y_label, log_y);
                 chart
                     .configure_mesh()
                     .x_desc(if columns || i + 1 == n { x_label } else { "" })
@@ -119,15 +115,8 @@ impl crate::Series<'_> {
                     .draw()?;
                 for (k, s) in ss.iter().enumerate() {
                     let color = colors[k % colors.len()];
-                    chart
-                        .draw_series(LineSeries::new(
-                            thinned[i][k].iter().copied(),
-                            color.stroke_width(1),
-                        ))?
-                        .label(s.label)
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                        });
+                    let points = thinned[i][k].iter().copied();
+                    crate::draw_line(&mut chart, points, (color, 1), s.label)?;
                     // Short series are measurements (one point per run): mark each point.
                     if thinned[i][k].len() <= MARKED_POINTS {
                         chart.draw_series(
@@ -138,12 +127,7 @@ impl crate::Series<'_> {
                     }
                 }
                 if ss.len() > 1 {
-                    chart
-                        .configure_series_labels()
-                        .background_style(WHITE.mix(0.8))
-                        .border_style(BLACK)
-                        .label_font(("sans-serif", 13))
-                        .draw()?;
+                    crate::draw_legend(&mut chart, 13)?;
                 }
             }
             Ok(())

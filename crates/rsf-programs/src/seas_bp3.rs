@@ -27,14 +27,13 @@
 //! `--overwrite` (a folder of another run is refused, and left untouched, otherwise).
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes, SEAS_BYTES_PER_NODE};
 use crate::fields::FaultSize;
-use crate::guard::{number, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::session::Session;
+use crate::guard::{number, AnyError, Limits, Plan, Prepared};
+use crate::seas_args::run_observed;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::observe::{Progress, TimeUnit};
@@ -91,27 +90,17 @@ fn scene(run: &SeasBp3Run) -> SeasBp3 {
 fn outputs() -> Vec<String> {
     let mut names = SeasBp3::file_names();
     names.extend(["overview.png", "checkpoint.bin"].map(String::from));
-    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
 
-impl Program for Args {
-    const NAME: &'static str = "seas_bp3";
+crate::seas_args::configured_program!(Args, "seas_bp3");
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        // Issue 87: `--dip 1e-300` ended in "cell 0 is degenerate" (measured: 1e-5°
-        // degenerates, 1e-3° still meshes at the default --dx; 1° keeps a margin for
-        // every --dx and BP3's dips, 30° and 60°, well inside).
-        self.config.validate(&self.settings)?;
+impl Args {
+    /// The plan of the checked settings (issue 87: `--dip 1e-300` ended in "cell 0 is
+    /// degenerate"; measured: 1e-5° degenerates, 1e-3° still meshes at the default --dx;
+    /// the settings' check refuses below 1°, a margin for every --dx, BP3's dips, 30° and
+    /// 60°, well inside).
+    fn planned(&self) -> Result<Plan, AnyError> {
         let run = &self.settings;
         let (bp3, grid) = (scene(run), run.grid());
         let w_f = bp3.params.w_f;
@@ -126,11 +115,7 @@ impl Program for Args {
         let memory = nodes * SEAS_BYTES_PER_NODE + 2.0 * operator_bytes(nz, hierarchical);
         let profile = grid.domain / 500.0 + 1.0;
         let stations = (SEAS_BP3_STATION_DISTANCES.len() + SEAS_BP3_SURFACE_STATIONS.len()) as f64;
-        self.fields.check("seas_bp3")?;
-        let names = outputs();
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 memory,
                 "--dx, --domain-km, --ratio",
@@ -149,49 +134,30 @@ impl Program for Args {
                     "{} years of {stations} stations and 3 profiles of {profile:.3e} values",
                     run.end_years
                 ),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
             );
         // The fault's fields (--hdf5): its nodes and the segments between them.
-        self.fields.adaptive_output(
-            plan,
-            FaultSize::of(nz + 1.0, (nz, 2.0)),
-            self.run.max_steps,
-            self.limits,
-        )
+        let fault = FaultSize::of(nz + 1.0, (nz, 2.0));
+        self.flags().plan(plan, outputs(), run.fingerprint(), fault)
     }
 }
 
-/// The program `seas_bp3` (`cargo run --release --example seas_bp3 -- --out DIR …`).
-pub fn main() -> ExitCode {
-    // With threads, the whole run on the pool (no hand-over per parallel region).
-    crate::guard::main(|args, folder| run(args, folder, None))
-}
-
-/// The program `seas_bp3` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`FieldWriters::fault_2d`](crate::fields::FieldWriters::fault_2d); the binary `seas_bp3`
-/// of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(
-        |args: &mut Args| args.fields.supply(writers),
-        |args, folder| run(args, folder, None),
-    )
-}
-
-/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp3`):
-/// every evaluation of the fault ODE shared by the ranks
-/// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel, the normal stress
-/// evaluated whole on every rank), the files written by rank 0 — byte-identical to one
-/// process's (docs/scaling.md, "The fault ODE on MPI ranks").
-///
-/// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N` writes
-/// the fault's fields from rank 0, as [`main_with_fields`] does in one process.
-pub fn main_on_ranks(processes: &dyn Processes, writers: crate::fields::Writers) -> ExitCode {
-    let supply = |args: &mut Args| args.fields.supply_if(writers);
-    crate::guard::main_on_ranks_supplied(processes, supply, |a, f, p| run(a, f, Some(p)))
+crate::seas_args::ranked_entry_points! {
+    Args, run;
+    /// The program `seas_bp3` (`cargo run --release --example seas_bp3 -- --out DIR …`).
+    main,
+    /// The program `seas_bp3` with `writers` of the fault's fields (`--hdf5 N`,
+    /// [`FieldWriters::fault_2d`](crate::fields::FieldWriters::fault_2d); the binary
+    /// `seas_bp3` of crates/rsf-hdf5).
+    main_with_fields,
+    /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp3`):
+    /// every evaluation of the fault ODE shared by the ranks
+    /// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel, the normal stress
+    /// evaluated whole on every rank), the files written by rank 0 — byte-identical to one
+    /// process's (docs/scaling.md, "The fault ODE on MPI ranks").
+    ///
+    /// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N`
+    /// writes the fault's fields from rank 0, as [`main_with_fields`] does in one process.
+    main_on_ranks,
 }
 
 fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Result<(), AnyError> {
@@ -243,29 +209,18 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
         date: args.header.date_or_today(),
         ..bp3.seas_setup(settings.dx, SeasSampling::default())
     };
-    let fingerprint = settings.fingerprint();
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
-    let session = Session::start(
-        args.run
-            .session_flags_with_cap(folder.step_cap(args.run.max_steps)),
-        args.out.join("checkpoint.bin"),
-        fingerprint,
-        settings.end_years * SECONDS_PER_YEAR,
-        &mut ode,
-    )?;
+    let flags = args.flags();
+    let end = settings.end_years * SECONDS_PER_YEAR;
+    let step_cap = folder.step_cap(args.run.max_steps);
+    let session = flags.session(step_cap, settings.fingerprint(), end, &mut ode)?;
     if !root {
         // The same steps as rank 0, no files (no observer here ends a run).
         session.follow(&mut ode, &mut [])?;
         return Ok(());
     }
-    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
-    // before any file is cut.
-    let mut fields = args.fields.observer(
-        ("seas_bp3", &args.out),
-        crate::fields::FieldsRun::of(&session, folder.mode(), &args.run.allow_change),
-        |w, target| w.fault_2d(target),
-    )?;
+    let mut fields = flags.fields_observer(&session, folder.mode(), |w, t| w.fault_2d(t))?;
     let mut output = rsf_seas::SeasOutput::for_session(
         &session,
         &args.out,
@@ -280,18 +235,10 @@ fn run(args: Args, folder: Prepared, processes: Option<&dyn Processes>) -> Resul
     if session.resumed().is_none() {
         output.write_initial_state(ode.model(), ode.state())?;
     }
-    let progress = Progress::time_in(
-        ode.state().time,
-        settings.end_years * SECONDS_PER_YEAR,
-        TimeUnit::year(SECONDS_PER_YEAR),
-        "BP3",
-    );
-    let mut observers: Vec<&mut dyn rsf::Observer<2>> = vec![&mut output];
-    if let Some(f) = fields.as_mut() {
-        observers.push(f.as_mut());
-    }
-    let summary = session.run(&mut ode, &mut observers, Some(progress))?;
-    drop(observers);
+    let year = TimeUnit::year(SECONDS_PER_YEAR);
+    let progress = Progress::time_in(ode.state().time, end, year, "BP3");
+    let files = vec![&mut output as &mut dyn rsf::Observer<2>];
+    let summary = run_observed(session, &mut ode, files, &mut fields, progress)?;
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     for e in output.events() {

@@ -34,9 +34,9 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::fields::FaultSize;
-use crate::fields::{Fault2d, FaultFields2d, FieldsRun};
-use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
-use crate::session::Session;
+use crate::fields::{Fault2d, FaultFields2d};
+use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
+use crate::seas_args::run_observed;
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
@@ -83,25 +83,14 @@ pub(crate) struct Args {
 fn outputs() -> Vec<String> {
     let mut names = SeasBp6Output::file_names();
     names.extend(["checkpoint.bin", SEAS_BP6_RESUME_LOG, "summary.json"].map(String::from));
-    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
 
-impl Program for Args {
-    const NAME: &'static str = "seas_bp6";
+crate::seas_args::configured_program!(Args, "seas_bp6");
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        self.fields.check(Self::NAME)?;
-        self.config.validate(&self.settings)?;
+impl Args {
+    /// The plan of the checked settings.
+    fn planned(&self) -> Result<Plan, AnyError> {
         self.header.check()?;
         let run = &self.settings;
         let (variant, elastic) = (run.variant, run.elastic);
@@ -147,10 +136,7 @@ impl Program for Args {
         let seconds = run.end_years * BP6_SECONDS_PER_YEAR;
         let rows = seconds / run.station_interval.max(600.0);
         let output = rows * (10.0 * 110.0) + seconds / run.profile_interval * 4.0 * 202.0 * 15.0;
-        let names = outputs();
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 memory,
                 "--dz, --elastic, --domain-km, --ratio",
@@ -160,19 +146,10 @@ impl Program for Args {
                 output,
                 "--end-years",
                 format!("{} years of stations and profiles", written(run.end_years)),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
             );
         // The fault's fields (--hdf5): its nodes and the segments between them.
-        self.fields.adaptive_output(
-            plan,
-            FaultSize::of(cells + 1.0, (cells, 2.0)),
-            self.run.max_steps,
-            self.limits,
-        )
+        let fault = FaultSize::of(cells + 1.0, (cells, 2.0));
+        self.flags().plan(plan, outputs(), run.fingerprint(), fault)
     }
 }
 
@@ -328,23 +305,12 @@ impl Common<'_> {
             self.clock.elapsed().as_secs_f64(),
             cpu_seconds() - self.cpu0
         );
-        // The folder's lock is held until the run ends.
-        let _folder = &self.folder;
-        let session = Session::start(
-            args.run
-                .session_flags_with_cap(self.folder.step_cap(args.run.max_steps)),
-            args.out.join("checkpoint.bin"),
-            self.fingerprint,
-            args.settings.end_years * BP6_SECONDS_PER_YEAR,
-            run,
-        )?;
-        // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
-        // before any file is cut.
-        let mut fields = args.fields.observer(
-            ("seas_bp6", &args.out),
-            FieldsRun::of(&session, self.folder.mode(), &args.run.allow_change),
-            Fault2d::<C>::make,
-        )?;
+        // The folder's lock (`self.folder`) is held until the run ends.
+        let (flags, folder) = (args.flags(), &self.folder);
+        let end = args.settings.end_years * BP6_SECONDS_PER_YEAR;
+        let step_cap = folder.step_cap(args.run.max_steps);
+        let session = flags.session(step_cap, self.fingerprint, end, run)?;
+        let mut fields = flags.fields_observer(&session, folder.mode(), Fault2d::<C>::make)?;
         let mut output = SeasBp6Output::new(&args.out, fault, self.pressure.clone(), self.setup)?
             .with_intervals(
                 args.settings.station_interval,
@@ -357,19 +323,11 @@ impl Common<'_> {
             Some(c) => output.resume(c.state.step, c.state.time)?,
             None => output.write_initial_state(run.model(), run.state(), run.fault_tractions()),
         }
-        let progress = rsf::observe::Progress::time_in(
-            run.state().time,
-            args.settings.end_years * BP6_SECONDS_PER_YEAR,
-            rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR),
-            "BP6",
-        );
+        let year = rsf::observe::TimeUnit::year(BP6_SECONDS_PER_YEAR);
+        let progress = rsf::observe::Progress::time_in(run.state().time, end, year, "BP6");
         let mut peak = Peak::default();
-        let mut observers: Vec<&mut dyn rsf::Observer<2, C>> = vec![&mut output, &mut peak];
-        if let Some(f) = fields.as_mut() {
-            observers.push(f.as_mut());
-        }
-        let summary = session.run(run, &mut observers, Some(progress))?;
-        drop(observers);
+        let files: Vec<&mut dyn rsf::Observer<2, C>> = vec![&mut output, &mut peak];
+        let summary = run_observed(session, run, files, &mut fields, progress)?;
         let wall = self.clock.elapsed().as_secs_f64();
         let cpu = cpu_seconds() - self.cpu0;
         let (counts, integrator) = counts(run);

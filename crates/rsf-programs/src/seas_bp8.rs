@@ -29,7 +29,7 @@ use std::time::Instant;
 
 use crate::config::ConfigArgs;
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
 use crate::square_fault::{elimination, print_volume, run_square_fault, volume_memory, SquareRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
@@ -69,37 +69,18 @@ pub(crate) struct Args {
 /// The files a run writes into `--out`.
 fn outputs() -> Vec<String> {
     let mut names = SeasBp5Output::bp8_file_names();
-    names.extend(
-        [
-            "checkpoint.bin",
-            SEAS_BP8_RESUME_LOG,
-            "summary.json",
-            crate::fields::FIELDS_FILE,
-            crate::fields::FIELDS_INDEX,
-        ]
-        .map(String::from),
-    );
+    names.extend(["checkpoint.bin", SEAS_BP8_RESUME_LOG, "summary.json"].map(String::from));
     names
 }
 
-impl Program for Args {
-    const NAME: &'static str = "seas_bp8";
+crate::seas_args::configured_program!(Args, "seas_bp8");
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        self.config.validate(&self.settings)?;
+impl Args {
+    /// The plan of the checked settings.
+    fn planned(&self) -> Result<Plan, AnyError> {
         let run = &self.settings;
         let cells = run.cells().map_err(|e| self.config.named(e))? as f64;
         self.header.check()?;
-        self.fields.check(Self::NAME)?;
         // The fault ODE's vectors, the FFT operator's circulant (4 times the cells, a
         // 2 × 2 block of complex entries each) and the pressure's nodes: 2 kB per cell
         // (measured: 27 MB of max RSS for GS at 10 m, 6 400 cells); PW's modal system of
@@ -130,10 +111,7 @@ impl Program for Args {
         let seconds = run.end_seconds();
         let rows = seconds / run.station_interval.max(60.0);
         let output = rows * (10.0 * 170.0) + seconds / run.profile_interval * 10.0 * 83.0 * 15.0;
-        let names = outputs();
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 memory,
                 "--dx",
@@ -143,19 +121,10 @@ impl Program for Args {
                 output,
                 "--end-days",
                 format!("{} days of stations and profiles", written(run.end_days)),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
             );
         // The fault's fields (--hdf5): the square's grid with its rim, its quadrilaterals.
-        self.fields.adaptive_output(
-            plan,
-            FaultSize::of((cells.sqrt() + 1.0).powi(2), (cells, 4.0)),
-            self.run.max_steps,
-            self.limits,
-        )
+        let fault = FaultSize::of((cells.sqrt() + 1.0).powi(2), (cells, 4.0));
+        self.flags().plan(plan, outputs(), run.fingerprint(), fault)
     }
 }
 
@@ -201,17 +170,10 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         print_volume(&ode, &grid);
     }
     // The folder's lock is held until the run ends.
-    let _folder = &folder;
     let settings = SquareRun {
-        run: &args.run,
-        step_cap: folder.step_cap(args.run.max_steps),
-        program: "seas_bp8",
-        fields: (&args.fields, folder.mode()),
-        integrator: &crate::IntegratorArgs {
-            integrator: run.integrator,
-        },
-        threads: args.threads,
-        out: &args.out,
+        flags: args.flags(),
+        folder: &folder,
+        integrator: run.integrator,
         fingerprint,
         end: run.end_seconds(),
         unit: (

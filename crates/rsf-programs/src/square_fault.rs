@@ -3,7 +3,6 @@
 //! (checkpoints, resume), the benchmark's files, the progress bar, the last line and the
 //! summary's common keys.
 
-use std::path::Path;
 use std::time::Instant;
 
 use rsf::checkpoint::Fingerprint;
@@ -12,26 +11,19 @@ use rsf::Stepping;
 use rsf_scenes::SeasBp8FaultOde;
 use rsf_seas::SeasBp5Output;
 
-use crate::guard::AnyError;
-use crate::session::Session;
+use crate::guard::{AnyError, Prepared};
+use crate::seas_args::{run_observed, RunFlags};
 use crate::{cpu_seconds, machine};
 
 /// A run's settings: its flags, fingerprint, end and the bar's unit.
 pub(crate) struct SquareRun<'a> {
-    /// `--checkpoint-every`, `--resume`, `--max-steps`.
-    pub(crate) run: &'a crate::ResumeArgs,
-    /// The run's step cap (`--max-steps`, or the plan's: `Prepared::step_cap`).
-    pub(crate) step_cap: Option<u64>,
-    /// The program (`seas_bp7`, `seas_bp8`), as `--hdf5`'s refusal names it.
-    pub(crate) program: &'static str,
-    /// `--hdf5` and the mode of a fresh run's files.
-    pub(crate) fields: (&'a crate::fields::FieldArgs, rsf::observe::FileMode),
+    /// `--out`, `--threads`, the resume flags, `--hdf5`.
+    pub(crate) flags: RunFlags<'a>,
+    /// The guard's folder: the run's step cap (`--max-steps`, or the plan's) and the mode
+    /// of a fresh run's files.
+    pub(crate) folder: &'a Prepared,
     /// `--integrator`.
-    pub(crate) integrator: &'a crate::IntegratorArgs,
-    /// `--threads`.
-    pub(crate) threads: usize,
-    /// `--out`.
-    pub(crate) out: &'a Path,
+    pub(crate) integrator: rsf::fault_ode::OdeIntegrator,
     /// The checkpoint's fingerprint.
     pub(crate) fingerprint: Fingerprint,
     /// End time (s).
@@ -62,24 +54,13 @@ pub(crate) fn run_square_fault(
         clock.elapsed().as_secs_f64(),
         cpu_seconds() - cpu0
     );
-    let session = Session::start(
-        settings.run.session_flags_with_cap(settings.step_cap),
-        settings.out.join("checkpoint.bin"),
-        settings.fingerprint,
-        settings.end,
-        ode,
-    )?;
-    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
-    // before any file is cut.
-    let (field_args, fresh) = settings.fields;
-    let mut fields = field_args.observer(
-        (settings.program, settings.out),
-        crate::fields::FieldsRun::of(&session, fresh, &settings.run.allow_change),
-        |w, target| w.fault_3d(target),
-    )?;
+    let (flags, folder) = (settings.flags, settings.folder);
+    let step_cap = folder.step_cap(flags.run.max_steps);
+    let session = flags.session(step_cap, settings.fingerprint, settings.end, ode)?;
+    let mut fields = flags.fields_observer(&session, folder.mode(), |w, t| w.fault_3d(t))?;
     let mut output = output(ode.model())?;
     if session.keeps_resume_log() {
-        output = output.with_resume_log(settings.run.checkpoint_every);
+        output = output.with_resume_log(flags.run.checkpoint_every);
     }
     match session.resumed() {
         Some(c) => output.resume(c.state.step, c.state.time)?,
@@ -87,12 +68,8 @@ pub(crate) fn run_square_fault(
     }
     let (unit, label) = settings.unit;
     let progress = rsf::observe::Progress::time_in(ode.state().time, settings.end, unit, label);
-    let mut observers: Vec<&mut dyn rsf::Observer<3>> = vec![&mut output];
-    if let Some(f) = fields.as_mut() {
-        observers.push(f.as_mut());
-    }
-    let summary = session.run(ode, &mut observers, Some(progress))?;
-    drop(observers);
+    let files = vec![&mut output as &mut dyn rsf::Observer<3>];
+    let summary = run_observed(session, ode, files, &mut fields, progress)?;
     let wall = clock.elapsed().as_secs_f64();
     let cpu = cpu_seconds() - cpu0;
     println!(
@@ -102,7 +79,7 @@ pub(crate) fn run_square_fault(
         summary.rejected_attempts,
         ode.evaluations(),
         output.events().len(),
-        settings.out.display()
+        flags.out.display()
     );
     let mut json = keys;
     let run = serde_json::json!({
@@ -112,8 +89,11 @@ pub(crate) fn run_square_fault(
         "steps_this_invocation": summary.steps,
         "rejected_attempts": summary.rejected_attempts,
         "rate_evaluations": ode.evaluations(),
-        "integrator": settings.integrator.summary(Some(ode.integrator_stats())),
-        "threads": settings.threads,
+        "integrator": crate::IntegratorArgs {
+            integrator: settings.integrator,
+        }
+        .summary(Some(ode.integrator_stats())),
+        "threads": flags.threads,
         "wall_time_s": wall,
         "cpu_time_s": cpu,
         "machine": machine(),
@@ -122,7 +102,7 @@ pub(crate) fn run_square_fault(
         json.extend(run);
     }
     rsf::checkpoint::write_atomically(
-        &settings.out.join("summary.json"),
+        &flags.out.join("summary.json"),
         serde_json::to_string_pretty(&json)?.as_bytes(),
     )?;
     Ok(output)

@@ -27,7 +27,8 @@ use std::time::Instant;
 use crate::config::ConfigArgs;
 use crate::estimates::{csv_row_bytes, operator_bytes, FIGURE_BYTES, SEAS_BYTES_PER_NODE};
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{number, written, AnyError, Limits, Plan, Prepared};
+use crate::network::{run_network, NetworkRun};
 use crate::{cpu_seconds, machine};
 use clap::Parser;
 use rsf_scenes::{KernelChoice, RunConfig, Stepover, StepoverRun};
@@ -69,7 +70,6 @@ fn outputs(stepover: &Stepover) -> Vec<String> {
         .map(|s| format!("{}_{}.csv", s.fault, s.label))
         .collect();
     names.extend(crate::network::NETWORK_FILES.map(String::from));
-    names.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
     names
 }
 
@@ -78,21 +78,11 @@ fn station_row_bytes() -> f64 {
     csv_row_bytes(6)
 }
 
-impl Program for Args {
-    const NAME: &'static str = "stepover";
+crate::seas_args::configured_program!(Args, "stepover");
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        self.config.validate(&self.settings)?;
-        self.fields.check(Self::NAME)?;
+impl Args {
+    /// The plan of the checked settings.
+    fn planned(&self) -> Result<Plan, AnyError> {
         let run = &self.settings;
         let (stepover, grid) = (run.scene(), run.grid());
         // The graded mesh in closed form (as Stepover::mesh grades it).
@@ -113,10 +103,7 @@ impl Program for Args {
         // rate is an upper bound for the stations written at every step).
         let stations = stepover.stations().len() as f64;
         let rows = run.end_years * 400.0 + 1e4;
-        let names = outputs(&stepover);
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 memory,
                 "--dx, --domain-km, --ratio, --strand-km",
@@ -133,19 +120,11 @@ impl Program for Args {
                     "{} years of {stations} station files",
                     written(run.end_years)
                 ),
-            )
-            .folder(
-                self.run
-                    .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                    .fingerprint(run.fingerprint()),
             );
         // The faults' fields (--hdf5): both strands' nodes across the box, the segments between them.
-        self.fields.adaptive_output(
-            plan,
-            FaultSize::of(fault_nodes, (fault_nodes, 2.0)),
-            self.run.max_steps,
-            self.limits,
-        )
+        let fault = FaultSize::of(fault_nodes, (fault_nodes, 2.0));
+        self.flags()
+            .plan(plan, outputs(&stepover), run.fingerprint(), fault)
     }
 }
 
@@ -190,23 +169,12 @@ fn run(args: Args, folder: Prepared) -> Result<(), AnyError> {
         clock.elapsed().as_secs_f64(),
         cpu_seconds() - cpu0
     );
-    let fingerprint = run.fingerprint();
-    let outcome = crate::network::run_network(
-        &mut ode,
-        &stepover.stations(),
-        fingerprint,
-        crate::network::NetworkRun {
-            out: &args.out,
-            fresh: folder.mode(),
-            end_years: run.end_years,
-            resume: &args.run,
-            step_cap: folder.step_cap(args.run.max_steps),
-            label: "stepover",
-            fields: &args.fields,
-            rigidity: stepover.params.shear_modulus(),
-        },
-        |w, target| w.fault_2d(target),
-    )?;
+    let rigidity = stepover.params.shear_modulus();
+    let network = NetworkRun::of(args.flags(), &folder, run.end_years, rigidity);
+    let stations = stepover.stations();
+    let outcome = run_network(&mut ode, &stations, run.fingerprint(), network, |w, t| {
+        w.fault_2d(t)
+    })?;
     crate::network::finish(
         crate::network::NetworkEnd {
             out: &args.out,

@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use crate::config::ConfigArgs;
 use crate::estimates::seas_output_bytes;
 use crate::fields::FaultSize;
-use crate::guard::{number, written, AnyError, Folder, Limits, Plan, Program};
+use crate::guard::{number, written, AnyError, Limits, Plan};
 use clap::Parser;
 use rsf::run_folder::{output_plan, OutputEstimate, OutputPlan};
-use rsf_scenes::{RunConfig, SeasBp1, SeasBp1Run, SEAS_BP1_STATION_DEPTHS};
+use rsf_scenes::{GridEstimate, RunConfig, SeasBp1, SeasBp1Run, SEAS_BP1_STATION_DEPTHS};
 
 #[derive(Parser, Debug)]
 #[command(about = "SCEC SEAS benchmark BP1-QD (antiplane, 3000 years)")]
@@ -81,17 +81,20 @@ impl Args {
         )?))
     }
 
+    /// The model's size, before anything is allocated.
+    ///
+    /// # Errors
+    /// A grid that does not fit BP1, named as the user wrote it.
+    fn size(&self) -> Result<GridEstimate, AnyError> {
+        let run = &self.settings;
+        let size = run.scene().estimate(&run.grid());
+        size.map_err(|e| self.config.named(e))
+    }
+
     /// The fault's fields' size (`--hdf5`): its nodes and the segments between them.
     fn fault_size(&self) -> Result<FaultSize, AnyError> {
-        let run = &self.settings;
-        let size = run
-            .scene()
-            .estimate(&run.grid())
-            .map_err(|e| self.config.named(e))?;
-        Ok(FaultSize::of(
-            size.fault_nodes,
-            (size.fault_nodes - 1.0, 2.0),
-        ))
+        let nodes = self.size()?.fault_nodes;
+        Ok(FaultSize::of(nodes, (nodes - 1.0, 2.0)))
     }
 
     /// The step cap of the run: `--max-steps`, or with `--every-step` the steps whose
@@ -104,39 +107,27 @@ impl Args {
     }
 }
 
-impl Program for Args {
-    const NAME: &'static str = "seas_bp1";
+/// The files a run writes into `--out`.
+fn outputs() -> Vec<String> {
+    let mut outputs = SeasBp1::file_names();
+    outputs.extend(["summary.json", "overview.png", "checkpoint.bin"].map(String::from));
+    outputs
+}
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+crate::seas_args::configured_program!(Args, "seas_bp1");
 
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        self.config.validate(&self.settings)?;
+impl Args {
+    /// The plan of the checked settings.
+    fn planned(&self) -> Result<Plan, AnyError> {
         let run = &self.settings;
-        // The model's size, before anything is allocated (the grid checked above).
-        let size = run
-            .scene()
-            .estimate(&run.grid())
-            .map_err(|e| self.config.named(e))?;
+        let size = self.size()?;
         self.header.check()?;
         let stations = SEAS_BP1_STATION_DEPTHS.len() as f64;
         let output = match self.every_step_plan()? {
             Some(plan) => plan.bytes,
             None => seas_output_bytes(run.end_years, stations, 7, size.fault_nodes),
         };
-        let mut outputs = SeasBp1::file_names();
-        self.fields.check("seas_bp1")?;
-        outputs.extend(["summary.json", "overview.png", "checkpoint.bin"].map(String::from));
-        outputs.extend(crate::fields::FIELD_OUTPUTS.map(String::from));
-        let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 size.bytes,
                 "--dz, --domain-km, --ratio",
@@ -156,21 +147,12 @@ impl Program for Args {
                 format!("{} years of the benchmark's files", written(run.end_years)),
             );
         // The fault's fields (--hdf5), in the station rows' cap with --every-step.
-        let plan = if run.every_step {
-            plan
+        let (flags, fingerprint) = (self.flags(), run.fingerprint());
+        if run.every_step {
+            Ok(flags.folder(plan, outputs(), fingerprint))
         } else {
-            self.fields.adaptive_output(
-                plan,
-                self.fault_size()?,
-                self.run.max_steps,
-                self.limits,
-            )?
-        };
-        Ok(plan.folder(
-            self.run
-                .folder(Folder::new("--out", &self.out, &outputs).overwrite(self.overwrite))
-                .fingerprint(run.fingerprint()),
-        ))
+            flags.plan(plan, outputs(), fingerprint, self.fault_size()?)
+        }
     }
 }
 

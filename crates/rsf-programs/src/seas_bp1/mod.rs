@@ -46,40 +46,26 @@
 //! Writes the benchmark's files (`fltst_dp000` … `fltst_dp350`, `devol.dat`), `events.csv`,
 //! `summary.json` and `overview.png` (maximum slip rate against time, slip profiles).
 
-use std::process::ExitCode;
-
-use rsf_ranks::Processes;
-
 mod args;
 mod run;
 
 pub use args::Args;
 use run::run;
 
-/// The program `seas_bp1` (`cargo run --release --example seas_bp1 -- --out DIR …`).
-pub fn main() -> ExitCode {
-    // With threads, the whole run on the pool (no hand-over per parallel region).
-    crate::guard::main(|args, prepared| run(args, prepared, None))
-}
-
-/// The program `seas_bp1` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`FieldWriters::fault_antiplane`](crate::fields::FieldWriters::fault_antiplane); the
-/// binary `seas_bp1` of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(
-        |args: &mut Args| args.fields.supply(writers),
-        |args, prepared| run(args, prepared, None),
-    )
-}
-
-/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp1`):
-/// the Runge–Kutta run of BP1-QD with every evaluation shared by the ranks
-/// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel), the files written by
-/// rank 0 — byte-identical to one process's (docs/scaling.md, "Past one machine").
-///
-/// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N` writes
-/// the fault's fields from rank 0, as [`main_with_fields`] does in one process.
-pub fn main_on_ranks(processes: &dyn Processes, writers: crate::fields::Writers) -> ExitCode {
-    let supply = |args: &mut Args| args.fields.supply_if(writers);
-    crate::guard::main_on_ranks_supplied(processes, supply, |a, f, p| run(a, f, Some(p)))
+crate::seas_args::ranked_entry_points! {
+    Args, run;
+    /// The program `seas_bp1` (`cargo run --release --example seas_bp1 -- --out DIR …`).
+    main,
+    /// The program `seas_bp1` with `writers` of the fault's fields (`--hdf5 N`,
+    /// [`FieldWriters::fault_antiplane`](crate::fields::FieldWriters::fault_antiplane); the
+    /// binary `seas_bp1` of crates/rsf-hdf5).
+    main_with_fields,
+    /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp1`):
+    /// the Runge–Kutta run of BP1-QD with every evaluation shared by the ranks
+    /// ([`rsf::FaultOde::share_evaluations`]; the dense or the ℋ-kernel), the files written
+    /// by rank 0 — byte-identical to one process's (docs/scaling.md, "Past one machine").
+    ///
+    /// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N`
+    /// writes the fault's fields from rank 0, as [`main_with_fields`] does in one process.
+    main_on_ranks,
 }

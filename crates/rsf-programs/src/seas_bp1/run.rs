@@ -2,13 +2,11 @@
 
 use std::time::Instant;
 
-use crate::fields::FieldsRun;
 use crate::guard::{AnyError, Prepared};
-use crate::session::Session;
+use crate::seas_args::run_observed;
 use crate::{cpu_seconds, machine};
 use rsf::method::{FixedPointOptions, SolverOptions};
 use rsf::observe::{Progress, TimeUnit};
-use rsf::run_folder::RunFolder;
 use rsf::MethodKind;
 use rsf_ranks::Processes;
 use rsf_scenes::{
@@ -90,13 +88,12 @@ pub(super) fn run(
     let root = processes.is_none_or(|p| p.rank() == 0);
     let settings = args.settings.resolved();
     let bp1 = settings.scene();
-    // The folder was refused before anything was computed if it holds another run (of
-    // this or of any other rsf program, unless --overwrite) or cannot be written.
     let stations: Vec<(String, f64)> = SEAS_BP1_STATION_DEPTHS
         .iter()
         .map(|&d| (SeasBp1::station_name(d), d))
         .collect();
-    let folder = RunFolder::new(&args.out, "seas_bp1", &[]);
+    // The folder was refused before anything was computed if it holds another run (of
+    // this or of any other rsf program, unless --overwrite) or cannot be written.
     let step_cap = args.step_cap();
     if let (Some(cap), None) = (step_cap, args.run.max_steps) {
         eprintln!(
@@ -146,25 +143,15 @@ pub(super) fn run(
     // The checkpoint is checked and restored before any file is touched, then the files'
     // rows up to its step.
     let t_end = settings.end_years * SECONDS_PER_YEAR;
-    let session = Session::start(
-        args.run.session_flags_with_cap(prepared.step_cap(step_cap)),
-        folder.path("checkpoint.bin"),
-        fingerprint,
-        t_end,
-        &mut sim,
-    )?;
+    let flags = args.flags();
+    let session = flags.session(prepared.step_cap(step_cap), fingerprint, t_end, &mut sim)?;
     if !root {
         // The same steps as rank 0, no files (no observer here ends a run).
         session.follow(&mut sim, &mut [])?;
         return Ok(());
     }
-    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
-    // before any file is cut.
-    let mut fields = args.fields.observer(
-        ("seas_bp1", &args.out),
-        FieldsRun::of(&session, prepared.mode(), &args.run.allow_change),
-        |w, target| w.fault_antiplane(target),
-    )?;
+    let mut fields =
+        flags.fields_observer(&session, prepared.mode(), |w, t| w.fault_antiplane(t))?;
     let mut output = rsf_seas::SeasOutput::for_session(
         &session,
         &args.out,
@@ -180,12 +167,8 @@ pub(super) fn run(
     let t0 = rsf::Stepping::state(&sim).time;
     let progress = Progress::time_in(t0, t_end, TimeUnit::year(SECONDS_PER_YEAR), "BP1");
     let (wall, cpu) = (Instant::now(), cpu_seconds());
-    let mut observers: Vec<&mut dyn rsf::Observer<2, 1>> = vec![&mut output];
-    if let Some(f) = fields.as_mut() {
-        observers.push(f.as_mut());
-    }
-    let summary = session.run(&mut sim, &mut observers, Some(progress))?;
-    drop(observers);
+    let files = vec![&mut output as &mut dyn rsf::Observer<2, 1>];
+    let summary = run_observed(session, &mut sim, files, &mut fields, progress)?;
     let facts = Facts {
         nodes,
         fault_nodes,

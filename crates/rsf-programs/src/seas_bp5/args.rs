@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use crate::config::ConfigArgs;
 use crate::estimates::{operator_bytes, seas_output_bytes};
 use crate::fields::FaultSize;
-use crate::guard::{written, AnyError, Folder, Limits, Plan, Program};
+use crate::guard::{written, AnyError, Limits, Plan};
 use clap::Parser;
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::InteriorOrdering;
@@ -61,8 +61,6 @@ fn outputs() -> Vec<String> {
             "overview.png",
             "checkpoint.bin",
             SEAS_BP5_RESUME_LOG,
-            crate::fields::FIELDS_FILE,
-            crate::fields::FIELDS_INDEX,
         ]
         .map(String::from),
     );
@@ -179,20 +177,11 @@ impl Args {
     }
 }
 
-impl Program for Args {
-    const NAME: &'static str = "seas_bp5";
+crate::seas_args::configured_program!(Args, "seas_bp5");
 
-    fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    fn configure(mut self, matches: &clap::ArgMatches) -> Result<Self, AnyError> {
-        self.settings = self.config.merged(self.settings, matches)?;
-        Ok(self)
-    }
-
-    fn plan(&self) -> Result<Plan, AnyError> {
-        self.config.validate(&self.settings)?;
+impl Args {
+    /// The plan of the checked settings.
+    fn planned(&self) -> Result<Plan, AnyError> {
         let run = &self.settings;
         let bp5 = self.scene()?;
         let cells = bp5.cells(run.dx).map_err(|e| self.config.named(e))?.len() as f64;
@@ -284,11 +273,7 @@ impl Program for Args {
         let (along_strike, along_dip) = (bp5.l_f / run.dx, bp5.w_f / run.dx);
         let output = seas_output_bytes(run.end_years, 20.0, 13, 2.0 * (along_strike + along_dip))
             + cells * rsf::run_folder::SERIES_ROW_BYTES;
-        self.fields.check("seas_bp5")?;
-        let names = outputs();
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let plan = Plan::new()
-            .pool(self.threads)
             .memory(
                 memory,
                 "--dx, --kernel, --domain-km, --ratio",
@@ -306,20 +291,10 @@ impl Program for Args {
             );
         // The fault's fields (--hdf5): a node per grid point of the rate-and-state region,
         // its cells quadrilaterals (a bound for both kernels).
-        let plan = self.fields.adaptive_output(
-            plan,
-            FaultSize::of(
-                (along_strike + 1.0) * (along_dip + 1.0),
-                (along_strike * along_dip, 4.0),
-            ),
-            self.run.max_steps,
-            self.limits,
-        )?;
-        Ok(plan.folder(
-            self.run
-                .folder(Folder::new("--out", &self.out, &names).overwrite(self.overwrite))
-                .fingerprint(self.fingerprint(&bp5)),
-        ))
+        let nodes = (along_strike + 1.0) * (along_dip + 1.0);
+        let fault = FaultSize::of(nodes, (along_strike * along_dip, 4.0));
+        self.flags()
+            .plan(plan, outputs(), self.fingerprint(&bp5), fault)
     }
 }
 
@@ -442,7 +417,7 @@ mod tests {
 #[cfg(test)]
 mod setup_file_tests {
     use super::*;
-    use crate::guard::parse_from;
+    use crate::guard::{parse_from, Program};
 
     /// The plan of `seas_bp5` with `flags` after `--kernel fe --dx 4000 --end-years 1e-6`.
     fn plan(flags: &[&str]) -> Plan {
@@ -495,7 +470,7 @@ mod setup_file_tests {
 #[cfg(test)]
 mod estimate_tests {
     use super::*;
-    use crate::guard::{parse_from, PROCESS_BYTES};
+    use crate::guard::{parse_from, Program, PROCESS_BYTES};
 
     /// The measured peaks (`/usr/bin/time -v`, bytes) of `seas_bp5 --kernel fe --dx DX
     /// --ratio R --domain-km KM --end-years 1e-6 --threads 1` (the Schur-only elimination,
@@ -573,7 +548,7 @@ mod estimate_tests {
 /// within the default `--max-memory-gb`; prints each one's time (not asserted: no timed
 /// tests). Shared by the tests of `seas_bp5` and `bp5_pair`.
 #[cfg(test)]
-pub(crate) fn plans_of_the_largest_boxes<P: Program>(dxs: &[f64]) {
+pub(crate) fn plans_of_the_largest_boxes<P: crate::guard::Program>(dxs: &[f64]) {
     for &dx in dxs {
         let root = dx * (64e3 / dx).log2().floor().max(0.0).exp2();
         let most = rsf_scenes::SEAS_BP5_GRADED_MAX_CELLS as f64 / 192.0;

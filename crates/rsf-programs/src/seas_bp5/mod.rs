@@ -34,10 +34,6 @@
 //! shared by the ranks, the files written by rank 0; docs/scaling.md, "The fault ODE on MPI
 //! ranks").
 
-use std::process::ExitCode;
-
-use rsf_ranks::Processes;
-
 mod args;
 mod run;
 
@@ -50,30 +46,21 @@ pub use args::{
 };
 use run::run;
 
-/// The program `seas_bp5` (`cargo run --release --example seas_bp5 -- --out DIR …`).
-pub fn main() -> ExitCode {
-    crate::guard::main(|args, folder| run(args, folder, None))
-}
-
-/// The program `seas_bp5` with `writers` of the fault's fields (`--hdf5 N`,
-/// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d), with either kernel;
-/// the binary `seas_bp5` of crates/rsf-hdf5).
-pub fn main_with_fields(writers: std::sync::Arc<dyn crate::fields::FieldWriters>) -> ExitCode {
-    crate::guard::main_supplied(
-        |args: &mut Args| args.fields.supply(writers),
-        |args, folder| run(args, folder, None),
-    )
-}
-
-/// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp5`):
-/// every evaluation of the fault ODE shared by the ranks
-/// ([`rsf::FaultOde::share_evaluations`]: the half-space operator's elements, or the
-/// finite-element operator's rows), the files written by rank 0 — byte-identical to one
-/// process's (docs/scaling.md, "The fault ODE on MPI ranks").
-///
-/// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N` writes
-/// the fault's fields from rank 0, as [`main_with_fields`] does in one process.
-pub fn main_on_ranks(processes: &dyn Processes, writers: crate::fields::Writers) -> ExitCode {
-    let supply = |args: &mut Args| args.fields.supply_if(writers);
-    crate::guard::main_on_ranks_supplied(processes, supply, |a, f, p| run(a, f, Some(p)))
+crate::seas_args::ranked_entry_points! {
+    Args, run;
+    /// The program `seas_bp5` (`cargo run --release --example seas_bp5 -- --out DIR …`).
+    main,
+    /// The program `seas_bp5` with `writers` of the fault's fields (`--hdf5 N`,
+    /// [`FieldWriters::fault_3d`](crate::fields::FieldWriters::fault_3d), with either
+    /// kernel; the binary `seas_bp5` of crates/rsf-hdf5).
+    main_with_fields,
+    /// The program on the processes of a job (MPI ranks, the `rsf-mpi` crate's `seas_bp5`):
+    /// every evaluation of the fault ODE shared by the ranks
+    /// ([`rsf::FaultOde::share_evaluations`]: the half-space operator's elements, or the
+    /// finite-element operator's rows), the files written by rank 0 — byte-identical to one
+    /// process's (docs/scaling.md, "The fault ODE on MPI ranks").
+    ///
+    /// With `writers` (the `rsf-mpi` crate built with its feature `hdf5`), `--hdf5 N`
+    /// writes the fault's fields from rank 0, as [`main_with_fields`] does in one process.
+    main_on_ranks,
 }

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use crate::guard::{AnyError, Prepared};
 use crate::memory::StageMemory;
-use crate::session::Session;
+use crate::seas_args::run_observed;
 use crate::{cpu_seconds, machine};
 use rsf::direct::{CheckpointPolicy, Progress};
 use rsf::fault_ode::{SchurOnlySetup, SetupProgress};
@@ -112,19 +112,11 @@ impl SetUp<'_> {
         cells: usize,
         processes: Option<&dyn Processes>,
     ) -> Result<OdeAndFiles, AnyError> {
-        let Self {
-            args,
-            bp5,
-            root,
-            options,
-            half_space,
-            setup,
-        } = self;
-        let model = bp5.model(args.settings.dx)?;
-        if root {
+        let (bp5, dx) = (self.bp5, self.args.settings.dx);
+        let model = bp5.model(dx)?;
+        if self.root {
             println!(
-                "BP5-QD, Okada, Δx = {} m, {cells} cells ({} slip unknowns); on {}",
-                args.settings.dx,
+                "BP5-QD, Okada, Δx = {dx} m, {cells} cells ({} slip unknowns); on {}",
                 2 * cells,
                 machine()
             );
@@ -132,13 +124,13 @@ impl SetUp<'_> {
         // On ranks, each builds and holds its rows of the operator.
         let (ode, columns) = bp5.fault_ode_on_ranks(
             model,
-            options,
-            half_space,
+            self.options,
+            self.half_space,
             &SeasBp5::body_station_points(),
             processes.map(|p| p.group()),
         )?;
-        let output = if root {
-            Some(bp5.output(&args.out, args.settings.dx, columns, setup)?)
+        let output = if self.root {
+            Some(bp5.output(&self.args.out, dx, columns, self.setup)?)
         } else {
             None
         };
@@ -315,14 +307,10 @@ pub(super) fn run(
     }
     let setup_s = clock.elapsed().as_secs_f64();
     // The checkpoint is checked and restored (on every rank) before any file is touched.
-    let session = Session::start(
-        args.run
-            .session_flags_with_cap(prepared.step_cap(args.run.max_steps)),
-        folder.path("checkpoint.bin"),
-        fingerprint,
-        args.settings.end_years * SECONDS_PER_YEAR,
-        &mut ode,
-    )?;
+    let flags = args.flags();
+    let end = args.settings.end_years * SECONDS_PER_YEAR;
+    let step_cap = prepared.step_cap(args.run.max_steps);
+    let session = flags.session(step_cap, fingerprint, end, &mut ode)?;
     let Some(mut output) = output else {
         // The other ranks: the same steps as rank 0, no files (no observer here ends a
         // run).
@@ -337,13 +325,7 @@ pub(super) fn run(
         "set-up: wall {setup_s:.1} s, CPU {:.1} s",
         cpu_seconds() - cpu0
     );
-    // The fault's fields (`--hdf5 N`): the file proves it holds the checkpoint's run
-    // before any file is cut.
-    let mut fields = args.fields.observer(
-        ("seas_bp5", &args.out),
-        crate::fields::FieldsRun::of(&session, prepared.mode(), &args.run.allow_change),
-        |w, target| w.fault_3d(target),
-    )?;
+    let mut fields = flags.fields_observer(&session, prepared.mode(), |w, t| w.fault_3d(t))?;
     if session.keeps_resume_log() {
         output = output.with_resume_log(args.run.checkpoint_every);
     }
@@ -355,18 +337,10 @@ pub(super) fn run(
             rsf::Stepping::fault_tractions(&ode),
         ),
     }
-    let progress = rsf::observe::Progress::time_in(
-        ode.state().time,
-        args.settings.end_years * SECONDS_PER_YEAR,
-        TimeUnit::year(SECONDS_PER_YEAR),
-        "BP5",
-    );
-    let mut observers: Vec<&mut dyn Observer<3>> = vec![&mut output];
-    if let Some(f) = fields.as_mut() {
-        observers.push(f.as_mut());
-    }
-    let summary = session.run(&mut ode, &mut observers, Some(progress))?;
-    drop(observers);
+    let year = TimeUnit::year(SECONDS_PER_YEAR);
+    let progress = rsf::observe::Progress::time_in(ode.state().time, end, year, "BP5");
+    let files = vec![&mut output as &mut dyn Observer<3>];
+    let summary = run_observed(session, &mut ode, files, &mut fields, progress)?;
     let times = (setup_s, clock.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
     report(&args, &ode, &output, &summary, cells, times)?;
     Ok(())
