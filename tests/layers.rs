@@ -920,7 +920,7 @@ const CRATE_MODULES: &[(&str, &[&[&str]])] = &[
     (
         "rsf-time",
         &[
-            &["adaptive", "choice", "krylov"],
+            &["adaptive", "choice", "krylov", "load"],
             &["runge_kutta"],
             &["rosenbrock", "stabilized", "test_systems"],
             &["stepper"],

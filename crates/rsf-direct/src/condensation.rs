@@ -275,16 +275,7 @@ impl<const D: usize> Condensation<D> {
 }
 
 fn check_len(what: &'static str, expected: usize, got: usize) -> Result<()> {
-    if expected == got {
-        Ok(())
-    } else {
-        Err(ProblemError::DimensionMismatch {
-            what,
-            expected,
-            got,
-        }
-        .into())
-    }
+    Ok(ProblemError::check_length(what, expected, got)?)
 }
 
 /// The interior (free dofs outside the blocks) and the interface (free components of the

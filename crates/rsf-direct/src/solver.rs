@@ -287,14 +287,7 @@ impl<const D: usize> DirectSolver<D> {
     /// further solves.
     fn recover(&mut self, v: &mut [f64], in_place: bool) -> Result<()> {
         let n = self.a.nrows;
-        if v.len() != n {
-            return Err(ProblemError::DimensionMismatch {
-                what: "iterate",
-                expected: n,
-                got: v.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("iterate", n, v.len())?;
         let cd = match self.cache.as_mut() {
             Some(cd) if self.in_step => cd,
             _ => {

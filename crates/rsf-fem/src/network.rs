@@ -9,8 +9,8 @@
 use std::collections::HashMap;
 
 use crate::split::{
-    add_plus_copy, cell_groups_around, edge_and_vertex_cells, facet_key, ordered_chain,
-    tag_network_facets,
+    add_at_vertices, add_plus_copy, cell_groups_around, check_fault_edge, edge_and_vertex_cells,
+    facet_key, ordered_chain, tag_network_facets,
 };
 use crate::{Error, FaultSides, Result, SimplexMesh};
 
@@ -336,17 +336,8 @@ impl<'a> Cut2d<'a> {
             }
             let mut at_vertex: HashMap<usize, Vec<usize>> = HashMap::new();
             for (i, &[a, b]) in edges.iter().enumerate() {
-                let cells = if a < nv && b < nv && a != b {
-                    edge_cells.get(&key(a, b))
-                } else {
-                    None
-                };
+                check_fault_edge(&edge_cells, nv, i, [a, b])?;
                 let vertices = [a, b];
-                match cells.map(Vec::len) {
-                    None => return Err(Error::FaultEdgeNotInMesh { edge: i, vertices }),
-                    Some(1) => return Err(Error::FaultEdgeOnBoundary { edge: i, vertices }),
-                    _ => {}
-                }
                 match fault_edge.insert(key(a, b), f) {
                     Some(g) if g == f => {
                         return Err(Error::FaultEdgeRepeated { edge: i, vertices })
@@ -361,16 +352,7 @@ impl<'a> Cut2d<'a> {
                     }
                     None => {}
                 }
-                for v in [a, b] {
-                    let list = at_vertex.entry(v).or_default();
-                    list.push(i);
-                    if list.len() > 2 {
-                        return Err(Error::FaultNotManifold {
-                            vertex: v,
-                            edges: list.len(),
-                        });
-                    }
-                }
+                add_at_vertices(&mut at_vertex, i, [a, b])?;
             }
             chains.push(ordered_chain(edges, &at_vertex)?);
         }

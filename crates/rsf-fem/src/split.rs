@@ -185,42 +185,14 @@ impl SimplexMesh<2> {
         let mut fault_edge: HashMap<(usize, usize), usize> = HashMap::new();
         let mut at_vertex: HashMap<usize, Vec<usize>> = HashMap::new();
         for (i, &[a, b]) in edges.iter().enumerate() {
-            let cells = if a < nv && b < nv && a != b {
-                edge_cells.get(&key(a, b))
-            } else {
-                None
-            };
-            match cells.map(Vec::len) {
-                None => {
-                    return Err(Error::FaultEdgeNotInMesh {
-                        edge: i,
-                        vertices: [a, b],
-                    })
-                }
-                Some(1) => {
-                    return Err(Error::FaultEdgeOnBoundary {
-                        edge: i,
-                        vertices: [a, b],
-                    })
-                }
-                _ => {}
-            }
+            check_fault_edge(&edge_cells, nv, i, [a, b])?;
             if fault_edge.insert(key(a, b), i).is_some() {
                 return Err(Error::FaultEdgeRepeated {
                     edge: i,
                     vertices: [a, b],
                 });
             }
-            for v in [a, b] {
-                let list = at_vertex.entry(v).or_default();
-                list.push(i);
-                if list.len() > 2 {
-                    return Err(Error::FaultNotManifold {
-                        vertex: v,
-                        edges: list.len(),
-                    });
-                }
-            }
+            add_at_vertices(&mut at_vertex, i, [a, b])?;
         }
         let chain = ordered_chain(edges, &at_vertex)?;
         let mut on_boundary = vec![false; nv];
@@ -298,17 +270,8 @@ impl SimplexMesh<2> {
                 [-t[1] / l, t[0] / l]
             })
             .collect();
-        Ok((
-            split,
-            FaultSides {
-                name: name.to_owned(),
-                nodes,
-                minus_facets,
-                plus_facets,
-                normals,
-                junction_nodes: Vec::new(),
-            },
-        ))
+        let sides = FaultSides::alone(name, nodes, minus_facets, plus_facets, normals);
+        Ok((split, sides))
     }
 
     /// [`SimplexMesh::split_along`] for a straight fault from `a` to `b` (m): the mesh edges
@@ -415,6 +378,52 @@ impl SimplexMesh<2> {
     }
 }
 
+/// Checks fault edge `i`, `[a, b]`, of a triangle mesh of `nv` vertices whose edges are
+/// `edge_cells`: an edge of the mesh, between two cells.
+///
+/// # Errors
+/// [`Error::FaultEdgeNotInMesh`], [`Error::FaultEdgeOnBoundary`].
+pub(crate) fn check_fault_edge(
+    edge_cells: &EdgeCells,
+    nv: usize,
+    i: usize,
+    [a, b]: [usize; 2],
+) -> Result<()> {
+    let cells = if a < nv && b < nv && a != b {
+        edge_cells.get(&(a.min(b), a.max(b)))
+    } else {
+        None
+    };
+    let vertices = [a, b];
+    match cells.map(Vec::len) {
+        None => Err(Error::FaultEdgeNotInMesh { edge: i, vertices }),
+        Some(1) => Err(Error::FaultEdgeOnBoundary { edge: i, vertices }),
+        _ => Ok(()),
+    }
+}
+
+/// Lists fault edge `i`, `[a, b]`, at both its vertices in `at_vertex`.
+///
+/// # Errors
+/// [`Error::FaultNotManifold`] for a vertex that gets a third edge.
+pub(crate) fn add_at_vertices(
+    at_vertex: &mut HashMap<usize, Vec<usize>>,
+    i: usize,
+    [a, b]: [usize; 2],
+) -> Result<()> {
+    for v in [a, b] {
+        let list = at_vertex.entry(v).or_default();
+        list.push(i);
+        if list.len() > 2 {
+            return Err(Error::FaultNotManifold {
+                vertex: v,
+                edges: list.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The vertices of the chain of fault edges `edges` in order, from the end before the
 /// first edge's start to the end after its end (the first edge's direction); `at_vertex`
 /// lists the (at most two) edges at every fault vertex.
@@ -491,6 +500,24 @@ pub(crate) fn add_plus_copy<const D: usize>(
 }
 
 impl<const D: usize> FaultSides<D> {
+    /// The sides of a fault cut alone (no junctions).
+    pub(crate) fn alone(
+        name: &str,
+        nodes: Vec<(usize, usize)>,
+        minus_facets: Vec<usize>,
+        plus_facets: Vec<usize>,
+        normals: Vec<[f64; D]>,
+    ) -> Self {
+        Self {
+            name: name.to_owned(),
+            nodes,
+            minus_facets,
+            plus_facets,
+            normals,
+            junction_nodes: Vec::new(),
+        }
+    }
+
     /// Checks that a mesh of `num_vertices` vertices can be the split mesh of these sides.
     ///
     /// # Errors

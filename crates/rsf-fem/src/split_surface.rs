@@ -175,17 +175,8 @@ impl SimplexMesh<3> {
         split.copy_refinement_orders(self);
         let (minus_facets, plus_facets) =
             tag_split_facets(self, &mut split, name, &original, &fault, &plus_cells);
-        Ok((
-            split,
-            FaultSides {
-                name: name.to_owned(),
-                nodes,
-                minus_facets,
-                plus_facets,
-                normals,
-                junction_nodes: Vec::new(),
-            },
-        ))
+        let sides = FaultSides::alone(name, nodes, minus_facets, plus_facets, normals);
+        Ok((split, sides))
     }
 
     /// [`SimplexMesh::split_along`] for a planar polygon with corners `corners` (m, at least

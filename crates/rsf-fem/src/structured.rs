@@ -210,13 +210,7 @@ pub const MAX_GRADED_COORDINATES: f64 = 1e7;
 /// # Ok::<(), rsf_fem::Error>(())
 /// ```
 pub fn geometric_grading_len(h: f64, uniform: f64, ratio: f64, length: f64) -> f64 {
-    let ok = h > 0.0
-        && length.is_finite()
-        && h <= length
-        && uniform >= 0.0
-        && uniform <= length
-        && (1.0..=10.0).contains(&ratio);
-    if !ok {
+    if !grading_is_valid(h, uniform, ratio, length) {
         return f64::INFINITY;
     }
     let n_uniform = (uniform / h + 1e-9).floor();
@@ -230,6 +224,25 @@ pub fn geometric_grading_len(h: f64, uniform: f64, ratio: f64, length: f64) -> f
         ((1.0 + rest * (ratio - 1.0) / (h * ratio)).ln() / ratio.ln()).ceil()
     };
     n_uniform + 1.0 + graded
+}
+
+/// Whether a grading's parameters are valid: `0 < h ≤ length`, `0 ≤ uniform ≤ length`,
+/// `1 ≤ ratio ≤ 10`, all finite.
+fn grading_is_valid(h: f64, uniform: f64, ratio: f64, length: f64) -> bool {
+    h > 0.0
+        && length.is_finite()
+        && h <= length
+        && uniform >= 0.0
+        && uniform <= length
+        && (1.0..=10.0).contains(&ratio)
+}
+
+/// The number of vertices `nx ny nz` of a grid; `None` if it, or 24 times it (six
+/// tetrahedra of four indices per box), overflows a `usize`.
+fn grid_vertex_count(nx: usize, ny: usize, nz: usize) -> Option<usize> {
+    nx.checked_mul(ny)
+        .and_then(|v| v.checked_mul(nz))
+        .filter(|&v| v.checked_mul(6 * 4).is_some())
 }
 
 /// [`geometric_grading`] mirrored about 0: `−length … −uniform … 0 … uniform … length`
@@ -263,13 +276,7 @@ pub fn symmetric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Resul
 /// `1 ≤ ratio ≤ 10` and all finite, or if more than [`MAX_GRADED_COORDINATES`] would
 /// result (refused before anything is allocated: [`geometric_grading_len`]).
 pub fn geometric_grading(h: f64, uniform: f64, ratio: f64, length: f64) -> Result<Vec<f64>> {
-    let ok = h > 0.0
-        && length.is_finite()
-        && h <= length
-        && uniform >= 0.0
-        && uniform <= length
-        && (1.0..=10.0).contains(&ratio);
-    if !ok {
+    if !grading_is_valid(h, uniform, ratio, length) {
         return Err(Error::InvalidGrid(format!(
             "grading: need 0 < h <= length, 0 <= uniform <= length, 1 <= ratio <= 10; \
              got h = {h}, uniform = {uniform}, ratio = {ratio}, length = {length}"
@@ -367,10 +374,7 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
         )));
     }
     let [nx, ny, nz] = n;
-    let count = nx
-        .checked_mul(ny)
-        .and_then(|v| v.checked_mul(nz))
-        .filter(|&v| v.checked_mul(6 * 4).is_some())
+    let count = grid_vertex_count(nx, ny, nz)
         .ok_or_else(|| Error::InvalidGrid(format!("too many vertices: {n:?}")))?;
     let mut vertices = Vec::with_capacity(count);
     for k in 0..nz {
@@ -413,10 +417,7 @@ pub fn cuboid(origin: [f64; 3], size: [f64; 3], n: [usize; 3]) -> Result<Tetrahe
 pub fn cuboid_from_coordinates(xs: &[f64], ys: &[f64], zs: &[f64]) -> Result<TetrahedronMesh> {
     check_coordinates(&[("xs", xs), ("ys", ys), ("zs", zs)])?;
     let (nx, ny, nz) = (xs.len(), ys.len(), zs.len());
-    let count = nx
-        .checked_mul(ny)
-        .and_then(|v| v.checked_mul(nz))
-        .filter(|&v| v.checked_mul(6 * 4).is_some())
+    let count = grid_vertex_count(nx, ny, nz)
         .ok_or_else(|| Error::InvalidGrid(format!("too many vertices: {nx} × {ny} × {nz}")))?;
     let mut vertices = Vec::with_capacity(count);
     for &z in zs {

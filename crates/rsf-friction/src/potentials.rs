@@ -17,6 +17,16 @@ fn check(name: &'static str, value: f64, ok: bool, requirement: &'static str) ->
     }
 }
 
+/// [`check`] that `value` is finite and `> 0`.
+fn check_positive(name: &'static str, value: f64) -> Result<()> {
+    check(
+        name,
+        value,
+        value.is_finite() && value > 0.0,
+        "finite and > 0",
+    )
+}
+
 /// Saturates `+∞` to `f64::MAX` (keeps results finite).
 pub(crate) fn sat(x: f64) -> f64 {
     x.min(f64::MAX)
@@ -92,12 +102,7 @@ impl Tresca {
     /// [`Error::InvalidParameter`] otherwise.
     pub fn new(mu: f64, sigma_n: f64) -> Result<Self> {
         check("mu", mu, mu.is_finite() && mu >= 0.0, "finite and >= 0")?;
-        check(
-            "sigma_n",
-            sigma_n,
-            sigma_n.is_finite() && sigma_n > 0.0,
-            "finite and > 0",
-        )?;
+        check_positive("sigma_n", sigma_n)?;
         Ok(Self { mu, sigma_n })
     }
     /// Friction coefficient μ.
@@ -162,12 +167,7 @@ impl<F: Fn(f64) -> f64 + Clone + Send + Sync> StateDependentTresca<F> {
     /// # Errors
     /// [`Error::InvalidParameter`] for an invalid `sigma_n`.
     pub fn new(mu: F, sigma_n: f64) -> Result<Self> {
-        check(
-            "sigma_n",
-            sigma_n,
-            sigma_n.is_finite() && sigma_n > 0.0,
-            "finite and > 0",
-        )?;
+        check_positive("sigma_n", sigma_n)?;
         Ok(Self {
             mu,
             sigma_n,
@@ -245,31 +245,11 @@ impl RateStateParams {
     /// [`Error::InvalidParameter`] naming the first offending parameter.
     pub fn validate(&self) -> Result<()> {
         check("mu0", self.mu0, self.mu0.is_finite(), "finite")?;
-        check(
-            "a",
-            self.a,
-            self.a.is_finite() && self.a > 0.0,
-            "finite and > 0",
-        )?;
+        check_positive("a", self.a)?;
         check("b", self.b, self.b.is_finite(), "finite")?;
-        check(
-            "v0",
-            self.v0,
-            self.v0.is_finite() && self.v0 > 0.0,
-            "finite and > 0",
-        )?;
-        check(
-            "l",
-            self.l,
-            self.l.is_finite() && self.l > 0.0,
-            "finite and > 0",
-        )?;
-        check(
-            "sigma_n",
-            self.sigma_n,
-            self.sigma_n.is_finite() && self.sigma_n > 0.0,
-            "finite and > 0",
-        )
+        check_positive("v0", self.v0)?;
+        check_positive("l", self.l)?;
+        check_positive("sigma_n", self.sigma_n)
     }
 
     /// `ln V_m(α) = ln V0 − (μ0 + b(α + ln(V0/L)))/a` (2.13), computed without forming
@@ -574,7 +554,7 @@ impl<P: ConvexPotential> SlipScaled<P> {
     /// # Errors
     /// [`Error::InvalidParameter`] (`slip_factor`) unless `s` is finite and `> 0`.
     pub fn new(inner: P, s: f64) -> Result<Self> {
-        check("slip_factor", s, s.is_finite() && s > 0.0, "finite and > 0")?;
+        check_positive("slip_factor", s)?;
         Ok(Self { inner, s })
     }
     /// The slip factor `s`.

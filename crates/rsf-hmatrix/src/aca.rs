@@ -205,6 +205,13 @@ fn argmax_unused(x: &[f64], used: &[bool]) -> Option<(usize, f64)> {
     best
 }
 
+/// A row or a column of a block.
+#[derive(Debug, Clone, Copy)]
+enum Line {
+    Row(usize),
+    Col(usize),
+}
+
 /// The residual crosses so far, and the residual rows and columns they need.
 struct Approximation {
     us: Vec<Vec<f64>>,
@@ -214,42 +221,59 @@ struct Approximation {
 }
 
 impl Approximation {
-    /// Row `i` of the residual into `out` (`ns`).
-    fn residual_row(
+    /// Row `i` (`ns` long) or column `j` (`ms`) of the residual into `out`:
+    /// `entry(i, s) − Σ_l u_l[i] v_l[s]` or `entry(r, j) − Σ_l v_l[j] u_l[r]`, the crosses
+    /// subtracted in order.
+    fn residual(
         &self,
-        i: usize,
+        line: Line,
         entry: &mut dyn FnMut(usize, usize) -> Result<f64, Error>,
         out: &mut [f64],
     ) -> Result<(), Error> {
+        let (k, coefficients, vectors) = match line {
+            Line::Row(i) => (i, &self.us, &self.vs),
+            Line::Col(j) => (j, &self.vs, &self.us),
+        };
         for (s, o) in out.iter_mut().enumerate() {
-            *o = entry(i, s)?;
+            *o = match line {
+                Line::Row(i) => entry(i, s)?,
+                Line::Col(j) => entry(s, j)?,
+            };
         }
-        for (ul, vl) in self.us.iter().zip(&self.vs) {
-            let a = ul[i];
-            for (o, x) in out.iter_mut().zip(vl) {
-                *o -= a * x;
+        for (cl, xl) in coefficients.iter().zip(vectors) {
+            let c = cl[k];
+            for (o, x) in out.iter_mut().zip(xl) {
+                *o -= c * x;
             }
         }
         Ok(())
     }
 
-    /// Column `j` of the residual into `out` (`ms`).
-    fn residual_col(
+    /// A cross's pivot `(i, j)` from the line `from`: its residual (into `row` for a row,
+    /// `col` for a column), its largest entry at an unused index of the other direction
+    /// (`used`), the residual line through it into the other buffer; `None` if every index
+    /// is used.
+    fn pivot(
         &self,
-        j: usize,
+        from: Line,
         entry: &mut dyn FnMut(usize, usize) -> Result<f64, Error>,
-        out: &mut [f64],
-    ) -> Result<(), Error> {
-        for (r, o) in out.iter_mut().enumerate() {
-            *o = entry(r, j)?;
-        }
-        for (ul, vl) in self.us.iter().zip(&self.vs) {
-            let b = vl[j];
-            for (o, x) in out.iter_mut().zip(ul) {
-                *o -= b * x;
-            }
-        }
-        Ok(())
+        (row, col): (&mut [f64], &mut [f64]),
+        used: &[bool],
+    ) -> Result<Option<(usize, usize)>, Error> {
+        let (first, second) = match from {
+            Line::Row(_) => (row, col),
+            Line::Col(_) => (col, row),
+        };
+        self.residual(from, entry, first)?;
+        let Some((k, _)) = argmax_unused(first, used) else {
+            return Ok(None);
+        };
+        let (across, pivot) = match from {
+            Line::Row(i) => (Line::Col(k), (i, k)),
+            Line::Col(j) => (Line::Row(k), (k, j)),
+        };
+        self.residual(across, entry, second)?;
+        Ok(Some(pivot))
     }
 
     /// Appends the cross `u vᵀ` and returns `‖u‖ ‖v‖`.
@@ -322,12 +346,12 @@ fn aca_plus(
     let mut jref = new_reference(&col_used, rng);
     let mut cref = vec![0.0; ms];
     if let Some(j) = jref {
-        x.residual_col(j, entry, &mut cref)?;
+        x.residual(Line::Col(j), entry, &mut cref)?;
     }
     let mut iref = argmin_abs(&cref);
     let mut rref = vec![0.0; ns];
     if let Some(i) = iref {
-        x.residual_row(i, entry, &mut rref)?;
+        x.residual(Line::Row(i), entry, &mut rref)?;
     }
     let mut row = vec![0.0; ns];
     let mut col = vec![0.0; ms];
@@ -338,47 +362,32 @@ fn aca_plus(
         // reference column's and reference row's largest residual entries.
         let by_col = iref.and_then(|_| argmax_unused(&rref, &col_used));
         let by_row = jref.and_then(|_| argmax_unused(&cref, &row_used));
-        let (i, j) = if let Some(i) = forced.take() {
-            x.residual_row(i, entry, &mut row)?;
-            let Some((j, _)) = argmax_unused(&row, &col_used) else {
-                break;
-            };
-            x.residual_col(j, entry, &mut col)?;
-            (i, j)
+        let lines = (&mut row[..], &mut col[..]);
+        let cross = if let Some(i) = forced.take() {
+            x.pivot(Line::Row(i), entry, lines, &col_used)?
         } else {
             let cmax = by_row.map_or(0.0, |(_, v)| v);
             let rmax = by_col.map_or(0.0, |(_, v)| v);
             if cmax == 0.0 && rmax == 0.0 {
                 // The references are reproduced: the samples decide.
-                if samples.norm2_estimate() <= tol2 {
+                let refs = (&mut jref, &mut cref[..]);
+                let used = (&row_used[..], &col_used[..]);
+                forced = follow(&mut x, entry, samples, tol2, refs, used, rng)?;
+                if forced.is_none() {
                     break;
                 }
-                let Some(at) = samples.worst(&row_used) else {
-                    break;
-                };
-                forced = Some(at.0);
-                follow(
-                    at, &mut x, entry, samples, &mut jref, &mut cref, &col_used, rng,
-                )?;
                 continue;
             }
             if rmax > cmax {
                 let (j, _) = by_col.unwrap_or((0, 0.0));
-                x.residual_col(j, entry, &mut col)?;
-                let Some((i, _)) = argmax_unused(&col, &row_used) else {
-                    break;
-                };
-                x.residual_row(i, entry, &mut row)?;
-                (i, j)
+                x.pivot(Line::Col(j), entry, lines, &row_used)?
             } else {
                 let (i, _) = by_row.unwrap_or((0, 0.0));
-                x.residual_row(i, entry, &mut row)?;
-                let Some((j, _)) = argmax_unused(&row, &col_used) else {
-                    break;
-                };
-                x.residual_col(j, entry, &mut col)?;
-                (i, j)
+                x.pivot(Line::Row(i), entry, lines, &col_used)?
             }
+        };
+        let Some((i, j)) = cross else {
+            break;
         };
         row_used[i] = true;
         col_used[j] = true;
@@ -410,60 +419,64 @@ fn aca_plus(
         if jref.is_some_and(|jr| col_used[jr]) {
             jref = new_reference(&col_used, rng);
             if let Some(jr) = jref {
-                x.residual_col(jr, entry, &mut cref)?;
+                x.residual(Line::Col(jr), entry, &mut cref)?;
             }
         }
         if iref.is_some_and(|ir| row_used[ir]) {
             iref = new_reference(&row_used, rng);
             if let Some(ir) = iref {
-                x.residual_row(ir, entry, &mut rref)?;
+                x.residual(Line::Row(ir), entry, &mut rref)?;
             }
         }
         let tol2 = eps * eps * block_norm2.max(x.norm2);
         if size * size <= tol2 {
-            if samples.norm2_estimate() <= tol2 {
+            // The newest cross is small: the samples decide.
+            let refs = (&mut jref, &mut cref[..]);
+            let used = (&row_used[..], &col_used[..]);
+            forced = follow(&mut x, entry, samples, tol2, refs, used, rng)?;
+            if forced.is_none() {
                 break;
             }
-            // The newest cross is small but the samples are not reproduced.
-            let Some(at) = samples.worst(&row_used) else {
-                break;
-            };
-            forced = Some(at.0);
-            follow(
-                at, &mut x, entry, samples, &mut jref, &mut cref, &col_used, rng,
-            )?;
         }
     }
     Ok(Some(x.into_crosses()))
 }
 
-/// After a failed sample check at the worst sample `(r, s)` (its row `r` is the next
-/// pivot row): the reference column moves to `s` if unused, so that the search goes on
-/// where the samples found the residual; and the samples are drawn anew (with their
-/// residual), so that the next check is made on entries that guided no pivot — a sample
-/// set that chose pivots is reproduced at its own positions first and would stop early.
-/// Costs `ms + ns` entries per failed check, each followed by at least one cross.
+/// The sample check where the crosses would stop (`tol2`, the squared tolerance): `None`
+/// if the samples' residual is at most `tol2` or every sample's row is used (ACA+ stops).
+/// Else it fails at the worst sample `(r, s)` and returns its row `r`, the next pivot
+/// row, after following it: the reference column (`jref`, its residual `cref`) moves to
+/// `s` if unused, so that the search goes on where the samples found the residual; and
+/// the samples are drawn anew (with their residual), so that the next check is made on
+/// entries that guided no pivot — a sample set that chose pivots is reproduced at its
+/// own positions first and would stop early. Costs `ms + ns` entries per failed check,
+/// each followed by at least one cross.
 #[allow(clippy::too_many_arguments)]
 fn follow(
-    (_, s): (usize, usize),
     x: &mut Approximation,
     entry: &mut dyn FnMut(usize, usize) -> Result<f64, Error>,
     samples: &mut Samples,
-    jref: &mut Option<usize>,
-    cref: &mut [f64],
-    col_used: &[bool],
+    tol2: f64,
+    (jref, cref): (&mut Option<usize>, &mut [f64]),
+    (row_used, col_used): (&[bool], &[bool]),
     rng: &mut SplitMix64,
-) -> Result<(), Error> {
+) -> Result<Option<usize>, Error> {
+    if samples.norm2_estimate() <= tol2 {
+        return Ok(None);
+    }
+    let Some((r, s)) = samples.worst(row_used) else {
+        return Ok(None);
+    };
     if !col_used[s] {
         *jref = Some(s);
-        x.residual_col(s, entry, cref)?;
+        x.residual(Line::Col(s), entry, cref)?;
     }
     let (ms, ns) = (cref.len(), col_used.len());
     *samples = Samples::draw(ms, ns, rng, entry)?;
     for (u, v) in x.us.iter().zip(&x.vs) {
         samples.subtract(u, v);
     }
-    Ok(())
+    Ok(Some(r))
 }
 
 /// Index of the smallest `|x_i|` (first on ties); `None` for an empty slice.

@@ -151,14 +151,7 @@ impl Cholesky {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         ordering: FillOrdering,
     ) -> Result<Self> {
-        if pattern.nrows() != pattern.ncols() {
-            return Err(ProblemError::DimensionMismatch {
-                what: "Cholesky: square matrix",
-                expected: pattern.nrows(),
-                got: pattern.ncols(),
-            }
-            .into());
-        }
+        ProblemError::check_length("Cholesky: square matrix", pattern.nrows(), pattern.ncols())?;
         let symbolic = match ordering {
             FillOrdering::GroupedAmd => {
                 let (fwd, inv) = grouped_amd(pattern)?;
@@ -236,14 +229,7 @@ impl Cholesky {
     /// entries; [`Error::NotPositiveDefinite`] if a pivot is not positive.
     pub fn factorize_values(&mut self, values: &[f64]) -> Result<()> {
         let nnz = self.pattern.row_idx().len();
-        if values.len() != nnz {
-            return Err(ProblemError::DimensionMismatch {
-                what: "Cholesky values",
-                expected: nnz,
-                got: values.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("Cholesky values", nnz, values.len())?;
         self.factorized = false;
         let a = SparseColMatRef::new(self.pattern.as_ref(), values);
         numeric_llt(&self.symbolic, &mut self.l_values, &mut self.buffer, a)?;
@@ -258,14 +244,7 @@ impl Cholesky {
     /// [`Error::NotPositiveDefinite`] if there is no valid factorisation.
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<()> {
         let n = self.dim();
-        if rhs.len() != n {
-            return Err(ProblemError::DimensionMismatch {
-                what: "Cholesky right-hand side",
-                expected: n,
-                got: rhs.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("Cholesky right-hand side", n, rhs.len())?;
         if !self.factorized {
             return Err(Error::NotPositiveDefinite {
                 detail: ": no valid numeric factorisation".into(),

@@ -93,6 +93,27 @@ pub enum ProblemError {
     InvalidOption(String),
 }
 
+impl ProblemError {
+    /// Checks a length or size: `got == expected`.
+    ///
+    /// # Errors
+    /// [`ProblemError::DimensionMismatch`] naming `what` otherwise.
+    pub fn check_length(
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    ) -> std::result::Result<(), Self> {
+        if got != expected {
+            return Err(Self::DimensionMismatch {
+                what,
+                expected,
+                got,
+            });
+        }
+        Ok(())
+    }
+}
+
 /// `Result` with this crate's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
 

@@ -107,14 +107,7 @@ where
     // A view into a larger matrix has pointers that do not start at 0 (its indices and
     // values are already the view's own).
     let col_ptr: Vec<usize> = a.indptr().to_proper().to_vec();
-    if col_ptr.len() != ncols + 1 {
-        return Err(ProblemError::DimensionMismatch {
-            what: "sprs column pointers",
-            expected: ncols + 1,
-            got: col_ptr.len(),
-        }
-        .into());
-    }
+    ProblemError::check_length("sprs column pointers", ncols + 1, col_ptr.len())?;
     let (row_idx, values) = (a.indices().to_vec(), a.data().to_vec());
     check_csc(nrows, &col_ptr, &row_idx, &values)?;
     Ok(SparseColMat::new(

@@ -35,6 +35,6 @@ mod watch;
 pub use error::{ProblemError, Result};
 pub use matrix::BlockedMatrix;
 pub use nonlinearity::{BlockNonlinearity, Linearization, NoNonlinearity, Scaled};
-pub use solver::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+pub use solver::{check_inputs, energy_norm_matrix, NonsmoothSolver, SolveReport, Stopping};
 pub use step::{FullStep, StepSolver};
 pub use watch::{SolveProgress, SolveWatch, WatchVerdict};

@@ -29,13 +29,7 @@ impl<const D: usize> BlockedMatrix<D> {
                 "dimension {n} is not a multiple of the block size {D}"
             )));
         }
-        if fixed.len() != n {
-            return Err(ProblemError::DimensionMismatch {
-                what: "fixed mask",
-                expected: n,
-                got: fixed.len(),
-            });
-        }
+        ProblemError::check_length("fixed mask", n, fixed.len())?;
         for (i, p) in a.diagonal_positions()?.into_iter().enumerate() {
             if !fixed[i] && a.val[p] <= 0.0 {
                 return Err(ProblemError::NotPositiveDefinite(

@@ -1,5 +1,8 @@
 //! The stopping test, the report of a solve and the common solver trait.
 
+use faer::sparse::SparseColMatRef;
+use rsf_linalg::Csc;
+
 use crate::error::{ProblemError, Result};
 use crate::nonlinearity::BlockNonlinearity;
 
@@ -124,20 +127,8 @@ pub trait NonsmoothSolver<const D: usize> {
 /// # Errors
 /// [`ProblemError::DimensionMismatch`], [`ProblemError::NonFinite`].
 pub fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
-    if b.len() != n {
-        return Err(ProblemError::DimensionMismatch {
-            what: "right-hand side",
-            expected: n,
-            got: b.len(),
-        });
-    }
-    if v.len() != n {
-        return Err(ProblemError::DimensionMismatch {
-            what: "iterate",
-            expected: n,
-            got: v.len(),
-        });
-    }
+    ProblemError::check_length("right-hand side", n, b.len())?;
+    ProblemError::check_length("iterate", n, v.len())?;
     if b.iter().any(|x| !x.is_finite()) {
         return Err(ProblemError::NonFinite("right-hand side"));
     }
@@ -145,4 +136,28 @@ pub fn check_inputs(n: usize, b: &[f64], v: &[f64]) -> Result<()> {
         return Err(ProblemError::NonFinite("initial iterate"));
     }
     Ok(())
+}
+
+/// The matrix `E` of a solver's energy norm `‖x‖ = √(xᵀ E x)` (`n × n`, symmetric positive
+/// semidefinite), copied and checked: `None` (the caller's own norm, e.g. the Euclidean
+/// one or `A`'s) stays `None`.
+///
+/// # Errors
+/// [`ProblemError::NonFinite`] for a non-finite entry;
+/// [`ProblemError::DimensionMismatch`] (`energy-norm matrix`) if `E` is not `n × n`.
+pub fn energy_norm_matrix(
+    e: Option<SparseColMatRef<'_, usize, f64>>,
+    n: usize,
+) -> Result<Option<Csc>> {
+    let e = e.map(Csc::from_faer).transpose()?;
+    if let Some(e) = &e {
+        if e.nrows != n || e.ncols != n {
+            return Err(ProblemError::DimensionMismatch {
+                what: "energy-norm matrix",
+                expected: n,
+                got: e.nrows,
+            });
+        }
+    }
+    Ok(e)
 }

@@ -15,7 +15,7 @@ use faer::sparse::SparseColMatRef;
 
 use crate::error::ProblemError;
 use crate::nonlinearity::BlockNonlinearity;
-use crate::solver::{check_inputs, NonsmoothSolver, SolveReport, Stopping};
+use crate::solver::{check_inputs, energy_norm_matrix, NonsmoothSolver, SolveReport, Stopping};
 use rsf_linalg::{Csc, Parallelism};
 
 /// Block `p` of the node-major vector `v`.
@@ -128,17 +128,7 @@ impl<const D: usize, S: NonsmoothSolver<D>> FullStep<D, S> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
     ) -> Result<Self, S::Error> {
         let n = solver.dim();
-        let norm = energy_norm.map(Csc::from_faer).transpose()?;
-        if let Some(e) = &norm {
-            if e.nrows != n || e.ncols != n {
-                return Err(ProblemError::DimensionMismatch {
-                    what: "energy-norm matrix",
-                    expected: n,
-                    got: e.nrows,
-                }
-                .into());
-            }
-        }
+        let norm = energy_norm_matrix(energy_norm, n)?;
         Ok(Self {
             solver,
             norm,
@@ -267,14 +257,7 @@ impl<const D: usize, S: NonsmoothSolver<D>> StepSolver<D> for FullStep<D, S> {
     }
 
     fn finish_step(&mut self, v: &mut [f64]) -> Result<(), S::Error> {
-        if v.len() != self.v.len() {
-            return Err(ProblemError::DimensionMismatch {
-                what: "iterate",
-                expected: self.v.len(),
-                got: v.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("iterate", self.v.len(), v.len())?;
         v.copy_from_slice(&self.v);
         Ok(())
     }

@@ -117,14 +117,7 @@ impl<const D: usize> LocalRows<D> {
         rank: usize,
         mut row: impl FnMut(usize, &mut Vec<(usize, Block<D>)>) -> Block<D>,
     ) -> Result<Self> {
-        if owner.len() != nodes {
-            return Err(ProblemError::DimensionMismatch {
-                what: "owner (one rank per node)",
-                expected: nodes,
-                got: owner.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("owner (one rank per node)", nodes, owner.len())?;
         let mut global: Vec<usize> = (0..nodes).filter(|&p| owner[p] == rank).collect();
         let owned = global.len();
         let mut is_ghost = vec![false; nodes];

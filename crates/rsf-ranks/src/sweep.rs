@@ -73,14 +73,11 @@ impl<const D: usize> DistributedSweep<D> {
                 owner[p]
             )));
         }
-        if colouring.num_nodes() != a.nodes() {
-            return Err(ProblemError::DimensionMismatch {
-                what: "colouring (one colour per node)",
-                expected: a.nodes(),
-                got: colouring.num_nodes(),
-            }
-            .into());
-        }
+        ProblemError::check_length(
+            "colouring (one colour per node)",
+            a.nodes(),
+            colouring.num_nodes(),
+        )?;
         Self::of_rows(LocalRows::of_blocks(a, owner, halo.rank())?, colouring)
     }
 

@@ -20,7 +20,7 @@
 //!   per rung and reused whenever the step returns to it; a handful of rungs cover a whole
 //!   seismic cycle.
 
-use crate::{Error, Result};
+use crate::{invalid, Error, Result};
 
 /// The admissible relative tolerances, the open interval `(f64::EPSILON, 1)`: a relative
 /// tolerance `≥ 1` accepts any step (the error control is off), one `≤ ε` can never be met
@@ -117,17 +117,10 @@ impl StepControl {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first invalid one and its range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name: &'static str, value: f64, requirement: &'static str| {
-            Err(Error::InvalidParameter {
-                name,
-                value,
-                requirement,
-            })
-        };
         let pos = |x: f64| x.is_finite() && x > 0.0;
         let (lo, hi) = TOLERANCE_RANGE;
         if !(self.tolerance > lo && self.tolerance < hi) {
-            return bad(
+            return invalid(
                 "tolerance",
                 self.tolerance,
                 "in (f64::EPSILON = 2.220446049250313e-16, 1): a relative tolerance >= 1 \
@@ -135,26 +128,26 @@ impl StepControl {
             );
         }
         if !(self.displacement_atol.is_finite() && self.displacement_atol >= 0.0) {
-            return bad(
+            return invalid(
                 "displacement_atol",
                 self.displacement_atol,
                 "finite and >= 0 (m)",
             );
         }
         if !(self.state_atol.is_finite() && self.state_atol >= 0.0) {
-            return bad("state_atol", self.state_atol, "finite and >= 0 (s)");
+            return invalid("state_atol", self.state_atol, "finite and >= 0 (s)");
         }
         if !(self.safety > 0.0 && self.safety <= 1.0) {
-            return bad("safety", self.safety, "in (0, 1]");
+            return invalid("safety", self.safety, "in (0, 1]");
         }
         if !(self.min_factor > 0.0 && self.min_factor < 1.0) {
-            return bad("min_factor", self.min_factor, "in (0, 1)");
+            return invalid("min_factor", self.min_factor, "in (0, 1)");
         }
         if !(self.max_factor > 1.0 && self.max_factor.is_finite()) {
-            return bad("max_factor", self.max_factor, "finite and > 1");
+            return invalid("max_factor", self.max_factor, "finite and > 1");
         }
         if !(self.tau_min.is_finite() && self.tau_min >= TAU_MIN_FLOOR) {
-            return bad(
+            return invalid(
                 "tau_min",
                 self.tau_min,
                 "finite and >= f64::MIN_POSITIVE = 2.2250738585072014e-308 (s): a normal \
@@ -162,16 +155,16 @@ impl StepControl {
             );
         }
         if !(pos(self.tau_max) && self.tau_max >= self.tau_min) {
-            return bad("tau_max", self.tau_max, "finite and >= tau_min (s)");
+            return invalid("tau_max", self.tau_max, "finite and >= tau_min (s)");
         }
         if let Some(xi) = self.state_change_cap {
             if !pos(xi) {
-                return bad("state_change_cap", xi, "finite and > 0");
+                return invalid("state_change_cap", xi, "finite and > 0");
             }
         }
         if let Some(v) = self.slip_rate_floor {
             if !pos(v) {
-                return bad("slip_rate_floor", v, "finite and > 0 (m/s)");
+                return invalid("slip_rate_floor", v, "finite and > 0 (m/s)");
             }
         }
         Ok(())

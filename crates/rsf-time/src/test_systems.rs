@@ -1,6 +1,7 @@
 //! ODE systems with known solutions or independent references, shared by the tests of
 //! the stiff integrators (RKC2, ROS34PW2).
 
+use crate::runge_kutta::{EmbeddedRungeKutta, RungeKuttaOptions, DORMAND_PRINCE_54};
 use crate::{Error, JacobianBlocks, OdeSystem, Result};
 
 /// `y' = −D (y − v cos t) − v sin t` with `D = diag(λ_i)` and `y(0) = v`: the exact
@@ -73,6 +74,34 @@ pub(crate) fn error_at(y: &[f64], t: f64) -> f64 {
         .enumerate()
         .map(|(i, &yi)| (yi - StiffLinear::v(i) * t.cos()).abs())
         .fold(0.0, f64::max)
+}
+
+/// Dormand–Prince 5(4) on `sys` from `y = v` (its length) to `t_end`: the error at the
+/// end ([`error_at`]) and the accepted steps.
+pub(crate) fn dormand_prince_run(sys: &mut StiffLinear, t_end: f64) -> (f64, usize) {
+    let n = sys.lambda.len();
+    let mut rk =
+        EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), n, 1e-3).unwrap();
+    let (mut t, mut y) = (0.0, (0..n).map(StiffLinear::v).collect::<Vec<_>>());
+    let mut steps = 0usize;
+    while t < t_end {
+        rk.step(sys, &mut t, &mut y, Some(t_end)).unwrap();
+        steps += 1;
+    }
+    (error_at(&y, t), steps)
+}
+
+/// Asserts that `errors`, of step sizes halving from one to the next, fall at the rate
+/// of `order`: the observed order of every halving within `tolerance` of it.
+pub(crate) fn assert_halving_order(errors: &[f64], order: f64, tolerance: f64) {
+    let expected = order;
+    for w in errors.windows(2) {
+        let order = (w[0] / w[1]).log2();
+        assert!(
+            (order - expected).abs() < tolerance,
+            "observed order {order} ({errors:?})"
+        );
+    }
 }
 
 /// `y' = −c L y + g(t)` with `L` the 1-D Laplacian stencil `[−1, 2, −1]` on `n`
@@ -182,6 +211,26 @@ impl SpringSlider {
     }
     pub(crate) fn start() -> [f64; 2] {
         [0.0, (Self::L / Self::VL).ln() - 0.5]
+    }
+    /// The independent reference at `t_end`: Dormand–Prince 5(4) at tolerance 1e-12.
+    pub(crate) fn reference(t_end: f64) -> [f64; 2] {
+        let mut reference = SpringSlider { tol: 1e-12 };
+        let mut rk =
+            EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 2, 1e-3)
+                .unwrap();
+        let (mut t, mut exact) = (0.0, SpringSlider::start());
+        while t < t_end {
+            rk.step(&mut reference, &mut t, &mut exact, Some(t_end))
+                .unwrap();
+        }
+        exact
+    }
+    /// The error of `y` against `exact`: the larger of the slip's (in `L`) and the
+    /// state's (in ln θ).
+    pub(crate) fn error(y: &[f64], exact: &[f64]) -> f64 {
+        ((y[0] - exact[0]) / Self::L)
+            .abs()
+            .max((y[1] - exact[1]).abs())
     }
 }
 

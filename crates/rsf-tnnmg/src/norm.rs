@@ -4,8 +4,7 @@ use faer::sparse::SparseColMatRef;
 
 use crate::error::Result;
 use crate::Parallelism;
-use rsf_linalg::Csc;
-use rsf_nonsmooth::ProblemError;
+use rsf_nonsmooth::energy_norm_matrix;
 use rsf_ranks::bsr::BlockCsr;
 
 /// Shared set-up of the energy norm: `‖x‖² = xᵀ E x`, E symmetric positive semidefinite.
@@ -16,17 +15,7 @@ pub(crate) struct EnergyNorm<const D: usize> {
 
 impl<const D: usize> EnergyNorm<D> {
     pub fn new(e: Option<SparseColMatRef<'_, usize, f64>>, n: usize) -> Result<Self> {
-        let e = e.map(Csc::from_faer).transpose()?;
-        if let Some(e) = &e {
-            if e.nrows != n || e.ncols != n {
-                return Err(ProblemError::DimensionMismatch {
-                    what: "energy-norm matrix",
-                    expected: n,
-                    got: e.nrows,
-                }
-                .into());
-            }
-        }
+        let e = energy_norm_matrix(e, n)?;
         Ok(Self {
             e: e.as_ref().map(BlockCsr::from_csc).transpose()?,
         })

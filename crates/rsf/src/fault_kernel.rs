@@ -159,23 +159,7 @@ pub(crate) fn condensed_operator<const D: usize, const C: usize>(
                     s.bytes(),
                 ),
             };
-            let r = h.report();
-            let report = KernelReport {
-                kernel: kind,
-                dim: m,
-                relative_error: r.relative_error,
-                error_samples: match r.error_measure {
-                    rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
-                    _ => 0,
-                },
-                setup_bytes,
-                stored_entries: r.stored_entries,
-                dense_blocks: r.dense_blocks,
-                low_rank_blocks: r.low_rank_blocks,
-                max_rank: r.max_rank,
-                setup_seconds: clock.elapsed().as_secs_f64(),
-                part: None,
-            };
+            let report = KernelReport::hierarchical(kind, m, h.report(), setup_bytes, clock);
             (Kernel::Hierarchical(Box::new(h)), report)
         }
         _ => compress(source.dense(), model, source.interface_dofs(), kind)?,
@@ -420,20 +404,8 @@ pub(crate) fn compress<const D: usize, const C: usize>(
                 ..HOptions::default()
             };
             let h = HMatrix::from_dense(s.as_ref(), &points, &options)?;
-            let r = h.report();
-            let report = KernelReport {
-                kernel: kind,
-                dim: m,
-                relative_error: r.relative_error,
-                error_samples: 0,
-                setup_bytes: 8 * m * m,
-                stored_entries: r.stored_entries,
-                dense_blocks: r.dense_blocks,
-                low_rank_blocks: r.low_rank_blocks,
-                max_rank: r.max_rank,
-                setup_seconds: clock.elapsed().as_secs_f64(),
-                part: None,
-            };
+            // Measured on every entry: no samples.
+            let report = KernelReport::hierarchical(kind, m, h.report(), 8 * m * m, clock);
             Ok((Kernel::Hierarchical(Box::new(h)), report))
         }
     }

@@ -5,8 +5,9 @@
 //! operator").
 
 use std::ops::Range;
+use std::time::Instant;
 
-use rsf_hmatrix::{HMatrix, HOptions};
+use rsf_hmatrix::{ErrorMeasure, HMatrix, HOptions, SetupReport};
 use rsf_linalg::Parallelism;
 
 use crate::error::{invalid, Result};
@@ -412,6 +413,35 @@ impl KernelReport {
             low_rank_blocks: 0,
             max_rank: 0,
             setup_seconds: 0.0,
+            part: None,
+        }
+    }
+
+    /// The report of a hierarchical kernel of `dim` unknowns from its ℋ-matrix's set-up
+    /// report `r`: `setup_bytes` as the caller counts them (see
+    /// [`setup_bytes`](Self::setup_bytes)), the time since `clock` (the set-up's start) as
+    /// `setup_seconds`, every row (`part: None`).
+    pub(crate) fn hierarchical(
+        kernel: FaultKernel,
+        dim: usize,
+        r: &SetupReport,
+        setup_bytes: usize,
+        clock: Instant,
+    ) -> Self {
+        Self {
+            kernel,
+            dim,
+            relative_error: r.relative_error,
+            error_samples: match r.error_measure {
+                ErrorMeasure::Sampled { samples } => samples,
+                _ => 0,
+            },
+            setup_bytes,
+            stored_entries: r.stored_entries,
+            dense_blocks: r.dense_blocks,
+            low_rank_blocks: r.low_rank_blocks,
+            max_rank: r.max_rank,
+            setup_seconds: clock.elapsed().as_secs_f64(),
             part: None,
         }
     }

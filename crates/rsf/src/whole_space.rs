@@ -211,23 +211,7 @@ impl WholeSpaceAntiplane {
                     &Points::from_array(&centres)?,
                     &options,
                 )?;
-                let r = hm.report();
-                let report = KernelReport {
-                    kernel,
-                    dim: cells,
-                    relative_error: r.relative_error,
-                    error_samples: match r.error_measure {
-                        rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
-                        _ => 0,
-                    },
-                    setup_bytes: 0,
-                    stored_entries: r.stored_entries,
-                    dense_blocks: r.dense_blocks,
-                    low_rank_blocks: r.low_rank_blocks,
-                    max_rank: r.max_rank,
-                    setup_seconds: clock.elapsed().as_secs_f64(),
-                    part: None,
-                };
+                let report = KernelReport::hierarchical(kernel, cells, hm.report(), 0, clock);
                 (Product::Stored(Kernel::Hierarchical(Box::new(hm))), report)
             }
         };

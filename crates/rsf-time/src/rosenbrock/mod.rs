@@ -34,8 +34,8 @@
 
 use crate::krylov::{BlockFactors, Gmres, JacobianBlocks, LinearOperator};
 use crate::runge_kutta::{
-    accepted_next, after_refusal, check_step, next_attempt, rejected_next, OdeSystem,
-    RungeKuttaOptions, RungeKuttaState, RungeKuttaStep,
+    accepted_next, after_refusal, check_step, next_attempt, rate_or_refusal, rejected_next,
+    OdeSystem, RungeKuttaOptions, RungeKuttaState, RungeKuttaStep,
 };
 use crate::{Error, Result};
 
@@ -518,15 +518,12 @@ impl Rosenbrock {
                         }
                     }
                 }
-                let evaluated = sys.rate(t + co.nodes[i] * dt, &self.stage, &mut self.rhs);
+                let refusal =
+                    rate_or_refusal(sys, t + co.nodes[i] * dt, &self.stage, &mut self.rhs)?;
                 out.evaluations += 1;
-                match evaluated {
-                    Ok(()) => {}
-                    Err(e) if sys.outside_domain(&e) => {
-                        out.end = End::Refused(e);
-                        return Ok(out);
-                    }
-                    Err(e) => return Err(e),
+                if let Some(e) = refusal {
+                    out.end = End::Refused(e);
+                    return Ok(out);
                 }
             } else {
                 self.rhs.copy_from_slice(&self.f0);

@@ -1,6 +1,7 @@
 use super::*;
-use crate::runge_kutta::{EmbeddedRungeKutta, DORMAND_PRINCE_54};
-use crate::test_systems::{error_at, Heat, SpringSlider, StiffLinear};
+use crate::test_systems::{
+    assert_halving_order, dormand_prince_run, error_at, Heat, SpringSlider, StiffLinear,
+};
 
 /// The tableau's order conditions up to order 3 (Hairer & Wanner §IV.7, Table 7.1,
 /// with `βᵢⱼ = αᵢⱼ + γᵢⱼ`), the embedded solution's up to 2, and those of a W-method
@@ -110,13 +111,7 @@ fn third_order_on_a_stiff_linear_system() {
         println!("h = {h}: error {e:e}, {steps} steps, {krylov} GMRES iterations");
         errors.push(e);
     }
-    for w in errors.windows(2) {
-        let order = (w[0] / w[1]).log2();
-        assert!(
-            (order - 3.0).abs() < 0.3,
-            "observed order {order} ({errors:?})"
-        );
-    }
+    assert_halving_order(&errors, 3.0, 0.3);
 }
 
 /// Third order on the spring–slider (docs/spring-block.md, as RKC2's test): fixed steps
@@ -126,14 +121,7 @@ fn third_order_on_a_stiff_linear_system() {
 #[test]
 fn third_order_on_the_spring_slider() {
     let t_end = 60.0;
-    let mut reference = SpringSlider { tol: 1e-12 };
-    let mut rk =
-        EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 2, 1e-3).unwrap();
-    let (mut t, mut exact) = (0.0, SpringSlider::start());
-    while t < t_end {
-        rk.step(&mut reference, &mut t, &mut exact, Some(t_end))
-            .unwrap();
-    }
+    let exact = SpringSlider::reference(t_end);
     let mut errors = Vec::new();
     for h in [1.6, 0.8, 0.4] {
         let (o, mut r) = fixed_options(h);
@@ -147,19 +135,11 @@ fn third_order_on_the_spring_slider() {
             assert_eq!(s.step.rejected, 0, "h = {h}");
             steps += 1;
         }
-        let e = ((y[0] - exact[0]) / SpringSlider::L)
-            .abs()
-            .max((y[1] - exact[1]).abs());
+        let e = SpringSlider::error(&y, &exact);
         println!("h = {h} s: {steps} steps, error {e:e} (slip in L, state in ln θ)");
         errors.push(e);
     }
-    for w in errors.windows(2) {
-        let order = (w[0] / w[1]).log2();
-        assert!(
-            (order - 3.0).abs() < 0.35,
-            "observed order {order} ({errors:?})"
-        );
-    }
+    assert_halving_order(&errors, 3.0, 0.35);
 }
 
 fn ros_run(sys: &mut StiffLinear, t_end: f64) -> (f64, usize, usize) {
@@ -217,15 +197,7 @@ fn a_stiff_problem_takes_the_steps_accuracy_sets() {
             krylov_without = krylov;
         }
     }
-    let mut sys = StiffLinear::new(8, lambda_max, tol);
-    let mut rk =
-        EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 8, 1e-3).unwrap();
-    let (mut t, mut y) = (0.0, (0..8).map(StiffLinear::v).collect::<Vec<_>>());
-    let mut steps = 0usize;
-    while t < t_end {
-        rk.step(&mut sys, &mut t, &mut y, Some(t_end)).unwrap();
-        steps += 1;
-    }
+    let (_, steps) = dormand_prince_run(&mut StiffLinear::new(8, lambda_max, tol), t_end);
     assert!(steps >= 100 * n_soft, "{steps} against {n_soft}");
 }
 

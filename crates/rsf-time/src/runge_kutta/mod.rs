@@ -10,7 +10,7 @@
 //! that an overshooting stage drives to zero, rejects the step like a failed error test
 //! and retries a smaller one; docs/math.md §12, docs/reliability.md).
 
-use crate::{Error, Result};
+use crate::{invalid, Error, Result};
 
 /// A Butcher tableau of an explicit embedded pair with the FSAL property (the last stage
 /// is the first of the next step).
@@ -206,36 +206,29 @@ impl RungeKuttaOptions {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first invalid option.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name: &'static str, value: f64, requirement: &'static str| {
-            Err(Error::InvalidParameter {
-                name,
-                value,
-                requirement,
-            })
-        };
         if !(self.dt_min > 0.0 && self.dt_min.is_finite()) {
-            return bad("dt_min", self.dt_min, "must be positive and finite");
+            return invalid("dt_min", self.dt_min, "must be positive and finite");
         }
         if !(self.dt_max >= self.dt_min) {
-            return bad("dt_max", self.dt_max, "must be at least dt_min");
+            return invalid("dt_max", self.dt_max, "must be at least dt_min");
         }
         if !(self.safety > 0.0 && self.safety <= 1.0) {
-            return bad("safety", self.safety, "must be in (0, 1]");
+            return invalid("safety", self.safety, "must be in (0, 1]");
         }
         if !(self.max_growth > 1.0 && self.max_growth.is_finite()) {
-            return bad("max_growth", self.max_growth, "must be finite and > 1");
+            return invalid("max_growth", self.max_growth, "must be finite and > 1");
         }
         if !(self.max_shrink > 0.0 && self.max_shrink < 1.0) {
-            return bad("max_shrink", self.max_shrink, "must be in (0, 1)");
+            return invalid("max_shrink", self.max_shrink, "must be in (0, 1)");
         }
         if !(self.beta >= 0.0 && self.beta < 0.2) {
-            return bad("beta", self.beta, "must be in [0, 0.2)");
+            return invalid("beta", self.beta, "must be in [0, 0.2)");
         }
         if !(self.refusal_shrink > 0.0 && self.refusal_shrink < 1.0) {
-            return bad("refusal_shrink", self.refusal_shrink, "must be in (0, 1)");
+            return invalid("refusal_shrink", self.refusal_shrink, "must be in (0, 1)");
         }
         if self.max_refusals == 0 {
-            return bad("max_refusals", 0.0, "must be at least 1");
+            return invalid("max_refusals", 0.0, "must be at least 1");
         }
         Ok(())
     }
@@ -444,15 +437,10 @@ impl EmbeddedRungeKutta {
                 for (s, &yj) in self.stage.iter_mut().zip(y.iter()) {
                     *s = yj + dt * *s;
                 }
-                let evaluated = sys.rate(*t + tab.c[i] * dt, &self.stage, &mut self.k[i]);
+                refusal = rate_or_refusal(sys, *t + tab.c[i] * dt, &self.stage, &mut self.k[i])?;
                 evaluations += 1;
-                match evaluated {
-                    Ok(()) => {}
-                    Err(e) if sys.outside_domain(&e) => {
-                        refusal = Some(e);
-                        break;
-                    }
-                    Err(e) => return Err(e),
+                if refusal.is_some() {
+                    break;
                 }
                 if self.k[i].iter().any(|x| !x.is_finite()) {
                     finite = false;
@@ -608,6 +596,22 @@ pub(crate) fn check_step_size(o: &RungeKuttaOptions, dt: f64, landing: bool) -> 
         });
     }
     Ok(())
+}
+
+/// `f(t, y)` into `dy`: `Ok(None)` when evaluated, `Ok(Some(e))` when the system refuses
+/// the point as outside its domain ([`OdeSystem::outside_domain`]), `Err` for its other
+/// errors.
+pub(crate) fn rate_or_refusal<S: OdeSystem>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64],
+    dy: &mut [f64],
+) -> std::result::Result<Option<S::Error>, S::Error> {
+    match sys.rate(t, y, dy) {
+        Ok(()) => Ok(None),
+        Err(e) if sys.outside_domain(&e) => Ok(Some(e)),
+        Err(e) => Err(e),
+    }
 }
 
 /// The next step after the `refused`-th refused attempt of a step `dt` from `time`

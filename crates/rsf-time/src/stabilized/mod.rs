@@ -24,10 +24,10 @@
 //! stage count needs; it costs a few evaluations per estimate.
 
 use crate::runge_kutta::{
-    after_refusal, check_step, check_step_size, landing_step, OdeSystem, RungeKuttaOptions,
-    RungeKuttaStep,
+    after_refusal, check_step, check_step_size, landing_step, rate_or_refusal, OdeSystem,
+    RungeKuttaOptions, RungeKuttaStep,
 };
-use crate::{Error, Result};
+use crate::{invalid, Error, Result};
 
 /// Options of [`Rkc2`] beyond the step limits ([`RungeKuttaOptions`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,39 +68,32 @@ impl RkcOptions {
     /// # Errors
     /// [`Error::InvalidParameter`] naming the first invalid option.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name: &'static str, value: f64, requirement: &'static str| {
-            Err(Error::InvalidParameter {
-                name,
-                value,
-                requirement,
-            })
-        };
         if self.max_stages < 2 || self.max_stages > 10_000 {
-            return bad(
+            return invalid(
                 "max_stages",
                 self.max_stages as f64,
                 "must be in [2, 10000]",
             );
         }
         if !(self.radius_safety >= 1.0 && self.radius_safety.is_finite()) {
-            return bad(
+            return invalid(
                 "radius_safety",
                 self.radius_safety,
                 "must be finite and >= 1",
             );
         }
         if self.estimate_every == 0 {
-            return bad("estimate_every", 0.0, "must be at least 1");
+            return invalid("estimate_every", 0.0, "must be at least 1");
         }
         if self.power_iterations < 2 {
-            return bad(
+            return invalid(
                 "power_iterations",
                 self.power_iterations as f64,
                 "must be at least 2",
             );
         }
         if !(self.power_tolerance > 0.0 && self.power_tolerance < 1.0) {
-            return bad("power_tolerance", self.power_tolerance, "must be in (0, 1)");
+            return invalid("power_tolerance", self.power_tolerance, "must be in (0, 1)");
         }
         Ok(())
     }
@@ -309,13 +302,11 @@ impl Rkc2 {
         let mut evaluations = 0;
         let mut settled = false;
         for it in 1..=self.rkc.power_iterations {
-            let evaluated = sys.rate(t, &self.yjm1, &mut self.fj);
+            let refusal = rate_or_refusal(sys, t, &self.yjm1, &mut self.fj)?;
             evaluations += 1;
-            match evaluated {
-                Ok(()) => {}
+            if refusal.is_some() {
                 // A perturbed point outside the domain: keep what was found so far.
-                Err(e) if sys.outside_domain(&e) => break,
-                Err(e) => return Err(e),
+                break;
             }
             for (d, &f) in self.fj.iter_mut().zip(&self.f0) {
                 *d -= f;
@@ -539,18 +530,10 @@ impl Rkc2 {
             let mu = 2.0 * w0 * bj / bjm1;
             let nu = -bj / bjm2;
             let mus = mu * w1 / w0;
-            let evaluated = sys.rate(t + dt * thjm1, &self.yjm1, &mut self.fj);
+            let refusal = rate_or_refusal(sys, t + dt * thjm1, &self.yjm1, &mut self.fj)?;
             evaluations += 1;
-            match evaluated {
-                Ok(()) => {}
-                Err(e) if sys.outside_domain(&e) => {
-                    return Ok(Stages {
-                        evaluations,
-                        finite: false,
-                        refusal: Some(e),
-                    })
-                }
-                Err(e) => return Err(e),
+            if let Some(e) = refusal {
+                return Ok(Stages::refused(evaluations, e));
             }
             if self.fj.iter().any(|x| !x.is_finite()) {
                 return Ok(Stages {
@@ -577,18 +560,10 @@ impl Rkc2 {
         }
         // The new solution is the last stage (now in `yjm1`).
         std::mem::swap(&mut self.yj, &mut self.yjm1);
-        let evaluated = sys.rate(t + dt, &self.yj, &mut self.f_new);
+        let refusal = rate_or_refusal(sys, t + dt, &self.yj, &mut self.f_new)?;
         evaluations += 1;
-        match evaluated {
-            Ok(()) => {}
-            Err(e) if sys.outside_domain(&e) => {
-                return Ok(Stages {
-                    evaluations,
-                    finite: false,
-                    refusal: Some(e),
-                })
-            }
-            Err(e) => return Err(e),
+        if let Some(e) = refusal {
+            return Ok(Stages::refused(evaluations, e));
         }
         let finite = self.f_new.iter().chain(&self.yj).all(|x| x.is_finite());
         Ok(Stages {
@@ -606,6 +581,17 @@ struct Stages<E> {
     finite: bool,
     /// A stage's refusal ([`OdeSystem::outside_domain`]).
     refusal: Option<E>,
+}
+
+impl<E> Stages<E> {
+    /// The stages of an attempt a stage's refusal `e` ended after `evaluations`.
+    fn refused(evaluations: usize, e: E) -> Self {
+        Self {
+            evaluations,
+            finite: false,
+            refusal: Some(e),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 use super::*;
-use crate::runge_kutta::{EmbeddedRungeKutta, DORMAND_PRINCE_54};
-use crate::test_systems::{error_at, Heat, SpringSlider, StiffLinear};
+use crate::test_systems::{
+    assert_halving_order, dormand_prince_run, error_at, Heat, SpringSlider, StiffLinear,
+};
 
 /// RKC2 to `t_end` on `sys`: the error at the end, accepted steps, the largest stage
 /// count. Steps at most `dt_max`.
@@ -90,13 +91,7 @@ fn second_order_on_a_stiff_linear_system() {
         assert!(stages >= 20, "{stages}");
         errors.push(e);
     }
-    for w in errors.windows(2) {
-        let order = (w[0] / w[1]).log2();
-        assert!(
-            (order - 2.0).abs() < 0.3,
-            "observed order {order} ({errors:?})"
-        );
-    }
+    assert_halving_order(&errors, 2.0, 0.3);
 }
 
 /// The stability test: λ_max = 1e4 × 3.3/h, 1e4 times the bound of the
@@ -126,19 +121,8 @@ fn a_stiff_problem_takes_the_steps_accuracy_sets() {
     assert!(n_stiff <= 2 * n_soft, "{n_stiff} against {n_soft}");
     assert!(e_stiff < 1e-4, "{e_stiff}");
     // The pair on the same stiff problem.
-    let mut sys = StiffLinear::new(8, lambda_max, tol);
-    let mut rk =
-        EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 8, 1e-3).unwrap();
-    let (mut t, mut y) = (0.0, (0..8).map(StiffLinear::v).collect::<Vec<_>>());
-    let mut steps = 0usize;
-    while t < t_end {
-        rk.step(&mut sys, &mut t, &mut y, Some(t_end)).unwrap();
-        steps += 1;
-    }
-    println!(
-        "Dormand–Prince 5(4): {steps} steps, error {:e}",
-        error_at(&y, t)
-    );
+    let (error, steps) = dormand_prince_run(&mut StiffLinear::new(8, lambda_max, tol), t_end);
+    println!("Dormand–Prince 5(4): {steps} steps, error {error:e}");
     assert!(steps >= 100 * n_stiff, "{steps} against RKC2's {n_stiff}");
 }
 
@@ -192,14 +176,7 @@ fn the_spectral_radius_estimate_bounds_the_largest_eigenvalue() {
 #[test]
 fn second_order_on_the_spring_slider() {
     let t_end = 60.0;
-    let mut reference = SpringSlider { tol: 1e-12 };
-    let mut rk =
-        EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 2, 1e-3).unwrap();
-    let (mut t, mut exact) = (0.0, SpringSlider::start());
-    while t < t_end {
-        rk.step(&mut reference, &mut t, &mut exact, Some(t_end))
-            .unwrap();
-    }
+    let exact = SpringSlider::reference(t_end);
     let mut errors = Vec::new();
     for h in [0.4, 0.2, 0.1] {
         let options = RungeKuttaOptions {
@@ -214,19 +191,11 @@ fn second_order_on_the_spring_slider() {
             rkc.step(&mut sys, &mut t, &mut y, Some(t_end)).unwrap();
             steps += 1;
         }
-        let e = ((y[0] - exact[0]) / SpringSlider::L)
-            .abs()
-            .max((y[1] - exact[1]).abs());
+        let e = SpringSlider::error(&y, &exact);
         println!("h = {h} s: {steps} steps, error {e:e} (slip in L, state in ln θ)");
         errors.push(e);
     }
-    for w in errors.windows(2) {
-        let order = (w[0] / w[1]).log2();
-        assert!(
-            (order - 2.0).abs() < 0.3,
-            "observed order {order} ({errors:?})"
-        );
-    }
+    assert_halving_order(&errors, 2.0, 0.3);
 }
 
 /// A checkpoint's memory and rate continue the integration bit for bit.

@@ -77,14 +77,7 @@ impl<const D: usize> VCycleHierarchy<D> {
             .into());
         }
         let fine = BlockCsr::<D>::from_symmetric(a)?;
-        if fixed.len() != fine.n() {
-            return Err(ProblemError::DimensionMismatch {
-                what: "fixed (one flag per dof)",
-                expected: fine.n(),
-                got: fixed.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("fixed (one flag per dof)", fine.n(), fixed.len())?;
         let mut rows = fine.n();
         for (l, p) in prolongations.iter().enumerate().rev() {
             if p.nrows() != rows || p.ncols() % D != 0 || p.ncols() > p.nrows() {
@@ -393,14 +386,7 @@ impl<const D: usize> ColouredVCycle<D> {
     pub fn set_rhs(&mut self, b: &[f64]) -> Result<()> {
         let fine = self.smoothers.last_mut().expect("two levels or more");
         let rhs = fine.rhs_mut();
-        if b.len() != rhs.len() {
-            return Err(ProblemError::DimensionMismatch {
-                what: "b (fine level)",
-                expected: rhs.len(),
-                got: b.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("b (fine level)", rhs.len(), b.len())?;
         rhs.copy_from_slice(b);
         Ok(())
     }

@@ -582,14 +582,7 @@ fn owned_rows<const D: usize>(
 /// make on its rows: `n` dofs in `fixed`, finite values, a positive diagonal on the free
 /// dofs (the pattern's symmetry is checked on the gathered graph).
 fn check_rows<const D: usize>(rows: &LocalRows<D>, fixed: &[bool], n: usize) -> Result<()> {
-    if fixed.len() != n {
-        return Err(ProblemError::DimensionMismatch {
-            what: "fixed mask",
-            expected: n,
-            got: fixed.len(),
-        }
-        .into());
-    }
+    ProblemError::check_length("fixed mask", n, fixed.len())?;
     for (q, &p) in rows.global_nodes()[..rows.owned()].iter().enumerate() {
         let blocks = std::iter::once(rows.diag(q)).chain(rows.neighbours(q).map(|(_, b)| b));
         if blocks.flatten().flatten().any(|x| !x.is_finite()) {

@@ -196,14 +196,7 @@ impl<const D: usize> DistributedTransfer<D> {
             .into());
         }
         let (nf, nc) = (p.nrows / D, p.ncols / D);
-        if owner.len() != nf {
-            return Err(ProblemError::DimensionMismatch {
-                what: "owner (one rank per fine node)",
-                expected: nf,
-                got: owner.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("owner (one rank per fine node)", nf, owner.len())?;
         if let Some(i) = owner.iter().position(|&r| r >= size) {
             return Err(Error::InvalidPartition(format!(
                 "node {i} is owned by rank {}, but there are {size} ranks",

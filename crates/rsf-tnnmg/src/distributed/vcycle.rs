@@ -112,14 +112,7 @@ impl<const D: usize> DistributedVCycle<D> {
         let (rank, size) = (halo.rank(), halo.size());
         let nl = h.num_levels();
         let fine_nodes = h.nodes(nl - 1);
-        if owner.len() != fine_nodes {
-            return Err(ProblemError::DimensionMismatch {
-                what: "owner (one rank per fine node)",
-                expected: fine_nodes,
-                got: owner.len(),
-            }
-            .into());
-        }
+        ProblemError::check_length("owner (one rank per fine node)", fine_nodes, owner.len())?;
         let mut levels = Vec::with_capacity(nl - 1);
         for l in 1..nl {
             let own = &owner[..h.nodes(l)];

@@ -44,17 +44,7 @@ pub(super) fn version(magic: &[u8]) -> Option<u8> {
 pub(super) fn parse(bytes: &[u8], version: u8) -> Result<Payload<'static>, String> {
     let body = if version >= 3 {
         let header = if version == 4 { HEADER_V4 } else { HEADER_V3 };
-        if bytes.len() < header + 4 {
-            return Err("truncated".into());
-        }
-        let (body, crc) = bytes.split_at(bytes.len() - 4);
-        let stored = u32::from_le_bytes(crc.try_into().expect("4 bytes"));
-        if crc32fast::hash(body) != stored {
-            return Err(
-                "checksum mismatch: the file was changed or cut after it was written".into(),
-            );
-        }
-        body
+        super::checked_body(bytes, header)?
     } else {
         bytes
     };

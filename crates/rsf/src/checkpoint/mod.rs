@@ -214,16 +214,7 @@ impl Checkpoint {
             let version = legacy::version(magic).ok_or("not an rsf checkpoint")?;
             return Self::from_payload(legacy::parse(bytes, version)?);
         }
-        if bytes.len() < MAGIC.len() + 4 {
-            return Err("truncated".into());
-        }
-        let (body, crc) = bytes.split_at(bytes.len() - 4);
-        let stored = u32::from_le_bytes(crc.try_into().expect("4 bytes"));
-        if crc32fast::hash(body) != stored {
-            return Err(
-                "checksum mismatch: the file was changed or cut after it was written".into(),
-            );
-        }
+        let body = checked_body(bytes, MAGIC.len())?;
         let content = &body[MAGIC.len()..];
         let malformed = |e: postcard::Error| format!("malformed: {e}");
         let (payload, run_id, rest) = if magic == MAGIC {
@@ -249,6 +240,24 @@ impl Checkpoint {
 const READ_ACTION: &str = "read the checkpoint";
 
 /// Whether `magic` (8 bytes) is the magic of a checkpoint format this version reads.
+/// `bytes` without its last 4 bytes, the CRC-32 (little-endian) of the others, checked
+/// against them.
+///
+/// # Errors
+/// `truncated` if `bytes` are shorter than a `header` and the checksum; a checksum
+/// mismatch.
+fn checked_body(bytes: &[u8], header: usize) -> std::result::Result<&[u8], String> {
+    if bytes.len() < header + 4 {
+        return Err("truncated".into());
+    }
+    let (body, crc) = bytes.split_at(bytes.len() - 4);
+    let stored = u32::from_le_bytes(crc.try_into().expect("4 bytes"));
+    if crc32fast::hash(body) != stored {
+        return Err("checksum mismatch: the file was changed or cut after it was written".into());
+    }
+    Ok(body)
+}
+
 fn known_magic(magic: &[u8]) -> bool {
     magic == MAGIC || magic == MAGIC_V5 || legacy::version(magic).is_some()
 }

@@ -254,27 +254,12 @@ impl ElementOperator {
                 components: 2,
                 ..HOptions::default()
             })?;
-            let r = h.report().clone();
-            let report = KernelReport {
-                kernel: FaultKernel::Hierarchical {
-                    epsilon: options.epsilon,
-                    leaf_size: options.leaf_size,
-                },
-                dim: 2 * element.len(),
-                relative_error: r.relative_error,
-                error_samples: match r.error_measure {
-                    rsf_hmatrix::ErrorMeasure::Sampled { samples } => samples,
-                    _ => 0,
-                },
-                // Each block's own cache of source–receiver pairs, nothing n × n.
-                setup_bytes: 0,
-                stored_entries: r.stored_entries,
-                dense_blocks: r.dense_blocks,
-                low_rank_blocks: r.low_rank_blocks,
-                max_rank: r.max_rank,
-                setup_seconds: clock.elapsed().as_secs_f64(),
-                part: None,
+            let kind = FaultKernel::Hierarchical {
+                epsilon: options.epsilon,
+                leaf_size: options.leaf_size,
             };
+            // Setup bytes 0: each block's own cache of source–receiver pairs, nothing n × n.
+            let report = KernelReport::hierarchical(kind, 2 * element.len(), h.report(), 0, clock);
             (Kernel::Hierarchical(Box::new(h)), report)
         };
         let mut report = report;

@@ -116,15 +116,7 @@ impl<const D: usize> FaultDiffusion<D> {
         // The source's cells: linear weights between the two centres around it, summing
         // to 1/h (the centres c_i = s₀ + (i + ½) h; a source within half a cell of an end
         // goes to the end cell).
-        let u = (0.0 - ends[0]) / h - 0.5;
-        let (i0, f) = if u <= 0.0 {
-            (0, 0.0)
-        } else if u >= (n - 1) as f64 {
-            (n - 2, 1.0)
-        } else {
-            let i = u.floor() as usize;
-            (i, u - i as f64)
-        };
+        let (i0, f) = between_centres((0.0 - ends[0]) / h - 0.5, n);
         let source_cells = [(i0, (1.0 - f) / h), (i0 + 1, f / h)];
         let weights = (0..n)
             .map(|k| {
@@ -205,16 +197,21 @@ impl<const D: usize> FaultDiffusion<D> {
 
     /// `(i, f)`: the point at `s` lies a fraction `f` of the way from centre `i` to `i + 1`.
     fn locate(&self, s: f64) -> (usize, f64) {
-        let n = self.rates.len();
-        let u = (s - self.ends[0]) / self.h - 0.5;
-        if !(u > 0.0) {
-            (0, 0.0)
-        } else if u >= (n - 1) as f64 {
-            (n - 2, 1.0)
-        } else {
-            let i = u.floor() as usize;
-            (i, u - i as f64)
-        }
+        between_centres((s - self.ends[0]) / self.h - 0.5, self.rates.len())
+    }
+}
+
+/// `(i, f)`: the point `u` cell widths past the first of `n` cell centres lies a fraction
+/// `f` of the way from centre `i` to `i + 1` (`(0, 0)` before the first, NaN included;
+/// `(n − 2, 1)` after the last).
+fn between_centres(u: f64, n: usize) -> (usize, f64) {
+    if !(u > 0.0) {
+        (0, 0.0)
+    } else if u >= (n - 1) as f64 {
+        (n - 2, 1.0)
+    } else {
+        let i = u.floor() as usize;
+        (i, u - i as f64)
     }
 }
 
