@@ -10,7 +10,8 @@ use rsf::observe::FileMode;
 use rsf::{Flow, Model, Observer, StepView};
 
 use crate::error::Result;
-use crate::frames::{write, write_index, Field, FramesFile, Topology};
+use crate::fields::Hdf5Fields;
+use crate::frames::{write, write_index, Field, Topology};
 
 /// The fields of [`Hdf5FaultFields`], in the file's order: name, components (3: a
 /// Cartesian 3-vector; 1: a scalar) and unit (SI, the attribute `unit` of each dataset).
@@ -64,58 +65,66 @@ pub const FAULT_FIELDS: [(&str, usize, &str); 6] = [
 /// ```
 #[derive(Debug)]
 pub struct Hdf5FaultFields {
-    file: FramesFile,
+    /// The file, new or continued, as an [`Hdf5Fields`]' (its fingerprint, interval and
+    /// resume); its frames hold the fault's fields.
+    fields: Hdf5Fields,
     /// The fault's cells (indices into its nodes), made at the first frame.
     topology: Option<(String, usize, Vec<u64>)>,
 }
 
 impl Hdf5FaultFields {
+    /// The fault's fields in the file of `fields`.
+    fn of(fields: Hdf5Fields) -> Self {
+        Self {
+            fields,
+            topology: None,
+        }
+    }
+
     /// The fault's fields into `path` (the index: `path` with `.xmf`), new or continued
     /// after a checkpoint of step `step` ([`FileMode::Resume`]).
     ///
     /// # Errors
-    /// As [`crate::Hdf5Fields::new`].
+    /// As [`Hdf5Fields::new`].
     pub fn new(path: impl Into<PathBuf>, mode: FileMode) -> Result<Self> {
-        Ok(Self {
-            file: FramesFile::new(path.into(), mode)?,
-            topology: None,
-        })
+        Hdf5Fields::new(path, mode).map(Self::of)
     }
 
     /// The file of a run whose checkpoints carry `fingerprint` (recorded in a new file, as
-    /// [`crate::Hdf5Fields::fingerprint`]).
-    pub fn fingerprint(mut self, fingerprint: Fingerprint) -> Self {
-        self.file.fingerprint = Some(fingerprint);
-        self
+    /// [`Hdf5Fields::fingerprint`]).
+    pub fn fingerprint(self, fingerprint: Fingerprint) -> Self {
+        Self {
+            fields: self.fields.fingerprint(fingerprint),
+            ..self
+        }
     }
 
     /// The file of a run that shows it every `every` steps (recorded in a new file, as
-    /// [`crate::Hdf5Fields::every`]).
-    pub fn every(mut self, every: usize) -> Self {
-        self.file.every = Some(every);
-        self
+    /// [`Hdf5Fields::every`]).
+    pub fn every(self, every: usize) -> Self {
+        Self {
+            fields: self.fields.every(every),
+            ..self
+        }
     }
 
     /// The file `path` continued after the checkpoint `c` once it shows that it holds the
-    /// checkpoint's run: as [`crate::Hdf5Fields::continue_run`] (its fingerprint, and its
+    /// checkpoint's run: as [`Hdf5Fields::continue_run`] (its fingerprint, and its
     /// frame of the checkpoint's step at the checkpoint's time and state, bit for bit).
     ///
     /// # Errors
-    /// As [`crate::Hdf5Fields::continue_run`].
+    /// As [`Hdf5Fields::continue_run`].
     pub fn continue_run(
         path: impl Into<PathBuf>,
         c: &rsf::Checkpoint,
         allowed: &[&str],
     ) -> Result<Self> {
-        Ok(Self {
-            file: FramesFile::continue_run(path.into(), c, allowed)?,
-            topology: None,
-        })
+        Hdf5Fields::continue_run(path, c, allowed).map(Self::of)
     }
 
     /// The Xdmf index's path: the file's with the extension `.xmf`.
     pub fn index_path(&self) -> PathBuf {
-        self.file.path.with_extension("xmf")
+        self.fields.index_path()
     }
 
     /// Appends the frame of `s` (the file created with the fault's mesh at the first
@@ -129,7 +138,7 @@ impl Hdf5FaultFields {
         let n = nodes.len();
         let (kind, corners, cells) = self.topology.get_or_insert_with(|| fault_cells(m));
         let (corners, cells) = (*corners, &*cells);
-        let file = self.file.open(|file| {
+        let file = self.fields.file.open(|file| {
             let mut points = vec![0.0; 3 * n];
             for (k, &p) in nodes.iter().enumerate() {
                 points[3 * k..3 * k + D].copy_from_slice(&m.vertices[p]);
@@ -171,7 +180,7 @@ impl Hdf5FaultFields {
                 values,
             })
             .collect();
-        self.file.append(
+        self.fields.file.append(
             file,
             (s.state.time, s.report.step),
             (n, &fields),
@@ -236,12 +245,12 @@ impl<const D: usize, const C: usize> Observer<D, C> for Hdf5FaultFields {
         };
         let fields: Vec<(&str, usize)> = FAULT_FIELDS.iter().map(|&(n, c, _)| (n, c)).collect();
         let n = s.model.frictional_boundary.nodes.len();
-        write_index(&self.file.path, &topology, n, &times, &fields)?;
+        write_index(&self.fields.file.path, &topology, n, &times, &fields)?;
         Ok(Flow::Continue(()))
     }
 
     fn name(&self) -> String {
-        format!("HDF5 fault fields {}", self.file.path.display())
+        format!("HDF5 fault fields {}", self.fields.file.path.display())
     }
 
     /// The fault's own fields only (slip, slip rate, state): a run condensed onto the

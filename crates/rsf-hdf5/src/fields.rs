@@ -44,7 +44,8 @@ use crate::frames::{write, write_index, Field, FramesFile, Topology};
 /// # }
 /// ```
 pub struct Hdf5Fields {
-    file: FramesFile,
+    /// The file and its frames (also the file of [`Hdf5FaultFields`](crate::Hdf5FaultFields)).
+    pub(crate) file: FramesFile,
 }
 
 impl Hdf5Fields {

@@ -1,6 +1,7 @@
 //! Scene files: read with the path, and their errors short — the file, line and column,
 //! and the parser's message with long values excerpted (a 1e300 as `1e300`, not 301
-//! digits; a 20 MB line as ≤ 100 characters of it).
+//! digits; a 20 MB line as ≤ 100 characters of it); and the checks of the SEAS scenes'
+//! parameters, each error naming the field and its value written short.
 
 use std::path::Path;
 
@@ -87,6 +88,62 @@ pub(crate) fn excerpt(message: &str) -> String {
         })
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// Checks that every field of a scene is positive and finite:
+/// `positive_fields!(self; rho, c_s, …)` checks `self.rho`, `self.c_s`, … in that order
+/// ([`positive`], each named as its field).
+#[cfg(feature = "seas")]
+macro_rules! positive_fields {
+    ($scene:expr; $($field:ident),+ $(,)?) => {
+        $crate::scene_file::positive(&[$((stringify!($field), $scene.$field)),+])
+    };
+}
+#[cfg(feature = "seas")]
+pub(crate) use positive_fields;
+
+/// Checks that every value of `fields` (name, value) is positive and finite.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming the first that is not, with its value.
+#[cfg(feature = "seas")]
+pub(crate) fn positive(fields: &[(&str, f64)]) -> Result<()> {
+    match fields.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+        Some(&(name, v)) => Err(crate::invalid(
+            name,
+            format!("{} must be positive and finite", rsf_numeric::written(v)),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Checks that `v`, the field `name`, is finite.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] naming it.
+#[cfg(feature = "seas")]
+pub(crate) fn finite(name: &str, v: f64) -> Result<()> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(crate::invalid(name, "must be finite"))
+    }
+}
+
+/// Checks that Poisson's ratio `nu` lies in `(−1, ½)`.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `nu`, with its value.
+#[cfg(feature = "seas")]
+pub(crate) fn poisson_ratio(nu: f64) -> Result<()> {
+    if nu > -1.0 && nu < 0.5 {
+        Ok(())
+    } else {
+        Err(crate::invalid(
+            "nu",
+            format!("{} must be in (-1, 0.5)", rsf_numeric::written(nu)),
+        ))
+    }
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ use rsf_state::Aging;
 use rsf_time::{Integrator, Quasistatic, StepControl};
 
 use crate::invalid;
+use crate::scene_file::{finite, positive_fields};
 use rsf::checkpoint::Fingerprint;
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::model::AntiplaneMaterial;
@@ -154,32 +155,9 @@ impl SeasBp1 {
     /// # Errors
     /// [`Error::InvalidParameter`](rsf::Error::InvalidParameter) naming the field.
     pub fn validate(&self) -> rsf::Result<()> {
-        let fields = [
-            ("rho", self.rho),
-            ("c_s", self.c_s),
-            ("sigma_n", self.sigma_n),
-            ("a0", self.a0),
-            ("a_max", self.a_max),
-            ("b0", self.b0),
-            ("d_c", self.d_c),
-            ("v_p", self.v_p),
-            ("v_init", self.v_init),
-            ("v0", self.v0),
-            ("h_top", self.h_top),
-            ("h_transition", self.h_transition),
-            ("w_f", self.w_f),
-        ];
-        for (name, v) in fields {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(crate::invalid(
-                    name,
-                    format!("{v} must be positive and finite"),
-                ));
-            }
-        }
-        if !self.f0.is_finite() {
-            return Err(crate::invalid("f0", "must be finite"));
-        }
+        positive_fields!(self; rho, c_s, sigma_n, a0, a_max, b0, d_c, v_p, v_init, v0, h_top,
+            h_transition, w_f)?;
+        finite("f0", self.f0)?;
         Ok(())
     }
 

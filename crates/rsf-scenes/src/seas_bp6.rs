@@ -28,6 +28,7 @@ use rsf_friction::{AsinhLaw, RateStateParams, Tresca};
 use rsf_state::{BuiltinStateLaw, StateLawKind};
 
 use crate::invalid;
+use crate::scene_file::positive_fields;
 
 /// The fault ODE of BP6-A and -S (the regularised law, the aging or slip law) on the fault
 /// alone (`C = 2`: the normal component fixed) or the finite-element model (`C = 1`).
@@ -190,29 +191,8 @@ impl SeasBp6 {
     /// # Errors
     /// [`rsf::Error::InvalidParameter`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let fields = [
-            ("rho", self.rho),
-            ("c_s", self.c_s),
-            ("sigma_n", self.sigma_n),
-            ("tau_init", self.tau_init),
-            ("a", self.a),
-            ("b", self.b),
-            ("d_rs", self.d_rs),
-            ("v_star", self.v_star),
-            ("v_init", self.v_init),
-            ("l_f", self.l_f),
-            ("q0", self.q0),
-            ("t_off", self.t_off),
-            ("beta", self.beta),
-            ("phi", self.phi),
-            ("k", self.k),
-            ("eta_f", self.eta_f),
-        ];
-        for (name, v) in fields {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(invalid(name, format!("{v} must be positive and finite")));
-            }
-        }
+        positive_fields!(self; rho, c_s, sigma_n, tau_init, a, b, d_rs, v_star, v_init, l_f,
+            q0, t_off, beta, phi, k, eta_f)?;
         for (name, v) in [("f_star", self.f_star), ("f_c", self.f_c)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(invalid(name, format!("{v} must be finite and >= 0")));

@@ -23,6 +23,7 @@ use rsf_seas::{bp7_body_station_points, SeasBp5Output, SeasSetup, StrikeDipFault
 use rsf_state::{BuiltinStateLaw, StateLawKind};
 
 use crate::invalid;
+use crate::scene_file::{finite, poisson_ratio, positive_fields};
 use crate::square_fault::{square_cells, square_model, square_operator};
 
 /// The fault ODE of BP7 (the regularised law, the aging or the slip law, a 3-D fault
@@ -169,38 +170,13 @@ impl SeasBp7 {
     /// # Errors
     /// [`rsf::Error::InvalidParameter`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let fields = [
-            ("rho", self.rho),
-            ("c_s", self.c_s),
-            ("sigma_n", self.sigma_n),
-            ("a0", self.a0),
-            ("a_max", self.a_max),
-            ("b", self.b),
-            ("d_rs", self.d_rs),
-            ("v0", self.v0),
-            ("v_p", self.v_p),
-            ("v_init", self.v_init),
-            ("v_zero", self.v_zero),
-            ("r_vw", self.r_vw),
-            ("l_f", self.l_f),
-            ("dtau0", self.dtau0),
-            ("r_nuc", self.r_nuc),
-            ("t_rise", self.t_rise),
-        ];
-        for (name, v) in fields {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(invalid(name, format!("{v} must be positive and finite")));
-            }
-        }
-        if !self.f0.is_finite() {
-            return Err(invalid("f0", "must be finite"));
-        }
+        positive_fields!(self; rho, c_s, sigma_n, a0, a_max, b, d_rs, v0, v_p, v_init, v_zero,
+            r_vw, l_f, dtau0, r_nuc, t_rise)?;
+        finite("f0", self.f0)?;
         if !self.hypocentre.iter().all(|c| c.is_finite()) {
             return Err(invalid("hypocentre", "must be finite"));
         }
-        if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(invalid("nu", format!("{} must be in (-1, 0.5)", self.nu)));
-        }
+        poisson_ratio(self.nu)?;
         if self.r_vw > self.l_f {
             return Err(invalid("r_vw", "must be at most l_f"));
         }

@@ -27,6 +27,7 @@ use rsf_seas::{SeasBp5Output, SeasSetup, StrikeDipFault};
 use rsf_state::{BuiltinStateLaw, StateLawKind};
 
 use crate::invalid;
+use crate::scene_file::{finite, poisson_ratio, positive_fields};
 use crate::square_fault::{ln_theta_at, square_cells, square_model, square_operator};
 
 /// The fault ODE of BP8 (the regularised law, the aging law, a 3-D fault alone).
@@ -179,42 +180,13 @@ impl SeasBp8 {
     /// # Errors
     /// [`rsf::Error::InvalidParameter`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let fields = [
-            ("rho", self.rho),
-            ("c_s", self.c_s),
-            ("sigma_n", self.sigma_n),
-            ("tau_init", self.tau_init),
-            ("a", self.a),
-            ("b", self.b),
-            ("d_rs", self.d_rs),
-            ("v_star", self.v_star),
-            ("v_init", self.v_init),
-            ("v_zero", self.v_zero),
-            ("l_f", self.l_f),
-            ("q0", self.q0),
-            ("t_off", self.t_off),
-            ("l_fwid", self.l_fwid),
-            ("k", self.k),
-            ("eta_f", self.eta_f),
-            ("phi", self.phi),
-            ("beta", self.beta),
-            ("l_gauss", self.l_gauss),
-            ("r_well", self.r_well),
-        ];
-        for (name, v) in fields {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(invalid(name, format!("{v} must be positive and finite")));
-            }
-        }
-        if !self.f_star.is_finite() {
-            return Err(invalid("f_star", "must be finite"));
-        }
+        positive_fields!(self; rho, c_s, sigma_n, tau_init, a, b, d_rs, v_star, v_init, v_zero,
+            l_f, q0, t_off, l_fwid, k, eta_f, phi, beta, l_gauss, r_well)?;
+        finite("f_star", self.f_star)?;
         if !(self.s_well.is_finite() && self.s_well >= 0.0) {
             return Err(invalid("s_well", format!("{} must be >= 0", self.s_well)));
         }
-        if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(invalid("nu", format!("{} must be in (-1, 0.5)", self.nu)));
-        }
+        poisson_ratio(self.nu)?;
         if self.tau_init <= self.radiation_damping() * self.initial_speed() {
             return Err(invalid(
                 "tau_init",

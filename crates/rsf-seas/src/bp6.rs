@@ -7,16 +7,15 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use rsf::checkpoint::write_atomically;
 use rsf::observe::FaultTractions;
 use rsf::pore_pressure::PorePressure;
 use rsf::{Flow, Model, Observer, SimulationState, StepView};
 
-use crate::error::{invalid, io_at, show_path, Error, Result};
+use crate::error::{invalid, Result};
 use crate::reserve::Reserve;
-use crate::resume::{check_logged_time, kept_rows};
+use crate::resume::{read_log, write_log, LogMark};
 use crate::setup::SeasSetup;
-use crate::text::{is_iso_date, positions_row, write_row, FileLayout, Positions};
+use crate::text::{create_output_dir, positions_row, write_row, File, FileLayout, Positions};
 
 /// The stations of BP6 along the fault (km): `fltst_strk-15` … `fltst_strk+75`.
 pub const SEAS_BP6_STATIONS: [f64; 9] = [-1.5, 0.0, 0.5, 1.0, 1.5, 2.5, 3.5, 5.0, 7.5];
@@ -131,13 +130,6 @@ impl Bp6Fault {
     }
 }
 
-/// One file's layout and rows so far.
-struct File {
-    path: PathBuf,
-    layout: FileLayout,
-    rows: String,
-}
-
 struct Station {
     file: File,
     z: f64,
@@ -163,6 +155,15 @@ struct Mark {
     steps: usize,
     profile_written: usize,
     last_profile_t: f64,
+}
+
+impl LogMark for Mark {
+    fn step(&self) -> usize {
+        self.step
+    }
+    fn time(&self) -> Option<f64> {
+        self.t
+    }
 }
 
 /// The BP6 files of a run (an [`Observer`]), its fault alone or its finite-element model:
@@ -226,17 +227,9 @@ impl SeasBp6Output {
                 "needs nodes with increasing positions, one slip dof and length each",
             ));
         }
-        if !is_iso_date(&setup.date) {
-            return Err(invalid(
-                "date",
-                format!("{:?} is not a calendar date YYYY-MM-DD", setup.date),
-            ));
-        }
-        std::fs::create_dir_all(dir).map_err(io_at("create", dir))?;
-        let file = |name: &str, location: String, columns: &[(&str, &str)]| File {
-            path: dir.join(name),
-            layout: FileLayout::new(location, columns),
-            rows: String::new(),
+        create_output_dir(dir, &setup)?;
+        let file = |name: &str, location: String, columns: &[(&str, &str)]| {
+            File::new(dir.join(name), FileLayout::new(location, columns))
         };
         let stations = SEAS_BP6_STATIONS
             .iter()
@@ -460,13 +453,9 @@ impl SeasBp6Output {
     fn write_files(&mut self) -> Result<()> {
         self.reserve.release()?;
         let steps = (self.mark.steps > 0).then_some(self.mark.tau);
+        let written = (self.mark.written, self.mark.profile_written);
         for f in self.files() {
-            let rows = match f.layout.profile {
-                Some(_) => self.mark.profile_written,
-                None => self.mark.written,
-            };
-            let text = format!("{}\n{}", f.layout.header(&self.setup, steps, rows), f.rows);
-            write_atomically(&f.path, text.as_bytes())?;
+            f.write(&self.setup, steps, written)?;
         }
         Ok(())
     }
@@ -493,15 +482,11 @@ impl SeasBp6Output {
 
     fn persist(&mut self) -> Result<()> {
         self.write_files()?;
-        if self.log.last().map(|m| m.step) != Some(self.mark.step) {
-            self.log.push(self.mark.clone());
-        }
-        let log = serde_json::to_string(&self.log)
-            .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
-        Ok(write_atomically(
+        write_log(
+            &mut self.log,
+            &self.mark,
             &self.dir.join(SEAS_BP6_RESUME_LOG),
-            log.as_bytes(),
-        )?)
+        )
     }
 
     /// Continues the files of the run in this folder at its persisted step `step` (the
@@ -514,21 +499,9 @@ impl SeasBp6Output {
     /// [`Error::Resume`](crate::Error::Resume) naming the resume log (no mark at `step`,
     /// a mark at another time, unreadable) or the file that cannot be continued.
     pub fn resume(&mut self, step: usize, time: f64) -> Result<()> {
-        let path = self.dir.join(SEAS_BP6_RESUME_LOG);
-        let fail = |reason: String| Error::Resume {
-            path: show_path(&path),
-            reason,
-        };
-        let text = std::fs::read_to_string(&path).map_err(io_at("read", &path))?;
-        let log: Vec<Mark> = serde_json::from_str(&text).map_err(|e| fail(e.to_string()))?;
-        let Some(i) = log.iter().position(|m| m.step == step) else {
-            return Err(fail(format!(
-                "it has no mark at step {step} (the files were written at steps {:?})",
-                log.iter().map(|m| m.step).collect::<Vec<_>>()
-            )));
-        };
-        let mark = log[i].clone();
-        check_logged_time(&path, step, mark.t, time)?;
+        let (log, mark) = read_log::<Mark>(&self.dir.join(SEAS_BP6_RESUME_LOG), step, time, "")?;
+        let station = (mark.written, mark.last_station_t);
+        let profile = (mark.profile_written, mark.last_profile_t);
         let files = self
             .stations
             .iter_mut()
@@ -536,23 +509,9 @@ impl SeasBp6Output {
             .chain(std::iter::once(&mut self.global))
             .chain(self.profiles.iter_mut().map(|p| &mut p.file));
         for f in files {
-            let mut first = f.layout.field_lines();
-            let (positions, rows, last_t) = match f.layout.profile {
-                Some(_) => {
-                    let row = f.rows.split_inclusive('\n').next().unwrap_or("").to_owned();
-                    first.push(row.trim_end().to_owned());
-                    (row, mark.profile_written, mark.last_profile_t)
-                }
-                None => (String::new(), mark.written, mark.last_station_t),
-            };
-            let fields = match f.layout.profile {
-                Some(_) => first.last().map_or(0, |r| r.split_whitespace().count()),
-                None => f.layout.columns.len(),
-            };
-            let kept = kept_rows(&f.path, &first, fields, rows, last_t)?;
-            f.rows = positions + &String::from_utf8_lossy(&kept.text[kept.rows_start..kept.keep]);
+            f.resume_rows(station, profile)?;
         }
-        self.log = log[..=i].to_vec();
+        self.log = log;
         self.mark = mark;
         Ok(())
     }

@@ -5,8 +5,10 @@
 
 use std::path::Path;
 
-use crate::error::{io_at, show_path, Error, Result};
-use crate::text::c_exp;
+use rsf::checkpoint::write_atomically;
+
+use crate::error::{invalid, io_at, show_path, Error, Result};
+use crate::text::{c_exp, File};
 
 /// Reads `path` for a resume (a missing file is an [`Error::Resume`]).
 pub(crate) fn read_for_resume(path: &Path) -> Result<Vec<u8>> {
@@ -170,5 +172,97 @@ pub(crate) fn check_logged_time(
             })
         }
         _ => Ok(()),
+    }
+}
+
+/// A mark of an output's resume log (the output's state at a persisted step, JSON): the
+/// run's step and its time then.
+pub(crate) trait LogMark: Clone + serde::Serialize + serde::de::DeserializeOwned {
+    /// The run's step.
+    fn step(&self) -> usize;
+    /// The run's time after the step (s; `None` in a log of a version before issue 87).
+    fn time(&self) -> Option<f64>;
+}
+
+/// Appends `mark` to `log` (unless its last mark is of the same step) and writes the log
+/// to `path`, atomically.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] named `resume` if the log cannot be written as JSON; the
+/// atomic write's.
+pub(crate) fn write_log<M: LogMark>(log: &mut Vec<M>, mark: &M, path: &Path) -> Result<()> {
+    if log.last().map(M::step) != Some(mark.step()) {
+        log.push(mark.clone());
+    }
+    let text = serde_json::to_string(log)
+        .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
+    Ok(write_atomically(path, text.as_bytes())?)
+}
+
+/// The resume log at `path` up to its mark of step `step`, and that mark, which must be at
+/// the checkpoint's time `time` (s; [`check_logged_time`]). `hint` ends the message of a
+/// log without a mark at `step` (after the steps it has marks at).
+///
+/// # Errors
+/// [`Error::Resume`] naming the log: unreadable as a log, no mark at `step`, a mark at
+/// another time; the read's errors.
+pub(crate) fn read_log<M: LogMark>(
+    path: &Path,
+    step: usize,
+    time: f64,
+    hint: &str,
+) -> Result<(Vec<M>, M)> {
+    let fail = |reason: String| Error::Resume {
+        path: show_path(path),
+        reason,
+    };
+    let text = std::fs::read_to_string(path).map_err(io_at("read", path))?;
+    let mut log: Vec<M> = serde_json::from_str(&text).map_err(|e| fail(e.to_string()))?;
+    let Some(i) = log.iter().position(|m| m.step() == step) else {
+        return Err(fail(format!(
+            "it has no mark at step {step} (the files were written at steps {:?}){hint}",
+            log.iter().map(M::step).collect::<Vec<_>>()
+        )));
+    };
+    log.truncate(i + 1);
+    let mark = log[i].clone();
+    check_logged_time(path, step, mark.time(), time)?;
+    Ok((log, mark))
+}
+
+impl File {
+    /// Keeps the rows of a mark for a resume, checked in the file on disk ([`kept_rows`]):
+    /// `station` (rows, time of the last, s) of a station file, `profile` of a profile
+    /// (its row of positions kept before them).
+    ///
+    /// # Errors
+    /// As [`kept_rows`].
+    pub(crate) fn resume_rows(
+        &mut self,
+        station: (usize, f64),
+        profile: (usize, f64),
+    ) -> Result<()> {
+        let mut first = self.layout.field_lines();
+        // A profile's row of positions (its rows begin with it); a station's rows.
+        let (positions, (rows, last_t)) = match self.layout.profile {
+            Some(_) => {
+                let row = self
+                    .rows
+                    .split_inclusive('\n')
+                    .next()
+                    .unwrap_or("")
+                    .to_owned();
+                first.push(row.trim_end().to_owned());
+                (row, profile)
+            }
+            None => (String::new(), station),
+        };
+        let fields = match self.layout.profile {
+            Some(_) => first.last().map_or(0, |r| r.split_whitespace().count()),
+            None => self.layout.columns.len(),
+        };
+        let kept = kept_rows(&self.path, &first, fields, rows, last_t)?;
+        self.rows = positions + &String::from_utf8_lossy(&kept.text[kept.rows_start..kept.keep]);
+        Ok(())
     }
 }

@@ -5,7 +5,11 @@
 //! [`SeasBp5Output`](crate::SeasBp5Output)'s on a strike–dip grid) are made of them.
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
+use rsf::checkpoint::write_atomically;
+
+use crate::error::{invalid, io_at, Result};
 use crate::setup::SeasSetup;
 
 /// The first line of every SEAS file ([`common_header`]).
@@ -100,6 +104,63 @@ impl FileLayout {
             h.push_str(&line);
         }
         h
+    }
+}
+
+/// Checks the headers' date of `setup` and creates the output folder `dir` (if missing).
+///
+/// # Errors
+/// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `date` for a date
+/// that is not a calendar date `YYYY-MM-DD`; the I/O error creating `dir`.
+pub(crate) fn create_output_dir(dir: &Path, setup: &SeasSetup) -> Result<()> {
+    if !is_iso_date(&setup.date) {
+        return Err(invalid(
+            "date",
+            format!("{:?} is not a calendar date YYYY-MM-DD", setup.date),
+        ));
+    }
+    std::fs::create_dir_all(dir).map_err(io_at("create", dir))
+}
+
+/// A station or profile file of an output that keeps its rows in memory (BP5, BP6, BP7,
+/// BP8): its path, its layout and its rows so far (a profile's begin with its row of
+/// positions).
+pub(crate) struct File {
+    /// Where it is written.
+    pub(crate) path: PathBuf,
+    /// What its header says.
+    pub(crate) layout: FileLayout,
+    /// Its rows so far, each ending in a newline.
+    pub(crate) rows: String,
+}
+
+impl File {
+    /// The file `path` of `layout`, without rows.
+    pub(crate) fn new(path: PathBuf, layout: FileLayout) -> Self {
+        Self {
+            path,
+            layout,
+            rows: String::new(),
+        }
+    }
+
+    /// Writes the file whole, atomically: its header ([`FileLayout::header`] of
+    /// `written.0` rows for a station file, `written.1` for a profile) and its rows.
+    ///
+    /// # Errors
+    /// The atomic write's, naming the file.
+    pub(crate) fn write(
+        &self,
+        setup: &SeasSetup,
+        steps: Option<(f64, f64)>,
+        written: (usize, usize),
+    ) -> Result<()> {
+        let rows = match self.layout.profile {
+            Some(_) => written.1,
+            None => written.0,
+        };
+        let text = format!("{}\n{}", self.layout.header(setup, steps, rows), self.rows);
+        Ok(write_atomically(&self.path, text.as_bytes())?)
     }
 }
 

@@ -15,6 +15,7 @@ use rsf_friction::{AsinhLaw, RateStateParams};
 use rsf_state::Aging;
 
 use crate::invalid;
+use crate::scene_file::{finite, poisson_ratio, positive_fields};
 use rsf_seas::bp5_body_station_points;
 
 mod half_space;
@@ -135,44 +136,10 @@ impl SeasBp5 {
     /// # Errors
     /// [`rsf::Error::InvalidParameter`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let fields = [
-            ("rho", self.rho),
-            ("c_s", self.c_s),
-            ("sigma_n", self.sigma_n),
-            ("a0", self.a0),
-            ("a_max", self.a_max),
-            ("b0", self.b0),
-            ("l", self.l),
-            ("l_nucleation", self.l_nucleation),
-            ("v0", self.v0),
-            ("v_p", self.v_p),
-            ("v_init", self.v_init),
-            ("v_i", self.v_i),
-            ("h_s", self.h_s),
-            ("h_t", self.h_t),
-            ("h", self.h),
-            ("l_core", self.l_core),
-            ("w_f", self.w_f),
-            ("l_f", self.l_f),
-            ("w", self.w),
-        ];
-        for (name, v) in fields {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(invalid(
-                    name,
-                    format!("{} must be positive and finite", rsf_numeric::written(v)),
-                ));
-            }
-        }
-        if !self.f0.is_finite() {
-            return Err(invalid("f0", "must be finite"));
-        }
-        if !(self.nu > -1.0 && self.nu < 0.5) {
-            return Err(invalid(
-                "nu",
-                format!("{} must be in (-1, 0.5)", rsf_numeric::written(self.nu)),
-            ));
-        }
+        positive_fields!(self; rho, c_s, sigma_n, a0, a_max, b0, l, l_nucleation, v0, v_p,
+            v_init, v_i, h_s, h_t, h, l_core, w_f, l_f, w)?;
+        finite("f0", self.f0)?;
+        poisson_ratio(self.nu)?;
         if self.h_s + 2.0 * self.h_t + self.h > self.w_f || self.l_core + 2.0 * self.h_t > self.l_f
         {
             return Err(invalid(

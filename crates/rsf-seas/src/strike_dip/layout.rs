@@ -2,6 +2,8 @@
 //! model's field, the regular grid they fill) and where the off-fault stations' motion
 //! comes from.
 
+use crate::error::{invalid, Result};
+
 /// Where an off-fault station's displacement comes from.
 pub(super) enum BodySource {
     /// A fault alone: its side of the fault (`±1`) and its displacement per unit slip of
@@ -9,6 +11,35 @@ pub(super) enum BodySource {
     Columns { side: f64, columns: Vec<f64> },
     /// A volume model: the vertex (Cartesian components).
     Vertex(usize),
+}
+
+impl BodySource {
+    /// The sources of the off-fault stations `stations` (`(x₂, x₁, x₃)`) of a fault alone,
+    /// one entry of `columns` each: the station's side of the fault (the sign of its `x₁`)
+    /// and its displacement per unit slip.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) named `body_columns`
+    /// for another number of columns than stations.
+    pub(super) fn of_columns(
+        stations: &[(f64, f64, f64)],
+        columns: Vec<Vec<f64>>,
+    ) -> Result<Vec<Self>> {
+        if columns.len() != stations.len() {
+            return Err(invalid(
+                "body_columns",
+                format!("{} for {} stations", columns.len(), stations.len()),
+            ));
+        }
+        Ok(stations
+            .iter()
+            .zip(columns)
+            .map(|(&(_, n, _), columns)| Self::Columns {
+                side: n.signum(),
+                columns,
+            })
+            .collect())
+    }
 }
 
 /// How the slip `(slip₂, slip₃)` of a fault node is read off the model's field: the

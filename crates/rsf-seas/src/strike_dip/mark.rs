@@ -43,3 +43,12 @@ pub(super) struct Mark {
     /// [`RUPTURE_THRESHOLD`] (s).
     pub(super) rupture: Vec<Option<f64>>,
 }
+
+impl crate::resume::LogMark for Mark {
+    fn step(&self) -> usize {
+        self.step
+    }
+    fn time(&self) -> Option<f64> {
+        self.t
+    }
+}

@@ -7,18 +7,17 @@
 //! the pore pressure and Darcy velocity columns, `global.dat`, ten profiles) — one output,
 //! described per benchmark by its `Spec`.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use rsf::checkpoint::write_atomically;
 use rsf::pore_pressure::PorePressure;
 use rsf::{Flow, Model, Observer, StepView};
 
-use crate::error::{invalid, io_at, Result};
+use crate::error::{invalid, Result};
 use crate::setup::{SeasSampling, SeasSetup};
-use crate::text::{c_exp, is_iso_date, positions_row, write_row, FileLayout, Positions};
+use crate::text::{create_output_dir, positions_row, write_row, File, FileLayout, Positions};
 
+mod files;
 mod layout;
 mod mark;
 mod resume;
@@ -38,7 +37,7 @@ pub use stations::{
     SEAS_BP8_FAULT_STATIONS,
 };
 use text::{
-    body_station_name, fault_station_name, profile_columns, File, Profile, Quantity, BODY_COLUMNS,
+    body_station_name, fault_station_name, profile_columns, Profile, Quantity, BODY_COLUMNS,
     FAULT_COLUMNS, GLOBAL_COLUMNS, PRESSURE_FAULT_COLUMNS,
 };
 pub use text::{NEVER_RUPTURED, RUPTURE_THRESHOLD, SLIP_RATE_FLOOR};
@@ -129,25 +128,8 @@ impl SeasBp5Output {
         setup: SeasSetup,
     ) -> Result<Self> {
         let n = cell_grid(region, dx, &cells)?;
-        if body_columns.len() != SEAS_BP5_BODY_STATIONS.len() {
-            return Err(invalid(
-                "body_columns",
-                format!(
-                    "{} for {} stations",
-                    body_columns.len(),
-                    SEAS_BP5_BODY_STATIONS.len()
-                ),
-            ));
-        }
+        let body = BodySource::of_columns(&SEAS_BP5_BODY_STATIONS, body_columns)?;
         let layout = FaultLayout::of_cells(cells, dx, n, -1.0);
-        let body = SEAS_BP5_BODY_STATIONS
-            .iter()
-            .zip(body_columns)
-            .map(|(&(_, n, _), columns)| BodySource::Columns {
-                side: n.signum(),
-                columns,
-            })
-            .collect();
         let spec = bp5_spec(&layout);
         Self::build(dir, region, layout, (body, spec), setup)
     }
@@ -200,25 +182,8 @@ impl SeasBp5Output {
         body_columns: Vec<Vec<f64>>,
         setup: SeasSetup,
     ) -> Result<Self> {
-        if body_columns.len() != SEAS_BP7_BODY_STATIONS.len() {
-            return Err(invalid(
-                "body_columns",
-                format!(
-                    "{} for {} stations",
-                    body_columns.len(),
-                    SEAS_BP7_BODY_STATIONS.len()
-                ),
-            ));
-        }
+        let body = BodySource::of_columns(&SEAS_BP7_BODY_STATIONS, body_columns)?;
         let layout = square_layout(region, dx, cells)?;
-        let body = SEAS_BP7_BODY_STATIONS
-            .iter()
-            .zip(body_columns)
-            .map(|(&(_, n, _), columns)| BodySource::Columns {
-                side: n.signum(),
-                columns,
-            })
-            .collect();
         let mut out = Self::build(dir, region, layout, (body, spec::bp7(r_vw)), setup)?;
         out.log_name = SEAS_BP7_RESUME_LOG;
         Ok(out)
@@ -231,17 +196,9 @@ impl SeasBp5Output {
         (body, spec): (Vec<BodySource>, Spec),
         setup: SeasSetup,
     ) -> Result<Self> {
-        if !is_iso_date(&setup.date) {
-            return Err(invalid(
-                "date",
-                format!("{:?} is not a calendar date YYYY-MM-DD", setup.date),
-            ));
-        }
-        std::fs::create_dir_all(dir).map_err(io_at("create", dir))?;
-        let file = |name: &str, location: String, columns: &[(&str, &str)]| File {
-            path: dir.join(name),
-            layout: FileLayout::new(location, columns),
-            rows: String::new(),
+        create_output_dir(dir, &setup)?;
+        let file = |name: &str, location: String, columns: &[(&str, &str)]| {
+            File::new(dir.join(name), FileLayout::new(location, columns))
         };
         let z_sign = layout.z_sign;
         let model_point = |x: [f64; 2]| [0.0, x[0], z_sign * x[1]];
@@ -478,61 +435,6 @@ impl SeasBp5Output {
             + 100 * self.layout.positions.len() as u64
     }
 
-    /// Every file of rows: stations on and off the fault, `global.dat`, the profiles.
-    fn files(&self) -> impl Iterator<Item = &File> {
-        self.fault
-            .iter()
-            .map(|s| &s.file)
-            .chain(self.body.iter().map(|s| &s.file))
-            .chain(std::iter::once(&self.global))
-            .chain(self.profiles.iter().map(|p| &p.file))
-    }
-
-    /// Writes every file whole (atomically) and the catalogue, into the space held for
-    /// them (given back first).
-    fn write_files(&mut self) -> Result<()> {
-        self.reserve.release()?;
-        self.write_all_files()
-    }
-
-    /// [`write_files`](Self::write_files)' writing.
-    fn write_all_files(&self) -> Result<()> {
-        for f in self.files() {
-            let steps = (self.mark.steps > 0).then_some(self.mark.tau);
-            let rows = match f.layout.profile {
-                Some(_) => self.mark.profile_written,
-                None => self.mark.written,
-            };
-            let text = format!("{}{}", f.header(&self.setup, steps, rows), f.rows);
-            write_atomically(&f.path, text.as_bytes())?;
-        }
-        if self.spec.rupture.is_some() {
-            self.write_rupture()?;
-        }
-        if !self.spec.catalogue {
-            return Ok(());
-        }
-        let mut csv = String::from(
-            "event,t_start_s,t_end_s,peak_slip_rate_mps,hypocentre_x2_m,hypocentre_x3_m\n",
-        );
-        for (i, e) in self.mark.events.iter().enumerate() {
-            let _ = writeln!(
-                csv,
-                "{},{:e},{:e},{:e},{},{}",
-                i + 1,
-                e.t_start,
-                e.t_end.unwrap_or(f64::NAN),
-                e.peak_slip_rate,
-                e.hypocentre[0],
-                e.hypocentre[1]
-            );
-        }
-        Ok(write_atomically(
-            &self.dir.join("events.csv"),
-            csv.as_bytes(),
-        )?)
-    }
-
     /// The names of the benchmark files BP5's output writes (stations, `global.dat`, the
     /// profiles and `rupture.dat`; besides them `events.csv` and, with
     /// [`with_resume_log`](Self::with_resume_log), [`SEAS_BP5_RESUME_LOG`]).
@@ -730,44 +632,6 @@ fn cell_grid(region: &StrikeDipFault, dx: f64, cells: &[[f64; 2]]) -> Result<[us
         ));
     }
     Ok(n)
-}
-
-impl SeasBp5Output {
-    /// `rupture.dat`: per fault node `x2 x3 t` (m, m, s), the first time (after the first
-    /// event for BP5) that its slip rate reached [`RUPTURE_THRESHOLD`] ([`NEVER_RUPTURED`]
-    /// if it did not).
-    fn write_rupture(&self) -> Result<()> {
-        let steps = (self.mark.steps > 0).then_some(self.mark.tau);
-        let after = if self.spec.rupture == Some(true) {
-            " after the first event"
-        } else {
-            ""
-        };
-        let location = format!(
-            "on fault, the first time{after} that each node's slip rate reached \
-             {RUPTURE_THRESHOLD:e} m/s ({NEVER_RUPTURED:e} s: never)"
-        );
-        let columns = [("x2", "x2 (m)"), ("x3", "x3 (m)"), ("t", "t (s)")];
-        let mut text = FileLayout::new(location, &columns).header(
-            &self.setup,
-            steps,
-            self.layout.positions.len(),
-        );
-        text.push('\n');
-        for (x, t) in self.layout.positions.iter().zip(&self.mark.rupture) {
-            let _ = writeln!(
-                text,
-                "{} {} {}",
-                c_exp(x[0], 6, 14),
-                c_exp(x[1], 6, 14),
-                c_exp(t.unwrap_or(NEVER_RUPTURED), 13, 21)
-            );
-        }
-        Ok(write_atomically(
-            &self.dir.join("rupture.dat"),
-            text.as_bytes(),
-        )?)
-    }
 }
 
 impl Observer<3, 3> for SeasBp5Output {

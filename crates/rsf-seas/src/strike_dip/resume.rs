@@ -2,12 +2,10 @@
 //! step, `bp5_resume.json`) and each file continued from the mark of the checkpoint's step
 //! (the shared check of a station or profile file, [`kept_rows`]).
 
-use rsf::checkpoint::write_atomically;
-
 use super::mark::Mark;
 use super::SeasBp5Output;
-use crate::error::{invalid, io_at, show_path, Error, Result};
-use crate::resume::{check_logged_time, kept_rows};
+use crate::error::Result;
+use crate::resume::{read_log, write_log};
 
 impl SeasBp5Output {
     /// Keeps the resume log ([`SEAS_BP5_RESUME_LOG`](crate::SEAS_BP5_RESUME_LOG), BP7's
@@ -36,15 +34,7 @@ impl SeasBp5Output {
     /// Writes the files and a mark of the resume log at the current step.
     pub(super) fn persist(&mut self) -> Result<()> {
         self.write_files()?;
-        if self.log.last().map(|m| m.step) != Some(self.mark.step) {
-            self.log.push(self.mark.clone());
-        }
-        let log = serde_json::to_string(&self.log)
-            .map_err(|e| invalid("resume", format!("the resume log: {e}")))?;
-        Ok(write_atomically(
-            &self.dir.join(self.log_name),
-            log.as_bytes(),
-        )?)
+        write_log(&mut self.log, &self.mark, &self.dir.join(self.log_name))
     }
 
     /// Continues the files of the run in this folder at its persisted step `step` (the
@@ -61,22 +51,14 @@ impl SeasBp5Output {
     /// `step`, one at another time, or cannot be read back, or the file that cannot be continued (missing,
     /// another layout, rows missing or damaged); read errors naming the file.
     pub fn resume(&mut self, step: usize, time: f64) -> Result<()> {
-        let path = self.dir.join(self.log_name);
-        let fail = |reason: String| Error::Resume {
-            path: show_path(&path),
-            reason,
-        };
-        let text = std::fs::read_to_string(&path).map_err(io_at("read", &path))?;
-        let log: Vec<Mark> = serde_json::from_str(&text).map_err(|e| fail(e.to_string()))?;
-        let Some(i) = log.iter().position(|m| m.step == step) else {
-            return Err(fail(format!(
-                "it has no mark at step {step} (the files were written at steps {:?}): \
-                 checkpoint at multiples of the output's persist interval",
-                log.iter().map(|m| m.step).collect::<Vec<_>>()
-            )));
-        };
-        let mark = log[i].clone();
-        check_logged_time(&path, step, mark.t, time)?;
+        let (log, mark) = read_log::<Mark>(
+            &self.dir.join(self.log_name),
+            step,
+            time,
+            ": checkpoint at multiples of the output's persist interval",
+        )?;
+        let station = (mark.written, mark.last_station_t);
+        let profile = (mark.profile_written, mark.last_profile_t);
         let files = self
             .fault
             .iter_mut()
@@ -85,24 +67,9 @@ impl SeasBp5Output {
             .chain(std::iter::once(&mut self.global))
             .chain(self.profiles.iter_mut().map(|p| &mut p.file));
         for f in files {
-            let mut first = f.layout.field_lines();
-            // A profile's row of positions (its rows begin with it); a station's rows.
-            let (positions, rows, last_t) = match f.layout.profile {
-                Some(_) => {
-                    let row = f.rows.split_inclusive('\n').next().unwrap_or("").to_owned();
-                    first.push(row.trim_end().to_owned());
-                    (row, mark.profile_written, mark.last_profile_t)
-                }
-                None => (String::new(), mark.written, mark.last_station_t),
-            };
-            let fields = match f.layout.profile {
-                Some(_) => first.last().map_or(0, |r| r.split_whitespace().count()),
-                None => f.layout.columns.len(),
-            };
-            let kept = kept_rows(&f.path, &first, fields, rows, last_t)?;
-            f.rows = positions + &String::from_utf8_lossy(&kept.text[kept.rows_start..kept.keep]);
+            f.resume_rows(station, profile)?;
         }
-        self.log = log[..=i].to_vec();
+        self.log = log;
         self.mark = mark;
         Ok(())
     }

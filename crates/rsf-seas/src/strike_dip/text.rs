@@ -1,10 +1,7 @@
 //! The text of the BP5 files: their columns, the file names, and the file being written
 //! (its rows so far).
 
-use std::path::PathBuf;
-
-use crate::setup::SeasSetup;
-use crate::text::FileLayout;
+use crate::text::File;
 
 pub(super) const FAULT_COLUMNS: [(&str, &str); 8] = [
     ("t", "Time (s)"),
@@ -51,14 +48,6 @@ pub(super) const GLOBAL_COLUMNS: [(&str, &str); 3] = [
 /// The smallest slip rate component written (m/s): `log10` of a component below it is
 /// written as `log10` of it (the benchmark's convention for a zero component).
 pub const SLIP_RATE_FLOOR: f64 = 1e-20;
-
-/// A file: its path, its layout (a profile's positions `x2` or `x3`, whose values its
-/// first data row holds) and its rows so far.
-pub(super) struct File {
-    pub(super) path: PathBuf,
-    pub(super) layout: FileLayout,
-    pub(super) rows: String,
-}
 
 /// A profile along dip or strike.
 pub(super) struct Profile {
@@ -121,22 +110,6 @@ pub(super) fn signed(km: f64) -> String {
         if km < 0.0 { '-' } else { '+' },
         km.abs().round() as i64
     )
-}
-
-impl File {
-    /// The file's header: the SEAS lines of `setup` (`steps` the smallest and largest
-    /// step so far, `rows` the data rows), one `# Column #k` line per column, the field
-    /// lines (a profile's coordinate line first), a newline at its end.
-    pub(super) fn header(
-        &self,
-        setup: &SeasSetup,
-        steps: Option<(f64, f64)>,
-        rows: usize,
-    ) -> String {
-        let mut h = self.layout.header(setup, steps, rows);
-        h.push('\n');
-        h
-    }
 }
 
 /// What a profile or a station column holds at a fault node.
