@@ -127,6 +127,33 @@ fn check_minimizer<P: ConvexPotential>(
     Ok(())
 }
 
+/// [`check_slope`] (with `kappa`) at `v` where `v` is above 1e-300, and
+/// [`check_curvature`] with `ln_vm`.
+fn check_derivatives<P: ConvexPotential>(
+    p: &P,
+    v: f64,
+    (kappa, ln_vm): (f64, f64),
+) -> Result<(), TestCaseError> {
+    if v > 1e-300 {
+        check_slope(p, v, kappa)?;
+    }
+    check_curvature(p, v, ln_vm)
+}
+
+/// [`check_minimizer`] at `r = a V_m e^d` (`ln_vm` = ln V_m: from below the cutoff to far
+/// above for `d` in −5 … 30), where that `r` is positive and finite.
+fn check_minimizer_near_cutoff<P: ConvexPotential>(
+    p: &P,
+    (kappa, ln_vm): (f64, f64),
+    a: f64,
+    d: f64,
+    w: f64,
+) -> Result<(), TestCaseError> {
+    let r = a * (ln_vm + d).exp();
+    prop_assume!(r > 0.0 && r.is_finite());
+    check_minimizer(p, a, r, w, kappa, ln_vm)
+}
+
 fn pos(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
     (lo..hi).prop_map(|e: f64| 10f64.powf(e))
 }
@@ -144,10 +171,7 @@ proptest! {
     #[test]
     fn dr_derivatives((p, l) in dr(), d in -40.0..40.0_f64) {
         let v = (l + d).min(6.9).exp();
-        if v > 1e-300 {
-            check_slope(&p, v, p.kappa())?;
-        }
-        check_curvature(&p, v, l)?;
+        check_derivatives(&p, v, (p.kappa(), l))?;
     }
 
     #[test]
@@ -159,9 +183,7 @@ proptest! {
     fn dr_minimizer_near_cutoff((p, l) in (-700.0..-10.0_f64, kappa()).prop_map(|(l, k)| (DieterichRuinaPotential::new(l, k), l)),
                                 a in pos(-3.0, 12.0), d in -5.0..30.0_f64, w in pos(-6.0, 1.0)) {
         // r = a V_m e^d: from below the cutoff to far above
-        let r = a * (l + d).exp();
-        prop_assume!(r > 0.0 && r.is_finite());
-        check_minimizer(&p, a, r, w, p.kappa(), l)?;
+        check_minimizer_near_cutoff(&p, (p.kappa(), l), a, d, w)?;
     }
 
     #[test]
@@ -173,19 +195,13 @@ proptest! {
 
     #[test]
     fn asinh_derivatives(((p, _), v) in asinh().prop_flat_map(|(p, l)| (Just((p, l)), slip_rate(l)))) {
-        if v > 1e-300 {
-            check_slope(&p, v, p.kappa())?;
-        }
-        check_curvature(&p, v, f64::NEG_INFINITY)?;
+        check_derivatives(&p, v, (p.kappa(), f64::NEG_INFINITY))?;
     }
 
     #[test]
     fn asinh_derivatives_rel((p, l) in asinh(), d in -40.0..40.0_f64) {
         let v = (l + d).min(6.9).exp();
-        if v > 1e-300 {
-            check_slope(&p, v, p.kappa())?;
-        }
-        check_curvature(&p, v, f64::NEG_INFINITY)?;
+        check_derivatives(&p, v, (p.kappa(), f64::NEG_INFINITY))?;
     }
 
     #[test]
@@ -196,9 +212,7 @@ proptest! {
     #[test]
     fn asinh_minimizer_near_cutoff((p, l) in (-700.0..-10.0_f64, kappa()).prop_map(|(l, k)| (AsinhPotential::new(l, k), l)),
                                    a in pos(-3.0, 12.0), d in -5.0..30.0_f64, w in pos(-6.0, 1.0)) {
-        let r = a * (l + d).exp();
-        prop_assume!(r > 0.0 && r.is_finite());
-        check_minimizer(&p, a, r, w, p.kappa(), l)?;
+        check_minimizer_near_cutoff(&p, (p.kappa(), l), a, d, w)?;
     }
 
     #[test]

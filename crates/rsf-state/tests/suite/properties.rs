@@ -47,18 +47,33 @@ fn check_close(x: f64, y: f64, tol: f64) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// The update `β` of `law` from `(α_prev, V, τ)`, checked: the `(residual, scale)` of its
+/// implicit equation (`residual(law, β, α_prev, V, τ)`) within `1e-12·max(1, scale)`, and
+/// the generic solver's update within 1e-10.
+fn checked_update<L: StateLaw>(
+    law: &L,
+    residual: fn(&L, f64, f64, f64, f64) -> (f64, f64),
+    (a0, v, tau): (f64, f64, f64),
+) -> Result<f64, TestCaseError> {
+    let b = law.update(a0, v, tau).unwrap();
+    let (res, scale) = residual(law, b, a0, v, tau);
+    prop_assert!(
+        res.abs() <= 1e-12 * scale.max(1.0),
+        "β={b}: res {res}, scale {scale}"
+    );
+    let g = generic_update(law, a0, v, tau).unwrap();
+    check_close(b, g, 1e-10)?;
+    Ok(b)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
 
     #[test]
     fn aging_implicit_equation(a0 in -1e3..1e3_f64, v in slip_rate(), tau in pos(-12.0, 3.0), l in pos(-6.0, 0.0)) {
         let law = Aging::new(l).unwrap();
-        let b = law.update(a0, v, tau).unwrap();
+        let b = checked_update(&law, aging_residual, (a0, v, tau))?;
         prop_assert!(b.is_finite());
-        let (res, scale) = aging_residual(&law, b, a0, v, tau);
-        prop_assert!(res.abs() <= 1e-12 * scale.max(1.0), "β={b}: res {res}, scale {scale}");
-        let g = generic_update(&law, a0, v, tau).unwrap();
-        check_close(b, g, 1e-10)?;
     }
 
     /// Slip increments τV/L from 1e-12 to 1e8 (and beyond), α_prev over ±1e3.
@@ -68,22 +83,14 @@ proptest! {
         let v = k * l / tau;
         prop_assume!(v <= 1e3 * 1.0000001 || k >= 1e8);
         let law = Aging::new(l).unwrap();
-        let b = law.update(a0, v, tau).unwrap();
-        let (res, scale) = aging_residual(&law, b, a0, v, tau);
-        prop_assert!(res.abs() <= 1e-12 * scale.max(1.0), "β={b}: res {res}, scale {scale}");
-        let g = generic_update(&law, a0, v, tau).unwrap();
-        check_close(b, g, 1e-10)?;
+        checked_update(&law, aging_residual, (a0, v, tau))?;
     }
 
     #[test]
     fn slip_implicit_equation(a0 in -1e3..1e3_f64, v in slip_rate(), tau in pos(-12.0, 3.0), l in pos(-6.0, 0.0)) {
         let law = Slip::new(l).unwrap();
-        let b = law.update(a0, v, tau).unwrap();
+        let b = checked_update(&law, slip_residual, (a0, v, tau))?;
         prop_assert!(b.is_finite());
-        let (res, scale) = slip_residual(&law, b, a0, v, tau);
-        prop_assert!(res.abs() <= 1e-12 * scale.max(1.0), "β={b}: res {res}, scale {scale}");
-        let g = generic_update(&law, a0, v, tau).unwrap();
-        check_close(b, g, 1e-10)?;
     }
 
     /// Discontinuous law: β is either a regular root of β − α_prev + τV sign(βV − 1) = 0
@@ -226,27 +233,20 @@ fn typed_errors() {
         Err(Error::InvalidInput { .. })
     ));
 
+    // A user law whose ∂ψ/∂α is the same number everywhere: NaN, or −∞ (unbounded).
     #[derive(Clone)]
-    struct NanLaw;
-    impl StateLaw for NanLaw {
+    struct ConstantDerivative(f64);
+    impl StateLaw for ConstantDerivative {
         fn dpsi_dalpha(&self, _: f64, _: f64) -> f64 {
-            f64::NAN
+            self.0
         }
     }
     assert!(matches!(
-        NanLaw.update(0.0, 1.0, 1.0),
+        ConstantDerivative(f64::NAN).update(0.0, 1.0, 1.0),
         Err(Error::NanDerivative { .. })
     ));
-
-    #[derive(Clone)]
-    struct Unbounded;
-    impl StateLaw for Unbounded {
-        fn dpsi_dalpha(&self, _: f64, _: f64) -> f64 {
-            f64::NEG_INFINITY
-        }
-    }
     assert!(matches!(
-        Unbounded.update(0.0, 1.0, 1.0),
+        ConstantDerivative(f64::NEG_INFINITY).update(0.0, 1.0, 1.0),
         Err(Error::NoBracket { .. })
     ));
 }

@@ -9,11 +9,26 @@ use rsf_tnnmg::Error;
 use rsf_tnnmg::*;
 
 fn tight() -> Stopping {
+    absolute(1e-13, 200)
+}
+
+/// Stops at `tol` absolute in the energy norm, or after `max_iterations`.
+fn absolute(tol: f64, max_iterations: usize) -> Stopping {
     Stopping {
-        absolute: 1e-13,
+        absolute: tol,
         relative: 0.0,
-        max_iterations: 200,
+        max_iterations,
     }
+}
+
+/// TNNMG on [`square`]'s hierarchy of `level` levels above `m0` cells, no energy norm.
+fn square_tnnmg(
+    a: &Mat,
+    fixed: &[bool],
+    (m0, level): (usize, usize),
+    opts: TnnmgOptions,
+) -> Tnnmg<1> {
+    Tnnmg::<1>::new(a.as_ref(), fixed, &square_hierarchy(m0, level), None, opts).unwrap()
 }
 
 #[test]
@@ -26,8 +41,7 @@ fn tnnmg_gauss_seidel_and_direct_agree_on_stick_slip_problem() {
             stopping: tight(),
             ..Default::default()
         };
-        let mut tn =
-            Tnnmg::<1>::new(a.as_ref(), &fixed, &square_hierarchy(m0, level), None, opts).unwrap();
+        let mut tn = square_tnnmg(&a, &fixed, (m0, level), opts);
         let mut v_tn = vec![0.0; b.len()];
         tn.solve(&b, &nl, &mut v_tn).unwrap();
 
@@ -36,11 +50,7 @@ fn tnnmg_gauss_seidel_and_direct_agree_on_stick_slip_problem() {
         let mut v_d = vec![0.0; b.len()];
         direct.solve(&b, &nl, &mut v_d).unwrap();
 
-        let gs_stop = Stopping {
-            absolute: 1e-15,
-            relative: 0.0,
-            max_iterations: 200_000,
-        };
+        let gs_stop = absolute(1e-15, 200_000);
         let mut gs =
             NonlinearGaussSeidel::<1>::new(a.as_ref(), &fixed, None, gs_stop, false).unwrap();
         let mut v_gs = vec![0.0; b.len()];
@@ -75,9 +85,7 @@ fn tnnmg_gauss_seidel_and_direct_agree_on_stick_slip_problem() {
 fn cycle_shapes_and_linear_corrections_agree_with_direct() {
     let (m0, level) = (2, 4);
     let m = m0 << level;
-    let a = square(m, 10.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
+    let StickSlip { a, fixed, b, .. } = stick_slip(m);
     let shape =
         |linear_correction, smoothing, cycle_index, v_cycles, linear_reduction| TnnmgOptions {
             linear_correction,
@@ -111,8 +119,7 @@ fn cycle_shapes_and_linear_corrections_agree_with_direct() {
             record_energy: true,
             ..variant.clone()
         };
-        let mut tn =
-            Tnnmg::<1>::new(a.as_ref(), &fixed, &square_hierarchy(m0, level), None, opts).unwrap();
+        let mut tn = square_tnnmg(&a, &fixed, (m0, level), opts);
         for (name, exact) in [("tresca", &d_tresca), ("cosh", &d_cosh)] {
             let mut v = vec![0.0; b.len()];
             let report = if name == "tresca" {
@@ -139,17 +146,14 @@ fn cycle_shapes_and_linear_corrections_agree_with_direct() {
 fn energy_decreases_monotonically() {
     let (m0, level) = (2, 4);
     let m = m0 << level;
-    let a = square(m, 10.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
+    let StickSlip { a, fixed, b, .. } = stick_slip(m);
     for stiff in [false, true] {
         let opts = TnnmgOptions {
             stopping: tight(),
             record_energy: true,
             ..Default::default()
         };
-        let mut tn =
-            Tnnmg::<1>::new(a.as_ref(), &fixed, &square_hierarchy(m0, level), None, opts).unwrap();
+        let mut tn = square_tnnmg(&a, &fixed, (m0, level), opts);
         let mut v = vec![0.0; b.len()];
         let report = if stiff {
             let nl = Cosh1 {
@@ -174,9 +178,7 @@ fn iteration_counts<N: BlockNonlinearity<1>>(make: impl Fn(usize) -> N) -> Vec<u
     (2..=6)
         .map(|level| {
             let m = m0 << level;
-            let a = square(m, 10.0);
-            let fixed = left_edge_fixed(m);
-            let b = stick_slip_load(m);
+            let StickSlip { a, fixed, b, .. } = stick_slip(m);
             let opts = TnnmgOptions {
                 stopping: Stopping {
                     absolute: 0.0,
@@ -185,9 +187,7 @@ fn iteration_counts<N: BlockNonlinearity<1>>(make: impl Fn(usize) -> N) -> Vec<u
                 },
                 ..Default::default()
             };
-            let mut tn =
-                Tnnmg::<1>::new(a.as_ref(), &fixed, &square_hierarchy(m0, level), None, opts)
-                    .unwrap();
+            let mut tn = square_tnnmg(&a, &fixed, (m0, level), opts);
             let mut v = vec![0.0; b.len()];
             tn.solve(&b, &make(m), &mut v).unwrap().iterations
         })
@@ -233,9 +233,7 @@ fn linear_problem_converges_at_multigrid_rate() {
     // and an exact line search). Measure the contraction of the error in the energy norm.
     let (m0, level) = (2, 6);
     let m = m0 << level;
-    let a = square(m, 0.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
+    let StickSlip { a, fixed, b, .. } = stick_slip_with(m, 0.0);
     let mut exact = vec![0.0; b.len()];
     DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default())
         .unwrap()
@@ -246,19 +244,14 @@ fn linear_problem_converges_at_multigrid_rate() {
     let mut worst: f64 = 0.0;
     for _ in 0..6 {
         let opts = TnnmgOptions {
-            stopping: Stopping {
-                absolute: 1e300,
-                relative: 0.0,
-                max_iterations: 1,
-            },
+            stopping: absolute(1e300, 1),
             nonlinear_sweeps: 1,
             smoothing: (2, 2),
             v_cycles: 1,
             linear_reduction: None,
             ..Default::default()
         };
-        let mut tn =
-            Tnnmg::<1>::new(a.as_ref(), &fixed, &square_hierarchy(m0, level), None, opts).unwrap();
+        let mut tn = square_tnnmg(&a, &fixed, (m0, level), opts);
         tn.solve(&b, &NoNonlinearity, &mut v).unwrap();
         let err: Vec<f64> = v.iter().zip(&exact).map(|(x, y)| x - y).collect();
         let e = energy_norm(&a, &err);
@@ -272,21 +265,10 @@ fn linear_problem_converges_at_multigrid_rate() {
 fn budget_exhaustion_is_an_error_not_a_result() {
     let (m0, level) = (2, 3);
     let m = m0 << level;
-    let a = square(m, 1.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
-    let mut gs = NonlinearGaussSeidel::<1>::new(
-        a.as_ref(),
-        &fixed,
-        None,
-        Stopping {
-            absolute: 1e-14,
-            relative: 0.0,
-            max_iterations: 2,
-        },
-        false,
-    )
-    .unwrap();
+    let StickSlip { a, fixed, b, .. } = stick_slip_with(m, 1.0);
+    let mut gs =
+        NonlinearGaussSeidel::<1>::new(a.as_ref(), &fixed, None, absolute(1e-14, 2), false)
+            .unwrap();
     let mut v = vec![0.0; b.len()];
     match gs.solve(&b, &stick_slip_tresca(m), &mut v) {
         Err(Error::NotConverged {
@@ -306,14 +288,8 @@ fn a_watched_solve_reports_and_stops_at_its_time_limit() {
     use std::sync::{Arc, Mutex};
     let (m0, level) = (2, 2);
     let m = m0 << level;
-    let a = square(m, 1.0);
-    let fixed = left_edge_fixed(m);
-    let b = stick_slip_load(m);
-    let stopping = Stopping {
-        absolute: 1e-10,
-        relative: 0.0,
-        max_iterations: 10_000,
-    };
+    let StickSlip { a, fixed, b, .. } = stick_slip_with(m, 1.0);
+    let stopping = absolute(1e-10, 10_000);
     let gs = || NonlinearGaussSeidel::<1>::new(a.as_ref(), &fixed, None, stopping, false).unwrap();
     let mut plain = vec![0.0; b.len()];
     let report = gs().solve(&b, &stick_slip_tresca(m), &mut plain).unwrap();
@@ -414,11 +390,7 @@ fn full_step_takes_the_change_of_one_iteration_from_the_solver() {
     let v0 = vec![0.0; b.len()];
     measured.begin_step(&b, &v0, &nl.nodes).unwrap();
     reported.begin_step(&b, &v0, &nl.nodes).unwrap();
-    let one = Stopping {
-        absolute: f64::MAX,
-        relative: 0.0,
-        max_iterations: 1,
-    };
+    let one = absolute(f64::MAX, 1);
     let (mut before, mut after, mut check) = (v0.clone(), v0.clone(), v0.clone());
     for it in 0..4 {
         let r = reported.solve_step(&nl, one).unwrap();

@@ -10,13 +10,13 @@
 //! running towards the reflecting side (clamped) comes back and crosses the absorbing
 //! part later. Energy `E = ½vᵀMv + ½uᵀKu` from the model's matrices.
 
-use crate::common::{apply, dot};
+use crate::common::{apply, dot, frictionless, within};
 use rsf::fem::{rectangle, Diagonal, SimplexMesh};
 use rsf::friction::Tresca;
 use rsf::model::AntiplaneMaterial;
 use rsf::simulation::NoState;
 use rsf::time::{BackwardEuler, Newmark, Quasistatic, VelocityIntegrator};
-use rsf::{Error, Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind};
+use rsf::{Error, Material, Model, ModelBuilder, Part};
 
 const EPS: f64 = 1e-9;
 
@@ -72,12 +72,7 @@ fn scalar_sim<I: VelocityIntegrator>(
     integrator: I,
     tau: f64,
 ) -> rsf::Simulation<2, Tresca, NoState, I, 1> {
-    SimulationBuilder::new(model)
-        .friction(Tresca::new(0.0, 1.0).unwrap())
-        .initial_state(0.0)
-        .integrator(integrator)
-        .time_step(tau)
-        .solver(SolverKind::Direct)
+    frictionless(model, integrator, tau)
         .initial_velocity_at(|x| [pulse(x[0], 2.0, 0.15)])
         .build()
         .unwrap()
@@ -108,12 +103,7 @@ fn vector_sim(
     component: usize,
     tau: f64,
 ) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
-    SimulationBuilder::new(model)
-        .friction(Tresca::new(0.0, 1.0).unwrap())
-        .initial_state(0.0)
-        .integrator(Newmark)
-        .time_step(tau)
-        .solver(SolverKind::Direct)
+    frictionless(model, Newmark, tau)
         .initial_velocity_at(move |x| {
             let mut v = [0.0; 2];
             v[component] = pulse(x[0], 2.0, 0.15);
@@ -357,12 +347,7 @@ fn a_beam_at_45_degrees_reflects_what_lysmer_kuhlemeyer_predicts() {
     };
     let d = std::f64::consts::FRAC_1_SQRT_2;
     let sim = |model| {
-        SimulationBuilder::new(model)
-            .friction(Tresca::new(0.0, 1.0).unwrap())
-            .initial_state(0.0)
-            .integrator(Newmark)
-            .time_step(0.02)
-            .solver(SolverKind::Direct)
+        frictionless(model, Newmark, 0.02)
             .initial_velocity_at(move |x| {
                 let (dx, dy) = (x[0] - 2.0, x[1] - 4.0);
                 let (s, r) = (d * (dx + dy), d * (dy - dx));
@@ -443,13 +428,12 @@ fn absorbing_parts_are_checked() {
     let (_, reason) = part_error(base().absorbing_boundary(right()).without_mass().build());
     assert!(reason.contains("inertia"), "{reason}");
     // A quasistatic integrator on a model with absorbing parts.
-    let r = SimulationBuilder::new(base().absorbing_boundary(right()).build().unwrap())
-        .friction(Tresca::new(0.0, 1.0).unwrap())
-        .initial_state(0.0)
-        .integrator(Quasistatic::new())
-        .time_step(0.01)
-        .solver(SolverKind::Direct)
-        .build();
+    let r = frictionless(
+        base().absorbing_boundary(right()).build().unwrap(),
+        Quasistatic::new(),
+        0.01,
+    )
+    .build();
     match r {
         Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, "absorbing"),
         Err(e) => panic!("{e}"),
@@ -527,10 +511,7 @@ fn small_bp1_fd_with_absorbing_boundaries_switching_and_implicit_agree_on_the_fi
         },
     )
     .unwrap();
-    let t_end = rsf::Until::TimeWithin {
-        time: 300.0 * rsf::observe::SECONDS_PER_YEAR,
-        max_steps: 500_000,
-    };
+    let t_end = within(300.0 * rsf::observe::SECONDS_PER_YEAR);
     let mut a = FirstEvent::default();
     rsf::run_until(&mut switching, t_end, &mut [&mut a]).unwrap();
     let mut implicit = dynamic(1e-2);

@@ -3,11 +3,11 @@
 //! rejects and retries failing steps without showing them to observers, stays within its
 //! bounds, and checkpoints bit-identically.
 
-use crate::common::{resumable_observers, temp_dir, StopAt};
+use crate::common::{frictionless, resumable_observers, temp_dir, within, StopAt};
 use rsf::friction::Tresca;
 use rsf::simulation::NoState;
 use rsf::time::{Newmark, StepControl};
-use rsf::{Checkpoint, Flow, Observer, SimulationBuilder, SolverKind, StepView, Until};
+use rsf::{Checkpoint, Flow, Observer, StepView};
 use rsf_scenes::{AdaptiveTimeStep, SceneSimulation, SliderScene, TimeStep};
 
 /// Every accepted step as observed: (t, τ, rejected attempts, max slip rate).
@@ -60,12 +60,7 @@ fn linear_sim(tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
 /// [`linear_sim`] for another scene (its mesh and loading).
 fn linear_sim_of(scene: &SliderScene, tau: f64) -> rsf::Simulation<2, Tresca, NoState, Newmark> {
     let model = scene.build_model().unwrap();
-    SimulationBuilder::new(model)
-        .friction(Tresca::new(0.0, 1.0).unwrap())
-        .initial_state(0.0)
-        .integrator(Newmark)
-        .time_step(tau)
-        .solver(SolverKind::Direct)
+    frictionless(model, Newmark, tau)
         .fixed_point(rsf::method::FixedPointOptions::default())
         .build()
         .unwrap()
@@ -100,14 +95,7 @@ fn scaled_error(
 fn linear_elastodynamics_error_meets_the_tolerance() {
     let c = control(1e-4, 1e-9, 0.01);
     let mut sim = linear_sim(0.3 / 150.0);
-    sim.run_until(
-        Until::TimeWithin {
-            time: 0.1,
-            max_steps: 500_000,
-        },
-        &mut [],
-    )
-    .unwrap();
+    sim.run_until(within(0.1), &mut []).unwrap();
     sim.set_step_control(Some(c)).unwrap();
     let mut worst: f64 = 0.0;
     for _ in 0..12 {
@@ -130,28 +118,14 @@ fn linear_elastodynamics_error_meets_the_tolerance() {
     // Global error at t = 0.3 s against a fine uniform run shrinks with the tolerance.
     let reference = {
         let mut s = linear_sim(0.3 / 9600.0);
-        s.run_until(
-            Until::TimeWithin {
-                time: 0.3,
-                max_steps: 500_000,
-            },
-            &mut [],
-        )
-        .unwrap();
+        s.run_until(within(0.3), &mut []).unwrap();
         s.kinematics().u.clone()
     };
     let global = |tol: f64| {
         let mut s = linear_sim(0.3 / 150.0);
         s.set_step_control(Some(control(tol, 1e-9, 0.3 / 75.0)))
             .unwrap();
-        s.run_until(
-            Until::TimeWithin {
-                time: 0.3,
-                max_steps: 500_000,
-            },
-            &mut [],
-        )
-        .unwrap();
+        s.run_until(within(0.3), &mut []).unwrap();
         assert!((s.time() - 0.3).abs() < 1e-12, "ends at the requested time");
         let u = &s.kinematics().u;
         let num: f64 = u
@@ -182,27 +156,13 @@ fn steady_sliding_stays_steady_with_growing_steps() {
         ..SliderScene::default()
     };
     let mut sim = scene.build().unwrap();
-    sim.run_until(
-        Until::TimeWithin {
-            time: 15.0,
-            max_steps: 500_000,
-        },
-        &mut [],
-    )
-    .unwrap();
+    sim.run_until(within(15.0), &mut []).unwrap();
     let v_d = scene.loading_velocity_m_per_s;
     sim.set_step_control(Some(control(1e-4, 1e-9, 0.5)))
         .unwrap();
     let mut steps = Steps::default();
     let t0 = sim.time();
-    sim.run_until(
-        Until::TimeWithin {
-            time: 20.0,
-            max_steps: 500_000,
-        },
-        &mut [&mut steps],
-    )
-    .unwrap();
+    sim.run_until(within(20.0), &mut [&mut steps]).unwrap();
     assert_contiguous(&steps.0, t0);
     for &(t, _, _, v) in &steps.0 {
         assert!(
@@ -235,14 +195,7 @@ fn steps_end_at_the_end_of_the_loading_ramp() {
     sim.set_step_control(Some(control(1e-3, 1e-9, 0.05)))
         .unwrap();
     let mut steps = Steps::default();
-    sim.run_until(
-        Until::TimeWithin {
-            time: 0.3,
-            max_steps: 500_000,
-        },
-        &mut [&mut steps],
-    )
-    .unwrap();
+    sim.run_until(within(0.3), &mut [&mut steps]).unwrap();
     assert_contiguous(&steps.0, 0.0);
     assert!(
         steps.0.iter().any(|s| (s.0 - ramp_end).abs() <= 1e-12),
@@ -285,15 +238,7 @@ fn failing_steps_are_rejected_retried_and_never_observed() {
     sim.set_step_control(Some(control(1e-2, tau_min, tau_max)))
         .unwrap();
     let mut steps = Steps::default();
-    let summary = sim
-        .run_until(
-            Until::TimeWithin {
-                time: 10.6,
-                max_steps: 500_000,
-            },
-            &mut [&mut steps],
-        )
-        .unwrap();
+    let summary = sim.run_until(within(10.6), &mut [&mut steps]).unwrap();
     assert!(summary.rejected_attempts > 0, "some attempts failed");
     assert_eq!(
         summary.rejected_attempts,
@@ -470,10 +415,7 @@ fn adaptive_scene_stopped_and_resumed_writes_the_same_bytes() {
             resumable_observers(&mut sim, dir, (0.1, 0.5), every, resume);
         let mut stopper = StopAt(stop.unwrap_or(usize::MAX));
         sim.run_until(
-            Until::TimeWithin {
-                time: scene.end_time_s,
-                max_steps: 500_000,
-            },
+            within(scene.end_time_s),
             &mut [&mut series, &mut profile, &mut checkpointer, &mut stopper],
         )
         .unwrap();
@@ -550,14 +492,7 @@ fn healing_state_error_with_and_without_the_state_scale() {
         };
         let mut sim = scene.build().unwrap();
         let mut steps = Steps::default();
-        sim.run_until(
-            Until::TimeWithin {
-                time: end,
-                max_steps: 500_000,
-            },
-            &mut [&mut steps],
-        )
-        .unwrap();
+        sim.run_until(within(end), &mut [&mut steps]).unwrap();
         let v_max = steps.0.iter().map(|s| s.3).fold(0.0_f64, f64::max);
         assert!(v_max < 1e-15, "stuck: largest slip rate {v_max}");
         let exact = scene.alpha0.exp() + sim.time();

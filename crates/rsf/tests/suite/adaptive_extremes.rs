@@ -17,8 +17,9 @@
 //!
 //! All runs are on level 1 and take at most a couple of thousand steps.
 
+use crate::common::within;
 use rsf::time::Error as TimeError;
-use rsf::{Error, Flow, Integrator, Observer, StateLawKind, StepView, Until};
+use rsf::{Error, Flow, Integrator, Observer, StateLawKind, StepView};
 use rsf_scenes::{AdaptiveTimeStep, SceneSimulation, SliderScene, TimeStep};
 
 type Sim = SceneSimulation<2>;
@@ -245,13 +246,7 @@ fn run_case(label: &str, scene: &SliderScene, t_end: f64, budget: usize) -> (Out
         .unwrap_or_else(|e| panic!("{label}: a valid extreme option fails to build: {e}"));
     let mut watch = Watch::new(label, budget, t_end, a.tau_max_s, 0.0);
     let result = sim
-        .run_until(
-            Until::TimeWithin {
-                time: t_end,
-                max_steps: 500_000,
-            },
-            &mut [&mut watch],
-        )
+        .run_until(within(t_end), &mut [&mut watch])
         .map_err(Error::from);
     watch.assert_clean();
     assert_state_finite(label, &sim, t_end);
@@ -911,13 +906,7 @@ fn tiny_initial_step_builds_or_is_a_named_error() {
         match scene.build() {
             Ok(mut sim) => {
                 let outcome = sim
-                    .run_until(
-                        Until::TimeWithin {
-                            time: 0.5,
-                            max_steps: 500_000,
-                        },
-                        &mut [],
-                    )
+                    .run_until(within(0.5), &mut [])
                     .map(|s| s.steps)
                     .map_err(Error::from);
                 assert!(
@@ -950,15 +939,7 @@ fn huge_initial_tau_still_reaches_the_end_time_and_the_breakpoint() {
         ..base()
     });
     let mut sim = scene.build().unwrap();
-    let summary = sim
-        .run_until(
-            Until::TimeWithin {
-                time: 0.5,
-                max_steps: 500_000,
-            },
-            &mut [],
-        )
-        .unwrap();
+    let summary = sim.run_until(within(0.5), &mut []).unwrap();
     if sim.time() != 0.5 {
         failures.push(format!(
             "initial_tau_s = 1e9: run_until(Time(0.5)) ends at t = {} after {} steps",
@@ -1177,13 +1158,7 @@ fn checkpoints_after_extreme_runs_resume_bit_identically() {
             let mut straight = scene.build().unwrap();
             let mut watch = Watch::new(&label, 300, t1, a.tau_max_s, 0.0);
             let first = straight
-                .run_until(
-                    Until::TimeWithin {
-                        time: t1,
-                        max_steps: 500_000,
-                    },
-                    &mut [&mut watch],
-                )
+                .run_until(within(t1), &mut [&mut watch])
                 .map_err(Error::from);
             watch.assert_clean();
             if let Err(e) = &first {

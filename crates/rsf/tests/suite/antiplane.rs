@@ -8,7 +8,7 @@ use rsf::{ModelBuilder, Part};
 
 use rsf::observe::SECONDS_PER_YEAR;
 
-use crate::common::{creeping_bp1, steady_creep_errors};
+use crate::common::{creeping_bp1, steady_creep_errors, within};
 
 /// The antisymmetric fault scales the model's unknown to s·u: K/s², F/s, w/s, velocities
 /// s·v — checked against the same model without it, entry by entry.
@@ -71,14 +71,8 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
         .unwrap()
         .build()
         .unwrap();
-    sim.run_until(
-        rsf::Until::TimeWithin {
-            time: 3000.0 * SECONDS_PER_YEAR,
-            max_steps: 500_000,
-        },
-        &mut [],
-    )
-    .unwrap();
+    sim.run_until(within(3000.0 * SECONDS_PER_YEAR), &mut [])
+        .unwrap();
     let mut v = vec![0.0; sim.model().frictional_boundary.len()];
     sim.slip_rates(&mut v);
     let (worst_v, worst_tau) = steady_creep_errors(

@@ -2,6 +2,7 @@
 //! loading phase, determinism, checkpoint/resume, scene validation. (TNNMG and the direct
 //! solver are compared through the first slip events in `slip_event.rs`.)
 
+use crate::common::within;
 use rsf::{Checkpoint, Error, SolverKind};
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
@@ -121,6 +122,16 @@ fn scene_file_in_the_repository_parses_to_the_defaults() {
     );
 }
 
+/// The slider at level 1 with τ = T/1000: τ (s) and its simulation.
+fn coarse_slider() -> (f64, crate::common::Sim) {
+    let scene = SliderScene {
+        level: 1,
+        steps: 1000,
+        ..SliderScene::default()
+    };
+    (scene.tau(), scene.build().unwrap())
+}
+
 /// Ends after a number of steps (an observer that stops the run).
 struct StopAfter(usize);
 
@@ -136,22 +147,8 @@ impl rsf::Observer<2> for StopAfter {
 
 #[test]
 fn run_until_a_time_and_until_an_observer_stops() {
-    let scene = SliderScene {
-        level: 1,
-        steps: 1000,
-        ..SliderScene::default()
-    };
-    let tau = scene.tau();
-    let mut sim = scene.build().unwrap();
-    let s = sim
-        .run_until(
-            rsf::Until::TimeWithin {
-                time: 10.0 * tau,
-                max_steps: 500_000,
-            },
-            &mut [],
-        )
-        .unwrap();
+    let (tau, mut sim) = coarse_slider();
+    let s = sim.run_until(within(10.0 * tau), &mut []).unwrap();
     assert_eq!(s.steps, 10);
     assert!((sim.time() - 10.0 * tau).abs() < 1e-12);
     assert!(!s.stopped_by_observer());
@@ -160,28 +157,14 @@ fn run_until_a_time_and_until_an_observer_stops() {
     assert_eq!((s.steps, sim.step_index()), (3, 13));
     assert!(s.stopped_by_observer());
     // A non-finite end time is a typed error, not a hang.
-    assert!(sim
-        .run_until(
-            rsf::Until::TimeWithin {
-                time: f64::INFINITY,
-                max_steps: 500_000
-            },
-            &mut []
-        )
-        .is_err());
+    assert!(sim.run_until(within(f64::INFINITY), &mut []).is_err());
 }
 
 /// Changing τ mid-run through the API continues the trajectory: the times add up, and
 /// returning to the first τ reuses its solver.
 #[test]
 fn time_step_can_change_between_steps() {
-    let scene = SliderScene {
-        level: 1,
-        steps: 1000,
-        ..SliderScene::default()
-    };
-    let tau = scene.tau();
-    let mut sim = scene.build().unwrap();
+    let (tau, mut sim) = coarse_slider();
     sim.run(4, &mut []).unwrap();
     sim.set_time_step(tau / 2.0).unwrap();
     sim.run(4, &mut []).unwrap();

@@ -9,7 +9,9 @@ use rsf::observe::{Checkpointer, Every, Interval, SECONDS_PER_YEAR};
 use rsf::{Flow, Integrator, Observer, StepView, Termination, TimeFunction, Until};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
-use crate::common::{creeping_bp1, small_bp1, steady_creep_errors};
+use crate::common::{
+    creeping_bp1, small_bp1, small_bp1_and_fine_grid, steady_creep_errors, within, H_LEAF_8,
+};
 
 fn fault_ode(bp1: &SeasBp1, grid: &SeasBp1Grid, tolerance: f64) -> rsf_scenes::SeasBp1FaultOde {
     let model = bp1.model(grid, false).unwrap();
@@ -35,13 +37,7 @@ fn velocity_strengthening_fault_settles_to_steady_creep_at_the_plate_rate() {
     let (bp1, grid) = creeping_bp1();
     let mut ode = fault_ode(&bp1, &grid, 1e-6);
     let summary = ode
-        .run_until(
-            Until::TimeWithin {
-                time: 3000.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-            &mut [],
-        )
+        .run_until(within(3000.0 * SECONDS_PER_YEAR), &mut [])
         .unwrap();
     let v = slip_rates(ode.model(), ode.state());
     let (worst_v, worst_tau) = steady_creep_errors(
@@ -70,14 +66,7 @@ fn implicit_scheme_converges_to_the_runge_kutta_trajectory() {
     let (bp1, grid) = small_bp1(&SeasBp1::default());
     let t_end = 60.0 * SECONDS_PER_YEAR;
     let mut ode = fault_ode(&bp1, &grid, 1e-8);
-    ode.run_until(
-        Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [],
-    )
-    .unwrap();
+    ode.run_until(within(t_end), &mut []).unwrap();
     let reference = slip_rates(ode.model(), ode.state());
     let mut diffs = Vec::new();
     for tol in [1e-2, 1e-3, 1e-4] {
@@ -87,15 +76,7 @@ fn implicit_scheme_converges_to_the_runge_kutta_trajectory() {
             .unwrap()
             .build()
             .unwrap();
-        let s = sim
-            .run_until(
-                Until::TimeWithin {
-                    time: t_end,
-                    max_steps: 500_000,
-                },
-                &mut [],
-            )
-            .unwrap();
+        let s = sim.run_until(within(t_end), &mut []).unwrap();
         let v = slip_rates(sim.model(), sim.state());
         let d = v
             .iter()
@@ -259,15 +240,7 @@ fn switching_run_hands_over_continuously_and_reaches_the_end() {
     let mut run = switching_run(&bp1, &grid);
     let dynamic_tau = run.options().dynamic_tau;
     let mut trace = Trace::default();
-    let summary = run
-        .run_until(
-            Until::TimeWithin {
-                time: t_end,
-                max_steps: 500_000,
-            },
-            &mut [&mut trace],
-        )
-        .unwrap();
+    let summary = run.run_until(within(t_end), &mut [&mut trace]).unwrap();
     let stats = run.stats();
     eprintln!("{summary:?}\n{stats:?}");
     assert!((run.time() - t_end).abs() <= 1e-9 * t_end);
@@ -368,15 +341,7 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
 ) {
     let mut whole = Trace::default();
     let mut m = make();
-    rsf::run_until(
-        &mut m,
-        Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut whole],
-    )
-    .unwrap();
+    rsf::run_until(&mut m, within(t_end), &mut [&mut whole]).unwrap();
     let path = dir.join("checkpoint.bin");
     let ks = kills(&whole.rows);
     assert!(!ks.is_empty());
@@ -418,38 +383,14 @@ fn check_kill_and_resume<M: rsf::Stepping<2, 1>>(
     let t_mid = whole.rows[whole.rows.len() / 2].0 * 0.999_999_7;
     let mut first = Trace::default();
     let mut m = make();
-    rsf::run_until(
-        &mut m,
-        Until::TimeWithin {
-            time: t_mid,
-            max_steps: 500_000,
-        },
-        &mut [&mut first],
-    )
-    .unwrap();
+    rsf::run_until(&mut m, within(t_mid), &mut [&mut first]).unwrap();
     let c = m.checkpoint();
     let mut tail_continued = Trace::default();
-    rsf::run_until(
-        &mut m,
-        Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut tail_continued],
-    )
-    .unwrap();
+    rsf::run_until(&mut m, within(t_end), &mut [&mut tail_continued]).unwrap();
     let mut resumed = make();
     resumed.restore(&c).unwrap();
     let mut tail_resumed = Trace::default();
-    rsf::run_until(
-        &mut resumed,
-        Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut tail_resumed],
-    )
-    .unwrap();
+    rsf::run_until(&mut resumed, within(t_end), &mut [&mut tail_resumed]).unwrap();
     assert_same_rows(
         &tail_resumed.rows,
         &tail_continued.rows,
@@ -538,10 +479,7 @@ fn first_event_time(ode: &mut rsf_scenes::SeasBp1FaultOde) -> f64 {
         }
     }
     ode.run_until(
-        Until::TimeWithin {
-            time: 500.0 * SECONDS_PER_YEAR,
-            max_steps: 500_000,
-        },
+        within(500.0 * SECONDS_PER_YEAR),
         &mut [&mut Onset(&mut onset)],
     )
     .unwrap();
@@ -679,15 +617,8 @@ fn invalid_kernel_accuracy_is_a_typed_error() {
 /// friction solves into one part per thread) for 20 years.
 #[test]
 fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
-    let (bp1, coarse) = small_bp1(&SeasBp1::default());
-    let fine = SeasBp1Grid {
-        dz: 100.0,
-        ..coarse
-    };
-    let h = FaultKernel::Hierarchical {
-        epsilon: 1e-6,
-        leaf_size: 8,
-    };
+    let (bp1, coarse, fine) = small_bp1_and_fine_grid();
+    let h = H_LEAF_8;
     for (grid, years) in [(coarse, 150.0), (fine, 20.0)] {
         for kernel in [FaultKernel::Dense, h] {
             let run = |threads: usize| {
@@ -697,14 +628,8 @@ fn kernels_give_the_same_bits_at_1_2_and_4_threads() {
                         .fault_ode(model, kernel_options(&bp1, kernel, threads))
                         .unwrap();
                     let mut trace = Trace::default();
-                    ode.run_until(
-                        Until::TimeWithin {
-                            time: years * SECONDS_PER_YEAR,
-                            max_steps: 500_000,
-                        },
-                        &mut [&mut trace],
-                    )
-                    .unwrap();
+                    ode.run_until(within(years * SECONDS_PER_YEAR), &mut [&mut trace])
+                        .unwrap();
                     (trace, ode.evaluations())
                 })
             };
@@ -867,13 +792,7 @@ fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
         };
         let mut whole = make();
         whole
-            .run_until(
-                Until::TimeWithin {
-                    time: 60.0 * SECONDS_PER_YEAR,
-                    max_steps: 500_000,
-                },
-                &mut [],
-            )
+            .run_until(within(60.0 * SECONDS_PER_YEAR), &mut [])
             .unwrap();
         let st = whole.integrator_stats();
         eprintln!("{integrator}: {st:?}");
@@ -904,15 +823,8 @@ fn stabilized_integrators_resume_bit_identically_from_a_checkpoint() {
 /// ℋ-kernel: the same bits and evaluations at 1, 2 and 4 threads.
 #[test]
 fn stabilized_integrators_give_the_same_bits_at_1_2_and_4_threads() {
-    let (bp1, coarse) = small_bp1(&SeasBp1::default());
-    let fine = SeasBp1Grid {
-        dz: 100.0,
-        ..coarse
-    };
-    let h = FaultKernel::Hierarchical {
-        epsilon: 1e-6,
-        leaf_size: 8,
-    };
+    let (bp1, _, fine) = small_bp1_and_fine_grid();
+    let h = H_LEAF_8;
     for integrator in [
         OdeIntegrator::Rkc,
         OdeIntegrator::Auto,
@@ -932,14 +844,8 @@ fn stabilized_integrators_give_the_same_bits_at_1_2_and_4_threads() {
                 };
                 let mut ode = bp1.fault_ode(model, options).unwrap();
                 let mut trace = Trace::default();
-                ode.run_until(
-                    Until::TimeWithin {
-                        time: 20.0 * SECONDS_PER_YEAR,
-                        max_steps: 500_000,
-                    },
-                    &mut [&mut trace],
-                )
-                .unwrap();
+                ode.run_until(within(20.0 * SECONDS_PER_YEAR), &mut [&mut trace])
+                    .unwrap();
                 (trace, ode.evaluations(), ode.integrator_stats())
             })
         };

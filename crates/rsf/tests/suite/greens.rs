@@ -6,72 +6,19 @@
 //! position and slip direction; the cross block between two faults is there and falls with
 //! their distance as a dislocation's stress does; a dense export above the limit is refused
 //! before any product.
-use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
+use rsf::fault_ode::FaultKernel;
 use rsf::fault_operator::OperatorOrigin;
-use rsf::fem::{rectangle, Diagonal};
-use rsf::friction::{AsinhLaw, RateStateParams};
 use rsf::greens::{asymmetry, GreensFunctions};
-use rsf::state::Aging;
-use rsf::time::Quasistatic;
-use rsf::{FaultOde, Material, Model, ModelBuilder, Part, SimulationBuilder};
+use rsf::Model;
+
+mod faults;
+use faults::box_with_faults;
+pub(crate) use faults::fault_ode;
 
 /// A `2 half × 2 half` m box in 0.25 m cells, top and bottom held, with two vertical
 /// faults 1 m long at `x = ∓d/2`, "west" and "east".
 pub(crate) fn two_faults(d: f64, half: f64) -> Model<2> {
     box_with_faults(d, half, 4.0)
-}
-
-/// [`two_faults`] in cells of `1/per_m` m.
-fn box_with_faults(d: f64, half: f64, per_m: f64) -> Model<2> {
-    let n = (2.0 * per_m * half).round() as usize + 1;
-    let mesh = rectangle(
-        [-half, -half],
-        [2.0 * half, 2.0 * half],
-        n,
-        n,
-        Diagonal::Forward,
-    )
-    .unwrap();
-    ModelBuilder::new(mesh)
-        .material(Material::new(3e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(
-            Part::predicate("top", move |x| x[1] > half - 1e-9),
-            [1e-9, 0.0],
-        )
-        .dirichlet(
-            Part::predicate("bottom", move |x| x[1] < -half + 1e-9),
-            [-1e-9, 0.0],
-        )
-        .internal_fault("west", [-d / 2.0, -0.5], [-d / 2.0, 0.5])
-        .internal_fault("east", [d / 2.0, -0.5], [d / 2.0, 0.5])
-        .build()
-        .unwrap()
-}
-
-pub(crate) type Ode = FaultOde<2, AsinhLaw, Aging>;
-
-pub(crate) fn fault_ode(model: Model<2>, kernel: FaultKernel) -> Ode {
-    let p = RateStateParams {
-        mu0: 0.6,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: 5e6,
-    };
-    SimulationBuilder::new(model)
-        .friction(AsinhLaw::new(p).unwrap())
-        .state_law(Aging::new(p.l).unwrap())
-        .initial_state((p.l / 1e-9f64).ln())
-        .integrator(Quasistatic::new())
-        .radiation_damping(5e6)
-        .time_step(1.0)
-        .build_fault_ode(FaultOdeOptions {
-            kernel,
-            ..Default::default()
-        })
-        .unwrap()
 }
 
 /// A deterministic vector of `m` entries in (−1, 1).

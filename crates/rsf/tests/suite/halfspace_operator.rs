@@ -7,6 +7,7 @@
 //! first event at nearly the same time.
 #![cfg(feature = "halfspace")]
 
+use crate::common::within;
 use faer::Mat;
 use rsf::direct::Condensation;
 use rsf::fault_operator::FaultOperator;
@@ -385,15 +386,7 @@ fn fe_and_bem_operators_converge_on_a_buried_fault() {
         (6, 3.0 * A),
         (6, 12.0 * A),
     ] {
-        let clock = std::time::Instant::now();
-        let d = compare(n, far, 1.3);
-        eprintln!(
-            "n = {n} (h = {:.0} m), box {:.0} km: {d} ({:.1} s)",
-            2.0 * A / n as f64,
-            far / 1e3,
-            clock.elapsed().as_secs_f64()
-        );
-        rows.push(d);
+        rows.push(timed_compare(n, far));
     }
     let [n4, n6, n8, small, large] = [0, 1, 2, 3, 4].map(|i| &rows[i]);
     for get in [
@@ -421,6 +414,20 @@ fn fe_and_bem_operators_converge_on_a_buried_fault() {
     );
 }
 
+/// [`compare`] at `n` cells a side in a box of `far` (m), its cells growing by 1.3,
+/// printed with its time.
+fn timed_compare(n: usize, far: f64) -> Difference {
+    let clock = std::time::Instant::now();
+    let d = compare(n, far, 1.3);
+    eprintln!(
+        "n = {n} (h = {:.0} m), box {:.0} km: {d} ({:.1} s)",
+        2.0 * A / n as f64,
+        far / 1e3,
+        clock.elapsed().as_secs_f64()
+    );
+    d
+}
+
 /// The finer meshes of docs/three-d.md's table (not run by default: 30 s and 1.8 GB, the
 /// most at n = 16, 105 219 dofs): `cargo test -p rsf --features halfspace --test
 /// halfspace_operator -- --ignored --nocapture`.
@@ -428,14 +435,7 @@ fn fe_and_bem_operators_converge_on_a_buried_fault() {
 #[ignore = "measurement for docs/three-d.md"]
 fn fe_and_bem_operators_on_finer_meshes() {
     for (n, far) in [(10, 6.0 * A), (12, 6.0 * A), (16, 6.0 * A)] {
-        let clock = std::time::Instant::now();
-        let d = compare(n, far, 1.3);
-        eprintln!(
-            "n = {n} (h = {:.0} m), box {:.0} km: {d} ({:.1} s)",
-            2.0 * A / n as f64,
-            far / 1e3,
-            clock.elapsed().as_secs_f64()
-        );
+        timed_compare(n, far);
     }
 }
 
@@ -510,15 +510,7 @@ fn first_event(bem: Option<f64>) -> (f64, usize) {
         time: None,
         steps: 0,
     };
-    rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: 1e8,
-            max_steps: 500_000,
-        },
-        &mut [&mut event],
-    )
-    .unwrap();
+    rsf::run_until(&mut ode, within(1e8), &mut [&mut event]).unwrap();
     (event.time.expect("an event before 1e8 s"), event.steps)
 }
 

@@ -196,11 +196,11 @@ fn tnnmg_and_the_direct_solver_agree_on_a_velocity_step_with_an_internal_fault()
 
 use crate::common::{
     assert_first_order, fault_ode_last_slip, history_difference, implicit_slip_errors,
-    partly_stuck_history, QuasiDynamic,
+    internal_fault_displacements, partly_stuck_history, run_tresca_steps, slip_and_jump, within,
+    QuasiDynamic,
 };
 use rsf::normal_stress::NormalStress;
-use rsf::simulation::NoState;
-use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
+use rsf::{Material, Model, ModelBuilder, Part, SolverKind, StepView};
 
 /// `x` turned by `theta` (rad) about the origin.
 fn turn(theta: f64, x: [f64; 2]) -> [f64; 2] {
@@ -242,23 +242,12 @@ struct Slips {
 
 impl rsf::Observer<2> for Slips {
     fn observe(&mut self, s: &StepView<'_, 2, 2>) -> rsf::Result<rsf::Flow> {
-        let f = s.model.internal_fault.as_ref().expect("an internal fault");
-        let u = s.model.to_cartesian(&s.state.kinematics.u)?;
-        let u0 = s.model.to_cartesian(&s.model.initial_displacement)?;
+        let (f, u, u0) = internal_fault_displacements(s)?;
         let mut row = Vec::new();
         for &k in &self.along {
             let (mi, pl) = f.pairs()[k];
-            let p = s
-                .model
-                .frictional_boundary
-                .nodes
-                .binary_search(&mi)
-                .unwrap();
             // The observer's slip is the Cartesian jump of the two sides' displacements.
-            let slip = s.slip(p);
-            let jump: [f64; 2] = std::array::from_fn(|c| {
-                (u[2 * pl + c] - u0[2 * pl + c]) - (u[2 * mi + c] - u0[2 * mi + c])
-            });
+            let (slip, jump) = slip_and_jump(s, (&u, &u0), (mi, pl));
             let scale = slip[0].hypot(slip[1]).max(1e-12);
             assert!((slip[0] - jump[0]).hypot(slip[1] - jump[1]) < 1e-9 * scale);
             assert_eq!(s.displacement(pl), [u[2 * pl], u[2 * pl + 1]]);
@@ -279,20 +268,12 @@ impl rsf::Observer<2> for Slips {
 fn slip_history(theta: f64, solver: SolverKind) -> Vec<Vec<f64>> {
     let model = sheared_block(theta).unwrap();
     let f = model.internal_fault.as_ref().unwrap();
-    let mut sim = SimulationBuilder::new(model.clone())
-        .friction_at(|x| Tresca::new(0.3 + 0.6 * turn(-theta, *x)[1].abs(), 5e6))
-        .state_law(NoState)
-        .initial_state(0.0)
-        .integrator(rsf::time::Quasistatic::new())
-        .time_step(0.5)
-        .solver(solver)
-        .build()
-        .unwrap();
     let mut slips = Slips {
         along: (0..f.pairs().len()).collect(),
         rows: Vec::new(),
     };
-    sim.run(20, &mut [&mut slips]).unwrap();
+    let mu = |x: &[f64; 2]| 0.3 + 0.6 * turn(-theta, *x)[1].abs();
+    run_tresca_steps(model.clone(), mu, solver, 20, &mut slips);
     slips.rows
 }
 
@@ -376,10 +357,7 @@ fn quasi_dynamic() -> QuasiDynamic<2> {
 #[test]
 fn the_fault_ode_and_the_implicit_scheme_agree_on_an_internal_fault() {
     let t_end = 3.0;
-    let until = rsf::Until::TimeWithin {
-        time: t_end,
-        max_steps: 500_000,
-    };
+    let until = within(t_end);
     let (reference, _) = fault_ode_last_slip(quasi_dynamic(), until);
     let errors = implicit_slip_errors(quasi_dynamic, t_end, &[25, 50, 100, 200], &reference);
     assert_first_order(&errors);

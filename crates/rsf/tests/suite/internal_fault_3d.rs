@@ -7,14 +7,13 @@
 //! the fault ODE (condensed onto the jumps) and the implicit scheme agree.
 use crate::common::{
     assert_first_order, assert_first_order_with_normal_stress, fault_ode_last_slip,
-    history_difference, implicit_last_slip, implicit_slip_errors, largest_difference,
-    partly_stuck_history, QuasiDynamic,
+    history_difference, implicit_last_slip, implicit_slip_errors, internal_fault_displacements,
+    largest_difference, largest_slip, partly_stuck_history, run_tresca_steps, slip_and_jump,
+    QuasiDynamic,
 };
 use rsf::fem::{cuboid, SimplexMesh};
-use rsf::friction::Tresca;
 use rsf::normal_stress::NormalStress;
-use rsf::simulation::NoState;
-use rsf::{Material, Model, ModelBuilder, Part, SimulationBuilder, SolverKind, StepView};
+use rsf::{Material, Model, ModelBuilder, Part, SolverKind, StepView};
 
 /// `x` rotated by `q` (row-major).
 fn rotate(q: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
@@ -157,21 +156,10 @@ struct Slips {
 
 impl rsf::Observer<3> for Slips {
     fn observe(&mut self, s: &StepView<'_, 3, 3>) -> rsf::Result<rsf::Flow> {
-        let f = s.model.internal_fault.as_ref().expect("an internal fault");
-        let u = s.model.to_cartesian(&s.state.kinematics.u)?;
-        let u0 = s.model.to_cartesian(&s.model.initial_displacement)?;
+        let (f, u, u0) = internal_fault_displacements(s)?;
         let mut row = Vec::new();
         for (k, &(mi, pl)) in f.pairs().iter().enumerate() {
-            let p = s
-                .model
-                .frictional_boundary
-                .nodes
-                .binary_search(&mi)
-                .unwrap();
-            let slip = s.slip(p);
-            let jump: [f64; 3] = std::array::from_fn(|c| {
-                (u[3 * pl + c] - u0[3 * pl + c]) - (u[3 * mi + c] - u0[3 * mi + c])
-            });
+            let (slip, jump) = slip_and_jump(s, (&u, &u0), (mi, pl));
             let length = |x: [f64; 3]| x.iter().map(|c| c * c).sum::<f64>().sqrt();
             let scale = length(slip).max(1e-12);
             let d: [f64; 3] = std::array::from_fn(|c| slip[c] - jump[c]);
@@ -484,20 +472,12 @@ fn sheared_cube_with_faces(faces: &[[usize; 3]]) -> rsf::Result<Model<3>> {
 /// r the unturned distance from the x axis, σ̄_n = 5 MPa): the slip of every pair at every
 /// step, pairs in the model's order.
 fn slips_of(model: Model<3>, solver: SolverKind, q: [[f64; 3]; 3]) -> Vec<Vec<f64>> {
-    let mut sim = SimulationBuilder::new(model)
-        .friction_at(move |x| {
-            let y = rotate_back(&q, *x);
-            Tresca::new(0.3 + 0.6 * y[1].hypot(y[2]), 5e6)
-        })
-        .state_law(NoState)
-        .initial_state(0.0)
-        .integrator(rsf::time::Quasistatic::new())
-        .time_step(0.5)
-        .solver(solver)
-        .build()
-        .unwrap();
+    let mu = |x: &[f64; 3]| {
+        let y = rotate_back(&q, *x);
+        0.3 + 0.6 * y[1].hypot(y[2])
+    };
     let mut slips = Slips { rows: Vec::new() };
-    sim.run(16, &mut [&mut slips]).unwrap();
+    run_tresca_steps(model, mu, solver, 16, &mut slips);
     slips.rows
 }
 
@@ -542,12 +522,8 @@ fn a_3d_fault_given_as_coarse_faces_follows_the_hierarchy() {
         slips_of(by_faces, SolverKind::Direct, rotation(0.0)),
         slips_of(by_polygon, SolverKind::Direct, rotation(0.0)),
     );
-    let scale = s2.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
-    let d = s1
-        .iter()
-        .flatten()
-        .zip(s2.iter().flatten())
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let scale = largest_slip(&s2);
+    let d = history_difference(&s1, &s2);
     assert!(scale > 0.0 && d <= 1e-10 * scale, "{d:e}");
 
     // A kinked fault of two planes, as faces.
@@ -562,12 +538,8 @@ fn a_3d_fault_given_as_coarse_faces_follows_the_hierarchy() {
     let pairs = model.internal_fault.as_ref().unwrap().pairs().len();
     let direct = slips_of(model.clone(), SolverKind::Direct, rotation(0.0));
     let tnnmg = slips_of(model, SolverKind::Tnnmg, rotation(0.0));
-    let scale = direct.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
-    let d = direct
-        .iter()
-        .flatten()
-        .zip(tnnmg.iter().flatten())
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let scale = largest_slip(&direct);
+    let d = history_difference(&direct, &tnnmg);
     eprintln!(
         "kinked: {pairs} pairs, largest slip {scale:e} m, TNNMG against direct {:e}",
         d / scale

@@ -435,36 +435,36 @@ fn a_block_on_an_incline_slides_steadily_at_the_closed_form_rate() {
     }
 }
 
+/// Asserts that `err` is a fault's corner at `node` of `angle` (°, to 1e-9).
+fn assert_fault_corner(err: &Error, node: usize, angle: f64) {
+    match err {
+        Error::FaultCorner {
+            node: n,
+            angle_degrees,
+            ..
+        } => {
+            assert_eq!(*n, node);
+            assert!((angle_degrees - angle).abs() < 1e-9, "{angle_degrees}");
+        }
+        e => panic!("expected FaultCorner, got {e}"),
+    }
+}
+
 #[test]
 fn a_fault_around_a_corner_is_a_typed_error_naming_the_node() {
     let mesh = rectangle([0.0, 0.0], [2.0, 1.0], 5, 3, Diagonal::Forward).unwrap();
     // Bottom and right side: the corner (2, 0) is node 4, facets at 90°.
-    let err = ModelBuilder::new(mesh.clone())
-        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
-        .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
-        .frictional_boundary(Part::predicate("L", |x| x[1] < 1e-9 || x[0] > 2.0 - 1e-9))
-        .build()
-        .unwrap_err();
-    match &err {
-        Error::FaultCorner {
-            node,
-            angle_degrees,
-            ..
-        } => {
-            assert_eq!(*node, 4);
-            assert!((angle_degrees - 90.0).abs() < 1e-9);
-        }
-        e => panic!("expected FaultCorner, got {e}"),
-    }
+    let builder = || {
+        ModelBuilder::new(mesh.clone())
+            .material(rsf::Material::new(1e8, 0.25, 2.7e3))
+            .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
+            .frictional_boundary(Part::predicate("L", |x| x[1] < 1e-9 || x[0] > 2.0 - 1e-9))
+    };
+    let err = builder().build().unwrap_err();
+    assert_fault_corner(&err, 4, 90.0);
     assert!(err.to_string().contains("node 4"), "{err}");
     // A limit above 90° accepts the corner (its normal is the diagonal, a frame node).
-    let model = ModelBuilder::new(mesh.clone())
-        .material(rsf::Material::new(1e8, 0.25, 2.7e3))
-        .dirichlet(Part::predicate("top", |x| x[1] > 1.0 - 1e-9), [1e-4, 0.0])
-        .frictional_boundary(Part::predicate("L", |x| x[1] < 1e-9 || x[0] > 2.0 - 1e-9))
-        .max_fault_kink(91.0)
-        .build()
-        .unwrap();
+    let model = builder().max_fault_kink(91.0).build().unwrap();
     assert_eq!(model.frames.nodes, vec![4]);
     let q = model.frame(4).unwrap();
     let s = 0.5f64.sqrt();
@@ -543,17 +543,7 @@ fn a_fault_folding_back_at_a_crack_tip_is_a_typed_error_naming_the_node() {
     };
     // Under the default kink limit the tip is a corner of 180°.
     let err = builder(rsf::model::DEFAULT_MAX_FAULT_KINK_DEGREES).unwrap_err();
-    match &err {
-        Error::FaultCorner {
-            node,
-            angle_degrees,
-            ..
-        } => {
-            assert_eq!(*node, 4);
-            assert!((angle_degrees - 180.0).abs() < 1e-9, "{angle_degrees}");
-        }
-        e => panic!("expected FaultCorner, got {e}"),
-    }
+    assert_fault_corner(&err, 4, 180.0);
     // Admitting any kink, the normals still cancel: no frame exists.
     let err = builder(180.0).unwrap_err();
     match &err {

@@ -3,7 +3,7 @@
 //! the fault ODE's normal stress against a full static solve at the same slip, zero change
 //! on a fault that is a plane of mirror symmetry, the implicit scheme converging to the
 //! fault ODE, and typed refusals.
-use crate::common::assert_first_order_with_normal_stress;
+use crate::common::{assert_first_order_with_normal_stress, within};
 use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fault_ode::FaultOdeOptions;
 use rsf::fem::{rectangle, Diagonal, SimplexMesh, SparseMatrix};
@@ -62,15 +62,7 @@ pub(crate) fn fault_ode(
 /// The rows ([`Record`]) of the fault ODE `ode` run to `t_end` (s).
 fn record_to(ode: &mut rsf::FaultOde<2, AsinhLaw, Aging>, t_end: f64) -> Record {
     let mut record = Record::default();
-    rsf::run_until(
-        ode,
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut record],
-    )
-    .unwrap();
+    rsf::run_until(ode, within(t_end), &mut [&mut record]).unwrap();
     record
 }
 
@@ -283,15 +275,7 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
     }
     let model = pulled_apart_block();
     let mut ode = fault_ode(model.clone(), NormalStress::FromSlip).unwrap();
-    let e = rsf::run_until(
-        &mut ode,
-        rsf::Until::TimeWithin {
-            time: 10.0,
-            max_steps: 500_000,
-        },
-        &mut [],
-    )
-    .unwrap_err();
+    let e = rsf::run_until(&mut ode, within(10.0), &mut []).unwrap_err();
     let text = format!("{e}: {}", e.error);
     eprintln!("fault ODE: {text}");
     match &e.error {
@@ -320,15 +304,7 @@ fn a_normal_stress_from_slip_is_refused_where_it_cannot_be_and_opening_is_an_err
         }
         .build()
         .unwrap();
-        let e = sim
-            .run_until(
-                rsf::Until::TimeWithin {
-                    time: 10.0,
-                    max_steps: 500_000,
-                },
-                &mut [],
-            )
-            .unwrap_err();
+        let e = sim.run_until(within(10.0), &mut []).unwrap_err();
         let text = format!("{e}: {}", e.error);
         eprintln!("implicit, adaptive {adaptive}: {text}");
         match &e.error {
@@ -475,14 +451,7 @@ fn the_switching_run_carries_a_normal_stress_from_slip_through_both_phases() {
     let ode = fault_ode(thrust_block(), NormalStress::FromSlip).unwrap();
     let mut run = rsf::SwitchingRun::new(ode, dynamic(NormalStress::FromSlip), options).unwrap();
     let mut record = Record::default();
-    run.run_until(
-        rsf::Until::TimeWithin {
-            time: 3.0,
-            max_steps: 500_000,
-        },
-        &mut [&mut record],
-    )
-    .unwrap();
+    run.run_until(within(3.0), &mut [&mut record]).unwrap();
     let stats = run.stats();
     let change = record
         .rows

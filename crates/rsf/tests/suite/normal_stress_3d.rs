@@ -3,14 +3,13 @@
 //! compressed with a hierarchical kernel (embedded in `m × m`, one point per slip
 //! unknown) against the dense one, entry by entry and along a run, and the dense product
 //! on 1, 2 and 4 threads.
+use crate::common::within;
 use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
 use rsf::fem::cuboid;
 use rsf::friction::AsinhLaw;
 use rsf::normal_stress::NormalStress;
 use rsf::state::Aging;
-use rsf::{
-    FaultOde, Flow, Material, Model, ModelBuilder, Observer, Part, StepView, Stepping, Until,
-};
+use rsf::{FaultOde, Flow, Material, Model, ModelBuilder, Observer, Part, StepView, Stepping};
 
 use crate::normal_stress::SIGMA_N;
 
@@ -181,15 +180,7 @@ fn normal_stress_at(ode: &mut FaultOde<3, AsinhLaw, Aging>, stops: &[f64]) -> Ve
     let mut rows = Vec::new();
     for &t in stops {
         let mut record = NormalStresses::default();
-        rsf::run_until(
-            ode,
-            Until::TimeWithin {
-                time: t,
-                max_steps: 500_000,
-            },
-            &mut [&mut record],
-        )
-        .unwrap();
+        rsf::run_until(ode, within(t), &mut [&mut record]).unwrap();
         rows.push(record.0.pop().unwrap());
     }
     rows

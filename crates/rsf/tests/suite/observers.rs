@@ -1,10 +1,10 @@
 //! The library observers: slip-event detection (hysteresis, catalogue, stopping a run at
 //! an event) and the in-memory recorder.
 
+use crate::common::within;
 use rsf::observe::{
     EventDetector, EventThresholds, FaultRecorder, Recorder, SlipEvents, StopAt, Transition,
 };
-use rsf::Until;
 use rsf_scenes::{SliderScene, SLIDER_CENTRE};
 
 /// Rates with ringing around the onset threshold inside the first event.
@@ -85,10 +85,7 @@ fn a_run_stops_at_the_end_of_the_first_event() {
     let mut fault = FaultRecorder::new(sim.model());
     let summary = sim
         .run_until(
-            Until::TimeWithin {
-                time: scene.end_time_s,
-                max_steps: 500_000,
-            },
+            within(scene.end_time_s),
             &mut [&mut events, &mut rec, &mut fault],
         )
         .unwrap();

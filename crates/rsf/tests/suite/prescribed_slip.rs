@@ -21,6 +21,14 @@ fn builder(n: usize, levels: usize) -> ModelBuilder<3> {
     crate::common::cube_with_buried_fault(n, levels)
 }
 
+/// [`builder`]`(n, levels)` with the slip [`SLIP`] prescribed at every pair.
+fn fully_prescribed(n: usize, levels: usize) -> Model<3> {
+    builder(n, levels)
+        .internal_slip_at(|_| Some(PrescribedSlip::Cartesian(SLIP)))
+        .build()
+        .unwrap()
+}
+
 /// The largest `|u⁺ − u⁻ − s|` over the pairs where `s(x)` is given.
 fn jump_error(model: &Model<3>, u: &[f64], s: impl Fn(&[f64; 3]) -> Option<[f64; 3]>) -> f64 {
     let f = model.internal_fault.as_ref().unwrap();
@@ -37,10 +45,7 @@ fn jump_error(model: &Model<3>, u: &[f64], s: impl Fn(&[f64; 3]) -> Option<[f64;
 
 #[test]
 fn a_fully_prescribed_fault_builds_and_a_simulation_refuses_it_by_name() {
-    let model = builder(4, 1)
-        .internal_slip_at(|_| Some(PrescribedSlip::Cartesian(SLIP)))
-        .build()
-        .unwrap();
+    let model = fully_prescribed(4, 1);
     let pairs = model.internal_fault.as_ref().unwrap().pairs().len();
     assert_eq!(
         pairs,
@@ -72,10 +77,7 @@ fn a_fully_prescribed_fault_builds_and_a_simulation_refuses_it_by_name() {
 /// different routes to one linear problem: the same displacement to round-off.
 #[test]
 fn the_prescribed_slip_gives_the_displacement_of_the_creep_rate_route() {
-    let new = builder(4, 1)
-        .internal_slip_at(|_| Some(PrescribedSlip::Cartesian(SLIP)))
-        .build()
-        .unwrap();
+    let new = fully_prescribed(4, 1);
     let probe = [0.0, -0.25, -0.25];
     let at_probe = move |x: &[f64; 3]| (0..3).all(|c| (x[c] - probe[c]).abs() < 1e-9);
     let old = builder(4, 1)
@@ -280,10 +282,7 @@ fn the_static_solver_solves_the_builds_problem_again_directly_and_by_multigrid()
 /// iteration cap is one too; neither returns an unconverged displacement.
 #[test]
 fn multigrid_stops_at_its_time_limit_and_its_iteration_cap_with_a_typed_error() {
-    let model = builder(2, 2)
-        .internal_slip_at(|_| Some(PrescribedSlip::Cartesian(SLIP)))
-        .build()
-        .unwrap();
+    let model = fully_prescribed(2, 2);
     let mut u = model.initial_displacement.clone();
     for (x, &f) in u.iter_mut().zip(&model.fixed) {
         if !f {

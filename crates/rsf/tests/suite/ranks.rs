@@ -7,9 +7,15 @@ use rsf::fault_ode::FaultKernel;
 use rsf::observe::SECONDS_PER_YEAR;
 use rsf::{Flow, Observer, StepView, Until};
 use rsf_ranks::{Processes, ThreadProcess};
-use rsf_scenes::{SeasBp1, SeasBp1Grid};
 
-use crate::common::small_bp1;
+use crate::common::{small_bp1_and_fine_grid, within, H_LEAF_8};
+
+/// BP3's grid of the rank tests: Δx = 2 km in a domain of 100 km.
+const BP3_2KM: rsf_scenes::SeasBp3Grid = rsf_scenes::SeasBp3Grid {
+    dx: 2000.0,
+    domain: 100e3,
+    ratio: 1.2,
+};
 
 /// Every accepted step's time, step size and the bits of the fault's slip and state.
 #[derive(Default)]
@@ -77,16 +83,8 @@ fn same_bits_on_ranks(run: impl Fn(Option<ThreadProcess>) -> Vec<Vec<u64>> + Syn
 /// parts of the rows) and with the dense kernel (its rows in blocks of 8).
 #[test]
 fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
-    let (bp1, coarse) = small_bp1(&SeasBp1::default());
-    let grid = SeasBp1Grid {
-        dz: 100.0,
-        ..coarse
-    };
-    let hierarchical = FaultKernel::Hierarchical {
-        epsilon: 1e-6,
-        leaf_size: 8,
-    };
-    for kernel in [hierarchical, FaultKernel::Dense] {
+    let (bp1, _, grid) = small_bp1_and_fine_grid();
+    for kernel in [H_LEAF_8, FaultKernel::Dense] {
         let steps = same_bits_on_ranks(|ranks| {
             let model = bp1.model(&grid, false).unwrap();
             let options = rsf::fault_ode::FaultOdeOptions {
@@ -94,14 +92,7 @@ fn a_bp1_fault_has_the_same_bits_on_1_to_4_ranks() {
                 ..bp1.fault_ode_options(1e-6).unwrap()
             };
             let ode = bp1.fault_ode(model, options).unwrap();
-            run_shared(
-                ode,
-                ranks,
-                Until::TimeWithin {
-                    time: 20.0 * SECONDS_PER_YEAR,
-                    max_steps: 500_000,
-                },
-            )
+            run_shared(ode, ranks, within(20.0 * SECONDS_PER_YEAR))
         });
         eprintln!("BP1, m = 100, {kernel:?}: {steps} steps with the same bits on 1–4 ranks");
     }
@@ -123,14 +114,7 @@ fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
                 ..Default::default()
             })
             .unwrap();
-        run_shared(
-            ode,
-            ranks,
-            Until::TimeWithin {
-                time: 3.0,
-                max_steps: 500_000,
-            },
-        )
+        run_shared(ode, ranks, within(3.0))
     });
     eprintln!("3-D internal fault: {steps} steps with the same bits on 1–4 ranks");
 }
@@ -142,13 +126,9 @@ fn a_3d_fault_has_the_same_bits_on_1_to_4_ranks() {
 /// all-gathers, the reactions' (one per node) and the rates'.
 #[test]
 fn a_bp3_thrust_fault_with_a_normal_stress_from_slip_has_the_same_bits_on_1_to_4_ranks() {
-    use rsf_scenes::{SeasBp3, SeasBp3Grid};
+    use rsf_scenes::SeasBp3;
     let bp3 = SeasBp3::thrust();
-    let grid = SeasBp3Grid {
-        dx: 2000.0,
-        domain: 100e3,
-        ratio: 1.2,
-    };
+    let grid = BP3_2KM;
     let hierarchical = FaultKernel::Hierarchical {
         epsilon: 1e-7,
         leaf_size: 8,
@@ -209,13 +189,9 @@ fn scrambled_bp3_model(bp3: &rsf_scenes::SeasBp3, grid: &rsf_scenes::SeasBp3Grid
 /// unnoticed.)
 #[test]
 fn bp3_with_its_nodes_out_of_cluster_order_has_the_same_bits_on_1_to_4_ranks() {
-    use rsf_scenes::{SeasBp3, SeasBp3Grid};
+    use rsf_scenes::SeasBp3;
     let bp3 = SeasBp3::thrust();
-    let grid = SeasBp3Grid {
-        dx: 2000.0,
-        domain: 100e3,
-        ratio: 1.2,
-    };
+    let grid = BP3_2KM;
     let model = scrambled_bp3_model(&bp3, &grid);
     // The nodes out of order along the fault (not monotone in x_d): the ℋ-matrix's cluster
     // order, by position, is not theirs.
@@ -254,15 +230,7 @@ fn an_opening_fault_ends_every_rank_with_the_unshared_error() {
             ode.share_evaluations(ranks.group()).unwrap();
         }
         let mut bits = Bits::default();
-        let e = ode
-            .run_until(
-                Until::TimeWithin {
-                    time: 10.0,
-                    max_steps: 500_000,
-                },
-                &mut [&mut bits],
-            )
-            .unwrap_err();
+        let e = ode.run_until(within(10.0), &mut [&mut bits]).unwrap_err();
         let text = format!("{e}: {}", e.error);
         (bits.0, text, ode.exchanges())
     };

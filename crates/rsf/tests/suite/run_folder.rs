@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::common::snapshot;
+use crate::common::{snapshot, within};
 use rsf::observe::{FileMode, PointSeries};
 use rsf::run_folder::RunFolder;
 use rsf::run_folder::{check_output_size, check_window, read_checkpoint};
@@ -142,13 +142,7 @@ fn adaptive_output_bounds_are_honest() {
         let scene = adaptive(tol, tau_min);
         let bound = rsf_scenes::steps_bound(&scene, (0.0, scene.end_time_s));
         let mut sim = scene.build().unwrap();
-        let run = sim.run_until(
-            rsf::Until::TimeWithin {
-                time: scene.end_time_s,
-                max_steps: 500_000,
-            },
-            &mut [],
-        );
+        let run = sim.run_until(within(scene.end_time_s), &mut []);
         let steps = sim.state().step as f64;
         assert!(
             steps <= bound,
@@ -175,60 +169,29 @@ fn adaptive_output_bounds_are_honest() {
         ..SliderScene::default()
     };
     let window = (0.6725 * 15.0, 0.6775 * 15.0);
-    let plan = rsf_scenes::plan_output(
-        &scene,
-        window,
-        81,
-        600,
-        rsf_scenes::OutputLimits {
-            max_steps: None,
+    // The output plan of `scene` over `window` (81 nodes, 600 map samples) in a budget of
+    // 10 GB with the step cap `max_steps`.
+    let plan = |scene: &SliderScene, max_steps| {
+        let limits = rsf_scenes::OutputLimits {
+            max_steps,
             max_gb: 10.0,
-        },
-    )
-    .unwrap();
-    let cap = plan.step_cap.expect("a cap");
-    assert!(plan.bytes <= 10e9, "{plan:?}");
+        };
+        rsf_scenes::plan_output(scene, window, 81, 600, limits)
+    };
+    let output = plan(&scene, None).unwrap();
+    let cap = output.step_cap.expect("a cap");
+    assert!(output.bytes <= 10e9, "{output:?}");
     assert!(cap > 1_000_000, "{cap}");
-    let e = rsf_scenes::plan_output(
-        &scene,
-        window,
-        81,
-        600,
-        rsf_scenes::OutputLimits {
-            max_steps: Some(1e9 as u64),
-            max_gb: 10.0,
-        },
-    )
-    .unwrap_err();
+    let e = plan(&scene, Some(1e9 as u64)).unwrap_err();
     assert!(e.to_string().contains("`max_steps`"), "{e}");
-    let ok = rsf_scenes::plan_output(
-        &scene,
-        window,
-        81,
-        600,
-        rsf_scenes::OutputLimits {
-            max_steps: Some(100_000),
-            max_gb: 10.0,
-        },
-    )
-    .unwrap();
+    let ok = plan(&scene, Some(100_000)).unwrap();
     assert_eq!(ok.step_cap, Some(100_000));
     // Fixed steps above the budget are refused naming `steps`.
     let huge = SliderScene {
         steps: 1_000_000_000,
         ..SliderScene::default()
     };
-    let e = rsf_scenes::plan_output(
-        &huge,
-        window,
-        81,
-        600,
-        rsf_scenes::OutputLimits {
-            max_steps: None,
-            max_gb: 10.0,
-        },
-    )
-    .unwrap_err();
+    let e = plan(&huge, None).unwrap_err();
     assert!(e.to_string().contains("`steps`"), "{e}");
 }
 

@@ -2,13 +2,15 @@
 //! reproduces the 2-D main job, TNNMG and the direct solver agree on its velocity
 //! problems, and its VTU frames hold tetrahedra.
 
-use crate::common::{apply, dot, first_crossing};
+use crate::common::{
+    apply, dot, first_crossing, newmark_rhs, newmark_velocity_matrix, steady_shear_strain,
+    tnnmg_on, uniform_friction, with_dirichlet_values,
+};
 use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::SparseMatrix;
 use rsf::friction::DieterichRuina;
 use rsf::method::FrictionBlocks;
 use rsf::nonsmooth::{NonsmoothSolver, Stopping};
-use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{Tnnmg, TnnmgOptions};
 use rsf::{Model, Observer, SolverKind, StepView};
 use rsf_scenes::{LateralBoundary, Slider3dScene, SliderScene, SLIDER_CENTRE};
@@ -143,13 +145,7 @@ impl Problem {
         };
         let tau = scene.slider.tau();
         let model = scene.build_model().expect("3-D slider model");
-        let a = rsf::fem::combine(
-            2.0 / tau,
-            model.mass.as_ref().expect("Newmark has mass"),
-            tau / 2.0,
-            &model.stiffness,
-        )
-        .expect("A = (2/τ)M + (τ/2)K");
+        let a = newmark_velocity_matrix(&model, tau);
         let top = (0..model.num_dofs())
             .map(|i| model.vertices[i / 3][1] > 1.0 - 1e-9)
             .collect();
@@ -183,66 +179,28 @@ impl Problem {
         // the elastic traction on Γ_F balances steady-state friction (a slip phase).
         let mut u = self.model.initial_displacement.clone();
         if v_slide > 0.0 {
-            let g = s.youngs_modulus_pa / (2.0 * (1.0 + s.poisson_ratio));
-            let gamma = s.rate_state_params().steady_state_friction(v_slide) * s.sigma_n_pa / g;
+            let gamma = steady_shear_strain(s, v_slide);
             for (i, u) in u.iter_mut().enumerate() {
                 *u += gamma * self.model.vertices[i / 3][1] * SLIDE_DIRECTION[i % 3];
             }
         }
-        let kin = Kinematics {
-            u,
-            v: self.previous_velocity(v_slide),
-            a: vec![0.0; self.n()],
-        };
-        let mut b = vec![0.0; self.n()];
-        Newmark
-            .right_hand_side(
-                s.tau(),
-                rsf::time::SystemMatrices::new(self.model.mass.as_ref(), &self.model.stiffness),
-                &self.model.load,
-                &kin,
-                &mut b,
-            )
-            .expect("Newmark right-hand side");
-        b
+        newmark_rhs(&self.model, s.tau(), u, self.previous_velocity(v_slide))
     }
 
     /// Warm start: `v_prev` with the Dirichlet values on the fixed dofs.
     fn start(&self, v_slide: f64) -> Vec<f64> {
-        let mut v = self.previous_velocity(v_slide);
-        for (i, &f) in self.model.fixed.iter().enumerate() {
-            if f {
-                v[i] = if self.top[i] && i % 3 == 0 {
-                    V_TOP
-                } else {
-                    0.0
-                };
-            }
-        }
-        v
+        let v = self.previous_velocity(v_slide);
+        with_dirichlet_values(&self.model, &self.top, V_TOP, v)
     }
 
     fn dieterich_ruina(&self, alpha: f64) -> FrictionBlocks<DieterichRuina> {
-        let f = &self.model.frictional_boundary;
         let law = DieterichRuina::new(self.scene.slider.rate_state_params()).unwrap();
-        FrictionBlocks::new(
-            f.nodes.clone(),
-            f.weights.clone(),
-            vec![law; f.nodes.len()],
-            &vec![alpha; f.nodes.len()],
-        )
+        uniform_friction(&self.model, law, alpha)
     }
 
     /// TNNMG on this problem's hierarchy, stopping norm `K + M`.
     fn tnnmg(&self, opts: TnnmgOptions) -> Tnnmg<3> {
-        Tnnmg::<3>::new(
-            self.a.as_ref(),
-            &self.model.fixed,
-            &self.model.prolongations,
-            Some(self.model.energy_norm.as_ref()),
-            opts,
-        )
-        .unwrap()
+        tnnmg_on(&self.a, &self.model, opts)
     }
 
     /// `‖x − y‖_E / ‖y‖_E` in the energy norm `K + M`.

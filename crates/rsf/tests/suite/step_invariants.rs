@@ -75,12 +75,12 @@
 //! is printed (`--nocapture`). The wrong-physics mutations each check was seen to catch,
 //! and by what factor, are in docs/physics-tests.md ("Issue 22").
 
-use crate::common::apply;
+use crate::common::{apply, within};
 use rsf::fem::SparseMatrix;
 use rsf::observe::{EventThresholds, SlipEvents, StopAt};
 use rsf::state::{Aging, StateLaw};
 use rsf::time::Kinematics;
-use rsf::{Flow, Integrator, Model, Observer, StateLawKind, StepView, Until};
+use rsf::{Flow, Integrator, Model, Observer, StateLawKind, StepView};
 use rsf_scenes::SliderScene;
 
 /// Absolute tolerance of the pointwise state solve (paper §6.2: bisection to 1e-12).
@@ -405,13 +405,7 @@ fn every_committed_step_through_two_slip_events_satisfies_the_invariants() {
         .expect("valid thresholds")
         .stop(StopAt::End(2));
     let summary = sim
-        .run_until(
-            Until::TimeWithin {
-                time: scene.end_time_s,
-                max_steps: 500_000,
-            },
-            &mut [&mut checks, &mut events],
-        )
+        .run_until(within(scene.end_time_s), &mut [&mut checks, &mut events])
         .expect("every step succeeds");
     for e in events.events() {
         eprintln!(

@@ -9,12 +9,15 @@
 //! The Dirichlet values are the post-ramp loading `v = (2e-4, 0)` m/s on the top edge and
 //! `v_y = 0` on Γ_F (bilateral contact). Warm start: `v_prev` with the Dirichlet values.
 
+use crate::common::{
+    newmark_rhs, newmark_velocity_matrix, steady_shear_strain, tnnmg_on, uniform_friction,
+    with_dirichlet_values,
+};
 use rsf::direct::{DirectOptions, DirectSolver};
 use rsf::fem::SparseMatrix;
 use rsf::friction::{DieterichRuina, FrictionLaw, Tresca};
 use rsf::method::FrictionBlocks;
 use rsf::nonsmooth::{BlockNonlinearity, NoNonlinearity, NonsmoothSolver, ProblemError, Stopping};
-use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{Error as SolverError, NonlinearGaussSeidel, Tnnmg, TnnmgOptions};
 use rsf::Model;
 use rsf_scenes::SliderScene;
@@ -41,13 +44,7 @@ impl Slider {
         let tau = scene.tau();
         assert!((tau - 1.5e-3).abs() < 1e-15);
         let model = scene.build_model().expect("slider model");
-        let a = rsf::fem::combine(
-            2.0 / tau,
-            model.mass.as_ref().expect("Newmark has mass"),
-            tau / 2.0,
-            &model.stiffness,
-        )
-        .expect("A = (2/τ)M + (τ/2)K");
+        let a = newmark_velocity_matrix(&model, tau);
         let mut top = vec![false; model.fixed.len()];
         for &i in &model.dirichlet.dofs {
             top[i] = true;
@@ -76,75 +73,37 @@ impl Slider {
 
     /// Newmark right-hand side ℓ from `(u_0, v_prev, 0)`.
     fn rhs(&self, v_slide: f64) -> Vec<f64> {
-        let n = self.n();
         // Shear prestress u_x += γ y with G γ = μ_ss(V) σ̄_n: the elastic force on Γ_F
         // balances steady-state friction at the sliding velocity (a slip phase).
         let mut u = self.model.initial_displacement.clone();
         if v_slide > 0.0 {
-            let sc = &self.scene;
-            let g = sc.youngs_modulus_pa / (2.0 * (1.0 + sc.poisson_ratio));
-            let gamma = sc.rate_state_params().steady_state_friction(v_slide) * sc.sigma_n_pa / g;
+            let gamma = steady_shear_strain(&self.scene, v_slide);
             for (p, x) in self.model.vertices.iter().enumerate() {
                 u[2 * p] += gamma * x[1];
             }
         }
-        let kin = Kinematics {
+        newmark_rhs(
+            &self.model,
+            self.scene.tau(),
             u,
-            v: self.previous_velocity(v_slide),
-            a: vec![0.0; n],
-        };
-        let mut b = vec![0.0; n];
-        Newmark
-            .right_hand_side(
-                self.scene.tau(),
-                rsf::time::SystemMatrices::new(self.model.mass.as_ref(), &self.model.stiffness),
-                &self.model.load,
-                &kin,
-                &mut b,
-            )
-            .expect("Newmark right-hand side");
-        b
+            self.previous_velocity(v_slide),
+        )
     }
 
     /// Warm start: `v_prev` with the Dirichlet values on the fixed dofs.
     fn start(&self, v_slide: f64) -> Vec<f64> {
-        let mut v = self.previous_velocity(v_slide);
-        for (i, &f) in self.model.fixed.iter().enumerate() {
-            if f {
-                v[i] = if self.top[i] && i % 2 == 0 {
-                    V_TOP
-                } else {
-                    0.0
-                };
-            }
-        }
-        v
-    }
-
-    fn frictional_count(&self) -> usize {
-        self.model.frictional_boundary.nodes.len()
+        let v = self.previous_velocity(v_slide);
+        with_dirichlet_values(&self.model, &self.top, V_TOP, v)
     }
 
     fn dieterich_ruina(&self, alpha: f64) -> FrictionBlocks<DieterichRuina> {
-        let nf = self.frictional_count();
         let law = DieterichRuina::new(self.scene.rate_state_params()).unwrap();
-        FrictionBlocks::new(
-            self.model.frictional_boundary.nodes.clone(),
-            self.model.frictional_boundary.weights.clone(),
-            vec![law; nf],
-            &vec![alpha; nf],
-        )
+        uniform_friction(&self.model, law, alpha)
     }
 
     fn tresca(&self, mu: f64) -> FrictionBlocks<Tresca> {
-        let nf = self.frictional_count();
         let law = Tresca::new(mu, self.scene.sigma_n_pa).unwrap();
-        FrictionBlocks::new(
-            self.model.frictional_boundary.nodes.clone(),
-            self.model.frictional_boundary.weights.clone(),
-            vec![law; nf],
-            &vec![0.0; nf],
-        )
+        uniform_friction(&self.model, law, 0.0)
     }
 
     /// Tresca coefficient at which about half the nodes of Γ_F stick for the rhs `b`: the
@@ -187,14 +146,7 @@ impl Slider {
     }
 
     fn tnnmg(&self, opts: TnnmgOptions) -> Tnnmg<2> {
-        Tnnmg::<2>::new(
-            self.a.as_ref(),
-            &self.model.fixed,
-            &self.model.prolongations,
-            Some(self.model.energy_norm.as_ref()),
-            opts,
-        )
-        .unwrap()
+        tnnmg_on(&self.a, &self.model, opts)
     }
 
     fn direct(&self) -> DirectSolver<2> {

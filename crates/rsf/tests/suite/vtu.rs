@@ -7,23 +7,8 @@ use crate::common::*;
 use rsf::friction::FrictionLaw;
 use rsf::observe::{Every, FileMode, Interval, VtuFrames};
 
-/// The point data `name` of a frame as 3-vectors per vertex.
-fn point_vectors(piece: &vtkio::model::UnstructuredGridPiece, name: &str) -> Vec<f64> {
-    let attr = piece
-        .data
-        .point
-        .iter()
-        .find(|a| a.name() == name)
-        .unwrap_or_else(|| panic!("no point data `{name}`"));
-    let vtkio::model::Attribute::DataArray(array) = attr else {
-        panic!("`{name}` is not a data array")
-    };
-    array
-        .data
-        .clone()
-        .cast_into::<f64>()
-        .expect("numeric point data")
-}
+mod point_data;
+use point_data::point_data;
 
 #[test]
 fn frames_hold_the_state_of_their_step() {
@@ -61,7 +46,7 @@ fn frames_hold_the_state_of_their_step() {
             assert_eq!(&points[3 * p..3 * p + 3], &[x[0], x[1], 0.0], "vertex {p}");
         }
         for (name, field) in [("displacement", &kin.u), ("velocity", &kin.v)] {
-            let data = point_vectors(&piece, name);
+            let data = point_data(&piece, name);
             assert_eq!(data.len(), 3 * n, "{name}");
             for p in 0..n {
                 assert_eq!(
@@ -72,7 +57,7 @@ fn frames_hold_the_state_of_their_step() {
             }
         }
         // α on Γ_F, NaN (no state) elsewhere.
-        let state = point_vectors(&piece, "state_alpha");
+        let state = point_data(&piece, "state_alpha");
         assert_eq!(state.len(), n);
         let mut on_fault = vec![false; n];
         for (k, &p) in model.frictional_boundary.nodes.iter().enumerate() {
@@ -85,9 +70,9 @@ fn frames_hold_the_state_of_their_step() {
         // In slip coordinates on Γ_F (NaN elsewhere): the slip u − u₀, the shear traction
         // σ̄_n μ(V, α) by the law's friction coefficient (the frame evaluates the
         // potential's slope: another code path), the prescribed normal traction σ̄_n.
-        let slip = point_vectors(&piece, "slip");
-        let shear = point_vectors(&piece, "shear_traction");
-        let normal = point_vectors(&piece, "normal_traction");
+        let slip = point_data(&piece, "slip");
+        let shear = point_data(&piece, "shear_traction");
+        let normal = point_data(&piece, "normal_traction");
         let law = friction_law(&scene);
         let sigma_n = params(&scene).sigma_n;
         let mut sliding = 0;
@@ -150,7 +135,7 @@ fn a_networks_frames_carry_each_vertexs_fault_and_the_names() {
         panic!("not an unstructured grid")
     };
     let piece = pieces[0].load_piece_data(None).expect("inline piece");
-    let fault = point_vectors(&piece, "fault");
+    let fault = point_data(&piece, "fault");
     let on: std::collections::HashSet<usize> =
         model.frictional_boundary.nodes.iter().copied().collect();
     let (mut west, mut east) = (0, 0);

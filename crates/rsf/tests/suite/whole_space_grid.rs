@@ -103,10 +103,14 @@ fn grids_that_are_not_grids_are_refused() {
     let medium = Medium::from_shear_poisson(30e9, 0.25).unwrap();
     let (n, h) = ([6, 5], [10.0, 10.0]);
     let c = centres(0, n, h);
+    // The grid's error for a fault of cells at `centres` of `area` (m²) each.
+    let refused = |centres: Vec<[f64; 3]>, area: &[f64]| {
+        let model = Model::fault_only(centres, area, 0).unwrap();
+        WholeSpaceGrid::fault_alone(&model, medium).unwrap_err()
+    };
     let area = vec![100.0; c.len() - 1];
     // A cell without its node.
-    let model = Model::fault_only(c[1..].to_vec(), &area, 0).unwrap();
-    let e = WholeSpaceGrid::fault_alone(&model, medium).unwrap_err();
+    let e = refused(c[1..].to_vec(), &area);
     assert!(
         matches!(e, HalfSpaceOperatorError::ElementWithoutNode { .. }),
         "{e}"
@@ -114,8 +118,7 @@ fn grids_that_are_not_grids_are_refused() {
     // A node off the grid.
     let mut moved = c.clone();
     moved[3][1] += 3.0;
-    let model = Model::fault_only(moved, &vec![100.0; c.len()], 0).unwrap();
-    let e = WholeSpaceGrid::fault_alone(&model, medium).unwrap_err();
+    let e = refused(moved, &vec![100.0; c.len()]);
     assert!(
         matches!(e, HalfSpaceOperatorError::NotAtCentre { node: 3, .. }),
         "{e}"
@@ -123,16 +126,14 @@ fn grids_that_are_not_grids_are_refused() {
     // A node off the plane.
     let mut lifted = c.clone();
     lifted[4][0] += 1.0;
-    let model = Model::fault_only(lifted, &vec![100.0; c.len()], 0).unwrap();
-    let e = WholeSpaceGrid::fault_alone(&model, medium).unwrap_err();
+    let e = refused(lifted, &vec![100.0; c.len()]);
     assert!(
         matches!(e, HalfSpaceOperatorError::NotPlanar { node: 4, .. }),
         "{e}"
     );
     // A single row.
     let row: Vec<[f64; 3]> = (0..4).map(|i| [0.0, 10.0 * i as f64, 0.0]).collect();
-    let model = Model::fault_only(row, &[100.0; 4], 0).unwrap();
-    let e = WholeSpaceGrid::fault_alone(&model, medium).unwrap_err();
+    let e = refused(row, &[100.0; 4]);
     assert!(
         matches!(e, HalfSpaceOperatorError::TooFewNodes { .. }),
         "{e}"

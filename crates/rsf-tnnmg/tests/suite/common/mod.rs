@@ -129,8 +129,13 @@ pub struct StickSlip {
 
 /// [`StickSlip`] with `m` cells per side.
 pub fn stick_slip(m: usize) -> StickSlip {
+    stick_slip_with(m, 10.0)
+}
+
+/// [`StickSlip`] with `m` cells per side and the matrix [`square`]`(m, c)`.
+pub fn stick_slip_with(m: usize, c: f64) -> StickSlip {
     StickSlip {
-        a: square(m, 10.0),
+        a: square(m, c),
         fixed: left_edge_fixed(m),
         b: stick_slip_load(m),
         nl: stick_slip_tresca(m),

@@ -8,6 +8,14 @@
 
 use std::path::{Path, PathBuf};
 
+mod shared;
+pub use shared::{small_bp1, snapshot};
+mod velocity;
+pub use velocity::{
+    newmark_rhs, newmark_velocity_matrix, steady_shear_strain, tnnmg_on, uniform_friction,
+    with_dirichlet_values,
+};
+
 use rsf::fem::{spmv_add, SparseMatrix};
 use rsf::friction::{DieterichRuina, FrictionLaw, RateStateParams};
 use rsf::observe::{Checkpointer, Every, FileMode, FrictionalProfile, Interval, PointSeries};
@@ -402,6 +410,15 @@ impl Observer<2> for StopAt {
     }
 }
 
+/// The end time `time` (s) within 500 000 steps (the tests' bound on a run that would
+/// otherwise have collapsed).
+pub fn within(time: f64) -> rsf::Until {
+    rsf::Until::TimeWithin {
+        time,
+        max_steps: 500_000,
+    }
+}
+
 /// A fresh directory under the system's temporary directory for one test's files.
 pub fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rsf-test-{name}-{}", std::process::id()));
@@ -409,23 +426,27 @@ pub fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// A small BP1-like fault (W_f = 10 km in a 20 km square) at Δz = 500 m, with the other
-/// parameters of `bp1`.
-pub fn small_bp1(bp1: &rsf_scenes::SeasBp1) -> (rsf_scenes::SeasBp1, rsf_scenes::SeasBp1Grid) {
-    (
-        rsf_scenes::SeasBp1 {
-            h_top: 2e3,
-            h_transition: 1e3,
-            w_f: 10e3,
-            ..*bp1
-        },
-        rsf_scenes::SeasBp1Grid {
-            dz: 500.0,
-            domain: 20e3,
-            ratio: 1.1,
-        },
-    )
+/// [`small_bp1`] of the default BP1, its grid (Δz = 500 m) and the fine one (Δz = 100 m:
+/// m = 100, 101 nodes).
+pub fn small_bp1_and_fine_grid() -> (
+    rsf_scenes::SeasBp1,
+    rsf_scenes::SeasBp1Grid,
+    rsf_scenes::SeasBp1Grid,
+) {
+    let (bp1, coarse) = small_bp1(&rsf_scenes::SeasBp1::default());
+    let fine = rsf_scenes::SeasBp1Grid {
+        dz: 100.0,
+        ..coarse
+    };
+    (bp1, coarse, fine)
 }
+
+/// The ℋ-kernel of the fine small BP1's tests on threads and ranks: ε = 1e-6, leaves of 8
+/// nodes.
+pub const H_LEAF_8: rsf::fault_ode::FaultKernel = rsf::fault_ode::FaultKernel::Hierarchical {
+    epsilon: 1e-6,
+    leaf_size: 8,
+};
 
 /// `builder` (a mesh of the 2 m cube `[-1, 1]³`) with its bottom clamped and the buried
 /// square `|y|, |z| ≤ 0.5` in the plane `x = 0` as a fault (normal `+x`: the plus side is
@@ -527,20 +548,6 @@ pub fn assert_first_order(errors: &[f64]) {
     }
 }
 
-/// Every file under `dir` (recursively) with its bytes.
-pub fn snapshot(dir: &Path) -> std::collections::BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = std::collections::BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            out.extend(snapshot(&p));
-        } else {
-            out.insert(p.clone(), std::fs::read(&p).unwrap());
-        }
-    }
-    out
-}
-
 /// The observers of a resumable run of the slider into `dir`: the series at x0
 /// (`x0.csv`), the frictional profile over `window` every 3 steps (`profile.csv`) and a
 /// checkpoint every `every` steps (`checkpoint.bin`). With `resume`, `sim` is first
@@ -585,7 +592,7 @@ pub fn plane_x0(y: f64, (z0, z1): (f64, f64)) -> [[f64; 3]; 4] {
 /// lengths), once the fault is seen to slip and, at some step, to be partly stuck (some
 /// but not all nodes above 1e-9 of that largest slip); the slipping nodes per step printed.
 pub fn partly_stuck_history(history: &[Vec<f64>]) -> f64 {
-    let largest = history.iter().flatten().fold(0.0f64, |m, &x| m.max(x));
+    let largest = largest_slip(history);
     let slipping: Vec<usize> = history
         .iter()
         .map(|row| row.iter().filter(|&&x| x > 1e-9 * largest).count())
@@ -600,6 +607,11 @@ pub fn partly_stuck_history(history: &[Vec<f64>]) -> f64 {
         "partly stuck at some step"
     );
     largest
+}
+
+/// The largest entry of a slip history (0 for none above it).
+pub fn largest_slip(history: &[Vec<f64>]) -> f64 {
+    history.iter().flatten().fold(0.0f64, |m, &x| m.max(x))
 }
 
 /// The largest `|a − b|` of two slip histories, step by step and node by node.
@@ -709,4 +721,75 @@ pub fn tight_tnnmg() -> rsf::tnnmg::TnnmgOptions {
         },
         ..rsf::tnnmg::TnnmgOptions::default()
     }
+}
+
+/// The internal fault of `s`'s model and the model's Cartesian displacements now and at
+/// the start: `(fault, u, u0)`.
+///
+/// # Panics
+/// The model has no internal fault.
+pub fn internal_fault_displacements<'a, const D: usize>(
+    s: &StepView<'a, D, D>,
+) -> rsf::Result<(&'a rsf::model::InternalFault<D>, Vec<f64>, Vec<f64>)> {
+    let f = s.model.internal_fault.as_ref().expect("an internal fault");
+    let u = s.model.to_cartesian(&s.state.kinematics.u)?;
+    let u0 = s.model.to_cartesian(&s.model.initial_displacement)?;
+    Ok((f, u, u0))
+}
+
+/// At the pair `(mi, pl)` of the internal fault of `s`'s model: the observers' slip and the
+/// Cartesian jump of the two sides' displacements since the start, `(u, u0)` from
+/// [`internal_fault_displacements`].
+pub fn slip_and_jump<const D: usize>(
+    s: &StepView<'_, D, D>,
+    (u, u0): (&[f64], &[f64]),
+    (mi, pl): (usize, usize),
+) -> ([f64; D], [f64; D]) {
+    let p = s
+        .model
+        .frictional_boundary
+        .nodes
+        .binary_search(&mi)
+        .unwrap();
+    let slip = s.slip(p);
+    let jump = std::array::from_fn(|c| {
+        (u[D * pl + c] - u0[D * pl + c]) - (u[D * mi + c] - u0[D * mi + c])
+    });
+    (slip, jump)
+}
+
+/// `steps` quasistatic steps of 0.5 s of `model` with Tresca friction of coefficient
+/// `mu(x)` at σ̄_n = 5 MPa (no state) and `solver`, observed by `observer`.
+pub fn run_tresca_steps<const D: usize>(
+    model: rsf::Model<D>,
+    mut mu: impl FnMut(&[f64; D]) -> f64,
+    solver: SolverKind,
+    steps: usize,
+    observer: &mut dyn Observer<D>,
+) {
+    let mut sim = rsf::SimulationBuilder::new(model)
+        .friction_at(|x| rsf::friction::Tresca::new(mu(x), 5e6))
+        .state_law(rsf::simulation::NoState)
+        .initial_state(0.0)
+        .integrator(rsf::time::Quasistatic::new())
+        .time_step(0.5)
+        .solver(solver)
+        .build()
+        .unwrap();
+    sim.run(steps, &mut [observer]).unwrap();
+}
+
+/// The builder of a frictionless run of `model` (Tresca with a zero bound, no state) with
+/// `integrator`, fixed steps of `tau` (s) and the direct solver.
+pub fn frictionless<I: VelocityIntegrator, const D: usize, const C: usize>(
+    model: rsf::Model<D, C>,
+    integrator: I,
+    tau: f64,
+) -> rsf::SimulationBuilder<D, rsf::friction::Tresca, rsf::simulation::NoState, I, C> {
+    rsf::SimulationBuilder::new(model)
+        .friction(rsf::friction::Tresca::new(0.0, 1.0).unwrap())
+        .initial_state(0.0)
+        .integrator(integrator)
+        .time_step(tau)
+        .solver(SolverKind::Direct)
 }
