@@ -10,21 +10,32 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use rsf_fem::{
     combine, pipping_slider_coarse, Assembler, BoundarySegment, ConstrainedSystem, Constraints,
-    Diagonal, LinearElasticity, MeshHierarchy, TAG_DIRICHLET,
+    Diagonal, LinearElasticity, MeshHierarchy, SparseMatrix, TriangleMesh, TAG_DIRICHLET,
 };
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
+/// The process's peak resident memory (MiB; NaN where the system does not say).
 fn peak_rss_mib() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|k| k.parse::<f64>().ok())
-        })
-        .map_or(f64::NAN, |kib| kib / 1024.0)
+    rsf_programs::memory::peak_bytes().map_or(f64::NAN, |b| b as f64 / (1024.0 * 1024.0))
+}
+
+/// Assembles the mass `m` (density `rho`) and the stiffness `k` (material `mat`) of `mesh`
+/// into their shared pattern.
+fn assemble_mass_and_stiffness(
+    asm: &Assembler<2>,
+    mesh: &TriangleMesh,
+    (rho, mat): (f64, &LinearElasticity),
+    (m, k): (&mut SparseMatrix, &mut SparseMatrix),
+) {
+    asm.assemble_into(mesh, m, |_, vol, loc| {
+        rsf_fem::element::p1_mass::<2>(vol, rho, loc)
+    })
+    .unwrap();
+    asm.assemble_into(mesh, k, |gr, vol, loc| {
+        rsf_fem::element::p1_stiffness::<2>(gr, vol, mat, loc)
+    })
+    .unwrap();
 }
 
 fn levels() -> std::ops::RangeInclusive<usize> {
@@ -62,14 +73,7 @@ fn bench(c: &mut Criterion) {
         let mut m = asm.zeros();
         let mut k = asm.zeros();
         let t = Instant::now();
-        asm.assemble_into(mesh, &mut m, |_, vol, loc| {
-            rsf_fem::element::p1_mass::<2>(vol, rho, loc)
-        })
-        .unwrap();
-        asm.assemble_into(mesh, &mut k, |gr, vol, loc| {
-            rsf_fem::element::p1_stiffness::<2>(gr, vol, &mat, loc)
-        })
-        .unwrap();
+        assemble_mass_and_stiffness(&asm, mesh, (rho, &mat), (&mut m, &mut k));
         let t_assembly = t.elapsed().as_secs_f64();
         let top = BoundarySegment::from_tag(mesh, TAG_DIRICHLET).unwrap();
         let mut con = Constraints::<2>::new(nv);
@@ -102,14 +106,7 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_function(id("assemble_M_K"), |bch| {
             bch.iter(|| {
-                asm.assemble_into(mesh, &mut m, |_, vol, loc| {
-                    rsf_fem::element::p1_mass::<2>(vol, rho, loc)
-                })
-                .unwrap();
-                asm.assemble_into(mesh, &mut k, |gr, vol, loc| {
-                    rsf_fem::element::p1_stiffness::<2>(gr, vol, &mat, loc)
-                })
-                .unwrap();
+                assemble_mass_and_stiffness(&asm, mesh, (rho, &mat), (&mut m, &mut k));
                 black_box((&m, &k));
             })
         });

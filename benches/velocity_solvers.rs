@@ -33,10 +33,17 @@ use rsf::fem::SparseMatrix;
 use rsf::friction::DieterichRuina;
 use rsf::method::FrictionBlocks;
 use rsf::nonsmooth::{BlockNonlinearity, NoNonlinearity, NonsmoothSolver, StepSolver, Stopping};
-use rsf::time::{Kinematics, Newmark, VelocityIntegrator};
 use rsf::tnnmg::{NonlinearGaussSeidel, Tnnmg, TnnmgOptions};
 use rsf::Model;
 use rsf_scenes::SliderScene;
+
+// The problem's construction, shared with the tests.
+#[path = "../crates/rsf/tests/suite/common/velocity.rs"]
+mod velocity;
+use velocity::{
+    newmark_rhs, newmark_velocity_matrix, steady_shear_strain, tnnmg_on, uniform_friction,
+    with_dirichlet_values,
+};
 
 /// CPU time of the calling thread, in seconds.
 #[derive(Debug, Clone, Copy)]
@@ -133,56 +140,23 @@ fn problem(level: usize) -> Problem {
     };
     let tau = scene.tau();
     let model = scene.build_model().expect("slider model");
-    let a = rsf::fem::combine(
-        2.0 / tau,
-        model.mass.as_ref().expect("mass"),
-        tau / 2.0,
-        &model.stiffness,
-    )
-    .expect("A");
+    let a = newmark_velocity_matrix(&model, tau);
     let n = model.fixed.len();
     let mut top = vec![false; n];
     for &i in &model.dirichlet.dofs {
         top[i] = true;
     }
-    let params = scene.rate_state_params();
-    let g = scene.youngs_modulus_pa / (2.0 * (1.0 + scene.poisson_ratio));
-    let gamma = params.steady_state_friction(V_SLIDE) * scene.sigma_n_pa / g;
+    let gamma = steady_shear_strain(&scene, V_SLIDE);
     let mut u = model.initial_displacement.clone();
     let mut v_prev = vec![0.0; n];
     for (p, x) in model.vertices.iter().enumerate() {
         u[2 * p] += gamma * x[1];
         v_prev[2 * p] = if top[2 * p] { V_TOP } else { V_SLIDE };
     }
-    let kin = Kinematics {
-        u,
-        v: v_prev.clone(),
-        a: vec![0.0; n],
-    };
-    let mut b = vec![0.0; n];
-    Newmark
-        .right_hand_side(
-            tau,
-            rsf::time::SystemMatrices::new(model.mass.as_ref(), &model.stiffness),
-            &model.load,
-            &kin,
-            &mut b,
-        )
-        .expect("rhs");
-    let mut v0 = v_prev;
-    for (i, &f) in model.fixed.iter().enumerate() {
-        if f {
-            v0[i] = if top[i] && i % 2 == 0 { V_TOP } else { 0.0 };
-        }
-    }
-    let nf = model.frictional_boundary.nodes.len();
-    let law = DieterichRuina::new(params).expect("law");
-    let friction = FrictionBlocks::new(
-        model.frictional_boundary.nodes.clone(),
-        model.frictional_boundary.weights.clone(),
-        vec![law; nf],
-        &vec![(scene.l_m / V_SLIDE).ln(); nf],
-    );
+    let b = newmark_rhs(&model, tau, u, v_prev.clone());
+    let v0 = with_dirichlet_values(&model, &top, V_TOP, v_prev);
+    let law = DieterichRuina::new(scene.rate_state_params()).expect("law");
+    let friction = uniform_friction(&model, law, (scene.l_m / V_SLIDE).ln());
     Problem {
         model,
         a,
@@ -296,16 +270,7 @@ fn velocity_solvers(c: &mut Criterion<ThreadTime>) {
                 stopping: paper_stopping(),
                 ..opts
             };
-            move || {
-                Tnnmg::<2>::new(
-                    p.a.as_ref(),
-                    &p.model.fixed,
-                    &p.model.prolongations,
-                    Some(p.model.energy_norm.as_ref()),
-                    opts,
-                )
-                .expect("tnnmg")
-            }
+            move || tnnmg_on(&p.a, &p.model, opts)
         };
         let cycles = |s: &Tnnmg<2>| Some(s.last_solve_cycles());
         for (name, opts) in [

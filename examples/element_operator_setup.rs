@@ -26,6 +26,10 @@ use rsf_programs::estimates::operator_bytes;
 use rsf_programs::guard::{in_range, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{cpu_seconds, machine};
 
+#[path = "common/operator_timing.rs"]
+mod operator_timing;
+use operator_timing::{block_columns, check_epsilon_and_products, median_product_seconds};
+
 /// BP8's cell size (m); the operator's cost does not depend on it (the kernels are
 /// scale-free), the number of cells does.
 const DX: f64 = 10.0;
@@ -99,18 +103,7 @@ impl Program for Cli {
             "cells per side",
         )?;
         in_range("--depth", self.depth, (0.0, 1e8), "a depth (m)")?;
-        in_range(
-            "--epsilon",
-            self.epsilon,
-            (f64::MIN_POSITIVE, 1e-2),
-            "a relative accuracy",
-        )?;
-        in_range(
-            "--products",
-            self.products as f64,
-            (1.0, 1e5),
-            "products timed",
-        )?;
+        check_epsilon_and_products(self.epsilon, self.products)?;
         if self.space == Around::Half && self.depth < 0.5 * self.cells as f64 * DX {
             return Err(
                 "--depth: the fault's top must be below the surface (depth ≥ cells · 10 m / 2)"
@@ -145,16 +138,7 @@ fn measure<E: Element>(cli: &Cli, elements: Vec<E>, space: Space) -> Result<(), 
     let mut op = ElementOperator::fault_alone(&model, &set, &options)?;
     let (setup_wall, setup_cpu) = (wall.elapsed().as_secs_f64(), cpu_seconds() - cpu);
     let m = op.dim();
-    let x: Vec<f64> = (0..m).map(|i| (0.37 * i as f64).sin()).collect();
-    let mut r = vec![0.0; m];
-    let mut times: Vec<f64> = (0..cli.products)
-        .map(|_| {
-            let t = Instant::now();
-            op.subtract_product(&x, &mut r, rsf::Parallelism::SEQ)
-                .map(|()| t.elapsed().as_secs_f64())
-        })
-        .collect::<rsf::Result<_>>()?;
-    times.sort_by(f64::total_cmp);
+    let product = median_product_seconds(&mut op, cli.products)?;
     let report = op.report();
     println!("on {}", machine());
     println!(
@@ -162,19 +146,15 @@ fn measure<E: Element>(cli: &Cli, elements: Vec<E>, space: Space) -> Result<(), 
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     println!(
-        "| {} {:?} | {} | {m} | {setup_wall:.2} | {setup_cpu:.2} | {} | {:.1} | {:.1} | {} | {} | {} | {:.2e} ({} samples) | {:.2} |",
+        "| {} {:?} | {} | {m} | {setup_wall:.2} | {setup_cpu:.2} | {} | {:.1} | {:.1} | {} | {:.2} |",
         set.n_elements(),
         cli.elements,
         space.name(),
         report.stored_entries,
         report.bytes() as f64 / 1e6,
         8.0 * (m * m) as f64 / 1e6,
-        report.dense_blocks,
-        report.low_rank_blocks,
-        report.max_rank,
-        report.relative_error,
-        report.error_samples,
-        times[times.len() / 2] * 1e3
+        block_columns(report),
+        product * 1e3
     );
     Ok(())
 }

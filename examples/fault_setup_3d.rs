@@ -163,14 +163,8 @@ fn symmetric(h: f64, uniform: f64, ratio: f64, far: f64) -> Result<Vec<f64>, Any
 
 /// Peak resident memory of the process (GB), from `/proc/self/status` (0 elsewhere).
 fn peak_gb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map_or(0.0, |kb| kb / 1e6)
+    // Linux counts kB: the peak over 1e6 kB.
+    rsf_programs::memory::peak_bytes().map_or(0.0, |b| (b / 1024) as f64 / 1e6)
 }
 
 fn main() -> ExitCode {

@@ -20,8 +20,12 @@ use clap::Parser;
 use rsf::fault_operator::FaultOperator;
 use rsf::halfspace_operator::{HalfSpaceOperator, HalfSpaceOptions};
 use rsf_programs::estimates::operator_bytes;
-use rsf_programs::guard::{flag, in_range, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
 use rsf_programs::{cpu_seconds, fit_exponent, machine};
+
+#[path = "common/operator_timing.rs"]
+mod operator_timing;
+use operator_timing::{block_columns, check_epsilon_and_products, median_product_seconds};
 use rsf_scenes::SeasBp5;
 
 /// Set-up and product cost of BP5's half-space operator against m.
@@ -50,18 +54,7 @@ impl Program for Cli {
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dx", &self.dx)?;
-        in_range(
-            "--epsilon",
-            self.epsilon,
-            (f64::MIN_POSITIVE, 1e-2),
-            "a relative accuracy",
-        )?;
-        in_range(
-            "--products",
-            self.products as f64,
-            (1.0, 1e5),
-            "products timed",
-        )?;
+        check_epsilon_and_products(self.epsilon, self.products)?;
         let bp5 = SeasBp5::default();
         let mut largest = 0.0f64;
         for &dx in &self.dx {
@@ -101,28 +94,14 @@ fn run(cli: Cli, _: Prepared) -> Result<(), AnyError> {
         let mut op = HalfSpaceOperator::fault_alone(&model, &options)?;
         let (setup_wall, setup_cpu) = (wall.elapsed().as_secs_f64(), cpu_seconds() - cpu);
         let m = op.dim();
-        let x: Vec<f64> = (0..m).map(|i| (0.37 * i as f64).sin()).collect();
-        let mut r = vec![0.0; m];
-        let mut times: Vec<f64> = (0..cli.products)
-            .map(|_| {
-                let t = Instant::now();
-                op.subtract_product(&x, &mut r, rsf::Parallelism::SEQ)
-                    .map(|()| t.elapsed().as_secs_f64())
-            })
-            .collect::<rsf::Result<_>>()?;
-        times.sort_by(f64::total_cmp);
-        let product = times[times.len() / 2];
+        let product = median_product_seconds(&mut op, cli.products)?;
         let report = op.report();
         println!(
-            "| {dx} | {m} | {setup_wall:.2} | {setup_cpu:.2} | {} | {:.1} | {:.1} | {} | {} | {} | {:.2e} ({} samples) | {:.3} |",
+            "| {dx} | {m} | {setup_wall:.2} | {setup_cpu:.2} | {} | {:.1} | {:.1} | {} | {:.3} |",
             report.stored_entries,
             report.bytes() as f64 / 1e6,
             report.setup_bytes as f64 / 1e6,
-            report.dense_blocks,
-            report.low_rank_blocks,
-            report.max_rank,
-            report.relative_error,
-            report.error_samples,
+            block_columns(report),
             product * 1e3
         );
         rows.push((m as f64, report.stored_entries as f64, product, setup_wall));

@@ -204,6 +204,13 @@ fn case(program: &str, args: &[&str], names: &str) -> Case {
     }
 }
 
+/// [`case`] of a command: the program and its flags, separated by spaces.
+fn command(line: &str, names: &str) -> Case {
+    let mut words = line.split_whitespace();
+    let program = words.next().unwrap();
+    case(program, &words.collect::<Vec<_>>(), names)
+}
+
 /// [`case`] whose error must not contain `not`.
 fn case_not(program: &str, args: &[&str], names: &str, not: &str) -> Case {
     Case {
@@ -270,189 +277,122 @@ fn generic_cases(program: &str, flags: &BTreeSet<String>) -> Vec<Case> {
 /// The physically meaningless inputs of issue 58 and the cases of particular programs.
 fn particular_cases(mesh: &str) -> Vec<Case> {
     vec![
-        case("seas_bp3", &["--end-years", "-1"], "--end-years"),
-        case("seas_bp3", &["--dx", "1"], "--dx"),
-        case("seas_bp3", &["--ratio", "1"], "--ratio"),
-        case("seas_bp3", &["--dip", "90"], "--dip"),
-        case(
-            "seas_bp1",
-            &["--inertia", "--dynamic-tau", "1e8"],
-            "--dynamic-tau",
-        ),
-        case("seas_bp1", &["--dynamic-tau", "0.01"], "--inertia"),
-        case("seas_bp1", &["--switch-to-dynamic", "1e-2"], "--inertia"),
-        case("seas_bp1", &["--absorbing", "all"], "--inertia"),
-        case(
-            "seas_bp1",
-            &["--ratio", "1", "--end-years", "50"],
-            "--ratio",
-        ),
-        case("seas_bp1", &["--dz", "1e-300"], "--dz"),
-        case("seas_bp1", &["--date", "2023-02-31"], "--date"),
+        command("seas_bp3 --end-years -1", "--end-years"),
+        command("seas_bp3 --dx 1", "--dx"),
+        command("seas_bp3 --ratio 1", "--ratio"),
+        command("seas_bp3 --dip 90", "--dip"),
+        command("seas_bp1 --inertia --dynamic-tau 1e8", "--dynamic-tau"),
+        command("seas_bp1 --dynamic-tau 0.01", "--inertia"),
+        command("seas_bp1 --switch-to-dynamic 1e-2", "--inertia"),
+        command("seas_bp1 --absorbing all", "--inertia"),
+        command("seas_bp1 --ratio 1 --end-years 50", "--ratio"),
+        command("seas_bp1 --dz 1e-300", "--dz"),
+        command("seas_bp1 --date 2023-02-31", "--date"),
         // Issue 87: a flag the default scheme ignores, a device as a checkpoint, a box whose
         // octree's root cubes alone exceed the mesh's limit (refused by arithmetic, before
         // anything is built: it built 62.5 million cubes in 54 s).
-        case("seas_bp1", &["--tolerance", "1e-8"], "--tolerance"),
-        case("seas_bp1", &["--resume", "/dev/zero"], "--resume"),
-        case(
-            "seas_bp5",
-            &["--kernel", "fe", "--domain-km", "1e4"],
-            "--domain-km",
-        ),
-        case(
-            "seas_bp1",
-            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+        command("seas_bp1 --tolerance 1e-8", "--tolerance"),
+        command("seas_bp1 --resume /dev/zero", "--resume"),
+        command("seas_bp5 --kernel fe --domain-km 1e4", "--domain-km"),
+        command(
+            "seas_bp1 --resume main_job/checkpoint.bin --overwrite",
             "--overwrite",
         ),
-        case("seas_bp5", &["--ratio", "1.1"], "--kernel fe"),
-        case("seas_bp5", &["--dx", "100"], "--dx"),
-        case("slider_elastic_base", &["--base-e", "1e300"], "--base-e"),
-        case("slider_3d", &["--level", "6"], "--max-memory-gb"),
-        case("slider_3d", &["--width", "1e-300"], "--width"),
-        case(
-            "inclined_block",
-            &["--level", "1", "--steps", "1e12"],
-            "--steps",
-        ),
+        command("seas_bp5 --ratio 1.1", "--kernel fe"),
+        command("seas_bp5 --dx 100", "--dx"),
+        command("slider_elastic_base --base-e 1e300", "--base-e"),
+        command("slider_3d --level 6", "--max-memory-gb"),
+        command("slider_3d --width 1e-300", "--width"),
+        command("inclined_block --level 1 --steps 1e12", "--steps"),
         case(
             "curved_fault",
             &["--level", "0", "--mesh", mesh],
             "coincide",
         ),
-        case("pipping_slider", &["--scene", "huge.toml"], "huge.toml"),
-        case(
-            "spring_block",
-            &["--integrator", "newmark", "--mass", "0"],
-            "--mass",
-        ),
-        case(
-            "fig6_1_fixed_point_iterations",
-            &["--max-level", "30"],
+        command("pipping_slider --scene huge.toml", "huge.toml"),
+        command("spring_block --integrator newmark --mass 0", "--mass"),
+        command(
+            "fig6_1_fixed_point_iterations --max-level 30",
             "--max-level",
         ),
         // Issue 74: nonsense that ran, lists that printed `m^NaN`, nameless errors.
-        case("seas_bp5", &["--tolerance", "1"], "--tolerance"),
-        case("seas_bp3", &["--tolerance", "1"], "--tolerance"),
-        case(
-            "seas_bp5",
-            &["--allow-change", "end_years"],
-            "--allow-change",
-        ),
-        case(
-            "seas_bp3",
-            &["--allow-change", "nonsense"],
-            "--allow-change",
-        ),
-        case(
-            "seas_bp1",
-            &["--allow-change", "end_years"],
-            "--allow-change",
-        ),
-        case(
-            "pipping_slider",
-            &["--allow-change", "steps"],
-            "--allow-change",
-        ),
-        case("slider_3d", &["--allow-change", "steps"], "--allow-change"),
-        case("seas_bp5", &["--ordering", "amd"], "--ordering"),
-        case("seas_bp5", &["--dx", "2000.0000001"], "--dx"),
-        case("okada_anchor", &["--modes", "3"], "--modes"),
-        case(
-            "seas_bp1",
-            &["--inertia", "--dynamic-tau", "1e-9"],
-            "--dynamic-tau",
-        ),
-        case("fault_kernel_scaling", &["--dz", "1000,1000"], "--dz"),
-        case("halfspace_scaling", &["--dx", "2000,2000"], "--dx"),
-        case("fault_setup_3d", &["--dx", "2,2"], "--dx"),
-        case("fault_setup_3d", &["--dx", "3"], "whole cells"),
-        case("okada_anchor", &["--levels", "1,1"], "--levels"),
-        case("okada_anchor", &["--far", "3,3"], "--far"),
-        case("solver_memory", &["--levels", "4,4"], "--levels"),
+        command("seas_bp5 --tolerance 1", "--tolerance"),
+        command("seas_bp3 --tolerance 1", "--tolerance"),
+        command("seas_bp5 --allow-change end_years", "--allow-change"),
+        command("seas_bp3 --allow-change nonsense", "--allow-change"),
+        command("seas_bp1 --allow-change end_years", "--allow-change"),
+        command("pipping_slider --allow-change steps", "--allow-change"),
+        command("slider_3d --allow-change steps", "--allow-change"),
+        command("seas_bp5 --ordering amd", "--ordering"),
+        command("seas_bp5 --dx 2000.0000001", "--dx"),
+        command("okada_anchor --modes 3", "--modes"),
+        command("seas_bp1 --inertia --dynamic-tau 1e-9", "--dynamic-tau"),
+        command("fault_kernel_scaling --dz 1000,1000", "--dz"),
+        command("halfspace_scaling --dx 2000,2000", "--dx"),
+        command("fault_setup_3d --dx 2,2", "--dx"),
+        command("fault_setup_3d --dx 3", "whole cells"),
+        command("okada_anchor --levels 1,1", "--levels"),
+        command("okada_anchor --far 3,3", "--far"),
+        command("solver_memory --levels 4,4", "--levels"),
         // seas_bp6 (issue 71, after issue 74 was filed): the same rules.
-        case("seas_bp6", &["--tolerance", "1"], "--tolerance"),
-        case(
-            "seas_bp6",
-            &["--allow-change", "end_years"],
-            "--allow-change",
-        ),
-        case("seas_bp6", &["--dz", "3"], "--dz"),
-        case("seas_bp6", &["--dz", "1e300"], "--dz"),
-        case("seas_bp6", &["--variant", "x"], "--variant"),
+        command("seas_bp6 --tolerance 1", "--tolerance"),
+        command("seas_bp6 --allow-change end_years", "--allow-change"),
+        command("seas_bp6 --dz 3", "--dz"),
+        command("seas_bp6 --dz 1e300", "--dz"),
+        command("seas_bp6 --variant x", "--variant"),
         // BP6-C runs on the boundary-element kernel (its stiffness formed densely): more
         // than 20 000 cells is refused before anything is built.
-        case(
-            "seas_bp6",
-            &["--variant", "c", "--elastic", "bem", "--dz", "1"],
-            "--dz",
-        ),
+        command("seas_bp6 --variant c --elastic bem --dz 1", "--dz"),
         // Settings the chosen kernel would ignore.
-        case("seas_bp6", &["--kernel", "dense"], "--kernel"),
-        case(
-            "seas_bp6",
-            &["--elastic", "fe", "--bem-product", "fft"],
-            "--bem-product",
-        ),
-        case("seas_bp6", &["--diffusion-cells", "5"], "--diffusion-cells"),
-        case(
-            "seas_bp6",
-            &["--pressure", "diffusion", "--diffusion-cells", "1"],
+        command("seas_bp6 --kernel dense", "--kernel"),
+        command("seas_bp6 --elastic fe --bem-product fft", "--bem-product"),
+        command("seas_bp6 --diffusion-cells 5", "--diffusion-cells"),
+        command(
+            "seas_bp6 --pressure diffusion --diffusion-cells 1",
             "--diffusion-cells",
         ),
-        case(
-            "seas_bp6",
-            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+        command(
+            "seas_bp6 --resume main_job/checkpoint.bin --overwrite",
             "--overwrite",
         ),
         // seas_bp8 (issue 85): the same rules.
-        case("seas_bp8", &["--tolerance", "1"], "--tolerance"),
-        case("seas_bp8", &["--dx", "3"], "--dx"),
-        case("seas_bp8", &["--dx", "30"], "--dx"),
-        case("seas_bp8", &["--dx", "1e300"], "--dx"),
-        case("seas_bp8", &["--source", "x"], "--source"),
-        case("seas_bp8", &["--end-days", "0"], "--end-days"),
-        case("seas_bp8", &["--sigma-min", "20"], "--sigma-min"),
+        command("seas_bp8 --tolerance 1", "--tolerance"),
+        command("seas_bp8 --dx 3", "--dx"),
+        command("seas_bp8 --dx 30", "--dx"),
+        command("seas_bp8 --dx 1e300", "--dx"),
+        command("seas_bp8 --source x", "--source"),
+        command("seas_bp8 --end-days 0", "--end-days"),
+        command("seas_bp8 --sigma-min 20", "--sigma-min"),
         // A setting of the floor that `refuse` would ignore.
-        case(
-            "seas_bp8",
-            &["--overpressure", "refuse", "--sigma-min", "1"],
+        command(
+            "seas_bp8 --overpressure refuse --sigma-min 1",
             "--sigma-min",
         ),
-        case(
-            "seas_bp8",
-            &["--profile-interval", "1"],
-            "--profile-interval",
-        ),
-        case(
-            "seas_bp8",
-            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+        command("seas_bp8 --profile-interval 1", "--profile-interval"),
+        command(
+            "seas_bp8 --resume main_job/checkpoint.bin --overwrite",
             "--overwrite",
         ),
         // seas_bp7 (issue 85): the same rules, and D_RS.
-        case("seas_bp7", &["--dx", "0"], "--dx"),
-        case("seas_bp7", &["--dx", "-10"], "--dx"),
-        case("seas_bp7", &["--dx", "NaN"], "--dx"),
-        case("seas_bp7", &["--dx", "30"], "--dx"),
-        case("seas_bp7", &["--dx", "1e300"], "--dx"),
-        case("seas_bp7", &["--law", "x"], "--law"),
-        case("seas_bp7", &["--end-years", "0"], "--end-years"),
-        case("seas_bp7", &["--d-rs", "0"], "--d-rs"),
+        command("seas_bp7 --dx 0", "--dx"),
+        command("seas_bp7 --dx -10", "--dx"),
+        command("seas_bp7 --dx NaN", "--dx"),
+        command("seas_bp7 --dx 30", "--dx"),
+        command("seas_bp7 --dx 1e300", "--dx"),
+        command("seas_bp7 --law x", "--law"),
+        command("seas_bp7 --end-years 0", "--end-years"),
+        command("seas_bp7 --d-rs 0", "--d-rs"),
         // The finite-element box (issue 85 item 5): its settings without `--kernel fe`,
         // out of range, or a box smaller than 2 l_f.
-        case("seas_bp7", &["--domain-km", "3"], "--domain-km"),
-        case("seas_bp8", &["--ratio", "1.1"], "--ratio"),
-        case("seas_bp7", &["--kernel", "fe", "--ratio", "1"], "--ratio"),
-        case("seas_bp8", &["--kernel", "fe", "--ratio", "NaN"], "--ratio"),
-        case(
-            "seas_bp8",
-            &["--kernel", "fe", "--domain-km", "0.5"],
-            "--domain-km",
-        ),
-        case("seas_bp7", &["--kernel", "x"], "--kernel"),
-        case("seas_bp7", &["--tolerance", "1"], "--tolerance"),
-        case(
-            "seas_bp7",
-            &["--resume", "main_job/checkpoint.bin", "--overwrite"],
+        command("seas_bp7 --domain-km 3", "--domain-km"),
+        command("seas_bp8 --ratio 1.1", "--ratio"),
+        command("seas_bp7 --kernel fe --ratio 1", "--ratio"),
+        command("seas_bp8 --kernel fe --ratio NaN", "--ratio"),
+        command("seas_bp8 --kernel fe --domain-km 0.5", "--domain-km"),
+        command("seas_bp7 --kernel x", "--kernel"),
+        command("seas_bp7 --tolerance 1", "--tolerance"),
+        command(
+            "seas_bp7 --resume main_job/checkpoint.bin --overwrite",
             "--overwrite",
         ),
         case_not(

@@ -16,7 +16,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use common::{
-    assert_resumed_run_is_identical, close, fresh_dir, run_to_end_or_cap, seas_rows as rows,
+    assert_row_close, assert_square_run_resumes, close, fresh_dir, run_square, seas_rows as rows,
 };
 
 /// A fresh temporary folder.
@@ -26,12 +26,7 @@ fn temp_dir(name: &str) -> PathBuf {
 
 /// Runs `seas_bp7 --dx 80` into `out` with `extra` flags.
 fn seas_bp7(out: &Path, extra: &[&str]) {
-    run_to_end_or_cap(
-        "seas_bp7",
-        &["--dx", "80", "--date", "2026-11-29"],
-        out,
-        extra,
-    );
+    run_square("seas_bp7", "80", out, extra);
 }
 
 /// Table 1 as the implementations use it (the restatement `benchmarks/seas-bp7.md`).
@@ -103,16 +98,7 @@ fn the_first_rows_are_the_descriptions_initial_values_and_the_bump_acts_at_its_c
                 tau0(a) * V_ZERO / V_INIT / 1e6,
                 theta0.log10(),
             ];
-            assert_eq!(r[0].len(), expected.len(), "{name}");
-            for (k, (x, y)) in r[0].iter().zip(expected).enumerate() {
-                close(
-                    *x,
-                    y,
-                    1e-6,
-                    1e-30,
-                    &format!("{law} {name} column {}", k + 1),
-                );
-            }
+            assert_row_close(&r[0], &expected, &format!("{law} {name}"));
             last.insert((x2, x3), r.last().unwrap().clone());
         }
         // During the rise (0.4 s): the bump's side slips faster, by orders of magnitude.
@@ -130,14 +116,9 @@ fn the_first_rows_are_the_descriptions_initial_values_and_the_bump_acts_at_its_c
 
 #[test]
 fn a_stopped_and_resumed_run_writes_the_uninterrupted_runs_files() {
-    assert_resumed_run_is_identical(
+    assert_square_run_resumes(
         ("seas_bp7", "bp7"),
-        &[
-            &["--dx", "80", "--date", "2026-11-29"][..],
-            &["--end-years", "0.002"],
-        ]
-        .concat(),
-        "130",
+        &["--end-years", "0.002"],
         (rsf_seas::SEAS_BP7_RESUME_LOG, None),
     );
 }
@@ -151,12 +132,7 @@ fn first_event(dir: &Path) -> f64 {
 
 /// Runs `seas_bp7 --dx DX` into `out` with `extra` flags.
 fn seas_bp7_at(dx: &str, out: &Path, extra: &[&str]) {
-    run_to_end_or_cap(
-        "seas_bp7",
-        &["--dx", dx, "--date", "2026-11-29"],
-        out,
-        extra,
-    );
+    run_square("seas_bp7", dx, out, extra);
 }
 
 /// `--kernel fe` (the plane creeping across a finite-element box outside the square)
@@ -198,21 +174,16 @@ fn the_volumes_first_event_nears_the_boundary_elements_from_80_to_40_m() {
 
 #[test]
 fn a_stopped_and_resumed_volume_run_writes_the_uninterrupted_runs_files() {
-    assert_resumed_run_is_identical(
+    assert_square_run_resumes(
         ("seas_bp7", "bp7-fe"),
         &[
-            &["--dx", "80", "--date", "2026-11-29"][..],
-            &[
-                "--end-years",
-                "0.002",
-                "--kernel",
-                "fe",
-                "--domain-km",
-                "1.6",
-            ],
-        ]
-        .concat(),
-        "130",
+            "--end-years",
+            "0.002",
+            "--kernel",
+            "fe",
+            "--domain-km",
+            "1.6",
+        ],
         (rsf_seas::SEAS_BP7_RESUME_LOG, None),
     );
 }

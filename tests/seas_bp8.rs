@@ -15,7 +15,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use common::{
-    assert_resumed_run_is_identical, close, fresh_dir, run_to_end_or_cap, seas_rows as rows,
+    assert_row_close, assert_square_run_resumes, close, fresh_dir, run_square, seas_rows as rows,
 };
 
 /// A fresh temporary folder.
@@ -30,12 +30,7 @@ fn seas_bp8(out: &Path, extra: &[&str]) {
 
 /// Runs `seas_bp8 --dx DX` into `out` with `extra` flags.
 fn seas_bp8_at(dx: &str, out: &Path, extra: &[&str]) {
-    run_to_end_or_cap(
-        "seas_bp8",
-        &["--dx", dx, "--date", "2026-11-29"],
-        out,
-        extra,
-    );
+    run_square("seas_bp8", dx, out, extra);
 }
 
 /// Table 1 of the description (2026-08-12).
@@ -84,10 +79,7 @@ fn the_first_rows_are_the_descriptions_initial_values_and_the_run_keeps_its_symm
                 0.0,
                 theta0.log10(),
             ];
-            assert_eq!(first.len(), expected.len(), "{name}");
-            for (k, (x, y)) in first.iter().zip(expected).enumerate() {
-                close(*x, y, 1e-6, 1e-30, &format!("{name} column {}", k + 1));
-            }
+            assert_row_close(first, &expected, &name);
             stations.insert((x2, x3), r);
         }
     }
@@ -146,14 +138,9 @@ fn the_first_rows_are_the_descriptions_initial_values_and_the_run_keeps_its_symm
 
 #[test]
 fn a_stopped_and_resumed_run_writes_the_uninterrupted_runs_files() {
-    assert_resumed_run_is_identical(
+    assert_square_run_resumes(
         ("seas_bp8", "bp8"),
-        &[
-            &["--dx", "80", "--date", "2026-11-29"][..],
-            &["--end-days", "8"],
-        ]
-        .concat(),
-        "130",
+        &["--end-days", "8"],
         (rsf_seas::SEAS_BP8_RESUME_LOG, Some(20)),
     );
 }
@@ -207,14 +194,9 @@ fn the_volume_converges_to_the_boundary_elements() {
 
 #[test]
 fn a_stopped_and_resumed_volume_run_writes_the_uninterrupted_runs_files() {
-    assert_resumed_run_is_identical(
+    assert_square_run_resumes(
         ("seas_bp8", "bp8-fe"),
-        &[
-            &["--dx", "80", "--date", "2026-11-29"][..],
-            &["--end-days", "8", "--kernel", "fe", "--domain-km", "1.6"],
-        ]
-        .concat(),
-        "130",
+        &["--end-days", "8", "--kernel", "fe", "--domain-km", "1.6"],
         (rsf_seas::SEAS_BP8_RESUME_LOG, Some(20)),
     );
 }

@@ -11,43 +11,19 @@ mod common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-use common::program_binary;
+use common::{fresh_dir, run_to_end_or_cap};
 
 /// A fresh temporary folder.
 fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rsf-stepover-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir("stepover", name)
 }
 
 /// Runs `stepover` on the test's scene into `out` with `extra` flags (ended at its step cap
 /// with `--max-steps`).
 fn stepover(out: &Path, extra: &[&str]) {
-    let mut cmd = Command::new(program_binary("stepover"));
-    cmd.args([
-        "--dx",
-        "500",
-        "--end-years",
-        "300",
-        "--threads",
-        "1",
-        "--out",
-    ])
-    .arg(out)
-    .args(extra);
-    let o = cmd.output().unwrap();
-    // A run stopped at its step cap says so and exits with 1 (its files and checkpoint
-    // complete up to the cap).
-    let capped = extra.contains(&"--max-steps");
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        o.status.success() != capped && (!capped || stderr.contains("step cap")),
-        "stepover {extra:?}: {}{stderr}",
-        String::from_utf8_lossy(&o.stdout),
-    );
+    let scene = ["--dx", "500", "--end-years", "300", "--threads", "1"];
+    run_to_end_or_cap("stepover", &scene, out, extra);
 }
 
 /// Every file of `dir` but the checkpoint, the resume log and the manifest, with its bytes.

@@ -58,6 +58,15 @@ pub fn close(x: f64, y: f64, tol: f64, floor: f64, what: &str) {
     );
 }
 
+/// Asserts that `row` has `expected`'s columns, each within 1e-6 of it (relative, floor
+/// 1e-30: the files print 7 digits); `what` names the row in the messages.
+pub fn assert_row_close(row: &[f64], expected: &[f64], what: &str) {
+    assert_eq!(row.len(), expected.len(), "{what}");
+    for (k, (x, y)) in row.iter().zip(expected).enumerate() {
+        close(*x, *y, 1e-6, 1e-30, &format!("{what} column {}", k + 1));
+    }
+}
+
 /// Every file of a run folder `dir` by name, with its bytes, but the checkpoint, the
 /// manifest, the summary and `also` (a resume log).
 pub fn run_files(dir: &std::path::Path, also: &str) -> std::collections::BTreeMap<String, Vec<u8>> {
@@ -90,6 +99,33 @@ pub fn run_to_end_or_cap(program: &str, args: &[&str], out: &std::path::Path, ex
         o.status.success() != capped && (!capped || stderr.contains("step cap")),
         "{program} {extra:?}: {}{stderr}",
         String::from_utf8_lossy(&o.stdout),
+    );
+}
+
+/// The flags of a test run of the square programs (`seas_bp7`, `seas_bp8`) at cell size
+/// `dx` (m): `--dx DX --date 2026-11-29`.
+pub fn square_flags(dx: &str) -> [&str; 4] {
+    ["--dx", dx, "--date", "2026-11-29"]
+}
+
+/// Runs the square program `program` (`seas_bp7`, `seas_bp8`) with [`square_flags`]`(dx)`
+/// into `out` with `extra` flags, as [`run_to_end_or_cap`].
+pub fn run_square(program: &str, dx: &str, out: &std::path::Path, extra: &[&str]) {
+    run_to_end_or_cap(program, &square_flags(dx), out, extra);
+}
+
+/// [`assert_resumed_run_is_identical`] for the square program `program` at
+/// [`square_flags`]`("80")` and `extra`, stopped after 130 steps.
+pub fn assert_square_run_resumes(
+    (program, prefix): (&str, &str),
+    extra: &[&str],
+    (resume_log, files): (&str, Option<usize>),
+) {
+    assert_resumed_run_is_identical(
+        (program, prefix),
+        &[&square_flags("80")[..], extra].concat(),
+        "130",
+        (resume_log, files),
     );
 }
 

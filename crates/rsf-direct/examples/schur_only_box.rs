@@ -39,8 +39,10 @@ mod elasticity_box;
 use std::time::Instant;
 
 use elasticity_box::ElasticityBox;
+use faer::sparse::SparseColMat;
 use rsf_direct::{
-    CheckpointPolicy, Condensation, InteriorOrdering, RightHandSide, SchurOnly, SchurOnlyOptions,
+    CheckpointPolicy, Condensation, InteriorOrdering, KeptSchur, RightHandSide, SchurEntries,
+    SchurOnly, SchurOnlyOptions, SchurOnlyPlan,
 };
 
 /// The process's peak resident set (VmHWM, bytes) from /proc/self/status (0 elsewhere).
@@ -115,101 +117,175 @@ fn parse() -> Result<Args, String> {
     Ok(args)
 }
 
+/// The box's problem: the stiffness, the clamped bottom, the patch's nodes, two
+/// right-hand sides (a body force and none) and the bottom's prescribed displacement.
+struct Problem {
+    c: usize,
+    n: usize,
+    a: SparseColMat<usize, f64>,
+    fixed: Vec<bool>,
+    blocks: Vec<usize>,
+    b: Vec<f64>,
+    x: Vec<f64>,
+    zeros: Vec<f64>,
+}
+
+impl Problem {
+    /// The box of `c × c × c` cubes and its vertical patch.
+    fn new(c: usize) -> Self {
+        let bx = ElasticityBox::new(c, c, c);
+        let a = bx.stiffness();
+        let n = a.nrows();
+        let fixed: Vec<bool> = (0..n).map(|d| bx.coords(d / 3).2 == 0).collect();
+        let blocks: Vec<usize> = (0..bx.nodes())
+            .filter(|&p| {
+                let (i, _, k) = bx.coords(p);
+                i == c / 2 && k >= c / 2
+            })
+            .collect();
+        // A body force and a prescribed displacement of the bottom (both smooth).
+        let b: Vec<f64> = (0..n)
+            .map(|d| {
+                let (i, j, k) = bx.coords(d / 3);
+                1e-3 * ((i as f64 * 0.3).sin() + (j as f64 * 0.2).cos() + k as f64 * 0.01)
+            })
+            .collect();
+        let x: Vec<f64> = (0..n)
+            .map(|d| {
+                let (i, j, _) = bx.coords(d / 3);
+                if d % 3 == 0 {
+                    0.01 * (i as f64 + 2.0 * j as f64) / c as f64
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        Self {
+            c,
+            n,
+            a,
+            fixed,
+            blocks,
+            b,
+            x,
+            zeros: vec![0.0; n],
+        }
+    }
+}
+
+/// The Schur-only elimination's result, its analysis and total times (s) and its plan.
+type SchurOnlyRun = (KeptSchur, f64, f64, SchurOnlyPlan);
+
+/// The whole factor's entries, the Schur complement's entries, the two condensed
+/// right-hand sides, the factorisation's and the total time (s).
+type FullRun = (usize, SchurEntries, Vec<Vec<f64>>, f64, f64);
+
+/// The Schur-only elimination of `p` with `args`' ordering, checkpoints and memory bound;
+/// prints its analysis, report and the checksum of its bits.
+fn run_schur_only(p: &Problem, args: &Args) -> Result<SchurOnlyRun, Box<dyn std::error::Error>> {
+    let t = Instant::now();
+    let elim = SchurOnly::<3>::new(p.a.as_ref(), &p.fixed, &p.blocks, &[], args.ordering)?;
+    let analyse = t.elapsed().as_secs_f64();
+    let plan = elim.plan();
+    eprintln!(
+        "analysis {analyse:.2} s, peak {} GB; plan: {plan:?}",
+        gb(peak_rss() as f64)
+    );
+    let rhs = [
+        RightHandSide {
+            b: &p.b,
+            x_fixed: &p.x,
+        },
+        RightHandSide {
+            b: &p.zeros,
+            x_fixed: &p.x,
+        },
+    ];
+    let options = SchurOnlyOptions {
+        checkpoint: args.checkpoint.as_ref().map(|path| CheckpointPolicy {
+            every_fronts: Some(args.every),
+            every_seconds: None,
+            ..CheckpointPolicy::new(path)
+        }),
+        max_bytes: Some((args.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
+    };
+    let kept = elim.eliminate(&rhs, &options)?;
+    let total = t.elapsed().as_secs_f64();
+    eprintln!("report: {:?}", kept.report());
+    eprintln!("checksum of the bits of S and g: {:016x}", checksum(&kept));
+    Ok((kept, analyse, total, plan))
+}
+
+/// FNV-1a over the bits of S and g: equal for equal bits.
+fn checksum(kept: &KeptSchur) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let bits = kept
+        .schur()
+        .packed_rows()
+        .iter()
+        .chain(kept.condensed_rhs().iter().flatten());
+    for v in bits {
+        for byte in v.to_bits().to_le_bytes() {
+            h = (h ^ byte as u64).wrapping_mul(0x100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// The condensation that keeps the whole factor, of `p` with `args`' ordering.
+fn run_full(p: &Problem, args: &Args) -> Result<FullRun, Box<dyn std::error::Error>> {
+    let t = Instant::now();
+    let mut cond =
+        Condensation::<3>::with_ordering(p.a.as_ref(), &p.fixed, &p.blocks, args.ordering)?;
+    let factor = t.elapsed().as_secs_f64();
+    let entries = cond.schur_entries();
+    let mut g = vec![vec![0.0; cond.dim()]; 2];
+    cond.condense(&p.b, &p.x, &mut g[0])?;
+    cond.condense(&p.zeros, &p.x, &mut g[1])?;
+    let total = t.elapsed().as_secs_f64();
+    Ok((cond.factor_nnz(), entries, g, factor, total))
+}
+
+/// Prints the largest differences of the two methods' S and g (`m` kept unknowns).
+fn print_differences(m: usize, kept: &KeptSchur, entries: &SchurEntries, g: &[Vec<f64>]) {
+    let mut worst: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    for i in 0..m {
+        for j in 0..=i {
+            let e = entries.entry(i, j);
+            scale = scale.max(e.abs());
+            worst = worst.max((kept.schur().entry(i, j) - e).abs());
+        }
+    }
+    let gerr = (0..2)
+        .flat_map(|k| (0..m).map(move |i| (k, i)))
+        .map(|(k, i)| (kept.condensed_rhs()[k][i] - g[k][i]).abs())
+        .fold(0.0, f64::max);
+    println!("max |ΔS| = {worst:.3e} (max |S| = {scale:.3e}), max |Δg| = {gerr:.3e}");
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = parse()?;
-    let c = args.cubes;
     let clock = Instant::now();
-    let bx = ElasticityBox::new(c, c, c);
-    let a = bx.stiffness();
-    let n = a.nrows();
-    let fixed: Vec<bool> = (0..n).map(|d| bx.coords(d / 3).2 == 0).collect();
-    let blocks: Vec<usize> = (0..bx.nodes())
-        .filter(|&p| {
-            let (i, _, k) = bx.coords(p);
-            i == c / 2 && k >= c / 2
-        })
-        .collect();
-    // A body force and a prescribed displacement of the bottom (both smooth).
-    let b: Vec<f64> = (0..n)
-        .map(|d| {
-            let (i, j, k) = bx.coords(d / 3);
-            1e-3 * ((i as f64 * 0.3).sin() + (j as f64 * 0.2).cos() + k as f64 * 0.01)
-        })
-        .collect();
-    let x: Vec<f64> = (0..n)
-        .map(|d| {
-            let (i, j, _) = bx.coords(d / 3);
-            if d % 3 == 0 {
-                0.01 * (i as f64 + 2.0 * j as f64) / c as f64
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let zeros = vec![0.0; n];
+    let p = Problem::new(args.cubes);
+    let (c, n) = (p.c, p.n);
     let model_s = clock.elapsed().as_secs_f64();
     let model_peak = peak_rss();
     eprintln!(
         "box {c}³: {n} dofs, {} blocks, model {model_s:.2} s, peak {} GB",
-        blocks.len(),
+        p.blocks.len(),
         gb(model_peak as f64)
     );
-    let mut schur_only = None;
-    let mut full = None;
-    if args.method != "full" {
-        let t = Instant::now();
-        let elim = SchurOnly::<3>::new(a.as_ref(), &fixed, &blocks, &[], args.ordering)?;
-        let analyse = t.elapsed().as_secs_f64();
-        let plan = elim.plan();
-        eprintln!(
-            "analysis {analyse:.2} s, peak {} GB; plan: {plan:?}",
-            gb(peak_rss() as f64)
-        );
-        let rhs = [
-            RightHandSide { b: &b, x_fixed: &x },
-            RightHandSide {
-                b: &zeros,
-                x_fixed: &x,
-            },
-        ];
-        let options = SchurOnlyOptions {
-            checkpoint: args.checkpoint.as_ref().map(|path| CheckpointPolicy {
-                every_fronts: Some(args.every),
-                every_seconds: None,
-                ..CheckpointPolicy::new(path)
-            }),
-            max_bytes: Some((args.max_memory_gb * 1e9).min(usize::MAX as f64) as usize),
-        };
-        let kept = elim.eliminate(&rhs, &options)?;
-        let total = t.elapsed().as_secs_f64();
-        eprintln!("report: {:?}", kept.report());
-        // FNV-1a over the bits of S and g: equal for equal bits.
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        let bits = kept
-            .schur()
-            .packed_rows()
-            .iter()
-            .chain(kept.condensed_rhs().iter().flatten());
-        for v in bits {
-            for byte in v.to_bits().to_le_bytes() {
-                h = (h ^ byte as u64).wrapping_mul(0x100_0000_01b3);
-            }
-        }
-        eprintln!("checksum of the bits of S and g: {h:016x}");
-        schur_only = Some((kept, analyse, total, plan));
-    }
-    if args.method != "schur-only" {
-        let t = Instant::now();
-        let mut cond =
-            Condensation::<3>::with_ordering(a.as_ref(), &fixed, &blocks, args.ordering)?;
-        let factor = t.elapsed().as_secs_f64();
-        let entries = cond.schur_entries();
-        let mut g = vec![vec![0.0; cond.dim()]; 2];
-        cond.condense(&b, &x, &mut g[0])?;
-        cond.condense(&zeros, &x, &mut g[1])?;
-        let total = t.elapsed().as_secs_f64();
-        full = Some((cond.factor_nnz(), entries, g, factor, total));
-    }
+    let schur_only = if args.method != "full" {
+        Some(run_schur_only(&p, &args)?)
+    } else {
+        None
+    };
+    let full = if args.method != "schur-only" {
+        Some(run_full(&p, &args)?)
+    } else {
+        None
+    };
     let peak = peak_rss();
     let m = schur_only
         .as_ref()
@@ -233,20 +309,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )
     };
     if let (Some((kept, ..)), Some((_, entries, g, ..))) = (&schur_only, &full) {
-        let mut worst: f64 = 0.0;
-        let mut scale: f64 = 0.0;
-        for i in 0..m {
-            for j in 0..=i {
-                let e = entries.entry(i, j);
-                scale = scale.max(e.abs());
-                worst = worst.max((kept.schur().entry(i, j) - e).abs());
-            }
-        }
-        let gerr = (0..2)
-            .flat_map(|k| (0..m).map(move |i| (k, i)))
-            .map(|(k, i)| (kept.condensed_rhs()[k][i] - g[k][i]).abs())
-            .fold(0.0, f64::max);
-        println!("max |ΔS| = {worst:.3e} (max |S| = {scale:.3e}), max |Δg| = {gerr:.3e}");
+        print_differences(m, kept, entries, g);
         return Ok(());
     }
     let ordering = match args.ordering {

@@ -5,14 +5,14 @@
 
 use std::path::{Path, PathBuf};
 
-use rsf::fault_ode::{FaultKernel, FaultOdeOptions};
-use rsf::fem::{rectangle, Diagonal};
-use rsf::friction::{AsinhLaw, RateStateParams};
+use rsf::fault_ode::FaultKernel;
 use rsf::greens::asymmetry;
-use rsf::state::Aging;
-use rsf::time::Quasistatic;
-use rsf::{FaultOde, Material, Model, ModelBuilder, Part, SimulationBuilder};
+use rsf::Model;
 use rsf_hdf5::{read_greens, write_greens};
+
+#[path = "../../rsf/tests/suite/greens/faults.rs"]
+mod faults;
+use faults::{box_with_faults, fault_ode};
 
 fn file(name: &str) -> PathBuf {
     let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -23,42 +23,7 @@ fn file(name: &str) -> PathBuf {
 /// A 4 m square in 1/16 m cells, top and bottom held, two vertical faults 1 m long 2 m
 /// apart, "west" and "east".
 fn two_faults() -> Model<2> {
-    let mesh = rectangle([-2.0, -2.0], [4.0, 4.0], 65, 65, Diagonal::Forward).unwrap();
-    ModelBuilder::new(mesh)
-        .material(Material::new(3e10, 0.25, 2700.0))
-        .without_mass()
-        .dirichlet(Part::predicate("top", |x| x[1] > 2.0 - 1e-9), [1e-9, 0.0])
-        .dirichlet(
-            Part::predicate("bottom", |x| x[1] < -2.0 + 1e-9),
-            [-1e-9, 0.0],
-        )
-        .internal_fault("west", [-1.0, -0.5], [-1.0, 0.5])
-        .internal_fault("east", [1.0, -0.5], [1.0, 0.5])
-        .build()
-        .unwrap()
-}
-
-fn fault_ode(kernel: FaultKernel) -> FaultOde<2, AsinhLaw, Aging> {
-    let p = RateStateParams {
-        mu0: 0.6,
-        a: 0.015,
-        b: 0.01,
-        v0: 1e-6,
-        l: 1e-4,
-        sigma_n: 5e6,
-    };
-    SimulationBuilder::new(two_faults())
-        .friction(AsinhLaw::new(p).unwrap())
-        .state_law(Aging::new(p.l).unwrap())
-        .initial_state((p.l / 1e-9f64).ln())
-        .integrator(Quasistatic::new())
-        .radiation_damping(5e6)
-        .time_step(1.0)
-        .build_fault_ode(FaultOdeOptions {
-            kernel,
-            ..Default::default()
-        })
-        .unwrap()
+    box_with_faults(2.0, 2.0, 16.0)
 }
 
 #[test]
@@ -68,7 +33,7 @@ fn greens_functions_round_trip_and_apply_as_the_operator() {
         leaf_size: 4,
     };
     for (kernel, name) in [(FaultKernel::Dense, "dense.h5"), (h, "hierarchical.h5")] {
-        let mut ode = fault_ode(kernel);
+        let mut ode = fault_ode(two_faults(), kernel);
         let g = ode.greens_functions().unwrap();
         let m = g.dim();
         let s = g.dense(ode.fault_operator_mut(), 1000).unwrap();
@@ -113,7 +78,7 @@ fn greens_functions_round_trip_and_apply_as_the_operator() {
 
 #[test]
 fn a_file_of_another_format_or_a_wrong_matrix_is_refused() {
-    let mut ode = fault_ode(FaultKernel::Dense);
+    let mut ode = fault_ode(two_faults(), FaultKernel::Dense);
     let g = ode.greens_functions().unwrap();
     let s = g.dense(ode.fault_operator_mut(), 1000).unwrap();
     let path = file("short.h5");

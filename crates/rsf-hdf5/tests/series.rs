@@ -13,7 +13,12 @@ use rsf::observe::FileMode;
 use rsf::{Observer, Until};
 use rsf_hdf5::{SeasSeries, SEAS_SERIES_FILE};
 use rsf_scenes::{SeasBp1, SeasBp1Grid};
-use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_seas::{SeasOutput, SeasSetup, SECONDS_PER_YEAR};
+
+// rsf-seas's test helpers (a part of them).
+#[allow(dead_code, unused_imports)]
+#[path = "../../rsf-seas/tests/suite/common.rs"]
+mod seas_common;
 
 const SEAS_BP1: &str = env!("CARGO_BIN_EXE_seas_bp1");
 const SEAS_HDF5: &str = env!("CARGO_BIN_EXE_seas_hdf5");
@@ -129,29 +134,8 @@ fn check_series(dir: &Path) -> usize {
 
 /// BP1 made small: a 10 km fault on a 500 m grid in a 20 km domain (five stations).
 fn small_bp1() -> (SeasBp1, SeasBp1Grid, SeasSetup) {
-    let bp1 = SeasBp1 {
-        h_top: 2e3,
-        h_transition: 1e3,
-        w_f: 10e3,
-        ..SeasBp1::default()
-    };
-    let grid = SeasBp1Grid {
-        dz: 500.0,
-        domain: 20e3,
-        ratio: 1.1,
-    };
-    let sampling = SeasSampling {
-        station_quiet: 0.5 * SECONDS_PER_YEAR,
-        profile_quiet: 5.0 * SECONDS_PER_YEAR,
-        ..SeasSampling::default()
-    };
-    let mut setup = SeasSetup {
-        modeler: "A. Tester".into(),
-        date: "2026-11-28".into(),
-        profile_spacing: 1000.0,
-        ..bp1.seas_setup(grid.dz, false, sampling)
-    };
-    setup.stations.truncate(5);
+    let (bp1, grid) = seas_common::small_bp1(&SeasBp1::default());
+    let setup = seas_common::five_stations(&bp1, grid.dz, "2026-11-28");
     (bp1, grid, setup)
 }
 

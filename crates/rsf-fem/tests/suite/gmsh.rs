@@ -242,22 +242,20 @@ fn expect(r: Result<GmshMesh<3>>, line: Option<usize>, section: &str, what: &str
     }
 }
 
+/// Expects the fixture `BOX` with its line `n` (from 1) replaced by `new` to fail at that
+/// line in `section`, naming `what`.
+#[track_caller]
+fn expect_with_line(n: usize, new: &str, section: &str, what: &str) {
+    let text = with_line(BOX, n, new);
+    expect(parse_gmsh::<3>(text.as_bytes()), Some(n), section, what);
+}
+
 #[test]
 fn malformed_files_give_located_errors() {
     let parse = |s: &str| parse_gmsh::<3>(s.as_bytes());
     expect(parse(""), Some(1), "file", "does not start with");
-    expect(
-        parse(&with_line(BOX, 2, "2.2 0 8")),
-        Some(2),
-        "MeshFormat",
-        "version `2.2`",
-    );
-    expect(
-        parse(&with_line(BOX, 2, "4.1 1 8")),
-        Some(2),
-        "MeshFormat",
-        "binary",
-    );
+    expect_with_line(2, "2.2 0 8", "MeshFormat", "version `2.2`");
+    expect_with_line(2, "4.1 1 8", "MeshFormat", "binary");
     // A binary file is reported as binary, not as bad text.
     let mut bin = b"$MeshFormat\n4.1 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n$Nodes\n".to_vec();
     bin.extend_from_slice(&[0xff, 0xfe, 0x00, 0x81]);
@@ -279,18 +277,8 @@ fn malformed_files_give_located_errors() {
     );
     // A garbled coordinate, a garbled count, a non-finite coordinate.
     let l = line_of(BOX, "0.5 0.5 0.5");
-    expect(
-        parse(&with_line(BOX, l, "0.5 abc 0.5")),
-        Some(l),
-        "Nodes",
-        "expected a y coordinate",
-    );
-    expect(
-        parse(&with_line(BOX, l, "0.5 inf 0.5")),
-        Some(l),
-        "Nodes",
-        "not finite",
-    );
+    expect_with_line(l, "0.5 abc 0.5", "Nodes", "expected a y coordinate");
+    expect_with_line(l, "0.5 inf 0.5", "Nodes", "not finite");
     let l = line_of(BOX, "3 14 1 21");
     expect(
         parse(&with_line(BOX, l, "3 15 1 21")),
@@ -303,38 +291,18 @@ fn malformed_files_give_located_errors() {
     let last = BOX.lines().nth(l - 1).unwrap();
     let mut fields: Vec<&str> = last.split(' ').collect();
     fields[1] = "99";
-    expect(
-        parse(&with_line(BOX, l, &fields.join(" "))),
-        Some(l),
-        "Elements",
-        "node 99",
-    );
+    expect_with_line(l, &fields.join(" "), "Elements", "node 99");
     // A degenerate tetrahedron (its fourth node moved onto its first).
     fields = last.split(' ').collect();
     let first = fields[1];
     fields[4] = first;
-    expect(
-        parse(&with_line(BOX, l, &fields.join(" "))),
-        Some(l),
-        "Elements",
-        "degenerate",
-    );
+    expect_with_line(l, &fields.join(" "), "Elements", "degenerate");
     // Unsupported element type (a quadrangle block header).
     let l = line_of(BOX, "3 1 4 24");
-    expect(
-        parse(&with_line(BOX, l, "3 1 5 24")),
-        Some(l),
-        "Elements",
-        "type 5",
-    );
+    expect_with_line(l, "3 1 5 24", "Elements", "type 5");
     // A physical name without quotes; a section never closed; text outside sections.
     let l = line_of(BOX, "2 1 \"fault\"");
-    expect(
-        parse(&with_line(BOX, l, "2 1 fault")),
-        Some(l),
-        "PhysicalNames",
-        "double quotes",
-    );
+    expect_with_line(l, "2 1 fault", "PhysicalNames", "double quotes");
     let l = line_of(BOX, "$EndEntities");
     expect(
         parse(&with_line(BOX, l, "")),

@@ -6,7 +6,10 @@
 //! support is refused by name.
 use rsf_fem::*;
 
-use crate::split_transform::{dense, matvec, solve_fixed};
+use crate::split_transform::{
+    assert_inverts, dense, largest, matvec, outer_boundary_values, plane_rigid_motions,
+    solve_fixed, stiffness,
+};
 
 /// The square `[−2, 2]²` with vertices every 0.25 m (17 × 17).
 fn square() -> TriangleMesh {
@@ -117,16 +120,7 @@ fn a_branch_and_a_crossing_cut_their_junction_into_three_and_four_copies() {
         let free_jumps = tr.junctions[0].jumps.len();
         assert_eq!(free_jumps, if crossing { 2 } else { 1 });
         assert_eq!(tr.frames.len(), network.pairs().len() + free_jumps);
-        // T T⁻¹ = I.
-        let id = dense(&(&tr.t * &tr.t_inv));
-        for (i, r) in id.iter().enumerate() {
-            for (k, v) in r.iter().enumerate() {
-                assert!(
-                    (v - f64::from(u8::from(i == k))).abs() < 1e-15,
-                    "{i} {k} {v}"
-                );
-            }
-        }
+        assert_inverts(&tr);
     }
 }
 
@@ -135,22 +129,11 @@ fn a_rigid_motion_has_no_jump_and_no_force_at_a_junction() {
     for crossing in [false, true] {
         let (s, network, tr) = junction(0.4, crossing);
         let ti = dense(&tr.t_inv);
-        let k = Assembler::new(&s)
-            .unwrap()
-            .stiffness(&s, &LinearElasticity::plane_strain(1e10, 0.25).unwrap())
-            .unwrap();
+        let k = stiffness(&s, &LinearElasticity::plane_strain(1e10, 0.25).unwrap());
         let kp = dense(&tr.congruence(&k).unwrap());
-        let scale = dense(&k)
-            .iter()
-            .flatten()
-            .fold(0.0f64, |a, x| a.max(x.abs()));
+        let scale = largest(&dense(&k));
         let blocks = &tr.junctions[0];
-        for (a, b, w) in [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1e-3)] {
-            let u: Vec<f64> = s
-                .vertices()
-                .iter()
-                .flat_map(|x| [a - w * x[1], b + w * x[0]])
-                .collect();
+        for u in plane_rigid_motions(&s) {
             let up = matvec(&ti, &u);
             let jumps = network
                 .pairs()
@@ -182,28 +165,11 @@ fn sheared(
 ) {
     let (s, network, tr) = junction(theta, crossing);
     let (c, sn) = (theta.cos(), theta.sin());
-    let k = Assembler::new(&s)
-        .unwrap()
-        .stiffness(&s, &LinearElasticity::plane_strain(1.0, 0.25).unwrap())
-        .unwrap();
+    let k = stiffness(&s, &LinearElasticity::plane_strain(1.0, 0.25).unwrap());
     let kp = dense(&tr.congruence(&k).unwrap());
     let k = dense(&k);
-    let n = 2 * s.num_vertices();
-    let mut fixed = vec![false; n];
-    let mut x = vec![0.0; n];
     let gamma = 1e-3;
-    for f in 0..s.num_boundary_facets() {
-        if s.boundary_facet_tag(f).is_some() {
-            continue; // a fault's face
-        }
-        for &p in s.boundary_facet(f) {
-            let y = -sn * s.vertices()[p][0] + c * s.vertices()[p][1];
-            fixed[2 * p] = true;
-            fixed[2 * p + 1] = true;
-            x[2 * p] = c * gamma * y;
-            x[2 * p + 1] = sn * gamma * y;
-        }
-    }
+    let (mut fixed, mut x) = outer_boundary_values(&s, theta, |y| [c * gamma * y, sn * gamma * y]);
     let blocks = &tr.junctions[0];
     for (mi, _) in network.pairs() {
         fixed[2 * mi + 1] = true;

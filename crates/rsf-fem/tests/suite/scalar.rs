@@ -22,18 +22,9 @@ fn point(lam: &[f64; 3], x: &[[f64; 2]]) -> [f64; 2] {
     ]
 }
 
-/// Solves `−∇·(μ∇u) = f` with `u = g` on the nodes selected by `dirichlet` (natural,
-/// traction-free elsewhere); the load by degree-5 quadrature.
-fn solve(
-    m: &TriangleMesh,
-    mu: f64,
-    f: impl Fn(&[f64; 2]) -> f64,
-    g: impl Fn(&[f64; 2]) -> f64,
-    dirichlet: impl Fn(&[f64; 2]) -> bool,
-) -> Vec<f64> {
-    let asm = Assembler::scalar(m).unwrap();
-    assert_eq!(asm.num_dofs(), m.num_vertices());
-    let k = asm.laplace(m, mu).unwrap();
+/// The load `∫ f φ_i` of the source `f` on the hat functions of `m`, by degree-5
+/// quadrature.
+fn body_load(m: &TriangleMesh, f: impl Fn(&[f64; 2]) -> f64) -> Vec<f64> {
     let q = triangle_quadrature();
     let mut load = vec![0.0; m.num_vertices()];
     for c in 0..m.num_cells() {
@@ -47,6 +38,22 @@ fn solve(
             }
         }
     }
+    load
+}
+
+/// Solves `−∇·(μ∇u) = f` with `u = g` on the nodes selected by `dirichlet` (natural,
+/// traction-free elsewhere); the load by degree-5 quadrature.
+fn solve(
+    m: &TriangleMesh,
+    mu: f64,
+    f: impl Fn(&[f64; 2]) -> f64,
+    g: impl Fn(&[f64; 2]) -> f64,
+    dirichlet: impl Fn(&[f64; 2]) -> bool,
+) -> Vec<f64> {
+    let asm = Assembler::scalar(m).unwrap();
+    assert_eq!(asm.num_dofs(), m.num_vertices());
+    let k = asm.laplace(m, mu).unwrap();
+    let load = body_load(m, f);
     let mut cons = Constraints::<1>::new(m.num_vertices());
     let seg = BoundarySegment::from_predicate(m, "dirichlet", &dirichlet).unwrap();
     for &p in seg.nodes() {
@@ -112,19 +119,7 @@ fn manufactured_solution_rates() {
         let uh = {
             let asm = Assembler::scalar(&m).unwrap();
             let k = asm.laplace(&m, mu).unwrap();
-            let q = triangle_quadrature();
-            let mut load = vec![0.0; m.num_vertices()];
-            for c in 0..m.num_cells() {
-                let v = m.cell(c);
-                let x: Vec<[f64; 2]> = v.iter().map(|&i| m.vertices()[i]).collect();
-                let area = m.cell_measure(c);
-                for (lam, w) in &q {
-                    let fp = f(&point(lam, &x));
-                    for k in 0..3 {
-                        load[v[k]] += w * area * fp * lam[k];
-                    }
-                }
-            }
+            let mut load = body_load(&m, f);
             // Neumann on y = 0: g = −μ x, exact for P1 hat functions on each segment
             // (∫ g φ_i with g linear: Simpson is exact).
             let dx = 2.0 / (2 * n) as f64;

@@ -6,6 +6,8 @@ use std::collections::{HashMap, HashSet};
 
 use rsf_fem::*;
 
+use crate::split_transform::{assert_inverts, dense, largest, matvec, stiffness};
+
 /// Vertex `(i, j, k)` of `cuboid([0; 3], [1; 3], [n; 3])`, at `(i, j, k)/(n − 1)`.
 fn id(n: usize) -> impl Fn(usize, usize, usize) -> usize {
     move |i, j, k| i + n * (j + n * k)
@@ -536,23 +538,6 @@ fn polygons_the_mesh_does_not_resolve_are_typed_errors() {
     ));
 }
 
-fn dense(a: &SparseMatrix) -> Vec<Vec<f64>> {
-    let a = a.as_ref();
-    let mut d = vec![vec![0.0; a.ncols()]; a.nrows()];
-    for j in 0..a.ncols() {
-        for (i, v) in a.row_idx_of_col(j).zip(a.val_of_col(j)) {
-            d[i][j] += *v;
-        }
-    }
-    d
-}
-
-fn matvec(a: &[Vec<f64>], x: &[f64]) -> Vec<f64> {
-    a.iter()
-        .map(|r| r.iter().zip(x).map(|(p, q)| p * q).sum())
-        .collect()
-}
-
 /// A kinked fault in `unit_cube(5)` across its whole width in y: x = 1/2 from the bottom
 /// z = 0 up to z = 1/2, then x = z up to z = 3/4, its rim there buried (its faces found by
 /// their vertices).
@@ -590,12 +575,7 @@ fn the_mean_jump_transform_inverts_and_measures_the_jump_in_the_pair_frames() {
     assert_eq!(sides.tips().len(), 5);
     let dip = [1.0, 0.0, 1.0];
     let tr = sides.mean_jump_transform::<3>(&s, Some(&dip)).unwrap();
-    let id = dense(&(&tr.t * &tr.t_inv));
-    for (i, r) in id.iter().enumerate() {
-        for (j, v) in r.iter().enumerate() {
-            assert!((v - f64::from(u8::from(i == j))).abs() < 1e-15);
-        }
-    }
+    assert_inverts(&tr);
     // The frames: orthonormal, right-handed, last column −n with n the area-weighted mean
     // of the faces' normals at the pair, first column the dip's projection.
     let x = m.vertices();
@@ -659,15 +639,9 @@ fn the_mean_jump_transform_inverts_and_measures_the_jump_in_the_pair_frames() {
         }
     }
     // Rigid motions have no jump and no force.
-    let k = Assembler::new(&s)
-        .unwrap()
-        .stiffness(&s, &LinearElasticity::isotropic(1e10, 0.25).unwrap())
-        .unwrap();
+    let k = stiffness(&s, &LinearElasticity::isotropic(1e10, 0.25).unwrap());
     let kp = dense(&tr.congruence(&k).unwrap());
-    let scale = dense(&k)
-        .iter()
-        .flatten()
-        .fold(0.0f64, |a, x| a.max(x.abs()));
+    let scale = largest(&dense(&k));
     let ti = dense(&tr.t_inv);
     for (a, w) in [([1.0, 2.0, 3.0], [0.0; 3]), ([0.0; 3], [1e-3, -2e-3, 3e-3])] {
         let rigid: Vec<f64> = s

@@ -59,6 +59,73 @@ pub(crate) fn solve_fixed(a: &[Vec<f64>], fixed: &[bool], x: &mut [f64]) {
     }
 }
 
+/// Asserts `T T⁻¹ = I` of the transform `tr`, to 1e-15 in every entry.
+pub(crate) fn assert_inverts<const D: usize>(tr: &MeanJumpTransform<D>) {
+    let id = dense(&(&tr.t * &tr.t_inv));
+    for (i, r) in id.iter().enumerate() {
+        for (j, v) in r.iter().enumerate() {
+            assert!(
+                (v - f64::from(u8::from(i == j))).abs() < 1e-15,
+                "T T⁻¹ at ({i}, {j}): {v}"
+            );
+        }
+    }
+}
+
+/// The stiffness `K` of `mat` on the mesh `s`.
+pub(crate) fn stiffness<const D: usize>(
+    s: &SimplexMesh<D>,
+    mat: &LinearElasticity,
+) -> SparseMatrix {
+    Assembler::new(s).unwrap().stiffness(s, mat).unwrap()
+}
+
+/// The largest magnitude of the entries of the dense `a`.
+pub(crate) fn largest(a: &[Vec<f64>]) -> f64 {
+    a.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+/// The plane rigid motions `u = (a − w y, b + w x)` at the vertices of `s`: the
+/// translations along x and along y, and the rotation by w = 1e-3.
+pub(crate) fn plane_rigid_motions(s: &TriangleMesh) -> impl Iterator<Item = Vec<f64>> + '_ {
+    [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1e-3)]
+        .into_iter()
+        .map(|(a, b, w)| {
+            s.vertices()
+                .iter()
+                .flat_map(|x| [a - w * x[1], b + w * x[0]])
+                .collect()
+        })
+}
+
+/// The fixed dofs and their values on the outer boundary of `s` (its facets without a
+/// tag, a fault's faces have one): `u(y')` at every vertex there, `y'` its y in the frame
+/// turned by `theta`; the other entries free and 0.
+pub(crate) fn outer_boundary_values(
+    s: &TriangleMesh,
+    theta: f64,
+    u: impl Fn(f64) -> [f64; 2],
+) -> (Vec<bool>, Vec<f64>) {
+    let (c, sn) = (theta.cos(), theta.sin());
+    let n = 2 * s.num_vertices();
+    let mut fixed = vec![false; n];
+    let mut x = vec![0.0; n];
+    for f in 0..s.num_boundary_facets() {
+        if s.boundary_facet_tag(f).is_some() {
+            continue; // a fault's face
+        }
+        for &p in s.boundary_facet(f) {
+            let y = -sn * s.vertices()[p][0] + c * s.vertices()[p][1]; // y in the turned frame
+            let u = u(y);
+            fixed[2 * p] = true;
+            fixed[2 * p + 1] = true;
+            x[2 * p] = u[0];
+            x[2 * p + 1] = u[1];
+        }
+    }
+    (fixed, x)
+}
+
 fn square(theta: f64) -> TriangleMesh {
     let m = rectangle([-1.0, -1.0], [2.0, 2.0], 9, 9, Diagonal::Forward).unwrap();
     let (c, s) = (theta.cos(), theta.sin());
@@ -76,25 +143,11 @@ fn the_transform_inverts_and_rigid_motions_have_no_jump_and_no_force() {
     let (s, sides) = m.split_along_segment("f", [0.0, -1.0], [0.0, 0.5]).unwrap();
     let tr = sides.mean_jump_transform::<2>(&s).unwrap();
     let ti = dense(&tr.t_inv);
-    let id = dense(&(&tr.t * &tr.t_inv));
-    for (i, r) in id.iter().enumerate() {
-        for (j, v) in r.iter().enumerate() {
-            assert!((v - f64::from(u8::from(i == j))).abs() < 1e-15);
-        }
-    }
-    let k = Assembler::new(&s)
-        .unwrap()
-        .stiffness(&s, &LinearElasticity::plane_strain(1e10, 0.25).unwrap())
-        .unwrap();
+    assert_inverts(&tr);
+    let k = stiffness(&s, &LinearElasticity::plane_strain(1e10, 0.25).unwrap());
     let kp = dense(&tr.congruence(&k).unwrap());
-    let k = dense(&k);
-    let scale = k.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
-    for (a, b, w) in [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1e-3)] {
-        let u: Vec<f64> = s
-            .vertices()
-            .iter()
-            .flat_map(|x| [a - w * x[1], b + w * x[0]])
-            .collect();
+    let scale = largest(&dense(&k));
+    for u in plane_rigid_motions(&s) {
         let up = matvec(&ti, &u);
         for (mi, _) in sides.pairs() {
             assert!(up[2 * mi].abs() < 1e-15 && up[2 * mi + 1].abs() < 1e-15);
@@ -132,29 +185,11 @@ fn mode_ii(
         .unwrap();
     let tr = sides.mean_jump_transform::<2>(&s).unwrap();
     let t = dense(&tr.t);
-    let k = Assembler::new(&s)
-        .unwrap()
-        .stiffness(&s, &LinearElasticity::plane_strain(1.0, 0.25).unwrap())
-        .unwrap();
+    let k = stiffness(&s, &LinearElasticity::plane_strain(1.0, 0.25).unwrap());
     let kp = dense(&tr.congruence(&k).unwrap());
     let k = dense(&k);
-    let n = 2 * s.num_vertices();
-    let mut fixed = vec![false; n];
-    let mut x = vec![0.0; n];
     let gamma = 1e-3;
-    for f in 0..s.num_boundary_facets() {
-        if s.boundary_facet_tag(f).is_some() {
-            continue; // the fault's faces
-        }
-        for &p in s.boundary_facet(f) {
-            let y = -sn * s.vertices()[p][0] + c * s.vertices()[p][1]; // y in the turned frame
-            let u = rot([gamma * y, 0.0]);
-            fixed[2 * p] = true;
-            fixed[2 * p + 1] = true;
-            x[2 * p] = u[0];
-            x[2 * p + 1] = u[1];
-        }
-    }
+    let (mut fixed, mut x) = outer_boundary_values(&s, theta, |y| rot([gamma * y, 0.0]));
     for (mi, _) in sides.pairs() {
         fixed[2 * mi + 1] = true; // tied: no opening
     }
@@ -306,12 +341,7 @@ fn a_reshared_transform_keeps_the_jump_and_weights_the_mean() {
         .map(|k| (k as f64 + 0.5) / pairs.len() as f64)
         .collect();
     let tr = mean.reshared::<2>(&sides, &shares).unwrap();
-    let id = dense(&(&tr.t * &tr.t_inv));
-    for (i, r) in id.iter().enumerate() {
-        for (j, v) in r.iter().enumerate() {
-            assert!((v - f64::from(u8::from(i == j))).abs() < 1e-15);
-        }
-    }
+    assert_inverts(&tr);
     let u: Vec<f64> = (0..2 * s.num_vertices())
         .map(|i| ((i * 7919) % 101) as f64 / 101.0 - 0.5)
         .collect();

@@ -124,6 +124,16 @@ fn antiplane_is_the_long_fault_limit_of_dc3d() {
     }
 }
 
+/// Dip-slip faults against DC3D's long-fault limit, buried and surface-breaking: the
+/// `depth`, `dip` (°) and along-dip extent `aw` of DC3D's rectangle.
+const SEGMENTS: [(f64, f64, [f64; 2]); 5] = [
+    (3.0, 30.0, [-1.0, 1.5]),
+    (2.0, 60.0, [-2.0, 0.5]),
+    (4.0, 90.0, [-1.0, 1.0]),
+    (0.0, 45.0, [-3.0, 0.0]),
+    (2.5, 120.0, [-1.0, 1.0]),
+];
+
 /// The plane-strain edge-dislocation surface displacement is the limit of DC3D's dip-slip
 /// surface displacement for a long fault (length `2L`), for several dips, buried and
 /// surface-breaking: the difference is `O(H/L)` (the vertical displacement of dip slip
@@ -132,14 +142,8 @@ fn antiplane_is_the_long_fault_limit_of_dc3d() {
 #[test]
 fn edge_surface_displacement_is_the_long_fault_limit_of_dc3d() {
     let s = 0.8;
-    for (depth, dip, aw) in [
-        (3.0, 30.0, [-1.0, 1.5]),
-        (2.0, 60.0, [-2.0, 0.5]),
-        (4.0, 90.0, [-1.0, 1.0]),
-        (0.0, 45.0, [-3.0, 0.0]),
-        (0.0, 90.0, [-2.0, 0.0]),
-        (2.5, 120.0, [-1.0, 1.0]),
-    ] {
+    // And a vertical fault breaking the surface.
+    for (depth, dip, aw) in SEGMENTS.into_iter().chain([(0.0, 90.0, [-2.0, 0.0])]) {
         for y in [-7.0, -1.3, -0.2, 0.4, 2.2, 9.0] {
             let u2d = edge_surface_displacement(s, depth, dip, aw, y).unwrap();
             let hh = (depth + 3.0f64).max(y.abs());
@@ -172,13 +176,7 @@ fn edge_surface_displacement_is_the_long_fault_limit_of_dc3d() {
 fn edge_segment_stress_is_the_long_fault_limit_of_dc3d() {
     let m = rsf_halfspace::Medium::from_shear_poisson(MU, 0.3).unwrap();
     let s = 0.8;
-    for (depth, dip, aw) in [
-        (3.0, 30.0, [-1.0, 1.5]),
-        (2.0, 60.0, [-2.0, 0.5]),
-        (4.0, 90.0, [-1.0, 1.0]),
-        (0.0, 45.0, [-3.0, 0.0]),
-        (2.5, 120.0, [-1.0, 1.0]),
-    ] {
+    for (depth, dip, aw) in SEGMENTS {
         let w = aw[1] - aw[0];
         let scale = MU * s / w;
         for (y, z) in [
@@ -246,52 +244,23 @@ fn two_d_errors() {
     assert!(edge_surface_displacement(1.0, 0.0, 90.0, [-1.0, 1.0], 2.0).is_err());
     assert!(edge_surface_displacement(1.0, 1.0, 0.0, [-1.0, 1.0], 2.0).is_err());
     let m = rsf_halfspace::Medium::from_shear_poisson(MU, 0.25).unwrap();
+    // A vertical segment's stress at `at`.
+    let vertical = |depth: f64, aw: [f64; 2], at: [f64; 2]| {
+        let segment = DipSegment {
+            depth,
+            dip_deg: 90.0,
+            aw,
+        };
+        edge_segment_stress(&m, 1.0, segment, at)
+    };
     assert!(matches!(
-        edge_segment_stress(
-            &m,
-            1.0,
-            DipSegment {
-                depth: 2.0,
-                dip_deg: 90.0,
-                aw: [-1.0, 1.0]
-            },
-            [0.0, -1.0]
-        ),
+        vertical(2.0, [-1.0, 1.0], [0.0, -1.0]),
         Err(Error::AtDislocation { .. })
     ));
     assert!(matches!(
-        edge_segment_stress(
-            &m,
-            1.0,
-            DipSegment {
-                depth: 0.0,
-                dip_deg: 90.0,
-                aw: [-1.0, 0.0]
-            },
-            [0.0, 0.0]
-        ),
+        vertical(0.0, [-1.0, 0.0], [0.0, 0.0]),
         Err(Error::AtDislocation { .. })
     ));
-    assert!(edge_segment_stress(
-        &m,
-        1.0,
-        DipSegment {
-            depth: 2.0,
-            dip_deg: 90.0,
-            aw: [-1.0, 1.0]
-        },
-        [0.0, 0.1]
-    )
-    .is_err());
-    assert!(edge_segment_stress(
-        &m,
-        1.0,
-        DipSegment {
-            depth: 0.5,
-            dip_deg: 90.0,
-            aw: [-1.0, 1.0]
-        },
-        [0.0, -3.0]
-    )
-    .is_err());
+    assert!(vertical(2.0, [-1.0, 1.0], [0.0, 0.1]).is_err());
+    assert!(vertical(0.5, [-1.0, 1.0], [0.0, -3.0]).is_err());
 }

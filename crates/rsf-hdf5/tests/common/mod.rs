@@ -17,17 +17,11 @@ pub fn vtu_field(path: &std::path::Path, name: &str) -> Vec<f64> {
         panic!("not an unstructured grid")
     };
     let piece = pieces[0].load_piece_data(None).expect("inline piece");
-    let attr = piece
-        .data
-        .point
-        .iter()
-        .find(|a| a.name() == name)
-        .unwrap_or_else(|| panic!("no point data `{name}`"));
-    let vtkio::model::Attribute::DataArray(array) = attr else {
-        panic!("`{name}` is not a data array")
-    };
-    array.data.clone().cast_into::<f64>().expect("numbers")
+    point_data::point_data(&piece, name)
 }
+
+#[path = "../../../rsf/tests/suite/vtu/point_data.rs"]
+mod point_data;
 
 /// Bits, so that NaN (off the fault) compares equal to NaN.
 pub fn bits(v: &[f64]) -> Vec<u64> {

@@ -17,6 +17,14 @@ fn dense(k: &AntiplaneHalfSpace) -> Mat<f64> {
     Mat::from_fn(k.len(), k.len(), |i, j| k.entry(i, j))
 }
 
+/// The kernel on `n` cells, its dense matrix and its points.
+fn kernel_matrix(n: usize) -> (AntiplaneHalfSpace, Mat<f64>, Points) {
+    let k = kernel(n);
+    let s = dense(&k);
+    let points = k.points();
+    (k, s, points)
+}
+
 fn frob(a: &Mat<f64>) -> f64 {
     a.norm_l2()
 }
@@ -67,10 +75,8 @@ fn antiplane_kernel_is_symmetric_and_negative_definite() {
 #[test]
 fn svd_compression_meets_the_tolerance_in_the_matrix_and_the_product() {
     let n = 700;
-    let k = kernel(n);
-    let s = dense(&k);
+    let (_, s, points) = kernel_matrix(n);
     let norm = frob(&s);
-    let points = k.points();
     for eps in [1e-4, 1e-6, 1e-8] {
         let mut h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::with_epsilon(eps)).unwrap();
         let r = h.report().clone();
@@ -106,10 +112,8 @@ fn svd_compression_meets_the_tolerance_in_the_matrix_and_the_product() {
 #[test]
 fn aca_meets_the_tolerance_and_agrees_with_svd() {
     let n = 700;
-    let k = kernel(n);
-    let s = dense(&k);
+    let (k, s, points) = kernel_matrix(n);
     let norm = frob(&s);
-    let points = k.points();
     for eps in [1e-4, 1e-6, 1e-8] {
         let options = HOptions::with_epsilon(eps);
         let aca = HMatrix::from_entries(|i, j| k.entry(i, j), &points, &options).unwrap();
@@ -190,9 +194,7 @@ fn stored_entries_grow_like_n_log_n() {
 #[test]
 fn products_are_bit_identical_run_to_run_and_in_parallel() {
     let n = 1000;
-    let k = kernel(n);
-    let s = dense(&k);
-    let points = k.points();
+    let (_, s, points) = kernel_matrix(n);
     let options = HOptions::with_epsilon(1e-6);
     let mut a = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
     let mut b = HMatrix::from_dense(s.as_ref(), &points, &options).unwrap();
@@ -212,9 +214,7 @@ fn products_are_bit_identical_run_to_run_and_in_parallel() {
 #[test]
 fn products_by_parts_give_every_row_the_bits_of_the_whole_product() {
     let n = 1000;
-    let k = kernel(n);
-    let s = dense(&k);
-    let points = k.points();
+    let (_, s, points) = kernel_matrix(n);
     let mut h = HMatrix::from_dense(s.as_ref(), &points, &HOptions::with_epsilon(1e-6)).unwrap();
     let x = test_vector(n, 11);
     let mut whole = vec![0.0; n];
@@ -451,9 +451,7 @@ fn invalid_input_is_rejected() {
 #[test]
 fn from_dense_has_the_same_bits_in_pools_of_any_size() {
     let n = 600;
-    let k = kernel(n);
-    let s = dense(&k);
-    let points = k.points();
+    let (_, s, points) = kernel_matrix(n);
     let build = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

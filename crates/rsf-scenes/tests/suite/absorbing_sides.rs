@@ -2,6 +2,7 @@
 //! (Lysmer–Kuhlemeyer dashpots). The dashpot matrix is checked against the impedances
 //! computed here from E, ν and ρ; the paper's scene (flag off) keeps its fingerprint.
 
+use crate::within;
 use rsf::fem::{quadratic_form, SparseMatrix, TAG_NEUMANN};
 use rsf::{Error, Integrator};
 use rsf_scenes::{Slider3dScene, SliderScene};
@@ -138,14 +139,7 @@ fn absorbing_ends_take_the_ringing_out_of_the_block() {
         };
         let mut sim = scene.build().unwrap();
         let mut rows = Energies(Vec::new());
-        sim.run_until(
-            rsf::Until::TimeWithin {
-                time: 11.0,
-                max_steps: 500_000,
-            },
-            &mut [&mut rows],
-        )
-        .unwrap();
+        sim.run_until(within(11.0), &mut [&mut rows]).unwrap();
         rows.0
     };
     let (free, absorbing) = (run(false), run(true));

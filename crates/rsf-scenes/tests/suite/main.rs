@@ -17,3 +17,12 @@ mod seas_bp6;
 mod surface_pressure;
 #[cfg(feature = "seas")]
 mod volume_vertices;
+
+/// The end time `time` (s) within 500 000 steps (the tests' bound on a run that would
+/// otherwise have collapsed).
+fn within(time: f64) -> rsf::Until {
+    rsf::Until::TimeWithin {
+        time,
+        max_steps: 500_000,
+    }
+}

@@ -1,6 +1,7 @@
 //! A coarse SEAS BP3-QD (`SeasBp3`, docs/seas-bp3.md): the thrust reaches its first event
 //! in CI time with its normal stress changing, and the two engines (the fault ODE, the
 //! implicit scheme with adaptive steps) agree on its time and on the slip before it.
+use crate::within;
 use rsf::observe::StepView;
 use rsf::{Flow, Observer};
 use rsf_scenes::{SeasBp3, SeasBp3Grid};
@@ -54,14 +55,8 @@ fn first_event_by_the_fault_ode(bp3: &SeasBp3) -> (f64, (f64, f64)) {
         stop_at_event: true,
         ..Watch::default()
     };
-    ode.run_until(
-        rsf::Until::TimeWithin {
-            time: 400.0 * SECONDS_PER_YEAR,
-            max_steps: 500_000,
-        },
-        &mut [&mut watch],
-    )
-    .unwrap();
+    ode.run_until(within(400.0 * SECONDS_PER_YEAR), &mut [&mut watch])
+        .unwrap();
     let first = watch.first_event.expect("an event within 400 years") / SECONDS_PER_YEAR;
     (first, watch.sigma)
 }
@@ -83,14 +78,8 @@ fn first_event_by_the_implicit_scheme(bp3: &SeasBp3, tolerance: f64) -> f64 {
         stop_at_event: true,
         ..Watch::default()
     };
-    sim.run_until(
-        rsf::Until::TimeWithin {
-            time: 400.0 * SECONDS_PER_YEAR,
-            max_steps: 500_000,
-        },
-        &mut [&mut watch],
-    )
-    .unwrap();
+    sim.run_until(within(400.0 * SECONDS_PER_YEAR), &mut [&mut watch])
+        .unwrap();
     watch.first_event.expect("an event within 400 years") / SECONDS_PER_YEAR
 }
 
@@ -140,15 +129,7 @@ fn overshooting_stages_are_rejected_and_the_run_completes() {
         ..Watch::default()
     };
     let end = 80.0 * SECONDS_PER_YEAR;
-    let summary = ode
-        .run_until(
-            rsf::Until::TimeWithin {
-                time: end,
-                max_steps: 500_000,
-            },
-            &mut [&mut watch],
-        )
-        .unwrap();
+    let summary = ode.run_until(within(end), &mut [&mut watch]).unwrap();
     eprintln!(
         "{} steps, {} rejected, {} for σ̄_n ≤ 0; normal stress in [{:.3}, {:.3}] MPa",
         summary.steps,
@@ -172,14 +153,7 @@ fn the_two_engines_agree_on_a_coarse_bp3_before_its_first_event() {
     let options = bp3.params.fault_ode_options(1e-8).unwrap();
     let mut ode = bp3.fault_ode(model.clone(), options).unwrap();
     let mut a = Watch::default();
-    ode.run_until(
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut a],
-    )
-    .unwrap();
+    ode.run_until(within(t_end), &mut [&mut a]).unwrap();
     let mut sim = bp3
         .problem_builder(model)
         .unwrap()
@@ -189,14 +163,7 @@ fn the_two_engines_agree_on_a_coarse_bp3_before_its_first_event() {
         .build()
         .unwrap();
     let mut b = Watch::default();
-    sim.run_until(
-        rsf::Until::TimeWithin {
-            time: t_end,
-            max_steps: 500_000,
-        },
-        &mut [&mut b],
-    )
-    .unwrap();
+    sim.run_until(within(t_end), &mut [&mut b]).unwrap();
     let scale = a.slip.iter().fold(0.0f64, |m, x| m.max(*x));
     let d = a
         .slip
@@ -299,10 +266,7 @@ fn the_bp3_files_follow_the_description_and_hold_the_runs_values() {
     rsf::Stepping::watch_vertices(&mut ode, &out.surface_vertices()).unwrap();
     out.write_initial_state(ode.model(), ode.state()).unwrap();
     ode.run_until(
-        rsf::Until::TimeWithin {
-            time: 150.0 * SECONDS_PER_YEAR,
-            max_steps: 500_000,
-        },
+        within(150.0 * SECONDS_PER_YEAR),
         &mut [&mut out, &mut values],
     )
     .unwrap();
@@ -544,10 +508,7 @@ fn a_resumed_bp3_run_writes_the_same_bytes() {
     use rsf_seas::SeasOutput;
     let bp3 = SeasBp3::thrust();
     let model = bp3.model(&GRID).unwrap();
-    let end = rsf::Until::TimeWithin {
-        time: 150.0 * SECONDS_PER_YEAR,
-        max_steps: 500_000,
-    };
+    let end = within(150.0 * SECONDS_PER_YEAR);
     let setup = test_setup(&bp3);
     let root = std::env::temp_dir().join(format!("rsf-seas-bp3-resume-{}", std::process::id()));
     std::fs::remove_dir_all(&root).ok();
@@ -626,14 +587,8 @@ fn compressed_kernels_match_the_dense_ones_through_the_first_event() {
             sigma: (f64::INFINITY, 0.0),
             ..Watch::default()
         };
-        ode.run_until(
-            rsf::Until::TimeWithin {
-                time: 200.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-            &mut [&mut watch],
-        )
-        .unwrap();
+        ode.run_until(within(200.0 * SECONDS_PER_YEAR), &mut [&mut watch])
+            .unwrap();
         let sigma: Vec<f64> = (0..ode.model().frictional_boundary.len())
             .map(|k| {
                 rsf::Stepping::fault_tractions(&ode)

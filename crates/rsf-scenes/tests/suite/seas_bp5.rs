@@ -3,10 +3,11 @@
 //! (A coarse run's ruptures and files, and a stopped and continued run: the crate
 //! rsf-seas's tests.)
 
+use crate::within;
 use rsf::halfspace::okada::{dc3d, Rectangle};
 use rsf::Until;
-use rsf_scenes::{SeasBp5, SEAS_BP5_BODY_STATIONS};
-use rsf_seas::{SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_scenes::{SeasBp5, SeasBp5Run, SEAS_BP5_BODY_STATIONS};
+use rsf_seas::{SeasSetup, SECONDS_PER_YEAR};
 
 /// The prestress of the description, written out here from its formula (not the scene's
 /// code): τ⁰ = σ̄_n a asinh(V/(2V₀) exp((f₀ + b ln(V₀/V_p))/a)) + η V (Pa).
@@ -16,21 +17,14 @@ fn published_tau0(a: f64, v: f64) -> f64 {
     sigma * a * (v / (2.0 * v0) * ((f0 + b * (v0 / v_p).ln()) / a).exp()).asinh() + eta * v
 }
 
+/// The files' headers of a BP5 run at Δx = `dx` (m), the run's own (modeler `test`, date
+/// 2026-11-26).
 fn setup(dx: f64) -> SeasSetup {
-    SeasSetup {
-        problem: "SEAS Benchmark BP5-QD".into(),
-        modeler: "test".into(),
-        date: "2026-11-26".into(),
-        element_size: dx,
-        stations: Vec::new(),
-        depth_axis: 2,
-        depth_down: false,
-        sigma_n: 25e6,
-        profile_spacing: dx,
-        sampling: SeasSampling::default(),
-        layout: SeasLayout::default(),
-        surface_stations: Vec::new(),
-    }
+    let run = SeasBp5Run {
+        dx,
+        ..SeasBp5Run::default()
+    };
+    run.seas_setup(&SeasBp5::default(), "test".into(), "2026-11-26".into())
 }
 
 #[test]
@@ -239,14 +233,8 @@ fn the_volume_model_starts_at_the_descriptions_rates_and_creeps_at_the_plate_rat
     };
     check(&ode);
     // The creeping pairs slip at (V_p, 0) in their frame (t₁ along +y): u⁺ − u⁻ = V_p t e_y.
-    ode.run_until(
-        Until::TimeWithin {
-            time: 10.0 * SECONDS_PER_YEAR,
-            max_steps: 500_000,
-        },
-        &mut [],
-    )
-    .unwrap();
+    ode.run_until(within(10.0 * SECONDS_PER_YEAR), &mut [])
+        .unwrap();
     let t = ode.state().time;
     let m = ode.model();
     let frames = &m.internal_fault.as_ref().unwrap().transform.frames;

@@ -4,6 +4,7 @@
 //! the files' first rows are the description's values, and a pressure that would open
 //! the fault is a typed error.
 
+use crate::within;
 use std::sync::Arc;
 
 use rsf::fault_ode::FaultKernel;
@@ -15,11 +16,49 @@ use rsf_scenes::{Bp6Pressure, Bp6Variant, SeasBp6, SeasBp6Grid, SeasBp6Implicit}
 
 const DAY: f64 = 86_400.0;
 
+/// A coarse grid of the finite-element model: 1 km cells at the fault in a 60 km domain.
+const COARSE_FE: SeasBp6Grid = SeasBp6Grid {
+    dz: 1000.0,
+    domain: 60e3,
+    ratio: 1.3,
+};
+
 /// BP6-A on `cells` of 400 m with the law built at `sigma_n` and the pressure `p`.
 fn bem_a(bp6: &SeasBp6, pressure: Arc<dyn PorePressure<2>>) -> rsf_scenes::SeasBp6FaultOde<2> {
     let mut o = bp6.fault_ode_options(1e-6).unwrap();
     o.parallelism = rsf::Parallelism::SEQ;
     bp6.bem_fault_ode(400.0, Bp6Variant::A, FaultKernel::Dense, o, pressure)
+        .unwrap()
+}
+
+/// BP6-A's fault alone on cells of 400 m without a pore pressure, `law` at every node, as
+/// [`bem_a`] builds it otherwise (the whole space's dense kernel, one thread).
+fn plain_bem_a(bp6: &SeasBp6, law: AsinhLaw) -> rsf_scenes::SeasBp6FaultOde<2> {
+    let model = bp6.bem_model(400.0, Bp6Variant::A).unwrap();
+    let n = model.vertices.len();
+    let op = rsf::whole_space::WholeSpaceAntiplane::new(
+        n,
+        400.0,
+        bp6.shear_modulus(),
+        FaultKernel::Dense,
+    )
+    .unwrap();
+    let mut o = bp6.fault_ode_options(1e-6).unwrap();
+    o.parallelism = rsf::Parallelism::SEQ;
+    rsf::SimulationBuilder::new(model)
+        .friction_at(move |_| Ok::<_, rsf_friction::Error>(law))
+        .state_law(rsf_state::BuiltinStateLaw::new(rsf::StateLawKind::Aging, bp6.d_rs).unwrap())
+        .initial_state(bp6.alpha0())
+        .integrator(rsf::Integrator::Quasistatic(rsf::time::Quasistatic::new()))
+        .radiation_damping(bp6.radiation_damping())
+        .time_step(1.0)
+        .build_fault_ode_alone(
+            o,
+            rsf::fault_alone::FaultAlone {
+                operator: Box::new(op),
+                plate_velocity: vec![0.0; n],
+            },
+        )
         .unwrap()
 }
 
@@ -38,33 +77,7 @@ fn a_constant_pressure_is_the_same_scene_at_the_lowered_normal_stress() {
         sigma_n: bp6.sigma_n - p0,
         ..bp6
     };
-    let model = bp6.bem_model(400.0, Bp6Variant::A).unwrap();
-    let n = model.vertices.len();
-    let law = AsinhLaw::new(lowered.params()).unwrap();
-    let op = rsf::whole_space::WholeSpaceAntiplane::new(
-        n,
-        400.0,
-        bp6.shear_modulus(),
-        FaultKernel::Dense,
-    )
-    .unwrap();
-    let mut o = bp6.fault_ode_options(1e-6).unwrap();
-    o.parallelism = rsf::Parallelism::SEQ;
-    let mut plain = rsf::SimulationBuilder::new(model)
-        .friction_at(move |_| Ok::<_, rsf_friction::Error>(law))
-        .state_law(rsf_state::BuiltinStateLaw::new(rsf::StateLawKind::Aging, bp6.d_rs).unwrap())
-        .initial_state(bp6.alpha0())
-        .integrator(rsf::Integrator::Quasistatic(rsf::time::Quasistatic::new()))
-        .radiation_damping(bp6.radiation_damping())
-        .time_step(1.0)
-        .build_fault_ode_alone(
-            o,
-            rsf::fault_alone::FaultAlone {
-                operator: Box::new(op),
-                plate_velocity: vec![0.0; n],
-            },
-        )
-        .unwrap();
+    let mut plain = plain_bem_a(&bp6, AsinhLaw::new(lowered.params()).unwrap());
     let until = Until::Steps(150);
     with_p.run_until(until, &mut []).unwrap();
     plain.run_until(until, &mut []).unwrap();
@@ -76,32 +89,7 @@ fn a_constant_pressure_is_the_same_scene_at_the_lowered_normal_stress() {
     assert_eq!(with_p.fault_tractions().normal_traction(3), Some(45e6));
     // p ≡ 0 is the run without a pressure.
     let mut zero = bem_a(&bp6, Arc::new(PressureFn(|_: &[f64; 2], _| 0.0)));
-    let mut none = {
-        let model = bp6.bem_model(400.0, Bp6Variant::A).unwrap();
-        let law = AsinhLaw::new(bp6.params()).unwrap();
-        let op = rsf::whole_space::WholeSpaceAntiplane::new(
-            n,
-            400.0,
-            bp6.shear_modulus(),
-            FaultKernel::Dense,
-        )
-        .unwrap();
-        rsf::SimulationBuilder::new(model)
-            .friction_at(move |_| Ok::<_, rsf_friction::Error>(law))
-            .state_law(rsf_state::BuiltinStateLaw::new(rsf::StateLawKind::Aging, bp6.d_rs).unwrap())
-            .initial_state(bp6.alpha0())
-            .integrator(rsf::Integrator::Quasistatic(rsf::time::Quasistatic::new()))
-            .radiation_damping(bp6.radiation_damping())
-            .time_step(1.0)
-            .build_fault_ode_alone(
-                o,
-                rsf::fault_alone::FaultAlone {
-                    operator: Box::new(op),
-                    plate_velocity: vec![0.0; n],
-                },
-            )
-            .unwrap()
-    };
+    let mut none = plain_bem_a(&bp6, AsinhLaw::new(bp6.params()).unwrap());
     zero.run_until(until, &mut []).unwrap();
     none.run_until(until, &mut []).unwrap();
     assert_eq!(
@@ -114,13 +102,8 @@ fn a_constant_pressure_is_the_same_scene_at_the_lowered_normal_stress() {
 fn the_implicit_scheme_with_a_constant_pressure_is_the_lowered_bound() {
     // BP6-C's model, a constant p₀: the Tresca bound f (σ̄₀ − p₀) bit for bit.
     let bp6 = SeasBp6::default();
-    let grid = SeasBp6Grid {
-        dz: 1000.0,
-        domain: 60e3,
-        ratio: 1.3,
-    };
     let p0 = 2e6;
-    let model = bp6.fe_model(&grid, Bp6Variant::C).unwrap();
+    let model = bp6.fe_model(&COARSE_FE, Bp6Variant::C).unwrap();
     // Fixed steps of 60 s: f (σ̄₀ − p₀) = 28.8 MPa < τ⁰ = 29.2 MPa, so the whole fault
     // starts sliding at t = 0 (a jump of the slip rate no step control would accept).
     let build = |law: Tresca, pressure: Option<f64>| {
@@ -172,14 +155,8 @@ fn steps_end_at_the_shut_in_and_the_files_start_at_the_descriptions_values() {
         }
     }
     let mut times = Times(Vec::new());
-    ode.run_until(
-        Until::TimeWithin {
-            time: 110.0 * DAY,
-            max_steps: 500_000,
-        },
-        &mut [&mut out, &mut times],
-    )
-    .unwrap();
+    ode.run_until(within(110.0 * DAY), &mut [&mut out, &mut times])
+        .unwrap();
     assert!(
         times
             .0
@@ -594,13 +571,8 @@ fn the_scenes_pressure_is_the_descriptions_at_its_check_values() {
 #[test]
 fn the_implicit_scheme_with_a_rate_and_state_law_and_a_constant_pressure_is_the_lowered_law() {
     let bp6 = SeasBp6::default();
-    let grid = SeasBp6Grid {
-        dz: 1000.0,
-        domain: 60e3,
-        ratio: 1.3,
-    };
     let p0 = 0.5e6;
-    let model = bp6.fe_model(&grid, Bp6Variant::A).unwrap();
+    let model = bp6.fe_model(&COARSE_FE, Bp6Variant::A).unwrap();
     let mut with_p = bp6
         .rate_state_builder(
             model.clone(),
@@ -632,7 +604,7 @@ fn the_implicit_scheme_with_a_rate_and_state_law_and_a_constant_pressure_is_the_
         .unwrap();
     let mut unpressured = bp6
         .rate_state_builder(
-            bp6.fe_model(&grid, Bp6Variant::A).unwrap(),
+            bp6.fe_model(&COARSE_FE, Bp6Variant::A).unwrap(),
             Bp6Variant::A,
             Arc::new(PressureFn(|_: &[f64; 2], _| 0.0)),
         )

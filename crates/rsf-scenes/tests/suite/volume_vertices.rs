@@ -2,6 +2,7 @@
 //! for (`Observer::volume_vertices`) from precomputed rows of the extension operator; the
 //! values must be those of the whole field's sparse solves (an observer reading the
 //! volume), and the rest of the field must stay uncomputed.
+use crate::within;
 use rsf::observe::StepView;
 use rsf::{Flow, Observer};
 use rsf_scenes::{SeasBp3, SeasBp3Grid};
@@ -91,14 +92,8 @@ fn watched_vertices_equal_the_whole_fields_values() {
             nan_elsewhere: false,
             other,
         };
-        ode.run_until(
-            rsf::Until::TimeWithin {
-                time: 150.0 * SECONDS_PER_YEAR,
-                max_steps: 500_000,
-            },
-            &mut [&mut obs],
-        )
-        .unwrap();
+        ode.run_until(within(150.0 * SECONDS_PER_YEAR), &mut [&mut obs])
+            .unwrap();
         obs
     };
     let watched = run(false);

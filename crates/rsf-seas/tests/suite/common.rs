@@ -1,25 +1,13 @@
-//! What the tests share: a small BP1, scratch folders, a folder's bytes.
+//! What the tests share: a small BP1 and its files' headers, scratch folders, a folder's
+//! bytes. (Also a module of `crates/rsf-hdf5/tests/series.rs`, by `#[path]`.)
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-/// BP1 made small: a 10 km fault (2 km top, 1 km transition) on a 500 m grid in a 20 km
-/// domain.
-pub fn small_bp1(bp1: &rsf_scenes::SeasBp1) -> (rsf_scenes::SeasBp1, rsf_scenes::SeasBp1Grid) {
-    (
-        rsf_scenes::SeasBp1 {
-            h_top: 2e3,
-            h_transition: 1e3,
-            w_f: 10e3,
-            ..*bp1
-        },
-        rsf_scenes::SeasBp1Grid {
-            dz: 500.0,
-            domain: 20e3,
-            ratio: 1.1,
-        },
-    )
-}
+use rsf_seas::{SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+
+#[path = "../../../rsf/tests/suite/common/shared.rs"]
+mod shared;
+pub use shared::{small_bp1, snapshot};
 
 /// A new empty folder `rsf-seas-NAME-PID` in the temporary folder.
 pub fn temp_dir(name: &str) -> PathBuf {
@@ -29,16 +17,21 @@ pub fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-/// Every file under `dir` (recursively) with its bytes.
-pub fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            out.extend(snapshot(&p));
-        } else {
-            out.insert(p.clone(), std::fs::read(&p).unwrap());
-        }
-    }
-    out
+/// The headers of `bp1`'s files at Δz = `dz` (m) in the tests: its first five stations,
+/// profiles every km, the stations quiet for half a year and the profiles for five years
+/// between events, modeler `A. Tester` on `date`.
+pub fn five_stations(bp1: &rsf_scenes::SeasBp1, dz: f64, date: &str) -> SeasSetup {
+    let sampling = SeasSampling {
+        station_quiet: 0.5 * SECONDS_PER_YEAR,
+        profile_quiet: 5.0 * SECONDS_PER_YEAR,
+        ..SeasSampling::default()
+    };
+    let mut setup = SeasSetup {
+        modeler: "A. Tester".into(),
+        date: date.into(),
+        profile_spacing: 1000.0,
+        ..bp1.seas_setup(dz, false, sampling)
+    };
+    setup.stations.truncate(5);
+    setup
 }

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use rsf::observe::{FileMode, StepView};
 use rsf::{Flow, Observer, Until};
 use rsf_scenes::{SeasBp1, SeasBp1FaultOde, SEAS_BP1_STATION_DEPTHS};
-use rsf_seas::{SeasOutput, SeasSampling, SeasSetup, SEAS_BP1_STATION_COLUMNS, SECONDS_PER_YEAR};
+use rsf_seas::{SeasOutput, SeasSetup, SEAS_BP1_STATION_COLUMNS, SECONDS_PER_YEAR};
 
 /// The stations on the small BP1's 10 km fault (0, 2.5, 5, 7.5, 10 km).
 const DEPTHS: &[f64] = &SEAS_BP1_STATION_DEPTHS;
@@ -26,19 +26,7 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 fn setup(bp1: &SeasBp1, dz: f64) -> SeasSetup {
-    let sampling = SeasSampling {
-        station_quiet: 0.5 * SECONDS_PER_YEAR,
-        profile_quiet: 5.0 * SECONDS_PER_YEAR,
-        ..SeasSampling::default()
-    };
-    let mut setup = SeasSetup {
-        modeler: "A. Tester".into(),
-        date: "2026-11-24".into(),
-        profile_spacing: 1000.0,
-        ..bp1.seas_setup(dz, false, sampling)
-    };
-    setup.stations.truncate(5);
-    setup
+    crate::common::five_stations(bp1, dz, "2026-11-24")
 }
 
 /// The station values of every step, computed here from the state: time → per station

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use rsf::{Observer, Until};
-use rsf_scenes::SeasBp5;
-use rsf_seas::{SeasBp5Output, SeasLayout, SeasSampling, SeasSetup, SECONDS_PER_YEAR};
+use rsf_scenes::{SeasBp5, SeasBp5Run};
+use rsf_seas::{SeasBp5Output, SeasSetup, SECONDS_PER_YEAR};
 
 /// The prestress of the description, written out here from its formula (not the scene's
 /// code): τ⁰ = σ̄_n a asinh(V/(2V₀) exp((f₀ + b ln(V₀/V_p))/a)) + η V (Pa).
@@ -53,21 +53,14 @@ impl Observer<3, 3> for MomentRates {
     }
 }
 
+/// The files' headers of a BP5 run at Δx = `dx` (m), the run's own (modeler `test`, date
+/// 2026-11-26).
 fn setup(dx: f64) -> SeasSetup {
-    SeasSetup {
-        problem: "SEAS Benchmark BP5-QD".into(),
-        modeler: "test".into(),
-        date: "2026-11-26".into(),
-        element_size: dx,
-        stations: Vec::new(),
-        depth_axis: 2,
-        depth_down: false,
-        sigma_n: 25e6,
-        profile_spacing: dx,
-        sampling: SeasSampling::default(),
-        layout: SeasLayout::default(),
-        surface_stations: Vec::new(),
-    }
+    let run = SeasBp5Run {
+        dx,
+        ..SeasBp5Run::default()
+    };
+    run.seas_setup(&SeasBp5::default(), "test".into(), "2026-11-26".into())
 }
 
 /// The rows of a SEAS file: checks its header (problem, `# Column #k` lines, the field
