@@ -360,7 +360,7 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::partial_cholesky::tests::grid;
+    use crate::partial_cholesky::tests::split_grid;
     use crate::{DENSE_PARALLEL_MIN, INTERIOR_PARALLEL_MIN};
 
     /// The two ways of forming `N = Zᵀ E Z` agree: the stored extension's dense product and
@@ -368,7 +368,8 @@ mod tests {
     #[test]
     fn harmonic_energy_by_blocks_equals_the_stored_product() {
         let m = 40;
-        let a = grid(m);
+        // Interface: the first two grid rows (80 unknowns: three blocks of columns).
+        let (a, interior, interface) = split_grid(m, 2);
         // E: the grid matrix with another diagonal (SPD, not A).
         let mut e = a.clone();
         for j in 0..e.ncols {
@@ -379,9 +380,6 @@ mod tests {
                 }
             }
         }
-        // Interface: the first two grid rows (80 unknowns: three blocks of columns).
-        let interface: Vec<usize> = (0..2 * m).collect();
-        let interior: Vec<usize> = (2 * m..m * m).collect();
         let (factor, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
         let mut pos = vec![usize::MAX; a.nrows];
         for (k, &i) in order.iter().enumerate() {

@@ -47,6 +47,13 @@ impl Problem {
             x_fixed: &self.x[k],
         })
     }
+
+    /// [`rhs`](Self::rhs) with the load `b` in place of the first.
+    fn rhs_with_first_load<'a>(&'a self, b: &'a [f64]) -> [RightHandSide<'a>; 2] {
+        let mut rhs = self.rhs();
+        rhs[0].b = b;
+        rhs
+    }
 }
 
 /// The P1 Laplacian (plus a small mass) on the unit square, 25 × 25 cells, fixed on the
@@ -400,23 +407,11 @@ fn killed_and_resumed_gives_the_same_bits() {
     let mut b2 = p.b[0].clone();
     let fixed_dof = (0..b2.len()).find(|&d| p.fixed[d]).unwrap();
     b2[fixed_dof] += 1.0;
-    let rhs2 = [
-        RightHandSide {
-            b: &b2,
-            x_fixed: &p.x[0],
-        },
-        p.rhs()[1],
-    ];
+    let rhs2 = p.rhs_with_first_load(&b2);
     assert!(same_bits(&whole, &elim.eliminate(&rhs2, &options).unwrap()));
     let free_dof = (0..b2.len()).find(|&d| !p.fixed[d]).unwrap();
     b2[free_dof] += 1.0;
-    let rhs2 = [
-        RightHandSide {
-            b: &b2,
-            x_fixed: &p.x[0],
-        },
-        p.rhs()[1],
-    ];
+    let rhs2 = p.rhs_with_first_load(&b2);
     assert!(matches!(
         elim.eliminate(&rhs2, &options),
         Err(Error::CheckpointMismatch { .. })
