@@ -33,6 +33,20 @@ fn prolongations(pb: &Problem) -> Vec<SparseColMatRef<'_, usize, f64>> {
         .collect()
 }
 
+/// TNNMG on the thread rank `halo` for the problem's fixed dofs and prolongations: the
+/// matrix `a`, the energy-norm matrix `e` (if any), options `opts`, the nodes' ranks `owner`.
+fn rank_solver(
+    pb: &Problem,
+    a: SparseColMatRef<'_, usize, f64>,
+    e: Option<SparseColMatRef<'_, usize, f64>>,
+    opts: DistributedTnnmgOptions,
+    owner: &[usize],
+    halo: impl RankGroup + 'static,
+) -> DistributedTnnmg<D> {
+    let ps = prolongations(pb);
+    DistributedTnnmg::<D>::new(a, &pb.bx.fixed, &ps, e, opts, owner, Box::new(halo)).unwrap()
+}
+
 fn options(record_energy: bool) -> DistributedTnnmgOptions {
     DistributedTnnmgOptions {
         stopping: Stopping {
@@ -83,17 +97,7 @@ fn solve_on_ranks_times(
     solves: usize,
 ) -> Vec<RankSolve> {
     ThreadRanks::run(size, |halo| {
-        let ps = prolongations(pb);
-        let mut s = DistributedTnnmg::<D>::new(
-            pb.a(),
-            &pb.bx.fixed,
-            &ps,
-            None,
-            opts,
-            owner,
-            Box::new(halo),
-        )
-        .unwrap();
+        let mut s = rank_solver(pb, pb.a(), None, opts, owner, halo);
         if broken {
             s = s.with_naive_line_sums();
         }
@@ -319,17 +323,7 @@ fn an_energy_norm_matrix_is_used() {
     for size in [1, 3] {
         let owner = pb.bx.slabs(size, 0);
         let ranks = ThreadRanks::run(size, |halo| {
-            let ps = prolongations(&pb);
-            let mut s = DistributedTnnmg::<D>::new(
-                a,
-                &pb.bx.fixed,
-                &ps,
-                Some(e.as_ref()),
-                opts,
-                &owner,
-                Box::new(halo),
-            )
-            .unwrap();
+            let mut s = rank_solver(&pb, a, Some(e.as_ref()), opts, &owner, halo);
             let mut v = pb.x0.clone();
             let report = s.solve(&pb.b, &nl, &mut v).unwrap();
             (v, report)
@@ -369,17 +363,7 @@ fn a_linear_problem_on_ranks() {
     for size in [1, 3] {
         let owner = pb.bx.slabs(size, 0);
         let ranks = ThreadRanks::run(size, |halo| {
-            let ps = prolongations(&pb);
-            let mut s = DistributedTnnmg::<D>::new(
-                pb.a(),
-                &pb.bx.fixed,
-                &ps,
-                None,
-                options(false),
-                &owner,
-                Box::new(halo),
-            )
-            .unwrap();
+            let mut s = rank_solver(&pb, pb.a(), None, options(false), &owner, halo);
             let mut v = pb.x0.clone();
             s.solve(&pb.b, &nl, &mut v).unwrap();
             v
@@ -641,17 +625,7 @@ fn the_norm_of_a_whole_vector_has_the_same_bits_on_every_rank() {
         for size in 1..=4 {
             let owner = pb.bx.slabs(size, 0);
             let norms = ThreadRanks::run(size, |halo| {
-                let ps = prolongations(&pb);
-                let mut s = DistributedTnnmg::<D>::new(
-                    a,
-                    &pb.bx.fixed,
-                    &ps,
-                    e,
-                    options(false),
-                    &owner,
-                    Box::new(halo),
-                )
-                .unwrap();
+                let mut s = rank_solver(&pb, a, e, options(false), &owner, halo);
                 s.energy_norm_of(&x).unwrap()
             });
             let reference = *one_rank.get_or_insert(norms[0]);
@@ -680,17 +654,7 @@ fn a_full_step_on_ranks_measures_its_change_with_the_solvers_norm() {
     let nodes = nl.active_blocks().to_vec();
     let solve = |owner: &[usize], size: usize, own_norm: bool| {
         ThreadRanks::run(size, |halo| {
-            let ps = prolongations(&pb);
-            let s = DistributedTnnmg::<D>::new(
-                pb.a(),
-                &pb.bx.fixed,
-                &ps,
-                None,
-                options(false),
-                owner,
-                Box::new(halo),
-            )
-            .unwrap();
+            let s = rank_solver(&pb, pb.a(), None, options(false), owner, halo);
             let mut step = if own_norm {
                 FullStep::new(s, None).unwrap().with_norm_from_solver()
             } else {
