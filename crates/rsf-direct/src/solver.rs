@@ -13,7 +13,7 @@ use rsf_nonsmooth::{
 use crate::condensation::Condensation;
 use crate::error::{Error, Result};
 use crate::fault_newton::DenseFault;
-use crate::harmonic::{harmonic_energy, harmonic_energy_by_blocks};
+use crate::harmonic::harmonic_energy;
 use crate::options::DirectOptions;
 use crate::partial_cholesky::PartialCholesky;
 use rsf_nonsmooth::ProblemError;
@@ -199,11 +199,8 @@ impl<const D: usize> DirectSolver<D> {
         let s = factor.schur_complement();
         let norm = self.energy.as_ref().map(|e| {
             let nf = order.len() - factor.nr;
-            if self.opts.stores_extension(order.len(), nf) {
-                harmonic_energy(factor, e, order, pos)
-            } else {
-                harmonic_energy_by_blocks(factor, e, order, pos)
-            }
+            let store_extension = self.opts.stores_extension(order.len(), nf);
+            harmonic_energy(factor, e, order, pos, store_extension)
         });
         let fault = DenseFault::new(s, norm, cond.free.clone(), self.opts.soft_ratio, self.par);
         Ok(Condensed { cond, fault })
@@ -385,8 +382,8 @@ mod tests {
         for (k, &i) in order.iter().enumerate() {
             pos[i] = k;
         }
-        let stored = harmonic_energy(&factor, &e, &order, &pos);
-        let blocks = harmonic_energy_by_blocks(&factor, &e, &order, &pos);
+        let stored = harmonic_energy(&factor, &e, &order, &pos, true);
+        let blocks = harmonic_energy(&factor, &e, &order, &pos, false);
         let scale = stored.iter().fold(0.0_f64, |x, v| x.max(v.abs()));
         let diff = stored
             .iter()
