@@ -326,34 +326,16 @@ pub(crate) mod tests {
         (a, fixed, blocks, cond)
     }
 
-    /// Dense Cholesky solve of an SPD system (the reference, independent of the sparse
-    /// factor).
-    fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+    /// Dense Cholesky solve of an SPD system (faer's dense `LLᵀ`: the reference, independent
+    /// of the sparse factor).
+    fn dense_solve(a: Vec<Vec<f64>>, b: Vec<f64>) -> Vec<f64> {
+        use faer::linalg::solvers::Solve;
         let n = b.len();
-        for k in 0..n {
-            let d = a[k][k].sqrt();
-            for i in k..n {
-                a[i][k] /= d;
-            }
-            for j in k + 1..n {
-                for i in j..n {
-                    a[i][j] -= a[i][k] * a[j][k];
-                }
-            }
-        }
-        for i in 0..n {
-            for k in 0..i {
-                b[i] -= a[i][k] * b[k];
-            }
-            b[i] /= a[i][i];
-        }
-        for i in (0..n).rev() {
-            for k in i + 1..n {
-                b[i] -= a[k][i] * b[k];
-            }
-            b[i] /= a[i][i];
-        }
-        b
+        let llt = faer::Mat::from_fn(n, n, |i, j| a[i][j])
+            .llt(faer::Side::Lower)
+            .unwrap();
+        let x = llt.solve(faer::Col::from_fn(n, |i| b[i]));
+        x.iter().copied().collect()
     }
 
     /// On a 12 × 12 grid Laplacian with the first column fixed at non-zero values and the

@@ -321,11 +321,11 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
     type Error = Error;
 
     fn name(&self) -> &'static str {
-        "direct"
+        StepSolver::<D>::name(self)
     }
 
     fn dim(&self) -> usize {
-        self.a.nrows
+        StepSolver::<D>::dim(self)
     }
 
     fn stopping(&self) -> Stopping {
