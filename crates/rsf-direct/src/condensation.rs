@@ -309,38 +309,33 @@ pub(super) fn split_dofs<const D: usize>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::partial_cholesky::tests::grid;
 
-    /// Dense Cholesky solve of an SPD system (the reference, independent of the sparse
-    /// factor).
-    fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+    /// The `m × m` grid Laplacian ([`grid`]) with its first column of nodes fixed,
+    /// condensed onto the nodes `blocks`: `(A, fixed, blocks, condensation)`.
+    pub(crate) fn fixed_column_grid(
+        m: usize,
+        blocks: std::ops::Range<usize>,
+    ) -> (Csc, Vec<bool>, Vec<usize>, Condensation<1>) {
+        let a = grid(m);
+        let fixed: Vec<bool> = (0..a.nrows).map(|j| j % m == 0).collect();
+        let blocks: Vec<usize> = blocks.collect();
+        let cond = Condensation::<1>::build(&a, &fixed, &blocks, None).unwrap();
+        (a, fixed, blocks, cond)
+    }
+
+    /// Dense Cholesky solve of an SPD system (faer's dense `LLᵀ`: the reference, independent
+    /// of the sparse factor).
+    fn dense_solve(a: Vec<Vec<f64>>, b: Vec<f64>) -> Vec<f64> {
+        use faer::linalg::solvers::Solve;
         let n = b.len();
-        for k in 0..n {
-            let d = a[k][k].sqrt();
-            for i in k..n {
-                a[i][k] /= d;
-            }
-            for j in k + 1..n {
-                for i in j..n {
-                    a[i][j] -= a[i][k] * a[j][k];
-                }
-            }
-        }
-        for i in 0..n {
-            for k in 0..i {
-                b[i] -= a[i][k] * b[k];
-            }
-            b[i] /= a[i][i];
-        }
-        for i in (0..n).rev() {
-            for k in i + 1..n {
-                b[i] -= a[k][i] * b[k];
-            }
-            b[i] /= a[i][i];
-        }
-        b
+        let llt = faer::Mat::from_fn(n, n, |i, j| a[i][j])
+            .llt(faer::Side::Lower)
+            .unwrap();
+        let x = llt.solve(faer::Col::from_fn(n, |i| b[i]));
+        x.iter().copied().collect()
     }
 
     /// On a 12 × 12 grid Laplacian with the first column fixed at non-zero values and the
@@ -350,15 +345,12 @@ mod tests {
     #[test]
     fn condensed_system_and_extension_reproduce_the_full_solve() {
         let m = 12;
-        let a = grid(m);
+        let (a, fixed, blocks, mut cond) = fixed_column_grid(m, 1..m);
         let n = a.nrows;
-        let fixed: Vec<bool> = (0..n).map(|j| j % m == 0).collect();
-        let blocks: Vec<usize> = (1..m).collect();
         let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let x_fixed: Vec<f64> = (0..n)
             .map(|i| if fixed[i] { 0.5 + (i / m) as f64 } else { 0.0 })
             .collect();
-        let mut cond = Condensation::<1>::build(&a, &fixed, &blocks, None).unwrap();
         assert_eq!(cond.dim(), m - 1);
         assert_eq!(cond.interface_dofs(), &blocks[..]);
         // Dense reference on the free dofs.
@@ -438,12 +430,8 @@ mod tests {
     /// residual of the full system vanishes on the interior.
     #[test]
     fn homogeneous_extension_is_the_extension_of_zero_data() {
-        let m = 10;
-        let a = grid(m);
+        let (a, fixed, blocks, mut cond) = fixed_column_grid(10, 1..10);
         let n = a.nrows;
-        let fixed: Vec<bool> = (0..n).map(|j| j % m == 0).collect();
-        let blocks: Vec<usize> = (1..m).collect();
-        let mut cond = Condensation::<1>::build(&a, &fixed, &blocks, None).unwrap();
         let b: Vec<f64> = (0..n).map(|i| (i % 7) as f64 - 3.0).collect();
         let x_fixed: Vec<f64> = (0..n).map(|i| if fixed[i] { 1.5 } else { 0.0 }).collect();
         let zeros = vec![0.0; n];

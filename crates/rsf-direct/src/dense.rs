@@ -6,8 +6,27 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{
     cholesky_in_place, cholesky_in_place_scratch, LltParams,
 };
-use faer::{Mat, Par};
+use faer::{Accum, Mat, MatRef, Par};
 use rsf_linalg::Parallelism;
+
+/// `½ (M + Mᵀ)` for the `m × m` matrix `M` of entries `entry(i, j)`, dense column-major:
+/// a product that is symmetric in exact arithmetic, symmetrised against round-off.
+pub(super) fn symmetric_part(m: usize, entry: impl Fn(usize, usize) -> f64) -> Vec<f64> {
+    let mut out = vec![0.0; m * m];
+    for j in 0..m {
+        for i in 0..m {
+            out[j * m + i] = 0.5 * (entry(i, j) + entry(j, i));
+        }
+    }
+    out
+}
+
+/// [`symmetric_part`] of the dense product `a b` (`m × m`, faer's sequential product).
+pub(super) fn symmetric_product(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Vec<f64> {
+    let mut p = Mat::<f64>::zeros(a.nrows(), b.ncols());
+    faer::linalg::matmul::matmul(p.as_mut(), Accum::Replace, a, b, 1.0, Par::Seq);
+    symmetric_part(a.nrows(), |i, j| p[(i, j)])
+}
 
 /// The lower Cholesky factor of the SPD `m × m` column-major `a`, stored by rows (row-major,
 /// zero above the diagonal), or None if `a` is not numerically positive definite.

@@ -122,7 +122,7 @@ impl<const D: usize> Condensation<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::partial_cholesky::tests::grid;
+    use crate::condensation::tests::fixed_column_grid;
 
     /// Every entry has the bits of `extend_homogeneous` column by column and the sums in
     /// the given order, for blocks of one and of several columns (a last block shorter),
@@ -130,11 +130,8 @@ mod tests {
     #[test]
     fn functionals_have_the_bits_of_one_extension_per_column() {
         let side = 14;
-        let a = grid(side);
+        let (a, _, _, mut cond) = fixed_column_grid(side, 2 * side + 1..3 * side);
         let n = a.nrows;
-        let fixed: Vec<bool> = (0..n).map(|j| j % side == 0).collect();
-        let blocks: Vec<usize> = (2 * side + 1..3 * side).collect();
-        let mut cond = Condensation::<1>::build(&a, &fixed, &blocks, None).unwrap();
         let functionals: Vec<Vec<(usize, f64)>> = (0..9)
             .map(|r| {
                 (0..n)

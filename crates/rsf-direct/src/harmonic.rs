@@ -4,23 +4,39 @@
 use super::options::HARMONIC_BLOCK;
 use super::partial_cholesky::PartialCholesky;
 
-use faer::{Accum, MatRef, Par};
+use super::dense::{symmetric_part, symmetric_product};
+use faer::MatRef;
 
 use rsf_linalg::Csc;
 
-/// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), computed
-/// in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives the columns of
-/// `Z`, then `E Z` by sparse products and `Zᵀ (E Z)` by a dense product.
+/// `E` restricted to the free dofs in elimination order (rows and columns): CSC column
+/// pointers, row indices and values.
+type EnergyInOrder = (Vec<usize>, Vec<usize>, Vec<f64>);
+
+/// `N = Zᵀ E Z` on the interface for `Z = [−A_RR⁻¹ A_RF; I]` (elimination order), dense
+/// column-major `|F| × |F|`: with `store_extension` by [`stored_extension`] (`Z` and `E Z`
+/// held whole), else by [`by_blocks`] (memory `O(n)` per block and thread).
 pub(super) fn harmonic_energy(
     factor: &PartialCholesky,
     e: &Csc,
     order: &[usize],
     pos: &[usize],
+    store_extension: bool,
 ) -> Vec<f64> {
+    let energy = energy_in_order(e, order, pos);
+    if store_extension {
+        stored_extension(factor, &energy)
+    } else {
+        by_blocks(factor, &energy)
+    }
+}
+
+/// `N` computed in column blocks: a backward sweep with right-hand sides `[0; e_f]` gives
+/// the columns of `Z`, then `E Z` by sparse products and `Zᵀ (E Z)` by a dense product.
+fn stored_extension(factor: &PartialCholesky, energy: &EnergyInOrder) -> Vec<f64> {
     use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
-    let energy = energy_in_order(e, order, pos);
     // Columns of Z: backward sweeps of [0; e_f], HARMONIC_BLOCK right-hand sides at a time
     // (one pass over the factor per block; each column's arithmetic is that of a single
     // sweep, so the result depends neither on the blocking nor on the threads). The blocks
@@ -38,7 +54,7 @@ pub(super) fn harmonic_energy(
     let z_block = |(rows, wrows, tmp): &mut (Vec<f64>, Vec<f64>, Vec<f64>),
                    (b, (zb, wb)): (usize, (&mut [f64], &mut [f64]))| {
         let r = zb.len() / n;
-        extension_rows(factor, &energy, b * HARMONIC_BLOCK, r, rows, wrows, tmp);
+        extension_rows(factor, energy, b * HARMONIC_BLOCK, r, rows, wrows, tmp);
         for (k, (zcol, wcol)) in zb.chunks_mut(n).zip(wb.chunks_mut(n)).enumerate() {
             for (i, (zi, wi)) in zcol.iter_mut().zip(wcol.iter_mut()).enumerate() {
                 *zi = rows[i * r + k];
@@ -67,26 +83,11 @@ pub(super) fn harmonic_energy(
     }
     let zm = MatRef::from_column_major_slice(&z, n, nf);
     let wm = MatRef::from_column_major_slice(&w, n, nf);
-    let mut nmat = faer::Mat::<f64>::zeros(nf, nf);
-    faer::linalg::matmul::matmul(
-        nmat.as_mut(),
-        Accum::Replace,
-        zm.transpose(),
-        wm,
-        1.0,
-        Par::Seq,
-    );
-    let mut out = vec![0.0; nf * nf];
-    for j in 0..nf {
-        for i in 0..nf {
-            out[j * nf + i] = 0.5 * (nmat[(i, j)] + nmat[(j, i)]);
-        }
-    }
-    out
+    symmetric_product(zm.transpose(), wm)
 }
 
 /// `E` restricted to the free dofs in elimination order (rows and columns), CSC arrays.
-fn energy_in_order(e: &Csc, order: &[usize], pos: &[usize]) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+fn energy_in_order(e: &Csc, order: &[usize], pos: &[usize]) -> EnergyInOrder {
     let mut e_ptr = Vec::with_capacity(order.len() + 1);
     let mut e_rows = Vec::new();
     let mut e_vals = Vec::new();
@@ -115,7 +116,7 @@ fn energy_in_order(e: &Csc, order: &[usize], pos: &[usize]) -> (Vec<usize>, Vec<
 )]
 fn extension_rows(
     factor: &PartialCholesky,
-    (e_ptr, e_rows, e_vals): &(Vec<usize>, Vec<usize>, Vec<f64>),
+    (e_ptr, e_rows, e_vals): &EnergyInOrder,
     f0: usize,
     r: usize,
     rows: &mut Vec<f64>,
@@ -142,10 +143,10 @@ fn extension_rows(
     }
 }
 
-/// Scratch of one thread of [`harmonic_energy_by_blocks`].
+/// Scratch of one thread of [`by_blocks`].
 type BlockScratch = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, [Vec<f64>; 3]);
 
-/// [`harmonic_energy`] without holding `Z` and `E Z`: per block of columns, `Z_b` by a
+/// [`stored_extension`] without holding `Z` and `E Z`: per block of columns, `Z_b` by a
 /// backward sweep, `W_b = E Z_b`, and `N_b = Zᵀ W_b = W_{b,F} − L_FR L_RR⁻¹ W_{b,R}` by
 /// a forward sweep of each column (the condensation of a right-hand side, since
 /// `Zᵀ = [−A_FR A_RR⁻¹, I]` and `A_FR A_RR⁻¹ = L_FR L_RR⁻¹`). Memory `O(n)` per block and
@@ -153,20 +154,14 @@ type BlockScratch = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, [Vec<f64>; 3]);
 /// (what [`DirectMemory`] counts); the same `N` up to the order of the sums (the dense
 /// product `Zᵀ W` adds over all rows, the sweep over the factor's columns). Deterministic:
 /// each column's arithmetic is fixed, whatever the blocking and the threads.
-pub(super) fn harmonic_energy_by_blocks(
-    factor: &PartialCholesky,
-    e: &Csc,
-    order: &[usize],
-    pos: &[usize],
-) -> Vec<f64> {
+fn by_blocks(factor: &PartialCholesky, energy: &EnergyInOrder) -> Vec<f64> {
     use rayon::prelude::*;
     let (n, nr) = (factor.n, factor.nr);
     let nf = n - nr;
-    let energy = energy_in_order(e, order, pos);
     let mut nmat = vec![0.0; nf * nf];
     let block = |(rows, wrows, tmp, col, fwd): &mut BlockScratch, (b, nb): (usize, &mut [f64])| {
         let r = nb.len() / nf;
-        extension_rows(factor, &energy, b * HARMONIC_BLOCK, r, rows, wrows, tmp);
+        extension_rows(factor, energy, b * HARMONIC_BLOCK, r, rows, wrows, tmp);
         for (k, ncol) in nb.chunks_mut(nf).enumerate() {
             col.clear();
             col.extend((0..n).map(|i| wrows[i * r + k]));
@@ -196,11 +191,5 @@ pub(super) fn harmonic_energy_by_blocks(
             group((0, &mut nmat[..]));
         }
     }
-    let mut out = vec![0.0; nf * nf];
-    for j in 0..nf {
-        for i in 0..nf {
-            out[j * nf + i] = 0.5 * (nmat[j * nf + i] + nmat[i * nf + j]);
-        }
-    }
-    out
+    symmetric_part(nf, |i, j| nmat[j * nf + i])
 }

@@ -13,7 +13,7 @@ use rsf_nonsmooth::{
 use crate::condensation::Condensation;
 use crate::error::{Error, Result};
 use crate::fault_newton::DenseFault;
-use crate::harmonic::{harmonic_energy, harmonic_energy_by_blocks};
+use crate::harmonic::harmonic_energy;
 use crate::options::DirectOptions;
 use crate::partial_cholesky::PartialCholesky;
 use rsf_nonsmooth::ProblemError;
@@ -199,11 +199,8 @@ impl<const D: usize> DirectSolver<D> {
         let s = factor.schur_complement();
         let norm = self.energy.as_ref().map(|e| {
             let nf = order.len() - factor.nr;
-            if self.opts.stores_extension(order.len(), nf) {
-                harmonic_energy(factor, e, order, pos)
-            } else {
-                harmonic_energy_by_blocks(factor, e, order, pos)
-            }
+            let store_extension = self.opts.stores_extension(order.len(), nf);
+            harmonic_energy(factor, e, order, pos, store_extension)
         });
         let fault = DenseFault::new(s, norm, cond.free.clone(), self.opts.soft_ratio, self.par);
         Ok(Condensed { cond, fault })
@@ -324,11 +321,11 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
     type Error = Error;
 
     fn name(&self) -> &'static str {
-        "direct"
+        StepSolver::<D>::name(self)
     }
 
     fn dim(&self) -> usize {
-        self.a.nrows
+        StepSolver::<D>::dim(self)
     }
 
     fn stopping(&self) -> Stopping {
@@ -360,7 +357,7 @@ impl<const D: usize> NonsmoothSolver<D> for DirectSolver<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::partial_cholesky::tests::grid;
+    use crate::partial_cholesky::tests::split_grid;
     use crate::{DENSE_PARALLEL_MIN, INTERIOR_PARALLEL_MIN};
 
     /// The two ways of forming `N = Zᵀ E Z` agree: the stored extension's dense product and
@@ -368,7 +365,8 @@ mod tests {
     #[test]
     fn harmonic_energy_by_blocks_equals_the_stored_product() {
         let m = 40;
-        let a = grid(m);
+        // Interface: the first two grid rows (80 unknowns: three blocks of columns).
+        let (a, interior, interface) = split_grid(m, 2);
         // E: the grid matrix with another diagonal (SPD, not A).
         let mut e = a.clone();
         for j in 0..e.ncols {
@@ -379,16 +377,13 @@ mod tests {
                 }
             }
         }
-        // Interface: the first two grid rows (80 unknowns: three blocks of columns).
-        let interface: Vec<usize> = (0..2 * m).collect();
-        let interior: Vec<usize> = (2 * m..m * m).collect();
         let (factor, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
         let mut pos = vec![usize::MAX; a.nrows];
         for (k, &i) in order.iter().enumerate() {
             pos[i] = k;
         }
-        let stored = harmonic_energy(&factor, &e, &order, &pos);
-        let blocks = harmonic_energy_by_blocks(&factor, &e, &order, &pos);
+        let stored = harmonic_energy(&factor, &e, &order, &pos, true);
+        let blocks = harmonic_energy(&factor, &e, &order, &pos, false);
         let scale = stored.iter().fold(0.0_f64, |x, v| x.max(v.abs()));
         let diff = stored
             .iter()

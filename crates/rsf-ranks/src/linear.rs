@@ -160,14 +160,7 @@ impl<const D: usize> ColouredGaussSeidel<D> {
             ("fixed", D * n, fixed.len()),
             ("colouring (one colour per node)", n, colouring.num_nodes()),
         ] {
-            if got != expected {
-                return Err(ProblemError::DimensionMismatch {
-                    what,
-                    expected,
-                    got,
-                }
-                .into());
-            }
+            ProblemError::check_length(what, expected, got)?;
         }
         let inverse = (0..n)
             .map(|p| masked_inverse(&a.diag[p], &free(fixed, p)))

@@ -219,14 +219,7 @@ impl<const D: usize> DistributedSweep<D> {
     pub fn update_ghosts<H: RankGroup + ?Sized>(&mut self, x: &mut [f64], halo: &mut H) {
         self.check(x, halo);
         let full = self.num_colours();
-        exchange_round::<D, H>(
-            &self.plan.rounds[full],
-            x,
-            halo,
-            &mut self.send,
-            &mut self.recv,
-            &mut self.counters,
-        );
+        self.exchange(x, full, halo);
     }
 
     /// One sweep over the colours (increasing, or decreasing when `reverse`) of the local
@@ -252,16 +245,22 @@ impl<const D: usize> DistributedSweep<D> {
                 let xp = update(&self.rows, p as usize, x);
                 store(x, p as usize, &xp);
             }
-            exchange_round::<D, H>(
-                &self.plan.rounds[c],
-                x,
-                halo,
-                &mut self.send,
-                &mut self.recv,
-                &mut self.counters,
-            );
+            self.exchange(x, c, halo);
         }
         self.counters.sweeps += 1;
+    }
+
+    /// The exchange of the plan's round `round` (a colour's, or the full one of a ghost
+    /// update) on the local vector `x`.
+    fn exchange<H: RankGroup + ?Sized>(&mut self, x: &mut [f64], round: usize, halo: &mut H) {
+        exchange_round::<D, H>(
+            &self.plan.rounds[round],
+            x,
+            halo,
+            &mut self.send,
+            &mut self.recv,
+            &mut self.counters,
+        );
     }
 
     /// Lengths and ranks agree with the set-up.

@@ -38,12 +38,13 @@ const CHUNKS_MAX: usize = 16;
 const LEVELS_PER_CHUNK: usize = 10;
 
 /// Blocks by rows of positions: row `i`'s blocks are `ptr[i]..ptr[i + 1]`, each a column
-/// position and the block `A_{perm[i] perm[pos]}`.
-#[derive(Debug, Default)]
-struct PositionRows<const D: usize> {
-    ptr: Vec<usize>,
-    pos: Vec<u32>,
-    val: Vec<Block<D>>,
+/// position `pos` and its block: here the block `A_{perm[i] perm[pos]}` of the chunked
+/// order; in a distributed grid transfer a position in a buffer of owned values then ghosts.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PositionRows<const D: usize> {
+    pub(crate) ptr: Vec<usize>,
+    pub(crate) pos: Vec<u32>,
+    pub(crate) val: Vec<Block<D>>,
 }
 
 impl<const D: usize> PositionRows<D> {
@@ -70,8 +71,9 @@ impl<const D: usize> PositionRows<D> {
         }
     }
 
+    /// Row `i`'s blocks with their column positions.
     #[inline(always)]
-    fn row(&self, i: usize) -> impl Iterator<Item = (usize, &Block<D>)> {
+    pub(crate) fn row(&self, i: usize) -> impl Iterator<Item = (usize, &Block<D>)> {
         let r = self.ptr[i]..self.ptr[i + 1];
         self.pos[r.clone()]
             .iter()

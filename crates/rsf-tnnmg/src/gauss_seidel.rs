@@ -2,12 +2,11 @@
 
 use faer::sparse::SparseColMatRef;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::norm::EnergyNorm;
 use crate::problem::{ActiveBlocks, NodalProblem};
-use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
-use rsf_nonsmooth::ProblemError;
-use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, SolveWatch, Stopping};
+use crate::report::{correction, Iteration, NodalIteration};
+use rsf_nonsmooth::{BlockNonlinearity, SolveWatch, Stopping};
 
 /// Nonlinear block Gauss–Seidel: symmetric sweeps (forward then backward) of exact block
 /// minimisations. Globally convergent for the convex problems of this crate but slow
@@ -53,10 +52,11 @@ impl<const D: usize> NonlinearGaussSeidel<D> {
     }
 
     /// Watches every later solve ([`SolveWatch`]): progress reports as it goes and a
-    /// wall-clock limit, at which the solve stops with [`Error::TimeLimit`] (the
-    /// iterations done and the last correction); the iteration cap stays
-    /// [`Stopping::max_iterations`] ([`Error::NotConverged`]). The iterates do not depend
-    /// on it.
+    /// wall-clock limit, at which the solve stops with
+    /// [`Error::TimeLimit`](crate::Error::TimeLimit) (the iterations done and the last
+    /// correction); the iteration cap stays [`Stopping::max_iterations`]
+    /// ([`Error::NotConverged`](crate::Error::NotConverged)). The iterates do not depend on
+    /// it.
     pub fn with_watch(mut self, watch: SolveWatch) -> Self {
         self.watch = Some(watch);
         self
@@ -73,6 +73,9 @@ impl<const D: usize> NodalIteration<D> for NonlinearGaussSeidel<D> {
     fn active_of_mut(&mut self) -> &mut Vec<usize> {
         &mut self.active_of
     }
+}
+
+impl<const D: usize> Iteration<D> for NonlinearGaussSeidel<D> {
     /// One symmetric sweep (forward, then backward).
     fn iterate<N: BlockNonlinearity<D>>(
         &mut self,
@@ -89,51 +92,17 @@ impl<const D: usize> NodalIteration<D> for NonlinearGaussSeidel<D> {
             self.m
                 .nonlinear_gauss_seidel(b, blocks, v, &mut self.w, reverse);
         }
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(ProblemError::NonFinite("Gauss–Seidel iterate").into());
-        }
-        for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
-            *o = x - *o;
-        }
+        correction(&mut self.v_old, v, "Gauss–Seidel iterate")?;
         Ok(self.norm.norm(&self.m.a, &self.v_old))
     }
 }
 
-impl<const D: usize> NonsmoothSolver<D> for NonlinearGaussSeidel<D> {
-    type Error = Error;
-
-    fn name(&self) -> &'static str {
-        "nonlinear-gauss-seidel"
-    }
-
-    fn dim(&self) -> usize {
-        self.m.n()
-    }
-
-    fn stopping(&self) -> Stopping {
-        self.stopping
-    }
-
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        stopping.validate()?;
-        self.stopping = stopping;
-        Ok(())
-    }
-
-    fn solve<N: BlockNonlinearity<D>>(
-        &mut self,
-        b: &[f64],
-        nl: &N,
-        v: &mut [f64],
-    ) -> Result<SolveReport> {
-        let run = IterationRun {
-            solver: "nonlinear-gauss-seidel",
-            stop: self.stopping,
-            record_energy: self.record_energy,
-        };
-        let mut watch = self.watch.take();
-        let result = iterate_to_tolerance(self, run, b, nl, v, watch.as_mut());
-        self.watch = watch;
-        result
-    }
-}
+crate::report::iterative_solver!(
+    NonlinearGaussSeidel,
+    "nonlinear-gauss-seidel",
+    dim: [m.n()],
+    options: [],
+    watch: [watch],
+    reset: [],
+    extra: {}
+);

@@ -11,14 +11,12 @@ use crate::linear_correction::{CycleBudget, LinearCorrection, LinearSolve};
 use crate::multigrid::{CycleShape, LinearMultigrid, NewtonHierarchy};
 use crate::norm::EnergyNorm;
 use crate::problem::{dot, ActiveBlocks, ChunkedSmoother, NodalProblem};
-use crate::report::{iterate_to_tolerance, IterationRun, NodalIteration};
+use crate::report::{correction, Iteration, NodalIteration};
 use crate::smoother_order::SmootherOrder;
 use crate::Parallelism;
 use rsf_linalg::Csc;
 use rsf_nonsmooth::ProblemError;
-use rsf_nonsmooth::{
-    BlockNonlinearity, Linearization, NonsmoothSolver, SolveReport, SolveWatch, Stopping,
-};
+use rsf_nonsmooth::{BlockNonlinearity, Linearization, SolveWatch, Stopping};
 use rsf_ranks::block::{load, Block};
 use rsf_ranks::Colouring;
 
@@ -162,18 +160,7 @@ impl<const D: usize> Tnnmg<D> {
         energy_norm: Option<SparseColMatRef<'_, usize, f64>>,
         opts: TnnmgOptions,
     ) -> Result<Self> {
-        opts.stopping.validate()?;
-        if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
-            return Err(
-                ProblemError::InvalidOption("linear_reduction must lie in (0, 1)".into()).into(),
-            );
-        }
-        if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
-            return Err(ProblemError::InvalidOption(
-                "nonlinear_sweeps and v_cycles must be at least 1".into(),
-            )
-            .into());
-        }
+        opts.check_newton()?;
         if !(1..=2).contains(&opts.cycle_index) {
             return Err(ProblemError::InvalidOption(
                 "cycle_index must be 1 (V-cycle) or 2 (W-cycle)".into(),
@@ -312,7 +299,21 @@ impl<const D: usize> Tnnmg<D> {
         }
         Ok(())
     }
+}
 
+impl<const D: usize> NodalIteration<D> for Tnnmg<D> {
+    fn blocked(&self) -> &NodalProblem<D> {
+        &self.m
+    }
+    fn energy_norm(&self) -> &EnergyNorm<D> {
+        &self.norm
+    }
+    fn active_of_mut(&mut self) -> &mut Vec<usize> {
+        &mut self.active_of
+    }
+}
+
+impl<const D: usize> Iteration<D> for Tnnmg<D> {
     /// One TNNMG iteration from `v`; returns the energy norm of the correction.
     fn iterate<N: BlockNonlinearity<D>>(
         &mut self,
@@ -384,12 +385,7 @@ impl<const D: usize> Tnnmg<D> {
                 *vi += s * ci;
             }
         }
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(ProblemError::NonFinite("TNNMG iterate").into());
-        }
-        for (o, x) in self.v_old.iter_mut().zip(v.iter()) {
-            *o = x - *o;
-        }
+        correction(&mut self.v_old, v, "TNNMG iterate")?;
         Ok(self.norm.norm_par(
             &self.m.a,
             &self.v_old,
@@ -399,63 +395,53 @@ impl<const D: usize> Tnnmg<D> {
     }
 }
 
-impl<const D: usize> NodalIteration<D> for Tnnmg<D> {
-    fn blocked(&self) -> &NodalProblem<D> {
-        &self.m
-    }
-    fn energy_norm(&self) -> &EnergyNorm<D> {
-        &self.norm
-    }
-    fn active_of_mut(&mut self) -> &mut Vec<usize> {
-        &mut self.active_of
-    }
-    fn iterate<N: BlockNonlinearity<D>>(
-        &mut self,
-        b: &[f64],
-        nl: &N,
-        v: &mut [f64],
-    ) -> Result<f64> {
-        Tnnmg::iterate(self, b, nl, v)
+crate::report::iterative_solver!(
+    Tnnmg,
+    "tnnmg",
+    dim: [m.n()],
+    options: [opts],
+    watch: [watch],
+    reset: [cycles],
+    extra: {}
+);
+
+/// The options TNNMG on one process and on ranks share, checked alike.
+pub(crate) trait NewtonOptions {
+    /// The stopping test, the linear correction's reduction factor, the nonlinear sweeps and
+    /// the cycles per iteration.
+    fn newton(&self) -> (Stopping, Option<f64>, usize, usize);
+
+    /// Checks the stopping test, the reduction factor (in (0, 1) if any) and at least one
+    /// nonlinear sweep and one cycle per iteration.
+    ///
+    /// # Errors
+    /// [`ProblemError::InvalidOption`] (converted) naming the option out of range.
+    fn check_newton(&self) -> Result<()> {
+        let (stopping, linear_reduction, nonlinear_sweeps, v_cycles) = self.newton();
+        stopping.validate()?;
+        if linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
+            return Err(
+                ProblemError::InvalidOption("linear_reduction must lie in (0, 1)".into()).into(),
+            );
+        }
+        if nonlinear_sweeps == 0 || v_cycles == 0 {
+            return Err(ProblemError::InvalidOption(
+                "nonlinear_sweeps and v_cycles must be at least 1".into(),
+            )
+            .into());
+        }
+        Ok(())
     }
 }
 
-impl<const D: usize> NonsmoothSolver<D> for Tnnmg<D> {
-    type Error = Error;
-
-    fn name(&self) -> &'static str {
-        "tnnmg"
-    }
-
-    fn dim(&self) -> usize {
-        self.m.n()
-    }
-
-    fn stopping(&self) -> Stopping {
-        self.opts.stopping
-    }
-
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        stopping.validate()?;
-        self.opts.stopping = stopping;
-        Ok(())
-    }
-
-    fn solve<N: BlockNonlinearity<D>>(
-        &mut self,
-        b: &[f64],
-        nl: &N,
-        v: &mut [f64],
-    ) -> Result<SolveReport> {
-        let run = IterationRun {
-            solver: "tnnmg",
-            stop: self.opts.stopping,
-            record_energy: self.opts.record_energy,
-        };
-        self.cycles = 0;
-        let mut watch = self.watch.take();
-        let result = iterate_to_tolerance(self, run, b, nl, v, watch.as_mut());
-        self.watch = watch;
-        result
+impl NewtonOptions for TnnmgOptions {
+    fn newton(&self) -> (Stopping, Option<f64>, usize, usize) {
+        (
+            self.stopping,
+            self.linear_reduction,
+            self.nonlinear_sweeps,
+            self.v_cycles,
+        )
     }
 }
 

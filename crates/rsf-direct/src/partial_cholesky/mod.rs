@@ -591,22 +591,6 @@ impl PartialCholesky {
         let mut lf = vec![0.0; nf * nf];
         self.for_each_interface_entry(|i, j, v| lf[j * nf + i] = v);
         let l = faer::MatRef::from_column_major_slice(&lf, nf, nf);
-        let mut s = faer::Mat::<f64>::zeros(nf, nf);
-        faer::linalg::matmul::matmul(
-            s.as_mut(),
-            faer::Accum::Replace,
-            l,
-            l.transpose(),
-            1.0,
-            Par::Seq,
-        );
-        let mut out = vec![0.0; nf * nf];
-        for j in 0..nf {
-            for i in 0..nf {
-                // Symmetrise against round-off.
-                out[j * nf + i] = 0.5 * (s[(i, j)] + s[(j, i)]);
-            }
-        }
-        out
+        crate::dense::symmetric_product(l, l.transpose())
     }
 }

@@ -40,6 +40,15 @@ pub(crate) fn grid(m: usize) -> Csc {
     }
 }
 
+/// The `m × m` [`grid`] split for a partial factorisation: its first `rows` grid rows the
+/// interface, the other nodes the interior: `(A, interior, interface)`.
+pub(crate) fn split_grid(m: usize, rows: usize) -> (Csc, Vec<usize>, Vec<usize>) {
+    let a = grid(m);
+    let interface: Vec<usize> = (0..rows * m).collect();
+    let interior: Vec<usize> = (rows * m..m * m).collect();
+    (a, interior, interface)
+}
+
 fn dense(a: &Csc) -> Vec<Vec<f64>> {
     let mut d = vec![vec![0.0; a.ncols]; a.nrows];
     for j in 0..a.ncols {
@@ -80,12 +89,10 @@ fn solve_dense(mut m: Vec<Vec<f64>>, mut x: Vec<f64>) -> Vec<f64> {
 #[test]
 fn partial_sweeps_match_dense_condensation() {
     let m = 14;
-    let a = grid(m);
+    // Interface: the bottom row of the grid.
+    let (a, interior, interface) = split_grid(m, 1);
     let n = m * m;
     let ad = dense(&a);
-    // Interface: the bottom row of the grid.
-    let interface: Vec<usize> = (0..m).collect();
-    let interior: Vec<usize> = (m..n).collect();
     let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
     assert!(
         l.p1 > 0 && l.p2 > l.p1 && l.nr > l.p2,
@@ -150,9 +157,7 @@ fn partial_sweeps_match_dense_condensation() {
 #[test]
 fn sweeps_are_bit_identical_for_every_thread_count() {
     let m = 20;
-    let a = grid(m);
-    let interface: Vec<usize> = (0..m).collect();
-    let interior: Vec<usize> = (m..m * m).collect();
+    let (a, interior, interface) = split_grid(m, 1);
     let run = |par: Parallelism| {
         let (mut l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
         l.large = true; // this small grid would otherwise stay on one thread
@@ -179,9 +184,7 @@ fn sweeps_are_bit_identical_for_every_thread_count() {
 #[test]
 fn refactorisation_equals_a_fresh_factorisation_and_checks_the_pattern() {
     let m = 20;
-    let a = grid(m);
-    let interface: Vec<usize> = (0..m).collect();
-    let interior: Vec<usize> = (m..m * m).collect();
+    let (a, interior, interface) = split_grid(m, 1);
     let (l, order) = PartialCholesky::new(&a, &interior, &interface).unwrap();
     // Another matrix with the same pattern (as c_M M + c_K K at another τ).
     let mut b = a.clone();
@@ -226,9 +229,7 @@ fn refactorisation_equals_a_fresh_factorisation_and_checks_the_pattern() {
 #[test]
 fn sweeps_of_many_right_hand_sides_equal_single_sweeps_bitwise() {
     let m = 20;
-    let a = grid(m);
-    let interface: Vec<usize> = (0..m).collect();
-    let interior: Vec<usize> = (m..m * m).collect();
+    let (a, interior, interface) = split_grid(m, 1);
     let (l, _) = PartialCholesky::new(&a, &interior, &interface).unwrap();
     assert!(
         l.p1 > 0 && l.p2 > l.p1 && l.nr > l.p2,

@@ -83,14 +83,7 @@ impl ExtraRows {
             ("interface values", self.nf, x_f.len()),
             ("extra values", self.len(), out.len()),
         ] {
-            if expected != got {
-                return Err(ProblemError::DimensionMismatch {
-                    what,
-                    expected,
-                    got,
-                }
-                .into());
-            }
+            ProblemError::check_length(what, expected, got)?;
         }
         let offset = match k {
             Some(k) => Some(self.offsets.get(k).ok_or_else(|| {

@@ -3,7 +3,7 @@
 
 use faer::sparse::{SparseColMat, SparseColMatRef};
 use rsf_linalg::Csc;
-use rsf_nonsmooth::{BlockNonlinearity, NonsmoothSolver, SolveReport, Stopping};
+use rsf_nonsmooth::BlockNonlinearity;
 
 use super::active::ActiveGather;
 use super::hierarchy::RankLevels;
@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::linear_correction::LinearCorrection;
 use crate::multigrid::NewtonHierarchy;
 use crate::problem::active_map;
-use crate::report::{iterate_to_tolerance, IterationRun};
+use crate::tnnmg::NewtonOptions;
 use rsf_nonsmooth::ProblemError;
 use rsf_ranks::block::{load, masked_inverse, store, Block};
 use rsf_ranks::halo::{AllGather, HaloCounters};
@@ -207,18 +207,7 @@ impl<const D: usize> DistributedTnnmg<D> {
         owner: &[usize],
         mut halo: Box<dyn RankGroup>,
     ) -> Result<Self> {
-        opts.stopping.validate()?;
-        if opts.linear_reduction.is_some_and(|r| !(r > 0.0 && r < 1.0)) {
-            return Err(
-                ProblemError::InvalidOption("linear_reduction must lie in (0, 1)".into()).into(),
-            );
-        }
-        if opts.nonlinear_sweeps == 0 || opts.v_cycles == 0 {
-            return Err(ProblemError::InvalidOption(
-                "nonlinear_sweeps and v_cycles must be at least 1".into(),
-            )
-            .into());
-        }
+        opts.check_newton()?;
         if prolongations.is_empty() {
             return Err(ProblemError::InvalidOption(
                 "TNNMG on ranks needs at least one prolongation (a V-cycle)".into(),
@@ -512,62 +501,36 @@ fn norm_rows<const D: usize>(
     })
 }
 
-impl<const D: usize> NonsmoothSolver<D> for DistributedTnnmg<D> {
-    type Error = Error;
-
-    fn name(&self) -> &'static str {
-        "tnnmg-ranks"
-    }
-
-    fn dim(&self) -> usize {
-        self.n
-    }
-
-    fn stopping(&self) -> Stopping {
-        self.opts.stopping
-    }
-
-    fn set_stopping(&mut self, stopping: Stopping) -> Result<()> {
-        stopping.validate()?;
-        self.opts.stopping = stopping;
-        Ok(())
-    }
-
-    /// Collective: every rank calls it with the same `b`, `nl` and `v`; afterwards every
-    /// rank's `v` is the whole solution (also when it returns an error, which every rank
-    /// returns alike).
-    fn solve<N: BlockNonlinearity<D>>(
-        &mut self,
-        b: &[f64],
-        nl: &N,
-        v: &mut [f64],
-    ) -> Result<SolveReport> {
-        let run = IterationRun {
-            solver: "tnnmg-ranks",
-            stop: self.opts.stopping,
-            record_energy: self.opts.record_energy,
-        };
-        iterate_to_tolerance(self, run, b, nl, v, None)
-    }
-
-    /// `√(xᵀ E x)` with the ranks' rows of `E` (the energy-norm matrix, or `A` without
-    /// one) and an exact sum: collective, every rank passes the same global `x` (length
-    /// `D n`) and gets the same bits at every rank count. Between solves (it uses the
-    /// correction's local vector as scratch).
-    ///
-    /// # Panics
-    /// If `x` is not `D n` long.
-    fn energy_norm_of(&mut self, x: &[f64]) -> Option<f64> {
-        assert_eq!(x.len(), self.n, "a global vector of the solver's length");
-        let mut local = std::mem::take(&mut self.c);
-        for (q, &p) in self.sweep.rows().global_nodes().iter().enumerate() {
-            local[D * q..D * q + D].copy_from_slice(&x[D * p..D * p + D]);
+// `solve` is collective: every rank calls it with the same `b`, `nl` and `v`; afterwards
+// every rank's `v` is the whole solution (also when it returns an error, which every rank
+// returns alike).
+crate::report::iterative_solver!(
+    DistributedTnnmg,
+    "tnnmg-ranks",
+    dim: [n],
+    options: [opts],
+    watch: [],
+    reset: [],
+    extra: {
+        /// `√(xᵀ E x)` with the ranks' rows of `E` (the energy-norm matrix, or `A` without
+        /// one) and an exact sum: collective, every rank passes the same global `x` (length
+        /// `D n`) and gets the same bits at every rank count. Between solves (it uses the
+        /// correction's local vector as scratch).
+        ///
+        /// # Panics
+        /// If `x` is not `D n` long.
+        fn energy_norm_of(&mut self, x: &[f64]) -> Option<f64> {
+            assert_eq!(x.len(), self.n, "a global vector of the solver's length");
+            let mut local = std::mem::take(&mut self.c);
+            for (q, &p) in self.sweep.rows().global_nodes().iter().enumerate() {
+                local[D * q..D * q + D].copy_from_slice(&x[D * p..D * p + D]);
+            }
+            self.add_norm_terms(&local, 0);
+            self.c = local;
+            Some(self.norm_sums.reduce(&mut *self.halo)[0].max(0.0).sqrt())
         }
-        self.add_norm_terms(&local, 0);
-        self.c = local;
-        Some(self.norm_sums.reduce(&mut *self.halo)[0].max(0.0).sqrt())
     }
-}
+);
 
 /// The rows of `a` owned by `rank`, read from its owned columns.
 fn owned_rows<const D: usize>(

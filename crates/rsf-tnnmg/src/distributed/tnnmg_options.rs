@@ -51,6 +51,17 @@ impl Default for DistributedTnnmgOptions {
     }
 }
 
+impl crate::tnnmg::NewtonOptions for DistributedTnnmgOptions {
+    fn newton(&self) -> (Stopping, Option<f64>, usize, usize) {
+        (
+            self.stopping,
+            self.linear_reduction,
+            self.nonlinear_sweeps,
+            self.v_cycles,
+        )
+    }
+}
+
 impl DistributedTnnmgOptions {
     /// The options that correspond to the one-process `tnnmg`: the same stopping test,
     /// sweeps, cycles, linear correction, inexact-Newton factor, smoothing and energy

@@ -7,7 +7,7 @@ use crate::error::Result;
 use crate::line_search::exact_line_search;
 use crate::linear_correction::LinearCorrection;
 use crate::problem::{coupled_rhs, node_update, NodeBlocks};
-use crate::report::Iteration;
+use crate::report::{Iteration, IterationState};
 use crate::tnnmg::{linearize_blocks, stop_at_kinks, QuadraticPart};
 use rsf_nonsmooth::ProblemError;
 use rsf_ranks::block::{load, sub_mul_vec};
@@ -279,7 +279,7 @@ impl<const D: usize> DistributedTnnmg<D> {
     }
 }
 
-impl<const D: usize> Iteration<D> for DistributedTnnmg<D> {
+impl<const D: usize> IterationState<D> for DistributedTnnmg<D> {
     fn dim(&self) -> usize {
         self.n
     }
@@ -310,6 +310,12 @@ impl<const D: usize> Iteration<D> for DistributedTnnmg<D> {
         }
     }
 
+    fn end(&mut self, v: &mut [f64]) {
+        self.finish(v);
+    }
+}
+
+impl<const D: usize> Iteration<D> for DistributedTnnmg<D> {
     fn iterate<N: BlockNonlinearity<D>>(
         &mut self,
         _: &[f64],
@@ -317,9 +323,5 @@ impl<const D: usize> Iteration<D> for DistributedTnnmg<D> {
         _: &mut [f64],
     ) -> Result<f64> {
         self.step(nl)
-    }
-
-    fn end(&mut self, v: &mut [f64]) {
-        self.finish(v);
     }
 }

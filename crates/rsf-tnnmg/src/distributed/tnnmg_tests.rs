@@ -33,6 +33,20 @@ fn prolongations(pb: &Problem) -> Vec<SparseColMatRef<'_, usize, f64>> {
         .collect()
 }
 
+/// TNNMG on the thread rank `halo` for the problem's fixed dofs and prolongations: the
+/// matrix `a`, the energy-norm matrix `e` (if any), options `opts`, the nodes' ranks `owner`.
+fn rank_solver(
+    pb: &Problem,
+    a: SparseColMatRef<'_, usize, f64>,
+    e: Option<SparseColMatRef<'_, usize, f64>>,
+    opts: DistributedTnnmgOptions,
+    owner: &[usize],
+    halo: impl RankGroup + 'static,
+) -> DistributedTnnmg<D> {
+    let ps = prolongations(pb);
+    DistributedTnnmg::<D>::new(a, &pb.bx.fixed, &ps, e, opts, owner, Box::new(halo)).unwrap()
+}
+
 fn options(record_energy: bool) -> DistributedTnnmgOptions {
     DistributedTnnmgOptions {
         stopping: Stopping {
@@ -58,22 +72,14 @@ struct RankSolve {
 }
 
 /// The solve from the box's start on `size` thread ranks under `owner`, every rank's
-/// end; `broken` makes the line search's sums non-reproducible. With `solves > 1` the
-/// same solver solves again from the start, each time to the same bits (checked), and the
-/// last solve is returned (the counters over all).
+/// end; `broken` makes the line search's sums non-reproducible. The same solver solves
+/// `solves` times (1 or more) from the start, each time to the same bits (checked), and
+/// the last solve is returned (the counters over all).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the problem, its partition, the options, the runs"
+)]
 fn solve_on_ranks(
-    pb: &Problem,
-    nl: &BlockTresca<D>,
-    owner: &[usize],
-    size: usize,
-    opts: DistributedTnnmgOptions,
-    broken: bool,
-) -> Vec<RankSolve> {
-    solve_on_ranks_times(pb, nl, owner, size, opts, broken, 1)
-}
-
-#[expect(clippy::too_many_arguments, reason = "solve_on_ranks and a count")]
-fn solve_on_ranks_times(
     pb: &Problem,
     nl: &BlockTresca<D>,
     owner: &[usize],
@@ -83,17 +89,7 @@ fn solve_on_ranks_times(
     solves: usize,
 ) -> Vec<RankSolve> {
     ThreadRanks::run(size, |halo| {
-        let ps = prolongations(pb);
-        let mut s = DistributedTnnmg::<D>::new(
-            pb.a(),
-            &pb.bx.fixed,
-            &ps,
-            None,
-            opts,
-            owner,
-            Box::new(halo),
-        )
-        .unwrap();
+        let mut s = rank_solver(pb, pb.a(), None, opts, owner, halo);
         if broken {
             s = s.with_naive_line_sums();
         }
@@ -113,6 +109,12 @@ fn solve_on_ranks_times(
             per_full_update: s.per_full_update(),
         }
     })
+}
+
+/// The solve on one thread rank ([`solve_on_ranks`] once, every node on rank 0).
+fn one_rank(pb: &Problem, nl: &BlockTresca<D>, opts: DistributedTnnmgOptions) -> RankSolve {
+    let owner = vec![0; pb.x0.len() / D];
+    solve_on_ranks(pb, nl, &owner, 1, opts, false, 1).remove(0)
 }
 
 fn differing(x: &[f64], y: &[f64]) -> usize {
@@ -141,6 +143,7 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
         1,
         options(false),
         false,
+        1,
     );
     let reference = &one[0];
     assert!(reference.report.iterations > 2, "{:?}", reference.report);
@@ -159,7 +162,7 @@ fn tnnmg_on_ranks_has_the_same_bits_at_one_to_four_ranks() {
         // Slabs along z: the frictional top face on the last rank only.
         partitions.push(("z slabs", pb.bx.slabs(size, 2)));
         for (name, owner) in partitions {
-            let ranks = solve_on_ranks(&pb, &nl, &owner, size, options(false), false);
+            let ranks = solve_on_ranks(&pb, &nl, &owner, size, options(false), false, 1);
             for (r, rank) in ranks.iter().enumerate() {
                 assert_eq!(
                     differing(&rank.v, &reference.v),
@@ -215,8 +218,8 @@ fn inexact_newton_on_ranks_has_the_same_bits() {
         ..options(false)
     };
     let nodes = pb.x0.len() / D;
-    let one = &solve_on_ranks_times(&pb, &nl, &vec![0; nodes], 1, opts, false, 2)[0];
-    let classical = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let one = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, opts, false, 2)[0];
+    let classical = &one_rank(&pb, &nl, options(false));
     assert!(
         one.report.iterations < classical.report.iterations,
         "{} against {}",
@@ -234,7 +237,7 @@ fn inexact_newton_on_ranks_has_the_same_bits() {
     );
     for size in 2..=4 {
         let owner = pb.bx.slabs(size, 2);
-        let ranks = solve_on_ranks_times(&pb, &nl, &owner, size, opts, false, 2);
+        let ranks = solve_on_ranks(&pb, &nl, &owner, size, opts, false, 2);
         for (r, rank) in ranks.iter().enumerate() {
             assert_eq!(differing(&rank.v, &one.v), 0, "rank {r} of {size}");
             assert_eq!(rank.report.iterations, one.report.iterations);
@@ -260,8 +263,7 @@ fn inexact_newton_on_ranks_has_the_same_bits() {
 fn cg_on_ranks_has_the_same_bits() {
     let pb = cube(2);
     let nl = friction(&pb, 1.0, 0.1);
-    let nodes = pb.x0.len() / D;
-    let classical = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let classical = &one_rank(&pb, &nl, options(false));
     for reduction in [None, Some(0.1)] {
         let opts = DistributedTnnmgOptions {
             v_cycles: 4,
@@ -269,7 +271,7 @@ fn cg_on_ranks_has_the_same_bits() {
             linear_reduction: reduction,
             ..options(false)
         };
-        let one = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, opts, false)[0];
+        let one = &one_rank(&pb, &nl, opts);
         assert!(
             one.report.iterations <= classical.report.iterations,
             "{reduction:?}: {} against {}",
@@ -281,7 +283,7 @@ fn cg_on_ranks_has_the_same_bits() {
         assert!(d <= 1e-8 * norm, "{reduction:?}: distance {d}, norm {norm}");
         for size in 2..=4 {
             for owner in [pb.bx.slabs(size, 0), pb.bx.slabs(size, 2)] {
-                let ranks = solve_on_ranks(&pb, &nl, &owner, size, opts, false);
+                let ranks = solve_on_ranks(&pb, &nl, &owner, size, opts, false, 1);
                 for (r, rank) in ranks.iter().enumerate() {
                     let what = format!("{reduction:?}: rank {r} of {size}");
                     assert_eq!(differing(&rank.v, &one.v), 0, "{what}");
@@ -313,23 +315,13 @@ fn an_energy_norm_matrix_is_used() {
     let a = pb.a();
     let e = four_a(&pb);
     let nodes = pb.x0.len() / D;
-    let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let reference = &one_rank(&pb, &nl, options(false));
     let mut opts = options(false);
     opts.stopping.absolute = 2e-10;
     for size in [1, 3] {
         let owner = pb.bx.slabs(size, 0);
         let ranks = ThreadRanks::run(size, |halo| {
-            let ps = prolongations(&pb);
-            let mut s = DistributedTnnmg::<D>::new(
-                a,
-                &pb.bx.fixed,
-                &ps,
-                Some(e.as_ref()),
-                opts,
-                &owner,
-                Box::new(halo),
-            )
-            .unwrap();
+            let mut s = rank_solver(&pb, a, Some(e.as_ref()), opts, &owner, halo);
             let mut v = pb.x0.clone();
             let report = s.solve(&pb.b, &nl, &mut v).unwrap();
             (v, report)
@@ -369,17 +361,7 @@ fn a_linear_problem_on_ranks() {
     for size in [1, 3] {
         let owner = pb.bx.slabs(size, 0);
         let ranks = ThreadRanks::run(size, |halo| {
-            let ps = prolongations(&pb);
-            let mut s = DistributedTnnmg::<D>::new(
-                pb.a(),
-                &pb.bx.fixed,
-                &ps,
-                None,
-                options(false),
-                &owner,
-                Box::new(halo),
-            )
-            .unwrap();
+            let mut s = rank_solver(&pb, pb.a(), None, options(false), &owner, halo);
             let mut v = pb.x0.clone();
             s.solve(&pb.b, &nl, &mut v).unwrap();
             v
@@ -465,7 +447,7 @@ fn tnnmg_on_ranks_finds_the_one_process_minimiser() {
     let pb = cube(2);
     let nl = friction(&pb, 1.0, 0.1);
     let (_, owner) = owners(&pb, 3).remove(0);
-    let ranks = solve_on_ranks(&pb, &nl, &owner, 3, options(true), false);
+    let ranks = solve_on_ranks(&pb, &nl, &owner, 3, options(true), false, 1);
     let v = &ranks[0].v;
     let energies = ranks[0].report.energy.as_ref().unwrap();
     assert_eq!(energies.len(), ranks[0].report.iterations + 1);
@@ -504,12 +486,11 @@ fn tnnmg_on_ranks_finds_the_one_process_minimiser() {
 fn a_non_reproducible_sum_changes_the_bits() {
     let pb = cube(2);
     let nl = friction(&pb, 1.0, 0.1);
-    let nodes = pb.x0.len() / D;
-    let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let reference = &one_rank(&pb, &nl, options(false));
     let broken: usize = (2..=4)
         .map(|size| {
             let (_, owner) = owners(&pb, size).remove(0);
-            let ranks = solve_on_ranks(&pb, &nl, &owner, size, options(false), true);
+            let ranks = solve_on_ranks(&pb, &nl, &owner, size, options(false), true, 1);
             differing(&ranks[0].v, &reference.v)
         })
         .sum();
@@ -563,8 +544,7 @@ fn distributed_tnnmg_refuses_wrong_input() {
 fn a_rank_needs_only_its_own_columns() {
     let pb = cube(2);
     let nl = friction(&pb, 1.0, 0.1);
-    let nodes = pb.x0.len() / D;
-    let reference = &solve_on_ranks(&pb, &nl, &vec![0; nodes], 1, options(false), false)[0];
+    let reference = &one_rank(&pb, &nl, options(false));
     let set_up = |owner: &[usize], halo: ThreadRanks, poison: Option<f64>| {
         let rank = halo.rank();
         let a = columns(pb.a(), owner, rank, poison);
@@ -641,17 +621,7 @@ fn the_norm_of_a_whole_vector_has_the_same_bits_on_every_rank() {
         for size in 1..=4 {
             let owner = pb.bx.slabs(size, 0);
             let norms = ThreadRanks::run(size, |halo| {
-                let ps = prolongations(&pb);
-                let mut s = DistributedTnnmg::<D>::new(
-                    a,
-                    &pb.bx.fixed,
-                    &ps,
-                    e,
-                    options(false),
-                    &owner,
-                    Box::new(halo),
-                )
-                .unwrap();
+                let mut s = rank_solver(&pb, a, e, options(false), &owner, halo);
                 s.energy_norm_of(&x).unwrap()
             });
             let reference = *one_rank.get_or_insert(norms[0]);
@@ -680,17 +650,7 @@ fn a_full_step_on_ranks_measures_its_change_with_the_solvers_norm() {
     let nodes = nl.active_blocks().to_vec();
     let solve = |owner: &[usize], size: usize, own_norm: bool| {
         ThreadRanks::run(size, |halo| {
-            let ps = prolongations(&pb);
-            let s = DistributedTnnmg::<D>::new(
-                pb.a(),
-                &pb.bx.fixed,
-                &ps,
-                None,
-                options(false),
-                owner,
-                Box::new(halo),
-            )
-            .unwrap();
+            let s = rank_solver(&pb, pb.a(), None, options(false), owner, halo);
             let mut step = if own_norm {
                 FullStep::new(s, None).unwrap().with_norm_from_solver()
             } else {

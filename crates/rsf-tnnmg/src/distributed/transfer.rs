@@ -4,6 +4,7 @@
 
 use faer::sparse::SparseColMatRef;
 
+use crate::chunks::PositionRows;
 use crate::error::{Error, Result};
 use crate::galerkin::{masked, prolong_row, prolongation_blocks, restrict_row};
 use rsf_linalg::Csc;
@@ -11,26 +12,6 @@ use rsf_nonsmooth::ProblemError;
 use rsf_ranks::block::{load, store, Block};
 use rsf_ranks::halo::{exchange_round, HaloCounters, HaloPlan, Peer};
 use rsf_ranks::RankGroup;
-
-/// Rows of one side of the transfer in local numbering: row `k`'s entries are
-/// `(col[e], val[e])` for `e` in `ptr[k]..ptr[k + 1]`, `col` indexing a buffer of owned
-/// values then ghosts.
-#[derive(Debug, Clone)]
-struct Rows<const D: usize> {
-    ptr: Vec<usize>,
-    col: Vec<u32>,
-    val: Vec<Block<D>>,
-}
-
-impl<const D: usize> Rows<D> {
-    fn row(&self, k: usize) -> impl Iterator<Item = (usize, &Block<D>)> {
-        let r = self.ptr[k]..self.ptr[k + 1];
-        self.col[r.clone()]
-            .iter()
-            .zip(&self.val[r])
-            .map(|(&c, b)| (c as usize, b))
-    }
-}
 
 /// The position of rank `r`'s entry in `peers` (increasing ranks), made empty if new.
 fn peer(peers: &mut Vec<Peer>, r: usize) -> usize {
@@ -54,7 +35,8 @@ fn peer(peers: &mut Vec<Peer>, r: usize) -> usize {
 /// ghosts the exchange fills), the halo plan of that exchange and its message buffers.
 #[derive(Debug, Clone)]
 struct Side<const D: usize> {
-    rows: Rows<D>,
+    /// The rows in local numbering, their positions indexing `buf`.
+    rows: PositionRows<D>,
     /// Values the rows read: `D` per owned node of the source level, then per ghost
     /// (NaN until the first exchange).
     buf: Vec<f64>,
@@ -117,7 +99,7 @@ impl<const D: usize> Side<D> {
         plan.make_rounds(D, |_| 0, 0);
         let (send, recv) = plan.max_round_nodes();
         Self {
-            rows: Rows { ptr, col, val },
+            rows: PositionRows { ptr, pos: col, val },
             buf: vec![f64::NAN; D * (source_owned.len() + ghosts.len())],
             plan,
             send: vec![0.0; D * send],

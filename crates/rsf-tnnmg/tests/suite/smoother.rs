@@ -5,7 +5,6 @@
 
 use crate::common::*;
 use faer::sparse::Triplet;
-use rsf_direct::{DirectOptions, DirectSolver};
 use rsf_linalg::Parallelism;
 use rsf_nonsmooth::*;
 use rsf_ranks::Colouring;
@@ -207,10 +206,7 @@ fn bit_identical_at_1_2_and_4_threads(order: SmootherOrder) {
 /// increases.
 #[test]
 fn parallel_orders_converge_to_the_lexicographic_minimiser() {
-    let m0 = 2;
-    for level in 2..=4 {
-        let m = m0 << level;
-        let StickSlip { a, fixed, b, nl } = stick_slip(m);
+    for (m0, level, StickSlip { a, fixed, b, nl }) in stick_slip_levels() {
         let hierarchy = square_hierarchy(m0, level);
         let solve = |smoother| {
             let mut tn = Tnnmg::<1>::new(a.as_ref(), &fixed, &hierarchy, None, options(smoother))
@@ -221,10 +217,7 @@ fn parallel_orders_converge_to_the_lexicographic_minimiser() {
             (v, r)
         };
         let (v_lex, _) = solve(SmootherOrder::Lexicographic);
-        let mut direct =
-            DirectSolver::<1>::new(a.as_ref(), &fixed, DirectOptions::default()).unwrap();
-        let mut v_d = vec![0.0; b.len()];
-        direct.solve(&b, &nl, &mut v_d).unwrap();
+        let v_d = direct_minimiser(&a, &fixed, &b, &nl);
         let diff = |x: &[f64], y: &[f64]| relative_energy_distance(&a, x, y, &v_d);
         for order in [SmootherOrder::MultiColour, SmootherOrder::RedBlackChunks] {
             let (v, r) = solve(order);

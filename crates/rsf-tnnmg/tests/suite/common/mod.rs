@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use faer::sparse::Triplet;
-use rsf_nonsmooth::{BlockNonlinearity, Linearization};
+use rsf_nonsmooth::{BlockNonlinearity, Linearization, NonsmoothSolver};
 
 // The square's Laplacian and its stick–slip problem, the same as the direct solver's tests
 // (one file, included by both suites).
@@ -140,6 +140,29 @@ pub fn stick_slip_with(m: usize, c: f64) -> StickSlip {
         b: stick_slip_load(m),
         nl: stick_slip_tresca(m),
     }
+}
+
+/// The [`StickSlip`] problems of the square hierarchies of `m0 = 2` at levels 2–4:
+/// `(m0, level, problem)`, the problem with `m0 << level` cells per side.
+pub fn stick_slip_levels() -> impl Iterator<Item = (usize, usize, StickSlip)> {
+    let m0 = 2;
+    (2..=4).map(move |level| (m0, level, stick_slip(m0 << level)))
+}
+
+/// The direct solver's minimiser (default options, from zero) of `J` with the matrix `a`,
+/// the fixed dofs `fixed`, the load `b` and the nonlinearity `nl`.
+pub fn direct_minimiser(
+    a: &Mat,
+    fixed: &[bool],
+    b: &[f64],
+    nl: &impl BlockNonlinearity<1>,
+) -> Vec<f64> {
+    let mut v = vec![0.0; b.len()];
+    rsf_direct::DirectSolver::<1>::new(a.as_ref(), fixed, rsf_direct::DirectOptions::default())
+        .unwrap()
+        .solve(b, nl, &mut v)
+        .unwrap();
+    v
 }
 
 /// `‖x − y‖_A / ‖reference‖_A`.
