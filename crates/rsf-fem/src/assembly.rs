@@ -3,6 +3,7 @@
 use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use rsf_linalg::SparseMatrix;
 
+use crate::dof_transform::check_len;
 use crate::element::{p1_laplace, p1_mass, p1_mass_components, p1_stiffness, LinearElasticity};
 use crate::geometry::p1_gradients;
 use crate::mesh::SimplexMesh;
@@ -236,21 +237,8 @@ impl<const D: usize, const C: usize> Assembler<D, C> {
     }
 
     fn check_mesh(&self, mesh: &SimplexMesh<D>) -> Result<()> {
-        if mesh.num_vertices() != self.num_vertices {
-            return Err(Error::DimensionMismatch {
-                what: "assembler vertices",
-                expected: self.num_vertices,
-                got: mesh.num_vertices(),
-            });
-        }
-        if mesh.num_cells() != self.num_cells {
-            return Err(Error::DimensionMismatch {
-                what: "assembler cells",
-                expected: self.num_cells,
-                got: mesh.num_cells(),
-            });
-        }
-        Ok(())
+        check_len("assembler vertices", self.num_vertices, mesh.num_vertices())?;
+        check_len("assembler cells", self.num_cells, mesh.num_cells())
     }
 
     /// Generic numeric assembly: zeroes `out` (which must have this assembler's pattern,

@@ -42,6 +42,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::mesh::TetrahedronMesh;
+use crate::refine::wanted_size;
 use crate::{Error, Result, KUHN_PATHS};
 
 mod levels;
@@ -85,7 +86,7 @@ pub struct BisectionMesh {
 }
 
 /// What [`BisectionMesh::refine`] did.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct BisectionReport {
     /// Passes over the cells (the last bisects nothing).
     pub passes: usize,
@@ -182,18 +183,8 @@ impl BisectionMesh {
         size: impl Fn([f64; 3], [f64; 3]) -> f64,
         max_cells: usize,
     ) -> Result<BisectionReport> {
-        let mut report = BisectionReport {
-            passes: 0,
-            by_size: 0,
-            by_closure: 0,
-        };
-        loop {
-            if report.passes == MAX_PASSES {
-                return Err(Error::InvalidGrid(format!(
-                    "bisection did not end after {MAX_PASSES} passes ({} cells)",
-                    self.cells.len()
-                )));
-            }
+        let mut report = BisectionReport::default();
+        while report.passes < MAX_PASSES {
             report.passes += 1;
             // Which cells this pass bisects (decided before any is, so that the pass does
             // not depend on the order within it).
@@ -201,13 +192,7 @@ impl BisectionMesh {
             for (c, cell) in self.cells.iter().enumerate() {
                 let x = cell.map(|v| self.vertices[v as usize]);
                 let (lo, hi) = bounding_box(&x);
-                let wanted = size(lo, hi);
-                if !(wanted > 0.0) {
-                    return Err(Error::InvalidGrid(format!(
-                        "the size function gave {wanted} m for the box {lo:?}–{hi:?}: it \
-                         must be positive"
-                    )));
-                }
+                let wanted = wanted_size(&size, lo, hi)?;
                 if cube_size(&x) > wanted * (1.0 + 1e-9) {
                     split.push(c);
                     report.by_size += 1;
@@ -234,6 +219,10 @@ impl BisectionMesh {
                 self.bisect(c)?;
             }
         }
+        Err(Error::InvalidGrid(format!(
+            "bisection did not end after {MAX_PASSES} passes ({} cells)",
+            self.cells.len()
+        )))
     }
 
     /// Whether one of `cell`'s edges has been bisected (by a neighbour).

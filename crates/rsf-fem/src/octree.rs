@@ -35,6 +35,7 @@
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use crate::mesh::TetrahedronMesh;
+use crate::refine::wanted_size;
 use crate::{Error, Result, KUHN_PATHS};
 
 /// Levels below a root cube: integer coordinates are in units of `root / 2^MAX_LEVEL`.
@@ -187,13 +188,7 @@ impl OctreeMesh {
             for cube in self.sorted_leaves() {
                 let c = cube.xyz();
                 let (lo, hi) = (self.point(c), self.point(c.map(|x| x + cube.size())));
-                let wanted = size(lo, hi);
-                if !(wanted > 0.0) {
-                    return Err(Error::InvalidGrid(format!(
-                        "the size function gave {wanted} m for the box {lo:?}–{hi:?}: it \
-                         must be positive"
-                    )));
-                }
+                let wanted = wanted_size(&size, lo, hi)?;
                 let edge = self.root / (1u64 << cube.level) as f64;
                 if edge > wanted * (1.0 + 1e-9) && cube.level < MAX_LEVEL {
                     split.push(cube);

@@ -2,6 +2,7 @@
 
 use nalgebra::SVector;
 
+use crate::dof_transform::check_len;
 use crate::frames::NodalFrames;
 use crate::mesh::SimplexMesh;
 use crate::{Error, Result};
@@ -156,21 +157,16 @@ impl<const D: usize> BoundaryPart<D> {
     /// # Errors
     /// [`Error::DimensionMismatch`].
     pub fn check_mesh(&self, mesh: &SimplexMesh<D>) -> Result<()> {
-        if mesh.num_vertices() != self.mesh_vertices {
-            return Err(Error::DimensionMismatch {
-                what: "boundary part mesh vertices",
-                expected: self.mesh_vertices,
-                got: mesh.num_vertices(),
-            });
-        }
-        if mesh.num_boundary_facets() != self.mesh_facets {
-            return Err(Error::DimensionMismatch {
-                what: "boundary part mesh facets",
-                expected: self.mesh_facets,
-                got: mesh.num_boundary_facets(),
-            });
-        }
-        Ok(())
+        check_len(
+            "boundary part mesh vertices",
+            self.mesh_vertices,
+            mesh.num_vertices(),
+        )?;
+        check_len(
+            "boundary part mesh facets",
+            self.mesh_facets,
+            mesh.num_boundary_facets(),
+        )
     }
 
     /// Total measure of the part (m in 2D, m² in 3D).

@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use faer::sparse::{SparseColMat, Triplet};
 
 use crate::mesh::SimplexMesh;
-use crate::Result;
+use crate::{Error, Result};
 
 /// Local edges `(a, b)`, `a < b`, of a simplex in the order used by [`children`]: the
 /// midpoint of edge `e` is local point `D + 1 + e`.
@@ -195,4 +195,23 @@ fn inherit_tags<const D: usize>(
         })
         .collect();
     fine.set_facet_tags(coarse.tag_names().to_vec(), tags);
+}
+
+/// The cell size `size(lo, hi)` (m) a refinement wants in the box `[lo, hi]`.
+///
+/// # Errors
+/// [`Error::InvalidGrid`] unless it is positive (NaN included).
+pub(crate) fn wanted_size(
+    size: impl Fn([f64; 3], [f64; 3]) -> f64,
+    lo: [f64; 3],
+    hi: [f64; 3],
+) -> Result<f64> {
+    let wanted = size(lo, hi);
+    if !(wanted > 0.0) {
+        return Err(Error::InvalidGrid(format!(
+            "the size function gave {wanted} m for the box {lo:?}–{hi:?}: it must be \
+             positive"
+        )));
+    }
+    Ok(wanted)
 }

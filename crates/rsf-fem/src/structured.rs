@@ -36,27 +36,12 @@ impl Diagonal {
     }
 }
 
-impl std::fmt::Display for Diagonal {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Diagonal {
-    type Err = Error;
-
-    /// `forward` or `backward`.
-    fn from_str(s: &str) -> Result<Self> {
-        let all = [Self::Forward, Self::Backward];
-        Ok(rsf_numeric::parse_name(
-            "diagonal",
-            s,
-            &all,
-            Self::name,
-            &[],
-        )?)
-    }
-}
+rsf_numeric::display_and_parse_by_name!(
+    Diagonal,
+    "diagonal",
+    Error,
+    [Diagonal::Forward, Diagonal::Backward]
+);
 
 /// Structured triangulation of the rectangle `[x0, x0 + lx] × [y0, y0 + ly]` with
 /// `nx × ny` vertices (`nx − 1` by `ny − 1` cells, each split in two along `diagonal`).

@@ -3,7 +3,7 @@
 //! one's own frame) and triangles ([`Triangle`], Nikkhoo & Walter) — behind one trait,
 //! [`Element`], in a half-space or the whole space ([`Space`]; docs/halfspace.md §7).
 
-use crate::error::Error;
+use crate::error::{check_finite, check_parameters, Error};
 use crate::okada::{Deformation, Okada, Rectangle};
 use crate::space::Space;
 use crate::stress::Medium;
@@ -77,30 +77,18 @@ impl RectangleElement {
         length: f64,
         width: f64,
     ) -> Result<Self, Error> {
-        for (name, value) in [
+        check_finite([
             ("centre.x", centre[0]),
             ("centre.y", centre[1]),
             ("centre.z", centre[2]),
             ("strike", strike_deg),
             ("dip", dip_deg),
-        ] {
-            if !value.is_finite() {
-                return Err(Error::Parameter {
-                    name,
-                    value,
-                    expected: "finite",
-                });
-            }
-        }
-        for (name, value) in [("length", length), ("width", width)] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(Error::Parameter {
-                    name,
-                    value,
-                    expected: "finite and > 0",
-                });
-            }
-        }
+        ])?;
+        check_parameters(
+            [("length", length), ("width", width)],
+            |value| value.is_finite() && value > 0.0,
+            "finite and > 0",
+        )?;
         let (s, c) = strike_deg.to_radians().sin_cos();
         let axes = [[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]];
         let local = Rectangle::new(

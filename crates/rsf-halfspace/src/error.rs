@@ -78,3 +78,25 @@ pub enum Error {
     #[error("ℋ-matrix: {0}")]
     HMatrix(#[from] rsf_hmatrix::Error),
 }
+
+/// [`Error::Parameter`] for the first `(name, value)` of `values` that is not `ok`, with
+/// what is `expected` of it.
+pub(crate) fn check_parameters<const K: usize>(
+    values: [(&'static str, f64); K],
+    ok: impl Fn(f64) -> bool,
+    expected: &'static str,
+) -> Result<(), Error> {
+    match values.into_iter().find(|&(_, value)| !ok(value)) {
+        Some((name, value)) => Err(Error::Parameter {
+            name,
+            value,
+            expected,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// [`Error::Parameter`] for the first `(name, value)` of `values` that is not finite.
+pub(crate) fn check_finite<const K: usize>(values: [(&'static str, f64); K]) -> Result<(), Error> {
+    check_parameters(values, f64::is_finite, "finite")
+}

@@ -127,3 +127,76 @@ pub fn parse_name<T: Copy>(
         expected,
     })
 }
+
+/// `Display` (the name) and `FromStr` (by [`parse_name`]) for a choice `$ty` with a
+/// method `name(self)` (or `name(&self)`) giving `&'static str`: `$what` names the choice
+/// in messages, `$error` (which must implement `From<`[`UnknownName`]`>`) is the error of
+/// `from_str`, `$all` lists every value and the optional `$aliases` pairs older or
+/// alternative names with their value.
+///
+/// ```
+/// #[derive(Clone, Copy, Debug, PartialEq)]
+/// enum Law { Aging, Slip }
+/// impl Law {
+///     fn name(self) -> &'static str {
+///         match self { Law::Aging => "aging", Law::Slip => "slip" }
+///     }
+/// }
+/// rsf_numeric::display_and_parse_by_name!(
+///     Law,
+///     "state law",
+///     rsf_numeric::UnknownName,
+///     [Law::Aging, Law::Slip],
+///     [("ruina", Law::Slip)]
+/// );
+/// assert_eq!("ruina".parse::<Law>(), Ok(Law::Slip));
+/// assert_eq!(Law::Aging.to_string(), "aging");
+/// assert!("rate".parse::<Law>().is_err());
+/// ```
+#[macro_export]
+macro_rules! display_and_parse_by_name {
+    ($ty:ty, $what:literal, $error:ty, $all:expr $(,)?) => {
+        $crate::display_and_parse_by_name!($ty, $what, $error, $all, []);
+    };
+    ($ty:ty, $what:literal, $error:ty, $all:expr, $aliases:expr $(,)?) => {
+        impl ::std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+
+        impl ::std::str::FromStr for $ty {
+            type Err = $error;
+
+            /// One of the names (or an alias); another is an error listing them.
+            fn from_str(s: &str) -> ::std::result::Result<Self, $error> {
+                Ok($crate::parse_name(
+                    $what,
+                    s,
+                    &$all,
+                    |x: $ty| x.name(),
+                    &$aliases,
+                )?)
+            }
+        }
+    };
+}
+
+/// `clap::ValueEnum` for a choice `$ty` with a constant `ALL` (every value) and a method
+/// `name`: the values are the names, with the help text `$help` gives for `$value` (an
+/// expression of type `&'static str`). The calling crate must depend on `clap`.
+#[macro_export]
+macro_rules! clap_value_enum {
+    ($ty:ty, |$value:ident| $help:expr) => {
+        impl clap::ValueEnum for $ty {
+            fn value_variants<'a>() -> &'a [Self] {
+                &Self::ALL
+            }
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                let $value = self;
+                let help: &'static str = $help;
+                Some(clap::builder::PossibleValue::new(self.name()).help(help))
+            }
+        }
+    };
+}

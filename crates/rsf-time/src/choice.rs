@@ -42,26 +42,7 @@ impl Integrator {
     ];
 }
 
-impl std::fmt::Display for Integrator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Integrator {
-    type Err = Error;
-
-    /// `newmark`, `backward-euler` or `quasistatic`.
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(rsf_numeric::parse_name(
-            "integrator",
-            s,
-            &Self::ALL,
-            |i| i.name(),
-            &[],
-        )?)
-    }
-}
+rsf_numeric::display_and_parse_by_name!(Integrator, "integrator", Error, Integrator::ALL);
 
 macro_rules! dispatch {
     ($self:ident, $i:ident => $e:expr) => {
@@ -110,19 +91,11 @@ impl VelocityIntegrator for Integrator {
 }
 
 #[cfg(feature = "clap")]
-impl clap::ValueEnum for Integrator {
-    fn value_variants<'a>() -> &'a [Self] {
-        &Self::ALL
-    }
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        let help = match self {
-            Self::Newmark => "Newmark, β = ¼, γ = ½ (the paper's)",
-            Self::BackwardEuler => "Backward Euler for the velocity",
-            Self::Quasistatic(_) => "Quasistatic (no inertia)",
-        };
-        Some(clap::builder::PossibleValue::new(self.name()).help(help))
-    }
-}
+rsf_numeric::clap_value_enum!(Integrator, |i| match i {
+    Integrator::Newmark => "Newmark, β = ¼, γ = ½ (the paper's)",
+    Integrator::BackwardEuler => "Backward Euler for the velocity",
+    Integrator::Quasistatic(_) => "Quasistatic (no inertia)",
+});
 
 #[cfg(feature = "serde")]
 mod serde_impl {

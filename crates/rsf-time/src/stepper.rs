@@ -24,7 +24,7 @@ use crate::runge_kutta::{
     BOGACKI_SHAMPINE_32, DORMAND_PRINCE_54,
 };
 use crate::stabilized::{Rkc2, RkcOptions, RkcState};
-use crate::{Error, Result};
+use crate::{invalid, Error, Result};
 
 /// The integrator of an ODE system, chosen by name: `auto`, `rkc`, `rosenbrock`,
 /// `dormand-prince`, `bogacki-shampine` (`name`, `FromStr`, serde, clap).
@@ -74,47 +74,20 @@ impl OdeIntegrator {
     }
 }
 
-impl std::fmt::Display for OdeIntegrator {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for OdeIntegrator {
-    type Err = Error;
-
-    /// `auto`, `rkc`, `rosenbrock`, `dormand-prince` or `bogacki-shampine`.
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(rsf_numeric::parse_name(
-            "integrator",
-            s,
-            &Self::ALL,
-            |i| i.name(),
-            &[],
-        )?)
-    }
-}
+rsf_numeric::display_and_parse_by_name!(OdeIntegrator, "integrator", Error, OdeIntegrator::ALL);
 
 #[cfg(feature = "clap")]
-impl clap::ValueEnum for OdeIntegrator {
-    fn value_variants<'a>() -> &'a [Self] {
-        &Self::ALL
+rsf_numeric::clap_value_enum!(OdeIntegrator, |i| match i {
+    OdeIntegrator::Auto => {
+        "Dormand–Prince 5(4) where accuracy sets the step, RKC2 where stability would"
     }
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        let help = match self {
-            Self::Auto => {
-                "Dormand–Prince 5(4) where accuracy sets the step, RKC2 where stability would"
-            }
-            Self::Rkc => "RKC2, stabilised explicit Runge–Kutta–Chebyshev (stiff)",
-            Self::Rosenbrock => {
-                "ROS34PW2, Rosenbrock-W (order 3, L-stable) with matrix-free GMRES (stiff)"
-            }
-            Self::DormandPrince => "Dormand–Prince 5(4) explicit pair",
-            Self::BogackiShampine => "Bogacki–Shampine 3(2) explicit pair",
-        };
-        Some(clap::builder::PossibleValue::new(self.name()).help(help))
+    OdeIntegrator::Rkc => "RKC2, stabilised explicit Runge–Kutta–Chebyshev (stiff)",
+    OdeIntegrator::Rosenbrock => {
+        "ROS34PW2, Rosenbrock-W (order 3, L-stable) with matrix-free GMRES (stiff)"
     }
-}
+    OdeIntegrator::DormandPrince => "Dormand–Prince 5(4) explicit pair",
+    OdeIntegrator::BogackiShampine => "Bogacki–Shampine 3(2) explicit pair",
+});
 
 /// Options of `auto` ([`OdeIntegrator::Auto`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,22 +121,14 @@ impl AutoOptions {
     /// [`Error::InvalidParameter`] naming the first invalid option.
     pub fn validate(&self) -> Result<()> {
         if self.stiff_steps == 0 {
-            return Err(Error::InvalidParameter {
-                name: "stiff_steps",
-                value: 0.0,
-                requirement: "must be at least 1",
-            });
+            return invalid("stiff_steps", 0.0, "must be at least 1");
         }
         for (name, value) in [
             ("stiff_above", self.stiff_above),
             ("explicit_below", self.explicit_below),
         ] {
             if !(value > 0.0 && value.is_finite()) {
-                return Err(Error::InvalidParameter {
-                    name,
-                    value,
-                    requirement: "must be positive and finite",
-                });
+                return invalid(name, value, "must be positive and finite");
             }
         }
         Ok(())
@@ -247,6 +212,33 @@ pub struct StepperStats {
     /// Simulated time of the tested steps with `h|λ|` above `stiff_above` (3.25: held by
     /// stability; s).
     pub held_time: f64,
+}
+
+impl StepperStats {
+    /// Counts an accepted step of `mode` that advanced the time by `dt` (s) with
+    /// `evaluations` evaluations.
+    fn count(&mut self, mode: StepperMode, dt: f64, evaluations: usize) {
+        let (steps, time, evals) = match mode {
+            StepperMode::Explicit => (
+                &mut self.explicit_steps,
+                &mut self.explicit_time,
+                &mut self.explicit_evaluations,
+            ),
+            StepperMode::Stabilized => (
+                &mut self.stabilized_steps,
+                &mut self.stabilized_time,
+                &mut self.stabilized_evaluations,
+            ),
+            StepperMode::Implicit => (
+                &mut self.implicit_steps,
+                &mut self.implicit_time,
+                &mut self.implicit_evaluations,
+            ),
+        };
+        *steps += 1;
+        *time += dt;
+        *evals += evaluations;
+    }
 }
 
 /// What one accepted step of an [`OdeStepper`] did.
@@ -480,9 +472,7 @@ impl OdeStepper {
         if let Some(ros) = &mut self.rosenbrock {
             let r = ros.step(sys, t, y, t_end)?;
             let st = &mut self.stats;
-            st.implicit_steps += 1;
-            st.implicit_time += *t - t0;
-            st.implicit_evaluations += r.step.evaluations;
+            st.count(StepperMode::Implicit, *t - t0, r.step.evaluations);
             st.krylov_iterations += r.krylov_iterations;
             st.linear_failures += r.linear_failures;
             return Ok(OdeStep {
@@ -495,9 +485,7 @@ impl OdeStepper {
             (StepperMode::Stabilized, Some(rkc)) => {
                 let r = rkc.step(sys, t, y, t_end)?;
                 let st = &mut self.stats;
-                st.stabilized_steps += 1;
-                st.stabilized_time += *t - t0;
-                st.stabilized_evaluations += r.step.evaluations;
+                st.count(StepperMode::Stabilized, *t - t0, r.step.evaluations);
                 st.estimates += r.estimates;
                 st.estimate_evaluations += r.estimate_evaluations;
                 st.max_stages = st.max_stages.max(r.stages);
@@ -512,9 +500,7 @@ impl OdeStepper {
             _ => {
                 let r = self.explicit.step(sys, t, y, t_end)?;
                 let st = &mut self.stats;
-                st.explicit_steps += 1;
-                st.explicit_time += *t - t0;
-                st.explicit_evaluations += r.evaluations;
+                st.count(StepperMode::Explicit, *t - t0, r.evaluations);
                 let h_lambda = self.explicit.stiffness();
                 if h_lambda.is_finite() {
                     st.tested_time += *t - t0;

@@ -232,6 +232,27 @@ impl SpringSlider {
             .abs()
             .max((y[1] - exact[1]).abs())
     }
+    /// Asserts the order of a method at the fixed steps `hs` (s, halving): `run(h, t_end)`
+    /// integrates from [`start`](Self::start) to `t_end = 60 s` (six `L/V_L`) with steps
+    /// `h` and returns the end state and the steps it took; its [`error`](Self::error)
+    /// against [`reference`](Self::reference) must fall at `order` within `tolerance`
+    /// ([`assert_halving_order`]).
+    pub(crate) fn assert_order(
+        hs: [f64; 3],
+        (order, tolerance): (f64, f64),
+        mut run: impl FnMut(f64, f64) -> ([f64; 2], usize),
+    ) {
+        let t_end = 60.0;
+        let exact = Self::reference(t_end);
+        let mut errors = Vec::new();
+        for h in hs {
+            let (y, steps) = run(h, t_end);
+            let e = Self::error(&y, &exact);
+            println!("h = {h} s: {steps} steps, error {e:e} (slip in L, state in ln θ)");
+            errors.push(e);
+        }
+        assert_halving_order(&errors, order, tolerance);
+    }
 }
 
 impl OdeSystem for SpringSlider {

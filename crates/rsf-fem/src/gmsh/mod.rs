@@ -16,7 +16,7 @@ use std::path::Path;
 use lexer::{error, Section};
 
 use crate::mesh::SimplexMesh;
-use crate::{Error, Result};
+use crate::{Error, FaultNetwork, FaultSides, Result};
 
 /// A physical group found in a Gmsh file.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -400,6 +400,33 @@ fn tag_facets<const D: usize>(
     Ok(interior)
 }
 
+/// A fault of a network: its name and its facets (mesh vertices).
+type NamedFacets<'a, const D: usize> = (&'a str, &'a [[usize; D]]);
+
+impl<const D: usize> GmshMesh<D> {
+    /// The interior facets of the physical group `group` (read with
+    /// [`GmshOptions::interior_facets`]), in file order.
+    ///
+    /// # Errors
+    /// [`Error::EmptyFault`] if the group has none.
+    fn interior_group(&self, group: &str) -> Result<&[[usize; D]]> {
+        let facets = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
+        Ok(facets)
+    }
+
+    /// Each of `groups` with its [`interior_group`](Self::interior_group), in the order
+    /// given: the faults of a network.
+    ///
+    /// # Errors
+    /// As [`interior_group`](Self::interior_group).
+    fn interior_groups<'a>(&'a self, groups: &[&'a str]) -> Result<Vec<NamedFacets<'a, D>>> {
+        groups
+            .iter()
+            .map(|&g| Ok((g, self.interior_group(g)?)))
+            .collect()
+    }
+}
+
 impl GmshMesh<2> {
     /// Cuts the mesh open along the interior facets of the physical curve `group` (read
     /// with [`GmshOptions::interior_facets`]): [`SimplexMesh::split_along`] with the
@@ -409,9 +436,8 @@ impl GmshMesh<2> {
     /// # Errors
     /// [`Error::EmptyFault`] if the group has no interior facets (or the file was read
     /// without [`GmshOptions::interior_facets`]); as [`SimplexMesh::split_along`].
-    pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<2>, crate::FaultSides)> {
-        let edges = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
-        self.mesh.split_along(group, edges)
+    pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<2>, FaultSides)> {
+        self.mesh.split_along(group, self.interior_group(group)?)
     }
 
     /// Cuts the mesh open along the interior facets of several physical curves at once, a
@@ -421,18 +447,9 @@ impl GmshMesh<2> {
     /// # Errors
     /// [`Error::EmptyFault`] for a group without interior facets; as
     /// [`SimplexMesh::split_along_network`].
-    pub fn split_along_groups(
-        &self,
-        groups: &[&str],
-    ) -> Result<(SimplexMesh<2>, crate::FaultNetwork<2>)> {
-        let faults = groups
-            .iter()
-            .map(|&g| {
-                let edges = self.interior_facets.get(g).ok_or(Error::EmptyFault)?;
-                Ok((g, &edges[..]))
-            })
-            .collect::<Result<Vec<_>>>()?;
-        self.mesh.split_along_network(&faults)
+    pub fn split_along_groups(&self, groups: &[&str]) -> Result<(SimplexMesh<2>, FaultNetwork<2>)> {
+        self.mesh
+            .split_along_network(&self.interior_groups(groups)?)
     }
 
     /// The vertices (m) of the physical curve `group`'s interior facets in order along the
@@ -463,9 +480,8 @@ impl GmshMesh<3> {
     /// # Errors
     /// [`Error::EmptyFault`] if the group has no interior facets (or the file was read
     /// without [`GmshOptions::interior_facets`]); as `SimplexMesh::<3>::split_along`.
-    pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<3>, crate::FaultSides<3>)> {
-        let faces = self.interior_facets.get(group).ok_or(Error::EmptyFault)?;
-        self.mesh.split_along(group, faces)
+    pub fn split_along_group(&self, group: &str) -> Result<(SimplexMesh<3>, FaultSides<3>)> {
+        self.mesh.split_along(group, self.interior_group(group)?)
     }
 
     /// Cuts the mesh open along the interior facets of several physical surfaces at once, a
@@ -475,18 +491,9 @@ impl GmshMesh<3> {
     /// # Errors
     /// [`Error::EmptyFault`] for a group without interior facets; as
     /// `SimplexMesh::<3>::split_along_network`.
-    pub fn split_along_groups(
-        &self,
-        groups: &[&str],
-    ) -> Result<(SimplexMesh<3>, crate::FaultNetwork<3>)> {
-        let faults = groups
-            .iter()
-            .map(|&g| {
-                let faces = self.interior_facets.get(g).ok_or(Error::EmptyFault)?;
-                Ok((g, &faces[..]))
-            })
-            .collect::<Result<Vec<_>>>()?;
-        self.mesh.split_along_network(&faults)
+    pub fn split_along_groups(&self, groups: &[&str]) -> Result<(SimplexMesh<3>, FaultNetwork<3>)> {
+        self.mesh
+            .split_along_network(&self.interior_groups(groups)?)
     }
 }
 

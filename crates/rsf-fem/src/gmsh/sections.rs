@@ -64,6 +64,17 @@ fn dimension(c: &mut Cursor<'_>, what: &str) -> Result<usize, Error> {
         .ok_or_else(|| c.error(format!("{what} must be 0, 1, 2 or 3, found {d}")))
 }
 
+/// The header of a `$Nodes` or `$Elements` section (`item` "node" or "element"): the
+/// number of entity blocks and of items; the smallest and largest tag are read and not
+/// kept.
+fn block_header(c: &mut Cursor<'_>, item: &str) -> Result<(usize, usize), Error> {
+    let blocks = c.count("the number of entity blocks")?;
+    let total = c.count(&format!("the number of {item}s"))?;
+    c.count(&format!("the minimum {item} tag"))?;
+    c.count(&format!("the maximum {item} tag"))?;
+    Ok((blocks, total))
+}
+
 /// `$Entities`: `(dimension, entity tag) → physical tags`.
 pub(super) fn entities(
     s: &Section<'_>,
@@ -110,10 +121,7 @@ pub(super) fn entities(
 /// `$Nodes`: node tag → coordinates.
 pub(super) fn nodes(s: &Section<'_>, out: &mut HashMap<u64, [f64; 3]>) -> Result<(), Error> {
     let mut c = Cursor::new(s);
-    let blocks = c.count("the number of entity blocks")?;
-    let total = c.count("the number of nodes")?;
-    c.count("the minimum node tag")?;
-    c.count("the maximum node tag")?;
+    let (blocks, total) = block_header(&mut c, "node")?;
     let mut tags = Vec::new();
     for _ in 0..blocks {
         let dim = dimension(&mut c, "an entity dimension")?;
@@ -179,10 +187,7 @@ pub(super) struct Elements {
 /// `$Elements`, keeping the dimension-`d` and `d − 1` simplices.
 pub(super) fn elements(s: &Section<'_>, d: usize) -> Result<Elements, Error> {
     let mut c = Cursor::new(s);
-    let blocks = c.count("the number of entity blocks")?;
-    let total = c.count("the number of elements")?;
-    c.count("the minimum element tag")?;
-    c.count("the maximum element tag")?;
+    let (blocks, total) = block_header(&mut c, "element")?;
     let mut out = Elements::default();
     let mut seen = 0usize;
     for _ in 0..blocks {

@@ -182,20 +182,24 @@ fn patch_test_dirichlet_and_neumann() {
     };
     let exact: Vec<f64> = m.vertices().iter().flat_map(u).collect();
     let n = m.num_vertices();
+    // `K x = load` with the nodes of `fixed` held at `u`: `x` must be `u` everywhere.
+    let solves_exactly = |fixed: &BoundarySegment<2>, load: &[f64]| {
+        let mut c = Constraints::<2>::new(n);
+        for &p in fixed.nodes() {
+            let val = u(&m.vertices()[p]);
+            c.fix_nodes(&[p], &[0, 1], val).unwrap();
+        }
+        let mut sys = ConstrainedSystem::new(k.as_ref(), c.fixed()).unwrap();
+        let mut x = vec![0.0; 2 * n];
+        c.apply(&mut x);
+        sys.solve(load, &mut x).unwrap();
+        for (a, b) in x.iter().zip(&exact) {
+            assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        }
+    };
     // (a) Dirichlet on the whole boundary, no load.
     let all = BoundarySegment::from_predicate(&m, "all", |_| true).unwrap();
-    let mut c = Constraints::<2>::new(n);
-    for &p in all.nodes() {
-        let val = u(&m.vertices()[p]);
-        c.fix_nodes(&[p], &[0, 1], val).unwrap();
-    }
-    let mut sys = ConstrainedSystem::new(k.as_ref(), c.fixed()).unwrap();
-    let mut x = vec![0.0; 2 * n];
-    c.apply(&mut x);
-    sys.solve(&vec![0.0; 2 * n], &mut x).unwrap();
-    for (a, b) in x.iter().zip(&exact) {
-        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
-    }
+    solves_exactly(&all, &vec![0.0; 2 * n]);
     // (b) Dirichlet on the left edge only, traction σ n on the other three edges.
     let eps = [
         [g[0][0], 0.5 * (g[0][1] + g[1][0])],
@@ -236,18 +240,7 @@ fn patch_test_dirichlet_and_neumann() {
         }
     }
     let left = BoundarySegment::from_predicate(&m, "left", |x| x[0] < 1e-9).unwrap();
-    let mut c = Constraints::<2>::new(n);
-    for &p in left.nodes() {
-        let val = u(&m.vertices()[p]);
-        c.fix_nodes(&[p], &[0, 1], val).unwrap();
-    }
-    let mut sys = ConstrainedSystem::new(k.as_ref(), c.fixed()).unwrap();
-    let mut x = vec![0.0; 2 * n];
-    c.apply(&mut x);
-    sys.solve(&load, &mut x).unwrap();
-    for (a, b) in x.iter().zip(&exact) {
-        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
-    }
+    solves_exactly(&left, &load);
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Graded meshes by newest-vertex bisection of a Kuhn box (`BisectionMesh`). Expected values
 //! are closed forms of the geometry (volumes, areas, the Kuhn grid of half the size),
 //! never the code's own output.
-use crate::common::{boundary_area, distance_to_origin, plane_facets};
+use crate::common::{boundary_area, graded_from_origin, plane_facets};
 use rsf_fem::*;
 
 /// Sorted edge lengths divided by the longest: equal for similar tetrahedra.
@@ -70,10 +70,10 @@ fn three_generations_of_a_kuhn_cube_are_the_kuhn_cells_of_the_half_cubes() {
 
 #[test]
 fn refinement_towards_a_corner_is_conforming_graded_and_keeps_three_shapes() {
-    let (h, growth) = (1.0 / 64.0, 0.4);
-    let size = |lo: [f64; 3], hi: [f64; 3]| h + growth * distance_to_origin(lo, hi);
+    let h = 1.0 / 64.0;
+    let size = graded_from_origin(h, 0.4);
     let mut b = BisectionMesh::kuhn_box([-1.0; 3], [1.0; 3], 1.0).unwrap();
-    let report = b.refine(size, 10_000_000).unwrap();
+    let report = b.refine(&size, 10_000_000).unwrap();
     assert!(report.by_closure > 0, "local refinement needs the closure");
     let m = b.into_mesh().unwrap();
     // Conforming: no facet inside the body belongs to one cell only.

@@ -3,6 +3,8 @@
 use rsf_fem::element::triangle_quadrature;
 use rsf_fem::*;
 
+use crate::common::{cell_geometry, observed_rates};
+
 struct Exact {
     a: f64,
     b: f64,
@@ -56,9 +58,7 @@ fn solve_and_measure(m: &TriangleMesh, ex: &Exact) -> (f64, f64) {
     let q = triangle_quadrature();
     let (mut l2, mut en) = (0.0, 0.0);
     for cell in 0..m.num_cells() {
-        let v = m.cell(cell);
-        let x: Vec<[f64; 2]> = v.iter().map(|&i| m.vertices()[i]).collect();
-        let area = m.cell_measure(cell);
+        let (v, x, area) = cell_geometry(m, cell);
         // P1 gradients by hand.
         let det =
             (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[2][0] - x[0][0]) * (x[1][1] - x[0][1]);
@@ -100,17 +100,7 @@ fn solve_and_measure(m: &TriangleMesh, ex: &Exact) -> (f64, f64) {
 
 fn rates(coarse: TriangleMesh, ex: &Exact, levels: usize) -> Vec<(f64, f64)> {
     let h = MeshHierarchy::refine_uniformly(coarse, levels);
-    let errs: Vec<(f64, f64)> = h
-        .levels()
-        .iter()
-        .map(|m| solve_and_measure(m, ex))
-        .collect();
-    let r: Vec<(f64, f64)> = errs
-        .windows(2)
-        .map(|w| ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2()))
-        .collect();
-    eprintln!("errors {errs:?}\nrates {r:?}");
-    r
+    observed_rates(h.levels(), |m| solve_and_measure(m, ex))
 }
 
 fn check(r: &[(f64, f64)], take: usize) {

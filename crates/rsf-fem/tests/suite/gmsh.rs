@@ -3,6 +3,8 @@
 use proptest::prelude::*;
 use rsf_fem::*;
 
+use crate::common::parse_with_interior_facets;
+
 const BOX: &str = include_str!("../fixtures/box.msh");
 const PLATE: &str = include_str!("../fixtures/plate.msh");
 
@@ -456,15 +458,7 @@ fn an_interior_physical_curve_is_a_fault_to_split() {
     // The plate's bottom group gets the inner edge x = 1 (nodes 2 = (1, 0), 5 = (1, 1))
     // instead of its first boundary edge: refused by default, a fault with the option.
     let text = PLATE.replacen("\n2 1 2\n", "\n2 2 5\n", 1);
-    assert!(matches!(
-        parse_gmsh::<2>(text.as_bytes()),
-        Err(Error::Gmsh { .. })
-    ));
-    let options = GmshOptions {
-        interior_facets: true,
-        ..GmshOptions::default()
-    };
-    let g = parse_gmsh_with::<2>(text.as_bytes(), options).unwrap();
+    let g = parse_with_interior_facets::<2>(&text);
     assert_eq!(g.interior_facets["bottom"], vec![[1, 4]]);
     assert_eq!(g.mesh.facets_with_tag("bottom").len(), 1);
     // The curve as a polyline for a model builder: (1, 0) → (1, 1), the file's direction.

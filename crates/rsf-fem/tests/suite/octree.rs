@@ -1,7 +1,7 @@
 //! Graded meshes from an octree of Kuhn cubes (`OctreeMesh`). Expected values are closed
 //! forms of the geometry (volumes, areas, the tensor grid's Kuhn cells, lumped weights of
 //! a uniform grid), never the code's own output.
-use crate::common::{boundary_area, distance_to_origin, plane_facets};
+use crate::common::{boundary_area, graded_from_origin, plane_facets};
 use rsf_fem::*;
 
 #[test]
@@ -35,10 +35,9 @@ fn uniform_refinement_is_the_tensor_grids_kuhn_box() {
 
 #[test]
 fn refinement_towards_a_corner_is_conforming_balanced_and_keeps_the_kuhn_cells_there() {
-    let (h, growth) = (1.0 / 32.0, 0.4);
-    let size = |lo: [f64; 3], hi: [f64; 3]| h + growth * distance_to_origin(lo, hi);
+    let h = 1.0 / 32.0;
     let mut o = OctreeMesh::new([-1.0; 3], [1.0; 3], 1.0).unwrap();
-    let report = o.refine(size, 10_000_000).unwrap();
+    let report = o.refine(graded_from_origin(h, 0.4), 10_000_000).unwrap();
     assert!(report.by_size > 0);
     let counted = o.num_vertices();
     let m = o.into_mesh().unwrap();

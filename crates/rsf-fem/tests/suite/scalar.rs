@@ -3,6 +3,8 @@
 //! quadrature, never against the code's own output.
 use rsf_fem::element::triangle_quadrature;
 use rsf_fem::*;
+
+use crate::common::cell_geometry;
 use std::f64::consts::PI;
 
 /// P1 gradients of the barycentric coordinates of a triangle.
@@ -28,9 +30,7 @@ fn body_load(m: &TriangleMesh, f: impl Fn(&[f64; 2]) -> f64) -> Vec<f64> {
     let q = triangle_quadrature();
     let mut load = vec![0.0; m.num_vertices()];
     for c in 0..m.num_cells() {
-        let v = m.cell(c);
-        let x: Vec<[f64; 2]> = v.iter().map(|&i| m.vertices()[i]).collect();
-        let area = m.cell_measure(c);
+        let (v, x, area) = cell_geometry(m, c);
         for (lam, w) in &q {
             let fp = f(&point(lam, &x));
             for a in 0..3 {
@@ -77,9 +77,7 @@ fn errors(
     let q = triangle_quadrature();
     let (mut l2, mut en) = (0.0, 0.0);
     for c in 0..m.num_cells() {
-        let v = m.cell(c);
-        let x: Vec<[f64; 2]> = v.iter().map(|&i| m.vertices()[i]).collect();
-        let area = m.cell_measure(c);
+        let (v, x, area) = cell_geometry(m, c);
         let g = grads(&x);
         let mut gh = [0.0; 2];
         for a in 0..3 {

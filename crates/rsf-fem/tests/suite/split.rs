@@ -110,28 +110,29 @@ fn bad_faults_are_typed_errors() {
     let m = half_space(2, Diagonal::Forward);
     let nx = 9;
     let id = |i: usize, j: usize| i + nx * j; // x = -2 + i/2, y = -2 + j/2
-                                              // Not a mesh edge (Forward has no (i+1, j) - (i, j+1) diagonal).
+    let err = |edges: &[[usize; 2]]| m.split_along("f", edges).unwrap_err();
+    // Not a mesh edge (Forward has no (i+1, j) - (i, j+1) diagonal).
     assert_eq!(
-        m.split_along("f", &[[id(4, 2), id(3, 3)]]).unwrap_err(),
+        err(&[[id(4, 2), id(3, 3)]]),
         Error::FaultEdgeNotInMesh {
             edge: 0,
             vertices: [id(4, 2), id(3, 3)]
         }
     );
     assert!(matches!(
-        m.split_along("f", &[[0, 10_000]]),
-        Err(Error::FaultEdgeNotInMesh { .. })
+        err(&[[0, 10_000]]),
+        Error::FaultEdgeNotInMesh { .. }
     ));
-    assert_eq!(m.split_along("f", &[]).unwrap_err(), Error::EmptyFault);
+    assert_eq!(err(&[]), Error::EmptyFault);
     // On the outer boundary.
     assert!(matches!(
-        m.split_along("f", &[[id(0, 4), id(1, 4)]]),
-        Err(Error::FaultEdgeOnBoundary { edge: 0, .. })
+        err(&[[id(0, 4), id(1, 4)]]),
+        Error::FaultEdgeOnBoundary { edge: 0, .. }
     ));
     // Repeated.
     assert!(matches!(
-        m.split_along("f", &[[id(4, 4), id(4, 3)], [id(4, 3), id(4, 4)]]),
-        Err(Error::FaultEdgeRepeated { edge: 1, .. })
+        err(&[[id(4, 4), id(4, 3)], [id(4, 3), id(4, 4)]]),
+        Error::FaultEdgeRepeated { edge: 1, .. }
     ));
     // A branch (three edges at (4, 2)).
     let t = [
@@ -140,7 +141,7 @@ fn bad_faults_are_typed_errors() {
         [id(4, 2), id(5, 2)],
     ];
     assert_eq!(
-        m.split_along("f", &t).unwrap_err(),
+        err(&t),
         Error::FaultNotManifold {
             vertex: id(4, 2),
             edges: 3
@@ -154,8 +155,8 @@ fn bad_faults_are_typed_errors() {
         [id(4, 2), id(5, 2)],
     ];
     assert!(matches!(
-        m.split_along("f", &x),
-        Err(Error::FaultNotManifold { vertex, .. }) if vertex == id(4, 2)
+        err(&x),
+        Error::FaultNotManifold { vertex, .. } if vertex == id(4, 2)
     ));
     // A closed curve (a square around one cell pair).
     let sq = [
@@ -164,22 +165,13 @@ fn bad_faults_are_typed_errors() {
         [id(4, 2), id(3, 2)],
         [id(3, 2), id(3, 1)],
     ];
-    assert!(matches!(
-        m.split_along("f", &sq),
-        Err(Error::FaultClosed { .. })
-    ));
+    assert!(matches!(err(&sq), Error::FaultClosed { .. }));
     // Two pieces.
     let two = [[id(2, 2), id(2, 3)], [id(6, 2), id(6, 3)]];
-    assert_eq!(
-        m.split_along("f", &two).unwrap_err(),
-        Error::FaultDisconnected { vertex: id(6, 2) }
-    );
+    assert_eq!(err(&two), Error::FaultDisconnected { vertex: id(6, 2) });
     // A chain touching the surface in its middle: the sides there are not two.
     let v = [[id(3, 3), id(4, 4)], [id(4, 4), id(4, 3)]];
-    assert_eq!(
-        m.split_along("f", &v).unwrap_err(),
-        Error::FaultSidesNotSeparated { vertex: id(4, 4) }
-    );
+    assert_eq!(err(&v), Error::FaultSidesNotSeparated { vertex: id(4, 4) });
     // A segment the mesh does not resolve (ends inside a cell; off the grid lines).
     assert!(matches!(
         m.split_along_segment("f", [0.0, 0.0], [0.0, -0.9]),

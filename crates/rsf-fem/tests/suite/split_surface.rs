@@ -6,6 +6,7 @@ use std::collections::{HashMap, HashSet};
 
 use rsf_fem::*;
 
+use crate::common::parse_with_interior_facets;
 use crate::split_transform::{assert_inverts, dense, largest, matvec, stiffness};
 
 /// Vertex `(i, j, k)` of `cuboid([0; 3], [1; 3], [n; 3])`, at `(i, j, k)/(n − 1)`.
@@ -31,34 +32,43 @@ fn unit_cube(n: usize) -> TetrahedronMesh {
     cuboid([0.0; 3], [1.0; 3], [n; 3]).unwrap()
 }
 
-/// Connected components of the cells (adjacent through shared faces).
+/// Connected components of the cells (adjacent through shared faces), by flooding from
+/// every cell not yet reached.
 fn components(m: &TetrahedronMesh) -> usize {
-    let mut root: Vec<usize> = (0..m.num_cells()).collect();
-    fn find(r: &mut [usize], mut x: usize) -> usize {
-        while r[x] != x {
-            r[x] = r[r[x]];
-            x = r[x];
-        }
-        x
-    }
-    let mut first: HashMap<[usize; 3], usize> = HashMap::new();
+    let mut cells_of: HashMap<[usize; 3], Vec<usize>> = HashMap::new();
     for c in 0..m.num_cells() {
         let cell = m.cell(c);
         for skip in 0..4 {
             let mut f: Vec<usize> = (0..4).filter(|&r| r != skip).map(|r| cell[r]).collect();
             f.sort_unstable();
-            let key = [f[0], f[1], f[2]];
-            if let Some(&d) = first.get(&key) {
-                let (a, b) = (find(&mut root, c), find(&mut root, d));
-                root[a.max(b)] = a.min(b);
-            } else {
-                first.insert(key, c);
+            cells_of.entry([f[0], f[1], f[2]]).or_default().push(c);
+        }
+    }
+    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); m.num_cells()];
+    for cells in cells_of.values() {
+        for &c in cells {
+            neighbours[c].extend(cells.iter().filter(|&&d| d != c));
+        }
+    }
+    let mut reached = vec![false; m.num_cells()];
+    let mut count = 0;
+    for start in 0..m.num_cells() {
+        if reached[start] {
+            continue;
+        }
+        count += 1;
+        reached[start] = true;
+        let mut stack = vec![start];
+        while let Some(c) = stack.pop() {
+            for &d in &neighbours[c] {
+                if !reached[d] {
+                    reached[d] = true;
+                    stack.push(d);
+                }
             }
         }
     }
-    (0..m.num_cells())
-        .filter(|&c| find(&mut root, c) == c)
-        .count()
+    count
 }
 
 fn centroid_x(m: &TetrahedronMesh, c: usize) -> f64 {
@@ -683,15 +693,7 @@ fn an_interior_physical_surface_of_a_gmsh_file_is_a_fault_to_split() {
         "15 8 5 11\n16 8 2 5\n",
         1,
     );
-    assert!(matches!(
-        parse_gmsh::<3>(text.as_bytes()),
-        Err(Error::Gmsh { .. })
-    ));
-    let options = GmshOptions {
-        interior_facets: true,
-        ..GmshOptions::default()
-    };
-    let g = parse_gmsh_with::<3>(text.as_bytes(), options).unwrap();
+    let g = parse_with_interior_facets::<3>(&text);
     // Node tag t ≤ 12 is vertex t − 1.
     assert_eq!(g.interior_facets["fault"], vec![[7, 4, 10], [7, 1, 4]]);
     let (split, sides) = g.split_along_group("fault").unwrap();

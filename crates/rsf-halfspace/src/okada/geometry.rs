@@ -61,6 +61,20 @@ fn sum_with_r(r: f64, a: f64, b2: f64) -> f64 {
     }
 }
 
+/// Okada's `(ln(R + a), 1/(R (R + a)), (2R + a)/(R³ (R + a)²))` for a corner coordinate `a`
+/// (`ξ`: `ALX, X11, X32`; `η`: `ALE, Y11, Y32`) with `b2` the sum of the other two
+/// squares, `R + a` by [`sum_with_r`]; `(−ln(R − a), 0, 0)` where `R + a` vanishes
+/// (`r_plus_a_zero`, [`Corner::new`]).
+fn log_terms(r: f64, a: f64, b2: f64, r_plus_a_zero: bool) -> (f64, f64, f64) {
+    if r_plus_a_zero {
+        (-(r - a).ln(), 0.0, 0.0)
+    } else {
+        let ra = sum_with_r(r, a, b2);
+        let a11 = 1.0 / (r * ra);
+        (ra.ln(), a11, (r + ra) * a11 * a11 / r)
+    }
+}
+
 /// The quantities of one corner `(ξ, η)` of the rectangle at distance `q` from its plane.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Corner {
@@ -139,20 +153,8 @@ impl Corner {
         } else {
             (xi * et / (q * r)).atan()
         };
-        let (alx, x11, x32) = if r_plus_xi_zero {
-            (-(r - xi).ln(), 0.0, 0.0)
-        } else {
-            let rxi = sum_with_r(r, xi, et2 + q2);
-            let x11 = 1.0 / (r * rxi);
-            (rxi.ln(), x11, (r + rxi) * x11 * x11 / r)
-        };
-        let (ale, y11, y32) = if r_plus_eta_zero {
-            (-(r - et).ln(), 0.0, 0.0)
-        } else {
-            let ret = sum_with_r(r, et, xi2 + q2);
-            let y11 = 1.0 / (r * ret);
-            (ret.ln(), y11, (r + ret) * y11 * y11 / r)
-        };
+        let (alx, x11, x32) = log_terms(r, xi, et2 + q2, r_plus_xi_zero);
+        let (ale, y11, y32) = log_terms(r, et, xi2 + q2, r_plus_eta_zero);
         Some(Self {
             xi,
             et,

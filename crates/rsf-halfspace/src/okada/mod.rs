@@ -37,7 +37,7 @@
 mod geometry;
 mod parts;
 
-use crate::error::Error;
+use crate::error::{check_finite, Error};
 use crate::space::Space;
 use geometry::{Corner, DipConsts};
 use parts::{part_a, part_b, part_c, Part};
@@ -65,22 +65,14 @@ impl Rectangle {
     /// [`Error::SourceAboveSurface`] if part of the rectangle is above `z = 0` (by more
     /// than the snapping tolerance).
     pub fn new(depth: f64, dip_deg: f64, strike: [f64; 2], dip: [f64; 2]) -> Result<Self, Error> {
-        for (name, value) in [
+        check_finite([
             ("depth", depth),
             ("dip", dip_deg),
             ("al1", strike[0]),
             ("al2", strike[1]),
             ("aw1", dip[0]),
             ("aw2", dip[1]),
-        ] {
-            if !value.is_finite() {
-                return Err(Error::Parameter {
-                    name,
-                    value,
-                    expected: "finite",
-                });
-            }
-        }
+        ])?;
         if !(strike[1] - strike[0] > 0.0 && (strike[1] - strike[0]).is_finite()) {
             return Err(Error::Parameter {
                 name: "al2 - al1",
@@ -250,19 +242,11 @@ impl Okada {
         point: [f64; 3],
         dislocation: [f64; 3],
     ) -> Result<Deformation, Error> {
-        for (name, value) in [
+        check_finite([
             ("disl1", dislocation[0]),
             ("disl2", dislocation[1]),
             ("disl3", dislocation[2]),
-        ] {
-            if !value.is_finite() {
-                return Err(Error::Parameter {
-                    name,
-                    value,
-                    expected: "finite",
-                });
-            }
-        }
+        ])?;
         let unit = self.unit_responses(point)?;
         let mut out = Deformation::default();
         for (c, resp) in unit.iter().enumerate() {
@@ -305,15 +289,7 @@ impl Okada {
         space: Space,
     ) -> Result<[Deformation; 3], Error> {
         let [x, y, z] = point;
-        for (name, value) in [("x", x), ("y", y), ("z", z)] {
-            if !value.is_finite() {
-                return Err(Error::Parameter {
-                    name,
-                    value,
-                    expected: "finite",
-                });
-            }
-        }
+        check_finite([("x", x), ("y", y), ("z", z)])?;
         if z > 0.0 && space == Space::HalfSpace {
             return Err(Error::AboveSurface { z });
         }

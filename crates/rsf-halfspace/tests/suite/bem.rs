@@ -45,24 +45,21 @@ fn tractions_at(rect: &Rectangle, p: [f64; 3], disl: [f64; 3]) -> [f64; 3] {
     [dot(es), dot(ed), dot(n)]
 }
 
+/// The fault of DC3D's rectangle `(depth, dip, [al1, al2], [aw1, aw2])` (m, degrees)
+/// cut into square cells of `cell` (m), in [`medium`].
+fn fault(depth: f64, dip: f64, strike: [f64; 2], width: [f64; 2], cell: f64) -> RectangularFault {
+    let rect = Rectangle::new(depth, dip, strike, width).unwrap();
+    RectangularFault::new(medium(), rect, cell).unwrap()
+}
+
 fn bp5_like() -> RectangularFault {
     // Vertical, surface-breaking, 12 × 5 cells of 2 m.
-    RectangularFault::new(
-        medium(),
-        Rectangle::new(0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0]).unwrap(),
-        2.0,
-    )
-    .unwrap()
+    fault(0.0, 90.0, [-12.0, 12.0], [-10.0, 0.0], 2.0)
 }
 
 fn dipping() -> RectangularFault {
     // 30°, buried (top at 1 m depth), 6 × 4 cells of 1.5 m.
-    RectangularFault::new(
-        medium(),
-        Rectangle::new(4.0, 30.0, [-4.5, 4.5], [-3.0, 3.0]).unwrap(),
-        1.5,
-    )
-    .unwrap()
+    fault(4.0, 30.0, [-4.5, 4.5], [-3.0, 3.0], 1.5)
 }
 
 #[test]

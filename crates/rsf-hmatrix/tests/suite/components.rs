@@ -134,28 +134,20 @@ fn component_blocks_cost_their_crosses_not_their_entries() {
 #[test]
 fn points_must_be_whole_numbers_of_components() {
     let points = Points::new(&[0.0, 1.0, 2.0, 3.0, 4.0], 1).unwrap();
-    let options = HOptions {
-        components: 2,
-        ..HOptions::default()
-    };
-    assert!(matches!(
-        HMatrix::from_entries(|_, _| 1.0, &points, &options),
-        Err(rsf_hmatrix::Error::Option {
-            name: "components",
-            ..
-        })
-    ));
-    let none = HOptions {
-        components: 0,
-        ..HOptions::default()
-    };
-    assert!(matches!(
-        HMatrix::from_entries(|_, _| 1.0, &points, &none),
-        Err(rsf_hmatrix::Error::Option {
-            name: "components",
-            ..
-        })
-    ));
+    // Two components of five points, and none.
+    for components in [2, 0] {
+        let options = HOptions {
+            components,
+            ..HOptions::default()
+        };
+        assert!(matches!(
+            HMatrix::from_entries(|_, _| 1.0, &points, &options),
+            Err(rsf_hmatrix::Error::Option {
+                name: "components",
+                ..
+            })
+        ));
+    }
 }
 
 #[test]

@@ -111,8 +111,7 @@ fn svd_compression_meets_the_tolerance_in_the_matrix_and_the_product() {
 
 #[test]
 fn aca_meets_the_tolerance_and_agrees_with_svd() {
-    let n = 700;
-    let (k, s, points) = kernel_matrix(n);
+    let (k, s, points) = kernel_matrix(700);
     let norm = frob(&s);
     for eps in [1e-4, 1e-6, 1e-8] {
         let options = HOptions::with_epsilon(eps);
@@ -145,6 +144,13 @@ fn sheared_grid(n: usize) -> Vec<[f64; 2]> {
         .collect()
 }
 
+/// [`sheared_grid`] of `n` points and its [`Points`].
+fn sheared_points(n: usize) -> (Vec<[f64; 2]>, Points) {
+    let xy = sheared_grid(n);
+    let points = Points::from_array(&xy).unwrap();
+    (xy, points)
+}
+
 /// A smooth kernel of the distance d between `x` and `y`: `1 / (d + 0.5)`.
 fn smooth_kernel(x: [f64; 2], y: [f64; 2]) -> f64 {
     let d = ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2)).sqrt();
@@ -154,8 +160,7 @@ fn smooth_kernel(x: [f64; 2], y: [f64; 2]) -> f64 {
 #[test]
 fn two_dimensional_points_with_a_smooth_kernel() {
     let n = 900;
-    let xy = sheared_grid(n);
-    let points = Points::from_array(&xy).unwrap();
+    let (xy, points) = sheared_points(n);
     let f = |i: usize, j: usize| smooth_kernel(xy[i], xy[j]);
     let s = Mat::from_fn(n, n, f);
     let eps = 1e-6;
@@ -178,17 +183,13 @@ fn two_dimensional_points_with_a_smooth_kernel() {
 
 #[test]
 fn stored_entries_grow_like_n_log_n() {
-    let sizes = [256usize, 512, 1024, 2048, 4096];
-    let mut logs = Vec::new();
-    for &n in &sizes {
+    crate::assert_stored_entries_grow_like_n_log_n(&[256, 512, 1024, 2048, 4096], |n| {
         let k = kernel(n);
         let h =
             HMatrix::from_entries(|i, j| k.entry(i, j), &k.points(), &HOptions::default()).unwrap();
         assert!(h.report().relative_error <= 1e-6);
-        logs.push(((n as f64).ln(), (h.stored_entries() as f64).ln()));
-    }
-    let slope = crate::log_log_slope(&logs);
-    assert!(slope < 1.3 && slope > 0.9, "stored entries ~ N^{slope}");
+        h.stored_entries()
+    });
 }
 
 #[test]
@@ -478,8 +479,7 @@ fn from_dense_has_the_same_bits_in_pools_of_any_size() {
 #[test]
 fn from_entries_par_has_the_bits_of_from_entries() {
     let n = 900;
-    let xy = sheared_grid(n);
-    let points = Points::from_array(&xy).unwrap();
+    let (xy, points) = sheared_points(n);
     let f = |i: usize, j: usize| smooth_kernel(xy[i], xy[j]);
     let options = HOptions::with_epsilon(1e-7);
     let bits = |h: &HMatrix| {

@@ -108,21 +108,24 @@ fn tableaux_are_consistent() {
     }
 }
 
+/// `y' = 1` that blows up (a NaN rate) beyond `y = 1.5`, at a tolerance of 1e-9.
+struct Blow;
+
+impl OdeSystem for Blow {
+    type Error = Error;
+    fn rate(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
+        dy[0] = if y[0] > 1.5 { f64::NAN } else { 1.0 };
+        Ok(())
+    }
+    fn scaled_error(&self, _y: &[f64], _n: &[f64], err: &[f64]) -> f64 {
+        err[0].abs() / 1e-9
+    }
+}
+
 /// A non-finite stage is a rejection, not an error; a step that must fall below
 /// `dt_min` is the typed error.
 #[test]
 fn blow_up_is_rejected_and_a_vanishing_step_is_an_error() {
-    struct Blow;
-    impl OdeSystem for Blow {
-        type Error = Error;
-        fn rate(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<()> {
-            dy[0] = if y[0] > 1.5 { f64::NAN } else { 1.0 };
-            Ok(())
-        }
-        fn scaled_error(&self, _y: &[f64], _n: &[f64], err: &[f64]) -> f64 {
-            err[0].abs() / 1e-9
-        }
-    }
     let mut rk =
         EmbeddedRungeKutta::new(DORMAND_PRINCE_54, RungeKuttaOptions::default(), 1, 1.0).unwrap();
     let (mut t, mut y) = (0.0, [1.0]);
@@ -221,32 +224,35 @@ fn a_refused_stage_shrinks_the_step_and_the_run_recovers() {
     assert!((with - without).abs() < 1e-6 * exact, "{with} vs {without}");
 }
 
+/// `y' = 1` whose rate refuses every time beyond `t = 1` as outside its domain.
+struct Wall;
+
+impl OdeSystem for Wall {
+    type Error = Error;
+    fn rate(&mut self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<()> {
+        if t > 1.0 {
+            return Err(Error::InvalidParameter {
+                name: "t",
+                value: t,
+                requirement: "at most 1",
+            });
+        }
+        dy[0] = 1.0;
+        Ok(())
+    }
+    fn scaled_error(&self, _y: &[f64], _n: &[f64], err: &[f64]) -> f64 {
+        err[0].abs()
+    }
+    fn outside_domain(&self, e: &Error) -> bool {
+        matches!(e, Error::InvalidParameter { name: "t", .. })
+    }
+}
+
 /// A system that refuses every stage beyond `t = 1` stops with the typed error naming
 /// the time, the last step and the reason after `max_refusals` refusals; a refusal at
 /// the accepted point (the first evaluation) is the system's own error.
 #[test]
 fn refusals_are_capped_and_the_accepted_point_is_not_refused() {
-    struct Wall;
-    impl OdeSystem for Wall {
-        type Error = Error;
-        fn rate(&mut self, t: f64, _y: &[f64], dy: &mut [f64]) -> Result<()> {
-            if t > 1.0 {
-                return Err(Error::InvalidParameter {
-                    name: "t",
-                    value: t,
-                    requirement: "at most 1",
-                });
-            }
-            dy[0] = 1.0;
-            Ok(())
-        }
-        fn scaled_error(&self, _y: &[f64], _n: &[f64], err: &[f64]) -> f64 {
-            err[0].abs()
-        }
-        fn outside_domain(&self, e: &Error) -> bool {
-            matches!(e, Error::InvalidParameter { name: "t", .. })
-        }
-    }
     let options = RungeKuttaOptions {
         max_refusals: 3,
         ..RungeKuttaOptions::default()

@@ -86,3 +86,49 @@ pub fn distance_to_origin(lo: [f64; 3], hi: [f64; 3]) -> f64 {
         .sum::<f64>()
         .sqrt()
 }
+
+/// A size function graded from the origin (m): `h` at the origin, growing by `growth`
+/// per metre of [`distance_to_origin`] of the box `[lo, hi]`.
+pub fn graded_from_origin(h: f64, growth: f64) -> impl Fn([f64; 3], [f64; 3]) -> f64 {
+    move |lo, hi| h + growth * distance_to_origin(lo, hi)
+}
+
+/// The Gmsh mesh of `text` read with [`rsf_fem::GmshOptions::interior_facets`], after
+/// asserting that the default reading refuses it (a physical group with interior facets).
+pub fn parse_with_interior_facets<const D: usize>(text: &str) -> rsf_fem::GmshMesh<D> {
+    assert!(matches!(
+        rsf_fem::parse_gmsh::<D>(text.as_bytes()),
+        Err(rsf_fem::Error::Gmsh { .. })
+    ));
+    let options = rsf_fem::GmshOptions {
+        interior_facets: true,
+        ..rsf_fem::GmshOptions::default()
+    };
+    rsf_fem::parse_gmsh_with::<D>(text.as_bytes(), options).unwrap()
+}
+
+/// Cell `cell` of `m`: its vertices, their points (m) and its measure (m², m³).
+pub fn cell_geometry<const D: usize>(
+    m: &rsf_fem::SimplexMesh<D>,
+    cell: usize,
+) -> (&[usize], Vec<[f64; D]>, f64) {
+    let v = m.cell(cell);
+    let x = v.iter().map(|&i| m.vertices()[i]).collect();
+    (v, x, m.cell_measure(cell))
+}
+
+/// The observed orders of convergence under uniform refinement: `errors(m)` of every
+/// level (each a pair of error norms, e.g. L² and energy) and `log₂` of their ratios from
+/// one level to the next, both printed.
+pub fn observed_rates<const D: usize>(
+    levels: &[rsf_fem::SimplexMesh<D>],
+    errors: impl Fn(&rsf_fem::SimplexMesh<D>) -> (f64, f64),
+) -> Vec<(f64, f64)> {
+    let errs: Vec<(f64, f64)> = levels.iter().map(errors).collect();
+    let rates: Vec<(f64, f64)> = errs
+        .windows(2)
+        .map(|w| ((w[0].0 / w[1].0).log2(), (w[0].1 / w[1].1).log2()))
+        .collect();
+    eprintln!("errors {errs:?}\nrates {rates:?}");
+    rates
+}
