@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use rsf_programs::guard::{flag, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::guard::{flag, AnyError, Plan, Prepared, Program};
 use rsf_programs::{
     describe_time_step, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
     SliderArgs,
@@ -73,11 +73,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "curved_fault";
-
-    fn limits(&self) -> Limits {
-        self.output.limits
-    }
+    rsf_programs::name_and_limits!("curved_fault", output.limits);
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;

@@ -52,11 +52,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fault_kernel_scaling";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fault_kernel_scaling");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dz", &self.dz)?;

@@ -65,11 +65,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "fault_setup_3d";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("fault_setup_3d");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dx", &self.dx)?;

@@ -46,11 +46,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "halfspace_scaling";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("halfspace_scaling");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--dx", &self.dx)?;

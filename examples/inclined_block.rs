@@ -38,7 +38,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use rsf::fem::ConstrainedSystem;
 use rsf::Model;
-use rsf_programs::guard::{number, refuse, AnyError, Limits, Plan, Prepared, Program};
+use rsf_programs::guard::{number, refuse, AnyError, Plan, Prepared, Program};
 use rsf_programs::{
     describe_time_step, max_slip_rate_figure, print_run, run_with_series, OwnRun, OwnRunArgs,
     SliderArgs,
@@ -123,11 +123,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "inclined_block";
-
-    fn limits(&self) -> Limits {
-        self.output.limits
-    }
+    rsf_programs::name_and_limits!("inclined_block", output.limits);
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;

@@ -183,11 +183,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "nucleation_stiffness";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("nucleation_stiffness");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         for ratio in self.ratios() {

@@ -58,11 +58,7 @@ const MAX_LEVEL: usize = 3;
 const UNIFORM_CUBE_FILL: f64 = 2.5;
 
 impl Program for Cli {
-    const NAME: &'static str = "schur_columns";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("schur_columns");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         rsf_programs::guard::distinct("--levels", &self.levels)?;

@@ -166,11 +166,7 @@ struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "work_precision";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    rsf_programs::name_and_limits!("work_precision");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         if let Some(u) = &self.uniform {

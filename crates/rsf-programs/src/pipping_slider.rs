@@ -73,11 +73,7 @@ impl Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "pipping_slider";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    crate::name_and_limits!("pipping_slider");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = self.scene()?;

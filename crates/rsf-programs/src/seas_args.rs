@@ -146,11 +146,7 @@ pub(crate) fn run_observed<'a, const D: usize, const C: usize, M: Stepping<D, C>
 macro_rules! configured_program {
     ($args:ty, $name:literal) => {
         impl $crate::guard::Program for $args {
-            const NAME: &'static str = $name;
-
-            fn limits(&self) -> $crate::guard::Limits {
-                self.limits
-            }
+            $crate::name_and_limits!($name);
 
             fn configure(
                 mut self,

@@ -129,11 +129,7 @@ pub struct Cli {
 }
 
 impl Program for Cli {
-    const NAME: &'static str = "slider_3d";
-
-    fn limits(&self) -> Limits {
-        self.limits
-    }
+    crate::name_and_limits!("slider_3d");
 
     fn plan(&self) -> Result<Plan, AnyError> {
         let scene = scene(self)?;
