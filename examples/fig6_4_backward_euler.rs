@@ -250,17 +250,7 @@ fn figures(
             "u_x (m)",
         ),
     ] {
-        let series: Vec<Vec<Series<'_>>> = data
-            .iter()
-            .map(|p| {
-                p.iter()
-                    .map(|(l, pts)| Series {
-                        label: l,
-                        points: pts,
-                    })
-                    .collect()
-            })
-            .collect();
+        let series: Vec<Vec<Series<'_>>> = data.iter().map(|p| Series::labelled(p)).collect();
         let panels: Vec<(&str, &[Series<'_>])> = labels
             .iter()
             .zip(&series)

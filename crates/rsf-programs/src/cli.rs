@@ -241,6 +241,19 @@ impl<P: ProgramScene> SliderArgs<P> {
     }
 }
 
+/// A one-line description of the method of `scene`: `level {level}, {time steps}, {law}
+/// law, {integrator}, {solver} solver` (the time steps as [`describe_time_step`]).
+pub fn describe_method(scene: &SliderScene) -> String {
+    format!(
+        "level {}, {}, {} law, {}, {} solver",
+        scene.level,
+        describe_time_step(scene),
+        scene.state_law,
+        scene.integrator,
+        scene.solver
+    )
+}
+
 /// A one-line description of the time steps of `scene`.
 pub fn describe_time_step(scene: &SliderScene) -> String {
     match scene.time_step {

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use crate::cli::describe_time_step;
+use crate::cli::describe_method;
 use crate::cli::{for_flag, window};
 use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
 use crate::fields::FieldsRun;
@@ -203,12 +203,8 @@ pub fn run_prepared(cli: Cli, prepared: Prepared) -> Result<(), AnyError> {
     let folder = RunFolder::new(&cli.out, "pipping_slider", &OUTPUTS);
     let out = folder.dir.clone();
     println!(
-        "pipping_slider: level {}, {}, {} law, {}, {} solver → {}",
-        scene.level,
-        describe_time_step(&scene),
-        scene.state_law,
-        scene.integrator,
-        scene.solver,
+        "pipping_slider: {} → {}",
+        describe_method(&scene),
         out.display()
     );
 
