@@ -72,8 +72,8 @@ pub use own_model::{print_run, run_with_series, OwnRun, OwnRunArgs};
 pub use panels::PanelLayout;
 pub use process::{main_on_threads, main_with};
 pub use run::{
-    cpu_seconds, fit_exponent, machine, old_wall_time, stats, step_control_json, write_summary,
-    SliderRun, SliderStats,
+    cpu_seconds, fit_exponent, fit_exponents, machine, old_wall_time, stats, step_control_json,
+    write_summary, SliderRun, SliderStats,
 };
 pub use run_folder::FolderArgs;
 #[cfg(feature = "seas")]
