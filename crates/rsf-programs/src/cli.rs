@@ -597,6 +597,25 @@ impl ResumeArgs {
     }
 }
 
+impl crate::run_folder::FolderArgs {
+    /// The folder `--out` (`out`, holding `outputs`) with these flags (`--overwrite`,
+    /// `--allow-change`) and the checkpoint `resume` (`--resume FILE`) it continues from:
+    /// [`Folder::overwrite`](crate::guard::Folder::overwrite),
+    /// [`Folder::resume_from`](crate::guard::Folder::resume_from) and
+    /// [`Folder::allow_change`](crate::guard::Folder::allow_change).
+    pub fn out_folder(
+        &self,
+        out: &Path,
+        outputs: &[&str],
+        resume: Option<&Path>,
+    ) -> crate::guard::Folder {
+        crate::guard::Folder::new("--out", out, outputs)
+            .overwrite(self.overwrite)
+            .resume_from(resume)
+            .allow_change(&self.allow_change)
+    }
+}
+
 /// `--modeler NAME` and `--date YYYY-MM-DD` of the SEAS files' headers.
 #[cfg(feature = "seas")]
 #[derive(Debug, Clone, Default, clap::Args)]

@@ -9,7 +9,7 @@ use crate::cli::describe_method;
 use crate::cli::{for_flag, window};
 use crate::estimates::{slider_fault_nodes, slider_memory, slider_what, RECORDED_STEP_BYTES};
 use crate::fields::FieldsRun;
-use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{AnyError, Limits, Plan, Prepared, Program};
 use crate::run_folder::FolderArgs;
 use crate::session::{Session, SessionFlags};
 use crate::{
@@ -129,10 +129,8 @@ impl Program for Cli {
                 what,
             )
             .folder(
-                Folder::new("--out", &self.out, &OUTPUTS)
-                    .overwrite(self.folder.overwrite)
-                    .resume_from(self.resume.as_deref())
-                    .allow_change(&self.folder.allow_change)
+                self.folder
+                    .out_folder(&self.out, &OUTPUTS, self.resume.as_deref())
                     .fingerprint(self.fingerprint(&scene)),
             ))
     }

@@ -42,7 +42,7 @@ use std::process::ExitCode;
 
 use crate::cli::{PaperSlider3d, SliderArgs};
 use crate::fields::FieldsRun;
-use crate::guard::{AnyError, Folder, Limits, Plan, Prepared, Program};
+use crate::guard::{AnyError, Limits, Plan, Prepared, Program};
 use crate::session::{Session, SessionFlags};
 use crate::{log_heat_map, FieldMap, FolderArgs, FrameArgs, HeatMapAxes};
 use clap::Parser;
@@ -184,10 +184,8 @@ impl Program for Cli {
                 what,
             )
             .folder(
-                Folder::new("--out", &self.out, &OUTPUTS)
-                    .overwrite(self.folder.overwrite)
-                    .resume_from(self.resume.as_deref())
-                    .allow_change(&self.folder.allow_change),
+                self.folder
+                    .out_folder(&self.out, &OUTPUTS, self.resume.as_deref()),
             ))
     }
 }
