@@ -393,9 +393,10 @@ pub trait Program: clap::Parser + Send + 'static {
     }
 }
 
-/// The two items every [`Program`] writes alike, inside its `impl Program for …` block:
-/// `const NAME` (the literal `$name`) and `fn limits`, the arguments' field `limits`
-/// ([`Limits`], flattened into the flags: `--max-memory-gb`, `--max-output-gb`) or the
+/// The two items every [`Program`](crate::guard::Program) writes alike, inside its `impl
+/// Program for …` block: `const NAME` (the literal `$name`) and `fn limits`, the
+/// arguments' field `limits` ([`Limits`](crate::guard::Limits), flattened into the flags:
+/// `--max-memory-gb`, `--max-output-gb`) or the
 /// field path given after the name (`output.limits` for a field of a flattened group).
 ///
 /// ```
